@@ -1,0 +1,631 @@
+//! The expression DAG: an arena of hash-consed nodes whose constructors simplify.
+//!
+//! Every node is built through [`Arena`]'s constructors, which are the simplifier's front door:
+//! constants fold, zeros and ones disappear, sums are canonical coefficient maps (so
+//! `(yc - L) - (yc + L)` is `-2L`), products are monic factor maps with integer exponents, and
+//! signs float up into the enclosing sum where they cost nothing. Children always precede their
+//! parents, and equal nodes are one node, so hash-consing is the common-subexpression elimination.
+
+use std::cell::RefCell;
+use std::collections::{BTreeMap, HashMap};
+use std::fmt;
+use std::hash::{Hash, Hasher};
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// Index of a node in the arena; prints as `v12`.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Debug)]
+pub struct NodeId(pub u32);
+
+impl fmt::Display for NodeId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "v{}", self.0)
+    }
+}
+
+/// A finite `f64` that hashes by its bits; `-0.0` is stored as `0.0`.
+#[derive(Clone, Copy, Debug, PartialOrd)]
+pub struct Real(f64);
+
+impl Real {
+    pub fn new(value: f64) -> Self {
+        Real(if value == 0.0 { 0.0 } else { value })
+    }
+    pub fn get(self) -> f64 {
+        self.0
+    }
+}
+
+impl PartialEq for Real {
+    fn eq(&self, other: &Self) -> bool {
+        self.0.to_bits() == other.0.to_bits()
+    }
+}
+impl Eq for Real {}
+impl Hash for Real {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        self.0.to_bits().hash(state);
+    }
+}
+
+/// Elementary functions the kernels may call.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, PartialOrd, Ord)]
+pub enum Func {
+    Sin,
+    Cos,
+    Sqrt,
+}
+
+impl Func {
+    pub fn name(self) -> &'static str {
+        match self {
+            Func::Sin => "sin",
+            Func::Cos => "cos",
+            Func::Sqrt => "sqrt",
+        }
+    }
+}
+
+/// One node of the DAG, always in canonical form.
+#[derive(Clone, PartialEq, Eq, Hash, Debug)]
+pub enum Node {
+    Const(Real),
+    /// The `n`-th scalar input of the kernel.
+    Input(u32),
+    /// `Σ cᵢ·termᵢ + constant`: at least one term, terms sorted by id, never a `Sum` or `Const`
+    /// themselves, coefficients non-zero, and never the bare `1·x`.
+    Sum {
+        terms: Vec<(NodeId, Real)>,
+        constant: Real,
+    },
+    /// `Π baseᵢ^expᵢ`, monic: bases sorted by id, never `Product` or `Const`, exponents non-zero.
+    Product(Vec<(NodeId, i32)>),
+    Call(Func, NodeId),
+}
+
+/// Rewriting policy of an arena, chosen per kernel by the optimizer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Policy {
+    /// Distribute a product of sums when the expanded sum has at most this many terms
+    /// (1 disables expansion).
+    pub expand_limit: usize,
+    /// Fold a constant into a quotient when that cancels terms: `y5/(y6 - y5) + 1 = y6/(y6 - y5)`.
+    pub absorb_constants: bool,
+    /// Compute `1/s` once when several products divide by `s` (else divide in each product).
+    pub share_reciprocals: bool,
+}
+
+impl Policy {
+    pub const FLAT: Policy = Policy {
+        expand_limit: 1,
+        absorb_constants: false,
+        share_reciprocals: true,
+    };
+}
+
+impl Default for Policy {
+    fn default() -> Self {
+        Policy::FLAT
+    }
+}
+
+/// The node arena with its memo table.
+#[derive(Debug, Default)]
+pub struct Arena {
+    nodes: Vec<Node>,
+    memo: HashMap<Node, NodeId>,
+    policy: Policy,
+    /// Set when a constant division by zero or a non-finite constant was attempted.
+    pub invalid: Option<String>,
+}
+
+/// A linear form: terms with coefficients plus a constant.
+pub type Linear = (BTreeMap<NodeId, f64>, f64);
+
+impl Arena {
+    pub fn new(policy: Policy) -> Self {
+        Arena {
+            policy,
+            ..Arena::default()
+        }
+    }
+
+    pub fn policy(&self) -> Policy {
+        self.policy
+    }
+
+    pub fn node(&self, id: NodeId) -> &Node {
+        &self.nodes[id.0 as usize]
+    }
+
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    fn intern(&mut self, node: Node) -> NodeId {
+        if let Some(&id) = self.memo.get(&node) {
+            return id;
+        }
+        let id = NodeId(self.nodes.len() as u32);
+        self.nodes.push(node.clone());
+        self.memo.insert(node, id);
+        id
+    }
+
+    pub fn constant(&mut self, value: f64) -> NodeId {
+        if !value.is_finite() {
+            self.invalid
+                .get_or_insert_with(|| format!("non-finite constant {value}"));
+            return self.intern(Node::Const(Real::new(0.0)));
+        }
+        self.intern(Node::Const(Real::new(value)))
+    }
+
+    pub fn input(&mut self, index: u32) -> NodeId {
+        self.intern(Node::Input(index))
+    }
+
+    pub fn const_value(&self, id: NodeId) -> Option<f64> {
+        match self.node(id) {
+            Node::Const(c) => Some(c.get()),
+            _ => None,
+        }
+    }
+
+    /// The linear form of a node: its terms and constant.
+    pub fn linear(&self, id: NodeId) -> Linear {
+        match self.node(id) {
+            Node::Const(c) => (BTreeMap::new(), c.get()),
+            Node::Sum { terms, constant } => (
+                terms.iter().map(|&(t, c)| (t, c.get())).collect(),
+                constant.get(),
+            ),
+            _ => (BTreeMap::from([(id, 1.0)]), 0.0),
+        }
+    }
+
+    /// Builds the canonical node of a linear form.
+    pub fn make_sum(&mut self, terms: BTreeMap<NodeId, f64>, constant: f64) -> NodeId {
+        let terms: Vec<(NodeId, Real)> = terms
+            .into_iter()
+            .filter(|&(_, c)| c != 0.0)
+            .map(|(t, c)| (t, Real::new(c)))
+            .collect();
+        if terms.is_empty() {
+            return self.constant(constant);
+        }
+        if terms.len() == 1 && terms[0].1.get() == 1.0 && constant == 0.0 {
+            return terms[0].0;
+        }
+        if !constant.is_finite() || terms.iter().any(|(_, c)| !c.get().is_finite()) {
+            self.invalid
+                .get_or_insert_with(|| "non-finite coefficient".to_string());
+        }
+        self.intern(Node::Sum {
+            terms,
+            constant: Real::new(constant),
+        })
+    }
+
+    pub fn add(&mut self, a: NodeId, b: NodeId) -> NodeId {
+        self.combine(a, 1.0, b, 1.0)
+    }
+
+    pub fn sub(&mut self, a: NodeId, b: NodeId) -> NodeId {
+        self.combine(a, 1.0, b, -1.0)
+    }
+
+    /// `ka·a + kb·b`.
+    pub fn combine(&mut self, a: NodeId, ka: f64, b: NodeId, kb: f64) -> NodeId {
+        let (mut terms, ca) = self.linear(a);
+        terms.values_mut().for_each(|c| *c *= ka);
+        let (tb, cb) = self.linear(b);
+        for (t, c) in tb {
+            *terms.entry(t).or_insert(0.0) += kb * c;
+        }
+        self.make_sum(terms, ka * ca + kb * cb)
+    }
+
+    pub fn scale(&mut self, a: NodeId, k: f64) -> NodeId {
+        let zero = self.constant(0.0);
+        self.combine(a, k, zero, 0.0)
+    }
+
+    pub fn neg(&mut self, a: NodeId) -> NodeId {
+        self.scale(a, -1.0)
+    }
+
+    /// Splits a node into `coefficient · monic`, where the monic part (if any) is a non-sum atom,
+    /// a product, or a sum whose leading coefficient is positive.
+    pub fn split_sign(&mut self, id: NodeId) -> (f64, Option<NodeId>) {
+        match self.node(id).clone() {
+            Node::Const(c) => (c.get(), None),
+            Node::Sum { terms, constant } => {
+                if terms.len() == 1 && constant.get() == 0.0 {
+                    (terms[0].1.get(), Some(terms[0].0))
+                } else if terms[0].1.get() < 0.0 {
+                    (-1.0, Some(self.neg(id)))
+                } else {
+                    (1.0, Some(id))
+                }
+            }
+            _ => (1.0, Some(id)),
+        }
+    }
+
+    /// Factors of a monic node.
+    pub fn factors(&self, id: NodeId) -> Vec<(NodeId, i32)> {
+        match self.node(id) {
+            Node::Product(f) => f.clone(),
+            _ => vec![(id, 1)],
+        }
+    }
+
+    /// Builds the canonical monic product of `factors`.
+    pub fn make_product(&mut self, factors: impl IntoIterator<Item = (NodeId, i32)>) -> NodeId {
+        let mut map: BTreeMap<NodeId, i32> = BTreeMap::new();
+        for (base, exp) in factors {
+            for (b, e) in self.factors(base) {
+                *map.entry(b).or_insert(0) += e * exp;
+            }
+        }
+        let factors: Vec<(NodeId, i32)> = map.into_iter().filter(|&(_, e)| e != 0).collect();
+        match factors.as_slice() {
+            [] => self.constant(1.0),
+            [(b, 1)] => *b,
+            _ => self.intern(Node::Product(factors)),
+        }
+    }
+
+    /// `k · monic`, the inverse of [`Arena::split_sign`].
+    fn scaled(&mut self, k: f64, monic: Option<NodeId>) -> NodeId {
+        match monic {
+            None => self.constant(k),
+            Some(m) => self.scale(m, k),
+        }
+    }
+
+    pub fn mul(&mut self, a: NodeId, b: NodeId) -> NodeId {
+        let (ka, ma) = self.split_sign(a);
+        let (kb, mb) = self.split_sign(b);
+        let k = ka * kb;
+        if k == 0.0 {
+            return self.constant(0.0);
+        }
+        let (Some(ma), Some(mb)) = (ma, mb) else {
+            return self.scaled(k, ma.or(mb));
+        };
+        let (la, lb) = (self.linear(ma), self.linear(mb));
+        let width = (la.0.len() + usize::from(la.1 != 0.0)) * (lb.0.len() + usize::from(lb.1 != 0.0));
+        if width > 1 && width <= self.policy.expand_limit {
+            return self.expand(la, lb, k);
+        }
+        let p = self.make_product([(ma, 1), (mb, 1)]);
+        self.scale(p, k)
+    }
+
+    /// Distributes `k · (Σa)(Σb)`.
+    fn expand(&mut self, (ta, ca): Linear, (tb, cb): Linear, k: f64) -> NodeId {
+        let mut terms: BTreeMap<NodeId, f64> = BTreeMap::new();
+        let mut constant = k * ca * cb;
+        let mut push = |arena: &mut Arena, node: NodeId, c: f64| {
+            let (kk, m) = arena.split_sign(node);
+            match m {
+                None => constant += c * kk,
+                Some(m) => {
+                    let (lt, lc) = arena.linear(m);
+                    constant += c * kk * lc;
+                    for (t, tc) in lt {
+                        *terms.entry(t).or_insert(0.0) += c * kk * tc;
+                    }
+                }
+            }
+        };
+        for (&x, &cx) in &ta {
+            for (&y, &cy) in &tb {
+                let p = self.make_product([(x, 1), (y, 1)]);
+                push(self, p, k * cx * cy);
+            }
+            if cb != 0.0 {
+                push(self, x, k * cx * cb);
+            }
+        }
+        if ca != 0.0 {
+            for (&y, &cy) in &tb {
+                push(self, y, k * ca * cy);
+            }
+        }
+        self.make_sum(terms, constant)
+    }
+
+    pub fn recip(&mut self, a: NodeId) -> NodeId {
+        let (k, m) = self.split_sign(a);
+        if k == 0.0 {
+            self.invalid
+                .get_or_insert_with(|| "division by a constant zero".to_string());
+            return self.constant(0.0);
+        }
+        match m {
+            None => self.constant(1.0 / k),
+            Some(m) => {
+                let p = self.make_product([(m, -1)]);
+                self.scale(p, 1.0 / k)
+            }
+        }
+    }
+
+    pub fn div(&mut self, a: NodeId, b: NodeId) -> NodeId {
+        let r = self.recip(b);
+        self.mul(a, r)
+    }
+
+    pub fn call(&mut self, func: Func, a: NodeId) -> NodeId {
+        if let Some(c) = self.const_value(a) {
+            let v = match func {
+                Func::Sin => c.sin(),
+                Func::Cos => c.cos(),
+                Func::Sqrt => c.sqrt(),
+            };
+            return self.constant(v);
+        }
+        let (k, m) = self.split_sign(a);
+        match (func, k, m) {
+            // sin is odd and cos even: keep the argument's sign outside the call.
+            (Func::Sin, -1.0, Some(m)) => {
+                let s = self.intern(Node::Call(Func::Sin, m));
+                self.neg(s)
+            }
+            (Func::Cos, -1.0, Some(m)) => self.intern(Node::Call(Func::Cos, m)),
+            _ => self.intern(Node::Call(func, a)),
+        }
+    }
+
+    /// Renders a node as an infix expression (for tests and diagnostics).
+    pub fn render(&self, id: NodeId, names: &dyn Fn(u32) -> String) -> String {
+        match self.node(id) {
+            Node::Const(c) => format!("{}", c.get()),
+            Node::Input(i) => names(*i),
+            Node::Call(f, a) => format!("{}({})", f.name(), self.render(*a, names)),
+            Node::Product(fs) => fs
+                .iter()
+                .map(|&(b, e)| {
+                    let inner = match self.node(b) {
+                        Node::Sum { .. } => format!("({})", self.render(b, names)),
+                        _ => self.render(b, names),
+                    };
+                    if e == 1 {
+                        inner
+                    } else {
+                        format!("{inner}^{e}")
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join("*"),
+            Node::Sum { terms, constant } => {
+                let mut out = String::new();
+                for (i, &(t, c)) in terms.iter().enumerate() {
+                    let c = c.get();
+                    let body = self.render(t, names);
+                    let (sign, mag) = if c < 0.0 { ("-", -c) } else { ("+", c) };
+                    if i == 0 {
+                        if sign == "-" {
+                            out.push('-');
+                        }
+                    } else {
+                        out.push_str(&format!(" {sign} "));
+                    }
+                    if mag == 1.0 {
+                        out.push_str(&body);
+                    } else {
+                        out.push_str(&format!("{mag}*{body}"));
+                    }
+                }
+                let c = constant.get();
+                if c > 0.0 {
+                    out.push_str(&format!(" + {c}"));
+                } else if c < 0.0 {
+                    out.push_str(&format!(" - {}", -c));
+                }
+                out
+            }
+        }
+    }
+}
+
+/// A graph shared by the [`Expr`] handles that build it.
+#[derive(Debug)]
+pub struct Graph {
+    arena: RefCell<Arena>,
+}
+
+impl Graph {
+    pub fn new(policy: Policy) -> Self {
+        Graph {
+            arena: RefCell::new(Arena::new(policy)),
+        }
+    }
+
+    pub fn constant(&self, value: f64) -> Expr<'_> {
+        let id = self.arena.borrow_mut().constant(value);
+        Expr { id, graph: self }
+    }
+
+    pub fn zero(&self) -> Expr<'_> {
+        self.constant(0.0)
+    }
+
+    pub fn one(&self) -> Expr<'_> {
+        self.constant(1.0)
+    }
+
+    pub fn input(&self, index: u32) -> Expr<'_> {
+        let id = self.arena.borrow_mut().input(index);
+        Expr { id, graph: self }
+    }
+
+    pub fn wrap(&self, id: NodeId) -> Expr<'_> {
+        Expr { id, graph: self }
+    }
+
+    pub fn arena(&self) -> std::cell::Ref<'_, Arena> {
+        self.arena.borrow()
+    }
+
+    pub fn into_arena(self) -> Arena {
+        self.arena.into_inner()
+    }
+
+    fn with<R>(&self, f: impl FnOnce(&mut Arena) -> R) -> R {
+        f(&mut self.arena.borrow_mut())
+    }
+}
+
+/// A handle on a node, with arithmetic operators that build simplified nodes.
+#[derive(Clone, Copy, Debug)]
+pub struct Expr<'g> {
+    pub id: NodeId,
+    graph: &'g Graph,
+}
+
+impl<'g> Expr<'g> {
+    pub fn graph(self) -> &'g Graph {
+        self.graph
+    }
+    pub fn sin(self) -> Self {
+        self.wrap(self.graph.with(|a| a.call(Func::Sin, self.id)))
+    }
+    pub fn cos(self) -> Self {
+        self.wrap(self.graph.with(|a| a.call(Func::Cos, self.id)))
+    }
+    pub fn sqrt(self) -> Self {
+        self.wrap(self.graph.with(|a| a.call(Func::Sqrt, self.id)))
+    }
+    pub fn recip(self) -> Self {
+        self.wrap(self.graph.with(|a| a.recip(self.id)))
+    }
+    pub fn as_const(self) -> Option<f64> {
+        self.graph.arena().const_value(self.id)
+    }
+    fn wrap(self, id: NodeId) -> Self {
+        Expr {
+            id,
+            graph: self.graph,
+        }
+    }
+    fn lift(self, value: f64) -> Self {
+        self.graph.constant(value)
+    }
+}
+
+macro_rules! binary_ops {
+    ($($trait:ident $method:ident $arena:ident;)*) => {$(
+        impl<'g> $trait for Expr<'g> {
+            type Output = Expr<'g>;
+            fn $method(self, rhs: Self) -> Self {
+                self.wrap(self.graph.with(|a| a.$arena(self.id, rhs.id)))
+            }
+        }
+        impl<'g> $trait<f64> for Expr<'g> {
+            type Output = Expr<'g>;
+            fn $method(self, rhs: f64) -> Self {
+                let rhs = self.lift(rhs);
+                self.$method(rhs)
+            }
+        }
+        impl<'g> $trait<Expr<'g>> for f64 {
+            type Output = Expr<'g>;
+            fn $method(self, rhs: Expr<'g>) -> Expr<'g> {
+                rhs.lift(self).$method(rhs)
+            }
+        }
+    )*};
+}
+
+binary_ops! {
+    Add add add;
+    Sub sub sub;
+    Mul mul mul;
+    Div div div;
+}
+
+impl<'g> Neg for Expr<'g> {
+    type Output = Expr<'g>;
+    fn neg(self) -> Self {
+        self.wrap(self.graph.with(|a| a.neg(self.id)))
+    }
+}
+
+impl<'g> std::iter::Sum for Expr<'g> {
+    fn sum<I: Iterator<Item = Self>>(iter: I) -> Self {
+        iter.reduce(|a, b| a + b)
+            .expect("sum of an empty iterator of expressions")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(i: u32) -> String {
+        ["x", "y", "z", "L", "w"][i as usize].to_string()
+    }
+
+    /// One-line rule tests in the manner of egg's `test_fn!`.
+    macro_rules! simplify_test {
+        ($name:ident, $policy:expr, |$x:ident, $y:ident, $z:ident, $l:ident| $e:expr => $want:expr) => {
+            #[test]
+            fn $name() {
+                let g = Graph::new($policy);
+                let ($x, $y, $z, $l) = (g.input(0), g.input(1), g.input(2), g.input(3));
+                let got = $e;
+                assert_eq!(g.arena().render(got.id, &names), $want);
+            }
+        };
+    }
+
+    const FLAT: Policy = Policy::FLAT;
+    const EXPAND: Policy = Policy {
+        expand_limit: 64,
+        ..Policy::FLAT
+    };
+
+    simplify_test!(x_times_one, FLAT, |x, _y, _z, _l| x * 1.0 => "x");
+    simplify_test!(x_times_zero, FLAT, |x, _y, _z, _l| x * 0.0 => "0");
+    simplify_test!(x_plus_zero, FLAT, |x, _y, _z, _l| x + 0.0 => "x");
+    simplify_test!(constants_fold, FLAT, |_x, _y, _z, _l| {
+        let g = _x.graph();
+        g.constant(2.0) * g.constant(3.0) + 1.0
+    } => "7");
+    simplify_test!(chapter_cancellation, FLAT, |_x, y, _z, l| (y - l) - (y + l) => "-2*L");
+    simplify_test!(x_minus_x, FLAT, |x, _y, _z, _l| x - x => "0");
+    simplify_test!(product_commutes, FLAT, |x, y, _z, _l| x * y - y * x => "0");
+    simplify_test!(quotient_cancels, FLAT, |x, y, _z, _l| x * y / y => "x");
+    simplify_test!(sign_floats_up, FLAT, |x, y, _z, _l| (-x) * y + x * y => "0");
+    simplify_test!(sum_sign_normalised, FLAT, |x, y, z, _l| (x - y) * z + (y - x) * z => "0");
+    simplify_test!(reciprocal_sign, FLAT, |x, y, _z, _l| 1.0 / (x - y) + 1.0 / (y - x) => "0");
+    simplify_test!(sin_is_odd, FLAT, |x, _y, _z, _l| (-x).sin() + x.sin() => "0");
+    simplify_test!(cos_is_even, FLAT, |x, _y, _z, _l| (-x).cos() - x.cos() => "0");
+    simplify_test!(square, FLAT, |x, _y, _z, _l| x * x => "x^2");
+    simplify_test!(no_expansion_when_flat, FLAT, |x, y, z, _l| (x + y) * z => "z*(x + y)");
+    simplify_test!(expansion_cancels, EXPAND, |x, y, z, _l| (x + y) * z - x * z => "y*z");
+
+    #[test]
+    fn hash_consing_is_cse() {
+        let g = Graph::new(FLAT);
+        let (x, y) = (g.input(0), g.input(1));
+        let a = (x + y) * x;
+        let b = x * (y + x);
+        assert_eq!(a.id, b.id);
+    }
+
+    #[test]
+    fn division_by_zero_constant_is_flagged() {
+        let g = Graph::new(FLAT);
+        let x = g.input(0);
+        let _ = x / 0.0;
+        assert!(g.arena().invalid.is_some());
+    }
+}

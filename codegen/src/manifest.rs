@@ -1,0 +1,101 @@
+//! The operation-count manifest (`ops.json`, `OPS.md`) and the generated files' header.
+
+use crate::count::OpCount;
+use crate::kernel::{ChapterCount, Compiled, KernelSpec};
+use serde::{Deserialize, Serialize};
+
+/// One kernel's entry in `ops.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Entry {
+    pub name: String,
+    pub setting: String,
+    pub equations: Vec<String>,
+    #[serde(flatten)]
+    pub count: OpCount,
+    pub chapter: Option<ChapterCount>,
+}
+
+/// The whole manifest.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Manifest {
+    pub kernels: Vec<Entry>,
+}
+
+fn entries(kernels: &[(&KernelSpec, &Compiled)]) -> Vec<Entry> {
+    kernels
+        .iter()
+        .map(|(s, c)| Entry {
+            name: s.name.clone(),
+            setting: s.setting.clone(),
+            equations: s.equations.clone(),
+            count: c.count.clone(),
+            chapter: s.chapter,
+        })
+        .collect()
+}
+
+pub fn json(kernels: &[(&KernelSpec, &Compiled)]) -> String {
+    let m = Manifest {
+        kernels: entries(kernels),
+    };
+    serde_json::to_string_pretty(&m).expect("manifest serialises") + "\n"
+}
+
+fn calls(c: &OpCount) -> String {
+    if c.calls.is_empty() {
+        "0".to_string()
+    } else {
+        c.calls
+            .iter()
+            .map(|(n, k)| format!("{k} {n}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// `ops.json` as a Markdown table.
+pub fn markdown(kernels: &[(&KernelSpec, &Compiled)]) -> String {
+    let mut out = String::from(
+        "# Operation counts of the generated kernels\n\n\
+         Generated with the kernels; `m` counts a division as a multiplication, as the chapter does.\n\n\
+         | kernel | setting | equations | mul | div | add | neg | calls | generated m + a | chapter m + a |\n\
+         |---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for e in entries(kernels) {
+        let c = &e.count;
+        out.push_str(&format!(
+            "| `{}` | {} | {} | {} | {} | {} | {} | {} | {}m + {}a | {} |\n",
+            e.name,
+            e.setting,
+            e.equations.join(", "),
+            c.mul,
+            c.div,
+            c.add,
+            c.neg,
+            calls(c),
+            c.chapter_m(),
+            c.chapter_a(),
+            e.chapter
+                .map_or("—".to_string(), |ch| format!("{}m + {}a", ch.m, ch.a)),
+        ));
+    }
+    out
+}
+
+/// The `@generated` header with a cost summary.
+pub fn header(kernels: &[(&KernelSpec, &Compiled)], how: &str) -> String {
+    let mut out = format!("// @generated {how}. Do not edit.\n//\n// Kernel operation counts (mul, div, add, neg, calls):\n");
+    for (s, c) in kernels {
+        let n = &c.count;
+        out.push_str(&format!(
+            "//   {:<32} {:>5} {:>4} {:>5} {:>4}  {}\n",
+            s.name,
+            n.mul,
+            n.div,
+            n.add,
+            n.neg,
+            calls(n)
+        ));
+    }
+    out
+}

@@ -1,0 +1,352 @@
+//! The robot's description: geometry, gravity and the dynamic parameters of every body.
+//!
+//! [`Robot`] is generic over its scalar so the same description holds numbers (`Robot<f64>`,
+//! the default robot of the chapter's appendix, validated) and symbols (`Robot<Expr>`, for the
+//! model); [`Robot::flatten`] and [`Robot::unflatten`] fix the order of the runtime parameter
+//! vector once.
+
+use crate::error::Error;
+use serde::{Deserialize, Serialize};
+
+/// A rigid body: mass, centre of mass and inertia about the centre of mass.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RigidBody<T = f64> {
+    /// Mass (kg).
+    pub mass: T,
+    /// Centre of mass from the body's reference point, in the platform frame (m).
+    pub com: [T; 3],
+    /// Inertia about the centre of mass, in the platform frame (kg·m²).
+    pub inertia: [[T; 3]; 3],
+}
+
+/// The actuator rod (body 1): it translates along its segment and never rotates.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Rod<T = f64> {
+    pub mass: T,
+    /// Constant part of `J_Gi1` in the base frame (kg·m²).
+    pub inertia: [[T; 3]; 3],
+    /// Part of `J_Gi1` proportional to `Q_i1²` (kg), as in the appendix tables.
+    pub inertia_per_length_squared: [[T; 3]; 3],
+}
+
+/// One segment: the rod (body 1) and the C5 joint (body 2, centre of mass at `B_i`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Segment<T = f64> {
+    pub rod: Rod<T>,
+    pub joint: RigidBody<T>,
+}
+
+/// A C5 joint parallel robot of the chapter's family.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Robot<T = f64> {
+    /// `L`, half the distance between the two parallel segments of a pair (m).
+    pub half_spacing: T,
+    /// Gravity in the base frame (m/s²).
+    pub gravity: [T; 3],
+    /// The mobile platform; its reference point is `C`.
+    pub platform: RigidBody<T>,
+    /// Segments 1..6.
+    pub segments: [Segment<T>; 6],
+}
+
+fn diag(a: f64, b: f64, c: f64) -> [[f64; 3]; 3] {
+    [[a, 0.0, 0.0], [0.0, b, 0.0], [0.0, 0.0, c]]
+}
+
+impl Default for Robot<f64> {
+    /// The chapter's robot: `L = 0.2 m`, the appendix's masses and inertias, `g = (0, 0, -9.81)`.
+    fn default() -> Self {
+        let segment = |axis: usize| {
+            let mut fixed = [0.00125; 3];
+            fixed[axis] = 0.0025;
+            let mut per_q2 = [0.1667; 3];
+            per_q2[axis] = 0.0;
+            let mut joint = [0.0084; 3];
+            joint[axis] = 0.00167;
+            Segment {
+                rod: Rod {
+                    mass: 2.0,
+                    inertia: diag(fixed[0], fixed[1], fixed[2]),
+                    inertia_per_length_squared: diag(per_q2[0], per_q2[1], per_q2[2]),
+                },
+                joint: RigidBody {
+                    mass: 1.67,
+                    com: [0.0; 3],
+                    inertia: diag(joint[0], joint[1], joint[2]),
+                },
+            }
+        };
+        Robot {
+            half_spacing: 0.2,
+            gravity: [0.0, 0.0, -9.81],
+            platform: RigidBody {
+                mass: 10.0,
+                com: [0.0; 3],
+                inertia: diag(0.375, 0.1875, 0.1875),
+            },
+            segments: [
+                segment(0),
+                segment(0),
+                segment(1),
+                segment(1),
+                segment(2),
+                segment(2),
+            ],
+        }
+    }
+}
+
+const SYM: [(usize, usize, &str); 6] = [
+    (0, 0, "xx"),
+    (0, 1, "xy"),
+    (0, 2, "xz"),
+    (1, 1, "yy"),
+    (1, 2, "yz"),
+    (2, 2, "zz"),
+];
+
+/// Visits every parameter in the fixed order of the runtime parameter vector.
+fn visit<T: Copy>(r: &Robot<T>, mut f: impl FnMut(String, T)) {
+    let sym = |prefix: &str, m: &[[T; 3]; 3], f: &mut dyn FnMut(String, T)| {
+        for (i, j, n) in SYM {
+            f(format!("{prefix}_{n}"), m[i][j]);
+        }
+    };
+    f("half_spacing".into(), r.half_spacing);
+    for (k, a) in ["x", "y", "z"].iter().enumerate() {
+        f(format!("gravity_{a}"), r.gravity[k]);
+    }
+    let body = |prefix: &str, b: &RigidBody<T>, f: &mut dyn FnMut(String, T)| {
+        f(format!("{prefix}_mass"), b.mass);
+        for (k, a) in ["x", "y", "z"].iter().enumerate() {
+            f(format!("{prefix}_com_{a}"), b.com[k]);
+        }
+        sym(&format!("{prefix}_inertia"), &b.inertia, f);
+    };
+    body("platform", &r.platform, &mut f);
+    for (i, s) in r.segments.iter().enumerate() {
+        let n = i + 1;
+        f(format!("rod{n}_mass"), s.rod.mass);
+        sym(&format!("rod{n}_inertia"), &s.rod.inertia, &mut f);
+        sym(
+            &format!("rod{n}_inertia_q2"),
+            &s.rod.inertia_per_length_squared,
+            &mut f,
+        );
+        body(&format!("joint{n}"), &s.joint, &mut f);
+    }
+}
+
+impl<T: Copy> Robot<T> {
+    /// Number of entries of the runtime parameter vector.
+    pub const PARAMETERS: usize = 152;
+
+    /// The parameters in the order of the runtime parameter vector.
+    pub fn flatten(&self) -> Vec<T> {
+        let mut out = Vec::with_capacity(Self::PARAMETERS);
+        visit(self, |_, v| out.push(v));
+        out
+    }
+
+    /// Names of the runtime parameters, in order (valid Rust identifiers).
+    pub fn parameter_names() -> Vec<String>
+    where
+        T: Default,
+    {
+        let mut out = Vec::new();
+        visit(&Robot::<T>::filled(T::default()), |n, _| out.push(n));
+        out
+    }
+
+    fn filled(v: T) -> Self {
+        let body = RigidBody {
+            mass: v,
+            com: [v; 3],
+            inertia: [[v; 3]; 3],
+        };
+        let seg = Segment {
+            rod: Rod {
+                mass: v,
+                inertia: [[v; 3]; 3],
+                inertia_per_length_squared: [[v; 3]; 3],
+            },
+            joint: body,
+        };
+        Robot {
+            half_spacing: v,
+            gravity: [v; 3],
+            platform: body,
+            segments: [seg; 6],
+        }
+    }
+
+    /// Rebuilds a robot from its parameter vector (the inverse of [`Robot::flatten`]).
+    ///
+    /// # Panics
+    /// If `values` does not hold [`Robot::PARAMETERS`] entries.
+    pub fn unflatten(values: &[T]) -> Self {
+        assert_eq!(values.len(), Self::PARAMETERS, "parameter vector length");
+        let mut it = values.iter().copied();
+        let mut next = || it.next().expect("length checked");
+        let sym = |next: &mut dyn FnMut() -> T| {
+            let mut m = [[values[0]; 3]; 3];
+            for (i, j, _) in SYM {
+                let v = next();
+                m[i][j] = v;
+                m[j][i] = v;
+            }
+            m
+        };
+        let body = |next: &mut dyn FnMut() -> T| {
+            let mass = next();
+            let com = [next(), next(), next()];
+            let inertia = sym(next);
+            RigidBody { mass, com, inertia }
+        };
+        let half_spacing = next();
+        let gravity = [next(), next(), next()];
+        let platform = body(&mut next);
+        let segments = std::array::from_fn(|_| {
+            let mass = next();
+            let inertia = sym(&mut next);
+            let inertia_per_length_squared = sym(&mut next);
+            let joint = body(&mut next);
+            Segment {
+                rod: Rod {
+                    mass,
+                    inertia,
+                    inertia_per_length_squared,
+                },
+                joint,
+            }
+        });
+        Robot {
+            half_spacing,
+            gravity,
+            platform,
+            segments,
+        }
+    }
+
+    /// Maps every parameter through `f`.
+    pub fn map<U: Copy>(&self, f: impl FnMut(T) -> U) -> Robot<U> {
+        Robot::unflatten(&self.flatten().into_iter().map(f).collect::<Vec<_>>())
+    }
+}
+
+fn invalid(field: impl Into<String>, rule: &str) -> Error {
+    Error::InvalidRobot {
+        field: field.into(),
+        rule: rule.to_string(),
+    }
+}
+
+/// Checks that `m` is symmetric and positive definite (Sylvester's criterion).
+fn check_spd(field: &str, m: &[[f64; 3]; 3], allow_zero: bool) -> Result<(), Error> {
+    for i in 0..3 {
+        for j in 0..3 {
+            let tol = 1e-12 * (m[i][j].abs() + m[j][i].abs()).max(1.0);
+            if (m[i][j] - m[j][i]).abs() > tol {
+                return Err(invalid(field, "must be symmetric"));
+            }
+        }
+    }
+    let d1 = m[0][0];
+    let d2 = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    let d3 = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    if allow_zero {
+        let diag_ok = (0..3).all(|i| m[i][i] >= 0.0);
+        if !diag_ok {
+            return Err(invalid(field, "must be positive semi-definite"));
+        }
+    } else if !(d1 > 0.0 && d2 > 0.0 && d3 > 0.0) {
+        return Err(invalid(field, "must be positive definite"));
+    }
+    Ok(())
+}
+
+impl Robot<f64> {
+    /// Checks every rule a physical robot obeys.
+    ///
+    /// # Errors
+    /// [`Error::InvalidRobot`] naming the first field that breaks a rule: a non-finite value, a
+    /// non-positive `half_spacing` or mass, or an inertia that is not symmetric positive definite.
+    pub fn validate(&self) -> Result<(), Error> {
+        let mut bad = None;
+        visit(self, |name, v| {
+            if !v.is_finite() && bad.is_none() {
+                bad = Some(name);
+            }
+        });
+        if let Some(name) = bad {
+            return Err(invalid(name, "must be finite"));
+        }
+        if self.half_spacing <= 0.0 {
+            return Err(invalid("half_spacing", "must be positive"));
+        }
+        let body = |prefix: &str, b: &RigidBody| -> Result<(), Error> {
+            if b.mass <= 0.0 {
+                return Err(invalid(format!("{prefix}.mass"), "must be positive"));
+            }
+            check_spd(&format!("{prefix}.inertia"), &b.inertia, false)
+        };
+        body("platform", &self.platform)?;
+        for (i, s) in self.segments.iter().enumerate() {
+            let n = i + 1;
+            if s.rod.mass <= 0.0 {
+                return Err(invalid(format!("segments[{n}].rod.mass"), "must be positive"));
+            }
+            check_spd(&format!("segments[{n}].rod.inertia"), &s.rod.inertia, false)?;
+            check_spd(
+                &format!("segments[{n}].rod.inertia_per_length_squared"),
+                &s.rod.inertia_per_length_squared,
+                true,
+            )?;
+            body(&format!("segments[{n}].joint"), &s.joint)?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flatten_round_trips() {
+        let r = Robot::default();
+        let v = r.flatten();
+        assert_eq!(v.len(), Robot::<f64>::PARAMETERS);
+        assert_eq!(Robot::unflatten(&v), r);
+        assert_eq!(Robot::<f64>::parameter_names().len(), v.len());
+    }
+
+    #[test]
+    fn default_robot_is_valid() {
+        Robot::default().validate().unwrap();
+    }
+
+    #[test]
+    fn non_positive_mass_is_named() {
+        let mut r = Robot::default();
+        r.segments[2].joint.mass = 0.0;
+        let e = r.validate().unwrap_err().to_string();
+        assert_eq!(e, "invalid robot: `segments[3].joint.mass` must be positive");
+    }
+
+    #[test]
+    fn indefinite_inertia_is_rejected() {
+        let mut r = Robot::default();
+        r.platform.inertia[0][0] = -1.0;
+        assert!(r.validate().is_err());
+        let mut r = Robot::default();
+        r.platform.inertia[0][1] = 0.3;
+        assert!(r.validate().is_err(), "asymmetric");
+    }
+}
