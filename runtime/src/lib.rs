@@ -1,0 +1,167 @@
+//! The C5 joint parallel robot: a safe, typed API over the generated kernels, the matrix-form
+//! reference, and the chapter's Section 9 study.
+//!
+//! [`C5`] checks its inputs and calls the generated straight-line kernels (`c5-generated`,
+//! runtime-parameter variants, so any valid [`Robot`] works); [`reference`] is the chapter in
+//! matrix form with `nalgebra`, kept independent so the two check each other.
+
+pub mod error;
+pub mod reference;
+pub mod simulate;
+pub mod trajectory;
+pub mod types;
+
+pub use c5_codegen::Robot;
+pub use error::Error;
+pub use types::{Acceleration, Pose, State, Twist};
+
+use c5_generated::f64 as k;
+
+/// Smallest accepted `|r11|`, `|r22|`, `|r33|` (the divisors of eq 16). Below it a pose is
+/// [`Error::Singular`]: an actuator length would be off by more than `|Δ|/1e-9` per unit error.
+pub const SINGULARITY_TOLERANCE: f64 = 1e-9;
+
+/// A validated robot with its parameter vector, ready to evaluate kernels.
+#[derive(Clone, Debug)]
+pub struct C5 {
+    robot: Robot,
+    params: [f64; c5_generated::PARAMETERS],
+}
+
+fn check_finite(input: &'static str, v: &[f64]) -> Result<(), Error> {
+    match v.iter().position(|x| !x.is_finite()) {
+        Some(index) => Err(Error::NonFinite { input, index }),
+        None => Ok(()),
+    }
+}
+
+impl C5 {
+    /// # Errors
+    /// [`Error::Robot`] if the description breaks a rule of [`Robot::validate`].
+    pub fn new(robot: Robot) -> Result<Self, Error> {
+        robot.validate().map_err(|e| Error::Robot(e.to_string()))?;
+        let mut params = [0.0; c5_generated::PARAMETERS];
+        params.copy_from_slice(&robot.flatten());
+        Ok(C5 { robot, params })
+    }
+
+    pub fn robot(&self) -> &Robot {
+        &self.robot
+    }
+
+    fn check_pose(&self, pose: &Pose) -> Result<[f64; 6], Error> {
+        let x = pose.to_array();
+        check_finite("pose", &x)?;
+        let (ca, cb, cg) = (pose.alpha.cos(), pose.beta.cos(), pose.gamma.cos());
+        let (sa, sb, sg) = (pose.alpha.sin(), pose.beta.sin(), pose.gamma.sin());
+        for (term, value) in [
+            ("r11", cb * cg),
+            ("r22", ca * cg - sa * sb * sg),
+            ("r33", cb * ca),
+        ] {
+            if value.abs() < SINGULARITY_TOLERANCE {
+                return Err(Error::Singular { term, value });
+            }
+        }
+        Ok(x)
+    }
+
+    fn check_motion(&self, state: &State) -> Result<[[f64; 6]; 3], Error> {
+        let x = self.check_pose(&state.pose)?;
+        let v = state.twist.to_array();
+        let a = state.accel.to_array();
+        check_finite("twist", &v)?;
+        check_finite("acceleration", &a)?;
+        Ok([x, v, a])
+    }
+
+    /// Eqs 15, 16, 27: actuator lengths `Q_i1` and the vectors `P_i2`, segment order.
+    ///
+    /// # Errors
+    /// A non-finite or singular pose.
+    pub fn inverse_kinematics(&self, pose: &Pose) -> Result<([f64; 6], [[f64; 3]; 6]), Error> {
+        let x = self.check_pose(pose)?;
+        Ok(k::inverse_kinematics_params(&x, &self.params))
+    }
+
+    /// Eq 22: `J⁻¹` (row `i` = segment `i+1`, columns `ωx ωy ωz vx vy vz`).
+    ///
+    /// # Errors
+    /// A non-finite or singular pose.
+    pub fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        let x = self.check_pose(pose)?;
+        Ok(k::inverse_jacobian_pose_params(&x, &self.params))
+    }
+
+    /// Eq 40: `J = J1 Π1` (rows `ωx … vz`, column `i` = segment `i+1`).
+    ///
+    /// # Errors
+    /// A non-finite or singular pose.
+    pub fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        let x = self.check_pose(pose)?;
+        Ok(k::jacobian_pose_params(&x, &self.params))
+    }
+
+    /// `Q̇_a = J⁻¹ V`, segment order.
+    ///
+    /// # Errors
+    /// Non-finite inputs or a singular pose.
+    pub fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        let x = self.check_pose(pose)?;
+        let v = twist.to_array();
+        check_finite("twist", &v)?;
+        Ok(k::joint_velocities_params(&x, &v, &self.params))
+    }
+
+    /// Eqs 43-48: actuator accelerations `Q̈_a` by projection, segment order.
+    ///
+    /// # Errors
+    /// Non-finite inputs or a singular pose.
+    pub fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
+        let [x, v, a] = self.check_motion(state)?;
+        Ok(k::joint_accelerations_params(&x, &v, &a, &self.params).0)
+    }
+
+    /// Eq 60 with eq 62: actuator forces `Γ` (N), segment order.
+    ///
+    /// # Errors
+    /// Non-finite inputs or a singular pose.
+    pub fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
+        let [x, v, a] = self.check_motion(state)?;
+        Ok(k::inverse_dynamics_params(&x, &v, &a, &self.params))
+    }
+
+    /// Everything `eval` and `simulate` report for one state, in one call.
+    ///
+    /// # Errors
+    /// Non-finite inputs or a singular pose.
+    pub fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
+        let [x, v, a] = self.check_motion(state)?;
+        let p = &self.params;
+        Ok(Evaluation {
+            q: k::inverse_kinematics_params(&x, p).0,
+            qd: k::joint_velocities_params(&x, &v, p),
+            qdd: k::joint_accelerations_params(&x, &v, &a, p).0,
+            gamma: k::inverse_dynamics_params(&x, &v, &a, p),
+            jinv: k::inverse_jacobian_pose_params(&x, p),
+            jacobian: k::jacobian_pose_params(&x, p),
+        })
+    }
+}
+
+/// The kinematic and dynamic quantities of one platform state, segment order.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Evaluation {
+    /// `Q_i1` (m), eq 16.
+    pub q: [f64; 6],
+    /// `Q̇_i1` (m/s), `J⁻¹ V`.
+    pub qd: [f64; 6],
+    /// `Q̈_i1` (m/s²), eqs 43-48.
+    pub qdd: [f64; 6],
+    /// `Γ_i` (N), eq 60/62.
+    pub gamma: [f64; 6],
+    /// `J⁻¹`, row `i` = segment `i+1`.
+    pub jinv: [[f64; 6]; 6],
+    /// `J`, column `i` = segment `i+1`.
+    pub jacobian: [[f64; 6]; 6],
+}

@@ -1,0 +1,34 @@
+//! Errors of the runtime API.
+
+use std::fmt;
+
+/// Why a computation was refused.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum Error {
+    /// An input held NaN or an infinity.
+    NonFinite { input: &'static str, index: usize },
+    /// The pose is singular for the inverse kinematics: `term` (`r11`, `r22` or `r33`, the
+    /// divisors of eq 16) has magnitude below [`crate::SINGULARITY_TOLERANCE`].
+    Singular { term: &'static str, value: f64 },
+    /// The robot description breaks a rule.
+    Robot(String),
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::NonFinite { input, index } => {
+                write!(f, "{input}[{index}] is not a finite number")
+            }
+            Error::Singular { term, value } => write!(
+                f,
+                "singular pose: {term} = {value:e} (|{term}| must be at least {:e})",
+                crate::SINGULARITY_TOLERANCE
+            ),
+            Error::Robot(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
