@@ -1,0 +1,144 @@
+//! Every generated kernel against the nalgebra reference, in both settings, on 10 000 seeded
+//! random states. Errors are relative to the largest entry of the reference quantity; the
+//! bound is 1e-12 except where the reference itself goes through LU factorisations (`Φ`, `Γ`:
+//! 6×6 solves with condition numbers up to ~1e2 here), where it is 1e-11.
+
+mod support;
+
+use c5_generated::f64 as k;
+use c5_runtime::reference::{self as r, Step6, CHAPTER_ORDER};
+use c5_runtime::{Robot, State};
+use nalgebra::{Matrix6, Vector6};
+use support::*;
+
+const STATES: usize = 10_000;
+
+fn chapter_rows(m: &Matrix6<f64>) -> [[f64; 6]; 6] {
+    // Chapter row k holds segment CHAPTER_ORDER[k].
+    let mut out = [[0.0; 6]; 6];
+    for (kk, &i) in CHAPTER_ORDER.iter().enumerate() {
+        out[i] = std::array::from_fn(|j| m[(kk, j)]);
+    }
+    out
+}
+
+fn chapter_columns(m: &Matrix6<f64>) -> [[f64; 6]; 6] {
+    let mut out = [[0.0; 6]; 6];
+    for row in 0..6 {
+        for (kk, &i) in CHAPTER_ORDER.iter().enumerate() {
+            out[row][i] = m[(row, kk)];
+        }
+    }
+    out
+}
+
+fn p_array(p: &[nalgebra::Vector3<f64>; 6]) -> [[f64; 3]; 6] {
+    std::array::from_fn(|i| p[i].into())
+}
+
+/// Checks the pose-setting kernels for `robot`, through `params` (None: the folded kernels).
+fn check_pose_kernels(robot: &Robot, params: Option<&[f64; 152]>, s: &State) {
+    let x = s.pose.to_array();
+    let v = s.twist.to_array();
+    let a = s.accel.to_array();
+    let l = robot.half_spacing;
+    let (q, p) = match params {
+        Some(pp) => k::inverse_kinematics_params(&x, pp),
+        None => k::inverse_kinematics(&x),
+    };
+    let p_ref = r::p_i2(l, &s.pose);
+    assert!(rel_err(&q, &r::to_segment_order(&r::inverse_kinematics(l, &s.pose)), 1e-3) < 1e-12);
+    assert!(rel_err(&flat(&p), &flat(&p_array(&p_ref)), 1e-3) < 1e-12);
+
+    let jinv = params.map_or_else(|| k::inverse_jacobian_pose(&x), |pp| k::inverse_jacobian_pose_params(&x, pp));
+    assert!(rel_err(&flat(&jinv), &flat(&chapter_rows(&r::inverse_jacobian(&p_ref))), 1.0) < 1e-12);
+    let j = params.map_or_else(|| k::jacobian_pose(&x), |pp| k::jacobian_pose_params(&x, pp));
+    assert!(rel_err(&flat(&j), &flat(&chapter_columns(&r::jacobian(&p_ref))), 1.0) < 1e-12);
+
+    let qd = params.map_or_else(|| k::joint_velocities(&x, &v), |pp| k::joint_velocities_params(&x, &v, pp));
+    let qd_ref = r::to_segment_order(&(r::inverse_jacobian(&p_ref) * s.twist.to_vector()));
+    assert!(rel_err(&qd, &qd_ref, 1e-3) < 1e-12);
+
+    let (qdd, legs) = params.map_or_else(
+        || k::joint_accelerations(&x, &v, &a),
+        |pp| k::joint_accelerations_params(&x, &v, &a, pp),
+    );
+    let vdot = r::spatial_acceleration(&s.twist, &s.accel);
+    let q_seg = r::to_segment_order(&r::inverse_kinematics(l, &s.pose));
+    for i in 0..6 {
+        let want = r::joint_accelerations_projection(&(q_seg[i] * r::axis(i)), &p_ref[i], &vdot, i);
+        assert!(rel_err(&legs[i], want.as_slice(), 1e-3) < 1e-12, "segment {}", i + 1);
+        assert_eq!(legs[i][5], qdd[i]);
+    }
+
+    let (t, acc) = (&s.twist, &s.accel);
+    let phi = params.map_or_else(|| k::leg_wrench(&x, &v, &a), |pp| k::leg_wrench_params(&x, &v, &a, pp));
+    let phi_ref = r::leg_wrench(robot, &s.pose, t, acc).unwrap();
+    assert!(rel_err(&phi, phi_ref.as_slice(), 1.0) < 1e-11);
+    let f = params.map_or_else(|| k::platform_wrench(&x, &v, &a), |pp| k::platform_wrench_params(&x, &v, &a, pp));
+    let f_ref = r::platform_wrench(robot, &s.pose, t, acc);
+    assert!(rel_err(&f, f_ref.as_slice(), 1.0) < 1e-12);
+    let gamma = params.map_or_else(|| k::inverse_dynamics(&x, &v, &a), |pp| k::inverse_dynamics_params(&x, &v, &a, pp));
+    let gamma_ref = r::to_segment_order(&r::inverse_dynamics(robot, &s.pose, t, acc, Step6::Khalil).unwrap());
+    assert!(rel_err(&gamma, &gamma_ref, 1.0) < 1e-11, "{gamma:?} vs {gamma_ref:?}");
+}
+
+#[test]
+fn pose_kernels_with_the_default_robot_folded_equal_the_reference() {
+    let mut rng = rng(10);
+    let robot = Robot::default();
+    for _ in 0..STATES {
+        check_pose_kernels(&robot, None, &random_state(&mut rng));
+    }
+}
+
+#[test]
+fn pose_kernels_with_runtime_parameters_equal_the_reference_for_other_robots() {
+    let mut rng = rng(11);
+    for n in 0..STATES {
+        let robot = if n % 2 == 0 { random_robot(&mut rng) } else { Robot::default() };
+        let params: [f64; 152] = robot.flatten().try_into().unwrap();
+        check_pose_kernels(&robot, Some(&params), &random_state(&mut rng));
+    }
+}
+
+#[test]
+fn chapter_setting_kernels_equal_the_reference() {
+    let mut rng = rng(12);
+    let robot = Robot::default();
+    for _ in 0..STATES {
+        let s = random_state(&mut rng);
+        let p_ref = r::p_i2(robot.half_spacing, &s.pose);
+        let p = p_array(&p_ref);
+        let jinv = k::inverse_jacobian(&p);
+        assert!(rel_err(&flat(&jinv), &flat(&chapter_rows(&r::inverse_jacobian(&p_ref))), 1.0) < 1e-12);
+        let pi1 = k::pi1(&p);
+        assert!(rel_err(&flat(&pi1), &flat(&chapter_columns(&r::pi1(&p_ref))), 1.0) < 1e-12);
+        let j = k::jacobian(&p);
+        assert!(rel_err(&flat(&j), &flat(&chapter_columns(&r::jacobian(&p_ref))), 1.0) < 1e-12);
+        let vdot = r::spatial_acceleration(&s.twist, &s.accel);
+        let q1 = r::to_segment_order(&r::inverse_kinematics(robot.half_spacing, &s.pose))[0];
+        let qdd = k::joint_accelerations_segment(&p[0], &vdot.into());
+        let want = r::joint_accelerations_projection(&(q1 * r::axis(0)), &p_ref[0], &vdot, 0);
+        assert!(rel_err(&qdd, want.as_slice(), 1e-3) < 1e-12);
+        let kk: [f64; 6] = random_state(&mut rng).accel.to_array().map(|x| 50.0 * x);
+        let gamma = k::step6_factored(&p, &kk);
+        let want = r::pi1(&p_ref).transpose() * r::j1(&p_ref[0]).transpose() * Vector6::from(kk);
+        assert!(rel_err(&gamma, &r::to_segment_order(&want), 1.0) < 1e-12);
+    }
+}
+
+#[test]
+fn f32_kernels_track_f64_within_single_precision() {
+    let mut rng = rng(13);
+    let mut worst: f64 = 0.0;
+    for _ in 0..STATES {
+        let s = random_state(&mut rng);
+        let (x, v, a) = (s.pose.to_array(), s.twist.to_array(), s.accel.to_array());
+        let g64 = k::inverse_dynamics(&x, &v, &a);
+        let g32 = c5_generated::f32::inverse_dynamics(&x.map(|e| e as f32), &v.map(|e| e as f32), &a.map(|e| e as f32));
+        worst = worst.max(rel_err(&g32.map(f64::from), &g64, 1.0));
+    }
+    println!("worst relative error of f32 inverse_dynamics: {worst:.2e}");
+    assert!(worst < 1e-5, "{worst}");
+}
