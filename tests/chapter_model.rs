@@ -18,8 +18,10 @@ fn jacobian_times_inverse_is_identity_and_both_step6_agree() {
         let p = r::p_i2(robot.half_spacing, &s.pose);
         let jj = r::jacobian(&p) * r::inverse_jacobian(&p);
         assert!((jj - Matrix6::identity()).amax() < 1e-12, "J J⁻¹ = {jj}");
-        let khalil = r::inverse_dynamics(&robot, &s.pose, &s.twist, &s.accel, Step6::Khalil).unwrap();
-        let factored = r::inverse_dynamics(&robot, &s.pose, &s.twist, &s.accel, Step6::Factored).unwrap();
+        let khalil =
+            r::inverse_dynamics(&robot, &s.pose, &s.twist, &s.accel, Step6::Khalil).unwrap();
+        let factored =
+            r::inverse_dynamics(&robot, &s.pose, &s.twist, &s.accel, Step6::Factored).unwrap();
         assert!(rel_err(factored.as_slice(), khalil.as_slice(), 1.0) < 1e-12);
     }
 }
@@ -28,7 +30,9 @@ fn jacobian_times_inverse_is_identity_and_both_step6_agree() {
 fn home_statics_loads_only_the_vertical_actuators() {
     let robot = Robot::default();
     let s = State::default();
-    let gamma = r::to_segment_order(&r::inverse_dynamics(&robot, &s.pose, &s.twist, &s.accel, Step6::Khalil).unwrap());
+    let gamma = r::to_segment_order(
+        &r::inverse_dynamics(&robot, &s.pose, &s.twist, &s.accel, Step6::Khalil).unwrap(),
+    );
     let vertical = ((10.0 + 6.0 * 1.67) / 2.0 + 2.0) * 9.81;
     let want = [0.0, 0.0, 0.0, 0.0, vertical, vertical];
     assert!(rel_err(&gamma, &want, 0.0) < 1e-9, "{gamma:?}");
@@ -66,8 +70,18 @@ fn projection_equals_eq42_equals_finite_difference_on_a_rotating_trajectory() {
         let mut pose = rotate(&start, &omega, t);
         let c: Vector3<f64> = Vector3::from(start.center) + v0 * t + 0.5 * a * t * t;
         pose.center = c.into();
-        let twist = Twist { omega: omega.into(), velocity: (v0 + a * t).into() };
-        State { pose, twist, accel: Acceleration { omega_dot: [0.0; 3], linear: a.into() } }
+        let twist = Twist {
+            omega: omega.into(),
+            velocity: (v0 + a * t).into(),
+        };
+        State {
+            pose,
+            twist,
+            accel: Acceleration {
+                omega_dot: [0.0; 3],
+                linear: a.into(),
+            },
+        }
     };
     let qd = |t: f64| {
         let s = state_at(t);
@@ -81,10 +95,21 @@ fn projection_equals_eq42_equals_finite_difference_on_a_rotating_trajectory() {
         for (k, &i) in CHAPTER_ORDER.iter().enumerate() {
             let p = r::p_i2(l, &s.pose);
             let q = r::to_segment_order(&r::inverse_kinematics(l, &s.pose));
-            let projection = r::joint_accelerations_projection(&(q[i] * r::axis(i)), &p[i], &vdot, i)[5];
-            let conventional = r::joint_accelerations_conventional(l, &s.pose, &s.twist, &s.accel, i).unwrap()[5];
-            assert!((projection - conventional).abs() < 1e-12, "segment {} t={t}", i + 1);
-            assert!((projection - fd[k]).abs() < 1e-7, "segment {}: {projection} vs fd {}", i + 1, fd[k]);
+            let projection =
+                r::joint_accelerations_projection(&(q[i] * r::axis(i)), &p[i], &vdot, i)[5];
+            let conventional =
+                r::joint_accelerations_conventional(l, &s.pose, &s.twist, &s.accel, i).unwrap()[5];
+            assert!(
+                (projection - conventional).abs() < 1e-12,
+                "segment {} t={t}",
+                i + 1
+            );
+            assert!(
+                (projection - fd[k]).abs() < 1e-7,
+                "segment {}: {projection} vs fd {}",
+                i + 1,
+                fd[k]
+            );
         }
     }
 }
@@ -107,7 +132,11 @@ fn leg_recursion_moves_the_bodies_as_mechanics_says() {
             assert!((motion.rod_acceleration - qdd * r::axis(i)).amax() < 1e-12);
             let b_c = -p[i];
             let want = a_c + wd.cross(&b_c) + w.cross(&w.cross(&b_c));
-            assert!((motion.joint_acceleration - want).amax() < 1e-12, "segment {}", i + 1);
+            assert!(
+                (motion.joint_acceleration - want).amax() < 1e-12,
+                "segment {}",
+                i + 1
+            );
             assert!((motion.joint_angular_acceleration - wd).amax() < 1e-12);
         }
     }
@@ -121,16 +150,25 @@ fn kinetic_energy(robot: &Robot, s: &State) -> f64 {
     let qd = r::to_segment_order(&qd);
     let joints: f64 = robot.segments.iter().map(|g| g.joint.mass).sum();
     0.5 * (robot.platform.mass + joints) * v.norm_squared()
-        + robot.segments.iter().zip(qd).map(|(g, q)| 0.5 * g.rod.mass * q * q).sum::<f64>()
+        + robot
+            .segments
+            .iter()
+            .zip(qd)
+            .map(|(g, q)| 0.5 * g.rod.mass * q * q)
+            .sum::<f64>()
 }
 
 fn gravity_power(robot: &Robot, s: &State) -> f64 {
     let g = Vector3::from(robot.gravity);
     let v = Vector3::from(s.twist.velocity);
-    let qd = r::to_segment_order(&(r::inverse_jacobian(&r::p_i2(robot.half_spacing, &s.pose)) * s.twist.to_vector()));
+    let qd = r::to_segment_order(
+        &(r::inverse_jacobian(&r::p_i2(robot.half_spacing, &s.pose)) * s.twist.to_vector()),
+    );
     let joints: f64 = robot.segments.iter().map(|g| g.joint.mass).sum();
     (robot.platform.mass + joints) * g.dot(&v)
-        + (0..6).map(|i| robot.segments[i].rod.mass * g.dot(&(qd[i] * r::axis(i)))).sum::<f64>()
+        + (0..6)
+            .map(|i| robot.segments[i].rod.mass * g.dot(&(qd[i] * r::axis(i))))
+            .sum::<f64>()
 }
 
 #[test]
@@ -140,12 +178,18 @@ fn actuator_power_balances_kinetic_energy_and_gravity() {
     let h = 1e-5;
     for &t in &[0.1, 0.25, 0.5, 0.75, 0.9] {
         let s = motion.state(t);
-        let gamma = r::inverse_dynamics(&robot, &s.pose, &s.twist, &s.accel, Step6::Factored).unwrap();
+        let gamma =
+            r::inverse_dynamics(&robot, &s.pose, &s.twist, &s.accel, Step6::Factored).unwrap();
         let qd = r::inverse_jacobian(&r::p_i2(robot.half_spacing, &s.pose)) * s.twist.to_vector();
         let power = gamma.dot(&qd);
-        let dk = (kinetic_energy(&robot, &motion.state(t + h)) - kinetic_energy(&robot, &motion.state(t - h))) / (2.0 * h);
+        let dk = (kinetic_energy(&robot, &motion.state(t + h))
+            - kinetic_energy(&robot, &motion.state(t - h)))
+            / (2.0 * h);
         let want = dk - gravity_power(&robot, &s);
-        assert!((power - want).abs() <= 1e-6 * want.abs().max(1e-3), "t={t}: {power} vs {want}");
+        assert!(
+            (power - want).abs() <= 1e-6 * want.abs().max(1e-3),
+            "t={t}: {power} vs {want}"
+        );
     }
 }
 
@@ -195,7 +239,8 @@ fn exact_inverse_jacobian(l: f64, pose: &Pose) -> Matrix6<f64> {
         let d = axis.dot(&r::axis(i));
         let top = axis.cross(&p[i]) / d;
         m.fixed_view_mut::<1, 3>(k, 0).copy_from(&top.transpose());
-        m.fixed_view_mut::<1, 3>(k, 3).copy_from(&(axis / d).transpose());
+        m.fixed_view_mut::<1, 3>(k, 3)
+            .copy_from(&(axis / d).transpose());
     }
     m
 }
@@ -207,7 +252,14 @@ fn eq22_is_the_derivative_of_eq16_only_at_zero_orientation() {
     let p = r::p_i2(l, &home);
     assert!((r::inverse_jacobian(&p) - fd_inverse_jacobian(l, &home)).amax() < 1e-8);
 
-    let tilted = Pose::from_array([10f64.to_radians(), 15f64.to_radians(), 20f64.to_radians(), 0.0, 0.0, 0.0]);
+    let tilted = Pose::from_array([
+        10f64.to_radians(),
+        15f64.to_radians(),
+        20f64.to_radians(),
+        0.0,
+        0.0,
+        0.0,
+    ]);
     let fd = fd_inverse_jacobian(l, &tilted);
     let paper = r::inverse_jacobian(&r::p_i2(l, &tilted));
     let gap = (paper - fd).amax();

@@ -29,8 +29,18 @@ fn generated_files_are_fresh() {
 fn manifest_lists_every_kernel_with_counts() {
     let m: serde_json::Value = serde_json::from_str(c5_generated::OPS_JSON).unwrap();
     let kernels = m["kernels"].as_array().unwrap();
-    for name in ["inverse_jacobian", "pi1", "jacobian", "joint_accelerations_segment", "step6_factored", "inverse_dynamics"] {
-        let k = kernels.iter().find(|k| k["name"] == name).unwrap_or_else(|| panic!("{name} missing"));
+    for name in [
+        "inverse_jacobian",
+        "pi1",
+        "jacobian",
+        "joint_accelerations_segment",
+        "step6_factored",
+        "inverse_dynamics",
+    ] {
+        let k = kernels
+            .iter()
+            .find(|k| k["name"] == name)
+            .unwrap_or_else(|| panic!("{name} missing"));
         for key in ["mul", "div", "add", "neg"] {
             assert!(k[key].is_u64(), "{name}.{key}");
         }
@@ -43,7 +53,10 @@ fn chapter_kernels_beat_the_chapter() {
     for k in m["kernels"].as_array().unwrap() {
         if k["setting"] == "chapter" {
             let n = |key: &str| k[key].as_u64().unwrap();
-            let (cm, ca) = (k["chapter"]["m"].as_u64().unwrap(), k["chapter"]["a"].as_u64().unwrap());
+            let (cm, ca) = (
+                k["chapter"]["m"].as_u64().unwrap(),
+                k["chapter"]["a"].as_u64().unwrap(),
+            );
             assert!(n("mul") + n("div") <= cm && n("add") <= ca, "{}", k["name"]);
         }
     }

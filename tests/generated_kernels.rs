@@ -47,15 +47,42 @@ fn check_pose_kernels(robot: &Robot, params: Option<&[f64; 152]>, s: &State) {
         None => k::inverse_kinematics(&x),
     };
     let p_ref = r::p_i2(l, &s.pose);
-    assert!(rel_err(&q, &r::to_segment_order(&r::inverse_kinematics(l, &s.pose)), 1e-3) < 1e-12);
+    assert!(
+        rel_err(
+            &q,
+            &r::to_segment_order(&r::inverse_kinematics(l, &s.pose)),
+            1e-3
+        ) < 1e-12
+    );
     assert!(rel_err(&flat(&p), &flat(&p_array(&p_ref)), 1e-3) < 1e-12);
 
-    let jinv = params.map_or_else(|| k::inverse_jacobian_pose(&x), |pp| k::inverse_jacobian_pose_params(&x, pp));
-    assert!(rel_err(&flat(&jinv), &flat(&chapter_rows(&r::inverse_jacobian(&p_ref))), 1.0) < 1e-12);
-    let j = params.map_or_else(|| k::jacobian_pose(&x), |pp| k::jacobian_pose_params(&x, pp));
-    assert!(rel_err(&flat(&j), &flat(&chapter_columns(&r::jacobian(&p_ref))), 1.0) < 1e-12);
+    let jinv = params.map_or_else(
+        || k::inverse_jacobian_pose(&x),
+        |pp| k::inverse_jacobian_pose_params(&x, pp),
+    );
+    assert!(
+        rel_err(
+            &flat(&jinv),
+            &flat(&chapter_rows(&r::inverse_jacobian(&p_ref))),
+            1.0
+        ) < 1e-12
+    );
+    let j = params.map_or_else(
+        || k::jacobian_pose(&x),
+        |pp| k::jacobian_pose_params(&x, pp),
+    );
+    assert!(
+        rel_err(
+            &flat(&j),
+            &flat(&chapter_columns(&r::jacobian(&p_ref))),
+            1.0
+        ) < 1e-12
+    );
 
-    let qd = params.map_or_else(|| k::joint_velocities(&x, &v), |pp| k::joint_velocities_params(&x, &v, pp));
+    let qd = params.map_or_else(
+        || k::joint_velocities(&x, &v),
+        |pp| k::joint_velocities_params(&x, &v, pp),
+    );
     let qd_ref = r::to_segment_order(&(r::inverse_jacobian(&p_ref) * s.twist.to_vector()));
     assert!(rel_err(&qd, &qd_ref, 1e-3) < 1e-12);
 
@@ -67,20 +94,37 @@ fn check_pose_kernels(robot: &Robot, params: Option<&[f64; 152]>, s: &State) {
     let q_seg = r::to_segment_order(&r::inverse_kinematics(l, &s.pose));
     for i in 0..6 {
         let want = r::joint_accelerations_projection(&(q_seg[i] * r::axis(i)), &p_ref[i], &vdot, i);
-        assert!(rel_err(&legs[i], want.as_slice(), 1e-3) < 1e-12, "segment {}", i + 1);
+        assert!(
+            rel_err(&legs[i], want.as_slice(), 1e-3) < 1e-12,
+            "segment {}",
+            i + 1
+        );
         assert_eq!(legs[i][5], qdd[i]);
     }
 
     let (t, acc) = (&s.twist, &s.accel);
-    let phi = params.map_or_else(|| k::leg_wrench(&x, &v, &a), |pp| k::leg_wrench_params(&x, &v, &a, pp));
+    let phi = params.map_or_else(
+        || k::leg_wrench(&x, &v, &a),
+        |pp| k::leg_wrench_params(&x, &v, &a, pp),
+    );
     let phi_ref = r::leg_wrench(robot, &s.pose, t, acc).unwrap();
     assert!(rel_err(&phi, phi_ref.as_slice(), 1.0) < 1e-11);
-    let f = params.map_or_else(|| k::platform_wrench(&x, &v, &a), |pp| k::platform_wrench_params(&x, &v, &a, pp));
+    let f = params.map_or_else(
+        || k::platform_wrench(&x, &v, &a),
+        |pp| k::platform_wrench_params(&x, &v, &a, pp),
+    );
     let f_ref = r::platform_wrench(robot, &s.pose, t, acc);
     assert!(rel_err(&f, f_ref.as_slice(), 1.0) < 1e-12);
-    let gamma = params.map_or_else(|| k::inverse_dynamics(&x, &v, &a), |pp| k::inverse_dynamics_params(&x, &v, &a, pp));
-    let gamma_ref = r::to_segment_order(&r::inverse_dynamics(robot, &s.pose, t, acc, Step6::Khalil).unwrap());
-    assert!(rel_err(&gamma, &gamma_ref, 1.0) < 1e-11, "{gamma:?} vs {gamma_ref:?}");
+    let gamma = params.map_or_else(
+        || k::inverse_dynamics(&x, &v, &a),
+        |pp| k::inverse_dynamics_params(&x, &v, &a, pp),
+    );
+    let gamma_ref =
+        r::to_segment_order(&r::inverse_dynamics(robot, &s.pose, t, acc, Step6::Khalil).unwrap());
+    assert!(
+        rel_err(&gamma, &gamma_ref, 1.0) < 1e-11,
+        "{gamma:?} vs {gamma_ref:?}"
+    );
 }
 
 #[test]
@@ -96,7 +140,11 @@ fn pose_kernels_with_the_default_robot_folded_equal_the_reference() {
 fn pose_kernels_with_runtime_parameters_equal_the_reference_for_other_robots() {
     let mut rng = rng(11);
     for n in 0..STATES {
-        let robot = if n % 2 == 0 { random_robot(&mut rng) } else { Robot::default() };
+        let robot = if n % 2 == 0 {
+            random_robot(&mut rng)
+        } else {
+            Robot::default()
+        };
         let params: [f64; 152] = robot.flatten().try_into().unwrap();
         check_pose_kernels(&robot, Some(&params), &random_state(&mut rng));
     }
@@ -111,11 +159,23 @@ fn chapter_setting_kernels_equal_the_reference() {
         let p_ref = r::p_i2(robot.half_spacing, &s.pose);
         let p = p_array(&p_ref);
         let jinv = k::inverse_jacobian(&p);
-        assert!(rel_err(&flat(&jinv), &flat(&chapter_rows(&r::inverse_jacobian(&p_ref))), 1.0) < 1e-12);
+        assert!(
+            rel_err(
+                &flat(&jinv),
+                &flat(&chapter_rows(&r::inverse_jacobian(&p_ref))),
+                1.0
+            ) < 1e-12
+        );
         let pi1 = k::pi1(&p);
         assert!(rel_err(&flat(&pi1), &flat(&chapter_columns(&r::pi1(&p_ref))), 1.0) < 1e-12);
         let j = k::jacobian(&p);
-        assert!(rel_err(&flat(&j), &flat(&chapter_columns(&r::jacobian(&p_ref))), 1.0) < 1e-12);
+        assert!(
+            rel_err(
+                &flat(&j),
+                &flat(&chapter_columns(&r::jacobian(&p_ref))),
+                1.0
+            ) < 1e-12
+        );
         let vdot = r::spatial_acceleration(&s.twist, &s.accel);
         let q1 = r::to_segment_order(&r::inverse_kinematics(robot.half_spacing, &s.pose))[0];
         let qdd = k::joint_accelerations_segment(&p[0], &vdot.into());
@@ -136,7 +196,11 @@ fn f32_kernels_track_f64_within_single_precision() {
         let s = random_state(&mut rng);
         let (x, v, a) = (s.pose.to_array(), s.twist.to_array(), s.accel.to_array());
         let g64 = k::inverse_dynamics(&x, &v, &a);
-        let g32 = c5_generated::f32::inverse_dynamics(&x.map(|e| e as f32), &v.map(|e| e as f32), &a.map(|e| e as f32));
+        let g32 = c5_generated::f32::inverse_dynamics(
+            &x.map(|e| e as f32),
+            &v.map(|e| e as f32),
+            &a.map(|e| e as f32),
+        );
         worst = worst.max(rel_err(&g32.map(f64::from), &g64, 1.0));
     }
     println!("worst relative error of f32 inverse_dynamics: {worst:.2e}");

@@ -52,7 +52,12 @@ impl fmt::Display for OpCount {
         for (name, n) in &self.calls {
             write!(f, ", {n} {name}")?;
         }
-        write!(f, " (chapter convention: {}m + {}a)", self.chapter_m(), self.chapter_a())
+        write!(
+            f,
+            " (chapter convention: {}m + {}a)",
+            self.chapter_m(),
+            self.chapter_a()
+        )
     }
 }
 

@@ -299,7 +299,8 @@ impl Arena {
             return self.scaled(k, ma.or(mb));
         };
         let (la, lb) = (self.linear(ma), self.linear(mb));
-        let width = (la.0.len() + usize::from(la.1 != 0.0)) * (lb.0.len() + usize::from(lb.1 != 0.0));
+        let width =
+            (la.0.len() + usize::from(la.1 != 0.0)) * (lb.0.len() + usize::from(lb.1 != 0.0));
         if width > 1 && width <= self.policy.expand_limit {
             return self.expand(la, lb, k);
         }

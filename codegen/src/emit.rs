@@ -146,37 +146,42 @@ pub fn emit_kernel(spec: &KernelSpec, compiled: &Compiled, scalar: Scalar) -> To
             Operand::Const(c) => scalar.literal(c.get()),
         }
     };
-    let body = compiled.program.instrs.iter().enumerate().map(|(i, instr)| {
-        let t = ident(&format!("t{i}"));
-        let rhs = match *instr {
-            Instr::Add(a, b) => {
-                let (a, b) = (operand(a), operand(b));
-                quote!(#a + #b)
-            }
-            Instr::Sub(a, b) => {
-                let (a, b) = (operand(a), operand(b));
-                quote!(#a - #b)
-            }
-            Instr::Mul(a, b) => {
-                let (a, b) = (operand(a), operand(b));
-                quote!(#a * #b)
-            }
-            Instr::Div(a, b) => {
-                let (a, b) = (operand(a), operand(b));
-                quote!(#a / #b)
-            }
-            Instr::Neg(a) => {
-                let a = operand(a);
-                quote!(-#a)
-            }
-            Instr::Call(f, a) => {
-                let a = operand(a);
-                let f = ident(f.name());
-                quote!(#a.#f())
-            }
-        };
-        quote!(let #t: #ty = #rhs;)
-    });
+    let body = compiled
+        .program
+        .instrs
+        .iter()
+        .enumerate()
+        .map(|(i, instr)| {
+            let t = ident(&format!("t{i}"));
+            let rhs = match *instr {
+                Instr::Add(a, b) => {
+                    let (a, b) = (operand(a), operand(b));
+                    quote!(#a + #b)
+                }
+                Instr::Sub(a, b) => {
+                    let (a, b) = (operand(a), operand(b));
+                    quote!(#a - #b)
+                }
+                Instr::Mul(a, b) => {
+                    let (a, b) = (operand(a), operand(b));
+                    quote!(#a * #b)
+                }
+                Instr::Div(a, b) => {
+                    let (a, b) = (operand(a), operand(b));
+                    quote!(#a / #b)
+                }
+                Instr::Neg(a) => {
+                    let a = operand(a);
+                    quote!(-#a)
+                }
+                Instr::Call(f, a) => {
+                    let a = operand(a);
+                    let f = ident(f.name());
+                    quote!(#a.#f())
+                }
+            };
+            quote!(let #t: #ty = #rhs;)
+        });
     let mut outs = Vec::new();
     let mut out_types = Vec::new();
     let mut k = 0;

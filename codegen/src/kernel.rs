@@ -184,7 +184,7 @@ impl KernelSpec {
             let cost = self.objective.cost(&count);
             if best
                 .as_ref()
-                .map_or(true, |b| cost < self.objective.cost(&b.count))
+                .is_none_or(|b| cost < self.objective.cost(&b.count))
             {
                 best = Some(Compiled {
                     program,

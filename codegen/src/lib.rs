@@ -191,7 +191,10 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
         .map(|s| s.compile())
         .collect::<Result<Vec<_>, _>>()?;
     let pairs: Vec<_> = specs.iter().zip(&compiled).collect();
-    let header = manifest::header(&pairs, &format!("by c5-codegen; regenerate with `{REGENERATE}`"));
+    let header = manifest::header(
+        &pairs,
+        &format!("by c5-codegen; regenerate with `{REGENERATE}`"),
+    );
     Ok(vec![
         (
             PathBuf::from("src/f64.rs"),

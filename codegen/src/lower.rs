@@ -196,7 +196,13 @@ impl Factorer<'_> {
     }
 
     /// Adds `c · node` to a linear form, flattening sums so the form stays canonical.
-    fn accumulate(&self, form: &mut BTreeMap<NodeId, f64>, constant: &mut f64, node: NodeId, c: f64) {
+    fn accumulate(
+        &self,
+        form: &mut BTreeMap<NodeId, f64>,
+        constant: &mut f64,
+        node: NodeId,
+        c: f64,
+    ) {
         let (terms, k) = self.arena.linear(node);
         *constant += c * k;
         for (t, tc) in terms {
@@ -366,7 +372,7 @@ impl Lowerer<'_> {
     fn power(&mut self, base: Operand, exp: u32) -> Operand {
         match exp {
             1 => base,
-            _ if exp % 2 == 0 => {
+            _ if exp.is_multiple_of(2) => {
                 let h = self.power(base, exp / 2);
                 self.emit(Instr::Mul(h, h))
             }
@@ -442,19 +448,34 @@ impl Lowerer<'_> {
         self.signed_sum(items)
     }
 
+    /// Sums as a balanced tree, so long sums do not become one serial dependency chain.
+    fn balanced_sum(&mut self, mut items: Vec<Operand>) -> Option<Operand> {
+        while items.len() > 1 {
+            let mut next = Vec::with_capacity(items.len().div_ceil(2));
+            for pair in items.chunks(2) {
+                next.push(match *pair {
+                    [a, b] => self.emit(Instr::Add(a, b)),
+                    [a] => a,
+                    _ => unreachable!("chunks of two"),
+                });
+            }
+            items = next;
+        }
+        items.pop()
+    }
+
     fn signed_sum(&mut self, items: Vec<(Operand, bool)>) -> (Operand, bool) {
         let (pos, neg): (Vec<_>, Vec<_>) = items.into_iter().partition(|&(_, n)| !n);
         let pos: Vec<Operand> = pos.into_iter().map(|p| p.0).collect();
         let neg: Vec<Operand> = neg.into_iter().map(|p| p.0).collect();
-        if pos.is_empty() {
-            let n = self.chain(neg, Instr::Add).expect("a sum has a term");
+        let Some(p) = self.balanced_sum(pos) else {
+            let n = self.balanced_sum(neg).expect("a sum has a term");
             return (n, true);
+        };
+        match self.balanced_sum(neg) {
+            Some(n) => (self.emit(Instr::Sub(p, n)), false),
+            None => (p, false),
         }
-        let mut acc = self.chain(pos, Instr::Add).unwrap();
-        for n in neg {
-            acc = self.emit(Instr::Sub(acc, n));
-        }
-        (acc, false)
     }
 }
 
@@ -481,10 +502,16 @@ mod tests {
 
     #[test]
     fn factoring_saves_a_multiplication() {
-        let p = compile(Policy { expand_limit: 64, ..Policy::FLAT }, |g| {
-            let (a, b, c) = (g.input(0), g.input(1), g.input(2));
-            vec![(a * b + a * c).id]
-        });
+        let p = compile(
+            Policy {
+                expand_limit: 64,
+                ..Policy::FLAT
+            },
+            |g| {
+                let (a, b, c) = (g.input(0), g.input(1), g.input(2));
+                vec![(a * b + a * c).id]
+            },
+        );
         let n = p.count();
         assert_eq!((n.mul, n.add), (1, 1));
         assert_eq!(p.eval(&[2.0, 3.0, 5.0]), vec![16.0]);
@@ -492,10 +519,16 @@ mod tests {
 
     #[test]
     fn shared_products_are_not_refactored() {
-        let p = compile(Policy { expand_limit: 64, ..Policy::FLAT }, |g| {
-            let (a, b, c) = (g.input(0), g.input(1), g.input(2));
-            vec![(a * b + a * c).id, (a * b).id, (a * c).id]
-        });
+        let p = compile(
+            Policy {
+                expand_limit: 64,
+                ..Policy::FLAT
+            },
+            |g| {
+                let (a, b, c) = (g.input(0), g.input(1), g.input(2));
+                vec![(a * b + a * c).id, (a * b).id, (a * c).id]
+            },
+        );
         let n = p.count();
         assert_eq!((n.mul, n.add), (2, 1));
     }

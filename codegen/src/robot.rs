@@ -247,13 +247,14 @@ fn invalid(field: impl Into<String>, rule: &str) -> Error {
 
 /// Checks that `m` is symmetric and positive definite (Sylvester's criterion).
 fn check_spd(field: &str, m: &[[f64; 3]; 3], allow_zero: bool) -> Result<(), Error> {
-    for i in 0..3 {
-        for j in 0..3 {
+    let asymmetric = (0..3).any(|i| {
+        (0..3).any(|j| {
             let tol = 1e-12 * (m[i][j].abs() + m[j][i].abs()).max(1.0);
-            if (m[i][j] - m[j][i]).abs() > tol {
-                return Err(invalid(field, "must be symmetric"));
-            }
-        }
+            (m[i][j] - m[j][i]).abs() > tol
+        })
+    });
+    if asymmetric {
+        return Err(invalid(field, "must be symmetric"));
     }
     let d1 = m[0][0];
     let d2 = m[0][0] * m[1][1] - m[0][1] * m[1][0];
@@ -300,7 +301,10 @@ impl Robot<f64> {
         for (i, s) in self.segments.iter().enumerate() {
             let n = i + 1;
             if s.rod.mass <= 0.0 {
-                return Err(invalid(format!("segments[{n}].rod.mass"), "must be positive"));
+                return Err(invalid(
+                    format!("segments[{n}].rod.mass"),
+                    "must be positive",
+                ));
             }
             check_spd(&format!("segments[{n}].rod.inertia"), &s.rod.inertia, false)?;
             check_spd(
@@ -337,7 +341,10 @@ mod tests {
         let mut r = Robot::default();
         r.segments[2].joint.mass = 0.0;
         let e = r.validate().unwrap_err().to_string();
-        assert_eq!(e, "invalid robot: `segments[3].joint.mass` must be positive");
+        assert_eq!(
+            e,
+            "invalid robot: `segments[3].joint.mass` must be positive"
+        );
     }
 
     #[test]

@@ -10,7 +10,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "c5", about = "Kinematics and inverse dynamics of the C5 joint parallel robot")]
+#[command(
+    name = "c5",
+    about = "Kinematics and inverse dynamics of the C5 joint parallel robot"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -88,13 +91,22 @@ fn simulate_cmd(robot: &C5, out: &PathBuf, rate: f64) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn vec3(obj: &serde_json::Map<String, Value>, key: &str, len: usize) -> std::result::Result<Option<Vec<f64>>, String> {
-    let Some(v) = obj.get(key) else { return Ok(None) };
+fn vec3(
+    obj: &serde_json::Map<String, Value>,
+    key: &str,
+    len: usize,
+) -> std::result::Result<Option<Vec<f64>>, String> {
+    let Some(v) = obj.get(key) else {
+        return Ok(None);
+    };
     let arr = v
         .as_array()
         .ok_or_else(|| format!("`{key}` must be an array of {len} numbers"))?;
     if arr.len() != len {
-        return Err(format!("`{key}` must hold {len} numbers, got {}", arr.len()));
+        return Err(format!(
+            "`{key}` must hold {len} numbers, got {}",
+            arr.len()
+        ));
     }
     arr.iter()
         .enumerate()
@@ -145,23 +157,33 @@ fn eval_cmd(robot: &C5) -> Result<ExitCode> {
         stdout.write_all(b"\n")?;
     }
     stdout.flush()?;
-    Ok(if failed { ExitCode::FAILURE } else { ExitCode::SUCCESS })
+    Ok(if failed {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    })
 }
 
 fn audit_cmd() -> Result<ExitCode> {
     let manifest: Value = serde_json::from_str(c5_generated::OPS_JSON)?;
     println!(
-        "{:<30} {:>8} {:>13} {:>13} {:>7}  {}",
-        "kernel", "setting", "chapter", "generated", "ratio", "mul/div/add/neg, calls"
+        "{:<30} {:>8} {:>13} {:>13} {:>7}  mul/div/add/neg, calls",
+        "kernel", "setting", "chapter", "generated", "ratio"
     );
-    for k in manifest["kernels"].as_array().ok_or("ops.json has no kernels")? {
+    for k in manifest["kernels"]
+        .as_array()
+        .ok_or("ops.json has no kernels")?
+    {
         let n = |key: &str| k[key].as_u64().unwrap_or(0);
         let (m, a) = (n("mul") + n("div"), n("add"));
         let chapter = &k["chapter"];
         let (ch, ratio) = if chapter.is_null() {
             ("—".to_string(), "—".to_string())
         } else {
-            let (cm, ca) = (chapter["m"].as_u64().unwrap_or(0), chapter["a"].as_u64().unwrap_or(0));
+            let (cm, ca) = (
+                chapter["m"].as_u64().unwrap_or(0),
+                chapter["a"].as_u64().unwrap_or(0),
+            );
             (
                 format!("{cm}m + {ca}a"),
                 format!("{:.2}", (m + a) as f64 / (cm + ca) as f64),
@@ -191,8 +213,12 @@ fn audit_cmd() -> Result<ExitCode> {
             calls
         );
     }
-    println!("\nratio = generated (m + a) / chapter (m + a); a division counts as a multiplication.");
-    println!("The chapter's Khalil step 6 (J⁻¹ by eq 22, then an LU solve of eq 61) costs 134m + 125a;");
+    println!(
+        "\nratio = generated (m + a) / chapter (m + a); a division counts as a multiplication."
+    );
+    println!(
+        "The chapter's Khalil step 6 (J⁻¹ by eq 22, then an LU solve of eq 61) costs 134m + 125a;"
+    );
     println!("the generated factored step 6 is `step6_factored` above.");
     Ok(ExitCode::SUCCESS)
 }

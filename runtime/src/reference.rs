@@ -181,7 +181,11 @@ pub fn leg_jacobian(i: usize, p_i1: &Vector3<f64>, p_i2: &Vector3<f64>) -> Matri
 }
 
 /// Eq 50: `J_Bi = P̂_i2⁻ᵀ J_i`.
-pub fn leg_jacobian_at_b(i: usize, p_i1: &Vector3<f64>, p_i2: &Vector3<f64>) -> Option<Matrix6<f64>> {
+pub fn leg_jacobian_at_b(
+    i: usize,
+    p_i1: &Vector3<f64>,
+    p_i2: &Vector3<f64>,
+) -> Option<Matrix6<f64>> {
     Some(p_hat(p_i2).transpose().try_inverse()? * leg_jacobian(i, p_i1, p_i2))
 }
 
@@ -218,9 +222,9 @@ pub fn joint_accelerations_conventional(
     j_dot
         .fixed_view_mut::<6, 5>(0, 0)
         .copy_from(&(dt(&p2_dot) * h_i2(i)));
-    j_dot.fixed_view_mut::<6, 1>(0, 5).copy_from(
-        &((dt(&p2_dot) * p_hat(&p1).transpose() + a2 * dt(&p1_dot)) * h_i1(i)),
-    );
+    j_dot
+        .fixed_view_mut::<6, 1>(0, 5)
+        .copy_from(&((dt(&p2_dot) * p_hat(&p1).transpose() + a2 * dt(&p1_dot)) * h_i1(i)));
     let j_inv_dot = -j_inv * j_dot * j_inv;
     Some(j_inv * accel.to_vector() + j_inv_dot * v)
 }
@@ -242,7 +246,11 @@ pub fn joint_accelerations_projection(
     i: usize,
 ) -> Vector6<f64> {
     // Eq 43.
-    let v2 = p_hat(p2).transpose().try_inverse().expect("P̂ is unimodular") * vdot;
+    let v2 = p_hat(p2)
+        .transpose()
+        .try_inverse()
+        .expect("P̂ is unimodular")
+        * vdot;
     let (h1, h2, w2) = (h_i1(i), h_i2(i), w_i2(i));
     let p1t = p_hat(p1).transpose();
     // Eq 47.
@@ -300,7 +308,8 @@ pub fn leg_dynamics(
     let n = axis(i);
     let a_g1 = v1_dot.fixed_rows::<3>(3).into_owned();
     let f1 = seg.rod.mass * (a_g1 - g);
-    let j_g1 = Matrix3::from(seg.rod.inertia) + q * q * Matrix3::from(seg.rod.inertia_per_length_squared);
+    let j_g1 =
+        Matrix3::from(seg.rod.inertia) + q * q * Matrix3::from(seg.rod.inertia_per_length_squared);
     let w1 = Vector3::zeros();
     let n1 = j_g1 * w1 + w1.cross(&(j_g1 * w1)) + (0.5 * q * n).cross(&f1);
     // Backward recursion, eq 10.
@@ -317,7 +326,12 @@ pub fn leg_dynamics(
 }
 
 /// Eqs 52-57: `F_{N+1} = Λ_C V̇ + C_C + G_C` with the classical `V̇ = (ω̇; a_C)`.
-pub fn platform_wrench(robot: &Robot, pose: &Pose, twist: &Twist, accel: &Acceleration) -> Vector6<f64> {
+pub fn platform_wrench(
+    robot: &Robot,
+    pose: &Pose,
+    twist: &Twist,
+    accel: &Acceleration,
+) -> Vector6<f64> {
     let r = rotation(pose);
     let b = &robot.platform;
     let m = b.mass;
@@ -326,9 +340,15 @@ pub fn platform_wrench(robot: &Robot, pose: &Pose, twist: &Twist, accel: &Accele
     let i_c = r * Matrix3::from(b.inertia).transpose() * r.transpose() - m * skew(&gc) * skew(&gc);
     let mut lambda = Matrix6::zeros();
     lambda.fixed_view_mut::<3, 3>(0, 0).copy_from(&i_c);
-    lambda.fixed_view_mut::<3, 3>(0, 3).copy_from(&(m * skew(&gc)));
-    lambda.fixed_view_mut::<3, 3>(3, 0).copy_from(&(-m * skew(&gc)));
-    lambda.fixed_view_mut::<3, 3>(3, 3).copy_from(&(m * Matrix3::identity()));
+    lambda
+        .fixed_view_mut::<3, 3>(0, 3)
+        .copy_from(&(m * skew(&gc)));
+    lambda
+        .fixed_view_mut::<3, 3>(3, 0)
+        .copy_from(&(-m * skew(&gc)));
+    lambda
+        .fixed_view_mut::<3, 3>(3, 3)
+        .copy_from(&(m * Matrix3::identity()));
     let w = Vector3::from(twist.omega);
     let c_top = skew(&w) * i_c * w;
     let c_bot = -m * skew(&w) * skew(&gc) * w;
@@ -341,7 +361,12 @@ pub fn platform_wrench(robot: &Robot, pose: &Pose, twist: &Twist, accel: &Accele
 }
 
 /// Step 3, corrected (Slips 2, 3): `Φ = Σ P̂_i2⁻¹ J_Bi⁻ᵀ T_i`, with `J_Bi` inverted by LU.
-pub fn leg_wrench(robot: &Robot, pose: &Pose, twist: &Twist, accel: &Acceleration) -> Option<Vector6<f64>> {
+pub fn leg_wrench(
+    robot: &Robot,
+    pose: &Pose,
+    twist: &Twist,
+    accel: &Acceleration,
+) -> Option<Vector6<f64>> {
     let mut phi = Vector6::zeros();
     for i in 0..6 {
         let (p1, p2) = leg(robot.half_spacing, pose, i);

@@ -102,7 +102,9 @@ fn plot(
     let (lo, hi) = series
         .iter()
         .flat_map(|(_, v)| v.iter().copied())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
     let pad = ((hi - lo) * 0.08).max(1e-9);
     let mut chart = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 24))
@@ -124,7 +126,9 @@ fn plot(
                 color.stroke_width(2),
             ))?
             .label(name.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
     }
     chart
         .configure_series_labels()
@@ -146,19 +150,44 @@ pub fn write_plots(dir: &Path, study: &Study) -> Result<Vec<String>, Box<dyn std
         ["x", "y", "z"]
             .iter()
             .enumerate()
-            .map(|(k, a)| (a.to_string(), study.samples.iter().map(|s| f(s)[k]).collect()))
+            .map(|(k, a)| {
+                (
+                    a.to_string(),
+                    study.samples.iter().map(|s| f(s)[k]).collect(),
+                )
+            })
             .collect()
     };
     let files = [
-        ("fig7_trajectory.png", "Platform trajectory (fig. 7)", "centre position (m)", xyz(&|s| s.state.pose.center)),
-        ("fig8_velocity.png", "Platform linear velocity (fig. 8)", "velocity (m/s)", xyz(&|s| s.state.twist.velocity)),
-        ("fig9_acceleration.png", "Platform linear acceleration (fig. 9)", "acceleration (m/s²)", xyz(&|s| s.state.accel.linear)),
+        (
+            "fig7_trajectory.png",
+            "Platform trajectory (fig. 7)",
+            "centre position (m)",
+            xyz(&|s| s.state.pose.center),
+        ),
+        (
+            "fig8_velocity.png",
+            "Platform linear velocity (fig. 8)",
+            "velocity (m/s)",
+            xyz(&|s| s.state.twist.velocity),
+        ),
+        (
+            "fig9_acceleration.png",
+            "Platform linear acceleration (fig. 9)",
+            "acceleration (m/s²)",
+            xyz(&|s| s.state.accel.linear),
+        ),
         (
             "fig10_forces.png",
             "Actuator forces Γ (fig. 10)",
             "force (N)",
             (0..6)
-                .map(|i| (format!("Γ{}", i + 1), study.samples.iter().map(|s| s.eval.gamma[i]).collect()))
+                .map(|i| {
+                    (
+                        format!("Γ{}", i + 1),
+                        study.samples.iter().map(|s| s.eval.gamma[i]).collect(),
+                    )
+                })
                 .collect(),
         ),
     ];

@@ -80,8 +80,14 @@ mod tests {
             let (s0, v0, a0) = quintic(t);
             let (sp, vp, _) = quintic(t + h);
             let (sm, vm, _) = quintic(t - h);
-            assert!(((sp - sm) / (2.0 * h) - v0).abs() < 1e-8, "velocity at {t} ({s0})");
-            assert!(((vp - vm) / (2.0 * h) - a0).abs() < 1e-6, "acceleration at {t}");
+            assert!(
+                ((sp - sm) / (2.0 * h) - v0).abs() < 1e-8,
+                "velocity at {t} ({s0})"
+            );
+            assert!(
+                ((vp - vm) / (2.0 * h) - a0).abs() < 1e-6,
+                "acceleration at {t}"
+            );
         }
     }
 }

@@ -46,7 +46,13 @@ fn bad_lines_get_their_own_error_and_the_others_their_results() {
     assert_eq!(code, 1, "a failed line makes the exit status 1");
     let gamma = out[0]["gamma"].as_array().unwrap();
     assert!((gamma[4].as_f64().unwrap() - 117.8181).abs() < 1e-9);
-    for (n, needle) in [(2, "malformed JSON"), (3, "missing `pose`"), (4, "6 numbers"), (5, "not a finite number"), (6, "singular pose: r11")] {
+    for (n, needle) in [
+        (2, "malformed JSON"),
+        (3, "missing `pose`"),
+        (4, "6 numbers"),
+        (5, "not a finite number"),
+        (6, "singular pose: r11"),
+    ] {
         assert_eq!(out[n - 1]["line"], n, "line number of {needle}");
         let e = out[n - 1]["error"].as_str().unwrap();
         assert!(e.contains(needle), "line {n}: {e}");
@@ -68,39 +74,70 @@ fn eval_agrees_with_the_reference() {
     let mut input = String::new();
     for _ in 0..300 {
         let pose = Pose::from_array([u(0.5), u(0.5), u(0.5), u(0.08), u(0.08), u(0.08)]);
-        let twist = Twist { omega: [u(1.0), u(1.0), u(1.0)], velocity: [u(0.5), u(0.5), u(0.5)] };
-        let accel = Acceleration { omega_dot: [u(5.0), u(5.0), u(5.0)], linear: [u(2.0), u(2.0), u(2.0)] };
-        input.push_str(&serde_json::json!({
-            "pose": pose.to_array(), "omega": twist.omega, "velocity": twist.velocity,
-            "omega_dot": accel.omega_dot, "acceleration": accel.linear,
-        }).to_string());
+        let twist = Twist {
+            omega: [u(1.0), u(1.0), u(1.0)],
+            velocity: [u(0.5), u(0.5), u(0.5)],
+        };
+        let accel = Acceleration {
+            omega_dot: [u(5.0), u(5.0), u(5.0)],
+            linear: [u(2.0), u(2.0), u(2.0)],
+        };
+        input.push_str(
+            &serde_json::json!({
+                "pose": pose.to_array(), "omega": twist.omega, "velocity": twist.velocity,
+                "omega_dot": accel.omega_dot, "acceleration": accel.linear,
+            })
+            .to_string(),
+        );
         input.push('\n');
         states.push((pose, twist, accel));
     }
     let (out, code) = run_eval(&input);
     assert_eq!(code, 0);
     let robot = Robot::default();
-    let vec = |v: &Value| -> Vec<f64> { v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect() };
+    let vec = |v: &Value| -> Vec<f64> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
     let close = |got: &[f64], want: &[f64]| {
         let scale = want.iter().fold(1e-3_f64, |m, x| m.max(x.abs()));
-        got.iter().zip(want).all(|(g, w)| (g - w).abs() <= 1e-9 * scale)
+        got.iter()
+            .zip(want)
+            .all(|(g, w)| (g - w).abs() <= 1e-9 * scale)
     };
     for ((pose, twist, accel), o) in states.iter().zip(&out) {
         let p = r::p_i2(robot.half_spacing, pose);
-        let gamma = r::to_segment_order(&r::inverse_dynamics(&robot, pose, twist, accel, Step6::Khalil).unwrap());
+        let gamma = r::to_segment_order(
+            &r::inverse_dynamics(&robot, pose, twist, accel, Step6::Khalil).unwrap(),
+        );
         assert!(close(&vec(&o["gamma"]), &gamma));
-        assert!(close(&vec(&o["q"]), &r::to_segment_order(&r::inverse_kinematics(robot.half_spacing, pose))));
-        assert!(close(&vec(&o["qd"]), &r::to_segment_order(&(r::inverse_jacobian(&p) * twist.to_vector()))));
+        assert!(close(
+            &vec(&o["q"]),
+            &r::to_segment_order(&r::inverse_kinematics(robot.half_spacing, pose))
+        ));
+        assert!(close(
+            &vec(&o["qd"]),
+            &r::to_segment_order(&(r::inverse_jacobian(&p) * twist.to_vector()))
+        ));
         let jinv = r::inverse_jacobian(&p);
         let jac = r::jacobian(&p);
         for (k, &i) in CHAPTER_ORDER.iter().enumerate() {
             let row: Vec<f64> = (0..6).map(|j| jinv[(k, j)]).collect();
-            assert!(close(&vec(&o["jinv"][i]), &row), "jinv row of segment {}", i + 1);
+            assert!(
+                close(&vec(&o["jinv"][i]), &row),
+                "jinv row of segment {}",
+                i + 1
+            );
             for j in 0..6 {
                 let got = o["jacobian"][j][i].as_f64().unwrap();
                 assert!((got - jac[(j, k)]).abs() < 1e-9 * jac.amax().max(1.0));
             }
-            let qdd = r::joint_accelerations_conventional(robot.half_spacing, pose, twist, accel, i).unwrap()[5];
+            let qdd =
+                r::joint_accelerations_conventional(robot.half_spacing, pose, twist, accel, i)
+                    .unwrap()[5];
             assert!((o["qdd"][i].as_f64().unwrap() - qdd).abs() < 1e-9 * qdd.abs().max(1.0));
         }
     }

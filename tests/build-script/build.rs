@@ -2,9 +2,11 @@
 //! that keeps gravity as a runtime input.
 
 fn robot() -> c5_codegen::Robot {
-    let mut robot = c5_codegen::Robot::default();
-    robot.half_spacing = 0.25;
-    robot.gravity = [0.5, -0.3, -9.7];
+    let mut robot = c5_codegen::Robot {
+        half_spacing: 0.25,
+        gravity: [0.5, -0.3, -9.7],
+        ..Default::default()
+    };
     robot.platform.mass = 12.5;
     robot.platform.com = [0.01, -0.02, 0.005];
     robot.segments[3].joint.mass = 2.1;

@@ -38,15 +38,19 @@ pub fn random_state(r: &mut ChaCha8Rng) -> State {
 /// A valid robot far from the default: other spacing, masses, inertias (full, rotated),
 /// centres of mass off their reference points, tilted gravity.
 pub fn random_robot(r: &mut ChaCha8Rng) -> Robot {
-    let mut robot = Robot::default();
-    robot.half_spacing = r.gen_range(0.15..0.3);
-    robot.gravity = [r.gen_range(-1.0..1.0), r.gen_range(-1.0..1.0), -9.81];
+    let mut robot = Robot {
+        half_spacing: r.gen_range(0.15..0.3),
+        gravity: [r.gen_range(-1.0..1.0), r.gen_range(-1.0..1.0), -9.81],
+        ..Robot::default()
+    };
     let spd = |r: &mut ChaCha8Rng, scale: f64| {
         let a: [[f64; 3]; 3] = std::array::from_fn(|_| uniform(r, 1.0));
         let mut m = [[0.0; 3]; 3];
         for i in 0..3 {
             for j in 0..3 {
-                m[i][j] = scale * ((0..3).map(|k| a[i][k] * a[j][k]).sum::<f64>() + if i == j { 0.5 } else { 0.0 });
+                m[i][j] = scale
+                    * ((0..3).map(|k| a[i][k] * a[j][k]).sum::<f64>()
+                        + if i == j { 0.5 } else { 0.0 });
             }
         }
         m

@@ -21,7 +21,14 @@ pub fn axis<'g>(g: &'g crate::Graph, i: usize) -> Vec3<'g> {
 /// `A_6=(0,-L,0)` (the layout eq 16 encodes).
 pub fn anchor<'g>(l: Expr<'g>, i: usize) -> Vec3<'g> {
     let g = l.graph();
-    let (k, sign) = [(2, 1.0), (2, -1.0), (0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0)][i];
+    let (k, sign) = [
+        (2, 1.0),
+        (2, -1.0),
+        (0, 1.0),
+        (0, -1.0),
+        (1, 1.0),
+        (1, -1.0),
+    ][i];
     Vector::from_fn(|j| if j == k { l * sign } else { g.zero() })
 }
 
@@ -56,12 +63,7 @@ pub fn p_i2<'g>(c: &Vec3<'g>, a: &Vec3<'g>, q: Expr<'g>, n: &Vec3<'g>) -> Vec3<'
 /// Section 2.2: `P̂ = [[U, P̃], [0, U]]`.
 pub fn p_hat<'g>(p: &Vec3<'g>) -> Mat6<'g> {
     let g = p[0].graph();
-    blocks(
-        Mat::identity(g),
-        p.tilde(),
-        Mat::zeros(g),
-        Mat::identity(g),
-    )
+    blocks(Mat::identity(g), p.tilde(), Mat::zeros(g), Mat::identity(g))
 }
 
 /// `P̂⁻¹ = [[U, -P̃], [0, U]]`, the wrench transport from `B_i` to `C` (Slip 2: the dual of eq 5).
@@ -77,7 +79,9 @@ pub fn inverse_jacobian_row<'g>(n: &Vec3<'g>, p: &Vec3<'g>) -> Vec6<'g> {
 /// Eq 22: `J⁻¹`, row `i` for segment `i` (the chapter stacks them 6..1).
 pub fn inverse_jacobian<'g>(p: &[Vec3<'g>; 6]) -> Mat6<'g> {
     let g = p[0][0].graph();
-    Mat(std::array::from_fn(|i| inverse_jacobian_row(&axis(g, i), &p[i]).0))
+    Mat(std::array::from_fn(|i| {
+        inverse_jacobian_row(&axis(g, i), &p[i]).0
+    }))
 }
 
 /// Rows of `Π1` as linear forms in `Q̇_a` (segment order), derived as the chapter does:
@@ -85,7 +89,11 @@ pub fn inverse_jacobian<'g>(p: &[Vec3<'g>; 6]) -> Mat6<'g> {
 /// Returns the rows `[ẇ_p1, u̇_p1, γ̇_p, β̇_p, α̇_p, Q̇_11]` (eq 39's row order).
 pub fn pi1<'g>(p: &[Vec3<'g>; 6]) -> Mat6<'g> {
     let g = p[0][0].graph();
-    let (x, y, z) = (|i: usize| p[i - 1][0], |i: usize| p[i - 1][1], |i: usize| p[i - 1][2]);
+    let (x, y, z) = (
+        |i: usize| p[i - 1][0],
+        |i: usize| p[i - 1][1],
+        |i: usize| p[i - 1][2],
+    );
     let e = |i: usize| Vector::<6>::from_fn(|k| if k == i - 1 { g.one() } else { g.zero() });
     // Eq 38: Q̇51 = (y6 - y5) α̇ + Q̇61, Q̇11 = (z2 - z1) β̇ + Q̇21, Q̇31 = (x4 - x3) γ̇ + Q̇41.
     let alpha = (e(5) - e(6)).scale((y(6) - y(5)).recip());
@@ -337,15 +345,7 @@ pub fn leg_wrench<'g>(
     let g = twist[0].graph();
     let mut phi = Vec6::zeros(g);
     for i in 0..6 {
-        let t = leg_dynamics(
-            robot,
-            &posed.frame,
-            i,
-            posed.q[i],
-            &posed.p[i],
-            twist,
-            vdot,
-        );
+        let t = leg_dynamics(robot, &posed.frame, i, posed.q[i], &posed.p[i], twist, vdot);
         phi = phi + p_hat_inv(&posed.p[i]) * (leg_jacobian_at_b(g, i) * t);
     }
     phi
@@ -359,7 +359,8 @@ pub fn inverse_dynamics<'g>(
     accel: &Vec6<'g>,
 ) -> Vec6<'g> {
     let vdot = spatial_acceleration(twist, accel);
-    let k = platform_wrench(robot, &posed.frame, twist, accel) + leg_wrench(robot, posed, twist, &vdot);
+    let k =
+        platform_wrench(robot, &posed.frame, twist, accel) + leg_wrench(robot, posed, twist, &vdot);
     step6_factored(&posed.p, &k)
 }
 

@@ -44,7 +44,9 @@ fn pose_arg() -> Arg {
     Arg::new(
         "pose",
         Shape::Vector(6),
-        ["alpha", "beta", "gamma", "xc", "yc", "zc"].map(String::from).to_vec(),
+        ["alpha", "beta", "gamma", "xc", "yc", "zc"]
+            .map(String::from)
+            .to_vec(),
         "platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15",
     )
 }
@@ -53,7 +55,9 @@ fn twist_arg() -> Arg {
     Arg::new(
         "twist",
         Shape::Vector(6),
-        ["wx", "wy", "wz", "vx", "vy", "vz"].map(String::from).to_vec(),
+        ["wx", "wy", "wz", "vx", "vy", "vz"]
+            .map(String::from)
+            .to_vec(),
         "platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)",
     )
 }
@@ -62,7 +66,9 @@ fn accel_arg() -> Arg {
     Arg::new(
         "accel",
         Shape::Vector(6),
-        ["wdx", "wdy", "wdz", "ax", "ay", "az"].map(String::from).to_vec(),
+        ["wdx", "wdy", "wdz", "ax", "ay", "az"]
+            .map(String::from)
+            .to_vec(),
         "classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)",
     )
 }
@@ -119,7 +125,8 @@ pub fn chapter_kernels() -> Vec<KernelSpec> {
         (18, 30),
     );
     inverse_jacobian.outputs = vec![Arg::output("jinv", Shape::Matrix(6, 6), JINV_DOC)];
-    inverse_jacobian.build = Box::new(|_, i| vec![matrix_rows(&eq::inverse_jacobian(&p_rows(&i[0])))]);
+    inverse_jacobian.build =
+        Box::new(|_, i| vec![matrix_rows(&eq::inverse_jacobian(&p_rows(&i[0])))]);
 
     let mut pi1 = spec(
         "pi1",
@@ -163,7 +170,9 @@ pub fn chapter_kernels() -> Vec<KernelSpec> {
         Arg::new(
             "vdot",
             Shape::Vector(6),
-            ["wdx", "wdy", "wdz", "ax", "ay", "az"].map(String::from).to_vec(),
+            ["wdx", "wdy", "wdz", "ax", "ay", "az"]
+                .map(String::from)
+                .to_vec(),
             "spatial platform acceleration `V̇_{N+1} = (ω̇; a_C - ω × v_C)`",
         ),
     ];
@@ -188,11 +197,17 @@ pub fn chapter_kernels() -> Vec<KernelSpec> {
         Arg::new(
             "k",
             Shape::Vector(6),
-            ["knx", "kny", "knz", "kfx", "kfy", "kfz"].map(String::from).to_vec(),
+            ["knx", "kny", "knz", "kfx", "kfy", "kfz"]
+                .map(String::from)
+                .to_vec(),
             "`K = F_{N+1} + Φ` at `C`, moment first (N·m, N)",
         ),
     ];
-    step6.outputs = vec![Arg::output("gamma", Shape::Vector(6), "`Γ` (N), segment order")];
+    step6.outputs = vec![Arg::output(
+        "gamma",
+        Shape::Vector(6),
+        "`Γ` (N), segment order",
+    )];
     step6.build = Box::new(|_, i| vec![eq::step6_factored(&p_rows(&i[0]), &vec6(&i[1])).to_vec()]);
 
     vec![inverse_jacobian, pi1, jacobian, qdd, step6]
@@ -209,10 +224,12 @@ fn symbolic_robot<'g>(
     let flat: Vec<Expr<'g>> = values
         .iter()
         .enumerate()
-        .map(|(k, &v)| match (inputs.iter().position(|&i| i == k), params) {
-            (Some(pos), Some(p)) => p[pos],
-            _ => g.constant(v),
-        })
+        .map(
+            |(k, &v)| match (inputs.iter().position(|&i| i == k), params) {
+                (Some(pos), Some(p)) => p[pos],
+                _ => g.constant(v),
+            },
+        )
         .collect();
     Robot::unflatten(&flat)
 }
@@ -308,7 +325,11 @@ pub fn pose_kernels(robot: &Robot, parameters: &ParameterSet, suffix: &str) -> V
         &["20", "22"],
         "Actuator rates `Q̇_a = J⁻¹ V`.",
         2,
-        vec![Arg::output("qd", Shape::Vector(6), "`Q̇_i1` (m/s), segment order")],
+        vec![Arg::output(
+            "qd",
+            Shape::Vector(6),
+            "`Q̇_i1` (m/s), segment order",
+        )],
         |_, posed, m| vec![eq::joint_velocities(posed, &vec6(&m[0])).to_vec()],
     );
     add(
@@ -340,7 +361,11 @@ pub fn pose_kernels(robot: &Robot, parameters: &ParameterSet, suffix: &str) -> V
         &["43", "48", "49", "50", "60"],
         "The legs' contribution `Φ = Σ P̂_i2⁻¹ J_Bi⁻ᵀ T_i` at `C`.",
         3,
-        vec![Arg::output("phi", Shape::Vector(6), "`Φ = (n; f)` at `C` (N·m, N)")],
+        vec![Arg::output(
+            "phi",
+            Shape::Vector(6),
+            "`Φ = (n; f)` at `C` (N·m, N)",
+        )],
         |sym, posed, m| {
             let (twist, accel) = (vec6(&m[0]), vec6(&m[1]));
             let vdot = eq::spatial_acceleration(&twist, &accel);
@@ -352,7 +377,11 @@ pub fn pose_kernels(robot: &Robot, parameters: &ParameterSet, suffix: &str) -> V
         &["52", "54", "55", "56", "57"],
         "The platform's wrench `F_{N+1} = Λ_C V̇ + C_C + G_C` at `C`.",
         3,
-        vec![Arg::output("f", Shape::Vector(6), "`F_{N+1} = (n; f)` (N·m, N)")],
+        vec![Arg::output(
+            "f",
+            Shape::Vector(6),
+            "`F_{N+1} = (n; f)` (N·m, N)",
+        )],
         |sym, posed, m| {
             vec![eq::platform_wrench(sym, &posed.frame, &vec6(&m[0]), &vec6(&m[1])).to_vec()]
         },
@@ -362,7 +391,11 @@ pub fn pose_kernels(robot: &Robot, parameters: &ParameterSet, suffix: &str) -> V
         &["15", "16", "27", "43-48", "49-57", "60", "62"],
         "Inverse dynamics end to end: actuator forces `Γ` from the platform state.",
         3,
-        vec![Arg::output("gamma", Shape::Vector(6), "`Γ` (N), segment order")],
+        vec![Arg::output(
+            "gamma",
+            Shape::Vector(6),
+            "`Γ` (N), segment order",
+        )],
         |sym, posed, m| vec![eq::inverse_dynamics(sym, posed, &vec6(&m[0]), &vec6(&m[1])).to_vec()],
     );
     out

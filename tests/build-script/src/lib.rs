@@ -20,9 +20,11 @@ mod tests {
     use c5_runtime::{Acceleration, Pose, Robot, Twist};
 
     fn robot() -> Robot {
-        let mut robot = Robot::default();
-        robot.half_spacing = 0.25;
-        robot.gravity = [0.5, -0.3, -9.7];
+        let mut robot = Robot {
+            half_spacing: 0.25,
+            gravity: [0.5, -0.3, -9.7],
+            ..Robot::default()
+        };
         robot.platform.mass = 12.5;
         robot.platform.com = [0.01, -0.02, 0.005];
         robot.segments[3].joint.mass = 2.1;
@@ -33,9 +35,22 @@ mod tests {
         (0..200).map(|n| {
             let f = |k: f64| ((n as f64) * 0.37 + k).sin();
             (
-                Pose::from_array([0.4 * f(1.0), 0.4 * f(2.0), 0.4 * f(3.0), 0.05 * f(4.0), 0.05 * f(5.0), 0.05 * f(6.0)]),
-                Twist { omega: [f(7.0), f(8.0), f(9.0)], velocity: [0.3 * f(10.0), 0.3 * f(11.0), 0.3 * f(12.0)] },
-                Acceleration { omega_dot: [3.0 * f(13.0), 3.0 * f(14.0), 3.0 * f(15.0)], linear: [f(16.0), f(17.0), f(18.0)] },
+                Pose::from_array([
+                    0.4 * f(1.0),
+                    0.4 * f(2.0),
+                    0.4 * f(3.0),
+                    0.05 * f(4.0),
+                    0.05 * f(5.0),
+                    0.05 * f(6.0),
+                ]),
+                Twist {
+                    omega: [f(7.0), f(8.0), f(9.0)],
+                    velocity: [0.3 * f(10.0), 0.3 * f(11.0), 0.3 * f(12.0)],
+                },
+                Acceleration {
+                    omega_dot: [3.0 * f(13.0), 3.0 * f(14.0), 3.0 * f(15.0)],
+                    linear: [f(16.0), f(17.0), f(18.0)],
+                },
             )
         })
     }
@@ -49,11 +64,20 @@ mod tests {
     fn folded_kernels_equal_the_reference_for_this_robot() {
         let robot = robot();
         for (pose, twist, accel) in states() {
-            let got = super::kernels::inverse_dynamics(&pose.to_array(), &twist.to_array(), &accel.to_array());
-            let want = r::to_segment_order(&r::inverse_dynamics(&robot, &pose, &twist, &accel, Step6::Khalil).unwrap());
+            let got = super::kernels::inverse_dynamics(
+                &pose.to_array(),
+                &twist.to_array(),
+                &accel.to_array(),
+            );
+            let want = r::to_segment_order(
+                &r::inverse_dynamics(&robot, &pose, &twist, &accel, Step6::Khalil).unwrap(),
+            );
             assert!(close(&got, &want), "{got:?} vs {want:?}");
             let (q, _) = super::kernels::inverse_kinematics(&pose.to_array());
-            assert!(close(&q, &r::to_segment_order(&r::inverse_kinematics(0.25, &pose))));
+            assert!(close(
+                &q,
+                &r::to_segment_order(&r::inverse_kinematics(0.25, &pose))
+            ));
         }
     }
 
@@ -62,8 +86,15 @@ mod tests {
         let mut robot = robot();
         robot.gravity = [0.0, 0.0, -1.62];
         for (pose, twist, accel) in states() {
-            let got = super::gravity_input::inverse_dynamics(&pose.to_array(), &twist.to_array(), &accel.to_array(), &robot.gravity);
-            let want = r::to_segment_order(&r::inverse_dynamics(&robot, &pose, &twist, &accel, Step6::Khalil).unwrap());
+            let got = super::gravity_input::inverse_dynamics(
+                &pose.to_array(),
+                &twist.to_array(),
+                &accel.to_array(),
+                &robot.gravity,
+            );
+            let want = r::to_segment_order(
+                &r::inverse_dynamics(&robot, &pose, &twist, &accel, Step6::Khalil).unwrap(),
+            );
             assert!(close(&got, &want));
         }
     }
