@@ -39,10 +39,20 @@ fn kernels_and_hot_path_do_not_allocate() {
     let robot = C5::new(Robot::default()).unwrap();
     let state = State {
         pose: Pose::from_array([0.1, -0.2, 0.3, 0.01, 0.02, -0.03]),
-        twist: Twist { omega: [0.1, 0.2, 0.3], velocity: [0.1, 0.0, -0.1] },
-        accel: Acceleration { omega_dot: [1.0, -1.0, 0.5], linear: [0.5, 0.2, 0.1] },
+        twist: Twist {
+            omega: [0.1, 0.2, 0.3],
+            velocity: [0.1, 0.0, -0.1],
+        },
+        accel: Acceleration {
+            omega_dot: [1.0, -1.0, 0.5],
+            linear: [0.5, 0.2, 0.1],
+        },
     };
-    let (x, v, a) = (state.pose.to_array(), state.twist.to_array(), state.accel.to_array());
+    let (x, v, a) = (
+        state.pose.to_array(),
+        state.twist.to_array(),
+        state.accel.to_array(),
+    );
     let mut sink = 0.0;
     let n = allocations_during(|| {
         use c5_generated::f64 as k;

@@ -26,11 +26,25 @@ fn no_kernel_exceeds_its_budget() {
         let limit = budget
             .get(name)
             .unwrap_or_else(|| panic!("kernel `{name}` has no line in benches/ops-budget.txt"));
-        let calls: u64 = k["calls"].as_object().unwrap().values().map(|v| v.as_u64().unwrap()).sum();
-        let got = [k["mul"].as_u64().unwrap(), k["div"].as_u64().unwrap(), k["add"].as_u64().unwrap(), k["neg"].as_u64().unwrap(), calls];
+        let calls: u64 = k["calls"]
+            .as_object()
+            .unwrap()
+            .values()
+            .map(|v| v.as_u64().unwrap())
+            .sum();
+        let got = [
+            k["mul"].as_u64().unwrap(),
+            k["div"].as_u64().unwrap(),
+            k["add"].as_u64().unwrap(),
+            k["neg"].as_u64().unwrap(),
+            calls,
+        ];
         if got.iter().zip(limit).any(|(g, l)| g > l) {
             over.push(format!("{name}: {got:?} > budget {limit:?}"));
         }
     }
-    assert!(over.is_empty(), "over budget (mul div add neg calls): {over:#?}");
+    assert!(
+        over.is_empty(),
+        "over budget (mul div add neg calls): {over:#?}"
+    );
 }

@@ -9,6 +9,8 @@ use std::path::PathBuf;
 pub enum Error {
     /// The robot description breaks a rule (a non-positive mass, a non-finite value, ...).
     InvalidRobot { field: String, rule: String },
+    /// A robot description file is malformed or describes an invalid robot.
+    RobotFile { source: String, message: String },
     /// A model produced something the engine cannot emit.
     InvalidModel { kernel: String, reason: String },
     /// `OUT_DIR` is not set and no output directory was given.
@@ -26,6 +28,7 @@ impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Error::InvalidRobot { field, rule } => write!(f, "invalid robot: `{field}` {rule}"),
+            Error::RobotFile { source, message } => write!(f, "{source}: {message}"),
             Error::InvalidModel { kernel, reason } => {
                 write!(f, "kernel `{kernel}` cannot be generated: {reason}")
             }

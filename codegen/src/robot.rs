@@ -273,6 +273,39 @@ fn check_spd(field: &str, m: &[[f64; 3]; 3], allow_zero: bool) -> Result<(), Err
 }
 
 impl Robot<f64> {
+    /// Reads and validates a robot description in TOML (the serde form of [`Robot`]; every
+    /// field is required). `source` names the file in errors.
+    ///
+    /// # Errors
+    /// [`Error::RobotFile`] naming the source and what is wrong: a syntax error, a missing or
+    /// unknown field, a wrong type, or a broken rule of [`Robot::validate`].
+    pub fn from_toml(text: &str, source: &str) -> Result<Self, Error> {
+        let file_error = |message: String| Error::RobotFile {
+            source: source.to_string(),
+            message,
+        };
+        let robot: Robot = toml::from_str(text).map_err(|e| file_error(e.to_string()))?;
+        robot.validate().map_err(|e| file_error(e.to_string()))?;
+        Ok(robot)
+    }
+
+    /// Reads [`Robot::from_toml`] from a file.
+    ///
+    /// # Errors
+    /// [`Error::Io`], or as [`Robot::from_toml`].
+    pub fn from_toml_file(path: &std::path::Path) -> Result<Self, Error> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::from_toml(&text, &path.display().to_string())
+    }
+
+    /// The description as TOML, as [`Robot::from_toml`] reads it.
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).expect("a robot serialises")
+    }
+
     /// Checks every rule a physical robot obeys.
     ///
     /// # Errors
@@ -345,6 +378,38 @@ mod tests {
             e,
             "invalid robot: `segments[3].joint.mass` must be positive"
         );
+    }
+
+    #[test]
+    fn toml_round_trips() {
+        let r = Robot::default();
+        assert_eq!(Robot::from_toml(&r.to_toml(), "default.toml").unwrap(), r);
+    }
+
+    #[test]
+    fn toml_errors_name_file_field_and_rule() {
+        let text = Robot::default().to_toml();
+        let missing = text.replacen("half_spacing = 0.2\n", "", 1);
+        let e = Robot::from_toml(&missing, "robot.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("robot.toml: ") && e.contains("missing field `half_spacing`"),
+            "{e}"
+        );
+        let wrong = text.replacen("half_spacing = 0.2", "half_spacing = \"wide\"", 1);
+        let e = Robot::from_toml(&wrong, "robot.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("half_spacing") && e.contains("invalid type"),
+            "{e}"
+        );
+        let negative = text.replacen("mass = 10.0", "mass = -10.0", 1);
+        let e = Robot::from_toml(&negative, "robot.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("`platform.mass` must be positive"), "{e}");
     }
 
     #[test]

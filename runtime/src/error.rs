@@ -11,6 +11,8 @@ pub enum Error {
     /// The pose is singular for the inverse kinematics: `term` (`r11`, `r22` or `r33`, the
     /// divisors of eq 16) has magnitude below [`crate::SINGULARITY_TOLERANCE`].
     Singular { term: &'static str, value: f64 },
+    /// A result overflowed to an infinity or NaN (inputs far outside the robot's workspace).
+    NonFiniteResult { output: &'static str },
     /// The robot description breaks a rule.
     Robot(String),
 }
@@ -26,6 +28,12 @@ impl fmt::Display for Error {
                 "singular pose: {term} = {value:e} (|{term}| must be at least {:e})",
                 crate::SINGULARITY_TOLERANCE
             ),
+            Error::NonFiniteResult { output } => {
+                write!(
+                    f,
+                    "{output} is not finite (the state is far outside the workspace)"
+                )
+            }
             Error::Robot(e) => write!(f, "{e}"),
         }
     }

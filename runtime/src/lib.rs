@@ -35,6 +35,26 @@ fn check_finite(input: &'static str, v: &[f64]) -> Result<(), Error> {
     }
 }
 
+/// Passes `value` on if every number in it is finite.
+fn finite<T: AsRef<[f64]>>(output: &'static str, value: T) -> Result<T, Error> {
+    if value.as_ref().iter().all(|x| x.is_finite()) {
+        Ok(value)
+    } else {
+        Err(Error::NonFiniteResult { output })
+    }
+}
+
+fn finite_matrix<const R: usize, const C: usize>(
+    output: &'static str,
+    m: [[f64; C]; R],
+) -> Result<[[f64; C]; R], Error> {
+    if m.iter().flatten().all(|x| x.is_finite()) {
+        Ok(m)
+    } else {
+        Err(Error::NonFiniteResult { output })
+    }
+}
+
 impl C5 {
     /// # Errors
     /// [`Error::Robot`] if the description breaks a rule of [`Robot::validate`].
@@ -81,7 +101,8 @@ impl C5 {
     /// A non-finite or singular pose.
     pub fn inverse_kinematics(&self, pose: &Pose) -> Result<([f64; 6], [[f64; 3]; 6]), Error> {
         let x = self.check_pose(pose)?;
-        Ok(k::inverse_kinematics_params(&x, &self.params))
+        let (q, p) = k::inverse_kinematics_params(&x, &self.params);
+        Ok((finite("q", q)?, finite_matrix("p", p)?))
     }
 
     /// Eq 22: `J⁻¹` (row `i` = segment `i+1`, columns `ωx ωy ωz vx vy vz`).
@@ -90,7 +111,7 @@ impl C5 {
     /// A non-finite or singular pose.
     pub fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
         let x = self.check_pose(pose)?;
-        Ok(k::inverse_jacobian_pose_params(&x, &self.params))
+        finite_matrix("jinv", k::inverse_jacobian_pose_params(&x, &self.params))
     }
 
     /// Eq 40: `J = J1 Π1` (rows `ωx … vz`, column `i` = segment `i+1`).
@@ -99,7 +120,7 @@ impl C5 {
     /// A non-finite or singular pose.
     pub fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
         let x = self.check_pose(pose)?;
-        Ok(k::jacobian_pose_params(&x, &self.params))
+        finite_matrix("jacobian", k::jacobian_pose_params(&x, &self.params))
     }
 
     /// `Q̇_a = J⁻¹ V`, segment order.
@@ -110,7 +131,7 @@ impl C5 {
         let x = self.check_pose(pose)?;
         let v = twist.to_array();
         check_finite("twist", &v)?;
-        Ok(k::joint_velocities_params(&x, &v, &self.params))
+        finite("qd", k::joint_velocities_params(&x, &v, &self.params))
     }
 
     /// Eqs 43-48: actuator accelerations `Q̈_a` by projection, segment order.
@@ -119,7 +140,10 @@ impl C5 {
     /// Non-finite inputs or a singular pose.
     pub fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
         let [x, v, a] = self.check_motion(state)?;
-        Ok(k::joint_accelerations_params(&x, &v, &a, &self.params).0)
+        finite(
+            "qdd",
+            k::joint_accelerations_params(&x, &v, &a, &self.params).0,
+        )
     }
 
     /// Eq 60 with eq 62: actuator forces `Γ` (N), segment order.
@@ -128,10 +152,16 @@ impl C5 {
     /// Non-finite inputs or a singular pose.
     pub fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
         let [x, v, a] = self.check_motion(state)?;
-        Ok(k::inverse_dynamics_params(&x, &v, &a, &self.params))
+        finite(
+            "gamma",
+            k::inverse_dynamics_params(&x, &v, &a, &self.params),
+        )
     }
 
     /// Everything `eval` and `simulate` report for one state, in one call.
+    ///
+    /// Every public method checks its inputs (finite, not singular) before it calls a kernel,
+    /// and its outputs (finite) after, so no NaN or infinity leaves the API silently.
     ///
     /// # Errors
     /// Non-finite inputs or a singular pose.
@@ -139,12 +169,12 @@ impl C5 {
         let [x, v, a] = self.check_motion(state)?;
         let p = &self.params;
         Ok(Evaluation {
-            q: k::inverse_kinematics_params(&x, p).0,
-            qd: k::joint_velocities_params(&x, &v, p),
-            qdd: k::joint_accelerations_params(&x, &v, &a, p).0,
-            gamma: k::inverse_dynamics_params(&x, &v, &a, p),
-            jinv: k::inverse_jacobian_pose_params(&x, p),
-            jacobian: k::jacobian_pose_params(&x, p),
+            q: finite("q", k::inverse_kinematics_params(&x, p).0)?,
+            qd: finite("qd", k::joint_velocities_params(&x, &v, p))?,
+            qdd: finite("qdd", k::joint_accelerations_params(&x, &v, &a, p).0)?,
+            gamma: finite("gamma", k::inverse_dynamics_params(&x, &v, &a, p))?,
+            jinv: finite_matrix("jinv", k::inverse_jacobian_pose_params(&x, p))?,
+            jacobian: finite_matrix("jacobian", k::jacobian_pose_params(&x, p))?,
         })
     }
 }

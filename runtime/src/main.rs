@@ -1,7 +1,7 @@
 //! `c5`: the Section 9 study, JSON-lines evaluation and the operation-count audit.
 
 use c5_runtime::simulate;
-use c5_runtime::trajectory::LinearMove;
+use c5_runtime::trajectory::{self, LinearMove};
 use c5_runtime::{Acceleration, Pose, Robot, State, Twist, C5};
 use clap::{Parser, Subcommand};
 use serde_json::{json, Value};
@@ -26,28 +26,46 @@ enum Command {
         /// Output directory.
         #[arg(long, default_value = "out")]
         out: PathBuf,
-        /// Sampling rate (Hz).
+        /// Sampling rate of the default trajectory (Hz).
         #[arg(long, default_value_t = 1000.0)]
         rate: f64,
+        /// A trajectory CSV (t, alpha, beta, gamma, xc, yc, zc, and optionally the twist
+        /// wx..vz and acceleration wdx..az) instead of the default one.
+        #[arg(long)]
+        trajectory: Option<PathBuf>,
+        /// A robot description (TOML) instead of the chapter's robot.
+        #[arg(long)]
+        robot: Option<PathBuf>,
     },
     /// Reads JSON Lines of platform states on stdin, writes one JSON line of results per line.
-    Eval,
+    Eval {
+        /// A robot description (TOML) instead of the chapter's robot.
+        #[arg(long)]
+        robot: Option<PathBuf>,
+    },
     /// Prints the generated kernels' operation counts beside the chapter's.
     Audit,
 }
 
+fn load_robot(path: Option<&PathBuf>) -> Result<C5> {
+    let robot = match path {
+        Some(p) => Robot::from_toml_file(p)?,
+        None => Robot::default(),
+    };
+    Ok(C5::new(robot)?)
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    let robot = match C5::new(Robot::default()) {
-        Ok(r) => r,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::FAILURE;
-        }
-    };
     let result = match cli.command {
-        Command::Simulate { out, rate } => simulate_cmd(&robot, &out, rate),
-        Command::Eval => eval_cmd(&robot),
+        Command::Simulate {
+            out,
+            rate,
+            trajectory,
+            robot,
+        } => load_robot(robot.as_ref())
+            .and_then(|r| simulate_cmd(&r, &out, rate, trajectory.as_ref())),
+        Command::Eval { robot } => load_robot(robot.as_ref()).and_then(|r| eval_cmd(&r)),
         Command::Audit => audit_cmd(),
     };
     match result {
@@ -61,16 +79,30 @@ fn main() -> ExitCode {
 
 type Result<T> = std::result::Result<T, Box<dyn std::error::Error>>;
 
-fn simulate_cmd(robot: &C5, out: &PathBuf, rate: f64) -> Result<ExitCode> {
+fn simulate_cmd(
+    robot: &C5,
+    out: &PathBuf,
+    rate: f64,
+    trajectory: Option<&PathBuf>,
+) -> Result<ExitCode> {
     if !(rate.is_finite() && rate > 0.0) {
         return Err(format!("--rate must be a positive number, got {rate}").into());
     }
-    let study = simulate::run(robot, &LinearMove::section9(), rate)?;
+    let states = match trajectory {
+        Some(path) => trajectory::csv_input::read(path)?,
+        None => simulate::sample(&LinearMove::section9(), rate),
+    };
+    // Everything is computed before anything is written: a refused sample writes nothing.
+    let study =
+        simulate::run(robot, &states).map_err(|(t, e)| format!("sample at t = {t} s: {e}"))?;
     std::fs::create_dir_all(out)?;
     let csv = out.join("section9.csv");
     simulate::write_csv(&csv, &study)?;
     let plots = simulate::write_plots(out, &study)?;
-    println!("Section 9: {} samples at {rate} Hz", study.samples.len());
+    match trajectory {
+        Some(p) => println!("{}: {} samples", p.display(), study.samples.len()),
+        None => println!("Section 9: {} samples at {rate} Hz", study.samples.len()),
+    }
     println!("wrote {}", csv.display());
     for p in plots {
         println!("wrote {}", out.join(p).display());

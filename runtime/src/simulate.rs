@@ -2,6 +2,7 @@
 
 use crate::trajectory::LinearMove;
 use crate::{Error, Evaluation, State, C5};
+
 use plotters::prelude::*;
 use std::path::Path;
 use std::time::Instant;
@@ -22,18 +23,28 @@ pub struct Study {
     pub time_per_sample: f64,
 }
 
-/// Evaluates `motion` at `rate` Hz.
+/// The samples of `motion` at `rate` Hz.
+pub fn sample(motion: &LinearMove, rate: f64) -> Vec<(f64, State)> {
+    motion
+        .times(rate)
+        .into_iter()
+        .map(|t| (t, motion.state(t)))
+        .collect()
+}
+
+/// Evaluates every state of a trajectory.
 ///
 /// # Errors
-/// The first sample whose state is refused (non-finite or singular).
-pub fn run(robot: &C5, motion: &LinearMove, rate: f64) -> Result<Study, Error> {
-    let times = motion.times(rate);
+/// The first sample whose state is refused (non-finite or singular), with its time.
+pub fn run(robot: &C5, states: &[(f64, State)]) -> Result<Study, (f64, Error)> {
     let start = Instant::now();
-    let samples = times
+    let samples = states
         .iter()
-        .map(|&t| {
-            let state = motion.state(t);
-            robot.evaluate(&state).map(|eval| Sample { t, state, eval })
+        .map(|&(t, state)| {
+            robot
+                .evaluate(&state)
+                .map(|eval| Sample { t, state, eval })
+                .map_err(|e| (t, e))
         })
         .collect::<Result<Vec<_>, _>>()?;
     let time_per_sample = start.elapsed().as_secs_f64() / samples.len().max(1) as f64;
