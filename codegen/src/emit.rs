@@ -200,10 +200,12 @@ pub fn emit_kernel(spec: &KernelSpec, compiled: &Compiled, scalar: Scalar) -> To
     } else {
         (quote!((#(#out_types),*)), quote!((#(#outs),*)))
     };
+    // One attribute per line, so the doc prints as `///` lines.
     let doc = kernel_doc(spec, compiled);
+    let doc_lines = doc.lines().map(|l| quote!(#[doc = #l]));
     let name = ident(&spec.name);
     quote! {
-        #[doc = #doc]
+        #(#doc_lines)*
         #[inline]
         pub fn #name(#(#params),*) -> #ret_ty {
             #(#destructure)*

@@ -23,21 +23,21 @@
 //   platform_wrench_params             156    0   106    0  3 cos, 3 sin
 //   inverse_dynamics_params            497    5   548    1  3 cos, 3 sin
 
-/** Inverse Jacobian `J⁻¹` of the paper model, rows `[(n_i × P_i2)ᵀ n_iᵀ]`.
-
- Equations: 22. Setting: chapter.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
-
- # Arguments
-
- - `p`: `p[i] = P_i2 = [x_i y_i z_i]`, from `B_i` to `C` for segment `i+1` (eq 27)
-
- # Returns
-
- - `jinv`: `J⁻¹`, row `i` for segment `i+1`, columns `[ωx ωy ωz vx vy vz]`
-
- Operations: 0 mul, 0 div, 0 add, 6 neg (chapter convention: 0m + 0a). The chapter: 18m + 30a.*/
+/// Inverse Jacobian `J⁻¹` of the paper model, rows `[(n_i × P_i2)ᵀ n_iᵀ]`.
+///
+/// Equations: 22. Setting: chapter.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+///
+/// # Arguments
+///
+/// - `p`: `p[i] = P_i2 = [x_i y_i z_i]`, from `B_i` to `C` for segment `i+1` (eq 27)
+///
+/// # Returns
+///
+/// - `jinv`: `J⁻¹`, row `i` for segment `i+1`, columns `[ωx ωy ωz vx vy vz]`
+///
+/// Operations: 0 mul, 0 div, 0 add, 6 neg (chapter convention: 0m + 0a). The chapter: 18m + 30a.
 #[inline]
 pub fn inverse_jacobian(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
     let [[_, y1, z1], [_, y2, z2], [x3, _, z3], [x4, _, z4], [x5, y5, _], [x6, y6, _]] = *p;
@@ -56,21 +56,21 @@ pub fn inverse_jacobian(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
         [t5, x6, 0.0, 0.0, 0.0, 1.0],
     ]
 }
-/** `Π1`, the map from actuator rates to the joint rates of segment 1, `Q̇_1 = Π1 Q̇_a`.
-
- Equations: 36, 37, 38, 39. Setting: chapter.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
-
- # Arguments
-
- - `p`: `p[i] = P_i2 = [x_i y_i z_i]`, from `B_i` to `C` for segment `i+1` (eq 27)
-
- # Returns
-
- - `pi1`: rows `[ẇ_p1 u̇_p1 γ̇_p β̇_p α̇_p Q̇_11]`, column `i` for segment `i+1`
-
- Operations: 4 mul, 3 div, 9 add, 7 neg (chapter convention: 7m + 9a). The chapter: 17m + 28a.*/
+/// `Π1`, the map from actuator rates to the joint rates of segment 1, `Q̇_1 = Π1 Q̇_a`.
+///
+/// Equations: 36, 37, 38, 39. Setting: chapter.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+///
+/// # Arguments
+///
+/// - `p`: `p[i] = P_i2 = [x_i y_i z_i]`, from `B_i` to `C` for segment `i+1` (eq 27)
+///
+/// # Returns
+///
+/// - `pi1`: rows `[ẇ_p1 u̇_p1 γ̇_p β̇_p α̇_p Q̇_11]`, column `i` for segment `i+1`
+///
+/// Operations: 4 mul, 3 div, 9 add, 7 neg (chapter convention: 7m + 9a). The chapter: 17m + 28a.
 #[inline]
 pub fn pi1(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
     let [[x1, y1, z1], [_, _, z2], [x3, _, z3], [x4, _, _], [x5, y5, _], [_, y6, _]] = *p;
@@ -106,22 +106,22 @@ pub fn pi1(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
         [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
     ]
 }
-/** Jacobian in factored form, `J = J1 Π1`, including `Π1`.
-
- Equations: 39, 40, 41. Setting: chapter.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
- The chapter's count for eq 40 alone is 29m + 37a; with `Π1` it is 46m + 65a.
-
- # Arguments
-
- - `p`: `p[i] = P_i2 = [x_i y_i z_i]`, from `B_i` to `C` for segment `i+1` (eq 27)
-
- # Returns
-
- - `jacobian`: `J`, rows `[ωx ωy ωz vx vy vz]`, column `i` for segment `i+1`
-
- Operations: 6 mul, 3 div, 6 add, 6 neg (chapter convention: 9m + 6a). The chapter: 46m + 65a.*/
+/// Jacobian in factored form, `J = J1 Π1`, including `Π1`.
+///
+/// Equations: 39, 40, 41. Setting: chapter.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The chapter's count for eq 40 alone is 29m + 37a; with `Π1` it is 46m + 65a.
+///
+/// # Arguments
+///
+/// - `p`: `p[i] = P_i2 = [x_i y_i z_i]`, from `B_i` to `C` for segment `i+1` (eq 27)
+///
+/// # Returns
+///
+/// - `jacobian`: `J`, rows `[ωx ωy ωz vx vy vz]`, column `i` for segment `i+1`
+///
+/// Operations: 6 mul, 3 div, 6 add, 6 neg (chapter convention: 9m + 6a). The chapter: 46m + 65a.
 #[inline]
 pub fn jacobian(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
     let [[_, y1, z1], [_, _, z2], [x3, _, z3], [x4, _, _], [x5, y5, _], [_, y6, _]] = *p;
@@ -155,22 +155,22 @@ pub fn jacobian(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
         [t17, t18, 0.0, 0.0, t20, t19],
     ]
 }
-/** Joint accelerations of segment 1 by projection, `Q̈_1 = [Q̈_12; Q̈_11]`.
-
- Equations: 43, 44, 45, 46, 47, 48. Setting: chapter.
-
- Every segment costs the same; segment 1 is generated here.
-
- # Arguments
-
- - `p1`: `P_12 = [x1 y1 z1]` (eq 27)
- - `vdot`: spatial platform acceleration `V̇_{N+1} = (ω̇; a_C - ω × v_C)`
-
- # Returns
-
- - `qdd`: `[ẅ_p1 ü_p1 γ̈_p β̈_p α̈_p Q̈_11]`
-
- Operations: 6 mul, 0 div, 6 add, 0 neg (chapter convention: 6m + 6a). The chapter: 10m + 10a.*/
+/// Joint accelerations of segment 1 by projection, `Q̈_1 = [Q̈_12; Q̈_11]`.
+///
+/// Equations: 43, 44, 45, 46, 47, 48. Setting: chapter.
+///
+/// Every segment costs the same; segment 1 is generated here.
+///
+/// # Arguments
+///
+/// - `p1`: `P_12 = [x1 y1 z1]` (eq 27)
+/// - `vdot`: spatial platform acceleration `V̇_{N+1} = (ω̇; a_C - ω × v_C)`
+///
+/// # Returns
+///
+/// - `qdd`: `[ẅ_p1 ü_p1 γ̈_p β̈_p α̈_p Q̈_11]`
+///
+/// Operations: 6 mul, 0 div, 6 add, 0 neg (chapter convention: 6m + 6a). The chapter: 10m + 10a.
 #[inline]
 pub fn joint_accelerations_segment(p1: &[f64; 3], vdot: &[f64; 6]) -> [f64; 6] {
     let [x1, y1, z1] = *p1;
@@ -189,22 +189,22 @@ pub fn joint_accelerations_segment(p1: &[f64; 3], vdot: &[f64; 6]) -> [f64; 6] {
     let t11: f64 = t10 - t9;
     [t3, t7, wdz, wdy, wdx, t11]
 }
-/** Step 6 of the inverse dynamics, `Γ = Π1ᵀ J1ᵀ K`, with no linear solve.
-
- Equations: 62. Setting: chapter.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
-
- # Arguments
-
- - `p`: `p[i] = P_i2 = [x_i y_i z_i]`, from `B_i` to `C` for segment `i+1` (eq 27)
- - `k`: `K = F_{N+1} + Φ` at `C`, moment first (N·m, N)
-
- # Returns
-
- - `gamma`: `Γ` (N), segment order
-
- Operations: 6 mul, 9 div, 15 add, 0 neg (chapter convention: 15m + 15a). The chapter: 65m + 67a.*/
+/// Step 6 of the inverse dynamics, `Γ = Π1ᵀ J1ᵀ K`, with no linear solve.
+///
+/// Equations: 62. Setting: chapter.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+///
+/// # Arguments
+///
+/// - `p`: `p[i] = P_i2 = [x_i y_i z_i]`, from `B_i` to `C` for segment `i+1` (eq 27)
+/// - `k`: `K = F_{N+1} + Φ` at `C`, moment first (N·m, N)
+///
+/// # Returns
+///
+/// - `gamma`: `Γ` (N), segment order
+///
+/// Operations: 6 mul, 9 div, 15 add, 0 neg (chapter convention: 15m + 15a). The chapter: 65m + 67a.
 #[inline]
 pub fn step6_factored(p: &[[f64; 3]; 6], k: &[f64; 6]) -> [f64; 6] {
     let [[_, y1, z1], [_, _, z2], [x3, _, z3], [x4, _, _], [x5, y5, _], [_, y6, _]] = *p;
@@ -241,23 +241,23 @@ pub fn step6_factored(p: &[[f64; 3]; 6], k: &[f64; 6]) -> [f64; 6] {
     let t29: f64 = t27 - t24;
     [t8, t9, t18, t19, t28, t29]
 }
-/** Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.
-
- Equations: 15, 16, 27. Setting: pose.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
- The robot's parameters are folded in as constants.
-
- # Arguments
-
- - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
-
- # Returns
-
- - `q`: `Q_i1` (m), segment order
- - `p`: `P_i2` from `B_i` to `C` (m)
-
- Operations: 24 mul, 6 div, 22 add, 5 neg, 3 cos, 3 sin (chapter convention: 30m + 22a).*/
+/// Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.
+///
+/// Equations: 15, 16, 27. Setting: pose.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The robot's parameters are folded in as constants.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+///
+/// # Returns
+///
+/// - `q`: `Q_i1` (m), segment order
+/// - `p`: `P_i2` from `B_i` to `C` (m)
+///
+/// Operations: 24 mul, 6 div, 22 add, 5 neg, 3 cos, 3 sin (chapter convention: 30m + 22a).
 #[inline]
 pub fn inverse_kinematics(pose: &[f64; 6]) -> ([f64; 6], [[f64; 3]; 6]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
@@ -336,22 +336,22 @@ pub fn inverse_kinematics(pose: &[f64; 6]) -> ([f64; 6], [[f64; 3]; 6]) {
         ],
     )
 }
-/** Inverse Jacobian `J⁻¹` (paper model) at a pose.
-
- Equations: 15, 16, 22, 27. Setting: pose.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
- The robot's parameters are folded in as constants.
-
- # Arguments
-
- - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
-
- # Returns
-
- - `jinv`: `J⁻¹`, row `i` for segment `i+1`, columns `[ωx ωy ωz vx vy vz]`
-
- Operations: 0 mul, 0 div, 6 add, 3 neg (chapter convention: 0m + 6a).*/
+/// Inverse Jacobian `J⁻¹` (paper model) at a pose.
+///
+/// Equations: 15, 16, 22, 27. Setting: pose.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The robot's parameters are folded in as constants.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+///
+/// # Returns
+///
+/// - `jinv`: `J⁻¹`, row `i` for segment `i+1`, columns `[ωx ωy ωz vx vy vz]`
+///
+/// Operations: 0 mul, 0 div, 6 add, 3 neg (chapter convention: 0m + 6a).
 #[inline]
 pub fn inverse_jacobian_pose(pose: &[f64; 6]) -> [[f64; 6]; 6] {
     let [_, _, _, xc, yc, zc] = *pose;
@@ -373,22 +373,22 @@ pub fn inverse_jacobian_pose(pose: &[f64; 6]) -> [[f64; 6]; 6] {
         [t8, xc, 0.0, 0.0, 0.0, 1.0],
     ]
 }
-/** Jacobian `J = J1 Π1` at a pose.
-
- Equations: 15, 16, 27, 39, 40, 41. Setting: pose.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
- The robot's parameters are folded in as constants.
-
- # Arguments
-
- - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
-
- # Returns
-
- - `jacobian`: `J`, rows `[ωx ωy ωz vx vy vz]`, column `i` for segment `i+1`
-
- Operations: 3 mul, 0 div, 6 add, 3 neg (chapter convention: 3m + 6a).*/
+/// Jacobian `J = J1 Π1` at a pose.
+///
+/// Equations: 15, 16, 27, 39, 40, 41. Setting: pose.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The robot's parameters are folded in as constants.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+///
+/// # Returns
+///
+/// - `jacobian`: `J`, rows `[ωx ωy ωz vx vy vz]`, column `i` for segment `i+1`
+///
+/// Operations: 3 mul, 0 div, 6 add, 3 neg (chapter convention: 3m + 6a).
 #[inline]
 pub fn jacobian_pose(pose: &[f64; 6]) -> [[f64; 6]; 6] {
     let [_, _, _, xc, yc, zc] = *pose;
@@ -413,23 +413,23 @@ pub fn jacobian_pose(pose: &[f64; 6]) -> [[f64; 6]; 6] {
         [t9, t5, 0.0, 0.0, t10, t11],
     ]
 }
-/** Actuator rates `Q̇_a = J⁻¹ V`.
-
- Equations: 20, 22. Setting: pose.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
- The robot's parameters are folded in as constants.
-
- # Arguments
-
- - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
- - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
-
- # Returns
-
- - `qd`: `Q̇_i1` (m/s), segment order
-
- Operations: 9 mul, 0 div, 15 add, 0 neg (chapter convention: 9m + 15a).*/
+/// Actuator rates `Q̇_a = J⁻¹ V`.
+///
+/// Equations: 20, 22. Setting: pose.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The robot's parameters are folded in as constants.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
+///
+/// # Returns
+///
+/// - `qd`: `Q̇_i1` (m/s), segment order
+///
+/// Operations: 9 mul, 0 div, 15 add, 0 neg (chapter convention: 9m + 15a).
 #[inline]
 pub fn joint_velocities(pose: &[f64; 6], twist: &[f64; 6]) -> [f64; 6] {
     let [_, _, _, xc, yc, zc] = *pose;
@@ -460,25 +460,25 @@ pub fn joint_velocities(pose: &[f64; 6], twist: &[f64; 6]) -> [f64; 6] {
     let t23: f64 = t19 - t22;
     [t4, t7, t12, t15, t20, t23]
 }
-/** Joint accelerations of every segment by projection.
-
- Equations: 43, 44, 45, 46, 47, 48. Setting: pose.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
- The robot's parameters are folded in as constants.
-
- # Arguments
-
- - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
- - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
- - `accel`: classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)
-
- # Returns
-
- - `qdd`: `Q̈_i1` (m/s²), segment order
- - `legs`: row `i`: `Q̈_i = [ẅ_p ü_p γ̈_p β̈_p α̈_p Q̈_i1]` of segment `i+1`
-
- Operations: 68 mul, 4 div, 69 add, 0 neg, 3 cos, 3 sin (chapter convention: 72m + 69a).*/
+/// Joint accelerations of every segment by projection.
+///
+/// Equations: 43, 44, 45, 46, 47, 48. Setting: pose.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The robot's parameters are folded in as constants.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
+/// - `accel`: classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)
+///
+/// # Returns
+///
+/// - `qdd`: `Q̈_i1` (m/s²), segment order
+/// - `legs`: row `i`: `Q̈_i = [ẅ_p ü_p γ̈_p β̈_p α̈_p Q̈_i1]` of segment `i+1`
+///
+/// Operations: 68 mul, 4 div, 69 add, 0 neg, 3 cos, 3 sin (chapter convention: 72m + 69a).
 #[inline]
 pub fn joint_accelerations(
     pose: &[f64; 6],
@@ -647,24 +647,24 @@ pub fn joint_accelerations(
         ],
     )
 }
-/** The legs' contribution `Φ = Σ P̂_i2⁻¹ J_Bi⁻ᵀ T_i` at `C`.
-
- Equations: 43, 48, 49, 50, 60. Setting: pose.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
- The robot's parameters are folded in as constants.
-
- # Arguments
-
- - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
- - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
- - `accel`: classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)
-
- # Returns
-
- - `phi`: `Φ = (n; f)` at `C` (N·m, N)
-
- Operations: 331 mul, 4 div, 312 add, 0 neg, 3 cos, 3 sin (chapter convention: 335m + 312a).*/
+/// The legs' contribution `Φ = Σ P̂_i2⁻¹ J_Bi⁻ᵀ T_i` at `C`.
+///
+/// Equations: 43, 48, 49, 50, 60. Setting: pose.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The robot's parameters are folded in as constants.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
+/// - `accel`: classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)
+///
+/// # Returns
+///
+/// - `phi`: `Φ = (n; f)` at `C` (N·m, N)
+///
+/// Operations: 331 mul, 4 div, 312 add, 0 neg, 3 cos, 3 sin (chapter convention: 335m + 312a).
 #[inline]
 pub fn leg_wrench(pose: &[f64; 6], twist: &[f64; 6], accel: &[f64; 6]) -> [f64; 6] {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
@@ -1325,24 +1325,24 @@ pub fn leg_wrench(pose: &[f64; 6], twist: &[f64; 6], accel: &[f64; 6]) -> [f64; 
     let t652: f64 = t650 - t651;
     [t397, t520, t591, t612, t631, t652]
 }
-/** The platform's wrench `F_{N+1} = Λ_C V̇ + C_C + G_C` at `C`.
-
- Equations: 52, 54, 55, 56, 57. Setting: pose.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
- The robot's parameters are folded in as constants.
-
- # Arguments
-
- - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
- - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
- - `accel`: classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)
-
- # Returns
-
- - `f`: `F_{N+1} = (n; f)` (N·m, N)
-
- Operations: 87 mul, 0 div, 41 add, 0 neg, 3 cos, 3 sin (chapter convention: 87m + 41a).*/
+/// The platform's wrench `F_{N+1} = Λ_C V̇ + C_C + G_C` at `C`.
+///
+/// Equations: 52, 54, 55, 56, 57. Setting: pose.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The robot's parameters are folded in as constants.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
+/// - `accel`: classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)
+///
+/// # Returns
+///
+/// - `f`: `F_{N+1} = (n; f)` (N·m, N)
+///
+/// Operations: 87 mul, 0 div, 41 add, 0 neg, 3 cos, 3 sin (chapter convention: 87m + 41a).
 #[inline]
 pub fn platform_wrench(pose: &[f64; 6], twist: &[f64; 6], accel: &[f64; 6]) -> [f64; 6] {
     let [alpha, beta, gamma, _, _, _] = *pose;
@@ -1484,24 +1484,24 @@ pub fn platform_wrench(pose: &[f64; 6], twist: &[f64; 6], accel: &[f64; 6]) -> [
     let t133: f64 = t132 + 98.10000000000001;
     [t106, t120, t129, t130, t131, t133]
 }
-/** Inverse dynamics end to end: actuator forces `Γ` from the platform state.
-
- Equations: 15, 16, 27, 43-48, 49-57, 60, 62. Setting: pose.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
- The robot's parameters are folded in as constants.
-
- # Arguments
-
- - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
- - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
- - `accel`: classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)
-
- # Returns
-
- - `gamma`: `Γ` (N), segment order
-
- Operations: 465 mul, 4 div, 513 add, 0 neg, 3 cos, 3 sin (chapter convention: 469m + 513a).*/
+/// Inverse dynamics end to end: actuator forces `Γ` from the platform state.
+///
+/// Equations: 15, 16, 27, 43-48, 49-57, 60, 62. Setting: pose.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The robot's parameters are folded in as constants.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
+/// - `accel`: classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)
+///
+/// # Returns
+///
+/// - `gamma`: `Γ` (N), segment order
+///
+/// Operations: 465 mul, 4 div, 513 add, 0 neg, 3 cos, 3 sin (chapter convention: 469m + 513a).
 #[inline]
 pub fn inverse_dynamics(
     pose: &[f64; 6],
@@ -2501,24 +2501,24 @@ pub fn inverse_dynamics(
     let t987: f64 = t984 - t986;
     [t609, t615, t803, t811, t933, t987]
 }
-/** Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.
-
- Equations: 15, 16, 27. Setting: pose.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
- The robot's parameters listed in `params` are inputs; the others are folded in.
-
- # Arguments
-
- - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
- - `params`: robot parameters in the order of `Robot::flatten` (those chosen as inputs)
-
- # Returns
-
- - `q`: `Q_i1` (m), segment order
- - `p`: `P_i2` from `B_i` to `C` (m)
-
- Operations: 24 mul, 6 div, 22 add, 5 neg, 3 cos, 3 sin (chapter convention: 30m + 22a).*/
+/// Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.
+///
+/// Equations: 15, 16, 27. Setting: pose.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The robot's parameters listed in `params` are inputs; the others are folded in.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `params`: robot parameters in the order of `Robot::flatten` (those chosen as inputs)
+///
+/// # Returns
+///
+/// - `q`: `Q_i1` (m), segment order
+/// - `p`: `P_i2` from `B_i` to `C` (m)
+///
+/// Operations: 24 mul, 6 div, 22 add, 5 neg, 3 cos, 3 sin (chapter convention: 30m + 22a).
 #[inline]
 pub fn inverse_kinematics_params(
     pose: &[f64; 6],
@@ -2606,23 +2606,23 @@ pub fn inverse_kinematics_params(
         ],
     )
 }
-/** Inverse Jacobian `J⁻¹` (paper model) at a pose.
-
- Equations: 15, 16, 22, 27. Setting: pose.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
- The robot's parameters listed in `params` are inputs; the others are folded in.
-
- # Arguments
-
- - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
- - `params`: robot parameters in the order of `Robot::flatten` (those chosen as inputs)
-
- # Returns
-
- - `jinv`: `J⁻¹`, row `i` for segment `i+1`, columns `[ωx ωy ωz vx vy vz]`
-
- Operations: 0 mul, 0 div, 6 add, 3 neg (chapter convention: 0m + 6a).*/
+/// Inverse Jacobian `J⁻¹` (paper model) at a pose.
+///
+/// Equations: 15, 16, 22, 27. Setting: pose.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The robot's parameters listed in `params` are inputs; the others are folded in.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `params`: robot parameters in the order of `Robot::flatten` (those chosen as inputs)
+///
+/// # Returns
+///
+/// - `jinv`: `J⁻¹`, row `i` for segment `i+1`, columns `[ωx ωy ωz vx vy vz]`
+///
+/// Operations: 0 mul, 0 div, 6 add, 3 neg (chapter convention: 0m + 6a).
 #[inline]
 pub fn inverse_jacobian_pose_params(
     pose: &[f64; 6],
@@ -2653,23 +2653,23 @@ pub fn inverse_jacobian_pose_params(
         [t8, xc, 0.0, 0.0, 0.0, 1.0],
     ]
 }
-/** Jacobian `J = J1 Π1` at a pose.
-
- Equations: 15, 16, 27, 39, 40, 41. Setting: pose.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
- The robot's parameters listed in `params` are inputs; the others are folded in.
-
- # Arguments
-
- - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
- - `params`: robot parameters in the order of `Robot::flatten` (those chosen as inputs)
-
- # Returns
-
- - `jacobian`: `J`, rows `[ωx ωy ωz vx vy vz]`, column `i` for segment `i+1`
-
- Operations: 7 mul, 1 div, 6 add, 4 neg (chapter convention: 8m + 6a).*/
+/// Jacobian `J = J1 Π1` at a pose.
+///
+/// Equations: 15, 16, 27, 39, 40, 41. Setting: pose.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The robot's parameters listed in `params` are inputs; the others are folded in.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `params`: robot parameters in the order of `Robot::flatten` (those chosen as inputs)
+///
+/// # Returns
+///
+/// - `jacobian`: `J`, rows `[ωx ωy ωz vx vy vz]`, column `i` for segment `i+1`
+///
+/// Operations: 7 mul, 1 div, 6 add, 4 neg (chapter convention: 8m + 6a).
 #[inline]
 pub fn jacobian_pose_params(pose: &[f64; 6], params: &[f64; 152]) -> [[f64; 6]; 6] {
     let [_, _, _, xc, yc, zc] = *pose;
@@ -2706,24 +2706,24 @@ pub fn jacobian_pose_params(pose: &[f64; 6], params: &[f64; 152]) -> [[f64; 6]; 
         [t15, t11, 0.0, 0.0, t16, t17],
     ]
 }
-/** Actuator rates `Q̇_a = J⁻¹ V`.
-
- Equations: 20, 22. Setting: pose.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
- The robot's parameters listed in `params` are inputs; the others are folded in.
-
- # Arguments
-
- - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
- - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
- - `params`: robot parameters in the order of `Robot::flatten` (those chosen as inputs)
-
- # Returns
-
- - `qd`: `Q̇_i1` (m/s), segment order
-
- Operations: 9 mul, 0 div, 15 add, 0 neg (chapter convention: 9m + 15a).*/
+/// Actuator rates `Q̇_a = J⁻¹ V`.
+///
+/// Equations: 20, 22. Setting: pose.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The robot's parameters listed in `params` are inputs; the others are folded in.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
+/// - `params`: robot parameters in the order of `Robot::flatten` (those chosen as inputs)
+///
+/// # Returns
+///
+/// - `qd`: `Q̇_i1` (m/s), segment order
+///
+/// Operations: 9 mul, 0 div, 15 add, 0 neg (chapter convention: 9m + 15a).
 #[inline]
 pub fn joint_velocities_params(
     pose: &[f64; 6],
@@ -2764,26 +2764,26 @@ pub fn joint_velocities_params(
     let t23: f64 = t19 - t22;
     [t4, t7, t12, t15, t20, t23]
 }
-/** Joint accelerations of every segment by projection.
-
- Equations: 43, 44, 45, 46, 47, 48. Setting: pose.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
- The robot's parameters listed in `params` are inputs; the others are folded in.
-
- # Arguments
-
- - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
- - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
- - `accel`: classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)
- - `params`: robot parameters in the order of `Robot::flatten` (those chosen as inputs)
-
- # Returns
-
- - `qdd`: `Q̈_i1` (m/s²), segment order
- - `legs`: row `i`: `Q̈_i = [ẅ_p ü_p γ̈_p β̈_p α̈_p Q̈_i1]` of segment `i+1`
-
- Operations: 68 mul, 4 div, 69 add, 0 neg, 3 cos, 3 sin (chapter convention: 72m + 69a).*/
+/// Joint accelerations of every segment by projection.
+///
+/// Equations: 43, 44, 45, 46, 47, 48. Setting: pose.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The robot's parameters listed in `params` are inputs; the others are folded in.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
+/// - `accel`: classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)
+/// - `params`: robot parameters in the order of `Robot::flatten` (those chosen as inputs)
+///
+/// # Returns
+///
+/// - `qdd`: `Q̈_i1` (m/s²), segment order
+/// - `legs`: row `i`: `Q̈_i = [ẅ_p ü_p γ̈_p β̈_p α̈_p Q̈_i1]` of segment `i+1`
+///
+/// Operations: 68 mul, 4 div, 69 add, 0 neg, 3 cos, 3 sin (chapter convention: 72m + 69a).
 #[inline]
 pub fn joint_accelerations_params(
     pose: &[f64; 6],
@@ -2959,25 +2959,25 @@ pub fn joint_accelerations_params(
         ],
     )
 }
-/** The legs' contribution `Φ = Σ P̂_i2⁻¹ J_Bi⁻ᵀ T_i` at `C`.
-
- Equations: 43, 48, 49, 50, 60. Setting: pose.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
- The robot's parameters listed in `params` are inputs; the others are folded in.
-
- # Arguments
-
- - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
- - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
- - `accel`: classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)
- - `params`: robot parameters in the order of `Robot::flatten` (those chosen as inputs)
-
- # Returns
-
- - `phi`: `Φ = (n; f)` at `C` (N·m, N)
-
- Operations: 407 mul, 9 div, 421 add, 0 neg, 3 cos, 3 sin (chapter convention: 416m + 421a).*/
+/// The legs' contribution `Φ = Σ P̂_i2⁻¹ J_Bi⁻ᵀ T_i` at `C`.
+///
+/// Equations: 43, 48, 49, 50, 60. Setting: pose.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The robot's parameters listed in `params` are inputs; the others are folded in.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
+/// - `accel`: classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)
+/// - `params`: robot parameters in the order of `Robot::flatten` (those chosen as inputs)
+///
+/// # Returns
+///
+/// - `phi`: `Φ = (n; f)` at `C` (N·m, N)
+///
+/// Operations: 407 mul, 9 div, 421 add, 0 neg, 3 cos, 3 sin (chapter convention: 416m + 421a).
 #[inline]
 pub fn leg_wrench_params(
     pose: &[f64; 6],
@@ -3851,25 +3851,25 @@ pub fn leg_wrench_params(
     let t842: f64 = t729 + t841;
     [t609, t766, t818, t826, t834, t842]
 }
-/** The platform's wrench `F_{N+1} = Λ_C V̇ + C_C + G_C` at `C`.
-
- Equations: 52, 54, 55, 56, 57. Setting: pose.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
- The robot's parameters listed in `params` are inputs; the others are folded in.
-
- # Arguments
-
- - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
- - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
- - `accel`: classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)
- - `params`: robot parameters in the order of `Robot::flatten` (those chosen as inputs)
-
- # Returns
-
- - `f`: `F_{N+1} = (n; f)` (N·m, N)
-
- Operations: 156 mul, 0 div, 106 add, 0 neg, 3 cos, 3 sin (chapter convention: 156m + 106a).*/
+/// The platform's wrench `F_{N+1} = Λ_C V̇ + C_C + G_C` at `C`.
+///
+/// Equations: 52, 54, 55, 56, 57. Setting: pose.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The robot's parameters listed in `params` are inputs; the others are folded in.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
+/// - `accel`: classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)
+/// - `params`: robot parameters in the order of `Robot::flatten` (those chosen as inputs)
+///
+/// # Returns
+///
+/// - `f`: `F_{N+1} = (n; f)` (N·m, N)
+///
+/// Operations: 156 mul, 0 div, 106 add, 0 neg, 3 cos, 3 sin (chapter convention: 156m + 106a).
 #[inline]
 pub fn platform_wrench_params(
     pose: &[f64; 6],
@@ -4158,25 +4158,25 @@ pub fn platform_wrench_params(
     let t267: f64 = platform_mass * t266;
     [t191, t211, t225, t241, t255, t267]
 }
-/** Inverse dynamics end to end: actuator forces `Γ` from the platform state.
-
- Equations: 15, 16, 27, 43-48, 49-57, 60, 62. Setting: pose.
-
- Actuators are in segment order 1..6; the chapter lists them 6..1.
- The robot's parameters listed in `params` are inputs; the others are folded in.
-
- # Arguments
-
- - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
- - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
- - `accel`: classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)
- - `params`: robot parameters in the order of `Robot::flatten` (those chosen as inputs)
-
- # Returns
-
- - `gamma`: `Γ` (N), segment order
-
- Operations: 497 mul, 5 div, 548 add, 1 neg, 3 cos, 3 sin (chapter convention: 502m + 548a).*/
+/// Inverse dynamics end to end: actuator forces `Γ` from the platform state.
+///
+/// Equations: 15, 16, 27, 43-48, 49-57, 60, 62. Setting: pose.
+///
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The robot's parameters listed in `params` are inputs; the others are folded in.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `twist`: platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)
+/// - `accel`: classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)
+/// - `params`: robot parameters in the order of `Robot::flatten` (those chosen as inputs)
+///
+/// # Returns
+///
+/// - `gamma`: `Γ` (N), segment order
+///
+/// Operations: 497 mul, 5 div, 548 add, 1 neg, 3 cos, 3 sin (chapter convention: 502m + 548a).
 #[inline]
 pub fn inverse_dynamics_params(
     pose: &[f64; 6],
