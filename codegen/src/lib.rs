@@ -137,6 +137,7 @@ impl Config {
             specs.extend(model::chapter_kernels());
         }
         specs.extend(model::pose_kernels(&self.robot, &self.parameters, ""));
+        specs.extend(model::divisor_kernels());
         Ok(specs)
     }
 
@@ -186,6 +187,7 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
     let mut specs = model::chapter_kernels();
     specs.extend(model::pose_kernels(&robot, &ParameterSet::None, ""));
     specs.extend(model::pose_kernels(&robot, &ParameterSet::All, "_params"));
+    specs.extend(model::divisor_kernels());
     let compiled = specs
         .iter()
         .map(|s| s.compile())

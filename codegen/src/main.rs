@@ -67,6 +67,11 @@ fn main() -> ExitCode {
                 if stale.is_empty() {
                     println!("generated/ is up to date");
                 }
+                let ops = std::fs::read_to_string(dir.join("ops.json")).unwrap_or_default();
+                match c5_codegen::manifest::audit(&ops) {
+                    Ok(table) => print!("\n{table}"),
+                    Err(e) => eprintln!("cannot read ops.json: {e}"),
+                }
             })
             .map_err(|e| e.to_string()),
         Some("kernels") => kernels(&args[1..]),

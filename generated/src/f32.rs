@@ -22,6 +22,8 @@
 //   leg_wrench_params                  407    9   421    0  3 cos, 3 sin
 //   platform_wrench_params             156    0   106    0  3 cos, 3 sin
 //   inverse_dynamics_params            497    5   548    1  3 cos, 3 sin
+//   singularity_terms                    5    0     1    0  3 cos, 3 sin
+//   pi1_denominators                     0    0     3    0  0
 
 /// Inverse Jacobian `J⁻¹` of the paper model, rows `[(n_i × P_i2)ᵀ n_iᵀ]`.
 ///
@@ -5265,4 +5267,57 @@ pub fn inverse_dynamics_params(
     let t1055: f32 = t1050 - t1054;
     let t1056: f32 = t1055 * 0.5;
     [t769, t771, t951, t955, t1040, t1056]
+}
+/// The divisors of eq 16, `[r11 r22 r33]`: the pose is singular where one vanishes.
+///
+/// Equations: 15, 16. Setting: pose.
+///
+/// Cheaper than the kernels it guards: one check before them costs a few ns.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+///
+/// # Returns
+///
+/// - `r`: `[r11 r22 r33]`
+///
+/// Operations: 5 mul, 0 div, 1 add, 0 neg, 3 cos, 3 sin (chapter convention: 5m + 1a).
+#[inline]
+pub fn singularity_terms(pose: &[f32; 6]) -> [f32; 3] {
+    let [alpha, beta, gamma, _, _, _] = *pose;
+    let t0: f32 = beta.cos();
+    let t1: f32 = gamma.cos();
+    let t2: f32 = t0 * t1;
+    let t3: f32 = alpha.cos();
+    let t4: f32 = t1 * t3;
+    let t5: f32 = alpha.sin();
+    let t6: f32 = beta.sin();
+    let t7: f32 = gamma.sin();
+    let t8: f32 = t5 * t6;
+    let t9: f32 = t7 * t8;
+    let t10: f32 = t4 - t9;
+    let t11: f32 = t0 * t3;
+    [t2, t10, t11]
+}
+/// The denominators of `Π1`, `[y5 - y6, z1 - z2, x3 - x4]`.
+///
+/// Equations: 39. Setting: chapter.
+///
+/// # Arguments
+///
+/// - `p`: `p[i] = P_i2 = [x_i y_i z_i]`, from `B_i` to `C` for segment `i+1` (eq 27)
+///
+/// # Returns
+///
+/// - `d`: `[y5 - y6, z1 - z2, x3 - x4]` (m)
+///
+/// Operations: 0 mul, 0 div, 3 add, 0 neg (chapter convention: 0m + 3a).
+#[inline]
+pub fn pi1_denominators(p: &[[f32; 3]; 6]) -> [f32; 3] {
+    let [[_, _, z1], [_, _, z2], [x3, _, _], [x4, _, _], [_, y5, _], [_, y6, _]] = *p;
+    let t0: f32 = y5 - y6;
+    let t1: f32 = z1 - z2;
+    let t2: f32 = x3 - x4;
+    [t0, t1, t2]
 }

@@ -8,8 +8,8 @@ use std::fmt;
 pub enum Error {
     /// An input held NaN or an infinity.
     NonFinite { input: &'static str, index: usize },
-    /// The pose is singular for the inverse kinematics: `term` (`r11`, `r22` or `r33`, the
-    /// divisors of eq 16) has magnitude below [`crate::SINGULARITY_TOLERANCE`].
+    /// A divisor vanishes: `term` (`r11`, `r22` or `r33` of eq 16, or `y5 - y6`, `z1 - z2`,
+    /// `x3 - x4` of eq 39) has magnitude below [`crate::SINGULARITY_TOLERANCE`].
     Singular { term: &'static str, value: f64 },
     /// A result overflowed to an infinity or NaN (inputs far outside the robot's workspace).
     NonFiniteResult { output: &'static str },

@@ -72,13 +72,8 @@ impl C5 {
     fn check_pose(&self, pose: &Pose) -> Result<[f64; 6], Error> {
         let x = pose.to_array();
         check_finite("pose", &x)?;
-        let (ca, cb, cg) = (pose.alpha.cos(), pose.beta.cos(), pose.gamma.cos());
-        let (sa, sb, sg) = (pose.alpha.sin(), pose.beta.sin(), pose.gamma.sin());
-        for (term, value) in [
-            ("r11", cb * cg),
-            ("r22", ca * cg - sa * sb * sg),
-            ("r33", cb * ca),
-        ] {
+        let r = k::singularity_terms(&x);
+        for (term, value) in ["r11", "r22", "r33"].into_iter().zip(r) {
             if value.abs() < SINGULARITY_TOLERANCE {
                 return Err(Error::Singular { term, value });
             }
@@ -156,6 +151,23 @@ impl C5 {
             "gamma",
             k::inverse_dynamics_params(&x, &v, &a, &self.params),
         )
+    }
+
+    /// Eq 39 in the chapter's setting: `Π1` from given vectors `P_i2` (segment order), rows
+    /// `[ẇ_p1 u̇_p1 γ̇_p β̇_p α̇_p Q̇_11]`, column `i` for segment `i+1`.
+    ///
+    /// # Errors
+    /// A non-finite input, or [`Error::Singular`] naming `y5 - y6`, `z1 - z2` or `x3 - x4` when
+    /// its magnitude is below [`SINGULARITY_TOLERANCE`] (m).
+    pub fn pi1(&self, p: &[[f64; 3]; 6]) -> Result<[[f64; 6]; 6], Error> {
+        check_finite("p", p.as_flattened())?;
+        let d = k::pi1_denominators(p);
+        for (term, value) in ["y5 - y6", "z1 - z2", "x3 - x4"].into_iter().zip(d) {
+            if value.abs() < SINGULARITY_TOLERANCE {
+                return Err(Error::Singular { term, value });
+            }
+        }
+        finite_matrix("pi1", k::pi1(p))
     }
 
     /// Everything `eval` and `simulate` report for one state, in one call.

@@ -197,60 +197,6 @@ fn eval_cmd(robot: &C5) -> Result<ExitCode> {
 }
 
 fn audit_cmd() -> Result<ExitCode> {
-    let manifest: Value = serde_json::from_str(c5_generated::OPS_JSON)?;
-    println!(
-        "{:<30} {:>8} {:>13} {:>13} {:>7}  mul/div/add/neg, calls",
-        "kernel", "setting", "chapter", "generated", "ratio"
-    );
-    for k in manifest["kernels"]
-        .as_array()
-        .ok_or("ops.json has no kernels")?
-    {
-        let n = |key: &str| k[key].as_u64().unwrap_or(0);
-        let (m, a) = (n("mul") + n("div"), n("add"));
-        let chapter = &k["chapter"];
-        let (ch, ratio) = if chapter.is_null() {
-            ("—".to_string(), "—".to_string())
-        } else {
-            let (cm, ca) = (
-                chapter["m"].as_u64().unwrap_or(0),
-                chapter["a"].as_u64().unwrap_or(0),
-            );
-            (
-                format!("{cm}m + {ca}a"),
-                format!("{:.2}", (m + a) as f64 / (cm + ca) as f64),
-            )
-        };
-        let calls = k["calls"]
-            .as_object()
-            .map(|c| {
-                c.iter()
-                    .map(|(f, v)| format!("{v} {f}"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            })
-            .unwrap_or_default();
-        println!(
-            "{:<30} {:>8} {:>13} {:>13} {:>7}  {}/{}/{}/{}{}{}",
-            k["name"].as_str().unwrap_or("?"),
-            k["setting"].as_str().unwrap_or("?"),
-            ch,
-            format!("{m}m + {a}a"),
-            ratio,
-            n("mul"),
-            n("div"),
-            n("add"),
-            n("neg"),
-            if calls.is_empty() { "" } else { ", " },
-            calls
-        );
-    }
-    println!(
-        "\nratio = generated (m + a) / chapter (m + a); a division counts as a multiplication."
-    );
-    println!(
-        "The chapter's Khalil step 6 (J⁻¹ by eq 22, then an LU solve of eq 61) costs 134m + 125a;"
-    );
-    println!("the generated factored step 6 is `step6_factored` above.");
+    print!("{}", c5_codegen::manifest::audit(c5_generated::OPS_JSON)?);
     Ok(ExitCode::SUCCESS)
 }

@@ -1,26 +1,15 @@
 //! `c5 eval`: one JSON line out per line in, bad lines reported alone, results equal to the
 //! matrix-form reference.
 
+mod support;
+
 use c5_runtime::reference::{self as r, Step6, CHAPTER_ORDER};
 use c5_runtime::{Acceleration, Pose, Robot, Twist};
 use rand::{Rng, SeedableRng};
 use serde_json::Value;
-use std::io::Write;
-use std::process::{Command, Stdio};
 
 fn run_eval(input: &str) -> (Vec<Value>, i32) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_c5"))
-        .arg("eval")
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .spawn()
-        .expect("c5 runs");
-    // Feed stdin from a thread: the child writes while it reads, and both pipes are bounded.
-    let mut stdin = child.stdin.take().unwrap();
-    let input = input.to_string();
-    let feeder = std::thread::spawn(move || stdin.write_all(input.as_bytes()).unwrap());
-    let out = child.wait_with_output().unwrap();
-    feeder.join().unwrap();
+    let out = support::c5(&["eval"], input);
     let lines = String::from_utf8(out.stdout)
         .unwrap()
         .lines()

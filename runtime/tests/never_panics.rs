@@ -79,6 +79,27 @@ fn singular_pose_names_the_term() {
 }
 
 #[test]
+fn coincident_pi1_denominator_names_the_term() {
+    let robot = C5::new(Robot::default()).unwrap();
+    let mut p = [[0.1, 0.0, 0.0]; 6];
+    p[0][2] = 0.2;
+    p[1][2] = 0.2;
+    p[4][1] = -0.1;
+    p[5][1] = 0.1;
+    p[2][0] = -0.1;
+    p[3][0] = 0.1;
+    assert!(matches!(
+        robot.pi1(&p),
+        Err(Error::Singular {
+            term: "z1 - z2",
+            ..
+        })
+    ));
+    p[1][2] = -0.2;
+    assert!(robot.pi1(&p).is_ok());
+}
+
+#[test]
 fn nan_input_names_the_input_and_index() {
     let robot = C5::new(Robot::default()).unwrap();
     let mut s = State::default();

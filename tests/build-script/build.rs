@@ -1,22 +1,11 @@
-//! Generates kernels for a robot that is not the default, folded in as constants, plus a set
-//! that keeps gravity as a runtime input.
-
-fn robot() -> c5_codegen::Robot {
-    let mut robot = c5_codegen::Robot {
-        half_spacing: 0.25,
-        gravity: [0.5, -0.3, -9.7],
-        ..Default::default()
-    };
-    robot.platform.mass = 12.5;
-    robot.platform.com = [0.01, -0.02, 0.005];
-    robot.segments[3].joint.mass = 2.1;
-    robot
-}
+//! Generates kernels for the robot in `robot.toml` (not the default one), folded in as
+//! constants, plus a set that keeps gravity as a runtime input.
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    c5_codegen::Config::new().robot(robot()).generate()?;
+    let robot = c5_codegen::Robot::from_toml_file(std::path::Path::new("robot.toml"))?;
+    c5_codegen::Config::new().robot(robot).generate()?;
     c5_codegen::Config::new()
-        .robot(robot())
+        .robot(robot)
         .runtime_parameters(c5_codegen::ParameterSet::Named(vec![
             "gravity_x".into(),
             "gravity_y".into(),
@@ -25,5 +14,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .file_name("gravity_input.rs")
         .generate()?;
     println!("cargo:rerun-if-changed=build.rs");
+    println!("cargo:rerun-if-changed=robot.toml");
     Ok(())
 }

@@ -213,6 +213,56 @@ pub fn chapter_kernels() -> Vec<KernelSpec> {
     vec![inverse_jacobian, pi1, jacobian, qdd, step6]
 }
 
+/// The divisors of the equations, so a caller can refuse a singular state before dividing:
+/// `r11, r22, r33` (eq 16, pose setting) and `y5 - y6, z1 - z2, x3 - x4` (eq 39, chapter
+/// setting; in the pose setting these are the constant `-2L`).
+pub fn divisor_kernels() -> Vec<KernelSpec> {
+    let mut eq16 = KernelSpec {
+        name: "singularity_terms".to_string(),
+        setting: "pose".to_string(),
+        equations: vec!["15".into(), "16".into()],
+        title: "The divisors of eq 16, `[r11 r22 r33]`: the pose is singular where one vanishes."
+            .to_string(),
+        doc: String::new(),
+        chapter: None,
+        objective: Objective::Speed,
+        inputs: vec![pose_arg()],
+        outputs: vec![Arg::output("r", Shape::Vector(3), "`[r11 r22 r33]`")],
+        build: Box::new(|_, i| {
+            let x = &i[0];
+            let sin = Vector([x[0].sin(), x[1].sin(), x[2].sin()]);
+            let cos = Vector([x[0].cos(), x[1].cos(), x[2].cos()]);
+            let r = eq::rotation(sin, cos);
+            vec![vec![r.0[0][0], r.0[1][1], r.0[2][2]]]
+        }),
+    };
+    eq16.doc = "Cheaper than the kernels it guards: one check before them costs a few ns.".into();
+    let eq39 = KernelSpec {
+        name: "pi1_denominators".to_string(),
+        setting: "chapter".to_string(),
+        equations: vec!["39".into()],
+        title: "The denominators of `Π1`, `[y5 - y6, z1 - z2, x3 - x4]`.".to_string(),
+        doc: String::new(),
+        chapter: None,
+        objective: Objective::ChapterCount,
+        inputs: vec![p_arg()],
+        outputs: vec![Arg::output(
+            "d",
+            Shape::Vector(3),
+            "`[y5 - y6, z1 - z2, x3 - x4]` (m)",
+        )],
+        build: Box::new(|_, i| {
+            let p = p_rows(&i[0]);
+            vec![vec![
+                p[4][1] - p[5][1],
+                p[0][2] - p[1][2],
+                p[2][0] - p[3][0],
+            ]]
+        }),
+    };
+    vec![eq16, eq39]
+}
+
 /// The robot as the kernels see it: folded constants, or entries of the `params` input.
 fn symbolic_robot<'g>(
     g: &'g Graph,

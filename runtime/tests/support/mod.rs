@@ -1,0 +1,24 @@
+//! Running the `c5` program in tests.
+
+use std::io::Write;
+use std::process::{Command, Output, Stdio};
+
+/// Runs `c5 ARGS` with `stdin`, fed from a thread (the program writes while it reads, and both
+/// pipes are bounded); a program that exits before reading leaves a broken pipe, ignored here.
+pub fn c5(args: &[&str], stdin: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_c5"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("c5 runs");
+    let mut pipe = child.stdin.take().unwrap();
+    let input = stdin.to_string();
+    let feeder = std::thread::spawn(move || {
+        let _ = pipe.write_all(input.as_bytes());
+    });
+    let out = child.wait_with_output().unwrap();
+    feeder.join().unwrap();
+    out
+}
