@@ -176,25 +176,29 @@ pub fn joint_accelerations_segment<'g>(p: &Vec3<'g>, vdot: &Vec6<'g>, i: usize) 
     Vector([qdd2[0], qdd2[1], qdd2[2], qdd2[3], qdd2[4], qdd1])
 }
 
-/// Newton-Euler of a rigid body moving with the platform at angular velocity `ω`: its wrench
-/// `(n; f)` about the reference point `O` whose spatial acceleration is `vdot_o` and velocity
-/// `v_o`, with the centre of mass at `s` from `O` (base frame) and inertia `i_g` (base frame),
-/// net of gravity `g`.
+/// Newton-Euler of a rigid body: its wrench `(n; f)` about a point `O` of the body whose
+/// classical acceleration is `a_o`, for a body turning at `ω`, `ω̇` with its centre of mass at
+/// `s` from `O` (base frame), net of gravity `g`; `n_g` is the moment about the centre of mass
+/// (Euler's equations, [`Frame::euler_moment`]).
+#[allow(clippy::too_many_arguments)]
 pub fn rigid_body_wrench<'g>(
     mass: Expr<'g>,
     s: &Vec3<'g>,
-    i_g: &Mat3<'g>,
+    n_g: &Vec3<'g>,
     omega: &Vec3<'g>,
-    vdot_o: &Vec6<'g>,
-    v_o: &Vec3<'g>,
+    omega_dot: &Vec3<'g>,
+    a_o: &Vec3<'g>,
     gravity: &Vec3<'g>,
 ) -> Vec6<'g> {
-    let wd = vdot_o.top();
-    // Classical acceleration of the centre of mass from the spatial acceleration at O.
-    let a_g = vdot_o.bottom() + omega.cross(v_o) + wd.cross(s) + omega.cross(&omega.cross(s));
+    let a_g = *a_o + omega_dot.cross(s) + omega.cross(&omega.cross(s));
     let f = (a_g - *gravity).scale(mass);
-    let n_g = *i_g * wd + omega.cross(&(*i_g * *omega));
-    Vec6::spatial(n_g + s.cross(&f), f)
+    Vec6::spatial(*n_g + s.cross(&f), f)
+}
+
+/// `ω̇̃ + ω̃ ω̃`: the map from a platform point's offset `r` (from `C`) to its acceleration
+/// relative to `C`, `ω̇ × r + ω × (ω × r)`. One matrix for every point of the platform.
+pub fn point_acceleration_map<'g>(omega: &Vec3<'g>, omega_dot: &Vec3<'g>) -> Mat3<'g> {
+    omega_dot.tilde() + omega.tilde() * omega.tilde()
 }
 
 /// The symbolic robot seen from the base frame at one pose.
@@ -207,9 +211,31 @@ impl<'g> Frame<'g> {
     pub fn vector(&self, v: &[Expr<'g>; 3]) -> Vec3<'g> {
         self.r * Vector(*v)
     }
-    /// Eq 55: `R I Rᵀ` for a platform-frame tensor.
-    pub fn tensor(&self, m: &[[Expr<'g>; 3]; 3]) -> Mat3<'g> {
-        self.r * Mat(*m) * self.r.transpose()
+
+    /// Eqs 55-56 for a body turning with the platform: `I_C ω̇ + ω × I_C ω` with `I_C = R I Rᵀ`,
+    /// evaluated as Euler's equations in the platform frame, `R (I ω̇_p + ω_p × I ω_p)` with
+    /// `ω_p = Rᵀ ω`. The same value; but `ω_p` is shared by every body that turns with the
+    /// platform, and the moments of those bodies add up before the one rotation back.
+    pub fn euler_moment(
+        &self,
+        inertia: &[[Expr<'g>; 3]; 3],
+        omega: &Vec3<'g>,
+        omega_dot: &Vec3<'g>,
+    ) -> Vec3<'g> {
+        self.r * self.euler_moment_in_platform(inertia, omega, omega_dot)
+    }
+
+    /// `I ω̇_p + ω_p × I ω_p` in the platform frame (see [`Frame::euler_moment`]).
+    pub fn euler_moment_in_platform(
+        &self,
+        inertia: &[[Expr<'g>; 3]; 3],
+        omega: &Vec3<'g>,
+        omega_dot: &Vec3<'g>,
+    ) -> Vec3<'g> {
+        let rt = self.r.transpose();
+        let (w, wd) = (rt * *omega, rt * *omega_dot);
+        let i = Mat(*inertia);
+        i * wd + w.cross(&(i * w))
     }
 }
 
@@ -231,32 +257,34 @@ pub fn leg_dynamics<'g>(
     let seg = &robot.segments[i];
     let n = axis(g, i);
     let gravity = Vector(robot.gravity);
-    let omega = twist.top();
+    let (omega, omega_dot) = (twist.top(), vdot.top());
     let qdd = joint_accelerations_segment(p, vdot, i);
-    let v2 = body2_acceleration(p, vdot);
-    // Body 2 at B_i: velocity of the platform point B_i = v_C + ω × (B_i - C) = v_C - ω × P_i2.
-    let v_b = twist.bottom() - omega.cross(p);
+    // Body 2 moves with the platform: the classical acceleration of its point B_i is the
+    // spatial one of eq 43 plus ω × v_B, that is a_C + (ω̇̃ + ω̃ω̃)(B_i - C) with B_i - C = -P_i2.
+    let a_c = vdot.bottom() + omega.cross(&twist.bottom());
+    let a_b = a_c - point_acceleration_map(&omega, &omega_dot) * *p;
     let joint: &RigidBody<Expr<'g>> = &seg.joint;
     let f2 = rigid_body_wrench(
         joint.mass,
         &frame.vector(&joint.com),
-        &frame.tensor(&joint.inertia),
+        &frame.euler_moment(&joint.inertia, &omega, &omega_dot),
         &omega,
-        &v2,
-        &v_b,
+        &omega_dot,
+        &a_b,
         &gravity,
     );
-    // Body 1: never rotates; centre of mass at Q_i1/2 along n_i from A_i.
+    // Body 1: never rotates; centre of mass at Q_i1/2 along n_i from A_i; J_Gi1 in the base
+    // frame multiplies its zero angular velocity and acceleration (Slip 5).
     let zero = Vec3::zeros(g);
     let j_g1 = Mat(seg.rod.inertia) + Mat(seg.rod.inertia_per_length_squared).scale(q * q);
-    let v1 = Vec6::spatial(zero, n.scale(qdd[5]));
+    let n_g1 = j_g1 * zero + zero.cross(&(j_g1 * zero));
     let f1 = rigid_body_wrench(
         seg.rod.mass,
         &n.scale(q * 0.5),
-        &j_g1,
+        &n_g1,
         &zero,
-        &v1,
         &zero,
+        &n.scale(qdd[5]),
         &gravity,
     );
     let p_i1 = n.scale(q);
@@ -278,17 +306,19 @@ pub fn platform_wrench<'g>(
     let body = &robot.platform;
     let gc = frame.vector(&body.com);
     let m = body.mass;
-    let i_c = frame.tensor(&body.inertia) - (gc.tilde() * gc.tilde()).scale(m);
     let (omega, wd, a) = (twist.top(), accel.top(), accel.bottom());
     let g = Vector(robot.gravity);
-    // Eq 54: Λ_C = [[I_C, m G̃C], [-m G̃C, m U]].
+    // The parallel-axis part of I_C, for a centre of mass off C: -m G̃C G̃C.
+    let shift = (gc.tilde() * gc.tilde()).scale(-m);
+    // Eq 54: Λ_C = [[I_C, m G̃C], [-m G̃C, m U]], and eq 56: C_C = [ω̃ I_C ω; -m ω̃ G̃C ω]; the
+    // `R I Rᵀ` part of both is Euler's equations (eq 55).
+    let euler = frame.euler_moment(&body.inertia, &omega, &wd);
     let lambda_vdot = Vec6::spatial(
-        i_c * wd + (gc.tilde() * a).scale(m),
+        euler + shift * wd + (gc.tilde() * a).scale(m),
         a.scale(m) - (gc.tilde() * wd).scale(m),
     );
-    // Eq 56: C_C = [ω̃ I_C ω; -m ω̃ G̃C ω].
     let c_c = Vec6::spatial(
-        omega.cross(&(i_c * omega)),
+        omega.cross(&(shift * omega)),
         -(omega.tilde() * gc.tilde() * omega).scale(m),
     );
     // Eq 57: G_C = [-m G̃C; -m U] g.
