@@ -42,10 +42,13 @@ fn check_pose_kernels(robot: &Robot, params: Option<&[f64; 152]>, s: &State) {
     let v = s.twist.to_array();
     let a = s.accel.to_array();
     let l = robot.half_spacing;
-    let (q, p) = match params {
+    let (q, p, divisors) = match params {
         Some(pp) => k::inverse_kinematics_params(&x, pp),
         None => k::inverse_kinematics(&x),
     };
+    let rot = r::rotation(&s.pose);
+    let divisors_ref = [rot[(0, 0)], rot[(1, 1)], rot[(2, 2)]];
+    assert!(rel_err(&divisors, &divisors_ref, 1.0) < 1e-15);
     let p_ref = r::p_i2(l, &s.pose);
     assert!(
         rel_err(
@@ -86,10 +89,11 @@ fn check_pose_kernels(robot: &Robot, params: Option<&[f64; 152]>, s: &State) {
     let qd_ref = r::to_segment_order(&(r::inverse_jacobian(&p_ref) * s.twist.to_vector()));
     assert!(rel_err(&qd, &qd_ref, 1e-3) < 1e-12);
 
-    let (qdd, legs) = params.map_or_else(
+    let (qdd, legs, divisors) = params.map_or_else(
         || k::joint_accelerations(&x, &v, &a),
         |pp| k::joint_accelerations_params(&x, &v, &a, pp),
     );
+    assert!(rel_err(&divisors, &divisors_ref, 1.0) < 1e-15);
     let vdot = r::spatial_acceleration(&s.twist, &s.accel);
     let q_seg = r::to_segment_order(&r::inverse_kinematics(l, &s.pose));
     for i in 0..6 {
@@ -103,7 +107,7 @@ fn check_pose_kernels(robot: &Robot, params: Option<&[f64; 152]>, s: &State) {
     }
 
     let (t, acc) = (&s.twist, &s.accel);
-    let phi = params.map_or_else(
+    let (phi, _) = params.map_or_else(
         || k::leg_wrench(&x, &v, &a),
         |pp| k::leg_wrench_params(&x, &v, &a, pp),
     );
@@ -115,10 +119,11 @@ fn check_pose_kernels(robot: &Robot, params: Option<&[f64; 152]>, s: &State) {
     );
     let f_ref = r::platform_wrench(robot, &s.pose, t, acc);
     assert!(rel_err(&f, f_ref.as_slice(), 1.0) < 1e-12);
-    let gamma = params.map_or_else(
+    let (gamma, divisors) = params.map_or_else(
         || k::inverse_dynamics(&x, &v, &a),
         |pp| k::inverse_dynamics_params(&x, &v, &a, pp),
     );
+    assert!(rel_err(&divisors, &divisors_ref, 1.0) < 1e-15);
     let gamma_ref =
         r::to_segment_order(&r::inverse_dynamics(robot, &s.pose, t, acc, Step6::Khalil).unwrap());
     assert!(
@@ -195,8 +200,8 @@ fn f32_kernels_track_f64_within_single_precision() {
     for _ in 0..STATES {
         let s = random_state(&mut rng);
         let (x, v, a) = (s.pose.to_array(), s.twist.to_array(), s.accel.to_array());
-        let g64 = k::inverse_dynamics(&x, &v, &a);
-        let g32 = c5_generated::f32::inverse_dynamics(
+        let (g64, _) = k::inverse_dynamics(&x, &v, &a);
+        let (g32, _) = c5_generated::f32::inverse_dynamics(
             &x.map(|e| e as f32),
             &v.map(|e| e as f32),
             &a.map(|e| e as f32),

@@ -56,7 +56,7 @@ fn kernels_and_hot_path_do_not_allocate() {
     let mut sink = 0.0;
     let n = allocations_during(|| {
         use c5_generated::f64 as k;
-        sink += k::inverse_dynamics(&x, &v, &a)[0];
+        sink += k::inverse_dynamics(&x, &v, &a).0[0];
         sink += k::inverse_kinematics(&x).0[0];
         sink += k::jacobian_pose(&x)[0][0];
         sink += k::joint_accelerations(&x, &v, &a).0[0];

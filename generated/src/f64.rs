@@ -10,18 +10,18 @@
 //   inverse_jacobian_pose                0    0     6    3  0
 //   jacobian_pose                        3    0     6    3  0
 //   joint_velocities                     9    0    15    0  0
-//   joint_accelerations                 68    4    69    0  3 cos, 3 sin
-//   leg_wrench                         254    4   249    0  3 cos, 3 sin
+//   joint_accelerations                 70    4    69    0  3 cos, 3 sin
+//   leg_wrench                         255    4   249    0  3 cos, 3 sin
 //   platform_wrench                     64    0    29    0  3 cos, 3 sin
 //   inverse_dynamics                   303    4   362    0  3 cos, 3 sin
 //   inverse_kinematics_params           24    6    22    5  3 cos, 3 sin
 //   inverse_jacobian_pose_params         0    0     6    3  0
 //   jacobian_pose_params                 7    1     6    4  0
 //   joint_velocities_params              9    0    15    0  0
-//   joint_accelerations_params          68    4    69    0  3 cos, 3 sin
-//   leg_wrench_params                  433    4   419    0  3 cos, 3 sin
+//   joint_accelerations_params          70    4    69    0  3 cos, 3 sin
+//   leg_wrench_params                  434    4   419    0  3 cos, 3 sin
 //   platform_wrench_params             133    0    94    2  3 cos, 3 sin
-//   inverse_dynamics_params            519    5   555    3  3 cos, 3 sin
+//   inverse_dynamics_params            520    5   555    3  3 cos, 3 sin
 //   singularity_terms                    5    0     1    0  3 cos, 3 sin
 //   pi1_denominators                     0    0     3    0  0
 
@@ -249,6 +249,7 @@ pub fn step6_factored(p: &[[f64; 3]; 6], k: &[f64; 6]) -> [f64; 6] {
 ///
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
+/// The last result holds the divisors of eq 16 for a singularity check.
 ///
 /// # Arguments
 ///
@@ -258,10 +259,11 @@ pub fn step6_factored(p: &[[f64; 3]; 6], k: &[f64; 6]) -> [f64; 6] {
 ///
 /// - `q`: `Q_i1` (m), segment order
 /// - `p`: `P_i2` from `B_i` to `C` (m)
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the results are meaningless where one is near zero
 ///
 /// Operations: 24 mul, 6 div, 22 add, 5 neg, 3 cos, 3 sin (chapter convention: 30m + 22a).
 #[inline]
-pub fn inverse_kinematics(pose: &[f64; 6]) -> ([f64; 6], [[f64; 3]; 6]) {
+pub fn inverse_kinematics(pose: &[f64; 6]) -> ([f64; 6], [[f64; 3]; 6], [f64; 3]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let t0: f64 = beta.cos();
     let t1: f64 = gamma.cos();
@@ -336,6 +338,7 @@ pub fn inverse_kinematics(pose: &[f64; 6]) -> ([f64; 6], [[f64; 3]; 6]) {
             [xc, t46, t61],
             [xc, t53, t62],
         ],
+        [t18, t28, t50],
     )
 }
 /// Inverse Jacobian `J⁻¹` (paper model) at a pose.
@@ -468,6 +471,7 @@ pub fn joint_velocities(pose: &[f64; 6], twist: &[f64; 6]) -> [f64; 6] {
 ///
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
+/// The last result holds the divisors of eq 16 for a singularity check.
 ///
 /// # Arguments
 ///
@@ -479,14 +483,15 @@ pub fn joint_velocities(pose: &[f64; 6], twist: &[f64; 6]) -> [f64; 6] {
 ///
 /// - `qdd`: `Q̈_i1` (m/s²), segment order
 /// - `legs`: row `i`: `Q̈_i = [ẅ_p ü_p γ̈_p β̈_p α̈_p Q̈_i1]` of segment `i+1`
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the results are meaningless where one is near zero
 ///
-/// Operations: 68 mul, 4 div, 69 add, 0 neg, 3 cos, 3 sin (chapter convention: 72m + 69a).
+/// Operations: 70 mul, 4 div, 69 add, 0 neg, 3 cos, 3 sin (chapter convention: 74m + 69a).
 #[inline]
 pub fn joint_accelerations(
     pose: &[f64; 6],
     twist: &[f64; 6],
     accel: &[f64; 6],
-) -> ([f64; 6], [[f64; 6]; 6]) {
+) -> ([f64; 6], [[f64; 6]; 6], [f64; 3]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [wx, wy, wz, vx, vy, vz] = *twist;
     let [wdx, wdy, wdz, ax, ay, az] = *accel;
@@ -637,6 +642,8 @@ pub fn joint_accelerations(
     let t144: f64 = t142 + t143;
     let t145: f64 = t5 + t144;
     let t146: f64 = t145 - t0;
+    let t147: f64 = t39 * t41;
+    let t148: f64 = t39 * t44;
     (
         [t8, t12, t21, t25, t34, t38],
         [
@@ -647,6 +654,7 @@ pub fn joint_accelerations(
             [t128, t135, wdz, wdy, wdx, t34],
             [t141, t146, wdz, wdy, wdx, t38],
         ],
+        [t147, t86, t148],
     )
 }
 /// The legs' contribution `Φ = Σ P̂_i2⁻¹ J_Bi⁻ᵀ T_i` at `C`.
@@ -655,6 +663,7 @@ pub fn joint_accelerations(
 ///
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
+/// The last result holds the divisors of eq 16 for a singularity check.
 ///
 /// # Arguments
 ///
@@ -665,10 +674,15 @@ pub fn joint_accelerations(
 /// # Returns
 ///
 /// - `phi`: `Φ = (n; f)` at `C` (N·m, N)
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the results are meaningless where one is near zero
 ///
-/// Operations: 254 mul, 4 div, 249 add, 0 neg, 3 cos, 3 sin (chapter convention: 258m + 249a).
+/// Operations: 255 mul, 4 div, 249 add, 0 neg, 3 cos, 3 sin (chapter convention: 259m + 249a).
 #[inline]
-pub fn leg_wrench(pose: &[f64; 6], twist: &[f64; 6], accel: &[f64; 6]) -> [f64; 6] {
+pub fn leg_wrench(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+) -> ([f64; 6], [f64; 3]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [wx, wy, wz, vx, vy, vz] = *twist;
     let [wdx, wdy, wdz, ax, ay, az] = *accel;
@@ -1185,7 +1199,8 @@ pub fn leg_wrench(pose: &[f64; 6], twist: &[f64; 6], accel: &[f64; 6]) -> [f64; 
     let t510: f64 = t508 + t509;
     let t511: f64 = t510 + 137.5362;
     let t512: f64 = t511 - t356;
-    [t281, t387, t459, t475, t493, t512]
+    let t513: f64 = t1 * t3;
+    ([t281, t387, t459, t475, t493, t512], [t513, t101, t409])
 }
 /// The platform's wrench `F_{N+1} = Λ_C V̇ + C_C + G_C` at `C`.
 ///
@@ -1317,6 +1332,7 @@ pub fn platform_wrench(pose: &[f64; 6], twist: &[f64; 6], accel: &[f64; 6]) -> [
 ///
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
+/// The last result holds the divisors of eq 16 for a singularity check.
 ///
 /// # Arguments
 ///
@@ -1327,6 +1343,7 @@ pub fn platform_wrench(pose: &[f64; 6], twist: &[f64; 6], accel: &[f64; 6]) -> [
 /// # Returns
 ///
 /// - `gamma`: `Γ` (N), segment order
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the results are meaningless where one is near zero
 ///
 /// Operations: 303 mul, 4 div, 362 add, 0 neg, 3 cos, 3 sin (chapter convention: 307m + 362a).
 #[inline]
@@ -1334,7 +1351,7 @@ pub fn inverse_dynamics(
     pose: &[f64; 6],
     twist: &[f64; 6],
     accel: &[f64; 6],
-) -> [f64; 6] {
+) -> ([f64; 6], [f64; 3]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [wx, wy, wz, vx, vy, vz] = *twist;
     let [wdx, wdy, wdz, ax, ay, az] = *accel;
@@ -2013,7 +2030,7 @@ pub fn inverse_dynamics(
     let t672: f64 = t670 + t671;
     let t673: f64 = t290 + t672;
     let t674: f64 = t669 - t673;
-    [t386, t392, t529, t537, t631, t674]
+    ([t386, t392, t529, t537, t631, t674], [t538, t24, t395])
 }
 /// Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.
 ///
@@ -2021,6 +2038,7 @@ pub fn inverse_dynamics(
 ///
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
+/// The last result holds the divisors of eq 16 for a singularity check.
 ///
 /// # Arguments
 ///
@@ -2031,13 +2049,14 @@ pub fn inverse_dynamics(
 ///
 /// - `q`: `Q_i1` (m), segment order
 /// - `p`: `P_i2` from `B_i` to `C` (m)
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the results are meaningless where one is near zero
 ///
 /// Operations: 24 mul, 6 div, 22 add, 5 neg, 3 cos, 3 sin (chapter convention: 30m + 22a).
 #[inline]
 pub fn inverse_kinematics_params(
     pose: &[f64; 6],
     params: &[f64; 152],
-) -> ([f64; 6], [[f64; 3]; 6]) {
+) -> ([f64; 6], [[f64; 3]; 6], [f64; 3]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
     _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
@@ -2118,6 +2137,7 @@ pub fn inverse_kinematics_params(
             [xc, t46, t61],
             [xc, t53, t62],
         ],
+        [t18, t28, t50],
     )
 }
 /// Inverse Jacobian `J⁻¹` (paper model) at a pose.
@@ -2284,6 +2304,7 @@ pub fn joint_velocities_params(
 ///
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
+/// The last result holds the divisors of eq 16 for a singularity check.
 ///
 /// # Arguments
 ///
@@ -2296,15 +2317,16 @@ pub fn joint_velocities_params(
 ///
 /// - `qdd`: `Q̈_i1` (m/s²), segment order
 /// - `legs`: row `i`: `Q̈_i = [ẅ_p ü_p γ̈_p β̈_p α̈_p Q̈_i1]` of segment `i+1`
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the results are meaningless where one is near zero
 ///
-/// Operations: 68 mul, 4 div, 69 add, 0 neg, 3 cos, 3 sin (chapter convention: 72m + 69a).
+/// Operations: 70 mul, 4 div, 69 add, 0 neg, 3 cos, 3 sin (chapter convention: 74m + 69a).
 #[inline]
 pub fn joint_accelerations_params(
     pose: &[f64; 6],
     twist: &[f64; 6],
     accel: &[f64; 6],
     params: &[f64; 152],
-) -> ([f64; 6], [[f64; 6]; 6]) {
+) -> ([f64; 6], [[f64; 6]; 6], [f64; 3]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [wx, wy, wz, vx, vy, vz] = *twist;
     let [wdx, wdy, wdz, ax, ay, az] = *accel;
@@ -2461,6 +2483,8 @@ pub fn joint_accelerations_params(
     let t144: f64 = t142 + t143;
     let t145: f64 = t5 + t144;
     let t146: f64 = t145 - t0;
+    let t147: f64 = t39 * t41;
+    let t148: f64 = t39 * t44;
     (
         [t8, t12, t21, t25, t34, t38],
         [
@@ -2471,6 +2495,7 @@ pub fn joint_accelerations_params(
             [t128, t135, wdz, wdy, wdx, t34],
             [t141, t146, wdz, wdy, wdx, t38],
         ],
+        [t147, t86, t148],
     )
 }
 /// The legs' contribution `Φ = Σ P̂_i2⁻¹ J_Bi⁻ᵀ T_i` at `C`.
@@ -2479,6 +2504,7 @@ pub fn joint_accelerations_params(
 ///
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
+/// The last result holds the divisors of eq 16 for a singularity check.
 ///
 /// # Arguments
 ///
@@ -2490,15 +2516,16 @@ pub fn joint_accelerations_params(
 /// # Returns
 ///
 /// - `phi`: `Φ = (n; f)` at `C` (N·m, N)
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the results are meaningless where one is near zero
 ///
-/// Operations: 433 mul, 4 div, 419 add, 0 neg, 3 cos, 3 sin (chapter convention: 437m + 419a).
+/// Operations: 434 mul, 4 div, 419 add, 0 neg, 3 cos, 3 sin (chapter convention: 438m + 419a).
 #[inline]
 pub fn leg_wrench_params(
     pose: &[f64; 6],
     twist: &[f64; 6],
     accel: &[f64; 6],
     params: &[f64; 152],
-) -> [f64; 6] {
+) -> ([f64; 6], [f64; 3]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [wx, wy, wz, vx, vy, vz] = *twist;
     let [wdx, wdy, wdz, ax, ay, az] = *accel;
@@ -3382,7 +3409,8 @@ pub fn leg_wrench_params(
     let t859: f64 = t856 + t857;
     let t860: f64 = t858 + t859;
     let t861: f64 = t749 + t860;
-    [t608, t778, t837, t845, t853, t861]
+    let t862: f64 = t19 * t35;
+    ([t608, t778, t837, t845, t853, t861], [t862, t42, t783])
 }
 /// The platform's wrench `F_{N+1} = Λ_C V̇ + C_C + G_C` at `C`.
 ///
@@ -3664,6 +3692,7 @@ pub fn platform_wrench_params(
 ///
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
+/// The last result holds the divisors of eq 16 for a singularity check.
 ///
 /// # Arguments
 ///
@@ -3675,15 +3704,16 @@ pub fn platform_wrench_params(
 /// # Returns
 ///
 /// - `gamma`: `Γ` (N), segment order
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the results are meaningless where one is near zero
 ///
-/// Operations: 519 mul, 5 div, 555 add, 3 neg, 3 cos, 3 sin (chapter convention: 524m + 555a).
+/// Operations: 520 mul, 5 div, 555 add, 3 neg, 3 cos, 3 sin (chapter convention: 525m + 555a).
 #[inline]
 pub fn inverse_dynamics_params(
     pose: &[f64; 6],
     twist: &[f64; 6],
     accel: &[f64; 6],
     params: &[f64; 152],
-) -> [f64; 6] {
+) -> ([f64; 6], [f64; 3]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [wx, wy, wz, vx, vy, vz] = *twist;
     let [wdx, wdy, wdz, ax, ay, az] = *accel;
@@ -4795,7 +4825,8 @@ pub fn inverse_dynamics_params(
     let t1085: f64 = t1056 + t1084;
     let t1086: f64 = t1081 - t1085;
     let t1087: f64 = t1086 * 0.5;
-    [t735, t737, t964, t968, t1071, t1087]
+    let t1088: f64 = t6 * t16;
+    ([t735, t737, t964, t968, t1071, t1087], [t1088, t29, t885])
 }
 /// The divisors of eq 16, `[r11 r22 r33]`: the pose is singular where one vanishes.
 ///

@@ -28,6 +28,16 @@ pub struct C5 {
     params: [f64; c5_generated::PARAMETERS],
 }
 
+/// Refuses a pose where a divisor of eq 16 (`[r11 r22 r33]`) is below the tolerance.
+fn check_divisors(r: [f64; 3]) -> Result<(), Error> {
+    for (term, value) in ["r11", "r22", "r33"].into_iter().zip(r) {
+        if value.abs() < SINGULARITY_TOLERANCE {
+            return Err(Error::Singular { term, value });
+        }
+    }
+    Ok(())
+}
+
 fn check_finite(input: &'static str, v: &[f64]) -> Result<(), Error> {
     match v.iter().position(|x| !x.is_finite()) {
         Some(index) => Err(Error::NonFinite { input, index }),
@@ -69,22 +79,21 @@ impl C5 {
         &self.robot
     }
 
+    /// A finite, non-singular pose; for the kernels that do not return the divisors of eq 16
+    /// themselves.
     fn check_pose(&self, pose: &Pose) -> Result<[f64; 6], Error> {
         let x = pose.to_array();
         check_finite("pose", &x)?;
-        let r = k::singularity_terms(&x);
-        for (term, value) in ["r11", "r22", "r33"].into_iter().zip(r) {
-            if value.abs() < SINGULARITY_TOLERANCE {
-                return Err(Error::Singular { term, value });
-            }
-        }
+        check_divisors(k::singularity_terms(&x))?;
         Ok(x)
     }
 
+    /// Finite inputs; the singularity check is left to the divisors the kernel returns.
     fn check_motion(&self, state: &State) -> Result<[[f64; 6]; 3], Error> {
-        let x = self.check_pose(&state.pose)?;
+        let x = state.pose.to_array();
         let v = state.twist.to_array();
         let a = state.accel.to_array();
+        check_finite("pose", &x)?;
         check_finite("twist", &v)?;
         check_finite("acceleration", &a)?;
         Ok([x, v, a])
@@ -95,8 +104,10 @@ impl C5 {
     /// # Errors
     /// A non-finite or singular pose.
     pub fn inverse_kinematics(&self, pose: &Pose) -> Result<([f64; 6], [[f64; 3]; 6]), Error> {
-        let x = self.check_pose(pose)?;
-        let (q, p) = k::inverse_kinematics_params(&x, &self.params);
+        let x = pose.to_array();
+        check_finite("pose", &x)?;
+        let (q, p, r) = k::inverse_kinematics_params(&x, &self.params);
+        check_divisors(r)?;
         Ok((finite("q", q)?, finite_matrix("p", p)?))
     }
 
@@ -135,10 +146,9 @@ impl C5 {
     /// Non-finite inputs or a singular pose.
     pub fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
         let [x, v, a] = self.check_motion(state)?;
-        finite(
-            "qdd",
-            k::joint_accelerations_params(&x, &v, &a, &self.params).0,
-        )
+        let (qdd, _, r) = k::joint_accelerations_params(&x, &v, &a, &self.params);
+        check_divisors(r)?;
+        finite("qdd", qdd)
     }
 
     /// Eq 60 with eq 62: actuator forces `Γ` (N), segment order.
@@ -147,10 +157,9 @@ impl C5 {
     /// Non-finite inputs or a singular pose.
     pub fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
         let [x, v, a] = self.check_motion(state)?;
-        finite(
-            "gamma",
-            k::inverse_dynamics_params(&x, &v, &a, &self.params),
-        )
+        let (gamma, r) = k::inverse_dynamics_params(&x, &v, &a, &self.params);
+        check_divisors(r)?;
+        finite("gamma", gamma)
     }
 
     /// Eq 39 in the chapter's setting: `Π1` from given vectors `P_i2` (segment order), rows
@@ -172,19 +181,23 @@ impl C5 {
 
     /// Everything `eval` and `simulate` report for one state, in one call.
     ///
-    /// Every public method checks its inputs (finite, not singular) before it calls a kernel,
-    /// and its outputs (finite) after, so no NaN or infinity leaves the API silently.
+    /// Every public method checks its inputs (finite) and the pose (not singular, from the
+    /// divisors of eq 16 that the kernels return, or from `singularity_terms` for the kernels
+    /// that never divide by them) and its outputs (finite), so no NaN or infinity leaves the API
+    /// silently.
     ///
     /// # Errors
     /// Non-finite inputs or a singular pose.
     pub fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
         let [x, v, a] = self.check_motion(state)?;
         let p = &self.params;
+        let (q, _, r) = k::inverse_kinematics_params(&x, p);
+        check_divisors(r)?;
         Ok(Evaluation {
-            q: finite("q", k::inverse_kinematics_params(&x, p).0)?,
+            q: finite("q", q)?,
             qd: finite("qd", k::joint_velocities_params(&x, &v, p))?,
             qdd: finite("qdd", k::joint_accelerations_params(&x, &v, &a, p).0)?,
-            gamma: finite("gamma", k::inverse_dynamics_params(&x, &v, &a, p))?,
+            gamma: finite("gamma", k::inverse_dynamics_params(&x, &v, &a, p).0)?,
             jinv: finite_matrix("jinv", k::inverse_jacobian_pose_params(&x, p))?,
             jacobian: finite_matrix("jacobian", k::jacobian_pose_params(&x, p))?,
         })

@@ -289,6 +289,15 @@ fn symbolic_robot<'g>(
 type PoseBuild =
     for<'g> fn(&Robot<Expr<'g>>, &eq::Posed<'g>, &[Vec<Expr<'g>>]) -> Vec<Vec<Expr<'g>>>;
 
+/// The pose-setting kernels that divide by `r11`, `r22` or `r33` (eq 16). The others use
+/// `J⁻¹` or `J`, which in the paper model do not depend on the orientation, or only `R`.
+const GUARDED: [&str; 4] = [
+    "inverse_kinematics",
+    "joint_accelerations",
+    "leg_wrench",
+    "inverse_dynamics",
+];
+
 /// The kernels of the pose setting, expanded end to end from the platform state.
 ///
 /// `suffix` is appended to every kernel name (`"_params"` for the runtime-parameter set).
@@ -321,12 +330,26 @@ pub fn pose_kernels(robot: &Robot, parameters: &ParameterSet, suffix: &str) -> V
         args.extend(params_arg.clone());
         let robot = *robot;
         let inputs = inputs.clone();
+        // Kernels that go through eq 16 also return its divisors, so a caller can refuse a
+        // singular pose without a second evaluation of the trigonometry.
+        let guarded = GUARDED.contains(&name);
+        let mut outputs = outputs;
+        let mut doc = format!("{ORDER_NOTE}\n{folded}");
+        if guarded {
+            outputs.push(Arg::output(
+                "r",
+                Shape::Vector(3),
+                "`[r11 r22 r33]`, the divisors of eq 16: the results are meaningless where one \
+                 is near zero",
+            ));
+            doc.push_str("\nThe last result holds the divisors of eq 16 for a singularity check.");
+        }
         out.push(KernelSpec {
             name: format!("{name}{suffix}"),
             setting: "pose".to_string(),
             equations: eqs.iter().map(|s| s.to_string()).collect(),
             title: title.to_string(),
-            doc: format!("{ORDER_NOTE}\n{folded}"),
+            doc,
             chapter: None,
             objective: Objective::Speed,
             inputs: args,
@@ -334,7 +357,12 @@ pub fn pose_kernels(robot: &Robot, parameters: &ParameterSet, suffix: &str) -> V
             build: Box::new(move |g, i| {
                 let sym = symbolic_robot(g, &robot, &inputs, i.get(n_motion));
                 let posed = eq::pose(&sym, &i[0]);
-                build(&sym, &posed, &i[1..n_motion])
+                let mut results = build(&sym, &posed, &i[1..n_motion]);
+                if guarded {
+                    let r = &posed.frame.r.0;
+                    results.push(vec![r[0][0], r[1][1], r[2][2]]);
+                }
+                results
             }),
         });
     };

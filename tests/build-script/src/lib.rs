@@ -63,7 +63,7 @@ mod tests {
     fn folded_kernels_equal_the_reference_for_this_robot() {
         let robot = robot();
         for (pose, twist, accel) in states() {
-            let got = super::kernels::inverse_dynamics(
+            let (got, _) = super::kernels::inverse_dynamics(
                 &pose.to_array(),
                 &twist.to_array(),
                 &accel.to_array(),
@@ -72,7 +72,7 @@ mod tests {
                 &r::inverse_dynamics(&robot, &pose, &twist, &accel, Step6::Khalil).unwrap(),
             );
             assert!(close(&got, &want), "{got:?} vs {want:?}");
-            let (q, _) = super::kernels::inverse_kinematics(&pose.to_array());
+            let (q, _, _) = super::kernels::inverse_kinematics(&pose.to_array());
             assert!(close(
                 &q,
                 &r::to_segment_order(&r::inverse_kinematics(0.25, &pose))
@@ -85,7 +85,7 @@ mod tests {
         let mut robot = robot();
         robot.gravity = [0.0, 0.0, -1.62];
         for (pose, twist, accel) in states() {
-            let got = super::gravity_input::inverse_dynamics(
+            let (got, _) = super::gravity_input::inverse_dynamics(
                 &pose.to_array(),
                 &twist.to_array(),
                 &accel.to_array(),
