@@ -268,3 +268,38 @@ fn eq22_is_the_derivative_of_eq16_only_at_zero_orientation() {
     // The consistent model does match the finite differences.
     assert!((exact_inverse_jacobian(l, &tilted) - fd).amax() < 1e-8);
 }
+
+/// The projection scheme is exact for the actuators only: its passive-joint accelerations
+/// (eq 48) are the components of the spatial acceleration, and differ from the time
+/// derivative of `Q̇_i2` (eq 42) by the velocity-product term `-Q̇_i1 H_i2ᵀ (0; n_i × ω)`.
+#[test]
+fn projection_passive_accelerations_differ_from_eq42_by_the_velocity_product() {
+    let mut rng = rng(4);
+    let robot = Robot::default();
+    let l = robot.half_spacing;
+    for _ in 0..200 {
+        let s = random_state(&mut rng);
+        let p = r::p_i2(l, &s.pose);
+        let q = r::to_segment_order(&r::inverse_kinematics(l, &s.pose));
+        let qd = r::to_segment_order(&(r::inverse_jacobian(&p) * s.twist.to_vector()));
+        let vdot = r::spatial_acceleration(&s.twist, &s.accel);
+        let w = Vector3::from(s.twist.omega);
+        for i in 0..6 {
+            let projection =
+                r::joint_accelerations_projection(&(q[i] * r::axis(i)), &p[i], &vdot, i);
+            let conventional =
+                r::joint_accelerations_conventional(l, &s.pose, &s.twist, &s.accel, i).unwrap();
+            let nw = r::axis(i).cross(&w);
+            let term = r::h_i2(i).transpose() * Vector6::new(0.0, 0.0, 0.0, nw.x, nw.y, nw.z);
+            for j in 0..5 {
+                let want = projection[j] - qd[i] * term[j];
+                assert!(
+                    (conventional[j] - want).abs() < 1e-12,
+                    "segment {} joint {j}",
+                    i + 1
+                );
+            }
+            assert!((conventional[5] - projection[5]).abs() < 1e-12);
+        }
+    }
+}
