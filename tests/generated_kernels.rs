@@ -36,16 +36,24 @@ fn p_array(p: &[nalgebra::Vector3<f64>; 6]) -> [[f64; 3]; 6] {
     std::array::from_fn(|i| p[i].into())
 }
 
+/// Calls the folded kernel `$folded(args)`, or `$with_params(args, params)` when `params` is
+/// given.
+macro_rules! kernel {
+    ($params:expr, $folded:ident / $with_params:ident ($($arg:expr),*)) => {
+        match $params {
+            Some(pp) => k::$with_params($($arg,)* pp),
+            None => k::$folded($($arg),*),
+        }
+    };
+}
+
 /// Checks the pose-setting kernels for `robot`, through `params` (None: the folded kernels).
 fn check_pose_kernels(robot: &Robot, params: Option<&[f64; 152]>, s: &State) {
     let x = s.pose.to_array();
     let v = s.twist.to_array();
     let a = s.accel.to_array();
     let l = robot.half_spacing;
-    let (q, p, divisors) = match params {
-        Some(pp) => k::inverse_kinematics_params(&x, pp),
-        None => k::inverse_kinematics(&x),
-    };
+    let (q, p, divisors) = kernel!(params, inverse_kinematics / inverse_kinematics_params(&x));
     let rot = r::rotation(&s.pose);
     let divisors_ref = [rot[(0, 0)], rot[(1, 1)], rot[(2, 2)]];
     assert!(rel_err(&divisors, &divisors_ref, 1.0) < 1e-15);
@@ -59,9 +67,9 @@ fn check_pose_kernels(robot: &Robot, params: Option<&[f64; 152]>, s: &State) {
     );
     assert!(rel_err(&flat(&p), &flat(&p_array(&p_ref)), 1e-3) < 1e-12);
 
-    let jinv = params.map_or_else(
-        || k::inverse_jacobian_pose(&x),
-        |pp| k::inverse_jacobian_pose_params(&x, pp),
+    let jinv = kernel!(
+        params,
+        inverse_jacobian_pose / inverse_jacobian_pose_params(&x)
     );
     assert!(
         rel_err(
@@ -70,10 +78,7 @@ fn check_pose_kernels(robot: &Robot, params: Option<&[f64; 152]>, s: &State) {
             1.0
         ) < 1e-12
     );
-    let j = params.map_or_else(
-        || k::jacobian_pose(&x),
-        |pp| k::jacobian_pose_params(&x, pp),
-    );
+    let j = kernel!(params, jacobian_pose / jacobian_pose_params(&x));
     assert!(
         rel_err(
             &flat(&j),
@@ -82,16 +87,13 @@ fn check_pose_kernels(robot: &Robot, params: Option<&[f64; 152]>, s: &State) {
         ) < 1e-12
     );
 
-    let qd = params.map_or_else(
-        || k::joint_velocities(&x, &v),
-        |pp| k::joint_velocities_params(&x, &v, pp),
-    );
+    let qd = kernel!(params, joint_velocities / joint_velocities_params(&x, &v));
     let qd_ref = r::to_segment_order(&(r::inverse_jacobian(&p_ref) * s.twist.to_vector()));
     assert!(rel_err(&qd, &qd_ref, 1e-3) < 1e-12);
 
-    let (qdd, legs, divisors) = params.map_or_else(
-        || k::joint_accelerations(&x, &v, &a),
-        |pp| k::joint_accelerations_params(&x, &v, &a, pp),
+    let (qdd, legs, divisors) = kernel!(
+        params,
+        joint_accelerations / joint_accelerations_params(&x, &v, &a)
     );
     assert!(rel_err(&divisors, &divisors_ref, 1.0) < 1e-15);
     let vdot = r::spatial_acceleration(&s.twist, &s.accel);
@@ -107,21 +109,15 @@ fn check_pose_kernels(robot: &Robot, params: Option<&[f64; 152]>, s: &State) {
     }
 
     let (t, acc) = (&s.twist, &s.accel);
-    let (phi, _) = params.map_or_else(
-        || k::leg_wrench(&x, &v, &a),
-        |pp| k::leg_wrench_params(&x, &v, &a, pp),
-    );
+    let (phi, _) = kernel!(params, leg_wrench / leg_wrench_params(&x, &v, &a));
     let phi_ref = r::leg_wrench(robot, &s.pose, t, acc).unwrap();
     assert!(rel_err(&phi, phi_ref.as_slice(), 1.0) < 1e-11);
-    let f = params.map_or_else(
-        || k::platform_wrench(&x, &v, &a),
-        |pp| k::platform_wrench_params(&x, &v, &a, pp),
-    );
+    let f = kernel!(params, platform_wrench / platform_wrench_params(&x, &v, &a));
     let f_ref = r::platform_wrench(robot, &s.pose, t, acc);
     assert!(rel_err(&f, f_ref.as_slice(), 1.0) < 1e-12);
-    let (gamma, divisors) = params.map_or_else(
-        || k::inverse_dynamics(&x, &v, &a),
-        |pp| k::inverse_dynamics_params(&x, &v, &a, pp),
+    let (gamma, divisors) = kernel!(
+        params,
+        inverse_dynamics / inverse_dynamics_params(&x, &v, &a)
     );
     assert!(rel_err(&divisors, &divisors_ref, 1.0) < 1e-15);
     let gamma_ref =
