@@ -2,12 +2,14 @@
 //!
 //! `cargo bench --bench inverse_dynamics`. Inputs cycle through a fixed set of seeded random
 //! states behind `black_box`, so neither the branch predictor nor constant folding by the
-//! compiler can flatter a figure.
+//! compiler can flatter a figure. The functions without a model in their name are the paper
+//! model's (their names predate the consistent model).
 
-use c5_generated::{f32 as k32, f64 as k};
-use c5_runtime::reference::{self as r, Step6};
-use c5_runtime::{Acceleration, Pose, Robot, State, Twist};
-use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use c5_generated::f32::paper as k32;
+use c5_generated::f64::{consistent as kc, paper as k};
+use c5_runtime::reference::{self as r, consistent as rc, Step6};
+use c5_runtime::{Acceleration, Model, Pose, Robot, State, Twist};
+use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use rand::{Rng, SeedableRng};
 
 fn states() -> Vec<State> {
@@ -28,9 +30,27 @@ fn states() -> Vec<State> {
         .collect()
 }
 
+/// The counted arithmetic operations (mul, div, add, neg) of a generated kernel, from its
+/// manifest: set as criterion's throughput, criterion reports them per second beside each
+/// median (`Gelem/s` = operations per ns).
+fn ops(model: Model, name: &str) -> u64 {
+    let m: c5_codegen::manifest::Manifest = serde_json::from_str(c5_generated::OPS_JSON).unwrap();
+    let k = m
+        .kernels
+        .iter()
+        .find(|k| k.model == model && k.name == name)
+        .unwrap_or_else(|| panic!("{model} {name} in ops.json"));
+    u64::from(k.count.mul + k.count.div + k.count.add + k.count.neg)
+}
+
+/// `[element][lane]` from four states.
+fn soa(rows: &[[f64; 6]; 4]) -> [[f64; 4]; 6] {
+    std::array::from_fn(|k| std::array::from_fn(|l| rows[l][k]))
+}
+
 fn inverse_dynamics(c: &mut Criterion) {
     let robot = Robot::default();
-    let params: [f64; 152] = robot.flatten().try_into().unwrap();
+    let params: [f64; 152] = robot.kernel_parameters().try_into().unwrap();
     let s = states();
     let arrays: Vec<_> = s
         .iter()
@@ -46,8 +66,22 @@ fn inverse_dynamics(c: &mut Criterion) {
             )
         })
         .collect();
+    let batches: Vec<[[[f64; 4]; 6]; 3]> = arrays
+        .chunks(4)
+        .map(|c| {
+            let col = |j: usize| -> [[f64; 6]; 4] {
+                std::array::from_fn(|l| match j {
+                    0 => c[l].0,
+                    1 => c[l].1,
+                    _ => c[l].2,
+                })
+            };
+            [soa(&col(0)), soa(&col(1)), soa(&col(2))]
+        })
+        .collect();
     let mut g = c.benchmark_group("inverse_dynamics");
     let mut i = 0;
+    g.throughput(Throughput::Elements(ops(Model::Paper, "inverse_dynamics")));
     g.bench_function("generated", |b| {
         b.iter(|| {
             i = (i + 1) % arrays.len();
@@ -55,6 +89,20 @@ fn inverse_dynamics(c: &mut Criterion) {
             k::inverse_dynamics(x, v, a).0
         })
     });
+    g.throughput(Throughput::Elements(
+        4 * ops(Model::Paper, "inverse_dynamics"),
+    ));
+    g.bench_function("generated_batch_x4", |b| {
+        b.iter(|| {
+            i = (i + 1) % batches.len();
+            let [x, v, a] = black_box(&batches[i]);
+            k::inverse_dynamics_x4(x, v, a).0
+        })
+    });
+    g.throughput(Throughput::Elements(ops(
+        Model::Paper,
+        "inverse_dynamics_params",
+    )));
     g.bench_function("generated_runtime_params", |b| {
         b.iter(|| {
             i = (i + 1) % arrays.len();
@@ -62,6 +110,47 @@ fn inverse_dynamics(c: &mut Criterion) {
             k::inverse_dynamics_params(x, v, a, black_box(&params)).0
         })
     });
+    g.throughput(Throughput::Elements(ops(
+        Model::Consistent,
+        "inverse_dynamics",
+    )));
+    g.bench_function("generated_consistent", |b| {
+        b.iter(|| {
+            i = (i + 1) % arrays.len();
+            let (x, v, a) = black_box(&arrays[i]);
+            kc::inverse_dynamics(x, v, a).0
+        })
+    });
+    g.throughput(Throughput::Elements(
+        4 * ops(Model::Consistent, "inverse_dynamics"),
+    ));
+    g.bench_function("generated_consistent_batch_x4", |b| {
+        b.iter(|| {
+            i = (i + 1) % batches.len();
+            let [x, v, a] = black_box(&batches[i]);
+            kc::inverse_dynamics_x4(x, v, a).0
+        })
+    });
+    g.throughput(Throughput::Elements(ops(
+        Model::Consistent,
+        "inverse_dynamics_params",
+    )));
+    g.bench_function("generated_consistent_runtime_params", |b| {
+        b.iter(|| {
+            i = (i + 1) % arrays.len();
+            let (x, v, a) = black_box(&arrays[i]);
+            kc::inverse_dynamics_params(x, v, a, black_box(&params)).0
+        })
+    });
+    g.throughput(Throughput::Elements(1));
+    g.bench_function("reference_consistent", |b| {
+        b.iter(|| {
+            i = (i + 1) % s.len();
+            let st = black_box(&s[i]);
+            rc::inverse_dynamics(&robot, &st.pose, &st.twist, &st.accel)
+        })
+    });
+    g.throughput(Throughput::Elements(ops(Model::Paper, "inverse_dynamics")));
     g.bench_function("generated_f32", |b| {
         b.iter(|| {
             i = (i + 1) % arrays32.len();
@@ -69,18 +158,16 @@ fn inverse_dynamics(c: &mut Criterion) {
             k32::inverse_dynamics(x, v, a).0
         })
     });
-    // The floor no arithmetic can lower: the kernel's own six calls (3 sin, 3 cos).
+    // The floor no arithmetic can lower: the kernels' own three sine-cosine pairs.
+    g.throughput(Throughput::Elements(1));
     g.bench_function("trig_calls_only", |b| {
         b.iter(|| {
             i = (i + 1) % arrays.len();
             let (x, _, _) = black_box(&arrays[i]);
             [
-                x[0].sin(),
-                x[1].sin(),
-                x[2].sin(),
-                x[0].cos(),
-                x[1].cos(),
-                x[2].cos(),
+                c5_generated::trig::sin_cos(x[0]),
+                c5_generated::trig::sin_cos(x[1]),
+                c5_generated::trig::sin_cos(x[2]),
             ]
         })
     });
@@ -96,6 +183,114 @@ fn inverse_dynamics(c: &mut Criterion) {
             i = (i + 1) % s.len();
             let st = black_box(&s[i]);
             r::inverse_dynamics(&robot, &st.pose, &st.twist, &st.accel, Step6::Factored)
+        })
+    });
+    g.finish();
+}
+
+fn forward_dynamics(c: &mut Criterion) {
+    let robot = Robot::default();
+    let s = states();
+    // Forces that hold the platform near its states: the inverse dynamics of each.
+    let cases: Vec<_> = s
+        .iter()
+        .map(|st| {
+            let (x, v, a) = (st.pose.to_array(), st.twist.to_array(), st.accel.to_array());
+            (
+                x,
+                v,
+                kc::inverse_dynamics(&x, &v, &a).0,
+                k::inverse_dynamics(&x, &v, &a).0,
+            )
+        })
+        .collect();
+    let mut g = c.benchmark_group("forward_dynamics");
+    let mut i = 0;
+    g.throughput(Throughput::Elements(ops(
+        Model::Consistent,
+        "forward_dynamics",
+    )));
+    g.bench_function("generated_consistent", |b| {
+        b.iter(|| {
+            i = (i + 1) % cases.len();
+            let (x, v, gc, _) = black_box(&cases[i]);
+            kc::forward_dynamics(x, v, gc).0
+        })
+    });
+    g.throughput(Throughput::Elements(ops(Model::Paper, "forward_dynamics")));
+    g.bench_function("generated_paper", |b| {
+        b.iter(|| {
+            i = (i + 1) % cases.len();
+            let (x, v, _, gp) = black_box(&cases[i]);
+            k::forward_dynamics(x, v, gp).0
+        })
+    });
+    g.throughput(Throughput::Elements(1));
+    for (name, model) in [
+        ("reference_consistent", Model::Consistent),
+        ("reference_paper", Model::Paper),
+    ] {
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                i = (i + 1) % s.len();
+                let st = black_box(&s[i]);
+                let gamma = match model {
+                    Model::Consistent => &cases[i].2,
+                    Model::Paper => &cases[i].3,
+                };
+                r::forward_dynamics(&robot, model, &st.pose, &st.twist, gamma)
+            })
+        });
+    }
+    g.finish();
+}
+
+/// The identification kernels, and one sample added to the streaming estimator (the base
+/// regressor and six rank-one updates of the normal equations, amortised over blocks).
+fn identification(c: &mut Criterion) {
+    let robot = Robot::default();
+    let geometry = [
+        robot.half_spacing,
+        robot.gravity[0],
+        robot.gravity[1],
+        robot.gravity[2],
+    ];
+    let s = states();
+    let arrays: Vec<_> = s
+        .iter()
+        .map(|s| (s.pose.to_array(), s.twist.to_array(), s.accel.to_array()))
+        .collect();
+    let mut g = c.benchmark_group("identification");
+    let mut i = 0;
+    macro_rules! kernel {
+        ($name:literal, $model:expr, $kernel:path) => {
+            g.throughput(Throughput::Elements(ops($model, $name)));
+            g.bench_function(format!("{}_{}", $name, $model), |b| {
+                b.iter(|| {
+                    i = (i + 1) % arrays.len();
+                    let (x, v, a) = black_box(&arrays[i]);
+                    // The whole result, so that no column is optimised away.
+                    $kernel(x, v, a, &geometry)
+                })
+            });
+        };
+    }
+    kernel!("base_regressor", Model::Consistent, kc::base_regressor);
+    kernel!("base_regressor", Model::Paper, k::base_regressor);
+    kernel!("regressor", Model::Consistent, kc::regressor);
+    g.throughput(Throughput::Elements(1));
+    let c5 = c5_runtime::C5::new(robot).unwrap();
+    let mut identifier = c5_runtime::identify::Identifier::new(&c5);
+    let gamma: Vec<[f64; 6]> = s
+        .iter()
+        .map(|st| c5.inverse_dynamics(st).unwrap())
+        .collect();
+    g.bench_function("identifier_add_consistent", |b| {
+        b.iter(|| {
+            i = (i + 1) % s.len();
+            identifier
+                .add(black_box(&s[i]), black_box(&gamma[i]))
+                .unwrap()
         })
     });
     g.finish();
@@ -154,5 +349,11 @@ fn chapter_kernels(c: &mut Criterion) {
     );
 }
 
-criterion_group!(benches, inverse_dynamics, chapter_kernels);
+criterion_group!(
+    benches,
+    inverse_dynamics,
+    forward_dynamics,
+    identification,
+    chapter_kernels
+);
 criterion_main!(benches);

@@ -1,8 +1,9 @@
 //! The checked-in `generated/` crate is exactly what the generator writes today.
 //!
 //! On a mismatch the test fails; run it with `UPDATE_GENERATED=1` to rewrite the files (or run
-//! `cargo run -p c5-codegen -- generate`), then commit them.
+//! `cargo run -p c5-codegen-cli -- generate`), then commit them.
 
+use c5_codegen::manifest::Manifest;
 use std::path::Path;
 
 #[test]
@@ -25,39 +26,80 @@ fn generated_files_are_fresh() {
     );
 }
 
+fn fresh_manifest() -> Manifest {
+    let files = c5_codegen::generated_crate_files().expect("generation succeeds");
+    let (_, json) = files
+        .iter()
+        .find(|(rel, _)| rel == Path::new("ops.json"))
+        .expect("ops.json is generated");
+    serde_json::from_str(json).unwrap()
+}
+
 #[test]
-fn manifest_lists_every_kernel_with_counts() {
-    let m: serde_json::Value = serde_json::from_str(c5_generated::OPS_JSON).unwrap();
-    let kernels = m["kernels"].as_array().unwrap();
+fn the_compiled_in_manifest_holds_the_counts_of_a_fresh_generation() {
+    let shipped: Manifest = serde_json::from_str(c5_generated::OPS_JSON).unwrap();
+    let fresh = fresh_manifest();
+    assert_eq!(shipped.kernels.len(), fresh.kernels.len());
+    for (got, want) in shipped.kernels.iter().zip(&fresh.kernels) {
+        assert_eq!(got, want, "{} ({})", want.name, want.model);
+    }
+    // The chapter's kernels are there, with their published counts beside ours.
     for name in [
         "inverse_jacobian",
         "pi1",
         "jacobian",
         "joint_accelerations_segment",
         "step6_factored",
-        "inverse_dynamics",
     ] {
-        let k = kernels
+        let e = shipped
+            .kernels
             .iter()
-            .find(|k| k["name"] == name)
+            .find(|k| k.name == name)
             .unwrap_or_else(|| panic!("{name} missing"));
-        for key in ["mul", "div", "add", "neg"] {
-            assert!(k[key].is_u64(), "{name}.{key}");
+        assert!(e.chapter.is_some(), "{name} has the chapter's count");
+    }
+}
+
+#[test]
+fn every_generated_function_has_its_manifest_entry_and_model() {
+    let manifest: Manifest = serde_json::from_str(c5_generated::OPS_JSON).unwrap();
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("generated/src/f64");
+    for model in c5_codegen::Model::ALL {
+        let code = ["", "_regressor"]
+            .map(|part| std::fs::read_to_string(dir.join(format!("{model}{part}.rs"))).unwrap())
+            .concat();
+        let functions: Vec<&str> = code
+            .lines()
+            .filter_map(|l| l.strip_prefix("pub fn "))
+            .map(|l| l.split('(').next().unwrap())
+            .collect();
+        let listed: Vec<&str> = manifest
+            .kernels
+            .iter()
+            .filter(|k| k.model == model)
+            .map(|k| k.name.as_str())
+            .collect();
+        assert_eq!(functions, listed, "{model}");
+        for kernel in ["inverse_dynamics", "regressor", "base_regressor"] {
+            assert!(functions.contains(&kernel), "{model}: {kernel}");
         }
     }
 }
 
 #[test]
 fn chapter_kernels_beat_the_chapter() {
-    let m: serde_json::Value = serde_json::from_str(c5_generated::OPS_JSON).unwrap();
-    for k in m["kernels"].as_array().unwrap() {
-        if !k["chapter"].is_null() {
-            let n = |key: &str| k[key].as_u64().unwrap();
-            let (cm, ca) = (
-                k["chapter"]["m"].as_u64().unwrap(),
-                k["chapter"]["a"].as_u64().unwrap(),
-            );
-            assert!(n("mul") + n("div") <= cm && n("add") <= ca, "{}", k["name"]);
-        }
+    let m: Manifest = serde_json::from_str(c5_generated::OPS_JSON).unwrap();
+    for k in m.kernels.iter().filter(|k| k.chapter.is_some()) {
+        let ch = k.chapter.unwrap();
+        let c = &k.count;
+        assert!(
+            c.mul + c.div <= ch.m && c.add <= ch.a,
+            "{}: {}m + {}a against the chapter's {}m + {}a",
+            k.name,
+            c.chapter_m(),
+            c.chapter_a(),
+            ch.m,
+            ch.a
+        );
     }
 }

@@ -1,7 +1,7 @@
 //! The generated kernels and the runtime's hot path allocate nothing: a counting global
 //! allocator watches this thread while they run.
 
-use c5_runtime::{Acceleration, Pose, Robot, State, Twist, C5};
+use c5_runtime::{Acceleration, Model, Pose, Robot, State, Twist, C5};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
@@ -37,6 +37,7 @@ fn allocations_during(f: impl FnOnce()) -> usize {
 #[test]
 fn kernels_and_hot_path_do_not_allocate() {
     let robot = C5::new(Robot::default()).unwrap();
+    let paper = C5::with_model(Robot::default(), Model::Paper).unwrap();
     let state = State {
         pose: Pose::from_array([0.1, -0.2, 0.3, 0.01, 0.02, -0.03]),
         twist: Twist {
@@ -55,14 +56,18 @@ fn kernels_and_hot_path_do_not_allocate() {
     );
     let mut sink = 0.0;
     let n = allocations_during(|| {
-        use c5_generated::f64 as k;
+        use c5_generated::f64::{consistent, paper as k};
         sink += k::inverse_dynamics(&x, &v, &a).0[0];
         sink += k::inverse_kinematics(&x).0[0];
         sink += k::jacobian_pose(&x)[0][0];
         sink += k::joint_accelerations(&x, &v, &a).0[0];
-        sink += robot.inverse_dynamics(&state).unwrap()[0];
-        sink += robot.joint_accelerations(&state).unwrap()[0];
-        sink += robot.evaluate(&state).unwrap().gamma[0];
+        sink += consistent::inverse_dynamics(&x, &v, &a).0[0];
+        sink += consistent::jacobian_pose(&x).0[0][0];
+        for c5 in [&robot, &paper] {
+            sink += c5.inverse_dynamics(&state).unwrap()[0];
+            sink += c5.joint_accelerations(&state).unwrap()[0];
+            sink += c5.evaluate(&state).unwrap().gamma[0];
+        }
         // An error is refused without allocating too.
         let mut bad = state;
         bad.pose.alpha = f64::NAN;

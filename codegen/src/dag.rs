@@ -53,6 +53,13 @@ pub enum Func {
     Sin,
     Cos,
     Sqrt,
+    /// `-1`, `0` or `1` (zero at zero, unlike `f64::signum`): Coulomb friction.
+    Sign,
+}
+
+/// `sign x`: `-1`, `0` or `1`.
+pub fn sign(x: f64) -> f64 {
+    f64::from(i8::from(x > 0.0) - i8::from(x < 0.0))
 }
 
 impl Func {
@@ -61,6 +68,7 @@ impl Func {
             Func::Sin => "sin",
             Func::Cos => "cos",
             Func::Sqrt => "sqrt",
+            Func::Sign => "sign",
         }
     }
 }
@@ -82,6 +90,18 @@ pub enum Node {
     Call(Func, NodeId),
 }
 
+impl Node {
+    /// The nodes this one is built from (they precede it in the arena).
+    pub fn children(&self) -> Vec<NodeId> {
+        match self {
+            Node::Const(_) | Node::Input(_) => vec![],
+            Node::Sum { terms, .. } => terms.iter().map(|t| t.0).collect(),
+            Node::Product(f) => f.iter().map(|t| t.0).collect(),
+            Node::Call(_, a) => vec![*a],
+        }
+    }
+}
+
 /// Rewriting policy of an arena, chosen per kernel by the optimizer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Policy {
@@ -92,6 +112,9 @@ pub struct Policy {
     pub absorb_constants: bool,
     /// Compute `1/s` once when several products divide by `s` (else divide in each product).
     pub share_reciprocals: bool,
+    /// Distribute a product over a sum that is one term plus a constant, `t·(x + c) = t·x + c·t`,
+    /// so that offsets such as the `±L` of a pair of legs cancel where their terms meet.
+    pub distribute_offsets: bool,
 }
 
 impl Policy {
@@ -99,6 +122,7 @@ impl Policy {
         expand_limit: 1,
         absorb_constants: false,
         share_reciprocals: true,
+        distribute_offsets: false,
     };
 }
 
@@ -150,6 +174,10 @@ impl Arena {
             return id;
         }
         let id = NodeId(self.nodes.len() as u32);
+        debug_assert!(
+            node.children().iter().all(|c| c.0 < id.0),
+            "children precede their parents"
+        );
         self.nodes.push(node.clone());
         self.memo.insert(node, id);
         id
@@ -301,7 +329,10 @@ impl Arena {
         let (la, lb) = (self.linear(ma), self.linear(mb));
         let width =
             (la.0.len() + usize::from(la.1 != 0.0)) * (lb.0.len() + usize::from(lb.1 != 0.0));
-        if width > 1 && width <= self.policy.expand_limit {
+        let offset = |l: &Linear| l.0.len() == 1 && l.1 != 0.0;
+        if (width > 1 && width <= self.policy.expand_limit)
+            || (self.policy.distribute_offsets && (offset(&la) || offset(&lb)))
+        {
             return self.expand(la, lb, k);
         }
         let p = self.make_product([(ma, 1), (mb, 1)]);
@@ -369,6 +400,7 @@ impl Arena {
                 Func::Sin => c.sin(),
                 Func::Cos => c.cos(),
                 Func::Sqrt => c.sqrt(),
+                Func::Sign => sign(c),
             };
             return self.constant(v);
         }
@@ -382,6 +414,80 @@ impl Arena {
             (Func::Cos, -1.0, Some(m)) => self.intern(Node::Call(Func::Cos, m)),
             _ => self.intern(Node::Call(func, a)),
         }
+    }
+
+    /// `∂id/∂x_wrt`, the exact derivative with respect to the input `wrt`, built through the same
+    /// simplifying constructors, so it shares every subexpression with the primal (and the
+    /// lowering's CSE spans both). `memo` holds the derivatives already built for this `wrt`;
+    /// pass the same map for several outputs.
+    pub fn derivative(
+        &mut self,
+        id: NodeId,
+        wrt: u32,
+        memo: &mut HashMap<NodeId, NodeId>,
+    ) -> NodeId {
+        if let Some(&d) = memo.get(&id) {
+            return d;
+        }
+        let d = match self.node(id).clone() {
+            Node::Const(_) => self.constant(0.0),
+            Node::Input(i) => self.constant(if i == wrt { 1.0 } else { 0.0 }),
+            Node::Sum { terms, .. } => {
+                let mut form: BTreeMap<NodeId, f64> = BTreeMap::new();
+                let mut constant = 0.0;
+                for (t, c) in terms {
+                    let dt = self.derivative(t, wrt, memo);
+                    let (lt, lc) = self.linear(dt);
+                    constant += c.get() * lc;
+                    for (u, k) in lt {
+                        *form.entry(u).or_insert(0.0) += c.get() * k;
+                    }
+                }
+                self.make_sum(form, constant)
+            }
+            Node::Product(factors) => {
+                // Σ_k e_k b_k^(e_k - 1) Π_{j≠k} b_j^(e_j) ∂b_k.
+                let mut sum = self.constant(0.0);
+                for (k, &(base, exp)) in factors.iter().enumerate() {
+                    let db = self.derivative(base, wrt, memo);
+                    if self.const_value(db) == Some(0.0) {
+                        continue;
+                    }
+                    let rest = factors
+                        .iter()
+                        .enumerate()
+                        .map(|(j, &(b, e))| (b, if j == k { e - 1 } else { e }));
+                    let rest = self.make_product(rest);
+                    let term = self.mul(rest, db);
+                    sum = self.combine(sum, 1.0, term, f64::from(exp));
+                }
+                sum
+            }
+            Node::Call(f, a) => {
+                let da = self.derivative(a, wrt, memo);
+                if self.const_value(da) == Some(0.0) {
+                    da
+                } else {
+                    let outer = match f {
+                        Func::Sin => self.call(Func::Cos, a),
+                        Func::Cos => {
+                            let s = self.call(Func::Sin, a);
+                            self.neg(s)
+                        }
+                        Func::Sqrt => {
+                            let r = self.call(Func::Sqrt, a);
+                            let two_r = self.scale(r, 2.0);
+                            self.recip(two_r)
+                        }
+                        // Zero wherever it is defined.
+                        Func::Sign => self.constant(0.0),
+                    };
+                    self.mul(outer, da)
+                }
+            }
+        };
+        memo.insert(id, d);
+        d
     }
 
     /// Renders a node as an infix expression (for tests and diagnostics).
@@ -475,6 +581,24 @@ impl Graph {
         self.arena.borrow()
     }
 
+    /// `∂e/∂x` for each of `exprs`, `x` an input of the graph, sharing the work between them.
+    ///
+    /// # Panics
+    /// If `x` is not an input node (a bug in the model).
+    pub fn derivatives<'g>(&'g self, exprs: &[Expr<'g>], x: Expr<'g>) -> Vec<Expr<'g>> {
+        let Node::Input(wrt) = *self.arena().node(x.id) else {
+            panic!("derivatives are taken with respect to an input");
+        };
+        let mut memo = HashMap::new();
+        exprs
+            .iter()
+            .map(|e| {
+                let id = self.with(|a| a.derivative(e.id, wrt, &mut memo));
+                self.wrap(id)
+            })
+            .collect()
+    }
+
     pub fn into_arena(self) -> Arena {
         self.arena.into_inner()
     }
@@ -503,6 +627,9 @@ impl<'g> Expr<'g> {
     }
     pub fn sqrt(self) -> Self {
         self.wrap(self.graph.with(|a| a.call(Func::Sqrt, self.id)))
+    }
+    pub fn sign(self) -> Self {
+        self.wrap(self.graph.with(|a| a.call(Func::Sign, self.id)))
     }
     pub fn recip(self) -> Self {
         self.wrap(self.graph.with(|a| a.recip(self.id)))
@@ -612,6 +739,81 @@ mod tests {
     simplify_test!(square, FLAT, |x, _y, _z, _l| x * x => "x^2");
     simplify_test!(no_expansion_when_flat, FLAT, |x, y, z, _l| (x + y) * z => "z*(x + y)");
     simplify_test!(expansion_cancels, EXPAND, |x, y, z, _l| (x + y) * z - x * z => "y*z");
+
+    /// `∂f/∂x` rendered, for the one-line derivative tests.
+    fn derivative_of(policy: Policy, f: impl for<'g> Fn(&[Expr<'g>]) -> Expr<'g>) -> String {
+        let g = Graph::new(policy);
+        let v = [g.input(0), g.input(1), g.input(2), g.input(3)];
+        let e = f(&v);
+        let d = g.derivatives(&[e], v[0])[0];
+        let rendered = g.arena().render(d.id, &names);
+        rendered
+    }
+
+    #[test]
+    fn derivatives_of_polynomials_products_and_calls() {
+        assert_eq!(
+            derivative_of(EXPAND, |v| v[0] * v[0] * v[1] + v[0] * 3.0),
+            "2*x*y + 3"
+        );
+        assert_eq!(derivative_of(FLAT, |v| v[1] * v[2] + 4.0), "0");
+        assert_eq!(derivative_of(FLAT, |v| (v[0] * v[1]).sin()), "y*cos(x*y)");
+        assert_eq!(derivative_of(FLAT, |v| v[0].cos()), "-sin(x)");
+        assert_eq!(derivative_of(FLAT, |v| v[1] / v[0]), "-x^-2*y");
+    }
+
+    /// Exact derivatives against central differences of the evaluated expression.
+    #[test]
+    fn derivatives_match_finite_differences() {
+        use crate::lower::{factor, lower};
+        type Build = for<'g> fn(&[Expr<'g>]) -> Expr<'g>;
+        let cases: [Build; 5] = [
+            |v| v[0] / (v[0] + v[1]),
+            |v| (v[0] * v[1]).sin() * v[0].cos() + v[2] / (v[0] * v[0] + 1.0),
+            |v| (v[0] * v[0] + v[1]).sqrt() * v[3],
+            |v| (v[0] - v[1]) * (v[0] + v[2]) * (v[0] * 2.0 - v[3]),
+            |v| (v[1] * v[0].sin() + v[0]).recip(),
+        ];
+        let point = [0.7, -0.4, 1.3, 0.25];
+        for (n, f) in cases.into_iter().enumerate() {
+            for wrt in 0..4 {
+                let g = Graph::new(FLAT);
+                let ids = {
+                    let v = [g.input(0), g.input(1), g.input(2), g.input(3)];
+                    let e = f(&v);
+                    let d = g.derivatives(&[e], v[wrt])[0];
+                    [e.id, d.id]
+                };
+                let mut arena = g.into_arena();
+                let outs = factor(&mut arena, &ids);
+                let program = lower(&arena, &outs, true);
+                let at = |x: &[f64]| program.eval(x);
+                let exact = at(&point)[1];
+                let h = 1e-6;
+                let (mut up, mut down) = (point, point);
+                up[wrt] += h;
+                down[wrt] -= h;
+                let fd = (at(&up)[0] - at(&down)[0]) / (2.0 * h);
+                assert!(
+                    (exact - fd).abs() < 1e-8 * exact.abs().max(1.0),
+                    "case {n}, ∂/∂x{wrt}: {exact} vs {fd}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_derivative_shares_the_primal() {
+        let g = Graph::new(FLAT);
+        let (x, y) = (g.input(0), g.input(1));
+        let inner = x * y + 1.0;
+        let e = inner.sin();
+        let before = g.arena().len();
+        let d = g.derivatives(&[e], x)[0];
+        // cos(xy + 1) and y are new or shared; x·y + 1 is not built again.
+        assert!(g.arena().len() - before <= 3);
+        assert_eq!(g.arena().render(d.id, &names), "y*cos(x*y + 1)");
+    }
 
     #[test]
     fn hash_consing_is_cse() {

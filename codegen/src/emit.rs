@@ -1,10 +1,22 @@
 //! Emission of compiled kernels as formatted Rust through `quote` and `prettyplease`.
 
+use crate::dag::Func;
 use crate::error::Error;
 use crate::kernel::{Compiled, KernelSpec, Shape};
 use crate::lower::{Instr, Operand};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::quote;
+
+/// How emitted Rust calls the elementary functions.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TrigCalls {
+    /// Methods, `x.sin()`, `x.sin_cos()`: the standard library's (or a trait's in scope).
+    #[default]
+    Methods,
+    /// Free functions `sin(x)`, `cos(x)`, `sqrt(x)`, `sin_cos(x)` the including module
+    /// provides (the `c5-generated` crate picks `std` or `libm` there).
+    Functions,
+}
 
 /// Floating-point type of the emitted kernels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -99,7 +111,12 @@ pub fn kernel_doc(spec: &KernelSpec, compiled: &Compiled) -> String {
 }
 
 /// Emits one kernel as a function item.
-pub fn emit_kernel(spec: &KernelSpec, compiled: &Compiled, scalar: Scalar) -> TokenStream {
+pub fn emit_kernel(
+    spec: &KernelSpec,
+    compiled: &Compiled,
+    scalar: Scalar,
+    trig: TrigCalls,
+) -> TokenStream {
     let ty = scalar.ty();
     let used = compiled.program.used_inputs();
     let mut input_names: Vec<String> = Vec::new();
@@ -146,13 +163,26 @@ pub fn emit_kernel(spec: &KernelSpec, compiled: &Compiled, scalar: Scalar) -> To
             Operand::Const(c) => scalar.literal(c.get()),
         }
     };
+    let call = |name: &str, a: TokenStream| {
+        let f = ident(name);
+        match trig {
+            TrigCalls::Methods => quote!(#a.#f()),
+            TrigCalls::Functions => quote!(#f(#a)),
+        }
+    };
     let body = compiled
         .program
         .instrs
         .iter()
         .enumerate()
+        .filter(|(_, instr)| !matches!(instr, Instr::PairedCos(_)))
         .map(|(i, instr)| {
             let t = ident(&format!("t{i}"));
+            if let Instr::SinCos(a) = *instr {
+                let c = ident(&format!("t{}", i + 1));
+                let rhs = call("sin_cos", operand(a));
+                return quote!(let (#t, #c): (#ty, #ty) = #rhs;);
+            }
             let rhs = match *instr {
                 Instr::Add(a, b) => {
                     let (a, b) = (operand(a), operand(b));
@@ -174,11 +204,12 @@ pub fn emit_kernel(spec: &KernelSpec, compiled: &Compiled, scalar: Scalar) -> To
                     let a = operand(a);
                     quote!(-#a)
                 }
-                Instr::Call(f, a) => {
+                Instr::Call(Func::Sign, a) => {
                     let a = operand(a);
-                    let f = ident(f.name());
-                    quote!(#a.#f())
+                    quote!(((#a > 0.0) as i8 - (#a < 0.0) as i8) as #ty)
                 }
+                Instr::Call(f, a) => call(f.name(), operand(a)),
+                Instr::SinCos(_) | Instr::PairedCos(_) => unreachable!("handled above"),
             };
             quote!(let #t: #ty = #rhs;)
         });
@@ -220,8 +251,9 @@ pub fn emit_file(
     header: &str,
     kernels: &[(&KernelSpec, &Compiled)],
     scalar: Scalar,
+    trig: TrigCalls,
 ) -> Result<String, Error> {
-    let items = kernels.iter().map(|(s, c)| emit_kernel(s, c, scalar));
+    let items = kernels.iter().map(|(s, c)| emit_kernel(s, c, scalar, trig));
     let tokens = quote!(#(#items)*);
     let file: syn::File = syn::parse2(tokens).map_err(|e| Error::Emit {
         kernel: kernels
@@ -229,6 +261,181 @@ pub fn emit_file(
             .map(|k| k.0.name.clone())
             .collect::<Vec<_>>()
             .join(", "),
+        message: e.to_string(),
+    })?;
+    Ok(format!("{header}\n{}", prettyplease::unparse(&file)))
+}
+
+/// The lane type of a batch kernel (defined in `c5-generated`'s `lanes` module).
+pub fn lane_type(scalar: Scalar) -> (&'static str, usize) {
+    match scalar {
+        Scalar::F64 => ("F64x4", 4),
+        Scalar::F32 => ("F32x8", 8),
+    }
+}
+
+/// Emits a kernel's batch version, `{name}_x{lanes}`: the same program run on several states at
+/// once, one lane each, in structure-of-arrays form (`pose[k][lane]`). Robot parameters stay
+/// scalars. Every lane computes exactly what the single-state kernel computes.
+///
+/// # Errors
+/// A kernel with a matrix input or output (batch kernels take and give vectors).
+pub fn emit_batch_kernel(
+    spec: &KernelSpec,
+    compiled: &Compiled,
+    scalar: Scalar,
+) -> Result<TokenStream, Error> {
+    let (lane_name, lanes) = lane_type(scalar);
+    let lane = ident(lane_name);
+    let ty = scalar.ty();
+    let n = Literal::usize_unsuffixed(lanes);
+    if spec
+        .inputs
+        .iter()
+        .chain(&spec.outputs)
+        .any(|a| matches!(a.shape, Shape::Matrix(..)))
+    {
+        return Err(Error::Emit {
+            kernel: spec.name.clone(),
+            message: "a batch kernel takes and gives vectors only".to_string(),
+        });
+    }
+    let used = compiled.program.used_inputs();
+    let mut input_names: Vec<String> = Vec::new();
+    let mut params = Vec::new();
+    let mut destructure = Vec::new();
+    for arg in &spec.inputs {
+        let base = input_names.len();
+        input_names.extend(arg.elements.iter().cloned());
+        let name = ident(&arg.name);
+        let len = Literal::usize_unsuffixed(arg.shape.len());
+        let scalar_arg = arg.name == "params";
+        params.push(if scalar_arg {
+            quote!(#name: &[#ty; #len])
+        } else {
+            quote!(#name: &[[#ty; #n]; #len])
+        });
+        for (k, e) in arg.elements.iter().enumerate() {
+            if used.contains(&((base + k) as u32)) {
+                let e = ident(e);
+                let k = Literal::usize_unsuffixed(k);
+                destructure.push(if scalar_arg {
+                    quote!(let #e = #lane::splat(#name[#k]);)
+                } else {
+                    quote!(let #e = #lane(#name[#k]);)
+                });
+            }
+        }
+    }
+    let operand = |o: Operand| -> TokenStream {
+        match o {
+            Operand::Temp(i) => {
+                let t = ident(&format!("t{i}"));
+                quote!(#t)
+            }
+            Operand::Input(i) => {
+                let e = ident(&input_names[i as usize]);
+                quote!(#e)
+            }
+            Operand::Const(c) => {
+                let lit = scalar.literal(c.get());
+                quote!(#lane::splat(#lit))
+            }
+        }
+    };
+    let mut body = Vec::new();
+    for (i, instr) in compiled.program.instrs.iter().enumerate() {
+        let t = ident(&format!("t{i}"));
+        let rhs = match *instr {
+            Instr::Add(a, b) => {
+                let (a, b) = (operand(a), operand(b));
+                quote!(#a + #b)
+            }
+            Instr::Sub(a, b) => {
+                let (a, b) = (operand(a), operand(b));
+                quote!(#a - #b)
+            }
+            Instr::Mul(a, b) => {
+                let (a, b) = (operand(a), operand(b));
+                quote!(#a * #b)
+            }
+            Instr::Div(a, b) => {
+                let (a, b) = (operand(a), operand(b));
+                quote!(#a / #b)
+            }
+            Instr::Neg(a) => {
+                let a = operand(a);
+                quote!(-#a)
+            }
+            Instr::Call(f, a) => {
+                let (a, f) = (operand(a), ident(f.name()));
+                quote!(#a.#f())
+            }
+            Instr::SinCos(a) => {
+                let c = ident(&format!("t{}", i + 1));
+                let a = operand(a);
+                body.push(quote!(let (#t, #c) = #a.sin_cos();));
+                continue;
+            }
+            Instr::PairedCos(_) => continue,
+        };
+        body.push(quote!(let #t: #lane = #rhs;));
+    }
+    let mut outs = Vec::new();
+    let mut out_types = Vec::new();
+    let mut k = 0;
+    for arg in &spec.outputs {
+        let len = arg.shape.len();
+        let items: Vec<TokenStream> = compiled.program.outputs[k..k + len]
+            .iter()
+            .map(|&o| {
+                let v = operand(o);
+                quote!((#v).0)
+            })
+            .collect();
+        k += len;
+        let len = Literal::usize_unsuffixed(len);
+        outs.push(quote!([#(#items),*]));
+        out_types.push(quote!([[#ty; #n]; #len]));
+    }
+    let (ret_ty, ret) = if outs.len() == 1 {
+        (out_types[0].clone(), outs[0].clone())
+    } else {
+        (quote!((#(#out_types),*)), quote!((#(#outs),*)))
+    };
+    let doc = format!(
+        " The batch version of [`{}`]: {lanes} states at once, one lane each (`pose[k][lane]`), \
+         each lane computing exactly what `{}` computes. {}",
+        spec.name, spec.name, spec.title
+    );
+    let name = ident(&format!("{}_x{lanes}", spec.name));
+    Ok(quote! {
+        #[doc = #doc]
+        #[inline]
+        pub fn #name(#(#params),*) -> #ret_ty {
+            #(#destructure)*
+            #(#body)*
+            #ret
+        }
+    })
+}
+
+/// Emits a file of batch kernels.
+///
+/// # Errors
+/// As [`emit_batch_kernel`], or emitted code that does not parse (a bug).
+pub fn emit_batch_file(
+    header: &str,
+    kernels: &[(&KernelSpec, &Compiled)],
+    scalar: Scalar,
+) -> Result<String, Error> {
+    let items = kernels
+        .iter()
+        .map(|(s, c)| emit_batch_kernel(s, c, scalar))
+        .collect::<Result<Vec<_>, _>>()?;
+    let tokens = quote!(#(#items)*);
+    let file: syn::File = syn::parse2(tokens).map_err(|e| Error::Emit {
+        kernel: "batch kernels".to_string(),
         message: e.to_string(),
     })?;
     Ok(format!("{header}\n{}", prettyplease::unparse(&file)))

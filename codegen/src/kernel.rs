@@ -9,23 +9,44 @@ use crate::dag::{Graph, NodeId, Policy};
 use crate::error::Error;
 use crate::lower::{factor, lower, Program};
 use crate::Expr;
+use c5_robot::Model;
 use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// The inputs a kernel works from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Setting {
+    /// The chapter's: the components of `P_i2` are free inputs (what its counts assume).
+    Chapter,
+    /// From the platform state (pose, twist, acceleration), end to end.
+    Pose,
+}
+
+impl fmt::Display for Setting {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Setting::Chapter => "chapter",
+            Setting::Pose => "pose",
+        })
+    }
+}
 
 /// Shape of a kernel argument or result.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Shape {
     Vector(usize),
     Matrix(usize, usize),
 }
 
 impl Shape {
-    pub fn len(self) -> usize {
+    pub const fn len(self) -> usize {
         match self {
             Shape::Vector(n) => n,
             Shape::Matrix(r, c) => r * c,
         }
     }
-    pub fn is_empty(self) -> bool {
+    pub const fn is_empty(self) -> bool {
         self.len() == 0
     }
 }
@@ -69,7 +90,8 @@ pub struct ChapterCount {
 }
 
 /// Builds the outputs of a kernel from its inputs, one `Vec` per argument.
-pub type BuildFn = Box<dyn for<'g> Fn(&'g Graph, &[Vec<Expr<'g>>]) -> Vec<Vec<Expr<'g>>>>;
+pub type BuildFn =
+    Box<dyn for<'g> Fn(&'g Graph, &[Vec<Expr<'g>>]) -> Vec<Vec<Expr<'g>>> + Send + Sync>;
 
 /// What the optimizer minimises for a kernel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -94,8 +116,9 @@ impl Objective {
 /// A kernel to generate.
 pub struct KernelSpec {
     pub name: String,
-    /// `"chapter"` (components of `P_i2` as free inputs) or `"pose"` (from the platform state).
-    pub setting: String,
+    /// The model whose equations the kernel computes.
+    pub model: Model,
+    pub setting: Setting,
     pub equations: Vec<String>,
     /// One line saying what the kernel computes.
     pub title: String,
@@ -120,11 +143,16 @@ pub struct Compiled {
 fn policies() -> impl Iterator<Item = Policy> {
     [1, 8, 64].into_iter().flat_map(|expand_limit| {
         [false, true].into_iter().flat_map(move |absorb_constants| {
-            [true, false].map(move |share_reciprocals| Policy {
-                expand_limit,
-                absorb_constants,
-                share_reciprocals,
-            })
+            [true, false]
+                .into_iter()
+                .flat_map(move |share_reciprocals| {
+                    [false, true].map(move |distribute_offsets| Policy {
+                        expand_limit,
+                        absorb_constants,
+                        share_reciprocals,
+                        distribute_offsets,
+                    })
+                })
         })
     })
 }
@@ -171,28 +199,50 @@ impl KernelSpec {
         self.inputs.iter().map(|a| a.shape.len()).sum()
     }
 
-    /// Compiles under every policy and keeps the cheapest program.
+    /// The program under `policy`, its sums planned with shared sub-sums or not.
+    fn program(&self, policy: Policy, share_subsums: bool) -> Result<Program, Error> {
+        let graph = Graph::new(policy);
+        let outputs = self.build_on(&graph)?;
+        let mut arena = graph.into_arena();
+        let outputs = factor(&mut arena, &outputs);
+        let program = lower(&arena, &outputs, share_subsums);
+        let declared = self.input_len() as u32;
+        if let Some(i) = program.used_inputs().into_iter().find(|&i| i >= declared) {
+            return Err(Error::InvalidModel {
+                kernel: self.name.clone(),
+                reason: format!("the outputs depend on the undeclared input {i}"),
+            });
+        }
+        Ok(program)
+    }
+
+    /// The count of the program under every policy, sub-sums shared (for studying the optimizer).
+    ///
+    /// # Errors
+    /// As [`KernelSpec::compile`].
+    pub fn costs_by_policy(&self) -> Result<Vec<(Policy, OpCount)>, Error> {
+        policies()
+            .map(|p| Ok((p, self.program(p, true)?.count())))
+            .collect()
+    }
+
+    /// Compiles under every policy, keeps the cheapest, and lowers that one again sharing the
+    /// sub-sums its sums have in common (which only ever saves additions).
     pub fn compile(&self) -> Result<Compiled, Error> {
-        let mut best: Option<Compiled> = None;
+        let mut best: Option<(Policy, f64, f64)> = None;
         for policy in policies() {
-            let graph = Graph::new(policy);
-            let outputs = self.build_on(&graph)?;
-            let mut arena = graph.into_arena();
-            let outputs = factor(&mut arena, &outputs);
-            let program = lower(&arena, &outputs);
-            let count = program.count();
-            let cost = self.objective.cost(&count);
-            if best
-                .as_ref()
-                .is_none_or(|b| cost < self.objective.cost(&b.count))
-            {
-                best = Some(Compiled {
-                    program,
-                    count,
-                    policy,
-                });
+            let count = self.program(policy, false)?.count();
+            let (cost, tie) = self.objective.cost(&count);
+            if best.is_none_or(|(_, c, t)| (cost, tie) < (c, t)) {
+                best = Some((policy, cost, tie));
             }
         }
-        Ok(best.expect("at least one policy"))
+        let (policy, ..) = best.expect("at least one policy");
+        let program = self.program(policy, true)?;
+        Ok(Compiled {
+            count: program.count(),
+            program,
+            policy,
+        })
     }
 }

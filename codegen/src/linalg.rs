@@ -182,6 +182,73 @@ impl<'g> Vec6<'g> {
     }
 }
 
+impl<'g> Mat3<'g> {
+    pub fn determinant(&self) -> Expr<'g> {
+        let m = &self.0;
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+    }
+
+    /// The adjugate, `adj(M) M = det(M) U`.
+    pub fn adjugate(&self) -> Self {
+        let m = &self.0;
+        let cof = |r: usize, c: usize| {
+            let (r1, r2) = ((r + 1) % 3, (r + 2) % 3);
+            let (c1, c2) = ((c + 1) % 3, (c + 2) % 3);
+            m[r1][c1] * m[r2][c2] - m[r1][c2] * m[r2][c1]
+        };
+        Mat::from_fn(|i, j| cof(j, i))
+    }
+
+    /// `M⁻¹ b` by Cramer's rule, `adj(M) b / det(M)`, one reciprocal shared by the three
+    /// entries. The caller guarantees `det(M) ≠ 0`.
+    pub fn solve(&self, b: &Vec3<'g>) -> Vec3<'g> {
+        let inv = self.determinant().recip();
+        (self.adjugate() * *b).scale(inv)
+    }
+}
+
+impl<'g, const N: usize> Mat<'g, N, N> {
+    /// `M⁻¹ b` for a symmetric positive definite `M` by `LDLᵀ`, unrolled (no pivoting, which
+    /// an SPD matrix does not need); reads the lower triangle only, and shares `1 / D_jj`.
+    pub fn ldlt_solve(&self, b: &Vector<'g, N>) -> Vector<'g, N> {
+        let m = &self.0;
+        let g = m[0][0].graph();
+        let mut l = [[g.zero(); N]; N];
+        let mut d = [g.zero(); N];
+        let mut d_inv = [g.zero(); N];
+        for j in 0..N {
+            let mut djj = m[j][j];
+            for k in 0..j {
+                djj = djj - l[j][k] * l[j][k] * d[k];
+            }
+            d[j] = djj;
+            d_inv[j] = djj.recip();
+            for i in j + 1..N {
+                let mut lij = m[i][j];
+                for k in 0..j {
+                    lij = lij - l[i][k] * l[j][k] * d[k];
+                }
+                l[i][j] = lij * d_inv[j];
+            }
+        }
+        let mut z = *b;
+        for i in 0..N {
+            for k in 0..i {
+                z[i] = z[i] - l[i][k] * z[k];
+            }
+        }
+        let mut x = Vector::from_fn(|i| z[i] * d_inv[i]);
+        for i in (0..N).rev() {
+            for k in i + 1..N {
+                x[i] = x[i] - l[k][i] * x[k];
+            }
+        }
+        x
+    }
+}
+
 /// Builds a 6×6 matrix from its four 3×3 blocks.
 pub fn blocks<'g>(a: Mat3<'g>, b: Mat3<'g>, c: Mat3<'g>, d: Mat3<'g>) -> Mat6<'g> {
     Mat::from_fn(|i, j| match (i < 3, j < 3) {
@@ -205,6 +272,33 @@ mod tests {
         let m = e * Vector([x, x, x]).tilde() * e;
         assert_eq!(m.0[0][1].id, (-x).id);
         assert_eq!(m.0[0][0].as_const(), Some(0.0));
+    }
+
+    #[test]
+    fn solve3_inverts_a_numeric_matrix() {
+        let g = Graph::new(Policy::default());
+        let m = Mat::from_values(&g, [[0.0, 2.0, -1.0], [3.0, 0.0, 4.0], [-2.0, 5.0, 0.0]]);
+        let b = Vector::from_values(&g, [1.0, -2.0, 0.5]);
+        let x = m.solve(&b);
+        let back = m * x;
+        for k in 0..3 {
+            let got = back[k].as_const().unwrap();
+            assert!((got - b[k].as_const().unwrap()).abs() < 1e-14, "{k}: {got}");
+        }
+    }
+
+    #[test]
+    fn ldlt_solves_a_numeric_spd_matrix() {
+        let g = Graph::new(Policy::default());
+        let a = [[4.0, 1.0, 0.5], [1.0, 3.0, -0.2], [0.5, -0.2, 2.0]];
+        let m = Mat::from_values(&g, a);
+        let b = Vector::from_values(&g, [1.0, -2.0, 0.5]);
+        let x = m.ldlt_solve(&b);
+        let back = m * x;
+        for k in 0..3 {
+            let got = back[k].as_const().unwrap();
+            assert!((got - b[k].as_const().unwrap()).abs() < 1e-14, "{k}: {got}");
+        }
     }
 
     #[test]

@@ -8,6 +8,7 @@
 
 use crate::count::OpCount;
 use crate::dag::{Arena, Func, Node, NodeId, Real};
+use crate::subsum::{self, Item, Plan};
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 /// An operand of an instruction.
@@ -27,6 +28,23 @@ pub enum Instr {
     Div(Operand, Operand),
     Neg(Operand),
     Call(Func, Operand),
+    /// `sin a`, with `cos a` in the next temporary ([`Instr::PairedCos`]): one call computes
+    /// both.
+    SinCos(Operand),
+    /// `cos a`, computed by the [`Instr::SinCos`] just before it.
+    PairedCos(Operand),
+}
+
+impl Instr {
+    /// The instruction's operands.
+    pub fn operands(&self) -> Vec<Operand> {
+        match *self {
+            Instr::Add(a, b) | Instr::Sub(a, b) | Instr::Mul(a, b) | Instr::Div(a, b) => {
+                vec![a, b]
+            }
+            Instr::Neg(a) | Instr::Call(_, a) | Instr::SinCos(a) | Instr::PairedCos(a) => vec![a],
+        }
+    }
 }
 
 /// A straight-line program: instructions in dependency order and the output operands.
@@ -46,6 +64,8 @@ impl Program {
                 Instr::Div(..) => c.div += 1,
                 Instr::Neg(..) => c.neg += 1,
                 Instr::Call(f, _) => *c.calls.entry(f.name().to_string()).or_insert(0) += 1,
+                Instr::SinCos(_) => *c.calls.entry("sin_cos".to_string()).or_insert(0) += 1,
+                Instr::PairedCos(_) => {}
             }
         }
         c
@@ -72,8 +92,11 @@ impl Program {
                         Func::Sin => x.sin(),
                         Func::Cos => x.cos(),
                         Func::Sqrt => x.sqrt(),
+                        Func::Sign => crate::dag::sign(x),
                     }
                 }
+                Instr::SinCos(a) => val(&t, a).sin(),
+                Instr::PairedCos(a) => val(&t, a).cos(),
             };
             t.push(v);
         }
@@ -82,32 +105,15 @@ impl Program {
 
     /// Indices of the inputs the program reads.
     pub fn used_inputs(&self) -> HashSet<u32> {
-        let mut used = HashSet::new();
-        let mut note = |o: &Operand| {
-            if let Operand::Input(i) = o {
-                used.insert(*i);
-            }
-        };
-        for i in &self.instrs {
-            match i {
-                Instr::Add(a, b) | Instr::Sub(a, b) | Instr::Mul(a, b) | Instr::Div(a, b) => {
-                    note(a);
-                    note(b);
-                }
-                Instr::Neg(a) | Instr::Call(_, a) => note(a),
-            }
-        }
-        self.outputs.iter().for_each(note);
-        used
-    }
-}
-
-fn children(node: &Node) -> Vec<NodeId> {
-    match node {
-        Node::Const(_) | Node::Input(_) => vec![],
-        Node::Sum { terms, .. } => terms.iter().map(|t| t.0).collect(),
-        Node::Product(f) => f.iter().map(|t| t.0).collect(),
-        Node::Call(_, a) => vec![*a],
+        self.instrs
+            .iter()
+            .flat_map(Instr::operands)
+            .chain(self.outputs.iter().copied())
+            .filter_map(|o| match o {
+                Operand::Input(i) => Some(i),
+                _ => None,
+            })
+            .collect()
     }
 }
 
@@ -122,7 +128,7 @@ fn use_counts(arena: &Arena, outputs: &[NodeId]) -> HashMap<NodeId, usize> {
         *uses.get_mut(&o).unwrap() += 1;
     }
     while let Some(id) = stack.pop() {
-        for c in children(arena.node(id)) {
+        for c in arena.node(id).children() {
             let n = uses.entry(c).or_insert(0);
             if *n == 0 {
                 stack.push(c);
@@ -283,8 +289,9 @@ impl Factorer<'_> {
     }
 }
 
-/// Lowers the DAG reachable from `outputs` into a program.
-pub fn lower(arena: &Arena, outputs: &[NodeId]) -> Program {
+/// Lowers the DAG reachable from `outputs` into a program; with `share_subsums`, the pairs of
+/// terms several sums share are added once ([`subsum`]).
+pub fn lower(arena: &Arena, outputs: &[NodeId], share_subsums: bool) -> Program {
     let uses = use_counts(arena, outputs);
     let mut reciprocal_uses: HashMap<NodeId, usize> = HashMap::new();
     for &id in uses.keys() {
@@ -306,12 +313,33 @@ pub fn lower(arena: &Arena, outputs: &[NodeId]) -> Program {
         .filter(|&(_, n)| n >= min_uses)
         .map(|(b, _)| b)
         .collect();
+    // Arguments whose sine and cosine are both needed: one `SinCos` computes the two.
+    let calls: HashMap<(Func, NodeId), NodeId> = uses
+        .keys()
+        .filter_map(|&id| match *arena.node(id) {
+            Node::Call(f, a) => Some(((f, a), id)),
+            _ => None,
+        })
+        .collect();
+    let sin_cos_pairs = calls
+        .iter()
+        .filter(|((f, _), _)| *f == Func::Sin)
+        .filter_map(|(&(_, a), &sin)| calls.get(&(Func::Cos, a)).map(|&cos| (a, (sin, cos))))
+        .collect();
+    let plan = if share_subsums {
+        subsum::plan(arena, uses.keys())
+    } else {
+        subsum::unshared(arena, uses.keys())
+    };
     let mut l = Lowerer {
         arena,
         program: Program::default(),
         values: HashMap::new(),
         memo: HashMap::new(),
         shared_reciprocals,
+        sin_cos_pairs,
+        plan,
+        subsum_values: HashMap::new(),
     };
     let outs: Vec<Operand> = outputs.iter().map(|&o| l.value(o)).collect();
     l.program.outputs = outs;
@@ -324,6 +352,11 @@ struct Lowerer<'a> {
     values: HashMap<NodeId, Operand>,
     memo: HashMap<Instr, Operand>,
     shared_reciprocals: HashSet<NodeId>,
+    /// For an argument whose sine and cosine are both used, the two call nodes.
+    sin_cos_pairs: HashMap<NodeId, (NodeId, NodeId)>,
+    /// How every sum adds up, with the sub-sums several of them share.
+    plan: Plan,
+    subsum_values: HashMap<usize, Operand>,
 }
 
 impl Lowerer<'_> {
@@ -351,13 +384,31 @@ impl Lowerer<'_> {
         let o = match self.arena.node(id).clone() {
             Node::Const(c) => Operand::Const(c),
             Node::Input(i) => Operand::Input(i),
+            Node::Call(f, arg) if matches!(f, Func::Sin | Func::Cos) => {
+                let a = self.value(arg);
+                match self.sin_cos_pairs.get(&arg).copied() {
+                    Some((sin, cos)) => {
+                        let s = self.emit(Instr::SinCos(a));
+                        let c = self.emit(Instr::PairedCos(a));
+                        self.values.insert(sin, s);
+                        self.values.insert(cos, c);
+                        if f == Func::Sin {
+                            s
+                        } else {
+                            c
+                        }
+                    }
+                    None => self.emit(Instr::Call(f, a)),
+                }
+            }
             Node::Call(f, a) => {
                 let a = self.value(a);
                 self.emit(Instr::Call(f, a))
             }
             Node::Product(fs) => self.product(&fs),
-            Node::Sum { terms, constant } => {
-                let (o, negative) = self.sum(&terms, constant.get());
+            Node::Sum { constant, .. } => {
+                let items = self.plan.sums[&id].clone();
+                let (o, negative) = self.sum(&items, constant.get());
                 if negative {
                     self.emit(Instr::Neg(o))
                 } else {
@@ -416,14 +467,35 @@ impl Lowerer<'_> {
         }
     }
 
-    /// Lowers `Σ cᵢ·tᵢ + constant`; returns the operand and whether it holds the negated value.
-    fn sum(&mut self, terms: &[(NodeId, Real)], constant: f64) -> (Operand, bool) {
+    /// The value of a planned addend: a term, or a shared sub-sum, computed once.
+    fn item(&mut self, item: Item) -> Operand {
+        match item {
+            Item::Term(id) => self.value(id),
+            Item::Sub(k) => {
+                if let Some(&o) = self.subsum_values.get(&k) {
+                    return o;
+                }
+                let sub = self.plan.subsums[k];
+                let (a, b) = (self.item(sub.first), self.item(sub.second));
+                let o = self.emit(if sub.negative {
+                    Instr::Sub(a, b)
+                } else {
+                    Instr::Add(a, b)
+                });
+                self.subsum_values.insert(k, o);
+                o
+            }
+        }
+    }
+
+    /// Lowers `Σ cᵢ·itemᵢ + constant`; returns the operand and whether it holds the negated
+    /// value.
+    fn sum(&mut self, items: &[(Item, f64)], constant: f64) -> (Operand, bool) {
         // Terms sharing a coefficient magnitude are summed first and scaled once.
         let mut groups: BTreeMap<u64, Vec<(Operand, bool)>> = BTreeMap::new();
         let mut order: Vec<u64> = Vec::new();
-        for &(t, c) in terms {
-            let c = c.get();
-            let v = self.value(t);
+        for &(item, c) in items {
+            let v = self.item(item);
             let mag = c.abs().to_bits();
             if !groups.contains_key(&mag) {
                 order.push(mag);
@@ -497,7 +569,7 @@ mod tests {
         let outs = build(&g);
         let mut arena = g.into_arena();
         let outs = factor(&mut arena, &outs);
-        lower(&arena, &outs)
+        lower(&arena, &outs, true)
     }
 
     #[test]
@@ -564,6 +636,28 @@ mod tests {
         let n = p.count();
         assert_eq!((n.mul, n.neg, n.add), (1, 1, 1));
         assert_eq!(p.eval(&[2.0, 3.0]), vec![-6.0, 1.0]);
+    }
+
+    #[test]
+    fn sine_and_cosine_of_one_argument_are_one_call() {
+        let p = compile(Policy::default(), |g| {
+            let (a, b) = (g.input(0), g.input(1));
+            vec![(a.sin() * b).id, (a.cos() + b).id, b.sin().id]
+        });
+        let n = p.count();
+        assert_eq!(n.calls.get("sin_cos"), Some(&1));
+        assert_eq!(n.calls.get("sin"), Some(&1), "b has no cosine to pair with");
+        let pos = p
+            .instrs
+            .iter()
+            .position(|i| matches!(i, Instr::SinCos(_)))
+            .unwrap();
+        assert!(matches!(p.instrs[pos + 1], Instr::PairedCos(_)));
+        let out = p.eval(&[0.3, 2.0]);
+        assert_eq!(
+            out,
+            vec![0.3f64.sin() * 2.0, 0.3f64.cos() + 2.0, 2.0f64.sin()]
+        );
     }
 
     #[test]

@@ -1,14 +1,18 @@
 //! The operation-count manifest (`ops.json`, `OPS.md`) and the generated files' header.
 
 use crate::count::OpCount;
-use crate::kernel::{ChapterCount, Compiled, KernelSpec};
+use crate::kernel::{ChapterCount, Compiled, KernelSpec, Setting};
+use c5_robot::Model;
 use serde::{Deserialize, Serialize};
 
-/// One kernel's entry in `ops.json`.
+/// One kernel's entry in `ops.json`. The counts hold for every scalar type and every output
+/// language: they are the counts of the one program all of them print.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Entry {
     pub name: String,
-    pub setting: String,
+    /// The model whose equations the kernel computes (`"consistent"` or `"paper"`).
+    pub model: Model,
+    pub setting: Setting,
     pub equations: Vec<String>,
     #[serde(flatten)]
     pub count: OpCount,
@@ -26,7 +30,8 @@ fn entries(kernels: &[(&KernelSpec, &Compiled)]) -> Vec<Entry> {
         .iter()
         .map(|(s, c)| Entry {
             name: s.name.clone(),
-            setting: s.setting.clone(),
+            model: s.model,
+            setting: s.setting,
             equations: s.equations.clone(),
             count: c.count.clone(),
             chapter: s.chapter,
@@ -57,14 +62,16 @@ fn calls(c: &OpCount) -> String {
 pub fn markdown(kernels: &[(&KernelSpec, &Compiled)]) -> String {
     let mut out = String::from(
         "# Operation counts of the generated kernels\n\n\
-         Generated with the kernels; `m` counts a division as a multiplication, as the chapter does.\n\n\
-         | kernel | setting | equations | mul | div | add | neg | calls | generated m + a | chapter m + a |\n\
-         |---|---|---|---|---|---|---|---|---|---|\n",
+         Generated with the kernels; `m` counts a division as a multiplication, as the chapter does. \
+         The counts hold for the Rust and the C output alike, in `f64` and `f32`: all print one program.\n\n\
+         | model | kernel | setting | equations | mul | div | add | neg | calls | generated m + a | chapter m + a |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for e in entries(kernels) {
         let c = &e.count;
         out.push_str(&format!(
-            "| `{}` | {} | {} | {} | {} | {} | {} | {} | {}m + {}a | {} |\n",
+            "| {} | `{}` | {} | {} | {} | {} | {} | {} | {} | {}m + {}a | {} |\n",
+            e.model,
             e.name,
             e.setting,
             e.equations.join(", "),
@@ -82,9 +89,11 @@ pub fn markdown(kernels: &[(&KernelSpec, &Compiled)]) -> String {
     out
 }
 
-/// The `@generated` header with a cost summary.
-pub fn header(kernels: &[(&KernelSpec, &Compiled)], how: &str) -> String {
-    let mut out = format!("// @generated {how}. Do not edit.\n//\n// Kernel operation counts (mul, div, add, neg, calls):\n");
+/// The `@generated` header with a cost summary; `what` says which model and robot.
+pub fn header(kernels: &[(&KernelSpec, &Compiled)], how: &str, what: &str) -> String {
+    let mut out = format!(
+        "// @generated {how}. Do not edit.\n// {what}\n//\n// Kernel operation counts (mul, div, add, neg, calls):\n"
+    );
     for (s, c) in kernels {
         let n = &c.count;
         out.push_str(&format!(
@@ -101,15 +110,18 @@ pub fn header(kernels: &[(&KernelSpec, &Compiled)], how: &str) -> String {
 }
 
 /// The audit: every kernel's counted operations beside the chapter's count, with the ratio of
-/// `m + a` (a division counted as a multiplication), from the text of `ops.json`.
+/// `m + a` (a division counted as a multiplication), from the text of `ops.json`; only the
+/// kernels of `model` when one is given.
 ///
 /// # Errors
 /// If `ops_json` is not a manifest.
-pub fn audit(ops_json: &str) -> Result<String, serde_json::Error> {
-    let m: Manifest = serde_json::from_str(ops_json)?;
+pub fn audit(ops_json: &str, model: Option<Model>) -> Result<String, serde_json::Error> {
+    let mut m: Manifest = serde_json::from_str(ops_json)?;
+    m.kernels
+        .retain(|e| model.is_none_or(|wanted| e.model == wanted));
     let mut out = format!(
-        "{:<30} {:>8} {:>12} {:>12} {:>6}  mul/div/add/neg, calls\n",
-        "kernel", "setting", "chapter", "generated", "ratio"
+        "{:<10} {:<30} {:>8} {:>12} {:>12} {:>6}  mul/div/add/neg, calls\n",
+        "model", "kernel", "setting", "chapter", "generated", "ratio"
     );
     for e in &m.kernels {
         let c = &e.count;
@@ -122,9 +134,10 @@ pub fn audit(ops_json: &str) -> Result<String, serde_json::Error> {
             None => ("—".to_string(), "—".to_string()),
         };
         out.push_str(&format!(
-            "{:<30} {:>8} {:>12} {:>12} {:>6}  {}/{}/{}/{}, {}\n",
+            "{:<10} {:<30} {:>8} {:>12} {:>12} {:>6}  {}/{}/{}/{}, {}\n",
+            e.model.name(),
             e.name,
-            e.setting,
+            e.setting.to_string(),
             chapter,
             format!("{m_}m + {a}a"),
             ratio,

@@ -1,68 +1,277 @@
 //! Generated kinematics and inverse dynamics kernels of the default C5 joint parallel robot.
 //!
-//! Straight-line code, no allocation, no panics, no dependencies; `no_std` with the `libm`
-//! feature. [`f64`] and [`f32`] hold the same kernels from the same model. The files `f64.rs`,
-//! `f32.rs`, `ops.json` and `OPS.md` are written by `cargo run -p c5-codegen -- generate`;
+//! Straight-line code, no allocation, no panics, no branches, no dependencies; `no_std` with
+//! the `libm` feature. Two models, one module each, the same kernel names and arguments:
+//!
+//! - [`f64::consistent`]: the mechanism eq 16 describes (the plates slide in the platform plane
+//!   of normal `m_i = R e_k`): rates and accelerations are the exact derivatives of eq 16 and the
+//!   forces close the power balance. Use this one to command a robot.
+//! - [`f64::paper`]: the chapter as published (eq 22's `J⁻¹`, the projection of eqs 43-48,
+//!   Khalil's model), right only at zero orientation; it also holds the chapter-setting kernels
+//!   (`pi1`, `jacobian`, `step6_factored`, ... with the vectors `P_i2` as inputs).
+//!
+//! With the feature `regressor`, each `f64` model also has its identification kernels:
+//! `regressor` (`Γ = Y π` over the 142 standard parameters, named in `STANDARD_PARAMETERS`),
+//! `base_regressor` (`Γ = Y_b β` over the base parameters, named in `BASE_PARAMETERS`, with
+//! `BASE_RELATIONS` and `BASE_OF_STANDARD` saying what each groups), for any robot of the
+//! family (geometry and gravity are their `params`).
+//!
+//! `f32` (feature `f32`) holds the same kernels in single precision. With the feature `batch`,
+//! `inverse_dynamics` and `forward_dynamics` also come in batch form (`_x4` in `f64`, `_x8` in
+//! `f32`): several states at once, in structure-of-arrays form, each lane computing exactly what
+//! the single-state kernel computes. Trigonometry comes from the
+//! standard library (`std`, the default) or from `libm` (feature `libm`, also without `std`; its
+//! `sincos` is twice as fast as the standard library's pair of calls). The files under `src/f64`,
+//! `src/f32`, `ops.json` and `OPS.md` are written by `cargo run -p c5-codegen -- generate`;
 //! a test fails when they are stale.
 //!
-//! Conventions: pose `[α β γ xc yc zc]` (RPY, eq 15), twist `(ω; v_C)`, classical acceleration
-//! `(ω̇; a_C)`, wrenches moment first, actuators in segment order 1..6. Kernels named `*_params`
-//! take the robot's parameters as their last argument (in the order of
-//! `c5_codegen::Robot::flatten`); the others have the default robot folded in.
+//! Conventions: pose `[α β γ xc yc zc]` (RPY, eq 15, `R = Rx(α) Ry(β) Rz(γ)`), twist `(ω; v_C)`,
+//! classical acceleration `(ω̇; a_C)`, wrenches moment first, base frame, SI units; actuators in
+//! segment order 1..6, `Q_i1` the position of the ball centre along the actuator axis
+//! (`B_i = A_i + Q_i1 n_i`, zero at the home pose, negative on the far side of `A_i`), and a
+//! positive force `Γ_i` pushes the rod along `+n_i`. Kernels named `*_params` take the robot's
+//! parameters as their last argument (`c5_robot::Robot::kernel_parameters`: each body's first
+//! moment `m c` and inertia about its reference point); the others
+//! have the chapter's robot folded in. Kernels that divide by `r11`, `r22`, `r33` (eq 16)
+//! return them as their last result: check them before trusting the others.
+//!
+//! # Example
+//!
+//! ```
+//! use c5_generated::f64::consistent as k;
+//!
+//! // At rest, 10°/15°/20° of roll, pitch and yaw, centre at the origin.
+//! let pose = [10f64.to_radians(), 15f64.to_radians(), 20f64.to_radians(), 0.0, 0.0, 0.0];
+//! let (gamma, r) = k::inverse_dynamics(&pose, &[0.0; 6], &[0.0; 6]);
+//! assert!(r.iter().all(|d| d.abs() > 1e-9), "not singular");
+//! // The vertical actuators carry most of the weight; the others are loaded too once the
+//! // platform is turned.
+//! assert!((gamma[4] - 80.39).abs() < 0.01 && (gamma[0] + 8.02).abs() < 0.01);
+//! ```
 
 #![cfg_attr(not(feature = "std"), no_std)]
 
 #[cfg(not(any(feature = "std", feature = "libm")))]
 compile_error!("c5-generated needs sin and cos: enable the `std` feature or the `libm` feature");
 
-/// `sin`, `cos` and `sqrt` through `libm` where the standard library is absent.
-#[cfg(all(not(feature = "std"), feature = "libm"))]
-mod float {
-    pub trait Float {
-        fn sin(self) -> Self;
-        fn cos(self) -> Self;
-        fn sqrt(self) -> Self;
+/// The elementary functions the kernels call: from `libm` when its feature is on (its `sincos`
+/// computes a sine and a cosine in about the time the standard library takes for one of them),
+/// else from the standard library. Public so that code compiled elsewhere (the C output, in its
+/// test) can use exactly the same ones.
+pub mod trig {
+    /// `f64` and `f32`.
+    pub trait Elementary: Copy {
+        fn sin_(self) -> Self;
+        fn cos_(self) -> Self;
+        fn sqrt_(self) -> Self;
+        fn sin_cos_(self) -> (Self, Self);
     }
-    impl Float for f64 {
-        fn sin(self) -> Self {
-            libm::sin(self)
-        }
-        fn cos(self) -> Self {
-            libm::cos(self)
-        }
-        fn sqrt(self) -> Self {
-            libm::sqrt(self)
-        }
+
+    macro_rules! elementary {
+        ($t:ty, $sin:ident, $cos:ident, $sqrt:ident, $sincos:ident) => {
+            impl Elementary for $t {
+                #[cfg(feature = "libm")]
+                #[inline(always)]
+                fn sin_(self) -> Self {
+                    libm::$sin(self)
+                }
+                #[cfg(feature = "libm")]
+                #[inline(always)]
+                fn cos_(self) -> Self {
+                    libm::$cos(self)
+                }
+                #[cfg(feature = "libm")]
+                #[inline(always)]
+                fn sqrt_(self) -> Self {
+                    libm::$sqrt(self)
+                }
+                #[cfg(feature = "libm")]
+                #[inline(always)]
+                fn sin_cos_(self) -> (Self, Self) {
+                    libm::$sincos(self)
+                }
+                #[cfg(not(feature = "libm"))]
+                #[inline(always)]
+                fn sin_(self) -> Self {
+                    self.sin()
+                }
+                #[cfg(not(feature = "libm"))]
+                #[inline(always)]
+                fn cos_(self) -> Self {
+                    self.cos()
+                }
+                #[cfg(not(feature = "libm"))]
+                #[inline(always)]
+                fn sqrt_(self) -> Self {
+                    self.sqrt()
+                }
+                #[cfg(not(feature = "libm"))]
+                #[inline(always)]
+                fn sin_cos_(self) -> (Self, Self) {
+                    self.sin_cos()
+                }
+            }
+        };
     }
-    impl Float for f32 {
-        fn sin(self) -> Self {
-            libm::sinf(self)
-        }
-        fn cos(self) -> Self {
-            libm::cosf(self)
-        }
-        fn sqrt(self) -> Self {
-            libm::sqrtf(self)
-        }
+
+    elementary!(f64, sin, cos, sqrt, sincos);
+    elementary!(f32, sinf, cosf, sqrtf, sincosf);
+
+    /// `sin x`.
+    #[inline(always)]
+    pub fn sin<T: Elementary>(x: T) -> T {
+        x.sin_()
+    }
+    /// `cos x`.
+    #[inline(always)]
+    pub fn cos<T: Elementary>(x: T) -> T {
+        x.cos_()
+    }
+    /// `√x`.
+    #[inline(always)]
+    pub fn sqrt<T: Elementary>(x: T) -> T {
+        x.sqrt_()
+    }
+    /// `(sin x, cos x)`, equal to `(sin(x), cos(x))` bit for bit.
+    #[inline(always)]
+    pub fn sin_cos<T: Elementary>(x: T) -> (T, T) {
+        x.sin_cos_()
     }
 }
 
-/// The kernels in `f64`.
-#[rustfmt::skip]
-#[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens)]
+/// The lane types of the batch kernels: a value per state, every operation lane by lane (LLVM
+/// turns them into vector instructions), the elementary functions from [`trig`] lane by lane,
+/// so a lane computes exactly what the single-state kernel does.
+#[cfg(feature = "batch")]
+pub mod lanes {
+    use core::ops::{Add, Div, Mul, Neg, Sub};
+
+    macro_rules! lanes {
+        ($name:ident, $t:ty, $n:literal) => {
+            #[doc = concat!("`", stringify!($n), "` values of `", stringify!($t), "`, one per state.")]
+            #[derive(Clone, Copy, Debug, PartialEq)]
+            #[repr(transparent)]
+            pub struct $name(pub [$t; $n]);
+
+            impl $name {
+                /// The same value in every lane.
+                #[inline(always)]
+                pub fn splat(x: $t) -> Self {
+                    $name([x; $n])
+                }
+                /// `(sin, cos)` lane by lane.
+                #[inline(always)]
+                pub fn sin_cos(self) -> (Self, Self) {
+                    let (mut s, mut c) = ([0.0; $n], [0.0; $n]);
+                    for l in 0..$n {
+                        (s[l], c[l]) = crate::trig::sin_cos(self.0[l]);
+                    }
+                    ($name(s), $name(c))
+                }
+                #[inline(always)]
+                pub fn sin(self) -> Self {
+                    $name(self.0.map(crate::trig::sin))
+                }
+                #[inline(always)]
+                pub fn cos(self) -> Self {
+                    $name(self.0.map(crate::trig::cos))
+                }
+                #[inline(always)]
+                pub fn sqrt(self) -> Self {
+                    $name(self.0.map(crate::trig::sqrt))
+                }
+                /// `-1`, `0` or `1`, lane by lane.
+                #[inline(always)]
+                pub fn sign(self) -> Self {
+                    $name(self.0.map(|x| (i8::from(x > 0.0) - i8::from(x < 0.0)) as $t))
+                }
+            }
+
+            lanes!(@op $name, Add, add, +);
+            lanes!(@op $name, Sub, sub, -);
+            lanes!(@op $name, Mul, mul, *);
+            lanes!(@op $name, Div, div, /);
+
+            impl Neg for $name {
+                type Output = Self;
+                #[inline(always)]
+                fn neg(self) -> Self {
+                    $name(self.0.map(|x| -x))
+                }
+            }
+        };
+        (@op $name:ident, $trait:ident, $method:ident, $op:tt) => {
+            impl $trait for $name {
+                type Output = Self;
+                #[inline(always)]
+                fn $method(self, rhs: Self) -> Self {
+                    $name(core::array::from_fn(|l| self.0[l] $op rhs.0[l]))
+                }
+            }
+        };
+    }
+
+    lanes!(F64x4, f64, 4);
+    lanes!(F32x8, f32, 8);
+}
+
+/// Kernels in `f64`, one module per model.
 pub mod f64 {
-    #[cfg(all(not(feature = "std"), feature = "libm"))]
-    use crate::float::Float;
-    include!("f64.rs");
+    /// The consistent model (the mechanism of eq 16), `f64`.
+    #[rustfmt::skip]
+    #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
+    pub mod consistent {
+        use crate::trig::{cos, sin, sin_cos, sqrt};
+        include!("f64/consistent.rs");
+        #[cfg(feature = "batch")]
+        use crate::lanes::F64x4;
+        #[cfg(feature = "batch")]
+        include!("f64/consistent_batch.rs");
+        #[cfg(feature = "regressor")]
+        include!("f64/consistent_regressor.rs");
+    }
+
+    /// The paper model (the chapter as published) and the chapter-setting kernels, `f64`.
+    #[rustfmt::skip]
+    #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
+    pub mod paper {
+        use crate::trig::{cos, sin, sin_cos, sqrt};
+        include!("f64/paper.rs");
+        #[cfg(feature = "batch")]
+        use crate::lanes::F64x4;
+        #[cfg(feature = "batch")]
+        include!("f64/paper_batch.rs");
+        #[cfg(feature = "regressor")]
+        include!("f64/paper_regressor.rs");
+    }
 }
 
-/// The kernels in `f32`, from the same model (constants rounded once to `f32`).
-#[rustfmt::skip]
-#[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens)]
+/// Kernels in `f32`, from the same programs (constants rounded once to `f32`).
+#[cfg(feature = "f32")]
 pub mod f32 {
-    #[cfg(all(not(feature = "std"), feature = "libm"))]
-    use crate::float::Float;
-    include!("f32.rs");
+    /// The consistent model (the mechanism of eq 16), `f32`.
+    #[rustfmt::skip]
+    #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
+    pub mod consistent {
+        use crate::trig::{cos, sin, sin_cos, sqrt};
+        include!("f32/consistent.rs");
+        #[cfg(feature = "batch")]
+        use crate::lanes::F32x8;
+        #[cfg(feature = "batch")]
+        include!("f32/consistent_batch.rs");
+    }
+
+    /// The paper model (the chapter as published) and the chapter-setting kernels, `f32`.
+    #[rustfmt::skip]
+    #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
+    pub mod paper {
+        use crate::trig::{cos, sin, sin_cos, sqrt};
+        include!("f32/paper.rs");
+        #[cfg(feature = "batch")]
+        use crate::lanes::F32x8;
+        #[cfg(feature = "batch")]
+        include!("f32/paper_batch.rs");
+    }
 }
 
 /// The operation-count manifest written with the kernels.

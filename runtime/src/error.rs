@@ -1,6 +1,7 @@
 //! Errors of the runtime API.
 
-use std::fmt;
+use alloc::string::{String, ToString};
+use core::fmt;
 
 /// Why a computation was refused.
 #[derive(Debug, Clone, PartialEq)]
@@ -9,12 +10,31 @@ pub enum Error {
     /// An input held NaN or an infinity.
     NonFinite { input: &'static str, index: usize },
     /// A divisor vanishes: `term` (`r11`, `r22` or `r33` of eq 16, or `y5 - y6`, `z1 - z2`,
-    /// `x3 - x4` of eq 39) has magnitude below [`crate::SINGULARITY_TOLERANCE`].
+    /// `x3 - x4` of eq 39) has magnitude below [`crate::SINGULARITY_TOLERANCE`] (or is NaN).
     Singular { term: &'static str, value: f64 },
     /// A result overflowed to an infinity or NaN (inputs far outside the robot's workspace).
     NonFiniteResult { output: &'static str },
-    /// The robot description breaks a rule.
-    Robot(String),
+    /// The robot description breaks a rule: `field` as the description spells it, and the
+    /// rule (`must be positive`, `breaks the triangle inequality Ixx ≤ Iyy + Izz ...`).
+    Robot { field: String, rule: String },
+    /// A slice argument has the wrong length.
+    WrongLength {
+        input: &'static str,
+        expected: usize,
+        got: usize,
+    },
+}
+
+impl Error {
+    pub(crate) fn from_robot(e: c5_robot::Error) -> Self {
+        match e {
+            c5_robot::Error::Invalid { field, rule } => Error::Robot { field, rule },
+            other => Error::Robot {
+                field: String::new(),
+                rule: other.to_string(),
+            },
+        }
+    }
 }
 
 impl fmt::Display for Error {
@@ -34,9 +54,14 @@ impl fmt::Display for Error {
                     "{output} is not finite (the state is far outside the workspace)"
                 )
             }
-            Error::Robot(e) => write!(f, "{e}"),
+            Error::Robot { field, rule } => write!(f, "invalid robot: `{field}` {rule}"),
+            Error::WrongLength {
+                input,
+                expected,
+                got,
+            } => write!(f, "{input} has {got} values, expected {expected}"),
         }
     }
 }
 
-impl std::error::Error for Error {}
+impl core::error::Error for Error {}

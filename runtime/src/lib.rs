@@ -1,44 +1,84 @@
-//! The C5 joint parallel robot: a safe, typed API over the generated kernels, the matrix-form
-//! reference, and the chapter's Section 9 study.
+//! The C5 joint parallel robot for controllers: a safe, typed API over the generated kernels.
 //!
-//! [`C5`] checks its inputs and calls the generated straight-line kernels (`c5-generated`,
-//! runtime-parameter variants, so any valid [`Robot`] works); [`reference`] is the chapter in
-//! matrix form with `nalgebra`, kept independent so the two check each other.
+//! [`C5`] holds a validated [`Robot`] and a [`Model`], checks every input, calls the generated
+//! straight-line kernels (`c5-generated`, the variants that take the robot's parameters, so
+//! any valid robot works) and refuses a singular pose or a non-finite result with a typed
+//! [`Error`]. It allocates nothing and never panics on its inputs.
+//!
+//! Two models of the legs' mechanism, one call apart: [`Model::Consistent`] (the default: the
+//! mechanism of eq 16, whose forces close the power balance) and [`Model::Paper`] (the
+//! chapter as published, right only at zero orientation).
+//!
+//! The crate is `no_std` (with `alloc`, for the robot description's error messages) without
+//! its default `std` feature; `libm` then provides the trigonometry. With the `identify`
+//! feature, `identify` fits the robot's inertial parameters and friction to measured motion and
+//! forces. With the `reference` feature, `reference` is the chapter and the consistent model in
+//! matrix form with `nalgebra`, kept independent of the generator so the two check each other.
+//!
+//! # Example
+//!
+//! ```
+//! use c5_runtime::{Model, Pose, Robot, State, C5};
+//!
+//! let robot = C5::new(Robot::default())?; // the consistent model
+//! let mut state = State::default();
+//! state.pose = Pose::from_array([0.17, 0.26, 0.35, 0.0, 0.0, 0.0]);
+//! let gamma = robot.inverse_dynamics(&state)?; // N, segment order
+//! let paper = C5::with_model(Robot::default(), Model::Paper)?.inverse_dynamics(&state)?;
+//! // At rest in a turned pose the chapter's model misses the load on the horizontal legs.
+//! assert!(gamma[0].abs() > 5.0 && paper[0].abs() < 1e-9);
+//! # Ok::<(), c5_runtime::Error>(())
+//! ```
 
+#![cfg_attr(not(feature = "std"), no_std)]
+
+extern crate alloc;
+
+pub mod control;
+pub mod dynamics;
 pub mod error;
+#[cfg(feature = "identify")]
+pub mod identify;
+mod math;
+#[cfg(feature = "reference")]
 pub mod reference;
-pub mod simulate;
 pub mod trajectory;
 pub mod types;
 
-pub use c5_codegen::Robot;
+pub use c5_robot::{Model, Robot};
 pub use error::Error;
 pub use types::{Acceleration, Pose, State, Twist};
 
-use c5_generated::f64 as k;
+use c5_generated::f64::{consistent, paper};
 
 /// Smallest accepted `|r11|`, `|r22|`, `|r33|` (the divisors of eq 16). Below it a pose is
 /// [`Error::Singular`]: an actuator length would be off by more than `|Δ|/1e-9` per unit error.
 pub const SINGULARITY_TOLERANCE: f64 = 1e-9;
 
-/// A validated robot with its parameter vector, ready to evaluate kernels.
+/// A validated robot, the model its kernels follow, and its parameter vector.
 #[derive(Clone, Debug)]
 pub struct C5 {
     robot: Robot,
+    model: Model,
     params: [f64; c5_generated::PARAMETERS],
 }
 
-/// Refuses a pose where a divisor of eq 16 (`[r11 r22 r33]`) is below the tolerance.
-fn check_divisors(r: [f64; 3]) -> Result<(), Error> {
+/// Whether a divisor is too small to divide by (or NaN).
+fn is_singular(value: f64) -> bool {
+    value.is_nan() || value.abs() < SINGULARITY_TOLERANCE
+}
+
+/// Refuses a pose where a divisor of eq 16 (`[r11 r22 r33]`) is below the tolerance, or NaN.
+pub(crate) fn check_divisors(r: [f64; 3]) -> Result<(), Error> {
     for (term, value) in ["r11", "r22", "r33"].into_iter().zip(r) {
-        if value.abs() < SINGULARITY_TOLERANCE {
+        if is_singular(value) {
             return Err(Error::Singular { term, value });
         }
     }
     Ok(())
 }
 
-fn check_finite(input: &'static str, v: &[f64]) -> Result<(), Error> {
+pub(crate) fn check_finite(input: &'static str, v: &[f64]) -> Result<(), Error> {
     match v.iter().position(|x| !x.is_finite()) {
         Some(index) => Err(Error::NonFinite { input, index }),
         None => Ok(()),
@@ -46,8 +86,8 @@ fn check_finite(input: &'static str, v: &[f64]) -> Result<(), Error> {
 }
 
 /// Passes `value` on if every number in it is finite.
-fn finite<T: AsRef<[f64]>>(output: &'static str, value: T) -> Result<T, Error> {
-    if value.as_ref().iter().all(|x| x.is_finite()) {
+fn finite<const N: usize>(output: &'static str, value: [f64; N]) -> Result<[f64; N], Error> {
+    if value.iter().all(|x| x.is_finite()) {
         Ok(value)
     } else {
         Err(Error::NonFiniteResult { output })
@@ -65,31 +105,82 @@ fn finite_matrix<const R: usize, const C: usize>(
     }
 }
 
+/// `[element][lane]` from four states' arrays.
+fn lanes(rows: &[[f64; 6]; 4]) -> [[f64; 4]; 6] {
+    core::array::from_fn(|k| core::array::from_fn(|l| rows[l][k]))
+}
+
+/// Calls the `_params` kernel `$name` of the model of `$c5`; both models share its signature.
+macro_rules! kernel {
+    ($c5:expr, $name:ident($($arg:expr),*)) => {
+        match $c5.model {
+            Model::Consistent => consistent::$name($($arg,)* &$c5.params),
+            Model::Paper => paper::$name($($arg,)* &$c5.params),
+        }
+    };
+}
+
 impl C5 {
+    /// The robot with the consistent model.
+    ///
     /// # Errors
     /// [`Error::Robot`] if the description breaks a rule of [`Robot::validate`].
     pub fn new(robot: Robot) -> Result<Self, Error> {
-        robot.validate().map_err(|e| Error::Robot(e.to_string()))?;
+        Self::with_model(robot, Model::Consistent)
+    }
+
+    /// The robot with the given model.
+    ///
+    /// # Errors
+    /// [`Error::Robot`] if the description breaks a rule of [`Robot::validate`].
+    pub fn with_model(robot: Robot, model: Model) -> Result<Self, Error> {
+        robot.validate().map_err(Error::from_robot)?;
         let mut params = [0.0; c5_generated::PARAMETERS];
-        params.copy_from_slice(&robot.flatten());
-        Ok(C5 { robot, params })
+        params.copy_from_slice(&robot.kernel_parameters());
+        Ok(C5 {
+            robot,
+            model,
+            params,
+        })
     }
 
     pub fn robot(&self) -> &Robot {
         &self.robot
     }
 
-    /// A finite, non-singular pose; for the kernels that do not return the divisors of eq 16
-    /// themselves.
-    fn check_pose(&self, pose: &Pose) -> Result<[f64; 6], Error> {
+    pub fn model(&self) -> Model {
+        self.model
+    }
+
+    /// The same robot with another model.
+    pub fn to_model(&self, model: Model) -> Self {
+        C5 {
+            model,
+            ..self.clone()
+        }
+    }
+
+    /// `[r11 r22 r33]`, the divisors of eq 16 at `pose`, the same in both models: a pose is
+    /// singular where one vanishes, and their size says how far it is from that.
+    ///
+    /// # Errors
+    /// A non-finite pose.
+    pub fn singularity_terms(pose: &Pose) -> Result<[f64; 3], Error> {
         let x = pose.to_array();
         check_finite("pose", &x)?;
-        check_divisors(k::singularity_terms(&x))?;
+        Ok(paper::singularity_terms(&x))
+    }
+
+    /// A finite pose and the divisors of eq 16 at it, for the kernels that do not return them.
+    fn checked_pose(pose: &Pose) -> Result<[f64; 6], Error> {
+        let x = pose.to_array();
+        check_finite("pose", &x)?;
+        check_divisors(paper::singularity_terms(&x))?;
         Ok(x)
     }
 
     /// Finite inputs; the singularity check is left to the divisors the kernel returns.
-    fn check_motion(&self, state: &State) -> Result<[[f64; 6]; 3], Error> {
+    fn checked_motion(state: &State) -> Result<[[f64; 6]; 3], Error> {
         let x = state.pose.to_array();
         let v = state.twist.to_array();
         let a = state.accel.to_array();
@@ -99,34 +190,58 @@ impl C5 {
         Ok([x, v, a])
     }
 
-    /// Eqs 15, 16, 27: actuator lengths `Q_i1` and the vectors `P_i2`, segment order.
+    /// Eqs 15, 16, 27: actuator lengths `Q_i1` and the vectors `P_i2`, segment order (the
+    /// same in both models).
     ///
     /// # Errors
     /// A non-finite or singular pose.
     pub fn inverse_kinematics(&self, pose: &Pose) -> Result<([f64; 6], [[f64; 3]; 6]), Error> {
         let x = pose.to_array();
         check_finite("pose", &x)?;
-        let (q, p, r) = k::inverse_kinematics_params(&x, &self.params);
+        let (q, p, r) = kernel!(self, inverse_kinematics_params(&x));
         check_divisors(r)?;
         Ok((finite("q", q)?, finite_matrix("p", p)?))
     }
 
-    /// Eq 22: `J⁻¹` (row `i` = segment `i+1`, columns `ωx ωy ωz vx vy vz`).
+    /// `J⁻¹` (row `i` = segment `i+1`, columns `ωx ωy ωz vx vy vz`).
     ///
     /// # Errors
     /// A non-finite or singular pose.
     pub fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        let x = self.check_pose(pose)?;
-        finite_matrix("jinv", k::inverse_jacobian_pose_params(&x, &self.params))
+        let (jinv, r) = match self.model {
+            Model::Consistent => {
+                let x = pose.to_array();
+                check_finite("pose", &x)?;
+                consistent::inverse_jacobian_pose_params(&x, &self.params)
+            }
+            Model::Paper => {
+                let x = Self::checked_pose(pose)?;
+                let jinv = paper::inverse_jacobian_pose_params(&x, &self.params);
+                (jinv, [1.0; 3])
+            }
+        };
+        check_divisors(r)?;
+        finite_matrix("jinv", jinv)
     }
 
-    /// Eq 40: `J = J1 Π1` (rows `ωx … vz`, column `i` = segment `i+1`).
+    /// `J`, factored (rows `ωx … vz`, column `i` = segment `i+1`).
     ///
     /// # Errors
     /// A non-finite or singular pose.
     pub fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        let x = self.check_pose(pose)?;
-        finite_matrix("jacobian", k::jacobian_pose_params(&x, &self.params))
+        let (jac, r) = match self.model {
+            Model::Consistent => {
+                let x = pose.to_array();
+                check_finite("pose", &x)?;
+                consistent::jacobian_pose_params(&x, &self.params)
+            }
+            Model::Paper => {
+                let x = Self::checked_pose(pose)?;
+                (paper::jacobian_pose_params(&x, &self.params), [1.0; 3])
+            }
+        };
+        check_divisors(r)?;
+        finite_matrix("jacobian", jac)
     }
 
     /// `Q̇_a = J⁻¹ V`, segment order.
@@ -134,49 +249,178 @@ impl C5 {
     /// # Errors
     /// Non-finite inputs or a singular pose.
     pub fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-        let x = self.check_pose(pose)?;
         let v = twist.to_array();
-        check_finite("twist", &v)?;
-        finite("qd", k::joint_velocities_params(&x, &v, &self.params))
+        let (qd, r) = match self.model {
+            Model::Consistent => {
+                let x = pose.to_array();
+                check_finite("pose", &x)?;
+                check_finite("twist", &v)?;
+                consistent::joint_velocities_params(&x, &v, &self.params)
+            }
+            Model::Paper => {
+                let x = Self::checked_pose(pose)?;
+                check_finite("twist", &v)?;
+                (
+                    paper::joint_velocities_params(&x, &v, &self.params),
+                    [1.0; 3],
+                )
+            }
+        };
+        check_divisors(r)?;
+        finite("qd", qd)
     }
 
-    /// Eqs 43-48: actuator accelerations `Q̈_a` by projection, segment order.
+    /// Actuator accelerations `Q̈_a`, segment order: eq 16 differentiated twice (consistent),
+    /// or the projection scheme of eqs 43-48 (paper).
     ///
     /// # Errors
     /// Non-finite inputs or a singular pose.
     pub fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
-        let [x, v, a] = self.check_motion(state)?;
-        let (qdd, _, r) = k::joint_accelerations_params(&x, &v, &a, &self.params);
+        let [x, v, a] = Self::checked_motion(state)?;
+        let (qdd, r) = kernel!(self, joint_accelerations_params(&x, &v, &a));
         check_divisors(r)?;
         finite("qdd", qdd)
     }
 
-    /// Eq 60 with eq 62: actuator forces `Γ` (N), segment order.
+    /// Actuator forces `Γ` (N), segment order: the force each actuator must apply along `+n_i`
+    /// for the platform to follow the state.
     ///
     /// # Errors
     /// Non-finite inputs or a singular pose.
     pub fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
-        let [x, v, a] = self.check_motion(state)?;
-        let (gamma, r) = k::inverse_dynamics_params(&x, &v, &a, &self.params);
+        let [x, v, a] = Self::checked_motion(state)?;
+        let (gamma, r) = kernel!(self, inverse_dynamics_params(&x, &v, &a));
         check_divisors(r)?;
         finite("gamma", gamma)
     }
 
-    /// Eq 39 in the chapter's setting: `Π1` from given vectors `P_i2` (segment order), rows
-    /// `[ẇ_p1 u̇_p1 γ̇_p β̇_p α̇_p Q̇_11]`, column `i` for segment `i+1`.
+    /// `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: the task-space inertia, symmetric positive
+    /// definite (rows and columns `ωx ωy ωz vx vy vz`, base frame).
+    ///
+    /// # Errors
+    /// A non-finite or singular pose.
+    pub fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        let x = pose.to_array();
+        check_finite("pose", &x)?;
+        let (m, r) = kernel!(self, task_inertia_params(&x));
+        check_divisors(r)?;
+        finite_matrix("task inertia", m)
+    }
+
+    /// `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal and gravity terms at `C`.
+    ///
+    /// # Errors
+    /// Non-finite inputs or a singular pose.
+    pub fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        let (x, v) = (pose.to_array(), twist.to_array());
+        check_finite("pose", &x)?;
+        check_finite("twist", &v)?;
+        let (h, r) = kernel!(self, task_bias_params(&x, &v));
+        check_divisors(r)?;
+        finite("task bias", h)
+    }
+
+    /// The forward dynamics: the platform's classical acceleration `(ω̇; a_C)` under actuator
+    /// forces `gamma` (N, segment order).
+    ///
+    /// # Errors
+    /// Non-finite inputs, a singular pose, or a non-finite result.
+    pub fn forward_dynamics(
+        &self,
+        pose: &Pose,
+        twist: &Twist,
+        gamma: &[f64; 6],
+    ) -> Result<Acceleration, Error> {
+        let (x, v) = (pose.to_array(), twist.to_array());
+        check_finite("pose", &x)?;
+        check_finite("twist", &v)?;
+        check_finite("gamma", gamma)?;
+        let (a, r) = kernel!(self, forward_dynamics_params(&x, &v, gamma));
+        check_divisors(r)?;
+        let a = finite("acceleration", a)?;
+        Ok(Acceleration::from_array(a))
+    }
+
+    /// Actuator forces `Γ` of many states, four at a time through the batch kernels (each lane
+    /// computes exactly what [`C5::inverse_dynamics`] computes), with the same checks.
+    ///
+    /// # Errors
+    /// The index of the first refused state, and why (non-finite inputs, a singular pose, or a
+    /// non-finite result).
+    pub fn inverse_dynamics_many(
+        &self,
+        states: &[State],
+    ) -> Result<alloc::vec::Vec<[f64; 6]>, (usize, Error)> {
+        let mut out = alloc::vec::Vec::with_capacity(states.len());
+        for (c, chunk) in states.chunks(4).enumerate() {
+            let mut rows = [[[0.0; 6]; 3]; 4];
+            for (l, row) in rows.iter_mut().enumerate() {
+                // A short last chunk repeats its last state in the lanes it does not fill.
+                let state = &chunk[l.min(chunk.len() - 1)];
+                *row = Self::checked_motion(state).map_err(|e| (4 * c + l, e))?;
+            }
+            let column = |j: usize| core::array::from_fn(|l| rows[l][j]);
+            let (x, v, a) = (lanes(&column(0)), lanes(&column(1)), lanes(&column(2)));
+            let (gamma, r) = match self.model {
+                Model::Consistent => {
+                    consistent::inverse_dynamics_params_x4(&x, &v, &a, &self.params)
+                }
+                Model::Paper => paper::inverse_dynamics_params_x4(&x, &v, &a, &self.params),
+            };
+            for l in 0..chunk.len() {
+                let at = |e| (4 * c + l, e);
+                check_divisors(core::array::from_fn(|k| r[k][l])).map_err(at)?;
+                out.push(finite("gamma", core::array::from_fn(|k| gamma[k][l])).map_err(at)?);
+            }
+        }
+        Ok(out)
+    }
+
+    /// [`C5::evaluate`] for many states, the inverse dynamics through the batch kernels.
+    ///
+    /// # Errors
+    /// The index of the first refused state, and why.
+    pub fn evaluate_many(
+        &self,
+        states: &[State],
+    ) -> Result<alloc::vec::Vec<Evaluation>, (usize, Error)> {
+        let gammas = self.inverse_dynamics_many(states)?;
+        states
+            .iter()
+            .zip(gammas)
+            .enumerate()
+            .map(|(k, (state, gamma))| {
+                let at = |e| (k, e);
+                let (q, _) = self.inverse_kinematics(&state.pose).map_err(at)?;
+                Ok(Evaluation {
+                    q,
+                    qd: self
+                        .joint_velocities(&state.pose, &state.twist)
+                        .map_err(at)?,
+                    qdd: self.joint_accelerations(state).map_err(at)?,
+                    gamma,
+                    jinv: self.inverse_jacobian(&state.pose).map_err(at)?,
+                    jacobian: self.jacobian(&state.pose).map_err(at)?,
+                })
+            })
+            .collect()
+    }
+
+    /// Eq 39 in the chapter's setting (the paper model): `Π1` from given vectors `P_i2`
+    /// (segment order), rows `[ẇ_p1 u̇_p1 γ̇_p β̇_p α̇_p Q̇_11]`, column `i` for segment `i+1`.
     ///
     /// # Errors
     /// A non-finite input, or [`Error::Singular`] naming `y5 - y6`, `z1 - z2` or `x3 - x4` when
     /// its magnitude is below [`SINGULARITY_TOLERANCE`] (m).
     pub fn pi1(&self, p: &[[f64; 3]; 6]) -> Result<[[f64; 6]; 6], Error> {
         check_finite("p", p.as_flattened())?;
-        let d = k::pi1_denominators(p);
+        let d = paper::pi1_denominators(p);
         for (term, value) in ["y5 - y6", "z1 - z2", "x3 - x4"].into_iter().zip(d) {
-            if value.abs() < SINGULARITY_TOLERANCE {
+            if is_singular(value) {
                 return Err(Error::Singular { term, value });
             }
         }
-        finite_matrix("pi1", k::pi1(p))
+        finite_matrix("pi1", paper::pi1(p))
     }
 
     /// Everything `eval` and `simulate` report for one state, in one call.
@@ -189,31 +433,29 @@ impl C5 {
     /// # Errors
     /// Non-finite inputs or a singular pose.
     pub fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
-        let [x, v, a] = self.check_motion(state)?;
-        let p = &self.params;
-        let (q, _, r) = k::inverse_kinematics_params(&x, p);
-        check_divisors(r)?;
+        let (q, _) = self.inverse_kinematics(&state.pose)?;
         Ok(Evaluation {
-            q: finite("q", q)?,
-            qd: finite("qd", k::joint_velocities_params(&x, &v, p))?,
-            qdd: finite("qdd", k::joint_accelerations_params(&x, &v, &a, p).0)?,
-            gamma: finite("gamma", k::inverse_dynamics_params(&x, &v, &a, p).0)?,
-            jinv: finite_matrix("jinv", k::inverse_jacobian_pose_params(&x, p))?,
-            jacobian: finite_matrix("jacobian", k::jacobian_pose_params(&x, p))?,
+            q,
+            qd: self.joint_velocities(&state.pose, &state.twist)?,
+            qdd: self.joint_accelerations(state)?,
+            gamma: self.inverse_dynamics(state)?,
+            jinv: self.inverse_jacobian(&state.pose)?,
+            jacobian: self.jacobian(&state.pose)?,
         })
     }
 }
 
 /// The kinematic and dynamic quantities of one platform state, segment order.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Evaluation {
     /// `Q_i1` (m), eq 16.
     pub q: [f64; 6],
     /// `Q̇_i1` (m/s), `J⁻¹ V`.
     pub qd: [f64; 6],
-    /// `Q̈_i1` (m/s²), eqs 43-48.
+    /// `Q̈_i1` (m/s²).
     pub qdd: [f64; 6],
-    /// `Γ_i` (N), eq 60/62.
+    /// `Γ_i` (N).
     pub gamma: [f64; 6],
     /// `J⁻¹`, row `i` = segment `i+1`.
     pub jinv: [[f64; 6]; 6],

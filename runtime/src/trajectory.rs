@@ -1,6 +1,10 @@
-//! Rest-to-rest trajectories: the quintic (minimum-jerk) profile of Section 9.
+//! Platform trajectories: the quintic rest-to-rest move of Section 9, finite Fourier series
+//! (rotating, exciting motions), and the RPY kinematics that turn pose derivatives into the
+//! twist and classical acceleration.
 
+use crate::math::sin_cos;
 use crate::types::{Acceleration, Pose, State, Twist};
+use alloc::vec::Vec;
 
 /// `s(τ) = 10τ³ - 15τ⁴ + 6τ⁵` and its first two derivatives with respect to `τ`.
 pub fn quintic(tau: f64) -> (f64, f64, f64) {
@@ -11,6 +15,31 @@ pub fn quintic(tau: f64) -> (f64, f64, f64) {
         30.0 * t2 * (1.0 - 2.0 * t + t2),
         60.0 * t * (1.0 - 3.0 * t + 2.0 * t2),
     )
+}
+
+/// Sample times of `[0, duration]` at `rate` Hz: `k / rate` while inside, and the end itself
+/// (so the last sample is the end of the motion whatever the rate).
+///
+/// # Errors
+/// The number of samples it would take when it exceeds `max_samples`, or when `rate` or
+/// `duration` is not a positive finite number (then `usize::MAX`).
+pub fn sample_times(duration: f64, rate: f64, max_samples: usize) -> Result<Vec<f64>, usize> {
+    if !(rate.is_finite() && rate > 0.0 && duration.is_finite() && duration > 0.0) {
+        return Err(usize::MAX);
+    }
+    let span = duration * rate;
+    // Truncation is `floor` for a positive number; the slack keeps 1000 × 1.0 at 1000.
+    let whole = (span * (1.0 + 1e-12)) as usize;
+    let total = whole.saturating_add(2);
+    if total > max_samples || !span.is_finite() || span >= usize::MAX as f64 {
+        return Err(total);
+    }
+    let mut t: Vec<f64> = (0..=whole).map(|k| k as f64 / rate).collect();
+    match t.last_mut() {
+        Some(last) if (duration - *last).abs() <= 1e-9 * duration => *last = duration,
+        _ => t.push(duration),
+    }
+    Ok(t)
 }
 
 /// A straight-line, constant-orientation, rest-to-rest motion of the platform centre.
@@ -27,11 +56,12 @@ impl LinearMove {
     /// Section 9's default: α=10°, β=15°, γ=20°, centre from the origin to (0.04, 0.03, 0.05) m
     /// in 1 s.
     pub fn section9() -> Self {
+        let deg = core::f64::consts::PI / 180.0;
         LinearMove {
             start: Pose {
-                alpha: 10f64.to_radians(),
-                beta: 15f64.to_radians(),
-                gamma: 20f64.to_radians(),
+                alpha: 10.0 * deg,
+                beta: 15.0 * deg,
+                gamma: 20.0 * deg,
                 center: [0.0; 3],
             },
             end: [0.04, 0.03, 0.05],
@@ -55,10 +85,105 @@ impl LinearMove {
         State { pose, twist, accel }
     }
 
-    /// Sample times at `rate` Hz, both ends included.
+    /// Sample times at `rate` Hz, both ends included (see [`sample_times`]); empty for a rate
+    /// that is not a positive number.
     pub fn times(&self, rate: f64) -> Vec<f64> {
-        let n = (self.duration * rate).round() as usize;
-        (0..=n).map(|i| i as f64 / rate).collect()
+        sample_times(self.duration, rate, usize::MAX).unwrap_or_default()
+    }
+}
+
+/// `E(α, β)` with `ω = E [α̇ β̇ γ̇]` for `R = Rx(α) Ry(β) Rz(γ)`: the columns are `x`,
+/// `Rx(α) y` and `Rx(α) Ry(β) z`.
+fn rate_map(alpha: f64, beta: f64) -> [[f64; 3]; 3] {
+    let (sa, ca) = sin_cos(alpha);
+    let (sb, cb) = sin_cos(beta);
+    [[1.0, 0.0, sb], [0.0, ca, -sa * cb], [0.0, sa, ca * cb]]
+}
+
+fn apply(m: &[[f64; 3]; 3], v: &[f64; 3]) -> [f64; 3] {
+    core::array::from_fn(|i| (0..3).map(|j| m[i][j] * v[j]).sum())
+}
+
+/// `ω` (base frame) from the RPY angles `[α β γ]` and their rates:
+/// `ω = α̇ x + β̇ Rx(α) y + γ̇ Rx(α) Ry(β) z`.
+pub fn omega_from_rpy_rates(angles: [f64; 3], rates: [f64; 3]) -> [f64; 3] {
+    apply(&rate_map(angles[0], angles[1]), &rates)
+}
+
+/// `ω̇` from the RPY angles and their first and second derivatives: `E θ̈ + Ė θ̇`, with
+/// `Ė = ∂E/∂α α̇ + ∂E/∂β β̇`.
+pub fn omega_dot_from_rpy(angles: [f64; 3], rates: [f64; 3], accels: [f64; 3]) -> [f64; 3] {
+    let (sa, ca) = sin_cos(angles[0]);
+    let (sb, cb) = sin_cos(angles[1]);
+    let (ad, bd) = (rates[0], rates[1]);
+    let e_dot = [
+        [0.0, 0.0, cb * bd],
+        [0.0, -sa * ad, -ca * cb * ad + sa * sb * bd],
+        [0.0, ca * ad, -sa * cb * ad - ca * sb * bd],
+    ];
+    let a = apply(&rate_map(angles[0], angles[1]), &accels);
+    let b = apply(&e_dot, &rates);
+    core::array::from_fn(|i| a[i] + b[i])
+}
+
+/// The platform state from the pose `X = [α β γ xc yc zc]` and its first two time
+/// derivatives.
+pub fn state_from_pose_derivatives(x: [f64; 6], xd: [f64; 6], xdd: [f64; 6]) -> State {
+    let angles = [x[0], x[1], x[2]];
+    let rates = [xd[0], xd[1], xd[2]];
+    State {
+        pose: Pose::from_array(x),
+        twist: Twist {
+            omega: omega_from_rpy_rates(angles, rates),
+            velocity: [xd[3], xd[4], xd[5]],
+        },
+        accel: Acceleration {
+            omega_dot: omega_dot_from_rpy(angles, rates, [xdd[0], xdd[1], xdd[2]]),
+            linear: [xdd[3], xdd[4], xdd[5]],
+        },
+    }
+}
+
+/// A finite Fourier series in every pose coordinate, periodic in `period`:
+/// `X(t) = X₀ + Σ_l a_l sin(l ω_f t) + b_l (cos(l ω_f t) - 1)`, `ω_f = 2π / period`, so
+/// `X(0) = X₀`. Smooth, rotating, and with exact derivatives: the excitation trajectories of
+/// identification, and rotating test motions.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Fourier {
+    /// `X₀`, the pose at `t = 0`.
+    pub offset: [f64; 6],
+    /// `T` (s).
+    pub period: f64,
+    /// `a_l`, harmonic `l = 1, 2, ...` per coordinate.
+    pub sine: Vec<[f64; 6]>,
+    /// `b_l`.
+    pub cosine: Vec<[f64; 6]>,
+}
+
+impl Fourier {
+    /// The pose and its first two time derivatives at `t`.
+    pub fn pose_derivatives(&self, t: f64) -> ([f64; 6], [f64; 6], [f64; 6]) {
+        let wf = 2.0 * core::f64::consts::PI / self.period;
+        let (mut x, mut xd, mut xdd) = (self.offset, [0.0; 6], [0.0; 6]);
+        let harmonics = self.sine.len().max(self.cosine.len());
+        for l in 0..harmonics {
+            let w = wf * (l + 1) as f64;
+            let (s, c) = sin_cos(w * t);
+            let a = self.sine.get(l).copied().unwrap_or([0.0; 6]);
+            let b = self.cosine.get(l).copied().unwrap_or([0.0; 6]);
+            for k in 0..6 {
+                x[k] += a[k] * s + b[k] * (c - 1.0);
+                xd[k] += w * (a[k] * c - b[k] * s);
+                xdd[k] -= w * w * (a[k] * s + b[k] * c);
+            }
+        }
+        (x, xd, xdd)
+    }
+
+    /// The platform state at `t`.
+    pub fn state(&self, t: f64) -> State {
+        let (x, xd, xdd) = self.pose_derivatives(t);
+        state_from_pose_derivatives(x, xd, xdd)
     }
 }
 
@@ -90,194 +215,37 @@ mod tests {
             );
         }
     }
-}
 
-/// A sampled trajectory read from a CSV file.
-pub mod csv_input {
-    use crate::types::{Acceleration, Pose, State, Twist};
-    use nalgebra::{Matrix3, Vector3};
-    use std::fmt;
-    use std::path::Path;
-
-    /// Why a trajectory file was refused.
-    #[derive(Debug, Clone, PartialEq)]
-    pub struct TrajectoryError {
-        pub file: String,
-        /// 1-based line of the file, when the problem has one.
-        pub line: Option<usize>,
-        pub message: String,
+    #[test]
+    fn sampling_ends_on_the_end_whatever_the_rate() {
+        let t = sample_times(1.0, 1000.0, usize::MAX).unwrap();
+        assert_eq!((t.len(), t[1000]), (1001, 1.0));
+        let t = sample_times(1.0, 1.5, usize::MAX).unwrap();
+        assert_eq!(t, [0.0, 1.0 / 1.5, 1.0]);
+        assert!(t.iter().all(|&x| x <= 1.0));
+        assert_eq!(sample_times(1.0, 1e9, 10_000_000), Err(1_000_000_002));
+        assert!(sample_times(1.0, f64::NAN, 10).is_err());
+        assert!(sample_times(1.0, -3.0, 10).is_err());
     }
 
-    impl fmt::Display for TrajectoryError {
-        fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-            match self.line {
-                Some(l) => write!(f, "{}:{l}: {}", self.file, self.message),
-                None => write!(f, "{}: {}", self.file, self.message),
+    #[test]
+    fn fourier_derivatives_match_finite_differences() {
+        let f = Fourier {
+            offset: [0.1, -0.2, 0.3, 0.01, 0.02, -0.03],
+            period: 2.0,
+            sine: alloc::vec![[0.1, 0.05, -0.2, 0.02, -0.01, 0.03], [0.03; 6]],
+            cosine: alloc::vec![[-0.05, 0.1, 0.02, 0.01, 0.02, -0.02]],
+        };
+        assert_eq!(f.pose_derivatives(0.0).0, f.offset);
+        let h = 1e-5;
+        for &t in &[0.0, 0.3, 1.1] {
+            let (_, xd, xdd) = f.pose_derivatives(t);
+            let (xp, xdp, _) = f.pose_derivatives(t + h);
+            let (xm, xdm, _) = f.pose_derivatives(t - h);
+            for k in 0..6 {
+                assert!(((xp[k] - xm[k]) / (2.0 * h) - xd[k]).abs() < 1e-8);
+                assert!(((xdp[k] - xdm[k]) / (2.0 * h) - xdd[k]).abs() < 1e-7);
             }
         }
-    }
-
-    impl std::error::Error for TrajectoryError {}
-
-    const POSE: [&str; 7] = ["t", "alpha", "beta", "gamma", "xc", "yc", "zc"];
-    const TWIST: [&str; 6] = ["wx", "wy", "wz", "vx", "vy", "vz"];
-    const ACCEL: [&str; 6] = ["wdx", "wdy", "wdz", "ax", "ay", "az"];
-
-    /// `ω` from RPY rates for `R = Rx(α) Ry(β) Rz(γ)`:
-    /// `ω = α̇ x + β̇ Rx(α) y + γ̇ Rx(α) Ry(β) z`.
-    fn omega_from_rates(pose: &Pose, rates: &Vector3<f64>) -> Vector3<f64> {
-        let (sa, ca) = pose.alpha.sin_cos();
-        let (sb, cb) = pose.beta.sin_cos();
-        let e = Matrix3::new(1.0, 0.0, sb, 0.0, ca, -sa * cb, 0.0, sa, ca * cb);
-        e * rates
-    }
-
-    /// Central differences inside, one-sided at the ends, for non-uniform times.
-    fn derivative(t: &[f64], y: &[Vector3<f64>], k: usize) -> Vector3<f64> {
-        let n = t.len();
-        let (a, b) = match k {
-            0 => (0, 1),
-            _ if k == n - 1 => (n - 2, n - 1),
-            _ => (k - 1, k + 1),
-        };
-        (y[b] - y[a]) / (t[b] - t[a])
-    }
-
-    /// Reads `t, alpha, beta, gamma, xc, yc, zc` and, optionally, the twist
-    /// (`wx wy wz vx vy vz`) and classical acceleration (`wdx wdy wdz ax ay az`) columns.
-    /// Missing derivatives come from finite differences of the samples (the twist's angular
-    /// part through the RPY rates).
-    ///
-    /// # Errors
-    /// A missing file or column, a malformed or non-finite number, fewer than two samples, or
-    /// times that do not increase; the error names the file and line.
-    pub fn read(path: &Path) -> Result<Vec<(f64, State)>, TrajectoryError> {
-        let file = path.display().to_string();
-        let err = |line: Option<usize>, message: String| TrajectoryError {
-            file: file.clone(),
-            line,
-            message,
-        };
-        let mut reader = csv::ReaderBuilder::new()
-            .trim(csv::Trim::All)
-            .from_path(path)
-            .map_err(|e| err(None, e.to_string()))?;
-        let header: Vec<String> = reader
-            .headers()
-            .map_err(|e| err(Some(1), e.to_string()))?
-            .iter()
-            .map(str::to_string)
-            .collect();
-        let column = |name: &str| header.iter().position(|h| h == name);
-        let find = |names: &[&str]| -> Result<Option<Vec<usize>>, TrajectoryError> {
-            let found: Vec<Option<usize>> = names.iter().map(|n| column(n)).collect();
-            match (
-                found.iter().all(Option::is_some),
-                found.iter().any(Option::is_some),
-            ) {
-                (true, _) => Ok(Some(found.into_iter().flatten().collect())),
-                (false, false) => Ok(None),
-                (false, true) => {
-                    let missing: Vec<&str> = names
-                        .iter()
-                        .zip(&found)
-                        .filter(|(_, f)| f.is_none())
-                        .map(|(n, _)| *n)
-                        .collect();
-                    Err(err(
-                        Some(1),
-                        format!(
-                            "missing column(s) {} (these come together: {})",
-                            missing.join(", "),
-                            names.join(", ")
-                        ),
-                    ))
-                }
-            }
-        };
-        let pose_cols = find(&POSE)?
-            .ok_or_else(|| err(Some(1), format!("missing column(s) {}", POSE.join(", "))))?;
-        let twist_cols = find(&TWIST)?;
-        let accel_cols = find(&ACCEL)?;
-        let mut rows: Vec<Vec<f64>> = Vec::new();
-        for (n, record) in reader.records().enumerate() {
-            let line = n + 2;
-            let record = record.map_err(|e| err(Some(line), e.to_string()))?;
-            let mut row = vec![0.0; header.len()];
-            for (k, field) in record.iter().enumerate().take(header.len()) {
-                let v: f64 = field.parse().map_err(|_| {
-                    err(
-                        Some(line),
-                        format!("`{}` = {field:?} is not a number", header[k]),
-                    )
-                })?;
-                if !v.is_finite() {
-                    return Err(err(Some(line), format!("`{}` is not finite", header[k])));
-                }
-                row[k] = v;
-            }
-            if let Some(prev) = rows.last() {
-                if row[pose_cols[0]] <= prev[pose_cols[0]] {
-                    return Err(err(Some(line), "time must increase".to_string()));
-                }
-            }
-            rows.push(row);
-        }
-        if rows.len() < 2 {
-            return Err(err(
-                None,
-                "a trajectory needs at least two samples".to_string(),
-            ));
-        }
-        let t: Vec<f64> = rows.iter().map(|r| r[pose_cols[0]]).collect();
-        let poses: Vec<Pose> = rows
-            .iter()
-            .map(|r| Pose::from_array(std::array::from_fn(|k| r[pose_cols[k + 1]])))
-            .collect();
-        let pick = |r: &[f64], cols: &[usize], from: usize| {
-            Vector3::new(r[cols[from]], r[cols[from + 1]], r[cols[from + 2]])
-        };
-        let (omega, velocity): (Vec<Vector3<f64>>, Vec<Vector3<f64>>) = match &twist_cols {
-            Some(c) => rows.iter().map(|r| (pick(r, c, 0), pick(r, c, 3))).unzip(),
-            None => {
-                let angles: Vec<Vector3<f64>> = poses
-                    .iter()
-                    .map(|p| Vector3::new(p.alpha, p.beta, p.gamma))
-                    .collect();
-                let centers: Vec<Vector3<f64>> =
-                    poses.iter().map(|p| Vector3::from(p.center)).collect();
-                (0..rows.len())
-                    .map(|k| {
-                        let rates = derivative(&t, &angles, k);
-                        (
-                            omega_from_rates(&poses[k], &rates),
-                            derivative(&t, &centers, k),
-                        )
-                    })
-                    .unzip()
-            }
-        };
-        let (omega_dot, linear): (Vec<Vector3<f64>>, Vec<Vector3<f64>>) = match &accel_cols {
-            Some(c) => rows.iter().map(|r| (pick(r, c, 0), pick(r, c, 3))).unzip(),
-            None => (0..rows.len())
-                .map(|k| (derivative(&t, &omega, k), derivative(&t, &velocity, k)))
-                .unzip(),
-        };
-        Ok((0..rows.len())
-            .map(|k| {
-                let state = State {
-                    pose: poses[k],
-                    twist: Twist {
-                        omega: omega[k].into(),
-                        velocity: velocity[k].into(),
-                    },
-                    accel: Acceleration {
-                        omega_dot: omega_dot[k].into(),
-                        linear: linear[k].into(),
-                    },
-                };
-                (t[k], state)
-            })
-            .collect())
     }
 }

@@ -1,0 +1,41 @@
+//! The description of a C5 joint parallel robot, and the choice of contact model.
+//!
+//! [`Robot`] holds the geometry, gravity and the dynamic parameters of every body; it is
+//! generic over its scalar, so the same description holds numbers (`Robot<f64>`, validated by
+//! [`Robot::validate`]) and symbols (the generator's `Robot<Expr>`). [`Robot::flatten`] fixes
+//! the order of the runtime parameter vector once. [`Model`] names the two models of the legs'
+//! mechanism the kernels implement.
+//!
+//! This crate has no dependency by default and is `no_std` (with `alloc`) without its `std`
+//! feature, so a controller can hold and check a robot description without the generator.
+//!
+//! # Example
+//!
+//! ```
+//! use c5_robot::{Model, Robot};
+//!
+//! let mut robot = Robot::default(); // the chapter's robot
+//! robot.platform.mass = 12.0;
+//! robot.validate()?;
+//! // A body whose principal moments break the triangle inequality is refused.
+//! robot.platform.inertia = [[1.0, 0.0, 0.0], [0.0, 0.1, 0.0], [0.0, 0.0, 0.1]];
+//! assert!(robot.validate().unwrap_err().to_string().contains("triangle inequality"));
+//! assert_eq!("paper".parse::<Model>()?, Model::Paper);
+//! # Ok::<(), c5_robot::Error>(())
+//! ```
+
+#![cfg_attr(not(feature = "std"), no_std)]
+
+extern crate alloc;
+
+mod error;
+mod inertia;
+mod model;
+mod robot;
+mod standard;
+
+pub use error::Error;
+pub use inertia::check_inertia;
+pub use model::Model;
+pub use robot::{standard_of, RigidBody, Robot, Rod, Segment, AXIS, PARAMETERS};
+pub use standard::{standard_parameter_names, Friction, STANDARD_PARAMETERS};

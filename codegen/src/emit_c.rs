@@ -1,0 +1,267 @@
+//! Emission of compiled kernels as C99: a header and a source file, from the same programs as
+//! the Rust output, so the operation counts are the same and the results agree bit for bit
+//! (with floating-point contraction off: `-ffp-contract=off`).
+//!
+//! Each kernel is a `void` function with `const` fixed-size array inputs and its outputs
+//! through arrays the caller provides; only `<math.h>`, no allocation, no global state.
+
+use crate::dag::Func;
+use crate::emit::{kernel_doc, Scalar};
+use crate::kernel::{Arg, Compiled, KernelSpec, Shape};
+use crate::lower::{Instr, Operand};
+use std::fmt::Write;
+
+/// How the C functions are named: `{prefix}{kernel}{suffix}`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Naming {
+    pub prefix: String,
+    pub suffix: String,
+}
+
+impl Naming {
+    /// `c5_{model}_{kernel}`, with `_f` appended for `float` kernels (as C's `sinf`), so both
+    /// models and both precisions link into one program.
+    pub fn standard(model: c5_robot::Model, scalar: Scalar) -> Self {
+        Naming {
+            prefix: format!("c5_{model}_"),
+            suffix: match scalar {
+                Scalar::F64 => String::new(),
+                Scalar::F32 => "_f".to_string(),
+            },
+        }
+    }
+
+    pub fn function(&self, kernel: &str) -> String {
+        format!("{}{kernel}{}", self.prefix, self.suffix)
+    }
+}
+
+fn c_type(scalar: Scalar) -> &'static str {
+    match scalar {
+        Scalar::F64 => "double",
+        Scalar::F32 => "float",
+    }
+}
+
+/// A literal that reads back as exactly `v` in the scalar type.
+fn literal(scalar: Scalar, v: f64) -> String {
+    let body = match scalar {
+        Scalar::F64 => format!("{:?}", v.abs()),
+        Scalar::F32 => format!("{:?}f", v.abs() as f32),
+    };
+    if v < 0.0 {
+        format!("(-{body})")
+    } else {
+        body
+    }
+}
+
+fn dims(shape: Shape) -> String {
+    match shape {
+        Shape::Vector(n) => format!("[{n}]"),
+        Shape::Matrix(r, c) => format!("[{r}][{c}]"),
+    }
+}
+
+/// `a[i]` or `a[r][c]` for the `k`-th element in row-major order.
+fn element(arg: &Arg, k: usize) -> String {
+    match arg.shape {
+        Shape::Vector(_) => format!("{}[{k}]", arg.name),
+        Shape::Matrix(_, c) => format!("{}[{}][{}]", arg.name, k / c, k % c),
+    }
+}
+
+fn signature(spec: &KernelSpec, scalar: Scalar, naming: &Naming) -> String {
+    let ty = c_type(scalar);
+    let mut params: Vec<String> = spec
+        .inputs
+        .iter()
+        .map(|a| format!("const {ty} {}{}", a.name, dims(a.shape)))
+        .collect();
+    params.extend(
+        spec.outputs
+            .iter()
+            .map(|a| format!("{ty} {}{}", a.name, dims(a.shape))),
+    );
+    format!(
+        "void {}({})",
+        naming.function(&spec.name),
+        params.join(", ")
+    )
+}
+
+/// The doc comment of a kernel as a C block comment: the Rust kernel's text, the outputs said
+/// to be written through the arrays given.
+fn doc_comment(spec: &KernelSpec, compiled: &Compiled) -> String {
+    let doc = kernel_doc(spec, compiled).replace(" # Returns", " # Outputs (written)");
+    let mut out = String::from("/**\n");
+    for line in doc.lines() {
+        let line = line.strip_prefix(' ').unwrap_or(line);
+        if line.is_empty() {
+            out.push_str(" *\n");
+        } else {
+            // `*/` cannot appear inside a block comment.
+            let _ = writeln!(out, " * {}", line.replace("*/", "* /"));
+        }
+    }
+    out.push_str(" */\n");
+    out
+}
+
+/// The header: include guard, `extern "C"` for C++, one documented prototype per kernel.
+pub fn emit_header(
+    banner: &str,
+    guard: &str,
+    kernels: &[(&KernelSpec, &Compiled)],
+    scalar: Scalar,
+    naming: &Naming,
+) -> String {
+    let mut out = String::new();
+    out.push_str(banner);
+    let _ = write!(
+        out,
+        "\n#ifndef {guard}\n#define {guard}\n\n#ifdef __cplusplus\nextern \"C\" {{\n#endif\n\n"
+    );
+    for (spec, compiled) in kernels {
+        out.push_str(&doc_comment(spec, compiled));
+        let _ = writeln!(out, "{};\n", signature(spec, scalar, naming));
+    }
+    let _ = write!(
+        out,
+        "#ifdef __cplusplus\n}}\n#endif\n\n#endif /* {guard} */\n"
+    );
+    out
+}
+
+fn emit_function(
+    spec: &KernelSpec,
+    compiled: &Compiled,
+    scalar: Scalar,
+    naming: &Naming,
+) -> String {
+    let ty = c_type(scalar);
+    let used = compiled.program.used_inputs();
+    let mut out = signature(spec, scalar, naming);
+    out.push_str("\n{\n");
+    // An element's local takes its name, unless an argument has it (the pose's `gamma` and
+    // the forces `gamma`).
+    let arguments: Vec<&str> = spec
+        .inputs
+        .iter()
+        .chain(&spec.outputs)
+        .map(|a| a.name.as_str())
+        .collect();
+    let mut inputs: Vec<String> = Vec::new();
+    for arg in &spec.inputs {
+        let mut any = false;
+        for (k, name) in arg.elements.iter().enumerate() {
+            let local = if arguments.contains(&name.as_str()) {
+                format!("{name}_")
+            } else {
+                name.clone()
+            };
+            if used.contains(&(inputs.len() as u32)) {
+                let _ = writeln!(out, "    const {ty} {local} = {};", element(arg, k));
+                any = true;
+            }
+            inputs.push(local);
+        }
+        if !any {
+            let _ = writeln!(out, "    (void){};", arg.name);
+        }
+    }
+    let operand = |o: Operand| match o {
+        Operand::Temp(i) => format!("t{i}"),
+        Operand::Input(i) => inputs[i as usize].clone(),
+        Operand::Const(c) => literal(scalar, c.get()),
+    };
+    let call = |name: &str| match scalar {
+        Scalar::F64 => name.to_string(),
+        Scalar::F32 => format!("{name}f"),
+    };
+    for (i, instr) in compiled.program.instrs.iter().enumerate() {
+        let rhs = match *instr {
+            Instr::Add(a, b) => format!("{} + {}", operand(a), operand(b)),
+            Instr::Sub(a, b) => format!("{} - {}", operand(a), operand(b)),
+            Instr::Mul(a, b) => format!("{} * {}", operand(a), operand(b)),
+            Instr::Div(a, b) => format!("{} / {}", operand(a), operand(b)),
+            Instr::Neg(a) => format!("-{}", operand(a)),
+            Instr::Call(Func::Sign, a) => {
+                let (a, zero) = (operand(a), literal(scalar, 0.0));
+                format!("({ty})(({a} > {zero}) - ({a} < {zero}))")
+            }
+            Instr::Call(f, a) => format!("{}({})", call(f.name()), operand(a)),
+            // C99 has no `sincos`; compilers fuse the pair themselves.
+            Instr::SinCos(a) => format!("{}({})", call("sin"), operand(a)),
+            Instr::PairedCos(a) => format!("{}({})", call("cos"), operand(a)),
+        };
+        let _ = writeln!(out, "    const {ty} t{i} = {rhs};");
+    }
+    let mut k = 0;
+    for arg in &spec.outputs {
+        for e in 0..arg.shape.len() {
+            let _ = writeln!(
+                out,
+                "    {} = {};",
+                element(arg, e),
+                operand(compiled.program.outputs[k])
+            );
+            k += 1;
+        }
+    }
+    out.push_str("}\n");
+    out
+}
+
+/// The source file: the header's include, `<math.h>`, one function per kernel.
+pub fn emit_source(
+    banner: &str,
+    header_name: &str,
+    kernels: &[(&KernelSpec, &Compiled)],
+    scalar: Scalar,
+    naming: &Naming,
+) -> String {
+    let mut out = String::new();
+    out.push_str(banner);
+    let _ = write!(out, "\n#include <math.h>\n\n#include \"{header_name}\"\n");
+    for (spec, compiled) in kernels {
+        out.push('\n');
+        out.push_str(&emit_function(spec, compiled, scalar, naming));
+    }
+    out
+}
+
+/// A `//` banner as a `/* */` one for C.
+pub fn c_banner(rust_banner: &str) -> String {
+    let mut out = String::from("/*\n");
+    for line in rust_banner.lines() {
+        let line = line.strip_prefix("//").unwrap_or(line);
+        let _ = writeln!(out, " *{}", line.replace("*/", "* /"));
+    }
+    out.push_str(" */\n");
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn literals_read_back_exactly() {
+        for v in [0.1, -2.0, 1e-5, 0.1667, 9.81, -1.0 / 3.0, 1e300] {
+            let text = literal(Scalar::F64, v);
+            let parsed: f64 = text
+                .trim_start_matches("(-")
+                .trim_end_matches(')')
+                .parse()
+                .unwrap();
+            assert_eq!(if v < 0.0 { -parsed } else { parsed }, v, "{text}");
+            assert!(
+                text.contains('.') || text.contains('e'),
+                "{text} is a double"
+            );
+        }
+        assert_eq!(literal(Scalar::F32, 0.5), "0.5f");
+        assert_eq!(literal(Scalar::F32, -2.0), "(-2.0f)");
+    }
+}

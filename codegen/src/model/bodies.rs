@@ -1,0 +1,197 @@
+//! What both models share of the dynamics: the bodies' inertial parameters, Newton-Euler of a
+//! rigid body, and the platform's wrench (eqs 52-57).
+//!
+//! Every wrench is written about the body's reference point from its standard parameters (mass
+//! `m`, first moment `h = m c`, inertia `I_O` about the reference point), in which the dynamics
+//! is linear: the regressor `Y = ∂Γ/∂π` is then the exact derivative, free of `π`.
+
+use crate::dag::{Expr, Graph};
+use crate::linalg::{Mat, Mat3, Vec3, Vec6, Vector};
+
+/// A body's standard inertial parameters: mass `m`, first moment `h = m c` (the centre of mass
+/// `c` from the body's reference point) and inertia `I_O` about the reference point, `h` and
+/// `I_O` in the body's frame.
+#[derive(Clone, Copy)]
+pub struct Inertial<'g> {
+    pub mass: Expr<'g>,
+    pub first_moment: Vec3<'g>,
+    pub inertia: Mat3<'g>,
+}
+
+impl<'g> Inertial<'g> {
+    /// From the ten standard parameters `[m, hx, hy, hz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz]`.
+    pub fn from_standard(p: &[Expr<'g>]) -> Self {
+        Inertial {
+            mass: p[0],
+            first_moment: Vector([p[1], p[2], p[3]]),
+            inertia: Mat([[p[4], p[5], p[6]], [p[5], p[7], p[8]], [p[6], p[8], p[9]]]),
+        }
+    }
+}
+
+/// The robot's dynamic parameters as the dynamics uses them: gravity (base frame), and the
+/// standard parameters of the platform (reference point `C`, platform frame), of each body 2
+/// (reference point `B_i`, platform frame: it keeps the platform's orientation) and of each rod
+/// (reference point `B_i`, base frame: it translates, so only its mass counts).
+pub struct Dynamics<'g> {
+    pub gravity: Vec3<'g>,
+    pub platform: Inertial<'g>,
+    pub joints: [Inertial<'g>; 6],
+    pub rods: [Inertial<'g>; 6],
+    /// The part of each rod's inertia that grows with `Q_i1²` (the appendix's `J_Gi1`), which
+    /// multiplies a zero angular velocity (slip 5).
+    pub rod_inertia_per_length_squared: [Mat3<'g>; 6],
+}
+
+/// The number of standard inertial parameters: ten for each of the 13 bodies, in the order
+/// platform, then rod and body 2 of each segment.
+pub const STANDARD_INERTIAL: usize = 130;
+
+impl<'g> Dynamics<'g> {
+    /// From the parameter vector of the `*_params` kernels (`Robot::kernel_parameters`: the
+    /// half-spacing, gravity, the platform's standard parameters, then per segment the rod's
+    /// mass and inertias and body 2's standard parameters).
+    pub fn from_kernel_parameters(g: &'g Graph, p: &[Expr<'g>]) -> Self {
+        let sym =
+            |q: &[Expr<'g>]| Mat([[q[0], q[1], q[2]], [q[1], q[3], q[4]], [q[2], q[4], q[5]]]);
+        let segment = |i: usize| &p[14 + 23 * i..14 + 23 * (i + 1)];
+        Dynamics {
+            gravity: Vector([p[1], p[2], p[3]]),
+            platform: Inertial::from_standard(&p[4..14]),
+            joints: std::array::from_fn(|i| Inertial::from_standard(&segment(i)[13..23])),
+            rods: std::array::from_fn(|i| Inertial {
+                mass: segment(i)[0],
+                first_moment: Vec3::zeros(g),
+                inertia: sym(&segment(i)[1..7]),
+            }),
+            rod_inertia_per_length_squared: std::array::from_fn(|i| sym(&segment(i)[7..13])),
+        }
+    }
+
+    /// From the [`STANDARD_INERTIAL`] standard parameters (platform, then rod and body 2 of
+    /// segments 1..6, ten each) and gravity.
+    pub fn from_standard(g: &'g Graph, gravity: Vec3<'g>, p: &[Expr<'g>]) -> Self {
+        let body = |k: usize| Inertial::from_standard(&p[10 * k..10 * k + 10]);
+        Dynamics {
+            gravity,
+            platform: body(0),
+            rods: std::array::from_fn(|i| body(1 + 2 * i)),
+            joints: std::array::from_fn(|i| body(2 + 2 * i)),
+            rod_inertia_per_length_squared: [Mat::zeros(g); 6],
+        }
+    }
+}
+
+/// Newton-Euler of a rigid body: its wrench `(n; f)` about a point `O` of the body whose
+/// classical acceleration is `a_o`, for a body turning at `ω`, `ω̇` with its centre of mass at
+/// `s` from `O`, net of gravity `g`; `n_g` is the moment about the centre of mass (Euler's
+/// equations). Every vector in one frame.
+#[allow(clippy::too_many_arguments)]
+pub fn rigid_body_wrench<'g>(
+    mass: Expr<'g>,
+    s: &Vec3<'g>,
+    n_g: &Vec3<'g>,
+    omega: &Vec3<'g>,
+    omega_dot: &Vec3<'g>,
+    a_o: &Vec3<'g>,
+    gravity: &Vec3<'g>,
+) -> Vec6<'g> {
+    let a_g = *a_o + omega_dot.cross(s) + omega.cross(&omega.cross(s));
+    let f = (a_g - *gravity).scale(mass);
+    Vec6::spatial(*n_g + s.cross(&f), f)
+}
+
+/// `ω̇̃ + ω̃ ω̃`: the map from a body point's offset `r` to its acceleration relative to the
+/// reference point, `ω̇ × r + ω × (ω × r)`. One matrix for every point of a body.
+pub fn point_acceleration_map<'g>(omega: &Vec3<'g>, omega_dot: &Vec3<'g>) -> Mat3<'g> {
+    omega_dot.tilde() + omega.tilde() * omega.tilde()
+}
+
+/// The platform's rotation, with the motion seen from the platform frame.
+pub struct Frame<'g> {
+    /// `R`, eq 15.
+    pub r: Mat3<'g>,
+    /// `ω_p = Rᵀ ω`.
+    pub omega: Vec3<'g>,
+    /// `ω̇_p = Rᵀ ω̇`.
+    pub omega_dot: Vec3<'g>,
+}
+
+impl<'g> Frame<'g> {
+    pub fn new(r: Mat3<'g>, omega: &Vec3<'g>, omega_dot: &Vec3<'g>) -> Self {
+        let rt = r.transpose();
+        Frame {
+            r,
+            omega: rt * *omega,
+            omega_dot: rt * *omega_dot,
+        }
+    }
+
+    /// `R x` for a platform-frame vector.
+    pub fn to_base(&self, v: &Vec3<'g>) -> Vec3<'g> {
+        self.r * *v
+    }
+
+    /// `Rᵀ x` for a base-frame vector.
+    pub fn to_platform(&self, v: &Vec3<'g>) -> Vec3<'g> {
+        self.r.transpose() * *v
+    }
+
+    /// `ω̇̃_p + ω̃_p ω̃_p`, the point-acceleration map in the platform frame.
+    pub fn point_acceleration_map(&self) -> Mat3<'g> {
+        point_acceleration_map(&self.omega, &self.omega_dot)
+    }
+}
+
+/// Newton-Euler about the reference point `O` of a body that turns with the platform, in the
+/// base frame: `f = m (a_O - g) + ω̇ × h + ω × (ω × h)`,
+/// `n_O = I_O ω̇ + ω × I_O ω + h × (a_O - g)`, with `h = R h_p` and Euler's term in the platform
+/// frame (`R (I_O ω̇_p + ω_p × I_O ω_p)`, eq 55 without forming `R I Rᵀ`). `omega`,
+/// `omega_dot`, `a_o` and `gravity` in the base frame.
+pub fn wrench_turning_with_platform<'g>(
+    body: &Inertial<'g>,
+    frame: &Frame<'g>,
+    omega: &Vec3<'g>,
+    omega_dot: &Vec3<'g>,
+    a_o: &Vec3<'g>,
+    gravity: &Vec3<'g>,
+) -> Vec6<'g> {
+    let h = frame.to_base(&body.first_moment);
+    let a = *a_o - *gravity;
+    let f = a.scale(body.mass) + omega_dot.cross(&h) + omega.cross(&omega.cross(&h));
+    let euler = body.inertia * frame.omega_dot + frame.omega.cross(&(body.inertia * frame.omega));
+    Vec6::spatial(frame.to_base(&euler) + h.cross(&a), f)
+}
+
+/// The same, every vector in the platform frame (`a_o` and `gravity` given in it).
+pub fn wrench_in_platform_frame<'g>(
+    body: &Inertial<'g>,
+    frame: &Frame<'g>,
+    a_o: &Vec3<'g>,
+    gravity: &Vec3<'g>,
+) -> Vec6<'g> {
+    let (w, wd, h) = (frame.omega, frame.omega_dot, body.first_moment);
+    let a = *a_o - *gravity;
+    let f = a.scale(body.mass) + wd.cross(&h) + w.cross(&w.cross(&h));
+    let euler = body.inertia * wd + w.cross(&(body.inertia * w));
+    Vec6::spatial(euler + h.cross(&a), f)
+}
+
+/// Eqs 52-57: `F_{N+1} = Λ_C V̇_{N+1} + C_C + G_C` at `C` in the base frame, with the classical
+/// acceleration `(ω̇; a_C)`: Newton-Euler of the platform about `C` (eq 54's `I_C` about `C`, so
+/// right with a centre of mass off `C` too).
+pub fn platform_wrench<'g>(
+    dynamics: &Dynamics<'g>,
+    frame: &Frame<'g>,
+    twist: &Vec6<'g>,
+    accel: &Vec6<'g>,
+) -> Vec6<'g> {
+    wrench_turning_with_platform(
+        &dynamics.platform,
+        frame,
+        &twist.top(),
+        &accel.top(),
+        &accel.bottom(),
+        &dynamics.gravity,
+    )
+}

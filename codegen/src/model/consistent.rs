@@ -1,0 +1,374 @@
+//! The consistent model: the mechanism eq 16 describes (DESIGN.md), whose kinematics are the
+//! exact time derivatives of eq 16 and whose forces close the power balance.
+//!
+//! A design decision, drawn from eq 16, eq 27 and Section 3 ("a spherical joint tied to two
+//! crossed sliding plates"): the ball centre `B_i = A_i + Q_i1 n_i` is on the actuator axis;
+//! the plates slide in the platform plane through `C` whose normal is the platform axis
+//! `m_i = R e_k` (`k` = x, y, z for segments 1-2, 3-4, 5-6), so `m_i·(B_i - C) = 0` is eq 16.
+//! The rod (body 1) translates along `n_i`; the plates and ball housing (body 2) keep the
+//! platform's orientation and translate with the ball. The ball transmits a force and no
+//! moment; the plates a force along `m_i` and moments.
+//!
+//! Most of the work happens in the platform frame, where the inverse Jacobian has eq 22's
+//! sparsity: with `p_i = Rᵀ P_i2` (which lies in its plane, `e_k·p_i = 0`) and
+//! `D = diag(n_i·m_i)`, `J⁻¹ = D⁻¹ S(p) diag(Rᵀ, Rᵀ)`, `S` with rows `[(e_k × p_i)ᵀ e_kᵀ]`. So
+//! `J = diag(R, R) S⁻¹ D` and step 6 is `Γ = D S⁻ᵀ diag(Rᵀ, Rᵀ) K`: the chapter's factored
+//! Jacobian and solve-free step 6 carry over, with a 3×3 system in place of eq 38's three
+//! divisions (the pairs of segments no longer share a coordinate: `y1 ≠ y2` in the platform
+//! frame once the platform turns).
+
+use super::bodies::{wrench_in_platform_frame, Dynamics, Frame};
+use super::geometry::{divisor, platform_axis, Motion, Posed};
+use super::{Mechanics, Model, Quantity};
+use crate::dag::Expr;
+use crate::linalg::{Mat, Mat3, Mat6, Vec3, Vec6, Vector};
+use c5_robot::AXIS;
+
+/// The consistent model's [`Mechanics`].
+pub struct Consistent;
+
+impl Mechanics for Consistent {
+    fn model(&self) -> Model {
+        Model::Consistent
+    }
+
+    fn summary(&self) -> &'static str {
+        "The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the \
+         platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time \
+         derivatives of eq 16 and the forces close the power balance."
+    }
+
+    fn equations(&self, quantity: Quantity) -> &'static [&'static str] {
+        match quantity {
+            Quantity::InverseJacobian => &["15", "16", "16 d/dt", "27"],
+            Quantity::Jacobian => &["15", "16", "16 d/dt", "27", "40 (J = diag(R,R) S⁻¹ D)"],
+            Quantity::JointVelocities => &["15", "16", "16 d/dt"],
+            Quantity::JointAccelerations => &["15", "16", "16 d²/dt²"],
+            Quantity::LegWrench => &["16 d²/dt²", "virtual work"],
+            Quantity::InverseDynamics => &[
+                "15",
+                "16",
+                "16 d²/dt²",
+                "27",
+                "52-57",
+                "virtual work",
+                "62 (Γ = D S⁻ᵀ Rᵀ K + τ)",
+            ],
+            Quantity::TaskSpace => &["15", "16", "16 d²/dt²", "52-57", "virtual work", "∂W/∂V̇"],
+            Quantity::ForwardDynamics => &[
+                "15",
+                "16",
+                "16 d²/dt²",
+                "52-57",
+                "virtual work",
+                "M_x V̇ = J⁻ᵀ Γ - h (LDLᵀ)",
+            ],
+        }
+    }
+
+    fn divides_by_eq16(&self, _: Quantity) -> bool {
+        // Every quantity goes through `P_i2` and `1 / (n_i·m_i)`.
+        true
+    }
+
+    fn inverse_jacobian<'g>(&self, posed: &Posed<'g>) -> Mat6<'g> {
+        inverse_jacobian(posed)
+    }
+
+    fn jacobian<'g>(&self, posed: &Posed<'g>) -> Mat6<'g> {
+        jacobian(posed)
+    }
+
+    fn joint_velocities<'g>(&self, posed: &Posed<'g>, twist: &Vec6<'g>) -> Vec6<'g> {
+        joint_velocities(posed, twist)
+    }
+
+    fn joint_accelerations<'g>(&self, posed: &Posed<'g>, motion: &Motion<'g>) -> Vec6<'g> {
+        joint_accelerations(posed, motion)
+    }
+
+    fn leg_wrench<'g>(
+        &self,
+        dynamics: &Dynamics<'g>,
+        posed: &Posed<'g>,
+        motion: &Motion<'g>,
+    ) -> Vec6<'g> {
+        leg_wrench(dynamics, posed, motion)
+    }
+
+    fn inverse_dynamics<'g>(
+        &self,
+        dynamics: &Dynamics<'g>,
+        posed: &Posed<'g>,
+        motion: &Motion<'g>,
+    ) -> Vec6<'g> {
+        inverse_dynamics(dynamics, posed, motion)
+    }
+}
+
+/// `e_k`, the platform axis of segment `i` in the platform frame.
+fn unit<'g>(g: &'g crate::Graph, i: usize) -> Vec3<'g> {
+    Vector::from_fn(|j| g.constant(if j == AXIS[i] { 1.0 } else { 0.0 }))
+}
+
+/// The segments paired along each axis: `(a, b)` = (1, 2), (3, 4), (5, 6), 0-based.
+const PAIRS: [(usize, usize); 3] = [(0, 1), (2, 3), (4, 5)];
+
+/// Eq 16 differentiated, row `i` of `J⁻¹` (Slip 4): from `m_i·(B_i - C) = 0`,
+/// `Q̇_i1 (n_i·m_i) = (m_i × P_i2)·ω + m_i·v_C`, so the row is `[(m_i × P_i2)ᵀ m_iᵀ] / (n_i·m_i)`.
+pub fn inverse_jacobian_row<'g>(m: &Vec3<'g>, p: &Vec3<'g>, d: Expr<'g>) -> Vec6<'g> {
+    let inv = d.recip();
+    Vec6::spatial(m.cross(p).scale(inv), m.scale(inv))
+}
+
+/// `J⁻¹` in the base frame, row `i` for segment `i+1`.
+pub fn inverse_jacobian<'g>(posed: &Posed<'g>) -> Mat6<'g> {
+    Mat(std::array::from_fn(|i| {
+        inverse_jacobian_row(
+            &platform_axis(&posed.r, i),
+            &posed.p[i],
+            divisor(&posed.r, i),
+        )
+        .0
+    }))
+}
+
+/// A pose seen from the platform: `p_i = Rᵀ P_i2`, `ν_i = Rᵀ n_i` and `d_i = n_i·m_i`.
+pub struct PlatformView<'g> {
+    pub p: [Vec3<'g>; 6],
+    pub nu: [Vec3<'g>; 6],
+    pub d: [Expr<'g>; 6],
+}
+
+/// The platform view of `posed`. `p_i = Rᵀ (C - A_i) - Q_i1 ν_i`; its component along `e_k` is
+/// zero (eq 16) and is set so, since no equation below reads it.
+pub fn platform_view<'g>(posed: &Posed<'g>) -> PlatformView<'g> {
+    let rt = posed.r.transpose();
+    let g = posed.c[0].graph();
+    let nu: [Vec3<'g>; 6] = std::array::from_fn(|i| posed.r.row(AXIS[i]));
+    let p = std::array::from_fn(|i| {
+        let full = rt * posed.p[i];
+        Vector::from_fn(|j| if j == AXIS[i] { g.zero() } else { full[j] })
+    });
+    PlatformView {
+        p,
+        nu,
+        d: std::array::from_fn(|i| divisor(&posed.r, i)),
+    }
+}
+
+/// Row `i` of `S(p)`: `[(e_k × p_i)ᵀ e_kᵀ]`, eq 22's row with `n_i → e_k`, `P_i2 → p_i`.
+pub fn s_row<'g>(p: &[Vec3<'g>; 6], i: usize) -> Vec6<'g> {
+    let e = unit(p[0][0].graph(), i);
+    Vec6::spatial(e.cross(&p[i]), e)
+}
+
+/// `G`: the pair differences of `S`. The rows of a pair share their linear part `e_kᵀ`, so their
+/// difference is angular only: row `k` of `G` is `(e_k × (p_a - p_b))ᵀ`. In the chapter's
+/// setting `G` is diagonal (eq 38); here it is a full 3×3 matrix once the platform turns.
+pub fn pair_matrix<'g>(p: &[Vec3<'g>; 6]) -> Mat3<'g> {
+    Mat(std::array::from_fn(|k| {
+        let (a, b) = PAIRS[k];
+        (s_row(p, a) - s_row(p, b)).top().0
+    }))
+}
+
+/// `S⁻¹ q`, the platform-frame twist `(w; u)` with `S (w; u) = q`: the pair differences give
+/// `G w = [q_1 - q_2, q_3 - q_4, q_5 - q_6]`, then the first segment of each pair gives
+/// `u_k = q_a - (e_k × p_a)·w`.
+pub fn s_inverse<'g>(p: &[Vec3<'g>; 6], q: &Vec6<'g>) -> Vec6<'g> {
+    let rhs = Vector::from_fn(|k| q[PAIRS[k].0] - q[PAIRS[k].1]);
+    let w = pair_matrix(p).solve(&rhs);
+    let u = Vector::from_fn(|k| {
+        let a = PAIRS[k].0;
+        q[a] - s_row(p, a).top().dot(&w)
+    });
+    Vec6::spatial(w, u)
+}
+
+/// `S⁻ᵀ k`: the `y` with `Sᵀ y = (n; f)`. The linear rows give `y_a + y_b = f_k` per pair;
+/// putting `y_b = f_k - y_a` in the angular rows leaves `Gᵀ [y_1 y_3 y_5] = n - Σ f_k e_k × p_b`.
+/// `y_i` is the force the plates of segment `i` put on the platform along `m_i`.
+pub fn s_inverse_transpose<'g>(p: &[Vec3<'g>; 6], k: &Vec6<'g>) -> Vec6<'g> {
+    let (n, f) = (k.top(), k.bottom());
+    let mut rhs = n;
+    for (axis, &(_, b)) in PAIRS.iter().enumerate() {
+        rhs = rhs - s_row(p, b).top().scale(f[axis]);
+    }
+    let ya = pair_matrix(p).transpose().solve(&rhs);
+    let g = n[0].graph();
+    let mut y = Vec6::zeros(g);
+    for (axis, &(a, b)) in PAIRS.iter().enumerate() {
+        y[a] = ya[axis];
+        y[b] = f[axis] - ya[axis];
+    }
+    y
+}
+
+/// `J = diag(R, R) S⁻¹ D`, rows `[ωx ωy ωz vx vy vz]`, column `i` for segment `i+1`.
+pub fn jacobian<'g>(posed: &Posed<'g>) -> Mat6<'g> {
+    let view = platform_view(posed);
+    let g = posed.c[0].graph();
+    let columns: [Vec6<'g>; 6] = std::array::from_fn(|j| {
+        let q = Vector::from_fn(|i| if i == j { view.d[j] } else { g.zero() });
+        let wu = s_inverse(&view.p, &q);
+        Vec6::spatial(posed.r * wu.top(), posed.r * wu.bottom())
+    });
+    Mat::from_fn(|r, c| columns[c][r])
+}
+
+/// The platform's motion in the platform frame: `w = Rᵀ ω`, `ẇ = Rᵀ ω̇`, `u = Rᵀ v_C` and the
+/// classical `a = Rᵀ a_C`.
+struct PlatformMotion<'g> {
+    frame: Frame<'g>,
+    u: Vec3<'g>,
+    a: Vec3<'g>,
+}
+
+fn platform_motion<'g>(posed: &Posed<'g>, motion: &Motion<'g>) -> PlatformMotion<'g> {
+    let frame = Frame::new(posed.r, &motion.twist.top(), &motion.accel.top());
+    PlatformMotion {
+        u: frame.to_platform(&motion.twist.bottom()),
+        a: frame.to_platform(&motion.accel.bottom()),
+        frame,
+    }
+}
+
+/// `Q̇_a = J⁻¹ V`, segment order, computed as `D⁻¹ S(p) (w; u)` in the platform frame.
+pub fn joint_velocities<'g>(posed: &Posed<'g>, twist: &Vec6<'g>) -> Vec6<'g> {
+    let view = platform_view(posed);
+    let g = posed.c[0].graph();
+    let motion = Motion {
+        twist: *twist,
+        accel: Vec6::zeros(g),
+    };
+    let pm = platform_motion(posed, &motion);
+    rates(&view, &pm)
+}
+
+fn rates<'g>(view: &PlatformView<'g>, pm: &PlatformMotion<'g>) -> Vec6<'g> {
+    let wu = Vec6::spatial(pm.frame.omega, pm.u);
+    Vector::from_fn(|i| s_row(&view.p, i).dot(&wu) / view.d[i])
+}
+
+/// Eq 16 differentiated twice: with `u_i = ω × m_i`,
+/// `Q̈_i1 (n_i·m_i) = (m_i × P_i2)·ω̇ + m_i·a_C + u_i·(P_i2 × ω + 2 (v_C - Q̇_i1 n_i))`,
+/// written in the platform frame (`m_i → e_k`, `P_i2 → p_i`, `n_i → ν_i`, vectors `→ Rᵀ x`).
+/// The terms in `ω` and `Q̇_i1` are what eq 47 lacks.
+pub fn joint_accelerations<'g>(posed: &Posed<'g>, motion: &Motion<'g>) -> Vec6<'g> {
+    let view = platform_view(posed);
+    let pm = platform_motion(posed, motion);
+    accelerations(&view, &pm, &rates(&view, &pm))
+}
+
+fn accelerations<'g>(view: &PlatformView<'g>, pm: &PlatformMotion<'g>, qd: &Vec6<'g>) -> Vec6<'g> {
+    let (w, wd) = (pm.frame.omega, pm.frame.omega_dot);
+    Vector::from_fn(|i| {
+        let g = w[0].graph();
+        let e = unit(g, i);
+        let p = view.p[i];
+        let u = w.cross(&e);
+        let slip = (pm.u - view.nu[i].scale(qd[i])).scale(g.constant(2.0));
+        (e.cross(&p).dot(&wd) + pm.a[AXIS[i]] + u.dot(&(p.cross(&w) + slip))) / view.d[i]
+    })
+}
+
+/// The loads of the legs, split as the mechanism carries them.
+pub struct LegLoads<'g> {
+    /// `Q̈_a`.
+    pub qdd: Vec6<'g>,
+    /// The moment each body 2 puts on the platform (platform frame): Euler's equations plus the
+    /// moment of its force about `B_i`. The ball carries no moment and body 2 turns with the
+    /// platform, so this goes to the platform whole.
+    pub moments: [Vec3<'g>; 6],
+    /// `τ_i`: the force along `n_i` that drives the rod and body 2 along the actuator axis
+    /// (their translation is `Q̇_i1 n_i`), straight to actuator `i`.
+    pub direct: Vec6<'g>,
+}
+
+/// The legs' loads by virtual power: body 1 moves as `Q̇_i1 n_i`, body 2's centre of mass as
+/// `Q̇_i1 n_i + ω × R c_i` turning at `ω`; so its force along `n_i` and the rod's go to the
+/// actuator, and its moment about `B_i` to the platform.
+fn leg_loads<'g>(
+    dynamics: &Dynamics<'g>,
+    view: &PlatformView<'g>,
+    pm: &PlatformMotion<'g>,
+    gravity: &Vec3<'g>,
+) -> LegLoads<'g> {
+    let qd = rates(view, pm);
+    let qdd = accelerations(view, pm, &qd);
+    let frame = &pm.frame;
+    let g = qd[0].graph();
+    let mut moments = [Vec3::zeros(g); 6];
+    let mut direct = Vec6::zeros(g);
+    for i in 0..6 {
+        let (rod, body) = (&dynamics.rods[i], &dynamics.joints[i]);
+        let k = AXIS[i];
+        // Body 2 about B_i, whose classical acceleration is Q̈_i1 n_i (ν_i in this frame).
+        let wrench = wrench_in_platform_frame(body, frame, &view.nu[i].scale(qdd[i]), gravity);
+        moments[i] = wrench.top();
+        // n_i·f for the rod and body 2: n_i·(Q̈ n_i) = Q̈ and n_i·g = g_k exactly; the first
+        // moment adds ν_i·(ω̇ × h + ω × (ω × h)).
+        let h = body.first_moment;
+        let offset = frame.omega_dot.cross(&h) + frame.omega.cross(&frame.omega.cross(&h));
+        let g_k = dynamics.gravity[k];
+        direct[i] = (rod.mass + body.mass) * (qdd[i] - g_k) + view.nu[i].dot(&offset);
+    }
+    LegLoads {
+        qdd,
+        moments,
+        direct,
+    }
+}
+
+/// Everything step 6 needs: the platform view, the wrench `K_p` at `C` in the platform frame
+/// (the platform's own plus the moments of the bodies 2) and the direct terms `τ`.
+fn loads<'g>(
+    dynamics: &Dynamics<'g>,
+    posed: &Posed<'g>,
+    motion: &Motion<'g>,
+) -> (PlatformView<'g>, Vec6<'g>, LegLoads<'g>) {
+    let view = platform_view(posed);
+    let pm = platform_motion(posed, motion);
+    let gravity = pm.frame.to_platform(&dynamics.gravity);
+    let legs = leg_loads(dynamics, &view, &pm, &gravity);
+    let platform = wrench_in_platform_frame(&dynamics.platform, &pm.frame, &pm.a, &gravity);
+    let g = gravity[0].graph();
+    let moments = legs.moments.iter().fold(Vec3::zeros(g), |acc, m| acc + *m);
+    let k = platform + Vec6::spatial(moments, Vec3::zeros(g));
+    (view, k, legs)
+}
+
+/// `Φ` at `C`, base frame, such that `Γ = Jᵀ (F_{N+1} + Φ)` as in eq 60: the moments of the
+/// bodies 2, plus each direct term `τ_i` seen at the platform, a force `τ_i / d_i` along `m_i`
+/// at `B_i` (`Sᵀ D⁻¹ τ` in the platform frame).
+pub fn leg_wrench<'g>(dynamics: &Dynamics<'g>, posed: &Posed<'g>, motion: &Motion<'g>) -> Vec6<'g> {
+    let view = platform_view(posed);
+    let pm = platform_motion(posed, motion);
+    let gravity = pm.frame.to_platform(&dynamics.gravity);
+    let legs = leg_loads(dynamics, &view, &pm, &gravity);
+    let g = gravity[0].graph();
+    let mut phi = Vec6::zeros(g);
+    for i in 0..6 {
+        phi = phi
+            + Vec6::spatial(legs.moments[i], Vec3::zeros(g))
+            + s_row(&view.p, i).scale(legs.direct[i] / view.d[i]);
+    }
+    Vec6::spatial(
+        pm.frame.to_base(&phi.top()),
+        pm.frame.to_base(&phi.bottom()),
+    )
+}
+
+/// The inverse dynamics by virtual work, with step 6 factored: `Γ = D S⁻ᵀ K_p + τ`, where
+/// `K_p = diag(Rᵀ, Rᵀ) K` is the wrench the plates must put on the platform (no linear solve
+/// but the 3×3 of [`s_inverse_transpose`]).
+pub fn inverse_dynamics<'g>(
+    dynamics: &Dynamics<'g>,
+    posed: &Posed<'g>,
+    motion: &Motion<'g>,
+) -> Vec6<'g> {
+    let (view, k, legs) = loads(dynamics, posed, motion);
+    let y = s_inverse_transpose(&view.p, &k);
+    Vector::from_fn(|i| view.d[i] * y[i] + legs.direct[i])
+}

@@ -1,0 +1,462 @@
+//! Identification: the regressor `Y(state)` with `Γ = Y π` over the standard parameters
+//! (`c5_robot::standard_parameter_names`), and the base parameters, the combinations of them
+//! that the forces determine.
+//!
+//! The dynamics is linear in each body's standard parameters ([`Dynamics`]), so column `j` of
+//! `Y` is the exact derivative `∂Γ/∂π_j`, built by the engine and free of `π`; the friction
+//! columns are `Q̇_i1` and `sign(Q̇_i1)`. The base parameters are found the standard way: `Y`
+//! stacked over seeded states, QR with column pivoting, the columns of `R` past its numerical
+//! rank rebuilt from the others; the base regressor keeps only the independent columns.
+
+use super::bodies::{Dynamics, STANDARD_INERTIAL};
+use super::geometry::{self, Motion, Posed};
+use super::kernels::Input;
+use super::{mechanics, Mechanics, Model, Quantity, INTERNAL_INPUTS};
+use crate::dag::Expr;
+use crate::error::Error;
+use crate::kernel::{Arg, Compiled, KernelSpec, Objective, Setting, Shape};
+use crate::linalg::{Vec3, Vec6, Vector};
+use crate::numeric::{pivoted_qr, Lcg};
+use c5_robot::{standard_parameter_names, Robot, STANDARD_PARAMETERS};
+
+/// The columns of `Y` (each the six actuators' entries) for the model's inverse dynamics, with
+/// the bodies' standard parameters as unknowns and gravity as given.
+pub fn regressor<'g>(
+    mech: &dyn Mechanics,
+    gravity: Vec3<'g>,
+    posed: &Posed<'g>,
+    motion: &Motion<'g>,
+) -> Vec<[Expr<'g>; 6]> {
+    let g = posed.c[0].graph();
+    let unknown: Vec<Expr<'g>> = (0..STANDARD_INERTIAL)
+        .map(|j| g.input(INTERNAL_INPUTS + j as u32))
+        .collect();
+    let dynamics = Dynamics::from_standard(g, gravity, &unknown);
+    let gamma = mech.inverse_dynamics(&dynamics, posed, motion).to_vec();
+    let mut columns: Vec<[Expr<'g>; 6]> = unknown
+        .iter()
+        .map(|&p| {
+            let d = g.derivatives(&gamma, p);
+            std::array::from_fn(|i| d[i])
+        })
+        .collect();
+    // Friction: Γ_f,i = Fv_i Q̇_i1 + Fc_i sign(Q̇_i1).
+    let qd = mech.joint_velocities(posed, &motion.twist);
+    let zero = g.zero();
+    columns.extend((0..6).map(|k| std::array::from_fn(|i| if i == k { qd[k] } else { zero })));
+    columns
+        .extend((0..6).map(|k| std::array::from_fn(|i| if i == k { qd[k].sign() } else { zero })));
+    columns
+}
+
+fn vec6<'g>(v: &[Expr<'g>]) -> Vec6<'g> {
+    Vector(std::array::from_fn(|i| v[i]))
+}
+
+/// The robot's parameters a regressor still reads: its geometry and gravity, the first four of
+/// [`Robot::kernel_parameters`].
+pub const GEOMETRY: usize = 4;
+
+/// A regressor kernel of `model`, all the columns or those of `columns`, for any robot of the
+/// family: the geometry and gravity are its `params`.
+fn spec(
+    model: Model,
+    name: &str,
+    title: &str,
+    doc: String,
+    columns: Option<Vec<usize>>,
+) -> KernelSpec {
+    let mech = mechanics(model);
+    let width = columns.as_ref().map_or(STANDARD_PARAMETERS, Vec::len);
+    let mut equations: Vec<String> = mech
+        .equations(Quantity::InverseDynamics)
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    equations.push("∂Γ/∂π".to_string());
+    let geometry_names = Robot::<f64>::kernel_parameter_names()[..GEOMETRY].to_vec();
+    KernelSpec {
+        name: name.to_string(),
+        model,
+        setting: Setting::Pose,
+        equations,
+        title: title.to_string(),
+        doc: format!(
+            "Model: {model}. {}\nActuators are in segment order 1..6. The inertial parameters \
+             and friction are the unknowns; the geometry and gravity are `params`.\n{doc}\n\
+             The last result holds the divisors of eq 16 for a singularity check.",
+            mech.summary()
+        ),
+        chapter: None,
+        objective: Objective::Speed,
+        inputs: vec![
+            Input::Pose.arg(),
+            Input::Twist.arg(),
+            Input::Accel.arg(),
+            Arg::new(
+                "params",
+                Shape::Vector(GEOMETRY),
+                geometry_names,
+                "`[L gx gy gz]`, the robot's half spacing and gravity (the first four of \
+                 `Robot::kernel_parameters`)",
+            ),
+        ],
+        outputs: vec![
+            Arg::output(
+                "y",
+                Shape::Matrix(6, width),
+                "row `i` for actuator `i+1`, one column per parameter (N per unit)",
+            ),
+            Arg::output(
+                "r",
+                Shape::Vector(3),
+                "`[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless \
+                 where one is near zero",
+            ),
+        ],
+        build: Box::new(move |_, i| {
+            let posed = geometry::pose(i[3][0], &i[0]);
+            let gravity = Vector([i[3][1], i[3][2], i[3][3]]);
+            let motion = Motion {
+                twist: vec6(&i[1]),
+                accel: vec6(&i[2]),
+            };
+            let all = regressor(mech, gravity, &posed, &motion);
+            let chosen: Vec<usize> = columns.clone().unwrap_or_else(|| (0..all.len()).collect());
+            let rows = (0..6)
+                .flat_map(|r| chosen.iter().map(|&c| all[c][r]).collect::<Vec<_>>())
+                .collect();
+            vec![rows, geometry::divisors(&posed.r)]
+        }),
+    }
+}
+
+/// The full regressor kernel of `model`: `Γ = Y π` with `π` the standard parameters.
+pub fn regressor_spec(model: Model) -> KernelSpec {
+    spec(
+        model,
+        "regressor",
+        "The regressor `Y` of the standard parameters: `Γ = Y π`.",
+        "Columns in the order of `STANDARD_PARAMETERS`: ten per body (mass, first moment `m c`, \
+         inertia about the reference point) for the platform, then the rod and body 2 of each \
+         segment, then viscous and Coulomb friction per actuator."
+            .to_string(),
+        None,
+    )
+}
+
+/// The base parameters of a model: each a standard parameter (its lead) with the standard
+/// parameters whose columns depend on it folded in, `β_j = π_lead + Σ c_k π_k`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BaseParameters {
+    /// Per base parameter, its terms `(standard index, coefficient)`, the lead first with 1.
+    pub groups: Vec<Vec<(usize, f64)>>,
+}
+
+impl BaseParameters {
+    /// The standard parameters whose columns make the base regressor.
+    pub fn leads(&self) -> Vec<usize> {
+        self.groups.iter().map(|g| g[0].0).collect()
+    }
+
+    /// Base parameter `j`'s name: its lead's, with `_R` (regrouped) when others fold into it.
+    pub fn name(&self, j: usize) -> String {
+        let names = standard_parameter_names();
+        let group = &self.groups[j];
+        let lead = &names[group[0].0];
+        if group.len() > 1 {
+            format!("{lead}_R")
+        } else {
+            lead.clone()
+        }
+    }
+
+    /// Base parameter `j` as a readable relation, `platform_izz_R = platform_izz + joint1_izz ...`.
+    pub fn relation(&self, j: usize) -> String {
+        let names = standard_parameter_names();
+        let mut out = format!("{} = {}", self.name(j), names[self.groups[j][0].0]);
+        for &(k, c) in &self.groups[j][1..] {
+            let (sign, magnitude) = if c < 0.0 { ("-", -c) } else { ("+", c) };
+            if (magnitude - 1.0).abs() < 1e-12 {
+                out.push_str(&format!(" {sign} {}", names[k]));
+            } else {
+                out.push_str(&format!(" {sign} {magnitude:.12}·{}", names[k]));
+            }
+        }
+        out
+    }
+}
+
+/// How many seeded states the base parameters are found from.
+const STATES: usize = 120;
+
+/// The base parameters of a model from its compiled full regressor ([`regressor_spec`]) for
+/// `robot`'s geometry: `Y` on seeded states of the workspace, stacked, pivoted QR, rank at
+/// `1e-9` of the largest pivot.
+pub fn base_parameters(regressor: &Compiled, robot: &Robot) -> BaseParameters {
+    let geometry = &robot.kernel_parameters()[..GEOMETRY];
+    let mut rng = Lcg::new(0x5eed_c5c5);
+    let mut rows: Vec<Vec<f64>> = Vec::with_capacity(6 * STATES);
+    for _ in 0..STATES {
+        let mut input = rng.vector(&[0.4, 0.4, 0.4, 0.05, 0.05, 0.05]);
+        input.extend(rng.vector(&[1.0, 1.0, 1.0, 0.5, 0.5, 0.5]));
+        input.extend(rng.vector(&[5.0, 5.0, 5.0, 2.0, 2.0, 2.0]));
+        input.extend(geometry);
+        let y = regressor.program.eval(&input);
+        for i in 0..6 {
+            rows.push(y[i * STANDARD_PARAMETERS..(i + 1) * STANDARD_PARAMETERS].to_vec());
+        }
+    }
+    let qr = pivoted_qr(&rows);
+    let rank = qr.rank(1e-9);
+    let k = qr.dependencies(rank);
+    let mut groups: Vec<Vec<(usize, f64)>> = (0..rank)
+        .map(|i| {
+            let mut group = vec![(qr.permutation[i], 1.0)];
+            for (d, &c) in k[i].iter().enumerate() {
+                // The relations are structural (equal columns, mostly): an integer up to
+                // rounding is that integer, so the generated relations read exactly.
+                let c = if (c - c.round()).abs() < 1e-9 {
+                    c.round()
+                } else {
+                    c
+                };
+                if c != 0.0 {
+                    group.push((qr.permutation[rank + d], c));
+                }
+            }
+            group[1..].sort_by_key(|&(idx, _)| idx);
+            group
+        })
+        .collect();
+    groups.sort_by_key(|g| g[0].0);
+    BaseParameters { groups }
+}
+
+/// The base regressor kernel: the columns of the base parameters' leads, `Γ = Y_b β`.
+pub fn base_regressor_spec(model: Model, base: &BaseParameters) -> KernelSpec {
+    spec(
+        model,
+        "base_regressor",
+        "The regressor `Y_b` of the base parameters: `Γ = Y_b β`.",
+        format!(
+            "{} columns in the order of `BASE_PARAMETERS`: the columns of their leading standard \
+             parameters (`BASE_RELATIONS` says what each base parameter groups).",
+            base.groups.len()
+        ),
+        Some(base.leads()),
+    )
+}
+
+/// The identification data of a model as Rust constants: the standard and base parameters'
+/// names, the relations, and `β = B π` as sparse rows.
+pub fn constants(base: &BaseParameters) -> Result<String, Error> {
+    let names = standard_parameter_names();
+    let nb = base.groups.len();
+    let base_names: Vec<String> = (0..nb).map(|j| base.name(j)).collect();
+    let relations: Vec<String> = (0..nb).map(|j| base.relation(j)).collect();
+    let rows: Vec<String> = base
+        .groups
+        .iter()
+        .map(|g| {
+            let terms: Vec<String> = g.iter().map(|(k, c)| format!("({k}, {c:?})")).collect();
+            format!("&[{}]", terms.join(", "))
+        })
+        .collect();
+    let quoted = |v: &[String]| {
+        v.iter()
+            .map(|s| format!("{s:?}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let code = format!(
+        "/// The standard parameters, the columns of [`regressor`]: ten per body (mass, first \
+         moment `m c`, inertia about the reference point; the platform about `C` in its frame, \
+         each rod about `B_i` in the base frame, each body 2 about `B_i` in the platform frame), \
+         then viscous and Coulomb friction per actuator.\n\
+         pub const STANDARD_PARAMETERS: [&str; {}] = [{}];\n\
+         /// The base parameters, the columns of [`base_regressor`].\n\
+         pub const BASE_PARAMETERS: [&str; {nb}] = [{}];\n\
+         /// What each base parameter groups, as a relation between standard parameters.\n\
+         pub const BASE_RELATIONS: [&str; {nb}] = [{}];\n\
+         /// `β = B π`: row `j` holds base parameter `j`'s terms `(standard index, coefficient)`.\n\
+         pub const BASE_OF_STANDARD: [&[(usize, f64)]; {nb}] = [{}];\n",
+        names.len(),
+        quoted(&names),
+        quoted(&base_names),
+        quoted(&relations),
+        rows.join(", ")
+    );
+    let file: syn::File = syn::parse_str(&code).map_err(|e| Error::Emit {
+        kernel: "identification constants".to_string(),
+        message: e.to_string(),
+    })?;
+    Ok(prettyplease::unparse(&file))
+}
+
+/// A model's identification kernels, compiled: the full regressor, the base parameters found
+/// from it for a robot's geometry, and the base regressor.
+pub struct Identification {
+    pub base: BaseParameters,
+    pub specs: [KernelSpec; 2],
+    pub compiled: [Compiled; 2],
+}
+
+impl Identification {
+    /// Compiles `model`'s regressors, the base parameters found with `robot`'s geometry.
+    ///
+    /// # Errors
+    /// A model the engine cannot emit (a bug).
+    pub fn compile(model: Model, robot: &Robot) -> Result<Self, Error> {
+        let full = regressor_spec(model);
+        let full_compiled = full.compile()?;
+        let base = base_parameters(&full_compiled, robot);
+        let reduced = base_regressor_spec(model, &base);
+        let reduced_compiled = reduced.compile()?;
+        Ok(Identification {
+            base,
+            specs: [full, reduced],
+            compiled: [full_compiled, reduced_compiled],
+        })
+    }
+
+    /// The kernels with their programs, for the emitters.
+    pub fn pairs(&self) -> Vec<(&KernelSpec, &Compiled)> {
+        self.specs.iter().zip(&self.compiled).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::kernels;
+    use crate::ParameterSet;
+    use c5_robot::Friction;
+
+    /// A robot unlike the chapter's: off-centre masses, full inertias.
+    fn lopsided() -> Robot {
+        let mut robot = Robot::default();
+        robot.platform.mass = 7.3;
+        robot.platform.com = [0.01, -0.02, 0.015];
+        robot.platform.inertia = [
+            [0.09, 0.004, -0.003],
+            [0.004, 0.08, 0.002],
+            [-0.003, 0.002, 0.12],
+        ];
+        for (i, segment) in robot.segments.iter_mut().enumerate() {
+            let t = i as f64;
+            segment.rod.mass = 1.5 + 0.1 * t;
+            segment.joint.mass = 0.7 + 0.05 * t;
+            segment.joint.com = [0.01, 0.005 * t, -0.02];
+            segment.joint.inertia[0][1] = 0.001 * t;
+            segment.joint.inertia[1][0] = 0.001 * t;
+        }
+        robot
+    }
+
+    #[test]
+    fn the_regressor_times_the_standard_parameters_is_the_inverse_dynamics() {
+        let robot = lopsided();
+        let friction: [Friction; 6] = std::array::from_fn(|i| Friction {
+            viscous: 3.0 + i as f64,
+            coulomb: 1.5 - 0.2 * i as f64,
+        });
+        let pi = robot.standard_parameters(&friction);
+        for model in Model::ALL {
+            let y = regressor_spec(model).compile().unwrap();
+            let id = kernels::specs(model, &robot, &ParameterSet::None, "")
+                .unwrap()
+                .into_iter()
+                .find(|s| s.name == "inverse_dynamics")
+                .unwrap()
+                .compile()
+                .unwrap();
+            let mut rng = Lcg::new(7);
+            for _ in 0..5 {
+                let mut input = rng.vector(&[0.3, 0.3, 0.3, 0.05, 0.05, 0.05]);
+                input.extend(rng.vector(&[1.0, 1.0, 1.0, 0.5, 0.5, 0.5]));
+                input.extend(rng.vector(&[5.0, 5.0, 5.0, 2.0, 2.0, 2.0]));
+                let gamma = id.program.eval(&input);
+                input.extend(&robot.kernel_parameters()[..GEOMETRY]);
+                let yv = y.program.eval(&input);
+                for i in 0..6 {
+                    let qd = yv[i * STANDARD_PARAMETERS + STANDARD_INERTIAL + i];
+                    let friction_force =
+                        friction[i].viscous * qd + friction[i].coulomb * qd.signum();
+                    let predicted: f64 = (0..STANDARD_PARAMETERS)
+                        .map(|j| yv[i * STANDARD_PARAMETERS + j] * pi[j])
+                        .sum();
+                    let want = gamma[i] + friction_force;
+                    assert!(
+                        (predicted - want).abs() <= 1e-12 * want.abs().max(1.0),
+                        "{model} actuator {i}: Y π = {predicted}, Γ = {want}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_base_regressor_times_the_base_parameters_is_the_regressor_times_any_parameters() {
+        let robot = Robot::default();
+        let geometry = &robot.kernel_parameters()[..GEOMETRY];
+        for (model, expected) in [(Model::Consistent, 46), (Model::Paper, 52)] {
+            let y = regressor_spec(model).compile().unwrap();
+            let base = base_parameters(&y, &robot);
+            assert_eq!(base.groups.len(), expected, "{model}");
+            let yb = base_regressor_spec(model, &base).compile().unwrap();
+            let nb = base.groups.len();
+            let mut rng = Lcg::new(11);
+            let pi = rng.vector(&[1.0; STANDARD_PARAMETERS]);
+            let beta: Vec<f64> = base
+                .groups
+                .iter()
+                .map(|g| g.iter().map(|&(k, c)| c * pi[k]).sum())
+                .collect();
+            for _ in 0..5 {
+                let mut input = rng.vector(&[0.3, 0.3, 0.3, 0.05, 0.05, 0.05]);
+                input.extend(rng.vector(&[1.0, 1.0, 1.0, 0.5, 0.5, 0.5]));
+                input.extend(rng.vector(&[5.0, 5.0, 5.0, 2.0, 2.0, 2.0]));
+                input.extend(geometry);
+                let (full, reduced) = (y.program.eval(&input), yb.program.eval(&input));
+                for i in 0..6 {
+                    let a: f64 = (0..STANDARD_PARAMETERS)
+                        .map(|j| full[i * STANDARD_PARAMETERS + j] * pi[j])
+                        .sum();
+                    let b: f64 = (0..nb).map(|j| reduced[i * nb + j] * beta[j]).sum();
+                    assert!(
+                        (a - b).abs() < 1e-10 * a.abs().max(1.0),
+                        "{model}: {a} vs {b}"
+                    );
+                }
+            }
+            // Every base parameter's relation names its lead first.
+            assert!(base
+                .relation(0)
+                .starts_with(&format!("{} = ", base.name(0))));
+        }
+    }
+
+    #[test]
+    fn the_build_api_emits_the_regressors_and_their_constants() {
+        let robot = Robot {
+            half_spacing: 0.25,
+            ..Robot::default()
+        };
+        let code = crate::Config::new()
+            .robot(robot)
+            .model(Model::Paper)
+            .regressors(true)
+            .generate_to_string()
+            .unwrap();
+        for item in [
+            "pub fn regressor(",
+            "pub fn base_regressor(",
+            "pub const BASE_RELATIONS: [&str; 52]",
+            "\"rod1_mass\"",
+        ] {
+            assert!(code.contains(item), "{item}");
+        }
+        syn::parse_file(&code).unwrap();
+    }
+}

@@ -1,0 +1,222 @@
+//! `c5 eval`: one JSON line out per line in, bad lines reported alone (strictly: unknown and
+//! repeated keys are refused), results equal to the matrix-form reference of the model asked
+//! for.
+
+mod support;
+
+use c5_runtime::reference::{self as r, consistent as rc, Step6, CHAPTER_ORDER};
+use c5_runtime::{Acceleration, Pose, Robot, Twist};
+use rand::{Rng, SeedableRng};
+use serde_json::Value;
+
+fn run_eval(input: &str) -> (Vec<Value>, i32) {
+    run_eval_with(&["eval"], input)
+}
+
+fn run_eval_with(args: &[&str], input: &str) -> (Vec<Value>, i32) {
+    let out = support::c5(args, input);
+    let lines = String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("every output line is JSON"))
+        .collect();
+    (lines, out.status.code().unwrap())
+}
+
+#[test]
+fn bad_lines_get_their_own_error_and_the_others_their_results() {
+    let input = [
+        r#"{"pose": [0, 0, 0, 0, 0, 0]}"#,
+        r#"{"pose": [0, 0, 0"#,
+        r#"{"velocity": [0, 0, 0]}"#,
+        r#"{"pose": [0, 0, 0, 0, 0]}"#,
+        r#"{"pose": [0, 0, 0, 0, 0, "x"]}"#,
+        r#"{"pose": [0, 1.5707963267948966, 0, 0, 0, 0]}"#,
+        r#"{"pose": [0.1, 0.2, 0.3, 0.01, 0.02, 0.03], "omega": [0.1, 0.2, 0.3]}"#,
+    ]
+    .join("\n");
+    let (out, code) = run_eval_with(&["eval", "--model", "paper"], &input);
+    assert_eq!(out.len(), 7);
+    assert_eq!(code, 1, "a failed line makes the exit status 1");
+    let gamma = out[0]["gamma"].as_array().unwrap();
+    assert!((gamma[4].as_f64().unwrap() - 117.8181).abs() < 1e-9);
+    for (n, needle) in [
+        (2, "malformed JSON"),
+        (3, "missing `pose`"),
+        (4, "6 numbers"),
+        (5, "not a finite number"),
+        (6, "singular pose: r11"),
+    ] {
+        assert_eq!(out[n - 1]["line"], n, "line number of {needle}");
+        let e = out[n - 1]["error"].as_str().unwrap();
+        assert!(e.contains(needle), "line {n}: {e}");
+    }
+    assert!(out[6]["q"].is_array());
+}
+
+#[test]
+fn unknown_repeated_and_misshapen_keys_are_refused_by_name() {
+    let input = [
+        r#"{"pose": [0, 0, 0, 0, 0, 0], "accel": [0, 0, 1]}"#,
+        r#"{"pose": [0, 0, 0, 0, 0, 0], "pose": [0.1, 0, 0, 0, 0, 0]}"#,
+        r#"{"pose": [0, 0, 0, 0, 0, 0], "omega": [0, 0]}"#,
+        r#"{"pose": [0, 0, 0, 0, 0, 0], "velocity": 3}"#,
+        r#"[0, 0, 0, 0, 0, 0]"#,
+    ]
+    .join("\n");
+    let (out, code) = run_eval(&input);
+    assert_eq!((out.len(), code), (5, 1));
+    for (n, needle) in [
+        (
+            1,
+            "unknown key `accel` (accepted keys: pose, omega, velocity, omega_dot, acceleration)",
+        ),
+        (2, "`pose` is given twice"),
+        (3, "`omega` must hold 3 numbers, got 2"),
+        (4, "`velocity` must be an array of 3 numbers"),
+        (5, "a line must be a JSON object"),
+    ] {
+        assert_eq!(out[n - 1]["line"], n);
+        assert_eq!(out[n - 1]["error"].as_str().unwrap(), needle, "line {n}");
+    }
+}
+
+#[test]
+fn blank_lines_are_skipped_and_numbering_follows_the_file() {
+    let (out, code) = run_eval("\n{\"pose\": [0, 0, 0, 0, 0, 0]}\n   \n{\"pose\": 1}\n");
+    assert_eq!((out.len(), code), (2, 1));
+    assert!(out[0]["gamma"].is_array());
+    assert_eq!(out[1]["line"], 4);
+}
+
+#[test]
+fn all_good_lines_exit_zero() {
+    let (out, code) = run_eval("{\"pose\": [0, 0, 0, 0, 0, 0]}\n");
+    assert_eq!((out.len(), code), (1, 0));
+}
+
+#[test]
+fn a_bad_model_is_refused_with_the_choices() {
+    let out = support::c5(&["eval", "--model", "exact"], "");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("exact") && err.contains("consistent") && err.contains("paper"),
+        "{err}"
+    );
+}
+
+/// Random states as `eval` lines, and the states.
+fn random_lines() -> (String, Vec<(Pose, Twist, Acceleration)>) {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+    let mut u = |b: f64| rng.gen_range(-b..=b);
+    let mut states = Vec::new();
+    let mut input = String::new();
+    for _ in 0..300 {
+        let pose = Pose::from_array([u(0.5), u(0.5), u(0.5), u(0.08), u(0.08), u(0.08)]);
+        let twist = Twist {
+            omega: [u(1.0), u(1.0), u(1.0)],
+            velocity: [u(0.5), u(0.5), u(0.5)],
+        };
+        let accel = Acceleration {
+            omega_dot: [u(5.0), u(5.0), u(5.0)],
+            linear: [u(2.0), u(2.0), u(2.0)],
+        };
+        input.push_str(
+            &serde_json::json!({
+                "pose": pose.to_array(), "omega": twist.omega, "velocity": twist.velocity,
+                "omega_dot": accel.omega_dot, "acceleration": accel.linear,
+            })
+            .to_string(),
+        );
+        input.push('\n');
+        states.push((pose, twist, accel));
+    }
+    (input, states)
+}
+
+fn vec(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
+fn close(got: &[f64], want: &[f64]) -> bool {
+    let scale = want.iter().fold(1e-3_f64, |m, x| m.max(x.abs()));
+    got.iter()
+        .zip(want)
+        .all(|(g, w)| (g - w).abs() <= 1e-9 * scale)
+}
+
+#[test]
+fn eval_agrees_with_the_consistent_reference_by_default() {
+    let (input, states) = random_lines();
+    let (out, code) = run_eval(&input);
+    assert_eq!(code, 0);
+    let robot = Robot::default();
+    let l = robot.half_spacing;
+    for ((pose, twist, accel), o) in states.iter().zip(&out) {
+        let gamma = rc::inverse_dynamics(&robot, pose, twist, accel).unwrap();
+        assert!(close(&vec(&o["gamma"]), gamma.as_slice()));
+        assert!(close(&vec(&o["q"]), &rc::lengths(l, pose)));
+        assert!(close(
+            &vec(&o["qd"]),
+            rc::joint_velocities(l, pose, twist).as_slice()
+        ));
+        assert!(close(
+            &vec(&o["qdd"]),
+            rc::joint_accelerations(l, pose, twist, accel).as_slice()
+        ));
+        let jinv = rc::inverse_jacobian(l, pose);
+        let jac = rc::jacobian(l, pose).unwrap();
+        for i in 0..6 {
+            let row: Vec<f64> = (0..6).map(|j| jinv[(i, j)]).collect();
+            assert!(close(&vec(&o["jinv"][i]), &row), "jinv row {i}");
+            let row: Vec<f64> = (0..6).map(|j| jac[(i, j)]).collect();
+            assert!(close(&vec(&o["jacobian"][i]), &row), "jacobian row {i}");
+        }
+    }
+}
+
+#[test]
+fn eval_agrees_with_the_paper_reference_when_asked() {
+    let (input, states) = random_lines();
+    let (out, code) = run_eval_with(&["eval", "--model", "paper"], &input);
+    assert_eq!(code, 0);
+    let robot = Robot::default();
+    for ((pose, twist, accel), o) in states.iter().zip(&out) {
+        let p = r::p_i2(robot.half_spacing, pose);
+        let gamma = r::to_segment_order(
+            &r::inverse_dynamics(&robot, pose, twist, accel, Step6::Khalil).unwrap(),
+        );
+        assert!(close(&vec(&o["gamma"]), &gamma));
+        assert!(close(
+            &vec(&o["q"]),
+            &r::to_segment_order(&r::inverse_kinematics(robot.half_spacing, pose))
+        ));
+        assert!(close(
+            &vec(&o["qd"]),
+            &r::to_segment_order(&(r::inverse_jacobian(&p) * twist.to_vector()))
+        ));
+        let jinv = r::inverse_jacobian(&p);
+        let jac = r::jacobian(&p);
+        for (k, &i) in CHAPTER_ORDER.iter().enumerate() {
+            let row: Vec<f64> = (0..6).map(|j| jinv[(k, j)]).collect();
+            assert!(
+                close(&vec(&o["jinv"][i]), &row),
+                "jinv row of segment {}",
+                i + 1
+            );
+            for j in 0..6 {
+                let got = o["jacobian"][j][i].as_f64().unwrap();
+                assert!((got - jac[(j, k)]).abs() < 1e-9 * jac.amax().max(1.0));
+            }
+            let qdd =
+                r::joint_accelerations_conventional(robot.half_spacing, pose, twist, accel, i)
+                    .unwrap()[5];
+            assert!((o["qdd"][i].as_f64().unwrap() - qdd).abs() < 1e-9 * qdd.abs().max(1.0));
+        }
+    }
+}

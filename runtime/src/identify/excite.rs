@@ -1,0 +1,246 @@
+//! Exciting trajectories: a finite Fourier series in every pose coordinate, chosen to keep the
+//! condition number of the stacked base regressor low, inside a box of the workspace and away
+//! from the singular poses of eq 16.
+
+use super::Identifier;
+use crate::trajectory::Fourier;
+use crate::{Error, State, C5};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Where an exciting trajectory may go, and how fast.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Envelope {
+    /// Largest `|α|`, `|β|`, `|γ|` (rad).
+    pub angle: f64,
+    /// Largest `|xc|`, `|yc|`, `|zc|` (m).
+    pub center: f64,
+    /// Largest `|ω|` component (rad/s) and `|v_C|` component (m/s).
+    pub omega: f64,
+    pub velocity: f64,
+    /// Largest `|ω̇|` component (rad/s²) and `|a_C|` component (m/s²).
+    pub omega_dot: f64,
+    pub acceleration: f64,
+    /// Smallest `|r11|`, `|r22|`, `|r33|` (eq 16): the distance kept from singular poses.
+    pub divisor: f64,
+}
+
+impl Default for Envelope {
+    /// The ranges of Section 9 (orientation up to 20°, centre within 5 cm) with the rates of a
+    /// brisk test motion.
+    fn default() -> Self {
+        Envelope {
+            angle: 20f64.to_radians(),
+            center: 0.05,
+            omega: 1.0,
+            velocity: 0.2,
+            omega_dot: 4.0,
+            acceleration: 2.0,
+            divisor: 0.5,
+        }
+    }
+}
+
+/// How the search runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Search {
+    /// The period of the series (s).
+    pub period: f64,
+    /// Harmonics per coordinate.
+    pub harmonics: usize,
+    /// Samples per period the condition number is computed on.
+    pub samples: usize,
+    /// Candidate trajectories tried (half at random, half refining the best).
+    pub candidates: usize,
+    pub seed: u64,
+}
+
+impl Default for Search {
+    fn default() -> Self {
+        Search {
+            period: 10.0,
+            harmonics: 5,
+            samples: 500,
+            candidates: 400,
+            seed: 1,
+        }
+    }
+}
+
+/// An exciting trajectory and its condition number.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Excitation {
+    pub trajectory: Fourier,
+    /// Of the observation matrix over `Search::samples` samples of one period.
+    pub condition_number: f64,
+}
+
+/// The sample times of one period.
+fn times(search: &Search) -> impl Iterator<Item = f64> + '_ {
+    (0..search.samples).map(move |k| search.period * k as f64 / search.samples as f64)
+}
+
+/// The condition number of the base regressor stacked over `states` (infinite if a state is
+/// singular or a base parameter is not excited).
+///
+/// # Errors
+/// A state the robot refuses (non-finite or singular).
+pub fn condition_number(c5: &C5, states: impl IntoIterator<Item = State>) -> Result<f64, Error> {
+    let mut identifier = Identifier::new(c5);
+    for state in states {
+        identifier.add(&state, &[0.0; 6])?;
+    }
+    Ok(identifier.condition_number())
+}
+
+/// The largest ratio of a peak of `trajectory` (pose, rates, accelerations) to its limit.
+fn peak_ratio(trajectory: &Fourier, envelope: &Envelope, search: &Search) -> f64 {
+    let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    times(search)
+        .map(|t| {
+            let (x, _, _) = trajectory.pose_derivatives(t);
+            let s = trajectory.state(t);
+            [
+                largest(&x[..3]) / envelope.angle,
+                largest(&x[3..]) / envelope.center,
+                largest(&s.twist.omega) / envelope.omega,
+                largest(&s.twist.velocity) / envelope.velocity,
+                largest(&s.accel.omega_dot) / envelope.omega_dot,
+                largest(&s.accel.linear) / envelope.acceleration,
+            ]
+            .into_iter()
+            .fold(0.0, f64::max)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// `trajectory` scaled down (about its offset) to fit `envelope`'s box and rates; `None` if it
+/// then comes closer to a singular pose than `envelope.divisor`.
+fn fit(mut trajectory: Fourier, envelope: &Envelope, search: &Search) -> Option<Fourier> {
+    // The rates are nearly linear in the amplitude (the RPY maps and `Ė θ̇` bend them a
+    // little), so a few shrinks settle it.
+    for _ in 0..8 {
+        let ratio = peak_ratio(&trajectory, envelope, search);
+        if ratio <= 1.0 {
+            let clear = times(search).all(|t| {
+                let (x, _, _) = trajectory.pose_derivatives(t);
+                C5::singularity_terms(&crate::Pose::from_array(x))
+                    .is_ok_and(|r| r.iter().all(|d| d.abs() >= envelope.divisor))
+            });
+            return clear.then_some(trajectory);
+        }
+        let shrink = 0.999 / ratio;
+        for h in trajectory
+            .sine
+            .iter_mut()
+            .chain(trajectory.cosine.iter_mut())
+        {
+            h.iter_mut().for_each(|v| *v *= shrink);
+        }
+    }
+    None
+}
+
+fn score(c5: &C5, trajectory: &Fourier, search: &Search) -> f64 {
+    condition_number(c5, times(search).map(|t| trajectory.state(t))).unwrap_or(f64::INFINITY)
+}
+
+/// A random series, harmonic `l` with amplitude falling as `1/l` (smooth motion).
+fn random(rng: &mut ChaCha8Rng, envelope: &Envelope, search: &Search) -> Fourier {
+    let bounds = [
+        envelope.angle,
+        envelope.angle,
+        envelope.angle,
+        envelope.center,
+        envelope.center,
+        envelope.center,
+    ];
+    let mut harmonic = |l: usize| -> [f64; 6] {
+        core::array::from_fn(|k| bounds[k] * rng.gen_range(-1.0..1.0) / (l + 1) as f64)
+    };
+    let sine = (0..search.harmonics).map(&mut harmonic).collect();
+    let cosine = (0..search.harmonics).map(&mut harmonic).collect();
+    Fourier {
+        offset: [0.0; 6],
+        period: search.period,
+        sine,
+        cosine,
+    }
+}
+
+/// Searches for a series of low condition number within `envelope`: random candidates, then
+/// random perturbations of the best with a shrinking step.
+///
+/// # Errors
+/// [`DesignError::EmptySearch`] if `search` asks for no candidates, harmonics or samples, or a
+/// period that is not positive; [`DesignError::NothingFits`] if no candidate keeps clear of
+/// the singular poses.
+pub fn design(c5: &C5, envelope: &Envelope, search: &Search) -> Result<Excitation, DesignError> {
+    if search.candidates == 0
+        || search.harmonics == 0
+        || search.samples == 0
+        || !(search.period > 0.0 && search.period.is_finite())
+    {
+        return Err(DesignError::EmptySearch);
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(search.seed);
+    let mut best: Option<(Fourier, f64)> = None;
+    let mut step = 0.5;
+    for k in 0..search.candidates {
+        let candidate = match &best {
+            Some((b, _)) if k >= search.candidates / 2 => {
+                let mut c = b.clone();
+                for h in c.sine.iter_mut().chain(c.cosine.iter_mut()) {
+                    for (j, v) in h.iter_mut().enumerate() {
+                        let bound = if j < 3 {
+                            envelope.angle
+                        } else {
+                            envelope.center
+                        };
+                        *v += step * bound * rng.gen_range(-1.0..1.0) / search.harmonics as f64;
+                    }
+                }
+                step = (step * 0.995).max(0.02);
+                c
+            }
+            _ => random(&mut rng, envelope, search),
+        };
+        let Some(candidate) = fit(candidate, envelope, search) else {
+            continue;
+        };
+        let cond = score(c5, &candidate, search);
+        if best.as_ref().is_none_or(|(_, b)| cond < *b) {
+            best = Some((candidate, cond));
+        }
+    }
+    best.map(|(trajectory, condition_number)| Excitation {
+        trajectory,
+        condition_number,
+    })
+    .ok_or(DesignError::NothingFits)
+}
+
+/// Why no exciting trajectory was found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DesignError {
+    /// No candidates, harmonics or samples, or a period that is not positive and finite.
+    EmptySearch,
+    /// Every candidate came closer to a singular pose than the envelope allows.
+    NothingFits,
+}
+
+impl core::fmt::Display for DesignError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            DesignError::EmptySearch => {
+                "an excitation search needs candidates, harmonics, samples and a positive period"
+            }
+            DesignError::NothingFits => {
+                "no candidate trajectory keeps clear of the singular poses: widen the envelope's \
+                 divisor margin or shrink its box"
+            }
+        })
+    }
+}
+
+impl std::error::Error for DesignError {}

@@ -1,0 +1,35 @@
+//! The few elementary functions the runtime needs, from `std` or, without it, from `libm`.
+
+#[cfg(feature = "std")]
+mod imp {
+    pub fn sin_cos(x: f64) -> (f64, f64) {
+        x.sin_cos()
+    }
+    pub fn sqrt(x: f64) -> f64 {
+        x.sqrt()
+    }
+    pub fn atan2(y: f64, x: f64) -> f64 {
+        y.atan2(x)
+    }
+    pub fn asin(x: f64) -> f64 {
+        x.asin()
+    }
+}
+
+#[cfg(all(not(feature = "std"), feature = "libm"))]
+mod imp {
+    pub fn sin_cos(x: f64) -> (f64, f64) {
+        (libm::sin(x), libm::cos(x))
+    }
+    pub fn sqrt(x: f64) -> f64 {
+        libm::sqrt(x)
+    }
+    pub fn atan2(y: f64, x: f64) -> f64 {
+        libm::atan2(y, x)
+    }
+    pub fn asin(x: f64) -> f64 {
+        libm::asin(x)
+    }
+}
+
+pub use imp::*;

@@ -1,0 +1,128 @@
+//! The batch kernels compute, lane by lane, exactly what the single-state kernels compute:
+//! both models, both precisions, folded and with the robot's parameters as inputs.
+
+mod support;
+
+use c5_generated::{f32 as k32, f64 as k64};
+use c5_runtime::{Robot, State};
+use support::*;
+
+const BATCHES: usize = 2_500;
+
+/// Transposes states into structure-of-arrays form, `[element][lane]`.
+fn soa<const N: usize, T: Copy + Default>(rows: &[[T; 6]; N]) -> [[T; N]; 6] {
+    std::array::from_fn(|k| std::array::from_fn(|l| rows[l][k]))
+}
+
+macro_rules! check {
+    ($lanes:literal, $t:ty, $single:path, $batch:path, $args:expr $(, $p:expr)?) => {{
+        let states: [[[$t; 6]; 3]; $lanes] = $args;
+        let column = |j: usize| -> [[$t; 6]; $lanes] { std::array::from_fn(|l| states[l][j]) };
+        let (x, v, a) = (soa(&column(0)), soa(&column(1)), soa(&column(2)));
+        let (gamma, r) = $batch(&x, &v, &a $(, $p)?);
+        for l in 0..$lanes {
+            let s = &states[l];
+            let (g1, r1) = $single(&s[0], &s[1], &s[2] $(, $p)?);
+            for k in 0..6 {
+                assert_eq!(gamma[k][l].to_bits(), g1[k].to_bits(), "lane {l}, output {k}");
+            }
+            for k in 0..3 {
+                assert_eq!(r[k][l].to_bits(), r1[k].to_bits());
+            }
+        }
+    }};
+}
+
+fn state_arrays(s: &State) -> [[f64; 6]; 3] {
+    [s.pose.to_array(), s.twist.to_array(), s.accel.to_array()]
+}
+
+#[test]
+fn every_lane_of_the_f64_batch_kernels_is_the_single_state_kernel() {
+    let mut rng = rng(41);
+    for n in 0..BATCHES {
+        let robot = if n % 2 == 0 {
+            random_robot(&mut rng)
+        } else {
+            Robot::default()
+        };
+        let params: [f64; 152] = robot.kernel_parameters().try_into().unwrap();
+        let states: [[[f64; 6]; 3]; 4] =
+            std::array::from_fn(|_| state_arrays(&random_state(&mut rng)));
+        // Forces of the robot's size for the forward dynamics.
+        let forces: [[[f64; 6]; 3]; 4] = std::array::from_fn(|l| {
+            let mut s = states[l];
+            s[2] = s[2].map(|x| 30.0 * x);
+            s
+        });
+        check!(
+            4,
+            f64,
+            k64::consistent::inverse_dynamics,
+            k64::consistent::inverse_dynamics_x4,
+            states
+        );
+        check!(
+            4,
+            f64,
+            k64::paper::inverse_dynamics,
+            k64::paper::inverse_dynamics_x4,
+            states
+        );
+        check!(
+            4,
+            f64,
+            k64::consistent::inverse_dynamics_params,
+            k64::consistent::inverse_dynamics_params_x4,
+            states,
+            &params
+        );
+        check!(
+            4,
+            f64,
+            k64::paper::inverse_dynamics_params,
+            k64::paper::inverse_dynamics_params_x4,
+            states,
+            &params
+        );
+        check!(
+            4,
+            f64,
+            k64::consistent::forward_dynamics,
+            k64::consistent::forward_dynamics_x4,
+            forces
+        );
+        check!(
+            4,
+            f64,
+            k64::paper::forward_dynamics_params,
+            k64::paper::forward_dynamics_params_x4,
+            forces,
+            &params
+        );
+    }
+}
+
+#[test]
+fn every_lane_of_the_f32_batch_kernels_is_the_single_state_kernel() {
+    let mut rng = rng(42);
+    for _ in 0..BATCHES {
+        let states: [[[f32; 6]; 3]; 8] = std::array::from_fn(|_| {
+            state_arrays(&random_state(&mut rng)).map(|a| a.map(|x| x as f32))
+        });
+        check!(
+            8,
+            f32,
+            k32::consistent::inverse_dynamics,
+            k32::consistent::inverse_dynamics_x8,
+            states
+        );
+        check!(
+            8,
+            f32,
+            k32::paper::inverse_dynamics,
+            k32::paper::inverse_dynamics_x8,
+            states
+        );
+    }
+}

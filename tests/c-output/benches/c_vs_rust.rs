@@ -1,0 +1,100 @@
+//! The generated kernels in C (`gcc -O3 -march=native`) against the same kernels in Rust, and
+//! both against the SymPy baseline (`sympy/generate.py`, also `gcc -O3 -march=native`), in one
+//! run: `cargo bench -p c5-c-output-test`.
+
+use c5_c_output_test::native;
+use c5_generated::f64::{consistent, paper};
+use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use rand::{Rng, SeedableRng};
+
+type Inputs = ([f64; 6], [f64; 6], [f64; 6]);
+
+fn states() -> Vec<Inputs> {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(42);
+    let mut u = |b: f64| rng.gen_range(-b..=b);
+    (0..256)
+        .map(|_| {
+            (
+                [u(0.5), u(0.5), u(0.5), u(0.08), u(0.08), u(0.08)],
+                [u(1.0), u(1.0), u(1.0), u(0.5), u(0.5), u(0.5)],
+                [u(5.0), u(5.0), u(5.0), u(2.0), u(2.0), u(2.0)],
+            )
+        })
+        .collect()
+}
+
+fn inverse_dynamics(c: &mut Criterion) {
+    let s = states();
+    let mut g = c.benchmark_group("inverse_dynamics_c");
+    let mut i = 0;
+    g.bench_function("rust_consistent", |b| {
+        b.iter(|| {
+            i = (i + 1) % s.len();
+            let (x, v, a) = black_box(&s[i]);
+            consistent::inverse_dynamics(x, v, a).0
+        })
+    });
+    g.bench_function("c_consistent", |b| {
+        b.iter(|| {
+            i = (i + 1) % s.len();
+            let (x, v, a) = black_box(&s[i]);
+            let (mut gamma, mut r) = ([0.0; 6], [0.0; 3]);
+            unsafe {
+                native::native_consistent_inverse_dynamics(
+                    x.as_ptr(),
+                    v.as_ptr(),
+                    a.as_ptr(),
+                    gamma.as_mut_ptr(),
+                    r.as_mut_ptr(),
+                )
+            };
+            gamma
+        })
+    });
+    g.bench_function("rust_paper", |b| {
+        b.iter(|| {
+            i = (i + 1) % s.len();
+            let (x, v, a) = black_box(&s[i]);
+            paper::inverse_dynamics(x, v, a).0
+        })
+    });
+    g.bench_function("c_paper", |b| {
+        b.iter(|| {
+            i = (i + 1) % s.len();
+            let (x, v, a) = black_box(&s[i]);
+            let (mut gamma, mut r) = ([0.0; 6], [0.0; 3]);
+            unsafe {
+                native::native_paper_inverse_dynamics(
+                    x.as_ptr(),
+                    v.as_ptr(),
+                    a.as_ptr(),
+                    gamma.as_mut_ptr(),
+                    r.as_mut_ptr(),
+                )
+            };
+            gamma
+        })
+    });
+    for (name, kernel) in [
+        (
+            "sympy_consistent",
+            native::sympy_consistent_inverse_dynamics
+                as unsafe extern "C" fn(*const f64, *const f64, *const f64, *mut f64),
+        ),
+        ("sympy_paper", native::sympy_paper_inverse_dynamics),
+    ] {
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                i = (i + 1) % s.len();
+                let (x, v, a) = black_box(&s[i]);
+                let mut gamma = [0.0; 6];
+                unsafe { kernel(x.as_ptr(), v.as_ptr(), a.as_ptr(), gamma.as_mut_ptr()) };
+                gamma
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, inverse_dynamics);
+criterion_main!(benches);

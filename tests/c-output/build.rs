@@ -1,0 +1,207 @@
+//! Generates the C kernels of both models in both precisions for the default robot, compiles
+//! them with `-ffp-contract=off` (so they compute exactly what the Rust kernels compute) and,
+//! for the bench, once more with `-O3 -march=native`; writes the Rust FFI adapters the tests
+//! call.
+
+use c5_codegen::emit_c::Naming;
+use c5_codegen::kernel::Shape;
+use c5_codegen::model::kernels::{chapter_specs, specs};
+use c5_codegen::{Config, KernelSpec, Language, Model, ParameterSet, Robot, Scalar};
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+
+fn kernels(model: Model) -> Vec<KernelSpec> {
+    let mut all = match model {
+        Model::Paper => chapter_specs(),
+        Model::Consistent => Vec::new(),
+    };
+    all.extend(specs(model, &Robot::default(), &ParameterSet::None, "").unwrap());
+    all
+}
+
+fn generate(out: &Path, model: Model, scalar: Scalar, stem: &str, naming: &Naming) -> PathBuf {
+    let mut config = Config::new();
+    config
+        .model(model)
+        .scalar(scalar)
+        .language(Language::C)
+        .chapter_kernels(model == Model::Paper)
+        .c_naming(&naming.prefix, &naming.suffix)
+        .file_name(&format!("{stem}.c"))
+        .out_dir(out);
+    config.generate().unwrap();
+    out.join(format!("{stem}.c"))
+}
+
+fn rust_type(shape: Shape, ty: &str) -> String {
+    match shape {
+        Shape::Vector(n) => format!("[{ty}; {n}]"),
+        Shape::Matrix(r, c) => format!("[[{ty}; {c}]; {r}]"),
+    }
+}
+
+/// The adapters of one kernel: the C function and the Rust kernel, both as
+/// `fn(&[f64]) -> Vec<f64>` over the flattened inputs and outputs.
+fn adapters(out: &mut String, spec: &KernelSpec, model: Model, scalar: Scalar, naming: &Naming) {
+    let ty = scalar.name();
+    let c_name = naming.function(&spec.name);
+    let id = format!("{model}_{ty}_{}", spec.name);
+    let mut args = Vec::new();
+    let mut unpack = String::new();
+    let mut offset = 0;
+    for (k, a) in spec.inputs.iter().enumerate() {
+        let t = rust_type(a.shape, ty);
+        let _ = writeln!(
+            unpack,
+            "    let a{k}: {t} = unflat(&input[{offset}..{}]);",
+            offset + a.shape.len()
+        );
+        offset += a.shape.len();
+        args.push(format!("&a{k}"));
+    }
+    // The C prototype takes pointers to the first element (rows for matrices).
+    let c_params: Vec<String> = spec
+        .inputs
+        .iter()
+        .map(|a| match a.shape {
+            Shape::Vector(_) => format!("{}: *const {ty}", a.name),
+            Shape::Matrix(_, c) => format!("{}: *const [{ty}; {c}]", a.name),
+        })
+        .chain(spec.outputs.iter().map(|a| match a.shape {
+            Shape::Vector(_) => format!("{}: *mut {ty}", a.name),
+            Shape::Matrix(_, c) => format!("{}: *mut [{ty}; {c}]", a.name),
+        }))
+        .collect();
+    let _ = writeln!(
+        out,
+        "extern \"C\" {{ fn {c_name}({}); }}",
+        c_params.join(", ")
+    );
+    // C.
+    let _ = writeln!(out, "pub fn c_{id}(input: &[f64]) -> Vec<f64> {{\n{unpack}");
+    for (k, a) in spec.outputs.iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "    let mut o{k}: {} = Default::default();",
+            rust_type(a.shape, ty)
+        );
+    }
+    let mut call: Vec<String> = (0..spec.inputs.len())
+        .map(|k| format!("a{k}.as_ptr()"))
+        .collect();
+    call.extend((0..spec.outputs.len()).map(|k| format!("o{k}.as_mut_ptr()")));
+    let _ = writeln!(out, "    unsafe {{ {c_name}({}) }};", call.join(", "));
+    let _ = writeln!(out, "    let mut v = Vec::new();");
+    for k in 0..spec.outputs.len() {
+        let _ = writeln!(out, "    flat(&o{k}, &mut v);");
+    }
+    let _ = writeln!(out, "    v\n}}");
+    // Rust.
+    let _ = writeln!(
+        out,
+        "pub fn rust_{id}(input: &[f64]) -> Vec<f64> {{\n{unpack}"
+    );
+    let path = format!("c5_generated::{ty}::{model}::{}", spec.name);
+    let n = spec.outputs.len();
+    if n == 1 {
+        let _ = writeln!(out, "    let o0 = {path}({});", args.join(", "));
+    } else {
+        let names: Vec<String> = (0..n).map(|k| format!("o{k}")).collect();
+        let _ = writeln!(
+            out,
+            "    let ({}) = {path}({});",
+            names.join(", "),
+            args.join(", ")
+        );
+    }
+    let _ = writeln!(out, "    let mut v = Vec::new();");
+    for k in 0..n {
+        let _ = writeln!(out, "    flat(&o{k}, &mut v);");
+    }
+    let _ = writeln!(out, "    v\n}}");
+}
+
+fn main() {
+    let out = PathBuf::from(std::env::var("OUT_DIR").unwrap());
+    let mut sources = Vec::new();
+    let mut table = String::new();
+    let mut code = String::from(
+        "// Written by build.rs: FFI adapters of the C kernels and the Rust kernels.\n",
+    );
+    for model in Model::ALL {
+        for scalar in [Scalar::F64, Scalar::F32] {
+            let naming = Naming::standard(model, scalar);
+            let stem = format!("c5_{model}_{}", scalar.name());
+            let source = generate(&out, model, scalar, &stem, &naming);
+            // Every call is `= sin(…)` or `= cos(…)` (`sinf`, `cosf`) in the emitted code.
+            let text = std::fs::read_to_string(&source).unwrap();
+            let text = ["sin", "cos", "sinf", "cosf"].iter().fold(text, |t, f| {
+                t.replace(&format!("= {f}("), &format!("= c5_test_{f}("))
+            });
+            let text = text.replace(
+                "#include <math.h>",
+                "double c5_test_sin(double);\ndouble c5_test_cos(double);\n\
+                 float c5_test_sinf(float);\nfloat c5_test_cosf(float);",
+            );
+            std::fs::write(&source, text).unwrap();
+            sources.push(source);
+            for spec in kernels(model) {
+                adapters(&mut code, &spec, model, scalar, &naming);
+                let id = format!("{model}_{}_{}", scalar.name(), spec.name);
+                let inputs: Vec<String> = spec
+                    .inputs
+                    .iter()
+                    .map(|a| format!("{:?}", a.name))
+                    .collect();
+                let _ = writeln!(
+                    table,
+                    "    Kernel {{ model: {:?}, scalar: {:?}, name: {:?}, inputs: &[{}], c: c_{id}, rust: rust_{id} }},",
+                    model.name(),
+                    scalar.name(),
+                    spec.name,
+                    inputs.join(", ")
+                );
+            }
+        }
+    }
+    let _ = write!(code, "pub const KERNELS: &[Kernel] = &[\n{table}];\n");
+    std::fs::write(out.join("ffi.rs"), code).unwrap();
+    // The C kernels call the Rust kernels' own sine and cosine (src/lib.rs defines them), so
+    // what the test compares is the two programs, not two maths libraries.
+    cc::Build::new()
+        .files(&sources)
+        .include(&out)
+        .std("c99")
+        .opt_level(2)
+        .flag("-ffp-contract=off")
+        .warnings(true)
+        .extra_warnings(true)
+        .warnings_into_errors(true)
+        .compile("c5kernels");
+    // For the bench: the f64 kernels as a user would build them for speed.
+    let mut native = Vec::new();
+    for model in Model::ALL {
+        let naming = Naming {
+            prefix: format!("native_{model}_"),
+            suffix: String::new(),
+        };
+        native.push(generate(
+            &out,
+            model,
+            Scalar::F64,
+            &format!("native_{model}"),
+            &naming,
+        ));
+    }
+    // The baseline: the same inverse dynamics written with SymPy (sympy/generate.py).
+    native.extend(["sympy/sympy_consistent.c", "sympy/sympy_paper.c"].map(PathBuf::from));
+    cc::Build::new()
+        .files(&native)
+        .include(&out)
+        .std("c99")
+        .opt_level(3)
+        .flag("-march=native")
+        .compile("c5native");
+    println!("cargo:rerun-if-changed=build.rs");
+    println!("cargo:rerun-if-changed=sympy");
+}
