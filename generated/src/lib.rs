@@ -18,8 +18,10 @@
 //!
 //! `f32` (feature `f32`) holds the same kernels in single precision. With the feature `batch`,
 //! `inverse_dynamics` and `forward_dynamics` also come in batch form (`_x4` in `f64`, `_x8` in
-//! `f32`): several states at once, in structure-of-arrays form, each lane computing exactly what
-//! the single-state kernel computes. Trigonometry comes from the
+//! `f32`): several states at once, in structure-of-arrays form, each lane computing what the
+//! single-state kernel computes (`f32`: to the bit; `f64`: to 1e-15 of the largest output, as
+//! its lanes take sines and cosines from a vectorised routine within an ulp of the library's),
+//! in AVX2 instructions where the CPU has them (with `std`). Trigonometry comes from the
 //! standard library (`std`, the default) or from `libm` (feature `libm`, also without `std`; its
 //! `sincos` is twice as fast as the standard library's pair of calls). The files under `src/f64`,
 //! `src/f32`, `ops.json` and `OPS.md` are written by `cargo run -p c5-codegen -- generate`;
@@ -50,6 +52,9 @@
 //! ```
 
 #![cfg_attr(not(feature = "std"), no_std)]
+
+#[cfg(feature = "batch")]
+mod sincos;
 
 #[cfg(not(any(feature = "std", feature = "libm")))]
 compile_error!("c5-generated needs sin and cos: enable the `std` feature or the `libm` feature");
@@ -140,8 +145,9 @@ pub mod trig {
 }
 
 /// The lane types of the batch kernels: a value per state, every operation lane by lane (LLVM
-/// turns them into vector instructions), the elementary functions from [`trig`] lane by lane,
-/// so a lane computes exactly what the single-state kernel does.
+/// turns them into vector instructions) and rounded as in the single-state kernel; square
+/// roots and the `f32` sines and cosines from [`trig`] lane by lane, the `f64` sines and cosines
+/// four lanes at once.
 #[cfg(feature = "batch")]
 pub mod lanes {
     use core::ops::{Add, Div, Mul, Neg, Sub};
@@ -149,8 +155,10 @@ pub mod lanes {
     macro_rules! lanes {
         ($name:ident, $t:ty, $n:literal) => {
             #[doc = concat!("`", stringify!($n), "` values of `", stringify!($t), "`, one per state.")]
+            // Aligned to the vector width: the batch kernels keep one in memory so that LLVM
+            // aligns their frames, and with them the lane vectors they spill.
             #[derive(Clone, Copy, Debug, PartialEq)]
-            #[repr(transparent)]
+            #[repr(C, align(32))]
             pub struct $name(pub [$t; $n]);
 
             impl $name {
@@ -159,22 +167,13 @@ pub mod lanes {
                 pub fn splat(x: $t) -> Self {
                     $name([x; $n])
                 }
-                /// `(sin, cos)` lane by lane.
-                #[inline(always)]
-                pub fn sin_cos(self) -> (Self, Self) {
-                    let (mut s, mut c) = ([0.0; $n], [0.0; $n]);
-                    for l in 0..$n {
-                        (s[l], c[l]) = crate::trig::sin_cos(self.0[l]);
-                    }
-                    ($name(s), $name(c))
-                }
                 #[inline(always)]
                 pub fn sin(self) -> Self {
-                    $name(self.0.map(crate::trig::sin))
+                    self.sin_cos().0
                 }
                 #[inline(always)]
                 pub fn cos(self) -> Self {
-                    $name(self.0.map(crate::trig::cos))
+                    self.sin_cos().1
                 }
                 #[inline(always)]
                 pub fn sqrt(self) -> Self {
@@ -213,6 +212,29 @@ pub mod lanes {
 
     lanes!(F64x4, f64, 4);
     lanes!(F32x8, f32, 8);
+
+    impl F64x4 {
+        /// `(sin, cos)` of the four lanes at once, in vector instructions (fdlibm's algorithm,
+        /// branch-free): each within one unit in the last place of the library's
+        /// [`crate::trig::sin_cos`], which answers for arguments beyond 64 rad.
+        #[inline(always)]
+        pub fn sin_cos(self) -> (Self, Self) {
+            let (s, c) = crate::sincos::sin_cos_lanes(self.0);
+            (F64x4(s), F64x4(c))
+        }
+    }
+
+    impl F32x8 {
+        /// `(sin, cos)` lane by lane, the library's.
+        #[inline(always)]
+        pub fn sin_cos(self) -> (Self, Self) {
+            let (mut s, mut c) = ([0.0; 8], [0.0; 8]);
+            for l in 0..8 {
+                (s[l], c[l]) = crate::trig::sin_cos(self.0[l]);
+            }
+            (F32x8(s), F32x8(c))
+        }
+    }
 }
 
 /// Kernels in `f64`, one module per model.

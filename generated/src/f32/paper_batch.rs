@@ -34,9 +34,30 @@
 //   inverse_dynamics_params            560    5   493    1  3 sin_cos
 //   leg_joint_accelerations_params      70    4    52    0  3 sin_cos
 
-/// The batch version of [`forward_dynamics`]: 8 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `forward_dynamics` computes. Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
+/// The batch version of [`forward_dynamics`]: 8 states at once, one lane each (`pose[k][lane]`), each lane computing what `forward_dynamics` computes (to the bit). Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
 #[inline]
 pub fn forward_dynamics_x8(
+    pose: &[[f32; 8]; 6],
+    twist: &[[f32; 8]; 6],
+    forces: &[[f32; 8]; 6],
+) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
+    #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
+    if std::is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        fn avx2(
+            pose: &[[f32; 8]; 6],
+            twist: &[[f32; 8]; 6],
+            forces: &[[f32; 8]; 6],
+        ) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
+            core::hint::black_box(&F32x8::splat(0.0));
+            forward_dynamics_x8_lanes(pose, twist, forces)
+        }
+        return unsafe { avx2(pose, twist, forces) };
+    }
+    forward_dynamics_x8_lanes(pose, twist, forces)
+}
+#[inline(always)]
+fn forward_dynamics_x8_lanes(
     pose: &[[f32; 8]; 6],
     twist: &[[f32; 8]; 6],
     forces: &[[f32; 8]; 6],
@@ -829,9 +850,30 @@ pub fn forward_dynamics_x8(
         [(t767).0, (t19).0, (t583).0],
     )
 }
-/// The batch version of [`inverse_dynamics`]: 8 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `inverse_dynamics` computes. Inverse dynamics end to end: actuator forces `Γ` from the platform state.
+/// The batch version of [`inverse_dynamics`]: 8 states at once, one lane each (`pose[k][lane]`), each lane computing what `inverse_dynamics` computes (to the bit). Inverse dynamics end to end: actuator forces `Γ` from the platform state.
 #[inline]
 pub fn inverse_dynamics_x8(
+    pose: &[[f32; 8]; 6],
+    twist: &[[f32; 8]; 6],
+    accel: &[[f32; 8]; 6],
+) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
+    #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
+    if std::is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        fn avx2(
+            pose: &[[f32; 8]; 6],
+            twist: &[[f32; 8]; 6],
+            accel: &[[f32; 8]; 6],
+        ) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
+            core::hint::black_box(&F32x8::splat(0.0));
+            inverse_dynamics_x8_lanes(pose, twist, accel)
+        }
+        return unsafe { avx2(pose, twist, accel) };
+    }
+    inverse_dynamics_x8_lanes(pose, twist, accel)
+}
+#[inline(always)]
+fn inverse_dynamics_x8_lanes(
     pose: &[[f32; 8]; 6],
     twist: &[[f32; 8]; 6],
     accel: &[[f32; 8]; 6],
@@ -1444,9 +1486,32 @@ pub fn inverse_dynamics_x8(
         [(t504).0, (t59).0, (t420).0],
     )
 }
-/// The batch version of [`forward_dynamics_params`]: 8 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `forward_dynamics_params` computes. Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
+/// The batch version of [`forward_dynamics_params`]: 8 states at once, one lane each (`pose[k][lane]`), each lane computing what `forward_dynamics_params` computes (to the bit). Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
 #[inline]
 pub fn forward_dynamics_params_x8(
+    pose: &[[f32; 8]; 6],
+    twist: &[[f32; 8]; 6],
+    forces: &[[f32; 8]; 6],
+    params: &[f32; 152],
+) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
+    #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
+    if std::is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        fn avx2(
+            pose: &[[f32; 8]; 6],
+            twist: &[[f32; 8]; 6],
+            forces: &[[f32; 8]; 6],
+            params: &[f32; 152],
+        ) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
+            core::hint::black_box(&F32x8::splat(0.0));
+            forward_dynamics_params_x8_lanes(pose, twist, forces, params)
+        }
+        return unsafe { avx2(pose, twist, forces, params) };
+    }
+    forward_dynamics_params_x8_lanes(pose, twist, forces, params)
+}
+#[inline(always)]
+fn forward_dynamics_params_x8_lanes(
     pose: &[[f32; 8]; 6],
     twist: &[[f32; 8]; 6],
     forces: &[[f32; 8]; 6],
@@ -2847,9 +2912,32 @@ pub fn forward_dynamics_params_x8(
         [(t1294).0, (t42).0, (t443).0],
     )
 }
-/// The batch version of [`inverse_dynamics_params`]: 8 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `inverse_dynamics_params` computes. Inverse dynamics end to end: actuator forces `Γ` from the platform state.
+/// The batch version of [`inverse_dynamics_params`]: 8 states at once, one lane each (`pose[k][lane]`), each lane computing what `inverse_dynamics_params` computes (to the bit). Inverse dynamics end to end: actuator forces `Γ` from the platform state.
 #[inline]
 pub fn inverse_dynamics_params_x8(
+    pose: &[[f32; 8]; 6],
+    twist: &[[f32; 8]; 6],
+    accel: &[[f32; 8]; 6],
+    params: &[f32; 152],
+) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
+    #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
+    if std::is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        fn avx2(
+            pose: &[[f32; 8]; 6],
+            twist: &[[f32; 8]; 6],
+            accel: &[[f32; 8]; 6],
+            params: &[f32; 152],
+        ) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
+            core::hint::black_box(&F32x8::splat(0.0));
+            inverse_dynamics_params_x8_lanes(pose, twist, accel, params)
+        }
+        return unsafe { avx2(pose, twist, accel, params) };
+    }
+    inverse_dynamics_params_x8_lanes(pose, twist, accel, params)
+}
+#[inline(always)]
+fn inverse_dynamics_params_x8_lanes(
     pose: &[[f32; 8]; 6],
     twist: &[[f32; 8]; 6],
     accel: &[[f32; 8]; 6],

@@ -26,9 +26,30 @@
 //   forward_dynamics_params           1371   13   912    7  3 sin_cos
 //   inverse_dynamics_params            474    5   404    3  3 sin_cos
 
-/// The batch version of [`forward_dynamics`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `forward_dynamics` computes. Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
+/// The batch version of [`forward_dynamics`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing what `forward_dynamics` computes (to an ulp of its sines and cosines). Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
 #[inline]
 pub fn forward_dynamics_x4(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    forces: &[[f64; 4]; 6],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
+    if std::is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        fn avx2(
+            pose: &[[f64; 4]; 6],
+            twist: &[[f64; 4]; 6],
+            forces: &[[f64; 4]; 6],
+        ) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+            core::hint::black_box(&F64x4::splat(0.0));
+            forward_dynamics_x4_lanes(pose, twist, forces)
+        }
+        return unsafe { avx2(pose, twist, forces) };
+    }
+    forward_dynamics_x4_lanes(pose, twist, forces)
+}
+#[inline(always)]
+fn forward_dynamics_x4_lanes(
     pose: &[[f64; 4]; 6],
     twist: &[[f64; 4]; 6],
     forces: &[[f64; 4]; 6],
@@ -1171,9 +1192,30 @@ pub fn forward_dynamics_x4(
         [(t133).0, (t47).0, (t78).0],
     )
 }
-/// The batch version of [`inverse_dynamics`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `inverse_dynamics` computes. Inverse dynamics end to end: actuator forces `Γ` from the platform state.
+/// The batch version of [`inverse_dynamics`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing what `inverse_dynamics` computes (to an ulp of its sines and cosines). Inverse dynamics end to end: actuator forces `Γ` from the platform state.
 #[inline]
 pub fn inverse_dynamics_x4(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    accel: &[[f64; 4]; 6],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
+    if std::is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        fn avx2(
+            pose: &[[f64; 4]; 6],
+            twist: &[[f64; 4]; 6],
+            accel: &[[f64; 4]; 6],
+        ) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+            core::hint::black_box(&F64x4::splat(0.0));
+            inverse_dynamics_x4_lanes(pose, twist, accel)
+        }
+        return unsafe { avx2(pose, twist, accel) };
+    }
+    inverse_dynamics_x4_lanes(pose, twist, accel)
+}
+#[inline(always)]
+fn inverse_dynamics_x4_lanes(
     pose: &[[f64; 4]; 6],
     twist: &[[f64; 4]; 6],
     accel: &[[f64; 4]; 6],
@@ -1627,9 +1669,32 @@ pub fn inverse_dynamics_x4(
         [(t171).0, (t33).0, (t25).0],
     )
 }
-/// The batch version of [`forward_dynamics_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `forward_dynamics_params` computes. Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
+/// The batch version of [`forward_dynamics_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing what `forward_dynamics_params` computes (to an ulp of its sines and cosines). Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
 #[inline]
 pub fn forward_dynamics_params_x4(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    forces: &[[f64; 4]; 6],
+    params: &[f64; 152],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
+    if std::is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        fn avx2(
+            pose: &[[f64; 4]; 6],
+            twist: &[[f64; 4]; 6],
+            forces: &[[f64; 4]; 6],
+            params: &[f64; 152],
+        ) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+            core::hint::black_box(&F64x4::splat(0.0));
+            forward_dynamics_params_x4_lanes(pose, twist, forces, params)
+        }
+        return unsafe { avx2(pose, twist, forces, params) };
+    }
+    forward_dynamics_params_x4_lanes(pose, twist, forces, params)
+}
+#[inline(always)]
+fn forward_dynamics_params_x4_lanes(
     pose: &[[f64; 4]; 6],
     twist: &[[f64; 4]; 6],
     forces: &[[f64; 4]; 6],
@@ -4044,9 +4109,32 @@ pub fn forward_dynamics_params_x4(
         [(t209).0, (t48).0, (t122).0],
     )
 }
-/// The batch version of [`inverse_dynamics_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `inverse_dynamics_params` computes. Inverse dynamics end to end: actuator forces `Γ` from the platform state.
+/// The batch version of [`inverse_dynamics_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing what `inverse_dynamics_params` computes (to an ulp of its sines and cosines). Inverse dynamics end to end: actuator forces `Γ` from the platform state.
 #[inline]
 pub fn inverse_dynamics_params_x4(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    accel: &[[f64; 4]; 6],
+    params: &[f64; 152],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
+    if std::is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        fn avx2(
+            pose: &[[f64; 4]; 6],
+            twist: &[[f64; 4]; 6],
+            accel: &[[f64; 4]; 6],
+            params: &[f64; 152],
+        ) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+            core::hint::black_box(&F64x4::splat(0.0));
+            inverse_dynamics_params_x4_lanes(pose, twist, accel, params)
+        }
+        return unsafe { avx2(pose, twist, accel, params) };
+    }
+    inverse_dynamics_params_x4_lanes(pose, twist, accel, params)
+}
+#[inline(always)]
+fn inverse_dynamics_params_x4_lanes(
     pose: &[[f64; 4]; 6],
     twist: &[[f64; 4]; 6],
     accel: &[[f64; 4]; 6],
