@@ -276,8 +276,7 @@ pub fn lane_type(scalar: Scalar) -> (&'static str, usize) {
 
 /// Emits a kernel's batch version, `{name}_x{lanes}`: the same program run on several states at
 /// once, one lane each, in structure-of-arrays form (`pose[k][lane]`). Robot parameters stay
-/// scalars. Every lane rounds every operation as the single-state kernel does; only the lane
-/// type's elementary functions may differ from the library's (see `c5-generated`'s `lanes`).
+/// scalars. Every lane computes exactly what the single-state kernel computes.
 ///
 /// # Errors
 /// A kernel with a matrix input or output (batch kernels take and give vectors).
@@ -406,14 +405,8 @@ pub fn emit_batch_kernel(
     };
     let doc = format!(
         " The batch version of [`{}`]: {lanes} states at once, one lane each (`pose[k][lane]`), \
-         each lane computing what `{}` computes ({}). {}",
-        spec.name,
-        spec.name,
-        match scalar {
-            Scalar::F64 => "to an ulp of its sines and cosines",
-            Scalar::F32 => "to the bit",
-        },
-        spec.title
+         each lane computing exactly what `{}` computes. {}",
+        spec.name, spec.name, spec.title
     );
     let name = ident(&format!("{}_x{lanes}", spec.name));
     let portable = ident(&format!("{}_x{lanes}_lanes", spec.name));

@@ -221,13 +221,13 @@ fn emit_function(
 
 /// The sine and cosine of one argument for the `double` kernels. Within `π/4` (where the
 /// robot's angles mostly are) fdlibm's kernel polynomials inline, exactly what musl's `sincos`
-/// (and the `libm` crate the Rust kernels call) computes there; outside, the C library's `sin`
+/// and the Rust kernels (`c5_generated::quarter`) compute there; outside, the C library's `sin`
 /// and `cos`. The C library's own `sincos`, which compilers call for a `sin`-`cos` pair, cost
 /// glibc twice the time of the `libm` crate's on this project's machine (30 against 14 ns for
 /// the kernels' three pairs), about the whole gap there was between the C and the Rust kernels.
 const SIN_COS: &str = r#"
 /* sin x and cos x: fdlibm's kernels within pi/4, as musl's sincos computes them there (and the
- * Rust kernels, through the libm crate); the C library's sin and cos outside. */
+ * Rust kernels); the C library's sin and cos outside. */
 static inline void c5_sin_cos(double x, double *s, double *c)
 {
     if (fabs(x) <= 0.78539816339744830962) {
@@ -239,7 +239,7 @@ static inline void c5_sin_cos(double x, double *s, double *c)
             + z * 2.48015872894767294178e-05)) + w * w * (-2.75573143513906633035e-07
             + z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11));
         const double hz = 0.5 * z, one_minus_hz = 1.0 - hz;
-        *s = x + z * x * (-1.66666666666666324348e-01 + z * rs);
+        *s = z == 0.0 ? x : x + z * x * (-1.66666666666666324348e-01 + z * rs);
         *c = one_minus_hz + (((1.0 - one_minus_hz) - hz) + z * rc);
     } else {
         *s = sin(x);

@@ -18,10 +18,8 @@
 //!
 //! `f32` (feature `f32`) holds the same kernels in single precision. With the feature `batch`,
 //! `inverse_dynamics` and `forward_dynamics` also come in batch form (`_x4` in `f64`, `_x8` in
-//! `f32`): several states at once, in structure-of-arrays form, each lane computing what the
-//! single-state kernel computes (`f32`: to the bit; `f64`: to 1e-15 of the largest output, as
-//! its lanes take sines and cosines from a vectorised routine within an ulp of the library's),
-//! in AVX2 instructions where the CPU has them (with `std`). Trigonometry comes from the
+//! `f32`): several states at once, in structure-of-arrays form, each lane computing exactly what
+//! the single-state kernel computes, in AVX2 instructions where the CPU has them (with `std`). Trigonometry comes from the
 //! standard library (`std`, the default) or from `libm` (feature `libm`, also without `std`; its
 //! `sincos` is twice as fast as the standard library's pair of calls). The files under `src/f64`,
 //! `src/f32`, `ops.json` and `OPS.md` are written by `cargo run -p c5-codegen -- generate`;
@@ -53,6 +51,7 @@
 
 #![cfg_attr(not(feature = "std"), no_std)]
 
+pub mod quarter;
 #[cfg(feature = "batch")]
 mod sincos;
 
@@ -61,8 +60,9 @@ compile_error!("c5-generated needs sin and cos: enable the `std` feature or the 
 
 /// The elementary functions the kernels call: from `libm` when its feature is on (its `sincos`
 /// computes a sine and a cosine in about the time the standard library takes for one of them),
-/// else from the standard library. Public so that code compiled elsewhere (the C output, in its
-/// test) can use exactly the same ones.
+/// else from the standard library; except the `f64` sine-cosine pair within `π/4`, inline
+/// ([`crate::quarter`], equal to `libm::sincos` there bit for bit). Public so that code compiled
+/// elsewhere (the C output, in its test) can use exactly the same ones.
 pub mod trig {
     /// `f64` and `f32`.
     pub trait Elementary: Copy {
@@ -93,7 +93,7 @@ pub mod trig {
                 #[cfg(feature = "libm")]
                 #[inline(always)]
                 fn sin_cos_(self) -> (Self, Self) {
-                    libm::$sincos(self)
+                    $sincos(self)
                 }
                 #[cfg(not(feature = "libm"))]
                 #[inline(always)]
@@ -113,14 +113,49 @@ pub mod trig {
                 #[cfg(not(feature = "libm"))]
                 #[inline(always)]
                 fn sin_cos_(self) -> (Self, Self) {
-                    self.sin_cos()
+                    $sincos(self)
                 }
             }
         };
     }
 
-    elementary!(f64, sin, cos, sqrt, sincos);
-    elementary!(f32, sinf, cosf, sqrtf, sincosf);
+    elementary!(f64, sin, cos, sqrt, sin_cos_f64);
+
+    /// `(sin x, cos x)` of `f64`: inline within `π/4` ([`crate::quarter`]), the library's beyond.
+    #[inline(always)]
+    fn sin_cos_f64(x: f64) -> (f64, f64) {
+        if x.abs() <= crate::quarter::RANGE {
+            crate::quarter::sin_cos(x)
+        } else {
+            beyond_a_quarter_turn(x)
+        }
+    }
+
+    #[cfg(feature = "libm")]
+    #[inline(never)]
+    fn beyond_a_quarter_turn(x: f64) -> (f64, f64) {
+        libm::sincos(x)
+    }
+
+    #[cfg(not(feature = "libm"))]
+    #[inline(never)]
+    fn beyond_a_quarter_turn(x: f64) -> (f64, f64) {
+        x.sin_cos()
+    }
+
+    elementary!(f32, sinf, cosf, sqrtf, sin_cos_f32);
+
+    #[cfg(feature = "libm")]
+    #[inline(always)]
+    fn sin_cos_f32(x: f32) -> (f32, f32) {
+        libm::sincosf(x)
+    }
+
+    #[cfg(not(feature = "libm"))]
+    #[inline(always)]
+    fn sin_cos_f32(x: f32) -> (f32, f32) {
+        x.sin_cos()
+    }
 
     /// `sin x`.
     #[inline(always)]
@@ -145,9 +180,9 @@ pub mod trig {
 }
 
 /// The lane types of the batch kernels: a value per state, every operation lane by lane (LLVM
-/// turns them into vector instructions) and rounded as in the single-state kernel; square
-/// roots and the `f32` sines and cosines from [`trig`] lane by lane, the `f64` sines and cosines
-/// four lanes at once.
+/// turns them into vector instructions) and rounded as in the single-state kernel, the
+/// elementary functions those of [`trig`] (the `f64` sine-cosine pairs within a quarter turn
+/// four lanes at once), so a lane computes exactly what the single-state kernel does.
 #[cfg(feature = "batch")]
 pub mod lanes {
     use core::ops::{Add, Div, Mul, Neg, Sub};
@@ -169,11 +204,11 @@ pub mod lanes {
                 }
                 #[inline(always)]
                 pub fn sin(self) -> Self {
-                    self.sin_cos().0
+                    $name(self.0.map(crate::trig::sin))
                 }
                 #[inline(always)]
                 pub fn cos(self) -> Self {
-                    self.sin_cos().1
+                    $name(self.0.map(crate::trig::cos))
                 }
                 #[inline(always)]
                 pub fn sqrt(self) -> Self {
@@ -214,9 +249,8 @@ pub mod lanes {
     lanes!(F32x8, f32, 8);
 
     impl F64x4 {
-        /// `(sin, cos)` of the four lanes at once, in vector instructions (fdlibm's algorithm,
-        /// branch-free): each within one unit in the last place of the library's
-        /// [`crate::trig::sin_cos`], which answers for arguments beyond 64 rad.
+        /// `(sin, cos)` of the four lanes, each equal to [`crate::trig::sin_cos`] of it; in
+        /// vector instructions when all four are within a quarter turn.
         #[inline(always)]
         pub fn sin_cos(self) -> (Self, Self) {
             let (s, c) = crate::sincos::sin_cos_lanes(self.0);

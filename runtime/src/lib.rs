@@ -342,8 +342,7 @@ impl C5 {
     }
 
     /// Actuator forces `Γ` of many states, four at a time through the batch kernels (each lane
-    /// computes what [`C5::inverse_dynamics`] computes, to 1e-15 of the largest force: the
-    /// lanes' sines and cosines are within an ulp of the library's), with the same checks.
+    /// computes exactly what [`C5::inverse_dynamics`] computes), with the same checks.
     ///
     /// # Errors
     /// The index of the first refused state, and why (non-finite inputs, a singular pose, or a

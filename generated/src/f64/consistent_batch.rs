@@ -26,7 +26,7 @@
 //   forward_dynamics_params           1371   13   912    7  3 sin_cos
 //   inverse_dynamics_params            474    5   404    3  3 sin_cos
 
-/// The batch version of [`forward_dynamics`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing what `forward_dynamics` computes (to an ulp of its sines and cosines). Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
+/// The batch version of [`forward_dynamics`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `forward_dynamics` computes. Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
 #[inline]
 pub fn forward_dynamics_x4(
     pose: &[[f64; 4]; 6],
@@ -1192,7 +1192,7 @@ fn forward_dynamics_x4_lanes(
         [(t133).0, (t47).0, (t78).0],
     )
 }
-/// The batch version of [`inverse_dynamics`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing what `inverse_dynamics` computes (to an ulp of its sines and cosines). Inverse dynamics end to end: actuator forces `Γ` from the platform state.
+/// The batch version of [`inverse_dynamics`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `inverse_dynamics` computes. Inverse dynamics end to end: actuator forces `Γ` from the platform state.
 #[inline]
 pub fn inverse_dynamics_x4(
     pose: &[[f64; 4]; 6],
@@ -1669,7 +1669,7 @@ fn inverse_dynamics_x4_lanes(
         [(t171).0, (t33).0, (t25).0],
     )
 }
-/// The batch version of [`forward_dynamics_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing what `forward_dynamics_params` computes (to an ulp of its sines and cosines). Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
+/// The batch version of [`forward_dynamics_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `forward_dynamics_params` computes. Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
 #[inline]
 pub fn forward_dynamics_params_x4(
     pose: &[[f64; 4]; 6],
@@ -4109,7 +4109,7 @@ fn forward_dynamics_params_x4_lanes(
         [(t209).0, (t48).0, (t122).0],
     )
 }
-/// The batch version of [`inverse_dynamics_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing what `inverse_dynamics_params` computes (to an ulp of its sines and cosines). Inverse dynamics end to end: actuator forces `Γ` from the platform state.
+/// The batch version of [`inverse_dynamics_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `inverse_dynamics_params` computes. Inverse dynamics end to end: actuator forces `Γ` from the platform state.
 #[inline]
 pub fn inverse_dynamics_params_x4(
     pose: &[[f64; 4]; 6],

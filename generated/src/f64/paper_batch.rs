@@ -34,7 +34,7 @@
 //   inverse_dynamics_params            560    5   493    1  3 sin_cos
 //   leg_joint_accelerations_params      70    4    52    0  3 sin_cos
 
-/// The batch version of [`forward_dynamics`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing what `forward_dynamics` computes (to an ulp of its sines and cosines). Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
+/// The batch version of [`forward_dynamics`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `forward_dynamics` computes. Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
 #[inline]
 pub fn forward_dynamics_x4(
     pose: &[[f64; 4]; 6],
@@ -850,7 +850,7 @@ fn forward_dynamics_x4_lanes(
         [(t767).0, (t19).0, (t583).0],
     )
 }
-/// The batch version of [`inverse_dynamics`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing what `inverse_dynamics` computes (to an ulp of its sines and cosines). Inverse dynamics end to end: actuator forces `Γ` from the platform state.
+/// The batch version of [`inverse_dynamics`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `inverse_dynamics` computes. Inverse dynamics end to end: actuator forces `Γ` from the platform state.
 #[inline]
 pub fn inverse_dynamics_x4(
     pose: &[[f64; 4]; 6],
@@ -1486,7 +1486,7 @@ fn inverse_dynamics_x4_lanes(
         [(t504).0, (t59).0, (t420).0],
     )
 }
-/// The batch version of [`forward_dynamics_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing what `forward_dynamics_params` computes (to an ulp of its sines and cosines). Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
+/// The batch version of [`forward_dynamics_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `forward_dynamics_params` computes. Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
 #[inline]
 pub fn forward_dynamics_params_x4(
     pose: &[[f64; 4]; 6],
@@ -2912,7 +2912,7 @@ fn forward_dynamics_params_x4_lanes(
         [(t1294).0, (t42).0, (t443).0],
     )
 }
-/// The batch version of [`inverse_dynamics_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing what `inverse_dynamics_params` computes (to an ulp of its sines and cosines). Inverse dynamics end to end: actuator forces `Γ` from the platform state.
+/// The batch version of [`inverse_dynamics_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `inverse_dynamics_params` computes. Inverse dynamics end to end: actuator forces `Γ` from the platform state.
 #[inline]
 pub fn inverse_dynamics_params_x4(
     pose: &[[f64; 4]; 6],
