@@ -19,9 +19,10 @@
 //! `f32` (feature `f32`) holds the same kernels in single precision. With the feature `batch`,
 //! `inverse_dynamics` and `forward_dynamics` also come in batch form (`_x4` in `f64`, `_x8` in
 //! `f32`): several states at once, in structure-of-arrays form, each lane computing exactly what
-//! the single-state kernel computes, in AVX2 instructions where the CPU has them (with `std`). Trigonometry comes from the
-//! standard library (`std`, the default) or from `libm` (feature `libm`, also without `std`; its
-//! `sincos` is twice as fast as the standard library's pair of calls). The files under `src/f64`,
+//! the single-state kernel computes, in AVX2 instructions where the CPU has them (with `std`).
+//! Trigonometry comes from the standard library (`std`, the default) or from `libm` (feature
+//! `libm`, also without `std`; its `sincos` is twice as fast as the standard library's pair of
+//! calls); an `f64` sine-cosine pair within a quarter turn is computed inline (`quarter`). The files under `src/f64`,
 //! `src/f32`, `ops.json` and `OPS.md` are written by `cargo run -p c5-codegen -- generate`;
 //! a test fails when they are stale.
 //!
@@ -253,8 +254,7 @@ pub mod lanes {
         /// vector instructions when all four are within a quarter turn.
         #[inline(always)]
         pub fn sin_cos(self) -> (Self, Self) {
-            let (s, c) = crate::sincos::sin_cos_lanes(self.0);
-            (F64x4(s), F64x4(c))
+            crate::sincos::sin_cos_lanes(self)
         }
     }
 

@@ -7,62 +7,44 @@
 //! `π/4`) was tried and dropped: one ulp of a sine, amplified by the conditioning of a pose near
 //! a singularity, moved forward-dynamics results by up to 1.5e-9 of their size.
 
+use crate::lanes::F64x4;
 use crate::quarter::{self, Arith};
 
-/// `N` lanes of `f64`, every operation lane by lane (LLVM turns them into vector instructions).
-#[derive(Clone, Copy)]
-pub(crate) struct Wide<const N: usize>(pub [f64; N]);
-
-macro_rules! lane_op {
-    ($trait:ident, $method:ident, $op:tt) => {
-        impl<const N: usize> core::ops::$trait for Wide<N> {
-            type Output = Self;
-            #[inline(always)]
-            fn $method(self, rhs: Self) -> Self {
-                Wide(core::array::from_fn(|l| self.0[l] $op rhs.0[l]))
-            }
-        }
-    };
-}
-lane_op!(Add, add, +);
-lane_op!(Sub, sub, -);
-lane_op!(Mul, mul, *);
-
-impl<const N: usize> Arith for Wide<N> {
+impl Arith for F64x4 {
     #[inline(always)]
     fn splat(x: f64) -> Self {
-        Wide([x; N])
+        F64x4::splat(x)
     }
     #[inline(always)]
     fn where_zero(z: Self, a: Self, b: Self) -> Self {
-        Wide(core::array::from_fn(|l| {
+        F64x4(core::array::from_fn(|l| {
             f64::where_zero(z.0[l], a.0[l], b.0[l])
         }))
     }
 }
 
-/// `(sin x, cos x)` of `N` values at once, each lane equal to [`crate::trig::sin_cos`] of it.
+/// `(sin x, cos x)` of four values at once, each lane equal to [`crate::trig::sin_cos`] of it.
 #[inline(always)]
-pub fn sin_cos_lanes<const N: usize>(x: [f64; N]) -> ([f64; N], [f64; N]) {
+pub fn sin_cos_lanes(x: F64x4) -> (F64x4, F64x4) {
     // `&` rather than `&&`: one vector comparison, no branch per lane.
-    if x.iter()
+    if x.0
+        .iter()
         .fold(true, |all, v| all & (v.abs() <= quarter::RANGE))
     {
-        let (s, c) = quarter::kernel(Wide(x));
-        (s.0, c.0)
+        quarter::kernel(x)
     } else {
         lane_by_lane(x)
     }
 }
 
 #[inline(never)]
-fn lane_by_lane<const N: usize>(x: [f64; N]) -> ([f64; N], [f64; N]) {
-    let mut s = [0.0; N];
-    let mut c = [0.0; N];
-    for l in 0..N {
-        (s[l], c[l]) = crate::trig::sin_cos(x[l]);
+fn lane_by_lane(x: F64x4) -> (F64x4, F64x4) {
+    let mut s = [0.0; 4];
+    let mut c = [0.0; 4];
+    for l in 0..4 {
+        (s[l], c[l]) = crate::trig::sin_cos(x.0[l]);
     }
-    (s, c)
+    (F64x4(s), F64x4(c))
 }
 
 #[cfg(test)]
@@ -77,10 +59,13 @@ mod tests {
             [0.3, -2.0, 0.7, 63.9],
             [1e6, f64::NAN, 0.0, f64::INFINITY],
         ] {
-            let (s, c) = sin_cos_lanes(xs);
+            let (s, c) = sin_cos_lanes(F64x4(xs));
             for l in 0..4 {
                 let one = crate::trig::sin_cos(xs[l]);
-                assert!(same(s[l], one.0) && same(c[l], one.1), "{xs:?}, lane {l}");
+                assert!(
+                    same(s.0[l], one.0) && same(c.0[l], one.1),
+                    "{xs:?}, lane {l}"
+                );
             }
         }
     }
