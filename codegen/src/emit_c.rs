@@ -3,12 +3,15 @@
 //! (with floating-point contraction off: `-ffp-contract=off`).
 //!
 //! Each kernel is a `void` function with `const` fixed-size array inputs and its outputs
-//! through arrays the caller provides; only `<math.h>`, no allocation, no global state.
+//! through arrays the caller provides; only `<math.h>`, no allocation, no global state. The
+//! instructions come in [`schedule`]'s order (GCC runs them in the order it reads them), the
+//! same instructions as the Rust kernel's.
 
 use crate::dag::Func;
 use crate::emit::{kernel_doc, Scalar};
 use crate::kernel::{Arg, Compiled, KernelSpec, Shape};
 use crate::lower::{Instr, Operand};
+use crate::schedule::schedule;
 use std::fmt::Write;
 
 /// How the C functions are named: `{prefix}{kernel}{suffix}`.
@@ -140,7 +143,8 @@ fn emit_function(
     naming: &Naming,
 ) -> String {
     let ty = c_type(scalar);
-    let used = compiled.program.used_inputs();
+    let program = schedule(&compiled.program);
+    let used = program.used_inputs();
     let mut out = signature(spec, scalar, naming);
     out.push_str("\n{\n");
     // An element's local takes its name, unless an argument has it (the pose's `gamma` and
@@ -179,7 +183,7 @@ fn emit_function(
         Scalar::F64 => name.to_string(),
         Scalar::F32 => format!("{name}f"),
     };
-    for (i, instr) in compiled.program.instrs.iter().enumerate() {
+    for (i, instr) in program.instrs.iter().enumerate() {
         let rhs = match *instr {
             Instr::Add(a, b) => format!("{} + {}", operand(a), operand(b)),
             Instr::Sub(a, b) => format!("{} - {}", operand(a), operand(b)),
@@ -210,7 +214,7 @@ fn emit_function(
                 out,
                 "    {} = {};",
                 element(arg, e),
-                operand(compiled.program.outputs[k])
+                operand(program.outputs[k])
             );
             k += 1;
         }

@@ -2,8 +2,9 @@
 //! operation-counted Rust kernels.
 //!
 //! Data flows one way: the [`model`] writes the chapter's equations over [`Expr`] (a
-//! hash-consed, self-simplifying [`dag`]); [`lower`] factors and schedules the DAG into a counted
-//! [`lower::Program`]; [`emit`] prints it as Rust with `quote` and `prettyplease`.
+//! hash-consed, self-simplifying [`dag`]); [`lower`] factors and orders the DAG into a counted
+//! [`lower::Program`]; [`emit`] prints it as Rust with `quote` and `prettyplease`, [`emit_c`] as
+//! C after [`schedule`] has reordered it for compilers that do not reorder.
 //!
 //! # Example
 //!
@@ -42,6 +43,7 @@ pub mod lower;
 pub mod manifest;
 pub mod model;
 pub mod numeric;
+pub mod schedule;
 pub mod subsum;
 mod write;
 
