@@ -45,6 +45,20 @@ impl Instr {
             Instr::Neg(a) | Instr::Call(_, a) | Instr::SinCos(a) | Instr::PairedCos(a) => vec![a],
         }
     }
+
+    /// The same operation on operands mapped by `f` (renumbering temporaries).
+    pub fn map_operands(self, f: impl Fn(Operand) -> Operand) -> Instr {
+        match self {
+            Instr::Add(a, b) => Instr::Add(f(a), f(b)),
+            Instr::Sub(a, b) => Instr::Sub(f(a), f(b)),
+            Instr::Mul(a, b) => Instr::Mul(f(a), f(b)),
+            Instr::Div(a, b) => Instr::Div(f(a), f(b)),
+            Instr::Neg(a) => Instr::Neg(f(a)),
+            Instr::Call(func, a) => Instr::Call(func, f(a)),
+            Instr::SinCos(a) => Instr::SinCos(f(a)),
+            Instr::PairedCos(a) => Instr::PairedCos(f(a)),
+        }
+    }
 }
 
 /// A straight-line program: instructions in dependency order and the output operands.

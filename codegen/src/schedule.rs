@@ -70,16 +70,7 @@ pub fn schedule(program: &Program) -> Program {
     };
     let instrs = order
         .iter()
-        .map(|&old| match program.instrs[old] {
-            Instr::Add(a, b) => Instr::Add(map(a), map(b)),
-            Instr::Sub(a, b) => Instr::Sub(map(a), map(b)),
-            Instr::Mul(a, b) => Instr::Mul(map(a), map(b)),
-            Instr::Div(a, b) => Instr::Div(map(a), map(b)),
-            Instr::Neg(a) => Instr::Neg(map(a)),
-            Instr::Call(f, a) => Instr::Call(f, map(a)),
-            Instr::SinCos(a) => Instr::SinCos(map(a)),
-            Instr::PairedCos(a) => Instr::PairedCos(map(a)),
-        })
+        .map(|&old| program.instrs[old].map_operands(map))
         .collect();
     Program {
         instrs,
