@@ -2,13 +2,17 @@
 //!
 //! `cargo bench --bench inverse_dynamics`. Inputs cycle through a fixed set of seeded random
 //! states behind `black_box`, so neither the branch predictor nor constant folding by the
-//! compiler can flatter a figure. The functions without a model in their name are the paper
-//! model's (their names predate the consistent model).
+//! compiler can flatter a figure. Every model's kernels are benched through the kernel-set
+//! trait, statically dispatched (`K: Kernels`, one instantiation per model), as
+//! `generated_{model}` (and `_batch_x4`, `_runtime_params`, `_f32`).
 
-use c5_generated::f32::paper as k32;
-use c5_generated::f64::{consistent as kc, paper as k};
+use c5_generated::f32::{Consistent as Consistent32, Kernels as Kernels32, Paper as Paper32};
+use c5_generated::f64::{paper as k, Consistent, Kernels, Paper};
+use c5_generated::manifest::Kernel;
 use c5_runtime::reference::{self as r, consistent as rc, Step6};
-use c5_runtime::{Acceleration, Model, Pose, Robot, State, Twist};
+use c5_runtime::{Acceleration, Pose, Robot, State, Twist};
+use criterion::measurement::WallTime;
+use criterion::BenchmarkGroup;
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use rand::{Rng, SeedableRng};
 
@@ -33,14 +37,111 @@ fn states() -> Vec<State> {
 /// The counted arithmetic operations (mul, div, add, neg) of a generated kernel, from its
 /// manifest: set as criterion's throughput, criterion reports them per second beside each
 /// median (`Gelem/s` = operations per ns).
-fn ops(model: Model, name: &str) -> u64 {
-    let m: c5_codegen::manifest::Manifest = serde_json::from_str(c5_generated::OPS_JSON).unwrap();
-    let k = m
-        .kernels
-        .iter()
-        .find(|k| k.model == model && k.name == name)
-        .unwrap_or_else(|| panic!("{model} {name} in ops.json"));
+fn ops(model: &str, kernel: Kernel, parameters: bool) -> u64 {
+    let k = c5_generated::manifest::entry(model, kernel, parameters)
+        .unwrap_or_else(|| panic!("{model} {kernel:?} in the manifest"));
     u64::from(k.count.mul + k.count.div + k.count.add + k.count.neg)
+}
+
+/// The inputs of the inverse-dynamics benches.
+struct Cases<'a> {
+    arrays: &'a [([f64; 6], [f64; 6], [f64; 6])],
+    arrays32: &'a [([f32; 6], [f32; 6], [f32; 6])],
+    batches: &'a [[[[f64; 4]; 6]; 3]],
+    params: &'a [f64; 152],
+}
+
+impl Cases<'_> {
+    /// One model's inverse dynamics: single, batch, runtime parameters, `f32`.
+    fn inverse_dynamics<K: Kernels, K32: Kernels32>(
+        &self,
+        g: &mut BenchmarkGroup<WallTime>,
+        kernels: &K,
+        kernels32: &K32,
+    ) {
+        let model = kernels.model();
+        let count = ops(model, Kernel::InverseDynamics, false);
+        let (arrays, batches, arrays32) = (self.arrays, self.batches, self.arrays32);
+        let mut i = 0;
+        g.throughput(Throughput::Elements(count));
+        g.bench_function(format!("generated_{model}"), |b| {
+            b.iter(|| {
+                i = (i + 1) % arrays.len();
+                let (x, v, a) = black_box(&arrays[i]);
+                kernels.inverse_dynamics(x, v, a).0
+            })
+        });
+        g.throughput(Throughput::Elements(4 * count));
+        g.bench_function(format!("generated_{model}_batch_x4"), |b| {
+            b.iter(|| {
+                i = (i + 1) % batches.len();
+                let [x, v, a] = black_box(&batches[i]);
+                kernels.inverse_dynamics_x4(x, v, a).0
+            })
+        });
+        g.throughput(Throughput::Elements(ops(
+            model,
+            Kernel::InverseDynamics,
+            true,
+        )));
+        g.bench_function(format!("generated_{model}_runtime_params"), |b| {
+            b.iter(|| {
+                i = (i + 1) % arrays.len();
+                let (x, v, a) = black_box(&arrays[i]);
+                kernels
+                    .inverse_dynamics_params(x, v, a, black_box(self.params))
+                    .0
+            })
+        });
+        g.throughput(Throughput::Elements(count));
+        g.bench_function(format!("generated_{model}_f32"), |b| {
+            b.iter(|| {
+                i = (i + 1) % arrays32.len();
+                let (x, v, a) = black_box(&arrays32[i]);
+                kernels32.inverse_dynamics(x, v, a).0
+            })
+        });
+    }
+}
+
+/// One model's forward dynamics, and its reference.
+fn forward_dynamics_of<K: Kernels>(
+    g: &mut BenchmarkGroup<WallTime>,
+    kernels: &K,
+    robot: &Robot,
+    s: &[State],
+) {
+    let model = kernels.model();
+    // Forces that hold the platform near its states: the inverse dynamics of each.
+    let cases: Vec<_> = s
+        .iter()
+        .map(|st| {
+            let (x, v, a) = (st.pose.to_array(), st.twist.to_array(), st.accel.to_array());
+            (x, v, kernels.inverse_dynamics(&x, &v, &a).0)
+        })
+        .collect();
+    let mut i = 0;
+    g.throughput(Throughput::Elements(ops(
+        model,
+        Kernel::ForwardDynamics,
+        false,
+    )));
+    g.bench_function(format!("generated_{model}"), |b| {
+        b.iter(|| {
+            i = (i + 1) % cases.len();
+            let (x, v, gamma) = black_box(&cases[i]);
+            kernels.forward_dynamics(x, v, gamma).0
+        })
+    });
+    g.throughput(Throughput::Elements(1));
+    let parsed = model.parse().unwrap();
+    g.bench_function(format!("reference_{model}"), |b| {
+        b.iter(|| {
+            i = (i + 1) % s.len();
+            let st = black_box(&s[i]);
+            r::forward_dynamics(robot, parsed, &st.pose, &st.twist, &cases[i].2)
+        })
+    });
 }
 
 /// `[element][lane]` from four states.
@@ -80,82 +181,21 @@ fn inverse_dynamics(c: &mut Criterion) {
         })
         .collect();
     let mut g = c.benchmark_group("inverse_dynamics");
+    let cases = Cases {
+        arrays: &arrays,
+        arrays32: &arrays32,
+        batches: &batches,
+        params: &params,
+    };
+    cases.inverse_dynamics(&mut g, &Consistent, &Consistent32);
+    cases.inverse_dynamics(&mut g, &Paper, &Paper32);
     let mut i = 0;
-    g.throughput(Throughput::Elements(ops(Model::Paper, "inverse_dynamics")));
-    g.bench_function("generated", |b| {
-        b.iter(|| {
-            i = (i + 1) % arrays.len();
-            let (x, v, a) = black_box(&arrays[i]);
-            k::inverse_dynamics(x, v, a).0
-        })
-    });
-    g.throughput(Throughput::Elements(
-        4 * ops(Model::Paper, "inverse_dynamics"),
-    ));
-    g.bench_function("generated_batch_x4", |b| {
-        b.iter(|| {
-            i = (i + 1) % batches.len();
-            let [x, v, a] = black_box(&batches[i]);
-            k::inverse_dynamics_x4(x, v, a).0
-        })
-    });
-    g.throughput(Throughput::Elements(ops(
-        Model::Paper,
-        "inverse_dynamics_params",
-    )));
-    g.bench_function("generated_runtime_params", |b| {
-        b.iter(|| {
-            i = (i + 1) % arrays.len();
-            let (x, v, a) = black_box(&arrays[i]);
-            k::inverse_dynamics_params(x, v, a, black_box(&params)).0
-        })
-    });
-    g.throughput(Throughput::Elements(ops(
-        Model::Consistent,
-        "inverse_dynamics",
-    )));
-    g.bench_function("generated_consistent", |b| {
-        b.iter(|| {
-            i = (i + 1) % arrays.len();
-            let (x, v, a) = black_box(&arrays[i]);
-            kc::inverse_dynamics(x, v, a).0
-        })
-    });
-    g.throughput(Throughput::Elements(
-        4 * ops(Model::Consistent, "inverse_dynamics"),
-    ));
-    g.bench_function("generated_consistent_batch_x4", |b| {
-        b.iter(|| {
-            i = (i + 1) % batches.len();
-            let [x, v, a] = black_box(&batches[i]);
-            kc::inverse_dynamics_x4(x, v, a).0
-        })
-    });
-    g.throughput(Throughput::Elements(ops(
-        Model::Consistent,
-        "inverse_dynamics_params",
-    )));
-    g.bench_function("generated_consistent_runtime_params", |b| {
-        b.iter(|| {
-            i = (i + 1) % arrays.len();
-            let (x, v, a) = black_box(&arrays[i]);
-            kc::inverse_dynamics_params(x, v, a, black_box(&params)).0
-        })
-    });
     g.throughput(Throughput::Elements(1));
     g.bench_function("reference_consistent", |b| {
         b.iter(|| {
             i = (i + 1) % s.len();
             let st = black_box(&s[i]);
             rc::inverse_dynamics(&robot, &st.pose, &st.twist, &st.accel)
-        })
-    });
-    g.throughput(Throughput::Elements(ops(Model::Paper, "inverse_dynamics")));
-    g.bench_function("generated_f32", |b| {
-        b.iter(|| {
-            i = (i + 1) % arrays32.len();
-            let (x, v, a) = black_box(&arrays32[i]);
-            k32::inverse_dynamics(x, v, a).0
         })
     });
     // The floor no arithmetic can lower: the kernels' own three sine-cosine pairs.
@@ -191,57 +231,9 @@ fn inverse_dynamics(c: &mut Criterion) {
 fn forward_dynamics(c: &mut Criterion) {
     let robot = Robot::default();
     let s = states();
-    // Forces that hold the platform near its states: the inverse dynamics of each.
-    let cases: Vec<_> = s
-        .iter()
-        .map(|st| {
-            let (x, v, a) = (st.pose.to_array(), st.twist.to_array(), st.accel.to_array());
-            (
-                x,
-                v,
-                kc::inverse_dynamics(&x, &v, &a).0,
-                k::inverse_dynamics(&x, &v, &a).0,
-            )
-        })
-        .collect();
     let mut g = c.benchmark_group("forward_dynamics");
-    let mut i = 0;
-    g.throughput(Throughput::Elements(ops(
-        Model::Consistent,
-        "forward_dynamics",
-    )));
-    g.bench_function("generated_consistent", |b| {
-        b.iter(|| {
-            i = (i + 1) % cases.len();
-            let (x, v, gc, _) = black_box(&cases[i]);
-            kc::forward_dynamics(x, v, gc).0
-        })
-    });
-    g.throughput(Throughput::Elements(ops(Model::Paper, "forward_dynamics")));
-    g.bench_function("generated_paper", |b| {
-        b.iter(|| {
-            i = (i + 1) % cases.len();
-            let (x, v, _, gp) = black_box(&cases[i]);
-            k::forward_dynamics(x, v, gp).0
-        })
-    });
-    g.throughput(Throughput::Elements(1));
-    for (name, model) in [
-        ("reference_consistent", Model::Consistent),
-        ("reference_paper", Model::Paper),
-    ] {
-        g.bench_function(name, |b| {
-            b.iter(|| {
-                i = (i + 1) % s.len();
-                let st = black_box(&s[i]);
-                let gamma = match model {
-                    Model::Consistent => &cases[i].2,
-                    Model::Paper => &cases[i].3,
-                };
-                r::forward_dynamics(&robot, model, &st.pose, &st.twist, gamma)
-            })
-        });
-    }
+    forward_dynamics_of(&mut g, &Consistent, &robot, &s);
+    forward_dynamics_of(&mut g, &Paper, &robot, &s);
     g.finish();
 }
 
@@ -262,22 +254,31 @@ fn identification(c: &mut Criterion) {
         .collect();
     let mut g = c.benchmark_group("identification");
     let mut i = 0;
-    macro_rules! kernel {
-        ($name:literal, $model:expr, $kernel:path) => {
-            g.throughput(Throughput::Elements(ops($model, $name)));
-            g.bench_function(format!("{}_{}", $name, $model), |b| {
-                b.iter(|| {
-                    i = (i + 1) % arrays.len();
-                    let (x, v, a) = black_box(&arrays[i]);
-                    // The whole result, so that no column is optimised away.
-                    $kernel(x, v, a, &geometry)
-                })
-            });
-        };
+    for kernels in c5_generated::f64::MODELS {
+        let model = kernels.model();
+        let mut y = vec![0.0; 6 * kernels.base_parameters().len()];
+        g.throughput(Throughput::Elements(ops(
+            model,
+            Kernel::BaseRegressor,
+            false,
+        )));
+        g.bench_function(format!("base_regressor_{model}"), |b| {
+            b.iter(|| {
+                i = (i + 1) % arrays.len();
+                let (x, v, a) = black_box(&arrays[i]);
+                kernels.base_regressor_into(x, v, a, &geometry, &mut y)
+            })
+        });
+        g.throughput(Throughput::Elements(ops(model, Kernel::Regressor, false)));
+        g.bench_function(format!("regressor_{model}"), |b| {
+            b.iter(|| {
+                i = (i + 1) % arrays.len();
+                let (x, v, a) = black_box(&arrays[i]);
+                // The whole result, so that no column is optimised away.
+                kernels.regressor(x, v, a, &geometry)
+            })
+        });
     }
-    kernel!("base_regressor", Model::Consistent, kc::base_regressor);
-    kernel!("base_regressor", Model::Paper, k::base_regressor);
-    kernel!("regressor", Model::Consistent, kc::regressor);
     g.throughput(Throughput::Elements(1));
     let c5 = c5_runtime::C5::new(robot).unwrap();
     let mut identifier = c5_runtime::identify::Identifier::new(&c5);

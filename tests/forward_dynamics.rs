@@ -4,7 +4,6 @@
 
 mod support;
 
-use c5_generated::f64::{consistent as kc, paper as kp};
 use c5_runtime::control::ComputedTorque;
 use c5_runtime::dynamics::{rk4_step, PlantState};
 use c5_runtime::reference as r;
@@ -69,18 +68,12 @@ fn folded_kernels_equal_the_runtime_parameter_kernels_and_the_reference() {
         let (x, v) = (s.pose.to_array(), s.twist.to_array());
         for model in Model::ALL {
             let c5 = C5::with_model(robot, model).unwrap();
-            let (folded_m, folded_h, folded_a) = match model {
-                Model::Consistent => (
-                    kc::task_inertia(&x).0,
-                    kc::task_bias(&x, &v).0,
-                    kc::forward_dynamics(&x, &v, &gamma).0,
-                ),
-                Model::Paper => (
-                    kp::task_inertia(&x).0,
-                    kp::task_bias(&x, &v).0,
-                    kp::forward_dynamics(&x, &v, &gamma).0,
-                ),
-            };
+            let k = c5.kernels();
+            let (folded_m, folded_h, folded_a) = (
+                k.task_inertia(&x).0,
+                k.task_bias(&x, &v).0,
+                k.forward_dynamics(&x, &v, &gamma).0,
+            );
             let m = c5.task_inertia(&s.pose).unwrap();
             assert!(rel_err(&flat(&folded_m), &flat(&m), 1.0) < 1e-12);
             let h = c5.task_bias(&s.pose, &s.twist).unwrap();

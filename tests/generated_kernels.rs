@@ -7,9 +7,9 @@
 
 mod support;
 
-use c5_generated::f64::{consistent as kc, paper as k};
-use c5_runtime::reference::{self as r, consistent as rc, Step6, CHAPTER_ORDER};
-use c5_runtime::{Robot, State};
+use c5_generated::f64::paper as k;
+use c5_runtime::reference::{self as r, consistent as rc, CHAPTER_ORDER};
+use c5_runtime::{Model, Robot, State};
 use nalgebra::{Matrix6, Vector6};
 use support::*;
 
@@ -38,75 +38,109 @@ fn p_array(p: &[nalgebra::Vector3<f64>; 6]) -> [[f64; 3]; 6] {
     std::array::from_fn(|i| p[i].into())
 }
 
-/// Calls the folded kernel `$m::$folded(args)`, or `$m::$with_params(args, params)` when
+/// Calls the folded kernel `$k.$folded(args)`, or `$k.$with_params(args, params)` when
 /// `params` is given.
 macro_rules! kernel {
-    ($params:expr, $m:ident :: $folded:ident / $with_params:ident ($($arg:expr),*)) => {
+    ($k:expr, $params:expr, $folded:ident / $with_params:ident ($($arg:expr),*)) => {
         match $params {
-            Some(pp) => $m::$with_params($($arg,)* pp),
-            None => $m::$folded($($arg),*),
+            Some(pp) => $k.$with_params($($arg,)* pp),
+            None => $k.$folded($($arg),*),
         }
-    };
-    ($params:expr, $folded:ident / $with_params:ident ($($arg:expr),*)) => {
-        kernel!($params, k::$folded / $with_params ($($arg),*))
     };
 }
 
-/// Checks the pose-setting kernels for `robot`, through `params` (None: the folded kernels).
-fn check_pose_kernels(robot: &Robot, params: Option<&[f64; 152]>, s: &State) {
-    let x = s.pose.to_array();
-    let v = s.twist.to_array();
-    let a = s.accel.to_array();
+/// Checks every kernel every model has against the model's reference, for `robot`, through
+/// `params` (None: the folded kernels).
+fn check_model_kernels(model: Model, robot: &Robot, params: Option<&[f64; 152]>, s: &State) {
+    let k = c5_runtime::kernels(model);
+    let reference = r::model(model);
+    let (x, v, a) = (s.pose.to_array(), s.twist.to_array(), s.accel.to_array());
+    let (t, acc) = (&s.twist, &s.accel);
     let l = robot.half_spacing;
-    let (q, p, divisors) = kernel!(params, inverse_kinematics / inverse_kinematics_params(&x));
     let rot = r::rotation(&s.pose);
     let divisors_ref = [rot[(0, 0)], rot[(1, 1)], rot[(2, 2)]];
-    assert!(rel_err(&divisors, &divisors_ref, 1.0) < 1e-15);
-    let p_ref = r::p_i2(l, &s.pose);
-    assert!(
-        rel_err(
-            &q,
-            &r::to_segment_order(&r::inverse_kinematics(l, &s.pose)),
-            1e-3
-        ) < 1e-12
-    );
-    assert!(rel_err(&flat(&p), &flat(&p_array(&p_ref)), 1e-3) < 1e-12);
+    let check_divisors = |d: [f64; 3]| assert!(rel_err(&d, &divisors_ref, 1.0) < 1e-15);
 
-    let jinv = kernel!(
+    let (q, p, d) = kernel!(
+        k,
+        params,
+        inverse_kinematics / inverse_kinematics_params(&x)
+    );
+    check_divisors(d);
+    assert!(rel_err(&q, &rc::lengths(l, &s.pose), 1e-3) < 1e-12);
+    assert!(rel_err(&flat(&p), &flat(&p_array(&rc::p_i2(l, &s.pose))), 1e-3) < 1e-12);
+
+    let (jinv, d) = kernel!(
+        k,
         params,
         inverse_jacobian_pose / inverse_jacobian_pose_params(&x)
     );
-    assert!(
-        rel_err(
-            &flat(&jinv),
-            &flat(&chapter_rows(&r::inverse_jacobian(&p_ref))),
-            1.0
-        ) < 1e-12
-    );
-    let j = kernel!(params, jacobian_pose / jacobian_pose_params(&x));
-    assert!(
-        rel_err(
-            &flat(&j),
-            &flat(&chapter_columns(&r::jacobian(&p_ref))),
-            1.0
-        ) < 1e-12
-    );
+    check_divisors(d);
+    let jinv_ref = (reference.inverse_jacobian)(l, &s.pose);
+    assert!(rel_err(&flat(&jinv), &flat(&from_na(&jinv_ref)), 1.0) < 1e-12);
+    let (jac, d) = kernel!(k, params, jacobian_pose / jacobian_pose_params(&x));
+    check_divisors(d);
+    let jac_ref = (reference.jacobian)(l, &s.pose).unwrap();
+    assert!(rel_err(&flat(&jac), &flat(&from_na(&jac_ref)), 1.0) < 1e-11);
 
-    let qd = kernel!(params, joint_velocities / joint_velocities_params(&x, &v));
-    let qd_ref = r::to_segment_order(&(r::inverse_jacobian(&p_ref) * s.twist.to_vector()));
-    assert!(rel_err(&qd, &qd_ref, 1e-3) < 1e-12);
-
-    let (qdd, divisors) = kernel!(
+    let (qd, d) = kernel!(
+        k,
+        params,
+        joint_velocities / joint_velocities_params(&x, &v)
+    );
+    check_divisors(d);
+    let qd_ref = (reference.joint_velocities)(l, &s.pose, t);
+    assert!(rel_err(&qd, qd_ref.as_slice(), 1e-3) < 1e-12);
+    let (qdd, d) = kernel!(
+        k,
         params,
         joint_accelerations / joint_accelerations_params(&x, &v, &a)
     );
-    assert!(rel_err(&divisors, &divisors_ref, 1.0) < 1e-15);
-    let (legs, divisors) = kernel!(
+    check_divisors(d);
+    let qdd_ref = (reference.joint_accelerations)(l, &s.pose, t, acc);
+    assert!(rel_err(&qdd, qdd_ref.as_slice(), 1e-3) < 1e-12);
+
+    let (phi, d) = kernel!(k, params, leg_wrench / leg_wrench_params(&x, &v, &a));
+    check_divisors(d);
+    let phi_ref = (reference.leg_wrench)(robot, &s.pose, t, acc).unwrap();
+    assert!(rel_err(&phi, phi_ref.as_slice(), 1.0) < 1e-11);
+    let f = kernel!(
+        k,
         params,
-        leg_joint_accelerations / leg_joint_accelerations_params(&x, &v, &a)
+        platform_wrench / platform_wrench_params(&x, &v, &a)
     );
-    assert!(rel_err(&divisors, &divisors_ref, 1.0) < 1e-15);
+    let f_ref = r::platform_wrench(robot, &s.pose, t, acc);
+    assert!(rel_err(&f, f_ref.as_slice(), 1.0) < 1e-12);
+    let (gamma, d) = kernel!(
+        k,
+        params,
+        inverse_dynamics / inverse_dynamics_params(&x, &v, &a)
+    );
+    check_divisors(d);
+    let gamma_ref = (reference.inverse_dynamics)(robot, &s.pose, t, acc).unwrap();
+    assert!(
+        rel_err(&gamma, gamma_ref.as_slice(), 1.0) < 1e-11,
+        "{model}: {gamma:?} vs {gamma_ref:?}"
+    );
+}
+
+/// The paper model's own kernel: every segment's joint accelerations by projection, the
+/// passive joints included.
+fn check_leg_joint_accelerations(robot: &Robot, params: Option<&[f64; 152]>, s: &State) {
+    let (x, v, a) = (s.pose.to_array(), s.twist.to_array(), s.accel.to_array());
+    let l = robot.half_spacing;
+    let ((legs, _), (qdd, _)) = match params {
+        Some(pp) => (
+            k::leg_joint_accelerations_params(&x, &v, &a, pp),
+            k::joint_accelerations_params(&x, &v, &a, pp),
+        ),
+        None => (
+            k::leg_joint_accelerations(&x, &v, &a),
+            k::joint_accelerations(&x, &v, &a),
+        ),
+    };
     let vdot = r::spatial_acceleration(&s.twist, &s.accel);
+    let p_ref = r::p_i2(l, &s.pose);
     let q_seg = r::to_segment_order(&r::inverse_kinematics(l, &s.pose));
     for i in 0..6 {
         let want = r::joint_accelerations_projection(&(q_seg[i] * r::axis(i)), &p_ref[i], &vdot, i);
@@ -115,40 +149,25 @@ fn check_pose_kernels(robot: &Robot, params: Option<&[f64; 152]>, s: &State) {
             "segment {}",
             i + 1
         );
-        assert!((legs[i][5] - qdd[i]).abs() <= 1e-15 * qdd[i].abs().max(1.0));
+        assert!((legs[i][5] - qdd[i]).abs() <= 1e-12 * qdd[i].abs().max(1.0));
     }
-
-    let (t, acc) = (&s.twist, &s.accel);
-    let (phi, _) = kernel!(params, leg_wrench / leg_wrench_params(&x, &v, &a));
-    let phi_ref = r::leg_wrench(robot, &s.pose, t, acc).unwrap();
-    assert!(rel_err(&phi, phi_ref.as_slice(), 1.0) < 1e-11);
-    let f = kernel!(params, platform_wrench / platform_wrench_params(&x, &v, &a));
-    let f_ref = r::platform_wrench(robot, &s.pose, t, acc);
-    assert!(rel_err(&f, f_ref.as_slice(), 1.0) < 1e-12);
-    let (gamma, divisors) = kernel!(
-        params,
-        inverse_dynamics / inverse_dynamics_params(&x, &v, &a)
-    );
-    assert!(rel_err(&divisors, &divisors_ref, 1.0) < 1e-15);
-    let gamma_ref =
-        r::to_segment_order(&r::inverse_dynamics(robot, &s.pose, t, acc, Step6::Khalil).unwrap());
-    assert!(
-        rel_err(&gamma, &gamma_ref, 1.0) < 1e-11,
-        "{gamma:?} vs {gamma_ref:?}"
-    );
 }
 
 #[test]
-fn pose_kernels_with_the_default_robot_folded_equal_the_reference() {
+fn kernels_with_the_default_robot_folded_equal_the_reference() {
     let mut rng = rng(10);
     let robot = Robot::default();
     for _ in 0..STATES {
-        check_pose_kernels(&robot, None, &random_state(&mut rng));
+        let s = random_state(&mut rng);
+        for model in Model::ALL {
+            check_model_kernels(model, &robot, None, &s);
+        }
+        check_leg_joint_accelerations(&robot, None, &s);
     }
 }
 
 #[test]
-fn pose_kernels_with_runtime_parameters_equal_the_reference_for_other_robots() {
+fn kernels_with_runtime_parameters_equal_the_reference_for_other_robots() {
     let mut rng = rng(11);
     for n in 0..STATES {
         let robot = if n % 2 == 0 {
@@ -157,7 +176,11 @@ fn pose_kernels_with_runtime_parameters_equal_the_reference_for_other_robots() {
             Robot::default()
         };
         let params: [f64; 152] = robot.kernel_parameters().try_into().unwrap();
-        check_pose_kernels(&robot, Some(&params), &random_state(&mut rng));
+        let s = random_state(&mut rng);
+        for model in Model::ALL {
+            check_model_kernels(model, &robot, Some(&params), &s);
+        }
+        check_leg_joint_accelerations(&robot, Some(&params), &s);
     }
 }
 
@@ -199,107 +222,13 @@ fn chapter_setting_kernels_equal_the_reference() {
     }
 }
 
-/// Checks the consistent model's pose kernels for `robot`, through `params` (None: folded).
-fn check_consistent_kernels(robot: &Robot, params: Option<&[f64; 152]>, s: &State) {
-    let x = s.pose.to_array();
-    let v = s.twist.to_array();
-    let a = s.accel.to_array();
-    let l = robot.half_spacing;
-    let rot = r::rotation(&s.pose);
-    let divisors_ref = [rot[(0, 0)], rot[(1, 1)], rot[(2, 2)]];
-    let check_divisors = |d: [f64; 3]| assert!(rel_err(&d, &divisors_ref, 1.0) < 1e-15);
-
-    let (q, p, d) = kernel!(
-        params,
-        kc::inverse_kinematics / inverse_kinematics_params(&x)
-    );
-    check_divisors(d);
-    assert!(rel_err(&q, &rc::lengths(l, &s.pose), 1e-3) < 1e-12);
-    assert!(rel_err(&flat(&p), &flat(&p_array(&rc::p_i2(l, &s.pose))), 1e-3) < 1e-12);
-
-    let (jinv, d) = kernel!(
-        params,
-        kc::inverse_jacobian_pose / inverse_jacobian_pose_params(&x)
-    );
-    check_divisors(d);
-    let jinv_ref = rc::inverse_jacobian(l, &s.pose);
-    assert!(rel_err(&flat(&jinv), &flat(&from_na(&jinv_ref)), 1.0) < 1e-12);
-    let (jac, d) = kernel!(params, kc::jacobian_pose / jacobian_pose_params(&x));
-    check_divisors(d);
-    let jac_ref = rc::jacobian(l, &s.pose).unwrap();
-    assert!(rel_err(&flat(&jac), &flat(&from_na(&jac_ref)), 1.0) < 1e-11);
-
-    let (qd, d) = kernel!(
-        params,
-        kc::joint_velocities / joint_velocities_params(&x, &v)
-    );
-    check_divisors(d);
-    let qd_ref = rc::joint_velocities(l, &s.pose, &s.twist);
-    assert!(rel_err(&qd, qd_ref.as_slice(), 1e-3) < 1e-12);
-    let (qdd, d) = kernel!(
-        params,
-        kc::joint_accelerations / joint_accelerations_params(&x, &v, &a)
-    );
-    check_divisors(d);
-    let qdd_ref = rc::joint_accelerations(l, &s.pose, &s.twist, &s.accel);
-    assert!(rel_err(&qdd, qdd_ref.as_slice(), 1e-3) < 1e-12);
-
-    let (t, acc) = (&s.twist, &s.accel);
-    let (phi, d) = kernel!(params, kc::leg_wrench / leg_wrench_params(&x, &v, &a));
-    check_divisors(d);
-    let phi_ref = rc::leg_wrench(robot, &s.pose, t, acc).unwrap();
-    assert!(rel_err(&phi, phi_ref.as_slice(), 1.0) < 1e-12);
-    let f = kernel!(
-        params,
-        kc::platform_wrench / platform_wrench_params(&x, &v, &a)
-    );
-    assert!(
-        rel_err(
-            &f,
-            r::platform_wrench(robot, &s.pose, t, acc).as_slice(),
-            1.0
-        ) < 1e-12
-    );
-    let (gamma, d) = kernel!(
-        params,
-        kc::inverse_dynamics / inverse_dynamics_params(&x, &v, &a)
-    );
-    check_divisors(d);
-    let gamma_ref = rc::inverse_dynamics(robot, &s.pose, t, acc).unwrap();
-    assert!(
-        rel_err(&gamma, gamma_ref.as_slice(), 1.0) < 1e-11,
-        "{gamma:?} vs {gamma_ref:?}"
-    );
-}
-
-#[test]
-fn consistent_kernels_with_the_default_robot_folded_equal_the_reference() {
-    let mut rng = rng(14);
-    let robot = Robot::default();
-    for _ in 0..STATES {
-        check_consistent_kernels(&robot, None, &random_state(&mut rng));
-    }
-}
-
-#[test]
-fn consistent_kernels_with_runtime_parameters_equal_the_reference_for_other_robots() {
-    let mut rng = rng(15);
-    for n in 0..STATES {
-        let robot = if n % 2 == 0 {
-            random_robot(&mut rng)
-        } else {
-            Robot::default()
-        };
-        let params: [f64; 152] = robot.kernel_parameters().try_into().unwrap();
-        check_consistent_kernels(&robot, Some(&params), &random_state(&mut rng));
-    }
-}
-
 #[test]
 fn f32_kernels_track_f64_within_single_precision() {
-    use c5_generated::f32::{consistent as kc32, paper as k32};
     let mut rng = rng(13);
-    let (mut worst_paper, mut worst_consistent): (f64, f64) = (0.0, 0.0);
+    let pairs = c5_generated::f64::MODELS
+        .iter()
+        .zip(c5_generated::f32::MODELS);
+    let mut worst = vec![0.0f64; c5_generated::f64::MODELS.len()];
     for _ in 0..STATES {
         let s = random_state(&mut rng);
         let (x, v, a) = (s.pose.to_array(), s.twist.to_array(), s.accel.to_array());
@@ -308,17 +237,18 @@ fn f32_kernels_track_f64_within_single_precision() {
             v.map(|e| e as f32),
             a.map(|e| e as f32),
         );
-        let (g64, _) = k::inverse_dynamics(&x, &v, &a);
-        let (g32, _) = k32::inverse_dynamics(&x32, &v32, &a32);
-        worst_paper = worst_paper.max(rel_err(&g32.map(f64::from), &g64, 1.0));
-        let (g64, _) = kc::inverse_dynamics(&x, &v, &a);
-        let (g32, _) = kc32::inverse_dynamics(&x32, &v32, &a32);
-        worst_consistent = worst_consistent.max(rel_err(&g32.map(f64::from), &g64, 1.0));
+        for (w, (k64, k32)) in worst.iter_mut().zip(pairs.clone()) {
+            assert_eq!(k64.model(), k32.model());
+            let (g64, _) = k64.inverse_dynamics(&x, &v, &a);
+            let (g32, _) = k32.inverse_dynamics(&x32, &v32, &a32);
+            *w = w.max(rel_err(&g32.map(f64::from), &g64, 1.0));
+        }
     }
-    println!(
-        "worst relative error of f32 inverse_dynamics: paper {worst_paper:.2e}, consistent \
-         {worst_consistent:.2e}"
-    );
-    assert!(worst_paper < 1e-5, "{worst_paper}");
-    assert!(worst_consistent < 1e-5, "{worst_consistent}");
+    for (k, w) in c5_generated::f64::MODELS.iter().zip(&worst) {
+        println!(
+            "worst relative error of f32 inverse_dynamics, {}: {w:.2e}",
+            k.model()
+        );
+        assert!(*w < 1e-5, "{}: {w}", k.model());
+    }
 }

@@ -56,13 +56,12 @@ fn kernels_and_hot_path_do_not_allocate() {
     );
     let mut sink = 0.0;
     let n = allocations_during(|| {
-        use c5_generated::f64::{consistent, paper as k};
-        sink += k::inverse_dynamics(&x, &v, &a).0[0];
-        sink += k::inverse_kinematics(&x).0[0];
-        sink += k::jacobian_pose(&x)[0][0];
-        sink += k::joint_accelerations(&x, &v, &a).0[0];
-        sink += consistent::inverse_dynamics(&x, &v, &a).0[0];
-        sink += consistent::jacobian_pose(&x).0[0][0];
+        for k in c5_generated::f64::MODELS {
+            sink += k.inverse_dynamics(&x, &v, &a).0[0];
+            sink += k.inverse_kinematics(&x).0[0];
+            sink += k.jacobian_pose(&x).0[0][0];
+            sink += k.joint_accelerations(&x, &v, &a).0[0];
+        }
         for c5 in [&robot, &paper] {
             sink += c5.inverse_dynamics(&state).unwrap()[0];
             sink += c5.joint_accelerations(&state).unwrap()[0];

@@ -4,7 +4,8 @@ fn main() {
     let robot = Robot::default();
     for model in Model::ALL {
         for params in [ParameterSet::None, ParameterSet::All] {
-            for spec in kernels::specs(model, &robot, &params, "").unwrap() {
+            for entry in kernels::specs(model, &robot, &params, "").unwrap() {
+                let spec = entry.spec;
                 let t = std::time::Instant::now();
                 let c = spec.compile().unwrap();
                 println!(

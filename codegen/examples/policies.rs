@@ -8,8 +8,9 @@ fn main() {
     let spec = kernels::specs(model, &Robot::default(), &ParameterSet::None, "")
         .unwrap()
         .into_iter()
-        .find(|s| s.name == name)
-        .expect("a kernel of that name");
+        .find(|e| e.spec.name == name)
+        .expect("a kernel of that name")
+        .spec;
     for (policy, count) in spec.costs_by_policy().unwrap() {
         println!("{policy:?}: {count}");
     }

@@ -14,7 +14,7 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// Index of a node in the arena; prints as `v12`.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Debug)]
-pub struct NodeId(pub u32);
+pub struct NodeId(u32);
 
 impl fmt::Display for NodeId {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -138,8 +138,8 @@ pub struct Arena {
     nodes: Vec<Node>,
     memo: HashMap<Node, NodeId>,
     policy: Policy,
-    /// Set when a constant division by zero or a non-finite constant was attempted.
-    pub invalid: Option<String>,
+    /// Set when a constant division by zero, a non-finite constant or a model error was met.
+    invalid: Option<String>,
 }
 
 /// A linear form: terms with coefficients plus a constant.
@@ -155,6 +155,12 @@ impl Arena {
 
     pub fn policy(&self) -> Policy {
         self.policy
+    }
+
+    /// Why the graph cannot be emitted, if it cannot: the first constant division by zero,
+    /// non-finite constant or model error met while building it.
+    pub fn invalid(&self) -> Option<&str> {
+        self.invalid.as_deref()
     }
 
     pub fn node(&self, id: NodeId) -> &Node {
@@ -577,6 +583,11 @@ impl Graph {
         Expr { id, graph: self }
     }
 
+    /// Marks the graph as one that cannot be emitted (a model error), keeping the first reason.
+    pub fn invalidate(&self, reason: String) {
+        self.arena.borrow_mut().invalid.get_or_insert(reason);
+    }
+
     pub fn arena(&self) -> std::cell::Ref<'_, Arena> {
         self.arena.borrow()
     }
@@ -646,6 +657,14 @@ impl<'g> Expr<'g> {
     fn lift(self, value: f64) -> Self {
         self.graph.constant(value)
     }
+    /// Refuses to combine nodes of two graphs: their ids index different arenas, so mixing them
+    /// would silently build a wrong expression.
+    fn same_graph(self, other: Self) {
+        assert!(
+            std::ptr::eq(self.graph, other.graph),
+            "an expression combines nodes of two different graphs (a bug in the model)"
+        );
+    }
 }
 
 macro_rules! binary_ops {
@@ -653,6 +672,7 @@ macro_rules! binary_ops {
         impl<'g> $trait for Expr<'g> {
             type Output = Expr<'g>;
             fn $method(self, rhs: Self) -> Self {
+                self.same_graph(rhs);
                 self.wrap(self.graph.with(|a| a.$arena(self.id, rhs.id)))
             }
         }
@@ -829,6 +849,6 @@ mod tests {
         let g = Graph::new(FLAT);
         let x = g.input(0);
         let _ = x / 0.0;
-        assert!(g.arena().invalid.is_some());
+        assert!(g.arena().invalid().is_some());
     }
 }

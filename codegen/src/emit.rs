@@ -2,7 +2,7 @@
 
 use crate::dag::Func;
 use crate::error::Error;
-use crate::kernel::{Compiled, KernelSpec, Shape};
+use crate::kernel::{Arg, Compiled, KernelSpec, Shape};
 use crate::lower::{Instr, Operand};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::quote;
@@ -462,4 +462,332 @@ pub fn emit_batch_file(
         message: e.to_string(),
     })?;
     Ok(format!("{header}\n{}", prettyplease::unparse(&file)))
+}
+
+/// The argument and return types of a kernel's function: `(name, type)` per input, and the
+/// return type.
+fn single_signature(spec: &KernelSpec, scalar: Scalar) -> (Vec<(Ident, TokenStream)>, TokenStream) {
+    let ty = scalar.ty();
+    let args = spec
+        .inputs
+        .iter()
+        .map(|a| {
+            let t = array_type(a.shape, &ty);
+            (ident(&a.name), quote!(&#t))
+        })
+        .collect();
+    let outs: Vec<TokenStream> = spec
+        .outputs
+        .iter()
+        .map(|a| array_type(a.shape, &ty))
+        .collect();
+    (args, tuple_type(&outs))
+}
+
+fn tuple_type(items: &[TokenStream]) -> TokenStream {
+    if items.len() == 1 {
+        items[0].clone()
+    } else {
+        quote!((#(#items),*))
+    }
+}
+
+/// The same for the batch form (`{name}_x{lanes}`).
+fn batch_signature(spec: &KernelSpec, scalar: Scalar) -> (Vec<(Ident, TokenStream)>, TokenStream) {
+    let ty = scalar.ty();
+    let n = Literal::usize_unsuffixed(lane_type(scalar).1);
+    let lanes = |a: &Arg| {
+        let len = Literal::usize_unsuffixed(a.shape.len());
+        quote!([[#ty; #n]; #len])
+    };
+    let args = spec
+        .inputs
+        .iter()
+        .map(|a| {
+            let t = if a.name == "params" {
+                array_type(a.shape, &ty)
+            } else {
+                lanes(a)
+            };
+            (ident(&a.name), quote!(&#t))
+        })
+        .collect();
+    let outs: Vec<TokenStream> = spec.outputs.iter().map(lanes).collect();
+    (args, tuple_type(&outs))
+}
+
+/// One model's kernels in the kernel-set trait.
+pub struct KernelSet<'a> {
+    /// The module of the model's kernels (`consistent`); the type implementing the trait is
+    /// the same name capitalised (`Consistent`).
+    pub module: String,
+    /// A line on the model, for the type's documentation.
+    pub summary: String,
+    /// The kernels every model shares, each with whether it also has a batch form.
+    pub kernels: Vec<(&'a KernelSpec, bool)>,
+    /// The identification kernels (`f64` only, feature `regressor`): the regressor, then the
+    /// base regressor whose width is the model's.
+    pub regressors: Vec<&'a KernelSpec>,
+}
+
+fn type_name(module: &str) -> Ident {
+    let mut chars = module.chars();
+    let first = chars.next().map(|c| c.to_ascii_uppercase());
+    ident(&first.into_iter().chain(chars).collect::<String>())
+}
+
+/// One trait method: its declaration, its implementation calling the model's kernel, and its
+/// signature alone (to hold every model to the same).
+struct Method {
+    decl: TokenStream,
+    body: TokenStream,
+    signature: String,
+}
+
+fn method(
+    doc: &str,
+    cfg: &TokenStream,
+    name: &Ident,
+    (args, ret): &(Vec<(Ident, TokenStream)>, TokenStream),
+    call: TokenStream,
+) -> Method {
+    let params: Vec<TokenStream> = args.iter().map(|(n, t)| quote!(#n: #t)).collect();
+    let signature = quote!(#cfg fn #name(&self, #(#params),*) -> #ret).to_string();
+    let decl = quote!(#cfg #[doc = #doc] fn #name(&self, #(#params),*) -> #ret;);
+    let body = quote!(#cfg #[inline] fn #name(&self, #(#params),*) -> #ret { #call });
+    Method {
+        decl,
+        body,
+        signature,
+    }
+}
+
+/// The methods of one model's set, in the order of the trait.
+fn methods(set: &KernelSet, scalar: Scalar) -> Vec<Method> {
+    let module = ident(&set.module);
+    let mut out = Vec::new();
+    let none = quote!();
+    for (spec, batch) in &set.kernels {
+        let name = ident(&spec.name);
+        let sig = single_signature(spec, scalar);
+        let args = sig.0.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
+        let doc = format!(" {}", spec.title);
+        out.push(method(
+            &doc,
+            &none,
+            &name,
+            &sig,
+            quote!(#module::#name(#(#args),*)),
+        ));
+        if *batch {
+            let lanes = lane_type(scalar).1;
+            let batched = ident(&format!("{}_x{lanes}", spec.name));
+            let sig = batch_signature(spec, scalar);
+            let doc = format!(
+                " [`Kernels::{}`] of {lanes} states at once, one lane each (`pose[k][lane]`), \
+                 each lane computing exactly what the single-state kernel computes.",
+                spec.name
+            );
+            out.push(method(
+                &doc,
+                &quote!(#[cfg(feature = "batch")]),
+                &batched,
+                &sig,
+                quote!(#module::#batched(#(#args),*)),
+            ));
+        }
+    }
+    if scalar == Scalar::F64 {
+        let cfg = quote!(#[cfg(feature = "regressor")]);
+        for (k, spec) in set.regressors.iter().enumerate() {
+            let name = ident(&spec.name);
+            let (args, ret) = single_signature(spec, scalar);
+            let names = args.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
+            if k == 0 {
+                let doc = format!(" {}", spec.title);
+                out.push(method(
+                    &doc,
+                    &cfg,
+                    &name,
+                    &(args, ret),
+                    quote!(#module::#name(#(#names),*)),
+                ));
+                continue;
+            }
+            // The base regressor's width is the model's number of base parameters: the trait
+            // writes its rows into a slice, `None` if the slice has another length.
+            let into = ident(&format!("{}_into", spec.name));
+            let rest: Vec<TokenStream> = spec.outputs[1..]
+                .iter()
+                .map(|a| array_type(a.shape, &scalar.ty()))
+                .collect();
+            let rest_ty = tuple_type(&rest);
+            let mut sig_args = args.clone();
+            sig_args.push((ident("y"), quote!(&mut [f64])));
+            let doc = format!(
+                " {} Writes `Y_b` row-major into `y` (`6 × base_parameters().len()`) and returns \
+                 the other results, or `None` if `y` has another length.",
+                spec.title
+            );
+            out.push(method(
+                &doc,
+                &cfg,
+                &into,
+                &(sig_args, quote!(Option<#rest_ty>)),
+                quote! {
+                    let (rows, rest) = #module::#name(#(#names),*);
+                    let width = rows[0].len();
+                    if y.len() != 6 * width {
+                        return None;
+                    }
+                    for (row, out) in rows.iter().zip(y.chunks_exact_mut(width)) {
+                        out.copy_from_slice(row);
+                    }
+                    Some(rest)
+                },
+            ));
+            for (constant, ty, doc) in [
+                (
+                    "BASE_PARAMETERS",
+                    quote!(&'static [&'static str]),
+                    " The base parameters' names, the columns of the base regressor.",
+                ),
+                (
+                    "BASE_RELATIONS",
+                    quote!(&'static [&'static str]),
+                    " What each base parameter groups, as a relation between standard parameters.",
+                ),
+                (
+                    "BASE_OF_STANDARD",
+                    quote!(&'static [&'static [(usize, f64)]]),
+                    " `β = B π`: each base parameter's terms `(standard index, coefficient)`.",
+                ),
+            ] {
+                let c = ident(constant);
+                let name = ident(&constant.to_ascii_lowercase());
+                out.push(method(
+                    doc,
+                    &cfg,
+                    &name,
+                    &(Vec::new(), ty),
+                    quote!(&#module::#c),
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// The kernel-set trait of a scalar type and its implementation by each model, so that a
+/// caller picks a model once and calls every kernel through it. Every model's kernels must
+/// have the same signatures.
+///
+/// # Errors
+/// A kernel whose signature differs between models, or that one model lacks.
+pub fn emit_kernel_sets(how: &str, sets: &[KernelSet], scalar: Scalar) -> Result<String, Error> {
+    let per_set: Vec<Vec<Method>> = sets.iter().map(|s| methods(s, scalar)).collect();
+    let first = &per_set[0];
+    for (set, methods) in sets.iter().zip(&per_set).skip(1) {
+        let same = methods.len() == first.len()
+            && methods
+                .iter()
+                .zip(first)
+                .all(|(a, b)| a.signature == b.signature);
+        if !same {
+            return Err(Error::InvalidModel {
+                kernel: set.module.clone(),
+                reason: format!(
+                    "its kernels' signatures differ from the {} model's: every model has \
+                     the same kernels, with the same arguments and results",
+                    sets[0].module
+                ),
+            });
+        }
+    }
+    let decls = first.iter().map(|m| &m.decl);
+    let trait_doc = format!(
+        " The kernels every model has, with one signature for all (`{}`): pick a model once \
+         ([`Consistent`], [`Paper`]) and call every kernel through it, statically \
+         (`K: Kernels`) or dynamically (`&dyn Kernels`).",
+        scalar.name()
+    );
+    let impls = sets.iter().zip(&per_set).map(|(set, methods)| {
+        let name = type_name(&set.module);
+        let module = &set.module;
+        let bodies = methods.iter().map(|m| &m.body);
+        let doc = format!(" The {module} model's kernels: {}", set.summary);
+        quote! {
+            #[doc = #doc]
+            #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+            pub struct #name;
+
+            impl Kernels for #name {
+                #[inline]
+                fn model(&self) -> &'static str {
+                    #module
+                }
+                #(#bodies)*
+            }
+        }
+    });
+    let all = sets.iter().map(|s| type_name(&s.module));
+    let count = Literal::usize_unsuffixed(sets.len());
+    let (lane, _) = lane_type(scalar);
+    let lane = ident(lane);
+    let modules = sets.iter().map(|set| {
+        let module = ident(&set.module);
+        let file = |part: &str| format!("{}{part}.rs", set.module);
+        let (kernels, batch) = (file(""), file("_batch"));
+        let regressors = (scalar == Scalar::F64 && !set.regressors.is_empty()).then(|| {
+            let regressors = file("_regressor");
+            quote! {
+                #[cfg(feature = "regressor")]
+                include!(#regressors);
+            }
+        });
+        let doc = format!(
+            " The {} model, `{}`: {}",
+            set.module,
+            scalar.name(),
+            set.summary
+        );
+        quote! {
+            #[doc = #doc]
+            #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
+            pub mod #module {
+                use crate::trig::{cos, sin, sin_cos, sqrt};
+                include!(#kernels);
+                #[cfg(feature = "batch")]
+                use crate::lanes::#lane;
+                #[cfg(feature = "batch")]
+                include!(#batch);
+                #regressors
+            }
+        }
+    });
+    let tokens = quote! {
+        #(#modules)*
+
+        #[doc = #trait_doc]
+        pub trait Kernels: core::fmt::Debug + Sync {
+            /// The model's name, as the command line and the manifest spell it.
+            fn model(&self) -> &'static str;
+            #(#decls)*
+        }
+
+        #(#impls)*
+
+        /// Every model's kernels, the default model first.
+        pub const MODELS: [&dyn Kernels; #count] = [#(&#all),*];
+    };
+    let file: syn::File = syn::parse2(tokens).map_err(|e| Error::Emit {
+        kernel: "kernel sets".to_string(),
+        message: e.to_string(),
+    })?;
+    Ok(format!(
+        "// @generated {how}. Do not edit.\n\n//! Kernels in `{}`: one module per model, the same kernel names and \
+         arguments in each, and the kernel-set trait [`Kernels`] that every model implements.\n\n{}",
+        scalar.name(),
+        prettyplease::unparse(&file)
+    ))
 }

@@ -185,7 +185,7 @@ impl KernelSpec {
                 reason: "outputs do not match the declared shapes".to_string(),
             });
         }
-        if let Some(reason) = graph.arena().invalid.clone() {
+        if let Some(reason) = graph.arena().invalid().map(str::to_string) {
             return Err(Error::InvalidModel {
                 kernel: self.name.clone(),
                 reason,

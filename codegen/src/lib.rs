@@ -1,10 +1,16 @@
 //! Symbolic expansion of the C5 joint parallel robot's equations into straight-line,
 //! operation-counted Rust kernels.
 //!
-//! Data flows one way: the [`model`] writes the chapter's equations over [`Expr`] (a
-//! hash-consed, self-simplifying [`dag`]); [`lower`] factors and orders the DAG into a counted
-//! [`lower::Program`]; [`emit`] prints it as Rust with `quote` and `prettyplease`, [`emit_c`] as
-//! C after [`schedule`] has reordered it for compilers that do not reorder.
+//! Data flows one way. The [`model`] writes the chapter's equations over [`Expr`] (a
+//! hash-consed, self-simplifying [`dag`]), one [`model::Mechanics`] per model; its kernel
+//! table ([`model::kernels::TABLE`]) declares each kernel as data: its typed identity
+//! ([`Kernel`]), the kinds of input it reads, its outputs and its singularity terms. The
+//! engine turns a kernel into a factored, counted [`Program`] (`lower`), checks the generated
+//! set against identities between its kernels (`model::selfcheck`), and prints it as Rust
+//! (`emit`, with `quote` and `prettyplease`) or as C (`emit_c`, in the order of `schedule`, for
+//! compilers that do not reorder), with a kernel-set trait per scalar type so that callers
+//! pick a model once. The engine knows nothing about robots; the models know nothing about code
+//! emission.
 //!
 //! # Example
 //!
@@ -32,28 +38,33 @@
 //! }
 //! ```
 
-pub mod count;
+mod count;
 pub mod dag;
-pub mod emit;
-pub mod emit_c;
-pub mod error;
+mod emit;
+mod emit_c;
+mod error;
 pub mod kernel;
 pub mod linalg;
-pub mod lower;
-pub mod manifest;
+mod lower;
+mod manifest;
 pub mod model;
-pub mod numeric;
-pub mod schedule;
-pub mod subsum;
+mod numeric;
+mod schedule;
+mod subsum;
 mod write;
 
 pub use c5_robot::{Model, Robot};
 pub use count::OpCount;
 pub use dag::{Expr, Graph};
-pub use emit::{Scalar, TrigCalls};
+pub use emit::Scalar;
+pub use emit_c::Naming as CNaming;
 pub use error::Error;
-pub use kernel::{Compiled, KernelSpec, Setting};
-pub use model::ParameterSet;
+pub use kernel::{Compiled, KernelSpec, Setting, Shape};
+pub use lower::Program;
+pub use model::{Kernel, KernelId, ParameterSet};
+
+use emit::TrigCalls;
+use model::Entry;
 
 use std::path::{Path, PathBuf};
 
@@ -181,21 +192,36 @@ impl Config {
     }
 
     /// The kernels, compiled and self-checked.
-    fn compile(&self) -> Result<(Vec<KernelSpec>, Vec<Compiled>), Error> {
+    fn compile(&self) -> Result<(Vec<Entry>, Vec<Compiled>), Error> {
         self.robot.validate()?;
-        let mut specs = Vec::new();
+        let mut entries = Vec::new();
         if self.chapter_kernels {
-            specs.extend(model::kernels::chapter_specs());
+            entries.extend(model::kernels::chapter_specs(Model::Paper));
         }
-        let pose = model::kernels::specs(self.model, &self.robot, &self.parameters, "")?;
-        let pose_count = pose.len();
-        specs.extend(pose);
-        let compiled = compile_all(&specs.iter().collect::<Vec<_>>())?;
-        if self.parameters == ParameterSet::None {
-            let pairs: Vec<_> = specs.iter().zip(&compiled).collect();
-            model::self_check(&self.robot, &pairs[pairs.len() - pose_count..], "")?;
-        }
-        Ok((specs, compiled))
+        entries.extend(model::kernels::specs(
+            self.model,
+            &self.robot,
+            &self.parameters,
+            "",
+        )?);
+        let compiled = compile_all(&entries)?;
+        let robot_kernels: Vec<_> = entries
+            .iter()
+            .zip(&compiled)
+            .filter(|(e, _)| e.spec.model == self.model && e.spec.setting != Setting::Chapter)
+            .collect();
+        model::self_check(&self.robot, &robot_kernels)?;
+        Ok((entries, compiled))
+    }
+
+    /// The name, inputs and outputs of every kernel the configuration generates, in the order
+    /// of the generated file (for writing bindings to them).
+    ///
+    /// # Errors
+    /// As [`Config::generate_to_string`].
+    pub fn signatures(&self) -> Result<Vec<Signature>, Error> {
+        let (entries, _) = self.compile()?;
+        Ok(entries.iter().map(|e| Signature::of(&e.spec)).collect())
     }
 
     fn banner(&self, pairs: &[(&KernelSpec, &Compiled)]) -> String {
@@ -224,14 +250,14 @@ impl Config {
     /// An invalid robot, a bad parameter name, or a model the engine cannot emit or whose
     /// output fails the generator's self-check.
     pub fn generate_to_string(&self) -> Result<String, Error> {
-        let (specs, compiled) = self.compile()?;
+        let (entries, compiled) = self.compile()?;
         let identification = self
             .regressors
             .then(|| model::regressor::Identification::compile(self.model, &self.robot))
             .transpose()?;
-        let mut pairs: Vec<_> = specs.iter().zip(&compiled).collect();
+        let mut pairs: Vec<_> = entries.iter().map(|e| &e.spec).zip(&compiled).collect();
         if let Some(id) = &identification {
-            pairs.extend(id.pairs());
+            pairs.extend(id.pairs().into_iter().map(|(e, c)| (&e.spec, c)));
         }
         let mut file = emit::emit_file(
             &self.banner(&pairs),
@@ -254,8 +280,8 @@ impl Config {
         match self.language {
             Language::Rust => Ok(vec![(self.file_name.clone(), self.generate_to_string()?)]),
             Language::C => {
-                let (specs, compiled) = self.compile()?;
-                let pairs: Vec<_> = specs.iter().zip(&compiled).collect();
+                let (entries, compiled) = self.compile()?;
+                let pairs: Vec<_> = entries.iter().map(|e| &e.spec).zip(&compiled).collect();
                 let banner = emit_c::c_banner(&self.banner(&pairs));
                 let stem = Path::new(&self.file_name)
                     .file_stem()
@@ -315,13 +341,21 @@ impl Config {
 }
 
 /// Compiles every kernel, on every core: each is independent.
-fn compile_all(specs: &[&KernelSpec]) -> Result<Vec<Compiled>, Error> {
+fn compile_all<E: std::borrow::Borrow<Entry> + Sync>(
+    entries: &[E],
+) -> Result<Vec<Compiled>, Error> {
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let chunk = specs.len().div_ceil(threads).max(1);
+    let chunk = entries.len().div_ceil(threads).max(1);
     std::thread::scope(|scope| {
-        let handles: Vec<_> = specs
+        let handles: Vec<_> = entries
             .chunks(chunk)
-            .map(|part| scope.spawn(move || part.iter().map(|s| s.compile()).collect::<Vec<_>>()))
+            .map(|part| {
+                scope.spawn(move || {
+                    part.iter()
+                        .map(|e| e.borrow().spec.compile())
+                        .collect::<Vec<_>>()
+                })
+            })
             .collect();
         handles
             .into_iter()
@@ -338,56 +372,49 @@ pub fn generate() -> Result<(), Error> {
     Config::new().generate()
 }
 
-/// The kernels the checked-in crate also has in batch form (`_x4` in `f64`, `_x8` in `f32`).
-const BATCH_KERNELS: [&str; 4] = [
-    "inverse_dynamics",
-    "inverse_dynamics_params",
-    "forward_dynamics",
-    "forward_dynamics_params",
-];
-
-/// The kernels of the checked-in crate for one model: the chapter-setting ones (paper model),
-/// the pose-setting ones with the default robot folded, and with every parameter an input.
-fn crate_kernels(model: Model) -> Result<Vec<KernelSpec>, Error> {
+/// The kernels of the checked-in crate for one model: the chapter-setting ones (the paper
+/// model's), the robot kernels with the default robot folded, and with every parameter an
+/// input (`*_params`).
+fn crate_kernels(model: Model) -> Result<Vec<Entry>, Error> {
     let robot = Robot::default();
-    let mut specs = match model {
-        Model::Paper => model::kernels::chapter_specs(),
-        Model::Consistent => Vec::new(),
-    };
-    specs.extend(model::kernels::specs(
+    let mut entries = model::kernels::chapter_specs(model);
+    entries.extend(model::kernels::specs(
         model,
         &robot,
         &ParameterSet::None,
         "",
     )?);
-    specs.extend(model::kernels::specs(
+    entries.extend(model::kernels::specs(
         model,
         &robot,
         &ParameterSet::All,
         "_params",
     )?);
-    Ok(specs)
+    Ok(entries)
 }
 
 /// The files of the checked-in `generated/` crate, relative to it, with their contents: one
 /// kernel file per model and scalar (`src/f64/consistent.rs`, ...), their batch forms, the
-/// identification kernels per model (`src/f64/consistent_regressor.rs`, ...), and the manifest.
+/// identification kernels per model (`src/f64/consistent_regressor.rs`, ...), the kernel-set
+/// trait of each scalar with its implementation per model (`src/f64/kernels.rs`), the
+/// parameter and operation-count constants, and the manifest.
 ///
 /// # Errors
-/// A model the engine cannot emit, or that fails the self-check (a bug).
+/// A model the engine cannot emit, that fails the self-check, or whose kernels' signatures
+/// differ from another model's (a bug).
 pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
     let robot = Robot::default();
     let per_model = Model::ALL
         .into_iter()
         .map(|m| Ok((m, crate_kernels(m)?)))
         .collect::<Result<Vec<_>, Error>>()?;
-    let all_specs: Vec<&KernelSpec> = per_model.iter().flat_map(|(_, s)| s).collect();
+    let all: Vec<&Entry> = per_model.iter().flat_map(|(_, s)| s).collect();
     let (compiled, identification) = std::thread::scope(|scope| {
         let identification: Vec<_> = Model::ALL
             .map(|m| scope.spawn(move || model::regressor::Identification::compile(m, &robot)))
             .into_iter()
             .collect();
-        let compiled = compile_all(&all_specs);
+        let compiled = compile_all(&all);
         let identification: Result<Vec<_>, Error> = identification
             .into_iter()
             .map(|h| h.join().expect("a kernel compilation does not panic"))
@@ -395,50 +422,70 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
         (compiled, identification)
     });
     let (compiled, identification) = (compiled?, identification?);
-    let mut pairs: Vec<(&KernelSpec, &Compiled)> =
-        all_specs.iter().copied().zip(&compiled).collect();
-    pairs.extend(identification.iter().flat_map(|id| id.pairs()));
+    let kernels: Vec<(&Entry, &Compiled)> = all.iter().copied().zip(&compiled).collect();
+    let regressors: Vec<(&Entry, &Compiled)> =
+        identification.iter().flat_map(|id| id.pairs()).collect();
     let mut files = Vec::new();
+    let mut sets = Vec::new();
     for model in Model::ALL {
-        let mine: Vec<_> = pairs
+        let mine: Vec<_> = kernels
             .iter()
             .copied()
-            .filter(|(s, _)| s.model == model && !s.name.ends_with("regressor"))
+            .filter(|(e, _)| e.spec.model == model)
             .collect();
-        for suffix in ["", "_params"] {
+        for parameters in [false, true] {
             let group: Vec<_> = mine
                 .iter()
                 .copied()
-                .filter(|(s, _)| s.setting == Setting::Pose && s.name.ends_with(suffix))
-                .filter(|(s, _)| suffix == "_params" || !s.name.ends_with("_params"))
+                .filter(|(e, _)| {
+                    e.spec.setting != Setting::Chapter
+                        && (e.id.parameters == parameters
+                            || e.spec.inputs.iter().all(|a| a.name != "params"))
+                })
                 .collect();
-            model::self_check(&robot, &group, suffix)?;
+            model::self_check(&robot, &group)?;
         }
+        let specs: Vec<_> = mine.iter().map(|(e, c)| (&e.spec, *c)).collect();
         let header = manifest::header(
-            &mine,
+            &specs,
             &format!("by c5-codegen; regenerate with `{REGENERATE}`"),
             &format!("model: {model}; robot: the chapter's (Robot::default())"),
         );
         let batched: Vec<_> = mine
             .iter()
-            .copied()
-            .filter(|(s, _)| BATCH_KERNELS.contains(&s.name.as_str()))
+            .filter(|(e, _)| e.batch)
+            .map(|(e, c)| (&e.spec, *c))
             .collect();
         for scalar in [Scalar::F64, Scalar::F32] {
             files.push((
                 PathBuf::from(format!("src/{}/{model}.rs", scalar.name())),
-                emit::emit_file(&header, &mine, scalar, TrigCalls::Functions)?,
+                emit::emit_file(&header, &specs, scalar, TrigCalls::Functions)?,
             ));
             files.push((
                 PathBuf::from(format!("src/{}/{model}_batch.rs", scalar.name())),
                 emit::emit_batch_file(&header, &batched, scalar)?,
             ));
         }
+        let ident: Vec<_> = regressors
+            .iter()
+            .copied()
+            .filter(|(e, _)| e.spec.model == model)
+            .collect();
+        sets.push(emit::KernelSet {
+            module: model.name().to_string(),
+            summary: model::mechanics(model).summary().to_string(),
+            kernels: mine
+                .iter()
+                .filter(|(e, _)| model::kernels::is_shared(e.id.kernel))
+                .map(|(e, _)| (&e.spec, e.batch))
+                .collect(),
+            regressors: ident.iter().map(|(e, _)| &e.spec).collect(),
+        });
     }
     for (model, id) in Model::ALL.into_iter().zip(&identification) {
-        let kernels = id.pairs();
+        let pairs: Vec<_> = id.pairs().into_iter().map(|(e, c)| (&e.spec, c)).collect();
         let header = manifest::header(
-            &kernels,
+            &pairs,
             &format!("by c5-codegen; regenerate with `{REGENERATE}`"),
             &format!(
                 "model: {model}; any robot of the family (geometry and gravity are `params`; \
@@ -447,12 +494,37 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
         );
         files.push((
             PathBuf::from(format!("src/f64/{model}_regressor.rs")),
-            emit::emit_file(&header, &kernels, Scalar::F64, TrigCalls::Functions)?
+            emit::emit_file(&header, &pairs, Scalar::F64, TrigCalls::Functions)?
                 + &model::regressor::constants(&id.base)?,
         ));
     }
-    files.push((PathBuf::from("ops.json"), manifest::json(&pairs)));
-    files.push((PathBuf::from("OPS.md"), manifest::markdown(&pairs)));
+    let how = format!("by c5-codegen; regenerate with `{REGENERATE}`");
+    for scalar in [Scalar::F64, Scalar::F32] {
+        files.push((
+            PathBuf::from(format!("src/{}/mod.rs", scalar.name())),
+            emit::emit_kernel_sets(&how, &sets, scalar)?,
+        ));
+    }
+    let everything: Vec<(&KernelSpec, &Compiled)> = kernels
+        .iter()
+        .chain(&regressors)
+        .map(|(e, c)| (&e.spec, *c))
+        .collect();
+    files.push((
+        PathBuf::from("src/parameters.rs"),
+        manifest::parameter_constants(&how)?,
+    ));
+    let with_ids: Vec<_> = kernels
+        .iter()
+        .chain(&regressors)
+        .map(|(e, c)| (e.id, &e.spec, *c))
+        .collect();
+    files.push((
+        PathBuf::from("src/manifest.rs"),
+        manifest::rust_constants(&how, &with_ids)?,
+    ));
+    files.push((PathBuf::from("ops.json"), manifest::json(&everything)));
+    files.push((PathBuf::from("OPS.md"), manifest::markdown(&everything)));
     Ok(files)
 }
 
@@ -471,4 +543,27 @@ pub fn write_generated_crate(dir: &Path) -> Result<Vec<PathBuf>, Error> {
         }
     }
     Ok(stale)
+}
+
+/// A generated kernel's name, inputs and outputs, for writing bindings to it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Signature {
+    /// The function's name.
+    pub name: String,
+    /// The arguments in order, by name and shape.
+    pub inputs: Vec<(String, Shape)>,
+    /// The results in order, by name and shape (the Rust function returns them as a tuple,
+    /// the C function writes them through pointers after the inputs).
+    pub outputs: Vec<(String, Shape)>,
+}
+
+impl Signature {
+    fn of(spec: &KernelSpec) -> Self {
+        let ports = |args: &[kernel::Arg]| args.iter().map(|a| (a.name.clone(), a.shape)).collect();
+        Signature {
+            name: spec.name.clone(),
+            inputs: ports(&spec.inputs),
+            outputs: ports(&spec.outputs),
+        }
+    }
 }

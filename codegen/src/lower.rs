@@ -117,6 +117,46 @@ impl Program {
         self.outputs.iter().map(|&o| val(&t, o)).collect()
     }
 
+    /// Checks the program's invariants: every temporary is defined before it is read (so the
+    /// program runs in one forward pass), every paired cosine directly follows the sine-cosine
+    /// call of the same operand, every sine-cosine call is followed by its pair, and
+    /// the outputs read defined temporaries.
+    ///
+    /// # Errors
+    /// The first broken invariant, with the instruction's index.
+    pub fn verify(&self) -> Result<(), String> {
+        let defined = |o: Operand, at: usize| match o {
+            Operand::Temp(t) if t as usize >= at => {
+                Err(format!("instruction {at} reads t{t} before it is defined"))
+            }
+            _ => Ok(()),
+        };
+        for (i, instr) in self.instrs.iter().enumerate() {
+            for o in instr.operands() {
+                defined(o, i)?;
+            }
+            let previous = i.checked_sub(1).map(|p| self.instrs[p]);
+            match (instr, previous) {
+                (Instr::PairedCos(a), Some(Instr::SinCos(b))) if *a == b => {}
+                (Instr::PairedCos(_), _) => {
+                    return Err(format!(
+                        "instruction {i}: a paired cosine not right after its sine"
+                    ))
+                }
+                (Instr::SinCos(a), _) if self.instrs.get(i + 1) != Some(&Instr::PairedCos(*a)) => {
+                    return Err(format!(
+                        "instruction {i}: a sine-cosine pair without its cosine"
+                    ))
+                }
+                _ => {}
+            }
+        }
+        for &o in &self.outputs {
+            defined(o, self.instrs.len())?;
+        }
+        Ok(())
+    }
+
     /// Indices of the inputs the program reads.
     pub fn used_inputs(&self) -> HashSet<u32> {
         self.instrs
@@ -306,6 +346,12 @@ impl Factorer<'_> {
 /// Lowers the DAG reachable from `outputs` into a program; with `share_subsums`, the pairs of
 /// terms several sums share are added once ([`subsum`]).
 pub fn lower(arena: &Arena, outputs: &[NodeId], share_subsums: bool) -> Program {
+    let program = lower_unchecked(arena, outputs, share_subsums);
+    debug_assert_eq!(program.verify(), Ok(()), "the lowering breaks an invariant");
+    program
+}
+
+fn lower_unchecked(arena: &Arena, outputs: &[NodeId], share_subsums: bool) -> Program {
     let uses = use_counts(arena, outputs);
     let mut reciprocal_uses: HashMap<NodeId, usize> = HashMap::new();
     for &id in uses.keys() {
@@ -683,5 +729,56 @@ mod tests {
         let n = p.count();
         assert_eq!((n.mul, n.add), (1, 2));
         assert_eq!(p.eval(&[1.0, 2.0, 3.0]), vec![9.0]);
+    }
+
+    #[test]
+    fn verify_refuses_each_broken_invariant() {
+        let (x, t) = (Operand::Input(0), Operand::Temp);
+        let good = Program {
+            instrs: vec![
+                Instr::SinCos(x),
+                Instr::PairedCos(x),
+                Instr::Mul(t(0), t(1)),
+            ],
+            outputs: vec![t(2)],
+        };
+        assert_eq!(good.verify(), Ok(()));
+        let early = Program {
+            instrs: vec![Instr::Mul(t(1), x), Instr::Neg(x)],
+            outputs: vec![t(0)],
+        };
+        assert!(early.verify().unwrap_err().contains("reads t1 before"));
+        let lone = Program {
+            instrs: vec![Instr::Neg(x), Instr::PairedCos(x)],
+            outputs: vec![t(1)],
+        };
+        assert!(lone.verify().unwrap_err().contains("paired cosine"));
+        let unpaired = Program {
+            instrs: vec![Instr::SinCos(x), Instr::Neg(x)],
+            outputs: vec![t(0)],
+        };
+        assert!(unpaired
+            .verify()
+            .unwrap_err()
+            .contains("without its cosine"));
+        let dangling = Program {
+            instrs: vec![Instr::Neg(x)],
+            outputs: vec![t(3)],
+        };
+        assert!(dangling.verify().is_err());
+    }
+
+    #[test]
+    fn the_model_kernels_verify_after_lowering_and_scheduling() {
+        use crate::model::kernels::specs;
+        use crate::{Model, ParameterSet, Robot};
+        for model in Model::ALL {
+            for entry in specs(model, &Robot::default(), &ParameterSet::None, "").unwrap() {
+                let program = entry.spec.compile().unwrap().program;
+                assert_eq!(program.verify(), Ok(()), "{}", entry.spec.name);
+                let scheduled = crate::schedule::schedule(&program);
+                assert_eq!(scheduled.verify(), Ok(()), "{}", entry.spec.name);
+            }
+        }
     }
 }

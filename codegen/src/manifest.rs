@@ -1,8 +1,10 @@
 //! The operation-count manifest (`ops.json`, `OPS.md`) and the generated files' header.
 
 use crate::count::OpCount;
+use crate::error::Error;
 use crate::kernel::{ChapterCount, Compiled, KernelSpec, Setting};
-use c5_robot::Model;
+use crate::model::{Kernel, KernelId};
+use c5_robot::{Model, Robot};
 use serde::{Deserialize, Serialize};
 
 /// One kernel's entry in `ops.json`. The counts hold for every scalar type and every output
@@ -109,49 +111,107 @@ pub fn header(kernels: &[(&KernelSpec, &Compiled)], how: &str, what: &str) -> St
     out
 }
 
-/// The audit: every kernel's counted operations beside the chapter's count, with the ratio of
-/// `m + a` (a division counted as a multiplication), from the text of `ops.json`; only the
-/// kernels of `model` when one is given.
+fn rust_file(how: &str, what: &str, code: &str) -> Result<String, Error> {
+    let file: syn::File = syn::parse_str(code).map_err(|e| Error::Emit {
+        kernel: what.to_string(),
+        message: e.to_string(),
+    })?;
+    Ok(format!(
+        "// @generated {how}. Do not edit.\n// {what}\n\n{}",
+        prettyplease::unparse(&file)
+    ))
+}
+
+/// The length and names of the `*_params` kernels' parameter vector, from the one definition
+/// (`Robot::kernel_parameter_names`), as Rust constants.
 ///
 /// # Errors
-/// If `ops_json` is not a manifest.
-pub fn audit(ops_json: &str, model: Option<Model>) -> Result<String, serde_json::Error> {
-    let mut m: Manifest = serde_json::from_str(ops_json)?;
-    m.kernels
-        .retain(|e| model.is_none_or(|wanted| e.model == wanted));
-    let mut out = format!(
-        "{:<10} {:<30} {:>8} {:>12} {:>12} {:>6}  mul/div/add/neg, calls\n",
-        "model", "kernel", "setting", "chapter", "generated", "ratio"
+/// Emitted code that does not parse (a bug).
+pub fn parameter_constants(how: &str) -> Result<String, Error> {
+    let names = Robot::<f64>::kernel_parameter_names();
+    let quoted: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
+    let code = format!(
+        "/// Length of the parameter vector of the `*_params` kernels \
+         (`c5_robot::Robot::kernel_parameters`).\n\
+         pub const PARAMETERS: usize = {};\n\
+         /// The parameters' names, in the order of the vector.\n\
+         pub const PARAMETER_NAMES: [&str; {}] = [{}];\n\
+         /// How many of the first parameters the identification kernels read (the half-spacing \
+         and gravity): their `params` argument.\n\
+         pub const GEOMETRY_PARAMETERS: usize = {};\n",
+        names.len(),
+        names.len(),
+        quoted.join(", "),
+        crate::model::kernels::GEOMETRY
     );
-    for e in &m.kernels {
-        let c = &e.count;
-        let (m_, a) = (c.chapter_m(), c.chapter_a());
-        let (chapter, ratio) = match e.chapter {
-            Some(ch) => (
-                format!("{}m + {}a", ch.m, ch.a),
-                format!("{:.2}", f64::from(m_ + a) / f64::from(ch.m + ch.a)),
-            ),
-            None => ("—".to_string(), "—".to_string()),
-        };
-        out.push_str(&format!(
-            "{:<10} {:<30} {:>8} {:>12} {:>12} {:>6}  {}/{}/{}/{}, {}\n",
-            e.model.name(),
-            e.name,
-            e.setting.to_string(),
-            chapter,
-            format!("{m_}m + {a}a"),
-            ratio,
-            c.mul,
-            c.div,
-            c.add,
-            c.neg,
-            calls(c)
-        ));
-    }
-    out.push_str(
-        "\nratio = generated (m + a) / chapter (m + a); a division counts as a multiplication.\n\
-         The chapter's Khalil step 6 (J⁻¹ by eq 22, then an LU solve of eq 61) costs 134m + 125a;\n\
-         the generated factored step 6 is `step6_factored`.\n",
+    rust_file(how, "The robot parameters of the kernels.", &code)
+}
+
+/// The manifest as Rust constants (`c5_generated::manifest::KERNELS`), for the audit and the
+/// operation budget without parsing `ops.json`.
+///
+/// # Errors
+/// Emitted code that does not parse (a bug).
+pub fn rust_constants(
+    how: &str,
+    kernels: &[(KernelId, &KernelSpec, &Compiled)],
+) -> Result<String, Error> {
+    let specs: Vec<_> = kernels.iter().map(|(_, s, c)| (*s, *c)).collect();
+    let items: Vec<String> = entries(&specs)
+        .iter()
+        .zip(kernels)
+        .map(|(e, (id, _, _))| {
+            let c = &e.count;
+            let calls: Vec<String> = c
+                .calls
+                .iter()
+                .map(|(n, k)| format!("({n:?}, {k})"))
+                .collect();
+            let equations: Vec<String> = e.equations.iter().map(|q| format!("{q:?}")).collect();
+            let chapter = e.chapter.map_or("None".to_string(), |ch| {
+                format!("Some(ChapterCount {{ m: {}, a: {} }})", ch.m, ch.a)
+            });
+            format!(
+                "Entry {{ kernel: Kernel::{:?}, parameters: {}, name: {:?}, model: {:?}, \
+                 setting: {:?}, equations: &[{}], \
+                 count: Count {{ mul: {}, div: {}, add: {}, neg: {}, calls: &[{}] }}, \
+                 chapter: {chapter} }}",
+                id.kernel,
+                id.parameters,
+                e.name,
+                e.model.name(),
+                e.setting.to_string(),
+                equations.join(", "),
+                c.mul,
+                c.div,
+                c.add,
+                c.neg,
+                calls.join(", ")
+            )
+        })
+        .collect();
+    let variants: Vec<String> = Kernel::ALL
+        .iter()
+        .map(|k| format!("/// `{}`.\n{k:?}", k.name()))
+        .collect();
+    let names: Vec<String> = Kernel::ALL
+        .iter()
+        .map(|k| format!("Kernel::{k:?} => {:?}", k.name()))
+        .collect();
+    let code = format!(
+        "/// What a kernel computes, the same for every model, scalar and variant.\n\
+         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]\n\
+         pub enum Kernel {{ {} }}\n\
+         impl Kernel {{\n\
+         /// The generated function's base name (`_params` is appended when the robot's \
+         parameters are inputs).\n\
+         pub const fn name(self) -> &'static str {{ match self {{ {} }} }}\n\
+         }}\n\
+         /// Every generated kernel with its counted operations, as `ops.json` lists them.\n\
+         pub const KERNELS: &[Entry] = &[{}];\n",
+        variants.join(",\n"),
+        names.join(",\n"),
+        items.join(",\n")
     );
-    Ok(out)
+    rust_file(how, "The operation-count manifest as constants.", &code)
 }

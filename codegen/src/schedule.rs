@@ -72,10 +72,16 @@ pub fn schedule(program: &Program) -> Program {
         .iter()
         .map(|&old| program.instrs[old].map_operands(map))
         .collect();
-    Program {
+    let scheduled = Program {
         instrs,
         outputs: program.outputs.iter().map(|&o| map(o)).collect(),
-    }
+    };
+    debug_assert_eq!(
+        scheduled.verify(),
+        Ok(()),
+        "the scheduler breaks an invariant"
+    );
+    scheduled
 }
 
 /// The order (old indices) in which [`schedule`] puts the instructions: a topological order in

@@ -271,67 +271,74 @@ pub mod lanes {
     }
 }
 
-/// Kernels in `f64`, one module per model.
-pub mod f64 {
-    /// The consistent model (the mechanism of eq 16), `f64`.
-    #[rustfmt::skip]
-    #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
-    pub mod consistent {
-        use crate::trig::{cos, sin, sin_cos, sqrt};
-        include!("f64/consistent.rs");
-        #[cfg(feature = "batch")]
-        use crate::lanes::F64x4;
-        #[cfg(feature = "batch")]
-        include!("f64/consistent_batch.rs");
-        #[cfg(feature = "regressor")]
-        include!("f64/consistent_regressor.rs");
-    }
+#[rustfmt::skip]
+pub mod f64;
 
-    /// The paper model (the chapter as published) and the chapter-setting kernels, `f64`.
-    #[rustfmt::skip]
-    #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
-    pub mod paper {
-        use crate::trig::{cos, sin, sin_cos, sqrt};
-        include!("f64/paper.rs");
-        #[cfg(feature = "batch")]
-        use crate::lanes::F64x4;
-        #[cfg(feature = "batch")]
-        include!("f64/paper_batch.rs");
-        #[cfg(feature = "regressor")]
-        include!("f64/paper_regressor.rs");
-    }
-}
-
-/// Kernels in `f32`, from the same programs (constants rounded once to `f32`).
 #[cfg(feature = "f32")]
-pub mod f32 {
-    /// The consistent model (the mechanism of eq 16), `f32`.
-    #[rustfmt::skip]
-    #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
-    pub mod consistent {
-        use crate::trig::{cos, sin, sin_cos, sqrt};
-        include!("f32/consistent.rs");
-        #[cfg(feature = "batch")]
-        use crate::lanes::F32x8;
-        #[cfg(feature = "batch")]
-        include!("f32/consistent_batch.rs");
+#[rustfmt::skip]
+pub mod f32;
+
+include!("parameters.rs");
+
+/// The operation-count manifest written with the kernels (`ops.json` as constants): every
+/// kernel's counted operations, for the audit and the operation budget.
+pub mod manifest {
+    /// The chapter's published count (a division counted as a multiplication).
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub struct ChapterCount {
+        pub m: u32,
+        pub a: u32,
     }
 
-    /// The paper model (the chapter as published) and the chapter-setting kernels, `f32`.
-    #[rustfmt::skip]
-    #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
-    pub mod paper {
-        use crate::trig::{cos, sin, sin_cos, sqrt};
-        include!("f32/paper.rs");
-        #[cfg(feature = "batch")]
-        use crate::lanes::F32x8;
-        #[cfg(feature = "batch")]
-        include!("f32/paper_batch.rs");
+    /// A kernel's counted operations.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub struct Count {
+        pub mul: u32,
+        pub div: u32,
+        /// Additions and subtractions.
+        pub add: u32,
+        pub neg: u32,
+        /// Calls to elementary functions, by name (`sin_cos` computes a pair).
+        pub calls: &'static [(&'static str, u32)],
+    }
+
+    impl Count {
+        /// The chapter's `m`: multiplications and divisions.
+        pub const fn chapter_m(&self) -> u32 {
+            self.mul + self.div
+        }
+        /// The chapter's `a`: additions and subtractions.
+        pub const fn chapter_a(&self) -> u32 {
+            self.add
+        }
+    }
+
+    /// One generated kernel.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub struct Entry {
+        /// What it computes.
+        pub kernel: Kernel,
+        /// Whether the robot's parameters are its `params` argument (`*_params`).
+        pub parameters: bool,
+        /// The function's name.
+        pub name: &'static str,
+        /// The model whose equations it computes (`consistent`, `paper`).
+        pub model: &'static str,
+        /// `chapter` (the vectors `P_i2` as inputs, the chapter's setting) or `pose` (from the
+        /// platform state, end to end).
+        pub setting: &'static str,
+        /// The chapter's equations (or DESIGN.md's) it computes.
+        pub equations: &'static [&'static str],
+        pub count: Count,
+        pub chapter: Option<ChapterCount>,
+    }
+
+    include!("manifest.rs");
+
+    /// The entry of `model`'s `kernel`, folded or with the robot's parameters as inputs.
+    pub fn entry(model: &str, kernel: Kernel, parameters: bool) -> Option<&'static Entry> {
+        KERNELS
+            .iter()
+            .find(|e| e.model == model && e.kernel == kernel && e.parameters == parameters)
     }
 }
-
-/// The operation-count manifest written with the kernels.
-pub const OPS_JSON: &str = include_str!("../ops.json");
-
-/// Length of the parameter vector of the `*_params` kernels.
-pub const PARAMETERS: usize = 152;

@@ -49,7 +49,20 @@ pub use c5_robot::{Model, Robot};
 pub use error::Error;
 pub use types::{Acceleration, Pose, State, Twist};
 
-use c5_generated::f64::{consistent, paper};
+use c5_generated::f64::{paper, Kernels};
+
+// The parameter vector's length is generated from the robot description's one definition.
+const _: () = assert!(c5_generated::PARAMETERS == c5_robot::PARAMETERS);
+
+/// The generated kernels of `model`: the one place a model is mapped to its code. Every model
+/// has the same kernels with the same signatures ([`Kernels`]), so everything else calls them
+/// through this.
+pub fn kernels(model: Model) -> &'static dyn Kernels {
+    match model {
+        Model::Consistent => &c5_generated::f64::Consistent,
+        Model::Paper => &c5_generated::f64::Paper,
+    }
+}
 
 /// Smallest accepted `|r11|`, `|r22|`, `|r33|` (the divisors of eq 16). Below it a pose is
 /// [`Error::Singular`]: an actuator length would be off by more than `|Δ|/1e-9` per unit error.
@@ -60,6 +73,7 @@ pub const SINGULARITY_TOLERANCE: f64 = 1e-9;
 pub struct C5 {
     robot: Robot,
     model: Model,
+    kernels: &'static dyn Kernels,
     params: [f64; c5_generated::PARAMETERS],
 }
 
@@ -110,16 +124,6 @@ fn lanes(rows: &[[f64; 6]; 4]) -> [[f64; 4]; 6] {
     core::array::from_fn(|k| core::array::from_fn(|l| rows[l][k]))
 }
 
-/// Calls the `_params` kernel `$name` of the model of `$c5`; both models share its signature.
-macro_rules! kernel {
-    ($c5:expr, $name:ident($($arg:expr),*)) => {
-        match $c5.model {
-            Model::Consistent => consistent::$name($($arg,)* &$c5.params),
-            Model::Paper => paper::$name($($arg,)* &$c5.params),
-        }
-    };
-}
-
 impl C5 {
     /// The robot with the consistent model.
     ///
@@ -140,6 +144,7 @@ impl C5 {
         Ok(C5 {
             robot,
             model,
+            kernels: kernels(model),
             params,
         })
     }
@@ -156,8 +161,19 @@ impl C5 {
     pub fn to_model(&self, model: Model) -> Self {
         C5 {
             model,
+            kernels: kernels(model),
             ..self.clone()
         }
+    }
+
+    /// The generated kernels this robot's model calls.
+    pub fn kernels(&self) -> &'static dyn Kernels {
+        self.kernels
+    }
+
+    /// The robot's parameter vector, as the `*_params` kernels take it.
+    pub fn parameters(&self) -> &[f64; c5_generated::PARAMETERS] {
+        &self.params
     }
 
     /// `[r11 r22 r33]`, the divisors of eq 16 at `pose`, the same in both models: a pose is
@@ -169,14 +185,6 @@ impl C5 {
         let x = pose.to_array();
         check_finite("pose", &x)?;
         Ok(paper::singularity_terms(&x))
-    }
-
-    /// A finite pose and the divisors of eq 16 at it, for the kernels that do not return them.
-    fn checked_pose(pose: &Pose) -> Result<[f64; 6], Error> {
-        let x = pose.to_array();
-        check_finite("pose", &x)?;
-        check_divisors(paper::singularity_terms(&x))?;
-        Ok(x)
     }
 
     /// Finite inputs; the singularity check is left to the divisors the kernel returns.
@@ -198,7 +206,7 @@ impl C5 {
     pub fn inverse_kinematics(&self, pose: &Pose) -> Result<([f64; 6], [[f64; 3]; 6]), Error> {
         let x = pose.to_array();
         check_finite("pose", &x)?;
-        let (q, p, r) = kernel!(self, inverse_kinematics_params(&x));
+        let (q, p, r) = self.kernels.inverse_kinematics_params(&x, &self.params);
         check_divisors(r)?;
         Ok((finite("q", q)?, finite_matrix("p", p)?))
     }
@@ -208,18 +216,9 @@ impl C5 {
     /// # Errors
     /// A non-finite or singular pose.
     pub fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        let (jinv, r) = match self.model {
-            Model::Consistent => {
-                let x = pose.to_array();
-                check_finite("pose", &x)?;
-                consistent::inverse_jacobian_pose_params(&x, &self.params)
-            }
-            Model::Paper => {
-                let x = Self::checked_pose(pose)?;
-                let jinv = paper::inverse_jacobian_pose_params(&x, &self.params);
-                (jinv, [1.0; 3])
-            }
-        };
+        let x = pose.to_array();
+        check_finite("pose", &x)?;
+        let (jinv, r) = self.kernels.inverse_jacobian_pose_params(&x, &self.params);
         check_divisors(r)?;
         finite_matrix("jinv", jinv)
     }
@@ -229,17 +228,9 @@ impl C5 {
     /// # Errors
     /// A non-finite or singular pose.
     pub fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        let (jac, r) = match self.model {
-            Model::Consistent => {
-                let x = pose.to_array();
-                check_finite("pose", &x)?;
-                consistent::jacobian_pose_params(&x, &self.params)
-            }
-            Model::Paper => {
-                let x = Self::checked_pose(pose)?;
-                (paper::jacobian_pose_params(&x, &self.params), [1.0; 3])
-            }
-        };
+        let x = pose.to_array();
+        check_finite("pose", &x)?;
+        let (jac, r) = self.kernels.jacobian_pose_params(&x, &self.params);
         check_divisors(r)?;
         finite_matrix("jacobian", jac)
     }
@@ -249,23 +240,10 @@ impl C5 {
     /// # Errors
     /// Non-finite inputs or a singular pose.
     pub fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-        let v = twist.to_array();
-        let (qd, r) = match self.model {
-            Model::Consistent => {
-                let x = pose.to_array();
-                check_finite("pose", &x)?;
-                check_finite("twist", &v)?;
-                consistent::joint_velocities_params(&x, &v, &self.params)
-            }
-            Model::Paper => {
-                let x = Self::checked_pose(pose)?;
-                check_finite("twist", &v)?;
-                (
-                    paper::joint_velocities_params(&x, &v, &self.params),
-                    [1.0; 3],
-                )
-            }
-        };
+        let (x, v) = (pose.to_array(), twist.to_array());
+        check_finite("pose", &x)?;
+        check_finite("twist", &v)?;
+        let (qd, r) = self.kernels.joint_velocities_params(&x, &v, &self.params);
         check_divisors(r)?;
         finite("qd", qd)
     }
@@ -277,7 +255,9 @@ impl C5 {
     /// Non-finite inputs or a singular pose.
     pub fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
         let [x, v, a] = Self::checked_motion(state)?;
-        let (qdd, r) = kernel!(self, joint_accelerations_params(&x, &v, &a));
+        let (qdd, r) = self
+            .kernels
+            .joint_accelerations_params(&x, &v, &a, &self.params);
         check_divisors(r)?;
         finite("qdd", qdd)
     }
@@ -289,7 +269,9 @@ impl C5 {
     /// Non-finite inputs or a singular pose.
     pub fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
         let [x, v, a] = Self::checked_motion(state)?;
-        let (gamma, r) = kernel!(self, inverse_dynamics_params(&x, &v, &a));
+        let (gamma, r) = self
+            .kernels
+            .inverse_dynamics_params(&x, &v, &a, &self.params);
         check_divisors(r)?;
         finite("gamma", gamma)
     }
@@ -302,7 +284,7 @@ impl C5 {
     pub fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
         let x = pose.to_array();
         check_finite("pose", &x)?;
-        let (m, r) = kernel!(self, task_inertia_params(&x));
+        let (m, r) = self.kernels.task_inertia_params(&x, &self.params);
         check_divisors(r)?;
         finite_matrix("task inertia", m)
     }
@@ -315,7 +297,7 @@ impl C5 {
         let (x, v) = (pose.to_array(), twist.to_array());
         check_finite("pose", &x)?;
         check_finite("twist", &v)?;
-        let (h, r) = kernel!(self, task_bias_params(&x, &v));
+        let (h, r) = self.kernels.task_bias_params(&x, &v, &self.params);
         check_divisors(r)?;
         finite("task bias", h)
     }
@@ -335,7 +317,9 @@ impl C5 {
         check_finite("pose", &x)?;
         check_finite("twist", &v)?;
         check_finite("gamma", gamma)?;
-        let (a, r) = kernel!(self, forward_dynamics_params(&x, &v, gamma));
+        let (a, r) = self
+            .kernels
+            .forward_dynamics_params(&x, &v, gamma, &self.params);
         check_divisors(r)?;
         let a = finite("acceleration", a)?;
         Ok(Acceleration::from_array(a))
@@ -361,12 +345,9 @@ impl C5 {
             }
             let column = |j: usize| core::array::from_fn(|l| rows[l][j]);
             let (x, v, a) = (lanes(&column(0)), lanes(&column(1)), lanes(&column(2)));
-            let (gamma, r) = match self.model {
-                Model::Consistent => {
-                    consistent::inverse_dynamics_params_x4(&x, &v, &a, &self.params)
-                }
-                Model::Paper => paper::inverse_dynamics_params_x4(&x, &v, &a, &self.params),
-            };
+            let (gamma, r) = self
+                .kernels
+                .inverse_dynamics_params_x4(&x, &v, &a, &self.params);
             for l in 0..chunk.len() {
                 let at = |e| (4 * c + l, e);
                 check_divisors(core::array::from_fn(|k| r[k][l])).map_err(at)?;

@@ -3,23 +3,13 @@
 //! for the bench, once more with `-O3 -march=native`; writes the Rust FFI adapters the tests
 //! call.
 
-use c5_codegen::emit_c::Naming;
-use c5_codegen::kernel::Shape;
-use c5_codegen::model::kernels::{chapter_specs, specs};
-use c5_codegen::{Config, KernelSpec, Language, Model, ParameterSet, Robot, Scalar};
+use c5_codegen::{CNaming as Naming, Config, Language, Model, Scalar, Shape, Signature};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
-fn kernels(model: Model) -> Vec<KernelSpec> {
-    let mut all = match model {
-        Model::Paper => chapter_specs(),
-        Model::Consistent => Vec::new(),
-    };
-    all.extend(specs(model, &Robot::default(), &ParameterSet::None, "").unwrap());
-    all
-}
-
-fn generate(out: &Path, model: Model, scalar: Scalar, stem: &str, naming: &Naming) -> PathBuf {
+/// The C kernels of `model`: the robot kernels, and the chapter-setting ones for the model
+/// that has them (the paper model's).
+fn config(out: &Path, model: Model, scalar: Scalar, stem: &str, naming: &Naming) -> Config {
     let mut config = Config::new();
     config
         .model(model)
@@ -29,7 +19,11 @@ fn generate(out: &Path, model: Model, scalar: Scalar, stem: &str, naming: &Namin
         .c_naming(&naming.prefix, &naming.suffix)
         .file_name(&format!("{stem}.c"))
         .out_dir(out);
-    config.generate().unwrap();
+    config
+}
+
+fn generate(out: &Path, model: Model, scalar: Scalar, stem: &str, naming: &Naming) -> PathBuf {
+    config(out, model, scalar, stem, naming).generate().unwrap();
     out.join(format!("{stem}.c"))
 }
 
@@ -42,34 +36,34 @@ fn rust_type(shape: Shape, ty: &str) -> String {
 
 /// The adapters of one kernel: the C function and the Rust kernel, both as
 /// `fn(&[f64]) -> Vec<f64>` over the flattened inputs and outputs.
-fn adapters(out: &mut String, spec: &KernelSpec, model: Model, scalar: Scalar, naming: &Naming) {
+fn adapters(out: &mut String, spec: &Signature, model: Model, scalar: Scalar, naming: &Naming) {
     let ty = scalar.name();
     let c_name = naming.function(&spec.name);
     let id = format!("{model}_{ty}_{}", spec.name);
     let mut args = Vec::new();
     let mut unpack = String::new();
     let mut offset = 0;
-    for (k, a) in spec.inputs.iter().enumerate() {
-        let t = rust_type(a.shape, ty);
+    for (k, (_, shape)) in spec.inputs.iter().enumerate() {
+        let t = rust_type(*shape, ty);
         let _ = writeln!(
             unpack,
             "    let a{k}: {t} = unflat(&input[{offset}..{}]);",
-            offset + a.shape.len()
+            offset + shape.len()
         );
-        offset += a.shape.len();
+        offset += shape.len();
         args.push(format!("&a{k}"));
     }
     // The C prototype takes pointers to the first element (rows for matrices).
     let c_params: Vec<String> = spec
         .inputs
         .iter()
-        .map(|a| match a.shape {
-            Shape::Vector(_) => format!("{}: *const {ty}", a.name),
-            Shape::Matrix(_, c) => format!("{}: *const [{ty}; {c}]", a.name),
+        .map(|(name, shape)| match shape {
+            Shape::Vector(_) => format!("{name}: *const {ty}"),
+            Shape::Matrix(_, c) => format!("{name}: *const [{ty}; {c}]"),
         })
-        .chain(spec.outputs.iter().map(|a| match a.shape {
-            Shape::Vector(_) => format!("{}: *mut {ty}", a.name),
-            Shape::Matrix(_, c) => format!("{}: *mut [{ty}; {c}]", a.name),
+        .chain(spec.outputs.iter().map(|(name, shape)| match shape {
+            Shape::Vector(_) => format!("{name}: *mut {ty}"),
+            Shape::Matrix(_, c) => format!("{name}: *mut [{ty}; {c}]"),
         }))
         .collect();
     let _ = writeln!(
@@ -79,11 +73,11 @@ fn adapters(out: &mut String, spec: &KernelSpec, model: Model, scalar: Scalar, n
     );
     // C.
     let _ = writeln!(out, "pub fn c_{id}(input: &[f64]) -> Vec<f64> {{\n{unpack}");
-    for (k, a) in spec.outputs.iter().enumerate() {
+    for (k, (_, shape)) in spec.outputs.iter().enumerate() {
         let _ = writeln!(
             out,
             "    let mut o{k}: {} = Default::default();",
-            rust_type(a.shape, ty)
+            rust_type(*shape, ty)
         );
     }
     let mut call: Vec<String> = (0..spec.inputs.len())
@@ -147,13 +141,16 @@ fn main() {
             );
             std::fs::write(&source, text).unwrap();
             sources.push(source);
-            for spec in kernels(model) {
-                adapters(&mut code, &spec, model, scalar, &naming);
+            let signatures = config(&out, model, scalar, &stem, &naming)
+                .signatures()
+                .unwrap();
+            for spec in &signatures {
+                adapters(&mut code, spec, model, scalar, &naming);
                 let id = format!("{model}_{}_{}", scalar.name(), spec.name);
                 let inputs: Vec<String> = spec
                     .inputs
                     .iter()
-                    .map(|a| format!("{:?}", a.name))
+                    .map(|(name, _)| format!("{name:?}"))
                     .collect();
                 let _ = writeln!(
                     table,

@@ -37,5 +37,7 @@ mod standard;
 pub use error::Error;
 pub use inertia::check_inertia;
 pub use model::Model;
-pub use robot::{standard_of, RigidBody, Robot, Rod, Segment, AXIS, PARAMETERS};
+pub use robot::{
+    standard_of, RigidBody, Robot, Rod, Segment, AXIS, GEOMETRY_PARAMETERS, PARAMETERS,
+};
 pub use standard::{standard_parameter_names, Friction, STANDARD_PARAMETERS};

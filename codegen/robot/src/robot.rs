@@ -19,6 +19,10 @@ pub const AXIS: [usize; 6] = [0, 0, 1, 1, 2, 2];
 /// Number of entries of the runtime parameter vector ([`Robot::flatten`]).
 pub const PARAMETERS: usize = 152;
 
+/// How many entries open the parameter vector before the first body's: the half-spacing and
+/// gravity, all the identification kernels read of a robot.
+pub const GEOMETRY_PARAMETERS: usize = 4;
+
 /// A rigid body: mass, centre of mass and inertia about the centre of mass.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(
@@ -451,6 +455,12 @@ mod tests {
         assert!((at("platform_ixy") - (0.0 - 10.0 * 0.01 * -0.02)).abs() < 1e-15);
         assert_eq!(at("rod3_inertia_q2_yy"), 0.0);
         assert_eq!(at("joint6_mass"), 1.67);
+        // The geometry opens the vector: the half-spacing and gravity, then the first body.
+        assert_eq!(
+            names[..GEOMETRY_PARAMETERS],
+            ["half_spacing", "gravity_x", "gravity_y", "gravity_z"]
+        );
+        assert_eq!(names[GEOMETRY_PARAMETERS], "platform_mass");
         // Where nothing is off its reference point, the two vectors agree.
         assert_eq!(
             Robot::default().kernel_parameters(),

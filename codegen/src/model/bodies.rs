@@ -7,6 +7,7 @@
 
 use crate::dag::{Expr, Graph};
 use crate::linalg::{Mat, Mat3, Vec3, Vec6, Vector};
+use c5_robot::{RigidBody, Robot};
 
 /// A body's standard inertial parameters: mass `m`, first moment `h = m c` (the centre of mass
 /// `c` from the body's reference point) and inertia `I_O` about the reference point, `h` and
@@ -48,23 +49,31 @@ pub struct Dynamics<'g> {
 pub const STANDARD_INERTIAL: usize = 130;
 
 impl<'g> Dynamics<'g> {
-    /// From the parameter vector of the `*_params` kernels (`Robot::kernel_parameters`: the
-    /// half-spacing, gravity, the platform's standard parameters, then per segment the rod's
-    /// mass and inertias and body 2's standard parameters).
-    pub fn from_kernel_parameters(g: &'g Graph, p: &[Expr<'g>]) -> Self {
-        let sym =
-            |q: &[Expr<'g>]| Mat([[q[0], q[1], q[2]], [q[1], q[3], q[4]], [q[2], q[4], q[5]]]);
-        let segment = |i: usize| &p[14 + 23 * i..14 + 23 * (i + 1)];
+    /// From the parameter vector of the `*_params` kernels (`Robot::kernel_parameters`:
+    /// [`Robot::flatten`]'s layout, each body's centre of mass and inertia in standard form,
+    /// the first moment `m c` and the inertia about the reference point).
+    pub fn from_kernel_parameters(p: &[Expr<'g>]) -> Self {
+        let robot = Robot::<Expr<'g>>::unflatten(p);
+        // In this vector a body's `com` holds its first moment and `inertia` is about its
+        // reference point: the standard parameters.
+        let standard = |b: &RigidBody<Expr<'g>>| Inertial {
+            mass: b.mass,
+            first_moment: Vector(b.com),
+            inertia: Mat(b.inertia),
+        };
+        let zero = p[0].graph().zero();
         Dynamics {
-            gravity: Vector([p[1], p[2], p[3]]),
-            platform: Inertial::from_standard(&p[4..14]),
-            joints: std::array::from_fn(|i| Inertial::from_standard(&segment(i)[13..23])),
-            rods: std::array::from_fn(|i| Inertial {
-                mass: segment(i)[0],
-                first_moment: Vec3::zeros(g),
-                inertia: sym(&segment(i)[1..7]),
+            gravity: Vector(robot.gravity),
+            platform: standard(&robot.platform),
+            joints: robot.segments.map(|s| standard(&s.joint)),
+            rods: robot.segments.map(|s| Inertial {
+                mass: s.rod.mass,
+                first_moment: Vector([zero; 3]),
+                inertia: Mat(s.rod.inertia),
             }),
-            rod_inertia_per_length_squared: std::array::from_fn(|i| sym(&segment(i)[7..13])),
+            rod_inertia_per_length_squared: robot
+                .segments
+                .map(|s| Mat(s.rod.inertia_per_length_squared)),
         }
     }
 

@@ -63,12 +63,17 @@ impl Mechanics for Consistent {
                 "virtual work",
                 "M_x V̇ = J⁻ᵀ Γ - h (LDLᵀ)",
             ],
+            Quantity::Identification => &[
+                "15",
+                "16",
+                "16 d²/dt²",
+                "27",
+                "52-57",
+                "virtual work",
+                "62 (Γ = D S⁻ᵀ Rᵀ K + τ)",
+                "∂Γ/∂π",
+            ],
         }
-    }
-
-    fn divides_by_eq16(&self, _: Quantity) -> bool {
-        // Every quantity goes through `P_i2` and `1 / (n_i·m_i)`.
-        true
     }
 
     fn inverse_jacobian<'g>(&self, posed: &Posed<'g>) -> Mat6<'g> {

@@ -1,21 +1,117 @@
 //! The kernel table: which kernels a model is generated into, declared as data.
 //!
-//! Every model gets [`POSE_KERNELS`] (plus its own [`Mechanics::extra_kernels`]); a [`Decl`]
-//! says what a kernel is called, which equations it computes, from which inputs, into which
-//! outputs, and whether it returns the divisors of eq 16. [`specs`] turns the table into the
-//! engine's [`KernelSpec`]s for one model, robot and parameter set.
+//! Every model gets [`TABLE`] (plus its own [`Mechanics::extra_kernels`]); a [`Decl`] says
+//! what a kernel is ([`Kernel`], its typed identity), which equations it computes, from which
+//! kinds of input, into which outputs, and which singularity terms it returns. A kernel's
+//! build reads its inputs by kind through a [`Context`], never by position, so a new kernel
+//! is one declaration. [`specs`] turns the table into the engine's [`KernelSpec`]s for one
+//! model, robot and parameter set, each tagged with its [`KernelId`].
 
 use super::bodies::{platform_wrench, Dynamics, Frame};
 use super::geometry::{self, Motion, Posed};
-use super::{Mechanics, Model, Quantity};
+use super::{Mechanics, Model, Quantity, INTERNAL_INPUTS};
 use crate::dag::{Expr, Graph};
 use crate::error::Error;
 use crate::kernel::{Arg, ChapterCount, KernelSpec, Objective, Setting, Shape};
-use crate::linalg::{Vec6, Vector};
+use crate::linalg::{Mat, Vec6, Vector};
 use c5_robot::Robot;
 
-/// An input of a kernel.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+macro_rules! kernels {
+    ($($(#[$doc:meta])* $id:ident => $name:literal,)*) => {
+        /// What a kernel computes: its typed identity, the same for every model, scalar and
+        /// variant. The generated function's name is [`Kernel::name`] (with `_params` when the
+        /// robot's parameters are inputs, `_x4`/`_x8` in batch form).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub enum Kernel {
+            $($(#[$doc])* $id,)*
+        }
+
+        impl Kernel {
+            /// Every kernel, in the table's order.
+            pub const ALL: &'static [Kernel] = &[$(Kernel::$id),*];
+
+            /// The generated function's base name.
+            pub const fn name(self) -> &'static str {
+                match self {
+                    $(Kernel::$id => $name,)*
+                }
+            }
+        }
+    };
+}
+
+kernels! {
+    /// `[r11 r22 r33]` from the pose.
+    SingularityTerms => "singularity_terms",
+    /// Eq 16: `Q_i1` and `P_i2` from the pose.
+    InverseKinematics => "inverse_kinematics",
+    /// `J⁻¹` from the pose.
+    InverseJacobianPose => "inverse_jacobian_pose",
+    /// `J` from the pose.
+    JacobianPose => "jacobian_pose",
+    /// `Q̇_a = J⁻¹ V`.
+    JointVelocities => "joint_velocities",
+    /// `Q̈_a` from the platform's motion.
+    JointAccelerations => "joint_accelerations",
+    /// `Φ`, the legs' loads at `C`.
+    LegWrench => "leg_wrench",
+    /// `F_{N+1}`, the platform's wrench.
+    PlatformWrench => "platform_wrench",
+    /// `M_x`.
+    TaskInertia => "task_inertia",
+    /// `h`.
+    TaskBias => "task_bias",
+    /// `(ω̇; a_C)` from `Γ`.
+    ForwardDynamics => "forward_dynamics",
+    /// `Γ` from the platform's motion.
+    InverseDynamics => "inverse_dynamics",
+    /// The chapter's setting: eq 22 from `P_i2`.
+    InverseJacobian => "inverse_jacobian",
+    /// The chapter's setting: eq 39.
+    Pi1 => "pi1",
+    /// The chapter's setting: eq 40.
+    Jacobian => "jacobian",
+    /// The chapter's setting: eqs 43-48 for segment 1.
+    JointAccelerationsSegment => "joint_accelerations_segment",
+    /// The chapter's setting: eq 62.
+    Step6Factored => "step6_factored",
+    /// The chapter's setting: the denominators of eq 39.
+    Pi1Denominators => "pi1_denominators",
+    /// Eqs 43-48 for every segment, the passive joints included.
+    LegJointAccelerations => "leg_joint_accelerations",
+    /// `Y` of `Γ = Y π`.
+    Regressor => "regressor",
+    /// `Y_b` of `Γ = Y_b β`.
+    BaseRegressor => "base_regressor",
+}
+
+/// A generated kernel: what it computes and whether the robot's parameters are its inputs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct KernelId {
+    pub kernel: Kernel,
+    /// The robot's parameters are a `params` argument (else folded in as constants).
+    pub parameters: bool,
+}
+
+impl KernelId {
+    pub const fn folded(kernel: Kernel) -> Self {
+        KernelId {
+            kernel,
+            parameters: false,
+        }
+    }
+}
+
+/// A kernel's engine specification with its identity.
+pub struct Entry {
+    pub id: KernelId,
+    pub spec: KernelSpec,
+    /// Also emitted in batch form.
+    pub batch: bool,
+}
+
+/// The kind of an input of a kernel; a build reads its inputs by kind through [`Context`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Input {
     /// The platform pose `[α β γ xc yc zc]`.
     Pose,
@@ -23,6 +119,8 @@ pub enum Input {
     Twist,
     /// The classical platform acceleration `(ω̇; a_C)`.
     Accel,
+    /// The actuator forces `Γ`.
+    Gamma,
     /// The chapter's setting: the six vectors `P_i2` as free inputs.
     P,
     /// The chapter's setting: `P_12` alone.
@@ -31,8 +129,6 @@ pub enum Input {
     SpatialAccel,
     /// A wrench `K` at `C`.
     Wrench,
-    /// The actuator forces `Γ`.
-    Gamma,
 }
 
 fn names(list: &[&str]) -> Vec<String> {
@@ -60,6 +156,13 @@ impl Input {
                 names(&["wdx", "wdy", "wdz", "ax", "ay", "az"]),
                 "classical platform acceleration `(ω̇; a_C)`, `a_C = d v_C/dt` (rad/s², m/s²)",
             ),
+            // Not `gamma`: the pose's third element has that name.
+            Input::Gamma => Arg::new(
+                "forces",
+                Shape::Vector(6),
+                (1..=6).map(|i| format!("g{i}")).collect(),
+                "actuator forces `Γ` (N), segment order; positive pushes the rod along `+n_i`",
+            ),
             Input::P => Arg::new(
                 "p",
                 Shape::Matrix(6, 3),
@@ -86,13 +189,15 @@ impl Input {
                 names(&["knx", "kny", "knz", "kfx", "kfy", "kfz"]),
                 "`K = F_{N+1} + Φ` at `C`, moment first (N·m, N)",
             ),
-            // Not `gamma`: the pose's third element has that name.
-            Input::Gamma => Arg::new(
-                "forces",
-                Shape::Vector(6),
-                (1..=6).map(|i| format!("g{i}")).collect(),
-                "actuator forces `Γ` (N), segment order; positive pushes the rod along `+n_i`",
-            ),
+        }
+    }
+
+    /// The setting of a kernel that takes this input.
+    fn setting(self) -> Option<Setting> {
+        match self {
+            Input::Pose => Some(Setting::Pose),
+            Input::P | Input::P1 => Some(Setting::Chapter),
+            _ => None,
         }
     }
 }
@@ -114,41 +219,63 @@ pub enum Cite {
     Model(Quantity),
 }
 
-/// Whether a kernel returns the divisors of eq 16 as its last result.
+/// Which singularity terms a kernel returns as its last result, the same for every model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Guard {
+    /// None: the kernel never divides by a term that can vanish.
     Never,
-    /// It goes through eq 16 whatever the model.
+    /// The divisors of eq 16, `[r11 r22 r33]`.
     Eq16,
-    /// When the model divides by them for this quantity ([`Mechanics::divides_by_eq16`]).
-    Model(Quantity),
 }
 
-/// Builds a pose-setting kernel's outputs from the bodies' standard parameters, the expanded pose
-/// and the motion (zero where the kernel takes none).
-pub type PoseBuild =
-    for<'g> fn(&dyn Mechanics, &Dynamics<'g>, &Posed<'g>, &Motion<'g>) -> Vec<Vec<Expr<'g>>>;
+/// What a kernel reads of the robot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reads {
+    /// Nothing: the same kernel for every robot.
+    Nothing,
+    /// Its parameters, folded or a `params` argument as the [`ParameterSet`] says (the
+    /// checked-in crate has both, the second named `*_params`).
+    Robot,
+    /// Its geometry and gravity, always a `params` argument (the first [`GEOMETRY`] of
+    /// [`Robot::kernel_parameters`]); the identification kernels, whose unknowns are the
+    /// inertial parameters.
+    Geometry,
+}
+
+/// The robot's parameters the identification kernels read: its half-spacing and gravity, the
+/// first of [`Robot::kernel_parameters`].
+pub const GEOMETRY: usize = c5_robot::GEOMETRY_PARAMETERS;
+
+/// Builds a robot kernel's outputs from its [`Context`].
+pub type RobotBuild = for<'c, 'g> fn(&Context<'c, 'g>) -> Vec<Vec<Expr<'g>>>;
 
 /// Builds a chapter-setting kernel's outputs from its free inputs.
 pub type FreeBuild = for<'g> fn(&'g Graph, &[Vec<Expr<'g>>]) -> Vec<Vec<Expr<'g>>>;
 
+/// Which columns an identification kernel keeps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Columns {
+    /// Every standard parameter's.
+    Standard,
+    /// The base parameters' leads.
+    Base,
+}
+
 /// How a kernel's outputs are built.
 #[derive(Clone, Copy)]
 pub enum Build {
-    /// From the platform state (the pose first), the robot folded or partly inputs.
-    Pose {
-        build: PoseBuild,
-        /// Whether the kernel reads robot parameters (it then has a `_params` twin).
-        robot: bool,
-    },
+    /// From the robot and the inputs the kernel declares, read by kind.
+    Robot(RobotBuild),
     /// From free inputs (the chapter's setting): no robot parameter.
     Free(FreeBuild),
+    /// A regressor of the model's inverse dynamics (identification).
+    Regressor(Columns),
 }
 
 /// One kernel, declared.
 #[derive(Clone, Copy)]
 pub struct Decl {
-    pub name: &'static str,
+    pub kernel: Kernel,
     /// One line saying what the kernel computes.
     pub title: &'static str,
     /// Further documentation (may be empty).
@@ -157,9 +284,109 @@ pub struct Decl {
     pub inputs: &'static [Input],
     pub outputs: &'static [Output],
     pub guard: Guard,
+    pub reads: Reads,
+    /// Also in batch form (vector inputs and outputs only).
+    pub batch: bool,
     /// The chapter's published count, for the kernels audited against its table.
     pub chapter: Option<ChapterCount>,
     pub build: Build,
+}
+
+/// What a robot kernel's build reads: the model, the robot's dynamics (constants or inputs)
+/// and the kernel's inputs, by kind. The platform state it needs is derived from whichever
+/// inputs the kernel declares.
+pub struct Context<'c, 'g> {
+    pub mech: &'c dyn Mechanics,
+    pub dynamics: &'c Dynamics<'g>,
+    pub half_spacing: Expr<'g>,
+    graph: &'g Graph,
+    bound: Vec<(Input, Vec<Expr<'g>>)>,
+}
+
+impl<'c, 'g> Context<'c, 'g> {
+    pub fn graph(&self) -> &'g Graph {
+        self.graph
+    }
+
+    /// Whether the kernel takes an input of this kind.
+    pub fn has(&self, kind: Input) -> bool {
+        self.bound.iter().any(|(k, _)| *k == kind)
+    }
+
+    /// The kernel's input of this kind; zeros (and the graph marked invalid, so the
+    /// generation fails) if it declares none.
+    pub fn input(&self, kind: Input) -> Vec<Expr<'g>> {
+        match self.bound.iter().find(|(k, _)| *k == kind) {
+            Some((_, v)) => v.clone(),
+            None => {
+                self.graph
+                    .invalidate(format!("the build reads an undeclared input {kind:?}"));
+                vec![self.graph.zero(); kind.arg().shape.len()]
+            }
+        }
+    }
+
+    fn vector(&self, kind: Input) -> Vec6<'g> {
+        let v = self.input(kind);
+        Vector(std::array::from_fn(|i| v[i]))
+    }
+
+    fn vector_or_zero(&self, kind: Input) -> Option<Vec6<'g>> {
+        self.has(kind).then(|| self.vector(kind))
+    }
+
+    /// The pose, expanded (eqs 15, 16, 27).
+    pub fn posed(&self) -> Posed<'g> {
+        geometry::pose(self.half_spacing, &self.input(Input::Pose))
+    }
+
+    /// The platform's motion: the twist and acceleration the kernel takes, zero where it
+    /// takes none.
+    pub fn motion(&self) -> Motion<'g> {
+        let zeros = Vec6::zeros(self.graph);
+        Motion {
+            twist: self.vector_or_zero(Input::Twist).unwrap_or(zeros),
+            accel: self.vector_or_zero(Input::Accel).unwrap_or(zeros),
+        }
+    }
+
+    /// The actuator forces `Γ`.
+    pub fn forces(&self) -> Vec6<'g> {
+        self.vector(Input::Gamma)
+    }
+
+    /// The same context with the input `kind` replaced (added if absent).
+    pub fn rebind(&self, kind: Input, values: Vec<Expr<'g>>) -> Context<'c, 'g> {
+        let mut bound: Vec<_> = self
+            .bound
+            .iter()
+            .filter(|(k, _)| *k != kind)
+            .cloned()
+            .collect();
+        bound.push((kind, values));
+        Context {
+            mech: self.mech,
+            dynamics: self.dynamics,
+            half_spacing: self.half_spacing,
+            graph: self.graph,
+            bound,
+        }
+    }
+
+    /// Six fresh unknowns the outputs must not depend on once differentiated (`M_x`, `M_q`).
+    pub fn unknowns(&self) -> Vec<Expr<'g>> {
+        (0..6)
+            .map(|k| self.graph.input(INTERNAL_INPUTS + k))
+            .collect()
+    }
+
+    /// The singularity terms of `guard`.
+    fn guard(&self, guard: Guard) -> Option<Vec<Expr<'g>>> {
+        match guard {
+            Guard::Never => None,
+            Guard::Eq16 => Some(geometry::divisors(&self.posed().r)),
+        }
+    }
 }
 
 const JINV: Output = Output {
@@ -184,10 +411,12 @@ const DIVISORS: Output = Output {
           is near zero",
 };
 
-/// The pose-setting kernels every model is generated into.
-pub const POSE_KERNELS: &[Decl] = &[
+const POSE_MOTION: &[Input] = &[Input::Pose, Input::Twist, Input::Accel];
+
+/// The kernels every model is generated into.
+pub const TABLE: &[Decl] = &[
     Decl {
-        name: "singularity_terms",
+        kernel: Kernel::SingularityTerms,
         title: "The divisors of eq 16, `[r11 r22 r33]`: the pose is singular where one vanishes.",
         doc: "Cheaper than the kernels it guards: one check before them costs a few ns.",
         equations: Cite::Fixed(&["15", "16"]),
@@ -198,14 +427,13 @@ pub const POSE_KERNELS: &[Decl] = &[
             doc: "`[r11 r22 r33]`",
         }],
         guard: Guard::Never,
+        reads: Reads::Nothing,
+        batch: false,
         chapter: None,
-        build: Build::Pose {
-            build: |_, _, posed, _| vec![geometry::divisors(&posed.r)],
-            robot: false,
-        },
+        build: Build::Robot(|cx| vec![geometry::divisors(&cx.posed().r)]),
     },
     Decl {
-        name: "inverse_kinematics",
+        kernel: Kernel::InverseKinematics,
         title: "Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.",
         doc: "",
         equations: Cite::Fixed(&["15", "16", "27"]),
@@ -223,47 +451,45 @@ pub const POSE_KERNELS: &[Decl] = &[
             },
         ],
         guard: Guard::Eq16,
+        reads: Reads::Robot,
+        batch: false,
         chapter: None,
-        build: Build::Pose {
-            build: |_, _, posed, _| {
-                vec![
-                    posed.q.to_vec(),
-                    posed.p.iter().flat_map(|v| v.to_vec()).collect(),
-                ]
-            },
-            robot: true,
-        },
+        build: Build::Robot(|cx| {
+            let posed = cx.posed();
+            vec![
+                posed.q.to_vec(),
+                posed.p.iter().flat_map(|v| v.to_vec()).collect(),
+            ]
+        }),
     },
     Decl {
-        name: "inverse_jacobian_pose",
+        kernel: Kernel::InverseJacobianPose,
         title: "Inverse Jacobian `J⁻¹` at a pose.",
         doc: "",
         equations: Cite::Model(Quantity::InverseJacobian),
         inputs: &[Input::Pose],
         outputs: &[JINV],
-        guard: Guard::Model(Quantity::InverseJacobian),
+        guard: Guard::Eq16,
+        reads: Reads::Robot,
+        batch: false,
         chapter: None,
-        build: Build::Pose {
-            build: |m, _, posed, _| vec![m.inverse_jacobian(posed).rows()],
-            robot: true,
-        },
+        build: Build::Robot(|cx| vec![cx.mech.inverse_jacobian(&cx.posed()).rows()]),
     },
     Decl {
-        name: "jacobian_pose",
+        kernel: Kernel::JacobianPose,
         title: "Jacobian `J` at a pose, in factored form.",
         doc: "",
         equations: Cite::Model(Quantity::Jacobian),
         inputs: &[Input::Pose],
         outputs: &[JAC],
-        guard: Guard::Model(Quantity::Jacobian),
+        guard: Guard::Eq16,
+        reads: Reads::Robot,
+        batch: false,
         chapter: None,
-        build: Build::Pose {
-            build: |m, _, posed, _| vec![m.jacobian(posed).rows()],
-            robot: true,
-        },
+        build: Build::Robot(|cx| vec![cx.mech.jacobian(&cx.posed()).rows()]),
     },
     Decl {
-        name: "joint_velocities",
+        kernel: Kernel::JointVelocities,
         title: "Actuator rates `Q̇_a = J⁻¹ V`.",
         doc: "",
         equations: Cite::Model(Quantity::JointVelocities),
@@ -273,74 +499,84 @@ pub const POSE_KERNELS: &[Decl] = &[
             shape: Shape::Vector(6),
             doc: "`Q̇_i1` (m/s), segment order",
         }],
-        guard: Guard::Model(Quantity::JointVelocities),
+        guard: Guard::Eq16,
+        reads: Reads::Robot,
+        batch: false,
         chapter: None,
-        build: Build::Pose {
-            build: |m, _, posed, motion| vec![m.joint_velocities(posed, &motion.twist).to_vec()],
-            robot: true,
-        },
+        build: Build::Robot(|cx| {
+            vec![cx
+                .mech
+                .joint_velocities(&cx.posed(), &cx.motion().twist)
+                .to_vec()]
+        }),
     },
     Decl {
-        name: "joint_accelerations",
+        kernel: Kernel::JointAccelerations,
         title: "Actuator accelerations `Q̈_a` from the platform's motion.",
         doc: "",
         equations: Cite::Model(Quantity::JointAccelerations),
-        inputs: &[Input::Pose, Input::Twist, Input::Accel],
+        inputs: POSE_MOTION,
         outputs: &[Output {
             name: "qdd",
             shape: Shape::Vector(6),
             doc: "`Q̈_i1` (m/s²), segment order",
         }],
-        guard: Guard::Model(Quantity::JointAccelerations),
+        guard: Guard::Eq16,
+        reads: Reads::Robot,
+        batch: false,
         chapter: None,
-        build: Build::Pose {
-            build: |m, _, posed, motion| vec![m.joint_accelerations(posed, motion).to_vec()],
-            robot: true,
-        },
+        build: Build::Robot(|cx| {
+            vec![cx
+                .mech
+                .joint_accelerations(&cx.posed(), &cx.motion())
+                .to_vec()]
+        }),
     },
     Decl {
-        name: "leg_wrench",
+        kernel: Kernel::LegWrench,
         title: "The legs' loads as one wrench `Φ` at `C`, such that `Γ = Jᵀ (F_{N+1} + Φ)`.",
         doc: "",
         equations: Cite::Model(Quantity::LegWrench),
-        inputs: &[Input::Pose, Input::Twist, Input::Accel],
+        inputs: POSE_MOTION,
         outputs: &[Output {
             name: "phi",
             shape: Shape::Vector(6),
             doc: "`Φ = (n; f)` at `C`, base frame (N·m, N)",
         }],
-        guard: Guard::Model(Quantity::LegWrench),
+        guard: Guard::Eq16,
+        reads: Reads::Robot,
+        batch: false,
         chapter: None,
-        build: Build::Pose {
-            build: |m, dynamics, posed, motion| {
-                vec![m.leg_wrench(dynamics, posed, motion).to_vec()]
-            },
-            robot: true,
-        },
+        build: Build::Robot(|cx| {
+            vec![cx
+                .mech
+                .leg_wrench(cx.dynamics, &cx.posed(), &cx.motion())
+                .to_vec()]
+        }),
     },
     Decl {
-        name: "platform_wrench",
+        kernel: Kernel::PlatformWrench,
         title: "The platform's wrench `F_{N+1} = Λ_C V̇ + C_C + G_C` at `C`.",
         doc: "",
         equations: Cite::Fixed(&["52", "54", "55", "56", "57"]),
-        inputs: &[Input::Pose, Input::Twist, Input::Accel],
+        inputs: POSE_MOTION,
         outputs: &[Output {
             name: "f",
             shape: Shape::Vector(6),
             doc: "`F_{N+1} = (n; f)` (N·m, N), base frame",
         }],
         guard: Guard::Never,
+        reads: Reads::Robot,
+        batch: false,
         chapter: None,
-        build: Build::Pose {
-            build: |_, dynamics, posed, motion| {
-                let frame = Frame::new(posed.r, &motion.twist.top(), &motion.accel.top());
-                vec![platform_wrench(dynamics, &frame, &motion.twist, &motion.accel).to_vec()]
-            },
-            robot: true,
-        },
+        build: Build::Robot(|cx| {
+            let (posed, motion) = (cx.posed(), cx.motion());
+            let frame = Frame::new(posed.r, &motion.twist.top(), &motion.accel.top());
+            vec![platform_wrench(cx.dynamics, &frame, &motion.twist, &motion.accel).to_vec()]
+        }),
     },
     Decl {
-        name: "task_inertia",
+        kernel: Kernel::TaskInertia,
         title:
             "Task-space inertia `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: symmetric positive definite.",
         doc: "`M_x = ∂(J⁻ᵀ Γ)/∂(ω̇; a_C)`, the exact derivative of the inverse dynamics.",
@@ -351,15 +587,14 @@ pub const POSE_KERNELS: &[Decl] = &[
             shape: Shape::Matrix(6, 6),
             doc: "`M_x` (kg, kg·m, kg·m²), rows and columns `[ωx ωy ωz vx vy vz]`, base frame",
         }],
-        guard: Guard::Model(Quantity::TaskSpace),
+        guard: Guard::Eq16,
+        reads: Reads::Robot,
+        batch: false,
         chapter: None,
-        build: Build::Pose {
-            build: |m, dynamics, posed, _| vec![m.task_inertia(dynamics, posed).rows()],
-            robot: true,
-        },
+        build: Build::Robot(|cx| vec![cx.mech.task_inertia(cx.dynamics, &cx.posed()).rows()]),
     },
     Decl {
-        name: "task_bias",
+        kernel: Kernel::TaskBias,
         title:
             "Task-space bias `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal, gravity.",
         doc: "",
@@ -370,17 +605,19 @@ pub const POSE_KERNELS: &[Decl] = &[
             shape: Shape::Vector(6),
             doc: "`h = (n; f)` at `C`, base frame (N·m, N)",
         }],
-        guard: Guard::Model(Quantity::TaskSpace),
+        guard: Guard::Eq16,
+        reads: Reads::Robot,
+        batch: false,
         chapter: None,
-        build: Build::Pose {
-            build: |m, dynamics, posed, motion| {
-                vec![m.task_bias(dynamics, posed, &motion.twist).to_vec()]
-            },
-            robot: true,
-        },
+        build: Build::Robot(|cx| {
+            vec![cx
+                .mech
+                .task_bias(cx.dynamics, &cx.posed(), &cx.motion().twist)
+                .to_vec()]
+        }),
     },
     Decl {
-        name: "forward_dynamics",
+        kernel: Kernel::ForwardDynamics,
         title:
             "Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.",
         doc: "`M_x (ω̇; a_C) = J⁻ᵀ Γ - h`, solved by an unrolled `LDLᵀ` (no pivoting: `M_x` is \
@@ -392,35 +629,45 @@ pub const POSE_KERNELS: &[Decl] = &[
             shape: Shape::Vector(6),
             doc: "classical platform acceleration `(ω̇; a_C)` (rad/s², m/s²), base frame",
         }],
-        guard: Guard::Model(Quantity::ForwardDynamics),
+        guard: Guard::Eq16,
+        reads: Reads::Robot,
+        batch: true,
         chapter: None,
-        build: Build::Pose {
-            build: |m, dynamics, posed, motion| {
-                // `motion.accel` holds `Γ` here: the third input of this kernel.
-                vec![m
-                    .forward_dynamics(dynamics, posed, &motion.twist, &motion.accel)
-                    .to_vec()]
-            },
-            robot: true,
-        },
+        build: Build::Robot(|cx| {
+            vec![cx
+                .mech
+                .forward_dynamics(cx.dynamics, &cx.posed(), &cx.motion().twist, &cx.forces())
+                .to_vec()]
+        }),
     },
     Decl {
-        name: "inverse_dynamics",
+        kernel: Kernel::InverseDynamics,
         title: "Inverse dynamics end to end: actuator forces `Γ` from the platform state.",
         doc: "",
         equations: Cite::Model(Quantity::InverseDynamics),
-        inputs: &[Input::Pose, Input::Twist, Input::Accel],
+        inputs: POSE_MOTION,
         outputs: &[GAMMA],
-        guard: Guard::Model(Quantity::InverseDynamics),
+        guard: Guard::Eq16,
+        reads: Reads::Robot,
+        batch: true,
         chapter: None,
-        build: Build::Pose {
-            build: |m, dynamics, posed, motion| {
-                vec![m.inverse_dynamics(dynamics, posed, motion).to_vec()]
-            },
-            robot: true,
-        },
+        build: Build::Robot(|cx| {
+            vec![cx
+                .mech
+                .inverse_dynamics(cx.dynamics, &cx.posed(), &cx.motion())
+                .to_vec()]
+        }),
     },
 ];
+
+/// Whether every model has `kernel` (it is in [`TABLE`] or an identification kernel), with one
+/// signature for all.
+pub fn is_shared(kernel: Kernel) -> bool {
+    TABLE
+        .iter()
+        .chain(&super::regressor::KERNELS)
+        .any(|d| d.kernel == kernel)
+}
 
 /// Which robot parameters are kernel inputs; the others are folded in as constants.
 #[derive(Clone, Debug, PartialEq, Eq, Default)]
@@ -488,13 +735,10 @@ fn symbolic_parameters<'g>(
 
 const ORDER_NOTE: &str = "Actuators are in segment order 1..6; the chapter lists them 6..1.";
 
-fn vec6<'g>(v: &[Expr<'g>]) -> Vec6<'g> {
-    Vector(std::array::from_fn(|i| v[i]))
-}
-
-/// The pose-setting kernels of `model` for `robot` (the table, and the model's own), with
-/// `suffix` appended to the names of those that read robot parameters. With a non-empty
-/// suffix (a second set beside a folded one), the kernels that read no parameter are left out.
+/// The robot kernels of `model` for `robot` (the table, and the model's own), the robot's
+/// parameters as `parameters` says; with `suffix` appended to the names of those that read
+/// robot parameters when some are inputs. With a non-empty suffix (a second set beside a
+/// folded one), the kernels that read no parameter are left out.
 ///
 /// # Errors
 /// A bad [`ParameterSet`].
@@ -503,47 +747,49 @@ pub fn specs(
     robot: &Robot,
     parameters: &ParameterSet,
     suffix: &str,
-) -> Result<Vec<KernelSpec>, Error> {
+) -> Result<Vec<Entry>, Error> {
     let mech = super::mechanics(model);
     let indices = parameters.indices()?;
-    Ok(POSE_KERNELS
+    Ok(TABLE
         .iter()
         .chain(mech.extra_kernels())
-        .filter(|d| match d.build {
-            Build::Pose { robot, .. } => suffix.is_empty() || robot,
-            Build::Free(_) => false,
+        .filter(|d| match (d.build, d.reads) {
+            (Build::Free(_), _) => false,
+            (_, Reads::Robot) => true,
+            _ => suffix.is_empty(),
         })
-        .map(|d| spec(d, mech, robot, &indices, suffix))
+        .filter(|d| d.reads != Reads::Geometry)
+        .map(|d| spec(d, mech, robot, &indices, suffix, None))
         .collect())
 }
 
-/// The chapter-setting kernels: the paper model's equations with the components of `P_i2` as
-/// free inputs, the setting the chapter's operation counts assume.
-pub fn chapter_specs() -> Vec<KernelSpec> {
-    let mech = super::mechanics(Model::Paper);
+/// The chapter-setting kernels of `model` (the paper model's equations with the components of
+/// `P_i2` as free inputs, the setting the chapter's operation counts assume); none for a model
+/// without them.
+pub fn chapter_specs(model: Model) -> Vec<Entry> {
+    let mech = super::mechanics(model);
     mech.extra_kernels()
         .iter()
         .filter(|d| matches!(d.build, Build::Free(_)))
-        .map(|d| spec(d, mech, &Robot::default(), &[], ""))
+        .map(|d| spec(d, mech, &Robot::default(), &[], "", None))
         .collect()
 }
 
-fn spec(
+/// The engine's specification of `decl` for `model`'s mechanics: the robot's parameters
+/// `indices` are its `params` input, the others folded; `base` gives the columns of a
+/// [`Columns::Base`] regressor.
+pub(crate) fn spec(
     decl: &Decl,
     mech: &'static dyn Mechanics,
     robot: &Robot,
     indices: &[usize],
     suffix: &str,
-) -> KernelSpec {
+    base: Option<Vec<usize>>,
+) -> Entry {
     let model = mech.model();
-    let guarded = match decl.guard {
-        Guard::Never => false,
-        Guard::Eq16 => true,
-        Guard::Model(q) => mech.divides_by_eq16(q),
-    };
-    let equations = match decl.equations {
-        Cite::Fixed(e) => e,
-        Cite::Model(q) => mech.equations(q),
+    let equations: Vec<String> = match decl.equations {
+        Cite::Fixed(e) => e.iter().map(|s| s.to_string()).collect(),
+        Cite::Model(q) => mech.equations(q).iter().map(|s| s.to_string()).collect(),
     };
     let mut inputs: Vec<Arg> = decl.inputs.iter().map(|i| i.arg()).collect();
     let mut outputs: Vec<Arg> = decl
@@ -556,72 +802,119 @@ fn spec(
         doc.push('\n');
         doc.push_str(decl.doc);
     }
-    let (setting, objective) = match decl.build {
-        Build::Pose { .. } => (Setting::Pose, Objective::Speed),
-        Build::Free(_) => (Setting::Chapter, Objective::ChapterCount),
+    let setting = decl
+        .inputs
+        .iter()
+        .find_map(|i| i.setting())
+        .unwrap_or(Setting::Pose);
+    let objective = match decl.build {
+        Build::Free(_) => Objective::ChapterCount,
+        _ => Objective::Speed,
     };
-    let reads_robot = matches!(decl.build, Build::Pose { robot: true, .. });
-    let params_at = (reads_robot && !indices.is_empty()).then(|| {
+    let indices: Vec<usize> = match decl.reads {
+        Reads::Nothing => Vec::new(),
+        Reads::Robot => indices.to_vec(),
+        Reads::Geometry => (0..GEOMETRY).collect(),
+    };
+    let params_at = (!indices.is_empty()).then(|| {
         let all = Robot::<f64>::kernel_parameter_names();
+        let doc = match decl.reads {
+            Reads::Geometry => {
+                "`[L gx gy gz]`, the robot's half spacing and gravity (the first four of \
+                 `Robot::kernel_parameters`)"
+            }
+            _ => {
+                "robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` \
+                 and inertia about its reference point), in the order of the names in this \
+                 signature"
+            }
+        };
         inputs.push(Arg::new(
             "params",
             Shape::Vector(indices.len()),
             indices.iter().map(|&i| all[i].clone()).collect(),
-            "robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and \
-             inertia about its reference point), in the order of the names in this signature",
+            doc,
         ));
         inputs.len() - 1
     });
-    if reads_robot {
-        doc.push_str(if params_at.is_some() {
+    match decl.reads {
+        Reads::Nothing => {}
+        Reads::Robot => doc.push_str(if params_at.is_some() {
             "\nThe robot's parameters listed in `params` are inputs; the others are folded in."
         } else {
             "\nThe robot's parameters are folded in as constants."
-        });
+        }),
+        Reads::Geometry => doc.push_str(
+            "\nThe inertial parameters and friction are the unknowns; the geometry and gravity \
+             are `params`.",
+        ),
     }
-    if guarded {
+    if decl.guard == Guard::Eq16 {
         outputs.push(Arg::output(DIVISORS.name, DIVISORS.shape, DIVISORS.doc));
         doc.push_str("\nThe last result holds the divisors of eq 16 for a singularity check.");
     }
-    let position = |input: Input| decl.inputs.iter().position(|&i| i == input);
-    // The third motion input of a kernel is the acceleration, or the forces `Γ` of the forward
-    // dynamics; it reaches the build as `motion.accel`.
-    let (twist_at, accel_at) = (
-        position(Input::Twist),
-        position(Input::Accel).or(position(Input::Gamma)),
-    );
+    let id = KernelId {
+        kernel: decl.kernel,
+        parameters: params_at.is_some() && decl.reads == Reads::Robot,
+    };
+    let name = if id.parameters {
+        format!("{}{suffix}", decl.kernel.name())
+    } else {
+        decl.kernel.name().to_string()
+    };
     let robot = *robot;
-    let indices = indices.to_vec();
-    let build = decl.build;
-    KernelSpec {
-        name: format!("{}{suffix}", decl.name),
+    let (build, guard, kinds) = (decl.build, decl.guard, decl.inputs);
+    let spec = KernelSpec {
+        name,
         model,
         setting,
-        equations: equations.iter().map(|s| s.to_string()).collect(),
+        equations,
         title: decl.title.to_string(),
         doc,
         chapter: decl.chapter,
         objective,
         inputs,
         outputs,
-        build: Box::new(move |g, i| match build {
-            Build::Free(f) => f(g, i),
-            Build::Pose { build, .. } => {
+        build: match build {
+            Build::Free(f) => Box::new(f),
+            Build::Robot(_) | Build::Regressor(_) => Box::new(move |g, i| {
                 let sym = symbolic_parameters(g, &robot, &indices, params_at.map(|k| &i[k]));
-                let posed = geometry::pose(sym[0], &i[0]);
-                let motion = Motion {
-                    twist: twist_at.map_or_else(|| Vec6::zeros(g), |k| vec6(&i[k])),
-                    accel: accel_at.map_or_else(|| Vec6::zeros(g), |k| vec6(&i[k])),
+                let dynamics = Dynamics::from_kernel_parameters(&sym);
+                let cx = Context {
+                    mech,
+                    dynamics: &dynamics,
+                    half_spacing: sym[0],
+                    graph: g,
+                    bound: kinds.iter().copied().zip(i.iter().cloned()).collect(),
                 };
-                let dynamics = Dynamics::from_kernel_parameters(g, &sym);
-                let mut results = build(mech, &dynamics, &posed, &motion);
-                if guarded {
-                    results.push(geometry::divisors(&posed.r));
-                }
+                let mut results = match build {
+                    Build::Robot(f) => f(&cx),
+                    Build::Regressor(columns) => {
+                        let chosen = match columns {
+                            Columns::Standard => None,
+                            Columns::Base => Some(base.as_deref().unwrap_or(&[])),
+                        };
+                        vec![super::regressor::rows(&cx, chosen)]
+                    }
+                    Build::Free(f) => f(g, i),
+                };
+                results.extend(cx.guard(guard));
                 results
-            }
-        }),
+            }),
+        },
+    };
+    Entry {
+        id,
+        spec,
+        batch: decl.batch,
     }
+}
+
+/// `M = ∂w/∂x`, the Jacobian of `w` with respect to six unknowns `x` (fresh inputs of the
+/// graph): the exact derivative, which for `w` affine in `x` is its matrix.
+pub fn jacobian_wrt<'g>(g: &'g Graph, w: &[Expr<'g>], x: &[Expr<'g>]) -> crate::linalg::Mat6<'g> {
+    let columns: Vec<Vec<Expr<'g>>> = x.iter().map(|&u| g.derivatives(w, u)).collect();
+    Mat::from_fn(|r, c| columns[c][r])
 }
 
 #[cfg(test)]
@@ -659,5 +952,40 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert_eq!(e, "parameter `gravity_x` is named twice");
+    }
+
+    #[test]
+    fn kernel_names_are_unique() {
+        let mut names: Vec<_> = Kernel::ALL.iter().map(|k| k.name()).collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), Kernel::ALL.len());
+    }
+
+    #[test]
+    fn a_build_that_reads_an_undeclared_input_fails_the_generation() {
+        let decl = Decl {
+            kernel: Kernel::InverseDynamics,
+            title: "",
+            doc: "",
+            equations: Cite::Fixed(&[]),
+            inputs: &[Input::Pose],
+            outputs: &[GAMMA],
+            guard: Guard::Never,
+            reads: Reads::Robot,
+            batch: false,
+            chapter: None,
+            build: Build::Robot(|cx| vec![cx.forces().to_vec()]),
+        };
+        let entry = spec(
+            &decl,
+            super::super::mechanics(Model::Consistent),
+            &Robot::default(),
+            &[],
+            "",
+            None,
+        );
+        let e = entry.spec.compile().unwrap_err().to_string();
+        assert!(e.contains("undeclared input Gamma"), "{e}");
     }
 }

@@ -17,11 +17,10 @@ pub mod regressor;
 mod selfcheck;
 
 pub use c5_robot::Model;
-pub use kernels::{Decl, ParameterSet};
+pub use kernels::{Decl, Entry, Kernel, KernelId, ParameterSet};
 pub use selfcheck::self_check;
 
-use crate::dag::Expr;
-use crate::linalg::{Mat, Mat6, Vec6, Vector};
+use crate::linalg::{Mat6, Vec6, Vector};
 use bodies::Dynamics;
 use geometry::{Motion, Posed};
 
@@ -37,6 +36,8 @@ pub enum Quantity {
     /// `M_x` and `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`.
     TaskSpace,
     ForwardDynamics,
+    /// The regressors of identification, `∂Γ/∂π`.
+    Identification,
 }
 
 /// The first index of the inputs a model creates for itself (the unknown accelerations whose
@@ -54,8 +55,6 @@ pub trait Mechanics: Sync {
     fn summary(&self) -> &'static str;
     /// The equations (the chapter's numbers, or DESIGN.md's) behind `quantity`.
     fn equations(&self, quantity: Quantity) -> &'static [&'static str];
-    /// Whether `quantity` divides by a divisor of eq 16 (its kernels then return them).
-    fn divides_by_eq16(&self, quantity: Quantity) -> bool;
     /// `J⁻¹`, row `i` for segment `i+1`, columns `[ωx ωy ωz vx vy vz]`.
     fn inverse_jacobian<'g>(&self, posed: &Posed<'g>) -> Mat6<'g>;
     /// `J`, rows `[ωx ωy ωz vx vy vz]`, column `i` for segment `i+1`.
@@ -102,8 +101,7 @@ pub trait Mechanics: Sync {
             accel: unknown,
         };
         let w = self.task_wrench(dynamics, posed, &motion).to_vec();
-        let columns: Vec<Vec<Expr<'g>>> = (0..6).map(|k| g.derivatives(&w, unknown[k])).collect();
-        Mat::from_fn(|r, c| columns[c][r])
+        kernels::jacobian_wrt(g, &w, &unknown.0)
     }
 
     /// `h = W` at zero acceleration: Coriolis, centrifugal and gravity terms (base frame).

@@ -11,7 +11,7 @@ use super::bodies::{
     Dynamics, Frame,
 };
 use super::geometry::{axis, p_hat, p_hat_inv, spatial_acceleration, Motion, Posed};
-use super::kernels::{Build, Cite, Decl, Guard, Input, Output};
+use super::kernels::{Build, Cite, Decl, Guard, Input, Kernel, Output, Reads};
 use super::{Mechanics, Model, Quantity};
 use crate::dag::Expr;
 use crate::kernel::{ChapterCount, Shape};
@@ -49,16 +49,8 @@ impl Mechanics for Paper {
                 "60",
                 "M_x V̇ = J⁻ᵀ Γ - h (LDLᵀ)",
             ],
+            Quantity::Identification => &["15", "16", "27", "43-48", "49-57", "60", "62", "∂Γ/∂π"],
         }
-    }
-
-    fn divides_by_eq16(&self, quantity: Quantity) -> bool {
-        // `n_i × P_i2` drops the `Q_i1 n_i` part of `P_i2`, the only place eq 16's divisors
-        // enter: `J⁻¹`, `J` and `Q̇_a` depend on `C` alone (slip 4).
-        !matches!(
-            quantity,
-            Quantity::InverseJacobian | Quantity::Jacobian | Quantity::JointVelocities
-        )
     }
 
     fn inverse_jacobian<'g>(&self, posed: &Posed<'g>) -> Mat6<'g> {
@@ -116,7 +108,7 @@ const fn chapter(m: u32, a: u32) -> Option<ChapterCount> {
 /// and the passive-joint accelerations of the projection scheme.
 const EXTRA_KERNELS: &[Decl] = &[
     Decl {
-        name: "inverse_jacobian",
+        kernel: Kernel::InverseJacobian,
         title: "Inverse Jacobian `J⁻¹` of the paper model, rows `[(n_i × P_i2)ᵀ n_iᵀ]`.",
         doc: "",
         equations: Cite::Fixed(&["22"]),
@@ -127,11 +119,13 @@ const EXTRA_KERNELS: &[Decl] = &[
             doc: "`J⁻¹`, row `i` for segment `i+1`, columns `[ωx ωy ωz vx vy vz]`",
         }],
         guard: Guard::Never,
+        reads: Reads::Nothing,
+        batch: false,
         chapter: chapter(18, 30),
         build: Build::Free(|_, i| vec![inverse_jacobian(&p_rows(&i[0])).rows()]),
     },
     Decl {
-        name: "pi1",
+        kernel: Kernel::Pi1,
         title: "`Π1`, the map from actuator rates to the joint rates of segment 1, `Q̇_1 = Π1 Q̇_a`.",
         doc: "",
         equations: Cite::Fixed(&["36", "37", "38", "39"]),
@@ -142,11 +136,13 @@ const EXTRA_KERNELS: &[Decl] = &[
             doc: "rows `[ẇ_p1 u̇_p1 γ̇_p β̇_p α̇_p Q̇_11]`, column `i` for segment `i+1`",
         }],
         guard: Guard::Never,
+        reads: Reads::Nothing,
+        batch: false,
         chapter: chapter(17, 28),
         build: Build::Free(|_, i| vec![pi1(&p_rows(&i[0])).rows()]),
     },
     Decl {
-        name: "jacobian",
+        kernel: Kernel::Jacobian,
         title: "Jacobian in factored form, `J = J1 Π1`, including `Π1`.",
         doc: "The chapter's count for eq 40 alone is 29m + 37a; with `Π1` it is 46m + 65a.",
         equations: Cite::Fixed(&["39", "40", "41"]),
@@ -157,11 +153,13 @@ const EXTRA_KERNELS: &[Decl] = &[
             doc: "`J`, rows `[ωx ωy ωz vx vy vz]`, column `i` for segment `i+1`",
         }],
         guard: Guard::Never,
+        reads: Reads::Nothing,
+        batch: false,
         chapter: chapter(29 + 17, 37 + 28),
         build: Build::Free(|_, i| vec![jacobian(&p_rows(&i[0])).rows()]),
     },
     Decl {
-        name: "joint_accelerations_segment",
+        kernel: Kernel::JointAccelerationsSegment,
         title: "Joint accelerations of segment 1 by projection, `Q̈_1 = [Q̈_12; Q̈_11]`.",
         doc: "Every segment costs the same; segment 1 is generated here.",
         equations: Cite::Fixed(&["43", "44", "45", "46", "47", "48"]),
@@ -172,6 +170,8 @@ const EXTRA_KERNELS: &[Decl] = &[
             doc: "`[ẅ_p1 ü_p1 γ̈_p β̈_p α̈_p Q̈_11]`",
         }],
         guard: Guard::Never,
+        reads: Reads::Nothing,
+        batch: false,
         chapter: chapter(10, 10),
         build: Build::Free(|_, i| {
             let p = Vector([i[0][0], i[0][1], i[0][2]]);
@@ -179,7 +179,7 @@ const EXTRA_KERNELS: &[Decl] = &[
         }),
     },
     Decl {
-        name: "step6_factored",
+        kernel: Kernel::Step6Factored,
         title: "Step 6 of the inverse dynamics, `Γ = Π1ᵀ J1ᵀ K`, with no linear solve.",
         doc: "",
         equations: Cite::Fixed(&["62"]),
@@ -190,11 +190,13 @@ const EXTRA_KERNELS: &[Decl] = &[
             doc: "`Γ` (N), segment order",
         }],
         guard: Guard::Never,
+        reads: Reads::Nothing,
+        batch: false,
         chapter: chapter(65, 67),
         build: Build::Free(|_, i| vec![step6_factored(&p_rows(&i[0]), &vec6(&i[1])).to_vec()]),
     },
     Decl {
-        name: "pi1_denominators",
+        kernel: Kernel::Pi1Denominators,
         title: "The denominators of `Π1`, `[y5 - y6, z1 - z2, x3 - x4]`.",
         doc: "In the pose setting they are the constant `-2L`.",
         equations: Cite::Fixed(&["39"]),
@@ -205,6 +207,8 @@ const EXTRA_KERNELS: &[Decl] = &[
             doc: "`[y5 - y6, z1 - z2, x3 - x4]` (m)",
         }],
         guard: Guard::Never,
+        reads: Reads::Nothing,
+        batch: false,
         chapter: None,
         build: Build::Free(|_, i| {
             let p = p_rows(&i[0]);
@@ -216,7 +220,7 @@ const EXTRA_KERNELS: &[Decl] = &[
         }),
     },
     Decl {
-        name: "leg_joint_accelerations",
+        kernel: Kernel::LegJointAccelerations,
         title: "Joint accelerations of every segment by projection, the passive joints included.",
         doc: "The passive-joint accelerations of eq 48 are components of the spatial \
               acceleration: they differ from `d/dt Q̇_i2` (eq 42) by `-Q̇_i1 H_i2ᵀ (0; n_i × ω)`.",
@@ -228,11 +232,10 @@ const EXTRA_KERNELS: &[Decl] = &[
             doc: "row `i`: `Q̈_i = [ẅ_p ü_p γ̈_p β̈_p α̈_p Q̈_i1]` of segment `i+1`",
         }],
         guard: Guard::Eq16,
+        reads: Reads::Robot,
+        batch: false,
         chapter: None,
-        build: Build::Pose {
-            build: |_, _, posed, motion| vec![leg_joint_accelerations(posed, motion).rows()],
-            robot: true,
-        },
+        build: Build::Robot(|cx| vec![leg_joint_accelerations(&cx.posed(), &cx.motion()).rows()]),
     },
 ];
 

@@ -9,13 +9,15 @@
 //! rank rebuilt from the others; the base regressor keeps only the independent columns.
 
 use super::bodies::{Dynamics, STANDARD_INERTIAL};
-use super::geometry::{self, Motion, Posed};
-use super::kernels::Input;
+use super::geometry::{Motion, Posed};
+use super::kernels::{
+    self, Build, Cite, Columns, Context, Decl, Entry, Guard, Input, Kernel, Output, Reads, GEOMETRY,
+};
 use super::{mechanics, Mechanics, Model, Quantity, INTERNAL_INPUTS};
 use crate::dag::Expr;
 use crate::error::Error;
-use crate::kernel::{Arg, Compiled, KernelSpec, Objective, Setting, Shape};
-use crate::linalg::{Vec3, Vec6, Vector};
+use crate::kernel::{Compiled, Shape};
+use crate::linalg::Vec3;
 use crate::numeric::{pivoted_qr, Lcg};
 use c5_robot::{standard_parameter_names, Robot, STANDARD_PARAMETERS};
 
@@ -49,98 +51,66 @@ pub fn regressor<'g>(
     columns
 }
 
-fn vec6<'g>(v: &[Expr<'g>]) -> Vec6<'g> {
-    Vector(std::array::from_fn(|i| v[i]))
+/// Rows of the regressor at the kernel's state, all the columns or those of `columns`, for
+/// [`Build::Regressor`](super::kernels::Build::Regressor).
+pub(crate) fn rows<'g>(cx: &Context<'_, 'g>, columns: Option<&[usize]>) -> Vec<Expr<'g>> {
+    let posed = cx.posed();
+    let all = regressor(cx.mech, cx.dynamics.gravity, &posed, &cx.motion());
+    let chosen: Vec<usize> = columns.map_or_else(|| (0..all.len()).collect(), <[usize]>::to_vec);
+    (0..6)
+        .flat_map(|r| chosen.iter().map(|&c| all[c][r]).collect::<Vec<_>>())
+        .collect()
 }
 
-/// The robot's parameters a regressor still reads: its geometry and gravity, the first four of
-/// [`Robot::kernel_parameters`].
-pub const GEOMETRY: usize = 4;
+const Y: Output = Output {
+    name: "y",
+    shape: Shape::Matrix(6, STANDARD_PARAMETERS),
+    doc: "row `i` for actuator `i+1`, one column per parameter (N per unit)",
+};
 
-/// A regressor kernel of `model`, all the columns or those of `columns`, for any robot of the
-/// family: the geometry and gravity are its `params`.
-fn spec(
-    model: Model,
-    name: &str,
-    title: &str,
-    doc: String,
-    columns: Option<Vec<usize>>,
-) -> KernelSpec {
-    let mech = mechanics(model);
-    let width = columns.as_ref().map_or(STANDARD_PARAMETERS, Vec::len);
-    let mut equations: Vec<String> = mech
-        .equations(Quantity::InverseDynamics)
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
-    equations.push("∂Γ/∂π".to_string());
-    let geometry_names = Robot::<f64>::kernel_parameter_names()[..GEOMETRY].to_vec();
-    KernelSpec {
-        name: name.to_string(),
-        model,
-        setting: Setting::Pose,
-        equations,
-        title: title.to_string(),
-        doc: format!(
-            "Model: {model}. {}\nActuators are in segment order 1..6. The inertial parameters \
-             and friction are the unknowns; the geometry and gravity are `params`.\n{doc}\n\
-             The last result holds the divisors of eq 16 for a singularity check.",
-            mech.summary()
-        ),
+/// The identification kernels of every model: the regressors of its inverse dynamics, for
+/// any robot of the family (the geometry and gravity are their `params`).
+pub const KERNELS: [Decl; 2] = [
+    Decl {
+        kernel: Kernel::Regressor,
+        title: "The regressor `Y` of the standard parameters: `Γ = Y π`.",
+        doc: "Columns in the order of `STANDARD_PARAMETERS`: ten per body (mass, first moment \
+              `m c`, inertia about the reference point) for the platform, then the rod and body \
+              2 of each segment, then viscous and Coulomb friction per actuator.",
+        equations: Cite::Model(Quantity::Identification),
+        inputs: &[Input::Pose, Input::Twist, Input::Accel],
+        outputs: &[Y],
+        guard: Guard::Eq16,
+        reads: Reads::Geometry,
+        batch: false,
         chapter: None,
-        objective: Objective::Speed,
-        inputs: vec![
-            Input::Pose.arg(),
-            Input::Twist.arg(),
-            Input::Accel.arg(),
-            Arg::new(
-                "params",
-                Shape::Vector(GEOMETRY),
-                geometry_names,
-                "`[L gx gy gz]`, the robot's half spacing and gravity (the first four of \
-                 `Robot::kernel_parameters`)",
-            ),
-        ],
-        outputs: vec![
-            Arg::output(
-                "y",
-                Shape::Matrix(6, width),
-                "row `i` for actuator `i+1`, one column per parameter (N per unit)",
-            ),
-            Arg::output(
-                "r",
-                Shape::Vector(3),
-                "`[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless \
-                 where one is near zero",
-            ),
-        ],
-        build: Box::new(move |_, i| {
-            let posed = geometry::pose(i[3][0], &i[0]);
-            let gravity = Vector([i[3][1], i[3][2], i[3][3]]);
-            let motion = Motion {
-                twist: vec6(&i[1]),
-                accel: vec6(&i[2]),
-            };
-            let all = regressor(mech, gravity, &posed, &motion);
-            let chosen: Vec<usize> = columns.clone().unwrap_or_else(|| (0..all.len()).collect());
-            let rows = (0..6)
-                .flat_map(|r| chosen.iter().map(|&c| all[c][r]).collect::<Vec<_>>())
-                .collect();
-            vec![rows, geometry::divisors(&posed.r)]
-        }),
-    }
-}
+        build: Build::Regressor(Columns::Standard),
+    },
+    Decl {
+        kernel: Kernel::BaseRegressor,
+        title: "The regressor `Y_b` of the base parameters: `Γ = Y_b β`.",
+        doc: "Columns in the order of `BASE_PARAMETERS`: the columns of their leading standard \
+              parameters (`BASE_RELATIONS` says what each base parameter groups).",
+        equations: Cite::Model(Quantity::Identification),
+        inputs: &[Input::Pose, Input::Twist, Input::Accel],
+        // The width is the model's number of base parameters, set when they are known.
+        outputs: &[Y],
+        guard: Guard::Eq16,
+        reads: Reads::Geometry,
+        batch: false,
+        chapter: None,
+        build: Build::Regressor(Columns::Base),
+    },
+];
 
 /// The full regressor kernel of `model`: `Γ = Y π` with `π` the standard parameters.
-pub fn regressor_spec(model: Model) -> KernelSpec {
-    spec(
-        model,
-        "regressor",
-        "The regressor `Y` of the standard parameters: `Γ = Y π`.",
-        "Columns in the order of `STANDARD_PARAMETERS`: ten per body (mass, first moment `m c`, \
-         inertia about the reference point) for the platform, then the rod and body 2 of each \
-         segment, then viscous and Coulomb friction per actuator."
-            .to_string(),
+pub fn regressor_spec(model: Model) -> Entry {
+    kernels::spec(
+        &KERNELS[0],
+        mechanics(model),
+        &Robot::default(),
+        &[],
+        "",
         None,
     )
 }
@@ -234,18 +204,17 @@ pub fn base_parameters(regressor: &Compiled, robot: &Robot) -> BaseParameters {
 }
 
 /// The base regressor kernel: the columns of the base parameters' leads, `Γ = Y_b β`.
-pub fn base_regressor_spec(model: Model, base: &BaseParameters) -> KernelSpec {
-    spec(
-        model,
-        "base_regressor",
-        "The regressor `Y_b` of the base parameters: `Γ = Y_b β`.",
-        format!(
-            "{} columns in the order of `BASE_PARAMETERS`: the columns of their leading standard \
-             parameters (`BASE_RELATIONS` says what each base parameter groups).",
-            base.groups.len()
-        ),
+pub fn base_regressor_spec(model: Model, base: &BaseParameters) -> Entry {
+    let mut entry = kernels::spec(
+        &KERNELS[1],
+        mechanics(model),
+        &Robot::default(),
+        &[],
+        "",
         Some(base.leads()),
-    )
+    );
+    entry.spec.outputs[0].shape = Shape::Matrix(6, base.groups.len());
+    entry
 }
 
 /// The identification data of a model as Rust constants: the standard and base parameters'
@@ -298,7 +267,7 @@ pub fn constants(base: &BaseParameters) -> Result<String, Error> {
 /// from it for a robot's geometry, and the base regressor.
 pub struct Identification {
     pub base: BaseParameters,
-    pub specs: [KernelSpec; 2],
+    pub entries: [Entry; 2],
     pub compiled: [Compiled; 2],
 }
 
@@ -309,20 +278,20 @@ impl Identification {
     /// A model the engine cannot emit (a bug).
     pub fn compile(model: Model, robot: &Robot) -> Result<Self, Error> {
         let full = regressor_spec(model);
-        let full_compiled = full.compile()?;
+        let full_compiled = full.spec.compile()?;
         let base = base_parameters(&full_compiled, robot);
         let reduced = base_regressor_spec(model, &base);
-        let reduced_compiled = reduced.compile()?;
+        let reduced_compiled = reduced.spec.compile()?;
         Ok(Identification {
             base,
-            specs: [full, reduced],
+            entries: [full, reduced],
             compiled: [full_compiled, reduced_compiled],
         })
     }
 
     /// The kernels with their programs, for the emitters.
-    pub fn pairs(&self) -> Vec<(&KernelSpec, &Compiled)> {
-        self.specs.iter().zip(&self.compiled).collect()
+    pub fn pairs(&self) -> Vec<(&Entry, &Compiled)> {
+        self.entries.iter().zip(&self.compiled).collect()
     }
 }
 
@@ -363,12 +332,13 @@ mod tests {
         });
         let pi = robot.standard_parameters(&friction);
         for model in Model::ALL {
-            let y = regressor_spec(model).compile().unwrap();
+            let y = regressor_spec(model).spec.compile().unwrap();
             let id = kernels::specs(model, &robot, &ParameterSet::None, "")
                 .unwrap()
                 .into_iter()
-                .find(|s| s.name == "inverse_dynamics")
+                .find(|e| e.id.kernel == Kernel::InverseDynamics)
                 .unwrap()
+                .spec
                 .compile()
                 .unwrap();
             let mut rng = Lcg::new(7);
@@ -401,10 +371,10 @@ mod tests {
         let robot = Robot::default();
         let geometry = &robot.kernel_parameters()[..GEOMETRY];
         for (model, expected) in [(Model::Consistent, 46), (Model::Paper, 52)] {
-            let y = regressor_spec(model).compile().unwrap();
+            let y = regressor_spec(model).spec.compile().unwrap();
             let base = base_parameters(&y, &robot);
             assert_eq!(base.groups.len(), expected, "{model}");
-            let yb = base_regressor_spec(model, &base).compile().unwrap();
+            let yb = base_regressor_spec(model, &base).spec.compile().unwrap();
             let nb = base.groups.len();
             let mut rng = Lcg::new(11);
             let pi = rng.vector(&[1.0; STANDARD_PARAMETERS]);

@@ -10,9 +10,9 @@
 //   pi1_denominators                     0    0     3    0  0
 //   singularity_terms                    5    0     1    0  3 sin_cos
 //   inverse_kinematics                  24    6    22    5  3 sin_cos
-//   inverse_jacobian_pose                0    0     6    3  0
-//   jacobian_pose                        3    0     6    3  0
-//   joint_velocities                     9    0    15    0  0
+//   inverse_jacobian_pose                5    0     7    3  3 sin_cos
+//   jacobian_pose                        8    0     7    3  3 sin_cos
+//   joint_velocities                    14    0    16    0  3 sin_cos
 //   joint_accelerations                 20    0    22    0  3 sin_cos
 //   leg_wrench                         255    4   211    0  3 sin_cos
 //   platform_wrench                     64    0    29    0  3 sin_cos
@@ -22,9 +22,9 @@
 //   inverse_dynamics                   298    4   279    1  3 sin_cos
 //   leg_joint_accelerations             70    4    52    0  3 sin_cos
 //   inverse_kinematics_params           24    6    22    5  3 sin_cos
-//   inverse_jacobian_pose_params         0    0     6    3  0
-//   jacobian_pose_params                 7    1     6    4  0
-//   joint_velocities_params              9    0    15    0  0
+//   inverse_jacobian_pose_params         5    0     7    3  3 sin_cos
+//   jacobian_pose_params                12    1     7    4  3 sin_cos
+//   joint_velocities_params             14    0    16    0  3 sin_cos
 //   joint_accelerations_params          20    0    22    0  3 sin_cos
 //   leg_wrench_params                  487    4   424    0  3 sin_cos
 //   platform_wrench_params             110    0    70    0  3 sin_cos
@@ -415,6 +415,7 @@ pub fn inverse_kinematics(pose: &[f64; 6]) -> ([f64; 6], [[f64; 3]; 6], [f64; 3]
 /// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
+/// The last result holds the divisors of eq 16 for a singularity check.
 ///
 /// # Arguments
 ///
@@ -423,11 +424,12 @@ pub fn inverse_kinematics(pose: &[f64; 6]) -> ([f64; 6], [[f64; 3]; 6], [f64; 3]
 /// # Returns
 ///
 /// - `jinv`: `J⁻¹`, row `i` for segment `i+1`, columns `[ωx ωy ωz vx vy vz]`
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 0 mul, 0 div, 6 add, 3 neg (chapter convention: 0m + 6a).
+/// Operations: 5 mul, 0 div, 7 add, 3 neg, 3 sin_cos (chapter convention: 5m + 7a).
 #[inline]
-pub fn inverse_jacobian_pose(pose: &[f64; 6]) -> [[f64; 6]; 6] {
-    let [_, _, _, xc, yc, zc] = *pose;
+pub fn inverse_jacobian_pose(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let t0: f64 = 0.2 - zc;
     let t1: f64 = zc + 0.2;
     let t2: f64 = -t1;
@@ -437,14 +439,26 @@ pub fn inverse_jacobian_pose(pose: &[f64; 6]) -> [[f64; 6]; 6] {
     let t6: f64 = 0.2 - yc;
     let t7: f64 = yc + 0.2;
     let t8: f64 = -t7;
-    [
-        [0.0, t0, yc, 1.0, 0.0, 0.0],
-        [0.0, t2, yc, 1.0, 0.0, 0.0],
-        [zc, 0.0, t3, 0.0, 1.0, 0.0],
-        [zc, 0.0, t5, 0.0, 1.0, 0.0],
-        [t6, xc, 0.0, 0.0, 0.0, 1.0],
-        [t8, xc, 0.0, 0.0, 0.0, 1.0],
-    ]
+    let (t9, t10): (f64, f64) = sin_cos(beta);
+    let (t11, t12): (f64, f64) = sin_cos(gamma);
+    let t13: f64 = t10 * t12;
+    let (t14, t15): (f64, f64) = sin_cos(alpha);
+    let t16: f64 = t12 * t15;
+    let t17: f64 = t9 * t14;
+    let t18: f64 = t11 * t17;
+    let t19: f64 = t16 - t18;
+    let t20: f64 = t10 * t15;
+    (
+        [
+            [0.0, t0, yc, 1.0, 0.0, 0.0],
+            [0.0, t2, yc, 1.0, 0.0, 0.0],
+            [zc, 0.0, t3, 0.0, 1.0, 0.0],
+            [zc, 0.0, t5, 0.0, 1.0, 0.0],
+            [t6, xc, 0.0, 0.0, 0.0, 1.0],
+            [t8, xc, 0.0, 0.0, 0.0, 1.0],
+        ],
+        [t13, t19, t20],
+    )
 }
 /// Jacobian `J` at a pose, in factored form.
 ///
@@ -453,6 +467,7 @@ pub fn inverse_jacobian_pose(pose: &[f64; 6]) -> [[f64; 6]; 6] {
 /// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
+/// The last result holds the divisors of eq 16 for a singularity check.
 ///
 /// # Arguments
 ///
@@ -461,11 +476,12 @@ pub fn inverse_jacobian_pose(pose: &[f64; 6]) -> [[f64; 6]; 6] {
 /// # Returns
 ///
 /// - `jacobian`: `J`, rows `[ωx ωy ωz vx vy vz]`, column `i` for segment `i+1`
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 3 mul, 0 div, 6 add, 3 neg (chapter convention: 3m + 6a).
+/// Operations: 8 mul, 0 div, 7 add, 3 neg, 3 sin_cos (chapter convention: 8m + 7a).
 #[inline]
-pub fn jacobian_pose(pose: &[f64; 6]) -> [[f64; 6]; 6] {
-    let [_, _, _, xc, yc, zc] = *pose;
+pub fn jacobian_pose(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let t0: f64 = zc * 2.5;
     let t1: f64 = t0 + 0.5;
     let t2: f64 = 0.5 - t0;
@@ -478,14 +494,26 @@ pub fn jacobian_pose(pose: &[f64; 6]) -> [[f64; 6]; 6] {
     let t9: f64 = -t5;
     let t10: f64 = t3 + 0.5;
     let t11: f64 = 0.5 - t3;
-    [
-        [0.0, 0.0, 0.0, 0.0, 2.5, -2.5],
-        [2.5, -2.5, 0.0, 0.0, 0.0, 0.0],
-        [0.0, 0.0, 2.5, -2.5, 0.0, 0.0],
-        [t1, t2, t4, t3, 0.0, 0.0],
-        [0.0, 0.0, t6, t7, t8, t0],
-        [t9, t5, 0.0, 0.0, t10, t11],
-    ]
+    let (t12, t13): (f64, f64) = sin_cos(beta);
+    let (t14, t15): (f64, f64) = sin_cos(gamma);
+    let t16: f64 = t13 * t15;
+    let (t17, t18): (f64, f64) = sin_cos(alpha);
+    let t19: f64 = t15 * t18;
+    let t20: f64 = t12 * t17;
+    let t21: f64 = t14 * t20;
+    let t22: f64 = t19 - t21;
+    let t23: f64 = t13 * t18;
+    (
+        [
+            [0.0, 0.0, 0.0, 0.0, 2.5, -2.5],
+            [2.5, -2.5, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 2.5, -2.5, 0.0, 0.0],
+            [t1, t2, t4, t3, 0.0, 0.0],
+            [0.0, 0.0, t6, t7, t8, t0],
+            [t9, t5, 0.0, 0.0, t10, t11],
+        ],
+        [t16, t22, t23],
+    )
 }
 /// Actuator rates `Q̇_a = J⁻¹ V`.
 ///
@@ -494,6 +522,7 @@ pub fn jacobian_pose(pose: &[f64; 6]) -> [[f64; 6]; 6] {
 /// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
+/// The last result holds the divisors of eq 16 for a singularity check.
 ///
 /// # Arguments
 ///
@@ -503,11 +532,12 @@ pub fn jacobian_pose(pose: &[f64; 6]) -> [[f64; 6]; 6] {
 /// # Returns
 ///
 /// - `qd`: `Q̇_i1` (m/s), segment order
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 9 mul, 0 div, 15 add, 0 neg (chapter convention: 9m + 15a).
+/// Operations: 14 mul, 0 div, 16 add, 0 neg, 3 sin_cos (chapter convention: 14m + 16a).
 #[inline]
-pub fn joint_velocities(pose: &[f64; 6], twist: &[f64; 6]) -> [f64; 6] {
-    let [_, _, _, xc, yc, zc] = *pose;
+pub fn joint_velocities(pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [wx, wy, wz, vx, vy, vz] = *twist;
     let t0: f64 = zc - 0.2;
     let t1: f64 = wy * t0;
@@ -533,7 +563,16 @@ pub fn joint_velocities(pose: &[f64; 6], twist: &[f64; 6]) -> [f64; 6] {
     let t21: f64 = yc + 0.2;
     let t22: f64 = wx * t21;
     let t23: f64 = t19 - t22;
-    [t4, t7, t12, t15, t20, t23]
+    let (t24, t25): (f64, f64) = sin_cos(beta);
+    let (t26, t27): (f64, f64) = sin_cos(gamma);
+    let t28: f64 = t25 * t27;
+    let (t29, t30): (f64, f64) = sin_cos(alpha);
+    let t31: f64 = t27 * t30;
+    let t32: f64 = t24 * t29;
+    let t33: f64 = t26 * t32;
+    let t34: f64 = t31 - t33;
+    let t35: f64 = t25 * t30;
+    ([t4, t7, t12, t15, t20, t23], [t28, t34, t35])
 }
 /// Actuator accelerations `Q̈_a` from the platform's motion.
 ///
@@ -3641,6 +3680,7 @@ pub fn inverse_kinematics_params(
 /// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
+/// The last result holds the divisors of eq 16 for a singularity check.
 ///
 /// # Arguments
 ///
@@ -3650,14 +3690,15 @@ pub fn inverse_kinematics_params(
 /// # Returns
 ///
 /// - `jinv`: `J⁻¹`, row `i` for segment `i+1`, columns `[ωx ωy ωz vx vy vz]`
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 0 mul, 0 div, 6 add, 3 neg (chapter convention: 0m + 6a).
+/// Operations: 5 mul, 0 div, 7 add, 3 neg, 3 sin_cos (chapter convention: 5m + 7a).
 #[inline]
 pub fn inverse_jacobian_pose_params(
     pose: &[f64; 6],
     params: &[f64; 152],
-) -> [[f64; 6]; 6] {
-    let [_, _, _, xc, yc, zc] = *pose;
+) -> ([[f64; 6]; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
     _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
     _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
@@ -3673,14 +3714,26 @@ pub fn inverse_jacobian_pose_params(
     let t6: f64 = half_spacing - yc;
     let t7: f64 = yc + half_spacing;
     let t8: f64 = -t7;
-    [
-        [0.0, t0, yc, 1.0, 0.0, 0.0],
-        [0.0, t2, yc, 1.0, 0.0, 0.0],
-        [zc, 0.0, t3, 0.0, 1.0, 0.0],
-        [zc, 0.0, t5, 0.0, 1.0, 0.0],
-        [t6, xc, 0.0, 0.0, 0.0, 1.0],
-        [t8, xc, 0.0, 0.0, 0.0, 1.0],
-    ]
+    let (t9, t10): (f64, f64) = sin_cos(beta);
+    let (t11, t12): (f64, f64) = sin_cos(gamma);
+    let t13: f64 = t10 * t12;
+    let (t14, t15): (f64, f64) = sin_cos(alpha);
+    let t16: f64 = t12 * t15;
+    let t17: f64 = t9 * t14;
+    let t18: f64 = t11 * t17;
+    let t19: f64 = t16 - t18;
+    let t20: f64 = t10 * t15;
+    (
+        [
+            [0.0, t0, yc, 1.0, 0.0, 0.0],
+            [0.0, t2, yc, 1.0, 0.0, 0.0],
+            [zc, 0.0, t3, 0.0, 1.0, 0.0],
+            [zc, 0.0, t5, 0.0, 1.0, 0.0],
+            [t6, xc, 0.0, 0.0, 0.0, 1.0],
+            [t8, xc, 0.0, 0.0, 0.0, 1.0],
+        ],
+        [t13, t19, t20],
+    )
 }
 /// Jacobian `J` at a pose, in factored form.
 ///
@@ -3689,6 +3742,7 @@ pub fn inverse_jacobian_pose_params(
 /// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
+/// The last result holds the divisors of eq 16 for a singularity check.
 ///
 /// # Arguments
 ///
@@ -3698,11 +3752,15 @@ pub fn inverse_jacobian_pose_params(
 /// # Returns
 ///
 /// - `jacobian`: `J`, rows `[ωx ωy ωz vx vy vz]`, column `i` for segment `i+1`
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 7 mul, 1 div, 6 add, 4 neg (chapter convention: 8m + 6a).
+/// Operations: 12 mul, 1 div, 7 add, 4 neg, 3 sin_cos (chapter convention: 13m + 7a).
 #[inline]
-pub fn jacobian_pose_params(pose: &[f64; 6], params: &[f64; 152]) -> [[f64; 6]; 6] {
-    let [_, _, _, xc, yc, zc] = *pose;
+pub fn jacobian_pose_params(
+    pose: &[f64; 6],
+    params: &[f64; 152],
+) -> ([[f64; 6]; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
     _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
     _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
@@ -3727,14 +3785,26 @@ pub fn jacobian_pose_params(pose: &[f64; 6], params: &[f64; 152]) -> [[f64; 6]; 
     let t15: f64 = -t11;
     let t16: f64 = t8 + 0.5;
     let t17: f64 = 0.5 - t8;
-    [
-        [0.0, 0.0, 0.0, 0.0, t1, t2],
-        [t1, t2, 0.0, 0.0, 0.0, 0.0],
-        [0.0, 0.0, t1, t2, 0.0, 0.0],
-        [t5, t6, t9, t8, 0.0, 0.0],
-        [0.0, 0.0, t12, t13, t14, t4],
-        [t15, t11, 0.0, 0.0, t16, t17],
-    ]
+    let (t18, t19): (f64, f64) = sin_cos(beta);
+    let (t20, t21): (f64, f64) = sin_cos(gamma);
+    let t22: f64 = t19 * t21;
+    let (t23, t24): (f64, f64) = sin_cos(alpha);
+    let t25: f64 = t21 * t24;
+    let t26: f64 = t18 * t23;
+    let t27: f64 = t20 * t26;
+    let t28: f64 = t25 - t27;
+    let t29: f64 = t19 * t24;
+    (
+        [
+            [0.0, 0.0, 0.0, 0.0, t1, t2],
+            [t1, t2, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, t1, t2, 0.0, 0.0],
+            [t5, t6, t9, t8, 0.0, 0.0],
+            [0.0, 0.0, t12, t13, t14, t4],
+            [t15, t11, 0.0, 0.0, t16, t17],
+        ],
+        [t22, t28, t29],
+    )
 }
 /// Actuator rates `Q̇_a = J⁻¹ V`.
 ///
@@ -3743,6 +3813,7 @@ pub fn jacobian_pose_params(pose: &[f64; 6], params: &[f64; 152]) -> [[f64; 6]; 
 /// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
+/// The last result holds the divisors of eq 16 for a singularity check.
 ///
 /// # Arguments
 ///
@@ -3753,15 +3824,16 @@ pub fn jacobian_pose_params(pose: &[f64; 6], params: &[f64; 152]) -> [[f64; 6]; 
 /// # Returns
 ///
 /// - `qd`: `Q̇_i1` (m/s), segment order
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 9 mul, 0 div, 15 add, 0 neg (chapter convention: 9m + 15a).
+/// Operations: 14 mul, 0 div, 16 add, 0 neg, 3 sin_cos (chapter convention: 14m + 16a).
 #[inline]
 pub fn joint_velocities_params(
     pose: &[f64; 6],
     twist: &[f64; 6],
     params: &[f64; 152],
-) -> [f64; 6] {
-    let [_, _, _, xc, yc, zc] = *pose;
+) -> ([f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [wx, wy, wz, vx, vy, vz] = *twist;
     let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
     _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
@@ -3793,7 +3865,16 @@ pub fn joint_velocities_params(
     let t21: f64 = yc + half_spacing;
     let t22: f64 = wx * t21;
     let t23: f64 = t19 - t22;
-    [t4, t7, t12, t15, t20, t23]
+    let (t24, t25): (f64, f64) = sin_cos(beta);
+    let (t26, t27): (f64, f64) = sin_cos(gamma);
+    let t28: f64 = t25 * t27;
+    let (t29, t30): (f64, f64) = sin_cos(alpha);
+    let t31: f64 = t27 * t30;
+    let t32: f64 = t24 * t29;
+    let t33: f64 = t26 * t32;
+    let t34: f64 = t31 - t33;
+    let t35: f64 = t25 * t30;
+    ([t4, t7, t12, t15, t20, t23], [t28, t34, t35])
 }
 /// Actuator accelerations `Q̈_a` from the platform's motion.
 ///

@@ -10,9 +10,9 @@
 //   pi1_denominators                     0    0     3    0  0
 //   singularity_terms                    5    0     1    0  3 sin_cos
 //   inverse_kinematics                  24    6    22    5  3 sin_cos
-//   inverse_jacobian_pose                0    0     6    3  0
-//   jacobian_pose                        3    0     6    3  0
-//   joint_velocities                     9    0    15    0  0
+//   inverse_jacobian_pose                5    0     7    3  3 sin_cos
+//   jacobian_pose                        8    0     7    3  3 sin_cos
+//   joint_velocities                    14    0    16    0  3 sin_cos
 //   joint_accelerations                 20    0    22    0  3 sin_cos
 //   leg_wrench                         255    4   211    0  3 sin_cos
 //   platform_wrench                     64    0    29    0  3 sin_cos
@@ -22,9 +22,9 @@
 //   inverse_dynamics                   298    4   279    1  3 sin_cos
 //   leg_joint_accelerations             70    4    52    0  3 sin_cos
 //   inverse_kinematics_params           24    6    22    5  3 sin_cos
-//   inverse_jacobian_pose_params         0    0     6    3  0
-//   jacobian_pose_params                 7    1     6    4  0
-//   joint_velocities_params              9    0    15    0  0
+//   inverse_jacobian_pose_params         5    0     7    3  3 sin_cos
+//   jacobian_pose_params                12    1     7    4  3 sin_cos
+//   joint_velocities_params             14    0    16    0  3 sin_cos
 //   joint_accelerations_params          20    0    22    0  3 sin_cos
 //   leg_wrench_params                  487    4   424    0  3 sin_cos
 //   platform_wrench_params             110    0    70    0  3 sin_cos

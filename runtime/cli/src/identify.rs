@@ -1,19 +1,39 @@
 //! `c5 identify`, `c5 excite` and the identified parameters `c5 eval --base-parameters` reads.
 
+use crate::columns::GAMMA;
+use crate::options::RobotArgs;
 use crate::trajectory_csv;
-use c5_runtime::identify::excite::{self, Envelope, Search};
+use crate::Result;
 use c5_runtime::identify::{Estimate, Identifier};
-use c5_runtime::trajectory::LinearMove;
 use c5_runtime::C5;
+use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 
-type Result<T> = std::result::Result<T, Box<dyn std::error::Error>>;
+/// Identifies the base parameters (inertial and friction) from measured motion and forces:
+/// weighted least squares, streaming. The robot file gives the geometry and gravity; its
+/// masses play no part.
+#[derive(Args)]
+pub struct IdentifyArgs {
+    /// Samples: a trajectory CSV (t, alpha, beta, gamma, xc, yc, zc, optionally the twist
+    /// wx..vz and acceleration wdx..az) with the measured forces gamma1..gamma6.
+    #[arg(long)]
+    data: PathBuf,
+    #[command(flatten)]
+    robot: RobotArgs,
+    /// Writes the parameters here (JSON) and a summary on stdout; else the JSON on stdout.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
 
-/// The forces' columns of an identification file.
-const GAMMA: [&str; 6] = ["gamma1", "gamma2", "gamma3", "gamma4", "gamma5", "gamma6"];
+pub fn run(args: &IdentifyArgs) -> Result<ExitCode> {
+    let robot = args.robot.load()?;
+    identify_cmd(&robot, &args.data, args.out.as_deref())?;
+    Ok(ExitCode::SUCCESS)
+}
 
 /// What `identify` writes: the estimate and, for the reader, what each base parameter groups.
 #[derive(Serialize, Deserialize)]
@@ -28,7 +48,7 @@ pub struct Identified {
 const PROGRESS_FROM_BYTES: u64 = 10 << 20;
 
 /// Fits the base parameters of `robot`'s model and geometry to the samples of `data`.
-pub fn identify_cmd(robot: &C5, data: &Path, out: Option<&Path>) -> Result<()> {
+fn identify_cmd(robot: &C5, data: &Path, out: Option<&Path>) -> Result<()> {
     let samples = trajectory_csv::open(data, &GAMMA)?;
     let progress = if samples.len >= PROGRESS_FROM_BYTES {
         ProgressBar::new(samples.len)
@@ -143,76 +163,4 @@ pub fn load_estimate(robot: &C5, path: &Path) -> Result<Estimate> {
         return Err(format!("{}: `{}` is not finite", path.display(), e.names[j]).into());
     }
     Ok(e)
-}
-
-/// The options of `c5 excite`.
-pub struct ExciteOptions {
-    pub period: f64,
-    pub harmonics: usize,
-    pub rate: f64,
-    pub candidates: usize,
-    pub seed: u64,
-}
-
-/// Writes an exciting trajectory (one period at `rate`) and reports its condition number
-/// against Section 9's.
-pub fn excite_cmd(robot: &C5, out: &Path, o: &ExciteOptions) -> Result<()> {
-    if !(o.rate.is_finite() && o.rate > 0.0) {
-        return Err(format!("--rate must be a positive number, got {}", o.rate).into());
-    }
-    let search = Search {
-        period: o.period,
-        harmonics: o.harmonics,
-        candidates: o.candidates,
-        seed: o.seed,
-        ..Search::default()
-    };
-    let found = excite::design(robot, &Envelope::default(), &search)?;
-    let n = (o.period * o.rate).round() as usize;
-    let mut w = csv::Writer::from_path(out)?;
-    let mut header = vec!["t"];
-    header.extend(["alpha", "beta", "gamma", "xc", "yc", "zc"]);
-    header.extend(["wx", "wy", "wz", "vx", "vy", "vz"]);
-    header.extend(["wdx", "wdy", "wdz", "ax", "ay", "az"]);
-    w.write_record(&header)?;
-    let mut states = Vec::with_capacity(n);
-    for k in 0..n {
-        let t = k as f64 / o.rate;
-        let s = found.trajectory.state(t);
-        let mut row = vec![t];
-        row.extend(s.pose.to_array());
-        row.extend(s.twist.to_array());
-        row.extend(s.accel.to_array());
-        w.write_record(row.iter().map(|v| format!("{v:.17e}")))?;
-        states.push(s);
-    }
-    w.flush()?;
-    let written = excite::condition_number(robot, states)?;
-    let motion = LinearMove::section9();
-    let section9 =
-        excite::condition_number(robot, (0..=1000).map(|k| motion.state(k as f64 / 1000.0)))?;
-    let mut stdout = std::io::stdout().lock();
-    writeln!(
-        stdout,
-        "wrote {} ({n} samples, {} s, {} harmonics)",
-        out.display(),
-        o.period,
-        o.harmonics
-    )?;
-    writeln!(
-        stdout,
-        "condition number of the base regressor ({} model, {} base parameters): {written:.1}",
-        robot.model(),
-        robot.base_parameters().len()
-    )?;
-    writeln!(
-        stdout,
-        "Section 9's straight move: {}",
-        if section9.is_finite() {
-            format!("{section9:.3e}")
-        } else {
-            "infinite (its fixed orientation excites no inertia)".to_string()
-        }
-    )?;
-    Ok(())
 }

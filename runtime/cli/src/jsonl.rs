@@ -98,6 +98,35 @@ pub fn parse(line: &str, keys: &[Key]) -> Result<Vec<Vec<f64>>, String> {
         .collect()
 }
 
+/// Streams JSON Lines from stdin to stdout: one result line per non-blank input line, a bad
+/// line answered with `{"line": n, "error": ...}` and the exit status 1 at the end.
+pub fn answer_lines(
+    mut answer: impl FnMut(&str) -> Result<Value, String>,
+) -> crate::Result<std::process::ExitCode> {
+    use std::io::{BufRead, Write};
+    let stdin = std::io::stdin().lock();
+    let mut stdout = std::io::BufWriter::new(std::io::stdout().lock());
+    let mut failed = false;
+    for (n, line) in stdin.lines().enumerate() {
+        let line = line?;
+        if line.trim().is_empty() {
+            continue;
+        }
+        let out = answer(&line).unwrap_or_else(|error| {
+            failed = true;
+            serde_json::json!({"line": n + 1, "error": error})
+        });
+        serde_json::to_writer(&mut stdout, &out)?;
+        stdout.write_all(b"\n")?;
+    }
+    stdout.flush()?;
+    Ok(if failed {
+        std::process::ExitCode::FAILURE
+    } else {
+        std::process::ExitCode::SUCCESS
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,11 +1,96 @@
 //! Section 9: the inverse dynamics along a trajectory, in both models, as a CSV and four
 //! plots.
 
+use crate::columns;
+use crate::options::{self, RobotArgs};
+use crate::trajectory_csv;
+use c5_runtime::trajectory::LinearMove;
 use c5_runtime::{Error, Evaluation, Model, State, C5};
-
+use clap::Args;
 use plotters::prelude::*;
-use std::path::Path;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 use std::time::Instant;
+
+/// Section 9: inverse dynamics along the default trajectory (or a file); writes a CSV and
+/// four plots, figure 10 with every model's forces.
+#[derive(Args)]
+pub struct SimulateArgs {
+    /// Output directory.
+    #[arg(long, default_value = "out")]
+    out: PathBuf,
+    /// Sampling rate of the default trajectory (Hz); the last sample is its end.
+    #[arg(long, default_value_t = 1000.0, conflicts_with = "trajectory")]
+    rate: f64,
+    /// A trajectory CSV (t, alpha, beta, gamma, xc, yc, zc, and optionally the twist
+    /// wx..vz and acceleration wdx..az) instead of the default one; its rows are the samples.
+    #[arg(long)]
+    trajectory: Option<PathBuf>,
+    /// The robot, and the model of the CSV's q, qd, qdd and gamma columns (the other models'
+    /// forces are added as `gamma_paper1..6` or `gamma_consistent1..6`).
+    #[command(flatten)]
+    robot: RobotArgs,
+}
+
+pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
+    let robot = args.robot.load()?;
+    let (out, rate) = (&args.out, args.rate);
+    let states = match &args.trajectory {
+        Some(path) => trajectory_csv::read(path)?,
+        None => {
+            let motion = LinearMove::section9();
+            let times = options::sample_times(motion.duration, rate, "samples")?;
+            times.into_iter().map(|t| (t, motion.state(t))).collect()
+        }
+    };
+    // Everything is computed before anything is written: a refused sample writes nothing.
+    let study = run(&robot, &states).map_err(|(t, e)| format!("sample at t = {t} s: {e}"))?;
+    std::fs::create_dir_all(out)?;
+    let csv = out.join("section9.csv");
+    write_csv(&csv, &study)?;
+    let plots = write_plots(out, &study)?;
+    let mut report = std::io::stdout().lock();
+    match &args.trajectory {
+        Some(p) => writeln!(report, "{}: {} samples", p.display(), study.samples.len())?,
+        None => writeln!(
+            report,
+            "Section 9: {} samples at {rate} Hz",
+            study.samples.len()
+        )?,
+    }
+    writeln!(report, "wrote {}", csv.display())?;
+    for p in plots {
+        writeln!(report, "wrote {}", out.join(p).display())?;
+    }
+    for (k, other) in study.others.iter().enumerate() {
+        writeln!(
+            report,
+            "peak |Γ| per actuator (N), {} model, and the largest difference from the {other} \
+             model:",
+            study.model
+        )?;
+        for i in 0..6 {
+            let peak = study
+                .samples
+                .iter()
+                .map(|s| s.eval.gamma[i].abs())
+                .fold(0.0, f64::max);
+            let gap = study
+                .samples
+                .iter()
+                .map(|s| (s.eval.gamma[i] - s.others[k][i]).abs())
+                .fold(0.0, f64::max);
+            writeln!(report, "  Γ{}: {peak:8.3}   (difference {gap:7.3})", i + 1)?;
+        }
+    }
+    writeln!(
+        report,
+        "time per sample (q, q̇, q̈, Γ, J⁻¹, J): {:.0} ns",
+        study.time_per_sample * 1e9
+    )?;
+    Ok(ExitCode::SUCCESS)
+}
 
 /// One sample of the study.
 #[derive(Clone, Debug)]
@@ -14,30 +99,26 @@ pub struct Sample {
     pub state: State,
     /// Everything the chosen model gives.
     pub eval: Evaluation,
-    /// The other model's actuator forces.
-    pub other_gamma: [f64; 6],
+    /// The actuator forces of each of [`Study::others`].
+    pub others: Vec<[f64; 6]>,
 }
 
 /// The study's samples and how long the kernels took.
 #[derive(Clone, Debug)]
 pub struct Study {
-    /// The model of [`Sample::eval`]; the other gave [`Sample::other_gamma`].
+    /// The model of [`Sample::eval`]; the others gave [`Sample::others`].
     pub model: Model,
-    pub other: Model,
+    pub others: Vec<Model>,
     pub samples: Vec<Sample>,
     /// Mean wall time of [`C5::evaluate`] per sample (s).
     pub time_per_sample: f64,
 }
 
-/// Evaluates every state of a trajectory with `robot`'s model, and the forces of the other.
+/// Evaluates every state of a trajectory with `robot`'s model, and the forces of the others.
 ///
 /// # Errors
 /// The first sample whose state is refused (non-finite or singular), with its time.
 pub fn run(robot: &C5, states: &[(f64, State)]) -> Result<Study, (f64, Error)> {
-    let other = robot.to_model(match robot.model() {
-        Model::Consistent => Model::Paper,
-        Model::Paper => Model::Consistent,
-    });
     let only: Vec<State> = states.iter().map(|&(_, s)| s).collect();
     let time_of = |k: usize| states[k].0;
     let start = Instant::now();
@@ -45,38 +126,48 @@ pub fn run(robot: &C5, states: &[(f64, State)]) -> Result<Study, (f64, Error)> {
         .evaluate_many(&only)
         .map_err(|(k, e)| (time_of(k), e))?;
     let time_per_sample = start.elapsed().as_secs_f64() / evals.len().max(1) as f64;
-    let others = other
-        .inverse_dynamics_many(&only)
-        .map_err(|(k, e)| (time_of(k), e))?;
+    let others: Vec<Model> = Model::ALL
+        .into_iter()
+        .filter(|&m| m != robot.model())
+        .collect();
+    let forces = others
+        .iter()
+        .map(|&m| {
+            robot
+                .to_model(m)
+                .inverse_dynamics_many(&only)
+                .map_err(|(k, e)| (time_of(k), e))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
     let samples = states
         .iter()
-        .zip(evals.into_iter().zip(others))
-        .map(|(&(t, state), (eval, other_gamma))| Sample {
+        .zip(evals)
+        .enumerate()
+        .map(|(k, (&(t, state), eval))| Sample {
             t,
             state,
             eval,
-            other_gamma,
+            others: forces.iter().map(|f| f[k]).collect(),
         })
         .collect();
     Ok(Study {
         model: robot.model(),
-        other: other.model(),
+        others,
         samples,
         time_per_sample,
     })
 }
 
 /// Header of the CSV: time, pose, twist, acceleration, `Q_a`, `Q̇_a`, `Q̈_a`, `Γ` of the chosen
-/// model, and `Γ` of the other one (`gamma_paper1..6` or `gamma_consistent1..6`).
-pub fn csv_header(other: Model) -> Vec<String> {
-    let mut h = vec!["t".to_string()];
-    h.extend(["alpha", "beta", "gamma", "xc", "yc", "zc"].map(String::from));
-    h.extend(["wx", "wy", "wz", "vx", "vy", "vz"].map(String::from));
-    h.extend(["wdx", "wdy", "wdz", "ax", "ay", "az"].map(String::from));
+/// model, and `Γ` of each other one (`gamma_paper1..6` or `gamma_consistent1..6`).
+pub fn csv_header(others: &[Model]) -> Vec<String> {
+    let mut h = columns::state();
     for name in ["q", "qd", "qdd", "gamma"] {
-        h.extend((1..=6).map(|i| format!("{name}{i}")));
+        h.extend(columns::per_actuator(name));
     }
-    h.extend((1..=6).map(|i| format!("gamma_{other}{i}")));
+    for other in others {
+        h.extend(columns::per_actuator(&format!("gamma_{other}")));
+    }
     h
 }
 
@@ -86,13 +177,16 @@ pub fn csv_header(other: Model) -> Vec<String> {
 /// I/O errors.
 pub fn write_csv(path: &Path, study: &Study) -> Result<(), Box<dyn std::error::Error>> {
     let mut w = csv::Writer::from_path(path)?;
-    w.write_record(csv_header(study.other))?;
+    w.write_record(csv_header(&study.others))?;
     for s in &study.samples {
         let mut row = vec![s.t];
         row.extend(s.state.pose.to_array());
         row.extend(s.state.twist.to_array());
         row.extend(s.state.accel.to_array());
-        for v in [s.eval.q, s.eval.qd, s.eval.qdd, s.eval.gamma, s.other_gamma] {
+        for v in [s.eval.q, s.eval.qd, s.eval.qdd, s.eval.gamma] {
+            row.extend(v);
+        }
+        for v in &s.others {
             row.extend(v);
         }
         w.write_record(row.iter().map(|v| format!("{v:.12e}")))?;
@@ -214,8 +308,8 @@ pub fn write_plots(dir: &Path, study: &Study) -> Result<Vec<String>, Box<dyn std
     Ok(written)
 }
 
-/// Figure 10: one panel per actuator, so no series hides another; in each, the consistent
-/// model solid and the paper model dashed, in the actuator's colour.
+/// Figure 10: one panel per actuator, so no series hides another; in each, the default model
+/// (the consistent one) solid and the others dashed, in the actuator's colour.
 fn plot_forces(path: &Path, study: &Study, t: &[f64]) -> Result<(), Box<dyn std::error::Error>> {
     register_font();
     let root = BitMapBackend::new(path, (1200, 720)).into_drawing_area();
@@ -224,15 +318,13 @@ fn plot_forces(path: &Path, study: &Study, t: &[f64]) -> Result<(), Box<dyn std:
         "Actuator forces Γ (fig. 10): consistent model solid, paper model dashed",
         ("sans-serif", 22),
     )?;
-    let gamma = |s: &Sample, model: Model, i: usize| {
-        if model == study.model {
-            s.eval.gamma[i]
-        } else {
-            s.other_gamma[i]
-        }
-    };
+    let gamma =
+        |s: &Sample, model: Model, i: usize| match study.others.iter().position(|&m| m == model) {
+            Some(k) => s.others[k][i],
+            None => s.eval.gamma[i],
+        };
     for (i, panel) in root.split_evenly((2, 3)).iter().enumerate() {
-        let series: Vec<(Model, Vec<f64>)> = [Model::Consistent, Model::Paper]
+        let series: Vec<(Model, Vec<f64>)> = Model::ALL
             .into_iter()
             .map(|m| (m, study.samples.iter().map(|s| gamma(s, m, i)).collect()))
             .collect();
@@ -256,24 +348,30 @@ fn plot_forces(path: &Path, study: &Study, t: &[f64]) -> Result<(), Box<dyn std:
             .label_style(("sans-serif", 13))
             .draw()?;
         let color = Palette99::pick(i).to_rgba();
-        for (model, values) in &series {
+        for (k, (model, values)) in series.iter().enumerate() {
             let points = t.iter().copied().zip(values.iter().copied());
             let style = color.stroke_width(2);
             let label = model.to_string();
-            match model {
-                Model::Consistent => chart
+            if k == 0 {
+                chart
                     .draw_series(LineSeries::new(points, style))?
                     .label(label)
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style)),
-                Model::Paper => chart
-                    .draw_series(DashedLineSeries::new(points, 6, 5, style))?
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+            } else {
+                // Each further model dashed a little finer.
+                let dash = 7 - k.min(4) as u32;
+                chart
+                    .draw_series(DashedLineSeries::new(points, dash, 5, style))?
                     .label(label)
                     .legend(move |(x, y)| {
                         EmptyElement::at((x, y))
-                            + PathElement::new(vec![(0, 0), (7, 0)], style)
-                            + PathElement::new(vec![(12, 0), (19, 0)], style)
-                    }),
-            };
+                            + PathElement::new(vec![(0, 0), (dash as i32, 0)], style)
+                            + PathElement::new(
+                                vec![(dash as i32 + 5, 0), (2 * dash as i32 + 5, 0)],
+                                style,
+                            )
+                    });
+            }
         }
         chart
             .configure_series_labels()

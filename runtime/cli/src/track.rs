@@ -1,10 +1,150 @@
 //! `c5 track`: a computed-torque controller tracking a trajectory on a simulated robot.
 
+use crate::columns;
+use crate::options::{self, model_parser, RobotArgs};
 use crate::simulate::plot;
+use crate::trajectory_csv;
 use c5_runtime::control::{orientation_error, ComputedTorque};
-use c5_runtime::dynamics::{rk4_step, rotation, PlantState};
-use c5_runtime::{Acceleration, Error, Pose, State, Twist, C5};
-use std::path::Path;
+use c5_runtime::dynamics::{compose, exp_rotation, rk4_step, rotation, rpy, PlantState};
+use c5_runtime::trajectory::LinearMove;
+use c5_runtime::{Acceleration, Error, Model, Pose, State, Twist, C5};
+use clap::Args;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// A computed-torque controller tracking the Section 9 trajectory (or a file) on a simulated
+/// robot, integrated through the forward dynamics; writes a CSV and plots.
+#[derive(Args)]
+pub struct TrackArgs {
+    /// Output directory.
+    #[arg(long, default_value = "out")]
+    out: PathBuf,
+    /// A trajectory CSV (as for `simulate`) instead of the Section 9 move; integrated from
+    /// sample to sample, the desired state interpolated between.
+    #[arg(long)]
+    trajectory: Option<PathBuf>,
+    /// Integration and control rate for the default trajectory (Hz).
+    #[arg(long, default_value_t = 1000.0, conflicts_with = "trajectory")]
+    rate: f64,
+    /// The controller's robot and model.
+    #[command(flatten)]
+    controller: RobotArgs,
+    /// The simulated plant's robot (TOML) [default: the controller's].
+    #[arg(long)]
+    plant_robot: Option<PathBuf>,
+    /// The plant's model.
+    #[arg(long, default_value = "consistent", value_parser = model_parser())]
+    plant_model: Model,
+    /// The plant's start off the trajectory: `dx,dy,dz` (m) and a rotation vector
+    /// `rx,ry,rz` (rad, base frame).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    initial_offset: Option<Vec<f64>>,
+    /// `λ` (1/s): critically damped gains `Kp = λ²`, `Kd = 2λ`.
+    #[arg(long, default_value_t = 20.0)]
+    bandwidth: f64,
+    /// Largest actuator force (N), applied to each actuator.
+    #[arg(long)]
+    force_limit: Option<f64>,
+    /// A sampled controller: forces held over each step (else the law runs at every
+    /// integration stage, a continuous-time controller).
+    #[arg(long)]
+    hold: bool,
+}
+
+pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
+    let controller = o.controller.load()?;
+    let plant = match o.plant_robot.as_ref() {
+        Some(p) => options::load(Some(p), o.plant_model)?,
+        None => controller.to_model(o.plant_model),
+    };
+    let offset: [f64; 6] = match &o.initial_offset {
+        None => [0.0; 6],
+        Some(v) => <[f64; 6]>::try_from(v.as_slice()).map_err(|_| {
+            format!(
+                "--initial-offset takes six numbers dx,dy,dz,rx,ry,rz, got {}",
+                v.len()
+            )
+        })?,
+    };
+    if !(o.bandwidth.is_finite() && o.bandwidth > 0.0) {
+        return Err(format!("--bandwidth must be a positive number, got {}", o.bandwidth).into());
+    }
+    if let Some(limit) = o.force_limit {
+        if !(limit.is_finite() && limit > 0.0) {
+            return Err(format!("--force-limit must be a positive number, got {limit}").into());
+        }
+    }
+    if offset.iter().any(|x| !x.is_finite()) {
+        return Err("--initial-offset must hold six finite numbers".into());
+    }
+    let (desired, times) = match &o.trajectory {
+        Some(path) => {
+            let samples = trajectory_csv::read(path)?;
+            let times = samples.iter().map(|(t, _)| *t).collect();
+            (Desired::Samples(samples), times)
+        }
+        None => {
+            let motion = LinearMove::section9();
+            let times = options::sample_times(motion.duration, o.rate, "steps")?;
+            (Desired::Motion(Box::new(move |t| motion.state(t))), times)
+        }
+    };
+    let first = desired.at(times[0]);
+    let turned = compose(
+        &exp_rotation([offset[3], offset[4], offset[5]]),
+        &rotation(&first.pose),
+    );
+    let [alpha, beta, gamma] = rpy(&turned);
+    let c = first.pose.center;
+    let start = Pose {
+        alpha,
+        beta,
+        gamma,
+        center: [c[0] + offset[0], c[1] + offset[1], c[2] + offset[2]],
+    };
+    let mut law = ComputedTorque::critically_damped(o.bandwidth);
+    law.force_limit = o.force_limit;
+    let setup = Setup {
+        controller: &controller,
+        plant: &plant,
+        law,
+        hold: o.hold,
+    };
+    let clock = std::time::Instant::now();
+    let samples = run(
+        &setup,
+        &desired,
+        &times,
+        PlantState::new(&start, &first.twist),
+    )
+    .map_err(|(t, e)| format!("step at t = {t} s: {e}"))?;
+    let elapsed = clock.elapsed();
+    std::fs::create_dir_all(&o.out)?;
+    let csv = o.out.join("track.csv");
+    write_csv(&csv, &samples)?;
+    let plots = write_plots(&o.out, &samples)?;
+    let [max_pos, max_ori, end_pos, end_ori] = summary(&samples);
+    let mut report = std::io::stdout().lock();
+    writeln!(
+        report,
+        "tracked {} steps in {:.1} ms: controller {} model, plant {} model",
+        samples.len(),
+        elapsed.as_secs_f64() * 1e3,
+        controller.model(),
+        plant.model()
+    )?;
+    writeln!(report, "wrote {}", csv.display())?;
+    for p in plots {
+        writeln!(report, "wrote {}", o.out.join(p).display())?;
+    }
+    writeln!(
+        report,
+        "largest error: {max_pos:.6} mm, {max_ori:.6} mrad; at the end: {end_pos:.6} mm, \
+         {end_ori:.6} mrad"
+    )?;
+    Ok(ExitCode::SUCCESS)
+}
 
 /// The trajectory to track: a function of time, or samples interpolated linearly between.
 pub enum Desired {
@@ -120,9 +260,9 @@ pub fn run(
 /// I/O errors.
 pub fn write_csv(path: &Path, samples: &[Sample]) -> Result<(), Box<dyn std::error::Error>> {
     let mut w = csv::Writer::from_path(path)?;
-    let mut header = vec!["t".to_string()];
+    let mut header = vec![columns::TIME.to_string()];
     for prefix in ["desired_", "actual_"] {
-        header.extend(["alpha", "beta", "gamma", "xc", "yc", "zc"].map(|c| format!("{prefix}{c}")));
+        header.extend(columns::POSE.map(|c| format!("{prefix}{c}")));
     }
     header.extend(
         [
@@ -130,7 +270,7 @@ pub fn write_csv(path: &Path, samples: &[Sample]) -> Result<(), Box<dyn std::err
         ]
         .map(String::from),
     );
-    header.extend((1..=6).map(|i| format!("gamma{i}")));
+    header.extend(columns::GAMMA.map(String::from));
     w.write_record(&header)?;
     for s in samples {
         let mut row = vec![s.t];

@@ -30,9 +30,7 @@ impl fmt::Display for TrajectoryError {
 
 impl std::error::Error for TrajectoryError {}
 
-const POSE: [&str; 7] = ["t", "alpha", "beta", "gamma", "xc", "yc", "zc"];
-const TWIST: [&str; 6] = ["wx", "wy", "wz", "vx", "vy", "vz"];
-const ACCEL: [&str; 6] = ["wdx", "wdy", "wdz", "ax", "ay", "az"];
+use crate::columns::{ACCEL, POSE, TIME, TWIST};
 
 /// One sample of a trajectory file: its line, time, state and the extra columns asked for.
 #[derive(Clone, Debug, PartialEq)]
@@ -278,7 +276,8 @@ pub fn open(path: &Path, extra: &[&str]) -> Result<Trajectory, TrajectoryError> 
             ),
         ))
     };
-    let pose = find(&POSE, true)?.unwrap_or_default();
+    let time_and_pose: Vec<&str> = std::iter::once(TIME).chain(POSE).collect();
+    let pose = find(&time_and_pose, true)?.unwrap_or_default();
     let twist = find(&TWIST, false)?;
     let accel = find(&ACCEL, false)?;
     let extra = if extra.is_empty() {

@@ -16,7 +16,6 @@ pub mod excite;
 pub use estimator::{Estimate, Identifier, IdentifyError};
 
 use crate::{check_divisors, Error, Model, State, C5};
-use c5_generated::f64::{consistent, paper};
 pub use c5_robot::{standard_parameter_names, Friction, STANDARD_PARAMETERS};
 use nalgebra::{DMatrix, SMatrix};
 
@@ -32,19 +31,12 @@ pub struct BaseParameters {
 impl BaseParameters {
     /// The base parameters of `model`.
     pub fn of(model: Model) -> Self {
-        match model {
-            Model::Consistent => BaseParameters {
-                model,
-                names: &consistent::BASE_PARAMETERS,
-                relations: &consistent::BASE_RELATIONS,
-                of_standard: &consistent::BASE_OF_STANDARD,
-            },
-            Model::Paper => BaseParameters {
-                model,
-                names: &paper::BASE_PARAMETERS,
-                relations: &paper::BASE_RELATIONS,
-                of_standard: &paper::BASE_OF_STANDARD,
-            },
+        let kernels = crate::kernels(model);
+        BaseParameters {
+            model,
+            names: kernels.base_parameters(),
+            relations: kernels.base_relations(),
+            of_standard: kernels.base_of_standard(),
         }
     }
 
@@ -103,17 +95,9 @@ impl BaseParameters {
     }
 }
 
-/// `[L gx gy gz]`, what the regressors read of the robot.
-fn geometry(c5: &C5) -> [f64; 4] {
-    let r = c5.robot();
-    [r.half_spacing, r.gravity[0], r.gravity[1], r.gravity[2]]
-}
-
-/// Copies a kernel's `6 × N` rows into `out`, row-major.
-fn copy_rows<const N: usize>(rows: &[[f64; N]; 6], out: &mut [f64]) {
-    for (i, row) in rows.iter().enumerate() {
-        out[i * N..(i + 1) * N].copy_from_slice(row);
-    }
+/// `[L gx gy gz]`, what the regressors read of the robot: the first of its parameter vector.
+fn geometry(c5: &C5) -> [f64; c5_robot::GEOMETRY_PARAMETERS] {
+    core::array::from_fn(|k| c5.parameters()[k])
 }
 
 impl C5 {
@@ -139,18 +123,14 @@ impl C5 {
         }
         let [x, v, a] = Self::checked_motion(state)?;
         let g = geometry(self);
-        let r = match self.model() {
-            Model::Consistent => {
-                let (y, r) = consistent::base_regressor(&x, &v, &a, &g);
-                copy_rows(&y, out);
-                r
-            }
-            Model::Paper => {
-                let (y, r) = paper::base_regressor(&x, &v, &a, &g);
-                copy_rows(&y, out);
-                r
-            }
-        };
+        let r = self
+            .kernels()
+            .base_regressor_into(&x, &v, &a, &g, out)
+            .ok_or(Error::WrongLength {
+                input: "out",
+                expected: 6 * nb,
+                got: out.len(),
+            })?;
         check_divisors(r)?;
         match out.iter().all(|y| y.is_finite()) {
             true => Ok(()),
@@ -179,10 +159,7 @@ impl C5 {
     pub fn regressor(&self, state: &State) -> Result<SMatrix<f64, 6, STANDARD_PARAMETERS>, Error> {
         let [x, v, a] = Self::checked_motion(state)?;
         let g = geometry(self);
-        let (y, r) = match self.model() {
-            Model::Consistent => consistent::regressor(&x, &v, &a, &g),
-            Model::Paper => paper::regressor(&x, &v, &a, &g),
-        };
+        let (y, r) = self.kernels().regressor(&x, &v, &a, &g);
         check_divisors(r)?;
         let m = SMatrix::<f64, 6, STANDARD_PARAMETERS>::from_fn(|i, j| y[i][j]);
         match m.iter().all(|y| y.is_finite()) {

@@ -407,6 +407,66 @@ pub fn inverse_dynamics(
     }
 }
 
+/// One model's reference, every quantity in segment order (rows of `J⁻¹`, columns of `J`,
+/// entries of `Q̇`, `Q̈`, `Γ` for segments 1..6), so that a check written once holds every
+/// model to its own reference. `None` where a solve of the reference fails.
+#[derive(Clone, Copy)]
+pub struct ModelReference {
+    /// `J⁻¹` (row `i` for segment `i+1`).
+    pub inverse_jacobian: fn(f64, &Pose) -> Matrix6<f64>,
+    /// `J` (column `i` for segment `i+1`), as the model builds it.
+    pub jacobian: fn(f64, &Pose) -> Option<Matrix6<f64>>,
+    /// `Q̇_a = J⁻¹ V`.
+    pub joint_velocities: fn(f64, &Pose, &Twist) -> Vector6<f64>,
+    /// `Q̈_a` from the platform's classical motion.
+    pub joint_accelerations: fn(f64, &Pose, &Twist, &Acceleration) -> Vector6<f64>,
+    /// `Φ`, the legs' loads at `C`.
+    pub leg_wrench: fn(&Robot, &Pose, &Twist, &Acceleration) -> Option<Vector6<f64>>,
+    /// `Γ`.
+    pub inverse_dynamics: fn(&Robot, &Pose, &Twist, &Acceleration) -> Option<Vector6<f64>>,
+}
+
+/// The paper model's rows of `J⁻¹` in segment order. The permutation is its own inverse:
+/// segment `i` is at chapter row `CHAPTER_ORDER[i]`.
+fn paper_inverse_jacobian(l: f64, pose: &Pose) -> Matrix6<f64> {
+    let chapter = inverse_jacobian(&p_i2(l, pose));
+    Matrix6::from_fn(|i, j| chapter[(CHAPTER_ORDER[i], j)])
+}
+
+/// The reference of `model`: the one place the reference tells the models apart.
+pub fn model(model: c5_robot::Model) -> ModelReference {
+    match model {
+        c5_robot::Model::Paper => ModelReference {
+            inverse_jacobian: paper_inverse_jacobian,
+            jacobian: |l, pose| {
+                let chapter = jacobian(&p_i2(l, pose));
+                Some(Matrix6::from_fn(|r, i| chapter[(r, CHAPTER_ORDER[i])]))
+            },
+            joint_velocities: |l, pose, twist| paper_inverse_jacobian(l, pose) * twist.to_vector(),
+            joint_accelerations: |l, pose, twist, accel| {
+                let vdot = spatial_acceleration(twist, accel);
+                Vector6::from_fn(|i, _| {
+                    let (p1, p2) = leg(l, pose, i);
+                    joint_accelerations_projection(&p1, &p2, &vdot, i)[5]
+                })
+            },
+            leg_wrench,
+            inverse_dynamics: |robot, pose, twist, accel| {
+                let gamma = inverse_dynamics(robot, pose, twist, accel, Step6::Khalil)?;
+                Some(Vector6::from(to_segment_order(&gamma)))
+            },
+        },
+        c5_robot::Model::Consistent => ModelReference {
+            inverse_jacobian: consistent::inverse_jacobian,
+            jacobian: consistent::jacobian,
+            joint_velocities: consistent::joint_velocities,
+            joint_accelerations: consistent::joint_accelerations,
+            leg_wrench: consistent::leg_wrench,
+            inverse_dynamics: consistent::inverse_dynamics,
+        },
+    }
+}
+
 /// `W = J⁻ᵀ Γ = F_{N+1} + Φ` of `model`: the wrench at `C` (base frame) the actuators put on
 /// the platform for the motion.
 pub fn task_wrench(
@@ -416,10 +476,7 @@ pub fn task_wrench(
     twist: &Twist,
     accel: &Acceleration,
 ) -> Option<Vector6<f64>> {
-    let phi = match model {
-        c5_robot::Model::Paper => leg_wrench(robot, pose, twist, accel)?,
-        c5_robot::Model::Consistent => consistent::leg_wrench(robot, pose, twist, accel)?,
-    };
+    let phi = (self::model(model).leg_wrench)(robot, pose, twist, accel)?;
     Some(platform_wrench(robot, pose, twist, accel) + phi)
 }
 
@@ -455,15 +512,8 @@ pub fn forward_dynamics(
     gamma: &[f64; 6],
 ) -> Option<Acceleration> {
     let (m, h) = task_space(robot, model, pose, twist)?;
-    let w = match model {
-        c5_robot::Model::Paper => {
-            inverse_jacobian(&p_i2(robot.half_spacing, pose)).transpose() * to_chapter_order(gamma)
-        }
-        c5_robot::Model::Consistent => {
-            consistent::inverse_jacobian(robot.half_spacing, pose).transpose()
-                * Vector6::from(*gamma)
-        }
-    };
+    let jinv = (self::model(model).inverse_jacobian)(robot.half_spacing, pose);
+    let w = jinv.transpose() * Vector6::from(*gamma);
     let a = m.cholesky()?.solve(&(w - h));
     Some(Acceleration {
         omega_dot: [a[0], a[1], a[2]],

@@ -1,25 +1,26 @@
-//! The README's C example: `main.c` and the `cc` command beside it, built and run against
-//! kernels generated as the README says.
+//! The C example of `docs/c-output.md`: `main.c` and the `cc` command beside it, built and run
+//! against kernels generated as the guide says.
 
 use std::path::Path;
 use std::process::Command;
 
-/// The fenced blocks of the README whose first line starts with `first`.
+/// The fenced block of the guide whose first line starts with `first`.
 fn block(readme: &str, fence: &str, first: &str) -> String {
     readme
         .split(&format!("```{fence}\n"))
         .skip(1)
         .filter_map(|b| b.split("```").next())
         .find(|b| b.starts_with(first))
-        .unwrap_or_else(|| panic!("README has a ```{fence} block starting with {first:?}"))
+        .unwrap_or_else(|| panic!("the guide has a ```{fence} block starting with {first:?}"))
         .to_string()
 }
 
 #[test]
 fn the_readme_c_example_builds_and_runs() {
-    let readme =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../README.md"))
-            .unwrap();
+    let readme = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/c-output.md"),
+    )
+    .unwrap();
     let main_c = block(&readme, "c", "/* main.c");
     let commands = block(&readme, "sh", "# C:");
     let build = commands

@@ -1,0 +1,27 @@
+//! The column names of the CSV files the commands read and write, in one place.
+
+/// Time (s).
+pub const TIME: &str = "t";
+/// The pose `[α β γ xc yc zc]`.
+pub const POSE: [&str; 6] = ["alpha", "beta", "gamma", "xc", "yc", "zc"];
+/// The twist `(ω; v_C)`.
+pub const TWIST: [&str; 6] = ["wx", "wy", "wz", "vx", "vy", "vz"];
+/// The classical acceleration `(ω̇; a_C)`.
+pub const ACCEL: [&str; 6] = ["wdx", "wdy", "wdz", "ax", "ay", "az"];
+/// The actuator forces `Γ`, segment order.
+pub const GAMMA: [&str; 6] = ["gamma1", "gamma2", "gamma3", "gamma4", "gamma5", "gamma6"];
+
+/// `{name}1` … `{name}6`: one column per actuator.
+pub fn per_actuator(name: &str) -> Vec<String> {
+    (1..=6).map(|i| format!("{name}{i}")).collect()
+}
+
+/// `t`, the pose, the twist and the acceleration: a whole trajectory row.
+pub fn state() -> Vec<String> {
+    std::iter::once(TIME)
+        .chain(POSE)
+        .chain(TWIST)
+        .chain(ACCEL)
+        .map(String::from)
+        .collect()
+}

@@ -1,0 +1,58 @@
+//! `c5 forward`: JSON Lines of platform states and actuator forces in, the platform's
+//! acceleration out.
+
+use crate::jsonl::{self, Key};
+use crate::options::RobotArgs;
+use c5_runtime::{Pose, Twist};
+use clap::Args;
+use serde_json::json;
+use std::process::ExitCode;
+
+/// Reads JSON Lines of platform states and actuator forces on stdin (`pose`, `omega`,
+/// `velocity`, `gamma`), writes the platform's acceleration (`omega_dot`, `acceleration`).
+#[derive(Args)]
+pub struct ForwardArgs {
+    #[command(flatten)]
+    robot: RobotArgs,
+}
+
+/// The keys of a `forward` line.
+const FORWARD_KEYS: [Key; 4] = [
+    Key {
+        name: "pose",
+        len: 6,
+        required: true,
+    },
+    Key {
+        name: "omega",
+        len: 3,
+        required: false,
+    },
+    Key {
+        name: "velocity",
+        len: 3,
+        required: false,
+    },
+    Key {
+        name: "gamma",
+        len: 6,
+        required: true,
+    },
+];
+
+pub fn run(args: &ForwardArgs) -> crate::Result<ExitCode> {
+    let robot = args.robot.load()?;
+    jsonl::answer_lines(|line| {
+        let v = jsonl::parse(line, &FORWARD_KEYS)?;
+        let pose = Pose::from_array(std::array::from_fn(|i| v[0][i]));
+        let twist = Twist {
+            omega: [v[1][0], v[1][1], v[1][2]],
+            velocity: [v[2][0], v[2][1], v[2][2]],
+        };
+        let gamma: [f64; 6] = std::array::from_fn(|i| v[3][i]);
+        let a = robot
+            .forward_dynamics(&pose, &twist, &gamma)
+            .map_err(|e| e.to_string())?;
+        Ok(json!({"omega_dot": a.omega_dot, "acceleration": a.linear}))
+    })
+}
