@@ -21,6 +21,9 @@ pub enum Setting {
     Chapter,
     /// From the platform state (pose, twist, acceleration), end to end.
     Pose,
+    /// From the actuators' positions, rates and accelerations (what the robot measures), end
+    /// to end through the forward kinematics.
+    Joint,
 }
 
 impl fmt::Display for Setting {
@@ -28,6 +31,7 @@ impl fmt::Display for Setting {
         f.write_str(match self {
             Setting::Chapter => "chapter",
             Setting::Pose => "pose",
+            Setting::Joint => "joint",
         })
     }
 }

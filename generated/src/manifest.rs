@@ -46,6 +46,8 @@ pub enum Kernel {
     Regressor,
     /// `base_regressor`.
     BaseRegressor,
+    /// `forward_kinematics`.
+    ForwardKinematics,
 }
 impl Kernel {
     /// The generated function's base name (`_params` is appended when the robot's parameters are inputs).
@@ -72,6 +74,7 @@ impl Kernel {
             Kernel::LegJointAccelerations => "leg_joint_accelerations",
             Kernel::Regressor => "regressor",
             Kernel::BaseRegressor => "base_regressor",
+            Kernel::ForwardKinematics => "forward_kinematics",
         }
     }
 }
@@ -299,6 +302,22 @@ pub const KERNELS: &[Entry] = &[
         chapter: None,
     },
     Entry {
+        kernel: Kernel::ForwardKinematics,
+        parameters: false,
+        name: "forward_kinematics",
+        model: "consistent",
+        setting: "joint",
+        equations: &["15", "16"],
+        count: Count {
+            mul: 50,
+            div: 4,
+            add: 26,
+            neg: 6,
+            calls: &[("sqrt", 3)],
+        },
+        chapter: None,
+    },
+    Entry {
         kernel: Kernel::InverseKinematics,
         parameters: true,
         name: "inverse_kinematics_params",
@@ -500,6 +519,22 @@ pub const KERNELS: &[Entry] = &[
             add: 404,
             neg: 3,
             calls: &[("sin_cos", 3)],
+        },
+        chapter: None,
+    },
+    Entry {
+        kernel: Kernel::ForwardKinematics,
+        parameters: true,
+        name: "forward_kinematics_params",
+        model: "consistent",
+        setting: "joint",
+        equations: &["15", "16"],
+        count: Count {
+            mul: 78,
+            div: 5,
+            add: 26,
+            neg: 6,
+            calls: &[("sqrt", 3)],
         },
         chapter: None,
     },
@@ -800,6 +835,22 @@ pub const KERNELS: &[Entry] = &[
         chapter: None,
     },
     Entry {
+        kernel: Kernel::ForwardKinematics,
+        parameters: false,
+        name: "forward_kinematics",
+        model: "paper",
+        setting: "joint",
+        equations: &["15", "16"],
+        count: Count {
+            mul: 50,
+            div: 4,
+            add: 26,
+            neg: 6,
+            calls: &[("sqrt", 3)],
+        },
+        chapter: None,
+    },
+    Entry {
         kernel: Kernel::LegJointAccelerations,
         parameters: false,
         name: "leg_joint_accelerations",
@@ -996,6 +1047,22 @@ pub const KERNELS: &[Entry] = &[
             add: 493,
             neg: 1,
             calls: &[("sin_cos", 3)],
+        },
+        chapter: None,
+    },
+    Entry {
+        kernel: Kernel::ForwardKinematics,
+        parameters: true,
+        name: "forward_kinematics_params",
+        model: "paper",
+        setting: "joint",
+        equations: &["15", "16"],
+        count: Count {
+            mul: 78,
+            div: 5,
+            add: 26,
+            neg: 6,
+            calls: &[("sqrt", 3)],
         },
         chapter: None,
     },

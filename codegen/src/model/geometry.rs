@@ -110,6 +110,9 @@ pub struct Posed<'g> {
     pub q: [Expr<'g>; 6],
     /// `P_i2`, eq 27, base frame.
     pub p: [Vec3<'g>; 6],
+    /// `1 + abc` when the pose was found from the actuator positions ([`forward_kinematics`]):
+    /// the forward singularity term, positive in the workspace.
+    pub forward: Option<Expr<'g>>,
 }
 
 /// Eqs 15, 16 and 27 from the pose `[α β γ xc yc zc]` of a robot of half-spacing `L`.
@@ -120,7 +123,75 @@ pub fn pose<'g>(half_spacing: Expr<'g>, x: &[Expr<'g>]) -> Posed<'g> {
     let q: [Expr<'g>; 6] =
         std::array::from_fn(|i| actuator_length(&r, &c, &anchor(half_spacing, i), i));
     let p = std::array::from_fn(|i| p_i2(&c, &anchor(half_spacing, i), q[i], &axis(g, i)));
-    Posed { r, c, q, p }
+    Posed {
+        r,
+        c,
+        q,
+        p,
+        forward: None,
+    }
+}
+
+/// The pairs of segments on each axis `k` of the base frame, `(a, b)` 0-based, and the axis
+/// `j` of their anchors `A_a = +L e_j`, `A_b = -L e_j`: the layout eq 16 encodes.
+const PAIRS: [(usize, usize, usize); 3] = [(0, 1, 2), (2, 3, 0), (4, 5, 1)];
+
+/// The forward kinematics in closed form (DESIGN.md, "Joint space"): `R` and `C` from the
+/// actuator positions `Q_i1`, with no trigonometry and no linear solve.
+///
+/// For the pair `(a, b)` on axis `k` with anchors `±L e_j`, eq 16 is `m·(A + Q e_k - C) = 0`
+/// with `m = R e_k`. The difference of the pair gives `m_j / m_k = (Q_b - Q_a) / 2L`: with
+/// `a = (Q2 - Q1)/2L = r31/r11`, `b = (Q4 - Q3)/2L = r12/r22`, `c = (Q6 - Q5)/2L = r23/r33`,
+/// the columns of `R` are, up to their lengths, `(1, s, a)`, `(b, 1, t)`, `(u, c, 1)`.
+/// Orthogonality is linear in `s`, `t`, `u` (`s + a t = -b`, `t + b u = -c`, `u + c s = -a`):
+/// `s = (ac - b - a²b) / (1 + abc)` and its cyclic images, then three normalisations. The
+/// columns keep a positive diagonal (the labelling in the workspace; `R·diag(σ)` with
+/// `det diag(σ) = 1` gives the same `Q`), and they make a rotation exactly where `1 + abc > 0`
+/// (a reflection beyond it). The half-sums `h_k` of the pairs give `m̂_k·C = h_k` for the
+/// unnormalised columns `m̂_k`, so `C = Σ_k m̂_k h_k / |m̂_k|²`.
+pub fn forward_kinematics<'g>(half_spacing: Expr<'g>, q: &[Expr<'g>; 6]) -> Posed<'g> {
+    let g = half_spacing.graph();
+    let scale = (half_spacing * 2.0).recip();
+    // Per axis k: the pair's ratio m_j/m_k and half-sum.
+    let ratio: [Expr<'g>; 3] = std::array::from_fn(|k| (q[PAIRS[k].1] - q[PAIRS[k].0]) * scale);
+    let half_sum: [Expr<'g>; 3] = std::array::from_fn(|k| (q[PAIRS[k].0] + q[PAIRS[k].1]) * 0.5);
+    let [a, b, c] = ratio;
+    let forward = g.one() + a * b * c;
+    let inv = forward.recip();
+    // The third component of each column, `(s, t, u)` for axes x, y, z.
+    let third = [
+        (a * c - b * (g.one() + a * a)) * inv,
+        (a * b - c * (g.one() + b * b)) * inv,
+        (b * c - a * (g.one() + c * c)) * inv,
+    ];
+    // Unnormalised column k: 1 on axis k, the ratio on axis j, the third on the remaining one.
+    let columns: [Vec3<'g>; 3] = std::array::from_fn(|k| {
+        let j = PAIRS[k].2;
+        Vector::from_fn(|e| {
+            if e == k {
+                g.one()
+            } else if e == j {
+                ratio[k]
+            } else {
+                third[k]
+            }
+        })
+    });
+    let inverse_square: [Expr<'g>; 3] =
+        std::array::from_fn(|k| columns[k].dot(&columns[k]).recip());
+    let unit: [Vec3<'g>; 3] = std::array::from_fn(|k| columns[k].scale(inverse_square[k].sqrt()));
+    let r = Mat::from_fn(|row, k| unit[k][row]);
+    let centre = (0..3)
+        .map(|k| columns[k].scale(half_sum[k] * inverse_square[k]))
+        .fold(Vec3::zeros(g), |acc, v| acc + v);
+    let p = std::array::from_fn(|i| p_i2(&centre, &anchor(half_spacing, i), q[i], &axis(g, i)));
+    Posed {
+        r,
+        c: centre,
+        q: *q,
+        p,
+        forward: Some(forward),
+    }
 }
 
 /// The platform's motion: twist and classical acceleration, base frame.

@@ -83,6 +83,8 @@ kernels! {
     Regressor => "regressor",
     /// `Y_b` of `Γ = Y_b β`.
     BaseRegressor => "base_regressor",
+    /// `R` and `C` from the actuator positions.
+    ForwardKinematics => "forward_kinematics",
 }
 
 /// A generated kernel: what it computes and whether the robot's parameters are its inputs.
@@ -129,6 +131,8 @@ pub enum Input {
     SpatialAccel,
     /// A wrench `K` at `C`.
     Wrench,
+    /// The actuator positions `Q_i1` (what the encoders measure).
+    Actuators,
 }
 
 fn names(list: &[&str]) -> Vec<String> {
@@ -189,6 +193,12 @@ impl Input {
                 names(&["knx", "kny", "knz", "kfx", "kfy", "kfz"]),
                 "`K = F_{N+1} + Φ` at `C`, moment first (N·m, N)",
             ),
+            Input::Actuators => Arg::new(
+                "q",
+                Shape::Vector(6),
+                (1..=6).map(|i| format!("q{i}")).collect(),
+                "actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`",
+            ),
         }
     }
 
@@ -196,6 +206,7 @@ impl Input {
     fn setting(self) -> Option<Setting> {
         match self {
             Input::Pose => Some(Setting::Pose),
+            Input::Actuators => Some(Setting::Joint),
             Input::P | Input::P1 => Some(Setting::Chapter),
             _ => None,
         }
@@ -226,6 +237,9 @@ pub enum Guard {
     Never,
     /// The divisors of eq 16, `[r11 r22 r33]`.
     Eq16,
+    /// From the actuator positions: the forward singularity term `1 + abc`, then the divisors
+    /// of eq 16, `[1 + abc, r11, r22, r33]`.
+    Forward,
 }
 
 /// What a kernel reads of the robot.
@@ -335,9 +349,15 @@ impl<'c, 'g> Context<'c, 'g> {
         self.has(kind).then(|| self.vector(kind))
     }
 
-    /// The pose, expanded (eqs 15, 16, 27).
+    /// The pose, expanded (eqs 15, 16, 27): from the pose the kernel takes, or from the
+    /// actuator positions by the forward kinematics.
     pub fn posed(&self) -> Posed<'g> {
-        geometry::pose(self.half_spacing, &self.input(Input::Pose))
+        if self.has(Input::Actuators) {
+            let q = self.input(Input::Actuators);
+            geometry::forward_kinematics(self.half_spacing, &std::array::from_fn(|i| q[i]))
+        } else {
+            geometry::pose(self.half_spacing, &self.input(Input::Pose))
+        }
     }
 
     /// The platform's motion: the twist and acceleration the kernel takes, zero where it
@@ -385,6 +405,20 @@ impl<'c, 'g> Context<'c, 'g> {
         match guard {
             Guard::Never => None,
             Guard::Eq16 => Some(geometry::divisors(&self.posed().r)),
+            Guard::Forward => {
+                let posed = self.posed();
+                let forward = posed.forward.unwrap_or_else(|| {
+                    self.graph.invalidate(
+                        "a forward guard on a kernel without actuator positions".into(),
+                    );
+                    self.graph.zero()
+                });
+                Some(
+                    std::iter::once(forward)
+                        .chain(geometry::divisors(&posed.r))
+                        .collect(),
+                )
+            }
         }
     }
 }
@@ -410,8 +444,30 @@ const DIVISORS: Output = Output {
     doc: "`[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one \
           is near zero",
 };
+const FORWARD: Output = Output {
+    name: "singular",
+    shape: Shape::Vector(4),
+    doc: "`[1 + abc, r11, r22, r33]`: the forward singularity term (the actuator positions \
+          belong to a pose of the workspace only where it is positive; the other results are \
+          meaningless where it is near zero or negative) and the divisors of eq 16",
+};
 
 const POSE_MOTION: &[Input] = &[Input::Pose, Input::Twist, Input::Accel];
+
+/// `R` row-major and `C` of the platform.
+const PLACEMENT: [Output; 2] = [
+    Output {
+        name: "r",
+        shape: Shape::Matrix(3, 3),
+        doc: "the rotation `R` of the platform frame (eq 15), the placement in the workspace \
+              (every `r_kk > 0`)",
+    },
+    Output {
+        name: "c",
+        shape: Shape::Vector(3),
+        doc: "the platform centre `C` (m), base frame",
+    },
+];
 
 /// The kernels every model is generated into.
 pub const TABLE: &[Decl] = &[
@@ -658,6 +714,26 @@ pub const TABLE: &[Decl] = &[
                 .to_vec()]
         }),
     },
+    Decl {
+        kernel: Kernel::ForwardKinematics,
+        title: "Forward kinematics in closed form: the platform's `R` and `C` from the actuator \
+                positions.",
+        doc: "No trigonometry and no linear solve: eq 16's pair differences fix each column of \
+              `R` up to one unknown, orthogonality makes the three unknowns a rational function \
+              of `a = (Q2 - Q1)/2L`, `b = (Q4 - Q3)/2L`, `c = (Q6 - Q5)/2L`, and the half-sums \
+              give `C` (DESIGN.md, \"Joint space\").",
+        equations: Cite::Fixed(&["15", "16"]),
+        inputs: &[Input::Actuators],
+        outputs: &PLACEMENT,
+        guard: Guard::Forward,
+        reads: Reads::Robot,
+        batch: false,
+        chapter: None,
+        build: Build::Robot(|cx| {
+            let posed = cx.posed();
+            vec![posed.r.rows(), posed.c.to_vec()]
+        }),
+    },
 ];
 
 /// Whether every model has `kernel` (it is in [`TABLE`] or an identification kernel), with one
@@ -849,9 +925,19 @@ pub(crate) fn spec(
              are `params`.",
         ),
     }
-    if decl.guard == Guard::Eq16 {
-        outputs.push(Arg::output(DIVISORS.name, DIVISORS.shape, DIVISORS.doc));
-        doc.push_str("\nThe last result holds the divisors of eq 16 for a singularity check.");
+    match decl.guard {
+        Guard::Never => {}
+        Guard::Eq16 => {
+            outputs.push(Arg::output(DIVISORS.name, DIVISORS.shape, DIVISORS.doc));
+            doc.push_str("\nThe last result holds the divisors of eq 16 for a singularity check.");
+        }
+        Guard::Forward => {
+            outputs.push(Arg::output(FORWARD.name, FORWARD.shape, FORWARD.doc));
+            doc.push_str(
+                "\nThe last result holds the forward singularity term and the divisors of eq 16 \
+                 for a singularity check.",
+            );
+        }
     }
     let id = KernelId {
         kernel: decl.kernel,

@@ -52,6 +52,27 @@ impl Kernels<'_> {
     }
 }
 
+/// `R` (eq 15, row-major) and `C` of a pose `[α β γ xc yc zc]`.
+fn rotation_and_centre(pose: &[f64]) -> Vec<f64> {
+    let (sa, ca) = pose[0].sin_cos();
+    let (sb, cb) = pose[1].sin_cos();
+    let (sg, cg) = pose[2].sin_cos();
+    vec![
+        cb * cg,
+        -cb * sg,
+        sb,
+        sg * ca + cg * sb * sa,
+        ca * cg - sa * sb * sg,
+        -cb * sa,
+        sg * sa - cg * sb * ca,
+        sa * cg + ca * sb * sg,
+        cb * ca,
+        pose[3],
+        pose[4],
+        pose[5],
+    ]
+}
+
 fn close(got: f64, want: f64, scale: f64) -> bool {
     (got - want).abs() <= 1e-9 * scale.max(1.0)
 }
@@ -74,6 +95,18 @@ pub fn self_check(robot: &Robot, list: &[(&Entry, &Compiled)]) -> Result<(), Err
         let pose = rng.vector(&[0.4, 0.4, 0.4, 0.3 * l, 0.3 * l, 0.3 * l]);
         let twist = rng.vector(&[1.0, 1.0, 1.0, 0.5, 0.5, 0.5]);
         let accel = rng.vector(&[5.0, 5.0, 5.0, 2.0, 2.0, 2.0]);
+        // The forward kinematics undoes the inverse: R and C of the pose from its Q.
+        let q = kernels.eval(Kernel::InverseKinematics, &[&pose])?;
+        let placement = kernels.eval(Kernel::ForwardKinematics, &[&q[..6]])?;
+        let want = rotation_and_centre(&pose);
+        for (k, (&got, &want)) in placement.iter().zip(&want).enumerate() {
+            if !close(got, want, 1.0) {
+                return Err(fail(
+                    Kernel::ForwardKinematics,
+                    format!("(R, C)[{k}] = {got} but the pose gives {want} at {pose:?}"),
+                ));
+            }
+        }
         let jinv = kernels.eval(Kernel::InverseJacobianPose, &[&pose])?;
         let jac = kernels.eval(Kernel::JacobianPose, &[&pose])?;
         for i in 0..6 {

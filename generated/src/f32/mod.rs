@@ -95,6 +95,8 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[[f32; 8]; 6],
         accel: &[[f32; 8]; 6],
     ) -> ([[f32; 8]; 6], [[f32; 8]; 3]);
+    /// Forward kinematics in closed form: the platform's `R` and `C` from the actuator positions.
+    fn forward_kinematics(&self, q: &[f32; 6]) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]);
     /// Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.
     fn inverse_kinematics_params(
         &self,
@@ -191,6 +193,12 @@ pub trait Kernels: core::fmt::Debug + Sync {
         accel: &[[f32; 8]; 6],
         params: &[f32; 152],
     ) -> ([[f32; 8]; 6], [[f32; 8]; 3]);
+    /// Forward kinematics in closed form: the platform's `R` and `C` from the actuator positions.
+    fn forward_kinematics_params(
+        &self,
+        q: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]);
 }
 /// The consistent model's kernels: The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -299,6 +307,10 @@ impl Kernels for Consistent {
         accel: &[[f32; 8]; 6],
     ) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
         consistent::inverse_dynamics_x8(pose, twist, accel)
+    }
+    #[inline]
+    fn forward_kinematics(&self, q: &[f32; 6]) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]) {
+        consistent::forward_kinematics(q)
     }
     #[inline]
     fn inverse_kinematics_params(
@@ -422,6 +434,14 @@ impl Kernels for Consistent {
     ) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
         consistent::inverse_dynamics_params_x8(pose, twist, accel, params)
     }
+    #[inline]
+    fn forward_kinematics_params(
+        &self,
+        q: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]) {
+        consistent::forward_kinematics_params(q, params)
+    }
 }
 /// The paper model's kernels: The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -530,6 +550,10 @@ impl Kernels for Paper {
         accel: &[[f32; 8]; 6],
     ) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
         paper::inverse_dynamics_x8(pose, twist, accel)
+    }
+    #[inline]
+    fn forward_kinematics(&self, q: &[f32; 6]) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]) {
+        paper::forward_kinematics(q)
     }
     #[inline]
     fn inverse_kinematics_params(
@@ -652,6 +676,14 @@ impl Kernels for Paper {
         params: &[f32; 152],
     ) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
         paper::inverse_dynamics_params_x8(pose, twist, accel, params)
+    }
+    #[inline]
+    fn forward_kinematics_params(
+        &self,
+        q: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]) {
+        paper::forward_kinematics_params(q, params)
     }
 }
 /// Every model's kernels, the default model first.

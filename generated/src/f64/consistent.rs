@@ -14,6 +14,7 @@
 //   task_bias                          262    4   155    2  3 sin_cos
 //   forward_dynamics                   705   10   391    6  3 sin_cos
 //   inverse_dynamics                   255    5   163    0  3 sin_cos
+//   forward_kinematics                  50    4    26    6  3 sqrt
 //   inverse_kinematics_params           24    6    22    5  3 sin_cos
 //   inverse_jacobian_pose_params        85    4    34    6  3 sin_cos
 //   jacobian_pose_params               282    5    95   11  3 sin_cos
@@ -25,6 +26,7 @@
 //   task_bias_params                   453    4   352    1  3 sin_cos
 //   forward_dynamics_params           1371   13   912    7  3 sin_cos
 //   inverse_dynamics_params            474    5   404    3  3 sin_cos
+//   forward_kinematics_params           78    5    26    6  3 sqrt
 
 /// The divisors of eq 16, `[r11 r22 r33]`: the pose is singular where one vanishes.
 ///
@@ -4709,6 +4711,125 @@ pub fn inverse_dynamics(
     let t427: f64 = t425 + t426;
     let t428: f64 = t427 + 36.002700000000004;
     ([t273, t301, t337, t365, t398, t428], [t171, t33, t25])
+}
+/// Forward kinematics in closed form: the platform's `R` and `C` from the actuator positions.
+///
+/// Equations: 15, 16. Setting: joint.
+///
+/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// No trigonometry and no linear solve: eq 16's pair differences fix each column of `R` up to one unknown, orthogonality makes the three unknowns a rational function of `a = (Q2 - Q1)/2L`, `b = (Q4 - Q3)/2L`, `c = (Q6 - Q5)/2L`, and the half-sums give `C` (DESIGN.md, "Joint space").
+/// The robot's parameters are folded in as constants.
+/// The last result holds the forward singularity term and the divisors of eq 16 for a singularity check.
+///
+/// # Arguments
+///
+/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+///
+/// # Returns
+///
+/// - `r`: the rotation `R` of the platform frame (eq 15), the placement in the workspace (every `r_kk > 0`)
+/// - `c`: the platform centre `C` (m), base frame
+/// - `singular`: `[1 + abc, r11, r22, r33]`: the forward singularity term (the actuator positions belong to a pose of the workspace only where it is positive; the other results are meaningless where it is near zero or negative) and the divisors of eq 16
+///
+/// Operations: 50 mul, 4 div, 26 add, 6 neg, 3 sqrt (chapter convention: 54m + 26a).
+#[inline]
+pub fn forward_kinematics(q: &[f64; 6]) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]) {
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let t0: f64 = q1 - q2;
+    let t1: f64 = t0 * 2.5;
+    let t2: f64 = t1 * t1;
+    let t3: f64 = q3 - q4;
+    let t4: f64 = t3 * 2.5;
+    let t5: f64 = q5 - q6;
+    let t6: f64 = t5 * 2.5;
+    let t7: f64 = t1 * t4;
+    let t8: f64 = t6 * t7;
+    let t9: f64 = t8 - 1.0;
+    let t10: f64 = 1.0 / t9;
+    let t11: f64 = t10 * t10;
+    let t12: f64 = t1 * t6;
+    let t13: f64 = t2 + 1.0;
+    let t14: f64 = t4 * t13;
+    let t15: f64 = t12 + t14;
+    let t16: f64 = t15 * t15;
+    let t17: f64 = t11 * t16;
+    let t18: f64 = t2 + t17;
+    let t19: f64 = t18 + 1.0;
+    let t20: f64 = 1.0 / t19;
+    let t21: f64 = sqrt(t20);
+    let t22: f64 = t4 * t4;
+    let t23: f64 = t22 + 1.0;
+    let t24: f64 = t6 * t23;
+    let t25: f64 = t7 + t24;
+    let t26: f64 = t25 * t25;
+    let t27: f64 = t11 * t26;
+    let t28: f64 = t22 + t27;
+    let t29: f64 = t28 + 1.0;
+    let t30: f64 = 1.0 / t29;
+    let t31: f64 = sqrt(t30);
+    let t32: f64 = t4 * t31;
+    let t33: f64 = -t32;
+    let t34: f64 = t4 * t6;
+    let t35: f64 = t6 * t6;
+    let t36: f64 = t35 + 1.0;
+    let t37: f64 = t1 * t36;
+    let t38: f64 = t34 + t37;
+    let t39: f64 = t38 * t38;
+    let t40: f64 = t11 * t39;
+    let t41: f64 = t35 + t40;
+    let t42: f64 = t41 + 1.0;
+    let t43: f64 = 1.0 / t42;
+    let t44: f64 = sqrt(t43);
+    let t45: f64 = t10 * t38;
+    let t46: f64 = t44 * t45;
+    let t47: f64 = -t46;
+    let t48: f64 = t10 * t15;
+    let t49: f64 = t21 * t48;
+    let t50: f64 = -t49;
+    let t51: f64 = t6 * t44;
+    let t52: f64 = -t51;
+    let t53: f64 = t1 * t21;
+    let t54: f64 = -t53;
+    let t55: f64 = t10 * t25;
+    let t56: f64 = t31 * t55;
+    let t57: f64 = -t56;
+    let t58: f64 = q1 + q2;
+    let t59: f64 = t58 * 0.5;
+    let t60: f64 = t20 * t59;
+    let t61: f64 = q3 + q4;
+    let t62: f64 = t61 * 0.5;
+    let t63: f64 = t4 * t62;
+    let t64: f64 = t30 * t63;
+    let t65: f64 = q5 + q6;
+    let t66: f64 = t65 * 0.5;
+    let t67: f64 = t10 * t66;
+    let t68: f64 = t38 * t67;
+    let t69: f64 = t43 * t68;
+    let t70: f64 = t64 + t69;
+    let t71: f64 = t60 - t70;
+    let t72: f64 = t10 * t59;
+    let t73: f64 = t15 * t72;
+    let t74: f64 = t20 * t73;
+    let t75: f64 = t30 * t62;
+    let t76: f64 = t6 * t66;
+    let t77: f64 = t43 * t76;
+    let t78: f64 = t74 + t77;
+    let t79: f64 = t75 - t78;
+    let t80: f64 = t1 * t59;
+    let t81: f64 = t20 * t80;
+    let t82: f64 = t10 * t62;
+    let t83: f64 = t25 * t82;
+    let t84: f64 = t30 * t83;
+    let t85: f64 = t43 * t66;
+    let t86: f64 = t81 + t84;
+    let t87: f64 = t85 - t86;
+    let t88: f64 = 1.0 - t8;
+    (
+        [[t21, t33, t47], [t50, t31, t52], [t54, t57, t44]],
+        [t71, t79, t87],
+        [t88, t21, t31, t44],
+    )
 }
 /// Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.
 ///
@@ -12843,4 +12964,162 @@ pub fn inverse_dynamics_params(
     let t890: f64 = t844 + t858;
     let t891: f64 = t889 - t890;
     ([t647, t696, t746, t795, t840, t891], [t207, t25, t52])
+}
+/// Forward kinematics in closed form: the platform's `R` and `C` from the actuator positions.
+///
+/// Equations: 15, 16. Setting: joint.
+///
+/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// No trigonometry and no linear solve: eq 16's pair differences fix each column of `R` up to one unknown, orthogonality makes the three unknowns a rational function of `a = (Q2 - Q1)/2L`, `b = (Q4 - Q3)/2L`, `c = (Q6 - Q5)/2L`, and the half-sums give `C` (DESIGN.md, "Joint space").
+/// The robot's parameters listed in `params` are inputs; the others are folded in.
+/// The last result holds the forward singularity term and the divisors of eq 16 for a singularity check.
+///
+/// # Arguments
+///
+/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
+///
+/// # Returns
+///
+/// - `r`: the rotation `R` of the platform frame (eq 15), the placement in the workspace (every `r_kk > 0`)
+/// - `c`: the platform centre `C` (m), base frame
+/// - `singular`: `[1 + abc, r11, r22, r33]`: the forward singularity term (the actuator positions belong to a pose of the workspace only where it is positive; the other results are meaningless where it is near zero or negative) and the divisors of eq 16
+///
+/// Operations: 78 mul, 5 div, 26 add, 6 neg, 3 sqrt (chapter convention: 83m + 26a).
+#[inline]
+pub fn forward_kinematics_params(
+    q: &[f64; 6],
+    params: &[f64; 152],
+) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]) {
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _] = *params;
+    let t0: f64 = 1.0 / half_spacing;
+    let t1: f64 = t0 * t0;
+    let t2: f64 = q1 - q2;
+    let t3: f64 = t2 * t2;
+    let t4: f64 = t1 * t3;
+    let t5: f64 = t0 * t1;
+    let t6: f64 = q3 - q4;
+    let t7: f64 = q5 - q6;
+    let t8: f64 = t2 * t5;
+    let t9: f64 = t6 * t8;
+    let t10: f64 = t7 * t9;
+    let t11: f64 = t10 * 0.125;
+    let t12: f64 = t11 - 1.0;
+    let t13: f64 = 1.0 / t12;
+    let t14: f64 = t13 * t13;
+    let t15: f64 = t0 * t2;
+    let t16: f64 = t7 * t15;
+    let t17: f64 = t4 * 0.25;
+    let t18: f64 = t17 + 1.0;
+    let t19: f64 = t6 * t18;
+    let t20: f64 = t16 * 0.25;
+    let t21: f64 = t19 * 0.5;
+    let t22: f64 = t20 + t21;
+    let t23: f64 = t22 * t22;
+    let t24: f64 = t1 * t14;
+    let t25: f64 = t23 * t24;
+    let t26: f64 = t17 + t25;
+    let t27: f64 = t26 + 1.0;
+    let t28: f64 = 1.0 / t27;
+    let t29: f64 = sqrt(t28);
+    let t30: f64 = t6 * t6;
+    let t31: f64 = t1 * t30;
+    let t32: f64 = t6 * t15;
+    let t33: f64 = t31 * 0.25;
+    let t34: f64 = t33 + 1.0;
+    let t35: f64 = t7 * t34;
+    let t36: f64 = t32 * 0.25;
+    let t37: f64 = t35 * 0.5;
+    let t38: f64 = t36 + t37;
+    let t39: f64 = t38 * t38;
+    let t40: f64 = t24 * t39;
+    let t41: f64 = t33 + t40;
+    let t42: f64 = t41 + 1.0;
+    let t43: f64 = 1.0 / t42;
+    let t44: f64 = sqrt(t43);
+    let t45: f64 = t0 * t6;
+    let t46: f64 = t44 * t45;
+    let t47: f64 = t46 * 0.5;
+    let t48: f64 = -t47;
+    let t49: f64 = t7 * t45;
+    let t50: f64 = t7 * t7;
+    let t51: f64 = t1 * t50;
+    let t52: f64 = t51 * 0.25;
+    let t53: f64 = t52 + 1.0;
+    let t54: f64 = t2 * t53;
+    let t55: f64 = t49 * 0.25;
+    let t56: f64 = t54 * 0.5;
+    let t57: f64 = t55 + t56;
+    let t58: f64 = t57 * t57;
+    let t59: f64 = t24 * t58;
+    let t60: f64 = t52 + t59;
+    let t61: f64 = t60 + 1.0;
+    let t62: f64 = 1.0 / t61;
+    let t63: f64 = sqrt(t62);
+    let t64: f64 = t0 * t13;
+    let t65: f64 = t57 * t64;
+    let t66: f64 = t63 * t65;
+    let t67: f64 = -t66;
+    let t68: f64 = t22 * t64;
+    let t69: f64 = t29 * t68;
+    let t70: f64 = -t69;
+    let t71: f64 = t0 * t7;
+    let t72: f64 = t63 * t71;
+    let t73: f64 = t72 * 0.5;
+    let t74: f64 = -t73;
+    let t75: f64 = t15 * t29;
+    let t76: f64 = t75 * 0.5;
+    let t77: f64 = -t76;
+    let t78: f64 = t38 * t64;
+    let t79: f64 = t44 * t78;
+    let t80: f64 = -t79;
+    let t81: f64 = q1 + q2;
+    let t82: f64 = t81 * 0.5;
+    let t83: f64 = t28 * t82;
+    let t84: f64 = q3 + q4;
+    let t85: f64 = t84 * 0.5;
+    let t86: f64 = t6 * t85;
+    let t87: f64 = t43 * t86;
+    let t88: f64 = q5 + q6;
+    let t89: f64 = t88 * 0.5;
+    let t90: f64 = t13 * t89;
+    let t91: f64 = t57 * t90;
+    let t92: f64 = t62 * t91;
+    let t93: f64 = t87 * 0.5;
+    let t94: f64 = t92 + t93;
+    let t95: f64 = t0 * t94;
+    let t96: f64 = t83 - t95;
+    let t97: f64 = t43 * t85;
+    let t98: f64 = t13 * t82;
+    let t99: f64 = t22 * t98;
+    let t100: f64 = t28 * t99;
+    let t101: f64 = t7 * t89;
+    let t102: f64 = t62 * t101;
+    let t103: f64 = t102 * 0.5;
+    let t104: f64 = t100 + t103;
+    let t105: f64 = t0 * t104;
+    let t106: f64 = t97 - t105;
+    let t107: f64 = t62 * t89;
+    let t108: f64 = t2 * t82;
+    let t109: f64 = t28 * t108;
+    let t110: f64 = t13 * t85;
+    let t111: f64 = t38 * t110;
+    let t112: f64 = t43 * t111;
+    let t113: f64 = t109 * 0.5;
+    let t114: f64 = t112 + t113;
+    let t115: f64 = t0 * t114;
+    let t116: f64 = t107 - t115;
+    let t117: f64 = 1.0 - t11;
+    (
+        [[t29, t48, t67], [t70, t44, t74], [t77, t80, t63]],
+        [t96, t106, t116],
+        [t117, t29, t44, t63],
+    )
 }

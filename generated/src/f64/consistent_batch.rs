@@ -14,6 +14,7 @@
 //   task_bias                          262    4   155    2  3 sin_cos
 //   forward_dynamics                   705   10   391    6  3 sin_cos
 //   inverse_dynamics                   255    5   163    0  3 sin_cos
+//   forward_kinematics                  50    4    26    6  3 sqrt
 //   inverse_kinematics_params           24    6    22    5  3 sin_cos
 //   inverse_jacobian_pose_params        85    4    34    6  3 sin_cos
 //   jacobian_pose_params               282    5    95   11  3 sin_cos
@@ -25,6 +26,7 @@
 //   task_bias_params                   453    4   352    1  3 sin_cos
 //   forward_dynamics_params           1371   13   912    7  3 sin_cos
 //   inverse_dynamics_params            474    5   404    3  3 sin_cos
+//   forward_kinematics_params           78    5    26    6  3 sqrt
 
 /// The batch version of [`forward_dynamics`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `forward_dynamics` computes. Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
 #[inline]

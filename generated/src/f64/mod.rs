@@ -99,6 +99,8 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[[f64; 4]; 6],
         accel: &[[f64; 4]; 6],
     ) -> ([[f64; 4]; 6], [[f64; 4]; 3]);
+    /// Forward kinematics in closed form: the platform's `R` and `C` from the actuator positions.
+    fn forward_kinematics(&self, q: &[f64; 6]) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]);
     /// Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.
     fn inverse_kinematics_params(
         &self,
@@ -195,6 +197,12 @@ pub trait Kernels: core::fmt::Debug + Sync {
         accel: &[[f64; 4]; 6],
         params: &[f64; 152],
     ) -> ([[f64; 4]; 6], [[f64; 4]; 3]);
+    /// Forward kinematics in closed form: the platform's `R` and `C` from the actuator positions.
+    fn forward_kinematics_params(
+        &self,
+        q: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]);
     #[cfg(feature = "regressor")]
     /// The regressor `Y` of the standard parameters: `Γ = Y π`.
     fn regressor(
@@ -333,6 +341,10 @@ impl Kernels for Consistent {
         consistent::inverse_dynamics_x4(pose, twist, accel)
     }
     #[inline]
+    fn forward_kinematics(&self, q: &[f64; 6]) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]) {
+        consistent::forward_kinematics(q)
+    }
+    #[inline]
     fn inverse_kinematics_params(
         &self,
         pose: &[f64; 6],
@@ -453,6 +465,14 @@ impl Kernels for Consistent {
         params: &[f64; 152],
     ) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
         consistent::inverse_dynamics_params_x4(pose, twist, accel, params)
+    }
+    #[inline]
+    fn forward_kinematics_params(
+        &self,
+        q: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]) {
+        consistent::forward_kinematics_params(q, params)
     }
     #[cfg(feature = "regressor")]
     #[inline]
@@ -610,6 +630,10 @@ impl Kernels for Paper {
         paper::inverse_dynamics_x4(pose, twist, accel)
     }
     #[inline]
+    fn forward_kinematics(&self, q: &[f64; 6]) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]) {
+        paper::forward_kinematics(q)
+    }
+    #[inline]
     fn inverse_kinematics_params(
         &self,
         pose: &[f64; 6],
@@ -730,6 +754,14 @@ impl Kernels for Paper {
         params: &[f64; 152],
     ) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
         paper::inverse_dynamics_params_x4(pose, twist, accel, params)
+    }
+    #[inline]
+    fn forward_kinematics_params(
+        &self,
+        q: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]) {
+        paper::forward_kinematics_params(q, params)
     }
     #[cfg(feature = "regressor")]
     #[inline]

@@ -20,6 +20,7 @@
 //   task_bias                          227    4   160    0  3 sin_cos
 //   forward_dynamics                   432   10   316    4  3 sin_cos
 //   inverse_dynamics                   298    4   279    1  3 sin_cos
+//   forward_kinematics                  50    4    26    6  3 sqrt
 //   leg_joint_accelerations             70    4    52    0  3 sin_cos
 //   inverse_kinematics_params           24    6    22    5  3 sin_cos
 //   inverse_jacobian_pose_params         5    0     7    3  3 sin_cos
@@ -32,6 +33,7 @@
 //   task_bias_params                   471    4   377    6  3 sin_cos
 //   forward_dynamics_params            709   10   569    1  3 sin_cos
 //   inverse_dynamics_params            560    5   493    1  3 sin_cos
+//   forward_kinematics_params           78    5    26    6  3 sqrt
 //   leg_joint_accelerations_params      70    4    52    0  3 sin_cos
 
 /// The batch version of [`forward_dynamics`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `forward_dynamics` computes. Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
