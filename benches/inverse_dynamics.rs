@@ -350,9 +350,116 @@ fn chapter_kernels(c: &mut Criterion) {
     );
 }
 
+/// From what the encoders measure: the closed-form forward kinematics against Newton-Raphson
+/// in nalgebra from a nearby start (what a controller would do from its previous sample), and
+/// the inverse dynamics from `(q, q̇, q̈)` against the same from the platform state.
+fn joint_space(c: &mut Criterion) {
+    let robot = Robot::default();
+    let s = states();
+    let c5 = c5_runtime::C5::new(robot).unwrap();
+    let joints: Vec<[[f64; 6]; 3]> = s
+        .iter()
+        .map(|st| {
+            [
+                c5.inverse_kinematics(&st.pose).unwrap().0,
+                c5.joint_velocities(&st.pose, &st.twist).unwrap(),
+                c5.joint_accelerations(st).unwrap(),
+            ]
+        })
+        .collect();
+    // The previous sample of a 1 kHz controller: a millimetre and a milliradian away.
+    let starts: Vec<Pose> = s
+        .iter()
+        .map(|st| {
+            let mut p = st.pose;
+            p.alpha += 1e-3;
+            p.gamma -= 1e-3;
+            p.center[0] += 1e-3;
+            p
+        })
+        .collect();
+    let mut g = c.benchmark_group("forward_kinematics");
+    let mut i = 0;
+    g.throughput(Throughput::Elements(ops(
+        "consistent",
+        Kernel::ForwardKinematics,
+        false,
+    )));
+    g.bench_function("generated", |b| {
+        b.iter(|| {
+            i = (i + 1) % joints.len();
+            Consistent.forward_kinematics(black_box(&joints[i][0]))
+        })
+    });
+    g.throughput(Throughput::Elements(1));
+    g.bench_function("generated_with_angles", |b| {
+        b.iter(|| {
+            i = (i + 1) % joints.len();
+            let (r, c, _) = Consistent.forward_kinematics(black_box(&joints[i][0]));
+            (Consistent.rpy_angles(&r), c)
+        })
+    });
+    g.bench_function("newton_nalgebra", |b| {
+        b.iter(|| {
+            i = (i + 1) % joints.len();
+            rc::forward_kinematics_newton(
+                robot.half_spacing,
+                black_box(&joints[i][0]),
+                black_box(&starts[i]),
+                1e-12,
+            )
+        })
+    });
+    g.finish();
+    let mut g = c.benchmark_group("inverse_dynamics_joint");
+    joint_inverse_dynamics(&mut g, &Consistent, &joints, &s);
+    joint_inverse_dynamics(&mut g, &Paper, &joints, &s);
+    g.finish();
+}
+
+/// One model's inverse dynamics from the joints, and from the platform state beside it.
+fn joint_inverse_dynamics<K: Kernels>(
+    g: &mut BenchmarkGroup<WallTime>,
+    kernels: &K,
+    joints: &[[[f64; 6]; 3]],
+    s: &[State],
+) {
+    let model = kernels.model();
+    let arrays: Vec<_> = s
+        .iter()
+        .map(|st| (st.pose.to_array(), st.twist.to_array(), st.accel.to_array()))
+        .collect();
+    let mut i = 0;
+    g.throughput(Throughput::Elements(ops(
+        model,
+        Kernel::InverseDynamicsJoint,
+        false,
+    )));
+    g.bench_function(format!("from_joints_{model}"), |b| {
+        b.iter(|| {
+            i = (i + 1) % joints.len();
+            let [q, qd, qdd] = black_box(&joints[i]);
+            kernels.inverse_dynamics_joint(q, qd, qdd).0
+        })
+    });
+    g.throughput(Throughput::Elements(ops(
+        model,
+        Kernel::InverseDynamics,
+        false,
+    )));
+    g.bench_function(format!("from_pose_{model}"), |b| {
+        b.iter(|| {
+            i = (i + 1) % arrays.len();
+            let (x, v, a) = black_box(&arrays[i]);
+            kernels.inverse_dynamics(x, v, a).0
+        })
+    });
+}
+
 criterion_group!(
     benches,
     inverse_dynamics,
+    joint_space,
     forward_dynamics,
     identification,
     chapter_kernels

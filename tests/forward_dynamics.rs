@@ -8,6 +8,7 @@ use c5_runtime::control::ComputedTorque;
 use c5_runtime::dynamics::{rk4_step, PlantState};
 use c5_runtime::reference as r;
 use c5_runtime::trajectory::{Fourier, LinearMove};
+use c5_runtime::Kernels;
 use c5_runtime::{Acceleration, Model, Pose, Robot, State, Twist, C5};
 use nalgebra::{Matrix6, Vector6};
 use support::*;

@@ -9,6 +9,7 @@ mod support;
 
 use c5_generated::f64::paper as k;
 use c5_runtime::reference::{self as r, consistent as rc, CHAPTER_ORDER};
+use c5_runtime::Kernels;
 use c5_runtime::{Model, Robot, State};
 use nalgebra::{Matrix6, Vector6};
 use support::*;

@@ -55,6 +55,8 @@ pub enum Func {
     Sqrt,
     /// `-1`, `0` or `1` (zero at zero, unlike `f64::signum`): Coulomb friction.
     Sign,
+    /// The arc tangent, in `(-π/2, π/2)`: the RPY angles of a rotation in the workspace.
+    Atan,
 }
 
 /// `sign x`: `-1`, `0` or `1`.
@@ -69,6 +71,7 @@ impl Func {
             Func::Cos => "cos",
             Func::Sqrt => "sqrt",
             Func::Sign => "sign",
+            Func::Atan => "atan",
         }
     }
 }
@@ -407,6 +410,7 @@ impl Arena {
                 Func::Cos => c.cos(),
                 Func::Sqrt => c.sqrt(),
                 Func::Sign => sign(c),
+                Func::Atan => c.atan(),
             };
             return self.constant(v);
         }
@@ -418,6 +422,11 @@ impl Arena {
                 self.neg(s)
             }
             (Func::Cos, -1.0, Some(m)) => self.intern(Node::Call(Func::Cos, m)),
+            // atan is odd too.
+            (Func::Atan, -1.0, Some(m)) => {
+                let s = self.intern(Node::Call(Func::Atan, m));
+                self.neg(s)
+            }
             _ => self.intern(Node::Call(func, a)),
         }
     }
@@ -487,6 +496,13 @@ impl Arena {
                         }
                         // Zero wherever it is defined.
                         Func::Sign => self.constant(0.0),
+                        // 1 / (1 + a²).
+                        Func::Atan => {
+                            let square = self.mul(a, a);
+                            let one = self.constant(1.0);
+                            let denominator = self.add(one, square);
+                            self.recip(denominator)
+                        }
                     };
                     self.mul(outer, da)
                 }
@@ -642,6 +658,9 @@ impl<'g> Expr<'g> {
     pub fn sign(self) -> Self {
         self.wrap(self.graph.with(|a| a.call(Func::Sign, self.id)))
     }
+    pub fn atan(self) -> Self {
+        self.wrap(self.graph.with(|a| a.call(Func::Atan, self.id)))
+    }
     pub fn recip(self) -> Self {
         self.wrap(self.graph.with(|a| a.recip(self.id)))
     }
@@ -756,6 +775,7 @@ mod tests {
     simplify_test!(reciprocal_sign, FLAT, |x, y, _z, _l| 1.0 / (x - y) + 1.0 / (y - x) => "0");
     simplify_test!(sin_is_odd, FLAT, |x, _y, _z, _l| (-x).sin() + x.sin() => "0");
     simplify_test!(cos_is_even, FLAT, |x, _y, _z, _l| (-x).cos() - x.cos() => "0");
+    simplify_test!(atan_is_odd, FLAT, |x, _y, _z, _l| (-x).atan() + x.atan() => "0");
     simplify_test!(square, FLAT, |x, _y, _z, _l| x * x => "x^2");
     simplify_test!(no_expansion_when_flat, FLAT, |x, y, z, _l| (x + y) * z => "z*(x + y)");
     simplify_test!(expansion_cancels, EXPAND, |x, y, z, _l| (x + y) * z - x * z => "y*z");
@@ -787,7 +807,8 @@ mod tests {
     fn derivatives_match_finite_differences() {
         use crate::lower::{factor, lower};
         type Build = for<'g> fn(&[Expr<'g>]) -> Expr<'g>;
-        let cases: [Build; 5] = [
+        let cases: [Build; 6] = [
+            |v| (v[0] / v[2]).atan() * v[1],
             |v| v[0] / (v[0] + v[1]),
             |v| (v[0] * v[1]).sin() * v[0].cos() + v[2] / (v[0] * v[0] + 1.0),
             |v| (v[0] * v[0] + v[1]).sqrt() * v[3],

@@ -542,6 +542,10 @@ struct Method {
     decl: TokenStream,
     body: TokenStream,
     signature: String,
+    /// The method's attributes and signature, for another implementation.
+    header: TokenStream,
+    name: Ident,
+    args: Vec<Ident>,
 }
 
 fn method(
@@ -554,11 +558,15 @@ fn method(
     let params: Vec<TokenStream> = args.iter().map(|(n, t)| quote!(#n: #t)).collect();
     let signature = quote!(#cfg fn #name(&self, #(#params),*) -> #ret).to_string();
     let decl = quote!(#cfg #[doc = #doc] fn #name(&self, #(#params),*) -> #ret;);
-    let body = quote!(#cfg #[inline] fn #name(&self, #(#params),*) -> #ret { #call });
+    let header = quote!(#cfg #[inline] fn #name(&self, #(#params),*) -> #ret);
+    let body = quote!(#header { #call });
     Method {
         decl,
         body,
         signature,
+        header,
+        name: name.clone(),
+        args: args.iter().map(|(n, _)| n.clone()).collect(),
     }
 }
 
@@ -730,8 +738,19 @@ pub fn emit_kernel_sets(how: &str, sets: &[KernelSet], scalar: Scalar) -> Result
             }
         }
     });
-    let all = sets.iter().map(|s| type_name(&s.module));
+    let all: Vec<Ident> = sets.iter().map(|s| type_name(&s.module)).collect();
     let count = Literal::usize_unsuffixed(sets.len());
+    let variant_docs = sets
+        .iter()
+        .zip(&all)
+        .map(|(set, ty)| format!(" The {} model's kernels, [`{ty}`].", set.module));
+    let dispatch = first.iter().map(|m| {
+        let (header, name, args) = (&m.header, &m.name, &m.args);
+        let arms = all
+            .iter()
+            .map(|model| quote!(AnyModel::#model => #model.#name(#(#args),*)));
+        quote!(#header { match self { #(#arms,)* } })
+    });
     let (lane, _) = lane_type(scalar);
     let lane = ident(lane);
     let modules = sets.iter().map(|set| {
@@ -755,7 +774,7 @@ pub fn emit_kernel_sets(how: &str, sets: &[KernelSet], scalar: Scalar) -> Result
             #[doc = #doc]
             #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
             pub mod #module {
-                use crate::trig::{cos, sin, sin_cos, sqrt};
+                use crate::trig::{atan, cos, sin, sin_cos, sqrt};
                 include!(#kernels);
                 #[cfg(feature = "batch")]
                 use crate::lanes::#lane;
@@ -779,6 +798,29 @@ pub fn emit_kernel_sets(how: &str, sets: &[KernelSet], scalar: Scalar) -> Result
 
         /// Every model's kernels, the default model first.
         pub const MODELS: [&dyn Kernels; #count] = [#(&#all),*];
+
+        /// One of the models, chosen at run time: its kernels are called through one `match`,
+        /// statically, so a program builds only the kernels it calls (a `&dyn Kernels`
+        /// builds every kernel of every model for its vtables).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum AnyModel {
+            #(#[doc = #variant_docs] #all,)*
+        }
+
+        impl AnyModel {
+            /// Every model, the default first.
+            pub const ALL: [AnyModel; #count] = [#(AnyModel::#all),*];
+        }
+
+        impl Kernels for AnyModel {
+            #[inline]
+            fn model(&self) -> &'static str {
+                match self {
+                    #(AnyModel::#all => #all.model(),)*
+                }
+            }
+            #(#dispatch)*
+        }
     };
     let file: syn::File = syn::parse2(tokens).map_err(|e| Error::Emit {
         kernel: "kernel sets".to_string(),

@@ -107,6 +107,7 @@ impl Program {
                         Func::Cos => x.cos(),
                         Func::Sqrt => x.sqrt(),
                         Func::Sign => crate::dag::sign(x),
+                        Func::Atan => x.atan(),
                     }
                 }
                 Instr::SinCos(a) => val(&t, a).sin(),

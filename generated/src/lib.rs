@@ -70,12 +70,23 @@ pub mod trig {
         fn sin_(self) -> Self;
         fn cos_(self) -> Self;
         fn sqrt_(self) -> Self;
+        fn atan_(self) -> Self;
         fn sin_cos_(self) -> (Self, Self);
     }
 
     macro_rules! elementary {
-        ($t:ty, $sin:ident, $cos:ident, $sqrt:ident, $sincos:ident) => {
+        ($t:ty, $sin:ident, $cos:ident, $sqrt:ident, $atan:ident, $sincos:ident) => {
             impl Elementary for $t {
+                #[cfg(feature = "libm")]
+                #[inline(always)]
+                fn atan_(self) -> Self {
+                    libm::$atan(self)
+                }
+                #[cfg(not(feature = "libm"))]
+                #[inline(always)]
+                fn atan_(self) -> Self {
+                    self.atan()
+                }
                 #[cfg(feature = "libm")]
                 #[inline(always)]
                 fn sin_(self) -> Self {
@@ -120,7 +131,7 @@ pub mod trig {
         };
     }
 
-    elementary!(f64, sin, cos, sqrt, sin_cos_f64);
+    elementary!(f64, sin, cos, sqrt, atan, sin_cos_f64);
 
     /// `(sin x, cos x)` of `f64`: inline within `π/4` ([`crate::quarter`]), the library's beyond.
     #[inline(always)]
@@ -144,7 +155,7 @@ pub mod trig {
         x.sin_cos()
     }
 
-    elementary!(f32, sinf, cosf, sqrtf, sin_cos_f32);
+    elementary!(f32, sinf, cosf, sqrtf, atanf, sin_cos_f32);
 
     #[cfg(feature = "libm")]
     #[inline(always)]
@@ -172,6 +183,11 @@ pub mod trig {
     #[inline(always)]
     pub fn sqrt<T: Elementary>(x: T) -> T {
         x.sqrt_()
+    }
+    /// `atan x`.
+    #[inline(always)]
+    pub fn atan<T: Elementary>(x: T) -> T {
+        x.atan_()
     }
     /// `(sin x, cos x)`, equal to `(sin(x), cos(x))` bit for bit.
     #[inline(always)]
@@ -214,6 +230,10 @@ pub mod lanes {
                 #[inline(always)]
                 pub fn sqrt(self) -> Self {
                     $name(self.0.map(crate::trig::sqrt))
+                }
+                #[inline(always)]
+                pub fn atan(self) -> Self {
+                    $name(self.0.map(crate::trig::atan))
                 }
                 /// `-1`, `0` or `1`, lane by lane.
                 #[inline(always)]

@@ -12,6 +12,11 @@ pub enum Error {
     /// A divisor vanishes: `term` (`r11`, `r22` or `r33` of eq 16, or `y5 - y6`, `z1 - z2`,
     /// `x3 - x4` of eq 39) has magnitude below [`crate::SINGULARITY_TOLERANCE`] (or is NaN).
     Singular { term: &'static str, value: f64 },
+    /// The actuator positions belong to no pose of the workspace: the forward singularity
+    /// term `1 + abc` (`a = (Q2 - Q1)/2L`, `b = (Q4 - Q3)/2L`, `c = (Q6 - Q5)/2L`) is below
+    /// [`crate::SINGULARITY_TOLERANCE`] (or NaN). At zero the platform is at the forward
+    /// singularity (e.g. turned by about 120° about (1, 1, 1)); below it, beyond.
+    ForwardSingular { value: f64 },
     /// A result overflowed to an infinity or NaN (inputs far outside the robot's workspace).
     NonFiniteResult { output: &'static str },
     /// The robot description breaks a rule: `field` as the description spells it, and the
@@ -46,6 +51,12 @@ impl fmt::Display for Error {
             Error::Singular { term, value } => write!(
                 f,
                 "singular pose: {term} = {value:e} (|{term}| must be at least {:e})",
+                crate::SINGULARITY_TOLERANCE
+            ),
+            Error::ForwardSingular { value } => write!(
+                f,
+                "forward singular: 1 + abc = {value:e} (it must be at least {:e}): no pose of the \
+                 workspace has these actuator positions",
                 crate::SINGULARITY_TOLERANCE
             ),
             Error::NonFiniteResult { output } => {

@@ -49,18 +49,19 @@ pub use c5_robot::{Model, Robot};
 pub use error::Error;
 pub use types::{Acceleration, Pose, State, Twist};
 
-use c5_generated::f64::{paper, Kernels};
+pub use c5_generated::f64::Kernels;
+use c5_generated::f64::{paper, AnyModel};
 
 // The parameter vector's length is generated from the robot description's one definition.
 const _: () = assert!(c5_generated::PARAMETERS == c5_robot::PARAMETERS);
 
 /// The generated kernels of `model`: the one place a model is mapped to its code. Every model
 /// has the same kernels with the same signatures ([`Kernels`]), so everything else calls them
-/// through this.
-pub fn kernels(model: Model) -> &'static dyn Kernels {
+/// through this, statically (only the kernels called are built).
+pub fn kernels(model: Model) -> AnyModel {
     match model {
-        Model::Consistent => &c5_generated::f64::Consistent,
-        Model::Paper => &c5_generated::f64::Paper,
+        Model::Consistent => AnyModel::Consistent,
+        Model::Paper => AnyModel::Paper,
     }
 }
 
@@ -73,7 +74,7 @@ pub const SINGULARITY_TOLERANCE: f64 = 1e-9;
 pub struct C5 {
     robot: Robot,
     model: Model,
-    kernels: &'static dyn Kernels,
+    kernels: AnyModel,
     params: [f64; c5_generated::PARAMETERS],
 }
 
@@ -90,6 +91,16 @@ pub(crate) fn check_divisors(r: [f64; 3]) -> Result<(), Error> {
         }
     }
     Ok(())
+}
+
+/// Refuses actuator positions at or beyond the forward singularity (`[1 + abc, r11, r22, r33]`
+/// of the joint-setting kernels), or where a divisor of eq 16 vanishes.
+pub(crate) fn check_forward(guard: [f64; 4]) -> Result<(), Error> {
+    let value = guard[0];
+    if value.is_nan() || value < SINGULARITY_TOLERANCE {
+        return Err(Error::ForwardSingular { value });
+    }
+    check_divisors([guard[1], guard[2], guard[3]])
 }
 
 pub(crate) fn check_finite(input: &'static str, v: &[f64]) -> Result<(), Error> {
@@ -167,7 +178,7 @@ impl C5 {
     }
 
     /// The generated kernels this robot's model calls.
-    pub fn kernels(&self) -> &'static dyn Kernels {
+    pub fn kernels(&self) -> AnyModel {
         self.kernels
     }
 
@@ -385,6 +396,126 @@ impl C5 {
                 })
             })
             .collect()
+    }
+
+    /// The forward kinematics in closed form: the platform's pose from the actuator positions
+    /// `q` (m, segment order), with no iteration and no trigonometry but the angles' three arc
+    /// tangents. The same for both models (eq 16); the pose returned is the placement in the
+    /// workspace, every `r_kk > 0`.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`], or [`Error::ForwardSingular`] where no pose of the workspace has
+    /// these positions.
+    pub fn forward_kinematics(&self, q: &[f64; 6]) -> Result<Pose, Error> {
+        check_finite("q", q)?;
+        let (r, c, guard) = self.kernels.forward_kinematics_params(q, &self.params);
+        check_forward(guard)?;
+        let [alpha, beta, gamma] = finite("pose", self.kernels.rpy_angles(&r))?;
+        Ok(Pose {
+            alpha,
+            beta,
+            gamma,
+            center: finite("pose", c)?,
+        })
+    }
+
+    /// The platform state from the actuators' positions `q`, rates `qd` and accelerations
+    /// `qdd` (m, m/s, m/s², segment order): the forward kinematics, `V = J q̇` and
+    /// `(ω̇; a_C) = J (q̈ - h)` of the model, in one kernel.
+    ///
+    /// # Errors
+    /// Non-finite inputs, [`Error::ForwardSingular`], a singular pose or a non-finite result.
+    pub fn joint_state(&self, q: &[f64; 6], qd: &[f64; 6], qdd: &[f64; 6]) -> Result<State, Error> {
+        Self::check_joints(q, qd, qdd)?;
+        let (x, v, a, guard) = self.kernels.platform_state_params(q, qd, qdd, &self.params);
+        check_forward(guard)?;
+        Ok(State {
+            pose: Pose::from_array(finite("pose", x)?),
+            twist: Twist::from_array(finite("twist", v)?),
+            accel: Acceleration::from_array(finite("acceleration", a)?),
+        })
+    }
+
+    fn check_joints(q: &[f64; 6], qd: &[f64; 6], qdd: &[f64; 6]) -> Result<(), Error> {
+        check_finite("q", q)?;
+        check_finite("qd", qd)?;
+        check_finite("qdd", qdd)
+    }
+
+    /// Actuator forces `Γ` (N, segment order) from the actuators' positions, rates and
+    /// accelerations: the inverse dynamics at the state they give, without trigonometry.
+    ///
+    /// # Errors
+    /// Non-finite inputs, [`Error::ForwardSingular`], a singular pose or a non-finite result.
+    pub fn inverse_dynamics_joint(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+    ) -> Result<[f64; 6], Error> {
+        Self::check_joints(q, qd, qdd)?;
+        let (gamma, guard) = self
+            .kernels
+            .inverse_dynamics_joint_params(q, qd, qdd, &self.params);
+        check_forward(guard)?;
+        finite("gamma", gamma)
+    }
+
+    /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia (kg, symmetric positive definite;
+    /// `Jᵀ M_x J`), at the actuator positions `q`.
+    ///
+    /// # Errors
+    /// A non-finite input, [`Error::ForwardSingular`], a singular pose or a non-finite result.
+    pub fn joint_inertia(&self, q: &[f64; 6]) -> Result<[[f64; 6]; 6], Error> {
+        check_finite("q", q)?;
+        let (m, guard) = self.kernels.joint_inertia_params(q, &self.params);
+        check_forward(guard)?;
+        finite_matrix("joint inertia", m)
+    }
+
+    /// `c_q` of `Γ = M_q q̈ + c_q`: Coriolis, centrifugal and gravity forces (N) at the
+    /// actuators' positions `q` and rates `qd`.
+    ///
+    /// # Errors
+    /// Non-finite inputs, [`Error::ForwardSingular`], a singular pose or a non-finite result.
+    pub fn joint_bias(&self, q: &[f64; 6], qd: &[f64; 6]) -> Result<[f64; 6], Error> {
+        check_finite("q", q)?;
+        check_finite("qd", qd)?;
+        let (c, guard) = self.kernels.joint_bias_params(q, qd, &self.params);
+        check_forward(guard)?;
+        finite("joint bias", c)
+    }
+
+    /// [`C5::inverse_dynamics_joint`] for many samples `(q, q̇, q̈)`, four at a time through the
+    /// batch kernels (each lane computes exactly what the single-sample kernel does).
+    ///
+    /// # Errors
+    /// The index of the first refused sample, and why.
+    pub fn inverse_dynamics_joint_many(
+        &self,
+        samples: &[[[f64; 6]; 3]],
+    ) -> Result<alloc::vec::Vec<[f64; 6]>, (usize, Error)> {
+        let mut out = alloc::vec::Vec::with_capacity(samples.len());
+        for (c, chunk) in samples.chunks(4).enumerate() {
+            for (l, [q, qd, qdd]) in chunk.iter().enumerate() {
+                Self::check_joints(q, qd, qdd).map_err(|e| (4 * c + l, e))?;
+            }
+            // A short last chunk repeats its last sample in the lanes it does not fill.
+            let row = |l: usize| &chunk[l.min(chunk.len() - 1)];
+            let column = |j: usize| lanes(&core::array::from_fn(|l| row(l)[j]));
+            let (gamma, guard) = self.kernels.inverse_dynamics_joint_params_x4(
+                &column(0),
+                &column(1),
+                &column(2),
+                &self.params,
+            );
+            for l in 0..chunk.len() {
+                let at = |e| (4 * c + l, e);
+                check_forward(core::array::from_fn(|k| guard[k][l])).map_err(at)?;
+                out.push(finite("gamma", core::array::from_fn(|k| gamma[k][l])).map_err(at)?);
+            }
+        }
+        Ok(out)
     }
 
     /// Eq 39 in the chapter's setting (the paper model): `Π1` from given vectors `P_i2`

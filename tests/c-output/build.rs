@@ -127,17 +127,22 @@ fn main() {
             let naming = Naming::standard(model, scalar);
             let stem = format!("c5_{model}_{}", scalar.name());
             let source = generate(&out, model, scalar, &stem, &naming);
-            // Every library call is `= sin(…)` or `= cos(…)` (`sinf`, `cosf`) in the emitted
-            // code (the `double` kernels' own `c5_sin_cos` inside π/4 stays).
+            // Every library call is `= sin(…)`, `= cos(…)` or `= atan(…)` (`sinf`, ...) in the
+            // emitted code (the `double` kernels' own `c5_sin_cos` inside π/4 stays); the square
+            // root is correctly rounded everywhere.
             let text = std::fs::read_to_string(&source).unwrap();
-            let text = ["sin", "cos", "sinf", "cosf"].iter().fold(text, |t, f| {
-                t.replace(&format!("= {f}("), &format!("= c5_test_{f}("))
-            });
+            let text = ["sin", "cos", "atan", "sinf", "cosf", "atanf"]
+                .iter()
+                .fold(text, |t, f| {
+                    t.replace(&format!("= {f}("), &format!("= c5_test_{f}("))
+                });
             let text = text.replace(
                 "#include <math.h>",
-                "double fabs(double);\n\
+                "double fabs(double);\ndouble sqrt(double);\nfloat sqrtf(float);\n\
                  double c5_test_sin(double);\ndouble c5_test_cos(double);\n\
-                 float c5_test_sinf(float);\nfloat c5_test_cosf(float);",
+                 double c5_test_atan(double);\n\
+                 float c5_test_sinf(float);\nfloat c5_test_cosf(float);\n\
+                 float c5_test_atanf(float);",
             );
             std::fs::write(&source, text).unwrap();
             sources.push(source);

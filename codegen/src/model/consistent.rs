@@ -18,7 +18,7 @@
 //! frame once the platform turns).
 
 use super::bodies::{wrench_in_platform_frame, Dynamics, Frame};
-use super::geometry::{divisor, platform_axis, Motion, Posed};
+use super::geometry::{anchor, divisor, platform_axis, JointMotion, Motion, Posed};
 use super::{Mechanics, Model, Quantity};
 use crate::dag::Expr;
 use crate::linalg::{Mat, Mat3, Mat6, Vec3, Vec6, Vector};
@@ -109,6 +109,10 @@ impl Mechanics for Consistent {
     ) -> Vec6<'g> {
         inverse_dynamics(dynamics, posed, motion)
     }
+
+    fn motion_from_actuators<'g>(&self, posed: &Posed<'g>, joint: &JointMotion<'g>) -> Motion<'g> {
+        motion_from_actuators(posed, joint)
+    }
 }
 
 /// `e_k`, the platform axis of segment `i` in the platform frame.
@@ -145,14 +149,18 @@ pub struct PlatformView<'g> {
     pub d: [Expr<'g>; 6],
 }
 
-/// The platform view of `posed`. `p_i = Rᵀ (C - A_i) - Q_i1 ν_i`; its component along `e_k` is
-/// zero (eq 16) and is set so, since no equation below reads it.
+/// The platform view of `posed`. `p_i = Rᵀ P_i2`, or `Rᵀ C - Rᵀ A_i - Q_i1 ν_i` where the
+/// forward kinematics gives `Rᵀ C` without a rotation; its component along `e_k` is zero
+/// (eq 16) and is set so, since no equation below reads it.
 pub fn platform_view<'g>(posed: &Posed<'g>) -> PlatformView<'g> {
     let rt = posed.r.transpose();
     let g = posed.c[0].graph();
     let nu: [Vec3<'g>; 6] = std::array::from_fn(|i| posed.r.row(AXIS[i]));
     let p = std::array::from_fn(|i| {
-        let full = rt * posed.p[i];
+        let full = match posed.centre_in_platform {
+            Some(centre) => centre - rt * anchor(posed.half_spacing, i) - nu[i].scale(posed.q[i]),
+            None => rt * posed.p[i],
+        };
         Vector::from_fn(|j| if j == AXIS[i] { g.zero() } else { full[j] })
     });
     PlatformView {
@@ -223,19 +231,84 @@ pub fn jacobian<'g>(posed: &Posed<'g>) -> Mat6<'g> {
 }
 
 /// The platform's motion in the platform frame: `w = Rᵀ ω`, `ẇ = Rᵀ ω̇`, `u = Rᵀ v_C` and the
-/// classical `a = Rᵀ a_C`.
+/// classical `a = Rᵀ a_C`, with the actuators' motion when it is given.
 struct PlatformMotion<'g> {
     frame: Frame<'g>,
     u: Vec3<'g>,
     a: Vec3<'g>,
+    joint: Option<JointMotion<'g>>,
 }
 
+/// The platform's motion seen from the platform: rotated from the base frame, or, given the
+/// actuators' motion, straight from it without a rotation (`S⁻¹`, eq 16 differentiated).
 fn platform_motion<'g>(posed: &Posed<'g>, motion: &Motion<'g>) -> PlatformMotion<'g> {
-    let frame = Frame::new(posed.r, &motion.twist.top(), &motion.accel.top());
-    PlatformMotion {
-        u: frame.to_platform(&motion.twist.bottom()),
-        a: frame.to_platform(&motion.accel.bottom()),
-        frame,
+    match motion.joint {
+        None => {
+            let frame = Frame::new(posed.r, &motion.twist.top(), &motion.accel.top());
+            PlatformMotion {
+                u: frame.to_platform(&motion.twist.bottom()),
+                a: frame.to_platform(&motion.accel.bottom()),
+                frame,
+                joint: None,
+            }
+        }
+        Some(joint) => {
+            let view = platform_view(posed);
+            let scaled = |v: &Vec6<'g>| Vector::from_fn(|i| view.d[i] * v[i]);
+            // `D Q̇ = S (w; u)`.
+            let wu = s_inverse(&view.p, &scaled(&joint.qd));
+            let (w, u) = (wu.top(), wu.bottom());
+            // `D Q̈ = S (ẇ; a) + b(w, u, Q̇)`.
+            let bias = acceleration_bias(&view, &w, &u, &joint.qd);
+            let wda = s_inverse(&view.p, &(scaled(&joint.qdd) - bias));
+            PlatformMotion {
+                frame: Frame {
+                    r: posed.r,
+                    omega: w,
+                    omega_dot: wda.top(),
+                },
+                u,
+                a: wda.bottom(),
+                joint: Some(joint),
+            }
+        }
+    }
+}
+
+/// The part of `(n_i·m_i) Q̈_i1` that is not `S (ẇ; a)`: `(w × e_k)·(p_i × w + 2 (u - ν_i Q̇_i1))`
+/// (see [`joint_accelerations`]).
+fn acceleration_bias<'g>(
+    view: &PlatformView<'g>,
+    w: &Vec3<'g>,
+    u: &Vec3<'g>,
+    qd: &Vec6<'g>,
+) -> Vec6<'g> {
+    Vector::from_fn(|i| {
+        let g = w[0].graph();
+        let e = unit(g, i);
+        let p = view.p[i];
+        let slip = (*u - view.nu[i].scale(qd[i])).scale(g.constant(2.0));
+        w.cross(&e).dot(&(p.cross(w) + slip))
+    })
+}
+
+/// The platform's motion from the actuators', base frame: `(w; u) = S⁻¹ D Q̇`,
+/// `(ẇ; a) = S⁻¹ (D Q̈ - b)`, rotated by `R`.
+pub fn motion_from_actuators<'g>(posed: &Posed<'g>, joint: &JointMotion<'g>) -> Motion<'g> {
+    let g = posed.c[0].graph();
+    let pm = platform_motion(
+        posed,
+        &Motion {
+            twist: Vec6::zeros(g),
+            accel: Vec6::zeros(g),
+            joint: Some(*joint),
+        },
+    );
+    let base = |v: &Vec3<'g>| pm.frame.to_base(v);
+    Motion {
+        twist: Vec6::spatial(base(&pm.frame.omega), base(&pm.u)),
+        accel: Vec6::spatial(base(&pm.frame.omega_dot), base(&pm.a)),
+        joint: Some(*joint),
     }
 }
 
@@ -243,15 +316,15 @@ fn platform_motion<'g>(posed: &Posed<'g>, motion: &Motion<'g>) -> PlatformMotion
 pub fn joint_velocities<'g>(posed: &Posed<'g>, twist: &Vec6<'g>) -> Vec6<'g> {
     let view = platform_view(posed);
     let g = posed.c[0].graph();
-    let motion = Motion {
-        twist: *twist,
-        accel: Vec6::zeros(g),
-    };
+    let motion = Motion::new(*twist, Vec6::zeros(g));
     let pm = platform_motion(posed, &motion);
     rates(&view, &pm)
 }
 
 fn rates<'g>(view: &PlatformView<'g>, pm: &PlatformMotion<'g>) -> Vec6<'g> {
+    if let Some(joint) = pm.joint {
+        return joint.qd;
+    }
     let wu = Vec6::spatial(pm.frame.omega, pm.u);
     Vector::from_fn(|i| s_row(&view.p, i).dot(&wu) / view.d[i])
 }
@@ -267,6 +340,9 @@ pub fn joint_accelerations<'g>(posed: &Posed<'g>, motion: &Motion<'g>) -> Vec6<'
 }
 
 fn accelerations<'g>(view: &PlatformView<'g>, pm: &PlatformMotion<'g>, qd: &Vec6<'g>) -> Vec6<'g> {
+    if let Some(joint) = pm.joint {
+        return joint.qdd;
+    }
     let (w, wd) = (pm.frame.omega, pm.frame.omega_dot);
     Vector::from_fn(|i| {
         let g = w[0].graph();

@@ -8,12 +8,12 @@
 //! model, robot and parameter set, each tagged with its [`KernelId`].
 
 use super::bodies::{platform_wrench, Dynamics, Frame};
-use super::geometry::{self, Motion, Posed};
+use super::geometry::{self, JointMotion, Motion, Posed};
 use super::{Mechanics, Model, Quantity, INTERNAL_INPUTS};
 use crate::dag::{Expr, Graph};
 use crate::error::Error;
 use crate::kernel::{Arg, ChapterCount, KernelSpec, Objective, Setting, Shape};
-use crate::linalg::{Mat, Vec6, Vector};
+use crate::linalg::{Mat, Mat3, Vec6, Vector};
 use c5_robot::Robot;
 
 macro_rules! kernels {
@@ -85,6 +85,20 @@ kernels! {
     BaseRegressor => "base_regressor",
     /// `R` and `C` from the actuator positions.
     ForwardKinematics => "forward_kinematics",
+    /// The RPY angles of a rotation.
+    RpyAngles => "rpy_angles",
+    /// `V = J Q̇_a`.
+    PlatformTwist => "platform_twist",
+    /// `(ω̇; a_C)` from the actuators' motion.
+    PlatformAcceleration => "platform_acceleration",
+    /// The whole platform state from the actuators' motion.
+    PlatformState => "platform_state",
+    /// `Γ` from the actuators' motion.
+    InverseDynamicsJoint => "inverse_dynamics_joint",
+    /// `M_q`.
+    JointInertia => "joint_inertia",
+    /// `c_q`.
+    JointBias => "joint_bias",
 }
 
 /// A generated kernel: what it computes and whether the robot's parameters are its inputs.
@@ -133,6 +147,12 @@ pub enum Input {
     Wrench,
     /// The actuator positions `Q_i1` (what the encoders measure).
     Actuators,
+    /// The actuator rates `Q̇_i1`.
+    ActuatorRates,
+    /// The actuator accelerations `Q̈_i1`.
+    ActuatorAccelerations,
+    /// A rotation matrix `R`.
+    Rotation,
 }
 
 fn names(list: &[&str]) -> Vec<String> {
@@ -199,6 +219,26 @@ impl Input {
                 (1..=6).map(|i| format!("q{i}")).collect(),
                 "actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`",
             ),
+            Input::ActuatorRates => Arg::new(
+                "qd",
+                Shape::Vector(6),
+                (1..=6).map(|i| format!("qd{i}")).collect(),
+                "actuator rates `Q̇_i1` (m/s), segment order",
+            ),
+            Input::ActuatorAccelerations => Arg::new(
+                "qdd",
+                Shape::Vector(6),
+                (1..=6).map(|i| format!("qdd{i}")).collect(),
+                "actuator accelerations `Q̈_i1` (m/s²), segment order",
+            ),
+            Input::Rotation => Arg::new(
+                "r",
+                Shape::Matrix(3, 3),
+                (1..=3)
+                    .flat_map(|i| (1..=3).map(move |j| format!("r{i}{j}")))
+                    .collect(),
+                "a rotation `R` of the workspace (`r11 > 0`, `r33 > 0`), row-major",
+            ),
         }
     }
 
@@ -206,7 +246,7 @@ impl Input {
     fn setting(self) -> Option<Setting> {
         match self {
             Input::Pose => Some(Setting::Pose),
-            Input::Actuators => Some(Setting::Joint),
+            Input::Actuators | Input::Rotation => Some(Setting::Joint),
             Input::P | Input::P1 => Some(Setting::Chapter),
             _ => None,
         }
@@ -361,13 +401,29 @@ impl<'c, 'g> Context<'c, 'g> {
     }
 
     /// The platform's motion: the twist and acceleration the kernel takes, zero where it
-    /// takes none.
+    /// takes none; or, from the actuator positions, the motion the actuators' rates and
+    /// accelerations give (zero where the kernel takes none).
     pub fn motion(&self) -> Motion<'g> {
         let zeros = Vec6::zeros(self.graph);
-        Motion {
-            twist: self.vector_or_zero(Input::Twist).unwrap_or(zeros),
-            accel: self.vector_or_zero(Input::Accel).unwrap_or(zeros),
+        if self.has(Input::Actuators) {
+            let joint = JointMotion {
+                qd: self.vector_or_zero(Input::ActuatorRates).unwrap_or(zeros),
+                qdd: self
+                    .vector_or_zero(Input::ActuatorAccelerations)
+                    .unwrap_or(zeros),
+            };
+            return self.mech.motion_from_actuators(&self.posed(), &joint);
         }
+        Motion::new(
+            self.vector_or_zero(Input::Twist).unwrap_or(zeros),
+            self.vector_or_zero(Input::Accel).unwrap_or(zeros),
+        )
+    }
+
+    /// The inverse dynamics at the kernel's state, `Γ`.
+    pub fn inverse_dynamics(&self) -> Vec6<'g> {
+        self.mech
+            .inverse_dynamics(self.dynamics, &self.posed(), &self.motion())
     }
 
     /// The actuator forces `Γ`.
@@ -453,6 +509,34 @@ const FORWARD: Output = Output {
 };
 
 const POSE_MOTION: &[Input] = &[Input::Pose, Input::Twist, Input::Accel];
+const JOINT_MOTION: &[Input] = &[
+    Input::Actuators,
+    Input::ActuatorRates,
+    Input::ActuatorAccelerations,
+];
+
+/// The RPY angles `[α β γ]` of a rotation whose `r11` and `r33` are positive (every rotation
+/// of the workspace): `α = atan(-r23/r33)`, `β = atan(r13 / √(r11² + r12²))`,
+/// `γ = atan(-r12/r11)`, each in `(-π/2, π/2)` (eq 15 inverted).
+fn rpy<'g>(r: &Mat3<'g>) -> Vec<Expr<'g>> {
+    let m = &r.0;
+    vec![
+        (-(m[1][2] / m[2][2])).atan(),
+        (m[0][2] / (m[0][0] * m[0][0] + m[0][1] * m[0][1]).sqrt()).atan(),
+        (-(m[0][1] / m[0][0])).atan(),
+    ]
+}
+
+const TWIST: Output = Output {
+    name: "twist",
+    shape: Shape::Vector(6),
+    doc: "platform twist `(ω; v_C)` at `C`, base frame (rad/s, m/s)",
+};
+const ACCEL: Output = Output {
+    name: "accel",
+    shape: Shape::Vector(6),
+    doc: "classical platform acceleration `(ω̇; a_C)` (rad/s², m/s²), base frame",
+};
 
 /// `R` row-major and `C` of the platform.
 const PLACEMENT: [Output; 2] = [
@@ -733,6 +817,140 @@ pub const TABLE: &[Decl] = &[
             let posed = cx.posed();
             vec![posed.r.rows(), posed.c.to_vec()]
         }),
+    },
+    Decl {
+        kernel: Kernel::RpyAngles,
+        title: "The RPY angles `[α β γ]` of a rotation of the workspace (eq 15 inverted).",
+        doc: "`α = atan(-r23/r33)`, `β = atan(r13 / √(r11² + r12²))`, `γ = atan(-r12/r11)`, \
+              each in `(-π/2, π/2)`: right for every rotation with `r11 > 0` and `r33 > 0`, \
+              which every pose of the workspace has (and [`forward_kinematics`] returns).",
+        equations: Cite::Fixed(&["15"]),
+        inputs: &[Input::Rotation],
+        outputs: &[Output {
+            name: "angles",
+            shape: Shape::Vector(3),
+            doc: "`[α β γ]` (rad), `R = Rx(α) Ry(β) Rz(γ)`",
+        }],
+        guard: Guard::Never,
+        reads: Reads::Nothing,
+        batch: false,
+        chapter: None,
+        build: Build::Robot(|cx| {
+            let r = cx.input(Input::Rotation);
+            vec![rpy(&Mat::from_fn(|i, j| r[3 * i + j]))]
+        }),
+    },
+    Decl {
+        kernel: Kernel::PlatformTwist,
+        title: "The platform twist from the actuator rates, `V = J Q̇_a`.",
+        doc: "Through the model's factored `J` (no 6×6 solve), at the pose of the forward \
+              kinematics.",
+        equations: Cite::Model(Quantity::Jacobian),
+        inputs: &[Input::Actuators, Input::ActuatorRates],
+        outputs: &[TWIST],
+        guard: Guard::Forward,
+        reads: Reads::Robot,
+        batch: false,
+        chapter: None,
+        build: Build::Robot(|cx| vec![cx.motion().twist.to_vec()]),
+    },
+    Decl {
+        kernel: Kernel::PlatformAcceleration,
+        title: "The platform's classical acceleration from the actuators' motion.",
+        doc: "`(ω̇; a_C) = J (Q̈_a - h)`, `h` the actuator accelerations at zero platform \
+              acceleration: the model's second-order kinematics solved the way `J` is, no \
+              6×6 solve.",
+        equations: Cite::Model(Quantity::JointAccelerations),
+        inputs: JOINT_MOTION,
+        outputs: &[ACCEL],
+        guard: Guard::Forward,
+        reads: Reads::Robot,
+        batch: false,
+        chapter: None,
+        build: Build::Robot(|cx| vec![cx.motion().accel.to_vec()]),
+    },
+    Decl {
+        kernel: Kernel::PlatformState,
+        title: "The platform state (pose, twist, acceleration) from the actuators' motion.",
+        doc: "The forward kinematics, the RPY angles of its `R`, `V = J Q̇_a` and \
+              `(ω̇; a_C) = J (Q̈_a - h)` in one kernel.",
+        equations: Cite::Model(Quantity::JointAccelerations),
+        inputs: JOINT_MOTION,
+        outputs: &[
+            Output {
+                name: "pose",
+                shape: Shape::Vector(6),
+                doc: "platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15",
+            },
+            TWIST,
+            ACCEL,
+        ],
+        guard: Guard::Forward,
+        reads: Reads::Robot,
+        batch: false,
+        chapter: None,
+        build: Build::Robot(|cx| {
+            let (posed, motion) = (cx.posed(), cx.motion());
+            let mut pose = rpy(&posed.r);
+            pose.extend(posed.c.to_vec());
+            vec![pose, motion.twist.to_vec(), motion.accel.to_vec()]
+        }),
+    },
+    Decl {
+        kernel: Kernel::InverseDynamicsJoint,
+        title: "Inverse dynamics from what the encoders measure: `Γ` from the actuators' \
+                positions, rates and accelerations.",
+        doc: "The forward kinematics, then the model's inverse dynamics at the state found, \
+              without trigonometry.",
+        equations: Cite::Model(Quantity::InverseDynamics),
+        inputs: JOINT_MOTION,
+        outputs: &[GAMMA],
+        guard: Guard::Forward,
+        reads: Reads::Robot,
+        batch: true,
+        chapter: None,
+        build: Build::Robot(|cx| vec![cx.inverse_dynamics().to_vec()]),
+    },
+    Decl {
+        kernel: Kernel::JointInertia,
+        title: "Joint-space inertia `M_q = Jᵀ M_x J` of `Γ = M_q Q̈_a + c_q`: symmetric positive \
+                definite.",
+        doc: "`M_q = ∂Γ/∂Q̈_a`, the exact derivative of the joint-space inverse dynamics.",
+        equations: Cite::Model(Quantity::TaskSpace),
+        inputs: &[Input::Actuators],
+        outputs: &[Output {
+            name: "m",
+            shape: Shape::Matrix(6, 6),
+            doc: "`M_q` (kg), rows and columns in segment order",
+        }],
+        guard: Guard::Forward,
+        reads: Reads::Robot,
+        batch: false,
+        chapter: None,
+        build: Build::Robot(|cx| {
+            let unknown = cx.unknowns();
+            let gamma = cx
+                .rebind(Input::ActuatorAccelerations, unknown.clone())
+                .inverse_dynamics();
+            vec![jacobian_wrt(cx.graph(), &gamma.to_vec(), &unknown).rows()]
+        }),
+    },
+    Decl {
+        kernel: Kernel::JointBias,
+        title: "Joint-space bias `c_q` of `Γ = M_q Q̈_a + c_q`: Coriolis, centrifugal, gravity.",
+        doc: "`Γ` at `Q̈_a = 0`.",
+        equations: Cite::Model(Quantity::TaskSpace),
+        inputs: &[Input::Actuators, Input::ActuatorRates],
+        outputs: &[Output {
+            name: "c",
+            shape: Shape::Vector(6),
+            doc: "`c_q` (N), segment order",
+        }],
+        guard: Guard::Forward,
+        reads: Reads::Robot,
+        batch: false,
+        chapter: None,
+        build: Build::Robot(|cx| vec![cx.inverse_dynamics().to_vec()]),
     },
 ];
 

@@ -22,7 +22,7 @@ pub use selfcheck::self_check;
 
 use crate::linalg::{Mat6, Vec6, Vector};
 use bodies::Dynamics;
-use geometry::{Motion, Posed};
+use geometry::{JointMotion, Motion, Posed};
 
 /// A quantity whose equations differ between models.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -96,10 +96,7 @@ pub trait Mechanics: Sync {
     fn task_inertia<'g>(&self, dynamics: &Dynamics<'g>, posed: &Posed<'g>) -> Mat6<'g> {
         let g = posed.c[0].graph();
         let unknown = Vector::from_fn(|k| g.input(INTERNAL_INPUTS + k as u32));
-        let motion = Motion {
-            twist: Vec6::zeros(g),
-            accel: unknown,
-        };
+        let motion = Motion::new(Vec6::zeros(g), unknown);
         let w = self.task_wrench(dynamics, posed, &motion).to_vec();
         kernels::jacobian_wrt(g, &w, &unknown.0)
     }
@@ -111,10 +108,7 @@ pub trait Mechanics: Sync {
         posed: &Posed<'g>,
         twist: &Vec6<'g>,
     ) -> Vec6<'g> {
-        let motion = Motion {
-            twist: *twist,
-            accel: Vec6::zeros(twist[0].graph()),
-        };
+        let motion = Motion::new(*twist, Vec6::zeros(twist[0].graph()));
         self.task_wrench(dynamics, posed, &motion)
     }
 
@@ -129,6 +123,21 @@ pub trait Mechanics: Sync {
         let w = self.inverse_jacobian(posed).transpose() * *gamma;
         let rhs = w - self.task_bias(dynamics, posed, twist);
         self.task_inertia(dynamics, posed).ldlt_solve(&rhs)
+    }
+
+    /// The platform's motion from the actuators' (the joint setting): `V = J Q̇_a` and
+    /// `(ω̇; a_C) = J (Q̈_a - h)`, where `h` is `Q̈_a` at zero platform acceleration (`Q̈_a` is
+    /// affine in it, with `J⁻¹` its linear part); the actuators' motion is kept beside.
+    fn motion_from_actuators<'g>(&self, posed: &Posed<'g>, joint: &JointMotion<'g>) -> Motion<'g> {
+        let jac = self.jacobian(posed);
+        let twist = jac * joint.qd;
+        let zero = Vec6::zeros(twist[0].graph());
+        let bias = self.joint_accelerations(posed, &Motion::new(twist, zero));
+        Motion {
+            twist,
+            accel: jac * (joint.qdd - bias),
+            joint: Some(*joint),
+        }
     }
 
     /// Kernels only this model has (the paper's chapter-setting kernels).

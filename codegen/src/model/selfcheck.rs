@@ -1,7 +1,9 @@
 //! The generator checks its own output where it is cheap to: identities between the compiled
 //! programs of one model, evaluated on seeded platform states.
 //!
-//! `J⁻¹ J = I`, `Q̇_a = J⁻¹ V`, `Γ = Jᵀ (F_{N+1} + Φ)` and `forward(Γ(V̇)) = V̇`: kernels
+//! `J⁻¹ J = I`, `Q̇_a = J⁻¹ V`, `Γ = Jᵀ (F_{N+1} + Φ)`, `forward(Γ(V̇)) = V̇`, the forward
+//! kinematics undoing the inverse, the platform state and the forces from the actuators'
+//! motion equal to those of the pose, and `Γ = M_q Q̈_a + c_q`: kernels
 //! built by different routes (the consistent model's `J` goes through a 3×3 solve, its `Γ`
 //! through `S⁻ᵀ`, the forward dynamics through derivatives and an `LDLᵀ`) that must agree, or
 //! the model or the engine has a bug.
@@ -142,6 +144,36 @@ pub fn self_check(robot: &Robot, list: &[(&Entry, &Compiled)]) -> Result<(), Err
                 return Err(fail(
                     Kernel::InverseDynamics,
                     format!("Γ_{} = {} but Jᵀ (F + Φ) = {want}", i + 1, gamma[i]),
+                ));
+            }
+        }
+        // From what the encoders would measure, the same state and the same forces.
+        let qd = &qd[..6];
+        let qdd = kernels.eval(Kernel::JointAccelerations, &full)?;
+        let joint = [&q[..6], qd, &qdd[..6]];
+        let state = kernels.eval(Kernel::PlatformState, &joint)?;
+        for (k, want) in pose.iter().chain(&twist).chain(&accel).enumerate() {
+            if !close(state[k], *want, want.abs()) {
+                return Err(fail(
+                    Kernel::PlatformState,
+                    format!("state[{k}] = {} but the state is {want}", state[k]),
+                ));
+            }
+        }
+        let from_joints = kernels.eval(Kernel::InverseDynamicsJoint, &joint)?;
+        let m_q = kernels.eval(Kernel::JointInertia, &[&q[..6]])?;
+        let c_q = kernels.eval(Kernel::JointBias, &[&q[..6], qd])?;
+        for i in 0..6 {
+            let split: f64 = c_q[i] + (0..6).map(|k| m_q[6 * i + k] * qdd[k]).sum::<f64>();
+            if !close(from_joints[i], gamma[i], scale) || !close(split, gamma[i], scale) {
+                return Err(fail(
+                    Kernel::InverseDynamicsJoint,
+                    format!(
+                        "Γ_{} = {} from the joints, {split} as M_q Q̈ + c_q, {} from the pose",
+                        i + 1,
+                        from_joints[i],
+                        gamma[i]
+                    ),
                 ));
             }
         }

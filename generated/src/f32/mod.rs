@@ -5,7 +5,7 @@
 /// The consistent model, `f32`: The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
 pub mod consistent {
-    use crate::trig::{cos, sin, sin_cos, sqrt};
+    use crate::trig::{atan, cos, sin, sin_cos, sqrt};
     include!("consistent.rs");
     #[cfg(feature = "batch")]
     use crate::lanes::F32x8;
@@ -15,7 +15,7 @@ pub mod consistent {
 /// The paper model, `f32`: The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
 pub mod paper {
-    use crate::trig::{cos, sin, sin_cos, sqrt};
+    use crate::trig::{atan, cos, sin, sin_cos, sqrt};
     include!("paper.rs");
     #[cfg(feature = "batch")]
     use crate::lanes::F32x8;
@@ -97,6 +97,43 @@ pub trait Kernels: core::fmt::Debug + Sync {
     ) -> ([[f32; 8]; 6], [[f32; 8]; 3]);
     /// Forward kinematics in closed form: the platform's `R` and `C` from the actuator positions.
     fn forward_kinematics(&self, q: &[f32; 6]) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]);
+    /// The RPY angles `[α β γ]` of a rotation of the workspace (eq 15 inverted).
+    fn rpy_angles(&self, r: &[[f32; 3]; 3]) -> [f32; 3];
+    /// The platform twist from the actuator rates, `V = J Q̇_a`.
+    fn platform_twist(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]);
+    /// The platform's classical acceleration from the actuators' motion.
+    fn platform_acceleration(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+    ) -> ([f32; 6], [f32; 4]);
+    /// The platform state (pose, twist, acceleration) from the actuators' motion.
+    fn platform_state(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+    ) -> ([f32; 6], [f32; 6], [f32; 6], [f32; 4]);
+    /// Inverse dynamics from what the encoders measure: `Γ` from the actuators' positions, rates and accelerations.
+    fn inverse_dynamics_joint(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+    ) -> ([f32; 6], [f32; 4]);
+    #[cfg(feature = "batch")]
+    /// [`Kernels::inverse_dynamics_joint`] of 8 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what the single-state kernel computes.
+    fn inverse_dynamics_joint_x8(
+        &self,
+        q: &[[f32; 8]; 6],
+        qd: &[[f32; 8]; 6],
+        qdd: &[[f32; 8]; 6],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 4]);
+    /// Joint-space inertia `M_q = Jᵀ M_x J` of `Γ = M_q Q̈_a + c_q`: symmetric positive definite.
+    fn joint_inertia(&self, q: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 4]);
+    /// Joint-space bias `c_q` of `Γ = M_q Q̈_a + c_q`: Coriolis, centrifugal, gravity.
+    fn joint_bias(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]);
     /// Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.
     fn inverse_kinematics_params(
         &self,
@@ -199,6 +236,59 @@ pub trait Kernels: core::fmt::Debug + Sync {
         q: &[f32; 6],
         params: &[f32; 152],
     ) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]);
+    /// The platform twist from the actuator rates, `V = J Q̇_a`.
+    fn platform_twist_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 4]);
+    /// The platform's classical acceleration from the actuators' motion.
+    fn platform_acceleration_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 4]);
+    /// The platform state (pose, twist, acceleration) from the actuators' motion.
+    fn platform_state_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 6], [f32; 6], [f32; 4]);
+    /// Inverse dynamics from what the encoders measure: `Γ` from the actuators' positions, rates and accelerations.
+    fn inverse_dynamics_joint_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 4]);
+    #[cfg(feature = "batch")]
+    /// [`Kernels::inverse_dynamics_joint_params`] of 8 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what the single-state kernel computes.
+    fn inverse_dynamics_joint_params_x8(
+        &self,
+        q: &[[f32; 8]; 6],
+        qd: &[[f32; 8]; 6],
+        qdd: &[[f32; 8]; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 4]);
+    /// Joint-space inertia `M_q = Jᵀ M_x J` of `Γ = M_q Q̈_a + c_q`: symmetric positive definite.
+    fn joint_inertia_params(
+        &self,
+        q: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 6]; 6], [f32; 4]);
+    /// Joint-space bias `c_q` of `Γ = M_q Q̈_a + c_q`: Coriolis, centrifugal, gravity.
+    fn joint_bias_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 4]);
 }
 /// The consistent model's kernels: The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -311,6 +401,59 @@ impl Kernels for Consistent {
     #[inline]
     fn forward_kinematics(&self, q: &[f32; 6]) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]) {
         consistent::forward_kinematics(q)
+    }
+    #[inline]
+    fn rpy_angles(&self, r: &[[f32; 3]; 3]) -> [f32; 3] {
+        consistent::rpy_angles(r)
+    }
+    #[inline]
+    fn platform_twist(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
+        consistent::platform_twist(q, qd)
+    }
+    #[inline]
+    fn platform_acceleration(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+    ) -> ([f32; 6], [f32; 4]) {
+        consistent::platform_acceleration(q, qd, qdd)
+    }
+    #[inline]
+    fn platform_state(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+    ) -> ([f32; 6], [f32; 6], [f32; 6], [f32; 4]) {
+        consistent::platform_state(q, qd, qdd)
+    }
+    #[inline]
+    fn inverse_dynamics_joint(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+    ) -> ([f32; 6], [f32; 4]) {
+        consistent::inverse_dynamics_joint(q, qd, qdd)
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn inverse_dynamics_joint_x8(
+        &self,
+        q: &[[f32; 8]; 6],
+        qd: &[[f32; 8]; 6],
+        qdd: &[[f32; 8]; 6],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 4]) {
+        consistent::inverse_dynamics_joint_x8(q, qd, qdd)
+    }
+    #[inline]
+    fn joint_inertia(&self, q: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 4]) {
+        consistent::joint_inertia(q)
+    }
+    #[inline]
+    fn joint_bias(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
+        consistent::joint_bias(q, qd)
     }
     #[inline]
     fn inverse_kinematics_params(
@@ -442,6 +585,73 @@ impl Kernels for Consistent {
     ) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]) {
         consistent::forward_kinematics_params(q, params)
     }
+    #[inline]
+    fn platform_twist_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 4]) {
+        consistent::platform_twist_params(q, qd, params)
+    }
+    #[inline]
+    fn platform_acceleration_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 4]) {
+        consistent::platform_acceleration_params(q, qd, qdd, params)
+    }
+    #[inline]
+    fn platform_state_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 6], [f32; 6], [f32; 4]) {
+        consistent::platform_state_params(q, qd, qdd, params)
+    }
+    #[inline]
+    fn inverse_dynamics_joint_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 4]) {
+        consistent::inverse_dynamics_joint_params(q, qd, qdd, params)
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn inverse_dynamics_joint_params_x8(
+        &self,
+        q: &[[f32; 8]; 6],
+        qd: &[[f32; 8]; 6],
+        qdd: &[[f32; 8]; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 4]) {
+        consistent::inverse_dynamics_joint_params_x8(q, qd, qdd, params)
+    }
+    #[inline]
+    fn joint_inertia_params(
+        &self,
+        q: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 6]; 6], [f32; 4]) {
+        consistent::joint_inertia_params(q, params)
+    }
+    #[inline]
+    fn joint_bias_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 4]) {
+        consistent::joint_bias_params(q, qd, params)
+    }
 }
 /// The paper model's kernels: The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -554,6 +764,59 @@ impl Kernels for Paper {
     #[inline]
     fn forward_kinematics(&self, q: &[f32; 6]) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]) {
         paper::forward_kinematics(q)
+    }
+    #[inline]
+    fn rpy_angles(&self, r: &[[f32; 3]; 3]) -> [f32; 3] {
+        paper::rpy_angles(r)
+    }
+    #[inline]
+    fn platform_twist(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
+        paper::platform_twist(q, qd)
+    }
+    #[inline]
+    fn platform_acceleration(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+    ) -> ([f32; 6], [f32; 4]) {
+        paper::platform_acceleration(q, qd, qdd)
+    }
+    #[inline]
+    fn platform_state(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+    ) -> ([f32; 6], [f32; 6], [f32; 6], [f32; 4]) {
+        paper::platform_state(q, qd, qdd)
+    }
+    #[inline]
+    fn inverse_dynamics_joint(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+    ) -> ([f32; 6], [f32; 4]) {
+        paper::inverse_dynamics_joint(q, qd, qdd)
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn inverse_dynamics_joint_x8(
+        &self,
+        q: &[[f32; 8]; 6],
+        qd: &[[f32; 8]; 6],
+        qdd: &[[f32; 8]; 6],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 4]) {
+        paper::inverse_dynamics_joint_x8(q, qd, qdd)
+    }
+    #[inline]
+    fn joint_inertia(&self, q: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 4]) {
+        paper::joint_inertia(q)
+    }
+    #[inline]
+    fn joint_bias(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
+        paper::joint_bias(q, qd)
     }
     #[inline]
     fn inverse_kinematics_params(
@@ -685,6 +948,610 @@ impl Kernels for Paper {
     ) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]) {
         paper::forward_kinematics_params(q, params)
     }
+    #[inline]
+    fn platform_twist_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 4]) {
+        paper::platform_twist_params(q, qd, params)
+    }
+    #[inline]
+    fn platform_acceleration_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 4]) {
+        paper::platform_acceleration_params(q, qd, qdd, params)
+    }
+    #[inline]
+    fn platform_state_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 6], [f32; 6], [f32; 4]) {
+        paper::platform_state_params(q, qd, qdd, params)
+    }
+    #[inline]
+    fn inverse_dynamics_joint_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 4]) {
+        paper::inverse_dynamics_joint_params(q, qd, qdd, params)
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn inverse_dynamics_joint_params_x8(
+        &self,
+        q: &[[f32; 8]; 6],
+        qd: &[[f32; 8]; 6],
+        qdd: &[[f32; 8]; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 4]) {
+        paper::inverse_dynamics_joint_params_x8(q, qd, qdd, params)
+    }
+    #[inline]
+    fn joint_inertia_params(
+        &self,
+        q: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 6]; 6], [f32; 4]) {
+        paper::joint_inertia_params(q, params)
+    }
+    #[inline]
+    fn joint_bias_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 4]) {
+        paper::joint_bias_params(q, qd, params)
+    }
 }
 /// Every model's kernels, the default model first.
 pub const MODELS: [&dyn Kernels; 2] = [&Consistent, &Paper];
+/// One of the models, chosen at run time: its kernels are called through one `match`,
+/// statically, so a program builds only the kernels it calls (a `&dyn Kernels`
+/// builds every kernel of every model for its vtables).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum AnyModel {
+    /// The consistent model's kernels, [`Consistent`].
+    Consistent,
+    /// The paper model's kernels, [`Paper`].
+    Paper,
+}
+impl AnyModel {
+    /// Every model, the default first.
+    pub const ALL: [AnyModel; 2] = [AnyModel::Consistent, AnyModel::Paper];
+}
+impl Kernels for AnyModel {
+    #[inline]
+    fn model(&self) -> &'static str {
+        match self {
+            AnyModel::Consistent => Consistent.model(),
+            AnyModel::Paper => Paper.model(),
+        }
+    }
+    #[inline]
+    fn singularity_terms(&self, pose: &[f32; 6]) -> [f32; 3] {
+        match self {
+            AnyModel::Consistent => Consistent.singularity_terms(pose),
+            AnyModel::Paper => Paper.singularity_terms(pose),
+        }
+    }
+    #[inline]
+    fn inverse_kinematics(
+        &self,
+        pose: &[f32; 6],
+    ) -> ([f32; 6], [[f32; 3]; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.inverse_kinematics(pose),
+            AnyModel::Paper => Paper.inverse_kinematics(pose),
+        }
+    }
+    #[inline]
+    fn inverse_jacobian_pose(&self, pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.inverse_jacobian_pose(pose),
+            AnyModel::Paper => Paper.inverse_jacobian_pose(pose),
+        }
+    }
+    #[inline]
+    fn jacobian_pose(&self, pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.jacobian_pose(pose),
+            AnyModel::Paper => Paper.jacobian_pose(pose),
+        }
+    }
+    #[inline]
+    fn joint_velocities(
+        &self,
+        pose: &[f32; 6],
+        twist: &[f32; 6],
+    ) -> ([f32; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.joint_velocities(pose, twist),
+            AnyModel::Paper => Paper.joint_velocities(pose, twist),
+        }
+    }
+    #[inline]
+    fn joint_accelerations(
+        &self,
+        pose: &[f32; 6],
+        twist: &[f32; 6],
+        accel: &[f32; 6],
+    ) -> ([f32; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.joint_accelerations(pose, twist, accel),
+            AnyModel::Paper => Paper.joint_accelerations(pose, twist, accel),
+        }
+    }
+    #[inline]
+    fn leg_wrench(
+        &self,
+        pose: &[f32; 6],
+        twist: &[f32; 6],
+        accel: &[f32; 6],
+    ) -> ([f32; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.leg_wrench(pose, twist, accel),
+            AnyModel::Paper => Paper.leg_wrench(pose, twist, accel),
+        }
+    }
+    #[inline]
+    fn platform_wrench(
+        &self,
+        pose: &[f32; 6],
+        twist: &[f32; 6],
+        accel: &[f32; 6],
+    ) -> [f32; 6] {
+        match self {
+            AnyModel::Consistent => Consistent.platform_wrench(pose, twist, accel),
+            AnyModel::Paper => Paper.platform_wrench(pose, twist, accel),
+        }
+    }
+    #[inline]
+    fn task_inertia(&self, pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.task_inertia(pose),
+            AnyModel::Paper => Paper.task_inertia(pose),
+        }
+    }
+    #[inline]
+    fn task_bias(&self, pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.task_bias(pose, twist),
+            AnyModel::Paper => Paper.task_bias(pose, twist),
+        }
+    }
+    #[inline]
+    fn forward_dynamics(
+        &self,
+        pose: &[f32; 6],
+        twist: &[f32; 6],
+        forces: &[f32; 6],
+    ) -> ([f32; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.forward_dynamics(pose, twist, forces),
+            AnyModel::Paper => Paper.forward_dynamics(pose, twist, forces),
+        }
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn forward_dynamics_x8(
+        &self,
+        pose: &[[f32; 8]; 6],
+        twist: &[[f32; 8]; 6],
+        forces: &[[f32; 8]; 6],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.forward_dynamics_x8(pose, twist, forces),
+            AnyModel::Paper => Paper.forward_dynamics_x8(pose, twist, forces),
+        }
+    }
+    #[inline]
+    fn inverse_dynamics(
+        &self,
+        pose: &[f32; 6],
+        twist: &[f32; 6],
+        accel: &[f32; 6],
+    ) -> ([f32; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.inverse_dynamics(pose, twist, accel),
+            AnyModel::Paper => Paper.inverse_dynamics(pose, twist, accel),
+        }
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn inverse_dynamics_x8(
+        &self,
+        pose: &[[f32; 8]; 6],
+        twist: &[[f32; 8]; 6],
+        accel: &[[f32; 8]; 6],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.inverse_dynamics_x8(pose, twist, accel),
+            AnyModel::Paper => Paper.inverse_dynamics_x8(pose, twist, accel),
+        }
+    }
+    #[inline]
+    fn forward_kinematics(&self, q: &[f32; 6]) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]) {
+        match self {
+            AnyModel::Consistent => Consistent.forward_kinematics(q),
+            AnyModel::Paper => Paper.forward_kinematics(q),
+        }
+    }
+    #[inline]
+    fn rpy_angles(&self, r: &[[f32; 3]; 3]) -> [f32; 3] {
+        match self {
+            AnyModel::Consistent => Consistent.rpy_angles(r),
+            AnyModel::Paper => Paper.rpy_angles(r),
+        }
+    }
+    #[inline]
+    fn platform_twist(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
+        match self {
+            AnyModel::Consistent => Consistent.platform_twist(q, qd),
+            AnyModel::Paper => Paper.platform_twist(q, qd),
+        }
+    }
+    #[inline]
+    fn platform_acceleration(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+    ) -> ([f32; 6], [f32; 4]) {
+        match self {
+            AnyModel::Consistent => Consistent.platform_acceleration(q, qd, qdd),
+            AnyModel::Paper => Paper.platform_acceleration(q, qd, qdd),
+        }
+    }
+    #[inline]
+    fn platform_state(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+    ) -> ([f32; 6], [f32; 6], [f32; 6], [f32; 4]) {
+        match self {
+            AnyModel::Consistent => Consistent.platform_state(q, qd, qdd),
+            AnyModel::Paper => Paper.platform_state(q, qd, qdd),
+        }
+    }
+    #[inline]
+    fn inverse_dynamics_joint(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+    ) -> ([f32; 6], [f32; 4]) {
+        match self {
+            AnyModel::Consistent => Consistent.inverse_dynamics_joint(q, qd, qdd),
+            AnyModel::Paper => Paper.inverse_dynamics_joint(q, qd, qdd),
+        }
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn inverse_dynamics_joint_x8(
+        &self,
+        q: &[[f32; 8]; 6],
+        qd: &[[f32; 8]; 6],
+        qdd: &[[f32; 8]; 6],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 4]) {
+        match self {
+            AnyModel::Consistent => Consistent.inverse_dynamics_joint_x8(q, qd, qdd),
+            AnyModel::Paper => Paper.inverse_dynamics_joint_x8(q, qd, qdd),
+        }
+    }
+    #[inline]
+    fn joint_inertia(&self, q: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 4]) {
+        match self {
+            AnyModel::Consistent => Consistent.joint_inertia(q),
+            AnyModel::Paper => Paper.joint_inertia(q),
+        }
+    }
+    #[inline]
+    fn joint_bias(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
+        match self {
+            AnyModel::Consistent => Consistent.joint_bias(q, qd),
+            AnyModel::Paper => Paper.joint_bias(q, qd),
+        }
+    }
+    #[inline]
+    fn inverse_kinematics_params(
+        &self,
+        pose: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [[f32; 3]; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.inverse_kinematics_params(pose, params),
+            AnyModel::Paper => Paper.inverse_kinematics_params(pose, params),
+        }
+    }
+    #[inline]
+    fn inverse_jacobian_pose_params(
+        &self,
+        pose: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 6]; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.inverse_jacobian_pose_params(pose, params),
+            AnyModel::Paper => Paper.inverse_jacobian_pose_params(pose, params),
+        }
+    }
+    #[inline]
+    fn jacobian_pose_params(
+        &self,
+        pose: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 6]; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.jacobian_pose_params(pose, params),
+            AnyModel::Paper => Paper.jacobian_pose_params(pose, params),
+        }
+    }
+    #[inline]
+    fn joint_velocities_params(
+        &self,
+        pose: &[f32; 6],
+        twist: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => {
+                Consistent.joint_velocities_params(pose, twist, params)
+            }
+            AnyModel::Paper => Paper.joint_velocities_params(pose, twist, params),
+        }
+    }
+    #[inline]
+    fn joint_accelerations_params(
+        &self,
+        pose: &[f32; 6],
+        twist: &[f32; 6],
+        accel: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => {
+                Consistent.joint_accelerations_params(pose, twist, accel, params)
+            }
+            AnyModel::Paper => {
+                Paper.joint_accelerations_params(pose, twist, accel, params)
+            }
+        }
+    }
+    #[inline]
+    fn leg_wrench_params(
+        &self,
+        pose: &[f32; 6],
+        twist: &[f32; 6],
+        accel: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => {
+                Consistent.leg_wrench_params(pose, twist, accel, params)
+            }
+            AnyModel::Paper => Paper.leg_wrench_params(pose, twist, accel, params),
+        }
+    }
+    #[inline]
+    fn platform_wrench_params(
+        &self,
+        pose: &[f32; 6],
+        twist: &[f32; 6],
+        accel: &[f32; 6],
+        params: &[f32; 152],
+    ) -> [f32; 6] {
+        match self {
+            AnyModel::Consistent => {
+                Consistent.platform_wrench_params(pose, twist, accel, params)
+            }
+            AnyModel::Paper => Paper.platform_wrench_params(pose, twist, accel, params),
+        }
+    }
+    #[inline]
+    fn task_inertia_params(
+        &self,
+        pose: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 6]; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.task_inertia_params(pose, params),
+            AnyModel::Paper => Paper.task_inertia_params(pose, params),
+        }
+    }
+    #[inline]
+    fn task_bias_params(
+        &self,
+        pose: &[f32; 6],
+        twist: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.task_bias_params(pose, twist, params),
+            AnyModel::Paper => Paper.task_bias_params(pose, twist, params),
+        }
+    }
+    #[inline]
+    fn forward_dynamics_params(
+        &self,
+        pose: &[f32; 6],
+        twist: &[f32; 6],
+        forces: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => {
+                Consistent.forward_dynamics_params(pose, twist, forces, params)
+            }
+            AnyModel::Paper => Paper.forward_dynamics_params(pose, twist, forces, params),
+        }
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn forward_dynamics_params_x8(
+        &self,
+        pose: &[[f32; 8]; 6],
+        twist: &[[f32; 8]; 6],
+        forces: &[[f32; 8]; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
+        match self {
+            AnyModel::Consistent => {
+                Consistent.forward_dynamics_params_x8(pose, twist, forces, params)
+            }
+            AnyModel::Paper => {
+                Paper.forward_dynamics_params_x8(pose, twist, forces, params)
+            }
+        }
+    }
+    #[inline]
+    fn inverse_dynamics_params(
+        &self,
+        pose: &[f32; 6],
+        twist: &[f32; 6],
+        accel: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => {
+                Consistent.inverse_dynamics_params(pose, twist, accel, params)
+            }
+            AnyModel::Paper => Paper.inverse_dynamics_params(pose, twist, accel, params),
+        }
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn inverse_dynamics_params_x8(
+        &self,
+        pose: &[[f32; 8]; 6],
+        twist: &[[f32; 8]; 6],
+        accel: &[[f32; 8]; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
+        match self {
+            AnyModel::Consistent => {
+                Consistent.inverse_dynamics_params_x8(pose, twist, accel, params)
+            }
+            AnyModel::Paper => {
+                Paper.inverse_dynamics_params_x8(pose, twist, accel, params)
+            }
+        }
+    }
+    #[inline]
+    fn forward_kinematics_params(
+        &self,
+        q: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]) {
+        match self {
+            AnyModel::Consistent => Consistent.forward_kinematics_params(q, params),
+            AnyModel::Paper => Paper.forward_kinematics_params(q, params),
+        }
+    }
+    #[inline]
+    fn platform_twist_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 4]) {
+        match self {
+            AnyModel::Consistent => Consistent.platform_twist_params(q, qd, params),
+            AnyModel::Paper => Paper.platform_twist_params(q, qd, params),
+        }
+    }
+    #[inline]
+    fn platform_acceleration_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 4]) {
+        match self {
+            AnyModel::Consistent => {
+                Consistent.platform_acceleration_params(q, qd, qdd, params)
+            }
+            AnyModel::Paper => Paper.platform_acceleration_params(q, qd, qdd, params),
+        }
+    }
+    #[inline]
+    fn platform_state_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 6], [f32; 6], [f32; 4]) {
+        match self {
+            AnyModel::Consistent => Consistent.platform_state_params(q, qd, qdd, params),
+            AnyModel::Paper => Paper.platform_state_params(q, qd, qdd, params),
+        }
+    }
+    #[inline]
+    fn inverse_dynamics_joint_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        qdd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 4]) {
+        match self {
+            AnyModel::Consistent => {
+                Consistent.inverse_dynamics_joint_params(q, qd, qdd, params)
+            }
+            AnyModel::Paper => Paper.inverse_dynamics_joint_params(q, qd, qdd, params),
+        }
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn inverse_dynamics_joint_params_x8(
+        &self,
+        q: &[[f32; 8]; 6],
+        qd: &[[f32; 8]; 6],
+        qdd: &[[f32; 8]; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 4]) {
+        match self {
+            AnyModel::Consistent => {
+                Consistent.inverse_dynamics_joint_params_x8(q, qd, qdd, params)
+            }
+            AnyModel::Paper => Paper.inverse_dynamics_joint_params_x8(q, qd, qdd, params),
+        }
+    }
+    #[inline]
+    fn joint_inertia_params(
+        &self,
+        q: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 6]; 6], [f32; 4]) {
+        match self {
+            AnyModel::Consistent => Consistent.joint_inertia_params(q, params),
+            AnyModel::Paper => Paper.joint_inertia_params(q, params),
+        }
+    }
+    #[inline]
+    fn joint_bias_params(
+        &self,
+        q: &[f32; 6],
+        qd: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 4]) {
+        match self {
+            AnyModel::Consistent => Consistent.joint_bias_params(q, qd, params),
+            AnyModel::Paper => Paper.joint_bias_params(q, qd, params),
+        }
+    }
+}

@@ -10,7 +10,8 @@ use serde_json::json;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-/// Reads JSON Lines of platform states on stdin, writes one JSON line of results per line.
+/// Reads JSON Lines of platform states (or of actuator positions, rates and accelerations) on
+/// stdin, writes one JSON line of results per line.
 #[derive(Args)]
 pub struct EvalArgs {
     #[command(flatten)]
@@ -21,8 +22,9 @@ pub struct EvalArgs {
     base_parameters: Option<PathBuf>,
 }
 
-/// The keys of an `eval` line.
-const STATE_KEYS: [Key; 5] = [
+/// The keys of an `eval` line: the platform's state, or the actuators' (`q`, `qd`, `qdd`),
+/// never both.
+const KEYS: [Key; 8] = [
     Key {
         name: "pose",
         len: 6,
@@ -48,22 +50,82 @@ const STATE_KEYS: [Key; 5] = [
         len: 3,
         required: false,
     },
+    Key {
+        name: "q",
+        len: 6,
+        required: true,
+    },
+    Key {
+        name: "qd",
+        len: 6,
+        required: false,
+    },
+    Key {
+        name: "qdd",
+        len: 6,
+        required: false,
+    },
 ];
 
-fn parse_state(line: &str) -> Result<State, String> {
-    let v = jsonl::parse(line, &STATE_KEYS)?;
-    let three = |k: usize| [v[k][0], v[k][1], v[k][2]];
-    Ok(State {
-        pose: Pose::from_array(std::array::from_fn(|i| v[0][i])),
-        twist: Twist {
-            omega: three(1),
-            velocity: three(2),
-        },
-        accel: Acceleration {
-            omega_dot: three(3),
-            linear: three(4),
-        },
-    })
+/// How many of [`KEYS`] describe the platform; the rest describe the actuators.
+const PLATFORM_KEYS: usize = 5;
+
+/// What an `eval` line gives.
+enum Line {
+    /// The platform's state.
+    Platform(State),
+    /// The actuators' positions, rates and accelerations (m, m/s, m/s², segment order).
+    Actuators([[f64; 6]; 3]),
+}
+
+fn parse_line(line: &str) -> Result<Line, String> {
+    let values = jsonl::parse_present(line, &KEYS)?;
+    let given = |range: std::ops::Range<usize>| -> Vec<&str> {
+        range
+            .filter(|&k| values[k].is_some())
+            .map(|k| KEYS[k].name)
+            .collect()
+    };
+    let (platform, actuators) = (given(0..PLATFORM_KEYS), given(PLATFORM_KEYS..KEYS.len()));
+    if !platform.is_empty() && !actuators.is_empty() {
+        return Err(format!(
+            "a line gives the platform's state or the actuators', not both: {} with {}",
+            platform.join(", "),
+            actuators.join(", ")
+        ));
+    }
+    // The keys of the kind given: absent optional ones are zero, an absent required one is an
+    // error (`pose` when the line gives neither kind).
+    let (first, kind) = if actuators.is_empty() {
+        (0, PLATFORM_KEYS)
+    } else {
+        (PLATFORM_KEYS, KEYS.len() - PLATFORM_KEYS)
+    };
+    let v = (first..first + kind)
+        .map(|k| match &values[k] {
+            Some(v) => Ok(v.clone()),
+            None if KEYS[k].required => Err(format!("missing `{}`", KEYS[k].name)),
+            None => Ok(vec![0.0; KEYS[k].len]),
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    if actuators.is_empty() {
+        let three = |k: usize| [v[k][0], v[k][1], v[k][2]];
+        Ok(Line::Platform(State {
+            pose: Pose::from_array(std::array::from_fn(|i| v[0][i])),
+            twist: Twist {
+                omega: three(1),
+                velocity: three(2),
+            },
+            accel: Acceleration {
+                omega_dot: three(3),
+                linear: three(4),
+            },
+        }))
+    } else {
+        Ok(Line::Actuators(std::array::from_fn(|k| {
+            std::array::from_fn(|i| v[k][i])
+        })))
+    }
 }
 
 pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
@@ -78,9 +140,25 @@ pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
 
 fn eval(robot: &C5, identified: Option<&Estimate>) -> crate::Result<ExitCode> {
     jsonl::answer_lines(|line| {
-        let state = parse_state(line)?;
+        let (state, found) = match parse_line(line)? {
+            Line::Platform(state) => (state, false),
+            Line::Actuators([q, qd, qdd]) => {
+                let state = robot
+                    .joint_state(&q, &qd, &qdd)
+                    .map_err(|e| e.to_string())?;
+                (state, true)
+            }
+        };
         let e = robot.evaluate(&state).map_err(|e| e.to_string())?;
         let mut out = serde_json::to_value(e).map_err(|e| e.to_string())?;
+        if found {
+            // The platform state the actuators' values give, in the input keys' conventions.
+            out["pose"] = json!(state.pose.to_array());
+            out["omega"] = json!(state.twist.omega);
+            out["velocity"] = json!(state.twist.velocity);
+            out["omega_dot"] = json!(state.accel.omega_dot);
+            out["acceleration"] = json!(state.accel.linear);
+        }
         if let Some(estimate) = identified {
             let gamma = estimate.forces(robot, &state).map_err(|e| e.to_string())?;
             out["gamma"] = json!(gamma);

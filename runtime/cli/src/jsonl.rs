@@ -48,6 +48,22 @@ impl<'de> Deserialize<'de> for Entries {
 /// accepted ones), a key given twice, a missing required key, an array of the wrong length, or
 /// an element that is not a finite number.
 pub fn parse(line: &str, keys: &[Key]) -> Result<Vec<Vec<f64>>, String> {
+    let values = parse_present(line, keys)?;
+    keys.iter()
+        .zip(values)
+        .map(|(k, v)| match v {
+            Some(v) => Ok(v),
+            None if k.required => Err(format!("missing `{}`", k.name)),
+            None => Ok(vec![0.0; k.len]),
+        })
+        .collect()
+}
+
+/// The values of one line, `None` for an absent key, whether required or not.
+///
+/// # Errors
+/// As [`parse`], but for a missing key.
+pub fn parse_present(line: &str, keys: &[Key]) -> Result<Vec<Option<Vec<f64>>>, String> {
     let entries: Entries = serde_json::from_str(line).map_err(|e| {
         if e.is_data() {
             "a line must be a JSON object".to_string()
@@ -88,14 +104,7 @@ pub fn parse(line: &str, keys: &[Key]) -> Result<Vec<Vec<f64>>, String> {
             .collect::<Result<Vec<f64>, String>>()?;
         values[at] = Some(numbers);
     }
-    keys.iter()
-        .zip(values)
-        .map(|(k, v)| match v {
-            Some(v) => Ok(v),
-            None if k.required => Err(format!("missing `{}`", k.name)),
-            None => Ok(vec![0.0; k.len]),
-        })
-        .collect()
+    Ok(values)
 }
 
 /// Streams JSON Lines from stdin to stdout: one result line per non-blank input line, a bad

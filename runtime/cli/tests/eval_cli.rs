@@ -69,7 +69,8 @@ fn unknown_repeated_and_misshapen_keys_are_refused_by_name() {
     for (n, needle) in [
         (
             1,
-            "unknown key `accel` (accepted keys: pose, omega, velocity, omega_dot, acceleration)",
+            "unknown key `accel` (accepted keys: pose, omega, velocity, omega_dot, acceleration, \
+             q, qd, qdd)",
         ),
         (2, "`pose` is given twice"),
         (3, "`omega` must hold 3 numbers, got 2"),
@@ -219,4 +220,87 @@ fn eval_agrees_with_the_paper_reference_when_asked() {
             assert!((o["qdd"][i].as_f64().unwrap() - qdd).abs() < 1e-9 * qdd.abs().max(1.0));
         }
     }
+}
+
+/// The actuators' values of a state, written with the consistent model's reference.
+fn actuator_line(s: &c5_runtime::State) -> String {
+    let l = Robot::default().half_spacing;
+    let q = rc::lengths(l, &s.pose);
+    let qd = rc::joint_velocities(l, &s.pose, &s.twist);
+    let qdd = rc::joint_accelerations(l, &s.pose, &s.twist, &s.accel);
+    serde_json::json!({"q": q, "qd": qd.as_slice(), "qdd": qdd.as_slice()}).to_string()
+}
+
+#[test]
+fn actuator_lines_give_the_platform_state_and_the_forces_of_the_state_they_came_from() {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(90);
+    let robot = Robot::default();
+    let mut u = |b: f64| rng.gen_range(-b..=b);
+    let states: Vec<c5_runtime::State> = (0..300)
+        .map(|_| c5_runtime::State {
+            pose: Pose::from_array([u(0.5), u(0.5), u(0.5), u(0.08), u(0.08), u(0.08)]),
+            twist: Twist {
+                omega: [u(1.0), u(1.0), u(1.0)],
+                velocity: [u(0.5), u(0.5), u(0.5)],
+            },
+            accel: Acceleration {
+                omega_dot: [u(5.0), u(5.0), u(5.0)],
+                linear: [u(2.0), u(2.0), u(2.0)],
+            },
+        })
+        .collect();
+    let input: Vec<String> = states.iter().map(actuator_line).collect();
+    let (out, code) = run_eval_with(&["eval", "--model", "consistent"], &input.join("\n"));
+    assert_eq!((out.len(), code), (states.len(), 0));
+    let rel = |got: &Value, want: &[f64]| {
+        let got: Vec<f64> = got
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        let scale = want.iter().fold(1.0_f64, |m, w| m.max(w.abs()));
+        got.iter()
+            .zip(want)
+            .map(|(g, w)| (g - w).abs())
+            .fold(0.0, f64::max)
+            / scale
+    };
+    for (o, s) in out.iter().zip(&states) {
+        assert!(rel(&o["pose"], &s.pose.to_array()) < 1e-12, "{o}");
+        assert!(rel(&o["omega"], &s.twist.omega) < 1e-12);
+        assert!(rel(&o["velocity"], &s.twist.velocity) < 1e-12);
+        assert!(rel(&o["omega_dot"], &s.accel.omega_dot) < 1e-11);
+        assert!(rel(&o["acceleration"], &s.accel.linear) < 1e-11);
+        let gamma = rc::inverse_dynamics(&robot, &s.pose, &s.twist, &s.accel).unwrap();
+        assert!(rel(&o["gamma"], gamma.as_slice()) < 1e-10, "{o}");
+        assert!(rel(&o["q"], &rc::lengths(robot.half_spacing, &s.pose)) < 1e-12);
+    }
+}
+
+#[test]
+fn a_line_mixing_platform_and_actuator_keys_is_refused_naming_them() {
+    let input = [
+        r#"{"pose": [0, 0, 0, 0, 0, 0], "qd": [0, 0, 0, 0, 0, 0]}"#,
+        r#"{"qdd": [0, 0, 0, 0, 0, 0]}"#,
+        r#"{"q": [0.4, -0.4, 0.4, -0.4, 0.4, -0.4]}"#,
+        r#"{"q": [0, 0, 0, 0, 0, 0]}"#,
+    ]
+    .join("\n");
+    let (out, code) = run_eval(&input);
+    assert_eq!((out.len(), code), (4, 1));
+    assert_eq!(
+        out[0]["error"],
+        "a line gives the platform's state or the actuators', not both: pose with qd"
+    );
+    assert_eq!(out[1]["error"], "missing `q`");
+    // a = b = c = -2: 1 + abc = -7, no pose of the workspace.
+    let e = out[2]["error"].as_str().unwrap();
+    assert!(e.starts_with("forward singular: 1 + abc = -7"), "{e}");
+    // Home: the platform at rest at the origin, and its forces.
+    assert_eq!(
+        out[3]["pose"],
+        serde_json::json!([0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+    );
+    assert!((out[3]["gamma"][4].as_f64().unwrap() - 85.0527).abs() < 1e-3);
 }

@@ -15,7 +15,7 @@ pub mod excite;
 
 pub use estimator::{Estimate, Identifier, IdentifyError};
 
-use crate::{check_divisors, Error, Model, State, C5};
+use crate::{check_divisors, Error, Kernels, Model, State, C5};
 pub use c5_robot::{standard_parameter_names, Friction, STANDARD_PARAMETERS};
 use nalgebra::{DMatrix, SMatrix};
 

@@ -154,3 +154,38 @@ pub fn inverse_dynamics(
     let k = platform_wrench(robot, pose, twist, accel) + Vector6::new(m.x, m.y, m.z, 0.0, 0.0, 0.0);
     Some(jacobian(robot.half_spacing, pose)?.transpose() * k + tau)
 }
+
+/// `∂Q/∂X`: how the actuator positions change with the pose coordinates `[α β γ xc yc zc]`,
+/// `J⁻¹ diag(E, U)` with `ω = E [α̇ β̇ γ̇]`, `E = [x, Rx(α) y, Rx(α) Ry(β) z]`.
+pub fn pose_jacobian(l: f64, pose: &Pose) -> Matrix6<f64> {
+    let (sa, ca) = pose.alpha.sin_cos();
+    let (sb, cb) = pose.beta.sin_cos();
+    let e = Matrix3::new(1.0, 0.0, sb, 0.0, ca, -sa * cb, 0.0, sa, ca * cb);
+    let mut map = Matrix6::identity();
+    map.fixed_view_mut::<3, 3>(0, 0).copy_from(&e);
+    inverse_jacobian(l, pose) * map
+}
+
+/// The forward kinematics the usual way, for comparison: Newton-Raphson on eq 16 from `start`
+/// (the previous sample, in a controller), `X ← X + (∂Q/∂X)⁻¹ (Q - Q(X))` by LU until the
+/// step is below `tolerance`; the pose and the iterations it took, or `None` if it does not
+/// converge in 50 or a solve fails.
+pub fn forward_kinematics_newton(
+    l: f64,
+    q: &[f64; 6],
+    start: &Pose,
+    tolerance: f64,
+) -> Option<(Pose, usize)> {
+    let mut x = Vector6::from(start.to_array());
+    let target = Vector6::from(*q);
+    for iteration in 1..=50 {
+        let pose = Pose::from_array(x.into());
+        let residual = target - Vector6::from(lengths(l, &pose));
+        let step = pose_jacobian(l, &pose).lu().solve(&residual)?;
+        x += step;
+        if step.amax() < tolerance {
+            return Some((Pose::from_array(x.into()), iteration));
+        }
+    }
+    None
+}

@@ -2,7 +2,8 @@
 //! lists every kernel of both models in both precisions with its C function and its Rust
 //! kernel, each as `fn(&[f64]) -> Vec<f64>` over flattened inputs and outputs.
 
-// The sine and cosine of the Rust kernels, for the C kernels of the test build (`build.rs`).
+// The sine, cosine and arc tangent of the Rust kernels, for the C kernels of the test build
+// (`build.rs`); the square root is correctly rounded in both languages.
 #[no_mangle]
 extern "C" fn c5_test_sin(x: f64) -> f64 {
     c5_generated::trig::sin(x)
@@ -18,6 +19,14 @@ extern "C" fn c5_test_sinf(x: f32) -> f32 {
 #[no_mangle]
 extern "C" fn c5_test_cosf(x: f32) -> f32 {
     c5_generated::trig::cos(x)
+}
+#[no_mangle]
+extern "C" fn c5_test_atan(x: f64) -> f64 {
+    c5_generated::trig::atan(x)
+}
+#[no_mangle]
+extern "C" fn c5_test_atanf(x: f32) -> f32 {
+    c5_generated::trig::atan(x)
 }
 
 /// One kernel in both languages.

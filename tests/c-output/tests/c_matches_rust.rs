@@ -16,7 +16,8 @@ fn uniform(rng: &mut ChaCha8Rng, bounds: &[f64]) -> Vec<f64> {
 }
 
 /// Plausible values for an input, by its name: poses and motions in the workspace, forces of
-/// the robot's size, and the chapter-setting vectors `P_i2` of a real pose.
+/// the robot's size, the chapter-setting vectors `P_i2` of a real pose, the actuators'
+/// positions of a real pose and plausible rates, the rotation of a real pose.
 fn input(rng: &mut ChaCha8Rng, name: &str, pose: &[f64; 6]) -> Vec<f64> {
     match name {
         "pose" => pose.to_vec(),
@@ -31,6 +32,15 @@ fn input(rng: &mut ChaCha8Rng, name: &str, pose: &[f64; 6]) -> Vec<f64> {
             .copied()
             .collect(),
         "p1" => paper::inverse_kinematics(pose).1[0].to_vec(),
+        "q" => paper::inverse_kinematics(pose).0.to_vec(),
+        "qd" => uniform(rng, &[0.5; 6]),
+        "qdd" => uniform(rng, &[2.0; 6]),
+        "r" => paper::forward_kinematics(&paper::inverse_kinematics(pose).0)
+            .0
+            .iter()
+            .flatten()
+            .copied()
+            .collect(),
         other => panic!("no values for the input `{other}`"),
     }
 }
@@ -66,6 +76,7 @@ fn every_c_kernel_equals_its_rust_kernel() {
         }
         checked += 1;
     }
-    // 12 pose-setting kernels per model, 7 more for the paper model, two precisions.
-    assert_eq!(checked, 2 * (12 + 12 + 7));
+    // 12 pose-setting and 8 joint-setting kernels per model, 7 more for the paper model, two
+    // precisions.
+    assert_eq!(checked, 2 * (20 + 20 + 7));
 }
