@@ -64,6 +64,43 @@ impl ComputedTorque {
         }
     }
 
+    /// Computed torque in joint space: `Γ = M_q (q̈_d + Kp e_q + Kd ė_q) + c_q`, the joint-space
+    /// inverse dynamics of the controller's robot at the measured actuator positions `q` and
+    /// rates `qd`, tracking the desired actuator motion `[q_d, q̇_d, q̈_d]`; within the force
+    /// limit. With an exact model each actuator's error obeys `ë + Kd ė + Kp e = 0`.
+    ///
+    /// # Errors
+    /// As [`C5::inverse_dynamics_joint`] of the controller's robot.
+    pub fn joint_forces(
+        &self,
+        controller: &C5,
+        desired: &[[f64; 6]; 3],
+        q: &[f64; 6],
+        qd: &[f64; 6],
+    ) -> Result<[f64; 6], Error> {
+        let qdd = self.joint_acceleration(desired, q, qd);
+        let gamma = controller.inverse_dynamics_joint(q, qd, &qdd)?;
+        Ok(self.limited(gamma))
+    }
+
+    /// The actuator accelerations the joint-space law asks for: `q̈_d + Kp e_q + Kd ė_q`.
+    pub fn joint_acceleration(
+        &self,
+        desired: &[[f64; 6]; 3],
+        q: &[f64; 6],
+        qd: &[f64; 6],
+    ) -> [f64; 6] {
+        let [q_d, qd_d, qdd_d] = desired;
+        core::array::from_fn(|i| qdd_d[i] + self.kp * (q_d[i] - q[i]) + self.kd * (qd_d[i] - qd[i]))
+    }
+
+    fn limited(&self, gamma: [f64; 6]) -> [f64; 6] {
+        match self.force_limit {
+            Some(limit) => gamma.map(|g| g.clamp(-limit, limit)),
+            None => gamma,
+        }
+    }
+
     /// The actuator forces (N, segment order), within the force limit.
     ///
     /// # Errors
@@ -76,9 +113,6 @@ impl ComputedTorque {
     ) -> Result<[f64; 6], Error> {
         let accel = self.commanded_acceleration(desired, actual);
         let gamma = controller.inverse_dynamics(&actual.with_acceleration(accel))?;
-        Ok(match self.force_limit {
-            Some(limit) => gamma.map(|g| g.clamp(-limit, limit)),
-            None => gamma,
-        })
+        Ok(self.limited(gamma))
     }
 }

@@ -22,6 +22,11 @@ pub enum Error {
     /// The robot description breaks a rule: `field` as the description spells it, and the
     /// rule (`must be positive`, `breaks the triangle inequality Ixx ≤ Iyy + Izz ...`).
     Robot { field: String, rule: String },
+    /// A setting is out of its range: `what` it is, and the `rule` it breaks.
+    Invalid {
+        what: &'static str,
+        rule: &'static str,
+    },
     /// A slice argument has the wrong length.
     WrongLength {
         input: &'static str,
@@ -66,6 +71,7 @@ impl fmt::Display for Error {
                 )
             }
             Error::Robot { field, rule } => write!(f, "invalid robot: `{field}` {rule}"),
+            Error::Invalid { what, rule } => write!(f, "{what}: {rule}"),
             Error::WrongLength {
                 input,
                 expected,

@@ -42,6 +42,7 @@ pub mod identify;
 mod math;
 #[cfg(feature = "reference")]
 pub mod reference;
+pub mod sensors;
 pub mod trajectory;
 pub mod types;
 

@@ -14,6 +14,12 @@ mod imp {
     pub fn asin(x: f64) -> f64 {
         x.asin()
     }
+    pub fn exp(x: f64) -> f64 {
+        x.exp()
+    }
+    pub fn round(x: f64) -> f64 {
+        x.round()
+    }
 }
 
 #[cfg(all(not(feature = "std"), feature = "libm"))]
@@ -29,6 +35,12 @@ mod imp {
     }
     pub fn asin(x: f64) -> f64 {
         libm::asin(x)
+    }
+    pub fn exp(x: f64) -> f64 {
+        libm::exp(x)
+    }
+    pub fn round(x: f64) -> f64 {
+        libm::round(x)
     }
 }
 

@@ -24,7 +24,7 @@ pub struct ExciteArgs {
     #[arg(long, default_value_t = 10.0)]
     period: f64,
     /// Harmonics per coordinate.
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 10)]
     harmonics: usize,
     /// Samples per second written.
     #[arg(long, default_value_t = 100.0)]

@@ -1,9 +1,11 @@
 //! `c5 identify`, `c5 excite` and the identified parameters `c5 eval --base-parameters` reads.
 
 use crate::columns::GAMMA;
+use crate::encoder_log;
 use crate::options::RobotArgs;
 use crate::trajectory_csv;
 use crate::Result;
+use c5_runtime::identify::encoder_log::{Filtered, LogFilter, LogProcessor};
 use c5_runtime::identify::{Estimate, Identifier};
 use c5_runtime::C5;
 use clap::Args;
@@ -19,7 +21,8 @@ use std::process::ExitCode;
 #[derive(Args)]
 pub struct IdentifyArgs {
     /// Samples: a trajectory CSV (t, alpha, beta, gamma, xc, yc, zc, optionally the twist
-    /// wx..vz and acceleration wdx..az) with the measured forces gamma1..gamma6.
+    /// wx..vz and acceleration wdx..az) with the measured forces gamma1..gamma6; or an encoder
+    /// log (t, q1..q6, gamma1..gamma6), filtered, differenced and decimated first.
     #[arg(long)]
     data: PathBuf,
     #[command(flatten)]
@@ -27,21 +30,176 @@ pub struct IdentifyArgs {
     /// Writes the parameters here (JSON) and a summary on stdout; else the JSON on stdout.
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Encoder logs: the zero-phase Butterworth low-pass filter's cutoff (Hz) [default: the
+    /// sampling rate / 25].
+    #[arg(long)]
+    cutoff: Option<f64>,
+    /// Encoder logs: one sample kept in so many after the filter [default: the sampling rate /
+    /// (5 × cutoff)].
+    #[arg(long)]
+    decimate: Option<usize>,
 }
 
 pub fn run(args: &IdentifyArgs) -> Result<ExitCode> {
     let robot = args.robot.load()?;
-    identify_cmd(&robot, &args.data, args.out.as_deref())?;
+    if encoder_log::is_encoder_log(&args.data) {
+        let (estimate, report) = from_encoders(&robot, args)?;
+        write(
+            &robot,
+            &args.data,
+            args.out.as_deref(),
+            estimate,
+            Some(report),
+            (false, false),
+        )?;
+    } else {
+        if args.cutoff.is_some() || args.decimate.is_some() {
+            return Err(format!(
+                "{}: --cutoff and --decimate filter encoder logs (t, q1..q6, gamma1..gamma6); \
+                 this file has the platform's state",
+                args.data.display()
+            )
+            .into());
+        }
+        identify_cmd(&robot, &args.data, args.out.as_deref())?;
+    }
     Ok(ExitCode::SUCCESS)
 }
 
-/// What `identify` writes: the estimate and, for the reader, what each base parameter groups.
+/// What `identify` writes: the estimate and, for the reader, what each base parameter groups;
+/// for an encoder log, how it was filtered.
 #[derive(Serialize, Deserialize)]
 pub struct Identified {
     #[serde(flatten)]
     pub estimate: Estimate,
     #[serde(default)]
     pub relations: Vec<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub filter: Option<FilterReport>,
+}
+
+/// How an encoder log was filtered and thinned.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct FilterReport {
+    /// `"butterworth, zero phase (forwards and backwards)"`.
+    pub kind: String,
+    pub order: usize,
+    pub cutoff_hz: f64,
+    pub decimate: usize,
+    pub sample_rate_hz: f64,
+    pub samples_read: usize,
+    pub samples_kept: usize,
+    /// Dropped at each end: the filter's settling time.
+    pub edge_samples: usize,
+}
+
+/// Identifies from an encoder log: the samples through [`LogProcessor`] (filter, central
+/// differences, decimation, edges dropped), then the forward kinematics and the actuators'
+/// motion to the platform's state, into the streaming estimator.
+fn from_encoders(robot: &C5, args: &IdentifyArgs) -> Result<(Estimate, FilterReport)> {
+    let data = &args.data;
+    let mut rows = encoder_log::open(data)?;
+    let progress = progress_bar(rows.len);
+    // The sampling rate, from the first two samples, designs the filter.
+    let first: Vec<encoder_log::Row> = rows
+        .by_ref()
+        .take(2)
+        .collect::<std::result::Result<_, _>>()?;
+    let rate = match first.as_slice() {
+        [a, b] if b.t > a.t => 1.0 / (b.t - a.t),
+        [_, b] => return Err(rows.error(b.line, "time must increase".into()).into()),
+        _ => return Err(format!("{}: a log needs samples", data.display()).into()),
+    };
+    let mut settings = LogFilter::default_for(rate);
+    if let Some(cutoff) = args.cutoff {
+        settings.cutoff = Some(cutoff);
+        settings.decimate = LogFilter::decimation_for(rate, cutoff);
+    }
+    if let Some(decimate) = args.decimate {
+        settings.decimate = decimate;
+    }
+    let mut pipeline =
+        LogProcessor::new(settings, rate).map_err(|e| format!("{}: {e}", data.display()))?;
+    let mut identifier = Identifier::new(robot);
+    let mut kept: Vec<Filtered> = Vec::new();
+    // The lines of the samples not yet kept or passed over: sample `index` is
+    // `lines[index - passed]`.
+    let mut lines: std::collections::VecDeque<usize> = std::collections::VecDeque::new();
+    let mut passed = 0;
+    let mut consumed = 0;
+    let mut take = |kept: &mut Vec<Filtered>,
+                    lines: &mut std::collections::VecDeque<usize>,
+                    passed: &mut usize|
+     -> Result<()> {
+        for s in kept.drain(..) {
+            let line = lines[s.index - *passed];
+            let state = robot
+                .joint_state(&s.q, &s.qd, &s.qdd)
+                .map_err(|e| format!("{}:{line}: {e}", data.display()))?;
+            identifier
+                .add(&state, &s.gamma)
+                .map_err(|e| format!("{}:{line}: {e}", data.display()))?;
+            consumed += 1;
+            // Kept samples come in order: the lines before this one are done with.
+            while *passed < s.index {
+                lines.pop_front();
+                *passed += 1;
+            }
+        }
+        Ok(())
+    };
+    let mut push = |row: encoder_log::Row,
+                    kept: &mut Vec<Filtered>,
+                    lines: &mut std::collections::VecDeque<usize>|
+     -> Result<()> {
+        lines.push_back(row.line);
+        pipeline
+            .push(row.t, &row.q, &row.gamma, kept)
+            .map_err(|e| format!("{}:{}: {e}", data.display(), row.line).into())
+    };
+    for row in first {
+        push(row, &mut kept, &mut lines)?;
+    }
+    while let Some(row) = rows.next() {
+        push(row?, &mut kept, &mut lines)?;
+        if !kept.is_empty() {
+            take(&mut kept, &mut lines, &mut passed)?;
+            progress.set_position(rows.position());
+        }
+    }
+    let (samples_read, edge) = (pipeline.samples(), pipeline.edge());
+    pipeline
+        .finish(&mut kept)
+        .map_err(|e| format!("{}: {e}", data.display()))?;
+    take(&mut kept, &mut lines, &mut passed)?;
+    progress.finish_and_clear();
+    let estimate = identifier
+        .estimate()
+        .map_err(|e| format!("{}: {e}", data.display()))?;
+    let report = FilterReport {
+        kind: "butterworth, zero phase (forwards and backwards)".to_string(),
+        order: settings.order,
+        cutoff_hz: settings.cutoff.unwrap_or(f64::NAN),
+        decimate: settings.decimate,
+        sample_rate_hz: rate,
+        samples_read,
+        samples_kept: consumed,
+        edge_samples: edge,
+    };
+    Ok((estimate, report))
+}
+
+fn progress_bar(len: u64) -> ProgressBar {
+    let progress = if len >= PROGRESS_FROM_BYTES {
+        ProgressBar::new(len)
+    } else {
+        ProgressBar::hidden()
+    };
+    progress.set_style(
+        ProgressStyle::with_template("{bar:40} {bytes}/{total_bytes} {per_sec} eta {eta}")
+            .expect("a valid template"),
+    );
+    progress
 }
 
 /// Files smaller than this identify without a progress bar.
@@ -50,15 +208,7 @@ const PROGRESS_FROM_BYTES: u64 = 10 << 20;
 /// Fits the base parameters of `robot`'s model and geometry to the samples of `data`.
 fn identify_cmd(robot: &C5, data: &Path, out: Option<&Path>) -> Result<()> {
     let samples = trajectory_csv::open(data, &GAMMA)?;
-    let progress = if samples.len >= PROGRESS_FROM_BYTES {
-        ProgressBar::new(samples.len)
-    } else {
-        ProgressBar::hidden()
-    };
-    progress.set_style(
-        ProgressStyle::with_template("{bar:40} {bytes}/{total_bytes} {per_sec} eta {eta}")
-            .expect("a valid template"),
-    );
+    let progress = progress_bar(samples.len);
     let derived = samples.derived;
     let mut identifier = Identifier::new(robot);
     let mut samples = samples;
@@ -76,6 +226,18 @@ fn identify_cmd(robot: &C5, data: &Path, out: Option<&Path>) -> Result<()> {
     let estimate = identifier
         .estimate()
         .map_err(|e| format!("{}: {e}", data.display()))?;
+    write(robot, data, out, estimate, None, derived)
+}
+
+/// Writes the parameters (JSON on stdout, or to `out` with a summary on stdout).
+fn write(
+    robot: &C5,
+    data: &Path,
+    out: Option<&Path>,
+    estimate: Estimate,
+    filter: Option<FilterReport>,
+    derived: (bool, bool),
+) -> Result<()> {
     let identified = Identified {
         relations: robot
             .base_parameters()
@@ -84,6 +246,7 @@ fn identify_cmd(robot: &C5, data: &Path, out: Option<&Path>) -> Result<()> {
             .map(|s| s.to_string())
             .collect(),
         estimate,
+        filter,
     };
     let json = serde_json::to_string_pretty(&identified)? + "\n";
     let mut stdout = std::io::stdout().lock();
@@ -97,6 +260,21 @@ fn identify_cmd(robot: &C5, data: &Path, out: Option<&Path>) -> Result<()> {
                     stdout,
                     "{}: no twist or acceleration columns, derived by finite differences",
                     data.display()
+                )?;
+            }
+            if let Some(f) = &identified.filter {
+                writeln!(
+                    stdout,
+                    "{}: an encoder log at {} Hz: order-{} Butterworth at {} Hz, zero phase; \
+                     {} of {} samples kept (one in {}, {} dropped at each end)",
+                    data.display(),
+                    f.sample_rate_hz,
+                    f.order,
+                    f.cutoff_hz,
+                    f.samples_kept,
+                    f.samples_read,
+                    f.decimate,
+                    f.edge_samples
                 )?;
             }
             writeln!(

@@ -3,6 +3,7 @@
 
 mod audit;
 mod columns;
+mod encoder_log;
 mod eval;
 mod excite;
 mod forward;

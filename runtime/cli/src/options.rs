@@ -52,3 +52,61 @@ pub fn sample_times(duration: f64, rate: f64, what: &str) -> crate::Result<Vec<f
         }
     })
 }
+
+/// What the robot's sensors and motors add: quantized encoders and noisy forces.
+#[derive(Args, Clone, Debug)]
+pub struct SensorArgs {
+    /// Encoder resolution (m per count): the actuator positions are read as whole counts
+    /// [default: exact].
+    #[arg(long)]
+    pub encoder_resolution: Option<f64>,
+    /// Gaussian noise on the forces (N, standard deviation) [default: none].
+    #[arg(long)]
+    pub force_noise: Option<f64>,
+    /// Seed of the force noise.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+impl SensorArgs {
+    /// Whether any sensor option is given.
+    pub fn any(&self) -> bool {
+        self.encoder_resolution.is_some() || self.force_noise.is_some()
+    }
+
+    /// The encoders, exact without `--encoder-resolution`.
+    pub fn encoders(&self) -> crate::Result<c5_runtime::sensors::Encoders> {
+        match self.encoder_resolution {
+            None => Ok(c5_runtime::sensors::Encoders::default()),
+            Some(m) => c5_runtime::sensors::Encoders::new(m).map_err(|_| {
+                format!("--encoder-resolution must be a positive number, got {m}").into()
+            }),
+        }
+    }
+
+    /// The force noise: a seeded source of `N(0, σ²)` samples (zero without `--force-noise`).
+    pub fn noise(&self) -> crate::Result<ForceNoise> {
+        let sigma = self.force_noise.unwrap_or(0.0);
+        if !(sigma.is_finite() && sigma >= 0.0) {
+            return Err(format!("--force-noise must be a non-negative number, got {sigma}").into());
+        }
+        Ok(ForceNoise {
+            normal: rand_distr::Normal::new(0.0, sigma).expect("a valid deviation"),
+            rng: <rand_chacha::ChaCha8Rng as rand::SeedableRng>::seed_from_u64(self.seed),
+        })
+    }
+}
+
+/// Seeded Gaussian noise on the forces.
+pub struct ForceNoise {
+    normal: rand_distr::Normal<f64>,
+    rng: rand_chacha::ChaCha8Rng,
+}
+
+impl ForceNoise {
+    /// `gamma` with noise on each force.
+    pub fn add(&mut self, gamma: &[f64; 6]) -> [f64; 6] {
+        use rand_distr::Distribution;
+        gamma.map(|g| g + self.normal.sample(&mut self.rng))
+    }
+}

@@ -31,6 +31,12 @@ pub struct SimulateArgs {
     /// forces are added as `gamma_paper1..6` or `gamma_consistent1..6`).
     #[command(flatten)]
     robot: RobotArgs,
+    /// Also writes what a real experiment records, `t,q1..q6,gamma1..gamma6`: the encoders'
+    /// positions and the forces, with `--encoder-resolution` and `--force-noise`.
+    #[arg(long)]
+    encoder_log: Option<PathBuf>,
+    #[command(flatten)]
+    sensors: options::SensorArgs,
 }
 
 pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
@@ -44,9 +50,27 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
             times.into_iter().map(|t| (t, motion.state(t))).collect()
         }
     };
+    if args.sensors.any() && args.encoder_log.is_none() {
+        return Err("--encoder-resolution and --force-noise shape the --encoder-log".into());
+    }
+    let (encoders, mut noise) = (args.sensors.encoders()?, args.sensors.noise()?);
     // Everything is computed before anything is written: a refused sample writes nothing.
     let study = run(&robot, &states).map_err(|(t, e)| format!("sample at t = {t} s: {e}"))?;
     std::fs::create_dir_all(out)?;
+    if let Some(path) = &args.encoder_log {
+        let mut w = csv::Writer::from_path(path)?;
+        let mut header = vec![columns::TIME.to_string()];
+        header.extend(columns::per_actuator("q"));
+        header.extend(columns::GAMMA.map(String::from));
+        w.write_record(&header)?;
+        for s in &study.samples {
+            let mut row = vec![s.t];
+            row.extend(encoders.read(&s.eval.q));
+            row.extend(noise.add(&s.eval.gamma));
+            w.write_record(row.iter().map(|v| format!("{v:.17e}")))?;
+        }
+        w.flush()?;
+    }
     let csv = out.join("section9.csv");
     write_csv(&csv, &study)?;
     let plots = write_plots(out, &study)?;
@@ -60,6 +84,9 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
         )?,
     }
     writeln!(report, "wrote {}", csv.display())?;
+    if let Some(path) = &args.encoder_log {
+        writeln!(report, "wrote {} (the encoder log)", path.display())?;
+    }
     for p in plots {
         writeln!(report, "wrote {}", out.join(p).display())?;
     }

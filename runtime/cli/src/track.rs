@@ -1,14 +1,15 @@
 //! `c5 track`: a computed-torque controller tracking a trajectory on a simulated robot.
 
 use crate::columns;
-use crate::options::{self, model_parser, RobotArgs};
+use crate::options::{self, model_parser, ForceNoise, RobotArgs, SensorArgs};
 use crate::simulate::plot;
 use crate::trajectory_csv;
 use c5_runtime::control::{orientation_error, ComputedTorque};
 use c5_runtime::dynamics::{compose, exp_rotation, rk4_step, rotation, rpy, PlantState};
+use c5_runtime::sensors::{Encoders, RateEstimator};
 use c5_runtime::trajectory::LinearMove;
 use c5_runtime::{Acceleration, Error, Model, Pose, State, Twist, C5};
-use clap::Args;
+use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -50,6 +51,31 @@ pub struct TrackArgs {
     /// integration stage, a continuous-time controller).
     #[arg(long)]
     hold: bool,
+    /// Where the law closes the loop: on the platform's pose (task) or on the actuators
+    /// (joint: `Γ = M_q (q̈_d + Kp e_q + Kd ė_q) + c_q`).
+    #[arg(long, value_enum, default_value_t = Space::Task)]
+    space: Space,
+    /// The controller's rate (Hz): it reads the encoders and holds its forces between
+    /// samples; at most the integration rate (`--rate`, or the trajectory file's), of which it
+    /// runs every n-th step. Implies the measured loop.
+    #[arg(long)]
+    control_rate: Option<f64>,
+    /// The encoders and the forces' noise: with any of them (or `--control-rate`) the
+    /// controller sees only the encoders' counts, and estimates the rates.
+    #[command(flatten)]
+    sensors: SensorArgs,
+    /// The rate estimator's bandwidth (Hz): an α-β filter per actuator on the counts.
+    #[arg(long, default_value_t = 50.0)]
+    estimator_bandwidth: f64,
+}
+
+/// Where a computed-torque law closes the loop.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Space {
+    /// On the platform's pose and twist.
+    Task,
+    /// On the actuators' positions and rates.
+    Joint,
 }
 
 pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
@@ -110,14 +136,47 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
         plant: &plant,
         law,
         hold: o.hold,
+        space: o.space,
     };
+    let measured = o.sensors.any() || o.control_rate.is_some();
     let clock = std::time::Instant::now();
-    let samples = run(
-        &setup,
-        &desired,
-        &times,
-        PlantState::new(&start, &first.twist),
-    )
+    let initial = PlantState::new(&start, &first.twist);
+    let samples = if measured {
+        if o.hold {
+            return Err("--hold is the ideal loop's; the measured loop holds its forces".into());
+        }
+        let step = times.get(1).map_or(1e-3, |t| t - times[0]);
+        let every = match o.control_rate {
+            None => 1,
+            Some(rate) if rate.is_finite() && rate > 0.0 && rate <= 1.0001 / step => {
+                ((1.0 / (rate * step)).round() as usize).max(1)
+            }
+            Some(rate) => {
+                return Err(format!(
+                    "--control-rate must be positive and at most the integration rate ({} Hz), \
+                     got {rate}",
+                    1.0 / step
+                )
+                .into())
+            }
+        };
+        let loop_ = Measured {
+            encoders: o.sensors.encoders()?,
+            noise: o.sensors.noise()?,
+            estimator: RateEstimator::new(o.estimator_bandwidth, every as f64 * step).map_err(
+                |_| {
+                    format!(
+                        "--estimator-bandwidth must be positive, got {}",
+                        o.estimator_bandwidth
+                    )
+                },
+            )?,
+            every,
+        };
+        run_measured(&setup, &desired, &times, initial, loop_)
+    } else {
+        run(&setup, &desired, &times, initial)
+    }
     .map_err(|(t, e)| format!("step at t = {t} s: {e}"))?;
     let elapsed = clock.elapsed();
     std::fs::create_dir_all(&o.out)?;
@@ -125,14 +184,24 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
     write_csv(&csv, &samples)?;
     let plots = write_plots(&o.out, &samples)?;
     let [max_pos, max_ori, end_pos, end_ori] = summary(&samples);
+    let [rms_pos, rms_ori] = rms(&samples);
     let mut report = std::io::stdout().lock();
     writeln!(
         report,
-        "tracked {} steps in {:.1} ms: controller {} model, plant {} model",
+        "tracked {} steps in {:.1} ms: controller {} model in {} space, plant {} model{}",
         samples.len(),
         elapsed.as_secs_f64() * 1e3,
         controller.model(),
-        plant.model()
+        match o.space {
+            Space::Task => "task",
+            Space::Joint => "joint",
+        },
+        plant.model(),
+        if measured {
+            ", measured (encoders and estimated rates)"
+        } else {
+            ", ideal (the exact state)"
+        }
     )?;
     writeln!(report, "wrote {}", csv.display())?;
     for p in plots {
@@ -143,6 +212,7 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
         "largest error: {max_pos:.6} mm, {max_ori:.6} mrad; at the end: {end_pos:.6} mm, \
          {end_ori:.6} mrad"
     )?;
+    writeln!(report, "RMS error: {rms_pos:.6} mm, {rms_ori:.6} mrad")?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -189,6 +259,8 @@ pub struct Sample {
     pub position_error: [f64; 3],
     /// `log(R_d Rᵀ)` (rad).
     pub orientation_error: [f64; 3],
+    /// `q_d - q`, the actuators' error (m).
+    pub actuator_error: [f64; 6],
     /// The forces applied from `t` on (N).
     pub gamma: [f64; 6],
 }
@@ -200,17 +272,66 @@ pub struct Setup<'a> {
     pub law: ComputedTorque,
     /// A sampled controller: the forces held over each step (else the law runs at every stage).
     pub hold: bool,
+    /// Where the law closes the loop.
+    pub space: Space,
 }
 
-fn sample(t: f64, desired: &State, actual: &PlantState, gamma: [f64; 6]) -> Sample {
-    Sample {
+impl Setup<'_> {
+    /// The law's forces at the plant's exact state.
+    fn forces(&self, desired: &State, actual: &PlantState) -> Result<[f64; 6], Error> {
+        match self.space {
+            Space::Task => self.law.forces(self.controller, desired, actual),
+            Space::Joint => {
+                let state = actual.with_acceleration(Acceleration::default());
+                let (q, _) = self.controller.inverse_kinematics(&state.pose)?;
+                let qd = self
+                    .controller
+                    .joint_velocities(&state.pose, &state.twist)?;
+                self.law
+                    .joint_forces(self.controller, &self.joints(desired)?, &q, &qd)
+            }
+        }
+    }
+
+    /// The desired actuator motion `[q_d, q̇_d, q̈_d]` of the controller's model.
+    fn joints(&self, desired: &State) -> Result<[[f64; 6]; 3], Error> {
+        let c = self.controller;
+        Ok([
+            c.inverse_kinematics(&desired.pose)?.0,
+            c.joint_velocities(&desired.pose, &desired.twist)?,
+            c.joint_accelerations(desired)?,
+        ])
+    }
+}
+
+/// The measured loop: encoders, the controller's rate estimator, its sampling and the forces'
+/// noise.
+pub struct Measured {
+    pub encoders: Encoders,
+    pub noise: ForceNoise,
+    pub estimator: RateEstimator,
+    /// The controller runs every this many integration steps.
+    pub every: usize,
+}
+
+fn sample(
+    setup: &Setup,
+    t: f64,
+    desired: &State,
+    actual: &PlantState,
+    gamma: [f64; 6],
+) -> Result<Sample, Error> {
+    let (q_d, _) = setup.controller.inverse_kinematics(&desired.pose)?;
+    let (q, _) = setup.plant.inverse_kinematics(&actual.pose())?;
+    Ok(Sample {
         t,
         desired: desired.pose,
         actual: actual.pose(),
         position_error: std::array::from_fn(|i| desired.pose.center[i] - actual.center[i]),
         orientation_error: orientation_error(&rotation(&desired.pose), &actual.rotation()),
+        actuator_error: std::array::from_fn(|i| q_d[i] - q[i]),
         gamma,
-    }
+    })
 }
 
 /// Runs the loop over `times` from `start`.
@@ -229,27 +350,88 @@ pub fn run(
     for w in times.windows(2) {
         let (t, dt) = (w[0], w[1] - w[0]);
         let now = desired.at(t);
-        let gamma = setup
-            .law
-            .forces(setup.controller, &now, &state)
-            .map_err(|e| (t, e))?;
-        samples.push(sample(t, &now, &state, gamma));
+        let gamma = setup.forces(&now, &state).map_err(|e| (t, e))?;
+        samples.push(sample(setup, t, &now, &state, gamma).map_err(|e| (t, e))?);
         state = rk4_step(setup.plant, &state, t, dt, |time, s| {
             if setup.hold {
                 Ok(gamma)
             } else {
-                setup.law.forces(setup.controller, &desired.at(time), s)
+                setup.forces(&desired.at(time), s)
             }
         })
         .map_err(|e| (t, e))?;
     }
     if let Some(&t) = times.last() {
         let now = desired.at(t);
-        let gamma = setup
-            .law
-            .forces(setup.controller, &now, &state)
+        let gamma = setup.forces(&now, &state).map_err(|e| (t, e))?;
+        samples.push(sample(setup, t, &now, &state, gamma).map_err(|e| (t, e))?);
+    }
+    Ok(samples)
+}
+
+/// Runs the measured loop over `times` from `start`: every `every` steps the controller reads
+/// the encoders (the plant's actuator positions, quantized), estimates the positions and rates,
+/// and commands forces, held (with their noise) until its next sample; the plant integrates
+/// each step by RK4.
+///
+/// In task space the controller's state is the forward kinematics of the estimated positions
+/// and `V = J q̇` of the estimated rates; in joint space, the estimates themselves.
+///
+/// # Errors
+/// The time and the error of the first step that fails.
+pub fn run_measured(
+    setup: &Setup,
+    desired: &Desired,
+    times: &[f64],
+    start: PlantState,
+    mut sensors: Measured,
+) -> Result<Vec<Sample>, (f64, Error)> {
+    let c = setup.controller;
+    let mut state = start;
+    let mut samples = Vec::with_capacity(times.len());
+    let mut gamma = [0.0; 6];
+    // The actuators' acceleration the last command asked for: the estimator's input.
+    let mut commanded = [0.0; 6];
+    for (k, &t) in times.iter().enumerate() {
+        let now = desired.at(t);
+        if k % sensors.every == 0 {
+            let truth = setup
+                .plant
+                .inverse_kinematics(&state.pose())
+                .map_err(|e| (t, e))?
+                .0;
+            let counts = sensors.encoders.read(&truth);
+            let joints = setup.joints(&now).map_err(|e| (t, e))?;
+            // The estimator starts at the first counts with the planned rates.
+            let (q, qd) = if k == 0 {
+                sensors.estimator.reset(&counts, &joints[1]);
+                (counts, joints[1])
+            } else {
+                sensors
+                    .estimator
+                    .update(&counts, &commanded)
+                    .map_err(|e| (t, e))?
+            };
+            let command = match setup.space {
+                Space::Joint => {
+                    commanded = setup.law.joint_acceleration(&joints, &q, &qd);
+                    setup.law.joint_forces(c, &joints, &q, &qd)
+                }
+                Space::Task => c.joint_state(&q, &qd, &[0.0; 6]).and_then(|seen| {
+                    let actual = PlantState::new(&seen.pose, &seen.twist);
+                    let accel = setup.law.commanded_acceleration(&now, &actual);
+                    commanded = c.joint_accelerations(&actual.with_acceleration(accel))?;
+                    setup.law.forces(c, &now, &actual)
+                }),
+            }
             .map_err(|e| (t, e))?;
-        samples.push(sample(t, &now, &state, gamma));
+            gamma = sensors.noise.add(&command);
+        }
+        samples.push(sample(setup, t, &now, &state, gamma).map_err(|e| (t, e))?);
+        if let Some(&next) = times.get(k + 1) {
+            state =
+                rk4_step(setup.plant, &state, t, next - t, |_, _| Ok(gamma)).map_err(|e| (t, e))?;
+        }
     }
     Ok(samples)
 }
@@ -270,6 +452,11 @@ pub fn write_csv(path: &Path, samples: &[Sample]) -> Result<(), Box<dyn std::err
         ]
         .map(String::from),
     );
+    header.extend(
+        columns::per_actuator("eq")
+            .iter()
+            .map(|c| format!("{c}_mm")),
+    );
     header.extend(columns::GAMMA.map(String::from));
     w.write_record(&header)?;
     for s in samples {
@@ -278,6 +465,7 @@ pub fn write_csv(path: &Path, samples: &[Sample]) -> Result<(), Box<dyn std::err
         row.extend(s.actual.to_array());
         row.extend(s.position_error.map(|e| e * 1e3));
         row.extend(s.orientation_error.map(|e| e * 1e3));
+        row.extend(s.actuator_error.map(|e| e * 1e3));
         row.extend(s.gamma);
         w.write_record(row.iter().map(|v| format!("{v:.12e}")))?;
     }
@@ -305,6 +493,17 @@ pub fn summary(samples: &[Sample]) -> [f64; 4] {
         max(&|s| 1e3 * norm(&s.orientation_error)),
         last[0],
         last[1],
+    ]
+}
+
+/// The RMS position (mm) and orientation (mrad) errors of the run.
+pub fn rms(samples: &[Sample]) -> [f64; 2] {
+    let n = samples.len().max(1) as f64;
+    let mean_square =
+        |f: &dyn Fn(&Sample) -> f64| samples.iter().map(|s| f(s).powi(2)).sum::<f64>() / n;
+    [
+        1e3 * mean_square(&|s| norm(&s.position_error)).sqrt(),
+        1e3 * mean_square(&|s| norm(&s.orientation_error)).sqrt(),
     ]
 }
 

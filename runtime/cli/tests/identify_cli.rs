@@ -291,3 +291,150 @@ fn an_infinite_relative_deviation_survives_json() {
     let back: c5_runtime::identify::Estimate = serde_json::from_str(&text).unwrap();
     assert_eq!(back, e);
 }
+
+/// An unseen robot: off-centre masses, full inertias, another spacing.
+fn unseen_robot() -> Robot {
+    let mut robot = Robot {
+        half_spacing: 0.23,
+        ..Robot::default()
+    };
+    robot.platform.mass = 13.1;
+    robot.platform.com = [-0.012, 0.018, 0.009];
+    robot.platform.inertia = [
+        [0.41, 0.012, -0.008],
+        [0.012, 0.22, 0.006],
+        [-0.008, 0.006, 0.25],
+    ];
+    for (i, s) in robot.segments.iter_mut().enumerate() {
+        let k = i as f64;
+        s.rod.mass = 1.8 + 0.07 * k;
+        s.joint.mass = 1.4 + 0.05 * k;
+        s.joint.com = [0.006 - 0.002 * k, 0.003 * k, -0.008];
+    }
+    robot.validate().unwrap();
+    robot
+}
+
+#[test]
+fn an_encoder_log_of_an_unseen_robot_identifies_it_through_the_command_line() {
+    let dir = scratch("encoder-log");
+    let robot = unseen_robot();
+    let file = dir.join("unseen.toml");
+    std::fs::write(&file, robot.to_toml()).unwrap();
+    let path = |name: &str| dir.join(name).display().to_string();
+    let run = |args: &[&str]| {
+        let out = c5(args, "");
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        out
+    };
+    // What an experiment records: an exciting trajectory at 1 kHz, the encoders at 1e-7 m a
+    // count, the forces with 0.5 N of noise.
+    run(&[
+        "excite",
+        "--rate",
+        "1000",
+        "--robot",
+        &path("unseen.toml"),
+        "--out",
+        &path("excite.csv"),
+    ]);
+    run(&[
+        "simulate",
+        "--robot",
+        &path("unseen.toml"),
+        "--trajectory",
+        &path("excite.csv"),
+        "--out",
+        &path("sim"),
+        "--encoder-log",
+        &path("log.csv"),
+        "--encoder-resolution",
+        "1e-7",
+        "--force-noise",
+        "0.5",
+        "--seed",
+        "7",
+    ]);
+    let header = std::fs::read_to_string(dir.join("log.csv")).unwrap();
+    assert!(header.starts_with("t,q1,q2,q3,q4,q5,q6,gamma1,gamma2,gamma3,gamma4,gamma5,gamma6\n"));
+    let summary = run(&[
+        "identify",
+        "--data",
+        &path("log.csv"),
+        "--robot",
+        &path("unseen.toml"),
+        "--out",
+        &path("params.json"),
+    ]);
+    let summary = String::from_utf8(summary.stdout).unwrap();
+    assert!(summary.contains("an encoder log at 1000 Hz"), "{summary}");
+    let params: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("params.json")).unwrap()).unwrap();
+    assert_eq!(params["filter"]["cutoff_hz"], 40.0);
+    assert_eq!(params["filter"]["decimate"], 5);
+    // Unseen states of the identification envelope (the box `excite` searches), any rates.
+    let truth = C5::new(robot).unwrap();
+    let mut rng = <rand_chacha::ChaCha8Rng as rand::SeedableRng>::seed_from_u64(17);
+    let mut u = |b: f64| rand::Rng::gen_range(&mut rng, -b..=b);
+    let states: Vec<State> = (0..1000)
+        .map(|_| State {
+            pose: c5_runtime::Pose::from_array([
+                u(0.35),
+                u(0.35),
+                u(0.35),
+                u(0.05),
+                u(0.05),
+                u(0.05),
+            ]),
+            twist: c5_runtime::Twist {
+                omega: [u(1.0), u(1.0), u(1.0)],
+                velocity: [u(0.2), u(0.2), u(0.2)],
+            },
+            accel: c5_runtime::Acceleration {
+                omega_dot: [u(4.0), u(4.0), u(4.0)],
+                linear: [u(2.0), u(2.0), u(2.0)],
+            },
+        })
+        .collect();
+    let input: Vec<String> = states
+        .iter()
+        .map(|s| {
+            serde_json::json!({
+                "pose": s.pose.to_array(), "omega": s.twist.omega, "velocity": s.twist.velocity,
+                "omega_dot": s.accel.omega_dot, "acceleration": s.accel.linear
+            })
+            .to_string()
+        })
+        .collect();
+    let out = c5(
+        &[
+            "eval",
+            "--robot",
+            &path("unseen.toml"),
+            "--base-parameters",
+            &path("params.json"),
+        ],
+        &input.join("\n"),
+    );
+    assert!(out.status.success());
+    let (mut sq, mut worst, mut force_sq, mut n) = (0.0, 0.0_f64, 0.0, 0.0);
+    for (line, s) in String::from_utf8(out.stdout).unwrap().lines().zip(&states) {
+        let v: Value = serde_json::from_str(line).unwrap();
+        let want = truth.inverse_dynamics(s).unwrap();
+        for (i, w) in want.iter().enumerate() {
+            let e = v["gamma"][i].as_f64().unwrap() - w;
+            sq += e * e;
+            worst = worst.max(e.abs());
+            force_sq += w * w;
+            n += 1.0;
+        }
+    }
+    let (rms, force_rms) = ((sq / n).sqrt(), (force_sq / n).sqrt());
+    println!("forces RMS {force_rms:.1} N: error RMS {rms:.3} N, largest {worst:.3} N");
+    assert!(rms < 0.15 && worst < 0.5, "RMS {rms}, largest {worst}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -59,7 +59,7 @@ impl Default for Search {
     fn default() -> Self {
         Search {
             period: 10.0,
-            harmonics: 5,
+            harmonics: 10,
             samples: 500,
             candidates: 400,
             seed: 1,

@@ -10,8 +10,10 @@
 //! Friction is the usual `Γ_f,i = Fv_i Q̇_i1 + Fc_i sign(Q̇_i1)`: the forces the actuators
 //! apply are `Y_b β`, inertial and gravity loads plus friction.
 
+pub mod encoder_log;
 mod estimator;
 pub mod excite;
+pub mod filter;
 
 pub use estimator::{Estimate, Identifier, IdentifyError};
 
