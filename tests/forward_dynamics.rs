@@ -40,6 +40,20 @@ fn check_state(c5: &C5, s: &State, gamma_probe: &[f64; 6]) {
     let m = matrix(&c5.task_inertia(&s.pose).unwrap());
     assert!((m - m.transpose()).amax() < 1e-12 * m.amax(), "symmetric");
     assert!(m.cholesky().is_some(), "positive definite: {m}");
+    // The forward-dynamics kernel (the consistent model's in the platform frame, from the
+    // mechanism's structure) against the task-space route: `M_x a = J⁻ᵀ Γ - h`, with the
+    // kernels `task_inertia`, `task_bias` and `inverse_jacobian_pose`, solved by Cholesky.
+    let h = Vector6::from(c5.task_bias(&s.pose, &s.twist).unwrap());
+    let jinv = matrix(&c5.inverse_jacobian(&s.pose).unwrap());
+    let want = m
+        .cholesky()
+        .unwrap()
+        .solve(&(jinv.transpose() * Vector6::from(*gamma_probe) - h));
+    assert!(
+        rel_err(&accel.to_array(), want.as_slice(), 1.0) < 1e-12,
+        "{}: {accel:?} vs {want}",
+        c5.model()
+    );
 }
 
 #[test]

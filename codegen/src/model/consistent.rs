@@ -113,6 +113,16 @@ impl Mechanics for Consistent {
     fn motion_from_actuators<'g>(&self, posed: &Posed<'g>, joint: &JointMotion<'g>) -> Motion<'g> {
         motion_from_actuators(posed, joint)
     }
+
+    fn forward_dynamics<'g>(
+        &self,
+        dynamics: &Dynamics<'g>,
+        posed: &Posed<'g>,
+        twist: &Vec6<'g>,
+        gamma: &Vec6<'g>,
+    ) -> Vec6<'g> {
+        forward_dynamics(dynamics, posed, twist, gamma)
+    }
 }
 
 /// `e_k`, the platform axis of segment `i` in the platform frame.
@@ -439,6 +449,107 @@ pub fn leg_wrench<'g>(dynamics: &Dynamics<'g>, posed: &Posed<'g>, motion: &Motio
         pm.frame.to_base(&phi.top()),
         pm.frame.to_base(&phi.bottom()),
     )
+}
+
+/// The wrench the plates put on the platform for the motion `pm` (`K_p`, platform frame) and
+/// the direct terms `τ`: the generalized force on the platform is `K_p + Sᵀ D⁻¹ τ` (`Sᵀ D⁻¹ Γ`
+/// for the forces `Γ` of the inverse dynamics, since `Γ = D S⁻ᵀ K_p + τ`): no solve.
+fn plate_wrench_and_direct_terms<'g>(
+    dynamics: &Dynamics<'g>,
+    view: &PlatformView<'g>,
+    pm: &PlatformMotion<'g>,
+    gravity: &Vec3<'g>,
+) -> (Vec6<'g>, Vec6<'g>) {
+    let legs = leg_loads(dynamics, view, pm, gravity);
+    let g = gravity[0].graph();
+    let platform = wrench_in_platform_frame(&dynamics.platform, &pm.frame, &pm.a, gravity);
+    let moments = legs.moments.iter().fold(Vec3::zeros(g), |acc, m| acc + *m);
+    (
+        platform + Vec6::spatial(moments, Vec3::zeros(g)),
+        legs.direct,
+    )
+}
+
+/// `Sᵀ D⁻¹ x`: forces along the actuators seen at the platform (platform frame).
+fn at_platform<'g>(view: &PlatformView<'g>, x: &Vec6<'g>) -> Vec6<'g> {
+    let g = x[0].graph();
+    (0..6).fold(Vec6::zeros(g), |acc, i| {
+        acc + s_row(&view.p, i).scale(x[i] / view.d[i])
+    })
+}
+
+/// The forward dynamics from the mechanism's structure, in the platform frame. The generalized
+/// force `W' = K_p + Sᵀ D⁻¹ τ` is affine in the platform-frame acceleration
+/// `a' = (Rᵀ ω̇; Rᵀ a_C)`, and its derivative `M' = ∂W'/∂a'` is the platform's spatial inertia
+/// plus the bodies 2's rotational inertias (constant in this frame) plus
+/// `Sᵀ D⁻¹ diag(m_rod + m_2) D⁻¹ S` (the rods and bodies 2 translating with their balls, `S`
+/// with three non-zeros a row) and, with a body 2's centre of mass off its ball, their
+/// coupling. So `M' a' = Sᵀ D⁻¹ (Γ - τ(0)) - K_p(0)`, solved by an unrolled `LDLᵀ`, and
+/// `(ω̇; a_C) = (R ẇ'; R a')`: no derivative through `J⁻¹` and no rotation of the inertia.
+pub fn forward_dynamics<'g>(
+    dynamics: &Dynamics<'g>,
+    posed: &Posed<'g>,
+    twist: &Vec6<'g>,
+    gamma: &Vec6<'g>,
+) -> Vec6<'g> {
+    let g = posed.c[0].graph();
+    let view = platform_view(posed);
+    let rt = posed.r.transpose();
+    let (w, u) = (rt * twist.top(), rt * twist.bottom());
+    let gravity = rt * dynamics.gravity;
+    let moving = |accel: Vec6<'g>| PlatformMotion {
+        frame: Frame {
+            r: posed.r,
+            omega: w,
+            omega_dot: accel.top(),
+        },
+        u,
+        a: accel.bottom(),
+        joint: None,
+    };
+    let unknown: Vec6<'g> = Vector::from_fn(|k| g.input(super::INTERNAL_INPUTS + k as u32));
+    let (plates, direct) =
+        plate_wrench_and_direct_terms(dynamics, &view, &moving(unknown), &gravity);
+    let inertia = super::kernels::jacobian_wrt(
+        g,
+        &(plates + at_platform(&view, &direct)).to_vec(),
+        &unknown.0,
+    );
+    let (plates, direct) =
+        plate_wrench_and_direct_terms(dynamics, &view, &moving(Vec6::zeros(g)), &gravity);
+    let rhs = at_platform(&view, &(*gamma - direct)) - plates;
+    let a = solve_linear_first(&inertia, &rhs);
+    Vec6::spatial(posed.r * a.top(), posed.r * a.bottom())
+}
+
+/// `M' a' = r` for the platform-frame inertia, by blocks: its linear block is diagonal (the
+/// rows of `S` have `e_kᵀ` as their linear part, and the platform's and the bodies 2's linear
+/// inertia is a mass times the identity), so the linear accelerations are eliminated without
+/// fill-in and the angular ones solve the 3×3 Schur complement `A - B D⁻¹ Bᵀ` in closed form (one
+/// division on the chain, where an `LDLᵀ` has a pivot after a pivot). Falls back on a 6×6
+/// `LDLᵀ` if a parameter set makes the block not diagonal.
+fn solve_linear_first<'g>(inertia: &Mat6<'g>, r: &Vec6<'g>) -> Vec6<'g> {
+    // The lower triangle only: the upper one is the same numbers by other expressions.
+    let m: Mat6<'g> = Mat::from_fn(|i, j| inertia.0[i.max(j)][i.min(j)]);
+    let diagonal =
+        (0..3).all(|i| (0..3).all(|j| i == j || m.0[3 + i][3 + j].as_const() == Some(0.0)));
+    if !diagonal {
+        return m.ldlt_solve(r);
+    }
+    let m = &m.0;
+    let inv: [Expr<'g>; 3] = std::array::from_fn(|k| m[3 + k][3 + k].recip());
+    let b = |i: usize, k: usize| m[3 + k][i];
+    let schur: Mat3<'g> = Mat::from_fn(|i, j| {
+        (0..3).fold(m[i.max(j)][i.min(j)], |acc, k| {
+            acc - b(i, k) * b(j, k) * inv[k]
+        })
+    });
+    let rhs: Vec3<'g> =
+        Vector::from_fn(|i| (0..3).fold(r[i], |acc, k| acc - b(i, k) * inv[k] * r[3 + k]));
+    let angular = schur.solve(&rhs);
+    let linear: Vec3<'g> =
+        Vector::from_fn(|k| (0..3).fold(r[3 + k], |acc, i| acc - b(i, k) * angular[i]) * inv[k]);
+    Vec6::spatial(angular, linear)
 }
 
 /// The inverse dynamics by virtual work, with step 6 factored: `Γ = D S⁻ᵀ K_p + τ`, where
