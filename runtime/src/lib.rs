@@ -34,6 +34,7 @@
 
 extern crate alloc;
 
+mod batch;
 pub mod control;
 pub mod dynamics;
 pub mod error;
@@ -84,7 +85,13 @@ fn is_singular(value: f64) -> bool {
     value.is_nan() || value.abs() < SINGULARITY_TOLERANCE
 }
 
-/// Refuses a pose where a divisor of eq 16 (`[r11 r22 r33]`) is below the tolerance, or NaN.
+/// Refuses a pose where a divisor of eq 16 (`[r11 r22 r33]`, the last result of the kernels
+/// that divide by them) is below [`SINGULARITY_TOLERANCE`], or NaN: for code that calls the
+/// generated kernels itself, as `C5` does.
+///
+/// # Errors
+/// [`Error::Singular`] naming the divisor.
+#[inline]
 pub(crate) fn check_divisors(r: [f64; 3]) -> Result<(), Error> {
     for (term, value) in ["r11", "r22", "r33"].into_iter().zip(r) {
         if is_singular(value) {
@@ -94,8 +101,12 @@ pub(crate) fn check_divisors(r: [f64; 3]) -> Result<(), Error> {
     Ok(())
 }
 
-/// Refuses actuator positions at or beyond the forward singularity (`[1 + abc, r11, r22, r33]`
-/// of the joint-setting kernels), or where a divisor of eq 16 vanishes.
+/// Refuses actuator positions at or beyond the forward singularity (`[1 + abc, r11, r22, r33]`,
+/// the last result of the joint-setting kernels), or where a divisor of eq 16 vanishes.
+///
+/// # Errors
+/// [`Error::ForwardSingular`], or [`Error::Singular`] naming the divisor.
+#[inline]
 pub(crate) fn check_forward(guard: [f64; 4]) -> Result<(), Error> {
     let value = guard[0];
     if value.is_nan() || value < SINGULARITY_TOLERANCE {
@@ -104,6 +115,10 @@ pub(crate) fn check_forward(guard: [f64; 4]) -> Result<(), Error> {
     check_divisors([guard[1], guard[2], guard[3]])
 }
 
+/// Refuses an input holding NaN or an infinity.
+///
+/// # Errors
+/// [`Error::NonFinite`] naming the input and the index.
 pub(crate) fn check_finite(input: &'static str, v: &[f64]) -> Result<(), Error> {
     match v.iter().position(|x| !x.is_finite()) {
         Some(index) => Err(Error::NonFinite { input, index }),
@@ -129,11 +144,6 @@ fn finite_matrix<const R: usize, const C: usize>(
     } else {
         Err(Error::NonFiniteResult { output })
     }
-}
-
-/// `[element][lane]` from four states' arrays.
-fn lanes(rows: &[[f64; 6]; 4]) -> [[f64; 4]; 6] {
-    core::array::from_fn(|k| core::array::from_fn(|l| rows[l][k]))
 }
 
 impl C5 {
@@ -337,68 +347,6 @@ impl C5 {
         Ok(Acceleration::from_array(a))
     }
 
-    /// Actuator forces `Γ` of many states, four at a time through the batch kernels (each lane
-    /// computes exactly what [`C5::inverse_dynamics`] computes), with the same checks.
-    ///
-    /// # Errors
-    /// The index of the first refused state, and why (non-finite inputs, a singular pose, or a
-    /// non-finite result).
-    pub fn inverse_dynamics_many(
-        &self,
-        states: &[State],
-    ) -> Result<alloc::vec::Vec<[f64; 6]>, (usize, Error)> {
-        let mut out = alloc::vec::Vec::with_capacity(states.len());
-        for (c, chunk) in states.chunks(4).enumerate() {
-            let mut rows = [[[0.0; 6]; 3]; 4];
-            for (l, row) in rows.iter_mut().enumerate() {
-                // A short last chunk repeats its last state in the lanes it does not fill.
-                let state = &chunk[l.min(chunk.len() - 1)];
-                *row = Self::checked_motion(state).map_err(|e| (4 * c + l, e))?;
-            }
-            let column = |j: usize| core::array::from_fn(|l| rows[l][j]);
-            let (x, v, a) = (lanes(&column(0)), lanes(&column(1)), lanes(&column(2)));
-            let (gamma, r) = self
-                .kernels
-                .inverse_dynamics_params_x4(&x, &v, &a, &self.params);
-            for l in 0..chunk.len() {
-                let at = |e| (4 * c + l, e);
-                check_divisors(core::array::from_fn(|k| r[k][l])).map_err(at)?;
-                out.push(finite("gamma", core::array::from_fn(|k| gamma[k][l])).map_err(at)?);
-            }
-        }
-        Ok(out)
-    }
-
-    /// [`C5::evaluate`] for many states, the inverse dynamics through the batch kernels.
-    ///
-    /// # Errors
-    /// The index of the first refused state, and why.
-    pub fn evaluate_many(
-        &self,
-        states: &[State],
-    ) -> Result<alloc::vec::Vec<Evaluation>, (usize, Error)> {
-        let gammas = self.inverse_dynamics_many(states)?;
-        states
-            .iter()
-            .zip(gammas)
-            .enumerate()
-            .map(|(k, (state, gamma))| {
-                let at = |e| (k, e);
-                let (q, _) = self.inverse_kinematics(&state.pose).map_err(at)?;
-                Ok(Evaluation {
-                    q,
-                    qd: self
-                        .joint_velocities(&state.pose, &state.twist)
-                        .map_err(at)?,
-                    qdd: self.joint_accelerations(state).map_err(at)?,
-                    gamma,
-                    jinv: self.inverse_jacobian(&state.pose).map_err(at)?,
-                    jacobian: self.jacobian(&state.pose).map_err(at)?,
-                })
-            })
-            .collect()
-    }
-
     /// The forward kinematics in closed form: the platform's pose from the actuator positions
     /// `q` (m, segment order), with no iteration and no trigonometry but the angles' three arc
     /// tangents. The same for both models (eq 16); the pose returned is the placement in the
@@ -485,38 +433,6 @@ impl C5 {
         let (c, guard) = self.kernels.joint_bias_params(q, qd, &self.params);
         check_forward(guard)?;
         finite("joint bias", c)
-    }
-
-    /// [`C5::inverse_dynamics_joint`] for many samples `(q, q̇, q̈)`, four at a time through the
-    /// batch kernels (each lane computes exactly what the single-sample kernel does).
-    ///
-    /// # Errors
-    /// The index of the first refused sample, and why.
-    pub fn inverse_dynamics_joint_many(
-        &self,
-        samples: &[[[f64; 6]; 3]],
-    ) -> Result<alloc::vec::Vec<[f64; 6]>, (usize, Error)> {
-        let mut out = alloc::vec::Vec::with_capacity(samples.len());
-        for (c, chunk) in samples.chunks(4).enumerate() {
-            for (l, [q, qd, qdd]) in chunk.iter().enumerate() {
-                Self::check_joints(q, qd, qdd).map_err(|e| (4 * c + l, e))?;
-            }
-            // A short last chunk repeats its last sample in the lanes it does not fill.
-            let row = |l: usize| &chunk[l.min(chunk.len() - 1)];
-            let column = |j: usize| lanes(&core::array::from_fn(|l| row(l)[j]));
-            let (gamma, guard) = self.kernels.inverse_dynamics_joint_params_x4(
-                &column(0),
-                &column(1),
-                &column(2),
-                &self.params,
-            );
-            for l in 0..chunk.len() {
-                let at = |e| (4 * c + l, e);
-                check_forward(core::array::from_fn(|k| guard[k][l])).map_err(at)?;
-                out.push(finite("gamma", core::array::from_fn(|k| gamma[k][l])).map_err(at)?);
-            }
-        }
-        Ok(out)
     }
 
     /// Eq 39 in the chapter's setting (the paper model): `Π1` from given vectors `P_i2`

@@ -140,19 +140,27 @@ pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
 
 fn eval(robot: &C5, identified: Option<&Estimate>) -> crate::Result<ExitCode> {
     jsonl::answer_lines(|line| {
-        let (state, found) = match parse_line(line)? {
-            Line::Platform(state) => (state, false),
-            Line::Actuators([q, qd, qdd]) => {
-                let state = robot
-                    .joint_state(&q, &qd, &qdd)
-                    .map_err(|e| e.to_string())?;
-                (state, true)
+        let (state, joints) = match parse_line(line)? {
+            Line::Platform(state) => (state, None),
+            Line::Actuators(joints) => {
+                let [q, qd, qdd] = &joints;
+                let state = robot.joint_state(q, qd, qdd).map_err(|e| e.to_string())?;
+                (state, Some(joints))
             }
         };
         let e = robot.evaluate(&state).map_err(|e| e.to_string())?;
         let mut out = serde_json::to_value(e).map_err(|e| e.to_string())?;
-        if found {
-            // The platform state the actuators' values give, in the input keys' conventions.
+        if let Some([q, qd, qdd]) = joints {
+            // The actuators' values as given, the forces of the joint-space kernel (what a
+            // controller calls), and the platform state they give, in the input keys'
+            // conventions.
+            let gamma = robot
+                .inverse_dynamics_joint(&q, &qd, &qdd)
+                .map_err(|e| e.to_string())?;
+            out["q"] = json!(q);
+            out["qd"] = json!(qd);
+            out["qdd"] = json!(qdd);
+            out["gamma"] = json!(gamma);
             out["pose"] = json!(state.pose.to_array());
             out["omega"] = json!(state.twist.omega);
             out["velocity"] = json!(state.twist.velocity);

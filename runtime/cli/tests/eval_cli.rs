@@ -304,3 +304,25 @@ fn a_line_mixing_platform_and_actuator_keys_is_refused_naming_them() {
     );
     assert!((out[3]["gamma"][4].as_f64().unwrap() - 85.0527).abs() < 1e-3);
 }
+
+#[test]
+fn numbers_are_read_exactly_and_actuator_forces_are_the_joint_space_kernels() {
+    // Decimal strings a fast parser rounds to the neighbouring f64 (serde_json without
+    // `float_roundtrip` reads each of these one unit in the last place off).
+    let q = [
+        "0.09620358486050973",
+        "-0.013588488165355739",
+        "0.24518022692615737",
+        "-0.11556497931600751",
+        "0.0",
+        "0.0",
+    ];
+    let input = format!(r#"{{"q": [{}]}}"#, q.join(", "));
+    let (out, code) = run_eval(&input);
+    assert_eq!((out.len(), code), (1, 0), "{out:?}");
+    let q: [f64; 6] = std::array::from_fn(|i| q[i].parse().unwrap());
+    assert_eq!(vec(&out[0]["q"]), q, "the input, as given, to the bit");
+    let c5 = c5_runtime::C5::new(Robot::default()).unwrap();
+    let gamma = c5.inverse_dynamics_joint(&q, &[0.0; 6], &[0.0; 6]).unwrap();
+    assert_eq!(vec(&out[0]["gamma"]), gamma, "what a controller calling the kernel gets");
+}

@@ -1,0 +1,197 @@
+"""The C5 joint parallel robot's generated kernels for numpy.
+
+Conventions (those of the Rust crates): SI units and radians. A pose is
+``[alpha, beta, gamma, xc, yc, zc]`` with ``R = Rx(alpha) Ry(beta) Rz(gamma)`` and ``C`` the
+platform centre; the twist is ``omega`` and ``velocity`` (of ``C``), base frame; accelerations
+are classical, ``omega_dot`` and ``acceleration = d velocity / dt``. Actuators come in segment
+order 1..6; ``q`` is the ball centre's position along the actuator axis (m) and a positive
+force pushes the rod along ``+n_i`` (N).
+
+Every method takes one state (vectors of shape ``(6,)`` or ``(3,)``) or a batch (``(N, 6)``,
+``(N, 3)``) and returns arrays of the matching shape. Omitted motion arguments are zero.
+With ``errors="raise"`` (the default) a refused row raises ``ValueError`` (bad shape,
+non-finite value) or ``SingularPoseError`` naming the divisor and the row; with
+``errors="nan"`` the refused rows come back as NaN and a boolean mask (``True`` = refused) is
+returned last.
+"""
+
+from __future__ import annotations
+
+from os import PathLike
+from typing import Literal, Optional, Sequence, Tuple, TypedDict, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+SINGULARITY_TOLERANCE: float
+"""Divisors (``r11``, ``r22``, ``r33``, ``1 + abc``) below this are refused."""
+
+ArrayLike = npt.ArrayLike
+Array = npt.NDArray[np.float64]
+Mask = npt.NDArray[np.bool_]
+Errors = Literal["raise", "nan"]
+Result = Union[Array, Tuple[Array, Mask]]
+"""An array, or with ``errors=\"nan\"`` the array and the mask of refused rows."""
+
+class SingularPoseError(ValueError):
+    """A pose, or actuator positions, where the kernels would divide by (nearly) zero."""
+
+class Identification(TypedDict):
+    model: str
+    names: list[str]
+    values: list[float]
+    std_dev: list[float]
+    condition_number: float
+    residual_rms: list[float]
+    samples: int
+
+class C5:
+    """The C5 joint parallel robot: a robot description and a model of its legs' mechanism."""
+
+    def __init__(
+        self,
+        model: Literal["consistent", "paper"] = "consistent",
+        robot: Optional[Union[str, PathLike[str]]] = None,
+    ) -> None:
+        """``robot``: a robot TOML file, or ``None`` for the chapter's robot. ``model``:
+        ``"consistent"`` (the mechanism of eq 16, the default) or ``"paper"`` (the chapter as
+        published, right only at zero orientation)."""
+
+    @property
+    def model(self) -> str: ...
+    @property
+    def parameters(self) -> Array:
+        """The robot's parameter vector, as the generated ``*_params`` kernels take it."""
+
+    def inverse_kinematics(self, pose: ArrayLike, *, errors: Errors = "raise") -> Result:
+        """Actuator positions ``q`` (m), eq 16: ``(6,)`` or ``(N, 6)``."""
+
+    def inverse_jacobian(self, pose: ArrayLike, *, errors: Errors = "raise") -> Result:
+        """``J^-1``: ``(6, 6)`` or ``(N, 6, 6)``, row ``i`` for segment ``i+1``, columns
+        ``[wx wy wz vx vy vz]``."""
+
+    def jacobian(self, pose: ArrayLike, *, errors: Errors = "raise") -> Result:
+        """``J = J1 Pi1``: ``(6, 6)`` or ``(N, 6, 6)``, rows ``[wx wy wz vx vy vz]``, column ``i``
+        for segment ``i+1``."""
+
+    def joint_velocities(
+        self,
+        pose: ArrayLike,
+        omega: Optional[ArrayLike] = None,
+        velocity: Optional[ArrayLike] = None,
+        *,
+        errors: Errors = "raise",
+    ) -> Result:
+        """Actuator rates ``qd = J^-1 V`` (m/s)."""
+
+    def inverse_dynamics(
+        self,
+        pose: ArrayLike,
+        omega: Optional[ArrayLike] = None,
+        velocity: Optional[ArrayLike] = None,
+        omega_dot: Optional[ArrayLike] = None,
+        acceleration: Optional[ArrayLike] = None,
+        *,
+        errors: Errors = "raise",
+    ) -> Result:
+        """Actuator forces ``gamma`` (N): ``(6,)`` or ``(N, 6)``. Batches go four states at a
+        time through the batch kernel, without the GIL."""
+
+    def forward_dynamics(
+        self,
+        pose: ArrayLike,
+        omega: Optional[ArrayLike] = None,
+        velocity: Optional[ArrayLike] = None,
+        gamma: Optional[ArrayLike] = None,
+        *,
+        errors: Errors = "raise",
+    ) -> Union[Tuple[Array, Array], Tuple[Array, Array, Mask]]:
+        """The platform's classical acceleration ``(omega_dot, acceleration)`` under the actuator
+        forces ``gamma`` (N)."""
+
+    def task_inertia(self, pose: ArrayLike, *, errors: Errors = "raise") -> Result:
+        """``M_x`` of ``gamma = J^T (M_x (omega_dot; acceleration) + h)``: ``(6, 6)`` or
+        ``(N, 6, 6)``."""
+
+    def forward_kinematics(self, q: ArrayLike, *, errors: Errors = "raise") -> Result:
+        """The pose of the actuator positions ``q`` (m), in closed form. Raises
+        ``SingularPoseError`` at or beyond the forward singularity (``1 + abc < 1e-9``)."""
+
+    def joint_state(
+        self,
+        q: ArrayLike,
+        qd: Optional[ArrayLike] = None,
+        qdd: Optional[ArrayLike] = None,
+        *,
+        errors: Errors = "raise",
+    ) -> Union[Tuple[Array, Array, Array, Array, Array], Tuple[Array, Array, Array, Array, Array, Mask]]:
+        """``(pose, omega, velocity, omega_dot, acceleration)`` from the actuators' positions,
+        rates and accelerations."""
+
+    def inverse_dynamics_joint(
+        self,
+        q: ArrayLike,
+        qd: Optional[ArrayLike] = None,
+        qdd: Optional[ArrayLike] = None,
+        *,
+        errors: Errors = "raise",
+    ) -> Result:
+        """Actuator forces (N) from the actuators' positions, rates and accelerations."""
+
+    def joint_inertia(self, q: ArrayLike, *, errors: Errors = "raise") -> Result:
+        """``M_q`` of ``gamma = M_q qdd + c_q`` (kg, ``J^T M_x J``): ``(6, 6)`` or ``(N, 6, 6)``."""
+
+    def regressor(
+        self,
+        pose: ArrayLike,
+        omega: Optional[ArrayLike] = None,
+        velocity: Optional[ArrayLike] = None,
+        omega_dot: Optional[ArrayLike] = None,
+        acceleration: Optional[ArrayLike] = None,
+        *,
+        errors: Errors = "raise",
+    ) -> Result:
+        """``Y`` of ``gamma = Y pi`` with friction: ``(6, 142)`` or ``(N, 6, 142)``."""
+
+    def base_regressor(
+        self,
+        pose: ArrayLike,
+        omega: Optional[ArrayLike] = None,
+        velocity: Optional[ArrayLike] = None,
+        omega_dot: Optional[ArrayLike] = None,
+        acceleration: Optional[ArrayLike] = None,
+        *,
+        errors: Errors = "raise",
+    ) -> Result:
+        """``Y_b`` of ``gamma = Y_b beta`` with friction: ``(6, n_b)`` or ``(N, 6, n_b)``."""
+
+    @property
+    def standard_parameters(self) -> list[str]:
+        """The names of ``pi``, the columns of ``regressor``."""
+
+    @property
+    def base_parameters(self) -> list[str]:
+        """The names of ``beta``, the columns of ``base_regressor``."""
+
+    def standard_values(
+        self, viscous: Optional[Sequence[float]] = None, coulomb: Optional[Sequence[float]] = None
+    ) -> Array:
+        """This robot's ``pi``, with the actuators' friction (zero if omitted)."""
+
+    def base_values(
+        self, viscous: Optional[Sequence[float]] = None, coulomb: Optional[Sequence[float]] = None
+    ) -> Array:
+        """This robot's ``beta = B pi``: what ``identify`` should find."""
+
+    def identify(
+        self,
+        pose: ArrayLike,
+        omega: ArrayLike,
+        velocity: ArrayLike,
+        omega_dot: ArrayLike,
+        acceleration: ArrayLike,
+        gamma: ArrayLike,
+    ) -> Identification:
+        """The base parameters (inertial and friction) by weighted least squares from measured
+        states ``(N, ...)`` and forces ``(N, 6)``."""

@@ -1,0 +1,800 @@
+//! `c5_kernels`: the C5 robot's generated kernels for numpy.
+//!
+//! Every method takes one state (vectors of shape `(6,)` or `(3,)`) or a batch (`(N, 6)`,
+//! `(N, 3)`) and returns arrays of the matching shape. Inputs that are contiguous `float64`
+//! arrays are read in place; anything else array-like is converted once by numpy. The work runs
+//! without the GIL, in Rust, the inverse and forward dynamics four states at a time through the
+//! batch kernels (each lane computing exactly what the single-state kernel does).
+
+use c5_runtime::identify::{standard_parameter_names, Friction, Identifier, STANDARD_PARAMETERS};
+use c5_runtime::{Acceleration, Error, Model, Pose, Robot, State, Twist, C5 as Robot5};
+use numpy::ndarray::{ArrayD, IxDyn};
+use numpy::{
+    AllowTypeChange, IntoPyArray, PyArray1, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods,
+    PyUntypedArrayMethods,
+};
+use pyo3::create_exception;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+use std::borrow::Cow;
+
+create_exception!(
+    c5_kernels,
+    SingularPoseError,
+    PyValueError,
+    "A pose, or actuator positions, where the kernels would divide by (nearly) zero: a divisor \
+     of eq 16 (r11, r22, r33) or the forward singularity term 1 + abc below 1e-9. The message \
+     names the divisor, its value and the row."
+);
+
+type Array<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
+
+/// One argument, read as `n` rows of `width` numbers.
+struct Rows<'a> {
+    data: Cow<'a, [f64]>,
+    width: usize,
+}
+
+impl Rows<'_> {
+    fn row<const W: usize>(&self, k: usize) -> [f64; W] {
+        std::array::from_fn(|i| self.data[k * self.width + i])
+    }
+}
+
+/// The shape of a call: `n` rows, and whether they came as one vector (returned unbatched).
+#[derive(Clone, Copy)]
+struct Batch {
+    n: usize,
+    single: bool,
+}
+
+/// Reads `array` as rows of `width`, checking its shape against the call's.
+fn rows<'a>(
+    name: &str,
+    width: usize,
+    array: &'a Array<'_>,
+    batch: &mut Option<Batch>,
+) -> PyResult<Rows<'a>> {
+    let shape = array.shape();
+    let this = match *shape {
+        [w] if w == width => Batch { n: 1, single: true },
+        [n, w] if w == width => Batch { n, single: false },
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "`{name}` must have shape ({width},) or (N, {width}), got {shape:?}"
+            )))
+        }
+    };
+    match batch {
+        Some(b) if b.single != this.single || b.n != this.n => {
+            return Err(PyValueError::new_err(format!(
+                "`{name}` has {} row(s) {}, the other arguments {} {}",
+                this.n,
+                if this.single {
+                    "as a vector"
+                } else {
+                    "as a batch"
+                },
+                b.n,
+                if b.single {
+                    "as a vector"
+                } else {
+                    "as a batch"
+                },
+            )))
+        }
+        _ => *batch = Some(this),
+    }
+    // `as_slice` also takes a Fortran-ordered array, whose memory is not row-major.
+    let data = match array.as_slice() {
+        Ok(s) if array.is_c_contiguous() => Cow::Borrowed(s),
+        // A view with strides, or Fortran order: its elements in row-major order.
+        _ => Cow::Owned(array.as_array().iter().copied().collect()),
+    };
+    Ok(Rows { data, width })
+}
+
+/// Rows of zeros for an omitted argument.
+fn zeros(width: usize, n: usize) -> Rows<'static> {
+    Rows {
+        data: Cow::Owned(vec![0.0; width * n]),
+        width,
+    }
+}
+
+/// What to do with a row the kernels refuse.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum OnError {
+    /// Raise, naming the row.
+    Raise,
+    /// NaN in its results, and `True` in the mask returned last.
+    Nan,
+}
+
+fn on_error(errors: &str) -> PyResult<OnError> {
+    match errors {
+        "raise" => Ok(OnError::Raise),
+        "nan" => Ok(OnError::Nan),
+        other => Err(PyValueError::new_err(format!(
+            "errors must be \"raise\" or \"nan\", got {other:?}"
+        ))),
+    }
+}
+
+/// The Python exception for a refused row.
+fn exception(row: usize, single: bool, e: &Error) -> PyErr {
+    let at = if single {
+        String::new()
+    } else {
+        format!(" (row {row})")
+    };
+    match e {
+        Error::Singular { .. } | Error::ForwardSingular { .. } => {
+            SingularPoseError::new_err(format!("{e}{at}"))
+        }
+        _ => PyValueError::new_err(format!("{e}{at}")),
+    }
+}
+
+/// The results of a call, written straight into the numpy arrays it returns: `data[j]` is
+/// output `j`, row-major, `widths[j]` numbers a row.
+struct Outputs<'a> {
+    data: Vec<&'a mut [f64]>,
+    widths: Vec<usize>,
+    bad: Vec<bool>,
+    first_error: Option<(usize, Error)>,
+}
+
+impl Outputs<'_> {
+    /// Row `k` of output `j`.
+    fn slot(&mut self, j: usize, k: usize) -> &mut [f64] {
+        let w = self.widths[j];
+        &mut self.data[j][k * w..(k + 1) * w]
+    }
+
+    fn put(&mut self, j: usize, k: usize, values: &[f64]) {
+        self.slot(j, k).copy_from_slice(values);
+    }
+
+    /// Marks row `k` refused: NaN everywhere, and the error kept if it is the first.
+    fn refuse(&mut self, k: usize, e: Error) {
+        self.bad[k] = true;
+        for j in 0..self.data.len() {
+            self.slot(j, k).fill(f64::NAN);
+        }
+        if self.first_error.is_none() {
+            self.first_error = Some((k, e));
+        }
+    }
+}
+
+/// Makes the arrays of a call (`shapes` a row's, unbatched for one vector), fills them by
+/// `fill` without the GIL, and returns them, the mask last with `errors="nan"`; with
+/// `errors="raise"`, the first refused row's error.
+fn call<'py, F>(
+    py: Python<'py>,
+    batch: Batch,
+    mode: OnError,
+    shapes: &[&[usize]],
+    fill: F,
+) -> PyResult<Bound<'py, PyAny>>
+where
+    F: FnOnce(&mut Outputs) + Send,
+{
+    let arrays: Vec<Bound<'py, PyArrayDyn<f64>>> = shapes
+        .iter()
+        .map(|shape| {
+            let mut full = if batch.single { vec![] } else { vec![batch.n] };
+            full.extend_from_slice(shape);
+            PyArrayDyn::zeros(py, IxDyn(&full), false)
+        })
+        .collect();
+    let mut data = Vec::with_capacity(arrays.len());
+    for array in &arrays {
+        // SAFETY: the arrays were just made, C-contiguous, and nothing else refers to them
+        // until they are returned.
+        data.push(
+            unsafe { array.as_slice_mut() }.map_err(|e| PyValueError::new_err(e.to_string()))?,
+        );
+    }
+    let mut out = Outputs {
+        data,
+        widths: shapes.iter().map(|s| s.iter().product()).collect(),
+        bad: vec![false; batch.n],
+        first_error: None,
+    };
+    py.detach(|| fill(&mut out));
+    let Outputs {
+        bad, first_error, ..
+    } = out;
+    if let (OnError::Raise, Some((k, e))) = (mode, &first_error) {
+        return Err(exception(*k, batch.single, e));
+    }
+    let mut items: Vec<Bound<'py, PyAny>> = arrays.into_iter().map(Bound::into_any).collect();
+    if mode == OnError::Nan {
+        let rows = [batch.n];
+        let shape = IxDyn(if batch.single { &[] } else { &rows[..] });
+        let mask =
+            ArrayD::from_shape_vec(shape, bad).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        items.push(mask.into_pyarray(py).into_any());
+    }
+    Ok(if items.len() == 1 {
+        items.swap_remove(0)
+    } else {
+        PyTuple::new(py, items)?.into_any()
+    })
+}
+
+/// [`call`] with `f` on every row: its results, or the row refused.
+fn each_row<'py, F>(
+    py: Python<'py>,
+    batch: Batch,
+    mode: OnError,
+    shapes: &[&[usize]],
+    f: F,
+) -> PyResult<Bound<'py, PyAny>>
+where
+    F: Fn(usize, &mut Outputs) -> Result<(), Error> + Sync,
+{
+    call(py, batch, mode, shapes, |out| {
+        for k in 0..batch.n {
+            if let Err(e) = f(k, out) {
+                out.refuse(k, e);
+            }
+        }
+    })
+}
+
+/// The platform state of row `k` of the five motion arguments (pose, ω, v_C, ω̇, a_C).
+fn motion(r: &[Rows<'_>], k: usize) -> State {
+    State {
+        pose: Pose::from_array(r[0].row(k)),
+        twist: Twist {
+            omega: r[1].row(k),
+            velocity: r[2].row(k),
+        },
+        accel: Acceleration {
+            omega_dot: r[3].row(k),
+            linear: r[4].row(k),
+        },
+    }
+}
+
+/// The actuators' friction from optional viscous and Coulomb coefficients.
+fn friction(viscous: Option<[f64; 6]>, coulomb: Option<[f64; 6]>) -> [Friction; 6] {
+    let (viscous, coulomb) = (viscous.unwrap_or_default(), coulomb.unwrap_or_default());
+    std::array::from_fn(|i| Friction {
+        viscous: viscous[i],
+        coulomb: coulomb[i],
+    })
+}
+
+/// A numpy vector.
+fn vector(py: Python<'_>, values: Vec<f64>) -> Bound<'_, PyArrayDyn<f64>> {
+    PyArray1::from_vec(py, values).to_dyn().clone()
+}
+
+/// The five motion arguments (pose, ω, v_C, ω̇, a_C), as `C5::read` takes them.
+fn motion_args<'a, 'py>(
+    pose: &'a Array<'py>,
+    rest: [&'a Option<Array<'py>>; 4],
+) -> [(&'static str, usize, Option<&'a Array<'py>>); 5] {
+    let [omega, velocity, omega_dot, acceleration] = rest;
+    [
+        ("pose", 6, Some(pose)),
+        ("omega", 3, omega.as_ref()),
+        ("velocity", 3, velocity.as_ref()),
+        ("omega_dot", 3, omega_dot.as_ref()),
+        ("acceleration", 3, acceleration.as_ref()),
+    ]
+}
+
+/// The C5 joint parallel robot: a robot description and a model of its legs' mechanism.
+///
+/// Conventions (as the Rust crates): SI units and radians; pose `[α β γ xc yc zc]` with
+/// `R = Rx(α) Ry(β) Rz(γ)`; twist `ω`, `v_C` at the platform centre, base frame; classical
+/// accelerations `ω̇`, `a_C = d v_C/dt`; actuators in segment order 1..6, `q` the ball centre's
+/// position along the actuator axis, a positive force pushing the rod along `+n_i`.
+#[pyclass(module = "c5_kernels", frozen)]
+struct C5 {
+    inner: Robot5,
+}
+
+fn load(model: &str, robot: Option<std::path::PathBuf>) -> PyResult<Robot5> {
+    let model: Model = model
+        .parse()
+        .map_err(|e: c5_robot::Error| PyValueError::new_err(e.to_string()))?;
+    let robot = match robot {
+        None => Robot::default(),
+        Some(path) => {
+            Robot::from_toml_file(&path).map_err(|e| PyValueError::new_err(e.to_string()))?
+        }
+    };
+    Robot5::with_model(robot, model).map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
+impl C5 {
+    /// Inputs to rows: each given argument checked against the call's shape, each omitted one
+    /// zeros.
+    fn read<'a>(args: &[(&str, usize, Option<&'a Array<'_>>)]) -> PyResult<(Vec<Rows<'a>>, Batch)> {
+        let mut batch = None;
+        let mut out = Vec::with_capacity(args.len());
+        for &(name, width, array) in args {
+            out.push(match array {
+                Some(a) => Some(rows(name, width, a, &mut batch)?),
+                None => None,
+            });
+        }
+        let batch = batch.ok_or_else(|| PyValueError::new_err("no input given"))?;
+        let rows = out
+            .into_iter()
+            .zip(args)
+            .map(|(r, &(_, width, _))| r.unwrap_or_else(|| zeros(width, batch.n)))
+            .collect();
+        Ok((rows, batch))
+    }
+}
+
+#[pymethods]
+impl C5 {
+    /// The robot of the TOML file `robot` (or the chapter's, `None`) with `model`,
+    /// `"consistent"` (the mechanism of eq 16, the default) or `"paper"` (the chapter as
+    /// published).
+    #[new]
+    #[pyo3(signature = (model = "consistent", robot = None))]
+    fn new(model: &str, robot: Option<std::path::PathBuf>) -> PyResult<Self> {
+        Ok(C5 {
+            inner: load(model, robot)?,
+        })
+    }
+
+    /// The model's name.
+    #[getter]
+    fn model(&self) -> &'static str {
+        self.inner.model().name()
+    }
+
+    /// The robot's parameter vector, as the generated `*_params` kernels take it.
+    #[getter]
+    fn parameters<'py>(&self, py: Python<'py>) -> Bound<'py, PyArrayDyn<f64>> {
+        vector(py, self.inner.parameters().to_vec())
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "C5(model={:?}, half_spacing={} m)",
+            self.inner.model().name(),
+            self.inner.robot().half_spacing
+        )
+    }
+
+    /// Actuator positions `q` (m), segment order, of `pose`: `(6,)` or `(N, 6)`.
+    #[pyo3(signature = (pose, *, errors = "raise"))]
+    fn inverse_kinematics<'py>(
+        &self,
+        py: Python<'py>,
+        pose: Array<'py>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&[("pose", 6, Some(&pose))])?;
+        let c5 = &self.inner;
+        each_row(py, batch, mode, &[&[6]], |k, out| {
+            let (q, _) = c5.inverse_kinematics(&Pose::from_array(r[0].row(k)))?;
+            out.put(0, k, &q);
+            Ok(())
+        })
+    }
+
+    /// `J⁻¹` at `pose`: `(6, 6)` or `(N, 6, 6)`, row `i` for segment `i+1`, columns
+    /// `[ωx ωy ωz vx vy vz]`.
+    #[pyo3(signature = (pose, *, errors = "raise"))]
+    fn inverse_jacobian<'py>(
+        &self,
+        py: Python<'py>,
+        pose: Array<'py>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&[("pose", 6, Some(&pose))])?;
+        let c5 = &self.inner;
+        each_row(py, batch, mode, &[&[6, 6]], |k, out| {
+            let m = c5.inverse_jacobian(&Pose::from_array(r[0].row(k)))?;
+            out.put(0, k, m.as_flattened());
+            Ok(())
+        })
+    }
+
+    /// `J` at `pose`: `(6, 6)` or `(N, 6, 6)`, rows `[ωx ωy ωz vx vy vz]`, column `i` for
+    /// segment `i+1`.
+    #[pyo3(signature = (pose, *, errors = "raise"))]
+    fn jacobian<'py>(
+        &self,
+        py: Python<'py>,
+        pose: Array<'py>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&[("pose", 6, Some(&pose))])?;
+        let c5 = &self.inner;
+        each_row(py, batch, mode, &[&[6, 6]], |k, out| {
+            let m = c5.jacobian(&Pose::from_array(r[0].row(k)))?;
+            out.put(0, k, m.as_flattened());
+            Ok(())
+        })
+    }
+
+    /// Actuator rates `q̇ = J⁻¹ V` (m/s).
+    #[pyo3(signature = (pose, omega = None, velocity = None, *, errors = "raise"))]
+    fn joint_velocities<'py>(
+        &self,
+        py: Python<'py>,
+        pose: Array<'py>,
+        omega: Option<Array<'py>>,
+        velocity: Option<Array<'py>>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&[
+            ("pose", 6, Some(&pose)),
+            ("omega", 3, omega.as_ref()),
+            ("velocity", 3, velocity.as_ref()),
+        ])?;
+        let c5 = &self.inner;
+        each_row(py, batch, mode, &[&[6]], |k, out| {
+            let twist = Twist {
+                omega: r[1].row(k),
+                velocity: r[2].row(k),
+            };
+            let qd = c5.joint_velocities(&Pose::from_array(r[0].row(k)), &twist)?;
+            out.put(0, k, &qd);
+            Ok(())
+        })
+    }
+
+    /// Actuator forces `Γ` (N), segment order, for the platform state: the inverse dynamics.
+    /// Batches go four states at a time through the batch kernel.
+    #[pyo3(signature = (pose, omega = None, velocity = None, omega_dot = None, acceleration = None, *, errors = "raise"))]
+    #[allow(clippy::too_many_arguments)]
+    fn inverse_dynamics<'py>(
+        &self,
+        py: Python<'py>,
+        pose: Array<'py>,
+        omega: Option<Array<'py>>,
+        velocity: Option<Array<'py>>,
+        omega_dot: Option<Array<'py>>,
+        acceleration: Option<Array<'py>>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&motion_args(
+            &pose,
+            [&omega, &velocity, &omega_dot, &acceleration],
+        ))?;
+        let c5 = &self.inner;
+        call(py, batch, mode, &[&[6]], |out| {
+            c5.inverse_dynamics_each(
+                batch.n,
+                |k| motion(&r, k),
+                |k, gamma| match gamma {
+                    Ok(gamma) => out.put(0, k, &gamma),
+                    Err(e) => out.refuse(k, e),
+                },
+            )
+        })
+    }
+
+    /// The forward dynamics: the platform's classical acceleration under the actuator forces
+    /// `gamma` (N), as `(omega_dot, acceleration)`. Batches go four states at a time through the
+    /// batch kernel.
+    #[pyo3(signature = (pose, omega = None, velocity = None, gamma = None, *, errors = "raise"))]
+    fn forward_dynamics<'py>(
+        &self,
+        py: Python<'py>,
+        pose: Array<'py>,
+        omega: Option<Array<'py>>,
+        velocity: Option<Array<'py>>,
+        gamma: Option<Array<'py>>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&[
+            ("pose", 6, Some(&pose)),
+            ("omega", 3, omega.as_ref()),
+            ("velocity", 3, velocity.as_ref()),
+            ("gamma", 6, gamma.as_ref()),
+        ])?;
+        let c5 = &self.inner;
+        let input = |k: usize| {
+            let twist = Twist {
+                omega: r[1].row(k),
+                velocity: r[2].row(k),
+            };
+            (Pose::from_array(r[0].row(k)), twist, r[3].row(k))
+        };
+        call(py, batch, mode, &[&[3], &[3]], |out| {
+            c5.forward_dynamics_each(batch.n, input, |k, a| match a {
+                Ok(a) => {
+                    out.put(0, k, &a.omega_dot);
+                    out.put(1, k, &a.linear);
+                }
+                Err(e) => out.refuse(k, e),
+            })
+        })
+    }
+
+    /// The task-space inertia `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: `(6, 6)` or `(N, 6, 6)`.
+    #[pyo3(signature = (pose, *, errors = "raise"))]
+    fn task_inertia<'py>(
+        &self,
+        py: Python<'py>,
+        pose: Array<'py>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&[("pose", 6, Some(&pose))])?;
+        let c5 = &self.inner;
+        each_row(py, batch, mode, &[&[6, 6]], |k, out| {
+            let m = c5.task_inertia(&Pose::from_array(r[0].row(k)))?;
+            out.put(0, k, m.as_flattened());
+            Ok(())
+        })
+    }
+
+    /// The forward kinematics in closed form: the pose `[α β γ xc yc zc]` of the actuator
+    /// positions `q` (m): `(6,)` or `(N, 6)`. Raises `SingularPoseError` at or beyond the
+    /// forward singularity (`1 + abc < 1e-9`).
+    #[pyo3(signature = (q, *, errors = "raise"))]
+    fn forward_kinematics<'py>(
+        &self,
+        py: Python<'py>,
+        q: Array<'py>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&[("q", 6, Some(&q))])?;
+        let c5 = &self.inner;
+        each_row(py, batch, mode, &[&[6]], |k, out| {
+            let pose = c5.forward_kinematics(&r[0].row(k))?;
+            out.put(0, k, &pose.to_array());
+            Ok(())
+        })
+    }
+
+    /// The platform state from the actuators' positions, rates and accelerations:
+    /// `(pose, omega, velocity, omega_dot, acceleration)`.
+    #[pyo3(signature = (q, qd = None, qdd = None, *, errors = "raise"))]
+    fn joint_state<'py>(
+        &self,
+        py: Python<'py>,
+        q: Array<'py>,
+        qd: Option<Array<'py>>,
+        qdd: Option<Array<'py>>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&[
+            ("q", 6, Some(&q)),
+            ("qd", 6, qd.as_ref()),
+            ("qdd", 6, qdd.as_ref()),
+        ])?;
+        let c5 = &self.inner;
+        each_row(
+            py,
+            batch,
+            mode,
+            &[&[6], &[3], &[3], &[3], &[3]],
+            |k, out| {
+                let s = c5.joint_state(&r[0].row(k), &r[1].row(k), &r[2].row(k))?;
+                out.put(0, k, &s.pose.to_array());
+                out.put(1, k, &s.twist.omega);
+                out.put(2, k, &s.twist.velocity);
+                out.put(3, k, &s.accel.omega_dot);
+                out.put(4, k, &s.accel.linear);
+                Ok(())
+            },
+        )
+    }
+
+    /// Actuator forces `Γ` (N) from the actuators' positions `q`, rates `qd` and accelerations
+    /// `qdd` (m, m/s, m/s²): the inverse dynamics in joint space, without trigonometry. Batches
+    /// go four at a time through the batch kernel.
+    #[pyo3(signature = (q, qd = None, qdd = None, *, errors = "raise"))]
+    fn inverse_dynamics_joint<'py>(
+        &self,
+        py: Python<'py>,
+        q: Array<'py>,
+        qd: Option<Array<'py>>,
+        qdd: Option<Array<'py>>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&[
+            ("q", 6, Some(&q)),
+            ("qd", 6, qd.as_ref()),
+            ("qdd", 6, qdd.as_ref()),
+        ])?;
+        let c5 = &self.inner;
+        let sample = |k: usize| [r[0].row(k), r[1].row(k), r[2].row(k)];
+        call(py, batch, mode, &[&[6]], |out| {
+            c5.inverse_dynamics_joint_each(batch.n, sample, |k, gamma| match gamma {
+                Ok(gamma) => out.put(0, k, &gamma),
+                Err(e) => out.refuse(k, e),
+            })
+        })
+    }
+
+    /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia (kg; `Jᵀ M_x J`) at the actuator
+    /// positions `q`: `(6, 6)` or `(N, 6, 6)`.
+    #[pyo3(signature = (q, *, errors = "raise"))]
+    fn joint_inertia<'py>(
+        &self,
+        py: Python<'py>,
+        q: Array<'py>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&[("q", 6, Some(&q))])?;
+        let c5 = &self.inner;
+        each_row(py, batch, mode, &[&[6, 6]], |k, out| {
+            let m = c5.joint_inertia(&r[0].row(k))?;
+            out.put(0, k, m.as_flattened());
+            Ok(())
+        })
+    }
+
+    /// The base regressor `Y_b` of `Γ = Y_b β` (with friction): `(6, n_b)` or `(N, 6, n_b)`,
+    /// the columns those of `base_parameters`.
+    #[pyo3(signature = (pose, omega = None, velocity = None, omega_dot = None, acceleration = None, *, errors = "raise"))]
+    #[allow(clippy::too_many_arguments)]
+    fn base_regressor<'py>(
+        &self,
+        py: Python<'py>,
+        pose: Array<'py>,
+        omega: Option<Array<'py>>,
+        velocity: Option<Array<'py>>,
+        omega_dot: Option<Array<'py>>,
+        acceleration: Option<Array<'py>>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&motion_args(
+            &pose,
+            [&omega, &velocity, &omega_dot, &acceleration],
+        ))?;
+        let c5 = &self.inner;
+        let nb = c5.base_parameters().len();
+        each_row(py, batch, mode, &[&[6, nb]], |k, out| {
+            c5.base_regressor_into(&motion(&r, k), out.slot(0, k))
+        })
+    }
+
+    /// The regressor `Y` of `Γ = Y π` (with friction): `(6, 142)` or `(N, 6, 142)`, the
+    /// columns the standard parameters of `standard_parameters`.
+    #[pyo3(signature = (pose, omega = None, velocity = None, omega_dot = None, acceleration = None, *, errors = "raise"))]
+    #[allow(clippy::too_many_arguments)]
+    fn regressor<'py>(
+        &self,
+        py: Python<'py>,
+        pose: Array<'py>,
+        omega: Option<Array<'py>>,
+        velocity: Option<Array<'py>>,
+        omega_dot: Option<Array<'py>>,
+        acceleration: Option<Array<'py>>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&motion_args(
+            &pose,
+            [&omega, &velocity, &omega_dot, &acceleration],
+        ))?;
+        let c5 = &self.inner;
+        each_row(py, batch, mode, &[&[6, STANDARD_PARAMETERS]], |k, out| {
+            let y = c5.regressor(&motion(&r, k))?;
+            // nalgebra stores columns; the array is row-major.
+            for (slot, value) in out.slot(0, k).iter_mut().zip(y.transpose().iter()) {
+                *slot = *value;
+            }
+            Ok(())
+        })
+    }
+
+    /// The standard parameters' names, the columns of `regressor`: per body (`platform`,
+    /// `rod1`, `joint1`, …, `joint6`) mass, first moment `m c` and inertia (`platform_mass`,
+    /// `platform_mx`, …, `platform_izz`), then the actuators' friction `fv1`…`fv6`,
+    /// `fc1`…`fc6`.
+    #[getter]
+    fn standard_parameters(&self) -> Vec<String> {
+        standard_parameter_names()
+    }
+
+    /// This robot's standard parameters `π`, in the order of `standard_parameters`, with the
+    /// actuators' viscous (N·s/m) and Coulomb (N) friction, six each, zero if omitted.
+    #[pyo3(signature = (viscous = None, coulomb = None))]
+    fn standard_values<'py>(
+        &self,
+        py: Python<'py>,
+        viscous: Option<[f64; 6]>,
+        coulomb: Option<[f64; 6]>,
+    ) -> Bound<'py, PyArrayDyn<f64>> {
+        let friction = friction(viscous, coulomb);
+        vector(py, self.inner.robot().standard_parameters(&friction))
+    }
+
+    /// This robot's base parameters `β = B π`, in the order of `base_parameters`, with the
+    /// actuators' friction as `standard_values` takes it: what `identify` should find.
+    #[pyo3(signature = (viscous = None, coulomb = None))]
+    fn base_values<'py>(
+        &self,
+        py: Python<'py>,
+        viscous: Option<[f64; 6]>,
+        coulomb: Option<[f64; 6]>,
+    ) -> Bound<'py, PyArrayDyn<f64>> {
+        let friction = friction(viscous, coulomb);
+        let base = self.inner.base_parameters();
+        vector(py, base.of_robot(self.inner.robot(), &friction))
+    }
+
+    /// The base parameters' names, the columns of `base_regressor`.
+    #[getter]
+    fn base_parameters(&self) -> Vec<&'static str> {
+        self.inner.base_parameters().names().to_vec()
+    }
+
+    /// Identifies the base parameters (inertial and friction) from measured states and forces
+    /// by weighted least squares: a dict with `names`, `values`, `std_dev`,
+    /// `condition_number`, `residual_rms`, `samples`.
+    #[pyo3(signature = (pose, omega, velocity, omega_dot, acceleration, gamma))]
+    #[allow(clippy::too_many_arguments)]
+    fn identify<'py>(
+        &self,
+        py: Python<'py>,
+        pose: Array<'py>,
+        omega: Array<'py>,
+        velocity: Array<'py>,
+        omega_dot: Array<'py>,
+        acceleration: Array<'py>,
+        gamma: Array<'py>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (r, batch) = Self::read(&[
+            ("pose", 6, Some(&pose)),
+            ("omega", 3, Some(&omega)),
+            ("velocity", 3, Some(&velocity)),
+            ("omega_dot", 3, Some(&omega_dot)),
+            ("acceleration", 3, Some(&acceleration)),
+            ("gamma", 6, Some(&gamma)),
+        ])?;
+        let c5 = &self.inner;
+        let estimate = py.detach(|| -> Result<_, String> {
+            let mut identifier = Identifier::new(c5);
+            for k in 0..batch.n {
+                let state = motion(&r, k);
+                identifier
+                    .add(&state, &r[5].row(k))
+                    .map_err(|e| format!("{e} (row {k})"))?;
+            }
+            identifier.estimate().map_err(|e| e.to_string())
+        });
+        let e = estimate.map_err(PyValueError::new_err)?;
+        let d = PyDict::new(py);
+        d.set_item("model", e.model.name())?;
+        d.set_item("names", e.names.clone())?;
+        d.set_item("values", e.values.clone())?;
+        d.set_item("std_dev", e.std_dev.clone())?;
+        d.set_item("condition_number", e.condition_number)?;
+        d.set_item("residual_rms", e.residual_rms.to_vec())?;
+        d.set_item("samples", e.samples)?;
+        Ok(d)
+    }
+}
+
+/// The C5 joint parallel robot's generated kernels for numpy. See `C5`.
+#[pymodule]
+fn c5_kernels(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<C5>()?;
+    m.add("SingularPoseError", m.py().get_type::<SingularPoseError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("SINGULARITY_TOLERANCE", c5_runtime::SINGULARITY_TOLERANCE)?;
+    Ok(())
+}
