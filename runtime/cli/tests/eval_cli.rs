@@ -324,5 +324,9 @@ fn numbers_are_read_exactly_and_actuator_forces_are_the_joint_space_kernels() {
     assert_eq!(vec(&out[0]["q"]), q, "the input, as given, to the bit");
     let c5 = c5_runtime::C5::new(Robot::default()).unwrap();
     let gamma = c5.inverse_dynamics_joint(&q, &[0.0; 6], &[0.0; 6]).unwrap();
-    assert_eq!(vec(&out[0]["gamma"]), gamma, "what a controller calling the kernel gets");
+    assert_eq!(
+        vec(&out[0]["gamma"]),
+        gamma,
+        "what a controller calling the kernel gets"
+    );
 }
