@@ -4,7 +4,9 @@
 //! states behind `black_box`, so neither the branch predictor nor constant folding by the
 //! compiler can flatter a figure. Every model's kernels are benched through the kernel-set
 //! trait, statically dispatched (`K: Kernels`, one instantiation per model), as
-//! `generated_{model}` (and `_batch_x4`, `_runtime_params`, `_f32`).
+//! `generated_{model}` (and `_batch_x4`, `_runtime_params`, `_f32`). The `f64` kernels run
+//! their FMA twins where the CPU has FMA; `_separate` is the same kernel with the FMA path
+//! switched off (`c5_generated::fma::set_enabled(false)`), every operation rounded on its own.
 
 use c5_generated::f32::{Consistent as Consistent32, Kernels as Kernels32, Paper as Paper32};
 use c5_generated::f64::{paper as k, Consistent, Kernels, Paper};
@@ -71,12 +73,30 @@ impl Cases<'_> {
                 kernels.inverse_dynamics(x, v, a).0
             })
         });
+        separate(|| {
+            g.bench_function(format!("generated_{model}_separate"), |b| {
+                b.iter(|| {
+                    i = (i + 1) % arrays.len();
+                    let (x, v, a) = black_box(&arrays[i]);
+                    kernels.inverse_dynamics(x, v, a).0
+                })
+            })
+        });
         g.throughput(Throughput::Elements(4 * count));
         g.bench_function(format!("generated_{model}_batch_x4"), |b| {
             b.iter(|| {
                 i = (i + 1) % batches.len();
                 let [x, v, a] = black_box(&batches[i]);
                 kernels.inverse_dynamics_x4(x, v, a).0
+            })
+        });
+        separate(|| {
+            g.bench_function(format!("generated_{model}_batch_x4_separate"), |b| {
+                b.iter(|| {
+                    i = (i + 1) % batches.len();
+                    let [x, v, a] = black_box(&batches[i]);
+                    kernels.inverse_dynamics_x4(x, v, a).0
+                })
             })
         });
         g.throughput(Throughput::Elements(ops(
@@ -104,7 +124,18 @@ impl Cases<'_> {
     }
 }
 
-/// One model's forward dynamics, and its reference.
+/// Runs `bench` with the kernels' FMA path switched off (the separate roundings), then
+/// restores it.
+fn separate<R>(bench: impl FnOnce() -> R) -> R {
+    let was = c5_generated::fma::enabled();
+    c5_generated::fma::set_enabled(false);
+    let r = bench();
+    c5_generated::fma::set_enabled(was);
+    r
+}
+
+/// One model's forward dynamics (single, batch, each with the FMA path on and off), and its
+/// reference.
 fn forward_dynamics_of<K: Kernels>(
     g: &mut BenchmarkGroup<WallTime>,
     kernels: &K,
@@ -133,6 +164,39 @@ fn forward_dynamics_of<K: Kernels>(
             kernels.forward_dynamics(x, v, gamma).0
         })
     });
+    separate(|| {
+        g.bench_function(format!("generated_{model}_separate"), |b| {
+            b.iter(|| {
+                i = (i + 1) % cases.len();
+                let (x, v, gamma) = black_box(&cases[i]);
+                kernels.forward_dynamics(x, v, gamma).0
+            })
+        })
+    });
+    let batches: Vec<[[[f64; 4]; 6]; 3]> = cases
+        .chunks_exact(4)
+        .map(|c| {
+            let rows = |k: usize| -> [[f64; 6]; 4] {
+                std::array::from_fn(|l| [c[l].0, c[l].1, c[l].2][k])
+            };
+            [soa(&rows(0)), soa(&rows(1)), soa(&rows(2))]
+        })
+        .collect();
+    g.throughput(Throughput::Elements(
+        4 * ops(model, Kernel::ForwardDynamics, false),
+    ));
+    for (name, fma) in [("batch_x4", true), ("batch_x4_separate", false)] {
+        let was = c5_generated::fma::enabled();
+        c5_generated::fma::set_enabled(fma && was);
+        g.bench_function(format!("generated_{model}_{name}"), |b| {
+            b.iter(|| {
+                i = (i + 1) % batches.len();
+                let [x, v, gamma] = black_box(&batches[i]);
+                kernels.forward_dynamics_x4(x, v, gamma).0
+            })
+        });
+        c5_generated::fma::set_enabled(was);
+    }
     g.throughput(Throughput::Elements(1));
     let parsed = model.parse().unwrap();
     g.bench_function(format!("reference_{model}"), |b| {

@@ -1,5 +1,7 @@
 //! The batch kernels compute, lane by lane, exactly what the single-state kernels compute:
-//! both models, both precisions, folded and with the robot's parameters as inputs.
+//! both models, both precisions, folded and with the robot's parameters as inputs, and for
+//! `f64` on each arithmetic path (the FMA twins where the CPU has FMA, and the separate
+//! roundings): the path is switched for the whole process, so the `f64` check is one test.
 
 mod support;
 
@@ -38,7 +40,17 @@ fn state_arrays(s: &State) -> [[f64; 6]; 3] {
 }
 
 #[test]
-fn every_lane_of_the_f64_batch_kernels_is_the_single_state_kernel() {
+fn every_lane_of_the_f64_batch_kernels_is_the_single_state_kernel_on_each_path() {
+    let fused = c5_generated::fma::enabled();
+    f64_lanes_equal_single_states();
+    if fused {
+        c5_generated::fma::set_enabled(false);
+        f64_lanes_equal_single_states();
+        c5_generated::fma::set_enabled(true);
+    }
+}
+
+fn f64_lanes_equal_single_states() {
     let mut rng = rng(41);
     for n in 0..BATCHES {
         let robot = if n % 2 == 0 {

@@ -99,11 +99,28 @@ fn every_generated_function_has_its_manifest_entry_and_model() {
         let code = ["", "_regressor"]
             .map(|part| std::fs::read_to_string(dir.join(format!("{model}{part}.rs"))).unwrap())
             .concat();
-        let functions: Vec<&str> = code
+        let all: Vec<&str> = code
             .lines()
             .filter_map(|l| l.strip_prefix("pub fn "))
             .map(|l| l.split('(').next().unwrap())
             .collect();
+        // The FMA twins of a kernel sit beside it: `{kernel}_separate` (safe) and
+        // `{kernel}_fused` (`unsafe`, FMA only); the regressors have none.
+        let functions: Vec<&str> = all
+            .iter()
+            .copied()
+            .filter(|f| !f.ends_with("_separate"))
+            .collect();
+        for f in functions.iter().filter(|f| !f.ends_with("regressor")) {
+            assert!(
+                all.contains(&format!("{f}_separate").as_str()),
+                "{model}: {f}_separate"
+            );
+            assert!(
+                code.contains(&format!("pub unsafe fn {f}_fused(")),
+                "{model}: {f}_fused"
+            );
+        }
         let listed: Vec<&str> = KERNELS
             .iter()
             .filter(|k| k.model == model.name())

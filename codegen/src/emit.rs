@@ -2,6 +2,7 @@
 
 use crate::dag::Func;
 use crate::error::Error;
+use crate::fuse::{Fused, Fusion};
 use crate::kernel::{Arg, Compiled, KernelSpec, Shape};
 use crate::lower::{Instr, Operand};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
@@ -110,12 +111,16 @@ pub fn kernel_doc(spec: &KernelSpec, compiled: &Compiled) -> String {
     doc
 }
 
-/// Emits one kernel as a function item.
+/// Emits one kernel as a function item. With `fma`, three: `{name}_separate` (every operation
+/// rounded on its own), `{name}_fused` (the products the [`crate::fuse`] plan folds, fused:
+/// `mul_add` in a function compiled for FMA), and `{name}`, which runs the fused twin where
+/// `fma` says the CPU has FMA, else the separate one.
 pub fn emit_kernel(
     spec: &KernelSpec,
     compiled: &Compiled,
     scalar: Scalar,
     trig: TrigCalls,
+    fma: Option<&FmaDispatch>,
 ) -> TokenStream {
     let ty = scalar.ty();
     let used = compiled.program.used_inputs();
@@ -170,49 +175,33 @@ pub fn emit_kernel(
             TrigCalls::Functions => quote!(#f(#a)),
         }
     };
-    let body = compiled
-        .program
-        .instrs
-        .iter()
-        .enumerate()
-        .filter(|(_, instr)| !matches!(instr, Instr::PairedCos(_)))
-        .map(|(i, instr)| {
+    let body = |fusion: Option<&Fusion>| -> Vec<TokenStream> {
+        let mut body = Vec::new();
+        for (i, instr) in compiled.program.instrs.iter().enumerate() {
             let t = ident(&format!("t{i}"));
-            if let Instr::SinCos(a) = *instr {
-                let c = ident(&format!("t{}", i + 1));
-                let rhs = call("sin_cos", operand(a));
-                return quote!(let (#t, #c): (#ty, #ty) = #rhs;);
-            }
-            let rhs = match *instr {
-                Instr::Add(a, b) => {
-                    let (a, b) = (operand(a), operand(b));
-                    quote!(#a + #b)
-                }
-                Instr::Sub(a, b) => {
-                    let (a, b) = (operand(a), operand(b));
-                    quote!(#a - #b)
-                }
-                Instr::Mul(a, b) => {
-                    let (a, b) = (operand(a), operand(b));
-                    quote!(#a * #b)
-                }
-                Instr::Div(a, b) => {
-                    let (a, b) = (operand(a), operand(b));
-                    quote!(#a / #b)
-                }
-                Instr::Neg(a) => {
-                    let a = operand(a);
-                    quote!(-#a)
-                }
-                Instr::Call(Func::Sign, a) => {
-                    let a = operand(a);
-                    quote!(((#a > 0.0) as i8 - (#a < 0.0) as i8) as #ty)
-                }
-                Instr::Call(f, a) => call(f.name(), operand(a)),
-                Instr::SinCos(_) | Instr::PairedCos(_) => unreachable!("handled above"),
+            let rhs = match fused_rhs(fusion, i, &operand, &quote!(#ty)) {
+                Fold::Absorbed => continue,
+                Fold::Fused(rhs) => rhs,
+                Fold::Separate => match *instr {
+                    Instr::SinCos(a) => {
+                        let c = ident(&format!("t{}", i + 1));
+                        let rhs = call("sin_cos", operand(a));
+                        body.push(quote!(let (#t, #c): (#ty, #ty) = #rhs;));
+                        continue;
+                    }
+                    Instr::PairedCos(_) => continue,
+                    Instr::Call(Func::Sign, a) => {
+                        let a = operand(a);
+                        quote!(((#a > 0.0) as i8 - (#a < 0.0) as i8) as #ty)
+                    }
+                    Instr::Call(f, a) => call(f.name(), operand(a)),
+                    other => arithmetic(other, &operand),
+                },
             };
-            quote!(let #t: #ty = #rhs;)
-        });
+            body.push(quote!(let #t: #ty = #rhs;));
+        }
+        body
+    };
     let mut outs = Vec::new();
     let mut out_types = Vec::new();
     let mut k = 0;
@@ -235,25 +224,205 @@ pub fn emit_kernel(
     let doc = kernel_doc(spec, compiled);
     let doc_lines = doc.lines().map(|l| quote!(#[doc = #l]));
     let name = ident(&spec.name);
+    let Some(fma) = fma else {
+        let body = body(None);
+        return quote! {
+            #(#doc_lines)*
+            #[inline]
+            pub fn #name(#(#params),*) -> #ret_ty {
+                #(#destructure)*
+                #(#body)*
+                #ret
+            }
+        };
+    };
+    let fusion = crate::fuse::plan(&compiled.program);
+    let (separate, fused) = (body(None), body(Some(&fusion)));
+    let separate_name = ident(&format!("{}_separate", spec.name));
+    let fused_name = ident(&format!("{}_fused", spec.name));
+    let args = param_names(&params);
+    let (cfg, enabled) = (&fma.cfg, &fma.enabled);
+    let separate_doc = format!(
+        " [`{}`] with every operation rounded on its own: the same bits on every machine.",
+        spec.name
+    );
+    let fused_doc = match fusion.saved() {
+        0 => format!(
+            " [`{}`] on the FMA path: no product here is read by a sum alone, so this is \
+             [`{}`]'s arithmetic.",
+            spec.name, separate_name
+        ),
+        n => format!(
+            " [`{}`] with {n} of its products fused into the sums that read them (`mul_add`, \
+             one rounding each): the path [`{}`] takes where the CPU has FMA.",
+            spec.name, spec.name
+        ),
+    };
     quote! {
         #(#doc_lines)*
         #[inline]
         pub fn #name(#(#params),*) -> #ret_ty {
+            #[cfg(#cfg)]
+            if #enabled {
+                // SAFETY: the CPU has FMA (checked just above), the one feature it assumes.
+                return unsafe { #fused_name(#(#args),*) };
+            }
+            #separate_name(#(#args),*)
+        }
+
+        #[doc = #separate_doc]
+        #[inline]
+        pub fn #separate_name(#(#params),*) -> #ret_ty {
             #(#destructure)*
-            #(#body)*
+            #(#separate)*
+            #ret
+        }
+
+        #[doc = #fused_doc]
+        ///
+        /// # Safety
+        /// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+        #[cfg(#cfg)]
+        #[inline]
+        #[target_feature(enable = "fma")]
+        pub unsafe fn #fused_name(#(#params),*) -> #ret_ty {
+            #(#destructure)*
+            #(#fused)*
             #ret
         }
     }
 }
 
+/// Where a kernel's FMA twin exists and how the kernel decides to call it.
+#[derive(Clone, Debug)]
+pub struct FmaDispatch {
+    /// The `cfg` predicate under which the twin is compiled.
+    pub cfg: TokenStream,
+    /// A `bool` expression: run the twin (true only where the CPU has FMA).
+    pub enabled: TokenStream,
+}
+
+impl FmaDispatch {
+    /// For a crate of its own (a `build.rs` output): the standard library's detection, on x86.
+    pub fn detected() -> Self {
+        FmaDispatch {
+            cfg: quote!(any(target_arch = "x86", target_arch = "x86_64")),
+            enabled: quote!(std::is_x86_feature_detected!("fma")),
+        }
+    }
+
+    /// For `c5-generated`: its `fma` feature and switch (`crate::fma`).
+    pub fn crate_switch() -> Self {
+        FmaDispatch {
+            cfg: quote!(all(
+                feature = "fma",
+                any(target_arch = "x86", target_arch = "x86_64")
+            )),
+            enabled: quote!(crate::fma::enabled()),
+        }
+    }
+}
+
+/// The names of a function's parameters (`name: &T` items), to call it with them.
+fn param_names(params: &[TokenStream]) -> Vec<TokenStream> {
+    params
+        .iter()
+        .map(|p| {
+            let name = p
+                .clone()
+                .into_iter()
+                .next()
+                .expect("a parameter has a name");
+            quote!(#name)
+        })
+        .collect()
+}
+
+/// What an instruction becomes on a path.
+enum Fold {
+    /// A product folded into its reader: not emitted.
+    Absorbed,
+    /// A sum or difference with a product folded in: this right-hand side.
+    Fused(TokenStream),
+    /// As it is.
+    Separate,
+}
+
+/// Instruction `i` on the FMA path of `fusion` (`None`: the separate path), `mul_add` the
+/// type whose `mul_add` fuses (`f64`, a lane type).
+fn fused_rhs(
+    fusion: Option<&Fusion>,
+    i: usize,
+    operand: &dyn Fn(Operand) -> TokenStream,
+    ty: &TokenStream,
+) -> Fold {
+    let Some(fusion) = fusion else {
+        return Fold::Separate;
+    };
+    if fusion.absorbed[i] {
+        return Fold::Absorbed;
+    }
+    match fusion.fused[i] {
+        Some(Fused::MulAdd(a, b, c)) => {
+            let (a, b, c) = (operand(a), operand(b), operand(c));
+            Fold::Fused(quote!(#ty::mul_add(#a, #b, #c)))
+        }
+        Some(Fused::MulSub(a, b, c)) => {
+            let (a, b, c) = (operand(a), operand(b), operand(c));
+            Fold::Fused(quote!(#ty::mul_add(#a, #b, -#c)))
+        }
+        Some(Fused::NegMulAdd(a, b, c)) => {
+            let (a, b, c) = (operand(a), operand(b), operand(c));
+            Fold::Fused(quote!(#ty::mul_add(-#a, #b, #c)))
+        }
+        None => Fold::Separate,
+    }
+}
+
+/// The right-hand side of an arithmetic instruction.
+fn arithmetic(instr: Instr, operand: &dyn Fn(Operand) -> TokenStream) -> TokenStream {
+    match instr {
+        Instr::Add(a, b) => {
+            let (a, b) = (operand(a), operand(b));
+            quote!(#a + #b)
+        }
+        Instr::Sub(a, b) => {
+            let (a, b) = (operand(a), operand(b));
+            quote!(#a - #b)
+        }
+        Instr::Mul(a, b) => {
+            let (a, b) = (operand(a), operand(b));
+            quote!(#a * #b)
+        }
+        Instr::Div(a, b) => {
+            let (a, b) = (operand(a), operand(b));
+            quote!(#a / #b)
+        }
+        Instr::Neg(a) => {
+            let a = operand(a);
+            quote!(-#a)
+        }
+        Instr::Call(..) | Instr::SinCos(_) | Instr::PairedCos(_) => {
+            unreachable!("calls are emitted by the caller")
+        }
+    }
+}
+
 /// Emits a whole file: the header, then one function per kernel, formatted.
+///
+/// With `fma`, each `f64` kernel gets an FMA twin and dispatches to it (see [`emit_kernel`]);
+/// `f32` kernels have none.
 pub fn emit_file(
     header: &str,
     kernels: &[(&KernelSpec, &Compiled)],
     scalar: Scalar,
     trig: TrigCalls,
+    fma: Option<&FmaDispatch>,
 ) -> Result<String, Error> {
-    let items = kernels.iter().map(|(s, c)| emit_kernel(s, c, scalar, trig));
+    let fma = fma.filter(|_| scalar == Scalar::F64);
+    let items = kernels
+        .iter()
+        .map(|(s, c)| emit_kernel(s, c, scalar, trig, fma));
     let tokens = quote!(#(#items)*);
     let file: syn::File = syn::parse2(tokens).map_err(|e| Error::Emit {
         kernel: kernels
@@ -285,6 +454,8 @@ pub fn emit_batch_kernel(
     compiled: &Compiled,
     scalar: Scalar,
 ) -> Result<TokenStream, Error> {
+    // Batch kernels live in `c5-generated`, whose `fma` feature and switch they use.
+    let fma = scalar == Scalar::F64;
     let (lane_name, lanes) = lane_type(scalar);
     let lane = ident(lane_name);
     let ty = scalar.ty();
@@ -343,44 +514,32 @@ pub fn emit_batch_kernel(
             }
         }
     };
-    let mut body = Vec::new();
-    for (i, instr) in compiled.program.instrs.iter().enumerate() {
-        let t = ident(&format!("t{i}"));
-        let rhs = match *instr {
-            Instr::Add(a, b) => {
-                let (a, b) = (operand(a), operand(b));
-                quote!(#a + #b)
-            }
-            Instr::Sub(a, b) => {
-                let (a, b) = (operand(a), operand(b));
-                quote!(#a - #b)
-            }
-            Instr::Mul(a, b) => {
-                let (a, b) = (operand(a), operand(b));
-                quote!(#a * #b)
-            }
-            Instr::Div(a, b) => {
-                let (a, b) = (operand(a), operand(b));
-                quote!(#a / #b)
-            }
-            Instr::Neg(a) => {
-                let a = operand(a);
-                quote!(-#a)
-            }
-            Instr::Call(f, a) => {
-                let (a, f) = (operand(a), ident(f.name()));
-                quote!(#a.#f())
-            }
-            Instr::SinCos(a) => {
-                let c = ident(&format!("t{}", i + 1));
-                let a = operand(a);
-                body.push(quote!(let (#t, #c) = #a.sin_cos();));
-                continue;
-            }
-            Instr::PairedCos(_) => continue,
-        };
-        body.push(quote!(let #t: #lane = #rhs;));
-    }
+    let body = |fusion: Option<&Fusion>| -> Vec<TokenStream> {
+        let mut body = Vec::new();
+        for (i, instr) in compiled.program.instrs.iter().enumerate() {
+            let t = ident(&format!("t{i}"));
+            let rhs = match fused_rhs(fusion, i, &operand, &quote!(#lane)) {
+                Fold::Absorbed => continue,
+                Fold::Fused(rhs) => rhs,
+                Fold::Separate => match *instr {
+                    Instr::Call(f, a) => {
+                        let (a, f) = (operand(a), ident(f.name()));
+                        quote!(#a.#f())
+                    }
+                    Instr::SinCos(a) => {
+                        let c = ident(&format!("t{}", i + 1));
+                        let a = operand(a);
+                        body.push(quote!(let (#t, #c) = #a.sin_cos();));
+                        continue;
+                    }
+                    Instr::PairedCos(_) => continue,
+                    other => arithmetic(other, &operand),
+                },
+            };
+            body.push(quote!(let #t: #lane = #rhs;));
+        }
+        body
+    };
     let mut outs = Vec::new();
     let mut out_types = Vec::new();
     let mut k = 0;
@@ -411,13 +570,59 @@ pub fn emit_batch_kernel(
     let name = ident(&format!("{}_x{lanes}", spec.name));
     let portable = ident(&format!("{}_x{lanes}_lanes", spec.name));
     let args: Vec<Ident> = spec.inputs.iter().map(|a| ident(&a.name)).collect();
+    let separate = body(None);
+    // The FMA twin of the lanes: the single kernel's fusion plan, so each lane computes what
+    // the single kernel's fused twin computes.
+    let fused = fma.then(|| {
+        let fusion = crate::fuse::plan(&compiled.program);
+        let body = body(Some(&fusion));
+        let fused = ident(&format!("{}_x{lanes}_lanes_fused", spec.name));
+        let FmaDispatch { cfg, enabled } = FmaDispatch::crate_switch();
+        let dispatch = quote! {
+            #[cfg(#cfg)]
+            if #enabled {
+                if std::is_x86_feature_detected!("avx512vl") {
+                    #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+                    fn avx512_fma(#(#params),*) -> #ret_ty {
+                        core::hint::black_box(&#lane::splat(0.0));
+                        // SAFETY: compiled for FMA, called only where the CPU has it.
+                        unsafe { #fused(#(#args),*) }
+                    }
+                    // SAFETY: the CPU has AVX-512VL (checked just above) and FMA (`enabled`).
+                    return unsafe { avx512_fma(#(#args),*) };
+                }
+                #[target_feature(enable = "avx2,fma")]
+                fn avx2_fma(#(#params),*) -> #ret_ty {
+                    core::hint::black_box(&#lane::splat(0.0));
+                    // SAFETY: compiled for FMA, called only where the CPU has it.
+                    unsafe { #fused(#(#args),*) }
+                }
+                // SAFETY: `enabled` is true only where the CPU has FMA and AVX2.
+                return unsafe { avx2_fma(#(#args),*) };
+            }
+        };
+        // `unsafe`: its lanes' `mul_add` needs FMA, which only the dispatch above checks.
+        let lanes_fused = quote! {
+            #[cfg(#cfg)]
+            #[inline(always)]
+            unsafe fn #fused(#(#params),*) -> #ret_ty {
+                #(#destructure)*
+                #(#body)*
+                #ret
+            }
+        };
+        (dispatch, lanes_fused)
+    });
+    let (dispatch, lanes_fused) = fused.unzip();
     // The lanes are written for any vector width; on x86 with `std`, a CPU with AVX2 runs them
-    // four `f64` (eight `f32`) to an instruction instead of two (four). Separate roundings, no
-    // fused multiply-add: every lane computes the same bits either way.
+    // four `f64` (eight `f32`) to an instruction instead of two (four). On the FMA path (as the
+    // single kernels take it) the lanes fuse what the single kernels fuse; on the other, every
+    // operation is rounded on its own. Either way each lane computes the single kernel's bits.
     Ok(quote! {
         #[doc = #doc]
         #[inline]
         pub fn #name(#(#params),*) -> #ret_ty {
+            #dispatch
             #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
             if std::is_x86_feature_detected!("avx2") {
                 #[target_feature(enable = "avx2")]
@@ -437,9 +642,11 @@ pub fn emit_batch_kernel(
         #[inline(always)]
         fn #portable(#(#params),*) -> #ret_ty {
             #(#destructure)*
-            #(#body)*
+            #(#separate)*
             #ret
         }
+
+        #lanes_fused
     })
 }
 

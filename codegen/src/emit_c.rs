@@ -9,9 +9,10 @@
 
 use crate::dag::Func;
 use crate::emit::{kernel_doc, Scalar};
+use crate::fuse::{self, Fused};
 use crate::kernel::{Arg, Compiled, KernelSpec, Shape};
 use crate::lower::{Instr, Operand};
-use crate::schedule::schedule;
+use crate::schedule::{schedule, schedule_order};
 use std::fmt::Write;
 
 /// How the C functions are named: `{prefix}{kernel}{suffix}`.
@@ -141,9 +142,13 @@ fn emit_function(
     compiled: &Compiled,
     scalar: Scalar,
     naming: &Naming,
+    fused: bool,
 ) -> String {
     let ty = c_type(scalar);
+    let order = schedule_order(&compiled.program);
     let program = schedule(&compiled.program);
+    // The Rust twin's plan, carried through the scheduled order: the same products fused.
+    let fusion = fused.then(|| fuse::plan(&compiled.program).permuted(&order));
     let used = program.used_inputs();
     let mut out = signature(spec, scalar, naming);
     out.push_str("\n{\n");
@@ -184,6 +189,25 @@ fn emit_function(
         Scalar::F32 => format!("{name}f"),
     };
     for (i, instr) in program.instrs.iter().enumerate() {
+        if let Some(fusion) = &fusion {
+            if fusion.absorbed[i] {
+                continue;
+            }
+            let fused = match fusion.fused[i] {
+                Some(Fused::MulAdd(a, b, c)) => Some((operand(a), operand(b), operand(c))),
+                Some(Fused::MulSub(a, b, c)) => {
+                    Some((operand(a), operand(b), format!("-{}", operand(c))))
+                }
+                Some(Fused::NegMulAdd(a, b, c)) => {
+                    Some((format!("-{}", operand(a)), operand(b), operand(c)))
+                }
+                None => None,
+            };
+            if let Some((a, b, c)) = fused {
+                let _ = writeln!(out, "    const {ty} t{i} = C5_FMA({a}, {b}, {c});");
+                continue;
+            }
+        }
         let rhs = match *instr {
             Instr::Add(a, b) => format!("{} + {}", operand(a), operand(b)),
             Instr::Sub(a, b) => format!("{} - {}", operand(a), operand(b)),
@@ -252,23 +276,44 @@ static inline void c5_sin_cos(double x, double *s, double *c)
 }
 "#;
 
-/// The source file: the header's include, `<math.h>`, one function per kernel.
+/// The product-plus-sums the Rust kernels' FMA twins fuse.
+const FMA: &str = r#"
+/* C5_FMA(a, b, c) = a * b + c. Defining C5_FUSED_MULTIPLY_ADD makes it C's fma, one rounding:
+ * the Rust kernels' FMA twins (`{kernel}_fused`), bit for bit (build with -mfma or
+ * -march=native so fma is an instruction, not a call). Otherwise a product then a sum: their
+ * separate path (`{kernel}_separate`), bit for bit with -ffp-contract=off. */
+#ifndef C5_FMA
+#ifdef C5_FUSED_MULTIPLY_ADD
+#define C5_FMA(a, b, c) fma((a), (b), (c))
+#else
+#define C5_FMA(a, b, c) ((a) * (b) + (c))
+#endif
+#endif
+"#;
+
+/// The source file: the header's include, `<math.h>`, one function per kernel. With `fused`
+/// (`double` kernels only), the products the Rust FMA twins fuse are written `C5_FMA(a, b, c)`.
 pub fn emit_source(
     banner: &str,
     header_name: &str,
     kernels: &[(&KernelSpec, &Compiled)],
     scalar: Scalar,
     naming: &Naming,
+    fused: bool,
 ) -> String {
+    let fused = fused && scalar == Scalar::F64;
     let mut out = String::new();
     out.push_str(banner);
     let _ = write!(out, "\n#include <math.h>\n\n#include \"{header_name}\"\n");
     if scalar == Scalar::F64 {
         out.push_str(SIN_COS);
     }
+    if fused {
+        out.push_str(FMA);
+    }
     for (spec, compiled) in kernels {
         out.push('\n');
-        out.push_str(&emit_function(spec, compiled, scalar, naming));
+        out.push_str(&emit_function(spec, compiled, scalar, naming, fused));
     }
     out
 }

@@ -43,6 +43,7 @@ pub mod dag;
 mod emit;
 mod emit_c;
 mod error;
+mod fuse;
 pub mod kernel;
 pub mod linalg;
 mod lower;
@@ -92,6 +93,7 @@ pub struct Config {
     c_naming: Option<emit_c::Naming>,
     chapter_kernels: bool,
     regressors: bool,
+    fused_multiply_add: bool,
     out_dir: Option<PathBuf>,
     file_name: String,
 }
@@ -107,6 +109,7 @@ impl Default for Config {
             c_naming: None,
             chapter_kernels: false,
             regressors: false,
+            fused_multiply_add: true,
             out_dir: None,
             file_name: "c5_kernels.rs".to_string(),
         }
@@ -176,6 +179,18 @@ impl Config {
     /// are found with this robot's. Default: `false`.
     pub fn regressors(&mut self, yes: bool) -> &mut Self {
         self.regressors = yes;
+        self
+    }
+
+    /// Give each `f64` kernel an FMA twin: in Rust, `{kernel}_fused` (its products fused into
+    /// the sums that read them, `mul_add`, compiled for FMA), `{kernel}_separate` (every
+    /// operation rounded on its own), and `{kernel}` running the fused twin where the CPU has
+    /// FMA (x86, detected at run time), the separate one elsewhere; in C, `C5_FMA(a, b, c)`,
+    /// `fma` when `C5_FUSED_MULTIPLY_ADD` is defined, `a * b + c` otherwise. The twins differ
+    /// by a few units in the last place; call `{kernel}_separate` (or turn this off) for the
+    /// same bits on every machine. Default: `true`.
+    pub fn fused_multiply_add(&mut self, yes: bool) -> &mut Self {
+        self.fused_multiply_add = yes;
         self
     }
 
@@ -259,11 +274,13 @@ impl Config {
         if let Some(id) = &identification {
             pairs.extend(id.pairs().into_iter().map(|(e, c)| (&e.spec, c)));
         }
+        let fma = emit::FmaDispatch::detected();
         let mut file = emit::emit_file(
             &self.banner(&pairs),
             &pairs,
             self.scalar,
             TrigCalls::Methods,
+            self.fused_multiply_add.then_some(&fma),
         )?;
         if let Some(id) = &identification {
             file.push_str(&model::regressor::constants(&id.base)?);
@@ -316,7 +333,14 @@ impl Config {
                     ),
                     (
                         format!("{stem}.c"),
-                        emit_c::emit_source(&banner, &header, &pairs, self.scalar, &naming),
+                        emit_c::emit_source(
+                            &banner,
+                            &header,
+                            &pairs,
+                            self.scalar,
+                            &naming,
+                            self.fused_multiply_add,
+                        ),
                     ),
                 ])
             }
@@ -459,7 +483,13 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
         for scalar in [Scalar::F64, Scalar::F32] {
             files.push((
                 PathBuf::from(format!("src/{}/{model}.rs", scalar.name())),
-                emit::emit_file(&header, &specs, scalar, TrigCalls::Functions)?,
+                emit::emit_file(
+                    &header,
+                    &specs,
+                    scalar,
+                    TrigCalls::Functions,
+                    Some(&emit::FmaDispatch::crate_switch()),
+                )?,
             ));
             files.push((
                 PathBuf::from(format!("src/{}/{model}_batch.rs", scalar.name())),
@@ -494,7 +524,7 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
         );
         files.push((
             PathBuf::from(format!("src/f64/{model}_regressor.rs")),
-            emit::emit_file(&header, &pairs, Scalar::F64, TrigCalls::Functions)?
+            emit::emit_file(&header, &pairs, Scalar::F64, TrigCalls::Functions, None)?
                 + &model::regressor::constants(&id.base)?,
         ));
     }

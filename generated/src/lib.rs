@@ -20,6 +20,12 @@
 //! `inverse_dynamics` and `forward_dynamics` also come in batch form (`_x4` in `f64`, `_x8` in
 //! `f32`): several states at once, in structure-of-arrays form, each lane computing exactly what
 //! the single-state kernel computes, in AVX2 instructions where the CPU has them (with `std`).
+//! With the feature `fma` (it needs `std`), every `f64` kernel has an FMA twin: `{kernel}_fused`
+//! folds the products a sum reads once into it (`mul_add`, one rounding instead of two),
+//! `{kernel}_separate` rounds every operation on its own, and `{kernel}` runs the fused twin
+//! where the CPU has FMA (x86, checked once at run time), so do the batch kernels' lanes. The
+//! twins agree to a few units in the last place; [`fma::set_enabled`]`(false)` makes every
+//! kernel of the process take the separate path, the same bits on every machine.
 //! Trigonometry comes from the standard library (`std`, the default) or from `libm` (feature
 //! `libm`, also without `std`; its `sincos` is twice as fast as the standard library's pair of
 //! calls); an `f64` sine-cosine pair within a quarter turn is computed inline (`quarter`). The files under `src/f64`,
@@ -52,6 +58,7 @@
 
 #![cfg_attr(not(feature = "std"), no_std)]
 
+pub mod fma;
 pub mod quarter;
 #[cfg(feature = "batch")]
 mod sincos;
@@ -270,6 +277,30 @@ pub mod lanes {
     lanes!(F32x8, f32, 8);
 
     impl F64x4 {
+        /// `a·b + c` lane by lane with one rounding (`f64::mul_add`): the FMA twins' lanes, one
+        /// `vfmadd` on x86-64 (left to the vectoriser, a lane-by-lane `mul_add` came out
+        /// partly scalar and made the paper model's batch inverse dynamics 30 % slower).
+        ///
+        /// # Safety
+        /// The CPU must have FMA (`is_x86_feature_detected!("fma")`), and the caller is
+        /// compiled with it (`#[target_feature(enable = "fma")]`) for this to inline.
+        #[cfg(feature = "fma")]
+        #[inline(always)]
+        pub unsafe fn mul_add(a: Self, b: Self, c: Self) -> Self {
+            #[cfg(target_arch = "x86_64")]
+            {
+                use core::arch::x86_64::{__m256d, _mm256_fmadd_pd};
+                // SAFETY: `F64x4` is 32 aligned bytes of four `f64`, as `__m256d`; the caller
+                // guarantees FMA (and with it AVX).
+                unsafe {
+                    let [a, b, c] = [a, b, c].map(|v| core::mem::transmute::<Self, __m256d>(v));
+                    core::mem::transmute::<__m256d, Self>(_mm256_fmadd_pd(a, b, c))
+                }
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            F64x4(core::array::from_fn(|l| a.0[l].mul_add(b.0[l], c.0[l])))
+        }
+
         /// `(sin, cos)` of the four lanes, each equal to [`crate::trig::sin_cos`] of it; in
         /// vector instructions when all four are within a quarter turn.
         #[inline(always)]

@@ -53,6 +53,9 @@ pub use types::{Acceleration, Pose, State, Twist};
 
 pub use c5_generated::f64::Kernels;
 use c5_generated::f64::{paper, AnyModel};
+/// Whether the kernels run their FMA twins (fused multiply-add, where the CPU has it, with the
+/// `fma` feature), and the switch to turn them off for the same bits on every machine.
+pub use c5_generated::fma;
 
 // The parameter vector's length is generated from the robot description's one definition.
 const _: () = assert!(c5_generated::PARAMETERS == c5_robot::PARAMETERS);

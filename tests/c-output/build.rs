@@ -36,10 +36,17 @@ fn rust_type(shape: Shape, ty: &str) -> String {
 
 /// The adapters of one kernel: the C function and the Rust kernel, both as
 /// `fn(&[f64]) -> Vec<f64>` over the flattened inputs and outputs.
-fn adapters(out: &mut String, spec: &Signature, model: Model, scalar: Scalar, naming: &Naming) {
+fn adapters(
+    out: &mut String,
+    spec: &Signature,
+    model: Model,
+    scalar: Scalar,
+    naming: &Naming,
+    path: Arithmetic,
+) -> String {
     let ty = scalar.name();
     let c_name = naming.function(&spec.name);
-    let id = format!("{model}_{ty}_{}", spec.name);
+    let id = format!("{model}_{ty}_{}{}", path.suffix(), spec.name);
     let mut args = Vec::new();
     let mut unpack = String::new();
     let mut offset = 0;
@@ -95,15 +102,21 @@ fn adapters(out: &mut String, spec: &Signature, model: Model, scalar: Scalar, na
         out,
         "pub fn rust_{id}(input: &[f64]) -> Vec<f64> {{\n{unpack}"
     );
-    let path = format!("c5_generated::{ty}::{model}::{}", spec.name);
+    let call = match path {
+        Arithmetic::Only => format!("c5_generated::{ty}::{model}::{}", spec.name),
+        Arithmetic::Separate => format!("c5_generated::{ty}::{model}::{}_separate", spec.name),
+        // The test calls it only where `c5_generated::fma::available()`.
+        Arithmetic::Fused => format!("unsafe {{ c5_generated::{ty}::{model}::{}_fused", spec.name),
+    };
+    let close = if path == Arithmetic::Fused { " }" } else { "" };
     let n = spec.outputs.len();
     if n == 1 {
-        let _ = writeln!(out, "    let o0 = {path}({});", args.join(", "));
+        let _ = writeln!(out, "    let o0 = {call}({}){close};", args.join(", "));
     } else {
         let names: Vec<String> = (0..n).map(|k| format!("o{k}")).collect();
         let _ = writeln!(
             out,
-            "    let ({}) = {path}({});",
+            "    let ({}) = {call}({}){close};",
             names.join(", "),
             args.join(", ")
         );
@@ -113,6 +126,57 @@ fn adapters(out: &mut String, spec: &Signature, model: Model, scalar: Scalar, na
         let _ = writeln!(out, "    flat(&o{k}, &mut v);");
     }
     let _ = writeln!(out, "    v\n}}");
+    id
+}
+
+/// Which of a kernel's arithmetic paths: `f32` kernels have one; `f64` kernels a separate
+/// path (every operation rounded on its own) and an FMA twin.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Arithmetic {
+    Only,
+    Separate,
+    Fused,
+}
+
+impl Arithmetic {
+    fn suffix(self) -> &'static str {
+        match self {
+            Arithmetic::Only | Arithmetic::Separate => "",
+            Arithmetic::Fused => "fused_",
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Arithmetic::Only => "only",
+            Arithmetic::Separate => "separate",
+            Arithmetic::Fused => "fused",
+        }
+    }
+}
+
+/// Replaces the library calls of a generated C file by the Rust kernels' own sine, cosine and
+/// arc tangent (src/lib.rs defines them), so the test compares two programs, not two maths
+/// libraries. Every library call is `= sin(…)`, `= cos(…)` or `= atan(…)` (`sinf`, ...) in the
+/// emitted code (the `double` kernels' own `c5_sin_cos` inside π/4 stays); the square root and
+/// `fma` are correctly rounded everywhere.
+fn own_trigonometry(source: &Path) {
+    let text = std::fs::read_to_string(source).unwrap();
+    let text = ["sin", "cos", "atan", "sinf", "cosf", "atanf"]
+        .iter()
+        .fold(text, |t, f| {
+            t.replace(&format!("= {f}("), &format!("= c5_test_{f}("))
+        });
+    let text = text.replace(
+        "#include <math.h>",
+        "double fabs(double);\ndouble sqrt(double);\nfloat sqrtf(float);\n\
+         double fma(double, double, double);\n\
+         double c5_test_sin(double);\ndouble c5_test_cos(double);\n\
+         double c5_test_atan(double);\n\
+         float c5_test_sinf(float);\nfloat c5_test_cosf(float);\n\
+         float c5_test_atanf(float);",
+    );
+    std::fs::write(source, text).unwrap();
 }
 
 fn main() {
@@ -122,49 +186,49 @@ fn main() {
     let mut code = String::from(
         "// Written by build.rs: FFI adapters of the C kernels and the Rust kernels.\n",
     );
+    let mut fused_sources = Vec::new();
     for model in Model::ALL {
         for scalar in [Scalar::F64, Scalar::F32] {
-            let naming = Naming::standard(model, scalar);
-            let stem = format!("c5_{model}_{}", scalar.name());
-            let source = generate(&out, model, scalar, &stem, &naming);
-            // Every library call is `= sin(…)`, `= cos(…)` or `= atan(…)` (`sinf`, ...) in the
-            // emitted code (the `double` kernels' own `c5_sin_cos` inside π/4 stays); the square
-            // root is correctly rounded everywhere.
-            let text = std::fs::read_to_string(&source).unwrap();
-            let text = ["sin", "cos", "atan", "sinf", "cosf", "atanf"]
-                .iter()
-                .fold(text, |t, f| {
-                    t.replace(&format!("= {f}("), &format!("= c5_test_{f}("))
-                });
-            let text = text.replace(
-                "#include <math.h>",
-                "double fabs(double);\ndouble sqrt(double);\nfloat sqrtf(float);\n\
-                 double c5_test_sin(double);\ndouble c5_test_cos(double);\n\
-                 double c5_test_atan(double);\n\
-                 float c5_test_sinf(float);\nfloat c5_test_cosf(float);\n\
-                 float c5_test_atanf(float);",
-            );
-            std::fs::write(&source, text).unwrap();
-            sources.push(source);
-            let signatures = config(&out, model, scalar, &stem, &naming)
-                .signatures()
-                .unwrap();
-            for spec in &signatures {
-                adapters(&mut code, spec, model, scalar, &naming);
-                let id = format!("{model}_{}_{}", scalar.name(), spec.name);
-                let inputs: Vec<String> = spec
-                    .inputs
-                    .iter()
-                    .map(|(name, _)| format!("{name:?}"))
-                    .collect();
-                let _ = writeln!(
-                    table,
-                    "    Kernel {{ model: {:?}, scalar: {:?}, name: {:?}, inputs: &[{}], c: c_{id}, rust: rust_{id} }},",
-                    model.name(),
-                    scalar.name(),
-                    spec.name,
-                    inputs.join(", ")
-                );
+            let paths: &[Arithmetic] = match scalar {
+                Scalar::F64 => &[Arithmetic::Separate, Arithmetic::Fused],
+                Scalar::F32 => &[Arithmetic::Only],
+            };
+            for &path in paths {
+                let naming = match path {
+                    Arithmetic::Fused => Naming {
+                        prefix: format!("c5_fused_{model}_"),
+                        suffix: String::new(),
+                    },
+                    _ => Naming::standard(model, scalar),
+                };
+                let stem = format!("c5_{}{model}_{}", path.suffix(), scalar.name());
+                let source = generate(&out, model, scalar, &stem, &naming);
+                own_trigonometry(&source);
+                if path == Arithmetic::Fused {
+                    fused_sources.push(source);
+                } else {
+                    sources.push(source);
+                }
+                let signatures = config(&out, model, scalar, &stem, &naming)
+                    .signatures()
+                    .unwrap();
+                for spec in &signatures {
+                    let id = adapters(&mut code, spec, model, scalar, &naming, path);
+                    let inputs: Vec<String> = spec
+                        .inputs
+                        .iter()
+                        .map(|(name, _)| format!("{name:?}"))
+                        .collect();
+                    let _ = writeln!(
+                        table,
+                        "    Kernel {{ model: {:?}, scalar: {:?}, path: {:?}, name: {:?}, inputs: &[{}], c: c_{id}, rust: rust_{id} }},",
+                        model.name(),
+                        scalar.name(),
+                        path.name(),
+                        spec.name,
+                        inputs.join(", ")
+                    );
+                }
             }
         }
     }
@@ -182,6 +246,19 @@ fn main() {
         .extra_warnings(true)
         .warnings_into_errors(true)
         .compile("c5kernels");
+    // The FMA twins: `C5_FMA` is C's `fma`, an instruction with `-mfma`.
+    cc::Build::new()
+        .files(&fused_sources)
+        .include(&out)
+        .std("c99")
+        .opt_level(2)
+        .define("C5_FUSED_MULTIPLY_ADD", None)
+        .flag_if_supported("-mfma")
+        .flag("-ffp-contract=off")
+        .warnings(true)
+        .extra_warnings(true)
+        .warnings_into_errors(true)
+        .compile("c5kernels_fused");
     // For the bench: the f64 kernels as a user would build them for speed.
     let mut native = Vec::new();
     for model in Model::ALL {
@@ -198,7 +275,8 @@ fn main() {
         ));
     }
     // The baseline: the same inverse dynamics written with SymPy (sympy/generate.py).
-    native.extend(["sympy/sympy_consistent.c", "sympy/sympy_paper.c"].map(PathBuf::from));
+    let sympy = ["sympy/sympy_consistent.c", "sympy/sympy_paper.c"].map(PathBuf::from);
+    native.extend(sympy.iter().cloned());
     cc::Build::new()
         .files(&native)
         .include(&out)
@@ -206,6 +284,18 @@ fn main() {
         .opt_level(3)
         .flag("-march=native")
         .compile("c5native");
+    // The SymPy baseline again in GCC's default GNU mode, which contracts `a * b + c` into
+    // fused multiply-adds (`-ffp-contract=fast`; `-std=c99` turns that off): what a user who
+    // types `gcc -O3 -march=native` gets. Its functions are renamed `sympy_gnu_*`.
+    let mut gnu = cc::Build::new();
+    gnu.files(&sympy).opt_level(3).flag("-march=native");
+    for model in Model::ALL {
+        gnu.define(
+            &format!("sympy_{model}_inverse_dynamics"),
+            Some(format!("sympy_gnu_{model}_inverse_dynamics").as_str()),
+        );
+    }
+    gnu.compile("c5sympygnu");
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-changed=sympy");
 }

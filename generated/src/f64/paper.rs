@@ -67,6 +67,39 @@
 /// Operations: 0 mul, 0 div, 0 add, 6 neg (chapter convention: 0m + 0a). The chapter: 18m + 30a.
 #[inline]
 pub fn inverse_jacobian(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { inverse_jacobian_fused(p) };
+    }
+    inverse_jacobian_separate(p)
+}
+/// [`inverse_jacobian`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn inverse_jacobian_separate(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
+    let [[_, y1, z1], [_, y2, z2], [x3, _, z3], [x4, _, z4], [x5, y5, _], [x6, y6, _]] = *p;
+    let t0: f64 = -z1;
+    let t1: f64 = -z2;
+    let t2: f64 = -x3;
+    let t3: f64 = -x4;
+    let t4: f64 = -y5;
+    let t5: f64 = -y6;
+    [
+        [0.0, t0, y1, 1.0, 0.0, 0.0],
+        [0.0, t1, y2, 1.0, 0.0, 0.0],
+        [z3, 0.0, t2, 0.0, 1.0, 0.0],
+        [z4, 0.0, t3, 0.0, 1.0, 0.0],
+        [t4, x5, 0.0, 0.0, 0.0, 1.0],
+        [t5, x6, 0.0, 0.0, 0.0, 1.0],
+    ]
+}
+/// [`inverse_jacobian`] on the FMA path: no product here is read by a sum alone, so this is [`inverse_jacobian_separate`]'s arithmetic.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn inverse_jacobian_fused(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
     let [[_, y1, z1], [_, y2, z2], [x3, _, z3], [x4, _, z4], [x5, y5, _], [x6, y6, _]] = *p;
     let t0: f64 = -z1;
     let t1: f64 = -z2;
@@ -101,6 +134,56 @@ pub fn inverse_jacobian(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
 /// Operations: 4 mul, 3 div, 9 add, 7 neg (chapter convention: 7m + 9a). The chapter: 17m + 28a.
 #[inline]
 pub fn pi1(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { pi1_fused(p) };
+    }
+    pi1_separate(p)
+}
+/// [`pi1`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn pi1_separate(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
+    let [[x1, y1, z1], [_, _, z2], [x3, _, z3], [x4, _, _], [x5, y5, _], [_, y6, _]] = *p;
+    let t0: f64 = z1 - z2;
+    let t1: f64 = 1.0 / t0;
+    let t2: f64 = x1 - x5;
+    let t3: f64 = t1 * t2;
+    let t4: f64 = -t3;
+    let t5: f64 = y5 - y6;
+    let t6: f64 = 1.0 / t5;
+    let t7: f64 = y1 - y5;
+    let t8: f64 = t6 * t7;
+    let t9: f64 = t8 + 1.0;
+    let t10: f64 = -t8;
+    let t11: f64 = x3 - x4;
+    let t12: f64 = 1.0 / t11;
+    let t13: f64 = x1 - x3;
+    let t14: f64 = t12 * t13;
+    let t15: f64 = t14 + 1.0;
+    let t16: f64 = -t14;
+    let t17: f64 = z1 - z3;
+    let t18: f64 = t6 * t17;
+    let t19: f64 = -t18;
+    let t20: f64 = -t12;
+    let t21: f64 = -t1;
+    let t22: f64 = -t6;
+    [
+        [t4, t3, 0.0, 0.0, t9, t10],
+        [0.0, 0.0, t15, t16, t19, t18],
+        [0.0, 0.0, t20, t12, 0.0, 0.0],
+        [t21, t1, 0.0, 0.0, 0.0, 0.0],
+        [0.0, 0.0, 0.0, 0.0, t22, t6],
+        [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    ]
+}
+/// [`pi1`] on the FMA path: no product here is read by a sum alone, so this is [`pi1_separate`]'s arithmetic.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn pi1_fused(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
     let [[x1, y1, z1], [_, _, z2], [x3, _, z3], [x4, _, _], [x5, y5, _], [_, y6, _]] = *p;
     let t0: f64 = z1 - z2;
     let t1: f64 = 1.0 / t0;
@@ -153,6 +236,54 @@ pub fn pi1(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
 /// Operations: 6 mul, 3 div, 6 add, 6 neg (chapter convention: 9m + 6a). The chapter: 46m + 65a.
 #[inline]
 pub fn jacobian(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { jacobian_fused(p) };
+    }
+    jacobian_separate(p)
+}
+/// [`jacobian`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn jacobian_separate(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
+    let [[_, y1, z1], [_, _, z2], [x3, _, z3], [x4, _, _], [x5, y5, _], [_, y6, _]] = *p;
+    let t0: f64 = y5 - y6;
+    let t1: f64 = 1.0 / t0;
+    let t2: f64 = -t1;
+    let t3: f64 = z1 - z2;
+    let t4: f64 = 1.0 / t3;
+    let t5: f64 = -t4;
+    let t6: f64 = x3 - x4;
+    let t7: f64 = 1.0 / t6;
+    let t8: f64 = -t7;
+    let t9: f64 = z1 * t4;
+    let t10: f64 = 1.0 - t9;
+    let t11: f64 = y1 * t7;
+    let t12: f64 = -t11;
+    let t13: f64 = x3 * t7;
+    let t14: f64 = 1.0 - t13;
+    let t15: f64 = z3 * t1;
+    let t16: f64 = -t15;
+    let t17: f64 = x5 * t4;
+    let t18: f64 = -t17;
+    let t19: f64 = y5 * t1;
+    let t20: f64 = 1.0 - t19;
+    [
+        [0.0, 0.0, 0.0, 0.0, t2, t1],
+        [t5, t4, 0.0, 0.0, 0.0, 0.0],
+        [0.0, 0.0, t8, t7, 0.0, 0.0],
+        [t10, t9, t11, t12, 0.0, 0.0],
+        [0.0, 0.0, t14, t13, t15, t16],
+        [t17, t18, 0.0, 0.0, t20, t19],
+    ]
+}
+/// [`jacobian`] on the FMA path: no product here is read by a sum alone, so this is [`jacobian_separate`]'s arithmetic.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn jacobian_fused(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
     let [[_, y1, z1], [_, _, z2], [x3, _, z3], [x4, _, _], [x5, y5, _], [_, y6, _]] = *p;
     let t0: f64 = y5 - y6;
     let t1: f64 = 1.0 / t0;
@@ -204,6 +335,15 @@ pub fn jacobian(p: &[[f64; 3]; 6]) -> [[f64; 6]; 6] {
 /// Operations: 6 mul, 0 div, 6 add, 0 neg (chapter convention: 6m + 6a). The chapter: 10m + 10a.
 #[inline]
 pub fn joint_accelerations_segment(p1: &[f64; 3], vdot: &[f64; 6]) -> [f64; 6] {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { joint_accelerations_segment_fused(p1, vdot) };
+    }
+    joint_accelerations_segment_separate(p1, vdot)
+}
+/// [`joint_accelerations_segment`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn joint_accelerations_segment_separate(p1: &[f64; 3], vdot: &[f64; 6]) -> [f64; 6] {
     let [x1, y1, z1] = *p1;
     let [wdx, wdy, wdz, ax, ay, az] = *vdot;
     let t0: f64 = x1 * wdy;
@@ -218,6 +358,27 @@ pub fn joint_accelerations_segment(p1: &[f64; 3], vdot: &[f64; 6]) -> [f64; 6] {
     let t9: f64 = z1 * wdy;
     let t10: f64 = ax + t8;
     let t11: f64 = t10 - t9;
+    [t3, t7, wdz, wdy, wdx, t11]
+}
+/// [`joint_accelerations_segment`] with 6 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`joint_accelerations_segment`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn joint_accelerations_segment_fused(
+    p1: &[f64; 3],
+    vdot: &[f64; 6],
+) -> [f64; 6] {
+    let [x1, y1, z1] = *p1;
+    let [wdx, wdy, wdz, ax, ay, az] = *vdot;
+    let t2: f64 = f64::mul_add(x1, wdy, az);
+    let t3: f64 = f64::mul_add(-y1, wdx, t2);
+    let t6: f64 = f64::mul_add(z1, wdx, ay);
+    let t7: f64 = f64::mul_add(-x1, wdz, t6);
+    let t10: f64 = f64::mul_add(y1, wdz, ax);
+    let t11: f64 = f64::mul_add(-z1, wdy, t10);
     [t3, t7, wdz, wdy, wdx, t11]
 }
 /// Step 6 of the inverse dynamics, `Γ = Π1ᵀ J1ᵀ K`, with no linear solve.
@@ -239,6 +400,55 @@ pub fn joint_accelerations_segment(p1: &[f64; 3], vdot: &[f64; 6]) -> [f64; 6] {
 /// Operations: 6 mul, 9 div, 12 add, 1 neg (chapter convention: 15m + 12a). The chapter: 65m + 67a.
 #[inline]
 pub fn step6_factored(p: &[[f64; 3]; 6], k: &[f64; 6]) -> [f64; 6] {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { step6_factored_fused(p, k) };
+    }
+    step6_factored_separate(p, k)
+}
+/// [`step6_factored`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn step6_factored_separate(p: &[[f64; 3]; 6], k: &[f64; 6]) -> [f64; 6] {
+    let [[_, y1, z1], [_, _, z2], [x3, _, z3], [x4, _, _], [x5, y5, _], [_, y6, _]] = *p;
+    let [knx, kny, knz, kfx, kfy, kfz] = *k;
+    let t0: f64 = z1 - z2;
+    let t1: f64 = z1 * kfx;
+    let t2: f64 = t1 / t0;
+    let t3: f64 = x5 * kfz;
+    let t4: f64 = t3 / t0;
+    let t5: f64 = kny / t0;
+    let t6: f64 = t4 - t5;
+    let t7: f64 = t2 - t6;
+    let t8: f64 = kfx - t7;
+    let t9: f64 = x3 - x4;
+    let t10: f64 = y1 * kfx;
+    let t11: f64 = t10 / t9;
+    let t12: f64 = x3 * kfy;
+    let t13: f64 = t12 / t9;
+    let t14: f64 = knz / t9;
+    let t15: f64 = t13 + t14;
+    let t16: f64 = t11 - t15;
+    let t17: f64 = kfy + t16;
+    let t18: f64 = -t16;
+    let t19: f64 = y5 - y6;
+    let t20: f64 = knx / t19;
+    let t21: f64 = y5 * kfz;
+    let t22: f64 = t21 / t19;
+    let t23: f64 = z3 * kfy;
+    let t24: f64 = t23 / t19;
+    let t25: f64 = t22 - t24;
+    let t26: f64 = t20 + t25;
+    let t27: f64 = kfz - t26;
+    [t8, t7, t17, t18, t27, t26]
+}
+/// [`step6_factored`] on the FMA path: no product here is read by a sum alone, so this is [`step6_factored_separate`]'s arithmetic.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn step6_factored_fused(p: &[[f64; 3]; 6], k: &[f64; 6]) -> [f64; 6] {
     let [[_, y1, z1], [_, _, z2], [x3, _, z3], [x4, _, _], [x5, y5, _], [_, y6, _]] = *p;
     let [knx, kny, knz, kfx, kfy, kfz] = *k;
     let t0: f64 = z1 - z2;
@@ -290,6 +500,29 @@ pub fn step6_factored(p: &[[f64; 3]; 6], k: &[f64; 6]) -> [f64; 6] {
 /// Operations: 0 mul, 0 div, 3 add, 0 neg (chapter convention: 0m + 3a).
 #[inline]
 pub fn pi1_denominators(p: &[[f64; 3]; 6]) -> [f64; 3] {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { pi1_denominators_fused(p) };
+    }
+    pi1_denominators_separate(p)
+}
+/// [`pi1_denominators`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn pi1_denominators_separate(p: &[[f64; 3]; 6]) -> [f64; 3] {
+    let [[_, _, z1], [_, _, z2], [x3, _, _], [x4, _, _], [_, y5, _], [_, y6, _]] = *p;
+    let t0: f64 = y5 - y6;
+    let t1: f64 = z1 - z2;
+    let t2: f64 = x3 - x4;
+    [t0, t1, t2]
+}
+/// [`pi1_denominators`] on the FMA path: no product here is read by a sum alone, so this is [`pi1_denominators_separate`]'s arithmetic.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn pi1_denominators_fused(p: &[[f64; 3]; 6]) -> [f64; 3] {
     let [[_, _, z1], [_, _, z2], [x3, _, _], [x4, _, _], [_, y5, _], [_, y6, _]] = *p;
     let t0: f64 = y5 - y6;
     let t1: f64 = z1 - z2;
@@ -315,6 +548,15 @@ pub fn pi1_denominators(p: &[[f64; 3]; 6]) -> [f64; 3] {
 /// Operations: 5 mul, 0 div, 1 add, 0 neg, 3 sin_cos (chapter convention: 5m + 1a).
 #[inline]
 pub fn singularity_terms(pose: &[f64; 6]) -> [f64; 3] {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { singularity_terms_fused(pose) };
+    }
+    singularity_terms_separate(pose)
+}
+/// [`singularity_terms`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn singularity_terms_separate(pose: &[f64; 6]) -> [f64; 3] {
     let [alpha, beta, gamma, _, _, _] = *pose;
     let (t0, t1): (f64, f64) = sin_cos(beta);
     let (t2, t3): (f64, f64) = sin_cos(gamma);
@@ -324,6 +566,25 @@ pub fn singularity_terms(pose: &[f64; 6]) -> [f64; 3] {
     let t8: f64 = t0 * t5;
     let t9: f64 = t2 * t8;
     let t10: f64 = t7 - t9;
+    let t11: f64 = t1 * t6;
+    [t4, t10, t11]
+}
+/// [`singularity_terms`] with 1 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`singularity_terms`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn singularity_terms_fused(pose: &[f64; 6]) -> [f64; 3] {
+    let [alpha, beta, gamma, _, _, _] = *pose;
+    let (t0, t1): (f64, f64) = sin_cos(beta);
+    let (t2, t3): (f64, f64) = sin_cos(gamma);
+    let t4: f64 = t1 * t3;
+    let (t5, t6): (f64, f64) = sin_cos(alpha);
+    let t8: f64 = t0 * t5;
+    let t9: f64 = t2 * t8;
+    let t10: f64 = f64::mul_add(t3, t6, -t9);
     let t11: f64 = t1 * t6;
     [t4, t10, t11]
 }
@@ -349,6 +610,17 @@ pub fn singularity_terms(pose: &[f64; 6]) -> [f64; 3] {
 /// Operations: 24 mul, 6 div, 22 add, 5 neg, 3 sin_cos (chapter convention: 30m + 22a).
 #[inline]
 pub fn inverse_kinematics(pose: &[f64; 6]) -> ([f64; 6], [[f64; 3]; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { inverse_kinematics_fused(pose) };
+    }
+    inverse_kinematics_separate(pose)
+}
+/// [`inverse_kinematics`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn inverse_kinematics_separate(
+    pose: &[f64; 6],
+) -> ([f64; 6], [[f64; 3]; 6], [f64; 3]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let (t0, t1): (f64, f64) = sin_cos(beta);
     let (t2, t3): (f64, f64) = sin_cos(gamma);
@@ -423,6 +695,80 @@ pub fn inverse_kinematics(pose: &[f64; 6]) -> ([f64; 6], [[f64; 3]; 6], [f64; 3]
         [t18, t28, t50],
     )
 }
+/// [`inverse_kinematics`] with 10 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`inverse_kinematics`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn inverse_kinematics_fused(
+    pose: &[f64; 6],
+) -> ([f64; 6], [[f64; 3]; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let (t0, t1): (f64, f64) = sin_cos(beta);
+    let (t2, t3): (f64, f64) = sin_cos(gamma);
+    let (t4, t5): (f64, f64) = sin_cos(alpha);
+    let t7: f64 = t0 * t4;
+    let t8: f64 = t3 * t7;
+    let t9: f64 = f64::mul_add(t2, t5, t8);
+    let t10: f64 = yc * t9;
+    let t12: f64 = t0 * t5;
+    let t13: f64 = t3 * t12;
+    let t14: f64 = f64::mul_add(t2, t4, -t13);
+    let t15: f64 = zc - 0.2;
+    let t17: f64 = f64::mul_add(t14, t15, t10);
+    let t18: f64 = t1 * t3;
+    let t19: f64 = t17 / t18;
+    let t20: f64 = xc + t19;
+    let t21: f64 = zc + 0.2;
+    let t23: f64 = f64::mul_add(t14, t21, t10);
+    let t24: f64 = t23 / t18;
+    let t25: f64 = xc + t24;
+    let t27: f64 = t2 * t7;
+    let t28: f64 = f64::mul_add(t3, t5, -t27);
+    let t29: f64 = xc - 0.2;
+    let t30: f64 = t1 * t2;
+    let t33: f64 = t0 * t2;
+    let t34: f64 = t5 * t33;
+    let t35: f64 = f64::mul_add(t3, t4, t34);
+    let t36: f64 = zc * t35;
+    let t37: f64 = f64::mul_add(t29, t30, -t36);
+    let t38: f64 = t37 / t28;
+    let t39: f64 = yc - t38;
+    let t40: f64 = xc + 0.2;
+    let t42: f64 = f64::mul_add(-t30, t40, t36);
+    let t43: f64 = t42 / t28;
+    let t44: f64 = yc + t43;
+    let t45: f64 = xc * t0;
+    let t46: f64 = yc - 0.2;
+    let t47: f64 = t1 * t4;
+    let t49: f64 = f64::mul_add(-t46, t47, t45);
+    let t50: f64 = t1 * t5;
+    let t51: f64 = t49 / t50;
+    let t52: f64 = zc + t51;
+    let t53: f64 = yc + 0.2;
+    let t55: f64 = f64::mul_add(-t47, t53, t45);
+    let t56: f64 = t55 / t50;
+    let t57: f64 = zc + t56;
+    let t58: f64 = -t19;
+    let t59: f64 = -t24;
+    let t60: f64 = -t43;
+    let t61: f64 = -t51;
+    let t62: f64 = -t56;
+    (
+        [t20, t25, t39, t44, t52, t57],
+        [
+            [t58, yc, t15],
+            [t59, yc, t21],
+            [t29, t38, zc],
+            [t40, t60, zc],
+            [xc, t46, t61],
+            [xc, t53, t62],
+        ],
+        [t18, t28, t50],
+    )
+}
 /// Inverse Jacobian `J⁻¹` at a pose.
 ///
 /// Equations: 15, 16, 22, 27. Setting: pose.
@@ -444,6 +790,15 @@ pub fn inverse_kinematics(pose: &[f64; 6]) -> ([f64; 6], [[f64; 3]; 6], [f64; 3]
 /// Operations: 5 mul, 0 div, 7 add, 3 neg, 3 sin_cos (chapter convention: 5m + 7a).
 #[inline]
 pub fn inverse_jacobian_pose(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { inverse_jacobian_pose_fused(pose) };
+    }
+    inverse_jacobian_pose_separate(pose)
+}
+/// [`inverse_jacobian_pose`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn inverse_jacobian_pose_separate(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let t0: f64 = 0.2 - zc;
     let t1: f64 = zc + 0.2;
@@ -462,6 +817,44 @@ pub fn inverse_jacobian_pose(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
     let t17: f64 = t9 * t14;
     let t18: f64 = t11 * t17;
     let t19: f64 = t16 - t18;
+    let t20: f64 = t10 * t15;
+    (
+        [
+            [0.0, t0, yc, 1.0, 0.0, 0.0],
+            [0.0, t2, yc, 1.0, 0.0, 0.0],
+            [zc, 0.0, t3, 0.0, 1.0, 0.0],
+            [zc, 0.0, t5, 0.0, 1.0, 0.0],
+            [t6, xc, 0.0, 0.0, 0.0, 1.0],
+            [t8, xc, 0.0, 0.0, 0.0, 1.0],
+        ],
+        [t13, t19, t20],
+    )
+}
+/// [`inverse_jacobian_pose`] with 1 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`inverse_jacobian_pose`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn inverse_jacobian_pose_fused(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let t0: f64 = 0.2 - zc;
+    let t1: f64 = zc + 0.2;
+    let t2: f64 = -t1;
+    let t3: f64 = 0.2 - xc;
+    let t4: f64 = xc + 0.2;
+    let t5: f64 = -t4;
+    let t6: f64 = 0.2 - yc;
+    let t7: f64 = yc + 0.2;
+    let t8: f64 = -t7;
+    let (t9, t10): (f64, f64) = sin_cos(beta);
+    let (t11, t12): (f64, f64) = sin_cos(gamma);
+    let t13: f64 = t10 * t12;
+    let (t14, t15): (f64, f64) = sin_cos(alpha);
+    let t17: f64 = t9 * t14;
+    let t18: f64 = t11 * t17;
+    let t19: f64 = f64::mul_add(t12, t15, -t18);
     let t20: f64 = t10 * t15;
     (
         [
@@ -496,6 +889,15 @@ pub fn inverse_jacobian_pose(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
 /// Operations: 8 mul, 0 div, 7 add, 3 neg, 3 sin_cos (chapter convention: 8m + 7a).
 #[inline]
 pub fn jacobian_pose(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { jacobian_pose_fused(pose) };
+    }
+    jacobian_pose_separate(pose)
+}
+/// [`jacobian_pose`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn jacobian_pose_separate(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let t0: f64 = zc * 2.5;
     let t1: f64 = t0 + 0.5;
@@ -517,6 +919,47 @@ pub fn jacobian_pose(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
     let t20: f64 = t12 * t17;
     let t21: f64 = t14 * t20;
     let t22: f64 = t19 - t21;
+    let t23: f64 = t13 * t18;
+    (
+        [
+            [0.0, 0.0, 0.0, 0.0, 2.5, -2.5],
+            [2.5, -2.5, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 2.5, -2.5, 0.0, 0.0],
+            [t1, t2, t4, t3, 0.0, 0.0],
+            [0.0, 0.0, t6, t7, t8, t0],
+            [t9, t5, 0.0, 0.0, t10, t11],
+        ],
+        [t16, t22, t23],
+    )
+}
+/// [`jacobian_pose`] with 1 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`jacobian_pose`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn jacobian_pose_fused(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let t0: f64 = zc * 2.5;
+    let t1: f64 = t0 + 0.5;
+    let t2: f64 = 0.5 - t0;
+    let t3: f64 = yc * 2.5;
+    let t4: f64 = -t3;
+    let t5: f64 = xc * 2.5;
+    let t6: f64 = t5 + 0.5;
+    let t7: f64 = 0.5 - t5;
+    let t8: f64 = -t0;
+    let t9: f64 = -t5;
+    let t10: f64 = t3 + 0.5;
+    let t11: f64 = 0.5 - t3;
+    let (t12, t13): (f64, f64) = sin_cos(beta);
+    let (t14, t15): (f64, f64) = sin_cos(gamma);
+    let t16: f64 = t13 * t15;
+    let (t17, t18): (f64, f64) = sin_cos(alpha);
+    let t20: f64 = t12 * t17;
+    let t21: f64 = t14 * t20;
+    let t22: f64 = f64::mul_add(t15, t18, -t21);
     let t23: f64 = t13 * t18;
     (
         [
@@ -552,6 +995,18 @@ pub fn jacobian_pose(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
 /// Operations: 14 mul, 0 div, 16 add, 0 neg, 3 sin_cos (chapter convention: 14m + 16a).
 #[inline]
 pub fn joint_velocities(pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { joint_velocities_fused(pose, twist) };
+    }
+    joint_velocities_separate(pose, twist)
+}
+/// [`joint_velocities`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn joint_velocities_separate(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+) -> ([f64; 6], [f64; 3]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [wx, wy, wz, vx, vy, vz] = *twist;
     let t0: f64 = zc - 0.2;
@@ -589,6 +1044,44 @@ pub fn joint_velocities(pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64; 3
     let t35: f64 = t25 * t30;
     ([t4, t7, t12, t15, t20, t23], [t28, t34, t35])
 }
+/// [`joint_velocities`] with 10 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`joint_velocities`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn joint_velocities_fused(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+) -> ([f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [wx, wy, wz, vx, vy, vz] = *twist;
+    let t0: f64 = zc - 0.2;
+    let t3: f64 = f64::mul_add(yc, wz, vx);
+    let t4: f64 = f64::mul_add(-wy, t0, t3);
+    let t5: f64 = zc + 0.2;
+    let t7: f64 = f64::mul_add(-wy, t5, t3);
+    let t8: f64 = xc - 0.2;
+    let t11: f64 = f64::mul_add(zc, wx, vy);
+    let t12: f64 = f64::mul_add(-wz, t8, t11);
+    let t13: f64 = xc + 0.2;
+    let t15: f64 = f64::mul_add(-wz, t13, t11);
+    let t16: f64 = yc - 0.2;
+    let t19: f64 = f64::mul_add(xc, wy, vz);
+    let t20: f64 = f64::mul_add(-wx, t16, t19);
+    let t21: f64 = yc + 0.2;
+    let t23: f64 = f64::mul_add(-wx, t21, t19);
+    let (t24, t25): (f64, f64) = sin_cos(beta);
+    let (t26, t27): (f64, f64) = sin_cos(gamma);
+    let t28: f64 = t25 * t27;
+    let (t29, t30): (f64, f64) = sin_cos(alpha);
+    let t32: f64 = t24 * t29;
+    let t33: f64 = t26 * t32;
+    let t34: f64 = f64::mul_add(t27, t30, -t33);
+    let t35: f64 = t25 * t30;
+    ([t4, t7, t12, t15, t20, t23], [t28, t34, t35])
+}
 /// Actuator accelerations `Q̈_a` from the platform's motion.
 ///
 /// Equations: 43, 44, 45, 46, 47, 48. Setting: pose.
@@ -612,6 +1105,19 @@ pub fn joint_velocities(pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64; 3
 /// Operations: 20 mul, 0 div, 22 add, 0 neg, 3 sin_cos (chapter convention: 20m + 22a).
 #[inline]
 pub fn joint_accelerations(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+) -> ([f64; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { joint_accelerations_fused(pose, twist, accel) };
+    }
+    joint_accelerations_separate(pose, twist, accel)
+}
+/// [`joint_accelerations`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn joint_accelerations_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
     accel: &[f64; 6],
@@ -666,6 +1172,55 @@ pub fn joint_accelerations(
     let t47: f64 = t37 * t42;
     ([t8, t11, t20, t23, t32, t35], [t40, t46, t47])
 }
+/// [`joint_accelerations`] with 13 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`joint_accelerations`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn joint_accelerations_fused(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+) -> ([f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [wx, wy, wz, vx, vy, vz] = *twist;
+    let [wdx, wdy, wdz, ax, ay, az] = *accel;
+    let t0: f64 = zc - 0.2;
+    let t3: f64 = f64::mul_add(-wy, vz, ax);
+    let t5: f64 = yc * wdz;
+    let t6: f64 = f64::mul_add(wz, vy, t5);
+    let t7: f64 = t3 + t6;
+    let t8: f64 = f64::mul_add(-wdy, t0, t7);
+    let t9: f64 = zc + 0.2;
+    let t11: f64 = f64::mul_add(-wdy, t9, t7);
+    let t12: f64 = xc - 0.2;
+    let t15: f64 = f64::mul_add(-wz, vx, ay);
+    let t17: f64 = zc * wdx;
+    let t18: f64 = f64::mul_add(wx, vz, t17);
+    let t19: f64 = t15 + t18;
+    let t20: f64 = f64::mul_add(-wdz, t12, t19);
+    let t21: f64 = xc + 0.2;
+    let t23: f64 = f64::mul_add(-wdz, t21, t19);
+    let t24: f64 = yc - 0.2;
+    let t27: f64 = f64::mul_add(-wx, vy, az);
+    let t29: f64 = xc * wdy;
+    let t30: f64 = f64::mul_add(wy, vx, t29);
+    let t31: f64 = t27 + t30;
+    let t32: f64 = f64::mul_add(-wdx, t24, t31);
+    let t33: f64 = yc + 0.2;
+    let t35: f64 = f64::mul_add(-wdx, t33, t31);
+    let (t36, t37): (f64, f64) = sin_cos(beta);
+    let (t38, t39): (f64, f64) = sin_cos(gamma);
+    let t40: f64 = t37 * t39;
+    let (t41, t42): (f64, f64) = sin_cos(alpha);
+    let t44: f64 = t36 * t41;
+    let t45: f64 = t38 * t44;
+    let t46: f64 = f64::mul_add(t39, t42, -t45);
+    let t47: f64 = t37 * t42;
+    ([t8, t11, t20, t23, t32, t35], [t40, t46, t47])
+}
 /// The legs' loads as one wrench `Φ` at `C`, such that `Γ = Jᵀ (F_{N+1} + Φ)`.
 ///
 /// Equations: 43, 48, 49, 50, 60. Setting: pose.
@@ -689,6 +1244,19 @@ pub fn joint_accelerations(
 /// Operations: 255 mul, 4 div, 211 add, 0 neg, 3 sin_cos (chapter convention: 259m + 211a).
 #[inline]
 pub fn leg_wrench(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+) -> ([f64; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { leg_wrench_fused(pose, twist, accel) };
+    }
+    leg_wrench_separate(pose, twist, accel)
+}
+/// [`leg_wrench`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn leg_wrench_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
     accel: &[f64; 6],
@@ -1171,6 +1739,381 @@ pub fn leg_wrench(
     let t475: f64 = t7 * t10;
     ([t277, t377, t437, t449, t461, t474], [t475, t99, t395])
 }
+/// [`leg_wrench`] with 115 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`leg_wrench`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn leg_wrench_fused(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+) -> ([f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [wx, wy, wz, vx, vy, vz] = *twist;
+    let [wdx, wdy, wdz, ax, ay, az] = *accel;
+    let t0: f64 = zc - 0.2;
+    let t1: f64 = wz * wz;
+    let t2: f64 = wx * wx;
+    let t3: f64 = t1 + t2;
+    let t4: f64 = yc * t3;
+    let t5: f64 = ay + t4;
+    let (t6, t7): (f64, f64) = sin_cos(beta);
+    let t8: f64 = 1.0 / t7;
+    let (t9, t10): (f64, f64) = sin_cos(gamma);
+    let t11: f64 = 1.0 / t10;
+    let (t12, t13): (f64, f64) = sin_cos(alpha);
+    let t15: f64 = t6 * t12;
+    let t16: f64 = t10 * t15;
+    let t17: f64 = f64::mul_add(t9, t13, t16);
+    let t18: f64 = yc * t17;
+    let t20: f64 = t6 * t13;
+    let t21: f64 = t10 * t20;
+    let t22: f64 = f64::mul_add(t9, t12, -t21);
+    let t24: f64 = f64::mul_add(t0, t22, t18);
+    let t25: f64 = wx * wy;
+    let t26: f64 = wdz + t25;
+    let t27: f64 = t8 * t11;
+    let t28: f64 = t24 * t27;
+    let t30: f64 = wy * wz;
+    let t31: f64 = wdx - t30;
+    let t32: f64 = t0 * t31;
+    let t33: f64 = f64::mul_add(t26, t28, t32);
+    let t34: f64 = t5 + t33;
+    let t35: f64 = t34 * 1.67;
+    let t37: f64 = zc + 0.2;
+    let t39: f64 = f64::mul_add(t22, t37, t18);
+    let t40: f64 = t27 * t39;
+    let t42: f64 = t31 * t37;
+    let t43: f64 = f64::mul_add(t26, t40, t42);
+    let t44: f64 = t5 + t43;
+    let t45: f64 = t44 * 1.67;
+    let t46: f64 = t37 * t45;
+    let t47: f64 = yc - 0.2;
+    let t48: f64 = wdx * t47;
+    let t49: f64 = wx * wz;
+    let t50: f64 = wdy - t49;
+    let t51: f64 = xc * t50;
+    let t54: f64 = wx * vy;
+    let t55: f64 = f64::mul_add(wy, vx, -t54);
+    let t56: f64 = f64::mul_add(xc, wdy, t55);
+    let t57: f64 = wdx + t30;
+    let t59: f64 = 1.0 / t13;
+    let t60: f64 = xc * t6;
+    let t61: f64 = t7 * t12;
+    let t63: f64 = f64::mul_add(-t47, t61, t60);
+    let t64: f64 = wy * wy;
+    let t65: f64 = t2 + t64;
+    let t66: f64 = t8 * t59;
+    let t67: f64 = t63 * t66;
+    let t68: f64 = t65 * t67;
+    let t69: f64 = f64::mul_add(t47, t57, t68);
+    let t70: f64 = az * 3.67;
+    let t71: f64 = t56 - t48;
+    let t73: f64 = t51 - t69;
+    let t75: f64 = f64::mul_add(t71, 2.0, t70);
+    let t76: f64 = f64::mul_add(t73, 1.67, 36.002700000000004);
+    let t77: f64 = t75 + t76;
+    let t79: f64 = yc + 0.2;
+    let t80: f64 = wdx * t79;
+    let t83: f64 = f64::mul_add(-t61, t79, t60);
+    let t84: f64 = t66 * t83;
+    let t85: f64 = t65 * t84;
+    let t86: f64 = f64::mul_add(t57, t79, t85);
+    let t87: f64 = t51 - t86;
+    let t89: f64 = t56 - t80;
+    let t91: f64 = f64::mul_add(t87, 1.67, t70);
+    let t92: f64 = f64::mul_add(t89, 2.0, 36.002700000000004);
+    let t93: f64 = t91 + t92;
+    let t94: f64 = t79 * t93;
+    let t95: f64 = wdx * t9;
+    let t98: f64 = t9 * t15;
+    let t99: f64 = f64::mul_add(t10, t13, -t98);
+    let t102: f64 = t6 * t9;
+    let t103: f64 = t13 * t102;
+    let t104: f64 = f64::mul_add(t10, t12, t103);
+    let t105: f64 = wdz * t104;
+    let t106: f64 = wz * t13;
+    let t109: f64 = wy * t12;
+    let t110: f64 = t7 * t109;
+    let t111: f64 = f64::mul_add(wx, t6, -t110);
+    let t112: f64 = f64::mul_add(t7, t106, t111);
+    let t114: f64 = wx * t7;
+    let t116: f64 = wy * t17;
+    let t117: f64 = f64::mul_add(t10, t114, t116);
+    let t118: f64 = f64::mul_add(wz, t22, t117);
+    let t119: f64 = t118 * 0.00167;
+    let t121: f64 = t112 * 0.0084;
+    let t123: f64 = t118 * 0.0084;
+    let t124: f64 = t112 * t123;
+    let t125: f64 = t112 * 0.00167;
+    let t126: f64 = t118 * t125;
+    let t127: f64 = f64::mul_add(wdy, t99, t105);
+    let t128: f64 = f64::mul_add(t7, t95, -t127);
+    let t130: f64 = f64::mul_add(-t112, t119, t126);
+    let t131: f64 = t130 * 2.0;
+    let t132: f64 = f64::mul_add(t118, t121, -t124);
+    let t134: f64 = f64::mul_add(t128, 0.03694, t131);
+    let t135: f64 = f64::mul_add(t132, 4.0, t134);
+    let t137: f64 = wdx * t7;
+    let t139: f64 = wdy * t17;
+    let t141: f64 = wx * t9;
+    let t143: f64 = wy * t99;
+    let t144: f64 = f64::mul_add(t7, t141, -t143);
+    let t146: f64 = f64::mul_add(-wz, t104, t144);
+    let t148: f64 = t146 * 0.0084;
+    let t149: f64 = t112 * t148;
+    let t150: f64 = t146 * 0.00167;
+    let t152: f64 = t125 * t146;
+    let t153: f64 = f64::mul_add(t10, t137, t139);
+    let t154: f64 = f64::mul_add(wdz, t22, t153);
+    let t156: f64 = f64::mul_add(-t121, t146, t149);
+    let t157: f64 = t156 * 4.0;
+    let t158: f64 = f64::mul_add(t112, t150, -t152);
+    let t160: f64 = f64::mul_add(t154, 0.03694, t157);
+    let t161: f64 = f64::mul_add(t158, 2.0, t160);
+    let t162: f64 = t10 * t161;
+    let t163: f64 = f64::mul_add(t9, t135, t162);
+    let t166: f64 = wdy * t12;
+    let t168: f64 = wdz * t13;
+    let t169: f64 = t7 * t168;
+    let t172: f64 = t118 * t150;
+    let t173: f64 = t123 * t146;
+    let t174: f64 = f64::mul_add(wdx, t6, t169);
+    let t175: f64 = f64::mul_add(-t7, t166, t174);
+    let t177: f64 = f64::mul_add(-t118, t148, t173);
+    let t178: f64 = t177 * 4.0;
+    let t179: f64 = f64::mul_add(t119, t146, -t172);
+    let t181: f64 = f64::mul_add(t175, 0.03694, t178);
+    let t182: f64 = f64::mul_add(t179, 2.0, t181);
+    let t183: f64 = t6 * t182;
+    let t184: f64 = yc * t57;
+    let t185: f64 = az - t184;
+    let t187: f64 = t28 * t50;
+    let t188: f64 = f64::mul_add(t0, t65, -t187);
+    let t190: f64 = t40 * t50;
+    let t191: f64 = f64::mul_add(t37, t65, -t190);
+    let t192: f64 = t188 + t191;
+    let t194: f64 = t192 * 1.67;
+    let t195: f64 = f64::mul_add(t185, 3.34, t194);
+    let t196: f64 = t195 + 32.7654;
+    let t198: f64 = zc * t31;
+    let t201: f64 = wz * vx;
+    let t202: f64 = f64::mul_add(wx, vz, -t201);
+    let t203: f64 = f64::mul_add(zc, wdx, t202);
+    let t204: f64 = xc - 0.2;
+    let t205: f64 = wdz * t204;
+    let t206: f64 = xc + 0.2;
+    let t207: f64 = wdz * t206;
+    let t208: f64 = t205 + t207;
+    let t209: f64 = 1.0 / t99;
+    let t210: f64 = t7 * t9;
+    let t212: f64 = zc * t104;
+    let t213: f64 = f64::mul_add(t204, t210, -t212);
+    let t214: f64 = t209 * t213;
+    let t216: f64 = t26 * t204;
+    let t217: f64 = f64::mul_add(t3, t214, -t216);
+    let t220: f64 = f64::mul_add(-t206, t210, t212);
+    let t221: f64 = t209 * t220;
+    let t222: f64 = t3 * t221;
+    let t223: f64 = f64::mul_add(t26, t206, t222);
+    let t224: f64 = t217 - t223;
+    let t226: f64 = t198 * 3.34;
+    let t227: f64 = t203 * 4.0;
+    let t228: f64 = t208 * 2.0;
+    let t230: f64 = f64::mul_add(ay, 7.34, t226);
+    let t231: f64 = f64::mul_add(t224, 1.67, t227);
+    let t232: f64 = t230 + t231;
+    let t233: f64 = t232 - t228;
+    let t235: f64 = xc * t26;
+    let t236: f64 = ay - t235;
+    let t238: f64 = t31 * t67;
+    let t239: f64 = f64::mul_add(t3, t47, -t238);
+    let t240: f64 = t236 + t239;
+    let t241: f64 = t240 * 1.67;
+    let t244: f64 = t31 * t84;
+    let t245: f64 = f64::mul_add(t3, t79, -t244);
+    let t246: f64 = t236 + t245;
+    let t247: f64 = t246 * 1.67;
+    let t248: f64 = t83 * t247;
+    let t249: f64 = f64::mul_add(t63, t241, t248);
+    let t250: f64 = t66 * t249;
+    let t251: f64 = zc * t65;
+    let t252: f64 = az + t251;
+    let t254: f64 = t57 * t214;
+    let t255: f64 = f64::mul_add(t50, t204, -t254);
+    let t256: f64 = t252 + t255;
+    let t258: f64 = f64::mul_add(t256, 1.67, 16.3827);
+    let t261: f64 = t57 * t221;
+    let t262: f64 = f64::mul_add(t50, t206, t261);
+    let t263: f64 = t252 + t262;
+    let t265: f64 = f64::mul_add(t263, 1.67, 16.3827);
+    let t266: f64 = t220 * t265;
+    let t267: f64 = f64::mul_add(t213, t258, -t266);
+    let t269: f64 = f64::mul_add(t0, t35, t46);
+    let t270: f64 = f64::mul_add(t7, t163, t183);
+    let t271: f64 = t269 + t270;
+    let t272: f64 = f64::mul_add(zc, t233, t271);
+    let t273: f64 = f64::mul_add(t47, t77, t94);
+    let t274: f64 = f64::mul_add(yc, t196, t250);
+    let t275: f64 = t273 + t274;
+    let t276: f64 = f64::mul_add(t209, t267, t275);
+    let t277: f64 = t272 - t276;
+    let t278: f64 = wdy * t0;
+    let t279: f64 = wdz - t25;
+    let t280: f64 = yc * t279;
+    let t283: f64 = wy * vz;
+    let t284: f64 = f64::mul_add(wz, vy, -t283);
+    let t285: f64 = f64::mul_add(yc, wdz, t284);
+    let t286: f64 = t1 + t64;
+    let t288: f64 = wdy + t49;
+    let t289: f64 = t0 * t288;
+    let t290: f64 = f64::mul_add(t28, t286, t289);
+    let t291: f64 = ax * 3.67;
+    let t292: f64 = t285 - t278;
+    let t294: f64 = t280 - t290;
+    let t296: f64 = f64::mul_add(t292, 2.0, t291);
+    let t297: f64 = f64::mul_add(t294, 1.67, t296);
+    let t299: f64 = wdy * t37;
+    let t301: f64 = t37 * t288;
+    let t302: f64 = f64::mul_add(t40, t286, t301);
+    let t303: f64 = t280 - t302;
+    let t305: f64 = t285 - t299;
+    let t307: f64 = f64::mul_add(t303, 1.67, t291);
+    let t308: f64 = f64::mul_add(t305, 2.0, t307);
+    let t309: f64 = t37 * t308;
+    let t311: f64 = t206 * t265;
+    let t312: f64 = xc * t286;
+    let t313: f64 = ax + t312;
+    let t315: f64 = t67 * t288;
+    let t316: f64 = f64::mul_add(t47, t279, t315);
+    let t317: f64 = t313 + t316;
+    let t318: f64 = t317 * 1.67;
+    let t321: f64 = t84 * t288;
+    let t322: f64 = f64::mul_add(t79, t279, t321);
+    let t323: f64 = t313 + t322;
+    let t324: f64 = t323 * 1.67;
+    let t325: f64 = t83 * t324;
+    let t326: f64 = f64::mul_add(t63, t318, t325);
+    let t328: f64 = t185 + t188;
+    let t330: f64 = f64::mul_add(t328, 1.67, 16.3827);
+    let t332: f64 = t185 + t191;
+    let t334: f64 = f64::mul_add(t332, 1.67, 16.3827);
+    let t335: f64 = t39 * t334;
+    let t336: f64 = f64::mul_add(t24, t330, t335);
+    let t337: f64 = t11 * t336;
+    let t338: f64 = f64::mul_add(t59, t326, -t337);
+    let t341: f64 = t17 * t161;
+    let t342: f64 = t99 * t135;
+    let t343: f64 = t48 + t80;
+    let t344: f64 = t69 + t86;
+    let t346: f64 = t51 * 3.34;
+    let t347: f64 = t56 * 4.0;
+    let t348: f64 = t343 * 2.0;
+    let t350: f64 = f64::mul_add(az, 7.34, t346);
+    let t351: f64 = t347 + 72.00540000000001;
+    let t352: f64 = t350 + t351;
+    let t353: f64 = f64::mul_add(t344, 1.67, t348);
+    let t354: f64 = t352 - t353;
+    let t356: f64 = zc * t288;
+    let t357: f64 = ax - t356;
+    let t359: f64 = t214 * t279;
+    let t360: f64 = f64::mul_add(t204, t286, t359);
+    let t362: f64 = t221 * t279;
+    let t363: f64 = f64::mul_add(t206, t286, -t362);
+    let t364: f64 = t360 + t363;
+    let t366: f64 = t364 * 1.67;
+    let t367: f64 = f64::mul_add(t357, 3.34, t366);
+    let t369: f64 = f64::mul_add(t204, t258, t311);
+    let t370: f64 = f64::mul_add(t8, t338, t341);
+    let t371: f64 = t369 + t370;
+    let t372: f64 = f64::mul_add(xc, t354, t371);
+    let t373: f64 = f64::mul_add(t0, t297, t309);
+    let t374: f64 = f64::mul_add(t61, t182, t342);
+    let t375: f64 = t373 + t374;
+    let t376: f64 = f64::mul_add(zc, t367, t375);
+    let t377: f64 = t372 - t376;
+    let t378: f64 = ay * 3.67;
+    let t379: f64 = t203 - t205;
+    let t381: f64 = t198 + t217;
+    let t383: f64 = f64::mul_add(t379, 2.0, t378);
+    let t384: f64 = f64::mul_add(t381, 1.67, t383);
+    let t386: f64 = t198 - t223;
+    let t388: f64 = t203 - t207;
+    let t390: f64 = f64::mul_add(t386, 1.67, t378);
+    let t391: f64 = f64::mul_add(t388, 2.0, t390);
+    let t392: f64 = t206 * t391;
+    let t394: f64 = t79 * t324;
+    let t395: f64 = t7 * t13;
+    let t397: f64 = t22 * t161;
+    let t399: f64 = t239 + t245;
+    let t401: f64 = t399 * 1.67;
+    let t402: f64 = f64::mul_add(t236, 3.34, t401);
+    let t403: f64 = xc * t402;
+    let t404: f64 = t278 + t299;
+    let t405: f64 = t290 + t302;
+    let t407: f64 = t280 * 3.34;
+    let t408: f64 = t285 * 4.0;
+    let t409: f64 = t404 * 2.0;
+    let t411: f64 = f64::mul_add(ax, 7.34, t407);
+    let t412: f64 = t408 + t411;
+    let t413: f64 = f64::mul_add(t405, 1.67, t409);
+    let t414: f64 = t412 - t413;
+    let t417: f64 = t39 * t45;
+    let t418: f64 = f64::mul_add(t24, t35, t417);
+    let t419: f64 = t27 * t418;
+    let t420: f64 = t357 + t360;
+    let t421: f64 = t420 * 1.67;
+    let t423: f64 = t357 + t363;
+    let t424: f64 = t423 * 1.67;
+    let t425: f64 = t220 * t424;
+    let t426: f64 = f64::mul_add(t213, t421, -t425);
+    let t428: f64 = f64::mul_add(t47, t318, t394);
+    let t429: f64 = f64::mul_add(t182, t395, t397);
+    let t430: f64 = f64::mul_add(yc, t414, t419);
+    let t431: f64 = t428 + t429;
+    let t432: f64 = f64::mul_add(t209, t426, t430);
+    let t433: f64 = t431 + t432;
+    let t434: f64 = f64::mul_add(t204, t384, t392);
+    let t435: f64 = f64::mul_add(t104, t135, t403);
+    let t436: f64 = t434 + t435;
+    let t437: f64 = t433 - t436;
+    let t439: f64 = t280 + t312;
+    let t440: f64 = t439 - t356;
+    let t441: f64 = t440 * 3.34;
+    let t442: f64 = t316 + t322;
+    let t443: f64 = t364 + t442;
+    let t444: f64 = t443 - t405;
+    let t446: f64 = f64::mul_add(ax, 14.02, t441);
+    let t447: f64 = f64::mul_add(t444, 1.67, t408);
+    let t448: f64 = t446 + t447;
+    let t449: f64 = t448 - t409;
+    let t451: f64 = t4 + t198;
+    let t452: f64 = t451 - t235;
+    let t453: f64 = t452 * 3.34;
+    let t454: f64 = t33 + t43;
+    let t455: f64 = t224 + t399;
+    let t456: f64 = t454 + t455;
+    let t458: f64 = f64::mul_add(ay, 14.02, t453);
+    let t459: f64 = f64::mul_add(t456, 1.67, t227);
+    let t460: f64 = t458 + t459;
+    let t461: f64 = t460 - t228;
+    let t463: f64 = t51 + t251;
+    let t464: f64 = t463 - t184;
+    let t465: f64 = t464 * 3.34;
+    let t466: f64 = t255 + t262;
+    let t467: f64 = t192 + t466;
+    let t468: f64 = t467 - t344;
+    let t470: f64 = f64::mul_add(az, 14.02, t465);
+    let t471: f64 = f64::mul_add(t468, 1.67, t347);
+    let t472: f64 = t470 + t471;
+    let t473: f64 = t472 + 137.5362;
+    let t474: f64 = t473 - t348;
+    let t475: f64 = t7 * t10;
+    ([t277, t377, t437, t449, t461, t474], [t475, t99, t395])
+}
 /// The platform's wrench `F_{N+1} = Λ_C V̇ + C_C + G_C` at `C`.
 ///
 /// Equations: 52, 54, 55, 56, 57. Setting: pose.
@@ -1192,6 +2135,19 @@ pub fn leg_wrench(
 /// Operations: 64 mul, 0 div, 29 add, 0 neg, 3 sin_cos (chapter convention: 64m + 29a).
 #[inline]
 pub fn platform_wrench(pose: &[f64; 6], twist: &[f64; 6], accel: &[f64; 6]) -> [f64; 6] {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { platform_wrench_fused(pose, twist, accel) };
+    }
+    platform_wrench_separate(pose, twist, accel)
+}
+/// [`platform_wrench`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn platform_wrench_separate(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+) -> [f64; 6] {
     let [alpha, beta, gamma, _, _, _] = *pose;
     let [wx, wy, wz, _, _, _] = *twist;
     let [wdx, wdy, wdz, ax, ay, az] = *accel;
@@ -1293,6 +2249,91 @@ pub fn platform_wrench(pose: &[f64; 6], twist: &[f64; 6], accel: &[f64; 6]) -> [
     let t98: f64 = t97 + 98.10000000000001;
     [t82, t88, t94, t95, t96, t98]
 }
+/// [`platform_wrench`] with 28 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`platform_wrench`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn platform_wrench_fused(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+) -> [f64; 6] {
+    let [alpha, beta, gamma, _, _, _] = *pose;
+    let [wx, wy, wz, _, _, _] = *twist;
+    let [wdx, wdy, wdz, ax, ay, az] = *accel;
+    let (t0, t1): (f64, f64) = sin_cos(beta);
+    let t2: f64 = wdx * t0;
+    let (t3, t4): (f64, f64) = sin_cos(alpha);
+    let (t5, t6): (f64, f64) = sin_cos(gamma);
+    let t8: f64 = t0 * t4;
+    let t9: f64 = t6 * t8;
+    let t10: f64 = f64::mul_add(t3, t5, -t9);
+    let t12: f64 = wx * t1;
+    let t15: f64 = t0 * t3;
+    let t16: f64 = t6 * t15;
+    let t17: f64 = f64::mul_add(t4, t5, t16);
+    let t18: f64 = wy * t17;
+    let t19: f64 = f64::mul_add(t6, t12, t18);
+    let t20: f64 = f64::mul_add(wz, t10, t19);
+    let t21: f64 = wx * t5;
+    let t24: f64 = t5 * t15;
+    let t25: f64 = f64::mul_add(t4, t6, -t24);
+    let t26: f64 = wy * t25;
+    let t27: f64 = f64::mul_add(t1, t21, -t26);
+    let t29: f64 = t0 * t5;
+    let t30: f64 = t4 * t29;
+    let t31: f64 = f64::mul_add(t3, t6, t30);
+    let t33: f64 = f64::mul_add(-wz, t31, t27);
+    let t34: f64 = t33 * 0.1875;
+    let t36: f64 = t20 * 0.375;
+    let t39: f64 = wdz * t4;
+    let t40: f64 = f64::mul_add(wdy, t3, -t39);
+    let t41: f64 = t40 * 0.1875;
+    let t42: f64 = t1 * t41;
+    let t43: f64 = t2 * 0.1875;
+    let t44: f64 = f64::mul_add(t33, t36, t43);
+    let t45: f64 = f64::mul_add(t20, t34, t42);
+    let t46: f64 = t44 - t45;
+    let t48: f64 = wdx * t1;
+    let t50: f64 = wdy * t17;
+    let t52: f64 = wz * t4;
+    let t55: f64 = wy * t3;
+    let t56: f64 = t1 * t55;
+    let t57: f64 = f64::mul_add(wx, t0, -t56);
+    let t58: f64 = f64::mul_add(t1, t52, t57);
+    let t59: f64 = t58 * 0.1875;
+    let t62: f64 = f64::mul_add(t6, t48, t50);
+    let t63: f64 = f64::mul_add(wdz, t10, t62);
+    let t64: f64 = t63 * 0.375;
+    let t65: f64 = f64::mul_add(t34, t58, t64);
+    let t66: f64 = f64::mul_add(-t33, t59, t65);
+    let t68: f64 = wdx * t5;
+    let t71: f64 = wdz * t31;
+    let t74: f64 = f64::mul_add(wdy, t25, t71);
+    let t75: f64 = f64::mul_add(t1, t68, -t74);
+    let t76: f64 = t75 * 0.1875;
+    let t77: f64 = f64::mul_add(t20, t59, t76);
+    let t78: f64 = f64::mul_add(-t36, t58, t77);
+    let t79: f64 = t5 * t78;
+    let t80: f64 = f64::mul_add(t6, t66, t79);
+    let t81: f64 = t1 * t80;
+    let t82: f64 = f64::mul_add(t0, t46, t81);
+    let t85: f64 = t1 * t3;
+    let t86: f64 = t46 * t85;
+    let t87: f64 = f64::mul_add(t25, t78, t86);
+    let t88: f64 = f64::mul_add(t17, t66, -t87);
+    let t91: f64 = t1 * t4;
+    let t92: f64 = t46 * t91;
+    let t93: f64 = f64::mul_add(t10, t66, t92);
+    let t94: f64 = f64::mul_add(-t31, t78, t93);
+    let t95: f64 = ax * 10.0;
+    let t96: f64 = ay * 10.0;
+    let t98: f64 = f64::mul_add(az, 10.0, 98.10000000000001);
+    [t82, t88, t94, t95, t96, t98]
+}
 /// Task-space inertia `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: symmetric positive definite.
 ///
 /// Equations: 15, 16, 27, 43-48, 49-57, 60, ∂W/∂V̇. Setting: pose.
@@ -1315,6 +2356,15 @@ pub fn platform_wrench(pose: &[f64; 6], twist: &[f64; 6], accel: &[f64; 6]) -> [
 /// Operations: 154 mul, 4 div, 85 add, 1 neg, 3 sin_cos (chapter convention: 158m + 85a).
 #[inline]
 pub fn task_inertia(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { task_inertia_fused(pose) };
+    }
+    task_inertia_separate(pose)
+}
+/// [`task_inertia`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn task_inertia_separate(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let (t0, t1): (f64, f64) = sin_cos(beta);
     let t2: f64 = t0 * t0;
@@ -1575,6 +2625,234 @@ pub fn task_inertia(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
         [t248, t19, t249],
     )
 }
+/// [`task_inertia`] with 40 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`task_inertia`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn task_inertia_fused(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let (t0, t1): (f64, f64) = sin_cos(beta);
+    let t2: f64 = t0 * t0;
+    let t3: f64 = zc * zc;
+    let t4: f64 = yc * yc;
+    let t5: f64 = t1 * t1;
+    let (t6, t7): (f64, f64) = sin_cos(gamma);
+    let t8: f64 = t7 * t7;
+    let t9: f64 = t6 * t6;
+    let t11: f64 = t9 * 0.22444;
+    let t12: f64 = f64::mul_add(t8, 0.41194000000000003, t11);
+    let (t14, t15): (f64, f64) = sin_cos(alpha);
+    let t17: f64 = t0 * t14;
+    let t18: f64 = t6 * t17;
+    let t19: f64 = f64::mul_add(t7, t15, -t18);
+    let t20: f64 = 1.0 / t19;
+    let t21: f64 = t20 * t20;
+    let t22: f64 = t1 * t6;
+    let t23: f64 = xc * t6;
+    let t26: f64 = t0 * t6;
+    let t27: f64 = t15 * t26;
+    let t28: f64 = f64::mul_add(t7, t14, t27);
+    let t29: f64 = zc * t28;
+    let t30: f64 = f64::mul_add(t1, t23, -t29);
+    let t31: f64 = t22 * 0.2;
+    let t32: f64 = t31 - t30;
+    let t33: f64 = t32 * t32;
+    let t35: f64 = t30 + t31;
+    let t36: f64 = t35 * t35;
+    let t37: f64 = t21 * t36;
+    let t38: f64 = f64::mul_add(t21, t33, t37);
+    let t39: f64 = 1.0 / t15;
+    let t40: f64 = t39 * t39;
+    let t41: f64 = 1.0 / t1;
+    let t42: f64 = t41 * t41;
+    let t43: f64 = t1 * t14;
+    let t45: f64 = yc * t14;
+    let t46: f64 = t1 * t45;
+    let t47: f64 = f64::mul_add(xc, t0, -t46);
+    let t48: f64 = t43 * 0.2;
+    let t49: f64 = t47 + t48;
+    let t50: f64 = t49 * t49;
+    let t51: f64 = t40 * t42;
+    let t53: f64 = t48 - t47;
+    let t54: f64 = t53 * t53;
+    let t55: f64 = t51 * t54;
+    let t56: f64 = f64::mul_add(t50, t51, t55);
+    let t58: f64 = t3 + t4;
+    let t59: f64 = t58 * 10.68;
+    let t60: f64 = t38 + t56;
+    let t61: f64 = t60 * 1.67;
+    let t62: f64 = f64::mul_add(t2, 0.22444, t59);
+    let t63: f64 = f64::mul_add(t5, t12, t61);
+    let t64: f64 = t62 + t63;
+    let t65: f64 = t64 + 0.4272;
+    let t66: f64 = t1 * t17;
+    let t67: f64 = xc * yc;
+    let t68: f64 = t19 * 0.22444;
+    let t71: f64 = t7 * t17;
+    let t72: f64 = f64::mul_add(t6, t15, t71);
+    let t73: f64 = t72 * 0.41194000000000003;
+    let t74: f64 = t7 * t73;
+    let t75: f64 = f64::mul_add(t6, t68, -t74);
+    let t77: f64 = t20 * t32;
+    let t78: f64 = t20 * t35;
+    let t79: f64 = t77 + t78;
+    let t80: f64 = 1.0 / t7;
+    let t82: f64 = t0 * t15;
+    let t83: f64 = t7 * t82;
+    let t84: f64 = f64::mul_add(t6, t14, -t83);
+    let t85: f64 = zc * t0;
+    let t86: f64 = t15 * t85;
+    let t89: f64 = zc * t14;
+    let t90: f64 = t6 * t89;
+    let t91: f64 = f64::mul_add(yc, t72, t90);
+    let t92: f64 = f64::mul_add(t7, t86, -t91);
+    let t93: f64 = t84 * 0.2;
+    let t94: f64 = t93 - t92;
+    let t95: f64 = yc * t41;
+    let t96: f64 = t80 * t95;
+    let t98: f64 = t92 + t93;
+    let t99: f64 = t96 * t98;
+    let t100: f64 = f64::mul_add(t94, t96, -t99);
+    let t101: f64 = xc * t20;
+    let t103: f64 = t35 * t101;
+    let t104: f64 = f64::mul_add(t32, t101, -t103);
+    let t105: f64 = t100 + t104;
+    let t107: f64 = t67 * 7.34;
+    let t108: f64 = t79 * 0.334;
+    let t109: f64 = t105 * 1.67;
+    let t110: f64 = f64::mul_add(t66, 0.22444, t107);
+    let t111: f64 = f64::mul_add(t1, t75, t108);
+    let t112: f64 = t110 + t111;
+    let t113: f64 = t109 - t112;
+    let t114: f64 = t1 * t82;
+    let t115: f64 = xc * zc;
+    let t116: f64 = t28 * 0.22444;
+    let t118: f64 = t84 * 0.41194000000000003;
+    let t119: f64 = t7 * t118;
+    let t120: f64 = f64::mul_add(t6, t116, -t119);
+    let t122: f64 = t41 * t80;
+    let t123: f64 = t98 * t122;
+    let t124: f64 = t94 * t122;
+    let t125: f64 = t123 + t124;
+    let t126: f64 = zc * t41;
+    let t127: f64 = t80 * t126;
+    let t129: f64 = t98 * t127;
+    let t130: f64 = f64::mul_add(t94, t127, -t129);
+    let t131: f64 = xc * t39;
+    let t132: f64 = t41 * t131;
+    let t134: f64 = t53 * t132;
+    let t135: f64 = f64::mul_add(t49, t132, -t134);
+    let t136: f64 = t130 + t135;
+    let t137: f64 = t114 * 0.22444;
+    let t138: f64 = t115 * 7.34;
+    let t139: f64 = t125 * 0.334;
+    let t140: f64 = t136 * 1.67;
+    let t141: f64 = t137 + t139;
+    let t142: f64 = t140 + t141;
+    let t143: f64 = f64::mul_add(t1, t120, t138);
+    let t144: f64 = t142 - t143;
+    let t145: f64 = t39 * t41;
+    let t146: f64 = t49 * t145;
+    let t147: f64 = t53 * t145;
+    let t148: f64 = t146 - t147;
+    let t149: f64 = zc * 10.68;
+    let t150: f64 = t148 * 1.67;
+    let t151: f64 = t149 - t150;
+    let t152: f64 = t77 - t78;
+    let t153: f64 = yc * 10.68;
+    let t154: f64 = t152 * 1.67;
+    let t155: f64 = t154 - t153;
+    let t156: f64 = t7 * t72;
+    let t157: f64 = t6 * t19;
+    let t159: f64 = t157 * 0.22444;
+    let t160: f64 = f64::mul_add(t156, 0.41194000000000003, -t159);
+    let t162: f64 = f64::mul_add(t1, t160, t109);
+    let t163: f64 = t108 + t110;
+    let t164: f64 = t162 - t163;
+    let t165: f64 = t14 * t14;
+    let t166: f64 = t5 * t165;
+    let t167: f64 = xc * xc;
+    let t169: f64 = t19 * t68;
+    let t170: f64 = t80 * t80;
+    let t171: f64 = t98 * t98;
+    let t172: f64 = t42 * t170;
+    let t174: f64 = t94 * t94;
+    let t175: f64 = t172 * t174;
+    let t176: f64 = f64::mul_add(t171, t172, t175);
+    let t177: f64 = t3 + t167;
+    let t179: f64 = t166 * 0.22444;
+    let t180: f64 = t56 + t176;
+    let t182: f64 = f64::mul_add(t177, 10.68, t179);
+    let t183: f64 = f64::mul_add(t72, t73, t169);
+    let t184: f64 = f64::mul_add(t180, 1.67, 0.4272000000000001);
+    let t185: f64 = t182 + t183;
+    let t186: f64 = t184 + t185;
+    let t187: f64 = t14 * t15;
+    let t188: f64 = t5 * t187;
+    let t189: f64 = yc * zc;
+    let t191: f64 = t19 * t116;
+    let t192: f64 = t146 + t147;
+    let t193: f64 = zc * t20;
+    let t195: f64 = t35 * t193;
+    let t196: f64 = f64::mul_add(t32, t193, -t195);
+    let t197: f64 = yc * t39;
+    let t198: f64 = t41 * t197;
+    let t200: f64 = t53 * t198;
+    let t201: f64 = f64::mul_add(t49, t198, -t200);
+    let t202: f64 = t196 + t201;
+    let t204: f64 = t189 * 7.34;
+    let t206: f64 = t202 * 1.67;
+    let t207: f64 = f64::mul_add(t72, t118, t191);
+    let t208: f64 = t206 + t207;
+    let t209: f64 = f64::mul_add(t188, 0.22444, t204);
+    let t210: f64 = f64::mul_add(t192, 0.334, t209);
+    let t211: f64 = t208 - t210;
+    let t212: f64 = t150 - t149;
+    let t213: f64 = t123 - t124;
+    let t215: f64 = t213 * 1.67;
+    let t216: f64 = f64::mul_add(xc, 10.68, t215);
+    let t217: f64 = t7 * t84;
+    let t218: f64 = t6 * t28;
+    let t220: f64 = t218 * 0.22444;
+    let t221: f64 = f64::mul_add(t217, 0.41194000000000003, -t220);
+    let t223: f64 = f64::mul_add(t1, t221, t137);
+    let t224: f64 = t139 + t140;
+    let t225: f64 = t223 + t224;
+    let t226: f64 = t225 - t138;
+    let t228: f64 = t28 * t68;
+    let t229: f64 = f64::mul_add(t73, t84, t228);
+    let t230: f64 = t206 + t229;
+    let t231: f64 = t230 - t210;
+    let t232: f64 = t15 * t15;
+    let t233: f64 = t5 * t232;
+    let t235: f64 = t28 * t116;
+    let t236: f64 = t4 + t167;
+    let t238: f64 = t233 * 0.22444;
+    let t239: f64 = t38 + t176;
+    let t241: f64 = f64::mul_add(t236, 10.68, t238);
+    let t242: f64 = f64::mul_add(t84, t118, t235);
+    let t243: f64 = f64::mul_add(t239, 1.67, 0.4272000000000001);
+    let t244: f64 = t241 + t242;
+    let t245: f64 = t243 + t244;
+    let t246: f64 = t153 - t154;
+    let t247: f64 = -t216;
+    let t248: f64 = t1 * t7;
+    let t249: f64 = t1 * t15;
+    (
+        [
+            [t65, t113, t144, 0.0, t151, t155],
+            [t164, t186, t211, t212, 0.0, t216],
+            [t226, t231, t245, t246, t247, 0.0],
+            [0.0, t212, t246, 24.02, 0.0, 0.0],
+            [t151, 0.0, t247, 0.0, 24.02, 0.0],
+            [t155, t216, 0.0, 0.0, 0.0, 24.02],
+        ],
+        [t248, t19, t249],
+    )
+}
 /// Task-space bias `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal, gravity.
 ///
 /// Equations: 15, 16, 27, 43-48, 49-57, 60, ∂W/∂V̇. Setting: pose.
@@ -1597,6 +2875,15 @@ pub fn task_inertia(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
 /// Operations: 227 mul, 4 div, 160 add, 0 neg, 3 sin_cos (chapter convention: 231m + 160a).
 #[inline]
 pub fn task_bias(pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { task_bias_fused(pose, twist) };
+    }
+    task_bias_separate(pose, twist)
+}
+/// [`task_bias`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn task_bias_separate(pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64; 3]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [wx, wy, wz, vx, vy, vz] = *twist;
     let t0: f64 = zc - 0.2;
@@ -1995,6 +3282,320 @@ pub fn task_bias(pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64; 3]) {
     let t396: f64 = t6 * t9;
     ([t229, t318, t367, t376, t385, t395], [t396, t109, t330])
 }
+/// [`task_bias`] with 95 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`task_bias`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn task_bias_fused(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+) -> ([f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [wx, wy, wz, vx, vy, vz] = *twist;
+    let t0: f64 = zc - 0.2;
+    let t1: f64 = wz * wz;
+    let t2: f64 = wx * wx;
+    let t3: f64 = t1 + t2;
+    let t4: f64 = yc * t3;
+    let (t5, t6): (f64, f64) = sin_cos(beta);
+    let t7: f64 = 1.0 / t6;
+    let (t8, t9): (f64, f64) = sin_cos(gamma);
+    let t10: f64 = 1.0 / t9;
+    let (t11, t12): (f64, f64) = sin_cos(alpha);
+    let t14: f64 = t5 * t11;
+    let t15: f64 = t9 * t14;
+    let t16: f64 = f64::mul_add(t8, t12, t15);
+    let t17: f64 = yc * t16;
+    let t19: f64 = t5 * t12;
+    let t20: f64 = t9 * t19;
+    let t21: f64 = f64::mul_add(t8, t11, -t20);
+    let t23: f64 = f64::mul_add(t0, t21, t17);
+    let t24: f64 = wx * wy;
+    let t25: f64 = t7 * t24;
+    let t26: f64 = t10 * t25;
+    let t28: f64 = wy * wz;
+    let t29: f64 = t0 * t28;
+    let t30: f64 = f64::mul_add(t23, t26, -t29);
+    let t31: f64 = t4 + t30;
+    let t32: f64 = t31 * 1.67;
+    let t34: f64 = zc + 0.2;
+    let t36: f64 = f64::mul_add(t21, t34, t17);
+    let t38: f64 = t28 * t34;
+    let t39: f64 = f64::mul_add(t26, t36, -t38);
+    let t40: f64 = t4 + t39;
+    let t41: f64 = t40 * 1.67;
+    let t42: f64 = t34 * t41;
+    let t43: f64 = yc - 0.2;
+    let t44: f64 = xc * wx;
+    let t45: f64 = wz * t44;
+    let t47: f64 = wy * vx;
+    let t48: f64 = f64::mul_add(wx, vy, -t47);
+    let t50: f64 = 1.0 / t12;
+    let t51: f64 = xc * t5;
+    let t52: f64 = t6 * t11;
+    let t54: f64 = f64::mul_add(-t43, t52, t51);
+    let t55: f64 = wy * wy;
+    let t56: f64 = t2 + t55;
+    let t57: f64 = t7 * t50;
+    let t58: f64 = t54 * t57;
+    let t59: f64 = t56 * t58;
+    let t60: f64 = f64::mul_add(t28, t43, t59);
+    let t61: f64 = t45 + t60;
+    let t63: f64 = t48 * 2.0;
+    let t64: f64 = f64::mul_add(t61, 1.67, t63);
+    let t65: f64 = t64 - 36.002700000000004;
+    let t67: f64 = yc + 0.2;
+    let t70: f64 = f64::mul_add(-t52, t67, t51);
+    let t71: f64 = t57 * t70;
+    let t72: f64 = t56 * t71;
+    let t73: f64 = f64::mul_add(t28, t67, t72);
+    let t74: f64 = t45 + t73;
+    let t76: f64 = f64::mul_add(t74, 1.67, t63);
+    let t77: f64 = t76 - 36.002700000000004;
+    let t78: f64 = t67 * t77;
+    let t80: f64 = wx * t6;
+    let t82: f64 = wy * t16;
+    let t83: f64 = f64::mul_add(t9, t80, t82);
+    let t84: f64 = f64::mul_add(wz, t21, t83);
+    let t85: f64 = wz * t12;
+    let t88: f64 = wy * t11;
+    let t89: f64 = t6 * t88;
+    let t90: f64 = f64::mul_add(wx, t5, -t89);
+    let t91: f64 = f64::mul_add(t6, t85, t90);
+    let t92: f64 = t91 * 0.0084;
+    let t94: f64 = t84 * 0.0084;
+    let t95: f64 = t91 * t94;
+    let t96: f64 = t91 * 0.19084;
+    let t98: f64 = t84 * 0.37834;
+    let t100: f64 = f64::mul_add(t84, t92, -t95);
+    let t101: f64 = t100 * 4.0;
+    let t102: f64 = f64::mul_add(t84, t96, t101);
+    let t103: f64 = f64::mul_add(-t91, t98, t102);
+    let t105: f64 = wx * t8;
+    let t108: f64 = t8 * t14;
+    let t109: f64 = f64::mul_add(t9, t12, -t108);
+    let t110: f64 = wy * t109;
+    let t111: f64 = f64::mul_add(t6, t105, -t110);
+    let t113: f64 = t5 * t8;
+    let t114: f64 = t12 * t113;
+    let t115: f64 = f64::mul_add(t9, t11, t114);
+    let t117: f64 = f64::mul_add(-wz, t115, t111);
+    let t119: f64 = t117 * 0.0084;
+    let t120: f64 = t91 * t119;
+    let t121: f64 = t117 * 0.19084;
+    let t124: f64 = f64::mul_add(t92, t117, -t120);
+    let t125: f64 = t124 * 4.0;
+    let t126: f64 = f64::mul_add(t96, t117, t125);
+    let t127: f64 = f64::mul_add(-t91, t121, t126);
+    let t128: f64 = t9 * t127;
+    let t129: f64 = f64::mul_add(t8, t103, -t128);
+    let t132: f64 = t94 * t117;
+    let t135: f64 = f64::mul_add(t84, t119, -t132);
+    let t136: f64 = t135 * 4.0;
+    let t137: f64 = f64::mul_add(t84, t121, t136);
+    let t138: f64 = f64::mul_add(-t98, t117, t137);
+    let t140: f64 = yc * wy;
+    let t141: f64 = wz * t140;
+    let t142: f64 = wx * wz;
+    let t143: f64 = t7 * t142;
+    let t144: f64 = t10 * t143;
+    let t146: f64 = t0 * t56;
+    let t147: f64 = f64::mul_add(t23, t144, t146);
+    let t149: f64 = t34 * t56;
+    let t150: f64 = f64::mul_add(t36, t144, t149);
+    let t151: f64 = t147 + t150;
+    let t154: f64 = f64::mul_add(t151, 1.67, 32.7654);
+    let t155: f64 = f64::mul_add(-t141, 3.34, t154);
+    let t156: f64 = yc * t155;
+    let t157: f64 = zc * wy;
+    let t158: f64 = wz * t157;
+    let t160: f64 = wx * vz;
+    let t161: f64 = f64::mul_add(wz, vx, -t160);
+    let t162: f64 = xc - 0.2;
+    let t164: f64 = 1.0 / t109;
+    let t165: f64 = t6 * t8;
+    let t167: f64 = zc * t115;
+    let t168: f64 = f64::mul_add(t162, t165, -t167);
+    let t169: f64 = t164 * t168;
+    let t170: f64 = t3 * t169;
+    let t171: f64 = f64::mul_add(t24, t162, -t170);
+    let t172: f64 = xc + 0.2;
+    let t175: f64 = f64::mul_add(-t165, t172, t167);
+    let t176: f64 = t164 * t175;
+    let t177: f64 = t3 * t176;
+    let t178: f64 = f64::mul_add(t24, t172, t177);
+    let t179: f64 = t171 + t178;
+    let t181: f64 = t161 * 4.0;
+    let t183: f64 = f64::mul_add(t158, 3.34, t181);
+    let t184: f64 = f64::mul_add(t179, 1.67, t183);
+    let t186: f64 = wy * t44;
+    let t188: f64 = t28 * t50;
+    let t189: f64 = t7 * t188;
+    let t190: f64 = t54 * t189;
+    let t191: f64 = f64::mul_add(t3, t43, t190);
+    let t192: f64 = t186 - t191;
+    let t193: f64 = t192 * 1.67;
+    let t196: f64 = t70 * t189;
+    let t197: f64 = f64::mul_add(t3, t67, t196);
+    let t198: f64 = t186 - t197;
+    let t199: f64 = t198 * 1.67;
+    let t200: f64 = t70 * t199;
+    let t201: f64 = f64::mul_add(t54, t193, t200);
+    let t202: f64 = t57 * t201;
+    let t203: f64 = zc * t56;
+    let t205: f64 = t28 * t164;
+    let t206: f64 = t168 * t205;
+    let t207: f64 = f64::mul_add(t142, t162, t206);
+    let t208: f64 = t207 - t203;
+    let t210: f64 = f64::mul_add(t208, 1.67, -16.3827);
+    let t213: f64 = t142 * t172;
+    let t214: f64 = f64::mul_add(t175, t205, -t213);
+    let t215: f64 = t203 + t214;
+    let t217: f64 = f64::mul_add(t215, 1.67, 16.3827);
+    let t218: f64 = t175 * t217;
+    let t219: f64 = f64::mul_add(t168, t210, t218);
+    let t221: f64 = f64::mul_add(t0, t32, t42);
+    let t222: f64 = f64::mul_add(t43, t65, t78);
+    let t223: f64 = f64::mul_add(t6, t129, t202);
+    let t224: f64 = t221 + t222;
+    let t225: f64 = f64::mul_add(t164, t219, t223);
+    let t226: f64 = t224 + t225;
+    let t227: f64 = f64::mul_add(t5, t138, t156);
+    let t228: f64 = f64::mul_add(zc, t184, t227);
+    let t229: f64 = t226 - t228;
+    let t230: f64 = yc * wx;
+    let t231: f64 = wy * t230;
+    let t233: f64 = wz * vy;
+    let t234: f64 = f64::mul_add(wy, vz, -t233);
+    let t235: f64 = t1 + t55;
+    let t236: f64 = t7 * t10;
+    let t237: f64 = t23 * t236;
+    let t239: f64 = t0 * t142;
+    let t240: f64 = f64::mul_add(t235, t237, t239);
+    let t241: f64 = t231 + t240;
+    let t243: f64 = t234 * 2.0;
+    let t244: f64 = f64::mul_add(t241, 1.67, t243);
+    let t246: f64 = t36 * t236;
+    let t248: f64 = t34 * t142;
+    let t249: f64 = f64::mul_add(t235, t246, t248);
+    let t250: f64 = t231 + t249;
+    let t252: f64 = f64::mul_add(t250, 1.67, t243);
+    let t253: f64 = t34 * t252;
+    let t256: f64 = t52 * t138;
+    let t257: f64 = xc * t235;
+    let t258: f64 = t50 * t142;
+    let t259: f64 = t7 * t258;
+    let t261: f64 = t24 * t43;
+    let t262: f64 = f64::mul_add(t54, t259, -t261);
+    let t263: f64 = t257 + t262;
+    let t264: f64 = t263 * 1.67;
+    let t267: f64 = t24 * t67;
+    let t268: f64 = f64::mul_add(t70, t259, -t267);
+    let t269: f64 = t257 + t268;
+    let t270: f64 = t269 * 1.67;
+    let t271: f64 = t70 * t270;
+    let t272: f64 = f64::mul_add(t54, t264, t271);
+    let t274: f64 = t147 - t141;
+    let t276: f64 = f64::mul_add(t274, 1.67, 16.3827);
+    let t278: f64 = t141 - t150;
+    let t280: f64 = f64::mul_add(t278, 1.67, -16.3827);
+    let t281: f64 = t36 * t280;
+    let t282: f64 = f64::mul_add(t23, t276, -t281);
+    let t283: f64 = t10 * t282;
+    let t284: f64 = f64::mul_add(t50, t272, -t283);
+    let t286: f64 = t16 * t127;
+    let t288: f64 = t60 + t73;
+    let t290: f64 = t48 * 4.0;
+    let t292: f64 = f64::mul_add(t45, 3.34, t290);
+    let t293: f64 = f64::mul_add(t288, 1.67, t292);
+    let t294: f64 = t293 - 72.00540000000001;
+    let t295: f64 = xc * t294;
+    let t296: f64 = zc * wx;
+    let t297: f64 = wz * t296;
+    let t299: f64 = t24 * t164;
+    let t300: f64 = t168 * t299;
+    let t301: f64 = f64::mul_add(t162, t235, -t300);
+    let t303: f64 = t175 * t299;
+    let t304: f64 = f64::mul_add(t172, t235, t303);
+    let t305: f64 = t301 + t304;
+    let t307: f64 = t305 * 1.67;
+    let t308: f64 = f64::mul_add(-t297, 3.34, t307);
+    let t310: f64 = f64::mul_add(t0, t244, t253);
+    let t311: f64 = f64::mul_add(t172, t217, t256);
+    let t312: f64 = t310 + t311;
+    let t313: f64 = f64::mul_add(t7, t284, t312);
+    let t314: f64 = f64::mul_add(t162, t210, t286);
+    let t315: f64 = f64::mul_add(t103, t109, t295);
+    let t316: f64 = t314 + t315;
+    let t317: f64 = f64::mul_add(zc, t308, t316);
+    let t318: f64 = t313 - t317;
+    let t319: f64 = t158 + t171;
+    let t321: f64 = t161 * 2.0;
+    let t322: f64 = f64::mul_add(t319, 1.67, t321);
+    let t324: f64 = t158 + t178;
+    let t326: f64 = f64::mul_add(t324, 1.67, t321);
+    let t327: f64 = t172 * t326;
+    let t329: f64 = t67 * t270;
+    let t330: f64 = t6 * t12;
+    let t332: f64 = t21 * t127;
+    let t334: f64 = t191 + t197;
+    let t336: f64 = t334 * 1.67;
+    let t337: f64 = f64::mul_add(t186, 3.34, -t336);
+    let t339: f64 = t240 + t249;
+    let t341: f64 = t234 * 4.0;
+    let t343: f64 = f64::mul_add(t231, 3.34, t341);
+    let t344: f64 = f64::mul_add(t339, 1.67, t343);
+    let t345: f64 = yc * t344;
+    let t347: f64 = t36 * t41;
+    let t348: f64 = f64::mul_add(t23, t32, t347);
+    let t349: f64 = t236 * t348;
+    let t350: f64 = t301 - t297;
+    let t351: f64 = t350 * 1.67;
+    let t353: f64 = t297 - t304;
+    let t354: f64 = t353 * 1.67;
+    let t355: f64 = t175 * t354;
+    let t356: f64 = f64::mul_add(t168, t351, t355);
+    let t358: f64 = f64::mul_add(t162, t322, t327);
+    let t359: f64 = f64::mul_add(t43, t264, t329);
+    let t360: f64 = f64::mul_add(xc, t337, t349);
+    let t361: f64 = t358 + t359;
+    let t362: f64 = f64::mul_add(t164, t356, t360);
+    let t363: f64 = t361 + t362;
+    let t364: f64 = f64::mul_add(t138, t330, t332);
+    let t365: f64 = f64::mul_add(t103, t115, t345);
+    let t366: f64 = t364 + t365;
+    let t367: f64 = t363 - t366;
+    let t368: f64 = t231 + t297;
+    let t369: f64 = t257 - t368;
+    let t371: f64 = t262 + t268;
+    let t372: f64 = t305 + t371;
+    let t373: f64 = t372 - t339;
+    let t374: f64 = t373 * 1.67;
+    let t375: f64 = f64::mul_add(t369, 3.34, t374);
+    let t376: f64 = t375 - t341;
+    let t377: f64 = t158 + t186;
+    let t378: f64 = t4 - t377;
+    let t380: f64 = t30 + t39;
+    let t381: f64 = t334 + t380;
+    let t382: f64 = t381 - t179;
+    let t383: f64 = t382 * 1.67;
+    let t384: f64 = f64::mul_add(t378, 3.34, t383);
+    let t385: f64 = t384 - t181;
+    let t386: f64 = t45 + t141;
+    let t387: f64 = t203 - t386;
+    let t389: f64 = t151 + t214;
+    let t390: f64 = t207 + t288;
+    let t391: f64 = t389 - t390;
+    let t392: f64 = t391 * 1.67;
+    let t393: f64 = f64::mul_add(t387, 3.34, t392);
+    let t394: f64 = t393 + 235.63620000000003;
+    let t395: f64 = t394 - t290;
+    let t396: f64 = t6 * t9;
+    ([t229, t318, t367, t376, t385, t395], [t396, t109, t330])
+}
 /// Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
 ///
 /// Equations: 15, 16, 22, 43-48, 49-57, 60, M_x V̇ = J⁻ᵀ Γ - h (LDLᵀ). Setting: pose.
@@ -2019,6 +3620,19 @@ pub fn task_bias(pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64; 3]) {
 /// Operations: 432 mul, 10 div, 316 add, 4 neg, 3 sin_cos (chapter convention: 442m + 316a).
 #[inline]
 pub fn forward_dynamics(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    forces: &[f64; 6],
+) -> ([f64; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { forward_dynamics_fused(pose, twist, forces) };
+    }
+    forward_dynamics_separate(pose, twist, forces)
+}
+/// [`forward_dynamics`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn forward_dynamics_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
     forces: &[f64; 6],
@@ -2793,6 +4407,639 @@ pub fn forward_dynamics(
     let t767: f64 = t1 * t7;
     ([t738, t761, t762, t763, t764, t766], [t767, t19, t583])
 }
+/// [`forward_dynamics`] with 149 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`forward_dynamics`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn forward_dynamics_fused(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    forces: &[f64; 6],
+) -> ([f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [wx, wy, wz, vx, vy, vz] = *twist;
+    let [g1, g2, g3, g4, g5, g6] = *forces;
+    let (t0, t1): (f64, f64) = sin_cos(beta);
+    let t2: f64 = t0 * t0;
+    let t3: f64 = zc * zc;
+    let t4: f64 = yc * yc;
+    let t5: f64 = t1 * t1;
+    let (t6, t7): (f64, f64) = sin_cos(gamma);
+    let t8: f64 = t7 * t7;
+    let t9: f64 = t6 * t6;
+    let t11: f64 = t9 * 0.22444;
+    let t12: f64 = f64::mul_add(t8, 0.41194000000000003, t11);
+    let (t14, t15): (f64, f64) = sin_cos(alpha);
+    let t17: f64 = t0 * t14;
+    let t18: f64 = t6 * t17;
+    let t19: f64 = f64::mul_add(t7, t15, -t18);
+    let t20: f64 = 1.0 / t19;
+    let t21: f64 = t20 * t20;
+    let t22: f64 = t1 * t6;
+    let t23: f64 = xc * t6;
+    let t26: f64 = t0 * t6;
+    let t27: f64 = t15 * t26;
+    let t28: f64 = f64::mul_add(t7, t14, t27);
+    let t29: f64 = zc * t28;
+    let t30: f64 = f64::mul_add(t1, t23, -t29);
+    let t31: f64 = t22 * 0.2;
+    let t32: f64 = t31 - t30;
+    let t33: f64 = t32 * t32;
+    let t35: f64 = t30 + t31;
+    let t36: f64 = t35 * t35;
+    let t37: f64 = t21 * t36;
+    let t38: f64 = f64::mul_add(t21, t33, t37);
+    let t39: f64 = 1.0 / t15;
+    let t40: f64 = t39 * t39;
+    let t41: f64 = 1.0 / t1;
+    let t42: f64 = t41 * t41;
+    let t43: f64 = t1 * t14;
+    let t45: f64 = yc * t14;
+    let t46: f64 = t1 * t45;
+    let t47: f64 = f64::mul_add(xc, t0, -t46);
+    let t48: f64 = t43 * 0.2;
+    let t49: f64 = t47 + t48;
+    let t50: f64 = t49 * t49;
+    let t51: f64 = t40 * t42;
+    let t53: f64 = t48 - t47;
+    let t54: f64 = t53 * t53;
+    let t55: f64 = t51 * t54;
+    let t56: f64 = f64::mul_add(t50, t51, t55);
+    let t58: f64 = t3 + t4;
+    let t59: f64 = t58 * 10.68;
+    let t60: f64 = t38 + t56;
+    let t61: f64 = t60 * 1.67;
+    let t62: f64 = f64::mul_add(t2, 0.22444, t59);
+    let t63: f64 = f64::mul_add(t5, t12, t61);
+    let t64: f64 = t62 + t63;
+    let t65: f64 = t64 + 0.4272;
+    let t66: f64 = 1.0 / t65;
+    let t67: f64 = xc * zc;
+    let t68: f64 = 1.0 / t7;
+    let t70: f64 = t0 * t15;
+    let t71: f64 = t7 * t70;
+    let t72: f64 = f64::mul_add(t6, t14, -t71);
+    let t74: f64 = t7 * t17;
+    let t75: f64 = f64::mul_add(t6, t15, t74);
+    let t77: f64 = zc * t14;
+    let t78: f64 = t6 * t77;
+    let t79: f64 = f64::mul_add(yc, t75, t78);
+    let t80: f64 = zc * t0;
+    let t81: f64 = t15 * t80;
+    let t83: f64 = f64::mul_add(-t7, t81, t79);
+    let t84: f64 = t72 * 0.2;
+    let t85: f64 = t84 - t83;
+    let t86: f64 = t41 * t68;
+    let t87: f64 = t85 * t86;
+    let t88: f64 = t83 + t84;
+    let t89: f64 = t86 * t88;
+    let t90: f64 = t87 + t89;
+    let t91: f64 = t47 * 3.34;
+    let t92: f64 = xc * t39;
+    let t94: f64 = t83 * 3.34;
+    let t95: f64 = zc * t68;
+    let t96: f64 = t94 * t95;
+    let t97: f64 = f64::mul_add(t91, t92, t96);
+    let t99: f64 = t7 * t72;
+    let t101: f64 = f64::mul_add(-t6, t28, t70);
+    let t103: f64 = t99 * 0.41194000000000003;
+    let t104: f64 = f64::mul_add(t101, 0.22444, t103);
+    let t105: f64 = t1 * t104;
+    let t106: f64 = f64::mul_add(t41, t97, t105);
+    let t107: f64 = t67 * 7.34;
+    let t109: f64 = f64::mul_add(t90, 0.334, t106);
+    let t110: f64 = t109 - t107;
+    let t111: f64 = xc * xc;
+    let t112: f64 = t15 * t15;
+    let t113: f64 = t5 * t112;
+    let t114: f64 = t110 * t110;
+    let t116: f64 = t14 * t14;
+    let t117: f64 = t5 * t116;
+    let t118: f64 = t20 * t32;
+    let t119: f64 = t20 * t35;
+    let t120: f64 = t119 - t118;
+    let t122: f64 = t120 * 1.67;
+    let t123: f64 = f64::mul_add(yc, 7.34, t122);
+    let t125: f64 = t7 * t75;
+    let t127: f64 = f64::mul_add(t6, t19, t17);
+    let t129: f64 = t125 * 0.41194000000000003;
+    let t130: f64 = f64::mul_add(t127, 0.22444, -t129);
+    let t132: f64 = t87 - t89;
+    let t133: f64 = t132 * 1.67;
+    let t134: f64 = yc * t133;
+    let t135: f64 = t118 + t119;
+    let t136: f64 = t135 * 0.334;
+    let t137: f64 = f64::mul_add(xc, t123, t136);
+    let t138: f64 = f64::mul_add(t1, t130, t134);
+    let t139: f64 = t137 + t138;
+    let t140: f64 = t139 * t139;
+    let t141: f64 = t66 * t140;
+    let t142: f64 = t75 * 0.41194000000000003;
+    let t144: f64 = t19 * 0.22444;
+    let t145: f64 = t19 * t144;
+    let t146: f64 = t68 * t68;
+    let t147: f64 = t85 * t85;
+    let t148: f64 = t42 * t146;
+    let t150: f64 = t88 * t88;
+    let t151: f64 = t148 * t150;
+    let t152: f64 = f64::mul_add(t147, t148, t151);
+    let t153: f64 = t3 + t111;
+    let t155: f64 = t117 * 0.22444;
+    let t156: f64 = t56 + t152;
+    let t158: f64 = f64::mul_add(t153, 10.68, t155);
+    let t159: f64 = f64::mul_add(t75, t142, t145);
+    let t160: f64 = f64::mul_add(t156, 1.67, 0.4272000000000001);
+    let t161: f64 = t158 + t159;
+    let t162: f64 = t160 + t161;
+    let t163: f64 = t162 - t141;
+    let t164: f64 = 1.0 / t163;
+    let t165: f64 = t39 * t41;
+    let t166: f64 = t49 * t165;
+    let t167: f64 = t53 * t165;
+    let t168: f64 = t14 * t15;
+    let t169: f64 = t5 * t168;
+    let t170: f64 = t66 * t139;
+    let t172: f64 = t167 - t166;
+    let t174: f64 = t172 * 1.67;
+    let t175: f64 = f64::mul_add(zc, 7.34, t174);
+    let t177: f64 = t72 * t142;
+    let t179: f64 = -t122;
+    let t180: f64 = zc * t179;
+    let t181: f64 = t166 + t167;
+    let t183: f64 = t169 * 0.22444;
+    let t184: f64 = f64::mul_add(t181, 0.334, t183);
+    let t185: f64 = f64::mul_add(yc, t175, t184);
+    let t186: f64 = f64::mul_add(t110, t170, t177);
+    let t187: f64 = f64::mul_add(t28, t144, t180);
+    let t188: f64 = t186 + t187;
+    let t189: f64 = t185 - t188;
+    let t190: f64 = t189 * t189;
+    let t191: f64 = t164 * t190;
+    let t192: f64 = t72 * 0.41194000000000003;
+    let t194: f64 = t28 * 0.22444;
+    let t195: f64 = t28 * t194;
+    let t196: f64 = t4 + t111;
+    let t198: f64 = t113 * 0.22444;
+    let t199: f64 = t38 + t152;
+    let t201: f64 = f64::mul_add(t196, 10.68, t198);
+    let t202: f64 = f64::mul_add(t72, t192, t195);
+    let t203: f64 = f64::mul_add(t199, 1.67, 0.4272000000000001);
+    let t204: f64 = t201 + t202;
+    let t205: f64 = t203 + t204;
+    let t206: f64 = f64::mul_add(t66, t114, t191);
+    let t207: f64 = t205 - t206;
+    let t208: f64 = 1.0 / t207;
+    let t210: f64 = f64::mul_add(yc, 10.68, t122);
+    let t211: f64 = t66 * t210;
+    let t214: f64 = xc * 10.68;
+    let t215: f64 = t133 + t214;
+    let t216: f64 = f64::mul_add(-t139, t211, t215);
+    let t217: f64 = t164 * t189;
+    let t218: f64 = t216 * t217;
+    let t219: f64 = f64::mul_add(t110, t211, t218);
+    let t220: f64 = t210 * t210;
+    let t222: f64 = t216 * t216;
+    let t223: f64 = t164 * t222;
+    let t224: f64 = t219 * t219;
+    let t227: f64 = f64::mul_add(zc, 10.68, t174);
+    let t228: f64 = t227 * t227;
+    let t230: f64 = t164 * t227;
+    let t232: f64 = f64::mul_add(-t189, t230, t210);
+    let t233: f64 = t232 * t232;
+    let t234: f64 = t208 * t233;
+    let t235: f64 = f64::mul_add(t164, t228, t234);
+    let t236: f64 = t235 - 24.02;
+    let t237: f64 = 1.0 / t236;
+    let t239: f64 = t208 * t232;
+    let t240: f64 = t219 * t239;
+    let t241: f64 = f64::mul_add(t216, t230, -t240);
+    let t242: f64 = t241 * t241;
+    let t244: f64 = t139 * t164;
+    let t246: f64 = f64::mul_add(t189, t244, t107);
+    let t247: f64 = t109 - t246;
+    let t248: f64 = t66 * t227;
+    let t250: f64 = f64::mul_add(t247, t248, t214);
+    let t251: f64 = t133 + t250;
+    let t252: f64 = t251 * t251;
+    let t254: f64 = t66 * t228;
+    let t255: f64 = t139 * t254;
+    let t257: f64 = t239 * t251;
+    let t258: f64 = f64::mul_add(t164, t255, t257);
+    let t259: f64 = t258 * t258;
+    let t262: f64 = f64::mul_add(t141, t164, 1.0);
+    let t263: f64 = t254 * t262;
+    let t264: f64 = f64::mul_add(t208, t252, t263);
+    let t265: f64 = f64::mul_add(t237, t259, 24.02);
+    let t266: f64 = t264 - t265;
+    let t267: f64 = 1.0 / t266;
+    let t268: f64 = t208 * t251;
+    let t270: f64 = t237 * t258;
+    let t271: f64 = t241 * t270;
+    let t273: f64 = f64::mul_add(-t216, t244, t210);
+    let t275: f64 = f64::mul_add(t219, t268, t271);
+    let t276: f64 = f64::mul_add(t248, t273, t275);
+    let t277: f64 = t276 * t276;
+    let t278: f64 = t267 * t277;
+    let t279: f64 = f64::mul_add(t66, t220, t223);
+    let t280: f64 = f64::mul_add(t208, t224, t279);
+    let t281: f64 = f64::mul_add(t237, t242, t278);
+    let t282: f64 = t281 + 24.02;
+    let t283: f64 = t280 - t282;
+    let t284: f64 = 1.0 / t283;
+    let t285: f64 = yc * wy;
+    let t286: f64 = wz * t285;
+    let t287: f64 = xc * wx;
+    let t288: f64 = wz * t287;
+    let t289: f64 = wy * wy;
+    let t290: f64 = wx * wx;
+    let t291: f64 = t289 + t290;
+    let t292: f64 = zc * t291;
+    let t293: f64 = g5 - g6;
+    let t294: f64 = t166 * t291;
+    let t295: f64 = t167 * t291;
+    let t296: f64 = t294 + t295;
+    let t297: f64 = wx * wy;
+    let t298: f64 = t41 * t297;
+    let t299: f64 = t68 * t298;
+    let t300: f64 = t85 * t299;
+    let t301: f64 = t88 * t299;
+    let t302: f64 = t300 + t301;
+    let t303: f64 = t296 - t302;
+    let t304: f64 = zc * wy;
+    let t305: f64 = wz * t304;
+    let t306: f64 = wy * t287;
+    let t307: f64 = g3 + g4;
+    let t309: f64 = wx * vz;
+    let t310: f64 = f64::mul_add(wz, vx, -t309);
+    let t311: f64 = wz * wz;
+    let t312: f64 = t290 + t311;
+    let t313: f64 = t118 * t312;
+    let t314: f64 = t119 * t312;
+    let t315: f64 = t313 - t314;
+    let t316: f64 = t300 - t301;
+    let t317: f64 = t315 + t316;
+    let t319: f64 = t306 * 3.34;
+    let t320: f64 = t310 * 4.0;
+    let t322: f64 = f64::mul_add(t305, 6.68, t319);
+    let t323: f64 = t307 + t320;
+    let t324: f64 = t322 + t323;
+    let t325: f64 = f64::mul_add(t317, 1.67, t324);
+    let t328: f64 = wx * t1;
+    let t330: f64 = wy * t75;
+    let t331: f64 = f64::mul_add(t7, t328, t330);
+    let t332: f64 = f64::mul_add(wz, t72, t331);
+    let t333: f64 = wx * t6;
+    let t335: f64 = wy * t19;
+    let t336: f64 = f64::mul_add(t1, t333, -t335);
+    let t338: f64 = f64::mul_add(-wz, t28, t336);
+    let t339: f64 = t338 * 0.0084;
+    let t341: f64 = t332 * 0.0084;
+    let t342: f64 = t338 * t341;
+    let t343: f64 = t338 * 0.19084;
+    let t345: f64 = t332 * 0.37834;
+    let t347: f64 = f64::mul_add(t332, t339, -t342);
+    let t348: f64 = t347 * 4.0;
+    let t349: f64 = f64::mul_add(t332, t343, t348);
+    let t350: f64 = f64::mul_add(-t338, t345, t349);
+    let t351: f64 = t0 * t350;
+    let t352: f64 = f64::mul_add(zc, t325, t351);
+    let t355: f64 = zc * t290;
+    let t356: f64 = f64::mul_add(zc, t289, t355);
+    let t357: f64 = g5 + g6;
+    let t359: f64 = wy * vx;
+    let t360: f64 = f64::mul_add(wx, vy, -t359);
+    let t361: f64 = t294 - t295;
+    let t362: f64 = wx * wz;
+    let t363: f64 = t41 * t362;
+    let t364: f64 = t68 * t363;
+    let t365: f64 = t85 * t364;
+    let t366: f64 = t88 * t364;
+    let t367: f64 = t365 - t366;
+    let t368: f64 = t361 + t367;
+    let t370: f64 = f64::mul_add(zc, t312, t288);
+    let t371: f64 = t370 - t356;
+    let t372: f64 = t371 * 3.34;
+    let t373: f64 = t360 * 4.0;
+    let t375: f64 = f64::mul_add(t286, 6.68, t372);
+    let t376: f64 = t357 + t373;
+    let t377: f64 = t375 + t376;
+    let t378: f64 = f64::mul_add(t368, 1.67, t377);
+    let t379: f64 = t378 - 32.7654;
+    let t381: f64 = wz * t15;
+    let t384: f64 = wy * t14;
+    let t385: f64 = t1 * t384;
+    let t386: f64 = f64::mul_add(wx, t0, -t385);
+    let t387: f64 = f64::mul_add(t1, t381, t386);
+    let t388: f64 = t387 * 0.0084;
+    let t390: f64 = t341 * t387;
+    let t391: f64 = t387 * 0.19084;
+    let t394: f64 = f64::mul_add(t332, t388, -t390);
+    let t395: f64 = t394 * 4.0;
+    let t396: f64 = f64::mul_add(t332, t391, t395);
+    let t397: f64 = f64::mul_add(-t345, t387, t396);
+    let t400: f64 = t339 * t387;
+    let t403: f64 = f64::mul_add(t338, t388, -t400);
+    let t404: f64 = t403 * 4.0;
+    let t405: f64 = f64::mul_add(t338, t391, t404);
+    let t406: f64 = f64::mul_add(-t343, t387, t405);
+    let t407: f64 = t7 * t406;
+    let t408: f64 = f64::mul_add(t6, t397, -t407);
+    let t409: f64 = t1 * t408;
+    let t410: f64 = f64::mul_add(yc, t379, t409);
+    let t411: f64 = t352 - t410;
+    let t412: f64 = wy * wz;
+    let t413: f64 = t39 * t412;
+    let t414: f64 = t41 * t413;
+    let t415: f64 = t49 * t414;
+    let t417: f64 = yc * t290;
+    let t418: f64 = f64::mul_add(yc, t311, t417);
+    let t419: f64 = t306 - t418;
+    let t420: f64 = t419 - t415;
+    let t422: f64 = t312 * 0.334;
+    let t423: f64 = f64::mul_add(t420, 1.67, t422);
+    let t425: f64 = t53 * t414;
+    let t426: f64 = t419 + t425;
+    let t428: f64 = f64::mul_add(-t426, 1.67, t422);
+    let t429: f64 = t53 * t428;
+    let t430: f64 = f64::mul_add(t49, t423, t429);
+    let t432: f64 = t20 * t412;
+    let t433: f64 = t32 * t432;
+    let t434: f64 = t288 - t292;
+    let t435: f64 = t362 * 0.334;
+    let t436: f64 = t433 - t434;
+    let t438: f64 = f64::mul_add(t436, 1.67, t435);
+    let t439: f64 = t438 + 16.3827;
+    let t441: f64 = t35 * t432;
+    let t442: f64 = t434 + t441;
+    let t444: f64 = f64::mul_add(t442, 1.67, t435);
+    let t445: f64 = t444 - 16.3827;
+    let t446: f64 = t35 * t445;
+    let t447: f64 = f64::mul_add(t32, t439, t446);
+    let t448: f64 = t20 * t447;
+    let t449: f64 = f64::mul_add(t165, t430, t448);
+    let t450: f64 = t411 - t449;
+    let t451: f64 = yc * 72.00540000000001;
+    let t452: f64 = t293 * 0.2;
+    let t453: f64 = t303 * 0.334;
+    let t454: f64 = t451 + t452;
+    let t455: f64 = t450 + t453;
+    let t456: f64 = t454 + t455;
+    let t457: f64 = t210 * t456;
+    let t459: f64 = g2 - g1;
+    let t460: f64 = t289 + t311;
+    let t461: f64 = t87 * t460;
+    let t462: f64 = t89 * t460;
+    let t463: f64 = t461 + t462;
+    let t464: f64 = t433 + t441;
+    let t465: f64 = t463 - t464;
+    let t466: f64 = yc * wx;
+    let t467: f64 = wy * t466;
+    let t468: f64 = zc * wx;
+    let t469: f64 = wz * t468;
+    let t472: f64 = xc * t289;
+    let t473: f64 = f64::mul_add(xc, t311, t472);
+    let t474: f64 = g1 + g2;
+    let t476: f64 = wz * vy;
+    let t477: f64 = f64::mul_add(wy, vz, -t476);
+    let t478: f64 = t462 - t461;
+    let t479: f64 = t20 * t297;
+    let t480: f64 = t35 * t479;
+    let t481: f64 = t32 * t479;
+    let t482: f64 = t480 - t481;
+    let t483: f64 = t478 + t482;
+    let t484: f64 = f64::mul_add(xc, t291, t467);
+    let t485: f64 = t484 - t473;
+    let t487: f64 = t469 * 6.68;
+    let t488: f64 = t477 * 4.0;
+    let t490: f64 = f64::mul_add(t485, 3.34, t487);
+    let t491: f64 = t474 + t488;
+    let t492: f64 = t490 + t491;
+    let t493: f64 = f64::mul_add(t483, 1.67, t492);
+    let t495: f64 = t66 * t456;
+    let t496: f64 = t139 * t495;
+    let t497: f64 = f64::mul_add(zc, t493, -t496);
+    let t499: f64 = f64::mul_add(-t19, t397, t497);
+    let t501: f64 = t441 - t433;
+    let t503: f64 = t288 * 6.68;
+    let t504: f64 = t361 + t501;
+    let t506: f64 = f64::mul_add(t286, 3.34, t503);
+    let t507: f64 = t376 + t506;
+    let t508: f64 = f64::mul_add(t504, 1.67, t507);
+    let t509: f64 = t508 - 72.00540000000001;
+    let t510: f64 = xc * t509;
+    let t511: f64 = f64::mul_add(t43, t350, -t510);
+    let t512: f64 = t39 * t362;
+    let t513: f64 = t41 * t512;
+    let t514: f64 = t49 * t513;
+    let t515: f64 = xc * t460;
+    let t516: f64 = t467 - t515;
+    let t517: f64 = t297 * 0.334;
+    let t518: f64 = t514 - t516;
+    let t520: f64 = f64::mul_add(t518, 1.67, t517);
+    let t522: f64 = t53 * t513;
+    let t523: f64 = t516 + t522;
+    let t525: f64 = f64::mul_add(t523, 1.67, t517);
+    let t526: f64 = t53 * t525;
+    let t527: f64 = f64::mul_add(t49, t520, t526);
+    let t529: f64 = t286 - t356;
+    let t530: f64 = t365 + t529;
+    let t532: f64 = t291 * 0.334;
+    let t533: f64 = f64::mul_add(t530, 1.67, t532);
+    let t534: f64 = t533 - 16.3827;
+    let t536: f64 = t366 - t529;
+    let t538: f64 = f64::mul_add(t536, 1.67, t532);
+    let t539: f64 = t538 + 16.3827;
+    let t540: f64 = t88 * t539;
+    let t541: f64 = f64::mul_add(t85, t534, t540);
+    let t542: f64 = t68 * t541;
+    let t543: f64 = f64::mul_add(t39, t527, -t542);
+    let t545: f64 = t75 * t406;
+    let t546: f64 = f64::mul_add(t41, t543, -t545);
+    let t547: f64 = t511 + t546;
+    let t548: f64 = t499 + t547;
+    let t549: f64 = xc * 32.7654;
+    let t550: f64 = t459 * 0.2;
+    let t551: f64 = t465 * 0.334;
+    let t552: f64 = t549 + t550;
+    let t553: f64 = t548 + t551;
+    let t554: f64 = t552 + t553;
+    let t555: f64 = t164 * t554;
+    let t557: f64 = g3 - g4;
+    let t558: f64 = t313 + t314;
+    let t559: f64 = t514 + t522;
+    let t560: f64 = t558 + t559;
+    let t561: f64 = t522 - t514;
+    let t563: f64 = t469 * 3.34;
+    let t564: f64 = t478 + t561;
+    let t566: f64 = f64::mul_add(t467, 6.68, t563);
+    let t567: f64 = t491 + t566;
+    let t568: f64 = f64::mul_add(t564, 1.67, t567);
+    let t571: f64 = t425 - t415;
+    let t572: f64 = f64::mul_add(yc, t460, t305);
+    let t573: f64 = t572 - t418;
+    let t575: f64 = t306 * 6.68;
+    let t576: f64 = t315 + t571;
+    let t578: f64 = f64::mul_add(t573, 3.34, t575);
+    let t579: f64 = t323 + t578;
+    let t580: f64 = f64::mul_add(t576, 1.67, t579);
+    let t581: f64 = xc * t580;
+    let t582: f64 = f64::mul_add(yc, t568, -t581);
+    let t583: f64 = t1 * t15;
+    let t585: f64 = t72 * t406;
+    let t586: f64 = f64::mul_add(t350, t583, t585);
+    let t587: f64 = t582 + t586;
+    let t589: f64 = yc * t312;
+    let t590: f64 = t589 - t305;
+    let t591: f64 = t412 * 0.334;
+    let t592: f64 = t590 - t300;
+    let t594: f64 = f64::mul_add(t592, 1.67, t591);
+    let t596: f64 = t301 + t590;
+    let t598: f64 = f64::mul_add(-t596, 1.67, t591);
+    let t599: f64 = t88 * t598;
+    let t600: f64 = f64::mul_add(t85, t594, t599);
+    let t601: f64 = t86 * t600;
+    let t602: f64 = f64::mul_add(t28, t397, t601);
+    let t603: f64 = t469 - t473;
+    let t604: f64 = t603 - t481;
+    let t606: f64 = t460 * 0.334;
+    let t607: f64 = f64::mul_add(t604, 1.67, t606);
+    let t609: f64 = t480 + t603;
+    let t611: f64 = f64::mul_add(-t609, 1.67, t606);
+    let t612: f64 = t35 * t611;
+    let t613: f64 = f64::mul_add(t32, t607, t612);
+    let t616: f64 = t189 * t555;
+    let t617: f64 = f64::mul_add(t110, t495, t616);
+    let t618: f64 = f64::mul_add(t20, t613, t617);
+    let t619: f64 = t602 - t618;
+    let t620: f64 = t587 + t619;
+    let t621: f64 = t557 * 0.2;
+    let t622: f64 = t560 * 0.334;
+    let t623: f64 = t621 + t622;
+    let t624: f64 = t620 + t623;
+    let t625: f64 = t208 * t624;
+    let t627: f64 = t467 + t469;
+    let t628: f64 = t473 + t515;
+    let t630: f64 = t232 * t625;
+    let t631: f64 = f64::mul_add(t230, t554, t630);
+    let t632: f64 = t474 - t631;
+    let t633: f64 = t483 + t561;
+    let t634: f64 = t627 * 6.68;
+    let t635: f64 = t628 * 3.34;
+    let t636: f64 = t633 * 1.67;
+    let t637: f64 = t488 + t634;
+    let t638: f64 = t632 + t636;
+    let t639: f64 = t637 + t638;
+    let t640: f64 = t639 - t635;
+    let t641: f64 = t237 * t640;
+    let t642: f64 = t241 * t641;
+    let t643: f64 = t418 + t589;
+    let t644: f64 = t305 + t306;
+    let t645: f64 = t317 + t571;
+    let t647: f64 = t258 * t641;
+    let t648: f64 = f64::mul_add(t251, t625, t647);
+    let t650: f64 = t450 + t451;
+    let t651: f64 = t452 + t453;
+    let t652: f64 = t650 + t651;
+    let t653: f64 = f64::mul_add(-t244, t554, t652);
+    let t655: f64 = f64::mul_add(-t248, t653, t307);
+    let t656: f64 = t648 + t655;
+    let t657: f64 = t643 * 3.34;
+    let t659: f64 = t645 * 1.67;
+    let t660: f64 = f64::mul_add(t644, 6.68, t320);
+    let t661: f64 = t656 + t659;
+    let t662: f64 = t660 + t661;
+    let t663: f64 = t662 - t657;
+    let t664: f64 = t267 * t663;
+    let t666: f64 = t286 + t288;
+    let t667: f64 = t666 * 6.68;
+    let t668: f64 = t292 + t356;
+    let t669: f64 = t668 * 3.34;
+    let t670: f64 = t368 + t501;
+    let t672: f64 = f64::mul_add(t66, t457, t667);
+    let t673: f64 = f64::mul_add(t216, t555, t642);
+    let t674: f64 = f64::mul_add(t276, t664, t357);
+    let t675: f64 = f64::mul_add(t670, 1.67, t373);
+    let t676: f64 = t672 + t673;
+    let t677: f64 = t674 + t675;
+    let t678: f64 = t676 + t677;
+    let t679: f64 = f64::mul_add(t219, t625, t669);
+    let t680: f64 = t679 + 235.63620000000003;
+    let t681: f64 = t678 - t680;
+    let t682: f64 = t219 * t284;
+    let t684: f64 = t276 * t284;
+    let t686: f64 = f64::mul_add(t681, t684, t656);
+    let t687: f64 = t660 + t686;
+    let t688: f64 = t659 + t687;
+    let t689: f64 = t688 - t657;
+    let t690: f64 = t258 * t267;
+    let t692: f64 = t241 * t284;
+    let t693: f64 = t681 * t692;
+    let t694: f64 = f64::mul_add(t689, t690, t693);
+    let t695: f64 = t488 + t632;
+    let t696: f64 = t634 + t636;
+    let t697: f64 = t694 + t695;
+    let t698: f64 = t696 + t697;
+    let t699: f64 = t698 - t635;
+    let t700: f64 = t232 * t237;
+    let t701: f64 = t699 * t700;
+    let t702: f64 = t251 * t267;
+    let t704: f64 = f64::mul_add(t681, t682, t701);
+    let t705: f64 = t620 + t621;
+    let t706: f64 = t704 + t705;
+    let t707: f64 = t622 + t706;
+    let t708: f64 = f64::mul_add(-t689, t702, t707);
+    let t709: f64 = t110 * t208;
+    let t711: f64 = t210 * t284;
+    let t712: f64 = t681 * t711;
+    let t713: f64 = t189 * t208;
+    let t715: f64 = t216 * t284;
+    let t716: f64 = t681 * t715;
+    let t718: f64 = t170 * t267;
+    let t719: f64 = t689 * t718;
+    let t720: f64 = f64::mul_add(t237, t699, -t719);
+    let t722: f64 = f64::mul_add(t227, t720, t549);
+    let t723: f64 = t548 + t550;
+    let t724: f64 = t722 + t723;
+    let t725: f64 = t551 + t724;
+    let t726: f64 = f64::mul_add(t708, t713, t716);
+    let t727: f64 = t725 - t726;
+    let t729: f64 = t227 * t267;
+    let t731: f64 = f64::mul_add(t689, t729, t451);
+    let t732: f64 = t450 + t452;
+    let t733: f64 = t731 + t732;
+    let t734: f64 = t453 + t733;
+    let t735: f64 = f64::mul_add(t708, t709, t712);
+    let t736: f64 = f64::mul_add(t244, t727, t735);
+    let t737: f64 = t734 - t736;
+    let t738: f64 = t66 * t737;
+    let t739: f64 = t208 * t217;
+    let t741: f64 = t237 * t241;
+    let t742: f64 = t284 * t741;
+    let t744: f64 = t267 * t276;
+    let t745: f64 = t284 * t744;
+    let t747: f64 = f64::mul_add(t681, t745, t664);
+    let t749: f64 = f64::mul_add(t270, t747, t641);
+    let t750: f64 = f64::mul_add(t681, t742, t749);
+    let t752: f64 = t139 * t248;
+    let t753: f64 = t164 * t752;
+    let t754: f64 = t747 * t753;
+    let t755: f64 = t164 * t216;
+    let t756: f64 = t284 * t755;
+    let t758: f64 = f64::mul_add(t708, t739, t754);
+    let t759: f64 = f64::mul_add(t681, t756, t758);
+    let t760: f64 = f64::mul_add(t230, t750, t555);
+    let t761: f64 = t759 - t760;
+    let t762: f64 = t208 * t708;
+    let t763: f64 = -t750;
+    let t764: f64 = -t747;
+    let t765: f64 = t284 * t681;
+    let t766: f64 = -t765;
+    let t767: f64 = t1 * t7;
+    ([t738, t761, t762, t763, t764, t766], [t767, t19, t583])
+}
 /// Inverse dynamics end to end: actuator forces `Γ` from the platform state.
 ///
 /// Equations: 15, 16, 27, 43-48, 49-57, 60, 62. Setting: pose.
@@ -2816,6 +5063,19 @@ pub fn forward_dynamics(
 /// Operations: 298 mul, 4 div, 279 add, 1 neg, 3 sin_cos (chapter convention: 302m + 279a).
 #[inline]
 pub fn inverse_dynamics(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+) -> ([f64; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { inverse_dynamics_fused(pose, twist, accel) };
+    }
+    inverse_dynamics_separate(pose, twist, accel)
+}
+/// [`inverse_dynamics`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn inverse_dynamics_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
     accel: &[f64; 6],
@@ -3410,6 +5670,474 @@ pub fn inverse_dynamics(
     let t587: f64 = t583 - t586;
     ([t367, t369, t497, t502, t571, t587], [t504, t59, t420])
 }
+/// [`inverse_dynamics`] with 134 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`inverse_dynamics`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn inverse_dynamics_fused(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+) -> ([f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [wx, wy, wz, vx, vy, vz] = *twist;
+    let [wdx, wdy, wdz, ax, ay, az] = *accel;
+    let t2: f64 = wx * vy;
+    let t3: f64 = f64::mul_add(wy, vx, -t2);
+    let t4: f64 = f64::mul_add(xc, wdy, t3);
+    let t5: f64 = yc - 0.2;
+    let t6: f64 = wdx * t5;
+    let t7: f64 = yc + 0.2;
+    let t8: f64 = wdx * t7;
+    let t9: f64 = t6 + t8;
+    let t10: f64 = wx * wz;
+    let t11: f64 = wdy - t10;
+    let t12: f64 = xc * t11;
+    let t13: f64 = wy * wy;
+    let t14: f64 = wx * wx;
+    let t15: f64 = t13 + t14;
+    let t16: f64 = zc * t15;
+    let t17: f64 = wy * wz;
+    let t18: f64 = wdx + t17;
+    let t19: f64 = yc * t18;
+    let t20: f64 = t16 - t19;
+    let t21: f64 = t12 + t20;
+    let t22: f64 = zc - 0.2;
+    let (t24, t25): (f64, f64) = sin_cos(beta);
+    let t26: f64 = 1.0 / t25;
+    let (t27, t28): (f64, f64) = sin_cos(gamma);
+    let t29: f64 = 1.0 / t28;
+    let (t30, t31): (f64, f64) = sin_cos(alpha);
+    let t33: f64 = t24 * t30;
+    let t34: f64 = t28 * t33;
+    let t35: f64 = f64::mul_add(t27, t31, t34);
+    let t36: f64 = yc * t35;
+    let t38: f64 = t24 * t31;
+    let t39: f64 = t28 * t38;
+    let t40: f64 = f64::mul_add(t27, t30, -t39);
+    let t42: f64 = f64::mul_add(t22, t40, t36);
+    let t43: f64 = t26 * t29;
+    let t44: f64 = t42 * t43;
+    let t45: f64 = t11 * t44;
+    let t46: f64 = f64::mul_add(t15, t22, -t45);
+    let t47: f64 = zc + 0.2;
+    let t50: f64 = f64::mul_add(t40, t47, t36);
+    let t51: f64 = t43 * t50;
+    let t52: f64 = t11 * t51;
+    let t53: f64 = f64::mul_add(t15, t47, -t52);
+    let t54: f64 = t46 + t53;
+    let t55: f64 = xc - 0.2;
+    let t58: f64 = t27 * t33;
+    let t59: f64 = f64::mul_add(t28, t31, -t58);
+    let t60: f64 = 1.0 / t59;
+    let t61: f64 = t25 * t27;
+    let t64: f64 = t24 * t27;
+    let t65: f64 = t31 * t64;
+    let t66: f64 = f64::mul_add(t28, t30, t65);
+    let t67: f64 = zc * t66;
+    let t68: f64 = f64::mul_add(t55, t61, -t67);
+    let t69: f64 = t60 * t68;
+    let t70: f64 = t18 * t69;
+    let t71: f64 = f64::mul_add(t11, t55, -t70);
+    let t72: f64 = xc + 0.2;
+    let t75: f64 = f64::mul_add(-t61, t72, t67);
+    let t76: f64 = t60 * t75;
+    let t77: f64 = t18 * t76;
+    let t78: f64 = f64::mul_add(t11, t72, t77);
+    let t79: f64 = t71 + t78;
+    let t80: f64 = t54 + t79;
+    let t82: f64 = 1.0 / t31;
+    let t83: f64 = xc * t24;
+    let t84: f64 = t25 * t30;
+    let t86: f64 = f64::mul_add(-t5, t84, t83);
+    let t87: f64 = t26 * t82;
+    let t88: f64 = t86 * t87;
+    let t89: f64 = t15 * t88;
+    let t90: f64 = f64::mul_add(t5, t18, t89);
+    let t93: f64 = f64::mul_add(-t7, t84, t83);
+    let t94: f64 = t87 * t93;
+    let t95: f64 = t15 * t94;
+    let t96: f64 = f64::mul_add(t7, t18, t95);
+    let t97: f64 = t90 + t96;
+    let t98: f64 = t80 - t97;
+    let t100: f64 = t4 * 4.0;
+    let t103: f64 = t98 * 1.67;
+    let t104: f64 = f64::mul_add(az, 24.02, t100);
+    let t105: f64 = f64::mul_add(t21, 3.34, t103);
+    let t106: f64 = t104 + t105;
+    let t107: f64 = t106 + 235.63620000000003;
+    let t108: f64 = f64::mul_add(-t9, 2.0, t107);
+    let t109: f64 = xc + t44;
+    let t110: f64 = t109 * 2.5;
+    let t111: f64 = t108 * t110;
+    let t114: f64 = wy * vz;
+    let t115: f64 = f64::mul_add(wz, vy, -t114);
+    let t116: f64 = f64::mul_add(yc, wdz, t115);
+    let t117: f64 = wdy * t22;
+    let t118: f64 = wdy * t47;
+    let t119: f64 = t117 + t118;
+    let t120: f64 = wz * wz;
+    let t121: f64 = t13 + t120;
+    let t122: f64 = xc * t121;
+    let t123: f64 = wx * wy;
+    let t124: f64 = wdz - t123;
+    let t125: f64 = yc * t124;
+    let t126: f64 = wdy + t10;
+    let t127: f64 = zc * t126;
+    let t128: f64 = t125 - t127;
+    let t129: f64 = t122 + t128;
+    let t131: f64 = t88 * t126;
+    let t132: f64 = f64::mul_add(t5, t124, t131);
+    let t134: f64 = t94 * t126;
+    let t135: f64 = f64::mul_add(t7, t124, t134);
+    let t136: f64 = t132 + t135;
+    let t138: f64 = t69 * t124;
+    let t139: f64 = f64::mul_add(t55, t121, t138);
+    let t141: f64 = t76 * t124;
+    let t142: f64 = f64::mul_add(t72, t121, -t141);
+    let t143: f64 = t139 + t142;
+    let t145: f64 = t22 * t126;
+    let t146: f64 = f64::mul_add(t44, t121, t145);
+    let t148: f64 = t47 * t126;
+    let t149: f64 = f64::mul_add(t51, t121, t148);
+    let t150: f64 = t146 + t149;
+    let t151: f64 = t143 - t150;
+    let t152: f64 = t136 + t151;
+    let t154: f64 = wx * t25;
+    let t156: f64 = wy * t35;
+    let t157: f64 = f64::mul_add(t28, t154, t156);
+    let t158: f64 = f64::mul_add(wz, t40, t157);
+    let t159: f64 = wx * t27;
+    let t161: f64 = wy * t59;
+    let t162: f64 = f64::mul_add(t25, t159, -t161);
+    let t164: f64 = f64::mul_add(-wz, t66, t162);
+    let t165: f64 = t164 * 0.0084;
+    let t166: f64 = t158 * t165;
+    let t167: f64 = t158 * 0.00167;
+    let t169: f64 = wdz * t31;
+    let t172: f64 = wdy * t30;
+    let t173: f64 = t25 * t172;
+    let t174: f64 = f64::mul_add(wdx, t24, -t173);
+    let t175: f64 = f64::mul_add(t25, t169, t174);
+    let t176: f64 = t175 * 0.0084;
+    let t177: f64 = f64::mul_add(t164, t167, t176);
+    let t178: f64 = t177 - t166;
+    let t180: f64 = wz * t31;
+    let t183: f64 = wy * t30;
+    let t184: f64 = t25 * t183;
+    let t185: f64 = f64::mul_add(wx, t24, -t184);
+    let t186: f64 = f64::mul_add(t25, t180, t185);
+    let t187: f64 = t186 * 0.0084;
+    let t188: f64 = t164 * t187;
+    let t189: f64 = t164 * 0.00167;
+    let t192: f64 = wdx * t25;
+    let t194: f64 = wdy * t35;
+    let t195: f64 = f64::mul_add(t28, t192, t194);
+    let t196: f64 = f64::mul_add(wdz, t40, t195);
+    let t197: f64 = t196 * 0.0084;
+    let t198: f64 = f64::mul_add(t186, t189, t197);
+    let t199: f64 = t198 - t188;
+    let t200: f64 = t35 * t199;
+    let t201: f64 = f64::mul_add(t84, t178, -t200);
+    let t202: f64 = t158 * t187;
+    let t203: f64 = t158 * 0.0084;
+    let t204: f64 = t186 * t203;
+    let t205: f64 = wdx * t27;
+    let t207: f64 = wdy * t59;
+    let t208: f64 = f64::mul_add(t25, t205, -t207);
+    let t210: f64 = f64::mul_add(-wdz, t66, t208);
+    let t212: f64 = f64::mul_add(t210, 0.00167, t202);
+    let t213: f64 = t212 - t204;
+    let t216: f64 = t164 * t203;
+    let t217: f64 = t176 + t216;
+    let t218: f64 = f64::mul_add(-t158, t189, t217);
+    let t219: f64 = t84 * t218;
+    let t220: f64 = f64::mul_add(t59, t213, t219);
+    let t221: f64 = t201 + t220;
+    let t222: f64 = t165 * t186;
+    let t223: f64 = t186 * 0.00167;
+    let t225: f64 = t197 + t222;
+    let t226: f64 = f64::mul_add(-t164, t223, t225);
+    let t229: f64 = t210 * 0.0084;
+    let t230: f64 = f64::mul_add(t158, t223, t229);
+    let t231: f64 = t230 - t204;
+    let t232: f64 = t59 * t231;
+    let t233: f64 = f64::mul_add(t35, t226, -t232);
+    let t235: f64 = f64::mul_add(t175, 0.00167, t216);
+    let t236: f64 = t235 - t166;
+    let t239: f64 = f64::mul_add(t196, 0.00167, t222);
+    let t240: f64 = t239 - t188;
+    let t243: f64 = t202 + t229;
+    let t244: f64 = f64::mul_add(-t167, t186, t243);
+    let t245: f64 = t59 * t244;
+    let t246: f64 = f64::mul_add(t35, t240, -t245);
+    let t247: f64 = f64::mul_add(t84, t236, -t246);
+    let t248: f64 = t233 - t247;
+    let t249: f64 = t221 - t248;
+    let t250: f64 = t164 * 0.1875;
+    let t252: f64 = t158 * 0.375;
+    let t254: f64 = t175 * 0.1875;
+    let t255: f64 = f64::mul_add(t164, t252, t254);
+    let t256: f64 = f64::mul_add(-t158, t250, t255);
+    let t258: f64 = ax * 3.67;
+    let t259: f64 = t116 - t117;
+    let t261: f64 = t125 - t146;
+    let t263: f64 = f64::mul_add(t259, 2.0, t258);
+    let t264: f64 = f64::mul_add(t261, 1.67, t263);
+    let t265: f64 = t22 * t264;
+    let t266: f64 = f64::mul_add(t84, t256, t265);
+    let t267: f64 = az - t19;
+    let t268: f64 = t46 + t267;
+    let t270: f64 = f64::mul_add(t268, 1.67, 16.3827);
+    let t272: f64 = t125 - t149;
+    let t274: f64 = t116 - t118;
+    let t276: f64 = f64::mul_add(t272, 1.67, t258);
+    let t277: f64 = f64::mul_add(t274, 2.0, t276);
+    let t278: f64 = t47 * t277;
+    let t279: f64 = f64::mul_add(t44, t270, t278);
+    let t280: f64 = t266 + t279;
+    let t281: f64 = t53 + t267;
+    let t283: f64 = f64::mul_add(t281, 1.67, 16.3827);
+    let t285: f64 = ax - t127;
+    let t286: f64 = t139 + t285;
+    let t287: f64 = t286 * 1.67;
+    let t288: f64 = zc * t287;
+    let t289: f64 = f64::mul_add(t51, t283, t288);
+    let t290: f64 = az + t16;
+    let t291: f64 = t71 + t290;
+    let t293: f64 = f64::mul_add(t291, 1.67, 16.3827);
+    let t295: f64 = t142 + t285;
+    let t296: f64 = t295 * 1.67;
+    let t297: f64 = zc * t296;
+    let t298: f64 = f64::mul_add(t55, t293, -t297);
+    let t299: f64 = t289 - t298;
+    let t300: f64 = t280 + t299;
+    let t301: f64 = t78 + t290;
+    let t303: f64 = f64::mul_add(t301, 1.67, 16.3827);
+    let t305: f64 = ax + t122;
+    let t306: f64 = t132 + t305;
+    let t307: f64 = t306 * 1.67;
+    let t308: f64 = t88 * t307;
+    let t309: f64 = f64::mul_add(t72, t303, t308);
+    let t310: f64 = az * 3.67;
+    let t311: f64 = t4 - t6;
+    let t313: f64 = t12 - t90;
+    let t315: f64 = f64::mul_add(t311, 2.0, t310);
+    let t316: f64 = f64::mul_add(t313, 1.67, 36.002700000000004);
+    let t317: f64 = t315 + t316;
+    let t319: f64 = t135 + t305;
+    let t320: f64 = t319 * 1.67;
+    let t321: f64 = t94 * t320;
+    let t322: f64 = f64::mul_add(xc, t317, t321);
+    let t323: f64 = t309 + t322;
+    let t324: f64 = t12 - t96;
+    let t326: f64 = t4 - t8;
+    let t328: f64 = f64::mul_add(t324, 1.67, t310);
+    let t329: f64 = f64::mul_add(t326, 2.0, 36.002700000000004);
+    let t330: f64 = t328 + t329;
+    let t333: f64 = t116 * 4.0;
+    let t334: f64 = t119 * 2.0;
+    let t336: f64 = t152 * 1.67;
+    let t337: f64 = f64::mul_add(ax, 24.02, t333);
+    let t338: f64 = f64::mul_add(t129, 3.34, t336);
+    let t339: f64 = t337 + t338;
+    let t340: f64 = t339 - t334;
+    let t341: f64 = t22 * t340;
+    let t342: f64 = f64::mul_add(xc, t330, t341);
+    let t344: f64 = t186 * 0.1875;
+    let t347: f64 = t196 * 0.375;
+    let t348: f64 = f64::mul_add(t186, t250, t347);
+    let t349: f64 = f64::mul_add(-t164, t344, t348);
+    let t353: f64 = t210 * 0.1875;
+    let t354: f64 = f64::mul_add(t158, t344, t353);
+    let t355: f64 = f64::mul_add(-t186, t252, t354);
+    let t356: f64 = t59 * t355;
+    let t357: f64 = f64::mul_add(t35, t349, -t356);
+    let t358: f64 = f64::mul_add(t44, t108, t357);
+    let t359: f64 = t342 + t358;
+    let t360: f64 = t323 + t359;
+    let t361: f64 = t300 - t360;
+    let t362: f64 = t249 * 5.0;
+    let t363: f64 = t361 * 2.5;
+    let t364: f64 = t111 + t334;
+    let t365: f64 = t362 + t363;
+    let t366: f64 = t364 + t365;
+    let t367: f64 = t339 - t366;
+    let t368: f64 = t111 + t362;
+    let t369: f64 = t363 + t368;
+    let t372: f64 = wz * vx;
+    let t373: f64 = f64::mul_add(wx, vz, -t372);
+    let t374: f64 = f64::mul_add(zc, wdx, t373);
+    let t375: f64 = wdz * t55;
+    let t376: f64 = wdz * t72;
+    let t377: f64 = t375 + t376;
+    let t378: f64 = t14 + t120;
+    let t379: f64 = yc * t378;
+    let t380: f64 = wdx - t17;
+    let t381: f64 = zc * t380;
+    let t382: f64 = t379 + t381;
+    let t383: f64 = wdz + t123;
+    let t384: f64 = xc * t383;
+    let t385: f64 = t382 - t384;
+    let t387: f64 = t88 * t380;
+    let t388: f64 = f64::mul_add(t5, t378, -t387);
+    let t390: f64 = t94 * t380;
+    let t391: f64 = f64::mul_add(t7, t378, -t390);
+    let t392: f64 = t388 + t391;
+    let t394: f64 = t22 * t380;
+    let t395: f64 = f64::mul_add(t44, t383, t394);
+    let t397: f64 = t47 * t380;
+    let t398: f64 = f64::mul_add(t51, t383, t397);
+    let t399: f64 = t395 + t398;
+    let t401: f64 = t55 * t383;
+    let t402: f64 = f64::mul_add(t69, t378, -t401);
+    let t404: f64 = t76 * t378;
+    let t405: f64 = f64::mul_add(t72, t383, t404);
+    let t406: f64 = t402 - t405;
+    let t407: f64 = t399 + t406;
+    let t408: f64 = t392 + t407;
+    let t410: f64 = t374 * 4.0;
+    let t413: f64 = t408 * 1.67;
+    let t414: f64 = f64::mul_add(ay, 24.02, t410);
+    let t415: f64 = f64::mul_add(t385, 3.34, t413);
+    let t416: f64 = t414 + t415;
+    let t417: f64 = f64::mul_add(-t377, 2.0, t416);
+    let t418: f64 = t110 + 0.5;
+    let t420: f64 = t25 * t31;
+    let t422: f64 = t40 * t199;
+    let t423: f64 = f64::mul_add(t178, t420, t422);
+    let t425: f64 = t218 * t420;
+    let t426: f64 = f64::mul_add(t66, t213, -t425);
+    let t427: f64 = t423 - t426;
+    let t429: f64 = t66 * t231;
+    let t430: f64 = f64::mul_add(t40, t226, -t429);
+    let t433: f64 = t66 * t244;
+    let t434: f64 = f64::mul_add(t40, t240, -t433);
+    let t435: f64 = f64::mul_add(t236, t420, t434);
+    let t436: f64 = t430 + t435;
+    let t437: f64 = t427 + t436;
+    let t439: f64 = yc * t264;
+    let t440: f64 = f64::mul_add(t256, t420, t439);
+    let t441: f64 = ay + t379;
+    let t442: f64 = t395 + t441;
+    let t443: f64 = t442 * 1.67;
+    let t445: f64 = yc * t277;
+    let t446: f64 = f64::mul_add(t44, t443, t445);
+    let t447: f64 = t440 + t446;
+    let t448: f64 = t398 + t441;
+    let t449: f64 = t448 * 1.67;
+    let t451: f64 = t69 * t287;
+    let t452: f64 = f64::mul_add(t51, t449, t451);
+    let t453: f64 = ay * 3.67;
+    let t454: f64 = t374 - t375;
+    let t456: f64 = t381 + t402;
+    let t458: f64 = f64::mul_add(t454, 2.0, t453);
+    let t459: f64 = f64::mul_add(t456, 1.67, t458);
+    let t461: f64 = t76 * t296;
+    let t462: f64 = f64::mul_add(t55, t459, t461);
+    let t463: f64 = t452 - t462;
+    let t464: f64 = t447 + t463;
+    let t465: f64 = t381 - t405;
+    let t467: f64 = t374 - t376;
+    let t469: f64 = f64::mul_add(t465, 1.67, t453);
+    let t470: f64 = f64::mul_add(t467, 2.0, t469);
+    let t472: f64 = t5 * t307;
+    let t473: f64 = f64::mul_add(t72, t470, -t472);
+    let t474: f64 = ay - t384;
+    let t475: f64 = t388 + t474;
+    let t476: f64 = t475 * 1.67;
+    let t478: f64 = t7 * t320;
+    let t479: f64 = f64::mul_add(xc, t476, -t478);
+    let t480: f64 = t473 + t479;
+    let t481: f64 = t391 + t474;
+    let t482: f64 = t481 * 1.67;
+    let t484: f64 = yc * t340;
+    let t485: f64 = f64::mul_add(xc, t482, t484);
+    let t488: f64 = t66 * t355;
+    let t489: f64 = f64::mul_add(t40, t349, -t488);
+    let t490: f64 = f64::mul_add(t44, t417, -t489);
+    let t491: f64 = t485 + t490;
+    let t492: f64 = t480 + t491;
+    let t493: f64 = t464 - t492;
+    let t494: f64 = t437 * 5.0;
+    let t495: f64 = t493 * 2.5;
+    let t496: f64 = f64::mul_add(t417, t418, t494);
+    let t497: f64 = t495 + t496;
+    let t498: f64 = t110 - 0.5;
+    let t500: f64 = f64::mul_add(t417, t498, t494);
+    let t501: f64 = t495 + t500;
+    let t502: f64 = -t501;
+    let t504: f64 = t25 * t28;
+    let t505: f64 = t199 * t504;
+    let t506: f64 = f64::mul_add(t24, t178, t505);
+    let t508: f64 = t24 * t218;
+    let t509: f64 = f64::mul_add(t61, t213, t508);
+    let t510: f64 = t506 + t509;
+    let t512: f64 = t61 * t231;
+    let t513: f64 = f64::mul_add(t226, t504, t512);
+    let t516: f64 = t61 * t244;
+    let t517: f64 = f64::mul_add(t240, t504, t516);
+    let t518: f64 = f64::mul_add(t24, t236, t517);
+    let t519: f64 = t513 + t518;
+    let t520: f64 = t510 + t519;
+    let t522: f64 = t22 * t443;
+    let t523: f64 = f64::mul_add(t24, t256, t522);
+    let t525: f64 = t47 * t449;
+    let t526: f64 = f64::mul_add(yc, t270, -t525);
+    let t527: f64 = t523 - t526;
+    let t529: f64 = zc * t459;
+    let t530: f64 = f64::mul_add(yc, t283, -t529);
+    let t532: f64 = zc * t470;
+    let t533: f64 = f64::mul_add(t69, t293, -t532);
+    let t534: f64 = t530 + t533;
+    let t535: f64 = t527 - t534;
+    let t537: f64 = t88 * t476;
+    let t538: f64 = f64::mul_add(t76, t303, -t537);
+    let t540: f64 = t94 * t482;
+    let t541: f64 = f64::mul_add(t5, t317, t540);
+    let t542: f64 = t538 - t541;
+    let t544: f64 = t22 * t417;
+    let t545: f64 = f64::mul_add(t7, t330, t544);
+    let t548: f64 = t61 * t355;
+    let t549: f64 = f64::mul_add(t349, t504, t548);
+    let t550: f64 = f64::mul_add(yc, t108, t549);
+    let t551: f64 = t545 - t550;
+    let t552: f64 = t542 - t551;
+    let t553: f64 = t535 + t552;
+    let t554: f64 = az - ay;
+    let t556: f64 = t4 - t374;
+    let t557: f64 = t556 * 2.0;
+    let t558: f64 = t21 - t385;
+    let t560: f64 = t98 - t408;
+    let t562: f64 = t520 * 5.0;
+    let t563: f64 = t553 * 2.5;
+    let t564: f64 = f64::mul_add(t554, 12.01, t557);
+    let t565: f64 = f64::mul_add(t558, 1.67, t377);
+    let t566: f64 = f64::mul_add(t560, 0.835, t562);
+    let t567: f64 = t563 + 117.81810000000002;
+    let t568: f64 = t564 + t565;
+    let t569: f64 = t566 + t567;
+    let t570: f64 = t568 + t569;
+    let t571: f64 = t570 - t9;
+    let t572: f64 = ay + az;
+    let t574: f64 = t4 + t374;
+    let t575: f64 = t574 * 2.0;
+    let t576: f64 = t21 + t385;
+    let t578: f64 = t98 + t408;
+    let t579: f64 = t578 * 0.835;
+    let t580: f64 = f64::mul_add(t572, 12.01, t575);
+    let t581: f64 = f64::mul_add(t576, 1.67, t579);
+    let t582: f64 = t580 + t581;
+    let t583: f64 = t582 + 117.81810000000002;
+    let t584: f64 = t9 + t377;
+    let t585: f64 = t562 + t563;
+    let t586: f64 = t584 + t585;
+    let t587: f64 = t583 - t586;
+    ([t367, t369, t497, t502, t571, t587], [t504, t59, t420])
+}
 /// Forward kinematics in closed form: the platform's `R` and `C` from the actuator positions.
 ///
 /// Equations: 15, 16. Setting: joint.
@@ -3433,6 +6161,15 @@ pub fn inverse_dynamics(
 /// Operations: 56 mul, 3 div, 26 add, 6 neg, 3 sqrt (chapter convention: 59m + 26a).
 #[inline]
 pub fn forward_kinematics(q: &[f64; 6]) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { forward_kinematics_fused(q) };
+    }
+    forward_kinematics_separate(q)
+}
+/// [`forward_kinematics`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn forward_kinematics_separate(q: &[f64; 6]) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]) {
     let [q1, q2, q3, q4, q5, q6] = *q;
     let t0: f64 = q1 - q2;
     let t1: f64 = t0 * 2.5;
@@ -3534,6 +6271,102 @@ pub fn forward_kinematics(q: &[f64; 6]) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]) {
         [t93, t22, t49, t56],
     )
 }
+/// [`forward_kinematics`] with 15 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`forward_kinematics`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn forward_kinematics_fused(
+    q: &[f64; 6],
+) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]) {
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let t0: f64 = q1 - q2;
+    let t1: f64 = t0 * 2.5;
+    let t2: f64 = q3 - q4;
+    let t3: f64 = t2 * 2.5;
+    let t4: f64 = q5 - q6;
+    let t5: f64 = t4 * 2.5;
+    let t6: f64 = t1 * t3;
+    let t7: f64 = t5 * t6;
+    let t8: f64 = t7 - 1.0;
+    let t9: f64 = t8 * t8;
+    let t11: f64 = t1 * t1;
+    let t12: f64 = t11 + 1.0;
+    let t13: f64 = t3 * t12;
+    let t14: f64 = f64::mul_add(t1, t5, t13);
+    let t17: f64 = f64::mul_add(t14, t14, t9);
+    let t18: f64 = f64::mul_add(t9, t11, t17);
+    let t19: f64 = 1.0 / t18;
+    let t20: f64 = sqrt(t19);
+    let t21: f64 = t8 * t20;
+    let t22: f64 = -t21;
+    let t23: f64 = t3 * t3;
+    let t25: f64 = t23 + 1.0;
+    let t27: f64 = f64::mul_add(t5, t25, t6);
+    let t29: f64 = f64::mul_add(t9, t23, t9);
+    let t30: f64 = f64::mul_add(t27, t27, t29);
+    let t31: f64 = 1.0 / t30;
+    let t32: f64 = sqrt(t31);
+    let t33: f64 = t3 * t8;
+    let t34: f64 = t32 * t33;
+    let t36: f64 = t5 * t5;
+    let t37: f64 = t36 + 1.0;
+    let t38: f64 = t1 * t37;
+    let t39: f64 = f64::mul_add(t3, t5, t38);
+    let t42: f64 = f64::mul_add(t39, t39, t9);
+    let t43: f64 = f64::mul_add(t9, t36, t42);
+    let t44: f64 = 1.0 / t43;
+    let t45: f64 = sqrt(t44);
+    let t46: f64 = t39 * t45;
+    let t47: f64 = t14 * t20;
+    let t48: f64 = t8 * t32;
+    let t49: f64 = -t48;
+    let t50: f64 = t5 * t8;
+    let t51: f64 = t45 * t50;
+    let t52: f64 = t1 * t8;
+    let t53: f64 = t20 * t52;
+    let t54: f64 = t27 * t32;
+    let t55: f64 = t8 * t45;
+    let t56: f64 = -t55;
+    let t57: f64 = q5 + q6;
+    let t58: f64 = t57 * 0.5;
+    let t59: f64 = t39 * t58;
+    let t61: f64 = q1 + q2;
+    let t62: f64 = t61 * 0.5;
+    let t64: f64 = q3 + q4;
+    let t65: f64 = t64 * 0.5;
+    let t66: f64 = t3 * t65;
+    let t67: f64 = t31 * t66;
+    let t68: f64 = f64::mul_add(t19, t62, -t67);
+    let t69: f64 = t8 * t68;
+    let t70: f64 = f64::mul_add(t44, t59, -t69);
+    let t71: f64 = t8 * t70;
+    let t72: f64 = -t71;
+    let t73: f64 = t14 * t62;
+    let t76: f64 = t5 * t58;
+    let t77: f64 = t44 * t76;
+    let t78: f64 = f64::mul_add(t31, t65, -t77);
+    let t79: f64 = t8 * t78;
+    let t80: f64 = f64::mul_add(t19, t73, -t79);
+    let t81: f64 = t8 * t80;
+    let t82: f64 = -t81;
+    let t83: f64 = t27 * t65;
+    let t86: f64 = t1 * t62;
+    let t87: f64 = t19 * t86;
+    let t88: f64 = f64::mul_add(t44, t58, -t87);
+    let t89: f64 = t8 * t88;
+    let t90: f64 = f64::mul_add(t31, t83, -t89);
+    let t91: f64 = t8 * t90;
+    let t92: f64 = -t91;
+    let t93: f64 = 1.0 - t7;
+    (
+        [[t22, t34, t46], [t47, t49, t51], [t53, t54, t56]],
+        [t72, t82, t92],
+        [t93, t22, t49, t56],
+    )
+}
 /// The RPY angles `[α β γ]` of a rotation of the workspace (eq 15 inverted).
 ///
 /// Equations: 15. Setting: joint.
@@ -3553,6 +6386,15 @@ pub fn forward_kinematics(q: &[f64; 6]) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]) {
 /// Operations: 2 mul, 3 div, 1 add, 2 neg, 3 atan, 1 sqrt (chapter convention: 5m + 1a).
 #[inline]
 pub fn rpy_angles(r: &[[f64; 3]; 3]) -> [f64; 3] {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { rpy_angles_fused(r) };
+    }
+    rpy_angles_separate(r)
+}
+/// [`rpy_angles`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn rpy_angles_separate(r: &[[f64; 3]; 3]) -> [f64; 3] {
     let [[r11, r12, r13], [_, _, r23], [_, _, r33]] = *r;
     let t0: f64 = r23 / r33;
     let t1: f64 = atan(t0);
@@ -3560,6 +6402,28 @@ pub fn rpy_angles(r: &[[f64; 3]; 3]) -> [f64; 3] {
     let t3: f64 = r11 * r11;
     let t4: f64 = r12 * r12;
     let t5: f64 = t3 + t4;
+    let t6: f64 = sqrt(t5);
+    let t7: f64 = r13 / t6;
+    let t8: f64 = atan(t7);
+    let t9: f64 = r12 / r11;
+    let t10: f64 = atan(t9);
+    let t11: f64 = -t10;
+    [t2, t8, t11]
+}
+/// [`rpy_angles`] with 1 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`rpy_angles`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn rpy_angles_fused(r: &[[f64; 3]; 3]) -> [f64; 3] {
+    let [[r11, r12, r13], [_, _, r23], [_, _, r33]] = *r;
+    let t0: f64 = r23 / r33;
+    let t1: f64 = atan(t0);
+    let t2: f64 = -t1;
+    let t4: f64 = r12 * r12;
+    let t5: f64 = f64::mul_add(r11, r11, t4);
     let t6: f64 = sqrt(t5);
     let t7: f64 = r13 / t6;
     let t8: f64 = atan(t7);
@@ -3591,6 +6455,15 @@ pub fn rpy_angles(r: &[[f64; 3]; 3]) -> [f64; 3] {
 /// Operations: 65 mul, 3 div, 41 add, 3 neg, 3 sqrt (chapter convention: 68m + 41a).
 #[inline]
 pub fn platform_twist(q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { platform_twist_fused(q, qd) };
+    }
+    platform_twist_separate(q, qd)
+}
+/// [`platform_twist`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn platform_twist_separate(q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]) {
     let [q1, q2, q3, q4, q5, q6] = *q;
     let [qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
     let t0: f64 = qd5 - qd6;
@@ -3710,6 +6583,112 @@ pub fn platform_twist(q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]) {
     let t114: f64 = -t113;
     ([t1, t3, t5, t79, t97, t104], [t105, t108, t111, t114])
 }
+/// [`platform_twist`] with 21 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`platform_twist`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn platform_twist_fused(q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]) {
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
+    let t0: f64 = qd5 - qd6;
+    let t1: f64 = t0 * 2.5;
+    let t2: f64 = qd1 - qd2;
+    let t3: f64 = t2 * 2.5;
+    let t4: f64 = qd3 - qd4;
+    let t5: f64 = t4 * 2.5;
+    let t6: f64 = q1 + q2;
+    let t7: f64 = t6 * 0.5;
+    let t8: f64 = q1 - q2;
+    let t9: f64 = t8 * 2.5;
+    let t10: f64 = q3 - q4;
+    let t11: f64 = t10 * 2.5;
+    let t12: f64 = q5 - q6;
+    let t13: f64 = t12 * 2.5;
+    let t14: f64 = t9 * t11;
+    let t15: f64 = t13 * t14;
+    let t16: f64 = t15 - 1.0;
+    let t17: f64 = t16 * t16;
+    let t19: f64 = t9 * t9;
+    let t20: f64 = t19 + 1.0;
+    let t21: f64 = t11 * t20;
+    let t22: f64 = f64::mul_add(t9, t13, t21);
+    let t25: f64 = f64::mul_add(t22, t22, t17);
+    let t26: f64 = f64::mul_add(t17, t19, t25);
+    let t27: f64 = 1.0 / t26;
+    let t28: f64 = t7 * t9;
+    let t29: f64 = t17 * t28;
+    let t31: f64 = q3 + q4;
+    let t32: f64 = t31 * 0.5;
+    let t33: f64 = t11 * t11;
+    let t34: f64 = t33 + 1.0;
+    let t36: f64 = f64::mul_add(t13, t34, t14);
+    let t39: f64 = f64::mul_add(t17, t33, t17);
+    let t40: f64 = f64::mul_add(t36, t36, t39);
+    let t41: f64 = 1.0 / t40;
+    let t42: f64 = t32 * t36;
+    let t43: f64 = t16 * t42;
+    let t44: f64 = t41 * t43;
+    let t45: f64 = f64::mul_add(t27, t29, t44);
+    let t46: f64 = q5 + q6;
+    let t47: f64 = t46 * 0.5;
+    let t49: f64 = t13 * t13;
+    let t50: f64 = t49 + 1.0;
+    let t51: f64 = t9 * t50;
+    let t52: f64 = f64::mul_add(t11, t13, t51);
+    let t55: f64 = f64::mul_add(t52, t52, t17);
+    let t56: f64 = f64::mul_add(t17, t49, t55);
+    let t57: f64 = 1.0 / t56;
+    let t58: f64 = t17 * t47;
+    let t60: f64 = f64::mul_add(-t57, t58, t45);
+    let t61: f64 = t60 * 2.5;
+    let t62: f64 = t61 - 0.5;
+    let t64: f64 = t61 + 0.5;
+    let t66: f64 = t13 * t47;
+    let t67: f64 = t17 * t66;
+    let t69: f64 = t7 * t22;
+    let t70: f64 = t16 * t69;
+    let t72: f64 = t17 * t32;
+    let t73: f64 = t41 * t72;
+    let t74: f64 = f64::mul_add(t27, t70, -t73);
+    let t75: f64 = f64::mul_add(t57, t67, t74);
+    let t76: f64 = t75 * 2.5;
+    let t77: f64 = t4 * t76;
+    let t78: f64 = f64::mul_add(qd2, t64, t77);
+    let t79: f64 = f64::mul_add(-qd1, t62, t78);
+    let t80: f64 = t7 * t17;
+    let t82: f64 = t11 * t32;
+    let t83: f64 = t17 * t82;
+    let t84: f64 = t41 * t83;
+    let t85: f64 = f64::mul_add(t27, t80, -t84);
+    let t86: f64 = t47 * t52;
+    let t87: f64 = t16 * t86;
+    let t89: f64 = f64::mul_add(-t57, t87, t85);
+    let t90: f64 = t89 * 2.5;
+    let t91: f64 = t90 + 0.5;
+    let t93: f64 = t90 - 0.5;
+    let t95: f64 = t0 * t61;
+    let t96: f64 = f64::mul_add(qd3, t91, t95);
+    let t97: f64 = f64::mul_add(-qd4, t93, t96);
+    let t98: f64 = t76 - 0.5;
+    let t100: f64 = t76 + 0.5;
+    let t102: f64 = t2 * t90;
+    let t103: f64 = f64::mul_add(qd5, t98, t102);
+    let t104: f64 = f64::mul_add(qd6, t100, -t103);
+    let t105: f64 = 1.0 - t15;
+    let t106: f64 = sqrt(t27);
+    let t107: f64 = t16 * t106;
+    let t108: f64 = -t107;
+    let t109: f64 = sqrt(t41);
+    let t110: f64 = t16 * t109;
+    let t111: f64 = -t110;
+    let t112: f64 = sqrt(t57);
+    let t113: f64 = t16 * t112;
+    let t114: f64 = -t113;
+    ([t1, t3, t5, t79, t97, t104], [t105, t108, t111, t114])
+}
 /// The platform's classical acceleration from the actuators' motion.
 ///
 /// Equations: 43, 44, 45, 46, 47, 48. Setting: joint.
@@ -3734,6 +6713,19 @@ pub fn platform_twist(q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]) {
 /// Operations: 83 mul, 3 div, 59 add, 3 neg, 3 sqrt (chapter convention: 86m + 59a).
 #[inline]
 pub fn platform_acceleration(
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    qdd: &[f64; 6],
+) -> ([f64; 6], [f64; 4]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { platform_acceleration_fused(q, qd, qdd) };
+    }
+    platform_acceleration_separate(q, qd, qdd)
+}
+/// [`platform_acceleration`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn platform_acceleration_separate(
     q: &[f64; 6],
     qd: &[f64; 6],
     qdd: &[f64; 6],
@@ -3894,6 +6886,144 @@ pub fn platform_acceleration(
     let t150: f64 = -t149;
     ([t1, t3, t5, t114, t130, t140], [t141, t144, t147, t150])
 }
+/// [`platform_acceleration`] with 30 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`platform_acceleration`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn platform_acceleration_fused(
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    qdd: &[f64; 6],
+) -> ([f64; 6], [f64; 4]) {
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
+    let [qdd1, qdd2, qdd3, qdd4, qdd5, qdd6] = *qdd;
+    let t0: f64 = qdd5 - qdd6;
+    let t1: f64 = t0 * 2.5;
+    let t2: f64 = qdd1 - qdd2;
+    let t3: f64 = t2 * 2.5;
+    let t4: f64 = qdd3 - qdd4;
+    let t5: f64 = t4 * 2.5;
+    let t6: f64 = q1 + q2;
+    let t7: f64 = t6 * 0.5;
+    let t8: f64 = q1 - q2;
+    let t9: f64 = t8 * 2.5;
+    let t10: f64 = q3 - q4;
+    let t11: f64 = t10 * 2.5;
+    let t12: f64 = q5 - q6;
+    let t13: f64 = t12 * 2.5;
+    let t14: f64 = t9 * t11;
+    let t15: f64 = t13 * t14;
+    let t16: f64 = t15 - 1.0;
+    let t17: f64 = t16 * t16;
+    let t19: f64 = t9 * t9;
+    let t20: f64 = t19 + 1.0;
+    let t21: f64 = t11 * t20;
+    let t22: f64 = f64::mul_add(t9, t13, t21);
+    let t25: f64 = f64::mul_add(t22, t22, t17);
+    let t26: f64 = f64::mul_add(t17, t19, t25);
+    let t27: f64 = 1.0 / t26;
+    let t28: f64 = t7 * t9;
+    let t29: f64 = t17 * t28;
+    let t31: f64 = q3 + q4;
+    let t32: f64 = t31 * 0.5;
+    let t33: f64 = t11 * t11;
+    let t34: f64 = t33 + 1.0;
+    let t36: f64 = f64::mul_add(t13, t34, t14);
+    let t39: f64 = f64::mul_add(t17, t33, t17);
+    let t40: f64 = f64::mul_add(t36, t36, t39);
+    let t41: f64 = 1.0 / t40;
+    let t42: f64 = t32 * t36;
+    let t43: f64 = t16 * t42;
+    let t44: f64 = t41 * t43;
+    let t45: f64 = f64::mul_add(t27, t29, t44);
+    let t46: f64 = q5 + q6;
+    let t47: f64 = t46 * 0.5;
+    let t49: f64 = t13 * t13;
+    let t50: f64 = t49 + 1.0;
+    let t51: f64 = t9 * t50;
+    let t52: f64 = f64::mul_add(t11, t13, t51);
+    let t55: f64 = f64::mul_add(t52, t52, t17);
+    let t56: f64 = f64::mul_add(t17, t49, t55);
+    let t57: f64 = 1.0 / t56;
+    let t58: f64 = t17 * t47;
+    let t60: f64 = f64::mul_add(-t57, t58, t45);
+    let t61: f64 = t60 * 2.5;
+    let t62: f64 = t61 - 0.5;
+    let t63: f64 = qd1 - qd2;
+    let t64: f64 = t63 * 2.5;
+    let t65: f64 = t13 * t47;
+    let t66: f64 = t17 * t65;
+    let t68: f64 = t7 * t22;
+    let t69: f64 = t16 * t68;
+    let t71: f64 = t17 * t32;
+    let t72: f64 = t41 * t71;
+    let t73: f64 = f64::mul_add(t27, t69, -t72);
+    let t74: f64 = f64::mul_add(t57, t66, t73);
+    let t75: f64 = t74 * 2.5;
+    let t76: f64 = t75 - 0.5;
+    let t78: f64 = t75 + 0.5;
+    let t80: f64 = t7 * t17;
+    let t82: f64 = t11 * t32;
+    let t83: f64 = t17 * t82;
+    let t84: f64 = t41 * t83;
+    let t85: f64 = f64::mul_add(t27, t80, -t84);
+    let t86: f64 = t47 * t52;
+    let t87: f64 = t16 * t86;
+    let t89: f64 = f64::mul_add(-t57, t87, t85);
+    let t90: f64 = t89 * 2.5;
+    let t91: f64 = t63 * t90;
+    let t92: f64 = f64::mul_add(qd5, t76, t91);
+    let t93: f64 = f64::mul_add(-qd6, t78, t92);
+    let t95: f64 = qd3 - qd4;
+    let t96: f64 = t95 * 2.5;
+    let t97: f64 = t90 + 0.5;
+    let t99: f64 = t90 - 0.5;
+    let t101: f64 = qd5 - qd6;
+    let t102: f64 = t61 * t101;
+    let t103: f64 = f64::mul_add(qd3, t97, t102);
+    let t104: f64 = f64::mul_add(-qd4, t99, t103);
+    let t105: f64 = t96 * t104;
+    let t106: f64 = f64::mul_add(t64, t93, t105);
+    let t107: f64 = qdd1 - t106;
+    let t109: f64 = t61 + 0.5;
+    let t110: f64 = qdd2 - t106;
+    let t112: f64 = t4 * t75;
+    let t113: f64 = f64::mul_add(t109, t110, t112);
+    let t114: f64 = f64::mul_add(-t62, t107, t113);
+    let t115: f64 = t101 * 2.5;
+    let t119: f64 = t75 * t95;
+    let t120: f64 = f64::mul_add(qd2, t109, t119);
+    let t121: f64 = f64::mul_add(qd1, t62, -t120);
+    let t122: f64 = t96 * t121;
+    let t123: f64 = f64::mul_add(t93, t115, -t122);
+    let t124: f64 = qdd3 + t123;
+    let t126: f64 = qdd4 + t123;
+    let t128: f64 = t0 * t61;
+    let t129: f64 = f64::mul_add(t97, t124, t128);
+    let t130: f64 = f64::mul_add(-t99, t126, t129);
+    let t132: f64 = t64 * t121;
+    let t133: f64 = f64::mul_add(t104, t115, t132);
+    let t134: f64 = qdd5 + t133;
+    let t136: f64 = qdd6 + t133;
+    let t138: f64 = t2 * t90;
+    let t139: f64 = f64::mul_add(t76, t134, t138);
+    let t140: f64 = f64::mul_add(t78, t136, -t139);
+    let t141: f64 = 1.0 - t15;
+    let t142: f64 = sqrt(t27);
+    let t143: f64 = t16 * t142;
+    let t144: f64 = -t143;
+    let t145: f64 = sqrt(t41);
+    let t146: f64 = t16 * t145;
+    let t147: f64 = -t146;
+    let t148: f64 = sqrt(t57);
+    let t149: f64 = t16 * t148;
+    let t150: f64 = -t149;
+    ([t1, t3, t5, t114, t130, t140], [t141, t144, t147, t150])
+}
 /// The platform state (pose, twist, acceleration) from the actuators' motion.
 ///
 /// Equations: 43, 44, 45, 46, 47, 48. Setting: joint.
@@ -3920,6 +7050,19 @@ pub fn platform_acceleration(
 /// Operations: 91 mul, 5 div, 62 add, 7 neg, 3 atan, 4 sqrt (chapter convention: 96m + 62a).
 #[inline]
 pub fn platform_state(
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    qdd: &[f64; 6],
+) -> ([f64; 6], [f64; 6], [f64; 6], [f64; 4]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { platform_state_fused(q, qd, qdd) };
+    }
+    platform_state_separate(q, qd, qdd)
+}
+/// [`platform_state`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn platform_state_separate(
     q: &[f64; 6],
     qd: &[f64; 6],
     qdd: &[f64; 6],
@@ -4106,6 +7249,169 @@ pub fn platform_state(
         [t165, t167, t169, t171],
     )
 }
+/// [`platform_state`] with 31 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`platform_state`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn platform_state_fused(
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    qdd: &[f64; 6],
+) -> ([f64; 6], [f64; 6], [f64; 6], [f64; 4]) {
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
+    let [qdd1, qdd2, qdd3, qdd4, qdd5, qdd6] = *qdd;
+    let t0: f64 = q5 - q6;
+    let t1: f64 = t0 * 2.5;
+    let t2: f64 = atan(t1);
+    let t3: f64 = q3 - q4;
+    let t4: f64 = t3 * 2.5;
+    let t6: f64 = q1 - q2;
+    let t7: f64 = t6 * 2.5;
+    let t8: f64 = t1 * t1;
+    let t9: f64 = t8 + 1.0;
+    let t10: f64 = t7 * t9;
+    let t11: f64 = f64::mul_add(t1, t4, t10);
+    let t12: f64 = t4 * t7;
+    let t13: f64 = t1 * t12;
+    let t14: f64 = t13 - 1.0;
+    let t15: f64 = t14 * t14;
+    let t18: f64 = f64::mul_add(t11, t11, t15);
+    let t19: f64 = f64::mul_add(t8, t15, t18);
+    let t20: f64 = 1.0 / t19;
+    let t21: f64 = sqrt(t20);
+    let t23: f64 = t7 * t7;
+    let t24: f64 = t23 + 1.0;
+    let t25: f64 = t4 * t24;
+    let t26: f64 = f64::mul_add(t1, t7, t25);
+    let t29: f64 = f64::mul_add(t26, t26, t15);
+    let t30: f64 = f64::mul_add(t15, t23, t29);
+    let t31: f64 = 1.0 / t30;
+    let t32: f64 = sqrt(t31);
+    let t34: f64 = t4 * t4;
+    let t36: f64 = t34 + 1.0;
+    let t38: f64 = f64::mul_add(t1, t36, t12);
+    let t40: f64 = f64::mul_add(t15, t34, t15);
+    let t41: f64 = f64::mul_add(t38, t38, t40);
+    let t42: f64 = 1.0 / t41;
+    let t43: f64 = sqrt(t42);
+    let t44: f64 = t43 * t43;
+    let t45: f64 = t34 * t44;
+    let t46: f64 = f64::mul_add(t32, t32, t45);
+    let t47: f64 = t15 * t46;
+    let t48: f64 = sqrt(t47);
+    let t49: f64 = t11 * t21;
+    let t50: f64 = t49 / t48;
+    let t51: f64 = atan(t50);
+    let t52: f64 = t4 * t43;
+    let t53: f64 = t52 / t32;
+    let t54: f64 = atan(t53);
+    let t55: f64 = q1 + q2;
+    let t56: f64 = t55 * 0.5;
+    let t57: f64 = t15 * t56;
+    let t59: f64 = q3 + q4;
+    let t60: f64 = t59 * 0.5;
+    let t61: f64 = t4 * t60;
+    let t62: f64 = t15 * t61;
+    let t63: f64 = t42 * t62;
+    let t64: f64 = f64::mul_add(t31, t57, -t63);
+    let t65: f64 = q5 + q6;
+    let t66: f64 = t65 * 0.5;
+    let t67: f64 = t11 * t66;
+    let t68: f64 = t14 * t67;
+    let t70: f64 = f64::mul_add(-t20, t68, t64);
+    let t71: f64 = t1 * t66;
+    let t72: f64 = t15 * t71;
+    let t74: f64 = t26 * t56;
+    let t75: f64 = t14 * t74;
+    let t77: f64 = t15 * t60;
+    let t78: f64 = t42 * t77;
+    let t79: f64 = f64::mul_add(t31, t75, -t78);
+    let t80: f64 = f64::mul_add(t20, t72, t79);
+    let t81: f64 = -t80;
+    let t82: f64 = t7 * t56;
+    let t83: f64 = t15 * t82;
+    let t85: f64 = t38 * t60;
+    let t86: f64 = t14 * t85;
+    let t87: f64 = t42 * t86;
+    let t88: f64 = f64::mul_add(t31, t83, t87);
+    let t89: f64 = t15 * t66;
+    let t91: f64 = f64::mul_add(-t20, t89, t88);
+    let t92: f64 = -t91;
+    let t93: f64 = qd5 - qd6;
+    let t94: f64 = t93 * 2.5;
+    let t95: f64 = qd1 - qd2;
+    let t96: f64 = t95 * 2.5;
+    let t97: f64 = qd3 - qd4;
+    let t98: f64 = t97 * 2.5;
+    let t99: f64 = t91 * 2.5;
+    let t100: f64 = t99 - 0.5;
+    let t102: f64 = t99 + 0.5;
+    let t103: f64 = qd2 * t102;
+    let t104: f64 = f64::mul_add(qd1, t100, -t103);
+    let t105: f64 = t80 * 2.5;
+    let t107: f64 = qd4 * t105;
+    let t108: f64 = f64::mul_add(qd3, t105, -t107);
+    let t109: f64 = t104 - t108;
+    let t110: f64 = -t109;
+    let t111: f64 = t70 * 2.5;
+    let t112: f64 = t111 + 0.5;
+    let t114: f64 = t111 - 0.5;
+    let t116: f64 = t93 * t99;
+    let t117: f64 = f64::mul_add(qd3, t112, t116);
+    let t118: f64 = f64::mul_add(-qd4, t114, t117);
+    let t120: f64 = qd2 * t111;
+    let t121: f64 = f64::mul_add(qd1, t111, -t120);
+    let t122: f64 = t105 - 0.5;
+    let t124: f64 = t105 + 0.5;
+    let t125: f64 = qd6 * t124;
+    let t126: f64 = f64::mul_add(qd5, t122, -t125);
+    let t127: f64 = t121 + t126;
+    let t128: f64 = -t127;
+    let t129: f64 = qdd5 - qdd6;
+    let t130: f64 = t129 * 2.5;
+    let t131: f64 = qdd1 - qdd2;
+    let t132: f64 = t131 * 2.5;
+    let t133: f64 = qdd3 - qdd4;
+    let t134: f64 = t133 * 2.5;
+    let t136: f64 = t98 * t118;
+    let t137: f64 = f64::mul_add(t96, t127, t136);
+    let t138: f64 = qdd1 - t137;
+    let t140: f64 = qdd2 - t137;
+    let t142: f64 = t105 * t133;
+    let t143: f64 = f64::mul_add(t102, t140, t142);
+    let t144: f64 = f64::mul_add(-t100, t138, t143);
+    let t146: f64 = t98 * t109;
+    let t147: f64 = f64::mul_add(t94, t127, -t146);
+    let t148: f64 = qdd3 + t147;
+    let t150: f64 = qdd4 + t147;
+    let t152: f64 = t99 * t129;
+    let t153: f64 = f64::mul_add(t112, t148, t152);
+    let t154: f64 = f64::mul_add(-t114, t150, t153);
+    let t156: f64 = t94 * t118;
+    let t157: f64 = f64::mul_add(t96, t109, t156);
+    let t158: f64 = qdd5 + t157;
+    let t160: f64 = qdd6 + t157;
+    let t162: f64 = t111 * t131;
+    let t163: f64 = f64::mul_add(t122, t158, t162);
+    let t164: f64 = f64::mul_add(t124, t160, -t163);
+    let t165: f64 = 1.0 - t13;
+    let t166: f64 = t14 * t32;
+    let t167: f64 = -t166;
+    let t168: f64 = t14 * t43;
+    let t169: f64 = -t168;
+    let t170: f64 = t14 * t21;
+    let t171: f64 = -t170;
+    (
+        [t2, t51, t54, t70, t81, t92],
+        [t94, t96, t98, t110, t118, t128],
+        [t130, t132, t134, t144, t154, t164],
+        [t165, t167, t169, t171],
+    )
+}
 /// Inverse dynamics from what the encoders measure: `Γ` from the actuators' positions, rates and accelerations.
 ///
 /// Equations: 15, 16, 27, 43-48, 49-57, 60, 62. Setting: joint.
@@ -4130,6 +7436,19 @@ pub fn platform_state(
 /// Operations: 347 mul, 3 div, 330 add, 4 neg, 3 sqrt (chapter convention: 350m + 330a).
 #[inline]
 pub fn inverse_dynamics_joint(
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    qdd: &[f64; 6],
+) -> ([f64; 6], [f64; 4]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { inverse_dynamics_joint_fused(q, qd, qdd) };
+    }
+    inverse_dynamics_joint_separate(q, qd, qdd)
+}
+/// [`inverse_dynamics_joint`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn inverse_dynamics_joint_separate(
     q: &[f64; 6],
     qd: &[f64; 6],
     qdd: &[f64; 6],
@@ -4826,6 +8145,559 @@ pub fn inverse_dynamics_joint(
     let t686: f64 = -t211;
     ([t462, t463, t595, t598, t666, t682], [t683, t684, t685, t686])
 }
+/// [`inverse_dynamics_joint`] with 151 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`inverse_dynamics_joint`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn inverse_dynamics_joint_fused(
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    qdd: &[f64; 6],
+) -> ([f64; 6], [f64; 4]) {
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
+    let [qdd1, qdd2, qdd3, qdd4, qdd5, qdd6] = *qdd;
+    let t0: f64 = q1 + q2;
+    let t1: f64 = t0 * 0.5;
+    let t2: f64 = q1 - q2;
+    let t3: f64 = t2 * 2.5;
+    let t4: f64 = q3 - q4;
+    let t5: f64 = t4 * 2.5;
+    let t6: f64 = q5 - q6;
+    let t7: f64 = t6 * 2.5;
+    let t8: f64 = t3 * t5;
+    let t9: f64 = t7 * t8;
+    let t10: f64 = t9 - 1.0;
+    let t11: f64 = t10 * t10;
+    let t13: f64 = t3 * t3;
+    let t14: f64 = t13 + 1.0;
+    let t15: f64 = t5 * t14;
+    let t16: f64 = f64::mul_add(t3, t7, t15);
+    let t19: f64 = f64::mul_add(t16, t16, t11);
+    let t20: f64 = f64::mul_add(t11, t13, t19);
+    let t21: f64 = 1.0 / t20;
+    let t22: f64 = t1 * t3;
+    let t23: f64 = t11 * t22;
+    let t25: f64 = q3 + q4;
+    let t26: f64 = t25 * 0.5;
+    let t27: f64 = t5 * t5;
+    let t28: f64 = t27 + 1.0;
+    let t30: f64 = f64::mul_add(t7, t28, t8);
+    let t33: f64 = f64::mul_add(t11, t27, t11);
+    let t34: f64 = f64::mul_add(t30, t30, t33);
+    let t35: f64 = 1.0 / t34;
+    let t36: f64 = t26 * t30;
+    let t37: f64 = t10 * t36;
+    let t38: f64 = t35 * t37;
+    let t39: f64 = f64::mul_add(t21, t23, t38);
+    let t40: f64 = q5 + q6;
+    let t41: f64 = t40 * 0.5;
+    let t43: f64 = t7 * t7;
+    let t44: f64 = t43 + 1.0;
+    let t45: f64 = t3 * t44;
+    let t46: f64 = f64::mul_add(t5, t7, t45);
+    let t49: f64 = f64::mul_add(t46, t46, t11);
+    let t50: f64 = f64::mul_add(t11, t43, t49);
+    let t51: f64 = 1.0 / t50;
+    let t52: f64 = t11 * t41;
+    let t54: f64 = f64::mul_add(-t51, t52, t39);
+    let t55: f64 = t54 * 2.5;
+    let t56: f64 = t55 - 0.5;
+    let t57: f64 = qd1 - qd2;
+    let t58: f64 = t57 * 2.5;
+    let t59: f64 = t7 * t41;
+    let t60: f64 = t11 * t59;
+    let t62: f64 = t1 * t16;
+    let t63: f64 = t10 * t62;
+    let t65: f64 = t11 * t26;
+    let t66: f64 = t35 * t65;
+    let t67: f64 = f64::mul_add(t21, t63, -t66);
+    let t68: f64 = f64::mul_add(t51, t60, t67);
+    let t69: f64 = t68 * 2.5;
+    let t70: f64 = t69 - 0.5;
+    let t72: f64 = t69 + 0.5;
+    let t74: f64 = t1 * t11;
+    let t76: f64 = t5 * t26;
+    let t77: f64 = t11 * t76;
+    let t78: f64 = t35 * t77;
+    let t79: f64 = f64::mul_add(t21, t74, -t78);
+    let t80: f64 = t41 * t46;
+    let t81: f64 = t10 * t80;
+    let t83: f64 = f64::mul_add(-t51, t81, t79);
+    let t84: f64 = t83 * 2.5;
+    let t85: f64 = t57 * t84;
+    let t86: f64 = f64::mul_add(qd5, t70, t85);
+    let t87: f64 = f64::mul_add(-qd6, t72, t86);
+    let t89: f64 = qd3 - qd4;
+    let t90: f64 = t89 * 2.5;
+    let t91: f64 = t84 + 0.5;
+    let t93: f64 = t84 - 0.5;
+    let t95: f64 = qd5 - qd6;
+    let t96: f64 = t55 * t95;
+    let t97: f64 = f64::mul_add(qd3, t91, t96);
+    let t98: f64 = f64::mul_add(-qd4, t93, t97);
+    let t99: f64 = t90 * t98;
+    let t100: f64 = f64::mul_add(t58, t87, t99);
+    let t101: f64 = qdd1 - t100;
+    let t103: f64 = t55 + 0.5;
+    let t104: f64 = qdd2 - t100;
+    let t105: f64 = t103 * t104;
+    let t106: f64 = f64::mul_add(t56, t101, -t105);
+    let t109: f64 = t69 * t89;
+    let t110: f64 = f64::mul_add(qd2, t103, t109);
+    let t111: f64 = f64::mul_add(qd1, t56, -t110);
+    let t113: f64 = t95 * 2.5;
+    let t114: f64 = t87 * t113;
+    let t115: f64 = f64::mul_add(t90, t111, -t114);
+    let t116: f64 = qdd3 - t115;
+    let t118: f64 = qdd4 - t115;
+    let t119: f64 = t69 * t118;
+    let t120: f64 = f64::mul_add(t69, t116, -t119);
+    let t121: f64 = t106 - t120;
+    let t122: f64 = qdd3 - qdd4;
+    let t123: f64 = t122 * 2.5;
+    let t125: f64 = f64::mul_add(-t68, t123, t100);
+    let t126: f64 = t54 + 0.2;
+    let t127: f64 = qdd1 - qdd2;
+    let t128: f64 = t127 * 2.5;
+    let t129: f64 = t126 * t128;
+    let t130: f64 = t54 - 0.2;
+    let t131: f64 = t128 * t130;
+    let t132: f64 = t129 + t131;
+    let t133: f64 = t90 * t90;
+    let t134: f64 = t58 * t58;
+    let t135: f64 = t133 + t134;
+    let t136: f64 = t83 * t135;
+    let t137: f64 = t90 * t113;
+    let t138: f64 = t128 + t137;
+    let t139: f64 = t54 * t138;
+    let t140: f64 = t58 * t113;
+    let t141: f64 = t123 - t140;
+    let t142: f64 = t68 * t141;
+    let t143: f64 = t139 - t142;
+    let t144: f64 = t136 + t143;
+    let t145: f64 = q5 + t54;
+    let t147: f64 = t68 + 0.2;
+    let t148: f64 = t141 * t147;
+    let t149: f64 = f64::mul_add(t138, t145, -t148);
+    let t150: f64 = q6 + t54;
+    let t152: f64 = t68 - 0.2;
+    let t153: f64 = t141 * t152;
+    let t154: f64 = f64::mul_add(t138, t150, -t153);
+    let t155: f64 = t149 + t154;
+    let t157: f64 = q1 - t83;
+    let t158: f64 = t135 * t157;
+    let t159: f64 = f64::mul_add(t126, t138, -t158);
+    let t161: f64 = q2 - t83;
+    let t162: f64 = t135 * t161;
+    let t163: f64 = f64::mul_add(t130, t138, -t162);
+    let t164: f64 = t159 + t163;
+    let t165: f64 = t83 - 0.2;
+    let t167: f64 = q3 + t68;
+    let t168: f64 = t141 * t167;
+    let t169: f64 = f64::mul_add(t135, t165, -t168);
+    let t170: f64 = t83 + 0.2;
+    let t172: f64 = q4 + t68;
+    let t173: f64 = t141 * t172;
+    let t174: f64 = f64::mul_add(t135, t170, -t173);
+    let t175: f64 = t169 + t174;
+    let t176: f64 = t164 + t175;
+    let t177: f64 = t155 + t176;
+    let t178: f64 = sqrt(t51);
+    let t179: f64 = sqrt(t21);
+    let t180: f64 = t10 * t179;
+    let t182: f64 = t16 * t179;
+    let t183: f64 = t58 * t182;
+    let t184: f64 = f64::mul_add(t113, t180, -t183);
+    let t185: f64 = t3 * t10;
+    let t186: f64 = t179 * t185;
+    let t188: f64 = f64::mul_add(-t90, t186, t184);
+    let t189: f64 = sqrt(t35);
+    let t190: f64 = t30 * t189;
+    let t192: f64 = t5 * t10;
+    let t193: f64 = t189 * t192;
+    let t195: f64 = t10 * t189;
+    let t196: f64 = t58 * t195;
+    let t197: f64 = f64::mul_add(t113, t193, -t196);
+    let t198: f64 = f64::mul_add(t90, t190, t197);
+    let t199: f64 = t198 * 0.0084;
+    let t200: f64 = t188 * t199;
+    let t201: f64 = t188 * 0.00167;
+    let t203: f64 = qdd5 - qdd6;
+    let t204: f64 = t203 * 2.5;
+    let t205: f64 = t46 * t178;
+    let t207: f64 = t7 * t10;
+    let t208: f64 = t178 * t207;
+    let t209: f64 = t128 * t208;
+    let t210: f64 = f64::mul_add(t204, t205, t209);
+    let t211: f64 = t10 * t178;
+    let t213: f64 = f64::mul_add(-t123, t211, t210);
+    let t214: f64 = t213 * 0.0084;
+    let t215: f64 = f64::mul_add(t198, t201, t214);
+    let t216: f64 = t215 - t200;
+    let t219: f64 = t58 * t208;
+    let t220: f64 = f64::mul_add(t113, t205, t219);
+    let t222: f64 = f64::mul_add(-t90, t211, t220);
+    let t223: f64 = t222 * 0.0084;
+    let t224: f64 = t198 * t223;
+    let t225: f64 = t198 * 0.00167;
+    let t228: f64 = t128 * t182;
+    let t229: f64 = f64::mul_add(t180, t204, -t228);
+    let t231: f64 = f64::mul_add(-t123, t186, t229);
+    let t232: f64 = t231 * 0.0084;
+    let t233: f64 = f64::mul_add(t222, t225, t232);
+    let t234: f64 = t233 - t224;
+    let t235: f64 = t182 * t234;
+    let t236: f64 = f64::mul_add(t208, t216, -t235);
+    let t237: f64 = t188 * t223;
+    let t238: f64 = t188 * 0.0084;
+    let t239: f64 = t222 * t238;
+    let t242: f64 = t128 * t195;
+    let t243: f64 = f64::mul_add(t193, t204, -t242);
+    let t244: f64 = f64::mul_add(t123, t190, t243);
+    let t246: f64 = f64::mul_add(t244, 0.00167, t237);
+    let t247: f64 = t246 - t239;
+    let t250: f64 = t198 * t238;
+    let t251: f64 = t214 + t250;
+    let t252: f64 = f64::mul_add(-t188, t225, t251);
+    let t253: f64 = t208 * t252;
+    let t254: f64 = f64::mul_add(t195, t247, -t253);
+    let t255: f64 = t236 - t254;
+    let t256: f64 = t199 * t222;
+    let t257: f64 = t222 * 0.00167;
+    let t259: f64 = t232 + t256;
+    let t260: f64 = f64::mul_add(-t198, t257, t259);
+    let t263: f64 = t244 * 0.0084;
+    let t264: f64 = f64::mul_add(t188, t257, t263);
+    let t265: f64 = t264 - t239;
+    let t266: f64 = t195 * t265;
+    let t267: f64 = f64::mul_add(t182, t260, t266);
+    let t269: f64 = f64::mul_add(t213, 0.00167, t250);
+    let t270: f64 = t269 - t200;
+    let t273: f64 = f64::mul_add(t231, 0.00167, t256);
+    let t274: f64 = t273 - t224;
+    let t277: f64 = t237 + t263;
+    let t278: f64 = f64::mul_add(-t201, t222, t277);
+    let t279: f64 = t195 * t278;
+    let t280: f64 = f64::mul_add(t182, t274, t279);
+    let t281: f64 = f64::mul_add(t208, t270, -t280);
+    let t282: f64 = t267 - t281;
+    let t283: f64 = t255 - t282;
+    let t284: f64 = t128 - t137;
+    let t286: f64 = t113 * t113;
+    let t287: f64 = t134 + t286;
+    let t288: f64 = t126 * t287;
+    let t289: f64 = f64::mul_add(t157, t284, t288);
+    let t291: f64 = t84 * t104;
+    let t292: f64 = f64::mul_add(t84, t101, -t291);
+    let t294: f64 = t58 * t111;
+    let t295: f64 = f64::mul_add(t98, t113, t294);
+    let t296: f64 = qdd5 + t295;
+    let t298: f64 = qdd6 + t295;
+    let t299: f64 = t72 * t298;
+    let t300: f64 = f64::mul_add(t70, t296, -t299);
+    let t301: f64 = t292 + t300;
+    let t302: f64 = t58 * t90;
+    let t303: f64 = t204 + t302;
+    let t304: f64 = t68 * t303;
+    let t305: f64 = t301 - t304;
+    let t306: f64 = t289 + t305;
+    let t308: f64 = f64::mul_add(t306, 1.67, -16.3827);
+    let t310: f64 = t163 - t142;
+    let t312: f64 = t125 + t131;
+    let t313: f64 = t312 * 2.0;
+    let t314: f64 = t121 * 3.67;
+    let t315: f64 = f64::mul_add(t310, 1.67, t313);
+    let t316: f64 = t315 - t314;
+    let t317: f64 = t130 * t316;
+    let t318: f64 = f64::mul_add(t157, t308, t317);
+    let t320: f64 = t130 * t287;
+    let t321: f64 = f64::mul_add(t161, t284, t320);
+    let t322: f64 = t305 + t321;
+    let t324: f64 = f64::mul_add(t322, 1.67, -16.3827);
+    let t326: f64 = t121 - t139;
+    let t327: f64 = t326 - t169;
+    let t328: f64 = t327 * 1.67;
+    let t329: f64 = t54 * t328;
+    let t330: f64 = f64::mul_add(t161, t324, -t329);
+    let t331: f64 = t318 + t330;
+    let t333: f64 = t167 * t303;
+    let t334: f64 = f64::mul_add(t165, t284, t333);
+    let t335: f64 = t54 * t287;
+    let t336: f64 = t301 + t335;
+    let t337: f64 = t336 - t334;
+    let t339: f64 = f64::mul_add(t337, 1.67, -16.3827);
+    let t341: f64 = t326 - t174;
+    let t342: f64 = t341 * 1.67;
+    let t343: f64 = t54 * t342;
+    let t344: f64 = f64::mul_add(t165, t339, t343);
+    let t346: f64 = t172 * t303;
+    let t347: f64 = f64::mul_add(t170, t284, t346);
+    let t348: f64 = t336 - t347;
+    let t350: f64 = f64::mul_add(t348, 1.67, -16.3827);
+    let t352: f64 = t121 - t136;
+    let t353: f64 = t352 - t149;
+    let t354: f64 = t353 * 1.67;
+    let t355: f64 = t145 * t354;
+    let t356: f64 = f64::mul_add(t170, t350, t355);
+    let t357: f64 = t344 + t356;
+    let t358: f64 = t331 - t357;
+    let t359: f64 = t147 * t204;
+    let t360: f64 = t83 * t284;
+    let t362: f64 = f64::mul_add(-t83, t128, t295);
+    let t364: f64 = t145 * t287;
+    let t365: f64 = f64::mul_add(t147, t303, -t364);
+    let t366: f64 = t362 - t359;
+    let t368: f64 = t360 + t365;
+    let t370: f64 = t301 * 3.67;
+    let t371: f64 = f64::mul_add(t366, 2.0, t370);
+    let t372: f64 = f64::mul_add(t368, 1.67, 36.002700000000004);
+    let t373: f64 = t371 - t372;
+    let t375: f64 = t352 - t154;
+    let t376: f64 = t375 * 1.67;
+    let t377: f64 = t150 * t376;
+    let t378: f64 = f64::mul_add(t83, t373, t377);
+    let t379: f64 = t152 * t204;
+    let t381: f64 = t150 * t287;
+    let t382: f64 = f64::mul_add(t152, t303, -t381);
+    let t383: f64 = t360 + t382;
+    let t385: f64 = t362 - t379;
+    let t387: f64 = f64::mul_add(t385, 2.0, t370);
+    let t388: f64 = f64::mul_add(t383, 1.67, 36.002700000000004);
+    let t389: f64 = t387 - t388;
+    let t391: f64 = t121 * 24.02;
+    let t393: f64 = t132 * 2.0;
+    let t395: f64 = t177 * 1.67;
+    let t396: f64 = f64::mul_add(t125, 4.0, t393);
+    let t397: f64 = f64::mul_add(t144, 3.34, t395);
+    let t398: f64 = t396 + t397;
+    let t399: f64 = t398 - t391;
+    let t400: f64 = t126 * t399;
+    let t401: f64 = f64::mul_add(t83, t389, t400);
+    let t402: f64 = t378 + t401;
+    let t403: f64 = t359 + t379;
+    let t404: f64 = t304 - t335;
+    let t405: f64 = t360 + t404;
+    let t406: f64 = t365 + t382;
+    let t407: f64 = t334 + t347;
+    let t408: f64 = t289 + t321;
+    let t409: f64 = t407 - t408;
+    let t410: f64 = t406 + t409;
+    let t412: f64 = t362 * 4.0;
+    let t414: f64 = t405 * 3.34;
+    let t416: f64 = f64::mul_add(t301, 24.02, t412);
+    let t417: f64 = f64::mul_add(t403, 2.0, t414);
+    let t418: f64 = f64::mul_add(t410, 1.67, 235.63620000000003);
+    let t419: f64 = t417 + t418;
+    let t420: f64 = t416 - t419;
+    let t422: f64 = q1 * t420;
+    let t423: f64 = f64::mul_add(t157, t420, -t422);
+    let t424: f64 = t222 * 0.1875;
+    let t426: f64 = t198 * 0.1875;
+    let t428: f64 = t231 * 0.375;
+    let t429: f64 = f64::mul_add(t222, t426, t428);
+    let t430: f64 = f64::mul_add(-t198, t424, t429);
+    let t432: f64 = t188 * 0.375;
+    let t435: f64 = t244 * 0.1875;
+    let t436: f64 = f64::mul_add(t188, t424, t435);
+    let t437: f64 = f64::mul_add(-t222, t432, t436);
+    let t438: f64 = t195 * t437;
+    let t439: f64 = f64::mul_add(t182, t430, t438);
+    let t442: f64 = t213 * 0.1875;
+    let t443: f64 = f64::mul_add(t198, t432, t442);
+    let t444: f64 = f64::mul_add(-t188, t426, t443);
+    let t446: f64 = t125 + t129;
+    let t448: f64 = t159 - t142;
+    let t449: f64 = t448 * 1.67;
+    let t450: f64 = f64::mul_add(t446, 2.0, t449);
+    let t451: f64 = t450 - t314;
+    let t452: f64 = t126 * t451;
+    let t453: f64 = f64::mul_add(t208, t444, t452);
+    let t454: f64 = t439 - t453;
+    let t455: f64 = t423 + t454;
+    let t456: f64 = t402 + t455;
+    let t457: f64 = t358 - t456;
+    let t459: f64 = t457 * 2.5;
+    let t460: f64 = f64::mul_add(t283, 5.0, t459);
+    let t461: f64 = t398 + t460;
+    let t462: f64 = t461 - t391;
+    let t463: f64 = -t460;
+    let t464: f64 = q1 * 2.5;
+    let t465: f64 = t464 + 0.5;
+    let t467: f64 = t93 * t118;
+    let t468: f64 = f64::mul_add(t91, t116, -t467);
+    let t470: f64 = t55 * t298;
+    let t471: f64 = f64::mul_add(t55, t296, -t470);
+    let t472: f64 = t468 + t471;
+    let t474: f64 = f64::mul_add(-t54, t204, t115);
+    let t475: f64 = t123 * t165;
+    let t476: f64 = t123 * t170;
+    let t477: f64 = t475 + t476;
+    let t478: f64 = t123 + t140;
+    let t479: f64 = t83 * t478;
+    let t480: f64 = t133 + t286;
+    let t481: f64 = t68 * t480;
+    let t482: f64 = t204 - t302;
+    let t483: f64 = t54 * t482;
+    let t484: f64 = t481 + t483;
+    let t485: f64 = t479 + t484;
+    let t487: f64 = t126 * t482;
+    let t488: f64 = f64::mul_add(t157, t478, -t487);
+    let t490: f64 = t130 * t482;
+    let t491: f64 = f64::mul_add(t161, t478, -t490);
+    let t492: f64 = t488 + t491;
+    let t494: f64 = t167 * t480;
+    let t495: f64 = f64::mul_add(t165, t478, t494);
+    let t497: f64 = t172 * t480;
+    let t498: f64 = f64::mul_add(t170, t478, t497);
+    let t499: f64 = t495 + t498;
+    let t500: f64 = t492 - t499;
+    let t502: f64 = t145 * t482;
+    let t503: f64 = f64::mul_add(t147, t480, t502);
+    let t505: f64 = t150 * t482;
+    let t506: f64 = f64::mul_add(t152, t480, t505);
+    let t507: f64 = t503 + t506;
+    let t508: f64 = t500 - t507;
+    let t510: f64 = t474 * 4.0;
+    let t512: f64 = t485 * 3.34;
+    let t514: f64 = f64::mul_add(t472, 24.02, t510);
+    let t515: f64 = f64::mul_add(t508, 1.67, t514);
+    let t516: f64 = f64::mul_add(t477, 2.0, t512);
+    let t517: f64 = t515 - t516;
+    let t520: f64 = t186 * t234;
+    let t521: f64 = f64::mul_add(t211, t216, t520);
+    let t523: f64 = t211 * t252;
+    let t524: f64 = f64::mul_add(t190, t247, -t523);
+    let t525: f64 = t521 - t524;
+    let t527: f64 = t190 * t265;
+    let t528: f64 = f64::mul_add(t186, t260, -t527);
+    let t531: f64 = t190 * t278;
+    let t532: f64 = f64::mul_add(t186, t274, -t531);
+    let t533: f64 = f64::mul_add(t211, t270, t532);
+    let t534: f64 = t528 + t533;
+    let t535: f64 = t525 + t534;
+    let t537: f64 = t68 * t451;
+    let t538: f64 = f64::mul_add(t211, t444, t537);
+    let t539: f64 = t472 - t481;
+    let t540: f64 = t488 + t539;
+    let t541: f64 = t540 * 1.67;
+    let t543: f64 = t68 * t316;
+    let t544: f64 = f64::mul_add(t157, t541, -t543);
+    let t545: f64 = t538 - t544;
+    let t546: f64 = t491 + t539;
+    let t547: f64 = t546 * 1.67;
+    let t549: f64 = t167 * t328;
+    let t550: f64 = f64::mul_add(t161, t547, t549);
+    let t551: f64 = t474 - t475;
+    let t553: f64 = t483 + t495;
+    let t555: f64 = t472 * 3.67;
+    let t556: f64 = f64::mul_add(t551, 2.0, t555);
+    let t557: f64 = f64::mul_add(-t553, 1.67, t556);
+    let t559: f64 = t172 * t342;
+    let t560: f64 = f64::mul_add(t165, t557, -t559);
+    let t561: f64 = t550 - t560;
+    let t562: f64 = t545 - t561;
+    let t563: f64 = t483 + t498;
+    let t565: f64 = t474 - t476;
+    let t567: f64 = f64::mul_add(t565, 2.0, t555);
+    let t568: f64 = f64::mul_add(-t563, 1.67, t567);
+    let t570: f64 = t147 * t354;
+    let t571: f64 = f64::mul_add(t170, t568, -t570);
+    let t572: f64 = t472 - t479;
+    let t573: f64 = t572 - t503;
+    let t574: f64 = t573 * 1.67;
+    let t576: f64 = t152 * t376;
+    let t577: f64 = f64::mul_add(t83, t574, -t576);
+    let t578: f64 = t571 + t577;
+    let t579: f64 = t572 - t506;
+    let t580: f64 = t579 * 1.67;
+    let t582: f64 = t68 * t399;
+    let t583: f64 = f64::mul_add(t83, t580, -t582);
+    let t586: f64 = t190 * t437;
+    let t587: f64 = f64::mul_add(t186, t430, -t586);
+    let t588: f64 = f64::mul_add(t157, t517, t587);
+    let t589: f64 = t583 + t588;
+    let t590: f64 = t578 + t589;
+    let t591: f64 = t562 + t590;
+    let t593: f64 = t591 * 2.5;
+    let t594: f64 = f64::mul_add(t535, 5.0, t593);
+    let t595: f64 = f64::mul_add(t465, t517, -t594);
+    let t596: f64 = t464 - 0.5;
+    let t598: f64 = f64::mul_add(-t517, t596, t594);
+    let t600: f64 = t180 * t234;
+    let t601: f64 = f64::mul_add(t205, t216, t600);
+    let t603: f64 = t205 * t252;
+    let t604: f64 = f64::mul_add(t193, t247, t603);
+    let t605: f64 = t601 + t604;
+    let t607: f64 = t193 * t265;
+    let t608: f64 = f64::mul_add(t180, t260, t607);
+    let t611: f64 = t193 * t278;
+    let t612: f64 = f64::mul_add(t180, t274, t611);
+    let t613: f64 = f64::mul_add(t205, t270, t612);
+    let t614: f64 = t608 + t613;
+    let t615: f64 = t605 + t614;
+    let t617: f64 = t126 * t541;
+    let t618: f64 = f64::mul_add(t205, t444, -t617);
+    let t620: f64 = t130 * t547;
+    let t621: f64 = f64::mul_add(t68, t308, t620);
+    let t622: f64 = t618 - t621;
+    let t624: f64 = t54 * t557;
+    let t625: f64 = f64::mul_add(t68, t324, t624);
+    let t627: f64 = t54 * t568;
+    let t628: f64 = f64::mul_add(t167, t339, t627);
+    let t629: f64 = t625 + t628;
+    let t630: f64 = t622 - t629;
+    let t632: f64 = t145 * t574;
+    let t633: f64 = f64::mul_add(t172, t350, t632);
+    let t635: f64 = t150 * t580;
+    let t636: f64 = f64::mul_add(t147, t373, t635);
+    let t637: f64 = t633 + t636;
+    let t639: f64 = t126 * t517;
+    let t640: f64 = f64::mul_add(t152, t389, -t639);
+    let t643: f64 = t193 * t437;
+    let t644: f64 = f64::mul_add(t180, t430, t643);
+    let t645: f64 = f64::mul_add(t68, t420, t644);
+    let t646: f64 = t640 - t645;
+    let t647: f64 = t637 + t646;
+    let t648: f64 = t630 - t647;
+    let t649: f64 = t301 + t472;
+    let t651: f64 = t362 + t474;
+    let t652: f64 = t651 * 2.0;
+    let t653: f64 = t405 + t485;
+    let t655: f64 = t410 - t508;
+    let t656: f64 = t655 * 0.835;
+    let t657: f64 = t615 * 5.0;
+    let t658: f64 = t648 * 2.5;
+    let t659: f64 = t403 + t477;
+    let t660: f64 = f64::mul_add(t653, 1.67, t656);
+    let t661: f64 = t657 + t658;
+    let t662: f64 = t659 + t660;
+    let t663: f64 = t661 + 117.81810000000002;
+    let t664: f64 = t662 + t663;
+    let t665: f64 = f64::mul_add(t649, 12.01, t652);
+    let t666: f64 = t664 - t665;
+    let t667: f64 = t472 - t301;
+    let t669: f64 = t474 - t362;
+    let t670: f64 = t669 * 2.0;
+    let t671: f64 = t405 - t485;
+    let t673: f64 = t410 + t508;
+    let t675: f64 = f64::mul_add(t667, 12.01, t670);
+    let t676: f64 = f64::mul_add(t671, 1.67, t403);
+    let t677: f64 = f64::mul_add(t673, 0.835, 117.81810000000002);
+    let t678: f64 = t675 + t676;
+    let t679: f64 = t677 + t678;
+    let t680: f64 = t477 + t657;
+    let t681: f64 = t658 + t680;
+    let t682: f64 = t679 - t681;
+    let t683: f64 = 1.0 - t9;
+    let t684: f64 = -t180;
+    let t685: f64 = -t195;
+    let t686: f64 = -t211;
+    ([t462, t463, t595, t598, t666, t682], [t683, t684, t685, t686])
+}
 /// Joint-space inertia `M_q = Jᵀ M_x J` of `Γ = M_q Q̈_a + c_q`: symmetric positive definite.
 ///
 /// Equations: 15, 16, 27, 43-48, 49-57, 60, ∂W/∂V̇. Setting: joint.
@@ -4848,6 +8720,15 @@ pub fn inverse_dynamics_joint(
 /// Operations: 213 mul, 3 div, 243 add, 5 neg, 3 sqrt (chapter convention: 216m + 243a).
 #[inline]
 pub fn joint_inertia(q: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 4]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { joint_inertia_fused(q) };
+    }
+    joint_inertia_separate(q)
+}
+/// [`joint_inertia`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn joint_inertia_separate(q: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 4]) {
     let [q1, q2, q3, q4, q5, q6] = *q;
     let t0: f64 = q1 - q2;
     let t1: f64 = t0 * 2.5;
@@ -5328,6 +9209,420 @@ pub fn joint_inertia(q: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 4]) {
         [t460, t462, t464, t466],
     )
 }
+/// [`joint_inertia`] with 74 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`joint_inertia`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn joint_inertia_fused(q: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 4]) {
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let t0: f64 = q1 - q2;
+    let t1: f64 = t0 * 2.5;
+    let t2: f64 = q5 - q6;
+    let t3: f64 = t2 * 2.5;
+    let t5: f64 = q3 - q4;
+    let t6: f64 = t5 * 2.5;
+    let t7: f64 = t1 * t1;
+    let t8: f64 = t7 + 1.0;
+    let t9: f64 = t6 * t8;
+    let t10: f64 = f64::mul_add(t1, t3, t9);
+    let t11: f64 = t10 * t10;
+    let t12: f64 = t1 * t6;
+    let t13: f64 = t3 * t12;
+    let t14: f64 = t13 - 1.0;
+    let t15: f64 = t14 * t14;
+    let t16: f64 = t7 * t15;
+    let t17: f64 = t11 + t15;
+    let t18: f64 = t16 + t17;
+    let t19: f64 = 1.0 / t18;
+    let t20: f64 = sqrt(t19);
+    let t21: f64 = t20 * t20;
+    let t22: f64 = t11 * t21;
+    let t23: f64 = q5 + q6;
+    let t24: f64 = t23 * 0.5;
+    let t26: f64 = t3 * t3;
+    let t27: f64 = t26 + 1.0;
+    let t28: f64 = t1 * t27;
+    let t29: f64 = f64::mul_add(t3, t6, t28);
+    let t30: f64 = t29 * t29;
+    let t31: f64 = t15 * t26;
+    let t32: f64 = t15 + t30;
+    let t33: f64 = t31 + t32;
+    let t34: f64 = 1.0 / t33;
+    let t35: f64 = t15 * t24;
+    let t37: f64 = q1 + q2;
+    let t38: f64 = t37 * 0.5;
+    let t39: f64 = t1 * t38;
+    let t40: f64 = t15 * t39;
+    let t42: f64 = q3 + q4;
+    let t43: f64 = t42 * 0.5;
+    let t44: f64 = t6 * t6;
+    let t45: f64 = t44 + 1.0;
+    let t47: f64 = f64::mul_add(t3, t45, t12);
+    let t48: f64 = t15 * t44;
+    let t49: f64 = t47 * t47;
+    let t50: f64 = t15 + t48;
+    let t51: f64 = t49 + t50;
+    let t52: f64 = 1.0 / t51;
+    let t53: f64 = t43 * t47;
+    let t54: f64 = t14 * t53;
+    let t55: f64 = t52 * t54;
+    let t56: f64 = f64::mul_add(t19, t40, t55);
+    let t57: f64 = f64::mul_add(t34, t35, -t56);
+    let t58: f64 = sqrt(t52);
+    let t59: f64 = t58 * t58;
+    let t61: f64 = sqrt(t34);
+    let t62: f64 = t61 * t61;
+    let t63: f64 = t31 * t62;
+    let t64: f64 = f64::mul_add(t15, t59, t63);
+    let t65: f64 = t15 * t38;
+    let t67: f64 = t6 * t43;
+    let t68: f64 = t15 * t67;
+    let t69: f64 = t52 * t68;
+    let t70: f64 = f64::mul_add(t19, t65, -t69);
+    let t71: f64 = t24 * t29;
+    let t72: f64 = t14 * t71;
+    let t74: f64 = f64::mul_add(-t34, t72, t70);
+    let t75: f64 = q1 - t74;
+    let t77: f64 = q2 - t74;
+    let t78: f64 = q2 * t77;
+    let t79: f64 = f64::mul_add(q1, t75, t78);
+    let t80: f64 = q5 - t57;
+    let t81: f64 = q5 * 4.175;
+    let t82: f64 = t81 + 0.835;
+    let t84: f64 = q6 - t57;
+    let t85: f64 = q6 * 4.175;
+    let t86: f64 = t85 + 0.835;
+    let t87: f64 = t84 * t86;
+    let t88: f64 = f64::mul_add(t80, t82, t87);
+    let t89: f64 = 0.2 - t57;
+    let t91: f64 = t23 * 4.175;
+    let t92: f64 = f64::mul_add(t57, 25.0, t91);
+    let t93: f64 = t92 + 12.009999999999998;
+    let t96: f64 = t37 * 4.175;
+    let t97: f64 = f64::mul_add(t74, 25.000000000000007, t96);
+    let t99: f64 = q1 * t97;
+    let t100: f64 = f64::mul_add(t75, t97, -t99);
+    let t101: f64 = f64::mul_add(t89, t93, t100);
+    let t102: f64 = t88 - t101;
+    let t103: f64 = t22 * 2.574625;
+    let t105: f64 = t64 * 1.40275;
+    let t106: f64 = t79 * 10.4375;
+    let t108: f64 = f64::mul_add(t57, 11.650000000000006, t103);
+    let t109: f64 = t91 + t105;
+    let t110: f64 = f64::mul_add(t102, 2.5, t106);
+    let t111: f64 = t108 + t109;
+    let t112: f64 = t110 + 14.68;
+    let t113: f64 = t111 + t112;
+    let t114: f64 = t81 - 0.835;
+    let t116: f64 = t85 - 0.835;
+    let t117: f64 = t84 * t116;
+    let t118: f64 = f64::mul_add(t80, t114, t117);
+    let t119: f64 = t92 - 12.010000000000002;
+    let t121: f64 = f64::mul_add(t89, t119, t100);
+    let t122: f64 = t118 - t121;
+    let t124: f64 = t122 * 2.5;
+    let t125: f64 = f64::mul_add(t57, 38.35, t103);
+    let t126: f64 = t106 + t124;
+    let t127: f64 = t109 + t125;
+    let t128: f64 = t126 + t127;
+    let t129: f64 = 9.34 - t128;
+    let t130: f64 = t1 * t10;
+    let t131: f64 = t14 * t130;
+    let t132: f64 = t21 * t131;
+    let t133: f64 = t3 * t24;
+    let t134: f64 = t15 * t133;
+    let t136: f64 = t10 * t38;
+    let t137: f64 = t14 * t136;
+    let t139: f64 = t15 * t43;
+    let t140: f64 = t52 * t139;
+    let t141: f64 = f64::mul_add(t19, t137, -t140);
+    let t142: f64 = f64::mul_add(t34, t134, t141);
+    let t143: f64 = t142 * 25.0;
+    let t144: f64 = t42 * 4.175;
+    let t145: f64 = t144 - t143;
+    let t146: f64 = t89 * t145;
+    let t147: f64 = t14 * t47;
+    let t149: f64 = t3 * t15;
+    let t150: f64 = t62 * t149;
+    let t151: f64 = f64::mul_add(t59, t147, t150);
+    let t152: f64 = -t57;
+    let t154: f64 = q4 * t152;
+    let t155: f64 = f64::mul_add(q3, t152, t154);
+    let t156: f64 = t132 * 2.574625;
+    let t158: f64 = t151 * 1.40275;
+    let t159: f64 = t2 * 2.0875;
+    let t160: f64 = t155 * 10.4375;
+    let t161: f64 = f64::mul_add(t146, 2.5, t156);
+    let t162: f64 = t143 + t161;
+    let t163: f64 = t144 + t158;
+    let t164: f64 = t159 + t160;
+    let t165: f64 = t163 + t164;
+    let t166: f64 = t162 - t165;
+    let t167: f64 = t165 - t162;
+    let t168: f64 = t10 * t14;
+    let t169: f64 = t21 * t168;
+    let t170: f64 = t6 * t15;
+    let t172: f64 = t3 * t29;
+    let t173: f64 = t14 * t172;
+    let t174: f64 = t62 * t173;
+    let t175: f64 = f64::mul_add(t59, t170, -t174);
+    let t176: f64 = t74 - 0.2;
+    let t177: f64 = q3 * 4.175;
+    let t178: f64 = t177 + 0.835;
+    let t180: f64 = t74 + 0.2;
+    let t181: f64 = q4 * 4.175;
+    let t182: f64 = t181 + 0.835;
+    let t183: f64 = t180 * t182;
+    let t184: f64 = f64::mul_add(t176, t178, t183);
+    let t185: f64 = t142 * 24.999999999999996;
+    let t186: f64 = t144 + 12.009999999999998;
+    let t187: f64 = t186 - t185;
+    let t189: f64 = q1 * t187;
+    let t190: f64 = f64::mul_add(t75, t187, -t189);
+    let t191: f64 = t184 + t190;
+    let t192: f64 = t169 * 2.574625;
+    let t193: f64 = t74 * 13.350000000000001;
+    let t194: f64 = t37 * 2.0875;
+    let t195: f64 = t175 * 1.40275;
+    let t197: f64 = f64::mul_add(t191, 2.5, t193);
+    let t198: f64 = t192 + t194;
+    let t199: f64 = t195 + t198;
+    let t200: f64 = t197 - t199;
+    let t201: f64 = t177 - 0.835;
+    let t203: f64 = t181 - 0.835;
+    let t204: f64 = t180 * t203;
+    let t205: f64 = f64::mul_add(t176, t201, t204);
+    let t206: f64 = t185 + 12.010000000000002;
+    let t207: f64 = t144 - t206;
+    let t209: f64 = q1 * t207;
+    let t210: f64 = f64::mul_add(t75, t207, -t209);
+    let t211: f64 = t205 + t210;
+    let t213: f64 = t192 + t193;
+    let t214: f64 = t195 + t213;
+    let t215: f64 = f64::mul_add(t211, 2.5, t194);
+    let t216: f64 = t214 - t215;
+    let t217: f64 = t57 * 13.350000000000001;
+    let t218: f64 = t103 + t105;
+    let t219: f64 = t110 + t218;
+    let t220: f64 = t219 + 2.67;
+    let t221: f64 = t217 - t220;
+    let t222: f64 = t103 + t217;
+    let t223: f64 = t105 + t106;
+    let t224: f64 = t124 + 2.67;
+    let t225: f64 = t222 + t223;
+    let t226: f64 = t224 + t225;
+    let t227: f64 = t158 + t159;
+    let t228: f64 = t160 + t227;
+    let t229: f64 = t228 - t161;
+    let t230: f64 = t161 - t228;
+    let t231: f64 = t199 - t197;
+    let t232: f64 = t215 - t214;
+    let t234: f64 = t142 + 0.2;
+    let t236: f64 = t142 - 0.2;
+    let t237: f64 = t86 * t236;
+    let t238: f64 = f64::mul_add(t82, t234, t237);
+    let t239: f64 = f64::mul_add(t93, t142, -t238);
+    let t240: f64 = t142 * 13.350000000000001;
+    let t241: f64 = t42 * 2.0875;
+    let t243: f64 = f64::mul_add(t239, 2.5, t156);
+    let t244: f64 = t240 + t241;
+    let t245: f64 = t158 + t244;
+    let t246: f64 = t243 - t245;
+    let t249: f64 = t116 * t236;
+    let t250: f64 = f64::mul_add(t114, t234, t249);
+    let t251: f64 = f64::mul_add(t119, t142, -t250);
+    let t253: f64 = t156 + t240;
+    let t254: f64 = f64::mul_add(t251, 2.5, t241);
+    let t255: f64 = t253 + t254;
+    let t256: f64 = t158 - t255;
+    let t257: f64 = t16 * t21;
+    let t258: f64 = q1 * 2.5;
+    let t259: f64 = t258 + 0.5;
+    let t260: f64 = t97 + 12.009999999999998;
+    let t263: f64 = t15 * t62;
+    let t264: f64 = f64::mul_add(t49, t59, t263);
+    let t265: f64 = q3 + t142;
+    let t267: f64 = q4 + t142;
+    let t268: f64 = q4 * t267;
+    let t269: f64 = f64::mul_add(q3, t265, t268);
+    let t270: f64 = q1 * 4.175;
+    let t271: f64 = t270 + 0.835;
+    let t273: f64 = q2 * 4.175;
+    let t274: f64 = t273 + 0.835;
+    let t275: f64 = t77 * t274;
+    let t276: f64 = f64::mul_add(t75, t271, t275);
+    let t277: f64 = t142 * t145;
+    let t279: f64 = f64::mul_add(t75, t260, t277);
+    let t280: f64 = t276 - t279;
+    let t281: f64 = t257 * 2.574625;
+    let t282: f64 = t264 * 1.40275;
+    let t283: f64 = t269 * 10.4375;
+    let t285: f64 = f64::mul_add(t259, t260, t281);
+    let t286: f64 = t282 + t283;
+    let t287: f64 = f64::mul_add(t280, 2.5, 2.67);
+    let t288: f64 = t285 + t286;
+    let t289: f64 = t287 + t288;
+    let t290: f64 = t289 - t193;
+    let t291: f64 = t97 - 12.010000000000002;
+    let t293: f64 = t270 - 0.835;
+    let t295: f64 = f64::mul_add(-t75, t293, t277);
+    let t296: f64 = t273 - 0.835;
+    let t298: f64 = t75 * t291;
+    let t299: f64 = f64::mul_add(t77, t296, -t298);
+    let t300: f64 = t295 - t299;
+    let t301: f64 = t300 * 2.5;
+    let t302: f64 = f64::mul_add(t259, t291, t281);
+    let t303: f64 = t193 + t282;
+    let t304: f64 = t283 + 2.67;
+    let t305: f64 = t302 + t303;
+    let t306: f64 = t304 + t305;
+    let t307: f64 = t301 - t306;
+    let t308: f64 = t1 * t15;
+    let t309: f64 = t21 * t308;
+    let t310: f64 = t75 * t92;
+    let t312: f64 = t6 * t47;
+    let t313: f64 = t14 * t312;
+    let t315: f64 = t14 * t29;
+    let t316: f64 = t62 * t315;
+    let t317: f64 = f64::mul_add(t59, t313, -t316);
+    let t319: f64 = q6 * t74;
+    let t320: f64 = f64::mul_add(q5, t74, t319);
+    let t321: f64 = t309 * 2.574625;
+    let t323: f64 = t317 * 1.40275;
+    let t324: f64 = t0 * 2.0875;
+    let t326: f64 = f64::mul_add(t310, 2.5, t323);
+    let t327: f64 = f64::mul_add(t320, 10.4375, t326);
+    let t328: f64 = f64::mul_add(t92, t259, t321);
+    let t329: f64 = t324 + t328;
+    let t330: f64 = t327 - t329;
+    let t331: f64 = t329 - t327;
+    let t332: f64 = t245 - t243;
+    let t333: f64 = t255 - t158;
+    let t334: f64 = t258 - 0.5;
+    let t336: f64 = f64::mul_add(t260, t334, t281);
+    let t337: f64 = t286 + t336;
+    let t338: f64 = t287 + t337;
+    let t339: f64 = t193 - t338;
+    let t341: f64 = f64::mul_add(t291, t334, t281);
+    let t342: f64 = t303 + t341;
+    let t343: f64 = t304 + t342;
+    let t344: f64 = t343 - t301;
+    let t346: f64 = f64::mul_add(t92, t334, t321);
+    let t347: f64 = t324 + t346;
+    let t348: f64 = t347 - t327;
+    let t349: f64 = t327 - t347;
+    let t350: f64 = t97 * t142;
+    let t352: f64 = q2 * t142;
+    let t353: f64 = f64::mul_add(q1, t142, t352);
+    let t354: f64 = t5 + t37;
+    let t355: f64 = t350 * 2.5;
+    let t356: f64 = t74 * 12.500000000000004;
+    let t357: f64 = t353 * 10.4375;
+    let t359: f64 = t192 + t356;
+    let t360: f64 = t195 + t357;
+    let t361: f64 = t359 + t360;
+    let t362: f64 = f64::mul_add(t354, 2.0875, t361);
+    let t363: f64 = t355 - t362;
+    let t364: f64 = t362 - t355;
+    let t367: f64 = t57 + 0.2;
+    let t368: f64 = -t367;
+    let t369: f64 = t274 * t368;
+    let t370: f64 = f64::mul_add(t89, t271, t369);
+    let t371: f64 = f64::mul_add(t89, t260, -t370);
+    let t372: f64 = t23 + t37;
+    let t375: f64 = t217 + t323;
+    let t376: f64 = f64::mul_add(t371, 2.5, t375);
+    let t377: f64 = t321 + t356;
+    let t378: f64 = f64::mul_add(t372, 2.0875, 6.004999999999999);
+    let t379: f64 = t377 + t378;
+    let t380: f64 = t376 - t379;
+    let t383: f64 = t296 * t368;
+    let t384: f64 = f64::mul_add(t89, t293, t383);
+    let t385: f64 = f64::mul_add(t89, t291, -t384);
+    let t386: f64 = t37 - t23;
+    let t389: f64 = f64::mul_add(t386, 2.0875, t217);
+    let t390: f64 = t377 + t389;
+    let t391: f64 = f64::mul_add(t385, 2.5, t323);
+    let t392: f64 = t391 + 6.005000000000001;
+    let t393: f64 = t390 - t392;
+    let t394: f64 = t15 * t21;
+    let t396: f64 = t30 * t62;
+    let t397: f64 = f64::mul_add(t48, t59, t396);
+    let t399: f64 = q6 * t84;
+    let t400: f64 = f64::mul_add(q5, t80, t399);
+    let t401: f64 = t23 + t42;
+    let t403: f64 = t182 * t267;
+    let t404: f64 = f64::mul_add(t178, t265, t403);
+    let t405: f64 = t89 * t92;
+    let t407: f64 = f64::mul_add(t142, t187, t405);
+    let t408: f64 = t404 - t407;
+    let t410: f64 = t57 * 12.5;
+    let t411: f64 = t142 * 0.8499999999999979;
+    let t412: f64 = t397 * 1.40275;
+    let t413: f64 = t400 * 10.4375;
+    let t414: f64 = t401 * 2.0875;
+    let t415: f64 = t408 * 2.5;
+    let t416: f64 = f64::mul_add(t394, 2.574625, t410);
+    let t417: f64 = t411 + t412;
+    let t418: f64 = t413 + t414;
+    let t419: f64 = t415 + 8.675;
+    let t420: f64 = t416 + t417;
+    let t421: f64 = t418 + t419;
+    let t422: f64 = t420 + t421;
+    let t424: f64 = f64::mul_add(-t201, t265, t405);
+    let t426: f64 = t142 * t207;
+    let t427: f64 = f64::mul_add(t203, t267, -t426);
+    let t428: f64 = t424 - t427;
+    let t430: f64 = t428 * 2.5;
+    let t431: f64 = f64::mul_add(t142, 25.849999999999998, t430);
+    let t432: f64 = t431 + 3.335;
+    let t433: f64 = t412 + t413;
+    let t434: f64 = t416 + t433;
+    let t435: f64 = t414 + t434;
+    let t436: f64 = t432 - t435;
+    let t437: f64 = t37 - t5;
+    let t439: f64 = t192 + t195;
+    let t440: f64 = t357 + t439;
+    let t441: f64 = t355 + t356;
+    let t442: f64 = f64::mul_add(t437, 2.0875, t441);
+    let t443: f64 = t440 - t442;
+    let t444: f64 = t442 - t440;
+    let t445: f64 = t379 - t376;
+    let t446: f64 = t392 - t390;
+    let t447: f64 = t42 - t23;
+    let t449: f64 = t447 * 2.0875;
+    let t450: f64 = t449 + 3.3350000000000004;
+    let t451: f64 = f64::mul_add(t142, 25.849999999999994, t412);
+    let t452: f64 = t413 + t415;
+    let t453: f64 = t416 + t451;
+    let t454: f64 = t452 + t453;
+    let t455: f64 = t450 - t454;
+    let t456: f64 = t434 + 8.675;
+    let t457: f64 = t411 + t449;
+    let t458: f64 = t430 + t457;
+    let t459: f64 = t456 - t458;
+    let t460: f64 = 1.0 - t13;
+    let t461: f64 = t14 * t20;
+    let t462: f64 = -t461;
+    let t463: f64 = t14 * t58;
+    let t464: f64 = -t463;
+    let t465: f64 = t14 * t61;
+    let t466: f64 = -t465;
+    (
+        [
+            [t113, t129, t166, t167, t200, t216],
+            [t221, t226, t229, t230, t231, t232],
+            [t246, t256, t290, t307, t330, t331],
+            [t332, t333, t339, t344, t348, t349],
+            [t363, t364, t380, t393, t422, t436],
+            [t443, t444, t445, t446, t455, t459],
+        ],
+        [t460, t462, t464, t466],
+    )
+}
 /// Joint-space bias `c_q` of `Γ = M_q Q̈_a + c_q`: Coriolis, centrifugal, gravity.
 ///
 /// Equations: 15, 16, 27, 43-48, 49-57, 60, ∂W/∂V̇. Setting: joint.
@@ -5351,6 +9646,15 @@ pub fn joint_inertia(q: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 4]) {
 /// Operations: 313 mul, 3 div, 273 add, 4 neg, 3 sqrt (chapter convention: 316m + 273a).
 #[inline]
 pub fn joint_bias(q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { joint_bias_fused(q, qd) };
+    }
+    joint_bias_separate(q, qd)
+}
+/// [`joint_bias`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn joint_bias_separate(q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]) {
     let [q1, q2, q3, q4, q5, q6] = *q;
     let [qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
     let t0: f64 = q1 + q2;
@@ -5951,6 +10255,487 @@ pub fn joint_bias(q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]) {
     let t595: f64 = -t186;
     ([t385, t386, t506, t511, t577, t591], [t592, t593, t594, t595])
 }
+/// [`joint_bias`] with 127 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`joint_bias`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn joint_bias_fused(q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]) {
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
+    let t0: f64 = q1 + q2;
+    let t1: f64 = t0 * 0.5;
+    let t2: f64 = q1 - q2;
+    let t3: f64 = t2 * 2.5;
+    let t4: f64 = q3 - q4;
+    let t5: f64 = t4 * 2.5;
+    let t6: f64 = q5 - q6;
+    let t7: f64 = t6 * 2.5;
+    let t8: f64 = t3 * t5;
+    let t9: f64 = t7 * t8;
+    let t10: f64 = t9 - 1.0;
+    let t11: f64 = t10 * t10;
+    let t13: f64 = t3 * t3;
+    let t14: f64 = t13 + 1.0;
+    let t15: f64 = t5 * t14;
+    let t16: f64 = f64::mul_add(t3, t7, t15);
+    let t19: f64 = f64::mul_add(t16, t16, t11);
+    let t20: f64 = f64::mul_add(t11, t13, t19);
+    let t21: f64 = 1.0 / t20;
+    let t22: f64 = t1 * t3;
+    let t23: f64 = t11 * t22;
+    let t25: f64 = q3 + q4;
+    let t26: f64 = t25 * 0.5;
+    let t27: f64 = t5 * t5;
+    let t28: f64 = t27 + 1.0;
+    let t30: f64 = f64::mul_add(t7, t28, t8);
+    let t33: f64 = f64::mul_add(t11, t27, t11);
+    let t34: f64 = f64::mul_add(t30, t30, t33);
+    let t35: f64 = 1.0 / t34;
+    let t36: f64 = t26 * t30;
+    let t37: f64 = t10 * t36;
+    let t38: f64 = t35 * t37;
+    let t39: f64 = f64::mul_add(t21, t23, t38);
+    let t40: f64 = q5 + q6;
+    let t41: f64 = t40 * 0.5;
+    let t43: f64 = t7 * t7;
+    let t44: f64 = t43 + 1.0;
+    let t45: f64 = t3 * t44;
+    let t46: f64 = f64::mul_add(t5, t7, t45);
+    let t49: f64 = f64::mul_add(t46, t46, t11);
+    let t50: f64 = f64::mul_add(t11, t43, t49);
+    let t51: f64 = 1.0 / t50;
+    let t52: f64 = t11 * t41;
+    let t54: f64 = f64::mul_add(-t51, t52, t39);
+    let t55: f64 = t54 * 2.5;
+    let t56: f64 = t55 - 0.5;
+    let t57: f64 = qd1 - qd2;
+    let t58: f64 = t57 * 2.5;
+    let t59: f64 = t7 * t41;
+    let t60: f64 = t11 * t59;
+    let t62: f64 = t1 * t16;
+    let t63: f64 = t10 * t62;
+    let t65: f64 = t11 * t26;
+    let t66: f64 = t35 * t65;
+    let t67: f64 = f64::mul_add(t21, t63, -t66);
+    let t68: f64 = f64::mul_add(t51, t60, t67);
+    let t69: f64 = t68 * 2.5;
+    let t70: f64 = t69 - 0.5;
+    let t72: f64 = t69 + 0.5;
+    let t74: f64 = t1 * t11;
+    let t76: f64 = t5 * t26;
+    let t77: f64 = t11 * t76;
+    let t78: f64 = t35 * t77;
+    let t79: f64 = f64::mul_add(t21, t74, -t78);
+    let t80: f64 = t41 * t46;
+    let t81: f64 = t10 * t80;
+    let t83: f64 = f64::mul_add(-t51, t81, t79);
+    let t84: f64 = t83 * 2.5;
+    let t85: f64 = t57 * t84;
+    let t86: f64 = f64::mul_add(qd5, t70, t85);
+    let t87: f64 = f64::mul_add(-qd6, t72, t86);
+    let t89: f64 = qd3 - qd4;
+    let t90: f64 = t89 * 2.5;
+    let t91: f64 = t84 + 0.5;
+    let t93: f64 = t84 - 0.5;
+    let t95: f64 = qd5 - qd6;
+    let t96: f64 = t55 * t95;
+    let t97: f64 = f64::mul_add(qd3, t91, t96);
+    let t98: f64 = f64::mul_add(-qd4, t93, t97);
+    let t99: f64 = t90 * t98;
+    let t100: f64 = f64::mul_add(t58, t87, t99);
+    let t102: f64 = t55 + 0.5;
+    let t103: f64 = t100 * t102;
+    let t104: f64 = f64::mul_add(t56, t100, -t103);
+    let t105: f64 = t90 * t90;
+    let t106: f64 = t58 * t58;
+    let t107: f64 = t105 + t106;
+    let t108: f64 = t83 * t107;
+    let t109: f64 = t95 * 2.5;
+    let t110: f64 = t68 * t109;
+    let t111: f64 = t58 * t110;
+    let t112: f64 = t90 * t109;
+    let t113: f64 = t54 * t112;
+    let t114: f64 = t111 + t113;
+    let t115: f64 = t108 + t114;
+    let t116: f64 = t68 + 0.2;
+    let t117: f64 = t58 * t109;
+    let t119: f64 = q5 + t54;
+    let t120: f64 = t112 * t119;
+    let t121: f64 = f64::mul_add(t116, t117, t120);
+    let t122: f64 = t68 - 0.2;
+    let t124: f64 = q6 + t54;
+    let t125: f64 = t112 * t124;
+    let t126: f64 = f64::mul_add(t117, t122, t125);
+    let t127: f64 = t121 + t126;
+    let t128: f64 = t54 + 0.2;
+    let t129: f64 = t109 * t128;
+    let t131: f64 = q1 - t83;
+    let t132: f64 = t107 * t131;
+    let t133: f64 = f64::mul_add(t90, t129, -t132);
+    let t134: f64 = t54 - 0.2;
+    let t136: f64 = q2 - t83;
+    let t137: f64 = t107 * t136;
+    let t138: f64 = f64::mul_add(t112, t134, -t137);
+    let t139: f64 = t133 + t138;
+    let t140: f64 = t83 - 0.2;
+    let t142: f64 = q3 + t68;
+    let t143: f64 = t117 * t142;
+    let t144: f64 = f64::mul_add(t107, t140, t143);
+    let t145: f64 = t83 + 0.2;
+    let t147: f64 = q4 + t68;
+    let t148: f64 = t117 * t147;
+    let t149: f64 = f64::mul_add(t107, t145, t148);
+    let t150: f64 = t144 + t149;
+    let t151: f64 = t139 + t150;
+    let t152: f64 = t127 + t151;
+    let t153: f64 = sqrt(t51);
+    let t154: f64 = sqrt(t21);
+    let t155: f64 = t10 * t154;
+    let t157: f64 = t16 * t154;
+    let t158: f64 = t58 * t157;
+    let t159: f64 = f64::mul_add(t109, t155, -t158);
+    let t160: f64 = t3 * t10;
+    let t161: f64 = t154 * t160;
+    let t163: f64 = f64::mul_add(-t90, t161, t159);
+    let t164: f64 = sqrt(t35);
+    let t165: f64 = t30 * t164;
+    let t167: f64 = t5 * t10;
+    let t168: f64 = t164 * t167;
+    let t170: f64 = t10 * t164;
+    let t171: f64 = t58 * t170;
+    let t172: f64 = f64::mul_add(t109, t168, -t171);
+    let t173: f64 = f64::mul_add(t90, t165, t172);
+    let t174: f64 = t173 * 0.0084;
+    let t175: f64 = t163 * t174;
+    let t176: f64 = t163 * 0.00167;
+    let t178: f64 = f64::mul_add(-t173, t176, t175);
+    let t179: f64 = t7 * t10;
+    let t180: f64 = t153 * t179;
+    let t182: f64 = t46 * t153;
+    let t184: f64 = t58 * t180;
+    let t185: f64 = f64::mul_add(t109, t182, t184);
+    let t186: f64 = t10 * t153;
+    let t188: f64 = f64::mul_add(-t90, t186, t185);
+    let t189: f64 = t188 * 0.0084;
+    let t190: f64 = t173 * t189;
+    let t191: f64 = t173 * 0.00167;
+    let t193: f64 = f64::mul_add(-t188, t191, t190);
+    let t194: f64 = t157 * t193;
+    let t195: f64 = f64::mul_add(t178, t180, -t194);
+    let t196: f64 = t163 * t189;
+    let t197: f64 = t163 * 0.0084;
+    let t198: f64 = t188 * t197;
+    let t199: f64 = t196 - t198;
+    let t202: f64 = t173 * t197;
+    let t203: f64 = f64::mul_add(t163, t191, -t202);
+    let t204: f64 = t180 * t203;
+    let t205: f64 = f64::mul_add(t170, t199, t204);
+    let t206: f64 = t195 + t205;
+    let t207: f64 = t174 * t188;
+    let t208: f64 = t188 * 0.00167;
+    let t210: f64 = f64::mul_add(-t173, t208, t207);
+    let t213: f64 = f64::mul_add(-t163, t208, t198);
+    let t214: f64 = t170 * t213;
+    let t215: f64 = f64::mul_add(t157, t210, -t214);
+    let t216: f64 = t175 - t202;
+    let t218: f64 = t190 - t207;
+    let t221: f64 = f64::mul_add(t176, t188, -t196);
+    let t222: f64 = t170 * t221;
+    let t223: f64 = f64::mul_add(t157, t218, t222);
+    let t224: f64 = f64::mul_add(t180, t216, -t223);
+    let t225: f64 = t215 + t224;
+    let t226: f64 = t206 + t225;
+    let t227: f64 = t109 * t131;
+    let t229: f64 = t109 * t109;
+    let t230: f64 = t106 + t229;
+    let t231: f64 = t128 * t230;
+    let t232: f64 = f64::mul_add(t90, t227, -t231);
+    let t236: f64 = t69 * t89;
+    let t237: f64 = f64::mul_add(qd2, t102, t236);
+    let t238: f64 = f64::mul_add(qd1, t56, -t237);
+    let t239: f64 = t58 * t238;
+    let t240: f64 = f64::mul_add(t98, t109, t239);
+    let t242: f64 = t72 * t240;
+    let t243: f64 = f64::mul_add(t70, t240, -t242);
+    let t244: f64 = t58 * t68;
+    let t245: f64 = t90 * t244;
+    let t246: f64 = t243 - t245;
+    let t247: f64 = t246 - t232;
+    let t249: f64 = f64::mul_add(t247, 1.67, -16.3827);
+    let t251: f64 = t111 + t138;
+    let t253: f64 = t104 * 3.67;
+    let t254: f64 = t100 * 2.0;
+    let t255: f64 = f64::mul_add(t251, 1.67, t253);
+    let t256: f64 = t254 + t255;
+    let t257: f64 = t134 * t256;
+    let t258: f64 = f64::mul_add(t131, t249, t257);
+    let t260: f64 = t134 * t230;
+    let t261: f64 = f64::mul_add(t112, t136, -t260);
+    let t262: f64 = t246 - t261;
+    let t264: f64 = f64::mul_add(t262, 1.67, -16.3827);
+    let t266: f64 = t104 + t113;
+    let t267: f64 = t144 + t266;
+    let t268: f64 = t267 * 1.67;
+    let t269: f64 = t54 * t268;
+    let t270: f64 = f64::mul_add(t136, t264, t269);
+    let t271: f64 = t258 + t270;
+    let t272: f64 = t109 * t140;
+    let t274: f64 = t58 * t90;
+    let t275: f64 = t142 * t274;
+    let t276: f64 = f64::mul_add(t90, t272, -t275);
+    let t277: f64 = t54 * t230;
+    let t278: f64 = t243 + t277;
+    let t279: f64 = t276 + t278;
+    let t281: f64 = f64::mul_add(t279, 1.67, -16.3827);
+    let t283: f64 = t149 + t266;
+    let t284: f64 = t283 * 1.67;
+    let t285: f64 = t54 * t284;
+    let t286: f64 = f64::mul_add(t140, t281, -t285);
+    let t287: f64 = t109 * t145;
+    let t289: f64 = t147 * t274;
+    let t290: f64 = f64::mul_add(t90, t287, -t289);
+    let t291: f64 = t278 + t290;
+    let t293: f64 = f64::mul_add(t291, 1.67, -16.3827);
+    let t295: f64 = t104 + t108;
+    let t296: f64 = t121 + t295;
+    let t297: f64 = t296 * 1.67;
+    let t298: f64 = t119 * t297;
+    let t299: f64 = f64::mul_add(t145, t293, -t298);
+    let t300: f64 = t286 + t299;
+    let t301: f64 = t271 - t300;
+    let t302: f64 = t83 * t109;
+    let t303: f64 = t90 * t302;
+    let t305: f64 = t119 * t230;
+    let t306: f64 = f64::mul_add(t116, t274, -t305);
+    let t307: f64 = t303 - t306;
+    let t309: f64 = t243 * 3.67;
+    let t310: f64 = t240 * 2.0;
+    let t311: f64 = f64::mul_add(t307, 1.67, t309);
+    let t312: f64 = t310 + t311;
+    let t313: f64 = t312 - 36.002700000000004;
+    let t315: f64 = t126 + t295;
+    let t316: f64 = t315 * 1.67;
+    let t317: f64 = t124 * t316;
+    let t318: f64 = f64::mul_add(t83, t313, -t317);
+    let t320: f64 = t124 * t230;
+    let t321: f64 = f64::mul_add(t122, t274, -t320);
+    let t322: f64 = t303 - t321;
+    let t324: f64 = f64::mul_add(t322, 1.67, t309);
+    let t325: f64 = t310 + t324;
+    let t326: f64 = t325 - 36.002700000000004;
+    let t329: f64 = t100 * 4.0;
+    let t331: f64 = t152 * 1.67;
+    let t332: f64 = f64::mul_add(t104, 24.02, t329);
+    let t333: f64 = f64::mul_add(t115, 3.34, t331);
+    let t334: f64 = t332 + t333;
+    let t335: f64 = t128 * t334;
+    let t336: f64 = f64::mul_add(t83, t326, t335);
+    let t337: f64 = t318 + t336;
+    let t338: f64 = t245 - t277;
+    let t339: f64 = t338 - t303;
+    let t340: f64 = t306 + t321;
+    let t341: f64 = t232 + t261;
+    let t342: f64 = t276 + t290;
+    let t343: f64 = t341 - t342;
+    let t344: f64 = t340 + t343;
+    let t346: f64 = t240 * 4.0;
+    let t348: f64 = t344 * 1.67;
+    let t349: f64 = f64::mul_add(t243, 24.02, t346);
+    let t350: f64 = f64::mul_add(t339, 3.34, t348);
+    let t351: f64 = t350 + 235.63620000000003;
+    let t352: f64 = t349 - t351;
+    let t354: f64 = q1 * t352;
+    let t355: f64 = f64::mul_add(t131, t352, -t354);
+    let t356: f64 = t188 * 0.1875;
+    let t358: f64 = t173 * 0.1875;
+    let t359: f64 = t188 * t358;
+    let t360: f64 = f64::mul_add(t173, t356, -t359);
+    let t362: f64 = t163 * 0.375;
+    let t364: f64 = t163 * t356;
+    let t365: f64 = f64::mul_add(t188, t362, -t364);
+    let t366: f64 = t170 * t365;
+    let t367: f64 = f64::mul_add(t157, t360, t366);
+    let t369: f64 = t173 * t362;
+    let t370: f64 = f64::mul_add(t163, t358, -t369);
+    let t372: f64 = t111 + t133;
+    let t374: f64 = f64::mul_add(t372, 1.67, t253);
+    let t375: f64 = t254 + t374;
+    let t376: f64 = t128 * t375;
+    let t377: f64 = f64::mul_add(t180, t370, -t376);
+    let t378: f64 = t367 - t377;
+    let t379: f64 = t355 - t378;
+    let t380: f64 = t337 + t379;
+    let t381: f64 = t301 - t380;
+    let t382: f64 = t226 * 5.0;
+    let t383: f64 = t381 * 2.5;
+    let t384: f64 = t334 + t383;
+    let t385: f64 = t384 - t382;
+    let t386: f64 = t382 - t383;
+    let t387: f64 = q1 * 2.5;
+    let t388: f64 = t387 + 0.5;
+    let t390: f64 = t87 * t109;
+    let t391: f64 = f64::mul_add(t90, t238, -t390);
+    let t393: f64 = t93 * t391;
+    let t394: f64 = f64::mul_add(t91, t391, -t393);
+    let t395: f64 = t54 * t274;
+    let t396: f64 = t105 + t229;
+    let t397: f64 = t68 * t396;
+    let t398: f64 = t395 - t397;
+    let t399: f64 = t58 * t302;
+    let t400: f64 = t398 - t399;
+    let t402: f64 = t58 * t128;
+    let t403: f64 = t90 * t402;
+    let t404: f64 = f64::mul_add(t58, t227, t403);
+    let t406: f64 = t134 * t274;
+    let t407: f64 = f64::mul_add(t117, t136, t406);
+    let t408: f64 = t404 + t407;
+    let t410: f64 = t142 * t396;
+    let t411: f64 = f64::mul_add(t58, t272, t410);
+    let t413: f64 = t147 * t396;
+    let t414: f64 = f64::mul_add(t58, t287, t413);
+    let t415: f64 = t411 + t414;
+    let t416: f64 = t408 - t415;
+    let t418: f64 = t119 * t274;
+    let t419: f64 = f64::mul_add(t116, t396, -t418);
+    let t421: f64 = t124 * t274;
+    let t422: f64 = f64::mul_add(t122, t396, -t421);
+    let t423: f64 = t419 + t422;
+    let t424: f64 = t416 - t423;
+    let t427: f64 = t400 * 3.34;
+    let t429: f64 = f64::mul_add(t391, 4.0, t427);
+    let t430: f64 = f64::mul_add(t424, 1.67, t429);
+    let t431: f64 = f64::mul_add(-t394, 24.02, t430);
+    let t434: f64 = t161 * t193;
+    let t435: f64 = f64::mul_add(t178, t186, t434);
+    let t437: f64 = t186 * t203;
+    let t438: f64 = f64::mul_add(t165, t199, t437);
+    let t439: f64 = t435 + t438;
+    let t441: f64 = t165 * t213;
+    let t442: f64 = f64::mul_add(t161, t210, t441);
+    let t445: f64 = t165 * t221;
+    let t446: f64 = f64::mul_add(t161, t218, -t445);
+    let t447: f64 = f64::mul_add(t186, t216, t446);
+    let t448: f64 = t442 - t447;
+    let t449: f64 = t439 - t448;
+    let t451: f64 = t68 * t375;
+    let t452: f64 = f64::mul_add(t186, t370, -t451);
+    let t453: f64 = t394 + t397;
+    let t454: f64 = t453 - t404;
+    let t455: f64 = t454 * 1.67;
+    let t457: f64 = t68 * t256;
+    let t458: f64 = f64::mul_add(t131, t455, t457);
+    let t459: f64 = t452 - t458;
+    let t460: f64 = t453 - t407;
+    let t461: f64 = t460 * 1.67;
+    let t463: f64 = t142 * t268;
+    let t464: f64 = f64::mul_add(t136, t461, t463);
+    let t465: f64 = t395 - t411;
+    let t467: f64 = t394 * 3.67;
+    let t468: f64 = t391 * 2.0;
+    let t469: f64 = f64::mul_add(t465, 1.67, t468);
+    let t470: f64 = t469 - t467;
+    let t472: f64 = t147 * t284;
+    let t473: f64 = f64::mul_add(t140, t470, t472);
+    let t474: f64 = t464 + t473;
+    let t475: f64 = t459 - t474;
+    let t476: f64 = t395 - t414;
+    let t478: f64 = f64::mul_add(t476, 1.67, t468);
+    let t479: f64 = t478 - t467;
+    let t481: f64 = t116 * t297;
+    let t482: f64 = f64::mul_add(t145, t479, t481);
+    let t483: f64 = t394 + t399;
+    let t484: f64 = t419 + t483;
+    let t485: f64 = t484 * 1.67;
+    let t487: f64 = t122 * t316;
+    let t488: f64 = f64::mul_add(t83, t485, -t487);
+    let t489: f64 = t482 - t488;
+    let t490: f64 = t422 + t483;
+    let t491: f64 = t490 * 1.67;
+    let t493: f64 = t68 * t334;
+    let t494: f64 = f64::mul_add(t83, t491, t493);
+    let t497: f64 = t165 * t365;
+    let t498: f64 = f64::mul_add(t161, t360, -t497);
+    let t499: f64 = f64::mul_add(t131, t431, -t498);
+    let t500: f64 = t494 - t499;
+    let t501: f64 = t489 - t500;
+    let t502: f64 = t475 - t501;
+    let t503: f64 = t449 * 5.0;
+    let t504: f64 = t502 * 2.5;
+    let t505: f64 = f64::mul_add(t388, t431, t503);
+    let t506: f64 = t504 + t505;
+    let t507: f64 = t387 - 0.5;
+    let t509: f64 = f64::mul_add(t431, t507, t503);
+    let t510: f64 = t504 + t509;
+    let t511: f64 = -t510;
+    let t513: f64 = t155 * t193;
+    let t514: f64 = f64::mul_add(t178, t182, t513);
+    let t516: f64 = t182 * t203;
+    let t517: f64 = f64::mul_add(t168, t199, -t516);
+    let t518: f64 = t514 - t517;
+    let t520: f64 = t168 * t213;
+    let t521: f64 = f64::mul_add(t155, t210, -t520);
+    let t524: f64 = t168 * t221;
+    let t525: f64 = f64::mul_add(t155, t218, t524);
+    let t526: f64 = f64::mul_add(t182, t216, t525);
+    let t527: f64 = t521 - t526;
+    let t528: f64 = t518 - t527;
+    let t530: f64 = t128 * t455;
+    let t531: f64 = f64::mul_add(t182, t370, -t530);
+    let t533: f64 = t134 * t461;
+    let t534: f64 = f64::mul_add(t68, t249, -t533);
+    let t535: f64 = t531 + t534;
+    let t537: f64 = t54 * t470;
+    let t538: f64 = f64::mul_add(t68, t264, t537);
+    let t540: f64 = t54 * t479;
+    let t541: f64 = f64::mul_add(t142, t281, t540);
+    let t542: f64 = t538 + t541;
+    let t543: f64 = t535 + t542;
+    let t545: f64 = t119 * t485;
+    let t546: f64 = f64::mul_add(t147, t293, -t545);
+    let t548: f64 = t124 * t491;
+    let t549: f64 = f64::mul_add(t116, t313, -t548);
+    let t550: f64 = t546 + t549;
+    let t552: f64 = t128 * t431;
+    let t553: f64 = f64::mul_add(t122, t326, -t552);
+    let t556: f64 = t168 * t365;
+    let t557: f64 = f64::mul_add(t155, t360, t556);
+    let t558: f64 = f64::mul_add(t68, t352, -t557);
+    let t559: f64 = t553 - t558;
+    let t560: f64 = t550 + t559;
+    let t561: f64 = t543 + t560;
+    let t562: f64 = t394 - t243;
+    let t564: f64 = t240 + t391;
+    let t566: f64 = t339 - t400;
+    let t567: f64 = t566 * 1.67;
+    let t568: f64 = t344 - t424;
+    let t570: f64 = t528 * 5.0;
+    let t571: f64 = t561 * 2.5;
+    let t572: f64 = f64::mul_add(t562, 12.01, t567);
+    let t573: f64 = f64::mul_add(t568, 0.835, 117.81810000000002);
+    let t574: f64 = t572 + t573;
+    let t575: f64 = f64::mul_add(t564, 2.0, t570);
+    let t576: f64 = t571 + t575;
+    let t577: f64 = t574 - t576;
+    let t578: f64 = t243 + t394;
+    let t580: f64 = t391 - t240;
+    let t582: f64 = t339 + t400;
+    let t583: f64 = t582 * 1.67;
+    let t584: f64 = t344 + t424;
+    let t586: f64 = f64::mul_add(t580, 2.0, t583);
+    let t587: f64 = f64::mul_add(t584, 0.835, t570);
+    let t588: f64 = t571 + 117.81810000000002;
+    let t589: f64 = t586 + t587;
+    let t590: f64 = t588 + t589;
+    let t591: f64 = f64::mul_add(-t578, 12.01, t590);
+    let t592: f64 = 1.0 - t9;
+    let t593: f64 = -t155;
+    let t594: f64 = -t170;
+    let t595: f64 = -t186;
+    ([t385, t386, t506, t511, t577, t591], [t592, t593, t594, t595])
+}
 /// Joint accelerations of every segment by projection, the passive joints included.
 ///
 /// Equations: 43, 44, 45, 46, 47, 48. Setting: pose.
@@ -5975,6 +10760,19 @@ pub fn joint_bias(q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]) {
 /// Operations: 70 mul, 4 div, 52 add, 0 neg, 3 sin_cos (chapter convention: 74m + 52a).
 #[inline]
 pub fn leg_joint_accelerations(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+) -> ([[f64; 6]; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { leg_joint_accelerations_fused(pose, twist, accel) };
+    }
+    leg_joint_accelerations_separate(pose, twist, accel)
+}
+/// [`leg_joint_accelerations`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn leg_joint_accelerations_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
     accel: &[f64; 6],
@@ -6123,6 +10921,121 @@ pub fn leg_joint_accelerations(
         [t130, t63, t131],
     )
 }
+/// [`leg_joint_accelerations`] with 41 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`leg_joint_accelerations`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn leg_joint_accelerations_fused(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+) -> ([[f64; 6]; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [wx, wy, wz, vx, vy, vz] = *twist;
+    let [wdx, wdy, wdz, ax, ay, az] = *accel;
+    let (t0, t1): (f64, f64) = sin_cos(beta);
+    let t2: f64 = 1.0 / t1;
+    let (t3, t4): (f64, f64) = sin_cos(gamma);
+    let t5: f64 = 1.0 / t4;
+    let (t6, t7): (f64, f64) = sin_cos(alpha);
+    let t9: f64 = t0 * t6;
+    let t10: f64 = t4 * t9;
+    let t11: f64 = f64::mul_add(t3, t7, t10);
+    let t12: f64 = yc * t11;
+    let t14: f64 = t0 * t7;
+    let t15: f64 = t4 * t14;
+    let t16: f64 = f64::mul_add(t3, t6, -t15);
+    let t17: f64 = zc - 0.2;
+    let t19: f64 = f64::mul_add(t16, t17, t12);
+    let t20: f64 = wdy * t2;
+    let t21: f64 = t5 * t20;
+    let t25: f64 = f64::mul_add(-wx, vy, az);
+    let t26: f64 = f64::mul_add(wy, vx, t25);
+    let t28: f64 = f64::mul_add(-yc, wdx, t26);
+    let t29: f64 = f64::mul_add(-t19, t21, t28);
+    let t31: f64 = wdz * t2;
+    let t32: f64 = t5 * t31;
+    let t33: f64 = t19 * t32;
+    let t36: f64 = f64::mul_add(-wz, vx, ay);
+    let t37: f64 = f64::mul_add(wx, vz, t36);
+    let t38: f64 = f64::mul_add(wdx, t17, t33);
+    let t39: f64 = t37 + t38;
+    let t44: f64 = f64::mul_add(-wy, vz, ax);
+    let t45: f64 = f64::mul_add(wz, vy, t44);
+    let t46: f64 = f64::mul_add(yc, wdz, t45);
+    let t47: f64 = f64::mul_add(-wdy, t17, t46);
+    let t48: f64 = zc + 0.2;
+    let t50: f64 = f64::mul_add(t16, t48, t12);
+    let t52: f64 = f64::mul_add(-t21, t50, t28);
+    let t54: f64 = t32 * t50;
+    let t55: f64 = f64::mul_add(wdx, t48, t54);
+    let t56: f64 = t37 + t55;
+    let t58: f64 = f64::mul_add(-wdy, t48, t46);
+    let t59: f64 = xc - 0.2;
+    let t62: f64 = t3 * t9;
+    let t63: f64 = f64::mul_add(t4, t7, -t62);
+    let t64: f64 = 1.0 / t63;
+    let t65: f64 = t1 * t3;
+    let t68: f64 = t0 * t3;
+    let t69: f64 = t7 * t68;
+    let t70: f64 = f64::mul_add(t4, t6, t69);
+    let t71: f64 = zc * t70;
+    let t72: f64 = f64::mul_add(t59, t65, -t71);
+    let t73: f64 = wdx * t64;
+    let t75: f64 = f64::mul_add(wdy, t59, t26);
+    let t76: f64 = f64::mul_add(-t72, t73, t75);
+    let t77: f64 = wdz * t64;
+    let t80: f64 = f64::mul_add(-zc, wdy, t45);
+    let t81: f64 = f64::mul_add(t72, t77, t80);
+    let t84: f64 = f64::mul_add(zc, wdx, t37);
+    let t85: f64 = f64::mul_add(-wdz, t59, t84);
+    let t86: f64 = xc + 0.2;
+    let t89: f64 = f64::mul_add(-t65, t86, t71);
+    let t90: f64 = t73 * t89;
+    let t91: f64 = f64::mul_add(wdy, t86, t90);
+    let t92: f64 = t26 + t91;
+    let t94: f64 = f64::mul_add(-t77, t89, t80);
+    let t96: f64 = f64::mul_add(-wdz, t86, t84);
+    let t97: f64 = 1.0 / t7;
+    let t98: f64 = xc * t0;
+    let t99: f64 = yc - 0.2;
+    let t100: f64 = t1 * t6;
+    let t102: f64 = f64::mul_add(-t99, t100, t98);
+    let t103: f64 = wdx * t97;
+    let t104: f64 = t2 * t103;
+    let t107: f64 = f64::mul_add(-xc, wdz, t37);
+    let t108: f64 = f64::mul_add(-t102, t104, t107);
+    let t110: f64 = wdy * t97;
+    let t111: f64 = t2 * t110;
+    let t112: f64 = t102 * t111;
+    let t113: f64 = f64::mul_add(wdz, t99, t112);
+    let t114: f64 = t45 + t113;
+    let t117: f64 = f64::mul_add(xc, wdy, t26);
+    let t118: f64 = f64::mul_add(-wdx, t99, t117);
+    let t119: f64 = yc + 0.2;
+    let t121: f64 = f64::mul_add(-t100, t119, t98);
+    let t123: f64 = f64::mul_add(-t104, t121, t107);
+    let t125: f64 = t111 * t121;
+    let t126: f64 = f64::mul_add(wdz, t119, t125);
+    let t127: f64 = t45 + t126;
+    let t129: f64 = f64::mul_add(-wdx, t119, t117);
+    let t130: f64 = t1 * t4;
+    let t131: f64 = t1 * t7;
+    (
+        [
+            [t29, t39, wdz, wdy, wdx, t47],
+            [t52, t56, wdz, wdy, wdx, t58],
+            [t76, t81, wdz, wdy, wdx, t85],
+            [t92, t94, wdz, wdy, wdx, t96],
+            [t108, t114, wdz, wdy, wdx, t118],
+            [t123, t127, wdz, wdy, wdx, t129],
+        ],
+        [t130, t63, t131],
+    )
+}
 /// Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.
 ///
 /// Equations: 15, 16, 27. Setting: pose.
@@ -6146,6 +11059,18 @@ pub fn leg_joint_accelerations(
 /// Operations: 24 mul, 6 div, 22 add, 5 neg, 3 sin_cos (chapter convention: 30m + 22a).
 #[inline]
 pub fn inverse_kinematics_params(
+    pose: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [[f64; 3]; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { inverse_kinematics_params_fused(pose, params) };
+    }
+    inverse_kinematics_params_separate(pose, params)
+}
+/// [`inverse_kinematics_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn inverse_kinematics_params_separate(
     pose: &[f64; 6],
     params: &[f64; 152],
 ) -> ([f64; 6], [[f64; 3]; 6], [f64; 3]) {
@@ -6229,6 +11154,87 @@ pub fn inverse_kinematics_params(
         [t18, t28, t50],
     )
 }
+/// [`inverse_kinematics_params`] with 10 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`inverse_kinematics_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn inverse_kinematics_params_fused(
+    pose: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [[f64; 3]; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _] = *params;
+    let (t0, t1): (f64, f64) = sin_cos(beta);
+    let (t2, t3): (f64, f64) = sin_cos(gamma);
+    let (t4, t5): (f64, f64) = sin_cos(alpha);
+    let t7: f64 = t0 * t4;
+    let t8: f64 = t3 * t7;
+    let t9: f64 = f64::mul_add(t2, t5, t8);
+    let t10: f64 = yc * t9;
+    let t12: f64 = t0 * t5;
+    let t13: f64 = t3 * t12;
+    let t14: f64 = f64::mul_add(t2, t4, -t13);
+    let t15: f64 = zc - half_spacing;
+    let t17: f64 = f64::mul_add(t14, t15, t10);
+    let t18: f64 = t1 * t3;
+    let t19: f64 = t17 / t18;
+    let t20: f64 = xc + t19;
+    let t21: f64 = zc + half_spacing;
+    let t23: f64 = f64::mul_add(t14, t21, t10);
+    let t24: f64 = t23 / t18;
+    let t25: f64 = xc + t24;
+    let t27: f64 = t2 * t7;
+    let t28: f64 = f64::mul_add(t3, t5, -t27);
+    let t29: f64 = xc - half_spacing;
+    let t30: f64 = t1 * t2;
+    let t33: f64 = t0 * t2;
+    let t34: f64 = t5 * t33;
+    let t35: f64 = f64::mul_add(t3, t4, t34);
+    let t36: f64 = zc * t35;
+    let t37: f64 = f64::mul_add(t29, t30, -t36);
+    let t38: f64 = t37 / t28;
+    let t39: f64 = yc - t38;
+    let t40: f64 = xc + half_spacing;
+    let t42: f64 = f64::mul_add(-t30, t40, t36);
+    let t43: f64 = t42 / t28;
+    let t44: f64 = yc + t43;
+    let t45: f64 = xc * t0;
+    let t46: f64 = yc - half_spacing;
+    let t47: f64 = t1 * t4;
+    let t49: f64 = f64::mul_add(-t46, t47, t45);
+    let t50: f64 = t1 * t5;
+    let t51: f64 = t49 / t50;
+    let t52: f64 = zc + t51;
+    let t53: f64 = yc + half_spacing;
+    let t55: f64 = f64::mul_add(-t47, t53, t45);
+    let t56: f64 = t55 / t50;
+    let t57: f64 = zc + t56;
+    let t58: f64 = -t19;
+    let t59: f64 = -t24;
+    let t60: f64 = -t43;
+    let t61: f64 = -t51;
+    let t62: f64 = -t56;
+    (
+        [t20, t25, t39, t44, t52, t57],
+        [
+            [t58, yc, t15],
+            [t59, yc, t21],
+            [t29, t38, zc],
+            [t40, t60, zc],
+            [xc, t46, t61],
+            [xc, t53, t62],
+        ],
+        [t18, t28, t50],
+    )
+}
 /// Inverse Jacobian `J⁻¹` at a pose.
 ///
 /// Equations: 15, 16, 22, 27. Setting: pose.
@@ -6251,6 +11257,18 @@ pub fn inverse_kinematics_params(
 /// Operations: 5 mul, 0 div, 7 add, 3 neg, 3 sin_cos (chapter convention: 5m + 7a).
 #[inline]
 pub fn inverse_jacobian_pose_params(
+    pose: &[f64; 6],
+    params: &[f64; 152],
+) -> ([[f64; 6]; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { inverse_jacobian_pose_params_fused(pose, params) };
+    }
+    inverse_jacobian_pose_params_separate(pose, params)
+}
+/// [`inverse_jacobian_pose_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn inverse_jacobian_pose_params_separate(
     pose: &[f64; 6],
     params: &[f64; 152],
 ) -> ([[f64; 6]; 6], [f64; 3]) {
@@ -6291,6 +11309,53 @@ pub fn inverse_jacobian_pose_params(
         [t13, t19, t20],
     )
 }
+/// [`inverse_jacobian_pose_params`] with 1 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`inverse_jacobian_pose_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn inverse_jacobian_pose_params_fused(
+    pose: &[f64; 6],
+    params: &[f64; 152],
+) -> ([[f64; 6]; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _] = *params;
+    let t0: f64 = half_spacing - zc;
+    let t1: f64 = zc + half_spacing;
+    let t2: f64 = -t1;
+    let t3: f64 = half_spacing - xc;
+    let t4: f64 = xc + half_spacing;
+    let t5: f64 = -t4;
+    let t6: f64 = half_spacing - yc;
+    let t7: f64 = yc + half_spacing;
+    let t8: f64 = -t7;
+    let (t9, t10): (f64, f64) = sin_cos(beta);
+    let (t11, t12): (f64, f64) = sin_cos(gamma);
+    let t13: f64 = t10 * t12;
+    let (t14, t15): (f64, f64) = sin_cos(alpha);
+    let t17: f64 = t9 * t14;
+    let t18: f64 = t11 * t17;
+    let t19: f64 = f64::mul_add(t12, t15, -t18);
+    let t20: f64 = t10 * t15;
+    (
+        [
+            [0.0, t0, yc, 1.0, 0.0, 0.0],
+            [0.0, t2, yc, 1.0, 0.0, 0.0],
+            [zc, 0.0, t3, 0.0, 1.0, 0.0],
+            [zc, 0.0, t5, 0.0, 1.0, 0.0],
+            [t6, xc, 0.0, 0.0, 0.0, 1.0],
+            [t8, xc, 0.0, 0.0, 0.0, 1.0],
+        ],
+        [t13, t19, t20],
+    )
+}
 /// Jacobian `J` at a pose, in factored form.
 ///
 /// Equations: 15, 16, 27, 39, 40, 41. Setting: pose.
@@ -6313,6 +11378,18 @@ pub fn inverse_jacobian_pose_params(
 /// Operations: 12 mul, 1 div, 7 add, 4 neg, 3 sin_cos (chapter convention: 13m + 7a).
 #[inline]
 pub fn jacobian_pose_params(
+    pose: &[f64; 6],
+    params: &[f64; 152],
+) -> ([[f64; 6]; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { jacobian_pose_params_fused(pose, params) };
+    }
+    jacobian_pose_params_separate(pose, params)
+}
+/// [`jacobian_pose_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn jacobian_pose_params_separate(
     pose: &[f64; 6],
     params: &[f64; 152],
 ) -> ([[f64; 6]; 6], [f64; 3]) {
@@ -6362,6 +11439,62 @@ pub fn jacobian_pose_params(
         [t22, t28, t29],
     )
 }
+/// [`jacobian_pose_params`] with 1 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`jacobian_pose_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn jacobian_pose_params_fused(
+    pose: &[f64; 6],
+    params: &[f64; 152],
+) -> ([[f64; 6]; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _] = *params;
+    let t0: f64 = 1.0 / half_spacing;
+    let t1: f64 = t0 * 0.5;
+    let t2: f64 = -t1;
+    let t3: f64 = zc * t0;
+    let t4: f64 = t3 * 0.5;
+    let t5: f64 = t4 + 0.5;
+    let t6: f64 = 0.5 - t4;
+    let t7: f64 = yc * t0;
+    let t8: f64 = t7 * 0.5;
+    let t9: f64 = -t8;
+    let t10: f64 = xc * t0;
+    let t11: f64 = t10 * 0.5;
+    let t12: f64 = t11 + 0.5;
+    let t13: f64 = 0.5 - t11;
+    let t14: f64 = -t4;
+    let t15: f64 = -t11;
+    let t16: f64 = t8 + 0.5;
+    let t17: f64 = 0.5 - t8;
+    let (t18, t19): (f64, f64) = sin_cos(beta);
+    let (t20, t21): (f64, f64) = sin_cos(gamma);
+    let t22: f64 = t19 * t21;
+    let (t23, t24): (f64, f64) = sin_cos(alpha);
+    let t26: f64 = t18 * t23;
+    let t27: f64 = t20 * t26;
+    let t28: f64 = f64::mul_add(t21, t24, -t27);
+    let t29: f64 = t19 * t24;
+    (
+        [
+            [0.0, 0.0, 0.0, 0.0, t1, t2],
+            [t1, t2, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, t1, t2, 0.0, 0.0],
+            [t5, t6, t9, t8, 0.0, 0.0],
+            [0.0, 0.0, t12, t13, t14, t4],
+            [t15, t11, 0.0, 0.0, t16, t17],
+        ],
+        [t22, t28, t29],
+    )
+}
 /// Actuator rates `Q̇_a = J⁻¹ V`.
 ///
 /// Equations: 20, 22. Setting: pose.
@@ -6385,6 +11518,19 @@ pub fn jacobian_pose_params(
 /// Operations: 14 mul, 0 div, 16 add, 0 neg, 3 sin_cos (chapter convention: 14m + 16a).
 #[inline]
 pub fn joint_velocities_params(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { joint_velocities_params_fused(pose, twist, params) };
+    }
+    joint_velocities_params_separate(pose, twist, params)
+}
+/// [`joint_velocities_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn joint_velocities_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
     params: &[f64; 152],
@@ -6432,6 +11578,51 @@ pub fn joint_velocities_params(
     let t35: f64 = t25 * t30;
     ([t4, t7, t12, t15, t20, t23], [t28, t34, t35])
 }
+/// [`joint_velocities_params`] with 10 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`joint_velocities_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn joint_velocities_params_fused(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [wx, wy, wz, vx, vy, vz] = *twist;
+    let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _] = *params;
+    let t0: f64 = zc - half_spacing;
+    let t3: f64 = f64::mul_add(yc, wz, vx);
+    let t4: f64 = f64::mul_add(-wy, t0, t3);
+    let t5: f64 = zc + half_spacing;
+    let t7: f64 = f64::mul_add(-wy, t5, t3);
+    let t8: f64 = xc - half_spacing;
+    let t11: f64 = f64::mul_add(zc, wx, vy);
+    let t12: f64 = f64::mul_add(-wz, t8, t11);
+    let t13: f64 = xc + half_spacing;
+    let t15: f64 = f64::mul_add(-wz, t13, t11);
+    let t16: f64 = yc - half_spacing;
+    let t19: f64 = f64::mul_add(xc, wy, vz);
+    let t20: f64 = f64::mul_add(-wx, t16, t19);
+    let t21: f64 = yc + half_spacing;
+    let t23: f64 = f64::mul_add(-wx, t21, t19);
+    let (t24, t25): (f64, f64) = sin_cos(beta);
+    let (t26, t27): (f64, f64) = sin_cos(gamma);
+    let t28: f64 = t25 * t27;
+    let (t29, t30): (f64, f64) = sin_cos(alpha);
+    let t32: f64 = t24 * t29;
+    let t33: f64 = t26 * t32;
+    let t34: f64 = f64::mul_add(t27, t30, -t33);
+    let t35: f64 = t25 * t30;
+    ([t4, t7, t12, t15, t20, t23], [t28, t34, t35])
+}
 /// Actuator accelerations `Q̈_a` from the platform's motion.
 ///
 /// Equations: 43, 44, 45, 46, 47, 48. Setting: pose.
@@ -6456,6 +11647,20 @@ pub fn joint_velocities_params(
 /// Operations: 20 mul, 0 div, 22 add, 0 neg, 3 sin_cos (chapter convention: 20m + 22a).
 #[inline]
 pub fn joint_accelerations_params(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { joint_accelerations_params_fused(pose, twist, accel, params) };
+    }
+    joint_accelerations_params_separate(pose, twist, accel, params)
+}
+/// [`joint_accelerations_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn joint_accelerations_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
     accel: &[f64; 6],
@@ -6517,6 +11722,62 @@ pub fn joint_accelerations_params(
     let t47: f64 = t37 * t42;
     ([t8, t11, t20, t23, t32, t35], [t40, t46, t47])
 }
+/// [`joint_accelerations_params`] with 13 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`joint_accelerations_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn joint_accelerations_params_fused(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [wx, wy, wz, vx, vy, vz] = *twist;
+    let [wdx, wdy, wdz, ax, ay, az] = *accel;
+    let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _] = *params;
+    let t0: f64 = zc - half_spacing;
+    let t3: f64 = f64::mul_add(-wy, vz, ax);
+    let t5: f64 = yc * wdz;
+    let t6: f64 = f64::mul_add(wz, vy, t5);
+    let t7: f64 = t3 + t6;
+    let t8: f64 = f64::mul_add(-wdy, t0, t7);
+    let t9: f64 = zc + half_spacing;
+    let t11: f64 = f64::mul_add(-wdy, t9, t7);
+    let t12: f64 = xc - half_spacing;
+    let t15: f64 = f64::mul_add(-wz, vx, ay);
+    let t17: f64 = zc * wdx;
+    let t18: f64 = f64::mul_add(wx, vz, t17);
+    let t19: f64 = t15 + t18;
+    let t20: f64 = f64::mul_add(-wdz, t12, t19);
+    let t21: f64 = xc + half_spacing;
+    let t23: f64 = f64::mul_add(-wdz, t21, t19);
+    let t24: f64 = yc - half_spacing;
+    let t27: f64 = f64::mul_add(-wx, vy, az);
+    let t29: f64 = xc * wdy;
+    let t30: f64 = f64::mul_add(wy, vx, t29);
+    let t31: f64 = t27 + t30;
+    let t32: f64 = f64::mul_add(-wdx, t24, t31);
+    let t33: f64 = yc + half_spacing;
+    let t35: f64 = f64::mul_add(-wdx, t33, t31);
+    let (t36, t37): (f64, f64) = sin_cos(beta);
+    let (t38, t39): (f64, f64) = sin_cos(gamma);
+    let t40: f64 = t37 * t39;
+    let (t41, t42): (f64, f64) = sin_cos(alpha);
+    let t44: f64 = t36 * t41;
+    let t45: f64 = t38 * t44;
+    let t46: f64 = f64::mul_add(t39, t42, -t45);
+    let t47: f64 = t37 * t42;
+    ([t8, t11, t20, t23, t32, t35], [t40, t46, t47])
+}
 /// The legs' loads as one wrench `Φ` at `C`, such that `Γ = Jᵀ (F_{N+1} + Φ)`.
 ///
 /// Equations: 43, 48, 49, 50, 60. Setting: pose.
@@ -6541,6 +11802,20 @@ pub fn joint_accelerations_params(
 /// Operations: 487 mul, 4 div, 424 add, 0 neg, 3 sin_cos (chapter convention: 491m + 424a).
 #[inline]
 pub fn leg_wrench_params(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { leg_wrench_params_fused(pose, twist, accel, params) };
+    }
+    leg_wrench_params_separate(pose, twist, accel, params)
+}
+/// [`leg_wrench_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn leg_wrench_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
     accel: &[f64; 6],
@@ -7482,6 +12757,688 @@ pub fn leg_wrench_params(
     let t920: f64 = t1 * t6;
     ([t604, t799, t898, t905, t912, t919], [t920, t13, t430])
 }
+/// [`leg_wrench_params`] with 267 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`leg_wrench_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn leg_wrench_params_fused(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [wx, wy, wz, vx, vy, vz] = *twist;
+    let [wdx, wdy, wdz, ax, ay, az] = *accel;
+    let [half_spacing, gravity_x, gravity_y, gravity_z, _, _, _, _, _, _, _, _, _, _,
+    rod1_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint1_mass, joint1_mx, joint1_my,
+    joint1_mz, joint1_ixx, joint1_ixy, joint1_ixz, joint1_iyy, joint1_iyz, joint1_izz,
+    rod2_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint2_mass, joint2_mx, joint2_my,
+    joint2_mz, joint2_ixx, joint2_ixy, joint2_ixz, joint2_iyy, joint2_iyz, joint2_izz,
+    rod3_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint3_mass, joint3_mx, joint3_my,
+    joint3_mz, joint3_ixx, joint3_ixy, joint3_ixz, joint3_iyy, joint3_iyz, joint3_izz,
+    rod4_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint4_mass, joint4_mx, joint4_my,
+    joint4_mz, joint4_ixx, joint4_ixy, joint4_ixz, joint4_iyy, joint4_iyz, joint4_izz,
+    rod5_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint5_mass, joint5_mx, joint5_my,
+    joint5_mz, joint5_ixx, joint5_ixy, joint5_ixz, joint5_iyy, joint5_iyz, joint5_izz,
+    rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint6_mass, joint6_mx, joint6_my,
+    joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz, joint6_iyy, joint6_iyz, joint6_izz] = *params;
+    let (t0, t1): (f64, f64) = sin_cos(gamma);
+    let (t2, t3): (f64, f64) = sin_cos(alpha);
+    let (t5, t6): (f64, f64) = sin_cos(beta);
+    let t7: f64 = t2 * t5;
+    let t8: f64 = t1 * t7;
+    let t9: f64 = f64::mul_add(t0, t3, t8);
+    let t12: f64 = t0 * t7;
+    let t13: f64 = f64::mul_add(t1, t3, -t12);
+    let t14: f64 = joint1_my * t13;
+    let t15: f64 = joint1_mz * t2;
+    let t17: f64 = f64::mul_add(joint1_mx, t9, t14);
+    let t18: f64 = f64::mul_add(-t6, t15, t17);
+    let t19: f64 = 1.0 / t6;
+    let t20: f64 = 1.0 / t1;
+    let t21: f64 = yc * t9;
+    let t23: f64 = t3 * t5;
+    let t24: f64 = t1 * t23;
+    let t25: f64 = f64::mul_add(t0, t2, -t24);
+    let t26: f64 = zc - half_spacing;
+    let t28: f64 = f64::mul_add(t25, t26, t21);
+    let t29: f64 = wx * wz;
+    let t30: f64 = wdy - t29;
+    let t31: f64 = t19 * t20;
+    let t32: f64 = t28 * t31;
+    let t34: f64 = wy * wy;
+    let t35: f64 = wx * wx;
+    let t36: f64 = t34 + t35;
+    let t38: f64 = az - gravity_z;
+    let t39: f64 = wy * wz;
+    let t40: f64 = wdx + t39;
+    let t42: f64 = f64::mul_add(-yc, t40, t38);
+    let t43: f64 = f64::mul_add(t26, t36, t42);
+    let t44: f64 = f64::mul_add(-t30, t32, t43);
+    let t48: f64 = t0 * t5;
+    let t49: f64 = t3 * t48;
+    let t50: f64 = f64::mul_add(t1, t2, t49);
+    let t51: f64 = joint1_my * t50;
+    let t52: f64 = joint1_mz * t3;
+    let t54: f64 = f64::mul_add(joint1_mx, t25, t51);
+    let t55: f64 = f64::mul_add(t6, t52, t54);
+    let t56: f64 = wx * wy;
+    let t57: f64 = wdz + t56;
+    let t59: f64 = wdx - t39;
+    let t60: f64 = t26 * t59;
+    let t61: f64 = wz * wz;
+    let t62: f64 = t35 + t61;
+    let t64: f64 = ay - gravity_y;
+    let t65: f64 = f64::mul_add(yc, t62, t64);
+    let t66: f64 = f64::mul_add(t32, t57, t60);
+    let t67: f64 = t65 + t66;
+    let t70: f64 = joint2_my * t13;
+    let t71: f64 = joint2_mz * t2;
+    let t73: f64 = f64::mul_add(joint2_mx, t9, t70);
+    let t74: f64 = f64::mul_add(-t6, t71, t73);
+    let t75: f64 = zc + half_spacing;
+    let t77: f64 = f64::mul_add(t25, t75, t21);
+    let t78: f64 = t31 * t77;
+    let t81: f64 = f64::mul_add(t36, t75, t42);
+    let t82: f64 = f64::mul_add(-t30, t78, t81);
+    let t83: f64 = t74 * t82;
+    let t85: f64 = joint2_my * t50;
+    let t86: f64 = joint2_mz * t3;
+    let t88: f64 = f64::mul_add(joint2_mx, t25, t85);
+    let t89: f64 = f64::mul_add(t6, t86, t88);
+    let t91: f64 = t59 * t75;
+    let t92: f64 = f64::mul_add(t57, t78, t91);
+    let t93: f64 = t65 + t92;
+    let t94: f64 = t89 * t93;
+    let t96: f64 = joint3_my * t13;
+    let t97: f64 = joint3_mz * t2;
+    let t99: f64 = f64::mul_add(joint3_mx, t9, t96);
+    let t100: f64 = f64::mul_add(-t6, t97, t99);
+    let t101: f64 = xc - half_spacing;
+    let t103: f64 = 1.0 / t13;
+    let t104: f64 = t0 * t6;
+    let t106: f64 = zc * t50;
+    let t107: f64 = f64::mul_add(t101, t104, -t106);
+    let t108: f64 = t103 * t107;
+    let t111: f64 = f64::mul_add(zc, t36, t38);
+    let t112: f64 = f64::mul_add(t30, t101, t111);
+    let t113: f64 = f64::mul_add(-t40, t108, t112);
+    let t116: f64 = joint3_my * t50;
+    let t117: f64 = joint3_mz * t3;
+    let t119: f64 = f64::mul_add(joint3_mx, t25, t116);
+    let t120: f64 = f64::mul_add(t6, t117, t119);
+    let t124: f64 = f64::mul_add(zc, t59, t64);
+    let t125: f64 = f64::mul_add(t62, t108, t124);
+    let t126: f64 = f64::mul_add(-t57, t101, t125);
+    let t129: f64 = joint4_my * t13;
+    let t130: f64 = joint4_mz * t2;
+    let t132: f64 = f64::mul_add(joint4_mx, t9, t129);
+    let t133: f64 = f64::mul_add(-t6, t130, t132);
+    let t134: f64 = xc + half_spacing;
+    let t137: f64 = f64::mul_add(-t104, t134, t106);
+    let t138: f64 = t103 * t137;
+    let t139: f64 = t40 * t138;
+    let t140: f64 = f64::mul_add(t30, t134, t139);
+    let t141: f64 = t111 + t140;
+    let t142: f64 = t133 * t141;
+    let t144: f64 = joint4_my * t50;
+    let t145: f64 = joint4_mz * t3;
+    let t147: f64 = f64::mul_add(joint4_mx, t25, t144);
+    let t148: f64 = f64::mul_add(t6, t145, t147);
+    let t150: f64 = t62 * t138;
+    let t151: f64 = f64::mul_add(t57, t134, t150);
+    let t152: f64 = t124 - t151;
+    let t153: f64 = t148 * t152;
+    let t155: f64 = joint5_my * t13;
+    let t156: f64 = joint5_mz * t2;
+    let t158: f64 = f64::mul_add(joint5_mx, t9, t155);
+    let t159: f64 = f64::mul_add(-t6, t156, t158);
+    let t160: f64 = yc - half_spacing;
+    let t162: f64 = 1.0 / t3;
+    let t163: f64 = xc * t5;
+    let t164: f64 = t2 * t6;
+    let t166: f64 = f64::mul_add(-t160, t164, t163);
+    let t167: f64 = t19 * t162;
+    let t168: f64 = t166 * t167;
+    let t169: f64 = t36 * t168;
+    let t171: f64 = f64::mul_add(xc, t30, t38);
+    let t172: f64 = f64::mul_add(t40, t160, t169);
+    let t173: f64 = t171 - t172;
+    let t176: f64 = joint5_my * t50;
+    let t177: f64 = joint5_mz * t3;
+    let t179: f64 = f64::mul_add(joint5_mx, t25, t176);
+    let t180: f64 = f64::mul_add(t6, t177, t179);
+    let t184: f64 = f64::mul_add(-xc, t57, t64);
+    let t185: f64 = f64::mul_add(t62, t160, t184);
+    let t186: f64 = f64::mul_add(-t59, t168, t185);
+    let t189: f64 = joint6_my * t13;
+    let t190: f64 = joint6_mz * t2;
+    let t192: f64 = f64::mul_add(joint6_mx, t9, t189);
+    let t193: f64 = f64::mul_add(-t6, t190, t192);
+    let t194: f64 = yc + half_spacing;
+    let t197: f64 = f64::mul_add(-t164, t194, t163);
+    let t198: f64 = t167 * t197;
+    let t199: f64 = t36 * t198;
+    let t200: f64 = f64::mul_add(t40, t194, t199);
+    let t201: f64 = t171 - t200;
+    let t202: f64 = t193 * t201;
+    let t204: f64 = joint6_my * t50;
+    let t205: f64 = joint6_mz * t3;
+    let t207: f64 = f64::mul_add(joint6_mx, t25, t204);
+    let t208: f64 = f64::mul_add(t6, t205, t207);
+    let t211: f64 = f64::mul_add(t62, t194, t184);
+    let t212: f64 = f64::mul_add(-t59, t198, t211);
+    let t213: f64 = t208 * t212;
+    let t215: f64 = wz * t18;
+    let t216: f64 = f64::mul_add(wy, t55, -t215);
+    let t220: f64 = joint1_my * t0;
+    let t221: f64 = f64::mul_add(joint1_mx, t1, -t220);
+    let t222: f64 = t6 * t221;
+    let t223: f64 = f64::mul_add(joint1_mz, t5, t222);
+    let t224: f64 = wdz * t223;
+    let t225: f64 = f64::mul_add(wz, t216, t224);
+    let t227: f64 = wdx * t55;
+    let t228: f64 = f64::mul_add(joint1_mass, t67, -t227);
+    let t230: f64 = wy * t223;
+    let t231: f64 = f64::mul_add(wx, t18, -t230);
+    let t233: f64 = f64::mul_add(-wx, t231, t228);
+    let t234: f64 = t225 + t233;
+    let t237: f64 = wz * t74;
+    let t238: f64 = f64::mul_add(wy, t89, -t237);
+    let t242: f64 = joint2_my * t0;
+    let t243: f64 = f64::mul_add(joint2_mx, t1, -t242);
+    let t244: f64 = t6 * t243;
+    let t245: f64 = f64::mul_add(joint2_mz, t5, t244);
+    let t246: f64 = wdz * t245;
+    let t247: f64 = f64::mul_add(wz, t238, t246);
+    let t249: f64 = wdx * t89;
+    let t250: f64 = f64::mul_add(joint2_mass, t93, -t249);
+    let t252: f64 = wy * t245;
+    let t253: f64 = f64::mul_add(wx, t74, -t252);
+    let t255: f64 = f64::mul_add(-wx, t253, t250);
+    let t256: f64 = t247 + t255;
+    let t257: f64 = t75 * t256;
+    let t259: f64 = wdx * t159;
+    let t260: f64 = f64::mul_add(joint5_mass, t173, t259);
+    let t263: f64 = wx * vy;
+    let t264: f64 = f64::mul_add(wy, vx, -t263);
+    let t266: f64 = f64::mul_add(xc, wdy, t38);
+    let t267: f64 = t264 + t266;
+    let t268: f64 = f64::mul_add(-wdx, t160, t267);
+    let t271: f64 = wz * t159;
+    let t272: f64 = f64::mul_add(wy, t180, -t271);
+    let t273: f64 = wy * t272;
+    let t274: f64 = f64::mul_add(rod5_mass, t268, -t273);
+    let t275: f64 = t260 + t274;
+    let t279: f64 = joint5_my * t0;
+    let t280: f64 = f64::mul_add(joint5_mx, t1, -t279);
+    let t281: f64 = t6 * t280;
+    let t282: f64 = f64::mul_add(joint5_mz, t5, t281);
+    let t283: f64 = wz * t282;
+    let t284: f64 = f64::mul_add(-wx, t180, t283);
+    let t286: f64 = wdy * t282;
+    let t287: f64 = f64::mul_add(wx, t284, -t286);
+    let t288: f64 = t275 + t287;
+    let t291: f64 = wdx * t193;
+    let t292: f64 = f64::mul_add(joint6_mass, t201, t291);
+    let t294: f64 = f64::mul_add(-wdx, t194, t267);
+    let t297: f64 = wz * t193;
+    let t298: f64 = f64::mul_add(wy, t208, -t297);
+    let t299: f64 = wy * t298;
+    let t300: f64 = f64::mul_add(rod6_mass, t294, -t299);
+    let t301: f64 = t292 + t300;
+    let t305: f64 = joint6_my * t0;
+    let t306: f64 = f64::mul_add(joint6_mx, t1, -t305);
+    let t307: f64 = t6 * t306;
+    let t308: f64 = f64::mul_add(joint6_mz, t5, t307);
+    let t309: f64 = wz * t308;
+    let t310: f64 = f64::mul_add(-wx, t208, t309);
+    let t312: f64 = wdy * t308;
+    let t313: f64 = f64::mul_add(wx, t310, -t312);
+    let t314: f64 = t301 + t313;
+    let t315: f64 = t194 * t314;
+    let t316: f64 = wx * t6;
+    let t318: f64 = wy * t9;
+    let t320: f64 = f64::mul_add(t1, t316, t318);
+    let t321: f64 = f64::mul_add(wz, t25, t320);
+    let t322: f64 = joint1_ixz + joint2_ixz;
+    let t323: f64 = joint3_ixz + joint4_ixz;
+    let t324: f64 = joint5_ixz + joint6_ixz;
+    let t325: f64 = t322 + t323;
+    let t326: f64 = t324 + t325;
+    let t328: f64 = wx * t0;
+    let t331: f64 = wz * t50;
+    let t332: f64 = f64::mul_add(wy, t13, t331);
+    let t333: f64 = f64::mul_add(t6, t328, -t332);
+    let t334: f64 = joint1_iyz + joint2_iyz;
+    let t335: f64 = joint3_iyz + joint4_iyz;
+    let t336: f64 = joint5_iyz + joint6_iyz;
+    let t337: f64 = t334 + t335;
+    let t338: f64 = t336 + t337;
+    let t342: f64 = wz * t3;
+    let t343: f64 = f64::mul_add(wy, t2, -t342);
+    let t344: f64 = t6 * t343;
+    let t345: f64 = f64::mul_add(wx, t5, -t344);
+    let t346: f64 = joint1_izz + joint2_izz;
+    let t347: f64 = joint3_izz + joint4_izz;
+    let t348: f64 = joint5_izz + joint6_izz;
+    let t349: f64 = t346 + t347;
+    let t350: f64 = t348 + t349;
+    let t351: f64 = t345 * t350;
+    let t352: f64 = f64::mul_add(t321, t326, t351);
+    let t353: f64 = f64::mul_add(-t333, t338, t352);
+    let t355: f64 = wdx * t6;
+    let t357: f64 = wdy * t9;
+    let t359: f64 = f64::mul_add(t1, t355, t357);
+    let t360: f64 = f64::mul_add(wdz, t25, t359);
+    let t361: f64 = joint1_ixy + joint2_ixy;
+    let t362: f64 = joint3_ixy + joint4_ixy;
+    let t363: f64 = joint5_ixy + joint6_ixy;
+    let t364: f64 = t361 + t362;
+    let t365: f64 = t363 + t364;
+    let t367: f64 = wdx * t0;
+    let t370: f64 = wdz * t50;
+    let t371: f64 = f64::mul_add(wdy, t13, t370);
+    let t372: f64 = f64::mul_add(t6, t367, -t371);
+    let t373: f64 = joint1_iyy + joint2_iyy;
+    let t374: f64 = joint3_iyy + joint4_iyy;
+    let t375: f64 = joint5_iyy + joint6_iyy;
+    let t376: f64 = t373 + t374;
+    let t377: f64 = t375 + t376;
+    let t378: f64 = t372 * t377;
+    let t381: f64 = wdz * t3;
+    let t382: f64 = f64::mul_add(wdy, t2, -t381);
+    let t383: f64 = t6 * t382;
+    let t384: f64 = f64::mul_add(wdx, t5, -t383);
+    let t385: f64 = t338 * t384;
+    let t386: f64 = joint1_ixx + joint2_ixx;
+    let t387: f64 = joint3_ixx + joint4_ixx;
+    let t388: f64 = joint5_ixx + joint6_ixx;
+    let t389: f64 = t386 + t387;
+    let t390: f64 = t388 + t389;
+    let t393: f64 = t326 * t345;
+    let t394: f64 = f64::mul_add(t321, t390, t393);
+    let t395: f64 = f64::mul_add(-t333, t365, t394);
+    let t397: f64 = f64::mul_add(t321, t353, t378);
+    let t398: f64 = f64::mul_add(t360, t365, t385);
+    let t399: f64 = f64::mul_add(t345, t395, t398);
+    let t400: f64 = t397 - t399;
+    let t404: f64 = t333 * t353;
+    let t405: f64 = t326 * t384;
+    let t408: f64 = t338 * t345;
+    let t409: f64 = f64::mul_add(t321, t365, t408);
+    let t410: f64 = f64::mul_add(-t333, t377, t409);
+    let t412: f64 = f64::mul_add(t360, t390, t405);
+    let t413: f64 = f64::mul_add(t365, t372, t404);
+    let t414: f64 = f64::mul_add(t345, t410, t413);
+    let t415: f64 = t412 - t414;
+    let t416: f64 = t1 * t415;
+    let t417: f64 = f64::mul_add(t0, t400, t416);
+    let t420: f64 = t326 * t360;
+    let t423: f64 = t350 * t384;
+    let t424: f64 = f64::mul_add(t321, t410, t420);
+    let t425: f64 = f64::mul_add(t333, t395, t423);
+    let t426: f64 = t424 + t425;
+    let t427: f64 = f64::mul_add(-t338, t372, t426);
+    let t428: f64 = t5 * t427;
+    let t429: f64 = joint1_mz + joint2_mz;
+    let t430: f64 = t3 * t6;
+    let t432: f64 = joint1_mx + joint2_mx;
+    let t433: f64 = t25 * t432;
+    let t434: f64 = joint1_my + joint2_my;
+    let t436: f64 = f64::mul_add(t429, t430, t433);
+    let t437: f64 = f64::mul_add(t50, t434, t436);
+    let t441: f64 = t1 * t432;
+    let t442: f64 = f64::mul_add(t0, t434, -t441);
+    let t443: f64 = t6 * t442;
+    let t444: f64 = f64::mul_add(t5, t429, -t443);
+    let t445: f64 = wz * t444;
+    let t446: f64 = f64::mul_add(wx, t437, -t445);
+    let t448: f64 = wdy * t444;
+    let t450: f64 = wdx * t18;
+    let t451: f64 = f64::mul_add(joint1_mass, t44, t450);
+    let t453: f64 = f64::mul_add(-wy, t216, t451);
+    let t455: f64 = wdx * t74;
+    let t456: f64 = f64::mul_add(joint2_mass, t82, t455);
+    let t458: f64 = f64::mul_add(-wy, t238, t456);
+    let t459: f64 = t453 + t458;
+    let t460: f64 = f64::mul_add(wx, t446, t448);
+    let t461: f64 = t459 - t460;
+    let t463: f64 = joint3_mz + joint4_mz;
+    let t465: f64 = joint3_mx + joint4_mx;
+    let t467: f64 = joint3_my + joint4_my;
+    let t468: f64 = t13 * t467;
+    let t469: f64 = f64::mul_add(t9, t465, t468);
+    let t470: f64 = f64::mul_add(t164, t463, -t469);
+    let t474: f64 = t1 * t465;
+    let t475: f64 = f64::mul_add(t0, t467, -t474);
+    let t476: f64 = t6 * t475;
+    let t477: f64 = f64::mul_add(t5, t463, -t476);
+    let t478: f64 = wy * t477;
+    let t479: f64 = f64::mul_add(wx, t470, t478);
+    let t481: f64 = wdz * t477;
+    let t483: f64 = wdx * t120;
+    let t484: f64 = f64::mul_add(joint3_mass, t126, -t483);
+    let t486: f64 = wz * t100;
+    let t487: f64 = f64::mul_add(wy, t120, -t486);
+    let t491: f64 = wz * vx;
+    let t492: f64 = f64::mul_add(wx, vz, -t491);
+    let t494: f64 = f64::mul_add(zc, wdx, t64);
+    let t495: f64 = t492 + t494;
+    let t496: f64 = f64::mul_add(-wdz, t101, t495);
+    let t497: f64 = rod3_mass * t496;
+    let t498: f64 = f64::mul_add(wz, t487, t497);
+    let t499: f64 = t484 + t498;
+    let t501: f64 = wdx * t148;
+    let t502: f64 = f64::mul_add(joint4_mass, t152, -t501);
+    let t504: f64 = wz * t133;
+    let t505: f64 = f64::mul_add(wy, t148, -t504);
+    let t508: f64 = f64::mul_add(-wdz, t134, t495);
+    let t509: f64 = rod4_mass * t508;
+    let t510: f64 = f64::mul_add(wz, t505, t509);
+    let t511: f64 = t502 + t510;
+    let t512: f64 = t499 + t511;
+    let t513: f64 = f64::mul_add(wx, t479, t481);
+    let t514: f64 = t512 + t513;
+    let t518: f64 = wdx * t180;
+    let t519: f64 = f64::mul_add(joint5_mass, t186, -t518);
+    let t520: f64 = f64::mul_add(wz, t272, t519);
+    let t523: f64 = wy * t282;
+    let t524: f64 = f64::mul_add(wx, t159, -t523);
+    let t525: f64 = wx * t524;
+    let t526: f64 = f64::mul_add(wdz, t282, -t525);
+    let t527: f64 = t520 + t526;
+    let t531: f64 = wdx * t208;
+    let t532: f64 = f64::mul_add(joint6_mass, t212, -t531);
+    let t533: f64 = f64::mul_add(wz, t298, t532);
+    let t536: f64 = wy * t308;
+    let t537: f64 = f64::mul_add(wx, t193, -t536);
+    let t538: f64 = wx * t537;
+    let t539: f64 = f64::mul_add(wdz, t308, -t538);
+    let t540: f64 = t533 + t539;
+    let t541: f64 = t197 * t540;
+    let t542: f64 = f64::mul_add(t166, t527, t541);
+    let t543: f64 = t167 * t542;
+    let t547: f64 = joint3_my * t0;
+    let t548: f64 = f64::mul_add(joint3_mx, t1, -t547);
+    let t549: f64 = t6 * t548;
+    let t550: f64 = f64::mul_add(joint3_mz, t5, t549);
+    let t551: f64 = wz * t550;
+    let t552: f64 = f64::mul_add(-wx, t120, t551);
+    let t555: f64 = wdx * t100;
+    let t556: f64 = f64::mul_add(joint3_mass, t113, t555);
+    let t557: f64 = f64::mul_add(wx, t552, t556);
+    let t559: f64 = wdy * t550;
+    let t560: f64 = f64::mul_add(wy, t487, t559);
+    let t561: f64 = t557 - t560;
+    let t566: f64 = joint4_my * t0;
+    let t567: f64 = f64::mul_add(joint4_mx, t1, -t566);
+    let t568: f64 = t6 * t567;
+    let t569: f64 = f64::mul_add(joint4_mz, t5, t568);
+    let t570: f64 = wz * t569;
+    let t571: f64 = f64::mul_add(-wx, t148, t570);
+    let t574: f64 = wdx * t133;
+    let t575: f64 = f64::mul_add(joint4_mass, t141, t574);
+    let t576: f64 = f64::mul_add(wx, t571, t575);
+    let t578: f64 = wdy * t569;
+    let t579: f64 = f64::mul_add(wy, t505, t578);
+    let t580: f64 = t576 - t579;
+    let t581: f64 = t137 * t580;
+    let t582: f64 = f64::mul_add(t107, t561, -t581);
+    let t584: f64 = f64::mul_add(t18, t44, t83);
+    let t585: f64 = f64::mul_add(t100, t113, t142);
+    let t586: f64 = f64::mul_add(t159, t173, t202);
+    let t587: f64 = f64::mul_add(t26, t234, t257);
+    let t588: f64 = f64::mul_add(t6, t417, t428);
+    let t589: f64 = t584 + t585;
+    let t590: f64 = t586 + t587;
+    let t591: f64 = f64::mul_add(zc, t514, t588);
+    let t592: f64 = t589 + t590;
+    let t593: f64 = t591 + t592;
+    let t594: f64 = f64::mul_add(t55, t67, t94);
+    let t595: f64 = f64::mul_add(t120, t126, t153);
+    let t596: f64 = f64::mul_add(t180, t186, t213);
+    let t597: f64 = f64::mul_add(t160, t288, t315);
+    let t598: f64 = f64::mul_add(yc, t461, t543);
+    let t599: f64 = t594 + t595;
+    let t600: f64 = t596 + t597;
+    let t601: f64 = f64::mul_add(t103, t582, t598);
+    let t602: f64 = t599 + t600;
+    let t603: f64 = t601 + t602;
+    let t604: f64 = t593 - t603;
+    let t605: f64 = t34 + t61;
+    let t607: f64 = wdy + t29;
+    let t608: f64 = t26 * t607;
+    let t609: f64 = wdz - t56;
+    let t611: f64 = ax - gravity_x;
+    let t612: f64 = f64::mul_add(yc, t609, t611);
+    let t613: f64 = f64::mul_add(t32, t605, t608);
+    let t614: f64 = t612 - t613;
+    let t617: f64 = t75 * t607;
+    let t618: f64 = f64::mul_add(t78, t605, t617);
+    let t619: f64 = t612 - t618;
+    let t620: f64 = t89 * t619;
+    let t622: f64 = t108 * t609;
+    let t624: f64 = f64::mul_add(-zc, t607, t611);
+    let t625: f64 = f64::mul_add(t101, t605, t622);
+    let t626: f64 = t624 + t625;
+    let t630: f64 = f64::mul_add(t134, t605, t624);
+    let t631: f64 = f64::mul_add(-t138, t609, t630);
+    let t632: f64 = t148 * t631;
+    let t634: f64 = t168 * t607;
+    let t636: f64 = f64::mul_add(xc, t605, t611);
+    let t637: f64 = f64::mul_add(t160, t609, t634);
+    let t638: f64 = t636 + t637;
+    let t641: f64 = t198 * t607;
+    let t642: f64 = f64::mul_add(t194, t609, t641);
+    let t643: f64 = t636 + t642;
+    let t644: f64 = t208 * t643;
+    let t647: f64 = wdy * t55;
+    let t648: f64 = f64::mul_add(joint1_mass, t614, t647);
+    let t651: f64 = wy * vz;
+    let t652: f64 = f64::mul_add(wz, vy, -t651);
+    let t654: f64 = f64::mul_add(yc, wdz, t611);
+    let t655: f64 = t652 + t654;
+    let t656: f64 = f64::mul_add(-wdy, t26, t655);
+    let t658: f64 = wdz * t18;
+    let t659: f64 = f64::mul_add(rod1_mass, t656, -t658);
+    let t660: f64 = t648 + t659;
+    let t663: f64 = wz * t223;
+    let t664: f64 = f64::mul_add(-wx, t55, t663);
+    let t665: f64 = wz * t664;
+    let t666: f64 = f64::mul_add(wy, t231, -t665);
+    let t667: f64 = t660 + t666;
+    let t668: f64 = t26 * t667;
+    let t671: f64 = wdy * t89;
+    let t672: f64 = f64::mul_add(joint2_mass, t619, t671);
+    let t674: f64 = f64::mul_add(-wdy, t75, t655);
+    let t676: f64 = wdz * t74;
+    let t677: f64 = f64::mul_add(rod2_mass, t674, -t676);
+    let t678: f64 = t672 + t677;
+    let t681: f64 = wz * t245;
+    let t682: f64 = f64::mul_add(-wx, t89, t681);
+    let t683: f64 = wz * t682;
+    let t684: f64 = f64::mul_add(wy, t253, -t683);
+    let t685: f64 = t678 + t684;
+    let t686: f64 = t75 * t685;
+    let t689: f64 = t141 * t569;
+    let t690: f64 = t134 * t580;
+    let t692: f64 = t201 * t308;
+    let t695: f64 = t13 * t400;
+    let t697: f64 = wdz * t159;
+    let t698: f64 = f64::mul_add(wy, t524, -t697);
+    let t700: f64 = wdy * t180;
+    let t701: f64 = f64::mul_add(joint5_mass, t638, t700);
+    let t703: f64 = f64::mul_add(-wz, t284, t701);
+    let t704: f64 = t698 + t703;
+    let t707: f64 = wdz * t193;
+    let t708: f64 = f64::mul_add(wy, t537, -t707);
+    let t710: f64 = wdy * t208;
+    let t711: f64 = f64::mul_add(joint6_mass, t643, t710);
+    let t713: f64 = f64::mul_add(-wz, t310, t711);
+    let t714: f64 = t708 + t713;
+    let t715: f64 = t197 * t714;
+    let t716: f64 = f64::mul_add(t166, t704, t715);
+    let t719: f64 = wdy * t223;
+    let t720: f64 = f64::mul_add(wx, t664, -t719);
+    let t721: f64 = t453 + t720;
+    let t724: f64 = wdy * t245;
+    let t725: f64 = f64::mul_add(wx, t682, -t724);
+    let t726: f64 = t458 + t725;
+    let t727: f64 = t77 * t726;
+    let t728: f64 = f64::mul_add(t28, t721, t727);
+    let t729: f64 = t20 * t728;
+    let t730: f64 = f64::mul_add(t162, t716, -t729);
+    let t731: f64 = t19 * t730;
+    let t732: f64 = joint5_mz + joint6_mz;
+    let t734: f64 = joint5_mx + joint6_mx;
+    let t735: f64 = t25 * t734;
+    let t736: f64 = joint5_my + joint6_my;
+    let t738: f64 = f64::mul_add(t430, t732, t735);
+    let t739: f64 = f64::mul_add(t50, t736, t738);
+    let t743: f64 = t1 * t734;
+    let t744: f64 = f64::mul_add(t0, t736, -t743);
+    let t745: f64 = t6 * t744;
+    let t746: f64 = f64::mul_add(t5, t732, -t745);
+    let t747: f64 = wz * t746;
+    let t748: f64 = f64::mul_add(wx, t739, -t747);
+    let t750: f64 = wdy * t746;
+    let t751: f64 = t275 + t301;
+    let t752: f64 = f64::mul_add(wx, t748, t750);
+    let t753: f64 = t751 - t752;
+    let t757: f64 = t25 * t465;
+    let t759: f64 = f64::mul_add(t430, t463, t757);
+    let t760: f64 = f64::mul_add(t50, t467, t759);
+    let t762: f64 = wz * t477;
+    let t763: f64 = f64::mul_add(wx, t760, -t762);
+    let t766: f64 = wdy * t120;
+    let t767: f64 = f64::mul_add(joint3_mass, t626, t766);
+    let t769: f64 = f64::mul_add(-wdz, t100, t767);
+    let t771: f64 = wdy * t148;
+    let t772: f64 = f64::mul_add(joint4_mass, t631, t771);
+    let t774: f64 = f64::mul_add(-wdz, t133, t772);
+    let t775: f64 = t769 + t774;
+    let t776: f64 = f64::mul_add(wz, t763, t775);
+    let t777: f64 = f64::mul_add(-wy, t479, t776);
+    let t779: f64 = f64::mul_add(t55, t614, t620);
+    let t780: f64 = f64::mul_add(t120, t626, t632);
+    let t781: f64 = f64::mul_add(t180, t638, t644);
+    let t782: f64 = f64::mul_add(t101, t561, t690);
+    let t783: f64 = f64::mul_add(t9, t415, t731);
+    let t784: f64 = t779 + t780;
+    let t785: f64 = t781 + t782;
+    let t786: f64 = f64::mul_add(xc, t753, t783);
+    let t787: f64 = t784 + t785;
+    let t788: f64 = t786 + t787;
+    let t789: f64 = f64::mul_add(t44, t223, t668);
+    let t790: f64 = f64::mul_add(t82, t245, t686);
+    let t791: f64 = f64::mul_add(t113, t550, t689);
+    let t792: f64 = f64::mul_add(t173, t282, t692);
+    let t793: f64 = f64::mul_add(t164, t427, t695);
+    let t794: f64 = t789 + t790;
+    let t795: f64 = t791 + t792;
+    let t796: f64 = f64::mul_add(zc, t777, t793);
+    let t797: f64 = t794 + t795;
+    let t798: f64 = t796 + t797;
+    let t799: f64 = t788 - t798;
+    let t801: f64 = t74 * t619;
+    let t803: f64 = t133 * t631;
+    let t805: f64 = t193 * t643;
+    let t807: f64 = t93 * t245;
+    let t811: f64 = wy * t550;
+    let t812: f64 = f64::mul_add(wx, t100, -t811);
+    let t813: f64 = wx * t812;
+    let t814: f64 = f64::mul_add(wdz, t550, -t813);
+    let t815: f64 = t499 + t814;
+    let t817: f64 = t152 * t569;
+    let t820: f64 = wy * t569;
+    let t821: f64 = f64::mul_add(wx, t133, -t820);
+    let t822: f64 = wx * t821;
+    let t823: f64 = f64::mul_add(wdz, t569, -t822);
+    let t824: f64 = t511 + t823;
+    let t825: f64 = t134 * t824;
+    let t827: f64 = t160 * t704;
+    let t829: f64 = t194 * t714;
+    let t831: f64 = t25 * t415;
+    let t835: f64 = t13 * t736;
+    let t836: f64 = f64::mul_add(t9, t734, t835);
+    let t837: f64 = f64::mul_add(t164, t732, -t836);
+    let t839: f64 = wy * t746;
+    let t840: f64 = f64::mul_add(wx, t837, t839);
+    let t842: f64 = wdz * t746;
+    let t843: f64 = t520 + t533;
+    let t844: f64 = f64::mul_add(wx, t840, t842);
+    let t845: f64 = t843 + t844;
+    let t846: f64 = xc * t845;
+    let t849: f64 = t13 * t434;
+    let t850: f64 = f64::mul_add(t9, t432, t849);
+    let t851: f64 = f64::mul_add(t164, t429, -t850);
+    let t853: f64 = wy * t444;
+    let t854: f64 = f64::mul_add(wx, t851, t853);
+    let t857: f64 = t660 + t678;
+    let t858: f64 = f64::mul_add(wz, t446, t857);
+    let t859: f64 = f64::mul_add(-wy, t854, t858);
+    let t862: f64 = t77 * t256;
+    let t863: f64 = f64::mul_add(t28, t234, t862);
+    let t864: f64 = t31 * t863;
+    let t866: f64 = wz * t552;
+    let t867: f64 = f64::mul_add(wy, t812, -t866);
+    let t868: f64 = t769 + t867;
+    let t871: f64 = wz * t571;
+    let t872: f64 = f64::mul_add(wy, t821, -t871);
+    let t873: f64 = t774 + t872;
+    let t874: f64 = t137 * t873;
+    let t875: f64 = f64::mul_add(t107, t868, -t874);
+    let t877: f64 = f64::mul_add(t67, t223, t807);
+    let t878: f64 = f64::mul_add(t126, t550, t817);
+    let t879: f64 = f64::mul_add(t186, t282, t827);
+    let t880: f64 = f64::mul_add(t212, t308, t829);
+    let t881: f64 = f64::mul_add(t427, t430, t831);
+    let t882: f64 = f64::mul_add(yc, t859, t864);
+    let t883: f64 = t877 + t878;
+    let t884: f64 = t879 + t880;
+    let t885: f64 = t881 + t882;
+    let t886: f64 = t883 + t884;
+    let t887: f64 = f64::mul_add(t103, t875, t885);
+    let t888: f64 = t886 + t887;
+    let t889: f64 = f64::mul_add(t18, t614, t801);
+    let t890: f64 = f64::mul_add(t100, t626, t803);
+    let t891: f64 = f64::mul_add(t159, t638, t805);
+    let t892: f64 = f64::mul_add(t101, t815, t825);
+    let t893: f64 = f64::mul_add(t50, t400, t846);
+    let t894: f64 = t889 + t890;
+    let t895: f64 = t891 + t892;
+    let t896: f64 = t894 + t895;
+    let t897: f64 = t893 + t896;
+    let t898: f64 = t888 - t897;
+    let t899: f64 = t666 + t684;
+    let t900: f64 = t867 + t872;
+    let t901: f64 = t775 + t857;
+    let t902: f64 = t704 + t714;
+    let t903: f64 = t899 + t900;
+    let t904: f64 = t901 + t902;
+    let t905: f64 = t903 + t904;
+    let t906: f64 = t814 + t823;
+    let t907: f64 = t526 + t539;
+    let t908: f64 = t512 + t843;
+    let t909: f64 = t234 + t256;
+    let t910: f64 = t906 + t907;
+    let t911: f64 = t908 + t909;
+    let t912: f64 = t910 + t911;
+    let t913: f64 = t720 + t725;
+    let t914: f64 = t287 + t313;
+    let t915: f64 = t459 + t751;
+    let t916: f64 = t561 + t580;
+    let t917: f64 = t913 + t914;
+    let t918: f64 = t915 + t916;
+    let t919: f64 = t917 + t918;
+    let t920: f64 = t1 * t6;
+    ([t604, t799, t898, t905, t912, t919], [t920, t13, t430])
+}
 /// The platform's wrench `F_{N+1} = Λ_C V̇ + C_C + G_C` at `C`.
 ///
 /// Equations: 52, 54, 55, 56, 57. Setting: pose.
@@ -7504,6 +13461,20 @@ pub fn leg_wrench_params(
 /// Operations: 110 mul, 0 div, 70 add, 0 neg, 3 sin_cos (chapter convention: 110m + 70a).
 #[inline]
 pub fn platform_wrench_params(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+    params: &[f64; 152],
+) -> [f64; 6] {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { platform_wrench_params_fused(pose, twist, accel, params) };
+    }
+    platform_wrench_params_separate(pose, twist, accel, params)
+}
+/// [`platform_wrench_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn platform_wrench_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
     accel: &[f64; 6],
@@ -7705,6 +13676,156 @@ pub fn platform_wrench_params(
     let t185: f64 = t183 - t184;
     [t122, t139, t149, t164, t176, t185]
 }
+/// [`platform_wrench_params`] with 59 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`platform_wrench_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn platform_wrench_params_fused(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+    params: &[f64; 152],
+) -> [f64; 6] {
+    let [alpha, beta, gamma, _, _, _] = *pose;
+    let [wx, wy, wz, _, _, _] = *twist;
+    let [wdx, wdy, wdz, ax, ay, az] = *accel;
+    let [_, gravity_x, gravity_y, gravity_z, platform_mass, platform_mx, platform_my,
+    platform_mz, platform_ixx, platform_ixy, platform_ixz, platform_iyy, platform_iyz,
+    platform_izz, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _] = *params;
+    let (t0, t1): (f64, f64) = sin_cos(gamma);
+    let (t2, t3): (f64, f64) = sin_cos(alpha);
+    let (t5, t6): (f64, f64) = sin_cos(beta);
+    let t7: f64 = t2 * t5;
+    let t8: f64 = t1 * t7;
+    let t9: f64 = f64::mul_add(t0, t3, t8);
+    let t12: f64 = t0 * t7;
+    let t13: f64 = f64::mul_add(t1, t3, -t12);
+    let t14: f64 = platform_my * t13;
+    let t15: f64 = platform_mz * t2;
+    let t17: f64 = f64::mul_add(platform_mx, t9, t14);
+    let t18: f64 = f64::mul_add(-t6, t15, t17);
+    let t19: f64 = az - gravity_z;
+    let t22: f64 = t3 * t5;
+    let t23: f64 = t1 * t22;
+    let t24: f64 = f64::mul_add(t0, t2, -t23);
+    let t27: f64 = t0 * t5;
+    let t28: f64 = t3 * t27;
+    let t29: f64 = f64::mul_add(t1, t2, t28);
+    let t30: f64 = platform_my * t29;
+    let t31: f64 = platform_mz * t3;
+    let t33: f64 = f64::mul_add(platform_mx, t24, t30);
+    let t34: f64 = f64::mul_add(t6, t31, t33);
+    let t35: f64 = ay - gravity_y;
+    let t37: f64 = wdx * t6;
+    let t39: f64 = wdy * t9;
+    let t41: f64 = f64::mul_add(t1, t37, t39);
+    let t42: f64 = f64::mul_add(wdz, t24, t41);
+    let t44: f64 = wdx * t0;
+    let t47: f64 = wdz * t29;
+    let t48: f64 = f64::mul_add(wdy, t13, t47);
+    let t49: f64 = f64::mul_add(t6, t44, -t48);
+    let t53: f64 = wdz * t3;
+    let t54: f64 = f64::mul_add(wdy, t2, -t53);
+    let t55: f64 = t6 * t54;
+    let t56: f64 = f64::mul_add(wdx, t5, -t55);
+    let t57: f64 = platform_izz * t56;
+    let t58: f64 = wx * t6;
+    let t60: f64 = wy * t9;
+    let t62: f64 = f64::mul_add(t1, t58, t60);
+    let t63: f64 = f64::mul_add(wz, t24, t62);
+    let t65: f64 = wx * t0;
+    let t68: f64 = wz * t29;
+    let t69: f64 = f64::mul_add(wy, t13, t68);
+    let t70: f64 = f64::mul_add(t6, t65, -t69);
+    let t74: f64 = wz * t3;
+    let t75: f64 = f64::mul_add(wy, t2, -t74);
+    let t76: f64 = t6 * t75;
+    let t77: f64 = f64::mul_add(wx, t5, -t76);
+    let t78: f64 = platform_iyz * t77;
+    let t79: f64 = f64::mul_add(platform_ixy, t63, t78);
+    let t80: f64 = f64::mul_add(-platform_iyy, t70, t79);
+    let t84: f64 = platform_ixz * t77;
+    let t85: f64 = f64::mul_add(platform_ixx, t63, t84);
+    let t86: f64 = f64::mul_add(-platform_ixy, t70, t85);
+    let t87: f64 = t70 * t86;
+    let t88: f64 = f64::mul_add(platform_ixz, t42, t57);
+    let t89: f64 = f64::mul_add(t63, t80, t87);
+    let t90: f64 = t88 + t89;
+    let t91: f64 = f64::mul_add(-platform_iyz, t49, t90);
+    let t92: f64 = t5 * t91;
+    let t95: f64 = platform_ixz * t56;
+    let t98: f64 = platform_izz * t77;
+    let t99: f64 = f64::mul_add(platform_ixz, t63, t98);
+    let t100: f64 = f64::mul_add(-platform_iyz, t70, t99);
+    let t101: f64 = t70 * t100;
+    let t103: f64 = f64::mul_add(platform_ixx, t42, t95);
+    let t104: f64 = f64::mul_add(platform_ixy, t49, t101);
+    let t105: f64 = f64::mul_add(t77, t80, t104);
+    let t106: f64 = t103 - t105;
+    let t110: f64 = platform_iyz * t56;
+    let t112: f64 = t63 * t100;
+    let t113: f64 = f64::mul_add(platform_ixy, t42, t110);
+    let t114: f64 = f64::mul_add(t77, t86, t113);
+    let t115: f64 = f64::mul_add(platform_iyy, t49, t112);
+    let t116: f64 = t114 - t115;
+    let t117: f64 = t0 * t116;
+    let t118: f64 = f64::mul_add(t1, t106, -t117);
+    let t120: f64 = f64::mul_add(t18, t19, t92);
+    let t121: f64 = f64::mul_add(t6, t118, t120);
+    let t122: f64 = f64::mul_add(-t34, t35, t121);
+    let t123: f64 = ax - gravity_x;
+    let t125: f64 = t9 * t106;
+    let t127: f64 = t2 * t6;
+    let t131: f64 = platform_my * t0;
+    let t132: f64 = f64::mul_add(platform_mx, t1, -t131);
+    let t133: f64 = t6 * t132;
+    let t134: f64 = f64::mul_add(platform_mz, t5, t133);
+    let t135: f64 = t19 * t134;
+    let t136: f64 = f64::mul_add(t34, t123, t125);
+    let t137: f64 = f64::mul_add(t13, t116, t136);
+    let t138: f64 = f64::mul_add(t91, t127, t135);
+    let t139: f64 = t137 - t138;
+    let t142: f64 = t29 * t116;
+    let t143: f64 = t3 * t6;
+    let t145: f64 = t35 * t134;
+    let t146: f64 = f64::mul_add(t24, t106, t142);
+    let t147: f64 = f64::mul_add(t91, t143, t145);
+    let t148: f64 = t146 + t147;
+    let t149: f64 = f64::mul_add(-t18, t123, t148);
+    let t151: f64 = wdy * t34;
+    let t154: f64 = wy * t134;
+    let t155: f64 = f64::mul_add(wx, t18, -t154);
+    let t158: f64 = wz * t134;
+    let t159: f64 = f64::mul_add(-wx, t34, t158);
+    let t160: f64 = wz * t159;
+    let t161: f64 = f64::mul_add(platform_mass, t123, t151);
+    let t162: f64 = f64::mul_add(wy, t155, t161);
+    let t163: f64 = f64::mul_add(wdz, t18, t160);
+    let t164: f64 = t162 - t163;
+    let t168: f64 = wz * t18;
+    let t169: f64 = f64::mul_add(wy, t34, -t168);
+    let t170: f64 = wz * t169;
+    let t172: f64 = wx * t155;
+    let t173: f64 = f64::mul_add(platform_mass, t35, t170);
+    let t174: f64 = f64::mul_add(wdz, t134, t173);
+    let t175: f64 = f64::mul_add(wdx, t34, t172);
+    let t176: f64 = t174 - t175;
+    let t178: f64 = wdx * t18;
+    let t180: f64 = wdy * t134;
+    let t182: f64 = f64::mul_add(platform_mass, t19, t178);
+    let t183: f64 = f64::mul_add(wx, t159, t182);
+    let t184: f64 = f64::mul_add(wy, t169, t180);
+    let t185: f64 = t183 - t184;
+    [t122, t139, t149, t164, t176, t185]
+}
 /// Task-space inertia `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: symmetric positive definite.
 ///
 /// Equations: 15, 16, 27, 43-48, 49-57, 60, ∂W/∂V̇. Setting: pose.
@@ -7728,6 +13849,18 @@ pub fn platform_wrench_params(
 /// Operations: 348 mul, 4 div, 349 add, 0 neg, 3 sin_cos (chapter convention: 352m + 349a).
 #[inline]
 pub fn task_inertia_params(
+    pose: &[f64; 6],
+    params: &[f64; 152],
+) -> ([[f64; 6]; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { task_inertia_params_fused(pose, params) };
+    }
+    task_inertia_params_separate(pose, params)
+}
+/// [`task_inertia_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn task_inertia_params_separate(
     pose: &[f64; 6],
     params: &[f64; 152],
 ) -> ([[f64; 6]; 6], [f64; 3]) {
@@ -8462,6 +14595,576 @@ pub fn task_inertia_params(
         [t706, t43, t381],
     )
 }
+/// [`task_inertia_params`] with 172 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`task_inertia_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn task_inertia_params_fused(
+    pose: &[f64; 6],
+    params: &[f64; 152],
+) -> ([[f64; 6]; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [half_spacing, _, _, _, platform_mass, platform_mx, platform_my, platform_mz,
+    platform_ixx, platform_ixy, platform_ixz, platform_iyy, platform_iyz, platform_izz,
+    rod1_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint1_mass, joint1_mx, joint1_my,
+    joint1_mz, joint1_ixx, joint1_ixy, joint1_ixz, joint1_iyy, joint1_iyz, joint1_izz,
+    rod2_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint2_mass, joint2_mx, joint2_my,
+    joint2_mz, joint2_ixx, joint2_ixy, joint2_ixz, joint2_iyy, joint2_iyz, joint2_izz,
+    rod3_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint3_mass, joint3_mx, joint3_my,
+    joint3_mz, joint3_ixx, joint3_ixy, joint3_ixz, joint3_iyy, joint3_iyz, joint3_izz,
+    rod4_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint4_mass, joint4_mx, joint4_my,
+    joint4_mz, joint4_ixx, joint4_ixy, joint4_ixz, joint4_iyy, joint4_iyz, joint4_izz,
+    rod5_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint5_mass, joint5_mx, joint5_my,
+    joint5_mz, joint5_ixx, joint5_ixy, joint5_ixz, joint5_iyy, joint5_iyz, joint5_izz,
+    rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint6_mass, joint6_mx, joint6_my,
+    joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz, joint6_iyy, joint6_iyz, joint6_izz] = *params;
+    let t0: f64 = zc - half_spacing;
+    let (t1, t2): (f64, f64) = sin_cos(alpha);
+    let (t3, t4): (f64, f64) = sin_cos(beta);
+    let t5: f64 = joint1_mz * t2;
+    let (t7, t8): (f64, f64) = sin_cos(gamma);
+    let t10: f64 = t2 * t3;
+    let t11: f64 = t8 * t10;
+    let t12: f64 = f64::mul_add(t1, t7, -t11);
+    let t15: f64 = t3 * t7;
+    let t16: f64 = t2 * t15;
+    let t17: f64 = f64::mul_add(t1, t8, t16);
+    let t18: f64 = joint1_my * t17;
+    let t19: f64 = f64::mul_add(joint1_mx, t12, t18);
+    let t20: f64 = f64::mul_add(t4, t5, t19);
+    let t22: f64 = f64::mul_add(-joint1_mass, t0, t20);
+    let t24: f64 = zc + half_spacing;
+    let t25: f64 = joint2_mz * t2;
+    let t28: f64 = joint2_my * t17;
+    let t29: f64 = f64::mul_add(joint2_mx, t12, t28);
+    let t30: f64 = f64::mul_add(t4, t25, t29);
+    let t32: f64 = f64::mul_add(-joint2_mass, t24, t30);
+    let t33: f64 = t24 * t32;
+    let t34: f64 = yc - half_spacing;
+    let t35: f64 = rod5_mass * t34;
+    let t37: f64 = t1 * t3;
+    let t38: f64 = t8 * t37;
+    let t39: f64 = f64::mul_add(t2, t7, t38);
+    let t42: f64 = t7 * t37;
+    let t43: f64 = f64::mul_add(t2, t8, -t42);
+    let t44: f64 = joint5_my * t43;
+    let t45: f64 = f64::mul_add(joint5_mx, t39, t44);
+    let t46: f64 = joint5_mz * t1;
+    let t48: f64 = f64::mul_add(-t4, t46, t45);
+    let t50: f64 = f64::mul_add(-joint5_mass, t34, t48);
+    let t51: f64 = t50 - t35;
+    let t53: f64 = yc + half_spacing;
+    let t54: f64 = rod6_mass * t53;
+    let t56: f64 = joint6_my * t43;
+    let t57: f64 = f64::mul_add(joint6_mx, t39, t56);
+    let t58: f64 = joint6_mz * t1;
+    let t60: f64 = f64::mul_add(-t4, t58, t57);
+    let t62: f64 = f64::mul_add(-joint6_mass, t53, t60);
+    let t63: f64 = t62 - t54;
+    let t64: f64 = t53 * t63;
+    let t65: f64 = platform_iyz + joint1_iyz;
+    let t66: f64 = joint2_iyz + joint3_iyz;
+    let t67: f64 = joint4_iyz + joint5_iyz;
+    let t68: f64 = t65 + t66;
+    let t69: f64 = joint6_iyz + t67;
+    let t70: f64 = t68 + t69;
+    let t72: f64 = platform_iyy + joint1_iyy;
+    let t73: f64 = joint2_iyy + joint3_iyy;
+    let t74: f64 = joint4_iyy + joint5_iyy;
+    let t75: f64 = t72 + t73;
+    let t76: f64 = joint6_iyy + t74;
+    let t77: f64 = t75 + t76;
+    let t79: f64 = platform_ixy + joint1_ixy;
+    let t80: f64 = joint2_ixy + joint3_ixy;
+    let t81: f64 = joint4_ixy + joint5_ixy;
+    let t82: f64 = t79 + t80;
+    let t83: f64 = joint6_ixy + t81;
+    let t84: f64 = t82 + t83;
+    let t85: f64 = t8 * t84;
+    let t86: f64 = f64::mul_add(t7, t77, -t85);
+    let t87: f64 = t4 * t86;
+    let t88: f64 = f64::mul_add(t3, t70, -t87);
+    let t90: f64 = platform_ixz + joint1_ixz;
+    let t91: f64 = joint2_ixz + joint3_ixz;
+    let t92: f64 = joint4_ixz + joint5_ixz;
+    let t93: f64 = t90 + t91;
+    let t94: f64 = joint6_ixz + t92;
+    let t95: f64 = t93 + t94;
+    let t98: f64 = platform_ixx + joint1_ixx;
+    let t99: f64 = joint2_ixx + joint3_ixx;
+    let t100: f64 = joint4_ixx + joint5_ixx;
+    let t101: f64 = t98 + t99;
+    let t102: f64 = joint6_ixx + t100;
+    let t103: f64 = t101 + t102;
+    let t104: f64 = t8 * t103;
+    let t105: f64 = f64::mul_add(t7, t84, -t104);
+    let t106: f64 = t4 * t105;
+    let t107: f64 = f64::mul_add(t3, t95, -t106);
+    let t108: f64 = t8 * t107;
+    let t109: f64 = f64::mul_add(t7, t88, -t108);
+    let t111: f64 = platform_izz + joint1_izz;
+    let t112: f64 = joint2_izz + joint3_izz;
+    let t113: f64 = joint4_izz + joint5_izz;
+    let t114: f64 = t111 + t112;
+    let t115: f64 = joint6_izz + t113;
+    let t116: f64 = t114 + t115;
+    let t119: f64 = t8 * t95;
+    let t120: f64 = f64::mul_add(t7, t70, -t119);
+    let t121: f64 = t4 * t120;
+    let t122: f64 = f64::mul_add(t3, t116, -t121);
+    let t125: f64 = joint1_my * t43;
+    let t126: f64 = f64::mul_add(joint1_mx, t39, t125);
+    let t127: f64 = joint1_mz * t1;
+    let t129: f64 = f64::mul_add(-t4, t127, t126);
+    let t131: f64 = f64::mul_add(-yc, joint1_mass, t129);
+    let t133: f64 = joint2_my * t43;
+    let t134: f64 = f64::mul_add(joint2_mx, t39, t133);
+    let t135: f64 = joint2_mz * t1;
+    let t137: f64 = f64::mul_add(-t4, t135, t134);
+    let t139: f64 = f64::mul_add(-yc, joint2_mass, t137);
+    let t140: f64 = t131 + t139;
+    let t141: f64 = yc * t140;
+    let t142: f64 = joint3_mz * t2;
+    let t145: f64 = joint3_my * t17;
+    let t146: f64 = f64::mul_add(joint3_mx, t12, t145);
+    let t147: f64 = f64::mul_add(t4, t142, t146);
+    let t149: f64 = f64::mul_add(-zc, joint3_mass, t147);
+    let t150: f64 = joint4_mz * t2;
+    let t153: f64 = joint4_my * t17;
+    let t154: f64 = f64::mul_add(joint4_mx, t12, t153);
+    let t155: f64 = f64::mul_add(t4, t150, t154);
+    let t157: f64 = f64::mul_add(-zc, joint4_mass, t155);
+    let t158: f64 = t149 + t157;
+    let t159: f64 = zc * rod3_mass;
+    let t160: f64 = zc * rod4_mass;
+    let t161: f64 = t159 + t160;
+    let t162: f64 = t158 - t161;
+    let t164: f64 = 1.0 / t43;
+    let t165: f64 = zc * t17;
+    let t166: f64 = xc + half_spacing;
+    let t167: f64 = t4 * t7;
+    let t169: f64 = f64::mul_add(-t166, t167, t165);
+    let t171: f64 = joint4_my * t43;
+    let t172: f64 = f64::mul_add(joint4_mx, t39, t171);
+    let t173: f64 = joint4_mz * t1;
+    let t175: f64 = f64::mul_add(-t4, t173, t172);
+    let t176: f64 = t164 * t169;
+    let t178: f64 = joint4_mass * t164;
+    let t180: f64 = f64::mul_add(t169, t178, t175);
+    let t181: f64 = t176 * t180;
+    let t182: f64 = f64::mul_add(t175, t176, t181);
+    let t184: f64 = t53 * t60;
+    let t185: f64 = f64::mul_add(t34, t48, t184);
+    let t186: f64 = t182 - t185;
+    let t188: f64 = yc * t137;
+    let t189: f64 = f64::mul_add(yc, t129, t188);
+    let t190: f64 = xc - half_spacing;
+    let t192: f64 = f64::mul_add(t167, t190, -t165);
+    let t194: f64 = joint3_my * t43;
+    let t195: f64 = f64::mul_add(joint3_mx, t39, t194);
+    let t196: f64 = joint3_mz * t1;
+    let t198: f64 = f64::mul_add(-t4, t196, t195);
+    let t199: f64 = t164 * t192;
+    let t201: f64 = joint3_mass * t164;
+    let t203: f64 = f64::mul_add(-t192, t201, t198);
+    let t204: f64 = t199 * t203;
+    let t205: f64 = f64::mul_add(t198, t199, t204);
+    let t206: f64 = t189 + t205;
+    let t207: f64 = t186 - t206;
+    let t208: f64 = 1.0 / t2;
+    let t209: f64 = 1.0 / t4;
+    let t210: f64 = xc * t3;
+    let t211: f64 = t1 * t4;
+    let t213: f64 = f64::mul_add(-t34, t211, t210);
+    let t214: f64 = joint5_mz * t2;
+    let t217: f64 = joint5_my * t17;
+    let t218: f64 = f64::mul_add(joint5_mx, t12, t217);
+    let t219: f64 = f64::mul_add(t4, t214, t218);
+    let t220: f64 = t208 * t209;
+    let t221: f64 = t213 * t220;
+    let t223: f64 = joint5_mass * t208;
+    let t224: f64 = t209 * t223;
+    let t226: f64 = f64::mul_add(t213, t224, t219);
+    let t227: f64 = t221 * t226;
+    let t228: f64 = f64::mul_add(t219, t221, t227);
+    let t230: f64 = f64::mul_add(-t53, t211, t210);
+    let t231: f64 = joint6_mz * t2;
+    let t234: f64 = joint6_my * t17;
+    let t235: f64 = f64::mul_add(joint6_mx, t12, t234);
+    let t236: f64 = f64::mul_add(t4, t231, t235);
+    let t237: f64 = t220 * t230;
+    let t239: f64 = joint6_mass * t208;
+    let t240: f64 = t209 * t239;
+    let t242: f64 = f64::mul_add(t230, t240, t236);
+    let t243: f64 = t237 * t242;
+    let t244: f64 = f64::mul_add(t236, t237, t243);
+    let t245: f64 = t228 + t244;
+    let t247: f64 = t24 * t30;
+    let t248: f64 = f64::mul_add(t0, t20, t247);
+    let t250: f64 = zc * t155;
+    let t251: f64 = f64::mul_add(zc, t147, t250);
+    let t252: f64 = t248 + t251;
+    let t253: f64 = t245 - t252;
+    let t254: f64 = f64::mul_add(t3, t122, t207);
+    let t255: f64 = t253 + t254;
+    let t256: f64 = f64::mul_add(t0, t22, t33);
+    let t257: f64 = f64::mul_add(t34, t51, t64);
+    let t258: f64 = f64::mul_add(t4, t109, t141);
+    let t259: f64 = t256 + t257;
+    let t260: f64 = f64::mul_add(zc, t162, t258);
+    let t261: f64 = t259 + t260;
+    let t262: f64 = t255 - t261;
+    let t264: f64 = t166 * t175;
+    let t265: f64 = xc * rod5_mass;
+    let t267: f64 = joint5_mx * t4;
+    let t269: f64 = joint5_my * t7;
+    let t270: f64 = t4 * t269;
+    let t271: f64 = f64::mul_add(t8, t267, -t270);
+    let t272: f64 = f64::mul_add(joint5_mz, t3, t271);
+    let t274: f64 = f64::mul_add(-xc, joint5_mass, t272);
+    let t275: f64 = t274 - t265;
+    let t277: f64 = xc * rod6_mass;
+    let t279: f64 = joint6_mx * t4;
+    let t281: f64 = joint6_my * t7;
+    let t282: f64 = t4 * t281;
+    let t283: f64 = f64::mul_add(t8, t279, -t282);
+    let t284: f64 = f64::mul_add(joint6_mz, t3, t283);
+    let t286: f64 = f64::mul_add(-xc, joint6_mass, t284);
+    let t287: f64 = t286 - t277;
+    let t288: f64 = t53 * t287;
+    let t291: f64 = t43 * t77;
+    let t292: f64 = f64::mul_add(t39, t84, t291);
+    let t293: f64 = f64::mul_add(t70, t211, -t292);
+    let t297: f64 = t43 * t84;
+    let t298: f64 = f64::mul_add(t39, t103, t297);
+    let t299: f64 = f64::mul_add(t95, t211, -t298);
+    let t300: f64 = t8 * t299;
+    let t301: f64 = f64::mul_add(t7, t293, -t300);
+    let t305: f64 = t43 * t70;
+    let t306: f64 = f64::mul_add(t39, t95, t305);
+    let t307: f64 = f64::mul_add(t116, t211, -t306);
+    let t309: f64 = t48 + t60;
+    let t310: f64 = xc * t309;
+    let t311: f64 = 1.0 / t8;
+    let t312: f64 = yc * t39;
+    let t314: f64 = f64::mul_add(t0, t12, t312);
+    let t315: f64 = joint1_mass * t209;
+    let t316: f64 = t311 * t315;
+    let t319: f64 = joint1_mx * t4;
+    let t321: f64 = joint1_my * t7;
+    let t322: f64 = t4 * t321;
+    let t323: f64 = f64::mul_add(t8, t319, -t322);
+    let t324: f64 = f64::mul_add(joint1_mz, t3, t323);
+    let t325: f64 = f64::mul_add(t314, t316, t324);
+    let t327: f64 = f64::mul_add(t12, t24, t312);
+    let t328: f64 = joint2_mass * t209;
+    let t329: f64 = t311 * t328;
+    let t332: f64 = joint2_mx * t4;
+    let t334: f64 = joint2_my * t7;
+    let t335: f64 = t4 * t334;
+    let t336: f64 = f64::mul_add(t8, t332, -t335);
+    let t337: f64 = f64::mul_add(joint2_mz, t3, t336);
+    let t338: f64 = f64::mul_add(t327, t329, t337);
+    let t339: f64 = t325 + t338;
+    let t342: f64 = t137 * t327;
+    let t343: f64 = f64::mul_add(t129, t314, t342);
+    let t344: f64 = t209 * t311;
+    let t345: f64 = t343 * t344;
+    let t347: f64 = joint3_mx * t4;
+    let t349: f64 = joint3_my * t7;
+    let t350: f64 = t4 * t349;
+    let t351: f64 = f64::mul_add(t8, t347, -t350);
+    let t352: f64 = f64::mul_add(joint3_mz, t3, t351);
+    let t354: f64 = f64::mul_add(-joint3_mass, t190, t352);
+    let t357: f64 = joint4_mx * t4;
+    let t359: f64 = joint4_my * t7;
+    let t360: f64 = t4 * t359;
+    let t361: f64 = f64::mul_add(t8, t357, -t360);
+    let t362: f64 = f64::mul_add(joint4_mz, t3, t361);
+    let t364: f64 = f64::mul_add(-joint4_mass, t166, t362);
+    let t365: f64 = t169 * t364;
+    let t366: f64 = f64::mul_add(t192, t354, -t365);
+    let t367: f64 = t164 * t366;
+    let t368: f64 = f64::mul_add(t190, t198, t264);
+    let t369: f64 = f64::mul_add(t34, t275, t288);
+    let t370: f64 = f64::mul_add(t4, t301, t310);
+    let t371: f64 = f64::mul_add(yc, t339, t367);
+    let t372: f64 = t368 + t369;
+    let t373: f64 = t370 + t371;
+    let t374: f64 = t372 + t373;
+    let t375: f64 = f64::mul_add(t3, t307, t345);
+    let t376: f64 = t374 - t375;
+    let t378: f64 = t24 * t338;
+    let t380: f64 = t155 * t166;
+    let t381: f64 = t2 * t4;
+    let t383: f64 = t12 * t84;
+    let t385: f64 = f64::mul_add(t70, t381, t383);
+    let t386: f64 = f64::mul_add(t17, t77, t385);
+    let t389: f64 = t12 * t103;
+    let t391: f64 = f64::mul_add(t95, t381, t389);
+    let t392: f64 = f64::mul_add(t17, t84, t391);
+    let t393: f64 = t8 * t392;
+    let t394: f64 = f64::mul_add(t7, t386, -t393);
+    let t397: f64 = t12 * t95;
+    let t399: f64 = f64::mul_add(t116, t381, t397);
+    let t400: f64 = f64::mul_add(t17, t70, t399);
+    let t403: f64 = t230 * t286;
+    let t404: f64 = f64::mul_add(t213, t274, t403);
+    let t407: f64 = t30 * t327;
+    let t408: f64 = f64::mul_add(t20, t314, t407);
+    let t409: f64 = t311 * t408;
+    let t410: f64 = f64::mul_add(t208, t404, t409);
+    let t411: f64 = t209 * t410;
+    let t412: f64 = t219 + t236;
+    let t413: f64 = xc * t412;
+    let t414: f64 = t354 + t364;
+    let t415: f64 = rod3_mass * t190;
+    let t416: f64 = rod4_mass * t166;
+    let t417: f64 = t415 + t416;
+    let t418: f64 = t414 - t417;
+    let t420: f64 = f64::mul_add(t0, t325, t378);
+    let t421: f64 = f64::mul_add(t147, t190, t380);
+    let t422: f64 = f64::mul_add(t3, t400, t413);
+    let t423: f64 = t420 + t421;
+    let t424: f64 = f64::mul_add(zc, t418, t422);
+    let t425: f64 = t423 + t424;
+    let t426: f64 = f64::mul_add(t4, t394, t411);
+    let t427: f64 = t425 - t426;
+    let t428: f64 = joint3_mass + joint4_mass;
+    let t429: f64 = rod3_mass + rod4_mass;
+    let t430: f64 = t428 + t429;
+    let t432: f64 = t22 + t32;
+    let t434: f64 = platform_my * t17;
+    let t435: f64 = f64::mul_add(platform_mx, t12, t434);
+    let t436: f64 = platform_mz * t2;
+    let t438: f64 = t226 + t242;
+    let t439: f64 = f64::mul_add(t4, t436, t438);
+    let t440: f64 = t435 + t439;
+    let t441: f64 = t147 + t155;
+    let t442: f64 = t432 + t440;
+    let t443: f64 = t441 + t442;
+    let t444: f64 = f64::mul_add(zc, t430, -t443);
+    let t445: f64 = rod5_mass + joint5_mass;
+    let t447: f64 = rod6_mass + joint6_mass;
+    let t448: f64 = t53 * t447;
+    let t450: f64 = platform_my * t43;
+    let t451: f64 = f64::mul_add(platform_mx, t39, t450);
+    let t452: f64 = platform_mz * t1;
+    let t454: f64 = t180 + t203;
+    let t455: f64 = f64::mul_add(t4, t452, -t454);
+    let t456: f64 = t451 - t455;
+    let t457: f64 = t140 + t456;
+    let t458: f64 = t309 + t457;
+    let t459: f64 = f64::mul_add(t34, t445, t448);
+    let t460: f64 = t458 - t459;
+    let t462: f64 = t166 * t180;
+    let t464: f64 = t53 * t284;
+    let t467: f64 = t43 * t88;
+    let t468: f64 = t50 + t62;
+    let t469: f64 = t35 + t54;
+    let t470: f64 = t468 - t469;
+    let t472: f64 = t324 + t337;
+    let t473: f64 = yc * t472;
+    let t475: f64 = t139 * t327;
+    let t476: f64 = f64::mul_add(t131, t314, t475);
+    let t477: f64 = t344 * t476;
+    let t479: f64 = t169 * t362;
+    let t480: f64 = f64::mul_add(t192, t352, -t479);
+    let t482: f64 = f64::mul_add(t190, t203, t462);
+    let t483: f64 = f64::mul_add(t34, t272, t464);
+    let t484: f64 = f64::mul_add(t39, t107, t467);
+    let t485: f64 = f64::mul_add(xc, t470, t473);
+    let t486: f64 = t482 + t483;
+    let t487: f64 = t484 + t485;
+    let t488: f64 = t486 + t487;
+    let t489: f64 = f64::mul_add(t164, t480, t488);
+    let t490: f64 = f64::mul_add(t122, t211, t477);
+    let t491: f64 = t489 - t490;
+    let t492: f64 = rod1_mass * t0;
+    let t493: f64 = t22 - t492;
+    let t495: f64 = rod2_mass * t24;
+    let t496: f64 = t32 - t495;
+    let t497: f64 = t24 * t496;
+    let t499: f64 = t166 * t364;
+    let t502: f64 = t43 * t293;
+    let t503: f64 = t274 + t286;
+    let t504: f64 = t265 + t277;
+    let t505: f64 = t503 - t504;
+    let t507: f64 = zc * t158;
+    let t508: f64 = t314 * t344;
+    let t510: f64 = t325 * t508;
+    let t511: f64 = f64::mul_add(t324, t508, t510);
+    let t512: f64 = t327 * t344;
+    let t514: f64 = t338 * t512;
+    let t515: f64 = f64::mul_add(t337, t512, t514);
+    let t516: f64 = t511 + t515;
+    let t518: f64 = t166 * t362;
+    let t519: f64 = f64::mul_add(t190, t352, t518);
+    let t521: f64 = xc * t284;
+    let t522: f64 = f64::mul_add(xc, t272, t521);
+    let t523: f64 = t519 + t522;
+    let t524: f64 = t516 - t523;
+    let t525: f64 = f64::mul_add(t211, t307, t253);
+    let t526: f64 = t524 + t525;
+    let t527: f64 = f64::mul_add(t0, t493, t497);
+    let t528: f64 = f64::mul_add(t190, t354, t499);
+    let t529: f64 = f64::mul_add(t39, t299, t502);
+    let t530: f64 = f64::mul_add(xc, t505, t507);
+    let t531: f64 = t527 + t528;
+    let t532: f64 = t529 + t530;
+    let t533: f64 = t531 + t532;
+    let t534: f64 = t526 - t533;
+    let t535: f64 = yc * rod1_mass;
+    let t536: f64 = t131 - t535;
+    let t538: f64 = yc * rod2_mass;
+    let t539: f64 = t139 - t538;
+    let t540: f64 = t24 * t539;
+    let t542: f64 = t53 * t236;
+    let t545: f64 = t43 * t386;
+    let t546: f64 = t20 + t30;
+    let t548: f64 = zc * t454;
+    let t550: f64 = t62 * t230;
+    let t551: f64 = f64::mul_add(t50, t213, t550);
+    let t552: f64 = t220 * t551;
+    let t554: f64 = t155 * t169;
+    let t555: f64 = f64::mul_add(t147, t192, -t554);
+    let t557: f64 = f64::mul_add(t0, t536, t540);
+    let t558: f64 = f64::mul_add(t34, t219, t542);
+    let t559: f64 = f64::mul_add(t39, t392, t545);
+    let t560: f64 = f64::mul_add(yc, t546, t548);
+    let t561: f64 = t557 + t558;
+    let t562: f64 = t559 + t560;
+    let t563: f64 = t561 + t562;
+    let t564: f64 = f64::mul_add(t164, t555, t563);
+    let t565: f64 = f64::mul_add(t211, t400, t552);
+    let t566: f64 = t564 - t565;
+    let t567: f64 = rod1_mass + joint1_mass;
+    let t569: f64 = rod2_mass + joint2_mass;
+    let t570: f64 = t24 * t569;
+    let t571: f64 = t158 + t440;
+    let t572: f64 = t546 + t571;
+    let t573: f64 = f64::mul_add(t0, t567, t570);
+    let t574: f64 = t572 - t573;
+    let t575: f64 = joint5_mass + joint6_mass;
+    let t576: f64 = rod5_mass + rod6_mass;
+    let t577: f64 = t575 + t576;
+    let t579: f64 = platform_mx * t4;
+    let t581: f64 = platform_my * t7;
+    let t582: f64 = t4 * t581;
+    let t583: f64 = f64::mul_add(t8, t579, -t582);
+    let t585: f64 = f64::mul_add(platform_mz, t3, t339);
+    let t586: f64 = t583 + t585;
+    let t587: f64 = t272 + t284;
+    let t588: f64 = t414 + t586;
+    let t589: f64 = t587 + t588;
+    let t590: f64 = f64::mul_add(xc, t577, -t589);
+    let t592: f64 = t24 * t337;
+    let t593: f64 = t149 - t159;
+    let t595: f64 = t157 - t160;
+    let t596: f64 = t166 * t595;
+    let t598: f64 = t12 * t107;
+    let t601: f64 = t230 * t284;
+    let t602: f64 = f64::mul_add(t213, t272, t601);
+    let t605: f64 = t32 * t327;
+    let t606: f64 = f64::mul_add(t22, t314, t605);
+    let t607: f64 = t311 * t606;
+    let t608: f64 = f64::mul_add(t208, t602, t607);
+    let t610: f64 = xc * t438;
+    let t611: f64 = t352 + t362;
+    let t613: f64 = f64::mul_add(t0, t324, t592);
+    let t614: f64 = f64::mul_add(t190, t593, t596);
+    let t615: f64 = f64::mul_add(t122, t381, t598);
+    let t616: f64 = f64::mul_add(t17, t88, t610);
+    let t617: f64 = t613 + t614;
+    let t618: f64 = t615 + t616;
+    let t619: f64 = t617 + t618;
+    let t620: f64 = f64::mul_add(zc, t611, t619);
+    let t621: f64 = f64::mul_add(-t209, t608, t620);
+    let t623: f64 = t24 * t137;
+    let t625: f64 = t53 * t242;
+    let t627: f64 = t12 * t299;
+    let t629: f64 = t492 + t495;
+    let t630: f64 = t432 - t629;
+    let t632: f64 = t175 + t198;
+    let t633: f64 = zc * t632;
+    let t635: f64 = t60 * t230;
+    let t636: f64 = f64::mul_add(t48, t213, t635);
+    let t637: f64 = t220 * t636;
+    let t639: f64 = t157 * t169;
+    let t640: f64 = f64::mul_add(t149, t192, -t639);
+    let t642: f64 = f64::mul_add(t0, t129, t623);
+    let t643: f64 = f64::mul_add(t34, t226, t625);
+    let t644: f64 = f64::mul_add(yc, t630, t633);
+    let t645: f64 = t642 + t643;
+    let t646: f64 = f64::mul_add(t164, t640, t644);
+    let t647: f64 = t645 + t646;
+    let t648: f64 = f64::mul_add(t307, t381, t627);
+    let t649: f64 = f64::mul_add(t17, t293, t637);
+    let t650: f64 = t648 + t649;
+    let t651: f64 = t647 - t650;
+    let t652: f64 = t354 - t415;
+    let t654: f64 = t364 - t416;
+    let t655: f64 = t166 * t654;
+    let t657: f64 = t53 * t62;
+    let t659: f64 = t12 * t392;
+    let t662: f64 = t535 + t538;
+    let t663: f64 = t140 - t662;
+    let t664: f64 = yc * t663;
+    let t665: f64 = f64::mul_add(t381, t400, t659);
+    let t666: f64 = f64::mul_add(t17, t386, t207);
+    let t667: f64 = t665 + t666;
+    let t668: f64 = t524 + t667;
+    let t669: f64 = f64::mul_add(t190, t652, t655);
+    let t670: f64 = f64::mul_add(t34, t50, t657);
+    let t671: f64 = f64::mul_add(xc, t503, t664);
+    let t672: f64 = t669 + t670;
+    let t673: f64 = t671 + t672;
+    let t674: f64 = t668 - t673;
+    let t675: f64 = joint1_mass + joint2_mass;
+    let t676: f64 = rod1_mass + rod2_mass;
+    let t677: f64 = t675 + t676;
+    let t679: f64 = t129 + t137;
+    let t680: f64 = t456 + t468;
+    let t681: f64 = t679 + t680;
+    let t682: f64 = f64::mul_add(yc, t677, -t681);
+    let t683: f64 = rod3_mass + joint3_mass;
+    let t685: f64 = rod4_mass + joint4_mass;
+    let t686: f64 = t166 * t685;
+    let t687: f64 = t503 + t586;
+    let t688: f64 = t611 + t687;
+    let t689: f64 = f64::mul_add(t190, t683, t686);
+    let t690: f64 = t688 - t689;
+    let t691: f64 = t432 + t571;
+    let t692: f64 = t691 - t629;
+    let t693: f64 = t457 + t468;
+    let t694: f64 = t662 - t693;
+    let t695: f64 = platform_mass + t675;
+    let t696: f64 = t428 + t575;
+    let t697: f64 = t695 + t696;
+    let t698: f64 = t676 + t697;
+    let t699: f64 = t161 - t691;
+    let t700: f64 = t414 + t687;
+    let t701: f64 = t700 - t417;
+    let t702: f64 = t429 + t697;
+    let t703: f64 = t693 - t469;
+    let t704: f64 = t504 - t700;
+    let t705: f64 = t576 + t697;
+    let t706: f64 = t4 * t8;
+    (
+        [
+            [t262, t376, t427, 0.0, t444, t460],
+            [t491, t534, t566, t574, 0.0, t590],
+            [t621, t651, t674, t682, t690, 0.0],
+            [0.0, t692, t694, t698, 0.0, 0.0],
+            [t699, 0.0, t701, 0.0, t702, 0.0],
+            [t703, t704, 0.0, 0.0, 0.0, t705],
+        ],
+        [t706, t43, t381],
+    )
+}
 /// Task-space bias `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal, gravity.
 ///
 /// Equations: 15, 16, 27, 43-48, 49-57, 60, ∂W/∂V̇. Setting: pose.
@@ -8485,6 +15188,19 @@ pub fn task_inertia_params(
 /// Operations: 471 mul, 4 div, 377 add, 6 neg, 3 sin_cos (chapter convention: 475m + 377a).
 #[inline]
 pub fn task_bias_params(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { task_bias_params_fused(pose, twist, params) };
+    }
+    task_bias_params_separate(pose, twist, params)
+}
+/// [`task_bias_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn task_bias_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
     params: &[f64; 152],
@@ -9369,6 +16085,648 @@ pub fn task_bias_params(
     let t863: f64 = t1 * t6;
     ([t543, t721, t818, t837, t851, t862], [t863, t13, t399])
 }
+/// [`task_bias_params`] with 250 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`task_bias_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn task_bias_params_fused(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [wx, wy, wz, vx, vy, vz] = *twist;
+    let [half_spacing, gravity_x, gravity_y, gravity_z, platform_mass, platform_mx,
+    platform_my, platform_mz, platform_ixx, platform_ixy, platform_ixz, platform_iyy,
+    platform_iyz, platform_izz, rod1_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint1_mass, joint1_mx, joint1_my, joint1_mz, joint1_ixx, joint1_ixy, joint1_ixz,
+    joint1_iyy, joint1_iyz, joint1_izz, rod2_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint2_mass, joint2_mx, joint2_my, joint2_mz, joint2_ixx, joint2_ixy, joint2_ixz,
+    joint2_iyy, joint2_iyz, joint2_izz, rod3_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint3_mass, joint3_mx, joint3_my, joint3_mz, joint3_ixx, joint3_ixy, joint3_ixz,
+    joint3_iyy, joint3_iyz, joint3_izz, rod4_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint4_mass, joint4_mx, joint4_my, joint4_mz, joint4_ixx, joint4_ixy, joint4_ixz,
+    joint4_iyy, joint4_iyz, joint4_izz, rod5_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint5_mass, joint5_mx, joint5_my, joint5_mz, joint5_ixx, joint5_ixy, joint5_ixz,
+    joint5_iyy, joint5_iyz, joint5_izz, rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint6_mass, joint6_mx, joint6_my, joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz,
+    joint6_iyy, joint6_iyz, joint6_izz] = *params;
+    let (t0, t1): (f64, f64) = sin_cos(gamma);
+    let (t2, t3): (f64, f64) = sin_cos(alpha);
+    let (t5, t6): (f64, f64) = sin_cos(beta);
+    let t7: f64 = t2 * t5;
+    let t8: f64 = t1 * t7;
+    let t9: f64 = f64::mul_add(t0, t3, t8);
+    let t12: f64 = t0 * t7;
+    let t13: f64 = f64::mul_add(t1, t3, -t12);
+    let t14: f64 = platform_my * t13;
+    let t15: f64 = platform_mz * t2;
+    let t17: f64 = f64::mul_add(platform_mx, t9, t14);
+    let t18: f64 = f64::mul_add(-t6, t15, t17);
+    let t21: f64 = t3 * t5;
+    let t22: f64 = t1 * t21;
+    let t23: f64 = f64::mul_add(t0, t2, -t22);
+    let t26: f64 = t0 * t5;
+    let t27: f64 = t3 * t26;
+    let t28: f64 = f64::mul_add(t1, t2, t27);
+    let t29: f64 = platform_my * t28;
+    let t30: f64 = platform_mz * t3;
+    let t32: f64 = f64::mul_add(platform_mx, t23, t29);
+    let t33: f64 = f64::mul_add(t6, t30, t32);
+    let t36: f64 = joint1_my * t13;
+    let t37: f64 = joint1_mz * t2;
+    let t39: f64 = f64::mul_add(joint1_mx, t9, t36);
+    let t40: f64 = f64::mul_add(-t6, t37, t39);
+    let t41: f64 = 1.0 / t6;
+    let t42: f64 = 1.0 / t1;
+    let t43: f64 = yc * t9;
+    let t44: f64 = zc - half_spacing;
+    let t46: f64 = f64::mul_add(t23, t44, t43);
+    let t47: f64 = wx * wz;
+    let t48: f64 = t41 * t47;
+    let t49: f64 = t42 * t48;
+    let t51: f64 = wy * wy;
+    let t52: f64 = wx * wx;
+    let t53: f64 = t51 + t52;
+    let t54: f64 = t44 * t53;
+    let t55: f64 = yc * wy;
+    let t57: f64 = f64::mul_add(wz, t55, gravity_z);
+    let t58: f64 = f64::mul_add(t46, t49, t54);
+    let t59: f64 = t57 - t58;
+    let t60: f64 = t40 * t59;
+    let t62: f64 = joint2_my * t13;
+    let t63: f64 = joint2_mz * t2;
+    let t65: f64 = f64::mul_add(joint2_mx, t9, t62);
+    let t66: f64 = f64::mul_add(-t6, t63, t65);
+    let t67: f64 = zc + half_spacing;
+    let t69: f64 = f64::mul_add(t23, t67, t43);
+    let t71: f64 = t53 * t67;
+    let t72: f64 = f64::mul_add(t49, t69, t71);
+    let t73: f64 = t57 - t72;
+    let t76: f64 = joint3_my * t28;
+    let t77: f64 = joint3_mz * t3;
+    let t79: f64 = f64::mul_add(joint3_mx, t23, t76);
+    let t80: f64 = f64::mul_add(t6, t77, t79);
+    let t81: f64 = xc - half_spacing;
+    let t82: f64 = wx * wy;
+    let t84: f64 = 1.0 / t13;
+    let t85: f64 = t0 * t6;
+    let t87: f64 = zc * t28;
+    let t88: f64 = f64::mul_add(t81, t85, -t87);
+    let t89: f64 = wz * wz;
+    let t90: f64 = t52 + t89;
+    let t91: f64 = t84 * t88;
+    let t93: f64 = zc * wy;
+    let t95: f64 = f64::mul_add(wz, t93, gravity_y);
+    let t96: f64 = f64::mul_add(t81, t82, t95);
+    let t97: f64 = f64::mul_add(-t90, t91, t96);
+    let t98: f64 = t80 * t97;
+    let t100: f64 = joint4_my * t28;
+    let t101: f64 = joint4_mz * t3;
+    let t103: f64 = f64::mul_add(joint4_mx, t23, t100);
+    let t104: f64 = f64::mul_add(t6, t101, t103);
+    let t105: f64 = xc + half_spacing;
+    let t108: f64 = f64::mul_add(-t85, t105, t87);
+    let t109: f64 = t84 * t108;
+    let t110: f64 = t90 * t109;
+    let t111: f64 = f64::mul_add(t82, t105, t110);
+    let t112: f64 = t95 + t111;
+    let t115: f64 = joint5_my * t13;
+    let t116: f64 = joint5_mz * t2;
+    let t118: f64 = f64::mul_add(joint5_mx, t9, t115);
+    let t119: f64 = f64::mul_add(-t6, t116, t118);
+    let t120: f64 = yc - half_spacing;
+    let t121: f64 = wy * wz;
+    let t123: f64 = 1.0 / t3;
+    let t124: f64 = xc * t5;
+    let t125: f64 = t2 * t6;
+    let t127: f64 = f64::mul_add(-t120, t125, t124);
+    let t128: f64 = t41 * t123;
+    let t129: f64 = t127 * t128;
+    let t130: f64 = t53 * t129;
+    let t131: f64 = xc * wx;
+    let t133: f64 = f64::mul_add(wz, t131, gravity_z);
+    let t134: f64 = f64::mul_add(t120, t121, t130);
+    let t135: f64 = t133 + t134;
+    let t136: f64 = t119 * t135;
+    let t138: f64 = joint5_my * t28;
+    let t139: f64 = joint5_mz * t3;
+    let t141: f64 = f64::mul_add(joint5_mx, t23, t138);
+    let t142: f64 = f64::mul_add(t6, t139, t141);
+    let t144: f64 = t121 * t123;
+    let t145: f64 = t41 * t144;
+    let t146: f64 = t127 * t145;
+    let t148: f64 = f64::mul_add(wy, t131, gravity_y);
+    let t149: f64 = f64::mul_add(t90, t120, t146);
+    let t150: f64 = t148 - t149;
+    let t151: f64 = t142 * t150;
+    let t153: f64 = joint6_my * t13;
+    let t154: f64 = joint6_mz * t2;
+    let t156: f64 = f64::mul_add(joint6_mx, t9, t153);
+    let t157: f64 = f64::mul_add(-t6, t154, t156);
+    let t158: f64 = yc + half_spacing;
+    let t161: f64 = f64::mul_add(-t125, t158, t124);
+    let t162: f64 = t128 * t161;
+    let t163: f64 = t53 * t162;
+    let t164: f64 = f64::mul_add(t121, t158, t163);
+    let t165: f64 = t133 + t164;
+    let t168: f64 = joint6_my * t28;
+    let t169: f64 = joint6_mz * t3;
+    let t171: f64 = f64::mul_add(joint6_mx, t23, t168);
+    let t172: f64 = f64::mul_add(t6, t169, t171);
+    let t174: f64 = t145 * t161;
+    let t175: f64 = f64::mul_add(t90, t158, t174);
+    let t176: f64 = t148 - t175;
+    let t179: f64 = joint1_my * t28;
+    let t180: f64 = joint1_mz * t3;
+    let t182: f64 = f64::mul_add(joint1_mx, t23, t179);
+    let t183: f64 = f64::mul_add(t6, t180, t182);
+    let t184: f64 = wx * t41;
+    let t185: f64 = t42 * t184;
+    let t187: f64 = wz * t44;
+    let t188: f64 = f64::mul_add(t46, t185, -t187);
+    let t191: f64 = f64::mul_add(-yc, t90, gravity_y);
+    let t192: f64 = f64::mul_add(-wy, t188, t191);
+    let t193: f64 = t183 * t192;
+    let t197: f64 = joint1_my * t0;
+    let t198: f64 = f64::mul_add(joint1_mx, t1, -t197);
+    let t199: f64 = t6 * t198;
+    let t200: f64 = f64::mul_add(joint1_mz, t5, t199);
+    let t201: f64 = wy * t200;
+    let t202: f64 = f64::mul_add(wx, t40, -t201);
+    let t205: f64 = wz * t40;
+    let t206: f64 = f64::mul_add(wy, t183, -t205);
+    let t208: f64 = joint1_mass * t192;
+    let t209: f64 = f64::mul_add(wz, t206, -t208);
+    let t210: f64 = f64::mul_add(wx, t202, -t209);
+    let t211: f64 = t44 * t210;
+    let t213: f64 = joint2_my * t28;
+    let t214: f64 = joint2_mz * t3;
+    let t216: f64 = f64::mul_add(joint2_mx, t23, t213);
+    let t217: f64 = f64::mul_add(t6, t214, t216);
+    let t219: f64 = wz * t67;
+    let t220: f64 = f64::mul_add(t69, t185, -t219);
+    let t222: f64 = f64::mul_add(-wy, t220, t191);
+    let t227: f64 = joint2_my * t0;
+    let t228: f64 = f64::mul_add(joint2_mx, t1, -t227);
+    let t229: f64 = t6 * t228;
+    let t230: f64 = f64::mul_add(joint2_mz, t5, t229);
+    let t231: f64 = wy * t230;
+    let t232: f64 = f64::mul_add(wx, t66, -t231);
+    let t235: f64 = wz * t66;
+    let t236: f64 = f64::mul_add(wy, t217, -t235);
+    let t238: f64 = joint2_mass * t222;
+    let t239: f64 = f64::mul_add(wz, t236, -t238);
+    let t240: f64 = f64::mul_add(wx, t232, -t239);
+    let t243: f64 = joint3_my * t13;
+    let t244: f64 = joint3_mz * t2;
+    let t246: f64 = f64::mul_add(joint3_mx, t9, t243);
+    let t247: f64 = f64::mul_add(-t6, t244, t246);
+    let t249: f64 = wy * t84;
+    let t250: f64 = t88 * t249;
+    let t251: f64 = f64::mul_add(wx, t81, t250);
+    let t254: f64 = f64::mul_add(-zc, t53, gravity_z);
+    let t255: f64 = f64::mul_add(wz, t251, t254);
+    let t256: f64 = t247 * t255;
+    let t258: f64 = joint4_my * t13;
+    let t259: f64 = joint4_mz * t2;
+    let t261: f64 = f64::mul_add(joint4_mx, t9, t258);
+    let t262: f64 = f64::mul_add(-t6, t259, t261);
+    let t264: f64 = t108 * t249;
+    let t265: f64 = f64::mul_add(wx, t105, -t264);
+    let t267: f64 = f64::mul_add(wz, t265, t254);
+    let t272: f64 = joint5_my * t0;
+    let t273: f64 = f64::mul_add(joint5_mx, t1, -t272);
+    let t274: f64 = t6 * t273;
+    let t275: f64 = f64::mul_add(joint5_mz, t5, t274);
+    let t276: f64 = wz * t275;
+    let t277: f64 = f64::mul_add(-wx, t142, t276);
+    let t281: f64 = f64::mul_add(wx, vy, gravity_z);
+    let t282: f64 = f64::mul_add(-wy, vx, t281);
+    let t286: f64 = wz * t119;
+    let t287: f64 = f64::mul_add(wy, t142, -t286);
+    let t288: f64 = wy * t287;
+    let t289: f64 = f64::mul_add(joint5_mass, t135, t288);
+    let t290: f64 = f64::mul_add(rod5_mass, t282, t289);
+    let t291: f64 = f64::mul_add(wx, t277, -t290);
+    let t292: f64 = -t291;
+    let t293: f64 = t120 * t292;
+    let t297: f64 = joint6_my * t0;
+    let t298: f64 = f64::mul_add(joint6_mx, t1, -t297);
+    let t299: f64 = t6 * t298;
+    let t300: f64 = f64::mul_add(joint6_mz, t5, t299);
+    let t301: f64 = wz * t300;
+    let t302: f64 = f64::mul_add(-wx, t172, t301);
+    let t307: f64 = wz * t157;
+    let t308: f64 = f64::mul_add(wy, t172, -t307);
+    let t309: f64 = wy * t308;
+    let t310: f64 = f64::mul_add(joint6_mass, t165, t309);
+    let t311: f64 = f64::mul_add(rod6_mass, t282, t310);
+    let t312: f64 = f64::mul_add(wx, t302, -t311);
+    let t313: f64 = -t312;
+    let t315: f64 = wx * t6;
+    let t317: f64 = wy * t9;
+    let t319: f64 = f64::mul_add(t1, t315, t317);
+    let t320: f64 = f64::mul_add(wz, t23, t319);
+    let t321: f64 = platform_ixz + joint1_ixz;
+    let t322: f64 = joint2_ixz + joint3_ixz;
+    let t323: f64 = joint4_ixz + joint5_ixz;
+    let t324: f64 = t321 + t322;
+    let t325: f64 = joint6_ixz + t323;
+    let t326: f64 = t324 + t325;
+    let t328: f64 = wx * t0;
+    let t331: f64 = wz * t28;
+    let t332: f64 = f64::mul_add(wy, t13, t331);
+    let t333: f64 = f64::mul_add(t6, t328, -t332);
+    let t334: f64 = platform_iyz + joint1_iyz;
+    let t335: f64 = joint2_iyz + joint3_iyz;
+    let t336: f64 = joint4_iyz + joint5_iyz;
+    let t337: f64 = t334 + t335;
+    let t338: f64 = joint6_iyz + t336;
+    let t339: f64 = t337 + t338;
+    let t343: f64 = wz * t3;
+    let t344: f64 = f64::mul_add(wy, t2, -t343);
+    let t345: f64 = t6 * t344;
+    let t346: f64 = f64::mul_add(wx, t5, -t345);
+    let t347: f64 = platform_izz + joint1_izz;
+    let t348: f64 = joint2_izz + joint3_izz;
+    let t349: f64 = joint4_izz + joint5_izz;
+    let t350: f64 = t347 + t348;
+    let t351: f64 = joint6_izz + t349;
+    let t352: f64 = t350 + t351;
+    let t353: f64 = t346 * t352;
+    let t354: f64 = f64::mul_add(t320, t326, t353);
+    let t355: f64 = f64::mul_add(-t333, t339, t354);
+    let t357: f64 = platform_ixx + joint1_ixx;
+    let t358: f64 = joint2_ixx + joint3_ixx;
+    let t359: f64 = joint4_ixx + joint5_ixx;
+    let t360: f64 = t357 + t358;
+    let t361: f64 = joint6_ixx + t359;
+    let t362: f64 = t360 + t361;
+    let t364: f64 = platform_ixy + joint1_ixy;
+    let t365: f64 = joint2_ixy + joint3_ixy;
+    let t366: f64 = joint4_ixy + joint5_ixy;
+    let t367: f64 = t364 + t365;
+    let t368: f64 = joint6_ixy + t366;
+    let t369: f64 = t367 + t368;
+    let t371: f64 = t326 * t346;
+    let t372: f64 = f64::mul_add(t320, t362, t371);
+    let t373: f64 = f64::mul_add(-t333, t369, t372);
+    let t374: f64 = t346 * t373;
+    let t375: f64 = f64::mul_add(t320, t355, -t374);
+    let t379: f64 = platform_iyy + joint1_iyy;
+    let t380: f64 = joint2_iyy + joint3_iyy;
+    let t381: f64 = joint4_iyy + joint5_iyy;
+    let t382: f64 = t379 + t380;
+    let t383: f64 = joint6_iyy + t381;
+    let t384: f64 = t382 + t383;
+    let t386: f64 = t339 * t346;
+    let t387: f64 = f64::mul_add(t320, t369, t386);
+    let t388: f64 = f64::mul_add(-t333, t384, t387);
+    let t389: f64 = t346 * t388;
+    let t390: f64 = f64::mul_add(t333, t355, t389);
+    let t391: f64 = t1 * t390;
+    let t392: f64 = f64::mul_add(t0, t375, -t391);
+    let t393: f64 = t6 * t392;
+    let t395: f64 = t333 * t373;
+    let t396: f64 = f64::mul_add(t320, t388, t395);
+    let t398: f64 = joint1_mz + joint2_mz;
+    let t399: f64 = t3 * t6;
+    let t401: f64 = joint1_mx + joint2_mx;
+    let t402: f64 = t23 * t401;
+    let t403: f64 = joint1_my + joint2_my;
+    let t405: f64 = f64::mul_add(t398, t399, t402);
+    let t406: f64 = f64::mul_add(t28, t403, t405);
+    let t410: f64 = t1 * t401;
+    let t411: f64 = f64::mul_add(t0, t403, -t410);
+    let t412: f64 = t6 * t411;
+    let t413: f64 = f64::mul_add(t5, t398, -t412);
+    let t414: f64 = wz * t413;
+    let t415: f64 = f64::mul_add(wx, t406, -t414);
+    let t418: f64 = wy * t206;
+    let t419: f64 = f64::mul_add(joint1_mass, t59, t418);
+    let t421: f64 = wy * t236;
+    let t422: f64 = f64::mul_add(joint2_mass, t73, t421);
+    let t423: f64 = f64::mul_add(wx, t415, t419);
+    let t424: f64 = t422 + t423;
+    let t425: f64 = yc * t424;
+    let t426: f64 = joint3_mz + joint4_mz;
+    let t428: f64 = joint3_mx + joint4_mx;
+    let t430: f64 = joint3_my + joint4_my;
+    let t431: f64 = t13 * t430;
+    let t432: f64 = f64::mul_add(t9, t428, t431);
+    let t433: f64 = f64::mul_add(t125, t426, -t432);
+    let t437: f64 = t1 * t428;
+    let t438: f64 = f64::mul_add(t0, t430, -t437);
+    let t439: f64 = t6 * t438;
+    let t440: f64 = f64::mul_add(t5, t426, -t439);
+    let t441: f64 = wy * t440;
+    let t442: f64 = f64::mul_add(wx, t433, t441);
+    let t446: f64 = f64::mul_add(wz, vx, gravity_y);
+    let t447: f64 = f64::mul_add(-wx, vz, t446);
+    let t451: f64 = wz * t247;
+    let t452: f64 = f64::mul_add(wy, t80, -t451);
+    let t453: f64 = wz * t452;
+    let t454: f64 = f64::mul_add(joint3_mass, t97, -t453);
+    let t455: f64 = f64::mul_add(rod3_mass, t447, t454);
+    let t459: f64 = wz * t262;
+    let t460: f64 = f64::mul_add(wy, t104, -t459);
+    let t461: f64 = wz * t460;
+    let t462: f64 = f64::mul_add(joint4_mass, t112, -t461);
+    let t463: f64 = f64::mul_add(rod4_mass, t447, t462);
+    let t464: f64 = t455 + t463;
+    let t465: f64 = f64::mul_add(-wx, t442, t464);
+    let t466: f64 = zc * t465;
+    let t468: f64 = wy * t275;
+    let t469: f64 = f64::mul_add(wx, t119, -t468);
+    let t472: f64 = wz * t287;
+    let t473: f64 = f64::mul_add(joint5_mass, t150, -t472);
+    let t474: f64 = f64::mul_add(wx, t469, t473);
+    let t477: f64 = wy * t300;
+    let t478: f64 = f64::mul_add(wx, t157, -t477);
+    let t481: f64 = wz * t308;
+    let t482: f64 = f64::mul_add(joint6_mass, t176, -t481);
+    let t483: f64 = f64::mul_add(wx, t478, t482);
+    let t484: f64 = t161 * t483;
+    let t485: f64 = f64::mul_add(t127, t474, t484);
+    let t490: f64 = joint3_my * t0;
+    let t491: f64 = f64::mul_add(joint3_mx, t1, -t490);
+    let t492: f64 = t6 * t491;
+    let t493: f64 = f64::mul_add(joint3_mz, t5, t492);
+    let t494: f64 = wz * t493;
+    let t495: f64 = f64::mul_add(-wx, t80, t494);
+    let t498: f64 = joint3_mass * t255;
+    let t499: f64 = f64::mul_add(wy, t452, t498);
+    let t500: f64 = f64::mul_add(wx, t495, -t499);
+    let t501: f64 = -t500;
+    let t506: f64 = joint4_my * t0;
+    let t507: f64 = f64::mul_add(joint4_mx, t1, -t506);
+    let t508: f64 = t6 * t507;
+    let t509: f64 = f64::mul_add(joint4_mz, t5, t508);
+    let t510: f64 = wz * t509;
+    let t511: f64 = f64::mul_add(-wx, t104, t510);
+    let t514: f64 = joint4_mass * t267;
+    let t515: f64 = f64::mul_add(wy, t460, t514);
+    let t516: f64 = f64::mul_add(wx, t511, -t515);
+    let t517: f64 = -t516;
+    let t518: f64 = t108 * t517;
+    let t519: f64 = f64::mul_add(t88, t501, -t518);
+    let t520: f64 = t84 * t519;
+    let t521: f64 = f64::mul_add(gravity_y, t33, t98);
+    let t522: f64 = f64::mul_add(t104, t112, t151);
+    let t523: f64 = f64::mul_add(t172, t176, t193);
+    let t524: f64 = f64::mul_add(t217, t222, t293);
+    let t525: f64 = f64::mul_add(t158, t313, t393);
+    let t526: f64 = f64::mul_add(t5, t396, t425);
+    let t527: f64 = f64::mul_add(t128, t485, t520);
+    let t528: f64 = t521 + t522;
+    let t529: f64 = t523 + t524;
+    let t530: f64 = t525 + t526;
+    let t531: f64 = t528 + t529;
+    let t532: f64 = t527 + t530;
+    let t533: f64 = t531 + t532;
+    let t534: f64 = f64::mul_add(gravity_z, t18, t60);
+    let t535: f64 = f64::mul_add(t66, t73, t136);
+    let t536: f64 = f64::mul_add(t157, t165, t211);
+    let t537: f64 = f64::mul_add(t67, t240, t256);
+    let t538: f64 = f64::mul_add(t262, t267, t466);
+    let t539: f64 = t534 + t535;
+    let t540: f64 = t536 + t537;
+    let t541: f64 = t539 + t540;
+    let t542: f64 = t538 + t541;
+    let t543: f64 = t533 - t542;
+    let t545: f64 = t51 + t89;
+    let t546: f64 = t41 * t42;
+    let t547: f64 = t46 * t546;
+    let t549: f64 = t44 * t47;
+    let t550: f64 = yc * wx;
+    let t552: f64 = f64::mul_add(wy, t550, gravity_x);
+    let t553: f64 = f64::mul_add(t545, t547, t549);
+    let t554: f64 = t552 + t553;
+    let t555: f64 = t183 * t554;
+    let t556: f64 = t69 * t546;
+    let t558: f64 = t47 * t67;
+    let t559: f64 = f64::mul_add(t545, t556, t558);
+    let t560: f64 = t552 + t559;
+    let t563: f64 = t82 * t84;
+    let t565: f64 = zc * wx;
+    let t567: f64 = f64::mul_add(wz, t565, gravity_x);
+    let t568: f64 = f64::mul_add(t88, t563, t567);
+    let t569: f64 = f64::mul_add(-t81, t545, t568);
+    let t570: f64 = t80 * t569;
+    let t572: f64 = t108 * t563;
+    let t573: f64 = f64::mul_add(t105, t545, t572);
+    let t574: f64 = t567 - t573;
+    let t578: f64 = platform_my * t0;
+    let t579: f64 = f64::mul_add(platform_mx, t1, -t578);
+    let t580: f64 = t6 * t579;
+    let t581: f64 = f64::mul_add(platform_mz, t5, t580);
+    let t583: f64 = t59 * t200;
+    let t587: f64 = f64::mul_add(wy, vz, gravity_x);
+    let t588: f64 = f64::mul_add(-wz, vy, t587);
+    let t589: f64 = rod1_mass * t588;
+    let t590: f64 = f64::mul_add(joint1_mass, t554, t589);
+    let t593: f64 = wz * t200;
+    let t594: f64 = f64::mul_add(-wx, t183, t593);
+    let t595: f64 = wz * t594;
+    let t596: f64 = f64::mul_add(wy, t202, -t595);
+    let t597: f64 = t590 - t596;
+    let t599: f64 = t73 * t230;
+    let t601: f64 = rod2_mass * t588;
+    let t602: f64 = f64::mul_add(joint2_mass, t560, t601);
+    let t605: f64 = wz * t230;
+    let t606: f64 = f64::mul_add(-wx, t217, t605);
+    let t607: f64 = wz * t606;
+    let t608: f64 = f64::mul_add(wy, t232, -t607);
+    let t609: f64 = t602 - t608;
+    let t611: f64 = t255 * t493;
+    let t612: f64 = t81 * t501;
+    let t616: f64 = wz * t123;
+    let t617: f64 = t41 * t616;
+    let t618: f64 = t127 * t617;
+    let t619: f64 = f64::mul_add(wy, t120, -t618);
+    let t622: f64 = f64::mul_add(-xc, t545, gravity_x);
+    let t623: f64 = f64::mul_add(wx, t619, t622);
+    let t624: f64 = t142 * t623;
+    let t625: f64 = t135 * t275;
+    let t627: f64 = t161 * t617;
+    let t628: f64 = f64::mul_add(wy, t158, -t627);
+    let t630: f64 = f64::mul_add(wx, t628, t622);
+    let t633: f64 = t125 * t396;
+    let t635: f64 = t13 * t375;
+    let t638: f64 = wy * t469;
+    let t639: f64 = f64::mul_add(joint5_mass, t623, -t638);
+    let t640: f64 = f64::mul_add(wz, t277, t639);
+    let t644: f64 = wy * t478;
+    let t645: f64 = f64::mul_add(joint6_mass, t630, -t644);
+    let t646: f64 = f64::mul_add(wz, t302, t645);
+    let t647: f64 = t161 * t646;
+    let t648: f64 = f64::mul_add(t127, t640, t647);
+    let t651: f64 = f64::mul_add(wx, t594, -t419);
+    let t652: f64 = -t651;
+    let t655: f64 = f64::mul_add(wx, t606, -t422);
+    let t656: f64 = -t655;
+    let t657: f64 = t69 * t656;
+    let t658: f64 = f64::mul_add(t46, t652, t657);
+    let t659: f64 = t42 * t658;
+    let t660: f64 = f64::mul_add(t123, t648, -t659);
+    let t662: f64 = joint5_mz + joint6_mz;
+    let t664: f64 = joint5_mx + joint6_mx;
+    let t665: f64 = t23 * t664;
+    let t666: f64 = joint5_my + joint6_my;
+    let t668: f64 = f64::mul_add(t399, t662, t665);
+    let t669: f64 = f64::mul_add(t28, t666, t668);
+    let t673: f64 = t1 * t664;
+    let t674: f64 = f64::mul_add(t0, t666, -t673);
+    let t675: f64 = t6 * t674;
+    let t676: f64 = f64::mul_add(t5, t662, -t675);
+    let t677: f64 = wz * t676;
+    let t678: f64 = f64::mul_add(wx, t669, -t677);
+    let t680: f64 = f64::mul_add(wx, t678, t290);
+    let t681: f64 = t311 + t680;
+    let t682: f64 = xc * t681;
+    let t685: f64 = t23 * t428;
+    let t687: f64 = f64::mul_add(t399, t426, t685);
+    let t688: f64 = f64::mul_add(t28, t430, t687);
+    let t690: f64 = wz * t440;
+    let t691: f64 = f64::mul_add(wx, t688, -t690);
+    let t693: f64 = joint3_mass * t569;
+    let t694: f64 = joint4_mass * t574;
+    let t695: f64 = t693 + t694;
+    let t696: f64 = f64::mul_add(wy, t442, t695);
+    let t697: f64 = f64::mul_add(-wz, t691, t696);
+    let t698: f64 = zc * t697;
+    let t699: f64 = f64::mul_add(gravity_z, t581, t583);
+    let t700: f64 = f64::mul_add(t44, t597, t599);
+    let t701: f64 = f64::mul_add(t67, t609, t611);
+    let t702: f64 = f64::mul_add(t267, t509, t625);
+    let t703: f64 = f64::mul_add(t165, t300, t698);
+    let t704: f64 = t699 + t700;
+    let t705: f64 = t701 + t702;
+    let t706: f64 = t704 + t705;
+    let t707: f64 = t703 + t706;
+    let t708: f64 = f64::mul_add(gravity_x, t33, t555);
+    let t709: f64 = f64::mul_add(t217, t560, t570);
+    let t710: f64 = f64::mul_add(t104, t574, t612);
+    let t711: f64 = f64::mul_add(t105, t517, t624);
+    let t712: f64 = f64::mul_add(t172, t630, t633);
+    let t713: f64 = f64::mul_add(t9, t390, t635);
+    let t714: f64 = f64::mul_add(t41, t660, t682);
+    let t715: f64 = t708 + t709;
+    let t716: f64 = t710 + t711;
+    let t717: f64 = t712 + t713;
+    let t718: f64 = t715 + t716;
+    let t719: f64 = t714 + t717;
+    let t720: f64 = t718 + t719;
+    let t721: f64 = t707 - t720;
+    let t723: f64 = t40 * t554;
+    let t725: f64 = t247 * t569;
+    let t728: f64 = t192 * t200;
+    let t730: f64 = t97 * t493;
+    let t732: f64 = wy * t493;
+    let t733: f64 = f64::mul_add(wx, t247, -t732);
+    let t735: f64 = f64::mul_add(wx, t733, t455);
+    let t736: f64 = t81 * t735;
+    let t739: f64 = wy * t509;
+    let t740: f64 = f64::mul_add(wx, t262, -t739);
+    let t742: f64 = f64::mul_add(wx, t740, t463);
+    let t744: f64 = t150 * t275;
+    let t745: f64 = t119 * t623;
+    let t747: f64 = t176 * t300;
+    let t750: f64 = t396 * t399;
+    let t751: f64 = t23 * t390;
+    let t755: f64 = t13 * t666;
+    let t756: f64 = f64::mul_add(t9, t664, t755);
+    let t757: f64 = f64::mul_add(t125, t662, -t756);
+    let t759: f64 = wy * t676;
+    let t760: f64 = f64::mul_add(wx, t757, t759);
+    let t762: f64 = t473 + t482;
+    let t763: f64 = f64::mul_add(-wx, t760, t762);
+    let t767: f64 = t13 * t403;
+    let t768: f64 = f64::mul_add(t9, t401, t767);
+    let t769: f64 = f64::mul_add(t125, t398, -t768);
+    let t771: f64 = wy * t413;
+    let t772: f64 = f64::mul_add(wx, t769, t771);
+    let t775: f64 = t590 + t602;
+    let t776: f64 = f64::mul_add(wy, t772, t775);
+    let t777: f64 = f64::mul_add(-wz, t415, t776);
+    let t778: f64 = yc * t777;
+    let t780: f64 = t69 * t240;
+    let t781: f64 = f64::mul_add(t46, t210, t780);
+    let t784: f64 = wz * t495;
+    let t785: f64 = f64::mul_add(wy, t733, -t784);
+    let t786: f64 = t693 - t785;
+    let t789: f64 = wz * t511;
+    let t790: f64 = f64::mul_add(wy, t740, -t789);
+    let t791: f64 = t694 - t790;
+    let t792: f64 = t108 * t791;
+    let t793: f64 = f64::mul_add(t88, t786, -t792);
+    let t794: f64 = t84 * t793;
+    let t795: f64 = f64::mul_add(gravity_x, t18, t723);
+    let t796: f64 = f64::mul_add(t66, t560, t725);
+    let t797: f64 = f64::mul_add(t262, t574, t736);
+    let t798: f64 = f64::mul_add(t105, t742, t745);
+    let t799: f64 = f64::mul_add(t157, t630, t750);
+    let t800: f64 = t795 + t796;
+    let t801: f64 = t797 + t798;
+    let t802: f64 = f64::mul_add(xc, t763, t799);
+    let t803: f64 = t800 + t801;
+    let t804: f64 = t802 + t803;
+    let t805: f64 = f64::mul_add(gravity_y, t581, t728);
+    let t806: f64 = f64::mul_add(t222, t230, t730);
+    let t807: f64 = f64::mul_add(t112, t509, t744);
+    let t808: f64 = f64::mul_add(t120, t640, t747);
+    let t809: f64 = f64::mul_add(t158, t646, t751);
+    let t810: f64 = f64::mul_add(t28, t375, t778);
+    let t811: f64 = f64::mul_add(t546, t781, t794);
+    let t812: f64 = t805 + t806;
+    let t813: f64 = t807 + t808;
+    let t814: f64 = t809 + t810;
+    let t815: f64 = t812 + t813;
+    let t816: f64 = t811 + t814;
+    let t817: f64 = t815 + t816;
+    let t818: f64 = t804 - t817;
+    let t821: f64 = wy * t581;
+    let t822: f64 = f64::mul_add(wx, t18, -t821);
+    let t825: f64 = wz * t581;
+    let t826: f64 = f64::mul_add(-wx, t33, t825);
+    let t827: f64 = wz * t826;
+    let t828: f64 = f64::mul_add(wy, t822, t596);
+    let t829: f64 = t608 + t785;
+    let t830: f64 = t828 + t829;
+    let t831: f64 = t790 + t830;
+    let t832: f64 = f64::mul_add(gravity_x, platform_mass, t827);
+    let t833: f64 = t640 + t695;
+    let t834: f64 = t646 + t775;
+    let t835: f64 = t832 + t833;
+    let t836: f64 = t834 + t835;
+    let t837: f64 = t831 - t836;
+    let t840: f64 = wz * t18;
+    let t841: f64 = f64::mul_add(wy, t33, -t840);
+    let t843: f64 = wx * t822;
+    let t844: f64 = f64::mul_add(gravity_y, platform_mass, t843);
+    let t845: f64 = t210 + t240;
+    let t846: f64 = t735 + t742;
+    let t847: f64 = t474 + t483;
+    let t848: f64 = t844 + t845;
+    let t849: f64 = t846 + t847;
+    let t850: f64 = t848 + t849;
+    let t851: f64 = f64::mul_add(wz, t841, -t850);
+    let t853: f64 = wy * t841;
+    let t855: f64 = f64::mul_add(wx, t826, t651);
+    let t856: f64 = t500 + t655;
+    let t857: f64 = t291 + t516;
+    let t858: f64 = t855 + t856;
+    let t859: f64 = t312 + t857;
+    let t860: f64 = t858 + t859;
+    let t861: f64 = f64::mul_add(gravity_z, platform_mass, t853);
+    let t862: f64 = t860 - t861;
+    let t863: f64 = t1 * t6;
+    ([t543, t721, t818, t837, t851, t862], [t863, t13, t399])
+}
 /// Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
 ///
 /// Equations: 15, 16, 22, 43-48, 49-57, 60, M_x V̇ = J⁻ᵀ Γ - h (LDLᵀ). Setting: pose.
@@ -9394,6 +16752,20 @@ pub fn task_bias_params(
 /// Operations: 709 mul, 10 div, 569 add, 1 neg, 3 sin_cos (chapter convention: 719m + 569a).
 #[inline]
 pub fn forward_dynamics_params(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    forces: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { forward_dynamics_params_fused(pose, twist, forces, params) };
+    }
+    forward_dynamics_params_separate(pose, twist, forces, params)
+}
+/// [`forward_dynamics_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn forward_dynamics_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
     forces: &[f64; 6],
@@ -10711,6 +18083,974 @@ pub fn forward_dynamics_params(
     let t1294: f64 = t4 * t8;
     ([t1280, t1271, t1290, t1291, t1292, t1293], [t1294, t42, t443])
 }
+/// [`forward_dynamics_params`] with 357 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`forward_dynamics_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn forward_dynamics_params_fused(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    forces: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [wx, wy, wz, vx, vy, vz] = *twist;
+    let [g1, g2, g3, g4, g5, g6] = *forces;
+    let [half_spacing, gravity_x, gravity_y, gravity_z, platform_mass, platform_mx,
+    platform_my, platform_mz, platform_ixx, platform_ixy, platform_ixz, platform_iyy,
+    platform_iyz, platform_izz, rod1_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint1_mass, joint1_mx, joint1_my, joint1_mz, joint1_ixx, joint1_ixy, joint1_ixz,
+    joint1_iyy, joint1_iyz, joint1_izz, rod2_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint2_mass, joint2_mx, joint2_my, joint2_mz, joint2_ixx, joint2_ixy, joint2_ixz,
+    joint2_iyy, joint2_iyz, joint2_izz, rod3_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint3_mass, joint3_mx, joint3_my, joint3_mz, joint3_ixx, joint3_ixy, joint3_ixz,
+    joint3_iyy, joint3_iyz, joint3_izz, rod4_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint4_mass, joint4_mx, joint4_my, joint4_mz, joint4_ixx, joint4_ixy, joint4_ixz,
+    joint4_iyy, joint4_iyz, joint4_izz, rod5_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint5_mass, joint5_mx, joint5_my, joint5_mz, joint5_ixx, joint5_ixy, joint5_ixz,
+    joint5_iyy, joint5_iyz, joint5_izz, rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint6_mass, joint6_mx, joint6_my, joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz,
+    joint6_iyy, joint6_iyz, joint6_izz] = *params;
+    let t0: f64 = zc - half_spacing;
+    let (t1, t2): (f64, f64) = sin_cos(alpha);
+    let (t3, t4): (f64, f64) = sin_cos(beta);
+    let t5: f64 = joint1_mz * t2;
+    let (t7, t8): (f64, f64) = sin_cos(gamma);
+    let t10: f64 = t2 * t3;
+    let t11: f64 = t8 * t10;
+    let t12: f64 = f64::mul_add(t1, t7, -t11);
+    let t15: f64 = t3 * t7;
+    let t16: f64 = t2 * t15;
+    let t17: f64 = f64::mul_add(t1, t8, t16);
+    let t18: f64 = joint1_my * t17;
+    let t19: f64 = f64::mul_add(joint1_mx, t12, t18);
+    let t20: f64 = f64::mul_add(t4, t5, t19);
+    let t22: f64 = f64::mul_add(-joint1_mass, t0, t20);
+    let t24: f64 = zc + half_spacing;
+    let t25: f64 = joint2_mz * t2;
+    let t28: f64 = joint2_my * t17;
+    let t29: f64 = f64::mul_add(joint2_mx, t12, t28);
+    let t30: f64 = f64::mul_add(t4, t25, t29);
+    let t32: f64 = f64::mul_add(-joint2_mass, t24, t30);
+    let t33: f64 = t24 * t32;
+    let t34: f64 = yc - half_spacing;
+    let t36: f64 = t1 * t3;
+    let t37: f64 = t8 * t36;
+    let t38: f64 = f64::mul_add(t2, t7, t37);
+    let t41: f64 = t7 * t36;
+    let t42: f64 = f64::mul_add(t2, t8, -t41);
+    let t43: f64 = joint5_my * t42;
+    let t44: f64 = f64::mul_add(joint5_mx, t38, t43);
+    let t45: f64 = joint5_mz * t1;
+    let t47: f64 = f64::mul_add(-t4, t45, t44);
+    let t49: f64 = f64::mul_add(-joint5_mass, t34, t47);
+    let t51: f64 = f64::mul_add(-rod5_mass, t34, t49);
+    let t53: f64 = yc + half_spacing;
+    let t55: f64 = joint6_my * t42;
+    let t56: f64 = f64::mul_add(joint6_mx, t38, t55);
+    let t57: f64 = joint6_mz * t1;
+    let t59: f64 = f64::mul_add(-t4, t57, t56);
+    let t61: f64 = f64::mul_add(-joint6_mass, t53, t59);
+    let t63: f64 = f64::mul_add(-rod6_mass, t53, t61);
+    let t64: f64 = t53 * t63;
+    let t65: f64 = platform_iyz + joint1_iyz;
+    let t66: f64 = joint2_iyz + joint3_iyz;
+    let t67: f64 = joint4_iyz + joint5_iyz;
+    let t68: f64 = t65 + t66;
+    let t69: f64 = joint6_iyz + t67;
+    let t70: f64 = t68 + t69;
+    let t72: f64 = platform_iyy + joint1_iyy;
+    let t73: f64 = joint2_iyy + joint3_iyy;
+    let t74: f64 = joint4_iyy + joint5_iyy;
+    let t75: f64 = t72 + t73;
+    let t76: f64 = joint6_iyy + t74;
+    let t77: f64 = t75 + t76;
+    let t79: f64 = platform_ixy + joint1_ixy;
+    let t80: f64 = joint2_ixy + joint3_ixy;
+    let t81: f64 = joint4_ixy + joint5_ixy;
+    let t82: f64 = t79 + t80;
+    let t83: f64 = joint6_ixy + t81;
+    let t84: f64 = t82 + t83;
+    let t85: f64 = t8 * t84;
+    let t86: f64 = f64::mul_add(t7, t77, -t85);
+    let t87: f64 = t4 * t86;
+    let t88: f64 = f64::mul_add(t3, t70, -t87);
+    let t90: f64 = platform_ixz + joint1_ixz;
+    let t91: f64 = joint2_ixz + joint3_ixz;
+    let t92: f64 = joint4_ixz + joint5_ixz;
+    let t93: f64 = t90 + t91;
+    let t94: f64 = joint6_ixz + t92;
+    let t95: f64 = t93 + t94;
+    let t98: f64 = platform_ixx + joint1_ixx;
+    let t99: f64 = joint2_ixx + joint3_ixx;
+    let t100: f64 = joint4_ixx + joint5_ixx;
+    let t101: f64 = t98 + t99;
+    let t102: f64 = joint6_ixx + t100;
+    let t103: f64 = t101 + t102;
+    let t104: f64 = t8 * t103;
+    let t105: f64 = f64::mul_add(t7, t84, -t104);
+    let t106: f64 = t4 * t105;
+    let t107: f64 = f64::mul_add(t3, t95, -t106);
+    let t108: f64 = t8 * t107;
+    let t109: f64 = f64::mul_add(t7, t88, -t108);
+    let t111: f64 = platform_izz + joint1_izz;
+    let t112: f64 = joint2_izz + joint3_izz;
+    let t113: f64 = joint4_izz + joint5_izz;
+    let t114: f64 = t111 + t112;
+    let t115: f64 = joint6_izz + t113;
+    let t116: f64 = t114 + t115;
+    let t119: f64 = t8 * t95;
+    let t120: f64 = f64::mul_add(t7, t70, -t119);
+    let t121: f64 = t4 * t120;
+    let t122: f64 = f64::mul_add(t3, t116, -t121);
+    let t125: f64 = joint1_my * t42;
+    let t126: f64 = f64::mul_add(joint1_mx, t38, t125);
+    let t127: f64 = joint1_mz * t1;
+    let t129: f64 = f64::mul_add(-t4, t127, t126);
+    let t131: f64 = f64::mul_add(-yc, joint1_mass, t129);
+    let t133: f64 = joint2_my * t42;
+    let t134: f64 = f64::mul_add(joint2_mx, t38, t133);
+    let t135: f64 = joint2_mz * t1;
+    let t137: f64 = f64::mul_add(-t4, t135, t134);
+    let t139: f64 = f64::mul_add(-yc, joint2_mass, t137);
+    let t140: f64 = t131 + t139;
+    let t141: f64 = yc * t140;
+    let t142: f64 = joint3_mz * t2;
+    let t145: f64 = joint3_my * t17;
+    let t146: f64 = f64::mul_add(joint3_mx, t12, t145);
+    let t147: f64 = f64::mul_add(t4, t142, t146);
+    let t149: f64 = f64::mul_add(-zc, joint3_mass, t147);
+    let t150: f64 = joint4_mz * t2;
+    let t153: f64 = joint4_my * t17;
+    let t154: f64 = f64::mul_add(joint4_mx, t12, t153);
+    let t155: f64 = f64::mul_add(t4, t150, t154);
+    let t157: f64 = f64::mul_add(-zc, joint4_mass, t155);
+    let t158: f64 = t149 + t157;
+    let t159: f64 = zc * rod3_mass;
+    let t160: f64 = zc * rod4_mass;
+    let t161: f64 = t159 + t160;
+    let t162: f64 = t158 - t161;
+    let t165: f64 = yc * t137;
+    let t166: f64 = f64::mul_add(yc, t129, t165);
+    let t167: f64 = 1.0 / t42;
+    let t168: f64 = xc - half_spacing;
+    let t169: f64 = t4 * t7;
+    let t171: f64 = zc * t17;
+    let t172: f64 = f64::mul_add(t168, t169, -t171);
+    let t174: f64 = joint3_my * t42;
+    let t175: f64 = f64::mul_add(joint3_mx, t38, t174);
+    let t176: f64 = joint3_mz * t1;
+    let t178: f64 = f64::mul_add(-t4, t176, t175);
+    let t179: f64 = t167 * t172;
+    let t181: f64 = joint3_mass * t167;
+    let t183: f64 = f64::mul_add(-t172, t181, t178);
+    let t184: f64 = t179 * t183;
+    let t185: f64 = f64::mul_add(t178, t179, t184);
+    let t186: f64 = t166 + t185;
+    let t187: f64 = xc + half_spacing;
+    let t189: f64 = f64::mul_add(-t169, t187, t171);
+    let t191: f64 = joint4_my * t42;
+    let t192: f64 = f64::mul_add(joint4_mx, t38, t191);
+    let t193: f64 = joint4_mz * t1;
+    let t195: f64 = f64::mul_add(-t4, t193, t192);
+    let t196: f64 = t167 * t189;
+    let t198: f64 = joint4_mass * t167;
+    let t200: f64 = f64::mul_add(t189, t198, t195);
+    let t201: f64 = t196 * t200;
+    let t202: f64 = f64::mul_add(t195, t196, t201);
+    let t204: f64 = t53 * t59;
+    let t205: f64 = f64::mul_add(t34, t47, t204);
+    let t206: f64 = t202 - t205;
+    let t207: f64 = t186 - t206;
+    let t209: f64 = t24 * t30;
+    let t210: f64 = f64::mul_add(t0, t20, t209);
+    let t212: f64 = zc * t155;
+    let t213: f64 = f64::mul_add(zc, t147, t212);
+    let t214: f64 = t210 + t213;
+    let t215: f64 = 1.0 / t2;
+    let t216: f64 = 1.0 / t4;
+    let t217: f64 = xc * t3;
+    let t218: f64 = t1 * t4;
+    let t220: f64 = f64::mul_add(-t34, t218, t217);
+    let t221: f64 = joint5_mz * t2;
+    let t224: f64 = joint5_my * t17;
+    let t225: f64 = f64::mul_add(joint5_mx, t12, t224);
+    let t226: f64 = f64::mul_add(t4, t221, t225);
+    let t227: f64 = t215 * t216;
+    let t228: f64 = t220 * t227;
+    let t230: f64 = joint5_mass * t215;
+    let t231: f64 = t216 * t230;
+    let t233: f64 = f64::mul_add(t220, t231, t226);
+    let t234: f64 = t228 * t233;
+    let t235: f64 = f64::mul_add(t226, t228, t234);
+    let t237: f64 = f64::mul_add(-t53, t218, t217);
+    let t238: f64 = joint6_mz * t2;
+    let t241: f64 = joint6_my * t17;
+    let t242: f64 = f64::mul_add(joint6_mx, t12, t241);
+    let t243: f64 = f64::mul_add(t4, t238, t242);
+    let t244: f64 = t227 * t237;
+    let t246: f64 = joint6_mass * t215;
+    let t247: f64 = t216 * t246;
+    let t249: f64 = f64::mul_add(t237, t247, t243);
+    let t250: f64 = t244 * t249;
+    let t251: f64 = f64::mul_add(t243, t244, t250);
+    let t252: f64 = t235 + t251;
+    let t253: f64 = t214 - t252;
+    let t254: f64 = f64::mul_add(t0, t22, t33);
+    let t255: f64 = f64::mul_add(t34, t51, t64);
+    let t256: f64 = f64::mul_add(t4, t109, t141);
+    let t257: f64 = f64::mul_add(zc, t162, t207);
+    let t258: f64 = t254 + t255;
+    let t259: f64 = t256 + t257;
+    let t260: f64 = t258 + t259;
+    let t261: f64 = t253 + t260;
+    let t262: f64 = f64::mul_add(t3, t122, -t261);
+    let t263: f64 = 1.0 / t262;
+    let t265: f64 = t187 * t200;
+    let t267: f64 = joint5_mx * t4;
+    let t269: f64 = joint5_my * t7;
+    let t270: f64 = t4 * t269;
+    let t271: f64 = f64::mul_add(t8, t267, -t270);
+    let t272: f64 = f64::mul_add(joint5_mz, t3, t271);
+    let t275: f64 = joint6_mx * t4;
+    let t277: f64 = joint6_my * t7;
+    let t278: f64 = t4 * t277;
+    let t279: f64 = f64::mul_add(t8, t275, -t278);
+    let t280: f64 = f64::mul_add(joint6_mz, t3, t279);
+    let t281: f64 = t53 * t280;
+    let t284: f64 = t42 * t88;
+    let t285: f64 = t51 + t63;
+    let t288: f64 = joint1_mx * t4;
+    let t290: f64 = joint1_my * t7;
+    let t291: f64 = t4 * t290;
+    let t292: f64 = f64::mul_add(t8, t288, -t291);
+    let t293: f64 = f64::mul_add(joint1_mz, t3, t292);
+    let t295: f64 = joint2_mx * t4;
+    let t297: f64 = joint2_my * t7;
+    let t298: f64 = t4 * t297;
+    let t299: f64 = f64::mul_add(t8, t295, -t298);
+    let t300: f64 = f64::mul_add(joint2_mz, t3, t299);
+    let t301: f64 = t293 + t300;
+    let t302: f64 = yc * t301;
+    let t303: f64 = 1.0 / t8;
+    let t304: f64 = yc * t38;
+    let t306: f64 = f64::mul_add(t0, t12, t304);
+    let t309: f64 = f64::mul_add(t12, t24, t304);
+    let t310: f64 = t139 * t309;
+    let t311: f64 = f64::mul_add(t131, t306, t310);
+    let t312: f64 = t216 * t303;
+    let t313: f64 = t311 * t312;
+    let t315: f64 = joint3_mx * t4;
+    let t317: f64 = joint3_my * t7;
+    let t318: f64 = t4 * t317;
+    let t319: f64 = f64::mul_add(t8, t315, -t318);
+    let t320: f64 = f64::mul_add(joint3_mz, t3, t319);
+    let t323: f64 = joint4_mx * t4;
+    let t325: f64 = joint4_my * t7;
+    let t326: f64 = t4 * t325;
+    let t327: f64 = f64::mul_add(t8, t323, -t326);
+    let t328: f64 = f64::mul_add(joint4_mz, t3, t327);
+    let t329: f64 = t189 * t328;
+    let t330: f64 = f64::mul_add(t172, t320, -t329);
+    let t332: f64 = f64::mul_add(t168, t183, t265);
+    let t333: f64 = f64::mul_add(t34, t272, t281);
+    let t334: f64 = f64::mul_add(t38, t107, t284);
+    let t335: f64 = f64::mul_add(xc, t285, t302);
+    let t336: f64 = t332 + t333;
+    let t337: f64 = t334 + t335;
+    let t338: f64 = t336 + t337;
+    let t339: f64 = f64::mul_add(t167, t330, t338);
+    let t340: f64 = f64::mul_add(t122, t218, t313);
+    let t341: f64 = t339 - t340;
+    let t343: f64 = f64::mul_add(-rod1_mass, t0, t22);
+    let t346: f64 = f64::mul_add(-rod2_mass, t24, t32);
+    let t347: f64 = t24 * t346;
+    let t349: f64 = f64::mul_add(-joint3_mass, t168, t320);
+    let t352: f64 = f64::mul_add(-joint4_mass, t187, t328);
+    let t353: f64 = t187 * t352;
+    let t354: f64 = t341 * t341;
+    let t355: f64 = t263 * t354;
+    let t358: f64 = t42 * t70;
+    let t359: f64 = f64::mul_add(t38, t95, t358);
+    let t360: f64 = f64::mul_add(t116, t218, -t359);
+    let t364: f64 = t42 * t84;
+    let t365: f64 = f64::mul_add(t38, t103, t364);
+    let t366: f64 = f64::mul_add(t95, t218, -t365);
+    let t370: f64 = t42 * t77;
+    let t371: f64 = f64::mul_add(t38, t84, t370);
+    let t372: f64 = f64::mul_add(t70, t218, -t371);
+    let t374: f64 = t272 + t280;
+    let t376: f64 = xc * joint6_mass;
+    let t377: f64 = f64::mul_add(xc, joint5_mass, t376);
+    let t378: f64 = t374 - t377;
+    let t380: f64 = xc * rod6_mass;
+    let t381: f64 = f64::mul_add(xc, rod5_mass, t380);
+    let t382: f64 = t378 - t381;
+    let t383: f64 = xc * t382;
+    let t386: f64 = t187 * t328;
+    let t387: f64 = f64::mul_add(t168, t320, t386);
+    let t389: f64 = xc * t280;
+    let t390: f64 = f64::mul_add(xc, t272, t389);
+    let t391: f64 = t387 + t390;
+    let t392: f64 = t306 * t312;
+    let t394: f64 = joint1_mass * t216;
+    let t395: f64 = t303 * t394;
+    let t397: f64 = f64::mul_add(t306, t395, t293);
+    let t398: f64 = t392 * t397;
+    let t399: f64 = f64::mul_add(t293, t392, t398);
+    let t400: f64 = t309 * t312;
+    let t402: f64 = joint2_mass * t216;
+    let t403: f64 = t303 * t402;
+    let t405: f64 = f64::mul_add(t309, t403, t300);
+    let t406: f64 = t400 * t405;
+    let t407: f64 = f64::mul_add(t300, t400, t406);
+    let t408: f64 = t399 + t407;
+    let t409: f64 = t391 - t408;
+    let t410: f64 = f64::mul_add(t0, t343, t347);
+    let t411: f64 = f64::mul_add(t168, t349, t353);
+    let t412: f64 = f64::mul_add(t38, t366, t355);
+    let t413: f64 = f64::mul_add(t42, t372, t383);
+    let t414: f64 = f64::mul_add(zc, t158, t253);
+    let t415: f64 = t410 + t411;
+    let t416: f64 = t412 + t413;
+    let t417: f64 = t409 + t414;
+    let t418: f64 = t415 + t416;
+    let t419: f64 = t417 + t418;
+    let t420: f64 = f64::mul_add(-t218, t360, t419);
+    let t421: f64 = 1.0 / t420;
+    let t422: f64 = t343 + t346;
+    let t423: f64 = t233 + t249;
+    let t424: f64 = platform_mz * t2;
+    let t427: f64 = platform_my * t17;
+    let t428: f64 = f64::mul_add(platform_mx, t12, t427);
+    let t429: f64 = f64::mul_add(t4, t424, t428);
+    let t430: f64 = t158 + t429;
+    let t431: f64 = t423 + t430;
+    let t432: f64 = t422 + t431;
+    let t433: f64 = t432 * t432;
+    let t436: f64 = f64::mul_add(-rod3_mass, t168, t349);
+    let t439: f64 = f64::mul_add(-rod4_mass, t187, t352);
+    let t440: f64 = t187 * t439;
+    let t442: f64 = t53 * t61;
+    let t443: f64 = t2 * t4;
+    let t445: f64 = t12 * t107;
+    let t446: f64 = f64::mul_add(t122, t443, t445);
+    let t449: f64 = t237 * t280;
+    let t450: f64 = f64::mul_add(t220, t272, t449);
+    let t453: f64 = t32 * t309;
+    let t454: f64 = f64::mul_add(t22, t306, t453);
+    let t455: f64 = t303 * t454;
+    let t456: f64 = f64::mul_add(t215, t450, t455);
+    let t457: f64 = t216 * t456;
+    let t458: f64 = f64::mul_add(t17, t88, -t457);
+    let t459: f64 = t446 + t458;
+    let t461: f64 = t320 + t328;
+    let t462: f64 = zc * t461;
+    let t463: f64 = f64::mul_add(xc, t423, t462);
+    let t465: f64 = t24 * t300;
+    let t466: f64 = f64::mul_add(t0, t293, t465);
+    let t467: f64 = t149 - t159;
+    let t469: f64 = t157 - t160;
+    let t470: f64 = t187 * t469;
+    let t471: f64 = f64::mul_add(t168, t467, t470);
+    let t472: f64 = t466 + t471;
+    let t473: f64 = t463 + t472;
+    let t474: f64 = t459 + t473;
+    let t475: f64 = t474 * t474;
+    let t478: f64 = t24 * t137;
+    let t480: f64 = t53 * t249;
+    let t481: f64 = t263 * t341;
+    let t483: f64 = t360 * t443;
+    let t485: f64 = t17 * t372;
+    let t487: f64 = t178 + t195;
+    let t488: f64 = zc * t487;
+    let t490: f64 = t59 * t237;
+    let t491: f64 = f64::mul_add(t47, t220, t490);
+    let t494: f64 = t157 * t189;
+    let t495: f64 = f64::mul_add(t149, t172, -t494);
+    let t497: f64 = f64::mul_add(t0, t129, t478);
+    let t498: f64 = f64::mul_add(t34, t233, t480);
+    let t499: f64 = f64::mul_add(yc, t422, t488);
+    let t500: f64 = t497 + t498;
+    let t501: f64 = f64::mul_add(t167, t495, t499);
+    let t502: f64 = t500 + t501;
+    let t503: f64 = f64::mul_add(t474, t481, t483);
+    let t504: f64 = f64::mul_add(t12, t366, t485);
+    let t505: f64 = t503 + t504;
+    let t506: f64 = f64::mul_add(t227, t491, t505);
+    let t507: f64 = t502 - t506;
+    let t508: f64 = t507 * t507;
+    let t511: f64 = t12 * t95;
+    let t513: f64 = f64::mul_add(t116, t443, t511);
+    let t514: f64 = f64::mul_add(t17, t70, t513);
+    let t515: f64 = t443 * t514;
+    let t517: f64 = t12 * t103;
+    let t519: f64 = f64::mul_add(t95, t443, t517);
+    let t520: f64 = f64::mul_add(t17, t84, t519);
+    let t523: f64 = t12 * t84;
+    let t525: f64 = f64::mul_add(t70, t443, t523);
+    let t526: f64 = f64::mul_add(t17, t77, t525);
+    let t527: f64 = t17 * t526;
+    let t528: f64 = xc * t378;
+    let t530: f64 = yc * rod2_mass;
+    let t531: f64 = f64::mul_add(yc, rod1_mass, t530);
+    let t532: f64 = t140 - t531;
+    let t534: f64 = f64::mul_add(t168, t436, t440);
+    let t535: f64 = f64::mul_add(t34, t49, t442);
+    let t536: f64 = f64::mul_add(t263, t475, t528);
+    let t537: f64 = f64::mul_add(yc, t532, t207);
+    let t538: f64 = t534 + t535;
+    let t539: f64 = t536 + t537;
+    let t540: f64 = t538 + t539;
+    let t541: f64 = t409 + t540;
+    let t542: f64 = f64::mul_add(t421, t508, t515);
+    let t543: f64 = f64::mul_add(t12, t520, t527);
+    let t544: f64 = t542 + t543;
+    let t545: f64 = t541 - t544;
+    let t546: f64 = 1.0 / t545;
+    let t547: f64 = t421 * t432;
+    let t550: f64 = platform_my * t42;
+    let t551: f64 = f64::mul_add(platform_mx, t38, t550);
+    let t552: f64 = platform_mz * t1;
+    let t554: f64 = f64::mul_add(-t4, t552, t551);
+    let t555: f64 = t140 + t554;
+    let t556: f64 = t183 + t200;
+    let t557: f64 = t555 + t556;
+    let t558: f64 = t49 + t61;
+    let t559: f64 = t557 + t558;
+    let t560: f64 = f64::mul_add(t507, t547, t531);
+    let t561: f64 = t559 - t560;
+    let t562: f64 = t561 * t561;
+    let t563: f64 = t546 * t562;
+    let t564: f64 = platform_mass + joint1_mass;
+    let t565: f64 = joint6_mass + t564;
+    let t566: f64 = joint2_mass + joint3_mass;
+    let t567: f64 = joint4_mass + joint5_mass;
+    let t568: f64 = t566 + t567;
+    let t569: f64 = t565 + t568;
+    let t570: f64 = rod1_mass + rod2_mass;
+    let t571: f64 = f64::mul_add(t421, t433, t563);
+    let t572: f64 = t570 + t571;
+    let t573: f64 = t569 + t572;
+    let t574: f64 = 1.0 / t573;
+    let t575: f64 = t22 + t32;
+    let t576: f64 = t431 + t575;
+    let t577: f64 = t576 - t161;
+    let t578: f64 = t432 * t577;
+    let t579: f64 = t263 * t578;
+    let t580: f64 = t341 * t579;
+    let t582: f64 = t341 * t421;
+    let t584: f64 = f64::mul_add(t507, t582, t474);
+    let t585: f64 = t263 * t577;
+    let t588: f64 = platform_mx * t4;
+    let t590: f64 = platform_my * t7;
+    let t591: f64 = t4 * t590;
+    let t592: f64 = f64::mul_add(t8, t588, -t591);
+    let t593: f64 = f64::mul_add(platform_mz, t3, t592);
+    let t594: f64 = t378 + t593;
+    let t595: f64 = t397 + t405;
+    let t596: f64 = t594 + t595;
+    let t597: f64 = f64::mul_add(t584, t585, t436);
+    let t598: f64 = t439 + t596;
+    let t599: f64 = t597 + t598;
+    let t600: f64 = t546 * t561;
+    let t601: f64 = t599 * t600;
+    let t602: f64 = f64::mul_add(t421, t580, -t601);
+    let t603: f64 = t599 * t599;
+    let t605: f64 = t602 * t602;
+    let t607: f64 = t577 * t577;
+    let t609: f64 = f64::mul_add(t355, t421, -1.0);
+    let t610: f64 = t263 * t607;
+    let t611: f64 = t609 * t610;
+    let t612: f64 = rod3_mass + rod4_mass;
+    let t613: f64 = f64::mul_add(t546, t603, t611);
+    let t614: f64 = t612 + t613;
+    let t615: f64 = t569 + t614;
+    let t616: f64 = f64::mul_add(-t574, t605, t615);
+    let t617: f64 = 1.0 / t616;
+    let t618: f64 = t285 + t557;
+    let t619: f64 = t263 * t618;
+    let t622: f64 = f64::mul_add(t341, t619, t349);
+    let t623: f64 = t352 + t596;
+    let t624: f64 = t622 + t623;
+    let t625: f64 = t624 - t381;
+    let t626: f64 = t421 * t507;
+    let t627: f64 = t625 * t626;
+    let t628: f64 = f64::mul_add(t474, t619, t627);
+    let t629: f64 = t546 * t599;
+    let t632: f64 = t600 * t628;
+    let t633: f64 = f64::mul_add(t547, t625, -t632);
+    let t634: f64 = t574 * t602;
+    let t637: f64 = f64::mul_add(-t582, t625, t618);
+    let t638: f64 = t585 * t637;
+    let t639: f64 = f64::mul_add(t633, t634, t638);
+    let t640: f64 = f64::mul_add(-t628, t629, t639);
+    let t641: f64 = t618 * t618;
+    let t643: f64 = t625 * t625;
+    let t645: f64 = t628 * t628;
+    let t646: f64 = t546 * t645;
+    let t647: f64 = t633 * t633;
+    let t648: f64 = t574 * t647;
+    let t649: f64 = t640 * t640;
+    let t651: f64 = rod5_mass + rod6_mass;
+    let t652: f64 = f64::mul_add(t421, t643, t646);
+    let t653: f64 = t651 + t652;
+    let t654: f64 = t569 + t653;
+    let t655: f64 = f64::mul_add(t263, t641, t648);
+    let t656: f64 = f64::mul_add(t617, t649, t655);
+    let t657: f64 = t654 - t656;
+    let t658: f64 = 1.0 / t657;
+    let t661: f64 = wx * t429;
+    let t662: f64 = f64::mul_add(wz, t593, -t661);
+    let t665: f64 = wz * t554;
+    let t666: f64 = f64::mul_add(wy, t429, -t665);
+    let t667: f64 = wy * t666;
+    let t669: f64 = wy * t320;
+    let t670: f64 = f64::mul_add(wx, t178, -t669);
+    let t673: f64 = wz * t178;
+    let t674: f64 = f64::mul_add(wy, t147, -t673);
+    let t675: f64 = wz * t674;
+    let t676: f64 = f64::mul_add(wx, t670, -t675);
+    let t679: f64 = f64::mul_add(wz, vx, gravity_y);
+    let t680: f64 = f64::mul_add(-wx, vz, t679);
+    let t682: f64 = wx * wy;
+    let t684: f64 = wz * wz;
+    let t685: f64 = wx * wx;
+    let t686: f64 = t684 + t685;
+    let t688: f64 = zc * wy;
+    let t690: f64 = f64::mul_add(wz, t688, gravity_y);
+    let t691: f64 = f64::mul_add(t168, t682, t690);
+    let t692: f64 = f64::mul_add(-t179, t686, t691);
+    let t694: f64 = f64::mul_add(joint3_mass, t692, g3);
+    let t695: f64 = f64::mul_add(rod3_mass, t680, t694);
+    let t696: f64 = t676 + t695;
+    let t698: f64 = wy * t328;
+    let t699: f64 = f64::mul_add(wx, t195, -t698);
+    let t702: f64 = wz * t195;
+    let t703: f64 = f64::mul_add(wy, t155, -t702);
+    let t704: f64 = wz * t703;
+    let t705: f64 = f64::mul_add(wx, t699, -t704);
+    let t708: f64 = t196 * t686;
+    let t709: f64 = f64::mul_add(t187, t682, t708);
+    let t710: f64 = t690 + t709;
+    let t712: f64 = f64::mul_add(joint4_mass, t710, g4);
+    let t713: f64 = f64::mul_add(rod4_mass, t680, t712);
+    let t714: f64 = t705 + t713;
+    let t715: f64 = t696 + t714;
+    let t718: f64 = wz * t129;
+    let t719: f64 = f64::mul_add(wy, t20, -t718);
+    let t721: f64 = wx * wz;
+    let t722: f64 = t216 * t721;
+    let t723: f64 = t303 * t722;
+    let t725: f64 = wy * wy;
+    let t726: f64 = t685 + t725;
+    let t727: f64 = t0 * t726;
+    let t728: f64 = yc * wy;
+    let t730: f64 = f64::mul_add(wz, t728, gravity_z);
+    let t731: f64 = f64::mul_add(t306, t723, t727);
+    let t732: f64 = t730 - t731;
+    let t735: f64 = wx * t20;
+    let t736: f64 = f64::mul_add(wz, t293, -t735);
+    let t737: f64 = wx * t736;
+    let t738: f64 = f64::mul_add(joint1_mass, t732, -t737);
+    let t739: f64 = f64::mul_add(wy, t719, t738);
+    let t741: f64 = wz * t137;
+    let t742: f64 = f64::mul_add(wy, t30, -t741);
+    let t745: f64 = t24 * t726;
+    let t746: f64 = f64::mul_add(t309, t723, t745);
+    let t747: f64 = t730 - t746;
+    let t750: f64 = wx * t30;
+    let t751: f64 = f64::mul_add(wz, t300, -t750);
+    let t752: f64 = wx * t751;
+    let t753: f64 = f64::mul_add(joint2_mass, t747, -t752);
+    let t754: f64 = f64::mul_add(wy, t742, t753);
+    let t755: f64 = t739 + t754;
+    let t756: f64 = yc * t755;
+    let t757: f64 = f64::mul_add(zc, t715, -t756);
+    let t758: f64 = wx * t4;
+    let t760: f64 = wy * t38;
+    let t762: f64 = f64::mul_add(t8, t758, t760);
+    let t763: f64 = f64::mul_add(wz, t12, t762);
+    let t765: f64 = wx * t7;
+    let t768: f64 = wz * t17;
+    let t769: f64 = f64::mul_add(wy, t42, t768);
+    let t770: f64 = f64::mul_add(t4, t765, -t769);
+    let t774: f64 = wz * t2;
+    let t775: f64 = f64::mul_add(wy, t1, -t774);
+    let t776: f64 = t4 * t775;
+    let t777: f64 = f64::mul_add(wx, t3, -t776);
+    let t778: f64 = t116 * t777;
+    let t779: f64 = f64::mul_add(t95, t763, t778);
+    let t780: f64 = f64::mul_add(-t70, t770, t779);
+    let t784: f64 = t95 * t777;
+    let t785: f64 = f64::mul_add(t103, t763, t784);
+    let t786: f64 = f64::mul_add(-t84, t770, t785);
+    let t787: f64 = t777 * t786;
+    let t788: f64 = f64::mul_add(t763, t780, -t787);
+    let t793: f64 = t70 * t777;
+    let t794: f64 = f64::mul_add(t84, t763, t793);
+    let t795: f64 = f64::mul_add(-t77, t770, t794);
+    let t796: f64 = t777 * t795;
+    let t797: f64 = f64::mul_add(t770, t780, t796);
+    let t798: f64 = t8 * t797;
+    let t799: f64 = f64::mul_add(t7, t788, -t798);
+    let t802: f64 = t770 * t786;
+    let t803: f64 = f64::mul_add(t763, t795, t802);
+    let t804: f64 = t3 * t803;
+    let t805: f64 = f64::mul_add(t4, t799, t804);
+    let t806: f64 = t757 - t805;
+    let t808: f64 = wy * t272;
+    let t809: f64 = f64::mul_add(wx, t47, -t808);
+    let t812: f64 = wy * wz;
+    let t813: f64 = t215 * t812;
+    let t814: f64 = t216 * t813;
+    let t815: f64 = t220 * t814;
+    let t816: f64 = xc * wx;
+    let t818: f64 = f64::mul_add(wy, t816, gravity_y);
+    let t819: f64 = f64::mul_add(t34, t686, t815);
+    let t820: f64 = t818 - t819;
+    let t823: f64 = wz * t47;
+    let t824: f64 = f64::mul_add(wy, t226, -t823);
+    let t825: f64 = wz * t824;
+    let t826: f64 = f64::mul_add(joint5_mass, t820, -t825);
+    let t827: f64 = f64::mul_add(wx, t809, t826);
+    let t830: f64 = wy * t280;
+    let t831: f64 = f64::mul_add(wx, t59, -t830);
+    let t834: f64 = t237 * t814;
+    let t835: f64 = f64::mul_add(t53, t686, t834);
+    let t836: f64 = t818 - t835;
+    let t839: f64 = wz * t59;
+    let t840: f64 = f64::mul_add(wy, t243, -t839);
+    let t841: f64 = wz * t840;
+    let t842: f64 = f64::mul_add(joint6_mass, t836, -t841);
+    let t843: f64 = f64::mul_add(wx, t831, t842);
+    let t844: f64 = t237 * t843;
+    let t845: f64 = f64::mul_add(t220, t827, t844);
+    let t848: f64 = wy * t167;
+    let t849: f64 = t172 * t848;
+    let t850: f64 = f64::mul_add(wx, t168, t849);
+    let t853: f64 = f64::mul_add(-zc, t726, gravity_z);
+    let t854: f64 = f64::mul_add(wz, t850, t853);
+    let t858: f64 = wx * t147;
+    let t859: f64 = f64::mul_add(wz, t320, -t858);
+    let t860: f64 = wx * t859;
+    let t861: f64 = f64::mul_add(wy, t674, -t860);
+    let t862: f64 = f64::mul_add(joint3_mass, t854, t861);
+    let t865: f64 = t189 * t848;
+    let t866: f64 = f64::mul_add(wx, t187, -t865);
+    let t868: f64 = f64::mul_add(wz, t866, t853);
+    let t872: f64 = wx * t155;
+    let t873: f64 = f64::mul_add(wz, t328, -t872);
+    let t874: f64 = wx * t873;
+    let t875: f64 = f64::mul_add(wy, t703, -t874);
+    let t876: f64 = f64::mul_add(joint4_mass, t868, t875);
+    let t877: f64 = t189 * t876;
+    let t878: f64 = f64::mul_add(t172, t862, -t877);
+    let t879: f64 = t167 * t878;
+    let t880: f64 = f64::mul_add(t227, t845, t879);
+    let t883: f64 = wx * t226;
+    let t884: f64 = f64::mul_add(wz, t272, -t883);
+    let t885: f64 = wx * t884;
+    let t886: f64 = f64::mul_add(wy, t824, -t885);
+    let t889: f64 = f64::mul_add(wx, vy, gravity_z);
+    let t890: f64 = f64::mul_add(-wy, vx, t889);
+    let t893: f64 = t228 * t726;
+    let t895: f64 = f64::mul_add(wz, t816, gravity_z);
+    let t896: f64 = f64::mul_add(t34, t812, t893);
+    let t897: f64 = t895 + t896;
+    let t899: f64 = f64::mul_add(joint5_mass, t897, g5);
+    let t900: f64 = f64::mul_add(rod5_mass, t890, t899);
+    let t901: f64 = t886 + t900;
+    let t905: f64 = wx * t243;
+    let t906: f64 = f64::mul_add(wz, t280, -t905);
+    let t907: f64 = wx * t906;
+    let t908: f64 = f64::mul_add(wy, t840, -t907);
+    let t911: f64 = t244 * t726;
+    let t912: f64 = f64::mul_add(t53, t812, t911);
+    let t913: f64 = t895 + t912;
+    let t915: f64 = f64::mul_add(joint6_mass, t913, g6);
+    let t916: f64 = f64::mul_add(rod6_mass, t890, t915);
+    let t917: f64 = t908 + t916;
+    let t918: f64 = t53 * t917;
+    let t919: f64 = f64::mul_add(t34, t901, t918);
+    let t920: f64 = t880 + t919;
+    let t921: f64 = t806 - t920;
+    let t923: f64 = gravity_y * t429;
+    let t924: f64 = f64::mul_add(gravity_z, t554, -t923);
+    let t926: f64 = t137 * t747;
+    let t927: f64 = f64::mul_add(t129, t732, t926);
+    let t928: f64 = t924 + t927;
+    let t930: f64 = t226 * t820;
+    let t931: f64 = f64::mul_add(t47, t897, -t930);
+    let t933: f64 = t155 * t710;
+    let t934: f64 = f64::mul_add(t147, t692, t933);
+    let t935: f64 = t931 - t934;
+    let t936: f64 = t928 + t935;
+    let t938: f64 = t243 * t836;
+    let t939: f64 = f64::mul_add(t59, t913, -t938);
+    let t940: f64 = wx * t216;
+    let t941: f64 = t303 * t940;
+    let t943: f64 = wz * t0;
+    let t944: f64 = f64::mul_add(t306, t941, -t943);
+    let t947: f64 = f64::mul_add(-yc, t686, gravity_y);
+    let t948: f64 = f64::mul_add(-wy, t944, t947);
+    let t951: f64 = wy * t293;
+    let t952: f64 = f64::mul_add(wx, t129, -t951);
+    let t954: f64 = wz * t719;
+    let t955: f64 = f64::mul_add(wx, t952, -t954);
+    let t956: f64 = f64::mul_add(joint1_mass, t948, t955);
+    let t958: f64 = t20 * t948;
+    let t959: f64 = f64::mul_add(t0, t956, -t958);
+    let t960: f64 = t939 + t959;
+    let t962: f64 = wz * t24;
+    let t963: f64 = f64::mul_add(t309, t941, -t962);
+    let t965: f64 = f64::mul_add(-wy, t963, t947);
+    let t968: f64 = wy * t300;
+    let t969: f64 = f64::mul_add(wx, t137, -t968);
+    let t971: f64 = wz * t742;
+    let t972: f64 = f64::mul_add(wx, t969, -t971);
+    let t973: f64 = f64::mul_add(joint2_mass, t965, t972);
+    let t975: f64 = t30 * t965;
+    let t976: f64 = f64::mul_add(t24, t973, -t975);
+    let t978: f64 = t195 * t868;
+    let t979: f64 = f64::mul_add(t178, t854, t978);
+    let t980: f64 = t976 + t979;
+    let t981: f64 = t960 + t980;
+    let t982: f64 = t936 + t981;
+    let t983: f64 = t921 + t982;
+    let t984: f64 = t618 * t983;
+    let t985: f64 = t263 * t984;
+    let t986: f64 = t263 * t983;
+    let t989: f64 = t38 * t797;
+    let t990: f64 = f64::mul_add(t218, t803, t989);
+    let t992: f64 = t901 + t917;
+    let t993: f64 = xc * t992;
+    let t994: f64 = f64::mul_add(t42, t788, t993);
+    let t995: f64 = t990 + t994;
+    let t997: f64 = wz * t215;
+    let t998: f64 = t216 * t997;
+    let t999: f64 = t220 * t998;
+    let t1000: f64 = f64::mul_add(wy, t34, -t999);
+    let t1002: f64 = t684 + t725;
+    let t1004: f64 = f64::mul_add(-xc, t1002, gravity_x);
+    let t1005: f64 = f64::mul_add(wx, t1000, t1004);
+    let t1008: f64 = wy * t809;
+    let t1009: f64 = f64::mul_add(wz, t884, -t1008);
+    let t1010: f64 = f64::mul_add(joint5_mass, t1005, t1009);
+    let t1013: f64 = t237 * t998;
+    let t1014: f64 = f64::mul_add(wy, t53, -t1013);
+    let t1016: f64 = f64::mul_add(wx, t1014, t1004);
+    let t1019: f64 = wy * t831;
+    let t1020: f64 = f64::mul_add(wz, t906, -t1019);
+    let t1021: f64 = f64::mul_add(joint6_mass, t1016, t1020);
+    let t1022: f64 = t237 * t1021;
+    let t1023: f64 = f64::mul_add(t220, t1010, t1022);
+    let t1026: f64 = t309 * t754;
+    let t1027: f64 = f64::mul_add(t306, t739, t1026);
+    let t1028: f64 = t303 * t1027;
+    let t1029: f64 = f64::mul_add(t215, t1023, -t1028);
+    let t1033: f64 = t167 * t682;
+    let t1035: f64 = zc * wx;
+    let t1037: f64 = f64::mul_add(wz, t1035, gravity_x);
+    let t1038: f64 = f64::mul_add(t172, t1033, t1037);
+    let t1039: f64 = f64::mul_add(-t168, t1002, t1038);
+    let t1041: f64 = wy * t670;
+    let t1042: f64 = f64::mul_add(joint3_mass, t1039, -t1041);
+    let t1043: f64 = f64::mul_add(wz, t859, t1042);
+    let t1046: f64 = t189 * t1033;
+    let t1047: f64 = f64::mul_add(t187, t1002, t1046);
+    let t1048: f64 = t1037 - t1047;
+    let t1050: f64 = wy * t699;
+    let t1051: f64 = f64::mul_add(joint4_mass, t1048, -t1050);
+    let t1052: f64 = f64::mul_add(wz, t873, t1051);
+    let t1053: f64 = t1043 + t1052;
+    let t1054: f64 = zc * t1053;
+    let t1055: f64 = f64::mul_add(t216, t1029, -t1054);
+    let t1057: f64 = wy * t952;
+    let t1058: f64 = f64::mul_add(wz, t736, -t1057);
+    let t1061: f64 = f64::mul_add(wy, vz, gravity_x);
+    let t1062: f64 = f64::mul_add(-wz, vy, t1061);
+    let t1065: f64 = t0 * t721;
+    let t1066: f64 = yc * wx;
+    let t1068: f64 = f64::mul_add(wy, t1066, gravity_x);
+    let t1069: f64 = f64::mul_add(t392, t1002, t1065);
+    let t1070: f64 = t1068 + t1069;
+    let t1072: f64 = f64::mul_add(joint1_mass, t1070, g1);
+    let t1073: f64 = f64::mul_add(rod1_mass, t1062, t1072);
+    let t1074: f64 = t1058 + t1073;
+    let t1077: f64 = wy * t969;
+    let t1078: f64 = f64::mul_add(wz, t751, -t1077);
+    let t1081: f64 = t24 * t721;
+    let t1082: f64 = f64::mul_add(t400, t1002, t1081);
+    let t1083: f64 = t1068 + t1082;
+    let t1085: f64 = f64::mul_add(joint2_mass, t1083, g2);
+    let t1086: f64 = f64::mul_add(rod2_mass, t1062, t1085);
+    let t1087: f64 = t1078 + t1086;
+    let t1088: f64 = t24 * t1087;
+    let t1089: f64 = f64::mul_add(t0, t1074, t1088);
+    let t1090: f64 = t1055 - t1089;
+    let t1091: f64 = t995 + t1090;
+    let t1093: f64 = gravity_z * t593;
+    let t1094: f64 = f64::mul_add(gravity_x, t429, -t1093);
+    let t1096: f64 = t293 * t732;
+    let t1097: f64 = f64::mul_add(t20, t1070, -t1096);
+    let t1098: f64 = t1094 + t1097;
+    let t1100: f64 = t300 * t747;
+    let t1101: f64 = f64::mul_add(t30, t1083, -t1100);
+    let t1103: f64 = t155 * t1048;
+    let t1104: f64 = f64::mul_add(t147, t1039, t1103);
+    let t1105: f64 = t1101 + t1104;
+    let t1106: f64 = t1098 + t1105;
+    let t1108: f64 = t280 * t913;
+    let t1109: f64 = f64::mul_add(t272, t897, t1108);
+    let t1111: f64 = t168 * t862;
+    let t1112: f64 = f64::mul_add(t320, t854, -t1111);
+    let t1113: f64 = t1109 + t1112;
+    let t1115: f64 = t187 * t876;
+    let t1116: f64 = f64::mul_add(t328, t868, -t1115);
+    let t1118: f64 = t243 * t1016;
+    let t1119: f64 = f64::mul_add(t226, t1005, t1118);
+    let t1120: f64 = t1116 - t1119;
+    let t1121: f64 = t1113 + t1120;
+    let t1122: f64 = t1106 - t1121;
+    let t1123: f64 = t1091 + t1122;
+    let t1124: f64 = f64::mul_add(t341, t986, -t1123);
+    let t1125: f64 = t421 * t1124;
+    let t1128: f64 = t309 * t973;
+    let t1129: f64 = f64::mul_add(t306, t956, t1128);
+    let t1131: f64 = t827 + t843;
+    let t1132: f64 = xc * t1131;
+    let t1133: f64 = f64::mul_add(t312, t1129, -t1132);
+    let t1135: f64 = t189 * t1052;
+    let t1136: f64 = f64::mul_add(t172, t1043, -t1135);
+    let t1138: f64 = t168 * t696;
+    let t1139: f64 = f64::mul_add(t167, t1136, -t1138);
+    let t1140: f64 = t1133 + t1139;
+    let t1142: f64 = gravity_x * t554;
+    let t1143: f64 = f64::mul_add(gravity_y, t593, -t1142);
+    let t1145: f64 = f64::mul_add(-t187, t714, t1143);
+    let t1147: f64 = t178 * t1039;
+    let t1148: f64 = f64::mul_add(t320, t692, -t1147);
+    let t1150: f64 = t137 * t1083;
+    let t1151: f64 = f64::mul_add(t129, t1070, t1150);
+    let t1152: f64 = t1148 - t1151;
+    let t1153: f64 = t1145 + t1152;
+    let t1154: f64 = t1140 + t1153;
+    let t1156: f64 = t195 * t1048;
+    let t1157: f64 = f64::mul_add(t328, t710, -t1156);
+    let t1159: f64 = t280 * t836;
+    let t1160: f64 = f64::mul_add(t272, t820, t1159);
+    let t1161: f64 = t1157 + t1160;
+    let t1163: f64 = t300 * t965;
+    let t1164: f64 = f64::mul_add(t293, t948, t1163);
+    let t1166: f64 = t47 * t1005;
+    let t1167: f64 = f64::mul_add(t34, t1010, -t1166);
+    let t1168: f64 = t1164 + t1167;
+    let t1169: f64 = t1161 + t1168;
+    let t1171: f64 = t59 * t1016;
+    let t1172: f64 = f64::mul_add(t53, t1021, -t1171);
+    let t1174: f64 = t507 * t1125;
+    let t1175: f64 = f64::mul_add(t474, t986, t1174);
+    let t1176: f64 = t1172 - t1175;
+    let t1178: f64 = t443 * t803;
+    let t1179: f64 = f64::mul_add(t12, t797, -t1178);
+    let t1181: f64 = t1074 + t1087;
+    let t1182: f64 = yc * t1181;
+    let t1183: f64 = f64::mul_add(t17, t788, t1182);
+    let t1184: f64 = t1179 + t1183;
+    let t1185: f64 = t1176 + t1184;
+    let t1186: f64 = t1169 + t1185;
+    let t1187: f64 = t1154 + t1186;
+    let t1188: f64 = t546 * t1187;
+    let t1191: f64 = t547 * t1124;
+    let t1192: f64 = f64::mul_add(wz, t662, -t1191);
+    let t1194: f64 = f64::mul_add(-t561, t1188, t1010);
+    let t1195: f64 = t1192 + t1194;
+    let t1196: f64 = t1021 + t1053;
+    let t1199: f64 = wy * t593;
+    let t1200: f64 = f64::mul_add(wx, t554, -t1199);
+    let t1201: f64 = wy * t1200;
+    let t1202: f64 = f64::mul_add(gravity_x, platform_mass, -t1201);
+    let t1203: f64 = t1181 + t1202;
+    let t1204: f64 = t1196 + t1203;
+    let t1205: f64 = t1195 + t1204;
+    let t1206: f64 = t574 * t1205;
+    let t1207: f64 = t633 * t1206;
+    let t1209: f64 = f64::mul_add(-t582, t1124, t983);
+    let t1211: f64 = t602 * t1206;
+    let t1212: f64 = f64::mul_add(t585, t1209, -t1211);
+    let t1213: f64 = t956 + t973;
+    let t1214: f64 = t1212 + t1213;
+    let t1215: f64 = t715 + t1131;
+    let t1217: f64 = wz * t666;
+    let t1218: f64 = f64::mul_add(gravity_y, platform_mass, -t1217);
+    let t1220: f64 = t599 * t1188;
+    let t1221: f64 = f64::mul_add(wx, t1200, t1220);
+    let t1222: f64 = t1218 + t1221;
+    let t1223: f64 = t1215 + t1222;
+    let t1224: f64 = t1214 + t1223;
+    let t1225: f64 = t617 * t1224;
+    let t1226: f64 = t640 * t1225;
+    let t1227: f64 = f64::mul_add(gravity_z, platform_mass, t667);
+    let t1228: f64 = f64::mul_add(t625, t1125, t1207);
+    let t1229: f64 = t862 + t876;
+    let t1230: f64 = t755 + t992;
+    let t1231: f64 = t1227 + t1228;
+    let t1232: f64 = t1229 + t1230;
+    let t1233: f64 = t1231 + t1232;
+    let t1234: f64 = f64::mul_add(wx, t662, t985);
+    let t1235: f64 = f64::mul_add(t628, t1188, t1226);
+    let t1236: f64 = t1234 + t1235;
+    let t1237: f64 = t1233 - t1236;
+    let t1238: f64 = t640 * t658;
+    let t1240: f64 = f64::mul_add(-t1237, t1238, t1224);
+    let t1241: f64 = t602 * t617;
+    let t1243: f64 = t633 * t658;
+    let t1245: f64 = f64::mul_add(t1237, t1243, t1205);
+    let t1246: f64 = f64::mul_add(-t1240, t1241, t1245);
+    let t1247: f64 = t432 * t574;
+    let t1249: f64 = t625 * t658;
+    let t1251: f64 = t561 * t574;
+    let t1253: f64 = t599 * t617;
+    let t1255: f64 = t628 * t658;
+    let t1256: f64 = t1237 * t1255;
+    let t1257: f64 = f64::mul_add(t1246, t1251, t1256);
+    let t1258: f64 = t1187 + t1257;
+    let t1259: f64 = f64::mul_add(-t1240, t1253, t1258);
+    let t1260: f64 = t507 * t546;
+    let t1261: f64 = t1259 * t1260;
+    let t1262: f64 = t577 * t617;
+    let t1264: f64 = f64::mul_add(t1240, t1262, t983);
+    let t1265: f64 = t481 * t1264;
+    let t1266: f64 = f64::mul_add(t1237, t1249, t1261);
+    let t1267: f64 = t1123 + t1266;
+    let t1268: f64 = f64::mul_add(t1246, t1247, t1265);
+    let t1269: f64 = t1267 - t1268;
+    let t1270: f64 = t421 * t1269;
+    let t1271: f64 = -t1270;
+    let t1273: f64 = t618 * t658;
+    let t1274: f64 = t1237 * t1273;
+    let t1275: f64 = t474 * t546;
+    let t1277: f64 = f64::mul_add(t1259, t1275, t1264);
+    let t1278: f64 = f64::mul_add(t341, t1271, t1274);
+    let t1279: f64 = t1277 - t1278;
+    let t1280: f64 = t263 * t1279;
+    let t1281: f64 = t574 * t600;
+    let t1283: f64 = t617 * t629;
+    let t1285: f64 = t546 * t628;
+    let t1286: f64 = t658 * t1285;
+    let t1288: f64 = f64::mul_add(t1246, t1281, t1188);
+    let t1289: f64 = f64::mul_add(t1237, t1286, t1288);
+    let t1290: f64 = f64::mul_add(t1240, t1283, -t1289);
+    let t1291: f64 = t574 * t1246;
+    let t1292: f64 = t617 * t1240;
+    let t1293: f64 = t658 * t1237;
+    let t1294: f64 = t4 * t8;
+    ([t1280, t1271, t1290, t1291, t1292, t1293], [t1294, t42, t443])
+}
 /// Inverse dynamics end to end: actuator forces `Γ` from the platform state.
 ///
 /// Equations: 15, 16, 27, 43-48, 49-57, 60, 62. Setting: pose.
@@ -10735,6 +19075,20 @@ pub fn forward_dynamics_params(
 /// Operations: 560 mul, 5 div, 493 add, 1 neg, 3 sin_cos (chapter convention: 565m + 493a).
 #[inline]
 pub fn inverse_dynamics_params(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { inverse_dynamics_params_fused(pose, twist, accel, params) };
+    }
+    inverse_dynamics_params_separate(pose, twist, accel, params)
+}
+/// [`inverse_dynamics_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn inverse_dynamics_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
     accel: &[f64; 6],
@@ -11822,6 +20176,797 @@ pub fn inverse_dynamics_params(
     let t1064: f64 = t1 * t4;
     ([t758, t744, t985, t989, t1061, t1063], [t1064, t51, t590])
 }
+/// [`inverse_dynamics_params`] with 304 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`inverse_dynamics_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn inverse_dynamics_params_fused(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [wx, wy, wz, vx, vy, vz] = *twist;
+    let [wdx, wdy, wdz, ax, ay, az] = *accel;
+    let [half_spacing, gravity_x, gravity_y, gravity_z, platform_mass, platform_mx,
+    platform_my, platform_mz, platform_ixx, platform_ixy, platform_ixz, platform_iyy,
+    platform_iyz, platform_izz, rod1_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint1_mass, joint1_mx, joint1_my, joint1_mz, joint1_ixx, joint1_ixy, joint1_ixz,
+    joint1_iyy, joint1_iyz, joint1_izz, rod2_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint2_mass, joint2_mx, joint2_my, joint2_mz, joint2_ixx, joint2_ixy, joint2_ixz,
+    joint2_iyy, joint2_iyz, joint2_izz, rod3_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint3_mass, joint3_mx, joint3_my, joint3_mz, joint3_ixx, joint3_ixy, joint3_ixz,
+    joint3_iyy, joint3_iyz, joint3_izz, rod4_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint4_mass, joint4_mx, joint4_my, joint4_mz, joint4_ixx, joint4_ixy, joint4_ixz,
+    joint4_iyy, joint4_iyz, joint4_izz, rod5_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint5_mass, joint5_mx, joint5_my, joint5_mz, joint5_ixx, joint5_ixy, joint5_ixz,
+    joint5_iyy, joint5_iyz, joint5_izz, rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint6_mass, joint6_mx, joint6_my, joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz,
+    joint6_iyy, joint6_iyz, joint6_izz] = *params;
+    let (t0, t1): (f64, f64) = sin_cos(beta);
+    let t2: f64 = 1.0 / t1;
+    let (t3, t4): (f64, f64) = sin_cos(gamma);
+    let t5: f64 = 1.0 / t4;
+    let (t6, t7): (f64, f64) = sin_cos(alpha);
+    let t9: f64 = t0 * t6;
+    let t10: f64 = t4 * t9;
+    let t11: f64 = f64::mul_add(t3, t7, t10);
+    let t12: f64 = yc * t11;
+    let t14: f64 = t0 * t7;
+    let t15: f64 = t4 * t14;
+    let t16: f64 = f64::mul_add(t3, t6, -t15);
+    let t17: f64 = zc - half_spacing;
+    let t19: f64 = f64::mul_add(t16, t17, t12);
+    let t20: f64 = wz * wz;
+    let t21: f64 = wy * wy;
+    let t22: f64 = t20 + t21;
+    let t23: f64 = t2 * t5;
+    let t24: f64 = t19 * t23;
+    let t26: f64 = wx * wz;
+    let t27: f64 = wdy + t26;
+    let t28: f64 = t17 * t27;
+    let t29: f64 = wx * wy;
+    let t30: f64 = wdz - t29;
+    let t32: f64 = ax - gravity_x;
+    let t33: f64 = f64::mul_add(yc, t30, t32);
+    let t34: f64 = f64::mul_add(t22, t24, t28);
+    let t35: f64 = t33 - t34;
+    let t39: f64 = t0 * t3;
+    let t40: f64 = t7 * t39;
+    let t41: f64 = f64::mul_add(t4, t6, t40);
+    let t42: f64 = joint1_my * t41;
+    let t43: f64 = joint1_mz * t7;
+    let t45: f64 = f64::mul_add(joint1_mx, t16, t42);
+    let t46: f64 = f64::mul_add(t1, t43, t45);
+    let t47: f64 = wdy * t46;
+    let t50: f64 = t3 * t9;
+    let t51: f64 = f64::mul_add(t4, t7, -t50);
+    let t52: f64 = joint1_my * t51;
+    let t53: f64 = joint1_mz * t6;
+    let t55: f64 = f64::mul_add(joint1_mx, t11, t52);
+    let t56: f64 = f64::mul_add(-t1, t53, t55);
+    let t60: f64 = wy * vz;
+    let t61: f64 = f64::mul_add(wz, vy, -t60);
+    let t63: f64 = f64::mul_add(yc, wdz, t32);
+    let t64: f64 = t61 + t63;
+    let t65: f64 = f64::mul_add(-wdy, t17, t64);
+    let t68: f64 = platform_my * t51;
+    let t69: f64 = platform_mz * t6;
+    let t71: f64 = f64::mul_add(platform_mx, t11, t68);
+    let t72: f64 = f64::mul_add(-t1, t69, t71);
+    let t76: f64 = platform_my * t3;
+    let t77: f64 = f64::mul_add(platform_mx, t4, -t76);
+    let t78: f64 = t1 * t77;
+    let t79: f64 = f64::mul_add(platform_mz, t0, t78);
+    let t80: f64 = wy * t79;
+    let t81: f64 = f64::mul_add(wx, t72, -t80);
+    let t82: f64 = wy * t81;
+    let t84: f64 = platform_my * t41;
+    let t85: f64 = platform_mz * t7;
+    let t87: f64 = f64::mul_add(platform_mx, t16, t84);
+    let t88: f64 = f64::mul_add(t1, t85, t87);
+    let t90: f64 = wz * t79;
+    let t91: f64 = f64::mul_add(-wx, t88, t90);
+    let t92: f64 = wz * t91;
+    let t96: f64 = joint1_my * t3;
+    let t97: f64 = f64::mul_add(joint1_mx, t4, -t96);
+    let t98: f64 = t1 * t97;
+    let t99: f64 = f64::mul_add(joint1_mz, t0, t98);
+    let t100: f64 = wy * t99;
+    let t101: f64 = f64::mul_add(wx, t56, -t100);
+    let t104: f64 = wz * t99;
+    let t105: f64 = f64::mul_add(-wx, t46, t104);
+    let t108: f64 = joint2_my * t51;
+    let t109: f64 = joint2_mz * t6;
+    let t111: f64 = f64::mul_add(joint2_mx, t11, t108);
+    let t112: f64 = f64::mul_add(-t1, t109, t111);
+    let t116: f64 = joint2_my * t3;
+    let t117: f64 = f64::mul_add(joint2_mx, t4, -t116);
+    let t118: f64 = t1 * t117;
+    let t119: f64 = f64::mul_add(joint2_mz, t0, t118);
+    let t120: f64 = wy * t119;
+    let t121: f64 = f64::mul_add(wx, t112, -t120);
+    let t124: f64 = joint2_my * t41;
+    let t125: f64 = joint2_mz * t7;
+    let t127: f64 = f64::mul_add(joint2_mx, t16, t124);
+    let t128: f64 = f64::mul_add(t1, t125, t127);
+    let t130: f64 = wz * t119;
+    let t131: f64 = f64::mul_add(-wx, t128, t130);
+    let t132: f64 = wz * t131;
+    let t133: f64 = f64::mul_add(wy, t121, -t132);
+    let t135: f64 = joint3_my * t51;
+    let t136: f64 = joint3_mz * t6;
+    let t138: f64 = f64::mul_add(joint3_mx, t11, t135);
+    let t139: f64 = f64::mul_add(-t1, t136, t138);
+    let t143: f64 = joint3_my * t3;
+    let t144: f64 = f64::mul_add(joint3_mx, t4, -t143);
+    let t145: f64 = t1 * t144;
+    let t146: f64 = f64::mul_add(joint3_mz, t0, t145);
+    let t147: f64 = wy * t146;
+    let t148: f64 = f64::mul_add(wx, t139, -t147);
+    let t151: f64 = joint3_my * t41;
+    let t152: f64 = joint3_mz * t7;
+    let t154: f64 = f64::mul_add(joint3_mx, t16, t151);
+    let t155: f64 = f64::mul_add(t1, t152, t154);
+    let t157: f64 = wz * t146;
+    let t158: f64 = f64::mul_add(-wx, t155, t157);
+    let t159: f64 = wz * t158;
+    let t160: f64 = f64::mul_add(wy, t148, -t159);
+    let t162: f64 = joint4_my * t51;
+    let t163: f64 = joint4_mz * t6;
+    let t165: f64 = f64::mul_add(joint4_mx, t11, t162);
+    let t166: f64 = f64::mul_add(-t1, t163, t165);
+    let t170: f64 = joint4_my * t3;
+    let t171: f64 = f64::mul_add(joint4_mx, t4, -t170);
+    let t172: f64 = t1 * t171;
+    let t173: f64 = f64::mul_add(joint4_mz, t0, t172);
+    let t174: f64 = wy * t173;
+    let t175: f64 = f64::mul_add(wx, t166, -t174);
+    let t178: f64 = joint4_my * t41;
+    let t179: f64 = joint4_mz * t7;
+    let t181: f64 = f64::mul_add(joint4_mx, t16, t178);
+    let t182: f64 = f64::mul_add(t1, t179, t181);
+    let t184: f64 = wz * t173;
+    let t185: f64 = f64::mul_add(-wx, t182, t184);
+    let t186: f64 = wz * t185;
+    let t187: f64 = f64::mul_add(wy, t175, -t186);
+    let t189: f64 = joint5_my * t51;
+    let t190: f64 = joint5_mz * t6;
+    let t192: f64 = f64::mul_add(joint5_mx, t11, t189);
+    let t193: f64 = f64::mul_add(-t1, t190, t192);
+    let t197: f64 = joint5_my * t3;
+    let t198: f64 = f64::mul_add(joint5_mx, t4, -t197);
+    let t199: f64 = t1 * t198;
+    let t200: f64 = f64::mul_add(joint5_mz, t0, t199);
+    let t201: f64 = wy * t200;
+    let t202: f64 = f64::mul_add(wx, t193, -t201);
+    let t205: f64 = joint5_my * t41;
+    let t206: f64 = joint5_mz * t7;
+    let t208: f64 = f64::mul_add(joint5_mx, t16, t205);
+    let t209: f64 = f64::mul_add(t1, t206, t208);
+    let t211: f64 = wz * t200;
+    let t212: f64 = f64::mul_add(-wx, t209, t211);
+    let t213: f64 = wz * t212;
+    let t214: f64 = f64::mul_add(wy, t202, -t213);
+    let t216: f64 = joint6_my * t51;
+    let t217: f64 = joint6_mz * t6;
+    let t219: f64 = f64::mul_add(joint6_mx, t11, t216);
+    let t220: f64 = f64::mul_add(-t1, t217, t219);
+    let t224: f64 = joint6_my * t3;
+    let t225: f64 = f64::mul_add(joint6_mx, t4, -t224);
+    let t226: f64 = t1 * t225;
+    let t227: f64 = f64::mul_add(joint6_mz, t0, t226);
+    let t228: f64 = wy * t227;
+    let t229: f64 = f64::mul_add(wx, t220, -t228);
+    let t232: f64 = joint6_my * t41;
+    let t233: f64 = joint6_mz * t7;
+    let t235: f64 = f64::mul_add(joint6_mx, t16, t232);
+    let t236: f64 = f64::mul_add(t1, t233, t235);
+    let t238: f64 = wz * t227;
+    let t239: f64 = f64::mul_add(-wx, t236, t238);
+    let t240: f64 = wz * t239;
+    let t241: f64 = f64::mul_add(wy, t229, -t240);
+    let t242: f64 = 1.0 / half_spacing;
+    let t243: f64 = xc + t24;
+    let t245: f64 = wdy * t200;
+    let t246: f64 = f64::mul_add(wx, t212, -t245);
+    let t248: f64 = wdy * t227;
+    let t249: f64 = f64::mul_add(wx, t239, -t248);
+    let t250: f64 = t246 + t249;
+    let t251: f64 = zc + half_spacing;
+    let t253: f64 = f64::mul_add(t16, t251, t12);
+    let t254: f64 = wdy - t26;
+    let t255: f64 = t23 * t253;
+    let t257: f64 = wx * wx;
+    let t258: f64 = t21 + t257;
+    let t260: f64 = az - gravity_z;
+    let t261: f64 = wy * wz;
+    let t262: f64 = wdx + t261;
+    let t264: f64 = f64::mul_add(-yc, t262, t260);
+    let t265: f64 = f64::mul_add(t251, t258, t264);
+    let t266: f64 = f64::mul_add(-t254, t255, t265);
+    let t268: f64 = wdx * t112;
+    let t269: f64 = f64::mul_add(joint2_mass, t266, t268);
+    let t271: f64 = wz * t112;
+    let t272: f64 = f64::mul_add(wy, t128, -t271);
+    let t274: f64 = f64::mul_add(-wy, t272, t269);
+    let t275: f64 = xc + half_spacing;
+    let t277: f64 = 1.0 / t51;
+    let t278: f64 = zc * t41;
+    let t279: f64 = t1 * t3;
+    let t281: f64 = f64::mul_add(-t275, t279, t278);
+    let t282: f64 = t277 * t281;
+    let t283: f64 = t262 * t282;
+    let t285: f64 = f64::mul_add(zc, t258, t260);
+    let t286: f64 = f64::mul_add(t254, t275, t283);
+    let t287: f64 = t285 + t286;
+    let t289: f64 = wdx * t166;
+    let t290: f64 = f64::mul_add(joint4_mass, t287, t289);
+    let t292: f64 = wz * t166;
+    let t293: f64 = f64::mul_add(wy, t182, -t292);
+    let t295: f64 = f64::mul_add(-wy, t293, t290);
+    let t296: f64 = yc - half_spacing;
+    let t298: f64 = 1.0 / t7;
+    let t299: f64 = xc * t0;
+    let t300: f64 = t1 * t6;
+    let t302: f64 = f64::mul_add(-t296, t300, t299);
+    let t303: f64 = t2 * t298;
+    let t304: f64 = t302 * t303;
+    let t305: f64 = t258 * t304;
+    let t307: f64 = f64::mul_add(xc, t254, t260);
+    let t308: f64 = f64::mul_add(t262, t296, t305);
+    let t309: f64 = t307 - t308;
+    let t311: f64 = wdx * t193;
+    let t312: f64 = f64::mul_add(joint5_mass, t309, t311);
+    let t315: f64 = wx * vy;
+    let t316: f64 = f64::mul_add(wy, vx, -t315);
+    let t318: f64 = f64::mul_add(xc, wdy, t260);
+    let t319: f64 = t316 + t318;
+    let t320: f64 = f64::mul_add(-wdx, t296, t319);
+    let t323: f64 = wz * t193;
+    let t324: f64 = f64::mul_add(wy, t209, -t323);
+    let t325: f64 = wy * t324;
+    let t326: f64 = f64::mul_add(rod5_mass, t320, -t325);
+    let t327: f64 = t312 + t326;
+    let t328: f64 = yc + half_spacing;
+    let t331: f64 = f64::mul_add(-t300, t328, t299);
+    let t332: f64 = t303 * t331;
+    let t333: f64 = t258 * t332;
+    let t334: f64 = f64::mul_add(t262, t328, t333);
+    let t335: f64 = t307 - t334;
+    let t337: f64 = wdx * t220;
+    let t338: f64 = f64::mul_add(joint6_mass, t335, t337);
+    let t340: f64 = f64::mul_add(-wdx, t328, t319);
+    let t343: f64 = wz * t220;
+    let t344: f64 = f64::mul_add(wy, t236, -t343);
+    let t345: f64 = wy * t344;
+    let t346: f64 = f64::mul_add(rod6_mass, t340, -t345);
+    let t347: f64 = t338 + t346;
+    let t348: f64 = t327 + t347;
+    let t349: f64 = t295 + t348;
+    let t351: f64 = wdx * t72;
+    let t352: f64 = f64::mul_add(platform_mass, t260, t351);
+    let t353: f64 = xc - half_spacing;
+    let t356: f64 = f64::mul_add(t279, t353, -t278);
+    let t357: f64 = t277 * t356;
+    let t359: f64 = f64::mul_add(t254, t353, t285);
+    let t360: f64 = f64::mul_add(-t262, t357, t359);
+    let t362: f64 = wdx * t139;
+    let t363: f64 = f64::mul_add(joint3_mass, t360, t362);
+    let t365: f64 = wz * t139;
+    let t366: f64 = f64::mul_add(wy, t155, -t365);
+    let t368: f64 = f64::mul_add(-wy, t366, t363);
+    let t370: f64 = wz * t72;
+    let t371: f64 = f64::mul_add(wy, t88, -t370);
+    let t373: f64 = f64::mul_add(-wy, t371, t368);
+    let t374: f64 = t352 + t373;
+    let t375: f64 = t349 + t374;
+    let t376: f64 = t274 + t375;
+    let t379: f64 = f64::mul_add(t17, t258, t264);
+    let t380: f64 = f64::mul_add(-t24, t254, t379);
+    let t382: f64 = wdx * t56;
+    let t383: f64 = f64::mul_add(joint1_mass, t380, t382);
+    let t384: f64 = t376 + t383;
+    let t385: f64 = t250 + t384;
+    let t387: f64 = wdy * t99;
+    let t388: f64 = f64::mul_add(wx, t91, -t387);
+    let t390: f64 = wz * t56;
+    let t391: f64 = f64::mul_add(wy, t46, -t390);
+    let t393: f64 = wdy * t79;
+    let t394: f64 = f64::mul_add(wy, t391, t393);
+    let t395: f64 = t388 - t394;
+    let t398: f64 = wdy * t119;
+    let t399: f64 = f64::mul_add(wx, t131, -t398);
+    let t400: f64 = f64::mul_add(wx, t105, t399);
+    let t402: f64 = wdy * t146;
+    let t403: f64 = f64::mul_add(wx, t158, -t402);
+    let t405: f64 = wdy * t173;
+    let t406: f64 = f64::mul_add(wx, t185, -t405);
+    let t407: f64 = t403 + t406;
+    let t408: f64 = t400 + t407;
+    let t409: f64 = t395 + t408;
+    let t410: f64 = t385 + t409;
+    let t411: f64 = t242 * t243;
+    let t414: f64 = t35 * t46;
+    let t416: f64 = t27 * t251;
+    let t417: f64 = f64::mul_add(t22, t255, t416);
+    let t418: f64 = t33 - t417;
+    let t421: f64 = t30 * t357;
+    let t423: f64 = f64::mul_add(-zc, t27, t32);
+    let t424: f64 = f64::mul_add(t22, t353, t421);
+    let t425: f64 = t423 + t424;
+    let t426: f64 = t155 * t425;
+    let t429: f64 = f64::mul_add(t22, t275, t423);
+    let t430: f64 = f64::mul_add(-t30, t282, t429);
+    let t433: f64 = t27 * t304;
+    let t435: f64 = f64::mul_add(xc, t22, t32);
+    let t436: f64 = f64::mul_add(t30, t296, t433);
+    let t437: f64 = t435 + t436;
+    let t438: f64 = t209 * t437;
+    let t440: f64 = t27 * t332;
+    let t441: f64 = f64::mul_add(t30, t328, t440);
+    let t442: f64 = t435 + t441;
+    let t445: f64 = t99 * t380;
+    let t448: f64 = wdy * t128;
+    let t449: f64 = f64::mul_add(joint2_mass, t418, t448);
+    let t451: f64 = f64::mul_add(-wdy, t251, t64);
+    let t453: f64 = wdz * t112;
+    let t454: f64 = f64::mul_add(rod2_mass, t451, -t453);
+    let t455: f64 = t449 + t454;
+    let t456: f64 = t133 + t455;
+    let t457: f64 = t251 * t456;
+    let t459: f64 = t368 + t403;
+    let t460: f64 = t353 * t459;
+    let t461: f64 = t173 * t287;
+    let t462: f64 = t295 + t406;
+    let t465: f64 = t227 * t335;
+    let t466: f64 = wx * t1;
+    let t468: f64 = wy * t11;
+    let t470: f64 = f64::mul_add(t4, t466, t468);
+    let t471: f64 = f64::mul_add(wz, t16, t470);
+    let t472: f64 = platform_ixy + joint1_ixy;
+    let t473: f64 = joint2_ixy + joint3_ixy;
+    let t474: f64 = joint4_ixy + joint5_ixy;
+    let t475: f64 = t472 + t473;
+    let t476: f64 = joint6_ixy + t474;
+    let t477: f64 = t475 + t476;
+    let t479: f64 = wx * t3;
+    let t482: f64 = wz * t41;
+    let t483: f64 = f64::mul_add(wy, t51, t482);
+    let t484: f64 = f64::mul_add(t1, t479, -t483);
+    let t485: f64 = platform_iyy + joint1_iyy;
+    let t486: f64 = joint2_iyy + joint3_iyy;
+    let t487: f64 = joint4_iyy + joint5_iyy;
+    let t488: f64 = t485 + t486;
+    let t489: f64 = joint6_iyy + t487;
+    let t490: f64 = t488 + t489;
+    let t494: f64 = wz * t7;
+    let t495: f64 = f64::mul_add(wy, t6, -t494);
+    let t496: f64 = t1 * t495;
+    let t497: f64 = f64::mul_add(wx, t0, -t496);
+    let t498: f64 = platform_iyz + joint1_iyz;
+    let t499: f64 = joint2_iyz + joint3_iyz;
+    let t500: f64 = joint4_iyz + joint5_iyz;
+    let t501: f64 = t498 + t499;
+    let t502: f64 = joint6_iyz + t500;
+    let t503: f64 = t501 + t502;
+    let t504: f64 = t497 * t503;
+    let t505: f64 = f64::mul_add(t471, t477, t504);
+    let t506: f64 = f64::mul_add(-t484, t490, t505);
+    let t508: f64 = wdx * t1;
+    let t510: f64 = wdy * t11;
+    let t512: f64 = f64::mul_add(t4, t508, t510);
+    let t513: f64 = f64::mul_add(wdz, t16, t512);
+    let t514: f64 = platform_ixz + joint1_ixz;
+    let t515: f64 = joint2_ixz + joint3_ixz;
+    let t516: f64 = joint4_ixz + joint5_ixz;
+    let t517: f64 = t514 + t515;
+    let t518: f64 = joint6_ixz + t516;
+    let t519: f64 = t517 + t518;
+    let t520: f64 = t513 * t519;
+    let t521: f64 = wdx * t3;
+    let t524: f64 = wdz * t41;
+    let t525: f64 = f64::mul_add(wdy, t51, t524);
+    let t526: f64 = f64::mul_add(t1, t521, -t525);
+    let t528: f64 = platform_ixx + joint1_ixx;
+    let t529: f64 = joint2_ixx + joint3_ixx;
+    let t530: f64 = joint4_ixx + joint5_ixx;
+    let t531: f64 = t528 + t529;
+    let t532: f64 = joint6_ixx + t530;
+    let t533: f64 = t531 + t532;
+    let t536: f64 = t497 * t519;
+    let t537: f64 = f64::mul_add(t471, t533, t536);
+    let t538: f64 = f64::mul_add(-t477, t484, t537);
+    let t542: f64 = wdz * t7;
+    let t543: f64 = f64::mul_add(wdy, t6, -t542);
+    let t544: f64 = t1 * t543;
+    let t545: f64 = f64::mul_add(wdx, t0, -t544);
+    let t546: f64 = platform_izz + joint1_izz;
+    let t547: f64 = joint2_izz + joint3_izz;
+    let t548: f64 = joint4_izz + joint5_izz;
+    let t549: f64 = t546 + t547;
+    let t550: f64 = joint6_izz + t548;
+    let t551: f64 = t549 + t550;
+    let t552: f64 = t545 * t551;
+    let t553: f64 = f64::mul_add(t471, t506, t520);
+    let t554: f64 = f64::mul_add(t484, t538, t552);
+    let t555: f64 = t553 + t554;
+    let t556: f64 = f64::mul_add(-t503, t526, t555);
+    let t562: f64 = t497 * t551;
+    let t563: f64 = f64::mul_add(t471, t519, t562);
+    let t564: f64 = f64::mul_add(-t484, t503, t563);
+    let t565: f64 = t484 * t564;
+    let t566: f64 = t519 * t545;
+    let t568: f64 = f64::mul_add(t513, t533, t566);
+    let t569: f64 = f64::mul_add(t477, t526, t565);
+    let t570: f64 = f64::mul_add(t497, t506, t569);
+    let t571: f64 = t568 - t570;
+    let t572: f64 = t11 * t571;
+    let t575: f64 = t490 * t526;
+    let t576: f64 = t503 * t545;
+    let t578: f64 = f64::mul_add(t471, t564, t575);
+    let t579: f64 = f64::mul_add(t477, t513, t576);
+    let t580: f64 = f64::mul_add(t497, t538, t579);
+    let t581: f64 = t578 - t580;
+    let t582: f64 = t51 * t581;
+    let t583: f64 = t274 + t399;
+    let t585: f64 = joint5_mz + joint6_mz;
+    let t586: f64 = joint3_mz + joint4_mz;
+    let t587: f64 = platform_mz + t586;
+    let t588: f64 = t585 + t587;
+    let t589: f64 = joint2_mz + t588;
+    let t590: f64 = t1 * t7;
+    let t592: f64 = joint5_mx + joint6_mx;
+    let t593: f64 = joint3_mx + joint4_mx;
+    let t594: f64 = platform_mx + t593;
+    let t595: f64 = t592 + t594;
+    let t596: f64 = joint2_mx + t595;
+    let t597: f64 = t16 * t596;
+    let t598: f64 = joint5_my + joint6_my;
+    let t599: f64 = joint3_my + joint4_my;
+    let t600: f64 = platform_my + t599;
+    let t601: f64 = t598 + t600;
+    let t602: f64 = joint2_my + t601;
+    let t604: f64 = f64::mul_add(t589, t590, t597);
+    let t605: f64 = f64::mul_add(t41, t602, t604);
+    let t609: f64 = t4 * t596;
+    let t610: f64 = f64::mul_add(t3, t602, -t609);
+    let t611: f64 = t1 * t610;
+    let t612: f64 = f64::mul_add(t0, t589, -t611);
+    let t613: f64 = wz * t612;
+    let t614: f64 = f64::mul_add(wx, t605, -t613);
+    let t616: f64 = wdy * t612;
+    let t617: f64 = f64::mul_add(wx, t614, t616);
+    let t618: f64 = t376 - t617;
+    let t619: f64 = t19 * t618;
+    let t620: f64 = f64::mul_add(t253, t583, -t619);
+    let t623: f64 = wdy * t209;
+    let t624: f64 = f64::mul_add(joint5_mass, t437, t623);
+    let t626: f64 = f64::mul_add(-wdz, t193, t624);
+    let t627: f64 = t214 + t626;
+    let t630: f64 = wdy * t236;
+    let t631: f64 = f64::mul_add(joint6_mass, t442, t630);
+    let t633: f64 = f64::mul_add(-wdz, t220, t631);
+    let t634: f64 = t241 + t633;
+    let t635: f64 = t331 * t634;
+    let t636: f64 = f64::mul_add(t302, t627, t635);
+    let t637: f64 = t298 * t636;
+    let t638: f64 = f64::mul_add(t5, t620, -t637);
+    let t641: f64 = t16 * t592;
+    let t643: f64 = f64::mul_add(t585, t590, t641);
+    let t644: f64 = f64::mul_add(t41, t598, t643);
+    let t648: f64 = t4 * t592;
+    let t649: f64 = f64::mul_add(t3, t598, -t648);
+    let t650: f64 = t1 * t649;
+    let t651: f64 = f64::mul_add(t0, t585, -t650);
+    let t652: f64 = wz * t651;
+    let t653: f64 = f64::mul_add(wx, t644, -t652);
+    let t655: f64 = wdy * t651;
+    let t656: f64 = f64::mul_add(wx, t653, t655);
+    let t657: f64 = t348 - t656;
+    let t661: f64 = t51 * t599;
+    let t662: f64 = f64::mul_add(t11, t593, t661);
+    let t663: f64 = f64::mul_add(t300, t586, -t662);
+    let t667: f64 = t4 * t593;
+    let t668: f64 = f64::mul_add(t3, t599, -t667);
+    let t669: f64 = t1 * t668;
+    let t670: f64 = f64::mul_add(t0, t586, -t669);
+    let t671: f64 = wy * t670;
+    let t672: f64 = f64::mul_add(wx, t663, t671);
+    let t675: f64 = t16 * t593;
+    let t677: f64 = f64::mul_add(t586, t590, t675);
+    let t678: f64 = f64::mul_add(t41, t599, t677);
+    let t680: f64 = wz * t670;
+    let t681: f64 = f64::mul_add(wx, t678, -t680);
+    let t684: f64 = wdy * t155;
+    let t685: f64 = f64::mul_add(joint3_mass, t425, t684);
+    let t687: f64 = f64::mul_add(-wdz, t139, t685);
+    let t689: f64 = wdy * t182;
+    let t690: f64 = f64::mul_add(joint4_mass, t430, t689);
+    let t692: f64 = f64::mul_add(-wdz, t166, t690);
+    let t693: f64 = t687 + t692;
+    let t694: f64 = f64::mul_add(wz, t681, t693);
+    let t695: f64 = f64::mul_add(-wy, t672, t694);
+    let t696: f64 = zc * t695;
+    let t699: f64 = t51 * t602;
+    let t700: f64 = f64::mul_add(t11, t596, t699);
+    let t701: f64 = f64::mul_add(t300, t589, -t700);
+    let t703: f64 = wy * t612;
+    let t704: f64 = f64::mul_add(wx, t701, t703);
+    let t707: f64 = t633 + t693;
+    let t709: f64 = wdy * t88;
+    let t710: f64 = f64::mul_add(platform_mass, t32, t709);
+    let t712: f64 = f64::mul_add(-wdz, t72, t626);
+    let t713: f64 = t710 + t712;
+    let t714: f64 = t707 + t713;
+    let t715: f64 = t455 + t714;
+    let t716: f64 = f64::mul_add(wz, t614, t715);
+    let t717: f64 = f64::mul_add(-wy, t704, t716);
+    let t718: f64 = t17 * t717;
+    let t719: f64 = f64::mul_add(t32, t88, t414);
+    let t720: f64 = f64::mul_add(t128, t418, t426);
+    let t721: f64 = f64::mul_add(t182, t430, t438);
+    let t722: f64 = f64::mul_add(t236, t442, t460);
+    let t723: f64 = f64::mul_add(t275, t462, t572);
+    let t724: f64 = f64::mul_add(xc, t657, t718);
+    let t725: f64 = t719 + t720;
+    let t726: f64 = t721 + t722;
+    let t727: f64 = t723 + t724;
+    let t728: f64 = t725 + t726;
+    let t729: f64 = t727 + t728;
+    let t730: f64 = f64::mul_add(t79, t260, t445);
+    let t731: f64 = f64::mul_add(t119, t266, t457);
+    let t732: f64 = f64::mul_add(t146, t360, t461);
+    let t733: f64 = f64::mul_add(t200, t309, t465);
+    let t734: f64 = f64::mul_add(t300, t556, t582);
+    let t735: f64 = f64::mul_add(t2, t638, t696);
+    let t736: f64 = t730 + t731;
+    let t737: f64 = t732 + t733;
+    let t738: f64 = t734 + t735;
+    let t739: f64 = t736 + t737;
+    let t740: f64 = t738 + t739;
+    let t741: f64 = t729 - t740;
+    let t742: f64 = t242 * t741;
+    let t743: f64 = f64::mul_add(t410, t411, -t742);
+    let t744: f64 = t743 * 0.5;
+    let t745: f64 = f64::mul_add(joint1_mass, t35, t47);
+    let t746: f64 = f64::mul_add(rod1_mass, t65, t82);
+    let t747: f64 = f64::mul_add(wy, t101, t133);
+    let t748: f64 = t160 + t187;
+    let t749: f64 = t214 + t241;
+    let t750: f64 = t745 + t746;
+    let t751: f64 = t747 + t748;
+    let t752: f64 = t715 + t749;
+    let t753: f64 = t750 + t751;
+    let t754: f64 = t752 + t753;
+    let t755: f64 = f64::mul_add(wdz, t56, t92);
+    let t756: f64 = f64::mul_add(wz, t105, t744);
+    let t757: f64 = t755 + t756;
+    let t758: f64 = t754 - t757;
+    let t759: f64 = t24 + t353;
+    let t760: f64 = t242 * t759;
+    let t762: f64 = f64::mul_add(t760, 0.5, 1.0);
+    let t764: f64 = wx * t202;
+    let t765: f64 = f64::mul_add(wdz, t200, -t764);
+    let t767: f64 = wx * t229;
+    let t768: f64 = f64::mul_add(wdz, t227, -t767);
+    let t769: f64 = t765 + t768;
+    let t771: f64 = t20 + t257;
+    let t773: f64 = wdx - t261;
+    let t775: f64 = ay - gravity_y;
+    let t776: f64 = wdz + t29;
+    let t778: f64 = f64::mul_add(-xc, t776, t775);
+    let t779: f64 = f64::mul_add(t296, t771, t778);
+    let t780: f64 = f64::mul_add(-t304, t773, t779);
+    let t782: f64 = wdx * t209;
+    let t783: f64 = f64::mul_add(joint5_mass, t780, -t782);
+    let t784: f64 = f64::mul_add(wz, t324, t783);
+    let t788: f64 = f64::mul_add(t328, t771, t778);
+    let t789: f64 = f64::mul_add(-t332, t773, t788);
+    let t791: f64 = wdx * t236;
+    let t792: f64 = f64::mul_add(joint6_mass, t789, -t791);
+    let t793: f64 = f64::mul_add(wz, t344, t792);
+    let t794: f64 = t784 + t793;
+    let t798: f64 = f64::mul_add(zc, t773, t775);
+    let t799: f64 = f64::mul_add(t357, t771, t798);
+    let t800: f64 = f64::mul_add(-t353, t776, t799);
+    let t802: f64 = wdx * t155;
+    let t803: f64 = f64::mul_add(joint3_mass, t800, -t802);
+    let t807: f64 = wz * vx;
+    let t808: f64 = f64::mul_add(wx, vz, -t807);
+    let t810: f64 = f64::mul_add(zc, wdx, t775);
+    let t811: f64 = t808 + t810;
+    let t812: f64 = f64::mul_add(-wdz, t353, t811);
+    let t813: f64 = rod3_mass * t812;
+    let t814: f64 = f64::mul_add(wz, t366, t813);
+    let t815: f64 = t803 + t814;
+    let t817: f64 = t282 * t771;
+    let t818: f64 = f64::mul_add(t275, t776, t817);
+    let t819: f64 = t798 - t818;
+    let t821: f64 = wdx * t182;
+    let t822: f64 = f64::mul_add(joint4_mass, t819, -t821);
+    let t825: f64 = f64::mul_add(-wdz, t275, t811);
+    let t826: f64 = rod4_mass * t825;
+    let t827: f64 = f64::mul_add(wz, t293, t826);
+    let t828: f64 = t822 + t827;
+    let t829: f64 = t815 + t828;
+    let t830: f64 = t794 + t829;
+    let t832: f64 = wdx * t88;
+    let t833: f64 = f64::mul_add(platform_mass, t775, -t832);
+    let t837: f64 = t251 * t773;
+    let t839: f64 = f64::mul_add(yc, t771, t775);
+    let t840: f64 = f64::mul_add(t255, t776, t837);
+    let t841: f64 = t839 + t840;
+    let t843: f64 = wdx * t128;
+    let t844: f64 = f64::mul_add(joint2_mass, t841, -t843);
+    let t845: f64 = f64::mul_add(wz, t272, t844);
+    let t846: f64 = f64::mul_add(wz, t371, t845);
+    let t847: f64 = t833 + t846;
+    let t848: f64 = t830 + t847;
+    let t850: f64 = t17 * t773;
+    let t851: f64 = f64::mul_add(t24, t776, t850);
+    let t852: f64 = t839 + t851;
+    let t854: f64 = wdx * t46;
+    let t855: f64 = f64::mul_add(joint1_mass, t852, -t854);
+    let t856: f64 = t848 + t855;
+    let t857: f64 = t769 + t856;
+    let t859: f64 = wdz * t79;
+    let t860: f64 = f64::mul_add(wz, t391, t859);
+    let t862: f64 = wx * t81;
+    let t863: f64 = f64::mul_add(wdz, t99, -t862);
+    let t864: f64 = t860 + t863;
+    let t866: f64 = wx * t121;
+    let t867: f64 = f64::mul_add(wdz, t119, -t866);
+    let t869: f64 = f64::mul_add(-wx, t101, t867);
+    let t871: f64 = wx * t148;
+    let t872: f64 = f64::mul_add(wdz, t146, -t871);
+    let t874: f64 = wx * t175;
+    let t875: f64 = f64::mul_add(wdz, t173, -t874);
+    let t876: f64 = t872 + t875;
+    let t877: f64 = t869 + t876;
+    let t878: f64 = t864 + t877;
+    let t879: f64 = t857 + t878;
+    let t882: f64 = t35 * t56;
+    let t884: f64 = t139 * t425;
+    let t886: f64 = t193 * t437;
+    let t889: f64 = t99 * t852;
+    let t891: f64 = t146 * t800;
+    let t892: f64 = t815 + t872;
+    let t893: f64 = t353 * t892;
+    let t895: f64 = t828 + t875;
+    let t897: f64 = t200 * t780;
+    let t899: f64 = t227 * t789;
+    let t901: f64 = t556 * t590;
+    let t903: f64 = t41 * t581;
+    let t906: f64 = t51 * t601;
+    let t907: f64 = f64::mul_add(t11, t595, t906);
+    let t908: f64 = f64::mul_add(t300, t588, -t907);
+    let t912: f64 = t4 * t595;
+    let t913: f64 = f64::mul_add(t3, t601, -t912);
+    let t914: f64 = t1 * t913;
+    let t915: f64 = f64::mul_add(t0, t588, -t914);
+    let t916: f64 = wy * t915;
+    let t917: f64 = f64::mul_add(wx, t908, t916);
+    let t920: f64 = t16 * t595;
+    let t922: f64 = f64::mul_add(t588, t590, t920);
+    let t923: f64 = f64::mul_add(t41, t601, t922);
+    let t925: f64 = wz * t915;
+    let t926: f64 = f64::mul_add(wx, t923, -t925);
+    let t928: f64 = f64::mul_add(wz, t926, t714);
+    let t929: f64 = f64::mul_add(-wy, t917, t928);
+    let t931: f64 = t845 + t867;
+    let t934: f64 = wdz * t612;
+    let t935: f64 = f64::mul_add(wx, t704, t934);
+    let t936: f64 = t848 + t935;
+    let t937: f64 = t19 * t936;
+    let t938: f64 = f64::mul_add(t253, t931, -t937);
+    let t939: f64 = t23 * t938;
+    let t942: f64 = t51 * t598;
+    let t943: f64 = f64::mul_add(t11, t592, t942);
+    let t944: f64 = f64::mul_add(t300, t585, -t943);
+    let t946: f64 = wy * t651;
+    let t947: f64 = f64::mul_add(wx, t944, t946);
+    let t949: f64 = wdz * t651;
+    let t950: f64 = f64::mul_add(wx, t947, t949);
+    let t951: f64 = t794 + t950;
+    let t952: f64 = xc * t951;
+    let t953: f64 = t160 + t687;
+    let t955: f64 = t187 + t692;
+    let t956: f64 = t281 * t955;
+    let t957: f64 = f64::mul_add(t356, t953, -t956);
+    let t959: f64 = f64::mul_add(t79, t775, t889);
+    let t960: f64 = f64::mul_add(t119, t841, t891);
+    let t961: f64 = f64::mul_add(t173, t819, t897);
+    let t962: f64 = f64::mul_add(t296, t627, t899);
+    let t963: f64 = f64::mul_add(t328, t634, t901);
+    let t964: f64 = f64::mul_add(t16, t571, t939);
+    let t965: f64 = t959 + t960;
+    let t966: f64 = t961 + t962;
+    let t967: f64 = t963 + t964;
+    let t968: f64 = t965 + t966;
+    let t969: f64 = f64::mul_add(t277, t957, t967);
+    let t970: f64 = t968 + t969;
+    let t971: f64 = f64::mul_add(t32, t72, t882);
+    let t972: f64 = f64::mul_add(t112, t418, t884);
+    let t973: f64 = f64::mul_add(t166, t430, t886);
+    let t974: f64 = f64::mul_add(t220, t442, t893);
+    let t975: f64 = f64::mul_add(t275, t895, t903);
+    let t976: f64 = f64::mul_add(yc, t929, t952);
+    let t977: f64 = t971 + t972;
+    let t978: f64 = t973 + t974;
+    let t979: f64 = t975 + t976;
+    let t980: f64 = t977 + t978;
+    let t981: f64 = t979 + t980;
+    let t982: f64 = t970 - t981;
+    let t983: f64 = t242 * t982;
+    let t984: f64 = t983 * 0.5;
+    let t985: f64 = f64::mul_add(t762, t879, t984);
+    let t987: f64 = f64::mul_add(t760, t879, t983);
+    let t988: f64 = t987 * 0.5;
+    let t989: f64 = -t988;
+    let t992: f64 = t56 * t380;
+    let t993: f64 = t46 * t852;
+    let t996: f64 = t139 * t360;
+    let t997: f64 = t155 * t800;
+    let t1000: f64 = t193 * t309;
+    let t1001: f64 = t209 * t780;
+    let t1004: f64 = t251 * t931;
+    let t1005: f64 = t246 + t327;
+    let t1006: f64 = t296 * t1005;
+    let t1007: f64 = t249 + t347;
+    let t1010: f64 = t4 * t571;
+    let t1011: f64 = f64::mul_add(t3, t581, t1010);
+    let t1013: f64 = t0 * t556;
+    let t1015: f64 = wdy * t915;
+    let t1016: f64 = f64::mul_add(wx, t926, t1015);
+    let t1017: f64 = t375 - t1016;
+    let t1020: f64 = wdz * t670;
+    let t1021: f64 = f64::mul_add(wx, t672, t1020);
+    let t1022: f64 = t829 + t1021;
+    let t1023: f64 = zc * t1022;
+    let t1024: f64 = t765 + t784;
+    let t1026: f64 = t768 + t793;
+    let t1027: f64 = t331 * t1026;
+    let t1028: f64 = f64::mul_add(t302, t1024, t1027);
+    let t1029: f64 = t303 * t1028;
+    let t1031: f64 = t281 * t462;
+    let t1032: f64 = f64::mul_add(t356, t459, -t1031);
+    let t1034: f64 = t17 * t936;
+    let t1035: f64 = f64::mul_add(t72, t260, t992);
+    let t1036: f64 = f64::mul_add(t112, t266, t996);
+    let t1037: f64 = f64::mul_add(t166, t287, t1000);
+    let t1038: f64 = f64::mul_add(t220, t335, t1004);
+    let t1039: f64 = f64::mul_add(t1, t1011, t1013);
+    let t1040: f64 = f64::mul_add(yc, t1017, t1023);
+    let t1041: f64 = t1035 + t1036;
+    let t1042: f64 = t1037 + t1038;
+    let t1043: f64 = t1039 + t1040;
+    let t1044: f64 = t1041 + t1042;
+    let t1045: f64 = t1043 + t1044;
+    let t1046: f64 = f64::mul_add(t88, t775, t993);
+    let t1047: f64 = f64::mul_add(t128, t841, t997);
+    let t1048: f64 = f64::mul_add(t182, t819, t1001);
+    let t1049: f64 = f64::mul_add(t236, t789, t1006);
+    let t1050: f64 = f64::mul_add(t328, t1007, t1029);
+    let t1051: f64 = f64::mul_add(t277, t1032, t1034);
+    let t1052: f64 = t1046 + t1047;
+    let t1053: f64 = t1048 + t1049;
+    let t1054: f64 = t1050 + t1051;
+    let t1055: f64 = t1052 + t1053;
+    let t1056: f64 = t1054 + t1055;
+    let t1057: f64 = t1045 - t1056;
+    let t1059: f64 = f64::mul_add(t242, t1057, -t879);
+    let t1060: f64 = t410 + t1059;
+    let t1061: f64 = t1060 * 0.5;
+    let t1062: f64 = t410 - t1059;
+    let t1063: f64 = t1062 * 0.5;
+    let t1064: f64 = t1 * t4;
+    ([t758, t744, t985, t989, t1061, t1063], [t1064, t51, t590])
+}
 /// Forward kinematics in closed form: the platform's `R` and `C` from the actuator positions.
 ///
 /// Equations: 15, 16. Setting: joint.
@@ -11846,6 +20991,18 @@ pub fn inverse_dynamics_params(
 /// Operations: 94 mul, 4 div, 26 add, 3 neg, 3 sqrt (chapter convention: 98m + 26a).
 #[inline]
 pub fn forward_kinematics_params(
+    q: &[f64; 6],
+    params: &[f64; 152],
+) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { forward_kinematics_params_fused(q, params) };
+    }
+    forward_kinematics_params_separate(q, params)
+}
+/// [`forward_kinematics_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn forward_kinematics_params_separate(
     q: &[f64; 6],
     params: &[f64; 152],
 ) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]) {
@@ -11992,6 +21149,142 @@ pub fn forward_kinematics_params(
         [t129, t31, t75, t86],
     )
 }
+/// [`forward_kinematics_params`] with 18 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`forward_kinematics_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn forward_kinematics_params_fused(
+    q: &[f64; 6],
+    params: &[f64; 152],
+) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]) {
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _] = *params;
+    let t0: f64 = 1.0 / half_spacing;
+    let t1: f64 = t0 * t0;
+    let t2: f64 = t0 * t1;
+    let t3: f64 = q1 - q2;
+    let t4: f64 = q3 - q4;
+    let t5: f64 = q5 - q6;
+    let t6: f64 = t2 * t3;
+    let t7: f64 = t4 * t6;
+    let t8: f64 = t5 * t7;
+    let t9: f64 = t8 * 0.125;
+    let t10: f64 = t9 - 1.0;
+    let t11: f64 = t10 * t10;
+    let t12: f64 = t0 * t3;
+    let t13: f64 = t5 * t12;
+    let t14: f64 = t3 * t3;
+    let t15: f64 = t1 * t14;
+    let t17: f64 = f64::mul_add(t15, 0.25, 1.0);
+    let t18: f64 = t4 * t17;
+    let t20: f64 = t18 * 0.5;
+    let t21: f64 = f64::mul_add(t13, 0.25, t20);
+    let t23: f64 = t11 * t14;
+    let t24: f64 = t23 * 0.25;
+    let t25: f64 = f64::mul_add(t21, t21, t24);
+    let t27: f64 = f64::mul_add(t1, t25, t11);
+    let t28: f64 = 1.0 / t27;
+    let t29: f64 = sqrt(t28);
+    let t30: f64 = t10 * t29;
+    let t31: f64 = -t30;
+    let t32: f64 = t4 * t4;
+    let t33: f64 = t11 * t32;
+    let t34: f64 = t4 * t12;
+    let t35: f64 = t1 * t32;
+    let t37: f64 = f64::mul_add(t35, 0.25, 1.0);
+    let t38: f64 = t5 * t37;
+    let t40: f64 = t38 * 0.5;
+    let t41: f64 = f64::mul_add(t34, 0.25, t40);
+    let t43: f64 = t33 * 0.25;
+    let t44: f64 = f64::mul_add(t41, t41, t43);
+    let t46: f64 = f64::mul_add(t1, t44, t11);
+    let t47: f64 = 1.0 / t46;
+    let t48: f64 = sqrt(t47);
+    let t49: f64 = t0 * t4;
+    let t50: f64 = t10 * t49;
+    let t51: f64 = t48 * t50;
+    let t52: f64 = t51 * 0.5;
+    let t53: f64 = t5 * t49;
+    let t54: f64 = t5 * t5;
+    let t55: f64 = t1 * t54;
+    let t57: f64 = f64::mul_add(t55, 0.25, 1.0);
+    let t58: f64 = t3 * t57;
+    let t60: f64 = t58 * 0.5;
+    let t61: f64 = f64::mul_add(t53, 0.25, t60);
+    let t63: f64 = t11 * t54;
+    let t64: f64 = t63 * 0.25;
+    let t65: f64 = f64::mul_add(t61, t61, t64);
+    let t67: f64 = f64::mul_add(t1, t65, t11);
+    let t68: f64 = 1.0 / t67;
+    let t69: f64 = sqrt(t68);
+    let t70: f64 = t0 * t61;
+    let t71: f64 = t69 * t70;
+    let t72: f64 = t0 * t21;
+    let t73: f64 = t29 * t72;
+    let t74: f64 = t10 * t48;
+    let t75: f64 = -t74;
+    let t76: f64 = t0 * t5;
+    let t77: f64 = t10 * t76;
+    let t78: f64 = t69 * t77;
+    let t79: f64 = t78 * 0.5;
+    let t80: f64 = t10 * t12;
+    let t81: f64 = t29 * t80;
+    let t82: f64 = t81 * 0.5;
+    let t83: f64 = t0 * t41;
+    let t84: f64 = t48 * t83;
+    let t85: f64 = t10 * t69;
+    let t86: f64 = -t85;
+    let t87: f64 = q1 + q2;
+    let t88: f64 = t87 * 0.5;
+    let t89: f64 = t10 * t88;
+    let t91: f64 = q3 + q4;
+    let t92: f64 = t91 * 0.5;
+    let t93: f64 = t4 * t92;
+    let t94: f64 = t10 * t93;
+    let t95: f64 = t47 * t94;
+    let t96: f64 = q5 + q6;
+    let t97: f64 = t96 * 0.5;
+    let t98: f64 = t61 * t97;
+    let t100: f64 = t95 * 0.5;
+    let t101: f64 = f64::mul_add(t68, t98, t100);
+    let t102: f64 = t0 * t101;
+    let t103: f64 = f64::mul_add(t28, t89, -t102);
+    let t104: f64 = t10 * t103;
+    let t105: f64 = t10 * t92;
+    let t107: f64 = t21 * t88;
+    let t109: f64 = t5 * t97;
+    let t110: f64 = t10 * t109;
+    let t111: f64 = t68 * t110;
+    let t112: f64 = t111 * 0.5;
+    let t113: f64 = f64::mul_add(t28, t107, t112);
+    let t114: f64 = t0 * t113;
+    let t115: f64 = f64::mul_add(t47, t105, -t114);
+    let t116: f64 = t10 * t115;
+    let t117: f64 = t10 * t97;
+    let t119: f64 = t3 * t88;
+    let t120: f64 = t10 * t119;
+    let t121: f64 = t28 * t120;
+    let t122: f64 = t41 * t92;
+    let t124: f64 = t121 * 0.5;
+    let t125: f64 = f64::mul_add(t47, t122, t124);
+    let t126: f64 = t0 * t125;
+    let t127: f64 = f64::mul_add(t68, t117, -t126);
+    let t128: f64 = t10 * t127;
+    let t129: f64 = 1.0 - t9;
+    (
+        [[t31, t52, t71], [t73, t75, t79], [t82, t84, t86]],
+        [t104, t116, t128],
+        [t129, t31, t75, t86],
+    )
+}
 /// The platform twist from the actuator rates, `V = J Q̇_a`.
 ///
 /// Equations: 15, 16, 27, 39, 40, 41. Setting: joint.
@@ -12016,6 +21309,19 @@ pub fn forward_kinematics_params(
 /// Operations: 104 mul, 4 div, 45 add, 4 neg, 3 sqrt (chapter convention: 108m + 45a).
 #[inline]
 pub fn platform_twist_params(
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 4]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { platform_twist_params_fused(q, qd, params) };
+    }
+    platform_twist_params_separate(q, qd, params)
+}
+/// [`platform_twist_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn platform_twist_params_separate(
     q: &[f64; 6],
     qd: &[f64; 6],
     params: &[f64; 152],
@@ -12190,6 +21496,160 @@ pub fn platform_twist_params(
     let t159: f64 = -t158;
     ([t3, t6, t9, t112, t137, t149], [t150, t153, t156, t159])
 }
+/// [`platform_twist_params`] with 28 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`platform_twist_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn platform_twist_params_fused(
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 4]) {
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
+    let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _] = *params;
+    let t0: f64 = 1.0 / half_spacing;
+    let t1: f64 = qd5 - qd6;
+    let t2: f64 = t1 * 0.5;
+    let t3: f64 = t0 * t2;
+    let t4: f64 = qd1 - qd2;
+    let t5: f64 = t4 * 0.5;
+    let t6: f64 = t0 * t5;
+    let t7: f64 = qd3 - qd4;
+    let t8: f64 = t7 * 0.5;
+    let t9: f64 = t0 * t8;
+    let t10: f64 = t0 * t0;
+    let t11: f64 = t0 * t10;
+    let t12: f64 = q1 - q2;
+    let t13: f64 = q3 - q4;
+    let t14: f64 = q5 - q6;
+    let t15: f64 = t11 * t12;
+    let t16: f64 = t13 * t15;
+    let t17: f64 = t14 * t16;
+    let t18: f64 = t17 * 0.125;
+    let t19: f64 = t18 - 1.0;
+    let t20: f64 = q5 + q6;
+    let t21: f64 = t20 * 0.5;
+    let t22: f64 = t19 * t19;
+    let t23: f64 = t0 * t13;
+    let t24: f64 = t14 * t23;
+    let t25: f64 = t14 * t14;
+    let t26: f64 = t10 * t25;
+    let t28: f64 = f64::mul_add(t26, 0.25, 1.0);
+    let t29: f64 = t12 * t28;
+    let t31: f64 = t29 * 0.5;
+    let t32: f64 = f64::mul_add(t24, 0.25, t31);
+    let t34: f64 = t22 * t25;
+    let t35: f64 = t34 * 0.25;
+    let t36: f64 = f64::mul_add(t32, t32, t35);
+    let t38: f64 = f64::mul_add(t10, t36, t22);
+    let t39: f64 = 1.0 / t38;
+    let t40: f64 = t19 * t21;
+    let t42: f64 = q1 + q2;
+    let t43: f64 = t42 * 0.5;
+    let t44: f64 = t0 * t12;
+    let t45: f64 = t14 * t44;
+    let t46: f64 = t12 * t12;
+    let t47: f64 = t10 * t46;
+    let t49: f64 = f64::mul_add(t47, 0.25, 1.0);
+    let t50: f64 = t13 * t49;
+    let t52: f64 = t50 * 0.5;
+    let t53: f64 = f64::mul_add(t45, 0.25, t52);
+    let t55: f64 = t22 * t46;
+    let t56: f64 = t55 * 0.25;
+    let t57: f64 = f64::mul_add(t53, t53, t56);
+    let t59: f64 = f64::mul_add(t10, t57, t22);
+    let t60: f64 = 1.0 / t59;
+    let t61: f64 = t12 * t43;
+    let t62: f64 = t19 * t61;
+    let t63: f64 = t60 * t62;
+    let t64: f64 = q3 + q4;
+    let t65: f64 = t64 * 0.5;
+    let t66: f64 = t13 * t44;
+    let t67: f64 = t13 * t13;
+    let t68: f64 = t10 * t67;
+    let t70: f64 = f64::mul_add(t68, 0.25, 1.0);
+    let t71: f64 = t14 * t70;
+    let t73: f64 = t71 * 0.5;
+    let t74: f64 = f64::mul_add(t66, 0.25, t73);
+    let t75: f64 = t22 * t67;
+    let t77: f64 = t75 * 0.25;
+    let t78: f64 = f64::mul_add(t74, t74, t77);
+    let t80: f64 = f64::mul_add(t10, t78, t22);
+    let t81: f64 = 1.0 / t80;
+    let t82: f64 = t65 * t74;
+    let t84: f64 = t63 * 0.5;
+    let t85: f64 = f64::mul_add(t81, t82, t84);
+    let t86: f64 = t0 * t85;
+    let t87: f64 = f64::mul_add(t39, t40, -t86);
+    let t89: f64 = f64::mul_add(-t19, t87, half_spacing);
+    let t90: f64 = t0 * t89;
+    let t91: f64 = t90 * 0.5;
+    let t92: f64 = t91 - 1.0;
+    let t94: f64 = qd2 * t89;
+    let t95: f64 = t19 * t65;
+    let t97: f64 = t43 * t53;
+    let t99: f64 = t14 * t21;
+    let t100: f64 = t19 * t99;
+    let t101: f64 = t39 * t100;
+    let t102: f64 = t101 * 0.5;
+    let t103: f64 = f64::mul_add(t60, t97, t102);
+    let t104: f64 = t0 * t103;
+    let t105: f64 = f64::mul_add(t81, t95, -t104);
+    let t106: f64 = t19 * t105;
+    let t107: f64 = -t106;
+    let t109: f64 = t94 * 0.5;
+    let t110: f64 = f64::mul_add(t8, t107, t109);
+    let t111: f64 = t0 * t110;
+    let t112: f64 = f64::mul_add(-qd1, t92, t111);
+    let t113: f64 = q1 - half_spacing;
+    let t115: f64 = t19 * t43;
+    let t117: f64 = t13 * t65;
+    let t118: f64 = t19 * t117;
+    let t119: f64 = t81 * t118;
+    let t120: f64 = t21 * t32;
+    let t122: f64 = t119 * 0.5;
+    let t123: f64 = f64::mul_add(t39, t120, t122);
+    let t124: f64 = t0 * t123;
+    let t125: f64 = f64::mul_add(t60, t115, -t124);
+    let t127: f64 = f64::mul_add(-t19, t125, q1);
+    let t128: f64 = t0 * t127;
+    let t129: f64 = f64::mul_add(t0, t113, -t128);
+    let t130: f64 = t129 * 0.5;
+    let t131: f64 = t130 + 1.0;
+    let t134: f64 = t91 - 0.5;
+    let t135: f64 = t1 * t134;
+    let t136: f64 = f64::mul_add(qd3, t131, t135);
+    let t137: f64 = f64::mul_add(-qd4, t130, t136);
+    let t138: f64 = t0 * t107;
+    let t139: f64 = t138 * 0.5;
+    let t140: f64 = t139 - 0.5;
+    let t142: f64 = t139 + 0.5;
+    let t145: f64 = f64::mul_add(q1, t0, -t128);
+    let t146: f64 = t145 * 0.5;
+    let t147: f64 = t4 * t146;
+    let t148: f64 = f64::mul_add(qd5, t140, t147);
+    let t149: f64 = f64::mul_add(qd6, t142, -t148);
+    let t150: f64 = 1.0 - t18;
+    let t151: f64 = sqrt(t60);
+    let t152: f64 = t19 * t151;
+    let t153: f64 = -t152;
+    let t154: f64 = sqrt(t81);
+    let t155: f64 = t19 * t154;
+    let t156: f64 = -t155;
+    let t157: f64 = sqrt(t39);
+    let t158: f64 = t19 * t157;
+    let t159: f64 = -t158;
+    ([t3, t6, t9, t112, t137, t149], [t150, t153, t156, t159])
+}
 /// The platform's classical acceleration from the actuators' motion.
 ///
 /// Equations: 43, 44, 45, 46, 47, 48. Setting: joint.
@@ -12215,6 +21675,20 @@ pub fn platform_twist_params(
 /// Operations: 135 mul, 4 div, 65 add, 4 neg, 3 sqrt (chapter convention: 139m + 65a).
 #[inline]
 pub fn platform_acceleration_params(
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    qdd: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 4]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { platform_acceleration_params_fused(q, qd, qdd, params) };
+    }
+    platform_acceleration_params_separate(q, qd, qdd, params)
+}
+/// [`platform_acceleration_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn platform_acceleration_params_separate(
     q: &[f64; 6],
     qd: &[f64; 6],
     qdd: &[f64; 6],
@@ -12442,6 +21916,201 @@ pub fn platform_acceleration_params(
     let t210: f64 = -t209;
     ([t3, t6, t9, t170, t190, t200], [t201, t204, t207, t210])
 }
+/// [`platform_acceleration_params`] with 40 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`platform_acceleration_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn platform_acceleration_params_fused(
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    qdd: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 4]) {
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
+    let [qdd1, qdd2, qdd3, qdd4, qdd5, qdd6] = *qdd;
+    let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _] = *params;
+    let t0: f64 = 1.0 / half_spacing;
+    let t1: f64 = qdd5 - qdd6;
+    let t2: f64 = t1 * 0.5;
+    let t3: f64 = t0 * t2;
+    let t4: f64 = qdd1 - qdd2;
+    let t5: f64 = t4 * 0.5;
+    let t6: f64 = t0 * t5;
+    let t7: f64 = qdd3 - qdd4;
+    let t8: f64 = t7 * 0.5;
+    let t9: f64 = t0 * t8;
+    let t10: f64 = t0 * t0;
+    let t11: f64 = t0 * t10;
+    let t12: f64 = q1 - q2;
+    let t13: f64 = q3 - q4;
+    let t14: f64 = q5 - q6;
+    let t15: f64 = t11 * t12;
+    let t16: f64 = t13 * t15;
+    let t17: f64 = t14 * t16;
+    let t18: f64 = t17 * 0.125;
+    let t19: f64 = t18 - 1.0;
+    let t20: f64 = q5 + q6;
+    let t21: f64 = t20 * 0.5;
+    let t22: f64 = t19 * t19;
+    let t23: f64 = t0 * t13;
+    let t24: f64 = t14 * t23;
+    let t25: f64 = t14 * t14;
+    let t26: f64 = t10 * t25;
+    let t28: f64 = f64::mul_add(t26, 0.25, 1.0);
+    let t29: f64 = t12 * t28;
+    let t31: f64 = t29 * 0.5;
+    let t32: f64 = f64::mul_add(t24, 0.25, t31);
+    let t34: f64 = t22 * t25;
+    let t35: f64 = t34 * 0.25;
+    let t36: f64 = f64::mul_add(t32, t32, t35);
+    let t38: f64 = f64::mul_add(t10, t36, t22);
+    let t39: f64 = 1.0 / t38;
+    let t40: f64 = t19 * t21;
+    let t42: f64 = q1 + q2;
+    let t43: f64 = t42 * 0.5;
+    let t44: f64 = t0 * t12;
+    let t45: f64 = t14 * t44;
+    let t46: f64 = t12 * t12;
+    let t47: f64 = t10 * t46;
+    let t49: f64 = f64::mul_add(t47, 0.25, 1.0);
+    let t50: f64 = t13 * t49;
+    let t52: f64 = t50 * 0.5;
+    let t53: f64 = f64::mul_add(t45, 0.25, t52);
+    let t55: f64 = t22 * t46;
+    let t56: f64 = t55 * 0.25;
+    let t57: f64 = f64::mul_add(t53, t53, t56);
+    let t59: f64 = f64::mul_add(t10, t57, t22);
+    let t60: f64 = 1.0 / t59;
+    let t61: f64 = t12 * t43;
+    let t62: f64 = t19 * t61;
+    let t63: f64 = t60 * t62;
+    let t64: f64 = q3 + q4;
+    let t65: f64 = t64 * 0.5;
+    let t66: f64 = t13 * t44;
+    let t67: f64 = t13 * t13;
+    let t68: f64 = t10 * t67;
+    let t70: f64 = f64::mul_add(t68, 0.25, 1.0);
+    let t71: f64 = t14 * t70;
+    let t73: f64 = t71 * 0.5;
+    let t74: f64 = f64::mul_add(t66, 0.25, t73);
+    let t75: f64 = t22 * t67;
+    let t77: f64 = t75 * 0.25;
+    let t78: f64 = f64::mul_add(t74, t74, t77);
+    let t80: f64 = f64::mul_add(t10, t78, t22);
+    let t81: f64 = 1.0 / t80;
+    let t82: f64 = t65 * t74;
+    let t84: f64 = t63 * 0.5;
+    let t85: f64 = f64::mul_add(t81, t82, t84);
+    let t86: f64 = t0 * t85;
+    let t87: f64 = f64::mul_add(t39, t40, -t86);
+    let t89: f64 = f64::mul_add(-t19, t87, half_spacing);
+    let t90: f64 = t0 * t89;
+    let t91: f64 = t90 * 0.5;
+    let t92: f64 = t91 - 1.0;
+    let t93: f64 = qd1 - qd2;
+    let t94: f64 = t93 * 0.5;
+    let t96: f64 = t19 * t43;
+    let t98: f64 = t13 * t65;
+    let t99: f64 = t19 * t98;
+    let t100: f64 = t81 * t99;
+    let t101: f64 = t21 * t32;
+    let t103: f64 = t100 * 0.5;
+    let t104: f64 = f64::mul_add(t39, t101, t103);
+    let t105: f64 = t0 * t104;
+    let t106: f64 = f64::mul_add(t60, t96, -t105);
+    let t108: f64 = f64::mul_add(-t19, t106, q1);
+    let t109: f64 = t0 * t108;
+    let t110: f64 = f64::mul_add(q1, t0, -t109);
+    let t111: f64 = t110 * 0.5;
+    let t113: f64 = t19 * t65;
+    let t115: f64 = t43 * t53;
+    let t117: f64 = t14 * t21;
+    let t118: f64 = t19 * t117;
+    let t119: f64 = t39 * t118;
+    let t120: f64 = t119 * 0.5;
+    let t121: f64 = f64::mul_add(t60, t115, t120);
+    let t122: f64 = t0 * t121;
+    let t123: f64 = f64::mul_add(t81, t113, -t122);
+    let t124: f64 = t19 * t123;
+    let t125: f64 = -t124;
+    let t126: f64 = t0 * t125;
+    let t127: f64 = t126 * 0.5;
+    let t128: f64 = t127 - 0.5;
+    let t130: f64 = t127 + 0.5;
+    let t131: f64 = qd6 * t130;
+    let t132: f64 = f64::mul_add(qd5, t128, -t131);
+    let t133: f64 = f64::mul_add(t93, t111, t132);
+    let t134: f64 = t0 * t94;
+    let t136: f64 = q1 - half_spacing;
+    let t138: f64 = f64::mul_add(t0, t136, -t109);
+    let t139: f64 = t138 * 0.5;
+    let t140: f64 = t139 + 1.0;
+    let t143: f64 = t91 - 0.5;
+    let t144: f64 = qd5 - qd6;
+    let t145: f64 = t143 * t144;
+    let t146: f64 = f64::mul_add(qd3, t140, t145);
+    let t147: f64 = f64::mul_add(-qd4, t139, t146);
+    let t148: f64 = qd3 - qd4;
+    let t149: f64 = t148 * 0.5;
+    let t150: f64 = t0 * t147;
+    let t151: f64 = t149 * t150;
+    let t152: f64 = f64::mul_add(t133, t134, t151);
+    let t153: f64 = qdd1 - t152;
+    let t155: f64 = t0 * t19;
+    let t156: f64 = t106 * t155;
+    let t157: f64 = t156 * 0.5;
+    let t159: f64 = f64::mul_add(t93, t157, t132);
+    let t161: f64 = t147 * t149;
+    let t162: f64 = f64::mul_add(t94, t159, t161);
+    let t164: f64 = f64::mul_add(-t0, t162, qdd2);
+    let t165: f64 = t89 * t164;
+    let t167: f64 = t165 * 0.5;
+    let t168: f64 = f64::mul_add(t8, t125, t167);
+    let t169: f64 = t0 * t168;
+    let t170: f64 = f64::mul_add(-t92, t153, t169);
+    let t171: f64 = t144 * 0.5;
+    let t172: f64 = t0 * t171;
+    let t175: f64 = qd2 * t89;
+    let t177: f64 = t175 * 0.5;
+    let t178: f64 = f64::mul_add(t125, t149, t177);
+    let t179: f64 = t0 * t178;
+    let t180: f64 = f64::mul_add(qd1, t92, -t179);
+    let t181: f64 = t0 * t149;
+    let t182: f64 = t180 * t181;
+    let t183: f64 = f64::mul_add(t133, t172, -t182);
+    let t184: f64 = qdd3 + t183;
+    let t186: f64 = qdd4 + t183;
+    let t188: f64 = t1 * t143;
+    let t189: f64 = f64::mul_add(t140, t184, t188);
+    let t190: f64 = f64::mul_add(-t139, t186, t189);
+    let t192: f64 = t134 * t180;
+    let t193: f64 = f64::mul_add(t147, t172, t192);
+    let t194: f64 = qdd5 + t193;
+    let t196: f64 = qdd6 + t193;
+    let t198: f64 = t4 * t111;
+    let t199: f64 = f64::mul_add(t128, t194, t198);
+    let t200: f64 = f64::mul_add(t130, t196, -t199);
+    let t201: f64 = 1.0 - t18;
+    let t202: f64 = sqrt(t60);
+    let t203: f64 = t19 * t202;
+    let t204: f64 = -t203;
+    let t205: f64 = sqrt(t81);
+    let t206: f64 = t19 * t205;
+    let t207: f64 = -t206;
+    let t208: f64 = sqrt(t39);
+    let t209: f64 = t19 * t208;
+    let t210: f64 = -t209;
+    ([t3, t6, t9, t170, t190, t200], [t201, t204, t207, t210])
+}
 /// The platform state (pose, twist, acceleration) from the actuators' motion.
 ///
 /// Equations: 43, 44, 45, 46, 47, 48. Setting: joint.
@@ -12469,6 +22138,20 @@ pub fn platform_acceleration_params(
 /// Operations: 152 mul, 7 div, 90 add, 3 neg, 3 atan, 4 sqrt (chapter convention: 159m + 90a).
 #[inline]
 pub fn platform_state_params(
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    qdd: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 6], [f64; 6], [f64; 4]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { platform_state_params_fused(q, qd, qdd, params) };
+    }
+    platform_state_params_separate(q, qd, qdd, params)
+}
+/// [`platform_state_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn platform_state_params_separate(
     q: &[f64; 6],
     qd: &[f64; 6],
     qdd: &[f64; 6],
@@ -12749,6 +22432,246 @@ pub fn platform_state_params(
         [t255, t75, t258, t46],
     )
 }
+/// [`platform_state_params`] with 48 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`platform_state_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn platform_state_params_fused(
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    qdd: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 6], [f64; 6], [f64; 4]) {
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
+    let [qdd1, qdd2, qdd3, qdd4, qdd5, qdd6] = *qdd;
+    let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _] = *params;
+    let t0: f64 = 1.0 / half_spacing;
+    let t1: f64 = q5 - q6;
+    let t2: f64 = t0 * t1;
+    let t3: f64 = t0 * t0;
+    let t4: f64 = t3 * t3;
+    let t5: f64 = q1 - q2;
+    let t6: f64 = q3 - q4;
+    let t7: f64 = t1 * t1;
+    let t8: f64 = t4 * t5;
+    let t9: f64 = t6 * t8;
+    let t10: f64 = t7 * t9;
+    let t11: f64 = t2 * 0.5;
+    let t13: f64 = f64::mul_add(-t10, 0.0625, t11);
+    let t14: f64 = t0 * t3;
+    let t15: f64 = t5 * t14;
+    let t16: f64 = t6 * t15;
+    let t17: f64 = t1 * t16;
+    let t18: f64 = t14 * t14;
+    let t19: f64 = t5 * t5;
+    let t20: f64 = t6 * t6;
+    let t21: f64 = t18 * t19;
+    let t22: f64 = t20 * t21;
+    let t23: f64 = t7 * t22;
+    let t25: f64 = t0 * t5;
+    let t26: f64 = t1 * t25;
+    let t28: f64 = t6 * 0.25;
+    let t29: f64 = f64::mul_add(t26, 0.125, t28);
+    let t30: f64 = t1 * t3;
+    let t32: f64 = t25 * 0.5;
+    let t33: f64 = f64::mul_add(t29, t30, t32);
+    let t35: f64 = t17 * 0.25;
+    let t36: f64 = t23 * 0.015625;
+    let t37: f64 = f64::mul_add(t13, t13, t36);
+    let t38: f64 = f64::mul_add(t33, t33, 1.0);
+    let t39: f64 = t37 + t38;
+    let t40: f64 = t35 - t39;
+    let t41: f64 = 1.0 / t40;
+    let t42: f64 = -t41;
+    let t43: f64 = sqrt(t42);
+    let t44: f64 = t17 * t43;
+    let t46: f64 = f64::mul_add(-t44, 0.125, t43);
+    let t47: f64 = t13 * t43;
+    let t48: f64 = t47 / t46;
+    let t49: f64 = atan(t48);
+    let t50: f64 = t4 * t19;
+    let t51: f64 = t6 * t50;
+    let t52: f64 = t1 * t51;
+    let t54: f64 = f64::mul_add(-t52, 0.0625, t32);
+    let t56: f64 = t0 * t6;
+    let t57: f64 = t6 * t25;
+    let t59: f64 = t1 * 0.25;
+    let t60: f64 = f64::mul_add(t57, 0.125, t59);
+    let t61: f64 = t3 * t5;
+    let t63: f64 = t56 * 0.5;
+    let t64: f64 = f64::mul_add(t60, t61, t63);
+    let t66: f64 = f64::mul_add(t54, t54, t36);
+    let t67: f64 = f64::mul_add(t64, t64, 1.0);
+    let t68: f64 = t66 + t67;
+    let t69: f64 = t35 - t68;
+    let t70: f64 = 1.0 / t69;
+    let t71: f64 = -t70;
+    let t72: f64 = sqrt(t71);
+    let t73: f64 = t17 * t72;
+    let t75: f64 = f64::mul_add(-t73, 0.125, t72);
+    let t77: f64 = t8 * t20;
+    let t78: f64 = t1 * t77;
+    let t80: f64 = f64::mul_add(-t78, 0.0625, t63);
+    let t81: f64 = t80 * t80;
+    let t82: f64 = t1 * t56;
+    let t84: f64 = t5 * 0.25;
+    let t85: f64 = f64::mul_add(t82, 0.125, t84);
+    let t86: f64 = t3 * t6;
+    let t88: f64 = f64::mul_add(t85, t86, t11);
+    let t90: f64 = t36 + t81;
+    let t91: f64 = f64::mul_add(t88, t88, 1.0);
+    let t92: f64 = t90 + t91;
+    let t93: f64 = t35 - t92;
+    let t94: f64 = 1.0 / t93;
+    let t95: f64 = -t94;
+    let t96: f64 = sqrt(t95);
+    let t97: f64 = t96 * t96;
+    let t98: f64 = t81 * t97;
+    let t99: f64 = f64::mul_add(t75, t75, t98);
+    let t100: f64 = sqrt(t99);
+    let t101: f64 = t33 * t43;
+    let t102: f64 = t101 / t100;
+    let t103: f64 = atan(t102);
+    let t104: f64 = t80 * t96;
+    let t105: f64 = t104 / t75;
+    let t106: f64 = atan(t105);
+    let t107: f64 = q1 + q2;
+    let t108: f64 = t107 * 0.0625;
+    let t110: f64 = t107 * 0.5;
+    let t111: f64 = f64::mul_add(-t17, t108, t110);
+    let t112: f64 = t17 * t70;
+    let t113: f64 = t111 * t112;
+    let t114: f64 = q5 + q6;
+    let t115: f64 = t114 * 0.0625;
+    let t116: f64 = t17 * t115;
+    let t117: f64 = t114 * 0.5;
+    let t118: f64 = t117 - t116;
+    let t119: f64 = t33 * t41;
+    let t122: f64 = q3 + q4;
+    let t123: f64 = t122 * 0.0625;
+    let t124: f64 = t17 * t123;
+    let t125: f64 = t122 * 0.5;
+    let t126: f64 = t125 - t124;
+    let t127: f64 = t80 * t94;
+    let t128: f64 = t126 * t127;
+    let t129: f64 = f64::mul_add(t70, t111, -t128);
+    let t130: f64 = f64::mul_add(t118, t119, t129);
+    let t131: f64 = t113 * 0.125;
+    let t132: f64 = t131 - t130;
+    let t134: f64 = t17 * t94;
+    let t135: f64 = t126 * t134;
+    let t136: f64 = t64 * t70;
+    let t138: f64 = t13 * t41;
+    let t139: f64 = t118 * t138;
+    let t140: f64 = f64::mul_add(t111, t136, -t139);
+    let t142: f64 = f64::mul_add(t94, t126, t140);
+    let t143: f64 = f64::mul_add(t135, 0.125, -t142);
+    let t144: f64 = t41 * t118;
+    let t145: f64 = t17 * t41;
+    let t146: f64 = t118 * t145;
+    let t147: f64 = t88 * t94;
+    let t149: f64 = t54 * t70;
+    let t150: f64 = t111 * t149;
+    let t151: f64 = f64::mul_add(t126, t147, -t150);
+    let t152: f64 = t146 * 0.125;
+    let t153: f64 = t144 + t151;
+    let t154: f64 = t152 - t153;
+    let t155: f64 = qd5 - qd6;
+    let t156: f64 = t155 * 0.5;
+    let t157: f64 = t0 * t156;
+    let t158: f64 = qd1 - qd2;
+    let t159: f64 = t158 * 0.5;
+    let t160: f64 = t0 * t159;
+    let t161: f64 = qd3 - qd4;
+    let t162: f64 = t161 * 0.5;
+    let t163: f64 = t0 * t162;
+    let t164: f64 = t114 - t116;
+    let t165: f64 = t164 * 0.125;
+    let t167: f64 = f64::mul_add(-t17, t165, t117);
+    let t169: f64 = half_spacing + t151;
+    let t170: f64 = f64::mul_add(t41, t167, t169);
+    let t172: f64 = t122 - t124;
+    let t173: f64 = t172 * 0.125;
+    let t175: f64 = f64::mul_add(-t17, t173, t125);
+    let t177: f64 = f64::mul_add(t94, t175, t140);
+    let t178: f64 = t162 * t177;
+    let t179: f64 = f64::mul_add(t159, t170, -t178);
+    let t181: f64 = f64::mul_add(-t0, t179, qd1);
+    let t182: f64 = q1 - half_spacing;
+    let t184: f64 = q1 + t130;
+    let t185: f64 = t184 - t131;
+    let t186: f64 = t0 * t185;
+    let t187: f64 = f64::mul_add(t0, t182, -t186);
+    let t188: f64 = t187 * 0.5;
+    let t189: f64 = t188 + 1.0;
+    let t191: f64 = qd4 * t188;
+    let t192: f64 = f64::mul_add(qd3, t189, -t191);
+    let t193: f64 = t144 + t169;
+    let t194: f64 = t193 - t152;
+    let t195: f64 = qd5 * t0;
+    let t197: f64 = qd6 * t0;
+    let t198: f64 = t194 * t197;
+    let t199: f64 = f64::mul_add(t194, t195, -t198);
+    let t200: f64 = t155 - t199;
+    let t201: f64 = t200 * 0.5;
+    let t202: f64 = t192 - t201;
+    let t205: f64 = f64::mul_add(q1, t0, -t186);
+    let t206: f64 = t205 * 0.5;
+    let t207: f64 = t158 * t206;
+    let t208: f64 = qd5 + qd6;
+    let t210: f64 = f64::mul_add(t157, t177, t207);
+    let t211: f64 = f64::mul_add(t208, 0.5, -t210);
+    let t212: f64 = qdd5 - qdd6;
+    let t213: f64 = t212 * 0.5;
+    let t214: f64 = t0 * t213;
+    let t215: f64 = qdd1 - qdd2;
+    let t216: f64 = t215 * 0.5;
+    let t217: f64 = t0 * t216;
+    let t218: f64 = qdd3 - qdd4;
+    let t219: f64 = t218 * 0.5;
+    let t220: f64 = t0 * t219;
+    let t222: f64 = t201 - t192;
+    let t225: f64 = t177 * t219;
+    let t226: f64 = f64::mul_add(t170, t216, -t225);
+    let t228: f64 = f64::mul_add(t160, t211, qdd1);
+    let t229: f64 = f64::mul_add(t163, t222, t228);
+    let t230: f64 = f64::mul_add(-t0, t226, t229);
+    let t232: f64 = t157 * t211;
+    let t233: f64 = f64::mul_add(t163, t181, -t232);
+    let t234: f64 = qdd3 + t233;
+    let t236: f64 = qdd4 + t233;
+    let t238: f64 = t0 * t170;
+    let t239: f64 = t213 * t238;
+    let t240: f64 = f64::mul_add(t189, t234, t239);
+    let t241: f64 = f64::mul_add(t188, t236, t213);
+    let t242: f64 = t240 - t241;
+    let t244: f64 = t160 * t181;
+    let t245: f64 = t0 * t177;
+    let t247: f64 = t206 * t215;
+    let t248: f64 = qdd5 + qdd6;
+    let t250: f64 = f64::mul_add(t157, t222, t244);
+    let t251: f64 = f64::mul_add(t213, t245, t247);
+    let t252: f64 = t250 + t251;
+    let t253: f64 = f64::mul_add(t248, 0.5, -t252);
+    let t255: f64 = f64::mul_add(-t17, 0.125, 1.0);
+    let t256: f64 = t17 * t96;
+    let t258: f64 = f64::mul_add(-t256, 0.125, t96);
+    (
+        [t49, t103, t106, t132, t143, t154],
+        [t157, t160, t163, t181, t202, t211],
+        [t214, t217, t220, t230, t242, t253],
+        [t255, t75, t258, t46],
+    )
+}
 /// Inverse dynamics from what the encoders measure: `Γ` from the actuators' positions, rates and accelerations.
 ///
 /// Equations: 15, 16, 27, 43-48, 49-57, 60, 62. Setting: joint.
@@ -12774,6 +22697,20 @@ pub fn platform_state_params(
 /// Operations: 1053 mul, 4 div, 734 add, 17 neg, 3 sqrt (chapter convention: 1057m + 734a).
 #[inline]
 pub fn inverse_dynamics_joint_params(
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    qdd: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 4]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { inverse_dynamics_joint_params_fused(q, qd, qdd, params) };
+    }
+    inverse_dynamics_joint_params_separate(q, qd, qdd, params)
+}
+/// [`inverse_dynamics_joint_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn inverse_dynamics_joint_params_separate(
     q: &[f64; 6],
     qd: &[f64; 6],
     qdd: &[f64; 6],
@@ -14610,6 +24547,1390 @@ pub fn inverse_dynamics_joint_params(
     let t1810: f64 = -t1053;
     ([t1363, t1364, t1707, t1710, t1804, t1806], [t1807, t1808, t1809, t1810])
 }
+/// [`inverse_dynamics_joint_params`] with 460 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`inverse_dynamics_joint_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn inverse_dynamics_joint_params_fused(
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    qdd: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 4]) {
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
+    let [qdd1, qdd2, qdd3, qdd4, qdd5, qdd6] = *qdd;
+    let [half_spacing, gravity_x, gravity_y, gravity_z, platform_mass, platform_mx,
+    platform_my, platform_mz, platform_ixx, platform_ixy, platform_ixz, platform_iyy,
+    platform_iyz, platform_izz, rod1_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint1_mass, joint1_mx, joint1_my, joint1_mz, joint1_ixx, joint1_ixy, joint1_ixz,
+    joint1_iyy, joint1_iyz, joint1_izz, rod2_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint2_mass, joint2_mx, joint2_my, joint2_mz, joint2_ixx, joint2_ixy, joint2_ixz,
+    joint2_iyy, joint2_iyz, joint2_izz, rod3_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint3_mass, joint3_mx, joint3_my, joint3_mz, joint3_ixx, joint3_ixy, joint3_ixz,
+    joint3_iyy, joint3_iyz, joint3_izz, rod4_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint4_mass, joint4_mx, joint4_my, joint4_mz, joint4_ixx, joint4_ixy, joint4_ixz,
+    joint4_iyy, joint4_iyz, joint4_izz, rod5_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint5_mass, joint5_mx, joint5_my, joint5_mz, joint5_ixx, joint5_ixy, joint5_ixz,
+    joint5_iyy, joint5_iyz, joint5_izz, rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint6_mass, joint6_mx, joint6_my, joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz,
+    joint6_iyy, joint6_iyz, joint6_izz] = *params;
+    let t0: f64 = 1.0 / half_spacing;
+    let t1: f64 = q1 - q2;
+    let t2: f64 = q1 + q2;
+    let t3: f64 = t2 * 0.5;
+    let t4: f64 = t0 * t0;
+    let t5: f64 = t0 * t4;
+    let t6: f64 = q3 - q4;
+    let t7: f64 = q5 - q6;
+    let t8: f64 = t1 * t5;
+    let t9: f64 = t6 * t8;
+    let t10: f64 = t7 * t9;
+    let t11: f64 = t10 * 0.125;
+    let t12: f64 = t11 - 1.0;
+    let t13: f64 = t12 * t12;
+    let t14: f64 = t0 * t1;
+    let t15: f64 = t7 * t14;
+    let t16: f64 = t1 * t1;
+    let t17: f64 = t4 * t16;
+    let t19: f64 = f64::mul_add(t17, 0.25, 1.0);
+    let t20: f64 = t6 * t19;
+    let t22: f64 = t20 * 0.5;
+    let t23: f64 = f64::mul_add(t15, 0.25, t22);
+    let t25: f64 = t13 * t16;
+    let t26: f64 = t25 * 0.25;
+    let t27: f64 = f64::mul_add(t23, t23, t26);
+    let t29: f64 = f64::mul_add(t4, t27, t13);
+    let t30: f64 = 1.0 / t29;
+    let t31: f64 = t3 * t14;
+    let t32: f64 = t13 * t31;
+    let t33: f64 = t30 * t32;
+    let t34: f64 = q3 + q4;
+    let t35: f64 = t34 * 0.5;
+    let t36: f64 = t6 * t14;
+    let t37: f64 = t6 * t6;
+    let t38: f64 = t4 * t37;
+    let t40: f64 = f64::mul_add(t38, 0.25, 1.0);
+    let t41: f64 = t7 * t40;
+    let t43: f64 = t41 * 0.5;
+    let t44: f64 = f64::mul_add(t36, 0.25, t43);
+    let t45: f64 = t13 * t37;
+    let t47: f64 = t45 * 0.25;
+    let t48: f64 = f64::mul_add(t44, t44, t47);
+    let t50: f64 = f64::mul_add(t4, t48, t13);
+    let t51: f64 = 1.0 / t50;
+    let t52: f64 = t0 * t35;
+    let t53: f64 = t12 * t52;
+    let t54: f64 = t44 * t53;
+    let t56: f64 = q5 + q6;
+    let t57: f64 = t56 * 0.5;
+    let t58: f64 = t0 * t6;
+    let t59: f64 = t7 * t58;
+    let t60: f64 = t7 * t7;
+    let t61: f64 = t4 * t60;
+    let t63: f64 = f64::mul_add(t61, 0.25, 1.0);
+    let t64: f64 = t1 * t63;
+    let t66: f64 = t64 * 0.5;
+    let t67: f64 = f64::mul_add(t59, 0.25, t66);
+    let t69: f64 = t13 * t60;
+    let t70: f64 = t69 * 0.25;
+    let t71: f64 = f64::mul_add(t67, t67, t70);
+    let t73: f64 = f64::mul_add(t4, t71, t13);
+    let t74: f64 = 1.0 / t73;
+    let t75: f64 = t13 * t57;
+    let t76: f64 = t74 * t75;
+    let t77: f64 = f64::mul_add(t51, t54, -t76);
+    let t78: f64 = t33 * 0.5;
+    let t79: f64 = half_spacing + t77;
+    let t80: f64 = t78 + t79;
+    let t81: f64 = t0 * t80;
+    let t82: f64 = t81 * 0.5;
+    let t83: f64 = t82 - 1.0;
+    let t84: f64 = qd1 - qd2;
+    let t85: f64 = t84 * 0.5;
+    let t86: f64 = t0 * t7;
+    let t87: f64 = t57 * t86;
+    let t88: f64 = t13 * t87;
+    let t89: f64 = t74 * t88;
+    let t90: f64 = t0 * t3;
+    let t91: f64 = t12 * t90;
+    let t92: f64 = t23 * t91;
+    let t94: f64 = t13 * t35;
+    let t95: f64 = t51 * t94;
+    let t96: f64 = f64::mul_add(t30, t92, -t95);
+    let t97: f64 = t89 * 0.5;
+    let t98: f64 = t96 + t97;
+    let t99: f64 = t0 * t98;
+    let t100: f64 = t99 * 0.5;
+    let t101: f64 = t100 - 0.5;
+    let t103: f64 = t100 + 0.5;
+    let t105: f64 = q1 * t0;
+    let t106: f64 = t35 * t58;
+    let t107: f64 = t13 * t106;
+    let t108: f64 = t51 * t107;
+    let t109: f64 = t0 * t57;
+    let t110: f64 = t12 * t109;
+    let t111: f64 = t67 * t110;
+    let t113: f64 = t3 * t13;
+    let t114: f64 = t30 * t113;
+    let t115: f64 = f64::mul_add(t74, t111, -t114);
+    let t116: f64 = t108 * 0.5;
+    let t117: f64 = q1 + t115;
+    let t118: f64 = t116 + t117;
+    let t119: f64 = t0 * t118;
+    let t120: f64 = t105 - t119;
+    let t121: f64 = t120 * 0.5;
+    let t122: f64 = t84 * t121;
+    let t123: f64 = f64::mul_add(qd5, t101, t122);
+    let t124: f64 = f64::mul_add(-qd6, t103, t123);
+    let t125: f64 = t0 * t85;
+    let t127: f64 = qd3 - qd4;
+    let t128: f64 = t127 * 0.5;
+    let t129: f64 = q1 - half_spacing;
+    let t130: f64 = t0 * t129;
+    let t131: f64 = t130 - t119;
+    let t132: f64 = t131 * 0.5;
+    let t133: f64 = t132 + 1.0;
+    let t136: f64 = t82 - 0.5;
+    let t137: f64 = qd5 - qd6;
+    let t138: f64 = t136 * t137;
+    let t139: f64 = f64::mul_add(qd3, t133, t138);
+    let t140: f64 = f64::mul_add(-qd4, t132, t139);
+    let t141: f64 = t0 * t128;
+    let t142: f64 = t140 * t141;
+    let t143: f64 = f64::mul_add(t124, t125, t142);
+    let t144: f64 = qdd1 - t143;
+    let t146: f64 = f64::mul_add(t83, t144, gravity_x);
+    let t147: f64 = t137 * 0.5;
+    let t148: f64 = t0 * t124;
+    let t151: f64 = t12 * t57;
+    let t153: f64 = t1 * t3;
+    let t154: f64 = t12 * t153;
+    let t155: f64 = t30 * t154;
+    let t156: f64 = t35 * t44;
+    let t158: f64 = t155 * 0.5;
+    let t159: f64 = f64::mul_add(t51, t156, t158);
+    let t160: f64 = t0 * t159;
+    let t161: f64 = f64::mul_add(t74, t151, -t160);
+    let t162: f64 = t12 * t161;
+    let t163: f64 = half_spacing - t162;
+    let t164: f64 = qd2 * t163;
+    let t165: f64 = t12 * t35;
+    let t167: f64 = t3 * t23;
+    let t169: f64 = t7 * t57;
+    let t170: f64 = t12 * t169;
+    let t171: f64 = t74 * t170;
+    let t172: f64 = t171 * 0.5;
+    let t173: f64 = f64::mul_add(t30, t167, t172);
+    let t174: f64 = t0 * t173;
+    let t175: f64 = f64::mul_add(t51, t165, -t174);
+    let t176: f64 = t12 * t175;
+    let t177: f64 = -t176;
+    let t179: f64 = t164 * 0.5;
+    let t180: f64 = f64::mul_add(t128, t177, t179);
+    let t181: f64 = t0 * t180;
+    let t182: f64 = f64::mul_add(qd1, t83, -t181);
+    let t183: f64 = t141 * t182;
+    let t184: f64 = f64::mul_add(t147, t148, -t183);
+    let t185: f64 = qdd4 + t184;
+    let t187: f64 = qdd2 - t143;
+    let t189: f64 = qdd3 + t184;
+    let t190: f64 = t99 * t189;
+    let t191: f64 = f64::mul_add(t81, t187, t190);
+    let t192: f64 = f64::mul_add(t99, t185, -t191);
+    let t193: f64 = t192 * 0.5;
+    let t194: f64 = t146 + t193;
+    let t197: f64 = t0 * t187;
+    let t198: f64 = f64::mul_add(t0, t144, -t197);
+    let t199: f64 = t198 * 0.5;
+    let t200: f64 = sqrt(t74);
+    let t201: f64 = platform_mz * t12;
+    let t203: f64 = sqrt(t30);
+    let t204: f64 = platform_mx * t1;
+    let t205: f64 = t12 * t204;
+    let t206: f64 = t203 * t205;
+    let t207: f64 = sqrt(t51);
+    let t208: f64 = platform_my * t44;
+    let t210: f64 = t206 * 0.5;
+    let t211: f64 = f64::mul_add(t207, t208, t210);
+    let t212: f64 = t0 * t211;
+    let t213: f64 = f64::mul_add(-t200, t201, t212);
+    let t216: f64 = t0 * t185;
+    let t217: f64 = f64::mul_add(t0, t189, -t216);
+    let t218: f64 = t217 * 0.5;
+    let t219: f64 = platform_my * t12;
+    let t221: f64 = platform_mx * t23;
+    let t223: f64 = platform_mz * t7;
+    let t224: f64 = t12 * t223;
+    let t225: f64 = t200 * t224;
+    let t226: f64 = t225 * 0.5;
+    let t227: f64 = f64::mul_add(t203, t221, t226);
+    let t228: f64 = t0 * t227;
+    let t229: f64 = f64::mul_add(-t207, t219, t228);
+    let t230: f64 = t218 * t229;
+    let t232: f64 = platform_mx * t12;
+    let t234: f64 = platform_my * t6;
+    let t235: f64 = t12 * t234;
+    let t236: f64 = t207 * t235;
+    let t237: f64 = platform_mz * t67;
+    let t239: f64 = t236 * 0.5;
+    let t240: f64 = f64::mul_add(t200, t237, t239);
+    let t241: f64 = t0 * t240;
+    let t242: f64 = f64::mul_add(t203, t232, -t241);
+    let t243: f64 = t85 * t242;
+    let t244: f64 = f64::mul_add(t147, t229, t243);
+    let t245: f64 = t4 * t85;
+    let t246: f64 = t244 * t245;
+    let t248: f64 = t147 * t213;
+    let t249: f64 = f64::mul_add(t128, t242, t248);
+    let t250: f64 = t4 * t128;
+    let t252: f64 = t128 * t128;
+    let t253: f64 = t4 * t252;
+    let t254: f64 = t85 * t85;
+    let t255: f64 = t4 * t254;
+    let t256: f64 = t253 + t255;
+    let t258: f64 = t147 * t250;
+    let t259: f64 = t199 + t258;
+    let t261: f64 = t147 * t245;
+    let t262: f64 = t218 - t261;
+    let t264: f64 = f64::mul_add(t98, t262, t146);
+    let t265: f64 = f64::mul_add(t118, t256, t264);
+    let t266: f64 = t193 + t265;
+    let t267: f64 = f64::mul_add(-t80, t259, t266);
+    let t269: f64 = joint1_mz * t12;
+    let t271: f64 = joint1_mx * t1;
+    let t272: f64 = t12 * t271;
+    let t273: f64 = t203 * t272;
+    let t274: f64 = joint1_my * t44;
+    let t276: f64 = t273 * 0.5;
+    let t277: f64 = f64::mul_add(t207, t274, t276);
+    let t278: f64 = t0 * t277;
+    let t279: f64 = f64::mul_add(-t200, t269, t278);
+    let t280: f64 = t199 * t279;
+    let t281: f64 = joint1_my * t12;
+    let t283: f64 = joint1_mx * t23;
+    let t285: f64 = joint1_mz * t7;
+    let t286: f64 = t12 * t285;
+    let t287: f64 = t200 * t286;
+    let t288: f64 = t287 * 0.5;
+    let t289: f64 = f64::mul_add(t203, t283, t288);
+    let t290: f64 = t0 * t289;
+    let t291: f64 = f64::mul_add(-t207, t281, t290);
+    let t292: f64 = t218 * t291;
+    let t294: f64 = joint1_mx * t12;
+    let t296: f64 = joint1_my * t6;
+    let t297: f64 = t12 * t296;
+    let t298: f64 = t207 * t297;
+    let t299: f64 = joint1_mz * t67;
+    let t301: f64 = t298 * 0.5;
+    let t302: f64 = f64::mul_add(t200, t299, t301);
+    let t303: f64 = t0 * t302;
+    let t304: f64 = f64::mul_add(t203, t294, -t303);
+    let t305: f64 = t85 * t304;
+    let t306: f64 = f64::mul_add(t147, t291, t305);
+    let t309: f64 = t147 * t279;
+    let t310: f64 = f64::mul_add(t128, t304, t309);
+    let t311: f64 = t250 * t310;
+    let t314: f64 = f64::mul_add(t98, t218, t146);
+    let t315: f64 = t314 - t143;
+    let t316: f64 = t193 + t315;
+    let t317: f64 = f64::mul_add(-t80, t199, t316);
+    let t319: f64 = t0 * t140;
+    let t321: f64 = t125 * t182;
+    let t322: f64 = f64::mul_add(t147, t319, t321);
+    let t323: f64 = qdd5 + t322;
+    let t325: f64 = qdd6 + t322;
+    let t326: f64 = t0 * t325;
+    let t327: f64 = f64::mul_add(t0, t323, -t326);
+    let t328: f64 = t327 * 0.5;
+    let t331: f64 = t121 * t187;
+    let t332: f64 = f64::mul_add(t101, t323, -t331);
+    let t334: f64 = f64::mul_add(t121, t144, gravity_z);
+    let t336: f64 = f64::mul_add(-t103, t325, t334);
+    let t337: f64 = t332 + t336;
+    let t338: f64 = platform_mass * t337;
+    let t339: f64 = f64::mul_add(t229, t328, -t338);
+    let t340: f64 = joint6_mz * t12;
+    let t342: f64 = joint6_mx * t1;
+    let t343: f64 = t12 * t342;
+    let t344: f64 = t203 * t343;
+    let t345: f64 = joint6_my * t44;
+    let t347: f64 = t344 * 0.5;
+    let t348: f64 = f64::mul_add(t207, t345, t347);
+    let t349: f64 = t0 * t348;
+    let t350: f64 = f64::mul_add(-t200, t340, t349);
+    let t352: f64 = joint6_my * t12;
+    let t354: f64 = joint6_mx * t23;
+    let t356: f64 = joint6_mz * t7;
+    let t357: f64 = t12 * t356;
+    let t358: f64 = t200 * t357;
+    let t359: f64 = t358 * 0.5;
+    let t360: f64 = f64::mul_add(t203, t354, t359);
+    let t361: f64 = t0 * t360;
+    let t362: f64 = f64::mul_add(-t207, t352, t361);
+    let t363: f64 = t128 * t362;
+    let t364: f64 = f64::mul_add(t85, t350, -t363);
+    let t366: f64 = half_spacing - t98;
+    let t368: f64 = t115 + t116;
+    let t369: f64 = -t368;
+    let t371: f64 = f64::mul_add(-t199, t369, t337);
+    let t372: f64 = t322 + t371;
+    let t373: f64 = f64::mul_add(t328, t366, t372);
+    let t374: f64 = rod6_mass * t373;
+    let t375: f64 = f64::mul_add(t245, t364, t374);
+    let t376: f64 = t128 * t245;
+    let t377: f64 = t328 + t376;
+    let t379: f64 = q6 + t77;
+    let t380: f64 = t78 + t379;
+    let t381: f64 = t147 * t147;
+    let t382: f64 = t4 * t381;
+    let t383: f64 = t255 + t382;
+    let t384: f64 = t380 * t383;
+    let t385: f64 = t199 - t258;
+    let t387: f64 = f64::mul_add(-t369, t385, t337);
+    let t388: f64 = f64::mul_add(t366, t377, t384);
+    let t389: f64 = t387 + t388;
+    let t391: f64 = t328 * t362;
+    let t392: f64 = f64::mul_add(joint6_mass, t389, -t391);
+    let t393: f64 = joint6_mx * t12;
+    let t395: f64 = joint6_my * t6;
+    let t396: f64 = t12 * t395;
+    let t397: f64 = t207 * t396;
+    let t398: f64 = joint6_mz * t67;
+    let t400: f64 = t397 * 0.5;
+    let t401: f64 = f64::mul_add(t200, t398, t400);
+    let t402: f64 = t0 * t401;
+    let t403: f64 = f64::mul_add(t203, t393, -t402);
+    let t406: f64 = t147 * t350;
+    let t407: f64 = f64::mul_add(t128, t403, t406);
+    let t408: f64 = t4 * t147;
+    let t409: f64 = t407 * t408;
+    let t410: f64 = f64::mul_add(t199, t403, -t409);
+    let t411: f64 = t392 - t410;
+    let t412: f64 = t375 + t411;
+    let t413: f64 = t339 - t412;
+    let t415: f64 = t249 * t408;
+    let t416: f64 = f64::mul_add(t199, t242, -t415);
+    let t418: f64 = t128 * t229;
+    let t419: f64 = f64::mul_add(t85, t213, -t418);
+    let t422: f64 = t80 * t383;
+    let t424: f64 = f64::mul_add(-t98, t377, t337);
+    let t425: f64 = f64::mul_add(t118, t385, t422);
+    let t426: f64 = t424 + t425;
+    let t427: f64 = joint1_mass * t426;
+    let t428: f64 = f64::mul_add(t245, t419, t427);
+    let t429: f64 = t416 - t428;
+    let t430: f64 = t413 + t429;
+    let t432: f64 = t199 * t304;
+    let t433: f64 = f64::mul_add(t291, t328, t432);
+    let t436: f64 = t128 * t291;
+    let t437: f64 = f64::mul_add(t85, t279, -t436);
+    let t438: f64 = t245 * t437;
+    let t439: f64 = f64::mul_add(t310, t408, t438);
+    let t440: f64 = t433 - t439;
+    let t441: f64 = joint2_mx * t12;
+    let t443: f64 = joint2_my * t6;
+    let t444: f64 = t12 * t443;
+    let t445: f64 = t207 * t444;
+    let t446: f64 = joint2_mz * t67;
+    let t448: f64 = t445 * 0.5;
+    let t449: f64 = f64::mul_add(t200, t446, t448);
+    let t450: f64 = t0 * t449;
+    let t451: f64 = f64::mul_add(t203, t441, -t450);
+    let t454: f64 = joint2_mz * t12;
+    let t456: f64 = joint2_mx * t1;
+    let t457: f64 = t12 * t456;
+    let t458: f64 = t203 * t457;
+    let t459: f64 = joint2_my * t44;
+    let t461: f64 = t458 * 0.5;
+    let t462: f64 = f64::mul_add(t207, t459, t461);
+    let t463: f64 = t0 * t462;
+    let t464: f64 = f64::mul_add(-t200, t454, t463);
+    let t465: f64 = t147 * t464;
+    let t466: f64 = f64::mul_add(t128, t451, t465);
+    let t467: f64 = t408 * t466;
+    let t468: f64 = f64::mul_add(t199, t451, -t467);
+    let t470: f64 = joint2_my * t12;
+    let t472: f64 = joint2_mx * t23;
+    let t474: f64 = joint2_mz * t7;
+    let t475: f64 = t12 * t474;
+    let t476: f64 = t200 * t475;
+    let t477: f64 = t476 * 0.5;
+    let t478: f64 = f64::mul_add(t203, t472, t477);
+    let t479: f64 = t0 * t478;
+    let t480: f64 = f64::mul_add(-t207, t470, t479);
+    let t481: f64 = t128 * t480;
+    let t482: f64 = f64::mul_add(t85, t464, -t481);
+    let t484: f64 = q2 + t115;
+    let t485: f64 = t116 + t484;
+    let t487: f64 = t77 + t78;
+    let t488: f64 = half_spacing - t487;
+    let t490: f64 = f64::mul_add(t385, t485, t424);
+    let t491: f64 = f64::mul_add(-t383, t488, t490);
+    let t493: f64 = t328 * t480;
+    let t494: f64 = f64::mul_add(joint2_mass, t491, -t493);
+    let t495: f64 = f64::mul_add(t245, t482, t494);
+    let t496: f64 = t468 - t495;
+    let t497: f64 = joint3_mx * t12;
+    let t499: f64 = joint3_my * t6;
+    let t500: f64 = t12 * t499;
+    let t501: f64 = t207 * t500;
+    let t502: f64 = joint3_mz * t67;
+    let t504: f64 = t501 * 0.5;
+    let t505: f64 = f64::mul_add(t200, t502, t504);
+    let t506: f64 = t0 * t505;
+    let t507: f64 = f64::mul_add(t203, t497, -t506);
+    let t510: f64 = joint3_mz * t12;
+    let t512: f64 = joint3_mx * t1;
+    let t513: f64 = t12 * t512;
+    let t514: f64 = t203 * t513;
+    let t515: f64 = joint3_my * t44;
+    let t517: f64 = t514 * 0.5;
+    let t518: f64 = f64::mul_add(t207, t515, t517);
+    let t519: f64 = t0 * t518;
+    let t520: f64 = f64::mul_add(-t200, t510, t519);
+    let t521: f64 = t147 * t520;
+    let t522: f64 = f64::mul_add(t128, t507, t521);
+    let t523: f64 = t408 * t522;
+    let t524: f64 = f64::mul_add(t199, t507, -t523);
+    let t526: f64 = joint3_my * t12;
+    let t528: f64 = joint3_mx * t23;
+    let t530: f64 = joint3_mz * t7;
+    let t531: f64 = t12 * t530;
+    let t532: f64 = t200 * t531;
+    let t533: f64 = t532 * 0.5;
+    let t534: f64 = f64::mul_add(t203, t528, t533);
+    let t535: f64 = t0 * t534;
+    let t536: f64 = f64::mul_add(-t207, t526, t535);
+    let t537: f64 = t128 * t536;
+    let t538: f64 = f64::mul_add(t85, t520, -t537);
+    let t540: f64 = half_spacing + t115;
+    let t541: f64 = t116 + t540;
+    let t543: f64 = q3 + t96;
+    let t544: f64 = t97 + t543;
+    let t547: f64 = f64::mul_add(t383, t487, t337);
+    let t548: f64 = f64::mul_add(t385, t541, t547);
+    let t549: f64 = f64::mul_add(-t377, t544, t548);
+    let t551: f64 = t328 * t536;
+    let t552: f64 = f64::mul_add(joint3_mass, t549, -t551);
+    let t553: f64 = f64::mul_add(t245, t538, t552);
+    let t554: f64 = t524 - t553;
+    let t555: f64 = t496 + t554;
+    let t556: f64 = joint4_mx * t12;
+    let t558: f64 = joint4_my * t6;
+    let t559: f64 = t12 * t558;
+    let t560: f64 = t207 * t559;
+    let t561: f64 = joint4_mz * t67;
+    let t563: f64 = t560 * 0.5;
+    let t564: f64 = f64::mul_add(t200, t561, t563);
+    let t565: f64 = t0 * t564;
+    let t566: f64 = f64::mul_add(t203, t556, -t565);
+    let t569: f64 = joint4_mz * t12;
+    let t571: f64 = joint4_mx * t1;
+    let t572: f64 = t12 * t571;
+    let t573: f64 = t203 * t572;
+    let t574: f64 = joint4_my * t44;
+    let t576: f64 = t573 * 0.5;
+    let t577: f64 = f64::mul_add(t207, t574, t576);
+    let t578: f64 = t0 * t577;
+    let t579: f64 = f64::mul_add(-t200, t569, t578);
+    let t580: f64 = t147 * t579;
+    let t581: f64 = f64::mul_add(t128, t566, t580);
+    let t582: f64 = t408 * t581;
+    let t583: f64 = f64::mul_add(t199, t566, -t582);
+    let t585: f64 = joint4_my * t12;
+    let t587: f64 = joint4_mx * t23;
+    let t589: f64 = joint4_mz * t7;
+    let t590: f64 = t12 * t589;
+    let t591: f64 = t200 * t590;
+    let t592: f64 = t591 * 0.5;
+    let t593: f64 = f64::mul_add(t203, t587, t592);
+    let t594: f64 = t0 * t593;
+    let t595: f64 = f64::mul_add(-t207, t585, t594);
+    let t596: f64 = t128 * t595;
+    let t597: f64 = f64::mul_add(t85, t579, -t596);
+    let t599: f64 = half_spacing - t368;
+    let t601: f64 = q4 + t96;
+    let t602: f64 = t97 + t601;
+    let t603: f64 = t377 * t602;
+    let t604: f64 = f64::mul_add(t385, t599, t603);
+    let t605: f64 = t547 - t604;
+    let t607: f64 = t328 * t595;
+    let t608: f64 = f64::mul_add(joint4_mass, t605, -t607);
+    let t609: f64 = f64::mul_add(t245, t597, t608);
+    let t610: f64 = t583 - t609;
+    let t611: f64 = joint5_mz * t12;
+    let t613: f64 = joint5_mx * t1;
+    let t614: f64 = t12 * t613;
+    let t615: f64 = t203 * t614;
+    let t616: f64 = joint5_my * t44;
+    let t618: f64 = t615 * 0.5;
+    let t619: f64 = f64::mul_add(t207, t616, t618);
+    let t620: f64 = t0 * t619;
+    let t621: f64 = f64::mul_add(-t200, t611, t620);
+    let t623: f64 = joint5_my * t12;
+    let t625: f64 = joint5_mx * t23;
+    let t627: f64 = joint5_mz * t7;
+    let t628: f64 = t12 * t627;
+    let t629: f64 = t200 * t628;
+    let t630: f64 = t629 * 0.5;
+    let t631: f64 = f64::mul_add(t203, t625, t630);
+    let t632: f64 = t0 * t631;
+    let t633: f64 = f64::mul_add(-t207, t623, t632);
+    let t634: f64 = t128 * t633;
+    let t635: f64 = f64::mul_add(t85, t621, -t634);
+    let t637: f64 = half_spacing + t96;
+    let t638: f64 = t97 + t637;
+    let t640: f64 = f64::mul_add(-t328, t638, t372);
+    let t641: f64 = rod5_mass * t640;
+    let t642: f64 = f64::mul_add(t245, t635, t641);
+    let t644: f64 = q5 + t77;
+    let t645: f64 = t78 + t644;
+    let t647: f64 = f64::mul_add(t383, t645, t387);
+    let t648: f64 = f64::mul_add(-t377, t638, t647);
+    let t650: f64 = t328 * t633;
+    let t651: f64 = f64::mul_add(joint5_mass, t648, -t650);
+    let t652: f64 = joint5_mx * t12;
+    let t654: f64 = joint5_my * t6;
+    let t655: f64 = t12 * t654;
+    let t656: f64 = t207 * t655;
+    let t657: f64 = joint5_mz * t67;
+    let t659: f64 = t656 * 0.5;
+    let t660: f64 = f64::mul_add(t200, t657, t659);
+    let t661: f64 = t0 * t660;
+    let t662: f64 = f64::mul_add(t203, t652, -t661);
+    let t665: f64 = t147 * t621;
+    let t666: f64 = f64::mul_add(t128, t662, t665);
+    let t667: f64 = t408 * t666;
+    let t668: f64 = f64::mul_add(t199, t662, -t667);
+    let t669: f64 = t651 - t668;
+    let t670: f64 = t642 + t669;
+    let t671: f64 = t610 - t670;
+    let t672: f64 = t555 + t671;
+    let t673: f64 = t440 + t672;
+    let t674: f64 = t430 + t673;
+    let t675: f64 = -t674;
+    let t678: f64 = t242 * t337;
+    let t680: f64 = t304 * t426;
+    let t682: f64 = t259 * t488;
+    let t683: f64 = f64::mul_add(t256, t485, t682);
+    let t684: f64 = t193 + t264;
+    let t685: f64 = t683 + t684;
+    let t687: f64 = t451 * t491;
+    let t690: f64 = f64::mul_add(t199, t488, t315);
+    let t691: f64 = t193 + t690;
+    let t692: f64 = rod2_mass * t691;
+    let t693: f64 = f64::mul_add(t250, t466, -t692);
+    let t695: f64 = t199 * t464;
+    let t696: f64 = f64::mul_add(joint2_mass, t685, -t695);
+    let t699: f64 = t85 * t451;
+    let t700: f64 = f64::mul_add(t147, t480, t699);
+    let t701: f64 = t245 * t700;
+    let t702: f64 = f64::mul_add(t218, t480, -t701);
+    let t703: f64 = t696 + t702;
+    let t704: f64 = t693 - t703;
+    let t705: f64 = -t704;
+    let t707: f64 = -t496;
+    let t708: f64 = t485 * t707;
+    let t710: f64 = t262 * t544;
+    let t712: f64 = f64::mul_add(-t259, t487, t146);
+    let t713: f64 = f64::mul_add(t256, t541, t710);
+    let t714: f64 = t193 + t712;
+    let t715: f64 = t713 + t714;
+    let t717: f64 = t507 * t549;
+    let t718: f64 = -t554;
+    let t722: f64 = f64::mul_add(t262, t602, t712);
+    let t723: f64 = t193 + t722;
+    let t724: f64 = f64::mul_add(-t256, t599, t723);
+    let t726: f64 = t566 * t605;
+    let t727: f64 = -t610;
+    let t732: f64 = f64::mul_add(-t256, t369, t146);
+    let t733: f64 = f64::mul_add(t262, t638, t732);
+    let t734: f64 = t193 + t733;
+    let t735: f64 = f64::mul_add(-t259, t645, t734);
+    let t736: f64 = t621 * t735;
+    let t740: f64 = t85 * t662;
+    let t741: f64 = f64::mul_add(t147, t633, t740);
+    let t742: f64 = t245 * t741;
+    let t743: f64 = f64::mul_add(t218, t633, -t742);
+    let t746: f64 = t199 * t621;
+    let t747: f64 = f64::mul_add(joint5_mass, t735, -t746);
+    let t748: f64 = f64::mul_add(t250, t666, -t747);
+    let t749: f64 = t743 - t748;
+    let t750: f64 = t645 * t749;
+    let t752: f64 = t259 * t380;
+    let t753: f64 = t193 + t732;
+    let t754: f64 = f64::mul_add(t262, t366, t752);
+    let t755: f64 = t753 - t754;
+    let t757: f64 = t389 * t403;
+    let t760: f64 = t85 * t403;
+    let t761: f64 = f64::mul_add(t147, t362, t760);
+    let t762: f64 = t245 * t761;
+    let t763: f64 = f64::mul_add(t218, t362, -t762);
+    let t766: f64 = t199 * t350;
+    let t767: f64 = f64::mul_add(joint6_mass, t755, -t766);
+    let t768: f64 = f64::mul_add(t250, t407, -t767);
+    let t769: f64 = t763 - t768;
+    let t771: f64 = qdd5 - qdd6;
+    let t772: f64 = t771 * 0.5;
+    let t774: f64 = qdd1 - qdd2;
+    let t775: f64 = t774 * 0.5;
+    let t777: f64 = qdd3 - qdd4;
+    let t778: f64 = t777 * 0.5;
+    let t779: f64 = t1 * t12;
+    let t780: f64 = t778 * t779;
+    let t781: f64 = t780 * 0.5;
+    let t782: f64 = f64::mul_add(t23, t775, t781);
+    let t783: f64 = t0 * t782;
+    let t784: f64 = f64::mul_add(t12, t772, -t783);
+    let t785: f64 = platform_ixz + joint1_ixz;
+    let t786: f64 = joint6_ixz + t785;
+    let t787: f64 = joint2_ixz + joint3_ixz;
+    let t788: f64 = joint4_ixz + joint5_ixz;
+    let t789: f64 = t787 + t788;
+    let t790: f64 = t786 + t789;
+    let t791: f64 = t790 * 0.5;
+    let t795: f64 = t128 * t779;
+    let t796: f64 = t795 * 0.5;
+    let t797: f64 = f64::mul_add(t23, t85, t796);
+    let t798: f64 = t0 * t797;
+    let t799: f64 = f64::mul_add(t12, t147, -t798);
+    let t800: f64 = platform_ixy + joint1_ixy;
+    let t801: f64 = joint6_ixy + t800;
+    let t802: f64 = joint2_ixy + joint3_ixy;
+    let t803: f64 = joint4_ixy + joint5_ixy;
+    let t804: f64 = t802 + t803;
+    let t805: f64 = t801 + t804;
+    let t806: f64 = t805 * 0.5;
+    let t807: f64 = t0 * t203;
+    let t808: f64 = t799 * t807;
+    let t811: f64 = t6 * t12;
+    let t812: f64 = t147 * t811;
+    let t814: f64 = t812 * 0.5;
+    let t815: f64 = f64::mul_add(t44, t128, t814);
+    let t816: f64 = t0 * t815;
+    let t817: f64 = f64::mul_add(t12, t85, -t816);
+    let t818: f64 = t0 * t207;
+    let t819: f64 = t817 * t818;
+    let t820: f64 = -t819;
+    let t821: f64 = platform_iyy + joint1_iyy;
+    let t822: f64 = joint6_iyy + t821;
+    let t823: f64 = joint2_iyy + joint3_iyy;
+    let t824: f64 = joint4_iyy + joint5_iyy;
+    let t825: f64 = t823 + t824;
+    let t826: f64 = t822 + t825;
+    let t827: f64 = t826 * 0.5;
+    let t831: f64 = t7 * t12;
+    let t832: f64 = t85 * t831;
+    let t833: f64 = t832 * 0.5;
+    let t834: f64 = f64::mul_add(t67, t147, t833);
+    let t835: f64 = t0 * t834;
+    let t836: f64 = f64::mul_add(t12, t128, -t835);
+    let t837: f64 = t0 * t200;
+    let t838: f64 = t836 * t837;
+    let t839: f64 = -t838;
+    let t840: f64 = platform_iyz + joint1_iyz;
+    let t841: f64 = joint6_iyz + t840;
+    let t842: f64 = joint2_iyz + joint3_iyz;
+    let t843: f64 = joint4_iyz + joint5_iyz;
+    let t844: f64 = t842 + t843;
+    let t845: f64 = t841 + t844;
+    let t846: f64 = t845 * 0.5;
+    let t847: f64 = t839 * t846;
+    let t848: f64 = f64::mul_add(t820, t827, t847);
+    let t849: f64 = f64::mul_add(t806, t808, -t848);
+    let t850: f64 = t799 * t849;
+    let t851: f64 = f64::mul_add(t784, t791, -t850);
+    let t854: f64 = t772 * t811;
+    let t856: f64 = t854 * 0.5;
+    let t857: f64 = f64::mul_add(t44, t778, t856);
+    let t858: f64 = t0 * t857;
+    let t859: f64 = f64::mul_add(t12, t775, -t858);
+    let t860: f64 = t818 * t859;
+    let t861: f64 = -t860;
+    let t865: f64 = t775 * t831;
+    let t866: f64 = t865 * 0.5;
+    let t867: f64 = f64::mul_add(t67, t772, t866);
+    let t868: f64 = t0 * t867;
+    let t869: f64 = f64::mul_add(t12, t778, -t868);
+    let t870: f64 = t837 * t869;
+    let t871: f64 = -t870;
+    let t872: f64 = platform_izz + joint1_izz;
+    let t873: f64 = joint6_izz + t872;
+    let t874: f64 = joint2_izz + joint3_izz;
+    let t875: f64 = joint4_izz + joint5_izz;
+    let t876: f64 = t874 + t875;
+    let t877: f64 = t873 + t876;
+    let t878: f64 = t877 * 0.5;
+    let t879: f64 = t871 * t878;
+    let t880: f64 = platform_ixx + joint1_ixx;
+    let t881: f64 = joint6_ixx + t880;
+    let t882: f64 = joint2_ixx + joint3_ixx;
+    let t883: f64 = joint4_ixx + joint5_ixx;
+    let t884: f64 = t882 + t883;
+    let t885: f64 = t881 + t884;
+    let t886: f64 = t885 * 0.5;
+    let t889: f64 = t791 * t839;
+    let t890: f64 = f64::mul_add(t806, t820, t889);
+    let t891: f64 = f64::mul_add(t808, t886, -t890);
+    let t893: f64 = f64::mul_add(t846, t861, t879);
+    let t894: f64 = f64::mul_add(t820, t891, t893);
+    let t895: f64 = f64::mul_add(t807, t851, -t894);
+    let t896: f64 = t200 * t831;
+    let t898: f64 = t784 * t807;
+    let t901: f64 = t790 * t871;
+    let t904: f64 = t839 * t877;
+    let t905: f64 = f64::mul_add(t820, t845, t904);
+    let t906: f64 = f64::mul_add(t790, t808, -t905);
+    let t907: f64 = t820 * t906;
+    let t910: f64 = t839 * t845;
+    let t911: f64 = f64::mul_add(t820, t826, t910);
+    let t912: f64 = f64::mul_add(t805, t808, -t911);
+    let t914: f64 = f64::mul_add(t885, t898, t907);
+    let t915: f64 = f64::mul_add(t805, t861, t901);
+    let t916: f64 = f64::mul_add(t839, t912, t915);
+    let t917: f64 = t914 - t916;
+    let t918: f64 = t23 * t203;
+    let t919: f64 = t917 * t918;
+    let t920: f64 = f64::mul_add(t895, t896, t919);
+    let t921: f64 = t0 * t920;
+    let t923: f64 = t799 * t906;
+    let t924: f64 = f64::mul_add(t784, t805, t923);
+    let t927: f64 = t845 * t871;
+    let t930: f64 = t790 * t839;
+    let t931: f64 = f64::mul_add(t805, t820, t930);
+    let t932: f64 = f64::mul_add(t808, t885, -t931);
+    let t933: f64 = t839 * t932;
+    let t934: f64 = f64::mul_add(t807, t924, t933);
+    let t935: f64 = f64::mul_add(t826, t861, t927);
+    let t936: f64 = t934 - t935;
+    let t937: f64 = t12 * t207;
+    let t938: f64 = t936 * t937;
+    let t939: f64 = t0 * t177;
+    let t940: f64 = t939 * 0.5;
+    let t941: f64 = t940 - 0.5;
+    let t943: f64 = t940 + 0.5;
+    let t945: f64 = t3 * t12;
+    let t947: f64 = t6 * t35;
+    let t948: f64 = t12 * t947;
+    let t949: f64 = t51 * t948;
+    let t950: f64 = t57 * t67;
+    let t952: f64 = t949 * 0.5;
+    let t953: f64 = f64::mul_add(t74, t950, t952);
+    let t954: f64 = t0 * t953;
+    let t955: f64 = f64::mul_add(t30, t945, -t954);
+    let t956: f64 = t0 * t12;
+    let t957: f64 = t955 * t956;
+    let t958: f64 = t957 * 0.5;
+    let t959: f64 = t84 * t958;
+    let t960: f64 = f64::mul_add(qd5, t941, t959);
+    let t961: f64 = f64::mul_add(-qd6, t943, t960);
+    let t963: f64 = t12 * t955;
+    let t964: f64 = q1 - t963;
+    let t966: f64 = f64::mul_add(-t0, t964, t130);
+    let t967: f64 = t966 * 0.5;
+    let t968: f64 = t967 + 1.0;
+    let t971: f64 = t0 * t163;
+    let t972: f64 = t971 * 0.5;
+    let t973: f64 = t972 - 0.5;
+    let t974: f64 = t137 * t973;
+    let t975: f64 = f64::mul_add(qd3, t968, t974);
+    let t976: f64 = f64::mul_add(-qd4, t967, t975);
+    let t977: f64 = t128 * t976;
+    let t978: f64 = f64::mul_add(t85, t961, t977);
+    let t979: f64 = t0 * t978;
+    let t980: f64 = qdd2 - t979;
+    let t981: f64 = t163 * t980;
+    let t982: f64 = t252 + t254;
+    let t983: f64 = q2 - t963;
+    let t984: f64 = t0 * t982;
+    let t986: f64 = t141 * t147;
+    let t987: f64 = t775 + t986;
+    let t988: f64 = half_spacing + t162;
+    let t989: f64 = t987 * t988;
+    let t990: f64 = t125 * t177;
+    let t992: f64 = t981 * 0.5;
+    let t993: f64 = f64::mul_add(t147, t990, t992);
+    let t994: f64 = f64::mul_add(t983, t984, t989);
+    let t995: f64 = t993 - t994;
+    let t997: f64 = t972 - 1.0;
+    let t998: f64 = qdd1 - t979;
+    let t1000: f64 = f64::mul_add(t997, t998, gravity_x);
+    let t1001: f64 = f64::mul_add(-t0, t995, t1000);
+    let t1004: f64 = t978 + t992;
+    let t1005: f64 = f64::mul_add(-t775, t988, t1004);
+    let t1007: f64 = f64::mul_add(-t0, t1005, t1000);
+    let t1008: f64 = rod2_mass * t1007;
+    let t1009: f64 = joint5_my + joint6_my;
+    let t1010: f64 = joint3_my + joint4_my;
+    let t1011: f64 = platform_my + t1010;
+    let t1012: f64 = t1009 + t1011;
+    let t1013: f64 = joint2_my + t1012;
+    let t1014: f64 = t1013 * 0.5;
+    let t1015: f64 = t207 * t811;
+    let t1017: f64 = joint5_mz + joint6_mz;
+    let t1018: f64 = joint3_mz + joint4_mz;
+    let t1019: f64 = platform_mz + t1018;
+    let t1020: f64 = t1017 + t1019;
+    let t1021: f64 = joint2_mz + t1020;
+    let t1022: f64 = t67 * t200;
+    let t1023: f64 = t1021 * t1022;
+    let t1024: f64 = f64::mul_add(t1014, t1015, t1023);
+    let t1026: f64 = joint5_mx + joint6_mx;
+    let t1027: f64 = joint3_mx + joint4_mx;
+    let t1028: f64 = platform_mx + t1027;
+    let t1029: f64 = t1026 + t1028;
+    let t1030: f64 = joint2_mx + t1029;
+    let t1031: f64 = t12 * t203;
+    let t1032: f64 = t1030 * t1031;
+    let t1033: f64 = f64::mul_add(t0, t1024, -t1032);
+    let t1035: f64 = t1021 * 0.5;
+    let t1037: f64 = t918 * t1030;
+    let t1038: f64 = f64::mul_add(t896, t1035, t1037);
+    let t1040: f64 = t937 * t1013;
+    let t1041: f64 = f64::mul_add(t0, t1038, -t1040);
+    let t1042: f64 = t147 * t1041;
+    let t1043: f64 = f64::mul_add(t85, t1033, -t1042);
+    let t1046: f64 = t1030 * 0.5;
+    let t1047: f64 = t203 * t779;
+    let t1049: f64 = t44 * t207;
+    let t1050: f64 = t1013 * t1049;
+    let t1051: f64 = f64::mul_add(t1046, t1047, t1050);
+    let t1053: f64 = t12 * t200;
+    let t1054: f64 = t1021 * t1053;
+    let t1055: f64 = f64::mul_add(t0, t1051, -t1054);
+    let t1056: f64 = t147 * t1055;
+    let t1057: f64 = f64::mul_add(t128, t1033, -t1056);
+    let t1058: f64 = t128 * t1057;
+    let t1059: f64 = f64::mul_add(t85, t1043, t1058);
+    let t1062: f64 = t778 * t1041;
+    let t1063: f64 = f64::mul_add(t0, t1059, t1062);
+    let t1064: f64 = f64::mul_add(-t775, t1055, t1063);
+    let t1066: f64 = t177 * t778;
+    let t1067: f64 = t992 + t1066;
+    let t1069: f64 = f64::mul_add(-t0, t1067, t1000);
+    let t1071: f64 = t125 * t147;
+    let t1072: f64 = t778 - t1071;
+    let t1073: f64 = half_spacing - t176;
+    let t1075: f64 = q5 - t162;
+    let t1078: f64 = f64::mul_add(t957, t982, t1066);
+    let t1079: f64 = f64::mul_add(t987, t1075, t992);
+    let t1080: f64 = t1078 + t1079;
+    let t1081: f64 = f64::mul_add(-t1072, t1073, t1080);
+    let t1083: f64 = f64::mul_add(-t0, t1081, t1000);
+    let t1084: f64 = joint5_mass * t1083;
+    let t1085: f64 = f64::mul_add(platform_mass, t1069, t1084);
+    let t1086: f64 = half_spacing + t176;
+    let t1088: f64 = q6 - t162;
+    let t1090: f64 = f64::mul_add(t1072, t1086, t992);
+    let t1091: f64 = f64::mul_add(t987, t1088, t1078);
+    let t1092: f64 = t1090 + t1091;
+    let t1094: f64 = f64::mul_add(-t0, t1092, t1000);
+    let t1096: f64 = half_spacing - t963;
+    let t1098: f64 = q3 - t176;
+    let t1099: f64 = t1072 * t1098;
+    let t1100: f64 = -t162;
+    let t1102: f64 = f64::mul_add(t987, t1100, t1066);
+    let t1103: f64 = t992 + t1102;
+    let t1104: f64 = f64::mul_add(t984, t1096, t1099);
+    let t1105: f64 = t1103 - t1104;
+    let t1107: f64 = f64::mul_add(-t0, t1105, t1000);
+    let t1109: f64 = half_spacing + t963;
+    let t1111: f64 = q4 - t176;
+    let t1113: f64 = f64::mul_add(t984, t1109, t992);
+    let t1114: f64 = t1102 + t1113;
+    let t1115: f64 = f64::mul_add(-t1072, t1111, t1114);
+    let t1117: f64 = f64::mul_add(-t0, t1115, t1000);
+    let t1118: f64 = joint4_mass * t1117;
+    let t1119: f64 = f64::mul_add(joint3_mass, t1107, t1118);
+    let t1120: f64 = f64::mul_add(joint6_mass, t1094, t1119);
+    let t1121: f64 = t1085 + t1120;
+    let t1122: f64 = f64::mul_add(joint2_mass, t1001, t1008);
+    let t1123: f64 = f64::mul_add(t0, t1064, t1121);
+    let t1124: f64 = t1122 + t1123;
+    let t1126: f64 = t125 * t128;
+    let t1127: f64 = t772 + t1126;
+    let t1129: f64 = t775 - t986;
+    let t1131: f64 = t254 + t381;
+    let t1132: f64 = t0 * t988;
+    let t1133: f64 = t1131 * t1132;
+    let t1134: f64 = f64::mul_add(t177, t1127, t1133);
+    let t1135: f64 = f64::mul_add(-t983, t1129, t1134);
+    let t1139: f64 = f64::mul_add(qd1, t997, -t181);
+    let t1140: f64 = t85 * t1139;
+    let t1141: f64 = f64::mul_add(t147, t976, t1140);
+    let t1142: f64 = t0 * t1141;
+    let t1143: f64 = qdd5 + t1142;
+    let t1145: f64 = f64::mul_add(t941, t1143, gravity_z);
+    let t1147: f64 = qdd6 + t1142;
+    let t1148: f64 = t943 * t1147;
+    let t1149: f64 = f64::mul_add(t774, t958, -t1148);
+    let t1150: f64 = t1145 + t1149;
+    let t1151: f64 = f64::mul_add(-t0, t1135, t1150);
+    let t1154: f64 = t128 * t1041;
+    let t1155: f64 = f64::mul_add(t85, t1055, -t1154);
+    let t1157: f64 = t147 * t1057;
+    let t1158: f64 = f64::mul_add(t85, t1155, -t1157);
+    let t1161: f64 = t775 * t1033;
+    let t1162: f64 = f64::mul_add(t0, t1158, t1161);
+    let t1163: f64 = f64::mul_add(-t772, t1041, t1162);
+    let t1164: f64 = t0 * t1163;
+    let t1168: f64 = t0 * t1100;
+    let t1169: f64 = t1131 * t1168;
+    let t1170: f64 = f64::mul_add(t1096, t1129, t1169);
+    let t1171: f64 = f64::mul_add(-t1098, t1127, t1170);
+    let t1173: f64 = f64::mul_add(t0, t1171, t1150);
+    let t1174: f64 = joint3_mass * t1173;
+    let t1175: f64 = f64::mul_add(platform_mass, t1150, t1174);
+    let t1177: f64 = t1111 * t1127;
+    let t1178: f64 = f64::mul_add(t1109, t1129, t1177);
+    let t1179: f64 = t1169 - t1178;
+    let t1181: f64 = f64::mul_add(t0, t1179, t1150);
+    let t1183: f64 = t963 * t1129;
+    let t1185: f64 = t0 * t1075;
+    let t1187: f64 = f64::mul_add(t1073, t1127, t1183);
+    let t1188: f64 = f64::mul_add(-t1131, t1185, t1187);
+    let t1190: f64 = f64::mul_add(-t0, t1188, t1150);
+    let t1194: f64 = f64::mul_add(-t775, t963, t1141);
+    let t1195: f64 = f64::mul_add(-t772, t1073, t1194);
+    let t1197: f64 = f64::mul_add(t0, t1195, t1150);
+    let t1198: f64 = rod5_mass * t1197;
+    let t1199: f64 = f64::mul_add(joint5_mass, t1190, t1198);
+    let t1201: f64 = t0 * t1088;
+    let t1202: f64 = t1131 * t1201;
+    let t1203: f64 = f64::mul_add(t1086, t1127, t1202);
+    let t1204: f64 = t1183 - t1203;
+    let t1206: f64 = f64::mul_add(-t0, t1204, t1150);
+    let t1209: f64 = f64::mul_add(t772, t1086, t1194);
+    let t1211: f64 = f64::mul_add(t0, t1209, t1150);
+    let t1212: f64 = rod6_mass * t1211;
+    let t1213: f64 = f64::mul_add(joint6_mass, t1206, t1212);
+    let t1214: f64 = t1199 + t1213;
+    let t1215: f64 = f64::mul_add(joint4_mass, t1181, t1214);
+    let t1216: f64 = t1175 + t1215;
+    let t1217: f64 = f64::mul_add(joint2_mass, t1151, t1164);
+    let t1218: f64 = t1216 + t1217;
+    let t1220: f64 = t1010 * 0.5;
+    let t1222: f64 = t1018 * t1022;
+    let t1223: f64 = f64::mul_add(t1015, t1220, t1222);
+    let t1225: f64 = t1027 * t1031;
+    let t1226: f64 = f64::mul_add(t0, t1223, -t1225);
+    let t1228: f64 = t1018 * 0.5;
+    let t1230: f64 = t918 * t1027;
+    let t1231: f64 = f64::mul_add(t896, t1228, t1230);
+    let t1233: f64 = t937 * t1010;
+    let t1234: f64 = f64::mul_add(t0, t1231, -t1233);
+    let t1235: f64 = t147 * t1234;
+    let t1236: f64 = f64::mul_add(t85, t1226, -t1235);
+    let t1239: f64 = t1027 * 0.5;
+    let t1241: f64 = t1010 * t1049;
+    let t1242: f64 = f64::mul_add(t1047, t1239, t1241);
+    let t1244: f64 = t1018 * t1053;
+    let t1245: f64 = f64::mul_add(t0, t1242, -t1244);
+    let t1246: f64 = t147 * t1245;
+    let t1247: f64 = f64::mul_add(t128, t1226, -t1246);
+    let t1248: f64 = t128 * t1247;
+    let t1249: f64 = f64::mul_add(t85, t1236, t1248);
+    let t1252: f64 = t778 * t1234;
+    let t1253: f64 = f64::mul_add(t0, t1249, t1252);
+    let t1254: f64 = f64::mul_add(-t775, t1245, t1253);
+    let t1256: f64 = f64::mul_add(t0, t1254, t1119);
+    let t1257: f64 = t487 * t1256;
+    let t1258: f64 = t1026 * 0.5;
+    let t1260: f64 = t1009 * t1049;
+    let t1261: f64 = f64::mul_add(t1047, t1258, t1260);
+    let t1263: f64 = t1017 * t1053;
+    let t1264: f64 = f64::mul_add(t0, t1261, -t1263);
+    let t1266: f64 = t1017 * 0.5;
+    let t1268: f64 = t918 * t1026;
+    let t1269: f64 = f64::mul_add(t896, t1266, t1268);
+    let t1271: f64 = t937 * t1009;
+    let t1272: f64 = f64::mul_add(t0, t1269, -t1271);
+    let t1273: f64 = t128 * t1272;
+    let t1274: f64 = f64::mul_add(t85, t1264, -t1273);
+    let t1276: f64 = t1009 * 0.5;
+    let t1278: f64 = t1017 * t1022;
+    let t1279: f64 = f64::mul_add(t1015, t1276, t1278);
+    let t1281: f64 = t1026 * t1031;
+    let t1282: f64 = f64::mul_add(t0, t1279, -t1281);
+    let t1284: f64 = t147 * t1264;
+    let t1285: f64 = f64::mul_add(t128, t1282, -t1284);
+    let t1286: f64 = t147 * t1285;
+    let t1287: f64 = f64::mul_add(t85, t1274, -t1286);
+    let t1290: f64 = t775 * t1282;
+    let t1291: f64 = f64::mul_add(t0, t1287, t1290);
+    let t1292: f64 = f64::mul_add(-t772, t1272, t1291);
+    let t1294: f64 = f64::mul_add(t0, t1292, t1214);
+    let t1296: f64 = f64::mul_add(t194, t213, t678);
+    let t1297: f64 = f64::mul_add(t267, t279, t680);
+    let t1298: f64 = f64::mul_add(t464, t685, t687);
+    let t1299: f64 = f64::mul_add(t520, t715, t717);
+    let t1300: f64 = f64::mul_add(t579, t724, t726);
+    let t1301: f64 = f64::mul_add(t599, t727, t736);
+    let t1302: f64 = f64::mul_add(t648, t662, t750);
+    let t1303: f64 = f64::mul_add(t350, t755, t757);
+    let t1304: f64 = f64::mul_add(t380, t769, t921);
+    let t1305: f64 = f64::mul_add(t118, t1218, t1257);
+    let t1306: f64 = t1296 + t1297;
+    let t1307: f64 = t1298 + t1299;
+    let t1308: f64 = t1300 + t1301;
+    let t1309: f64 = t1302 + t1303;
+    let t1310: f64 = t1304 + t1305;
+    let t1311: f64 = t1306 + t1307;
+    let t1312: f64 = t1308 + t1309;
+    let t1313: f64 = f64::mul_add(t369, t1294, t1310);
+    let t1314: f64 = t1311 + t1312;
+    let t1315: f64 = t1313 + t1314;
+    let t1316: f64 = f64::mul_add(t488, t705, t708);
+    let t1317: f64 = f64::mul_add(t541, t718, t938);
+    let t1318: f64 = t1316 + t1317;
+    let t1319: f64 = f64::mul_add(t80, t1124, t1318);
+    let t1320: f64 = t1315 - t1319;
+    let t1321: f64 = t0 * t1320;
+    let t1322: f64 = f64::mul_add(t105, t675, -t1321);
+    let t1325: f64 = t85 * t507;
+    let t1326: f64 = f64::mul_add(t147, t536, t1325);
+    let t1327: f64 = t245 * t1326;
+    let t1328: f64 = f64::mul_add(t218, t536, -t1327);
+    let t1331: f64 = t199 * t520;
+    let t1332: f64 = f64::mul_add(joint3_mass, t715, -t1331);
+    let t1333: f64 = f64::mul_add(t250, t522, -t1332);
+    let t1334: f64 = t1328 - t1333;
+    let t1337: f64 = t85 * t566;
+    let t1338: f64 = f64::mul_add(t147, t595, t1337);
+    let t1339: f64 = t245 * t1338;
+    let t1340: f64 = f64::mul_add(t218, t595, -t1339);
+    let t1343: f64 = t199 * t579;
+    let t1344: f64 = f64::mul_add(joint4_mass, t724, -t1343);
+    let t1345: f64 = f64::mul_add(t250, t581, -t1344);
+    let t1346: f64 = t1340 - t1345;
+    let t1347: f64 = t1322 * 0.5;
+    let t1348: f64 = f64::mul_add(t199, t213, t246);
+    let t1349: f64 = f64::mul_add(t249, t250, t280);
+    let t1350: f64 = f64::mul_add(t245, t306, t311);
+    let t1351: f64 = t704 + t1347;
+    let t1352: f64 = t1348 + t1349;
+    let t1353: f64 = t1350 + t1351;
+    let t1354: f64 = t1352 + t1353;
+    let t1355: f64 = f64::mul_add(platform_mass, t194, t230);
+    let t1356: f64 = f64::mul_add(joint1_mass, t267, t292);
+    let t1357: f64 = f64::mul_add(rod1_mass, t317, t1334);
+    let t1358: f64 = t749 + t1346;
+    let t1359: f64 = t1355 + t1356;
+    let t1360: f64 = t1357 + t1358;
+    let t1361: f64 = t1359 + t1360;
+    let t1362: f64 = t769 + t1361;
+    let t1363: f64 = t1354 - t1362;
+    let t1364: f64 = -t1347;
+    let t1366: f64 = f64::mul_add(t130, 0.5, 1.0);
+    let t1368: f64 = t250 * t364;
+    let t1369: f64 = f64::mul_add(t328, t350, -t1368);
+    let t1371: f64 = t253 + t382;
+    let t1373: f64 = t328 - t376;
+    let t1375: f64 = t218 + t261;
+    let t1378: f64 = t136 * t323;
+    let t1379: f64 = f64::mul_add(t132, t185, -t1378);
+    let t1382: f64 = f64::mul_add(-t133, t189, gravity_y);
+    let t1383: f64 = f64::mul_add(t136, t325, t1382);
+    let t1384: f64 = t1379 + t1383;
+    let t1385: f64 = f64::mul_add(t369, t1375, t1384);
+    let t1386: f64 = f64::mul_add(t380, t1373, t1385);
+    let t1387: f64 = f64::mul_add(-t366, t1371, t1386);
+    let t1389: f64 = t218 * t403;
+    let t1390: f64 = f64::mul_add(joint6_mass, t1387, t1389);
+    let t1391: f64 = f64::mul_add(t408, t761, t1390);
+    let t1392: f64 = t1369 + t1391;
+    let t1394: f64 = t218 * t242;
+    let t1395: f64 = f64::mul_add(platform_mass, t1384, t1394);
+    let t1396: f64 = t1392 + t1395;
+    let t1398: f64 = t250 * t419;
+    let t1399: f64 = f64::mul_add(t213, t328, -t1398);
+    let t1404: f64 = f64::mul_add(t98, t1371, t1384);
+    let t1405: f64 = f64::mul_add(t80, t1373, t1404);
+    let t1406: f64 = f64::mul_add(-t118, t1375, t1405);
+    let t1407: f64 = joint1_mass * t1406;
+    let t1408: f64 = f64::mul_add(t244, t408, t1407);
+    let t1409: f64 = t1399 + t1408;
+    let t1410: f64 = t1396 + t1409;
+    let t1412: f64 = t279 * t328;
+    let t1413: f64 = f64::mul_add(t218, t304, t1412);
+    let t1415: f64 = t250 * t437;
+    let t1416: f64 = f64::mul_add(t306, t408, -t1415);
+    let t1417: f64 = t1413 + t1416;
+    let t1419: f64 = t250 * t482;
+    let t1420: f64 = f64::mul_add(t328, t464, -t1419);
+    let t1423: f64 = t488 * t1373;
+    let t1424: f64 = f64::mul_add(t485, t1375, t1423);
+    let t1425: f64 = t1404 - t1424;
+    let t1427: f64 = t218 * t451;
+    let t1428: f64 = f64::mul_add(joint2_mass, t1425, t1427);
+    let t1429: f64 = f64::mul_add(t408, t700, t1428);
+    let t1430: f64 = t1420 + t1429;
+    let t1434: f64 = f64::mul_add(t328, t487, t1384);
+    let t1435: f64 = t184 + t1434;
+    let t1436: f64 = f64::mul_add(-t218, t541, t1435);
+    let t1437: f64 = rod3_mass * t1436;
+    let t1438: f64 = f64::mul_add(t408, t1326, t1437);
+    let t1442: f64 = f64::mul_add(t487, t1373, t1384);
+    let t1443: f64 = f64::mul_add(t544, t1371, t1442);
+    let t1444: f64 = f64::mul_add(-t541, t1375, t1443);
+    let t1446: f64 = t218 * t507;
+    let t1447: f64 = f64::mul_add(joint3_mass, t1444, t1446);
+    let t1449: f64 = t250 * t538;
+    let t1450: f64 = f64::mul_add(t328, t520, -t1449);
+    let t1451: f64 = t1447 + t1450;
+    let t1452: f64 = t1438 + t1451;
+    let t1453: f64 = t1430 + t1452;
+    let t1456: f64 = f64::mul_add(t218, t599, t1435);
+    let t1457: f64 = rod4_mass * t1456;
+    let t1458: f64 = f64::mul_add(t408, t1338, t1457);
+    let t1460: f64 = t602 * t1371;
+    let t1461: f64 = f64::mul_add(t599, t1375, t1460);
+    let t1462: f64 = t1442 + t1461;
+    let t1464: f64 = t218 * t566;
+    let t1465: f64 = f64::mul_add(joint4_mass, t1462, t1464);
+    let t1467: f64 = t250 * t597;
+    let t1468: f64 = f64::mul_add(t328, t579, -t1467);
+    let t1469: f64 = t1465 + t1468;
+    let t1470: f64 = t1458 + t1469;
+    let t1472: f64 = t250 * t635;
+    let t1473: f64 = f64::mul_add(t328, t621, -t1472);
+    let t1476: f64 = t645 * t1373;
+    let t1477: f64 = f64::mul_add(t638, t1371, t1476);
+    let t1478: f64 = t1385 + t1477;
+    let t1480: f64 = t218 * t662;
+    let t1481: f64 = f64::mul_add(joint5_mass, t1478, t1480);
+    let t1482: f64 = f64::mul_add(t408, t741, t1481);
+    let t1483: f64 = t1473 + t1482;
+    let t1484: f64 = t1470 + t1483;
+    let t1485: f64 = t1453 + t1484;
+    let t1486: f64 = t1417 + t1485;
+    let t1487: f64 = t1410 + t1486;
+    let t1490: f64 = t194 * t229;
+    let t1492: f64 = t267 * t291;
+    let t1494: f64 = t480 * t685;
+    let t1497: f64 = t536 * t715;
+    let t1499: f64 = t541 * t1452;
+    let t1500: f64 = t566 * t1462;
+    let t1502: f64 = t602 * t1346;
+    let t1504: f64 = t662 * t1478;
+    let t1506: f64 = t638 * t749;
+    let t1508: f64 = t362 * t755;
+    let t1512: f64 = t791 * t871;
+    let t1515: f64 = t839 * t878;
+    let t1516: f64 = f64::mul_add(t820, t846, t1515);
+    let t1517: f64 = f64::mul_add(t791, t808, -t1516);
+    let t1518: f64 = t820 * t1517;
+    let t1520: f64 = f64::mul_add(t886, t898, t1518);
+    let t1521: f64 = f64::mul_add(t806, t861, t1512);
+    let t1522: f64 = f64::mul_add(t839, t849, t1521);
+    let t1523: f64 = t1520 - t1522;
+    let t1525: f64 = t936 * t1049;
+    let t1526: f64 = f64::mul_add(t1047, t1523, t1525);
+    let t1527: f64 = t0 * t1526;
+    let t1529: f64 = t799 * t912;
+    let t1530: f64 = f64::mul_add(t784, t790, -t1529);
+    let t1533: f64 = t871 * t877;
+    let t1535: f64 = f64::mul_add(t845, t861, t1533);
+    let t1536: f64 = f64::mul_add(t820, t932, t1535);
+    let t1537: f64 = f64::mul_add(t807, t1530, -t1536);
+    let t1539: f64 = t1012 * 0.5;
+    let t1541: f64 = t1020 * t1022;
+    let t1542: f64 = f64::mul_add(t1015, t1539, t1541);
+    let t1544: f64 = t1029 * t1031;
+    let t1545: f64 = f64::mul_add(t0, t1542, -t1544);
+    let t1547: f64 = t1020 * 0.5;
+    let t1549: f64 = t918 * t1029;
+    let t1550: f64 = f64::mul_add(t896, t1547, t1549);
+    let t1552: f64 = t937 * t1012;
+    let t1553: f64 = f64::mul_add(t0, t1550, -t1552);
+    let t1554: f64 = t147 * t1553;
+    let t1555: f64 = f64::mul_add(t85, t1545, -t1554);
+    let t1558: f64 = t1029 * 0.5;
+    let t1560: f64 = t1012 * t1049;
+    let t1561: f64 = f64::mul_add(t1047, t1558, t1560);
+    let t1563: f64 = t1020 * t1053;
+    let t1564: f64 = f64::mul_add(t0, t1561, -t1563);
+    let t1565: f64 = t147 * t1564;
+    let t1566: f64 = f64::mul_add(t128, t1545, -t1565);
+    let t1567: f64 = t128 * t1566;
+    let t1568: f64 = f64::mul_add(t85, t1555, t1567);
+    let t1571: f64 = t778 * t1553;
+    let t1572: f64 = f64::mul_add(t0, t1568, t1571);
+    let t1573: f64 = f64::mul_add(-t775, t1564, t1572);
+    let t1575: f64 = f64::mul_add(t0, t1573, t1121);
+    let t1578: f64 = t147 * t961;
+    let t1579: f64 = f64::mul_add(t128, t1139, -t1578);
+    let t1580: f64 = t0 * t1579;
+    let t1581: f64 = qdd3 - t1580;
+    let t1583: f64 = f64::mul_add(-t968, t1581, gravity_y);
+    let t1584: f64 = qdd4 - t1580;
+    let t1586: f64 = t771 * t973;
+    let t1587: f64 = f64::mul_add(t967, t1584, -t1586);
+    let t1588: f64 = t1583 + t1587;
+    let t1590: f64 = t252 + t381;
+    let t1592: f64 = t778 + t1071;
+    let t1594: f64 = t772 - t1126;
+    let t1595: f64 = t988 * t1594;
+    let t1596: f64 = f64::mul_add(t983, t1592, t1595);
+    let t1597: f64 = f64::mul_add(t939, t1590, -t1596);
+    let t1599: f64 = f64::mul_add(t0, t1597, t1588);
+    let t1600: f64 = joint2_mass * t1599;
+    let t1602: f64 = t147 * t1043;
+    let t1603: f64 = f64::mul_add(t128, t1155, t1602);
+    let t1606: f64 = t778 * t1033;
+    let t1607: f64 = f64::mul_add(t0, t1603, t1606);
+    let t1608: f64 = f64::mul_add(-t772, t1055, t1607);
+    let t1610: f64 = t963 * t1592;
+    let t1611: f64 = t0 * t1073;
+    let t1614: f64 = f64::mul_add(t1590, t1611, t1610);
+    let t1615: f64 = f64::mul_add(t1075, t1594, t1614);
+    let t1617: f64 = f64::mul_add(t0, t1615, t1588);
+    let t1619: f64 = t0 * t1086;
+    let t1622: f64 = f64::mul_add(t1088, t1594, t1610);
+    let t1623: f64 = f64::mul_add(-t1590, t1619, t1622);
+    let t1625: f64 = f64::mul_add(t0, t1623, t1588);
+    let t1626: f64 = joint6_mass * t1625;
+    let t1627: f64 = f64::mul_add(joint5_mass, t1617, t1626);
+    let t1629: f64 = t0 * t1098;
+    let t1631: f64 = t1100 * t1594;
+    let t1632: f64 = f64::mul_add(t1590, t1629, t1631);
+    let t1633: f64 = f64::mul_add(t1096, t1592, -t1632);
+    let t1635: f64 = f64::mul_add(-t0, t1633, t1588);
+    let t1639: f64 = f64::mul_add(-t772, t1100, t1579);
+    let t1640: f64 = f64::mul_add(t778, t1096, t1639);
+    let t1642: f64 = f64::mul_add(-t0, t1640, t1588);
+    let t1643: f64 = rod3_mass * t1642;
+    let t1644: f64 = f64::mul_add(joint3_mass, t1635, t1643);
+    let t1646: f64 = t0 * t1111;
+    let t1648: f64 = f64::mul_add(t1109, t1592, t1631);
+    let t1649: f64 = f64::mul_add(t1590, t1646, t1648);
+    let t1651: f64 = f64::mul_add(t0, t1649, t1588);
+    let t1654: f64 = f64::mul_add(-t778, t1109, t1639);
+    let t1656: f64 = f64::mul_add(-t0, t1654, t1588);
+    let t1657: f64 = rod4_mass * t1656;
+    let t1658: f64 = f64::mul_add(joint4_mass, t1651, t1657);
+    let t1659: f64 = t1644 + t1658;
+    let t1660: f64 = f64::mul_add(platform_mass, t1588, t1600);
+    let t1661: f64 = t1627 + t1659;
+    let t1662: f64 = t1660 + t1661;
+    let t1663: f64 = f64::mul_add(-t0, t1608, t1662);
+    let t1664: f64 = t118 * t1663;
+    let t1667: f64 = t147 * t1272;
+    let t1668: f64 = f64::mul_add(t85, t1282, -t1667);
+    let t1669: f64 = t147 * t1668;
+    let t1670: f64 = f64::mul_add(t128, t1274, t1669);
+    let t1673: f64 = t778 * t1282;
+    let t1674: f64 = f64::mul_add(t0, t1670, t1673);
+    let t1675: f64 = f64::mul_add(-t772, t1264, t1674);
+    let t1677: f64 = f64::mul_add(-t0, t1675, t1627);
+    let t1679: f64 = f64::mul_add(t485, t1430, t1499);
+    let t1680: f64 = f64::mul_add(t366, t769, t1527);
+    let t1681: f64 = t1679 + t1680;
+    let t1682: f64 = f64::mul_add(t98, t1575, t1681);
+    let t1683: f64 = f64::mul_add(t242, t1384, t1490);
+    let t1684: f64 = f64::mul_add(t304, t1406, t1492);
+    let t1685: f64 = f64::mul_add(t451, t1425, t1494);
+    let t1686: f64 = f64::mul_add(t507, t1444, t1497);
+    let t1687: f64 = f64::mul_add(t544, t1334, t1500);
+    let t1688: f64 = f64::mul_add(t595, t724, t1502);
+    let t1689: f64 = f64::mul_add(t599, t1470, t1504);
+    let t1690: f64 = f64::mul_add(t633, t735, t1506);
+    let t1691: f64 = f64::mul_add(t403, t1387, t1508);
+    let t1692: f64 = f64::mul_add(t1053, t1537, t1664);
+    let t1693: f64 = t1683 + t1684;
+    let t1694: f64 = t1685 + t1686;
+    let t1695: f64 = t1687 + t1688;
+    let t1696: f64 = t1689 + t1690;
+    let t1697: f64 = t1691 + t1692;
+    let t1698: f64 = t1693 + t1694;
+    let t1699: f64 = t1695 + t1696;
+    let t1700: f64 = f64::mul_add(t369, t1677, t1697);
+    let t1701: f64 = t1698 + t1699;
+    let t1702: f64 = t1700 + t1701;
+    let t1703: f64 = t1682 - t1702;
+    let t1704: f64 = t0 * t1703;
+    let t1705: f64 = t1704 * 0.5;
+    let t1706: f64 = f64::mul_add(t1366, t1487, t1705);
+    let t1707: f64 = -t1706;
+    let t1709: f64 = f64::mul_add(t130, t1487, t1704);
+    let t1710: f64 = t1709 * 0.5;
+    let t1713: f64 = t291 * t426;
+    let t1714: f64 = t279 * t1406;
+    let t1717: f64 = t488 * t1430;
+    let t1719: f64 = t520 * t1444;
+    let t1720: f64 = t544 * t718;
+    let t1723: f64 = t602 * t727;
+    let t1725: f64 = t621 * t1478;
+    let t1727: f64 = t638 * t670;
+    let t1729: f64 = t350 * t1387;
+    let t1731: f64 = t366 * t412;
+    let t1733: f64 = t799 * t1517;
+    let t1734: f64 = f64::mul_add(t784, t806, t1733);
+    let t1737: f64 = t846 * t871;
+    let t1738: f64 = t839 * t891;
+    let t1739: f64 = f64::mul_add(t807, t1734, t1738);
+    let t1740: f64 = f64::mul_add(t827, t861, t1737);
+    let t1741: f64 = t1739 - t1740;
+    let t1743: f64 = t1022 * t1537;
+    let t1744: f64 = f64::mul_add(t1015, t1741, t1743);
+    let t1745: f64 = t0 * t1744;
+    let t1748: f64 = t128 * t1553;
+    let t1749: f64 = f64::mul_add(t85, t1564, -t1748);
+    let t1751: f64 = t147 * t1566;
+    let t1752: f64 = f64::mul_add(t85, t1749, -t1751);
+    let t1755: f64 = t775 * t1545;
+    let t1756: f64 = f64::mul_add(t0, t1752, t1755);
+    let t1757: f64 = f64::mul_add(-t772, t1553, t1756);
+    let t1759: f64 = f64::mul_add(t0, t1757, t1216);
+    let t1760: f64 = t98 * t1759;
+    let t1763: f64 = t128 * t1234;
+    let t1764: f64 = f64::mul_add(t85, t1245, -t1763);
+    let t1766: f64 = t147 * t1236;
+    let t1767: f64 = f64::mul_add(t128, t1764, t1766);
+    let t1770: f64 = t778 * t1226;
+    let t1771: f64 = f64::mul_add(t0, t1767, t1770);
+    let t1772: f64 = f64::mul_add(-t772, t1245, t1771);
+    let t1774: f64 = f64::mul_add(-t0, t1772, t1659);
+    let t1776: f64 = f64::mul_add(t213, t1384, t1714);
+    let t1777: f64 = f64::mul_add(t464, t1425, t1719);
+    let t1778: f64 = f64::mul_add(t579, t1462, t1725);
+    let t1779: f64 = f64::mul_add(t645, t1483, t1729);
+    let t1780: f64 = f64::mul_add(t380, t1392, t1731);
+    let t1781: f64 = f64::mul_add(t917, t1031, t1760);
+    let t1782: f64 = t1776 + t1777;
+    let t1783: f64 = t1778 + t1779;
+    let t1784: f64 = t1780 + t1781;
+    let t1785: f64 = t1782 + t1783;
+    let t1786: f64 = f64::mul_add(t487, t1774, t1784);
+    let t1787: f64 = t1785 + t1786;
+    let t1788: f64 = f64::mul_add(t229, t337, t1713);
+    let t1789: f64 = f64::mul_add(t480, t491, t1717);
+    let t1790: f64 = f64::mul_add(t536, t549, t1720);
+    let t1791: f64 = f64::mul_add(t595, t605, t1723);
+    let t1792: f64 = f64::mul_add(t633, t648, t1727);
+    let t1793: f64 = f64::mul_add(t362, t389, t1745);
+    let t1794: f64 = t1788 + t1789;
+    let t1795: f64 = t1790 + t1791;
+    let t1796: f64 = t1792 + t1793;
+    let t1797: f64 = t1794 + t1795;
+    let t1798: f64 = f64::mul_add(t80, t1663, t1796);
+    let t1799: f64 = t1797 + t1798;
+    let t1800: f64 = t1787 - t1799;
+    let t1802: f64 = f64::mul_add(t0, t1800, t1487);
+    let t1803: f64 = t674 + t1802;
+    let t1804: f64 = t1803 * 0.5;
+    let t1805: f64 = t674 - t1802;
+    let t1806: f64 = t1805 * 0.5;
+    let t1807: f64 = 1.0 - t11;
+    let t1808: f64 = -t1031;
+    let t1809: f64 = -t937;
+    let t1810: f64 = -t1053;
+    ([t1363, t1364, t1707, t1710, t1804, t1806], [t1807, t1808, t1809, t1810])
+}
 /// Joint-space inertia `M_q = Jᵀ M_x J` of `Γ = M_q Q̈_a + c_q`: symmetric positive definite.
 ///
 /// Equations: 15, 16, 27, 43-48, 49-57, 60, ∂W/∂V̇. Setting: joint.
@@ -14633,6 +25954,18 @@ pub fn inverse_dynamics_joint_params(
 /// Operations: 1444 mul, 4 div, 1063 add, 50 neg, 3 sqrt (chapter convention: 1448m + 1063a).
 #[inline]
 pub fn joint_inertia_params(
+    q: &[f64; 6],
+    params: &[f64; 152],
+) -> ([[f64; 6]; 6], [f64; 4]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { joint_inertia_params_fused(q, params) };
+    }
+    joint_inertia_params_separate(q, params)
+}
+/// [`joint_inertia_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn joint_inertia_params_separate(
     q: &[f64; 6],
     params: &[f64; 152],
 ) -> ([[f64; 6]; 6], [f64; 4]) {
@@ -17227,6 +28560,2059 @@ pub fn joint_inertia_params(
         [t2563, t218, t455, t145],
     )
 }
+/// [`joint_inertia_params`] with 549 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`joint_inertia_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn joint_inertia_params_fused(
+    q: &[f64; 6],
+    params: &[f64; 152],
+) -> ([[f64; 6]; 6], [f64; 4]) {
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [half_spacing, _, _, _, platform_mass, platform_mx, platform_my, platform_mz,
+    platform_ixx, platform_ixy, platform_ixz, platform_iyy, platform_iyz, platform_izz,
+    rod1_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint1_mass, joint1_mx, joint1_my,
+    joint1_mz, joint1_ixx, joint1_ixy, joint1_ixz, joint1_iyy, joint1_iyz, joint1_izz,
+    rod2_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint2_mass, joint2_mx, joint2_my,
+    joint2_mz, joint2_ixx, joint2_ixy, joint2_ixz, joint2_iyy, joint2_iyz, joint2_izz,
+    rod3_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint3_mass, joint3_mx, joint3_my,
+    joint3_mz, joint3_ixx, joint3_ixy, joint3_ixz, joint3_iyy, joint3_iyz, joint3_izz,
+    rod4_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint4_mass, joint4_mx, joint4_my,
+    joint4_mz, joint4_ixx, joint4_ixy, joint4_ixz, joint4_iyy, joint4_iyz, joint4_izz,
+    rod5_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint5_mass, joint5_mx, joint5_my,
+    joint5_mz, joint5_ixx, joint5_ixy, joint5_ixz, joint5_iyy, joint5_iyz, joint5_izz,
+    rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint6_mass, joint6_mx, joint6_my,
+    joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz, joint6_iyy, joint6_iyz, joint6_izz] = *params;
+    let t0: f64 = 1.0 / half_spacing;
+    let t1: f64 = t0 * t0;
+    let t2: f64 = t0 * t1;
+    let t3: f64 = q1 - q2;
+    let t4: f64 = q3 - q4;
+    let t5: f64 = q5 - q6;
+    let t6: f64 = t2 * t3;
+    let t7: f64 = t4 * t6;
+    let t8: f64 = t5 * t7;
+    let t9: f64 = t2 * t2;
+    let t10: f64 = t3 * t3;
+    let t11: f64 = t4 * t4;
+    let t12: f64 = t5 * t5;
+    let t13: f64 = t9 * t10;
+    let t14: f64 = t11 * t13;
+    let t15: f64 = t12 * t14;
+    let t16: f64 = t0 * t5;
+    let t17: f64 = t1 * t1;
+    let t18: f64 = t3 * t17;
+    let t19: f64 = t4 * t18;
+    let t20: f64 = t12 * t19;
+    let t21: f64 = t16 * 0.5;
+    let t23: f64 = f64::mul_add(-t20, 0.0625, t21);
+    let t25: f64 = t0 * t3;
+    let t26: f64 = t5 * t25;
+    let t28: f64 = t4 * 0.25;
+    let t29: f64 = f64::mul_add(t26, 0.125, t28);
+    let t30: f64 = t1 * t5;
+    let t32: f64 = t25 * 0.5;
+    let t33: f64 = f64::mul_add(t29, t30, t32);
+    let t35: f64 = t8 * 0.25;
+    let t36: f64 = t15 * 0.015625;
+    let t37: f64 = f64::mul_add(t23, t23, t36);
+    let t38: f64 = f64::mul_add(t33, t33, 1.0);
+    let t39: f64 = t37 + t38;
+    let t40: f64 = t35 - t39;
+    let t41: f64 = 1.0 / t40;
+    let t42: f64 = q5 + q6;
+    let t43: f64 = t42 * 0.0625;
+    let t44: f64 = t8 * t43;
+    let t45: f64 = t42 * 0.5;
+    let t46: f64 = t45 - t44;
+    let t47: f64 = t8 * t41;
+    let t48: f64 = t46 * t47;
+    let t50: f64 = t0 * t4;
+    let t51: f64 = t5 * t50;
+    let t53: f64 = t3 * 0.25;
+    let t54: f64 = f64::mul_add(t51, 0.125, t53);
+    let t55: f64 = t1 * t4;
+    let t57: f64 = f64::mul_add(t54, t55, t21);
+    let t58: f64 = t11 * t18;
+    let t59: f64 = t5 * t58;
+    let t60: f64 = t50 * 0.5;
+    let t62: f64 = f64::mul_add(-t59, 0.0625, t60);
+    let t65: f64 = f64::mul_add(t62, t62, t36);
+    let t66: f64 = f64::mul_add(t57, t57, 1.0);
+    let t67: f64 = t65 + t66;
+    let t68: f64 = t35 - t67;
+    let t69: f64 = 1.0 / t68;
+    let t70: f64 = q3 + q4;
+    let t71: f64 = t70 * 0.0625;
+    let t72: f64 = t8 * t71;
+    let t73: f64 = t70 * 0.5;
+    let t74: f64 = t73 - t72;
+    let t75: f64 = t57 * t69;
+    let t77: f64 = t10 * t17;
+    let t78: f64 = t4 * t77;
+    let t79: f64 = t5 * t78;
+    let t81: f64 = f64::mul_add(-t79, 0.0625, t32);
+    let t83: f64 = t4 * t25;
+    let t85: f64 = t5 * 0.25;
+    let t86: f64 = f64::mul_add(t83, 0.125, t85);
+    let t87: f64 = t1 * t3;
+    let t89: f64 = f64::mul_add(t86, t87, t60);
+    let t91: f64 = f64::mul_add(t81, t81, t36);
+    let t92: f64 = f64::mul_add(t89, t89, 1.0);
+    let t93: f64 = t91 + t92;
+    let t94: f64 = t35 - t93;
+    let t95: f64 = 1.0 / t94;
+    let t96: f64 = q1 + q2;
+    let t97: f64 = t96 * 0.0625;
+    let t98: f64 = t8 * t97;
+    let t99: f64 = t96 * 0.5;
+    let t100: f64 = t99 - t98;
+    let t101: f64 = t81 * t95;
+    let t102: f64 = t100 * t101;
+    let t103: f64 = f64::mul_add(t74, t75, -t102);
+    let t104: f64 = f64::mul_add(t41, t46, t103);
+    let t105: f64 = t48 * 0.125;
+    let t106: f64 = half_spacing + t104;
+    let t107: f64 = t106 - t105;
+    let t108: f64 = t0 * t107;
+    let t109: f64 = t105 - t104;
+    let t111: f64 = f64::mul_add(t0, t109, t108);
+    let t112: f64 = t111 * 0.5;
+    let t113: f64 = t112 - 1.0;
+    let t114: f64 = joint3_mass * t113;
+    let t115: f64 = joint4_mass * t113;
+    let t116: f64 = q5 + t104;
+    let t117: f64 = t116 - t105;
+    let t119: f64 = f64::mul_add(-t0, t117, t108);
+    let t120: f64 = t119 * 0.5;
+    let t121: f64 = t120 - 1.0;
+    let t122: f64 = joint5_mass * t121;
+    let t123: f64 = q6 + t104;
+    let t124: f64 = t123 - t105;
+    let t126: f64 = f64::mul_add(-t0, t124, t108);
+    let t127: f64 = t126 * 0.5;
+    let t128: f64 = t127 - 1.0;
+    let t129: f64 = joint6_mass * t128;
+    let t130: f64 = platform_mass * t0;
+    let t132: f64 = -t95;
+    let t133: f64 = sqrt(t132);
+    let t134: f64 = platform_mx * t81;
+    let t136: f64 = -t69;
+    let t137: f64 = sqrt(t136);
+    let t138: f64 = platform_my * t57;
+    let t139: f64 = t137 * t138;
+    let t140: f64 = f64::mul_add(t133, t134, -t139);
+    let t141: f64 = -t41;
+    let t142: f64 = sqrt(t141);
+    let t143: f64 = t8 * t142;
+    let t145: f64 = f64::mul_add(-t143, 0.125, t142);
+    let t147: f64 = f64::mul_add(-platform_mz, t145, t140);
+    let t148: f64 = t0 * t147;
+    let t149: f64 = f64::mul_add(t107, t130, t148);
+    let t150: f64 = joint1_mx * t81;
+    let t152: f64 = joint1_my * t57;
+    let t153: f64 = t137 * t152;
+    let t154: f64 = f64::mul_add(t133, t150, -t153);
+    let t156: f64 = f64::mul_add(-joint1_mz, t145, t154);
+    let t157: f64 = t0 * t156;
+    let t158: f64 = joint2_mx * t81;
+    let t160: f64 = joint2_my * t57;
+    let t162: f64 = joint2_mz * t145;
+    let t163: f64 = f64::mul_add(t137, t160, t162);
+    let t164: f64 = f64::mul_add(t133, t158, -t163);
+    let t165: f64 = t0 * t164;
+    let t166: f64 = t157 + t165;
+    let t167: f64 = t149 + t166;
+    let t168: f64 = joint3_mx * t81;
+    let t170: f64 = joint3_my * t57;
+    let t172: f64 = joint3_mz * t145;
+    let t173: f64 = f64::mul_add(t137, t170, t172);
+    let t174: f64 = f64::mul_add(t133, t168, -t173);
+    let t175: f64 = t0 * t174;
+    let t176: f64 = joint4_mx * t81;
+    let t178: f64 = joint4_my * t57;
+    let t180: f64 = joint4_mz * t145;
+    let t181: f64 = f64::mul_add(t137, t178, t180);
+    let t182: f64 = f64::mul_add(t133, t176, -t181);
+    let t183: f64 = t0 * t182;
+    let t184: f64 = t175 + t183;
+    let t185: f64 = joint5_mx * t81;
+    let t187: f64 = joint5_my * t57;
+    let t189: f64 = joint5_mz * t145;
+    let t190: f64 = f64::mul_add(t137, t187, t189);
+    let t191: f64 = f64::mul_add(t133, t185, -t190);
+    let t192: f64 = t0 * t191;
+    let t193: f64 = joint6_mx * t81;
+    let t195: f64 = joint6_my * t57;
+    let t197: f64 = joint6_mz * t145;
+    let t198: f64 = f64::mul_add(t137, t195, t197);
+    let t199: f64 = f64::mul_add(t133, t193, -t198);
+    let t200: f64 = t0 * t199;
+    let t201: f64 = t192 + t200;
+    let t202: f64 = t184 + t201;
+    let t203: f64 = t167 + t202;
+    let t204: f64 = platform_mass + joint1_mass;
+    let t205: f64 = half_spacing + t105;
+    let t206: f64 = t205 - t104;
+    let t208: f64 = f64::mul_add(t0, t206, t108);
+    let t209: f64 = t208 * 0.5;
+    let t210: f64 = t209 - 1.0;
+    let t212: f64 = rod2_mass * t210;
+    let t213: f64 = f64::mul_add(joint2_mass, t210, t212);
+    let t214: f64 = q1 * t0;
+    let t215: f64 = joint1_mass * t214;
+    let t216: f64 = t8 * t133;
+    let t218: f64 = f64::mul_add(-t216, 0.125, t133);
+    let t220: f64 = joint6_my * t62;
+    let t222: f64 = joint6_mz * t33;
+    let t223: f64 = t142 * t222;
+    let t224: f64 = f64::mul_add(joint6_mx, t218, t223);
+    let t225: f64 = f64::mul_add(-t137, t220, t224);
+    let t226: f64 = t0 * t225;
+    let t227: f64 = platform_mz * t33;
+    let t228: f64 = t142 * t227;
+    let t230: f64 = platform_my * t62;
+    let t231: f64 = t137 * t230;
+    let t232: f64 = f64::mul_add(platform_mx, t218, -t231);
+    let t233: f64 = t228 + t232;
+    let t236: f64 = joint1_mz * t33;
+    let t238: f64 = joint1_my * t62;
+    let t239: f64 = t137 * t238;
+    let t240: f64 = f64::mul_add(t142, t236, -t239);
+    let t241: f64 = f64::mul_add(joint1_mx, t218, t240);
+    let t242: f64 = t0 * t241;
+    let t243: f64 = f64::mul_add(t0, t233, t242);
+    let t244: f64 = t226 + t243;
+    let t245: f64 = joint2_mz * t33;
+    let t248: f64 = joint2_my * t62;
+    let t249: f64 = t137 * t248;
+    let t250: f64 = f64::mul_add(joint2_mx, t218, -t249);
+    let t251: f64 = f64::mul_add(t142, t245, t250);
+    let t252: f64 = t0 * t251;
+    let t254: f64 = joint3_my * t62;
+    let t256: f64 = joint3_mz * t33;
+    let t257: f64 = t142 * t256;
+    let t258: f64 = f64::mul_add(joint3_mx, t218, t257);
+    let t259: f64 = f64::mul_add(-t137, t254, t258);
+    let t260: f64 = t0 * t259;
+    let t261: f64 = t252 + t260;
+    let t263: f64 = joint4_my * t62;
+    let t265: f64 = joint4_mz * t33;
+    let t266: f64 = t142 * t265;
+    let t267: f64 = f64::mul_add(joint4_mx, t218, t266);
+    let t268: f64 = f64::mul_add(-t137, t263, t267);
+    let t269: f64 = t0 * t268;
+    let t271: f64 = joint5_my * t62;
+    let t273: f64 = joint5_mz * t33;
+    let t274: f64 = t142 * t273;
+    let t275: f64 = f64::mul_add(joint5_mx, t218, t274);
+    let t276: f64 = f64::mul_add(-t137, t271, t275);
+    let t277: f64 = t0 * t276;
+    let t278: f64 = t269 + t277;
+    let t279: f64 = t261 + t278;
+    let t280: f64 = t244 + t279;
+    let t281: f64 = t215 + t280;
+    let t282: f64 = t8 * t95;
+    let t283: f64 = t100 * t282;
+    let t285: f64 = t33 * t41;
+    let t287: f64 = t62 * t69;
+    let t288: f64 = t74 * t287;
+    let t289: f64 = f64::mul_add(t46, t285, -t288);
+    let t290: f64 = f64::mul_add(t95, t100, t289);
+    let t291: f64 = t283 * 0.125;
+    let t292: f64 = t290 - t291;
+    let t293: f64 = t0 * t292;
+    let t294: f64 = q1 + t290;
+    let t295: f64 = t294 - t291;
+    let t296: f64 = t0 * t295;
+    let t297: f64 = t214 - t296;
+    let t298: f64 = t293 + t297;
+    let t299: f64 = t298 * 0.5;
+    let t301: f64 = rod5_mass * t299;
+    let t302: f64 = f64::mul_add(joint5_mass, t299, t301);
+    let t304: f64 = rod6_mass * t299;
+    let t305: f64 = f64::mul_add(joint6_mass, t299, t304);
+    let t306: f64 = t302 + t305;
+    let t307: f64 = t297 * 0.5;
+    let t309: f64 = q2 + t290;
+    let t310: f64 = t309 - t291;
+    let t311: f64 = t0 * t310;
+    let t312: f64 = t297 + t311;
+    let t313: f64 = t312 * 0.5;
+    let t314: f64 = joint2_mass * t313;
+    let t315: f64 = f64::mul_add(platform_mass, t307, t314);
+    let t316: f64 = half_spacing + t290;
+    let t317: f64 = t316 - t291;
+    let t318: f64 = t0 * t317;
+    let t319: f64 = t297 + t318;
+    let t320: f64 = t319 * 0.5;
+    let t321: f64 = joint3_mass * t320;
+    let t322: f64 = half_spacing + t291;
+    let t323: f64 = t322 - t290;
+    let t324: f64 = t0 * t323;
+    let t325: f64 = t297 - t324;
+    let t326: f64 = t325 * 0.5;
+    let t327: f64 = joint4_mass * t326;
+    let t328: f64 = t321 + t327;
+    let t329: f64 = t315 + t328;
+    let t330: f64 = t306 + t329;
+    let t332: f64 = f64::mul_add(t281, 0.5, t330);
+    let t333: f64 = t214 * t332;
+    let t334: f64 = t214 * t241;
+    let t336: f64 = t165 * 0.5;
+    let t337: f64 = t213 + t336;
+    let t338: f64 = t206 * t337;
+    let t340: f64 = t192 * 0.5;
+    let t341: f64 = t122 + t340;
+    let t343: f64 = t128 * t199;
+    let t344: f64 = t200 * 0.5;
+    let t345: f64 = t129 + t344;
+    let t347: f64 = t42 - t44;
+    let t348: f64 = t347 * 0.125;
+    let t350: f64 = f64::mul_add(-t8, t348, t45);
+    let t352: f64 = f64::mul_add(t41, t350, t103);
+    let t353: f64 = half_spacing + t352;
+    let t354: f64 = platform_mass * t353;
+    let t355: f64 = joint3_mx + joint4_mx;
+    let t356: f64 = joint5_mx + joint6_mx;
+    let t357: f64 = t355 + t356;
+    let t358: f64 = platform_mx + t357;
+    let t359: f64 = joint2_mx + t358;
+    let t360: f64 = t359 * 0.5;
+    let t361: f64 = t81 * t133;
+    let t363: f64 = joint3_my + joint4_my;
+    let t364: f64 = joint5_my + joint6_my;
+    let t365: f64 = t363 + t364;
+    let t366: f64 = platform_my + t365;
+    let t367: f64 = joint2_my + t366;
+    let t368: f64 = t367 * 0.5;
+    let t369: f64 = t57 * t137;
+    let t371: f64 = t8 * 0.125;
+    let t372: f64 = t371 - 1.0;
+    let t373: f64 = t142 * t372;
+    let t374: f64 = -t373;
+    let t375: f64 = joint3_mz + joint4_mz;
+    let t376: f64 = joint5_mz + joint6_mz;
+    let t377: f64 = t375 + t376;
+    let t378: f64 = platform_mz + t377;
+    let t379: f64 = joint2_mz + t378;
+    let t380: f64 = t379 * 0.5;
+    let t381: f64 = t374 * t380;
+    let t382: f64 = t354 * 0.5;
+    let t383: f64 = f64::mul_add(t360, t361, t382);
+    let t384: f64 = f64::mul_add(t368, t369, t381);
+    let t385: f64 = t383 - t384;
+    let t386: f64 = t0 * t385;
+    let t387: f64 = rod2_mass + joint2_mass;
+    let t389: f64 = q5 - half_spacing;
+    let t390: f64 = t389 * 0.5;
+    let t391: f64 = t0 * t390;
+    let t392: f64 = t391 + 1.0;
+    let t393: f64 = -t392;
+    let t395: f64 = f64::mul_add(-joint5_mass, t393, platform_mass);
+    let t396: f64 = q6 - half_spacing;
+    let t397: f64 = t396 * 0.5;
+    let t398: f64 = t0 * t397;
+    let t399: f64 = t398 + 1.0;
+    let t400: f64 = -t399;
+    let t402: f64 = joint3_mass + joint4_mass;
+    let t403: f64 = t402 * -0.5;
+    let t404: f64 = f64::mul_add(joint6_mass, t400, t403);
+    let t405: f64 = t395 - t404;
+    let t406: f64 = f64::mul_add(t387, 0.0, t386);
+    let t407: f64 = t405 - t406;
+    let t408: f64 = t107 * t407;
+    let t409: f64 = t355 * 0.5;
+    let t411: f64 = t363 * 0.5;
+    let t413: f64 = t375 * 0.5;
+    let t414: f64 = t374 * t413;
+    let t415: f64 = f64::mul_add(t369, t411, t414);
+    let t416: f64 = f64::mul_add(t361, t409, -t415);
+    let t417: f64 = t0 * t416;
+    let t418: f64 = t403 + t417;
+    let t422: f64 = t374 * t375;
+    let t423: f64 = f64::mul_add(t363, t369, t422);
+    let t424: f64 = f64::mul_add(t355, t361, -t423);
+    let t425: f64 = t113 * t424;
+    let t426: f64 = platform_mz * t0;
+    let t427: f64 = t107 * t426;
+    let t429: f64 = platform_my * t0;
+    let t430: f64 = t57 * t429;
+    let t431: f64 = t107 * t430;
+    let t433: f64 = platform_mx * t0;
+    let t434: f64 = t81 * t433;
+    let t435: f64 = t107 * t434;
+    let t436: f64 = t133 * t435;
+    let t437: f64 = f64::mul_add(t137, t431, -t436);
+    let t438: f64 = f64::mul_add(t145, t427, t437);
+    let t439: f64 = t147 + t156;
+    let t440: f64 = joint1_ixx * t89;
+    let t442: f64 = joint1_ixz * t23;
+    let t444: f64 = t137 * t372;
+    let t445: f64 = -t444;
+    let t446: f64 = joint1_ixy * t445;
+    let t447: f64 = f64::mul_add(t133, t440, t446);
+    let t448: f64 = f64::mul_add(-t142, t442, t447);
+    let t449: f64 = t448 * 0.5;
+    let t450: f64 = t0 * t89;
+    let t451: f64 = t133 * t450;
+    let t453: f64 = t8 * t137;
+    let t455: f64 = f64::mul_add(-t453, 0.125, t137);
+    let t456: f64 = joint1_ixy * t89;
+    let t458: f64 = joint1_iyz * t23;
+    let t460: f64 = joint1_iyy * t445;
+    let t461: f64 = f64::mul_add(t133, t456, t460);
+    let t462: f64 = f64::mul_add(-t142, t458, t461);
+    let t463: f64 = t462 * 0.5;
+    let t464: f64 = t0 * t455;
+    let t465: f64 = t463 * t464;
+    let t466: f64 = f64::mul_add(t449, t451, t465);
+    let t467: f64 = joint1_ixz * t89;
+    let t469: f64 = joint1_izz * t23;
+    let t471: f64 = joint1_iyz * t445;
+    let t472: f64 = f64::mul_add(t133, t467, t471);
+    let t473: f64 = f64::mul_add(-t142, t469, t472);
+    let t474: f64 = t473 * 0.5;
+    let t475: f64 = t0 * t23;
+    let t476: f64 = t142 * t475;
+    let t478: f64 = t215 + t242;
+    let t479: f64 = t478 * 0.5;
+    let t480: f64 = t295 * t479;
+    let t481: f64 = f64::mul_add(t474, t476, -t480);
+    let t482: f64 = t466 - t481;
+    let t483: f64 = joint2_ixx * t89;
+    let t485: f64 = joint2_ixz * t23;
+    let t487: f64 = joint2_ixy * t445;
+    let t488: f64 = f64::mul_add(t133, t483, t487);
+    let t489: f64 = f64::mul_add(-t142, t485, t488);
+    let t490: f64 = t489 * 0.5;
+    let t492: f64 = joint2_ixy * t89;
+    let t494: f64 = joint2_iyz * t23;
+    let t496: f64 = joint2_iyy * t445;
+    let t497: f64 = f64::mul_add(t133, t492, t496);
+    let t498: f64 = f64::mul_add(-t142, t494, t497);
+    let t499: f64 = t498 * 0.5;
+    let t500: f64 = t464 * t499;
+    let t501: f64 = f64::mul_add(t451, t490, t500);
+    let t502: f64 = joint2_ixz * t89;
+    let t504: f64 = joint2_izz * t23;
+    let t506: f64 = joint2_iyz * t445;
+    let t507: f64 = f64::mul_add(t133, t502, t506);
+    let t508: f64 = f64::mul_add(-t142, t504, t507);
+    let t509: f64 = t508 * 0.5;
+    let t511: f64 = t251 * t313;
+    let t512: f64 = f64::mul_add(t476, t509, -t511);
+    let t513: f64 = t501 - t512;
+    let t514: f64 = t482 + t513;
+    let t515: f64 = t252 * 0.5;
+    let t516: f64 = t314 + t515;
+    let t518: f64 = joint3_ixx * t89;
+    let t520: f64 = joint3_ixz * t23;
+    let t522: f64 = joint3_ixy * t445;
+    let t523: f64 = f64::mul_add(t133, t518, t522);
+    let t524: f64 = f64::mul_add(-t142, t520, t523);
+    let t525: f64 = t524 * 0.5;
+    let t526: f64 = t451 * t525;
+    let t527: f64 = f64::mul_add(t310, t516, t526);
+    let t528: f64 = joint3_ixy * t89;
+    let t530: f64 = joint3_iyz * t23;
+    let t532: f64 = joint3_iyy * t445;
+    let t533: f64 = f64::mul_add(t133, t528, t532);
+    let t534: f64 = f64::mul_add(-t142, t530, t533);
+    let t535: f64 = t534 * 0.5;
+    let t537: f64 = joint3_ixz * t89;
+    let t539: f64 = joint3_izz * t23;
+    let t541: f64 = joint3_iyz * t445;
+    let t542: f64 = f64::mul_add(t133, t537, t541);
+    let t543: f64 = f64::mul_add(-t142, t539, t542);
+    let t544: f64 = t543 * 0.5;
+    let t545: f64 = t476 * t544;
+    let t546: f64 = f64::mul_add(t464, t535, -t545);
+    let t547: f64 = t527 + t546;
+    let t549: f64 = t260 * 0.5;
+    let t550: f64 = t321 + t549;
+    let t551: f64 = t317 * t550;
+    let t552: f64 = f64::mul_add(t259, t320, t551);
+    let t553: f64 = joint4_ixx * t89;
+    let t555: f64 = joint4_ixz * t23;
+    let t557: f64 = joint4_ixy * t445;
+    let t558: f64 = f64::mul_add(t133, t553, t557);
+    let t559: f64 = f64::mul_add(-t142, t555, t558);
+    let t560: f64 = t559 * 0.5;
+    let t562: f64 = joint4_ixy * t89;
+    let t564: f64 = joint4_iyz * t23;
+    let t566: f64 = joint4_iyy * t445;
+    let t567: f64 = f64::mul_add(t133, t562, t566);
+    let t568: f64 = f64::mul_add(-t142, t564, t567);
+    let t569: f64 = t568 * 0.5;
+    let t570: f64 = t464 * t569;
+    let t571: f64 = f64::mul_add(t451, t560, t570);
+    let t572: f64 = t552 + t571;
+    let t573: f64 = t547 + t572;
+    let t574: f64 = t514 + t573;
+    let t575: f64 = joint4_ixz * t89;
+    let t577: f64 = joint4_izz * t23;
+    let t579: f64 = joint4_iyz * t445;
+    let t580: f64 = f64::mul_add(t133, t575, t579);
+    let t581: f64 = f64::mul_add(-t142, t577, t580);
+    let t582: f64 = t581 * 0.5;
+    let t584: f64 = t268 * t326;
+    let t585: f64 = f64::mul_add(t476, t582, -t584);
+    let t586: f64 = t269 * 0.5;
+    let t587: f64 = t327 + t586;
+    let t589: f64 = joint5_ixx * t89;
+    let t591: f64 = joint5_ixz * t23;
+    let t593: f64 = joint5_ixy * t445;
+    let t594: f64 = f64::mul_add(t133, t589, t593);
+    let t595: f64 = f64::mul_add(-t142, t591, t594);
+    let t596: f64 = t595 * 0.5;
+    let t597: f64 = t451 * t596;
+    let t598: f64 = f64::mul_add(t323, t587, -t597);
+    let t599: f64 = t585 + t598;
+    let t600: f64 = joint5_ixy * t89;
+    let t602: f64 = joint5_iyz * t23;
+    let t604: f64 = joint5_iyy * t445;
+    let t605: f64 = f64::mul_add(t133, t600, t604);
+    let t606: f64 = f64::mul_add(-t142, t602, t605);
+    let t607: f64 = t606 * 0.5;
+    let t609: f64 = joint5_ixz * t89;
+    let t611: f64 = joint5_izz * t23;
+    let t613: f64 = joint5_iyz * t445;
+    let t614: f64 = f64::mul_add(t133, t609, t613);
+    let t615: f64 = f64::mul_add(-t142, t611, t614);
+    let t616: f64 = t615 * 0.5;
+    let t617: f64 = t476 * t616;
+    let t618: f64 = f64::mul_add(t464, t607, -t617);
+    let t620: f64 = t277 * 0.5;
+    let t621: f64 = t302 + t620;
+    let t622: f64 = t292 * t621;
+    let t623: f64 = f64::mul_add(t276, t299, t622);
+    let t624: f64 = t618 + t623;
+    let t625: f64 = t599 - t624;
+    let t626: f64 = joint6_ixx * t89;
+    let t628: f64 = joint6_ixz * t23;
+    let t630: f64 = joint6_ixy * t445;
+    let t631: f64 = f64::mul_add(t133, t626, t630);
+    let t632: f64 = f64::mul_add(-t142, t628, t631);
+    let t633: f64 = t632 * 0.5;
+    let t635: f64 = joint6_ixy * t89;
+    let t637: f64 = joint6_iyz * t23;
+    let t639: f64 = joint6_iyy * t445;
+    let t640: f64 = f64::mul_add(t133, t635, t639);
+    let t641: f64 = f64::mul_add(-t142, t637, t640);
+    let t642: f64 = t641 * 0.5;
+    let t643: f64 = t464 * t642;
+    let t644: f64 = f64::mul_add(t451, t633, t643);
+    let t645: f64 = joint6_ixz * t89;
+    let t647: f64 = joint6_izz * t23;
+    let t649: f64 = joint6_iyz * t445;
+    let t650: f64 = f64::mul_add(t133, t645, t649);
+    let t651: f64 = f64::mul_add(-t142, t647, t650);
+    let t652: f64 = t651 * 0.5;
+    let t654: f64 = t225 * t299;
+    let t655: f64 = f64::mul_add(t476, t652, -t654);
+    let t656: f64 = t644 - t655;
+    let t657: f64 = t226 * 0.5;
+    let t658: f64 = t305 + t657;
+    let t660: f64 = t295 * t332;
+    let t661: f64 = f64::mul_add(t292, t658, -t660);
+    let t662: f64 = platform_ixx * t89;
+    let t664: f64 = platform_ixz * t23;
+    let t666: f64 = platform_ixy * t445;
+    let t667: f64 = f64::mul_add(t133, t662, t666);
+    let t668: f64 = f64::mul_add(-t142, t664, t667);
+    let t669: f64 = t668 * 0.5;
+    let t671: f64 = platform_ixy * t89;
+    let t673: f64 = platform_iyz * t23;
+    let t675: f64 = platform_iyy * t445;
+    let t676: f64 = f64::mul_add(t133, t671, t675);
+    let t677: f64 = f64::mul_add(-t142, t673, t676);
+    let t678: f64 = t677 * 0.5;
+    let t679: f64 = t464 * t678;
+    let t680: f64 = f64::mul_add(t451, t669, t679);
+    let t681: f64 = platform_ixz * t89;
+    let t683: f64 = platform_izz * t23;
+    let t685: f64 = platform_iyz * t445;
+    let t686: f64 = f64::mul_add(t133, t681, t685);
+    let t687: f64 = f64::mul_add(-t142, t683, t686);
+    let t688: f64 = t687 * 0.5;
+    let t690: f64 = t233 * t307;
+    let t691: f64 = f64::mul_add(t476, t688, -t690);
+    let t692: f64 = t680 - t691;
+    let t693: f64 = t661 + t692;
+    let t694: f64 = t656 + t693;
+    let t695: f64 = t625 - t694;
+    let t696: f64 = t574 - t695;
+    let t697: f64 = t438 - t334;
+    let t698: f64 = t697 * 0.5;
+    let t699: f64 = f64::mul_add(t117, t341, t698);
+    let t700: f64 = f64::mul_add(t124, t345, t408);
+    let t701: f64 = t699 + t700;
+    let t702: f64 = t439 + t701;
+    let t703: f64 = f64::mul_add(t164, t210, t338);
+    let t704: f64 = f64::mul_add(t121, t191, t343);
+    let t705: f64 = f64::mul_add(t109, t418, t425);
+    let t706: f64 = t703 + t704;
+    let t707: f64 = t696 + t705;
+    let t708: f64 = t706 + t707;
+    let t709: f64 = t702 - t708;
+    let t711: f64 = f64::mul_add(-t0, t709, t333);
+    let t712: f64 = t711 - t203;
+    let t714: f64 = rod1_mass + t204;
+    let t715: f64 = f64::mul_add(t712, 0.5, t714);
+    let t716: f64 = t114 + t115;
+    let t717: f64 = t122 + t129;
+    let t718: f64 = t716 + t717;
+    let t719: f64 = t213 + t718;
+    let t720: f64 = t715 - t719;
+    let t721: f64 = joint3_mass * t112;
+    let t722: f64 = joint4_mass * t112;
+    let t723: f64 = joint5_mass * t120;
+    let t724: f64 = joint6_mass * t127;
+    let t727: f64 = rod2_mass * t209;
+    let t728: f64 = f64::mul_add(joint2_mass, t209, t727);
+    let t729: f64 = t336 + t728;
+    let t731: f64 = t120 * t191;
+    let t732: f64 = t340 + t723;
+    let t735: f64 = t344 + t724;
+    let t736: f64 = t124 * t735;
+    let t737: f64 = joint2_mx + t357;
+    let t739: f64 = f64::mul_add(t737, 0.5, platform_mx);
+    let t741: f64 = joint2_my + t365;
+    let t743: f64 = f64::mul_add(t741, 0.5, platform_my);
+    let t745: f64 = joint2_mz + t377;
+    let t747: f64 = f64::mul_add(t745, 0.5, platform_mz);
+    let t748: f64 = t374 * t747;
+    let t749: f64 = f64::mul_add(t361, t739, t382);
+    let t750: f64 = f64::mul_add(t369, t743, t748);
+    let t751: f64 = t749 - t750;
+    let t753: f64 = t387 * 1.0;
+    let t754: f64 = t402 * 0.5;
+    let t755: f64 = -t391;
+    let t757: f64 = -t398;
+    let t758: f64 = joint6_mass * t757;
+    let t759: f64 = f64::mul_add(joint5_mass, t755, t758);
+    let t760: f64 = t754 + t759;
+    let t761: f64 = f64::mul_add(t0, t751, t753);
+    let t762: f64 = t760 + t761;
+    let t763: f64 = t107 * t762;
+    let t764: f64 = t417 + t754;
+    let t766: f64 = t112 * t424;
+    let t767: f64 = t334 * 0.5;
+    let t768: f64 = f64::mul_add(t164, t209, t767);
+    let t769: f64 = f64::mul_add(t206, t729, t731);
+    let t770: f64 = f64::mul_add(t127, t199, t763);
+    let t771: f64 = f64::mul_add(t109, t764, t766);
+    let t772: f64 = t768 + t769;
+    let t773: f64 = t770 + t771;
+    let t774: f64 = t772 + t773;
+    let t775: f64 = t696 + t774;
+    let t776: f64 = f64::mul_add(t117, t732, t736);
+    let t777: f64 = t775 - t776;
+    let t779: f64 = f64::mul_add(t0, t777, t333);
+    let t780: f64 = t203 - t779;
+    let t782: f64 = t721 + t722;
+    let t783: f64 = t723 + t724;
+    let t784: f64 = f64::mul_add(t780, 0.5, t728);
+    let t785: f64 = t782 + t783;
+    let t786: f64 = t784 + t785;
+    let t787: f64 = t8 * t69;
+    let t788: f64 = t74 * t787;
+    let t790: f64 = t89 * t95;
+    let t792: f64 = t23 * t41;
+    let t793: f64 = t46 * t792;
+    let t794: f64 = f64::mul_add(t100, t790, -t793);
+    let t795: f64 = f64::mul_add(t69, t74, t794);
+    let t796: f64 = t788 * 0.125;
+    let t797: f64 = t795 - t796;
+    let t798: f64 = t0 * t797;
+    let t799: f64 = q3 + t795;
+    let t800: f64 = t799 - t796;
+    let t802: f64 = f64::mul_add(-t0, t800, t798);
+    let t803: f64 = t802 * 0.5;
+    let t804: f64 = joint3_mass * t803;
+    let t805: f64 = q4 + t795;
+    let t806: f64 = t805 - t796;
+    let t808: f64 = f64::mul_add(-t0, t806, t798);
+    let t809: f64 = t808 * 0.5;
+    let t810: f64 = joint4_mass * t809;
+    let t811: f64 = t804 + t810;
+    let t812: f64 = half_spacing + t795;
+    let t813: f64 = t812 - t796;
+    let t815: f64 = f64::mul_add(-t0, t813, t798);
+    let t816: f64 = t815 * 0.5;
+    let t817: f64 = joint5_mass * t816;
+    let t818: f64 = half_spacing + t796;
+    let t819: f64 = t818 - t795;
+    let t821: f64 = f64::mul_add(t0, t819, t798);
+    let t822: f64 = t821 * 0.5;
+    let t823: f64 = joint6_mass * t822;
+    let t824: f64 = t817 + t823;
+    let t825: f64 = t811 + t824;
+    let t827: f64 = t182 * t809;
+    let t829: f64 = joint5_mx * t89;
+    let t831: f64 = joint5_my * t455;
+    let t832: f64 = joint5_mz * t23;
+    let t834: f64 = f64::mul_add(t133, t829, t831);
+    let t835: f64 = f64::mul_add(-t142, t832, t834);
+    let t836: f64 = t0 * t835;
+    let t837: f64 = t836 * 0.5;
+    let t838: f64 = t817 - t837;
+    let t840: f64 = t199 * t822;
+    let t841: f64 = joint6_mx * t89;
+    let t843: f64 = joint6_my * t455;
+    let t844: f64 = joint6_mz * t23;
+    let t846: f64 = f64::mul_add(t133, t841, t843);
+    let t847: f64 = f64::mul_add(-t142, t844, t846);
+    let t848: f64 = t0 * t847;
+    let t849: f64 = t848 * 0.5;
+    let t850: f64 = t823 - t849;
+    let t851: f64 = t124 * t850;
+    let t854: f64 = platform_mx * t89;
+    let t856: f64 = platform_mz * t23;
+    let t857: f64 = t142 * t856;
+    let t858: f64 = f64::mul_add(t133, t854, -t857);
+    let t859: f64 = f64::mul_add(platform_my, t455, t858);
+    let t860: f64 = t0 * t859;
+    let t861: f64 = f64::mul_add(t130, t797, -t860);
+    let t863: f64 = joint1_mx * t89;
+    let t865: f64 = joint1_mz * t23;
+    let t866: f64 = t142 * t865;
+    let t867: f64 = f64::mul_add(t133, t863, -t866);
+    let t868: f64 = f64::mul_add(joint1_my, t455, t867);
+    let t871: f64 = joint2_mx * t89;
+    let t873: f64 = joint2_mz * t23;
+    let t874: f64 = t142 * t873;
+    let t875: f64 = f64::mul_add(t133, t871, -t874);
+    let t876: f64 = f64::mul_add(joint2_my, t455, t875);
+    let t877: f64 = t0 * t876;
+    let t878: f64 = f64::mul_add(t0, t868, t877);
+    let t879: f64 = t861 - t878;
+    let t880: f64 = joint3_mx * t89;
+    let t882: f64 = joint3_my * t455;
+    let t883: f64 = joint3_mz * t23;
+    let t885: f64 = f64::mul_add(t133, t880, t882);
+    let t886: f64 = f64::mul_add(-t142, t883, t885);
+    let t887: f64 = t0 * t886;
+    let t888: f64 = joint4_mx * t89;
+    let t890: f64 = joint4_my * t455;
+    let t891: f64 = joint4_mz * t23;
+    let t893: f64 = f64::mul_add(t133, t888, t890);
+    let t894: f64 = f64::mul_add(-t142, t891, t893);
+    let t895: f64 = t0 * t894;
+    let t896: f64 = t887 + t895;
+    let t897: f64 = t836 + t848;
+    let t898: f64 = t896 + t897;
+    let t899: f64 = t879 - t898;
+    let t901: f64 = f64::mul_add(t899, 0.5, t825);
+    let t904: f64 = f64::mul_add(-platform_mz, t374, t140);
+    let t905: f64 = t70 - t72;
+    let t906: f64 = t905 * 0.125;
+    let t908: f64 = f64::mul_add(-t8, t906, t73);
+    let t910: f64 = f64::mul_add(t69, t908, t794);
+    let t913: f64 = f64::mul_add(joint1_my, t445, t867);
+    let t914: f64 = t353 * t913;
+    let t915: f64 = half_spacing - t352;
+    let t917: f64 = f64::mul_add(joint2_my, t445, t875);
+    let t919: f64 = platform_ixz + joint1_ixz;
+    let t920: f64 = joint2_ixz + joint3_ixz;
+    let t921: f64 = joint4_ixz + joint5_ixz;
+    let t922: f64 = t919 + t920;
+    let t923: f64 = joint6_ixz + t921;
+    let t924: f64 = t922 + t923;
+    let t925: f64 = t924 * 0.5;
+    let t927: f64 = platform_iyz + joint1_iyz;
+    let t928: f64 = joint2_iyz + joint3_iyz;
+    let t929: f64 = joint4_iyz + joint5_iyz;
+    let t930: f64 = t927 + t928;
+    let t931: f64 = joint6_iyz + t929;
+    let t932: f64 = t930 + t931;
+    let t933: f64 = t932 * 0.5;
+    let t935: f64 = platform_izz + joint1_izz;
+    let t936: f64 = joint2_izz + joint3_izz;
+    let t937: f64 = joint4_izz + joint5_izz;
+    let t938: f64 = t935 + t936;
+    let t939: f64 = joint6_izz + t937;
+    let t940: f64 = t938 + t939;
+    let t941: f64 = t940 * 0.5;
+    let t942: f64 = t374 * t941;
+    let t943: f64 = f64::mul_add(t369, t933, t942);
+    let t944: f64 = f64::mul_add(t361, t925, -t943);
+    let t945: f64 = t23 * t142;
+    let t947: f64 = platform_ixx + joint1_ixx;
+    let t948: f64 = joint2_ixx + joint3_ixx;
+    let t949: f64 = joint4_ixx + joint5_ixx;
+    let t950: f64 = t947 + t948;
+    let t951: f64 = joint6_ixx + t949;
+    let t952: f64 = t950 + t951;
+    let t953: f64 = t952 * 0.5;
+    let t955: f64 = platform_ixy + joint1_ixy;
+    let t956: f64 = joint2_ixy + joint3_ixy;
+    let t957: f64 = joint4_ixy + joint5_ixy;
+    let t958: f64 = t955 + t956;
+    let t959: f64 = joint6_ixy + t957;
+    let t960: f64 = t958 + t959;
+    let t961: f64 = t960 * 0.5;
+    let t963: f64 = t374 * t925;
+    let t964: f64 = f64::mul_add(t369, t961, t963);
+    let t965: f64 = f64::mul_add(t361, t953, -t964);
+    let t966: f64 = t89 * t133;
+    let t969: f64 = platform_iyy + joint1_iyy;
+    let t970: f64 = joint2_iyy + joint3_iyy;
+    let t971: f64 = joint4_iyy + joint5_iyy;
+    let t972: f64 = t969 + t970;
+    let t973: f64 = joint6_iyy + t971;
+    let t974: f64 = t972 + t973;
+    let t975: f64 = t974 * 0.5;
+    let t977: f64 = t374 * t933;
+    let t978: f64 = f64::mul_add(t369, t975, t977);
+    let t979: f64 = f64::mul_add(t361, t961, -t978);
+    let t981: f64 = f64::mul_add(t904, t910, t914);
+    let t982: f64 = f64::mul_add(-t915, t917, t981);
+    let t983: f64 = t982 * 0.5;
+    let t984: f64 = f64::mul_add(t965, t966, t983);
+    let t985: f64 = f64::mul_add(t445, t979, t984);
+    let t986: f64 = f64::mul_add(-t944, t945, t985);
+    let t987: f64 = t0 * t986;
+    let t988: f64 = q3 * t0;
+    let t989: f64 = t988 * 0.5;
+    let t990: f64 = -t989;
+    let t992: f64 = q4 * t0;
+    let t993: f64 = t992 * 0.5;
+    let t994: f64 = -t993;
+    let t995: f64 = joint4_mass * t994;
+    let t998: f64 = t411 * t445;
+    let t999: f64 = f64::mul_add(t409, t966, t998);
+    let t1000: f64 = f64::mul_add(t413, t945, -t999);
+    let t1002: f64 = f64::mul_add(joint3_mass, t990, t995);
+    let t1003: f64 = f64::mul_add(t0, t1000, t1002);
+    let t1005: f64 = f64::mul_add(t174, t803, t827);
+    let t1006: f64 = f64::mul_add(t191, t816, t840);
+    let t1007: f64 = f64::mul_add(t107, t901, t987);
+    let t1008: f64 = t1005 + t1006;
+    let t1009: f64 = f64::mul_add(t109, t1003, t1007);
+    let t1010: f64 = t1008 + t1009;
+    let t1011: f64 = f64::mul_add(t117, t838, t851);
+    let t1012: f64 = t1010 - t1011;
+    let t1013: f64 = t0 * t1012;
+    let t1014: f64 = t1013 - t899;
+    let t1015: f64 = t1014 * 0.5;
+    let t1016: f64 = t825 - t1015;
+    let t1017: f64 = t1015 - t825;
+    let t1018: f64 = joint2_mass - t899;
+    let t1019: f64 = t803 - 0.5;
+    let t1020: f64 = joint3_mass * t1019;
+    let t1021: f64 = t809 - 0.5;
+    let t1022: f64 = joint4_mass * t1021;
+    let t1023: f64 = t1020 + t1022;
+    let t1024: f64 = t816 - 0.5;
+    let t1026: f64 = rod5_mass * t1024;
+    let t1027: f64 = f64::mul_add(joint5_mass, t1024, t1026);
+    let t1028: f64 = t822 - 0.5;
+    let t1030: f64 = rod6_mass * t1028;
+    let t1031: f64 = f64::mul_add(joint6_mass, t1028, t1030);
+    let t1032: f64 = t1027 + t1031;
+    let t1033: f64 = t1023 + t1032;
+    let t1034: f64 = t204 + t1018;
+    let t1036: f64 = f64::mul_add(t1034, 0.5, -t1033);
+    let t1038: f64 = joint2_mass + t877;
+    let t1039: f64 = t1038 * 0.5;
+    let t1042: f64 = t887 * 0.5;
+    let t1043: f64 = t1042 - t1020;
+    let t1044: f64 = t317 * t1043;
+    let t1045: f64 = t268 * t1021;
+    let t1046: f64 = t895 * 0.5;
+    let t1047: f64 = t1046 - t1022;
+    let t1049: f64 = t276 * t1024;
+    let t1051: f64 = platform_mass * t910;
+    let t1054: f64 = t368 * t445;
+    let t1055: f64 = t1051 * 0.5;
+    let t1056: f64 = f64::mul_add(t380, t945, t1055);
+    let t1057: f64 = f64::mul_add(t360, t966, t1054);
+    let t1058: f64 = t1056 - t1057;
+    let t1059: f64 = t0 * t1058;
+    let t1060: f64 = platform_mass + joint2_mass;
+    let t1061: f64 = rod6_mass + joint6_mass;
+    let t1063: f64 = rod5_mass + joint5_mass;
+    let t1064: f64 = t1063 * -1.0;
+    let t1065: f64 = f64::mul_add(t1061, 0.0, t1064);
+    let t1066: f64 = t989 + 0.5;
+    let t1067: f64 = -t1066;
+    let t1069: f64 = t993 + 0.5;
+    let t1070: f64 = -t1069;
+    let t1071: f64 = joint4_mass * t1070;
+    let t1072: f64 = f64::mul_add(joint3_mass, t1067, t1071);
+    let t1073: f64 = t1065 + t1072;
+    let t1074: f64 = t1060 * 0.5;
+    let t1075: f64 = t1059 + t1073;
+    let t1076: f64 = t1074 - t1075;
+    let t1077: f64 = t295 * t1076;
+    let t1078: f64 = t376 * 0.5;
+    let t1080: f64 = t356 * 0.5;
+    let t1082: f64 = t364 * 0.5;
+    let t1083: f64 = t445 * t1082;
+    let t1084: f64 = f64::mul_add(t966, t1080, t1083);
+    let t1085: f64 = f64::mul_add(t945, t1078, -t1084);
+    let t1086: f64 = t0 * t1085;
+    let t1087: f64 = t1065 + t1086;
+    let t1089: f64 = t33 * t426;
+    let t1090: f64 = t142 * t1089;
+    let t1092: f64 = t218 * t433;
+    let t1094: f64 = t62 * t429;
+    let t1095: f64 = t137 * t1094;
+    let t1096: f64 = t797 * t1095;
+    let t1097: f64 = f64::mul_add(t797, t1092, -t1096);
+    let t1098: f64 = f64::mul_add(t797, t1090, t1097);
+    let t1099: f64 = t233 + t241;
+    let t1100: f64 = t251 + t1099;
+    let t1101: f64 = joint3_iyy * t62;
+    let t1103: f64 = joint3_iyz * t33;
+    let t1105: f64 = t133 * t372;
+    let t1106: f64 = -t1105;
+    let t1107: f64 = joint3_ixy * t1106;
+    let t1108: f64 = f64::mul_add(t142, t1103, t1107);
+    let t1109: f64 = f64::mul_add(t137, t1101, -t1108);
+    let t1110: f64 = t1109 * 0.5;
+    let t1111: f64 = t0 * t1110;
+    let t1112: f64 = -t1111;
+    let t1114: f64 = joint3_iyz * t62;
+    let t1116: f64 = joint3_izz * t33;
+    let t1118: f64 = joint3_ixz * t1106;
+    let t1119: f64 = f64::mul_add(t142, t1116, t1118);
+    let t1120: f64 = f64::mul_add(t137, t1114, -t1119);
+    let t1121: f64 = t1120 * 0.5;
+    let t1122: f64 = t0 * t1121;
+    let t1123: f64 = -t1122;
+    let t1124: f64 = t945 * t1123;
+    let t1125: f64 = f64::mul_add(t455, t1112, -t1124);
+    let t1126: f64 = joint4_ixy * t62;
+    let t1128: f64 = joint4_ixz * t33;
+    let t1130: f64 = joint4_ixx * t1106;
+    let t1131: f64 = f64::mul_add(t142, t1128, t1130);
+    let t1132: f64 = f64::mul_add(t137, t1126, -t1131);
+    let t1133: f64 = t1132 * 0.5;
+    let t1134: f64 = t0 * t1133;
+    let t1135: f64 = -t1134;
+    let t1137: f64 = joint4_iyy * t62;
+    let t1139: f64 = joint4_iyz * t33;
+    let t1141: f64 = joint4_ixy * t1106;
+    let t1142: f64 = f64::mul_add(t142, t1139, t1141);
+    let t1143: f64 = f64::mul_add(t137, t1137, -t1142);
+    let t1144: f64 = t1143 * 0.5;
+    let t1145: f64 = t0 * t1144;
+    let t1146: f64 = -t1145;
+    let t1147: f64 = t455 * t1146;
+    let t1148: f64 = f64::mul_add(t966, t1135, t1147);
+    let t1149: f64 = t1125 + t1148;
+    let t1150: f64 = joint4_iyz * t62;
+    let t1152: f64 = joint4_izz * t33;
+    let t1154: f64 = joint4_ixz * t1106;
+    let t1155: f64 = f64::mul_add(t142, t1152, t1154);
+    let t1156: f64 = f64::mul_add(t137, t1150, -t1155);
+    let t1157: f64 = t1156 * 0.5;
+    let t1158: f64 = t0 * t1157;
+    let t1159: f64 = -t1158;
+    let t1161: f64 = joint5_ixy * t62;
+    let t1163: f64 = joint5_ixz * t33;
+    let t1165: f64 = joint5_ixx * t1106;
+    let t1166: f64 = f64::mul_add(t142, t1163, t1165);
+    let t1167: f64 = f64::mul_add(t137, t1161, -t1166);
+    let t1168: f64 = t1167 * 0.5;
+    let t1169: f64 = t0 * t1168;
+    let t1170: f64 = -t1169;
+    let t1171: f64 = t966 * t1170;
+    let t1172: f64 = f64::mul_add(t945, t1159, -t1171);
+    let t1173: f64 = joint5_iyy * t62;
+    let t1175: f64 = joint5_iyz * t33;
+    let t1177: f64 = joint5_ixy * t1106;
+    let t1178: f64 = f64::mul_add(t142, t1175, t1177);
+    let t1179: f64 = f64::mul_add(t137, t1173, -t1178);
+    let t1180: f64 = t1179 * 0.5;
+    let t1181: f64 = t0 * t1180;
+    let t1182: f64 = -t1181;
+    let t1184: f64 = joint5_iyz * t62;
+    let t1186: f64 = joint5_izz * t33;
+    let t1188: f64 = joint5_ixz * t1106;
+    let t1189: f64 = f64::mul_add(t142, t1186, t1188);
+    let t1190: f64 = f64::mul_add(t137, t1184, -t1189);
+    let t1191: f64 = t1190 * 0.5;
+    let t1192: f64 = t0 * t1191;
+    let t1193: f64 = -t1192;
+    let t1194: f64 = t945 * t1193;
+    let t1195: f64 = f64::mul_add(t455, t1182, -t1194);
+    let t1196: f64 = t1172 - t1195;
+    let t1197: f64 = t1149 - t1196;
+    let t1198: f64 = joint6_ixy * t62;
+    let t1200: f64 = joint6_ixz * t33;
+    let t1202: f64 = joint6_ixx * t1106;
+    let t1203: f64 = f64::mul_add(t142, t1200, t1202);
+    let t1204: f64 = f64::mul_add(t137, t1198, -t1203);
+    let t1205: f64 = t1204 * 0.5;
+    let t1206: f64 = t0 * t1205;
+    let t1207: f64 = -t1206;
+    let t1209: f64 = joint6_iyy * t62;
+    let t1211: f64 = joint6_iyz * t33;
+    let t1213: f64 = joint6_ixy * t1106;
+    let t1214: f64 = f64::mul_add(t142, t1211, t1213);
+    let t1215: f64 = f64::mul_add(t137, t1209, -t1214);
+    let t1216: f64 = t1215 * 0.5;
+    let t1217: f64 = t0 * t1216;
+    let t1218: f64 = -t1217;
+    let t1219: f64 = t455 * t1218;
+    let t1220: f64 = f64::mul_add(t966, t1207, t1219);
+    let t1221: f64 = joint6_iyz * t62;
+    let t1223: f64 = joint6_izz * t33;
+    let t1225: f64 = joint6_ixz * t1106;
+    let t1226: f64 = f64::mul_add(t142, t1223, t1225);
+    let t1227: f64 = f64::mul_add(t137, t1221, -t1226);
+    let t1228: f64 = t1227 * 0.5;
+    let t1229: f64 = t0 * t1228;
+    let t1230: f64 = -t1229;
+    let t1232: f64 = platform_ixy * t62;
+    let t1234: f64 = platform_ixz * t33;
+    let t1236: f64 = platform_ixx * t1106;
+    let t1237: f64 = f64::mul_add(t142, t1234, t1236);
+    let t1238: f64 = f64::mul_add(t137, t1232, -t1237);
+    let t1239: f64 = t1238 * 0.5;
+    let t1240: f64 = t0 * t1239;
+    let t1241: f64 = -t1240;
+    let t1243: f64 = platform_iyy * t62;
+    let t1245: f64 = platform_iyz * t33;
+    let t1247: f64 = platform_ixy * t1106;
+    let t1248: f64 = f64::mul_add(t142, t1245, t1247);
+    let t1249: f64 = f64::mul_add(t137, t1243, -t1248);
+    let t1250: f64 = t1249 * 0.5;
+    let t1251: f64 = t0 * t1250;
+    let t1252: f64 = -t1251;
+    let t1253: f64 = t455 * t1252;
+    let t1254: f64 = f64::mul_add(t966, t1241, t1253);
+    let t1255: f64 = f64::mul_add(t945, t1230, -t1254);
+    let t1256: f64 = t1220 - t1255;
+    let t1257: f64 = platform_iyz * t62;
+    let t1259: f64 = platform_izz * t33;
+    let t1261: f64 = platform_ixz * t1106;
+    let t1262: f64 = f64::mul_add(t142, t1259, t1261);
+    let t1263: f64 = f64::mul_add(t137, t1257, -t1262);
+    let t1264: f64 = t1263 * 0.5;
+    let t1265: f64 = t0 * t1264;
+    let t1266: f64 = -t1265;
+    let t1268: f64 = joint1_ixy * t62;
+    let t1270: f64 = joint1_ixz * t33;
+    let t1272: f64 = joint1_ixx * t1106;
+    let t1273: f64 = f64::mul_add(t142, t1270, t1272);
+    let t1274: f64 = f64::mul_add(t137, t1268, -t1273);
+    let t1275: f64 = t1274 * 0.5;
+    let t1276: f64 = t0 * t1275;
+    let t1277: f64 = -t1276;
+    let t1278: f64 = t966 * t1277;
+    let t1279: f64 = f64::mul_add(t945, t1266, -t1278);
+    let t1280: f64 = joint1_iyy * t62;
+    let t1282: f64 = joint1_iyz * t33;
+    let t1284: f64 = joint1_ixy * t1106;
+    let t1285: f64 = f64::mul_add(t142, t1282, t1284);
+    let t1286: f64 = f64::mul_add(t137, t1280, -t1285);
+    let t1287: f64 = t1286 * 0.5;
+    let t1288: f64 = t0 * t1287;
+    let t1289: f64 = -t1288;
+    let t1291: f64 = joint1_iyz * t62;
+    let t1293: f64 = joint1_izz * t33;
+    let t1295: f64 = joint1_ixz * t1106;
+    let t1296: f64 = f64::mul_add(t142, t1293, t1295);
+    let t1297: f64 = f64::mul_add(t137, t1291, -t1296);
+    let t1298: f64 = t1297 * 0.5;
+    let t1299: f64 = t0 * t1298;
+    let t1300: f64 = -t1299;
+    let t1301: f64 = t945 * t1300;
+    let t1302: f64 = f64::mul_add(t455, t1289, -t1301);
+    let t1303: f64 = t1279 - t1302;
+    let t1304: f64 = joint2_ixy * t62;
+    let t1306: f64 = joint2_ixz * t33;
+    let t1308: f64 = joint2_ixx * t1106;
+    let t1309: f64 = f64::mul_add(t142, t1306, t1308);
+    let t1310: f64 = f64::mul_add(t137, t1304, -t1309);
+    let t1311: f64 = t1310 * 0.5;
+    let t1312: f64 = t0 * t1311;
+    let t1313: f64 = -t1312;
+    let t1315: f64 = joint2_iyy * t62;
+    let t1317: f64 = joint2_iyz * t33;
+    let t1319: f64 = joint2_ixy * t1106;
+    let t1320: f64 = f64::mul_add(t142, t1317, t1319);
+    let t1321: f64 = f64::mul_add(t137, t1315, -t1320);
+    let t1322: f64 = t1321 * 0.5;
+    let t1323: f64 = t0 * t1322;
+    let t1324: f64 = -t1323;
+    let t1325: f64 = t455 * t1324;
+    let t1326: f64 = f64::mul_add(t966, t1313, t1325);
+    let t1327: f64 = joint2_iyz * t62;
+    let t1329: f64 = joint2_izz * t33;
+    let t1331: f64 = joint2_ixz * t1106;
+    let t1332: f64 = f64::mul_add(t142, t1329, t1331);
+    let t1333: f64 = f64::mul_add(t137, t1327, -t1332);
+    let t1334: f64 = t1333 * 0.5;
+    let t1335: f64 = t0 * t1334;
+    let t1336: f64 = -t1335;
+    let t1338: f64 = joint3_ixy * t62;
+    let t1340: f64 = joint3_ixz * t33;
+    let t1342: f64 = joint3_ixx * t1106;
+    let t1343: f64 = f64::mul_add(t142, t1340, t1342);
+    let t1344: f64 = f64::mul_add(t137, t1338, -t1343);
+    let t1345: f64 = t1344 * 0.5;
+    let t1346: f64 = t0 * t1345;
+    let t1347: f64 = -t1346;
+    let t1348: f64 = t966 * t1347;
+    let t1349: f64 = f64::mul_add(t945, t1336, -t1348);
+    let t1350: f64 = t1326 - t1349;
+    let t1351: f64 = t1303 - t1350;
+    let t1352: f64 = t1256 - t1351;
+    let t1353: f64 = t1197 + t1352;
+    let t1354: f64 = t1100 - t1098;
+    let t1356: f64 = f64::mul_add(t310, t1039, t1044);
+    let t1357: f64 = f64::mul_add(t1354, 0.5, t1356);
+    let t1358: f64 = f64::mul_add(t259, t1019, t1045);
+    let t1359: f64 = f64::mul_add(t323, t1047, t1049);
+    let t1360: f64 = f64::mul_add(t225, t1028, t1077);
+    let t1361: f64 = f64::mul_add(t292, t1087, t1353);
+    let t1362: f64 = t1358 + t1359;
+    let t1363: f64 = t1360 + t1361;
+    let t1364: f64 = t1362 + t1363;
+    let t1365: f64 = t1357 - t1364;
+    let t1366: f64 = t0 * t1365;
+    let t1367: f64 = f64::mul_add(t214, t1036, t1366);
+    let t1368: f64 = t1367 * 0.5;
+    let t1369: f64 = -t1368;
+    let t1370: f64 = joint2_mass + t899;
+    let t1371: f64 = t803 + 0.5;
+    let t1372: f64 = joint3_mass * t1371;
+    let t1373: f64 = t809 + 0.5;
+    let t1374: f64 = joint4_mass * t1373;
+    let t1375: f64 = t1372 + t1374;
+    let t1376: f64 = t816 + 0.5;
+    let t1378: f64 = rod5_mass * t1376;
+    let t1379: f64 = f64::mul_add(joint5_mass, t1376, t1378);
+    let t1380: f64 = t822 + 0.5;
+    let t1382: f64 = rod6_mass * t1380;
+    let t1383: f64 = f64::mul_add(joint6_mass, t1380, t1382);
+    let t1384: f64 = t1379 + t1383;
+    let t1385: f64 = t1375 + t1384;
+    let t1386: f64 = t204 + t1370;
+    let t1388: f64 = f64::mul_add(t1386, 0.5, t1385);
+    let t1390: f64 = joint2_mass - t877;
+    let t1391: f64 = t1390 * 0.5;
+    let t1393: f64 = t259 * t1371;
+    let t1394: f64 = t1042 - t1372;
+    let t1397: f64 = t1046 - t1374;
+    let t1398: f64 = t323 * t1397;
+    let t1400: f64 = t225 * t1380;
+    let t1402: f64 = t1061 * 1.0;
+    let t1403: f64 = f64::mul_add(t1063, 0.0, t1402);
+    let t1404: f64 = 0.5 - t989;
+    let t1406: f64 = 0.5 - t993;
+    let t1407: f64 = joint4_mass * t1406;
+    let t1408: f64 = f64::mul_add(joint3_mass, t1404, t1407);
+    let t1409: f64 = t1403 + t1408;
+    let t1410: f64 = t1059 + t1409;
+    let t1411: f64 = t1074 + t1410;
+    let t1412: f64 = t295 * t1411;
+    let t1413: f64 = t1086 + t1403;
+    let t1415: f64 = t1098 + t1100;
+    let t1417: f64 = f64::mul_add(t310, t1391, t1393);
+    let t1418: f64 = f64::mul_add(t268, t1373, t1398);
+    let t1419: f64 = f64::mul_add(t276, t1376, t1400);
+    let t1420: f64 = f64::mul_add(t292, t1413, t1353);
+    let t1421: f64 = t1417 + t1418;
+    let t1422: f64 = t1419 + t1420;
+    let t1423: f64 = t1421 + t1422;
+    let t1424: f64 = f64::mul_add(t1415, 0.5, t1423);
+    let t1425: f64 = f64::mul_add(t317, t1394, t1412);
+    let t1426: f64 = t1424 - t1425;
+    let t1427: f64 = t0 * t1426;
+    let t1428: f64 = f64::mul_add(t214, t1388, t1427);
+    let t1429: f64 = t1428 * 0.5;
+    let t1430: f64 = -t1429;
+    let t1431: f64 = t711 * 0.5;
+    let t1432: f64 = -t1431;
+    let t1433: f64 = t779 * 0.5;
+    let t1434: f64 = t1013 * 0.5;
+    let t1435: f64 = -t1434;
+    let t1437: f64 = t175 * 0.5;
+    let t1438: f64 = t114 + t1437;
+    let t1439: f64 = t800 * t1438;
+    let t1440: f64 = t183 * 0.5;
+    let t1441: f64 = t115 + t1440;
+    let t1443: f64 = t121 * t835;
+    let t1445: f64 = t128 * t847;
+    let t1448: f64 = f64::mul_add(platform_my, t445, t858);
+    let t1449: f64 = t1448 * 0.5;
+    let t1450: f64 = t0 * t353;
+    let t1452: f64 = t358 * 0.5;
+    let t1454: f64 = t366 * 0.5;
+    let t1456: f64 = t378 * 0.5;
+    let t1457: f64 = t374 * t1456;
+    let t1458: f64 = f64::mul_add(t361, t1452, t382);
+    let t1459: f64 = f64::mul_add(t369, t1454, t1457);
+    let t1460: f64 = t1458 - t1459;
+    let t1461: f64 = t0 * t1460;
+    let t1462: f64 = t405 - t1461;
+    let t1463: f64 = t797 * t1462;
+    let t1466: f64 = t363 * t445;
+    let t1467: f64 = f64::mul_add(t355, t966, t1466);
+    let t1468: f64 = f64::mul_add(t375, t945, -t1467);
+    let t1469: f64 = t113 * t1468;
+    let t1470: f64 = t859 + t868;
+    let t1471: f64 = t0 * t81;
+    let t1472: f64 = t133 * t1471;
+    let t1474: f64 = t0 * t57;
+    let t1475: f64 = t137 * t1474;
+    let t1476: f64 = t569 * t1475;
+    let t1477: f64 = f64::mul_add(t560, t1472, -t1476);
+    let t1479: f64 = t0 * t145;
+    let t1480: f64 = t544 * t1479;
+    let t1481: f64 = f64::mul_add(t535, t1475, t1480);
+    let t1482: f64 = t1477 - t1481;
+    let t1484: f64 = t582 * t1479;
+    let t1485: f64 = f64::mul_add(t596, t1472, -t1484);
+    let t1487: f64 = t616 * t1479;
+    let t1488: f64 = f64::mul_add(t607, t1475, t1487);
+    let t1489: f64 = t1485 - t1488;
+    let t1490: f64 = t1482 + t1489;
+    let t1492: f64 = t642 * t1475;
+    let t1493: f64 = f64::mul_add(t633, t1472, -t1492);
+    let t1495: f64 = t678 * t1475;
+    let t1496: f64 = f64::mul_add(t669, t1472, -t1495);
+    let t1498: f64 = f64::mul_add(-t652, t1479, t1496);
+    let t1499: f64 = t1493 + t1498;
+    let t1501: f64 = t688 * t1479;
+    let t1502: f64 = f64::mul_add(t449, t1472, -t1501);
+    let t1504: f64 = t474 * t1479;
+    let t1505: f64 = f64::mul_add(t463, t1475, t1504);
+    let t1506: f64 = t1502 - t1505;
+    let t1508: f64 = t499 * t1475;
+    let t1509: f64 = f64::mul_add(t490, t1472, -t1508);
+    let t1511: f64 = t509 * t1479;
+    let t1512: f64 = f64::mul_add(t525, t1472, -t1511);
+    let t1513: f64 = t1509 + t1512;
+    let t1514: f64 = t1506 + t1513;
+    let t1515: f64 = t1499 + t1514;
+    let t1516: f64 = t1490 + t1515;
+    let t1517: f64 = f64::mul_add(t345, t819, t1469);
+    let t1518: f64 = t1470 + t1516;
+    let t1519: f64 = t1517 + t1518;
+    let t1520: f64 = f64::mul_add(t210, t876, t1439);
+    let t1521: f64 = f64::mul_add(t806, t1441, t1443);
+    let t1522: f64 = f64::mul_add(t341, t813, t1445);
+    let t1523: f64 = f64::mul_add(t1449, t1450, t1463);
+    let t1524: f64 = t1520 + t1521;
+    let t1525: f64 = t1522 + t1523;
+    let t1526: f64 = t1524 + t1525;
+    let t1527: f64 = t1519 - t1526;
+    let t1528: f64 = t0 * t1527;
+    let t1529: f64 = t1528 * 0.5;
+    let t1530: f64 = -t1529;
+    let t1531: f64 = t108 * t859;
+    let t1533: f64 = t721 + t1437;
+    let t1535: f64 = t722 + t1440;
+    let t1536: f64 = t806 * t1535;
+    let t1538: f64 = t732 * t813;
+    let t1541: f64 = t760 + t1461;
+    let t1542: f64 = t797 * t1541;
+    let t1544: f64 = t1531 * 0.5;
+    let t1545: f64 = f64::mul_add(t735, t819, t1542);
+    let t1546: f64 = f64::mul_add(t112, t1468, t1516);
+    let t1547: f64 = t1545 + t1546;
+    let t1548: f64 = f64::mul_add(t209, t876, t1544);
+    let t1549: f64 = f64::mul_add(t800, t1533, t1536);
+    let t1550: f64 = f64::mul_add(t120, t835, t1538);
+    let t1551: f64 = t1548 + t1549;
+    let t1552: f64 = f64::mul_add(t127, t847, t1550);
+    let t1553: f64 = t1551 + t1552;
+    let t1554: f64 = t1547 - t1553;
+    let t1555: f64 = t0 * t1554;
+    let t1556: f64 = t1555 * 0.5;
+    let t1557: f64 = q1 - half_spacing;
+    let t1558: f64 = joint1_mass * t0;
+    let t1559: f64 = t1557 * t1558;
+    let t1560: f64 = t0 * t1557;
+    let t1561: f64 = t1560 - t296;
+    let t1562: f64 = t1561 * 0.5;
+    let t1563: f64 = t1562 + 1.0;
+    let t1565: f64 = t311 + t1561;
+    let t1566: f64 = t1565 * 0.5;
+    let t1567: f64 = t1566 + 1.0;
+    let t1568: f64 = t251 * t1567;
+    let t1569: f64 = joint2_mass * t1567;
+    let t1570: f64 = t515 + t1569;
+    let t1572: f64 = t318 + t1561;
+    let t1573: f64 = t1572 * 0.5;
+    let t1574: f64 = t1573 + 1.0;
+    let t1575: f64 = t259 * t1574;
+    let t1577: f64 = rod3_mass * t1574;
+    let t1578: f64 = f64::mul_add(joint3_mass, t1574, t1577);
+    let t1579: f64 = t549 + t1578;
+    let t1581: f64 = t1561 - t324;
+    let t1582: f64 = t1581 * 0.5;
+    let t1583: f64 = t1582 + 1.0;
+    let t1584: f64 = t268 * t1583;
+    let t1586: f64 = rod4_mass * t1583;
+    let t1587: f64 = f64::mul_add(joint4_mass, t1583, t1586);
+    let t1588: f64 = t586 + t1587;
+    let t1591: f64 = f64::mul_add(joint1_mx, t1106, t240);
+    let t1592: f64 = t1591 * 0.5;
+    let t1593: f64 = -t1592;
+    let t1594: f64 = t1560 * t1593;
+    let t1595: f64 = t62 * t137;
+    let t1597: f64 = t33 * t142;
+    let t1599: f64 = t360 * t1106;
+    let t1600: f64 = f64::mul_add(t380, t1597, t1599);
+    let t1601: f64 = f64::mul_add(t368, t1595, -t1600);
+    let t1602: f64 = t0 * t1601;
+    let t1603: f64 = t1560 - t214;
+    let t1604: f64 = t1603 * 0.5;
+    let t1605: f64 = t1604 + 1.0;
+    let t1606: f64 = joint5_mass + joint6_mass;
+    let t1607: f64 = t1605 * t1606;
+    let t1608: f64 = t96 - t98;
+    let t1609: f64 = t1608 * 0.125;
+    let t1611: f64 = f64::mul_add(-t8, t1609, t99);
+    let t1613: f64 = f64::mul_add(t95, t1611, q1);
+    let t1614: f64 = t289 + t1613;
+    let t1615: f64 = t0 * t1614;
+    let t1616: f64 = t1560 - t1615;
+    let t1617: f64 = t1616 * 0.5;
+    let t1618: f64 = t1617 + 1.0;
+    let t1620: f64 = t3 * 0.5;
+    let t1621: f64 = t0 * t1620;
+    let t1622: f64 = t1560 * 0.5;
+    let t1623: f64 = t1622 + 1.0;
+    let t1624: f64 = t1623 - t1621;
+    let t1625: f64 = joint2_mass * t1624;
+    let t1626: f64 = f64::mul_add(platform_mass, t1618, t1625);
+    let t1627: f64 = t1557 * 0.5;
+    let t1628: f64 = t0 * t1627;
+    let t1629: f64 = t1623 - t1628;
+    let t1630: f64 = rod3_mass + joint3_mass;
+    let t1632: f64 = q1 + half_spacing;
+    let t1633: f64 = t1632 * 0.5;
+    let t1634: f64 = t0 * t1633;
+    let t1635: f64 = t1623 - t1634;
+    let t1636: f64 = rod4_mass + joint4_mass;
+    let t1637: f64 = t1635 * t1636;
+    let t1638: f64 = f64::mul_add(t1629, t1630, t1637);
+    let t1639: f64 = t1607 + t1626;
+    let t1640: f64 = t1638 + t1639;
+    let t1641: f64 = t1640 - t1602;
+    let t1645: f64 = t1080 * t1106;
+    let t1646: f64 = f64::mul_add(t1078, t1597, t1645);
+    let t1647: f64 = f64::mul_add(t1082, t1595, -t1646);
+    let t1648: f64 = t0 * t1647;
+    let t1649: f64 = t1607 - t1648;
+    let t1651: f64 = t293 + t1561;
+    let t1652: f64 = t1651 * 0.5;
+    let t1653: f64 = t1652 + 1.0;
+    let t1656: f64 = t356 * t1106;
+    let t1657: f64 = f64::mul_add(t376, t1597, t1656);
+    let t1658: f64 = f64::mul_add(t364, t1595, -t1657);
+    let t1659: f64 = t1653 * t1658;
+    let t1662: f64 = t798 * t859;
+    let t1663: f64 = f64::mul_add(t798, t868, -t1662);
+    let t1664: f64 = f64::mul_add(t798, t876, t1663);
+    let t1666: f64 = t797 * t901;
+    let t1667: f64 = f64::mul_add(t819, t850, t1666);
+    let t1668: f64 = platform_ixx * t81;
+    let t1670: f64 = platform_ixy * t57;
+    let t1672: f64 = platform_ixz * t374;
+    let t1673: f64 = f64::mul_add(t137, t1670, t1672);
+    let t1674: f64 = f64::mul_add(t133, t1668, -t1673);
+    let t1675: f64 = t1674 * 0.5;
+    let t1677: f64 = platform_ixy * t81;
+    let t1679: f64 = platform_iyy * t57;
+    let t1681: f64 = platform_iyz * t374;
+    let t1682: f64 = f64::mul_add(t137, t1679, t1681);
+    let t1683: f64 = f64::mul_add(t133, t1677, -t1682);
+    let t1684: f64 = t1683 * 0.5;
+    let t1685: f64 = t1475 * t1684;
+    let t1686: f64 = f64::mul_add(t1472, t1675, -t1685);
+    let t1687: f64 = joint1_ixx * t81;
+    let t1689: f64 = joint1_ixy * t57;
+    let t1691: f64 = joint1_ixz * t374;
+    let t1692: f64 = f64::mul_add(t137, t1689, t1691);
+    let t1693: f64 = f64::mul_add(t133, t1687, -t1692);
+    let t1694: f64 = t1693 * 0.5;
+    let t1696: f64 = platform_ixz * t81;
+    let t1698: f64 = platform_iyz * t57;
+    let t1700: f64 = platform_izz * t374;
+    let t1701: f64 = f64::mul_add(t137, t1698, t1700);
+    let t1702: f64 = f64::mul_add(t133, t1696, -t1701);
+    let t1703: f64 = t1702 * 0.5;
+    let t1704: f64 = t1479 * t1703;
+    let t1705: f64 = f64::mul_add(t1472, t1694, -t1704);
+    let t1706: f64 = t1686 + t1705;
+    let t1707: f64 = t1667 + t1706;
+    let t1708: f64 = joint2_ixx * t81;
+    let t1710: f64 = joint2_ixy * t57;
+    let t1712: f64 = joint2_ixz * t374;
+    let t1713: f64 = f64::mul_add(t137, t1710, t1712);
+    let t1714: f64 = f64::mul_add(t133, t1708, -t1713);
+    let t1715: f64 = t1714 * 0.5;
+    let t1717: f64 = joint2_ixy * t81;
+    let t1719: f64 = joint2_iyy * t57;
+    let t1721: f64 = joint2_iyz * t374;
+    let t1722: f64 = f64::mul_add(t137, t1719, t1721);
+    let t1723: f64 = f64::mul_add(t133, t1717, -t1722);
+    let t1724: f64 = t1723 * 0.5;
+    let t1725: f64 = t1475 * t1724;
+    let t1726: f64 = f64::mul_add(t1472, t1715, -t1725);
+    let t1727: f64 = joint1_ixy * t81;
+    let t1729: f64 = joint1_iyy * t57;
+    let t1731: f64 = joint1_iyz * t374;
+    let t1732: f64 = f64::mul_add(t137, t1729, t1731);
+    let t1733: f64 = f64::mul_add(t133, t1727, -t1732);
+    let t1734: f64 = t1733 * 0.5;
+    let t1736: f64 = joint1_ixz * t81;
+    let t1738: f64 = joint1_iyz * t57;
+    let t1740: f64 = joint1_izz * t374;
+    let t1741: f64 = f64::mul_add(t137, t1738, t1740);
+    let t1742: f64 = f64::mul_add(t133, t1736, -t1741);
+    let t1743: f64 = t1742 * 0.5;
+    let t1744: f64 = t1479 * t1743;
+    let t1745: f64 = f64::mul_add(t1475, t1734, t1744);
+    let t1746: f64 = t1726 - t1745;
+    let t1747: f64 = joint3_ixx * t81;
+    let t1749: f64 = joint3_ixy * t57;
+    let t1751: f64 = joint3_ixz * t374;
+    let t1752: f64 = f64::mul_add(t137, t1749, t1751);
+    let t1753: f64 = f64::mul_add(t133, t1747, -t1752);
+    let t1754: f64 = t1753 * 0.5;
+    let t1756: f64 = joint2_ixz * t81;
+    let t1758: f64 = joint2_iyz * t57;
+    let t1760: f64 = joint2_izz * t374;
+    let t1761: f64 = f64::mul_add(t137, t1758, t1760);
+    let t1762: f64 = f64::mul_add(t133, t1756, -t1761);
+    let t1763: f64 = t1762 * 0.5;
+    let t1764: f64 = t1479 * t1763;
+    let t1765: f64 = f64::mul_add(t1472, t1754, -t1764);
+    let t1766: f64 = joint3_ixy * t81;
+    let t1768: f64 = joint3_iyy * t57;
+    let t1770: f64 = joint3_iyz * t374;
+    let t1771: f64 = f64::mul_add(t137, t1768, t1770);
+    let t1772: f64 = f64::mul_add(t133, t1766, -t1771);
+    let t1773: f64 = t1772 * 0.5;
+    let t1775: f64 = joint3_ixz * t81;
+    let t1777: f64 = joint3_iyz * t57;
+    let t1779: f64 = joint3_izz * t374;
+    let t1780: f64 = f64::mul_add(t137, t1777, t1779);
+    let t1781: f64 = f64::mul_add(t133, t1775, -t1780);
+    let t1782: f64 = t1781 * 0.5;
+    let t1783: f64 = t1479 * t1782;
+    let t1784: f64 = f64::mul_add(t1475, t1773, t1783);
+    let t1785: f64 = t1765 - t1784;
+    let t1786: f64 = t1746 + t1785;
+    let t1787: f64 = t1707 + t1786;
+    let t1788: f64 = joint4_ixx * t81;
+    let t1790: f64 = joint4_ixy * t57;
+    let t1792: f64 = joint4_ixz * t374;
+    let t1793: f64 = f64::mul_add(t137, t1790, t1792);
+    let t1794: f64 = f64::mul_add(t133, t1788, -t1793);
+    let t1795: f64 = t1794 * 0.5;
+    let t1797: f64 = joint4_ixy * t81;
+    let t1799: f64 = joint4_iyy * t57;
+    let t1801: f64 = joint4_iyz * t374;
+    let t1802: f64 = f64::mul_add(t137, t1799, t1801);
+    let t1803: f64 = f64::mul_add(t133, t1797, -t1802);
+    let t1804: f64 = t1803 * 0.5;
+    let t1805: f64 = t1475 * t1804;
+    let t1806: f64 = f64::mul_add(t1472, t1795, -t1805);
+    let t1808: f64 = t804 - t1042;
+    let t1809: f64 = t800 * t1808;
+    let t1810: f64 = f64::mul_add(t803, t886, t1809);
+    let t1811: f64 = t1806 - t1810;
+    let t1812: f64 = joint5_ixx * t81;
+    let t1814: f64 = joint5_ixy * t57;
+    let t1816: f64 = joint5_ixz * t374;
+    let t1817: f64 = f64::mul_add(t137, t1814, t1816);
+    let t1818: f64 = f64::mul_add(t133, t1812, -t1817);
+    let t1819: f64 = t1818 * 0.5;
+    let t1821: f64 = t810 - t1046;
+    let t1822: f64 = t806 * t1821;
+    let t1823: f64 = f64::mul_add(t1472, t1819, -t1822);
+    let t1824: f64 = joint4_ixz * t81;
+    let t1826: f64 = joint4_iyz * t57;
+    let t1828: f64 = joint4_izz * t374;
+    let t1829: f64 = f64::mul_add(t137, t1826, t1828);
+    let t1830: f64 = f64::mul_add(t133, t1824, -t1829);
+    let t1831: f64 = t1830 * 0.5;
+    let t1833: f64 = t809 * t894;
+    let t1834: f64 = f64::mul_add(t1479, t1831, t1833);
+    let t1835: f64 = t1823 - t1834;
+    let t1836: f64 = t1811 + t1835;
+    let t1837: f64 = joint6_ixx * t81;
+    let t1839: f64 = joint6_ixy * t57;
+    let t1841: f64 = joint6_ixz * t374;
+    let t1842: f64 = f64::mul_add(t137, t1839, t1841);
+    let t1843: f64 = f64::mul_add(t133, t1837, -t1842);
+    let t1844: f64 = t1843 * 0.5;
+    let t1846: f64 = joint6_ixy * t81;
+    let t1848: f64 = joint6_iyy * t57;
+    let t1850: f64 = joint6_iyz * t374;
+    let t1851: f64 = f64::mul_add(t137, t1848, t1850);
+    let t1852: f64 = f64::mul_add(t133, t1846, -t1851);
+    let t1853: f64 = t1852 * 0.5;
+    let t1854: f64 = t1475 * t1853;
+    let t1855: f64 = f64::mul_add(t1472, t1844, -t1854);
+    let t1856: f64 = joint6_ixz * t81;
+    let t1858: f64 = joint6_iyz * t57;
+    let t1860: f64 = joint6_izz * t374;
+    let t1861: f64 = f64::mul_add(t137, t1858, t1860);
+    let t1862: f64 = f64::mul_add(t133, t1856, -t1861);
+    let t1863: f64 = t1862 * 0.5;
+    let t1865: f64 = t822 * t847;
+    let t1866: f64 = f64::mul_add(t1479, t1863, t1865);
+    let t1867: f64 = t1855 - t1866;
+    let t1868: f64 = joint5_ixy * t81;
+    let t1870: f64 = joint5_iyy * t57;
+    let t1872: f64 = joint5_iyz * t374;
+    let t1873: f64 = f64::mul_add(t137, t1870, t1872);
+    let t1874: f64 = f64::mul_add(t133, t1868, -t1873);
+    let t1875: f64 = t1874 * 0.5;
+    let t1877: f64 = joint5_ixz * t81;
+    let t1879: f64 = joint5_iyz * t57;
+    let t1881: f64 = joint5_izz * t374;
+    let t1882: f64 = f64::mul_add(t137, t1879, t1881);
+    let t1883: f64 = f64::mul_add(t133, t1877, -t1882);
+    let t1884: f64 = t1883 * 0.5;
+    let t1885: f64 = t1479 * t1884;
+    let t1886: f64 = f64::mul_add(t1475, t1875, t1885);
+    let t1888: f64 = t813 * t838;
+    let t1889: f64 = f64::mul_add(t816, t835, t1888);
+    let t1890: f64 = t1886 + t1889;
+    let t1891: f64 = t1867 - t1890;
+    let t1892: f64 = t1836 + t1891;
+    let t1893: f64 = t1787 + t1892;
+    let t1895: f64 = f64::mul_add(t233, t1563, t1568);
+    let t1896: f64 = f64::mul_add(t310, t1570, t1575);
+    let t1897: f64 = f64::mul_add(t317, t1579, t1584);
+    let t1898: f64 = f64::mul_add(t292, t1649, t241);
+    let t1899: f64 = f64::mul_add(t1664, 0.5, t1893);
+    let t1900: f64 = t1895 + t1896;
+    let t1901: f64 = t1897 + t1898;
+    let t1902: f64 = t1900 + t1901;
+    let t1903: f64 = t1899 + t1902;
+    let t1904: f64 = f64::mul_add(t323, t1588, t1594);
+    let t1905: f64 = f64::mul_add(t295, t1641, t1659);
+    let t1906: f64 = t1904 + t1905;
+    let t1907: f64 = t1903 - t1906;
+    let t1908: f64 = t0 * t1907;
+    let t1909: f64 = t1630 * 0.5;
+    let t1911: f64 = t1636 * 0.5;
+    let t1912: f64 = t1635 * t1911;
+    let t1913: f64 = t1606 * 0.5;
+    let t1915: f64 = t1626 * 0.5;
+    let t1916: f64 = f64::mul_add(t1629, t1909, t1912);
+    let t1917: f64 = f64::mul_add(t1605, t1913, t1915);
+    let t1918: f64 = t1916 + t1917;
+    let t1921: f64 = f64::mul_add(platform_mass, t1563, joint1_mass);
+    let t1922: f64 = t1587 + t1921;
+    let t1923: f64 = joint5_mass * t1653;
+    let t1924: f64 = t1569 + t1923;
+    let t1925: f64 = joint6_mass * t1653;
+    let t1926: f64 = t1578 + t1925;
+    let t1927: f64 = t1924 + t1926;
+    let t1928: f64 = t1922 + t1927;
+    let t1929: f64 = t1557 * t1557;
+    let t1930: f64 = joint1_mass * t1;
+    let t1932: f64 = t1 * t1557;
+    let t1933: f64 = t233 * t1932;
+    let t1934: f64 = f64::mul_add(t1929, t1930, t1933);
+    let t1936: f64 = t251 * t1932;
+    let t1937: f64 = f64::mul_add(t241, t1932, t1936);
+    let t1938: f64 = t1934 + t1937;
+    let t1940: f64 = t268 * t1932;
+    let t1941: f64 = f64::mul_add(t259, t1932, t1940);
+    let t1943: f64 = t225 * t1932;
+    let t1944: f64 = f64::mul_add(t276, t1932, t1943);
+    let t1945: f64 = t1941 + t1944;
+    let t1946: f64 = t1938 + t1945;
+    let t1947: f64 = t280 + t1908;
+    let t1949: f64 = t1946 * 0.25;
+    let t1950: f64 = f64::mul_add(t1560, t1918, t1559);
+    let t1951: f64 = f64::mul_add(t1947, 0.5, t1928);
+    let t1952: f64 = t1950 + t1951;
+    let t1953: f64 = t1949 + t1952;
+    let t1957: f64 = joint2_mass * t1566;
+    let t1958: f64 = t515 + t1957;
+    let t1959: f64 = t310 * t1958;
+    let t1962: f64 = rod3_mass * t1573;
+    let t1963: f64 = f64::mul_add(joint3_mass, t1573, t1962);
+    let t1964: f64 = t549 + t1963;
+    let t1965: f64 = t317 * t1964;
+    let t1968: f64 = rod4_mass * t1582;
+    let t1969: f64 = f64::mul_add(joint4_mass, t1582, t1968);
+    let t1970: f64 = t586 + t1969;
+    let t1972: f64 = t1604 * t1606;
+    let t1974: f64 = t1622 - t1621;
+    let t1975: f64 = joint2_mass * t1974;
+    let t1976: f64 = f64::mul_add(platform_mass, t1617, t1975);
+    let t1977: f64 = t1622 - t1628;
+    let t1979: f64 = t1622 - t1634;
+    let t1980: f64 = t1636 * t1979;
+    let t1981: f64 = f64::mul_add(t1630, t1977, t1980);
+    let t1982: f64 = t1972 + t1976;
+    let t1983: f64 = t1981 + t1982;
+    let t1984: f64 = t1602 - t1983;
+    let t1985: f64 = t295 * t1984;
+    let t1986: f64 = t1648 - t1972;
+    let t1987: f64 = t292 * t1986;
+    let t1989: f64 = f64::mul_add(t241, t1560, t1664);
+    let t1990: f64 = t1989 * 0.5;
+    let t1991: f64 = f64::mul_add(t233, t1562, t1990);
+    let t1992: f64 = f64::mul_add(t251, t1566, t1959);
+    let t1993: f64 = f64::mul_add(t259, t1573, t1965);
+    let t1994: f64 = f64::mul_add(t268, t1582, t1985);
+    let t1995: f64 = t1991 + t1992;
+    let t1996: f64 = t1993 + t1994;
+    let t1997: f64 = t1995 + t1996;
+    let t1998: f64 = t1893 + t1997;
+    let t1999: f64 = f64::mul_add(t323, t1970, t1987);
+    let t2000: f64 = f64::mul_add(t1652, t1658, t1999);
+    let t2001: f64 = t1998 - t2000;
+    let t2002: f64 = t0 * t2001;
+    let t2004: f64 = t1911 * t1979;
+    let t2006: f64 = t1976 * 0.5;
+    let t2007: f64 = f64::mul_add(t1909, t1977, t2004);
+    let t2008: f64 = f64::mul_add(t1604, t1913, t2006);
+    let t2009: f64 = t2007 + t2008;
+    let t2011: f64 = t280 + t1559;
+    let t2012: f64 = t1963 + t1969;
+    let t2014: f64 = f64::mul_add(platform_mass, t1562, t1957);
+    let t2015: f64 = joint5_mass * t1652;
+    let t2016: f64 = joint6_mass * t1652;
+    let t2017: f64 = t2015 + t2016;
+    let t2018: f64 = t2014 + t2017;
+    let t2019: f64 = t2012 + t2018;
+    let t2020: f64 = t2002 + t2011;
+    let t2021: f64 = t2020 * 0.5;
+    let t2022: f64 = f64::mul_add(t1560, t2009, t2021);
+    let t2023: f64 = t1949 + t2019;
+    let t2024: f64 = t2022 + t2023;
+    let t2025: f64 = -t2024;
+    let t2026: f64 = t127 - 0.5;
+    let t2027: f64 = joint6_mass * t2026;
+    let t2028: f64 = t112 - 0.5;
+    let t2030: f64 = rod3_mass * t2028;
+    let t2031: f64 = f64::mul_add(joint3_mass, t2028, t2030);
+    let t2032: f64 = t2027 + t2031;
+    let t2034: f64 = rod4_mass * t2028;
+    let t2035: f64 = f64::mul_add(joint4_mass, t2028, t2034);
+    let t2036: f64 = t209 - 0.5;
+    let t2037: f64 = joint2_mass * t2036;
+    let t2038: f64 = t120 - 0.5;
+    let t2039: f64 = joint5_mass * t2038;
+    let t2040: f64 = t2037 + t2039;
+    let t2041: f64 = t2035 + t2040;
+    let t2042: f64 = t2032 + t2041;
+    let t2044: f64 = t164 * t1932;
+    let t2045: f64 = f64::mul_add(t156, t1932, t2044);
+    let t2047: f64 = t182 * t1932;
+    let t2048: f64 = f64::mul_add(t174, t1932, t2047);
+    let t2049: f64 = t2045 + t2048;
+    let t2051: f64 = t199 * t1932;
+    let t2052: f64 = f64::mul_add(t191, t1932, t2051);
+    let t2054: f64 = f64::mul_add(t130, t1557, t1559);
+    let t2055: f64 = platform_mass * t1;
+    let t2056: f64 = t1557 * t2055;
+    let t2058: f64 = t147 * t1932;
+    let t2059: f64 = f64::mul_add(t107, t2056, t2058);
+    let t2060: f64 = t2054 - t2059;
+    let t2061: f64 = t2052 - t2060;
+    let t2062: f64 = t2049 + t2061;
+    let t2063: f64 = rod3_mass * t0;
+    let t2064: f64 = t1557 * t2063;
+    let t2066: f64 = joint4_mass * t0;
+    let t2067: f64 = t1557 * t2066;
+    let t2068: f64 = t2028 * t2067;
+    let t2069: f64 = f64::mul_add(t2028, t2064, t2068);
+    let t2070: f64 = rod4_mass * t0;
+    let t2071: f64 = t1557 * t2070;
+    let t2073: f64 = joint5_mass * t0;
+    let t2074: f64 = t1557 * t2073;
+    let t2075: f64 = t2038 * t2074;
+    let t2076: f64 = f64::mul_add(t2028, t2071, t2075);
+    let t2077: f64 = t2069 + t2076;
+    let t2078: f64 = joint6_mass * t0;
+    let t2079: f64 = t1557 * t2078;
+    let t2082: f64 = t336 + t2037;
+    let t2083: f64 = t310 * t2082;
+    let t2084: f64 = t1437 + t2031;
+    let t2086: f64 = t1440 + t2035;
+    let t2088: f64 = t276 * t2038;
+    let t2090: f64 = t353 * t1094;
+    let t2093: f64 = t961 * t1106;
+    let t2094: f64 = f64::mul_add(t933, t1597, t2093);
+    let t2095: f64 = f64::mul_add(t975, t1595, -t2094);
+    let t2097: f64 = t2090 * 0.5;
+    let t2098: f64 = f64::mul_add(t1474, t2095, t2097);
+    let t2099: f64 = t137 * t2098;
+    let t2102: f64 = t953 * t1106;
+    let t2103: f64 = f64::mul_add(t925, t1597, t2102);
+    let t2104: f64 = f64::mul_add(t961, t1595, -t2103);
+    let t2105: f64 = t1472 * t2104;
+    let t2108: f64 = t925 * t1106;
+    let t2109: f64 = f64::mul_add(t941, t1597, t2108);
+    let t2110: f64 = f64::mul_add(t933, t1595, -t2109);
+    let t2113: f64 = f64::mul_add(platform_mx, t1106, t228);
+    let t2114: f64 = t2113 * 0.5;
+    let t2117: f64 = t1630 + t1636;
+    let t2119: f64 = t391 + 0.5;
+    let t2120: f64 = -t2119;
+    let t2122: f64 = t398 + 0.5;
+    let t2123: f64 = -t2122;
+    let t2124: f64 = joint6_mass * t2123;
+    let t2125: f64 = f64::mul_add(joint5_mass, t2120, t2124);
+    let t2126: f64 = platform_mass * 0.5;
+    let t2127: f64 = f64::mul_add(joint2_mass, 0.5, t386);
+    let t2128: f64 = f64::mul_add(t2117, 0.0, t2125);
+    let t2129: f64 = t2127 + t2128;
+    let t2130: f64 = t2126 - t2129;
+    let t2131: f64 = t295 * t2130;
+    let t2134: f64 = t374 * t1078;
+    let t2135: f64 = f64::mul_add(t369, t1082, t2134);
+    let t2136: f64 = f64::mul_add(t361, t1080, -t2135);
+    let t2138: f64 = f64::mul_add(t0, t2136, t2125);
+    let t2142: f64 = t355 * t1106;
+    let t2143: f64 = f64::mul_add(t375, t1597, t2142);
+    let t2144: f64 = f64::mul_add(t363, t1595, -t2143);
+    let t2145: f64 = t2028 * t2144;
+    let t2147: f64 = f64::mul_add(t323, t2086, t2099);
+    let t2148: f64 = f64::mul_add(t1479, t2110, t2145);
+    let t2149: f64 = t2147 + t2148;
+    let t2150: f64 = f64::mul_add(t1099, 0.5, t2149);
+    let t2151: f64 = f64::mul_add(t251, t2036, t2083);
+    let t2152: f64 = f64::mul_add(t317, t2084, t2088);
+    let t2153: f64 = f64::mul_add(t225, t2026, t2105);
+    let t2154: f64 = f64::mul_add(t1450, t2114, t2131);
+    let t2155: f64 = t2151 + t2152;
+    let t2156: f64 = t2153 + t2154;
+    let t2157: f64 = t2155 + t2156;
+    let t2158: f64 = f64::mul_add(t292, t2138, t2157);
+    let t2159: f64 = t2150 - t2158;
+    let t2160: f64 = t0 * t2159;
+    let t2161: f64 = f64::mul_add(t2026, t2079, -t2160);
+    let t2162: f64 = t204 - t203;
+    let t2163: f64 = joint2_mass * t0;
+    let t2164: f64 = t1557 * t2163;
+    let t2166: f64 = joint3_mass * t0;
+    let t2167: f64 = t1557 * t2166;
+    let t2168: f64 = t2028 * t2167;
+    let t2169: f64 = f64::mul_add(t2036, t2164, t2168);
+    let t2170: f64 = t2162 - t2169;
+    let t2171: f64 = t2161 - t2170;
+    let t2172: f64 = t2077 + t2171;
+    let t2175: f64 = f64::mul_add(t2062, 0.25, t2042);
+    let t2176: f64 = f64::mul_add(t2172, 0.5, t2175);
+    let t2177: f64 = -t2176;
+    let t2178: f64 = -t1556;
+    let t2179: f64 = t2011 * 0.5;
+    let t2180: f64 = t1928 + t2179;
+    let t2182: f64 = f64::mul_add(t1560, t2180, t1908);
+    let t2183: f64 = t2182 * 0.5;
+    let t2184: f64 = -t2183;
+    let t2185: f64 = t2019 + t2179;
+    let t2187: f64 = f64::mul_add(t1560, t2185, t2002);
+    let t2188: f64 = t2187 * 0.5;
+    let t2190: f64 = f64::mul_add(t2162, 0.5, -t2042);
+    let t2192: f64 = f64::mul_add(t1560, t2190, t2160);
+    let t2193: f64 = t2192 * 0.5;
+    let t2194: f64 = -t2193;
+    let t2196: f64 = t313 * t876;
+    let t2198: f64 = t550 * t800;
+    let t2200: f64 = t587 * t806;
+    let t2203: f64 = q1 * t913;
+    let t2206: f64 = t445 * t975;
+    let t2207: f64 = f64::mul_add(t961, t966, t2206);
+    let t2208: f64 = f64::mul_add(t933, t945, -t2207);
+    let t2212: f64 = t445 * t933;
+    let t2213: f64 = f64::mul_add(t925, t966, t2212);
+    let t2214: f64 = f64::mul_add(t941, t945, -t2213);
+    let t2218: f64 = t445 * t961;
+    let t2219: f64 = f64::mul_add(t953, t966, t2218);
+    let t2220: f64 = f64::mul_add(t925, t945, -t2219);
+    let t2222: f64 = t2203 * 0.5;
+    let t2223: f64 = f64::mul_add(t1597, t2214, t2222);
+    let t2224: f64 = f64::mul_add(t1106, t2220, t2223);
+    let t2225: f64 = f64::mul_add(-t1595, t2208, t2224);
+    let t2226: f64 = t0 * t2225;
+    let t2227: f64 = t214 - t1615;
+    let t2228: f64 = t2227 * 0.5;
+    let t2230: f64 = t214 * 0.5;
+    let t2231: f64 = t2230 - t1628;
+    let t2232: f64 = joint3_mass * t2231;
+    let t2233: f64 = t2230 - t1634;
+    let t2237: f64 = t1106 * t1452;
+    let t2238: f64 = f64::mul_add(t1456, t1597, t2237);
+    let t2239: f64 = f64::mul_add(t1454, t1595, -t2238);
+    let t2241: f64 = rod5_mass + rod6_mass;
+    let t2242: f64 = t1606 + t2241;
+    let t2243: f64 = t2242 * 0.0;
+    let t2244: f64 = f64::mul_add(platform_mass, t2228, t2232);
+    let t2245: f64 = f64::mul_add(joint4_mass, t2233, t2243);
+    let t2246: f64 = t2244 + t2245;
+    let t2247: f64 = f64::mul_add(-t0, t2239, t2246);
+    let t2248: f64 = t797 * t2247;
+    let t2251: f64 = t364 * t445;
+    let t2252: f64 = f64::mul_add(t356, t966, t2251);
+    let t2253: f64 = f64::mul_add(t376, t945, -t2252);
+    let t2255: f64 = f64::mul_add(t658, t819, t2248);
+    let t2256: f64 = f64::mul_add(t299, t2253, t2255);
+    let t2257: f64 = f64::mul_add(t307, t859, t2196);
+    let t2258: f64 = f64::mul_add(t320, t886, t2198);
+    let t2259: f64 = f64::mul_add(t326, t894, t2200);
+    let t2260: f64 = f64::mul_add(t621, t813, t2226);
+    let t2261: f64 = t2257 + t2258;
+    let t2262: f64 = t2259 + t2260;
+    let t2263: f64 = t2261 + t2262;
+    let t2264: f64 = t2256 - t2263;
+    let t2265: f64 = t0 * t2264;
+    let t2266: f64 = t2265 - t330;
+    let t2267: f64 = t281 * 0.25;
+    let t2268: f64 = t2266 * 0.5;
+    let t2269: f64 = t2268 - t2267;
+    let t2270: f64 = t2267 - t2268;
+    let t2272: f64 = t164 * t1567;
+    let t2274: f64 = t174 * t1574;
+    let t2276: f64 = t620 + t1923;
+    let t2278: f64 = t657 + t1925;
+    let t2279: f64 = t124 * t2278;
+    let t2281: f64 = f64::mul_add(-joint1_mz, t374, t154);
+    let t2282: f64 = t2281 * 0.5;
+    let t2283: f64 = t1560 * t2282;
+    let t2287: f64 = t409 * t1106;
+    let t2288: f64 = f64::mul_add(t413, t1597, t2287);
+    let t2289: f64 = f64::mul_add(t411, t1595, -t2288);
+    let t2290: f64 = t0 * t2289;
+    let t2291: f64 = t1638 - t2290;
+    let t2292: f64 = t109 * t2291;
+    let t2295: f64 = t374 * t376;
+    let t2296: f64 = f64::mul_add(t364, t369, t2295);
+    let t2297: f64 = f64::mul_add(t356, t361, -t2296);
+    let t2299: f64 = t0 * t62;
+    let t2300: f64 = t137 * t2299;
+    let t2302: f64 = t0 * t33;
+    let t2303: f64 = t142 * t2302;
+    let t2304: f64 = t1782 * t2303;
+    let t2305: f64 = f64::mul_add(t1773, t2300, -t2304);
+    let t2306: f64 = t0 * t218;
+    let t2308: f64 = t1804 * t2300;
+    let t2309: f64 = f64::mul_add(t1795, t2306, -t2308);
+    let t2310: f64 = t2305 - t2309;
+    let t2312: f64 = t1819 * t2306;
+    let t2313: f64 = f64::mul_add(t1831, t2303, t2312);
+    let t2315: f64 = t1884 * t2303;
+    let t2316: f64 = f64::mul_add(t1875, t2300, -t2315);
+    let t2317: f64 = t2313 - t2316;
+    let t2318: f64 = t2310 - t2317;
+    let t2320: f64 = t1853 * t2300;
+    let t2321: f64 = f64::mul_add(t1844, t2306, -t2320);
+    let t2324: f64 = t1684 * t2300;
+    let t2325: f64 = f64::mul_add(t1675, t2306, -t2324);
+    let t2326: f64 = f64::mul_add(t1863, t2303, t2325);
+    let t2327: f64 = t2321 + t2326;
+    let t2329: f64 = t1694 * t2306;
+    let t2330: f64 = f64::mul_add(t1703, t2303, t2329);
+    let t2332: f64 = t1743 * t2303;
+    let t2333: f64 = f64::mul_add(t1734, t2300, -t2332);
+    let t2334: f64 = t2330 - t2333;
+    let t2336: f64 = t1724 * t2300;
+    let t2337: f64 = f64::mul_add(t1715, t2306, -t2336);
+    let t2339: f64 = t1754 * t2306;
+    let t2340: f64 = f64::mul_add(t1763, t2303, t2339);
+    let t2341: f64 = t2337 + t2340;
+    let t2342: f64 = t2334 + t2341;
+    let t2343: f64 = t2327 + t2342;
+    let t2344: f64 = t2318 - t2343;
+    let t2345: f64 = f64::mul_add(t147, t1563, t2272);
+    let t2346: f64 = f64::mul_add(t206, t1570, t2274);
+    let t2347: f64 = f64::mul_add(t182, t1583, t2283);
+    let t2348: f64 = f64::mul_add(t107, t1641, t2292);
+    let t2349: f64 = f64::mul_add(t1653, t2297, t156);
+    let t2350: f64 = t2345 + t2346;
+    let t2351: f64 = t2347 + t2348;
+    let t2352: f64 = t2344 + t2349;
+    let t2353: f64 = t2350 + t2351;
+    let t2354: f64 = t2352 + t2353;
+    let t2355: f64 = f64::mul_add(t117, t2276, t2279);
+    let t2356: f64 = t2354 - t2355;
+    let t2358: f64 = f64::mul_add(t0, t2356, -t1928);
+    let t2359: f64 = t2011 * 0.25;
+    let t2360: f64 = t2358 * 0.5;
+    let t2361: f64 = t2360 - t2359;
+    let t2363: f64 = t156 * t1560;
+    let t2364: f64 = t164 * t1566;
+    let t2366: f64 = t174 * t1573;
+    let t2368: f64 = t620 + t2015;
+    let t2370: f64 = t657 + t2016;
+    let t2371: f64 = t124 * t2370;
+    let t2373: f64 = t1981 - t2290;
+    let t2374: f64 = t109 * t2373;
+    let t2377: f64 = f64::mul_add(t117, t2368, t2371);
+    let t2378: f64 = f64::mul_add(t107, t1984, t2377);
+    let t2379: f64 = f64::mul_add(t147, t1562, t2364);
+    let t2380: f64 = f64::mul_add(t206, t1958, t2366);
+    let t2381: f64 = f64::mul_add(t182, t1582, t2374);
+    let t2382: f64 = f64::mul_add(t1652, t2297, t2344);
+    let t2383: f64 = t2379 + t2380;
+    let t2384: f64 = t2381 + t2382;
+    let t2385: f64 = t2383 + t2384;
+    let t2386: f64 = f64::mul_add(t2363, 0.5, t2385);
+    let t2387: f64 = t2378 - t2386;
+    let t2389: f64 = f64::mul_add(t0, t2387, t2019);
+    let t2391: f64 = f64::mul_add(t2389, 0.5, t2359);
+    let t2394: f64 = t894 * t1021;
+    let t2395: f64 = t806 * t1047;
+    let t2397: f64 = t837 - t1027;
+    let t2399: f64 = t847 * t1028;
+    let t2400: f64 = t849 - t1031;
+    let t2404: f64 = t445 * t1454;
+    let t2405: f64 = f64::mul_add(t945, t1456, t1055);
+    let t2406: f64 = f64::mul_add(t966, t1452, t2404);
+    let t2407: f64 = t2405 - t2406;
+    let t2408: f64 = t0 * t2407;
+    let t2409: f64 = t1073 + t2408;
+    let t2410: f64 = t2126 - t2409;
+    let t2411: f64 = t797 * t2410;
+    let t2412: f64 = t876 + t1470;
+    let t2413: f64 = t23 * t426;
+    let t2414: f64 = t142 * t2413;
+    let t2416: f64 = f64::mul_add(t797, t2414, -t438);
+    let t2417: f64 = t89 * t433;
+    let t2418: f64 = t133 * t2417;
+    let t2420: f64 = t429 * t455;
+    let t2421: f64 = t797 * t2420;
+    let t2422: f64 = f64::mul_add(t797, t2418, t2421);
+    let t2423: f64 = t439 + t2422;
+    let t2424: f64 = t2416 - t2423;
+    let t2426: f64 = t218 * t1277;
+    let t2427: f64 = f64::mul_add(t1266, t1597, t2426);
+    let t2429: f64 = t1300 * t1597;
+    let t2430: f64 = f64::mul_add(t1289, t1595, -t2429);
+    let t2431: f64 = t2427 - t2430;
+    let t2432: f64 = joint1_mass - t157;
+    let t2433: f64 = t2432 * 0.5;
+    let t2435: f64 = t218 * t1313;
+    let t2436: f64 = f64::mul_add(t107, t2433, t2435);
+    let t2438: f64 = t1336 * t1597;
+    let t2439: f64 = f64::mul_add(t1324, t1595, -t2438);
+    let t2440: f64 = t2436 - t2439;
+    let t2441: f64 = t2431 + t2440;
+    let t2443: f64 = t206 * t2082;
+    let t2444: f64 = f64::mul_add(t164, t2036, t2443);
+    let t2446: f64 = t1112 * t1595;
+    let t2447: f64 = f64::mul_add(t218, t1347, -t2446);
+    let t2448: f64 = t2444 + t2447;
+    let t2450: f64 = t174 * t2028;
+    let t2451: f64 = f64::mul_add(t1123, t1597, t2450);
+    let t2453: f64 = t218 * t1135;
+    let t2454: f64 = f64::mul_add(t109, t2084, t2453);
+    let t2455: f64 = t2451 + t2454;
+    let t2456: f64 = t2448 + t2455;
+    let t2457: f64 = t2441 + t2456;
+    let t2459: f64 = t1159 * t1597;
+    let t2460: f64 = f64::mul_add(t1146, t1595, -t2459);
+    let t2462: f64 = t109 * t2086;
+    let t2463: f64 = f64::mul_add(t182, t2028, t2462);
+    let t2464: f64 = t2460 - t2463;
+    let t2466: f64 = t1182 * t1595;
+    let t2467: f64 = f64::mul_add(t218, t1170, -t2466);
+    let t2469: f64 = t191 * t2038;
+    let t2470: f64 = f64::mul_add(t1193, t1597, t2469);
+    let t2471: f64 = t2467 + t2470;
+    let t2472: f64 = t2464 - t2471;
+    let t2473: f64 = t340 + t2039;
+    let t2475: f64 = t218 * t1207;
+    let t2476: f64 = f64::mul_add(t117, t2473, -t2475);
+    let t2478: f64 = t1230 * t1597;
+    let t2479: f64 = f64::mul_add(t1218, t1595, -t2478);
+    let t2480: f64 = t2476 + t2479;
+    let t2482: f64 = t344 + t2027;
+    let t2483: f64 = t124 * t2482;
+    let t2484: f64 = f64::mul_add(t199, t2026, -t2483);
+    let t2487: f64 = t1252 * t1595;
+    let t2488: f64 = f64::mul_add(t218, t1241, -t2487);
+    let t2489: f64 = f64::mul_add(t107, t2190, -t2488);
+    let t2490: f64 = t2484 - t2489;
+    let t2491: f64 = t2480 - t2490;
+    let t2492: f64 = t2472 + t2491;
+    let t2493: f64 = t2457 - t2492;
+    let t2494: f64 = t2412 + t2424;
+    let t2496: f64 = f64::mul_add(t800, t1043, t2395);
+    let t2497: f64 = f64::mul_add(t813, t2397, t2493);
+    let t2498: f64 = t2496 + t2497;
+    let t2499: f64 = f64::mul_add(t2494, 0.5, t2498);
+    let t2500: f64 = f64::mul_add(t886, t1019, t2394);
+    let t2501: f64 = f64::mul_add(t835, t1024, t2399);
+    let t2502: f64 = f64::mul_add(t819, t2400, t2411);
+    let t2503: f64 = t2500 + t2501;
+    let t2504: f64 = t2502 + t2503;
+    let t2505: f64 = t2499 - t2504;
+    let t2507: f64 = f64::mul_add(t0, t2505, -t2042);
+    let t2508: f64 = t1018 - t203;
+    let t2510: f64 = t204 + t2507;
+    let t2511: f64 = t2510 - t1033;
+    let t2512: f64 = t2511 * 0.5;
+    let t2513: f64 = f64::mul_add(t2508, 0.25, t2512);
+    let t2516: f64 = t894 * t1373;
+    let t2517: f64 = t806 * t1397;
+    let t2519: f64 = t837 - t1379;
+    let t2521: f64 = t847 * t1380;
+    let t2522: f64 = t849 - t1383;
+    let t2524: f64 = t2126 + t2408;
+    let t2525: f64 = t1409 + t2524;
+    let t2526: f64 = t797 * t2525;
+    let t2527: f64 = t2412 - t2424;
+    let t2528: f64 = t2527 * 0.5;
+    let t2529: f64 = f64::mul_add(t886, t1371, t2516);
+    let t2530: f64 = f64::mul_add(t835, t1376, t2521);
+    let t2531: f64 = f64::mul_add(t819, t2522, t2528);
+    let t2532: f64 = t2529 + t2530;
+    let t2533: f64 = t2531 + t2532;
+    let t2534: f64 = f64::mul_add(t800, t1394, t2517);
+    let t2535: f64 = f64::mul_add(t813, t2519, t2526);
+    let t2536: f64 = t2534 + t2535;
+    let t2537: f64 = t2493 + t2536;
+    let t2538: f64 = t2533 - t2537;
+    let t2540: f64 = f64::mul_add(t0, t2538, t2042);
+    let t2541: f64 = t203 + t1370;
+    let t2543: f64 = t1385 + t2540;
+    let t2544: f64 = t2543 * 0.5;
+    let t2545: f64 = f64::mul_add(t2541, 0.25, t2544);
+    let t2546: f64 = t330 + t2265;
+    let t2548: f64 = f64::mul_add(t2546, 0.5, t2267);
+    let t2549: f64 = -t2548;
+    let t2550: f64 = t2359 - t2360;
+    let t2551: f64 = -t2391;
+    let t2552: f64 = t203 + t1018;
+    let t2554: f64 = t1033 + t2507;
+    let t2555: f64 = t2554 * 0.5;
+    let t2556: f64 = f64::mul_add(t2552, 0.25, -t2555);
+    let t2557: f64 = t1370 - t203;
+    let t2559: f64 = t204 + t1385;
+    let t2560: f64 = t2559 - t2540;
+    let t2561: f64 = t2560 * 0.5;
+    let t2562: f64 = f64::mul_add(t2557, 0.25, t2561);
+    let t2563: f64 = 1.0 - t371;
+    (
+        [
+            [t720, t786, t1016, t1017, t1369, t1430],
+            [t1432, t1433, t1434, t1435, t1368, t1429],
+            [t1530, t1556, t1953, t2025, t2176, t2177],
+            [t1529, t2178, t2184, t2188, t2193, t2194],
+            [t2269, t2270, t2361, t2391, t2513, t2545],
+            [t2549, t2548, t2550, t2551, t2556, t2562],
+        ],
+        [t2563, t218, t455, t145],
+    )
+}
 /// Joint-space bias `c_q` of `Γ = M_q Q̈_a + c_q`: Coriolis, centrifugal, gravity.
 ///
 /// Equations: 15, 16, 27, 43-48, 49-57, 60, ∂W/∂V̇. Setting: joint.
@@ -17251,6 +30637,19 @@ pub fn joint_inertia_params(
 /// Operations: 791 mul, 4 div, 637 add, 14 neg, 3 sqrt (chapter convention: 795m + 637a).
 #[inline]
 pub fn joint_bias_params(
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 4]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { joint_bias_params_fused(q, qd, params) };
+    }
+    joint_bias_params_separate(q, qd, params)
+}
+/// [`joint_bias_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn joint_bias_params_separate(
     q: &[f64; 6],
     qd: &[f64; 6],
     params: &[f64; 152],
@@ -18723,6 +32122,1086 @@ pub fn joint_bias_params(
     let t1448: f64 = 1.0 - t186;
     ([t1060, t1061, t1365, t1368, t1445, t1447], [t1448, t620, t1072, t614])
 }
+/// [`joint_bias_params`] with 400 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`joint_bias_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn joint_bias_params_fused(
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 4]) {
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
+    let [half_spacing, gravity_x, gravity_y, gravity_z, platform_mass, platform_mx,
+    platform_my, platform_mz, platform_ixx, platform_ixy, platform_ixz, platform_iyy,
+    platform_iyz, platform_izz, rod1_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint1_mass, joint1_mx, joint1_my, joint1_mz, joint1_ixx, joint1_ixy, joint1_ixz,
+    joint1_iyy, joint1_iyz, joint1_izz, rod2_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint2_mass, joint2_mx, joint2_my, joint2_mz, joint2_ixx, joint2_ixy, joint2_ixz,
+    joint2_iyy, joint2_iyz, joint2_izz, rod3_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint3_mass, joint3_mx, joint3_my, joint3_mz, joint3_ixx, joint3_ixy, joint3_ixz,
+    joint3_iyy, joint3_iyz, joint3_izz, rod4_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint4_mass, joint4_mx, joint4_my, joint4_mz, joint4_ixx, joint4_ixy, joint4_ixz,
+    joint4_iyy, joint4_iyz, joint4_izz, rod5_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint5_mass, joint5_mx, joint5_my, joint5_mz, joint5_ixx, joint5_ixy, joint5_ixz,
+    joint5_iyy, joint5_iyz, joint5_izz, rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _,
+    joint6_mass, joint6_mx, joint6_my, joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz,
+    joint6_iyy, joint6_iyz, joint6_izz] = *params;
+    let t0: f64 = 1.0 / half_spacing;
+    let t1: f64 = t0 * t0;
+    let t2: f64 = qd1 - qd2;
+    let t3: f64 = t2 * 0.5;
+    let t4: f64 = t0 * t1;
+    let t5: f64 = q1 - q2;
+    let t6: f64 = q3 - q4;
+    let t7: f64 = q5 - q6;
+    let t8: f64 = t4 * t5;
+    let t9: f64 = t6 * t8;
+    let t10: f64 = t7 * t9;
+    let t11: f64 = t4 * t4;
+    let t12: f64 = t5 * t5;
+    let t13: f64 = t6 * t6;
+    let t14: f64 = t7 * t7;
+    let t15: f64 = t11 * t12;
+    let t16: f64 = t13 * t15;
+    let t17: f64 = t14 * t16;
+    let t18: f64 = t0 * t6;
+    let t19: f64 = t1 * t1;
+    let t20: f64 = t5 * t19;
+    let t21: f64 = t13 * t20;
+    let t22: f64 = t7 * t21;
+    let t23: f64 = t18 * 0.5;
+    let t25: f64 = f64::mul_add(-t22, 0.0625, t23);
+    let t27: f64 = t0 * t7;
+    let t28: f64 = t7 * t18;
+    let t30: f64 = t5 * 0.25;
+    let t31: f64 = f64::mul_add(t28, 0.125, t30);
+    let t32: f64 = t1 * t6;
+    let t34: f64 = t27 * 0.5;
+    let t35: f64 = f64::mul_add(t31, t32, t34);
+    let t37: f64 = t10 * 0.25;
+    let t38: f64 = t17 * 0.015625;
+    let t39: f64 = f64::mul_add(t25, t25, t38);
+    let t40: f64 = f64::mul_add(t35, t35, 1.0);
+    let t41: f64 = t39 + t40;
+    let t42: f64 = t37 - t41;
+    let t43: f64 = 1.0 / t42;
+    let t44: f64 = q3 + q4;
+    let t45: f64 = t44 * 0.0625;
+    let t46: f64 = t10 * t45;
+    let t47: f64 = t44 - t46;
+    let t48: f64 = t47 * 0.125;
+    let t50: f64 = t44 * 0.5;
+    let t51: f64 = f64::mul_add(-t10, t48, t50);
+    let t53: f64 = t0 * t5;
+    let t54: f64 = t6 * t53;
+    let t56: f64 = t7 * 0.25;
+    let t57: f64 = f64::mul_add(t54, 0.125, t56);
+    let t58: f64 = t1 * t5;
+    let t60: f64 = f64::mul_add(t57, t58, t23);
+    let t61: f64 = t12 * t19;
+    let t62: f64 = t6 * t61;
+    let t63: f64 = t7 * t62;
+    let t64: f64 = t53 * 0.5;
+    let t66: f64 = f64::mul_add(-t63, 0.0625, t64);
+    let t69: f64 = f64::mul_add(t66, t66, t38);
+    let t70: f64 = f64::mul_add(t60, t60, 1.0);
+    let t71: f64 = t69 + t70;
+    let t72: f64 = t37 - t71;
+    let t73: f64 = 1.0 / t72;
+    let t74: f64 = q1 + q2;
+    let t75: f64 = t74 * 0.0625;
+    let t76: f64 = t10 * t75;
+    let t77: f64 = t74 * 0.5;
+    let t78: f64 = t77 - t76;
+    let t79: f64 = t60 * t73;
+    let t81: f64 = t6 * t20;
+    let t82: f64 = t14 * t81;
+    let t84: f64 = f64::mul_add(-t82, 0.0625, t34);
+    let t86: f64 = t7 * t53;
+    let t88: f64 = t6 * 0.25;
+    let t89: f64 = f64::mul_add(t86, 0.125, t88);
+    let t90: f64 = t1 * t7;
+    let t92: f64 = f64::mul_add(t89, t90, t64);
+    let t94: f64 = f64::mul_add(t84, t84, t38);
+    let t95: f64 = f64::mul_add(t92, t92, 1.0);
+    let t96: f64 = t94 + t95;
+    let t97: f64 = t37 - t96;
+    let t98: f64 = 1.0 / t97;
+    let t99: f64 = q5 + q6;
+    let t100: f64 = t99 * 0.0625;
+    let t101: f64 = t10 * t100;
+    let t102: f64 = t99 * 0.5;
+    let t103: f64 = t102 - t101;
+    let t104: f64 = t84 * t98;
+    let t105: f64 = t103 * t104;
+    let t106: f64 = f64::mul_add(t78, t79, -t105);
+    let t107: f64 = f64::mul_add(t43, t51, t106);
+    let t108: f64 = qd5 - qd6;
+    let t109: f64 = t108 * 0.5;
+    let t110: f64 = t0 * t107;
+    let t112: f64 = q1 * t0;
+    let t113: f64 = t10 * t73;
+    let t114: f64 = t78 * t113;
+    let t116: f64 = t92 * t98;
+    let t118: f64 = t50 - t46;
+    let t119: f64 = t25 * t43;
+    let t120: f64 = t118 * t119;
+    let t121: f64 = f64::mul_add(t103, t116, -t120);
+    let t122: f64 = f64::mul_add(t73, t78, t121);
+    let t123: f64 = t114 * 0.125;
+    let t124: f64 = q1 + t122;
+    let t125: f64 = t124 - t123;
+    let t126: f64 = t0 * t125;
+    let t127: f64 = t112 - t126;
+    let t128: f64 = t127 * 0.5;
+    let t129: f64 = t2 * t128;
+    let t130: f64 = qd5 + qd6;
+    let t131: f64 = t130 * 0.5;
+    let t132: f64 = f64::mul_add(t109, t110, t129);
+    let t133: f64 = t131 - t132;
+    let t134: f64 = t10 * t98;
+    let t135: f64 = t103 * t134;
+    let t137: f64 = t35 * t43;
+    let t139: f64 = t66 * t73;
+    let t140: f64 = t78 * t139;
+    let t141: f64 = f64::mul_add(t118, t137, -t140);
+    let t142: f64 = f64::mul_add(t98, t103, t141);
+    let t143: f64 = t135 * 0.125;
+    let t144: f64 = half_spacing + t142;
+    let t145: f64 = t144 - t143;
+    let t146: f64 = t1 * t3;
+    let t147: f64 = t133 * t146;
+    let t149: f64 = qd3 - qd4;
+    let t150: f64 = t149 * 0.5;
+    let t151: f64 = q1 - half_spacing;
+    let t152: f64 = t0 * t151;
+    let t153: f64 = t152 - t126;
+    let t154: f64 = t153 * 0.5;
+    let t155: f64 = t154 + 1.0;
+    let t158: f64 = t99 - t101;
+    let t159: f64 = t158 * 0.125;
+    let t161: f64 = f64::mul_add(-t10, t159, t102);
+    let t163: f64 = f64::mul_add(t98, t161, t141);
+    let t164: f64 = half_spacing + t163;
+    let t165: f64 = t0 * t109;
+    let t166: f64 = t164 * t165;
+    let t167: f64 = f64::mul_add(qd4, t154, t109);
+    let t168: f64 = f64::mul_add(qd3, t155, t166);
+    let t169: f64 = t167 - t168;
+    let t170: f64 = t1 * t150;
+    let t171: f64 = t145 * t170;
+    let t172: f64 = t169 * t171;
+    let t173: f64 = f64::mul_add(t145, t147, t172);
+    let t174: f64 = t0 * t3;
+    let t176: f64 = t0 * t150;
+    let t177: f64 = t169 * t176;
+    let t178: f64 = f64::mul_add(t133, t174, t177);
+    let t179: f64 = t0 * t145;
+    let t181: f64 = f64::mul_add(-t178, t179, t173);
+    let t182: f64 = gravity_x - t178;
+    let t183: f64 = t181 * 0.5;
+    let t184: f64 = t182 + t183;
+    let t186: f64 = t10 * 0.125;
+    let t187: f64 = t186 - 1.0;
+    let t188: f64 = -t43;
+    let t189: f64 = sqrt(t188);
+    let t190: f64 = t187 * t189;
+    let t191: f64 = -t190;
+    let t193: f64 = -t73;
+    let t194: f64 = sqrt(t193);
+    let t195: f64 = platform_mx * t60;
+    let t197: f64 = -t98;
+    let t198: f64 = sqrt(t197);
+    let t199: f64 = platform_mz * t84;
+    let t200: f64 = t198 * t199;
+    let t201: f64 = f64::mul_add(t194, t195, -t200);
+    let t202: f64 = f64::mul_add(platform_my, t191, t201);
+    let t204: f64 = t187 * t194;
+    let t205: f64 = -t204;
+    let t207: f64 = platform_mz * t92;
+    let t209: f64 = platform_my * t25;
+    let t210: f64 = t189 * t209;
+    let t211: f64 = f64::mul_add(t198, t207, -t210);
+    let t212: f64 = f64::mul_add(platform_mx, t205, t211);
+    let t213: f64 = t3 * t212;
+    let t214: f64 = f64::mul_add(t109, t202, -t213);
+    let t217: f64 = t187 * t198;
+    let t218: f64 = -t217;
+    let t220: f64 = platform_mx * t66;
+    let t222: f64 = platform_my * t35;
+    let t223: f64 = t189 * t222;
+    let t224: f64 = f64::mul_add(t194, t220, -t223);
+    let t225: f64 = f64::mul_add(-platform_mz, t218, t224);
+    let t226: f64 = t109 * t225;
+    let t227: f64 = f64::mul_add(t150, t212, t226);
+    let t228: f64 = t170 * t227;
+    let t229: f64 = t150 * t150;
+    let t230: f64 = t1 * t229;
+    let t231: f64 = t3 * t3;
+    let t232: f64 = t1 * t231;
+    let t233: f64 = t230 + t232;
+    let t235: f64 = t1 * t109;
+    let t236: f64 = t150 * t235;
+    let t238: f64 = t10 * t43;
+    let t239: f64 = t118 * t238;
+    let t241: f64 = f64::mul_add(t43, t118, t106);
+    let t242: f64 = t239 * 0.125;
+    let t243: f64 = t241 - t242;
+    let t244: f64 = t146 * t243;
+    let t246: f64 = f64::mul_add(-t109, t244, t182);
+    let t247: f64 = f64::mul_add(t125, t233, t246);
+    let t248: f64 = t183 + t247;
+    let t249: f64 = f64::mul_add(-t145, t236, t248);
+    let t252: f64 = joint1_mx * t60;
+    let t254: f64 = joint1_mz * t84;
+    let t255: f64 = t198 * t254;
+    let t256: f64 = f64::mul_add(t194, t252, -t255);
+    let t257: f64 = f64::mul_add(joint1_my, t191, t256);
+    let t260: f64 = joint1_mz * t92;
+    let t262: f64 = joint1_my * t25;
+    let t263: f64 = t189 * t262;
+    let t264: f64 = f64::mul_add(t198, t260, -t263);
+    let t265: f64 = f64::mul_add(joint1_mx, t205, t264);
+    let t266: f64 = t3 * t265;
+    let t267: f64 = f64::mul_add(t109, t257, -t266);
+    let t268: f64 = t146 * t267;
+    let t271: f64 = joint1_mx * t66;
+    let t273: f64 = joint1_my * t35;
+    let t274: f64 = t189 * t273;
+    let t275: f64 = f64::mul_add(t194, t271, -t274);
+    let t276: f64 = f64::mul_add(-joint1_mz, t218, t275);
+    let t277: f64 = t109 * t276;
+    let t278: f64 = f64::mul_add(t150, t265, t277);
+    let t279: f64 = t170 * t278;
+    let t280: f64 = gravity_x + t183;
+    let t283: f64 = joint3_mz * t92;
+    let t285: f64 = joint3_my * t25;
+    let t286: f64 = t189 * t285;
+    let t287: f64 = f64::mul_add(t198, t283, -t286);
+    let t288: f64 = f64::mul_add(joint3_mx, t205, t287);
+    let t291: f64 = joint3_mx * t66;
+    let t293: f64 = joint3_my * t35;
+    let t294: f64 = t189 * t293;
+    let t295: f64 = f64::mul_add(t194, t291, -t294);
+    let t296: f64 = f64::mul_add(-joint3_mz, t218, t295);
+    let t297: f64 = t109 * t296;
+    let t298: f64 = f64::mul_add(t150, t288, t297);
+    let t300: f64 = half_spacing + t122;
+    let t301: f64 = t300 - t123;
+    let t303: f64 = q3 + t241;
+    let t304: f64 = t303 - t242;
+    let t305: f64 = t109 * t146;
+    let t307: f64 = t143 - t142;
+    let t309: f64 = f64::mul_add(t236, t307, t182);
+    let t310: f64 = f64::mul_add(t233, t301, t309);
+    let t311: f64 = t183 + t310;
+    let t312: f64 = f64::mul_add(-t304, t305, t311);
+    let t315: f64 = joint3_mx * t60;
+    let t317: f64 = joint3_mz * t84;
+    let t318: f64 = t198 * t317;
+    let t319: f64 = f64::mul_add(t194, t315, -t318);
+    let t320: f64 = f64::mul_add(joint3_my, t191, t319);
+    let t322: f64 = t3 * t288;
+    let t323: f64 = f64::mul_add(t109, t320, -t322);
+    let t324: f64 = t146 * t323;
+    let t325: f64 = f64::mul_add(joint3_mass, t312, -t324);
+    let t326: f64 = f64::mul_add(t170, t298, t325);
+    let t328: f64 = joint4_mz * t92;
+    let t330: f64 = joint4_my * t25;
+    let t331: f64 = t189 * t330;
+    let t332: f64 = f64::mul_add(t198, t328, -t331);
+    let t333: f64 = f64::mul_add(joint4_mx, t205, t332);
+    let t336: f64 = joint4_mx * t66;
+    let t338: f64 = joint4_my * t35;
+    let t339: f64 = t189 * t338;
+    let t340: f64 = f64::mul_add(t194, t336, -t339);
+    let t341: f64 = f64::mul_add(-joint4_mz, t218, t340);
+    let t342: f64 = t109 * t341;
+    let t343: f64 = f64::mul_add(t150, t333, t342);
+    let t345: f64 = half_spacing + t123;
+    let t346: f64 = t345 - t122;
+    let t348: f64 = q4 + t241;
+    let t349: f64 = t348 - t242;
+    let t350: f64 = t305 * t349;
+    let t351: f64 = t183 + t309;
+    let t352: f64 = f64::mul_add(t233, t346, t350);
+    let t353: f64 = t351 - t352;
+    let t356: f64 = joint4_mx * t60;
+    let t358: f64 = joint4_mz * t84;
+    let t359: f64 = t198 * t358;
+    let t360: f64 = f64::mul_add(t194, t356, -t359);
+    let t361: f64 = f64::mul_add(joint4_my, t191, t360);
+    let t363: f64 = t3 * t333;
+    let t364: f64 = f64::mul_add(t109, t361, -t363);
+    let t365: f64 = t146 * t364;
+    let t366: f64 = f64::mul_add(joint4_mass, t353, -t365);
+    let t367: f64 = f64::mul_add(t170, t343, t366);
+    let t369: f64 = joint5_mz * t92;
+    let t371: f64 = joint5_my * t25;
+    let t372: f64 = t189 * t371;
+    let t373: f64 = f64::mul_add(t198, t369, -t372);
+    let t374: f64 = f64::mul_add(joint5_mx, t205, t373);
+    let t377: f64 = joint5_mx * t66;
+    let t379: f64 = joint5_my * t35;
+    let t380: f64 = t189 * t379;
+    let t381: f64 = f64::mul_add(t194, t377, -t380);
+    let t382: f64 = f64::mul_add(-joint5_mz, t218, t381);
+    let t383: f64 = t109 * t382;
+    let t384: f64 = f64::mul_add(t150, t374, t383);
+    let t386: f64 = half_spacing + t107;
+    let t387: f64 = t3 * t386;
+    let t388: f64 = q5 + t163;
+    let t389: f64 = t150 * t388;
+    let t390: f64 = t387 + t389;
+    let t392: f64 = t122 - t123;
+    let t394: f64 = f64::mul_add(t233, t392, t182);
+    let t395: f64 = t183 + t394;
+    let t396: f64 = f64::mul_add(-t235, t390, t395);
+    let t399: f64 = joint5_mx * t60;
+    let t401: f64 = joint5_mz * t84;
+    let t402: f64 = t198 * t401;
+    let t403: f64 = f64::mul_add(t194, t399, -t402);
+    let t404: f64 = f64::mul_add(joint5_my, t191, t403);
+    let t406: f64 = t3 * t374;
+    let t407: f64 = f64::mul_add(t109, t404, -t406);
+    let t408: f64 = t146 * t407;
+    let t409: f64 = f64::mul_add(joint5_mass, t396, -t408);
+    let t410: f64 = f64::mul_add(t170, t384, t409);
+    let t412: f64 = joint6_mz * t92;
+    let t414: f64 = joint6_my * t25;
+    let t415: f64 = t189 * t414;
+    let t416: f64 = f64::mul_add(t198, t412, -t415);
+    let t417: f64 = f64::mul_add(joint6_mx, t205, t416);
+    let t420: f64 = joint6_mx * t66;
+    let t422: f64 = joint6_my * t35;
+    let t423: f64 = t189 * t422;
+    let t424: f64 = f64::mul_add(t194, t420, -t423);
+    let t425: f64 = f64::mul_add(-joint6_mz, t218, t424);
+    let t426: f64 = t109 * t425;
+    let t427: f64 = f64::mul_add(t150, t417, t426);
+    let t429: f64 = half_spacing - t107;
+    let t430: f64 = t3 * t429;
+    let t431: f64 = q6 + t163;
+    let t432: f64 = t150 * t431;
+    let t433: f64 = t430 - t432;
+    let t435: f64 = f64::mul_add(t235, t433, t394);
+    let t436: f64 = t183 + t435;
+    let t439: f64 = joint6_mx * t60;
+    let t441: f64 = joint6_mz * t84;
+    let t442: f64 = t198 * t441;
+    let t443: f64 = f64::mul_add(t194, t439, -t442);
+    let t444: f64 = f64::mul_add(joint6_my, t191, t443);
+    let t446: f64 = t3 * t417;
+    let t447: f64 = f64::mul_add(t109, t444, -t446);
+    let t448: f64 = t146 * t447;
+    let t449: f64 = f64::mul_add(joint6_mass, t436, -t448);
+    let t450: f64 = f64::mul_add(t170, t427, t449);
+    let t452: f64 = t150 * t320;
+    let t453: f64 = f64::mul_add(t3, t296, t452);
+    let t455: f64 = t74 - t76;
+    let t456: f64 = t455 * 0.125;
+    let t458: f64 = f64::mul_add(-t10, t456, t77);
+    let t460: f64 = f64::mul_add(t73, t458, t121);
+    let t461: f64 = half_spacing + t460;
+    let t462: f64 = t109 * t461;
+    let t463: f64 = q3 + t107;
+    let t464: f64 = t3 * t463;
+    let t465: f64 = t462 + t464;
+    let t468: f64 = t3 * t164;
+    let t469: f64 = f64::mul_add(t107, t150, -t468);
+    let t471: f64 = f64::mul_add(t0, t469, qd1);
+    let t474: f64 = f64::mul_add(t165, t169, gravity_z);
+    let t475: f64 = f64::mul_add(t174, t471, t474);
+    let t476: f64 = t109 * t109;
+    let t477: f64 = t1 * t476;
+    let t478: f64 = t232 + t477;
+    let t480: f64 = f64::mul_add(-t307, t478, t475);
+    let t481: f64 = f64::mul_add(-t170, t465, t480);
+    let t483: f64 = t235 * t298;
+    let t484: f64 = f64::mul_add(joint3_mass, t481, -t483);
+    let t485: f64 = f64::mul_add(t146, t453, -t484);
+    let t487: f64 = t150 * t361;
+    let t488: f64 = f64::mul_add(t3, t341, t487);
+    let t490: f64 = half_spacing - t460;
+    let t491: f64 = t109 * t490;
+    let t492: f64 = q4 + t107;
+    let t493: f64 = t3 * t492;
+    let t494: f64 = t491 - t493;
+    let t496: f64 = f64::mul_add(t170, t494, t480);
+    let t498: f64 = t235 * t343;
+    let t499: f64 = f64::mul_add(joint4_mass, t496, -t498);
+    let t500: f64 = f64::mul_add(t146, t488, -t499);
+    let t501: f64 = t485 + t500;
+    let t503: f64 = t150 * t404;
+    let t504: f64 = f64::mul_add(t3, t382, t503);
+    let t506: f64 = half_spacing + t241;
+    let t507: f64 = t506 - t242;
+    let t508: f64 = t146 * t150;
+    let t510: f64 = q5 + t142;
+    let t511: f64 = t510 - t143;
+    let t514: f64 = f64::mul_add(-t236, t392, t475);
+    let t515: f64 = f64::mul_add(t478, t511, t514);
+    let t516: f64 = f64::mul_add(-t507, t508, t515);
+    let t518: f64 = t235 * t384;
+    let t519: f64 = f64::mul_add(joint5_mass, t516, -t518);
+    let t520: f64 = f64::mul_add(t146, t504, -t519);
+    let t522: f64 = t150 * t444;
+    let t523: f64 = f64::mul_add(t3, t425, t522);
+    let t525: f64 = half_spacing + t242;
+    let t526: f64 = t525 - t241;
+    let t528: f64 = q6 + t142;
+    let t529: f64 = t528 - t143;
+    let t530: f64 = t478 * t529;
+    let t531: f64 = f64::mul_add(t508, t526, t530);
+    let t532: f64 = t514 + t531;
+    let t534: f64 = t235 * t427;
+    let t535: f64 = f64::mul_add(joint6_mass, t532, -t534);
+    let t536: f64 = f64::mul_add(t146, t523, -t535);
+    let t537: f64 = t520 + t536;
+    let t538: f64 = t501 + t537;
+    let t540: f64 = platform_mass * t475;
+    let t541: f64 = f64::mul_add(t227, t235, -t540);
+    let t543: f64 = t150 * t202;
+    let t544: f64 = f64::mul_add(t3, t225, t543);
+    let t546: f64 = t1 * t125;
+    let t547: f64 = t109 * t546;
+    let t551: f64 = f64::mul_add(-t150, t244, t475);
+    let t552: f64 = f64::mul_add(t145, t478, t551);
+    let t553: f64 = f64::mul_add(-t150, t547, t552);
+    let t554: f64 = joint1_mass * t553;
+    let t555: f64 = f64::mul_add(t146, t544, -t554);
+    let t556: f64 = t541 + t555;
+    let t559: f64 = t150 * t257;
+    let t560: f64 = f64::mul_add(t3, t276, t559);
+    let t561: f64 = t146 * t560;
+    let t562: f64 = f64::mul_add(t235, t278, t561);
+    let t564: f64 = joint2_mx * t66;
+    let t566: f64 = joint2_my * t35;
+    let t567: f64 = t189 * t566;
+    let t568: f64 = f64::mul_add(t194, t564, -t567);
+    let t569: f64 = f64::mul_add(-joint2_mz, t218, t568);
+    let t572: f64 = joint2_mx * t60;
+    let t574: f64 = joint2_mz * t84;
+    let t575: f64 = t198 * t574;
+    let t576: f64 = f64::mul_add(t194, t572, -t575);
+    let t577: f64 = f64::mul_add(joint2_my, t191, t576);
+    let t578: f64 = t150 * t577;
+    let t579: f64 = f64::mul_add(t3, t569, t578);
+    let t581: f64 = q2 + t122;
+    let t582: f64 = t581 - t123;
+    let t584: f64 = half_spacing + t143;
+    let t585: f64 = t584 - t142;
+    let t586: f64 = t478 * t585;
+    let t587: f64 = f64::mul_add(t236, t582, t586);
+    let t588: f64 = t551 - t587;
+    let t591: f64 = joint2_mz * t92;
+    let t593: f64 = joint2_my * t25;
+    let t594: f64 = t189 * t593;
+    let t595: f64 = f64::mul_add(t198, t591, -t594);
+    let t596: f64 = f64::mul_add(joint2_mx, t205, t595);
+    let t598: f64 = t109 * t569;
+    let t599: f64 = f64::mul_add(t150, t596, t598);
+    let t600: f64 = t235 * t599;
+    let t601: f64 = f64::mul_add(joint2_mass, t588, -t600);
+    let t602: f64 = f64::mul_add(t146, t579, -t601);
+    let t603: f64 = gravity_z * rod5_mass;
+    let t604: f64 = gravity_z * rod6_mass;
+    let t605: f64 = t603 + t604;
+    let t606: f64 = t602 - t605;
+    let t607: f64 = t562 + t606;
+    let t608: f64 = t556 + t607;
+    let t609: f64 = t538 + t608;
+    let t610: f64 = -t609;
+    let t612: f64 = t10 * t198;
+    let t614: f64 = f64::mul_add(-t612, 0.125, t198);
+    let t616: f64 = f64::mul_add(-platform_mz, t614, t224);
+    let t618: f64 = t10 * t194;
+    let t620: f64 = f64::mul_add(-t618, 0.125, t194);
+    let t622: f64 = f64::mul_add(platform_mx, t620, t211);
+    let t623: f64 = t475 * t622;
+    let t625: f64 = f64::mul_add(-joint1_mz, t614, t275);
+    let t628: f64 = f64::mul_add(joint1_mx, t620, t264);
+    let t629: f64 = t553 * t628;
+    let t631: f64 = t236 * t585;
+    let t632: f64 = f64::mul_add(t233, t582, t631);
+    let t633: f64 = t183 + t246;
+    let t634: f64 = t632 + t633;
+    let t636: f64 = f64::mul_add(-joint2_mz, t614, t568);
+    let t639: f64 = f64::mul_add(joint2_mx, t620, t595);
+    let t640: f64 = t588 * t639;
+    let t643: f64 = t3 * t596;
+    let t644: f64 = f64::mul_add(t109, t577, -t643);
+    let t645: f64 = t146 * t644;
+    let t646: f64 = f64::mul_add(joint2_mass, t634, -t645);
+    let t648: f64 = rod2_mass * t280;
+    let t649: f64 = f64::mul_add(t170, t599, t648);
+    let t650: f64 = t646 + t649;
+    let t652: f64 = -t602;
+    let t653: f64 = t582 * t652;
+    let t655: f64 = f64::mul_add(-joint3_mz, t614, t295);
+    let t658: f64 = f64::mul_add(joint3_mx, t620, t287);
+    let t659: f64 = t481 * t658;
+    let t660: f64 = -t485;
+    let t663: f64 = f64::mul_add(-joint4_mz, t614, t340);
+    let t664: f64 = t353 * t663;
+    let t666: f64 = f64::mul_add(joint4_mx, t620, t332);
+    let t668: f64 = -t500;
+    let t671: f64 = f64::mul_add(-joint5_mz, t614, t381);
+    let t672: f64 = t396 * t671;
+    let t674: f64 = f64::mul_add(joint5_mx, t620, t373);
+    let t676: f64 = t410 * t511;
+    let t678: f64 = f64::mul_add(-joint6_mz, t614, t424);
+    let t679: f64 = t436 * t678;
+    let t681: f64 = f64::mul_add(joint6_mx, t620, t416);
+    let t686: f64 = t66 * t150;
+    let t687: f64 = f64::mul_add(t3, t60, -t686);
+    let t688: f64 = t194 * t687;
+    let t689: f64 = f64::mul_add(t109, t205, t688);
+    let t690: f64 = platform_ixz + joint1_ixz;
+    let t691: f64 = joint2_ixz + joint3_ixz;
+    let t692: f64 = joint4_ixz + joint5_ixz;
+    let t693: f64 = t690 + t691;
+    let t694: f64 = joint6_ixz + t692;
+    let t695: f64 = t693 + t694;
+    let t699: f64 = t3 * t84;
+    let t700: f64 = f64::mul_add(t92, t109, -t699);
+    let t701: f64 = t198 * t700;
+    let t702: f64 = f64::mul_add(t150, t218, t701);
+    let t703: f64 = platform_izz + joint1_izz;
+    let t704: f64 = joint2_izz + joint3_izz;
+    let t705: f64 = joint4_izz + joint5_izz;
+    let t706: f64 = t703 + t704;
+    let t707: f64 = joint6_izz + t705;
+    let t708: f64 = t706 + t707;
+    let t709: f64 = t702 * t708;
+    let t710: f64 = f64::mul_add(t689, t695, t709);
+    let t714: f64 = t35 * t150;
+    let t715: f64 = f64::mul_add(t25, t109, -t714);
+    let t716: f64 = t189 * t715;
+    let t717: f64 = f64::mul_add(t3, t191, -t716);
+    let t718: f64 = t0 * t717;
+    let t719: f64 = -t718;
+    let t720: f64 = platform_iyz + joint1_iyz;
+    let t721: f64 = joint2_iyz + joint3_iyz;
+    let t722: f64 = joint4_iyz + joint5_iyz;
+    let t723: f64 = t720 + t721;
+    let t724: f64 = joint6_iyz + t722;
+    let t725: f64 = t723 + t724;
+    let t726: f64 = t719 * t725;
+    let t727: f64 = f64::mul_add(t0, t710, -t726);
+    let t729: f64 = platform_ixx + joint1_ixx;
+    let t730: f64 = joint2_ixx + joint3_ixx;
+    let t731: f64 = joint4_ixx + joint5_ixx;
+    let t732: f64 = t729 + t730;
+    let t733: f64 = joint6_ixx + t731;
+    let t734: f64 = t732 + t733;
+    let t736: f64 = t695 * t702;
+    let t737: f64 = f64::mul_add(t689, t734, t736);
+    let t739: f64 = platform_ixy + joint1_ixy;
+    let t740: f64 = joint2_ixy + joint3_ixy;
+    let t741: f64 = joint4_ixy + joint5_ixy;
+    let t742: f64 = t739 + t740;
+    let t743: f64 = joint6_ixy + t741;
+    let t744: f64 = t742 + t743;
+    let t745: f64 = t719 * t744;
+    let t746: f64 = f64::mul_add(t0, t737, -t745);
+    let t747: f64 = t702 * t746;
+    let t748: f64 = f64::mul_add(t689, t727, -t747);
+    let t749: f64 = t0 * t191;
+    let t750: f64 = t748 * t749;
+    let t752: f64 = t702 * t725;
+    let t753: f64 = f64::mul_add(t689, t744, t752);
+    let t755: f64 = platform_iyy + joint1_iyy;
+    let t756: f64 = joint2_iyy + joint3_iyy;
+    let t757: f64 = joint4_iyy + joint5_iyy;
+    let t758: f64 = t755 + t756;
+    let t759: f64 = joint6_iyy + t757;
+    let t760: f64 = t758 + t759;
+    let t761: f64 = t719 * t760;
+    let t762: f64 = f64::mul_add(t0, t753, -t761);
+    let t763: f64 = t0 * t689;
+    let t765: f64 = t719 * t746;
+    let t766: f64 = f64::mul_add(t762, t763, t765);
+    let t767: f64 = t84 * t198;
+    let t769: f64 = t0 * t702;
+    let t771: f64 = t719 * t727;
+    let t772: f64 = f64::mul_add(t762, t769, t771);
+    let t773: f64 = t60 * t194;
+    let t774: f64 = t772 * t773;
+    let t775: f64 = half_spacing - t163;
+    let t776: f64 = t231 + t476;
+    let t778: f64 = t3 * t107;
+    let t779: f64 = q2 + t460;
+    let t780: f64 = t109 * t779;
+    let t781: f64 = t778 + t780;
+    let t782: f64 = t150 * t781;
+    let t783: f64 = f64::mul_add(t775, t776, t782);
+    let t785: f64 = q1 + t460;
+    let t787: f64 = f64::mul_add(-t0, t785, t152);
+    let t788: f64 = t787 * 0.5;
+    let t789: f64 = t788 + 1.0;
+    let t792: f64 = f64::mul_add(qd4, t788, t109);
+    let t793: f64 = f64::mul_add(qd3, t789, t166);
+    let t794: f64 = t792 - t793;
+    let t796: f64 = t3 * t471;
+    let t797: f64 = f64::mul_add(t109, t794, t796);
+    let t798: f64 = f64::mul_add(-t0, t783, t797);
+    let t800: f64 = f64::mul_add(t0, t798, gravity_z);
+    let t802: f64 = joint5_mx + joint6_mx;
+    let t803: f64 = joint3_mx + joint4_mx;
+    let t804: f64 = platform_mx + t803;
+    let t805: f64 = t802 + t804;
+    let t806: f64 = joint2_mx + t805;
+    let t807: f64 = t66 * t194;
+    let t809: f64 = joint5_my + joint6_my;
+    let t810: f64 = joint3_my + joint4_my;
+    let t811: f64 = platform_my + t810;
+    let t812: f64 = t809 + t811;
+    let t813: f64 = joint2_my + t812;
+    let t814: f64 = t35 * t189;
+    let t816: f64 = joint5_mz + joint6_mz;
+    let t817: f64 = joint3_mz + joint4_mz;
+    let t818: f64 = platform_mz + t817;
+    let t819: f64 = t816 + t818;
+    let t820: f64 = joint2_mz + t819;
+    let t821: f64 = t218 * t820;
+    let t822: f64 = f64::mul_add(t813, t814, t821);
+    let t823: f64 = f64::mul_add(t806, t807, -t822);
+    let t827: f64 = t191 * t813;
+    let t828: f64 = f64::mul_add(t773, t806, t827);
+    let t829: f64 = f64::mul_add(t767, t820, -t828);
+    let t830: f64 = t150 * t829;
+    let t831: f64 = f64::mul_add(t3, t823, -t830);
+    let t834: f64 = t25 * t189;
+    let t836: f64 = t92 * t198;
+    let t838: f64 = t205 * t806;
+    let t839: f64 = f64::mul_add(t820, t836, t838);
+    let t840: f64 = f64::mul_add(t813, t834, -t839);
+    let t841: f64 = t150 * t840;
+    let t842: f64 = f64::mul_add(t109, t823, -t841);
+    let t843: f64 = t109 * t842;
+    let t844: f64 = f64::mul_add(t3, t831, t843);
+    let t847: f64 = f64::mul_add(t0, t797, gravity_z);
+    let t850: f64 = -t163;
+    let t851: f64 = t776 * t850;
+    let t852: f64 = f64::mul_add(t150, t465, t851);
+    let t854: f64 = f64::mul_add(-t0, t852, t797);
+    let t856: f64 = f64::mul_add(t0, t854, gravity_z);
+    let t857: f64 = joint3_mass * t856;
+    let t858: f64 = f64::mul_add(platform_mass, t847, t857);
+    let t860: f64 = f64::mul_add(t150, t494, -t851);
+    let t862: f64 = f64::mul_add(t0, t860, t797);
+    let t864: f64 = f64::mul_add(t0, t862, gravity_z);
+    let t867: f64 = t109 * t460;
+    let t868: f64 = t387 + t867;
+    let t869: f64 = t150 * t868;
+    let t870: f64 = f64::mul_add(t388, t776, -t869);
+    let t872: f64 = f64::mul_add(t0, t870, t797);
+    let t874: f64 = f64::mul_add(t0, t872, gravity_z);
+    let t877: f64 = t430 - t867;
+    let t878: f64 = t150 * t877;
+    let t879: f64 = f64::mul_add(t431, t776, t878);
+    let t881: f64 = f64::mul_add(t0, t879, t797);
+    let t883: f64 = f64::mul_add(t0, t881, gravity_z);
+    let t884: f64 = joint6_mass * t883;
+    let t885: f64 = f64::mul_add(joint5_mass, t874, t884);
+    let t886: f64 = t605 + t885;
+    let t887: f64 = f64::mul_add(joint4_mass, t864, t886);
+    let t888: f64 = t858 + t887;
+    let t889: f64 = f64::mul_add(joint2_mass, t800, t888);
+    let t890: f64 = f64::mul_add(-t1, t844, t889);
+    let t892: f64 = t229 + t231;
+    let t894: f64 = t150 * t775;
+    let t895: f64 = t778 - t894;
+    let t896: f64 = t109 * t895;
+    let t897: f64 = f64::mul_add(t779, t892, -t896);
+    let t900: f64 = t460 * 0.5;
+    let t901: f64 = -t900;
+    let t902: f64 = t2 * t901;
+    let t903: f64 = f64::mul_add(t107, t109, t902);
+    let t905: f64 = f64::mul_add(-t0, t903, t131);
+    let t907: f64 = t150 * t794;
+    let t908: f64 = f64::mul_add(t3, t905, t907);
+    let t909: f64 = f64::mul_add(-t0, t897, t908);
+    let t911: f64 = f64::mul_add(-t0, t909, gravity_x);
+    let t913: f64 = gravity_x * rod2_mass;
+    let t915: f64 = t109 * t829;
+    let t916: f64 = f64::mul_add(t3, t840, -t915);
+    let t918: f64 = t150 * t842;
+    let t919: f64 = f64::mul_add(t3, t916, -t918);
+    let t922: f64 = f64::mul_add(-t0, t908, gravity_x);
+    let t925: f64 = t460 * t892;
+    let t926: f64 = f64::mul_add(t109, t390, -t925);
+    let t928: f64 = f64::mul_add(t0, t926, t908);
+    let t930: f64 = f64::mul_add(-t0, t928, gravity_x);
+    let t931: f64 = joint5_mass * t930;
+    let t932: f64 = f64::mul_add(platform_mass, t922, t931);
+    let t934: f64 = f64::mul_add(t109, t433, t925);
+    let t936: f64 = f64::mul_add(-t0, t934, t908);
+    let t938: f64 = f64::mul_add(-t0, t936, gravity_x);
+    let t941: f64 = t150 * t850;
+    let t942: f64 = t464 - t941;
+    let t943: f64 = t109 * t942;
+    let t944: f64 = f64::mul_add(t461, t892, -t943);
+    let t946: f64 = f64::mul_add(-t0, t944, t908);
+    let t948: f64 = f64::mul_add(-t0, t946, gravity_x);
+    let t951: f64 = t493 - t941;
+    let t952: f64 = t109 * t951;
+    let t953: f64 = f64::mul_add(t490, t892, t952);
+    let t955: f64 = f64::mul_add(t0, t953, t908);
+    let t957: f64 = f64::mul_add(-t0, t955, gravity_x);
+    let t958: f64 = joint4_mass * t957;
+    let t959: f64 = f64::mul_add(joint3_mass, t948, t958);
+    let t960: f64 = f64::mul_add(joint6_mass, t938, t959);
+    let t961: f64 = t932 + t960;
+    let t962: f64 = f64::mul_add(joint2_mass, t911, t913);
+    let t963: f64 = t961 + t962;
+    let t964: f64 = f64::mul_add(-t1, t919, t963);
+    let t965: f64 = t145 * t964;
+    let t968: f64 = t205 * t803;
+    let t969: f64 = f64::mul_add(t817, t836, t968);
+    let t970: f64 = f64::mul_add(t810, t834, -t969);
+    let t974: f64 = t191 * t810;
+    let t975: f64 = f64::mul_add(t773, t803, t974);
+    let t976: f64 = f64::mul_add(t767, t817, -t975);
+    let t977: f64 = t109 * t976;
+    let t978: f64 = f64::mul_add(t3, t970, -t977);
+    let t982: f64 = t218 * t817;
+    let t983: f64 = f64::mul_add(t810, t814, t982);
+    let t984: f64 = f64::mul_add(t803, t807, -t983);
+    let t986: f64 = t150 * t970;
+    let t987: f64 = f64::mul_add(t109, t984, -t986);
+    let t988: f64 = t150 * t987;
+    let t989: f64 = f64::mul_add(t3, t978, -t988);
+    let t991: f64 = f64::mul_add(-t1, t989, t959);
+    let t995: f64 = t218 * t816;
+    let t996: f64 = f64::mul_add(t809, t814, t995);
+    let t997: f64 = f64::mul_add(t802, t807, -t996);
+    let t1001: f64 = t191 * t809;
+    let t1002: f64 = f64::mul_add(t773, t802, t1001);
+    let t1003: f64 = f64::mul_add(t767, t816, -t1002);
+    let t1004: f64 = t150 * t1003;
+    let t1005: f64 = f64::mul_add(t3, t997, -t1004);
+    let t1010: f64 = t205 * t802;
+    let t1011: f64 = f64::mul_add(t816, t836, t1010);
+    let t1012: f64 = f64::mul_add(t809, t834, -t1011);
+    let t1013: f64 = t150 * t1012;
+    let t1014: f64 = f64::mul_add(t109, t997, -t1013);
+    let t1015: f64 = t109 * t1014;
+    let t1016: f64 = f64::mul_add(t3, t1005, t1015);
+    let t1018: f64 = f64::mul_add(-t1, t1016, t886);
+    let t1019: f64 = t392 * t1018;
+    let t1020: f64 = f64::mul_add(t346, t668, t676);
+    let t1021: f64 = f64::mul_add(t450, t529, t750);
+    let t1022: f64 = f64::mul_add(t766, t767, t774);
+    let t1023: f64 = t1020 + t1021;
+    let t1024: f64 = f64::mul_add(t125, t890, t1022);
+    let t1025: f64 = t1023 + t1024;
+    let t1026: f64 = f64::mul_add(t184, t616, t623);
+    let t1027: f64 = f64::mul_add(t249, t625, t629);
+    let t1028: f64 = f64::mul_add(t634, t636, t640);
+    let t1029: f64 = f64::mul_add(t585, t650, t653);
+    let t1030: f64 = f64::mul_add(t312, t655, t659);
+    let t1031: f64 = f64::mul_add(t301, t660, t664);
+    let t1032: f64 = f64::mul_add(t496, t666, t672);
+    let t1033: f64 = f64::mul_add(t516, t674, t679);
+    let t1034: f64 = f64::mul_add(t532, t681, t965);
+    let t1035: f64 = f64::mul_add(t307, t991, t1019);
+    let t1036: f64 = t1026 + t1027;
+    let t1037: f64 = t1028 + t1029;
+    let t1038: f64 = t1030 + t1031;
+    let t1039: f64 = t1032 + t1033;
+    let t1040: f64 = t1034 + t1035;
+    let t1041: f64 = t1036 + t1037;
+    let t1042: f64 = t1038 + t1039;
+    let t1043: f64 = t1041 + t1042;
+    let t1044: f64 = t1040 + t1043;
+    let t1045: f64 = t1025 - t1044;
+    let t1046: f64 = t0 * t1045;
+    let t1047: f64 = f64::mul_add(t112, t610, -t1046);
+    let t1048: f64 = t1047 * 0.5;
+    let t1049: f64 = f64::mul_add(t146, t214, t268);
+    let t1050: f64 = t1048 + t1049;
+    let t1051: f64 = f64::mul_add(platform_mass, t184, t228);
+    let t1052: f64 = f64::mul_add(joint1_mass, t249, t279);
+    let t1053: f64 = f64::mul_add(rod1_mass, t280, t326);
+    let t1054: f64 = t367 + t410;
+    let t1055: f64 = t450 + t650;
+    let t1056: f64 = t1051 + t1052;
+    let t1057: f64 = t1053 + t1054;
+    let t1058: f64 = t1056 + t1057;
+    let t1059: f64 = t1055 + t1058;
+    let t1060: f64 = t1050 - t1059;
+    let t1061: f64 = -t1048;
+    let t1063: f64 = t133 * t165;
+    let t1064: f64 = f64::mul_add(t176, t471, -t1063);
+    let t1067: f64 = f64::mul_add(-t155, t1064, gravity_y);
+    let t1068: f64 = f64::mul_add(t154, t1064, t1067);
+    let t1070: f64 = t10 * t189;
+    let t1072: f64 = f64::mul_add(-t1070, 0.125, t189);
+    let t1074: f64 = f64::mul_add(platform_my, t1072, t201);
+    let t1077: f64 = t150 * t164;
+    let t1078: f64 = f64::mul_add(t109, t785, t1077);
+    let t1080: f64 = t230 + t477;
+    let t1082: f64 = f64::mul_add(t243, t1080, t1068);
+    let t1083: f64 = f64::mul_add(-t146, t1078, t1082);
+    let t1084: f64 = t628 * t1083;
+    let t1086: f64 = f64::mul_add(joint1_my, t1072, t256);
+    let t1087: f64 = t249 * t1086;
+    let t1088: f64 = t780 - t894;
+    let t1090: f64 = f64::mul_add(-t146, t1088, t1082);
+    let t1093: f64 = f64::mul_add(joint2_my, t1072, t576);
+    let t1097: f64 = t170 * t579;
+    let t1098: f64 = f64::mul_add(joint2_mass, t1090, t1097);
+    let t1099: f64 = f64::mul_add(t235, t644, t1098);
+    let t1100: f64 = t582 * t1099;
+    let t1104: f64 = f64::mul_add(t307, t508, t1068);
+    let t1105: f64 = f64::mul_add(t304, t1080, t1104);
+    let t1106: f64 = f64::mul_add(-t301, t305, t1105);
+    let t1109: f64 = f64::mul_add(joint3_my, t1072, t319);
+    let t1110: f64 = t312 * t1109;
+    let t1113: f64 = t170 * t453;
+    let t1114: f64 = f64::mul_add(joint3_mass, t1106, t1113);
+    let t1116: f64 = t1064 + t1068;
+    let t1117: f64 = rod3_mass * t1116;
+    let t1118: f64 = f64::mul_add(t235, t323, t1117);
+    let t1119: f64 = t1114 + t1118;
+    let t1120: f64 = t301 * t1119;
+    let t1122: f64 = t349 * t1080;
+    let t1123: f64 = f64::mul_add(t305, t346, t1122);
+    let t1124: f64 = t1104 + t1123;
+    let t1127: f64 = f64::mul_add(joint4_my, t1072, t360);
+    let t1128: f64 = t353 * t1127;
+    let t1131: f64 = t170 * t488;
+    let t1132: f64 = f64::mul_add(joint4_mass, t1124, t1131);
+    let t1134: f64 = rod4_mass * t1116;
+    let t1135: f64 = f64::mul_add(t235, t364, t1134);
+    let t1136: f64 = t1132 + t1135;
+    let t1137: f64 = t346 * t1136;
+    let t1141: f64 = f64::mul_add(-t305, t392, t1068);
+    let t1142: f64 = f64::mul_add(t507, t1080, t1141);
+    let t1143: f64 = f64::mul_add(-t508, t511, t1142);
+    let t1144: f64 = t674 * t1143;
+    let t1146: f64 = f64::mul_add(joint5_my, t1072, t403);
+    let t1148: f64 = t410 * t507;
+    let t1150: f64 = t508 * t529;
+    let t1151: f64 = f64::mul_add(t526, t1080, t1150);
+    let t1152: f64 = t1141 - t1151;
+    let t1155: f64 = f64::mul_add(joint6_my, t1072, t443);
+    let t1157: f64 = t450 * t526;
+    let t1158: f64 = t0 * t35;
+    let t1159: f64 = t189 * t1158;
+    let t1161: f64 = t772 * t807;
+    let t1165: f64 = t205 * t805;
+    let t1166: f64 = f64::mul_add(t819, t836, t1165);
+    let t1167: f64 = f64::mul_add(t812, t834, -t1166);
+    let t1171: f64 = t191 * t812;
+    let t1172: f64 = f64::mul_add(t773, t805, t1171);
+    let t1173: f64 = f64::mul_add(t767, t819, -t1172);
+    let t1174: f64 = t109 * t1173;
+    let t1175: f64 = f64::mul_add(t3, t1167, -t1174);
+    let t1179: f64 = t218 * t819;
+    let t1180: f64 = f64::mul_add(t812, t814, t1179);
+    let t1181: f64 = f64::mul_add(t805, t807, -t1180);
+    let t1183: f64 = t150 * t1167;
+    let t1184: f64 = f64::mul_add(t109, t1181, -t1183);
+    let t1185: f64 = t150 * t1184;
+    let t1186: f64 = f64::mul_add(t3, t1175, -t1185);
+    let t1188: f64 = f64::mul_add(-t1, t1186, t961);
+    let t1189: f64 = t243 * t1188;
+    let t1191: f64 = t150 * t831;
+    let t1192: f64 = f64::mul_add(t109, t916, t1191);
+    let t1194: f64 = rod3_mass + rod4_mass;
+    let t1196: f64 = t229 + t476;
+    let t1198: f64 = t462 - t941;
+    let t1199: f64 = t3 * t1198;
+    let t1200: f64 = f64::mul_add(t463, t1196, -t1199);
+    let t1203: f64 = t109 * t905;
+    let t1204: f64 = f64::mul_add(t150, t471, -t1203);
+    let t1205: f64 = f64::mul_add(-t0, t1200, t1204);
+    let t1207: f64 = f64::mul_add(-t0, t1205, gravity_y);
+    let t1210: f64 = t491 + t941;
+    let t1211: f64 = t3 * t1210;
+    let t1212: f64 = f64::mul_add(t492, t1196, t1211);
+    let t1214: f64 = f64::mul_add(-t0, t1212, t1204);
+    let t1216: f64 = f64::mul_add(-t0, t1214, gravity_y);
+    let t1217: f64 = joint4_mass * t1216;
+    let t1218: f64 = f64::mul_add(joint3_mass, t1207, t1217);
+    let t1219: f64 = f64::mul_add(gravity_y, t1194, t1218);
+    let t1221: f64 = t389 + t867;
+    let t1222: f64 = t3 * t1221;
+    let t1223: f64 = f64::mul_add(t386, t1196, -t1222);
+    let t1225: f64 = f64::mul_add(-t0, t1223, t1204);
+    let t1227: f64 = f64::mul_add(-t0, t1225, gravity_y);
+    let t1230: f64 = t432 + t867;
+    let t1231: f64 = t3 * t1230;
+    let t1232: f64 = f64::mul_add(t429, t1196, t1231);
+    let t1234: f64 = f64::mul_add(t0, t1232, t1204);
+    let t1236: f64 = f64::mul_add(-t0, t1234, gravity_y);
+    let t1237: f64 = joint6_mass * t1236;
+    let t1238: f64 = f64::mul_add(joint5_mass, t1227, t1237);
+    let t1240: f64 = f64::mul_add(-t0, t1204, gravity_y);
+    let t1243: f64 = t107 * t1196;
+    let t1244: f64 = f64::mul_add(t3, t1088, -t1243);
+    let t1246: f64 = f64::mul_add(t0, t1244, t1204);
+    let t1248: f64 = f64::mul_add(-t0, t1246, gravity_y);
+    let t1249: f64 = joint2_mass * t1248;
+    let t1250: f64 = f64::mul_add(platform_mass, t1240, t1249);
+    let t1251: f64 = t1238 + t1250;
+    let t1252: f64 = f64::mul_add(t1, t1192, t1219);
+    let t1253: f64 = t1251 + t1252;
+    let t1254: f64 = t125 * t1253;
+    let t1256: f64 = t109 * t1003;
+    let t1257: f64 = f64::mul_add(t3, t1012, -t1256);
+    let t1259: f64 = t150 * t1005;
+    let t1260: f64 = f64::mul_add(t109, t1257, t1259);
+    let t1262: f64 = f64::mul_add(t1, t1260, t1238);
+    let t1264: f64 = f64::mul_add(t184, t1074, t1087);
+    let t1265: f64 = f64::mul_add(t634, t1093, t1110);
+    let t1266: f64 = f64::mul_add(t304, t326, t1128);
+    let t1267: f64 = f64::mul_add(t349, t367, t1137);
+    let t1268: f64 = f64::mul_add(t396, t1146, t1148);
+    let t1269: f64 = f64::mul_add(t436, t1155, t1161);
+    let t1270: f64 = f64::mul_add(t614, t766, t1254);
+    let t1271: f64 = t1264 + t1265;
+    let t1272: f64 = t1266 + t1267;
+    let t1273: f64 = t1268 + t1269;
+    let t1274: f64 = t1271 + t1272;
+    let t1275: f64 = t1270 + t1273;
+    let t1276: f64 = t1274 + t1275;
+    let t1277: f64 = f64::mul_add(t622, t1068, t1084);
+    let t1278: f64 = f64::mul_add(t639, t1090, t1100);
+    let t1279: f64 = f64::mul_add(t658, t1106, t1120);
+    let t1280: f64 = f64::mul_add(t666, t1124, t1144);
+    let t1281: f64 = f64::mul_add(t681, t1152, t1157);
+    let t1282: f64 = f64::mul_add(t748, t1159, t1189);
+    let t1283: f64 = t1277 + t1278;
+    let t1284: f64 = t1279 + t1280;
+    let t1285: f64 = t1281 + t1282;
+    let t1286: f64 = t1283 + t1284;
+    let t1287: f64 = f64::mul_add(t392, t1262, t1285);
+    let t1288: f64 = t1286 + t1287;
+    let t1289: f64 = t1276 - t1288;
+    let t1290: f64 = t0 * t1289;
+    let t1292: f64 = f64::mul_add(t3, t1078, -t1243);
+    let t1294: f64 = f64::mul_add(t0, t1292, t1204);
+    let t1296: f64 = f64::mul_add(-t0, t1294, gravity_y);
+    let t1298: f64 = joint1_my + t813;
+    let t1299: f64 = t1298 * 0.5;
+    let t1301: f64 = joint1_mz + t820;
+    let t1302: f64 = t1301 * 0.5;
+    let t1304: f64 = joint1_mx + t806;
+    let t1305: f64 = t1304 * 0.5;
+    let t1306: f64 = t205 * t1305;
+    let t1307: f64 = f64::mul_add(t836, t1302, t1306);
+    let t1308: f64 = f64::mul_add(t834, t1299, -t1307);
+    let t1312: f64 = t191 * t1299;
+    let t1313: f64 = f64::mul_add(t773, t1305, t1312);
+    let t1314: f64 = f64::mul_add(t767, t1302, -t1313);
+    let t1315: f64 = t109 * t1314;
+    let t1316: f64 = f64::mul_add(t3, t1308, -t1315);
+    let t1320: f64 = t218 * t1302;
+    let t1321: f64 = f64::mul_add(t814, t1299, t1320);
+    let t1322: f64 = f64::mul_add(t807, t1305, -t1321);
+    let t1324: f64 = t150 * t1314;
+    let t1325: f64 = f64::mul_add(t3, t1322, -t1324);
+    let t1326: f64 = t150 * t1325;
+    let t1327: f64 = f64::mul_add(t109, t1316, t1326);
+    let t1329: f64 = t1194 * 0.5;
+    let t1331: f64 = f64::mul_add(joint1_mass, t1296, t1218);
+    let t1332: f64 = t1251 + t1331;
+    let t1333: f64 = t1332 * 0.5;
+    let t1334: f64 = f64::mul_add(t1, t1327, t1333);
+    let t1335: f64 = f64::mul_add(gravity_y, t1329, t1334);
+    let t1339: f64 = t170 * t504;
+    let t1340: f64 = f64::mul_add(joint5_mass, t1143, t1339);
+    let t1341: f64 = f64::mul_add(t235, t407, t1340);
+    let t1342: f64 = t1099 + t1341;
+    let t1345: f64 = t170 * t523;
+    let t1346: f64 = f64::mul_add(joint6_mass, t1152, t1345);
+    let t1347: f64 = f64::mul_add(t235, t447, t1346);
+    let t1348: f64 = t1119 + t1347;
+    let t1349: f64 = t1342 + t1348;
+    let t1351: f64 = t170 * t544;
+    let t1352: f64 = f64::mul_add(platform_mass, t1068, t1351);
+    let t1353: f64 = t1136 + t1352;
+    let t1355: f64 = joint1_mass * t1083;
+    let t1356: f64 = f64::mul_add(t214, t235, t1355);
+    let t1358: f64 = t235 * t267;
+    let t1359: f64 = f64::mul_add(t170, t560, t1358);
+    let t1360: f64 = t1356 + t1359;
+    let t1361: f64 = t1353 + t1360;
+    let t1362: f64 = t1349 + t1361;
+    let t1364: f64 = f64::mul_add(t152, t1335, t1362);
+    let t1365: f64 = f64::mul_add(t1290, 0.5, -t1364);
+    let t1367: f64 = f64::mul_add(t152, t1362, -t1290);
+    let t1368: f64 = t1367 * 0.5;
+    let t1370: f64 = t616 * t1068;
+    let t1372: f64 = t625 * t1083;
+    let t1374: f64 = t636 * t1090;
+    let t1376: f64 = t481 * t1109;
+    let t1378: f64 = t304 * t660;
+    let t1380: f64 = t663 * t1124;
+    let t1382: f64 = t516 * t1146;
+    let t1385: f64 = t603 - t520;
+    let t1386: f64 = t507 * t1385;
+    let t1388: f64 = t678 * t1152;
+    let t1389: f64 = t529 * t1347;
+    let t1390: f64 = t604 - t536;
+    let t1392: f64 = t0 * t25;
+    let t1393: f64 = t189 * t1392;
+    let t1394: f64 = t748 * t1393;
+    let t1398: f64 = t150 * t1173;
+    let t1399: f64 = f64::mul_add(t3, t1181, -t1398);
+    let t1401: f64 = t109 * t1184;
+    let t1402: f64 = f64::mul_add(t3, t1399, t1401);
+    let t1404: f64 = f64::mul_add(-t1, t1402, t888);
+    let t1405: f64 = t243 * t1404;
+    let t1406: f64 = t145 * t1253;
+    let t1409: f64 = t150 * t976;
+    let t1410: f64 = f64::mul_add(t3, t984, -t1409);
+    let t1411: f64 = t150 * t1410;
+    let t1412: f64 = f64::mul_add(t109, t978, t1411);
+    let t1414: f64 = f64::mul_add(t1, t1412, t1219);
+    let t1416: f64 = f64::mul_add(t475, t1074, t1370);
+    let t1417: f64 = f64::mul_add(t553, t1086, t1372);
+    let t1418: f64 = f64::mul_add(t588, t1093, t1374);
+    let t1419: f64 = f64::mul_add(t585, t1099, t1376);
+    let t1420: f64 = f64::mul_add(t655, t1106, t1378);
+    let t1421: f64 = f64::mul_add(t496, t1127, t1380);
+    let t1422: f64 = f64::mul_add(t349, t668, t1382);
+    let t1423: f64 = f64::mul_add(t671, t1143, t1386);
+    let t1424: f64 = f64::mul_add(t532, t1155, t1388);
+    let t1425: f64 = f64::mul_add(t620, t772, t1406);
+    let t1426: f64 = t1416 + t1417;
+    let t1427: f64 = t1418 + t1419;
+    let t1428: f64 = t1420 + t1421;
+    let t1429: f64 = t1422 + t1423;
+    let t1430: f64 = t1424 + t1425;
+    let t1431: f64 = t1426 + t1427;
+    let t1432: f64 = t1428 + t1429;
+    let t1433: f64 = f64::mul_add(t307, t1414, t1430);
+    let t1434: f64 = t1431 + t1432;
+    let t1435: f64 = t1433 + t1434;
+    let t1436: f64 = f64::mul_add(t511, t1341, t1389);
+    let t1437: f64 = f64::mul_add(t526, t1390, t1394);
+    let t1438: f64 = f64::mul_add(t766, t836, t1405);
+    let t1439: f64 = t1436 + t1437;
+    let t1440: f64 = t1438 + t1439;
+    let t1441: f64 = t1435 - t1440;
+    let t1443: f64 = f64::mul_add(t0, t1441, -t1362);
+    let t1444: f64 = t609 - t1443;
+    let t1445: f64 = t1444 * 0.5;
+    let t1446: f64 = t609 + t1443;
+    let t1447: f64 = t1446 * 0.5;
+    let t1448: f64 = 1.0 - t186;
+    ([t1060, t1061, t1365, t1368, t1445, t1447], [t1448, t620, t1072, t614])
+}
 /// Joint accelerations of every segment by projection, the passive joints included.
 ///
 /// Equations: 43, 44, 45, 46, 47, 48. Setting: pose.
@@ -18748,6 +33227,22 @@ pub fn joint_bias_params(
 /// Operations: 70 mul, 4 div, 52 add, 0 neg, 3 sin_cos (chapter convention: 74m + 52a).
 #[inline]
 pub fn leg_joint_accelerations_params(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+    params: &[f64; 152],
+) -> ([[f64; 6]; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe {
+            leg_joint_accelerations_params_fused(pose, twist, accel, params)
+        };
+    }
+    leg_joint_accelerations_params_separate(pose, twist, accel, params)
+}
+/// [`leg_joint_accelerations_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn leg_joint_accelerations_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
     accel: &[f64; 6],
@@ -18889,6 +33384,128 @@ pub fn leg_joint_accelerations_params(
     let t127: f64 = t45 + t126;
     let t128: f64 = wdx * t119;
     let t129: f64 = t117 - t128;
+    let t130: f64 = t1 * t4;
+    let t131: f64 = t1 * t7;
+    (
+        [
+            [t29, t39, wdz, wdy, wdx, t47],
+            [t52, t56, wdz, wdy, wdx, t58],
+            [t76, t81, wdz, wdy, wdx, t85],
+            [t92, t94, wdz, wdy, wdx, t96],
+            [t108, t114, wdz, wdy, wdx, t118],
+            [t123, t127, wdz, wdy, wdx, t129],
+        ],
+        [t130, t63, t131],
+    )
+}
+/// [`leg_joint_accelerations_params`] with 41 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`leg_joint_accelerations_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn leg_joint_accelerations_params_fused(
+    pose: &[f64; 6],
+    twist: &[f64; 6],
+    accel: &[f64; 6],
+    params: &[f64; 152],
+) -> ([[f64; 6]; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [wx, wy, wz, vx, vy, vz] = *twist;
+    let [wdx, wdy, wdz, ax, ay, az] = *accel;
+    let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _] = *params;
+    let (t0, t1): (f64, f64) = sin_cos(beta);
+    let t2: f64 = 1.0 / t1;
+    let (t3, t4): (f64, f64) = sin_cos(gamma);
+    let t5: f64 = 1.0 / t4;
+    let (t6, t7): (f64, f64) = sin_cos(alpha);
+    let t9: f64 = t0 * t6;
+    let t10: f64 = t4 * t9;
+    let t11: f64 = f64::mul_add(t3, t7, t10);
+    let t12: f64 = yc * t11;
+    let t14: f64 = t0 * t7;
+    let t15: f64 = t4 * t14;
+    let t16: f64 = f64::mul_add(t3, t6, -t15);
+    let t17: f64 = zc - half_spacing;
+    let t19: f64 = f64::mul_add(t16, t17, t12);
+    let t20: f64 = wdy * t2;
+    let t21: f64 = t5 * t20;
+    let t25: f64 = f64::mul_add(-wx, vy, az);
+    let t26: f64 = f64::mul_add(wy, vx, t25);
+    let t28: f64 = f64::mul_add(-yc, wdx, t26);
+    let t29: f64 = f64::mul_add(-t19, t21, t28);
+    let t31: f64 = wdz * t2;
+    let t32: f64 = t5 * t31;
+    let t33: f64 = t19 * t32;
+    let t36: f64 = f64::mul_add(-wz, vx, ay);
+    let t37: f64 = f64::mul_add(wx, vz, t36);
+    let t38: f64 = f64::mul_add(wdx, t17, t33);
+    let t39: f64 = t37 + t38;
+    let t44: f64 = f64::mul_add(-wy, vz, ax);
+    let t45: f64 = f64::mul_add(wz, vy, t44);
+    let t46: f64 = f64::mul_add(yc, wdz, t45);
+    let t47: f64 = f64::mul_add(-wdy, t17, t46);
+    let t48: f64 = zc + half_spacing;
+    let t50: f64 = f64::mul_add(t16, t48, t12);
+    let t52: f64 = f64::mul_add(-t21, t50, t28);
+    let t54: f64 = t32 * t50;
+    let t55: f64 = f64::mul_add(wdx, t48, t54);
+    let t56: f64 = t37 + t55;
+    let t58: f64 = f64::mul_add(-wdy, t48, t46);
+    let t59: f64 = xc - half_spacing;
+    let t62: f64 = t3 * t9;
+    let t63: f64 = f64::mul_add(t4, t7, -t62);
+    let t64: f64 = 1.0 / t63;
+    let t65: f64 = t1 * t3;
+    let t68: f64 = t0 * t3;
+    let t69: f64 = t7 * t68;
+    let t70: f64 = f64::mul_add(t4, t6, t69);
+    let t71: f64 = zc * t70;
+    let t72: f64 = f64::mul_add(t59, t65, -t71);
+    let t73: f64 = wdx * t64;
+    let t75: f64 = f64::mul_add(wdy, t59, t26);
+    let t76: f64 = f64::mul_add(-t72, t73, t75);
+    let t77: f64 = wdz * t64;
+    let t80: f64 = f64::mul_add(-zc, wdy, t45);
+    let t81: f64 = f64::mul_add(t72, t77, t80);
+    let t84: f64 = f64::mul_add(zc, wdx, t37);
+    let t85: f64 = f64::mul_add(-wdz, t59, t84);
+    let t86: f64 = xc + half_spacing;
+    let t89: f64 = f64::mul_add(-t65, t86, t71);
+    let t90: f64 = t73 * t89;
+    let t91: f64 = f64::mul_add(wdy, t86, t90);
+    let t92: f64 = t26 + t91;
+    let t94: f64 = f64::mul_add(-t77, t89, t80);
+    let t96: f64 = f64::mul_add(-wdz, t86, t84);
+    let t97: f64 = 1.0 / t7;
+    let t98: f64 = xc * t0;
+    let t99: f64 = yc - half_spacing;
+    let t100: f64 = t1 * t6;
+    let t102: f64 = f64::mul_add(-t99, t100, t98);
+    let t103: f64 = wdx * t97;
+    let t104: f64 = t2 * t103;
+    let t107: f64 = f64::mul_add(-xc, wdz, t37);
+    let t108: f64 = f64::mul_add(-t102, t104, t107);
+    let t110: f64 = wdy * t97;
+    let t111: f64 = t2 * t110;
+    let t112: f64 = t102 * t111;
+    let t113: f64 = f64::mul_add(wdz, t99, t112);
+    let t114: f64 = t45 + t113;
+    let t117: f64 = f64::mul_add(xc, wdy, t26);
+    let t118: f64 = f64::mul_add(-wdx, t99, t117);
+    let t119: f64 = yc + half_spacing;
+    let t121: f64 = f64::mul_add(-t100, t119, t98);
+    let t123: f64 = f64::mul_add(-t104, t121, t107);
+    let t125: f64 = t111 * t121;
+    let t126: f64 = f64::mul_add(wdz, t119, t125);
+    let t127: f64 = t45 + t126;
+    let t129: f64 = f64::mul_add(-wdx, t119, t117);
     let t130: f64 = t1 * t4;
     let t131: f64 = t1 * t7;
     (

@@ -1,6 +1,9 @@
-//! The generated kernels in C (`gcc -O3 -march=native`) against the same kernels in Rust, and
-//! both against the SymPy baseline (`sympy/generate.py`, also `gcc -O3 -march=native`), in one
-//! run: `cargo bench -p c5-c-output-test`.
+//! The generated kernels in C (`gcc -O3 -march=native -std=c99`) against the same kernels in
+//! Rust (the default target: their FMA twins where the CPU has FMA, `rust_*`, and the separate
+//! path, `rust_*_separate`), and both against the SymPy baseline (`sympy/generate.py`) built
+//! `gcc -O3 -march=native` twice: `-std=c99` (`sympy_*`, no contraction) and GCC's default GNU
+//! mode (`sympy_gnu_*`, `a * b + c` contracted into fused multiply-adds), in one run:
+//! `cargo bench -p c5-c-output-test`.
 
 use c5_c_output_test::native;
 use c5_generated::f64::{consistent, paper};
@@ -34,6 +37,13 @@ fn inverse_dynamics(c: &mut Criterion) {
             consistent::inverse_dynamics(x, v, a).0
         })
     });
+    g.bench_function("rust_consistent_separate", |b| {
+        b.iter(|| {
+            i = (i + 1) % s.len();
+            let (x, v, a) = black_box(&s[i]);
+            consistent::inverse_dynamics_separate(x, v, a).0
+        })
+    });
     g.bench_function("c_consistent", |b| {
         b.iter(|| {
             i = (i + 1) % s.len();
@@ -56,6 +66,13 @@ fn inverse_dynamics(c: &mut Criterion) {
             i = (i + 1) % s.len();
             let (x, v, a) = black_box(&s[i]);
             paper::inverse_dynamics(x, v, a).0
+        })
+    });
+    g.bench_function("rust_paper_separate", |b| {
+        b.iter(|| {
+            i = (i + 1) % s.len();
+            let (x, v, a) = black_box(&s[i]);
+            paper::inverse_dynamics_separate(x, v, a).0
         })
     });
     g.bench_function("c_paper", |b| {
@@ -82,6 +99,11 @@ fn inverse_dynamics(c: &mut Criterion) {
                 as unsafe extern "C" fn(*const f64, *const f64, *const f64, *mut f64),
         ),
         ("sympy_paper", native::sympy_paper_inverse_dynamics),
+        (
+            "sympy_gnu_consistent",
+            native::sympy_gnu_consistent_inverse_dynamics,
+        ),
+        ("sympy_gnu_paper", native::sympy_gnu_paper_inverse_dynamics),
     ] {
         g.bench_function(name, |b| {
             b.iter(|| {

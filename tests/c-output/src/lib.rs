@@ -33,6 +33,9 @@ extern "C" fn c5_test_atanf(x: f32) -> f32 {
 pub struct Kernel {
     pub model: &'static str,
     pub scalar: &'static str,
+    /// `"separate"` or `"fused"` for `f64` kernels (their two arithmetic paths; the fused one
+    /// runs only where `c5_generated::fma::available()`), `"only"` for `f32` kernels.
+    pub path: &'static str,
     pub name: &'static str,
     /// The names of its inputs, in order.
     pub inputs: &'static [&'static str],
@@ -83,7 +86,8 @@ pub mod ffi {
     include!(concat!(env!("OUT_DIR"), "/ffi.rs"));
 }
 
-/// The bench's kernels: `-O3 -march=native`, as a user would build them for speed.
+/// The bench's kernels: `-O3 -march=native`, as a user would build them for speed (`-std=c99`,
+/// except the `sympy_gnu_*` build).
 pub mod native {
     extern "C" {
         pub fn native_consistent_inverse_dynamics(
@@ -109,6 +113,21 @@ pub mod native {
         );
         /// The SymPy baseline (`sympy/generate.py`).
         pub fn sympy_paper_inverse_dynamics(
+            pose: *const f64,
+            twist: *const f64,
+            accel: *const f64,
+            gamma: *mut f64,
+        );
+        /// The SymPy baseline built in GCC's default GNU mode (`a * b + c` contracted into
+        /// fused multiply-adds).
+        pub fn sympy_gnu_consistent_inverse_dynamics(
+            pose: *const f64,
+            twist: *const f64,
+            accel: *const f64,
+            gamma: *mut f64,
+        );
+        /// The SymPy baseline built in GCC's default GNU mode.
+        pub fn sympy_gnu_paper_inverse_dynamics(
             pose: *const f64,
             twist: *const f64,
             accel: *const f64,
