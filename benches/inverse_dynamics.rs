@@ -520,11 +520,103 @@ fn joint_inverse_dynamics<K: Kernels>(
     });
 }
 
+/// One model's derivative kernels beside their primal kernels, and what a user would do
+/// without them: one-sided finite differences of the forward dynamics, 19 calls (the point and
+/// one step in each of the 18 components of the pose, the twist and the forces).
+fn derivatives_of<K: Kernels>(g: &mut BenchmarkGroup<WallTime>, kernels: &K, s: &[State]) {
+    let model = kernels.model();
+    let arrays: Vec<_> = s
+        .iter()
+        .map(|s| {
+            let (x, v, a) = (s.pose.to_array(), s.twist.to_array(), s.accel.to_array());
+            (x, v, a, kernels.inverse_dynamics(&x, &v, &a).0)
+        })
+        .collect();
+    let mut i = 0;
+    g.bench_function(format!("inverse_dynamics_{model}"), |b| {
+        b.iter(|| {
+            i = (i + 1) % arrays.len();
+            let (x, v, a, _) = black_box(&arrays[i]);
+            kernels.inverse_dynamics(x, v, a).0
+        })
+    });
+    g.bench_function(format!("inverse_dynamics_derivatives_{model}"), |b| {
+        b.iter(|| {
+            i = (i + 1) % arrays.len();
+            let (x, v, a, _) = black_box(&arrays[i]);
+            kernels.inverse_dynamics_derivatives(x, v, a)
+        })
+    });
+    g.bench_function(format!("forward_dynamics_{model}"), |b| {
+        b.iter(|| {
+            i = (i + 1) % arrays.len();
+            let (x, v, _, gamma) = black_box(&arrays[i]);
+            kernels.forward_dynamics(x, v, gamma).0
+        })
+    });
+    g.bench_function(format!("forward_dynamics_derivatives_{model}"), |b| {
+        b.iter(|| {
+            i = (i + 1) % arrays.len();
+            let (x, v, _, gamma) = black_box(&arrays[i]);
+            kernels.forward_dynamics_derivatives(x, v, gamma)
+        })
+    });
+    g.bench_function(
+        format!("forward_dynamics_finite_differences_{model}"),
+        |b| {
+            b.iter(|| {
+                i = (i + 1) % arrays.len();
+                let (x, v, _, gamma) = black_box(&arrays[i]);
+                let base = kernels.forward_dynamics(x, v, gamma).0;
+                let mut jacobian = [[0.0; 18]; 6];
+                for k in 0..18 {
+                    let (mut x, mut v, mut gamma) = (*x, *v, *gamma);
+                    match k {
+                        0..6 => x[k] += 1e-7,
+                        6..12 => v[k - 6] += 1e-7,
+                        _ => gamma[k - 12] += 1e-7,
+                    }
+                    let a = kernels.forward_dynamics(&x, &v, &gamma).0;
+                    for r in 0..6 {
+                        jacobian[r][k] = (a[r] - base[r]) * 1e7;
+                    }
+                }
+                (base, jacobian)
+            })
+        },
+    );
+    let joints: Vec<_> = s
+        .iter()
+        .map(|s| {
+            let x = s.pose.to_array();
+            let q = k::inverse_kinematics(&x).0;
+            (q, s.twist.to_array(), s.accel.to_array())
+        })
+        .collect();
+    g.bench_function(format!("inverse_dynamics_joint_derivatives_{model}"), |b| {
+        b.iter(|| {
+            i = (i + 1) % joints.len();
+            let (q, qd, qdd) = black_box(&joints[i]);
+            kernels.inverse_dynamics_joint_derivatives(q, qd, qdd)
+        })
+    });
+}
+
+/// The derivative kernels (`cargo bench --bench inverse_dynamics -- derivatives/`).
+fn derivatives(c: &mut Criterion) {
+    let s = states();
+    let mut g = c.benchmark_group("derivatives");
+    derivatives_of(&mut g, &Consistent, &s);
+    derivatives_of(&mut g, &Paper, &s);
+    g.finish();
+}
+
 criterion_group!(
     benches,
     inverse_dynamics,
     joint_space,
     forward_dynamics,
+    derivatives,
     identification,
     chapter_kernels
 );

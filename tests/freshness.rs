@@ -96,7 +96,7 @@ fn the_parameter_count_is_the_robot_descriptions() {
 fn every_generated_function_has_its_manifest_entry_and_model() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("generated/src/f64");
     for model in c5_codegen::Model::ALL {
-        let code = ["", "_regressor"]
+        let code = ["", "_derivatives", "_regressor"]
             .map(|part| std::fs::read_to_string(dir.join(format!("{model}{part}.rs"))).unwrap())
             .concat();
         let all: Vec<&str> = code

@@ -431,6 +431,57 @@ impl Arena {
         }
     }
 
+    /// `id` with the inputs of `values` replaced by their nodes, rebuilt through the same
+    /// simplifying constructors (so a product or sum that the replacement makes constant folds).
+    /// `memo` holds the nodes already rebuilt for these `values`; pass the same map for several
+    /// outputs.
+    pub fn substitute(
+        &mut self,
+        id: NodeId,
+        values: &HashMap<u32, NodeId>,
+        memo: &mut HashMap<NodeId, NodeId>,
+    ) -> NodeId {
+        if let Some(&s) = memo.get(&id) {
+            return s;
+        }
+        let s = match self.node(id).clone() {
+            Node::Const(_) => id,
+            Node::Input(i) => values.get(&i).copied().unwrap_or(id),
+            Node::Sum { terms, constant } => {
+                let mut form: BTreeMap<NodeId, f64> = BTreeMap::new();
+                let mut total = constant.get();
+                for (t, c) in terms {
+                    let st = self.substitute(t, values, memo);
+                    let (lt, lc) = self.linear(st);
+                    total += c.get() * lc;
+                    for (u, k) in lt {
+                        *form.entry(u).or_insert(0.0) += c.get() * k;
+                    }
+                }
+                self.make_sum(form, total)
+            }
+            Node::Product(factors) => {
+                // Through `mul` and `recip`, so that a factor replaced by a sum or a constant
+                // keeps the product canonical (coefficients out, constants folded).
+                let mut product = self.constant(1.0);
+                for (base, exp) in factors {
+                    let b = self.substitute(base, values, memo);
+                    let b = if exp < 0 { self.recip(b) } else { b };
+                    for _ in 0..exp.unsigned_abs() {
+                        product = self.mul(product, b);
+                    }
+                }
+                product
+            }
+            Node::Call(f, a) => {
+                let a = self.substitute(a, values, memo);
+                self.call(f, a)
+            }
+        };
+        memo.insert(id, s);
+        s
+    }
+
     /// `∂id/∂x_wrt`, the exact derivative with respect to the input `wrt`, built through the same
     /// simplifying constructors, so it shares every subexpression with the primal (and the
     /// lowering's CSE spans both). `memo` holds the derivatives already built for this `wrt`;
@@ -606,6 +657,33 @@ impl Graph {
 
     pub fn arena(&self) -> std::cell::Ref<'_, Arena> {
         self.arena.borrow()
+    }
+
+    /// `exprs` with each input `x` of `values` replaced by its value, sharing the work between
+    /// them.
+    ///
+    /// # Panics
+    /// If a replaced `x` is not an input node (a bug in the model).
+    pub fn substitute<'g>(
+        &'g self,
+        exprs: &[Expr<'g>],
+        values: &[(Expr<'g>, Expr<'g>)],
+    ) -> Vec<Expr<'g>> {
+        let values: HashMap<u32, NodeId> = values
+            .iter()
+            .map(|(x, v)| match *self.arena().node(x.id) {
+                Node::Input(i) => (i, v.id),
+                _ => panic!("only inputs are substituted"),
+            })
+            .collect();
+        let mut memo = HashMap::new();
+        exprs
+            .iter()
+            .map(|e| {
+                let id = self.with(|a| a.substitute(e.id, &values, &mut memo));
+                self.wrap(id)
+            })
+            .collect()
     }
 
     /// `∂e/∂x` for each of `exprs`, `x` an input of the graph, sharing the work between them.
@@ -841,6 +919,19 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn substitution_rebuilds_through_the_simplifier() {
+        let g = Graph::new(EXPAND);
+        let (x, y, z) = (g.input(0), g.input(1), g.input(2));
+        let e = x * y + (x * 2.0).sin() / y;
+        let [s] = g.substitute(&[e], &[(y, g.constant(2.0)), (x, z + 1.0)])[..] else {
+            unreachable!()
+        };
+        assert_eq!(g.arena().render(s.id, &names), "2*z + 0.5*sin(2*z + 2) + 2");
+        // Substituting an input by itself changes nothing.
+        assert_eq!(g.substitute(&[e], &[(x, x)])[0].id, e.id);
     }
 
     #[test]

@@ -735,6 +735,8 @@ pub struct KernelSet<'a> {
     /// The identification kernels (`f64` only, feature `regressor`): the regressor, then the
     /// base regressor whose width is the model's.
     pub regressors: Vec<&'a KernelSpec>,
+    /// The derivative kernels (`f64` only, feature `derivatives`).
+    pub derivatives: Vec<&'a KernelSpec>,
 }
 
 fn type_name(module: &str) -> Ident {
@@ -809,6 +811,21 @@ fn methods(set: &KernelSet, scalar: Scalar) -> Vec<Method> {
                 &batched,
                 &sig,
                 quote!(#module::#batched(#(#args),*)),
+            ));
+        }
+    }
+    if scalar == Scalar::F64 {
+        let cfg = quote!(#[cfg(feature = "derivatives")]);
+        for spec in &set.derivatives {
+            let name = ident(&spec.name);
+            let sig = single_signature(spec, scalar);
+            let args = sig.0.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
+            out.push(method(
+                &format!(" {}", spec.title),
+                &cfg,
+                &name,
+                &sig,
+                quote!(#module::#name(#(#args),*)),
             ));
         }
     }
@@ -971,6 +988,13 @@ pub fn emit_kernel_sets(how: &str, sets: &[KernelSet], scalar: Scalar) -> Result
                 include!(#regressors);
             }
         });
+        let derivatives = (scalar == Scalar::F64 && !set.derivatives.is_empty()).then(|| {
+            let derivatives = file("_derivatives");
+            quote! {
+                #[cfg(feature = "derivatives")]
+                include!(#derivatives);
+            }
+        });
         let doc = format!(
             " The {} model, `{}`: {}",
             set.module,
@@ -988,6 +1012,7 @@ pub fn emit_kernel_sets(how: &str, sets: &[KernelSet], scalar: Scalar) -> Result
                 #[cfg(feature = "batch")]
                 include!(#batch);
                 #regressors
+                #derivatives
             }
         }
     });
@@ -1035,7 +1060,9 @@ pub fn emit_kernel_sets(how: &str, sets: &[KernelSet], scalar: Scalar) -> Result
     })?;
     Ok(format!(
         "// @generated {how}. Do not edit.\n\n//! Kernels in `{}`: one module per model, the same kernel names and \
-         arguments in each, and the kernel-set trait [`Kernels`] that every model implements.\n\n{}",
+         arguments in each, and the kernel-set trait [`Kernels`] that every model implements.\n\n\
+         // The derivative kernels return a value, three Jacobians and the singularity terms.\n\
+         #![allow(clippy::type_complexity)]\n\n{}",
         scalar.name(),
         prettyplease::unparse(&file)
     ))

@@ -369,23 +369,24 @@ fn compile_all<E: std::borrow::Borrow<Entry> + Sync>(
     entries: &[E],
 ) -> Result<Vec<Compiled>, Error> {
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let chunk = entries.len().div_ceil(threads).max(1);
+    // A shared queue, not fixed chunks: the kernels' costs differ by a thousand times.
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let done = std::sync::Mutex::new(Vec::with_capacity(entries.len()));
     std::thread::scope(|scope| {
-        let handles: Vec<_> = entries
-            .chunks(chunk)
-            .map(|part| {
-                scope.spawn(move || {
-                    part.iter()
-                        .map(|e| e.borrow().spec.compile())
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().expect("a kernel compilation does not panic"))
-            .collect()
-    })
+        for _ in 0..threads.min(entries.len()) {
+            scope.spawn(|| loop {
+                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let Some(entry) = entries.get(i) else { break };
+                let compiled = entry.borrow().spec.compile();
+                done.lock()
+                    .expect("no compilation panics")
+                    .push((i, compiled));
+            });
+        }
+    });
+    let mut done = done.into_inner().expect("no compilation panics");
+    done.sort_by_key(|(i, _)| *i);
+    done.into_iter().map(|(_, c)| c).collect()
 }
 
 /// Generates the kernels of the default robot with default settings into `OUT_DIR`.
@@ -417,6 +418,19 @@ fn crate_kernels(model: Model) -> Result<Vec<Entry>, Error> {
     Ok(entries)
 }
 
+/// The derivative kernels of the checked-in crate for one model, folded and `*_params`.
+fn crate_derivatives(model: Model) -> Result<Vec<Entry>, Error> {
+    let robot = Robot::default();
+    let mut entries = model::kernels::derivative_specs(model, &robot, &ParameterSet::None, "")?;
+    entries.extend(model::kernels::derivative_specs(
+        model,
+        &robot,
+        &ParameterSet::All,
+        "_params",
+    )?);
+    Ok(entries)
+}
+
 /// The files of the checked-in `generated/` crate, relative to it, with their contents: one
 /// kernel file per model and scalar (`src/f64/consistent.rs`, ...), their batch forms, the
 /// identification kernels per model (`src/f64/consistent_regressor.rs`, ...), the kernel-set
@@ -432,7 +446,15 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
         .into_iter()
         .map(|m| Ok((m, crate_kernels(m)?)))
         .collect::<Result<Vec<_>, Error>>()?;
-    let all: Vec<&Entry> = per_model.iter().flat_map(|(_, s)| s).collect();
+    let derivative_entries = Model::ALL
+        .into_iter()
+        .map(crate_derivatives)
+        .collect::<Result<Vec<_>, Error>>()?;
+    let all: Vec<&Entry> = per_model
+        .iter()
+        .flat_map(|(_, s)| s)
+        .chain(derivative_entries.iter().flatten())
+        .collect();
     let (compiled, identification) = std::thread::scope(|scope| {
         let identification: Vec<_> = Model::ALL
             .map(|m| scope.spawn(move || model::regressor::Identification::compile(m, &robot)))
@@ -451,12 +473,17 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
         identification.iter().flat_map(|id| id.pairs()).collect();
     let mut files = Vec::new();
     let mut sets = Vec::new();
+    let is_derivative = |e: &Entry| {
+        model::derivatives::KERNELS
+            .iter()
+            .any(|d| d.kernel == e.id.kernel)
+    };
     for model in Model::ALL {
-        let mine: Vec<_> = kernels
+        let (derivatives, mine): (Vec<_>, Vec<_>) = kernels
             .iter()
             .copied()
             .filter(|(e, _)| e.spec.model == model)
-            .collect();
+            .partition(|(e, _)| is_derivative(e));
         for parameters in [false, true] {
             let group: Vec<_> = mine
                 .iter()
@@ -510,7 +537,24 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
                 .map(|(e, _)| (&e.spec, e.batch))
                 .collect(),
             regressors: ident.iter().map(|(e, _)| &e.spec).collect(),
+            derivatives: derivatives.iter().map(|(e, _)| &e.spec).collect(),
         });
+        let pairs: Vec<_> = derivatives.iter().map(|(e, c)| (&e.spec, *c)).collect();
+        let header = manifest::header(
+            &pairs,
+            &format!("by c5-codegen; regenerate with `{REGENERATE}`"),
+            &format!("model: {model}; robot: the chapter's (Robot::default())"),
+        );
+        files.push((
+            PathBuf::from(format!("src/f64/{model}_derivatives.rs")),
+            emit::emit_file(
+                &header,
+                &pairs,
+                Scalar::F64,
+                TrigCalls::Functions,
+                Some(&emit::FmaDispatch::crate_switch()),
+            )?,
+        ));
     }
     for (model, id) in Model::ALL.into_iter().zip(&identification) {
         let pairs: Vec<_> = id.pairs().into_iter().map(|(e, c)| (&e.spec, c)).collect();

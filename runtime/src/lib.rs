@@ -14,6 +14,7 @@
 //! feature, `identify` fits the robot's inertial parameters and friction to measured motion and
 //! forces. With the `reference` feature, `reference` is the chapter and the consistent model in
 //! matrix form with `nalgebra`, kept independent of the generator so the two check each other.
+//! With the `derivatives` feature, [`derivatives`] gives the dynamics with their exact Jacobians.
 //!
 //! # Example
 //!
@@ -36,11 +37,15 @@ extern crate alloc;
 
 mod batch;
 pub mod control;
+#[cfg(feature = "derivatives")]
+pub mod derivatives;
 pub mod dynamics;
 pub mod error;
 #[cfg(feature = "identify")]
 pub mod identify;
 mod math;
+#[cfg(feature = "plan")]
+pub mod plan;
 #[cfg(feature = "reference")]
 pub mod reference;
 pub mod sensors;
@@ -130,7 +135,10 @@ pub(crate) fn check_finite(input: &'static str, v: &[f64]) -> Result<(), Error> 
 }
 
 /// Passes `value` on if every number in it is finite.
-fn finite<const N: usize>(output: &'static str, value: [f64; N]) -> Result<[f64; N], Error> {
+pub(crate) fn finite<const N: usize>(
+    output: &'static str,
+    value: [f64; N],
+) -> Result<[f64; N], Error> {
     if value.iter().all(|x| x.is_finite()) {
         Ok(value)
     } else {
@@ -138,7 +146,7 @@ fn finite<const N: usize>(output: &'static str, value: [f64; N]) -> Result<[f64;
     }
 }
 
-fn finite_matrix<const R: usize, const C: usize>(
+pub(crate) fn finite_matrix<const R: usize, const C: usize>(
     output: &'static str,
     m: [[f64; C]; R],
 ) -> Result<[[f64; C]; R], Error> {
@@ -213,7 +221,7 @@ impl C5 {
     }
 
     /// Finite inputs; the singularity check is left to the divisors the kernel returns.
-    fn checked_motion(state: &State) -> Result<[[f64; 6]; 3], Error> {
+    pub(crate) fn checked_motion(state: &State) -> Result<[[f64; 6]; 3], Error> {
         let x = state.pose.to_array();
         let v = state.twist.to_array();
         let a = state.accel.to_array();
@@ -388,7 +396,7 @@ impl C5 {
         })
     }
 
-    fn check_joints(q: &[f64; 6], qd: &[f64; 6], qdd: &[f64; 6]) -> Result<(), Error> {
+    pub(crate) fn check_joints(q: &[f64; 6], qd: &[f64; 6], qdd: &[f64; 6]) -> Result<(), Error> {
         check_finite("q", q)?;
         check_finite("qd", qd)?;
         check_finite("qdd", qdd)

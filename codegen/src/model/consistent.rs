@@ -114,6 +114,19 @@ impl Mechanics for Consistent {
         motion_from_actuators(posed, joint)
     }
 
+    /// Through the inverse dynamics and the structured solve, which `M_x` would not share.
+    fn forward_dynamics_jacobians<'g>(
+        &self,
+        dynamics: &Dynamics<'g>,
+        posed: &Posed<'g>,
+        twist: &Vec6<'g>,
+        _gamma: &Vec6<'g>,
+        accel: &Vec6<'g>,
+        wrt: &super::derivatives::ForwardInputs<'_, 'g>,
+    ) -> [Vec<Expr<'g>>; 3] {
+        super::derivatives::by_inverse_dynamics(self, dynamics, posed, twist, accel, wrt)
+    }
+
     fn forward_dynamics<'g>(
         &self,
         dynamics: &Dynamics<'g>,

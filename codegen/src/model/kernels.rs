@@ -99,6 +99,12 @@ kernels! {
     JointInertia => "joint_inertia",
     /// `c_q`.
     JointBias => "joint_bias",
+    /// `Γ` and `∂Γ/∂(X, V, A)`.
+    InverseDynamicsDerivatives => "inverse_dynamics_derivatives",
+    /// `a` and `∂a/∂(X, V, Γ)`.
+    ForwardDynamicsDerivatives => "forward_dynamics_derivatives",
+    /// `Γ` and `∂Γ/∂(q, q̇, q̈)`.
+    InverseDynamicsJointDerivatives => "inverse_dynamics_joint_derivatives",
 }
 
 /// A generated kernel: what it computes and whether the robot's parameters are its inputs.
@@ -960,6 +966,7 @@ pub fn is_shared(kernel: Kernel) -> bool {
     TABLE
         .iter()
         .chain(&super::regressor::KERNELS)
+        .chain(&super::derivatives::KERNELS)
         .any(|d| d.kernel == kernel)
 }
 
@@ -1053,6 +1060,25 @@ pub fn specs(
             _ => suffix.is_empty(),
         })
         .filter(|d| d.reads != Reads::Geometry)
+        .map(|d| spec(d, mech, robot, &indices, suffix, None))
+        .collect())
+}
+
+/// The derivative kernels of `model` ([`super::derivatives::KERNELS`]) for `robot`, the
+/// robot's parameters as `parameters` says, named with `suffix` when some are inputs.
+///
+/// # Errors
+/// A bad [`ParameterSet`].
+pub fn derivative_specs(
+    model: Model,
+    robot: &Robot,
+    parameters: &ParameterSet,
+    suffix: &str,
+) -> Result<Vec<Entry>, Error> {
+    let mech = super::mechanics(model);
+    let indices = parameters.indices()?;
+    Ok(super::derivatives::KERNELS
+        .iter()
         .map(|d| spec(d, mech, robot, &indices, suffix, None))
         .collect())
 }

@@ -10,6 +10,7 @@
 
 pub mod bodies;
 pub mod consistent;
+pub mod derivatives;
 pub mod geometry;
 pub mod kernels;
 pub mod paper;
@@ -123,6 +124,22 @@ pub trait Mechanics: Sync {
         let w = self.inverse_jacobian(posed).transpose() * *gamma;
         let rhs = w - self.task_bias(dynamics, posed, twist);
         self.task_inertia(dynamics, posed).ldlt_solve(&rhs)
+    }
+
+    /// `∂a/∂X`, `∂a/∂V`, `∂a/∂Γ` (row-major 6×6 each) of `accel`, this model's forward dynamics
+    /// at the state, with respect to the kernel inputs `wrt`. Default:
+    /// [`derivatives::by_task_residual`], through `M_x` as the default forward dynamics solves.
+    #[allow(clippy::too_many_arguments)]
+    fn forward_dynamics_jacobians<'g>(
+        &self,
+        dynamics: &Dynamics<'g>,
+        posed: &Posed<'g>,
+        twist: &Vec6<'g>,
+        gamma: &Vec6<'g>,
+        accel: &Vec6<'g>,
+        wrt: &derivatives::ForwardInputs<'_, 'g>,
+    ) -> [Vec<crate::Expr<'g>>; 3] {
+        derivatives::by_task_residual(self, dynamics, posed, twist, gamma, accel, wrt)
     }
 
     /// The platform's motion from the actuators' (the joint setting): `V = J Q̇_a` and

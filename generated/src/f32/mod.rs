@@ -2,6 +2,9 @@
 
 //! Kernels in `f32`: one module per model, the same kernel names and arguments in each, and the kernel-set trait [`Kernels`] that every model implements.
 
+// The derivative kernels return a value, three Jacobians and the singularity terms.
+#![allow(clippy::type_complexity)]
+
 /// The consistent model, `f32`: The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
 pub mod consistent {

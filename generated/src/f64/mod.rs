@@ -2,6 +2,9 @@
 
 //! Kernels in `f64`: one module per model, the same kernel names and arguments in each, and the kernel-set trait [`Kernels`] that every model implements.
 
+// The derivative kernels return a value, three Jacobians and the singularity terms.
+#![allow(clippy::type_complexity)]
+
 /// The consistent model, `f64`: The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
 pub mod consistent {
@@ -13,6 +16,8 @@ pub mod consistent {
     include!("consistent_batch.rs");
     #[cfg(feature = "regressor")]
     include!("consistent_regressor.rs");
+    #[cfg(feature = "derivatives")]
+    include!("consistent_derivatives.rs");
 }
 /// The paper model, `f64`: The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
@@ -25,6 +30,8 @@ pub mod paper {
     include!("paper_batch.rs");
     #[cfg(feature = "regressor")]
     include!("paper_regressor.rs");
+    #[cfg(feature = "derivatives")]
+    include!("paper_derivatives.rs");
 }
 /// The kernels every model has, with one signature for all (`f64`): pick a model once ([`Consistent`], [`Paper`]) and call every kernel through it, statically (`K: Kernels`) or dynamically (`&dyn Kernels`).
 pub trait Kernels: core::fmt::Debug + Sync {
@@ -293,6 +300,57 @@ pub trait Kernels: core::fmt::Debug + Sync {
         qd: &[f64; 6],
         params: &[f64; 152],
     ) -> ([f64; 6], [f64; 4]);
+    #[cfg(feature = "derivatives")]
+    /// Inverse dynamics and its exact Jacobians: `Γ`, `∂Γ/∂X`, `∂Γ/∂V`, `∂Γ/∂(ω̇; a_C)`.
+    fn inverse_dynamics_derivatives(
+        &self,
+        pose: &[f64; 6],
+        twist: &[f64; 6],
+        accel: &[f64; 6],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]);
+    #[cfg(feature = "derivatives")]
+    /// Forward dynamics and its exact Jacobians: `a = (ω̇; a_C)`, `∂a/∂X`, `∂a/∂V`, `∂a/∂Γ`.
+    fn forward_dynamics_derivatives(
+        &self,
+        pose: &[f64; 6],
+        twist: &[f64; 6],
+        forces: &[f64; 6],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]);
+    #[cfg(feature = "derivatives")]
+    /// Inverse dynamics from the actuators' motion and its exact Jacobians: `Γ`, `∂Γ/∂q`, `∂Γ/∂q̇`, `∂Γ/∂q̈`.
+    fn inverse_dynamics_joint_derivatives(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 4]);
+    #[cfg(feature = "derivatives")]
+    /// Inverse dynamics and its exact Jacobians: `Γ`, `∂Γ/∂X`, `∂Γ/∂V`, `∂Γ/∂(ω̇; a_C)`.
+    fn inverse_dynamics_derivatives_params(
+        &self,
+        pose: &[f64; 6],
+        twist: &[f64; 6],
+        accel: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]);
+    #[cfg(feature = "derivatives")]
+    /// Forward dynamics and its exact Jacobians: `a = (ω̇; a_C)`, `∂a/∂X`, `∂a/∂V`, `∂a/∂Γ`.
+    fn forward_dynamics_derivatives_params(
+        &self,
+        pose: &[f64; 6],
+        twist: &[f64; 6],
+        forces: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]);
+    #[cfg(feature = "derivatives")]
+    /// Inverse dynamics from the actuators' motion and its exact Jacobians: `Γ`, `∂Γ/∂q`, `∂Γ/∂q̇`, `∂Γ/∂q̈`.
+    fn inverse_dynamics_joint_derivatives_params(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 4]);
     #[cfg(feature = "regressor")]
     /// The regressor `Y` of the standard parameters: `Γ = Y π`.
     fn regressor(
@@ -683,6 +741,69 @@ impl Kernels for Consistent {
         params: &[f64; 152],
     ) -> ([f64; 6], [f64; 4]) {
         consistent::joint_bias_params(q, qd, params)
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn inverse_dynamics_derivatives(
+        &self,
+        pose: &[f64; 6],
+        twist: &[f64; 6],
+        accel: &[f64; 6],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]) {
+        consistent::inverse_dynamics_derivatives(pose, twist, accel)
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn forward_dynamics_derivatives(
+        &self,
+        pose: &[f64; 6],
+        twist: &[f64; 6],
+        forces: &[f64; 6],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]) {
+        consistent::forward_dynamics_derivatives(pose, twist, forces)
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn inverse_dynamics_joint_derivatives(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 4]) {
+        consistent::inverse_dynamics_joint_derivatives(q, qd, qdd)
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn inverse_dynamics_derivatives_params(
+        &self,
+        pose: &[f64; 6],
+        twist: &[f64; 6],
+        accel: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]) {
+        consistent::inverse_dynamics_derivatives_params(pose, twist, accel, params)
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn forward_dynamics_derivatives_params(
+        &self,
+        pose: &[f64; 6],
+        twist: &[f64; 6],
+        forces: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]) {
+        consistent::forward_dynamics_derivatives_params(pose, twist, forces, params)
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn inverse_dynamics_joint_derivatives_params(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 4]) {
+        consistent::inverse_dynamics_joint_derivatives_params(q, qd, qdd, params)
     }
     #[cfg(feature = "regressor")]
     #[inline]
@@ -1092,6 +1213,69 @@ impl Kernels for Paper {
         params: &[f64; 152],
     ) -> ([f64; 6], [f64; 4]) {
         paper::joint_bias_params(q, qd, params)
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn inverse_dynamics_derivatives(
+        &self,
+        pose: &[f64; 6],
+        twist: &[f64; 6],
+        accel: &[f64; 6],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]) {
+        paper::inverse_dynamics_derivatives(pose, twist, accel)
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn forward_dynamics_derivatives(
+        &self,
+        pose: &[f64; 6],
+        twist: &[f64; 6],
+        forces: &[f64; 6],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]) {
+        paper::forward_dynamics_derivatives(pose, twist, forces)
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn inverse_dynamics_joint_derivatives(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 4]) {
+        paper::inverse_dynamics_joint_derivatives(q, qd, qdd)
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn inverse_dynamics_derivatives_params(
+        &self,
+        pose: &[f64; 6],
+        twist: &[f64; 6],
+        accel: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]) {
+        paper::inverse_dynamics_derivatives_params(pose, twist, accel, params)
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn forward_dynamics_derivatives_params(
+        &self,
+        pose: &[f64; 6],
+        twist: &[f64; 6],
+        forces: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]) {
+        paper::forward_dynamics_derivatives_params(pose, twist, forces, params)
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn inverse_dynamics_joint_derivatives_params(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 4]) {
+        paper::inverse_dynamics_joint_derivatives_params(q, qd, qdd, params)
     }
     #[cfg(feature = "regressor")]
     #[inline]
@@ -1676,6 +1860,107 @@ impl Kernels for AnyModel {
         match self {
             AnyModel::Consistent => Consistent.joint_bias_params(q, qd, params),
             AnyModel::Paper => Paper.joint_bias_params(q, qd, params),
+        }
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn inverse_dynamics_derivatives(
+        &self,
+        pose: &[f64; 6],
+        twist: &[f64; 6],
+        accel: &[f64; 6],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]) {
+        match self {
+            AnyModel::Consistent => {
+                Consistent.inverse_dynamics_derivatives(pose, twist, accel)
+            }
+            AnyModel::Paper => Paper.inverse_dynamics_derivatives(pose, twist, accel),
+        }
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn forward_dynamics_derivatives(
+        &self,
+        pose: &[f64; 6],
+        twist: &[f64; 6],
+        forces: &[f64; 6],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]) {
+        match self {
+            AnyModel::Consistent => {
+                Consistent.forward_dynamics_derivatives(pose, twist, forces)
+            }
+            AnyModel::Paper => Paper.forward_dynamics_derivatives(pose, twist, forces),
+        }
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn inverse_dynamics_joint_derivatives(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 4]) {
+        match self {
+            AnyModel::Consistent => {
+                Consistent.inverse_dynamics_joint_derivatives(q, qd, qdd)
+            }
+            AnyModel::Paper => Paper.inverse_dynamics_joint_derivatives(q, qd, qdd),
+        }
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn inverse_dynamics_derivatives_params(
+        &self,
+        pose: &[f64; 6],
+        twist: &[f64; 6],
+        accel: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]) {
+        match self {
+            AnyModel::Consistent => {
+                Consistent
+                    .inverse_dynamics_derivatives_params(pose, twist, accel, params)
+            }
+            AnyModel::Paper => {
+                Paper.inverse_dynamics_derivatives_params(pose, twist, accel, params)
+            }
+        }
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn forward_dynamics_derivatives_params(
+        &self,
+        pose: &[f64; 6],
+        twist: &[f64; 6],
+        forces: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]) {
+        match self {
+            AnyModel::Consistent => {
+                Consistent
+                    .forward_dynamics_derivatives_params(pose, twist, forces, params)
+            }
+            AnyModel::Paper => {
+                Paper.forward_dynamics_derivatives_params(pose, twist, forces, params)
+            }
+        }
+    }
+    #[cfg(feature = "derivatives")]
+    #[inline]
+    fn inverse_dynamics_joint_derivatives_params(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 4]) {
+        match self {
+            AnyModel::Consistent => {
+                Consistent.inverse_dynamics_joint_derivatives_params(q, qd, qdd, params)
+            }
+            AnyModel::Paper => {
+                Paper.inverse_dynamics_joint_derivatives_params(q, qd, qdd, params)
+            }
         }
     }
     #[cfg(feature = "regressor")]

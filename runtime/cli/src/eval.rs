@@ -20,6 +20,12 @@ pub struct EvalArgs {
     /// of the identified robot with its friction (the robot file gives only the geometry).
     #[arg(long)]
     base_parameters: Option<PathBuf>,
+    /// Also write the inverse dynamics' exact Jacobians, 6×6 each, row `i` actuator `i`:
+    /// `d_gamma_d_pose`, `d_gamma_d_twist`, `d_gamma_d_acceleration` (columns α β γ xc yc zc;
+    /// ωx ωy ωz vx vy vz; ω̇x ω̇y ω̇z ax ay az), or for lines of actuator values `d_gamma_d_q`,
+    /// `d_gamma_d_qd`, `d_gamma_d_qdd` (columns actuators 1..6).
+    #[arg(long, conflicts_with = "base_parameters")]
+    derivatives: bool,
 }
 
 /// The keys of an `eval` line: the platform's state, or the actuators' (`q`, `qd`, `qdd`),
@@ -135,10 +141,10 @@ pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
         .as_ref()
         .map(|p| load_estimate(&robot, p))
         .transpose()?;
-    eval(&robot, estimate.as_ref())
+    eval(&robot, estimate.as_ref(), args.derivatives)
 }
 
-fn eval(robot: &C5, identified: Option<&Estimate>) -> crate::Result<ExitCode> {
+fn eval(robot: &C5, identified: Option<&Estimate>, derivatives: bool) -> crate::Result<ExitCode> {
     jsonl::answer_lines(|line| {
         let (state, joints) = match parse_line(line)? {
             Line::Platform(state) => (state, None),
@@ -166,6 +172,33 @@ fn eval(robot: &C5, identified: Option<&Estimate>) -> crate::Result<ExitCode> {
             out["velocity"] = json!(state.twist.velocity);
             out["omega_dot"] = json!(state.accel.omega_dot);
             out["acceleration"] = json!(state.accel.linear);
+        }
+        if derivatives {
+            let keys = match joints {
+                Some([q, qd, qdd]) => {
+                    let d = robot
+                        .inverse_dynamics_joint_derivatives(&q, &qd, &qdd)
+                        .map_err(|e| e.to_string())?;
+                    [
+                        ("d_gamma_d_q", d.d_q),
+                        ("d_gamma_d_qd", d.d_qd),
+                        ("d_gamma_d_qdd", d.d_qdd),
+                    ]
+                }
+                None => {
+                    let d = robot
+                        .inverse_dynamics_derivatives(&state)
+                        .map_err(|e| e.to_string())?;
+                    [
+                        ("d_gamma_d_pose", d.d_pose),
+                        ("d_gamma_d_twist", d.d_twist),
+                        ("d_gamma_d_acceleration", d.d_accel),
+                    ]
+                }
+            };
+            for (key, jacobian) in keys {
+                out[key] = json!(jacobian);
+            }
         }
         if let Some(estimate) = identified {
             let gamma = estimate.forces(robot, &state).map_err(|e| e.to_string())?;

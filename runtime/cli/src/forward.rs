@@ -14,6 +14,11 @@ use std::process::ExitCode;
 pub struct ForwardArgs {
     #[command(flatten)]
     robot: RobotArgs,
+    /// Also write the forward dynamics' exact Jacobians, 6×6 each, rows ω̇x ω̇y ω̇z ax ay az:
+    /// `d_acceleration_d_pose`, `d_acceleration_d_twist`, `d_acceleration_d_gamma` (columns
+    /// α β γ xc yc zc; ωx ωy ωz vx vy vz; actuators 1..6).
+    #[arg(long)]
+    derivatives: bool,
 }
 
 /// The keys of a `forward` line.
@@ -50,6 +55,18 @@ pub fn run(args: &ForwardArgs) -> crate::Result<ExitCode> {
             velocity: [v[2][0], v[2][1], v[2][2]],
         };
         let gamma: [f64; 6] = std::array::from_fn(|i| v[3][i]);
+        if args.derivatives {
+            let d = robot
+                .forward_dynamics_derivatives(&pose, &twist, &gamma)
+                .map_err(|e| e.to_string())?;
+            return Ok(json!({
+                "omega_dot": d.accel.omega_dot,
+                "acceleration": d.accel.linear,
+                "d_acceleration_d_pose": d.d_pose,
+                "d_acceleration_d_twist": d.d_twist,
+                "d_acceleration_d_gamma": d.d_gamma,
+            }));
+        }
         let a = robot
             .forward_dynamics(&pose, &twist, &gamma)
             .map_err(|e| e.to_string())?;

@@ -10,6 +10,7 @@ mod forward;
 mod identify;
 mod jsonl;
 mod options;
+mod plan;
 mod simulate;
 mod track;
 mod trajectory_csv;
@@ -41,6 +42,7 @@ enum Command {
     Excite(excite::ExciteArgs),
     Forward(forward::ForwardArgs),
     Track(track::TrackArgs),
+    Plan(plan::PlanArgs),
     Audit(audit::AuditArgs),
 }
 
@@ -74,6 +76,7 @@ fn main() -> ExitCode {
         Command::Excite(args) => excite::run(&args),
         Command::Forward(args) => forward::run(&args),
         Command::Track(args) => track::run_cmd(&args),
+        Command::Plan(args) => plan::run(&args),
         Command::Audit(args) => audit::run(&args),
     };
     match result {
