@@ -62,6 +62,8 @@ pub enum Kernel {
     JointInertia,
     /// `joint_bias`.
     JointBias,
+    /// `limit_geometry`.
+    LimitGeometry,
     /// `inverse_dynamics_derivatives`.
     InverseDynamicsDerivatives,
     /// `forward_dynamics_derivatives`.
@@ -102,6 +104,7 @@ impl Kernel {
             Kernel::InverseDynamicsJoint => "inverse_dynamics_joint",
             Kernel::JointInertia => "joint_inertia",
             Kernel::JointBias => "joint_bias",
+            Kernel::LimitGeometry => "limit_geometry",
             Kernel::InverseDynamicsDerivatives => "inverse_dynamics_derivatives",
             Kernel::ForwardDynamicsDerivatives => "forward_dynamics_derivatives",
             Kernel::InverseDynamicsJointDerivatives => {
@@ -484,6 +487,22 @@ pub const KERNELS: &[Entry] = &[
         chapter: None,
     },
     Entry {
+        kernel: Kernel::LimitGeometry,
+        parameters: false,
+        name: "limit_geometry",
+        model: "consistent",
+        setting: "pose",
+        equations: &["15", "16", "27"],
+        count: Count {
+            mul: 73,
+            div: 4,
+            add: 52,
+            neg: 4,
+            calls: &[("sin_cos", 3)],
+        },
+        chapter: None,
+    },
+    Entry {
         kernel: Kernel::InverseKinematics,
         parameters: true,
         name: "inverse_kinematics_params",
@@ -819,6 +838,22 @@ pub const KERNELS: &[Entry] = &[
             add: 406,
             neg: 10,
             calls: &[("sqrt", 3)],
+        },
+        chapter: None,
+    },
+    Entry {
+        kernel: Kernel::LimitGeometry,
+        parameters: true,
+        name: "limit_geometry_params",
+        model: "consistent",
+        setting: "pose",
+        equations: &["15", "16", "27"],
+        count: Count {
+            mul: 73,
+            div: 4,
+            add: 52,
+            neg: 4,
+            calls: &[("sin_cos", 3)],
         },
         chapter: None,
     },
@@ -1247,6 +1282,22 @@ pub const KERNELS: &[Entry] = &[
         chapter: None,
     },
     Entry {
+        kernel: Kernel::LimitGeometry,
+        parameters: false,
+        name: "limit_geometry",
+        model: "paper",
+        setting: "pose",
+        equations: &["15", "16", "27"],
+        count: Count {
+            mul: 73,
+            div: 4,
+            add: 52,
+            neg: 4,
+            calls: &[("sin_cos", 3)],
+        },
+        chapter: None,
+    },
+    Entry {
         kernel: Kernel::LegJointAccelerations,
         parameters: false,
         name: "leg_joint_accelerations",
@@ -1555,6 +1606,22 @@ pub const KERNELS: &[Entry] = &[
             add: 637,
             neg: 14,
             calls: &[("sqrt", 3)],
+        },
+        chapter: None,
+    },
+    Entry {
+        kernel: Kernel::LimitGeometry,
+        parameters: true,
+        name: "limit_geometry_params",
+        model: "paper",
+        setting: "pose",
+        equations: &["15", "16", "27"],
+        count: Count {
+            mul: 73,
+            div: 4,
+            add: 52,
+            neg: 4,
+            calls: &[("sin_cos", 3)],
         },
         chapter: None,
     },

@@ -27,6 +27,14 @@ pub enum Error {
         what: &'static str,
         rule: &'static str,
     },
+    /// A limit of the robot is broken: which, at which actuator (1..6), the value there and
+    /// its margin (negative: how far beyond the limit), in the limit's unit.
+    Limit {
+        limit: crate::limits::Limit,
+        actuator: usize,
+        value: f64,
+        margin: f64,
+    },
     /// A slice argument has the wrong length.
     WrongLength {
         input: &'static str,
@@ -77,6 +85,18 @@ impl fmt::Display for Error {
                 expected,
                 got,
             } => write!(f, "{input} has {got} values, expected {expected}"),
+            Error::Limit {
+                limit,
+                actuator,
+                value,
+                margin,
+            } => write!(
+                f,
+                "{limit} limit exceeded at actuator {actuator}: {value:.6} {unit}, {:.6} {unit} \
+                 beyond the limit",
+                -margin,
+                unit = limit.unit()
+            ),
         }
     }
 }

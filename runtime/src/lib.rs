@@ -43,6 +43,7 @@ pub mod dynamics;
 pub mod error;
 #[cfg(feature = "identify")]
 pub mod identify;
+pub mod limits;
 mod math;
 #[cfg(feature = "plan")]
 pub mod plan;
@@ -52,8 +53,9 @@ pub mod sensors;
 pub mod trajectory;
 pub mod types;
 
-pub use c5_robot::{Model, Robot};
+pub use c5_robot::{Limits, Model, Robot};
 pub use error::Error;
+pub use limits::{Limit, LimitMargins};
 pub use types::{Acceleration, Pose, State, Twist};
 
 pub use c5_generated::f64::Kernels;

@@ -14,6 +14,9 @@ mod imp {
     pub fn asin(x: f64) -> f64 {
         x.asin()
     }
+    pub fn acos(x: f64) -> f64 {
+        x.acos()
+    }
     pub fn exp(x: f64) -> f64 {
         x.exp()
     }
@@ -35,6 +38,9 @@ mod imp {
     }
     pub fn asin(x: f64) -> f64 {
         libm::asin(x)
+    }
+    pub fn acos(x: f64) -> f64 {
+        libm::acos(x)
     }
     pub fn exp(x: f64) -> f64 {
         libm::exp(x)

@@ -30,12 +30,14 @@ extern crate alloc;
 
 mod error;
 mod inertia;
+mod limits;
 mod model;
 mod robot;
 mod standard;
 
 pub use error::Error;
 pub use inertia::check_inertia;
+pub use limits::Limits;
 pub use model::Model;
 pub use robot::{
     standard_of, RigidBody, Robot, Rod, Segment, AXIS, GEOMETRY_PARAMETERS, PARAMETERS,

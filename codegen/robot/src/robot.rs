@@ -6,7 +6,7 @@
 //! vector once.
 
 use crate::inertia::check_inertia;
-use crate::Error;
+use crate::{Error, Limits};
 use alloc::format;
 use alloc::string::{String, ToString};
 use alloc::vec;
@@ -82,6 +82,13 @@ pub struct Robot<T = f64> {
     pub platform: RigidBody<T>,
     /// Segments 1..6.
     pub segments: [Segment<T>; 6],
+    /// The physical limits (strokes, plates, tilt, speed, force); none by default. Not
+    /// parameters of the kernels: the runtime checks them.
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Limits::is_unset")
+    )]
+    pub limits: Limits,
 }
 
 fn diag(a: f64, b: f64, c: f64) -> [[f64; 3]; 3] {
@@ -127,6 +134,7 @@ impl Default for Robot<f64> {
                 segment(2),
                 segment(2),
             ],
+            limits: Limits::default(),
         }
     }
 }
@@ -212,10 +220,12 @@ impl<T: Copy> Robot<T> {
             gravity: [v; 3],
             platform: body,
             segments: [seg; 6],
+            limits: Limits::default(),
         }
     }
 
-    /// Rebuilds a robot from its parameter vector (the inverse of [`Robot::flatten`]).
+    /// Rebuilds a robot from its parameter vector (the inverse of [`Robot::flatten`]), without
+    /// limits.
     ///
     /// # Panics
     /// If `values` does not hold [`Robot::PARAMETERS`] entries.
@@ -260,12 +270,16 @@ impl<T: Copy> Robot<T> {
             gravity,
             platform,
             segments,
+            limits: Limits::default(),
         }
     }
 
-    /// Maps every parameter through `f`.
+    /// Maps every parameter through `f` (the limits, not parameters, are kept).
     pub fn map<U: Copy>(&self, f: impl FnMut(T) -> U) -> Robot<U> {
-        Robot::unflatten(&self.flatten().into_iter().map(f).collect::<Vec<_>>())
+        Robot {
+            limits: self.limits,
+            ..Robot::unflatten(&self.flatten().into_iter().map(f).collect::<Vec<_>>())
+        }
     }
 }
 
@@ -345,18 +359,26 @@ fn invalid(field: impl Into<String>, rule: &str) -> Error {
 
 #[cfg(feature = "toml")]
 impl Robot<f64> {
-    /// Reads and validates a robot description in TOML (the serde form of [`Robot`]; every
-    /// field is required, unknown fields are refused). `source` names the file in errors.
+    /// Reads and validates a robot description in TOML (the serde form of [`Robot`]). Every
+    /// field left out takes the chapter's value ([`Robot::default`]): a file may give only
+    /// `half_spacing`, or only a `[limits]` table; a `[[segments]]` entry overrides the segment
+    /// of its position. Unknown fields are refused. `source` names the file in errors.
     ///
     /// # Errors
-    /// [`Error::File`] naming the source and what is wrong: a syntax error, a missing or
-    /// unknown field, a wrong type, or a broken rule of [`Robot::validate`].
+    /// [`Error::File`] naming the source and what is wrong: a syntax error, an unknown field,
+    /// a wrong type, or a broken rule of [`Robot::validate`].
     pub fn from_toml(text: &str, source: &str) -> Result<Self, Error> {
         let file_error = |message: String| Error::File {
             source: source.to_string(),
             message,
         };
-        let robot: Robot = toml::from_str(text).map_err(|e| file_error(e.to_string()))?;
+        let given: toml::Table = toml::from_str(text).map_err(|e| file_error(e.to_string()))?;
+        let mut merged =
+            toml::Table::try_from(Robot::default()).expect("the default robot serialises");
+        merge(&mut merged, given);
+        let robot: Robot = toml::Value::Table(merged)
+            .try_into()
+            .map_err(|e: toml::de::Error| file_error(e.to_string()))?;
         robot.validate().map_err(|e| file_error(e.to_string()))?;
         Ok(robot)
     }
@@ -376,6 +398,31 @@ impl Robot<f64> {
     /// The description as TOML, as [`Robot::from_toml`] reads it.
     pub fn to_toml(&self) -> String {
         toml::to_string(self).expect("a robot of finite numbers serialises")
+    }
+}
+
+/// `given` laid over `base`: tables merge key by key, arrays of tables element by element,
+/// anything else is replaced.
+#[cfg(feature = "toml")]
+fn merge(base: &mut toml::Table, given: toml::Table) {
+    use toml::Value;
+    for (key, value) in given {
+        match (base.get_mut(&key), value) {
+            (Some(Value::Table(b)), Value::Table(g)) => merge(b, g),
+            (Some(Value::Array(b)), Value::Array(g))
+                if g.iter().all(Value::is_table) && b.iter().all(Value::is_table) =>
+            {
+                for (k, item) in g.into_iter().enumerate() {
+                    match (b.get_mut(k), item) {
+                        (Some(Value::Table(bt)), Value::Table(gt)) => merge(bt, gt),
+                        (_, item) => b.push(item),
+                    }
+                }
+            }
+            (_, value) => {
+                base.insert(key, value);
+            }
+        }
     }
 }
 
@@ -423,7 +470,7 @@ impl Robot<f64> {
             )?;
             body(&format!("segments[{n}].joint"), &s.joint)?;
         }
-        Ok(())
+        self.limits.validate()
     }
 }
 
@@ -495,12 +542,12 @@ mod tests {
     #[test]
     fn toml_errors_name_file_field_and_rule() {
         let text = Robot::default().to_toml();
-        let missing = text.replacen("half_spacing = 0.2\n", "", 1);
-        let e = Robot::from_toml(&missing, "robot.toml")
+        let unknown = text.replacen("half_spacing = 0.2", "half_spacing = 0.2\nspacing = 1", 1);
+        let e = Robot::from_toml(&unknown, "robot.toml")
             .unwrap_err()
             .to_string();
         assert!(
-            e.starts_with("robot.toml: ") && e.contains("missing field `half_spacing`"),
+            e.starts_with("robot.toml: ") && e.contains("unknown field `spacing`"),
             "{e}"
         );
         let wrong = text.replacen("half_spacing = 0.2", "half_spacing = \"wide\"", 1);
@@ -516,6 +563,83 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("`platform.mass` must be positive"), "{e}");
+    }
+
+    /// A file gives what differs from the chapter's robot; everything else is the chapter's.
+    #[cfg(feature = "toml")]
+    #[test]
+    fn a_partial_file_is_the_default_robot_but_for_what_it_gives() {
+        let r = Robot::from_toml("half_spacing = 0.25", "robot.toml").unwrap();
+        assert_eq!(
+            r,
+            Robot {
+                half_spacing: 0.25,
+                ..Robot::default()
+            }
+        );
+        let r = Robot::from_toml(
+            "[platform]\nmass = 12.0\n[[segments]]\n[segments.joint]\nmass = 1.0",
+            "robot.toml",
+        )
+        .unwrap();
+        let mut want = Robot::default();
+        want.platform.mass = 12.0;
+        want.segments[0].joint.mass = 1.0;
+        assert_eq!(r, want);
+        let r = Robot::from_toml(
+            "[limits]\nstroke = [-0.1, 0.1]\nplate_travel = 0.05\ntilt = 0.5",
+            "robot.toml",
+        )
+        .unwrap();
+        let limits = Limits {
+            stroke: Some([[-0.1, 0.1]; 6]),
+            plate_travel: Some([0.05, 0.05]),
+            tilt: Some(0.5),
+            ..Limits::default()
+        };
+        assert_eq!(
+            r,
+            Robot {
+                limits,
+                ..Robot::default()
+            }
+        );
+        // Round trip with limits, and six strokes or two travels given one by one.
+        assert_eq!(Robot::from_toml(&r.to_toml(), "again.toml").unwrap(), r);
+        let text = "[limits]\nstroke = [[-0.1, 0.1], [-0.1, 0.1], [-0.2, 0.1], [-0.1, 0.1], \
+                    [-0.1, 0.1], [-0.1, 0.3]]\nplate_travel = [0.04, 0.06]";
+        let r = Robot::from_toml(text, "robot.toml").unwrap();
+        assert_eq!(r.limits.stroke.unwrap()[2], [-0.2, 0.1]);
+        assert_eq!(r.limits.plate_travel, Some([0.04, 0.06]));
+        assert_eq!(Robot::from_toml(&r.to_toml(), "again.toml").unwrap(), r);
+    }
+
+    #[cfg(feature = "toml")]
+    #[test]
+    fn bad_limits_are_refused_by_name() {
+        for (text, needle) in [
+            (
+                "stroke = [0.1, -0.1]",
+                "`limits.stroke[1]` must be [min, max] with min < max",
+            ),
+            (
+                "stroke = [0.1]",
+                "`stroke` takes [min, max] or six [min, max] pairs",
+            ),
+            (
+                "plate_travel = -0.01",
+                "`limits.plate_travel` must be positive",
+            ),
+            ("tilt = 2.0", "`limits.tilt` must be in (0, π/2)"),
+            ("speed = 0", "`limits.speed` must be positive"),
+            ("force = -5", "`limits.force` must be positive"),
+            ("torque = 5", "unknown field `torque`"),
+        ] {
+            let e = Robot::from_toml(&format!("[limits]\n{text}"), "robot.toml")
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(needle), "{text}: {e}");
+        }
     }
 
     #[test]

@@ -99,6 +99,8 @@ kernels! {
     JointInertia => "joint_inertia",
     /// `c_q`.
     JointBias => "joint_bias",
+    /// What the limits bound: ball positions, plate offsets, tilt cosines.
+    LimitGeometry => "limit_geometry",
     /// `Γ` and `∂Γ/∂(X, V, A)`.
     InverseDynamicsDerivatives => "inverse_dynamics_derivatives",
     /// `a` and `∂a/∂(X, V, Γ)`.
@@ -957,6 +959,55 @@ pub const TABLE: &[Decl] = &[
         batch: false,
         chapter: None,
         build: Build::Robot(|cx| vec![cx.inverse_dynamics().to_vec()]),
+    },
+    Decl {
+        kernel: Kernel::LimitGeometry,
+        title: "What the robot's limits bound, at a pose: each ball's position `Q_i1` on its \
+                actuator, its offset on its plate, and the cosine of its tilt.",
+        doc: "The plate's offset is `Rᵀ (B_i - C) - A_i`, where the ball sits in the platform \
+              frame against where it sits at the home pose, along the plate's two axes (the \
+              platform axes other than its normal, in the order x, y, z). The tilt is the angle \
+              between the rod's axis `n_i` and the plate's normal `m_i`: its cosine is \
+              `n_i · m_i = r_kk`. Every limit of `c5_robot::Limits` but speed and force is a \
+              bound on one of these.",
+        equations: Cite::Fixed(&["15", "16", "27"]),
+        inputs: &[Input::Pose],
+        outputs: &[
+            Output {
+                name: "q",
+                shape: Shape::Vector(6),
+                doc: "`Q_i1` (m), segment order",
+            },
+            Output {
+                name: "plate",
+                shape: Shape::Vector(12),
+                doc: "each ball's offset on its plate (m), two per segment: \
+                      `[u1a, u1b, u2a, u2b, …]`",
+            },
+            Output {
+                name: "tilt_cos",
+                shape: Shape::Vector(6),
+                doc: "`cos` of each ball's tilt, `n_i · m_i`",
+            },
+        ],
+        guard: Guard::Eq16,
+        reads: Reads::Robot,
+        batch: true,
+        chapter: None,
+        build: Build::Robot(|cx| {
+            let posed = cx.posed();
+            let rt = posed.r.transpose();
+            let mut plate = Vec::with_capacity(12);
+            let mut tilt = Vec::with_capacity(6);
+            for i in 0..6 {
+                // `P_i2 = C - B_i`: the ball from the centre is `-P_i2`.
+                let offset = -(rt * posed.p[i]) - geometry::anchor(cx.half_spacing, i);
+                let k = c5_robot::AXIS[i];
+                plate.extend((0..3).filter(|&a| a != k).map(|a| offset[a]));
+                tilt.push(geometry::divisor(&posed.r, i));
+            }
+            vec![posed.q.to_vec(), plate, tilt]
+        }),
     },
 ];
 

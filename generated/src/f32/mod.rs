@@ -137,6 +137,17 @@ pub trait Kernels: core::fmt::Debug + Sync {
     fn joint_inertia(&self, q: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 4]);
     /// Joint-space bias `c_q` of `Γ = M_q Q̈_a + c_q`: Coriolis, centrifugal, gravity.
     fn joint_bias(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]);
+    /// What the robot's limits bound, at a pose: each ball's position `Q_i1` on its actuator, its offset on its plate, and the cosine of its tilt.
+    fn limit_geometry(
+        &self,
+        pose: &[f32; 6],
+    ) -> ([f32; 6], [f32; 12], [f32; 6], [f32; 3]);
+    #[cfg(feature = "batch")]
+    /// [`Kernels::limit_geometry`] of 8 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what the single-state kernel computes.
+    fn limit_geometry_x8(
+        &self,
+        pose: &[[f32; 8]; 6],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 12], [[f32; 8]; 6], [[f32; 8]; 3]);
     /// Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.
     fn inverse_kinematics_params(
         &self,
@@ -292,6 +303,19 @@ pub trait Kernels: core::fmt::Debug + Sync {
         qd: &[f32; 6],
         params: &[f32; 152],
     ) -> ([f32; 6], [f32; 4]);
+    /// What the robot's limits bound, at a pose: each ball's position `Q_i1` on its actuator, its offset on its plate, and the cosine of its tilt.
+    fn limit_geometry_params(
+        &self,
+        pose: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 12], [f32; 6], [f32; 3]);
+    #[cfg(feature = "batch")]
+    /// [`Kernels::limit_geometry_params`] of 8 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what the single-state kernel computes.
+    fn limit_geometry_params_x8(
+        &self,
+        pose: &[[f32; 8]; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 12], [[f32; 8]; 6], [[f32; 8]; 3]);
 }
 /// The consistent model's kernels: The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -457,6 +481,21 @@ impl Kernels for Consistent {
     #[inline]
     fn joint_bias(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
         consistent::joint_bias(q, qd)
+    }
+    #[inline]
+    fn limit_geometry(
+        &self,
+        pose: &[f32; 6],
+    ) -> ([f32; 6], [f32; 12], [f32; 6], [f32; 3]) {
+        consistent::limit_geometry(pose)
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn limit_geometry_x8(
+        &self,
+        pose: &[[f32; 8]; 6],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 12], [[f32; 8]; 6], [[f32; 8]; 3]) {
+        consistent::limit_geometry_x8(pose)
     }
     #[inline]
     fn inverse_kinematics_params(
@@ -655,6 +694,23 @@ impl Kernels for Consistent {
     ) -> ([f32; 6], [f32; 4]) {
         consistent::joint_bias_params(q, qd, params)
     }
+    #[inline]
+    fn limit_geometry_params(
+        &self,
+        pose: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 12], [f32; 6], [f32; 3]) {
+        consistent::limit_geometry_params(pose, params)
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn limit_geometry_params_x8(
+        &self,
+        pose: &[[f32; 8]; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 12], [[f32; 8]; 6], [[f32; 8]; 3]) {
+        consistent::limit_geometry_params_x8(pose, params)
+    }
 }
 /// The paper model's kernels: The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -820,6 +876,21 @@ impl Kernels for Paper {
     #[inline]
     fn joint_bias(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
         paper::joint_bias(q, qd)
+    }
+    #[inline]
+    fn limit_geometry(
+        &self,
+        pose: &[f32; 6],
+    ) -> ([f32; 6], [f32; 12], [f32; 6], [f32; 3]) {
+        paper::limit_geometry(pose)
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn limit_geometry_x8(
+        &self,
+        pose: &[[f32; 8]; 6],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 12], [[f32; 8]; 6], [[f32; 8]; 3]) {
+        paper::limit_geometry_x8(pose)
     }
     #[inline]
     fn inverse_kinematics_params(
@@ -1017,6 +1088,23 @@ impl Kernels for Paper {
         params: &[f32; 152],
     ) -> ([f32; 6], [f32; 4]) {
         paper::joint_bias_params(q, qd, params)
+    }
+    #[inline]
+    fn limit_geometry_params(
+        &self,
+        pose: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 12], [f32; 6], [f32; 3]) {
+        paper::limit_geometry_params(pose, params)
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn limit_geometry_params_x8(
+        &self,
+        pose: &[[f32; 8]; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 12], [[f32; 8]; 6], [[f32; 8]; 3]) {
+        paper::limit_geometry_params_x8(pose, params)
     }
 }
 /// Every model's kernels, the default model first.
@@ -1267,6 +1355,27 @@ impl Kernels for AnyModel {
         match self {
             AnyModel::Consistent => Consistent.joint_bias(q, qd),
             AnyModel::Paper => Paper.joint_bias(q, qd),
+        }
+    }
+    #[inline]
+    fn limit_geometry(
+        &self,
+        pose: &[f32; 6],
+    ) -> ([f32; 6], [f32; 12], [f32; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.limit_geometry(pose),
+            AnyModel::Paper => Paper.limit_geometry(pose),
+        }
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn limit_geometry_x8(
+        &self,
+        pose: &[[f32; 8]; 6],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 12], [[f32; 8]; 6], [[f32; 8]; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.limit_geometry_x8(pose),
+            AnyModel::Paper => Paper.limit_geometry_x8(pose),
         }
     }
     #[inline]
@@ -1555,6 +1664,29 @@ impl Kernels for AnyModel {
         match self {
             AnyModel::Consistent => Consistent.joint_bias_params(q, qd, params),
             AnyModel::Paper => Paper.joint_bias_params(q, qd, params),
+        }
+    }
+    #[inline]
+    fn limit_geometry_params(
+        &self,
+        pose: &[f32; 6],
+        params: &[f32; 152],
+    ) -> ([f32; 6], [f32; 12], [f32; 6], [f32; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.limit_geometry_params(pose, params),
+            AnyModel::Paper => Paper.limit_geometry_params(pose, params),
+        }
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn limit_geometry_params_x8(
+        &self,
+        pose: &[[f32; 8]; 6],
+        params: &[f32; 152],
+    ) -> ([[f32; 8]; 6], [[f32; 8]; 12], [[f32; 8]; 6], [[f32; 8]; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.limit_geometry_params_x8(pose, params),
+            AnyModel::Paper => Paper.limit_geometry_params_x8(pose, params),
         }
     }
 }

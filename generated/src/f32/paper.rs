@@ -28,6 +28,7 @@
 //   inverse_dynamics_joint             347    3   330    4  3 sqrt
 //   joint_inertia                      213    3   243    5  3 sqrt
 //   joint_bias                         313    3   273    4  3 sqrt
+//   limit_geometry                      73    4    52    4  3 sin_cos
 //   leg_joint_accelerations             70    4    52    0  3 sin_cos
 //   inverse_kinematics_params           24    6    22    5  3 sin_cos
 //   inverse_jacobian_pose_params         5    0     7    3  3 sin_cos
@@ -47,6 +48,7 @@
 //   inverse_dynamics_joint_params     1053    4   734   17  3 sqrt
 //   joint_inertia_params              1444    4  1063   50  3 sqrt
 //   joint_bias_params                  791    4   637   14  3 sqrt
+//   limit_geometry_params               73    4    52    4  3 sin_cos
 //   leg_joint_accelerations_params      70    4    52    0  3 sin_cos
 
 /// Inverse Jacobian `J⁻¹` of the paper model, rows `[(n_i × P_i2)ᵀ n_iᵀ]`.
@@ -5950,6 +5952,174 @@ pub fn joint_bias(q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
     let t594: f32 = -t170;
     let t595: f32 = -t186;
     ([t385, t386, t506, t511, t577, t591], [t592, t593, t594, t595])
+}
+/// What the robot's limits bound, at a pose: each ball's position `Q_i1` on its actuator, its offset on its plate, and the cosine of its tilt.
+///
+/// Equations: 15, 16, 27. Setting: pose.
+///
+/// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The plate's offset is `Rᵀ (B_i - C) - A_i`, where the ball sits in the platform frame against where it sits at the home pose, along the plate's two axes (the platform axes other than its normal, in the order x, y, z). The tilt is the angle between the rod's axis `n_i` and the plate's normal `m_i`: its cosine is `n_i · m_i = r_kk`. Every limit of `c5_robot::Limits` but speed and force is a bound on one of these.
+/// The robot's parameters are folded in as constants.
+/// The last result holds the divisors of eq 16 for a singularity check.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+///
+/// # Returns
+///
+/// - `q`: `Q_i1` (m), segment order
+/// - `plate`: each ball's offset on its plate (m), two per segment: `[u1a, u1b, u2a, u2b, …]`
+/// - `tilt_cos`: `cos` of each ball's tilt, `n_i · m_i`
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
+///
+/// Operations: 73 mul, 4 div, 52 add, 4 neg, 3 sin_cos (chapter convention: 77m + 52a).
+#[inline]
+pub fn limit_geometry(pose: &[f32; 6]) -> ([f32; 6], [f32; 12], [f32; 6], [f32; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let (t0, t1): (f32, f32) = sin_cos(beta);
+    let t2: f32 = 1.0 / t1;
+    let (t3, t4): (f32, f32) = sin_cos(gamma);
+    let t5: f32 = 1.0 / t4;
+    let (t6, t7): (f32, f32) = sin_cos(alpha);
+    let t8: f32 = t3 * t7;
+    let t9: f32 = t0 * t6;
+    let t10: f32 = t4 * t9;
+    let t11: f32 = t8 + t10;
+    let t12: f32 = yc * t11;
+    let t13: f32 = t3 * t6;
+    let t14: f32 = t0 * t7;
+    let t15: f32 = t4 * t14;
+    let t16: f32 = t13 - t15;
+    let t17: f32 = zc - 0.2;
+    let t18: f32 = t16 * t17;
+    let t19: f32 = t12 + t18;
+    let t20: f32 = t2 * t5;
+    let t21: f32 = t19 * t20;
+    let t22: f32 = xc + t21;
+    let t23: f32 = zc + 0.2;
+    let t24: f32 = t16 * t23;
+    let t25: f32 = t12 + t24;
+    let t26: f32 = t20 * t25;
+    let t27: f32 = xc + t26;
+    let t28: f32 = t4 * t7;
+    let t29: f32 = t3 * t9;
+    let t30: f32 = t28 - t29;
+    let t31: f32 = 1.0 / t30;
+    let t32: f32 = xc - 0.2;
+    let t33: f32 = t1 * t3;
+    let t34: f32 = t32 * t33;
+    let t35: f32 = t4 * t6;
+    let t36: f32 = t0 * t3;
+    let t37: f32 = t7 * t36;
+    let t38: f32 = t35 + t37;
+    let t39: f32 = zc * t38;
+    let t40: f32 = t34 - t39;
+    let t41: f32 = t31 * t40;
+    let t42: f32 = yc - t41;
+    let t43: f32 = xc + 0.2;
+    let t44: f32 = t33 * t43;
+    let t45: f32 = t39 - t44;
+    let t46: f32 = t31 * t45;
+    let t47: f32 = yc + t46;
+    let t48: f32 = 1.0 / t7;
+    let t49: f32 = xc * t0;
+    let t50: f32 = yc - 0.2;
+    let t51: f32 = t1 * t6;
+    let t52: f32 = t50 * t51;
+    let t53: f32 = t49 - t52;
+    let t54: f32 = t2 * t48;
+    let t55: f32 = t53 * t54;
+    let t56: f32 = zc + t55;
+    let t57: f32 = yc + 0.2;
+    let t58: f32 = t51 * t57;
+    let t59: f32 = t49 - t58;
+    let t60: f32 = t54 * t59;
+    let t61: f32 = zc + t60;
+    let t62: f32 = t3 * t5;
+    let t63: f32 = t19 * t62;
+    let t64: f32 = yc * t30;
+    let t65: f32 = t17 * t38;
+    let t66: f32 = t63 + t64;
+    let t67: f32 = t65 + t66;
+    let t68: f32 = -t67;
+    let t69: f32 = t0 * t2;
+    let t70: f32 = t5 * t69;
+    let t71: f32 = t19 * t70;
+    let t72: f32 = yc * t6;
+    let t73: f32 = t1 * t72;
+    let t74: f32 = t1 * t7;
+    let t75: f32 = t17 * t74;
+    let t76: f32 = t71 + t73;
+    let t77: f32 = t75 + 0.2;
+    let t78: f32 = t76 - t77;
+    let t79: f32 = t25 * t62;
+    let t80: f32 = t23 * t38;
+    let t81: f32 = t64 + t79;
+    let t82: f32 = t80 + t81;
+    let t83: f32 = -t82;
+    let t84: f32 = t25 * t70;
+    let t85: f32 = t23 * t74;
+    let t86: f32 = t73 + t84;
+    let t87: f32 = t86 + 0.2;
+    let t88: f32 = t87 - t85;
+    let t89: f32 = t1 * t4;
+    let t90: f32 = t32 * t89;
+    let t91: f32 = t11 * t31;
+    let t92: f32 = t40 * t91;
+    let t93: f32 = zc * t16;
+    let t94: f32 = t90 + t92;
+    let t95: f32 = t93 + 0.2;
+    let t96: f32 = t94 + t95;
+    let t97: f32 = -t96;
+    let t98: f32 = t0 * t32;
+    let t99: f32 = t31 * t51;
+    let t100: f32 = t40 * t99;
+    let t101: f32 = zc * t7;
+    let t102: f32 = t1 * t101;
+    let t103: f32 = t98 + t102;
+    let t104: f32 = t100 - t103;
+    let t105: f32 = t43 * t89;
+    let t106: f32 = t45 * t91;
+    let t107: f32 = t106 + 0.2;
+    let t108: f32 = t93 + t105;
+    let t109: f32 = t107 - t108;
+    let t110: f32 = t0 * t43;
+    let t111: f32 = t45 * t99;
+    let t112: f32 = t102 + t110;
+    let t113: f32 = t111 + t112;
+    let t114: f32 = -t113;
+    let t115: f32 = xc * t1;
+    let t116: f32 = t4 * t115;
+    let t117: f32 = t11 * t50;
+    let t118: f32 = t16 * t54;
+    let t119: f32 = t53 * t118;
+    let t120: f32 = t116 + t117;
+    let t121: f32 = t119 - t120;
+    let t122: f32 = xc * t3;
+    let t123: f32 = t1 * t122;
+    let t124: f32 = t30 * t50;
+    let t125: f32 = t38 * t54;
+    let t126: f32 = t53 * t125;
+    let t127: f32 = t123 + t126;
+    let t128: f32 = t124 + 0.2;
+    let t129: f32 = t127 - t128;
+    let t130: f32 = t11 * t57;
+    let t131: f32 = t59 * t118;
+    let t132: f32 = t116 + t130;
+    let t133: f32 = t131 - t132;
+    let t134: f32 = t30 * t57;
+    let t135: f32 = t59 * t125;
+    let t136: f32 = t123 + t135;
+    let t137: f32 = t136 + 0.2;
+    let t138: f32 = t137 - t134;
+    (
+        [t22, t27, t42, t47, t56, t61],
+        [t68, t78, t83, t88, t97, t104, t109, t114, t121, t129, t133, t138],
+        [t89, t89, t30, t30, t74, t74],
+        [t89, t30, t74],
+    )
 }
 /// Joint accelerations of every segment by projection, the passive joints included.
 ///
@@ -18722,6 +18892,184 @@ pub fn joint_bias_params(
     let t1447: f32 = t1446 * 0.5;
     let t1448: f32 = 1.0 - t186;
     ([t1060, t1061, t1365, t1368, t1445, t1447], [t1448, t620, t1072, t614])
+}
+/// What the robot's limits bound, at a pose: each ball's position `Q_i1` on its actuator, its offset on its plate, and the cosine of its tilt.
+///
+/// Equations: 15, 16, 27. Setting: pose.
+///
+/// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The plate's offset is `Rᵀ (B_i - C) - A_i`, where the ball sits in the platform frame against where it sits at the home pose, along the plate's two axes (the platform axes other than its normal, in the order x, y, z). The tilt is the angle between the rod's axis `n_i` and the plate's normal `m_i`: its cosine is `n_i · m_i = r_kk`. Every limit of `c5_robot::Limits` but speed and force is a bound on one of these.
+/// The robot's parameters listed in `params` are inputs; the others are folded in.
+/// The last result holds the divisors of eq 16 for a singularity check.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
+///
+/// # Returns
+///
+/// - `q`: `Q_i1` (m), segment order
+/// - `plate`: each ball's offset on its plate (m), two per segment: `[u1a, u1b, u2a, u2b, …]`
+/// - `tilt_cos`: `cos` of each ball's tilt, `n_i · m_i`
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
+///
+/// Operations: 73 mul, 4 div, 52 add, 4 neg, 3 sin_cos (chapter convention: 77m + 52a).
+#[inline]
+pub fn limit_geometry_params(
+    pose: &[f32; 6],
+    params: &[f32; 152],
+) -> ([f32; 6], [f32; 12], [f32; 6], [f32; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _] = *params;
+    let (t0, t1): (f32, f32) = sin_cos(beta);
+    let t2: f32 = 1.0 / t1;
+    let (t3, t4): (f32, f32) = sin_cos(gamma);
+    let t5: f32 = 1.0 / t4;
+    let (t6, t7): (f32, f32) = sin_cos(alpha);
+    let t8: f32 = t3 * t7;
+    let t9: f32 = t0 * t6;
+    let t10: f32 = t4 * t9;
+    let t11: f32 = t8 + t10;
+    let t12: f32 = yc * t11;
+    let t13: f32 = t3 * t6;
+    let t14: f32 = t0 * t7;
+    let t15: f32 = t4 * t14;
+    let t16: f32 = t13 - t15;
+    let t17: f32 = zc - half_spacing;
+    let t18: f32 = t16 * t17;
+    let t19: f32 = t12 + t18;
+    let t20: f32 = t2 * t5;
+    let t21: f32 = t19 * t20;
+    let t22: f32 = xc + t21;
+    let t23: f32 = zc + half_spacing;
+    let t24: f32 = t16 * t23;
+    let t25: f32 = t12 + t24;
+    let t26: f32 = t20 * t25;
+    let t27: f32 = xc + t26;
+    let t28: f32 = t4 * t7;
+    let t29: f32 = t3 * t9;
+    let t30: f32 = t28 - t29;
+    let t31: f32 = 1.0 / t30;
+    let t32: f32 = xc - half_spacing;
+    let t33: f32 = t1 * t3;
+    let t34: f32 = t32 * t33;
+    let t35: f32 = t4 * t6;
+    let t36: f32 = t0 * t3;
+    let t37: f32 = t7 * t36;
+    let t38: f32 = t35 + t37;
+    let t39: f32 = zc * t38;
+    let t40: f32 = t34 - t39;
+    let t41: f32 = t31 * t40;
+    let t42: f32 = yc - t41;
+    let t43: f32 = xc + half_spacing;
+    let t44: f32 = t33 * t43;
+    let t45: f32 = t39 - t44;
+    let t46: f32 = t31 * t45;
+    let t47: f32 = yc + t46;
+    let t48: f32 = 1.0 / t7;
+    let t49: f32 = xc * t0;
+    let t50: f32 = yc - half_spacing;
+    let t51: f32 = t1 * t6;
+    let t52: f32 = t50 * t51;
+    let t53: f32 = t49 - t52;
+    let t54: f32 = t2 * t48;
+    let t55: f32 = t53 * t54;
+    let t56: f32 = zc + t55;
+    let t57: f32 = yc + half_spacing;
+    let t58: f32 = t51 * t57;
+    let t59: f32 = t49 - t58;
+    let t60: f32 = t54 * t59;
+    let t61: f32 = zc + t60;
+    let t62: f32 = t3 * t5;
+    let t63: f32 = t19 * t62;
+    let t64: f32 = yc * t30;
+    let t65: f32 = t17 * t38;
+    let t66: f32 = t63 + t64;
+    let t67: f32 = t65 + t66;
+    let t68: f32 = -t67;
+    let t69: f32 = t0 * t2;
+    let t70: f32 = t5 * t69;
+    let t71: f32 = t19 * t70;
+    let t72: f32 = yc * t6;
+    let t73: f32 = t1 * t72;
+    let t74: f32 = t1 * t7;
+    let t75: f32 = t17 * t74;
+    let t76: f32 = t71 + t73;
+    let t77: f32 = half_spacing + t75;
+    let t78: f32 = t76 - t77;
+    let t79: f32 = t25 * t62;
+    let t80: f32 = t23 * t38;
+    let t81: f32 = t64 + t79;
+    let t82: f32 = t80 + t81;
+    let t83: f32 = -t82;
+    let t84: f32 = t25 * t70;
+    let t85: f32 = t23 * t74;
+    let t86: f32 = half_spacing + t73;
+    let t87: f32 = t84 + t86;
+    let t88: f32 = t87 - t85;
+    let t89: f32 = t1 * t4;
+    let t90: f32 = t32 * t89;
+    let t91: f32 = t11 * t31;
+    let t92: f32 = t40 * t91;
+    let t93: f32 = zc * t16;
+    let t94: f32 = half_spacing + t90;
+    let t95: f32 = t92 + t93;
+    let t96: f32 = t94 + t95;
+    let t97: f32 = -t96;
+    let t98: f32 = t0 * t32;
+    let t99: f32 = t31 * t51;
+    let t100: f32 = t40 * t99;
+    let t101: f32 = zc * t7;
+    let t102: f32 = t1 * t101;
+    let t103: f32 = t98 + t102;
+    let t104: f32 = t100 - t103;
+    let t105: f32 = t43 * t89;
+    let t106: f32 = t45 * t91;
+    let t107: f32 = half_spacing + t106;
+    let t108: f32 = t93 + t105;
+    let t109: f32 = t107 - t108;
+    let t110: f32 = t0 * t43;
+    let t111: f32 = t45 * t99;
+    let t112: f32 = t102 + t110;
+    let t113: f32 = t111 + t112;
+    let t114: f32 = -t113;
+    let t115: f32 = xc * t1;
+    let t116: f32 = t4 * t115;
+    let t117: f32 = t11 * t50;
+    let t118: f32 = t16 * t54;
+    let t119: f32 = t53 * t118;
+    let t120: f32 = t116 + t117;
+    let t121: f32 = t119 - t120;
+    let t122: f32 = xc * t3;
+    let t123: f32 = t1 * t122;
+    let t124: f32 = t30 * t50;
+    let t125: f32 = t38 * t54;
+    let t126: f32 = t53 * t125;
+    let t127: f32 = t123 + t126;
+    let t128: f32 = half_spacing + t124;
+    let t129: f32 = t127 - t128;
+    let t130: f32 = t11 * t57;
+    let t131: f32 = t59 * t118;
+    let t132: f32 = t116 + t130;
+    let t133: f32 = t131 - t132;
+    let t134: f32 = t30 * t57;
+    let t135: f32 = t59 * t125;
+    let t136: f32 = half_spacing + t123;
+    let t137: f32 = t135 + t136;
+    let t138: f32 = t137 - t134;
+    (
+        [t22, t27, t42, t47, t56, t61],
+        [t68, t78, t83, t88, t97, t104, t109, t114, t121, t129, t133, t138],
+        [t89, t89, t30, t30, t74, t74],
+        [t89, t30, t74],
+    )
 }
 /// Joint accelerations of every segment by projection, the passive joints included.
 ///

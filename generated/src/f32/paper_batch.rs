@@ -28,6 +28,7 @@
 //   inverse_dynamics_joint             347    3   330    4  3 sqrt
 //   joint_inertia                      213    3   243    5  3 sqrt
 //   joint_bias                         313    3   273    4  3 sqrt
+//   limit_geometry                      73    4    52    4  3 sin_cos
 //   leg_joint_accelerations             70    4    52    0  3 sin_cos
 //   inverse_kinematics_params           24    6    22    5  3 sin_cos
 //   inverse_jacobian_pose_params         5    0     7    3  3 sin_cos
@@ -47,6 +48,7 @@
 //   inverse_dynamics_joint_params     1053    4   734   17  3 sqrt
 //   joint_inertia_params              1444    4  1063   50  3 sqrt
 //   joint_bias_params                  791    4   637   14  3 sqrt
+//   limit_geometry_params               73    4    52    4  3 sin_cos
 //   leg_joint_accelerations_params      70    4    52    0  3 sin_cos
 
 /// The batch version of [`forward_dynamics`]: 8 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `forward_dynamics` computes. Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
@@ -2237,6 +2239,190 @@ fn inverse_dynamics_joint_x8_lanes(
     (
         [(t462).0, (t463).0, (t595).0, (t598).0, (t666).0, (t682).0],
         [(t683).0, (t684).0, (t685).0, (t686).0],
+    )
+}
+/// The batch version of [`limit_geometry`]: 8 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `limit_geometry` computes. What the robot's limits bound, at a pose: each ball's position `Q_i1` on its actuator, its offset on its plate, and the cosine of its tilt.
+#[inline]
+pub fn limit_geometry_x8(
+    pose: &[[f32; 8]; 6],
+) -> ([[f32; 8]; 6], [[f32; 8]; 12], [[f32; 8]; 6], [[f32; 8]; 3]) {
+    #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
+    if std::is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        fn avx2(
+            pose: &[[f32; 8]; 6],
+        ) -> ([[f32; 8]; 6], [[f32; 8]; 12], [[f32; 8]; 6], [[f32; 8]; 3]) {
+            core::hint::black_box(&F32x8::splat(0.0));
+            limit_geometry_x8_lanes(pose)
+        }
+        return unsafe { avx2(pose) };
+    }
+    limit_geometry_x8_lanes(pose)
+}
+#[inline(always)]
+fn limit_geometry_x8_lanes(
+    pose: &[[f32; 8]; 6],
+) -> ([[f32; 8]; 6], [[f32; 8]; 12], [[f32; 8]; 6], [[f32; 8]; 3]) {
+    let alpha = F32x8(pose[0]);
+    let beta = F32x8(pose[1]);
+    let gamma = F32x8(pose[2]);
+    let xc = F32x8(pose[3]);
+    let yc = F32x8(pose[4]);
+    let zc = F32x8(pose[5]);
+    let (t0, t1) = beta.sin_cos();
+    let t2: F32x8 = F32x8::splat(1.0) / t1;
+    let (t3, t4) = gamma.sin_cos();
+    let t5: F32x8 = F32x8::splat(1.0) / t4;
+    let (t6, t7) = alpha.sin_cos();
+    let t8: F32x8 = t3 * t7;
+    let t9: F32x8 = t0 * t6;
+    let t10: F32x8 = t4 * t9;
+    let t11: F32x8 = t8 + t10;
+    let t12: F32x8 = yc * t11;
+    let t13: F32x8 = t3 * t6;
+    let t14: F32x8 = t0 * t7;
+    let t15: F32x8 = t4 * t14;
+    let t16: F32x8 = t13 - t15;
+    let t17: F32x8 = zc - F32x8::splat(0.2);
+    let t18: F32x8 = t16 * t17;
+    let t19: F32x8 = t12 + t18;
+    let t20: F32x8 = t2 * t5;
+    let t21: F32x8 = t19 * t20;
+    let t22: F32x8 = xc + t21;
+    let t23: F32x8 = zc + F32x8::splat(0.2);
+    let t24: F32x8 = t16 * t23;
+    let t25: F32x8 = t12 + t24;
+    let t26: F32x8 = t20 * t25;
+    let t27: F32x8 = xc + t26;
+    let t28: F32x8 = t4 * t7;
+    let t29: F32x8 = t3 * t9;
+    let t30: F32x8 = t28 - t29;
+    let t31: F32x8 = F32x8::splat(1.0) / t30;
+    let t32: F32x8 = xc - F32x8::splat(0.2);
+    let t33: F32x8 = t1 * t3;
+    let t34: F32x8 = t32 * t33;
+    let t35: F32x8 = t4 * t6;
+    let t36: F32x8 = t0 * t3;
+    let t37: F32x8 = t7 * t36;
+    let t38: F32x8 = t35 + t37;
+    let t39: F32x8 = zc * t38;
+    let t40: F32x8 = t34 - t39;
+    let t41: F32x8 = t31 * t40;
+    let t42: F32x8 = yc - t41;
+    let t43: F32x8 = xc + F32x8::splat(0.2);
+    let t44: F32x8 = t33 * t43;
+    let t45: F32x8 = t39 - t44;
+    let t46: F32x8 = t31 * t45;
+    let t47: F32x8 = yc + t46;
+    let t48: F32x8 = F32x8::splat(1.0) / t7;
+    let t49: F32x8 = xc * t0;
+    let t50: F32x8 = yc - F32x8::splat(0.2);
+    let t51: F32x8 = t1 * t6;
+    let t52: F32x8 = t50 * t51;
+    let t53: F32x8 = t49 - t52;
+    let t54: F32x8 = t2 * t48;
+    let t55: F32x8 = t53 * t54;
+    let t56: F32x8 = zc + t55;
+    let t57: F32x8 = yc + F32x8::splat(0.2);
+    let t58: F32x8 = t51 * t57;
+    let t59: F32x8 = t49 - t58;
+    let t60: F32x8 = t54 * t59;
+    let t61: F32x8 = zc + t60;
+    let t62: F32x8 = t3 * t5;
+    let t63: F32x8 = t19 * t62;
+    let t64: F32x8 = yc * t30;
+    let t65: F32x8 = t17 * t38;
+    let t66: F32x8 = t63 + t64;
+    let t67: F32x8 = t65 + t66;
+    let t68: F32x8 = -t67;
+    let t69: F32x8 = t0 * t2;
+    let t70: F32x8 = t5 * t69;
+    let t71: F32x8 = t19 * t70;
+    let t72: F32x8 = yc * t6;
+    let t73: F32x8 = t1 * t72;
+    let t74: F32x8 = t1 * t7;
+    let t75: F32x8 = t17 * t74;
+    let t76: F32x8 = t71 + t73;
+    let t77: F32x8 = t75 + F32x8::splat(0.2);
+    let t78: F32x8 = t76 - t77;
+    let t79: F32x8 = t25 * t62;
+    let t80: F32x8 = t23 * t38;
+    let t81: F32x8 = t64 + t79;
+    let t82: F32x8 = t80 + t81;
+    let t83: F32x8 = -t82;
+    let t84: F32x8 = t25 * t70;
+    let t85: F32x8 = t23 * t74;
+    let t86: F32x8 = t73 + t84;
+    let t87: F32x8 = t86 + F32x8::splat(0.2);
+    let t88: F32x8 = t87 - t85;
+    let t89: F32x8 = t1 * t4;
+    let t90: F32x8 = t32 * t89;
+    let t91: F32x8 = t11 * t31;
+    let t92: F32x8 = t40 * t91;
+    let t93: F32x8 = zc * t16;
+    let t94: F32x8 = t90 + t92;
+    let t95: F32x8 = t93 + F32x8::splat(0.2);
+    let t96: F32x8 = t94 + t95;
+    let t97: F32x8 = -t96;
+    let t98: F32x8 = t0 * t32;
+    let t99: F32x8 = t31 * t51;
+    let t100: F32x8 = t40 * t99;
+    let t101: F32x8 = zc * t7;
+    let t102: F32x8 = t1 * t101;
+    let t103: F32x8 = t98 + t102;
+    let t104: F32x8 = t100 - t103;
+    let t105: F32x8 = t43 * t89;
+    let t106: F32x8 = t45 * t91;
+    let t107: F32x8 = t106 + F32x8::splat(0.2);
+    let t108: F32x8 = t93 + t105;
+    let t109: F32x8 = t107 - t108;
+    let t110: F32x8 = t0 * t43;
+    let t111: F32x8 = t45 * t99;
+    let t112: F32x8 = t102 + t110;
+    let t113: F32x8 = t111 + t112;
+    let t114: F32x8 = -t113;
+    let t115: F32x8 = xc * t1;
+    let t116: F32x8 = t4 * t115;
+    let t117: F32x8 = t11 * t50;
+    let t118: F32x8 = t16 * t54;
+    let t119: F32x8 = t53 * t118;
+    let t120: F32x8 = t116 + t117;
+    let t121: F32x8 = t119 - t120;
+    let t122: F32x8 = xc * t3;
+    let t123: F32x8 = t1 * t122;
+    let t124: F32x8 = t30 * t50;
+    let t125: F32x8 = t38 * t54;
+    let t126: F32x8 = t53 * t125;
+    let t127: F32x8 = t123 + t126;
+    let t128: F32x8 = t124 + F32x8::splat(0.2);
+    let t129: F32x8 = t127 - t128;
+    let t130: F32x8 = t11 * t57;
+    let t131: F32x8 = t59 * t118;
+    let t132: F32x8 = t116 + t130;
+    let t133: F32x8 = t131 - t132;
+    let t134: F32x8 = t30 * t57;
+    let t135: F32x8 = t59 * t125;
+    let t136: F32x8 = t123 + t135;
+    let t137: F32x8 = t136 + F32x8::splat(0.2);
+    let t138: F32x8 = t137 - t134;
+    (
+        [(t22).0, (t27).0, (t42).0, (t47).0, (t56).0, (t61).0],
+        [
+            (t68).0,
+            (t78).0,
+            (t83).0,
+            (t88).0,
+            (t97).0,
+            (t104).0,
+            (t109).0,
+            (t114).0,
+            (t121).0,
+            (t129).0,
+            (t133).0,
+            (t138).0,
+        ],
+        [(t89).0, (t89).0, (t30).0, (t30).0, (t74).0, (t74).0],
+        [(t89).0, (t30).0, (t74).0],
     )
 }
 /// The batch version of [`forward_dynamics_params`]: 8 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `forward_dynamics_params` computes. Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
@@ -6804,5 +6990,193 @@ fn inverse_dynamics_joint_params_x8_lanes(
     (
         [(t1363).0, (t1364).0, (t1707).0, (t1710).0, (t1804).0, (t1806).0],
         [(t1807).0, (t1808).0, (t1809).0, (t1810).0],
+    )
+}
+/// The batch version of [`limit_geometry_params`]: 8 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `limit_geometry_params` computes. What the robot's limits bound, at a pose: each ball's position `Q_i1` on its actuator, its offset on its plate, and the cosine of its tilt.
+#[inline]
+pub fn limit_geometry_params_x8(
+    pose: &[[f32; 8]; 6],
+    params: &[f32; 152],
+) -> ([[f32; 8]; 6], [[f32; 8]; 12], [[f32; 8]; 6], [[f32; 8]; 3]) {
+    #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
+    if std::is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        fn avx2(
+            pose: &[[f32; 8]; 6],
+            params: &[f32; 152],
+        ) -> ([[f32; 8]; 6], [[f32; 8]; 12], [[f32; 8]; 6], [[f32; 8]; 3]) {
+            core::hint::black_box(&F32x8::splat(0.0));
+            limit_geometry_params_x8_lanes(pose, params)
+        }
+        return unsafe { avx2(pose, params) };
+    }
+    limit_geometry_params_x8_lanes(pose, params)
+}
+#[inline(always)]
+fn limit_geometry_params_x8_lanes(
+    pose: &[[f32; 8]; 6],
+    params: &[f32; 152],
+) -> ([[f32; 8]; 6], [[f32; 8]; 12], [[f32; 8]; 6], [[f32; 8]; 3]) {
+    let alpha = F32x8(pose[0]);
+    let beta = F32x8(pose[1]);
+    let gamma = F32x8(pose[2]);
+    let xc = F32x8(pose[3]);
+    let yc = F32x8(pose[4]);
+    let zc = F32x8(pose[5]);
+    let half_spacing = F32x8::splat(params[0]);
+    let (t0, t1) = beta.sin_cos();
+    let t2: F32x8 = F32x8::splat(1.0) / t1;
+    let (t3, t4) = gamma.sin_cos();
+    let t5: F32x8 = F32x8::splat(1.0) / t4;
+    let (t6, t7) = alpha.sin_cos();
+    let t8: F32x8 = t3 * t7;
+    let t9: F32x8 = t0 * t6;
+    let t10: F32x8 = t4 * t9;
+    let t11: F32x8 = t8 + t10;
+    let t12: F32x8 = yc * t11;
+    let t13: F32x8 = t3 * t6;
+    let t14: F32x8 = t0 * t7;
+    let t15: F32x8 = t4 * t14;
+    let t16: F32x8 = t13 - t15;
+    let t17: F32x8 = zc - half_spacing;
+    let t18: F32x8 = t16 * t17;
+    let t19: F32x8 = t12 + t18;
+    let t20: F32x8 = t2 * t5;
+    let t21: F32x8 = t19 * t20;
+    let t22: F32x8 = xc + t21;
+    let t23: F32x8 = zc + half_spacing;
+    let t24: F32x8 = t16 * t23;
+    let t25: F32x8 = t12 + t24;
+    let t26: F32x8 = t20 * t25;
+    let t27: F32x8 = xc + t26;
+    let t28: F32x8 = t4 * t7;
+    let t29: F32x8 = t3 * t9;
+    let t30: F32x8 = t28 - t29;
+    let t31: F32x8 = F32x8::splat(1.0) / t30;
+    let t32: F32x8 = xc - half_spacing;
+    let t33: F32x8 = t1 * t3;
+    let t34: F32x8 = t32 * t33;
+    let t35: F32x8 = t4 * t6;
+    let t36: F32x8 = t0 * t3;
+    let t37: F32x8 = t7 * t36;
+    let t38: F32x8 = t35 + t37;
+    let t39: F32x8 = zc * t38;
+    let t40: F32x8 = t34 - t39;
+    let t41: F32x8 = t31 * t40;
+    let t42: F32x8 = yc - t41;
+    let t43: F32x8 = xc + half_spacing;
+    let t44: F32x8 = t33 * t43;
+    let t45: F32x8 = t39 - t44;
+    let t46: F32x8 = t31 * t45;
+    let t47: F32x8 = yc + t46;
+    let t48: F32x8 = F32x8::splat(1.0) / t7;
+    let t49: F32x8 = xc * t0;
+    let t50: F32x8 = yc - half_spacing;
+    let t51: F32x8 = t1 * t6;
+    let t52: F32x8 = t50 * t51;
+    let t53: F32x8 = t49 - t52;
+    let t54: F32x8 = t2 * t48;
+    let t55: F32x8 = t53 * t54;
+    let t56: F32x8 = zc + t55;
+    let t57: F32x8 = yc + half_spacing;
+    let t58: F32x8 = t51 * t57;
+    let t59: F32x8 = t49 - t58;
+    let t60: F32x8 = t54 * t59;
+    let t61: F32x8 = zc + t60;
+    let t62: F32x8 = t3 * t5;
+    let t63: F32x8 = t19 * t62;
+    let t64: F32x8 = yc * t30;
+    let t65: F32x8 = t17 * t38;
+    let t66: F32x8 = t63 + t64;
+    let t67: F32x8 = t65 + t66;
+    let t68: F32x8 = -t67;
+    let t69: F32x8 = t0 * t2;
+    let t70: F32x8 = t5 * t69;
+    let t71: F32x8 = t19 * t70;
+    let t72: F32x8 = yc * t6;
+    let t73: F32x8 = t1 * t72;
+    let t74: F32x8 = t1 * t7;
+    let t75: F32x8 = t17 * t74;
+    let t76: F32x8 = t71 + t73;
+    let t77: F32x8 = half_spacing + t75;
+    let t78: F32x8 = t76 - t77;
+    let t79: F32x8 = t25 * t62;
+    let t80: F32x8 = t23 * t38;
+    let t81: F32x8 = t64 + t79;
+    let t82: F32x8 = t80 + t81;
+    let t83: F32x8 = -t82;
+    let t84: F32x8 = t25 * t70;
+    let t85: F32x8 = t23 * t74;
+    let t86: F32x8 = half_spacing + t73;
+    let t87: F32x8 = t84 + t86;
+    let t88: F32x8 = t87 - t85;
+    let t89: F32x8 = t1 * t4;
+    let t90: F32x8 = t32 * t89;
+    let t91: F32x8 = t11 * t31;
+    let t92: F32x8 = t40 * t91;
+    let t93: F32x8 = zc * t16;
+    let t94: F32x8 = half_spacing + t90;
+    let t95: F32x8 = t92 + t93;
+    let t96: F32x8 = t94 + t95;
+    let t97: F32x8 = -t96;
+    let t98: F32x8 = t0 * t32;
+    let t99: F32x8 = t31 * t51;
+    let t100: F32x8 = t40 * t99;
+    let t101: F32x8 = zc * t7;
+    let t102: F32x8 = t1 * t101;
+    let t103: F32x8 = t98 + t102;
+    let t104: F32x8 = t100 - t103;
+    let t105: F32x8 = t43 * t89;
+    let t106: F32x8 = t45 * t91;
+    let t107: F32x8 = half_spacing + t106;
+    let t108: F32x8 = t93 + t105;
+    let t109: F32x8 = t107 - t108;
+    let t110: F32x8 = t0 * t43;
+    let t111: F32x8 = t45 * t99;
+    let t112: F32x8 = t102 + t110;
+    let t113: F32x8 = t111 + t112;
+    let t114: F32x8 = -t113;
+    let t115: F32x8 = xc * t1;
+    let t116: F32x8 = t4 * t115;
+    let t117: F32x8 = t11 * t50;
+    let t118: F32x8 = t16 * t54;
+    let t119: F32x8 = t53 * t118;
+    let t120: F32x8 = t116 + t117;
+    let t121: F32x8 = t119 - t120;
+    let t122: F32x8 = xc * t3;
+    let t123: F32x8 = t1 * t122;
+    let t124: F32x8 = t30 * t50;
+    let t125: F32x8 = t38 * t54;
+    let t126: F32x8 = t53 * t125;
+    let t127: F32x8 = t123 + t126;
+    let t128: F32x8 = half_spacing + t124;
+    let t129: F32x8 = t127 - t128;
+    let t130: F32x8 = t11 * t57;
+    let t131: F32x8 = t59 * t118;
+    let t132: F32x8 = t116 + t130;
+    let t133: F32x8 = t131 - t132;
+    let t134: F32x8 = t30 * t57;
+    let t135: F32x8 = t59 * t125;
+    let t136: F32x8 = half_spacing + t123;
+    let t137: F32x8 = t135 + t136;
+    let t138: F32x8 = t137 - t134;
+    (
+        [(t22).0, (t27).0, (t42).0, (t47).0, (t56).0, (t61).0],
+        [
+            (t68).0,
+            (t78).0,
+            (t83).0,
+            (t88).0,
+            (t97).0,
+            (t104).0,
+            (t109).0,
+            (t114).0,
+            (t121).0,
+            (t129).0,
+            (t133).0,
+            (t138).0,
+        ],
+        [(t89).0, (t89).0, (t30).0, (t30).0, (t74).0, (t74).0],
+        [(t89).0, (t30).0, (t74).0],
     )
 }

@@ -145,6 +145,17 @@ pub trait Kernels: core::fmt::Debug + Sync {
     fn joint_inertia(&self, q: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 4]);
     /// Joint-space bias `c_q` of `Γ = M_q Q̈_a + c_q`: Coriolis, centrifugal, gravity.
     fn joint_bias(&self, q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]);
+    /// What the robot's limits bound, at a pose: each ball's position `Q_i1` on its actuator, its offset on its plate, and the cosine of its tilt.
+    fn limit_geometry(
+        &self,
+        pose: &[f64; 6],
+    ) -> ([f64; 6], [f64; 12], [f64; 6], [f64; 3]);
+    #[cfg(feature = "batch")]
+    /// [`Kernels::limit_geometry`] of 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what the single-state kernel computes.
+    fn limit_geometry_x4(
+        &self,
+        pose: &[[f64; 4]; 6],
+    ) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]);
     /// Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.
     fn inverse_kinematics_params(
         &self,
@@ -300,6 +311,19 @@ pub trait Kernels: core::fmt::Debug + Sync {
         qd: &[f64; 6],
         params: &[f64; 152],
     ) -> ([f64; 6], [f64; 4]);
+    /// What the robot's limits bound, at a pose: each ball's position `Q_i1` on its actuator, its offset on its plate, and the cosine of its tilt.
+    fn limit_geometry_params(
+        &self,
+        pose: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([f64; 6], [f64; 12], [f64; 6], [f64; 3]);
+    #[cfg(feature = "batch")]
+    /// [`Kernels::limit_geometry_params`] of 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what the single-state kernel computes.
+    fn limit_geometry_params_x4(
+        &self,
+        pose: &[[f64; 4]; 6],
+        params: &[f64; 152],
+    ) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]);
     #[cfg(feature = "derivatives")]
     /// Inverse dynamics and its exact Jacobians: `Γ`, `∂Γ/∂X`, `∂Γ/∂V`, `∂Γ/∂(ω̇; a_C)`.
     fn inverse_dynamics_derivatives(
@@ -546,6 +570,21 @@ impl Kernels for Consistent {
         consistent::joint_bias(q, qd)
     }
     #[inline]
+    fn limit_geometry(
+        &self,
+        pose: &[f64; 6],
+    ) -> ([f64; 6], [f64; 12], [f64; 6], [f64; 3]) {
+        consistent::limit_geometry(pose)
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn limit_geometry_x4(
+        &self,
+        pose: &[[f64; 4]; 6],
+    ) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+        consistent::limit_geometry_x4(pose)
+    }
+    #[inline]
     fn inverse_kinematics_params(
         &self,
         pose: &[f64; 6],
@@ -741,6 +780,23 @@ impl Kernels for Consistent {
         params: &[f64; 152],
     ) -> ([f64; 6], [f64; 4]) {
         consistent::joint_bias_params(q, qd, params)
+    }
+    #[inline]
+    fn limit_geometry_params(
+        &self,
+        pose: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([f64; 6], [f64; 12], [f64; 6], [f64; 3]) {
+        consistent::limit_geometry_params(pose, params)
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn limit_geometry_params_x4(
+        &self,
+        pose: &[[f64; 4]; 6],
+        params: &[f64; 152],
+    ) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+        consistent::limit_geometry_params_x4(pose, params)
     }
     #[cfg(feature = "derivatives")]
     #[inline]
@@ -1018,6 +1074,21 @@ impl Kernels for Paper {
         paper::joint_bias(q, qd)
     }
     #[inline]
+    fn limit_geometry(
+        &self,
+        pose: &[f64; 6],
+    ) -> ([f64; 6], [f64; 12], [f64; 6], [f64; 3]) {
+        paper::limit_geometry(pose)
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn limit_geometry_x4(
+        &self,
+        pose: &[[f64; 4]; 6],
+    ) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+        paper::limit_geometry_x4(pose)
+    }
+    #[inline]
     fn inverse_kinematics_params(
         &self,
         pose: &[f64; 6],
@@ -1213,6 +1284,23 @@ impl Kernels for Paper {
         params: &[f64; 152],
     ) -> ([f64; 6], [f64; 4]) {
         paper::joint_bias_params(q, qd, params)
+    }
+    #[inline]
+    fn limit_geometry_params(
+        &self,
+        pose: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([f64; 6], [f64; 12], [f64; 6], [f64; 3]) {
+        paper::limit_geometry_params(pose, params)
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn limit_geometry_params_x4(
+        &self,
+        pose: &[[f64; 4]; 6],
+        params: &[f64; 152],
+    ) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+        paper::limit_geometry_params_x4(pose, params)
     }
     #[cfg(feature = "derivatives")]
     #[inline]
@@ -1575,6 +1663,27 @@ impl Kernels for AnyModel {
         }
     }
     #[inline]
+    fn limit_geometry(
+        &self,
+        pose: &[f64; 6],
+    ) -> ([f64; 6], [f64; 12], [f64; 6], [f64; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.limit_geometry(pose),
+            AnyModel::Paper => Paper.limit_geometry(pose),
+        }
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn limit_geometry_x4(
+        &self,
+        pose: &[[f64; 4]; 6],
+    ) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.limit_geometry_x4(pose),
+            AnyModel::Paper => Paper.limit_geometry_x4(pose),
+        }
+    }
+    #[inline]
     fn inverse_kinematics_params(
         &self,
         pose: &[f64; 6],
@@ -1860,6 +1969,29 @@ impl Kernels for AnyModel {
         match self {
             AnyModel::Consistent => Consistent.joint_bias_params(q, qd, params),
             AnyModel::Paper => Paper.joint_bias_params(q, qd, params),
+        }
+    }
+    #[inline]
+    fn limit_geometry_params(
+        &self,
+        pose: &[f64; 6],
+        params: &[f64; 152],
+    ) -> ([f64; 6], [f64; 12], [f64; 6], [f64; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.limit_geometry_params(pose, params),
+            AnyModel::Paper => Paper.limit_geometry_params(pose, params),
+        }
+    }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn limit_geometry_params_x4(
+        &self,
+        pose: &[[f64; 4]; 6],
+        params: &[f64; 152],
+    ) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+        match self {
+            AnyModel::Consistent => Consistent.limit_geometry_params_x4(pose, params),
+            AnyModel::Paper => Paper.limit_geometry_params_x4(pose, params),
         }
     }
     #[cfg(feature = "derivatives")]

@@ -28,6 +28,7 @@
 //   inverse_dynamics_joint             347    3   330    4  3 sqrt
 //   joint_inertia                      213    3   243    5  3 sqrt
 //   joint_bias                         313    3   273    4  3 sqrt
+//   limit_geometry                      73    4    52    4  3 sin_cos
 //   leg_joint_accelerations             70    4    52    0  3 sin_cos
 //   inverse_kinematics_params           24    6    22    5  3 sin_cos
 //   inverse_jacobian_pose_params         5    0     7    3  3 sin_cos
@@ -47,6 +48,7 @@
 //   inverse_dynamics_joint_params     1053    4   734   17  3 sqrt
 //   joint_inertia_params              1444    4  1063   50  3 sqrt
 //   joint_bias_params                  791    4   637   14  3 sqrt
+//   limit_geometry_params               73    4    52    4  3 sin_cos
 //   leg_joint_accelerations_params      70    4    52    0  3 sin_cos
 
 /// Inverse Jacobian `J⁻¹` of the paper model, rows `[(n_i × P_i2)ᵀ n_iᵀ]`.
@@ -10735,6 +10737,300 @@ pub unsafe fn joint_bias_fused(q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 
     let t594: f64 = -t170;
     let t595: f64 = -t186;
     ([t385, t386, t506, t511, t577, t591], [t592, t593, t594, t595])
+}
+/// What the robot's limits bound, at a pose: each ball's position `Q_i1` on its actuator, its offset on its plate, and the cosine of its tilt.
+///
+/// Equations: 15, 16, 27. Setting: pose.
+///
+/// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The plate's offset is `Rᵀ (B_i - C) - A_i`, where the ball sits in the platform frame against where it sits at the home pose, along the plate's two axes (the platform axes other than its normal, in the order x, y, z). The tilt is the angle between the rod's axis `n_i` and the plate's normal `m_i`: its cosine is `n_i · m_i = r_kk`. Every limit of `c5_robot::Limits` but speed and force is a bound on one of these.
+/// The robot's parameters are folded in as constants.
+/// The last result holds the divisors of eq 16 for a singularity check.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+///
+/// # Returns
+///
+/// - `q`: `Q_i1` (m), segment order
+/// - `plate`: each ball's offset on its plate (m), two per segment: `[u1a, u1b, u2a, u2b, …]`
+/// - `tilt_cos`: `cos` of each ball's tilt, `n_i · m_i`
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
+///
+/// Operations: 73 mul, 4 div, 52 add, 4 neg, 3 sin_cos (chapter convention: 77m + 52a).
+#[inline]
+pub fn limit_geometry(pose: &[f64; 6]) -> ([f64; 6], [f64; 12], [f64; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { limit_geometry_fused(pose) };
+    }
+    limit_geometry_separate(pose)
+}
+/// [`limit_geometry`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn limit_geometry_separate(
+    pose: &[f64; 6],
+) -> ([f64; 6], [f64; 12], [f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let (t0, t1): (f64, f64) = sin_cos(beta);
+    let t2: f64 = 1.0 / t1;
+    let (t3, t4): (f64, f64) = sin_cos(gamma);
+    let t5: f64 = 1.0 / t4;
+    let (t6, t7): (f64, f64) = sin_cos(alpha);
+    let t8: f64 = t3 * t7;
+    let t9: f64 = t0 * t6;
+    let t10: f64 = t4 * t9;
+    let t11: f64 = t8 + t10;
+    let t12: f64 = yc * t11;
+    let t13: f64 = t3 * t6;
+    let t14: f64 = t0 * t7;
+    let t15: f64 = t4 * t14;
+    let t16: f64 = t13 - t15;
+    let t17: f64 = zc - 0.2;
+    let t18: f64 = t16 * t17;
+    let t19: f64 = t12 + t18;
+    let t20: f64 = t2 * t5;
+    let t21: f64 = t19 * t20;
+    let t22: f64 = xc + t21;
+    let t23: f64 = zc + 0.2;
+    let t24: f64 = t16 * t23;
+    let t25: f64 = t12 + t24;
+    let t26: f64 = t20 * t25;
+    let t27: f64 = xc + t26;
+    let t28: f64 = t4 * t7;
+    let t29: f64 = t3 * t9;
+    let t30: f64 = t28 - t29;
+    let t31: f64 = 1.0 / t30;
+    let t32: f64 = xc - 0.2;
+    let t33: f64 = t1 * t3;
+    let t34: f64 = t32 * t33;
+    let t35: f64 = t4 * t6;
+    let t36: f64 = t0 * t3;
+    let t37: f64 = t7 * t36;
+    let t38: f64 = t35 + t37;
+    let t39: f64 = zc * t38;
+    let t40: f64 = t34 - t39;
+    let t41: f64 = t31 * t40;
+    let t42: f64 = yc - t41;
+    let t43: f64 = xc + 0.2;
+    let t44: f64 = t33 * t43;
+    let t45: f64 = t39 - t44;
+    let t46: f64 = t31 * t45;
+    let t47: f64 = yc + t46;
+    let t48: f64 = 1.0 / t7;
+    let t49: f64 = xc * t0;
+    let t50: f64 = yc - 0.2;
+    let t51: f64 = t1 * t6;
+    let t52: f64 = t50 * t51;
+    let t53: f64 = t49 - t52;
+    let t54: f64 = t2 * t48;
+    let t55: f64 = t53 * t54;
+    let t56: f64 = zc + t55;
+    let t57: f64 = yc + 0.2;
+    let t58: f64 = t51 * t57;
+    let t59: f64 = t49 - t58;
+    let t60: f64 = t54 * t59;
+    let t61: f64 = zc + t60;
+    let t62: f64 = t3 * t5;
+    let t63: f64 = t19 * t62;
+    let t64: f64 = yc * t30;
+    let t65: f64 = t17 * t38;
+    let t66: f64 = t63 + t64;
+    let t67: f64 = t65 + t66;
+    let t68: f64 = -t67;
+    let t69: f64 = t0 * t2;
+    let t70: f64 = t5 * t69;
+    let t71: f64 = t19 * t70;
+    let t72: f64 = yc * t6;
+    let t73: f64 = t1 * t72;
+    let t74: f64 = t1 * t7;
+    let t75: f64 = t17 * t74;
+    let t76: f64 = t71 + t73;
+    let t77: f64 = t75 + 0.2;
+    let t78: f64 = t76 - t77;
+    let t79: f64 = t25 * t62;
+    let t80: f64 = t23 * t38;
+    let t81: f64 = t64 + t79;
+    let t82: f64 = t80 + t81;
+    let t83: f64 = -t82;
+    let t84: f64 = t25 * t70;
+    let t85: f64 = t23 * t74;
+    let t86: f64 = t73 + t84;
+    let t87: f64 = t86 + 0.2;
+    let t88: f64 = t87 - t85;
+    let t89: f64 = t1 * t4;
+    let t90: f64 = t32 * t89;
+    let t91: f64 = t11 * t31;
+    let t92: f64 = t40 * t91;
+    let t93: f64 = zc * t16;
+    let t94: f64 = t90 + t92;
+    let t95: f64 = t93 + 0.2;
+    let t96: f64 = t94 + t95;
+    let t97: f64 = -t96;
+    let t98: f64 = t0 * t32;
+    let t99: f64 = t31 * t51;
+    let t100: f64 = t40 * t99;
+    let t101: f64 = zc * t7;
+    let t102: f64 = t1 * t101;
+    let t103: f64 = t98 + t102;
+    let t104: f64 = t100 - t103;
+    let t105: f64 = t43 * t89;
+    let t106: f64 = t45 * t91;
+    let t107: f64 = t106 + 0.2;
+    let t108: f64 = t93 + t105;
+    let t109: f64 = t107 - t108;
+    let t110: f64 = t0 * t43;
+    let t111: f64 = t45 * t99;
+    let t112: f64 = t102 + t110;
+    let t113: f64 = t111 + t112;
+    let t114: f64 = -t113;
+    let t115: f64 = xc * t1;
+    let t116: f64 = t4 * t115;
+    let t117: f64 = t11 * t50;
+    let t118: f64 = t16 * t54;
+    let t119: f64 = t53 * t118;
+    let t120: f64 = t116 + t117;
+    let t121: f64 = t119 - t120;
+    let t122: f64 = xc * t3;
+    let t123: f64 = t1 * t122;
+    let t124: f64 = t30 * t50;
+    let t125: f64 = t38 * t54;
+    let t126: f64 = t53 * t125;
+    let t127: f64 = t123 + t126;
+    let t128: f64 = t124 + 0.2;
+    let t129: f64 = t127 - t128;
+    let t130: f64 = t11 * t57;
+    let t131: f64 = t59 * t118;
+    let t132: f64 = t116 + t130;
+    let t133: f64 = t131 - t132;
+    let t134: f64 = t30 * t57;
+    let t135: f64 = t59 * t125;
+    let t136: f64 = t123 + t135;
+    let t137: f64 = t136 + 0.2;
+    let t138: f64 = t137 - t134;
+    (
+        [t22, t27, t42, t47, t56, t61],
+        [t68, t78, t83, t88, t97, t104, t109, t114, t121, t129, t133, t138],
+        [t89, t89, t30, t30, t74, t74],
+        [t89, t30, t74],
+    )
+}
+/// [`limit_geometry`] with 39 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`limit_geometry`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn limit_geometry_fused(
+    pose: &[f64; 6],
+) -> ([f64; 6], [f64; 12], [f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let (t0, t1): (f64, f64) = sin_cos(beta);
+    let t2: f64 = 1.0 / t1;
+    let (t3, t4): (f64, f64) = sin_cos(gamma);
+    let t5: f64 = 1.0 / t4;
+    let (t6, t7): (f64, f64) = sin_cos(alpha);
+    let t9: f64 = t0 * t6;
+    let t10: f64 = t4 * t9;
+    let t11: f64 = f64::mul_add(t3, t7, t10);
+    let t12: f64 = yc * t11;
+    let t14: f64 = t0 * t7;
+    let t15: f64 = t4 * t14;
+    let t16: f64 = f64::mul_add(t3, t6, -t15);
+    let t17: f64 = zc - 0.2;
+    let t19: f64 = f64::mul_add(t16, t17, t12);
+    let t20: f64 = t2 * t5;
+    let t22: f64 = f64::mul_add(t19, t20, xc);
+    let t23: f64 = zc + 0.2;
+    let t25: f64 = f64::mul_add(t16, t23, t12);
+    let t27: f64 = f64::mul_add(t20, t25, xc);
+    let t29: f64 = t3 * t9;
+    let t30: f64 = f64::mul_add(t4, t7, -t29);
+    let t31: f64 = 1.0 / t30;
+    let t32: f64 = xc - 0.2;
+    let t33: f64 = t1 * t3;
+    let t36: f64 = t0 * t3;
+    let t37: f64 = t7 * t36;
+    let t38: f64 = f64::mul_add(t4, t6, t37);
+    let t39: f64 = zc * t38;
+    let t40: f64 = f64::mul_add(t32, t33, -t39);
+    let t42: f64 = f64::mul_add(-t31, t40, yc);
+    let t43: f64 = xc + 0.2;
+    let t45: f64 = f64::mul_add(-t33, t43, t39);
+    let t47: f64 = f64::mul_add(t31, t45, yc);
+    let t48: f64 = 1.0 / t7;
+    let t49: f64 = xc * t0;
+    let t50: f64 = yc - 0.2;
+    let t51: f64 = t1 * t6;
+    let t53: f64 = f64::mul_add(-t50, t51, t49);
+    let t54: f64 = t2 * t48;
+    let t56: f64 = f64::mul_add(t53, t54, zc);
+    let t57: f64 = yc + 0.2;
+    let t59: f64 = f64::mul_add(-t51, t57, t49);
+    let t61: f64 = f64::mul_add(t54, t59, zc);
+    let t62: f64 = t3 * t5;
+    let t64: f64 = yc * t30;
+    let t66: f64 = f64::mul_add(t19, t62, t64);
+    let t67: f64 = f64::mul_add(t17, t38, t66);
+    let t68: f64 = -t67;
+    let t69: f64 = t0 * t2;
+    let t70: f64 = t5 * t69;
+    let t72: f64 = yc * t6;
+    let t73: f64 = t1 * t72;
+    let t74: f64 = t1 * t7;
+    let t76: f64 = f64::mul_add(t19, t70, t73);
+    let t77: f64 = f64::mul_add(t17, t74, 0.2);
+    let t78: f64 = t76 - t77;
+    let t81: f64 = f64::mul_add(t25, t62, t64);
+    let t82: f64 = f64::mul_add(t23, t38, t81);
+    let t83: f64 = -t82;
+    let t86: f64 = f64::mul_add(t25, t70, t73);
+    let t87: f64 = t86 + 0.2;
+    let t88: f64 = f64::mul_add(-t23, t74, t87);
+    let t89: f64 = t1 * t4;
+    let t91: f64 = t11 * t31;
+    let t92: f64 = t40 * t91;
+    let t93: f64 = zc * t16;
+    let t94: f64 = f64::mul_add(t32, t89, t92);
+    let t95: f64 = t93 + 0.2;
+    let t96: f64 = t94 + t95;
+    let t97: f64 = -t96;
+    let t99: f64 = t31 * t51;
+    let t101: f64 = zc * t7;
+    let t102: f64 = t1 * t101;
+    let t103: f64 = f64::mul_add(t0, t32, t102);
+    let t104: f64 = f64::mul_add(t40, t99, -t103);
+    let t107: f64 = f64::mul_add(t45, t91, 0.2);
+    let t108: f64 = f64::mul_add(t43, t89, t93);
+    let t109: f64 = t107 - t108;
+    let t112: f64 = f64::mul_add(t0, t43, t102);
+    let t113: f64 = f64::mul_add(t45, t99, t112);
+    let t114: f64 = -t113;
+    let t115: f64 = xc * t1;
+    let t116: f64 = t4 * t115;
+    let t118: f64 = t16 * t54;
+    let t120: f64 = f64::mul_add(t11, t50, t116);
+    let t121: f64 = f64::mul_add(t53, t118, -t120);
+    let t122: f64 = xc * t3;
+    let t123: f64 = t1 * t122;
+    let t125: f64 = t38 * t54;
+    let t127: f64 = f64::mul_add(t53, t125, t123);
+    let t128: f64 = f64::mul_add(t30, t50, 0.2);
+    let t129: f64 = t127 - t128;
+    let t132: f64 = f64::mul_add(t11, t57, t116);
+    let t133: f64 = f64::mul_add(t59, t118, -t132);
+    let t136: f64 = f64::mul_add(t59, t125, t123);
+    let t137: f64 = t136 + 0.2;
+    let t138: f64 = f64::mul_add(-t30, t57, t137);
+    (
+        [t22, t27, t42, t47, t56, t61],
+        [t68, t78, t83, t88, t97, t104, t109, t114, t121, t129, t133, t138],
+        [t89, t89, t30, t30, t74, t74],
+        [t89, t30, t74],
+    )
 }
 /// Joint accelerations of every segment by projection, the passive joints included.
 ///
@@ -33201,6 +33497,317 @@ pub unsafe fn joint_bias_params_fused(
     let t1447: f64 = t1446 * 0.5;
     let t1448: f64 = 1.0 - t186;
     ([t1060, t1061, t1365, t1368, t1445, t1447], [t1448, t620, t1072, t614])
+}
+/// What the robot's limits bound, at a pose: each ball's position `Q_i1` on its actuator, its offset on its plate, and the cosine of its tilt.
+///
+/// Equations: 15, 16, 27. Setting: pose.
+///
+/// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// The plate's offset is `Rᵀ (B_i - C) - A_i`, where the ball sits in the platform frame against where it sits at the home pose, along the plate's two axes (the platform axes other than its normal, in the order x, y, z). The tilt is the angle between the rod's axis `n_i` and the plate's normal `m_i`: its cosine is `n_i · m_i = r_kk`. Every limit of `c5_robot::Limits` but speed and force is a bound on one of these.
+/// The robot's parameters listed in `params` are inputs; the others are folded in.
+/// The last result holds the divisors of eq 16 for a singularity check.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
+///
+/// # Returns
+///
+/// - `q`: `Q_i1` (m), segment order
+/// - `plate`: each ball's offset on its plate (m), two per segment: `[u1a, u1b, u2a, u2b, …]`
+/// - `tilt_cos`: `cos` of each ball's tilt, `n_i · m_i`
+/// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
+///
+/// Operations: 73 mul, 4 div, 52 add, 4 neg, 3 sin_cos (chapter convention: 77m + 52a).
+#[inline]
+pub fn limit_geometry_params(
+    pose: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 12], [f64; 6], [f64; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { limit_geometry_params_fused(pose, params) };
+    }
+    limit_geometry_params_separate(pose, params)
+}
+/// [`limit_geometry_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn limit_geometry_params_separate(
+    pose: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 12], [f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _] = *params;
+    let (t0, t1): (f64, f64) = sin_cos(beta);
+    let t2: f64 = 1.0 / t1;
+    let (t3, t4): (f64, f64) = sin_cos(gamma);
+    let t5: f64 = 1.0 / t4;
+    let (t6, t7): (f64, f64) = sin_cos(alpha);
+    let t8: f64 = t3 * t7;
+    let t9: f64 = t0 * t6;
+    let t10: f64 = t4 * t9;
+    let t11: f64 = t8 + t10;
+    let t12: f64 = yc * t11;
+    let t13: f64 = t3 * t6;
+    let t14: f64 = t0 * t7;
+    let t15: f64 = t4 * t14;
+    let t16: f64 = t13 - t15;
+    let t17: f64 = zc - half_spacing;
+    let t18: f64 = t16 * t17;
+    let t19: f64 = t12 + t18;
+    let t20: f64 = t2 * t5;
+    let t21: f64 = t19 * t20;
+    let t22: f64 = xc + t21;
+    let t23: f64 = zc + half_spacing;
+    let t24: f64 = t16 * t23;
+    let t25: f64 = t12 + t24;
+    let t26: f64 = t20 * t25;
+    let t27: f64 = xc + t26;
+    let t28: f64 = t4 * t7;
+    let t29: f64 = t3 * t9;
+    let t30: f64 = t28 - t29;
+    let t31: f64 = 1.0 / t30;
+    let t32: f64 = xc - half_spacing;
+    let t33: f64 = t1 * t3;
+    let t34: f64 = t32 * t33;
+    let t35: f64 = t4 * t6;
+    let t36: f64 = t0 * t3;
+    let t37: f64 = t7 * t36;
+    let t38: f64 = t35 + t37;
+    let t39: f64 = zc * t38;
+    let t40: f64 = t34 - t39;
+    let t41: f64 = t31 * t40;
+    let t42: f64 = yc - t41;
+    let t43: f64 = xc + half_spacing;
+    let t44: f64 = t33 * t43;
+    let t45: f64 = t39 - t44;
+    let t46: f64 = t31 * t45;
+    let t47: f64 = yc + t46;
+    let t48: f64 = 1.0 / t7;
+    let t49: f64 = xc * t0;
+    let t50: f64 = yc - half_spacing;
+    let t51: f64 = t1 * t6;
+    let t52: f64 = t50 * t51;
+    let t53: f64 = t49 - t52;
+    let t54: f64 = t2 * t48;
+    let t55: f64 = t53 * t54;
+    let t56: f64 = zc + t55;
+    let t57: f64 = yc + half_spacing;
+    let t58: f64 = t51 * t57;
+    let t59: f64 = t49 - t58;
+    let t60: f64 = t54 * t59;
+    let t61: f64 = zc + t60;
+    let t62: f64 = t3 * t5;
+    let t63: f64 = t19 * t62;
+    let t64: f64 = yc * t30;
+    let t65: f64 = t17 * t38;
+    let t66: f64 = t63 + t64;
+    let t67: f64 = t65 + t66;
+    let t68: f64 = -t67;
+    let t69: f64 = t0 * t2;
+    let t70: f64 = t5 * t69;
+    let t71: f64 = t19 * t70;
+    let t72: f64 = yc * t6;
+    let t73: f64 = t1 * t72;
+    let t74: f64 = t1 * t7;
+    let t75: f64 = t17 * t74;
+    let t76: f64 = t71 + t73;
+    let t77: f64 = half_spacing + t75;
+    let t78: f64 = t76 - t77;
+    let t79: f64 = t25 * t62;
+    let t80: f64 = t23 * t38;
+    let t81: f64 = t64 + t79;
+    let t82: f64 = t80 + t81;
+    let t83: f64 = -t82;
+    let t84: f64 = t25 * t70;
+    let t85: f64 = t23 * t74;
+    let t86: f64 = half_spacing + t73;
+    let t87: f64 = t84 + t86;
+    let t88: f64 = t87 - t85;
+    let t89: f64 = t1 * t4;
+    let t90: f64 = t32 * t89;
+    let t91: f64 = t11 * t31;
+    let t92: f64 = t40 * t91;
+    let t93: f64 = zc * t16;
+    let t94: f64 = half_spacing + t90;
+    let t95: f64 = t92 + t93;
+    let t96: f64 = t94 + t95;
+    let t97: f64 = -t96;
+    let t98: f64 = t0 * t32;
+    let t99: f64 = t31 * t51;
+    let t100: f64 = t40 * t99;
+    let t101: f64 = zc * t7;
+    let t102: f64 = t1 * t101;
+    let t103: f64 = t98 + t102;
+    let t104: f64 = t100 - t103;
+    let t105: f64 = t43 * t89;
+    let t106: f64 = t45 * t91;
+    let t107: f64 = half_spacing + t106;
+    let t108: f64 = t93 + t105;
+    let t109: f64 = t107 - t108;
+    let t110: f64 = t0 * t43;
+    let t111: f64 = t45 * t99;
+    let t112: f64 = t102 + t110;
+    let t113: f64 = t111 + t112;
+    let t114: f64 = -t113;
+    let t115: f64 = xc * t1;
+    let t116: f64 = t4 * t115;
+    let t117: f64 = t11 * t50;
+    let t118: f64 = t16 * t54;
+    let t119: f64 = t53 * t118;
+    let t120: f64 = t116 + t117;
+    let t121: f64 = t119 - t120;
+    let t122: f64 = xc * t3;
+    let t123: f64 = t1 * t122;
+    let t124: f64 = t30 * t50;
+    let t125: f64 = t38 * t54;
+    let t126: f64 = t53 * t125;
+    let t127: f64 = t123 + t126;
+    let t128: f64 = half_spacing + t124;
+    let t129: f64 = t127 - t128;
+    let t130: f64 = t11 * t57;
+    let t131: f64 = t59 * t118;
+    let t132: f64 = t116 + t130;
+    let t133: f64 = t131 - t132;
+    let t134: f64 = t30 * t57;
+    let t135: f64 = t59 * t125;
+    let t136: f64 = half_spacing + t123;
+    let t137: f64 = t135 + t136;
+    let t138: f64 = t137 - t134;
+    (
+        [t22, t27, t42, t47, t56, t61],
+        [t68, t78, t83, t88, t97, t104, t109, t114, t121, t129, t133, t138],
+        [t89, t89, t30, t30, t74, t74],
+        [t89, t30, t74],
+    )
+}
+/// [`limit_geometry_params`] with 40 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`limit_geometry_params`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn limit_geometry_params_fused(
+    pose: &[f64; 6],
+    params: &[f64; 152],
+) -> ([f64; 6], [f64; 12], [f64; 6], [f64; 3]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [half_spacing, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+    _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _] = *params;
+    let (t0, t1): (f64, f64) = sin_cos(beta);
+    let t2: f64 = 1.0 / t1;
+    let (t3, t4): (f64, f64) = sin_cos(gamma);
+    let t5: f64 = 1.0 / t4;
+    let (t6, t7): (f64, f64) = sin_cos(alpha);
+    let t9: f64 = t0 * t6;
+    let t10: f64 = t4 * t9;
+    let t11: f64 = f64::mul_add(t3, t7, t10);
+    let t12: f64 = yc * t11;
+    let t14: f64 = t0 * t7;
+    let t15: f64 = t4 * t14;
+    let t16: f64 = f64::mul_add(t3, t6, -t15);
+    let t17: f64 = zc - half_spacing;
+    let t19: f64 = f64::mul_add(t16, t17, t12);
+    let t20: f64 = t2 * t5;
+    let t22: f64 = f64::mul_add(t19, t20, xc);
+    let t23: f64 = zc + half_spacing;
+    let t25: f64 = f64::mul_add(t16, t23, t12);
+    let t27: f64 = f64::mul_add(t20, t25, xc);
+    let t29: f64 = t3 * t9;
+    let t30: f64 = f64::mul_add(t4, t7, -t29);
+    let t31: f64 = 1.0 / t30;
+    let t32: f64 = xc - half_spacing;
+    let t33: f64 = t1 * t3;
+    let t36: f64 = t0 * t3;
+    let t37: f64 = t7 * t36;
+    let t38: f64 = f64::mul_add(t4, t6, t37);
+    let t39: f64 = zc * t38;
+    let t40: f64 = f64::mul_add(t32, t33, -t39);
+    let t42: f64 = f64::mul_add(-t31, t40, yc);
+    let t43: f64 = xc + half_spacing;
+    let t45: f64 = f64::mul_add(-t33, t43, t39);
+    let t47: f64 = f64::mul_add(t31, t45, yc);
+    let t48: f64 = 1.0 / t7;
+    let t49: f64 = xc * t0;
+    let t50: f64 = yc - half_spacing;
+    let t51: f64 = t1 * t6;
+    let t53: f64 = f64::mul_add(-t50, t51, t49);
+    let t54: f64 = t2 * t48;
+    let t56: f64 = f64::mul_add(t53, t54, zc);
+    let t57: f64 = yc + half_spacing;
+    let t59: f64 = f64::mul_add(-t51, t57, t49);
+    let t61: f64 = f64::mul_add(t54, t59, zc);
+    let t62: f64 = t3 * t5;
+    let t64: f64 = yc * t30;
+    let t66: f64 = f64::mul_add(t19, t62, t64);
+    let t67: f64 = f64::mul_add(t17, t38, t66);
+    let t68: f64 = -t67;
+    let t69: f64 = t0 * t2;
+    let t70: f64 = t5 * t69;
+    let t72: f64 = yc * t6;
+    let t73: f64 = t1 * t72;
+    let t74: f64 = t1 * t7;
+    let t76: f64 = f64::mul_add(t19, t70, t73);
+    let t77: f64 = f64::mul_add(t17, t74, half_spacing);
+    let t78: f64 = t76 - t77;
+    let t81: f64 = f64::mul_add(t25, t62, t64);
+    let t82: f64 = f64::mul_add(t23, t38, t81);
+    let t83: f64 = -t82;
+    let t86: f64 = half_spacing + t73;
+    let t87: f64 = f64::mul_add(t25, t70, t86);
+    let t88: f64 = f64::mul_add(-t23, t74, t87);
+    let t89: f64 = t1 * t4;
+    let t91: f64 = t11 * t31;
+    let t93: f64 = zc * t16;
+    let t94: f64 = f64::mul_add(t32, t89, half_spacing);
+    let t95: f64 = f64::mul_add(t40, t91, t93);
+    let t96: f64 = t94 + t95;
+    let t97: f64 = -t96;
+    let t99: f64 = t31 * t51;
+    let t101: f64 = zc * t7;
+    let t102: f64 = t1 * t101;
+    let t103: f64 = f64::mul_add(t0, t32, t102);
+    let t104: f64 = f64::mul_add(t40, t99, -t103);
+    let t107: f64 = f64::mul_add(t45, t91, half_spacing);
+    let t108: f64 = f64::mul_add(t43, t89, t93);
+    let t109: f64 = t107 - t108;
+    let t112: f64 = f64::mul_add(t0, t43, t102);
+    let t113: f64 = f64::mul_add(t45, t99, t112);
+    let t114: f64 = -t113;
+    let t115: f64 = xc * t1;
+    let t116: f64 = t4 * t115;
+    let t118: f64 = t16 * t54;
+    let t120: f64 = f64::mul_add(t11, t50, t116);
+    let t121: f64 = f64::mul_add(t53, t118, -t120);
+    let t122: f64 = xc * t3;
+    let t123: f64 = t1 * t122;
+    let t125: f64 = t38 * t54;
+    let t127: f64 = f64::mul_add(t53, t125, t123);
+    let t128: f64 = f64::mul_add(t30, t50, half_spacing);
+    let t129: f64 = t127 - t128;
+    let t132: f64 = f64::mul_add(t11, t57, t116);
+    let t133: f64 = f64::mul_add(t59, t118, -t132);
+    let t136: f64 = half_spacing + t123;
+    let t137: f64 = f64::mul_add(t59, t125, t136);
+    let t138: f64 = f64::mul_add(-t30, t57, t137);
+    (
+        [t22, t27, t42, t47, t56, t61],
+        [t68, t78, t83, t88, t97, t104, t109, t114, t121, t129, t133, t138],
+        [t89, t89, t30, t30, t74, t74],
+        [t89, t30, t74],
+    )
 }
 /// Joint accelerations of every segment by projection, the passive joints included.
 ///

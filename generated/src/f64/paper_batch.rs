@@ -28,6 +28,7 @@
 //   inverse_dynamics_joint             347    3   330    4  3 sqrt
 //   joint_inertia                      213    3   243    5  3 sqrt
 //   joint_bias                         313    3   273    4  3 sqrt
+//   limit_geometry                      73    4    52    4  3 sin_cos
 //   leg_joint_accelerations             70    4    52    0  3 sin_cos
 //   inverse_kinematics_params           24    6    22    5  3 sin_cos
 //   inverse_jacobian_pose_params         5    0     7    3  3 sin_cos
@@ -47,6 +48,7 @@
 //   inverse_dynamics_joint_params     1053    4   734   17  3 sqrt
 //   joint_inertia_params              1444    4  1063   50  3 sqrt
 //   joint_bias_params                  791    4   637   14  3 sqrt
+//   limit_geometry_params               73    4    52    4  3 sin_cos
 //   leg_joint_accelerations_params      70    4    52    0  3 sin_cos
 
 /// The batch version of [`forward_dynamics`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `forward_dynamics` computes. Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
@@ -4037,6 +4039,339 @@ unsafe fn inverse_dynamics_joint_x4_lanes_fused(
     (
         [(t462).0, (t463).0, (t595).0, (t598).0, (t666).0, (t682).0],
         [(t683).0, (t684).0, (t685).0, (t686).0],
+    )
+}
+/// The batch version of [`limit_geometry`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `limit_geometry` computes. What the robot's limits bound, at a pose: each ball's position `Q_i1` on its actuator, its offset on its plate, and the cosine of its tilt.
+#[inline]
+pub fn limit_geometry_x4(
+    pose: &[[f64; 4]; 6],
+) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        if std::is_x86_feature_detected!("avx512vl") {
+            #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+            fn avx512_fma(
+                pose: &[[f64; 4]; 6],
+            ) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+                core::hint::black_box(&F64x4::splat(0.0));
+                unsafe { limit_geometry_x4_lanes_fused(pose) }
+            }
+            return unsafe { avx512_fma(pose) };
+        }
+        #[target_feature(enable = "avx2,fma")]
+        fn avx2_fma(
+            pose: &[[f64; 4]; 6],
+        ) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+            core::hint::black_box(&F64x4::splat(0.0));
+            unsafe { limit_geometry_x4_lanes_fused(pose) }
+        }
+        return unsafe { avx2_fma(pose) };
+    }
+    #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
+    if std::is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        fn avx2(
+            pose: &[[f64; 4]; 6],
+        ) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+            core::hint::black_box(&F64x4::splat(0.0));
+            limit_geometry_x4_lanes(pose)
+        }
+        return unsafe { avx2(pose) };
+    }
+    limit_geometry_x4_lanes(pose)
+}
+#[inline(always)]
+fn limit_geometry_x4_lanes(
+    pose: &[[f64; 4]; 6],
+) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+    let alpha = F64x4(pose[0]);
+    let beta = F64x4(pose[1]);
+    let gamma = F64x4(pose[2]);
+    let xc = F64x4(pose[3]);
+    let yc = F64x4(pose[4]);
+    let zc = F64x4(pose[5]);
+    let (t0, t1) = beta.sin_cos();
+    let t2: F64x4 = F64x4::splat(1.0) / t1;
+    let (t3, t4) = gamma.sin_cos();
+    let t5: F64x4 = F64x4::splat(1.0) / t4;
+    let (t6, t7) = alpha.sin_cos();
+    let t8: F64x4 = t3 * t7;
+    let t9: F64x4 = t0 * t6;
+    let t10: F64x4 = t4 * t9;
+    let t11: F64x4 = t8 + t10;
+    let t12: F64x4 = yc * t11;
+    let t13: F64x4 = t3 * t6;
+    let t14: F64x4 = t0 * t7;
+    let t15: F64x4 = t4 * t14;
+    let t16: F64x4 = t13 - t15;
+    let t17: F64x4 = zc - F64x4::splat(0.2);
+    let t18: F64x4 = t16 * t17;
+    let t19: F64x4 = t12 + t18;
+    let t20: F64x4 = t2 * t5;
+    let t21: F64x4 = t19 * t20;
+    let t22: F64x4 = xc + t21;
+    let t23: F64x4 = zc + F64x4::splat(0.2);
+    let t24: F64x4 = t16 * t23;
+    let t25: F64x4 = t12 + t24;
+    let t26: F64x4 = t20 * t25;
+    let t27: F64x4 = xc + t26;
+    let t28: F64x4 = t4 * t7;
+    let t29: F64x4 = t3 * t9;
+    let t30: F64x4 = t28 - t29;
+    let t31: F64x4 = F64x4::splat(1.0) / t30;
+    let t32: F64x4 = xc - F64x4::splat(0.2);
+    let t33: F64x4 = t1 * t3;
+    let t34: F64x4 = t32 * t33;
+    let t35: F64x4 = t4 * t6;
+    let t36: F64x4 = t0 * t3;
+    let t37: F64x4 = t7 * t36;
+    let t38: F64x4 = t35 + t37;
+    let t39: F64x4 = zc * t38;
+    let t40: F64x4 = t34 - t39;
+    let t41: F64x4 = t31 * t40;
+    let t42: F64x4 = yc - t41;
+    let t43: F64x4 = xc + F64x4::splat(0.2);
+    let t44: F64x4 = t33 * t43;
+    let t45: F64x4 = t39 - t44;
+    let t46: F64x4 = t31 * t45;
+    let t47: F64x4 = yc + t46;
+    let t48: F64x4 = F64x4::splat(1.0) / t7;
+    let t49: F64x4 = xc * t0;
+    let t50: F64x4 = yc - F64x4::splat(0.2);
+    let t51: F64x4 = t1 * t6;
+    let t52: F64x4 = t50 * t51;
+    let t53: F64x4 = t49 - t52;
+    let t54: F64x4 = t2 * t48;
+    let t55: F64x4 = t53 * t54;
+    let t56: F64x4 = zc + t55;
+    let t57: F64x4 = yc + F64x4::splat(0.2);
+    let t58: F64x4 = t51 * t57;
+    let t59: F64x4 = t49 - t58;
+    let t60: F64x4 = t54 * t59;
+    let t61: F64x4 = zc + t60;
+    let t62: F64x4 = t3 * t5;
+    let t63: F64x4 = t19 * t62;
+    let t64: F64x4 = yc * t30;
+    let t65: F64x4 = t17 * t38;
+    let t66: F64x4 = t63 + t64;
+    let t67: F64x4 = t65 + t66;
+    let t68: F64x4 = -t67;
+    let t69: F64x4 = t0 * t2;
+    let t70: F64x4 = t5 * t69;
+    let t71: F64x4 = t19 * t70;
+    let t72: F64x4 = yc * t6;
+    let t73: F64x4 = t1 * t72;
+    let t74: F64x4 = t1 * t7;
+    let t75: F64x4 = t17 * t74;
+    let t76: F64x4 = t71 + t73;
+    let t77: F64x4 = t75 + F64x4::splat(0.2);
+    let t78: F64x4 = t76 - t77;
+    let t79: F64x4 = t25 * t62;
+    let t80: F64x4 = t23 * t38;
+    let t81: F64x4 = t64 + t79;
+    let t82: F64x4 = t80 + t81;
+    let t83: F64x4 = -t82;
+    let t84: F64x4 = t25 * t70;
+    let t85: F64x4 = t23 * t74;
+    let t86: F64x4 = t73 + t84;
+    let t87: F64x4 = t86 + F64x4::splat(0.2);
+    let t88: F64x4 = t87 - t85;
+    let t89: F64x4 = t1 * t4;
+    let t90: F64x4 = t32 * t89;
+    let t91: F64x4 = t11 * t31;
+    let t92: F64x4 = t40 * t91;
+    let t93: F64x4 = zc * t16;
+    let t94: F64x4 = t90 + t92;
+    let t95: F64x4 = t93 + F64x4::splat(0.2);
+    let t96: F64x4 = t94 + t95;
+    let t97: F64x4 = -t96;
+    let t98: F64x4 = t0 * t32;
+    let t99: F64x4 = t31 * t51;
+    let t100: F64x4 = t40 * t99;
+    let t101: F64x4 = zc * t7;
+    let t102: F64x4 = t1 * t101;
+    let t103: F64x4 = t98 + t102;
+    let t104: F64x4 = t100 - t103;
+    let t105: F64x4 = t43 * t89;
+    let t106: F64x4 = t45 * t91;
+    let t107: F64x4 = t106 + F64x4::splat(0.2);
+    let t108: F64x4 = t93 + t105;
+    let t109: F64x4 = t107 - t108;
+    let t110: F64x4 = t0 * t43;
+    let t111: F64x4 = t45 * t99;
+    let t112: F64x4 = t102 + t110;
+    let t113: F64x4 = t111 + t112;
+    let t114: F64x4 = -t113;
+    let t115: F64x4 = xc * t1;
+    let t116: F64x4 = t4 * t115;
+    let t117: F64x4 = t11 * t50;
+    let t118: F64x4 = t16 * t54;
+    let t119: F64x4 = t53 * t118;
+    let t120: F64x4 = t116 + t117;
+    let t121: F64x4 = t119 - t120;
+    let t122: F64x4 = xc * t3;
+    let t123: F64x4 = t1 * t122;
+    let t124: F64x4 = t30 * t50;
+    let t125: F64x4 = t38 * t54;
+    let t126: F64x4 = t53 * t125;
+    let t127: F64x4 = t123 + t126;
+    let t128: F64x4 = t124 + F64x4::splat(0.2);
+    let t129: F64x4 = t127 - t128;
+    let t130: F64x4 = t11 * t57;
+    let t131: F64x4 = t59 * t118;
+    let t132: F64x4 = t116 + t130;
+    let t133: F64x4 = t131 - t132;
+    let t134: F64x4 = t30 * t57;
+    let t135: F64x4 = t59 * t125;
+    let t136: F64x4 = t123 + t135;
+    let t137: F64x4 = t136 + F64x4::splat(0.2);
+    let t138: F64x4 = t137 - t134;
+    (
+        [(t22).0, (t27).0, (t42).0, (t47).0, (t56).0, (t61).0],
+        [
+            (t68).0,
+            (t78).0,
+            (t83).0,
+            (t88).0,
+            (t97).0,
+            (t104).0,
+            (t109).0,
+            (t114).0,
+            (t121).0,
+            (t129).0,
+            (t133).0,
+            (t138).0,
+        ],
+        [(t89).0, (t89).0, (t30).0, (t30).0, (t74).0, (t74).0],
+        [(t89).0, (t30).0, (t74).0],
+    )
+}
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline(always)]
+unsafe fn limit_geometry_x4_lanes_fused(
+    pose: &[[f64; 4]; 6],
+) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+    let alpha = F64x4(pose[0]);
+    let beta = F64x4(pose[1]);
+    let gamma = F64x4(pose[2]);
+    let xc = F64x4(pose[3]);
+    let yc = F64x4(pose[4]);
+    let zc = F64x4(pose[5]);
+    let (t0, t1) = beta.sin_cos();
+    let t2: F64x4 = F64x4::splat(1.0) / t1;
+    let (t3, t4) = gamma.sin_cos();
+    let t5: F64x4 = F64x4::splat(1.0) / t4;
+    let (t6, t7) = alpha.sin_cos();
+    let t9: F64x4 = t0 * t6;
+    let t10: F64x4 = t4 * t9;
+    let t11: F64x4 = F64x4::mul_add(t3, t7, t10);
+    let t12: F64x4 = yc * t11;
+    let t14: F64x4 = t0 * t7;
+    let t15: F64x4 = t4 * t14;
+    let t16: F64x4 = F64x4::mul_add(t3, t6, -t15);
+    let t17: F64x4 = zc - F64x4::splat(0.2);
+    let t19: F64x4 = F64x4::mul_add(t16, t17, t12);
+    let t20: F64x4 = t2 * t5;
+    let t22: F64x4 = F64x4::mul_add(t19, t20, xc);
+    let t23: F64x4 = zc + F64x4::splat(0.2);
+    let t25: F64x4 = F64x4::mul_add(t16, t23, t12);
+    let t27: F64x4 = F64x4::mul_add(t20, t25, xc);
+    let t29: F64x4 = t3 * t9;
+    let t30: F64x4 = F64x4::mul_add(t4, t7, -t29);
+    let t31: F64x4 = F64x4::splat(1.0) / t30;
+    let t32: F64x4 = xc - F64x4::splat(0.2);
+    let t33: F64x4 = t1 * t3;
+    let t36: F64x4 = t0 * t3;
+    let t37: F64x4 = t7 * t36;
+    let t38: F64x4 = F64x4::mul_add(t4, t6, t37);
+    let t39: F64x4 = zc * t38;
+    let t40: F64x4 = F64x4::mul_add(t32, t33, -t39);
+    let t42: F64x4 = F64x4::mul_add(-t31, t40, yc);
+    let t43: F64x4 = xc + F64x4::splat(0.2);
+    let t45: F64x4 = F64x4::mul_add(-t33, t43, t39);
+    let t47: F64x4 = F64x4::mul_add(t31, t45, yc);
+    let t48: F64x4 = F64x4::splat(1.0) / t7;
+    let t49: F64x4 = xc * t0;
+    let t50: F64x4 = yc - F64x4::splat(0.2);
+    let t51: F64x4 = t1 * t6;
+    let t53: F64x4 = F64x4::mul_add(-t50, t51, t49);
+    let t54: F64x4 = t2 * t48;
+    let t56: F64x4 = F64x4::mul_add(t53, t54, zc);
+    let t57: F64x4 = yc + F64x4::splat(0.2);
+    let t59: F64x4 = F64x4::mul_add(-t51, t57, t49);
+    let t61: F64x4 = F64x4::mul_add(t54, t59, zc);
+    let t62: F64x4 = t3 * t5;
+    let t64: F64x4 = yc * t30;
+    let t66: F64x4 = F64x4::mul_add(t19, t62, t64);
+    let t67: F64x4 = F64x4::mul_add(t17, t38, t66);
+    let t68: F64x4 = -t67;
+    let t69: F64x4 = t0 * t2;
+    let t70: F64x4 = t5 * t69;
+    let t72: F64x4 = yc * t6;
+    let t73: F64x4 = t1 * t72;
+    let t74: F64x4 = t1 * t7;
+    let t76: F64x4 = F64x4::mul_add(t19, t70, t73);
+    let t77: F64x4 = F64x4::mul_add(t17, t74, F64x4::splat(0.2));
+    let t78: F64x4 = t76 - t77;
+    let t81: F64x4 = F64x4::mul_add(t25, t62, t64);
+    let t82: F64x4 = F64x4::mul_add(t23, t38, t81);
+    let t83: F64x4 = -t82;
+    let t86: F64x4 = F64x4::mul_add(t25, t70, t73);
+    let t87: F64x4 = t86 + F64x4::splat(0.2);
+    let t88: F64x4 = F64x4::mul_add(-t23, t74, t87);
+    let t89: F64x4 = t1 * t4;
+    let t91: F64x4 = t11 * t31;
+    let t92: F64x4 = t40 * t91;
+    let t93: F64x4 = zc * t16;
+    let t94: F64x4 = F64x4::mul_add(t32, t89, t92);
+    let t95: F64x4 = t93 + F64x4::splat(0.2);
+    let t96: F64x4 = t94 + t95;
+    let t97: F64x4 = -t96;
+    let t99: F64x4 = t31 * t51;
+    let t101: F64x4 = zc * t7;
+    let t102: F64x4 = t1 * t101;
+    let t103: F64x4 = F64x4::mul_add(t0, t32, t102);
+    let t104: F64x4 = F64x4::mul_add(t40, t99, -t103);
+    let t107: F64x4 = F64x4::mul_add(t45, t91, F64x4::splat(0.2));
+    let t108: F64x4 = F64x4::mul_add(t43, t89, t93);
+    let t109: F64x4 = t107 - t108;
+    let t112: F64x4 = F64x4::mul_add(t0, t43, t102);
+    let t113: F64x4 = F64x4::mul_add(t45, t99, t112);
+    let t114: F64x4 = -t113;
+    let t115: F64x4 = xc * t1;
+    let t116: F64x4 = t4 * t115;
+    let t118: F64x4 = t16 * t54;
+    let t120: F64x4 = F64x4::mul_add(t11, t50, t116);
+    let t121: F64x4 = F64x4::mul_add(t53, t118, -t120);
+    let t122: F64x4 = xc * t3;
+    let t123: F64x4 = t1 * t122;
+    let t125: F64x4 = t38 * t54;
+    let t127: F64x4 = F64x4::mul_add(t53, t125, t123);
+    let t128: F64x4 = F64x4::mul_add(t30, t50, F64x4::splat(0.2));
+    let t129: F64x4 = t127 - t128;
+    let t132: F64x4 = F64x4::mul_add(t11, t57, t116);
+    let t133: F64x4 = F64x4::mul_add(t59, t118, -t132);
+    let t136: F64x4 = F64x4::mul_add(t59, t125, t123);
+    let t137: F64x4 = t136 + F64x4::splat(0.2);
+    let t138: F64x4 = F64x4::mul_add(-t30, t57, t137);
+    (
+        [(t22).0, (t27).0, (t42).0, (t47).0, (t56).0, (t61).0],
+        [
+            (t68).0,
+            (t78).0,
+            (t83).0,
+            (t88).0,
+            (t97).0,
+            (t104).0,
+            (t109).0,
+            (t114).0,
+            (t121).0,
+            (t129).0,
+            (t133).0,
+            (t138).0,
+        ],
+        [(t89).0, (t89).0, (t30).0, (t30).0, (t74).0, (t74).0],
+        [(t89).0, (t30).0, (t74).0],
     )
 }
 /// The batch version of [`forward_dynamics_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `forward_dynamics_params` computes. Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
@@ -12070,5 +12405,345 @@ unsafe fn inverse_dynamics_joint_params_x4_lanes_fused(
     (
         [(t1363).0, (t1364).0, (t1707).0, (t1710).0, (t1804).0, (t1806).0],
         [(t1807).0, (t1808).0, (t1809).0, (t1810).0],
+    )
+}
+/// The batch version of [`limit_geometry_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `limit_geometry_params` computes. What the robot's limits bound, at a pose: each ball's position `Q_i1` on its actuator, its offset on its plate, and the cosine of its tilt.
+#[inline]
+pub fn limit_geometry_params_x4(
+    pose: &[[f64; 4]; 6],
+    params: &[f64; 152],
+) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        if std::is_x86_feature_detected!("avx512vl") {
+            #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+            fn avx512_fma(
+                pose: &[[f64; 4]; 6],
+                params: &[f64; 152],
+            ) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+                core::hint::black_box(&F64x4::splat(0.0));
+                unsafe { limit_geometry_params_x4_lanes_fused(pose, params) }
+            }
+            return unsafe { avx512_fma(pose, params) };
+        }
+        #[target_feature(enable = "avx2,fma")]
+        fn avx2_fma(
+            pose: &[[f64; 4]; 6],
+            params: &[f64; 152],
+        ) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+            core::hint::black_box(&F64x4::splat(0.0));
+            unsafe { limit_geometry_params_x4_lanes_fused(pose, params) }
+        }
+        return unsafe { avx2_fma(pose, params) };
+    }
+    #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
+    if std::is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        fn avx2(
+            pose: &[[f64; 4]; 6],
+            params: &[f64; 152],
+        ) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+            core::hint::black_box(&F64x4::splat(0.0));
+            limit_geometry_params_x4_lanes(pose, params)
+        }
+        return unsafe { avx2(pose, params) };
+    }
+    limit_geometry_params_x4_lanes(pose, params)
+}
+#[inline(always)]
+fn limit_geometry_params_x4_lanes(
+    pose: &[[f64; 4]; 6],
+    params: &[f64; 152],
+) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+    let alpha = F64x4(pose[0]);
+    let beta = F64x4(pose[1]);
+    let gamma = F64x4(pose[2]);
+    let xc = F64x4(pose[3]);
+    let yc = F64x4(pose[4]);
+    let zc = F64x4(pose[5]);
+    let half_spacing = F64x4::splat(params[0]);
+    let (t0, t1) = beta.sin_cos();
+    let t2: F64x4 = F64x4::splat(1.0) / t1;
+    let (t3, t4) = gamma.sin_cos();
+    let t5: F64x4 = F64x4::splat(1.0) / t4;
+    let (t6, t7) = alpha.sin_cos();
+    let t8: F64x4 = t3 * t7;
+    let t9: F64x4 = t0 * t6;
+    let t10: F64x4 = t4 * t9;
+    let t11: F64x4 = t8 + t10;
+    let t12: F64x4 = yc * t11;
+    let t13: F64x4 = t3 * t6;
+    let t14: F64x4 = t0 * t7;
+    let t15: F64x4 = t4 * t14;
+    let t16: F64x4 = t13 - t15;
+    let t17: F64x4 = zc - half_spacing;
+    let t18: F64x4 = t16 * t17;
+    let t19: F64x4 = t12 + t18;
+    let t20: F64x4 = t2 * t5;
+    let t21: F64x4 = t19 * t20;
+    let t22: F64x4 = xc + t21;
+    let t23: F64x4 = zc + half_spacing;
+    let t24: F64x4 = t16 * t23;
+    let t25: F64x4 = t12 + t24;
+    let t26: F64x4 = t20 * t25;
+    let t27: F64x4 = xc + t26;
+    let t28: F64x4 = t4 * t7;
+    let t29: F64x4 = t3 * t9;
+    let t30: F64x4 = t28 - t29;
+    let t31: F64x4 = F64x4::splat(1.0) / t30;
+    let t32: F64x4 = xc - half_spacing;
+    let t33: F64x4 = t1 * t3;
+    let t34: F64x4 = t32 * t33;
+    let t35: F64x4 = t4 * t6;
+    let t36: F64x4 = t0 * t3;
+    let t37: F64x4 = t7 * t36;
+    let t38: F64x4 = t35 + t37;
+    let t39: F64x4 = zc * t38;
+    let t40: F64x4 = t34 - t39;
+    let t41: F64x4 = t31 * t40;
+    let t42: F64x4 = yc - t41;
+    let t43: F64x4 = xc + half_spacing;
+    let t44: F64x4 = t33 * t43;
+    let t45: F64x4 = t39 - t44;
+    let t46: F64x4 = t31 * t45;
+    let t47: F64x4 = yc + t46;
+    let t48: F64x4 = F64x4::splat(1.0) / t7;
+    let t49: F64x4 = xc * t0;
+    let t50: F64x4 = yc - half_spacing;
+    let t51: F64x4 = t1 * t6;
+    let t52: F64x4 = t50 * t51;
+    let t53: F64x4 = t49 - t52;
+    let t54: F64x4 = t2 * t48;
+    let t55: F64x4 = t53 * t54;
+    let t56: F64x4 = zc + t55;
+    let t57: F64x4 = yc + half_spacing;
+    let t58: F64x4 = t51 * t57;
+    let t59: F64x4 = t49 - t58;
+    let t60: F64x4 = t54 * t59;
+    let t61: F64x4 = zc + t60;
+    let t62: F64x4 = t3 * t5;
+    let t63: F64x4 = t19 * t62;
+    let t64: F64x4 = yc * t30;
+    let t65: F64x4 = t17 * t38;
+    let t66: F64x4 = t63 + t64;
+    let t67: F64x4 = t65 + t66;
+    let t68: F64x4 = -t67;
+    let t69: F64x4 = t0 * t2;
+    let t70: F64x4 = t5 * t69;
+    let t71: F64x4 = t19 * t70;
+    let t72: F64x4 = yc * t6;
+    let t73: F64x4 = t1 * t72;
+    let t74: F64x4 = t1 * t7;
+    let t75: F64x4 = t17 * t74;
+    let t76: F64x4 = t71 + t73;
+    let t77: F64x4 = half_spacing + t75;
+    let t78: F64x4 = t76 - t77;
+    let t79: F64x4 = t25 * t62;
+    let t80: F64x4 = t23 * t38;
+    let t81: F64x4 = t64 + t79;
+    let t82: F64x4 = t80 + t81;
+    let t83: F64x4 = -t82;
+    let t84: F64x4 = t25 * t70;
+    let t85: F64x4 = t23 * t74;
+    let t86: F64x4 = half_spacing + t73;
+    let t87: F64x4 = t84 + t86;
+    let t88: F64x4 = t87 - t85;
+    let t89: F64x4 = t1 * t4;
+    let t90: F64x4 = t32 * t89;
+    let t91: F64x4 = t11 * t31;
+    let t92: F64x4 = t40 * t91;
+    let t93: F64x4 = zc * t16;
+    let t94: F64x4 = half_spacing + t90;
+    let t95: F64x4 = t92 + t93;
+    let t96: F64x4 = t94 + t95;
+    let t97: F64x4 = -t96;
+    let t98: F64x4 = t0 * t32;
+    let t99: F64x4 = t31 * t51;
+    let t100: F64x4 = t40 * t99;
+    let t101: F64x4 = zc * t7;
+    let t102: F64x4 = t1 * t101;
+    let t103: F64x4 = t98 + t102;
+    let t104: F64x4 = t100 - t103;
+    let t105: F64x4 = t43 * t89;
+    let t106: F64x4 = t45 * t91;
+    let t107: F64x4 = half_spacing + t106;
+    let t108: F64x4 = t93 + t105;
+    let t109: F64x4 = t107 - t108;
+    let t110: F64x4 = t0 * t43;
+    let t111: F64x4 = t45 * t99;
+    let t112: F64x4 = t102 + t110;
+    let t113: F64x4 = t111 + t112;
+    let t114: F64x4 = -t113;
+    let t115: F64x4 = xc * t1;
+    let t116: F64x4 = t4 * t115;
+    let t117: F64x4 = t11 * t50;
+    let t118: F64x4 = t16 * t54;
+    let t119: F64x4 = t53 * t118;
+    let t120: F64x4 = t116 + t117;
+    let t121: F64x4 = t119 - t120;
+    let t122: F64x4 = xc * t3;
+    let t123: F64x4 = t1 * t122;
+    let t124: F64x4 = t30 * t50;
+    let t125: F64x4 = t38 * t54;
+    let t126: F64x4 = t53 * t125;
+    let t127: F64x4 = t123 + t126;
+    let t128: F64x4 = half_spacing + t124;
+    let t129: F64x4 = t127 - t128;
+    let t130: F64x4 = t11 * t57;
+    let t131: F64x4 = t59 * t118;
+    let t132: F64x4 = t116 + t130;
+    let t133: F64x4 = t131 - t132;
+    let t134: F64x4 = t30 * t57;
+    let t135: F64x4 = t59 * t125;
+    let t136: F64x4 = half_spacing + t123;
+    let t137: F64x4 = t135 + t136;
+    let t138: F64x4 = t137 - t134;
+    (
+        [(t22).0, (t27).0, (t42).0, (t47).0, (t56).0, (t61).0],
+        [
+            (t68).0,
+            (t78).0,
+            (t83).0,
+            (t88).0,
+            (t97).0,
+            (t104).0,
+            (t109).0,
+            (t114).0,
+            (t121).0,
+            (t129).0,
+            (t133).0,
+            (t138).0,
+        ],
+        [(t89).0, (t89).0, (t30).0, (t30).0, (t74).0, (t74).0],
+        [(t89).0, (t30).0, (t74).0],
+    )
+}
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline(always)]
+unsafe fn limit_geometry_params_x4_lanes_fused(
+    pose: &[[f64; 4]; 6],
+    params: &[f64; 152],
+) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+    let alpha = F64x4(pose[0]);
+    let beta = F64x4(pose[1]);
+    let gamma = F64x4(pose[2]);
+    let xc = F64x4(pose[3]);
+    let yc = F64x4(pose[4]);
+    let zc = F64x4(pose[5]);
+    let half_spacing = F64x4::splat(params[0]);
+    let (t0, t1) = beta.sin_cos();
+    let t2: F64x4 = F64x4::splat(1.0) / t1;
+    let (t3, t4) = gamma.sin_cos();
+    let t5: F64x4 = F64x4::splat(1.0) / t4;
+    let (t6, t7) = alpha.sin_cos();
+    let t9: F64x4 = t0 * t6;
+    let t10: F64x4 = t4 * t9;
+    let t11: F64x4 = F64x4::mul_add(t3, t7, t10);
+    let t12: F64x4 = yc * t11;
+    let t14: F64x4 = t0 * t7;
+    let t15: F64x4 = t4 * t14;
+    let t16: F64x4 = F64x4::mul_add(t3, t6, -t15);
+    let t17: F64x4 = zc - half_spacing;
+    let t19: F64x4 = F64x4::mul_add(t16, t17, t12);
+    let t20: F64x4 = t2 * t5;
+    let t22: F64x4 = F64x4::mul_add(t19, t20, xc);
+    let t23: F64x4 = zc + half_spacing;
+    let t25: F64x4 = F64x4::mul_add(t16, t23, t12);
+    let t27: F64x4 = F64x4::mul_add(t20, t25, xc);
+    let t29: F64x4 = t3 * t9;
+    let t30: F64x4 = F64x4::mul_add(t4, t7, -t29);
+    let t31: F64x4 = F64x4::splat(1.0) / t30;
+    let t32: F64x4 = xc - half_spacing;
+    let t33: F64x4 = t1 * t3;
+    let t36: F64x4 = t0 * t3;
+    let t37: F64x4 = t7 * t36;
+    let t38: F64x4 = F64x4::mul_add(t4, t6, t37);
+    let t39: F64x4 = zc * t38;
+    let t40: F64x4 = F64x4::mul_add(t32, t33, -t39);
+    let t42: F64x4 = F64x4::mul_add(-t31, t40, yc);
+    let t43: F64x4 = xc + half_spacing;
+    let t45: F64x4 = F64x4::mul_add(-t33, t43, t39);
+    let t47: F64x4 = F64x4::mul_add(t31, t45, yc);
+    let t48: F64x4 = F64x4::splat(1.0) / t7;
+    let t49: F64x4 = xc * t0;
+    let t50: F64x4 = yc - half_spacing;
+    let t51: F64x4 = t1 * t6;
+    let t53: F64x4 = F64x4::mul_add(-t50, t51, t49);
+    let t54: F64x4 = t2 * t48;
+    let t56: F64x4 = F64x4::mul_add(t53, t54, zc);
+    let t57: F64x4 = yc + half_spacing;
+    let t59: F64x4 = F64x4::mul_add(-t51, t57, t49);
+    let t61: F64x4 = F64x4::mul_add(t54, t59, zc);
+    let t62: F64x4 = t3 * t5;
+    let t64: F64x4 = yc * t30;
+    let t66: F64x4 = F64x4::mul_add(t19, t62, t64);
+    let t67: F64x4 = F64x4::mul_add(t17, t38, t66);
+    let t68: F64x4 = -t67;
+    let t69: F64x4 = t0 * t2;
+    let t70: F64x4 = t5 * t69;
+    let t72: F64x4 = yc * t6;
+    let t73: F64x4 = t1 * t72;
+    let t74: F64x4 = t1 * t7;
+    let t76: F64x4 = F64x4::mul_add(t19, t70, t73);
+    let t77: F64x4 = F64x4::mul_add(t17, t74, half_spacing);
+    let t78: F64x4 = t76 - t77;
+    let t81: F64x4 = F64x4::mul_add(t25, t62, t64);
+    let t82: F64x4 = F64x4::mul_add(t23, t38, t81);
+    let t83: F64x4 = -t82;
+    let t86: F64x4 = half_spacing + t73;
+    let t87: F64x4 = F64x4::mul_add(t25, t70, t86);
+    let t88: F64x4 = F64x4::mul_add(-t23, t74, t87);
+    let t89: F64x4 = t1 * t4;
+    let t91: F64x4 = t11 * t31;
+    let t93: F64x4 = zc * t16;
+    let t94: F64x4 = F64x4::mul_add(t32, t89, half_spacing);
+    let t95: F64x4 = F64x4::mul_add(t40, t91, t93);
+    let t96: F64x4 = t94 + t95;
+    let t97: F64x4 = -t96;
+    let t99: F64x4 = t31 * t51;
+    let t101: F64x4 = zc * t7;
+    let t102: F64x4 = t1 * t101;
+    let t103: F64x4 = F64x4::mul_add(t0, t32, t102);
+    let t104: F64x4 = F64x4::mul_add(t40, t99, -t103);
+    let t107: F64x4 = F64x4::mul_add(t45, t91, half_spacing);
+    let t108: F64x4 = F64x4::mul_add(t43, t89, t93);
+    let t109: F64x4 = t107 - t108;
+    let t112: F64x4 = F64x4::mul_add(t0, t43, t102);
+    let t113: F64x4 = F64x4::mul_add(t45, t99, t112);
+    let t114: F64x4 = -t113;
+    let t115: F64x4 = xc * t1;
+    let t116: F64x4 = t4 * t115;
+    let t118: F64x4 = t16 * t54;
+    let t120: F64x4 = F64x4::mul_add(t11, t50, t116);
+    let t121: F64x4 = F64x4::mul_add(t53, t118, -t120);
+    let t122: F64x4 = xc * t3;
+    let t123: F64x4 = t1 * t122;
+    let t125: F64x4 = t38 * t54;
+    let t127: F64x4 = F64x4::mul_add(t53, t125, t123);
+    let t128: F64x4 = F64x4::mul_add(t30, t50, half_spacing);
+    let t129: F64x4 = t127 - t128;
+    let t132: F64x4 = F64x4::mul_add(t11, t57, t116);
+    let t133: F64x4 = F64x4::mul_add(t59, t118, -t132);
+    let t136: F64x4 = half_spacing + t123;
+    let t137: F64x4 = F64x4::mul_add(t59, t125, t136);
+    let t138: F64x4 = F64x4::mul_add(-t30, t57, t137);
+    (
+        [(t22).0, (t27).0, (t42).0, (t47).0, (t56).0, (t61).0],
+        [
+            (t68).0,
+            (t78).0,
+            (t83).0,
+            (t88).0,
+            (t97).0,
+            (t104).0,
+            (t109).0,
+            (t114).0,
+            (t121).0,
+            (t129).0,
+            (t133).0,
+            (t138).0,
+        ],
+        [(t89).0, (t89).0, (t30).0, (t30).0, (t74).0, (t74).0],
+        [(t89).0, (t30).0, (t74).0],
     )
 }
