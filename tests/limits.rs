@@ -257,3 +257,58 @@ fn speeds_and_forces_are_checked_by_actuator() {
         "{e}"
     );
 }
+
+/// At zero orientation `Q1 = Q2 = xc`, `Q3 = Q4 = yc`, `Q5 = Q6 = zc` (eq 16), so a stroke of
+/// `[a, b]` for every actuator bounds the centres to the box `[a, b]³`: the map is that box,
+/// its volume `(b - a)³` to the grid's resolution.
+#[test]
+fn the_stroke_only_workspace_at_zero_orientation_is_a_box() {
+    use c5_runtime::workspace::{map, Grid, Sweep};
+    let (a, b) = (-0.06, 0.1);
+    let c5 = with_limits(Limits {
+        stroke: Some([[a, b]; 6]),
+        ..Limits::default()
+    });
+    let grid = Grid {
+        sweep: Sweep::Centres {
+            orientation: [0.0; 3],
+        },
+        lower: [-0.15; 3],
+        upper: [0.15; 3],
+        points: 61,
+    };
+    let m = map(&c5, &grid, &|_| {}).unwrap();
+    for cell in &m.reachable {
+        let x = grid.coordinates(cell.index);
+        assert!(x.iter().all(|&v| v >= a - 1e-12 && v <= b + 1e-12), "{x:?}");
+    }
+    // Every grid point inside the box is reached.
+    let h = grid.step()[0];
+    let inside = (0..61)
+        .filter(|&i| (a..=b).contains(&(-0.15 + i as f64 * h)))
+        .count();
+    assert_eq!(m.reachable.len(), inside.pow(3));
+    let exact = (b - a).powi(3);
+    // A point stands for a cell of side `h`: the count may overstate each side by one cell.
+    assert!(
+        (m.volume() - exact).abs() <= (b - a + h).powi(3) - exact,
+        "{} vs {exact}",
+        m.volume()
+    );
+    // At home a unit force along an axis is shared by that axis' pair of actuators, half
+    // each (their moments about `C` cancel): the largest actuator force per newton is 1/2.
+    let home = m
+        .reachable
+        .iter()
+        .find(|c| c.index == [30, 30, 30])
+        .unwrap();
+    assert!(
+        (home.force_ratio - 0.5).abs() < 1e-12,
+        "{}",
+        home.force_ratio
+    );
+    assert!(m
+        .reachable
+        .iter()
+        .all(|c| c.inverse_condition > 0.0 && c.inverse_condition <= 1.0));
+}

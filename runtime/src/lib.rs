@@ -52,6 +52,8 @@ pub mod reference;
 pub mod sensors;
 pub mod trajectory;
 pub mod types;
+#[cfg(feature = "workspace")]
+pub mod workspace;
 
 pub use c5_robot::{Limits, Model, Robot};
 pub use error::Error;

@@ -4,7 +4,7 @@ use crate::identify::load_estimate;
 use crate::jsonl::{self, Key};
 use crate::options::RobotArgs;
 use c5_runtime::identify::Estimate;
-use c5_runtime::{Acceleration, Pose, State, Twist, C5};
+use c5_runtime::{Acceleration, Limit, Pose, State, Twist, C5};
 use clap::Args;
 use serde_json::json;
 use std::path::PathBuf;
@@ -26,6 +26,11 @@ pub struct EvalArgs {
     /// `d_gamma_d_qd`, `d_gamma_d_qdd` (columns actuators 1..6).
     #[arg(long, conflicts_with = "base_parameters")]
     derivatives: bool,
+    /// Make a line whose pose, actuator speeds or forces break a limit of the robot file's
+    /// `[limits]` an error naming the limit and the actuator (else `limits` reports the
+    /// smallest margin).
+    #[arg(long)]
+    strict_limits: bool,
 }
 
 /// The keys of an `eval` line: the platform's state, or the actuators' (`q`, `qd`, `qdd`),
@@ -141,10 +146,45 @@ pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
         .as_ref()
         .map(|p| load_estimate(&robot, p))
         .transpose()?;
-    eval(&robot, estimate.as_ref(), args.derivatives)
+    eval(
+        &robot,
+        estimate.as_ref(),
+        args.derivatives,
+        args.strict_limits,
+    )
 }
 
-fn eval(robot: &C5, identified: Option<&Estimate>, derivatives: bool) -> crate::Result<ExitCode> {
+/// The smallest margin of every limit the robot sets, at the pose and with the actuators'
+/// speeds and forces: the limit, the actuator (1..6), the margin and the value.
+fn smallest_margin(
+    robot: &C5,
+    pose: &c5_runtime::Pose,
+    qd: &[f64; 6],
+    gamma: &[f64; 6],
+) -> Result<Option<(Limit, usize, f64, f64)>, c5_runtime::Error> {
+    let mut best = robot.limit_margins(pose)?.smallest();
+    let limits = robot.robot().limits;
+    for (limit, bound, values) in [
+        (Limit::Speed, limits.speed, qd),
+        (Limit::Force, limits.force, gamma),
+    ] {
+        let Some(bound) = bound else { continue };
+        for (i, v) in values.iter().enumerate() {
+            let margin = bound - v.abs();
+            if best.is_none_or(|(_, _, m, _)| margin < m) {
+                best = Some((limit, i + 1, margin, *v));
+            }
+        }
+    }
+    Ok(best)
+}
+
+fn eval(
+    robot: &C5,
+    identified: Option<&Estimate>,
+    derivatives: bool,
+    strict_limits: bool,
+) -> crate::Result<ExitCode> {
     jsonl::answer_lines(|line| {
         let (state, joints) = match parse_line(line)? {
             Line::Platform(state) => (state, None),
@@ -203,6 +243,29 @@ fn eval(robot: &C5, identified: Option<&Estimate>, derivatives: bool) -> crate::
         if let Some(estimate) = identified {
             let gamma = estimate.forces(robot, &state).map_err(|e| e.to_string())?;
             out["gamma"] = json!(gamma);
+        }
+        if robot.robot().limits.any() {
+            let gamma: [f64; 6] =
+                serde_json::from_value(out["gamma"].clone()).map_err(|e| e.to_string())?;
+            let smallest =
+                smallest_margin(robot, &state.pose, &e.qd, &gamma).map_err(|e| e.to_string())?;
+            if let Some((limit, actuator, margin, value)) = smallest {
+                if strict_limits && margin < 0.0 {
+                    let e = c5_runtime::Error::Limit {
+                        limit,
+                        actuator,
+                        value,
+                        margin,
+                    };
+                    return Err(e.to_string());
+                }
+                out["limits"] = json!({
+                    "limit": limit.name(),
+                    "actuator": actuator,
+                    "margin": margin,
+                    "value": value,
+                });
+            }
         }
         Ok(out)
     })

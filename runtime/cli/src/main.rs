@@ -14,6 +14,7 @@ mod plan;
 mod simulate;
 mod track;
 mod trajectory_csv;
+mod workspace;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -43,6 +44,7 @@ enum Command {
     Forward(forward::ForwardArgs),
     Track(track::TrackArgs),
     Plan(plan::PlanArgs),
+    Workspace(workspace::WorkspaceArgs),
     Audit(audit::AuditArgs),
 }
 
@@ -77,6 +79,7 @@ fn main() -> ExitCode {
         Command::Forward(args) => forward::run(&args),
         Command::Track(args) => track::run_cmd(&args),
         Command::Plan(args) => plan::run(&args),
+        Command::Workspace(args) => workspace::run(&args),
         Command::Audit(args) => audit::run(&args),
     };
     match result {

@@ -37,6 +37,10 @@ pub struct SimulateArgs {
     encoder_log: Option<PathBuf>,
     #[command(flatten)]
     sensors: options::SensorArgs,
+    /// Go on past the robot's `[limits]` (stroke, plate travel, tilt, speed, force) instead of
+    /// stopping at the first sample that breaks one.
+    #[arg(long)]
+    ignore_limits: bool,
 }
 
 pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
@@ -56,6 +60,15 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
     let (encoders, mut noise) = (args.sensors.encoders()?, args.sensors.noise()?);
     // Everything is computed before anything is written: a refused sample writes nothing.
     let study = run(&robot, &states).map_err(|(t, e)| format!("sample at t = {t} s: {e}"))?;
+    if !args.ignore_limits {
+        for s in &study.samples {
+            robot
+                .check_limits(&s.state.pose)
+                .and_then(|()| robot.check_speeds(&s.eval.qd))
+                .and_then(|()| robot.check_forces(&s.eval.gamma))
+                .map_err(|e| format!("sample at t = {} s: {e} (--ignore-limits to go on)", s.t))?;
+        }
+    }
     std::fs::create_dir_all(out)?;
     if let Some(path) = &args.encoder_log {
         let mut w = csv::Writer::from_path(path)?;
@@ -71,7 +84,13 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
         }
         w.flush()?;
     }
-    let csv = out.join("section9.csv");
+    // Named after the trajectory file (`plan.csv` gives `out/plan.csv`); Section 9's own.
+    let stem = args
+        .trajectory
+        .as_ref()
+        .and_then(|p| p.file_stem())
+        .map_or_else(|| "section9".into(), |s| s.to_string_lossy().into_owned());
+    let csv = out.join(format!("{stem}.csv"));
     write_csv(&csv, &study)?;
     let plots = write_plots(out, &study)?;
     let mut report = std::io::stdout().lock();
@@ -222,7 +241,7 @@ pub fn write_csv(path: &Path, study: &Study) -> Result<(), Box<dyn std::error::E
     Ok(())
 }
 
-fn register_font() {
+pub fn register_font() {
     static ONCE: std::sync::Once = std::sync::Once::new();
     ONCE.call_once(|| {
         // The font ships with the crate, so the plots need no system fonts.

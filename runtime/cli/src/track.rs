@@ -67,6 +67,10 @@ pub struct TrackArgs {
     /// The rate estimator's bandwidth (Hz): an α-β filter per actuator on the counts.
     #[arg(long, default_value_t = 50.0)]
     estimator_bandwidth: f64,
+    /// Go on past the plant robot's `[limits]` (stroke, plate travel, tilt, speed, force)
+    /// instead of stopping at the first one broken.
+    #[arg(long)]
+    ignore_limits: bool,
 }
 
 /// Where a computed-torque law closes the loop.
@@ -130,13 +134,15 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
         center: [c[0] + offset[0], c[1] + offset[1], c[2] + offset[2]],
     };
     let mut law = ComputedTorque::critically_damped(o.bandwidth);
-    law.force_limit = o.force_limit;
+    // The actuators saturate at the robot's force limit unless told otherwise.
+    law.force_limit = o.force_limit.or(plant.robot().limits.force);
     let setup = Setup {
         controller: &controller,
         plant: &plant,
         law,
         hold: o.hold,
         space: o.space,
+        limits: !o.ignore_limits,
     };
     let measured = o.sensors.any() || o.control_rate.is_some();
     let clock = std::time::Instant::now();
@@ -274,6 +280,8 @@ pub struct Setup<'a> {
     pub hold: bool,
     /// Where the law closes the loop.
     pub space: Space,
+    /// Stop at the first sample where the plant breaks one of its robot's limits.
+    pub limits: bool,
 }
 
 impl Setup<'_> {
@@ -323,6 +331,13 @@ fn sample(
 ) -> Result<Sample, Error> {
     let (q_d, _) = setup.controller.inverse_kinematics(&desired.pose)?;
     let (q, _) = setup.plant.inverse_kinematics(&actual.pose())?;
+    if setup.limits {
+        let plant = setup.plant;
+        let state = actual.with_acceleration(Acceleration::default());
+        plant.check_limits(&state.pose)?;
+        plant.check_speeds(&plant.joint_velocities(&state.pose, &state.twist)?)?;
+        plant.check_forces(&gamma)?;
+    }
     Ok(Sample {
         t,
         desired: desired.pose,

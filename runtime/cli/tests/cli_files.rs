@@ -36,9 +36,9 @@ fn bad_robot_files_are_refused_and_nothing_is_written() {
     let dir = scratch("bad-robot");
     let cases = [
         (
-            "missing.toml",
-            default_toml().replacen("half_spacing = 0.2\n", "", 1),
-            "missing field `half_spacing`",
+            "unknown.toml",
+            default_toml().replacen("half_spacing = 0.2\n", "half_width = 0.2\n", 1),
+            "unknown field `half_width`",
         ),
         (
             "type.toml",
@@ -164,7 +164,8 @@ fn trajectory_csv_with_poses_only_gets_its_derivatives_by_finite_differences() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let mut rows = csv::Reader::from_path(out_dir.join("section9.csv")).unwrap();
+    // Named after the trajectory file.
+    let mut rows = csv::Reader::from_path(out_dir.join("traj.csv")).unwrap();
     let header = rows.headers().unwrap().clone();
     let col = |n: &str| header.iter().position(|h| h == n).unwrap();
     let robot = Robot::default();

@@ -1,6 +1,7 @@
 //! Exciting trajectories: a finite Fourier series in every pose coordinate, chosen to keep the
-//! condition number of the stacked base regressor low, inside a box of the workspace and away
-//! from the singular poses of eq 16.
+//! condition number of the stacked base regressor low, inside a box of the workspace, within
+//! the robot's limits (strokes, plates, tilt, speeds, forces) and away from the singular poses
+//! of eq 16.
 
 use super::Identifier;
 use crate::trajectory::Fourier;
@@ -141,7 +142,25 @@ fn fit(mut trajectory: Fourier, envelope: &Envelope, search: &Search) -> Option<
     None
 }
 
+/// Whether `state` keeps every limit of the robot: its pose, the actuators' speeds and the
+/// forces the motion needs.
+fn within_limits(c5: &C5, state: &State) -> bool {
+    c5.check_limits(&state.pose).is_ok()
+        && c5
+            .joint_velocities(&state.pose, &state.twist)
+            .and_then(|qd| c5.check_speeds(&qd))
+            .is_ok()
+        && c5
+            .inverse_dynamics(state)
+            .and_then(|gamma| c5.check_forces(&gamma))
+            .is_ok()
+}
+
+/// The condition number of a candidate; infinite for one that leaves the robot's limits.
 fn score(c5: &C5, trajectory: &Fourier, search: &Search) -> f64 {
+    if c5.robot().limits.any() && !times(search).all(|t| within_limits(c5, &trajectory.state(t))) {
+        return f64::INFINITY;
+    }
     condition_number(c5, times(search).map(|t| trajectory.state(t))).unwrap_or(f64::INFINITY)
 }
 
@@ -209,7 +228,7 @@ pub fn design(c5: &C5, envelope: &Envelope, search: &Search) -> Result<Excitatio
             continue;
         };
         let cond = score(c5, &candidate, search);
-        if best.as_ref().is_none_or(|(_, b)| cond < *b) {
+        if cond.is_finite() && best.as_ref().is_none_or(|(_, b)| cond < *b) {
             best = Some((candidate, cond));
         }
     }
@@ -225,7 +244,8 @@ pub fn design(c5: &C5, envelope: &Envelope, search: &Search) -> Result<Excitatio
 pub enum DesignError {
     /// No candidates, harmonics or samples, or a period that is not positive and finite.
     EmptySearch,
-    /// Every candidate came closer to a singular pose than the envelope allows.
+    /// Every candidate came closer to a singular pose than the envelope allows, or left the
+    /// robot's limits.
     NothingFits,
 }
 
@@ -236,8 +256,9 @@ impl core::fmt::Display for DesignError {
                 "an excitation search needs candidates, harmonics, samples and a positive period"
             }
             DesignError::NothingFits => {
-                "no candidate trajectory keeps clear of the singular poses: widen the envelope's \
-                 divisor margin or shrink its box"
+                "no candidate trajectory keeps clear of the singular poses and within the \
+                 robot's limits (and its base regressor of full rank): shrink the envelope's box \
+                 or widen the limits"
             }
         })
     }
