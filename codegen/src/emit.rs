@@ -1,5 +1,6 @@
 //! Emission of compiled kernels as formatted Rust through `quote` and `prettyplease`.
 
+use crate::blocks::{self, Let};
 use crate::dag::Func;
 use crate::error::Error;
 use crate::fuse::{Fused, Fusion};
@@ -175,6 +176,7 @@ pub fn emit_kernel(
             TrigCalls::Functions => quote!(#f(#a)),
         }
     };
+    let read_after = compiled.program.output_temps();
     let body = |fusion: Option<&Fusion>| -> Vec<TokenStream> {
         let mut body = Vec::new();
         for (i, instr) in compiled.program.instrs.iter().enumerate() {
@@ -186,7 +188,10 @@ pub fn emit_kernel(
                     Instr::SinCos(a) => {
                         let c = ident(&format!("t{}", i + 1));
                         let rhs = call("sin_cos", operand(a));
-                        body.push(quote!(let (#t, #c): (#ty, #ty) = #rhs;));
+                        body.push(Let {
+                            binds: vec![i as u32, i as u32 + 1],
+                            tokens: quote!(let (#t, #c): (#ty, #ty) = #rhs;),
+                        });
                         continue;
                     }
                     Instr::PairedCos(_) => continue,
@@ -198,9 +203,12 @@ pub fn emit_kernel(
                     other => arithmetic(other, &operand),
                 },
             };
-            body.push(quote!(let #t: #ty = #rhs;));
+            body.push(Let {
+                binds: vec![i as u32],
+                tokens: quote!(let #t: #ty = #rhs;),
+            });
         }
-        body
+        blocks::nest(body, &read_after)
     };
     let mut outs = Vec::new();
     let mut out_types = Vec::new();
@@ -514,6 +522,7 @@ pub fn emit_batch_kernel(
             }
         }
     };
+    let read_after = compiled.program.output_temps();
     let body = |fusion: Option<&Fusion>| -> Vec<TokenStream> {
         let mut body = Vec::new();
         for (i, instr) in compiled.program.instrs.iter().enumerate() {
@@ -529,16 +538,22 @@ pub fn emit_batch_kernel(
                     Instr::SinCos(a) => {
                         let c = ident(&format!("t{}", i + 1));
                         let a = operand(a);
-                        body.push(quote!(let (#t, #c) = #a.sin_cos();));
+                        body.push(Let {
+                            binds: vec![i as u32, i as u32 + 1],
+                            tokens: quote!(let (#t, #c) = #a.sin_cos();),
+                        });
                         continue;
                     }
                     Instr::PairedCos(_) => continue,
                     other => arithmetic(other, &operand),
                 },
             };
-            body.push(quote!(let #t: #lane = #rhs;));
+            body.push(Let {
+                binds: vec![i as u32],
+                tokens: quote!(let #t: #lane = #rhs;),
+            });
         }
-        body
+        blocks::nest(body, &read_after)
     };
     let mut outs = Vec::new();
     let mut out_types = Vec::new();

@@ -38,6 +38,7 @@
 //! }
 //! ```
 
+mod blocks;
 mod count;
 pub mod dag;
 mod emit;

@@ -170,6 +170,17 @@ impl Program {
             })
             .collect()
     }
+
+    /// Indices of the temporaries the outputs are.
+    pub fn output_temps(&self) -> HashSet<u32> {
+        self.outputs
+            .iter()
+            .filter_map(|o| match o {
+                Operand::Temp(i) => Some(*i),
+                _ => None,
+            })
+            .collect()
+    }
 }
 
 /// How often each node reachable from `outputs` is referenced.

@@ -9587,1298 +9587,1558 @@ pub fn forward_dynamics_params(
     joint5_iyy, joint5_iyz, joint5_izz, rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _,
     joint6_mass, joint6_mx, joint6_my, joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz,
     joint6_iyy, joint6_iyz, joint6_izz] = *params;
-    let t0: f32 = zc - half_spacing;
-    let (t1, t2): (f32, f32) = sin_cos(alpha);
-    let (t3, t4): (f32, f32) = sin_cos(beta);
-    let t5: f32 = joint1_mz * t2;
-    let t6: f32 = t4 * t5;
-    let (t7, t8): (f32, f32) = sin_cos(gamma);
-    let t9: f32 = t1 * t7;
-    let t10: f32 = t2 * t3;
-    let t11: f32 = t8 * t10;
-    let t12: f32 = t9 - t11;
-    let t13: f32 = joint1_mx * t12;
-    let t14: f32 = t1 * t8;
-    let t15: f32 = t3 * t7;
-    let t16: f32 = t2 * t15;
-    let t17: f32 = t14 + t16;
-    let t18: f32 = joint1_my * t17;
-    let t19: f32 = t13 + t18;
-    let t20: f32 = t6 + t19;
-    let t21: f32 = joint1_mass * t0;
-    let t22: f32 = t20 - t21;
-    let t23: f32 = t0 * t22;
-    let t24: f32 = zc + half_spacing;
-    let t25: f32 = joint2_mz * t2;
-    let t26: f32 = t4 * t25;
-    let t27: f32 = joint2_mx * t12;
-    let t28: f32 = joint2_my * t17;
-    let t29: f32 = t27 + t28;
-    let t30: f32 = t26 + t29;
-    let t31: f32 = joint2_mass * t24;
-    let t32: f32 = t30 - t31;
-    let t33: f32 = t24 * t32;
-    let t34: f32 = yc - half_spacing;
-    let t35: f32 = t2 * t7;
-    let t36: f32 = t1 * t3;
-    let t37: f32 = t8 * t36;
-    let t38: f32 = t35 + t37;
-    let t39: f32 = joint5_mx * t38;
-    let t40: f32 = t2 * t8;
-    let t41: f32 = t7 * t36;
-    let t42: f32 = t40 - t41;
-    let t43: f32 = joint5_my * t42;
-    let t44: f32 = t39 + t43;
-    let t45: f32 = joint5_mz * t1;
-    let t46: f32 = t4 * t45;
-    let t47: f32 = t44 - t46;
-    let t48: f32 = joint5_mass * t34;
-    let t49: f32 = t47 - t48;
-    let t50: f32 = rod5_mass * t34;
-    let t51: f32 = t49 - t50;
-    let t52: f32 = t34 * t51;
-    let t53: f32 = yc + half_spacing;
-    let t54: f32 = joint6_mx * t38;
-    let t55: f32 = joint6_my * t42;
-    let t56: f32 = t54 + t55;
-    let t57: f32 = joint6_mz * t1;
-    let t58: f32 = t4 * t57;
-    let t59: f32 = t56 - t58;
-    let t60: f32 = joint6_mass * t53;
-    let t61: f32 = t59 - t60;
-    let t62: f32 = rod6_mass * t53;
-    let t63: f32 = t61 - t62;
-    let t64: f32 = t53 * t63;
-    let t65: f32 = platform_iyz + joint1_iyz;
-    let t66: f32 = joint2_iyz + joint3_iyz;
-    let t67: f32 = joint4_iyz + joint5_iyz;
-    let t68: f32 = t65 + t66;
-    let t69: f32 = joint6_iyz + t67;
-    let t70: f32 = t68 + t69;
-    let t71: f32 = t3 * t70;
-    let t72: f32 = platform_iyy + joint1_iyy;
-    let t73: f32 = joint2_iyy + joint3_iyy;
-    let t74: f32 = joint4_iyy + joint5_iyy;
-    let t75: f32 = t72 + t73;
-    let t76: f32 = joint6_iyy + t74;
-    let t77: f32 = t75 + t76;
-    let t78: f32 = t7 * t77;
-    let t79: f32 = platform_ixy + joint1_ixy;
-    let t80: f32 = joint2_ixy + joint3_ixy;
-    let t81: f32 = joint4_ixy + joint5_ixy;
-    let t82: f32 = t79 + t80;
-    let t83: f32 = joint6_ixy + t81;
-    let t84: f32 = t82 + t83;
-    let t85: f32 = t8 * t84;
-    let t86: f32 = t78 - t85;
-    let t87: f32 = t4 * t86;
-    let t88: f32 = t71 - t87;
-    let t89: f32 = t7 * t88;
-    let t90: f32 = platform_ixz + joint1_ixz;
-    let t91: f32 = joint2_ixz + joint3_ixz;
-    let t92: f32 = joint4_ixz + joint5_ixz;
-    let t93: f32 = t90 + t91;
-    let t94: f32 = joint6_ixz + t92;
-    let t95: f32 = t93 + t94;
-    let t96: f32 = t3 * t95;
-    let t97: f32 = t7 * t84;
-    let t98: f32 = platform_ixx + joint1_ixx;
-    let t99: f32 = joint2_ixx + joint3_ixx;
-    let t100: f32 = joint4_ixx + joint5_ixx;
-    let t101: f32 = t98 + t99;
-    let t102: f32 = joint6_ixx + t100;
-    let t103: f32 = t101 + t102;
-    let t104: f32 = t8 * t103;
-    let t105: f32 = t97 - t104;
-    let t106: f32 = t4 * t105;
-    let t107: f32 = t96 - t106;
-    let t108: f32 = t8 * t107;
-    let t109: f32 = t89 - t108;
-    let t110: f32 = t4 * t109;
-    let t111: f32 = platform_izz + joint1_izz;
-    let t112: f32 = joint2_izz + joint3_izz;
-    let t113: f32 = joint4_izz + joint5_izz;
-    let t114: f32 = t111 + t112;
-    let t115: f32 = joint6_izz + t113;
-    let t116: f32 = t114 + t115;
-    let t117: f32 = t3 * t116;
-    let t118: f32 = t7 * t70;
-    let t119: f32 = t8 * t95;
-    let t120: f32 = t118 - t119;
-    let t121: f32 = t4 * t120;
-    let t122: f32 = t117 - t121;
-    let t123: f32 = t3 * t122;
-    let t124: f32 = joint1_mx * t38;
-    let t125: f32 = joint1_my * t42;
-    let t126: f32 = t124 + t125;
-    let t127: f32 = joint1_mz * t1;
-    let t128: f32 = t4 * t127;
-    let t129: f32 = t126 - t128;
-    let t130: f32 = yc * joint1_mass;
-    let t131: f32 = t129 - t130;
-    let t132: f32 = joint2_mx * t38;
-    let t133: f32 = joint2_my * t42;
-    let t134: f32 = t132 + t133;
-    let t135: f32 = joint2_mz * t1;
-    let t136: f32 = t4 * t135;
-    let t137: f32 = t134 - t136;
-    let t138: f32 = yc * joint2_mass;
-    let t139: f32 = t137 - t138;
-    let t140: f32 = t131 + t139;
-    let t141: f32 = yc * t140;
-    let t142: f32 = joint3_mz * t2;
-    let t143: f32 = t4 * t142;
-    let t144: f32 = joint3_mx * t12;
-    let t145: f32 = joint3_my * t17;
-    let t146: f32 = t144 + t145;
-    let t147: f32 = t143 + t146;
-    let t148: f32 = zc * joint3_mass;
-    let t149: f32 = t147 - t148;
-    let t150: f32 = joint4_mz * t2;
-    let t151: f32 = t4 * t150;
-    let t152: f32 = joint4_mx * t12;
-    let t153: f32 = joint4_my * t17;
-    let t154: f32 = t152 + t153;
-    let t155: f32 = t151 + t154;
-    let t156: f32 = zc * joint4_mass;
-    let t157: f32 = t155 - t156;
-    let t158: f32 = t149 + t157;
-    let t159: f32 = zc * rod3_mass;
-    let t160: f32 = zc * rod4_mass;
-    let t161: f32 = t159 + t160;
-    let t162: f32 = t158 - t161;
-    let t163: f32 = zc * t162;
-    let t164: f32 = yc * t129;
-    let t165: f32 = yc * t137;
-    let t166: f32 = t164 + t165;
-    let t167: f32 = 1.0 / t42;
-    let t168: f32 = xc - half_spacing;
-    let t169: f32 = t4 * t7;
-    let t170: f32 = t168 * t169;
-    let t171: f32 = zc * t17;
-    let t172: f32 = t170 - t171;
-    let t173: f32 = joint3_mx * t38;
-    let t174: f32 = joint3_my * t42;
-    let t175: f32 = t173 + t174;
-    let t176: f32 = joint3_mz * t1;
-    let t177: f32 = t4 * t176;
-    let t178: f32 = t175 - t177;
-    let t179: f32 = t167 * t172;
-    let t180: f32 = t178 * t179;
-    let t181: f32 = joint3_mass * t167;
-    let t182: f32 = t172 * t181;
-    let t183: f32 = t178 - t182;
-    let t184: f32 = t179 * t183;
-    let t185: f32 = t180 + t184;
-    let t186: f32 = t166 + t185;
-    let t187: f32 = xc + half_spacing;
-    let t188: f32 = t169 * t187;
-    let t189: f32 = t171 - t188;
-    let t190: f32 = joint4_mx * t38;
-    let t191: f32 = joint4_my * t42;
-    let t192: f32 = t190 + t191;
-    let t193: f32 = joint4_mz * t1;
-    let t194: f32 = t4 * t193;
-    let t195: f32 = t192 - t194;
-    let t196: f32 = t167 * t189;
-    let t197: f32 = t195 * t196;
-    let t198: f32 = joint4_mass * t167;
-    let t199: f32 = t189 * t198;
-    let t200: f32 = t195 + t199;
-    let t201: f32 = t196 * t200;
-    let t202: f32 = t197 + t201;
-    let t203: f32 = t34 * t47;
-    let t204: f32 = t53 * t59;
-    let t205: f32 = t203 + t204;
-    let t206: f32 = t202 - t205;
-    let t207: f32 = t186 - t206;
-    let t208: f32 = t0 * t20;
-    let t209: f32 = t24 * t30;
-    let t210: f32 = t208 + t209;
-    let t211: f32 = zc * t147;
-    let t212: f32 = zc * t155;
-    let t213: f32 = t211 + t212;
-    let t214: f32 = t210 + t213;
-    let t215: f32 = 1.0 / t2;
-    let t216: f32 = 1.0 / t4;
-    let t217: f32 = xc * t3;
-    let t218: f32 = t1 * t4;
-    let t219: f32 = t34 * t218;
-    let t220: f32 = t217 - t219;
-    let t221: f32 = joint5_mz * t2;
-    let t222: f32 = t4 * t221;
-    let t223: f32 = joint5_mx * t12;
-    let t224: f32 = joint5_my * t17;
-    let t225: f32 = t223 + t224;
-    let t226: f32 = t222 + t225;
-    let t227: f32 = t215 * t216;
-    let t228: f32 = t220 * t227;
-    let t229: f32 = t226 * t228;
-    let t230: f32 = joint5_mass * t215;
-    let t231: f32 = t216 * t230;
-    let t232: f32 = t220 * t231;
-    let t233: f32 = t226 + t232;
-    let t234: f32 = t228 * t233;
-    let t235: f32 = t229 + t234;
-    let t236: f32 = t53 * t218;
-    let t237: f32 = t217 - t236;
-    let t238: f32 = joint6_mz * t2;
-    let t239: f32 = t4 * t238;
-    let t240: f32 = joint6_mx * t12;
-    let t241: f32 = joint6_my * t17;
-    let t242: f32 = t240 + t241;
-    let t243: f32 = t239 + t242;
-    let t244: f32 = t227 * t237;
-    let t245: f32 = t243 * t244;
-    let t246: f32 = joint6_mass * t215;
-    let t247: f32 = t216 * t246;
-    let t248: f32 = t237 * t247;
-    let t249: f32 = t243 + t248;
-    let t250: f32 = t244 * t249;
-    let t251: f32 = t245 + t250;
-    let t252: f32 = t235 + t251;
-    let t253: f32 = t214 - t252;
-    let t254: f32 = t23 + t33;
-    let t255: f32 = t52 + t64;
-    let t256: f32 = t110 + t141;
-    let t257: f32 = t163 + t207;
-    let t258: f32 = t254 + t255;
-    let t259: f32 = t256 + t257;
-    let t260: f32 = t258 + t259;
-    let t261: f32 = t253 + t260;
-    let t262: f32 = t123 - t261;
-    let t263: f32 = 1.0 / t262;
-    let t264: f32 = t168 * t183;
-    let t265: f32 = t187 * t200;
-    let t266: f32 = joint5_mz * t3;
-    let t267: f32 = joint5_mx * t4;
-    let t268: f32 = t8 * t267;
-    let t269: f32 = joint5_my * t7;
-    let t270: f32 = t4 * t269;
-    let t271: f32 = t268 - t270;
-    let t272: f32 = t266 + t271;
-    let t273: f32 = t34 * t272;
-    let t274: f32 = joint6_mz * t3;
-    let t275: f32 = joint6_mx * t4;
-    let t276: f32 = t8 * t275;
-    let t277: f32 = joint6_my * t7;
-    let t278: f32 = t4 * t277;
-    let t279: f32 = t276 - t278;
-    let t280: f32 = t274 + t279;
-    let t281: f32 = t53 * t280;
-    let t282: f32 = t122 * t218;
-    let t283: f32 = t38 * t107;
-    let t284: f32 = t42 * t88;
-    let t285: f32 = t51 + t63;
-    let t286: f32 = xc * t285;
-    let t287: f32 = joint1_mz * t3;
-    let t288: f32 = joint1_mx * t4;
-    let t289: f32 = t8 * t288;
-    let t290: f32 = joint1_my * t7;
-    let t291: f32 = t4 * t290;
-    let t292: f32 = t289 - t291;
-    let t293: f32 = t287 + t292;
-    let t294: f32 = joint2_mz * t3;
-    let t295: f32 = joint2_mx * t4;
-    let t296: f32 = t8 * t295;
-    let t297: f32 = joint2_my * t7;
-    let t298: f32 = t4 * t297;
-    let t299: f32 = t296 - t298;
-    let t300: f32 = t294 + t299;
-    let t301: f32 = t293 + t300;
-    let t302: f32 = yc * t301;
-    let t303: f32 = 1.0 / t8;
-    let t304: f32 = yc * t38;
-    let t305: f32 = t0 * t12;
-    let t306: f32 = t304 + t305;
-    let t307: f32 = t131 * t306;
-    let t308: f32 = t12 * t24;
-    let t309: f32 = t304 + t308;
-    let t310: f32 = t139 * t309;
-    let t311: f32 = t307 + t310;
-    let t312: f32 = t216 * t303;
-    let t313: f32 = t311 * t312;
-    let t314: f32 = joint3_mz * t3;
-    let t315: f32 = joint3_mx * t4;
-    let t316: f32 = t8 * t315;
-    let t317: f32 = joint3_my * t7;
-    let t318: f32 = t4 * t317;
-    let t319: f32 = t316 - t318;
-    let t320: f32 = t314 + t319;
-    let t321: f32 = t172 * t320;
-    let t322: f32 = joint4_mz * t3;
-    let t323: f32 = joint4_mx * t4;
-    let t324: f32 = t8 * t323;
-    let t325: f32 = joint4_my * t7;
-    let t326: f32 = t4 * t325;
-    let t327: f32 = t324 - t326;
-    let t328: f32 = t322 + t327;
-    let t329: f32 = t189 * t328;
-    let t330: f32 = t321 - t329;
-    let t331: f32 = t167 * t330;
-    let t332: f32 = t264 + t265;
-    let t333: f32 = t273 + t281;
-    let t334: f32 = t283 + t284;
-    let t335: f32 = t286 + t302;
-    let t336: f32 = t332 + t333;
-    let t337: f32 = t334 + t335;
-    let t338: f32 = t336 + t337;
-    let t339: f32 = t331 + t338;
-    let t340: f32 = t282 + t313;
-    let t341: f32 = t339 - t340;
-    let t342: f32 = rod1_mass * t0;
-    let t343: f32 = t22 - t342;
-    let t344: f32 = t0 * t343;
-    let t345: f32 = rod2_mass * t24;
-    let t346: f32 = t32 - t345;
-    let t347: f32 = t24 * t346;
-    let t348: f32 = joint3_mass * t168;
-    let t349: f32 = t320 - t348;
-    let t350: f32 = t168 * t349;
-    let t351: f32 = joint4_mass * t187;
-    let t352: f32 = t328 - t351;
-    let t353: f32 = t187 * t352;
-    let t354: f32 = t341 * t341;
-    let t355: f32 = t263 * t354;
-    let t356: f32 = t116 * t218;
-    let t357: f32 = t38 * t95;
-    let t358: f32 = t42 * t70;
-    let t359: f32 = t357 + t358;
-    let t360: f32 = t356 - t359;
-    let t361: f32 = t218 * t360;
-    let t362: f32 = t95 * t218;
-    let t363: f32 = t38 * t103;
-    let t364: f32 = t42 * t84;
-    let t365: f32 = t363 + t364;
-    let t366: f32 = t362 - t365;
-    let t367: f32 = t38 * t366;
-    let t368: f32 = t70 * t218;
-    let t369: f32 = t38 * t84;
-    let t370: f32 = t42 * t77;
-    let t371: f32 = t369 + t370;
-    let t372: f32 = t368 - t371;
-    let t373: f32 = t42 * t372;
-    let t374: f32 = t272 + t280;
-    let t375: f32 = xc * joint5_mass;
-    let t376: f32 = xc * joint6_mass;
-    let t377: f32 = t375 + t376;
-    let t378: f32 = t374 - t377;
-    let t379: f32 = xc * rod5_mass;
-    let t380: f32 = xc * rod6_mass;
-    let t381: f32 = t379 + t380;
-    let t382: f32 = t378 - t381;
-    let t383: f32 = xc * t382;
-    let t384: f32 = zc * t158;
-    let t385: f32 = t168 * t320;
-    let t386: f32 = t187 * t328;
-    let t387: f32 = t385 + t386;
-    let t388: f32 = xc * t272;
-    let t389: f32 = xc * t280;
-    let t390: f32 = t388 + t389;
-    let t391: f32 = t387 + t390;
-    let t392: f32 = t306 * t312;
-    let t393: f32 = t293 * t392;
-    let t394: f32 = joint1_mass * t216;
-    let t395: f32 = t303 * t394;
-    let t396: f32 = t306 * t395;
-    let t397: f32 = t293 + t396;
-    let t398: f32 = t392 * t397;
-    let t399: f32 = t393 + t398;
-    let t400: f32 = t309 * t312;
-    let t401: f32 = t300 * t400;
-    let t402: f32 = joint2_mass * t216;
-    let t403: f32 = t303 * t402;
-    let t404: f32 = t309 * t403;
-    let t405: f32 = t300 + t404;
-    let t406: f32 = t400 * t405;
-    let t407: f32 = t401 + t406;
-    let t408: f32 = t399 + t407;
-    let t409: f32 = t391 - t408;
-    let t410: f32 = t344 + t347;
-    let t411: f32 = t350 + t353;
-    let t412: f32 = t355 + t367;
-    let t413: f32 = t373 + t383;
-    let t414: f32 = t253 + t384;
-    let t415: f32 = t410 + t411;
-    let t416: f32 = t412 + t413;
-    let t417: f32 = t409 + t414;
-    let t418: f32 = t415 + t416;
-    let t419: f32 = t417 + t418;
-    let t420: f32 = t419 - t361;
-    let t421: f32 = 1.0 / t420;
-    let t422: f32 = t343 + t346;
-    let t423: f32 = t233 + t249;
-    let t424: f32 = platform_mz * t2;
-    let t425: f32 = t4 * t424;
-    let t426: f32 = platform_mx * t12;
-    let t427: f32 = platform_my * t17;
-    let t428: f32 = t426 + t427;
-    let t429: f32 = t425 + t428;
-    let t430: f32 = t158 + t429;
-    let t431: f32 = t423 + t430;
-    let t432: f32 = t422 + t431;
-    let t433: f32 = t432 * t432;
-    let t434: f32 = t421 * t433;
-    let t435: f32 = rod3_mass * t168;
-    let t436: f32 = t349 - t435;
-    let t437: f32 = t168 * t436;
-    let t438: f32 = rod4_mass * t187;
-    let t439: f32 = t352 - t438;
-    let t440: f32 = t187 * t439;
-    let t441: f32 = t34 * t49;
-    let t442: f32 = t53 * t61;
-    let t443: f32 = t2 * t4;
-    let t444: f32 = t122 * t443;
-    let t445: f32 = t12 * t107;
-    let t446: f32 = t444 + t445;
-    let t447: f32 = t17 * t88;
-    let t448: f32 = t220 * t272;
-    let t449: f32 = t237 * t280;
-    let t450: f32 = t448 + t449;
-    let t451: f32 = t215 * t450;
-    let t452: f32 = t22 * t306;
-    let t453: f32 = t32 * t309;
-    let t454: f32 = t452 + t453;
-    let t455: f32 = t303 * t454;
-    let t456: f32 = t451 + t455;
-    let t457: f32 = t216 * t456;
-    let t458: f32 = t447 - t457;
-    let t459: f32 = t446 + t458;
-    let t460: f32 = xc * t423;
-    let t461: f32 = t320 + t328;
-    let t462: f32 = zc * t461;
-    let t463: f32 = t460 + t462;
-    let t464: f32 = t0 * t293;
-    let t465: f32 = t24 * t300;
-    let t466: f32 = t464 + t465;
-    let t467: f32 = t149 - t159;
-    let t468: f32 = t168 * t467;
-    let t469: f32 = t157 - t160;
-    let t470: f32 = t187 * t469;
-    let t471: f32 = t468 + t470;
-    let t472: f32 = t466 + t471;
-    let t473: f32 = t463 + t472;
-    let t474: f32 = t459 + t473;
-    let t475: f32 = t474 * t474;
-    let t476: f32 = t263 * t475;
-    let t477: f32 = t0 * t129;
-    let t478: f32 = t24 * t137;
-    let t479: f32 = t34 * t233;
-    let t480: f32 = t53 * t249;
-    let t481: f32 = t263 * t341;
-    let t482: f32 = t474 * t481;
-    let t483: f32 = t360 * t443;
-    let t484: f32 = t12 * t366;
-    let t485: f32 = t17 * t372;
-    let t486: f32 = yc * t422;
-    let t487: f32 = t178 + t195;
-    let t488: f32 = zc * t487;
-    let t489: f32 = t47 * t220;
-    let t490: f32 = t59 * t237;
-    let t491: f32 = t489 + t490;
-    let t492: f32 = t227 * t491;
-    let t493: f32 = t149 * t172;
-    let t494: f32 = t157 * t189;
-    let t495: f32 = t493 - t494;
-    let t496: f32 = t167 * t495;
-    let t497: f32 = t477 + t478;
-    let t498: f32 = t479 + t480;
-    let t499: f32 = t486 + t488;
-    let t500: f32 = t497 + t498;
-    let t501: f32 = t496 + t499;
-    let t502: f32 = t500 + t501;
-    let t503: f32 = t482 + t483;
-    let t504: f32 = t484 + t485;
-    let t505: f32 = t503 + t504;
-    let t506: f32 = t492 + t505;
-    let t507: f32 = t502 - t506;
-    let t508: f32 = t507 * t507;
-    let t509: f32 = t421 * t508;
-    let t510: f32 = t116 * t443;
-    let t511: f32 = t12 * t95;
-    let t512: f32 = t17 * t70;
-    let t513: f32 = t510 + t511;
-    let t514: f32 = t512 + t513;
-    let t515: f32 = t443 * t514;
-    let t516: f32 = t95 * t443;
-    let t517: f32 = t12 * t103;
-    let t518: f32 = t17 * t84;
-    let t519: f32 = t516 + t517;
-    let t520: f32 = t518 + t519;
-    let t521: f32 = t12 * t520;
-    let t522: f32 = t70 * t443;
-    let t523: f32 = t12 * t84;
-    let t524: f32 = t17 * t77;
-    let t525: f32 = t522 + t523;
-    let t526: f32 = t524 + t525;
-    let t527: f32 = t17 * t526;
-    let t528: f32 = xc * t378;
-    let t529: f32 = yc * rod1_mass;
-    let t530: f32 = yc * rod2_mass;
-    let t531: f32 = t529 + t530;
-    let t532: f32 = t140 - t531;
-    let t533: f32 = yc * t532;
-    let t534: f32 = t437 + t440;
-    let t535: f32 = t441 + t442;
-    let t536: f32 = t476 + t528;
-    let t537: f32 = t207 + t533;
-    let t538: f32 = t534 + t535;
-    let t539: f32 = t536 + t537;
-    let t540: f32 = t538 + t539;
-    let t541: f32 = t409 + t540;
-    let t542: f32 = t509 + t515;
-    let t543: f32 = t521 + t527;
-    let t544: f32 = t542 + t543;
-    let t545: f32 = t541 - t544;
-    let t546: f32 = 1.0 / t545;
-    let t547: f32 = t421 * t432;
-    let t548: f32 = t507 * t547;
-    let t549: f32 = platform_mx * t38;
-    let t550: f32 = platform_my * t42;
-    let t551: f32 = t549 + t550;
-    let t552: f32 = platform_mz * t1;
-    let t553: f32 = t4 * t552;
-    let t554: f32 = t551 - t553;
-    let t555: f32 = t140 + t554;
-    let t556: f32 = t183 + t200;
-    let t557: f32 = t555 + t556;
-    let t558: f32 = t49 + t61;
-    let t559: f32 = t557 + t558;
-    let t560: f32 = t531 + t548;
-    let t561: f32 = t559 - t560;
-    let t562: f32 = t561 * t561;
-    let t563: f32 = t546 * t562;
-    let t564: f32 = platform_mass + joint1_mass;
-    let t565: f32 = joint6_mass + t564;
-    let t566: f32 = joint2_mass + joint3_mass;
-    let t567: f32 = joint4_mass + joint5_mass;
-    let t568: f32 = t566 + t567;
-    let t569: f32 = t565 + t568;
-    let t570: f32 = rod1_mass + rod2_mass;
-    let t571: f32 = t434 + t563;
-    let t572: f32 = t570 + t571;
-    let t573: f32 = t569 + t572;
-    let t574: f32 = 1.0 / t573;
-    let t575: f32 = t22 + t32;
-    let t576: f32 = t431 + t575;
-    let t577: f32 = t576 - t161;
-    let t578: f32 = t432 * t577;
-    let t579: f32 = t263 * t578;
-    let t580: f32 = t341 * t579;
-    let t581: f32 = t421 * t580;
-    let t582: f32 = t341 * t421;
-    let t583: f32 = t507 * t582;
-    let t584: f32 = t474 + t583;
-    let t585: f32 = t263 * t577;
-    let t586: f32 = t584 * t585;
-    let t587: f32 = platform_mz * t3;
-    let t588: f32 = platform_mx * t4;
-    let t589: f32 = t8 * t588;
-    let t590: f32 = platform_my * t7;
-    let t591: f32 = t4 * t590;
-    let t592: f32 = t589 - t591;
-    let t593: f32 = t587 + t592;
-    let t594: f32 = t378 + t593;
-    let t595: f32 = t397 + t405;
-    let t596: f32 = t594 + t595;
-    let t597: f32 = t436 + t586;
-    let t598: f32 = t439 + t596;
-    let t599: f32 = t597 + t598;
-    let t600: f32 = t546 * t561;
-    let t601: f32 = t599 * t600;
-    let t602: f32 = t581 - t601;
-    let t603: f32 = t599 * t599;
-    let t604: f32 = t546 * t603;
-    let t605: f32 = t602 * t602;
-    let t606: f32 = t574 * t605;
-    let t607: f32 = t577 * t577;
-    let t608: f32 = t355 * t421;
-    let t609: f32 = t608 - 1.0;
-    let t610: f32 = t263 * t607;
-    let t611: f32 = t609 * t610;
-    let t612: f32 = rod3_mass + rod4_mass;
-    let t613: f32 = t604 + t611;
-    let t614: f32 = t612 + t613;
-    let t615: f32 = t569 + t614;
-    let t616: f32 = t615 - t606;
-    let t617: f32 = 1.0 / t616;
-    let t618: f32 = t285 + t557;
-    let t619: f32 = t263 * t618;
-    let t620: f32 = t474 * t619;
-    let t621: f32 = t341 * t619;
-    let t622: f32 = t349 + t621;
-    let t623: f32 = t352 + t596;
-    let t624: f32 = t622 + t623;
-    let t625: f32 = t624 - t381;
-    let t626: f32 = t421 * t507;
-    let t627: f32 = t625 * t626;
-    let t628: f32 = t620 + t627;
-    let t629: f32 = t546 * t599;
-    let t630: f32 = t628 * t629;
-    let t631: f32 = t547 * t625;
-    let t632: f32 = t600 * t628;
-    let t633: f32 = t631 - t632;
-    let t634: f32 = t574 * t602;
-    let t635: f32 = t633 * t634;
-    let t636: f32 = t582 * t625;
-    let t637: f32 = t618 - t636;
-    let t638: f32 = t585 * t637;
-    let t639: f32 = t635 + t638;
-    let t640: f32 = t639 - t630;
-    let t641: f32 = t618 * t618;
-    let t642: f32 = t263 * t641;
-    let t643: f32 = t625 * t625;
-    let t644: f32 = t421 * t643;
-    let t645: f32 = t628 * t628;
-    let t646: f32 = t546 * t645;
-    let t647: f32 = t633 * t633;
-    let t648: f32 = t574 * t647;
-    let t649: f32 = t640 * t640;
-    let t650: f32 = t617 * t649;
-    let t651: f32 = rod5_mass + rod6_mass;
-    let t652: f32 = t644 + t646;
-    let t653: f32 = t651 + t652;
-    let t654: f32 = t569 + t653;
-    let t655: f32 = t642 + t648;
-    let t656: f32 = t650 + t655;
-    let t657: f32 = t654 - t656;
-    let t658: f32 = 1.0 / t657;
-    let t659: f32 = gravity_z * platform_mass;
-    let t660: f32 = wz * t593;
-    let t661: f32 = wx * t429;
-    let t662: f32 = t660 - t661;
-    let t663: f32 = wx * t662;
-    let t664: f32 = wy * t429;
-    let t665: f32 = wz * t554;
-    let t666: f32 = t664 - t665;
-    let t667: f32 = wy * t666;
-    let t668: f32 = wx * t178;
-    let t669: f32 = wy * t320;
-    let t670: f32 = t668 - t669;
-    let t671: f32 = wx * t670;
-    let t672: f32 = wy * t147;
-    let t673: f32 = wz * t178;
-    let t674: f32 = t672 - t673;
-    let t675: f32 = wz * t674;
-    let t676: f32 = t671 - t675;
-    let t677: f32 = wz * vx;
-    let t678: f32 = wx * vz;
-    let t679: f32 = gravity_y + t677;
-    let t680: f32 = t679 - t678;
-    let t681: f32 = rod3_mass * t680;
-    let t682: f32 = wx * wy;
-    let t683: f32 = t168 * t682;
-    let t684: f32 = wz * wz;
-    let t685: f32 = wx * wx;
-    let t686: f32 = t684 + t685;
-    let t687: f32 = t179 * t686;
-    let t688: f32 = zc * wy;
-    let t689: f32 = wz * t688;
-    let t690: f32 = gravity_y + t689;
-    let t691: f32 = t683 + t690;
-    let t692: f32 = t691 - t687;
-    let t693: f32 = joint3_mass * t692;
-    let t694: f32 = g3 + t693;
-    let t695: f32 = t681 + t694;
-    let t696: f32 = t676 + t695;
-    let t697: f32 = wx * t195;
-    let t698: f32 = wy * t328;
-    let t699: f32 = t697 - t698;
-    let t700: f32 = wx * t699;
-    let t701: f32 = wy * t155;
-    let t702: f32 = wz * t195;
-    let t703: f32 = t701 - t702;
-    let t704: f32 = wz * t703;
-    let t705: f32 = t700 - t704;
-    let t706: f32 = rod4_mass * t680;
-    let t707: f32 = t187 * t682;
-    let t708: f32 = t196 * t686;
-    let t709: f32 = t707 + t708;
-    let t710: f32 = t690 + t709;
-    let t711: f32 = joint4_mass * t710;
-    let t712: f32 = g4 + t711;
-    let t713: f32 = t706 + t712;
-    let t714: f32 = t705 + t713;
-    let t715: f32 = t696 + t714;
-    let t716: f32 = zc * t715;
-    let t717: f32 = wy * t20;
-    let t718: f32 = wz * t129;
-    let t719: f32 = t717 - t718;
-    let t720: f32 = wy * t719;
-    let t721: f32 = wx * wz;
-    let t722: f32 = t216 * t721;
-    let t723: f32 = t303 * t722;
-    let t724: f32 = t306 * t723;
-    let t725: f32 = wy * wy;
-    let t726: f32 = t685 + t725;
-    let t727: f32 = t0 * t726;
-    let t728: f32 = yc * wy;
-    let t729: f32 = wz * t728;
-    let t730: f32 = gravity_z + t729;
-    let t731: f32 = t724 + t727;
-    let t732: f32 = t730 - t731;
-    let t733: f32 = joint1_mass * t732;
-    let t734: f32 = wz * t293;
-    let t735: f32 = wx * t20;
-    let t736: f32 = t734 - t735;
-    let t737: f32 = wx * t736;
-    let t738: f32 = t733 - t737;
-    let t739: f32 = t720 + t738;
-    let t740: f32 = wy * t30;
-    let t741: f32 = wz * t137;
-    let t742: f32 = t740 - t741;
-    let t743: f32 = wy * t742;
-    let t744: f32 = t309 * t723;
-    let t745: f32 = t24 * t726;
-    let t746: f32 = t744 + t745;
-    let t747: f32 = t730 - t746;
-    let t748: f32 = joint2_mass * t747;
-    let t749: f32 = wz * t300;
-    let t750: f32 = wx * t30;
-    let t751: f32 = t749 - t750;
-    let t752: f32 = wx * t751;
-    let t753: f32 = t748 - t752;
-    let t754: f32 = t743 + t753;
-    let t755: f32 = t739 + t754;
-    let t756: f32 = yc * t755;
-    let t757: f32 = t716 - t756;
-    let t758: f32 = wx * t4;
-    let t759: f32 = t8 * t758;
-    let t760: f32 = wy * t38;
-    let t761: f32 = wz * t12;
-    let t762: f32 = t759 + t760;
-    let t763: f32 = t761 + t762;
-    let t764: f32 = t95 * t763;
-    let t765: f32 = wx * t7;
-    let t766: f32 = t4 * t765;
-    let t767: f32 = wy * t42;
-    let t768: f32 = wz * t17;
-    let t769: f32 = t767 + t768;
-    let t770: f32 = t766 - t769;
-    let t771: f32 = t70 * t770;
-    let t772: f32 = wx * t3;
-    let t773: f32 = wy * t1;
-    let t774: f32 = wz * t2;
-    let t775: f32 = t773 - t774;
-    let t776: f32 = t4 * t775;
-    let t777: f32 = t772 - t776;
-    let t778: f32 = t116 * t777;
-    let t779: f32 = t764 + t778;
-    let t780: f32 = t779 - t771;
-    let t781: f32 = t763 * t780;
-    let t782: f32 = t103 * t763;
-    let t783: f32 = t84 * t770;
-    let t784: f32 = t95 * t777;
-    let t785: f32 = t782 + t784;
-    let t786: f32 = t785 - t783;
-    let t787: f32 = t777 * t786;
-    let t788: f32 = t781 - t787;
-    let t789: f32 = t7 * t788;
-    let t790: f32 = t770 * t780;
-    let t791: f32 = t84 * t763;
-    let t792: f32 = t77 * t770;
-    let t793: f32 = t70 * t777;
-    let t794: f32 = t791 + t793;
-    let t795: f32 = t794 - t792;
-    let t796: f32 = t777 * t795;
-    let t797: f32 = t790 + t796;
-    let t798: f32 = t8 * t797;
-    let t799: f32 = t789 - t798;
-    let t800: f32 = t4 * t799;
-    let t801: f32 = t763 * t795;
-    let t802: f32 = t770 * t786;
-    let t803: f32 = t801 + t802;
-    let t804: f32 = t3 * t803;
-    let t805: f32 = t800 + t804;
-    let t806: f32 = t757 - t805;
-    let t807: f32 = wx * t47;
-    let t808: f32 = wy * t272;
-    let t809: f32 = t807 - t808;
-    let t810: f32 = wx * t809;
-    let t811: f32 = t34 * t686;
-    let t812: f32 = wy * wz;
-    let t813: f32 = t215 * t812;
-    let t814: f32 = t216 * t813;
-    let t815: f32 = t220 * t814;
-    let t816: f32 = xc * wx;
-    let t817: f32 = wy * t816;
-    let t818: f32 = gravity_y + t817;
-    let t819: f32 = t811 + t815;
-    let t820: f32 = t818 - t819;
-    let t821: f32 = joint5_mass * t820;
-    let t822: f32 = wy * t226;
-    let t823: f32 = wz * t47;
-    let t824: f32 = t822 - t823;
-    let t825: f32 = wz * t824;
-    let t826: f32 = t821 - t825;
-    let t827: f32 = t810 + t826;
-    let t828: f32 = t220 * t827;
-    let t829: f32 = wx * t59;
-    let t830: f32 = wy * t280;
-    let t831: f32 = t829 - t830;
-    let t832: f32 = wx * t831;
-    let t833: f32 = t53 * t686;
-    let t834: f32 = t237 * t814;
-    let t835: f32 = t833 + t834;
-    let t836: f32 = t818 - t835;
-    let t837: f32 = joint6_mass * t836;
-    let t838: f32 = wy * t243;
-    let t839: f32 = wz * t59;
-    let t840: f32 = t838 - t839;
-    let t841: f32 = wz * t840;
-    let t842: f32 = t837 - t841;
-    let t843: f32 = t832 + t842;
-    let t844: f32 = t237 * t843;
-    let t845: f32 = t828 + t844;
-    let t846: f32 = t227 * t845;
-    let t847: f32 = wx * t168;
-    let t848: f32 = wy * t167;
-    let t849: f32 = t172 * t848;
-    let t850: f32 = t847 + t849;
-    let t851: f32 = wz * t850;
-    let t852: f32 = zc * t726;
-    let t853: f32 = gravity_z - t852;
-    let t854: f32 = t851 + t853;
-    let t855: f32 = joint3_mass * t854;
-    let t856: f32 = wy * t674;
-    let t857: f32 = wz * t320;
-    let t858: f32 = wx * t147;
-    let t859: f32 = t857 - t858;
-    let t860: f32 = wx * t859;
-    let t861: f32 = t856 - t860;
-    let t862: f32 = t855 + t861;
-    let t863: f32 = t172 * t862;
-    let t864: f32 = wx * t187;
-    let t865: f32 = t189 * t848;
-    let t866: f32 = t864 - t865;
-    let t867: f32 = wz * t866;
-    let t868: f32 = t853 + t867;
-    let t869: f32 = joint4_mass * t868;
-    let t870: f32 = wy * t703;
-    let t871: f32 = wz * t328;
-    let t872: f32 = wx * t155;
-    let t873: f32 = t871 - t872;
-    let t874: f32 = wx * t873;
-    let t875: f32 = t870 - t874;
-    let t876: f32 = t869 + t875;
-    let t877: f32 = t189 * t876;
-    let t878: f32 = t863 - t877;
-    let t879: f32 = t167 * t878;
-    let t880: f32 = t846 + t879;
-    let t881: f32 = wy * t824;
-    let t882: f32 = wz * t272;
-    let t883: f32 = wx * t226;
-    let t884: f32 = t882 - t883;
-    let t885: f32 = wx * t884;
-    let t886: f32 = t881 - t885;
-    let t887: f32 = wx * vy;
-    let t888: f32 = wy * vx;
-    let t889: f32 = gravity_z + t887;
-    let t890: f32 = t889 - t888;
-    let t891: f32 = rod5_mass * t890;
-    let t892: f32 = t34 * t812;
-    let t893: f32 = t228 * t726;
-    let t894: f32 = wz * t816;
-    let t895: f32 = gravity_z + t894;
-    let t896: f32 = t892 + t893;
-    let t897: f32 = t895 + t896;
-    let t898: f32 = joint5_mass * t897;
-    let t899: f32 = g5 + t898;
-    let t900: f32 = t891 + t899;
-    let t901: f32 = t886 + t900;
-    let t902: f32 = t34 * t901;
-    let t903: f32 = wy * t840;
-    let t904: f32 = wz * t280;
-    let t905: f32 = wx * t243;
-    let t906: f32 = t904 - t905;
-    let t907: f32 = wx * t906;
-    let t908: f32 = t903 - t907;
-    let t909: f32 = rod6_mass * t890;
-    let t910: f32 = t53 * t812;
-    let t911: f32 = t244 * t726;
-    let t912: f32 = t910 + t911;
-    let t913: f32 = t895 + t912;
-    let t914: f32 = joint6_mass * t913;
-    let t915: f32 = g6 + t914;
-    let t916: f32 = t909 + t915;
-    let t917: f32 = t908 + t916;
-    let t918: f32 = t53 * t917;
-    let t919: f32 = t902 + t918;
-    let t920: f32 = t880 + t919;
-    let t921: f32 = t806 - t920;
-    let t922: f32 = gravity_z * t554;
-    let t923: f32 = gravity_y * t429;
-    let t924: f32 = t922 - t923;
-    let t925: f32 = t129 * t732;
-    let t926: f32 = t137 * t747;
-    let t927: f32 = t925 + t926;
-    let t928: f32 = t924 + t927;
-    let t929: f32 = t47 * t897;
-    let t930: f32 = t226 * t820;
-    let t931: f32 = t929 - t930;
-    let t932: f32 = t147 * t692;
-    let t933: f32 = t155 * t710;
-    let t934: f32 = t932 + t933;
-    let t935: f32 = t931 - t934;
-    let t936: f32 = t928 + t935;
-    let t937: f32 = t59 * t913;
-    let t938: f32 = t243 * t836;
-    let t939: f32 = t937 - t938;
-    let t940: f32 = wx * t216;
-    let t941: f32 = t303 * t940;
-    let t942: f32 = t306 * t941;
-    let t943: f32 = wz * t0;
-    let t944: f32 = t942 - t943;
-    let t945: f32 = wy * t944;
-    let t946: f32 = yc * t686;
-    let t947: f32 = gravity_y - t946;
-    let t948: f32 = t947 - t945;
-    let t949: f32 = joint1_mass * t948;
-    let t950: f32 = wx * t129;
-    let t951: f32 = wy * t293;
-    let t952: f32 = t950 - t951;
-    let t953: f32 = wx * t952;
-    let t954: f32 = wz * t719;
-    let t955: f32 = t953 - t954;
-    let t956: f32 = t949 + t955;
-    let t957: f32 = t0 * t956;
-    let t958: f32 = t20 * t948;
-    let t959: f32 = t957 - t958;
-    let t960: f32 = t939 + t959;
-    let t961: f32 = t309 * t941;
-    let t962: f32 = wz * t24;
-    let t963: f32 = t961 - t962;
-    let t964: f32 = wy * t963;
-    let t965: f32 = t947 - t964;
-    let t966: f32 = joint2_mass * t965;
-    let t967: f32 = wx * t137;
-    let t968: f32 = wy * t300;
-    let t969: f32 = t967 - t968;
-    let t970: f32 = wx * t969;
-    let t971: f32 = wz * t742;
-    let t972: f32 = t970 - t971;
-    let t973: f32 = t966 + t972;
-    let t974: f32 = t24 * t973;
-    let t975: f32 = t30 * t965;
-    let t976: f32 = t974 - t975;
-    let t977: f32 = t178 * t854;
-    let t978: f32 = t195 * t868;
-    let t979: f32 = t977 + t978;
-    let t980: f32 = t976 + t979;
-    let t981: f32 = t960 + t980;
-    let t982: f32 = t936 + t981;
-    let t983: f32 = t921 + t982;
-    let t984: f32 = t618 * t983;
-    let t985: f32 = t263 * t984;
-    let t986: f32 = t263 * t983;
-    let t987: f32 = t341 * t986;
-    let t988: f32 = t218 * t803;
-    let t989: f32 = t38 * t797;
-    let t990: f32 = t988 + t989;
-    let t991: f32 = t42 * t788;
-    let t992: f32 = t901 + t917;
-    let t993: f32 = xc * t992;
-    let t994: f32 = t991 + t993;
-    let t995: f32 = t990 + t994;
-    let t996: f32 = wy * t34;
-    let t997: f32 = wz * t215;
-    let t998: f32 = t216 * t997;
-    let t999: f32 = t220 * t998;
-    let t1000: f32 = t996 - t999;
-    let t1001: f32 = wx * t1000;
-    let t1002: f32 = t684 + t725;
-    let t1003: f32 = xc * t1002;
-    let t1004: f32 = gravity_x - t1003;
-    let t1005: f32 = t1001 + t1004;
-    let t1006: f32 = joint5_mass * t1005;
-    let t1007: f32 = wz * t884;
-    let t1008: f32 = wy * t809;
-    let t1009: f32 = t1007 - t1008;
-    let t1010: f32 = t1006 + t1009;
-    let t1011: f32 = t220 * t1010;
-    let t1012: f32 = wy * t53;
-    let t1013: f32 = t237 * t998;
-    let t1014: f32 = t1012 - t1013;
-    let t1015: f32 = wx * t1014;
-    let t1016: f32 = t1004 + t1015;
-    let t1017: f32 = joint6_mass * t1016;
-    let t1018: f32 = wz * t906;
-    let t1019: f32 = wy * t831;
-    let t1020: f32 = t1018 - t1019;
-    let t1021: f32 = t1017 + t1020;
-    let t1022: f32 = t237 * t1021;
-    let t1023: f32 = t1011 + t1022;
-    let t1024: f32 = t215 * t1023;
-    let t1025: f32 = t306 * t739;
-    let t1026: f32 = t309 * t754;
-    let t1027: f32 = t1025 + t1026;
-    let t1028: f32 = t303 * t1027;
-    let t1029: f32 = t1024 - t1028;
-    let t1030: f32 = t216 * t1029;
-    let t1031: f32 = wz * t859;
-    let t1032: f32 = t168 * t1002;
-    let t1033: f32 = t167 * t682;
-    let t1034: f32 = t172 * t1033;
-    let t1035: f32 = zc * wx;
-    let t1036: f32 = wz * t1035;
-    let t1037: f32 = gravity_x + t1036;
-    let t1038: f32 = t1034 + t1037;
-    let t1039: f32 = t1038 - t1032;
-    let t1040: f32 = joint3_mass * t1039;
-    let t1041: f32 = wy * t670;
-    let t1042: f32 = t1040 - t1041;
-    let t1043: f32 = t1031 + t1042;
-    let t1044: f32 = wz * t873;
-    let t1045: f32 = t187 * t1002;
-    let t1046: f32 = t189 * t1033;
-    let t1047: f32 = t1045 + t1046;
-    let t1048: f32 = t1037 - t1047;
-    let t1049: f32 = joint4_mass * t1048;
-    let t1050: f32 = wy * t699;
-    let t1051: f32 = t1049 - t1050;
-    let t1052: f32 = t1044 + t1051;
-    let t1053: f32 = t1043 + t1052;
-    let t1054: f32 = zc * t1053;
-    let t1055: f32 = t1030 - t1054;
-    let t1056: f32 = wz * t736;
-    let t1057: f32 = wy * t952;
-    let t1058: f32 = t1056 - t1057;
-    let t1059: f32 = wy * vz;
-    let t1060: f32 = wz * vy;
-    let t1061: f32 = gravity_x + t1059;
-    let t1062: f32 = t1061 - t1060;
-    let t1063: f32 = rod1_mass * t1062;
-    let t1064: f32 = t392 * t1002;
-    let t1065: f32 = t0 * t721;
-    let t1066: f32 = yc * wx;
-    let t1067: f32 = wy * t1066;
-    let t1068: f32 = gravity_x + t1067;
-    let t1069: f32 = t1064 + t1065;
-    let t1070: f32 = t1068 + t1069;
-    let t1071: f32 = joint1_mass * t1070;
-    let t1072: f32 = g1 + t1071;
-    let t1073: f32 = t1063 + t1072;
-    let t1074: f32 = t1058 + t1073;
-    let t1075: f32 = t0 * t1074;
-    let t1076: f32 = wz * t751;
-    let t1077: f32 = wy * t969;
-    let t1078: f32 = t1076 - t1077;
-    let t1079: f32 = rod2_mass * t1062;
-    let t1080: f32 = t400 * t1002;
-    let t1081: f32 = t24 * t721;
-    let t1082: f32 = t1080 + t1081;
-    let t1083: f32 = t1068 + t1082;
-    let t1084: f32 = joint2_mass * t1083;
-    let t1085: f32 = g2 + t1084;
-    let t1086: f32 = t1079 + t1085;
-    let t1087: f32 = t1078 + t1086;
-    let t1088: f32 = t24 * t1087;
-    let t1089: f32 = t1075 + t1088;
-    let t1090: f32 = t1055 - t1089;
-    let t1091: f32 = t995 + t1090;
-    let t1092: f32 = gravity_x * t429;
-    let t1093: f32 = gravity_z * t593;
-    let t1094: f32 = t1092 - t1093;
-    let t1095: f32 = t20 * t1070;
-    let t1096: f32 = t293 * t732;
-    let t1097: f32 = t1095 - t1096;
-    let t1098: f32 = t1094 + t1097;
-    let t1099: f32 = t30 * t1083;
-    let t1100: f32 = t300 * t747;
-    let t1101: f32 = t1099 - t1100;
-    let t1102: f32 = t147 * t1039;
-    let t1103: f32 = t155 * t1048;
-    let t1104: f32 = t1102 + t1103;
-    let t1105: f32 = t1101 + t1104;
-    let t1106: f32 = t1098 + t1105;
-    let t1107: f32 = t272 * t897;
-    let t1108: f32 = t280 * t913;
-    let t1109: f32 = t1107 + t1108;
-    let t1110: f32 = t320 * t854;
-    let t1111: f32 = t168 * t862;
-    let t1112: f32 = t1110 - t1111;
-    let t1113: f32 = t1109 + t1112;
-    let t1114: f32 = t328 * t868;
-    let t1115: f32 = t187 * t876;
-    let t1116: f32 = t1114 - t1115;
-    let t1117: f32 = t226 * t1005;
-    let t1118: f32 = t243 * t1016;
-    let t1119: f32 = t1117 + t1118;
-    let t1120: f32 = t1116 - t1119;
-    let t1121: f32 = t1113 + t1120;
-    let t1122: f32 = t1106 - t1121;
-    let t1123: f32 = t1091 + t1122;
-    let t1124: f32 = t987 - t1123;
-    let t1125: f32 = t421 * t1124;
-    let t1126: f32 = t625 * t1125;
-    let t1127: f32 = t306 * t956;
-    let t1128: f32 = t309 * t973;
-    let t1129: f32 = t1127 + t1128;
-    let t1130: f32 = t312 * t1129;
-    let t1131: f32 = t827 + t843;
-    let t1132: f32 = xc * t1131;
-    let t1133: f32 = t1130 - t1132;
-    let t1134: f32 = t172 * t1043;
-    let t1135: f32 = t189 * t1052;
-    let t1136: f32 = t1134 - t1135;
-    let t1137: f32 = t167 * t1136;
-    let t1138: f32 = t168 * t696;
-    let t1139: f32 = t1137 - t1138;
-    let t1140: f32 = t1133 + t1139;
-    let t1141: f32 = gravity_y * t593;
-    let t1142: f32 = gravity_x * t554;
-    let t1143: f32 = t1141 - t1142;
-    let t1144: f32 = t187 * t714;
-    let t1145: f32 = t1143 - t1144;
-    let t1146: f32 = t320 * t692;
-    let t1147: f32 = t178 * t1039;
-    let t1148: f32 = t1146 - t1147;
-    let t1149: f32 = t129 * t1070;
-    let t1150: f32 = t137 * t1083;
-    let t1151: f32 = t1149 + t1150;
-    let t1152: f32 = t1148 - t1151;
-    let t1153: f32 = t1145 + t1152;
-    let t1154: f32 = t1140 + t1153;
-    let t1155: f32 = t328 * t710;
-    let t1156: f32 = t195 * t1048;
-    let t1157: f32 = t1155 - t1156;
-    let t1158: f32 = t272 * t820;
-    let t1159: f32 = t280 * t836;
-    let t1160: f32 = t1158 + t1159;
-    let t1161: f32 = t1157 + t1160;
-    let t1162: f32 = t293 * t948;
-    let t1163: f32 = t300 * t965;
-    let t1164: f32 = t1162 + t1163;
-    let t1165: f32 = t34 * t1010;
-    let t1166: f32 = t47 * t1005;
-    let t1167: f32 = t1165 - t1166;
-    let t1168: f32 = t1164 + t1167;
-    let t1169: f32 = t1161 + t1168;
-    let t1170: f32 = t53 * t1021;
-    let t1171: f32 = t59 * t1016;
-    let t1172: f32 = t1170 - t1171;
-    let t1173: f32 = t474 * t986;
-    let t1174: f32 = t507 * t1125;
-    let t1175: f32 = t1173 + t1174;
-    let t1176: f32 = t1172 - t1175;
-    let t1177: f32 = t12 * t797;
-    let t1178: f32 = t443 * t803;
-    let t1179: f32 = t1177 - t1178;
-    let t1180: f32 = t17 * t788;
-    let t1181: f32 = t1074 + t1087;
-    let t1182: f32 = yc * t1181;
-    let t1183: f32 = t1180 + t1182;
-    let t1184: f32 = t1179 + t1183;
-    let t1185: f32 = t1176 + t1184;
-    let t1186: f32 = t1169 + t1185;
-    let t1187: f32 = t1154 + t1186;
-    let t1188: f32 = t546 * t1187;
-    let t1189: f32 = t628 * t1188;
-    let t1190: f32 = wz * t662;
-    let t1191: f32 = t547 * t1124;
-    let t1192: f32 = t1190 - t1191;
-    let t1193: f32 = t561 * t1188;
-    let t1194: f32 = t1010 - t1193;
-    let t1195: f32 = t1192 + t1194;
-    let t1196: f32 = t1021 + t1053;
-    let t1197: f32 = gravity_x * platform_mass;
-    let t1198: f32 = wx * t554;
-    let t1199: f32 = wy * t593;
-    let t1200: f32 = t1198 - t1199;
-    let t1201: f32 = wy * t1200;
-    let t1202: f32 = t1197 - t1201;
-    let t1203: f32 = t1181 + t1202;
-    let t1204: f32 = t1196 + t1203;
-    let t1205: f32 = t1195 + t1204;
-    let t1206: f32 = t574 * t1205;
-    let t1207: f32 = t633 * t1206;
-    let t1208: f32 = t582 * t1124;
-    let t1209: f32 = t983 - t1208;
-    let t1210: f32 = t585 * t1209;
-    let t1211: f32 = t602 * t1206;
-    let t1212: f32 = t1210 - t1211;
-    let t1213: f32 = t956 + t973;
-    let t1214: f32 = t1212 + t1213;
-    let t1215: f32 = t715 + t1131;
-    let t1216: f32 = gravity_y * platform_mass;
-    let t1217: f32 = wz * t666;
-    let t1218: f32 = t1216 - t1217;
-    let t1219: f32 = wx * t1200;
-    let t1220: f32 = t599 * t1188;
-    let t1221: f32 = t1219 + t1220;
-    let t1222: f32 = t1218 + t1221;
-    let t1223: f32 = t1215 + t1222;
-    let t1224: f32 = t1214 + t1223;
-    let t1225: f32 = t617 * t1224;
-    let t1226: f32 = t640 * t1225;
-    let t1227: f32 = t659 + t667;
-    let t1228: f32 = t1126 + t1207;
-    let t1229: f32 = t862 + t876;
-    let t1230: f32 = t755 + t992;
-    let t1231: f32 = t1227 + t1228;
-    let t1232: f32 = t1229 + t1230;
-    let t1233: f32 = t1231 + t1232;
-    let t1234: f32 = t663 + t985;
-    let t1235: f32 = t1189 + t1226;
-    let t1236: f32 = t1234 + t1235;
-    let t1237: f32 = t1233 - t1236;
-    let t1238: f32 = t640 * t658;
-    let t1239: f32 = t1237 * t1238;
-    let t1240: f32 = t1224 - t1239;
-    let t1241: f32 = t602 * t617;
-    let t1242: f32 = t1240 * t1241;
-    let t1243: f32 = t633 * t658;
-    let t1244: f32 = t1237 * t1243;
-    let t1245: f32 = t1205 + t1244;
-    let t1246: f32 = t1245 - t1242;
-    let t1247: f32 = t432 * t574;
-    let t1248: f32 = t1246 * t1247;
-    let t1249: f32 = t625 * t658;
-    let t1250: f32 = t1237 * t1249;
-    let t1251: f32 = t561 * t574;
-    let t1252: f32 = t1246 * t1251;
-    let t1253: f32 = t599 * t617;
-    let t1254: f32 = t1240 * t1253;
-    let t1255: f32 = t628 * t658;
-    let t1256: f32 = t1237 * t1255;
-    let t1257: f32 = t1252 + t1256;
-    let t1258: f32 = t1187 + t1257;
-    let t1259: f32 = t1258 - t1254;
-    let t1260: f32 = t507 * t546;
-    let t1261: f32 = t1259 * t1260;
-    let t1262: f32 = t577 * t617;
-    let t1263: f32 = t1240 * t1262;
-    let t1264: f32 = t983 + t1263;
-    let t1265: f32 = t481 * t1264;
-    let t1266: f32 = t1250 + t1261;
-    let t1267: f32 = t1123 + t1266;
-    let t1268: f32 = t1248 + t1265;
-    let t1269: f32 = t1267 - t1268;
-    let t1270: f32 = t421 * t1269;
-    let t1271: f32 = -t1270;
-    let t1272: f32 = t341 * t1271;
-    let t1273: f32 = t618 * t658;
-    let t1274: f32 = t1237 * t1273;
-    let t1275: f32 = t474 * t546;
-    let t1276: f32 = t1259 * t1275;
-    let t1277: f32 = t1264 + t1276;
-    let t1278: f32 = t1272 + t1274;
-    let t1279: f32 = t1277 - t1278;
-    let t1280: f32 = t263 * t1279;
-    let t1281: f32 = t574 * t600;
-    let t1282: f32 = t1246 * t1281;
-    let t1283: f32 = t617 * t629;
-    let t1284: f32 = t1240 * t1283;
-    let t1285: f32 = t546 * t628;
-    let t1286: f32 = t658 * t1285;
-    let t1287: f32 = t1237 * t1286;
-    let t1288: f32 = t1188 + t1282;
-    let t1289: f32 = t1287 + t1288;
-    let t1290: f32 = t1284 - t1289;
-    let t1291: f32 = t574 * t1246;
-    let t1292: f32 = t617 * t1240;
-    let t1293: f32 = t658 * t1237;
-    let t1294: f32 = t4 * t8;
+    let (
+        t0,
+        t4,
+        t8,
+        t12,
+        t17,
+        t20,
+        t24,
+        t30,
+        t34,
+        t42,
+        t47,
+        t53,
+        t59,
+        t129,
+        t137,
+        t147,
+        t155,
+        t167,
+        t168,
+        t172,
+        t178,
+        t187,
+        t189,
+        t195,
+        t215,
+        t216,
+        t220,
+        t226,
+        t237,
+        t243,
+        t263,
+        t272,
+        t280,
+        t293,
+        t300,
+        t303,
+        t306,
+        t309,
+        t312,
+        t320,
+        t328,
+        t341,
+        t392,
+        t400,
+        t421,
+        t429,
+        t432,
+        t443,
+        t474,
+        t481,
+        t507,
+        t546,
+        t547,
+        t554,
+        t561,
+        t574,
+        t577,
+        t582,
+        t585,
+        t593,
+        t599,
+        t600,
+        t602,
+        t617,
+        t618,
+        t625,
+        t628,
+        t629,
+        t633,
+        t640,
+        t658,
+        t659,
+        t662,
+        t663,
+        t666,
+        t667,
+        t670,
+        t682,
+        t692,
+        t696,
+        t699,
+        t710,
+        t714,
+        t715,
+        t721,
+        t732,
+        t736,
+        t739,
+        t747,
+        t751,
+        t754,
+        t755,
+        t788,
+        t797,
+        t803,
+        t809,
+        t820,
+        t827,
+        t831,
+        t836,
+        t843,
+        t854,
+        t859,
+        t862,
+        t868,
+        t873,
+        t876,
+        t884,
+        t897,
+        t906,
+        t913,
+        t948,
+        t952,
+        t956,
+        t965,
+        t969,
+        t973,
+        t983,
+        t985,
+        t986,
+        t987,
+        t992,
+        t995,
+        t998,
+        t1001,
+        t1002,
+    ) = {
+        let t0: f32 = zc - half_spacing;
+        let (t1, t2): (f32, f32) = sin_cos(alpha);
+        let (t3, t4): (f32, f32) = sin_cos(beta);
+        let t5: f32 = joint1_mz * t2;
+        let t6: f32 = t4 * t5;
+        let (t7, t8): (f32, f32) = sin_cos(gamma);
+        let t9: f32 = t1 * t7;
+        let t10: f32 = t2 * t3;
+        let t11: f32 = t8 * t10;
+        let t12: f32 = t9 - t11;
+        let t13: f32 = joint1_mx * t12;
+        let t14: f32 = t1 * t8;
+        let t15: f32 = t3 * t7;
+        let t16: f32 = t2 * t15;
+        let t17: f32 = t14 + t16;
+        let t18: f32 = joint1_my * t17;
+        let t19: f32 = t13 + t18;
+        let t20: f32 = t6 + t19;
+        let t21: f32 = joint1_mass * t0;
+        let t22: f32 = t20 - t21;
+        let t23: f32 = t0 * t22;
+        let t24: f32 = zc + half_spacing;
+        let t25: f32 = joint2_mz * t2;
+        let t26: f32 = t4 * t25;
+        let t27: f32 = joint2_mx * t12;
+        let t28: f32 = joint2_my * t17;
+        let t29: f32 = t27 + t28;
+        let t30: f32 = t26 + t29;
+        let t31: f32 = joint2_mass * t24;
+        let t32: f32 = t30 - t31;
+        let t33: f32 = t24 * t32;
+        let t34: f32 = yc - half_spacing;
+        let t35: f32 = t2 * t7;
+        let t36: f32 = t1 * t3;
+        let t37: f32 = t8 * t36;
+        let t38: f32 = t35 + t37;
+        let t39: f32 = joint5_mx * t38;
+        let t40: f32 = t2 * t8;
+        let t41: f32 = t7 * t36;
+        let t42: f32 = t40 - t41;
+        let t43: f32 = joint5_my * t42;
+        let t44: f32 = t39 + t43;
+        let t45: f32 = joint5_mz * t1;
+        let t46: f32 = t4 * t45;
+        let t47: f32 = t44 - t46;
+        let t48: f32 = joint5_mass * t34;
+        let t49: f32 = t47 - t48;
+        let t50: f32 = rod5_mass * t34;
+        let t51: f32 = t49 - t50;
+        let t52: f32 = t34 * t51;
+        let t53: f32 = yc + half_spacing;
+        let t54: f32 = joint6_mx * t38;
+        let t55: f32 = joint6_my * t42;
+        let t56: f32 = t54 + t55;
+        let t57: f32 = joint6_mz * t1;
+        let t58: f32 = t4 * t57;
+        let t59: f32 = t56 - t58;
+        let t60: f32 = joint6_mass * t53;
+        let t61: f32 = t59 - t60;
+        let t62: f32 = rod6_mass * t53;
+        let t63: f32 = t61 - t62;
+        let t64: f32 = t53 * t63;
+        let t65: f32 = platform_iyz + joint1_iyz;
+        let t66: f32 = joint2_iyz + joint3_iyz;
+        let t67: f32 = joint4_iyz + joint5_iyz;
+        let t68: f32 = t65 + t66;
+        let t69: f32 = joint6_iyz + t67;
+        let t70: f32 = t68 + t69;
+        let t71: f32 = t3 * t70;
+        let t72: f32 = platform_iyy + joint1_iyy;
+        let t73: f32 = joint2_iyy + joint3_iyy;
+        let t74: f32 = joint4_iyy + joint5_iyy;
+        let t75: f32 = t72 + t73;
+        let t76: f32 = joint6_iyy + t74;
+        let t77: f32 = t75 + t76;
+        let t78: f32 = t7 * t77;
+        let t79: f32 = platform_ixy + joint1_ixy;
+        let t80: f32 = joint2_ixy + joint3_ixy;
+        let t81: f32 = joint4_ixy + joint5_ixy;
+        let t82: f32 = t79 + t80;
+        let t83: f32 = joint6_ixy + t81;
+        let t84: f32 = t82 + t83;
+        let t85: f32 = t8 * t84;
+        let t86: f32 = t78 - t85;
+        let t87: f32 = t4 * t86;
+        let t88: f32 = t71 - t87;
+        let t89: f32 = t7 * t88;
+        let t90: f32 = platform_ixz + joint1_ixz;
+        let t91: f32 = joint2_ixz + joint3_ixz;
+        let t92: f32 = joint4_ixz + joint5_ixz;
+        let t93: f32 = t90 + t91;
+        let t94: f32 = joint6_ixz + t92;
+        let t95: f32 = t93 + t94;
+        let t96: f32 = t3 * t95;
+        let t97: f32 = t7 * t84;
+        let t98: f32 = platform_ixx + joint1_ixx;
+        let t99: f32 = joint2_ixx + joint3_ixx;
+        let t100: f32 = joint4_ixx + joint5_ixx;
+        let t101: f32 = t98 + t99;
+        let t102: f32 = joint6_ixx + t100;
+        let t103: f32 = t101 + t102;
+        let t104: f32 = t8 * t103;
+        let t105: f32 = t97 - t104;
+        let t106: f32 = t4 * t105;
+        let t107: f32 = t96 - t106;
+        let t108: f32 = t8 * t107;
+        let t109: f32 = t89 - t108;
+        let t110: f32 = t4 * t109;
+        let t111: f32 = platform_izz + joint1_izz;
+        let t112: f32 = joint2_izz + joint3_izz;
+        let t113: f32 = joint4_izz + joint5_izz;
+        let t114: f32 = t111 + t112;
+        let t115: f32 = joint6_izz + t113;
+        let t116: f32 = t114 + t115;
+        let t117: f32 = t3 * t116;
+        let t118: f32 = t7 * t70;
+        let t119: f32 = t8 * t95;
+        let t120: f32 = t118 - t119;
+        let t121: f32 = t4 * t120;
+        let t122: f32 = t117 - t121;
+        let t123: f32 = t3 * t122;
+        let t124: f32 = joint1_mx * t38;
+        let t125: f32 = joint1_my * t42;
+        let t126: f32 = t124 + t125;
+        let t127: f32 = joint1_mz * t1;
+        let t128: f32 = t4 * t127;
+        let t129: f32 = t126 - t128;
+        let t130: f32 = yc * joint1_mass;
+        let t131: f32 = t129 - t130;
+        let t132: f32 = joint2_mx * t38;
+        let t133: f32 = joint2_my * t42;
+        let t134: f32 = t132 + t133;
+        let t135: f32 = joint2_mz * t1;
+        let t136: f32 = t4 * t135;
+        let t137: f32 = t134 - t136;
+        let t138: f32 = yc * joint2_mass;
+        let t139: f32 = t137 - t138;
+        let t140: f32 = t131 + t139;
+        let t141: f32 = yc * t140;
+        let t142: f32 = joint3_mz * t2;
+        let t143: f32 = t4 * t142;
+        let t144: f32 = joint3_mx * t12;
+        let t145: f32 = joint3_my * t17;
+        let t146: f32 = t144 + t145;
+        let t147: f32 = t143 + t146;
+        let t148: f32 = zc * joint3_mass;
+        let t149: f32 = t147 - t148;
+        let t150: f32 = joint4_mz * t2;
+        let t151: f32 = t4 * t150;
+        let t152: f32 = joint4_mx * t12;
+        let t153: f32 = joint4_my * t17;
+        let t154: f32 = t152 + t153;
+        let t155: f32 = t151 + t154;
+        let t156: f32 = zc * joint4_mass;
+        let t157: f32 = t155 - t156;
+        let t158: f32 = t149 + t157;
+        let t159: f32 = zc * rod3_mass;
+        let t160: f32 = zc * rod4_mass;
+        let t161: f32 = t159 + t160;
+        let t162: f32 = t158 - t161;
+        let t163: f32 = zc * t162;
+        let t164: f32 = yc * t129;
+        let t165: f32 = yc * t137;
+        let t166: f32 = t164 + t165;
+        let t167: f32 = 1.0 / t42;
+        let t168: f32 = xc - half_spacing;
+        let t169: f32 = t4 * t7;
+        let t170: f32 = t168 * t169;
+        let t171: f32 = zc * t17;
+        let t172: f32 = t170 - t171;
+        let t173: f32 = joint3_mx * t38;
+        let t174: f32 = joint3_my * t42;
+        let t175: f32 = t173 + t174;
+        let t176: f32 = joint3_mz * t1;
+        let t177: f32 = t4 * t176;
+        let t178: f32 = t175 - t177;
+        let t179: f32 = t167 * t172;
+        let t180: f32 = t178 * t179;
+        let t181: f32 = joint3_mass * t167;
+        let t182: f32 = t172 * t181;
+        let t183: f32 = t178 - t182;
+        let t184: f32 = t179 * t183;
+        let t185: f32 = t180 + t184;
+        let t186: f32 = t166 + t185;
+        let t187: f32 = xc + half_spacing;
+        let t188: f32 = t169 * t187;
+        let t189: f32 = t171 - t188;
+        let t190: f32 = joint4_mx * t38;
+        let t191: f32 = joint4_my * t42;
+        let t192: f32 = t190 + t191;
+        let t193: f32 = joint4_mz * t1;
+        let t194: f32 = t4 * t193;
+        let t195: f32 = t192 - t194;
+        let t196: f32 = t167 * t189;
+        let t197: f32 = t195 * t196;
+        let t198: f32 = joint4_mass * t167;
+        let t199: f32 = t189 * t198;
+        let t200: f32 = t195 + t199;
+        let t201: f32 = t196 * t200;
+        let t202: f32 = t197 + t201;
+        let t203: f32 = t34 * t47;
+        let t204: f32 = t53 * t59;
+        let t205: f32 = t203 + t204;
+        let t206: f32 = t202 - t205;
+        let t207: f32 = t186 - t206;
+        let t208: f32 = t0 * t20;
+        let t209: f32 = t24 * t30;
+        let t210: f32 = t208 + t209;
+        let t211: f32 = zc * t147;
+        let t212: f32 = zc * t155;
+        let t213: f32 = t211 + t212;
+        let t214: f32 = t210 + t213;
+        let t215: f32 = 1.0 / t2;
+        let t216: f32 = 1.0 / t4;
+        let t217: f32 = xc * t3;
+        let t218: f32 = t1 * t4;
+        let t219: f32 = t34 * t218;
+        let t220: f32 = t217 - t219;
+        let t221: f32 = joint5_mz * t2;
+        let t222: f32 = t4 * t221;
+        let t223: f32 = joint5_mx * t12;
+        let t224: f32 = joint5_my * t17;
+        let t225: f32 = t223 + t224;
+        let t226: f32 = t222 + t225;
+        let t227: f32 = t215 * t216;
+        let t228: f32 = t220 * t227;
+        let t229: f32 = t226 * t228;
+        let t230: f32 = joint5_mass * t215;
+        let t231: f32 = t216 * t230;
+        let t232: f32 = t220 * t231;
+        let t233: f32 = t226 + t232;
+        let t234: f32 = t228 * t233;
+        let t235: f32 = t229 + t234;
+        let t236: f32 = t53 * t218;
+        let t237: f32 = t217 - t236;
+        let t238: f32 = joint6_mz * t2;
+        let t239: f32 = t4 * t238;
+        let t240: f32 = joint6_mx * t12;
+        let t241: f32 = joint6_my * t17;
+        let t242: f32 = t240 + t241;
+        let t243: f32 = t239 + t242;
+        let t244: f32 = t227 * t237;
+        let t245: f32 = t243 * t244;
+        let t246: f32 = joint6_mass * t215;
+        let t247: f32 = t216 * t246;
+        let t248: f32 = t237 * t247;
+        let t249: f32 = t243 + t248;
+        let t250: f32 = t244 * t249;
+        let t251: f32 = t245 + t250;
+        let t252: f32 = t235 + t251;
+        let t253: f32 = t214 - t252;
+        let t254: f32 = t23 + t33;
+        let t255: f32 = t52 + t64;
+        let t256: f32 = t110 + t141;
+        let t257: f32 = t163 + t207;
+        let t258: f32 = t254 + t255;
+        let t259: f32 = t256 + t257;
+        let t260: f32 = t258 + t259;
+        let t261: f32 = t253 + t260;
+        let t262: f32 = t123 - t261;
+        let t263: f32 = 1.0 / t262;
+        let t264: f32 = t168 * t183;
+        let t265: f32 = t187 * t200;
+        let t266: f32 = joint5_mz * t3;
+        let t267: f32 = joint5_mx * t4;
+        let t268: f32 = t8 * t267;
+        let t269: f32 = joint5_my * t7;
+        let t270: f32 = t4 * t269;
+        let t271: f32 = t268 - t270;
+        let t272: f32 = t266 + t271;
+        let t273: f32 = t34 * t272;
+        let t274: f32 = joint6_mz * t3;
+        let t275: f32 = joint6_mx * t4;
+        let t276: f32 = t8 * t275;
+        let t277: f32 = joint6_my * t7;
+        let t278: f32 = t4 * t277;
+        let t279: f32 = t276 - t278;
+        let t280: f32 = t274 + t279;
+        let t281: f32 = t53 * t280;
+        let t282: f32 = t122 * t218;
+        let t283: f32 = t38 * t107;
+        let t284: f32 = t42 * t88;
+        let t285: f32 = t51 + t63;
+        let t286: f32 = xc * t285;
+        let t287: f32 = joint1_mz * t3;
+        let t288: f32 = joint1_mx * t4;
+        let t289: f32 = t8 * t288;
+        let t290: f32 = joint1_my * t7;
+        let t291: f32 = t4 * t290;
+        let t292: f32 = t289 - t291;
+        let t293: f32 = t287 + t292;
+        let t294: f32 = joint2_mz * t3;
+        let t295: f32 = joint2_mx * t4;
+        let t296: f32 = t8 * t295;
+        let t297: f32 = joint2_my * t7;
+        let t298: f32 = t4 * t297;
+        let t299: f32 = t296 - t298;
+        let t300: f32 = t294 + t299;
+        let t301: f32 = t293 + t300;
+        let t302: f32 = yc * t301;
+        let t303: f32 = 1.0 / t8;
+        let t304: f32 = yc * t38;
+        let t305: f32 = t0 * t12;
+        let t306: f32 = t304 + t305;
+        let t307: f32 = t131 * t306;
+        let t308: f32 = t12 * t24;
+        let t309: f32 = t304 + t308;
+        let t310: f32 = t139 * t309;
+        let t311: f32 = t307 + t310;
+        let t312: f32 = t216 * t303;
+        let t313: f32 = t311 * t312;
+        let t314: f32 = joint3_mz * t3;
+        let t315: f32 = joint3_mx * t4;
+        let t316: f32 = t8 * t315;
+        let t317: f32 = joint3_my * t7;
+        let t318: f32 = t4 * t317;
+        let t319: f32 = t316 - t318;
+        let t320: f32 = t314 + t319;
+        let t321: f32 = t172 * t320;
+        let t322: f32 = joint4_mz * t3;
+        let t323: f32 = joint4_mx * t4;
+        let t324: f32 = t8 * t323;
+        let t325: f32 = joint4_my * t7;
+        let t326: f32 = t4 * t325;
+        let t327: f32 = t324 - t326;
+        let t328: f32 = t322 + t327;
+        let t329: f32 = t189 * t328;
+        let t330: f32 = t321 - t329;
+        let t331: f32 = t167 * t330;
+        let t332: f32 = t264 + t265;
+        let t333: f32 = t273 + t281;
+        let t334: f32 = t283 + t284;
+        let t335: f32 = t286 + t302;
+        let t336: f32 = t332 + t333;
+        let t337: f32 = t334 + t335;
+        let t338: f32 = t336 + t337;
+        let t339: f32 = t331 + t338;
+        let t340: f32 = t282 + t313;
+        let t341: f32 = t339 - t340;
+        let t342: f32 = rod1_mass * t0;
+        let t343: f32 = t22 - t342;
+        let t344: f32 = t0 * t343;
+        let t345: f32 = rod2_mass * t24;
+        let t346: f32 = t32 - t345;
+        let t347: f32 = t24 * t346;
+        let t348: f32 = joint3_mass * t168;
+        let t349: f32 = t320 - t348;
+        let t350: f32 = t168 * t349;
+        let t351: f32 = joint4_mass * t187;
+        let t352: f32 = t328 - t351;
+        let t353: f32 = t187 * t352;
+        let t354: f32 = t341 * t341;
+        let t355: f32 = t263 * t354;
+        let t356: f32 = t116 * t218;
+        let t357: f32 = t38 * t95;
+        let t358: f32 = t42 * t70;
+        let t359: f32 = t357 + t358;
+        let t360: f32 = t356 - t359;
+        let t361: f32 = t218 * t360;
+        let t362: f32 = t95 * t218;
+        let t363: f32 = t38 * t103;
+        let t364: f32 = t42 * t84;
+        let t365: f32 = t363 + t364;
+        let t366: f32 = t362 - t365;
+        let t367: f32 = t38 * t366;
+        let t368: f32 = t70 * t218;
+        let t369: f32 = t38 * t84;
+        let t370: f32 = t42 * t77;
+        let t371: f32 = t369 + t370;
+        let t372: f32 = t368 - t371;
+        let t373: f32 = t42 * t372;
+        let t374: f32 = t272 + t280;
+        let t375: f32 = xc * joint5_mass;
+        let t376: f32 = xc * joint6_mass;
+        let t377: f32 = t375 + t376;
+        let t378: f32 = t374 - t377;
+        let t379: f32 = xc * rod5_mass;
+        let t380: f32 = xc * rod6_mass;
+        let t381: f32 = t379 + t380;
+        let t382: f32 = t378 - t381;
+        let t383: f32 = xc * t382;
+        let t384: f32 = zc * t158;
+        let t385: f32 = t168 * t320;
+        let t386: f32 = t187 * t328;
+        let t387: f32 = t385 + t386;
+        let t388: f32 = xc * t272;
+        let t389: f32 = xc * t280;
+        let t390: f32 = t388 + t389;
+        let t391: f32 = t387 + t390;
+        let t392: f32 = t306 * t312;
+        let t393: f32 = t293 * t392;
+        let t394: f32 = joint1_mass * t216;
+        let t395: f32 = t303 * t394;
+        let t396: f32 = t306 * t395;
+        let t397: f32 = t293 + t396;
+        let t398: f32 = t392 * t397;
+        let t399: f32 = t393 + t398;
+        let t400: f32 = t309 * t312;
+        let t401: f32 = t300 * t400;
+        let t402: f32 = joint2_mass * t216;
+        let t403: f32 = t303 * t402;
+        let t404: f32 = t309 * t403;
+        let t405: f32 = t300 + t404;
+        let t406: f32 = t400 * t405;
+        let t407: f32 = t401 + t406;
+        let t408: f32 = t399 + t407;
+        let t409: f32 = t391 - t408;
+        let t410: f32 = t344 + t347;
+        let t411: f32 = t350 + t353;
+        let t412: f32 = t355 + t367;
+        let t413: f32 = t373 + t383;
+        let t414: f32 = t253 + t384;
+        let t415: f32 = t410 + t411;
+        let t416: f32 = t412 + t413;
+        let t417: f32 = t409 + t414;
+        let t418: f32 = t415 + t416;
+        let t419: f32 = t417 + t418;
+        let t420: f32 = t419 - t361;
+        let t421: f32 = 1.0 / t420;
+        let t422: f32 = t343 + t346;
+        let t423: f32 = t233 + t249;
+        let t424: f32 = platform_mz * t2;
+        let t425: f32 = t4 * t424;
+        let t426: f32 = platform_mx * t12;
+        let t427: f32 = platform_my * t17;
+        let t428: f32 = t426 + t427;
+        let t429: f32 = t425 + t428;
+        let t430: f32 = t158 + t429;
+        let t431: f32 = t423 + t430;
+        let t432: f32 = t422 + t431;
+        let t433: f32 = t432 * t432;
+        let t434: f32 = t421 * t433;
+        let t435: f32 = rod3_mass * t168;
+        let t436: f32 = t349 - t435;
+        let t437: f32 = t168 * t436;
+        let t438: f32 = rod4_mass * t187;
+        let t439: f32 = t352 - t438;
+        let t440: f32 = t187 * t439;
+        let t441: f32 = t34 * t49;
+        let t442: f32 = t53 * t61;
+        let t443: f32 = t2 * t4;
+        let t444: f32 = t122 * t443;
+        let t445: f32 = t12 * t107;
+        let t446: f32 = t444 + t445;
+        let t447: f32 = t17 * t88;
+        let t448: f32 = t220 * t272;
+        let t449: f32 = t237 * t280;
+        let t450: f32 = t448 + t449;
+        let t451: f32 = t215 * t450;
+        let t452: f32 = t22 * t306;
+        let t453: f32 = t32 * t309;
+        let t454: f32 = t452 + t453;
+        let t455: f32 = t303 * t454;
+        let t456: f32 = t451 + t455;
+        let t457: f32 = t216 * t456;
+        let t458: f32 = t447 - t457;
+        let t459: f32 = t446 + t458;
+        let t460: f32 = xc * t423;
+        let t461: f32 = t320 + t328;
+        let t462: f32 = zc * t461;
+        let t463: f32 = t460 + t462;
+        let t464: f32 = t0 * t293;
+        let t465: f32 = t24 * t300;
+        let t466: f32 = t464 + t465;
+        let t467: f32 = t149 - t159;
+        let t468: f32 = t168 * t467;
+        let t469: f32 = t157 - t160;
+        let t470: f32 = t187 * t469;
+        let t471: f32 = t468 + t470;
+        let t472: f32 = t466 + t471;
+        let t473: f32 = t463 + t472;
+        let t474: f32 = t459 + t473;
+        let t475: f32 = t474 * t474;
+        let t476: f32 = t263 * t475;
+        let t477: f32 = t0 * t129;
+        let t478: f32 = t24 * t137;
+        let t479: f32 = t34 * t233;
+        let t480: f32 = t53 * t249;
+        let t481: f32 = t263 * t341;
+        let t482: f32 = t474 * t481;
+        let t483: f32 = t360 * t443;
+        let t484: f32 = t12 * t366;
+        let t485: f32 = t17 * t372;
+        let t486: f32 = yc * t422;
+        let t487: f32 = t178 + t195;
+        let t488: f32 = zc * t487;
+        let t489: f32 = t47 * t220;
+        let t490: f32 = t59 * t237;
+        let t491: f32 = t489 + t490;
+        let t492: f32 = t227 * t491;
+        let t493: f32 = t149 * t172;
+        let t494: f32 = t157 * t189;
+        let t495: f32 = t493 - t494;
+        let t496: f32 = t167 * t495;
+        let t497: f32 = t477 + t478;
+        let t498: f32 = t479 + t480;
+        let t499: f32 = t486 + t488;
+        let t500: f32 = t497 + t498;
+        let t501: f32 = t496 + t499;
+        let t502: f32 = t500 + t501;
+        let t503: f32 = t482 + t483;
+        let t504: f32 = t484 + t485;
+        let t505: f32 = t503 + t504;
+        let t506: f32 = t492 + t505;
+        let t507: f32 = t502 - t506;
+        let t508: f32 = t507 * t507;
+        let t509: f32 = t421 * t508;
+        let t510: f32 = t116 * t443;
+        let t511: f32 = t12 * t95;
+        let t512: f32 = t17 * t70;
+        let t513: f32 = t510 + t511;
+        let t514: f32 = t512 + t513;
+        let t515: f32 = t443 * t514;
+        let t516: f32 = t95 * t443;
+        let t517: f32 = t12 * t103;
+        let t518: f32 = t17 * t84;
+        let t519: f32 = t516 + t517;
+        let t520: f32 = t518 + t519;
+        let t521: f32 = t12 * t520;
+        let t522: f32 = t70 * t443;
+        let t523: f32 = t12 * t84;
+        let t524: f32 = t17 * t77;
+        let t525: f32 = t522 + t523;
+        let t526: f32 = t524 + t525;
+        let t527: f32 = t17 * t526;
+        let t528: f32 = xc * t378;
+        let t529: f32 = yc * rod1_mass;
+        let t530: f32 = yc * rod2_mass;
+        let t531: f32 = t529 + t530;
+        let t532: f32 = t140 - t531;
+        let t533: f32 = yc * t532;
+        let t534: f32 = t437 + t440;
+        let t535: f32 = t441 + t442;
+        let t536: f32 = t476 + t528;
+        let t537: f32 = t207 + t533;
+        let t538: f32 = t534 + t535;
+        let t539: f32 = t536 + t537;
+        let t540: f32 = t538 + t539;
+        let t541: f32 = t409 + t540;
+        let t542: f32 = t509 + t515;
+        let t543: f32 = t521 + t527;
+        let t544: f32 = t542 + t543;
+        let t545: f32 = t541 - t544;
+        let t546: f32 = 1.0 / t545;
+        let t547: f32 = t421 * t432;
+        let t548: f32 = t507 * t547;
+        let t549: f32 = platform_mx * t38;
+        let t550: f32 = platform_my * t42;
+        let t551: f32 = t549 + t550;
+        let t552: f32 = platform_mz * t1;
+        let t553: f32 = t4 * t552;
+        let t554: f32 = t551 - t553;
+        let t555: f32 = t140 + t554;
+        let t556: f32 = t183 + t200;
+        let t557: f32 = t555 + t556;
+        let t558: f32 = t49 + t61;
+        let t559: f32 = t557 + t558;
+        let t560: f32 = t531 + t548;
+        let t561: f32 = t559 - t560;
+        let t562: f32 = t561 * t561;
+        let t563: f32 = t546 * t562;
+        let t564: f32 = platform_mass + joint1_mass;
+        let t565: f32 = joint6_mass + t564;
+        let t566: f32 = joint2_mass + joint3_mass;
+        let t567: f32 = joint4_mass + joint5_mass;
+        let t568: f32 = t566 + t567;
+        let t569: f32 = t565 + t568;
+        let t570: f32 = rod1_mass + rod2_mass;
+        let t571: f32 = t434 + t563;
+        let t572: f32 = t570 + t571;
+        let t573: f32 = t569 + t572;
+        let t574: f32 = 1.0 / t573;
+        let t575: f32 = t22 + t32;
+        let t576: f32 = t431 + t575;
+        let t577: f32 = t576 - t161;
+        let t578: f32 = t432 * t577;
+        let t579: f32 = t263 * t578;
+        let t580: f32 = t341 * t579;
+        let t581: f32 = t421 * t580;
+        let t582: f32 = t341 * t421;
+        let t583: f32 = t507 * t582;
+        let t584: f32 = t474 + t583;
+        let t585: f32 = t263 * t577;
+        let t586: f32 = t584 * t585;
+        let t587: f32 = platform_mz * t3;
+        let t588: f32 = platform_mx * t4;
+        let t589: f32 = t8 * t588;
+        let t590: f32 = platform_my * t7;
+        let t591: f32 = t4 * t590;
+        let t592: f32 = t589 - t591;
+        let t593: f32 = t587 + t592;
+        let t594: f32 = t378 + t593;
+        let t595: f32 = t397 + t405;
+        let t596: f32 = t594 + t595;
+        let t597: f32 = t436 + t586;
+        let t598: f32 = t439 + t596;
+        let t599: f32 = t597 + t598;
+        let t600: f32 = t546 * t561;
+        let t601: f32 = t599 * t600;
+        let t602: f32 = t581 - t601;
+        let t603: f32 = t599 * t599;
+        let t604: f32 = t546 * t603;
+        let t605: f32 = t602 * t602;
+        let t606: f32 = t574 * t605;
+        let t607: f32 = t577 * t577;
+        let t608: f32 = t355 * t421;
+        let t609: f32 = t608 - 1.0;
+        let t610: f32 = t263 * t607;
+        let t611: f32 = t609 * t610;
+        let t612: f32 = rod3_mass + rod4_mass;
+        let t613: f32 = t604 + t611;
+        let t614: f32 = t612 + t613;
+        let t615: f32 = t569 + t614;
+        let t616: f32 = t615 - t606;
+        let t617: f32 = 1.0 / t616;
+        let t618: f32 = t285 + t557;
+        let t619: f32 = t263 * t618;
+        let t620: f32 = t474 * t619;
+        let t621: f32 = t341 * t619;
+        let t622: f32 = t349 + t621;
+        let t623: f32 = t352 + t596;
+        let t624: f32 = t622 + t623;
+        let t625: f32 = t624 - t381;
+        let t626: f32 = t421 * t507;
+        let t627: f32 = t625 * t626;
+        let t628: f32 = t620 + t627;
+        let t629: f32 = t546 * t599;
+        let t630: f32 = t628 * t629;
+        let t631: f32 = t547 * t625;
+        let t632: f32 = t600 * t628;
+        let t633: f32 = t631 - t632;
+        let t634: f32 = t574 * t602;
+        let t635: f32 = t633 * t634;
+        let t636: f32 = t582 * t625;
+        let t637: f32 = t618 - t636;
+        let t638: f32 = t585 * t637;
+        let t639: f32 = t635 + t638;
+        let t640: f32 = t639 - t630;
+        let t641: f32 = t618 * t618;
+        let t642: f32 = t263 * t641;
+        let t643: f32 = t625 * t625;
+        let t644: f32 = t421 * t643;
+        let t645: f32 = t628 * t628;
+        let t646: f32 = t546 * t645;
+        let t647: f32 = t633 * t633;
+        let t648: f32 = t574 * t647;
+        let t649: f32 = t640 * t640;
+        let t650: f32 = t617 * t649;
+        let t651: f32 = rod5_mass + rod6_mass;
+        let t652: f32 = t644 + t646;
+        let t653: f32 = t651 + t652;
+        let t654: f32 = t569 + t653;
+        let t655: f32 = t642 + t648;
+        let t656: f32 = t650 + t655;
+        let t657: f32 = t654 - t656;
+        let t658: f32 = 1.0 / t657;
+        let t659: f32 = gravity_z * platform_mass;
+        let t660: f32 = wz * t593;
+        let t661: f32 = wx * t429;
+        let t662: f32 = t660 - t661;
+        let t663: f32 = wx * t662;
+        let t664: f32 = wy * t429;
+        let t665: f32 = wz * t554;
+        let t666: f32 = t664 - t665;
+        let t667: f32 = wy * t666;
+        let t668: f32 = wx * t178;
+        let t669: f32 = wy * t320;
+        let t670: f32 = t668 - t669;
+        let t671: f32 = wx * t670;
+        let t672: f32 = wy * t147;
+        let t673: f32 = wz * t178;
+        let t674: f32 = t672 - t673;
+        let t675: f32 = wz * t674;
+        let t676: f32 = t671 - t675;
+        let t677: f32 = wz * vx;
+        let t678: f32 = wx * vz;
+        let t679: f32 = gravity_y + t677;
+        let t680: f32 = t679 - t678;
+        let t681: f32 = rod3_mass * t680;
+        let t682: f32 = wx * wy;
+        let t683: f32 = t168 * t682;
+        let t684: f32 = wz * wz;
+        let t685: f32 = wx * wx;
+        let t686: f32 = t684 + t685;
+        let t687: f32 = t179 * t686;
+        let t688: f32 = zc * wy;
+        let t689: f32 = wz * t688;
+        let t690: f32 = gravity_y + t689;
+        let t691: f32 = t683 + t690;
+        let t692: f32 = t691 - t687;
+        let t693: f32 = joint3_mass * t692;
+        let t694: f32 = g3 + t693;
+        let t695: f32 = t681 + t694;
+        let t696: f32 = t676 + t695;
+        let t697: f32 = wx * t195;
+        let t698: f32 = wy * t328;
+        let t699: f32 = t697 - t698;
+        let t700: f32 = wx * t699;
+        let t701: f32 = wy * t155;
+        let t702: f32 = wz * t195;
+        let t703: f32 = t701 - t702;
+        let t704: f32 = wz * t703;
+        let t705: f32 = t700 - t704;
+        let t706: f32 = rod4_mass * t680;
+        let t707: f32 = t187 * t682;
+        let t708: f32 = t196 * t686;
+        let t709: f32 = t707 + t708;
+        let t710: f32 = t690 + t709;
+        let t711: f32 = joint4_mass * t710;
+        let t712: f32 = g4 + t711;
+        let t713: f32 = t706 + t712;
+        let t714: f32 = t705 + t713;
+        let t715: f32 = t696 + t714;
+        let t716: f32 = zc * t715;
+        let t717: f32 = wy * t20;
+        let t718: f32 = wz * t129;
+        let t719: f32 = t717 - t718;
+        let t720: f32 = wy * t719;
+        let t721: f32 = wx * wz;
+        let t722: f32 = t216 * t721;
+        let t723: f32 = t303 * t722;
+        let t724: f32 = t306 * t723;
+        let t725: f32 = wy * wy;
+        let t726: f32 = t685 + t725;
+        let t727: f32 = t0 * t726;
+        let t728: f32 = yc * wy;
+        let t729: f32 = wz * t728;
+        let t730: f32 = gravity_z + t729;
+        let t731: f32 = t724 + t727;
+        let t732: f32 = t730 - t731;
+        let t733: f32 = joint1_mass * t732;
+        let t734: f32 = wz * t293;
+        let t735: f32 = wx * t20;
+        let t736: f32 = t734 - t735;
+        let t737: f32 = wx * t736;
+        let t738: f32 = t733 - t737;
+        let t739: f32 = t720 + t738;
+        let t740: f32 = wy * t30;
+        let t741: f32 = wz * t137;
+        let t742: f32 = t740 - t741;
+        let t743: f32 = wy * t742;
+        let t744: f32 = t309 * t723;
+        let t745: f32 = t24 * t726;
+        let t746: f32 = t744 + t745;
+        let t747: f32 = t730 - t746;
+        let t748: f32 = joint2_mass * t747;
+        let t749: f32 = wz * t300;
+        let t750: f32 = wx * t30;
+        let t751: f32 = t749 - t750;
+        let t752: f32 = wx * t751;
+        let t753: f32 = t748 - t752;
+        let t754: f32 = t743 + t753;
+        let t755: f32 = t739 + t754;
+        let t756: f32 = yc * t755;
+        let t757: f32 = t716 - t756;
+        let t758: f32 = wx * t4;
+        let t759: f32 = t8 * t758;
+        let t760: f32 = wy * t38;
+        let t761: f32 = wz * t12;
+        let t762: f32 = t759 + t760;
+        let t763: f32 = t761 + t762;
+        let t764: f32 = t95 * t763;
+        let t765: f32 = wx * t7;
+        let t766: f32 = t4 * t765;
+        let t767: f32 = wy * t42;
+        let t768: f32 = wz * t17;
+        let t769: f32 = t767 + t768;
+        let t770: f32 = t766 - t769;
+        let t771: f32 = t70 * t770;
+        let t772: f32 = wx * t3;
+        let t773: f32 = wy * t1;
+        let t774: f32 = wz * t2;
+        let t775: f32 = t773 - t774;
+        let t776: f32 = t4 * t775;
+        let t777: f32 = t772 - t776;
+        let t778: f32 = t116 * t777;
+        let t779: f32 = t764 + t778;
+        let t780: f32 = t779 - t771;
+        let t781: f32 = t763 * t780;
+        let t782: f32 = t103 * t763;
+        let t783: f32 = t84 * t770;
+        let t784: f32 = t95 * t777;
+        let t785: f32 = t782 + t784;
+        let t786: f32 = t785 - t783;
+        let t787: f32 = t777 * t786;
+        let t788: f32 = t781 - t787;
+        let t789: f32 = t7 * t788;
+        let t790: f32 = t770 * t780;
+        let t791: f32 = t84 * t763;
+        let t792: f32 = t77 * t770;
+        let t793: f32 = t70 * t777;
+        let t794: f32 = t791 + t793;
+        let t795: f32 = t794 - t792;
+        let t796: f32 = t777 * t795;
+        let t797: f32 = t790 + t796;
+        let t798: f32 = t8 * t797;
+        let t799: f32 = t789 - t798;
+        let t800: f32 = t4 * t799;
+        let t801: f32 = t763 * t795;
+        let t802: f32 = t770 * t786;
+        let t803: f32 = t801 + t802;
+        let t804: f32 = t3 * t803;
+        let t805: f32 = t800 + t804;
+        let t806: f32 = t757 - t805;
+        let t807: f32 = wx * t47;
+        let t808: f32 = wy * t272;
+        let t809: f32 = t807 - t808;
+        let t810: f32 = wx * t809;
+        let t811: f32 = t34 * t686;
+        let t812: f32 = wy * wz;
+        let t813: f32 = t215 * t812;
+        let t814: f32 = t216 * t813;
+        let t815: f32 = t220 * t814;
+        let t816: f32 = xc * wx;
+        let t817: f32 = wy * t816;
+        let t818: f32 = gravity_y + t817;
+        let t819: f32 = t811 + t815;
+        let t820: f32 = t818 - t819;
+        let t821: f32 = joint5_mass * t820;
+        let t822: f32 = wy * t226;
+        let t823: f32 = wz * t47;
+        let t824: f32 = t822 - t823;
+        let t825: f32 = wz * t824;
+        let t826: f32 = t821 - t825;
+        let t827: f32 = t810 + t826;
+        let t828: f32 = t220 * t827;
+        let t829: f32 = wx * t59;
+        let t830: f32 = wy * t280;
+        let t831: f32 = t829 - t830;
+        let t832: f32 = wx * t831;
+        let t833: f32 = t53 * t686;
+        let t834: f32 = t237 * t814;
+        let t835: f32 = t833 + t834;
+        let t836: f32 = t818 - t835;
+        let t837: f32 = joint6_mass * t836;
+        let t838: f32 = wy * t243;
+        let t839: f32 = wz * t59;
+        let t840: f32 = t838 - t839;
+        let t841: f32 = wz * t840;
+        let t842: f32 = t837 - t841;
+        let t843: f32 = t832 + t842;
+        let t844: f32 = t237 * t843;
+        let t845: f32 = t828 + t844;
+        let t846: f32 = t227 * t845;
+        let t847: f32 = wx * t168;
+        let t848: f32 = wy * t167;
+        let t849: f32 = t172 * t848;
+        let t850: f32 = t847 + t849;
+        let t851: f32 = wz * t850;
+        let t852: f32 = zc * t726;
+        let t853: f32 = gravity_z - t852;
+        let t854: f32 = t851 + t853;
+        let t855: f32 = joint3_mass * t854;
+        let t856: f32 = wy * t674;
+        let t857: f32 = wz * t320;
+        let t858: f32 = wx * t147;
+        let t859: f32 = t857 - t858;
+        let t860: f32 = wx * t859;
+        let t861: f32 = t856 - t860;
+        let t862: f32 = t855 + t861;
+        let t863: f32 = t172 * t862;
+        let t864: f32 = wx * t187;
+        let t865: f32 = t189 * t848;
+        let t866: f32 = t864 - t865;
+        let t867: f32 = wz * t866;
+        let t868: f32 = t853 + t867;
+        let t869: f32 = joint4_mass * t868;
+        let t870: f32 = wy * t703;
+        let t871: f32 = wz * t328;
+        let t872: f32 = wx * t155;
+        let t873: f32 = t871 - t872;
+        let t874: f32 = wx * t873;
+        let t875: f32 = t870 - t874;
+        let t876: f32 = t869 + t875;
+        let t877: f32 = t189 * t876;
+        let t878: f32 = t863 - t877;
+        let t879: f32 = t167 * t878;
+        let t880: f32 = t846 + t879;
+        let t881: f32 = wy * t824;
+        let t882: f32 = wz * t272;
+        let t883: f32 = wx * t226;
+        let t884: f32 = t882 - t883;
+        let t885: f32 = wx * t884;
+        let t886: f32 = t881 - t885;
+        let t887: f32 = wx * vy;
+        let t888: f32 = wy * vx;
+        let t889: f32 = gravity_z + t887;
+        let t890: f32 = t889 - t888;
+        let t891: f32 = rod5_mass * t890;
+        let t892: f32 = t34 * t812;
+        let t893: f32 = t228 * t726;
+        let t894: f32 = wz * t816;
+        let t895: f32 = gravity_z + t894;
+        let t896: f32 = t892 + t893;
+        let t897: f32 = t895 + t896;
+        let t898: f32 = joint5_mass * t897;
+        let t899: f32 = g5 + t898;
+        let t900: f32 = t891 + t899;
+        let t901: f32 = t886 + t900;
+        let t902: f32 = t34 * t901;
+        let t903: f32 = wy * t840;
+        let t904: f32 = wz * t280;
+        let t905: f32 = wx * t243;
+        let t906: f32 = t904 - t905;
+        let t907: f32 = wx * t906;
+        let t908: f32 = t903 - t907;
+        let t909: f32 = rod6_mass * t890;
+        let t910: f32 = t53 * t812;
+        let t911: f32 = t244 * t726;
+        let t912: f32 = t910 + t911;
+        let t913: f32 = t895 + t912;
+        let t914: f32 = joint6_mass * t913;
+        let t915: f32 = g6 + t914;
+        let t916: f32 = t909 + t915;
+        let t917: f32 = t908 + t916;
+        let t918: f32 = t53 * t917;
+        let t919: f32 = t902 + t918;
+        let t920: f32 = t880 + t919;
+        let t921: f32 = t806 - t920;
+        let t922: f32 = gravity_z * t554;
+        let t923: f32 = gravity_y * t429;
+        let t924: f32 = t922 - t923;
+        let t925: f32 = t129 * t732;
+        let t926: f32 = t137 * t747;
+        let t927: f32 = t925 + t926;
+        let t928: f32 = t924 + t927;
+        let t929: f32 = t47 * t897;
+        let t930: f32 = t226 * t820;
+        let t931: f32 = t929 - t930;
+        let t932: f32 = t147 * t692;
+        let t933: f32 = t155 * t710;
+        let t934: f32 = t932 + t933;
+        let t935: f32 = t931 - t934;
+        let t936: f32 = t928 + t935;
+        let t937: f32 = t59 * t913;
+        let t938: f32 = t243 * t836;
+        let t939: f32 = t937 - t938;
+        let t940: f32 = wx * t216;
+        let t941: f32 = t303 * t940;
+        let t942: f32 = t306 * t941;
+        let t943: f32 = wz * t0;
+        let t944: f32 = t942 - t943;
+        let t945: f32 = wy * t944;
+        let t946: f32 = yc * t686;
+        let t947: f32 = gravity_y - t946;
+        let t948: f32 = t947 - t945;
+        let t949: f32 = joint1_mass * t948;
+        let t950: f32 = wx * t129;
+        let t951: f32 = wy * t293;
+        let t952: f32 = t950 - t951;
+        let t953: f32 = wx * t952;
+        let t954: f32 = wz * t719;
+        let t955: f32 = t953 - t954;
+        let t956: f32 = t949 + t955;
+        let t957: f32 = t0 * t956;
+        let t958: f32 = t20 * t948;
+        let t959: f32 = t957 - t958;
+        let t960: f32 = t939 + t959;
+        let t961: f32 = t309 * t941;
+        let t962: f32 = wz * t24;
+        let t963: f32 = t961 - t962;
+        let t964: f32 = wy * t963;
+        let t965: f32 = t947 - t964;
+        let t966: f32 = joint2_mass * t965;
+        let t967: f32 = wx * t137;
+        let t968: f32 = wy * t300;
+        let t969: f32 = t967 - t968;
+        let t970: f32 = wx * t969;
+        let t971: f32 = wz * t742;
+        let t972: f32 = t970 - t971;
+        let t973: f32 = t966 + t972;
+        let t974: f32 = t24 * t973;
+        let t975: f32 = t30 * t965;
+        let t976: f32 = t974 - t975;
+        let t977: f32 = t178 * t854;
+        let t978: f32 = t195 * t868;
+        let t979: f32 = t977 + t978;
+        let t980: f32 = t976 + t979;
+        let t981: f32 = t960 + t980;
+        let t982: f32 = t936 + t981;
+        let t983: f32 = t921 + t982;
+        let t984: f32 = t618 * t983;
+        let t985: f32 = t263 * t984;
+        let t986: f32 = t263 * t983;
+        let t987: f32 = t341 * t986;
+        let t988: f32 = t218 * t803;
+        let t989: f32 = t38 * t797;
+        let t990: f32 = t988 + t989;
+        let t991: f32 = t42 * t788;
+        let t992: f32 = t901 + t917;
+        let t993: f32 = xc * t992;
+        let t994: f32 = t991 + t993;
+        let t995: f32 = t990 + t994;
+        let t996: f32 = wy * t34;
+        let t997: f32 = wz * t215;
+        let t998: f32 = t216 * t997;
+        let t999: f32 = t220 * t998;
+        let t1000: f32 = t996 - t999;
+        let t1001: f32 = wx * t1000;
+        let t1002: f32 = t684 + t725;
+        (
+            t0,
+            t4,
+            t8,
+            t12,
+            t17,
+            t20,
+            t24,
+            t30,
+            t34,
+            t42,
+            t47,
+            t53,
+            t59,
+            t129,
+            t137,
+            t147,
+            t155,
+            t167,
+            t168,
+            t172,
+            t178,
+            t187,
+            t189,
+            t195,
+            t215,
+            t216,
+            t220,
+            t226,
+            t237,
+            t243,
+            t263,
+            t272,
+            t280,
+            t293,
+            t300,
+            t303,
+            t306,
+            t309,
+            t312,
+            t320,
+            t328,
+            t341,
+            t392,
+            t400,
+            t421,
+            t429,
+            t432,
+            t443,
+            t474,
+            t481,
+            t507,
+            t546,
+            t547,
+            t554,
+            t561,
+            t574,
+            t577,
+            t582,
+            t585,
+            t593,
+            t599,
+            t600,
+            t602,
+            t617,
+            t618,
+            t625,
+            t628,
+            t629,
+            t633,
+            t640,
+            t658,
+            t659,
+            t662,
+            t663,
+            t666,
+            t667,
+            t670,
+            t682,
+            t692,
+            t696,
+            t699,
+            t710,
+            t714,
+            t715,
+            t721,
+            t732,
+            t736,
+            t739,
+            t747,
+            t751,
+            t754,
+            t755,
+            t788,
+            t797,
+            t803,
+            t809,
+            t820,
+            t827,
+            t831,
+            t836,
+            t843,
+            t854,
+            t859,
+            t862,
+            t868,
+            t873,
+            t876,
+            t884,
+            t897,
+            t906,
+            t913,
+            t948,
+            t952,
+            t956,
+            t965,
+            t969,
+            t973,
+            t983,
+            t985,
+            t986,
+            t987,
+            t992,
+            t995,
+            t998,
+            t1001,
+            t1002,
+        )
+    };
+    let (t1271, t1280, t1290, t1291, t1292, t1293, t1294) = {
+        let t1003: f32 = xc * t1002;
+        let t1004: f32 = gravity_x - t1003;
+        let t1005: f32 = t1001 + t1004;
+        let t1006: f32 = joint5_mass * t1005;
+        let t1007: f32 = wz * t884;
+        let t1008: f32 = wy * t809;
+        let t1009: f32 = t1007 - t1008;
+        let t1010: f32 = t1006 + t1009;
+        let t1011: f32 = t220 * t1010;
+        let t1012: f32 = wy * t53;
+        let t1013: f32 = t237 * t998;
+        let t1014: f32 = t1012 - t1013;
+        let t1015: f32 = wx * t1014;
+        let t1016: f32 = t1004 + t1015;
+        let t1017: f32 = joint6_mass * t1016;
+        let t1018: f32 = wz * t906;
+        let t1019: f32 = wy * t831;
+        let t1020: f32 = t1018 - t1019;
+        let t1021: f32 = t1017 + t1020;
+        let t1022: f32 = t237 * t1021;
+        let t1023: f32 = t1011 + t1022;
+        let t1024: f32 = t215 * t1023;
+        let t1025: f32 = t306 * t739;
+        let t1026: f32 = t309 * t754;
+        let t1027: f32 = t1025 + t1026;
+        let t1028: f32 = t303 * t1027;
+        let t1029: f32 = t1024 - t1028;
+        let t1030: f32 = t216 * t1029;
+        let t1031: f32 = wz * t859;
+        let t1032: f32 = t168 * t1002;
+        let t1033: f32 = t167 * t682;
+        let t1034: f32 = t172 * t1033;
+        let t1035: f32 = zc * wx;
+        let t1036: f32 = wz * t1035;
+        let t1037: f32 = gravity_x + t1036;
+        let t1038: f32 = t1034 + t1037;
+        let t1039: f32 = t1038 - t1032;
+        let t1040: f32 = joint3_mass * t1039;
+        let t1041: f32 = wy * t670;
+        let t1042: f32 = t1040 - t1041;
+        let t1043: f32 = t1031 + t1042;
+        let t1044: f32 = wz * t873;
+        let t1045: f32 = t187 * t1002;
+        let t1046: f32 = t189 * t1033;
+        let t1047: f32 = t1045 + t1046;
+        let t1048: f32 = t1037 - t1047;
+        let t1049: f32 = joint4_mass * t1048;
+        let t1050: f32 = wy * t699;
+        let t1051: f32 = t1049 - t1050;
+        let t1052: f32 = t1044 + t1051;
+        let t1053: f32 = t1043 + t1052;
+        let t1054: f32 = zc * t1053;
+        let t1055: f32 = t1030 - t1054;
+        let t1056: f32 = wz * t736;
+        let t1057: f32 = wy * t952;
+        let t1058: f32 = t1056 - t1057;
+        let t1059: f32 = wy * vz;
+        let t1060: f32 = wz * vy;
+        let t1061: f32 = gravity_x + t1059;
+        let t1062: f32 = t1061 - t1060;
+        let t1063: f32 = rod1_mass * t1062;
+        let t1064: f32 = t392 * t1002;
+        let t1065: f32 = t0 * t721;
+        let t1066: f32 = yc * wx;
+        let t1067: f32 = wy * t1066;
+        let t1068: f32 = gravity_x + t1067;
+        let t1069: f32 = t1064 + t1065;
+        let t1070: f32 = t1068 + t1069;
+        let t1071: f32 = joint1_mass * t1070;
+        let t1072: f32 = g1 + t1071;
+        let t1073: f32 = t1063 + t1072;
+        let t1074: f32 = t1058 + t1073;
+        let t1075: f32 = t0 * t1074;
+        let t1076: f32 = wz * t751;
+        let t1077: f32 = wy * t969;
+        let t1078: f32 = t1076 - t1077;
+        let t1079: f32 = rod2_mass * t1062;
+        let t1080: f32 = t400 * t1002;
+        let t1081: f32 = t24 * t721;
+        let t1082: f32 = t1080 + t1081;
+        let t1083: f32 = t1068 + t1082;
+        let t1084: f32 = joint2_mass * t1083;
+        let t1085: f32 = g2 + t1084;
+        let t1086: f32 = t1079 + t1085;
+        let t1087: f32 = t1078 + t1086;
+        let t1088: f32 = t24 * t1087;
+        let t1089: f32 = t1075 + t1088;
+        let t1090: f32 = t1055 - t1089;
+        let t1091: f32 = t995 + t1090;
+        let t1092: f32 = gravity_x * t429;
+        let t1093: f32 = gravity_z * t593;
+        let t1094: f32 = t1092 - t1093;
+        let t1095: f32 = t20 * t1070;
+        let t1096: f32 = t293 * t732;
+        let t1097: f32 = t1095 - t1096;
+        let t1098: f32 = t1094 + t1097;
+        let t1099: f32 = t30 * t1083;
+        let t1100: f32 = t300 * t747;
+        let t1101: f32 = t1099 - t1100;
+        let t1102: f32 = t147 * t1039;
+        let t1103: f32 = t155 * t1048;
+        let t1104: f32 = t1102 + t1103;
+        let t1105: f32 = t1101 + t1104;
+        let t1106: f32 = t1098 + t1105;
+        let t1107: f32 = t272 * t897;
+        let t1108: f32 = t280 * t913;
+        let t1109: f32 = t1107 + t1108;
+        let t1110: f32 = t320 * t854;
+        let t1111: f32 = t168 * t862;
+        let t1112: f32 = t1110 - t1111;
+        let t1113: f32 = t1109 + t1112;
+        let t1114: f32 = t328 * t868;
+        let t1115: f32 = t187 * t876;
+        let t1116: f32 = t1114 - t1115;
+        let t1117: f32 = t226 * t1005;
+        let t1118: f32 = t243 * t1016;
+        let t1119: f32 = t1117 + t1118;
+        let t1120: f32 = t1116 - t1119;
+        let t1121: f32 = t1113 + t1120;
+        let t1122: f32 = t1106 - t1121;
+        let t1123: f32 = t1091 + t1122;
+        let t1124: f32 = t987 - t1123;
+        let t1125: f32 = t421 * t1124;
+        let t1126: f32 = t625 * t1125;
+        let t1127: f32 = t306 * t956;
+        let t1128: f32 = t309 * t973;
+        let t1129: f32 = t1127 + t1128;
+        let t1130: f32 = t312 * t1129;
+        let t1131: f32 = t827 + t843;
+        let t1132: f32 = xc * t1131;
+        let t1133: f32 = t1130 - t1132;
+        let t1134: f32 = t172 * t1043;
+        let t1135: f32 = t189 * t1052;
+        let t1136: f32 = t1134 - t1135;
+        let t1137: f32 = t167 * t1136;
+        let t1138: f32 = t168 * t696;
+        let t1139: f32 = t1137 - t1138;
+        let t1140: f32 = t1133 + t1139;
+        let t1141: f32 = gravity_y * t593;
+        let t1142: f32 = gravity_x * t554;
+        let t1143: f32 = t1141 - t1142;
+        let t1144: f32 = t187 * t714;
+        let t1145: f32 = t1143 - t1144;
+        let t1146: f32 = t320 * t692;
+        let t1147: f32 = t178 * t1039;
+        let t1148: f32 = t1146 - t1147;
+        let t1149: f32 = t129 * t1070;
+        let t1150: f32 = t137 * t1083;
+        let t1151: f32 = t1149 + t1150;
+        let t1152: f32 = t1148 - t1151;
+        let t1153: f32 = t1145 + t1152;
+        let t1154: f32 = t1140 + t1153;
+        let t1155: f32 = t328 * t710;
+        let t1156: f32 = t195 * t1048;
+        let t1157: f32 = t1155 - t1156;
+        let t1158: f32 = t272 * t820;
+        let t1159: f32 = t280 * t836;
+        let t1160: f32 = t1158 + t1159;
+        let t1161: f32 = t1157 + t1160;
+        let t1162: f32 = t293 * t948;
+        let t1163: f32 = t300 * t965;
+        let t1164: f32 = t1162 + t1163;
+        let t1165: f32 = t34 * t1010;
+        let t1166: f32 = t47 * t1005;
+        let t1167: f32 = t1165 - t1166;
+        let t1168: f32 = t1164 + t1167;
+        let t1169: f32 = t1161 + t1168;
+        let t1170: f32 = t53 * t1021;
+        let t1171: f32 = t59 * t1016;
+        let t1172: f32 = t1170 - t1171;
+        let t1173: f32 = t474 * t986;
+        let t1174: f32 = t507 * t1125;
+        let t1175: f32 = t1173 + t1174;
+        let t1176: f32 = t1172 - t1175;
+        let t1177: f32 = t12 * t797;
+        let t1178: f32 = t443 * t803;
+        let t1179: f32 = t1177 - t1178;
+        let t1180: f32 = t17 * t788;
+        let t1181: f32 = t1074 + t1087;
+        let t1182: f32 = yc * t1181;
+        let t1183: f32 = t1180 + t1182;
+        let t1184: f32 = t1179 + t1183;
+        let t1185: f32 = t1176 + t1184;
+        let t1186: f32 = t1169 + t1185;
+        let t1187: f32 = t1154 + t1186;
+        let t1188: f32 = t546 * t1187;
+        let t1189: f32 = t628 * t1188;
+        let t1190: f32 = wz * t662;
+        let t1191: f32 = t547 * t1124;
+        let t1192: f32 = t1190 - t1191;
+        let t1193: f32 = t561 * t1188;
+        let t1194: f32 = t1010 - t1193;
+        let t1195: f32 = t1192 + t1194;
+        let t1196: f32 = t1021 + t1053;
+        let t1197: f32 = gravity_x * platform_mass;
+        let t1198: f32 = wx * t554;
+        let t1199: f32 = wy * t593;
+        let t1200: f32 = t1198 - t1199;
+        let t1201: f32 = wy * t1200;
+        let t1202: f32 = t1197 - t1201;
+        let t1203: f32 = t1181 + t1202;
+        let t1204: f32 = t1196 + t1203;
+        let t1205: f32 = t1195 + t1204;
+        let t1206: f32 = t574 * t1205;
+        let t1207: f32 = t633 * t1206;
+        let t1208: f32 = t582 * t1124;
+        let t1209: f32 = t983 - t1208;
+        let t1210: f32 = t585 * t1209;
+        let t1211: f32 = t602 * t1206;
+        let t1212: f32 = t1210 - t1211;
+        let t1213: f32 = t956 + t973;
+        let t1214: f32 = t1212 + t1213;
+        let t1215: f32 = t715 + t1131;
+        let t1216: f32 = gravity_y * platform_mass;
+        let t1217: f32 = wz * t666;
+        let t1218: f32 = t1216 - t1217;
+        let t1219: f32 = wx * t1200;
+        let t1220: f32 = t599 * t1188;
+        let t1221: f32 = t1219 + t1220;
+        let t1222: f32 = t1218 + t1221;
+        let t1223: f32 = t1215 + t1222;
+        let t1224: f32 = t1214 + t1223;
+        let t1225: f32 = t617 * t1224;
+        let t1226: f32 = t640 * t1225;
+        let t1227: f32 = t659 + t667;
+        let t1228: f32 = t1126 + t1207;
+        let t1229: f32 = t862 + t876;
+        let t1230: f32 = t755 + t992;
+        let t1231: f32 = t1227 + t1228;
+        let t1232: f32 = t1229 + t1230;
+        let t1233: f32 = t1231 + t1232;
+        let t1234: f32 = t663 + t985;
+        let t1235: f32 = t1189 + t1226;
+        let t1236: f32 = t1234 + t1235;
+        let t1237: f32 = t1233 - t1236;
+        let t1238: f32 = t640 * t658;
+        let t1239: f32 = t1237 * t1238;
+        let t1240: f32 = t1224 - t1239;
+        let t1241: f32 = t602 * t617;
+        let t1242: f32 = t1240 * t1241;
+        let t1243: f32 = t633 * t658;
+        let t1244: f32 = t1237 * t1243;
+        let t1245: f32 = t1205 + t1244;
+        let t1246: f32 = t1245 - t1242;
+        let t1247: f32 = t432 * t574;
+        let t1248: f32 = t1246 * t1247;
+        let t1249: f32 = t625 * t658;
+        let t1250: f32 = t1237 * t1249;
+        let t1251: f32 = t561 * t574;
+        let t1252: f32 = t1246 * t1251;
+        let t1253: f32 = t599 * t617;
+        let t1254: f32 = t1240 * t1253;
+        let t1255: f32 = t628 * t658;
+        let t1256: f32 = t1237 * t1255;
+        let t1257: f32 = t1252 + t1256;
+        let t1258: f32 = t1187 + t1257;
+        let t1259: f32 = t1258 - t1254;
+        let t1260: f32 = t507 * t546;
+        let t1261: f32 = t1259 * t1260;
+        let t1262: f32 = t577 * t617;
+        let t1263: f32 = t1240 * t1262;
+        let t1264: f32 = t983 + t1263;
+        let t1265: f32 = t481 * t1264;
+        let t1266: f32 = t1250 + t1261;
+        let t1267: f32 = t1123 + t1266;
+        let t1268: f32 = t1248 + t1265;
+        let t1269: f32 = t1267 - t1268;
+        let t1270: f32 = t421 * t1269;
+        let t1271: f32 = -t1270;
+        let t1272: f32 = t341 * t1271;
+        let t1273: f32 = t618 * t658;
+        let t1274: f32 = t1237 * t1273;
+        let t1275: f32 = t474 * t546;
+        let t1276: f32 = t1259 * t1275;
+        let t1277: f32 = t1264 + t1276;
+        let t1278: f32 = t1272 + t1274;
+        let t1279: f32 = t1277 - t1278;
+        let t1280: f32 = t263 * t1279;
+        let t1281: f32 = t574 * t600;
+        let t1282: f32 = t1246 * t1281;
+        let t1283: f32 = t617 * t629;
+        let t1284: f32 = t1240 * t1283;
+        let t1285: f32 = t546 * t628;
+        let t1286: f32 = t658 * t1285;
+        let t1287: f32 = t1237 * t1286;
+        let t1288: f32 = t1188 + t1282;
+        let t1289: f32 = t1287 + t1288;
+        let t1290: f32 = t1284 - t1289;
+        let t1291: f32 = t574 * t1246;
+        let t1292: f32 = t617 * t1240;
+        let t1293: f32 = t658 * t1237;
+        let t1294: f32 = t4 * t8;
+        (t1271, t1280, t1290, t1291, t1292, t1293, t1294)
+    };
     ([t1280, t1271, t1290, t1291, t1292, t1293], [t1294, t42, t443])
 }
 /// Inverse dynamics end to end: actuator forces `Γ` from the platform state.
@@ -10928,1068 +11188,1194 @@ pub fn inverse_dynamics_params(
     joint5_iyy, joint5_iyz, joint5_izz, rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _,
     joint6_mass, joint6_mx, joint6_my, joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz,
     joint6_iyy, joint6_iyz, joint6_izz] = *params;
-    let (t0, t1): (f32, f32) = sin_cos(beta);
-    let t2: f32 = 1.0 / t1;
-    let (t3, t4): (f32, f32) = sin_cos(gamma);
-    let t5: f32 = 1.0 / t4;
-    let (t6, t7): (f32, f32) = sin_cos(alpha);
-    let t8: f32 = t3 * t7;
-    let t9: f32 = t0 * t6;
-    let t10: f32 = t4 * t9;
-    let t11: f32 = t8 + t10;
-    let t12: f32 = yc * t11;
-    let t13: f32 = t3 * t6;
-    let t14: f32 = t0 * t7;
-    let t15: f32 = t4 * t14;
-    let t16: f32 = t13 - t15;
-    let t17: f32 = zc - half_spacing;
-    let t18: f32 = t16 * t17;
-    let t19: f32 = t12 + t18;
-    let t20: f32 = wz * wz;
-    let t21: f32 = wy * wy;
-    let t22: f32 = t20 + t21;
-    let t23: f32 = t2 * t5;
-    let t24: f32 = t19 * t23;
-    let t25: f32 = t22 * t24;
-    let t26: f32 = wx * wz;
-    let t27: f32 = wdy + t26;
-    let t28: f32 = t17 * t27;
-    let t29: f32 = wx * wy;
-    let t30: f32 = wdz - t29;
-    let t31: f32 = yc * t30;
-    let t32: f32 = ax - gravity_x;
-    let t33: f32 = t31 + t32;
-    let t34: f32 = t25 + t28;
-    let t35: f32 = t33 - t34;
-    let t36: f32 = joint1_mass * t35;
-    let t37: f32 = joint1_mx * t16;
-    let t38: f32 = t4 * t6;
-    let t39: f32 = t0 * t3;
-    let t40: f32 = t7 * t39;
-    let t41: f32 = t38 + t40;
-    let t42: f32 = joint1_my * t41;
-    let t43: f32 = joint1_mz * t7;
-    let t44: f32 = t1 * t43;
-    let t45: f32 = t37 + t42;
-    let t46: f32 = t44 + t45;
-    let t47: f32 = wdy * t46;
-    let t48: f32 = joint1_mx * t11;
-    let t49: f32 = t4 * t7;
-    let t50: f32 = t3 * t9;
-    let t51: f32 = t49 - t50;
-    let t52: f32 = joint1_my * t51;
-    let t53: f32 = joint1_mz * t6;
-    let t54: f32 = t1 * t53;
-    let t55: f32 = t48 + t52;
-    let t56: f32 = t55 - t54;
-    let t57: f32 = wdz * t56;
-    let t58: f32 = wdy * t17;
-    let t59: f32 = wz * vy;
-    let t60: f32 = wy * vz;
-    let t61: f32 = t59 - t60;
-    let t62: f32 = yc * wdz;
-    let t63: f32 = t32 + t62;
-    let t64: f32 = t61 + t63;
-    let t65: f32 = t64 - t58;
-    let t66: f32 = rod1_mass * t65;
-    let t67: f32 = platform_mx * t11;
-    let t68: f32 = platform_my * t51;
-    let t69: f32 = platform_mz * t6;
-    let t70: f32 = t1 * t69;
-    let t71: f32 = t67 + t68;
-    let t72: f32 = t71 - t70;
-    let t73: f32 = wx * t72;
-    let t74: f32 = platform_mz * t0;
-    let t75: f32 = platform_mx * t4;
-    let t76: f32 = platform_my * t3;
-    let t77: f32 = t75 - t76;
-    let t78: f32 = t1 * t77;
-    let t79: f32 = t74 + t78;
-    let t80: f32 = wy * t79;
-    let t81: f32 = t73 - t80;
-    let t82: f32 = wy * t81;
-    let t83: f32 = platform_mx * t16;
-    let t84: f32 = platform_my * t41;
-    let t85: f32 = platform_mz * t7;
-    let t86: f32 = t1 * t85;
-    let t87: f32 = t83 + t84;
-    let t88: f32 = t86 + t87;
-    let t89: f32 = wx * t88;
-    let t90: f32 = wz * t79;
-    let t91: f32 = t90 - t89;
-    let t92: f32 = wz * t91;
-    let t93: f32 = wx * t56;
-    let t94: f32 = joint1_mz * t0;
-    let t95: f32 = joint1_mx * t4;
-    let t96: f32 = joint1_my * t3;
-    let t97: f32 = t95 - t96;
-    let t98: f32 = t1 * t97;
-    let t99: f32 = t94 + t98;
-    let t100: f32 = wy * t99;
-    let t101: f32 = t93 - t100;
-    let t102: f32 = wy * t101;
-    let t103: f32 = wx * t46;
-    let t104: f32 = wz * t99;
-    let t105: f32 = t104 - t103;
-    let t106: f32 = wz * t105;
-    let t107: f32 = joint2_mx * t11;
-    let t108: f32 = joint2_my * t51;
-    let t109: f32 = joint2_mz * t6;
-    let t110: f32 = t1 * t109;
-    let t111: f32 = t107 + t108;
-    let t112: f32 = t111 - t110;
-    let t113: f32 = wx * t112;
-    let t114: f32 = joint2_mz * t0;
-    let t115: f32 = joint2_mx * t4;
-    let t116: f32 = joint2_my * t3;
-    let t117: f32 = t115 - t116;
-    let t118: f32 = t1 * t117;
-    let t119: f32 = t114 + t118;
-    let t120: f32 = wy * t119;
-    let t121: f32 = t113 - t120;
-    let t122: f32 = wy * t121;
-    let t123: f32 = joint2_mx * t16;
-    let t124: f32 = joint2_my * t41;
-    let t125: f32 = joint2_mz * t7;
-    let t126: f32 = t1 * t125;
-    let t127: f32 = t123 + t124;
-    let t128: f32 = t126 + t127;
-    let t129: f32 = wx * t128;
-    let t130: f32 = wz * t119;
-    let t131: f32 = t130 - t129;
-    let t132: f32 = wz * t131;
-    let t133: f32 = t122 - t132;
-    let t134: f32 = joint3_mx * t11;
-    let t135: f32 = joint3_my * t51;
-    let t136: f32 = joint3_mz * t6;
-    let t137: f32 = t1 * t136;
-    let t138: f32 = t134 + t135;
-    let t139: f32 = t138 - t137;
-    let t140: f32 = wx * t139;
-    let t141: f32 = joint3_mz * t0;
-    let t142: f32 = joint3_mx * t4;
-    let t143: f32 = joint3_my * t3;
-    let t144: f32 = t142 - t143;
-    let t145: f32 = t1 * t144;
-    let t146: f32 = t141 + t145;
-    let t147: f32 = wy * t146;
-    let t148: f32 = t140 - t147;
-    let t149: f32 = wy * t148;
-    let t150: f32 = joint3_mx * t16;
-    let t151: f32 = joint3_my * t41;
-    let t152: f32 = joint3_mz * t7;
-    let t153: f32 = t1 * t152;
-    let t154: f32 = t150 + t151;
-    let t155: f32 = t153 + t154;
-    let t156: f32 = wx * t155;
-    let t157: f32 = wz * t146;
-    let t158: f32 = t157 - t156;
-    let t159: f32 = wz * t158;
-    let t160: f32 = t149 - t159;
-    let t161: f32 = joint4_mx * t11;
-    let t162: f32 = joint4_my * t51;
-    let t163: f32 = joint4_mz * t6;
-    let t164: f32 = t1 * t163;
-    let t165: f32 = t161 + t162;
-    let t166: f32 = t165 - t164;
-    let t167: f32 = wx * t166;
-    let t168: f32 = joint4_mz * t0;
-    let t169: f32 = joint4_mx * t4;
-    let t170: f32 = joint4_my * t3;
-    let t171: f32 = t169 - t170;
-    let t172: f32 = t1 * t171;
-    let t173: f32 = t168 + t172;
-    let t174: f32 = wy * t173;
-    let t175: f32 = t167 - t174;
-    let t176: f32 = wy * t175;
-    let t177: f32 = joint4_mx * t16;
-    let t178: f32 = joint4_my * t41;
-    let t179: f32 = joint4_mz * t7;
-    let t180: f32 = t1 * t179;
-    let t181: f32 = t177 + t178;
-    let t182: f32 = t180 + t181;
-    let t183: f32 = wx * t182;
-    let t184: f32 = wz * t173;
-    let t185: f32 = t184 - t183;
-    let t186: f32 = wz * t185;
-    let t187: f32 = t176 - t186;
-    let t188: f32 = joint5_mx * t11;
-    let t189: f32 = joint5_my * t51;
-    let t190: f32 = joint5_mz * t6;
-    let t191: f32 = t1 * t190;
-    let t192: f32 = t188 + t189;
-    let t193: f32 = t192 - t191;
-    let t194: f32 = wx * t193;
-    let t195: f32 = joint5_mz * t0;
-    let t196: f32 = joint5_mx * t4;
-    let t197: f32 = joint5_my * t3;
-    let t198: f32 = t196 - t197;
-    let t199: f32 = t1 * t198;
-    let t200: f32 = t195 + t199;
-    let t201: f32 = wy * t200;
-    let t202: f32 = t194 - t201;
-    let t203: f32 = wy * t202;
-    let t204: f32 = joint5_mx * t16;
-    let t205: f32 = joint5_my * t41;
-    let t206: f32 = joint5_mz * t7;
-    let t207: f32 = t1 * t206;
-    let t208: f32 = t204 + t205;
-    let t209: f32 = t207 + t208;
-    let t210: f32 = wx * t209;
-    let t211: f32 = wz * t200;
-    let t212: f32 = t211 - t210;
-    let t213: f32 = wz * t212;
-    let t214: f32 = t203 - t213;
-    let t215: f32 = joint6_mx * t11;
-    let t216: f32 = joint6_my * t51;
-    let t217: f32 = joint6_mz * t6;
-    let t218: f32 = t1 * t217;
-    let t219: f32 = t215 + t216;
-    let t220: f32 = t219 - t218;
-    let t221: f32 = wx * t220;
-    let t222: f32 = joint6_mz * t0;
-    let t223: f32 = joint6_mx * t4;
-    let t224: f32 = joint6_my * t3;
-    let t225: f32 = t223 - t224;
-    let t226: f32 = t1 * t225;
-    let t227: f32 = t222 + t226;
-    let t228: f32 = wy * t227;
-    let t229: f32 = t221 - t228;
-    let t230: f32 = wy * t229;
-    let t231: f32 = joint6_mx * t16;
-    let t232: f32 = joint6_my * t41;
-    let t233: f32 = joint6_mz * t7;
-    let t234: f32 = t1 * t233;
-    let t235: f32 = t231 + t232;
-    let t236: f32 = t234 + t235;
-    let t237: f32 = wx * t236;
-    let t238: f32 = wz * t227;
-    let t239: f32 = t238 - t237;
-    let t240: f32 = wz * t239;
-    let t241: f32 = t230 - t240;
-    let t242: f32 = 1.0 / half_spacing;
-    let t243: f32 = xc + t24;
-    let t244: f32 = wx * t212;
-    let t245: f32 = wdy * t200;
-    let t246: f32 = t244 - t245;
-    let t247: f32 = wx * t239;
-    let t248: f32 = wdy * t227;
-    let t249: f32 = t247 - t248;
-    let t250: f32 = t246 + t249;
-    let t251: f32 = zc + half_spacing;
-    let t252: f32 = t16 * t251;
-    let t253: f32 = t12 + t252;
-    let t254: f32 = wdy - t26;
-    let t255: f32 = t23 * t253;
-    let t256: f32 = t254 * t255;
-    let t257: f32 = wx * wx;
-    let t258: f32 = t21 + t257;
-    let t259: f32 = t251 * t258;
-    let t260: f32 = az - gravity_z;
-    let t261: f32 = wy * wz;
-    let t262: f32 = wdx + t261;
-    let t263: f32 = yc * t262;
-    let t264: f32 = t260 - t263;
-    let t265: f32 = t259 + t264;
-    let t266: f32 = t265 - t256;
-    let t267: f32 = joint2_mass * t266;
-    let t268: f32 = wdx * t112;
-    let t269: f32 = t267 + t268;
-    let t270: f32 = wy * t128;
-    let t271: f32 = wz * t112;
-    let t272: f32 = t270 - t271;
-    let t273: f32 = wy * t272;
-    let t274: f32 = t269 - t273;
-    let t275: f32 = xc + half_spacing;
-    let t276: f32 = t254 * t275;
-    let t277: f32 = 1.0 / t51;
-    let t278: f32 = zc * t41;
-    let t279: f32 = t1 * t3;
-    let t280: f32 = t275 * t279;
-    let t281: f32 = t278 - t280;
-    let t282: f32 = t277 * t281;
-    let t283: f32 = t262 * t282;
-    let t284: f32 = zc * t258;
-    let t285: f32 = t260 + t284;
-    let t286: f32 = t276 + t283;
-    let t287: f32 = t285 + t286;
-    let t288: f32 = joint4_mass * t287;
-    let t289: f32 = wdx * t166;
-    let t290: f32 = t288 + t289;
-    let t291: f32 = wy * t182;
-    let t292: f32 = wz * t166;
-    let t293: f32 = t291 - t292;
-    let t294: f32 = wy * t293;
-    let t295: f32 = t290 - t294;
-    let t296: f32 = yc - half_spacing;
-    let t297: f32 = t262 * t296;
-    let t298: f32 = 1.0 / t7;
-    let t299: f32 = xc * t0;
-    let t300: f32 = t1 * t6;
-    let t301: f32 = t296 * t300;
-    let t302: f32 = t299 - t301;
-    let t303: f32 = t2 * t298;
-    let t304: f32 = t302 * t303;
-    let t305: f32 = t258 * t304;
-    let t306: f32 = xc * t254;
-    let t307: f32 = t260 + t306;
-    let t308: f32 = t297 + t305;
-    let t309: f32 = t307 - t308;
-    let t310: f32 = joint5_mass * t309;
-    let t311: f32 = wdx * t193;
-    let t312: f32 = t310 + t311;
-    let t313: f32 = wdx * t296;
-    let t314: f32 = wy * vx;
-    let t315: f32 = wx * vy;
-    let t316: f32 = t314 - t315;
-    let t317: f32 = xc * wdy;
-    let t318: f32 = t260 + t317;
-    let t319: f32 = t316 + t318;
-    let t320: f32 = t319 - t313;
-    let t321: f32 = rod5_mass * t320;
-    let t322: f32 = wy * t209;
-    let t323: f32 = wz * t193;
-    let t324: f32 = t322 - t323;
-    let t325: f32 = wy * t324;
-    let t326: f32 = t321 - t325;
-    let t327: f32 = t312 + t326;
-    let t328: f32 = yc + half_spacing;
-    let t329: f32 = t262 * t328;
-    let t330: f32 = t300 * t328;
-    let t331: f32 = t299 - t330;
-    let t332: f32 = t303 * t331;
-    let t333: f32 = t258 * t332;
-    let t334: f32 = t329 + t333;
-    let t335: f32 = t307 - t334;
-    let t336: f32 = joint6_mass * t335;
-    let t337: f32 = wdx * t220;
-    let t338: f32 = t336 + t337;
-    let t339: f32 = wdx * t328;
-    let t340: f32 = t319 - t339;
-    let t341: f32 = rod6_mass * t340;
-    let t342: f32 = wy * t236;
-    let t343: f32 = wz * t220;
-    let t344: f32 = t342 - t343;
-    let t345: f32 = wy * t344;
-    let t346: f32 = t341 - t345;
-    let t347: f32 = t338 + t346;
-    let t348: f32 = t327 + t347;
-    let t349: f32 = t295 + t348;
-    let t350: f32 = platform_mass * t260;
-    let t351: f32 = wdx * t72;
-    let t352: f32 = t350 + t351;
-    let t353: f32 = xc - half_spacing;
-    let t354: f32 = t254 * t353;
-    let t355: f32 = t279 * t353;
-    let t356: f32 = t355 - t278;
-    let t357: f32 = t277 * t356;
-    let t358: f32 = t262 * t357;
-    let t359: f32 = t285 + t354;
-    let t360: f32 = t359 - t358;
-    let t361: f32 = joint3_mass * t360;
-    let t362: f32 = wdx * t139;
-    let t363: f32 = t361 + t362;
-    let t364: f32 = wy * t155;
-    let t365: f32 = wz * t139;
-    let t366: f32 = t364 - t365;
-    let t367: f32 = wy * t366;
-    let t368: f32 = t363 - t367;
-    let t369: f32 = wy * t88;
-    let t370: f32 = wz * t72;
-    let t371: f32 = t369 - t370;
-    let t372: f32 = wy * t371;
-    let t373: f32 = t368 - t372;
-    let t374: f32 = t352 + t373;
-    let t375: f32 = t349 + t374;
-    let t376: f32 = t274 + t375;
-    let t377: f32 = t24 * t254;
-    let t378: f32 = t17 * t258;
-    let t379: f32 = t264 + t378;
-    let t380: f32 = t379 - t377;
-    let t381: f32 = joint1_mass * t380;
-    let t382: f32 = wdx * t56;
-    let t383: f32 = t381 + t382;
-    let t384: f32 = t376 + t383;
-    let t385: f32 = t250 + t384;
-    let t386: f32 = wx * t91;
-    let t387: f32 = wdy * t99;
-    let t388: f32 = t386 - t387;
-    let t389: f32 = wy * t46;
-    let t390: f32 = wz * t56;
-    let t391: f32 = t389 - t390;
-    let t392: f32 = wy * t391;
-    let t393: f32 = wdy * t79;
-    let t394: f32 = t392 + t393;
-    let t395: f32 = t388 - t394;
-    let t396: f32 = wx * t105;
-    let t397: f32 = wx * t131;
-    let t398: f32 = wdy * t119;
-    let t399: f32 = t397 - t398;
-    let t400: f32 = t396 + t399;
-    let t401: f32 = wx * t158;
-    let t402: f32 = wdy * t146;
-    let t403: f32 = t401 - t402;
-    let t404: f32 = wx * t185;
-    let t405: f32 = wdy * t173;
-    let t406: f32 = t404 - t405;
-    let t407: f32 = t403 + t406;
-    let t408: f32 = t400 + t407;
-    let t409: f32 = t395 + t408;
-    let t410: f32 = t385 + t409;
-    let t411: f32 = t242 * t243;
-    let t412: f32 = t410 * t411;
-    let t413: f32 = t32 * t88;
-    let t414: f32 = t35 * t46;
-    let t415: f32 = t22 * t255;
-    let t416: f32 = t27 * t251;
-    let t417: f32 = t415 + t416;
-    let t418: f32 = t33 - t417;
-    let t419: f32 = t128 * t418;
-    let t420: f32 = t22 * t353;
-    let t421: f32 = t30 * t357;
-    let t422: f32 = zc * t27;
-    let t423: f32 = t32 - t422;
-    let t424: f32 = t420 + t421;
-    let t425: f32 = t423 + t424;
-    let t426: f32 = t155 * t425;
-    let t427: f32 = t22 * t275;
-    let t428: f32 = t30 * t282;
-    let t429: f32 = t423 + t427;
-    let t430: f32 = t429 - t428;
-    let t431: f32 = t182 * t430;
-    let t432: f32 = t30 * t296;
-    let t433: f32 = t27 * t304;
-    let t434: f32 = xc * t22;
-    let t435: f32 = t32 + t434;
-    let t436: f32 = t432 + t433;
-    let t437: f32 = t435 + t436;
-    let t438: f32 = t209 * t437;
-    let t439: f32 = t30 * t328;
-    let t440: f32 = t27 * t332;
-    let t441: f32 = t439 + t440;
-    let t442: f32 = t435 + t441;
-    let t443: f32 = t236 * t442;
-    let t444: f32 = t79 * t260;
-    let t445: f32 = t99 * t380;
-    let t446: f32 = t119 * t266;
-    let t447: f32 = joint2_mass * t418;
-    let t448: f32 = wdy * t128;
-    let t449: f32 = t447 + t448;
-    let t450: f32 = wdy * t251;
-    let t451: f32 = t64 - t450;
-    let t452: f32 = rod2_mass * t451;
-    let t453: f32 = wdz * t112;
-    let t454: f32 = t452 - t453;
-    let t455: f32 = t449 + t454;
-    let t456: f32 = t133 + t455;
-    let t457: f32 = t251 * t456;
-    let t458: f32 = t146 * t360;
-    let t459: f32 = t368 + t403;
-    let t460: f32 = t353 * t459;
-    let t461: f32 = t173 * t287;
-    let t462: f32 = t295 + t406;
-    let t463: f32 = t275 * t462;
-    let t464: f32 = t200 * t309;
-    let t465: f32 = t227 * t335;
-    let t466: f32 = wx * t1;
-    let t467: f32 = t4 * t466;
-    let t468: f32 = wy * t11;
-    let t469: f32 = wz * t16;
-    let t470: f32 = t467 + t468;
-    let t471: f32 = t469 + t470;
-    let t472: f32 = platform_ixy + joint1_ixy;
-    let t473: f32 = joint2_ixy + joint3_ixy;
-    let t474: f32 = joint4_ixy + joint5_ixy;
-    let t475: f32 = t472 + t473;
-    let t476: f32 = joint6_ixy + t474;
-    let t477: f32 = t475 + t476;
-    let t478: f32 = t471 * t477;
-    let t479: f32 = wx * t3;
-    let t480: f32 = t1 * t479;
-    let t481: f32 = wy * t51;
-    let t482: f32 = wz * t41;
-    let t483: f32 = t481 + t482;
-    let t484: f32 = t480 - t483;
-    let t485: f32 = platform_iyy + joint1_iyy;
-    let t486: f32 = joint2_iyy + joint3_iyy;
-    let t487: f32 = joint4_iyy + joint5_iyy;
-    let t488: f32 = t485 + t486;
-    let t489: f32 = joint6_iyy + t487;
-    let t490: f32 = t488 + t489;
-    let t491: f32 = t484 * t490;
-    let t492: f32 = wx * t0;
-    let t493: f32 = wy * t6;
-    let t494: f32 = wz * t7;
-    let t495: f32 = t493 - t494;
-    let t496: f32 = t1 * t495;
-    let t497: f32 = t492 - t496;
-    let t498: f32 = platform_iyz + joint1_iyz;
-    let t499: f32 = joint2_iyz + joint3_iyz;
-    let t500: f32 = joint4_iyz + joint5_iyz;
-    let t501: f32 = t498 + t499;
-    let t502: f32 = joint6_iyz + t500;
-    let t503: f32 = t501 + t502;
-    let t504: f32 = t497 * t503;
-    let t505: f32 = t478 + t504;
-    let t506: f32 = t505 - t491;
-    let t507: f32 = t471 * t506;
-    let t508: f32 = wdx * t1;
-    let t509: f32 = t4 * t508;
-    let t510: f32 = wdy * t11;
-    let t511: f32 = wdz * t16;
-    let t512: f32 = t509 + t510;
-    let t513: f32 = t511 + t512;
-    let t514: f32 = platform_ixz + joint1_ixz;
-    let t515: f32 = joint2_ixz + joint3_ixz;
-    let t516: f32 = joint4_ixz + joint5_ixz;
-    let t517: f32 = t514 + t515;
-    let t518: f32 = joint6_ixz + t516;
-    let t519: f32 = t517 + t518;
-    let t520: f32 = t513 * t519;
-    let t521: f32 = wdx * t3;
-    let t522: f32 = t1 * t521;
-    let t523: f32 = wdy * t51;
-    let t524: f32 = wdz * t41;
-    let t525: f32 = t523 + t524;
-    let t526: f32 = t522 - t525;
-    let t527: f32 = t503 * t526;
-    let t528: f32 = platform_ixx + joint1_ixx;
-    let t529: f32 = joint2_ixx + joint3_ixx;
-    let t530: f32 = joint4_ixx + joint5_ixx;
-    let t531: f32 = t528 + t529;
-    let t532: f32 = joint6_ixx + t530;
-    let t533: f32 = t531 + t532;
-    let t534: f32 = t471 * t533;
-    let t535: f32 = t477 * t484;
-    let t536: f32 = t497 * t519;
-    let t537: f32 = t534 + t536;
-    let t538: f32 = t537 - t535;
-    let t539: f32 = t484 * t538;
-    let t540: f32 = wdx * t0;
-    let t541: f32 = wdy * t6;
-    let t542: f32 = wdz * t7;
-    let t543: f32 = t541 - t542;
-    let t544: f32 = t1 * t543;
-    let t545: f32 = t540 - t544;
-    let t546: f32 = platform_izz + joint1_izz;
-    let t547: f32 = joint2_izz + joint3_izz;
-    let t548: f32 = joint4_izz + joint5_izz;
-    let t549: f32 = t546 + t547;
-    let t550: f32 = joint6_izz + t548;
-    let t551: f32 = t549 + t550;
-    let t552: f32 = t545 * t551;
-    let t553: f32 = t507 + t520;
-    let t554: f32 = t539 + t552;
-    let t555: f32 = t553 + t554;
-    let t556: f32 = t555 - t527;
-    let t557: f32 = t300 * t556;
-    let t558: f32 = t513 * t533;
-    let t559: f32 = t477 * t526;
-    let t560: f32 = t471 * t519;
-    let t561: f32 = t484 * t503;
-    let t562: f32 = t497 * t551;
-    let t563: f32 = t560 + t562;
-    let t564: f32 = t563 - t561;
-    let t565: f32 = t484 * t564;
-    let t566: f32 = t519 * t545;
-    let t567: f32 = t497 * t506;
-    let t568: f32 = t558 + t566;
-    let t569: f32 = t559 + t565;
-    let t570: f32 = t567 + t569;
-    let t571: f32 = t568 - t570;
-    let t572: f32 = t11 * t571;
-    let t573: f32 = t471 * t564;
-    let t574: f32 = t477 * t513;
-    let t575: f32 = t490 * t526;
-    let t576: f32 = t503 * t545;
-    let t577: f32 = t497 * t538;
-    let t578: f32 = t573 + t575;
-    let t579: f32 = t574 + t576;
-    let t580: f32 = t577 + t579;
-    let t581: f32 = t578 - t580;
-    let t582: f32 = t51 * t581;
-    let t583: f32 = t274 + t399;
-    let t584: f32 = t253 * t583;
-    let t585: f32 = joint5_mz + joint6_mz;
-    let t586: f32 = joint3_mz + joint4_mz;
-    let t587: f32 = platform_mz + t586;
-    let t588: f32 = t585 + t587;
-    let t589: f32 = joint2_mz + t588;
-    let t590: f32 = t1 * t7;
-    let t591: f32 = t589 * t590;
-    let t592: f32 = joint5_mx + joint6_mx;
-    let t593: f32 = joint3_mx + joint4_mx;
-    let t594: f32 = platform_mx + t593;
-    let t595: f32 = t592 + t594;
-    let t596: f32 = joint2_mx + t595;
-    let t597: f32 = t16 * t596;
-    let t598: f32 = joint5_my + joint6_my;
-    let t599: f32 = joint3_my + joint4_my;
-    let t600: f32 = platform_my + t599;
-    let t601: f32 = t598 + t600;
-    let t602: f32 = joint2_my + t601;
-    let t603: f32 = t41 * t602;
-    let t604: f32 = t591 + t597;
-    let t605: f32 = t603 + t604;
-    let t606: f32 = wx * t605;
-    let t607: f32 = t0 * t589;
-    let t608: f32 = t3 * t602;
-    let t609: f32 = t4 * t596;
-    let t610: f32 = t608 - t609;
-    let t611: f32 = t1 * t610;
-    let t612: f32 = t607 - t611;
-    let t613: f32 = wz * t612;
-    let t614: f32 = t606 - t613;
-    let t615: f32 = wx * t614;
-    let t616: f32 = wdy * t612;
-    let t617: f32 = t615 + t616;
-    let t618: f32 = t376 - t617;
-    let t619: f32 = t19 * t618;
-    let t620: f32 = t584 - t619;
-    let t621: f32 = t5 * t620;
-    let t622: f32 = joint5_mass * t437;
-    let t623: f32 = wdy * t209;
-    let t624: f32 = t622 + t623;
-    let t625: f32 = wdz * t193;
-    let t626: f32 = t624 - t625;
-    let t627: f32 = t214 + t626;
-    let t628: f32 = t302 * t627;
-    let t629: f32 = joint6_mass * t442;
-    let t630: f32 = wdy * t236;
-    let t631: f32 = t629 + t630;
-    let t632: f32 = wdz * t220;
-    let t633: f32 = t631 - t632;
-    let t634: f32 = t241 + t633;
-    let t635: f32 = t331 * t634;
-    let t636: f32 = t628 + t635;
-    let t637: f32 = t298 * t636;
-    let t638: f32 = t621 - t637;
-    let t639: f32 = t2 * t638;
-    let t640: f32 = t585 * t590;
-    let t641: f32 = t16 * t592;
-    let t642: f32 = t41 * t598;
-    let t643: f32 = t640 + t641;
-    let t644: f32 = t642 + t643;
-    let t645: f32 = wx * t644;
-    let t646: f32 = t0 * t585;
-    let t647: f32 = t3 * t598;
-    let t648: f32 = t4 * t592;
-    let t649: f32 = t647 - t648;
-    let t650: f32 = t1 * t649;
-    let t651: f32 = t646 - t650;
-    let t652: f32 = wz * t651;
-    let t653: f32 = t645 - t652;
-    let t654: f32 = wx * t653;
-    let t655: f32 = wdy * t651;
-    let t656: f32 = t654 + t655;
-    let t657: f32 = t348 - t656;
-    let t658: f32 = xc * t657;
-    let t659: f32 = t300 * t586;
-    let t660: f32 = t11 * t593;
-    let t661: f32 = t51 * t599;
-    let t662: f32 = t660 + t661;
-    let t663: f32 = t659 - t662;
-    let t664: f32 = wx * t663;
-    let t665: f32 = t0 * t586;
-    let t666: f32 = t3 * t599;
-    let t667: f32 = t4 * t593;
-    let t668: f32 = t666 - t667;
-    let t669: f32 = t1 * t668;
-    let t670: f32 = t665 - t669;
-    let t671: f32 = wy * t670;
-    let t672: f32 = t664 + t671;
-    let t673: f32 = wy * t672;
-    let t674: f32 = t586 * t590;
-    let t675: f32 = t16 * t593;
-    let t676: f32 = t41 * t599;
-    let t677: f32 = t674 + t675;
-    let t678: f32 = t676 + t677;
-    let t679: f32 = wx * t678;
-    let t680: f32 = wz * t670;
-    let t681: f32 = t679 - t680;
-    let t682: f32 = wz * t681;
-    let t683: f32 = joint3_mass * t425;
-    let t684: f32 = wdy * t155;
-    let t685: f32 = t683 + t684;
-    let t686: f32 = wdz * t139;
-    let t687: f32 = t685 - t686;
-    let t688: f32 = joint4_mass * t430;
-    let t689: f32 = wdy * t182;
-    let t690: f32 = t688 + t689;
-    let t691: f32 = wdz * t166;
-    let t692: f32 = t690 - t691;
-    let t693: f32 = t687 + t692;
-    let t694: f32 = t682 + t693;
-    let t695: f32 = t694 - t673;
-    let t696: f32 = zc * t695;
-    let t697: f32 = t300 * t589;
-    let t698: f32 = t11 * t596;
-    let t699: f32 = t51 * t602;
-    let t700: f32 = t698 + t699;
-    let t701: f32 = t697 - t700;
-    let t702: f32 = wx * t701;
-    let t703: f32 = wy * t612;
-    let t704: f32 = t702 + t703;
-    let t705: f32 = wy * t704;
-    let t706: f32 = wz * t614;
-    let t707: f32 = t633 + t693;
-    let t708: f32 = platform_mass * t32;
-    let t709: f32 = wdy * t88;
-    let t710: f32 = t708 + t709;
-    let t711: f32 = wdz * t72;
-    let t712: f32 = t626 - t711;
-    let t713: f32 = t710 + t712;
-    let t714: f32 = t707 + t713;
-    let t715: f32 = t455 + t714;
-    let t716: f32 = t706 + t715;
-    let t717: f32 = t716 - t705;
-    let t718: f32 = t17 * t717;
-    let t719: f32 = t413 + t414;
-    let t720: f32 = t419 + t426;
-    let t721: f32 = t431 + t438;
-    let t722: f32 = t443 + t460;
-    let t723: f32 = t463 + t572;
-    let t724: f32 = t658 + t718;
-    let t725: f32 = t719 + t720;
-    let t726: f32 = t721 + t722;
-    let t727: f32 = t723 + t724;
-    let t728: f32 = t725 + t726;
-    let t729: f32 = t727 + t728;
-    let t730: f32 = t444 + t445;
-    let t731: f32 = t446 + t457;
-    let t732: f32 = t458 + t461;
-    let t733: f32 = t464 + t465;
-    let t734: f32 = t557 + t582;
-    let t735: f32 = t639 + t696;
-    let t736: f32 = t730 + t731;
-    let t737: f32 = t732 + t733;
-    let t738: f32 = t734 + t735;
-    let t739: f32 = t736 + t737;
-    let t740: f32 = t738 + t739;
-    let t741: f32 = t729 - t740;
-    let t742: f32 = t242 * t741;
-    let t743: f32 = t412 - t742;
-    let t744: f32 = t743 * 0.5;
-    let t745: f32 = t36 + t47;
-    let t746: f32 = t66 + t82;
-    let t747: f32 = t102 + t133;
-    let t748: f32 = t160 + t187;
-    let t749: f32 = t214 + t241;
-    let t750: f32 = t745 + t746;
-    let t751: f32 = t747 + t748;
-    let t752: f32 = t715 + t749;
-    let t753: f32 = t750 + t751;
-    let t754: f32 = t752 + t753;
-    let t755: f32 = t57 + t92;
-    let t756: f32 = t106 + t744;
-    let t757: f32 = t755 + t756;
-    let t758: f32 = t754 - t757;
-    let t759: f32 = t24 + t353;
-    let t760: f32 = t242 * t759;
-    let t761: f32 = t760 * 0.5;
-    let t762: f32 = t761 + 1.0;
-    let t763: f32 = wdz * t200;
-    let t764: f32 = wx * t202;
-    let t765: f32 = t763 - t764;
-    let t766: f32 = wdz * t227;
-    let t767: f32 = wx * t229;
-    let t768: f32 = t766 - t767;
-    let t769: f32 = t765 + t768;
-    let t770: f32 = wz * t324;
-    let t771: f32 = t20 + t257;
-    let t772: f32 = t296 * t771;
-    let t773: f32 = wdx - t261;
-    let t774: f32 = t304 * t773;
-    let t775: f32 = ay - gravity_y;
-    let t776: f32 = wdz + t29;
-    let t777: f32 = xc * t776;
-    let t778: f32 = t775 - t777;
-    let t779: f32 = t772 + t778;
-    let t780: f32 = t779 - t774;
-    let t781: f32 = joint5_mass * t780;
-    let t782: f32 = wdx * t209;
-    let t783: f32 = t781 - t782;
-    let t784: f32 = t770 + t783;
-    let t785: f32 = wz * t344;
-    let t786: f32 = t328 * t771;
-    let t787: f32 = t332 * t773;
-    let t788: f32 = t778 + t786;
-    let t789: f32 = t788 - t787;
-    let t790: f32 = joint6_mass * t789;
-    let t791: f32 = wdx * t236;
-    let t792: f32 = t790 - t791;
-    let t793: f32 = t785 + t792;
-    let t794: f32 = t784 + t793;
-    let t795: f32 = t353 * t776;
-    let t796: f32 = t357 * t771;
-    let t797: f32 = zc * t773;
-    let t798: f32 = t775 + t797;
-    let t799: f32 = t796 + t798;
-    let t800: f32 = t799 - t795;
-    let t801: f32 = joint3_mass * t800;
-    let t802: f32 = wdx * t155;
-    let t803: f32 = t801 - t802;
-    let t804: f32 = wz * t366;
-    let t805: f32 = wdz * t353;
-    let t806: f32 = wx * vz;
-    let t807: f32 = wz * vx;
-    let t808: f32 = t806 - t807;
-    let t809: f32 = zc * wdx;
-    let t810: f32 = t775 + t809;
-    let t811: f32 = t808 + t810;
-    let t812: f32 = t811 - t805;
-    let t813: f32 = rod3_mass * t812;
-    let t814: f32 = t804 + t813;
-    let t815: f32 = t803 + t814;
-    let t816: f32 = t275 * t776;
-    let t817: f32 = t282 * t771;
-    let t818: f32 = t816 + t817;
-    let t819: f32 = t798 - t818;
-    let t820: f32 = joint4_mass * t819;
-    let t821: f32 = wdx * t182;
-    let t822: f32 = t820 - t821;
-    let t823: f32 = wz * t293;
-    let t824: f32 = wdz * t275;
-    let t825: f32 = t811 - t824;
-    let t826: f32 = rod4_mass * t825;
-    let t827: f32 = t823 + t826;
-    let t828: f32 = t822 + t827;
-    let t829: f32 = t815 + t828;
-    let t830: f32 = t794 + t829;
-    let t831: f32 = platform_mass * t775;
-    let t832: f32 = wdx * t88;
-    let t833: f32 = t831 - t832;
-    let t834: f32 = wz * t371;
-    let t835: f32 = wz * t272;
-    let t836: f32 = t255 * t776;
-    let t837: f32 = t251 * t773;
-    let t838: f32 = yc * t771;
-    let t839: f32 = t775 + t838;
-    let t840: f32 = t836 + t837;
-    let t841: f32 = t839 + t840;
-    let t842: f32 = joint2_mass * t841;
-    let t843: f32 = wdx * t128;
-    let t844: f32 = t842 - t843;
-    let t845: f32 = t835 + t844;
-    let t846: f32 = t834 + t845;
-    let t847: f32 = t833 + t846;
-    let t848: f32 = t830 + t847;
-    let t849: f32 = t24 * t776;
-    let t850: f32 = t17 * t773;
-    let t851: f32 = t849 + t850;
-    let t852: f32 = t839 + t851;
-    let t853: f32 = joint1_mass * t852;
-    let t854: f32 = wdx * t46;
-    let t855: f32 = t853 - t854;
-    let t856: f32 = t848 + t855;
-    let t857: f32 = t769 + t856;
-    let t858: f32 = wz * t391;
-    let t859: f32 = wdz * t79;
-    let t860: f32 = t858 + t859;
-    let t861: f32 = wdz * t99;
-    let t862: f32 = wx * t81;
-    let t863: f32 = t861 - t862;
-    let t864: f32 = t860 + t863;
-    let t865: f32 = wdz * t119;
-    let t866: f32 = wx * t121;
-    let t867: f32 = t865 - t866;
-    let t868: f32 = wx * t101;
-    let t869: f32 = t867 - t868;
-    let t870: f32 = wdz * t146;
-    let t871: f32 = wx * t148;
-    let t872: f32 = t870 - t871;
-    let t873: f32 = wdz * t173;
-    let t874: f32 = wx * t175;
-    let t875: f32 = t873 - t874;
-    let t876: f32 = t872 + t875;
-    let t877: f32 = t869 + t876;
-    let t878: f32 = t864 + t877;
-    let t879: f32 = t857 + t878;
-    let t880: f32 = t762 * t879;
-    let t881: f32 = t32 * t72;
-    let t882: f32 = t35 * t56;
-    let t883: f32 = t112 * t418;
-    let t884: f32 = t139 * t425;
-    let t885: f32 = t166 * t430;
-    let t886: f32 = t193 * t437;
-    let t887: f32 = t220 * t442;
-    let t888: f32 = t79 * t775;
-    let t889: f32 = t99 * t852;
-    let t890: f32 = t119 * t841;
-    let t891: f32 = t146 * t800;
-    let t892: f32 = t815 + t872;
-    let t893: f32 = t353 * t892;
-    let t894: f32 = t173 * t819;
-    let t895: f32 = t828 + t875;
-    let t896: f32 = t275 * t895;
-    let t897: f32 = t200 * t780;
-    let t898: f32 = t296 * t627;
-    let t899: f32 = t227 * t789;
-    let t900: f32 = t328 * t634;
-    let t901: f32 = t556 * t590;
-    let t902: f32 = t16 * t571;
-    let t903: f32 = t41 * t581;
-    let t904: f32 = t300 * t588;
-    let t905: f32 = t11 * t595;
-    let t906: f32 = t51 * t601;
-    let t907: f32 = t905 + t906;
-    let t908: f32 = t904 - t907;
-    let t909: f32 = wx * t908;
-    let t910: f32 = t0 * t588;
-    let t911: f32 = t3 * t601;
-    let t912: f32 = t4 * t595;
-    let t913: f32 = t911 - t912;
-    let t914: f32 = t1 * t913;
-    let t915: f32 = t910 - t914;
-    let t916: f32 = wy * t915;
-    let t917: f32 = t909 + t916;
-    let t918: f32 = wy * t917;
-    let t919: f32 = t588 * t590;
-    let t920: f32 = t16 * t595;
-    let t921: f32 = t41 * t601;
-    let t922: f32 = t919 + t920;
-    let t923: f32 = t921 + t922;
-    let t924: f32 = wx * t923;
-    let t925: f32 = wz * t915;
-    let t926: f32 = t924 - t925;
-    let t927: f32 = wz * t926;
-    let t928: f32 = t714 + t927;
-    let t929: f32 = t928 - t918;
-    let t930: f32 = yc * t929;
-    let t931: f32 = t845 + t867;
-    let t932: f32 = t253 * t931;
-    let t933: f32 = wx * t704;
-    let t934: f32 = wdz * t612;
-    let t935: f32 = t933 + t934;
-    let t936: f32 = t848 + t935;
-    let t937: f32 = t19 * t936;
-    let t938: f32 = t932 - t937;
-    let t939: f32 = t23 * t938;
-    let t940: f32 = t300 * t585;
-    let t941: f32 = t11 * t592;
-    let t942: f32 = t51 * t598;
-    let t943: f32 = t941 + t942;
-    let t944: f32 = t940 - t943;
-    let t945: f32 = wx * t944;
-    let t946: f32 = wy * t651;
-    let t947: f32 = t945 + t946;
-    let t948: f32 = wx * t947;
-    let t949: f32 = wdz * t651;
-    let t950: f32 = t948 + t949;
-    let t951: f32 = t794 + t950;
-    let t952: f32 = xc * t951;
-    let t953: f32 = t160 + t687;
-    let t954: f32 = t356 * t953;
-    let t955: f32 = t187 + t692;
-    let t956: f32 = t281 * t955;
-    let t957: f32 = t954 - t956;
-    let t958: f32 = t277 * t957;
-    let t959: f32 = t888 + t889;
-    let t960: f32 = t890 + t891;
-    let t961: f32 = t894 + t897;
-    let t962: f32 = t898 + t899;
-    let t963: f32 = t900 + t901;
-    let t964: f32 = t902 + t939;
-    let t965: f32 = t959 + t960;
-    let t966: f32 = t961 + t962;
-    let t967: f32 = t963 + t964;
-    let t968: f32 = t965 + t966;
-    let t969: f32 = t958 + t967;
-    let t970: f32 = t968 + t969;
-    let t971: f32 = t881 + t882;
-    let t972: f32 = t883 + t884;
-    let t973: f32 = t885 + t886;
-    let t974: f32 = t887 + t893;
-    let t975: f32 = t896 + t903;
-    let t976: f32 = t930 + t952;
-    let t977: f32 = t971 + t972;
-    let t978: f32 = t973 + t974;
-    let t979: f32 = t975 + t976;
-    let t980: f32 = t977 + t978;
-    let t981: f32 = t979 + t980;
-    let t982: f32 = t970 - t981;
-    let t983: f32 = t242 * t982;
-    let t984: f32 = t983 * 0.5;
-    let t985: f32 = t880 + t984;
-    let t986: f32 = t760 * t879;
-    let t987: f32 = t983 + t986;
-    let t988: f32 = t987 * 0.5;
-    let t989: f32 = -t988;
-    let t990: f32 = t72 * t260;
-    let t991: f32 = t88 * t775;
-    let t992: f32 = t56 * t380;
-    let t993: f32 = t46 * t852;
-    let t994: f32 = t112 * t266;
-    let t995: f32 = t128 * t841;
-    let t996: f32 = t139 * t360;
-    let t997: f32 = t155 * t800;
-    let t998: f32 = t166 * t287;
-    let t999: f32 = t182 * t819;
-    let t1000: f32 = t193 * t309;
-    let t1001: f32 = t209 * t780;
-    let t1002: f32 = t220 * t335;
-    let t1003: f32 = t236 * t789;
-    let t1004: f32 = t251 * t931;
-    let t1005: f32 = t246 + t327;
-    let t1006: f32 = t296 * t1005;
-    let t1007: f32 = t249 + t347;
-    let t1008: f32 = t328 * t1007;
-    let t1009: f32 = t3 * t581;
-    let t1010: f32 = t4 * t571;
-    let t1011: f32 = t1009 + t1010;
-    let t1012: f32 = t1 * t1011;
-    let t1013: f32 = t0 * t556;
-    let t1014: f32 = wx * t926;
-    let t1015: f32 = wdy * t915;
-    let t1016: f32 = t1014 + t1015;
-    let t1017: f32 = t375 - t1016;
-    let t1018: f32 = yc * t1017;
-    let t1019: f32 = wx * t672;
-    let t1020: f32 = wdz * t670;
-    let t1021: f32 = t1019 + t1020;
-    let t1022: f32 = t829 + t1021;
-    let t1023: f32 = zc * t1022;
-    let t1024: f32 = t765 + t784;
-    let t1025: f32 = t302 * t1024;
-    let t1026: f32 = t768 + t793;
-    let t1027: f32 = t331 * t1026;
-    let t1028: f32 = t1025 + t1027;
-    let t1029: f32 = t303 * t1028;
-    let t1030: f32 = t356 * t459;
-    let t1031: f32 = t281 * t462;
-    let t1032: f32 = t1030 - t1031;
-    let t1033: f32 = t277 * t1032;
-    let t1034: f32 = t17 * t936;
-    let t1035: f32 = t990 + t992;
-    let t1036: f32 = t994 + t996;
-    let t1037: f32 = t998 + t1000;
-    let t1038: f32 = t1002 + t1004;
-    let t1039: f32 = t1012 + t1013;
-    let t1040: f32 = t1018 + t1023;
-    let t1041: f32 = t1035 + t1036;
-    let t1042: f32 = t1037 + t1038;
-    let t1043: f32 = t1039 + t1040;
-    let t1044: f32 = t1041 + t1042;
-    let t1045: f32 = t1043 + t1044;
-    let t1046: f32 = t991 + t993;
-    let t1047: f32 = t995 + t997;
-    let t1048: f32 = t999 + t1001;
-    let t1049: f32 = t1003 + t1006;
-    let t1050: f32 = t1008 + t1029;
-    let t1051: f32 = t1033 + t1034;
-    let t1052: f32 = t1046 + t1047;
-    let t1053: f32 = t1048 + t1049;
-    let t1054: f32 = t1050 + t1051;
-    let t1055: f32 = t1052 + t1053;
-    let t1056: f32 = t1054 + t1055;
-    let t1057: f32 = t1045 - t1056;
-    let t1058: f32 = t242 * t1057;
-    let t1059: f32 = t1058 - t879;
-    let t1060: f32 = t410 + t1059;
-    let t1061: f32 = t1060 * 0.5;
-    let t1062: f32 = t410 - t1059;
-    let t1063: f32 = t1062 * 0.5;
-    let t1064: f32 = t1 * t4;
+    let (
+        t0,
+        t1,
+        t3,
+        t4,
+        t17,
+        t51,
+        t236,
+        t242,
+        t246,
+        t249,
+        t251,
+        t277,
+        t281,
+        t296,
+        t302,
+        t303,
+        t327,
+        t328,
+        t331,
+        t347,
+        t356,
+        t375,
+        t410,
+        t459,
+        t462,
+        t556,
+        t571,
+        t581,
+        t590,
+        t670,
+        t672,
+        t744,
+        t758,
+        t765,
+        t768,
+        t784,
+        t789,
+        t793,
+        t829,
+        t879,
+        t915,
+        t926,
+        t931,
+        t936,
+        t985,
+        t989,
+        t990,
+        t991,
+        t992,
+        t993,
+        t994,
+        t995,
+        t996,
+        t997,
+        t998,
+        t999,
+        t1000,
+        t1001,
+        t1002,
+    ) = {
+        let (t0, t1): (f32, f32) = sin_cos(beta);
+        let t2: f32 = 1.0 / t1;
+        let (t3, t4): (f32, f32) = sin_cos(gamma);
+        let t5: f32 = 1.0 / t4;
+        let (t6, t7): (f32, f32) = sin_cos(alpha);
+        let t8: f32 = t3 * t7;
+        let t9: f32 = t0 * t6;
+        let t10: f32 = t4 * t9;
+        let t11: f32 = t8 + t10;
+        let t12: f32 = yc * t11;
+        let t13: f32 = t3 * t6;
+        let t14: f32 = t0 * t7;
+        let t15: f32 = t4 * t14;
+        let t16: f32 = t13 - t15;
+        let t17: f32 = zc - half_spacing;
+        let t18: f32 = t16 * t17;
+        let t19: f32 = t12 + t18;
+        let t20: f32 = wz * wz;
+        let t21: f32 = wy * wy;
+        let t22: f32 = t20 + t21;
+        let t23: f32 = t2 * t5;
+        let t24: f32 = t19 * t23;
+        let t25: f32 = t22 * t24;
+        let t26: f32 = wx * wz;
+        let t27: f32 = wdy + t26;
+        let t28: f32 = t17 * t27;
+        let t29: f32 = wx * wy;
+        let t30: f32 = wdz - t29;
+        let t31: f32 = yc * t30;
+        let t32: f32 = ax - gravity_x;
+        let t33: f32 = t31 + t32;
+        let t34: f32 = t25 + t28;
+        let t35: f32 = t33 - t34;
+        let t36: f32 = joint1_mass * t35;
+        let t37: f32 = joint1_mx * t16;
+        let t38: f32 = t4 * t6;
+        let t39: f32 = t0 * t3;
+        let t40: f32 = t7 * t39;
+        let t41: f32 = t38 + t40;
+        let t42: f32 = joint1_my * t41;
+        let t43: f32 = joint1_mz * t7;
+        let t44: f32 = t1 * t43;
+        let t45: f32 = t37 + t42;
+        let t46: f32 = t44 + t45;
+        let t47: f32 = wdy * t46;
+        let t48: f32 = joint1_mx * t11;
+        let t49: f32 = t4 * t7;
+        let t50: f32 = t3 * t9;
+        let t51: f32 = t49 - t50;
+        let t52: f32 = joint1_my * t51;
+        let t53: f32 = joint1_mz * t6;
+        let t54: f32 = t1 * t53;
+        let t55: f32 = t48 + t52;
+        let t56: f32 = t55 - t54;
+        let t57: f32 = wdz * t56;
+        let t58: f32 = wdy * t17;
+        let t59: f32 = wz * vy;
+        let t60: f32 = wy * vz;
+        let t61: f32 = t59 - t60;
+        let t62: f32 = yc * wdz;
+        let t63: f32 = t32 + t62;
+        let t64: f32 = t61 + t63;
+        let t65: f32 = t64 - t58;
+        let t66: f32 = rod1_mass * t65;
+        let t67: f32 = platform_mx * t11;
+        let t68: f32 = platform_my * t51;
+        let t69: f32 = platform_mz * t6;
+        let t70: f32 = t1 * t69;
+        let t71: f32 = t67 + t68;
+        let t72: f32 = t71 - t70;
+        let t73: f32 = wx * t72;
+        let t74: f32 = platform_mz * t0;
+        let t75: f32 = platform_mx * t4;
+        let t76: f32 = platform_my * t3;
+        let t77: f32 = t75 - t76;
+        let t78: f32 = t1 * t77;
+        let t79: f32 = t74 + t78;
+        let t80: f32 = wy * t79;
+        let t81: f32 = t73 - t80;
+        let t82: f32 = wy * t81;
+        let t83: f32 = platform_mx * t16;
+        let t84: f32 = platform_my * t41;
+        let t85: f32 = platform_mz * t7;
+        let t86: f32 = t1 * t85;
+        let t87: f32 = t83 + t84;
+        let t88: f32 = t86 + t87;
+        let t89: f32 = wx * t88;
+        let t90: f32 = wz * t79;
+        let t91: f32 = t90 - t89;
+        let t92: f32 = wz * t91;
+        let t93: f32 = wx * t56;
+        let t94: f32 = joint1_mz * t0;
+        let t95: f32 = joint1_mx * t4;
+        let t96: f32 = joint1_my * t3;
+        let t97: f32 = t95 - t96;
+        let t98: f32 = t1 * t97;
+        let t99: f32 = t94 + t98;
+        let t100: f32 = wy * t99;
+        let t101: f32 = t93 - t100;
+        let t102: f32 = wy * t101;
+        let t103: f32 = wx * t46;
+        let t104: f32 = wz * t99;
+        let t105: f32 = t104 - t103;
+        let t106: f32 = wz * t105;
+        let t107: f32 = joint2_mx * t11;
+        let t108: f32 = joint2_my * t51;
+        let t109: f32 = joint2_mz * t6;
+        let t110: f32 = t1 * t109;
+        let t111: f32 = t107 + t108;
+        let t112: f32 = t111 - t110;
+        let t113: f32 = wx * t112;
+        let t114: f32 = joint2_mz * t0;
+        let t115: f32 = joint2_mx * t4;
+        let t116: f32 = joint2_my * t3;
+        let t117: f32 = t115 - t116;
+        let t118: f32 = t1 * t117;
+        let t119: f32 = t114 + t118;
+        let t120: f32 = wy * t119;
+        let t121: f32 = t113 - t120;
+        let t122: f32 = wy * t121;
+        let t123: f32 = joint2_mx * t16;
+        let t124: f32 = joint2_my * t41;
+        let t125: f32 = joint2_mz * t7;
+        let t126: f32 = t1 * t125;
+        let t127: f32 = t123 + t124;
+        let t128: f32 = t126 + t127;
+        let t129: f32 = wx * t128;
+        let t130: f32 = wz * t119;
+        let t131: f32 = t130 - t129;
+        let t132: f32 = wz * t131;
+        let t133: f32 = t122 - t132;
+        let t134: f32 = joint3_mx * t11;
+        let t135: f32 = joint3_my * t51;
+        let t136: f32 = joint3_mz * t6;
+        let t137: f32 = t1 * t136;
+        let t138: f32 = t134 + t135;
+        let t139: f32 = t138 - t137;
+        let t140: f32 = wx * t139;
+        let t141: f32 = joint3_mz * t0;
+        let t142: f32 = joint3_mx * t4;
+        let t143: f32 = joint3_my * t3;
+        let t144: f32 = t142 - t143;
+        let t145: f32 = t1 * t144;
+        let t146: f32 = t141 + t145;
+        let t147: f32 = wy * t146;
+        let t148: f32 = t140 - t147;
+        let t149: f32 = wy * t148;
+        let t150: f32 = joint3_mx * t16;
+        let t151: f32 = joint3_my * t41;
+        let t152: f32 = joint3_mz * t7;
+        let t153: f32 = t1 * t152;
+        let t154: f32 = t150 + t151;
+        let t155: f32 = t153 + t154;
+        let t156: f32 = wx * t155;
+        let t157: f32 = wz * t146;
+        let t158: f32 = t157 - t156;
+        let t159: f32 = wz * t158;
+        let t160: f32 = t149 - t159;
+        let t161: f32 = joint4_mx * t11;
+        let t162: f32 = joint4_my * t51;
+        let t163: f32 = joint4_mz * t6;
+        let t164: f32 = t1 * t163;
+        let t165: f32 = t161 + t162;
+        let t166: f32 = t165 - t164;
+        let t167: f32 = wx * t166;
+        let t168: f32 = joint4_mz * t0;
+        let t169: f32 = joint4_mx * t4;
+        let t170: f32 = joint4_my * t3;
+        let t171: f32 = t169 - t170;
+        let t172: f32 = t1 * t171;
+        let t173: f32 = t168 + t172;
+        let t174: f32 = wy * t173;
+        let t175: f32 = t167 - t174;
+        let t176: f32 = wy * t175;
+        let t177: f32 = joint4_mx * t16;
+        let t178: f32 = joint4_my * t41;
+        let t179: f32 = joint4_mz * t7;
+        let t180: f32 = t1 * t179;
+        let t181: f32 = t177 + t178;
+        let t182: f32 = t180 + t181;
+        let t183: f32 = wx * t182;
+        let t184: f32 = wz * t173;
+        let t185: f32 = t184 - t183;
+        let t186: f32 = wz * t185;
+        let t187: f32 = t176 - t186;
+        let t188: f32 = joint5_mx * t11;
+        let t189: f32 = joint5_my * t51;
+        let t190: f32 = joint5_mz * t6;
+        let t191: f32 = t1 * t190;
+        let t192: f32 = t188 + t189;
+        let t193: f32 = t192 - t191;
+        let t194: f32 = wx * t193;
+        let t195: f32 = joint5_mz * t0;
+        let t196: f32 = joint5_mx * t4;
+        let t197: f32 = joint5_my * t3;
+        let t198: f32 = t196 - t197;
+        let t199: f32 = t1 * t198;
+        let t200: f32 = t195 + t199;
+        let t201: f32 = wy * t200;
+        let t202: f32 = t194 - t201;
+        let t203: f32 = wy * t202;
+        let t204: f32 = joint5_mx * t16;
+        let t205: f32 = joint5_my * t41;
+        let t206: f32 = joint5_mz * t7;
+        let t207: f32 = t1 * t206;
+        let t208: f32 = t204 + t205;
+        let t209: f32 = t207 + t208;
+        let t210: f32 = wx * t209;
+        let t211: f32 = wz * t200;
+        let t212: f32 = t211 - t210;
+        let t213: f32 = wz * t212;
+        let t214: f32 = t203 - t213;
+        let t215: f32 = joint6_mx * t11;
+        let t216: f32 = joint6_my * t51;
+        let t217: f32 = joint6_mz * t6;
+        let t218: f32 = t1 * t217;
+        let t219: f32 = t215 + t216;
+        let t220: f32 = t219 - t218;
+        let t221: f32 = wx * t220;
+        let t222: f32 = joint6_mz * t0;
+        let t223: f32 = joint6_mx * t4;
+        let t224: f32 = joint6_my * t3;
+        let t225: f32 = t223 - t224;
+        let t226: f32 = t1 * t225;
+        let t227: f32 = t222 + t226;
+        let t228: f32 = wy * t227;
+        let t229: f32 = t221 - t228;
+        let t230: f32 = wy * t229;
+        let t231: f32 = joint6_mx * t16;
+        let t232: f32 = joint6_my * t41;
+        let t233: f32 = joint6_mz * t7;
+        let t234: f32 = t1 * t233;
+        let t235: f32 = t231 + t232;
+        let t236: f32 = t234 + t235;
+        let t237: f32 = wx * t236;
+        let t238: f32 = wz * t227;
+        let t239: f32 = t238 - t237;
+        let t240: f32 = wz * t239;
+        let t241: f32 = t230 - t240;
+        let t242: f32 = 1.0 / half_spacing;
+        let t243: f32 = xc + t24;
+        let t244: f32 = wx * t212;
+        let t245: f32 = wdy * t200;
+        let t246: f32 = t244 - t245;
+        let t247: f32 = wx * t239;
+        let t248: f32 = wdy * t227;
+        let t249: f32 = t247 - t248;
+        let t250: f32 = t246 + t249;
+        let t251: f32 = zc + half_spacing;
+        let t252: f32 = t16 * t251;
+        let t253: f32 = t12 + t252;
+        let t254: f32 = wdy - t26;
+        let t255: f32 = t23 * t253;
+        let t256: f32 = t254 * t255;
+        let t257: f32 = wx * wx;
+        let t258: f32 = t21 + t257;
+        let t259: f32 = t251 * t258;
+        let t260: f32 = az - gravity_z;
+        let t261: f32 = wy * wz;
+        let t262: f32 = wdx + t261;
+        let t263: f32 = yc * t262;
+        let t264: f32 = t260 - t263;
+        let t265: f32 = t259 + t264;
+        let t266: f32 = t265 - t256;
+        let t267: f32 = joint2_mass * t266;
+        let t268: f32 = wdx * t112;
+        let t269: f32 = t267 + t268;
+        let t270: f32 = wy * t128;
+        let t271: f32 = wz * t112;
+        let t272: f32 = t270 - t271;
+        let t273: f32 = wy * t272;
+        let t274: f32 = t269 - t273;
+        let t275: f32 = xc + half_spacing;
+        let t276: f32 = t254 * t275;
+        let t277: f32 = 1.0 / t51;
+        let t278: f32 = zc * t41;
+        let t279: f32 = t1 * t3;
+        let t280: f32 = t275 * t279;
+        let t281: f32 = t278 - t280;
+        let t282: f32 = t277 * t281;
+        let t283: f32 = t262 * t282;
+        let t284: f32 = zc * t258;
+        let t285: f32 = t260 + t284;
+        let t286: f32 = t276 + t283;
+        let t287: f32 = t285 + t286;
+        let t288: f32 = joint4_mass * t287;
+        let t289: f32 = wdx * t166;
+        let t290: f32 = t288 + t289;
+        let t291: f32 = wy * t182;
+        let t292: f32 = wz * t166;
+        let t293: f32 = t291 - t292;
+        let t294: f32 = wy * t293;
+        let t295: f32 = t290 - t294;
+        let t296: f32 = yc - half_spacing;
+        let t297: f32 = t262 * t296;
+        let t298: f32 = 1.0 / t7;
+        let t299: f32 = xc * t0;
+        let t300: f32 = t1 * t6;
+        let t301: f32 = t296 * t300;
+        let t302: f32 = t299 - t301;
+        let t303: f32 = t2 * t298;
+        let t304: f32 = t302 * t303;
+        let t305: f32 = t258 * t304;
+        let t306: f32 = xc * t254;
+        let t307: f32 = t260 + t306;
+        let t308: f32 = t297 + t305;
+        let t309: f32 = t307 - t308;
+        let t310: f32 = joint5_mass * t309;
+        let t311: f32 = wdx * t193;
+        let t312: f32 = t310 + t311;
+        let t313: f32 = wdx * t296;
+        let t314: f32 = wy * vx;
+        let t315: f32 = wx * vy;
+        let t316: f32 = t314 - t315;
+        let t317: f32 = xc * wdy;
+        let t318: f32 = t260 + t317;
+        let t319: f32 = t316 + t318;
+        let t320: f32 = t319 - t313;
+        let t321: f32 = rod5_mass * t320;
+        let t322: f32 = wy * t209;
+        let t323: f32 = wz * t193;
+        let t324: f32 = t322 - t323;
+        let t325: f32 = wy * t324;
+        let t326: f32 = t321 - t325;
+        let t327: f32 = t312 + t326;
+        let t328: f32 = yc + half_spacing;
+        let t329: f32 = t262 * t328;
+        let t330: f32 = t300 * t328;
+        let t331: f32 = t299 - t330;
+        let t332: f32 = t303 * t331;
+        let t333: f32 = t258 * t332;
+        let t334: f32 = t329 + t333;
+        let t335: f32 = t307 - t334;
+        let t336: f32 = joint6_mass * t335;
+        let t337: f32 = wdx * t220;
+        let t338: f32 = t336 + t337;
+        let t339: f32 = wdx * t328;
+        let t340: f32 = t319 - t339;
+        let t341: f32 = rod6_mass * t340;
+        let t342: f32 = wy * t236;
+        let t343: f32 = wz * t220;
+        let t344: f32 = t342 - t343;
+        let t345: f32 = wy * t344;
+        let t346: f32 = t341 - t345;
+        let t347: f32 = t338 + t346;
+        let t348: f32 = t327 + t347;
+        let t349: f32 = t295 + t348;
+        let t350: f32 = platform_mass * t260;
+        let t351: f32 = wdx * t72;
+        let t352: f32 = t350 + t351;
+        let t353: f32 = xc - half_spacing;
+        let t354: f32 = t254 * t353;
+        let t355: f32 = t279 * t353;
+        let t356: f32 = t355 - t278;
+        let t357: f32 = t277 * t356;
+        let t358: f32 = t262 * t357;
+        let t359: f32 = t285 + t354;
+        let t360: f32 = t359 - t358;
+        let t361: f32 = joint3_mass * t360;
+        let t362: f32 = wdx * t139;
+        let t363: f32 = t361 + t362;
+        let t364: f32 = wy * t155;
+        let t365: f32 = wz * t139;
+        let t366: f32 = t364 - t365;
+        let t367: f32 = wy * t366;
+        let t368: f32 = t363 - t367;
+        let t369: f32 = wy * t88;
+        let t370: f32 = wz * t72;
+        let t371: f32 = t369 - t370;
+        let t372: f32 = wy * t371;
+        let t373: f32 = t368 - t372;
+        let t374: f32 = t352 + t373;
+        let t375: f32 = t349 + t374;
+        let t376: f32 = t274 + t375;
+        let t377: f32 = t24 * t254;
+        let t378: f32 = t17 * t258;
+        let t379: f32 = t264 + t378;
+        let t380: f32 = t379 - t377;
+        let t381: f32 = joint1_mass * t380;
+        let t382: f32 = wdx * t56;
+        let t383: f32 = t381 + t382;
+        let t384: f32 = t376 + t383;
+        let t385: f32 = t250 + t384;
+        let t386: f32 = wx * t91;
+        let t387: f32 = wdy * t99;
+        let t388: f32 = t386 - t387;
+        let t389: f32 = wy * t46;
+        let t390: f32 = wz * t56;
+        let t391: f32 = t389 - t390;
+        let t392: f32 = wy * t391;
+        let t393: f32 = wdy * t79;
+        let t394: f32 = t392 + t393;
+        let t395: f32 = t388 - t394;
+        let t396: f32 = wx * t105;
+        let t397: f32 = wx * t131;
+        let t398: f32 = wdy * t119;
+        let t399: f32 = t397 - t398;
+        let t400: f32 = t396 + t399;
+        let t401: f32 = wx * t158;
+        let t402: f32 = wdy * t146;
+        let t403: f32 = t401 - t402;
+        let t404: f32 = wx * t185;
+        let t405: f32 = wdy * t173;
+        let t406: f32 = t404 - t405;
+        let t407: f32 = t403 + t406;
+        let t408: f32 = t400 + t407;
+        let t409: f32 = t395 + t408;
+        let t410: f32 = t385 + t409;
+        let t411: f32 = t242 * t243;
+        let t412: f32 = t410 * t411;
+        let t413: f32 = t32 * t88;
+        let t414: f32 = t35 * t46;
+        let t415: f32 = t22 * t255;
+        let t416: f32 = t27 * t251;
+        let t417: f32 = t415 + t416;
+        let t418: f32 = t33 - t417;
+        let t419: f32 = t128 * t418;
+        let t420: f32 = t22 * t353;
+        let t421: f32 = t30 * t357;
+        let t422: f32 = zc * t27;
+        let t423: f32 = t32 - t422;
+        let t424: f32 = t420 + t421;
+        let t425: f32 = t423 + t424;
+        let t426: f32 = t155 * t425;
+        let t427: f32 = t22 * t275;
+        let t428: f32 = t30 * t282;
+        let t429: f32 = t423 + t427;
+        let t430: f32 = t429 - t428;
+        let t431: f32 = t182 * t430;
+        let t432: f32 = t30 * t296;
+        let t433: f32 = t27 * t304;
+        let t434: f32 = xc * t22;
+        let t435: f32 = t32 + t434;
+        let t436: f32 = t432 + t433;
+        let t437: f32 = t435 + t436;
+        let t438: f32 = t209 * t437;
+        let t439: f32 = t30 * t328;
+        let t440: f32 = t27 * t332;
+        let t441: f32 = t439 + t440;
+        let t442: f32 = t435 + t441;
+        let t443: f32 = t236 * t442;
+        let t444: f32 = t79 * t260;
+        let t445: f32 = t99 * t380;
+        let t446: f32 = t119 * t266;
+        let t447: f32 = joint2_mass * t418;
+        let t448: f32 = wdy * t128;
+        let t449: f32 = t447 + t448;
+        let t450: f32 = wdy * t251;
+        let t451: f32 = t64 - t450;
+        let t452: f32 = rod2_mass * t451;
+        let t453: f32 = wdz * t112;
+        let t454: f32 = t452 - t453;
+        let t455: f32 = t449 + t454;
+        let t456: f32 = t133 + t455;
+        let t457: f32 = t251 * t456;
+        let t458: f32 = t146 * t360;
+        let t459: f32 = t368 + t403;
+        let t460: f32 = t353 * t459;
+        let t461: f32 = t173 * t287;
+        let t462: f32 = t295 + t406;
+        let t463: f32 = t275 * t462;
+        let t464: f32 = t200 * t309;
+        let t465: f32 = t227 * t335;
+        let t466: f32 = wx * t1;
+        let t467: f32 = t4 * t466;
+        let t468: f32 = wy * t11;
+        let t469: f32 = wz * t16;
+        let t470: f32 = t467 + t468;
+        let t471: f32 = t469 + t470;
+        let t472: f32 = platform_ixy + joint1_ixy;
+        let t473: f32 = joint2_ixy + joint3_ixy;
+        let t474: f32 = joint4_ixy + joint5_ixy;
+        let t475: f32 = t472 + t473;
+        let t476: f32 = joint6_ixy + t474;
+        let t477: f32 = t475 + t476;
+        let t478: f32 = t471 * t477;
+        let t479: f32 = wx * t3;
+        let t480: f32 = t1 * t479;
+        let t481: f32 = wy * t51;
+        let t482: f32 = wz * t41;
+        let t483: f32 = t481 + t482;
+        let t484: f32 = t480 - t483;
+        let t485: f32 = platform_iyy + joint1_iyy;
+        let t486: f32 = joint2_iyy + joint3_iyy;
+        let t487: f32 = joint4_iyy + joint5_iyy;
+        let t488: f32 = t485 + t486;
+        let t489: f32 = joint6_iyy + t487;
+        let t490: f32 = t488 + t489;
+        let t491: f32 = t484 * t490;
+        let t492: f32 = wx * t0;
+        let t493: f32 = wy * t6;
+        let t494: f32 = wz * t7;
+        let t495: f32 = t493 - t494;
+        let t496: f32 = t1 * t495;
+        let t497: f32 = t492 - t496;
+        let t498: f32 = platform_iyz + joint1_iyz;
+        let t499: f32 = joint2_iyz + joint3_iyz;
+        let t500: f32 = joint4_iyz + joint5_iyz;
+        let t501: f32 = t498 + t499;
+        let t502: f32 = joint6_iyz + t500;
+        let t503: f32 = t501 + t502;
+        let t504: f32 = t497 * t503;
+        let t505: f32 = t478 + t504;
+        let t506: f32 = t505 - t491;
+        let t507: f32 = t471 * t506;
+        let t508: f32 = wdx * t1;
+        let t509: f32 = t4 * t508;
+        let t510: f32 = wdy * t11;
+        let t511: f32 = wdz * t16;
+        let t512: f32 = t509 + t510;
+        let t513: f32 = t511 + t512;
+        let t514: f32 = platform_ixz + joint1_ixz;
+        let t515: f32 = joint2_ixz + joint3_ixz;
+        let t516: f32 = joint4_ixz + joint5_ixz;
+        let t517: f32 = t514 + t515;
+        let t518: f32 = joint6_ixz + t516;
+        let t519: f32 = t517 + t518;
+        let t520: f32 = t513 * t519;
+        let t521: f32 = wdx * t3;
+        let t522: f32 = t1 * t521;
+        let t523: f32 = wdy * t51;
+        let t524: f32 = wdz * t41;
+        let t525: f32 = t523 + t524;
+        let t526: f32 = t522 - t525;
+        let t527: f32 = t503 * t526;
+        let t528: f32 = platform_ixx + joint1_ixx;
+        let t529: f32 = joint2_ixx + joint3_ixx;
+        let t530: f32 = joint4_ixx + joint5_ixx;
+        let t531: f32 = t528 + t529;
+        let t532: f32 = joint6_ixx + t530;
+        let t533: f32 = t531 + t532;
+        let t534: f32 = t471 * t533;
+        let t535: f32 = t477 * t484;
+        let t536: f32 = t497 * t519;
+        let t537: f32 = t534 + t536;
+        let t538: f32 = t537 - t535;
+        let t539: f32 = t484 * t538;
+        let t540: f32 = wdx * t0;
+        let t541: f32 = wdy * t6;
+        let t542: f32 = wdz * t7;
+        let t543: f32 = t541 - t542;
+        let t544: f32 = t1 * t543;
+        let t545: f32 = t540 - t544;
+        let t546: f32 = platform_izz + joint1_izz;
+        let t547: f32 = joint2_izz + joint3_izz;
+        let t548: f32 = joint4_izz + joint5_izz;
+        let t549: f32 = t546 + t547;
+        let t550: f32 = joint6_izz + t548;
+        let t551: f32 = t549 + t550;
+        let t552: f32 = t545 * t551;
+        let t553: f32 = t507 + t520;
+        let t554: f32 = t539 + t552;
+        let t555: f32 = t553 + t554;
+        let t556: f32 = t555 - t527;
+        let t557: f32 = t300 * t556;
+        let t558: f32 = t513 * t533;
+        let t559: f32 = t477 * t526;
+        let t560: f32 = t471 * t519;
+        let t561: f32 = t484 * t503;
+        let t562: f32 = t497 * t551;
+        let t563: f32 = t560 + t562;
+        let t564: f32 = t563 - t561;
+        let t565: f32 = t484 * t564;
+        let t566: f32 = t519 * t545;
+        let t567: f32 = t497 * t506;
+        let t568: f32 = t558 + t566;
+        let t569: f32 = t559 + t565;
+        let t570: f32 = t567 + t569;
+        let t571: f32 = t568 - t570;
+        let t572: f32 = t11 * t571;
+        let t573: f32 = t471 * t564;
+        let t574: f32 = t477 * t513;
+        let t575: f32 = t490 * t526;
+        let t576: f32 = t503 * t545;
+        let t577: f32 = t497 * t538;
+        let t578: f32 = t573 + t575;
+        let t579: f32 = t574 + t576;
+        let t580: f32 = t577 + t579;
+        let t581: f32 = t578 - t580;
+        let t582: f32 = t51 * t581;
+        let t583: f32 = t274 + t399;
+        let t584: f32 = t253 * t583;
+        let t585: f32 = joint5_mz + joint6_mz;
+        let t586: f32 = joint3_mz + joint4_mz;
+        let t587: f32 = platform_mz + t586;
+        let t588: f32 = t585 + t587;
+        let t589: f32 = joint2_mz + t588;
+        let t590: f32 = t1 * t7;
+        let t591: f32 = t589 * t590;
+        let t592: f32 = joint5_mx + joint6_mx;
+        let t593: f32 = joint3_mx + joint4_mx;
+        let t594: f32 = platform_mx + t593;
+        let t595: f32 = t592 + t594;
+        let t596: f32 = joint2_mx + t595;
+        let t597: f32 = t16 * t596;
+        let t598: f32 = joint5_my + joint6_my;
+        let t599: f32 = joint3_my + joint4_my;
+        let t600: f32 = platform_my + t599;
+        let t601: f32 = t598 + t600;
+        let t602: f32 = joint2_my + t601;
+        let t603: f32 = t41 * t602;
+        let t604: f32 = t591 + t597;
+        let t605: f32 = t603 + t604;
+        let t606: f32 = wx * t605;
+        let t607: f32 = t0 * t589;
+        let t608: f32 = t3 * t602;
+        let t609: f32 = t4 * t596;
+        let t610: f32 = t608 - t609;
+        let t611: f32 = t1 * t610;
+        let t612: f32 = t607 - t611;
+        let t613: f32 = wz * t612;
+        let t614: f32 = t606 - t613;
+        let t615: f32 = wx * t614;
+        let t616: f32 = wdy * t612;
+        let t617: f32 = t615 + t616;
+        let t618: f32 = t376 - t617;
+        let t619: f32 = t19 * t618;
+        let t620: f32 = t584 - t619;
+        let t621: f32 = t5 * t620;
+        let t622: f32 = joint5_mass * t437;
+        let t623: f32 = wdy * t209;
+        let t624: f32 = t622 + t623;
+        let t625: f32 = wdz * t193;
+        let t626: f32 = t624 - t625;
+        let t627: f32 = t214 + t626;
+        let t628: f32 = t302 * t627;
+        let t629: f32 = joint6_mass * t442;
+        let t630: f32 = wdy * t236;
+        let t631: f32 = t629 + t630;
+        let t632: f32 = wdz * t220;
+        let t633: f32 = t631 - t632;
+        let t634: f32 = t241 + t633;
+        let t635: f32 = t331 * t634;
+        let t636: f32 = t628 + t635;
+        let t637: f32 = t298 * t636;
+        let t638: f32 = t621 - t637;
+        let t639: f32 = t2 * t638;
+        let t640: f32 = t585 * t590;
+        let t641: f32 = t16 * t592;
+        let t642: f32 = t41 * t598;
+        let t643: f32 = t640 + t641;
+        let t644: f32 = t642 + t643;
+        let t645: f32 = wx * t644;
+        let t646: f32 = t0 * t585;
+        let t647: f32 = t3 * t598;
+        let t648: f32 = t4 * t592;
+        let t649: f32 = t647 - t648;
+        let t650: f32 = t1 * t649;
+        let t651: f32 = t646 - t650;
+        let t652: f32 = wz * t651;
+        let t653: f32 = t645 - t652;
+        let t654: f32 = wx * t653;
+        let t655: f32 = wdy * t651;
+        let t656: f32 = t654 + t655;
+        let t657: f32 = t348 - t656;
+        let t658: f32 = xc * t657;
+        let t659: f32 = t300 * t586;
+        let t660: f32 = t11 * t593;
+        let t661: f32 = t51 * t599;
+        let t662: f32 = t660 + t661;
+        let t663: f32 = t659 - t662;
+        let t664: f32 = wx * t663;
+        let t665: f32 = t0 * t586;
+        let t666: f32 = t3 * t599;
+        let t667: f32 = t4 * t593;
+        let t668: f32 = t666 - t667;
+        let t669: f32 = t1 * t668;
+        let t670: f32 = t665 - t669;
+        let t671: f32 = wy * t670;
+        let t672: f32 = t664 + t671;
+        let t673: f32 = wy * t672;
+        let t674: f32 = t586 * t590;
+        let t675: f32 = t16 * t593;
+        let t676: f32 = t41 * t599;
+        let t677: f32 = t674 + t675;
+        let t678: f32 = t676 + t677;
+        let t679: f32 = wx * t678;
+        let t680: f32 = wz * t670;
+        let t681: f32 = t679 - t680;
+        let t682: f32 = wz * t681;
+        let t683: f32 = joint3_mass * t425;
+        let t684: f32 = wdy * t155;
+        let t685: f32 = t683 + t684;
+        let t686: f32 = wdz * t139;
+        let t687: f32 = t685 - t686;
+        let t688: f32 = joint4_mass * t430;
+        let t689: f32 = wdy * t182;
+        let t690: f32 = t688 + t689;
+        let t691: f32 = wdz * t166;
+        let t692: f32 = t690 - t691;
+        let t693: f32 = t687 + t692;
+        let t694: f32 = t682 + t693;
+        let t695: f32 = t694 - t673;
+        let t696: f32 = zc * t695;
+        let t697: f32 = t300 * t589;
+        let t698: f32 = t11 * t596;
+        let t699: f32 = t51 * t602;
+        let t700: f32 = t698 + t699;
+        let t701: f32 = t697 - t700;
+        let t702: f32 = wx * t701;
+        let t703: f32 = wy * t612;
+        let t704: f32 = t702 + t703;
+        let t705: f32 = wy * t704;
+        let t706: f32 = wz * t614;
+        let t707: f32 = t633 + t693;
+        let t708: f32 = platform_mass * t32;
+        let t709: f32 = wdy * t88;
+        let t710: f32 = t708 + t709;
+        let t711: f32 = wdz * t72;
+        let t712: f32 = t626 - t711;
+        let t713: f32 = t710 + t712;
+        let t714: f32 = t707 + t713;
+        let t715: f32 = t455 + t714;
+        let t716: f32 = t706 + t715;
+        let t717: f32 = t716 - t705;
+        let t718: f32 = t17 * t717;
+        let t719: f32 = t413 + t414;
+        let t720: f32 = t419 + t426;
+        let t721: f32 = t431 + t438;
+        let t722: f32 = t443 + t460;
+        let t723: f32 = t463 + t572;
+        let t724: f32 = t658 + t718;
+        let t725: f32 = t719 + t720;
+        let t726: f32 = t721 + t722;
+        let t727: f32 = t723 + t724;
+        let t728: f32 = t725 + t726;
+        let t729: f32 = t727 + t728;
+        let t730: f32 = t444 + t445;
+        let t731: f32 = t446 + t457;
+        let t732: f32 = t458 + t461;
+        let t733: f32 = t464 + t465;
+        let t734: f32 = t557 + t582;
+        let t735: f32 = t639 + t696;
+        let t736: f32 = t730 + t731;
+        let t737: f32 = t732 + t733;
+        let t738: f32 = t734 + t735;
+        let t739: f32 = t736 + t737;
+        let t740: f32 = t738 + t739;
+        let t741: f32 = t729 - t740;
+        let t742: f32 = t242 * t741;
+        let t743: f32 = t412 - t742;
+        let t744: f32 = t743 * 0.5;
+        let t745: f32 = t36 + t47;
+        let t746: f32 = t66 + t82;
+        let t747: f32 = t102 + t133;
+        let t748: f32 = t160 + t187;
+        let t749: f32 = t214 + t241;
+        let t750: f32 = t745 + t746;
+        let t751: f32 = t747 + t748;
+        let t752: f32 = t715 + t749;
+        let t753: f32 = t750 + t751;
+        let t754: f32 = t752 + t753;
+        let t755: f32 = t57 + t92;
+        let t756: f32 = t106 + t744;
+        let t757: f32 = t755 + t756;
+        let t758: f32 = t754 - t757;
+        let t759: f32 = t24 + t353;
+        let t760: f32 = t242 * t759;
+        let t761: f32 = t760 * 0.5;
+        let t762: f32 = t761 + 1.0;
+        let t763: f32 = wdz * t200;
+        let t764: f32 = wx * t202;
+        let t765: f32 = t763 - t764;
+        let t766: f32 = wdz * t227;
+        let t767: f32 = wx * t229;
+        let t768: f32 = t766 - t767;
+        let t769: f32 = t765 + t768;
+        let t770: f32 = wz * t324;
+        let t771: f32 = t20 + t257;
+        let t772: f32 = t296 * t771;
+        let t773: f32 = wdx - t261;
+        let t774: f32 = t304 * t773;
+        let t775: f32 = ay - gravity_y;
+        let t776: f32 = wdz + t29;
+        let t777: f32 = xc * t776;
+        let t778: f32 = t775 - t777;
+        let t779: f32 = t772 + t778;
+        let t780: f32 = t779 - t774;
+        let t781: f32 = joint5_mass * t780;
+        let t782: f32 = wdx * t209;
+        let t783: f32 = t781 - t782;
+        let t784: f32 = t770 + t783;
+        let t785: f32 = wz * t344;
+        let t786: f32 = t328 * t771;
+        let t787: f32 = t332 * t773;
+        let t788: f32 = t778 + t786;
+        let t789: f32 = t788 - t787;
+        let t790: f32 = joint6_mass * t789;
+        let t791: f32 = wdx * t236;
+        let t792: f32 = t790 - t791;
+        let t793: f32 = t785 + t792;
+        let t794: f32 = t784 + t793;
+        let t795: f32 = t353 * t776;
+        let t796: f32 = t357 * t771;
+        let t797: f32 = zc * t773;
+        let t798: f32 = t775 + t797;
+        let t799: f32 = t796 + t798;
+        let t800: f32 = t799 - t795;
+        let t801: f32 = joint3_mass * t800;
+        let t802: f32 = wdx * t155;
+        let t803: f32 = t801 - t802;
+        let t804: f32 = wz * t366;
+        let t805: f32 = wdz * t353;
+        let t806: f32 = wx * vz;
+        let t807: f32 = wz * vx;
+        let t808: f32 = t806 - t807;
+        let t809: f32 = zc * wdx;
+        let t810: f32 = t775 + t809;
+        let t811: f32 = t808 + t810;
+        let t812: f32 = t811 - t805;
+        let t813: f32 = rod3_mass * t812;
+        let t814: f32 = t804 + t813;
+        let t815: f32 = t803 + t814;
+        let t816: f32 = t275 * t776;
+        let t817: f32 = t282 * t771;
+        let t818: f32 = t816 + t817;
+        let t819: f32 = t798 - t818;
+        let t820: f32 = joint4_mass * t819;
+        let t821: f32 = wdx * t182;
+        let t822: f32 = t820 - t821;
+        let t823: f32 = wz * t293;
+        let t824: f32 = wdz * t275;
+        let t825: f32 = t811 - t824;
+        let t826: f32 = rod4_mass * t825;
+        let t827: f32 = t823 + t826;
+        let t828: f32 = t822 + t827;
+        let t829: f32 = t815 + t828;
+        let t830: f32 = t794 + t829;
+        let t831: f32 = platform_mass * t775;
+        let t832: f32 = wdx * t88;
+        let t833: f32 = t831 - t832;
+        let t834: f32 = wz * t371;
+        let t835: f32 = wz * t272;
+        let t836: f32 = t255 * t776;
+        let t837: f32 = t251 * t773;
+        let t838: f32 = yc * t771;
+        let t839: f32 = t775 + t838;
+        let t840: f32 = t836 + t837;
+        let t841: f32 = t839 + t840;
+        let t842: f32 = joint2_mass * t841;
+        let t843: f32 = wdx * t128;
+        let t844: f32 = t842 - t843;
+        let t845: f32 = t835 + t844;
+        let t846: f32 = t834 + t845;
+        let t847: f32 = t833 + t846;
+        let t848: f32 = t830 + t847;
+        let t849: f32 = t24 * t776;
+        let t850: f32 = t17 * t773;
+        let t851: f32 = t849 + t850;
+        let t852: f32 = t839 + t851;
+        let t853: f32 = joint1_mass * t852;
+        let t854: f32 = wdx * t46;
+        let t855: f32 = t853 - t854;
+        let t856: f32 = t848 + t855;
+        let t857: f32 = t769 + t856;
+        let t858: f32 = wz * t391;
+        let t859: f32 = wdz * t79;
+        let t860: f32 = t858 + t859;
+        let t861: f32 = wdz * t99;
+        let t862: f32 = wx * t81;
+        let t863: f32 = t861 - t862;
+        let t864: f32 = t860 + t863;
+        let t865: f32 = wdz * t119;
+        let t866: f32 = wx * t121;
+        let t867: f32 = t865 - t866;
+        let t868: f32 = wx * t101;
+        let t869: f32 = t867 - t868;
+        let t870: f32 = wdz * t146;
+        let t871: f32 = wx * t148;
+        let t872: f32 = t870 - t871;
+        let t873: f32 = wdz * t173;
+        let t874: f32 = wx * t175;
+        let t875: f32 = t873 - t874;
+        let t876: f32 = t872 + t875;
+        let t877: f32 = t869 + t876;
+        let t878: f32 = t864 + t877;
+        let t879: f32 = t857 + t878;
+        let t880: f32 = t762 * t879;
+        let t881: f32 = t32 * t72;
+        let t882: f32 = t35 * t56;
+        let t883: f32 = t112 * t418;
+        let t884: f32 = t139 * t425;
+        let t885: f32 = t166 * t430;
+        let t886: f32 = t193 * t437;
+        let t887: f32 = t220 * t442;
+        let t888: f32 = t79 * t775;
+        let t889: f32 = t99 * t852;
+        let t890: f32 = t119 * t841;
+        let t891: f32 = t146 * t800;
+        let t892: f32 = t815 + t872;
+        let t893: f32 = t353 * t892;
+        let t894: f32 = t173 * t819;
+        let t895: f32 = t828 + t875;
+        let t896: f32 = t275 * t895;
+        let t897: f32 = t200 * t780;
+        let t898: f32 = t296 * t627;
+        let t899: f32 = t227 * t789;
+        let t900: f32 = t328 * t634;
+        let t901: f32 = t556 * t590;
+        let t902: f32 = t16 * t571;
+        let t903: f32 = t41 * t581;
+        let t904: f32 = t300 * t588;
+        let t905: f32 = t11 * t595;
+        let t906: f32 = t51 * t601;
+        let t907: f32 = t905 + t906;
+        let t908: f32 = t904 - t907;
+        let t909: f32 = wx * t908;
+        let t910: f32 = t0 * t588;
+        let t911: f32 = t3 * t601;
+        let t912: f32 = t4 * t595;
+        let t913: f32 = t911 - t912;
+        let t914: f32 = t1 * t913;
+        let t915: f32 = t910 - t914;
+        let t916: f32 = wy * t915;
+        let t917: f32 = t909 + t916;
+        let t918: f32 = wy * t917;
+        let t919: f32 = t588 * t590;
+        let t920: f32 = t16 * t595;
+        let t921: f32 = t41 * t601;
+        let t922: f32 = t919 + t920;
+        let t923: f32 = t921 + t922;
+        let t924: f32 = wx * t923;
+        let t925: f32 = wz * t915;
+        let t926: f32 = t924 - t925;
+        let t927: f32 = wz * t926;
+        let t928: f32 = t714 + t927;
+        let t929: f32 = t928 - t918;
+        let t930: f32 = yc * t929;
+        let t931: f32 = t845 + t867;
+        let t932: f32 = t253 * t931;
+        let t933: f32 = wx * t704;
+        let t934: f32 = wdz * t612;
+        let t935: f32 = t933 + t934;
+        let t936: f32 = t848 + t935;
+        let t937: f32 = t19 * t936;
+        let t938: f32 = t932 - t937;
+        let t939: f32 = t23 * t938;
+        let t940: f32 = t300 * t585;
+        let t941: f32 = t11 * t592;
+        let t942: f32 = t51 * t598;
+        let t943: f32 = t941 + t942;
+        let t944: f32 = t940 - t943;
+        let t945: f32 = wx * t944;
+        let t946: f32 = wy * t651;
+        let t947: f32 = t945 + t946;
+        let t948: f32 = wx * t947;
+        let t949: f32 = wdz * t651;
+        let t950: f32 = t948 + t949;
+        let t951: f32 = t794 + t950;
+        let t952: f32 = xc * t951;
+        let t953: f32 = t160 + t687;
+        let t954: f32 = t356 * t953;
+        let t955: f32 = t187 + t692;
+        let t956: f32 = t281 * t955;
+        let t957: f32 = t954 - t956;
+        let t958: f32 = t277 * t957;
+        let t959: f32 = t888 + t889;
+        let t960: f32 = t890 + t891;
+        let t961: f32 = t894 + t897;
+        let t962: f32 = t898 + t899;
+        let t963: f32 = t900 + t901;
+        let t964: f32 = t902 + t939;
+        let t965: f32 = t959 + t960;
+        let t966: f32 = t961 + t962;
+        let t967: f32 = t963 + t964;
+        let t968: f32 = t965 + t966;
+        let t969: f32 = t958 + t967;
+        let t970: f32 = t968 + t969;
+        let t971: f32 = t881 + t882;
+        let t972: f32 = t883 + t884;
+        let t973: f32 = t885 + t886;
+        let t974: f32 = t887 + t893;
+        let t975: f32 = t896 + t903;
+        let t976: f32 = t930 + t952;
+        let t977: f32 = t971 + t972;
+        let t978: f32 = t973 + t974;
+        let t979: f32 = t975 + t976;
+        let t980: f32 = t977 + t978;
+        let t981: f32 = t979 + t980;
+        let t982: f32 = t970 - t981;
+        let t983: f32 = t242 * t982;
+        let t984: f32 = t983 * 0.5;
+        let t985: f32 = t880 + t984;
+        let t986: f32 = t760 * t879;
+        let t987: f32 = t983 + t986;
+        let t988: f32 = t987 * 0.5;
+        let t989: f32 = -t988;
+        let t990: f32 = t72 * t260;
+        let t991: f32 = t88 * t775;
+        let t992: f32 = t56 * t380;
+        let t993: f32 = t46 * t852;
+        let t994: f32 = t112 * t266;
+        let t995: f32 = t128 * t841;
+        let t996: f32 = t139 * t360;
+        let t997: f32 = t155 * t800;
+        let t998: f32 = t166 * t287;
+        let t999: f32 = t182 * t819;
+        let t1000: f32 = t193 * t309;
+        let t1001: f32 = t209 * t780;
+        let t1002: f32 = t220 * t335;
+        (
+            t0,
+            t1,
+            t3,
+            t4,
+            t17,
+            t51,
+            t236,
+            t242,
+            t246,
+            t249,
+            t251,
+            t277,
+            t281,
+            t296,
+            t302,
+            t303,
+            t327,
+            t328,
+            t331,
+            t347,
+            t356,
+            t375,
+            t410,
+            t459,
+            t462,
+            t556,
+            t571,
+            t581,
+            t590,
+            t670,
+            t672,
+            t744,
+            t758,
+            t765,
+            t768,
+            t784,
+            t789,
+            t793,
+            t829,
+            t879,
+            t915,
+            t926,
+            t931,
+            t936,
+            t985,
+            t989,
+            t990,
+            t991,
+            t992,
+            t993,
+            t994,
+            t995,
+            t996,
+            t997,
+            t998,
+            t999,
+            t1000,
+            t1001,
+            t1002,
+        )
+    };
+    let (t1061, t1063, t1064) = {
+        let t1003: f32 = t236 * t789;
+        let t1004: f32 = t251 * t931;
+        let t1005: f32 = t246 + t327;
+        let t1006: f32 = t296 * t1005;
+        let t1007: f32 = t249 + t347;
+        let t1008: f32 = t328 * t1007;
+        let t1009: f32 = t3 * t581;
+        let t1010: f32 = t4 * t571;
+        let t1011: f32 = t1009 + t1010;
+        let t1012: f32 = t1 * t1011;
+        let t1013: f32 = t0 * t556;
+        let t1014: f32 = wx * t926;
+        let t1015: f32 = wdy * t915;
+        let t1016: f32 = t1014 + t1015;
+        let t1017: f32 = t375 - t1016;
+        let t1018: f32 = yc * t1017;
+        let t1019: f32 = wx * t672;
+        let t1020: f32 = wdz * t670;
+        let t1021: f32 = t1019 + t1020;
+        let t1022: f32 = t829 + t1021;
+        let t1023: f32 = zc * t1022;
+        let t1024: f32 = t765 + t784;
+        let t1025: f32 = t302 * t1024;
+        let t1026: f32 = t768 + t793;
+        let t1027: f32 = t331 * t1026;
+        let t1028: f32 = t1025 + t1027;
+        let t1029: f32 = t303 * t1028;
+        let t1030: f32 = t356 * t459;
+        let t1031: f32 = t281 * t462;
+        let t1032: f32 = t1030 - t1031;
+        let t1033: f32 = t277 * t1032;
+        let t1034: f32 = t17 * t936;
+        let t1035: f32 = t990 + t992;
+        let t1036: f32 = t994 + t996;
+        let t1037: f32 = t998 + t1000;
+        let t1038: f32 = t1002 + t1004;
+        let t1039: f32 = t1012 + t1013;
+        let t1040: f32 = t1018 + t1023;
+        let t1041: f32 = t1035 + t1036;
+        let t1042: f32 = t1037 + t1038;
+        let t1043: f32 = t1039 + t1040;
+        let t1044: f32 = t1041 + t1042;
+        let t1045: f32 = t1043 + t1044;
+        let t1046: f32 = t991 + t993;
+        let t1047: f32 = t995 + t997;
+        let t1048: f32 = t999 + t1001;
+        let t1049: f32 = t1003 + t1006;
+        let t1050: f32 = t1008 + t1029;
+        let t1051: f32 = t1033 + t1034;
+        let t1052: f32 = t1046 + t1047;
+        let t1053: f32 = t1048 + t1049;
+        let t1054: f32 = t1050 + t1051;
+        let t1055: f32 = t1052 + t1053;
+        let t1056: f32 = t1054 + t1055;
+        let t1057: f32 = t1045 - t1056;
+        let t1058: f32 = t242 * t1057;
+        let t1059: f32 = t1058 - t879;
+        let t1060: f32 = t410 + t1059;
+        let t1061: f32 = t1060 * 0.5;
+        let t1062: f32 = t410 - t1059;
+        let t1063: f32 = t1062 * 0.5;
+        let t1064: f32 = t1 * t4;
+        (t1061, t1063, t1064)
+    };
     ([t758, t744, t985, t989, t1061, t1063], [t1064, t51, t590])
 }
 /// Forward kinematics in closed form: the platform's `R` and `C` from the actuator positions.
@@ -12967,1817 +13353,2225 @@ pub fn inverse_dynamics_joint_params(
     joint5_iyy, joint5_iyz, joint5_izz, rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _,
     joint6_mass, joint6_mx, joint6_my, joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz,
     joint6_iyy, joint6_iyz, joint6_izz] = *params;
-    let t0: f32 = 1.0 / half_spacing;
-    let t1: f32 = q1 - q2;
-    let t2: f32 = q1 + q2;
-    let t3: f32 = t2 * 0.5;
-    let t4: f32 = t0 * t0;
-    let t5: f32 = t0 * t4;
-    let t6: f32 = q3 - q4;
-    let t7: f32 = q5 - q6;
-    let t8: f32 = t1 * t5;
-    let t9: f32 = t6 * t8;
-    let t10: f32 = t7 * t9;
-    let t11: f32 = t10 * 0.125;
-    let t12: f32 = t11 - 1.0;
-    let t13: f32 = t12 * t12;
-    let t14: f32 = t0 * t1;
-    let t15: f32 = t7 * t14;
-    let t16: f32 = t1 * t1;
-    let t17: f32 = t4 * t16;
-    let t18: f32 = t17 * 0.25;
-    let t19: f32 = t18 + 1.0;
-    let t20: f32 = t6 * t19;
-    let t21: f32 = t15 * 0.25;
-    let t22: f32 = t20 * 0.5;
-    let t23: f32 = t21 + t22;
-    let t24: f32 = t23 * t23;
-    let t25: f32 = t13 * t16;
-    let t26: f32 = t25 * 0.25;
-    let t27: f32 = t24 + t26;
-    let t28: f32 = t4 * t27;
-    let t29: f32 = t13 + t28;
-    let t30: f32 = 1.0 / t29;
-    let t31: f32 = t3 * t14;
-    let t32: f32 = t13 * t31;
-    let t33: f32 = t30 * t32;
-    let t34: f32 = q3 + q4;
-    let t35: f32 = t34 * 0.5;
-    let t36: f32 = t6 * t14;
-    let t37: f32 = t6 * t6;
-    let t38: f32 = t4 * t37;
-    let t39: f32 = t38 * 0.25;
-    let t40: f32 = t39 + 1.0;
-    let t41: f32 = t7 * t40;
-    let t42: f32 = t36 * 0.25;
-    let t43: f32 = t41 * 0.5;
-    let t44: f32 = t42 + t43;
-    let t45: f32 = t13 * t37;
-    let t46: f32 = t44 * t44;
-    let t47: f32 = t45 * 0.25;
-    let t48: f32 = t46 + t47;
-    let t49: f32 = t4 * t48;
-    let t50: f32 = t13 + t49;
-    let t51: f32 = 1.0 / t50;
-    let t52: f32 = t0 * t35;
-    let t53: f32 = t12 * t52;
-    let t54: f32 = t44 * t53;
-    let t55: f32 = t51 * t54;
-    let t56: f32 = q5 + q6;
-    let t57: f32 = t56 * 0.5;
-    let t58: f32 = t0 * t6;
-    let t59: f32 = t7 * t58;
-    let t60: f32 = t7 * t7;
-    let t61: f32 = t4 * t60;
-    let t62: f32 = t61 * 0.25;
-    let t63: f32 = t62 + 1.0;
-    let t64: f32 = t1 * t63;
-    let t65: f32 = t59 * 0.25;
-    let t66: f32 = t64 * 0.5;
-    let t67: f32 = t65 + t66;
-    let t68: f32 = t67 * t67;
-    let t69: f32 = t13 * t60;
-    let t70: f32 = t69 * 0.25;
-    let t71: f32 = t68 + t70;
-    let t72: f32 = t4 * t71;
-    let t73: f32 = t13 + t72;
-    let t74: f32 = 1.0 / t73;
-    let t75: f32 = t13 * t57;
-    let t76: f32 = t74 * t75;
-    let t77: f32 = t55 - t76;
-    let t78: f32 = t33 * 0.5;
-    let t79: f32 = half_spacing + t77;
-    let t80: f32 = t78 + t79;
-    let t81: f32 = t0 * t80;
-    let t82: f32 = t81 * 0.5;
-    let t83: f32 = t82 - 1.0;
-    let t84: f32 = qd1 - qd2;
-    let t85: f32 = t84 * 0.5;
-    let t86: f32 = t0 * t7;
-    let t87: f32 = t57 * t86;
-    let t88: f32 = t13 * t87;
-    let t89: f32 = t74 * t88;
-    let t90: f32 = t0 * t3;
-    let t91: f32 = t12 * t90;
-    let t92: f32 = t23 * t91;
-    let t93: f32 = t30 * t92;
-    let t94: f32 = t13 * t35;
-    let t95: f32 = t51 * t94;
-    let t96: f32 = t93 - t95;
-    let t97: f32 = t89 * 0.5;
-    let t98: f32 = t96 + t97;
-    let t99: f32 = t0 * t98;
-    let t100: f32 = t99 * 0.5;
-    let t101: f32 = t100 - 0.5;
-    let t102: f32 = qd5 * t101;
-    let t103: f32 = t100 + 0.5;
-    let t104: f32 = qd6 * t103;
-    let t105: f32 = q1 * t0;
-    let t106: f32 = t35 * t58;
-    let t107: f32 = t13 * t106;
-    let t108: f32 = t51 * t107;
-    let t109: f32 = t0 * t57;
-    let t110: f32 = t12 * t109;
-    let t111: f32 = t67 * t110;
-    let t112: f32 = t74 * t111;
-    let t113: f32 = t3 * t13;
-    let t114: f32 = t30 * t113;
-    let t115: f32 = t112 - t114;
-    let t116: f32 = t108 * 0.5;
-    let t117: f32 = q1 + t115;
-    let t118: f32 = t116 + t117;
-    let t119: f32 = t0 * t118;
-    let t120: f32 = t105 - t119;
-    let t121: f32 = t120 * 0.5;
-    let t122: f32 = t84 * t121;
-    let t123: f32 = t102 + t122;
-    let t124: f32 = t123 - t104;
-    let t125: f32 = t0 * t85;
-    let t126: f32 = t124 * t125;
-    let t127: f32 = qd3 - qd4;
-    let t128: f32 = t127 * 0.5;
-    let t129: f32 = q1 - half_spacing;
-    let t130: f32 = t0 * t129;
-    let t131: f32 = t130 - t119;
-    let t132: f32 = t131 * 0.5;
-    let t133: f32 = t132 + 1.0;
-    let t134: f32 = qd3 * t133;
-    let t135: f32 = qd4 * t132;
-    let t136: f32 = t82 - 0.5;
-    let t137: f32 = qd5 - qd6;
-    let t138: f32 = t136 * t137;
-    let t139: f32 = t134 + t138;
-    let t140: f32 = t139 - t135;
-    let t141: f32 = t0 * t128;
-    let t142: f32 = t140 * t141;
-    let t143: f32 = t126 + t142;
-    let t144: f32 = qdd1 - t143;
-    let t145: f32 = t83 * t144;
-    let t146: f32 = gravity_x + t145;
-    let t147: f32 = t137 * 0.5;
-    let t148: f32 = t0 * t124;
-    let t149: f32 = t147 * t148;
-    let t150: f32 = qd1 * t83;
-    let t151: f32 = t12 * t57;
-    let t152: f32 = t74 * t151;
-    let t153: f32 = t1 * t3;
-    let t154: f32 = t12 * t153;
-    let t155: f32 = t30 * t154;
-    let t156: f32 = t35 * t44;
-    let t157: f32 = t51 * t156;
-    let t158: f32 = t155 * 0.5;
-    let t159: f32 = t157 + t158;
-    let t160: f32 = t0 * t159;
-    let t161: f32 = t152 - t160;
-    let t162: f32 = t12 * t161;
-    let t163: f32 = half_spacing - t162;
-    let t164: f32 = qd2 * t163;
-    let t165: f32 = t12 * t35;
-    let t166: f32 = t51 * t165;
-    let t167: f32 = t3 * t23;
-    let t168: f32 = t30 * t167;
-    let t169: f32 = t7 * t57;
-    let t170: f32 = t12 * t169;
-    let t171: f32 = t74 * t170;
-    let t172: f32 = t171 * 0.5;
-    let t173: f32 = t168 + t172;
-    let t174: f32 = t0 * t173;
-    let t175: f32 = t166 - t174;
-    let t176: f32 = t12 * t175;
-    let t177: f32 = -t176;
-    let t178: f32 = t128 * t177;
-    let t179: f32 = t164 * 0.5;
-    let t180: f32 = t178 + t179;
-    let t181: f32 = t0 * t180;
-    let t182: f32 = t150 - t181;
-    let t183: f32 = t141 * t182;
-    let t184: f32 = t149 - t183;
-    let t185: f32 = qdd4 + t184;
-    let t186: f32 = t99 * t185;
-    let t187: f32 = qdd2 - t143;
-    let t188: f32 = t81 * t187;
-    let t189: f32 = qdd3 + t184;
-    let t190: f32 = t99 * t189;
-    let t191: f32 = t188 + t190;
-    let t192: f32 = t186 - t191;
-    let t193: f32 = t192 * 0.5;
-    let t194: f32 = t146 + t193;
-    let t195: f32 = platform_mass * t194;
-    let t196: f32 = t0 * t144;
-    let t197: f32 = t0 * t187;
-    let t198: f32 = t196 - t197;
-    let t199: f32 = t198 * 0.5;
-    let t200: f32 = sqrt(t74);
-    let t201: f32 = platform_mz * t12;
-    let t202: f32 = t200 * t201;
-    let t203: f32 = sqrt(t30);
-    let t204: f32 = platform_mx * t1;
-    let t205: f32 = t12 * t204;
-    let t206: f32 = t203 * t205;
-    let t207: f32 = sqrt(t51);
-    let t208: f32 = platform_my * t44;
-    let t209: f32 = t207 * t208;
-    let t210: f32 = t206 * 0.5;
-    let t211: f32 = t209 + t210;
-    let t212: f32 = t0 * t211;
-    let t213: f32 = t212 - t202;
-    let t214: f32 = t199 * t213;
-    let t215: f32 = t0 * t189;
-    let t216: f32 = t0 * t185;
-    let t217: f32 = t215 - t216;
-    let t218: f32 = t217 * 0.5;
-    let t219: f32 = platform_my * t12;
-    let t220: f32 = t207 * t219;
-    let t221: f32 = platform_mx * t23;
-    let t222: f32 = t203 * t221;
-    let t223: f32 = platform_mz * t7;
-    let t224: f32 = t12 * t223;
-    let t225: f32 = t200 * t224;
-    let t226: f32 = t225 * 0.5;
-    let t227: f32 = t222 + t226;
-    let t228: f32 = t0 * t227;
-    let t229: f32 = t228 - t220;
-    let t230: f32 = t218 * t229;
-    let t231: f32 = t147 * t229;
-    let t232: f32 = platform_mx * t12;
-    let t233: f32 = t203 * t232;
-    let t234: f32 = platform_my * t6;
-    let t235: f32 = t12 * t234;
-    let t236: f32 = t207 * t235;
-    let t237: f32 = platform_mz * t67;
-    let t238: f32 = t200 * t237;
-    let t239: f32 = t236 * 0.5;
-    let t240: f32 = t238 + t239;
-    let t241: f32 = t0 * t240;
-    let t242: f32 = t233 - t241;
-    let t243: f32 = t85 * t242;
-    let t244: f32 = t231 + t243;
-    let t245: f32 = t4 * t85;
-    let t246: f32 = t244 * t245;
-    let t247: f32 = t128 * t242;
-    let t248: f32 = t147 * t213;
-    let t249: f32 = t247 + t248;
-    let t250: f32 = t4 * t128;
-    let t251: f32 = t249 * t250;
-    let t252: f32 = t128 * t128;
-    let t253: f32 = t4 * t252;
-    let t254: f32 = t85 * t85;
-    let t255: f32 = t4 * t254;
-    let t256: f32 = t253 + t255;
-    let t257: f32 = t118 * t256;
-    let t258: f32 = t147 * t250;
-    let t259: f32 = t199 + t258;
-    let t260: f32 = t80 * t259;
-    let t261: f32 = t147 * t245;
-    let t262: f32 = t218 - t261;
-    let t263: f32 = t98 * t262;
-    let t264: f32 = t146 + t263;
-    let t265: f32 = t257 + t264;
-    let t266: f32 = t193 + t265;
-    let t267: f32 = t266 - t260;
-    let t268: f32 = joint1_mass * t267;
-    let t269: f32 = joint1_mz * t12;
-    let t270: f32 = t200 * t269;
-    let t271: f32 = joint1_mx * t1;
-    let t272: f32 = t12 * t271;
-    let t273: f32 = t203 * t272;
-    let t274: f32 = joint1_my * t44;
-    let t275: f32 = t207 * t274;
-    let t276: f32 = t273 * 0.5;
-    let t277: f32 = t275 + t276;
-    let t278: f32 = t0 * t277;
-    let t279: f32 = t278 - t270;
-    let t280: f32 = t199 * t279;
-    let t281: f32 = joint1_my * t12;
-    let t282: f32 = t207 * t281;
-    let t283: f32 = joint1_mx * t23;
-    let t284: f32 = t203 * t283;
-    let t285: f32 = joint1_mz * t7;
-    let t286: f32 = t12 * t285;
-    let t287: f32 = t200 * t286;
-    let t288: f32 = t287 * 0.5;
-    let t289: f32 = t284 + t288;
-    let t290: f32 = t0 * t289;
-    let t291: f32 = t290 - t282;
-    let t292: f32 = t218 * t291;
-    let t293: f32 = t147 * t291;
-    let t294: f32 = joint1_mx * t12;
-    let t295: f32 = t203 * t294;
-    let t296: f32 = joint1_my * t6;
-    let t297: f32 = t12 * t296;
-    let t298: f32 = t207 * t297;
-    let t299: f32 = joint1_mz * t67;
-    let t300: f32 = t200 * t299;
-    let t301: f32 = t298 * 0.5;
-    let t302: f32 = t300 + t301;
-    let t303: f32 = t0 * t302;
-    let t304: f32 = t295 - t303;
-    let t305: f32 = t85 * t304;
-    let t306: f32 = t293 + t305;
-    let t307: f32 = t245 * t306;
-    let t308: f32 = t128 * t304;
-    let t309: f32 = t147 * t279;
-    let t310: f32 = t308 + t309;
-    let t311: f32 = t250 * t310;
-    let t312: f32 = t80 * t199;
-    let t313: f32 = t98 * t218;
-    let t314: f32 = t146 + t313;
-    let t315: f32 = t314 - t143;
-    let t316: f32 = t193 + t315;
-    let t317: f32 = t316 - t312;
-    let t318: f32 = rod1_mass * t317;
-    let t319: f32 = t0 * t140;
-    let t320: f32 = t147 * t319;
-    let t321: f32 = t125 * t182;
-    let t322: f32 = t320 + t321;
-    let t323: f32 = qdd5 + t322;
-    let t324: f32 = t0 * t323;
-    let t325: f32 = qdd6 + t322;
-    let t326: f32 = t0 * t325;
-    let t327: f32 = t324 - t326;
-    let t328: f32 = t327 * 0.5;
-    let t329: f32 = t229 * t328;
-    let t330: f32 = t101 * t323;
-    let t331: f32 = t121 * t187;
-    let t332: f32 = t330 - t331;
-    let t333: f32 = t121 * t144;
-    let t334: f32 = gravity_z + t333;
-    let t335: f32 = t103 * t325;
-    let t336: f32 = t334 - t335;
-    let t337: f32 = t332 + t336;
-    let t338: f32 = platform_mass * t337;
-    let t339: f32 = t329 - t338;
-    let t340: f32 = joint6_mz * t12;
-    let t341: f32 = t200 * t340;
-    let t342: f32 = joint6_mx * t1;
-    let t343: f32 = t12 * t342;
-    let t344: f32 = t203 * t343;
-    let t345: f32 = joint6_my * t44;
-    let t346: f32 = t207 * t345;
-    let t347: f32 = t344 * 0.5;
-    let t348: f32 = t346 + t347;
-    let t349: f32 = t0 * t348;
-    let t350: f32 = t349 - t341;
-    let t351: f32 = t85 * t350;
-    let t352: f32 = joint6_my * t12;
-    let t353: f32 = t207 * t352;
-    let t354: f32 = joint6_mx * t23;
-    let t355: f32 = t203 * t354;
-    let t356: f32 = joint6_mz * t7;
-    let t357: f32 = t12 * t356;
-    let t358: f32 = t200 * t357;
-    let t359: f32 = t358 * 0.5;
-    let t360: f32 = t355 + t359;
-    let t361: f32 = t0 * t360;
-    let t362: f32 = t361 - t353;
-    let t363: f32 = t128 * t362;
-    let t364: f32 = t351 - t363;
-    let t365: f32 = t245 * t364;
-    let t366: f32 = half_spacing - t98;
-    let t367: f32 = t328 * t366;
-    let t368: f32 = t115 + t116;
-    let t369: f32 = -t368;
-    let t370: f32 = t199 * t369;
-    let t371: f32 = t337 - t370;
-    let t372: f32 = t322 + t371;
-    let t373: f32 = t367 + t372;
-    let t374: f32 = rod6_mass * t373;
-    let t375: f32 = t365 + t374;
-    let t376: f32 = t128 * t245;
-    let t377: f32 = t328 + t376;
-    let t378: f32 = t366 * t377;
-    let t379: f32 = q6 + t77;
-    let t380: f32 = t78 + t379;
-    let t381: f32 = t147 * t147;
-    let t382: f32 = t4 * t381;
-    let t383: f32 = t255 + t382;
-    let t384: f32 = t380 * t383;
-    let t385: f32 = t199 - t258;
-    let t386: f32 = t369 * t385;
-    let t387: f32 = t337 - t386;
-    let t388: f32 = t378 + t384;
-    let t389: f32 = t387 + t388;
-    let t390: f32 = joint6_mass * t389;
-    let t391: f32 = t328 * t362;
-    let t392: f32 = t390 - t391;
-    let t393: f32 = joint6_mx * t12;
-    let t394: f32 = t203 * t393;
-    let t395: f32 = joint6_my * t6;
-    let t396: f32 = t12 * t395;
-    let t397: f32 = t207 * t396;
-    let t398: f32 = joint6_mz * t67;
-    let t399: f32 = t200 * t398;
-    let t400: f32 = t397 * 0.5;
-    let t401: f32 = t399 + t400;
-    let t402: f32 = t0 * t401;
-    let t403: f32 = t394 - t402;
-    let t404: f32 = t199 * t403;
-    let t405: f32 = t128 * t403;
-    let t406: f32 = t147 * t350;
-    let t407: f32 = t405 + t406;
-    let t408: f32 = t4 * t147;
-    let t409: f32 = t407 * t408;
-    let t410: f32 = t404 - t409;
-    let t411: f32 = t392 - t410;
-    let t412: f32 = t375 + t411;
-    let t413: f32 = t339 - t412;
-    let t414: f32 = t199 * t242;
-    let t415: f32 = t249 * t408;
-    let t416: f32 = t414 - t415;
-    let t417: f32 = t85 * t213;
-    let t418: f32 = t128 * t229;
-    let t419: f32 = t417 - t418;
-    let t420: f32 = t245 * t419;
-    let t421: f32 = t118 * t385;
-    let t422: f32 = t80 * t383;
-    let t423: f32 = t98 * t377;
-    let t424: f32 = t337 - t423;
-    let t425: f32 = t421 + t422;
-    let t426: f32 = t424 + t425;
-    let t427: f32 = joint1_mass * t426;
-    let t428: f32 = t420 + t427;
-    let t429: f32 = t416 - t428;
-    let t430: f32 = t413 + t429;
-    let t431: f32 = t291 * t328;
-    let t432: f32 = t199 * t304;
-    let t433: f32 = t431 + t432;
-    let t434: f32 = t310 * t408;
-    let t435: f32 = t85 * t279;
-    let t436: f32 = t128 * t291;
-    let t437: f32 = t435 - t436;
-    let t438: f32 = t245 * t437;
-    let t439: f32 = t434 + t438;
-    let t440: f32 = t433 - t439;
-    let t441: f32 = joint2_mx * t12;
-    let t442: f32 = t203 * t441;
-    let t443: f32 = joint2_my * t6;
-    let t444: f32 = t12 * t443;
-    let t445: f32 = t207 * t444;
-    let t446: f32 = joint2_mz * t67;
-    let t447: f32 = t200 * t446;
-    let t448: f32 = t445 * 0.5;
-    let t449: f32 = t447 + t448;
-    let t450: f32 = t0 * t449;
-    let t451: f32 = t442 - t450;
-    let t452: f32 = t199 * t451;
-    let t453: f32 = t128 * t451;
-    let t454: f32 = joint2_mz * t12;
-    let t455: f32 = t200 * t454;
-    let t456: f32 = joint2_mx * t1;
-    let t457: f32 = t12 * t456;
-    let t458: f32 = t203 * t457;
-    let t459: f32 = joint2_my * t44;
-    let t460: f32 = t207 * t459;
-    let t461: f32 = t458 * 0.5;
-    let t462: f32 = t460 + t461;
-    let t463: f32 = t0 * t462;
-    let t464: f32 = t463 - t455;
-    let t465: f32 = t147 * t464;
-    let t466: f32 = t453 + t465;
-    let t467: f32 = t408 * t466;
-    let t468: f32 = t452 - t467;
-    let t469: f32 = t85 * t464;
-    let t470: f32 = joint2_my * t12;
-    let t471: f32 = t207 * t470;
-    let t472: f32 = joint2_mx * t23;
-    let t473: f32 = t203 * t472;
-    let t474: f32 = joint2_mz * t7;
-    let t475: f32 = t12 * t474;
-    let t476: f32 = t200 * t475;
-    let t477: f32 = t476 * 0.5;
-    let t478: f32 = t473 + t477;
-    let t479: f32 = t0 * t478;
-    let t480: f32 = t479 - t471;
-    let t481: f32 = t128 * t480;
-    let t482: f32 = t469 - t481;
-    let t483: f32 = t245 * t482;
-    let t484: f32 = q2 + t115;
-    let t485: f32 = t116 + t484;
-    let t486: f32 = t385 * t485;
-    let t487: f32 = t77 + t78;
-    let t488: f32 = half_spacing - t487;
-    let t489: f32 = t383 * t488;
-    let t490: f32 = t424 + t486;
-    let t491: f32 = t490 - t489;
-    let t492: f32 = joint2_mass * t491;
-    let t493: f32 = t328 * t480;
-    let t494: f32 = t492 - t493;
-    let t495: f32 = t483 + t494;
-    let t496: f32 = t468 - t495;
-    let t497: f32 = joint3_mx * t12;
-    let t498: f32 = t203 * t497;
-    let t499: f32 = joint3_my * t6;
-    let t500: f32 = t12 * t499;
-    let t501: f32 = t207 * t500;
-    let t502: f32 = joint3_mz * t67;
-    let t503: f32 = t200 * t502;
-    let t504: f32 = t501 * 0.5;
-    let t505: f32 = t503 + t504;
-    let t506: f32 = t0 * t505;
-    let t507: f32 = t498 - t506;
-    let t508: f32 = t199 * t507;
-    let t509: f32 = t128 * t507;
-    let t510: f32 = joint3_mz * t12;
-    let t511: f32 = t200 * t510;
-    let t512: f32 = joint3_mx * t1;
-    let t513: f32 = t12 * t512;
-    let t514: f32 = t203 * t513;
-    let t515: f32 = joint3_my * t44;
-    let t516: f32 = t207 * t515;
-    let t517: f32 = t514 * 0.5;
-    let t518: f32 = t516 + t517;
-    let t519: f32 = t0 * t518;
-    let t520: f32 = t519 - t511;
-    let t521: f32 = t147 * t520;
-    let t522: f32 = t509 + t521;
-    let t523: f32 = t408 * t522;
-    let t524: f32 = t508 - t523;
-    let t525: f32 = t85 * t520;
-    let t526: f32 = joint3_my * t12;
-    let t527: f32 = t207 * t526;
-    let t528: f32 = joint3_mx * t23;
-    let t529: f32 = t203 * t528;
-    let t530: f32 = joint3_mz * t7;
-    let t531: f32 = t12 * t530;
-    let t532: f32 = t200 * t531;
-    let t533: f32 = t532 * 0.5;
-    let t534: f32 = t529 + t533;
-    let t535: f32 = t0 * t534;
-    let t536: f32 = t535 - t527;
-    let t537: f32 = t128 * t536;
-    let t538: f32 = t525 - t537;
-    let t539: f32 = t245 * t538;
-    let t540: f32 = half_spacing + t115;
-    let t541: f32 = t116 + t540;
-    let t542: f32 = t385 * t541;
-    let t543: f32 = q3 + t96;
-    let t544: f32 = t97 + t543;
-    let t545: f32 = t377 * t544;
-    let t546: f32 = t383 * t487;
-    let t547: f32 = t337 + t546;
-    let t548: f32 = t542 + t547;
-    let t549: f32 = t548 - t545;
-    let t550: f32 = joint3_mass * t549;
-    let t551: f32 = t328 * t536;
-    let t552: f32 = t550 - t551;
-    let t553: f32 = t539 + t552;
-    let t554: f32 = t524 - t553;
-    let t555: f32 = t496 + t554;
-    let t556: f32 = joint4_mx * t12;
-    let t557: f32 = t203 * t556;
-    let t558: f32 = joint4_my * t6;
-    let t559: f32 = t12 * t558;
-    let t560: f32 = t207 * t559;
-    let t561: f32 = joint4_mz * t67;
-    let t562: f32 = t200 * t561;
-    let t563: f32 = t560 * 0.5;
-    let t564: f32 = t562 + t563;
-    let t565: f32 = t0 * t564;
-    let t566: f32 = t557 - t565;
-    let t567: f32 = t199 * t566;
-    let t568: f32 = t128 * t566;
-    let t569: f32 = joint4_mz * t12;
-    let t570: f32 = t200 * t569;
-    let t571: f32 = joint4_mx * t1;
-    let t572: f32 = t12 * t571;
-    let t573: f32 = t203 * t572;
-    let t574: f32 = joint4_my * t44;
-    let t575: f32 = t207 * t574;
-    let t576: f32 = t573 * 0.5;
-    let t577: f32 = t575 + t576;
-    let t578: f32 = t0 * t577;
-    let t579: f32 = t578 - t570;
-    let t580: f32 = t147 * t579;
-    let t581: f32 = t568 + t580;
-    let t582: f32 = t408 * t581;
-    let t583: f32 = t567 - t582;
-    let t584: f32 = t85 * t579;
-    let t585: f32 = joint4_my * t12;
-    let t586: f32 = t207 * t585;
-    let t587: f32 = joint4_mx * t23;
-    let t588: f32 = t203 * t587;
-    let t589: f32 = joint4_mz * t7;
-    let t590: f32 = t12 * t589;
-    let t591: f32 = t200 * t590;
-    let t592: f32 = t591 * 0.5;
-    let t593: f32 = t588 + t592;
-    let t594: f32 = t0 * t593;
-    let t595: f32 = t594 - t586;
-    let t596: f32 = t128 * t595;
-    let t597: f32 = t584 - t596;
-    let t598: f32 = t245 * t597;
-    let t599: f32 = half_spacing - t368;
-    let t600: f32 = t385 * t599;
-    let t601: f32 = q4 + t96;
-    let t602: f32 = t97 + t601;
-    let t603: f32 = t377 * t602;
-    let t604: f32 = t600 + t603;
-    let t605: f32 = t547 - t604;
-    let t606: f32 = joint4_mass * t605;
-    let t607: f32 = t328 * t595;
-    let t608: f32 = t606 - t607;
-    let t609: f32 = t598 + t608;
-    let t610: f32 = t583 - t609;
-    let t611: f32 = joint5_mz * t12;
-    let t612: f32 = t200 * t611;
-    let t613: f32 = joint5_mx * t1;
-    let t614: f32 = t12 * t613;
-    let t615: f32 = t203 * t614;
-    let t616: f32 = joint5_my * t44;
-    let t617: f32 = t207 * t616;
-    let t618: f32 = t615 * 0.5;
-    let t619: f32 = t617 + t618;
-    let t620: f32 = t0 * t619;
-    let t621: f32 = t620 - t612;
-    let t622: f32 = t85 * t621;
-    let t623: f32 = joint5_my * t12;
-    let t624: f32 = t207 * t623;
-    let t625: f32 = joint5_mx * t23;
-    let t626: f32 = t203 * t625;
-    let t627: f32 = joint5_mz * t7;
-    let t628: f32 = t12 * t627;
-    let t629: f32 = t200 * t628;
-    let t630: f32 = t629 * 0.5;
-    let t631: f32 = t626 + t630;
-    let t632: f32 = t0 * t631;
-    let t633: f32 = t632 - t624;
-    let t634: f32 = t128 * t633;
-    let t635: f32 = t622 - t634;
-    let t636: f32 = t245 * t635;
-    let t637: f32 = half_spacing + t96;
-    let t638: f32 = t97 + t637;
-    let t639: f32 = t328 * t638;
-    let t640: f32 = t372 - t639;
-    let t641: f32 = rod5_mass * t640;
-    let t642: f32 = t636 + t641;
-    let t643: f32 = t377 * t638;
-    let t644: f32 = q5 + t77;
-    let t645: f32 = t78 + t644;
-    let t646: f32 = t383 * t645;
-    let t647: f32 = t387 + t646;
-    let t648: f32 = t647 - t643;
-    let t649: f32 = joint5_mass * t648;
-    let t650: f32 = t328 * t633;
-    let t651: f32 = t649 - t650;
-    let t652: f32 = joint5_mx * t12;
-    let t653: f32 = t203 * t652;
-    let t654: f32 = joint5_my * t6;
-    let t655: f32 = t12 * t654;
-    let t656: f32 = t207 * t655;
-    let t657: f32 = joint5_mz * t67;
-    let t658: f32 = t200 * t657;
-    let t659: f32 = t656 * 0.5;
-    let t660: f32 = t658 + t659;
-    let t661: f32 = t0 * t660;
-    let t662: f32 = t653 - t661;
-    let t663: f32 = t199 * t662;
-    let t664: f32 = t128 * t662;
-    let t665: f32 = t147 * t621;
-    let t666: f32 = t664 + t665;
-    let t667: f32 = t408 * t666;
-    let t668: f32 = t663 - t667;
-    let t669: f32 = t651 - t668;
-    let t670: f32 = t642 + t669;
-    let t671: f32 = t610 - t670;
-    let t672: f32 = t555 + t671;
-    let t673: f32 = t440 + t672;
-    let t674: f32 = t430 + t673;
-    let t675: f32 = -t674;
-    let t676: f32 = t105 * t675;
-    let t677: f32 = t194 * t213;
-    let t678: f32 = t242 * t337;
-    let t679: f32 = t267 * t279;
-    let t680: f32 = t304 * t426;
-    let t681: f32 = t256 * t485;
-    let t682: f32 = t259 * t488;
-    let t683: f32 = t681 + t682;
-    let t684: f32 = t193 + t264;
-    let t685: f32 = t683 + t684;
-    let t686: f32 = t464 * t685;
-    let t687: f32 = t451 * t491;
-    let t688: f32 = t250 * t466;
-    let t689: f32 = t199 * t488;
-    let t690: f32 = t315 + t689;
-    let t691: f32 = t193 + t690;
-    let t692: f32 = rod2_mass * t691;
-    let t693: f32 = t688 - t692;
-    let t694: f32 = joint2_mass * t685;
-    let t695: f32 = t199 * t464;
-    let t696: f32 = t694 - t695;
-    let t697: f32 = t218 * t480;
-    let t698: f32 = t147 * t480;
-    let t699: f32 = t85 * t451;
-    let t700: f32 = t698 + t699;
-    let t701: f32 = t245 * t700;
-    let t702: f32 = t697 - t701;
-    let t703: f32 = t696 + t702;
-    let t704: f32 = t693 - t703;
-    let t705: f32 = -t704;
-    let t706: f32 = t488 * t705;
-    let t707: f32 = -t496;
-    let t708: f32 = t485 * t707;
-    let t709: f32 = t256 * t541;
-    let t710: f32 = t262 * t544;
-    let t711: f32 = t259 * t487;
-    let t712: f32 = t146 - t711;
-    let t713: f32 = t709 + t710;
-    let t714: f32 = t193 + t712;
-    let t715: f32 = t713 + t714;
-    let t716: f32 = t520 * t715;
-    let t717: f32 = t507 * t549;
-    let t718: f32 = -t554;
-    let t719: f32 = t541 * t718;
-    let t720: f32 = t256 * t599;
-    let t721: f32 = t262 * t602;
-    let t722: f32 = t712 + t721;
-    let t723: f32 = t193 + t722;
-    let t724: f32 = t723 - t720;
-    let t725: f32 = t579 * t724;
-    let t726: f32 = t566 * t605;
-    let t727: f32 = -t610;
-    let t728: f32 = t599 * t727;
-    let t729: f32 = t262 * t638;
-    let t730: f32 = t259 * t645;
-    let t731: f32 = t256 * t369;
-    let t732: f32 = t146 - t731;
-    let t733: f32 = t729 + t732;
-    let t734: f32 = t193 + t733;
-    let t735: f32 = t734 - t730;
-    let t736: f32 = t621 * t735;
-    let t737: f32 = t648 * t662;
-    let t738: f32 = t218 * t633;
-    let t739: f32 = t147 * t633;
-    let t740: f32 = t85 * t662;
-    let t741: f32 = t739 + t740;
-    let t742: f32 = t245 * t741;
-    let t743: f32 = t738 - t742;
-    let t744: f32 = t250 * t666;
-    let t745: f32 = joint5_mass * t735;
-    let t746: f32 = t199 * t621;
-    let t747: f32 = t745 - t746;
-    let t748: f32 = t744 - t747;
-    let t749: f32 = t743 - t748;
-    let t750: f32 = t645 * t749;
-    let t751: f32 = t262 * t366;
-    let t752: f32 = t259 * t380;
-    let t753: f32 = t193 + t732;
-    let t754: f32 = t751 + t752;
-    let t755: f32 = t753 - t754;
-    let t756: f32 = t350 * t755;
-    let t757: f32 = t389 * t403;
-    let t758: f32 = t218 * t362;
-    let t759: f32 = t147 * t362;
-    let t760: f32 = t85 * t403;
-    let t761: f32 = t759 + t760;
-    let t762: f32 = t245 * t761;
-    let t763: f32 = t758 - t762;
-    let t764: f32 = t250 * t407;
-    let t765: f32 = joint6_mass * t755;
-    let t766: f32 = t199 * t350;
-    let t767: f32 = t765 - t766;
-    let t768: f32 = t764 - t767;
-    let t769: f32 = t763 - t768;
-    let t770: f32 = t380 * t769;
-    let t771: f32 = qdd5 - qdd6;
-    let t772: f32 = t771 * 0.5;
-    let t773: f32 = t12 * t772;
-    let t774: f32 = qdd1 - qdd2;
-    let t775: f32 = t774 * 0.5;
-    let t776: f32 = t23 * t775;
-    let t777: f32 = qdd3 - qdd4;
-    let t778: f32 = t777 * 0.5;
-    let t779: f32 = t1 * t12;
-    let t780: f32 = t778 * t779;
-    let t781: f32 = t780 * 0.5;
-    let t782: f32 = t776 + t781;
-    let t783: f32 = t0 * t782;
-    let t784: f32 = t773 - t783;
-    let t785: f32 = platform_ixz + joint1_ixz;
-    let t786: f32 = joint6_ixz + t785;
-    let t787: f32 = joint2_ixz + joint3_ixz;
-    let t788: f32 = joint4_ixz + joint5_ixz;
-    let t789: f32 = t787 + t788;
-    let t790: f32 = t786 + t789;
-    let t791: f32 = t790 * 0.5;
-    let t792: f32 = t784 * t791;
-    let t793: f32 = t12 * t147;
-    let t794: f32 = t23 * t85;
-    let t795: f32 = t128 * t779;
-    let t796: f32 = t795 * 0.5;
-    let t797: f32 = t794 + t796;
-    let t798: f32 = t0 * t797;
-    let t799: f32 = t793 - t798;
-    let t800: f32 = platform_ixy + joint1_ixy;
-    let t801: f32 = joint6_ixy + t800;
-    let t802: f32 = joint2_ixy + joint3_ixy;
-    let t803: f32 = joint4_ixy + joint5_ixy;
-    let t804: f32 = t802 + t803;
-    let t805: f32 = t801 + t804;
-    let t806: f32 = t805 * 0.5;
-    let t807: f32 = t0 * t203;
-    let t808: f32 = t799 * t807;
-    let t809: f32 = t806 * t808;
-    let t810: f32 = t12 * t85;
-    let t811: f32 = t6 * t12;
-    let t812: f32 = t147 * t811;
-    let t813: f32 = t44 * t128;
-    let t814: f32 = t812 * 0.5;
-    let t815: f32 = t813 + t814;
-    let t816: f32 = t0 * t815;
-    let t817: f32 = t810 - t816;
-    let t818: f32 = t0 * t207;
-    let t819: f32 = t817 * t818;
-    let t820: f32 = -t819;
-    let t821: f32 = platform_iyy + joint1_iyy;
-    let t822: f32 = joint6_iyy + t821;
-    let t823: f32 = joint2_iyy + joint3_iyy;
-    let t824: f32 = joint4_iyy + joint5_iyy;
-    let t825: f32 = t823 + t824;
-    let t826: f32 = t822 + t825;
-    let t827: f32 = t826 * 0.5;
-    let t828: f32 = t820 * t827;
-    let t829: f32 = t12 * t128;
-    let t830: f32 = t67 * t147;
-    let t831: f32 = t7 * t12;
-    let t832: f32 = t85 * t831;
-    let t833: f32 = t832 * 0.5;
-    let t834: f32 = t830 + t833;
-    let t835: f32 = t0 * t834;
-    let t836: f32 = t829 - t835;
-    let t837: f32 = t0 * t200;
-    let t838: f32 = t836 * t837;
-    let t839: f32 = -t838;
-    let t840: f32 = platform_iyz + joint1_iyz;
-    let t841: f32 = joint6_iyz + t840;
-    let t842: f32 = joint2_iyz + joint3_iyz;
-    let t843: f32 = joint4_iyz + joint5_iyz;
-    let t844: f32 = t842 + t843;
-    let t845: f32 = t841 + t844;
-    let t846: f32 = t845 * 0.5;
-    let t847: f32 = t839 * t846;
-    let t848: f32 = t828 + t847;
-    let t849: f32 = t809 - t848;
-    let t850: f32 = t799 * t849;
-    let t851: f32 = t792 - t850;
-    let t852: f32 = t807 * t851;
-    let t853: f32 = t12 * t775;
-    let t854: f32 = t772 * t811;
-    let t855: f32 = t44 * t778;
-    let t856: f32 = t854 * 0.5;
-    let t857: f32 = t855 + t856;
-    let t858: f32 = t0 * t857;
-    let t859: f32 = t853 - t858;
-    let t860: f32 = t818 * t859;
-    let t861: f32 = -t860;
-    let t862: f32 = t846 * t861;
-    let t863: f32 = t12 * t778;
-    let t864: f32 = t67 * t772;
-    let t865: f32 = t775 * t831;
-    let t866: f32 = t865 * 0.5;
-    let t867: f32 = t864 + t866;
-    let t868: f32 = t0 * t867;
-    let t869: f32 = t863 - t868;
-    let t870: f32 = t837 * t869;
-    let t871: f32 = -t870;
-    let t872: f32 = platform_izz + joint1_izz;
-    let t873: f32 = joint6_izz + t872;
-    let t874: f32 = joint2_izz + joint3_izz;
-    let t875: f32 = joint4_izz + joint5_izz;
-    let t876: f32 = t874 + t875;
-    let t877: f32 = t873 + t876;
-    let t878: f32 = t877 * 0.5;
-    let t879: f32 = t871 * t878;
-    let t880: f32 = platform_ixx + joint1_ixx;
-    let t881: f32 = joint6_ixx + t880;
-    let t882: f32 = joint2_ixx + joint3_ixx;
-    let t883: f32 = joint4_ixx + joint5_ixx;
-    let t884: f32 = t882 + t883;
-    let t885: f32 = t881 + t884;
-    let t886: f32 = t885 * 0.5;
-    let t887: f32 = t808 * t886;
-    let t888: f32 = t806 * t820;
-    let t889: f32 = t791 * t839;
-    let t890: f32 = t888 + t889;
-    let t891: f32 = t887 - t890;
-    let t892: f32 = t820 * t891;
-    let t893: f32 = t862 + t879;
-    let t894: f32 = t892 + t893;
-    let t895: f32 = t852 - t894;
-    let t896: f32 = t200 * t831;
-    let t897: f32 = t895 * t896;
-    let t898: f32 = t784 * t807;
-    let t899: f32 = t885 * t898;
-    let t900: f32 = t805 * t861;
-    let t901: f32 = t790 * t871;
-    let t902: f32 = t790 * t808;
-    let t903: f32 = t820 * t845;
-    let t904: f32 = t839 * t877;
-    let t905: f32 = t903 + t904;
-    let t906: f32 = t902 - t905;
-    let t907: f32 = t820 * t906;
-    let t908: f32 = t805 * t808;
-    let t909: f32 = t820 * t826;
-    let t910: f32 = t839 * t845;
-    let t911: f32 = t909 + t910;
-    let t912: f32 = t908 - t911;
-    let t913: f32 = t839 * t912;
-    let t914: f32 = t899 + t907;
-    let t915: f32 = t900 + t901;
-    let t916: f32 = t913 + t915;
-    let t917: f32 = t914 - t916;
-    let t918: f32 = t23 * t203;
-    let t919: f32 = t917 * t918;
-    let t920: f32 = t897 + t919;
-    let t921: f32 = t0 * t920;
-    let t922: f32 = t784 * t805;
-    let t923: f32 = t799 * t906;
-    let t924: f32 = t922 + t923;
-    let t925: f32 = t807 * t924;
-    let t926: f32 = t826 * t861;
-    let t927: f32 = t845 * t871;
-    let t928: f32 = t808 * t885;
-    let t929: f32 = t805 * t820;
-    let t930: f32 = t790 * t839;
-    let t931: f32 = t929 + t930;
-    let t932: f32 = t928 - t931;
-    let t933: f32 = t839 * t932;
-    let t934: f32 = t925 + t933;
-    let t935: f32 = t926 + t927;
-    let t936: f32 = t934 - t935;
-    let t937: f32 = t12 * t207;
-    let t938: f32 = t936 * t937;
-    let t939: f32 = t0 * t177;
-    let t940: f32 = t939 * 0.5;
-    let t941: f32 = t940 - 0.5;
-    let t942: f32 = qd5 * t941;
-    let t943: f32 = t940 + 0.5;
-    let t944: f32 = qd6 * t943;
-    let t945: f32 = t3 * t12;
-    let t946: f32 = t30 * t945;
-    let t947: f32 = t6 * t35;
-    let t948: f32 = t12 * t947;
-    let t949: f32 = t51 * t948;
-    let t950: f32 = t57 * t67;
-    let t951: f32 = t74 * t950;
-    let t952: f32 = t949 * 0.5;
-    let t953: f32 = t951 + t952;
-    let t954: f32 = t0 * t953;
-    let t955: f32 = t946 - t954;
-    let t956: f32 = t0 * t12;
-    let t957: f32 = t955 * t956;
-    let t958: f32 = t957 * 0.5;
-    let t959: f32 = t84 * t958;
-    let t960: f32 = t942 + t959;
-    let t961: f32 = t960 - t944;
-    let t962: f32 = t85 * t961;
-    let t963: f32 = t12 * t955;
-    let t964: f32 = q1 - t963;
-    let t965: f32 = t0 * t964;
-    let t966: f32 = t130 - t965;
-    let t967: f32 = t966 * 0.5;
-    let t968: f32 = t967 + 1.0;
-    let t969: f32 = qd3 * t968;
-    let t970: f32 = qd4 * t967;
-    let t971: f32 = t0 * t163;
-    let t972: f32 = t971 * 0.5;
-    let t973: f32 = t972 - 0.5;
-    let t974: f32 = t137 * t973;
-    let t975: f32 = t969 + t974;
-    let t976: f32 = t975 - t970;
-    let t977: f32 = t128 * t976;
-    let t978: f32 = t962 + t977;
-    let t979: f32 = t0 * t978;
-    let t980: f32 = qdd2 - t979;
-    let t981: f32 = t163 * t980;
-    let t982: f32 = t252 + t254;
-    let t983: f32 = q2 - t963;
-    let t984: f32 = t0 * t982;
-    let t985: f32 = t983 * t984;
-    let t986: f32 = t141 * t147;
-    let t987: f32 = t775 + t986;
-    let t988: f32 = half_spacing + t162;
-    let t989: f32 = t987 * t988;
-    let t990: f32 = t125 * t177;
-    let t991: f32 = t147 * t990;
-    let t992: f32 = t981 * 0.5;
-    let t993: f32 = t991 + t992;
-    let t994: f32 = t985 + t989;
-    let t995: f32 = t993 - t994;
-    let t996: f32 = t0 * t995;
-    let t997: f32 = t972 - 1.0;
-    let t998: f32 = qdd1 - t979;
-    let t999: f32 = t997 * t998;
-    let t1000: f32 = gravity_x + t999;
-    let t1001: f32 = t1000 - t996;
-    let t1002: f32 = joint2_mass * t1001;
-    let t1003: f32 = t775 * t988;
-    let t1004: f32 = t978 + t992;
-    let t1005: f32 = t1004 - t1003;
-    let t1006: f32 = t0 * t1005;
-    let t1007: f32 = t1000 - t1006;
-    let t1008: f32 = rod2_mass * t1007;
-    let t1009: f32 = joint5_my + joint6_my;
-    let t1010: f32 = joint3_my + joint4_my;
-    let t1011: f32 = platform_my + t1010;
-    let t1012: f32 = t1009 + t1011;
-    let t1013: f32 = joint2_my + t1012;
-    let t1014: f32 = t1013 * 0.5;
-    let t1015: f32 = t207 * t811;
-    let t1016: f32 = t1014 * t1015;
-    let t1017: f32 = joint5_mz + joint6_mz;
-    let t1018: f32 = joint3_mz + joint4_mz;
-    let t1019: f32 = platform_mz + t1018;
-    let t1020: f32 = t1017 + t1019;
-    let t1021: f32 = joint2_mz + t1020;
-    let t1022: f32 = t67 * t200;
-    let t1023: f32 = t1021 * t1022;
-    let t1024: f32 = t1016 + t1023;
-    let t1025: f32 = t0 * t1024;
-    let t1026: f32 = joint5_mx + joint6_mx;
-    let t1027: f32 = joint3_mx + joint4_mx;
-    let t1028: f32 = platform_mx + t1027;
-    let t1029: f32 = t1026 + t1028;
-    let t1030: f32 = joint2_mx + t1029;
-    let t1031: f32 = t12 * t203;
-    let t1032: f32 = t1030 * t1031;
-    let t1033: f32 = t1025 - t1032;
-    let t1034: f32 = t85 * t1033;
-    let t1035: f32 = t1021 * 0.5;
-    let t1036: f32 = t896 * t1035;
-    let t1037: f32 = t918 * t1030;
-    let t1038: f32 = t1036 + t1037;
-    let t1039: f32 = t0 * t1038;
-    let t1040: f32 = t937 * t1013;
-    let t1041: f32 = t1039 - t1040;
-    let t1042: f32 = t147 * t1041;
-    let t1043: f32 = t1034 - t1042;
-    let t1044: f32 = t85 * t1043;
-    let t1045: f32 = t128 * t1033;
-    let t1046: f32 = t1030 * 0.5;
-    let t1047: f32 = t203 * t779;
-    let t1048: f32 = t1046 * t1047;
-    let t1049: f32 = t44 * t207;
-    let t1050: f32 = t1013 * t1049;
-    let t1051: f32 = t1048 + t1050;
-    let t1052: f32 = t0 * t1051;
-    let t1053: f32 = t12 * t200;
-    let t1054: f32 = t1021 * t1053;
-    let t1055: f32 = t1052 - t1054;
-    let t1056: f32 = t147 * t1055;
-    let t1057: f32 = t1045 - t1056;
-    let t1058: f32 = t128 * t1057;
-    let t1059: f32 = t1044 + t1058;
-    let t1060: f32 = t0 * t1059;
-    let t1061: f32 = t775 * t1055;
-    let t1062: f32 = t778 * t1041;
-    let t1063: f32 = t1060 + t1062;
-    let t1064: f32 = t1063 - t1061;
-    let t1065: f32 = t0 * t1064;
-    let t1066: f32 = t177 * t778;
-    let t1067: f32 = t992 + t1066;
-    let t1068: f32 = t0 * t1067;
-    let t1069: f32 = t1000 - t1068;
-    let t1070: f32 = platform_mass * t1069;
-    let t1071: f32 = t125 * t147;
-    let t1072: f32 = t778 - t1071;
-    let t1073: f32 = half_spacing - t176;
-    let t1074: f32 = t1072 * t1073;
-    let t1075: f32 = q5 - t162;
-    let t1076: f32 = t987 * t1075;
-    let t1077: f32 = t957 * t982;
-    let t1078: f32 = t1066 + t1077;
-    let t1079: f32 = t992 + t1076;
-    let t1080: f32 = t1078 + t1079;
-    let t1081: f32 = t1080 - t1074;
-    let t1082: f32 = t0 * t1081;
-    let t1083: f32 = t1000 - t1082;
-    let t1084: f32 = joint5_mass * t1083;
-    let t1085: f32 = t1070 + t1084;
-    let t1086: f32 = half_spacing + t176;
-    let t1087: f32 = t1072 * t1086;
-    let t1088: f32 = q6 - t162;
-    let t1089: f32 = t987 * t1088;
-    let t1090: f32 = t992 + t1087;
-    let t1091: f32 = t1078 + t1089;
-    let t1092: f32 = t1090 + t1091;
-    let t1093: f32 = t0 * t1092;
-    let t1094: f32 = t1000 - t1093;
-    let t1095: f32 = joint6_mass * t1094;
-    let t1096: f32 = half_spacing - t963;
-    let t1097: f32 = t984 * t1096;
-    let t1098: f32 = q3 - t176;
-    let t1099: f32 = t1072 * t1098;
-    let t1100: f32 = -t162;
-    let t1101: f32 = t987 * t1100;
-    let t1102: f32 = t1066 + t1101;
-    let t1103: f32 = t992 + t1102;
-    let t1104: f32 = t1097 + t1099;
-    let t1105: f32 = t1103 - t1104;
-    let t1106: f32 = t0 * t1105;
-    let t1107: f32 = t1000 - t1106;
-    let t1108: f32 = joint3_mass * t1107;
-    let t1109: f32 = half_spacing + t963;
-    let t1110: f32 = t984 * t1109;
-    let t1111: f32 = q4 - t176;
-    let t1112: f32 = t1072 * t1111;
-    let t1113: f32 = t992 + t1110;
-    let t1114: f32 = t1102 + t1113;
-    let t1115: f32 = t1114 - t1112;
-    let t1116: f32 = t0 * t1115;
-    let t1117: f32 = t1000 - t1116;
-    let t1118: f32 = joint4_mass * t1117;
-    let t1119: f32 = t1108 + t1118;
-    let t1120: f32 = t1095 + t1119;
-    let t1121: f32 = t1085 + t1120;
-    let t1122: f32 = t1002 + t1008;
-    let t1123: f32 = t1065 + t1121;
-    let t1124: f32 = t1122 + t1123;
-    let t1125: f32 = t80 * t1124;
-    let t1126: f32 = t125 * t128;
-    let t1127: f32 = t772 + t1126;
-    let t1128: f32 = t177 * t1127;
-    let t1129: f32 = t775 - t986;
-    let t1130: f32 = t983 * t1129;
-    let t1131: f32 = t254 + t381;
-    let t1132: f32 = t0 * t988;
-    let t1133: f32 = t1131 * t1132;
-    let t1134: f32 = t1128 + t1133;
-    let t1135: f32 = t1134 - t1130;
-    let t1136: f32 = t0 * t1135;
-    let t1137: f32 = t147 * t976;
-    let t1138: f32 = qd1 * t997;
-    let t1139: f32 = t1138 - t181;
-    let t1140: f32 = t85 * t1139;
-    let t1141: f32 = t1137 + t1140;
-    let t1142: f32 = t0 * t1141;
-    let t1143: f32 = qdd5 + t1142;
-    let t1144: f32 = t941 * t1143;
-    let t1145: f32 = gravity_z + t1144;
-    let t1146: f32 = t774 * t958;
-    let t1147: f32 = qdd6 + t1142;
-    let t1148: f32 = t943 * t1147;
-    let t1149: f32 = t1146 - t1148;
-    let t1150: f32 = t1145 + t1149;
-    let t1151: f32 = t1150 - t1136;
-    let t1152: f32 = joint2_mass * t1151;
-    let t1153: f32 = t85 * t1055;
-    let t1154: f32 = t128 * t1041;
-    let t1155: f32 = t1153 - t1154;
-    let t1156: f32 = t85 * t1155;
-    let t1157: f32 = t147 * t1057;
-    let t1158: f32 = t1156 - t1157;
-    let t1159: f32 = t0 * t1158;
-    let t1160: f32 = t772 * t1041;
-    let t1161: f32 = t775 * t1033;
-    let t1162: f32 = t1159 + t1161;
-    let t1163: f32 = t1162 - t1160;
-    let t1164: f32 = t0 * t1163;
-    let t1165: f32 = platform_mass * t1150;
-    let t1166: f32 = t1096 * t1129;
-    let t1167: f32 = t1098 * t1127;
-    let t1168: f32 = t0 * t1100;
-    let t1169: f32 = t1131 * t1168;
-    let t1170: f32 = t1166 + t1169;
-    let t1171: f32 = t1170 - t1167;
-    let t1172: f32 = t0 * t1171;
-    let t1173: f32 = t1150 + t1172;
-    let t1174: f32 = joint3_mass * t1173;
-    let t1175: f32 = t1165 + t1174;
-    let t1176: f32 = t1109 * t1129;
-    let t1177: f32 = t1111 * t1127;
-    let t1178: f32 = t1176 + t1177;
-    let t1179: f32 = t1169 - t1178;
-    let t1180: f32 = t0 * t1179;
-    let t1181: f32 = t1150 + t1180;
-    let t1182: f32 = joint4_mass * t1181;
-    let t1183: f32 = t963 * t1129;
-    let t1184: f32 = t1073 * t1127;
-    let t1185: f32 = t0 * t1075;
-    let t1186: f32 = t1131 * t1185;
-    let t1187: f32 = t1183 + t1184;
-    let t1188: f32 = t1187 - t1186;
-    let t1189: f32 = t0 * t1188;
-    let t1190: f32 = t1150 - t1189;
-    let t1191: f32 = joint5_mass * t1190;
-    let t1192: f32 = t772 * t1073;
-    let t1193: f32 = t775 * t963;
-    let t1194: f32 = t1141 - t1193;
-    let t1195: f32 = t1194 - t1192;
-    let t1196: f32 = t0 * t1195;
-    let t1197: f32 = t1150 + t1196;
-    let t1198: f32 = rod5_mass * t1197;
-    let t1199: f32 = t1191 + t1198;
-    let t1200: f32 = t1086 * t1127;
-    let t1201: f32 = t0 * t1088;
-    let t1202: f32 = t1131 * t1201;
-    let t1203: f32 = t1200 + t1202;
-    let t1204: f32 = t1183 - t1203;
-    let t1205: f32 = t0 * t1204;
-    let t1206: f32 = t1150 - t1205;
-    let t1207: f32 = joint6_mass * t1206;
-    let t1208: f32 = t772 * t1086;
-    let t1209: f32 = t1194 + t1208;
-    let t1210: f32 = t0 * t1209;
-    let t1211: f32 = t1150 + t1210;
-    let t1212: f32 = rod6_mass * t1211;
-    let t1213: f32 = t1207 + t1212;
-    let t1214: f32 = t1199 + t1213;
-    let t1215: f32 = t1182 + t1214;
-    let t1216: f32 = t1175 + t1215;
-    let t1217: f32 = t1152 + t1164;
-    let t1218: f32 = t1216 + t1217;
-    let t1219: f32 = t118 * t1218;
-    let t1220: f32 = t1010 * 0.5;
-    let t1221: f32 = t1015 * t1220;
-    let t1222: f32 = t1018 * t1022;
-    let t1223: f32 = t1221 + t1222;
-    let t1224: f32 = t0 * t1223;
-    let t1225: f32 = t1027 * t1031;
-    let t1226: f32 = t1224 - t1225;
-    let t1227: f32 = t85 * t1226;
-    let t1228: f32 = t1018 * 0.5;
-    let t1229: f32 = t896 * t1228;
-    let t1230: f32 = t918 * t1027;
-    let t1231: f32 = t1229 + t1230;
-    let t1232: f32 = t0 * t1231;
-    let t1233: f32 = t937 * t1010;
-    let t1234: f32 = t1232 - t1233;
-    let t1235: f32 = t147 * t1234;
-    let t1236: f32 = t1227 - t1235;
-    let t1237: f32 = t85 * t1236;
-    let t1238: f32 = t128 * t1226;
-    let t1239: f32 = t1027 * 0.5;
-    let t1240: f32 = t1047 * t1239;
-    let t1241: f32 = t1010 * t1049;
-    let t1242: f32 = t1240 + t1241;
-    let t1243: f32 = t0 * t1242;
-    let t1244: f32 = t1018 * t1053;
-    let t1245: f32 = t1243 - t1244;
-    let t1246: f32 = t147 * t1245;
-    let t1247: f32 = t1238 - t1246;
-    let t1248: f32 = t128 * t1247;
-    let t1249: f32 = t1237 + t1248;
-    let t1250: f32 = t0 * t1249;
-    let t1251: f32 = t775 * t1245;
-    let t1252: f32 = t778 * t1234;
-    let t1253: f32 = t1250 + t1252;
-    let t1254: f32 = t1253 - t1251;
-    let t1255: f32 = t0 * t1254;
-    let t1256: f32 = t1119 + t1255;
-    let t1257: f32 = t487 * t1256;
-    let t1258: f32 = t1026 * 0.5;
-    let t1259: f32 = t1047 * t1258;
-    let t1260: f32 = t1009 * t1049;
-    let t1261: f32 = t1259 + t1260;
-    let t1262: f32 = t0 * t1261;
-    let t1263: f32 = t1017 * t1053;
-    let t1264: f32 = t1262 - t1263;
-    let t1265: f32 = t85 * t1264;
-    let t1266: f32 = t1017 * 0.5;
-    let t1267: f32 = t896 * t1266;
-    let t1268: f32 = t918 * t1026;
-    let t1269: f32 = t1267 + t1268;
-    let t1270: f32 = t0 * t1269;
-    let t1271: f32 = t937 * t1009;
-    let t1272: f32 = t1270 - t1271;
-    let t1273: f32 = t128 * t1272;
-    let t1274: f32 = t1265 - t1273;
-    let t1275: f32 = t85 * t1274;
-    let t1276: f32 = t1009 * 0.5;
-    let t1277: f32 = t1015 * t1276;
-    let t1278: f32 = t1017 * t1022;
-    let t1279: f32 = t1277 + t1278;
-    let t1280: f32 = t0 * t1279;
-    let t1281: f32 = t1026 * t1031;
-    let t1282: f32 = t1280 - t1281;
-    let t1283: f32 = t128 * t1282;
-    let t1284: f32 = t147 * t1264;
-    let t1285: f32 = t1283 - t1284;
-    let t1286: f32 = t147 * t1285;
-    let t1287: f32 = t1275 - t1286;
-    let t1288: f32 = t0 * t1287;
-    let t1289: f32 = t772 * t1272;
-    let t1290: f32 = t775 * t1282;
-    let t1291: f32 = t1288 + t1290;
-    let t1292: f32 = t1291 - t1289;
-    let t1293: f32 = t0 * t1292;
-    let t1294: f32 = t1214 + t1293;
-    let t1295: f32 = t369 * t1294;
-    let t1296: f32 = t677 + t678;
-    let t1297: f32 = t679 + t680;
-    let t1298: f32 = t686 + t687;
-    let t1299: f32 = t716 + t717;
-    let t1300: f32 = t725 + t726;
-    let t1301: f32 = t728 + t736;
-    let t1302: f32 = t737 + t750;
-    let t1303: f32 = t756 + t757;
-    let t1304: f32 = t770 + t921;
-    let t1305: f32 = t1219 + t1257;
-    let t1306: f32 = t1296 + t1297;
-    let t1307: f32 = t1298 + t1299;
-    let t1308: f32 = t1300 + t1301;
-    let t1309: f32 = t1302 + t1303;
-    let t1310: f32 = t1304 + t1305;
-    let t1311: f32 = t1306 + t1307;
-    let t1312: f32 = t1308 + t1309;
-    let t1313: f32 = t1295 + t1310;
-    let t1314: f32 = t1311 + t1312;
-    let t1315: f32 = t1313 + t1314;
-    let t1316: f32 = t706 + t708;
-    let t1317: f32 = t719 + t938;
-    let t1318: f32 = t1316 + t1317;
-    let t1319: f32 = t1125 + t1318;
-    let t1320: f32 = t1315 - t1319;
-    let t1321: f32 = t0 * t1320;
-    let t1322: f32 = t676 - t1321;
-    let t1323: f32 = t218 * t536;
-    let t1324: f32 = t147 * t536;
-    let t1325: f32 = t85 * t507;
-    let t1326: f32 = t1324 + t1325;
-    let t1327: f32 = t245 * t1326;
-    let t1328: f32 = t1323 - t1327;
-    let t1329: f32 = t250 * t522;
-    let t1330: f32 = joint3_mass * t715;
-    let t1331: f32 = t199 * t520;
-    let t1332: f32 = t1330 - t1331;
-    let t1333: f32 = t1329 - t1332;
-    let t1334: f32 = t1328 - t1333;
-    let t1335: f32 = t218 * t595;
-    let t1336: f32 = t147 * t595;
-    let t1337: f32 = t85 * t566;
-    let t1338: f32 = t1336 + t1337;
-    let t1339: f32 = t245 * t1338;
-    let t1340: f32 = t1335 - t1339;
-    let t1341: f32 = t250 * t581;
-    let t1342: f32 = joint4_mass * t724;
-    let t1343: f32 = t199 * t579;
-    let t1344: f32 = t1342 - t1343;
-    let t1345: f32 = t1341 - t1344;
-    let t1346: f32 = t1340 - t1345;
-    let t1347: f32 = t1322 * 0.5;
-    let t1348: f32 = t214 + t246;
-    let t1349: f32 = t251 + t280;
-    let t1350: f32 = t307 + t311;
-    let t1351: f32 = t704 + t1347;
-    let t1352: f32 = t1348 + t1349;
-    let t1353: f32 = t1350 + t1351;
-    let t1354: f32 = t1352 + t1353;
-    let t1355: f32 = t195 + t230;
-    let t1356: f32 = t268 + t292;
-    let t1357: f32 = t318 + t1334;
-    let t1358: f32 = t749 + t1346;
-    let t1359: f32 = t1355 + t1356;
-    let t1360: f32 = t1357 + t1358;
-    let t1361: f32 = t1359 + t1360;
-    let t1362: f32 = t769 + t1361;
-    let t1363: f32 = t1354 - t1362;
-    let t1364: f32 = -t1347;
-    let t1365: f32 = t130 * 0.5;
-    let t1366: f32 = t1365 + 1.0;
-    let t1367: f32 = t328 * t350;
-    let t1368: f32 = t250 * t364;
-    let t1369: f32 = t1367 - t1368;
-    let t1370: f32 = t408 * t761;
-    let t1371: f32 = t253 + t382;
-    let t1372: f32 = t366 * t1371;
-    let t1373: f32 = t328 - t376;
-    let t1374: f32 = t380 * t1373;
-    let t1375: f32 = t218 + t261;
-    let t1376: f32 = t369 * t1375;
-    let t1377: f32 = t132 * t185;
-    let t1378: f32 = t136 * t323;
-    let t1379: f32 = t1377 - t1378;
-    let t1380: f32 = t136 * t325;
-    let t1381: f32 = t133 * t189;
-    let t1382: f32 = gravity_y - t1381;
-    let t1383: f32 = t1380 + t1382;
-    let t1384: f32 = t1379 + t1383;
-    let t1385: f32 = t1376 + t1384;
-    let t1386: f32 = t1374 + t1385;
-    let t1387: f32 = t1386 - t1372;
-    let t1388: f32 = joint6_mass * t1387;
-    let t1389: f32 = t218 * t403;
-    let t1390: f32 = t1388 + t1389;
-    let t1391: f32 = t1370 + t1390;
-    let t1392: f32 = t1369 + t1391;
-    let t1393: f32 = platform_mass * t1384;
-    let t1394: f32 = t218 * t242;
-    let t1395: f32 = t1393 + t1394;
-    let t1396: f32 = t1392 + t1395;
-    let t1397: f32 = t213 * t328;
-    let t1398: f32 = t250 * t419;
-    let t1399: f32 = t1397 - t1398;
-    let t1400: f32 = t244 * t408;
-    let t1401: f32 = t118 * t1375;
-    let t1402: f32 = t80 * t1373;
-    let t1403: f32 = t98 * t1371;
-    let t1404: f32 = t1384 + t1403;
-    let t1405: f32 = t1402 + t1404;
-    let t1406: f32 = t1405 - t1401;
-    let t1407: f32 = joint1_mass * t1406;
-    let t1408: f32 = t1400 + t1407;
-    let t1409: f32 = t1399 + t1408;
-    let t1410: f32 = t1396 + t1409;
-    let t1411: f32 = t218 * t304;
-    let t1412: f32 = t279 * t328;
-    let t1413: f32 = t1411 + t1412;
-    let t1414: f32 = t306 * t408;
-    let t1415: f32 = t250 * t437;
-    let t1416: f32 = t1414 - t1415;
-    let t1417: f32 = t1413 + t1416;
-    let t1418: f32 = t328 * t464;
-    let t1419: f32 = t250 * t482;
-    let t1420: f32 = t1418 - t1419;
-    let t1421: f32 = t408 * t700;
-    let t1422: f32 = t485 * t1375;
-    let t1423: f32 = t488 * t1373;
-    let t1424: f32 = t1422 + t1423;
-    let t1425: f32 = t1404 - t1424;
-    let t1426: f32 = joint2_mass * t1425;
-    let t1427: f32 = t218 * t451;
-    let t1428: f32 = t1426 + t1427;
-    let t1429: f32 = t1421 + t1428;
-    let t1430: f32 = t1420 + t1429;
-    let t1431: f32 = t408 * t1326;
-    let t1432: f32 = t218 * t541;
-    let t1433: f32 = t328 * t487;
-    let t1434: f32 = t1384 + t1433;
-    let t1435: f32 = t184 + t1434;
-    let t1436: f32 = t1435 - t1432;
-    let t1437: f32 = rod3_mass * t1436;
-    let t1438: f32 = t1431 + t1437;
-    let t1439: f32 = t541 * t1375;
-    let t1440: f32 = t544 * t1371;
-    let t1441: f32 = t487 * t1373;
-    let t1442: f32 = t1384 + t1441;
-    let t1443: f32 = t1440 + t1442;
-    let t1444: f32 = t1443 - t1439;
-    let t1445: f32 = joint3_mass * t1444;
-    let t1446: f32 = t218 * t507;
-    let t1447: f32 = t1445 + t1446;
-    let t1448: f32 = t328 * t520;
-    let t1449: f32 = t250 * t538;
-    let t1450: f32 = t1448 - t1449;
-    let t1451: f32 = t1447 + t1450;
-    let t1452: f32 = t1438 + t1451;
-    let t1453: f32 = t1430 + t1452;
-    let t1454: f32 = t408 * t1338;
-    let t1455: f32 = t218 * t599;
-    let t1456: f32 = t1435 + t1455;
-    let t1457: f32 = rod4_mass * t1456;
-    let t1458: f32 = t1454 + t1457;
-    let t1459: f32 = t599 * t1375;
-    let t1460: f32 = t602 * t1371;
-    let t1461: f32 = t1459 + t1460;
-    let t1462: f32 = t1442 + t1461;
-    let t1463: f32 = joint4_mass * t1462;
-    let t1464: f32 = t218 * t566;
-    let t1465: f32 = t1463 + t1464;
-    let t1466: f32 = t328 * t579;
-    let t1467: f32 = t250 * t597;
-    let t1468: f32 = t1466 - t1467;
-    let t1469: f32 = t1465 + t1468;
-    let t1470: f32 = t1458 + t1469;
-    let t1471: f32 = t328 * t621;
-    let t1472: f32 = t250 * t635;
-    let t1473: f32 = t1471 - t1472;
-    let t1474: f32 = t408 * t741;
-    let t1475: f32 = t638 * t1371;
-    let t1476: f32 = t645 * t1373;
-    let t1477: f32 = t1475 + t1476;
-    let t1478: f32 = t1385 + t1477;
-    let t1479: f32 = joint5_mass * t1478;
-    let t1480: f32 = t218 * t662;
-    let t1481: f32 = t1479 + t1480;
-    let t1482: f32 = t1474 + t1481;
-    let t1483: f32 = t1473 + t1482;
-    let t1484: f32 = t1470 + t1483;
-    let t1485: f32 = t1453 + t1484;
-    let t1486: f32 = t1417 + t1485;
-    let t1487: f32 = t1410 + t1486;
-    let t1488: f32 = t1366 * t1487;
-    let t1489: f32 = t242 * t1384;
-    let t1490: f32 = t194 * t229;
-    let t1491: f32 = t304 * t1406;
-    let t1492: f32 = t267 * t291;
-    let t1493: f32 = t451 * t1425;
-    let t1494: f32 = t480 * t685;
-    let t1495: f32 = t485 * t1430;
-    let t1496: f32 = t507 * t1444;
-    let t1497: f32 = t536 * t715;
-    let t1498: f32 = t544 * t1334;
-    let t1499: f32 = t541 * t1452;
-    let t1500: f32 = t566 * t1462;
-    let t1501: f32 = t595 * t724;
-    let t1502: f32 = t602 * t1346;
-    let t1503: f32 = t599 * t1470;
-    let t1504: f32 = t662 * t1478;
-    let t1505: f32 = t633 * t735;
-    let t1506: f32 = t638 * t749;
-    let t1507: f32 = t403 * t1387;
-    let t1508: f32 = t362 * t755;
-    let t1509: f32 = t366 * t769;
-    let t1510: f32 = t886 * t898;
-    let t1511: f32 = t806 * t861;
-    let t1512: f32 = t791 * t871;
-    let t1513: f32 = t791 * t808;
-    let t1514: f32 = t820 * t846;
-    let t1515: f32 = t839 * t878;
-    let t1516: f32 = t1514 + t1515;
-    let t1517: f32 = t1513 - t1516;
-    let t1518: f32 = t820 * t1517;
-    let t1519: f32 = t839 * t849;
-    let t1520: f32 = t1510 + t1518;
-    let t1521: f32 = t1511 + t1512;
-    let t1522: f32 = t1519 + t1521;
-    let t1523: f32 = t1520 - t1522;
-    let t1524: f32 = t1047 * t1523;
-    let t1525: f32 = t936 * t1049;
-    let t1526: f32 = t1524 + t1525;
-    let t1527: f32 = t0 * t1526;
-    let t1528: f32 = t784 * t790;
-    let t1529: f32 = t799 * t912;
-    let t1530: f32 = t1528 - t1529;
-    let t1531: f32 = t807 * t1530;
-    let t1532: f32 = t845 * t861;
-    let t1533: f32 = t871 * t877;
-    let t1534: f32 = t820 * t932;
-    let t1535: f32 = t1532 + t1533;
-    let t1536: f32 = t1534 + t1535;
-    let t1537: f32 = t1531 - t1536;
-    let t1538: f32 = t1053 * t1537;
-    let t1539: f32 = t1012 * 0.5;
-    let t1540: f32 = t1015 * t1539;
-    let t1541: f32 = t1020 * t1022;
-    let t1542: f32 = t1540 + t1541;
-    let t1543: f32 = t0 * t1542;
-    let t1544: f32 = t1029 * t1031;
-    let t1545: f32 = t1543 - t1544;
-    let t1546: f32 = t85 * t1545;
-    let t1547: f32 = t1020 * 0.5;
-    let t1548: f32 = t896 * t1547;
-    let t1549: f32 = t918 * t1029;
-    let t1550: f32 = t1548 + t1549;
-    let t1551: f32 = t0 * t1550;
-    let t1552: f32 = t937 * t1012;
-    let t1553: f32 = t1551 - t1552;
-    let t1554: f32 = t147 * t1553;
-    let t1555: f32 = t1546 - t1554;
-    let t1556: f32 = t85 * t1555;
-    let t1557: f32 = t128 * t1545;
-    let t1558: f32 = t1029 * 0.5;
-    let t1559: f32 = t1047 * t1558;
-    let t1560: f32 = t1012 * t1049;
-    let t1561: f32 = t1559 + t1560;
-    let t1562: f32 = t0 * t1561;
-    let t1563: f32 = t1020 * t1053;
-    let t1564: f32 = t1562 - t1563;
-    let t1565: f32 = t147 * t1564;
-    let t1566: f32 = t1557 - t1565;
-    let t1567: f32 = t128 * t1566;
-    let t1568: f32 = t1556 + t1567;
-    let t1569: f32 = t0 * t1568;
-    let t1570: f32 = t775 * t1564;
-    let t1571: f32 = t778 * t1553;
-    let t1572: f32 = t1569 + t1571;
-    let t1573: f32 = t1572 - t1570;
-    let t1574: f32 = t0 * t1573;
-    let t1575: f32 = t1121 + t1574;
-    let t1576: f32 = t98 * t1575;
-    let t1577: f32 = t128 * t1139;
-    let t1578: f32 = t147 * t961;
-    let t1579: f32 = t1577 - t1578;
-    let t1580: f32 = t0 * t1579;
-    let t1581: f32 = qdd3 - t1580;
-    let t1582: f32 = t968 * t1581;
-    let t1583: f32 = gravity_y - t1582;
-    let t1584: f32 = qdd4 - t1580;
-    let t1585: f32 = t967 * t1584;
-    let t1586: f32 = t771 * t973;
-    let t1587: f32 = t1585 - t1586;
-    let t1588: f32 = t1583 + t1587;
-    let t1589: f32 = platform_mass * t1588;
-    let t1590: f32 = t252 + t381;
-    let t1591: f32 = t939 * t1590;
-    let t1592: f32 = t778 + t1071;
-    let t1593: f32 = t983 * t1592;
-    let t1594: f32 = t772 - t1126;
-    let t1595: f32 = t988 * t1594;
-    let t1596: f32 = t1593 + t1595;
-    let t1597: f32 = t1591 - t1596;
-    let t1598: f32 = t0 * t1597;
-    let t1599: f32 = t1588 + t1598;
-    let t1600: f32 = joint2_mass * t1599;
-    let t1601: f32 = t128 * t1155;
-    let t1602: f32 = t147 * t1043;
-    let t1603: f32 = t1601 + t1602;
-    let t1604: f32 = t0 * t1603;
-    let t1605: f32 = t772 * t1055;
-    let t1606: f32 = t778 * t1033;
-    let t1607: f32 = t1604 + t1606;
-    let t1608: f32 = t1607 - t1605;
-    let t1609: f32 = t0 * t1608;
-    let t1610: f32 = t963 * t1592;
-    let t1611: f32 = t0 * t1073;
-    let t1612: f32 = t1590 * t1611;
-    let t1613: f32 = t1075 * t1594;
-    let t1614: f32 = t1610 + t1612;
-    let t1615: f32 = t1613 + t1614;
-    let t1616: f32 = t0 * t1615;
-    let t1617: f32 = t1588 + t1616;
-    let t1618: f32 = joint5_mass * t1617;
-    let t1619: f32 = t0 * t1086;
-    let t1620: f32 = t1590 * t1619;
-    let t1621: f32 = t1088 * t1594;
-    let t1622: f32 = t1610 + t1621;
-    let t1623: f32 = t1622 - t1620;
-    let t1624: f32 = t0 * t1623;
-    let t1625: f32 = t1588 + t1624;
-    let t1626: f32 = joint6_mass * t1625;
-    let t1627: f32 = t1618 + t1626;
-    let t1628: f32 = t1096 * t1592;
-    let t1629: f32 = t0 * t1098;
-    let t1630: f32 = t1590 * t1629;
-    let t1631: f32 = t1100 * t1594;
-    let t1632: f32 = t1630 + t1631;
-    let t1633: f32 = t1628 - t1632;
-    let t1634: f32 = t0 * t1633;
-    let t1635: f32 = t1588 - t1634;
-    let t1636: f32 = joint3_mass * t1635;
-    let t1637: f32 = t778 * t1096;
-    let t1638: f32 = t772 * t1100;
-    let t1639: f32 = t1579 - t1638;
-    let t1640: f32 = t1637 + t1639;
-    let t1641: f32 = t0 * t1640;
-    let t1642: f32 = t1588 - t1641;
-    let t1643: f32 = rod3_mass * t1642;
-    let t1644: f32 = t1636 + t1643;
-    let t1645: f32 = t1109 * t1592;
-    let t1646: f32 = t0 * t1111;
-    let t1647: f32 = t1590 * t1646;
-    let t1648: f32 = t1631 + t1645;
-    let t1649: f32 = t1647 + t1648;
-    let t1650: f32 = t0 * t1649;
-    let t1651: f32 = t1588 + t1650;
-    let t1652: f32 = joint4_mass * t1651;
-    let t1653: f32 = t778 * t1109;
-    let t1654: f32 = t1639 - t1653;
-    let t1655: f32 = t0 * t1654;
-    let t1656: f32 = t1588 - t1655;
-    let t1657: f32 = rod4_mass * t1656;
-    let t1658: f32 = t1652 + t1657;
-    let t1659: f32 = t1644 + t1658;
-    let t1660: f32 = t1589 + t1600;
-    let t1661: f32 = t1627 + t1659;
-    let t1662: f32 = t1660 + t1661;
-    let t1663: f32 = t1662 - t1609;
-    let t1664: f32 = t118 * t1663;
-    let t1665: f32 = t128 * t1274;
-    let t1666: f32 = t85 * t1282;
-    let t1667: f32 = t147 * t1272;
-    let t1668: f32 = t1666 - t1667;
-    let t1669: f32 = t147 * t1668;
-    let t1670: f32 = t1665 + t1669;
-    let t1671: f32 = t0 * t1670;
-    let t1672: f32 = t772 * t1264;
-    let t1673: f32 = t778 * t1282;
-    let t1674: f32 = t1671 + t1673;
-    let t1675: f32 = t1674 - t1672;
-    let t1676: f32 = t0 * t1675;
-    let t1677: f32 = t1627 - t1676;
-    let t1678: f32 = t369 * t1677;
-    let t1679: f32 = t1495 + t1499;
-    let t1680: f32 = t1509 + t1527;
-    let t1681: f32 = t1679 + t1680;
-    let t1682: f32 = t1576 + t1681;
-    let t1683: f32 = t1489 + t1490;
-    let t1684: f32 = t1491 + t1492;
-    let t1685: f32 = t1493 + t1494;
-    let t1686: f32 = t1496 + t1497;
-    let t1687: f32 = t1498 + t1500;
-    let t1688: f32 = t1501 + t1502;
-    let t1689: f32 = t1503 + t1504;
-    let t1690: f32 = t1505 + t1506;
-    let t1691: f32 = t1507 + t1508;
-    let t1692: f32 = t1538 + t1664;
-    let t1693: f32 = t1683 + t1684;
-    let t1694: f32 = t1685 + t1686;
-    let t1695: f32 = t1687 + t1688;
-    let t1696: f32 = t1689 + t1690;
-    let t1697: f32 = t1691 + t1692;
-    let t1698: f32 = t1693 + t1694;
-    let t1699: f32 = t1695 + t1696;
-    let t1700: f32 = t1678 + t1697;
-    let t1701: f32 = t1698 + t1699;
-    let t1702: f32 = t1700 + t1701;
-    let t1703: f32 = t1682 - t1702;
-    let t1704: f32 = t0 * t1703;
-    let t1705: f32 = t1704 * 0.5;
-    let t1706: f32 = t1488 + t1705;
-    let t1707: f32 = -t1706;
-    let t1708: f32 = t130 * t1487;
-    let t1709: f32 = t1704 + t1708;
-    let t1710: f32 = t1709 * 0.5;
-    let t1711: f32 = t229 * t337;
-    let t1712: f32 = t213 * t1384;
-    let t1713: f32 = t291 * t426;
-    let t1714: f32 = t279 * t1406;
-    let t1715: f32 = t480 * t491;
-    let t1716: f32 = t464 * t1425;
-    let t1717: f32 = t488 * t1430;
-    let t1718: f32 = t536 * t549;
-    let t1719: f32 = t520 * t1444;
-    let t1720: f32 = t544 * t718;
-    let t1721: f32 = t595 * t605;
-    let t1722: f32 = t579 * t1462;
-    let t1723: f32 = t602 * t727;
-    let t1724: f32 = t633 * t648;
-    let t1725: f32 = t621 * t1478;
-    let t1726: f32 = t645 * t1483;
-    let t1727: f32 = t638 * t670;
-    let t1728: f32 = t362 * t389;
-    let t1729: f32 = t350 * t1387;
-    let t1730: f32 = t380 * t1392;
-    let t1731: f32 = t366 * t412;
-    let t1732: f32 = t784 * t806;
-    let t1733: f32 = t799 * t1517;
-    let t1734: f32 = t1732 + t1733;
-    let t1735: f32 = t807 * t1734;
-    let t1736: f32 = t827 * t861;
-    let t1737: f32 = t846 * t871;
-    let t1738: f32 = t839 * t891;
-    let t1739: f32 = t1735 + t1738;
-    let t1740: f32 = t1736 + t1737;
-    let t1741: f32 = t1739 - t1740;
-    let t1742: f32 = t1015 * t1741;
-    let t1743: f32 = t1022 * t1537;
-    let t1744: f32 = t1742 + t1743;
-    let t1745: f32 = t0 * t1744;
-    let t1746: f32 = t917 * t1031;
-    let t1747: f32 = t85 * t1564;
-    let t1748: f32 = t128 * t1553;
-    let t1749: f32 = t1747 - t1748;
-    let t1750: f32 = t85 * t1749;
-    let t1751: f32 = t147 * t1566;
-    let t1752: f32 = t1750 - t1751;
-    let t1753: f32 = t0 * t1752;
-    let t1754: f32 = t772 * t1553;
-    let t1755: f32 = t775 * t1545;
-    let t1756: f32 = t1753 + t1755;
-    let t1757: f32 = t1756 - t1754;
-    let t1758: f32 = t0 * t1757;
-    let t1759: f32 = t1216 + t1758;
-    let t1760: f32 = t98 * t1759;
-    let t1761: f32 = t80 * t1663;
-    let t1762: f32 = t85 * t1245;
-    let t1763: f32 = t128 * t1234;
-    let t1764: f32 = t1762 - t1763;
-    let t1765: f32 = t128 * t1764;
-    let t1766: f32 = t147 * t1236;
-    let t1767: f32 = t1765 + t1766;
-    let t1768: f32 = t0 * t1767;
-    let t1769: f32 = t772 * t1245;
-    let t1770: f32 = t778 * t1226;
-    let t1771: f32 = t1768 + t1770;
-    let t1772: f32 = t1771 - t1769;
-    let t1773: f32 = t0 * t1772;
-    let t1774: f32 = t1659 - t1773;
-    let t1775: f32 = t487 * t1774;
-    let t1776: f32 = t1712 + t1714;
-    let t1777: f32 = t1716 + t1719;
-    let t1778: f32 = t1722 + t1725;
-    let t1779: f32 = t1726 + t1729;
-    let t1780: f32 = t1730 + t1731;
-    let t1781: f32 = t1746 + t1760;
-    let t1782: f32 = t1776 + t1777;
-    let t1783: f32 = t1778 + t1779;
-    let t1784: f32 = t1780 + t1781;
-    let t1785: f32 = t1782 + t1783;
-    let t1786: f32 = t1775 + t1784;
-    let t1787: f32 = t1785 + t1786;
-    let t1788: f32 = t1711 + t1713;
-    let t1789: f32 = t1715 + t1717;
-    let t1790: f32 = t1718 + t1720;
-    let t1791: f32 = t1721 + t1723;
-    let t1792: f32 = t1724 + t1727;
-    let t1793: f32 = t1728 + t1745;
-    let t1794: f32 = t1788 + t1789;
-    let t1795: f32 = t1790 + t1791;
-    let t1796: f32 = t1792 + t1793;
-    let t1797: f32 = t1794 + t1795;
-    let t1798: f32 = t1761 + t1796;
-    let t1799: f32 = t1797 + t1798;
-    let t1800: f32 = t1787 - t1799;
-    let t1801: f32 = t0 * t1800;
-    let t1802: f32 = t1487 + t1801;
-    let t1803: f32 = t674 + t1802;
-    let t1804: f32 = t1803 * 0.5;
-    let t1805: f32 = t674 - t1802;
-    let t1806: f32 = t1805 * 0.5;
-    let t1807: f32 = 1.0 - t11;
-    let t1808: f32 = -t1031;
-    let t1809: f32 = -t937;
-    let t1810: f32 = -t1053;
+    let (
+        t0,
+        t11,
+        t12,
+        t44,
+        t67,
+        t80,
+        t85,
+        t98,
+        t118,
+        t125,
+        t128,
+        t130,
+        t132,
+        t133,
+        t136,
+        t147,
+        t162,
+        t176,
+        t177,
+        t181,
+        t184,
+        t185,
+        t189,
+        t194,
+        t195,
+        t199,
+        t200,
+        t203,
+        t207,
+        t213,
+        t214,
+        t218,
+        t229,
+        t230,
+        t242,
+        t244,
+        t245,
+        t246,
+        t250,
+        t251,
+        t252,
+        t253,
+        t254,
+        t261,
+        t267,
+        t268,
+        t279,
+        t280,
+        t291,
+        t292,
+        t304,
+        t306,
+        t307,
+        t311,
+        t318,
+        t323,
+        t325,
+        t328,
+        t337,
+        t350,
+        t362,
+        t364,
+        t366,
+        t369,
+        t376,
+        t380,
+        t381,
+        t382,
+        t389,
+        t403,
+        t408,
+        t412,
+        t419,
+        t426,
+        t437,
+        t451,
+        t464,
+        t480,
+        t482,
+        t485,
+        t487,
+        t488,
+        t491,
+        t507,
+        t520,
+        t522,
+        t536,
+        t538,
+        t541,
+        t544,
+        t549,
+        t566,
+        t579,
+        t581,
+        t595,
+        t597,
+        t599,
+        t602,
+        t605,
+        t621,
+        t633,
+        t635,
+        t638,
+        t645,
+        t648,
+        t662,
+        t670,
+        t674,
+        t676,
+        t677,
+        t678,
+        t679,
+        t680,
+        t685,
+        t686,
+        t687,
+        t700,
+        t704,
+        t706,
+        t708,
+        t715,
+        t716,
+        t717,
+        t718,
+        t719,
+        t724,
+        t725,
+        t726,
+        t727,
+        t728,
+        t735,
+        t736,
+        t737,
+        t741,
+        t749,
+        t750,
+        t755,
+        t756,
+        t757,
+        t761,
+        t769,
+        t770,
+        t771,
+        t772,
+        t774,
+        t775,
+        t778,
+        t779,
+        t784,
+        t790,
+        t791,
+        t799,
+        t806,
+        t807,
+        t808,
+        t811,
+        t820,
+        t827,
+        t839,
+        t845,
+        t846,
+        t849,
+        t861,
+        t871,
+        t877,
+        t878,
+        t886,
+        t891,
+        t896,
+        t898,
+        t912,
+        t917,
+        t918,
+        t921,
+        t932,
+        t936,
+        t937,
+        t938,
+        t939,
+        t941,
+        t943,
+        t957,
+        t958,
+        t961,
+        t963,
+        t967,
+        t968,
+        t973,
+        t976,
+        t978,
+        t982,
+        t983,
+        t984,
+        t986,
+        t987,
+        t988,
+        t992,
+        t996,
+        t997,
+        t999,
+    ) = {
+        let t0: f32 = 1.0 / half_spacing;
+        let t1: f32 = q1 - q2;
+        let t2: f32 = q1 + q2;
+        let t3: f32 = t2 * 0.5;
+        let t4: f32 = t0 * t0;
+        let t5: f32 = t0 * t4;
+        let t6: f32 = q3 - q4;
+        let t7: f32 = q5 - q6;
+        let t8: f32 = t1 * t5;
+        let t9: f32 = t6 * t8;
+        let t10: f32 = t7 * t9;
+        let t11: f32 = t10 * 0.125;
+        let t12: f32 = t11 - 1.0;
+        let t13: f32 = t12 * t12;
+        let t14: f32 = t0 * t1;
+        let t15: f32 = t7 * t14;
+        let t16: f32 = t1 * t1;
+        let t17: f32 = t4 * t16;
+        let t18: f32 = t17 * 0.25;
+        let t19: f32 = t18 + 1.0;
+        let t20: f32 = t6 * t19;
+        let t21: f32 = t15 * 0.25;
+        let t22: f32 = t20 * 0.5;
+        let t23: f32 = t21 + t22;
+        let t24: f32 = t23 * t23;
+        let t25: f32 = t13 * t16;
+        let t26: f32 = t25 * 0.25;
+        let t27: f32 = t24 + t26;
+        let t28: f32 = t4 * t27;
+        let t29: f32 = t13 + t28;
+        let t30: f32 = 1.0 / t29;
+        let t31: f32 = t3 * t14;
+        let t32: f32 = t13 * t31;
+        let t33: f32 = t30 * t32;
+        let t34: f32 = q3 + q4;
+        let t35: f32 = t34 * 0.5;
+        let t36: f32 = t6 * t14;
+        let t37: f32 = t6 * t6;
+        let t38: f32 = t4 * t37;
+        let t39: f32 = t38 * 0.25;
+        let t40: f32 = t39 + 1.0;
+        let t41: f32 = t7 * t40;
+        let t42: f32 = t36 * 0.25;
+        let t43: f32 = t41 * 0.5;
+        let t44: f32 = t42 + t43;
+        let t45: f32 = t13 * t37;
+        let t46: f32 = t44 * t44;
+        let t47: f32 = t45 * 0.25;
+        let t48: f32 = t46 + t47;
+        let t49: f32 = t4 * t48;
+        let t50: f32 = t13 + t49;
+        let t51: f32 = 1.0 / t50;
+        let t52: f32 = t0 * t35;
+        let t53: f32 = t12 * t52;
+        let t54: f32 = t44 * t53;
+        let t55: f32 = t51 * t54;
+        let t56: f32 = q5 + q6;
+        let t57: f32 = t56 * 0.5;
+        let t58: f32 = t0 * t6;
+        let t59: f32 = t7 * t58;
+        let t60: f32 = t7 * t7;
+        let t61: f32 = t4 * t60;
+        let t62: f32 = t61 * 0.25;
+        let t63: f32 = t62 + 1.0;
+        let t64: f32 = t1 * t63;
+        let t65: f32 = t59 * 0.25;
+        let t66: f32 = t64 * 0.5;
+        let t67: f32 = t65 + t66;
+        let t68: f32 = t67 * t67;
+        let t69: f32 = t13 * t60;
+        let t70: f32 = t69 * 0.25;
+        let t71: f32 = t68 + t70;
+        let t72: f32 = t4 * t71;
+        let t73: f32 = t13 + t72;
+        let t74: f32 = 1.0 / t73;
+        let t75: f32 = t13 * t57;
+        let t76: f32 = t74 * t75;
+        let t77: f32 = t55 - t76;
+        let t78: f32 = t33 * 0.5;
+        let t79: f32 = half_spacing + t77;
+        let t80: f32 = t78 + t79;
+        let t81: f32 = t0 * t80;
+        let t82: f32 = t81 * 0.5;
+        let t83: f32 = t82 - 1.0;
+        let t84: f32 = qd1 - qd2;
+        let t85: f32 = t84 * 0.5;
+        let t86: f32 = t0 * t7;
+        let t87: f32 = t57 * t86;
+        let t88: f32 = t13 * t87;
+        let t89: f32 = t74 * t88;
+        let t90: f32 = t0 * t3;
+        let t91: f32 = t12 * t90;
+        let t92: f32 = t23 * t91;
+        let t93: f32 = t30 * t92;
+        let t94: f32 = t13 * t35;
+        let t95: f32 = t51 * t94;
+        let t96: f32 = t93 - t95;
+        let t97: f32 = t89 * 0.5;
+        let t98: f32 = t96 + t97;
+        let t99: f32 = t0 * t98;
+        let t100: f32 = t99 * 0.5;
+        let t101: f32 = t100 - 0.5;
+        let t102: f32 = qd5 * t101;
+        let t103: f32 = t100 + 0.5;
+        let t104: f32 = qd6 * t103;
+        let t105: f32 = q1 * t0;
+        let t106: f32 = t35 * t58;
+        let t107: f32 = t13 * t106;
+        let t108: f32 = t51 * t107;
+        let t109: f32 = t0 * t57;
+        let t110: f32 = t12 * t109;
+        let t111: f32 = t67 * t110;
+        let t112: f32 = t74 * t111;
+        let t113: f32 = t3 * t13;
+        let t114: f32 = t30 * t113;
+        let t115: f32 = t112 - t114;
+        let t116: f32 = t108 * 0.5;
+        let t117: f32 = q1 + t115;
+        let t118: f32 = t116 + t117;
+        let t119: f32 = t0 * t118;
+        let t120: f32 = t105 - t119;
+        let t121: f32 = t120 * 0.5;
+        let t122: f32 = t84 * t121;
+        let t123: f32 = t102 + t122;
+        let t124: f32 = t123 - t104;
+        let t125: f32 = t0 * t85;
+        let t126: f32 = t124 * t125;
+        let t127: f32 = qd3 - qd4;
+        let t128: f32 = t127 * 0.5;
+        let t129: f32 = q1 - half_spacing;
+        let t130: f32 = t0 * t129;
+        let t131: f32 = t130 - t119;
+        let t132: f32 = t131 * 0.5;
+        let t133: f32 = t132 + 1.0;
+        let t134: f32 = qd3 * t133;
+        let t135: f32 = qd4 * t132;
+        let t136: f32 = t82 - 0.5;
+        let t137: f32 = qd5 - qd6;
+        let t138: f32 = t136 * t137;
+        let t139: f32 = t134 + t138;
+        let t140: f32 = t139 - t135;
+        let t141: f32 = t0 * t128;
+        let t142: f32 = t140 * t141;
+        let t143: f32 = t126 + t142;
+        let t144: f32 = qdd1 - t143;
+        let t145: f32 = t83 * t144;
+        let t146: f32 = gravity_x + t145;
+        let t147: f32 = t137 * 0.5;
+        let t148: f32 = t0 * t124;
+        let t149: f32 = t147 * t148;
+        let t150: f32 = qd1 * t83;
+        let t151: f32 = t12 * t57;
+        let t152: f32 = t74 * t151;
+        let t153: f32 = t1 * t3;
+        let t154: f32 = t12 * t153;
+        let t155: f32 = t30 * t154;
+        let t156: f32 = t35 * t44;
+        let t157: f32 = t51 * t156;
+        let t158: f32 = t155 * 0.5;
+        let t159: f32 = t157 + t158;
+        let t160: f32 = t0 * t159;
+        let t161: f32 = t152 - t160;
+        let t162: f32 = t12 * t161;
+        let t163: f32 = half_spacing - t162;
+        let t164: f32 = qd2 * t163;
+        let t165: f32 = t12 * t35;
+        let t166: f32 = t51 * t165;
+        let t167: f32 = t3 * t23;
+        let t168: f32 = t30 * t167;
+        let t169: f32 = t7 * t57;
+        let t170: f32 = t12 * t169;
+        let t171: f32 = t74 * t170;
+        let t172: f32 = t171 * 0.5;
+        let t173: f32 = t168 + t172;
+        let t174: f32 = t0 * t173;
+        let t175: f32 = t166 - t174;
+        let t176: f32 = t12 * t175;
+        let t177: f32 = -t176;
+        let t178: f32 = t128 * t177;
+        let t179: f32 = t164 * 0.5;
+        let t180: f32 = t178 + t179;
+        let t181: f32 = t0 * t180;
+        let t182: f32 = t150 - t181;
+        let t183: f32 = t141 * t182;
+        let t184: f32 = t149 - t183;
+        let t185: f32 = qdd4 + t184;
+        let t186: f32 = t99 * t185;
+        let t187: f32 = qdd2 - t143;
+        let t188: f32 = t81 * t187;
+        let t189: f32 = qdd3 + t184;
+        let t190: f32 = t99 * t189;
+        let t191: f32 = t188 + t190;
+        let t192: f32 = t186 - t191;
+        let t193: f32 = t192 * 0.5;
+        let t194: f32 = t146 + t193;
+        let t195: f32 = platform_mass * t194;
+        let t196: f32 = t0 * t144;
+        let t197: f32 = t0 * t187;
+        let t198: f32 = t196 - t197;
+        let t199: f32 = t198 * 0.5;
+        let t200: f32 = sqrt(t74);
+        let t201: f32 = platform_mz * t12;
+        let t202: f32 = t200 * t201;
+        let t203: f32 = sqrt(t30);
+        let t204: f32 = platform_mx * t1;
+        let t205: f32 = t12 * t204;
+        let t206: f32 = t203 * t205;
+        let t207: f32 = sqrt(t51);
+        let t208: f32 = platform_my * t44;
+        let t209: f32 = t207 * t208;
+        let t210: f32 = t206 * 0.5;
+        let t211: f32 = t209 + t210;
+        let t212: f32 = t0 * t211;
+        let t213: f32 = t212 - t202;
+        let t214: f32 = t199 * t213;
+        let t215: f32 = t0 * t189;
+        let t216: f32 = t0 * t185;
+        let t217: f32 = t215 - t216;
+        let t218: f32 = t217 * 0.5;
+        let t219: f32 = platform_my * t12;
+        let t220: f32 = t207 * t219;
+        let t221: f32 = platform_mx * t23;
+        let t222: f32 = t203 * t221;
+        let t223: f32 = platform_mz * t7;
+        let t224: f32 = t12 * t223;
+        let t225: f32 = t200 * t224;
+        let t226: f32 = t225 * 0.5;
+        let t227: f32 = t222 + t226;
+        let t228: f32 = t0 * t227;
+        let t229: f32 = t228 - t220;
+        let t230: f32 = t218 * t229;
+        let t231: f32 = t147 * t229;
+        let t232: f32 = platform_mx * t12;
+        let t233: f32 = t203 * t232;
+        let t234: f32 = platform_my * t6;
+        let t235: f32 = t12 * t234;
+        let t236: f32 = t207 * t235;
+        let t237: f32 = platform_mz * t67;
+        let t238: f32 = t200 * t237;
+        let t239: f32 = t236 * 0.5;
+        let t240: f32 = t238 + t239;
+        let t241: f32 = t0 * t240;
+        let t242: f32 = t233 - t241;
+        let t243: f32 = t85 * t242;
+        let t244: f32 = t231 + t243;
+        let t245: f32 = t4 * t85;
+        let t246: f32 = t244 * t245;
+        let t247: f32 = t128 * t242;
+        let t248: f32 = t147 * t213;
+        let t249: f32 = t247 + t248;
+        let t250: f32 = t4 * t128;
+        let t251: f32 = t249 * t250;
+        let t252: f32 = t128 * t128;
+        let t253: f32 = t4 * t252;
+        let t254: f32 = t85 * t85;
+        let t255: f32 = t4 * t254;
+        let t256: f32 = t253 + t255;
+        let t257: f32 = t118 * t256;
+        let t258: f32 = t147 * t250;
+        let t259: f32 = t199 + t258;
+        let t260: f32 = t80 * t259;
+        let t261: f32 = t147 * t245;
+        let t262: f32 = t218 - t261;
+        let t263: f32 = t98 * t262;
+        let t264: f32 = t146 + t263;
+        let t265: f32 = t257 + t264;
+        let t266: f32 = t193 + t265;
+        let t267: f32 = t266 - t260;
+        let t268: f32 = joint1_mass * t267;
+        let t269: f32 = joint1_mz * t12;
+        let t270: f32 = t200 * t269;
+        let t271: f32 = joint1_mx * t1;
+        let t272: f32 = t12 * t271;
+        let t273: f32 = t203 * t272;
+        let t274: f32 = joint1_my * t44;
+        let t275: f32 = t207 * t274;
+        let t276: f32 = t273 * 0.5;
+        let t277: f32 = t275 + t276;
+        let t278: f32 = t0 * t277;
+        let t279: f32 = t278 - t270;
+        let t280: f32 = t199 * t279;
+        let t281: f32 = joint1_my * t12;
+        let t282: f32 = t207 * t281;
+        let t283: f32 = joint1_mx * t23;
+        let t284: f32 = t203 * t283;
+        let t285: f32 = joint1_mz * t7;
+        let t286: f32 = t12 * t285;
+        let t287: f32 = t200 * t286;
+        let t288: f32 = t287 * 0.5;
+        let t289: f32 = t284 + t288;
+        let t290: f32 = t0 * t289;
+        let t291: f32 = t290 - t282;
+        let t292: f32 = t218 * t291;
+        let t293: f32 = t147 * t291;
+        let t294: f32 = joint1_mx * t12;
+        let t295: f32 = t203 * t294;
+        let t296: f32 = joint1_my * t6;
+        let t297: f32 = t12 * t296;
+        let t298: f32 = t207 * t297;
+        let t299: f32 = joint1_mz * t67;
+        let t300: f32 = t200 * t299;
+        let t301: f32 = t298 * 0.5;
+        let t302: f32 = t300 + t301;
+        let t303: f32 = t0 * t302;
+        let t304: f32 = t295 - t303;
+        let t305: f32 = t85 * t304;
+        let t306: f32 = t293 + t305;
+        let t307: f32 = t245 * t306;
+        let t308: f32 = t128 * t304;
+        let t309: f32 = t147 * t279;
+        let t310: f32 = t308 + t309;
+        let t311: f32 = t250 * t310;
+        let t312: f32 = t80 * t199;
+        let t313: f32 = t98 * t218;
+        let t314: f32 = t146 + t313;
+        let t315: f32 = t314 - t143;
+        let t316: f32 = t193 + t315;
+        let t317: f32 = t316 - t312;
+        let t318: f32 = rod1_mass * t317;
+        let t319: f32 = t0 * t140;
+        let t320: f32 = t147 * t319;
+        let t321: f32 = t125 * t182;
+        let t322: f32 = t320 + t321;
+        let t323: f32 = qdd5 + t322;
+        let t324: f32 = t0 * t323;
+        let t325: f32 = qdd6 + t322;
+        let t326: f32 = t0 * t325;
+        let t327: f32 = t324 - t326;
+        let t328: f32 = t327 * 0.5;
+        let t329: f32 = t229 * t328;
+        let t330: f32 = t101 * t323;
+        let t331: f32 = t121 * t187;
+        let t332: f32 = t330 - t331;
+        let t333: f32 = t121 * t144;
+        let t334: f32 = gravity_z + t333;
+        let t335: f32 = t103 * t325;
+        let t336: f32 = t334 - t335;
+        let t337: f32 = t332 + t336;
+        let t338: f32 = platform_mass * t337;
+        let t339: f32 = t329 - t338;
+        let t340: f32 = joint6_mz * t12;
+        let t341: f32 = t200 * t340;
+        let t342: f32 = joint6_mx * t1;
+        let t343: f32 = t12 * t342;
+        let t344: f32 = t203 * t343;
+        let t345: f32 = joint6_my * t44;
+        let t346: f32 = t207 * t345;
+        let t347: f32 = t344 * 0.5;
+        let t348: f32 = t346 + t347;
+        let t349: f32 = t0 * t348;
+        let t350: f32 = t349 - t341;
+        let t351: f32 = t85 * t350;
+        let t352: f32 = joint6_my * t12;
+        let t353: f32 = t207 * t352;
+        let t354: f32 = joint6_mx * t23;
+        let t355: f32 = t203 * t354;
+        let t356: f32 = joint6_mz * t7;
+        let t357: f32 = t12 * t356;
+        let t358: f32 = t200 * t357;
+        let t359: f32 = t358 * 0.5;
+        let t360: f32 = t355 + t359;
+        let t361: f32 = t0 * t360;
+        let t362: f32 = t361 - t353;
+        let t363: f32 = t128 * t362;
+        let t364: f32 = t351 - t363;
+        let t365: f32 = t245 * t364;
+        let t366: f32 = half_spacing - t98;
+        let t367: f32 = t328 * t366;
+        let t368: f32 = t115 + t116;
+        let t369: f32 = -t368;
+        let t370: f32 = t199 * t369;
+        let t371: f32 = t337 - t370;
+        let t372: f32 = t322 + t371;
+        let t373: f32 = t367 + t372;
+        let t374: f32 = rod6_mass * t373;
+        let t375: f32 = t365 + t374;
+        let t376: f32 = t128 * t245;
+        let t377: f32 = t328 + t376;
+        let t378: f32 = t366 * t377;
+        let t379: f32 = q6 + t77;
+        let t380: f32 = t78 + t379;
+        let t381: f32 = t147 * t147;
+        let t382: f32 = t4 * t381;
+        let t383: f32 = t255 + t382;
+        let t384: f32 = t380 * t383;
+        let t385: f32 = t199 - t258;
+        let t386: f32 = t369 * t385;
+        let t387: f32 = t337 - t386;
+        let t388: f32 = t378 + t384;
+        let t389: f32 = t387 + t388;
+        let t390: f32 = joint6_mass * t389;
+        let t391: f32 = t328 * t362;
+        let t392: f32 = t390 - t391;
+        let t393: f32 = joint6_mx * t12;
+        let t394: f32 = t203 * t393;
+        let t395: f32 = joint6_my * t6;
+        let t396: f32 = t12 * t395;
+        let t397: f32 = t207 * t396;
+        let t398: f32 = joint6_mz * t67;
+        let t399: f32 = t200 * t398;
+        let t400: f32 = t397 * 0.5;
+        let t401: f32 = t399 + t400;
+        let t402: f32 = t0 * t401;
+        let t403: f32 = t394 - t402;
+        let t404: f32 = t199 * t403;
+        let t405: f32 = t128 * t403;
+        let t406: f32 = t147 * t350;
+        let t407: f32 = t405 + t406;
+        let t408: f32 = t4 * t147;
+        let t409: f32 = t407 * t408;
+        let t410: f32 = t404 - t409;
+        let t411: f32 = t392 - t410;
+        let t412: f32 = t375 + t411;
+        let t413: f32 = t339 - t412;
+        let t414: f32 = t199 * t242;
+        let t415: f32 = t249 * t408;
+        let t416: f32 = t414 - t415;
+        let t417: f32 = t85 * t213;
+        let t418: f32 = t128 * t229;
+        let t419: f32 = t417 - t418;
+        let t420: f32 = t245 * t419;
+        let t421: f32 = t118 * t385;
+        let t422: f32 = t80 * t383;
+        let t423: f32 = t98 * t377;
+        let t424: f32 = t337 - t423;
+        let t425: f32 = t421 + t422;
+        let t426: f32 = t424 + t425;
+        let t427: f32 = joint1_mass * t426;
+        let t428: f32 = t420 + t427;
+        let t429: f32 = t416 - t428;
+        let t430: f32 = t413 + t429;
+        let t431: f32 = t291 * t328;
+        let t432: f32 = t199 * t304;
+        let t433: f32 = t431 + t432;
+        let t434: f32 = t310 * t408;
+        let t435: f32 = t85 * t279;
+        let t436: f32 = t128 * t291;
+        let t437: f32 = t435 - t436;
+        let t438: f32 = t245 * t437;
+        let t439: f32 = t434 + t438;
+        let t440: f32 = t433 - t439;
+        let t441: f32 = joint2_mx * t12;
+        let t442: f32 = t203 * t441;
+        let t443: f32 = joint2_my * t6;
+        let t444: f32 = t12 * t443;
+        let t445: f32 = t207 * t444;
+        let t446: f32 = joint2_mz * t67;
+        let t447: f32 = t200 * t446;
+        let t448: f32 = t445 * 0.5;
+        let t449: f32 = t447 + t448;
+        let t450: f32 = t0 * t449;
+        let t451: f32 = t442 - t450;
+        let t452: f32 = t199 * t451;
+        let t453: f32 = t128 * t451;
+        let t454: f32 = joint2_mz * t12;
+        let t455: f32 = t200 * t454;
+        let t456: f32 = joint2_mx * t1;
+        let t457: f32 = t12 * t456;
+        let t458: f32 = t203 * t457;
+        let t459: f32 = joint2_my * t44;
+        let t460: f32 = t207 * t459;
+        let t461: f32 = t458 * 0.5;
+        let t462: f32 = t460 + t461;
+        let t463: f32 = t0 * t462;
+        let t464: f32 = t463 - t455;
+        let t465: f32 = t147 * t464;
+        let t466: f32 = t453 + t465;
+        let t467: f32 = t408 * t466;
+        let t468: f32 = t452 - t467;
+        let t469: f32 = t85 * t464;
+        let t470: f32 = joint2_my * t12;
+        let t471: f32 = t207 * t470;
+        let t472: f32 = joint2_mx * t23;
+        let t473: f32 = t203 * t472;
+        let t474: f32 = joint2_mz * t7;
+        let t475: f32 = t12 * t474;
+        let t476: f32 = t200 * t475;
+        let t477: f32 = t476 * 0.5;
+        let t478: f32 = t473 + t477;
+        let t479: f32 = t0 * t478;
+        let t480: f32 = t479 - t471;
+        let t481: f32 = t128 * t480;
+        let t482: f32 = t469 - t481;
+        let t483: f32 = t245 * t482;
+        let t484: f32 = q2 + t115;
+        let t485: f32 = t116 + t484;
+        let t486: f32 = t385 * t485;
+        let t487: f32 = t77 + t78;
+        let t488: f32 = half_spacing - t487;
+        let t489: f32 = t383 * t488;
+        let t490: f32 = t424 + t486;
+        let t491: f32 = t490 - t489;
+        let t492: f32 = joint2_mass * t491;
+        let t493: f32 = t328 * t480;
+        let t494: f32 = t492 - t493;
+        let t495: f32 = t483 + t494;
+        let t496: f32 = t468 - t495;
+        let t497: f32 = joint3_mx * t12;
+        let t498: f32 = t203 * t497;
+        let t499: f32 = joint3_my * t6;
+        let t500: f32 = t12 * t499;
+        let t501: f32 = t207 * t500;
+        let t502: f32 = joint3_mz * t67;
+        let t503: f32 = t200 * t502;
+        let t504: f32 = t501 * 0.5;
+        let t505: f32 = t503 + t504;
+        let t506: f32 = t0 * t505;
+        let t507: f32 = t498 - t506;
+        let t508: f32 = t199 * t507;
+        let t509: f32 = t128 * t507;
+        let t510: f32 = joint3_mz * t12;
+        let t511: f32 = t200 * t510;
+        let t512: f32 = joint3_mx * t1;
+        let t513: f32 = t12 * t512;
+        let t514: f32 = t203 * t513;
+        let t515: f32 = joint3_my * t44;
+        let t516: f32 = t207 * t515;
+        let t517: f32 = t514 * 0.5;
+        let t518: f32 = t516 + t517;
+        let t519: f32 = t0 * t518;
+        let t520: f32 = t519 - t511;
+        let t521: f32 = t147 * t520;
+        let t522: f32 = t509 + t521;
+        let t523: f32 = t408 * t522;
+        let t524: f32 = t508 - t523;
+        let t525: f32 = t85 * t520;
+        let t526: f32 = joint3_my * t12;
+        let t527: f32 = t207 * t526;
+        let t528: f32 = joint3_mx * t23;
+        let t529: f32 = t203 * t528;
+        let t530: f32 = joint3_mz * t7;
+        let t531: f32 = t12 * t530;
+        let t532: f32 = t200 * t531;
+        let t533: f32 = t532 * 0.5;
+        let t534: f32 = t529 + t533;
+        let t535: f32 = t0 * t534;
+        let t536: f32 = t535 - t527;
+        let t537: f32 = t128 * t536;
+        let t538: f32 = t525 - t537;
+        let t539: f32 = t245 * t538;
+        let t540: f32 = half_spacing + t115;
+        let t541: f32 = t116 + t540;
+        let t542: f32 = t385 * t541;
+        let t543: f32 = q3 + t96;
+        let t544: f32 = t97 + t543;
+        let t545: f32 = t377 * t544;
+        let t546: f32 = t383 * t487;
+        let t547: f32 = t337 + t546;
+        let t548: f32 = t542 + t547;
+        let t549: f32 = t548 - t545;
+        let t550: f32 = joint3_mass * t549;
+        let t551: f32 = t328 * t536;
+        let t552: f32 = t550 - t551;
+        let t553: f32 = t539 + t552;
+        let t554: f32 = t524 - t553;
+        let t555: f32 = t496 + t554;
+        let t556: f32 = joint4_mx * t12;
+        let t557: f32 = t203 * t556;
+        let t558: f32 = joint4_my * t6;
+        let t559: f32 = t12 * t558;
+        let t560: f32 = t207 * t559;
+        let t561: f32 = joint4_mz * t67;
+        let t562: f32 = t200 * t561;
+        let t563: f32 = t560 * 0.5;
+        let t564: f32 = t562 + t563;
+        let t565: f32 = t0 * t564;
+        let t566: f32 = t557 - t565;
+        let t567: f32 = t199 * t566;
+        let t568: f32 = t128 * t566;
+        let t569: f32 = joint4_mz * t12;
+        let t570: f32 = t200 * t569;
+        let t571: f32 = joint4_mx * t1;
+        let t572: f32 = t12 * t571;
+        let t573: f32 = t203 * t572;
+        let t574: f32 = joint4_my * t44;
+        let t575: f32 = t207 * t574;
+        let t576: f32 = t573 * 0.5;
+        let t577: f32 = t575 + t576;
+        let t578: f32 = t0 * t577;
+        let t579: f32 = t578 - t570;
+        let t580: f32 = t147 * t579;
+        let t581: f32 = t568 + t580;
+        let t582: f32 = t408 * t581;
+        let t583: f32 = t567 - t582;
+        let t584: f32 = t85 * t579;
+        let t585: f32 = joint4_my * t12;
+        let t586: f32 = t207 * t585;
+        let t587: f32 = joint4_mx * t23;
+        let t588: f32 = t203 * t587;
+        let t589: f32 = joint4_mz * t7;
+        let t590: f32 = t12 * t589;
+        let t591: f32 = t200 * t590;
+        let t592: f32 = t591 * 0.5;
+        let t593: f32 = t588 + t592;
+        let t594: f32 = t0 * t593;
+        let t595: f32 = t594 - t586;
+        let t596: f32 = t128 * t595;
+        let t597: f32 = t584 - t596;
+        let t598: f32 = t245 * t597;
+        let t599: f32 = half_spacing - t368;
+        let t600: f32 = t385 * t599;
+        let t601: f32 = q4 + t96;
+        let t602: f32 = t97 + t601;
+        let t603: f32 = t377 * t602;
+        let t604: f32 = t600 + t603;
+        let t605: f32 = t547 - t604;
+        let t606: f32 = joint4_mass * t605;
+        let t607: f32 = t328 * t595;
+        let t608: f32 = t606 - t607;
+        let t609: f32 = t598 + t608;
+        let t610: f32 = t583 - t609;
+        let t611: f32 = joint5_mz * t12;
+        let t612: f32 = t200 * t611;
+        let t613: f32 = joint5_mx * t1;
+        let t614: f32 = t12 * t613;
+        let t615: f32 = t203 * t614;
+        let t616: f32 = joint5_my * t44;
+        let t617: f32 = t207 * t616;
+        let t618: f32 = t615 * 0.5;
+        let t619: f32 = t617 + t618;
+        let t620: f32 = t0 * t619;
+        let t621: f32 = t620 - t612;
+        let t622: f32 = t85 * t621;
+        let t623: f32 = joint5_my * t12;
+        let t624: f32 = t207 * t623;
+        let t625: f32 = joint5_mx * t23;
+        let t626: f32 = t203 * t625;
+        let t627: f32 = joint5_mz * t7;
+        let t628: f32 = t12 * t627;
+        let t629: f32 = t200 * t628;
+        let t630: f32 = t629 * 0.5;
+        let t631: f32 = t626 + t630;
+        let t632: f32 = t0 * t631;
+        let t633: f32 = t632 - t624;
+        let t634: f32 = t128 * t633;
+        let t635: f32 = t622 - t634;
+        let t636: f32 = t245 * t635;
+        let t637: f32 = half_spacing + t96;
+        let t638: f32 = t97 + t637;
+        let t639: f32 = t328 * t638;
+        let t640: f32 = t372 - t639;
+        let t641: f32 = rod5_mass * t640;
+        let t642: f32 = t636 + t641;
+        let t643: f32 = t377 * t638;
+        let t644: f32 = q5 + t77;
+        let t645: f32 = t78 + t644;
+        let t646: f32 = t383 * t645;
+        let t647: f32 = t387 + t646;
+        let t648: f32 = t647 - t643;
+        let t649: f32 = joint5_mass * t648;
+        let t650: f32 = t328 * t633;
+        let t651: f32 = t649 - t650;
+        let t652: f32 = joint5_mx * t12;
+        let t653: f32 = t203 * t652;
+        let t654: f32 = joint5_my * t6;
+        let t655: f32 = t12 * t654;
+        let t656: f32 = t207 * t655;
+        let t657: f32 = joint5_mz * t67;
+        let t658: f32 = t200 * t657;
+        let t659: f32 = t656 * 0.5;
+        let t660: f32 = t658 + t659;
+        let t661: f32 = t0 * t660;
+        let t662: f32 = t653 - t661;
+        let t663: f32 = t199 * t662;
+        let t664: f32 = t128 * t662;
+        let t665: f32 = t147 * t621;
+        let t666: f32 = t664 + t665;
+        let t667: f32 = t408 * t666;
+        let t668: f32 = t663 - t667;
+        let t669: f32 = t651 - t668;
+        let t670: f32 = t642 + t669;
+        let t671: f32 = t610 - t670;
+        let t672: f32 = t555 + t671;
+        let t673: f32 = t440 + t672;
+        let t674: f32 = t430 + t673;
+        let t675: f32 = -t674;
+        let t676: f32 = t105 * t675;
+        let t677: f32 = t194 * t213;
+        let t678: f32 = t242 * t337;
+        let t679: f32 = t267 * t279;
+        let t680: f32 = t304 * t426;
+        let t681: f32 = t256 * t485;
+        let t682: f32 = t259 * t488;
+        let t683: f32 = t681 + t682;
+        let t684: f32 = t193 + t264;
+        let t685: f32 = t683 + t684;
+        let t686: f32 = t464 * t685;
+        let t687: f32 = t451 * t491;
+        let t688: f32 = t250 * t466;
+        let t689: f32 = t199 * t488;
+        let t690: f32 = t315 + t689;
+        let t691: f32 = t193 + t690;
+        let t692: f32 = rod2_mass * t691;
+        let t693: f32 = t688 - t692;
+        let t694: f32 = joint2_mass * t685;
+        let t695: f32 = t199 * t464;
+        let t696: f32 = t694 - t695;
+        let t697: f32 = t218 * t480;
+        let t698: f32 = t147 * t480;
+        let t699: f32 = t85 * t451;
+        let t700: f32 = t698 + t699;
+        let t701: f32 = t245 * t700;
+        let t702: f32 = t697 - t701;
+        let t703: f32 = t696 + t702;
+        let t704: f32 = t693 - t703;
+        let t705: f32 = -t704;
+        let t706: f32 = t488 * t705;
+        let t707: f32 = -t496;
+        let t708: f32 = t485 * t707;
+        let t709: f32 = t256 * t541;
+        let t710: f32 = t262 * t544;
+        let t711: f32 = t259 * t487;
+        let t712: f32 = t146 - t711;
+        let t713: f32 = t709 + t710;
+        let t714: f32 = t193 + t712;
+        let t715: f32 = t713 + t714;
+        let t716: f32 = t520 * t715;
+        let t717: f32 = t507 * t549;
+        let t718: f32 = -t554;
+        let t719: f32 = t541 * t718;
+        let t720: f32 = t256 * t599;
+        let t721: f32 = t262 * t602;
+        let t722: f32 = t712 + t721;
+        let t723: f32 = t193 + t722;
+        let t724: f32 = t723 - t720;
+        let t725: f32 = t579 * t724;
+        let t726: f32 = t566 * t605;
+        let t727: f32 = -t610;
+        let t728: f32 = t599 * t727;
+        let t729: f32 = t262 * t638;
+        let t730: f32 = t259 * t645;
+        let t731: f32 = t256 * t369;
+        let t732: f32 = t146 - t731;
+        let t733: f32 = t729 + t732;
+        let t734: f32 = t193 + t733;
+        let t735: f32 = t734 - t730;
+        let t736: f32 = t621 * t735;
+        let t737: f32 = t648 * t662;
+        let t738: f32 = t218 * t633;
+        let t739: f32 = t147 * t633;
+        let t740: f32 = t85 * t662;
+        let t741: f32 = t739 + t740;
+        let t742: f32 = t245 * t741;
+        let t743: f32 = t738 - t742;
+        let t744: f32 = t250 * t666;
+        let t745: f32 = joint5_mass * t735;
+        let t746: f32 = t199 * t621;
+        let t747: f32 = t745 - t746;
+        let t748: f32 = t744 - t747;
+        let t749: f32 = t743 - t748;
+        let t750: f32 = t645 * t749;
+        let t751: f32 = t262 * t366;
+        let t752: f32 = t259 * t380;
+        let t753: f32 = t193 + t732;
+        let t754: f32 = t751 + t752;
+        let t755: f32 = t753 - t754;
+        let t756: f32 = t350 * t755;
+        let t757: f32 = t389 * t403;
+        let t758: f32 = t218 * t362;
+        let t759: f32 = t147 * t362;
+        let t760: f32 = t85 * t403;
+        let t761: f32 = t759 + t760;
+        let t762: f32 = t245 * t761;
+        let t763: f32 = t758 - t762;
+        let t764: f32 = t250 * t407;
+        let t765: f32 = joint6_mass * t755;
+        let t766: f32 = t199 * t350;
+        let t767: f32 = t765 - t766;
+        let t768: f32 = t764 - t767;
+        let t769: f32 = t763 - t768;
+        let t770: f32 = t380 * t769;
+        let t771: f32 = qdd5 - qdd6;
+        let t772: f32 = t771 * 0.5;
+        let t773: f32 = t12 * t772;
+        let t774: f32 = qdd1 - qdd2;
+        let t775: f32 = t774 * 0.5;
+        let t776: f32 = t23 * t775;
+        let t777: f32 = qdd3 - qdd4;
+        let t778: f32 = t777 * 0.5;
+        let t779: f32 = t1 * t12;
+        let t780: f32 = t778 * t779;
+        let t781: f32 = t780 * 0.5;
+        let t782: f32 = t776 + t781;
+        let t783: f32 = t0 * t782;
+        let t784: f32 = t773 - t783;
+        let t785: f32 = platform_ixz + joint1_ixz;
+        let t786: f32 = joint6_ixz + t785;
+        let t787: f32 = joint2_ixz + joint3_ixz;
+        let t788: f32 = joint4_ixz + joint5_ixz;
+        let t789: f32 = t787 + t788;
+        let t790: f32 = t786 + t789;
+        let t791: f32 = t790 * 0.5;
+        let t792: f32 = t784 * t791;
+        let t793: f32 = t12 * t147;
+        let t794: f32 = t23 * t85;
+        let t795: f32 = t128 * t779;
+        let t796: f32 = t795 * 0.5;
+        let t797: f32 = t794 + t796;
+        let t798: f32 = t0 * t797;
+        let t799: f32 = t793 - t798;
+        let t800: f32 = platform_ixy + joint1_ixy;
+        let t801: f32 = joint6_ixy + t800;
+        let t802: f32 = joint2_ixy + joint3_ixy;
+        let t803: f32 = joint4_ixy + joint5_ixy;
+        let t804: f32 = t802 + t803;
+        let t805: f32 = t801 + t804;
+        let t806: f32 = t805 * 0.5;
+        let t807: f32 = t0 * t203;
+        let t808: f32 = t799 * t807;
+        let t809: f32 = t806 * t808;
+        let t810: f32 = t12 * t85;
+        let t811: f32 = t6 * t12;
+        let t812: f32 = t147 * t811;
+        let t813: f32 = t44 * t128;
+        let t814: f32 = t812 * 0.5;
+        let t815: f32 = t813 + t814;
+        let t816: f32 = t0 * t815;
+        let t817: f32 = t810 - t816;
+        let t818: f32 = t0 * t207;
+        let t819: f32 = t817 * t818;
+        let t820: f32 = -t819;
+        let t821: f32 = platform_iyy + joint1_iyy;
+        let t822: f32 = joint6_iyy + t821;
+        let t823: f32 = joint2_iyy + joint3_iyy;
+        let t824: f32 = joint4_iyy + joint5_iyy;
+        let t825: f32 = t823 + t824;
+        let t826: f32 = t822 + t825;
+        let t827: f32 = t826 * 0.5;
+        let t828: f32 = t820 * t827;
+        let t829: f32 = t12 * t128;
+        let t830: f32 = t67 * t147;
+        let t831: f32 = t7 * t12;
+        let t832: f32 = t85 * t831;
+        let t833: f32 = t832 * 0.5;
+        let t834: f32 = t830 + t833;
+        let t835: f32 = t0 * t834;
+        let t836: f32 = t829 - t835;
+        let t837: f32 = t0 * t200;
+        let t838: f32 = t836 * t837;
+        let t839: f32 = -t838;
+        let t840: f32 = platform_iyz + joint1_iyz;
+        let t841: f32 = joint6_iyz + t840;
+        let t842: f32 = joint2_iyz + joint3_iyz;
+        let t843: f32 = joint4_iyz + joint5_iyz;
+        let t844: f32 = t842 + t843;
+        let t845: f32 = t841 + t844;
+        let t846: f32 = t845 * 0.5;
+        let t847: f32 = t839 * t846;
+        let t848: f32 = t828 + t847;
+        let t849: f32 = t809 - t848;
+        let t850: f32 = t799 * t849;
+        let t851: f32 = t792 - t850;
+        let t852: f32 = t807 * t851;
+        let t853: f32 = t12 * t775;
+        let t854: f32 = t772 * t811;
+        let t855: f32 = t44 * t778;
+        let t856: f32 = t854 * 0.5;
+        let t857: f32 = t855 + t856;
+        let t858: f32 = t0 * t857;
+        let t859: f32 = t853 - t858;
+        let t860: f32 = t818 * t859;
+        let t861: f32 = -t860;
+        let t862: f32 = t846 * t861;
+        let t863: f32 = t12 * t778;
+        let t864: f32 = t67 * t772;
+        let t865: f32 = t775 * t831;
+        let t866: f32 = t865 * 0.5;
+        let t867: f32 = t864 + t866;
+        let t868: f32 = t0 * t867;
+        let t869: f32 = t863 - t868;
+        let t870: f32 = t837 * t869;
+        let t871: f32 = -t870;
+        let t872: f32 = platform_izz + joint1_izz;
+        let t873: f32 = joint6_izz + t872;
+        let t874: f32 = joint2_izz + joint3_izz;
+        let t875: f32 = joint4_izz + joint5_izz;
+        let t876: f32 = t874 + t875;
+        let t877: f32 = t873 + t876;
+        let t878: f32 = t877 * 0.5;
+        let t879: f32 = t871 * t878;
+        let t880: f32 = platform_ixx + joint1_ixx;
+        let t881: f32 = joint6_ixx + t880;
+        let t882: f32 = joint2_ixx + joint3_ixx;
+        let t883: f32 = joint4_ixx + joint5_ixx;
+        let t884: f32 = t882 + t883;
+        let t885: f32 = t881 + t884;
+        let t886: f32 = t885 * 0.5;
+        let t887: f32 = t808 * t886;
+        let t888: f32 = t806 * t820;
+        let t889: f32 = t791 * t839;
+        let t890: f32 = t888 + t889;
+        let t891: f32 = t887 - t890;
+        let t892: f32 = t820 * t891;
+        let t893: f32 = t862 + t879;
+        let t894: f32 = t892 + t893;
+        let t895: f32 = t852 - t894;
+        let t896: f32 = t200 * t831;
+        let t897: f32 = t895 * t896;
+        let t898: f32 = t784 * t807;
+        let t899: f32 = t885 * t898;
+        let t900: f32 = t805 * t861;
+        let t901: f32 = t790 * t871;
+        let t902: f32 = t790 * t808;
+        let t903: f32 = t820 * t845;
+        let t904: f32 = t839 * t877;
+        let t905: f32 = t903 + t904;
+        let t906: f32 = t902 - t905;
+        let t907: f32 = t820 * t906;
+        let t908: f32 = t805 * t808;
+        let t909: f32 = t820 * t826;
+        let t910: f32 = t839 * t845;
+        let t911: f32 = t909 + t910;
+        let t912: f32 = t908 - t911;
+        let t913: f32 = t839 * t912;
+        let t914: f32 = t899 + t907;
+        let t915: f32 = t900 + t901;
+        let t916: f32 = t913 + t915;
+        let t917: f32 = t914 - t916;
+        let t918: f32 = t23 * t203;
+        let t919: f32 = t917 * t918;
+        let t920: f32 = t897 + t919;
+        let t921: f32 = t0 * t920;
+        let t922: f32 = t784 * t805;
+        let t923: f32 = t799 * t906;
+        let t924: f32 = t922 + t923;
+        let t925: f32 = t807 * t924;
+        let t926: f32 = t826 * t861;
+        let t927: f32 = t845 * t871;
+        let t928: f32 = t808 * t885;
+        let t929: f32 = t805 * t820;
+        let t930: f32 = t790 * t839;
+        let t931: f32 = t929 + t930;
+        let t932: f32 = t928 - t931;
+        let t933: f32 = t839 * t932;
+        let t934: f32 = t925 + t933;
+        let t935: f32 = t926 + t927;
+        let t936: f32 = t934 - t935;
+        let t937: f32 = t12 * t207;
+        let t938: f32 = t936 * t937;
+        let t939: f32 = t0 * t177;
+        let t940: f32 = t939 * 0.5;
+        let t941: f32 = t940 - 0.5;
+        let t942: f32 = qd5 * t941;
+        let t943: f32 = t940 + 0.5;
+        let t944: f32 = qd6 * t943;
+        let t945: f32 = t3 * t12;
+        let t946: f32 = t30 * t945;
+        let t947: f32 = t6 * t35;
+        let t948: f32 = t12 * t947;
+        let t949: f32 = t51 * t948;
+        let t950: f32 = t57 * t67;
+        let t951: f32 = t74 * t950;
+        let t952: f32 = t949 * 0.5;
+        let t953: f32 = t951 + t952;
+        let t954: f32 = t0 * t953;
+        let t955: f32 = t946 - t954;
+        let t956: f32 = t0 * t12;
+        let t957: f32 = t955 * t956;
+        let t958: f32 = t957 * 0.5;
+        let t959: f32 = t84 * t958;
+        let t960: f32 = t942 + t959;
+        let t961: f32 = t960 - t944;
+        let t962: f32 = t85 * t961;
+        let t963: f32 = t12 * t955;
+        let t964: f32 = q1 - t963;
+        let t965: f32 = t0 * t964;
+        let t966: f32 = t130 - t965;
+        let t967: f32 = t966 * 0.5;
+        let t968: f32 = t967 + 1.0;
+        let t969: f32 = qd3 * t968;
+        let t970: f32 = qd4 * t967;
+        let t971: f32 = t0 * t163;
+        let t972: f32 = t971 * 0.5;
+        let t973: f32 = t972 - 0.5;
+        let t974: f32 = t137 * t973;
+        let t975: f32 = t969 + t974;
+        let t976: f32 = t975 - t970;
+        let t977: f32 = t128 * t976;
+        let t978: f32 = t962 + t977;
+        let t979: f32 = t0 * t978;
+        let t980: f32 = qdd2 - t979;
+        let t981: f32 = t163 * t980;
+        let t982: f32 = t252 + t254;
+        let t983: f32 = q2 - t963;
+        let t984: f32 = t0 * t982;
+        let t985: f32 = t983 * t984;
+        let t986: f32 = t141 * t147;
+        let t987: f32 = t775 + t986;
+        let t988: f32 = half_spacing + t162;
+        let t989: f32 = t987 * t988;
+        let t990: f32 = t125 * t177;
+        let t991: f32 = t147 * t990;
+        let t992: f32 = t981 * 0.5;
+        let t993: f32 = t991 + t992;
+        let t994: f32 = t985 + t989;
+        let t995: f32 = t993 - t994;
+        let t996: f32 = t0 * t995;
+        let t997: f32 = t972 - 1.0;
+        let t998: f32 = qdd1 - t979;
+        let t999: f32 = t997 * t998;
+        (
+            t0,
+            t11,
+            t12,
+            t44,
+            t67,
+            t80,
+            t85,
+            t98,
+            t118,
+            t125,
+            t128,
+            t130,
+            t132,
+            t133,
+            t136,
+            t147,
+            t162,
+            t176,
+            t177,
+            t181,
+            t184,
+            t185,
+            t189,
+            t194,
+            t195,
+            t199,
+            t200,
+            t203,
+            t207,
+            t213,
+            t214,
+            t218,
+            t229,
+            t230,
+            t242,
+            t244,
+            t245,
+            t246,
+            t250,
+            t251,
+            t252,
+            t253,
+            t254,
+            t261,
+            t267,
+            t268,
+            t279,
+            t280,
+            t291,
+            t292,
+            t304,
+            t306,
+            t307,
+            t311,
+            t318,
+            t323,
+            t325,
+            t328,
+            t337,
+            t350,
+            t362,
+            t364,
+            t366,
+            t369,
+            t376,
+            t380,
+            t381,
+            t382,
+            t389,
+            t403,
+            t408,
+            t412,
+            t419,
+            t426,
+            t437,
+            t451,
+            t464,
+            t480,
+            t482,
+            t485,
+            t487,
+            t488,
+            t491,
+            t507,
+            t520,
+            t522,
+            t536,
+            t538,
+            t541,
+            t544,
+            t549,
+            t566,
+            t579,
+            t581,
+            t595,
+            t597,
+            t599,
+            t602,
+            t605,
+            t621,
+            t633,
+            t635,
+            t638,
+            t645,
+            t648,
+            t662,
+            t670,
+            t674,
+            t676,
+            t677,
+            t678,
+            t679,
+            t680,
+            t685,
+            t686,
+            t687,
+            t700,
+            t704,
+            t706,
+            t708,
+            t715,
+            t716,
+            t717,
+            t718,
+            t719,
+            t724,
+            t725,
+            t726,
+            t727,
+            t728,
+            t735,
+            t736,
+            t737,
+            t741,
+            t749,
+            t750,
+            t755,
+            t756,
+            t757,
+            t761,
+            t769,
+            t770,
+            t771,
+            t772,
+            t774,
+            t775,
+            t778,
+            t779,
+            t784,
+            t790,
+            t791,
+            t799,
+            t806,
+            t807,
+            t808,
+            t811,
+            t820,
+            t827,
+            t839,
+            t845,
+            t846,
+            t849,
+            t861,
+            t871,
+            t877,
+            t878,
+            t886,
+            t891,
+            t896,
+            t898,
+            t912,
+            t917,
+            t918,
+            t921,
+            t932,
+            t936,
+            t937,
+            t938,
+            t939,
+            t941,
+            t943,
+            t957,
+            t958,
+            t961,
+            t963,
+            t967,
+            t968,
+            t973,
+            t976,
+            t978,
+            t982,
+            t983,
+            t984,
+            t986,
+            t987,
+            t988,
+            t992,
+            t996,
+            t997,
+            t999,
+        )
+    };
+    let (t1363, t1364, t1707, t1710, t1804, t1806, t1807, t1808, t1809, t1810) = {
+        let t1000: f32 = gravity_x + t999;
+        let t1001: f32 = t1000 - t996;
+        let t1002: f32 = joint2_mass * t1001;
+        let t1003: f32 = t775 * t988;
+        let t1004: f32 = t978 + t992;
+        let t1005: f32 = t1004 - t1003;
+        let t1006: f32 = t0 * t1005;
+        let t1007: f32 = t1000 - t1006;
+        let t1008: f32 = rod2_mass * t1007;
+        let t1009: f32 = joint5_my + joint6_my;
+        let t1010: f32 = joint3_my + joint4_my;
+        let t1011: f32 = platform_my + t1010;
+        let t1012: f32 = t1009 + t1011;
+        let t1013: f32 = joint2_my + t1012;
+        let t1014: f32 = t1013 * 0.5;
+        let t1015: f32 = t207 * t811;
+        let t1016: f32 = t1014 * t1015;
+        let t1017: f32 = joint5_mz + joint6_mz;
+        let t1018: f32 = joint3_mz + joint4_mz;
+        let t1019: f32 = platform_mz + t1018;
+        let t1020: f32 = t1017 + t1019;
+        let t1021: f32 = joint2_mz + t1020;
+        let t1022: f32 = t67 * t200;
+        let t1023: f32 = t1021 * t1022;
+        let t1024: f32 = t1016 + t1023;
+        let t1025: f32 = t0 * t1024;
+        let t1026: f32 = joint5_mx + joint6_mx;
+        let t1027: f32 = joint3_mx + joint4_mx;
+        let t1028: f32 = platform_mx + t1027;
+        let t1029: f32 = t1026 + t1028;
+        let t1030: f32 = joint2_mx + t1029;
+        let t1031: f32 = t12 * t203;
+        let t1032: f32 = t1030 * t1031;
+        let t1033: f32 = t1025 - t1032;
+        let t1034: f32 = t85 * t1033;
+        let t1035: f32 = t1021 * 0.5;
+        let t1036: f32 = t896 * t1035;
+        let t1037: f32 = t918 * t1030;
+        let t1038: f32 = t1036 + t1037;
+        let t1039: f32 = t0 * t1038;
+        let t1040: f32 = t937 * t1013;
+        let t1041: f32 = t1039 - t1040;
+        let t1042: f32 = t147 * t1041;
+        let t1043: f32 = t1034 - t1042;
+        let t1044: f32 = t85 * t1043;
+        let t1045: f32 = t128 * t1033;
+        let t1046: f32 = t1030 * 0.5;
+        let t1047: f32 = t203 * t779;
+        let t1048: f32 = t1046 * t1047;
+        let t1049: f32 = t44 * t207;
+        let t1050: f32 = t1013 * t1049;
+        let t1051: f32 = t1048 + t1050;
+        let t1052: f32 = t0 * t1051;
+        let t1053: f32 = t12 * t200;
+        let t1054: f32 = t1021 * t1053;
+        let t1055: f32 = t1052 - t1054;
+        let t1056: f32 = t147 * t1055;
+        let t1057: f32 = t1045 - t1056;
+        let t1058: f32 = t128 * t1057;
+        let t1059: f32 = t1044 + t1058;
+        let t1060: f32 = t0 * t1059;
+        let t1061: f32 = t775 * t1055;
+        let t1062: f32 = t778 * t1041;
+        let t1063: f32 = t1060 + t1062;
+        let t1064: f32 = t1063 - t1061;
+        let t1065: f32 = t0 * t1064;
+        let t1066: f32 = t177 * t778;
+        let t1067: f32 = t992 + t1066;
+        let t1068: f32 = t0 * t1067;
+        let t1069: f32 = t1000 - t1068;
+        let t1070: f32 = platform_mass * t1069;
+        let t1071: f32 = t125 * t147;
+        let t1072: f32 = t778 - t1071;
+        let t1073: f32 = half_spacing - t176;
+        let t1074: f32 = t1072 * t1073;
+        let t1075: f32 = q5 - t162;
+        let t1076: f32 = t987 * t1075;
+        let t1077: f32 = t957 * t982;
+        let t1078: f32 = t1066 + t1077;
+        let t1079: f32 = t992 + t1076;
+        let t1080: f32 = t1078 + t1079;
+        let t1081: f32 = t1080 - t1074;
+        let t1082: f32 = t0 * t1081;
+        let t1083: f32 = t1000 - t1082;
+        let t1084: f32 = joint5_mass * t1083;
+        let t1085: f32 = t1070 + t1084;
+        let t1086: f32 = half_spacing + t176;
+        let t1087: f32 = t1072 * t1086;
+        let t1088: f32 = q6 - t162;
+        let t1089: f32 = t987 * t1088;
+        let t1090: f32 = t992 + t1087;
+        let t1091: f32 = t1078 + t1089;
+        let t1092: f32 = t1090 + t1091;
+        let t1093: f32 = t0 * t1092;
+        let t1094: f32 = t1000 - t1093;
+        let t1095: f32 = joint6_mass * t1094;
+        let t1096: f32 = half_spacing - t963;
+        let t1097: f32 = t984 * t1096;
+        let t1098: f32 = q3 - t176;
+        let t1099: f32 = t1072 * t1098;
+        let t1100: f32 = -t162;
+        let t1101: f32 = t987 * t1100;
+        let t1102: f32 = t1066 + t1101;
+        let t1103: f32 = t992 + t1102;
+        let t1104: f32 = t1097 + t1099;
+        let t1105: f32 = t1103 - t1104;
+        let t1106: f32 = t0 * t1105;
+        let t1107: f32 = t1000 - t1106;
+        let t1108: f32 = joint3_mass * t1107;
+        let t1109: f32 = half_spacing + t963;
+        let t1110: f32 = t984 * t1109;
+        let t1111: f32 = q4 - t176;
+        let t1112: f32 = t1072 * t1111;
+        let t1113: f32 = t992 + t1110;
+        let t1114: f32 = t1102 + t1113;
+        let t1115: f32 = t1114 - t1112;
+        let t1116: f32 = t0 * t1115;
+        let t1117: f32 = t1000 - t1116;
+        let t1118: f32 = joint4_mass * t1117;
+        let t1119: f32 = t1108 + t1118;
+        let t1120: f32 = t1095 + t1119;
+        let t1121: f32 = t1085 + t1120;
+        let t1122: f32 = t1002 + t1008;
+        let t1123: f32 = t1065 + t1121;
+        let t1124: f32 = t1122 + t1123;
+        let t1125: f32 = t80 * t1124;
+        let t1126: f32 = t125 * t128;
+        let t1127: f32 = t772 + t1126;
+        let t1128: f32 = t177 * t1127;
+        let t1129: f32 = t775 - t986;
+        let t1130: f32 = t983 * t1129;
+        let t1131: f32 = t254 + t381;
+        let t1132: f32 = t0 * t988;
+        let t1133: f32 = t1131 * t1132;
+        let t1134: f32 = t1128 + t1133;
+        let t1135: f32 = t1134 - t1130;
+        let t1136: f32 = t0 * t1135;
+        let t1137: f32 = t147 * t976;
+        let t1138: f32 = qd1 * t997;
+        let t1139: f32 = t1138 - t181;
+        let t1140: f32 = t85 * t1139;
+        let t1141: f32 = t1137 + t1140;
+        let t1142: f32 = t0 * t1141;
+        let t1143: f32 = qdd5 + t1142;
+        let t1144: f32 = t941 * t1143;
+        let t1145: f32 = gravity_z + t1144;
+        let t1146: f32 = t774 * t958;
+        let t1147: f32 = qdd6 + t1142;
+        let t1148: f32 = t943 * t1147;
+        let t1149: f32 = t1146 - t1148;
+        let t1150: f32 = t1145 + t1149;
+        let t1151: f32 = t1150 - t1136;
+        let t1152: f32 = joint2_mass * t1151;
+        let t1153: f32 = t85 * t1055;
+        let t1154: f32 = t128 * t1041;
+        let t1155: f32 = t1153 - t1154;
+        let t1156: f32 = t85 * t1155;
+        let t1157: f32 = t147 * t1057;
+        let t1158: f32 = t1156 - t1157;
+        let t1159: f32 = t0 * t1158;
+        let t1160: f32 = t772 * t1041;
+        let t1161: f32 = t775 * t1033;
+        let t1162: f32 = t1159 + t1161;
+        let t1163: f32 = t1162 - t1160;
+        let t1164: f32 = t0 * t1163;
+        let t1165: f32 = platform_mass * t1150;
+        let t1166: f32 = t1096 * t1129;
+        let t1167: f32 = t1098 * t1127;
+        let t1168: f32 = t0 * t1100;
+        let t1169: f32 = t1131 * t1168;
+        let t1170: f32 = t1166 + t1169;
+        let t1171: f32 = t1170 - t1167;
+        let t1172: f32 = t0 * t1171;
+        let t1173: f32 = t1150 + t1172;
+        let t1174: f32 = joint3_mass * t1173;
+        let t1175: f32 = t1165 + t1174;
+        let t1176: f32 = t1109 * t1129;
+        let t1177: f32 = t1111 * t1127;
+        let t1178: f32 = t1176 + t1177;
+        let t1179: f32 = t1169 - t1178;
+        let t1180: f32 = t0 * t1179;
+        let t1181: f32 = t1150 + t1180;
+        let t1182: f32 = joint4_mass * t1181;
+        let t1183: f32 = t963 * t1129;
+        let t1184: f32 = t1073 * t1127;
+        let t1185: f32 = t0 * t1075;
+        let t1186: f32 = t1131 * t1185;
+        let t1187: f32 = t1183 + t1184;
+        let t1188: f32 = t1187 - t1186;
+        let t1189: f32 = t0 * t1188;
+        let t1190: f32 = t1150 - t1189;
+        let t1191: f32 = joint5_mass * t1190;
+        let t1192: f32 = t772 * t1073;
+        let t1193: f32 = t775 * t963;
+        let t1194: f32 = t1141 - t1193;
+        let t1195: f32 = t1194 - t1192;
+        let t1196: f32 = t0 * t1195;
+        let t1197: f32 = t1150 + t1196;
+        let t1198: f32 = rod5_mass * t1197;
+        let t1199: f32 = t1191 + t1198;
+        let t1200: f32 = t1086 * t1127;
+        let t1201: f32 = t0 * t1088;
+        let t1202: f32 = t1131 * t1201;
+        let t1203: f32 = t1200 + t1202;
+        let t1204: f32 = t1183 - t1203;
+        let t1205: f32 = t0 * t1204;
+        let t1206: f32 = t1150 - t1205;
+        let t1207: f32 = joint6_mass * t1206;
+        let t1208: f32 = t772 * t1086;
+        let t1209: f32 = t1194 + t1208;
+        let t1210: f32 = t0 * t1209;
+        let t1211: f32 = t1150 + t1210;
+        let t1212: f32 = rod6_mass * t1211;
+        let t1213: f32 = t1207 + t1212;
+        let t1214: f32 = t1199 + t1213;
+        let t1215: f32 = t1182 + t1214;
+        let t1216: f32 = t1175 + t1215;
+        let t1217: f32 = t1152 + t1164;
+        let t1218: f32 = t1216 + t1217;
+        let t1219: f32 = t118 * t1218;
+        let t1220: f32 = t1010 * 0.5;
+        let t1221: f32 = t1015 * t1220;
+        let t1222: f32 = t1018 * t1022;
+        let t1223: f32 = t1221 + t1222;
+        let t1224: f32 = t0 * t1223;
+        let t1225: f32 = t1027 * t1031;
+        let t1226: f32 = t1224 - t1225;
+        let t1227: f32 = t85 * t1226;
+        let t1228: f32 = t1018 * 0.5;
+        let t1229: f32 = t896 * t1228;
+        let t1230: f32 = t918 * t1027;
+        let t1231: f32 = t1229 + t1230;
+        let t1232: f32 = t0 * t1231;
+        let t1233: f32 = t937 * t1010;
+        let t1234: f32 = t1232 - t1233;
+        let t1235: f32 = t147 * t1234;
+        let t1236: f32 = t1227 - t1235;
+        let t1237: f32 = t85 * t1236;
+        let t1238: f32 = t128 * t1226;
+        let t1239: f32 = t1027 * 0.5;
+        let t1240: f32 = t1047 * t1239;
+        let t1241: f32 = t1010 * t1049;
+        let t1242: f32 = t1240 + t1241;
+        let t1243: f32 = t0 * t1242;
+        let t1244: f32 = t1018 * t1053;
+        let t1245: f32 = t1243 - t1244;
+        let t1246: f32 = t147 * t1245;
+        let t1247: f32 = t1238 - t1246;
+        let t1248: f32 = t128 * t1247;
+        let t1249: f32 = t1237 + t1248;
+        let t1250: f32 = t0 * t1249;
+        let t1251: f32 = t775 * t1245;
+        let t1252: f32 = t778 * t1234;
+        let t1253: f32 = t1250 + t1252;
+        let t1254: f32 = t1253 - t1251;
+        let t1255: f32 = t0 * t1254;
+        let t1256: f32 = t1119 + t1255;
+        let t1257: f32 = t487 * t1256;
+        let t1258: f32 = t1026 * 0.5;
+        let t1259: f32 = t1047 * t1258;
+        let t1260: f32 = t1009 * t1049;
+        let t1261: f32 = t1259 + t1260;
+        let t1262: f32 = t0 * t1261;
+        let t1263: f32 = t1017 * t1053;
+        let t1264: f32 = t1262 - t1263;
+        let t1265: f32 = t85 * t1264;
+        let t1266: f32 = t1017 * 0.5;
+        let t1267: f32 = t896 * t1266;
+        let t1268: f32 = t918 * t1026;
+        let t1269: f32 = t1267 + t1268;
+        let t1270: f32 = t0 * t1269;
+        let t1271: f32 = t937 * t1009;
+        let t1272: f32 = t1270 - t1271;
+        let t1273: f32 = t128 * t1272;
+        let t1274: f32 = t1265 - t1273;
+        let t1275: f32 = t85 * t1274;
+        let t1276: f32 = t1009 * 0.5;
+        let t1277: f32 = t1015 * t1276;
+        let t1278: f32 = t1017 * t1022;
+        let t1279: f32 = t1277 + t1278;
+        let t1280: f32 = t0 * t1279;
+        let t1281: f32 = t1026 * t1031;
+        let t1282: f32 = t1280 - t1281;
+        let t1283: f32 = t128 * t1282;
+        let t1284: f32 = t147 * t1264;
+        let t1285: f32 = t1283 - t1284;
+        let t1286: f32 = t147 * t1285;
+        let t1287: f32 = t1275 - t1286;
+        let t1288: f32 = t0 * t1287;
+        let t1289: f32 = t772 * t1272;
+        let t1290: f32 = t775 * t1282;
+        let t1291: f32 = t1288 + t1290;
+        let t1292: f32 = t1291 - t1289;
+        let t1293: f32 = t0 * t1292;
+        let t1294: f32 = t1214 + t1293;
+        let t1295: f32 = t369 * t1294;
+        let t1296: f32 = t677 + t678;
+        let t1297: f32 = t679 + t680;
+        let t1298: f32 = t686 + t687;
+        let t1299: f32 = t716 + t717;
+        let t1300: f32 = t725 + t726;
+        let t1301: f32 = t728 + t736;
+        let t1302: f32 = t737 + t750;
+        let t1303: f32 = t756 + t757;
+        let t1304: f32 = t770 + t921;
+        let t1305: f32 = t1219 + t1257;
+        let t1306: f32 = t1296 + t1297;
+        let t1307: f32 = t1298 + t1299;
+        let t1308: f32 = t1300 + t1301;
+        let t1309: f32 = t1302 + t1303;
+        let t1310: f32 = t1304 + t1305;
+        let t1311: f32 = t1306 + t1307;
+        let t1312: f32 = t1308 + t1309;
+        let t1313: f32 = t1295 + t1310;
+        let t1314: f32 = t1311 + t1312;
+        let t1315: f32 = t1313 + t1314;
+        let t1316: f32 = t706 + t708;
+        let t1317: f32 = t719 + t938;
+        let t1318: f32 = t1316 + t1317;
+        let t1319: f32 = t1125 + t1318;
+        let t1320: f32 = t1315 - t1319;
+        let t1321: f32 = t0 * t1320;
+        let t1322: f32 = t676 - t1321;
+        let t1323: f32 = t218 * t536;
+        let t1324: f32 = t147 * t536;
+        let t1325: f32 = t85 * t507;
+        let t1326: f32 = t1324 + t1325;
+        let t1327: f32 = t245 * t1326;
+        let t1328: f32 = t1323 - t1327;
+        let t1329: f32 = t250 * t522;
+        let t1330: f32 = joint3_mass * t715;
+        let t1331: f32 = t199 * t520;
+        let t1332: f32 = t1330 - t1331;
+        let t1333: f32 = t1329 - t1332;
+        let t1334: f32 = t1328 - t1333;
+        let t1335: f32 = t218 * t595;
+        let t1336: f32 = t147 * t595;
+        let t1337: f32 = t85 * t566;
+        let t1338: f32 = t1336 + t1337;
+        let t1339: f32 = t245 * t1338;
+        let t1340: f32 = t1335 - t1339;
+        let t1341: f32 = t250 * t581;
+        let t1342: f32 = joint4_mass * t724;
+        let t1343: f32 = t199 * t579;
+        let t1344: f32 = t1342 - t1343;
+        let t1345: f32 = t1341 - t1344;
+        let t1346: f32 = t1340 - t1345;
+        let t1347: f32 = t1322 * 0.5;
+        let t1348: f32 = t214 + t246;
+        let t1349: f32 = t251 + t280;
+        let t1350: f32 = t307 + t311;
+        let t1351: f32 = t704 + t1347;
+        let t1352: f32 = t1348 + t1349;
+        let t1353: f32 = t1350 + t1351;
+        let t1354: f32 = t1352 + t1353;
+        let t1355: f32 = t195 + t230;
+        let t1356: f32 = t268 + t292;
+        let t1357: f32 = t318 + t1334;
+        let t1358: f32 = t749 + t1346;
+        let t1359: f32 = t1355 + t1356;
+        let t1360: f32 = t1357 + t1358;
+        let t1361: f32 = t1359 + t1360;
+        let t1362: f32 = t769 + t1361;
+        let t1363: f32 = t1354 - t1362;
+        let t1364: f32 = -t1347;
+        let t1365: f32 = t130 * 0.5;
+        let t1366: f32 = t1365 + 1.0;
+        let t1367: f32 = t328 * t350;
+        let t1368: f32 = t250 * t364;
+        let t1369: f32 = t1367 - t1368;
+        let t1370: f32 = t408 * t761;
+        let t1371: f32 = t253 + t382;
+        let t1372: f32 = t366 * t1371;
+        let t1373: f32 = t328 - t376;
+        let t1374: f32 = t380 * t1373;
+        let t1375: f32 = t218 + t261;
+        let t1376: f32 = t369 * t1375;
+        let t1377: f32 = t132 * t185;
+        let t1378: f32 = t136 * t323;
+        let t1379: f32 = t1377 - t1378;
+        let t1380: f32 = t136 * t325;
+        let t1381: f32 = t133 * t189;
+        let t1382: f32 = gravity_y - t1381;
+        let t1383: f32 = t1380 + t1382;
+        let t1384: f32 = t1379 + t1383;
+        let t1385: f32 = t1376 + t1384;
+        let t1386: f32 = t1374 + t1385;
+        let t1387: f32 = t1386 - t1372;
+        let t1388: f32 = joint6_mass * t1387;
+        let t1389: f32 = t218 * t403;
+        let t1390: f32 = t1388 + t1389;
+        let t1391: f32 = t1370 + t1390;
+        let t1392: f32 = t1369 + t1391;
+        let t1393: f32 = platform_mass * t1384;
+        let t1394: f32 = t218 * t242;
+        let t1395: f32 = t1393 + t1394;
+        let t1396: f32 = t1392 + t1395;
+        let t1397: f32 = t213 * t328;
+        let t1398: f32 = t250 * t419;
+        let t1399: f32 = t1397 - t1398;
+        let t1400: f32 = t244 * t408;
+        let t1401: f32 = t118 * t1375;
+        let t1402: f32 = t80 * t1373;
+        let t1403: f32 = t98 * t1371;
+        let t1404: f32 = t1384 + t1403;
+        let t1405: f32 = t1402 + t1404;
+        let t1406: f32 = t1405 - t1401;
+        let t1407: f32 = joint1_mass * t1406;
+        let t1408: f32 = t1400 + t1407;
+        let t1409: f32 = t1399 + t1408;
+        let t1410: f32 = t1396 + t1409;
+        let t1411: f32 = t218 * t304;
+        let t1412: f32 = t279 * t328;
+        let t1413: f32 = t1411 + t1412;
+        let t1414: f32 = t306 * t408;
+        let t1415: f32 = t250 * t437;
+        let t1416: f32 = t1414 - t1415;
+        let t1417: f32 = t1413 + t1416;
+        let t1418: f32 = t328 * t464;
+        let t1419: f32 = t250 * t482;
+        let t1420: f32 = t1418 - t1419;
+        let t1421: f32 = t408 * t700;
+        let t1422: f32 = t485 * t1375;
+        let t1423: f32 = t488 * t1373;
+        let t1424: f32 = t1422 + t1423;
+        let t1425: f32 = t1404 - t1424;
+        let t1426: f32 = joint2_mass * t1425;
+        let t1427: f32 = t218 * t451;
+        let t1428: f32 = t1426 + t1427;
+        let t1429: f32 = t1421 + t1428;
+        let t1430: f32 = t1420 + t1429;
+        let t1431: f32 = t408 * t1326;
+        let t1432: f32 = t218 * t541;
+        let t1433: f32 = t328 * t487;
+        let t1434: f32 = t1384 + t1433;
+        let t1435: f32 = t184 + t1434;
+        let t1436: f32 = t1435 - t1432;
+        let t1437: f32 = rod3_mass * t1436;
+        let t1438: f32 = t1431 + t1437;
+        let t1439: f32 = t541 * t1375;
+        let t1440: f32 = t544 * t1371;
+        let t1441: f32 = t487 * t1373;
+        let t1442: f32 = t1384 + t1441;
+        let t1443: f32 = t1440 + t1442;
+        let t1444: f32 = t1443 - t1439;
+        let t1445: f32 = joint3_mass * t1444;
+        let t1446: f32 = t218 * t507;
+        let t1447: f32 = t1445 + t1446;
+        let t1448: f32 = t328 * t520;
+        let t1449: f32 = t250 * t538;
+        let t1450: f32 = t1448 - t1449;
+        let t1451: f32 = t1447 + t1450;
+        let t1452: f32 = t1438 + t1451;
+        let t1453: f32 = t1430 + t1452;
+        let t1454: f32 = t408 * t1338;
+        let t1455: f32 = t218 * t599;
+        let t1456: f32 = t1435 + t1455;
+        let t1457: f32 = rod4_mass * t1456;
+        let t1458: f32 = t1454 + t1457;
+        let t1459: f32 = t599 * t1375;
+        let t1460: f32 = t602 * t1371;
+        let t1461: f32 = t1459 + t1460;
+        let t1462: f32 = t1442 + t1461;
+        let t1463: f32 = joint4_mass * t1462;
+        let t1464: f32 = t218 * t566;
+        let t1465: f32 = t1463 + t1464;
+        let t1466: f32 = t328 * t579;
+        let t1467: f32 = t250 * t597;
+        let t1468: f32 = t1466 - t1467;
+        let t1469: f32 = t1465 + t1468;
+        let t1470: f32 = t1458 + t1469;
+        let t1471: f32 = t328 * t621;
+        let t1472: f32 = t250 * t635;
+        let t1473: f32 = t1471 - t1472;
+        let t1474: f32 = t408 * t741;
+        let t1475: f32 = t638 * t1371;
+        let t1476: f32 = t645 * t1373;
+        let t1477: f32 = t1475 + t1476;
+        let t1478: f32 = t1385 + t1477;
+        let t1479: f32 = joint5_mass * t1478;
+        let t1480: f32 = t218 * t662;
+        let t1481: f32 = t1479 + t1480;
+        let t1482: f32 = t1474 + t1481;
+        let t1483: f32 = t1473 + t1482;
+        let t1484: f32 = t1470 + t1483;
+        let t1485: f32 = t1453 + t1484;
+        let t1486: f32 = t1417 + t1485;
+        let t1487: f32 = t1410 + t1486;
+        let t1488: f32 = t1366 * t1487;
+        let t1489: f32 = t242 * t1384;
+        let t1490: f32 = t194 * t229;
+        let t1491: f32 = t304 * t1406;
+        let t1492: f32 = t267 * t291;
+        let t1493: f32 = t451 * t1425;
+        let t1494: f32 = t480 * t685;
+        let t1495: f32 = t485 * t1430;
+        let t1496: f32 = t507 * t1444;
+        let t1497: f32 = t536 * t715;
+        let t1498: f32 = t544 * t1334;
+        let t1499: f32 = t541 * t1452;
+        let t1500: f32 = t566 * t1462;
+        let t1501: f32 = t595 * t724;
+        let t1502: f32 = t602 * t1346;
+        let t1503: f32 = t599 * t1470;
+        let t1504: f32 = t662 * t1478;
+        let t1505: f32 = t633 * t735;
+        let t1506: f32 = t638 * t749;
+        let t1507: f32 = t403 * t1387;
+        let t1508: f32 = t362 * t755;
+        let t1509: f32 = t366 * t769;
+        let t1510: f32 = t886 * t898;
+        let t1511: f32 = t806 * t861;
+        let t1512: f32 = t791 * t871;
+        let t1513: f32 = t791 * t808;
+        let t1514: f32 = t820 * t846;
+        let t1515: f32 = t839 * t878;
+        let t1516: f32 = t1514 + t1515;
+        let t1517: f32 = t1513 - t1516;
+        let t1518: f32 = t820 * t1517;
+        let t1519: f32 = t839 * t849;
+        let t1520: f32 = t1510 + t1518;
+        let t1521: f32 = t1511 + t1512;
+        let t1522: f32 = t1519 + t1521;
+        let t1523: f32 = t1520 - t1522;
+        let t1524: f32 = t1047 * t1523;
+        let t1525: f32 = t936 * t1049;
+        let t1526: f32 = t1524 + t1525;
+        let t1527: f32 = t0 * t1526;
+        let t1528: f32 = t784 * t790;
+        let t1529: f32 = t799 * t912;
+        let t1530: f32 = t1528 - t1529;
+        let t1531: f32 = t807 * t1530;
+        let t1532: f32 = t845 * t861;
+        let t1533: f32 = t871 * t877;
+        let t1534: f32 = t820 * t932;
+        let t1535: f32 = t1532 + t1533;
+        let t1536: f32 = t1534 + t1535;
+        let t1537: f32 = t1531 - t1536;
+        let t1538: f32 = t1053 * t1537;
+        let t1539: f32 = t1012 * 0.5;
+        let t1540: f32 = t1015 * t1539;
+        let t1541: f32 = t1020 * t1022;
+        let t1542: f32 = t1540 + t1541;
+        let t1543: f32 = t0 * t1542;
+        let t1544: f32 = t1029 * t1031;
+        let t1545: f32 = t1543 - t1544;
+        let t1546: f32 = t85 * t1545;
+        let t1547: f32 = t1020 * 0.5;
+        let t1548: f32 = t896 * t1547;
+        let t1549: f32 = t918 * t1029;
+        let t1550: f32 = t1548 + t1549;
+        let t1551: f32 = t0 * t1550;
+        let t1552: f32 = t937 * t1012;
+        let t1553: f32 = t1551 - t1552;
+        let t1554: f32 = t147 * t1553;
+        let t1555: f32 = t1546 - t1554;
+        let t1556: f32 = t85 * t1555;
+        let t1557: f32 = t128 * t1545;
+        let t1558: f32 = t1029 * 0.5;
+        let t1559: f32 = t1047 * t1558;
+        let t1560: f32 = t1012 * t1049;
+        let t1561: f32 = t1559 + t1560;
+        let t1562: f32 = t0 * t1561;
+        let t1563: f32 = t1020 * t1053;
+        let t1564: f32 = t1562 - t1563;
+        let t1565: f32 = t147 * t1564;
+        let t1566: f32 = t1557 - t1565;
+        let t1567: f32 = t128 * t1566;
+        let t1568: f32 = t1556 + t1567;
+        let t1569: f32 = t0 * t1568;
+        let t1570: f32 = t775 * t1564;
+        let t1571: f32 = t778 * t1553;
+        let t1572: f32 = t1569 + t1571;
+        let t1573: f32 = t1572 - t1570;
+        let t1574: f32 = t0 * t1573;
+        let t1575: f32 = t1121 + t1574;
+        let t1576: f32 = t98 * t1575;
+        let t1577: f32 = t128 * t1139;
+        let t1578: f32 = t147 * t961;
+        let t1579: f32 = t1577 - t1578;
+        let t1580: f32 = t0 * t1579;
+        let t1581: f32 = qdd3 - t1580;
+        let t1582: f32 = t968 * t1581;
+        let t1583: f32 = gravity_y - t1582;
+        let t1584: f32 = qdd4 - t1580;
+        let t1585: f32 = t967 * t1584;
+        let t1586: f32 = t771 * t973;
+        let t1587: f32 = t1585 - t1586;
+        let t1588: f32 = t1583 + t1587;
+        let t1589: f32 = platform_mass * t1588;
+        let t1590: f32 = t252 + t381;
+        let t1591: f32 = t939 * t1590;
+        let t1592: f32 = t778 + t1071;
+        let t1593: f32 = t983 * t1592;
+        let t1594: f32 = t772 - t1126;
+        let t1595: f32 = t988 * t1594;
+        let t1596: f32 = t1593 + t1595;
+        let t1597: f32 = t1591 - t1596;
+        let t1598: f32 = t0 * t1597;
+        let t1599: f32 = t1588 + t1598;
+        let t1600: f32 = joint2_mass * t1599;
+        let t1601: f32 = t128 * t1155;
+        let t1602: f32 = t147 * t1043;
+        let t1603: f32 = t1601 + t1602;
+        let t1604: f32 = t0 * t1603;
+        let t1605: f32 = t772 * t1055;
+        let t1606: f32 = t778 * t1033;
+        let t1607: f32 = t1604 + t1606;
+        let t1608: f32 = t1607 - t1605;
+        let t1609: f32 = t0 * t1608;
+        let t1610: f32 = t963 * t1592;
+        let t1611: f32 = t0 * t1073;
+        let t1612: f32 = t1590 * t1611;
+        let t1613: f32 = t1075 * t1594;
+        let t1614: f32 = t1610 + t1612;
+        let t1615: f32 = t1613 + t1614;
+        let t1616: f32 = t0 * t1615;
+        let t1617: f32 = t1588 + t1616;
+        let t1618: f32 = joint5_mass * t1617;
+        let t1619: f32 = t0 * t1086;
+        let t1620: f32 = t1590 * t1619;
+        let t1621: f32 = t1088 * t1594;
+        let t1622: f32 = t1610 + t1621;
+        let t1623: f32 = t1622 - t1620;
+        let t1624: f32 = t0 * t1623;
+        let t1625: f32 = t1588 + t1624;
+        let t1626: f32 = joint6_mass * t1625;
+        let t1627: f32 = t1618 + t1626;
+        let t1628: f32 = t1096 * t1592;
+        let t1629: f32 = t0 * t1098;
+        let t1630: f32 = t1590 * t1629;
+        let t1631: f32 = t1100 * t1594;
+        let t1632: f32 = t1630 + t1631;
+        let t1633: f32 = t1628 - t1632;
+        let t1634: f32 = t0 * t1633;
+        let t1635: f32 = t1588 - t1634;
+        let t1636: f32 = joint3_mass * t1635;
+        let t1637: f32 = t778 * t1096;
+        let t1638: f32 = t772 * t1100;
+        let t1639: f32 = t1579 - t1638;
+        let t1640: f32 = t1637 + t1639;
+        let t1641: f32 = t0 * t1640;
+        let t1642: f32 = t1588 - t1641;
+        let t1643: f32 = rod3_mass * t1642;
+        let t1644: f32 = t1636 + t1643;
+        let t1645: f32 = t1109 * t1592;
+        let t1646: f32 = t0 * t1111;
+        let t1647: f32 = t1590 * t1646;
+        let t1648: f32 = t1631 + t1645;
+        let t1649: f32 = t1647 + t1648;
+        let t1650: f32 = t0 * t1649;
+        let t1651: f32 = t1588 + t1650;
+        let t1652: f32 = joint4_mass * t1651;
+        let t1653: f32 = t778 * t1109;
+        let t1654: f32 = t1639 - t1653;
+        let t1655: f32 = t0 * t1654;
+        let t1656: f32 = t1588 - t1655;
+        let t1657: f32 = rod4_mass * t1656;
+        let t1658: f32 = t1652 + t1657;
+        let t1659: f32 = t1644 + t1658;
+        let t1660: f32 = t1589 + t1600;
+        let t1661: f32 = t1627 + t1659;
+        let t1662: f32 = t1660 + t1661;
+        let t1663: f32 = t1662 - t1609;
+        let t1664: f32 = t118 * t1663;
+        let t1665: f32 = t128 * t1274;
+        let t1666: f32 = t85 * t1282;
+        let t1667: f32 = t147 * t1272;
+        let t1668: f32 = t1666 - t1667;
+        let t1669: f32 = t147 * t1668;
+        let t1670: f32 = t1665 + t1669;
+        let t1671: f32 = t0 * t1670;
+        let t1672: f32 = t772 * t1264;
+        let t1673: f32 = t778 * t1282;
+        let t1674: f32 = t1671 + t1673;
+        let t1675: f32 = t1674 - t1672;
+        let t1676: f32 = t0 * t1675;
+        let t1677: f32 = t1627 - t1676;
+        let t1678: f32 = t369 * t1677;
+        let t1679: f32 = t1495 + t1499;
+        let t1680: f32 = t1509 + t1527;
+        let t1681: f32 = t1679 + t1680;
+        let t1682: f32 = t1576 + t1681;
+        let t1683: f32 = t1489 + t1490;
+        let t1684: f32 = t1491 + t1492;
+        let t1685: f32 = t1493 + t1494;
+        let t1686: f32 = t1496 + t1497;
+        let t1687: f32 = t1498 + t1500;
+        let t1688: f32 = t1501 + t1502;
+        let t1689: f32 = t1503 + t1504;
+        let t1690: f32 = t1505 + t1506;
+        let t1691: f32 = t1507 + t1508;
+        let t1692: f32 = t1538 + t1664;
+        let t1693: f32 = t1683 + t1684;
+        let t1694: f32 = t1685 + t1686;
+        let t1695: f32 = t1687 + t1688;
+        let t1696: f32 = t1689 + t1690;
+        let t1697: f32 = t1691 + t1692;
+        let t1698: f32 = t1693 + t1694;
+        let t1699: f32 = t1695 + t1696;
+        let t1700: f32 = t1678 + t1697;
+        let t1701: f32 = t1698 + t1699;
+        let t1702: f32 = t1700 + t1701;
+        let t1703: f32 = t1682 - t1702;
+        let t1704: f32 = t0 * t1703;
+        let t1705: f32 = t1704 * 0.5;
+        let t1706: f32 = t1488 + t1705;
+        let t1707: f32 = -t1706;
+        let t1708: f32 = t130 * t1487;
+        let t1709: f32 = t1704 + t1708;
+        let t1710: f32 = t1709 * 0.5;
+        let t1711: f32 = t229 * t337;
+        let t1712: f32 = t213 * t1384;
+        let t1713: f32 = t291 * t426;
+        let t1714: f32 = t279 * t1406;
+        let t1715: f32 = t480 * t491;
+        let t1716: f32 = t464 * t1425;
+        let t1717: f32 = t488 * t1430;
+        let t1718: f32 = t536 * t549;
+        let t1719: f32 = t520 * t1444;
+        let t1720: f32 = t544 * t718;
+        let t1721: f32 = t595 * t605;
+        let t1722: f32 = t579 * t1462;
+        let t1723: f32 = t602 * t727;
+        let t1724: f32 = t633 * t648;
+        let t1725: f32 = t621 * t1478;
+        let t1726: f32 = t645 * t1483;
+        let t1727: f32 = t638 * t670;
+        let t1728: f32 = t362 * t389;
+        let t1729: f32 = t350 * t1387;
+        let t1730: f32 = t380 * t1392;
+        let t1731: f32 = t366 * t412;
+        let t1732: f32 = t784 * t806;
+        let t1733: f32 = t799 * t1517;
+        let t1734: f32 = t1732 + t1733;
+        let t1735: f32 = t807 * t1734;
+        let t1736: f32 = t827 * t861;
+        let t1737: f32 = t846 * t871;
+        let t1738: f32 = t839 * t891;
+        let t1739: f32 = t1735 + t1738;
+        let t1740: f32 = t1736 + t1737;
+        let t1741: f32 = t1739 - t1740;
+        let t1742: f32 = t1015 * t1741;
+        let t1743: f32 = t1022 * t1537;
+        let t1744: f32 = t1742 + t1743;
+        let t1745: f32 = t0 * t1744;
+        let t1746: f32 = t917 * t1031;
+        let t1747: f32 = t85 * t1564;
+        let t1748: f32 = t128 * t1553;
+        let t1749: f32 = t1747 - t1748;
+        let t1750: f32 = t85 * t1749;
+        let t1751: f32 = t147 * t1566;
+        let t1752: f32 = t1750 - t1751;
+        let t1753: f32 = t0 * t1752;
+        let t1754: f32 = t772 * t1553;
+        let t1755: f32 = t775 * t1545;
+        let t1756: f32 = t1753 + t1755;
+        let t1757: f32 = t1756 - t1754;
+        let t1758: f32 = t0 * t1757;
+        let t1759: f32 = t1216 + t1758;
+        let t1760: f32 = t98 * t1759;
+        let t1761: f32 = t80 * t1663;
+        let t1762: f32 = t85 * t1245;
+        let t1763: f32 = t128 * t1234;
+        let t1764: f32 = t1762 - t1763;
+        let t1765: f32 = t128 * t1764;
+        let t1766: f32 = t147 * t1236;
+        let t1767: f32 = t1765 + t1766;
+        let t1768: f32 = t0 * t1767;
+        let t1769: f32 = t772 * t1245;
+        let t1770: f32 = t778 * t1226;
+        let t1771: f32 = t1768 + t1770;
+        let t1772: f32 = t1771 - t1769;
+        let t1773: f32 = t0 * t1772;
+        let t1774: f32 = t1659 - t1773;
+        let t1775: f32 = t487 * t1774;
+        let t1776: f32 = t1712 + t1714;
+        let t1777: f32 = t1716 + t1719;
+        let t1778: f32 = t1722 + t1725;
+        let t1779: f32 = t1726 + t1729;
+        let t1780: f32 = t1730 + t1731;
+        let t1781: f32 = t1746 + t1760;
+        let t1782: f32 = t1776 + t1777;
+        let t1783: f32 = t1778 + t1779;
+        let t1784: f32 = t1780 + t1781;
+        let t1785: f32 = t1782 + t1783;
+        let t1786: f32 = t1775 + t1784;
+        let t1787: f32 = t1785 + t1786;
+        let t1788: f32 = t1711 + t1713;
+        let t1789: f32 = t1715 + t1717;
+        let t1790: f32 = t1718 + t1720;
+        let t1791: f32 = t1721 + t1723;
+        let t1792: f32 = t1724 + t1727;
+        let t1793: f32 = t1728 + t1745;
+        let t1794: f32 = t1788 + t1789;
+        let t1795: f32 = t1790 + t1791;
+        let t1796: f32 = t1792 + t1793;
+        let t1797: f32 = t1794 + t1795;
+        let t1798: f32 = t1761 + t1796;
+        let t1799: f32 = t1797 + t1798;
+        let t1800: f32 = t1787 - t1799;
+        let t1801: f32 = t0 * t1800;
+        let t1802: f32 = t1487 + t1801;
+        let t1803: f32 = t674 + t1802;
+        let t1804: f32 = t1803 * 0.5;
+        let t1805: f32 = t674 - t1802;
+        let t1806: f32 = t1805 * 0.5;
+        let t1807: f32 = 1.0 - t11;
+        let t1808: f32 = -t1031;
+        let t1809: f32 = -t937;
+        let t1810: f32 = -t1053;
+        (t1363, t1364, t1707, t1710, t1804, t1806, t1807, t1808, t1809, t1810)
+    };
     ([t1363, t1364, t1707, t1710, t1804, t1806], [t1807, t1808, t1809, t1810])
 }
 /// Joint-space inertia `M_q = Jᵀ M_x J` of `Γ = M_q Q̈_a + c_q`: symmetric positive definite.
@@ -14821,2570 +15615,3327 @@ pub fn joint_inertia_params(
     joint5_mz, joint5_ixx, joint5_ixy, joint5_ixz, joint5_iyy, joint5_iyz, joint5_izz,
     rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint6_mass, joint6_mx, joint6_my,
     joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz, joint6_iyy, joint6_iyz, joint6_izz] = *params;
-    let t0: f32 = 1.0 / half_spacing;
-    let t1: f32 = t0 * t0;
-    let t2: f32 = t0 * t1;
-    let t3: f32 = q1 - q2;
-    let t4: f32 = q3 - q4;
-    let t5: f32 = q5 - q6;
-    let t6: f32 = t2 * t3;
-    let t7: f32 = t4 * t6;
-    let t8: f32 = t5 * t7;
-    let t9: f32 = t2 * t2;
-    let t10: f32 = t3 * t3;
-    let t11: f32 = t4 * t4;
-    let t12: f32 = t5 * t5;
-    let t13: f32 = t9 * t10;
-    let t14: f32 = t11 * t13;
-    let t15: f32 = t12 * t14;
-    let t16: f32 = t0 * t5;
-    let t17: f32 = t1 * t1;
-    let t18: f32 = t3 * t17;
-    let t19: f32 = t4 * t18;
-    let t20: f32 = t12 * t19;
-    let t21: f32 = t16 * 0.5;
-    let t22: f32 = t20 * 0.0625;
-    let t23: f32 = t21 - t22;
-    let t24: f32 = t23 * t23;
-    let t25: f32 = t0 * t3;
-    let t26: f32 = t5 * t25;
-    let t27: f32 = t26 * 0.125;
-    let t28: f32 = t4 * 0.25;
-    let t29: f32 = t27 + t28;
-    let t30: f32 = t1 * t5;
-    let t31: f32 = t29 * t30;
-    let t32: f32 = t25 * 0.5;
-    let t33: f32 = t31 + t32;
-    let t34: f32 = t33 * t33;
-    let t35: f32 = t8 * 0.25;
-    let t36: f32 = t15 * 0.015625;
-    let t37: f32 = t24 + t36;
-    let t38: f32 = t34 + 1.0;
-    let t39: f32 = t37 + t38;
-    let t40: f32 = t35 - t39;
-    let t41: f32 = 1.0 / t40;
-    let t42: f32 = q5 + q6;
-    let t43: f32 = t42 * 0.0625;
-    let t44: f32 = t8 * t43;
-    let t45: f32 = t42 * 0.5;
-    let t46: f32 = t45 - t44;
-    let t47: f32 = t8 * t41;
-    let t48: f32 = t46 * t47;
-    let t49: f32 = t41 * t46;
-    let t50: f32 = t0 * t4;
-    let t51: f32 = t5 * t50;
-    let t52: f32 = t51 * 0.125;
-    let t53: f32 = t3 * 0.25;
-    let t54: f32 = t52 + t53;
-    let t55: f32 = t1 * t4;
-    let t56: f32 = t54 * t55;
-    let t57: f32 = t21 + t56;
-    let t58: f32 = t11 * t18;
-    let t59: f32 = t5 * t58;
-    let t60: f32 = t50 * 0.5;
-    let t61: f32 = t59 * 0.0625;
-    let t62: f32 = t60 - t61;
-    let t63: f32 = t62 * t62;
-    let t64: f32 = t57 * t57;
-    let t65: f32 = t36 + t63;
-    let t66: f32 = t64 + 1.0;
-    let t67: f32 = t65 + t66;
-    let t68: f32 = t35 - t67;
-    let t69: f32 = 1.0 / t68;
-    let t70: f32 = q3 + q4;
-    let t71: f32 = t70 * 0.0625;
-    let t72: f32 = t8 * t71;
-    let t73: f32 = t70 * 0.5;
-    let t74: f32 = t73 - t72;
-    let t75: f32 = t57 * t69;
-    let t76: f32 = t74 * t75;
-    let t77: f32 = t10 * t17;
-    let t78: f32 = t4 * t77;
-    let t79: f32 = t5 * t78;
-    let t80: f32 = t79 * 0.0625;
-    let t81: f32 = t32 - t80;
-    let t82: f32 = t81 * t81;
-    let t83: f32 = t4 * t25;
-    let t84: f32 = t83 * 0.125;
-    let t85: f32 = t5 * 0.25;
-    let t86: f32 = t84 + t85;
-    let t87: f32 = t1 * t3;
-    let t88: f32 = t86 * t87;
-    let t89: f32 = t60 + t88;
-    let t90: f32 = t89 * t89;
-    let t91: f32 = t36 + t82;
-    let t92: f32 = t90 + 1.0;
-    let t93: f32 = t91 + t92;
-    let t94: f32 = t35 - t93;
-    let t95: f32 = 1.0 / t94;
-    let t96: f32 = q1 + q2;
-    let t97: f32 = t96 * 0.0625;
-    let t98: f32 = t8 * t97;
-    let t99: f32 = t96 * 0.5;
-    let t100: f32 = t99 - t98;
-    let t101: f32 = t81 * t95;
-    let t102: f32 = t100 * t101;
-    let t103: f32 = t76 - t102;
-    let t104: f32 = t49 + t103;
-    let t105: f32 = t48 * 0.125;
-    let t106: f32 = half_spacing + t104;
-    let t107: f32 = t106 - t105;
-    let t108: f32 = t0 * t107;
-    let t109: f32 = t105 - t104;
-    let t110: f32 = t0 * t109;
-    let t111: f32 = t108 + t110;
-    let t112: f32 = t111 * 0.5;
-    let t113: f32 = t112 - 1.0;
-    let t114: f32 = joint3_mass * t113;
-    let t115: f32 = joint4_mass * t113;
-    let t116: f32 = q5 + t104;
-    let t117: f32 = t116 - t105;
-    let t118: f32 = t0 * t117;
-    let t119: f32 = t108 - t118;
-    let t120: f32 = t119 * 0.5;
-    let t121: f32 = t120 - 1.0;
-    let t122: f32 = joint5_mass * t121;
-    let t123: f32 = q6 + t104;
-    let t124: f32 = t123 - t105;
-    let t125: f32 = t0 * t124;
-    let t126: f32 = t108 - t125;
-    let t127: f32 = t126 * 0.5;
-    let t128: f32 = t127 - 1.0;
-    let t129: f32 = joint6_mass * t128;
-    let t130: f32 = platform_mass * t0;
-    let t131: f32 = t107 * t130;
-    let t132: f32 = -t95;
-    let t133: f32 = sqrt(t132);
-    let t134: f32 = platform_mx * t81;
-    let t135: f32 = t133 * t134;
-    let t136: f32 = -t69;
-    let t137: f32 = sqrt(t136);
-    let t138: f32 = platform_my * t57;
-    let t139: f32 = t137 * t138;
-    let t140: f32 = t135 - t139;
-    let t141: f32 = -t41;
-    let t142: f32 = sqrt(t141);
-    let t143: f32 = t8 * t142;
-    let t144: f32 = t143 * 0.125;
-    let t145: f32 = t142 - t144;
-    let t146: f32 = platform_mz * t145;
-    let t147: f32 = t140 - t146;
-    let t148: f32 = t0 * t147;
-    let t149: f32 = t131 + t148;
-    let t150: f32 = joint1_mx * t81;
-    let t151: f32 = t133 * t150;
-    let t152: f32 = joint1_my * t57;
-    let t153: f32 = t137 * t152;
-    let t154: f32 = t151 - t153;
-    let t155: f32 = joint1_mz * t145;
-    let t156: f32 = t154 - t155;
-    let t157: f32 = t0 * t156;
-    let t158: f32 = joint2_mx * t81;
-    let t159: f32 = t133 * t158;
-    let t160: f32 = joint2_my * t57;
-    let t161: f32 = t137 * t160;
-    let t162: f32 = joint2_mz * t145;
-    let t163: f32 = t161 + t162;
-    let t164: f32 = t159 - t163;
-    let t165: f32 = t0 * t164;
-    let t166: f32 = t157 + t165;
-    let t167: f32 = t149 + t166;
-    let t168: f32 = joint3_mx * t81;
-    let t169: f32 = t133 * t168;
-    let t170: f32 = joint3_my * t57;
-    let t171: f32 = t137 * t170;
-    let t172: f32 = joint3_mz * t145;
-    let t173: f32 = t171 + t172;
-    let t174: f32 = t169 - t173;
-    let t175: f32 = t0 * t174;
-    let t176: f32 = joint4_mx * t81;
-    let t177: f32 = t133 * t176;
-    let t178: f32 = joint4_my * t57;
-    let t179: f32 = t137 * t178;
-    let t180: f32 = joint4_mz * t145;
-    let t181: f32 = t179 + t180;
-    let t182: f32 = t177 - t181;
-    let t183: f32 = t0 * t182;
-    let t184: f32 = t175 + t183;
-    let t185: f32 = joint5_mx * t81;
-    let t186: f32 = t133 * t185;
-    let t187: f32 = joint5_my * t57;
-    let t188: f32 = t137 * t187;
-    let t189: f32 = joint5_mz * t145;
-    let t190: f32 = t188 + t189;
-    let t191: f32 = t186 - t190;
-    let t192: f32 = t0 * t191;
-    let t193: f32 = joint6_mx * t81;
-    let t194: f32 = t133 * t193;
-    let t195: f32 = joint6_my * t57;
-    let t196: f32 = t137 * t195;
-    let t197: f32 = joint6_mz * t145;
-    let t198: f32 = t196 + t197;
-    let t199: f32 = t194 - t198;
-    let t200: f32 = t0 * t199;
-    let t201: f32 = t192 + t200;
-    let t202: f32 = t184 + t201;
-    let t203: f32 = t167 + t202;
-    let t204: f32 = platform_mass + joint1_mass;
-    let t205: f32 = half_spacing + t105;
-    let t206: f32 = t205 - t104;
-    let t207: f32 = t0 * t206;
-    let t208: f32 = t108 + t207;
-    let t209: f32 = t208 * 0.5;
-    let t210: f32 = t209 - 1.0;
-    let t211: f32 = joint2_mass * t210;
-    let t212: f32 = rod2_mass * t210;
-    let t213: f32 = t211 + t212;
-    let t214: f32 = q1 * t0;
-    let t215: f32 = joint1_mass * t214;
-    let t216: f32 = t8 * t133;
-    let t217: f32 = t216 * 0.125;
-    let t218: f32 = t133 - t217;
-    let t219: f32 = joint6_mx * t218;
-    let t220: f32 = joint6_my * t62;
-    let t221: f32 = t137 * t220;
-    let t222: f32 = joint6_mz * t33;
-    let t223: f32 = t142 * t222;
-    let t224: f32 = t219 + t223;
-    let t225: f32 = t224 - t221;
-    let t226: f32 = t0 * t225;
-    let t227: f32 = platform_mz * t33;
-    let t228: f32 = t142 * t227;
-    let t229: f32 = platform_mx * t218;
-    let t230: f32 = platform_my * t62;
-    let t231: f32 = t137 * t230;
-    let t232: f32 = t229 - t231;
-    let t233: f32 = t228 + t232;
-    let t234: f32 = t0 * t233;
-    let t235: f32 = joint1_mx * t218;
-    let t236: f32 = joint1_mz * t33;
-    let t237: f32 = t142 * t236;
-    let t238: f32 = joint1_my * t62;
-    let t239: f32 = t137 * t238;
-    let t240: f32 = t237 - t239;
-    let t241: f32 = t235 + t240;
-    let t242: f32 = t0 * t241;
-    let t243: f32 = t234 + t242;
-    let t244: f32 = t226 + t243;
-    let t245: f32 = joint2_mz * t33;
-    let t246: f32 = t142 * t245;
-    let t247: f32 = joint2_mx * t218;
-    let t248: f32 = joint2_my * t62;
-    let t249: f32 = t137 * t248;
-    let t250: f32 = t247 - t249;
-    let t251: f32 = t246 + t250;
-    let t252: f32 = t0 * t251;
-    let t253: f32 = joint3_mx * t218;
-    let t254: f32 = joint3_my * t62;
-    let t255: f32 = t137 * t254;
-    let t256: f32 = joint3_mz * t33;
-    let t257: f32 = t142 * t256;
-    let t258: f32 = t253 + t257;
-    let t259: f32 = t258 - t255;
-    let t260: f32 = t0 * t259;
-    let t261: f32 = t252 + t260;
-    let t262: f32 = joint4_mx * t218;
-    let t263: f32 = joint4_my * t62;
-    let t264: f32 = t137 * t263;
-    let t265: f32 = joint4_mz * t33;
-    let t266: f32 = t142 * t265;
-    let t267: f32 = t262 + t266;
-    let t268: f32 = t267 - t264;
-    let t269: f32 = t0 * t268;
-    let t270: f32 = joint5_mx * t218;
-    let t271: f32 = joint5_my * t62;
-    let t272: f32 = t137 * t271;
-    let t273: f32 = joint5_mz * t33;
-    let t274: f32 = t142 * t273;
-    let t275: f32 = t270 + t274;
-    let t276: f32 = t275 - t272;
-    let t277: f32 = t0 * t276;
-    let t278: f32 = t269 + t277;
-    let t279: f32 = t261 + t278;
-    let t280: f32 = t244 + t279;
-    let t281: f32 = t215 + t280;
-    let t282: f32 = t8 * t95;
-    let t283: f32 = t100 * t282;
-    let t284: f32 = t95 * t100;
-    let t285: f32 = t33 * t41;
-    let t286: f32 = t46 * t285;
-    let t287: f32 = t62 * t69;
-    let t288: f32 = t74 * t287;
-    let t289: f32 = t286 - t288;
-    let t290: f32 = t284 + t289;
-    let t291: f32 = t283 * 0.125;
-    let t292: f32 = t290 - t291;
-    let t293: f32 = t0 * t292;
-    let t294: f32 = q1 + t290;
-    let t295: f32 = t294 - t291;
-    let t296: f32 = t0 * t295;
-    let t297: f32 = t214 - t296;
-    let t298: f32 = t293 + t297;
-    let t299: f32 = t298 * 0.5;
-    let t300: f32 = joint5_mass * t299;
-    let t301: f32 = rod5_mass * t299;
-    let t302: f32 = t300 + t301;
-    let t303: f32 = joint6_mass * t299;
-    let t304: f32 = rod6_mass * t299;
-    let t305: f32 = t303 + t304;
-    let t306: f32 = t302 + t305;
-    let t307: f32 = t297 * 0.5;
-    let t308: f32 = platform_mass * t307;
-    let t309: f32 = q2 + t290;
-    let t310: f32 = t309 - t291;
-    let t311: f32 = t0 * t310;
-    let t312: f32 = t297 + t311;
-    let t313: f32 = t312 * 0.5;
-    let t314: f32 = joint2_mass * t313;
-    let t315: f32 = t308 + t314;
-    let t316: f32 = half_spacing + t290;
-    let t317: f32 = t316 - t291;
-    let t318: f32 = t0 * t317;
-    let t319: f32 = t297 + t318;
-    let t320: f32 = t319 * 0.5;
-    let t321: f32 = joint3_mass * t320;
-    let t322: f32 = half_spacing + t291;
-    let t323: f32 = t322 - t290;
-    let t324: f32 = t0 * t323;
-    let t325: f32 = t297 - t324;
-    let t326: f32 = t325 * 0.5;
-    let t327: f32 = joint4_mass * t326;
-    let t328: f32 = t321 + t327;
-    let t329: f32 = t315 + t328;
-    let t330: f32 = t306 + t329;
-    let t331: f32 = t281 * 0.5;
-    let t332: f32 = t330 + t331;
-    let t333: f32 = t214 * t332;
-    let t334: f32 = t214 * t241;
-    let t335: f32 = t164 * t210;
-    let t336: f32 = t165 * 0.5;
-    let t337: f32 = t213 + t336;
-    let t338: f32 = t206 * t337;
-    let t339: f32 = t121 * t191;
-    let t340: f32 = t192 * 0.5;
-    let t341: f32 = t122 + t340;
-    let t342: f32 = t117 * t341;
-    let t343: f32 = t128 * t199;
-    let t344: f32 = t200 * 0.5;
-    let t345: f32 = t129 + t344;
-    let t346: f32 = t124 * t345;
-    let t347: f32 = t42 - t44;
-    let t348: f32 = t347 * 0.125;
-    let t349: f32 = t8 * t348;
-    let t350: f32 = t45 - t349;
-    let t351: f32 = t41 * t350;
-    let t352: f32 = t103 + t351;
-    let t353: f32 = half_spacing + t352;
-    let t354: f32 = platform_mass * t353;
-    let t355: f32 = joint3_mx + joint4_mx;
-    let t356: f32 = joint5_mx + joint6_mx;
-    let t357: f32 = t355 + t356;
-    let t358: f32 = platform_mx + t357;
-    let t359: f32 = joint2_mx + t358;
-    let t360: f32 = t359 * 0.5;
-    let t361: f32 = t81 * t133;
-    let t362: f32 = t360 * t361;
-    let t363: f32 = joint3_my + joint4_my;
-    let t364: f32 = joint5_my + joint6_my;
-    let t365: f32 = t363 + t364;
-    let t366: f32 = platform_my + t365;
-    let t367: f32 = joint2_my + t366;
-    let t368: f32 = t367 * 0.5;
-    let t369: f32 = t57 * t137;
-    let t370: f32 = t368 * t369;
-    let t371: f32 = t8 * 0.125;
-    let t372: f32 = t371 - 1.0;
-    let t373: f32 = t142 * t372;
-    let t374: f32 = -t373;
-    let t375: f32 = joint3_mz + joint4_mz;
-    let t376: f32 = joint5_mz + joint6_mz;
-    let t377: f32 = t375 + t376;
-    let t378: f32 = platform_mz + t377;
-    let t379: f32 = joint2_mz + t378;
-    let t380: f32 = t379 * 0.5;
-    let t381: f32 = t374 * t380;
-    let t382: f32 = t354 * 0.5;
-    let t383: f32 = t362 + t382;
-    let t384: f32 = t370 + t381;
-    let t385: f32 = t383 - t384;
-    let t386: f32 = t0 * t385;
-    let t387: f32 = rod2_mass + joint2_mass;
-    let t388: f32 = t387 * 0.0;
-    let t389: f32 = q5 - half_spacing;
-    let t390: f32 = t389 * 0.5;
-    let t391: f32 = t0 * t390;
-    let t392: f32 = t391 + 1.0;
-    let t393: f32 = -t392;
-    let t394: f32 = joint5_mass * t393;
-    let t395: f32 = platform_mass - t394;
-    let t396: f32 = q6 - half_spacing;
-    let t397: f32 = t396 * 0.5;
-    let t398: f32 = t0 * t397;
-    let t399: f32 = t398 + 1.0;
-    let t400: f32 = -t399;
-    let t401: f32 = joint6_mass * t400;
-    let t402: f32 = joint3_mass + joint4_mass;
-    let t403: f32 = t402 * -0.5;
-    let t404: f32 = t401 + t403;
-    let t405: f32 = t395 - t404;
-    let t406: f32 = t386 + t388;
-    let t407: f32 = t405 - t406;
-    let t408: f32 = t107 * t407;
-    let t409: f32 = t355 * 0.5;
-    let t410: f32 = t361 * t409;
-    let t411: f32 = t363 * 0.5;
-    let t412: f32 = t369 * t411;
-    let t413: f32 = t375 * 0.5;
-    let t414: f32 = t374 * t413;
-    let t415: f32 = t412 + t414;
-    let t416: f32 = t410 - t415;
-    let t417: f32 = t0 * t416;
-    let t418: f32 = t403 + t417;
-    let t419: f32 = t109 * t418;
-    let t420: f32 = t355 * t361;
-    let t421: f32 = t363 * t369;
-    let t422: f32 = t374 * t375;
-    let t423: f32 = t421 + t422;
-    let t424: f32 = t420 - t423;
-    let t425: f32 = t113 * t424;
-    let t426: f32 = platform_mz * t0;
-    let t427: f32 = t107 * t426;
-    let t428: f32 = t145 * t427;
-    let t429: f32 = platform_my * t0;
-    let t430: f32 = t57 * t429;
-    let t431: f32 = t107 * t430;
-    let t432: f32 = t137 * t431;
-    let t433: f32 = platform_mx * t0;
-    let t434: f32 = t81 * t433;
-    let t435: f32 = t107 * t434;
-    let t436: f32 = t133 * t435;
-    let t437: f32 = t432 - t436;
-    let t438: f32 = t428 + t437;
-    let t439: f32 = t147 + t156;
-    let t440: f32 = joint1_ixx * t89;
-    let t441: f32 = t133 * t440;
-    let t442: f32 = joint1_ixz * t23;
-    let t443: f32 = t142 * t442;
-    let t444: f32 = t137 * t372;
-    let t445: f32 = -t444;
-    let t446: f32 = joint1_ixy * t445;
-    let t447: f32 = t441 + t446;
-    let t448: f32 = t447 - t443;
-    let t449: f32 = t448 * 0.5;
-    let t450: f32 = t0 * t89;
-    let t451: f32 = t133 * t450;
-    let t452: f32 = t449 * t451;
-    let t453: f32 = t8 * t137;
-    let t454: f32 = t453 * 0.125;
-    let t455: f32 = t137 - t454;
-    let t456: f32 = joint1_ixy * t89;
-    let t457: f32 = t133 * t456;
-    let t458: f32 = joint1_iyz * t23;
-    let t459: f32 = t142 * t458;
-    let t460: f32 = joint1_iyy * t445;
-    let t461: f32 = t457 + t460;
-    let t462: f32 = t461 - t459;
-    let t463: f32 = t462 * 0.5;
-    let t464: f32 = t0 * t455;
-    let t465: f32 = t463 * t464;
-    let t466: f32 = t452 + t465;
-    let t467: f32 = joint1_ixz * t89;
-    let t468: f32 = t133 * t467;
-    let t469: f32 = joint1_izz * t23;
-    let t470: f32 = t142 * t469;
-    let t471: f32 = joint1_iyz * t445;
-    let t472: f32 = t468 + t471;
-    let t473: f32 = t472 - t470;
-    let t474: f32 = t473 * 0.5;
-    let t475: f32 = t0 * t23;
-    let t476: f32 = t142 * t475;
-    let t477: f32 = t474 * t476;
-    let t478: f32 = t215 + t242;
-    let t479: f32 = t478 * 0.5;
-    let t480: f32 = t295 * t479;
-    let t481: f32 = t477 - t480;
-    let t482: f32 = t466 - t481;
-    let t483: f32 = joint2_ixx * t89;
-    let t484: f32 = t133 * t483;
-    let t485: f32 = joint2_ixz * t23;
-    let t486: f32 = t142 * t485;
-    let t487: f32 = joint2_ixy * t445;
-    let t488: f32 = t484 + t487;
-    let t489: f32 = t488 - t486;
-    let t490: f32 = t489 * 0.5;
-    let t491: f32 = t451 * t490;
-    let t492: f32 = joint2_ixy * t89;
-    let t493: f32 = t133 * t492;
-    let t494: f32 = joint2_iyz * t23;
-    let t495: f32 = t142 * t494;
-    let t496: f32 = joint2_iyy * t445;
-    let t497: f32 = t493 + t496;
-    let t498: f32 = t497 - t495;
-    let t499: f32 = t498 * 0.5;
-    let t500: f32 = t464 * t499;
-    let t501: f32 = t491 + t500;
-    let t502: f32 = joint2_ixz * t89;
-    let t503: f32 = t133 * t502;
-    let t504: f32 = joint2_izz * t23;
-    let t505: f32 = t142 * t504;
-    let t506: f32 = joint2_iyz * t445;
-    let t507: f32 = t503 + t506;
-    let t508: f32 = t507 - t505;
-    let t509: f32 = t508 * 0.5;
-    let t510: f32 = t476 * t509;
-    let t511: f32 = t251 * t313;
-    let t512: f32 = t510 - t511;
-    let t513: f32 = t501 - t512;
-    let t514: f32 = t482 + t513;
-    let t515: f32 = t252 * 0.5;
-    let t516: f32 = t314 + t515;
-    let t517: f32 = t310 * t516;
-    let t518: f32 = joint3_ixx * t89;
-    let t519: f32 = t133 * t518;
-    let t520: f32 = joint3_ixz * t23;
-    let t521: f32 = t142 * t520;
-    let t522: f32 = joint3_ixy * t445;
-    let t523: f32 = t519 + t522;
-    let t524: f32 = t523 - t521;
-    let t525: f32 = t524 * 0.5;
-    let t526: f32 = t451 * t525;
-    let t527: f32 = t517 + t526;
-    let t528: f32 = joint3_ixy * t89;
-    let t529: f32 = t133 * t528;
-    let t530: f32 = joint3_iyz * t23;
-    let t531: f32 = t142 * t530;
-    let t532: f32 = joint3_iyy * t445;
-    let t533: f32 = t529 + t532;
-    let t534: f32 = t533 - t531;
-    let t535: f32 = t534 * 0.5;
-    let t536: f32 = t464 * t535;
-    let t537: f32 = joint3_ixz * t89;
-    let t538: f32 = t133 * t537;
-    let t539: f32 = joint3_izz * t23;
-    let t540: f32 = t142 * t539;
-    let t541: f32 = joint3_iyz * t445;
-    let t542: f32 = t538 + t541;
-    let t543: f32 = t542 - t540;
-    let t544: f32 = t543 * 0.5;
-    let t545: f32 = t476 * t544;
-    let t546: f32 = t536 - t545;
-    let t547: f32 = t527 + t546;
-    let t548: f32 = t259 * t320;
-    let t549: f32 = t260 * 0.5;
-    let t550: f32 = t321 + t549;
-    let t551: f32 = t317 * t550;
-    let t552: f32 = t548 + t551;
-    let t553: f32 = joint4_ixx * t89;
-    let t554: f32 = t133 * t553;
-    let t555: f32 = joint4_ixz * t23;
-    let t556: f32 = t142 * t555;
-    let t557: f32 = joint4_ixy * t445;
-    let t558: f32 = t554 + t557;
-    let t559: f32 = t558 - t556;
-    let t560: f32 = t559 * 0.5;
-    let t561: f32 = t451 * t560;
-    let t562: f32 = joint4_ixy * t89;
-    let t563: f32 = t133 * t562;
-    let t564: f32 = joint4_iyz * t23;
-    let t565: f32 = t142 * t564;
-    let t566: f32 = joint4_iyy * t445;
-    let t567: f32 = t563 + t566;
-    let t568: f32 = t567 - t565;
-    let t569: f32 = t568 * 0.5;
-    let t570: f32 = t464 * t569;
-    let t571: f32 = t561 + t570;
-    let t572: f32 = t552 + t571;
-    let t573: f32 = t547 + t572;
-    let t574: f32 = t514 + t573;
-    let t575: f32 = joint4_ixz * t89;
-    let t576: f32 = t133 * t575;
-    let t577: f32 = joint4_izz * t23;
-    let t578: f32 = t142 * t577;
-    let t579: f32 = joint4_iyz * t445;
-    let t580: f32 = t576 + t579;
-    let t581: f32 = t580 - t578;
-    let t582: f32 = t581 * 0.5;
-    let t583: f32 = t476 * t582;
-    let t584: f32 = t268 * t326;
-    let t585: f32 = t583 - t584;
-    let t586: f32 = t269 * 0.5;
-    let t587: f32 = t327 + t586;
-    let t588: f32 = t323 * t587;
-    let t589: f32 = joint5_ixx * t89;
-    let t590: f32 = t133 * t589;
-    let t591: f32 = joint5_ixz * t23;
-    let t592: f32 = t142 * t591;
-    let t593: f32 = joint5_ixy * t445;
-    let t594: f32 = t590 + t593;
-    let t595: f32 = t594 - t592;
-    let t596: f32 = t595 * 0.5;
-    let t597: f32 = t451 * t596;
-    let t598: f32 = t588 - t597;
-    let t599: f32 = t585 + t598;
-    let t600: f32 = joint5_ixy * t89;
-    let t601: f32 = t133 * t600;
-    let t602: f32 = joint5_iyz * t23;
-    let t603: f32 = t142 * t602;
-    let t604: f32 = joint5_iyy * t445;
-    let t605: f32 = t601 + t604;
-    let t606: f32 = t605 - t603;
-    let t607: f32 = t606 * 0.5;
-    let t608: f32 = t464 * t607;
-    let t609: f32 = joint5_ixz * t89;
-    let t610: f32 = t133 * t609;
-    let t611: f32 = joint5_izz * t23;
-    let t612: f32 = t142 * t611;
-    let t613: f32 = joint5_iyz * t445;
-    let t614: f32 = t610 + t613;
-    let t615: f32 = t614 - t612;
-    let t616: f32 = t615 * 0.5;
-    let t617: f32 = t476 * t616;
-    let t618: f32 = t608 - t617;
-    let t619: f32 = t276 * t299;
-    let t620: f32 = t277 * 0.5;
-    let t621: f32 = t302 + t620;
-    let t622: f32 = t292 * t621;
-    let t623: f32 = t619 + t622;
-    let t624: f32 = t618 + t623;
-    let t625: f32 = t599 - t624;
-    let t626: f32 = joint6_ixx * t89;
-    let t627: f32 = t133 * t626;
-    let t628: f32 = joint6_ixz * t23;
-    let t629: f32 = t142 * t628;
-    let t630: f32 = joint6_ixy * t445;
-    let t631: f32 = t627 + t630;
-    let t632: f32 = t631 - t629;
-    let t633: f32 = t632 * 0.5;
-    let t634: f32 = t451 * t633;
-    let t635: f32 = joint6_ixy * t89;
-    let t636: f32 = t133 * t635;
-    let t637: f32 = joint6_iyz * t23;
-    let t638: f32 = t142 * t637;
-    let t639: f32 = joint6_iyy * t445;
-    let t640: f32 = t636 + t639;
-    let t641: f32 = t640 - t638;
-    let t642: f32 = t641 * 0.5;
-    let t643: f32 = t464 * t642;
-    let t644: f32 = t634 + t643;
-    let t645: f32 = joint6_ixz * t89;
-    let t646: f32 = t133 * t645;
-    let t647: f32 = joint6_izz * t23;
-    let t648: f32 = t142 * t647;
-    let t649: f32 = joint6_iyz * t445;
-    let t650: f32 = t646 + t649;
-    let t651: f32 = t650 - t648;
-    let t652: f32 = t651 * 0.5;
-    let t653: f32 = t476 * t652;
-    let t654: f32 = t225 * t299;
-    let t655: f32 = t653 - t654;
-    let t656: f32 = t644 - t655;
-    let t657: f32 = t226 * 0.5;
-    let t658: f32 = t305 + t657;
-    let t659: f32 = t292 * t658;
-    let t660: f32 = t295 * t332;
-    let t661: f32 = t659 - t660;
-    let t662: f32 = platform_ixx * t89;
-    let t663: f32 = t133 * t662;
-    let t664: f32 = platform_ixz * t23;
-    let t665: f32 = t142 * t664;
-    let t666: f32 = platform_ixy * t445;
-    let t667: f32 = t663 + t666;
-    let t668: f32 = t667 - t665;
-    let t669: f32 = t668 * 0.5;
-    let t670: f32 = t451 * t669;
-    let t671: f32 = platform_ixy * t89;
-    let t672: f32 = t133 * t671;
-    let t673: f32 = platform_iyz * t23;
-    let t674: f32 = t142 * t673;
-    let t675: f32 = platform_iyy * t445;
-    let t676: f32 = t672 + t675;
-    let t677: f32 = t676 - t674;
-    let t678: f32 = t677 * 0.5;
-    let t679: f32 = t464 * t678;
-    let t680: f32 = t670 + t679;
-    let t681: f32 = platform_ixz * t89;
-    let t682: f32 = t133 * t681;
-    let t683: f32 = platform_izz * t23;
-    let t684: f32 = t142 * t683;
-    let t685: f32 = platform_iyz * t445;
-    let t686: f32 = t682 + t685;
-    let t687: f32 = t686 - t684;
-    let t688: f32 = t687 * 0.5;
-    let t689: f32 = t476 * t688;
-    let t690: f32 = t233 * t307;
-    let t691: f32 = t689 - t690;
-    let t692: f32 = t680 - t691;
-    let t693: f32 = t661 + t692;
-    let t694: f32 = t656 + t693;
-    let t695: f32 = t625 - t694;
-    let t696: f32 = t574 - t695;
-    let t697: f32 = t438 - t334;
-    let t698: f32 = t697 * 0.5;
-    let t699: f32 = t342 + t698;
-    let t700: f32 = t346 + t408;
-    let t701: f32 = t699 + t700;
-    let t702: f32 = t439 + t701;
-    let t703: f32 = t335 + t338;
-    let t704: f32 = t339 + t343;
-    let t705: f32 = t419 + t425;
-    let t706: f32 = t703 + t704;
-    let t707: f32 = t696 + t705;
-    let t708: f32 = t706 + t707;
-    let t709: f32 = t702 - t708;
-    let t710: f32 = t0 * t709;
-    let t711: f32 = t333 - t710;
-    let t712: f32 = t711 - t203;
-    let t713: f32 = t712 * 0.5;
-    let t714: f32 = rod1_mass + t204;
-    let t715: f32 = t713 + t714;
-    let t716: f32 = t114 + t115;
-    let t717: f32 = t122 + t129;
-    let t718: f32 = t716 + t717;
-    let t719: f32 = t213 + t718;
-    let t720: f32 = t715 - t719;
-    let t721: f32 = joint3_mass * t112;
-    let t722: f32 = joint4_mass * t112;
-    let t723: f32 = joint5_mass * t120;
-    let t724: f32 = joint6_mass * t127;
-    let t725: f32 = t164 * t209;
-    let t726: f32 = joint2_mass * t209;
-    let t727: f32 = rod2_mass * t209;
-    let t728: f32 = t726 + t727;
-    let t729: f32 = t336 + t728;
-    let t730: f32 = t206 * t729;
-    let t731: f32 = t120 * t191;
-    let t732: f32 = t340 + t723;
-    let t733: f32 = t117 * t732;
-    let t734: f32 = t127 * t199;
-    let t735: f32 = t344 + t724;
-    let t736: f32 = t124 * t735;
-    let t737: f32 = joint2_mx + t357;
-    let t738: f32 = t737 * 0.5;
-    let t739: f32 = platform_mx + t738;
-    let t740: f32 = t361 * t739;
-    let t741: f32 = joint2_my + t365;
-    let t742: f32 = t741 * 0.5;
-    let t743: f32 = platform_my + t742;
-    let t744: f32 = t369 * t743;
-    let t745: f32 = joint2_mz + t377;
-    let t746: f32 = t745 * 0.5;
-    let t747: f32 = platform_mz + t746;
-    let t748: f32 = t374 * t747;
-    let t749: f32 = t382 + t740;
-    let t750: f32 = t744 + t748;
-    let t751: f32 = t749 - t750;
-    let t752: f32 = t0 * t751;
-    let t753: f32 = t387 * 1.0;
-    let t754: f32 = t402 * 0.5;
-    let t755: f32 = -t391;
-    let t756: f32 = joint5_mass * t755;
-    let t757: f32 = -t398;
-    let t758: f32 = joint6_mass * t757;
-    let t759: f32 = t756 + t758;
-    let t760: f32 = t754 + t759;
-    let t761: f32 = t752 + t753;
-    let t762: f32 = t760 + t761;
-    let t763: f32 = t107 * t762;
-    let t764: f32 = t417 + t754;
-    let t765: f32 = t109 * t764;
-    let t766: f32 = t112 * t424;
-    let t767: f32 = t334 * 0.5;
-    let t768: f32 = t725 + t767;
-    let t769: f32 = t730 + t731;
-    let t770: f32 = t734 + t763;
-    let t771: f32 = t765 + t766;
-    let t772: f32 = t768 + t769;
-    let t773: f32 = t770 + t771;
-    let t774: f32 = t772 + t773;
-    let t775: f32 = t696 + t774;
-    let t776: f32 = t733 + t736;
-    let t777: f32 = t775 - t776;
-    let t778: f32 = t0 * t777;
-    let t779: f32 = t333 + t778;
-    let t780: f32 = t203 - t779;
-    let t781: f32 = t780 * 0.5;
-    let t782: f32 = t721 + t722;
-    let t783: f32 = t723 + t724;
-    let t784: f32 = t728 + t781;
-    let t785: f32 = t782 + t783;
-    let t786: f32 = t784 + t785;
-    let t787: f32 = t8 * t69;
-    let t788: f32 = t74 * t787;
-    let t789: f32 = t69 * t74;
-    let t790: f32 = t89 * t95;
-    let t791: f32 = t100 * t790;
-    let t792: f32 = t23 * t41;
-    let t793: f32 = t46 * t792;
-    let t794: f32 = t791 - t793;
-    let t795: f32 = t789 + t794;
-    let t796: f32 = t788 * 0.125;
-    let t797: f32 = t795 - t796;
-    let t798: f32 = t0 * t797;
-    let t799: f32 = q3 + t795;
-    let t800: f32 = t799 - t796;
-    let t801: f32 = t0 * t800;
-    let t802: f32 = t798 - t801;
-    let t803: f32 = t802 * 0.5;
-    let t804: f32 = joint3_mass * t803;
-    let t805: f32 = q4 + t795;
-    let t806: f32 = t805 - t796;
-    let t807: f32 = t0 * t806;
-    let t808: f32 = t798 - t807;
-    let t809: f32 = t808 * 0.5;
-    let t810: f32 = joint4_mass * t809;
-    let t811: f32 = t804 + t810;
-    let t812: f32 = half_spacing + t795;
-    let t813: f32 = t812 - t796;
-    let t814: f32 = t0 * t813;
-    let t815: f32 = t798 - t814;
-    let t816: f32 = t815 * 0.5;
-    let t817: f32 = joint5_mass * t816;
-    let t818: f32 = half_spacing + t796;
-    let t819: f32 = t818 - t795;
-    let t820: f32 = t0 * t819;
-    let t821: f32 = t798 + t820;
-    let t822: f32 = t821 * 0.5;
-    let t823: f32 = joint6_mass * t822;
-    let t824: f32 = t817 + t823;
-    let t825: f32 = t811 + t824;
-    let t826: f32 = t174 * t803;
-    let t827: f32 = t182 * t809;
-    let t828: f32 = t191 * t816;
-    let t829: f32 = joint5_mx * t89;
-    let t830: f32 = t133 * t829;
-    let t831: f32 = joint5_my * t455;
-    let t832: f32 = joint5_mz * t23;
-    let t833: f32 = t142 * t832;
-    let t834: f32 = t830 + t831;
-    let t835: f32 = t834 - t833;
-    let t836: f32 = t0 * t835;
-    let t837: f32 = t836 * 0.5;
-    let t838: f32 = t817 - t837;
-    let t839: f32 = t117 * t838;
-    let t840: f32 = t199 * t822;
-    let t841: f32 = joint6_mx * t89;
-    let t842: f32 = t133 * t841;
-    let t843: f32 = joint6_my * t455;
-    let t844: f32 = joint6_mz * t23;
-    let t845: f32 = t142 * t844;
-    let t846: f32 = t842 + t843;
-    let t847: f32 = t846 - t845;
-    let t848: f32 = t0 * t847;
-    let t849: f32 = t848 * 0.5;
-    let t850: f32 = t823 - t849;
-    let t851: f32 = t124 * t850;
-    let t852: f32 = t130 * t797;
-    let t853: f32 = platform_my * t455;
-    let t854: f32 = platform_mx * t89;
-    let t855: f32 = t133 * t854;
-    let t856: f32 = platform_mz * t23;
-    let t857: f32 = t142 * t856;
-    let t858: f32 = t855 - t857;
-    let t859: f32 = t853 + t858;
-    let t860: f32 = t0 * t859;
-    let t861: f32 = t852 - t860;
-    let t862: f32 = joint1_my * t455;
-    let t863: f32 = joint1_mx * t89;
-    let t864: f32 = t133 * t863;
-    let t865: f32 = joint1_mz * t23;
-    let t866: f32 = t142 * t865;
-    let t867: f32 = t864 - t866;
-    let t868: f32 = t862 + t867;
-    let t869: f32 = t0 * t868;
-    let t870: f32 = joint2_my * t455;
-    let t871: f32 = joint2_mx * t89;
-    let t872: f32 = t133 * t871;
-    let t873: f32 = joint2_mz * t23;
-    let t874: f32 = t142 * t873;
-    let t875: f32 = t872 - t874;
-    let t876: f32 = t870 + t875;
-    let t877: f32 = t0 * t876;
-    let t878: f32 = t869 + t877;
-    let t879: f32 = t861 - t878;
-    let t880: f32 = joint3_mx * t89;
-    let t881: f32 = t133 * t880;
-    let t882: f32 = joint3_my * t455;
-    let t883: f32 = joint3_mz * t23;
-    let t884: f32 = t142 * t883;
-    let t885: f32 = t881 + t882;
-    let t886: f32 = t885 - t884;
-    let t887: f32 = t0 * t886;
-    let t888: f32 = joint4_mx * t89;
-    let t889: f32 = t133 * t888;
-    let t890: f32 = joint4_my * t455;
-    let t891: f32 = joint4_mz * t23;
-    let t892: f32 = t142 * t891;
-    let t893: f32 = t889 + t890;
-    let t894: f32 = t893 - t892;
-    let t895: f32 = t0 * t894;
-    let t896: f32 = t887 + t895;
-    let t897: f32 = t836 + t848;
-    let t898: f32 = t896 + t897;
-    let t899: f32 = t879 - t898;
-    let t900: f32 = t899 * 0.5;
-    let t901: f32 = t825 + t900;
-    let t902: f32 = t107 * t901;
-    let t903: f32 = platform_mz * t374;
-    let t904: f32 = t140 - t903;
-    let t905: f32 = t70 - t72;
-    let t906: f32 = t905 * 0.125;
-    let t907: f32 = t8 * t906;
-    let t908: f32 = t73 - t907;
-    let t909: f32 = t69 * t908;
-    let t910: f32 = t794 + t909;
-    let t911: f32 = t904 * t910;
-    let t912: f32 = joint1_my * t445;
-    let t913: f32 = t867 + t912;
-    let t914: f32 = t353 * t913;
-    let t915: f32 = half_spacing - t352;
-    let t916: f32 = joint2_my * t445;
-    let t917: f32 = t875 + t916;
-    let t918: f32 = t915 * t917;
-    let t919: f32 = platform_ixz + joint1_ixz;
-    let t920: f32 = joint2_ixz + joint3_ixz;
-    let t921: f32 = joint4_ixz + joint5_ixz;
-    let t922: f32 = t919 + t920;
-    let t923: f32 = joint6_ixz + t921;
-    let t924: f32 = t922 + t923;
-    let t925: f32 = t924 * 0.5;
-    let t926: f32 = t361 * t925;
-    let t927: f32 = platform_iyz + joint1_iyz;
-    let t928: f32 = joint2_iyz + joint3_iyz;
-    let t929: f32 = joint4_iyz + joint5_iyz;
-    let t930: f32 = t927 + t928;
-    let t931: f32 = joint6_iyz + t929;
-    let t932: f32 = t930 + t931;
-    let t933: f32 = t932 * 0.5;
-    let t934: f32 = t369 * t933;
-    let t935: f32 = platform_izz + joint1_izz;
-    let t936: f32 = joint2_izz + joint3_izz;
-    let t937: f32 = joint4_izz + joint5_izz;
-    let t938: f32 = t935 + t936;
-    let t939: f32 = joint6_izz + t937;
-    let t940: f32 = t938 + t939;
-    let t941: f32 = t940 * 0.5;
-    let t942: f32 = t374 * t941;
-    let t943: f32 = t934 + t942;
-    let t944: f32 = t926 - t943;
-    let t945: f32 = t23 * t142;
-    let t946: f32 = t944 * t945;
-    let t947: f32 = platform_ixx + joint1_ixx;
-    let t948: f32 = joint2_ixx + joint3_ixx;
-    let t949: f32 = joint4_ixx + joint5_ixx;
-    let t950: f32 = t947 + t948;
-    let t951: f32 = joint6_ixx + t949;
-    let t952: f32 = t950 + t951;
-    let t953: f32 = t952 * 0.5;
-    let t954: f32 = t361 * t953;
-    let t955: f32 = platform_ixy + joint1_ixy;
-    let t956: f32 = joint2_ixy + joint3_ixy;
-    let t957: f32 = joint4_ixy + joint5_ixy;
-    let t958: f32 = t955 + t956;
-    let t959: f32 = joint6_ixy + t957;
-    let t960: f32 = t958 + t959;
-    let t961: f32 = t960 * 0.5;
-    let t962: f32 = t369 * t961;
-    let t963: f32 = t374 * t925;
-    let t964: f32 = t962 + t963;
-    let t965: f32 = t954 - t964;
-    let t966: f32 = t89 * t133;
-    let t967: f32 = t965 * t966;
-    let t968: f32 = t361 * t961;
-    let t969: f32 = platform_iyy + joint1_iyy;
-    let t970: f32 = joint2_iyy + joint3_iyy;
-    let t971: f32 = joint4_iyy + joint5_iyy;
-    let t972: f32 = t969 + t970;
-    let t973: f32 = joint6_iyy + t971;
-    let t974: f32 = t972 + t973;
-    let t975: f32 = t974 * 0.5;
-    let t976: f32 = t369 * t975;
-    let t977: f32 = t374 * t933;
-    let t978: f32 = t976 + t977;
-    let t979: f32 = t968 - t978;
-    let t980: f32 = t445 * t979;
-    let t981: f32 = t911 + t914;
-    let t982: f32 = t981 - t918;
-    let t983: f32 = t982 * 0.5;
-    let t984: f32 = t967 + t983;
-    let t985: f32 = t980 + t984;
-    let t986: f32 = t985 - t946;
-    let t987: f32 = t0 * t986;
-    let t988: f32 = q3 * t0;
-    let t989: f32 = t988 * 0.5;
-    let t990: f32 = -t989;
-    let t991: f32 = joint3_mass * t990;
-    let t992: f32 = q4 * t0;
-    let t993: f32 = t992 * 0.5;
-    let t994: f32 = -t993;
-    let t995: f32 = joint4_mass * t994;
-    let t996: f32 = t413 * t945;
-    let t997: f32 = t409 * t966;
-    let t998: f32 = t411 * t445;
-    let t999: f32 = t997 + t998;
-    let t1000: f32 = t996 - t999;
-    let t1001: f32 = t0 * t1000;
-    let t1002: f32 = t991 + t995;
-    let t1003: f32 = t1001 + t1002;
-    let t1004: f32 = t109 * t1003;
-    let t1005: f32 = t826 + t827;
-    let t1006: f32 = t828 + t840;
-    let t1007: f32 = t902 + t987;
-    let t1008: f32 = t1005 + t1006;
-    let t1009: f32 = t1004 + t1007;
-    let t1010: f32 = t1008 + t1009;
-    let t1011: f32 = t839 + t851;
-    let t1012: f32 = t1010 - t1011;
-    let t1013: f32 = t0 * t1012;
-    let t1014: f32 = t1013 - t899;
-    let t1015: f32 = t1014 * 0.5;
-    let t1016: f32 = t825 - t1015;
-    let t1017: f32 = t1015 - t825;
-    let t1018: f32 = joint2_mass - t899;
-    let t1019: f32 = t803 - 0.5;
-    let t1020: f32 = joint3_mass * t1019;
-    let t1021: f32 = t809 - 0.5;
-    let t1022: f32 = joint4_mass * t1021;
-    let t1023: f32 = t1020 + t1022;
-    let t1024: f32 = t816 - 0.5;
-    let t1025: f32 = joint5_mass * t1024;
-    let t1026: f32 = rod5_mass * t1024;
-    let t1027: f32 = t1025 + t1026;
-    let t1028: f32 = t822 - 0.5;
-    let t1029: f32 = joint6_mass * t1028;
-    let t1030: f32 = rod6_mass * t1028;
-    let t1031: f32 = t1029 + t1030;
-    let t1032: f32 = t1027 + t1031;
-    let t1033: f32 = t1023 + t1032;
-    let t1034: f32 = t204 + t1018;
-    let t1035: f32 = t1034 * 0.5;
-    let t1036: f32 = t1035 - t1033;
-    let t1037: f32 = t214 * t1036;
-    let t1038: f32 = joint2_mass + t877;
-    let t1039: f32 = t1038 * 0.5;
-    let t1040: f32 = t310 * t1039;
-    let t1041: f32 = t259 * t1019;
-    let t1042: f32 = t887 * 0.5;
-    let t1043: f32 = t1042 - t1020;
-    let t1044: f32 = t317 * t1043;
-    let t1045: f32 = t268 * t1021;
-    let t1046: f32 = t895 * 0.5;
-    let t1047: f32 = t1046 - t1022;
-    let t1048: f32 = t323 * t1047;
-    let t1049: f32 = t276 * t1024;
-    let t1050: f32 = t225 * t1028;
-    let t1051: f32 = platform_mass * t910;
-    let t1052: f32 = t380 * t945;
-    let t1053: f32 = t360 * t966;
-    let t1054: f32 = t368 * t445;
-    let t1055: f32 = t1051 * 0.5;
-    let t1056: f32 = t1052 + t1055;
-    let t1057: f32 = t1053 + t1054;
-    let t1058: f32 = t1056 - t1057;
-    let t1059: f32 = t0 * t1058;
-    let t1060: f32 = platform_mass + joint2_mass;
-    let t1061: f32 = rod6_mass + joint6_mass;
-    let t1062: f32 = t1061 * 0.0;
-    let t1063: f32 = rod5_mass + joint5_mass;
-    let t1064: f32 = t1063 * -1.0;
-    let t1065: f32 = t1062 + t1064;
-    let t1066: f32 = t989 + 0.5;
-    let t1067: f32 = -t1066;
-    let t1068: f32 = joint3_mass * t1067;
-    let t1069: f32 = t993 + 0.5;
-    let t1070: f32 = -t1069;
-    let t1071: f32 = joint4_mass * t1070;
-    let t1072: f32 = t1068 + t1071;
-    let t1073: f32 = t1065 + t1072;
-    let t1074: f32 = t1060 * 0.5;
-    let t1075: f32 = t1059 + t1073;
-    let t1076: f32 = t1074 - t1075;
-    let t1077: f32 = t295 * t1076;
-    let t1078: f32 = t376 * 0.5;
-    let t1079: f32 = t945 * t1078;
-    let t1080: f32 = t356 * 0.5;
-    let t1081: f32 = t966 * t1080;
-    let t1082: f32 = t364 * 0.5;
-    let t1083: f32 = t445 * t1082;
-    let t1084: f32 = t1081 + t1083;
-    let t1085: f32 = t1079 - t1084;
-    let t1086: f32 = t0 * t1085;
-    let t1087: f32 = t1065 + t1086;
-    let t1088: f32 = t292 * t1087;
-    let t1089: f32 = t33 * t426;
-    let t1090: f32 = t142 * t1089;
-    let t1091: f32 = t797 * t1090;
-    let t1092: f32 = t218 * t433;
-    let t1093: f32 = t797 * t1092;
-    let t1094: f32 = t62 * t429;
-    let t1095: f32 = t137 * t1094;
-    let t1096: f32 = t797 * t1095;
-    let t1097: f32 = t1093 - t1096;
-    let t1098: f32 = t1091 + t1097;
-    let t1099: f32 = t233 + t241;
-    let t1100: f32 = t251 + t1099;
-    let t1101: f32 = joint3_iyy * t62;
-    let t1102: f32 = t137 * t1101;
-    let t1103: f32 = joint3_iyz * t33;
-    let t1104: f32 = t142 * t1103;
-    let t1105: f32 = t133 * t372;
-    let t1106: f32 = -t1105;
-    let t1107: f32 = joint3_ixy * t1106;
-    let t1108: f32 = t1104 + t1107;
-    let t1109: f32 = t1102 - t1108;
-    let t1110: f32 = t1109 * 0.5;
-    let t1111: f32 = t0 * t1110;
-    let t1112: f32 = -t1111;
-    let t1113: f32 = t455 * t1112;
-    let t1114: f32 = joint3_iyz * t62;
-    let t1115: f32 = t137 * t1114;
-    let t1116: f32 = joint3_izz * t33;
-    let t1117: f32 = t142 * t1116;
-    let t1118: f32 = joint3_ixz * t1106;
-    let t1119: f32 = t1117 + t1118;
-    let t1120: f32 = t1115 - t1119;
-    let t1121: f32 = t1120 * 0.5;
-    let t1122: f32 = t0 * t1121;
-    let t1123: f32 = -t1122;
-    let t1124: f32 = t945 * t1123;
-    let t1125: f32 = t1113 - t1124;
-    let t1126: f32 = joint4_ixy * t62;
-    let t1127: f32 = t137 * t1126;
-    let t1128: f32 = joint4_ixz * t33;
-    let t1129: f32 = t142 * t1128;
-    let t1130: f32 = joint4_ixx * t1106;
-    let t1131: f32 = t1129 + t1130;
-    let t1132: f32 = t1127 - t1131;
-    let t1133: f32 = t1132 * 0.5;
-    let t1134: f32 = t0 * t1133;
-    let t1135: f32 = -t1134;
-    let t1136: f32 = t966 * t1135;
-    let t1137: f32 = joint4_iyy * t62;
-    let t1138: f32 = t137 * t1137;
-    let t1139: f32 = joint4_iyz * t33;
-    let t1140: f32 = t142 * t1139;
-    let t1141: f32 = joint4_ixy * t1106;
-    let t1142: f32 = t1140 + t1141;
-    let t1143: f32 = t1138 - t1142;
-    let t1144: f32 = t1143 * 0.5;
-    let t1145: f32 = t0 * t1144;
-    let t1146: f32 = -t1145;
-    let t1147: f32 = t455 * t1146;
-    let t1148: f32 = t1136 + t1147;
-    let t1149: f32 = t1125 + t1148;
-    let t1150: f32 = joint4_iyz * t62;
-    let t1151: f32 = t137 * t1150;
-    let t1152: f32 = joint4_izz * t33;
-    let t1153: f32 = t142 * t1152;
-    let t1154: f32 = joint4_ixz * t1106;
-    let t1155: f32 = t1153 + t1154;
-    let t1156: f32 = t1151 - t1155;
-    let t1157: f32 = t1156 * 0.5;
-    let t1158: f32 = t0 * t1157;
-    let t1159: f32 = -t1158;
-    let t1160: f32 = t945 * t1159;
-    let t1161: f32 = joint5_ixy * t62;
-    let t1162: f32 = t137 * t1161;
-    let t1163: f32 = joint5_ixz * t33;
-    let t1164: f32 = t142 * t1163;
-    let t1165: f32 = joint5_ixx * t1106;
-    let t1166: f32 = t1164 + t1165;
-    let t1167: f32 = t1162 - t1166;
-    let t1168: f32 = t1167 * 0.5;
-    let t1169: f32 = t0 * t1168;
-    let t1170: f32 = -t1169;
-    let t1171: f32 = t966 * t1170;
-    let t1172: f32 = t1160 - t1171;
-    let t1173: f32 = joint5_iyy * t62;
-    let t1174: f32 = t137 * t1173;
-    let t1175: f32 = joint5_iyz * t33;
-    let t1176: f32 = t142 * t1175;
-    let t1177: f32 = joint5_ixy * t1106;
-    let t1178: f32 = t1176 + t1177;
-    let t1179: f32 = t1174 - t1178;
-    let t1180: f32 = t1179 * 0.5;
-    let t1181: f32 = t0 * t1180;
-    let t1182: f32 = -t1181;
-    let t1183: f32 = t455 * t1182;
-    let t1184: f32 = joint5_iyz * t62;
-    let t1185: f32 = t137 * t1184;
-    let t1186: f32 = joint5_izz * t33;
-    let t1187: f32 = t142 * t1186;
-    let t1188: f32 = joint5_ixz * t1106;
-    let t1189: f32 = t1187 + t1188;
-    let t1190: f32 = t1185 - t1189;
-    let t1191: f32 = t1190 * 0.5;
-    let t1192: f32 = t0 * t1191;
-    let t1193: f32 = -t1192;
-    let t1194: f32 = t945 * t1193;
-    let t1195: f32 = t1183 - t1194;
-    let t1196: f32 = t1172 - t1195;
-    let t1197: f32 = t1149 - t1196;
-    let t1198: f32 = joint6_ixy * t62;
-    let t1199: f32 = t137 * t1198;
-    let t1200: f32 = joint6_ixz * t33;
-    let t1201: f32 = t142 * t1200;
-    let t1202: f32 = joint6_ixx * t1106;
-    let t1203: f32 = t1201 + t1202;
-    let t1204: f32 = t1199 - t1203;
-    let t1205: f32 = t1204 * 0.5;
-    let t1206: f32 = t0 * t1205;
-    let t1207: f32 = -t1206;
-    let t1208: f32 = t966 * t1207;
-    let t1209: f32 = joint6_iyy * t62;
-    let t1210: f32 = t137 * t1209;
-    let t1211: f32 = joint6_iyz * t33;
-    let t1212: f32 = t142 * t1211;
-    let t1213: f32 = joint6_ixy * t1106;
-    let t1214: f32 = t1212 + t1213;
-    let t1215: f32 = t1210 - t1214;
-    let t1216: f32 = t1215 * 0.5;
-    let t1217: f32 = t0 * t1216;
-    let t1218: f32 = -t1217;
-    let t1219: f32 = t455 * t1218;
-    let t1220: f32 = t1208 + t1219;
-    let t1221: f32 = joint6_iyz * t62;
-    let t1222: f32 = t137 * t1221;
-    let t1223: f32 = joint6_izz * t33;
-    let t1224: f32 = t142 * t1223;
-    let t1225: f32 = joint6_ixz * t1106;
-    let t1226: f32 = t1224 + t1225;
-    let t1227: f32 = t1222 - t1226;
-    let t1228: f32 = t1227 * 0.5;
-    let t1229: f32 = t0 * t1228;
-    let t1230: f32 = -t1229;
-    let t1231: f32 = t945 * t1230;
-    let t1232: f32 = platform_ixy * t62;
-    let t1233: f32 = t137 * t1232;
-    let t1234: f32 = platform_ixz * t33;
-    let t1235: f32 = t142 * t1234;
-    let t1236: f32 = platform_ixx * t1106;
-    let t1237: f32 = t1235 + t1236;
-    let t1238: f32 = t1233 - t1237;
-    let t1239: f32 = t1238 * 0.5;
-    let t1240: f32 = t0 * t1239;
-    let t1241: f32 = -t1240;
-    let t1242: f32 = t966 * t1241;
-    let t1243: f32 = platform_iyy * t62;
-    let t1244: f32 = t137 * t1243;
-    let t1245: f32 = platform_iyz * t33;
-    let t1246: f32 = t142 * t1245;
-    let t1247: f32 = platform_ixy * t1106;
-    let t1248: f32 = t1246 + t1247;
-    let t1249: f32 = t1244 - t1248;
-    let t1250: f32 = t1249 * 0.5;
-    let t1251: f32 = t0 * t1250;
-    let t1252: f32 = -t1251;
-    let t1253: f32 = t455 * t1252;
-    let t1254: f32 = t1242 + t1253;
-    let t1255: f32 = t1231 - t1254;
-    let t1256: f32 = t1220 - t1255;
-    let t1257: f32 = platform_iyz * t62;
-    let t1258: f32 = t137 * t1257;
-    let t1259: f32 = platform_izz * t33;
-    let t1260: f32 = t142 * t1259;
-    let t1261: f32 = platform_ixz * t1106;
-    let t1262: f32 = t1260 + t1261;
-    let t1263: f32 = t1258 - t1262;
-    let t1264: f32 = t1263 * 0.5;
-    let t1265: f32 = t0 * t1264;
-    let t1266: f32 = -t1265;
-    let t1267: f32 = t945 * t1266;
-    let t1268: f32 = joint1_ixy * t62;
-    let t1269: f32 = t137 * t1268;
-    let t1270: f32 = joint1_ixz * t33;
-    let t1271: f32 = t142 * t1270;
-    let t1272: f32 = joint1_ixx * t1106;
-    let t1273: f32 = t1271 + t1272;
-    let t1274: f32 = t1269 - t1273;
-    let t1275: f32 = t1274 * 0.5;
-    let t1276: f32 = t0 * t1275;
-    let t1277: f32 = -t1276;
-    let t1278: f32 = t966 * t1277;
-    let t1279: f32 = t1267 - t1278;
-    let t1280: f32 = joint1_iyy * t62;
-    let t1281: f32 = t137 * t1280;
-    let t1282: f32 = joint1_iyz * t33;
-    let t1283: f32 = t142 * t1282;
-    let t1284: f32 = joint1_ixy * t1106;
-    let t1285: f32 = t1283 + t1284;
-    let t1286: f32 = t1281 - t1285;
-    let t1287: f32 = t1286 * 0.5;
-    let t1288: f32 = t0 * t1287;
-    let t1289: f32 = -t1288;
-    let t1290: f32 = t455 * t1289;
-    let t1291: f32 = joint1_iyz * t62;
-    let t1292: f32 = t137 * t1291;
-    let t1293: f32 = joint1_izz * t33;
-    let t1294: f32 = t142 * t1293;
-    let t1295: f32 = joint1_ixz * t1106;
-    let t1296: f32 = t1294 + t1295;
-    let t1297: f32 = t1292 - t1296;
-    let t1298: f32 = t1297 * 0.5;
-    let t1299: f32 = t0 * t1298;
-    let t1300: f32 = -t1299;
-    let t1301: f32 = t945 * t1300;
-    let t1302: f32 = t1290 - t1301;
-    let t1303: f32 = t1279 - t1302;
-    let t1304: f32 = joint2_ixy * t62;
-    let t1305: f32 = t137 * t1304;
-    let t1306: f32 = joint2_ixz * t33;
-    let t1307: f32 = t142 * t1306;
-    let t1308: f32 = joint2_ixx * t1106;
-    let t1309: f32 = t1307 + t1308;
-    let t1310: f32 = t1305 - t1309;
-    let t1311: f32 = t1310 * 0.5;
-    let t1312: f32 = t0 * t1311;
-    let t1313: f32 = -t1312;
-    let t1314: f32 = t966 * t1313;
-    let t1315: f32 = joint2_iyy * t62;
-    let t1316: f32 = t137 * t1315;
-    let t1317: f32 = joint2_iyz * t33;
-    let t1318: f32 = t142 * t1317;
-    let t1319: f32 = joint2_ixy * t1106;
-    let t1320: f32 = t1318 + t1319;
-    let t1321: f32 = t1316 - t1320;
-    let t1322: f32 = t1321 * 0.5;
-    let t1323: f32 = t0 * t1322;
-    let t1324: f32 = -t1323;
-    let t1325: f32 = t455 * t1324;
-    let t1326: f32 = t1314 + t1325;
-    let t1327: f32 = joint2_iyz * t62;
-    let t1328: f32 = t137 * t1327;
-    let t1329: f32 = joint2_izz * t33;
-    let t1330: f32 = t142 * t1329;
-    let t1331: f32 = joint2_ixz * t1106;
-    let t1332: f32 = t1330 + t1331;
-    let t1333: f32 = t1328 - t1332;
-    let t1334: f32 = t1333 * 0.5;
-    let t1335: f32 = t0 * t1334;
-    let t1336: f32 = -t1335;
-    let t1337: f32 = t945 * t1336;
-    let t1338: f32 = joint3_ixy * t62;
-    let t1339: f32 = t137 * t1338;
-    let t1340: f32 = joint3_ixz * t33;
-    let t1341: f32 = t142 * t1340;
-    let t1342: f32 = joint3_ixx * t1106;
-    let t1343: f32 = t1341 + t1342;
-    let t1344: f32 = t1339 - t1343;
-    let t1345: f32 = t1344 * 0.5;
-    let t1346: f32 = t0 * t1345;
-    let t1347: f32 = -t1346;
-    let t1348: f32 = t966 * t1347;
-    let t1349: f32 = t1337 - t1348;
-    let t1350: f32 = t1326 - t1349;
-    let t1351: f32 = t1303 - t1350;
-    let t1352: f32 = t1256 - t1351;
-    let t1353: f32 = t1197 + t1352;
-    let t1354: f32 = t1100 - t1098;
-    let t1355: f32 = t1354 * 0.5;
-    let t1356: f32 = t1040 + t1044;
-    let t1357: f32 = t1355 + t1356;
-    let t1358: f32 = t1041 + t1045;
-    let t1359: f32 = t1048 + t1049;
-    let t1360: f32 = t1050 + t1077;
-    let t1361: f32 = t1088 + t1353;
-    let t1362: f32 = t1358 + t1359;
-    let t1363: f32 = t1360 + t1361;
-    let t1364: f32 = t1362 + t1363;
-    let t1365: f32 = t1357 - t1364;
-    let t1366: f32 = t0 * t1365;
-    let t1367: f32 = t1037 + t1366;
-    let t1368: f32 = t1367 * 0.5;
-    let t1369: f32 = -t1368;
-    let t1370: f32 = joint2_mass + t899;
-    let t1371: f32 = t803 + 0.5;
-    let t1372: f32 = joint3_mass * t1371;
-    let t1373: f32 = t809 + 0.5;
-    let t1374: f32 = joint4_mass * t1373;
-    let t1375: f32 = t1372 + t1374;
-    let t1376: f32 = t816 + 0.5;
-    let t1377: f32 = joint5_mass * t1376;
-    let t1378: f32 = rod5_mass * t1376;
-    let t1379: f32 = t1377 + t1378;
-    let t1380: f32 = t822 + 0.5;
-    let t1381: f32 = joint6_mass * t1380;
-    let t1382: f32 = rod6_mass * t1380;
-    let t1383: f32 = t1381 + t1382;
-    let t1384: f32 = t1379 + t1383;
-    let t1385: f32 = t1375 + t1384;
-    let t1386: f32 = t204 + t1370;
-    let t1387: f32 = t1386 * 0.5;
-    let t1388: f32 = t1385 + t1387;
-    let t1389: f32 = t214 * t1388;
-    let t1390: f32 = joint2_mass - t877;
-    let t1391: f32 = t1390 * 0.5;
-    let t1392: f32 = t310 * t1391;
-    let t1393: f32 = t259 * t1371;
-    let t1394: f32 = t1042 - t1372;
-    let t1395: f32 = t317 * t1394;
-    let t1396: f32 = t268 * t1373;
-    let t1397: f32 = t1046 - t1374;
-    let t1398: f32 = t323 * t1397;
-    let t1399: f32 = t276 * t1376;
-    let t1400: f32 = t225 * t1380;
-    let t1401: f32 = t1063 * 0.0;
-    let t1402: f32 = t1061 * 1.0;
-    let t1403: f32 = t1401 + t1402;
-    let t1404: f32 = 0.5 - t989;
-    let t1405: f32 = joint3_mass * t1404;
-    let t1406: f32 = 0.5 - t993;
-    let t1407: f32 = joint4_mass * t1406;
-    let t1408: f32 = t1405 + t1407;
-    let t1409: f32 = t1403 + t1408;
-    let t1410: f32 = t1059 + t1409;
-    let t1411: f32 = t1074 + t1410;
-    let t1412: f32 = t295 * t1411;
-    let t1413: f32 = t1086 + t1403;
-    let t1414: f32 = t292 * t1413;
-    let t1415: f32 = t1098 + t1100;
-    let t1416: f32 = t1415 * 0.5;
-    let t1417: f32 = t1392 + t1393;
-    let t1418: f32 = t1396 + t1398;
-    let t1419: f32 = t1399 + t1400;
-    let t1420: f32 = t1353 + t1414;
-    let t1421: f32 = t1417 + t1418;
-    let t1422: f32 = t1419 + t1420;
-    let t1423: f32 = t1421 + t1422;
-    let t1424: f32 = t1416 + t1423;
-    let t1425: f32 = t1395 + t1412;
-    let t1426: f32 = t1424 - t1425;
-    let t1427: f32 = t0 * t1426;
-    let t1428: f32 = t1389 + t1427;
-    let t1429: f32 = t1428 * 0.5;
-    let t1430: f32 = -t1429;
-    let t1431: f32 = t711 * 0.5;
-    let t1432: f32 = -t1431;
-    let t1433: f32 = t779 * 0.5;
-    let t1434: f32 = t1013 * 0.5;
-    let t1435: f32 = -t1434;
-    let t1436: f32 = t210 * t876;
-    let t1437: f32 = t175 * 0.5;
-    let t1438: f32 = t114 + t1437;
-    let t1439: f32 = t800 * t1438;
-    let t1440: f32 = t183 * 0.5;
-    let t1441: f32 = t115 + t1440;
-    let t1442: f32 = t806 * t1441;
-    let t1443: f32 = t121 * t835;
-    let t1444: f32 = t341 * t813;
-    let t1445: f32 = t128 * t847;
-    let t1446: f32 = t345 * t819;
-    let t1447: f32 = platform_my * t445;
-    let t1448: f32 = t858 + t1447;
-    let t1449: f32 = t1448 * 0.5;
-    let t1450: f32 = t0 * t353;
-    let t1451: f32 = t1449 * t1450;
-    let t1452: f32 = t358 * 0.5;
-    let t1453: f32 = t361 * t1452;
-    let t1454: f32 = t366 * 0.5;
-    let t1455: f32 = t369 * t1454;
-    let t1456: f32 = t378 * 0.5;
-    let t1457: f32 = t374 * t1456;
-    let t1458: f32 = t382 + t1453;
-    let t1459: f32 = t1455 + t1457;
-    let t1460: f32 = t1458 - t1459;
-    let t1461: f32 = t0 * t1460;
-    let t1462: f32 = t405 - t1461;
-    let t1463: f32 = t797 * t1462;
-    let t1464: f32 = t375 * t945;
-    let t1465: f32 = t355 * t966;
-    let t1466: f32 = t363 * t445;
-    let t1467: f32 = t1465 + t1466;
-    let t1468: f32 = t1464 - t1467;
-    let t1469: f32 = t113 * t1468;
-    let t1470: f32 = t859 + t868;
-    let t1471: f32 = t0 * t81;
-    let t1472: f32 = t133 * t1471;
-    let t1473: f32 = t560 * t1472;
-    let t1474: f32 = t0 * t57;
-    let t1475: f32 = t137 * t1474;
-    let t1476: f32 = t569 * t1475;
-    let t1477: f32 = t1473 - t1476;
-    let t1478: f32 = t535 * t1475;
-    let t1479: f32 = t0 * t145;
-    let t1480: f32 = t544 * t1479;
-    let t1481: f32 = t1478 + t1480;
-    let t1482: f32 = t1477 - t1481;
-    let t1483: f32 = t596 * t1472;
-    let t1484: f32 = t582 * t1479;
-    let t1485: f32 = t1483 - t1484;
-    let t1486: f32 = t607 * t1475;
-    let t1487: f32 = t616 * t1479;
-    let t1488: f32 = t1486 + t1487;
-    let t1489: f32 = t1485 - t1488;
-    let t1490: f32 = t1482 + t1489;
-    let t1491: f32 = t633 * t1472;
-    let t1492: f32 = t642 * t1475;
-    let t1493: f32 = t1491 - t1492;
-    let t1494: f32 = t669 * t1472;
-    let t1495: f32 = t678 * t1475;
-    let t1496: f32 = t1494 - t1495;
-    let t1497: f32 = t652 * t1479;
-    let t1498: f32 = t1496 - t1497;
-    let t1499: f32 = t1493 + t1498;
-    let t1500: f32 = t449 * t1472;
-    let t1501: f32 = t688 * t1479;
-    let t1502: f32 = t1500 - t1501;
-    let t1503: f32 = t463 * t1475;
-    let t1504: f32 = t474 * t1479;
-    let t1505: f32 = t1503 + t1504;
-    let t1506: f32 = t1502 - t1505;
-    let t1507: f32 = t490 * t1472;
-    let t1508: f32 = t499 * t1475;
-    let t1509: f32 = t1507 - t1508;
-    let t1510: f32 = t525 * t1472;
-    let t1511: f32 = t509 * t1479;
-    let t1512: f32 = t1510 - t1511;
-    let t1513: f32 = t1509 + t1512;
-    let t1514: f32 = t1506 + t1513;
-    let t1515: f32 = t1499 + t1514;
-    let t1516: f32 = t1490 + t1515;
-    let t1517: f32 = t1446 + t1469;
-    let t1518: f32 = t1470 + t1516;
-    let t1519: f32 = t1517 + t1518;
-    let t1520: f32 = t1436 + t1439;
-    let t1521: f32 = t1442 + t1443;
-    let t1522: f32 = t1444 + t1445;
-    let t1523: f32 = t1451 + t1463;
-    let t1524: f32 = t1520 + t1521;
-    let t1525: f32 = t1522 + t1523;
-    let t1526: f32 = t1524 + t1525;
-    let t1527: f32 = t1519 - t1526;
-    let t1528: f32 = t0 * t1527;
-    let t1529: f32 = t1528 * 0.5;
-    let t1530: f32 = -t1529;
-    let t1531: f32 = t108 * t859;
-    let t1532: f32 = t209 * t876;
-    let t1533: f32 = t721 + t1437;
-    let t1534: f32 = t800 * t1533;
-    let t1535: f32 = t722 + t1440;
-    let t1536: f32 = t806 * t1535;
-    let t1537: f32 = t120 * t835;
-    let t1538: f32 = t732 * t813;
-    let t1539: f32 = t127 * t847;
-    let t1540: f32 = t735 * t819;
-    let t1541: f32 = t760 + t1461;
-    let t1542: f32 = t797 * t1541;
-    let t1543: f32 = t112 * t1468;
-    let t1544: f32 = t1531 * 0.5;
-    let t1545: f32 = t1540 + t1542;
-    let t1546: f32 = t1516 + t1543;
-    let t1547: f32 = t1545 + t1546;
-    let t1548: f32 = t1532 + t1544;
-    let t1549: f32 = t1534 + t1536;
-    let t1550: f32 = t1537 + t1538;
-    let t1551: f32 = t1548 + t1549;
-    let t1552: f32 = t1539 + t1550;
-    let t1553: f32 = t1551 + t1552;
-    let t1554: f32 = t1547 - t1553;
-    let t1555: f32 = t0 * t1554;
-    let t1556: f32 = t1555 * 0.5;
-    let t1557: f32 = q1 - half_spacing;
-    let t1558: f32 = joint1_mass * t0;
-    let t1559: f32 = t1557 * t1558;
-    let t1560: f32 = t0 * t1557;
-    let t1561: f32 = t1560 - t296;
-    let t1562: f32 = t1561 * 0.5;
-    let t1563: f32 = t1562 + 1.0;
-    let t1564: f32 = t233 * t1563;
-    let t1565: f32 = t311 + t1561;
-    let t1566: f32 = t1565 * 0.5;
-    let t1567: f32 = t1566 + 1.0;
-    let t1568: f32 = t251 * t1567;
-    let t1569: f32 = joint2_mass * t1567;
-    let t1570: f32 = t515 + t1569;
-    let t1571: f32 = t310 * t1570;
-    let t1572: f32 = t318 + t1561;
-    let t1573: f32 = t1572 * 0.5;
-    let t1574: f32 = t1573 + 1.0;
-    let t1575: f32 = t259 * t1574;
-    let t1576: f32 = joint3_mass * t1574;
-    let t1577: f32 = rod3_mass * t1574;
-    let t1578: f32 = t1576 + t1577;
-    let t1579: f32 = t549 + t1578;
-    let t1580: f32 = t317 * t1579;
-    let t1581: f32 = t1561 - t324;
-    let t1582: f32 = t1581 * 0.5;
-    let t1583: f32 = t1582 + 1.0;
-    let t1584: f32 = t268 * t1583;
-    let t1585: f32 = joint4_mass * t1583;
-    let t1586: f32 = rod4_mass * t1583;
-    let t1587: f32 = t1585 + t1586;
-    let t1588: f32 = t586 + t1587;
-    let t1589: f32 = t323 * t1588;
-    let t1590: f32 = joint1_mx * t1106;
-    let t1591: f32 = t240 + t1590;
-    let t1592: f32 = t1591 * 0.5;
-    let t1593: f32 = -t1592;
-    let t1594: f32 = t1560 * t1593;
-    let t1595: f32 = t62 * t137;
-    let t1596: f32 = t368 * t1595;
-    let t1597: f32 = t33 * t142;
-    let t1598: f32 = t380 * t1597;
-    let t1599: f32 = t360 * t1106;
-    let t1600: f32 = t1598 + t1599;
-    let t1601: f32 = t1596 - t1600;
-    let t1602: f32 = t0 * t1601;
-    let t1603: f32 = t1560 - t214;
-    let t1604: f32 = t1603 * 0.5;
-    let t1605: f32 = t1604 + 1.0;
-    let t1606: f32 = joint5_mass + joint6_mass;
-    let t1607: f32 = t1605 * t1606;
-    let t1608: f32 = t96 - t98;
-    let t1609: f32 = t1608 * 0.125;
-    let t1610: f32 = t8 * t1609;
-    let t1611: f32 = t99 - t1610;
-    let t1612: f32 = t95 * t1611;
-    let t1613: f32 = q1 + t1612;
-    let t1614: f32 = t289 + t1613;
-    let t1615: f32 = t0 * t1614;
-    let t1616: f32 = t1560 - t1615;
-    let t1617: f32 = t1616 * 0.5;
-    let t1618: f32 = t1617 + 1.0;
-    let t1619: f32 = platform_mass * t1618;
-    let t1620: f32 = t3 * 0.5;
-    let t1621: f32 = t0 * t1620;
-    let t1622: f32 = t1560 * 0.5;
-    let t1623: f32 = t1622 + 1.0;
-    let t1624: f32 = t1623 - t1621;
-    let t1625: f32 = joint2_mass * t1624;
-    let t1626: f32 = t1619 + t1625;
-    let t1627: f32 = t1557 * 0.5;
-    let t1628: f32 = t0 * t1627;
-    let t1629: f32 = t1623 - t1628;
-    let t1630: f32 = rod3_mass + joint3_mass;
-    let t1631: f32 = t1629 * t1630;
-    let t1632: f32 = q1 + half_spacing;
-    let t1633: f32 = t1632 * 0.5;
-    let t1634: f32 = t0 * t1633;
-    let t1635: f32 = t1623 - t1634;
-    let t1636: f32 = rod4_mass + joint4_mass;
-    let t1637: f32 = t1635 * t1636;
-    let t1638: f32 = t1631 + t1637;
-    let t1639: f32 = t1607 + t1626;
-    let t1640: f32 = t1638 + t1639;
-    let t1641: f32 = t1640 - t1602;
-    let t1642: f32 = t295 * t1641;
-    let t1643: f32 = t1082 * t1595;
-    let t1644: f32 = t1078 * t1597;
-    let t1645: f32 = t1080 * t1106;
-    let t1646: f32 = t1644 + t1645;
-    let t1647: f32 = t1643 - t1646;
-    let t1648: f32 = t0 * t1647;
-    let t1649: f32 = t1607 - t1648;
-    let t1650: f32 = t292 * t1649;
-    let t1651: f32 = t293 + t1561;
-    let t1652: f32 = t1651 * 0.5;
-    let t1653: f32 = t1652 + 1.0;
-    let t1654: f32 = t364 * t1595;
-    let t1655: f32 = t376 * t1597;
-    let t1656: f32 = t356 * t1106;
-    let t1657: f32 = t1655 + t1656;
-    let t1658: f32 = t1654 - t1657;
-    let t1659: f32 = t1653 * t1658;
-    let t1660: f32 = t798 * t876;
-    let t1661: f32 = t798 * t868;
-    let t1662: f32 = t798 * t859;
-    let t1663: f32 = t1661 - t1662;
-    let t1664: f32 = t1660 + t1663;
-    let t1665: f32 = t819 * t850;
-    let t1666: f32 = t797 * t901;
-    let t1667: f32 = t1665 + t1666;
-    let t1668: f32 = platform_ixx * t81;
-    let t1669: f32 = t133 * t1668;
-    let t1670: f32 = platform_ixy * t57;
-    let t1671: f32 = t137 * t1670;
-    let t1672: f32 = platform_ixz * t374;
-    let t1673: f32 = t1671 + t1672;
-    let t1674: f32 = t1669 - t1673;
-    let t1675: f32 = t1674 * 0.5;
-    let t1676: f32 = t1472 * t1675;
-    let t1677: f32 = platform_ixy * t81;
-    let t1678: f32 = t133 * t1677;
-    let t1679: f32 = platform_iyy * t57;
-    let t1680: f32 = t137 * t1679;
-    let t1681: f32 = platform_iyz * t374;
-    let t1682: f32 = t1680 + t1681;
-    let t1683: f32 = t1678 - t1682;
-    let t1684: f32 = t1683 * 0.5;
-    let t1685: f32 = t1475 * t1684;
-    let t1686: f32 = t1676 - t1685;
-    let t1687: f32 = joint1_ixx * t81;
-    let t1688: f32 = t133 * t1687;
-    let t1689: f32 = joint1_ixy * t57;
-    let t1690: f32 = t137 * t1689;
-    let t1691: f32 = joint1_ixz * t374;
-    let t1692: f32 = t1690 + t1691;
-    let t1693: f32 = t1688 - t1692;
-    let t1694: f32 = t1693 * 0.5;
-    let t1695: f32 = t1472 * t1694;
-    let t1696: f32 = platform_ixz * t81;
-    let t1697: f32 = t133 * t1696;
-    let t1698: f32 = platform_iyz * t57;
-    let t1699: f32 = t137 * t1698;
-    let t1700: f32 = platform_izz * t374;
-    let t1701: f32 = t1699 + t1700;
-    let t1702: f32 = t1697 - t1701;
-    let t1703: f32 = t1702 * 0.5;
-    let t1704: f32 = t1479 * t1703;
-    let t1705: f32 = t1695 - t1704;
-    let t1706: f32 = t1686 + t1705;
-    let t1707: f32 = t1667 + t1706;
-    let t1708: f32 = joint2_ixx * t81;
-    let t1709: f32 = t133 * t1708;
-    let t1710: f32 = joint2_ixy * t57;
-    let t1711: f32 = t137 * t1710;
-    let t1712: f32 = joint2_ixz * t374;
-    let t1713: f32 = t1711 + t1712;
-    let t1714: f32 = t1709 - t1713;
-    let t1715: f32 = t1714 * 0.5;
-    let t1716: f32 = t1472 * t1715;
-    let t1717: f32 = joint2_ixy * t81;
-    let t1718: f32 = t133 * t1717;
-    let t1719: f32 = joint2_iyy * t57;
-    let t1720: f32 = t137 * t1719;
-    let t1721: f32 = joint2_iyz * t374;
-    let t1722: f32 = t1720 + t1721;
-    let t1723: f32 = t1718 - t1722;
-    let t1724: f32 = t1723 * 0.5;
-    let t1725: f32 = t1475 * t1724;
-    let t1726: f32 = t1716 - t1725;
-    let t1727: f32 = joint1_ixy * t81;
-    let t1728: f32 = t133 * t1727;
-    let t1729: f32 = joint1_iyy * t57;
-    let t1730: f32 = t137 * t1729;
-    let t1731: f32 = joint1_iyz * t374;
-    let t1732: f32 = t1730 + t1731;
-    let t1733: f32 = t1728 - t1732;
-    let t1734: f32 = t1733 * 0.5;
-    let t1735: f32 = t1475 * t1734;
-    let t1736: f32 = joint1_ixz * t81;
-    let t1737: f32 = t133 * t1736;
-    let t1738: f32 = joint1_iyz * t57;
-    let t1739: f32 = t137 * t1738;
-    let t1740: f32 = joint1_izz * t374;
-    let t1741: f32 = t1739 + t1740;
-    let t1742: f32 = t1737 - t1741;
-    let t1743: f32 = t1742 * 0.5;
-    let t1744: f32 = t1479 * t1743;
-    let t1745: f32 = t1735 + t1744;
-    let t1746: f32 = t1726 - t1745;
-    let t1747: f32 = joint3_ixx * t81;
-    let t1748: f32 = t133 * t1747;
-    let t1749: f32 = joint3_ixy * t57;
-    let t1750: f32 = t137 * t1749;
-    let t1751: f32 = joint3_ixz * t374;
-    let t1752: f32 = t1750 + t1751;
-    let t1753: f32 = t1748 - t1752;
-    let t1754: f32 = t1753 * 0.5;
-    let t1755: f32 = t1472 * t1754;
-    let t1756: f32 = joint2_ixz * t81;
-    let t1757: f32 = t133 * t1756;
-    let t1758: f32 = joint2_iyz * t57;
-    let t1759: f32 = t137 * t1758;
-    let t1760: f32 = joint2_izz * t374;
-    let t1761: f32 = t1759 + t1760;
-    let t1762: f32 = t1757 - t1761;
-    let t1763: f32 = t1762 * 0.5;
-    let t1764: f32 = t1479 * t1763;
-    let t1765: f32 = t1755 - t1764;
-    let t1766: f32 = joint3_ixy * t81;
-    let t1767: f32 = t133 * t1766;
-    let t1768: f32 = joint3_iyy * t57;
-    let t1769: f32 = t137 * t1768;
-    let t1770: f32 = joint3_iyz * t374;
-    let t1771: f32 = t1769 + t1770;
-    let t1772: f32 = t1767 - t1771;
-    let t1773: f32 = t1772 * 0.5;
-    let t1774: f32 = t1475 * t1773;
-    let t1775: f32 = joint3_ixz * t81;
-    let t1776: f32 = t133 * t1775;
-    let t1777: f32 = joint3_iyz * t57;
-    let t1778: f32 = t137 * t1777;
-    let t1779: f32 = joint3_izz * t374;
-    let t1780: f32 = t1778 + t1779;
-    let t1781: f32 = t1776 - t1780;
-    let t1782: f32 = t1781 * 0.5;
-    let t1783: f32 = t1479 * t1782;
-    let t1784: f32 = t1774 + t1783;
-    let t1785: f32 = t1765 - t1784;
-    let t1786: f32 = t1746 + t1785;
-    let t1787: f32 = t1707 + t1786;
-    let t1788: f32 = joint4_ixx * t81;
-    let t1789: f32 = t133 * t1788;
-    let t1790: f32 = joint4_ixy * t57;
-    let t1791: f32 = t137 * t1790;
-    let t1792: f32 = joint4_ixz * t374;
-    let t1793: f32 = t1791 + t1792;
-    let t1794: f32 = t1789 - t1793;
-    let t1795: f32 = t1794 * 0.5;
-    let t1796: f32 = t1472 * t1795;
-    let t1797: f32 = joint4_ixy * t81;
-    let t1798: f32 = t133 * t1797;
-    let t1799: f32 = joint4_iyy * t57;
-    let t1800: f32 = t137 * t1799;
-    let t1801: f32 = joint4_iyz * t374;
-    let t1802: f32 = t1800 + t1801;
-    let t1803: f32 = t1798 - t1802;
-    let t1804: f32 = t1803 * 0.5;
-    let t1805: f32 = t1475 * t1804;
-    let t1806: f32 = t1796 - t1805;
-    let t1807: f32 = t803 * t886;
-    let t1808: f32 = t804 - t1042;
-    let t1809: f32 = t800 * t1808;
-    let t1810: f32 = t1807 + t1809;
-    let t1811: f32 = t1806 - t1810;
-    let t1812: f32 = joint5_ixx * t81;
-    let t1813: f32 = t133 * t1812;
-    let t1814: f32 = joint5_ixy * t57;
-    let t1815: f32 = t137 * t1814;
-    let t1816: f32 = joint5_ixz * t374;
-    let t1817: f32 = t1815 + t1816;
-    let t1818: f32 = t1813 - t1817;
-    let t1819: f32 = t1818 * 0.5;
-    let t1820: f32 = t1472 * t1819;
-    let t1821: f32 = t810 - t1046;
-    let t1822: f32 = t806 * t1821;
-    let t1823: f32 = t1820 - t1822;
-    let t1824: f32 = joint4_ixz * t81;
-    let t1825: f32 = t133 * t1824;
-    let t1826: f32 = joint4_iyz * t57;
-    let t1827: f32 = t137 * t1826;
-    let t1828: f32 = joint4_izz * t374;
-    let t1829: f32 = t1827 + t1828;
-    let t1830: f32 = t1825 - t1829;
-    let t1831: f32 = t1830 * 0.5;
-    let t1832: f32 = t1479 * t1831;
-    let t1833: f32 = t809 * t894;
-    let t1834: f32 = t1832 + t1833;
-    let t1835: f32 = t1823 - t1834;
-    let t1836: f32 = t1811 + t1835;
-    let t1837: f32 = joint6_ixx * t81;
-    let t1838: f32 = t133 * t1837;
-    let t1839: f32 = joint6_ixy * t57;
-    let t1840: f32 = t137 * t1839;
-    let t1841: f32 = joint6_ixz * t374;
-    let t1842: f32 = t1840 + t1841;
-    let t1843: f32 = t1838 - t1842;
-    let t1844: f32 = t1843 * 0.5;
-    let t1845: f32 = t1472 * t1844;
-    let t1846: f32 = joint6_ixy * t81;
-    let t1847: f32 = t133 * t1846;
-    let t1848: f32 = joint6_iyy * t57;
-    let t1849: f32 = t137 * t1848;
-    let t1850: f32 = joint6_iyz * t374;
-    let t1851: f32 = t1849 + t1850;
-    let t1852: f32 = t1847 - t1851;
-    let t1853: f32 = t1852 * 0.5;
-    let t1854: f32 = t1475 * t1853;
-    let t1855: f32 = t1845 - t1854;
-    let t1856: f32 = joint6_ixz * t81;
-    let t1857: f32 = t133 * t1856;
-    let t1858: f32 = joint6_iyz * t57;
-    let t1859: f32 = t137 * t1858;
-    let t1860: f32 = joint6_izz * t374;
-    let t1861: f32 = t1859 + t1860;
-    let t1862: f32 = t1857 - t1861;
-    let t1863: f32 = t1862 * 0.5;
-    let t1864: f32 = t1479 * t1863;
-    let t1865: f32 = t822 * t847;
-    let t1866: f32 = t1864 + t1865;
-    let t1867: f32 = t1855 - t1866;
-    let t1868: f32 = joint5_ixy * t81;
-    let t1869: f32 = t133 * t1868;
-    let t1870: f32 = joint5_iyy * t57;
-    let t1871: f32 = t137 * t1870;
-    let t1872: f32 = joint5_iyz * t374;
-    let t1873: f32 = t1871 + t1872;
-    let t1874: f32 = t1869 - t1873;
-    let t1875: f32 = t1874 * 0.5;
-    let t1876: f32 = t1475 * t1875;
-    let t1877: f32 = joint5_ixz * t81;
-    let t1878: f32 = t133 * t1877;
-    let t1879: f32 = joint5_iyz * t57;
-    let t1880: f32 = t137 * t1879;
-    let t1881: f32 = joint5_izz * t374;
-    let t1882: f32 = t1880 + t1881;
-    let t1883: f32 = t1878 - t1882;
-    let t1884: f32 = t1883 * 0.5;
-    let t1885: f32 = t1479 * t1884;
-    let t1886: f32 = t1876 + t1885;
-    let t1887: f32 = t816 * t835;
-    let t1888: f32 = t813 * t838;
-    let t1889: f32 = t1887 + t1888;
-    let t1890: f32 = t1886 + t1889;
-    let t1891: f32 = t1867 - t1890;
-    let t1892: f32 = t1836 + t1891;
-    let t1893: f32 = t1787 + t1892;
-    let t1894: f32 = t1664 * 0.5;
-    let t1895: f32 = t1564 + t1568;
-    let t1896: f32 = t1571 + t1575;
-    let t1897: f32 = t1580 + t1584;
-    let t1898: f32 = t241 + t1650;
-    let t1899: f32 = t1893 + t1894;
-    let t1900: f32 = t1895 + t1896;
-    let t1901: f32 = t1897 + t1898;
-    let t1902: f32 = t1900 + t1901;
-    let t1903: f32 = t1899 + t1902;
-    let t1904: f32 = t1589 + t1594;
-    let t1905: f32 = t1642 + t1659;
-    let t1906: f32 = t1904 + t1905;
-    let t1907: f32 = t1903 - t1906;
-    let t1908: f32 = t0 * t1907;
-    let t1909: f32 = t1630 * 0.5;
-    let t1910: f32 = t1629 * t1909;
-    let t1911: f32 = t1636 * 0.5;
-    let t1912: f32 = t1635 * t1911;
-    let t1913: f32 = t1606 * 0.5;
-    let t1914: f32 = t1605 * t1913;
-    let t1915: f32 = t1626 * 0.5;
-    let t1916: f32 = t1910 + t1912;
-    let t1917: f32 = t1914 + t1915;
-    let t1918: f32 = t1916 + t1917;
-    let t1919: f32 = t1560 * t1918;
-    let t1920: f32 = platform_mass * t1563;
-    let t1921: f32 = joint1_mass + t1920;
-    let t1922: f32 = t1587 + t1921;
-    let t1923: f32 = joint5_mass * t1653;
-    let t1924: f32 = t1569 + t1923;
-    let t1925: f32 = joint6_mass * t1653;
-    let t1926: f32 = t1578 + t1925;
-    let t1927: f32 = t1924 + t1926;
-    let t1928: f32 = t1922 + t1927;
-    let t1929: f32 = t1557 * t1557;
-    let t1930: f32 = joint1_mass * t1;
-    let t1931: f32 = t1929 * t1930;
-    let t1932: f32 = t1 * t1557;
-    let t1933: f32 = t233 * t1932;
-    let t1934: f32 = t1931 + t1933;
-    let t1935: f32 = t241 * t1932;
-    let t1936: f32 = t251 * t1932;
-    let t1937: f32 = t1935 + t1936;
-    let t1938: f32 = t1934 + t1937;
-    let t1939: f32 = t259 * t1932;
-    let t1940: f32 = t268 * t1932;
-    let t1941: f32 = t1939 + t1940;
-    let t1942: f32 = t276 * t1932;
-    let t1943: f32 = t225 * t1932;
-    let t1944: f32 = t1942 + t1943;
-    let t1945: f32 = t1941 + t1944;
-    let t1946: f32 = t1938 + t1945;
-    let t1947: f32 = t280 + t1908;
-    let t1948: f32 = t1947 * 0.5;
-    let t1949: f32 = t1946 * 0.25;
-    let t1950: f32 = t1559 + t1919;
-    let t1951: f32 = t1928 + t1948;
-    let t1952: f32 = t1950 + t1951;
-    let t1953: f32 = t1949 + t1952;
-    let t1954: f32 = t241 * t1560;
-    let t1955: f32 = t233 * t1562;
-    let t1956: f32 = t251 * t1566;
-    let t1957: f32 = joint2_mass * t1566;
-    let t1958: f32 = t515 + t1957;
-    let t1959: f32 = t310 * t1958;
-    let t1960: f32 = t259 * t1573;
-    let t1961: f32 = joint3_mass * t1573;
-    let t1962: f32 = rod3_mass * t1573;
-    let t1963: f32 = t1961 + t1962;
-    let t1964: f32 = t549 + t1963;
-    let t1965: f32 = t317 * t1964;
-    let t1966: f32 = t268 * t1582;
-    let t1967: f32 = joint4_mass * t1582;
-    let t1968: f32 = rod4_mass * t1582;
-    let t1969: f32 = t1967 + t1968;
-    let t1970: f32 = t586 + t1969;
-    let t1971: f32 = t323 * t1970;
-    let t1972: f32 = t1604 * t1606;
-    let t1973: f32 = platform_mass * t1617;
-    let t1974: f32 = t1622 - t1621;
-    let t1975: f32 = joint2_mass * t1974;
-    let t1976: f32 = t1973 + t1975;
-    let t1977: f32 = t1622 - t1628;
-    let t1978: f32 = t1630 * t1977;
-    let t1979: f32 = t1622 - t1634;
-    let t1980: f32 = t1636 * t1979;
-    let t1981: f32 = t1978 + t1980;
-    let t1982: f32 = t1972 + t1976;
-    let t1983: f32 = t1981 + t1982;
-    let t1984: f32 = t1602 - t1983;
-    let t1985: f32 = t295 * t1984;
-    let t1986: f32 = t1648 - t1972;
-    let t1987: f32 = t292 * t1986;
-    let t1988: f32 = t1652 * t1658;
-    let t1989: f32 = t1664 + t1954;
-    let t1990: f32 = t1989 * 0.5;
-    let t1991: f32 = t1955 + t1990;
-    let t1992: f32 = t1956 + t1959;
-    let t1993: f32 = t1960 + t1965;
-    let t1994: f32 = t1966 + t1985;
-    let t1995: f32 = t1991 + t1992;
-    let t1996: f32 = t1993 + t1994;
-    let t1997: f32 = t1995 + t1996;
-    let t1998: f32 = t1893 + t1997;
-    let t1999: f32 = t1971 + t1987;
-    let t2000: f32 = t1988 + t1999;
-    let t2001: f32 = t1998 - t2000;
-    let t2002: f32 = t0 * t2001;
-    let t2003: f32 = t1909 * t1977;
-    let t2004: f32 = t1911 * t1979;
-    let t2005: f32 = t1604 * t1913;
-    let t2006: f32 = t1976 * 0.5;
-    let t2007: f32 = t2003 + t2004;
-    let t2008: f32 = t2005 + t2006;
-    let t2009: f32 = t2007 + t2008;
-    let t2010: f32 = t1560 * t2009;
-    let t2011: f32 = t280 + t1559;
-    let t2012: f32 = t1963 + t1969;
-    let t2013: f32 = platform_mass * t1562;
-    let t2014: f32 = t1957 + t2013;
-    let t2015: f32 = joint5_mass * t1652;
-    let t2016: f32 = joint6_mass * t1652;
-    let t2017: f32 = t2015 + t2016;
-    let t2018: f32 = t2014 + t2017;
-    let t2019: f32 = t2012 + t2018;
-    let t2020: f32 = t2002 + t2011;
-    let t2021: f32 = t2020 * 0.5;
-    let t2022: f32 = t2010 + t2021;
-    let t2023: f32 = t1949 + t2019;
-    let t2024: f32 = t2022 + t2023;
-    let t2025: f32 = -t2024;
-    let t2026: f32 = t127 - 0.5;
-    let t2027: f32 = joint6_mass * t2026;
-    let t2028: f32 = t112 - 0.5;
-    let t2029: f32 = joint3_mass * t2028;
-    let t2030: f32 = rod3_mass * t2028;
-    let t2031: f32 = t2029 + t2030;
-    let t2032: f32 = t2027 + t2031;
-    let t2033: f32 = joint4_mass * t2028;
-    let t2034: f32 = rod4_mass * t2028;
-    let t2035: f32 = t2033 + t2034;
-    let t2036: f32 = t209 - 0.5;
-    let t2037: f32 = joint2_mass * t2036;
-    let t2038: f32 = t120 - 0.5;
-    let t2039: f32 = joint5_mass * t2038;
-    let t2040: f32 = t2037 + t2039;
-    let t2041: f32 = t2035 + t2040;
-    let t2042: f32 = t2032 + t2041;
-    let t2043: f32 = t156 * t1932;
-    let t2044: f32 = t164 * t1932;
-    let t2045: f32 = t2043 + t2044;
-    let t2046: f32 = t174 * t1932;
-    let t2047: f32 = t182 * t1932;
-    let t2048: f32 = t2046 + t2047;
-    let t2049: f32 = t2045 + t2048;
-    let t2050: f32 = t191 * t1932;
-    let t2051: f32 = t199 * t1932;
-    let t2052: f32 = t2050 + t2051;
-    let t2053: f32 = t130 * t1557;
-    let t2054: f32 = t1559 + t2053;
-    let t2055: f32 = platform_mass * t1;
-    let t2056: f32 = t1557 * t2055;
-    let t2057: f32 = t107 * t2056;
-    let t2058: f32 = t147 * t1932;
-    let t2059: f32 = t2057 + t2058;
-    let t2060: f32 = t2054 - t2059;
-    let t2061: f32 = t2052 - t2060;
-    let t2062: f32 = t2049 + t2061;
-    let t2063: f32 = rod3_mass * t0;
-    let t2064: f32 = t1557 * t2063;
-    let t2065: f32 = t2028 * t2064;
-    let t2066: f32 = joint4_mass * t0;
-    let t2067: f32 = t1557 * t2066;
-    let t2068: f32 = t2028 * t2067;
-    let t2069: f32 = t2065 + t2068;
-    let t2070: f32 = rod4_mass * t0;
-    let t2071: f32 = t1557 * t2070;
-    let t2072: f32 = t2028 * t2071;
-    let t2073: f32 = joint5_mass * t0;
-    let t2074: f32 = t1557 * t2073;
-    let t2075: f32 = t2038 * t2074;
-    let t2076: f32 = t2072 + t2075;
-    let t2077: f32 = t2069 + t2076;
-    let t2078: f32 = joint6_mass * t0;
-    let t2079: f32 = t1557 * t2078;
-    let t2080: f32 = t2026 * t2079;
-    let t2081: f32 = t251 * t2036;
-    let t2082: f32 = t336 + t2037;
-    let t2083: f32 = t310 * t2082;
-    let t2084: f32 = t1437 + t2031;
-    let t2085: f32 = t317 * t2084;
-    let t2086: f32 = t1440 + t2035;
-    let t2087: f32 = t323 * t2086;
-    let t2088: f32 = t276 * t2038;
-    let t2089: f32 = t225 * t2026;
-    let t2090: f32 = t353 * t1094;
-    let t2091: f32 = t975 * t1595;
-    let t2092: f32 = t933 * t1597;
-    let t2093: f32 = t961 * t1106;
-    let t2094: f32 = t2092 + t2093;
-    let t2095: f32 = t2091 - t2094;
-    let t2096: f32 = t1474 * t2095;
-    let t2097: f32 = t2090 * 0.5;
-    let t2098: f32 = t2096 + t2097;
-    let t2099: f32 = t137 * t2098;
-    let t2100: f32 = t961 * t1595;
-    let t2101: f32 = t925 * t1597;
-    let t2102: f32 = t953 * t1106;
-    let t2103: f32 = t2101 + t2102;
-    let t2104: f32 = t2100 - t2103;
-    let t2105: f32 = t1472 * t2104;
-    let t2106: f32 = t933 * t1595;
-    let t2107: f32 = t941 * t1597;
-    let t2108: f32 = t925 * t1106;
-    let t2109: f32 = t2107 + t2108;
-    let t2110: f32 = t2106 - t2109;
-    let t2111: f32 = t1479 * t2110;
-    let t2112: f32 = platform_mx * t1106;
-    let t2113: f32 = t228 + t2112;
-    let t2114: f32 = t2113 * 0.5;
-    let t2115: f32 = t1450 * t2114;
-    let t2116: f32 = joint2_mass * 0.5;
-    let t2117: f32 = t1630 + t1636;
-    let t2118: f32 = t2117 * 0.0;
-    let t2119: f32 = t391 + 0.5;
-    let t2120: f32 = -t2119;
-    let t2121: f32 = joint5_mass * t2120;
-    let t2122: f32 = t398 + 0.5;
-    let t2123: f32 = -t2122;
-    let t2124: f32 = joint6_mass * t2123;
-    let t2125: f32 = t2121 + t2124;
-    let t2126: f32 = platform_mass * 0.5;
-    let t2127: f32 = t386 + t2116;
-    let t2128: f32 = t2118 + t2125;
-    let t2129: f32 = t2127 + t2128;
-    let t2130: f32 = t2126 - t2129;
-    let t2131: f32 = t295 * t2130;
-    let t2132: f32 = t361 * t1080;
-    let t2133: f32 = t369 * t1082;
-    let t2134: f32 = t374 * t1078;
-    let t2135: f32 = t2133 + t2134;
-    let t2136: f32 = t2132 - t2135;
-    let t2137: f32 = t0 * t2136;
-    let t2138: f32 = t2125 + t2137;
-    let t2139: f32 = t292 * t2138;
-    let t2140: f32 = t363 * t1595;
-    let t2141: f32 = t375 * t1597;
-    let t2142: f32 = t355 * t1106;
-    let t2143: f32 = t2141 + t2142;
-    let t2144: f32 = t2140 - t2143;
-    let t2145: f32 = t2028 * t2144;
-    let t2146: f32 = t1099 * 0.5;
-    let t2147: f32 = t2087 + t2099;
-    let t2148: f32 = t2111 + t2145;
-    let t2149: f32 = t2147 + t2148;
-    let t2150: f32 = t2146 + t2149;
-    let t2151: f32 = t2081 + t2083;
-    let t2152: f32 = t2085 + t2088;
-    let t2153: f32 = t2089 + t2105;
-    let t2154: f32 = t2115 + t2131;
-    let t2155: f32 = t2151 + t2152;
-    let t2156: f32 = t2153 + t2154;
-    let t2157: f32 = t2155 + t2156;
-    let t2158: f32 = t2139 + t2157;
-    let t2159: f32 = t2150 - t2158;
-    let t2160: f32 = t0 * t2159;
-    let t2161: f32 = t2080 - t2160;
-    let t2162: f32 = t204 - t203;
-    let t2163: f32 = joint2_mass * t0;
-    let t2164: f32 = t1557 * t2163;
-    let t2165: f32 = t2036 * t2164;
-    let t2166: f32 = joint3_mass * t0;
-    let t2167: f32 = t1557 * t2166;
-    let t2168: f32 = t2028 * t2167;
-    let t2169: f32 = t2165 + t2168;
-    let t2170: f32 = t2162 - t2169;
-    let t2171: f32 = t2161 - t2170;
-    let t2172: f32 = t2077 + t2171;
-    let t2173: f32 = t2062 * 0.25;
-    let t2174: f32 = t2172 * 0.5;
-    let t2175: f32 = t2042 + t2173;
-    let t2176: f32 = t2174 + t2175;
-    let t2177: f32 = -t2176;
-    let t2178: f32 = -t1556;
-    let t2179: f32 = t2011 * 0.5;
-    let t2180: f32 = t1928 + t2179;
-    let t2181: f32 = t1560 * t2180;
-    let t2182: f32 = t1908 + t2181;
-    let t2183: f32 = t2182 * 0.5;
-    let t2184: f32 = -t2183;
-    let t2185: f32 = t2019 + t2179;
-    let t2186: f32 = t1560 * t2185;
-    let t2187: f32 = t2002 + t2186;
-    let t2188: f32 = t2187 * 0.5;
-    let t2189: f32 = t2162 * 0.5;
-    let t2190: f32 = t2189 - t2042;
-    let t2191: f32 = t1560 * t2190;
-    let t2192: f32 = t2160 + t2191;
-    let t2193: f32 = t2192 * 0.5;
-    let t2194: f32 = -t2193;
-    let t2195: f32 = t307 * t859;
-    let t2196: f32 = t313 * t876;
-    let t2197: f32 = t320 * t886;
-    let t2198: f32 = t550 * t800;
-    let t2199: f32 = t326 * t894;
-    let t2200: f32 = t587 * t806;
-    let t2201: f32 = t621 * t813;
-    let t2202: f32 = t658 * t819;
-    let t2203: f32 = q1 * t913;
-    let t2204: f32 = t933 * t945;
-    let t2205: f32 = t961 * t966;
-    let t2206: f32 = t445 * t975;
-    let t2207: f32 = t2205 + t2206;
-    let t2208: f32 = t2204 - t2207;
-    let t2209: f32 = t1595 * t2208;
-    let t2210: f32 = t941 * t945;
-    let t2211: f32 = t925 * t966;
-    let t2212: f32 = t445 * t933;
-    let t2213: f32 = t2211 + t2212;
-    let t2214: f32 = t2210 - t2213;
-    let t2215: f32 = t1597 * t2214;
-    let t2216: f32 = t925 * t945;
-    let t2217: f32 = t953 * t966;
-    let t2218: f32 = t445 * t961;
-    let t2219: f32 = t2217 + t2218;
-    let t2220: f32 = t2216 - t2219;
-    let t2221: f32 = t1106 * t2220;
-    let t2222: f32 = t2203 * 0.5;
-    let t2223: f32 = t2215 + t2222;
-    let t2224: f32 = t2221 + t2223;
-    let t2225: f32 = t2224 - t2209;
-    let t2226: f32 = t0 * t2225;
-    let t2227: f32 = t214 - t1615;
-    let t2228: f32 = t2227 * 0.5;
-    let t2229: f32 = platform_mass * t2228;
-    let t2230: f32 = t214 * 0.5;
-    let t2231: f32 = t2230 - t1628;
-    let t2232: f32 = joint3_mass * t2231;
-    let t2233: f32 = t2230 - t1634;
-    let t2234: f32 = joint4_mass * t2233;
-    let t2235: f32 = t1454 * t1595;
-    let t2236: f32 = t1456 * t1597;
-    let t2237: f32 = t1106 * t1452;
-    let t2238: f32 = t2236 + t2237;
-    let t2239: f32 = t2235 - t2238;
-    let t2240: f32 = t0 * t2239;
-    let t2241: f32 = rod5_mass + rod6_mass;
-    let t2242: f32 = t1606 + t2241;
-    let t2243: f32 = t2242 * 0.0;
-    let t2244: f32 = t2229 + t2232;
-    let t2245: f32 = t2234 + t2243;
-    let t2246: f32 = t2244 + t2245;
-    let t2247: f32 = t2246 - t2240;
-    let t2248: f32 = t797 * t2247;
-    let t2249: f32 = t376 * t945;
-    let t2250: f32 = t356 * t966;
-    let t2251: f32 = t364 * t445;
-    let t2252: f32 = t2250 + t2251;
-    let t2253: f32 = t2249 - t2252;
-    let t2254: f32 = t299 * t2253;
-    let t2255: f32 = t2202 + t2248;
-    let t2256: f32 = t2254 + t2255;
-    let t2257: f32 = t2195 + t2196;
-    let t2258: f32 = t2197 + t2198;
-    let t2259: f32 = t2199 + t2200;
-    let t2260: f32 = t2201 + t2226;
-    let t2261: f32 = t2257 + t2258;
-    let t2262: f32 = t2259 + t2260;
-    let t2263: f32 = t2261 + t2262;
-    let t2264: f32 = t2256 - t2263;
-    let t2265: f32 = t0 * t2264;
-    let t2266: f32 = t2265 - t330;
-    let t2267: f32 = t281 * 0.25;
-    let t2268: f32 = t2266 * 0.5;
-    let t2269: f32 = t2268 - t2267;
-    let t2270: f32 = t2267 - t2268;
-    let t2271: f32 = t147 * t1563;
-    let t2272: f32 = t164 * t1567;
-    let t2273: f32 = t206 * t1570;
-    let t2274: f32 = t174 * t1574;
-    let t2275: f32 = t182 * t1583;
-    let t2276: f32 = t620 + t1923;
-    let t2277: f32 = t117 * t2276;
-    let t2278: f32 = t657 + t1925;
-    let t2279: f32 = t124 * t2278;
-    let t2280: f32 = joint1_mz * t374;
-    let t2281: f32 = t154 - t2280;
-    let t2282: f32 = t2281 * 0.5;
-    let t2283: f32 = t1560 * t2282;
-    let t2284: f32 = t107 * t1641;
-    let t2285: f32 = t411 * t1595;
-    let t2286: f32 = t413 * t1597;
-    let t2287: f32 = t409 * t1106;
-    let t2288: f32 = t2286 + t2287;
-    let t2289: f32 = t2285 - t2288;
-    let t2290: f32 = t0 * t2289;
-    let t2291: f32 = t1638 - t2290;
-    let t2292: f32 = t109 * t2291;
-    let t2293: f32 = t356 * t361;
-    let t2294: f32 = t364 * t369;
-    let t2295: f32 = t374 * t376;
-    let t2296: f32 = t2294 + t2295;
-    let t2297: f32 = t2293 - t2296;
-    let t2298: f32 = t1653 * t2297;
-    let t2299: f32 = t0 * t62;
-    let t2300: f32 = t137 * t2299;
-    let t2301: f32 = t1773 * t2300;
-    let t2302: f32 = t0 * t33;
-    let t2303: f32 = t142 * t2302;
-    let t2304: f32 = t1782 * t2303;
-    let t2305: f32 = t2301 - t2304;
-    let t2306: f32 = t0 * t218;
-    let t2307: f32 = t1795 * t2306;
-    let t2308: f32 = t1804 * t2300;
-    let t2309: f32 = t2307 - t2308;
-    let t2310: f32 = t2305 - t2309;
-    let t2311: f32 = t1831 * t2303;
-    let t2312: f32 = t1819 * t2306;
-    let t2313: f32 = t2311 + t2312;
-    let t2314: f32 = t1875 * t2300;
-    let t2315: f32 = t1884 * t2303;
-    let t2316: f32 = t2314 - t2315;
-    let t2317: f32 = t2313 - t2316;
-    let t2318: f32 = t2310 - t2317;
-    let t2319: f32 = t1844 * t2306;
-    let t2320: f32 = t1853 * t2300;
-    let t2321: f32 = t2319 - t2320;
-    let t2322: f32 = t1863 * t2303;
-    let t2323: f32 = t1675 * t2306;
-    let t2324: f32 = t1684 * t2300;
-    let t2325: f32 = t2323 - t2324;
-    let t2326: f32 = t2322 + t2325;
-    let t2327: f32 = t2321 + t2326;
-    let t2328: f32 = t1703 * t2303;
-    let t2329: f32 = t1694 * t2306;
-    let t2330: f32 = t2328 + t2329;
-    let t2331: f32 = t1734 * t2300;
-    let t2332: f32 = t1743 * t2303;
-    let t2333: f32 = t2331 - t2332;
-    let t2334: f32 = t2330 - t2333;
-    let t2335: f32 = t1715 * t2306;
-    let t2336: f32 = t1724 * t2300;
-    let t2337: f32 = t2335 - t2336;
-    let t2338: f32 = t1763 * t2303;
-    let t2339: f32 = t1754 * t2306;
-    let t2340: f32 = t2338 + t2339;
-    let t2341: f32 = t2337 + t2340;
-    let t2342: f32 = t2334 + t2341;
-    let t2343: f32 = t2327 + t2342;
-    let t2344: f32 = t2318 - t2343;
-    let t2345: f32 = t2271 + t2272;
-    let t2346: f32 = t2273 + t2274;
-    let t2347: f32 = t2275 + t2283;
-    let t2348: f32 = t2284 + t2292;
-    let t2349: f32 = t156 + t2298;
-    let t2350: f32 = t2345 + t2346;
-    let t2351: f32 = t2347 + t2348;
-    let t2352: f32 = t2344 + t2349;
-    let t2353: f32 = t2350 + t2351;
-    let t2354: f32 = t2352 + t2353;
-    let t2355: f32 = t2277 + t2279;
-    let t2356: f32 = t2354 - t2355;
-    let t2357: f32 = t0 * t2356;
-    let t2358: f32 = t2357 - t1928;
-    let t2359: f32 = t2011 * 0.25;
-    let t2360: f32 = t2358 * 0.5;
-    let t2361: f32 = t2360 - t2359;
-    let t2362: f32 = t147 * t1562;
-    let t2363: f32 = t156 * t1560;
-    let t2364: f32 = t164 * t1566;
-    let t2365: f32 = t206 * t1958;
-    let t2366: f32 = t174 * t1573;
-    let t2367: f32 = t182 * t1582;
-    let t2368: f32 = t620 + t2015;
-    let t2369: f32 = t117 * t2368;
-    let t2370: f32 = t657 + t2016;
-    let t2371: f32 = t124 * t2370;
-    let t2372: f32 = t107 * t1984;
-    let t2373: f32 = t1981 - t2290;
-    let t2374: f32 = t109 * t2373;
-    let t2375: f32 = t1652 * t2297;
-    let t2376: f32 = t2363 * 0.5;
-    let t2377: f32 = t2369 + t2371;
-    let t2378: f32 = t2372 + t2377;
-    let t2379: f32 = t2362 + t2364;
-    let t2380: f32 = t2365 + t2366;
-    let t2381: f32 = t2367 + t2374;
-    let t2382: f32 = t2344 + t2375;
-    let t2383: f32 = t2379 + t2380;
-    let t2384: f32 = t2381 + t2382;
-    let t2385: f32 = t2383 + t2384;
-    let t2386: f32 = t2376 + t2385;
-    let t2387: f32 = t2378 - t2386;
-    let t2388: f32 = t0 * t2387;
-    let t2389: f32 = t2019 + t2388;
-    let t2390: f32 = t2389 * 0.5;
-    let t2391: f32 = t2359 + t2390;
-    let t2392: f32 = t886 * t1019;
-    let t2393: f32 = t800 * t1043;
-    let t2394: f32 = t894 * t1021;
-    let t2395: f32 = t806 * t1047;
-    let t2396: f32 = t835 * t1024;
-    let t2397: f32 = t837 - t1027;
-    let t2398: f32 = t813 * t2397;
-    let t2399: f32 = t847 * t1028;
-    let t2400: f32 = t849 - t1031;
-    let t2401: f32 = t819 * t2400;
-    let t2402: f32 = t945 * t1456;
-    let t2403: f32 = t966 * t1452;
-    let t2404: f32 = t445 * t1454;
-    let t2405: f32 = t1055 + t2402;
-    let t2406: f32 = t2403 + t2404;
-    let t2407: f32 = t2405 - t2406;
-    let t2408: f32 = t0 * t2407;
-    let t2409: f32 = t1073 + t2408;
-    let t2410: f32 = t2126 - t2409;
-    let t2411: f32 = t797 * t2410;
-    let t2412: f32 = t876 + t1470;
-    let t2413: f32 = t23 * t426;
-    let t2414: f32 = t142 * t2413;
-    let t2415: f32 = t797 * t2414;
-    let t2416: f32 = t2415 - t438;
-    let t2417: f32 = t89 * t433;
-    let t2418: f32 = t133 * t2417;
-    let t2419: f32 = t797 * t2418;
-    let t2420: f32 = t429 * t455;
-    let t2421: f32 = t797 * t2420;
-    let t2422: f32 = t2419 + t2421;
-    let t2423: f32 = t439 + t2422;
-    let t2424: f32 = t2416 - t2423;
-    let t2425: f32 = t1266 * t1597;
-    let t2426: f32 = t218 * t1277;
-    let t2427: f32 = t2425 + t2426;
-    let t2428: f32 = t1289 * t1595;
-    let t2429: f32 = t1300 * t1597;
-    let t2430: f32 = t2428 - t2429;
-    let t2431: f32 = t2427 - t2430;
-    let t2432: f32 = joint1_mass - t157;
-    let t2433: f32 = t2432 * 0.5;
-    let t2434: f32 = t107 * t2433;
-    let t2435: f32 = t218 * t1313;
-    let t2436: f32 = t2434 + t2435;
-    let t2437: f32 = t1324 * t1595;
-    let t2438: f32 = t1336 * t1597;
-    let t2439: f32 = t2437 - t2438;
-    let t2440: f32 = t2436 - t2439;
-    let t2441: f32 = t2431 + t2440;
-    let t2442: f32 = t164 * t2036;
-    let t2443: f32 = t206 * t2082;
-    let t2444: f32 = t2442 + t2443;
-    let t2445: f32 = t218 * t1347;
-    let t2446: f32 = t1112 * t1595;
-    let t2447: f32 = t2445 - t2446;
-    let t2448: f32 = t2444 + t2447;
-    let t2449: f32 = t1123 * t1597;
-    let t2450: f32 = t174 * t2028;
-    let t2451: f32 = t2449 + t2450;
-    let t2452: f32 = t109 * t2084;
-    let t2453: f32 = t218 * t1135;
-    let t2454: f32 = t2452 + t2453;
-    let t2455: f32 = t2451 + t2454;
-    let t2456: f32 = t2448 + t2455;
-    let t2457: f32 = t2441 + t2456;
-    let t2458: f32 = t1146 * t1595;
-    let t2459: f32 = t1159 * t1597;
-    let t2460: f32 = t2458 - t2459;
-    let t2461: f32 = t182 * t2028;
-    let t2462: f32 = t109 * t2086;
-    let t2463: f32 = t2461 + t2462;
-    let t2464: f32 = t2460 - t2463;
-    let t2465: f32 = t218 * t1170;
-    let t2466: f32 = t1182 * t1595;
-    let t2467: f32 = t2465 - t2466;
-    let t2468: f32 = t1193 * t1597;
-    let t2469: f32 = t191 * t2038;
-    let t2470: f32 = t2468 + t2469;
-    let t2471: f32 = t2467 + t2470;
-    let t2472: f32 = t2464 - t2471;
-    let t2473: f32 = t340 + t2039;
-    let t2474: f32 = t117 * t2473;
-    let t2475: f32 = t218 * t1207;
-    let t2476: f32 = t2474 - t2475;
-    let t2477: f32 = t1218 * t1595;
-    let t2478: f32 = t1230 * t1597;
-    let t2479: f32 = t2477 - t2478;
-    let t2480: f32 = t2476 + t2479;
-    let t2481: f32 = t199 * t2026;
-    let t2482: f32 = t344 + t2027;
-    let t2483: f32 = t124 * t2482;
-    let t2484: f32 = t2481 - t2483;
-    let t2485: f32 = t107 * t2190;
-    let t2486: f32 = t218 * t1241;
-    let t2487: f32 = t1252 * t1595;
-    let t2488: f32 = t2486 - t2487;
-    let t2489: f32 = t2485 - t2488;
-    let t2490: f32 = t2484 - t2489;
-    let t2491: f32 = t2480 - t2490;
-    let t2492: f32 = t2472 + t2491;
-    let t2493: f32 = t2457 - t2492;
-    let t2494: f32 = t2412 + t2424;
-    let t2495: f32 = t2494 * 0.5;
-    let t2496: f32 = t2393 + t2395;
-    let t2497: f32 = t2398 + t2493;
-    let t2498: f32 = t2496 + t2497;
-    let t2499: f32 = t2495 + t2498;
-    let t2500: f32 = t2392 + t2394;
-    let t2501: f32 = t2396 + t2399;
-    let t2502: f32 = t2401 + t2411;
-    let t2503: f32 = t2500 + t2501;
-    let t2504: f32 = t2502 + t2503;
-    let t2505: f32 = t2499 - t2504;
-    let t2506: f32 = t0 * t2505;
-    let t2507: f32 = t2506 - t2042;
-    let t2508: f32 = t1018 - t203;
-    let t2509: f32 = t2508 * 0.25;
-    let t2510: f32 = t204 + t2507;
-    let t2511: f32 = t2510 - t1033;
-    let t2512: f32 = t2511 * 0.5;
-    let t2513: f32 = t2509 + t2512;
-    let t2514: f32 = t886 * t1371;
-    let t2515: f32 = t800 * t1394;
-    let t2516: f32 = t894 * t1373;
-    let t2517: f32 = t806 * t1397;
-    let t2518: f32 = t835 * t1376;
-    let t2519: f32 = t837 - t1379;
-    let t2520: f32 = t813 * t2519;
-    let t2521: f32 = t847 * t1380;
-    let t2522: f32 = t849 - t1383;
-    let t2523: f32 = t819 * t2522;
-    let t2524: f32 = t2126 + t2408;
-    let t2525: f32 = t1409 + t2524;
-    let t2526: f32 = t797 * t2525;
-    let t2527: f32 = t2412 - t2424;
-    let t2528: f32 = t2527 * 0.5;
-    let t2529: f32 = t2514 + t2516;
-    let t2530: f32 = t2518 + t2521;
-    let t2531: f32 = t2523 + t2528;
-    let t2532: f32 = t2529 + t2530;
-    let t2533: f32 = t2531 + t2532;
-    let t2534: f32 = t2515 + t2517;
-    let t2535: f32 = t2520 + t2526;
-    let t2536: f32 = t2534 + t2535;
-    let t2537: f32 = t2493 + t2536;
-    let t2538: f32 = t2533 - t2537;
-    let t2539: f32 = t0 * t2538;
-    let t2540: f32 = t2042 + t2539;
-    let t2541: f32 = t203 + t1370;
-    let t2542: f32 = t2541 * 0.25;
-    let t2543: f32 = t1385 + t2540;
-    let t2544: f32 = t2543 * 0.5;
-    let t2545: f32 = t2542 + t2544;
-    let t2546: f32 = t330 + t2265;
-    let t2547: f32 = t2546 * 0.5;
-    let t2548: f32 = t2267 + t2547;
-    let t2549: f32 = -t2548;
-    let t2550: f32 = t2359 - t2360;
-    let t2551: f32 = -t2391;
-    let t2552: f32 = t203 + t1018;
-    let t2553: f32 = t2552 * 0.25;
-    let t2554: f32 = t1033 + t2507;
-    let t2555: f32 = t2554 * 0.5;
-    let t2556: f32 = t2553 - t2555;
-    let t2557: f32 = t1370 - t203;
-    let t2558: f32 = t2557 * 0.25;
-    let t2559: f32 = t204 + t1385;
-    let t2560: f32 = t2559 - t2540;
-    let t2561: f32 = t2560 * 0.5;
-    let t2562: f32 = t2558 + t2561;
-    let t2563: f32 = 1.0 - t371;
+    let (
+        t0,
+        t1,
+        t3,
+        t8,
+        t23,
+        t33,
+        t57,
+        t62,
+        t81,
+        t89,
+        t95,
+        t96,
+        t98,
+        t99,
+        t107,
+        t108,
+        t109,
+        t112,
+        t113,
+        t114,
+        t115,
+        t117,
+        t120,
+        t121,
+        t124,
+        t127,
+        t128,
+        t130,
+        t133,
+        t137,
+        t142,
+        t145,
+        t147,
+        t154,
+        t156,
+        t157,
+        t164,
+        t174,
+        t175,
+        t182,
+        t183,
+        t191,
+        t199,
+        t203,
+        t204,
+        t206,
+        t209,
+        t210,
+        t214,
+        t218,
+        t225,
+        t228,
+        t233,
+        t240,
+        t241,
+        t251,
+        t259,
+        t268,
+        t276,
+        t280,
+        t281,
+        t289,
+        t292,
+        t293,
+        t295,
+        t296,
+        t299,
+        t307,
+        t310,
+        t311,
+        t313,
+        t317,
+        t318,
+        t320,
+        t323,
+        t324,
+        t326,
+        t330,
+        t336,
+        t340,
+        t341,
+        t344,
+        t345,
+        t353,
+        t355,
+        t356,
+        t358,
+        t360,
+        t361,
+        t363,
+        t364,
+        t366,
+        t368,
+        t369,
+        t371,
+        t372,
+        t374,
+        t375,
+        t376,
+        t378,
+        t380,
+        t382,
+        t386,
+        t391,
+        t398,
+        t405,
+        t409,
+        t411,
+        t413,
+        t426,
+        t429,
+        t433,
+        t438,
+        t439,
+        t445,
+        t449,
+        t455,
+        t463,
+        t474,
+        t490,
+        t499,
+        t509,
+        t515,
+        t525,
+        t535,
+        t544,
+        t549,
+        t550,
+        t560,
+        t569,
+        t582,
+        t586,
+        t587,
+        t596,
+        t607,
+        t616,
+        t620,
+        t621,
+        t633,
+        t642,
+        t652,
+        t657,
+        t658,
+        t669,
+        t678,
+        t688,
+        t711,
+        t720,
+        t721,
+        t722,
+        t732,
+        t735,
+        t760,
+        t779,
+        t786,
+        t797,
+        t798,
+        t800,
+        t803,
+        t804,
+        t806,
+        t809,
+        t810,
+        t813,
+        t816,
+        t819,
+        t822,
+        t825,
+        t826,
+        t827,
+        t828,
+        t835,
+        t837,
+        t838,
+        t839,
+        t840,
+        t847,
+        t849,
+        t850,
+        t851,
+        t858,
+        t859,
+        t868,
+        t876,
+        t877,
+        t886,
+        t887,
+        t894,
+        t895,
+        t899,
+        t901,
+        t902,
+        t910,
+        t913,
+        t925,
+        t933,
+        t941,
+        t945,
+        t953,
+        t961,
+        t966,
+        t975,
+        t987,
+        t989,
+        t991,
+        t993,
+        t995,
+        t996,
+        t999,
+    ) = {
+        let t0: f32 = 1.0 / half_spacing;
+        let t1: f32 = t0 * t0;
+        let t2: f32 = t0 * t1;
+        let t3: f32 = q1 - q2;
+        let t4: f32 = q3 - q4;
+        let t5: f32 = q5 - q6;
+        let t6: f32 = t2 * t3;
+        let t7: f32 = t4 * t6;
+        let t8: f32 = t5 * t7;
+        let t9: f32 = t2 * t2;
+        let t10: f32 = t3 * t3;
+        let t11: f32 = t4 * t4;
+        let t12: f32 = t5 * t5;
+        let t13: f32 = t9 * t10;
+        let t14: f32 = t11 * t13;
+        let t15: f32 = t12 * t14;
+        let t16: f32 = t0 * t5;
+        let t17: f32 = t1 * t1;
+        let t18: f32 = t3 * t17;
+        let t19: f32 = t4 * t18;
+        let t20: f32 = t12 * t19;
+        let t21: f32 = t16 * 0.5;
+        let t22: f32 = t20 * 0.0625;
+        let t23: f32 = t21 - t22;
+        let t24: f32 = t23 * t23;
+        let t25: f32 = t0 * t3;
+        let t26: f32 = t5 * t25;
+        let t27: f32 = t26 * 0.125;
+        let t28: f32 = t4 * 0.25;
+        let t29: f32 = t27 + t28;
+        let t30: f32 = t1 * t5;
+        let t31: f32 = t29 * t30;
+        let t32: f32 = t25 * 0.5;
+        let t33: f32 = t31 + t32;
+        let t34: f32 = t33 * t33;
+        let t35: f32 = t8 * 0.25;
+        let t36: f32 = t15 * 0.015625;
+        let t37: f32 = t24 + t36;
+        let t38: f32 = t34 + 1.0;
+        let t39: f32 = t37 + t38;
+        let t40: f32 = t35 - t39;
+        let t41: f32 = 1.0 / t40;
+        let t42: f32 = q5 + q6;
+        let t43: f32 = t42 * 0.0625;
+        let t44: f32 = t8 * t43;
+        let t45: f32 = t42 * 0.5;
+        let t46: f32 = t45 - t44;
+        let t47: f32 = t8 * t41;
+        let t48: f32 = t46 * t47;
+        let t49: f32 = t41 * t46;
+        let t50: f32 = t0 * t4;
+        let t51: f32 = t5 * t50;
+        let t52: f32 = t51 * 0.125;
+        let t53: f32 = t3 * 0.25;
+        let t54: f32 = t52 + t53;
+        let t55: f32 = t1 * t4;
+        let t56: f32 = t54 * t55;
+        let t57: f32 = t21 + t56;
+        let t58: f32 = t11 * t18;
+        let t59: f32 = t5 * t58;
+        let t60: f32 = t50 * 0.5;
+        let t61: f32 = t59 * 0.0625;
+        let t62: f32 = t60 - t61;
+        let t63: f32 = t62 * t62;
+        let t64: f32 = t57 * t57;
+        let t65: f32 = t36 + t63;
+        let t66: f32 = t64 + 1.0;
+        let t67: f32 = t65 + t66;
+        let t68: f32 = t35 - t67;
+        let t69: f32 = 1.0 / t68;
+        let t70: f32 = q3 + q4;
+        let t71: f32 = t70 * 0.0625;
+        let t72: f32 = t8 * t71;
+        let t73: f32 = t70 * 0.5;
+        let t74: f32 = t73 - t72;
+        let t75: f32 = t57 * t69;
+        let t76: f32 = t74 * t75;
+        let t77: f32 = t10 * t17;
+        let t78: f32 = t4 * t77;
+        let t79: f32 = t5 * t78;
+        let t80: f32 = t79 * 0.0625;
+        let t81: f32 = t32 - t80;
+        let t82: f32 = t81 * t81;
+        let t83: f32 = t4 * t25;
+        let t84: f32 = t83 * 0.125;
+        let t85: f32 = t5 * 0.25;
+        let t86: f32 = t84 + t85;
+        let t87: f32 = t1 * t3;
+        let t88: f32 = t86 * t87;
+        let t89: f32 = t60 + t88;
+        let t90: f32 = t89 * t89;
+        let t91: f32 = t36 + t82;
+        let t92: f32 = t90 + 1.0;
+        let t93: f32 = t91 + t92;
+        let t94: f32 = t35 - t93;
+        let t95: f32 = 1.0 / t94;
+        let t96: f32 = q1 + q2;
+        let t97: f32 = t96 * 0.0625;
+        let t98: f32 = t8 * t97;
+        let t99: f32 = t96 * 0.5;
+        let t100: f32 = t99 - t98;
+        let t101: f32 = t81 * t95;
+        let t102: f32 = t100 * t101;
+        let t103: f32 = t76 - t102;
+        let t104: f32 = t49 + t103;
+        let t105: f32 = t48 * 0.125;
+        let t106: f32 = half_spacing + t104;
+        let t107: f32 = t106 - t105;
+        let t108: f32 = t0 * t107;
+        let t109: f32 = t105 - t104;
+        let t110: f32 = t0 * t109;
+        let t111: f32 = t108 + t110;
+        let t112: f32 = t111 * 0.5;
+        let t113: f32 = t112 - 1.0;
+        let t114: f32 = joint3_mass * t113;
+        let t115: f32 = joint4_mass * t113;
+        let t116: f32 = q5 + t104;
+        let t117: f32 = t116 - t105;
+        let t118: f32 = t0 * t117;
+        let t119: f32 = t108 - t118;
+        let t120: f32 = t119 * 0.5;
+        let t121: f32 = t120 - 1.0;
+        let t122: f32 = joint5_mass * t121;
+        let t123: f32 = q6 + t104;
+        let t124: f32 = t123 - t105;
+        let t125: f32 = t0 * t124;
+        let t126: f32 = t108 - t125;
+        let t127: f32 = t126 * 0.5;
+        let t128: f32 = t127 - 1.0;
+        let t129: f32 = joint6_mass * t128;
+        let t130: f32 = platform_mass * t0;
+        let t131: f32 = t107 * t130;
+        let t132: f32 = -t95;
+        let t133: f32 = sqrt(t132);
+        let t134: f32 = platform_mx * t81;
+        let t135: f32 = t133 * t134;
+        let t136: f32 = -t69;
+        let t137: f32 = sqrt(t136);
+        let t138: f32 = platform_my * t57;
+        let t139: f32 = t137 * t138;
+        let t140: f32 = t135 - t139;
+        let t141: f32 = -t41;
+        let t142: f32 = sqrt(t141);
+        let t143: f32 = t8 * t142;
+        let t144: f32 = t143 * 0.125;
+        let t145: f32 = t142 - t144;
+        let t146: f32 = platform_mz * t145;
+        let t147: f32 = t140 - t146;
+        let t148: f32 = t0 * t147;
+        let t149: f32 = t131 + t148;
+        let t150: f32 = joint1_mx * t81;
+        let t151: f32 = t133 * t150;
+        let t152: f32 = joint1_my * t57;
+        let t153: f32 = t137 * t152;
+        let t154: f32 = t151 - t153;
+        let t155: f32 = joint1_mz * t145;
+        let t156: f32 = t154 - t155;
+        let t157: f32 = t0 * t156;
+        let t158: f32 = joint2_mx * t81;
+        let t159: f32 = t133 * t158;
+        let t160: f32 = joint2_my * t57;
+        let t161: f32 = t137 * t160;
+        let t162: f32 = joint2_mz * t145;
+        let t163: f32 = t161 + t162;
+        let t164: f32 = t159 - t163;
+        let t165: f32 = t0 * t164;
+        let t166: f32 = t157 + t165;
+        let t167: f32 = t149 + t166;
+        let t168: f32 = joint3_mx * t81;
+        let t169: f32 = t133 * t168;
+        let t170: f32 = joint3_my * t57;
+        let t171: f32 = t137 * t170;
+        let t172: f32 = joint3_mz * t145;
+        let t173: f32 = t171 + t172;
+        let t174: f32 = t169 - t173;
+        let t175: f32 = t0 * t174;
+        let t176: f32 = joint4_mx * t81;
+        let t177: f32 = t133 * t176;
+        let t178: f32 = joint4_my * t57;
+        let t179: f32 = t137 * t178;
+        let t180: f32 = joint4_mz * t145;
+        let t181: f32 = t179 + t180;
+        let t182: f32 = t177 - t181;
+        let t183: f32 = t0 * t182;
+        let t184: f32 = t175 + t183;
+        let t185: f32 = joint5_mx * t81;
+        let t186: f32 = t133 * t185;
+        let t187: f32 = joint5_my * t57;
+        let t188: f32 = t137 * t187;
+        let t189: f32 = joint5_mz * t145;
+        let t190: f32 = t188 + t189;
+        let t191: f32 = t186 - t190;
+        let t192: f32 = t0 * t191;
+        let t193: f32 = joint6_mx * t81;
+        let t194: f32 = t133 * t193;
+        let t195: f32 = joint6_my * t57;
+        let t196: f32 = t137 * t195;
+        let t197: f32 = joint6_mz * t145;
+        let t198: f32 = t196 + t197;
+        let t199: f32 = t194 - t198;
+        let t200: f32 = t0 * t199;
+        let t201: f32 = t192 + t200;
+        let t202: f32 = t184 + t201;
+        let t203: f32 = t167 + t202;
+        let t204: f32 = platform_mass + joint1_mass;
+        let t205: f32 = half_spacing + t105;
+        let t206: f32 = t205 - t104;
+        let t207: f32 = t0 * t206;
+        let t208: f32 = t108 + t207;
+        let t209: f32 = t208 * 0.5;
+        let t210: f32 = t209 - 1.0;
+        let t211: f32 = joint2_mass * t210;
+        let t212: f32 = rod2_mass * t210;
+        let t213: f32 = t211 + t212;
+        let t214: f32 = q1 * t0;
+        let t215: f32 = joint1_mass * t214;
+        let t216: f32 = t8 * t133;
+        let t217: f32 = t216 * 0.125;
+        let t218: f32 = t133 - t217;
+        let t219: f32 = joint6_mx * t218;
+        let t220: f32 = joint6_my * t62;
+        let t221: f32 = t137 * t220;
+        let t222: f32 = joint6_mz * t33;
+        let t223: f32 = t142 * t222;
+        let t224: f32 = t219 + t223;
+        let t225: f32 = t224 - t221;
+        let t226: f32 = t0 * t225;
+        let t227: f32 = platform_mz * t33;
+        let t228: f32 = t142 * t227;
+        let t229: f32 = platform_mx * t218;
+        let t230: f32 = platform_my * t62;
+        let t231: f32 = t137 * t230;
+        let t232: f32 = t229 - t231;
+        let t233: f32 = t228 + t232;
+        let t234: f32 = t0 * t233;
+        let t235: f32 = joint1_mx * t218;
+        let t236: f32 = joint1_mz * t33;
+        let t237: f32 = t142 * t236;
+        let t238: f32 = joint1_my * t62;
+        let t239: f32 = t137 * t238;
+        let t240: f32 = t237 - t239;
+        let t241: f32 = t235 + t240;
+        let t242: f32 = t0 * t241;
+        let t243: f32 = t234 + t242;
+        let t244: f32 = t226 + t243;
+        let t245: f32 = joint2_mz * t33;
+        let t246: f32 = t142 * t245;
+        let t247: f32 = joint2_mx * t218;
+        let t248: f32 = joint2_my * t62;
+        let t249: f32 = t137 * t248;
+        let t250: f32 = t247 - t249;
+        let t251: f32 = t246 + t250;
+        let t252: f32 = t0 * t251;
+        let t253: f32 = joint3_mx * t218;
+        let t254: f32 = joint3_my * t62;
+        let t255: f32 = t137 * t254;
+        let t256: f32 = joint3_mz * t33;
+        let t257: f32 = t142 * t256;
+        let t258: f32 = t253 + t257;
+        let t259: f32 = t258 - t255;
+        let t260: f32 = t0 * t259;
+        let t261: f32 = t252 + t260;
+        let t262: f32 = joint4_mx * t218;
+        let t263: f32 = joint4_my * t62;
+        let t264: f32 = t137 * t263;
+        let t265: f32 = joint4_mz * t33;
+        let t266: f32 = t142 * t265;
+        let t267: f32 = t262 + t266;
+        let t268: f32 = t267 - t264;
+        let t269: f32 = t0 * t268;
+        let t270: f32 = joint5_mx * t218;
+        let t271: f32 = joint5_my * t62;
+        let t272: f32 = t137 * t271;
+        let t273: f32 = joint5_mz * t33;
+        let t274: f32 = t142 * t273;
+        let t275: f32 = t270 + t274;
+        let t276: f32 = t275 - t272;
+        let t277: f32 = t0 * t276;
+        let t278: f32 = t269 + t277;
+        let t279: f32 = t261 + t278;
+        let t280: f32 = t244 + t279;
+        let t281: f32 = t215 + t280;
+        let t282: f32 = t8 * t95;
+        let t283: f32 = t100 * t282;
+        let t284: f32 = t95 * t100;
+        let t285: f32 = t33 * t41;
+        let t286: f32 = t46 * t285;
+        let t287: f32 = t62 * t69;
+        let t288: f32 = t74 * t287;
+        let t289: f32 = t286 - t288;
+        let t290: f32 = t284 + t289;
+        let t291: f32 = t283 * 0.125;
+        let t292: f32 = t290 - t291;
+        let t293: f32 = t0 * t292;
+        let t294: f32 = q1 + t290;
+        let t295: f32 = t294 - t291;
+        let t296: f32 = t0 * t295;
+        let t297: f32 = t214 - t296;
+        let t298: f32 = t293 + t297;
+        let t299: f32 = t298 * 0.5;
+        let t300: f32 = joint5_mass * t299;
+        let t301: f32 = rod5_mass * t299;
+        let t302: f32 = t300 + t301;
+        let t303: f32 = joint6_mass * t299;
+        let t304: f32 = rod6_mass * t299;
+        let t305: f32 = t303 + t304;
+        let t306: f32 = t302 + t305;
+        let t307: f32 = t297 * 0.5;
+        let t308: f32 = platform_mass * t307;
+        let t309: f32 = q2 + t290;
+        let t310: f32 = t309 - t291;
+        let t311: f32 = t0 * t310;
+        let t312: f32 = t297 + t311;
+        let t313: f32 = t312 * 0.5;
+        let t314: f32 = joint2_mass * t313;
+        let t315: f32 = t308 + t314;
+        let t316: f32 = half_spacing + t290;
+        let t317: f32 = t316 - t291;
+        let t318: f32 = t0 * t317;
+        let t319: f32 = t297 + t318;
+        let t320: f32 = t319 * 0.5;
+        let t321: f32 = joint3_mass * t320;
+        let t322: f32 = half_spacing + t291;
+        let t323: f32 = t322 - t290;
+        let t324: f32 = t0 * t323;
+        let t325: f32 = t297 - t324;
+        let t326: f32 = t325 * 0.5;
+        let t327: f32 = joint4_mass * t326;
+        let t328: f32 = t321 + t327;
+        let t329: f32 = t315 + t328;
+        let t330: f32 = t306 + t329;
+        let t331: f32 = t281 * 0.5;
+        let t332: f32 = t330 + t331;
+        let t333: f32 = t214 * t332;
+        let t334: f32 = t214 * t241;
+        let t335: f32 = t164 * t210;
+        let t336: f32 = t165 * 0.5;
+        let t337: f32 = t213 + t336;
+        let t338: f32 = t206 * t337;
+        let t339: f32 = t121 * t191;
+        let t340: f32 = t192 * 0.5;
+        let t341: f32 = t122 + t340;
+        let t342: f32 = t117 * t341;
+        let t343: f32 = t128 * t199;
+        let t344: f32 = t200 * 0.5;
+        let t345: f32 = t129 + t344;
+        let t346: f32 = t124 * t345;
+        let t347: f32 = t42 - t44;
+        let t348: f32 = t347 * 0.125;
+        let t349: f32 = t8 * t348;
+        let t350: f32 = t45 - t349;
+        let t351: f32 = t41 * t350;
+        let t352: f32 = t103 + t351;
+        let t353: f32 = half_spacing + t352;
+        let t354: f32 = platform_mass * t353;
+        let t355: f32 = joint3_mx + joint4_mx;
+        let t356: f32 = joint5_mx + joint6_mx;
+        let t357: f32 = t355 + t356;
+        let t358: f32 = platform_mx + t357;
+        let t359: f32 = joint2_mx + t358;
+        let t360: f32 = t359 * 0.5;
+        let t361: f32 = t81 * t133;
+        let t362: f32 = t360 * t361;
+        let t363: f32 = joint3_my + joint4_my;
+        let t364: f32 = joint5_my + joint6_my;
+        let t365: f32 = t363 + t364;
+        let t366: f32 = platform_my + t365;
+        let t367: f32 = joint2_my + t366;
+        let t368: f32 = t367 * 0.5;
+        let t369: f32 = t57 * t137;
+        let t370: f32 = t368 * t369;
+        let t371: f32 = t8 * 0.125;
+        let t372: f32 = t371 - 1.0;
+        let t373: f32 = t142 * t372;
+        let t374: f32 = -t373;
+        let t375: f32 = joint3_mz + joint4_mz;
+        let t376: f32 = joint5_mz + joint6_mz;
+        let t377: f32 = t375 + t376;
+        let t378: f32 = platform_mz + t377;
+        let t379: f32 = joint2_mz + t378;
+        let t380: f32 = t379 * 0.5;
+        let t381: f32 = t374 * t380;
+        let t382: f32 = t354 * 0.5;
+        let t383: f32 = t362 + t382;
+        let t384: f32 = t370 + t381;
+        let t385: f32 = t383 - t384;
+        let t386: f32 = t0 * t385;
+        let t387: f32 = rod2_mass + joint2_mass;
+        let t388: f32 = t387 * 0.0;
+        let t389: f32 = q5 - half_spacing;
+        let t390: f32 = t389 * 0.5;
+        let t391: f32 = t0 * t390;
+        let t392: f32 = t391 + 1.0;
+        let t393: f32 = -t392;
+        let t394: f32 = joint5_mass * t393;
+        let t395: f32 = platform_mass - t394;
+        let t396: f32 = q6 - half_spacing;
+        let t397: f32 = t396 * 0.5;
+        let t398: f32 = t0 * t397;
+        let t399: f32 = t398 + 1.0;
+        let t400: f32 = -t399;
+        let t401: f32 = joint6_mass * t400;
+        let t402: f32 = joint3_mass + joint4_mass;
+        let t403: f32 = t402 * -0.5;
+        let t404: f32 = t401 + t403;
+        let t405: f32 = t395 - t404;
+        let t406: f32 = t386 + t388;
+        let t407: f32 = t405 - t406;
+        let t408: f32 = t107 * t407;
+        let t409: f32 = t355 * 0.5;
+        let t410: f32 = t361 * t409;
+        let t411: f32 = t363 * 0.5;
+        let t412: f32 = t369 * t411;
+        let t413: f32 = t375 * 0.5;
+        let t414: f32 = t374 * t413;
+        let t415: f32 = t412 + t414;
+        let t416: f32 = t410 - t415;
+        let t417: f32 = t0 * t416;
+        let t418: f32 = t403 + t417;
+        let t419: f32 = t109 * t418;
+        let t420: f32 = t355 * t361;
+        let t421: f32 = t363 * t369;
+        let t422: f32 = t374 * t375;
+        let t423: f32 = t421 + t422;
+        let t424: f32 = t420 - t423;
+        let t425: f32 = t113 * t424;
+        let t426: f32 = platform_mz * t0;
+        let t427: f32 = t107 * t426;
+        let t428: f32 = t145 * t427;
+        let t429: f32 = platform_my * t0;
+        let t430: f32 = t57 * t429;
+        let t431: f32 = t107 * t430;
+        let t432: f32 = t137 * t431;
+        let t433: f32 = platform_mx * t0;
+        let t434: f32 = t81 * t433;
+        let t435: f32 = t107 * t434;
+        let t436: f32 = t133 * t435;
+        let t437: f32 = t432 - t436;
+        let t438: f32 = t428 + t437;
+        let t439: f32 = t147 + t156;
+        let t440: f32 = joint1_ixx * t89;
+        let t441: f32 = t133 * t440;
+        let t442: f32 = joint1_ixz * t23;
+        let t443: f32 = t142 * t442;
+        let t444: f32 = t137 * t372;
+        let t445: f32 = -t444;
+        let t446: f32 = joint1_ixy * t445;
+        let t447: f32 = t441 + t446;
+        let t448: f32 = t447 - t443;
+        let t449: f32 = t448 * 0.5;
+        let t450: f32 = t0 * t89;
+        let t451: f32 = t133 * t450;
+        let t452: f32 = t449 * t451;
+        let t453: f32 = t8 * t137;
+        let t454: f32 = t453 * 0.125;
+        let t455: f32 = t137 - t454;
+        let t456: f32 = joint1_ixy * t89;
+        let t457: f32 = t133 * t456;
+        let t458: f32 = joint1_iyz * t23;
+        let t459: f32 = t142 * t458;
+        let t460: f32 = joint1_iyy * t445;
+        let t461: f32 = t457 + t460;
+        let t462: f32 = t461 - t459;
+        let t463: f32 = t462 * 0.5;
+        let t464: f32 = t0 * t455;
+        let t465: f32 = t463 * t464;
+        let t466: f32 = t452 + t465;
+        let t467: f32 = joint1_ixz * t89;
+        let t468: f32 = t133 * t467;
+        let t469: f32 = joint1_izz * t23;
+        let t470: f32 = t142 * t469;
+        let t471: f32 = joint1_iyz * t445;
+        let t472: f32 = t468 + t471;
+        let t473: f32 = t472 - t470;
+        let t474: f32 = t473 * 0.5;
+        let t475: f32 = t0 * t23;
+        let t476: f32 = t142 * t475;
+        let t477: f32 = t474 * t476;
+        let t478: f32 = t215 + t242;
+        let t479: f32 = t478 * 0.5;
+        let t480: f32 = t295 * t479;
+        let t481: f32 = t477 - t480;
+        let t482: f32 = t466 - t481;
+        let t483: f32 = joint2_ixx * t89;
+        let t484: f32 = t133 * t483;
+        let t485: f32 = joint2_ixz * t23;
+        let t486: f32 = t142 * t485;
+        let t487: f32 = joint2_ixy * t445;
+        let t488: f32 = t484 + t487;
+        let t489: f32 = t488 - t486;
+        let t490: f32 = t489 * 0.5;
+        let t491: f32 = t451 * t490;
+        let t492: f32 = joint2_ixy * t89;
+        let t493: f32 = t133 * t492;
+        let t494: f32 = joint2_iyz * t23;
+        let t495: f32 = t142 * t494;
+        let t496: f32 = joint2_iyy * t445;
+        let t497: f32 = t493 + t496;
+        let t498: f32 = t497 - t495;
+        let t499: f32 = t498 * 0.5;
+        let t500: f32 = t464 * t499;
+        let t501: f32 = t491 + t500;
+        let t502: f32 = joint2_ixz * t89;
+        let t503: f32 = t133 * t502;
+        let t504: f32 = joint2_izz * t23;
+        let t505: f32 = t142 * t504;
+        let t506: f32 = joint2_iyz * t445;
+        let t507: f32 = t503 + t506;
+        let t508: f32 = t507 - t505;
+        let t509: f32 = t508 * 0.5;
+        let t510: f32 = t476 * t509;
+        let t511: f32 = t251 * t313;
+        let t512: f32 = t510 - t511;
+        let t513: f32 = t501 - t512;
+        let t514: f32 = t482 + t513;
+        let t515: f32 = t252 * 0.5;
+        let t516: f32 = t314 + t515;
+        let t517: f32 = t310 * t516;
+        let t518: f32 = joint3_ixx * t89;
+        let t519: f32 = t133 * t518;
+        let t520: f32 = joint3_ixz * t23;
+        let t521: f32 = t142 * t520;
+        let t522: f32 = joint3_ixy * t445;
+        let t523: f32 = t519 + t522;
+        let t524: f32 = t523 - t521;
+        let t525: f32 = t524 * 0.5;
+        let t526: f32 = t451 * t525;
+        let t527: f32 = t517 + t526;
+        let t528: f32 = joint3_ixy * t89;
+        let t529: f32 = t133 * t528;
+        let t530: f32 = joint3_iyz * t23;
+        let t531: f32 = t142 * t530;
+        let t532: f32 = joint3_iyy * t445;
+        let t533: f32 = t529 + t532;
+        let t534: f32 = t533 - t531;
+        let t535: f32 = t534 * 0.5;
+        let t536: f32 = t464 * t535;
+        let t537: f32 = joint3_ixz * t89;
+        let t538: f32 = t133 * t537;
+        let t539: f32 = joint3_izz * t23;
+        let t540: f32 = t142 * t539;
+        let t541: f32 = joint3_iyz * t445;
+        let t542: f32 = t538 + t541;
+        let t543: f32 = t542 - t540;
+        let t544: f32 = t543 * 0.5;
+        let t545: f32 = t476 * t544;
+        let t546: f32 = t536 - t545;
+        let t547: f32 = t527 + t546;
+        let t548: f32 = t259 * t320;
+        let t549: f32 = t260 * 0.5;
+        let t550: f32 = t321 + t549;
+        let t551: f32 = t317 * t550;
+        let t552: f32 = t548 + t551;
+        let t553: f32 = joint4_ixx * t89;
+        let t554: f32 = t133 * t553;
+        let t555: f32 = joint4_ixz * t23;
+        let t556: f32 = t142 * t555;
+        let t557: f32 = joint4_ixy * t445;
+        let t558: f32 = t554 + t557;
+        let t559: f32 = t558 - t556;
+        let t560: f32 = t559 * 0.5;
+        let t561: f32 = t451 * t560;
+        let t562: f32 = joint4_ixy * t89;
+        let t563: f32 = t133 * t562;
+        let t564: f32 = joint4_iyz * t23;
+        let t565: f32 = t142 * t564;
+        let t566: f32 = joint4_iyy * t445;
+        let t567: f32 = t563 + t566;
+        let t568: f32 = t567 - t565;
+        let t569: f32 = t568 * 0.5;
+        let t570: f32 = t464 * t569;
+        let t571: f32 = t561 + t570;
+        let t572: f32 = t552 + t571;
+        let t573: f32 = t547 + t572;
+        let t574: f32 = t514 + t573;
+        let t575: f32 = joint4_ixz * t89;
+        let t576: f32 = t133 * t575;
+        let t577: f32 = joint4_izz * t23;
+        let t578: f32 = t142 * t577;
+        let t579: f32 = joint4_iyz * t445;
+        let t580: f32 = t576 + t579;
+        let t581: f32 = t580 - t578;
+        let t582: f32 = t581 * 0.5;
+        let t583: f32 = t476 * t582;
+        let t584: f32 = t268 * t326;
+        let t585: f32 = t583 - t584;
+        let t586: f32 = t269 * 0.5;
+        let t587: f32 = t327 + t586;
+        let t588: f32 = t323 * t587;
+        let t589: f32 = joint5_ixx * t89;
+        let t590: f32 = t133 * t589;
+        let t591: f32 = joint5_ixz * t23;
+        let t592: f32 = t142 * t591;
+        let t593: f32 = joint5_ixy * t445;
+        let t594: f32 = t590 + t593;
+        let t595: f32 = t594 - t592;
+        let t596: f32 = t595 * 0.5;
+        let t597: f32 = t451 * t596;
+        let t598: f32 = t588 - t597;
+        let t599: f32 = t585 + t598;
+        let t600: f32 = joint5_ixy * t89;
+        let t601: f32 = t133 * t600;
+        let t602: f32 = joint5_iyz * t23;
+        let t603: f32 = t142 * t602;
+        let t604: f32 = joint5_iyy * t445;
+        let t605: f32 = t601 + t604;
+        let t606: f32 = t605 - t603;
+        let t607: f32 = t606 * 0.5;
+        let t608: f32 = t464 * t607;
+        let t609: f32 = joint5_ixz * t89;
+        let t610: f32 = t133 * t609;
+        let t611: f32 = joint5_izz * t23;
+        let t612: f32 = t142 * t611;
+        let t613: f32 = joint5_iyz * t445;
+        let t614: f32 = t610 + t613;
+        let t615: f32 = t614 - t612;
+        let t616: f32 = t615 * 0.5;
+        let t617: f32 = t476 * t616;
+        let t618: f32 = t608 - t617;
+        let t619: f32 = t276 * t299;
+        let t620: f32 = t277 * 0.5;
+        let t621: f32 = t302 + t620;
+        let t622: f32 = t292 * t621;
+        let t623: f32 = t619 + t622;
+        let t624: f32 = t618 + t623;
+        let t625: f32 = t599 - t624;
+        let t626: f32 = joint6_ixx * t89;
+        let t627: f32 = t133 * t626;
+        let t628: f32 = joint6_ixz * t23;
+        let t629: f32 = t142 * t628;
+        let t630: f32 = joint6_ixy * t445;
+        let t631: f32 = t627 + t630;
+        let t632: f32 = t631 - t629;
+        let t633: f32 = t632 * 0.5;
+        let t634: f32 = t451 * t633;
+        let t635: f32 = joint6_ixy * t89;
+        let t636: f32 = t133 * t635;
+        let t637: f32 = joint6_iyz * t23;
+        let t638: f32 = t142 * t637;
+        let t639: f32 = joint6_iyy * t445;
+        let t640: f32 = t636 + t639;
+        let t641: f32 = t640 - t638;
+        let t642: f32 = t641 * 0.5;
+        let t643: f32 = t464 * t642;
+        let t644: f32 = t634 + t643;
+        let t645: f32 = joint6_ixz * t89;
+        let t646: f32 = t133 * t645;
+        let t647: f32 = joint6_izz * t23;
+        let t648: f32 = t142 * t647;
+        let t649: f32 = joint6_iyz * t445;
+        let t650: f32 = t646 + t649;
+        let t651: f32 = t650 - t648;
+        let t652: f32 = t651 * 0.5;
+        let t653: f32 = t476 * t652;
+        let t654: f32 = t225 * t299;
+        let t655: f32 = t653 - t654;
+        let t656: f32 = t644 - t655;
+        let t657: f32 = t226 * 0.5;
+        let t658: f32 = t305 + t657;
+        let t659: f32 = t292 * t658;
+        let t660: f32 = t295 * t332;
+        let t661: f32 = t659 - t660;
+        let t662: f32 = platform_ixx * t89;
+        let t663: f32 = t133 * t662;
+        let t664: f32 = platform_ixz * t23;
+        let t665: f32 = t142 * t664;
+        let t666: f32 = platform_ixy * t445;
+        let t667: f32 = t663 + t666;
+        let t668: f32 = t667 - t665;
+        let t669: f32 = t668 * 0.5;
+        let t670: f32 = t451 * t669;
+        let t671: f32 = platform_ixy * t89;
+        let t672: f32 = t133 * t671;
+        let t673: f32 = platform_iyz * t23;
+        let t674: f32 = t142 * t673;
+        let t675: f32 = platform_iyy * t445;
+        let t676: f32 = t672 + t675;
+        let t677: f32 = t676 - t674;
+        let t678: f32 = t677 * 0.5;
+        let t679: f32 = t464 * t678;
+        let t680: f32 = t670 + t679;
+        let t681: f32 = platform_ixz * t89;
+        let t682: f32 = t133 * t681;
+        let t683: f32 = platform_izz * t23;
+        let t684: f32 = t142 * t683;
+        let t685: f32 = platform_iyz * t445;
+        let t686: f32 = t682 + t685;
+        let t687: f32 = t686 - t684;
+        let t688: f32 = t687 * 0.5;
+        let t689: f32 = t476 * t688;
+        let t690: f32 = t233 * t307;
+        let t691: f32 = t689 - t690;
+        let t692: f32 = t680 - t691;
+        let t693: f32 = t661 + t692;
+        let t694: f32 = t656 + t693;
+        let t695: f32 = t625 - t694;
+        let t696: f32 = t574 - t695;
+        let t697: f32 = t438 - t334;
+        let t698: f32 = t697 * 0.5;
+        let t699: f32 = t342 + t698;
+        let t700: f32 = t346 + t408;
+        let t701: f32 = t699 + t700;
+        let t702: f32 = t439 + t701;
+        let t703: f32 = t335 + t338;
+        let t704: f32 = t339 + t343;
+        let t705: f32 = t419 + t425;
+        let t706: f32 = t703 + t704;
+        let t707: f32 = t696 + t705;
+        let t708: f32 = t706 + t707;
+        let t709: f32 = t702 - t708;
+        let t710: f32 = t0 * t709;
+        let t711: f32 = t333 - t710;
+        let t712: f32 = t711 - t203;
+        let t713: f32 = t712 * 0.5;
+        let t714: f32 = rod1_mass + t204;
+        let t715: f32 = t713 + t714;
+        let t716: f32 = t114 + t115;
+        let t717: f32 = t122 + t129;
+        let t718: f32 = t716 + t717;
+        let t719: f32 = t213 + t718;
+        let t720: f32 = t715 - t719;
+        let t721: f32 = joint3_mass * t112;
+        let t722: f32 = joint4_mass * t112;
+        let t723: f32 = joint5_mass * t120;
+        let t724: f32 = joint6_mass * t127;
+        let t725: f32 = t164 * t209;
+        let t726: f32 = joint2_mass * t209;
+        let t727: f32 = rod2_mass * t209;
+        let t728: f32 = t726 + t727;
+        let t729: f32 = t336 + t728;
+        let t730: f32 = t206 * t729;
+        let t731: f32 = t120 * t191;
+        let t732: f32 = t340 + t723;
+        let t733: f32 = t117 * t732;
+        let t734: f32 = t127 * t199;
+        let t735: f32 = t344 + t724;
+        let t736: f32 = t124 * t735;
+        let t737: f32 = joint2_mx + t357;
+        let t738: f32 = t737 * 0.5;
+        let t739: f32 = platform_mx + t738;
+        let t740: f32 = t361 * t739;
+        let t741: f32 = joint2_my + t365;
+        let t742: f32 = t741 * 0.5;
+        let t743: f32 = platform_my + t742;
+        let t744: f32 = t369 * t743;
+        let t745: f32 = joint2_mz + t377;
+        let t746: f32 = t745 * 0.5;
+        let t747: f32 = platform_mz + t746;
+        let t748: f32 = t374 * t747;
+        let t749: f32 = t382 + t740;
+        let t750: f32 = t744 + t748;
+        let t751: f32 = t749 - t750;
+        let t752: f32 = t0 * t751;
+        let t753: f32 = t387 * 1.0;
+        let t754: f32 = t402 * 0.5;
+        let t755: f32 = -t391;
+        let t756: f32 = joint5_mass * t755;
+        let t757: f32 = -t398;
+        let t758: f32 = joint6_mass * t757;
+        let t759: f32 = t756 + t758;
+        let t760: f32 = t754 + t759;
+        let t761: f32 = t752 + t753;
+        let t762: f32 = t760 + t761;
+        let t763: f32 = t107 * t762;
+        let t764: f32 = t417 + t754;
+        let t765: f32 = t109 * t764;
+        let t766: f32 = t112 * t424;
+        let t767: f32 = t334 * 0.5;
+        let t768: f32 = t725 + t767;
+        let t769: f32 = t730 + t731;
+        let t770: f32 = t734 + t763;
+        let t771: f32 = t765 + t766;
+        let t772: f32 = t768 + t769;
+        let t773: f32 = t770 + t771;
+        let t774: f32 = t772 + t773;
+        let t775: f32 = t696 + t774;
+        let t776: f32 = t733 + t736;
+        let t777: f32 = t775 - t776;
+        let t778: f32 = t0 * t777;
+        let t779: f32 = t333 + t778;
+        let t780: f32 = t203 - t779;
+        let t781: f32 = t780 * 0.5;
+        let t782: f32 = t721 + t722;
+        let t783: f32 = t723 + t724;
+        let t784: f32 = t728 + t781;
+        let t785: f32 = t782 + t783;
+        let t786: f32 = t784 + t785;
+        let t787: f32 = t8 * t69;
+        let t788: f32 = t74 * t787;
+        let t789: f32 = t69 * t74;
+        let t790: f32 = t89 * t95;
+        let t791: f32 = t100 * t790;
+        let t792: f32 = t23 * t41;
+        let t793: f32 = t46 * t792;
+        let t794: f32 = t791 - t793;
+        let t795: f32 = t789 + t794;
+        let t796: f32 = t788 * 0.125;
+        let t797: f32 = t795 - t796;
+        let t798: f32 = t0 * t797;
+        let t799: f32 = q3 + t795;
+        let t800: f32 = t799 - t796;
+        let t801: f32 = t0 * t800;
+        let t802: f32 = t798 - t801;
+        let t803: f32 = t802 * 0.5;
+        let t804: f32 = joint3_mass * t803;
+        let t805: f32 = q4 + t795;
+        let t806: f32 = t805 - t796;
+        let t807: f32 = t0 * t806;
+        let t808: f32 = t798 - t807;
+        let t809: f32 = t808 * 0.5;
+        let t810: f32 = joint4_mass * t809;
+        let t811: f32 = t804 + t810;
+        let t812: f32 = half_spacing + t795;
+        let t813: f32 = t812 - t796;
+        let t814: f32 = t0 * t813;
+        let t815: f32 = t798 - t814;
+        let t816: f32 = t815 * 0.5;
+        let t817: f32 = joint5_mass * t816;
+        let t818: f32 = half_spacing + t796;
+        let t819: f32 = t818 - t795;
+        let t820: f32 = t0 * t819;
+        let t821: f32 = t798 + t820;
+        let t822: f32 = t821 * 0.5;
+        let t823: f32 = joint6_mass * t822;
+        let t824: f32 = t817 + t823;
+        let t825: f32 = t811 + t824;
+        let t826: f32 = t174 * t803;
+        let t827: f32 = t182 * t809;
+        let t828: f32 = t191 * t816;
+        let t829: f32 = joint5_mx * t89;
+        let t830: f32 = t133 * t829;
+        let t831: f32 = joint5_my * t455;
+        let t832: f32 = joint5_mz * t23;
+        let t833: f32 = t142 * t832;
+        let t834: f32 = t830 + t831;
+        let t835: f32 = t834 - t833;
+        let t836: f32 = t0 * t835;
+        let t837: f32 = t836 * 0.5;
+        let t838: f32 = t817 - t837;
+        let t839: f32 = t117 * t838;
+        let t840: f32 = t199 * t822;
+        let t841: f32 = joint6_mx * t89;
+        let t842: f32 = t133 * t841;
+        let t843: f32 = joint6_my * t455;
+        let t844: f32 = joint6_mz * t23;
+        let t845: f32 = t142 * t844;
+        let t846: f32 = t842 + t843;
+        let t847: f32 = t846 - t845;
+        let t848: f32 = t0 * t847;
+        let t849: f32 = t848 * 0.5;
+        let t850: f32 = t823 - t849;
+        let t851: f32 = t124 * t850;
+        let t852: f32 = t130 * t797;
+        let t853: f32 = platform_my * t455;
+        let t854: f32 = platform_mx * t89;
+        let t855: f32 = t133 * t854;
+        let t856: f32 = platform_mz * t23;
+        let t857: f32 = t142 * t856;
+        let t858: f32 = t855 - t857;
+        let t859: f32 = t853 + t858;
+        let t860: f32 = t0 * t859;
+        let t861: f32 = t852 - t860;
+        let t862: f32 = joint1_my * t455;
+        let t863: f32 = joint1_mx * t89;
+        let t864: f32 = t133 * t863;
+        let t865: f32 = joint1_mz * t23;
+        let t866: f32 = t142 * t865;
+        let t867: f32 = t864 - t866;
+        let t868: f32 = t862 + t867;
+        let t869: f32 = t0 * t868;
+        let t870: f32 = joint2_my * t455;
+        let t871: f32 = joint2_mx * t89;
+        let t872: f32 = t133 * t871;
+        let t873: f32 = joint2_mz * t23;
+        let t874: f32 = t142 * t873;
+        let t875: f32 = t872 - t874;
+        let t876: f32 = t870 + t875;
+        let t877: f32 = t0 * t876;
+        let t878: f32 = t869 + t877;
+        let t879: f32 = t861 - t878;
+        let t880: f32 = joint3_mx * t89;
+        let t881: f32 = t133 * t880;
+        let t882: f32 = joint3_my * t455;
+        let t883: f32 = joint3_mz * t23;
+        let t884: f32 = t142 * t883;
+        let t885: f32 = t881 + t882;
+        let t886: f32 = t885 - t884;
+        let t887: f32 = t0 * t886;
+        let t888: f32 = joint4_mx * t89;
+        let t889: f32 = t133 * t888;
+        let t890: f32 = joint4_my * t455;
+        let t891: f32 = joint4_mz * t23;
+        let t892: f32 = t142 * t891;
+        let t893: f32 = t889 + t890;
+        let t894: f32 = t893 - t892;
+        let t895: f32 = t0 * t894;
+        let t896: f32 = t887 + t895;
+        let t897: f32 = t836 + t848;
+        let t898: f32 = t896 + t897;
+        let t899: f32 = t879 - t898;
+        let t900: f32 = t899 * 0.5;
+        let t901: f32 = t825 + t900;
+        let t902: f32 = t107 * t901;
+        let t903: f32 = platform_mz * t374;
+        let t904: f32 = t140 - t903;
+        let t905: f32 = t70 - t72;
+        let t906: f32 = t905 * 0.125;
+        let t907: f32 = t8 * t906;
+        let t908: f32 = t73 - t907;
+        let t909: f32 = t69 * t908;
+        let t910: f32 = t794 + t909;
+        let t911: f32 = t904 * t910;
+        let t912: f32 = joint1_my * t445;
+        let t913: f32 = t867 + t912;
+        let t914: f32 = t353 * t913;
+        let t915: f32 = half_spacing - t352;
+        let t916: f32 = joint2_my * t445;
+        let t917: f32 = t875 + t916;
+        let t918: f32 = t915 * t917;
+        let t919: f32 = platform_ixz + joint1_ixz;
+        let t920: f32 = joint2_ixz + joint3_ixz;
+        let t921: f32 = joint4_ixz + joint5_ixz;
+        let t922: f32 = t919 + t920;
+        let t923: f32 = joint6_ixz + t921;
+        let t924: f32 = t922 + t923;
+        let t925: f32 = t924 * 0.5;
+        let t926: f32 = t361 * t925;
+        let t927: f32 = platform_iyz + joint1_iyz;
+        let t928: f32 = joint2_iyz + joint3_iyz;
+        let t929: f32 = joint4_iyz + joint5_iyz;
+        let t930: f32 = t927 + t928;
+        let t931: f32 = joint6_iyz + t929;
+        let t932: f32 = t930 + t931;
+        let t933: f32 = t932 * 0.5;
+        let t934: f32 = t369 * t933;
+        let t935: f32 = platform_izz + joint1_izz;
+        let t936: f32 = joint2_izz + joint3_izz;
+        let t937: f32 = joint4_izz + joint5_izz;
+        let t938: f32 = t935 + t936;
+        let t939: f32 = joint6_izz + t937;
+        let t940: f32 = t938 + t939;
+        let t941: f32 = t940 * 0.5;
+        let t942: f32 = t374 * t941;
+        let t943: f32 = t934 + t942;
+        let t944: f32 = t926 - t943;
+        let t945: f32 = t23 * t142;
+        let t946: f32 = t944 * t945;
+        let t947: f32 = platform_ixx + joint1_ixx;
+        let t948: f32 = joint2_ixx + joint3_ixx;
+        let t949: f32 = joint4_ixx + joint5_ixx;
+        let t950: f32 = t947 + t948;
+        let t951: f32 = joint6_ixx + t949;
+        let t952: f32 = t950 + t951;
+        let t953: f32 = t952 * 0.5;
+        let t954: f32 = t361 * t953;
+        let t955: f32 = platform_ixy + joint1_ixy;
+        let t956: f32 = joint2_ixy + joint3_ixy;
+        let t957: f32 = joint4_ixy + joint5_ixy;
+        let t958: f32 = t955 + t956;
+        let t959: f32 = joint6_ixy + t957;
+        let t960: f32 = t958 + t959;
+        let t961: f32 = t960 * 0.5;
+        let t962: f32 = t369 * t961;
+        let t963: f32 = t374 * t925;
+        let t964: f32 = t962 + t963;
+        let t965: f32 = t954 - t964;
+        let t966: f32 = t89 * t133;
+        let t967: f32 = t965 * t966;
+        let t968: f32 = t361 * t961;
+        let t969: f32 = platform_iyy + joint1_iyy;
+        let t970: f32 = joint2_iyy + joint3_iyy;
+        let t971: f32 = joint4_iyy + joint5_iyy;
+        let t972: f32 = t969 + t970;
+        let t973: f32 = joint6_iyy + t971;
+        let t974: f32 = t972 + t973;
+        let t975: f32 = t974 * 0.5;
+        let t976: f32 = t369 * t975;
+        let t977: f32 = t374 * t933;
+        let t978: f32 = t976 + t977;
+        let t979: f32 = t968 - t978;
+        let t980: f32 = t445 * t979;
+        let t981: f32 = t911 + t914;
+        let t982: f32 = t981 - t918;
+        let t983: f32 = t982 * 0.5;
+        let t984: f32 = t967 + t983;
+        let t985: f32 = t980 + t984;
+        let t986: f32 = t985 - t946;
+        let t987: f32 = t0 * t986;
+        let t988: f32 = q3 * t0;
+        let t989: f32 = t988 * 0.5;
+        let t990: f32 = -t989;
+        let t991: f32 = joint3_mass * t990;
+        let t992: f32 = q4 * t0;
+        let t993: f32 = t992 * 0.5;
+        let t994: f32 = -t993;
+        let t995: f32 = joint4_mass * t994;
+        let t996: f32 = t413 * t945;
+        let t997: f32 = t409 * t966;
+        let t998: f32 = t411 * t445;
+        let t999: f32 = t997 + t998;
+        (
+            t0,
+            t1,
+            t3,
+            t8,
+            t23,
+            t33,
+            t57,
+            t62,
+            t81,
+            t89,
+            t95,
+            t96,
+            t98,
+            t99,
+            t107,
+            t108,
+            t109,
+            t112,
+            t113,
+            t114,
+            t115,
+            t117,
+            t120,
+            t121,
+            t124,
+            t127,
+            t128,
+            t130,
+            t133,
+            t137,
+            t142,
+            t145,
+            t147,
+            t154,
+            t156,
+            t157,
+            t164,
+            t174,
+            t175,
+            t182,
+            t183,
+            t191,
+            t199,
+            t203,
+            t204,
+            t206,
+            t209,
+            t210,
+            t214,
+            t218,
+            t225,
+            t228,
+            t233,
+            t240,
+            t241,
+            t251,
+            t259,
+            t268,
+            t276,
+            t280,
+            t281,
+            t289,
+            t292,
+            t293,
+            t295,
+            t296,
+            t299,
+            t307,
+            t310,
+            t311,
+            t313,
+            t317,
+            t318,
+            t320,
+            t323,
+            t324,
+            t326,
+            t330,
+            t336,
+            t340,
+            t341,
+            t344,
+            t345,
+            t353,
+            t355,
+            t356,
+            t358,
+            t360,
+            t361,
+            t363,
+            t364,
+            t366,
+            t368,
+            t369,
+            t371,
+            t372,
+            t374,
+            t375,
+            t376,
+            t378,
+            t380,
+            t382,
+            t386,
+            t391,
+            t398,
+            t405,
+            t409,
+            t411,
+            t413,
+            t426,
+            t429,
+            t433,
+            t438,
+            t439,
+            t445,
+            t449,
+            t455,
+            t463,
+            t474,
+            t490,
+            t499,
+            t509,
+            t515,
+            t525,
+            t535,
+            t544,
+            t549,
+            t550,
+            t560,
+            t569,
+            t582,
+            t586,
+            t587,
+            t596,
+            t607,
+            t616,
+            t620,
+            t621,
+            t633,
+            t642,
+            t652,
+            t657,
+            t658,
+            t669,
+            t678,
+            t688,
+            t711,
+            t720,
+            t721,
+            t722,
+            t732,
+            t735,
+            t760,
+            t779,
+            t786,
+            t797,
+            t798,
+            t800,
+            t803,
+            t804,
+            t806,
+            t809,
+            t810,
+            t813,
+            t816,
+            t819,
+            t822,
+            t825,
+            t826,
+            t827,
+            t828,
+            t835,
+            t837,
+            t838,
+            t839,
+            t840,
+            t847,
+            t849,
+            t850,
+            t851,
+            t858,
+            t859,
+            t868,
+            t876,
+            t877,
+            t886,
+            t887,
+            t894,
+            t895,
+            t899,
+            t901,
+            t902,
+            t910,
+            t913,
+            t925,
+            t933,
+            t941,
+            t945,
+            t953,
+            t961,
+            t966,
+            t975,
+            t987,
+            t989,
+            t991,
+            t993,
+            t995,
+            t996,
+            t999,
+        )
+    };
+    let (
+        t1016,
+        t1017,
+        t1018,
+        t1019,
+        t1021,
+        t1024,
+        t1027,
+        t1028,
+        t1031,
+        t1033,
+        t1043,
+        t1047,
+        t1055,
+        t1073,
+        t1078,
+        t1080,
+        t1082,
+        t1094,
+        t1099,
+        t1106,
+        t1112,
+        t1123,
+        t1135,
+        t1146,
+        t1159,
+        t1170,
+        t1182,
+        t1193,
+        t1207,
+        t1218,
+        t1230,
+        t1241,
+        t1252,
+        t1266,
+        t1277,
+        t1289,
+        t1300,
+        t1313,
+        t1324,
+        t1336,
+        t1347,
+        t1368,
+        t1369,
+        t1370,
+        t1371,
+        t1373,
+        t1376,
+        t1379,
+        t1380,
+        t1383,
+        t1385,
+        t1394,
+        t1397,
+        t1409,
+        t1429,
+        t1430,
+        t1432,
+        t1433,
+        t1434,
+        t1435,
+        t1437,
+        t1440,
+        t1450,
+        t1452,
+        t1454,
+        t1456,
+        t1470,
+        t1472,
+        t1474,
+        t1479,
+        t1529,
+        t1530,
+        t1556,
+        t1557,
+        t1559,
+        t1560,
+        t1562,
+        t1563,
+        t1566,
+        t1567,
+        t1570,
+        t1573,
+        t1574,
+        t1582,
+        t1583,
+        t1595,
+        t1597,
+        t1604,
+        t1606,
+        t1615,
+        t1628,
+        t1630,
+        t1634,
+        t1636,
+        t1638,
+        t1641,
+        t1652,
+        t1653,
+        t1675,
+        t1684,
+        t1694,
+        t1703,
+        t1715,
+        t1724,
+        t1734,
+        t1743,
+        t1754,
+        t1763,
+        t1773,
+        t1782,
+        t1795,
+        t1804,
+        t1819,
+        t1831,
+        t1844,
+        t1853,
+        t1863,
+        t1875,
+        t1884,
+        t1908,
+        t1909,
+        t1911,
+        t1913,
+        t1923,
+        t1925,
+        t1928,
+        t1932,
+        t1949,
+        t1953,
+        t1957,
+        t1958,
+        t1963,
+        t1969,
+        t1976,
+        t1977,
+        t1979,
+        t1981,
+        t1984,
+        t1988,
+        t1998,
+        t1999,
+    ) = {
+        let t1000: f32 = t996 - t999;
+        let t1001: f32 = t0 * t1000;
+        let t1002: f32 = t991 + t995;
+        let t1003: f32 = t1001 + t1002;
+        let t1004: f32 = t109 * t1003;
+        let t1005: f32 = t826 + t827;
+        let t1006: f32 = t828 + t840;
+        let t1007: f32 = t902 + t987;
+        let t1008: f32 = t1005 + t1006;
+        let t1009: f32 = t1004 + t1007;
+        let t1010: f32 = t1008 + t1009;
+        let t1011: f32 = t839 + t851;
+        let t1012: f32 = t1010 - t1011;
+        let t1013: f32 = t0 * t1012;
+        let t1014: f32 = t1013 - t899;
+        let t1015: f32 = t1014 * 0.5;
+        let t1016: f32 = t825 - t1015;
+        let t1017: f32 = t1015 - t825;
+        let t1018: f32 = joint2_mass - t899;
+        let t1019: f32 = t803 - 0.5;
+        let t1020: f32 = joint3_mass * t1019;
+        let t1021: f32 = t809 - 0.5;
+        let t1022: f32 = joint4_mass * t1021;
+        let t1023: f32 = t1020 + t1022;
+        let t1024: f32 = t816 - 0.5;
+        let t1025: f32 = joint5_mass * t1024;
+        let t1026: f32 = rod5_mass * t1024;
+        let t1027: f32 = t1025 + t1026;
+        let t1028: f32 = t822 - 0.5;
+        let t1029: f32 = joint6_mass * t1028;
+        let t1030: f32 = rod6_mass * t1028;
+        let t1031: f32 = t1029 + t1030;
+        let t1032: f32 = t1027 + t1031;
+        let t1033: f32 = t1023 + t1032;
+        let t1034: f32 = t204 + t1018;
+        let t1035: f32 = t1034 * 0.5;
+        let t1036: f32 = t1035 - t1033;
+        let t1037: f32 = t214 * t1036;
+        let t1038: f32 = joint2_mass + t877;
+        let t1039: f32 = t1038 * 0.5;
+        let t1040: f32 = t310 * t1039;
+        let t1041: f32 = t259 * t1019;
+        let t1042: f32 = t887 * 0.5;
+        let t1043: f32 = t1042 - t1020;
+        let t1044: f32 = t317 * t1043;
+        let t1045: f32 = t268 * t1021;
+        let t1046: f32 = t895 * 0.5;
+        let t1047: f32 = t1046 - t1022;
+        let t1048: f32 = t323 * t1047;
+        let t1049: f32 = t276 * t1024;
+        let t1050: f32 = t225 * t1028;
+        let t1051: f32 = platform_mass * t910;
+        let t1052: f32 = t380 * t945;
+        let t1053: f32 = t360 * t966;
+        let t1054: f32 = t368 * t445;
+        let t1055: f32 = t1051 * 0.5;
+        let t1056: f32 = t1052 + t1055;
+        let t1057: f32 = t1053 + t1054;
+        let t1058: f32 = t1056 - t1057;
+        let t1059: f32 = t0 * t1058;
+        let t1060: f32 = platform_mass + joint2_mass;
+        let t1061: f32 = rod6_mass + joint6_mass;
+        let t1062: f32 = t1061 * 0.0;
+        let t1063: f32 = rod5_mass + joint5_mass;
+        let t1064: f32 = t1063 * -1.0;
+        let t1065: f32 = t1062 + t1064;
+        let t1066: f32 = t989 + 0.5;
+        let t1067: f32 = -t1066;
+        let t1068: f32 = joint3_mass * t1067;
+        let t1069: f32 = t993 + 0.5;
+        let t1070: f32 = -t1069;
+        let t1071: f32 = joint4_mass * t1070;
+        let t1072: f32 = t1068 + t1071;
+        let t1073: f32 = t1065 + t1072;
+        let t1074: f32 = t1060 * 0.5;
+        let t1075: f32 = t1059 + t1073;
+        let t1076: f32 = t1074 - t1075;
+        let t1077: f32 = t295 * t1076;
+        let t1078: f32 = t376 * 0.5;
+        let t1079: f32 = t945 * t1078;
+        let t1080: f32 = t356 * 0.5;
+        let t1081: f32 = t966 * t1080;
+        let t1082: f32 = t364 * 0.5;
+        let t1083: f32 = t445 * t1082;
+        let t1084: f32 = t1081 + t1083;
+        let t1085: f32 = t1079 - t1084;
+        let t1086: f32 = t0 * t1085;
+        let t1087: f32 = t1065 + t1086;
+        let t1088: f32 = t292 * t1087;
+        let t1089: f32 = t33 * t426;
+        let t1090: f32 = t142 * t1089;
+        let t1091: f32 = t797 * t1090;
+        let t1092: f32 = t218 * t433;
+        let t1093: f32 = t797 * t1092;
+        let t1094: f32 = t62 * t429;
+        let t1095: f32 = t137 * t1094;
+        let t1096: f32 = t797 * t1095;
+        let t1097: f32 = t1093 - t1096;
+        let t1098: f32 = t1091 + t1097;
+        let t1099: f32 = t233 + t241;
+        let t1100: f32 = t251 + t1099;
+        let t1101: f32 = joint3_iyy * t62;
+        let t1102: f32 = t137 * t1101;
+        let t1103: f32 = joint3_iyz * t33;
+        let t1104: f32 = t142 * t1103;
+        let t1105: f32 = t133 * t372;
+        let t1106: f32 = -t1105;
+        let t1107: f32 = joint3_ixy * t1106;
+        let t1108: f32 = t1104 + t1107;
+        let t1109: f32 = t1102 - t1108;
+        let t1110: f32 = t1109 * 0.5;
+        let t1111: f32 = t0 * t1110;
+        let t1112: f32 = -t1111;
+        let t1113: f32 = t455 * t1112;
+        let t1114: f32 = joint3_iyz * t62;
+        let t1115: f32 = t137 * t1114;
+        let t1116: f32 = joint3_izz * t33;
+        let t1117: f32 = t142 * t1116;
+        let t1118: f32 = joint3_ixz * t1106;
+        let t1119: f32 = t1117 + t1118;
+        let t1120: f32 = t1115 - t1119;
+        let t1121: f32 = t1120 * 0.5;
+        let t1122: f32 = t0 * t1121;
+        let t1123: f32 = -t1122;
+        let t1124: f32 = t945 * t1123;
+        let t1125: f32 = t1113 - t1124;
+        let t1126: f32 = joint4_ixy * t62;
+        let t1127: f32 = t137 * t1126;
+        let t1128: f32 = joint4_ixz * t33;
+        let t1129: f32 = t142 * t1128;
+        let t1130: f32 = joint4_ixx * t1106;
+        let t1131: f32 = t1129 + t1130;
+        let t1132: f32 = t1127 - t1131;
+        let t1133: f32 = t1132 * 0.5;
+        let t1134: f32 = t0 * t1133;
+        let t1135: f32 = -t1134;
+        let t1136: f32 = t966 * t1135;
+        let t1137: f32 = joint4_iyy * t62;
+        let t1138: f32 = t137 * t1137;
+        let t1139: f32 = joint4_iyz * t33;
+        let t1140: f32 = t142 * t1139;
+        let t1141: f32 = joint4_ixy * t1106;
+        let t1142: f32 = t1140 + t1141;
+        let t1143: f32 = t1138 - t1142;
+        let t1144: f32 = t1143 * 0.5;
+        let t1145: f32 = t0 * t1144;
+        let t1146: f32 = -t1145;
+        let t1147: f32 = t455 * t1146;
+        let t1148: f32 = t1136 + t1147;
+        let t1149: f32 = t1125 + t1148;
+        let t1150: f32 = joint4_iyz * t62;
+        let t1151: f32 = t137 * t1150;
+        let t1152: f32 = joint4_izz * t33;
+        let t1153: f32 = t142 * t1152;
+        let t1154: f32 = joint4_ixz * t1106;
+        let t1155: f32 = t1153 + t1154;
+        let t1156: f32 = t1151 - t1155;
+        let t1157: f32 = t1156 * 0.5;
+        let t1158: f32 = t0 * t1157;
+        let t1159: f32 = -t1158;
+        let t1160: f32 = t945 * t1159;
+        let t1161: f32 = joint5_ixy * t62;
+        let t1162: f32 = t137 * t1161;
+        let t1163: f32 = joint5_ixz * t33;
+        let t1164: f32 = t142 * t1163;
+        let t1165: f32 = joint5_ixx * t1106;
+        let t1166: f32 = t1164 + t1165;
+        let t1167: f32 = t1162 - t1166;
+        let t1168: f32 = t1167 * 0.5;
+        let t1169: f32 = t0 * t1168;
+        let t1170: f32 = -t1169;
+        let t1171: f32 = t966 * t1170;
+        let t1172: f32 = t1160 - t1171;
+        let t1173: f32 = joint5_iyy * t62;
+        let t1174: f32 = t137 * t1173;
+        let t1175: f32 = joint5_iyz * t33;
+        let t1176: f32 = t142 * t1175;
+        let t1177: f32 = joint5_ixy * t1106;
+        let t1178: f32 = t1176 + t1177;
+        let t1179: f32 = t1174 - t1178;
+        let t1180: f32 = t1179 * 0.5;
+        let t1181: f32 = t0 * t1180;
+        let t1182: f32 = -t1181;
+        let t1183: f32 = t455 * t1182;
+        let t1184: f32 = joint5_iyz * t62;
+        let t1185: f32 = t137 * t1184;
+        let t1186: f32 = joint5_izz * t33;
+        let t1187: f32 = t142 * t1186;
+        let t1188: f32 = joint5_ixz * t1106;
+        let t1189: f32 = t1187 + t1188;
+        let t1190: f32 = t1185 - t1189;
+        let t1191: f32 = t1190 * 0.5;
+        let t1192: f32 = t0 * t1191;
+        let t1193: f32 = -t1192;
+        let t1194: f32 = t945 * t1193;
+        let t1195: f32 = t1183 - t1194;
+        let t1196: f32 = t1172 - t1195;
+        let t1197: f32 = t1149 - t1196;
+        let t1198: f32 = joint6_ixy * t62;
+        let t1199: f32 = t137 * t1198;
+        let t1200: f32 = joint6_ixz * t33;
+        let t1201: f32 = t142 * t1200;
+        let t1202: f32 = joint6_ixx * t1106;
+        let t1203: f32 = t1201 + t1202;
+        let t1204: f32 = t1199 - t1203;
+        let t1205: f32 = t1204 * 0.5;
+        let t1206: f32 = t0 * t1205;
+        let t1207: f32 = -t1206;
+        let t1208: f32 = t966 * t1207;
+        let t1209: f32 = joint6_iyy * t62;
+        let t1210: f32 = t137 * t1209;
+        let t1211: f32 = joint6_iyz * t33;
+        let t1212: f32 = t142 * t1211;
+        let t1213: f32 = joint6_ixy * t1106;
+        let t1214: f32 = t1212 + t1213;
+        let t1215: f32 = t1210 - t1214;
+        let t1216: f32 = t1215 * 0.5;
+        let t1217: f32 = t0 * t1216;
+        let t1218: f32 = -t1217;
+        let t1219: f32 = t455 * t1218;
+        let t1220: f32 = t1208 + t1219;
+        let t1221: f32 = joint6_iyz * t62;
+        let t1222: f32 = t137 * t1221;
+        let t1223: f32 = joint6_izz * t33;
+        let t1224: f32 = t142 * t1223;
+        let t1225: f32 = joint6_ixz * t1106;
+        let t1226: f32 = t1224 + t1225;
+        let t1227: f32 = t1222 - t1226;
+        let t1228: f32 = t1227 * 0.5;
+        let t1229: f32 = t0 * t1228;
+        let t1230: f32 = -t1229;
+        let t1231: f32 = t945 * t1230;
+        let t1232: f32 = platform_ixy * t62;
+        let t1233: f32 = t137 * t1232;
+        let t1234: f32 = platform_ixz * t33;
+        let t1235: f32 = t142 * t1234;
+        let t1236: f32 = platform_ixx * t1106;
+        let t1237: f32 = t1235 + t1236;
+        let t1238: f32 = t1233 - t1237;
+        let t1239: f32 = t1238 * 0.5;
+        let t1240: f32 = t0 * t1239;
+        let t1241: f32 = -t1240;
+        let t1242: f32 = t966 * t1241;
+        let t1243: f32 = platform_iyy * t62;
+        let t1244: f32 = t137 * t1243;
+        let t1245: f32 = platform_iyz * t33;
+        let t1246: f32 = t142 * t1245;
+        let t1247: f32 = platform_ixy * t1106;
+        let t1248: f32 = t1246 + t1247;
+        let t1249: f32 = t1244 - t1248;
+        let t1250: f32 = t1249 * 0.5;
+        let t1251: f32 = t0 * t1250;
+        let t1252: f32 = -t1251;
+        let t1253: f32 = t455 * t1252;
+        let t1254: f32 = t1242 + t1253;
+        let t1255: f32 = t1231 - t1254;
+        let t1256: f32 = t1220 - t1255;
+        let t1257: f32 = platform_iyz * t62;
+        let t1258: f32 = t137 * t1257;
+        let t1259: f32 = platform_izz * t33;
+        let t1260: f32 = t142 * t1259;
+        let t1261: f32 = platform_ixz * t1106;
+        let t1262: f32 = t1260 + t1261;
+        let t1263: f32 = t1258 - t1262;
+        let t1264: f32 = t1263 * 0.5;
+        let t1265: f32 = t0 * t1264;
+        let t1266: f32 = -t1265;
+        let t1267: f32 = t945 * t1266;
+        let t1268: f32 = joint1_ixy * t62;
+        let t1269: f32 = t137 * t1268;
+        let t1270: f32 = joint1_ixz * t33;
+        let t1271: f32 = t142 * t1270;
+        let t1272: f32 = joint1_ixx * t1106;
+        let t1273: f32 = t1271 + t1272;
+        let t1274: f32 = t1269 - t1273;
+        let t1275: f32 = t1274 * 0.5;
+        let t1276: f32 = t0 * t1275;
+        let t1277: f32 = -t1276;
+        let t1278: f32 = t966 * t1277;
+        let t1279: f32 = t1267 - t1278;
+        let t1280: f32 = joint1_iyy * t62;
+        let t1281: f32 = t137 * t1280;
+        let t1282: f32 = joint1_iyz * t33;
+        let t1283: f32 = t142 * t1282;
+        let t1284: f32 = joint1_ixy * t1106;
+        let t1285: f32 = t1283 + t1284;
+        let t1286: f32 = t1281 - t1285;
+        let t1287: f32 = t1286 * 0.5;
+        let t1288: f32 = t0 * t1287;
+        let t1289: f32 = -t1288;
+        let t1290: f32 = t455 * t1289;
+        let t1291: f32 = joint1_iyz * t62;
+        let t1292: f32 = t137 * t1291;
+        let t1293: f32 = joint1_izz * t33;
+        let t1294: f32 = t142 * t1293;
+        let t1295: f32 = joint1_ixz * t1106;
+        let t1296: f32 = t1294 + t1295;
+        let t1297: f32 = t1292 - t1296;
+        let t1298: f32 = t1297 * 0.5;
+        let t1299: f32 = t0 * t1298;
+        let t1300: f32 = -t1299;
+        let t1301: f32 = t945 * t1300;
+        let t1302: f32 = t1290 - t1301;
+        let t1303: f32 = t1279 - t1302;
+        let t1304: f32 = joint2_ixy * t62;
+        let t1305: f32 = t137 * t1304;
+        let t1306: f32 = joint2_ixz * t33;
+        let t1307: f32 = t142 * t1306;
+        let t1308: f32 = joint2_ixx * t1106;
+        let t1309: f32 = t1307 + t1308;
+        let t1310: f32 = t1305 - t1309;
+        let t1311: f32 = t1310 * 0.5;
+        let t1312: f32 = t0 * t1311;
+        let t1313: f32 = -t1312;
+        let t1314: f32 = t966 * t1313;
+        let t1315: f32 = joint2_iyy * t62;
+        let t1316: f32 = t137 * t1315;
+        let t1317: f32 = joint2_iyz * t33;
+        let t1318: f32 = t142 * t1317;
+        let t1319: f32 = joint2_ixy * t1106;
+        let t1320: f32 = t1318 + t1319;
+        let t1321: f32 = t1316 - t1320;
+        let t1322: f32 = t1321 * 0.5;
+        let t1323: f32 = t0 * t1322;
+        let t1324: f32 = -t1323;
+        let t1325: f32 = t455 * t1324;
+        let t1326: f32 = t1314 + t1325;
+        let t1327: f32 = joint2_iyz * t62;
+        let t1328: f32 = t137 * t1327;
+        let t1329: f32 = joint2_izz * t33;
+        let t1330: f32 = t142 * t1329;
+        let t1331: f32 = joint2_ixz * t1106;
+        let t1332: f32 = t1330 + t1331;
+        let t1333: f32 = t1328 - t1332;
+        let t1334: f32 = t1333 * 0.5;
+        let t1335: f32 = t0 * t1334;
+        let t1336: f32 = -t1335;
+        let t1337: f32 = t945 * t1336;
+        let t1338: f32 = joint3_ixy * t62;
+        let t1339: f32 = t137 * t1338;
+        let t1340: f32 = joint3_ixz * t33;
+        let t1341: f32 = t142 * t1340;
+        let t1342: f32 = joint3_ixx * t1106;
+        let t1343: f32 = t1341 + t1342;
+        let t1344: f32 = t1339 - t1343;
+        let t1345: f32 = t1344 * 0.5;
+        let t1346: f32 = t0 * t1345;
+        let t1347: f32 = -t1346;
+        let t1348: f32 = t966 * t1347;
+        let t1349: f32 = t1337 - t1348;
+        let t1350: f32 = t1326 - t1349;
+        let t1351: f32 = t1303 - t1350;
+        let t1352: f32 = t1256 - t1351;
+        let t1353: f32 = t1197 + t1352;
+        let t1354: f32 = t1100 - t1098;
+        let t1355: f32 = t1354 * 0.5;
+        let t1356: f32 = t1040 + t1044;
+        let t1357: f32 = t1355 + t1356;
+        let t1358: f32 = t1041 + t1045;
+        let t1359: f32 = t1048 + t1049;
+        let t1360: f32 = t1050 + t1077;
+        let t1361: f32 = t1088 + t1353;
+        let t1362: f32 = t1358 + t1359;
+        let t1363: f32 = t1360 + t1361;
+        let t1364: f32 = t1362 + t1363;
+        let t1365: f32 = t1357 - t1364;
+        let t1366: f32 = t0 * t1365;
+        let t1367: f32 = t1037 + t1366;
+        let t1368: f32 = t1367 * 0.5;
+        let t1369: f32 = -t1368;
+        let t1370: f32 = joint2_mass + t899;
+        let t1371: f32 = t803 + 0.5;
+        let t1372: f32 = joint3_mass * t1371;
+        let t1373: f32 = t809 + 0.5;
+        let t1374: f32 = joint4_mass * t1373;
+        let t1375: f32 = t1372 + t1374;
+        let t1376: f32 = t816 + 0.5;
+        let t1377: f32 = joint5_mass * t1376;
+        let t1378: f32 = rod5_mass * t1376;
+        let t1379: f32 = t1377 + t1378;
+        let t1380: f32 = t822 + 0.5;
+        let t1381: f32 = joint6_mass * t1380;
+        let t1382: f32 = rod6_mass * t1380;
+        let t1383: f32 = t1381 + t1382;
+        let t1384: f32 = t1379 + t1383;
+        let t1385: f32 = t1375 + t1384;
+        let t1386: f32 = t204 + t1370;
+        let t1387: f32 = t1386 * 0.5;
+        let t1388: f32 = t1385 + t1387;
+        let t1389: f32 = t214 * t1388;
+        let t1390: f32 = joint2_mass - t877;
+        let t1391: f32 = t1390 * 0.5;
+        let t1392: f32 = t310 * t1391;
+        let t1393: f32 = t259 * t1371;
+        let t1394: f32 = t1042 - t1372;
+        let t1395: f32 = t317 * t1394;
+        let t1396: f32 = t268 * t1373;
+        let t1397: f32 = t1046 - t1374;
+        let t1398: f32 = t323 * t1397;
+        let t1399: f32 = t276 * t1376;
+        let t1400: f32 = t225 * t1380;
+        let t1401: f32 = t1063 * 0.0;
+        let t1402: f32 = t1061 * 1.0;
+        let t1403: f32 = t1401 + t1402;
+        let t1404: f32 = 0.5 - t989;
+        let t1405: f32 = joint3_mass * t1404;
+        let t1406: f32 = 0.5 - t993;
+        let t1407: f32 = joint4_mass * t1406;
+        let t1408: f32 = t1405 + t1407;
+        let t1409: f32 = t1403 + t1408;
+        let t1410: f32 = t1059 + t1409;
+        let t1411: f32 = t1074 + t1410;
+        let t1412: f32 = t295 * t1411;
+        let t1413: f32 = t1086 + t1403;
+        let t1414: f32 = t292 * t1413;
+        let t1415: f32 = t1098 + t1100;
+        let t1416: f32 = t1415 * 0.5;
+        let t1417: f32 = t1392 + t1393;
+        let t1418: f32 = t1396 + t1398;
+        let t1419: f32 = t1399 + t1400;
+        let t1420: f32 = t1353 + t1414;
+        let t1421: f32 = t1417 + t1418;
+        let t1422: f32 = t1419 + t1420;
+        let t1423: f32 = t1421 + t1422;
+        let t1424: f32 = t1416 + t1423;
+        let t1425: f32 = t1395 + t1412;
+        let t1426: f32 = t1424 - t1425;
+        let t1427: f32 = t0 * t1426;
+        let t1428: f32 = t1389 + t1427;
+        let t1429: f32 = t1428 * 0.5;
+        let t1430: f32 = -t1429;
+        let t1431: f32 = t711 * 0.5;
+        let t1432: f32 = -t1431;
+        let t1433: f32 = t779 * 0.5;
+        let t1434: f32 = t1013 * 0.5;
+        let t1435: f32 = -t1434;
+        let t1436: f32 = t210 * t876;
+        let t1437: f32 = t175 * 0.5;
+        let t1438: f32 = t114 + t1437;
+        let t1439: f32 = t800 * t1438;
+        let t1440: f32 = t183 * 0.5;
+        let t1441: f32 = t115 + t1440;
+        let t1442: f32 = t806 * t1441;
+        let t1443: f32 = t121 * t835;
+        let t1444: f32 = t341 * t813;
+        let t1445: f32 = t128 * t847;
+        let t1446: f32 = t345 * t819;
+        let t1447: f32 = platform_my * t445;
+        let t1448: f32 = t858 + t1447;
+        let t1449: f32 = t1448 * 0.5;
+        let t1450: f32 = t0 * t353;
+        let t1451: f32 = t1449 * t1450;
+        let t1452: f32 = t358 * 0.5;
+        let t1453: f32 = t361 * t1452;
+        let t1454: f32 = t366 * 0.5;
+        let t1455: f32 = t369 * t1454;
+        let t1456: f32 = t378 * 0.5;
+        let t1457: f32 = t374 * t1456;
+        let t1458: f32 = t382 + t1453;
+        let t1459: f32 = t1455 + t1457;
+        let t1460: f32 = t1458 - t1459;
+        let t1461: f32 = t0 * t1460;
+        let t1462: f32 = t405 - t1461;
+        let t1463: f32 = t797 * t1462;
+        let t1464: f32 = t375 * t945;
+        let t1465: f32 = t355 * t966;
+        let t1466: f32 = t363 * t445;
+        let t1467: f32 = t1465 + t1466;
+        let t1468: f32 = t1464 - t1467;
+        let t1469: f32 = t113 * t1468;
+        let t1470: f32 = t859 + t868;
+        let t1471: f32 = t0 * t81;
+        let t1472: f32 = t133 * t1471;
+        let t1473: f32 = t560 * t1472;
+        let t1474: f32 = t0 * t57;
+        let t1475: f32 = t137 * t1474;
+        let t1476: f32 = t569 * t1475;
+        let t1477: f32 = t1473 - t1476;
+        let t1478: f32 = t535 * t1475;
+        let t1479: f32 = t0 * t145;
+        let t1480: f32 = t544 * t1479;
+        let t1481: f32 = t1478 + t1480;
+        let t1482: f32 = t1477 - t1481;
+        let t1483: f32 = t596 * t1472;
+        let t1484: f32 = t582 * t1479;
+        let t1485: f32 = t1483 - t1484;
+        let t1486: f32 = t607 * t1475;
+        let t1487: f32 = t616 * t1479;
+        let t1488: f32 = t1486 + t1487;
+        let t1489: f32 = t1485 - t1488;
+        let t1490: f32 = t1482 + t1489;
+        let t1491: f32 = t633 * t1472;
+        let t1492: f32 = t642 * t1475;
+        let t1493: f32 = t1491 - t1492;
+        let t1494: f32 = t669 * t1472;
+        let t1495: f32 = t678 * t1475;
+        let t1496: f32 = t1494 - t1495;
+        let t1497: f32 = t652 * t1479;
+        let t1498: f32 = t1496 - t1497;
+        let t1499: f32 = t1493 + t1498;
+        let t1500: f32 = t449 * t1472;
+        let t1501: f32 = t688 * t1479;
+        let t1502: f32 = t1500 - t1501;
+        let t1503: f32 = t463 * t1475;
+        let t1504: f32 = t474 * t1479;
+        let t1505: f32 = t1503 + t1504;
+        let t1506: f32 = t1502 - t1505;
+        let t1507: f32 = t490 * t1472;
+        let t1508: f32 = t499 * t1475;
+        let t1509: f32 = t1507 - t1508;
+        let t1510: f32 = t525 * t1472;
+        let t1511: f32 = t509 * t1479;
+        let t1512: f32 = t1510 - t1511;
+        let t1513: f32 = t1509 + t1512;
+        let t1514: f32 = t1506 + t1513;
+        let t1515: f32 = t1499 + t1514;
+        let t1516: f32 = t1490 + t1515;
+        let t1517: f32 = t1446 + t1469;
+        let t1518: f32 = t1470 + t1516;
+        let t1519: f32 = t1517 + t1518;
+        let t1520: f32 = t1436 + t1439;
+        let t1521: f32 = t1442 + t1443;
+        let t1522: f32 = t1444 + t1445;
+        let t1523: f32 = t1451 + t1463;
+        let t1524: f32 = t1520 + t1521;
+        let t1525: f32 = t1522 + t1523;
+        let t1526: f32 = t1524 + t1525;
+        let t1527: f32 = t1519 - t1526;
+        let t1528: f32 = t0 * t1527;
+        let t1529: f32 = t1528 * 0.5;
+        let t1530: f32 = -t1529;
+        let t1531: f32 = t108 * t859;
+        let t1532: f32 = t209 * t876;
+        let t1533: f32 = t721 + t1437;
+        let t1534: f32 = t800 * t1533;
+        let t1535: f32 = t722 + t1440;
+        let t1536: f32 = t806 * t1535;
+        let t1537: f32 = t120 * t835;
+        let t1538: f32 = t732 * t813;
+        let t1539: f32 = t127 * t847;
+        let t1540: f32 = t735 * t819;
+        let t1541: f32 = t760 + t1461;
+        let t1542: f32 = t797 * t1541;
+        let t1543: f32 = t112 * t1468;
+        let t1544: f32 = t1531 * 0.5;
+        let t1545: f32 = t1540 + t1542;
+        let t1546: f32 = t1516 + t1543;
+        let t1547: f32 = t1545 + t1546;
+        let t1548: f32 = t1532 + t1544;
+        let t1549: f32 = t1534 + t1536;
+        let t1550: f32 = t1537 + t1538;
+        let t1551: f32 = t1548 + t1549;
+        let t1552: f32 = t1539 + t1550;
+        let t1553: f32 = t1551 + t1552;
+        let t1554: f32 = t1547 - t1553;
+        let t1555: f32 = t0 * t1554;
+        let t1556: f32 = t1555 * 0.5;
+        let t1557: f32 = q1 - half_spacing;
+        let t1558: f32 = joint1_mass * t0;
+        let t1559: f32 = t1557 * t1558;
+        let t1560: f32 = t0 * t1557;
+        let t1561: f32 = t1560 - t296;
+        let t1562: f32 = t1561 * 0.5;
+        let t1563: f32 = t1562 + 1.0;
+        let t1564: f32 = t233 * t1563;
+        let t1565: f32 = t311 + t1561;
+        let t1566: f32 = t1565 * 0.5;
+        let t1567: f32 = t1566 + 1.0;
+        let t1568: f32 = t251 * t1567;
+        let t1569: f32 = joint2_mass * t1567;
+        let t1570: f32 = t515 + t1569;
+        let t1571: f32 = t310 * t1570;
+        let t1572: f32 = t318 + t1561;
+        let t1573: f32 = t1572 * 0.5;
+        let t1574: f32 = t1573 + 1.0;
+        let t1575: f32 = t259 * t1574;
+        let t1576: f32 = joint3_mass * t1574;
+        let t1577: f32 = rod3_mass * t1574;
+        let t1578: f32 = t1576 + t1577;
+        let t1579: f32 = t549 + t1578;
+        let t1580: f32 = t317 * t1579;
+        let t1581: f32 = t1561 - t324;
+        let t1582: f32 = t1581 * 0.5;
+        let t1583: f32 = t1582 + 1.0;
+        let t1584: f32 = t268 * t1583;
+        let t1585: f32 = joint4_mass * t1583;
+        let t1586: f32 = rod4_mass * t1583;
+        let t1587: f32 = t1585 + t1586;
+        let t1588: f32 = t586 + t1587;
+        let t1589: f32 = t323 * t1588;
+        let t1590: f32 = joint1_mx * t1106;
+        let t1591: f32 = t240 + t1590;
+        let t1592: f32 = t1591 * 0.5;
+        let t1593: f32 = -t1592;
+        let t1594: f32 = t1560 * t1593;
+        let t1595: f32 = t62 * t137;
+        let t1596: f32 = t368 * t1595;
+        let t1597: f32 = t33 * t142;
+        let t1598: f32 = t380 * t1597;
+        let t1599: f32 = t360 * t1106;
+        let t1600: f32 = t1598 + t1599;
+        let t1601: f32 = t1596 - t1600;
+        let t1602: f32 = t0 * t1601;
+        let t1603: f32 = t1560 - t214;
+        let t1604: f32 = t1603 * 0.5;
+        let t1605: f32 = t1604 + 1.0;
+        let t1606: f32 = joint5_mass + joint6_mass;
+        let t1607: f32 = t1605 * t1606;
+        let t1608: f32 = t96 - t98;
+        let t1609: f32 = t1608 * 0.125;
+        let t1610: f32 = t8 * t1609;
+        let t1611: f32 = t99 - t1610;
+        let t1612: f32 = t95 * t1611;
+        let t1613: f32 = q1 + t1612;
+        let t1614: f32 = t289 + t1613;
+        let t1615: f32 = t0 * t1614;
+        let t1616: f32 = t1560 - t1615;
+        let t1617: f32 = t1616 * 0.5;
+        let t1618: f32 = t1617 + 1.0;
+        let t1619: f32 = platform_mass * t1618;
+        let t1620: f32 = t3 * 0.5;
+        let t1621: f32 = t0 * t1620;
+        let t1622: f32 = t1560 * 0.5;
+        let t1623: f32 = t1622 + 1.0;
+        let t1624: f32 = t1623 - t1621;
+        let t1625: f32 = joint2_mass * t1624;
+        let t1626: f32 = t1619 + t1625;
+        let t1627: f32 = t1557 * 0.5;
+        let t1628: f32 = t0 * t1627;
+        let t1629: f32 = t1623 - t1628;
+        let t1630: f32 = rod3_mass + joint3_mass;
+        let t1631: f32 = t1629 * t1630;
+        let t1632: f32 = q1 + half_spacing;
+        let t1633: f32 = t1632 * 0.5;
+        let t1634: f32 = t0 * t1633;
+        let t1635: f32 = t1623 - t1634;
+        let t1636: f32 = rod4_mass + joint4_mass;
+        let t1637: f32 = t1635 * t1636;
+        let t1638: f32 = t1631 + t1637;
+        let t1639: f32 = t1607 + t1626;
+        let t1640: f32 = t1638 + t1639;
+        let t1641: f32 = t1640 - t1602;
+        let t1642: f32 = t295 * t1641;
+        let t1643: f32 = t1082 * t1595;
+        let t1644: f32 = t1078 * t1597;
+        let t1645: f32 = t1080 * t1106;
+        let t1646: f32 = t1644 + t1645;
+        let t1647: f32 = t1643 - t1646;
+        let t1648: f32 = t0 * t1647;
+        let t1649: f32 = t1607 - t1648;
+        let t1650: f32 = t292 * t1649;
+        let t1651: f32 = t293 + t1561;
+        let t1652: f32 = t1651 * 0.5;
+        let t1653: f32 = t1652 + 1.0;
+        let t1654: f32 = t364 * t1595;
+        let t1655: f32 = t376 * t1597;
+        let t1656: f32 = t356 * t1106;
+        let t1657: f32 = t1655 + t1656;
+        let t1658: f32 = t1654 - t1657;
+        let t1659: f32 = t1653 * t1658;
+        let t1660: f32 = t798 * t876;
+        let t1661: f32 = t798 * t868;
+        let t1662: f32 = t798 * t859;
+        let t1663: f32 = t1661 - t1662;
+        let t1664: f32 = t1660 + t1663;
+        let t1665: f32 = t819 * t850;
+        let t1666: f32 = t797 * t901;
+        let t1667: f32 = t1665 + t1666;
+        let t1668: f32 = platform_ixx * t81;
+        let t1669: f32 = t133 * t1668;
+        let t1670: f32 = platform_ixy * t57;
+        let t1671: f32 = t137 * t1670;
+        let t1672: f32 = platform_ixz * t374;
+        let t1673: f32 = t1671 + t1672;
+        let t1674: f32 = t1669 - t1673;
+        let t1675: f32 = t1674 * 0.5;
+        let t1676: f32 = t1472 * t1675;
+        let t1677: f32 = platform_ixy * t81;
+        let t1678: f32 = t133 * t1677;
+        let t1679: f32 = platform_iyy * t57;
+        let t1680: f32 = t137 * t1679;
+        let t1681: f32 = platform_iyz * t374;
+        let t1682: f32 = t1680 + t1681;
+        let t1683: f32 = t1678 - t1682;
+        let t1684: f32 = t1683 * 0.5;
+        let t1685: f32 = t1475 * t1684;
+        let t1686: f32 = t1676 - t1685;
+        let t1687: f32 = joint1_ixx * t81;
+        let t1688: f32 = t133 * t1687;
+        let t1689: f32 = joint1_ixy * t57;
+        let t1690: f32 = t137 * t1689;
+        let t1691: f32 = joint1_ixz * t374;
+        let t1692: f32 = t1690 + t1691;
+        let t1693: f32 = t1688 - t1692;
+        let t1694: f32 = t1693 * 0.5;
+        let t1695: f32 = t1472 * t1694;
+        let t1696: f32 = platform_ixz * t81;
+        let t1697: f32 = t133 * t1696;
+        let t1698: f32 = platform_iyz * t57;
+        let t1699: f32 = t137 * t1698;
+        let t1700: f32 = platform_izz * t374;
+        let t1701: f32 = t1699 + t1700;
+        let t1702: f32 = t1697 - t1701;
+        let t1703: f32 = t1702 * 0.5;
+        let t1704: f32 = t1479 * t1703;
+        let t1705: f32 = t1695 - t1704;
+        let t1706: f32 = t1686 + t1705;
+        let t1707: f32 = t1667 + t1706;
+        let t1708: f32 = joint2_ixx * t81;
+        let t1709: f32 = t133 * t1708;
+        let t1710: f32 = joint2_ixy * t57;
+        let t1711: f32 = t137 * t1710;
+        let t1712: f32 = joint2_ixz * t374;
+        let t1713: f32 = t1711 + t1712;
+        let t1714: f32 = t1709 - t1713;
+        let t1715: f32 = t1714 * 0.5;
+        let t1716: f32 = t1472 * t1715;
+        let t1717: f32 = joint2_ixy * t81;
+        let t1718: f32 = t133 * t1717;
+        let t1719: f32 = joint2_iyy * t57;
+        let t1720: f32 = t137 * t1719;
+        let t1721: f32 = joint2_iyz * t374;
+        let t1722: f32 = t1720 + t1721;
+        let t1723: f32 = t1718 - t1722;
+        let t1724: f32 = t1723 * 0.5;
+        let t1725: f32 = t1475 * t1724;
+        let t1726: f32 = t1716 - t1725;
+        let t1727: f32 = joint1_ixy * t81;
+        let t1728: f32 = t133 * t1727;
+        let t1729: f32 = joint1_iyy * t57;
+        let t1730: f32 = t137 * t1729;
+        let t1731: f32 = joint1_iyz * t374;
+        let t1732: f32 = t1730 + t1731;
+        let t1733: f32 = t1728 - t1732;
+        let t1734: f32 = t1733 * 0.5;
+        let t1735: f32 = t1475 * t1734;
+        let t1736: f32 = joint1_ixz * t81;
+        let t1737: f32 = t133 * t1736;
+        let t1738: f32 = joint1_iyz * t57;
+        let t1739: f32 = t137 * t1738;
+        let t1740: f32 = joint1_izz * t374;
+        let t1741: f32 = t1739 + t1740;
+        let t1742: f32 = t1737 - t1741;
+        let t1743: f32 = t1742 * 0.5;
+        let t1744: f32 = t1479 * t1743;
+        let t1745: f32 = t1735 + t1744;
+        let t1746: f32 = t1726 - t1745;
+        let t1747: f32 = joint3_ixx * t81;
+        let t1748: f32 = t133 * t1747;
+        let t1749: f32 = joint3_ixy * t57;
+        let t1750: f32 = t137 * t1749;
+        let t1751: f32 = joint3_ixz * t374;
+        let t1752: f32 = t1750 + t1751;
+        let t1753: f32 = t1748 - t1752;
+        let t1754: f32 = t1753 * 0.5;
+        let t1755: f32 = t1472 * t1754;
+        let t1756: f32 = joint2_ixz * t81;
+        let t1757: f32 = t133 * t1756;
+        let t1758: f32 = joint2_iyz * t57;
+        let t1759: f32 = t137 * t1758;
+        let t1760: f32 = joint2_izz * t374;
+        let t1761: f32 = t1759 + t1760;
+        let t1762: f32 = t1757 - t1761;
+        let t1763: f32 = t1762 * 0.5;
+        let t1764: f32 = t1479 * t1763;
+        let t1765: f32 = t1755 - t1764;
+        let t1766: f32 = joint3_ixy * t81;
+        let t1767: f32 = t133 * t1766;
+        let t1768: f32 = joint3_iyy * t57;
+        let t1769: f32 = t137 * t1768;
+        let t1770: f32 = joint3_iyz * t374;
+        let t1771: f32 = t1769 + t1770;
+        let t1772: f32 = t1767 - t1771;
+        let t1773: f32 = t1772 * 0.5;
+        let t1774: f32 = t1475 * t1773;
+        let t1775: f32 = joint3_ixz * t81;
+        let t1776: f32 = t133 * t1775;
+        let t1777: f32 = joint3_iyz * t57;
+        let t1778: f32 = t137 * t1777;
+        let t1779: f32 = joint3_izz * t374;
+        let t1780: f32 = t1778 + t1779;
+        let t1781: f32 = t1776 - t1780;
+        let t1782: f32 = t1781 * 0.5;
+        let t1783: f32 = t1479 * t1782;
+        let t1784: f32 = t1774 + t1783;
+        let t1785: f32 = t1765 - t1784;
+        let t1786: f32 = t1746 + t1785;
+        let t1787: f32 = t1707 + t1786;
+        let t1788: f32 = joint4_ixx * t81;
+        let t1789: f32 = t133 * t1788;
+        let t1790: f32 = joint4_ixy * t57;
+        let t1791: f32 = t137 * t1790;
+        let t1792: f32 = joint4_ixz * t374;
+        let t1793: f32 = t1791 + t1792;
+        let t1794: f32 = t1789 - t1793;
+        let t1795: f32 = t1794 * 0.5;
+        let t1796: f32 = t1472 * t1795;
+        let t1797: f32 = joint4_ixy * t81;
+        let t1798: f32 = t133 * t1797;
+        let t1799: f32 = joint4_iyy * t57;
+        let t1800: f32 = t137 * t1799;
+        let t1801: f32 = joint4_iyz * t374;
+        let t1802: f32 = t1800 + t1801;
+        let t1803: f32 = t1798 - t1802;
+        let t1804: f32 = t1803 * 0.5;
+        let t1805: f32 = t1475 * t1804;
+        let t1806: f32 = t1796 - t1805;
+        let t1807: f32 = t803 * t886;
+        let t1808: f32 = t804 - t1042;
+        let t1809: f32 = t800 * t1808;
+        let t1810: f32 = t1807 + t1809;
+        let t1811: f32 = t1806 - t1810;
+        let t1812: f32 = joint5_ixx * t81;
+        let t1813: f32 = t133 * t1812;
+        let t1814: f32 = joint5_ixy * t57;
+        let t1815: f32 = t137 * t1814;
+        let t1816: f32 = joint5_ixz * t374;
+        let t1817: f32 = t1815 + t1816;
+        let t1818: f32 = t1813 - t1817;
+        let t1819: f32 = t1818 * 0.5;
+        let t1820: f32 = t1472 * t1819;
+        let t1821: f32 = t810 - t1046;
+        let t1822: f32 = t806 * t1821;
+        let t1823: f32 = t1820 - t1822;
+        let t1824: f32 = joint4_ixz * t81;
+        let t1825: f32 = t133 * t1824;
+        let t1826: f32 = joint4_iyz * t57;
+        let t1827: f32 = t137 * t1826;
+        let t1828: f32 = joint4_izz * t374;
+        let t1829: f32 = t1827 + t1828;
+        let t1830: f32 = t1825 - t1829;
+        let t1831: f32 = t1830 * 0.5;
+        let t1832: f32 = t1479 * t1831;
+        let t1833: f32 = t809 * t894;
+        let t1834: f32 = t1832 + t1833;
+        let t1835: f32 = t1823 - t1834;
+        let t1836: f32 = t1811 + t1835;
+        let t1837: f32 = joint6_ixx * t81;
+        let t1838: f32 = t133 * t1837;
+        let t1839: f32 = joint6_ixy * t57;
+        let t1840: f32 = t137 * t1839;
+        let t1841: f32 = joint6_ixz * t374;
+        let t1842: f32 = t1840 + t1841;
+        let t1843: f32 = t1838 - t1842;
+        let t1844: f32 = t1843 * 0.5;
+        let t1845: f32 = t1472 * t1844;
+        let t1846: f32 = joint6_ixy * t81;
+        let t1847: f32 = t133 * t1846;
+        let t1848: f32 = joint6_iyy * t57;
+        let t1849: f32 = t137 * t1848;
+        let t1850: f32 = joint6_iyz * t374;
+        let t1851: f32 = t1849 + t1850;
+        let t1852: f32 = t1847 - t1851;
+        let t1853: f32 = t1852 * 0.5;
+        let t1854: f32 = t1475 * t1853;
+        let t1855: f32 = t1845 - t1854;
+        let t1856: f32 = joint6_ixz * t81;
+        let t1857: f32 = t133 * t1856;
+        let t1858: f32 = joint6_iyz * t57;
+        let t1859: f32 = t137 * t1858;
+        let t1860: f32 = joint6_izz * t374;
+        let t1861: f32 = t1859 + t1860;
+        let t1862: f32 = t1857 - t1861;
+        let t1863: f32 = t1862 * 0.5;
+        let t1864: f32 = t1479 * t1863;
+        let t1865: f32 = t822 * t847;
+        let t1866: f32 = t1864 + t1865;
+        let t1867: f32 = t1855 - t1866;
+        let t1868: f32 = joint5_ixy * t81;
+        let t1869: f32 = t133 * t1868;
+        let t1870: f32 = joint5_iyy * t57;
+        let t1871: f32 = t137 * t1870;
+        let t1872: f32 = joint5_iyz * t374;
+        let t1873: f32 = t1871 + t1872;
+        let t1874: f32 = t1869 - t1873;
+        let t1875: f32 = t1874 * 0.5;
+        let t1876: f32 = t1475 * t1875;
+        let t1877: f32 = joint5_ixz * t81;
+        let t1878: f32 = t133 * t1877;
+        let t1879: f32 = joint5_iyz * t57;
+        let t1880: f32 = t137 * t1879;
+        let t1881: f32 = joint5_izz * t374;
+        let t1882: f32 = t1880 + t1881;
+        let t1883: f32 = t1878 - t1882;
+        let t1884: f32 = t1883 * 0.5;
+        let t1885: f32 = t1479 * t1884;
+        let t1886: f32 = t1876 + t1885;
+        let t1887: f32 = t816 * t835;
+        let t1888: f32 = t813 * t838;
+        let t1889: f32 = t1887 + t1888;
+        let t1890: f32 = t1886 + t1889;
+        let t1891: f32 = t1867 - t1890;
+        let t1892: f32 = t1836 + t1891;
+        let t1893: f32 = t1787 + t1892;
+        let t1894: f32 = t1664 * 0.5;
+        let t1895: f32 = t1564 + t1568;
+        let t1896: f32 = t1571 + t1575;
+        let t1897: f32 = t1580 + t1584;
+        let t1898: f32 = t241 + t1650;
+        let t1899: f32 = t1893 + t1894;
+        let t1900: f32 = t1895 + t1896;
+        let t1901: f32 = t1897 + t1898;
+        let t1902: f32 = t1900 + t1901;
+        let t1903: f32 = t1899 + t1902;
+        let t1904: f32 = t1589 + t1594;
+        let t1905: f32 = t1642 + t1659;
+        let t1906: f32 = t1904 + t1905;
+        let t1907: f32 = t1903 - t1906;
+        let t1908: f32 = t0 * t1907;
+        let t1909: f32 = t1630 * 0.5;
+        let t1910: f32 = t1629 * t1909;
+        let t1911: f32 = t1636 * 0.5;
+        let t1912: f32 = t1635 * t1911;
+        let t1913: f32 = t1606 * 0.5;
+        let t1914: f32 = t1605 * t1913;
+        let t1915: f32 = t1626 * 0.5;
+        let t1916: f32 = t1910 + t1912;
+        let t1917: f32 = t1914 + t1915;
+        let t1918: f32 = t1916 + t1917;
+        let t1919: f32 = t1560 * t1918;
+        let t1920: f32 = platform_mass * t1563;
+        let t1921: f32 = joint1_mass + t1920;
+        let t1922: f32 = t1587 + t1921;
+        let t1923: f32 = joint5_mass * t1653;
+        let t1924: f32 = t1569 + t1923;
+        let t1925: f32 = joint6_mass * t1653;
+        let t1926: f32 = t1578 + t1925;
+        let t1927: f32 = t1924 + t1926;
+        let t1928: f32 = t1922 + t1927;
+        let t1929: f32 = t1557 * t1557;
+        let t1930: f32 = joint1_mass * t1;
+        let t1931: f32 = t1929 * t1930;
+        let t1932: f32 = t1 * t1557;
+        let t1933: f32 = t233 * t1932;
+        let t1934: f32 = t1931 + t1933;
+        let t1935: f32 = t241 * t1932;
+        let t1936: f32 = t251 * t1932;
+        let t1937: f32 = t1935 + t1936;
+        let t1938: f32 = t1934 + t1937;
+        let t1939: f32 = t259 * t1932;
+        let t1940: f32 = t268 * t1932;
+        let t1941: f32 = t1939 + t1940;
+        let t1942: f32 = t276 * t1932;
+        let t1943: f32 = t225 * t1932;
+        let t1944: f32 = t1942 + t1943;
+        let t1945: f32 = t1941 + t1944;
+        let t1946: f32 = t1938 + t1945;
+        let t1947: f32 = t280 + t1908;
+        let t1948: f32 = t1947 * 0.5;
+        let t1949: f32 = t1946 * 0.25;
+        let t1950: f32 = t1559 + t1919;
+        let t1951: f32 = t1928 + t1948;
+        let t1952: f32 = t1950 + t1951;
+        let t1953: f32 = t1949 + t1952;
+        let t1954: f32 = t241 * t1560;
+        let t1955: f32 = t233 * t1562;
+        let t1956: f32 = t251 * t1566;
+        let t1957: f32 = joint2_mass * t1566;
+        let t1958: f32 = t515 + t1957;
+        let t1959: f32 = t310 * t1958;
+        let t1960: f32 = t259 * t1573;
+        let t1961: f32 = joint3_mass * t1573;
+        let t1962: f32 = rod3_mass * t1573;
+        let t1963: f32 = t1961 + t1962;
+        let t1964: f32 = t549 + t1963;
+        let t1965: f32 = t317 * t1964;
+        let t1966: f32 = t268 * t1582;
+        let t1967: f32 = joint4_mass * t1582;
+        let t1968: f32 = rod4_mass * t1582;
+        let t1969: f32 = t1967 + t1968;
+        let t1970: f32 = t586 + t1969;
+        let t1971: f32 = t323 * t1970;
+        let t1972: f32 = t1604 * t1606;
+        let t1973: f32 = platform_mass * t1617;
+        let t1974: f32 = t1622 - t1621;
+        let t1975: f32 = joint2_mass * t1974;
+        let t1976: f32 = t1973 + t1975;
+        let t1977: f32 = t1622 - t1628;
+        let t1978: f32 = t1630 * t1977;
+        let t1979: f32 = t1622 - t1634;
+        let t1980: f32 = t1636 * t1979;
+        let t1981: f32 = t1978 + t1980;
+        let t1982: f32 = t1972 + t1976;
+        let t1983: f32 = t1981 + t1982;
+        let t1984: f32 = t1602 - t1983;
+        let t1985: f32 = t295 * t1984;
+        let t1986: f32 = t1648 - t1972;
+        let t1987: f32 = t292 * t1986;
+        let t1988: f32 = t1652 * t1658;
+        let t1989: f32 = t1664 + t1954;
+        let t1990: f32 = t1989 * 0.5;
+        let t1991: f32 = t1955 + t1990;
+        let t1992: f32 = t1956 + t1959;
+        let t1993: f32 = t1960 + t1965;
+        let t1994: f32 = t1966 + t1985;
+        let t1995: f32 = t1991 + t1992;
+        let t1996: f32 = t1993 + t1994;
+        let t1997: f32 = t1995 + t1996;
+        let t1998: f32 = t1893 + t1997;
+        let t1999: f32 = t1971 + t1987;
+        (
+            t1016,
+            t1017,
+            t1018,
+            t1019,
+            t1021,
+            t1024,
+            t1027,
+            t1028,
+            t1031,
+            t1033,
+            t1043,
+            t1047,
+            t1055,
+            t1073,
+            t1078,
+            t1080,
+            t1082,
+            t1094,
+            t1099,
+            t1106,
+            t1112,
+            t1123,
+            t1135,
+            t1146,
+            t1159,
+            t1170,
+            t1182,
+            t1193,
+            t1207,
+            t1218,
+            t1230,
+            t1241,
+            t1252,
+            t1266,
+            t1277,
+            t1289,
+            t1300,
+            t1313,
+            t1324,
+            t1336,
+            t1347,
+            t1368,
+            t1369,
+            t1370,
+            t1371,
+            t1373,
+            t1376,
+            t1379,
+            t1380,
+            t1383,
+            t1385,
+            t1394,
+            t1397,
+            t1409,
+            t1429,
+            t1430,
+            t1432,
+            t1433,
+            t1434,
+            t1435,
+            t1437,
+            t1440,
+            t1450,
+            t1452,
+            t1454,
+            t1456,
+            t1470,
+            t1472,
+            t1474,
+            t1479,
+            t1529,
+            t1530,
+            t1556,
+            t1557,
+            t1559,
+            t1560,
+            t1562,
+            t1563,
+            t1566,
+            t1567,
+            t1570,
+            t1573,
+            t1574,
+            t1582,
+            t1583,
+            t1595,
+            t1597,
+            t1604,
+            t1606,
+            t1615,
+            t1628,
+            t1630,
+            t1634,
+            t1636,
+            t1638,
+            t1641,
+            t1652,
+            t1653,
+            t1675,
+            t1684,
+            t1694,
+            t1703,
+            t1715,
+            t1724,
+            t1734,
+            t1743,
+            t1754,
+            t1763,
+            t1773,
+            t1782,
+            t1795,
+            t1804,
+            t1819,
+            t1831,
+            t1844,
+            t1853,
+            t1863,
+            t1875,
+            t1884,
+            t1908,
+            t1909,
+            t1911,
+            t1913,
+            t1923,
+            t1925,
+            t1928,
+            t1932,
+            t1949,
+            t1953,
+            t1957,
+            t1958,
+            t1963,
+            t1969,
+            t1976,
+            t1977,
+            t1979,
+            t1981,
+            t1984,
+            t1988,
+            t1998,
+            t1999,
+        )
+    };
+    let (
+        t2025,
+        t2176,
+        t2177,
+        t2178,
+        t2184,
+        t2188,
+        t2193,
+        t2194,
+        t2269,
+        t2270,
+        t2361,
+        t2391,
+        t2513,
+        t2545,
+        t2548,
+        t2549,
+        t2550,
+        t2551,
+        t2556,
+        t2562,
+        t2563,
+    ) = {
+        let t2000: f32 = t1988 + t1999;
+        let t2001: f32 = t1998 - t2000;
+        let t2002: f32 = t0 * t2001;
+        let t2003: f32 = t1909 * t1977;
+        let t2004: f32 = t1911 * t1979;
+        let t2005: f32 = t1604 * t1913;
+        let t2006: f32 = t1976 * 0.5;
+        let t2007: f32 = t2003 + t2004;
+        let t2008: f32 = t2005 + t2006;
+        let t2009: f32 = t2007 + t2008;
+        let t2010: f32 = t1560 * t2009;
+        let t2011: f32 = t280 + t1559;
+        let t2012: f32 = t1963 + t1969;
+        let t2013: f32 = platform_mass * t1562;
+        let t2014: f32 = t1957 + t2013;
+        let t2015: f32 = joint5_mass * t1652;
+        let t2016: f32 = joint6_mass * t1652;
+        let t2017: f32 = t2015 + t2016;
+        let t2018: f32 = t2014 + t2017;
+        let t2019: f32 = t2012 + t2018;
+        let t2020: f32 = t2002 + t2011;
+        let t2021: f32 = t2020 * 0.5;
+        let t2022: f32 = t2010 + t2021;
+        let t2023: f32 = t1949 + t2019;
+        let t2024: f32 = t2022 + t2023;
+        let t2025: f32 = -t2024;
+        let t2026: f32 = t127 - 0.5;
+        let t2027: f32 = joint6_mass * t2026;
+        let t2028: f32 = t112 - 0.5;
+        let t2029: f32 = joint3_mass * t2028;
+        let t2030: f32 = rod3_mass * t2028;
+        let t2031: f32 = t2029 + t2030;
+        let t2032: f32 = t2027 + t2031;
+        let t2033: f32 = joint4_mass * t2028;
+        let t2034: f32 = rod4_mass * t2028;
+        let t2035: f32 = t2033 + t2034;
+        let t2036: f32 = t209 - 0.5;
+        let t2037: f32 = joint2_mass * t2036;
+        let t2038: f32 = t120 - 0.5;
+        let t2039: f32 = joint5_mass * t2038;
+        let t2040: f32 = t2037 + t2039;
+        let t2041: f32 = t2035 + t2040;
+        let t2042: f32 = t2032 + t2041;
+        let t2043: f32 = t156 * t1932;
+        let t2044: f32 = t164 * t1932;
+        let t2045: f32 = t2043 + t2044;
+        let t2046: f32 = t174 * t1932;
+        let t2047: f32 = t182 * t1932;
+        let t2048: f32 = t2046 + t2047;
+        let t2049: f32 = t2045 + t2048;
+        let t2050: f32 = t191 * t1932;
+        let t2051: f32 = t199 * t1932;
+        let t2052: f32 = t2050 + t2051;
+        let t2053: f32 = t130 * t1557;
+        let t2054: f32 = t1559 + t2053;
+        let t2055: f32 = platform_mass * t1;
+        let t2056: f32 = t1557 * t2055;
+        let t2057: f32 = t107 * t2056;
+        let t2058: f32 = t147 * t1932;
+        let t2059: f32 = t2057 + t2058;
+        let t2060: f32 = t2054 - t2059;
+        let t2061: f32 = t2052 - t2060;
+        let t2062: f32 = t2049 + t2061;
+        let t2063: f32 = rod3_mass * t0;
+        let t2064: f32 = t1557 * t2063;
+        let t2065: f32 = t2028 * t2064;
+        let t2066: f32 = joint4_mass * t0;
+        let t2067: f32 = t1557 * t2066;
+        let t2068: f32 = t2028 * t2067;
+        let t2069: f32 = t2065 + t2068;
+        let t2070: f32 = rod4_mass * t0;
+        let t2071: f32 = t1557 * t2070;
+        let t2072: f32 = t2028 * t2071;
+        let t2073: f32 = joint5_mass * t0;
+        let t2074: f32 = t1557 * t2073;
+        let t2075: f32 = t2038 * t2074;
+        let t2076: f32 = t2072 + t2075;
+        let t2077: f32 = t2069 + t2076;
+        let t2078: f32 = joint6_mass * t0;
+        let t2079: f32 = t1557 * t2078;
+        let t2080: f32 = t2026 * t2079;
+        let t2081: f32 = t251 * t2036;
+        let t2082: f32 = t336 + t2037;
+        let t2083: f32 = t310 * t2082;
+        let t2084: f32 = t1437 + t2031;
+        let t2085: f32 = t317 * t2084;
+        let t2086: f32 = t1440 + t2035;
+        let t2087: f32 = t323 * t2086;
+        let t2088: f32 = t276 * t2038;
+        let t2089: f32 = t225 * t2026;
+        let t2090: f32 = t353 * t1094;
+        let t2091: f32 = t975 * t1595;
+        let t2092: f32 = t933 * t1597;
+        let t2093: f32 = t961 * t1106;
+        let t2094: f32 = t2092 + t2093;
+        let t2095: f32 = t2091 - t2094;
+        let t2096: f32 = t1474 * t2095;
+        let t2097: f32 = t2090 * 0.5;
+        let t2098: f32 = t2096 + t2097;
+        let t2099: f32 = t137 * t2098;
+        let t2100: f32 = t961 * t1595;
+        let t2101: f32 = t925 * t1597;
+        let t2102: f32 = t953 * t1106;
+        let t2103: f32 = t2101 + t2102;
+        let t2104: f32 = t2100 - t2103;
+        let t2105: f32 = t1472 * t2104;
+        let t2106: f32 = t933 * t1595;
+        let t2107: f32 = t941 * t1597;
+        let t2108: f32 = t925 * t1106;
+        let t2109: f32 = t2107 + t2108;
+        let t2110: f32 = t2106 - t2109;
+        let t2111: f32 = t1479 * t2110;
+        let t2112: f32 = platform_mx * t1106;
+        let t2113: f32 = t228 + t2112;
+        let t2114: f32 = t2113 * 0.5;
+        let t2115: f32 = t1450 * t2114;
+        let t2116: f32 = joint2_mass * 0.5;
+        let t2117: f32 = t1630 + t1636;
+        let t2118: f32 = t2117 * 0.0;
+        let t2119: f32 = t391 + 0.5;
+        let t2120: f32 = -t2119;
+        let t2121: f32 = joint5_mass * t2120;
+        let t2122: f32 = t398 + 0.5;
+        let t2123: f32 = -t2122;
+        let t2124: f32 = joint6_mass * t2123;
+        let t2125: f32 = t2121 + t2124;
+        let t2126: f32 = platform_mass * 0.5;
+        let t2127: f32 = t386 + t2116;
+        let t2128: f32 = t2118 + t2125;
+        let t2129: f32 = t2127 + t2128;
+        let t2130: f32 = t2126 - t2129;
+        let t2131: f32 = t295 * t2130;
+        let t2132: f32 = t361 * t1080;
+        let t2133: f32 = t369 * t1082;
+        let t2134: f32 = t374 * t1078;
+        let t2135: f32 = t2133 + t2134;
+        let t2136: f32 = t2132 - t2135;
+        let t2137: f32 = t0 * t2136;
+        let t2138: f32 = t2125 + t2137;
+        let t2139: f32 = t292 * t2138;
+        let t2140: f32 = t363 * t1595;
+        let t2141: f32 = t375 * t1597;
+        let t2142: f32 = t355 * t1106;
+        let t2143: f32 = t2141 + t2142;
+        let t2144: f32 = t2140 - t2143;
+        let t2145: f32 = t2028 * t2144;
+        let t2146: f32 = t1099 * 0.5;
+        let t2147: f32 = t2087 + t2099;
+        let t2148: f32 = t2111 + t2145;
+        let t2149: f32 = t2147 + t2148;
+        let t2150: f32 = t2146 + t2149;
+        let t2151: f32 = t2081 + t2083;
+        let t2152: f32 = t2085 + t2088;
+        let t2153: f32 = t2089 + t2105;
+        let t2154: f32 = t2115 + t2131;
+        let t2155: f32 = t2151 + t2152;
+        let t2156: f32 = t2153 + t2154;
+        let t2157: f32 = t2155 + t2156;
+        let t2158: f32 = t2139 + t2157;
+        let t2159: f32 = t2150 - t2158;
+        let t2160: f32 = t0 * t2159;
+        let t2161: f32 = t2080 - t2160;
+        let t2162: f32 = t204 - t203;
+        let t2163: f32 = joint2_mass * t0;
+        let t2164: f32 = t1557 * t2163;
+        let t2165: f32 = t2036 * t2164;
+        let t2166: f32 = joint3_mass * t0;
+        let t2167: f32 = t1557 * t2166;
+        let t2168: f32 = t2028 * t2167;
+        let t2169: f32 = t2165 + t2168;
+        let t2170: f32 = t2162 - t2169;
+        let t2171: f32 = t2161 - t2170;
+        let t2172: f32 = t2077 + t2171;
+        let t2173: f32 = t2062 * 0.25;
+        let t2174: f32 = t2172 * 0.5;
+        let t2175: f32 = t2042 + t2173;
+        let t2176: f32 = t2174 + t2175;
+        let t2177: f32 = -t2176;
+        let t2178: f32 = -t1556;
+        let t2179: f32 = t2011 * 0.5;
+        let t2180: f32 = t1928 + t2179;
+        let t2181: f32 = t1560 * t2180;
+        let t2182: f32 = t1908 + t2181;
+        let t2183: f32 = t2182 * 0.5;
+        let t2184: f32 = -t2183;
+        let t2185: f32 = t2019 + t2179;
+        let t2186: f32 = t1560 * t2185;
+        let t2187: f32 = t2002 + t2186;
+        let t2188: f32 = t2187 * 0.5;
+        let t2189: f32 = t2162 * 0.5;
+        let t2190: f32 = t2189 - t2042;
+        let t2191: f32 = t1560 * t2190;
+        let t2192: f32 = t2160 + t2191;
+        let t2193: f32 = t2192 * 0.5;
+        let t2194: f32 = -t2193;
+        let t2195: f32 = t307 * t859;
+        let t2196: f32 = t313 * t876;
+        let t2197: f32 = t320 * t886;
+        let t2198: f32 = t550 * t800;
+        let t2199: f32 = t326 * t894;
+        let t2200: f32 = t587 * t806;
+        let t2201: f32 = t621 * t813;
+        let t2202: f32 = t658 * t819;
+        let t2203: f32 = q1 * t913;
+        let t2204: f32 = t933 * t945;
+        let t2205: f32 = t961 * t966;
+        let t2206: f32 = t445 * t975;
+        let t2207: f32 = t2205 + t2206;
+        let t2208: f32 = t2204 - t2207;
+        let t2209: f32 = t1595 * t2208;
+        let t2210: f32 = t941 * t945;
+        let t2211: f32 = t925 * t966;
+        let t2212: f32 = t445 * t933;
+        let t2213: f32 = t2211 + t2212;
+        let t2214: f32 = t2210 - t2213;
+        let t2215: f32 = t1597 * t2214;
+        let t2216: f32 = t925 * t945;
+        let t2217: f32 = t953 * t966;
+        let t2218: f32 = t445 * t961;
+        let t2219: f32 = t2217 + t2218;
+        let t2220: f32 = t2216 - t2219;
+        let t2221: f32 = t1106 * t2220;
+        let t2222: f32 = t2203 * 0.5;
+        let t2223: f32 = t2215 + t2222;
+        let t2224: f32 = t2221 + t2223;
+        let t2225: f32 = t2224 - t2209;
+        let t2226: f32 = t0 * t2225;
+        let t2227: f32 = t214 - t1615;
+        let t2228: f32 = t2227 * 0.5;
+        let t2229: f32 = platform_mass * t2228;
+        let t2230: f32 = t214 * 0.5;
+        let t2231: f32 = t2230 - t1628;
+        let t2232: f32 = joint3_mass * t2231;
+        let t2233: f32 = t2230 - t1634;
+        let t2234: f32 = joint4_mass * t2233;
+        let t2235: f32 = t1454 * t1595;
+        let t2236: f32 = t1456 * t1597;
+        let t2237: f32 = t1106 * t1452;
+        let t2238: f32 = t2236 + t2237;
+        let t2239: f32 = t2235 - t2238;
+        let t2240: f32 = t0 * t2239;
+        let t2241: f32 = rod5_mass + rod6_mass;
+        let t2242: f32 = t1606 + t2241;
+        let t2243: f32 = t2242 * 0.0;
+        let t2244: f32 = t2229 + t2232;
+        let t2245: f32 = t2234 + t2243;
+        let t2246: f32 = t2244 + t2245;
+        let t2247: f32 = t2246 - t2240;
+        let t2248: f32 = t797 * t2247;
+        let t2249: f32 = t376 * t945;
+        let t2250: f32 = t356 * t966;
+        let t2251: f32 = t364 * t445;
+        let t2252: f32 = t2250 + t2251;
+        let t2253: f32 = t2249 - t2252;
+        let t2254: f32 = t299 * t2253;
+        let t2255: f32 = t2202 + t2248;
+        let t2256: f32 = t2254 + t2255;
+        let t2257: f32 = t2195 + t2196;
+        let t2258: f32 = t2197 + t2198;
+        let t2259: f32 = t2199 + t2200;
+        let t2260: f32 = t2201 + t2226;
+        let t2261: f32 = t2257 + t2258;
+        let t2262: f32 = t2259 + t2260;
+        let t2263: f32 = t2261 + t2262;
+        let t2264: f32 = t2256 - t2263;
+        let t2265: f32 = t0 * t2264;
+        let t2266: f32 = t2265 - t330;
+        let t2267: f32 = t281 * 0.25;
+        let t2268: f32 = t2266 * 0.5;
+        let t2269: f32 = t2268 - t2267;
+        let t2270: f32 = t2267 - t2268;
+        let t2271: f32 = t147 * t1563;
+        let t2272: f32 = t164 * t1567;
+        let t2273: f32 = t206 * t1570;
+        let t2274: f32 = t174 * t1574;
+        let t2275: f32 = t182 * t1583;
+        let t2276: f32 = t620 + t1923;
+        let t2277: f32 = t117 * t2276;
+        let t2278: f32 = t657 + t1925;
+        let t2279: f32 = t124 * t2278;
+        let t2280: f32 = joint1_mz * t374;
+        let t2281: f32 = t154 - t2280;
+        let t2282: f32 = t2281 * 0.5;
+        let t2283: f32 = t1560 * t2282;
+        let t2284: f32 = t107 * t1641;
+        let t2285: f32 = t411 * t1595;
+        let t2286: f32 = t413 * t1597;
+        let t2287: f32 = t409 * t1106;
+        let t2288: f32 = t2286 + t2287;
+        let t2289: f32 = t2285 - t2288;
+        let t2290: f32 = t0 * t2289;
+        let t2291: f32 = t1638 - t2290;
+        let t2292: f32 = t109 * t2291;
+        let t2293: f32 = t356 * t361;
+        let t2294: f32 = t364 * t369;
+        let t2295: f32 = t374 * t376;
+        let t2296: f32 = t2294 + t2295;
+        let t2297: f32 = t2293 - t2296;
+        let t2298: f32 = t1653 * t2297;
+        let t2299: f32 = t0 * t62;
+        let t2300: f32 = t137 * t2299;
+        let t2301: f32 = t1773 * t2300;
+        let t2302: f32 = t0 * t33;
+        let t2303: f32 = t142 * t2302;
+        let t2304: f32 = t1782 * t2303;
+        let t2305: f32 = t2301 - t2304;
+        let t2306: f32 = t0 * t218;
+        let t2307: f32 = t1795 * t2306;
+        let t2308: f32 = t1804 * t2300;
+        let t2309: f32 = t2307 - t2308;
+        let t2310: f32 = t2305 - t2309;
+        let t2311: f32 = t1831 * t2303;
+        let t2312: f32 = t1819 * t2306;
+        let t2313: f32 = t2311 + t2312;
+        let t2314: f32 = t1875 * t2300;
+        let t2315: f32 = t1884 * t2303;
+        let t2316: f32 = t2314 - t2315;
+        let t2317: f32 = t2313 - t2316;
+        let t2318: f32 = t2310 - t2317;
+        let t2319: f32 = t1844 * t2306;
+        let t2320: f32 = t1853 * t2300;
+        let t2321: f32 = t2319 - t2320;
+        let t2322: f32 = t1863 * t2303;
+        let t2323: f32 = t1675 * t2306;
+        let t2324: f32 = t1684 * t2300;
+        let t2325: f32 = t2323 - t2324;
+        let t2326: f32 = t2322 + t2325;
+        let t2327: f32 = t2321 + t2326;
+        let t2328: f32 = t1703 * t2303;
+        let t2329: f32 = t1694 * t2306;
+        let t2330: f32 = t2328 + t2329;
+        let t2331: f32 = t1734 * t2300;
+        let t2332: f32 = t1743 * t2303;
+        let t2333: f32 = t2331 - t2332;
+        let t2334: f32 = t2330 - t2333;
+        let t2335: f32 = t1715 * t2306;
+        let t2336: f32 = t1724 * t2300;
+        let t2337: f32 = t2335 - t2336;
+        let t2338: f32 = t1763 * t2303;
+        let t2339: f32 = t1754 * t2306;
+        let t2340: f32 = t2338 + t2339;
+        let t2341: f32 = t2337 + t2340;
+        let t2342: f32 = t2334 + t2341;
+        let t2343: f32 = t2327 + t2342;
+        let t2344: f32 = t2318 - t2343;
+        let t2345: f32 = t2271 + t2272;
+        let t2346: f32 = t2273 + t2274;
+        let t2347: f32 = t2275 + t2283;
+        let t2348: f32 = t2284 + t2292;
+        let t2349: f32 = t156 + t2298;
+        let t2350: f32 = t2345 + t2346;
+        let t2351: f32 = t2347 + t2348;
+        let t2352: f32 = t2344 + t2349;
+        let t2353: f32 = t2350 + t2351;
+        let t2354: f32 = t2352 + t2353;
+        let t2355: f32 = t2277 + t2279;
+        let t2356: f32 = t2354 - t2355;
+        let t2357: f32 = t0 * t2356;
+        let t2358: f32 = t2357 - t1928;
+        let t2359: f32 = t2011 * 0.25;
+        let t2360: f32 = t2358 * 0.5;
+        let t2361: f32 = t2360 - t2359;
+        let t2362: f32 = t147 * t1562;
+        let t2363: f32 = t156 * t1560;
+        let t2364: f32 = t164 * t1566;
+        let t2365: f32 = t206 * t1958;
+        let t2366: f32 = t174 * t1573;
+        let t2367: f32 = t182 * t1582;
+        let t2368: f32 = t620 + t2015;
+        let t2369: f32 = t117 * t2368;
+        let t2370: f32 = t657 + t2016;
+        let t2371: f32 = t124 * t2370;
+        let t2372: f32 = t107 * t1984;
+        let t2373: f32 = t1981 - t2290;
+        let t2374: f32 = t109 * t2373;
+        let t2375: f32 = t1652 * t2297;
+        let t2376: f32 = t2363 * 0.5;
+        let t2377: f32 = t2369 + t2371;
+        let t2378: f32 = t2372 + t2377;
+        let t2379: f32 = t2362 + t2364;
+        let t2380: f32 = t2365 + t2366;
+        let t2381: f32 = t2367 + t2374;
+        let t2382: f32 = t2344 + t2375;
+        let t2383: f32 = t2379 + t2380;
+        let t2384: f32 = t2381 + t2382;
+        let t2385: f32 = t2383 + t2384;
+        let t2386: f32 = t2376 + t2385;
+        let t2387: f32 = t2378 - t2386;
+        let t2388: f32 = t0 * t2387;
+        let t2389: f32 = t2019 + t2388;
+        let t2390: f32 = t2389 * 0.5;
+        let t2391: f32 = t2359 + t2390;
+        let t2392: f32 = t886 * t1019;
+        let t2393: f32 = t800 * t1043;
+        let t2394: f32 = t894 * t1021;
+        let t2395: f32 = t806 * t1047;
+        let t2396: f32 = t835 * t1024;
+        let t2397: f32 = t837 - t1027;
+        let t2398: f32 = t813 * t2397;
+        let t2399: f32 = t847 * t1028;
+        let t2400: f32 = t849 - t1031;
+        let t2401: f32 = t819 * t2400;
+        let t2402: f32 = t945 * t1456;
+        let t2403: f32 = t966 * t1452;
+        let t2404: f32 = t445 * t1454;
+        let t2405: f32 = t1055 + t2402;
+        let t2406: f32 = t2403 + t2404;
+        let t2407: f32 = t2405 - t2406;
+        let t2408: f32 = t0 * t2407;
+        let t2409: f32 = t1073 + t2408;
+        let t2410: f32 = t2126 - t2409;
+        let t2411: f32 = t797 * t2410;
+        let t2412: f32 = t876 + t1470;
+        let t2413: f32 = t23 * t426;
+        let t2414: f32 = t142 * t2413;
+        let t2415: f32 = t797 * t2414;
+        let t2416: f32 = t2415 - t438;
+        let t2417: f32 = t89 * t433;
+        let t2418: f32 = t133 * t2417;
+        let t2419: f32 = t797 * t2418;
+        let t2420: f32 = t429 * t455;
+        let t2421: f32 = t797 * t2420;
+        let t2422: f32 = t2419 + t2421;
+        let t2423: f32 = t439 + t2422;
+        let t2424: f32 = t2416 - t2423;
+        let t2425: f32 = t1266 * t1597;
+        let t2426: f32 = t218 * t1277;
+        let t2427: f32 = t2425 + t2426;
+        let t2428: f32 = t1289 * t1595;
+        let t2429: f32 = t1300 * t1597;
+        let t2430: f32 = t2428 - t2429;
+        let t2431: f32 = t2427 - t2430;
+        let t2432: f32 = joint1_mass - t157;
+        let t2433: f32 = t2432 * 0.5;
+        let t2434: f32 = t107 * t2433;
+        let t2435: f32 = t218 * t1313;
+        let t2436: f32 = t2434 + t2435;
+        let t2437: f32 = t1324 * t1595;
+        let t2438: f32 = t1336 * t1597;
+        let t2439: f32 = t2437 - t2438;
+        let t2440: f32 = t2436 - t2439;
+        let t2441: f32 = t2431 + t2440;
+        let t2442: f32 = t164 * t2036;
+        let t2443: f32 = t206 * t2082;
+        let t2444: f32 = t2442 + t2443;
+        let t2445: f32 = t218 * t1347;
+        let t2446: f32 = t1112 * t1595;
+        let t2447: f32 = t2445 - t2446;
+        let t2448: f32 = t2444 + t2447;
+        let t2449: f32 = t1123 * t1597;
+        let t2450: f32 = t174 * t2028;
+        let t2451: f32 = t2449 + t2450;
+        let t2452: f32 = t109 * t2084;
+        let t2453: f32 = t218 * t1135;
+        let t2454: f32 = t2452 + t2453;
+        let t2455: f32 = t2451 + t2454;
+        let t2456: f32 = t2448 + t2455;
+        let t2457: f32 = t2441 + t2456;
+        let t2458: f32 = t1146 * t1595;
+        let t2459: f32 = t1159 * t1597;
+        let t2460: f32 = t2458 - t2459;
+        let t2461: f32 = t182 * t2028;
+        let t2462: f32 = t109 * t2086;
+        let t2463: f32 = t2461 + t2462;
+        let t2464: f32 = t2460 - t2463;
+        let t2465: f32 = t218 * t1170;
+        let t2466: f32 = t1182 * t1595;
+        let t2467: f32 = t2465 - t2466;
+        let t2468: f32 = t1193 * t1597;
+        let t2469: f32 = t191 * t2038;
+        let t2470: f32 = t2468 + t2469;
+        let t2471: f32 = t2467 + t2470;
+        let t2472: f32 = t2464 - t2471;
+        let t2473: f32 = t340 + t2039;
+        let t2474: f32 = t117 * t2473;
+        let t2475: f32 = t218 * t1207;
+        let t2476: f32 = t2474 - t2475;
+        let t2477: f32 = t1218 * t1595;
+        let t2478: f32 = t1230 * t1597;
+        let t2479: f32 = t2477 - t2478;
+        let t2480: f32 = t2476 + t2479;
+        let t2481: f32 = t199 * t2026;
+        let t2482: f32 = t344 + t2027;
+        let t2483: f32 = t124 * t2482;
+        let t2484: f32 = t2481 - t2483;
+        let t2485: f32 = t107 * t2190;
+        let t2486: f32 = t218 * t1241;
+        let t2487: f32 = t1252 * t1595;
+        let t2488: f32 = t2486 - t2487;
+        let t2489: f32 = t2485 - t2488;
+        let t2490: f32 = t2484 - t2489;
+        let t2491: f32 = t2480 - t2490;
+        let t2492: f32 = t2472 + t2491;
+        let t2493: f32 = t2457 - t2492;
+        let t2494: f32 = t2412 + t2424;
+        let t2495: f32 = t2494 * 0.5;
+        let t2496: f32 = t2393 + t2395;
+        let t2497: f32 = t2398 + t2493;
+        let t2498: f32 = t2496 + t2497;
+        let t2499: f32 = t2495 + t2498;
+        let t2500: f32 = t2392 + t2394;
+        let t2501: f32 = t2396 + t2399;
+        let t2502: f32 = t2401 + t2411;
+        let t2503: f32 = t2500 + t2501;
+        let t2504: f32 = t2502 + t2503;
+        let t2505: f32 = t2499 - t2504;
+        let t2506: f32 = t0 * t2505;
+        let t2507: f32 = t2506 - t2042;
+        let t2508: f32 = t1018 - t203;
+        let t2509: f32 = t2508 * 0.25;
+        let t2510: f32 = t204 + t2507;
+        let t2511: f32 = t2510 - t1033;
+        let t2512: f32 = t2511 * 0.5;
+        let t2513: f32 = t2509 + t2512;
+        let t2514: f32 = t886 * t1371;
+        let t2515: f32 = t800 * t1394;
+        let t2516: f32 = t894 * t1373;
+        let t2517: f32 = t806 * t1397;
+        let t2518: f32 = t835 * t1376;
+        let t2519: f32 = t837 - t1379;
+        let t2520: f32 = t813 * t2519;
+        let t2521: f32 = t847 * t1380;
+        let t2522: f32 = t849 - t1383;
+        let t2523: f32 = t819 * t2522;
+        let t2524: f32 = t2126 + t2408;
+        let t2525: f32 = t1409 + t2524;
+        let t2526: f32 = t797 * t2525;
+        let t2527: f32 = t2412 - t2424;
+        let t2528: f32 = t2527 * 0.5;
+        let t2529: f32 = t2514 + t2516;
+        let t2530: f32 = t2518 + t2521;
+        let t2531: f32 = t2523 + t2528;
+        let t2532: f32 = t2529 + t2530;
+        let t2533: f32 = t2531 + t2532;
+        let t2534: f32 = t2515 + t2517;
+        let t2535: f32 = t2520 + t2526;
+        let t2536: f32 = t2534 + t2535;
+        let t2537: f32 = t2493 + t2536;
+        let t2538: f32 = t2533 - t2537;
+        let t2539: f32 = t0 * t2538;
+        let t2540: f32 = t2042 + t2539;
+        let t2541: f32 = t203 + t1370;
+        let t2542: f32 = t2541 * 0.25;
+        let t2543: f32 = t1385 + t2540;
+        let t2544: f32 = t2543 * 0.5;
+        let t2545: f32 = t2542 + t2544;
+        let t2546: f32 = t330 + t2265;
+        let t2547: f32 = t2546 * 0.5;
+        let t2548: f32 = t2267 + t2547;
+        let t2549: f32 = -t2548;
+        let t2550: f32 = t2359 - t2360;
+        let t2551: f32 = -t2391;
+        let t2552: f32 = t203 + t1018;
+        let t2553: f32 = t2552 * 0.25;
+        let t2554: f32 = t1033 + t2507;
+        let t2555: f32 = t2554 * 0.5;
+        let t2556: f32 = t2553 - t2555;
+        let t2557: f32 = t1370 - t203;
+        let t2558: f32 = t2557 * 0.25;
+        let t2559: f32 = t204 + t1385;
+        let t2560: f32 = t2559 - t2540;
+        let t2561: f32 = t2560 * 0.5;
+        let t2562: f32 = t2558 + t2561;
+        let t2563: f32 = 1.0 - t371;
+        (
+            t2025,
+            t2176,
+            t2177,
+            t2178,
+            t2184,
+            t2188,
+            t2193,
+            t2194,
+            t2269,
+            t2270,
+            t2361,
+            t2391,
+            t2513,
+            t2545,
+            t2548,
+            t2549,
+            t2550,
+            t2551,
+            t2556,
+            t2562,
+            t2563,
+        )
+    };
     (
         [
             [t720, t786, t1016, t1017, t1369, t1430],
@@ -17442,1455 +18993,1835 @@ pub fn joint_bias_params(
     joint5_iyy, joint5_iyz, joint5_izz, rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _,
     joint6_mass, joint6_mx, joint6_my, joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz,
     joint6_iyy, joint6_iyz, joint6_izz] = *params;
-    let t0: f32 = 1.0 / half_spacing;
-    let t1: f32 = t0 * t0;
-    let t2: f32 = qd1 - qd2;
-    let t3: f32 = t2 * 0.5;
-    let t4: f32 = t0 * t1;
-    let t5: f32 = q1 - q2;
-    let t6: f32 = q3 - q4;
-    let t7: f32 = q5 - q6;
-    let t8: f32 = t4 * t5;
-    let t9: f32 = t6 * t8;
-    let t10: f32 = t7 * t9;
-    let t11: f32 = t4 * t4;
-    let t12: f32 = t5 * t5;
-    let t13: f32 = t6 * t6;
-    let t14: f32 = t7 * t7;
-    let t15: f32 = t11 * t12;
-    let t16: f32 = t13 * t15;
-    let t17: f32 = t14 * t16;
-    let t18: f32 = t0 * t6;
-    let t19: f32 = t1 * t1;
-    let t20: f32 = t5 * t19;
-    let t21: f32 = t13 * t20;
-    let t22: f32 = t7 * t21;
-    let t23: f32 = t18 * 0.5;
-    let t24: f32 = t22 * 0.0625;
-    let t25: f32 = t23 - t24;
-    let t26: f32 = t25 * t25;
-    let t27: f32 = t0 * t7;
-    let t28: f32 = t7 * t18;
-    let t29: f32 = t28 * 0.125;
-    let t30: f32 = t5 * 0.25;
-    let t31: f32 = t29 + t30;
-    let t32: f32 = t1 * t6;
-    let t33: f32 = t31 * t32;
-    let t34: f32 = t27 * 0.5;
-    let t35: f32 = t33 + t34;
-    let t36: f32 = t35 * t35;
-    let t37: f32 = t10 * 0.25;
-    let t38: f32 = t17 * 0.015625;
-    let t39: f32 = t26 + t38;
-    let t40: f32 = t36 + 1.0;
-    let t41: f32 = t39 + t40;
-    let t42: f32 = t37 - t41;
-    let t43: f32 = 1.0 / t42;
-    let t44: f32 = q3 + q4;
-    let t45: f32 = t44 * 0.0625;
-    let t46: f32 = t10 * t45;
-    let t47: f32 = t44 - t46;
-    let t48: f32 = t47 * 0.125;
-    let t49: f32 = t10 * t48;
-    let t50: f32 = t44 * 0.5;
-    let t51: f32 = t50 - t49;
-    let t52: f32 = t43 * t51;
-    let t53: f32 = t0 * t5;
-    let t54: f32 = t6 * t53;
-    let t55: f32 = t54 * 0.125;
-    let t56: f32 = t7 * 0.25;
-    let t57: f32 = t55 + t56;
-    let t58: f32 = t1 * t5;
-    let t59: f32 = t57 * t58;
-    let t60: f32 = t23 + t59;
-    let t61: f32 = t12 * t19;
-    let t62: f32 = t6 * t61;
-    let t63: f32 = t7 * t62;
-    let t64: f32 = t53 * 0.5;
-    let t65: f32 = t63 * 0.0625;
-    let t66: f32 = t64 - t65;
-    let t67: f32 = t66 * t66;
-    let t68: f32 = t60 * t60;
-    let t69: f32 = t38 + t67;
-    let t70: f32 = t68 + 1.0;
-    let t71: f32 = t69 + t70;
-    let t72: f32 = t37 - t71;
-    let t73: f32 = 1.0 / t72;
-    let t74: f32 = q1 + q2;
-    let t75: f32 = t74 * 0.0625;
-    let t76: f32 = t10 * t75;
-    let t77: f32 = t74 * 0.5;
-    let t78: f32 = t77 - t76;
-    let t79: f32 = t60 * t73;
-    let t80: f32 = t78 * t79;
-    let t81: f32 = t6 * t20;
-    let t82: f32 = t14 * t81;
-    let t83: f32 = t82 * 0.0625;
-    let t84: f32 = t34 - t83;
-    let t85: f32 = t84 * t84;
-    let t86: f32 = t7 * t53;
-    let t87: f32 = t86 * 0.125;
-    let t88: f32 = t6 * 0.25;
-    let t89: f32 = t87 + t88;
-    let t90: f32 = t1 * t7;
-    let t91: f32 = t89 * t90;
-    let t92: f32 = t64 + t91;
-    let t93: f32 = t92 * t92;
-    let t94: f32 = t38 + t85;
-    let t95: f32 = t93 + 1.0;
-    let t96: f32 = t94 + t95;
-    let t97: f32 = t37 - t96;
-    let t98: f32 = 1.0 / t97;
-    let t99: f32 = q5 + q6;
-    let t100: f32 = t99 * 0.0625;
-    let t101: f32 = t10 * t100;
-    let t102: f32 = t99 * 0.5;
-    let t103: f32 = t102 - t101;
-    let t104: f32 = t84 * t98;
-    let t105: f32 = t103 * t104;
-    let t106: f32 = t80 - t105;
-    let t107: f32 = t52 + t106;
-    let t108: f32 = qd5 - qd6;
-    let t109: f32 = t108 * 0.5;
-    let t110: f32 = t0 * t107;
-    let t111: f32 = t109 * t110;
-    let t112: f32 = q1 * t0;
-    let t113: f32 = t10 * t73;
-    let t114: f32 = t78 * t113;
-    let t115: f32 = t73 * t78;
-    let t116: f32 = t92 * t98;
-    let t117: f32 = t103 * t116;
-    let t118: f32 = t50 - t46;
-    let t119: f32 = t25 * t43;
-    let t120: f32 = t118 * t119;
-    let t121: f32 = t117 - t120;
-    let t122: f32 = t115 + t121;
-    let t123: f32 = t114 * 0.125;
-    let t124: f32 = q1 + t122;
-    let t125: f32 = t124 - t123;
-    let t126: f32 = t0 * t125;
-    let t127: f32 = t112 - t126;
-    let t128: f32 = t127 * 0.5;
-    let t129: f32 = t2 * t128;
-    let t130: f32 = qd5 + qd6;
-    let t131: f32 = t130 * 0.5;
-    let t132: f32 = t111 + t129;
-    let t133: f32 = t131 - t132;
-    let t134: f32 = t10 * t98;
-    let t135: f32 = t103 * t134;
-    let t136: f32 = t98 * t103;
-    let t137: f32 = t35 * t43;
-    let t138: f32 = t118 * t137;
-    let t139: f32 = t66 * t73;
-    let t140: f32 = t78 * t139;
-    let t141: f32 = t138 - t140;
-    let t142: f32 = t136 + t141;
-    let t143: f32 = t135 * 0.125;
-    let t144: f32 = half_spacing + t142;
-    let t145: f32 = t144 - t143;
-    let t146: f32 = t1 * t3;
-    let t147: f32 = t133 * t146;
-    let t148: f32 = t145 * t147;
-    let t149: f32 = qd3 - qd4;
-    let t150: f32 = t149 * 0.5;
-    let t151: f32 = q1 - half_spacing;
-    let t152: f32 = t0 * t151;
-    let t153: f32 = t152 - t126;
-    let t154: f32 = t153 * 0.5;
-    let t155: f32 = t154 + 1.0;
-    let t156: f32 = qd3 * t155;
-    let t157: f32 = qd4 * t154;
-    let t158: f32 = t99 - t101;
-    let t159: f32 = t158 * 0.125;
-    let t160: f32 = t10 * t159;
-    let t161: f32 = t102 - t160;
-    let t162: f32 = t98 * t161;
-    let t163: f32 = t141 + t162;
-    let t164: f32 = half_spacing + t163;
-    let t165: f32 = t0 * t109;
-    let t166: f32 = t164 * t165;
-    let t167: f32 = t109 + t157;
-    let t168: f32 = t156 + t166;
-    let t169: f32 = t167 - t168;
-    let t170: f32 = t1 * t150;
-    let t171: f32 = t145 * t170;
-    let t172: f32 = t169 * t171;
-    let t173: f32 = t148 + t172;
-    let t174: f32 = t0 * t3;
-    let t175: f32 = t133 * t174;
-    let t176: f32 = t0 * t150;
-    let t177: f32 = t169 * t176;
-    let t178: f32 = t175 + t177;
-    let t179: f32 = t0 * t145;
-    let t180: f32 = t178 * t179;
-    let t181: f32 = t173 - t180;
-    let t182: f32 = gravity_x - t178;
-    let t183: f32 = t181 * 0.5;
-    let t184: f32 = t182 + t183;
-    let t185: f32 = platform_mass * t184;
-    let t186: f32 = t10 * 0.125;
-    let t187: f32 = t186 - 1.0;
-    let t188: f32 = -t43;
-    let t189: f32 = sqrt(t188);
-    let t190: f32 = t187 * t189;
-    let t191: f32 = -t190;
-    let t192: f32 = platform_my * t191;
-    let t193: f32 = -t73;
-    let t194: f32 = sqrt(t193);
-    let t195: f32 = platform_mx * t60;
-    let t196: f32 = t194 * t195;
-    let t197: f32 = -t98;
-    let t198: f32 = sqrt(t197);
-    let t199: f32 = platform_mz * t84;
-    let t200: f32 = t198 * t199;
-    let t201: f32 = t196 - t200;
-    let t202: f32 = t192 + t201;
-    let t203: f32 = t109 * t202;
-    let t204: f32 = t187 * t194;
-    let t205: f32 = -t204;
-    let t206: f32 = platform_mx * t205;
-    let t207: f32 = platform_mz * t92;
-    let t208: f32 = t198 * t207;
-    let t209: f32 = platform_my * t25;
-    let t210: f32 = t189 * t209;
-    let t211: f32 = t208 - t210;
-    let t212: f32 = t206 + t211;
-    let t213: f32 = t3 * t212;
-    let t214: f32 = t203 - t213;
-    let t215: f32 = t146 * t214;
-    let t216: f32 = t150 * t212;
-    let t217: f32 = t187 * t198;
-    let t218: f32 = -t217;
-    let t219: f32 = platform_mz * t218;
-    let t220: f32 = platform_mx * t66;
-    let t221: f32 = t194 * t220;
-    let t222: f32 = platform_my * t35;
-    let t223: f32 = t189 * t222;
-    let t224: f32 = t221 - t223;
-    let t225: f32 = t224 - t219;
-    let t226: f32 = t109 * t225;
-    let t227: f32 = t216 + t226;
-    let t228: f32 = t170 * t227;
-    let t229: f32 = t150 * t150;
-    let t230: f32 = t1 * t229;
-    let t231: f32 = t3 * t3;
-    let t232: f32 = t1 * t231;
-    let t233: f32 = t230 + t232;
-    let t234: f32 = t125 * t233;
-    let t235: f32 = t1 * t109;
-    let t236: f32 = t150 * t235;
-    let t237: f32 = t145 * t236;
-    let t238: f32 = t10 * t43;
-    let t239: f32 = t118 * t238;
-    let t240: f32 = t43 * t118;
-    let t241: f32 = t106 + t240;
-    let t242: f32 = t239 * 0.125;
-    let t243: f32 = t241 - t242;
-    let t244: f32 = t146 * t243;
-    let t245: f32 = t109 * t244;
-    let t246: f32 = t182 - t245;
-    let t247: f32 = t234 + t246;
-    let t248: f32 = t183 + t247;
-    let t249: f32 = t248 - t237;
-    let t250: f32 = joint1_mass * t249;
-    let t251: f32 = joint1_my * t191;
-    let t252: f32 = joint1_mx * t60;
-    let t253: f32 = t194 * t252;
-    let t254: f32 = joint1_mz * t84;
-    let t255: f32 = t198 * t254;
-    let t256: f32 = t253 - t255;
-    let t257: f32 = t251 + t256;
-    let t258: f32 = t109 * t257;
-    let t259: f32 = joint1_mx * t205;
-    let t260: f32 = joint1_mz * t92;
-    let t261: f32 = t198 * t260;
-    let t262: f32 = joint1_my * t25;
-    let t263: f32 = t189 * t262;
-    let t264: f32 = t261 - t263;
-    let t265: f32 = t259 + t264;
-    let t266: f32 = t3 * t265;
-    let t267: f32 = t258 - t266;
-    let t268: f32 = t146 * t267;
-    let t269: f32 = t150 * t265;
-    let t270: f32 = joint1_mz * t218;
-    let t271: f32 = joint1_mx * t66;
-    let t272: f32 = t194 * t271;
-    let t273: f32 = joint1_my * t35;
-    let t274: f32 = t189 * t273;
-    let t275: f32 = t272 - t274;
-    let t276: f32 = t275 - t270;
-    let t277: f32 = t109 * t276;
-    let t278: f32 = t269 + t277;
-    let t279: f32 = t170 * t278;
-    let t280: f32 = gravity_x + t183;
-    let t281: f32 = rod1_mass * t280;
-    let t282: f32 = joint3_mx * t205;
-    let t283: f32 = joint3_mz * t92;
-    let t284: f32 = t198 * t283;
-    let t285: f32 = joint3_my * t25;
-    let t286: f32 = t189 * t285;
-    let t287: f32 = t284 - t286;
-    let t288: f32 = t282 + t287;
-    let t289: f32 = t150 * t288;
-    let t290: f32 = joint3_mz * t218;
-    let t291: f32 = joint3_mx * t66;
-    let t292: f32 = t194 * t291;
-    let t293: f32 = joint3_my * t35;
-    let t294: f32 = t189 * t293;
-    let t295: f32 = t292 - t294;
-    let t296: f32 = t295 - t290;
-    let t297: f32 = t109 * t296;
-    let t298: f32 = t289 + t297;
-    let t299: f32 = t170 * t298;
-    let t300: f32 = half_spacing + t122;
-    let t301: f32 = t300 - t123;
-    let t302: f32 = t233 * t301;
-    let t303: f32 = q3 + t241;
-    let t304: f32 = t303 - t242;
-    let t305: f32 = t109 * t146;
-    let t306: f32 = t304 * t305;
-    let t307: f32 = t143 - t142;
-    let t308: f32 = t236 * t307;
-    let t309: f32 = t182 + t308;
-    let t310: f32 = t302 + t309;
-    let t311: f32 = t183 + t310;
-    let t312: f32 = t311 - t306;
-    let t313: f32 = joint3_mass * t312;
-    let t314: f32 = joint3_my * t191;
-    let t315: f32 = joint3_mx * t60;
-    let t316: f32 = t194 * t315;
-    let t317: f32 = joint3_mz * t84;
-    let t318: f32 = t198 * t317;
-    let t319: f32 = t316 - t318;
-    let t320: f32 = t314 + t319;
-    let t321: f32 = t109 * t320;
-    let t322: f32 = t3 * t288;
-    let t323: f32 = t321 - t322;
-    let t324: f32 = t146 * t323;
-    let t325: f32 = t313 - t324;
-    let t326: f32 = t299 + t325;
-    let t327: f32 = joint4_mx * t205;
-    let t328: f32 = joint4_mz * t92;
-    let t329: f32 = t198 * t328;
-    let t330: f32 = joint4_my * t25;
-    let t331: f32 = t189 * t330;
-    let t332: f32 = t329 - t331;
-    let t333: f32 = t327 + t332;
-    let t334: f32 = t150 * t333;
-    let t335: f32 = joint4_mz * t218;
-    let t336: f32 = joint4_mx * t66;
-    let t337: f32 = t194 * t336;
-    let t338: f32 = joint4_my * t35;
-    let t339: f32 = t189 * t338;
-    let t340: f32 = t337 - t339;
-    let t341: f32 = t340 - t335;
-    let t342: f32 = t109 * t341;
-    let t343: f32 = t334 + t342;
-    let t344: f32 = t170 * t343;
-    let t345: f32 = half_spacing + t123;
-    let t346: f32 = t345 - t122;
-    let t347: f32 = t233 * t346;
-    let t348: f32 = q4 + t241;
-    let t349: f32 = t348 - t242;
-    let t350: f32 = t305 * t349;
-    let t351: f32 = t183 + t309;
-    let t352: f32 = t347 + t350;
-    let t353: f32 = t351 - t352;
-    let t354: f32 = joint4_mass * t353;
-    let t355: f32 = joint4_my * t191;
-    let t356: f32 = joint4_mx * t60;
-    let t357: f32 = t194 * t356;
-    let t358: f32 = joint4_mz * t84;
-    let t359: f32 = t198 * t358;
-    let t360: f32 = t357 - t359;
-    let t361: f32 = t355 + t360;
-    let t362: f32 = t109 * t361;
-    let t363: f32 = t3 * t333;
-    let t364: f32 = t362 - t363;
-    let t365: f32 = t146 * t364;
-    let t366: f32 = t354 - t365;
-    let t367: f32 = t344 + t366;
-    let t368: f32 = joint5_mx * t205;
-    let t369: f32 = joint5_mz * t92;
-    let t370: f32 = t198 * t369;
-    let t371: f32 = joint5_my * t25;
-    let t372: f32 = t189 * t371;
-    let t373: f32 = t370 - t372;
-    let t374: f32 = t368 + t373;
-    let t375: f32 = t150 * t374;
-    let t376: f32 = joint5_mz * t218;
-    let t377: f32 = joint5_mx * t66;
-    let t378: f32 = t194 * t377;
-    let t379: f32 = joint5_my * t35;
-    let t380: f32 = t189 * t379;
-    let t381: f32 = t378 - t380;
-    let t382: f32 = t381 - t376;
-    let t383: f32 = t109 * t382;
-    let t384: f32 = t375 + t383;
-    let t385: f32 = t170 * t384;
-    let t386: f32 = half_spacing + t107;
-    let t387: f32 = t3 * t386;
-    let t388: f32 = q5 + t163;
-    let t389: f32 = t150 * t388;
-    let t390: f32 = t387 + t389;
-    let t391: f32 = t235 * t390;
-    let t392: f32 = t122 - t123;
-    let t393: f32 = t233 * t392;
-    let t394: f32 = t182 + t393;
-    let t395: f32 = t183 + t394;
-    let t396: f32 = t395 - t391;
-    let t397: f32 = joint5_mass * t396;
-    let t398: f32 = joint5_my * t191;
-    let t399: f32 = joint5_mx * t60;
-    let t400: f32 = t194 * t399;
-    let t401: f32 = joint5_mz * t84;
-    let t402: f32 = t198 * t401;
-    let t403: f32 = t400 - t402;
-    let t404: f32 = t398 + t403;
-    let t405: f32 = t109 * t404;
-    let t406: f32 = t3 * t374;
-    let t407: f32 = t405 - t406;
-    let t408: f32 = t146 * t407;
-    let t409: f32 = t397 - t408;
-    let t410: f32 = t385 + t409;
-    let t411: f32 = joint6_mx * t205;
-    let t412: f32 = joint6_mz * t92;
-    let t413: f32 = t198 * t412;
-    let t414: f32 = joint6_my * t25;
-    let t415: f32 = t189 * t414;
-    let t416: f32 = t413 - t415;
-    let t417: f32 = t411 + t416;
-    let t418: f32 = t150 * t417;
-    let t419: f32 = joint6_mz * t218;
-    let t420: f32 = joint6_mx * t66;
-    let t421: f32 = t194 * t420;
-    let t422: f32 = joint6_my * t35;
-    let t423: f32 = t189 * t422;
-    let t424: f32 = t421 - t423;
-    let t425: f32 = t424 - t419;
-    let t426: f32 = t109 * t425;
-    let t427: f32 = t418 + t426;
-    let t428: f32 = t170 * t427;
-    let t429: f32 = half_spacing - t107;
-    let t430: f32 = t3 * t429;
-    let t431: f32 = q6 + t163;
-    let t432: f32 = t150 * t431;
-    let t433: f32 = t430 - t432;
-    let t434: f32 = t235 * t433;
-    let t435: f32 = t394 + t434;
-    let t436: f32 = t183 + t435;
-    let t437: f32 = joint6_mass * t436;
-    let t438: f32 = joint6_my * t191;
-    let t439: f32 = joint6_mx * t60;
-    let t440: f32 = t194 * t439;
-    let t441: f32 = joint6_mz * t84;
-    let t442: f32 = t198 * t441;
-    let t443: f32 = t440 - t442;
-    let t444: f32 = t438 + t443;
-    let t445: f32 = t109 * t444;
-    let t446: f32 = t3 * t417;
-    let t447: f32 = t445 - t446;
-    let t448: f32 = t146 * t447;
-    let t449: f32 = t437 - t448;
-    let t450: f32 = t428 + t449;
-    let t451: f32 = t3 * t296;
-    let t452: f32 = t150 * t320;
-    let t453: f32 = t451 + t452;
-    let t454: f32 = t146 * t453;
-    let t455: f32 = t74 - t76;
-    let t456: f32 = t455 * 0.125;
-    let t457: f32 = t10 * t456;
-    let t458: f32 = t77 - t457;
-    let t459: f32 = t73 * t458;
-    let t460: f32 = t121 + t459;
-    let t461: f32 = half_spacing + t460;
-    let t462: f32 = t109 * t461;
-    let t463: f32 = q3 + t107;
-    let t464: f32 = t3 * t463;
-    let t465: f32 = t462 + t464;
-    let t466: f32 = t170 * t465;
-    let t467: f32 = t107 * t150;
-    let t468: f32 = t3 * t164;
-    let t469: f32 = t467 - t468;
-    let t470: f32 = t0 * t469;
-    let t471: f32 = qd1 + t470;
-    let t472: f32 = t174 * t471;
-    let t473: f32 = t165 * t169;
-    let t474: f32 = gravity_z + t473;
-    let t475: f32 = t472 + t474;
-    let t476: f32 = t109 * t109;
-    let t477: f32 = t1 * t476;
-    let t478: f32 = t232 + t477;
-    let t479: f32 = t307 * t478;
-    let t480: f32 = t475 - t479;
-    let t481: f32 = t480 - t466;
-    let t482: f32 = joint3_mass * t481;
-    let t483: f32 = t235 * t298;
-    let t484: f32 = t482 - t483;
-    let t485: f32 = t454 - t484;
-    let t486: f32 = t3 * t341;
-    let t487: f32 = t150 * t361;
-    let t488: f32 = t486 + t487;
-    let t489: f32 = t146 * t488;
-    let t490: f32 = half_spacing - t460;
-    let t491: f32 = t109 * t490;
-    let t492: f32 = q4 + t107;
-    let t493: f32 = t3 * t492;
-    let t494: f32 = t491 - t493;
-    let t495: f32 = t170 * t494;
-    let t496: f32 = t480 + t495;
-    let t497: f32 = joint4_mass * t496;
-    let t498: f32 = t235 * t343;
-    let t499: f32 = t497 - t498;
-    let t500: f32 = t489 - t499;
-    let t501: f32 = t485 + t500;
-    let t502: f32 = t3 * t382;
-    let t503: f32 = t150 * t404;
-    let t504: f32 = t502 + t503;
-    let t505: f32 = t146 * t504;
-    let t506: f32 = half_spacing + t241;
-    let t507: f32 = t506 - t242;
-    let t508: f32 = t146 * t150;
-    let t509: f32 = t507 * t508;
-    let t510: f32 = q5 + t142;
-    let t511: f32 = t510 - t143;
-    let t512: f32 = t478 * t511;
-    let t513: f32 = t236 * t392;
-    let t514: f32 = t475 - t513;
-    let t515: f32 = t512 + t514;
-    let t516: f32 = t515 - t509;
-    let t517: f32 = joint5_mass * t516;
-    let t518: f32 = t235 * t384;
-    let t519: f32 = t517 - t518;
-    let t520: f32 = t505 - t519;
-    let t521: f32 = t3 * t425;
-    let t522: f32 = t150 * t444;
-    let t523: f32 = t521 + t522;
-    let t524: f32 = t146 * t523;
-    let t525: f32 = half_spacing + t242;
-    let t526: f32 = t525 - t241;
-    let t527: f32 = t508 * t526;
-    let t528: f32 = q6 + t142;
-    let t529: f32 = t528 - t143;
-    let t530: f32 = t478 * t529;
-    let t531: f32 = t527 + t530;
-    let t532: f32 = t514 + t531;
-    let t533: f32 = joint6_mass * t532;
-    let t534: f32 = t235 * t427;
-    let t535: f32 = t533 - t534;
-    let t536: f32 = t524 - t535;
-    let t537: f32 = t520 + t536;
-    let t538: f32 = t501 + t537;
-    let t539: f32 = t227 * t235;
-    let t540: f32 = platform_mass * t475;
-    let t541: f32 = t539 - t540;
-    let t542: f32 = t3 * t225;
-    let t543: f32 = t150 * t202;
-    let t544: f32 = t542 + t543;
-    let t545: f32 = t146 * t544;
-    let t546: f32 = t1 * t125;
-    let t547: f32 = t109 * t546;
-    let t548: f32 = t150 * t547;
-    let t549: f32 = t145 * t478;
-    let t550: f32 = t150 * t244;
-    let t551: f32 = t475 - t550;
-    let t552: f32 = t549 + t551;
-    let t553: f32 = t552 - t548;
-    let t554: f32 = joint1_mass * t553;
-    let t555: f32 = t545 - t554;
-    let t556: f32 = t541 + t555;
-    let t557: f32 = t235 * t278;
-    let t558: f32 = t3 * t276;
-    let t559: f32 = t150 * t257;
-    let t560: f32 = t558 + t559;
-    let t561: f32 = t146 * t560;
-    let t562: f32 = t557 + t561;
-    let t563: f32 = joint2_mz * t218;
-    let t564: f32 = joint2_mx * t66;
-    let t565: f32 = t194 * t564;
-    let t566: f32 = joint2_my * t35;
-    let t567: f32 = t189 * t566;
-    let t568: f32 = t565 - t567;
-    let t569: f32 = t568 - t563;
-    let t570: f32 = t3 * t569;
-    let t571: f32 = joint2_my * t191;
-    let t572: f32 = joint2_mx * t60;
-    let t573: f32 = t194 * t572;
-    let t574: f32 = joint2_mz * t84;
-    let t575: f32 = t198 * t574;
-    let t576: f32 = t573 - t575;
-    let t577: f32 = t571 + t576;
-    let t578: f32 = t150 * t577;
-    let t579: f32 = t570 + t578;
-    let t580: f32 = t146 * t579;
-    let t581: f32 = q2 + t122;
-    let t582: f32 = t581 - t123;
-    let t583: f32 = t236 * t582;
-    let t584: f32 = half_spacing + t143;
-    let t585: f32 = t584 - t142;
-    let t586: f32 = t478 * t585;
-    let t587: f32 = t583 + t586;
-    let t588: f32 = t551 - t587;
-    let t589: f32 = joint2_mass * t588;
-    let t590: f32 = joint2_mx * t205;
-    let t591: f32 = joint2_mz * t92;
-    let t592: f32 = t198 * t591;
-    let t593: f32 = joint2_my * t25;
-    let t594: f32 = t189 * t593;
-    let t595: f32 = t592 - t594;
-    let t596: f32 = t590 + t595;
-    let t597: f32 = t150 * t596;
-    let t598: f32 = t109 * t569;
-    let t599: f32 = t597 + t598;
-    let t600: f32 = t235 * t599;
-    let t601: f32 = t589 - t600;
-    let t602: f32 = t580 - t601;
-    let t603: f32 = gravity_z * rod5_mass;
-    let t604: f32 = gravity_z * rod6_mass;
-    let t605: f32 = t603 + t604;
-    let t606: f32 = t602 - t605;
-    let t607: f32 = t562 + t606;
-    let t608: f32 = t556 + t607;
-    let t609: f32 = t538 + t608;
-    let t610: f32 = -t609;
-    let t611: f32 = t112 * t610;
-    let t612: f32 = t10 * t198;
-    let t613: f32 = t612 * 0.125;
-    let t614: f32 = t198 - t613;
-    let t615: f32 = platform_mz * t614;
-    let t616: f32 = t224 - t615;
-    let t617: f32 = t184 * t616;
-    let t618: f32 = t10 * t194;
-    let t619: f32 = t618 * 0.125;
-    let t620: f32 = t194 - t619;
-    let t621: f32 = platform_mx * t620;
-    let t622: f32 = t211 + t621;
-    let t623: f32 = t475 * t622;
-    let t624: f32 = joint1_mz * t614;
-    let t625: f32 = t275 - t624;
-    let t626: f32 = t249 * t625;
-    let t627: f32 = joint1_mx * t620;
-    let t628: f32 = t264 + t627;
-    let t629: f32 = t553 * t628;
-    let t630: f32 = t233 * t582;
-    let t631: f32 = t236 * t585;
-    let t632: f32 = t630 + t631;
-    let t633: f32 = t183 + t246;
-    let t634: f32 = t632 + t633;
-    let t635: f32 = joint2_mz * t614;
-    let t636: f32 = t568 - t635;
-    let t637: f32 = t634 * t636;
-    let t638: f32 = joint2_mx * t620;
-    let t639: f32 = t595 + t638;
-    let t640: f32 = t588 * t639;
-    let t641: f32 = joint2_mass * t634;
-    let t642: f32 = t109 * t577;
-    let t643: f32 = t3 * t596;
-    let t644: f32 = t642 - t643;
-    let t645: f32 = t146 * t644;
-    let t646: f32 = t641 - t645;
-    let t647: f32 = t170 * t599;
-    let t648: f32 = rod2_mass * t280;
-    let t649: f32 = t647 + t648;
-    let t650: f32 = t646 + t649;
-    let t651: f32 = t585 * t650;
-    let t652: f32 = -t602;
-    let t653: f32 = t582 * t652;
-    let t654: f32 = joint3_mz * t614;
-    let t655: f32 = t295 - t654;
-    let t656: f32 = t312 * t655;
-    let t657: f32 = joint3_mx * t620;
-    let t658: f32 = t287 + t657;
-    let t659: f32 = t481 * t658;
-    let t660: f32 = -t485;
-    let t661: f32 = t301 * t660;
-    let t662: f32 = joint4_mz * t614;
-    let t663: f32 = t340 - t662;
-    let t664: f32 = t353 * t663;
-    let t665: f32 = joint4_mx * t620;
-    let t666: f32 = t332 + t665;
-    let t667: f32 = t496 * t666;
-    let t668: f32 = -t500;
-    let t669: f32 = t346 * t668;
-    let t670: f32 = joint5_mz * t614;
-    let t671: f32 = t381 - t670;
-    let t672: f32 = t396 * t671;
-    let t673: f32 = joint5_mx * t620;
-    let t674: f32 = t373 + t673;
-    let t675: f32 = t516 * t674;
-    let t676: f32 = t410 * t511;
-    let t677: f32 = joint6_mz * t614;
-    let t678: f32 = t424 - t677;
-    let t679: f32 = t436 * t678;
-    let t680: f32 = joint6_mx * t620;
-    let t681: f32 = t416 + t680;
-    let t682: f32 = t532 * t681;
-    let t683: f32 = t450 * t529;
-    let t684: f32 = t109 * t205;
-    let t685: f32 = t3 * t60;
-    let t686: f32 = t66 * t150;
-    let t687: f32 = t685 - t686;
-    let t688: f32 = t194 * t687;
-    let t689: f32 = t684 + t688;
-    let t690: f32 = platform_ixz + joint1_ixz;
-    let t691: f32 = joint2_ixz + joint3_ixz;
-    let t692: f32 = joint4_ixz + joint5_ixz;
-    let t693: f32 = t690 + t691;
-    let t694: f32 = joint6_ixz + t692;
-    let t695: f32 = t693 + t694;
-    let t696: f32 = t689 * t695;
-    let t697: f32 = t150 * t218;
-    let t698: f32 = t92 * t109;
-    let t699: f32 = t3 * t84;
-    let t700: f32 = t698 - t699;
-    let t701: f32 = t198 * t700;
-    let t702: f32 = t697 + t701;
-    let t703: f32 = platform_izz + joint1_izz;
-    let t704: f32 = joint2_izz + joint3_izz;
-    let t705: f32 = joint4_izz + joint5_izz;
-    let t706: f32 = t703 + t704;
-    let t707: f32 = joint6_izz + t705;
-    let t708: f32 = t706 + t707;
-    let t709: f32 = t702 * t708;
-    let t710: f32 = t696 + t709;
-    let t711: f32 = t0 * t710;
-    let t712: f32 = t3 * t191;
-    let t713: f32 = t25 * t109;
-    let t714: f32 = t35 * t150;
-    let t715: f32 = t713 - t714;
-    let t716: f32 = t189 * t715;
-    let t717: f32 = t712 - t716;
-    let t718: f32 = t0 * t717;
-    let t719: f32 = -t718;
-    let t720: f32 = platform_iyz + joint1_iyz;
-    let t721: f32 = joint2_iyz + joint3_iyz;
-    let t722: f32 = joint4_iyz + joint5_iyz;
-    let t723: f32 = t720 + t721;
-    let t724: f32 = joint6_iyz + t722;
-    let t725: f32 = t723 + t724;
-    let t726: f32 = t719 * t725;
-    let t727: f32 = t711 - t726;
-    let t728: f32 = t689 * t727;
-    let t729: f32 = platform_ixx + joint1_ixx;
-    let t730: f32 = joint2_ixx + joint3_ixx;
-    let t731: f32 = joint4_ixx + joint5_ixx;
-    let t732: f32 = t729 + t730;
-    let t733: f32 = joint6_ixx + t731;
-    let t734: f32 = t732 + t733;
-    let t735: f32 = t689 * t734;
-    let t736: f32 = t695 * t702;
-    let t737: f32 = t735 + t736;
-    let t738: f32 = t0 * t737;
-    let t739: f32 = platform_ixy + joint1_ixy;
-    let t740: f32 = joint2_ixy + joint3_ixy;
-    let t741: f32 = joint4_ixy + joint5_ixy;
-    let t742: f32 = t739 + t740;
-    let t743: f32 = joint6_ixy + t741;
-    let t744: f32 = t742 + t743;
-    let t745: f32 = t719 * t744;
-    let t746: f32 = t738 - t745;
-    let t747: f32 = t702 * t746;
-    let t748: f32 = t728 - t747;
-    let t749: f32 = t0 * t191;
-    let t750: f32 = t748 * t749;
-    let t751: f32 = t689 * t744;
-    let t752: f32 = t702 * t725;
-    let t753: f32 = t751 + t752;
-    let t754: f32 = t0 * t753;
-    let t755: f32 = platform_iyy + joint1_iyy;
-    let t756: f32 = joint2_iyy + joint3_iyy;
-    let t757: f32 = joint4_iyy + joint5_iyy;
-    let t758: f32 = t755 + t756;
-    let t759: f32 = joint6_iyy + t757;
-    let t760: f32 = t758 + t759;
-    let t761: f32 = t719 * t760;
-    let t762: f32 = t754 - t761;
-    let t763: f32 = t0 * t689;
-    let t764: f32 = t762 * t763;
-    let t765: f32 = t719 * t746;
-    let t766: f32 = t764 + t765;
-    let t767: f32 = t84 * t198;
-    let t768: f32 = t766 * t767;
-    let t769: f32 = t0 * t702;
-    let t770: f32 = t762 * t769;
-    let t771: f32 = t719 * t727;
-    let t772: f32 = t770 + t771;
-    let t773: f32 = t60 * t194;
-    let t774: f32 = t772 * t773;
-    let t775: f32 = half_spacing - t163;
-    let t776: f32 = t231 + t476;
-    let t777: f32 = t775 * t776;
-    let t778: f32 = t3 * t107;
-    let t779: f32 = q2 + t460;
-    let t780: f32 = t109 * t779;
-    let t781: f32 = t778 + t780;
-    let t782: f32 = t150 * t781;
-    let t783: f32 = t777 + t782;
-    let t784: f32 = t0 * t783;
-    let t785: f32 = q1 + t460;
-    let t786: f32 = t0 * t785;
-    let t787: f32 = t152 - t786;
-    let t788: f32 = t787 * 0.5;
-    let t789: f32 = t788 + 1.0;
-    let t790: f32 = qd3 * t789;
-    let t791: f32 = qd4 * t788;
-    let t792: f32 = t109 + t791;
-    let t793: f32 = t166 + t790;
-    let t794: f32 = t792 - t793;
-    let t795: f32 = t109 * t794;
-    let t796: f32 = t3 * t471;
-    let t797: f32 = t795 + t796;
-    let t798: f32 = t797 - t784;
-    let t799: f32 = t0 * t798;
-    let t800: f32 = gravity_z + t799;
-    let t801: f32 = joint2_mass * t800;
-    let t802: f32 = joint5_mx + joint6_mx;
-    let t803: f32 = joint3_mx + joint4_mx;
-    let t804: f32 = platform_mx + t803;
-    let t805: f32 = t802 + t804;
-    let t806: f32 = joint2_mx + t805;
-    let t807: f32 = t66 * t194;
-    let t808: f32 = t806 * t807;
-    let t809: f32 = joint5_my + joint6_my;
-    let t810: f32 = joint3_my + joint4_my;
-    let t811: f32 = platform_my + t810;
-    let t812: f32 = t809 + t811;
-    let t813: f32 = joint2_my + t812;
-    let t814: f32 = t35 * t189;
-    let t815: f32 = t813 * t814;
-    let t816: f32 = joint5_mz + joint6_mz;
-    let t817: f32 = joint3_mz + joint4_mz;
-    let t818: f32 = platform_mz + t817;
-    let t819: f32 = t816 + t818;
-    let t820: f32 = joint2_mz + t819;
-    let t821: f32 = t218 * t820;
-    let t822: f32 = t815 + t821;
-    let t823: f32 = t808 - t822;
-    let t824: f32 = t3 * t823;
-    let t825: f32 = t767 * t820;
-    let t826: f32 = t773 * t806;
-    let t827: f32 = t191 * t813;
-    let t828: f32 = t826 + t827;
-    let t829: f32 = t825 - t828;
-    let t830: f32 = t150 * t829;
-    let t831: f32 = t824 - t830;
-    let t832: f32 = t3 * t831;
-    let t833: f32 = t109 * t823;
-    let t834: f32 = t25 * t189;
-    let t835: f32 = t813 * t834;
-    let t836: f32 = t92 * t198;
-    let t837: f32 = t820 * t836;
-    let t838: f32 = t205 * t806;
-    let t839: f32 = t837 + t838;
-    let t840: f32 = t835 - t839;
-    let t841: f32 = t150 * t840;
-    let t842: f32 = t833 - t841;
-    let t843: f32 = t109 * t842;
-    let t844: f32 = t832 + t843;
-    let t845: f32 = t1 * t844;
-    let t846: f32 = t0 * t797;
-    let t847: f32 = gravity_z + t846;
-    let t848: f32 = platform_mass * t847;
-    let t849: f32 = t150 * t465;
-    let t850: f32 = -t163;
-    let t851: f32 = t776 * t850;
-    let t852: f32 = t849 + t851;
-    let t853: f32 = t0 * t852;
-    let t854: f32 = t797 - t853;
-    let t855: f32 = t0 * t854;
-    let t856: f32 = gravity_z + t855;
-    let t857: f32 = joint3_mass * t856;
-    let t858: f32 = t848 + t857;
-    let t859: f32 = t150 * t494;
-    let t860: f32 = t859 - t851;
-    let t861: f32 = t0 * t860;
-    let t862: f32 = t797 + t861;
-    let t863: f32 = t0 * t862;
-    let t864: f32 = gravity_z + t863;
-    let t865: f32 = joint4_mass * t864;
-    let t866: f32 = t388 * t776;
-    let t867: f32 = t109 * t460;
-    let t868: f32 = t387 + t867;
-    let t869: f32 = t150 * t868;
-    let t870: f32 = t866 - t869;
-    let t871: f32 = t0 * t870;
-    let t872: f32 = t797 + t871;
-    let t873: f32 = t0 * t872;
-    let t874: f32 = gravity_z + t873;
-    let t875: f32 = joint5_mass * t874;
-    let t876: f32 = t431 * t776;
-    let t877: f32 = t430 - t867;
-    let t878: f32 = t150 * t877;
-    let t879: f32 = t876 + t878;
-    let t880: f32 = t0 * t879;
-    let t881: f32 = t797 + t880;
-    let t882: f32 = t0 * t881;
-    let t883: f32 = gravity_z + t882;
-    let t884: f32 = joint6_mass * t883;
-    let t885: f32 = t875 + t884;
-    let t886: f32 = t605 + t885;
-    let t887: f32 = t865 + t886;
-    let t888: f32 = t858 + t887;
-    let t889: f32 = t801 + t888;
-    let t890: f32 = t889 - t845;
-    let t891: f32 = t125 * t890;
-    let t892: f32 = t229 + t231;
-    let t893: f32 = t779 * t892;
-    let t894: f32 = t150 * t775;
-    let t895: f32 = t778 - t894;
-    let t896: f32 = t109 * t895;
-    let t897: f32 = t893 - t896;
-    let t898: f32 = t0 * t897;
-    let t899: f32 = t107 * t109;
-    let t900: f32 = t460 * 0.5;
-    let t901: f32 = -t900;
-    let t902: f32 = t2 * t901;
-    let t903: f32 = t899 + t902;
-    let t904: f32 = t0 * t903;
-    let t905: f32 = t131 - t904;
-    let t906: f32 = t3 * t905;
-    let t907: f32 = t150 * t794;
-    let t908: f32 = t906 + t907;
-    let t909: f32 = t908 - t898;
-    let t910: f32 = t0 * t909;
-    let t911: f32 = gravity_x - t910;
-    let t912: f32 = joint2_mass * t911;
-    let t913: f32 = gravity_x * rod2_mass;
-    let t914: f32 = t3 * t840;
-    let t915: f32 = t109 * t829;
-    let t916: f32 = t914 - t915;
-    let t917: f32 = t3 * t916;
-    let t918: f32 = t150 * t842;
-    let t919: f32 = t917 - t918;
-    let t920: f32 = t1 * t919;
-    let t921: f32 = t0 * t908;
-    let t922: f32 = gravity_x - t921;
-    let t923: f32 = platform_mass * t922;
-    let t924: f32 = t109 * t390;
-    let t925: f32 = t460 * t892;
-    let t926: f32 = t924 - t925;
-    let t927: f32 = t0 * t926;
-    let t928: f32 = t908 + t927;
-    let t929: f32 = t0 * t928;
-    let t930: f32 = gravity_x - t929;
-    let t931: f32 = joint5_mass * t930;
-    let t932: f32 = t923 + t931;
-    let t933: f32 = t109 * t433;
-    let t934: f32 = t925 + t933;
-    let t935: f32 = t0 * t934;
-    let t936: f32 = t908 - t935;
-    let t937: f32 = t0 * t936;
-    let t938: f32 = gravity_x - t937;
-    let t939: f32 = joint6_mass * t938;
-    let t940: f32 = t461 * t892;
-    let t941: f32 = t150 * t850;
-    let t942: f32 = t464 - t941;
-    let t943: f32 = t109 * t942;
-    let t944: f32 = t940 - t943;
-    let t945: f32 = t0 * t944;
-    let t946: f32 = t908 - t945;
-    let t947: f32 = t0 * t946;
-    let t948: f32 = gravity_x - t947;
-    let t949: f32 = joint3_mass * t948;
-    let t950: f32 = t490 * t892;
-    let t951: f32 = t493 - t941;
-    let t952: f32 = t109 * t951;
-    let t953: f32 = t950 + t952;
-    let t954: f32 = t0 * t953;
-    let t955: f32 = t908 + t954;
-    let t956: f32 = t0 * t955;
-    let t957: f32 = gravity_x - t956;
-    let t958: f32 = joint4_mass * t957;
-    let t959: f32 = t949 + t958;
-    let t960: f32 = t939 + t959;
-    let t961: f32 = t932 + t960;
-    let t962: f32 = t912 + t913;
-    let t963: f32 = t961 + t962;
-    let t964: f32 = t963 - t920;
-    let t965: f32 = t145 * t964;
-    let t966: f32 = t810 * t834;
-    let t967: f32 = t817 * t836;
-    let t968: f32 = t205 * t803;
-    let t969: f32 = t967 + t968;
-    let t970: f32 = t966 - t969;
-    let t971: f32 = t3 * t970;
-    let t972: f32 = t767 * t817;
-    let t973: f32 = t773 * t803;
-    let t974: f32 = t191 * t810;
-    let t975: f32 = t973 + t974;
-    let t976: f32 = t972 - t975;
-    let t977: f32 = t109 * t976;
-    let t978: f32 = t971 - t977;
-    let t979: f32 = t3 * t978;
-    let t980: f32 = t803 * t807;
-    let t981: f32 = t810 * t814;
-    let t982: f32 = t218 * t817;
-    let t983: f32 = t981 + t982;
-    let t984: f32 = t980 - t983;
-    let t985: f32 = t109 * t984;
-    let t986: f32 = t150 * t970;
-    let t987: f32 = t985 - t986;
-    let t988: f32 = t150 * t987;
-    let t989: f32 = t979 - t988;
-    let t990: f32 = t1 * t989;
-    let t991: f32 = t959 - t990;
-    let t992: f32 = t307 * t991;
-    let t993: f32 = t802 * t807;
-    let t994: f32 = t809 * t814;
-    let t995: f32 = t218 * t816;
-    let t996: f32 = t994 + t995;
-    let t997: f32 = t993 - t996;
-    let t998: f32 = t3 * t997;
-    let t999: f32 = t767 * t816;
-    let t1000: f32 = t773 * t802;
-    let t1001: f32 = t191 * t809;
-    let t1002: f32 = t1000 + t1001;
-    let t1003: f32 = t999 - t1002;
-    let t1004: f32 = t150 * t1003;
-    let t1005: f32 = t998 - t1004;
-    let t1006: f32 = t3 * t1005;
-    let t1007: f32 = t109 * t997;
-    let t1008: f32 = t809 * t834;
-    let t1009: f32 = t816 * t836;
-    let t1010: f32 = t205 * t802;
-    let t1011: f32 = t1009 + t1010;
-    let t1012: f32 = t1008 - t1011;
-    let t1013: f32 = t150 * t1012;
-    let t1014: f32 = t1007 - t1013;
-    let t1015: f32 = t109 * t1014;
-    let t1016: f32 = t1006 + t1015;
-    let t1017: f32 = t1 * t1016;
-    let t1018: f32 = t886 - t1017;
-    let t1019: f32 = t392 * t1018;
-    let t1020: f32 = t669 + t676;
-    let t1021: f32 = t683 + t750;
-    let t1022: f32 = t768 + t774;
-    let t1023: f32 = t1020 + t1021;
-    let t1024: f32 = t891 + t1022;
-    let t1025: f32 = t1023 + t1024;
-    let t1026: f32 = t617 + t623;
-    let t1027: f32 = t626 + t629;
-    let t1028: f32 = t637 + t640;
-    let t1029: f32 = t651 + t653;
-    let t1030: f32 = t656 + t659;
-    let t1031: f32 = t661 + t664;
-    let t1032: f32 = t667 + t672;
-    let t1033: f32 = t675 + t679;
-    let t1034: f32 = t682 + t965;
-    let t1035: f32 = t992 + t1019;
-    let t1036: f32 = t1026 + t1027;
-    let t1037: f32 = t1028 + t1029;
-    let t1038: f32 = t1030 + t1031;
-    let t1039: f32 = t1032 + t1033;
-    let t1040: f32 = t1034 + t1035;
-    let t1041: f32 = t1036 + t1037;
-    let t1042: f32 = t1038 + t1039;
-    let t1043: f32 = t1041 + t1042;
-    let t1044: f32 = t1040 + t1043;
-    let t1045: f32 = t1025 - t1044;
-    let t1046: f32 = t0 * t1045;
-    let t1047: f32 = t611 - t1046;
-    let t1048: f32 = t1047 * 0.5;
-    let t1049: f32 = t215 + t268;
-    let t1050: f32 = t1048 + t1049;
-    let t1051: f32 = t185 + t228;
-    let t1052: f32 = t250 + t279;
-    let t1053: f32 = t281 + t326;
-    let t1054: f32 = t367 + t410;
-    let t1055: f32 = t450 + t650;
-    let t1056: f32 = t1051 + t1052;
-    let t1057: f32 = t1053 + t1054;
-    let t1058: f32 = t1056 + t1057;
-    let t1059: f32 = t1055 + t1058;
-    let t1060: f32 = t1050 - t1059;
-    let t1061: f32 = -t1048;
-    let t1062: f32 = t176 * t471;
-    let t1063: f32 = t133 * t165;
-    let t1064: f32 = t1062 - t1063;
-    let t1065: f32 = t154 * t1064;
-    let t1066: f32 = t155 * t1064;
-    let t1067: f32 = gravity_y - t1066;
-    let t1068: f32 = t1065 + t1067;
-    let t1069: f32 = t622 * t1068;
-    let t1070: f32 = t10 * t189;
-    let t1071: f32 = t1070 * 0.125;
-    let t1072: f32 = t189 - t1071;
-    let t1073: f32 = platform_my * t1072;
-    let t1074: f32 = t201 + t1073;
-    let t1075: f32 = t184 * t1074;
-    let t1076: f32 = t109 * t785;
-    let t1077: f32 = t150 * t164;
-    let t1078: f32 = t1076 + t1077;
-    let t1079: f32 = t146 * t1078;
-    let t1080: f32 = t230 + t477;
-    let t1081: f32 = t243 * t1080;
-    let t1082: f32 = t1068 + t1081;
-    let t1083: f32 = t1082 - t1079;
-    let t1084: f32 = t628 * t1083;
-    let t1085: f32 = joint1_my * t1072;
-    let t1086: f32 = t256 + t1085;
-    let t1087: f32 = t249 * t1086;
-    let t1088: f32 = t780 - t894;
-    let t1089: f32 = t146 * t1088;
-    let t1090: f32 = t1082 - t1089;
-    let t1091: f32 = t639 * t1090;
-    let t1092: f32 = joint2_my * t1072;
-    let t1093: f32 = t576 + t1092;
-    let t1094: f32 = t634 * t1093;
-    let t1095: f32 = t235 * t644;
-    let t1096: f32 = joint2_mass * t1090;
-    let t1097: f32 = t170 * t579;
-    let t1098: f32 = t1096 + t1097;
-    let t1099: f32 = t1095 + t1098;
-    let t1100: f32 = t582 * t1099;
-    let t1101: f32 = t301 * t305;
-    let t1102: f32 = t304 * t1080;
-    let t1103: f32 = t307 * t508;
-    let t1104: f32 = t1068 + t1103;
-    let t1105: f32 = t1102 + t1104;
-    let t1106: f32 = t1105 - t1101;
-    let t1107: f32 = t658 * t1106;
-    let t1108: f32 = joint3_my * t1072;
-    let t1109: f32 = t319 + t1108;
-    let t1110: f32 = t312 * t1109;
-    let t1111: f32 = t304 * t326;
-    let t1112: f32 = joint3_mass * t1106;
-    let t1113: f32 = t170 * t453;
-    let t1114: f32 = t1112 + t1113;
-    let t1115: f32 = t235 * t323;
-    let t1116: f32 = t1064 + t1068;
-    let t1117: f32 = rod3_mass * t1116;
-    let t1118: f32 = t1115 + t1117;
-    let t1119: f32 = t1114 + t1118;
-    let t1120: f32 = t301 * t1119;
-    let t1121: f32 = t305 * t346;
-    let t1122: f32 = t349 * t1080;
-    let t1123: f32 = t1121 + t1122;
-    let t1124: f32 = t1104 + t1123;
-    let t1125: f32 = t666 * t1124;
-    let t1126: f32 = joint4_my * t1072;
-    let t1127: f32 = t360 + t1126;
-    let t1128: f32 = t353 * t1127;
-    let t1129: f32 = t349 * t367;
-    let t1130: f32 = joint4_mass * t1124;
-    let t1131: f32 = t170 * t488;
-    let t1132: f32 = t1130 + t1131;
-    let t1133: f32 = t235 * t364;
-    let t1134: f32 = rod4_mass * t1116;
-    let t1135: f32 = t1133 + t1134;
-    let t1136: f32 = t1132 + t1135;
-    let t1137: f32 = t346 * t1136;
-    let t1138: f32 = t507 * t1080;
-    let t1139: f32 = t508 * t511;
-    let t1140: f32 = t305 * t392;
-    let t1141: f32 = t1068 - t1140;
-    let t1142: f32 = t1138 + t1141;
-    let t1143: f32 = t1142 - t1139;
-    let t1144: f32 = t674 * t1143;
-    let t1145: f32 = joint5_my * t1072;
-    let t1146: f32 = t403 + t1145;
-    let t1147: f32 = t396 * t1146;
-    let t1148: f32 = t410 * t507;
-    let t1149: f32 = t526 * t1080;
-    let t1150: f32 = t508 * t529;
-    let t1151: f32 = t1149 + t1150;
-    let t1152: f32 = t1141 - t1151;
-    let t1153: f32 = t681 * t1152;
-    let t1154: f32 = joint6_my * t1072;
-    let t1155: f32 = t443 + t1154;
-    let t1156: f32 = t436 * t1155;
-    let t1157: f32 = t450 * t526;
-    let t1158: f32 = t0 * t35;
-    let t1159: f32 = t189 * t1158;
-    let t1160: f32 = t748 * t1159;
-    let t1161: f32 = t772 * t807;
-    let t1162: f32 = t614 * t766;
-    let t1163: f32 = t812 * t834;
-    let t1164: f32 = t819 * t836;
-    let t1165: f32 = t205 * t805;
-    let t1166: f32 = t1164 + t1165;
-    let t1167: f32 = t1163 - t1166;
-    let t1168: f32 = t3 * t1167;
-    let t1169: f32 = t767 * t819;
-    let t1170: f32 = t773 * t805;
-    let t1171: f32 = t191 * t812;
-    let t1172: f32 = t1170 + t1171;
-    let t1173: f32 = t1169 - t1172;
-    let t1174: f32 = t109 * t1173;
-    let t1175: f32 = t1168 - t1174;
-    let t1176: f32 = t3 * t1175;
-    let t1177: f32 = t805 * t807;
-    let t1178: f32 = t812 * t814;
-    let t1179: f32 = t218 * t819;
-    let t1180: f32 = t1178 + t1179;
-    let t1181: f32 = t1177 - t1180;
-    let t1182: f32 = t109 * t1181;
-    let t1183: f32 = t150 * t1167;
-    let t1184: f32 = t1182 - t1183;
-    let t1185: f32 = t150 * t1184;
-    let t1186: f32 = t1176 - t1185;
-    let t1187: f32 = t1 * t1186;
-    let t1188: f32 = t961 - t1187;
-    let t1189: f32 = t243 * t1188;
-    let t1190: f32 = t109 * t916;
-    let t1191: f32 = t150 * t831;
-    let t1192: f32 = t1190 + t1191;
-    let t1193: f32 = t1 * t1192;
-    let t1194: f32 = rod3_mass + rod4_mass;
-    let t1195: f32 = gravity_y * t1194;
-    let t1196: f32 = t229 + t476;
-    let t1197: f32 = t463 * t1196;
-    let t1198: f32 = t462 - t941;
-    let t1199: f32 = t3 * t1198;
-    let t1200: f32 = t1197 - t1199;
-    let t1201: f32 = t0 * t1200;
-    let t1202: f32 = t150 * t471;
-    let t1203: f32 = t109 * t905;
-    let t1204: f32 = t1202 - t1203;
-    let t1205: f32 = t1204 - t1201;
-    let t1206: f32 = t0 * t1205;
-    let t1207: f32 = gravity_y - t1206;
-    let t1208: f32 = joint3_mass * t1207;
-    let t1209: f32 = t492 * t1196;
-    let t1210: f32 = t491 + t941;
-    let t1211: f32 = t3 * t1210;
-    let t1212: f32 = t1209 + t1211;
-    let t1213: f32 = t0 * t1212;
-    let t1214: f32 = t1204 - t1213;
-    let t1215: f32 = t0 * t1214;
-    let t1216: f32 = gravity_y - t1215;
-    let t1217: f32 = joint4_mass * t1216;
-    let t1218: f32 = t1208 + t1217;
-    let t1219: f32 = t1195 + t1218;
-    let t1220: f32 = t386 * t1196;
-    let t1221: f32 = t389 + t867;
-    let t1222: f32 = t3 * t1221;
-    let t1223: f32 = t1220 - t1222;
-    let t1224: f32 = t0 * t1223;
-    let t1225: f32 = t1204 - t1224;
-    let t1226: f32 = t0 * t1225;
-    let t1227: f32 = gravity_y - t1226;
-    let t1228: f32 = joint5_mass * t1227;
-    let t1229: f32 = t429 * t1196;
-    let t1230: f32 = t432 + t867;
-    let t1231: f32 = t3 * t1230;
-    let t1232: f32 = t1229 + t1231;
-    let t1233: f32 = t0 * t1232;
-    let t1234: f32 = t1204 + t1233;
-    let t1235: f32 = t0 * t1234;
-    let t1236: f32 = gravity_y - t1235;
-    let t1237: f32 = joint6_mass * t1236;
-    let t1238: f32 = t1228 + t1237;
-    let t1239: f32 = t0 * t1204;
-    let t1240: f32 = gravity_y - t1239;
-    let t1241: f32 = platform_mass * t1240;
-    let t1242: f32 = t3 * t1088;
-    let t1243: f32 = t107 * t1196;
-    let t1244: f32 = t1242 - t1243;
-    let t1245: f32 = t0 * t1244;
-    let t1246: f32 = t1204 + t1245;
-    let t1247: f32 = t0 * t1246;
-    let t1248: f32 = gravity_y - t1247;
-    let t1249: f32 = joint2_mass * t1248;
-    let t1250: f32 = t1241 + t1249;
-    let t1251: f32 = t1238 + t1250;
-    let t1252: f32 = t1193 + t1219;
-    let t1253: f32 = t1251 + t1252;
-    let t1254: f32 = t125 * t1253;
-    let t1255: f32 = t3 * t1012;
-    let t1256: f32 = t109 * t1003;
-    let t1257: f32 = t1255 - t1256;
-    let t1258: f32 = t109 * t1257;
-    let t1259: f32 = t150 * t1005;
-    let t1260: f32 = t1258 + t1259;
-    let t1261: f32 = t1 * t1260;
-    let t1262: f32 = t1238 + t1261;
-    let t1263: f32 = t392 * t1262;
-    let t1264: f32 = t1075 + t1087;
-    let t1265: f32 = t1094 + t1110;
-    let t1266: f32 = t1111 + t1128;
-    let t1267: f32 = t1129 + t1137;
-    let t1268: f32 = t1147 + t1148;
-    let t1269: f32 = t1156 + t1161;
-    let t1270: f32 = t1162 + t1254;
-    let t1271: f32 = t1264 + t1265;
-    let t1272: f32 = t1266 + t1267;
-    let t1273: f32 = t1268 + t1269;
-    let t1274: f32 = t1271 + t1272;
-    let t1275: f32 = t1270 + t1273;
-    let t1276: f32 = t1274 + t1275;
-    let t1277: f32 = t1069 + t1084;
-    let t1278: f32 = t1091 + t1100;
-    let t1279: f32 = t1107 + t1120;
-    let t1280: f32 = t1125 + t1144;
-    let t1281: f32 = t1153 + t1157;
-    let t1282: f32 = t1160 + t1189;
-    let t1283: f32 = t1277 + t1278;
-    let t1284: f32 = t1279 + t1280;
-    let t1285: f32 = t1281 + t1282;
-    let t1286: f32 = t1283 + t1284;
-    let t1287: f32 = t1263 + t1285;
-    let t1288: f32 = t1286 + t1287;
-    let t1289: f32 = t1276 - t1288;
-    let t1290: f32 = t0 * t1289;
-    let t1291: f32 = t3 * t1078;
-    let t1292: f32 = t1291 - t1243;
-    let t1293: f32 = t0 * t1292;
-    let t1294: f32 = t1204 + t1293;
-    let t1295: f32 = t0 * t1294;
-    let t1296: f32 = gravity_y - t1295;
-    let t1297: f32 = joint1_mass * t1296;
-    let t1298: f32 = joint1_my + t813;
-    let t1299: f32 = t1298 * 0.5;
-    let t1300: f32 = t834 * t1299;
-    let t1301: f32 = joint1_mz + t820;
-    let t1302: f32 = t1301 * 0.5;
-    let t1303: f32 = t836 * t1302;
-    let t1304: f32 = joint1_mx + t806;
-    let t1305: f32 = t1304 * 0.5;
-    let t1306: f32 = t205 * t1305;
-    let t1307: f32 = t1303 + t1306;
-    let t1308: f32 = t1300 - t1307;
-    let t1309: f32 = t3 * t1308;
-    let t1310: f32 = t767 * t1302;
-    let t1311: f32 = t773 * t1305;
-    let t1312: f32 = t191 * t1299;
-    let t1313: f32 = t1311 + t1312;
-    let t1314: f32 = t1310 - t1313;
-    let t1315: f32 = t109 * t1314;
-    let t1316: f32 = t1309 - t1315;
-    let t1317: f32 = t109 * t1316;
-    let t1318: f32 = t807 * t1305;
-    let t1319: f32 = t814 * t1299;
-    let t1320: f32 = t218 * t1302;
-    let t1321: f32 = t1319 + t1320;
-    let t1322: f32 = t1318 - t1321;
-    let t1323: f32 = t3 * t1322;
-    let t1324: f32 = t150 * t1314;
-    let t1325: f32 = t1323 - t1324;
-    let t1326: f32 = t150 * t1325;
-    let t1327: f32 = t1317 + t1326;
-    let t1328: f32 = t1 * t1327;
-    let t1329: f32 = t1194 * 0.5;
-    let t1330: f32 = gravity_y * t1329;
-    let t1331: f32 = t1218 + t1297;
-    let t1332: f32 = t1251 + t1331;
-    let t1333: f32 = t1332 * 0.5;
-    let t1334: f32 = t1328 + t1333;
-    let t1335: f32 = t1330 + t1334;
-    let t1336: f32 = t152 * t1335;
-    let t1337: f32 = t235 * t407;
-    let t1338: f32 = joint5_mass * t1143;
-    let t1339: f32 = t170 * t504;
-    let t1340: f32 = t1338 + t1339;
-    let t1341: f32 = t1337 + t1340;
-    let t1342: f32 = t1099 + t1341;
-    let t1343: f32 = t235 * t447;
-    let t1344: f32 = joint6_mass * t1152;
-    let t1345: f32 = t170 * t523;
-    let t1346: f32 = t1344 + t1345;
-    let t1347: f32 = t1343 + t1346;
-    let t1348: f32 = t1119 + t1347;
-    let t1349: f32 = t1342 + t1348;
-    let t1350: f32 = platform_mass * t1068;
-    let t1351: f32 = t170 * t544;
-    let t1352: f32 = t1350 + t1351;
-    let t1353: f32 = t1136 + t1352;
-    let t1354: f32 = t214 * t235;
-    let t1355: f32 = joint1_mass * t1083;
-    let t1356: f32 = t1354 + t1355;
-    let t1357: f32 = t170 * t560;
-    let t1358: f32 = t235 * t267;
-    let t1359: f32 = t1357 + t1358;
-    let t1360: f32 = t1356 + t1359;
-    let t1361: f32 = t1353 + t1360;
-    let t1362: f32 = t1349 + t1361;
-    let t1363: f32 = t1290 * 0.5;
-    let t1364: f32 = t1336 + t1362;
-    let t1365: f32 = t1363 - t1364;
-    let t1366: f32 = t152 * t1362;
-    let t1367: f32 = t1366 - t1290;
-    let t1368: f32 = t1367 * 0.5;
-    let t1369: f32 = t475 * t1074;
-    let t1370: f32 = t616 * t1068;
-    let t1371: f32 = t553 * t1086;
-    let t1372: f32 = t625 * t1083;
-    let t1373: f32 = t588 * t1093;
-    let t1374: f32 = t636 * t1090;
-    let t1375: f32 = t585 * t1099;
-    let t1376: f32 = t481 * t1109;
-    let t1377: f32 = t655 * t1106;
-    let t1378: f32 = t304 * t660;
-    let t1379: f32 = t496 * t1127;
-    let t1380: f32 = t663 * t1124;
-    let t1381: f32 = t349 * t668;
-    let t1382: f32 = t516 * t1146;
-    let t1383: f32 = t671 * t1143;
-    let t1384: f32 = t511 * t1341;
-    let t1385: f32 = t603 - t520;
-    let t1386: f32 = t507 * t1385;
-    let t1387: f32 = t532 * t1155;
-    let t1388: f32 = t678 * t1152;
-    let t1389: f32 = t529 * t1347;
-    let t1390: f32 = t604 - t536;
-    let t1391: f32 = t526 * t1390;
-    let t1392: f32 = t0 * t25;
-    let t1393: f32 = t189 * t1392;
-    let t1394: f32 = t748 * t1393;
-    let t1395: f32 = t766 * t836;
-    let t1396: f32 = t620 * t772;
-    let t1397: f32 = t3 * t1181;
-    let t1398: f32 = t150 * t1173;
-    let t1399: f32 = t1397 - t1398;
-    let t1400: f32 = t3 * t1399;
-    let t1401: f32 = t109 * t1184;
-    let t1402: f32 = t1400 + t1401;
-    let t1403: f32 = t1 * t1402;
-    let t1404: f32 = t888 - t1403;
-    let t1405: f32 = t243 * t1404;
-    let t1406: f32 = t145 * t1253;
-    let t1407: f32 = t109 * t978;
-    let t1408: f32 = t3 * t984;
-    let t1409: f32 = t150 * t976;
-    let t1410: f32 = t1408 - t1409;
-    let t1411: f32 = t150 * t1410;
-    let t1412: f32 = t1407 + t1411;
-    let t1413: f32 = t1 * t1412;
-    let t1414: f32 = t1219 + t1413;
-    let t1415: f32 = t307 * t1414;
-    let t1416: f32 = t1369 + t1370;
-    let t1417: f32 = t1371 + t1372;
-    let t1418: f32 = t1373 + t1374;
-    let t1419: f32 = t1375 + t1376;
-    let t1420: f32 = t1377 + t1378;
-    let t1421: f32 = t1379 + t1380;
-    let t1422: f32 = t1381 + t1382;
-    let t1423: f32 = t1383 + t1386;
-    let t1424: f32 = t1387 + t1388;
-    let t1425: f32 = t1396 + t1406;
-    let t1426: f32 = t1416 + t1417;
-    let t1427: f32 = t1418 + t1419;
-    let t1428: f32 = t1420 + t1421;
-    let t1429: f32 = t1422 + t1423;
-    let t1430: f32 = t1424 + t1425;
-    let t1431: f32 = t1426 + t1427;
-    let t1432: f32 = t1428 + t1429;
-    let t1433: f32 = t1415 + t1430;
-    let t1434: f32 = t1431 + t1432;
-    let t1435: f32 = t1433 + t1434;
-    let t1436: f32 = t1384 + t1389;
-    let t1437: f32 = t1391 + t1394;
-    let t1438: f32 = t1395 + t1405;
-    let t1439: f32 = t1436 + t1437;
-    let t1440: f32 = t1438 + t1439;
-    let t1441: f32 = t1435 - t1440;
-    let t1442: f32 = t0 * t1441;
-    let t1443: f32 = t1442 - t1362;
-    let t1444: f32 = t609 - t1443;
-    let t1445: f32 = t1444 * 0.5;
-    let t1446: f32 = t609 + t1443;
-    let t1447: f32 = t1446 * 0.5;
-    let t1448: f32 = 1.0 - t186;
+    let (
+        t0,
+        t1,
+        t3,
+        t10,
+        t25,
+        t35,
+        t107,
+        t109,
+        t125,
+        t133,
+        t145,
+        t146,
+        t150,
+        t152,
+        t154,
+        t155,
+        t164,
+        t165,
+        t170,
+        t176,
+        t184,
+        t185,
+        t186,
+        t189,
+        t191,
+        t201,
+        t205,
+        t214,
+        t215,
+        t218,
+        t228,
+        t229,
+        t230,
+        t235,
+        t243,
+        t249,
+        t250,
+        t256,
+        t267,
+        t268,
+        t279,
+        t281,
+        t301,
+        t304,
+        t305,
+        t307,
+        t312,
+        t319,
+        t323,
+        t326,
+        t346,
+        t349,
+        t353,
+        t360,
+        t364,
+        t367,
+        t386,
+        t389,
+        t392,
+        t396,
+        t403,
+        t407,
+        t410,
+        t429,
+        t432,
+        t436,
+        t443,
+        t447,
+        t450,
+        t453,
+        t462,
+        t463,
+        t471,
+        t475,
+        t476,
+        t477,
+        t481,
+        t488,
+        t491,
+        t492,
+        t496,
+        t504,
+        t507,
+        t508,
+        t511,
+        t516,
+        t520,
+        t523,
+        t526,
+        t529,
+        t532,
+        t536,
+        t544,
+        t553,
+        t560,
+        t576,
+        t579,
+        t582,
+        t585,
+        t588,
+        t603,
+        t604,
+        t609,
+        t611,
+        t614,
+        t616,
+        t617,
+        t620,
+        t622,
+        t623,
+        t625,
+        t626,
+        t628,
+        t629,
+        t634,
+        t636,
+        t637,
+        t639,
+        t640,
+        t644,
+        t650,
+        t651,
+        t653,
+        t655,
+        t656,
+        t658,
+        t659,
+        t660,
+        t661,
+        t663,
+        t664,
+        t666,
+        t667,
+        t668,
+        t669,
+        t671,
+        t672,
+        t674,
+        t675,
+        t676,
+        t678,
+        t679,
+        t681,
+        t682,
+        t683,
+        t748,
+        t750,
+        t766,
+        t767,
+        t768,
+        t772,
+        t773,
+        t774,
+        t780,
+        t785,
+        t802,
+        t805,
+        t806,
+        t807,
+        t809,
+        t812,
+        t813,
+        t814,
+        t816,
+        t819,
+        t820,
+        t831,
+        t834,
+        t836,
+        t867,
+        t886,
+        t888,
+        t891,
+        t894,
+        t905,
+        t916,
+        t941,
+        t961,
+        t965,
+        t976,
+        t978,
+        t984,
+        t992,
+        t997,
+        t998,
+        t999,
+    ) = {
+        let t0: f32 = 1.0 / half_spacing;
+        let t1: f32 = t0 * t0;
+        let t2: f32 = qd1 - qd2;
+        let t3: f32 = t2 * 0.5;
+        let t4: f32 = t0 * t1;
+        let t5: f32 = q1 - q2;
+        let t6: f32 = q3 - q4;
+        let t7: f32 = q5 - q6;
+        let t8: f32 = t4 * t5;
+        let t9: f32 = t6 * t8;
+        let t10: f32 = t7 * t9;
+        let t11: f32 = t4 * t4;
+        let t12: f32 = t5 * t5;
+        let t13: f32 = t6 * t6;
+        let t14: f32 = t7 * t7;
+        let t15: f32 = t11 * t12;
+        let t16: f32 = t13 * t15;
+        let t17: f32 = t14 * t16;
+        let t18: f32 = t0 * t6;
+        let t19: f32 = t1 * t1;
+        let t20: f32 = t5 * t19;
+        let t21: f32 = t13 * t20;
+        let t22: f32 = t7 * t21;
+        let t23: f32 = t18 * 0.5;
+        let t24: f32 = t22 * 0.0625;
+        let t25: f32 = t23 - t24;
+        let t26: f32 = t25 * t25;
+        let t27: f32 = t0 * t7;
+        let t28: f32 = t7 * t18;
+        let t29: f32 = t28 * 0.125;
+        let t30: f32 = t5 * 0.25;
+        let t31: f32 = t29 + t30;
+        let t32: f32 = t1 * t6;
+        let t33: f32 = t31 * t32;
+        let t34: f32 = t27 * 0.5;
+        let t35: f32 = t33 + t34;
+        let t36: f32 = t35 * t35;
+        let t37: f32 = t10 * 0.25;
+        let t38: f32 = t17 * 0.015625;
+        let t39: f32 = t26 + t38;
+        let t40: f32 = t36 + 1.0;
+        let t41: f32 = t39 + t40;
+        let t42: f32 = t37 - t41;
+        let t43: f32 = 1.0 / t42;
+        let t44: f32 = q3 + q4;
+        let t45: f32 = t44 * 0.0625;
+        let t46: f32 = t10 * t45;
+        let t47: f32 = t44 - t46;
+        let t48: f32 = t47 * 0.125;
+        let t49: f32 = t10 * t48;
+        let t50: f32 = t44 * 0.5;
+        let t51: f32 = t50 - t49;
+        let t52: f32 = t43 * t51;
+        let t53: f32 = t0 * t5;
+        let t54: f32 = t6 * t53;
+        let t55: f32 = t54 * 0.125;
+        let t56: f32 = t7 * 0.25;
+        let t57: f32 = t55 + t56;
+        let t58: f32 = t1 * t5;
+        let t59: f32 = t57 * t58;
+        let t60: f32 = t23 + t59;
+        let t61: f32 = t12 * t19;
+        let t62: f32 = t6 * t61;
+        let t63: f32 = t7 * t62;
+        let t64: f32 = t53 * 0.5;
+        let t65: f32 = t63 * 0.0625;
+        let t66: f32 = t64 - t65;
+        let t67: f32 = t66 * t66;
+        let t68: f32 = t60 * t60;
+        let t69: f32 = t38 + t67;
+        let t70: f32 = t68 + 1.0;
+        let t71: f32 = t69 + t70;
+        let t72: f32 = t37 - t71;
+        let t73: f32 = 1.0 / t72;
+        let t74: f32 = q1 + q2;
+        let t75: f32 = t74 * 0.0625;
+        let t76: f32 = t10 * t75;
+        let t77: f32 = t74 * 0.5;
+        let t78: f32 = t77 - t76;
+        let t79: f32 = t60 * t73;
+        let t80: f32 = t78 * t79;
+        let t81: f32 = t6 * t20;
+        let t82: f32 = t14 * t81;
+        let t83: f32 = t82 * 0.0625;
+        let t84: f32 = t34 - t83;
+        let t85: f32 = t84 * t84;
+        let t86: f32 = t7 * t53;
+        let t87: f32 = t86 * 0.125;
+        let t88: f32 = t6 * 0.25;
+        let t89: f32 = t87 + t88;
+        let t90: f32 = t1 * t7;
+        let t91: f32 = t89 * t90;
+        let t92: f32 = t64 + t91;
+        let t93: f32 = t92 * t92;
+        let t94: f32 = t38 + t85;
+        let t95: f32 = t93 + 1.0;
+        let t96: f32 = t94 + t95;
+        let t97: f32 = t37 - t96;
+        let t98: f32 = 1.0 / t97;
+        let t99: f32 = q5 + q6;
+        let t100: f32 = t99 * 0.0625;
+        let t101: f32 = t10 * t100;
+        let t102: f32 = t99 * 0.5;
+        let t103: f32 = t102 - t101;
+        let t104: f32 = t84 * t98;
+        let t105: f32 = t103 * t104;
+        let t106: f32 = t80 - t105;
+        let t107: f32 = t52 + t106;
+        let t108: f32 = qd5 - qd6;
+        let t109: f32 = t108 * 0.5;
+        let t110: f32 = t0 * t107;
+        let t111: f32 = t109 * t110;
+        let t112: f32 = q1 * t0;
+        let t113: f32 = t10 * t73;
+        let t114: f32 = t78 * t113;
+        let t115: f32 = t73 * t78;
+        let t116: f32 = t92 * t98;
+        let t117: f32 = t103 * t116;
+        let t118: f32 = t50 - t46;
+        let t119: f32 = t25 * t43;
+        let t120: f32 = t118 * t119;
+        let t121: f32 = t117 - t120;
+        let t122: f32 = t115 + t121;
+        let t123: f32 = t114 * 0.125;
+        let t124: f32 = q1 + t122;
+        let t125: f32 = t124 - t123;
+        let t126: f32 = t0 * t125;
+        let t127: f32 = t112 - t126;
+        let t128: f32 = t127 * 0.5;
+        let t129: f32 = t2 * t128;
+        let t130: f32 = qd5 + qd6;
+        let t131: f32 = t130 * 0.5;
+        let t132: f32 = t111 + t129;
+        let t133: f32 = t131 - t132;
+        let t134: f32 = t10 * t98;
+        let t135: f32 = t103 * t134;
+        let t136: f32 = t98 * t103;
+        let t137: f32 = t35 * t43;
+        let t138: f32 = t118 * t137;
+        let t139: f32 = t66 * t73;
+        let t140: f32 = t78 * t139;
+        let t141: f32 = t138 - t140;
+        let t142: f32 = t136 + t141;
+        let t143: f32 = t135 * 0.125;
+        let t144: f32 = half_spacing + t142;
+        let t145: f32 = t144 - t143;
+        let t146: f32 = t1 * t3;
+        let t147: f32 = t133 * t146;
+        let t148: f32 = t145 * t147;
+        let t149: f32 = qd3 - qd4;
+        let t150: f32 = t149 * 0.5;
+        let t151: f32 = q1 - half_spacing;
+        let t152: f32 = t0 * t151;
+        let t153: f32 = t152 - t126;
+        let t154: f32 = t153 * 0.5;
+        let t155: f32 = t154 + 1.0;
+        let t156: f32 = qd3 * t155;
+        let t157: f32 = qd4 * t154;
+        let t158: f32 = t99 - t101;
+        let t159: f32 = t158 * 0.125;
+        let t160: f32 = t10 * t159;
+        let t161: f32 = t102 - t160;
+        let t162: f32 = t98 * t161;
+        let t163: f32 = t141 + t162;
+        let t164: f32 = half_spacing + t163;
+        let t165: f32 = t0 * t109;
+        let t166: f32 = t164 * t165;
+        let t167: f32 = t109 + t157;
+        let t168: f32 = t156 + t166;
+        let t169: f32 = t167 - t168;
+        let t170: f32 = t1 * t150;
+        let t171: f32 = t145 * t170;
+        let t172: f32 = t169 * t171;
+        let t173: f32 = t148 + t172;
+        let t174: f32 = t0 * t3;
+        let t175: f32 = t133 * t174;
+        let t176: f32 = t0 * t150;
+        let t177: f32 = t169 * t176;
+        let t178: f32 = t175 + t177;
+        let t179: f32 = t0 * t145;
+        let t180: f32 = t178 * t179;
+        let t181: f32 = t173 - t180;
+        let t182: f32 = gravity_x - t178;
+        let t183: f32 = t181 * 0.5;
+        let t184: f32 = t182 + t183;
+        let t185: f32 = platform_mass * t184;
+        let t186: f32 = t10 * 0.125;
+        let t187: f32 = t186 - 1.0;
+        let t188: f32 = -t43;
+        let t189: f32 = sqrt(t188);
+        let t190: f32 = t187 * t189;
+        let t191: f32 = -t190;
+        let t192: f32 = platform_my * t191;
+        let t193: f32 = -t73;
+        let t194: f32 = sqrt(t193);
+        let t195: f32 = platform_mx * t60;
+        let t196: f32 = t194 * t195;
+        let t197: f32 = -t98;
+        let t198: f32 = sqrt(t197);
+        let t199: f32 = platform_mz * t84;
+        let t200: f32 = t198 * t199;
+        let t201: f32 = t196 - t200;
+        let t202: f32 = t192 + t201;
+        let t203: f32 = t109 * t202;
+        let t204: f32 = t187 * t194;
+        let t205: f32 = -t204;
+        let t206: f32 = platform_mx * t205;
+        let t207: f32 = platform_mz * t92;
+        let t208: f32 = t198 * t207;
+        let t209: f32 = platform_my * t25;
+        let t210: f32 = t189 * t209;
+        let t211: f32 = t208 - t210;
+        let t212: f32 = t206 + t211;
+        let t213: f32 = t3 * t212;
+        let t214: f32 = t203 - t213;
+        let t215: f32 = t146 * t214;
+        let t216: f32 = t150 * t212;
+        let t217: f32 = t187 * t198;
+        let t218: f32 = -t217;
+        let t219: f32 = platform_mz * t218;
+        let t220: f32 = platform_mx * t66;
+        let t221: f32 = t194 * t220;
+        let t222: f32 = platform_my * t35;
+        let t223: f32 = t189 * t222;
+        let t224: f32 = t221 - t223;
+        let t225: f32 = t224 - t219;
+        let t226: f32 = t109 * t225;
+        let t227: f32 = t216 + t226;
+        let t228: f32 = t170 * t227;
+        let t229: f32 = t150 * t150;
+        let t230: f32 = t1 * t229;
+        let t231: f32 = t3 * t3;
+        let t232: f32 = t1 * t231;
+        let t233: f32 = t230 + t232;
+        let t234: f32 = t125 * t233;
+        let t235: f32 = t1 * t109;
+        let t236: f32 = t150 * t235;
+        let t237: f32 = t145 * t236;
+        let t238: f32 = t10 * t43;
+        let t239: f32 = t118 * t238;
+        let t240: f32 = t43 * t118;
+        let t241: f32 = t106 + t240;
+        let t242: f32 = t239 * 0.125;
+        let t243: f32 = t241 - t242;
+        let t244: f32 = t146 * t243;
+        let t245: f32 = t109 * t244;
+        let t246: f32 = t182 - t245;
+        let t247: f32 = t234 + t246;
+        let t248: f32 = t183 + t247;
+        let t249: f32 = t248 - t237;
+        let t250: f32 = joint1_mass * t249;
+        let t251: f32 = joint1_my * t191;
+        let t252: f32 = joint1_mx * t60;
+        let t253: f32 = t194 * t252;
+        let t254: f32 = joint1_mz * t84;
+        let t255: f32 = t198 * t254;
+        let t256: f32 = t253 - t255;
+        let t257: f32 = t251 + t256;
+        let t258: f32 = t109 * t257;
+        let t259: f32 = joint1_mx * t205;
+        let t260: f32 = joint1_mz * t92;
+        let t261: f32 = t198 * t260;
+        let t262: f32 = joint1_my * t25;
+        let t263: f32 = t189 * t262;
+        let t264: f32 = t261 - t263;
+        let t265: f32 = t259 + t264;
+        let t266: f32 = t3 * t265;
+        let t267: f32 = t258 - t266;
+        let t268: f32 = t146 * t267;
+        let t269: f32 = t150 * t265;
+        let t270: f32 = joint1_mz * t218;
+        let t271: f32 = joint1_mx * t66;
+        let t272: f32 = t194 * t271;
+        let t273: f32 = joint1_my * t35;
+        let t274: f32 = t189 * t273;
+        let t275: f32 = t272 - t274;
+        let t276: f32 = t275 - t270;
+        let t277: f32 = t109 * t276;
+        let t278: f32 = t269 + t277;
+        let t279: f32 = t170 * t278;
+        let t280: f32 = gravity_x + t183;
+        let t281: f32 = rod1_mass * t280;
+        let t282: f32 = joint3_mx * t205;
+        let t283: f32 = joint3_mz * t92;
+        let t284: f32 = t198 * t283;
+        let t285: f32 = joint3_my * t25;
+        let t286: f32 = t189 * t285;
+        let t287: f32 = t284 - t286;
+        let t288: f32 = t282 + t287;
+        let t289: f32 = t150 * t288;
+        let t290: f32 = joint3_mz * t218;
+        let t291: f32 = joint3_mx * t66;
+        let t292: f32 = t194 * t291;
+        let t293: f32 = joint3_my * t35;
+        let t294: f32 = t189 * t293;
+        let t295: f32 = t292 - t294;
+        let t296: f32 = t295 - t290;
+        let t297: f32 = t109 * t296;
+        let t298: f32 = t289 + t297;
+        let t299: f32 = t170 * t298;
+        let t300: f32 = half_spacing + t122;
+        let t301: f32 = t300 - t123;
+        let t302: f32 = t233 * t301;
+        let t303: f32 = q3 + t241;
+        let t304: f32 = t303 - t242;
+        let t305: f32 = t109 * t146;
+        let t306: f32 = t304 * t305;
+        let t307: f32 = t143 - t142;
+        let t308: f32 = t236 * t307;
+        let t309: f32 = t182 + t308;
+        let t310: f32 = t302 + t309;
+        let t311: f32 = t183 + t310;
+        let t312: f32 = t311 - t306;
+        let t313: f32 = joint3_mass * t312;
+        let t314: f32 = joint3_my * t191;
+        let t315: f32 = joint3_mx * t60;
+        let t316: f32 = t194 * t315;
+        let t317: f32 = joint3_mz * t84;
+        let t318: f32 = t198 * t317;
+        let t319: f32 = t316 - t318;
+        let t320: f32 = t314 + t319;
+        let t321: f32 = t109 * t320;
+        let t322: f32 = t3 * t288;
+        let t323: f32 = t321 - t322;
+        let t324: f32 = t146 * t323;
+        let t325: f32 = t313 - t324;
+        let t326: f32 = t299 + t325;
+        let t327: f32 = joint4_mx * t205;
+        let t328: f32 = joint4_mz * t92;
+        let t329: f32 = t198 * t328;
+        let t330: f32 = joint4_my * t25;
+        let t331: f32 = t189 * t330;
+        let t332: f32 = t329 - t331;
+        let t333: f32 = t327 + t332;
+        let t334: f32 = t150 * t333;
+        let t335: f32 = joint4_mz * t218;
+        let t336: f32 = joint4_mx * t66;
+        let t337: f32 = t194 * t336;
+        let t338: f32 = joint4_my * t35;
+        let t339: f32 = t189 * t338;
+        let t340: f32 = t337 - t339;
+        let t341: f32 = t340 - t335;
+        let t342: f32 = t109 * t341;
+        let t343: f32 = t334 + t342;
+        let t344: f32 = t170 * t343;
+        let t345: f32 = half_spacing + t123;
+        let t346: f32 = t345 - t122;
+        let t347: f32 = t233 * t346;
+        let t348: f32 = q4 + t241;
+        let t349: f32 = t348 - t242;
+        let t350: f32 = t305 * t349;
+        let t351: f32 = t183 + t309;
+        let t352: f32 = t347 + t350;
+        let t353: f32 = t351 - t352;
+        let t354: f32 = joint4_mass * t353;
+        let t355: f32 = joint4_my * t191;
+        let t356: f32 = joint4_mx * t60;
+        let t357: f32 = t194 * t356;
+        let t358: f32 = joint4_mz * t84;
+        let t359: f32 = t198 * t358;
+        let t360: f32 = t357 - t359;
+        let t361: f32 = t355 + t360;
+        let t362: f32 = t109 * t361;
+        let t363: f32 = t3 * t333;
+        let t364: f32 = t362 - t363;
+        let t365: f32 = t146 * t364;
+        let t366: f32 = t354 - t365;
+        let t367: f32 = t344 + t366;
+        let t368: f32 = joint5_mx * t205;
+        let t369: f32 = joint5_mz * t92;
+        let t370: f32 = t198 * t369;
+        let t371: f32 = joint5_my * t25;
+        let t372: f32 = t189 * t371;
+        let t373: f32 = t370 - t372;
+        let t374: f32 = t368 + t373;
+        let t375: f32 = t150 * t374;
+        let t376: f32 = joint5_mz * t218;
+        let t377: f32 = joint5_mx * t66;
+        let t378: f32 = t194 * t377;
+        let t379: f32 = joint5_my * t35;
+        let t380: f32 = t189 * t379;
+        let t381: f32 = t378 - t380;
+        let t382: f32 = t381 - t376;
+        let t383: f32 = t109 * t382;
+        let t384: f32 = t375 + t383;
+        let t385: f32 = t170 * t384;
+        let t386: f32 = half_spacing + t107;
+        let t387: f32 = t3 * t386;
+        let t388: f32 = q5 + t163;
+        let t389: f32 = t150 * t388;
+        let t390: f32 = t387 + t389;
+        let t391: f32 = t235 * t390;
+        let t392: f32 = t122 - t123;
+        let t393: f32 = t233 * t392;
+        let t394: f32 = t182 + t393;
+        let t395: f32 = t183 + t394;
+        let t396: f32 = t395 - t391;
+        let t397: f32 = joint5_mass * t396;
+        let t398: f32 = joint5_my * t191;
+        let t399: f32 = joint5_mx * t60;
+        let t400: f32 = t194 * t399;
+        let t401: f32 = joint5_mz * t84;
+        let t402: f32 = t198 * t401;
+        let t403: f32 = t400 - t402;
+        let t404: f32 = t398 + t403;
+        let t405: f32 = t109 * t404;
+        let t406: f32 = t3 * t374;
+        let t407: f32 = t405 - t406;
+        let t408: f32 = t146 * t407;
+        let t409: f32 = t397 - t408;
+        let t410: f32 = t385 + t409;
+        let t411: f32 = joint6_mx * t205;
+        let t412: f32 = joint6_mz * t92;
+        let t413: f32 = t198 * t412;
+        let t414: f32 = joint6_my * t25;
+        let t415: f32 = t189 * t414;
+        let t416: f32 = t413 - t415;
+        let t417: f32 = t411 + t416;
+        let t418: f32 = t150 * t417;
+        let t419: f32 = joint6_mz * t218;
+        let t420: f32 = joint6_mx * t66;
+        let t421: f32 = t194 * t420;
+        let t422: f32 = joint6_my * t35;
+        let t423: f32 = t189 * t422;
+        let t424: f32 = t421 - t423;
+        let t425: f32 = t424 - t419;
+        let t426: f32 = t109 * t425;
+        let t427: f32 = t418 + t426;
+        let t428: f32 = t170 * t427;
+        let t429: f32 = half_spacing - t107;
+        let t430: f32 = t3 * t429;
+        let t431: f32 = q6 + t163;
+        let t432: f32 = t150 * t431;
+        let t433: f32 = t430 - t432;
+        let t434: f32 = t235 * t433;
+        let t435: f32 = t394 + t434;
+        let t436: f32 = t183 + t435;
+        let t437: f32 = joint6_mass * t436;
+        let t438: f32 = joint6_my * t191;
+        let t439: f32 = joint6_mx * t60;
+        let t440: f32 = t194 * t439;
+        let t441: f32 = joint6_mz * t84;
+        let t442: f32 = t198 * t441;
+        let t443: f32 = t440 - t442;
+        let t444: f32 = t438 + t443;
+        let t445: f32 = t109 * t444;
+        let t446: f32 = t3 * t417;
+        let t447: f32 = t445 - t446;
+        let t448: f32 = t146 * t447;
+        let t449: f32 = t437 - t448;
+        let t450: f32 = t428 + t449;
+        let t451: f32 = t3 * t296;
+        let t452: f32 = t150 * t320;
+        let t453: f32 = t451 + t452;
+        let t454: f32 = t146 * t453;
+        let t455: f32 = t74 - t76;
+        let t456: f32 = t455 * 0.125;
+        let t457: f32 = t10 * t456;
+        let t458: f32 = t77 - t457;
+        let t459: f32 = t73 * t458;
+        let t460: f32 = t121 + t459;
+        let t461: f32 = half_spacing + t460;
+        let t462: f32 = t109 * t461;
+        let t463: f32 = q3 + t107;
+        let t464: f32 = t3 * t463;
+        let t465: f32 = t462 + t464;
+        let t466: f32 = t170 * t465;
+        let t467: f32 = t107 * t150;
+        let t468: f32 = t3 * t164;
+        let t469: f32 = t467 - t468;
+        let t470: f32 = t0 * t469;
+        let t471: f32 = qd1 + t470;
+        let t472: f32 = t174 * t471;
+        let t473: f32 = t165 * t169;
+        let t474: f32 = gravity_z + t473;
+        let t475: f32 = t472 + t474;
+        let t476: f32 = t109 * t109;
+        let t477: f32 = t1 * t476;
+        let t478: f32 = t232 + t477;
+        let t479: f32 = t307 * t478;
+        let t480: f32 = t475 - t479;
+        let t481: f32 = t480 - t466;
+        let t482: f32 = joint3_mass * t481;
+        let t483: f32 = t235 * t298;
+        let t484: f32 = t482 - t483;
+        let t485: f32 = t454 - t484;
+        let t486: f32 = t3 * t341;
+        let t487: f32 = t150 * t361;
+        let t488: f32 = t486 + t487;
+        let t489: f32 = t146 * t488;
+        let t490: f32 = half_spacing - t460;
+        let t491: f32 = t109 * t490;
+        let t492: f32 = q4 + t107;
+        let t493: f32 = t3 * t492;
+        let t494: f32 = t491 - t493;
+        let t495: f32 = t170 * t494;
+        let t496: f32 = t480 + t495;
+        let t497: f32 = joint4_mass * t496;
+        let t498: f32 = t235 * t343;
+        let t499: f32 = t497 - t498;
+        let t500: f32 = t489 - t499;
+        let t501: f32 = t485 + t500;
+        let t502: f32 = t3 * t382;
+        let t503: f32 = t150 * t404;
+        let t504: f32 = t502 + t503;
+        let t505: f32 = t146 * t504;
+        let t506: f32 = half_spacing + t241;
+        let t507: f32 = t506 - t242;
+        let t508: f32 = t146 * t150;
+        let t509: f32 = t507 * t508;
+        let t510: f32 = q5 + t142;
+        let t511: f32 = t510 - t143;
+        let t512: f32 = t478 * t511;
+        let t513: f32 = t236 * t392;
+        let t514: f32 = t475 - t513;
+        let t515: f32 = t512 + t514;
+        let t516: f32 = t515 - t509;
+        let t517: f32 = joint5_mass * t516;
+        let t518: f32 = t235 * t384;
+        let t519: f32 = t517 - t518;
+        let t520: f32 = t505 - t519;
+        let t521: f32 = t3 * t425;
+        let t522: f32 = t150 * t444;
+        let t523: f32 = t521 + t522;
+        let t524: f32 = t146 * t523;
+        let t525: f32 = half_spacing + t242;
+        let t526: f32 = t525 - t241;
+        let t527: f32 = t508 * t526;
+        let t528: f32 = q6 + t142;
+        let t529: f32 = t528 - t143;
+        let t530: f32 = t478 * t529;
+        let t531: f32 = t527 + t530;
+        let t532: f32 = t514 + t531;
+        let t533: f32 = joint6_mass * t532;
+        let t534: f32 = t235 * t427;
+        let t535: f32 = t533 - t534;
+        let t536: f32 = t524 - t535;
+        let t537: f32 = t520 + t536;
+        let t538: f32 = t501 + t537;
+        let t539: f32 = t227 * t235;
+        let t540: f32 = platform_mass * t475;
+        let t541: f32 = t539 - t540;
+        let t542: f32 = t3 * t225;
+        let t543: f32 = t150 * t202;
+        let t544: f32 = t542 + t543;
+        let t545: f32 = t146 * t544;
+        let t546: f32 = t1 * t125;
+        let t547: f32 = t109 * t546;
+        let t548: f32 = t150 * t547;
+        let t549: f32 = t145 * t478;
+        let t550: f32 = t150 * t244;
+        let t551: f32 = t475 - t550;
+        let t552: f32 = t549 + t551;
+        let t553: f32 = t552 - t548;
+        let t554: f32 = joint1_mass * t553;
+        let t555: f32 = t545 - t554;
+        let t556: f32 = t541 + t555;
+        let t557: f32 = t235 * t278;
+        let t558: f32 = t3 * t276;
+        let t559: f32 = t150 * t257;
+        let t560: f32 = t558 + t559;
+        let t561: f32 = t146 * t560;
+        let t562: f32 = t557 + t561;
+        let t563: f32 = joint2_mz * t218;
+        let t564: f32 = joint2_mx * t66;
+        let t565: f32 = t194 * t564;
+        let t566: f32 = joint2_my * t35;
+        let t567: f32 = t189 * t566;
+        let t568: f32 = t565 - t567;
+        let t569: f32 = t568 - t563;
+        let t570: f32 = t3 * t569;
+        let t571: f32 = joint2_my * t191;
+        let t572: f32 = joint2_mx * t60;
+        let t573: f32 = t194 * t572;
+        let t574: f32 = joint2_mz * t84;
+        let t575: f32 = t198 * t574;
+        let t576: f32 = t573 - t575;
+        let t577: f32 = t571 + t576;
+        let t578: f32 = t150 * t577;
+        let t579: f32 = t570 + t578;
+        let t580: f32 = t146 * t579;
+        let t581: f32 = q2 + t122;
+        let t582: f32 = t581 - t123;
+        let t583: f32 = t236 * t582;
+        let t584: f32 = half_spacing + t143;
+        let t585: f32 = t584 - t142;
+        let t586: f32 = t478 * t585;
+        let t587: f32 = t583 + t586;
+        let t588: f32 = t551 - t587;
+        let t589: f32 = joint2_mass * t588;
+        let t590: f32 = joint2_mx * t205;
+        let t591: f32 = joint2_mz * t92;
+        let t592: f32 = t198 * t591;
+        let t593: f32 = joint2_my * t25;
+        let t594: f32 = t189 * t593;
+        let t595: f32 = t592 - t594;
+        let t596: f32 = t590 + t595;
+        let t597: f32 = t150 * t596;
+        let t598: f32 = t109 * t569;
+        let t599: f32 = t597 + t598;
+        let t600: f32 = t235 * t599;
+        let t601: f32 = t589 - t600;
+        let t602: f32 = t580 - t601;
+        let t603: f32 = gravity_z * rod5_mass;
+        let t604: f32 = gravity_z * rod6_mass;
+        let t605: f32 = t603 + t604;
+        let t606: f32 = t602 - t605;
+        let t607: f32 = t562 + t606;
+        let t608: f32 = t556 + t607;
+        let t609: f32 = t538 + t608;
+        let t610: f32 = -t609;
+        let t611: f32 = t112 * t610;
+        let t612: f32 = t10 * t198;
+        let t613: f32 = t612 * 0.125;
+        let t614: f32 = t198 - t613;
+        let t615: f32 = platform_mz * t614;
+        let t616: f32 = t224 - t615;
+        let t617: f32 = t184 * t616;
+        let t618: f32 = t10 * t194;
+        let t619: f32 = t618 * 0.125;
+        let t620: f32 = t194 - t619;
+        let t621: f32 = platform_mx * t620;
+        let t622: f32 = t211 + t621;
+        let t623: f32 = t475 * t622;
+        let t624: f32 = joint1_mz * t614;
+        let t625: f32 = t275 - t624;
+        let t626: f32 = t249 * t625;
+        let t627: f32 = joint1_mx * t620;
+        let t628: f32 = t264 + t627;
+        let t629: f32 = t553 * t628;
+        let t630: f32 = t233 * t582;
+        let t631: f32 = t236 * t585;
+        let t632: f32 = t630 + t631;
+        let t633: f32 = t183 + t246;
+        let t634: f32 = t632 + t633;
+        let t635: f32 = joint2_mz * t614;
+        let t636: f32 = t568 - t635;
+        let t637: f32 = t634 * t636;
+        let t638: f32 = joint2_mx * t620;
+        let t639: f32 = t595 + t638;
+        let t640: f32 = t588 * t639;
+        let t641: f32 = joint2_mass * t634;
+        let t642: f32 = t109 * t577;
+        let t643: f32 = t3 * t596;
+        let t644: f32 = t642 - t643;
+        let t645: f32 = t146 * t644;
+        let t646: f32 = t641 - t645;
+        let t647: f32 = t170 * t599;
+        let t648: f32 = rod2_mass * t280;
+        let t649: f32 = t647 + t648;
+        let t650: f32 = t646 + t649;
+        let t651: f32 = t585 * t650;
+        let t652: f32 = -t602;
+        let t653: f32 = t582 * t652;
+        let t654: f32 = joint3_mz * t614;
+        let t655: f32 = t295 - t654;
+        let t656: f32 = t312 * t655;
+        let t657: f32 = joint3_mx * t620;
+        let t658: f32 = t287 + t657;
+        let t659: f32 = t481 * t658;
+        let t660: f32 = -t485;
+        let t661: f32 = t301 * t660;
+        let t662: f32 = joint4_mz * t614;
+        let t663: f32 = t340 - t662;
+        let t664: f32 = t353 * t663;
+        let t665: f32 = joint4_mx * t620;
+        let t666: f32 = t332 + t665;
+        let t667: f32 = t496 * t666;
+        let t668: f32 = -t500;
+        let t669: f32 = t346 * t668;
+        let t670: f32 = joint5_mz * t614;
+        let t671: f32 = t381 - t670;
+        let t672: f32 = t396 * t671;
+        let t673: f32 = joint5_mx * t620;
+        let t674: f32 = t373 + t673;
+        let t675: f32 = t516 * t674;
+        let t676: f32 = t410 * t511;
+        let t677: f32 = joint6_mz * t614;
+        let t678: f32 = t424 - t677;
+        let t679: f32 = t436 * t678;
+        let t680: f32 = joint6_mx * t620;
+        let t681: f32 = t416 + t680;
+        let t682: f32 = t532 * t681;
+        let t683: f32 = t450 * t529;
+        let t684: f32 = t109 * t205;
+        let t685: f32 = t3 * t60;
+        let t686: f32 = t66 * t150;
+        let t687: f32 = t685 - t686;
+        let t688: f32 = t194 * t687;
+        let t689: f32 = t684 + t688;
+        let t690: f32 = platform_ixz + joint1_ixz;
+        let t691: f32 = joint2_ixz + joint3_ixz;
+        let t692: f32 = joint4_ixz + joint5_ixz;
+        let t693: f32 = t690 + t691;
+        let t694: f32 = joint6_ixz + t692;
+        let t695: f32 = t693 + t694;
+        let t696: f32 = t689 * t695;
+        let t697: f32 = t150 * t218;
+        let t698: f32 = t92 * t109;
+        let t699: f32 = t3 * t84;
+        let t700: f32 = t698 - t699;
+        let t701: f32 = t198 * t700;
+        let t702: f32 = t697 + t701;
+        let t703: f32 = platform_izz + joint1_izz;
+        let t704: f32 = joint2_izz + joint3_izz;
+        let t705: f32 = joint4_izz + joint5_izz;
+        let t706: f32 = t703 + t704;
+        let t707: f32 = joint6_izz + t705;
+        let t708: f32 = t706 + t707;
+        let t709: f32 = t702 * t708;
+        let t710: f32 = t696 + t709;
+        let t711: f32 = t0 * t710;
+        let t712: f32 = t3 * t191;
+        let t713: f32 = t25 * t109;
+        let t714: f32 = t35 * t150;
+        let t715: f32 = t713 - t714;
+        let t716: f32 = t189 * t715;
+        let t717: f32 = t712 - t716;
+        let t718: f32 = t0 * t717;
+        let t719: f32 = -t718;
+        let t720: f32 = platform_iyz + joint1_iyz;
+        let t721: f32 = joint2_iyz + joint3_iyz;
+        let t722: f32 = joint4_iyz + joint5_iyz;
+        let t723: f32 = t720 + t721;
+        let t724: f32 = joint6_iyz + t722;
+        let t725: f32 = t723 + t724;
+        let t726: f32 = t719 * t725;
+        let t727: f32 = t711 - t726;
+        let t728: f32 = t689 * t727;
+        let t729: f32 = platform_ixx + joint1_ixx;
+        let t730: f32 = joint2_ixx + joint3_ixx;
+        let t731: f32 = joint4_ixx + joint5_ixx;
+        let t732: f32 = t729 + t730;
+        let t733: f32 = joint6_ixx + t731;
+        let t734: f32 = t732 + t733;
+        let t735: f32 = t689 * t734;
+        let t736: f32 = t695 * t702;
+        let t737: f32 = t735 + t736;
+        let t738: f32 = t0 * t737;
+        let t739: f32 = platform_ixy + joint1_ixy;
+        let t740: f32 = joint2_ixy + joint3_ixy;
+        let t741: f32 = joint4_ixy + joint5_ixy;
+        let t742: f32 = t739 + t740;
+        let t743: f32 = joint6_ixy + t741;
+        let t744: f32 = t742 + t743;
+        let t745: f32 = t719 * t744;
+        let t746: f32 = t738 - t745;
+        let t747: f32 = t702 * t746;
+        let t748: f32 = t728 - t747;
+        let t749: f32 = t0 * t191;
+        let t750: f32 = t748 * t749;
+        let t751: f32 = t689 * t744;
+        let t752: f32 = t702 * t725;
+        let t753: f32 = t751 + t752;
+        let t754: f32 = t0 * t753;
+        let t755: f32 = platform_iyy + joint1_iyy;
+        let t756: f32 = joint2_iyy + joint3_iyy;
+        let t757: f32 = joint4_iyy + joint5_iyy;
+        let t758: f32 = t755 + t756;
+        let t759: f32 = joint6_iyy + t757;
+        let t760: f32 = t758 + t759;
+        let t761: f32 = t719 * t760;
+        let t762: f32 = t754 - t761;
+        let t763: f32 = t0 * t689;
+        let t764: f32 = t762 * t763;
+        let t765: f32 = t719 * t746;
+        let t766: f32 = t764 + t765;
+        let t767: f32 = t84 * t198;
+        let t768: f32 = t766 * t767;
+        let t769: f32 = t0 * t702;
+        let t770: f32 = t762 * t769;
+        let t771: f32 = t719 * t727;
+        let t772: f32 = t770 + t771;
+        let t773: f32 = t60 * t194;
+        let t774: f32 = t772 * t773;
+        let t775: f32 = half_spacing - t163;
+        let t776: f32 = t231 + t476;
+        let t777: f32 = t775 * t776;
+        let t778: f32 = t3 * t107;
+        let t779: f32 = q2 + t460;
+        let t780: f32 = t109 * t779;
+        let t781: f32 = t778 + t780;
+        let t782: f32 = t150 * t781;
+        let t783: f32 = t777 + t782;
+        let t784: f32 = t0 * t783;
+        let t785: f32 = q1 + t460;
+        let t786: f32 = t0 * t785;
+        let t787: f32 = t152 - t786;
+        let t788: f32 = t787 * 0.5;
+        let t789: f32 = t788 + 1.0;
+        let t790: f32 = qd3 * t789;
+        let t791: f32 = qd4 * t788;
+        let t792: f32 = t109 + t791;
+        let t793: f32 = t166 + t790;
+        let t794: f32 = t792 - t793;
+        let t795: f32 = t109 * t794;
+        let t796: f32 = t3 * t471;
+        let t797: f32 = t795 + t796;
+        let t798: f32 = t797 - t784;
+        let t799: f32 = t0 * t798;
+        let t800: f32 = gravity_z + t799;
+        let t801: f32 = joint2_mass * t800;
+        let t802: f32 = joint5_mx + joint6_mx;
+        let t803: f32 = joint3_mx + joint4_mx;
+        let t804: f32 = platform_mx + t803;
+        let t805: f32 = t802 + t804;
+        let t806: f32 = joint2_mx + t805;
+        let t807: f32 = t66 * t194;
+        let t808: f32 = t806 * t807;
+        let t809: f32 = joint5_my + joint6_my;
+        let t810: f32 = joint3_my + joint4_my;
+        let t811: f32 = platform_my + t810;
+        let t812: f32 = t809 + t811;
+        let t813: f32 = joint2_my + t812;
+        let t814: f32 = t35 * t189;
+        let t815: f32 = t813 * t814;
+        let t816: f32 = joint5_mz + joint6_mz;
+        let t817: f32 = joint3_mz + joint4_mz;
+        let t818: f32 = platform_mz + t817;
+        let t819: f32 = t816 + t818;
+        let t820: f32 = joint2_mz + t819;
+        let t821: f32 = t218 * t820;
+        let t822: f32 = t815 + t821;
+        let t823: f32 = t808 - t822;
+        let t824: f32 = t3 * t823;
+        let t825: f32 = t767 * t820;
+        let t826: f32 = t773 * t806;
+        let t827: f32 = t191 * t813;
+        let t828: f32 = t826 + t827;
+        let t829: f32 = t825 - t828;
+        let t830: f32 = t150 * t829;
+        let t831: f32 = t824 - t830;
+        let t832: f32 = t3 * t831;
+        let t833: f32 = t109 * t823;
+        let t834: f32 = t25 * t189;
+        let t835: f32 = t813 * t834;
+        let t836: f32 = t92 * t198;
+        let t837: f32 = t820 * t836;
+        let t838: f32 = t205 * t806;
+        let t839: f32 = t837 + t838;
+        let t840: f32 = t835 - t839;
+        let t841: f32 = t150 * t840;
+        let t842: f32 = t833 - t841;
+        let t843: f32 = t109 * t842;
+        let t844: f32 = t832 + t843;
+        let t845: f32 = t1 * t844;
+        let t846: f32 = t0 * t797;
+        let t847: f32 = gravity_z + t846;
+        let t848: f32 = platform_mass * t847;
+        let t849: f32 = t150 * t465;
+        let t850: f32 = -t163;
+        let t851: f32 = t776 * t850;
+        let t852: f32 = t849 + t851;
+        let t853: f32 = t0 * t852;
+        let t854: f32 = t797 - t853;
+        let t855: f32 = t0 * t854;
+        let t856: f32 = gravity_z + t855;
+        let t857: f32 = joint3_mass * t856;
+        let t858: f32 = t848 + t857;
+        let t859: f32 = t150 * t494;
+        let t860: f32 = t859 - t851;
+        let t861: f32 = t0 * t860;
+        let t862: f32 = t797 + t861;
+        let t863: f32 = t0 * t862;
+        let t864: f32 = gravity_z + t863;
+        let t865: f32 = joint4_mass * t864;
+        let t866: f32 = t388 * t776;
+        let t867: f32 = t109 * t460;
+        let t868: f32 = t387 + t867;
+        let t869: f32 = t150 * t868;
+        let t870: f32 = t866 - t869;
+        let t871: f32 = t0 * t870;
+        let t872: f32 = t797 + t871;
+        let t873: f32 = t0 * t872;
+        let t874: f32 = gravity_z + t873;
+        let t875: f32 = joint5_mass * t874;
+        let t876: f32 = t431 * t776;
+        let t877: f32 = t430 - t867;
+        let t878: f32 = t150 * t877;
+        let t879: f32 = t876 + t878;
+        let t880: f32 = t0 * t879;
+        let t881: f32 = t797 + t880;
+        let t882: f32 = t0 * t881;
+        let t883: f32 = gravity_z + t882;
+        let t884: f32 = joint6_mass * t883;
+        let t885: f32 = t875 + t884;
+        let t886: f32 = t605 + t885;
+        let t887: f32 = t865 + t886;
+        let t888: f32 = t858 + t887;
+        let t889: f32 = t801 + t888;
+        let t890: f32 = t889 - t845;
+        let t891: f32 = t125 * t890;
+        let t892: f32 = t229 + t231;
+        let t893: f32 = t779 * t892;
+        let t894: f32 = t150 * t775;
+        let t895: f32 = t778 - t894;
+        let t896: f32 = t109 * t895;
+        let t897: f32 = t893 - t896;
+        let t898: f32 = t0 * t897;
+        let t899: f32 = t107 * t109;
+        let t900: f32 = t460 * 0.5;
+        let t901: f32 = -t900;
+        let t902: f32 = t2 * t901;
+        let t903: f32 = t899 + t902;
+        let t904: f32 = t0 * t903;
+        let t905: f32 = t131 - t904;
+        let t906: f32 = t3 * t905;
+        let t907: f32 = t150 * t794;
+        let t908: f32 = t906 + t907;
+        let t909: f32 = t908 - t898;
+        let t910: f32 = t0 * t909;
+        let t911: f32 = gravity_x - t910;
+        let t912: f32 = joint2_mass * t911;
+        let t913: f32 = gravity_x * rod2_mass;
+        let t914: f32 = t3 * t840;
+        let t915: f32 = t109 * t829;
+        let t916: f32 = t914 - t915;
+        let t917: f32 = t3 * t916;
+        let t918: f32 = t150 * t842;
+        let t919: f32 = t917 - t918;
+        let t920: f32 = t1 * t919;
+        let t921: f32 = t0 * t908;
+        let t922: f32 = gravity_x - t921;
+        let t923: f32 = platform_mass * t922;
+        let t924: f32 = t109 * t390;
+        let t925: f32 = t460 * t892;
+        let t926: f32 = t924 - t925;
+        let t927: f32 = t0 * t926;
+        let t928: f32 = t908 + t927;
+        let t929: f32 = t0 * t928;
+        let t930: f32 = gravity_x - t929;
+        let t931: f32 = joint5_mass * t930;
+        let t932: f32 = t923 + t931;
+        let t933: f32 = t109 * t433;
+        let t934: f32 = t925 + t933;
+        let t935: f32 = t0 * t934;
+        let t936: f32 = t908 - t935;
+        let t937: f32 = t0 * t936;
+        let t938: f32 = gravity_x - t937;
+        let t939: f32 = joint6_mass * t938;
+        let t940: f32 = t461 * t892;
+        let t941: f32 = t150 * t850;
+        let t942: f32 = t464 - t941;
+        let t943: f32 = t109 * t942;
+        let t944: f32 = t940 - t943;
+        let t945: f32 = t0 * t944;
+        let t946: f32 = t908 - t945;
+        let t947: f32 = t0 * t946;
+        let t948: f32 = gravity_x - t947;
+        let t949: f32 = joint3_mass * t948;
+        let t950: f32 = t490 * t892;
+        let t951: f32 = t493 - t941;
+        let t952: f32 = t109 * t951;
+        let t953: f32 = t950 + t952;
+        let t954: f32 = t0 * t953;
+        let t955: f32 = t908 + t954;
+        let t956: f32 = t0 * t955;
+        let t957: f32 = gravity_x - t956;
+        let t958: f32 = joint4_mass * t957;
+        let t959: f32 = t949 + t958;
+        let t960: f32 = t939 + t959;
+        let t961: f32 = t932 + t960;
+        let t962: f32 = t912 + t913;
+        let t963: f32 = t961 + t962;
+        let t964: f32 = t963 - t920;
+        let t965: f32 = t145 * t964;
+        let t966: f32 = t810 * t834;
+        let t967: f32 = t817 * t836;
+        let t968: f32 = t205 * t803;
+        let t969: f32 = t967 + t968;
+        let t970: f32 = t966 - t969;
+        let t971: f32 = t3 * t970;
+        let t972: f32 = t767 * t817;
+        let t973: f32 = t773 * t803;
+        let t974: f32 = t191 * t810;
+        let t975: f32 = t973 + t974;
+        let t976: f32 = t972 - t975;
+        let t977: f32 = t109 * t976;
+        let t978: f32 = t971 - t977;
+        let t979: f32 = t3 * t978;
+        let t980: f32 = t803 * t807;
+        let t981: f32 = t810 * t814;
+        let t982: f32 = t218 * t817;
+        let t983: f32 = t981 + t982;
+        let t984: f32 = t980 - t983;
+        let t985: f32 = t109 * t984;
+        let t986: f32 = t150 * t970;
+        let t987: f32 = t985 - t986;
+        let t988: f32 = t150 * t987;
+        let t989: f32 = t979 - t988;
+        let t990: f32 = t1 * t989;
+        let t991: f32 = t959 - t990;
+        let t992: f32 = t307 * t991;
+        let t993: f32 = t802 * t807;
+        let t994: f32 = t809 * t814;
+        let t995: f32 = t218 * t816;
+        let t996: f32 = t994 + t995;
+        let t997: f32 = t993 - t996;
+        let t998: f32 = t3 * t997;
+        let t999: f32 = t767 * t816;
+        (
+            t0,
+            t1,
+            t3,
+            t10,
+            t25,
+            t35,
+            t107,
+            t109,
+            t125,
+            t133,
+            t145,
+            t146,
+            t150,
+            t152,
+            t154,
+            t155,
+            t164,
+            t165,
+            t170,
+            t176,
+            t184,
+            t185,
+            t186,
+            t189,
+            t191,
+            t201,
+            t205,
+            t214,
+            t215,
+            t218,
+            t228,
+            t229,
+            t230,
+            t235,
+            t243,
+            t249,
+            t250,
+            t256,
+            t267,
+            t268,
+            t279,
+            t281,
+            t301,
+            t304,
+            t305,
+            t307,
+            t312,
+            t319,
+            t323,
+            t326,
+            t346,
+            t349,
+            t353,
+            t360,
+            t364,
+            t367,
+            t386,
+            t389,
+            t392,
+            t396,
+            t403,
+            t407,
+            t410,
+            t429,
+            t432,
+            t436,
+            t443,
+            t447,
+            t450,
+            t453,
+            t462,
+            t463,
+            t471,
+            t475,
+            t476,
+            t477,
+            t481,
+            t488,
+            t491,
+            t492,
+            t496,
+            t504,
+            t507,
+            t508,
+            t511,
+            t516,
+            t520,
+            t523,
+            t526,
+            t529,
+            t532,
+            t536,
+            t544,
+            t553,
+            t560,
+            t576,
+            t579,
+            t582,
+            t585,
+            t588,
+            t603,
+            t604,
+            t609,
+            t611,
+            t614,
+            t616,
+            t617,
+            t620,
+            t622,
+            t623,
+            t625,
+            t626,
+            t628,
+            t629,
+            t634,
+            t636,
+            t637,
+            t639,
+            t640,
+            t644,
+            t650,
+            t651,
+            t653,
+            t655,
+            t656,
+            t658,
+            t659,
+            t660,
+            t661,
+            t663,
+            t664,
+            t666,
+            t667,
+            t668,
+            t669,
+            t671,
+            t672,
+            t674,
+            t675,
+            t676,
+            t678,
+            t679,
+            t681,
+            t682,
+            t683,
+            t748,
+            t750,
+            t766,
+            t767,
+            t768,
+            t772,
+            t773,
+            t774,
+            t780,
+            t785,
+            t802,
+            t805,
+            t806,
+            t807,
+            t809,
+            t812,
+            t813,
+            t814,
+            t816,
+            t819,
+            t820,
+            t831,
+            t834,
+            t836,
+            t867,
+            t886,
+            t888,
+            t891,
+            t894,
+            t905,
+            t916,
+            t941,
+            t961,
+            t965,
+            t976,
+            t978,
+            t984,
+            t992,
+            t997,
+            t998,
+            t999,
+        )
+    };
+    let (t1060, t1061, t1072, t1365, t1368, t1445, t1447, t1448) = {
+        let t1000: f32 = t773 * t802;
+        let t1001: f32 = t191 * t809;
+        let t1002: f32 = t1000 + t1001;
+        let t1003: f32 = t999 - t1002;
+        let t1004: f32 = t150 * t1003;
+        let t1005: f32 = t998 - t1004;
+        let t1006: f32 = t3 * t1005;
+        let t1007: f32 = t109 * t997;
+        let t1008: f32 = t809 * t834;
+        let t1009: f32 = t816 * t836;
+        let t1010: f32 = t205 * t802;
+        let t1011: f32 = t1009 + t1010;
+        let t1012: f32 = t1008 - t1011;
+        let t1013: f32 = t150 * t1012;
+        let t1014: f32 = t1007 - t1013;
+        let t1015: f32 = t109 * t1014;
+        let t1016: f32 = t1006 + t1015;
+        let t1017: f32 = t1 * t1016;
+        let t1018: f32 = t886 - t1017;
+        let t1019: f32 = t392 * t1018;
+        let t1020: f32 = t669 + t676;
+        let t1021: f32 = t683 + t750;
+        let t1022: f32 = t768 + t774;
+        let t1023: f32 = t1020 + t1021;
+        let t1024: f32 = t891 + t1022;
+        let t1025: f32 = t1023 + t1024;
+        let t1026: f32 = t617 + t623;
+        let t1027: f32 = t626 + t629;
+        let t1028: f32 = t637 + t640;
+        let t1029: f32 = t651 + t653;
+        let t1030: f32 = t656 + t659;
+        let t1031: f32 = t661 + t664;
+        let t1032: f32 = t667 + t672;
+        let t1033: f32 = t675 + t679;
+        let t1034: f32 = t682 + t965;
+        let t1035: f32 = t992 + t1019;
+        let t1036: f32 = t1026 + t1027;
+        let t1037: f32 = t1028 + t1029;
+        let t1038: f32 = t1030 + t1031;
+        let t1039: f32 = t1032 + t1033;
+        let t1040: f32 = t1034 + t1035;
+        let t1041: f32 = t1036 + t1037;
+        let t1042: f32 = t1038 + t1039;
+        let t1043: f32 = t1041 + t1042;
+        let t1044: f32 = t1040 + t1043;
+        let t1045: f32 = t1025 - t1044;
+        let t1046: f32 = t0 * t1045;
+        let t1047: f32 = t611 - t1046;
+        let t1048: f32 = t1047 * 0.5;
+        let t1049: f32 = t215 + t268;
+        let t1050: f32 = t1048 + t1049;
+        let t1051: f32 = t185 + t228;
+        let t1052: f32 = t250 + t279;
+        let t1053: f32 = t281 + t326;
+        let t1054: f32 = t367 + t410;
+        let t1055: f32 = t450 + t650;
+        let t1056: f32 = t1051 + t1052;
+        let t1057: f32 = t1053 + t1054;
+        let t1058: f32 = t1056 + t1057;
+        let t1059: f32 = t1055 + t1058;
+        let t1060: f32 = t1050 - t1059;
+        let t1061: f32 = -t1048;
+        let t1062: f32 = t176 * t471;
+        let t1063: f32 = t133 * t165;
+        let t1064: f32 = t1062 - t1063;
+        let t1065: f32 = t154 * t1064;
+        let t1066: f32 = t155 * t1064;
+        let t1067: f32 = gravity_y - t1066;
+        let t1068: f32 = t1065 + t1067;
+        let t1069: f32 = t622 * t1068;
+        let t1070: f32 = t10 * t189;
+        let t1071: f32 = t1070 * 0.125;
+        let t1072: f32 = t189 - t1071;
+        let t1073: f32 = platform_my * t1072;
+        let t1074: f32 = t201 + t1073;
+        let t1075: f32 = t184 * t1074;
+        let t1076: f32 = t109 * t785;
+        let t1077: f32 = t150 * t164;
+        let t1078: f32 = t1076 + t1077;
+        let t1079: f32 = t146 * t1078;
+        let t1080: f32 = t230 + t477;
+        let t1081: f32 = t243 * t1080;
+        let t1082: f32 = t1068 + t1081;
+        let t1083: f32 = t1082 - t1079;
+        let t1084: f32 = t628 * t1083;
+        let t1085: f32 = joint1_my * t1072;
+        let t1086: f32 = t256 + t1085;
+        let t1087: f32 = t249 * t1086;
+        let t1088: f32 = t780 - t894;
+        let t1089: f32 = t146 * t1088;
+        let t1090: f32 = t1082 - t1089;
+        let t1091: f32 = t639 * t1090;
+        let t1092: f32 = joint2_my * t1072;
+        let t1093: f32 = t576 + t1092;
+        let t1094: f32 = t634 * t1093;
+        let t1095: f32 = t235 * t644;
+        let t1096: f32 = joint2_mass * t1090;
+        let t1097: f32 = t170 * t579;
+        let t1098: f32 = t1096 + t1097;
+        let t1099: f32 = t1095 + t1098;
+        let t1100: f32 = t582 * t1099;
+        let t1101: f32 = t301 * t305;
+        let t1102: f32 = t304 * t1080;
+        let t1103: f32 = t307 * t508;
+        let t1104: f32 = t1068 + t1103;
+        let t1105: f32 = t1102 + t1104;
+        let t1106: f32 = t1105 - t1101;
+        let t1107: f32 = t658 * t1106;
+        let t1108: f32 = joint3_my * t1072;
+        let t1109: f32 = t319 + t1108;
+        let t1110: f32 = t312 * t1109;
+        let t1111: f32 = t304 * t326;
+        let t1112: f32 = joint3_mass * t1106;
+        let t1113: f32 = t170 * t453;
+        let t1114: f32 = t1112 + t1113;
+        let t1115: f32 = t235 * t323;
+        let t1116: f32 = t1064 + t1068;
+        let t1117: f32 = rod3_mass * t1116;
+        let t1118: f32 = t1115 + t1117;
+        let t1119: f32 = t1114 + t1118;
+        let t1120: f32 = t301 * t1119;
+        let t1121: f32 = t305 * t346;
+        let t1122: f32 = t349 * t1080;
+        let t1123: f32 = t1121 + t1122;
+        let t1124: f32 = t1104 + t1123;
+        let t1125: f32 = t666 * t1124;
+        let t1126: f32 = joint4_my * t1072;
+        let t1127: f32 = t360 + t1126;
+        let t1128: f32 = t353 * t1127;
+        let t1129: f32 = t349 * t367;
+        let t1130: f32 = joint4_mass * t1124;
+        let t1131: f32 = t170 * t488;
+        let t1132: f32 = t1130 + t1131;
+        let t1133: f32 = t235 * t364;
+        let t1134: f32 = rod4_mass * t1116;
+        let t1135: f32 = t1133 + t1134;
+        let t1136: f32 = t1132 + t1135;
+        let t1137: f32 = t346 * t1136;
+        let t1138: f32 = t507 * t1080;
+        let t1139: f32 = t508 * t511;
+        let t1140: f32 = t305 * t392;
+        let t1141: f32 = t1068 - t1140;
+        let t1142: f32 = t1138 + t1141;
+        let t1143: f32 = t1142 - t1139;
+        let t1144: f32 = t674 * t1143;
+        let t1145: f32 = joint5_my * t1072;
+        let t1146: f32 = t403 + t1145;
+        let t1147: f32 = t396 * t1146;
+        let t1148: f32 = t410 * t507;
+        let t1149: f32 = t526 * t1080;
+        let t1150: f32 = t508 * t529;
+        let t1151: f32 = t1149 + t1150;
+        let t1152: f32 = t1141 - t1151;
+        let t1153: f32 = t681 * t1152;
+        let t1154: f32 = joint6_my * t1072;
+        let t1155: f32 = t443 + t1154;
+        let t1156: f32 = t436 * t1155;
+        let t1157: f32 = t450 * t526;
+        let t1158: f32 = t0 * t35;
+        let t1159: f32 = t189 * t1158;
+        let t1160: f32 = t748 * t1159;
+        let t1161: f32 = t772 * t807;
+        let t1162: f32 = t614 * t766;
+        let t1163: f32 = t812 * t834;
+        let t1164: f32 = t819 * t836;
+        let t1165: f32 = t205 * t805;
+        let t1166: f32 = t1164 + t1165;
+        let t1167: f32 = t1163 - t1166;
+        let t1168: f32 = t3 * t1167;
+        let t1169: f32 = t767 * t819;
+        let t1170: f32 = t773 * t805;
+        let t1171: f32 = t191 * t812;
+        let t1172: f32 = t1170 + t1171;
+        let t1173: f32 = t1169 - t1172;
+        let t1174: f32 = t109 * t1173;
+        let t1175: f32 = t1168 - t1174;
+        let t1176: f32 = t3 * t1175;
+        let t1177: f32 = t805 * t807;
+        let t1178: f32 = t812 * t814;
+        let t1179: f32 = t218 * t819;
+        let t1180: f32 = t1178 + t1179;
+        let t1181: f32 = t1177 - t1180;
+        let t1182: f32 = t109 * t1181;
+        let t1183: f32 = t150 * t1167;
+        let t1184: f32 = t1182 - t1183;
+        let t1185: f32 = t150 * t1184;
+        let t1186: f32 = t1176 - t1185;
+        let t1187: f32 = t1 * t1186;
+        let t1188: f32 = t961 - t1187;
+        let t1189: f32 = t243 * t1188;
+        let t1190: f32 = t109 * t916;
+        let t1191: f32 = t150 * t831;
+        let t1192: f32 = t1190 + t1191;
+        let t1193: f32 = t1 * t1192;
+        let t1194: f32 = rod3_mass + rod4_mass;
+        let t1195: f32 = gravity_y * t1194;
+        let t1196: f32 = t229 + t476;
+        let t1197: f32 = t463 * t1196;
+        let t1198: f32 = t462 - t941;
+        let t1199: f32 = t3 * t1198;
+        let t1200: f32 = t1197 - t1199;
+        let t1201: f32 = t0 * t1200;
+        let t1202: f32 = t150 * t471;
+        let t1203: f32 = t109 * t905;
+        let t1204: f32 = t1202 - t1203;
+        let t1205: f32 = t1204 - t1201;
+        let t1206: f32 = t0 * t1205;
+        let t1207: f32 = gravity_y - t1206;
+        let t1208: f32 = joint3_mass * t1207;
+        let t1209: f32 = t492 * t1196;
+        let t1210: f32 = t491 + t941;
+        let t1211: f32 = t3 * t1210;
+        let t1212: f32 = t1209 + t1211;
+        let t1213: f32 = t0 * t1212;
+        let t1214: f32 = t1204 - t1213;
+        let t1215: f32 = t0 * t1214;
+        let t1216: f32 = gravity_y - t1215;
+        let t1217: f32 = joint4_mass * t1216;
+        let t1218: f32 = t1208 + t1217;
+        let t1219: f32 = t1195 + t1218;
+        let t1220: f32 = t386 * t1196;
+        let t1221: f32 = t389 + t867;
+        let t1222: f32 = t3 * t1221;
+        let t1223: f32 = t1220 - t1222;
+        let t1224: f32 = t0 * t1223;
+        let t1225: f32 = t1204 - t1224;
+        let t1226: f32 = t0 * t1225;
+        let t1227: f32 = gravity_y - t1226;
+        let t1228: f32 = joint5_mass * t1227;
+        let t1229: f32 = t429 * t1196;
+        let t1230: f32 = t432 + t867;
+        let t1231: f32 = t3 * t1230;
+        let t1232: f32 = t1229 + t1231;
+        let t1233: f32 = t0 * t1232;
+        let t1234: f32 = t1204 + t1233;
+        let t1235: f32 = t0 * t1234;
+        let t1236: f32 = gravity_y - t1235;
+        let t1237: f32 = joint6_mass * t1236;
+        let t1238: f32 = t1228 + t1237;
+        let t1239: f32 = t0 * t1204;
+        let t1240: f32 = gravity_y - t1239;
+        let t1241: f32 = platform_mass * t1240;
+        let t1242: f32 = t3 * t1088;
+        let t1243: f32 = t107 * t1196;
+        let t1244: f32 = t1242 - t1243;
+        let t1245: f32 = t0 * t1244;
+        let t1246: f32 = t1204 + t1245;
+        let t1247: f32 = t0 * t1246;
+        let t1248: f32 = gravity_y - t1247;
+        let t1249: f32 = joint2_mass * t1248;
+        let t1250: f32 = t1241 + t1249;
+        let t1251: f32 = t1238 + t1250;
+        let t1252: f32 = t1193 + t1219;
+        let t1253: f32 = t1251 + t1252;
+        let t1254: f32 = t125 * t1253;
+        let t1255: f32 = t3 * t1012;
+        let t1256: f32 = t109 * t1003;
+        let t1257: f32 = t1255 - t1256;
+        let t1258: f32 = t109 * t1257;
+        let t1259: f32 = t150 * t1005;
+        let t1260: f32 = t1258 + t1259;
+        let t1261: f32 = t1 * t1260;
+        let t1262: f32 = t1238 + t1261;
+        let t1263: f32 = t392 * t1262;
+        let t1264: f32 = t1075 + t1087;
+        let t1265: f32 = t1094 + t1110;
+        let t1266: f32 = t1111 + t1128;
+        let t1267: f32 = t1129 + t1137;
+        let t1268: f32 = t1147 + t1148;
+        let t1269: f32 = t1156 + t1161;
+        let t1270: f32 = t1162 + t1254;
+        let t1271: f32 = t1264 + t1265;
+        let t1272: f32 = t1266 + t1267;
+        let t1273: f32 = t1268 + t1269;
+        let t1274: f32 = t1271 + t1272;
+        let t1275: f32 = t1270 + t1273;
+        let t1276: f32 = t1274 + t1275;
+        let t1277: f32 = t1069 + t1084;
+        let t1278: f32 = t1091 + t1100;
+        let t1279: f32 = t1107 + t1120;
+        let t1280: f32 = t1125 + t1144;
+        let t1281: f32 = t1153 + t1157;
+        let t1282: f32 = t1160 + t1189;
+        let t1283: f32 = t1277 + t1278;
+        let t1284: f32 = t1279 + t1280;
+        let t1285: f32 = t1281 + t1282;
+        let t1286: f32 = t1283 + t1284;
+        let t1287: f32 = t1263 + t1285;
+        let t1288: f32 = t1286 + t1287;
+        let t1289: f32 = t1276 - t1288;
+        let t1290: f32 = t0 * t1289;
+        let t1291: f32 = t3 * t1078;
+        let t1292: f32 = t1291 - t1243;
+        let t1293: f32 = t0 * t1292;
+        let t1294: f32 = t1204 + t1293;
+        let t1295: f32 = t0 * t1294;
+        let t1296: f32 = gravity_y - t1295;
+        let t1297: f32 = joint1_mass * t1296;
+        let t1298: f32 = joint1_my + t813;
+        let t1299: f32 = t1298 * 0.5;
+        let t1300: f32 = t834 * t1299;
+        let t1301: f32 = joint1_mz + t820;
+        let t1302: f32 = t1301 * 0.5;
+        let t1303: f32 = t836 * t1302;
+        let t1304: f32 = joint1_mx + t806;
+        let t1305: f32 = t1304 * 0.5;
+        let t1306: f32 = t205 * t1305;
+        let t1307: f32 = t1303 + t1306;
+        let t1308: f32 = t1300 - t1307;
+        let t1309: f32 = t3 * t1308;
+        let t1310: f32 = t767 * t1302;
+        let t1311: f32 = t773 * t1305;
+        let t1312: f32 = t191 * t1299;
+        let t1313: f32 = t1311 + t1312;
+        let t1314: f32 = t1310 - t1313;
+        let t1315: f32 = t109 * t1314;
+        let t1316: f32 = t1309 - t1315;
+        let t1317: f32 = t109 * t1316;
+        let t1318: f32 = t807 * t1305;
+        let t1319: f32 = t814 * t1299;
+        let t1320: f32 = t218 * t1302;
+        let t1321: f32 = t1319 + t1320;
+        let t1322: f32 = t1318 - t1321;
+        let t1323: f32 = t3 * t1322;
+        let t1324: f32 = t150 * t1314;
+        let t1325: f32 = t1323 - t1324;
+        let t1326: f32 = t150 * t1325;
+        let t1327: f32 = t1317 + t1326;
+        let t1328: f32 = t1 * t1327;
+        let t1329: f32 = t1194 * 0.5;
+        let t1330: f32 = gravity_y * t1329;
+        let t1331: f32 = t1218 + t1297;
+        let t1332: f32 = t1251 + t1331;
+        let t1333: f32 = t1332 * 0.5;
+        let t1334: f32 = t1328 + t1333;
+        let t1335: f32 = t1330 + t1334;
+        let t1336: f32 = t152 * t1335;
+        let t1337: f32 = t235 * t407;
+        let t1338: f32 = joint5_mass * t1143;
+        let t1339: f32 = t170 * t504;
+        let t1340: f32 = t1338 + t1339;
+        let t1341: f32 = t1337 + t1340;
+        let t1342: f32 = t1099 + t1341;
+        let t1343: f32 = t235 * t447;
+        let t1344: f32 = joint6_mass * t1152;
+        let t1345: f32 = t170 * t523;
+        let t1346: f32 = t1344 + t1345;
+        let t1347: f32 = t1343 + t1346;
+        let t1348: f32 = t1119 + t1347;
+        let t1349: f32 = t1342 + t1348;
+        let t1350: f32 = platform_mass * t1068;
+        let t1351: f32 = t170 * t544;
+        let t1352: f32 = t1350 + t1351;
+        let t1353: f32 = t1136 + t1352;
+        let t1354: f32 = t214 * t235;
+        let t1355: f32 = joint1_mass * t1083;
+        let t1356: f32 = t1354 + t1355;
+        let t1357: f32 = t170 * t560;
+        let t1358: f32 = t235 * t267;
+        let t1359: f32 = t1357 + t1358;
+        let t1360: f32 = t1356 + t1359;
+        let t1361: f32 = t1353 + t1360;
+        let t1362: f32 = t1349 + t1361;
+        let t1363: f32 = t1290 * 0.5;
+        let t1364: f32 = t1336 + t1362;
+        let t1365: f32 = t1363 - t1364;
+        let t1366: f32 = t152 * t1362;
+        let t1367: f32 = t1366 - t1290;
+        let t1368: f32 = t1367 * 0.5;
+        let t1369: f32 = t475 * t1074;
+        let t1370: f32 = t616 * t1068;
+        let t1371: f32 = t553 * t1086;
+        let t1372: f32 = t625 * t1083;
+        let t1373: f32 = t588 * t1093;
+        let t1374: f32 = t636 * t1090;
+        let t1375: f32 = t585 * t1099;
+        let t1376: f32 = t481 * t1109;
+        let t1377: f32 = t655 * t1106;
+        let t1378: f32 = t304 * t660;
+        let t1379: f32 = t496 * t1127;
+        let t1380: f32 = t663 * t1124;
+        let t1381: f32 = t349 * t668;
+        let t1382: f32 = t516 * t1146;
+        let t1383: f32 = t671 * t1143;
+        let t1384: f32 = t511 * t1341;
+        let t1385: f32 = t603 - t520;
+        let t1386: f32 = t507 * t1385;
+        let t1387: f32 = t532 * t1155;
+        let t1388: f32 = t678 * t1152;
+        let t1389: f32 = t529 * t1347;
+        let t1390: f32 = t604 - t536;
+        let t1391: f32 = t526 * t1390;
+        let t1392: f32 = t0 * t25;
+        let t1393: f32 = t189 * t1392;
+        let t1394: f32 = t748 * t1393;
+        let t1395: f32 = t766 * t836;
+        let t1396: f32 = t620 * t772;
+        let t1397: f32 = t3 * t1181;
+        let t1398: f32 = t150 * t1173;
+        let t1399: f32 = t1397 - t1398;
+        let t1400: f32 = t3 * t1399;
+        let t1401: f32 = t109 * t1184;
+        let t1402: f32 = t1400 + t1401;
+        let t1403: f32 = t1 * t1402;
+        let t1404: f32 = t888 - t1403;
+        let t1405: f32 = t243 * t1404;
+        let t1406: f32 = t145 * t1253;
+        let t1407: f32 = t109 * t978;
+        let t1408: f32 = t3 * t984;
+        let t1409: f32 = t150 * t976;
+        let t1410: f32 = t1408 - t1409;
+        let t1411: f32 = t150 * t1410;
+        let t1412: f32 = t1407 + t1411;
+        let t1413: f32 = t1 * t1412;
+        let t1414: f32 = t1219 + t1413;
+        let t1415: f32 = t307 * t1414;
+        let t1416: f32 = t1369 + t1370;
+        let t1417: f32 = t1371 + t1372;
+        let t1418: f32 = t1373 + t1374;
+        let t1419: f32 = t1375 + t1376;
+        let t1420: f32 = t1377 + t1378;
+        let t1421: f32 = t1379 + t1380;
+        let t1422: f32 = t1381 + t1382;
+        let t1423: f32 = t1383 + t1386;
+        let t1424: f32 = t1387 + t1388;
+        let t1425: f32 = t1396 + t1406;
+        let t1426: f32 = t1416 + t1417;
+        let t1427: f32 = t1418 + t1419;
+        let t1428: f32 = t1420 + t1421;
+        let t1429: f32 = t1422 + t1423;
+        let t1430: f32 = t1424 + t1425;
+        let t1431: f32 = t1426 + t1427;
+        let t1432: f32 = t1428 + t1429;
+        let t1433: f32 = t1415 + t1430;
+        let t1434: f32 = t1431 + t1432;
+        let t1435: f32 = t1433 + t1434;
+        let t1436: f32 = t1384 + t1389;
+        let t1437: f32 = t1391 + t1394;
+        let t1438: f32 = t1395 + t1405;
+        let t1439: f32 = t1436 + t1437;
+        let t1440: f32 = t1438 + t1439;
+        let t1441: f32 = t1435 - t1440;
+        let t1442: f32 = t0 * t1441;
+        let t1443: f32 = t1442 - t1362;
+        let t1444: f32 = t609 - t1443;
+        let t1445: f32 = t1444 * 0.5;
+        let t1446: f32 = t609 + t1443;
+        let t1447: f32 = t1446 * 0.5;
+        let t1448: f32 = 1.0 - t186;
+        (t1060, t1061, t1072, t1365, t1368, t1445, t1447, t1448)
+    };
     ([t1060, t1061, t1365, t1368, t1445, t1447], [t1448, t620, t1072, t614])
 }
 /// What the robot's limits bound, at a pose: each ball's position `Q_i1` on its actuator, its offset on its plate, and the cosine of its tilt.
