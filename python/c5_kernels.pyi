@@ -46,6 +46,13 @@ class Identification(TypedDict):
     residual_rms: list[float]
     samples: int
 
+class Limits(TypedDict):
+    stroke: Optional[list[list[float]]]
+    plate_travel: Optional[list[float]]
+    tilt: Optional[float]
+    speed: Optional[float]
+    force: Optional[float]
+
 class C5:
     """The C5 joint parallel robot: a robot description and a model of its legs' mechanism."""
 
@@ -141,6 +148,55 @@ class C5:
 
     def joint_inertia(self, q: ArrayLike, *, errors: Errors = "raise") -> Result:
         """``M_q`` of ``gamma = M_q qdd + c_q`` (kg, ``J^T M_x J``): ``(6, 6)`` or ``(N, 6, 6)``."""
+
+    def inverse_dynamics_derivatives(
+        self,
+        pose: ArrayLike,
+        omega: Optional[ArrayLike] = None,
+        velocity: Optional[ArrayLike] = None,
+        omega_dot: Optional[ArrayLike] = None,
+        acceleration: Optional[ArrayLike] = None,
+        *,
+        errors: Errors = "raise",
+    ) -> Tuple[Array, ...]:
+        """``(gamma, d_pose, d_twist, d_acceleration)``: the forces ``(6,)`` and their exact
+        Jacobians ``(6, 6)`` (with a leading ``N`` for a batch), row ``i`` actuator ``i``,
+        columns ``alpha beta gamma xc yc zc``, ``wx wy wz vx vy vz``, ``w_dot_x .. az``.
+        ``d_acceleration`` is ``J^T M_x``. With ``errors="nan"``, the mask last."""
+
+    def forward_dynamics_derivatives(
+        self,
+        pose: ArrayLike,
+        omega: Optional[ArrayLike] = None,
+        velocity: Optional[ArrayLike] = None,
+        gamma: Optional[ArrayLike] = None,
+        *,
+        errors: Errors = "raise",
+    ) -> Tuple[Array, ...]:
+        """``(omega_dot, acceleration, d_pose, d_twist, d_gamma)``: the forward dynamics and its
+        exact Jacobians, rows ``w_dot_x w_dot_y w_dot_z ax ay az``; ``d_gamma`` is
+        ``M_x^-1 J^-T``. With ``errors="nan"``, the mask last."""
+
+    def inverse_dynamics_joint_derivatives(
+        self,
+        q: ArrayLike,
+        qd: Optional[ArrayLike] = None,
+        qdd: Optional[ArrayLike] = None,
+        *,
+        errors: Errors = "raise",
+    ) -> Tuple[Array, ...]:
+        """``(gamma, d_q, d_qd, d_qdd)``: the joint-space inverse dynamics and its exact
+        Jacobians, columns actuators 1..6; ``d_qdd`` is ``M_q``. With ``errors="nan"``, the mask
+        last."""
+
+    def limit_margins(self, pose: ArrayLike, *, errors: Errors = "raise") -> Tuple[Array, ...]:
+        """``(stroke, plate, tilt)`` margins of the robot's limits at ``pose``: ``(6,)`` (m),
+        ``(6, 2)`` (m) and ``(6,)`` (rad), with a leading ``N`` for a batch; positive inside,
+        negative outside, ``inf`` where the robot file sets no such limit."""
+
+    @property
+    def limits(self) -> Limits:
+        """The robot file's ``[limits]``; ``None`` where it sets none."""
 
     def regressor(
         self,

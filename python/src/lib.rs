@@ -644,6 +644,146 @@ impl C5 {
         })
     }
 
+    /// The inverse dynamics and its exact Jacobians, from one generated kernel: `(gamma,
+    /// d_pose, d_twist, d_acceleration)`, `Γ` `(6,)` and three `(6, 6)` (or `(N, 6)` and
+    /// `(N, 6, 6)`), row `i` actuator `i`, columns `α β γ xc yc zc`, `ωx ωy ωz vx vy vz` and
+    /// `ω̇x ω̇y ω̇z ax ay az`. `d_acceleration` is `Jᵀ M_x`.
+    #[pyo3(signature = (pose, omega = None, velocity = None, omega_dot = None, acceleration = None, *, errors = "raise"))]
+    #[allow(clippy::too_many_arguments)]
+    fn inverse_dynamics_derivatives<'py>(
+        &self,
+        py: Python<'py>,
+        pose: Array<'py>,
+        omega: Option<Array<'py>>,
+        velocity: Option<Array<'py>>,
+        omega_dot: Option<Array<'py>>,
+        acceleration: Option<Array<'py>>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&motion_args(
+            &pose,
+            [&omega, &velocity, &omega_dot, &acceleration],
+        ))?;
+        let c5 = &self.inner;
+        let shapes: [&[usize]; 4] = [&[6], &[6, 6], &[6, 6], &[6, 6]];
+        each_row(py, batch, mode, &shapes, |k, out| {
+            let d = c5.inverse_dynamics_derivatives(&motion(&r, k))?;
+            out.put(0, k, &d.gamma);
+            out.put(1, k, d.d_pose.as_flattened());
+            out.put(2, k, d.d_twist.as_flattened());
+            out.put(3, k, d.d_accel.as_flattened());
+            Ok(())
+        })
+    }
+
+    /// The forward dynamics and its exact Jacobians, from one generated kernel: `(omega_dot,
+    /// acceleration, d_pose, d_twist, d_gamma)`, rows `ω̇x ω̇y ω̇z ax ay az`, columns
+    /// `α β γ xc yc zc`, `ωx ωy ωz vx vy vz` and actuators 1..6. `d_gamma` is `M_x⁻¹ J⁻ᵀ`, the
+    /// inverse of `inverse_dynamics_derivatives`'s `d_acceleration`.
+    #[pyo3(signature = (pose, omega = None, velocity = None, gamma = None, *, errors = "raise"))]
+    fn forward_dynamics_derivatives<'py>(
+        &self,
+        py: Python<'py>,
+        pose: Array<'py>,
+        omega: Option<Array<'py>>,
+        velocity: Option<Array<'py>>,
+        gamma: Option<Array<'py>>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&[
+            ("pose", 6, Some(&pose)),
+            ("omega", 3, omega.as_ref()),
+            ("velocity", 3, velocity.as_ref()),
+            ("gamma", 6, gamma.as_ref()),
+        ])?;
+        let c5 = &self.inner;
+        let shapes: [&[usize]; 5] = [&[3], &[3], &[6, 6], &[6, 6], &[6, 6]];
+        each_row(py, batch, mode, &shapes, |k, out| {
+            let twist = Twist {
+                omega: r[1].row(k),
+                velocity: r[2].row(k),
+            };
+            let pose = Pose::from_array(r[0].row(k));
+            let d = c5.forward_dynamics_derivatives(&pose, &twist, &r[3].row(k))?;
+            out.put(0, k, &d.accel.omega_dot);
+            out.put(1, k, &d.accel.linear);
+            out.put(2, k, d.d_pose.as_flattened());
+            out.put(3, k, d.d_twist.as_flattened());
+            out.put(4, k, d.d_gamma.as_flattened());
+            Ok(())
+        })
+    }
+
+    /// The joint-space inverse dynamics and its exact Jacobians: `(gamma, d_q, d_qd, d_qdd)`,
+    /// row `i` actuator `i`, columns actuators 1..6; `d_qdd` is `M_q`.
+    #[pyo3(signature = (q, qd = None, qdd = None, *, errors = "raise"))]
+    fn inverse_dynamics_joint_derivatives<'py>(
+        &self,
+        py: Python<'py>,
+        q: Array<'py>,
+        qd: Option<Array<'py>>,
+        qdd: Option<Array<'py>>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&[
+            ("q", 6, Some(&q)),
+            ("qd", 6, qd.as_ref()),
+            ("qdd", 6, qdd.as_ref()),
+        ])?;
+        let c5 = &self.inner;
+        let shapes: [&[usize]; 4] = [&[6], &[6, 6], &[6, 6], &[6, 6]];
+        each_row(py, batch, mode, &shapes, |k, out| {
+            let d =
+                c5.inverse_dynamics_joint_derivatives(&r[0].row(k), &r[1].row(k), &r[2].row(k))?;
+            out.put(0, k, &d.gamma);
+            out.put(1, k, d.d_q.as_flattened());
+            out.put(2, k, d.d_qd.as_flattened());
+            out.put(3, k, d.d_qdd.as_flattened());
+            Ok(())
+        })
+    }
+
+    /// The margins of the robot's stroke, plate-travel and tilt limits at `pose`: `(stroke,
+    /// plate, tilt)`, `(6,)` (m), `(6, 2)` (m, the plate's two axes) and `(6,)` (rad), or with a
+    /// leading `N`; positive inside, negative outside, `inf` where the robot file sets no such
+    /// limit.
+    #[pyo3(signature = (pose, *, errors = "raise"))]
+    fn limit_margins<'py>(
+        &self,
+        py: Python<'py>,
+        pose: Array<'py>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&[("pose", 6, Some(&pose))])?;
+        let c5 = &self.inner;
+        each_row(py, batch, mode, &[&[6], &[6, 2], &[6]], |k, out| {
+            let m = c5.limit_margins(&Pose::from_array(r[0].row(k)))?;
+            out.put(0, k, &m.stroke);
+            out.put(1, k, m.plate.as_flattened());
+            out.put(2, k, &m.tilt);
+            Ok(())
+        })
+    }
+
+    /// The robot's limits as its file gives them: a dict with `stroke` (`(6, 2)`, m, min and
+    /// max), `plate_travel` (`(2,)`, m), `tilt` (rad), `speed` (m/s) and `force` (N), each `None`
+    /// where the file sets none.
+    #[getter]
+    fn limits<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let l = &self.inner.robot().limits;
+        let d = PyDict::new(py);
+        d.set_item("stroke", l.stroke.map(|s| s.to_vec()))?;
+        d.set_item("plate_travel", l.plate_travel.map(|t| t.to_vec()))?;
+        d.set_item("tilt", l.tilt)?;
+        d.set_item("speed", l.speed)?;
+        d.set_item("force", l.force)?;
+        Ok(d)
+    }
+
     /// The base regressor `Y_b` of `Γ = Y_b β` (with friction): `(6, n_b)` or `(N, 6, n_b)`,
     /// the columns those of `base_parameters`.
     #[pyo3(signature = (pose, omega = None, velocity = None, omega_dot = None, acceleration = None, *, errors = "raise"))]
