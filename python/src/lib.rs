@@ -290,6 +290,34 @@ fn motion_args<'a, 'py>(
     ]
 }
 
+/// The actuators' motion arguments (`q`, `qd`, `qdd`), as `C5::read` takes them.
+fn joint_args<'a, 'py>(
+    q: &'a Array<'py>,
+    qd: &'a Option<Array<'py>>,
+    qdd: &'a Option<Array<'py>>,
+) -> [(&'static str, usize, Option<&'a Array<'py>>); 3] {
+    [
+        ("q", 6, Some(q)),
+        ("qd", 6, qd.as_ref()),
+        ("qdd", 6, qdd.as_ref()),
+    ]
+}
+
+/// The forward dynamics' arguments (pose, ω, v_C, Γ), as `C5::read` takes them.
+fn forward_args<'a, 'py>(
+    pose: &'a Array<'py>,
+    omega: &'a Option<Array<'py>>,
+    velocity: &'a Option<Array<'py>>,
+    gamma: &'a Option<Array<'py>>,
+) -> [(&'static str, usize, Option<&'a Array<'py>>); 4] {
+    [
+        ("pose", 6, Some(pose)),
+        ("omega", 3, omega.as_ref()),
+        ("velocity", 3, velocity.as_ref()),
+        ("gamma", 6, gamma.as_ref()),
+    ]
+}
+
 /// The C5 joint parallel robot: a robot description and a model of its legs' mechanism.
 ///
 /// Conventions (as the Rust crates): SI units and radians; pose `[α β γ xc yc zc]` with
@@ -333,6 +361,27 @@ impl C5 {
             .map(|(r, &(_, width, _))| r.unwrap_or_else(|| zeros(width, batch.n)))
             .collect();
         Ok((rows, batch))
+    }
+
+    /// A `6×6` matrix per row of `arg` (six numbers a row), from `f`.
+    fn matrices<'py, F>(
+        &self,
+        py: Python<'py>,
+        name: &str,
+        arg: &Array<'py>,
+        errors: &str,
+        f: F,
+    ) -> PyResult<Bound<'py, PyAny>>
+    where
+        F: Fn(&Robot5, &[f64; 6]) -> Result<[[f64; 6]; 6], Error> + Sync,
+    {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&[(name, 6, Some(arg))])?;
+        each_row(py, batch, mode, &[&[6, 6]], |k, out| {
+            let m = f(&self.inner, &r[0].row(k))?;
+            out.put(0, k, m.as_flattened());
+            Ok(())
+        })
     }
 }
 
@@ -396,13 +445,8 @@ impl C5 {
         pose: Array<'py>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mode = on_error(errors)?;
-        let (r, batch) = Self::read(&[("pose", 6, Some(&pose))])?;
-        let c5 = &self.inner;
-        each_row(py, batch, mode, &[&[6, 6]], |k, out| {
-            let m = c5.inverse_jacobian(&Pose::from_array(r[0].row(k)))?;
-            out.put(0, k, m.as_flattened());
-            Ok(())
+        self.matrices(py, "pose", &pose, errors, |c5, x| {
+            c5.inverse_jacobian(&Pose::from_array(*x))
         })
     }
 
@@ -415,13 +459,8 @@ impl C5 {
         pose: Array<'py>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mode = on_error(errors)?;
-        let (r, batch) = Self::read(&[("pose", 6, Some(&pose))])?;
-        let c5 = &self.inner;
-        each_row(py, batch, mode, &[&[6, 6]], |k, out| {
-            let m = c5.jacobian(&Pose::from_array(r[0].row(k)))?;
-            out.put(0, k, m.as_flattened());
-            Ok(())
+        self.matrices(py, "pose", &pose, errors, |c5, x| {
+            c5.jacobian(&Pose::from_array(*x))
         })
     }
 
@@ -499,12 +538,7 @@ impl C5 {
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = on_error(errors)?;
-        let (r, batch) = Self::read(&[
-            ("pose", 6, Some(&pose)),
-            ("omega", 3, omega.as_ref()),
-            ("velocity", 3, velocity.as_ref()),
-            ("gamma", 6, gamma.as_ref()),
-        ])?;
+        let (r, batch) = Self::read(&forward_args(&pose, &omega, &velocity, &gamma))?;
         let c5 = &self.inner;
         let input = |k: usize| {
             let twist = Twist {
@@ -532,13 +566,8 @@ impl C5 {
         pose: Array<'py>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mode = on_error(errors)?;
-        let (r, batch) = Self::read(&[("pose", 6, Some(&pose))])?;
-        let c5 = &self.inner;
-        each_row(py, batch, mode, &[&[6, 6]], |k, out| {
-            let m = c5.task_inertia(&Pose::from_array(r[0].row(k)))?;
-            out.put(0, k, m.as_flattened());
-            Ok(())
+        self.matrices(py, "pose", &pose, errors, |c5, x| {
+            c5.task_inertia(&Pose::from_array(*x))
         })
     }
 
@@ -574,11 +603,7 @@ impl C5 {
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = on_error(errors)?;
-        let (r, batch) = Self::read(&[
-            ("q", 6, Some(&q)),
-            ("qd", 6, qd.as_ref()),
-            ("qdd", 6, qdd.as_ref()),
-        ])?;
+        let (r, batch) = Self::read(&joint_args(&q, &qd, &qdd))?;
         let c5 = &self.inner;
         each_row(
             py,
@@ -610,11 +635,7 @@ impl C5 {
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = on_error(errors)?;
-        let (r, batch) = Self::read(&[
-            ("q", 6, Some(&q)),
-            ("qd", 6, qd.as_ref()),
-            ("qdd", 6, qdd.as_ref()),
-        ])?;
+        let (r, batch) = Self::read(&joint_args(&q, &qd, &qdd))?;
         let c5 = &self.inner;
         let sample = |k: usize| [r[0].row(k), r[1].row(k), r[2].row(k)];
         call(py, batch, mode, &[&[6]], |out| {
@@ -634,14 +655,7 @@ impl C5 {
         q: Array<'py>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mode = on_error(errors)?;
-        let (r, batch) = Self::read(&[("q", 6, Some(&q))])?;
-        let c5 = &self.inner;
-        each_row(py, batch, mode, &[&[6, 6]], |k, out| {
-            let m = c5.joint_inertia(&r[0].row(k))?;
-            out.put(0, k, m.as_flattened());
-            Ok(())
-        })
+        self.matrices(py, "q", &q, errors, |c5, q| c5.joint_inertia(q))
     }
 
     /// The inverse dynamics and its exact Jacobians, from one generated kernel: `(gamma,
@@ -692,12 +706,7 @@ impl C5 {
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = on_error(errors)?;
-        let (r, batch) = Self::read(&[
-            ("pose", 6, Some(&pose)),
-            ("omega", 3, omega.as_ref()),
-            ("velocity", 3, velocity.as_ref()),
-            ("gamma", 6, gamma.as_ref()),
-        ])?;
+        let (r, batch) = Self::read(&forward_args(&pose, &omega, &velocity, &gamma))?;
         let c5 = &self.inner;
         let shapes: [&[usize]; 5] = [&[3], &[3], &[6, 6], &[6, 6], &[6, 6]];
         each_row(py, batch, mode, &shapes, |k, out| {
@@ -728,11 +737,7 @@ impl C5 {
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = on_error(errors)?;
-        let (r, batch) = Self::read(&[
-            ("q", 6, Some(&q)),
-            ("qd", 6, qd.as_ref()),
-            ("qdd", 6, qdd.as_ref()),
-        ])?;
+        let (r, batch) = Self::read(&joint_args(&q, &qd, &qdd))?;
         let c5 = &self.inner;
         let shapes: [&[usize]; 4] = [&[6], &[6, 6], &[6, 6], &[6, 6]];
         each_row(py, batch, mode, &shapes, |k, out| {
