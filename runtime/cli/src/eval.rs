@@ -36,46 +36,14 @@ pub struct EvalArgs {
 /// The keys of an `eval` line: the platform's state, or the actuators' (`q`, `qd`, `qdd`),
 /// never both.
 const KEYS: [Key; 8] = [
-    Key {
-        name: "pose",
-        len: 6,
-        required: true,
-    },
-    Key {
-        name: "omega",
-        len: 3,
-        required: false,
-    },
-    Key {
-        name: "velocity",
-        len: 3,
-        required: false,
-    },
-    Key {
-        name: "omega_dot",
-        len: 3,
-        required: false,
-    },
-    Key {
-        name: "acceleration",
-        len: 3,
-        required: false,
-    },
-    Key {
-        name: "q",
-        len: 6,
-        required: true,
-    },
-    Key {
-        name: "qd",
-        len: 6,
-        required: false,
-    },
-    Key {
-        name: "qdd",
-        len: 6,
-        required: false,
-    },
+    Key::required("pose", 6),
+    Key::optional("omega", 3),
+    Key::optional("velocity", 3),
+    Key::optional("omega_dot", 3),
+    Key::optional("acceleration", 3),
+    Key::required("q", 6),
+    Key::optional("qd", 6),
+    Key::optional("qdd", 6),
 ];
 
 /// How many of [`KEYS`] describe the platform; the rest describe the actuators.

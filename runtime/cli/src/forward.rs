@@ -23,26 +23,10 @@ pub struct ForwardArgs {
 
 /// The keys of a `forward` line.
 const FORWARD_KEYS: [Key; 4] = [
-    Key {
-        name: "pose",
-        len: 6,
-        required: true,
-    },
-    Key {
-        name: "omega",
-        len: 3,
-        required: false,
-    },
-    Key {
-        name: "velocity",
-        len: 3,
-        required: false,
-    },
-    Key {
-        name: "gamma",
-        len: 6,
-        required: true,
-    },
+    Key::required("pose", 6),
+    Key::optional("omega", 3),
+    Key::optional("velocity", 3),
+    Key::required("gamma", 6),
 ];
 
 pub fn run(args: &ForwardArgs) -> crate::Result<ExitCode> {

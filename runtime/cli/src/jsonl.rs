@@ -18,6 +18,26 @@ pub struct Key {
     pub required: bool,
 }
 
+impl Key {
+    /// A key every line must give.
+    pub const fn required(name: &'static str, len: usize) -> Self {
+        Key {
+            name,
+            len,
+            required: true,
+        }
+    }
+
+    /// A key a line may leave out (all zeros then).
+    pub const fn optional(name: &'static str, len: usize) -> Self {
+        Key {
+            name,
+            len,
+            required: false,
+        }
+    }
+}
+
 /// The entries of one JSON object, in order, duplicates kept.
 struct Entries(Vec<(String, Value)>);
 
@@ -140,18 +160,7 @@ pub fn answer_lines(
 mod tests {
     use super::*;
 
-    const KEYS: [Key; 2] = [
-        Key {
-            name: "pose",
-            len: 6,
-            required: true,
-        },
-        Key {
-            name: "omega",
-            len: 3,
-            required: false,
-        },
-    ];
+    const KEYS: [Key; 2] = [Key::required("pose", 6), Key::optional("omega", 3)];
 
     fn err(line: &str) -> String {
         parse(line, &KEYS).unwrap_err()
