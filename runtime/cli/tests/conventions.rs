@@ -6,7 +6,7 @@ mod support;
 
 use std::io::{BufRead, BufReader, Write};
 use std::process::{Command, Stdio};
-use support::c5;
+use support::{c5, c5_ok};
 
 fn scratch(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("c5-conventions-{}-{name}", std::process::id()));
@@ -86,14 +86,9 @@ fn simulate_refuses_a_rate_it_cannot_honour() {
 #[test]
 fn simulate_ends_on_the_end_of_the_motion_whatever_the_rate() {
     let dir = scratch("end");
-    let out = c5(
+    c5_ok(
         &["simulate", "--rate", "1.5", "--out", dir.to_str().unwrap()],
         "",
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
     );
     let mut rows = csv::Reader::from_path(dir.join("section9.csv")).unwrap();
     let t: Vec<f64> = rows

@@ -13,12 +13,7 @@ use serde_json::{json, Value};
 const STEP: f64 = 1e-5;
 
 fn lines(args: &[&str], input: &str) -> Vec<Value> {
-    let out = support::c5(args, input);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = support::c5_ok(args, input);
     String::from_utf8(out.stdout)
         .unwrap()
         .lines()

@@ -6,7 +6,7 @@ mod support;
 use c5_runtime::reference as r;
 use c5_runtime::{Model, Pose, Robot, Twist};
 use serde_json::Value;
-use support::c5;
+use support::{c5, c5_ok};
 
 fn scratch(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("c5-track-{}-{name}", std::process::id()));
@@ -82,12 +82,7 @@ fn csv_column(path: &std::path::Path, name: &str) -> Vec<f64> {
 #[test]
 fn track_follows_the_trajectory_and_recovers_from_an_offset() {
     let dir = scratch("track");
-    let out = c5(&["track", "--out", dir.to_str().unwrap()], "");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    c5_ok(&["track", "--out", dir.to_str().unwrap()], "");
     for name in [
         "track.csv",
         "track_position_error.png",
@@ -165,7 +160,7 @@ fn a_plant_that_differs_from_the_controllers_robot_is_simulated() {
         .replacen("mass = 10.0", "mass = 13.0", 1);
     let file = dir.join("plant.toml");
     std::fs::write(&file, text).unwrap();
-    let out = c5(
+    c5_ok(
         &[
             "track",
             "--plant-robot",
@@ -175,11 +170,6 @@ fn a_plant_that_differs_from_the_controllers_robot_is_simulated() {
         ],
         "",
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     // A heavier platform than the controller believes sags under gravity.
     let ez = csv_column(&dir.join("track.csv"), "ez_mm");
     assert!(ez.last().unwrap() > &0.1, "{:?}", ez.last());
@@ -188,7 +178,7 @@ fn a_plant_that_differs_from_the_controllers_robot_is_simulated() {
 #[test]
 fn the_joint_space_law_with_the_exact_state_gives_each_actuator_the_ideal_error() {
     let dir = scratch("joint-ideal");
-    let out = c5(
+    c5_ok(
         &[
             "track",
             "--space",
@@ -199,11 +189,6 @@ fn the_joint_space_law_with_the_exact_state_gives_each_actuator_the_ideal_error(
             dir.to_str().unwrap(),
         ],
         "",
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
     );
     // Exact models, the continuous law: ë + 2λė + λ²e = 0 per actuator, from rest, so
     // e(t) = e₀ (1 + λt) e^(-λt) (λ = 20 /s).
@@ -232,7 +217,7 @@ fn the_joint_space_law_on_quantized_encoders_tracks_an_exciting_trajectory() {
     );
     assert!(out.status.success());
     for space in ["joint", "task"] {
-        let out = c5(
+        let out = c5_ok(
             &[
                 "track",
                 "--space",
@@ -247,11 +232,6 @@ fn the_joint_space_law_on_quantized_encoders_tracks_an_exciting_trajectory() {
                 &path(space),
             ],
             "",
-        );
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
         );
         let report = String::from_utf8(out.stdout).unwrap();
         assert!(

@@ -7,7 +7,7 @@ use c5_runtime::identify::Friction;
 use c5_runtime::{Robot, State, C5};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use support::c5;
+use support::{c5, c5_ok};
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("c5-identify-{}-{name}", std::process::id()));
@@ -79,7 +79,7 @@ fn add_forces(traj: &Path, data: &Path, derivatives: bool) {
 fn excite_identify_and_eval_round_trip() {
     let dir = scratch("round-trip");
     let traj = dir.join("traj.csv");
-    let out = c5(
+    let out = c5_ok(
         &[
             "excite",
             "--out",
@@ -89,11 +89,6 @@ fn excite_identify_and_eval_round_trip() {
         ],
         "",
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let report = String::from_utf8(out.stdout).unwrap();
     assert!(
         report.contains("Section 9's straight move: infinite"),
@@ -102,7 +97,7 @@ fn excite_identify_and_eval_round_trip() {
     let data = dir.join("data.csv");
     add_forces(&traj, &data, true);
     let params = dir.join("params.json");
-    let out = c5(
+    c5_ok(
         &[
             "identify",
             "--data",
@@ -111,11 +106,6 @@ fn excite_identify_and_eval_round_trip() {
             params.to_str().unwrap(),
         ],
         "",
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
     );
     let json: Value = serde_json::from_str(&std::fs::read_to_string(&params).unwrap()).unwrap();
     assert_eq!(json["model"], "consistent");
@@ -141,14 +131,9 @@ fn excite_identify_and_eval_round_trip() {
         accel: c5_runtime::Acceleration::from_array([1.0, 0.5, -0.7, 0.3, 0.2, -0.4]),
     };
     let line = r#"{"pose":[0.1,-0.05,0.2,0.01,0.02,-0.01],"omega":[0.3,-0.2,0.1],"velocity":[0.05,-0.02,0.04],"omega_dot":[1.0,0.5,-0.7],"acceleration":[0.3,0.2,-0.4]}"#;
-    let out = c5(
+    let out = c5_ok(
         &["eval", "--base-parameters", params.to_str().unwrap()],
         &format!("{line}\n"),
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
     );
     let v: Value = serde_json::from_slice(&out.stdout).unwrap();
     let want = forces(&truth, &friction, &state);
@@ -175,7 +160,7 @@ fn excite_identify_and_eval_round_trip() {
 fn positions_only_identify_through_finite_differences() {
     let dir = scratch("positions");
     let traj = dir.join("traj.csv");
-    let out = c5(
+    c5_ok(
         &[
             "excite",
             "--out",
@@ -187,19 +172,9 @@ fn positions_only_identify_through_finite_differences() {
         ],
         "",
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let data = dir.join("data.csv");
     add_forces(&traj, &data, false);
-    let out = c5(&["identify", "--data", data.to_str().unwrap()], "");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = c5_ok(&["identify", "--data", data.to_str().unwrap()], "");
     let json: Value = serde_json::from_slice(&out.stdout).unwrap();
     let mass = json["values"][0].as_f64().unwrap();
     // Second differences at 1 kHz of a smooth motion: close, not exact.

@@ -105,7 +105,7 @@ fn track_and_simulate_stop_at_the_first_violation_unless_told_otherwise() {
         e.contains("stroke limit exceeded") && e.contains("--ignore-limits"),
         "{e}"
     );
-    let out = support::c5(
+    support::c5_ok(
         &[
             "simulate",
             "--robot",
@@ -116,17 +116,12 @@ fn track_and_simulate_stop_at_the_first_violation_unless_told_otherwise() {
         ],
         "",
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     // A trajectory file names its output after itself.
     let trajectory = std::path::Path::new(dir).join("section9.csv");
     let renamed = std::path::Path::new(dir).join("my_move.csv");
     std::fs::copy(&trajectory, &renamed).unwrap();
     let out2 = std::path::Path::new(dir).join("again");
-    let out = support::c5(
+    support::c5_ok(
         &[
             "simulate",
             "--trajectory",
@@ -136,11 +131,6 @@ fn track_and_simulate_stop_at_the_first_violation_unless_told_otherwise() {
         ],
         "",
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     assert!(out2.join("my_move.csv").exists());
     assert!(!out2.join("section9.csv").exists());
 }
@@ -149,7 +139,7 @@ fn track_and_simulate_stop_at_the_first_violation_unless_told_otherwise() {
 fn workspace_maps_a_grid_and_reports_its_volume() {
     let robot = robot_file("ws.toml", "[limits]\nstroke = [-0.1, 0.1]\n");
     let dir = std::env::temp_dir().join(format!("c5-limits-ws-{}", std::process::id()));
-    let out = support::c5(
+    let out = support::c5_ok(
         &[
             "workspace",
             "--robot",
@@ -160,11 +150,6 @@ fn workspace_maps_a_grid_and_reports_its_volume() {
             dir.to_str().unwrap(),
         ],
         "",
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
     );
     let report = String::from_utf8_lossy(&out.stdout);
     // ±0.3 m in 21 points: 0.03 m apart, so the box ±0.1 m holds 7 points a side (−0.09 to

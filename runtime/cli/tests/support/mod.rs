@@ -22,3 +22,17 @@ pub fn c5(args: &[&str], stdin: &str) -> Output {
     feeder.join().unwrap();
     out
 }
+
+/// [`c5`], asserting that it succeeds (its standard error in the message if not).
+// Each test file compiles this module on its own, and not every one needs this.
+#[allow(dead_code)]
+pub fn c5_ok(args: &[&str], stdin: &str) -> Output {
+    let out = c5(args, stdin);
+    assert!(
+        out.status.success(),
+        "c5 {}: {}",
+        args.join(" "),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
