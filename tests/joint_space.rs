@@ -26,9 +26,10 @@ fn close_rel(got: &[f64], want: &[f64], tolerance: f64) -> bool {
     rel_err(got, want, 1.0) <= tolerance
 }
 
-#[test]
-fn forward_and_inverse_kinematics_undo_each_other() {
-    let mut rng = rng(80);
+/// `check(n, c5, state)` on `STATES` seeded states, each in both models of a robot that is
+/// random for even `n` and the chapter's for odd `n` (whose kernels are also folded).
+fn for_each_case(seed: u64, mut check: impl FnMut(usize, &C5, &State)) {
+    let mut rng = rng(seed);
     for n in 0..STATES {
         let robot = if n % 2 == 0 {
             random_robot(&mut rng)
@@ -37,33 +38,40 @@ fn forward_and_inverse_kinematics_undo_each_other() {
         };
         let s = random_state(&mut rng);
         for model in Model::ALL {
-            let c5 = C5::with_model(robot, model).unwrap();
-            // X → Q → X.
-            let (q, _) = c5.inverse_kinematics(&s.pose).unwrap();
-            let back = c5.forward_kinematics(&q).unwrap();
-            assert!(
-                close_rel(&back.to_array(), &s.pose.to_array(), 1e-13),
-                "{model}: {back:?} vs {:?}",
-                s.pose
-            );
-            // Q → X → Q.
-            let (again, _) = c5.inverse_kinematics(&back).unwrap();
-            assert!(close_rel(&again, &q, 1e-13), "{model}");
-            // The folded kernels of the default robot, through the trait.
-            if n % 2 == 1 {
-                let (rot, c, singular) = c5.kernels().forward_kinematics(&q);
-                let want = r::rotation(&s.pose);
-                assert!(singular[0] > 0.0);
-                for i in 0..3 {
-                    for j in 0..3 {
-                        assert!((rot[i][j] - want[(i, j)]).abs() < 1e-13);
-                    }
-                    assert!((c[i] - s.pose.center[i]).abs() < 1e-13);
-                }
-                assert_eq!(singular[1..], [rot[0][0], rot[1][1], rot[2][2]]);
-            }
+            check(n, &C5::with_model(robot, model).unwrap(), &s);
         }
     }
+}
+
+#[test]
+fn forward_and_inverse_kinematics_undo_each_other() {
+    for_each_case(80, |n, c5, s| {
+        let model = c5.model();
+        // X → Q → X.
+        let (q, _) = c5.inverse_kinematics(&s.pose).unwrap();
+        let back = c5.forward_kinematics(&q).unwrap();
+        assert!(
+            close_rel(&back.to_array(), &s.pose.to_array(), 1e-13),
+            "{model}: {back:?} vs {:?}",
+            s.pose
+        );
+        // Q → X → Q.
+        let (again, _) = c5.inverse_kinematics(&back).unwrap();
+        assert!(close_rel(&again, &q, 1e-13), "{model}");
+        // The folded kernels of the default robot, through the trait.
+        if n % 2 == 1 {
+            let (rot, c, singular) = c5.kernels().forward_kinematics(&q);
+            let want = r::rotation(&s.pose);
+            assert!(singular[0] > 0.0);
+            for i in 0..3 {
+                for j in 0..3 {
+                    assert!((rot[i][j] - want[(i, j)]).abs() < 1e-13);
+                }
+                assert!((c[i] - s.pose.center[i]).abs() < 1e-13);
+            }
+            assert_eq!(singular[1..], [rot[0][0], rot[1][1], rot[2][2]]);
+        }
+    });
 }
 
 /// A uniformly random rotation.
@@ -230,67 +238,49 @@ fn the_twist_and_acceleration_are_the_derivatives_of_the_forward_kinematics() {
 
 #[test]
 fn each_model_maps_the_actuators_motion_back_to_the_state_it_came_from() {
-    let mut rng = rng(83);
-    for n in 0..STATES {
-        let robot = if n % 2 == 0 {
-            random_robot(&mut rng)
-        } else {
-            Robot::default()
-        };
-        let s = random_state(&mut rng);
-        for model in Model::ALL {
-            let c5 = C5::with_model(robot, model).unwrap();
-            let [q, qd, qdd] = actuators(&c5, &s);
-            let found = c5.joint_state(&q, &qd, &qdd).unwrap();
-            assert!(close_rel(&found.pose.to_array(), &s.pose.to_array(), 1e-12));
-            assert!(close_rel(
-                &found.twist.to_array(),
-                &s.twist.to_array(),
-                1e-12
-            ));
-            assert!(
-                close_rel(&found.accel.to_array(), &s.accel.to_array(), 1e-11),
-                "{model}: {:?} vs {:?}",
-                found.accel,
-                s.accel
-            );
-        }
-    }
+    for_each_case(83, |_, c5, s| {
+        let model = c5.model();
+        let [q, qd, qdd] = actuators(c5, s);
+        let found = c5.joint_state(&q, &qd, &qdd).unwrap();
+        assert!(close_rel(&found.pose.to_array(), &s.pose.to_array(), 1e-12));
+        assert!(close_rel(
+            &found.twist.to_array(),
+            &s.twist.to_array(),
+            1e-12
+        ));
+        assert!(
+            close_rel(&found.accel.to_array(), &s.accel.to_array(), 1e-11),
+            "{model}: {:?} vs {:?}",
+            found.accel,
+            s.accel
+        );
+    });
 }
 
 #[test]
 fn the_inverse_dynamics_from_the_joints_is_the_task_space_one() {
-    let mut rng = rng(84);
-    for n in 0..STATES {
-        let robot = if n % 2 == 0 {
-            random_robot(&mut rng)
-        } else {
-            Robot::default()
-        };
-        let s = random_state(&mut rng);
-        for model in Model::ALL {
-            let c5 = C5::with_model(robot, model).unwrap();
-            let [q, qd, qdd] = actuators(&c5, &s);
-            let joint = c5.inverse_dynamics_joint(&q, &qd, &qdd).unwrap();
-            let task = c5.inverse_dynamics(&s).unwrap();
-            assert!(
-                close_rel(&joint, &task, 1e-12),
-                "{model}: {joint:?} vs {task:?}"
-            );
-            // Split as Γ = M_q Q̈ + c_q.
-            let m = c5.joint_inertia(&q).unwrap();
-            let c = c5.joint_bias(&q, &qd).unwrap();
-            let split: Vec<f64> = (0..6)
-                .map(|i| c[i] + (0..6).map(|k| m[i][k] * qdd[k]).sum::<f64>())
-                .collect();
-            assert!(close_rel(&split, &task, 1e-12), "{model}");
-            // The folded kernels of the default robot.
-            if n % 2 == 1 {
-                let (folded, _) = c5.kernels().inverse_dynamics_joint(&q, &qd, &qdd);
-                assert!(close_rel(&folded, &task, 1e-12));
-            }
+    for_each_case(84, |n, c5, s| {
+        let model = c5.model();
+        let [q, qd, qdd] = actuators(c5, s);
+        let joint = c5.inverse_dynamics_joint(&q, &qd, &qdd).unwrap();
+        let task = c5.inverse_dynamics(s).unwrap();
+        assert!(
+            close_rel(&joint, &task, 1e-12),
+            "{model}: {joint:?} vs {task:?}"
+        );
+        // Split as Γ = M_q Q̈ + c_q.
+        let m = c5.joint_inertia(&q).unwrap();
+        let c = c5.joint_bias(&q, &qd).unwrap();
+        let split: Vec<f64> = (0..6)
+            .map(|i| c[i] + (0..6).map(|k| m[i][k] * qdd[k]).sum::<f64>())
+            .collect();
+        assert!(close_rel(&split, &task, 1e-12), "{model}");
+        // The folded kernels of the default robot.
+        if n % 2 == 1 {
+            let (folded, _) = c5.kernels().inverse_dynamics_joint(&q, &qd, &qdd);
+            assert!(close_rel(&folded, &task, 1e-12));
         }
-    }
+    });
 }
 
 #[test]
