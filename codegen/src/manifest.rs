@@ -108,6 +108,17 @@ pub fn header(kernels: &[(&KernelSpec, &Compiled)], how: &str, what: &str) -> St
             calls(n)
         ));
     }
+    if kernels
+        .iter()
+        .any(|(_, c)| c.program.instrs.len() > crate::blocks::MAX_LETS_PER_SCOPE)
+    {
+        out.push_str(&format!(
+            "//\n// Bodies of more than {} `let`s are cut into blocks, `let (t7, t9) = {{ ... }};`, each\n\
+             // handing on what is read after it: one scope that long overflows rustc's stack in a\n\
+             // debug build (codegen/src/blocks.rs).\n",
+            crate::blocks::MAX_LETS_PER_SCOPE
+        ));
+    }
     out
 }
 

@@ -42,6 +42,10 @@
 //   joint_inertia_params              1714    6   715   23  3 sqrt
 //   joint_bias_params                  790    9   406   10  3 sqrt
 //   limit_geometry_params               73    4    52    4  3 sin_cos
+//
+// Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
+// handing on what is read after it: one scope that long overflows rustc's stack in a
+// debug build (codegen/src/blocks.rs).
 
 /// The batch version of [`forward_dynamics`]: 8 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `forward_dynamics` computes. Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
 #[inline]

@@ -50,6 +50,10 @@
 //   joint_bias_params                  791    4   637   14  3 sqrt
 //   limit_geometry_params               73    4    52    4  3 sin_cos
 //   leg_joint_accelerations_params      70    4    52    0  3 sin_cos
+//
+// Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
+// handing on what is read after it: one scope that long overflows rustc's stack in a
+// debug build (codegen/src/blocks.rs).
 
 /// Inverse Jacobian `J⁻¹` of the paper model, rows `[(n_i × P_i2)ᵀ n_iᵀ]`.
 ///

@@ -8,6 +8,10 @@
 //   inverse_dynamics_derivatives_params  3989    5  2899   33  3 sin_cos
 //   forward_dynamics_derivatives_params  4834    9  3372   42  3 sin_cos
 //   inverse_dynamics_joint_derivatives_params  7609    9  4949  119  3 sqrt
+//
+// Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
+// handing on what is read after it: one scope that long overflows rustc's stack in a
+// debug build (codegen/src/blocks.rs).
 
 /// Inverse dynamics and its exact Jacobians: `Γ`, `∂Γ/∂X`, `∂Γ/∂V`, `∂Γ/∂(ω̇; a_C)`.
 ///

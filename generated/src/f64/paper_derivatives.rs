@@ -8,6 +8,10 @@
 //   inverse_dynamics_derivatives_params  3011    5  2691   55  3 sin_cos
 //   forward_dynamics_derivatives_params  4149   10  3625  116  3 sin_cos
 //   inverse_dynamics_joint_derivatives_params  8580    7  7359  113  3 sqrt
+//
+// Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
+// handing on what is read after it: one scope that long overflows rustc's stack in a
+// debug build (codegen/src/blocks.rs).
 
 /// Inverse dynamics and its exact Jacobians: `Γ`, `∂Γ/∂X`, `∂Γ/∂V`, `∂Γ/∂(ω̇; a_C)`.
 ///

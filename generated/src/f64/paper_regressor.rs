@@ -4,6 +4,10 @@
 // Kernel operation counts (mul, div, add, neg, calls):
 //   regressor                          849    5   618   44  6 sign, 3 sin_cos
 //   base_regressor                     849    5   618   44  6 sign, 3 sin_cos
+//
+// Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
+// handing on what is read after it: one scope that long overflows rustc's stack in a
+// debug build (codegen/src/blocks.rs).
 
 /// The regressor `Y` of the standard parameters: `Γ = Y π`.
 ///
