@@ -55,18 +55,11 @@ impl Fusion {
     /// The same plan for the program reordered as `order` says (`order[new] = old`, as
     /// [`crate::schedule::schedule_order`] gives it), its temporaries renumbered alike.
     pub fn permuted(&self, order: &[usize]) -> Fusion {
-        let mut renumber = vec![0u32; order.len()];
-        for (new, &old) in order.iter().enumerate() {
-            renumber[old] = new as u32;
-        }
-        let map = |o: Operand| match o {
-            Operand::Temp(t) => Operand::Temp(renumber[t as usize]),
-            other => other,
-        };
+        let map = crate::schedule::renumbering(order);
         Fusion {
             fused: order
                 .iter()
-                .map(|&old| self.fused[old].map(|f| f.map_operands(map)))
+                .map(|&old| self.fused[old].map(|f| f.map_operands(&map)))
                 .collect(),
             absorbed: order.iter().map(|&old| self.absorbed[old]).collect(),
         }

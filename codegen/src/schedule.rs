@@ -60,17 +60,10 @@ fn temps_read(instr: &Instr) -> Vec<usize> {
 /// The program with its instructions reordered (and renumbered) by [`schedule_order`].
 pub fn schedule(program: &Program) -> Program {
     let order = schedule_order(program);
-    let mut renumber = vec![0u32; order.len()];
-    for (new, &old) in order.iter().enumerate() {
-        renumber[old] = new as u32;
-    }
-    let map = |o: Operand| match o {
-        Operand::Temp(t) => Operand::Temp(renumber[t as usize]),
-        other => other,
-    };
+    let map = renumbering(&order);
     let instrs = order
         .iter()
-        .map(|&old| program.instrs[old].map_operands(map))
+        .map(|&old| program.instrs[old].map_operands(&map))
         .collect();
     let scheduled = Program {
         instrs,
@@ -82,6 +75,19 @@ pub fn schedule(program: &Program) -> Program {
         "the scheduler breaks an invariant"
     );
     scheduled
+}
+
+/// The operands of a program reordered as `order` says (`order[new] = old`): each temporary
+/// takes its new number, inputs and constants stay.
+pub fn renumbering(order: &[usize]) -> impl Fn(Operand) -> Operand {
+    let mut new_of = vec![0u32; order.len()];
+    for (new, &old) in order.iter().enumerate() {
+        new_of[old] = new as u32;
+    }
+    move |o| match o {
+        Operand::Temp(t) => Operand::Temp(new_of[t as usize]),
+        other => other,
+    }
 }
 
 /// The order (old indices) in which [`schedule`] puts the instructions: a topological order in
