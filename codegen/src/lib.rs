@@ -402,33 +402,25 @@ pub fn generate() -> Result<(), Error> {
 /// model's), the robot kernels with the default robot folded, and with every parameter an
 /// input (`*_params`).
 fn crate_kernels(model: Model) -> Result<Vec<Entry>, Error> {
-    let robot = Robot::default();
     let mut entries = model::kernels::chapter_specs(model);
-    entries.extend(model::kernels::specs(
-        model,
-        &robot,
-        &ParameterSet::None,
-        "",
-    )?);
-    entries.extend(model::kernels::specs(
-        model,
-        &robot,
-        &ParameterSet::All,
-        "_params",
-    )?);
+    entries.extend(folded_and_with_parameters(model, model::kernels::specs)?);
     Ok(entries)
 }
 
 /// The derivative kernels of the checked-in crate for one model, folded and `*_params`.
 fn crate_derivatives(model: Model) -> Result<Vec<Entry>, Error> {
+    folded_and_with_parameters(model, model::kernels::derivative_specs)
+}
+
+/// A table's kernels for one model, given the robot, its parameter set and a name suffix.
+type Specs = fn(Model, &Robot, &ParameterSet, &str) -> Result<Vec<Entry>, Error>;
+
+/// The kernels `specs` declares for one model, with the default robot folded in, then with
+/// every parameter an input (`*_params`).
+fn folded_and_with_parameters(model: Model, specs: Specs) -> Result<Vec<Entry>, Error> {
     let robot = Robot::default();
-    let mut entries = model::kernels::derivative_specs(model, &robot, &ParameterSet::None, "")?;
-    entries.extend(model::kernels::derivative_specs(
-        model,
-        &robot,
-        &ParameterSet::All,
-        "_params",
-    )?);
+    let mut entries = specs(model, &robot, &ParameterSet::None, "")?;
+    entries.extend(specs(model, &robot, &ParameterSet::All, "_params")?);
     Ok(entries)
 }
 
