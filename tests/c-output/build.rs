@@ -275,7 +275,9 @@ fn main() {
         ));
     }
     // The baseline: the same inverse dynamics written with SymPy (sympy/generate.py).
-    let sympy = ["sympy/sympy_consistent.c", "sympy/sympy_paper.c"].map(PathBuf::from);
+    // `paper_by_legs`: the paper model as the chapter computes it, leg by leg.
+    let baselines = ["consistent", "paper", "paper_by_legs"];
+    let sympy = baselines.map(|b| PathBuf::from(format!("sympy/sympy_{b}.c")));
     native.extend(sympy.iter().cloned());
     cc::Build::new()
         .files(&native)
@@ -289,10 +291,10 @@ fn main() {
     // types `gcc -O3 -march=native` gets. Its functions are renamed `sympy_gnu_*`.
     let mut gnu = cc::Build::new();
     gnu.files(&sympy).opt_level(3).flag("-march=native");
-    for model in Model::ALL {
+    for baseline in baselines {
         gnu.define(
-            &format!("sympy_{model}_inverse_dynamics"),
-            Some(format!("sympy_gnu_{model}_inverse_dynamics").as_str()),
+            &format!("sympy_{baseline}_inverse_dynamics"),
+            Some(format!("sympy_gnu_{baseline}_inverse_dynamics").as_str()),
         );
     }
     gnu.compile("c5sympygnu");

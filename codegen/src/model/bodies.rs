@@ -204,3 +204,71 @@ pub fn platform_wrench<'g>(
         &dynamics.gravity,
     )
 }
+
+/// Bodies that turn with the platform, lumped into one about `C`: the platform (reference point
+/// `C`) and bodies at offsets `d` from `C` (base frame) that move as points of the platform.
+/// Moving the reference point of standard parameters from `B` to `C = B - d` keeps the mass,
+/// adds `m d` to the first moment and `-m d̃d̃ - d̃h̃ - h̃d̃` to the inertia (the parallel-axis
+/// theorem for standard parameters): the rotational inertias stay constant in the platform
+/// frame and add up there; what the offsets add is a base-frame matrix.
+pub struct Lumped<'g> {
+    pub mass: Expr<'g>,
+    /// `Σ h`, the first moments about the bodies' own reference points (platform frame).
+    pub first_moment: Vec3<'g>,
+    /// `Σ m d`, what the offsets add to the first moment (base frame).
+    pub offset_moment: Vec3<'g>,
+    /// `Σ I`, the inertias about the bodies' own reference points (platform frame).
+    pub inertia: Mat3<'g>,
+    /// `Σ (-m d̃d̃ - d̃h̃ - h̃d̃)`, `h` in the base frame: what the offsets add to the inertia.
+    pub offset_inertia: Mat3<'g>,
+}
+
+impl<'g> Lumped<'g> {
+    /// The platform alone.
+    pub fn platform(platform: &Inertial<'g>) -> Self {
+        let g = platform.mass.graph();
+        Lumped {
+            mass: platform.mass,
+            first_moment: platform.first_moment,
+            offset_moment: Vec3::zeros(g),
+            inertia: platform.inertia,
+            offset_inertia: Mat3::zeros(g),
+        }
+    }
+
+    /// With `body`, whose reference point is at `d` from `C` (base frame), turning with the
+    /// platform.
+    pub fn with(self, body: &Inertial<'g>, frame: &Frame<'g>, d: &Vec3<'g>) -> Self {
+        let h = frame.to_base(&body.first_moment);
+        let (dt, ht) = (d.tilde(), h.tilde());
+        Lumped {
+            mass: self.mass + body.mass,
+            first_moment: self.first_moment + body.first_moment,
+            offset_moment: self.offset_moment + d.scale(body.mass),
+            inertia: self.inertia + body.inertia,
+            offset_inertia: self.offset_inertia - (dt * dt).scale(body.mass) - dt * ht - ht * dt,
+        }
+    }
+
+    /// Newton-Euler of the lumped body about `C`, base frame, net of gravity, for the classical
+    /// acceleration `a_c` of `C`: `f = M (a_C - g) + ω̇ × H + ω × (ω × H)`,
+    /// `n_C = R (Σ I ω̇_p + ω_p × Σ I ω_p) + I_d ω̇ + ω × I_d ω + H × (a_C - g)` with
+    /// `H = R Σ h + Σ m d` and `I_d` the offsets' inertia: eqs 52-57 for the whole group.
+    pub fn wrench(
+        &self,
+        frame: &Frame<'g>,
+        omega: &Vec3<'g>,
+        omega_dot: &Vec3<'g>,
+        a_c: &Vec3<'g>,
+        gravity: &Vec3<'g>,
+    ) -> Vec6<'g> {
+        let h = frame.to_base(&self.first_moment) + self.offset_moment;
+        let a = *a_c - *gravity;
+        let f = a.scale(self.mass) + omega_dot.cross(&h) + omega.cross(&omega.cross(&h));
+        let (w, wd, i) = (frame.omega, frame.omega_dot, self.inertia);
+        let euler = i * wd + w.cross(&(i * w));
+        let id = self.offset_inertia;
+        let n = frame.to_base(&euler) + id * *omega_dot + omega.cross(&(id * *omega)) + h.cross(&a);
+        Vec6::spatial(n, f)
+    }
+}

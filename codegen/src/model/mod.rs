@@ -78,6 +78,17 @@ pub trait Mechanics: Sync {
         posed: &Posed<'g>,
         motion: &Motion<'g>,
     ) -> Vec6<'g>;
+    /// `Γ` for the regressor, which differentiates it by every body's parameters: a form where
+    /// each body's parameters meet only its own motion makes the cheapest columns. Default:
+    /// [`Mechanics::inverse_dynamics`].
+    fn inverse_dynamics_by_body<'g>(
+        &self,
+        dynamics: &Dynamics<'g>,
+        posed: &Posed<'g>,
+        motion: &Motion<'g>,
+    ) -> Vec6<'g> {
+        self.inverse_dynamics(dynamics, posed, motion)
+    }
     /// `W = J⁻ᵀ Γ = F_{N+1} + Φ`, the wrench at `C` (base frame) the actuators put on the
     /// platform.
     fn task_wrench<'g>(
@@ -169,4 +180,26 @@ pub fn mechanics(model: Model) -> &'static dyn Mechanics {
         Model::Consistent => &consistent::Consistent,
         Model::Paper => &paper::Paper,
     }
+}
+
+/// A robot unlike the chapter's: off-centre masses, full inertias.
+#[cfg(test)]
+pub(crate) fn lopsided() -> c5_robot::Robot {
+    let mut robot = c5_robot::Robot::default();
+    robot.platform.mass = 7.3;
+    robot.platform.com = [0.01, -0.02, 0.015];
+    robot.platform.inertia = [
+        [0.09, 0.004, -0.003],
+        [0.004, 0.08, 0.002],
+        [-0.003, 0.002, 0.12],
+    ];
+    for (i, segment) in robot.segments.iter_mut().enumerate() {
+        let t = i as f64;
+        segment.rod.mass = 1.5 + 0.1 * t;
+        segment.joint.mass = 0.7 + 0.05 * t;
+        segment.joint.com = [0.01, 0.005 * t, -0.02];
+        segment.joint.inertia[0][1] = 0.001 * t;
+        segment.joint.inertia[1][0] = 0.001 * t;
+    }
+    robot
 }

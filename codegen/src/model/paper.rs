@@ -8,7 +8,7 @@
 
 use super::bodies::{
     platform_wrench, point_acceleration_map, rigid_body_wrench, wrench_turning_with_platform,
-    Dynamics, Frame,
+    Dynamics, Frame, Lumped,
 };
 use super::geometry::{axis, p_hat, p_hat_inv, spatial_acceleration, Motion, Posed};
 use super::kernels::{Build, Cite, Decl, Guard, Input, Kernel, Output, Reads};
@@ -85,6 +85,24 @@ impl Mechanics for Paper {
         motion: &Motion<'g>,
     ) -> Vec6<'g> {
         inverse_dynamics(dynamics, posed, motion)
+    }
+
+    fn inverse_dynamics_by_body<'g>(
+        &self,
+        dynamics: &Dynamics<'g>,
+        posed: &Posed<'g>,
+        motion: &Motion<'g>,
+    ) -> Vec6<'g> {
+        inverse_dynamics_by_legs(dynamics, posed, motion)
+    }
+
+    fn task_wrench<'g>(
+        &self,
+        dynamics: &Dynamics<'g>,
+        posed: &Posed<'g>,
+        motion: &Motion<'g>,
+    ) -> Vec6<'g> {
+        task_wrench(dynamics, posed, motion)
     }
 
     fn extra_kernels(&self) -> &'static [Decl] {
@@ -426,8 +444,78 @@ fn leg_wrench_from_spatial<'g>(
     phi
 }
 
-/// Eq 60 with step 6 by eq 62: `Γ = Π1ᵀ J1ᵀ (F_{N+1} + Φ)` (Slip 1: `J⁻ᵀ`, not `J⁻¹`).
+/// Eq 60 regrouped, the kernels' inverse dynamics: `Γ = Π1ᵀ J1ᵀ (F_{N+1} + Φ₂) + τ` (Slip 1:
+/// `J⁻ᵀ`, not `J⁻¹`; step 6 by eq 62). It equals the chapter's steps 1-6 ([`leg_wrench`]) and
+/// costs half as much: `J_Bi` is a permutation (eq 50), so `J_Bi T_i = F_i2 + H_i1 H_i1ᵀ (F_i1 -
+/// F_i2)`, and `H_i1ᵀ P̂_i1 F_i2` is `n_i·f_i2`: each body 2's wrench reaches `C` whole, and of
+/// the rod only its axial load `τ_i`, along column `i` of `J⁻ᵀ` (eq 22), so that `Jᵀ` gives it
+/// back unchanged. The bodies 2 move as points of the platform (eq 43): their wrenches at `C`
+/// are one lumped body's, `F_{N+1} + Φ₂` ([`platform_and_bodies2`]).
 pub fn inverse_dynamics<'g>(
+    dynamics: &Dynamics<'g>,
+    posed: &Posed<'g>,
+    motion: &Motion<'g>,
+) -> Vec6<'g> {
+    let (wrench, tau) = regrouped(dynamics, posed, motion);
+    step6_factored(&posed.p, &wrench) + tau
+}
+
+/// `W = J⁻ᵀ Γ = F_{N+1} + Φ₂ + J⁻ᵀ τ` ([`inverse_dynamics`] before step 6).
+pub fn task_wrench<'g>(
+    dynamics: &Dynamics<'g>,
+    posed: &Posed<'g>,
+    motion: &Motion<'g>,
+) -> Vec6<'g> {
+    let (wrench, tau) = regrouped(dynamics, posed, motion);
+    wrench + inverse_jacobian(&posed.p).transpose() * tau
+}
+
+/// `F_{N+1} + Φ₂`, the wrench at `C` of the platform and the bodies 2, and `τ`, the rods' axial
+/// loads.
+fn regrouped<'g>(
+    dynamics: &Dynamics<'g>,
+    posed: &Posed<'g>,
+    motion: &Motion<'g>,
+) -> (Vec6<'g>, Vec6<'g>) {
+    let (twist, accel) = (&motion.twist, &motion.accel);
+    let frame = Frame::new(posed.r, &twist.top(), &accel.top());
+    let wrench = platform_and_bodies2(dynamics, posed, &frame).wrench(
+        &frame,
+        &twist.top(),
+        &accel.top(),
+        &accel.bottom(),
+        &dynamics.gravity,
+    );
+    let vdot = spatial_acceleration(twist, accel);
+    let tau = Vector::from_fn(|i| rod_load(dynamics, i, &posed.p[i], &vdot));
+    (wrench, tau)
+}
+
+/// The platform and the six bodies 2 as one body about `C`: a body 2 has its reference point at
+/// `B_i = C - P_i2` and turns with the platform (eq 43).
+pub fn platform_and_bodies2<'g>(
+    dynamics: &Dynamics<'g>,
+    posed: &Posed<'g>,
+    frame: &Frame<'g>,
+) -> Lumped<'g> {
+    (0..6).fold(Lumped::platform(&dynamics.platform), |lumped, i| {
+        lumped.with(&dynamics.joints[i], frame, &-posed.p[i])
+    })
+}
+
+/// `τ_i = H_i1ᵀ F(body 1) = m_i1 (Q̈_i1 - n_i·g)`: the rod translates along `n_i` at `Q̈_i1`
+/// (eq 47, by projection), so of its wrench only its mass times that, net of gravity, reaches
+/// the actuator.
+pub fn rod_load<'g>(dynamics: &Dynamics<'g>, i: usize, p: &Vec3<'g>, vdot: &Vec6<'g>) -> Expr<'g> {
+    let qdd = joint_accelerations_segment(p, vdot, i)[5];
+    let n = axis(p[0].graph(), i);
+    dynamics.rods[i].mass * (qdd - n.dot(&dynamics.gravity))
+}
+
+/// Eq 60 with step 6 by eq 62, as the chapter computes it: `Γ = Π1ᵀ J1ᵀ (F_{N+1} + Φ)`, `Φ`
+/// from every leg's `T_i` (steps 1-3). The kernels use [`inverse_dynamics`], equal to it; the
+/// regressor this (each body's parameters meet only its own motion here: cheaper columns).
+pub fn inverse_dynamics_by_legs<'g>(
     dynamics: &Dynamics<'g>,
     posed: &Posed<'g>,
     motion: &Motion<'g>,
@@ -459,4 +547,60 @@ pub fn leg_joint_accelerations<'g>(posed: &Posed<'g>, motion: &Motion<'g>) -> Ma
 /// `Q̇_a = J⁻¹ V` (eq 20), segment order.
 pub fn joint_velocities<'g>(posed: &Posed<'g>, twist: &Vec6<'g>) -> Vec6<'g> {
     inverse_jacobian(&posed.p) * *twist
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dag::Graph;
+    use crate::model::geometry::pose;
+    use crate::model::lopsided;
+    use crate::numeric::Lcg;
+
+    fn values<const N: usize>(v: &Vector<'_, N>) -> [f64; N] {
+        v.0.map(|e| e.as_const().expect("every input is a constant"))
+    }
+
+    /// The regrouped inverse dynamics and task wrench against the chapter's steps 1-6, on a
+    /// robot whose bodies 2 are off their balls (every term of the lumped body in play), at
+    /// seeded states: the graph folds constant inputs, so each side is a number.
+    #[test]
+    fn the_regrouped_inverse_dynamics_is_the_chapters() {
+        let g = Graph::new(crate::dag::Policy::FLAT);
+        let params: Vec<_> = lopsided()
+            .kernel_parameters()
+            .into_iter()
+            .map(|v| g.constant(v))
+            .collect();
+        let dynamics = Dynamics::from_kernel_parameters(&params);
+        let mut rng = Lcg::new(3);
+        for _ in 0..20 {
+            let mut constants = |bounds: &[f64]| -> Vec6<'_> {
+                let v = rng.vector(bounds);
+                Vector::from_fn(|i| g.constant(v[i]))
+            };
+            let x = constants(&[0.3, 0.3, 0.3, 0.05, 0.05, 0.05]);
+            let motion = Motion::new(
+                constants(&[1.0, 1.0, 1.0, 0.5, 0.5, 0.5]),
+                constants(&[5.0, 5.0, 5.0, 2.0, 2.0, 2.0]),
+            );
+            let posed = pose(params[0], &x.0);
+            let want = values(&inverse_dynamics_by_legs(&dynamics, &posed, &motion));
+            let got = values(&inverse_dynamics(&dynamics, &posed, &motion));
+            let frame = Frame::new(posed.r, &motion.twist.top(), &motion.accel.top());
+            let chapter_wrench = platform_wrench(&dynamics, &frame, &motion.twist, &motion.accel)
+                + leg_wrench(&dynamics, &posed, &motion);
+            let want_w = values(&chapter_wrench);
+            let got_w = values(&task_wrench(&dynamics, &posed, &motion));
+            for (got, want) in [(got, want), (got_w, want_w)] {
+                let scale = want.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
+                for k in 0..6 {
+                    assert!(
+                        (got[k] - want[k]).abs() <= 1e-12 * scale,
+                        "component {k}: {got:?} against {want:?}"
+                    );
+                }
+            }
+        }
+    }
 }

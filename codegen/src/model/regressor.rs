@@ -34,7 +34,9 @@ pub fn regressor<'g>(
         .map(|j| g.input(INTERNAL_INPUTS + j as u32))
         .collect();
     let dynamics = Dynamics::from_standard(g, gravity, &unknown);
-    let gamma = mech.inverse_dynamics(&dynamics, posed, motion).to_vec();
+    let gamma = mech
+        .inverse_dynamics_by_body(&dynamics, posed, motion)
+        .to_vec();
     let mut columns: Vec<[Expr<'g>; 6]> = unknown
         .iter()
         .map(|&p| {
@@ -299,29 +301,9 @@ impl Identification {
 mod tests {
     use super::*;
     use crate::model::kernels;
+    use crate::model::lopsided;
     use crate::ParameterSet;
     use c5_robot::Friction;
-
-    /// A robot unlike the chapter's: off-centre masses, full inertias.
-    fn lopsided() -> Robot {
-        let mut robot = Robot::default();
-        robot.platform.mass = 7.3;
-        robot.platform.com = [0.01, -0.02, 0.015];
-        robot.platform.inertia = [
-            [0.09, 0.004, -0.003],
-            [0.004, 0.08, 0.002],
-            [-0.003, 0.002, 0.12],
-        ];
-        for (i, segment) in robot.segments.iter_mut().enumerate() {
-            let t = i as f64;
-            segment.rod.mass = 1.5 + 0.1 * t;
-            segment.joint.mass = 0.7 + 0.05 * t;
-            segment.joint.com = [0.01, 0.005 * t, -0.02];
-            segment.joint.inertia[0][1] = 0.001 * t;
-            segment.joint.inertia[1][0] = 0.001 * t;
-        }
-        robot
-    }
 
     #[test]
     fn the_regressor_times_the_standard_parameters_is_the_inverse_dynamics() {

@@ -16,18 +16,18 @@
 //   joint_accelerations                 20    0    22    0  3 sin_cos
 //   leg_wrench                         255    4   211    0  3 sin_cos
 //   platform_wrench                     64    0    29    0  3 sin_cos
-//   task_inertia                       154    4    85    1  3 sin_cos
-//   task_bias                          227    4   160    0  3 sin_cos
-//   forward_dynamics                   432   10   316    4  3 sin_cos
-//   inverse_dynamics                   298    4   279    1  3 sin_cos
+//   task_inertia                       146    4    77    1  3 sin_cos
+//   task_bias                          171    4    94    0  3 sin_cos
+//   forward_dynamics                   350   10   224    3  3 sin_cos
+//   inverse_dynamics                   234    4   162    0  3 sin_cos
 //   forward_kinematics                  56    3    26    6  3 sqrt
 //   rpy_angles                           2    3     1    2  3 atan, 1 sqrt
 //   platform_twist                      65    3    41    3  3 sqrt
 //   platform_acceleration               83    3    59    3  3 sqrt
 //   platform_state                      91    5    62    7  3 atan, 4 sqrt
-//   inverse_dynamics_joint             347    3   330    4  3 sqrt
-//   joint_inertia                      213    3   243    5  3 sqrt
-//   joint_bias                         313    3   273    4  3 sqrt
+//   inverse_dynamics_joint             272    3   215    3  3 sqrt
+//   joint_inertia                      219    3   235    4  3 sqrt
+//   joint_bias                         216    3   167    3  3 sqrt
 //   limit_geometry                      73    4    52    4  3 sin_cos
 //   leg_joint_accelerations             70    4    52    0  3 sin_cos
 //   inverse_kinematics_params           24    6    22    5  3 sin_cos
@@ -37,17 +37,17 @@
 //   joint_accelerations_params          20    0    22    0  3 sin_cos
 //   leg_wrench_params                  487    4   424    0  3 sin_cos
 //   platform_wrench_params             110    0    70    0  3 sin_cos
-//   task_inertia_params                348    4   349    0  3 sin_cos
-//   task_bias_params                   471    4   377    6  3 sin_cos
-//   forward_dynamics_params            709   10   569    1  3 sin_cos
-//   inverse_dynamics_params            560    5   493    1  3 sin_cos
+//   task_inertia_params                367    4   316    3  3 sin_cos
+//   task_bias_params                   353    4   307    1  3 sin_cos
+//   forward_dynamics_params            665   15   519    2  3 sin_cos
+//   inverse_dynamics_params            406    5   356    0  3 sin_cos
 //   forward_kinematics_params           94    4    26    3  3 sqrt
 //   platform_twist_params              104    4    45    4  3 sqrt
 //   platform_acceleration_params       135    4    65    4  3 sqrt
 //   platform_state_params              152    7    90    3  3 atan, 4 sqrt
-//   inverse_dynamics_joint_params     1053    4   734   17  3 sqrt
-//   joint_inertia_params              1444    4  1063   50  3 sqrt
-//   joint_bias_params                  791    4   637   14  3 sqrt
+//   inverse_dynamics_joint_params      607    4   509   12  3 sqrt
+//   joint_inertia_params               758    4   469   29  3 sqrt
+//   joint_bias_params                  530    4   440   14  3 sqrt
 //   limit_geometry_params               73    4    52    4  3 sin_cos
 //   leg_joint_accelerations_params      70    4    52    0  3 sin_cos
 //
@@ -1318,15 +1318,15 @@ pub fn platform_wrench(pose: &[f32; 6], twist: &[f32; 6], accel: &[f32; 6]) -> [
 /// - `m`: `M_x` (kg, kg·m, kg·m²), rows and columns `[ωx ωy ωz vx vy vz]`, base frame
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 154 mul, 4 div, 85 add, 1 neg, 3 sin_cos (chapter convention: 158m + 85a).
+/// Operations: 146 mul, 4 div, 77 add, 1 neg, 3 sin_cos (chapter convention: 150m + 77a).
 #[inline]
 pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
-    let (t0, t1): (f32, f32) = sin_cos(beta);
-    let t2: f32 = t0 * t0;
-    let t3: f32 = zc * zc;
-    let t4: f32 = yc * yc;
-    let t5: f32 = t1 * t1;
+    let t0: f32 = zc * zc;
+    let t1: f32 = yc * yc;
+    let (t2, t3): (f32, f32) = sin_cos(beta);
+    let t4: f32 = t2 * t2;
+    let t5: f32 = t3 * t3;
     let (t6, t7): (f32, f32) = sin_cos(gamma);
     let t8: f32 = t7 * t7;
     let t9: f32 = t6 * t6;
@@ -1336,249 +1336,233 @@ pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
     let t13: f32 = t5 * t12;
     let (t14, t15): (f32, f32) = sin_cos(alpha);
     let t16: f32 = t7 * t15;
-    let t17: f32 = t0 * t14;
+    let t17: f32 = t2 * t14;
     let t18: f32 = t6 * t17;
     let t19: f32 = t16 - t18;
     let t20: f32 = 1.0 / t19;
-    let t21: f32 = t20 * t20;
-    let t22: f32 = t1 * t6;
-    let t23: f32 = xc * t6;
-    let t24: f32 = t1 * t23;
-    let t25: f32 = t7 * t14;
-    let t26: f32 = t0 * t6;
-    let t27: f32 = t15 * t26;
-    let t28: f32 = t25 + t27;
-    let t29: f32 = zc * t28;
-    let t30: f32 = t24 - t29;
-    let t31: f32 = t22 * 0.2;
-    let t32: f32 = t31 - t30;
-    let t33: f32 = t32 * t32;
-    let t34: f32 = t21 * t33;
-    let t35: f32 = t30 + t31;
-    let t36: f32 = t35 * t35;
-    let t37: f32 = t21 * t36;
-    let t38: f32 = t34 + t37;
-    let t39: f32 = 1.0 / t15;
-    let t40: f32 = t39 * t39;
-    let t41: f32 = 1.0 / t1;
-    let t42: f32 = t41 * t41;
-    let t43: f32 = t1 * t14;
-    let t44: f32 = xc * t0;
-    let t45: f32 = yc * t14;
-    let t46: f32 = t1 * t45;
-    let t47: f32 = t44 - t46;
-    let t48: f32 = t43 * 0.2;
-    let t49: f32 = t47 + t48;
-    let t50: f32 = t49 * t49;
-    let t51: f32 = t40 * t42;
-    let t52: f32 = t50 * t51;
-    let t53: f32 = t48 - t47;
+    let t21: f32 = t3 * t6;
+    let t22: f32 = t20 * t21;
+    let t23: f32 = zc * t14;
+    let t24: f32 = t7 * t23;
+    let t25: f32 = t20 * t24;
+    let t26: f32 = xc * t6;
+    let t27: f32 = t3 * t26;
+    let t28: f32 = t20 * t27;
+    let t29: f32 = zc * t2;
+    let t30: f32 = t6 * t29;
+    let t31: f32 = t15 * t30;
+    let t32: f32 = t20 * t31;
+    let t33: f32 = t28 - t32;
+    let t34: f32 = t25 - t33;
+    let t35: f32 = t22 * 0.2;
+    let t36: f32 = t34 + t35;
+    let t37: f32 = t36 * t36;
+    let t38: f32 = t35 - t34;
+    let t39: f32 = t38 * t38;
+    let t40: f32 = t37 + t39;
+    let t41: f32 = 1.0 / t15;
+    let t42: f32 = t14 * t41;
+    let t43: f32 = 1.0 / t3;
+    let t44: f32 = xc * t2;
+    let t45: f32 = t41 * t44;
+    let t46: f32 = t43 * t45;
+    let t47: f32 = yc * t14;
+    let t48: f32 = t41 * t47;
+    let t49: f32 = t46 - t48;
+    let t50: f32 = t42 * 0.2;
+    let t51: f32 = t49 + t50;
+    let t52: f32 = t51 * t51;
+    let t53: f32 = t50 - t49;
     let t54: f32 = t53 * t53;
-    let t55: f32 = t51 * t54;
-    let t56: f32 = t52 + t55;
-    let t57: f32 = t2 * 0.22444;
-    let t58: f32 = t3 + t4;
-    let t59: f32 = t58 * 10.68;
-    let t60: f32 = t38 + t56;
-    let t61: f32 = t60 * 1.67;
-    let t62: f32 = t57 + t59;
-    let t63: f32 = t13 + t61;
-    let t64: f32 = t62 + t63;
-    let t65: f32 = t64 + 0.4272;
-    let t66: f32 = t1 * t17;
-    let t67: f32 = xc * yc;
-    let t68: f32 = t19 * 0.22444;
-    let t69: f32 = t6 * t68;
-    let t70: f32 = t6 * t15;
-    let t71: f32 = t7 * t17;
-    let t72: f32 = t70 + t71;
-    let t73: f32 = t72 * 0.41194;
-    let t74: f32 = t7 * t73;
-    let t75: f32 = t69 - t74;
-    let t76: f32 = t1 * t75;
-    let t77: f32 = t20 * t32;
-    let t78: f32 = t20 * t35;
-    let t79: f32 = t77 + t78;
-    let t80: f32 = 1.0 / t7;
-    let t81: f32 = t6 * t14;
-    let t82: f32 = t0 * t15;
-    let t83: f32 = t7 * t82;
-    let t84: f32 = t81 - t83;
-    let t85: f32 = zc * t0;
-    let t86: f32 = t15 * t85;
-    let t87: f32 = t7 * t86;
-    let t88: f32 = yc * t72;
-    let t89: f32 = zc * t14;
-    let t90: f32 = t6 * t89;
-    let t91: f32 = t88 + t90;
-    let t92: f32 = t87 - t91;
-    let t93: f32 = t84 * 0.2;
-    let t94: f32 = t93 - t92;
-    let t95: f32 = yc * t41;
-    let t96: f32 = t80 * t95;
-    let t97: f32 = t94 * t96;
-    let t98: f32 = t92 + t93;
-    let t99: f32 = t96 * t98;
-    let t100: f32 = t97 - t99;
-    let t101: f32 = xc * t20;
-    let t102: f32 = t32 * t101;
-    let t103: f32 = t35 * t101;
-    let t104: f32 = t102 - t103;
-    let t105: f32 = t100 + t104;
-    let t106: f32 = t66 * 0.22444;
-    let t107: f32 = t67 * 7.34;
-    let t108: f32 = t79 * 0.334;
-    let t109: f32 = t105 * 1.67;
-    let t110: f32 = t106 + t107;
-    let t111: f32 = t76 + t108;
-    let t112: f32 = t110 + t111;
-    let t113: f32 = t109 - t112;
-    let t114: f32 = t1 * t82;
-    let t115: f32 = xc * zc;
-    let t116: f32 = t28 * 0.22444;
-    let t117: f32 = t6 * t116;
-    let t118: f32 = t84 * 0.41194;
-    let t119: f32 = t7 * t118;
-    let t120: f32 = t117 - t119;
-    let t121: f32 = t1 * t120;
-    let t122: f32 = t41 * t80;
-    let t123: f32 = t98 * t122;
-    let t124: f32 = t94 * t122;
-    let t125: f32 = t123 + t124;
-    let t126: f32 = zc * t41;
-    let t127: f32 = t80 * t126;
-    let t128: f32 = t94 * t127;
-    let t129: f32 = t98 * t127;
-    let t130: f32 = t128 - t129;
-    let t131: f32 = xc * t39;
-    let t132: f32 = t41 * t131;
-    let t133: f32 = t49 * t132;
-    let t134: f32 = t53 * t132;
-    let t135: f32 = t133 - t134;
-    let t136: f32 = t130 + t135;
-    let t137: f32 = t114 * 0.22444;
-    let t138: f32 = t115 * 7.34;
-    let t139: f32 = t125 * 0.334;
-    let t140: f32 = t136 * 1.67;
-    let t141: f32 = t137 + t139;
-    let t142: f32 = t140 + t141;
-    let t143: f32 = t121 + t138;
-    let t144: f32 = t142 - t143;
-    let t145: f32 = t39 * t41;
-    let t146: f32 = t49 * t145;
-    let t147: f32 = t53 * t145;
-    let t148: f32 = t146 - t147;
-    let t149: f32 = zc * 10.68;
-    let t150: f32 = t148 * 1.67;
-    let t151: f32 = t149 - t150;
-    let t152: f32 = t77 - t78;
-    let t153: f32 = yc * 10.68;
-    let t154: f32 = t152 * 1.67;
-    let t155: f32 = t154 - t153;
-    let t156: f32 = t7 * t72;
-    let t157: f32 = t6 * t19;
-    let t158: f32 = t156 * 0.41194;
-    let t159: f32 = t157 * 0.22444;
-    let t160: f32 = t158 - t159;
-    let t161: f32 = t1 * t160;
-    let t162: f32 = t109 + t161;
-    let t163: f32 = t108 + t110;
-    let t164: f32 = t162 - t163;
-    let t165: f32 = t14 * t14;
-    let t166: f32 = t5 * t165;
-    let t167: f32 = xc * xc;
-    let t168: f32 = t72 * t73;
-    let t169: f32 = t19 * t68;
-    let t170: f32 = t80 * t80;
-    let t171: f32 = t98 * t98;
-    let t172: f32 = t42 * t170;
-    let t173: f32 = t171 * t172;
-    let t174: f32 = t94 * t94;
-    let t175: f32 = t172 * t174;
-    let t176: f32 = t173 + t175;
-    let t177: f32 = t3 + t167;
-    let t178: f32 = t177 * 10.68;
-    let t179: f32 = t166 * 0.22444;
-    let t180: f32 = t56 + t176;
-    let t181: f32 = t180 * 1.67;
-    let t182: f32 = t178 + t179;
-    let t183: f32 = t168 + t169;
-    let t184: f32 = t181 + 0.4272;
-    let t185: f32 = t182 + t183;
-    let t186: f32 = t184 + t185;
-    let t187: f32 = t14 * t15;
-    let t188: f32 = t5 * t187;
-    let t189: f32 = yc * zc;
-    let t190: f32 = t72 * t118;
-    let t191: f32 = t19 * t116;
-    let t192: f32 = t146 + t147;
-    let t193: f32 = zc * t20;
-    let t194: f32 = t32 * t193;
-    let t195: f32 = t35 * t193;
-    let t196: f32 = t194 - t195;
-    let t197: f32 = yc * t39;
-    let t198: f32 = t41 * t197;
-    let t199: f32 = t49 * t198;
-    let t200: f32 = t53 * t198;
-    let t201: f32 = t199 - t200;
-    let t202: f32 = t196 + t201;
-    let t203: f32 = t188 * 0.22444;
-    let t204: f32 = t189 * 7.34;
-    let t205: f32 = t192 * 0.334;
-    let t206: f32 = t202 * 1.67;
-    let t207: f32 = t190 + t191;
-    let t208: f32 = t206 + t207;
-    let t209: f32 = t203 + t204;
-    let t210: f32 = t205 + t209;
-    let t211: f32 = t208 - t210;
-    let t212: f32 = t150 - t149;
-    let t213: f32 = t123 - t124;
-    let t214: f32 = xc * 10.68;
-    let t215: f32 = t213 * 1.67;
-    let t216: f32 = t214 + t215;
-    let t217: f32 = t7 * t84;
-    let t218: f32 = t6 * t28;
-    let t219: f32 = t217 * 0.41194;
-    let t220: f32 = t218 * 0.22444;
-    let t221: f32 = t219 - t220;
-    let t222: f32 = t1 * t221;
-    let t223: f32 = t137 + t222;
-    let t224: f32 = t139 + t140;
-    let t225: f32 = t223 + t224;
-    let t226: f32 = t225 - t138;
-    let t227: f32 = t73 * t84;
-    let t228: f32 = t28 * t68;
-    let t229: f32 = t227 + t228;
-    let t230: f32 = t206 + t229;
-    let t231: f32 = t230 - t210;
-    let t232: f32 = t15 * t15;
-    let t233: f32 = t5 * t232;
-    let t234: f32 = t84 * t118;
-    let t235: f32 = t28 * t116;
-    let t236: f32 = t4 + t167;
-    let t237: f32 = t236 * 10.68;
-    let t238: f32 = t233 * 0.22444;
-    let t239: f32 = t38 + t176;
-    let t240: f32 = t239 * 1.67;
-    let t241: f32 = t237 + t238;
-    let t242: f32 = t234 + t235;
-    let t243: f32 = t240 + 0.4272;
-    let t244: f32 = t241 + t242;
-    let t245: f32 = t243 + t244;
-    let t246: f32 = t153 - t154;
-    let t247: f32 = -t216;
-    let t248: f32 = t1 * t7;
-    let t249: f32 = t1 * t15;
+    let t55: f32 = t52 + t54;
+    let t56: f32 = t0 + t1;
+    let t57: f32 = t56 * 10.68;
+    let t58: f32 = t4 * 0.22444;
+    let t59: f32 = t40 + t55;
+    let t60: f32 = t59 * 1.67;
+    let t61: f32 = t57 + t58;
+    let t62: f32 = t13 + t60;
+    let t63: f32 = t61 + t62;
+    let t64: f32 = t63 + 0.4272;
+    let t65: f32 = t3 * t12;
+    let t66: f32 = t1 * t43;
+    let t67: f32 = t3 * 0.22444;
+    let t68: f32 = t66 * 3.34;
+    let t69: f32 = t65 + t68;
+    let t70: f32 = t67 - t69;
+    let t71: f32 = t2 * t70;
+    let t72: f32 = 1.0 / t7;
+    let t73: f32 = yc * t6;
+    let t74: f32 = t43 * t73;
+    let t75: f32 = t72 * t74;
+    let t76: f32 = xc * t7;
+    let t77: f32 = t20 * t76;
+    let t78: f32 = t75 + t77;
+    let t79: f32 = t78 * 3.34;
+    let t80: f32 = zc * t79;
+    let t81: f32 = t71 - t80;
+    let t82: f32 = t14 * t81;
+    let t83: f32 = xc * xc;
+    let t84: f32 = t3 * t83;
+    let t85: f32 = t20 * t84;
+    let t86: f32 = t3 * t7;
+    let t87: f32 = t66 * t72;
+    let t88: f32 = xc * zc;
+    let t89: f32 = t2 * t88;
+    let t90: f32 = t20 * t89;
+    let t91: f32 = t86 * 0.1875;
+    let t92: f32 = t87 + t90;
+    let t93: f32 = t92 * 3.34;
+    let t94: f32 = t91 + t93;
+    let t95: f32 = t15 * t94;
+    let t96: f32 = t85 * 3.34;
+    let t97: f32 = t96 - t95;
+    let t98: f32 = t6 * t97;
+    let t99: f32 = t15 * t29;
+    let t100: f32 = t43 * t99;
+    let t101: f32 = xc * 7.34;
+    let t102: f32 = t100 * 3.34;
+    let t103: f32 = t101 + t102;
+    let t104: f32 = yc * t103;
+    let t105: f32 = t22 * 0.1336;
+    let t106: f32 = t82 + t105;
+    let t107: f32 = t98 + t104;
+    let t108: f32 = t106 + t107;
+    let t109: f32 = -t108;
+    let t110: f32 = zc - 0.2;
+    let t111: f32 = t15 * t73;
+    let t112: f32 = t43 * t111;
+    let t113: f32 = t72 * t112;
+    let t114: f32 = t2 * t47;
+    let t115: f32 = t43 * t114;
+    let t116: f32 = t113 + t115;
+    let t117: f32 = t6 * t23;
+    let t118: f32 = t43 * t117;
+    let t119: f32 = t72 * t118;
+    let t120: f32 = t119 - t100;
+    let t121: f32 = t116 + t120;
+    let t122: f32 = t6 * t14;
+    let t123: f32 = t43 * t122;
+    let t124: f32 = t72 * t123;
+    let t125: f32 = t2 * t15;
+    let t126: f32 = t43 * t125;
+    let t127: f32 = t124 - t126;
+    let t128: f32 = t127 * 0.2;
+    let t129: f32 = t128 - t121;
+    let t130: f32 = t110 * t129;
+    let t131: f32 = zc + 0.2;
+    let t132: f32 = t121 + t128;
+    let t133: f32 = t131 * t132;
+    let t134: f32 = t3 * t122;
+    let t135: f32 = t7 * t134;
+    let t136: f32 = t41 * t83;
+    let t137: f32 = t43 * t136;
+    let t138: f32 = t67 - t65;
+    let t139: f32 = t15 * t138;
+    let t140: f32 = t137 * 3.34;
+    let t141: f32 = t139 + t140;
+    let t142: f32 = t2 * t141;
+    let t143: f32 = zc * 7.34;
+    let t144: f32 = t48 * 3.34;
+    let t145: f32 = t143 + t144;
+    let t146: f32 = xc * t145;
+    let t147: f32 = t133 - t130;
+    let t148: f32 = t147 * 1.67;
+    let t149: f32 = t135 * 0.1875;
+    let t150: f32 = t148 + t149;
+    let t151: f32 = t142 + t150;
+    let t152: f32 = t151 - t146;
+    let t153: f32 = zc * 10.68;
+    let t154: f32 = t49 * 3.34;
+    let t155: f32 = t153 - t154;
+    let t156: f32 = yc * 10.68;
+    let t157: f32 = t34 * 3.34;
+    let t158: f32 = t157 - t156;
+    let t159: f32 = t15 * t18;
+    let t160: f32 = t7 * t159;
+    let t161: f32 = t14 * t14;
+    let t162: f32 = t4 * t12;
+    let t163: f32 = t5 * 0.22444;
+    let t164: f32 = t162 + t163;
+    let t165: f32 = t161 * t164;
+    let t166: f32 = t15 * t15;
+    let t167: f32 = t8 * 0.22444;
+    let t168: f32 = t9 * 0.41194;
+    let t169: f32 = t167 + t168;
+    let t170: f32 = t166 * t169;
+    let t171: f32 = t129 * t129;
+    let t172: f32 = t132 * t132;
+    let t173: f32 = t171 + t172;
+    let t174: f32 = t0 + t83;
+    let t175: f32 = t174 * 10.68;
+    let t176: f32 = t160 * 0.375;
+    let t177: f32 = t55 + t173;
+    let t178: f32 = t177 * 1.67;
+    let t179: f32 = t175 + t176;
+    let t180: f32 = t165 + t170;
+    let t181: f32 = t178 + 0.4272;
+    let t182: f32 = t179 + t180;
+    let t183: f32 = t181 + t182;
+    let t184: f32 = t1 * t41;
+    let t185: f32 = t8 - t5;
+    let t186: f32 = t185 * 0.22444;
+    let t187: f32 = t168 + t186;
+    let t188: f32 = t187 - t162;
+    let t189: f32 = t15 * t188;
+    let t190: f32 = t0 * t20;
+    let t191: f32 = t18 * 0.1875;
+    let t192: f32 = t190 * 3.34;
+    let t193: f32 = t191 + t192;
+    let t194: f32 = t7 * t193;
+    let t195: f32 = t184 * 3.34;
+    let t196: f32 = t189 + t194;
+    let t197: f32 = t195 - t196;
+    let t198: f32 = t14 * t197;
+    let t199: f32 = yc * 7.34;
+    let t200: f32 = t33 * 3.34;
+    let t201: f32 = t199 + t200;
+    let t202: f32 = zc * t201;
+    let t203: f32 = xc * yc;
+    let t204: f32 = t41 * t203;
+    let t205: f32 = t43 * t204;
+    let t206: f32 = t6 * t166;
+    let t207: f32 = t7 * t206;
+    let t208: f32 = t205 * 3.34;
+    let t209: f32 = t207 * 0.1875;
+    let t210: f32 = t208 - t209;
+    let t211: f32 = t2 * t210;
+    let t212: f32 = t42 * 0.1336;
+    let t213: f32 = t198 + t212;
+    let t214: f32 = t202 + t213;
+    let t215: f32 = t211 - t214;
+    let t216: f32 = t154 - t153;
+    let t217: f32 = xc * 10.68;
+    let t218: f32 = t121 * 3.34;
+    let t219: f32 = t217 - t218;
+    let t220: f32 = t164 * t166;
+    let t221: f32 = t161 * t169;
+    let t222: f32 = t1 + t83;
+    let t223: f32 = t222 * 10.68;
+    let t224: f32 = t40 + t173;
+    let t225: f32 = t224 * 1.67;
+    let t226: f32 = t220 + t223;
+    let t227: f32 = t221 + t225;
+    let t228: f32 = t226 + t227;
+    let t229: f32 = t228 + 0.4272;
+    let t230: f32 = t229 - t176;
+    let t231: f32 = t156 - t157;
+    let t232: f32 = t218 - t217;
+    let t233: f32 = t3 * t15;
     (
         [
-            [t65, t113, t144, 0.0, t151, t155],
-            [t164, t186, t211, t212, 0.0, t216],
-            [t226, t231, t245, t246, t247, 0.0],
-            [0.0, t212, t246, 24.02, 0.0, 0.0],
-            [t151, 0.0, t247, 0.0, 24.02, 0.0],
-            [t155, t216, 0.0, 0.0, 0.0, 24.02],
+            [t64, t109, t152, 0.0, t155, t158],
+            [t109, t183, t215, t216, 0.0, t219],
+            [t152, t215, t230, t231, t232, 0.0],
+            [0.0, t216, t231, 24.02, 0.0, 0.0],
+            [t155, 0.0, t232, 0.0, 24.02, 0.0],
+            [t158, t219, 0.0, 0.0, 0.0, 24.02],
         ],
-        [t248, t19, t249],
+        [t86, t19, t233],
     )
 }
 /// Task-space bias `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal, gravity.
@@ -1600,406 +1584,284 @@ pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
 /// - `h`: `h = (n; f)` at `C`, base frame (N·m, N)
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 227 mul, 4 div, 160 add, 0 neg, 3 sin_cos (chapter convention: 231m + 160a).
+/// Operations: 171 mul, 4 div, 94 add, 0 neg, 3 sin_cos (chapter convention: 175m + 94a).
 #[inline]
 pub fn task_bias(pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 3]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [wx, wy, wz, vx, vy, vz] = *twist;
-    let t0: f32 = zc - 0.2;
-    let t1: f32 = wz * wz;
-    let t2: f32 = wx * wx;
-    let t3: f32 = t1 + t2;
-    let t4: f32 = yc * t3;
-    let (t5, t6): (f32, f32) = sin_cos(beta);
-    let t7: f32 = 1.0 / t6;
+    let (t0, t1): (f32, f32) = sin_cos(beta);
+    let (t2, t3): (f32, f32) = sin_cos(alpha);
+    let t4: f32 = 1.0 / t1;
+    let t5: f32 = zc * t0;
+    let t6: f32 = t3 * t5;
+    let t7: f32 = t4 * t6;
     let (t8, t9): (f32, f32) = sin_cos(gamma);
     let t10: f32 = 1.0 / t9;
-    let (t11, t12): (f32, f32) = sin_cos(alpha);
-    let t13: f32 = t8 * t12;
-    let t14: f32 = t5 * t11;
-    let t15: f32 = t9 * t14;
-    let t16: f32 = t13 + t15;
-    let t17: f32 = yc * t16;
-    let t18: f32 = t8 * t11;
-    let t19: f32 = t5 * t12;
-    let t20: f32 = t9 * t19;
-    let t21: f32 = t18 - t20;
-    let t22: f32 = t0 * t21;
-    let t23: f32 = t17 + t22;
-    let t24: f32 = wx * wy;
-    let t25: f32 = t7 * t24;
-    let t26: f32 = t10 * t25;
-    let t27: f32 = t23 * t26;
-    let t28: f32 = wy * wz;
-    let t29: f32 = t0 * t28;
-    let t30: f32 = t27 - t29;
-    let t31: f32 = t4 + t30;
-    let t32: f32 = t31 * 1.67;
-    let t33: f32 = t0 * t32;
-    let t34: f32 = zc + 0.2;
-    let t35: f32 = t21 * t34;
-    let t36: f32 = t17 + t35;
-    let t37: f32 = t26 * t36;
-    let t38: f32 = t28 * t34;
-    let t39: f32 = t37 - t38;
-    let t40: f32 = t4 + t39;
-    let t41: f32 = t40 * 1.67;
-    let t42: f32 = t34 * t41;
-    let t43: f32 = yc - 0.2;
-    let t44: f32 = xc * wx;
-    let t45: f32 = wz * t44;
-    let t46: f32 = wx * vy;
-    let t47: f32 = wy * vx;
-    let t48: f32 = t46 - t47;
-    let t49: f32 = t28 * t43;
-    let t50: f32 = 1.0 / t12;
-    let t51: f32 = xc * t5;
-    let t52: f32 = t6 * t11;
-    let t53: f32 = t43 * t52;
-    let t54: f32 = t51 - t53;
-    let t55: f32 = wy * wy;
-    let t56: f32 = t2 + t55;
-    let t57: f32 = t7 * t50;
-    let t58: f32 = t54 * t57;
-    let t59: f32 = t56 * t58;
-    let t60: f32 = t49 + t59;
-    let t61: f32 = t45 + t60;
-    let t62: f32 = t61 * 1.67;
-    let t63: f32 = t48 * 2.0;
-    let t64: f32 = t62 + t63;
-    let t65: f32 = t64 - 36.0027;
-    let t66: f32 = t43 * t65;
-    let t67: f32 = yc + 0.2;
-    let t68: f32 = t28 * t67;
-    let t69: f32 = t52 * t67;
-    let t70: f32 = t51 - t69;
-    let t71: f32 = t57 * t70;
-    let t72: f32 = t56 * t71;
-    let t73: f32 = t68 + t72;
-    let t74: f32 = t45 + t73;
-    let t75: f32 = t74 * 1.67;
-    let t76: f32 = t63 + t75;
-    let t77: f32 = t76 - 36.0027;
-    let t78: f32 = t67 * t77;
-    let t79: f32 = wz * t21;
-    let t80: f32 = wx * t6;
-    let t81: f32 = t9 * t80;
-    let t82: f32 = wy * t16;
-    let t83: f32 = t81 + t82;
-    let t84: f32 = t79 + t83;
-    let t85: f32 = wz * t12;
-    let t86: f32 = t6 * t85;
-    let t87: f32 = wx * t5;
-    let t88: f32 = wy * t11;
-    let t89: f32 = t6 * t88;
-    let t90: f32 = t87 - t89;
-    let t91: f32 = t86 + t90;
-    let t92: f32 = t91 * 0.0084;
-    let t93: f32 = t84 * t92;
-    let t94: f32 = t84 * 0.0084;
-    let t95: f32 = t91 * t94;
-    let t96: f32 = t91 * 0.19084;
-    let t97: f32 = t84 * t96;
-    let t98: f32 = t84 * 0.37834;
-    let t99: f32 = t91 * t98;
-    let t100: f32 = t93 - t95;
-    let t101: f32 = t100 * 4.0;
-    let t102: f32 = t97 + t101;
-    let t103: f32 = t102 - t99;
-    let t104: f32 = t8 * t103;
-    let t105: f32 = wx * t8;
-    let t106: f32 = t6 * t105;
-    let t107: f32 = t9 * t12;
-    let t108: f32 = t8 * t14;
-    let t109: f32 = t107 - t108;
-    let t110: f32 = wy * t109;
-    let t111: f32 = t106 - t110;
-    let t112: f32 = t9 * t11;
-    let t113: f32 = t5 * t8;
-    let t114: f32 = t12 * t113;
-    let t115: f32 = t112 + t114;
-    let t116: f32 = wz * t115;
-    let t117: f32 = t111 - t116;
-    let t118: f32 = t92 * t117;
-    let t119: f32 = t117 * 0.0084;
-    let t120: f32 = t91 * t119;
-    let t121: f32 = t117 * 0.19084;
-    let t122: f32 = t91 * t121;
-    let t123: f32 = t96 * t117;
-    let t124: f32 = t118 - t120;
-    let t125: f32 = t124 * 4.0;
-    let t126: f32 = t123 + t125;
-    let t127: f32 = t126 - t122;
-    let t128: f32 = t9 * t127;
-    let t129: f32 = t104 - t128;
-    let t130: f32 = t6 * t129;
-    let t131: f32 = t84 * t119;
-    let t132: f32 = t94 * t117;
-    let t133: f32 = t84 * t121;
-    let t134: f32 = t98 * t117;
-    let t135: f32 = t131 - t132;
-    let t136: f32 = t135 * 4.0;
-    let t137: f32 = t133 + t136;
-    let t138: f32 = t137 - t134;
-    let t139: f32 = t5 * t138;
-    let t140: f32 = yc * wy;
-    let t141: f32 = wz * t140;
-    let t142: f32 = wx * wz;
-    let t143: f32 = t7 * t142;
-    let t144: f32 = t10 * t143;
-    let t145: f32 = t23 * t144;
-    let t146: f32 = t0 * t56;
-    let t147: f32 = t145 + t146;
-    let t148: f32 = t36 * t144;
-    let t149: f32 = t34 * t56;
-    let t150: f32 = t148 + t149;
-    let t151: f32 = t147 + t150;
-    let t152: f32 = t141 * 3.34;
-    let t153: f32 = t151 * 1.67;
-    let t154: f32 = t153 + 32.7654;
-    let t155: f32 = t154 - t152;
-    let t156: f32 = yc * t155;
-    let t157: f32 = zc * wy;
-    let t158: f32 = wz * t157;
-    let t159: f32 = wz * vx;
-    let t160: f32 = wx * vz;
-    let t161: f32 = t159 - t160;
-    let t162: f32 = xc - 0.2;
-    let t163: f32 = t24 * t162;
-    let t164: f32 = 1.0 / t109;
-    let t165: f32 = t6 * t8;
-    let t166: f32 = t162 * t165;
-    let t167: f32 = zc * t115;
-    let t168: f32 = t166 - t167;
-    let t169: f32 = t164 * t168;
-    let t170: f32 = t3 * t169;
-    let t171: f32 = t163 - t170;
-    let t172: f32 = xc + 0.2;
-    let t173: f32 = t24 * t172;
-    let t174: f32 = t165 * t172;
-    let t175: f32 = t167 - t174;
-    let t176: f32 = t164 * t175;
-    let t177: f32 = t3 * t176;
-    let t178: f32 = t173 + t177;
-    let t179: f32 = t171 + t178;
-    let t180: f32 = t158 * 3.34;
-    let t181: f32 = t161 * 4.0;
-    let t182: f32 = t179 * 1.67;
-    let t183: f32 = t180 + t181;
-    let t184: f32 = t182 + t183;
-    let t185: f32 = zc * t184;
-    let t186: f32 = wy * t44;
-    let t187: f32 = t3 * t43;
-    let t188: f32 = t28 * t50;
-    let t189: f32 = t7 * t188;
-    let t190: f32 = t54 * t189;
-    let t191: f32 = t187 + t190;
+    let t11: f32 = zc * t2;
+    let t12: f32 = t8 * t11;
+    let t13: f32 = t4 * t12;
+    let t14: f32 = t10 * t13;
+    let t15: f32 = t7 - t14;
+    let t16: f32 = yc * t8;
+    let t17: f32 = t3 * t16;
+    let t18: f32 = t4 * t17;
+    let t19: f32 = t10 * t18;
+    let t20: f32 = yc * t2;
+    let t21: f32 = t0 * t20;
+    let t22: f32 = t4 * t21;
+    let t23: f32 = t19 + t22;
+    let t24: f32 = t15 - t23;
+    let t25: f32 = xc + t24;
+    let t26: f32 = t25 * 3.34;
+    let t27: f32 = zc * t26;
+    let t28: f32 = 1.0 / t3;
+    let t29: f32 = xc * t0;
+    let t30: f32 = t28 * t29;
+    let t31: f32 = t4 * t30;
+    let t32: f32 = t20 * t28;
+    let t33: f32 = t31 - t32;
+    let t34: f32 = t33 * 3.34;
+    let t35: f32 = xc * t34;
+    let t36: f32 = t2 * t8;
+    let t37: f32 = t4 * t36;
+    let t38: f32 = t10 * t37;
+    let t39: f32 = t0 * t3;
+    let t40: f32 = t4 * t39;
+    let t41: f32 = t38 - t40;
+    let t42: f32 = t41 * 0.1336;
+    let t43: f32 = t35 + t42;
+    let t44: f32 = t43 - t27;
+    let t45: f32 = wx * t44;
+    let t46: f32 = t2 * t28;
+    let t47: f32 = t3 * t9;
+    let t48: f32 = t0 * t2;
+    let t49: f32 = t8 * t48;
+    let t50: f32 = t47 - t49;
+    let t51: f32 = 1.0 / t50;
+    let t52: f32 = xc * t8;
+    let t53: f32 = t1 * t52;
+    let t54: f32 = t51 * t53;
+    let t55: f32 = t9 * t11;
+    let t56: f32 = t51 * t55;
+    let t57: f32 = t54 - t56;
+    let t58: f32 = t5 * t8;
+    let t59: f32 = t3 * t58;
+    let t60: f32 = t51 * t59;
+    let t61: f32 = t57 - t60;
+    let t62: f32 = yc + t61;
+    let t63: f32 = t62 * 3.34;
+    let t64: f32 = zc * t63;
+    let t65: f32 = yc * t34;
+    let t66: f32 = t46 * 0.1336;
+    let t67: f32 = t64 + t66;
+    let t68: f32 = t67 - t65;
+    let t69: f32 = wy * t68;
+    let t70: f32 = yc * yc;
+    let t71: f32 = xc * xc;
+    let t72: f32 = t41 * 0.2;
+    let t73: f32 = t24 + t72;
+    let t74: f32 = t73 * t73;
+    let t75: f32 = t72 - t24;
+    let t76: f32 = t75 * t75;
+    let t77: f32 = t74 + t76;
+    let t78: f32 = t1 * t8;
+    let t79: f32 = t51 * t78;
+    let t80: f32 = t79 * 0.2;
+    let t81: f32 = t80 - t61;
+    let t82: f32 = t81 * t81;
+    let t83: f32 = t61 + t80;
+    let t84: f32 = t83 * t83;
+    let t85: f32 = t82 + t84;
+    let t86: f32 = t70 + t71;
+    let t87: f32 = t86 * 6.68;
+    let t88: f32 = t77 + t85;
+    let t89: f32 = t88 * 1.67;
+    let t90: f32 = t87 + t89;
+    let t91: f32 = wz * t90;
+    let t92: f32 = wz * 0.2672;
+    let t93: f32 = t45 + t92;
+    let t94: f32 = t91 + t93;
+    let t95: f32 = t94 - t69;
+    let t96: f32 = wy * t95;
+    let t97: f32 = yc * t26;
+    let t98: f32 = t61 * 3.34;
+    let t99: f32 = xc * t98;
+    let t100: f32 = t79 * 0.1336;
+    let t101: f32 = t97 + t100;
+    let t102: f32 = t99 + t101;
+    let t103: f32 = wx * t102;
+    let t104: f32 = wz * t68;
+    let t105: f32 = zc * zc;
+    let t106: f32 = t46 * 0.2;
+    let t107: f32 = t33 + t106;
+    let t108: f32 = t107 * t107;
+    let t109: f32 = t106 - t33;
+    let t110: f32 = t109 * t109;
+    let t111: f32 = t108 + t110;
+    let t112: f32 = t71 + t105;
+    let t113: f32 = t112 * 6.68;
+    let t114: f32 = t77 + t111;
+    let t115: f32 = t114 * 1.67;
+    let t116: f32 = t113 + t115;
+    let t117: f32 = wy * t116;
+    let t118: f32 = wy * 0.2672;
+    let t119: f32 = t117 + t118;
+    let t120: f32 = t103 + t104;
+    let t121: f32 = t119 - t120;
+    let t122: f32 = wz * t121;
+    let t123: f32 = wz * t3;
+    let t124: f32 = t1 * t123;
+    let t125: f32 = wx * t0;
+    let t126: f32 = wy * t2;
+    let t127: f32 = t1 * t126;
+    let t128: f32 = t125 - t127;
+    let t129: f32 = t124 + t128;
+    let t130: f32 = t0 * t126;
+    let t131: f32 = t9 * t130;
+    let t132: f32 = wz * t2;
+    let t133: f32 = t8 * t132;
+    let t134: f32 = t131 + t133;
+    let t135: f32 = wx * t1;
+    let t136: f32 = t9 * t135;
+    let t137: f32 = wy * t8;
+    let t138: f32 = t3 * t137;
+    let t139: f32 = t136 + t138;
+    let t140: f32 = wz * t0;
+    let t141: f32 = t3 * t140;
+    let t142: f32 = t9 * t141;
+    let t143: f32 = t139 - t142;
+    let t144: f32 = t134 + t143;
+    let t145: f32 = t144 * 0.41194;
+    let t146: f32 = t129 * t145;
+    let t147: f32 = t129 * 0.22444;
+    let t148: f32 = t144 * t147;
+    let t149: f32 = t146 - t148;
+    let t150: f32 = t8 * t149;
+    let t151: f32 = t8 * t130;
+    let t152: f32 = t9 * t132;
+    let t153: f32 = t151 - t152;
+    let t154: f32 = wx * t8;
+    let t155: f32 = t1 * t154;
+    let t156: f32 = wy * t3;
+    let t157: f32 = t9 * t156;
+    let t158: f32 = t155 - t157;
+    let t159: f32 = t8 * t140;
+    let t160: f32 = t3 * t159;
+    let t161: f32 = t158 - t160;
+    let t162: f32 = t153 + t161;
+    let t163: f32 = t147 * t162;
+    let t164: f32 = t162 * 0.22444;
+    let t165: f32 = t129 * t164;
+    let t166: f32 = t163 - t165;
+    let t167: f32 = t9 * t166;
+    let t168: f32 = t150 + t167;
+    let t169: f32 = t1 * t168;
+    let t170: f32 = wx * vy;
+    let t171: f32 = wy * vx;
+    let t172: f32 = t170 - t171;
+    let t173: f32 = t172 * 4.0;
+    let t174: f32 = yc * t173;
+    let t175: f32 = wz * vx;
+    let t176: f32 = wx * vz;
+    let t177: f32 = t175 - t176;
+    let t178: f32 = t177 * 4.0;
+    let t179: f32 = zc * t178;
+    let t180: f32 = t144 * t164;
+    let t181: f32 = t145 * t162;
+    let t182: f32 = t180 - t181;
+    let t183: f32 = t0 * t182;
+    let t184: f32 = yc * 104.7708;
+    let t185: f32 = t61 * 32.7654;
+    let t186: f32 = t96 + t174;
+    let t187: f32 = t122 + t184;
+    let t188: f32 = t169 + t179;
+    let t189: f32 = t183 + t185;
+    let t190: f32 = t187 + t188;
+    let t191: f32 = t189 + t190;
     let t192: f32 = t186 - t191;
-    let t193: f32 = t192 * 1.67;
-    let t194: f32 = t54 * t193;
-    let t195: f32 = t3 * t67;
-    let t196: f32 = t70 * t189;
-    let t197: f32 = t195 + t196;
-    let t198: f32 = t186 - t197;
-    let t199: f32 = t198 * 1.67;
-    let t200: f32 = t70 * t199;
-    let t201: f32 = t194 + t200;
-    let t202: f32 = t57 * t201;
-    let t203: f32 = zc * t56;
-    let t204: f32 = t142 * t162;
-    let t205: f32 = t28 * t164;
-    let t206: f32 = t168 * t205;
-    let t207: f32 = t204 + t206;
-    let t208: f32 = t207 - t203;
-    let t209: f32 = t208 * 1.67;
-    let t210: f32 = t209 - 16.3827;
-    let t211: f32 = t168 * t210;
-    let t212: f32 = t175 * t205;
-    let t213: f32 = t142 * t172;
-    let t214: f32 = t212 - t213;
-    let t215: f32 = t203 + t214;
-    let t216: f32 = t215 * 1.67;
-    let t217: f32 = t216 + 16.3827;
-    let t218: f32 = t175 * t217;
-    let t219: f32 = t211 + t218;
-    let t220: f32 = t164 * t219;
-    let t221: f32 = t33 + t42;
-    let t222: f32 = t66 + t78;
-    let t223: f32 = t130 + t202;
-    let t224: f32 = t221 + t222;
-    let t225: f32 = t220 + t223;
-    let t226: f32 = t224 + t225;
-    let t227: f32 = t139 + t156;
-    let t228: f32 = t185 + t227;
-    let t229: f32 = t226 - t228;
-    let t230: f32 = yc * wx;
-    let t231: f32 = wy * t230;
-    let t232: f32 = wy * vz;
-    let t233: f32 = wz * vy;
-    let t234: f32 = t232 - t233;
-    let t235: f32 = t1 + t55;
-    let t236: f32 = t7 * t10;
-    let t237: f32 = t23 * t236;
-    let t238: f32 = t235 * t237;
-    let t239: f32 = t0 * t142;
-    let t240: f32 = t238 + t239;
-    let t241: f32 = t231 + t240;
-    let t242: f32 = t241 * 1.67;
-    let t243: f32 = t234 * 2.0;
-    let t244: f32 = t242 + t243;
-    let t245: f32 = t0 * t244;
-    let t246: f32 = t36 * t236;
-    let t247: f32 = t235 * t246;
-    let t248: f32 = t34 * t142;
-    let t249: f32 = t247 + t248;
-    let t250: f32 = t231 + t249;
-    let t251: f32 = t250 * 1.67;
-    let t252: f32 = t243 + t251;
-    let t253: f32 = t34 * t252;
-    let t254: f32 = t162 * t210;
-    let t255: f32 = t172 * t217;
-    let t256: f32 = t52 * t138;
-    let t257: f32 = xc * t235;
-    let t258: f32 = t50 * t142;
-    let t259: f32 = t7 * t258;
-    let t260: f32 = t54 * t259;
-    let t261: f32 = t24 * t43;
-    let t262: f32 = t260 - t261;
-    let t263: f32 = t257 + t262;
-    let t264: f32 = t263 * 1.67;
-    let t265: f32 = t54 * t264;
-    let t266: f32 = t70 * t259;
-    let t267: f32 = t24 * t67;
-    let t268: f32 = t266 - t267;
-    let t269: f32 = t257 + t268;
-    let t270: f32 = t269 * 1.67;
-    let t271: f32 = t70 * t270;
-    let t272: f32 = t265 + t271;
-    let t273: f32 = t50 * t272;
-    let t274: f32 = t147 - t141;
-    let t275: f32 = t274 * 1.67;
-    let t276: f32 = t275 + 16.3827;
-    let t277: f32 = t23 * t276;
-    let t278: f32 = t141 - t150;
-    let t279: f32 = t278 * 1.67;
-    let t280: f32 = t279 - 16.3827;
-    let t281: f32 = t36 * t280;
-    let t282: f32 = t277 - t281;
-    let t283: f32 = t10 * t282;
-    let t284: f32 = t273 - t283;
-    let t285: f32 = t7 * t284;
-    let t286: f32 = t16 * t127;
-    let t287: f32 = t103 * t109;
-    let t288: f32 = t60 + t73;
-    let t289: f32 = t45 * 3.34;
-    let t290: f32 = t48 * 4.0;
-    let t291: f32 = t288 * 1.67;
-    let t292: f32 = t289 + t290;
-    let t293: f32 = t291 + t292;
-    let t294: f32 = t293 - 72.0054;
-    let t295: f32 = xc * t294;
-    let t296: f32 = zc * wx;
-    let t297: f32 = wz * t296;
-    let t298: f32 = t162 * t235;
-    let t299: f32 = t24 * t164;
-    let t300: f32 = t168 * t299;
-    let t301: f32 = t298 - t300;
-    let t302: f32 = t172 * t235;
-    let t303: f32 = t175 * t299;
-    let t304: f32 = t302 + t303;
-    let t305: f32 = t301 + t304;
-    let t306: f32 = t297 * 3.34;
-    let t307: f32 = t305 * 1.67;
-    let t308: f32 = t307 - t306;
-    let t309: f32 = zc * t308;
-    let t310: f32 = t245 + t253;
-    let t311: f32 = t255 + t256;
-    let t312: f32 = t310 + t311;
-    let t313: f32 = t285 + t312;
-    let t314: f32 = t254 + t286;
-    let t315: f32 = t287 + t295;
-    let t316: f32 = t314 + t315;
-    let t317: f32 = t309 + t316;
-    let t318: f32 = t313 - t317;
-    let t319: f32 = t158 + t171;
-    let t320: f32 = t319 * 1.67;
-    let t321: f32 = t161 * 2.0;
-    let t322: f32 = t320 + t321;
-    let t323: f32 = t162 * t322;
-    let t324: f32 = t158 + t178;
-    let t325: f32 = t324 * 1.67;
-    let t326: f32 = t321 + t325;
-    let t327: f32 = t172 * t326;
-    let t328: f32 = t43 * t264;
-    let t329: f32 = t67 * t270;
-    let t330: f32 = t6 * t12;
-    let t331: f32 = t138 * t330;
-    let t332: f32 = t21 * t127;
-    let t333: f32 = t103 * t115;
-    let t334: f32 = t191 + t197;
-    let t335: f32 = t186 * 3.34;
-    let t336: f32 = t334 * 1.67;
-    let t337: f32 = t335 - t336;
-    let t338: f32 = xc * t337;
-    let t339: f32 = t240 + t249;
-    let t340: f32 = t231 * 3.34;
-    let t341: f32 = t234 * 4.0;
-    let t342: f32 = t339 * 1.67;
-    let t343: f32 = t340 + t341;
-    let t344: f32 = t342 + t343;
-    let t345: f32 = yc * t344;
-    let t346: f32 = t23 * t32;
-    let t347: f32 = t36 * t41;
-    let t348: f32 = t346 + t347;
-    let t349: f32 = t236 * t348;
-    let t350: f32 = t301 - t297;
-    let t351: f32 = t350 * 1.67;
-    let t352: f32 = t168 * t351;
-    let t353: f32 = t297 - t304;
-    let t354: f32 = t353 * 1.67;
-    let t355: f32 = t175 * t354;
-    let t356: f32 = t352 + t355;
-    let t357: f32 = t164 * t356;
-    let t358: f32 = t323 + t327;
-    let t359: f32 = t328 + t329;
-    let t360: f32 = t338 + t349;
-    let t361: f32 = t358 + t359;
-    let t362: f32 = t357 + t360;
-    let t363: f32 = t361 + t362;
-    let t364: f32 = t331 + t332;
-    let t365: f32 = t333 + t345;
-    let t366: f32 = t364 + t365;
-    let t367: f32 = t363 - t366;
-    let t368: f32 = t231 + t297;
-    let t369: f32 = t257 - t368;
-    let t370: f32 = t369 * 3.34;
-    let t371: f32 = t262 + t268;
-    let t372: f32 = t305 + t371;
-    let t373: f32 = t372 - t339;
-    let t374: f32 = t373 * 1.67;
-    let t375: f32 = t370 + t374;
-    let t376: f32 = t375 - t341;
-    let t377: f32 = t158 + t186;
-    let t378: f32 = t4 - t377;
-    let t379: f32 = t378 * 3.34;
-    let t380: f32 = t30 + t39;
-    let t381: f32 = t334 + t380;
-    let t382: f32 = t381 - t179;
-    let t383: f32 = t382 * 1.67;
-    let t384: f32 = t379 + t383;
-    let t385: f32 = t384 - t181;
-    let t386: f32 = t45 + t141;
-    let t387: f32 = t203 - t386;
-    let t388: f32 = t387 * 3.34;
-    let t389: f32 = t151 + t214;
-    let t390: f32 = t207 + t288;
-    let t391: f32 = t389 - t390;
-    let t392: f32 = t391 * 1.67;
-    let t393: f32 = t388 + t392;
-    let t394: f32 = t393 + 235.6362;
-    let t395: f32 = t394 - t290;
-    let t396: f32 = t6 * t9;
-    ([t229, t318, t367, t376, t385, t395], [t396, t109, t330])
+    let t193: f32 = wy * t102;
+    let t194: f32 = wz * t44;
+    let t195: f32 = t70 + t105;
+    let t196: f32 = t195 * 6.68;
+    let t197: f32 = t85 + t111;
+    let t198: f32 = t197 * 1.67;
+    let t199: f32 = t196 + t198;
+    let t200: f32 = wx * t199;
+    let t201: f32 = wx * 0.2672;
+    let t202: f32 = t194 + t201;
+    let t203: f32 = t200 + t202;
+    let t204: f32 = t203 - t193;
+    let t205: f32 = wz * t204;
+    let t206: f32 = wx * t95;
+    let t207: f32 = t0 * t168;
+    let t208: f32 = t1 * t182;
+    let t209: f32 = t207 - t208;
+    let t210: f32 = t2 * t209;
+    let t211: f32 = t8 * t166;
+    let t212: f32 = t9 * t149;
+    let t213: f32 = t211 - t212;
+    let t214: f32 = t3 * t213;
+    let t215: f32 = xc * t173;
+    let t216: f32 = wy * vz;
+    let t217: f32 = wz * vy;
+    let t218: f32 = t216 - t217;
+    let t219: f32 = t218 * 4.0;
+    let t220: f32 = zc * t219;
+    let t221: f32 = xc * 104.7708;
+    let t222: f32 = t24 * 32.7654;
+    let t223: f32 = t205 + t221;
+    let t224: f32 = t220 + t222;
+    let t225: f32 = t223 + t224;
+    let t226: f32 = t206 + t210;
+    let t227: f32 = t214 + t215;
+    let t228: f32 = t226 + t227;
+    let t229: f32 = t225 - t228;
+    let t230: f32 = wx * t121;
+    let t231: f32 = wy * t204;
+    let t232: f32 = t3 * t209;
+    let t233: f32 = t2 * t213;
+    let t234: f32 = xc * t178;
+    let t235: f32 = yc * t219;
+    let t236: f32 = t230 + t232;
+    let t237: f32 = t234 + t236;
+    let t238: f32 = t231 + t233;
+    let t239: f32 = t235 + t238;
+    let t240: f32 = t237 - t239;
+    let t241: f32 = xc * 6.68;
+    let t242: f32 = t24 * 3.34;
+    let t243: f32 = t241 + t242;
+    let t244: f32 = wz * t243;
+    let t245: f32 = zc * 6.68;
+    let t246: f32 = t245 - t34;
+    let t247: f32 = wx * t246;
+    let t248: f32 = vy * 4.0;
+    let t249: f32 = t244 + t248;
+    let t250: f32 = t249 - t247;
+    let t251: f32 = wz * t250;
+    let t252: f32 = wy * t243;
+    let t253: f32 = yc * 6.68;
+    let t254: f32 = t98 + t253;
+    let t255: f32 = wx * t254;
+    let t256: f32 = vz * 4.0;
+    let t257: f32 = t255 + t256;
+    let t258: f32 = t257 - t252;
+    let t259: f32 = wy * t258;
+    let t260: f32 = t251 - t259;
+    let t261: f32 = wz * t254;
+    let t262: f32 = wy * t246;
+    let t263: f32 = vx * 4.0;
+    let t264: f32 = t262 + t263;
+    let t265: f32 = t264 - t261;
+    let t266: f32 = wz * t265;
+    let t267: f32 = wx * t258;
+    let t268: f32 = t267 - t266;
+    let t269: f32 = wx * t250;
+    let t270: f32 = wy * t265;
+    let t271: f32 = t270 + 235.6362;
+    let t272: f32 = t271 - t269;
+    let t273: f32 = t1 * t9;
+    let t274: f32 = t1 * t3;
+    ([t192, t229, t240, t260, t268, t272], [t273, t50, t274])
 }
 /// Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
 ///
@@ -2022,7 +1884,7 @@ pub fn task_bias(pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 3]) {
 /// - `accel`: classical platform acceleration `(ω̇; a_C)` (rad/s², m/s²), base frame
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 432 mul, 10 div, 316 add, 4 neg, 3 sin_cos (chapter convention: 442m + 316a).
+/// Operations: 350 mul, 10 div, 224 add, 3 neg, 3 sin_cos (chapter convention: 360m + 224a).
 #[inline]
 pub fn forward_dynamics(
     pose: &[f32; 6],
@@ -2034,770 +1896,595 @@ pub fn forward_dynamics(
     let [g1, g2, g3, g4, g5, g6] = *forces;
     let (t0, t1): (f32, f32) = sin_cos(beta);
     let t2: f32 = t0 * t0;
-    let t3: f32 = zc * zc;
-    let t4: f32 = yc * yc;
-    let t5: f32 = t1 * t1;
-    let (t6, t7): (f32, f32) = sin_cos(gamma);
-    let t8: f32 = t7 * t7;
-    let t9: f32 = t6 * t6;
-    let t10: f32 = t8 * 0.41194;
-    let t11: f32 = t9 * 0.22444;
-    let t12: f32 = t10 + t11;
-    let t13: f32 = t5 * t12;
-    let (t14, t15): (f32, f32) = sin_cos(alpha);
-    let t16: f32 = t7 * t15;
-    let t17: f32 = t0 * t14;
-    let t18: f32 = t6 * t17;
-    let t19: f32 = t16 - t18;
-    let t20: f32 = 1.0 / t19;
-    let t21: f32 = t20 * t20;
-    let t22: f32 = t1 * t6;
-    let t23: f32 = xc * t6;
-    let t24: f32 = t1 * t23;
-    let t25: f32 = t7 * t14;
-    let t26: f32 = t0 * t6;
-    let t27: f32 = t15 * t26;
-    let t28: f32 = t25 + t27;
-    let t29: f32 = zc * t28;
-    let t30: f32 = t24 - t29;
-    let t31: f32 = t22 * 0.2;
-    let t32: f32 = t31 - t30;
-    let t33: f32 = t32 * t32;
-    let t34: f32 = t21 * t33;
-    let t35: f32 = t30 + t31;
-    let t36: f32 = t35 * t35;
-    let t37: f32 = t21 * t36;
-    let t38: f32 = t34 + t37;
-    let t39: f32 = 1.0 / t15;
-    let t40: f32 = t39 * t39;
-    let t41: f32 = 1.0 / t1;
-    let t42: f32 = t41 * t41;
-    let t43: f32 = t1 * t14;
-    let t44: f32 = xc * t0;
-    let t45: f32 = yc * t14;
-    let t46: f32 = t1 * t45;
-    let t47: f32 = t44 - t46;
-    let t48: f32 = t43 * 0.2;
-    let t49: f32 = t47 + t48;
-    let t50: f32 = t49 * t49;
-    let t51: f32 = t40 * t42;
-    let t52: f32 = t50 * t51;
-    let t53: f32 = t48 - t47;
-    let t54: f32 = t53 * t53;
-    let t55: f32 = t51 * t54;
-    let t56: f32 = t52 + t55;
-    let t57: f32 = t2 * 0.22444;
-    let t58: f32 = t3 + t4;
-    let t59: f32 = t58 * 10.68;
-    let t60: f32 = t38 + t56;
-    let t61: f32 = t60 * 1.67;
-    let t62: f32 = t57 + t59;
-    let t63: f32 = t13 + t61;
+    let t3: f32 = t1 * t1;
+    let (t4, t5): (f32, f32) = sin_cos(gamma);
+    let t6: f32 = t5 * t5;
+    let t7: f32 = t4 * t4;
+    let t8: f32 = t6 * 0.41194;
+    let t9: f32 = t7 * 0.22444;
+    let t10: f32 = t8 + t9;
+    let t11: f32 = t3 * t10;
+    let t12: f32 = zc * zc;
+    let t13: f32 = yc * yc;
+    let t14: f32 = t12 + t13;
+    let (t15, t16): (f32, f32) = sin_cos(alpha);
+    let t17: f32 = t5 * t16;
+    let t18: f32 = t0 * t15;
+    let t19: f32 = t4 * t18;
+    let t20: f32 = t17 - t19;
+    let t21: f32 = 1.0 / t20;
+    let t22: f32 = t21 * t21;
+    let t23: f32 = t1 * t4;
+    let t24: f32 = xc * t4;
+    let t25: f32 = t1 * t24;
+    let t26: f32 = t5 * t15;
+    let t27: f32 = t0 * t4;
+    let t28: f32 = t16 * t27;
+    let t29: f32 = t26 + t28;
+    let t30: f32 = zc * t29;
+    let t31: f32 = t25 - t30;
+    let t32: f32 = t23 * 0.2;
+    let t33: f32 = t32 - t31;
+    let t34: f32 = t33 * t33;
+    let t35: f32 = t22 * t34;
+    let t36: f32 = t31 + t32;
+    let t37: f32 = t36 * t36;
+    let t38: f32 = t22 * t37;
+    let t39: f32 = t35 + t38;
+    let t40: f32 = 1.0 / t16;
+    let t41: f32 = t40 * t40;
+    let t42: f32 = 1.0 / t1;
+    let t43: f32 = t42 * t42;
+    let t44: f32 = t1 * t15;
+    let t45: f32 = xc * t0;
+    let t46: f32 = yc * t15;
+    let t47: f32 = t1 * t46;
+    let t48: f32 = t45 - t47;
+    let t49: f32 = t44 * 0.2;
+    let t50: f32 = t48 + t49;
+    let t51: f32 = t50 * t50;
+    let t52: f32 = t41 * t43;
+    let t53: f32 = t51 * t52;
+    let t54: f32 = t49 - t48;
+    let t55: f32 = t54 * t54;
+    let t56: f32 = t52 * t55;
+    let t57: f32 = t53 + t56;
+    let t58: f32 = t39 + t57;
+    let t59: f32 = t2 * 0.22444;
+    let t60: f32 = t14 * 10.68;
+    let t61: f32 = t58 * 1.67;
+    let t62: f32 = t11 + t59;
+    let t63: f32 = t60 + t61;
     let t64: f32 = t62 + t63;
     let t65: f32 = t64 + 0.4272;
     let t66: f32 = 1.0 / t65;
     let t67: f32 = xc * zc;
-    let t68: f32 = 1.0 / t7;
-    let t69: f32 = t6 * t14;
-    let t70: f32 = t0 * t15;
-    let t71: f32 = t7 * t70;
-    let t72: f32 = t69 - t71;
-    let t73: f32 = t6 * t15;
-    let t74: f32 = t7 * t17;
-    let t75: f32 = t73 + t74;
-    let t76: f32 = yc * t75;
-    let t77: f32 = zc * t14;
-    let t78: f32 = t6 * t77;
-    let t79: f32 = t76 + t78;
+    let t68: f32 = t0 * t16;
+    let t69: f32 = t4 * t15;
+    let t70: f32 = t5 * t68;
+    let t71: f32 = t69 - t70;
+    let t72: f32 = t5 * t71;
+    let t73: f32 = t4 * t29;
+    let t74: f32 = t68 - t73;
+    let t75: f32 = t74 * 0.22444;
+    let t76: f32 = t72 * 0.41194;
+    let t77: f32 = t75 + t76;
+    let t78: f32 = t1 * t77;
+    let t79: f32 = 1.0 / t5;
     let t80: f32 = zc * t0;
-    let t81: f32 = t15 * t80;
-    let t82: f32 = t7 * t81;
-    let t83: f32 = t79 - t82;
-    let t84: f32 = t72 * 0.2;
-    let t85: f32 = t84 - t83;
-    let t86: f32 = t41 * t68;
-    let t87: f32 = t85 * t86;
-    let t88: f32 = t83 + t84;
-    let t89: f32 = t86 * t88;
-    let t90: f32 = t87 + t89;
-    let t91: f32 = t47 * 3.34;
-    let t92: f32 = xc * t39;
-    let t93: f32 = t91 * t92;
-    let t94: f32 = t83 * 3.34;
-    let t95: f32 = zc * t68;
-    let t96: f32 = t94 * t95;
-    let t97: f32 = t93 + t96;
-    let t98: f32 = t41 * t97;
-    let t99: f32 = t7 * t72;
-    let t100: f32 = t6 * t28;
-    let t101: f32 = t70 - t100;
-    let t102: f32 = t101 * 0.22444;
-    let t103: f32 = t99 * 0.41194;
-    let t104: f32 = t102 + t103;
-    let t105: f32 = t1 * t104;
-    let t106: f32 = t98 + t105;
-    let t107: f32 = t67 * 7.34;
-    let t108: f32 = t90 * 0.334;
-    let t109: f32 = t106 + t108;
-    let t110: f32 = t109 - t107;
-    let t111: f32 = xc * xc;
-    let t112: f32 = t15 * t15;
-    let t113: f32 = t5 * t112;
-    let t114: f32 = t110 * t110;
-    let t115: f32 = t66 * t114;
-    let t116: f32 = t14 * t14;
-    let t117: f32 = t5 * t116;
-    let t118: f32 = t20 * t32;
-    let t119: f32 = t20 * t35;
-    let t120: f32 = t119 - t118;
-    let t121: f32 = yc * 7.34;
-    let t122: f32 = t120 * 1.67;
-    let t123: f32 = t121 + t122;
-    let t124: f32 = xc * t123;
-    let t125: f32 = t7 * t75;
-    let t126: f32 = t6 * t19;
-    let t127: f32 = t17 + t126;
-    let t128: f32 = t127 * 0.22444;
-    let t129: f32 = t125 * 0.41194;
-    let t130: f32 = t128 - t129;
-    let t131: f32 = t1 * t130;
-    let t132: f32 = t87 - t89;
-    let t133: f32 = t132 * 1.67;
-    let t134: f32 = yc * t133;
-    let t135: f32 = t118 + t119;
-    let t136: f32 = t135 * 0.334;
-    let t137: f32 = t124 + t136;
-    let t138: f32 = t131 + t134;
+    let t81: f32 = t16 * t80;
+    let t82: f32 = t5 * t81;
+    let t83: f32 = t4 * t16;
+    let t84: f32 = t5 * t18;
+    let t85: f32 = t83 + t84;
+    let t86: f32 = yc * t85;
+    let t87: f32 = zc * t15;
+    let t88: f32 = t4 * t87;
+    let t89: f32 = t86 + t88;
+    let t90: f32 = t82 - t89;
+    let t91: f32 = t71 * 0.2;
+    let t92: f32 = t90 + t91;
+    let t93: f32 = t42 * t79;
+    let t94: f32 = t92 * t93;
+    let t95: f32 = t91 - t90;
+    let t96: f32 = t93 * t95;
+    let t97: f32 = t94 + t96;
+    let t98: f32 = zc * t42;
+    let t99: f32 = t79 * t98;
+    let t100: f32 = t95 * t99;
+    let t101: f32 = t92 * t99;
+    let t102: f32 = t100 - t101;
+    let t103: f32 = xc * t40;
+    let t104: f32 = t42 * t103;
+    let t105: f32 = t50 * t104;
+    let t106: f32 = t54 * t104;
+    let t107: f32 = t105 - t106;
+    let t108: f32 = t102 + t107;
+    let t109: f32 = t67 * 7.34;
+    let t110: f32 = t97 * 0.334;
+    let t111: f32 = t108 * 1.67;
+    let t112: f32 = t78 + t110;
+    let t113: f32 = t111 + t112;
+    let t114: f32 = t113 - t109;
+    let t115: f32 = t71 * 0.41194;
+    let t116: f32 = t71 * t115;
+    let t117: f32 = t29 * 0.22444;
+    let t118: f32 = t29 * t117;
+    let t119: f32 = t16 * t16;
+    let t120: f32 = t3 * t119;
+    let t121: f32 = t114 * t114;
+    let t122: f32 = t66 * t121;
+    let t123: f32 = t85 * 0.41194;
+    let t124: f32 = t85 * t123;
+    let t125: f32 = t20 * 0.22444;
+    let t126: f32 = t20 * t125;
+    let t127: f32 = t15 * t15;
+    let t128: f32 = t3 * t127;
+    let t129: f32 = xc * yc;
+    let t130: f32 = t5 * t85;
+    let t131: f32 = t4 * t20;
+    let t132: f32 = t18 + t131;
+    let t133: f32 = t132 * 0.22444;
+    let t134: f32 = t130 * 0.41194;
+    let t135: f32 = t133 - t134;
+    let t136: f32 = t1 * t135;
+    let t137: f32 = t21 * t33;
+    let t138: f32 = t21 * t36;
     let t139: f32 = t137 + t138;
-    let t140: f32 = t139 * t139;
-    let t141: f32 = t66 * t140;
-    let t142: f32 = t75 * 0.41194;
-    let t143: f32 = t75 * t142;
-    let t144: f32 = t19 * 0.22444;
-    let t145: f32 = t19 * t144;
-    let t146: f32 = t68 * t68;
-    let t147: f32 = t85 * t85;
-    let t148: f32 = t42 * t146;
-    let t149: f32 = t147 * t148;
-    let t150: f32 = t88 * t88;
-    let t151: f32 = t148 * t150;
-    let t152: f32 = t149 + t151;
-    let t153: f32 = t3 + t111;
-    let t154: f32 = t153 * 10.68;
-    let t155: f32 = t117 * 0.22444;
-    let t156: f32 = t56 + t152;
-    let t157: f32 = t156 * 1.67;
-    let t158: f32 = t154 + t155;
-    let t159: f32 = t143 + t145;
-    let t160: f32 = t157 + 0.4272;
-    let t161: f32 = t158 + t159;
-    let t162: f32 = t160 + t161;
-    let t163: f32 = t162 - t141;
-    let t164: f32 = 1.0 / t163;
-    let t165: f32 = t39 * t41;
-    let t166: f32 = t49 * t165;
-    let t167: f32 = t53 * t165;
-    let t168: f32 = t14 * t15;
-    let t169: f32 = t5 * t168;
-    let t170: f32 = t66 * t139;
-    let t171: f32 = t110 * t170;
-    let t172: f32 = t167 - t166;
-    let t173: f32 = zc * 7.34;
-    let t174: f32 = t172 * 1.67;
+    let t140: f32 = yc * t42;
+    let t141: f32 = t79 * t140;
+    let t142: f32 = t92 * t141;
+    let t143: f32 = t95 * t141;
+    let t144: f32 = t142 - t143;
+    let t145: f32 = xc * t21;
+    let t146: f32 = t36 * t145;
+    let t147: f32 = t33 * t145;
+    let t148: f32 = t146 - t147;
+    let t149: f32 = t144 + t148;
+    let t150: f32 = t129 * 7.34;
+    let t151: f32 = t139 * 0.334;
+    let t152: f32 = t149 * 1.67;
+    let t153: f32 = t136 + t150;
+    let t154: f32 = t151 + t152;
+    let t155: f32 = t153 + t154;
+    let t156: f32 = t155 * t155;
+    let t157: f32 = t66 * t156;
+    let t158: f32 = xc * xc;
+    let t159: f32 = t12 + t158;
+    let t160: f32 = t79 * t79;
+    let t161: f32 = t92 * t92;
+    let t162: f32 = t43 * t160;
+    let t163: f32 = t161 * t162;
+    let t164: f32 = t95 * t95;
+    let t165: f32 = t162 * t164;
+    let t166: f32 = t163 + t165;
+    let t167: f32 = t57 + t166;
+    let t168: f32 = t128 * 0.22444;
+    let t169: f32 = t159 * 10.68;
+    let t170: f32 = t167 * 1.67;
+    let t171: f32 = t124 + t126;
+    let t172: f32 = t168 + t169;
+    let t173: f32 = t170 + 0.4272;
+    let t174: f32 = t171 + t172;
     let t175: f32 = t173 + t174;
-    let t176: f32 = yc * t175;
-    let t177: f32 = t72 * t142;
-    let t178: f32 = t28 * t144;
-    let t179: f32 = -t122;
-    let t180: f32 = zc * t179;
-    let t181: f32 = t166 + t167;
-    let t182: f32 = t181 * 0.334;
-    let t183: f32 = t169 * 0.22444;
-    let t184: f32 = t182 + t183;
-    let t185: f32 = t176 + t184;
-    let t186: f32 = t171 + t177;
-    let t187: f32 = t178 + t180;
+    let t176: f32 = t175 - t157;
+    let t177: f32 = 1.0 / t176;
+    let t178: f32 = yc * zc;
+    let t179: f32 = t71 * t123;
+    let t180: f32 = t29 * t125;
+    let t181: f32 = t15 * t16;
+    let t182: f32 = t3 * t181;
+    let t183: f32 = t66 * t155;
+    let t184: f32 = t114 * t183;
+    let t185: f32 = t40 * t42;
+    let t186: f32 = t50 * t185;
+    let t187: f32 = t54 * t185;
     let t188: f32 = t186 + t187;
-    let t189: f32 = t185 - t188;
-    let t190: f32 = t189 * t189;
-    let t191: f32 = t164 * t190;
-    let t192: f32 = t72 * 0.41194;
-    let t193: f32 = t72 * t192;
-    let t194: f32 = t28 * 0.22444;
-    let t195: f32 = t28 * t194;
-    let t196: f32 = t4 + t111;
-    let t197: f32 = t196 * 10.68;
-    let t198: f32 = t113 * 0.22444;
-    let t199: f32 = t38 + t152;
-    let t200: f32 = t199 * 1.67;
-    let t201: f32 = t197 + t198;
-    let t202: f32 = t193 + t195;
-    let t203: f32 = t200 + 0.4272;
+    let t189: f32 = zc * t21;
+    let t190: f32 = t36 * t189;
+    let t191: f32 = t33 * t189;
+    let t192: f32 = t190 - t191;
+    let t193: f32 = yc * t40;
+    let t194: f32 = t42 * t193;
+    let t195: f32 = t54 * t194;
+    let t196: f32 = t50 * t194;
+    let t197: f32 = t195 - t196;
+    let t198: f32 = t192 + t197;
+    let t199: f32 = t178 * 7.34;
+    let t200: f32 = t182 * 0.22444;
+    let t201: f32 = t188 * 0.334;
+    let t202: f32 = t198 * 1.67;
+    let t203: f32 = t199 + t200;
     let t204: f32 = t201 + t202;
     let t205: f32 = t203 + t204;
-    let t206: f32 = t115 + t191;
-    let t207: f32 = t205 - t206;
-    let t208: f32 = 1.0 / t207;
-    let t209: f32 = yc * 10.68;
-    let t210: f32 = t122 + t209;
-    let t211: f32 = t66 * t210;
-    let t212: f32 = t110 * t211;
-    let t213: f32 = t139 * t211;
-    let t214: f32 = xc * 10.68;
-    let t215: f32 = t133 + t214;
-    let t216: f32 = t215 - t213;
-    let t217: f32 = t164 * t189;
-    let t218: f32 = t216 * t217;
-    let t219: f32 = t212 + t218;
-    let t220: f32 = t210 * t210;
-    let t221: f32 = t66 * t220;
-    let t222: f32 = t216 * t216;
-    let t223: f32 = t164 * t222;
-    let t224: f32 = t219 * t219;
-    let t225: f32 = t208 * t224;
-    let t226: f32 = zc * 10.68;
-    let t227: f32 = t174 + t226;
-    let t228: f32 = t227 * t227;
-    let t229: f32 = t164 * t228;
-    let t230: f32 = t164 * t227;
-    let t231: f32 = t189 * t230;
-    let t232: f32 = t210 - t231;
-    let t233: f32 = t232 * t232;
-    let t234: f32 = t208 * t233;
-    let t235: f32 = t229 + t234;
-    let t236: f32 = t235 - 24.02;
-    let t237: f32 = 1.0 / t236;
-    let t238: f32 = t216 * t230;
-    let t239: f32 = t208 * t232;
-    let t240: f32 = t219 * t239;
-    let t241: f32 = t238 - t240;
-    let t242: f32 = t241 * t241;
-    let t243: f32 = t237 * t242;
-    let t244: f32 = t139 * t164;
-    let t245: f32 = t189 * t244;
-    let t246: f32 = t107 + t245;
-    let t247: f32 = t109 - t246;
-    let t248: f32 = t66 * t227;
-    let t249: f32 = t247 * t248;
-    let t250: f32 = t214 + t249;
-    let t251: f32 = t133 + t250;
-    let t252: f32 = t251 * t251;
-    let t253: f32 = t208 * t252;
-    let t254: f32 = t66 * t228;
-    let t255: f32 = t139 * t254;
-    let t256: f32 = t164 * t255;
-    let t257: f32 = t239 * t251;
-    let t258: f32 = t256 + t257;
-    let t259: f32 = t258 * t258;
-    let t260: f32 = t237 * t259;
-    let t261: f32 = t141 * t164;
-    let t262: f32 = t261 + 1.0;
-    let t263: f32 = t254 * t262;
-    let t264: f32 = t253 + t263;
-    let t265: f32 = t260 + 24.02;
-    let t266: f32 = t264 - t265;
-    let t267: f32 = 1.0 / t266;
-    let t268: f32 = t208 * t251;
-    let t269: f32 = t219 * t268;
-    let t270: f32 = t237 * t258;
-    let t271: f32 = t241 * t270;
-    let t272: f32 = t216 * t244;
-    let t273: f32 = t210 - t272;
-    let t274: f32 = t248 * t273;
-    let t275: f32 = t269 + t271;
-    let t276: f32 = t274 + t275;
-    let t277: f32 = t276 * t276;
-    let t278: f32 = t267 * t277;
-    let t279: f32 = t221 + t223;
-    let t280: f32 = t225 + t279;
-    let t281: f32 = t243 + t278;
-    let t282: f32 = t281 + 24.02;
-    let t283: f32 = t280 - t282;
-    let t284: f32 = 1.0 / t283;
-    let t285: f32 = yc * wy;
-    let t286: f32 = wz * t285;
-    let t287: f32 = xc * wx;
-    let t288: f32 = wz * t287;
-    let t289: f32 = wy * wy;
-    let t290: f32 = wx * wx;
-    let t291: f32 = t289 + t290;
-    let t292: f32 = zc * t291;
-    let t293: f32 = g5 - g6;
-    let t294: f32 = t166 * t291;
-    let t295: f32 = t167 * t291;
-    let t296: f32 = t294 + t295;
-    let t297: f32 = wx * wy;
-    let t298: f32 = t41 * t297;
-    let t299: f32 = t68 * t298;
-    let t300: f32 = t85 * t299;
-    let t301: f32 = t88 * t299;
-    let t302: f32 = t300 + t301;
-    let t303: f32 = t296 - t302;
-    let t304: f32 = zc * wy;
-    let t305: f32 = wz * t304;
-    let t306: f32 = wy * t287;
-    let t307: f32 = g3 + g4;
-    let t308: f32 = wz * vx;
-    let t309: f32 = wx * vz;
-    let t310: f32 = t308 - t309;
-    let t311: f32 = wz * wz;
-    let t312: f32 = t290 + t311;
-    let t313: f32 = t118 * t312;
-    let t314: f32 = t119 * t312;
-    let t315: f32 = t313 - t314;
-    let t316: f32 = t300 - t301;
-    let t317: f32 = t315 + t316;
-    let t318: f32 = t305 * 6.68;
-    let t319: f32 = t306 * 3.34;
-    let t320: f32 = t310 * 4.0;
-    let t321: f32 = t317 * 1.67;
-    let t322: f32 = t318 + t319;
-    let t323: f32 = t307 + t320;
-    let t324: f32 = t322 + t323;
-    let t325: f32 = t321 + t324;
-    let t326: f32 = zc * t325;
-    let t327: f32 = wz * t72;
-    let t328: f32 = wx * t1;
-    let t329: f32 = t7 * t328;
-    let t330: f32 = wy * t75;
-    let t331: f32 = t329 + t330;
-    let t332: f32 = t327 + t331;
-    let t333: f32 = wx * t6;
-    let t334: f32 = t1 * t333;
-    let t335: f32 = wy * t19;
-    let t336: f32 = t334 - t335;
-    let t337: f32 = wz * t28;
-    let t338: f32 = t336 - t337;
-    let t339: f32 = t338 * 0.0084;
-    let t340: f32 = t332 * t339;
-    let t341: f32 = t332 * 0.0084;
-    let t342: f32 = t338 * t341;
-    let t343: f32 = t338 * 0.19084;
-    let t344: f32 = t332 * t343;
-    let t345: f32 = t332 * 0.37834;
-    let t346: f32 = t338 * t345;
-    let t347: f32 = t340 - t342;
-    let t348: f32 = t347 * 4.0;
-    let t349: f32 = t344 + t348;
-    let t350: f32 = t349 - t346;
-    let t351: f32 = t0 * t350;
-    let t352: f32 = t326 + t351;
-    let t353: f32 = zc * t312;
-    let t354: f32 = zc * t289;
-    let t355: f32 = zc * t290;
-    let t356: f32 = t354 + t355;
-    let t357: f32 = g5 + g6;
-    let t358: f32 = wx * vy;
-    let t359: f32 = wy * vx;
-    let t360: f32 = t358 - t359;
-    let t361: f32 = t294 - t295;
-    let t362: f32 = wx * wz;
-    let t363: f32 = t41 * t362;
-    let t364: f32 = t68 * t363;
-    let t365: f32 = t85 * t364;
-    let t366: f32 = t88 * t364;
-    let t367: f32 = t365 - t366;
-    let t368: f32 = t361 + t367;
-    let t369: f32 = t286 * 6.68;
-    let t370: f32 = t288 + t353;
-    let t371: f32 = t370 - t356;
-    let t372: f32 = t371 * 3.34;
-    let t373: f32 = t360 * 4.0;
-    let t374: f32 = t368 * 1.67;
-    let t375: f32 = t369 + t372;
-    let t376: f32 = t357 + t373;
-    let t377: f32 = t375 + t376;
-    let t378: f32 = t374 + t377;
-    let t379: f32 = t378 - 32.7654;
-    let t380: f32 = yc * t379;
-    let t381: f32 = wz * t15;
-    let t382: f32 = t1 * t381;
-    let t383: f32 = wx * t0;
-    let t384: f32 = wy * t14;
-    let t385: f32 = t1 * t384;
-    let t386: f32 = t383 - t385;
-    let t387: f32 = t382 + t386;
-    let t388: f32 = t387 * 0.0084;
-    let t389: f32 = t332 * t388;
-    let t390: f32 = t341 * t387;
-    let t391: f32 = t387 * 0.19084;
-    let t392: f32 = t332 * t391;
-    let t393: f32 = t345 * t387;
-    let t394: f32 = t389 - t390;
-    let t395: f32 = t394 * 4.0;
-    let t396: f32 = t392 + t395;
-    let t397: f32 = t396 - t393;
-    let t398: f32 = t6 * t397;
-    let t399: f32 = t338 * t388;
-    let t400: f32 = t339 * t387;
-    let t401: f32 = t343 * t387;
-    let t402: f32 = t338 * t391;
-    let t403: f32 = t399 - t400;
-    let t404: f32 = t403 * 4.0;
-    let t405: f32 = t402 + t404;
-    let t406: f32 = t405 - t401;
-    let t407: f32 = t7 * t406;
-    let t408: f32 = t398 - t407;
-    let t409: f32 = t1 * t408;
-    let t410: f32 = t380 + t409;
-    let t411: f32 = t352 - t410;
-    let t412: f32 = wy * wz;
-    let t413: f32 = t39 * t412;
-    let t414: f32 = t41 * t413;
-    let t415: f32 = t49 * t414;
-    let t416: f32 = yc * t311;
-    let t417: f32 = yc * t290;
-    let t418: f32 = t416 + t417;
-    let t419: f32 = t306 - t418;
-    let t420: f32 = t419 - t415;
-    let t421: f32 = t420 * 1.67;
-    let t422: f32 = t312 * 0.334;
-    let t423: f32 = t421 + t422;
-    let t424: f32 = t49 * t423;
-    let t425: f32 = t53 * t414;
-    let t426: f32 = t419 + t425;
-    let t427: f32 = t426 * 1.67;
-    let t428: f32 = t422 - t427;
-    let t429: f32 = t53 * t428;
-    let t430: f32 = t424 + t429;
-    let t431: f32 = t165 * t430;
-    let t432: f32 = t20 * t412;
-    let t433: f32 = t32 * t432;
-    let t434: f32 = t288 - t292;
-    let t435: f32 = t362 * 0.334;
-    let t436: f32 = t433 - t434;
-    let t437: f32 = t436 * 1.67;
-    let t438: f32 = t435 + t437;
-    let t439: f32 = t438 + 16.3827;
-    let t440: f32 = t32 * t439;
-    let t441: f32 = t35 * t432;
-    let t442: f32 = t434 + t441;
-    let t443: f32 = t442 * 1.67;
-    let t444: f32 = t435 + t443;
-    let t445: f32 = t444 - 16.3827;
-    let t446: f32 = t35 * t445;
-    let t447: f32 = t440 + t446;
-    let t448: f32 = t20 * t447;
-    let t449: f32 = t431 + t448;
-    let t450: f32 = t411 - t449;
-    let t451: f32 = yc * 72.0054;
-    let t452: f32 = t293 * 0.2;
-    let t453: f32 = t303 * 0.334;
-    let t454: f32 = t451 + t452;
-    let t455: f32 = t450 + t453;
-    let t456: f32 = t454 + t455;
-    let t457: f32 = t210 * t456;
-    let t458: f32 = t66 * t457;
-    let t459: f32 = g2 - g1;
-    let t460: f32 = t289 + t311;
-    let t461: f32 = t87 * t460;
-    let t462: f32 = t89 * t460;
-    let t463: f32 = t461 + t462;
-    let t464: f32 = t433 + t441;
-    let t465: f32 = t463 - t464;
-    let t466: f32 = yc * wx;
-    let t467: f32 = wy * t466;
-    let t468: f32 = zc * wx;
-    let t469: f32 = wz * t468;
-    let t470: f32 = xc * t291;
-    let t471: f32 = xc * t311;
-    let t472: f32 = xc * t289;
-    let t473: f32 = t471 + t472;
-    let t474: f32 = g1 + g2;
-    let t475: f32 = wy * vz;
-    let t476: f32 = wz * vy;
-    let t477: f32 = t475 - t476;
-    let t478: f32 = t462 - t461;
-    let t479: f32 = t20 * t297;
-    let t480: f32 = t35 * t479;
-    let t481: f32 = t32 * t479;
-    let t482: f32 = t480 - t481;
-    let t483: f32 = t478 + t482;
-    let t484: f32 = t467 + t470;
-    let t485: f32 = t484 - t473;
-    let t486: f32 = t485 * 3.34;
-    let t487: f32 = t469 * 6.68;
-    let t488: f32 = t477 * 4.0;
-    let t489: f32 = t483 * 1.67;
-    let t490: f32 = t486 + t487;
-    let t491: f32 = t474 + t488;
-    let t492: f32 = t490 + t491;
-    let t493: f32 = t489 + t492;
-    let t494: f32 = zc * t493;
-    let t495: f32 = t66 * t456;
-    let t496: f32 = t139 * t495;
-    let t497: f32 = t494 - t496;
-    let t498: f32 = t19 * t397;
-    let t499: f32 = t497 - t498;
-    let t500: f32 = t43 * t350;
-    let t501: f32 = t441 - t433;
-    let t502: f32 = t286 * 3.34;
-    let t503: f32 = t288 * 6.68;
-    let t504: f32 = t361 + t501;
-    let t505: f32 = t504 * 1.67;
-    let t506: f32 = t502 + t503;
-    let t507: f32 = t376 + t506;
-    let t508: f32 = t505 + t507;
-    let t509: f32 = t508 - 72.0054;
-    let t510: f32 = xc * t509;
-    let t511: f32 = t500 - t510;
-    let t512: f32 = t39 * t362;
-    let t513: f32 = t41 * t512;
-    let t514: f32 = t49 * t513;
-    let t515: f32 = xc * t460;
-    let t516: f32 = t467 - t515;
-    let t517: f32 = t297 * 0.334;
-    let t518: f32 = t514 - t516;
-    let t519: f32 = t518 * 1.67;
-    let t520: f32 = t517 + t519;
-    let t521: f32 = t49 * t520;
-    let t522: f32 = t53 * t513;
-    let t523: f32 = t516 + t522;
-    let t524: f32 = t523 * 1.67;
-    let t525: f32 = t517 + t524;
-    let t526: f32 = t53 * t525;
-    let t527: f32 = t521 + t526;
-    let t528: f32 = t39 * t527;
-    let t529: f32 = t286 - t356;
-    let t530: f32 = t365 + t529;
-    let t531: f32 = t530 * 1.67;
-    let t532: f32 = t291 * 0.334;
-    let t533: f32 = t531 + t532;
-    let t534: f32 = t533 - 16.3827;
-    let t535: f32 = t85 * t534;
-    let t536: f32 = t366 - t529;
-    let t537: f32 = t536 * 1.67;
-    let t538: f32 = t532 + t537;
-    let t539: f32 = t538 + 16.3827;
-    let t540: f32 = t88 * t539;
-    let t541: f32 = t535 + t540;
-    let t542: f32 = t68 * t541;
-    let t543: f32 = t528 - t542;
-    let t544: f32 = t41 * t543;
-    let t545: f32 = t75 * t406;
-    let t546: f32 = t544 - t545;
-    let t547: f32 = t511 + t546;
-    let t548: f32 = t499 + t547;
-    let t549: f32 = xc * 32.7654;
-    let t550: f32 = t459 * 0.2;
-    let t551: f32 = t465 * 0.334;
-    let t552: f32 = t549 + t550;
-    let t553: f32 = t548 + t551;
-    let t554: f32 = t552 + t553;
-    let t555: f32 = t164 * t554;
-    let t556: f32 = t216 * t555;
-    let t557: f32 = g3 - g4;
-    let t558: f32 = t313 + t314;
-    let t559: f32 = t514 + t522;
-    let t560: f32 = t558 + t559;
-    let t561: f32 = t522 - t514;
-    let t562: f32 = t467 * 6.68;
-    let t563: f32 = t469 * 3.34;
-    let t564: f32 = t478 + t561;
-    let t565: f32 = t564 * 1.67;
-    let t566: f32 = t562 + t563;
-    let t567: f32 = t491 + t566;
-    let t568: f32 = t565 + t567;
-    let t569: f32 = yc * t568;
-    let t570: f32 = yc * t460;
-    let t571: f32 = t425 - t415;
-    let t572: f32 = t305 + t570;
-    let t573: f32 = t572 - t418;
-    let t574: f32 = t573 * 3.34;
-    let t575: f32 = t306 * 6.68;
-    let t576: f32 = t315 + t571;
-    let t577: f32 = t576 * 1.67;
-    let t578: f32 = t574 + t575;
-    let t579: f32 = t323 + t578;
-    let t580: f32 = t577 + t579;
-    let t581: f32 = xc * t580;
-    let t582: f32 = t569 - t581;
-    let t583: f32 = t1 * t15;
-    let t584: f32 = t350 * t583;
-    let t585: f32 = t72 * t406;
-    let t586: f32 = t584 + t585;
-    let t587: f32 = t582 + t586;
-    let t588: f32 = t28 * t397;
-    let t589: f32 = yc * t312;
-    let t590: f32 = t589 - t305;
-    let t591: f32 = t412 * 0.334;
-    let t592: f32 = t590 - t300;
-    let t593: f32 = t592 * 1.67;
-    let t594: f32 = t591 + t593;
-    let t595: f32 = t85 * t594;
-    let t596: f32 = t301 + t590;
-    let t597: f32 = t596 * 1.67;
-    let t598: f32 = t591 - t597;
-    let t599: f32 = t88 * t598;
-    let t600: f32 = t595 + t599;
-    let t601: f32 = t86 * t600;
-    let t602: f32 = t588 + t601;
-    let t603: f32 = t469 - t473;
-    let t604: f32 = t603 - t481;
-    let t605: f32 = t604 * 1.67;
-    let t606: f32 = t460 * 0.334;
-    let t607: f32 = t605 + t606;
-    let t608: f32 = t32 * t607;
-    let t609: f32 = t480 + t603;
-    let t610: f32 = t609 * 1.67;
-    let t611: f32 = t606 - t610;
-    let t612: f32 = t35 * t611;
-    let t613: f32 = t608 + t612;
-    let t614: f32 = t20 * t613;
-    let t615: f32 = t110 * t495;
-    let t616: f32 = t189 * t555;
-    let t617: f32 = t615 + t616;
-    let t618: f32 = t614 + t617;
-    let t619: f32 = t602 - t618;
-    let t620: f32 = t587 + t619;
-    let t621: f32 = t557 * 0.2;
-    let t622: f32 = t560 * 0.334;
-    let t623: f32 = t621 + t622;
-    let t624: f32 = t620 + t623;
-    let t625: f32 = t208 * t624;
-    let t626: f32 = t219 * t625;
-    let t627: f32 = t467 + t469;
-    let t628: f32 = t473 + t515;
-    let t629: f32 = t230 * t554;
-    let t630: f32 = t232 * t625;
-    let t631: f32 = t629 + t630;
-    let t632: f32 = t474 - t631;
-    let t633: f32 = t483 + t561;
-    let t634: f32 = t627 * 6.68;
-    let t635: f32 = t628 * 3.34;
-    let t636: f32 = t633 * 1.67;
-    let t637: f32 = t488 + t634;
-    let t638: f32 = t632 + t636;
-    let t639: f32 = t637 + t638;
-    let t640: f32 = t639 - t635;
-    let t641: f32 = t237 * t640;
-    let t642: f32 = t241 * t641;
-    let t643: f32 = t418 + t589;
-    let t644: f32 = t305 + t306;
-    let t645: f32 = t317 + t571;
-    let t646: f32 = t251 * t625;
-    let t647: f32 = t258 * t641;
-    let t648: f32 = t646 + t647;
-    let t649: f32 = t244 * t554;
-    let t650: f32 = t450 + t451;
-    let t651: f32 = t452 + t453;
-    let t652: f32 = t650 + t651;
-    let t653: f32 = t652 - t649;
-    let t654: f32 = t248 * t653;
-    let t655: f32 = t307 - t654;
-    let t656: f32 = t648 + t655;
-    let t657: f32 = t643 * 3.34;
-    let t658: f32 = t644 * 6.68;
-    let t659: f32 = t645 * 1.67;
-    let t660: f32 = t320 + t658;
-    let t661: f32 = t656 + t659;
-    let t662: f32 = t660 + t661;
-    let t663: f32 = t662 - t657;
-    let t664: f32 = t267 * t663;
-    let t665: f32 = t276 * t664;
-    let t666: f32 = t286 + t288;
-    let t667: f32 = t666 * 6.68;
-    let t668: f32 = t292 + t356;
-    let t669: f32 = t668 * 3.34;
-    let t670: f32 = t368 + t501;
-    let t671: f32 = t670 * 1.67;
-    let t672: f32 = t458 + t667;
-    let t673: f32 = t556 + t642;
-    let t674: f32 = t357 + t665;
-    let t675: f32 = t373 + t671;
-    let t676: f32 = t672 + t673;
-    let t677: f32 = t674 + t675;
-    let t678: f32 = t676 + t677;
-    let t679: f32 = t626 + t669;
-    let t680: f32 = t679 + 235.6362;
-    let t681: f32 = t678 - t680;
-    let t682: f32 = t219 * t284;
-    let t683: f32 = t681 * t682;
-    let t684: f32 = t276 * t284;
-    let t685: f32 = t681 * t684;
-    let t686: f32 = t656 + t685;
-    let t687: f32 = t660 + t686;
-    let t688: f32 = t659 + t687;
-    let t689: f32 = t688 - t657;
-    let t690: f32 = t258 * t267;
-    let t691: f32 = t689 * t690;
-    let t692: f32 = t241 * t284;
-    let t693: f32 = t681 * t692;
-    let t694: f32 = t691 + t693;
-    let t695: f32 = t488 + t632;
-    let t696: f32 = t634 + t636;
-    let t697: f32 = t694 + t695;
-    let t698: f32 = t696 + t697;
-    let t699: f32 = t698 - t635;
-    let t700: f32 = t232 * t237;
-    let t701: f32 = t699 * t700;
-    let t702: f32 = t251 * t267;
-    let t703: f32 = t689 * t702;
-    let t704: f32 = t683 + t701;
-    let t705: f32 = t620 + t621;
-    let t706: f32 = t704 + t705;
-    let t707: f32 = t622 + t706;
-    let t708: f32 = t707 - t703;
-    let t709: f32 = t110 * t208;
-    let t710: f32 = t708 * t709;
-    let t711: f32 = t210 * t284;
-    let t712: f32 = t681 * t711;
-    let t713: f32 = t189 * t208;
-    let t714: f32 = t708 * t713;
-    let t715: f32 = t216 * t284;
-    let t716: f32 = t681 * t715;
-    let t717: f32 = t237 * t699;
-    let t718: f32 = t170 * t267;
-    let t719: f32 = t689 * t718;
-    let t720: f32 = t717 - t719;
-    let t721: f32 = t227 * t720;
-    let t722: f32 = t549 + t721;
-    let t723: f32 = t548 + t550;
-    let t724: f32 = t722 + t723;
-    let t725: f32 = t551 + t724;
-    let t726: f32 = t714 + t716;
-    let t727: f32 = t725 - t726;
-    let t728: f32 = t244 * t727;
-    let t729: f32 = t227 * t267;
-    let t730: f32 = t689 * t729;
-    let t731: f32 = t451 + t730;
-    let t732: f32 = t450 + t452;
-    let t733: f32 = t731 + t732;
-    let t734: f32 = t453 + t733;
-    let t735: f32 = t710 + t712;
-    let t736: f32 = t728 + t735;
-    let t737: f32 = t734 - t736;
-    let t738: f32 = t66 * t737;
-    let t739: f32 = t208 * t217;
-    let t740: f32 = t708 * t739;
-    let t741: f32 = t237 * t241;
-    let t742: f32 = t284 * t741;
-    let t743: f32 = t681 * t742;
-    let t744: f32 = t267 * t276;
-    let t745: f32 = t284 * t744;
-    let t746: f32 = t681 * t745;
-    let t747: f32 = t664 + t746;
-    let t748: f32 = t270 * t747;
-    let t749: f32 = t641 + t748;
-    let t750: f32 = t743 + t749;
-    let t751: f32 = t230 * t750;
-    let t752: f32 = t139 * t248;
-    let t753: f32 = t164 * t752;
-    let t754: f32 = t747 * t753;
-    let t755: f32 = t164 * t216;
-    let t756: f32 = t284 * t755;
-    let t757: f32 = t681 * t756;
-    let t758: f32 = t740 + t754;
-    let t759: f32 = t757 + t758;
-    let t760: f32 = t555 + t751;
-    let t761: f32 = t759 - t760;
-    let t762: f32 = t208 * t708;
-    let t763: f32 = -t750;
-    let t764: f32 = -t747;
-    let t765: f32 = t284 * t681;
-    let t766: f32 = -t765;
-    let t767: f32 = t1 * t7;
-    ([t738, t761, t762, t763, t764, t766], [t767, t19, t583])
+    let t206: f32 = t179 + t180;
+    let t207: f32 = t184 + t206;
+    let t208: f32 = t205 - t207;
+    let t209: f32 = t208 * t208;
+    let t210: f32 = t177 * t209;
+    let t211: f32 = t13 + t158;
+    let t212: f32 = t39 + t166;
+    let t213: f32 = t120 * 0.22444;
+    let t214: f32 = t211 * 10.68;
+    let t215: f32 = t212 * 1.67;
+    let t216: f32 = t116 + t118;
+    let t217: f32 = t213 + t214;
+    let t218: f32 = t215 + 0.4272;
+    let t219: f32 = t216 + t217;
+    let t220: f32 = t218 + t219;
+    let t221: f32 = t122 + t210;
+    let t222: f32 = t220 - t221;
+    let t223: f32 = 1.0 / t222;
+    let t224: f32 = t138 - t137;
+    let t225: f32 = yc * 10.68;
+    let t226: f32 = t224 * 1.67;
+    let t227: f32 = t225 + t226;
+    let t228: f32 = t66 * t227;
+    let t229: f32 = t114 * t228;
+    let t230: f32 = t155 * t228;
+    let t231: f32 = t94 - t96;
+    let t232: f32 = xc * 10.68;
+    let t233: f32 = t231 * 1.67;
+    let t234: f32 = t232 + t233;
+    let t235: f32 = t234 - t230;
+    let t236: f32 = t177 * t208;
+    let t237: f32 = t235 * t236;
+    let t238: f32 = t229 + t237;
+    let t239: f32 = t227 * t227;
+    let t240: f32 = t66 * t239;
+    let t241: f32 = t235 * t235;
+    let t242: f32 = t177 * t241;
+    let t243: f32 = t238 * t238;
+    let t244: f32 = t223 * t243;
+    let t245: f32 = t187 - t186;
+    let t246: f32 = zc * 10.68;
+    let t247: f32 = t245 * 1.67;
+    let t248: f32 = t246 + t247;
+    let t249: f32 = t248 * t248;
+    let t250: f32 = t177 * t249;
+    let t251: f32 = t177 * t248;
+    let t252: f32 = t208 * t251;
+    let t253: f32 = t227 - t252;
+    let t254: f32 = t253 * t253;
+    let t255: f32 = t223 * t254;
+    let t256: f32 = t250 + t255;
+    let t257: f32 = t256 - 24.02;
+    let t258: f32 = 1.0 / t257;
+    let t259: f32 = t235 * t251;
+    let t260: f32 = t223 * t253;
+    let t261: f32 = t238 * t260;
+    let t262: f32 = t259 - t261;
+    let t263: f32 = t262 * t262;
+    let t264: f32 = t258 * t263;
+    let t265: f32 = t155 * t177;
+    let t266: f32 = t208 * t265;
+    let t267: f32 = t109 + t266;
+    let t268: f32 = t113 - t267;
+    let t269: f32 = t66 * t248;
+    let t270: f32 = t268 * t269;
+    let t271: f32 = t232 + t270;
+    let t272: f32 = t233 + t271;
+    let t273: f32 = t272 * t272;
+    let t274: f32 = t223 * t273;
+    let t275: f32 = t66 * t249;
+    let t276: f32 = t155 * t275;
+    let t277: f32 = t177 * t276;
+    let t278: f32 = t260 * t272;
+    let t279: f32 = t277 + t278;
+    let t280: f32 = t279 * t279;
+    let t281: f32 = t258 * t280;
+    let t282: f32 = t157 * t177;
+    let t283: f32 = t282 + 1.0;
+    let t284: f32 = t275 * t283;
+    let t285: f32 = t274 + t284;
+    let t286: f32 = t281 + 24.02;
+    let t287: f32 = t285 - t286;
+    let t288: f32 = 1.0 / t287;
+    let t289: f32 = t223 * t272;
+    let t290: f32 = t238 * t289;
+    let t291: f32 = t258 * t279;
+    let t292: f32 = t262 * t291;
+    let t293: f32 = t235 * t265;
+    let t294: f32 = t227 - t293;
+    let t295: f32 = t269 * t294;
+    let t296: f32 = t290 + t292;
+    let t297: f32 = t295 + t296;
+    let t298: f32 = t297 * t297;
+    let t299: f32 = t288 * t298;
+    let t300: f32 = t240 + t242;
+    let t301: f32 = t244 + t300;
+    let t302: f32 = t264 + t299;
+    let t303: f32 = t302 + 24.02;
+    let t304: f32 = t301 - t303;
+    let t305: f32 = 1.0 / t304;
+    let t306: f32 = xc * 6.68;
+    let t307: f32 = t233 + t306;
+    let t308: f32 = wz * t307;
+    let t309: f32 = zc * 6.68;
+    let t310: f32 = t247 + t309;
+    let t311: f32 = wx * t310;
+    let t312: f32 = t308 - t311;
+    let t313: f32 = wx * t312;
+    let t314: f32 = wy * t310;
+    let t315: f32 = yc * 6.68;
+    let t316: f32 = t226 + t315;
+    let t317: f32 = wz * t316;
+    let t318: f32 = t314 - t317;
+    let t319: f32 = wy * t318;
+    let t320: f32 = g5 - g6;
+    let t321: f32 = g3 + g4;
+    let t322: f32 = wz * vx;
+    let t323: f32 = wx * vz;
+    let t324: f32 = t322 - t323;
+    let t325: f32 = t324 * 4.0;
+    let t326: f32 = t321 + t325;
+    let t327: f32 = zc * t326;
+    let t328: f32 = wx * t4;
+    let t329: f32 = t1 * t328;
+    let t330: f32 = wy * t20;
+    let t331: f32 = t329 - t330;
+    let t332: f32 = wz * t29;
+    let t333: f32 = t331 - t332;
+    let t334: f32 = wz * t16;
+    let t335: f32 = t1 * t334;
+    let t336: f32 = wx * t0;
+    let t337: f32 = wy * t15;
+    let t338: f32 = t1 * t337;
+    let t339: f32 = t336 - t338;
+    let t340: f32 = t335 + t339;
+    let t341: f32 = t340 * 0.22444;
+    let t342: f32 = t333 * t341;
+    let t343: f32 = t333 * 0.22444;
+    let t344: f32 = t340 * t343;
+    let t345: f32 = t342 - t344;
+    let t346: f32 = t5 * t345;
+    let t347: f32 = wz * t71;
+    let t348: f32 = wx * t1;
+    let t349: f32 = t5 * t348;
+    let t350: f32 = wy * t85;
+    let t351: f32 = t349 + t350;
+    let t352: f32 = t347 + t351;
+    let t353: f32 = t352 * 0.41194;
+    let t354: f32 = t340 * t353;
+    let t355: f32 = t341 * t352;
+    let t356: f32 = t354 - t355;
+    let t357: f32 = t4 * t356;
+    let t358: f32 = t346 + t357;
+    let t359: f32 = t1 * t358;
+    let t360: f32 = t327 + t359;
+    let t361: f32 = t343 * t352;
+    let t362: f32 = t333 * t353;
+    let t363: f32 = t361 - t362;
+    let t364: f32 = t0 * t363;
+    let t365: f32 = t67 * 3.34;
+    let t366: f32 = t110 + t111;
+    let t367: f32 = t366 - t365;
+    let t368: f32 = wx * t367;
+    let t369: f32 = t178 * 3.34;
+    let t370: f32 = t201 + t369;
+    let t371: f32 = t202 + t370;
+    let t372: f32 = wy * t371;
+    let t373: f32 = t211 * 6.68;
+    let t374: f32 = t215 + t373;
+    let t375: f32 = t374 + 0.2672;
+    let t376: f32 = wz * t375;
+    let t377: f32 = t368 + t376;
+    let t378: f32 = t377 - t372;
+    let t379: f32 = wy * t378;
+    let t380: f32 = t364 - t379;
+    let t381: f32 = t129 * 3.34;
+    let t382: f32 = t151 + t381;
+    let t383: f32 = t152 + t382;
+    let t384: f32 = wx * t383;
+    let t385: f32 = t159 * 6.68;
+    let t386: f32 = t170 + t385;
+    let t387: f32 = t386 + 0.2672;
+    let t388: f32 = wy * t387;
+    let t389: f32 = wz * t371;
+    let t390: f32 = t384 + t389;
+    let t391: f32 = t390 - t388;
+    let t392: f32 = wz * t391;
+    let t393: f32 = g5 + g6;
+    let t394: f32 = wx * vy;
+    let t395: f32 = wy * vx;
+    let t396: f32 = t394 - t395;
+    let t397: f32 = t396 * 4.0;
+    let t398: f32 = t393 + t397;
+    let t399: f32 = yc * t398;
+    let t400: f32 = t392 + t399;
+    let t401: f32 = t380 - t400;
+    let t402: f32 = t360 + t401;
+    let t403: f32 = yc * 104.7708;
+    let t404: f32 = t224 * 16.3827;
+    let t405: f32 = t320 * 0.2;
+    let t406: f32 = t403 + t404;
+    let t407: f32 = t402 + t405;
+    let t408: f32 = t406 + t407;
+    let t409: f32 = t227 * t408;
+    let t410: f32 = t66 * t409;
+    let t411: f32 = g2 - g1;
+    let t412: f32 = t20 * t356;
+    let t413: f32 = t85 * t345;
+    let t414: f32 = t412 - t413;
+    let t415: f32 = t44 * t363;
+    let t416: f32 = t14 * 6.68;
+    let t417: f32 = t61 + t416;
+    let t418: f32 = t417 + 0.2672;
+    let t419: f32 = wx * t418;
+    let t420: f32 = wy * t383;
+    let t421: f32 = wz * t367;
+    let t422: f32 = t419 + t421;
+    let t423: f32 = t422 - t420;
+    let t424: f32 = wz * t423;
+    let t425: f32 = t415 + t424;
+    let t426: f32 = t414 + t425;
+    let t427: f32 = g1 + g2;
+    let t428: f32 = wy * vz;
+    let t429: f32 = wz * vy;
+    let t430: f32 = t428 - t429;
+    let t431: f32 = t430 * 4.0;
+    let t432: f32 = t427 + t431;
+    let t433: f32 = zc * t432;
+    let t434: f32 = t398 - 39.24;
+    let t435: f32 = xc * t434;
+    let t436: f32 = t433 - t435;
+    let t437: f32 = wx * t378;
+    let t438: f32 = t66 * t408;
+    let t439: f32 = t155 * t438;
+    let t440: f32 = t437 + t439;
+    let t441: f32 = t436 - t440;
+    let t442: f32 = t426 + t441;
+    let t443: f32 = xc * 65.5308;
+    let t444: f32 = t231 * 16.3827;
+    let t445: f32 = t411 * 0.2;
+    let t446: f32 = t443 + t444;
+    let t447: f32 = t442 + t445;
+    let t448: f32 = t446 + t447;
+    let t449: f32 = t177 * t448;
+    let t450: f32 = t235 * t449;
+    let t451: f32 = g3 - g4;
+    let t452: f32 = t1 * t16;
+    let t453: f32 = t363 * t452;
+    let t454: f32 = wx * t391;
+    let t455: f32 = t453 + t454;
+    let t456: f32 = wy * t423;
+    let t457: f32 = t114 * t438;
+    let t458: f32 = t456 - t457;
+    let t459: f32 = t455 + t458;
+    let t460: f32 = yc * t432;
+    let t461: f32 = t71 * t345;
+    let t462: f32 = t29 * t356;
+    let t463: f32 = t461 - t462;
+    let t464: f32 = t460 + t463;
+    let t465: f32 = t208 * t449;
+    let t466: f32 = xc * t326;
+    let t467: f32 = t465 + t466;
+    let t468: f32 = t464 - t467;
+    let t469: f32 = t459 + t468;
+    let t470: f32 = t451 * 0.2;
+    let t471: f32 = t469 + t470;
+    let t472: f32 = t223 * t471;
+    let t473: f32 = t238 * t472;
+    let t474: f32 = wx * t316;
+    let t475: f32 = wy * t307;
+    let t476: f32 = t474 - t475;
+    let t477: f32 = wy * t476;
+    let t478: f32 = wz * t312;
+    let t479: f32 = t477 - t478;
+    let t480: f32 = t427 + t479;
+    let t481: f32 = t251 * t448;
+    let t482: f32 = t253 * t472;
+    let t483: f32 = t481 + t482;
+    let t484: f32 = t480 - t483;
+    let t485: f32 = t431 + t484;
+    let t486: f32 = t258 * t485;
+    let t487: f32 = t262 * t486;
+    let t488: f32 = t265 * t448;
+    let t489: f32 = t402 + t403;
+    let t490: f32 = t404 + t405;
+    let t491: f32 = t489 + t490;
+    let t492: f32 = t491 - t488;
+    let t493: f32 = t269 * t492;
+    let t494: f32 = t321 - t493;
+    let t495: f32 = wz * t318;
+    let t496: f32 = wx * t476;
+    let t497: f32 = t495 - t496;
+    let t498: f32 = t272 * t472;
+    let t499: f32 = t279 * t486;
+    let t500: f32 = t498 + t499;
+    let t501: f32 = t497 + t500;
+    let t502: f32 = t494 + t501;
+    let t503: f32 = t325 + t502;
+    let t504: f32 = t288 * t503;
+    let t505: f32 = t297 * t504;
+    let t506: f32 = t313 + t410;
+    let t507: f32 = t450 + t487;
+    let t508: f32 = t393 + t505;
+    let t509: f32 = t506 + t507;
+    let t510: f32 = t397 + t508;
+    let t511: f32 = t509 + t510;
+    let t512: f32 = t319 + t473;
+    let t513: f32 = t512 + 235.6362;
+    let t514: f32 = t511 - t513;
+    let t515: f32 = t238 * t305;
+    let t516: f32 = t514 * t515;
+    let t517: f32 = t297 * t305;
+    let t518: f32 = t514 * t517;
+    let t519: f32 = t502 + t518;
+    let t520: f32 = t325 + t519;
+    let t521: f32 = t279 * t288;
+    let t522: f32 = t520 * t521;
+    let t523: f32 = t262 * t305;
+    let t524: f32 = t514 * t523;
+    let t525: f32 = t522 + t524;
+    let t526: f32 = t485 + t525;
+    let t527: f32 = t253 * t258;
+    let t528: f32 = t526 * t527;
+    let t529: f32 = t272 * t288;
+    let t530: f32 = t520 * t529;
+    let t531: f32 = t516 + t528;
+    let t532: f32 = t471 + t531;
+    let t533: f32 = t532 - t530;
+    let t534: f32 = t114 * t223;
+    let t535: f32 = t533 * t534;
+    let t536: f32 = t227 * t305;
+    let t537: f32 = t514 * t536;
+    let t538: f32 = t208 * t223;
+    let t539: f32 = t533 * t538;
+    let t540: f32 = t235 * t305;
+    let t541: f32 = t514 * t540;
+    let t542: f32 = t258 * t526;
+    let t543: f32 = t183 * t288;
+    let t544: f32 = t520 * t543;
+    let t545: f32 = t542 - t544;
+    let t546: f32 = t248 * t545;
+    let t547: f32 = t443 + t546;
+    let t548: f32 = t442 + t444;
+    let t549: f32 = t547 + t548;
+    let t550: f32 = t445 + t549;
+    let t551: f32 = t539 + t541;
+    let t552: f32 = t550 - t551;
+    let t553: f32 = t265 * t552;
+    let t554: f32 = t248 * t288;
+    let t555: f32 = t520 * t554;
+    let t556: f32 = t403 + t555;
+    let t557: f32 = t402 + t404;
+    let t558: f32 = t556 + t557;
+    let t559: f32 = t405 + t558;
+    let t560: f32 = t535 + t537;
+    let t561: f32 = t553 + t560;
+    let t562: f32 = t559 - t561;
+    let t563: f32 = t66 * t562;
+    let t564: f32 = t223 * t236;
+    let t565: f32 = t533 * t564;
+    let t566: f32 = t258 * t262;
+    let t567: f32 = t305 * t566;
+    let t568: f32 = t514 * t567;
+    let t569: f32 = t288 * t297;
+    let t570: f32 = t305 * t569;
+    let t571: f32 = t514 * t570;
+    let t572: f32 = t504 + t571;
+    let t573: f32 = t291 * t572;
+    let t574: f32 = t486 + t573;
+    let t575: f32 = t568 + t574;
+    let t576: f32 = t251 * t575;
+    let t577: f32 = t155 * t269;
+    let t578: f32 = t177 * t577;
+    let t579: f32 = t572 * t578;
+    let t580: f32 = t177 * t235;
+    let t581: f32 = t305 * t580;
+    let t582: f32 = t514 * t581;
+    let t583: f32 = t565 + t579;
+    let t584: f32 = t582 + t583;
+    let t585: f32 = t449 + t576;
+    let t586: f32 = t584 - t585;
+    let t587: f32 = t223 * t533;
+    let t588: f32 = -t575;
+    let t589: f32 = -t572;
+    let t590: f32 = t305 * t514;
+    let t591: f32 = -t590;
+    let t592: f32 = t1 * t5;
+    ([t563, t586, t587, t588, t589, t591], [t592, t20, t452])
 }
 /// Inverse dynamics end to end: actuator forces `Γ` from the platform state.
 ///
@@ -2819,7 +2506,7 @@ pub fn forward_dynamics(
 /// - `gamma`: `Γ` (N), segment order; positive pushes the rod along `+n_i`
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 298 mul, 4 div, 279 add, 1 neg, 3 sin_cos (chapter convention: 302m + 279a).
+/// Operations: 234 mul, 4 div, 162 add, 0 neg, 3 sin_cos (chapter convention: 238m + 162a).
 #[inline]
 pub fn inverse_dynamics(
     pose: &[f32; 6],
@@ -2829,592 +2516,410 @@ pub fn inverse_dynamics(
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [wx, wy, wz, vx, vy, vz] = *twist;
     let [wdx, wdy, wdz, ax, ay, az] = *accel;
-    let t0: f32 = xc * wdy;
-    let t1: f32 = wy * vx;
-    let t2: f32 = wx * vy;
-    let t3: f32 = t1 - t2;
-    let t4: f32 = t0 + t3;
-    let t5: f32 = yc - 0.2;
-    let t6: f32 = wdx * t5;
-    let t7: f32 = yc + 0.2;
-    let t8: f32 = wdx * t7;
-    let t9: f32 = t6 + t8;
-    let t10: f32 = wx * wz;
-    let t11: f32 = wdy - t10;
-    let t12: f32 = xc * t11;
-    let t13: f32 = wy * wy;
-    let t14: f32 = wx * wx;
-    let t15: f32 = t13 + t14;
-    let t16: f32 = zc * t15;
-    let t17: f32 = wy * wz;
-    let t18: f32 = wdx + t17;
-    let t19: f32 = yc * t18;
-    let t20: f32 = t16 - t19;
-    let t21: f32 = t12 + t20;
-    let t22: f32 = zc - 0.2;
-    let t23: f32 = t15 * t22;
-    let (t24, t25): (f32, f32) = sin_cos(beta);
-    let t26: f32 = 1.0 / t25;
-    let (t27, t28): (f32, f32) = sin_cos(gamma);
-    let t29: f32 = 1.0 / t28;
-    let (t30, t31): (f32, f32) = sin_cos(alpha);
-    let t32: f32 = t27 * t31;
-    let t33: f32 = t24 * t30;
-    let t34: f32 = t28 * t33;
-    let t35: f32 = t32 + t34;
-    let t36: f32 = yc * t35;
-    let t37: f32 = t27 * t30;
-    let t38: f32 = t24 * t31;
-    let t39: f32 = t28 * t38;
-    let t40: f32 = t37 - t39;
-    let t41: f32 = t22 * t40;
-    let t42: f32 = t36 + t41;
-    let t43: f32 = t26 * t29;
-    let t44: f32 = t42 * t43;
-    let t45: f32 = t11 * t44;
-    let t46: f32 = t23 - t45;
-    let t47: f32 = zc + 0.2;
-    let t48: f32 = t15 * t47;
-    let t49: f32 = t40 * t47;
-    let t50: f32 = t36 + t49;
-    let t51: f32 = t43 * t50;
-    let t52: f32 = t11 * t51;
-    let t53: f32 = t48 - t52;
-    let t54: f32 = t46 + t53;
-    let t55: f32 = xc - 0.2;
-    let t56: f32 = t11 * t55;
-    let t57: f32 = t28 * t31;
-    let t58: f32 = t27 * t33;
-    let t59: f32 = t57 - t58;
-    let t60: f32 = 1.0 / t59;
-    let t61: f32 = t25 * t27;
-    let t62: f32 = t55 * t61;
-    let t63: f32 = t28 * t30;
-    let t64: f32 = t24 * t27;
-    let t65: f32 = t31 * t64;
-    let t66: f32 = t63 + t65;
-    let t67: f32 = zc * t66;
-    let t68: f32 = t62 - t67;
-    let t69: f32 = t60 * t68;
-    let t70: f32 = t18 * t69;
-    let t71: f32 = t56 - t70;
-    let t72: f32 = xc + 0.2;
-    let t73: f32 = t11 * t72;
-    let t74: f32 = t61 * t72;
-    let t75: f32 = t67 - t74;
-    let t76: f32 = t60 * t75;
-    let t77: f32 = t18 * t76;
-    let t78: f32 = t73 + t77;
-    let t79: f32 = t71 + t78;
-    let t80: f32 = t54 + t79;
-    let t81: f32 = t5 * t18;
-    let t82: f32 = 1.0 / t31;
-    let t83: f32 = xc * t24;
-    let t84: f32 = t25 * t30;
-    let t85: f32 = t5 * t84;
-    let t86: f32 = t83 - t85;
-    let t87: f32 = t26 * t82;
-    let t88: f32 = t86 * t87;
-    let t89: f32 = t15 * t88;
-    let t90: f32 = t81 + t89;
-    let t91: f32 = t7 * t18;
-    let t92: f32 = t7 * t84;
-    let t93: f32 = t83 - t92;
-    let t94: f32 = t87 * t93;
-    let t95: f32 = t15 * t94;
-    let t96: f32 = t91 + t95;
-    let t97: f32 = t90 + t96;
-    let t98: f32 = t80 - t97;
-    let t99: f32 = az * 24.02;
-    let t100: f32 = t4 * 4.0;
-    let t101: f32 = t9 * 2.0;
-    let t102: f32 = t21 * 3.34;
-    let t103: f32 = t98 * 1.67;
-    let t104: f32 = t99 + t100;
-    let t105: f32 = t102 + t103;
-    let t106: f32 = t104 + t105;
-    let t107: f32 = t106 + 235.6362;
-    let t108: f32 = t107 - t101;
-    let t109: f32 = xc + t44;
-    let t110: f32 = t109 * 2.5;
-    let t111: f32 = t108 * t110;
-    let t112: f32 = yc * wdz;
-    let t113: f32 = wz * vy;
-    let t114: f32 = wy * vz;
-    let t115: f32 = t113 - t114;
-    let t116: f32 = t112 + t115;
-    let t117: f32 = wdy * t22;
-    let t118: f32 = wdy * t47;
-    let t119: f32 = t117 + t118;
-    let t120: f32 = wz * wz;
-    let t121: f32 = t13 + t120;
-    let t122: f32 = xc * t121;
-    let t123: f32 = wx * wy;
-    let t124: f32 = wdz - t123;
-    let t125: f32 = yc * t124;
-    let t126: f32 = wdy + t10;
-    let t127: f32 = zc * t126;
-    let t128: f32 = t125 - t127;
-    let t129: f32 = t122 + t128;
-    let t130: f32 = t5 * t124;
-    let t131: f32 = t88 * t126;
-    let t132: f32 = t130 + t131;
-    let t133: f32 = t7 * t124;
-    let t134: f32 = t94 * t126;
-    let t135: f32 = t133 + t134;
-    let t136: f32 = t132 + t135;
-    let t137: f32 = t55 * t121;
-    let t138: f32 = t69 * t124;
-    let t139: f32 = t137 + t138;
-    let t140: f32 = t72 * t121;
-    let t141: f32 = t76 * t124;
-    let t142: f32 = t140 - t141;
-    let t143: f32 = t139 + t142;
-    let t144: f32 = t44 * t121;
-    let t145: f32 = t22 * t126;
-    let t146: f32 = t144 + t145;
-    let t147: f32 = t51 * t121;
-    let t148: f32 = t47 * t126;
-    let t149: f32 = t147 + t148;
-    let t150: f32 = t146 + t149;
-    let t151: f32 = t143 - t150;
-    let t152: f32 = t136 + t151;
-    let t153: f32 = wz * t40;
-    let t154: f32 = wx * t25;
-    let t155: f32 = t28 * t154;
-    let t156: f32 = wy * t35;
-    let t157: f32 = t155 + t156;
-    let t158: f32 = t153 + t157;
-    let t159: f32 = wx * t27;
-    let t160: f32 = t25 * t159;
-    let t161: f32 = wy * t59;
-    let t162: f32 = t160 - t161;
-    let t163: f32 = wz * t66;
-    let t164: f32 = t162 - t163;
-    let t165: f32 = t164 * 0.0084;
-    let t166: f32 = t158 * t165;
-    let t167: f32 = t158 * 0.00167;
-    let t168: f32 = t164 * t167;
-    let t169: f32 = wdz * t31;
-    let t170: f32 = t25 * t169;
-    let t171: f32 = wdx * t24;
-    let t172: f32 = wdy * t30;
-    let t173: f32 = t25 * t172;
-    let t174: f32 = t171 - t173;
-    let t175: f32 = t170 + t174;
-    let t176: f32 = t175 * 0.0084;
-    let t177: f32 = t168 + t176;
-    let t178: f32 = t177 - t166;
-    let t179: f32 = t84 * t178;
-    let t180: f32 = wz * t31;
-    let t181: f32 = t25 * t180;
-    let t182: f32 = wx * t24;
-    let t183: f32 = wy * t30;
-    let t184: f32 = t25 * t183;
-    let t185: f32 = t182 - t184;
-    let t186: f32 = t181 + t185;
-    let t187: f32 = t186 * 0.0084;
-    let t188: f32 = t164 * t187;
-    let t189: f32 = t164 * 0.00167;
-    let t190: f32 = t186 * t189;
-    let t191: f32 = wdz * t40;
-    let t192: f32 = wdx * t25;
-    let t193: f32 = t28 * t192;
-    let t194: f32 = wdy * t35;
-    let t195: f32 = t193 + t194;
-    let t196: f32 = t191 + t195;
-    let t197: f32 = t196 * 0.0084;
-    let t198: f32 = t190 + t197;
-    let t199: f32 = t198 - t188;
-    let t200: f32 = t35 * t199;
-    let t201: f32 = t179 - t200;
-    let t202: f32 = t158 * t187;
-    let t203: f32 = t158 * 0.0084;
-    let t204: f32 = t186 * t203;
-    let t205: f32 = wdx * t27;
-    let t206: f32 = t25 * t205;
-    let t207: f32 = wdy * t59;
-    let t208: f32 = t206 - t207;
-    let t209: f32 = wdz * t66;
-    let t210: f32 = t208 - t209;
-    let t211: f32 = t210 * 0.00167;
-    let t212: f32 = t202 + t211;
-    let t213: f32 = t212 - t204;
-    let t214: f32 = t59 * t213;
-    let t215: f32 = t158 * t189;
-    let t216: f32 = t164 * t203;
-    let t217: f32 = t176 + t216;
-    let t218: f32 = t217 - t215;
-    let t219: f32 = t84 * t218;
-    let t220: f32 = t214 + t219;
-    let t221: f32 = t201 + t220;
-    let t222: f32 = t165 * t186;
-    let t223: f32 = t186 * 0.00167;
-    let t224: f32 = t164 * t223;
-    let t225: f32 = t197 + t222;
-    let t226: f32 = t225 - t224;
-    let t227: f32 = t35 * t226;
-    let t228: f32 = t158 * t223;
-    let t229: f32 = t210 * 0.0084;
-    let t230: f32 = t228 + t229;
-    let t231: f32 = t230 - t204;
-    let t232: f32 = t59 * t231;
-    let t233: f32 = t227 - t232;
-    let t234: f32 = t175 * 0.00167;
-    let t235: f32 = t216 + t234;
-    let t236: f32 = t235 - t166;
-    let t237: f32 = t84 * t236;
-    let t238: f32 = t196 * 0.00167;
-    let t239: f32 = t222 + t238;
-    let t240: f32 = t239 - t188;
-    let t241: f32 = t35 * t240;
-    let t242: f32 = t167 * t186;
-    let t243: f32 = t202 + t229;
-    let t244: f32 = t243 - t242;
-    let t245: f32 = t59 * t244;
-    let t246: f32 = t241 - t245;
-    let t247: f32 = t237 - t246;
-    let t248: f32 = t233 - t247;
-    let t249: f32 = t221 - t248;
-    let t250: f32 = t164 * 0.1875;
-    let t251: f32 = t158 * t250;
-    let t252: f32 = t158 * 0.375;
-    let t253: f32 = t164 * t252;
-    let t254: f32 = t175 * 0.1875;
-    let t255: f32 = t253 + t254;
-    let t256: f32 = t255 - t251;
-    let t257: f32 = t84 * t256;
-    let t258: f32 = ax * 3.67;
-    let t259: f32 = t116 - t117;
-    let t260: f32 = t259 * 2.0;
-    let t261: f32 = t125 - t146;
-    let t262: f32 = t261 * 1.67;
-    let t263: f32 = t258 + t260;
-    let t264: f32 = t262 + t263;
-    let t265: f32 = t22 * t264;
-    let t266: f32 = t257 + t265;
-    let t267: f32 = az - t19;
-    let t268: f32 = t46 + t267;
+    let t0: f32 = zc - 0.2;
+    let t1: f32 = wdy * t0;
+    let (t2, t3): (f32, f32) = sin_cos(beta);
+    let t4: f32 = 1.0 / t3;
+    let (t5, t6): (f32, f32) = sin_cos(gamma);
+    let t7: f32 = 1.0 / t6;
+    let (t8, t9): (f32, f32) = sin_cos(alpha);
+    let t10: f32 = t5 * t9;
+    let t11: f32 = t2 * t8;
+    let t12: f32 = t6 * t11;
+    let t13: f32 = t10 + t12;
+    let t14: f32 = yc * t13;
+    let t15: f32 = t5 * t8;
+    let t16: f32 = t2 * t9;
+    let t17: f32 = t6 * t16;
+    let t18: f32 = t15 - t17;
+    let t19: f32 = t0 * t18;
+    let t20: f32 = t14 + t19;
+    let t21: f32 = t4 * t7;
+    let t22: f32 = t20 * t21;
+    let t23: f32 = xc + t22;
+    let t24: f32 = t23 * 2.5;
+    let t25: f32 = zc + 0.2;
+    let t26: f32 = t18 * t25;
+    let t27: f32 = t14 + t26;
+    let t28: f32 = t21 * t27;
+    let t29: f32 = t22 + t28;
+    let t30: f32 = xc * 6.68;
+    let t31: f32 = t29 * 1.67;
+    let t32: f32 = t30 - t31;
+    let t33: f32 = wdy * t32;
+    let t34: f32 = t6 * t9;
+    let t35: f32 = t5 * t11;
+    let t36: f32 = t34 - t35;
+    let t37: f32 = 1.0 / t36;
+    let t38: f32 = t6 * t8;
+    let t39: f32 = t2 * t5;
+    let t40: f32 = t9 * t39;
+    let t41: f32 = t38 + t40;
+    let t42: f32 = zc * t41;
+    let t43: f32 = xc * t5;
+    let t44: f32 = t3 * t43;
+    let t45: f32 = t42 - t44;
+    let t46: f32 = t45 * 3.34;
+    let t47: f32 = t37 * t46;
+    let t48: f32 = yc * 6.68;
+    let t49: f32 = t48 - t47;
+    let t50: f32 = wdx * t49;
+    let t51: f32 = t33 - t50;
+    let t52: f32 = 1.0 / t9;
+    let t53: f32 = xc * t2;
+    let t54: f32 = yc * t8;
+    let t55: f32 = t3 * t54;
+    let t56: f32 = t53 - t55;
+    let t57: f32 = t56 * 3.34;
+    let t58: f32 = t4 * t52;
+    let t59: f32 = t57 * t58;
+    let t60: f32 = zc * 6.68;
+    let t61: f32 = t60 - t59;
+    let t62: f32 = wy * t61;
+    let t63: f32 = wz * t49;
+    let t64: f32 = t62 - t63;
+    let t65: f32 = wy * t64;
+    let t66: f32 = wz * t32;
+    let t67: f32 = wx * t61;
+    let t68: f32 = t66 - t67;
+    let t69: f32 = wx * t68;
+    let t70: f32 = t65 - t69;
+    let t71: f32 = t51 + t70;
+    let t72: f32 = az * 20.02;
+    let t73: f32 = t71 + t72;
+    let t74: f32 = t73 + 196.3962;
+    let t75: f32 = t24 * t74;
+    let t76: f32 = yc * wdz;
+    let t77: f32 = wz * vy;
+    let t78: f32 = wy * vz;
+    let t79: f32 = t77 - t78;
+    let t80: f32 = t76 + t79;
+    let t81: f32 = wdz * t49;
+    let t82: f32 = wdy * t61;
+    let t83: f32 = t81 - t82;
+    let t84: f32 = wz * t68;
+    let t85: f32 = wy * t32;
+    let t86: f32 = wx * t49;
+    let t87: f32 = t86 - t85;
+    let t88: f32 = wy * t87;
+    let t89: f32 = t84 - t88;
+    let t90: f32 = t83 + t89;
+    let t91: f32 = yc * yc;
+    let t92: f32 = xc * xc;
+    let t93: f32 = t4 * t4;
+    let t94: f32 = t7 * t7;
+    let t95: f32 = t20 * t20;
+    let t96: f32 = t93 * t94;
+    let t97: f32 = t95 * t96;
+    let t98: f32 = t27 * t27;
+    let t99: f32 = t96 * t98;
+    let t100: f32 = t97 + t99;
+    let t101: f32 = xc - 0.2;
+    let t102: f32 = t101 * t101;
+    let t103: f32 = xc + 0.2;
+    let t104: f32 = t103 * t103;
+    let t105: f32 = t102 + t104;
+    let t106: f32 = t100 + t105;
+    let t107: f32 = t37 * t37;
+    let t108: f32 = t3 * t5;
+    let t109: f32 = t101 * t108;
+    let t110: f32 = t109 - t42;
+    let t111: f32 = t110 * t110;
+    let t112: f32 = t107 * t111;
+    let t113: f32 = t103 * t108;
+    let t114: f32 = t42 - t113;
+    let t115: f32 = t114 * t114;
+    let t116: f32 = t107 * t115;
+    let t117: f32 = t112 + t116;
+    let t118: f32 = yc - 0.2;
+    let t119: f32 = t118 * t118;
+    let t120: f32 = yc + 0.2;
+    let t121: f32 = t120 * t120;
+    let t122: f32 = t119 + t121;
+    let t123: f32 = t117 + t122;
+    let t124: f32 = t91 + t92;
+    let t125: f32 = t124 * 3.34;
+    let t126: f32 = t106 + t123;
+    let t127: f32 = t126 * 1.67;
+    let t128: f32 = t125 + t127;
+    let t129: f32 = wz * t128;
+    let t130: f32 = xc * t52;
+    let t131: f32 = t57 * t130;
+    let t132: f32 = t0 * t20;
+    let t133: f32 = t25 * t27;
+    let t134: f32 = t132 + t133;
+    let t135: f32 = t134 * 1.67;
+    let t136: f32 = t7 * t135;
+    let t137: f32 = t131 + t136;
+    let t138: f32 = t4 * t137;
+    let t139: f32 = xc * zc;
+    let t140: f32 = t139 * 3.34;
+    let t141: f32 = t138 - t140;
+    let t142: f32 = wx * t141;
+    let t143: f32 = yc * zc;
+    let t144: f32 = zc * t37;
+    let t145: f32 = t46 * t144;
+    let t146: f32 = t3 * t8;
+    let t147: f32 = t118 * t146;
+    let t148: f32 = t53 - t147;
+    let t149: f32 = t118 * t148;
+    let t150: f32 = t120 * t146;
+    let t151: f32 = t53 - t150;
+    let t152: f32 = t120 * t151;
+    let t153: f32 = t149 + t152;
+    let t154: f32 = t153 * 1.67;
+    let t155: f32 = t58 * t154;
+    let t156: f32 = t143 * 3.34;
+    let t157: f32 = t145 + t155;
+    let t158: f32 = t156 - t157;
+    let t159: f32 = wy * t158;
+    let t160: f32 = t129 + t142;
+    let t161: f32 = t160 - t159;
+    let t162: f32 = wx * t161;
+    let t163: f32 = ax * t61;
+    let t164: f32 = t162 + t163;
+    let t165: f32 = ax * 20.02;
+    let t166: f32 = t90 + t165;
+    let t167: f32 = t0 * t166;
+    let t168: f32 = t22 * t74;
+    let t169: f32 = t167 + t168;
+    let t170: f32 = t164 - t169;
+    let t171: f32 = wdx * t3;
+    let t172: f32 = t6 * t171;
+    let t173: f32 = wdy * t13;
+    let t174: f32 = wdz * t18;
+    let t175: f32 = wx * t5;
+    let t176: f32 = t3 * t175;
+    let t177: f32 = wy * t36;
+    let t178: f32 = t176 - t177;
+    let t179: f32 = wz * t41;
+    let t180: f32 = t178 - t179;
+    let t181: f32 = wz * t9;
+    let t182: f32 = t3 * t181;
+    let t183: f32 = wx * t2;
+    let t184: f32 = wy * t8;
+    let t185: f32 = t3 * t184;
+    let t186: f32 = t183 - t185;
+    let t187: f32 = t182 + t186;
+    let t188: f32 = t187 * 0.22444;
+    let t189: f32 = t180 * t188;
+    let t190: f32 = t180 * 0.22444;
+    let t191: f32 = t187 * t190;
+    let t192: f32 = t172 + t173;
+    let t193: f32 = t174 + t192;
+    let t194: f32 = t193 * 0.41194;
+    let t195: f32 = t191 + t194;
+    let t196: f32 = t195 - t189;
+    let t197: f32 = t13 * t196;
+    let t198: f32 = wdx * t5;
+    let t199: f32 = t3 * t198;
+    let t200: f32 = wdy * t36;
+    let t201: f32 = wdz * t41;
+    let t202: f32 = wz * t18;
+    let t203: f32 = wx * t3;
+    let t204: f32 = t6 * t203;
+    let t205: f32 = wy * t13;
+    let t206: f32 = t204 + t205;
+    let t207: f32 = t202 + t206;
+    let t208: f32 = t207 * 0.41194;
+    let t209: f32 = t187 * t208;
+    let t210: f32 = t188 * t207;
+    let t211: f32 = t200 + t201;
+    let t212: f32 = t199 - t211;
+    let t213: f32 = t212 * 0.22444;
+    let t214: f32 = t210 + t213;
+    let t215: f32 = t214 - t209;
+    let t216: f32 = t36 * t215;
+    let t217: f32 = t197 - t216;
+    let t218: f32 = zc * zc;
+    let t219: f32 = t0 * t0;
+    let t220: f32 = t25 * t25;
+    let t221: f32 = t219 + t220;
+    let t222: f32 = t52 * t52;
+    let t223: f32 = t148 * t148;
+    let t224: f32 = t93 * t222;
+    let t225: f32 = t223 * t224;
+    let t226: f32 = t151 * t151;
+    let t227: f32 = t224 * t226;
+    let t228: f32 = t225 + t227;
+    let t229: f32 = t221 + t228;
+    let t230: f32 = t92 + t218;
+    let t231: f32 = t230 * 3.34;
+    let t232: f32 = t106 + t229;
+    let t233: f32 = t232 * 1.67;
+    let t234: f32 = t231 + t233;
+    let t235: f32 = wdy * t234;
+    let t236: f32 = az + 9.81;
+    let t237: f32 = t32 * t236;
+    let t238: f32 = t235 + t237;
+    let t239: f32 = t217 + t238;
+    let t240: f32 = wdx * t2;
+    let t241: f32 = t190 * t207;
+    let t242: f32 = t180 * t208;
+    let t243: f32 = wdy * t8;
+    let t244: f32 = wdz * t9;
+    let t245: f32 = t243 - t244;
+    let t246: f32 = t245 * 0.22444;
+    let t247: f32 = t3 * t246;
+    let t248: f32 = t240 * 0.22444;
+    let t249: f32 = t242 + t248;
+    let t250: f32 = t241 + t247;
+    let t251: f32 = t249 - t250;
+    let t252: f32 = t146 * t251;
+    let t253: f32 = xc * yc;
+    let t254: f32 = yc * t31;
+    let t255: f32 = t101 * t110;
+    let t256: f32 = t103 * t114;
+    let t257: f32 = t255 - t256;
+    let t258: f32 = t257 * 1.67;
+    let t259: f32 = t37 * t258;
+    let t260: f32 = t253 * 3.34;
+    let t261: f32 = t259 + t260;
+    let t262: f32 = t254 - t261;
+    let t263: f32 = wdx * t262;
+    let t264: f32 = t252 - t263;
+    let t265: f32 = wdz * t158;
+    let t266: f32 = t91 + t218;
+    let t267: f32 = t266 * 3.34;
+    let t268: f32 = t123 + t229;
     let t269: f32 = t268 * 1.67;
-    let t270: f32 = t269 + 16.3827;
-    let t271: f32 = t44 * t270;
-    let t272: f32 = t125 - t149;
-    let t273: f32 = t272 * 1.67;
-    let t274: f32 = t116 - t118;
-    let t275: f32 = t274 * 2.0;
-    let t276: f32 = t258 + t273;
-    let t277: f32 = t275 + t276;
-    let t278: f32 = t47 * t277;
-    let t279: f32 = t271 + t278;
-    let t280: f32 = t266 + t279;
-    let t281: f32 = t53 + t267;
-    let t282: f32 = t281 * 1.67;
-    let t283: f32 = t282 + 16.3827;
-    let t284: f32 = t51 * t283;
-    let t285: f32 = ax - t127;
-    let t286: f32 = t139 + t285;
-    let t287: f32 = t286 * 1.67;
-    let t288: f32 = zc * t287;
-    let t289: f32 = t284 + t288;
-    let t290: f32 = az + t16;
-    let t291: f32 = t71 + t290;
-    let t292: f32 = t291 * 1.67;
-    let t293: f32 = t292 + 16.3827;
-    let t294: f32 = t55 * t293;
-    let t295: f32 = t142 + t285;
-    let t296: f32 = t295 * 1.67;
-    let t297: f32 = zc * t296;
-    let t298: f32 = t294 - t297;
-    let t299: f32 = t289 - t298;
-    let t300: f32 = t280 + t299;
-    let t301: f32 = t78 + t290;
-    let t302: f32 = t301 * 1.67;
-    let t303: f32 = t302 + 16.3827;
-    let t304: f32 = t72 * t303;
-    let t305: f32 = ax + t122;
-    let t306: f32 = t132 + t305;
-    let t307: f32 = t306 * 1.67;
-    let t308: f32 = t88 * t307;
-    let t309: f32 = t304 + t308;
-    let t310: f32 = az * 3.67;
-    let t311: f32 = t4 - t6;
-    let t312: f32 = t311 * 2.0;
-    let t313: f32 = t12 - t90;
-    let t314: f32 = t313 * 1.67;
-    let t315: f32 = t310 + t312;
-    let t316: f32 = t314 + 36.0027;
-    let t317: f32 = t315 + t316;
-    let t318: f32 = xc * t317;
-    let t319: f32 = t135 + t305;
-    let t320: f32 = t319 * 1.67;
-    let t321: f32 = t94 * t320;
-    let t322: f32 = t318 + t321;
-    let t323: f32 = t309 + t322;
-    let t324: f32 = t12 - t96;
-    let t325: f32 = t324 * 1.67;
-    let t326: f32 = t4 - t8;
-    let t327: f32 = t326 * 2.0;
-    let t328: f32 = t310 + t325;
-    let t329: f32 = t327 + 36.0027;
+    let t270: f32 = t267 + t269;
+    let t271: f32 = wx * t270;
+    let t272: f32 = wy * t262;
+    let t273: f32 = wz * t141;
+    let t274: f32 = t271 + t272;
+    let t275: f32 = t273 + t274;
+    let t276: f32 = wz * t275;
+    let t277: f32 = t265 - t276;
+    let t278: f32 = t264 + t277;
+    let t279: f32 = t239 - t278;
+    let t280: f32 = t170 - t279;
+    let t281: f32 = ax * 22.02;
+    let t282: f32 = t80 - t1;
+    let t283: f32 = t282 * 2.0;
+    let t284: f32 = t280 * 2.5;
+    let t285: f32 = t281 + t283;
+    let t286: f32 = t90 + t285;
+    let t287: f32 = t75 + t284;
+    let t288: f32 = t286 - t287;
+    let t289: f32 = wdy * t25;
+    let t290: f32 = ax + t80;
+    let t291: f32 = t290 - t289;
+    let t292: f32 = t291 * 2.0;
+    let t293: f32 = t75 + t292;
+    let t294: f32 = t284 + t293;
+    let t295: f32 = wdz * t101;
+    let t296: f32 = t24 + 0.5;
+    let t297: f32 = wdx * t61;
+    let t298: f32 = wdz * t32;
+    let t299: f32 = t297 - t298;
+    let t300: f32 = wx * t87;
+    let t301: f32 = wz * t64;
+    let t302: f32 = t300 - t301;
+    let t303: f32 = t299 + t302;
+    let t304: f32 = ay * 20.02;
+    let t305: f32 = t303 + t304;
+    let t306: f32 = t296 * t305;
+    let t307: f32 = wz * vx;
+    let t308: f32 = ay - t307;
+    let t309: f32 = wx * vz;
+    let t310: f32 = zc * wdx;
+    let t311: f32 = t309 + t310;
+    let t312: f32 = t308 + t311;
+    let t313: f32 = wy * t275;
+    let t314: f32 = ax * t49;
+    let t315: f32 = t313 - t314;
+    let t316: f32 = yc * t166;
+    let t317: f32 = t22 * t305;
+    let t318: f32 = t316 + t317;
+    let t319: f32 = t315 + t318;
+    let t320: f32 = t18 * t196;
+    let t321: f32 = t41 * t215;
+    let t322: f32 = t320 - t321;
+    let t323: f32 = wdz * t128;
+    let t324: f32 = ay * t32;
+    let t325: f32 = t323 - t324;
+    let t326: f32 = t322 + t325;
+    let t327: f32 = t3 * t9;
+    let t328: f32 = t251 * t327;
+    let t329: f32 = wdx * t141;
     let t330: f32 = t328 + t329;
-    let t331: f32 = xc * t330;
-    let t332: f32 = ax * 24.02;
-    let t333: f32 = t116 * 4.0;
-    let t334: f32 = t119 * 2.0;
-    let t335: f32 = t129 * 3.34;
-    let t336: f32 = t152 * 1.67;
-    let t337: f32 = t332 + t333;
-    let t338: f32 = t335 + t336;
-    let t339: f32 = t337 + t338;
-    let t340: f32 = t339 - t334;
-    let t341: f32 = t22 * t340;
-    let t342: f32 = t331 + t341;
-    let t343: f32 = t44 * t108;
-    let t344: f32 = t186 * 0.1875;
-    let t345: f32 = t164 * t344;
-    let t346: f32 = t186 * t250;
-    let t347: f32 = t196 * 0.375;
-    let t348: f32 = t346 + t347;
-    let t349: f32 = t348 - t345;
-    let t350: f32 = t35 * t349;
-    let t351: f32 = t186 * t252;
-    let t352: f32 = t158 * t344;
-    let t353: f32 = t210 * 0.1875;
-    let t354: f32 = t352 + t353;
-    let t355: f32 = t354 - t351;
-    let t356: f32 = t59 * t355;
-    let t357: f32 = t350 - t356;
-    let t358: f32 = t343 + t357;
-    let t359: f32 = t342 + t358;
-    let t360: f32 = t323 + t359;
-    let t361: f32 = t300 - t360;
-    let t362: f32 = t249 * 5.0;
-    let t363: f32 = t361 * 2.5;
-    let t364: f32 = t111 + t334;
-    let t365: f32 = t362 + t363;
-    let t366: f32 = t364 + t365;
-    let t367: f32 = t339 - t366;
-    let t368: f32 = t111 + t362;
-    let t369: f32 = t363 + t368;
-    let t370: f32 = zc * wdx;
-    let t371: f32 = wx * vz;
-    let t372: f32 = wz * vx;
-    let t373: f32 = t371 - t372;
+    let t331: f32 = wdy * t158;
+    let t332: f32 = wy * t234;
+    let t333: f32 = wx * t262;
+    let t334: f32 = wz * t158;
+    let t335: f32 = t332 + t333;
+    let t336: f32 = t335 - t334;
+    let t337: f32 = wx * t336;
+    let t338: f32 = t331 - t337;
+    let t339: f32 = t330 - t338;
+    let t340: f32 = t326 + t339;
+    let t341: f32 = t319 - t340;
+    let t342: f32 = t312 - t295;
+    let t343: f32 = t342 * 2.0;
+    let t344: f32 = t341 * 2.5;
+    let t345: f32 = t306 + t343;
+    let t346: f32 = t345 - t344;
+    let t347: f32 = wdz * t103;
+    let t348: f32 = t24 - 0.5;
+    let t349: f32 = t305 * t348;
+    let t350: f32 = t312 - t347;
+    let t351: f32 = t350 * 2.0;
+    let t352: f32 = t344 + t351;
+    let t353: f32 = t352 - t349;
+    let t354: f32 = wdx * t118;
+    let t355: f32 = xc * wdy;
+    let t356: f32 = wy * vx;
+    let t357: f32 = wx * vy;
+    let t358: f32 = t356 - t357;
+    let t359: f32 = t355 + t358;
+    let t360: f32 = t49 * t236;
+    let t361: f32 = ay * t61;
+    let t362: f32 = t360 - t361;
+    let t363: f32 = t0 * t305;
+    let t364: f32 = yc * t74;
+    let t365: f32 = t363 - t364;
+    let t366: f32 = t362 + t365;
+    let t367: f32 = t3 * t6;
+    let t368: f32 = t196 * t367;
+    let t369: f32 = t108 * t215;
+    let t370: f32 = t368 + t369;
+    let t371: f32 = wdx * t270;
+    let t372: f32 = t2 * t251;
+    let t373: f32 = t371 + t372;
     let t374: f32 = t370 + t373;
-    let t375: f32 = wdz * t55;
-    let t376: f32 = wdz * t72;
+    let t375: f32 = wdy * t262;
+    let t376: f32 = wdz * t141;
     let t377: f32 = t375 + t376;
-    let t378: f32 = t14 + t120;
-    let t379: f32 = yc * t378;
-    let t380: f32 = wdx - t17;
-    let t381: f32 = zc * t380;
-    let t382: f32 = t379 + t381;
-    let t383: f32 = wdz + t123;
-    let t384: f32 = xc * t383;
-    let t385: f32 = t382 - t384;
-    let t386: f32 = t5 * t378;
-    let t387: f32 = t88 * t380;
-    let t388: f32 = t386 - t387;
-    let t389: f32 = t7 * t378;
-    let t390: f32 = t94 * t380;
-    let t391: f32 = t389 - t390;
-    let t392: f32 = t388 + t391;
-    let t393: f32 = t44 * t383;
-    let t394: f32 = t22 * t380;
-    let t395: f32 = t393 + t394;
-    let t396: f32 = t51 * t383;
-    let t397: f32 = t47 * t380;
-    let t398: f32 = t396 + t397;
-    let t399: f32 = t395 + t398;
-    let t400: f32 = t69 * t378;
-    let t401: f32 = t55 * t383;
-    let t402: f32 = t400 - t401;
-    let t403: f32 = t72 * t383;
-    let t404: f32 = t76 * t378;
+    let t378: f32 = wy * t161;
+    let t379: f32 = wz * t336;
+    let t380: f32 = t378 - t379;
+    let t381: f32 = t377 + t380;
+    let t382: f32 = t374 + t381;
+    let t383: f32 = t366 - t382;
+    let t384: f32 = ay * 10.01;
+    let t385: f32 = az * 12.01;
+    let t386: f32 = t359 - t354;
+    let t387: f32 = t386 * 2.0;
+    let t388: f32 = t71 - t303;
+    let t389: f32 = t388 * 0.5;
+    let t390: f32 = t383 * 2.5;
+    let t391: f32 = t385 + t387;
+    let t392: f32 = t389 + 117.8181;
+    let t393: f32 = t391 + t392;
+    let t394: f32 = t384 + t390;
+    let t395: f32 = t393 - t394;
+    let t396: f32 = wdx * t120;
+    let t397: f32 = t359 - t396;
+    let t398: f32 = t397 * 2.0;
+    let t399: f32 = t71 + t303;
+    let t400: f32 = t399 * 0.5;
+    let t401: f32 = t384 + t385;
+    let t402: f32 = t398 + t400;
+    let t403: f32 = t390 + 117.8181;
+    let t404: f32 = t401 + t402;
     let t405: f32 = t403 + t404;
-    let t406: f32 = t402 - t405;
-    let t407: f32 = t399 + t406;
-    let t408: f32 = t392 + t407;
-    let t409: f32 = ay * 24.02;
-    let t410: f32 = t374 * 4.0;
-    let t411: f32 = t377 * 2.0;
-    let t412: f32 = t385 * 3.34;
-    let t413: f32 = t408 * 1.67;
-    let t414: f32 = t409 + t410;
-    let t415: f32 = t412 + t413;
-    let t416: f32 = t414 + t415;
-    let t417: f32 = t416 - t411;
-    let t418: f32 = t110 + 0.5;
-    let t419: f32 = t417 * t418;
-    let t420: f32 = t25 * t31;
-    let t421: f32 = t178 * t420;
-    let t422: f32 = t40 * t199;
-    let t423: f32 = t421 + t422;
-    let t424: f32 = t66 * t213;
-    let t425: f32 = t218 * t420;
-    let t426: f32 = t424 - t425;
-    let t427: f32 = t423 - t426;
-    let t428: f32 = t40 * t226;
-    let t429: f32 = t66 * t231;
-    let t430: f32 = t428 - t429;
-    let t431: f32 = t236 * t420;
-    let t432: f32 = t40 * t240;
-    let t433: f32 = t66 * t244;
-    let t434: f32 = t432 - t433;
-    let t435: f32 = t431 + t434;
-    let t436: f32 = t430 + t435;
-    let t437: f32 = t427 + t436;
-    let t438: f32 = t256 * t420;
-    let t439: f32 = yc * t264;
-    let t440: f32 = t438 + t439;
-    let t441: f32 = ay + t379;
-    let t442: f32 = t395 + t441;
-    let t443: f32 = t442 * 1.67;
-    let t444: f32 = t44 * t443;
-    let t445: f32 = yc * t277;
-    let t446: f32 = t444 + t445;
-    let t447: f32 = t440 + t446;
-    let t448: f32 = t398 + t441;
-    let t449: f32 = t448 * 1.67;
-    let t450: f32 = t51 * t449;
-    let t451: f32 = t69 * t287;
-    let t452: f32 = t450 + t451;
-    let t453: f32 = ay * 3.67;
-    let t454: f32 = t374 - t375;
-    let t455: f32 = t454 * 2.0;
-    let t456: f32 = t381 + t402;
-    let t457: f32 = t456 * 1.67;
-    let t458: f32 = t453 + t455;
-    let t459: f32 = t457 + t458;
-    let t460: f32 = t55 * t459;
-    let t461: f32 = t76 * t296;
-    let t462: f32 = t460 + t461;
-    let t463: f32 = t452 - t462;
-    let t464: f32 = t447 + t463;
-    let t465: f32 = t381 - t405;
-    let t466: f32 = t465 * 1.67;
-    let t467: f32 = t374 - t376;
-    let t468: f32 = t467 * 2.0;
-    let t469: f32 = t453 + t466;
-    let t470: f32 = t468 + t469;
-    let t471: f32 = t72 * t470;
-    let t472: f32 = t5 * t307;
-    let t473: f32 = t471 - t472;
-    let t474: f32 = ay - t384;
-    let t475: f32 = t388 + t474;
-    let t476: f32 = t475 * 1.67;
-    let t477: f32 = xc * t476;
-    let t478: f32 = t7 * t320;
-    let t479: f32 = t477 - t478;
-    let t480: f32 = t473 + t479;
-    let t481: f32 = t391 + t474;
-    let t482: f32 = t481 * 1.67;
-    let t483: f32 = xc * t482;
-    let t484: f32 = yc * t340;
-    let t485: f32 = t483 + t484;
-    let t486: f32 = t44 * t417;
-    let t487: f32 = t40 * t349;
-    let t488: f32 = t66 * t355;
-    let t489: f32 = t487 - t488;
-    let t490: f32 = t486 - t489;
-    let t491: f32 = t485 + t490;
-    let t492: f32 = t480 + t491;
-    let t493: f32 = t464 - t492;
-    let t494: f32 = t437 * 5.0;
-    let t495: f32 = t493 * 2.5;
-    let t496: f32 = t419 + t494;
-    let t497: f32 = t495 + t496;
-    let t498: f32 = t110 - 0.5;
-    let t499: f32 = t417 * t498;
-    let t500: f32 = t494 + t499;
-    let t501: f32 = t495 + t500;
-    let t502: f32 = -t501;
-    let t503: f32 = t24 * t178;
-    let t504: f32 = t25 * t28;
-    let t505: f32 = t199 * t504;
-    let t506: f32 = t503 + t505;
-    let t507: f32 = t61 * t213;
-    let t508: f32 = t24 * t218;
-    let t509: f32 = t507 + t508;
-    let t510: f32 = t506 + t509;
-    let t511: f32 = t226 * t504;
-    let t512: f32 = t61 * t231;
-    let t513: f32 = t511 + t512;
-    let t514: f32 = t24 * t236;
-    let t515: f32 = t240 * t504;
-    let t516: f32 = t61 * t244;
-    let t517: f32 = t515 + t516;
-    let t518: f32 = t514 + t517;
-    let t519: f32 = t513 + t518;
-    let t520: f32 = t510 + t519;
-    let t521: f32 = t24 * t256;
-    let t522: f32 = t22 * t443;
-    let t523: f32 = t521 + t522;
-    let t524: f32 = yc * t270;
-    let t525: f32 = t47 * t449;
-    let t526: f32 = t524 - t525;
-    let t527: f32 = t523 - t526;
-    let t528: f32 = yc * t283;
-    let t529: f32 = zc * t459;
-    let t530: f32 = t528 - t529;
-    let t531: f32 = t69 * t293;
-    let t532: f32 = zc * t470;
-    let t533: f32 = t531 - t532;
-    let t534: f32 = t530 + t533;
-    let t535: f32 = t527 - t534;
-    let t536: f32 = t76 * t303;
-    let t537: f32 = t88 * t476;
-    let t538: f32 = t536 - t537;
-    let t539: f32 = t5 * t317;
-    let t540: f32 = t94 * t482;
-    let t541: f32 = t539 + t540;
-    let t542: f32 = t538 - t541;
-    let t543: f32 = t7 * t330;
-    let t544: f32 = t22 * t417;
-    let t545: f32 = t543 + t544;
-    let t546: f32 = yc * t108;
-    let t547: f32 = t349 * t504;
-    let t548: f32 = t61 * t355;
-    let t549: f32 = t547 + t548;
-    let t550: f32 = t546 + t549;
-    let t551: f32 = t545 - t550;
-    let t552: f32 = t542 - t551;
-    let t553: f32 = t535 + t552;
-    let t554: f32 = az - ay;
-    let t555: f32 = t554 * 12.01;
-    let t556: f32 = t4 - t374;
-    let t557: f32 = t556 * 2.0;
-    let t558: f32 = t21 - t385;
-    let t559: f32 = t558 * 1.67;
-    let t560: f32 = t98 - t408;
-    let t561: f32 = t560 * 0.835;
-    let t562: f32 = t520 * 5.0;
-    let t563: f32 = t553 * 2.5;
-    let t564: f32 = t555 + t557;
-    let t565: f32 = t377 + t559;
-    let t566: f32 = t561 + t562;
-    let t567: f32 = t563 + 117.8181;
-    let t568: f32 = t564 + t565;
-    let t569: f32 = t566 + t567;
-    let t570: f32 = t568 + t569;
-    let t571: f32 = t570 - t9;
-    let t572: f32 = ay + az;
-    let t573: f32 = t572 * 12.01;
-    let t574: f32 = t4 + t374;
-    let t575: f32 = t574 * 2.0;
-    let t576: f32 = t21 + t385;
-    let t577: f32 = t576 * 1.67;
-    let t578: f32 = t98 + t408;
-    let t579: f32 = t578 * 0.835;
-    let t580: f32 = t573 + t575;
-    let t581: f32 = t577 + t579;
-    let t582: f32 = t580 + t581;
-    let t583: f32 = t582 + 117.8181;
-    let t584: f32 = t9 + t377;
-    let t585: f32 = t562 + t563;
-    let t586: f32 = t584 + t585;
-    let t587: f32 = t583 - t586;
-    ([t367, t369, t497, t502, t571, t587], [t504, t59, t420])
+    ([t288, t294, t346, t353, t395, t405], [t367, t36, t327])
 }
 /// Forward kinematics in closed form: the platform's `R` and `C` from the actuator positions.
 ///
@@ -4133,7 +3638,7 @@ pub fn platform_state(
 /// - `gamma`: `Γ` (N), segment order; positive pushes the rod along `+n_i`
 /// - `singular`: `[1 + abc, r11, r22, r33]`: the forward singularity term (the actuator positions belong to a pose of the workspace only where it is positive; the other results are meaningless where it is near zero or negative) and the divisors of eq 16
 ///
-/// Operations: 347 mul, 3 div, 330 add, 4 neg, 3 sqrt (chapter convention: 350m + 330a).
+/// Operations: 272 mul, 3 div, 215 add, 3 neg, 3 sqrt (chapter convention: 275m + 215a).
 #[inline]
 pub fn inverse_dynamics_joint(
     q: &[f32; 6],
@@ -4198,639 +3703,448 @@ pub fn inverse_dynamics_joint(
     let t52: f32 = t11 * t41;
     let t53: f32 = t51 * t52;
     let t54: f32 = t39 - t53;
-    let t55: f32 = t54 * 2.5;
-    let t56: f32 = t55 - 0.5;
-    let t57: f32 = qd1 - qd2;
-    let t58: f32 = t57 * 2.5;
-    let t59: f32 = t7 * t41;
-    let t60: f32 = t11 * t59;
-    let t61: f32 = t51 * t60;
-    let t62: f32 = t1 * t16;
-    let t63: f32 = t10 * t62;
-    let t64: f32 = t21 * t63;
-    let t65: f32 = t11 * t26;
-    let t66: f32 = t35 * t65;
-    let t67: f32 = t64 - t66;
-    let t68: f32 = t61 + t67;
-    let t69: f32 = t68 * 2.5;
-    let t70: f32 = t69 - 0.5;
-    let t71: f32 = qd5 * t70;
-    let t72: f32 = t69 + 0.5;
-    let t73: f32 = qd6 * t72;
-    let t74: f32 = t1 * t11;
-    let t75: f32 = t21 * t74;
-    let t76: f32 = t5 * t26;
-    let t77: f32 = t11 * t76;
-    let t78: f32 = t35 * t77;
-    let t79: f32 = t75 - t78;
-    let t80: f32 = t41 * t46;
-    let t81: f32 = t10 * t80;
-    let t82: f32 = t51 * t81;
+    let t55: f32 = t54 + 0.2;
+    let t56: f32 = qdd1 - qdd2;
+    let t57: f32 = t56 * 2.5;
+    let t58: f32 = t55 * t57;
+    let t59: f32 = t54 * 2.5;
+    let t60: f32 = t59 - 0.5;
+    let t61: f32 = qd1 - qd2;
+    let t62: f32 = t61 * 2.5;
+    let t63: f32 = t7 * t41;
+    let t64: f32 = t11 * t63;
+    let t65: f32 = t51 * t64;
+    let t66: f32 = t1 * t16;
+    let t67: f32 = t10 * t66;
+    let t68: f32 = t21 * t67;
+    let t69: f32 = t11 * t26;
+    let t70: f32 = t35 * t69;
+    let t71: f32 = t68 - t70;
+    let t72: f32 = t65 + t71;
+    let t73: f32 = t72 * 2.5;
+    let t74: f32 = t73 - 0.5;
+    let t75: f32 = qd5 * t74;
+    let t76: f32 = t73 + 0.5;
+    let t77: f32 = qd6 * t76;
+    let t78: f32 = t1 * t11;
+    let t79: f32 = t21 * t78;
+    let t80: f32 = t5 * t26;
+    let t81: f32 = t11 * t80;
+    let t82: f32 = t35 * t81;
     let t83: f32 = t79 - t82;
-    let t84: f32 = t83 * 2.5;
-    let t85: f32 = t57 * t84;
-    let t86: f32 = t71 + t85;
-    let t87: f32 = t86 - t73;
-    let t88: f32 = t58 * t87;
-    let t89: f32 = qd3 - qd4;
-    let t90: f32 = t89 * 2.5;
-    let t91: f32 = t84 + 0.5;
-    let t92: f32 = qd3 * t91;
-    let t93: f32 = t84 - 0.5;
-    let t94: f32 = qd4 * t93;
-    let t95: f32 = qd5 - qd6;
-    let t96: f32 = t55 * t95;
-    let t97: f32 = t92 + t96;
-    let t98: f32 = t97 - t94;
-    let t99: f32 = t90 * t98;
-    let t100: f32 = t88 + t99;
-    let t101: f32 = qdd1 - t100;
-    let t102: f32 = t56 * t101;
-    let t103: f32 = t55 + 0.5;
-    let t104: f32 = qdd2 - t100;
-    let t105: f32 = t103 * t104;
-    let t106: f32 = t102 - t105;
-    let t107: f32 = qd1 * t56;
-    let t108: f32 = qd2 * t103;
-    let t109: f32 = t69 * t89;
-    let t110: f32 = t108 + t109;
-    let t111: f32 = t107 - t110;
-    let t112: f32 = t90 * t111;
-    let t113: f32 = t95 * 2.5;
-    let t114: f32 = t87 * t113;
-    let t115: f32 = t112 - t114;
-    let t116: f32 = qdd3 - t115;
-    let t117: f32 = t69 * t116;
-    let t118: f32 = qdd4 - t115;
-    let t119: f32 = t69 * t118;
-    let t120: f32 = t117 - t119;
-    let t121: f32 = t106 - t120;
-    let t122: f32 = qdd3 - qdd4;
-    let t123: f32 = t122 * 2.5;
-    let t124: f32 = t68 * t123;
-    let t125: f32 = t100 - t124;
-    let t126: f32 = t54 + 0.2;
-    let t127: f32 = qdd1 - qdd2;
-    let t128: f32 = t127 * 2.5;
-    let t129: f32 = t126 * t128;
-    let t130: f32 = t54 - 0.2;
-    let t131: f32 = t128 * t130;
-    let t132: f32 = t129 + t131;
-    let t133: f32 = t90 * t90;
-    let t134: f32 = t58 * t58;
-    let t135: f32 = t133 + t134;
-    let t136: f32 = t83 * t135;
-    let t137: f32 = t90 * t113;
-    let t138: f32 = t128 + t137;
-    let t139: f32 = t54 * t138;
-    let t140: f32 = t58 * t113;
-    let t141: f32 = t123 - t140;
-    let t142: f32 = t68 * t141;
-    let t143: f32 = t139 - t142;
-    let t144: f32 = t136 + t143;
-    let t145: f32 = q5 + t54;
-    let t146: f32 = t138 * t145;
-    let t147: f32 = t68 + 0.2;
-    let t148: f32 = t141 * t147;
-    let t149: f32 = t146 - t148;
-    let t150: f32 = q6 + t54;
-    let t151: f32 = t138 * t150;
-    let t152: f32 = t68 - 0.2;
-    let t153: f32 = t141 * t152;
-    let t154: f32 = t151 - t153;
-    let t155: f32 = t149 + t154;
-    let t156: f32 = t126 * t138;
-    let t157: f32 = q1 - t83;
-    let t158: f32 = t135 * t157;
-    let t159: f32 = t156 - t158;
-    let t160: f32 = t130 * t138;
-    let t161: f32 = q2 - t83;
-    let t162: f32 = t135 * t161;
-    let t163: f32 = t160 - t162;
-    let t164: f32 = t159 + t163;
-    let t165: f32 = t83 - 0.2;
-    let t166: f32 = t135 * t165;
-    let t167: f32 = q3 + t68;
-    let t168: f32 = t141 * t167;
-    let t169: f32 = t166 - t168;
-    let t170: f32 = t83 + 0.2;
-    let t171: f32 = t135 * t170;
-    let t172: f32 = q4 + t68;
-    let t173: f32 = t141 * t172;
-    let t174: f32 = t171 - t173;
-    let t175: f32 = t169 + t174;
-    let t176: f32 = t164 + t175;
-    let t177: f32 = t155 + t176;
-    let t178: f32 = sqrt(t51);
-    let t179: f32 = sqrt(t21);
-    let t180: f32 = t10 * t179;
-    let t181: f32 = t113 * t180;
-    let t182: f32 = t16 * t179;
-    let t183: f32 = t58 * t182;
-    let t184: f32 = t181 - t183;
-    let t185: f32 = t3 * t10;
-    let t186: f32 = t179 * t185;
-    let t187: f32 = t90 * t186;
-    let t188: f32 = t184 - t187;
-    let t189: f32 = sqrt(t35);
-    let t190: f32 = t30 * t189;
-    let t191: f32 = t90 * t190;
-    let t192: f32 = t5 * t10;
-    let t193: f32 = t189 * t192;
-    let t194: f32 = t113 * t193;
-    let t195: f32 = t10 * t189;
-    let t196: f32 = t58 * t195;
-    let t197: f32 = t194 - t196;
-    let t198: f32 = t191 + t197;
-    let t199: f32 = t198 * 0.0084;
-    let t200: f32 = t188 * t199;
-    let t201: f32 = t188 * 0.00167;
-    let t202: f32 = t198 * t201;
-    let t203: f32 = qdd5 - qdd6;
-    let t204: f32 = t203 * 2.5;
-    let t205: f32 = t46 * t178;
-    let t206: f32 = t204 * t205;
-    let t207: f32 = t7 * t10;
-    let t208: f32 = t178 * t207;
-    let t209: f32 = t128 * t208;
-    let t210: f32 = t206 + t209;
-    let t211: f32 = t10 * t178;
-    let t212: f32 = t123 * t211;
-    let t213: f32 = t210 - t212;
-    let t214: f32 = t213 * 0.0084;
-    let t215: f32 = t202 + t214;
-    let t216: f32 = t215 - t200;
-    let t217: f32 = t208 * t216;
-    let t218: f32 = t113 * t205;
-    let t219: f32 = t58 * t208;
-    let t220: f32 = t218 + t219;
-    let t221: f32 = t90 * t211;
-    let t222: f32 = t220 - t221;
-    let t223: f32 = t222 * 0.0084;
-    let t224: f32 = t198 * t223;
-    let t225: f32 = t198 * 0.00167;
-    let t226: f32 = t222 * t225;
-    let t227: f32 = t180 * t204;
-    let t228: f32 = t128 * t182;
-    let t229: f32 = t227 - t228;
-    let t230: f32 = t123 * t186;
-    let t231: f32 = t229 - t230;
-    let t232: f32 = t231 * 0.0084;
-    let t233: f32 = t226 + t232;
-    let t234: f32 = t233 - t224;
-    let t235: f32 = t182 * t234;
-    let t236: f32 = t217 - t235;
-    let t237: f32 = t188 * t223;
-    let t238: f32 = t188 * 0.0084;
-    let t239: f32 = t222 * t238;
-    let t240: f32 = t123 * t190;
-    let t241: f32 = t193 * t204;
-    let t242: f32 = t128 * t195;
-    let t243: f32 = t241 - t242;
-    let t244: f32 = t240 + t243;
-    let t245: f32 = t244 * 0.00167;
-    let t246: f32 = t237 + t245;
-    let t247: f32 = t246 - t239;
-    let t248: f32 = t195 * t247;
-    let t249: f32 = t188 * t225;
-    let t250: f32 = t198 * t238;
-    let t251: f32 = t214 + t250;
-    let t252: f32 = t251 - t249;
-    let t253: f32 = t208 * t252;
-    let t254: f32 = t248 - t253;
-    let t255: f32 = t236 - t254;
-    let t256: f32 = t199 * t222;
-    let t257: f32 = t222 * 0.00167;
-    let t258: f32 = t198 * t257;
-    let t259: f32 = t232 + t256;
-    let t260: f32 = t259 - t258;
-    let t261: f32 = t182 * t260;
-    let t262: f32 = t188 * t257;
-    let t263: f32 = t244 * 0.0084;
-    let t264: f32 = t262 + t263;
-    let t265: f32 = t264 - t239;
-    let t266: f32 = t195 * t265;
-    let t267: f32 = t261 + t266;
-    let t268: f32 = t213 * 0.00167;
-    let t269: f32 = t250 + t268;
-    let t270: f32 = t269 - t200;
-    let t271: f32 = t208 * t270;
-    let t272: f32 = t231 * 0.00167;
-    let t273: f32 = t256 + t272;
-    let t274: f32 = t273 - t224;
-    let t275: f32 = t182 * t274;
-    let t276: f32 = t201 * t222;
-    let t277: f32 = t237 + t263;
-    let t278: f32 = t277 - t276;
-    let t279: f32 = t195 * t278;
-    let t280: f32 = t275 + t279;
-    let t281: f32 = t271 - t280;
-    let t282: f32 = t267 - t281;
-    let t283: f32 = t255 - t282;
-    let t284: f32 = t128 - t137;
-    let t285: f32 = t157 * t284;
-    let t286: f32 = t113 * t113;
-    let t287: f32 = t134 + t286;
-    let t288: f32 = t126 * t287;
-    let t289: f32 = t285 + t288;
-    let t290: f32 = t84 * t101;
-    let t291: f32 = t84 * t104;
-    let t292: f32 = t290 - t291;
-    let t293: f32 = t98 * t113;
-    let t294: f32 = t58 * t111;
-    let t295: f32 = t293 + t294;
-    let t296: f32 = qdd5 + t295;
-    let t297: f32 = t70 * t296;
-    let t298: f32 = qdd6 + t295;
-    let t299: f32 = t72 * t298;
-    let t300: f32 = t297 - t299;
-    let t301: f32 = t292 + t300;
-    let t302: f32 = t58 * t90;
-    let t303: f32 = t204 + t302;
-    let t304: f32 = t68 * t303;
+    let t84: f32 = t41 * t46;
+    let t85: f32 = t10 * t84;
+    let t86: f32 = t51 * t85;
+    let t87: f32 = t83 - t86;
+    let t88: f32 = t87 * 2.5;
+    let t89: f32 = t61 * t88;
+    let t90: f32 = t75 + t89;
+    let t91: f32 = t90 - t77;
+    let t92: f32 = t62 * t91;
+    let t93: f32 = qd3 - qd4;
+    let t94: f32 = t93 * 2.5;
+    let t95: f32 = t88 + 0.5;
+    let t96: f32 = qd3 * t95;
+    let t97: f32 = t88 - 0.5;
+    let t98: f32 = qd4 * t97;
+    let t99: f32 = qd5 - qd6;
+    let t100: f32 = t59 * t99;
+    let t101: f32 = t96 + t100;
+    let t102: f32 = t101 - t98;
+    let t103: f32 = t94 * t102;
+    let t104: f32 = t92 + t103;
+    let t105: f32 = qdd1 - t104;
+    let t106: f32 = t60 * t105;
+    let t107: f32 = t59 + 0.5;
+    let t108: f32 = qdd2 - t104;
+    let t109: f32 = t107 * t108;
+    let t110: f32 = t106 - t109;
+    let t111: f32 = qd1 * t60;
+    let t112: f32 = qd2 * t107;
+    let t113: f32 = t73 * t93;
+    let t114: f32 = t112 + t113;
+    let t115: f32 = t111 - t114;
+    let t116: f32 = t94 * t115;
+    let t117: f32 = t99 * 2.5;
+    let t118: f32 = t91 * t117;
+    let t119: f32 = t116 - t118;
+    let t120: f32 = qdd3 - t119;
+    let t121: f32 = t73 * t120;
+    let t122: f32 = qdd4 - t119;
+    let t123: f32 = t73 * t122;
+    let t124: f32 = t121 - t123;
+    let t125: f32 = t110 - t124;
+    let t126: f32 = qdd3 - qdd4;
+    let t127: f32 = t126 * 2.5;
+    let t128: f32 = t72 * t127;
+    let t129: f32 = t104 - t128;
+    let t130: f32 = t54 * 10.02;
+    let t131: f32 = t40 * 1.67;
+    let t132: f32 = t130 + t131;
+    let t133: f32 = t57 * t132;
+    let t134: f32 = t72 * 10.02;
+    let t135: f32 = t25 * 1.67;
+    let t136: f32 = t134 + t135;
+    let t137: f32 = t127 * t136;
+    let t138: f32 = t133 - t137;
+    let t139: f32 = t117 * t136;
+    let t140: f32 = t87 * 10.02;
+    let t141: f32 = t0 * 1.67;
+    let t142: f32 = t141 - t140;
+    let t143: f32 = t62 * t142;
+    let t144: f32 = t139 - t143;
+    let t145: f32 = t62 * t144;
+    let t146: f32 = t94 * t142;
+    let t147: f32 = t117 * t132;
+    let t148: f32 = t146 - t147;
+    let t149: f32 = t94 * t148;
+    let t150: f32 = t145 - t149;
+    let t151: f32 = t138 + t150;
+    let t152: f32 = t125 * 20.02;
+    let t153: f32 = t152 - t151;
+    let t154: f32 = t55 * t153;
+    let t155: f32 = q1 - t87;
+    let t156: f32 = t88 * t105;
+    let t157: f32 = t88 * t108;
+    let t158: f32 = t156 - t157;
+    let t159: f32 = t102 * t117;
+    let t160: f32 = t62 * t115;
+    let t161: f32 = t159 + t160;
+    let t162: f32 = qdd5 + t161;
+    let t163: f32 = t74 * t162;
+    let t164: f32 = qdd6 + t161;
+    let t165: f32 = t76 * t164;
+    let t166: f32 = t163 - t165;
+    let t167: f32 = t158 + t166;
+    let t168: f32 = qdd5 - qdd6;
+    let t169: f32 = t168 * 2.5;
+    let t170: f32 = t136 * t169;
+    let t171: f32 = t57 * t142;
+    let t172: f32 = t170 - t171;
+    let t173: f32 = t117 * t148;
+    let t174: f32 = t62 * t132;
+    let t175: f32 = t94 * t136;
+    let t176: f32 = t174 - t175;
+    let t177: f32 = t62 * t176;
+    let t178: f32 = t173 - t177;
+    let t179: f32 = t172 + t178;
+    let t180: f32 = t167 * 20.02;
+    let t181: f32 = t179 + 196.3962;
+    let t182: f32 = t180 - t181;
+    let t183: f32 = t155 * t182;
+    let t184: f32 = t154 - t183;
+    let t185: f32 = q1 * t182;
+    let t186: f32 = t54 * t54;
+    let t187: f32 = t87 * t87;
+    let t188: f32 = t55 * t55;
+    let t189: f32 = t54 - 0.2;
+    let t190: f32 = t189 * t189;
+    let t191: f32 = t188 + t190;
+    let t192: f32 = q5 + t54;
+    let t193: f32 = t192 * t192;
+    let t194: f32 = q6 + t54;
+    let t195: f32 = t194 * t194;
+    let t196: f32 = t193 + t195;
+    let t197: f32 = t191 + t196;
+    let t198: f32 = t155 * t155;
+    let t199: f32 = q2 - t87;
+    let t200: f32 = t199 * t199;
+    let t201: f32 = t198 + t200;
+    let t202: f32 = t87 - 0.2;
+    let t203: f32 = t202 * t202;
+    let t204: f32 = t87 + 0.2;
+    let t205: f32 = t204 * t204;
+    let t206: f32 = t203 + t205;
+    let t207: f32 = t201 + t206;
+    let t208: f32 = t186 + t187;
+    let t209: f32 = t208 * 3.34;
+    let t210: f32 = t197 + t207;
+    let t211: f32 = t210 * 1.67;
+    let t212: f32 = t209 + t211;
+    let t213: f32 = t57 * t212;
+    let t214: f32 = sqrt(t21);
+    let t215: f32 = sqrt(t35);
+    let t216: f32 = t30 * t215;
+    let t217: f32 = t94 * t216;
+    let t218: f32 = t5 * t10;
+    let t219: f32 = t215 * t218;
+    let t220: f32 = t117 * t219;
+    let t221: f32 = t10 * t215;
+    let t222: f32 = t62 * t221;
+    let t223: f32 = t220 - t222;
+    let t224: f32 = t217 + t223;
+    let t225: f32 = sqrt(t51);
+    let t226: f32 = t46 * t225;
+    let t227: f32 = t117 * t226;
+    let t228: f32 = t7 * t10;
+    let t229: f32 = t225 * t228;
+    let t230: f32 = t62 * t229;
+    let t231: f32 = t227 + t230;
+    let t232: f32 = t10 * t225;
+    let t233: f32 = t94 * t232;
+    let t234: f32 = t231 - t233;
+    let t235: f32 = t234 * 0.22444;
+    let t236: f32 = t224 * t235;
+    let t237: f32 = t224 * 0.22444;
+    let t238: f32 = t234 * t237;
+    let t239: f32 = t16 * t57;
+    let t240: f32 = t3 * t127;
+    let t241: f32 = t240 * 0.41194;
+    let t242: f32 = t168 * 1.02985;
+    let t243: f32 = t242 - t241;
+    let t244: f32 = t10 * t243;
+    let t245: f32 = t239 * 0.41194;
+    let t246: f32 = t245 - t244;
+    let t247: f32 = t214 * t246;
+    let t248: f32 = t236 + t247;
+    let t249: f32 = t238 - t248;
+    let t250: f32 = t16 * t214;
+    let t251: f32 = t249 * t250;
+    let t252: f32 = t213 - t251;
+    let t253: f32 = t185 + t252;
+    let t254: f32 = t184 + t253;
+    let t255: f32 = t10 * t214;
+    let t256: f32 = t117 * t255;
+    let t257: f32 = t62 * t250;
+    let t258: f32 = t256 - t257;
+    let t259: f32 = t3 * t10;
+    let t260: f32 = t214 * t259;
+    let t261: f32 = t94 * t260;
+    let t262: f32 = t258 - t261;
+    let t263: f32 = t262 * 0.41194;
+    let t264: f32 = t234 * t263;
+    let t265: f32 = t235 * t262;
+    let t266: f32 = t30 * t127;
+    let t267: f32 = t5 * t169;
+    let t268: f32 = t267 * 0.22444;
+    let t269: f32 = t56 * 0.5611;
+    let t270: f32 = t269 - t268;
+    let t271: f32 = t10 * t270;
+    let t272: f32 = t266 * 0.22444;
+    let t273: f32 = t272 - t271;
+    let t274: f32 = t215 * t273;
+    let t275: f32 = t265 + t274;
+    let t276: f32 = t275 - t264;
+    let t277: f32 = t221 * t276;
+    let t278: f32 = t237 * t262;
+    let t279: f32 = t224 * t263;
+    let t280: f32 = t46 * t169;
+    let t281: f32 = t7 * t57;
+    let t282: f32 = t281 * 0.22444;
+    let t283: f32 = t126 * 0.5611;
+    let t284: f32 = t283 - t282;
+    let t285: f32 = t10 * t284;
+    let t286: f32 = t280 * 0.22444;
+    let t287: f32 = t286 - t285;
+    let t288: f32 = t225 * t287;
+    let t289: f32 = t279 + t288;
+    let t290: f32 = t289 - t278;
+    let t291: f32 = t229 * t290;
+    let t292: f32 = t277 - t291;
+    let t293: f32 = q3 + t72;
+    let t294: f32 = t202 * t293;
+    let t295: f32 = q4 + t72;
+    let t296: f32 = t204 * t295;
+    let t297: f32 = t72 * 3.34;
+    let t298: f32 = t87 * t297;
+    let t299: f32 = t87 * 3.34;
+    let t300: f32 = t141 - t299;
+    let t301: f32 = t72 * t300;
+    let t302: f32 = t294 + t296;
+    let t303: f32 = t302 * 1.67;
+    let t304: f32 = t298 + t303;
     let t305: f32 = t301 - t304;
-    let t306: f32 = t289 + t305;
-    let t307: f32 = t306 * 1.67;
-    let t308: f32 = t307 - 16.3827;
-    let t309: f32 = t157 * t308;
-    let t310: f32 = t163 - t142;
-    let t311: f32 = t310 * 1.67;
-    let t312: f32 = t125 + t131;
-    let t313: f32 = t312 * 2.0;
-    let t314: f32 = t121 * 3.67;
-    let t315: f32 = t311 + t313;
-    let t316: f32 = t315 - t314;
-    let t317: f32 = t130 * t316;
-    let t318: f32 = t309 + t317;
-    let t319: f32 = t161 * t284;
-    let t320: f32 = t130 * t287;
-    let t321: f32 = t319 + t320;
-    let t322: f32 = t305 + t321;
-    let t323: f32 = t322 * 1.67;
-    let t324: f32 = t323 - 16.3827;
-    let t325: f32 = t161 * t324;
-    let t326: f32 = t121 - t139;
-    let t327: f32 = t326 - t169;
-    let t328: f32 = t327 * 1.67;
-    let t329: f32 = t54 * t328;
-    let t330: f32 = t325 - t329;
-    let t331: f32 = t318 + t330;
-    let t332: f32 = t165 * t284;
-    let t333: f32 = t167 * t303;
-    let t334: f32 = t332 + t333;
-    let t335: f32 = t54 * t287;
-    let t336: f32 = t301 + t335;
-    let t337: f32 = t336 - t334;
-    let t338: f32 = t337 * 1.67;
-    let t339: f32 = t338 - 16.3827;
-    let t340: f32 = t165 * t339;
-    let t341: f32 = t326 - t174;
-    let t342: f32 = t341 * 1.67;
-    let t343: f32 = t54 * t342;
-    let t344: f32 = t340 + t343;
-    let t345: f32 = t170 * t284;
-    let t346: f32 = t172 * t303;
-    let t347: f32 = t345 + t346;
-    let t348: f32 = t336 - t347;
-    let t349: f32 = t348 * 1.67;
-    let t350: f32 = t349 - 16.3827;
-    let t351: f32 = t170 * t350;
-    let t352: f32 = t121 - t136;
-    let t353: f32 = t352 - t149;
-    let t354: f32 = t353 * 1.67;
-    let t355: f32 = t145 * t354;
-    let t356: f32 = t351 + t355;
-    let t357: f32 = t344 + t356;
-    let t358: f32 = t331 - t357;
-    let t359: f32 = t147 * t204;
-    let t360: f32 = t83 * t284;
-    let t361: f32 = t83 * t128;
-    let t362: f32 = t295 - t361;
-    let t363: f32 = t147 * t303;
-    let t364: f32 = t145 * t287;
-    let t365: f32 = t363 - t364;
-    let t366: f32 = t362 - t359;
-    let t367: f32 = t366 * 2.0;
-    let t368: f32 = t360 + t365;
-    let t369: f32 = t368 * 1.67;
-    let t370: f32 = t301 * 3.67;
-    let t371: f32 = t367 + t370;
-    let t372: f32 = t369 + 36.0027;
-    let t373: f32 = t371 - t372;
-    let t374: f32 = t83 * t373;
-    let t375: f32 = t352 - t154;
-    let t376: f32 = t375 * 1.67;
-    let t377: f32 = t150 * t376;
-    let t378: f32 = t374 + t377;
-    let t379: f32 = t152 * t204;
-    let t380: f32 = t152 * t303;
-    let t381: f32 = t150 * t287;
-    let t382: f32 = t380 - t381;
-    let t383: f32 = t360 + t382;
-    let t384: f32 = t383 * 1.67;
-    let t385: f32 = t362 - t379;
-    let t386: f32 = t385 * 2.0;
-    let t387: f32 = t370 + t386;
-    let t388: f32 = t384 + 36.0027;
+    let t306: f32 = t169 * t305;
+    let t307: f32 = t72 + 0.2;
+    let t308: f32 = t192 * t307;
+    let t309: f32 = t72 - 0.2;
+    let t310: f32 = t194 * t309;
+    let t311: f32 = t54 * 3.34;
+    let t312: f32 = t72 * t311;
+    let t313: f32 = t135 + t297;
+    let t314: f32 = t54 * t313;
+    let t315: f32 = t308 + t310;
+    let t316: f32 = t315 * 1.67;
+    let t317: f32 = t312 + t316;
+    let t318: f32 = t314 + t317;
+    let t319: f32 = t127 * t318;
+    let t320: f32 = t306 + t319;
+    let t321: f32 = t292 + t320;
+    let t322: f32 = t72 * t72;
+    let t323: f32 = t293 * t293;
+    let t324: f32 = t295 * t295;
+    let t325: f32 = t323 + t324;
+    let t326: f32 = t307 * t307;
+    let t327: f32 = t309 * t309;
+    let t328: f32 = t326 + t327;
+    let t329: f32 = t325 + t328;
+    let t330: f32 = t186 + t322;
+    let t331: f32 = t330 * 3.34;
+    let t332: f32 = t197 + t329;
+    let t333: f32 = t332 * 1.67;
+    let t334: f32 = t331 + t333;
+    let t335: f32 = t117 * t334;
+    let t336: f32 = t62 * t305;
+    let t337: f32 = t55 * t155;
+    let t338: f32 = t189 * t199;
+    let t339: f32 = t131 + t311;
+    let t340: f32 = t87 * t339;
+    let t341: f32 = t54 * t299;
+    let t342: f32 = t337 + t338;
+    let t343: f32 = t342 * 1.67;
+    let t344: f32 = t340 + t341;
+    let t345: f32 = t343 - t344;
+    let t346: f32 = t94 * t345;
+    let t347: f32 = t336 + t346;
+    let t348: f32 = t335 - t347;
+    let t349: f32 = t94 * t348;
+    let t350: f32 = t187 + t322;
+    let t351: f32 = t350 * 3.34;
+    let t352: f32 = t207 + t329;
+    let t353: f32 = t352 * 1.67;
+    let t354: f32 = t351 + t353;
+    let t355: f32 = t94 * t354;
+    let t356: f32 = t117 * t345;
+    let t357: f32 = t62 * t318;
+    let t358: f32 = t356 + t357;
+    let t359: f32 = t358 - t355;
+    let t360: f32 = t117 * t359;
+    let t361: f32 = t349 + t360;
+    let t362: f32 = t125 * t132;
+    let t363: f32 = t167 - 9.81;
+    let t364: f32 = t142 * t363;
+    let t365: f32 = t362 - t364;
+    let t366: f32 = t361 - t365;
+    let t367: f32 = t321 - t366;
+    let t368: f32 = t254 - t367;
+    let t369: f32 = t58 + t129;
+    let t370: f32 = t369 * 2.0;
+    let t371: f32 = t125 * 22.02;
+    let t372: f32 = t368 * 2.5;
+    let t373: f32 = t151 + t370;
+    let t374: f32 = t372 + t373;
+    let t375: f32 = t374 - t371;
+    let t376: f32 = t57 * t189;
+    let t377: f32 = t129 + t376;
+    let t378: f32 = t377 - t125;
+    let t379: f32 = t378 * 2.0;
+    let t380: f32 = t379 - t372;
+    let t381: f32 = t127 * t202;
+    let t382: f32 = q1 * 2.5;
+    let t383: f32 = t382 + 0.5;
+    let t384: f32 = t95 * t120;
+    let t385: f32 = t97 * t122;
+    let t386: f32 = t384 - t385;
+    let t387: f32 = t59 * t162;
+    let t388: f32 = t59 * t164;
     let t389: f32 = t387 - t388;
-    let t390: f32 = t83 * t389;
-    let t391: f32 = t121 * 24.02;
-    let t392: f32 = t125 * 4.0;
-    let t393: f32 = t132 * 2.0;
-    let t394: f32 = t144 * 3.34;
-    let t395: f32 = t177 * 1.67;
-    let t396: f32 = t392 + t393;
-    let t397: f32 = t394 + t395;
-    let t398: f32 = t396 + t397;
-    let t399: f32 = t398 - t391;
-    let t400: f32 = t126 * t399;
-    let t401: f32 = t390 + t400;
-    let t402: f32 = t378 + t401;
-    let t403: f32 = t359 + t379;
-    let t404: f32 = t304 - t335;
-    let t405: f32 = t360 + t404;
-    let t406: f32 = t365 + t382;
-    let t407: f32 = t334 + t347;
-    let t408: f32 = t289 + t321;
-    let t409: f32 = t407 - t408;
-    let t410: f32 = t406 + t409;
-    let t411: f32 = t301 * 24.02;
-    let t412: f32 = t362 * 4.0;
-    let t413: f32 = t403 * 2.0;
-    let t414: f32 = t405 * 3.34;
-    let t415: f32 = t410 * 1.67;
-    let t416: f32 = t411 + t412;
-    let t417: f32 = t413 + t414;
-    let t418: f32 = t415 + 235.6362;
-    let t419: f32 = t417 + t418;
-    let t420: f32 = t416 - t419;
-    let t421: f32 = t157 * t420;
-    let t422: f32 = q1 * t420;
-    let t423: f32 = t421 - t422;
-    let t424: f32 = t222 * 0.1875;
-    let t425: f32 = t198 * t424;
-    let t426: f32 = t198 * 0.1875;
-    let t427: f32 = t222 * t426;
-    let t428: f32 = t231 * 0.375;
-    let t429: f32 = t427 + t428;
-    let t430: f32 = t429 - t425;
-    let t431: f32 = t182 * t430;
-    let t432: f32 = t188 * 0.375;
-    let t433: f32 = t222 * t432;
-    let t434: f32 = t188 * t424;
-    let t435: f32 = t244 * 0.1875;
+    let t390: f32 = t386 + t389;
+    let t391: f32 = t127 * t142;
+    let t392: f32 = t132 * t169;
+    let t393: f32 = t391 - t392;
+    let t394: f32 = t94 * t176;
+    let t395: f32 = t117 * t144;
+    let t396: f32 = t394 - t395;
+    let t397: f32 = t393 + t396;
+    let t398: f32 = t390 * 20.02;
+    let t399: f32 = t397 + t398;
+    let t400: f32 = t383 * t399;
+    let t401: f32 = t54 * t169;
+    let t402: f32 = t390 - t401;
+    let t403: f32 = t119 + t402;
+    let t404: f32 = t142 * t390;
+    let t405: f32 = t125 * t136;
+    let t406: f32 = t404 + t405;
+    let t407: f32 = t72 * t153;
+    let t408: f32 = t155 * t399;
+    let t409: f32 = t407 + t408;
+    let t410: f32 = t406 - t409;
+    let t411: f32 = t127 * t354;
+    let t412: f32 = t249 * t260;
+    let t413: f32 = t411 - t412;
+    let t414: f32 = t216 * t276;
+    let t415: f32 = t232 * t290;
+    let t416: f32 = t414 - t415;
+    let t417: f32 = t413 + t416;
+    let t418: f32 = t169 * t345;
+    let t419: f32 = t57 * t318;
+    let t420: f32 = t418 + t419;
+    let t421: f32 = t62 * t212;
+    let t422: f32 = t117 * t305;
+    let t423: f32 = t94 * t318;
+    let t424: f32 = t422 + t423;
+    let t425: f32 = t424 - t421;
+    let t426: f32 = t117 * t425;
+    let t427: f32 = t62 * t348;
+    let t428: f32 = t426 + t427;
+    let t429: f32 = t420 + t428;
+    let t430: f32 = t417 - t429;
+    let t431: f32 = t410 + t430;
+    let t432: f32 = t403 - t381;
+    let t433: f32 = t432 * 2.0;
+    let t434: f32 = t431 * 2.5;
+    let t435: f32 = t400 + t433;
     let t436: f32 = t434 + t435;
-    let t437: f32 = t436 - t433;
-    let t438: f32 = t195 * t437;
-    let t439: f32 = t431 + t438;
-    let t440: f32 = t188 * t426;
-    let t441: f32 = t198 * t432;
-    let t442: f32 = t213 * 0.1875;
-    let t443: f32 = t441 + t442;
-    let t444: f32 = t443 - t440;
-    let t445: f32 = t208 * t444;
-    let t446: f32 = t125 + t129;
-    let t447: f32 = t446 * 2.0;
-    let t448: f32 = t159 - t142;
-    let t449: f32 = t448 * 1.67;
-    let t450: f32 = t447 + t449;
-    let t451: f32 = t450 - t314;
-    let t452: f32 = t126 * t451;
-    let t453: f32 = t445 + t452;
-    let t454: f32 = t439 - t453;
-    let t455: f32 = t423 + t454;
-    let t456: f32 = t402 + t455;
-    let t457: f32 = t358 - t456;
-    let t458: f32 = t283 * 5.0;
-    let t459: f32 = t457 * 2.5;
-    let t460: f32 = t458 + t459;
-    let t461: f32 = t398 + t460;
-    let t462: f32 = t461 - t391;
-    let t463: f32 = -t460;
-    let t464: f32 = q1 * 2.5;
-    let t465: f32 = t464 + 0.5;
-    let t466: f32 = t91 * t116;
-    let t467: f32 = t93 * t118;
-    let t468: f32 = t466 - t467;
-    let t469: f32 = t55 * t296;
-    let t470: f32 = t55 * t298;
-    let t471: f32 = t469 - t470;
-    let t472: f32 = t468 + t471;
-    let t473: f32 = t54 * t204;
-    let t474: f32 = t115 - t473;
-    let t475: f32 = t123 * t165;
-    let t476: f32 = t123 * t170;
-    let t477: f32 = t475 + t476;
-    let t478: f32 = t123 + t140;
-    let t479: f32 = t83 * t478;
-    let t480: f32 = t133 + t286;
-    let t481: f32 = t68 * t480;
-    let t482: f32 = t204 - t302;
-    let t483: f32 = t54 * t482;
-    let t484: f32 = t481 + t483;
-    let t485: f32 = t479 + t484;
-    let t486: f32 = t157 * t478;
-    let t487: f32 = t126 * t482;
-    let t488: f32 = t486 - t487;
-    let t489: f32 = t161 * t478;
-    let t490: f32 = t130 * t482;
-    let t491: f32 = t489 - t490;
-    let t492: f32 = t488 + t491;
-    let t493: f32 = t165 * t478;
-    let t494: f32 = t167 * t480;
-    let t495: f32 = t493 + t494;
-    let t496: f32 = t170 * t478;
-    let t497: f32 = t172 * t480;
-    let t498: f32 = t496 + t497;
-    let t499: f32 = t495 + t498;
-    let t500: f32 = t492 - t499;
-    let t501: f32 = t147 * t480;
-    let t502: f32 = t145 * t482;
-    let t503: f32 = t501 + t502;
-    let t504: f32 = t152 * t480;
-    let t505: f32 = t150 * t482;
-    let t506: f32 = t504 + t505;
-    let t507: f32 = t503 + t506;
-    let t508: f32 = t500 - t507;
-    let t509: f32 = t472 * 24.02;
-    let t510: f32 = t474 * 4.0;
-    let t511: f32 = t477 * 2.0;
-    let t512: f32 = t485 * 3.34;
-    let t513: f32 = t508 * 1.67;
-    let t514: f32 = t509 + t510;
-    let t515: f32 = t513 + t514;
-    let t516: f32 = t511 + t512;
-    let t517: f32 = t515 - t516;
-    let t518: f32 = t465 * t517;
-    let t519: f32 = t211 * t216;
-    let t520: f32 = t186 * t234;
-    let t521: f32 = t519 + t520;
-    let t522: f32 = t190 * t247;
-    let t523: f32 = t211 * t252;
-    let t524: f32 = t522 - t523;
-    let t525: f32 = t521 - t524;
-    let t526: f32 = t186 * t260;
-    let t527: f32 = t190 * t265;
-    let t528: f32 = t526 - t527;
-    let t529: f32 = t211 * t270;
-    let t530: f32 = t186 * t274;
-    let t531: f32 = t190 * t278;
-    let t532: f32 = t530 - t531;
-    let t533: f32 = t529 + t532;
-    let t534: f32 = t528 + t533;
-    let t535: f32 = t525 + t534;
-    let t536: f32 = t211 * t444;
-    let t537: f32 = t68 * t451;
-    let t538: f32 = t536 + t537;
-    let t539: f32 = t472 - t481;
-    let t540: f32 = t488 + t539;
-    let t541: f32 = t540 * 1.67;
-    let t542: f32 = t157 * t541;
-    let t543: f32 = t68 * t316;
-    let t544: f32 = t542 - t543;
-    let t545: f32 = t538 - t544;
-    let t546: f32 = t491 + t539;
-    let t547: f32 = t546 * 1.67;
-    let t548: f32 = t161 * t547;
-    let t549: f32 = t167 * t328;
-    let t550: f32 = t548 + t549;
-    let t551: f32 = t474 - t475;
-    let t552: f32 = t551 * 2.0;
-    let t553: f32 = t483 + t495;
-    let t554: f32 = t553 * 1.67;
-    let t555: f32 = t472 * 3.67;
-    let t556: f32 = t552 + t555;
-    let t557: f32 = t556 - t554;
-    let t558: f32 = t165 * t557;
-    let t559: f32 = t172 * t342;
-    let t560: f32 = t558 - t559;
-    let t561: f32 = t550 - t560;
-    let t562: f32 = t545 - t561;
-    let t563: f32 = t483 + t498;
-    let t564: f32 = t563 * 1.67;
-    let t565: f32 = t474 - t476;
-    let t566: f32 = t565 * 2.0;
-    let t567: f32 = t555 + t566;
-    let t568: f32 = t567 - t564;
-    let t569: f32 = t170 * t568;
-    let t570: f32 = t147 * t354;
-    let t571: f32 = t569 - t570;
-    let t572: f32 = t472 - t479;
-    let t573: f32 = t572 - t503;
-    let t574: f32 = t573 * 1.67;
-    let t575: f32 = t83 * t574;
-    let t576: f32 = t152 * t376;
-    let t577: f32 = t575 - t576;
-    let t578: f32 = t571 + t577;
-    let t579: f32 = t572 - t506;
-    let t580: f32 = t579 * 1.67;
-    let t581: f32 = t83 * t580;
-    let t582: f32 = t68 * t399;
-    let t583: f32 = t581 - t582;
-    let t584: f32 = t157 * t517;
-    let t585: f32 = t186 * t430;
-    let t586: f32 = t190 * t437;
-    let t587: f32 = t585 - t586;
-    let t588: f32 = t584 + t587;
-    let t589: f32 = t583 + t588;
-    let t590: f32 = t578 + t589;
-    let t591: f32 = t562 + t590;
-    let t592: f32 = t535 * 5.0;
-    let t593: f32 = t591 * 2.5;
-    let t594: f32 = t592 + t593;
-    let t595: f32 = t518 - t594;
-    let t596: f32 = t464 - 0.5;
-    let t597: f32 = t517 * t596;
-    let t598: f32 = t594 - t597;
-    let t599: f32 = t205 * t216;
-    let t600: f32 = t180 * t234;
-    let t601: f32 = t599 + t600;
-    let t602: f32 = t193 * t247;
-    let t603: f32 = t205 * t252;
-    let t604: f32 = t602 + t603;
-    let t605: f32 = t601 + t604;
-    let t606: f32 = t180 * t260;
-    let t607: f32 = t193 * t265;
-    let t608: f32 = t606 + t607;
-    let t609: f32 = t205 * t270;
-    let t610: f32 = t180 * t274;
-    let t611: f32 = t193 * t278;
-    let t612: f32 = t610 + t611;
-    let t613: f32 = t609 + t612;
-    let t614: f32 = t608 + t613;
-    let t615: f32 = t605 + t614;
-    let t616: f32 = t205 * t444;
-    let t617: f32 = t126 * t541;
-    let t618: f32 = t616 - t617;
-    let t619: f32 = t68 * t308;
-    let t620: f32 = t130 * t547;
-    let t621: f32 = t619 + t620;
-    let t622: f32 = t618 - t621;
-    let t623: f32 = t68 * t324;
-    let t624: f32 = t54 * t557;
-    let t625: f32 = t623 + t624;
-    let t626: f32 = t167 * t339;
-    let t627: f32 = t54 * t568;
-    let t628: f32 = t626 + t627;
-    let t629: f32 = t625 + t628;
-    let t630: f32 = t622 - t629;
-    let t631: f32 = t172 * t350;
-    let t632: f32 = t145 * t574;
-    let t633: f32 = t631 + t632;
-    let t634: f32 = t147 * t373;
-    let t635: f32 = t150 * t580;
-    let t636: f32 = t634 + t635;
-    let t637: f32 = t633 + t636;
-    let t638: f32 = t152 * t389;
-    let t639: f32 = t126 * t517;
-    let t640: f32 = t638 - t639;
-    let t641: f32 = t68 * t420;
-    let t642: f32 = t180 * t430;
-    let t643: f32 = t193 * t437;
-    let t644: f32 = t642 + t643;
-    let t645: f32 = t641 + t644;
-    let t646: f32 = t640 - t645;
-    let t647: f32 = t637 + t646;
-    let t648: f32 = t630 - t647;
-    let t649: f32 = t301 + t472;
-    let t650: f32 = t649 * 12.01;
-    let t651: f32 = t362 + t474;
-    let t652: f32 = t651 * 2.0;
-    let t653: f32 = t405 + t485;
-    let t654: f32 = t653 * 1.67;
-    let t655: f32 = t410 - t508;
-    let t656: f32 = t655 * 0.835;
-    let t657: f32 = t615 * 5.0;
-    let t658: f32 = t648 * 2.5;
-    let t659: f32 = t403 + t477;
-    let t660: f32 = t654 + t656;
-    let t661: f32 = t657 + t658;
-    let t662: f32 = t659 + t660;
-    let t663: f32 = t661 + 117.8181;
-    let t664: f32 = t662 + t663;
-    let t665: f32 = t650 + t652;
-    let t666: f32 = t664 - t665;
-    let t667: f32 = t472 - t301;
-    let t668: f32 = t667 * 12.01;
-    let t669: f32 = t474 - t362;
-    let t670: f32 = t669 * 2.0;
-    let t671: f32 = t405 - t485;
-    let t672: f32 = t671 * 1.67;
-    let t673: f32 = t410 + t508;
-    let t674: f32 = t673 * 0.835;
-    let t675: f32 = t668 + t670;
-    let t676: f32 = t403 + t672;
-    let t677: f32 = t674 + 117.8181;
-    let t678: f32 = t675 + t676;
-    let t679: f32 = t677 + t678;
-    let t680: f32 = t477 + t657;
-    let t681: f32 = t658 + t680;
-    let t682: f32 = t679 - t681;
-    let t683: f32 = 1.0 - t9;
-    let t684: f32 = -t180;
-    let t685: f32 = -t195;
-    let t686: f32 = -t211;
-    ([t462, t463, t595, t598, t666, t682], [t683, t684, t685, t686])
+    let t437: f32 = t127 * t204;
+    let t438: f32 = t382 - 0.5;
+    let t439: f32 = t399 * t438;
+    let t440: f32 = t403 - t437;
+    let t441: f32 = t440 * 2.0;
+    let t442: f32 = t434 + t439;
+    let t443: f32 = t441 - t442;
+    let t444: f32 = t169 * t307;
+    let t445: f32 = t57 * t87;
+    let t446: f32 = t445 - t161;
+    let t447: f32 = t136 * t363;
+    let t448: f32 = t132 * t390;
+    let t449: f32 = t447 + t448;
+    let t450: f32 = t55 * t399;
+    let t451: f32 = t72 * t182;
+    let t452: f32 = t450 + t451;
+    let t453: f32 = t449 - t452;
+    let t454: f32 = t169 * t334;
+    let t455: f32 = t249 * t255;
+    let t456: f32 = t454 + t455;
+    let t457: f32 = t219 * t276;
+    let t458: f32 = t226 * t290;
+    let t459: f32 = t457 + t458;
+    let t460: f32 = t456 + t459;
+    let t461: f32 = t57 * t305;
+    let t462: f32 = t127 * t345;
+    let t463: f32 = t461 + t462;
+    let t464: f32 = t62 * t359;
+    let t465: f32 = t94 * t425;
+    let t466: f32 = t464 - t465;
+    let t467: f32 = t463 + t466;
+    let t468: f32 = t460 - t467;
+    let t469: f32 = t453 - t468;
+    let t470: f32 = t444 + t446;
+    let t471: f32 = t470 * 2.0;
+    let t472: f32 = t390 * 10.01;
+    let t473: f32 = t167 * 12.01;
+    let t474: f32 = t179 - t397;
+    let t475: f32 = t474 * 0.5;
+    let t476: f32 = t469 * 2.5;
+    let t477: f32 = t471 + t475;
+    let t478: f32 = t477 + 117.8181;
+    let t479: f32 = t472 + t473;
+    let t480: f32 = t476 + t479;
+    let t481: f32 = t478 - t480;
+    let t482: f32 = t169 * t309;
+    let t483: f32 = t446 + t482;
+    let t484: f32 = t483 * 2.0;
+    let t485: f32 = t179 + t397;
+    let t486: f32 = t485 * 0.5;
+    let t487: f32 = t472 + t484;
+    let t488: f32 = t476 + t486;
+    let t489: f32 = t487 + t488;
+    let t490: f32 = t489 + 117.8181;
+    let t491: f32 = t490 - t473;
+    let t492: f32 = 1.0 - t9;
+    let t493: f32 = -t255;
+    let t494: f32 = -t221;
+    let t495: f32 = -t232;
+    ([t375, t380, t436, t443, t481, t491], [t492, t493, t494, t495])
 }
 /// Joint-space inertia `M_q = Jᵀ M_x J` of `Γ = M_q Q̈_a + c_q`: symmetric positive definite.
 ///
@@ -4851,7 +4165,7 @@ pub fn inverse_dynamics_joint(
 /// - `m`: `M_q` (kg), rows and columns in segment order
 /// - `singular`: `[1 + abc, r11, r22, r33]`: the forward singularity term (the actuator positions belong to a pose of the workspace only where it is positive; the other results are meaningless where it is near zero or negative) and the divisors of eq 16
 ///
-/// Operations: 213 mul, 3 div, 243 add, 5 neg, 3 sqrt (chapter convention: 216m + 243a).
+/// Operations: 219 mul, 3 div, 235 add, 4 neg, 3 sqrt (chapter convention: 222m + 235a).
 #[inline]
 pub fn joint_inertia(q: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 4]) {
     let [q1, q2, q3, q4, q5, q6] = *q;
@@ -4878,460 +4192,457 @@ pub fn joint_inertia(q: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 4]) {
     let t20: f32 = sqrt(t19);
     let t21: f32 = t20 * t20;
     let t22: f32 = t11 * t21;
-    let t23: f32 = q5 + q6;
+    let t23: f32 = q1 + q2;
     let t24: f32 = t23 * 0.5;
-    let t25: f32 = t3 * t6;
-    let t26: f32 = t3 * t3;
-    let t27: f32 = t26 + 1.0;
-    let t28: f32 = t1 * t27;
-    let t29: f32 = t25 + t28;
-    let t30: f32 = t29 * t29;
-    let t31: f32 = t15 * t26;
-    let t32: f32 = t15 + t30;
-    let t33: f32 = t31 + t32;
-    let t34: f32 = 1.0 / t33;
-    let t35: f32 = t15 * t24;
-    let t36: f32 = t34 * t35;
-    let t37: f32 = q1 + q2;
-    let t38: f32 = t37 * 0.5;
-    let t39: f32 = t1 * t38;
-    let t40: f32 = t15 * t39;
-    let t41: f32 = t19 * t40;
-    let t42: f32 = q3 + q4;
-    let t43: f32 = t42 * 0.5;
-    let t44: f32 = t6 * t6;
-    let t45: f32 = t44 + 1.0;
-    let t46: f32 = t3 * t45;
-    let t47: f32 = t12 + t46;
-    let t48: f32 = t15 * t44;
-    let t49: f32 = t47 * t47;
-    let t50: f32 = t15 + t48;
-    let t51: f32 = t49 + t50;
-    let t52: f32 = 1.0 / t51;
-    let t53: f32 = t43 * t47;
-    let t54: f32 = t14 * t53;
-    let t55: f32 = t52 * t54;
-    let t56: f32 = t41 + t55;
-    let t57: f32 = t36 - t56;
-    let t58: f32 = sqrt(t52);
-    let t59: f32 = t58 * t58;
-    let t60: f32 = t15 * t59;
-    let t61: f32 = sqrt(t34);
-    let t62: f32 = t61 * t61;
-    let t63: f32 = t31 * t62;
-    let t64: f32 = t60 + t63;
-    let t65: f32 = t15 * t38;
-    let t66: f32 = t19 * t65;
-    let t67: f32 = t6 * t43;
-    let t68: f32 = t15 * t67;
-    let t69: f32 = t52 * t68;
-    let t70: f32 = t66 - t69;
-    let t71: f32 = t24 * t29;
-    let t72: f32 = t14 * t71;
-    let t73: f32 = t34 * t72;
-    let t74: f32 = t70 - t73;
-    let t75: f32 = q1 - t74;
-    let t76: f32 = q1 * t75;
-    let t77: f32 = q2 - t74;
-    let t78: f32 = q2 * t77;
-    let t79: f32 = t76 + t78;
-    let t80: f32 = q5 - t57;
-    let t81: f32 = q5 * 4.175;
-    let t82: f32 = t81 + 0.835;
-    let t83: f32 = t80 * t82;
-    let t84: f32 = q6 - t57;
-    let t85: f32 = q6 * 4.175;
-    let t86: f32 = t85 + 0.835;
-    let t87: f32 = t84 * t86;
-    let t88: f32 = t83 + t87;
-    let t89: f32 = 0.2 - t57;
-    let t90: f32 = t57 * 25.0;
-    let t91: f32 = t23 * 4.175;
-    let t92: f32 = t90 + t91;
-    let t93: f32 = t92 + 12.01;
-    let t94: f32 = t89 * t93;
-    let t95: f32 = t74 * 25.0;
-    let t96: f32 = t37 * 4.175;
-    let t97: f32 = t95 + t96;
-    let t98: f32 = t75 * t97;
-    let t99: f32 = q1 * t97;
-    let t100: f32 = t98 - t99;
-    let t101: f32 = t94 + t100;
-    let t102: f32 = t88 - t101;
-    let t103: f32 = t22 * 2.574625;
-    let t104: f32 = t57 * 11.65;
-    let t105: f32 = t64 * 1.40275;
-    let t106: f32 = t79 * 10.4375;
-    let t107: f32 = t102 * 2.5;
-    let t108: f32 = t103 + t104;
-    let t109: f32 = t91 + t105;
-    let t110: f32 = t106 + t107;
-    let t111: f32 = t108 + t109;
-    let t112: f32 = t110 + 14.68;
-    let t113: f32 = t111 + t112;
-    let t114: f32 = t81 - 0.835;
-    let t115: f32 = t80 * t114;
-    let t116: f32 = t85 - 0.835;
-    let t117: f32 = t84 * t116;
-    let t118: f32 = t115 + t117;
-    let t119: f32 = t92 - 12.01;
-    let t120: f32 = t89 * t119;
-    let t121: f32 = t100 + t120;
-    let t122: f32 = t118 - t121;
-    let t123: f32 = t57 * 38.35;
-    let t124: f32 = t122 * 2.5;
-    let t125: f32 = t103 + t123;
-    let t126: f32 = t106 + t124;
-    let t127: f32 = t109 + t125;
-    let t128: f32 = t126 + t127;
-    let t129: f32 = 9.34 - t128;
-    let t130: f32 = t1 * t10;
-    let t131: f32 = t14 * t130;
-    let t132: f32 = t21 * t131;
-    let t133: f32 = t3 * t24;
-    let t134: f32 = t15 * t133;
-    let t135: f32 = t34 * t134;
-    let t136: f32 = t10 * t38;
-    let t137: f32 = t14 * t136;
-    let t138: f32 = t19 * t137;
-    let t139: f32 = t15 * t43;
-    let t140: f32 = t52 * t139;
-    let t141: f32 = t138 - t140;
-    let t142: f32 = t135 + t141;
-    let t143: f32 = t142 * 25.0;
-    let t144: f32 = t42 * 4.175;
-    let t145: f32 = t144 - t143;
-    let t146: f32 = t89 * t145;
-    let t147: f32 = t14 * t47;
-    let t148: f32 = t59 * t147;
-    let t149: f32 = t3 * t15;
-    let t150: f32 = t62 * t149;
-    let t151: f32 = t148 + t150;
-    let t152: f32 = -t57;
-    let t153: f32 = q3 * t152;
-    let t154: f32 = q4 * t152;
-    let t155: f32 = t153 + t154;
-    let t156: f32 = t132 * 2.574625;
-    let t157: f32 = t146 * 2.5;
-    let t158: f32 = t151 * 1.40275;
-    let t159: f32 = t2 * 2.0875;
-    let t160: f32 = t155 * 10.4375;
-    let t161: f32 = t156 + t157;
-    let t162: f32 = t143 + t161;
-    let t163: f32 = t144 + t158;
-    let t164: f32 = t159 + t160;
-    let t165: f32 = t163 + t164;
-    let t166: f32 = t162 - t165;
-    let t167: f32 = t165 - t162;
-    let t168: f32 = t10 * t14;
-    let t169: f32 = t21 * t168;
-    let t170: f32 = t6 * t15;
-    let t171: f32 = t59 * t170;
-    let t172: f32 = t3 * t29;
-    let t173: f32 = t14 * t172;
-    let t174: f32 = t62 * t173;
-    let t175: f32 = t171 - t174;
-    let t176: f32 = t74 - 0.2;
-    let t177: f32 = q3 * 4.175;
-    let t178: f32 = t177 + 0.835;
-    let t179: f32 = t176 * t178;
-    let t180: f32 = t74 + 0.2;
-    let t181: f32 = q4 * 4.175;
-    let t182: f32 = t181 + 0.835;
-    let t183: f32 = t180 * t182;
-    let t184: f32 = t179 + t183;
-    let t185: f32 = t142 * 25.0;
-    let t186: f32 = t144 + 12.01;
-    let t187: f32 = t186 - t185;
-    let t188: f32 = t75 * t187;
-    let t189: f32 = q1 * t187;
-    let t190: f32 = t188 - t189;
-    let t191: f32 = t184 + t190;
-    let t192: f32 = t169 * 2.574625;
-    let t193: f32 = t74 * 13.35;
-    let t194: f32 = t37 * 2.0875;
-    let t195: f32 = t175 * 1.40275;
-    let t196: f32 = t191 * 2.5;
-    let t197: f32 = t193 + t196;
-    let t198: f32 = t192 + t194;
-    let t199: f32 = t195 + t198;
-    let t200: f32 = t197 - t199;
-    let t201: f32 = t177 - 0.835;
-    let t202: f32 = t176 * t201;
-    let t203: f32 = t181 - 0.835;
-    let t204: f32 = t180 * t203;
-    let t205: f32 = t202 + t204;
-    let t206: f32 = t185 + 12.01;
-    let t207: f32 = t144 - t206;
-    let t208: f32 = t75 * t207;
-    let t209: f32 = q1 * t207;
-    let t210: f32 = t208 - t209;
-    let t211: f32 = t205 + t210;
-    let t212: f32 = t211 * 2.5;
-    let t213: f32 = t192 + t193;
-    let t214: f32 = t195 + t213;
-    let t215: f32 = t194 + t212;
-    let t216: f32 = t214 - t215;
-    let t217: f32 = t57 * 13.35;
-    let t218: f32 = t103 + t105;
-    let t219: f32 = t110 + t218;
-    let t220: f32 = t219 + 2.67;
-    let t221: f32 = t217 - t220;
-    let t222: f32 = t103 + t217;
-    let t223: f32 = t105 + t106;
-    let t224: f32 = t124 + 2.67;
-    let t225: f32 = t222 + t223;
-    let t226: f32 = t224 + t225;
-    let t227: f32 = t158 + t159;
-    let t228: f32 = t160 + t227;
-    let t229: f32 = t228 - t161;
-    let t230: f32 = t161 - t228;
-    let t231: f32 = t199 - t197;
-    let t232: f32 = t215 - t214;
-    let t233: f32 = t93 * t142;
-    let t234: f32 = t142 + 0.2;
-    let t235: f32 = t82 * t234;
-    let t236: f32 = t142 - 0.2;
-    let t237: f32 = t86 * t236;
-    let t238: f32 = t235 + t237;
-    let t239: f32 = t233 - t238;
-    let t240: f32 = t142 * 13.35;
-    let t241: f32 = t42 * 2.0875;
-    let t242: f32 = t239 * 2.5;
-    let t243: f32 = t156 + t242;
-    let t244: f32 = t240 + t241;
-    let t245: f32 = t158 + t244;
-    let t246: f32 = t243 - t245;
-    let t247: f32 = t119 * t142;
-    let t248: f32 = t114 * t234;
-    let t249: f32 = t116 * t236;
-    let t250: f32 = t248 + t249;
-    let t251: f32 = t247 - t250;
-    let t252: f32 = t251 * 2.5;
-    let t253: f32 = t156 + t240;
-    let t254: f32 = t241 + t252;
-    let t255: f32 = t253 + t254;
-    let t256: f32 = t158 - t255;
-    let t257: f32 = t16 * t21;
-    let t258: f32 = q1 * 2.5;
-    let t259: f32 = t258 + 0.5;
-    let t260: f32 = t97 + 12.01;
-    let t261: f32 = t259 * t260;
-    let t262: f32 = t49 * t59;
-    let t263: f32 = t15 * t62;
-    let t264: f32 = t262 + t263;
-    let t265: f32 = q3 + t142;
-    let t266: f32 = q3 * t265;
-    let t267: f32 = q4 + t142;
-    let t268: f32 = q4 * t267;
-    let t269: f32 = t266 + t268;
-    let t270: f32 = q1 * 4.175;
-    let t271: f32 = t270 + 0.835;
-    let t272: f32 = t75 * t271;
-    let t273: f32 = q2 * 4.175;
-    let t274: f32 = t273 + 0.835;
-    let t275: f32 = t77 * t274;
-    let t276: f32 = t272 + t275;
-    let t277: f32 = t142 * t145;
-    let t278: f32 = t75 * t260;
-    let t279: f32 = t277 + t278;
-    let t280: f32 = t276 - t279;
-    let t281: f32 = t257 * 2.574625;
-    let t282: f32 = t264 * 1.40275;
-    let t283: f32 = t269 * 10.4375;
-    let t284: f32 = t280 * 2.5;
-    let t285: f32 = t261 + t281;
-    let t286: f32 = t282 + t283;
-    let t287: f32 = t284 + 2.67;
-    let t288: f32 = t285 + t286;
-    let t289: f32 = t287 + t288;
-    let t290: f32 = t289 - t193;
-    let t291: f32 = t97 - 12.01;
-    let t292: f32 = t259 * t291;
-    let t293: f32 = t270 - 0.835;
-    let t294: f32 = t75 * t293;
-    let t295: f32 = t277 - t294;
-    let t296: f32 = t273 - 0.835;
-    let t297: f32 = t77 * t296;
-    let t298: f32 = t75 * t291;
-    let t299: f32 = t297 - t298;
-    let t300: f32 = t295 - t299;
-    let t301: f32 = t300 * 2.5;
-    let t302: f32 = t281 + t292;
-    let t303: f32 = t193 + t282;
-    let t304: f32 = t283 + 2.67;
-    let t305: f32 = t302 + t303;
-    let t306: f32 = t304 + t305;
-    let t307: f32 = t301 - t306;
-    let t308: f32 = t1 * t15;
-    let t309: f32 = t21 * t308;
-    let t310: f32 = t75 * t92;
-    let t311: f32 = t92 * t259;
-    let t312: f32 = t6 * t47;
-    let t313: f32 = t14 * t312;
-    let t314: f32 = t59 * t313;
-    let t315: f32 = t14 * t29;
-    let t316: f32 = t62 * t315;
-    let t317: f32 = t314 - t316;
-    let t318: f32 = q5 * t74;
-    let t319: f32 = q6 * t74;
-    let t320: f32 = t318 + t319;
-    let t321: f32 = t309 * 2.574625;
-    let t322: f32 = t310 * 2.5;
-    let t323: f32 = t317 * 1.40275;
-    let t324: f32 = t0 * 2.0875;
-    let t325: f32 = t320 * 10.4375;
-    let t326: f32 = t322 + t323;
-    let t327: f32 = t325 + t326;
-    let t328: f32 = t311 + t321;
-    let t329: f32 = t324 + t328;
+    let t25: f32 = t1 * t24;
+    let t26: f32 = t15 * t25;
+    let t27: f32 = t19 * t26;
+    let t28: f32 = q3 + q4;
+    let t29: f32 = t28 * 0.5;
+    let t30: f32 = t6 * t6;
+    let t31: f32 = t30 + 1.0;
+    let t32: f32 = t3 * t31;
+    let t33: f32 = t12 + t32;
+    let t34: f32 = t15 * t30;
+    let t35: f32 = t33 * t33;
+    let t36: f32 = t15 + t34;
+    let t37: f32 = t35 + t36;
+    let t38: f32 = 1.0 / t37;
+    let t39: f32 = t29 * t33;
+    let t40: f32 = t14 * t39;
+    let t41: f32 = t38 * t40;
+    let t42: f32 = t27 + t41;
+    let t43: f32 = q5 + q6;
+    let t44: f32 = t43 * 0.5;
+    let t45: f32 = t3 * t6;
+    let t46: f32 = t3 * t3;
+    let t47: f32 = t46 + 1.0;
+    let t48: f32 = t1 * t47;
+    let t49: f32 = t45 + t48;
+    let t50: f32 = t49 * t49;
+    let t51: f32 = t15 * t46;
+    let t52: f32 = t15 + t50;
+    let t53: f32 = t51 + t52;
+    let t54: f32 = 1.0 / t53;
+    let t55: f32 = t15 * t44;
+    let t56: f32 = t54 * t55;
+    let t57: f32 = t42 - t56;
+    let t58: f32 = t57 * t57;
+    let t59: f32 = t15 * t24;
+    let t60: f32 = t19 * t59;
+    let t61: f32 = t6 * t29;
+    let t62: f32 = t15 * t61;
+    let t63: f32 = t38 * t62;
+    let t64: f32 = t60 - t63;
+    let t65: f32 = t44 * t49;
+    let t66: f32 = t14 * t65;
+    let t67: f32 = t54 * t66;
+    let t68: f32 = t64 - t67;
+    let t69: f32 = t68 * t68;
+    let t70: f32 = t58 + t69;
+    let t71: f32 = sqrt(t38);
+    let t72: f32 = t71 * t71;
+    let t73: f32 = t15 * t72;
+    let t74: f32 = sqrt(t54);
+    let t75: f32 = t74 * t74;
+    let t76: f32 = t51 * t75;
+    let t77: f32 = t73 + t76;
+    let t78: f32 = t57 + 0.2;
+    let t79: f32 = t78 * t78;
+    let t80: f32 = t57 - 0.2;
+    let t81: f32 = t80 * t80;
+    let t82: f32 = t79 + t81;
+    let t83: f32 = q5 + t57;
+    let t84: f32 = t83 * t83;
+    let t85: f32 = q6 + t57;
+    let t86: f32 = t85 * t85;
+    let t87: f32 = t84 + t86;
+    let t88: f32 = t82 + t87;
+    let t89: f32 = q1 - t68;
+    let t90: f32 = t89 * t89;
+    let t91: f32 = q2 - t68;
+    let t92: f32 = t91 * t91;
+    let t93: f32 = t90 + t92;
+    let t94: f32 = t68 - 0.2;
+    let t95: f32 = t94 * t94;
+    let t96: f32 = t68 + 0.2;
+    let t97: f32 = t96 * t96;
+    let t98: f32 = t95 + t97;
+    let t99: f32 = t93 + t98;
+    let t100: f32 = t88 + t99;
+    let t101: f32 = t68 * 25.0;
+    let t102: f32 = t23 * 4.175;
+    let t103: f32 = t101 + t102;
+    let t104: f32 = q1 * t103;
+    let t105: f32 = t68 * 2.5;
+    let t106: f32 = t68 * 10.02;
+    let t107: f32 = t23 * 1.67;
+    let t108: f32 = t107 - t106;
+    let t109: f32 = t105 * t108;
+    let t110: f32 = t89 * t103;
+    let t111: f32 = t109 - t110;
+    let t112: f32 = t104 + t111;
+    let t113: f32 = t57 * 2.5;
+    let t114: f32 = t113 - 0.5;
+    let t115: f32 = t57 * 10.02;
+    let t116: f32 = t43 * 1.67;
+    let t117: f32 = t115 + t116;
+    let t118: f32 = t114 * t117;
+    let t119: f32 = t57 * 25.0;
+    let t120: f32 = t43 * 4.175;
+    let t121: f32 = t120 + 10.01;
+    let t122: f32 = t121 - t119;
+    let t123: f32 = t78 * t122;
+    let t124: f32 = t118 + t123;
+    let t125: f32 = t112 - t124;
+    let t126: f32 = t22 * 2.574625;
+    let t127: f32 = t70 * 20.875;
+    let t128: f32 = t77 * 1.40275;
+    let t129: f32 = t100 * 10.4375;
+    let t130: f32 = t125 * 2.5;
+    let t131: f32 = t120 + t126;
+    let t132: f32 = t127 + t128;
+    let t133: f32 = t129 + t130;
+    let t134: f32 = t131 + t132;
+    let t135: f32 = t133 + 12.01;
+    let t136: f32 = t134 + t135;
+    let t137: f32 = t136 - t119;
+    let t138: f32 = t113 + 0.5;
+    let t139: f32 = t117 * t138;
+    let t140: f32 = t119 + 10.01;
+    let t141: f32 = t120 - t140;
+    let t142: f32 = t78 * t141;
+    let t143: f32 = t139 + t142;
+    let t144: f32 = t112 - t143;
+    let t145: f32 = t144 * 2.5;
+    let t146: f32 = t129 + t145;
+    let t147: f32 = t134 + t146;
+    let t148: f32 = t140 - t147;
+    let t149: f32 = t1 * t10;
+    let t150: f32 = t14 * t149;
+    let t151: f32 = t21 * t150;
+    let t152: f32 = t3 * t44;
+    let t153: f32 = t15 * t152;
+    let t154: f32 = t54 * t153;
+    let t155: f32 = t10 * t24;
+    let t156: f32 = t14 * t155;
+    let t157: f32 = t19 * t156;
+    let t158: f32 = t15 * t29;
+    let t159: f32 = t38 * t158;
+    let t160: f32 = t157 - t159;
+    let t161: f32 = t154 + t160;
+    let t162: f32 = t14 * t33;
+    let t163: f32 = t72 * t162;
+    let t164: f32 = t3 * t15;
+    let t165: f32 = t75 * t164;
+    let t166: f32 = t163 + t165;
+    let t167: f32 = t161 + 0.2;
+    let t168: f32 = t83 * t167;
+    let t169: f32 = t161 - 0.2;
+    let t170: f32 = t85 * t169;
+    let t171: f32 = t168 + t170;
+    let t172: f32 = t78 * t161;
+    let t173: f32 = t80 * t161;
+    let t174: f32 = t172 + t173;
+    let t175: f32 = q3 + t161;
+    let t176: f32 = t57 * t175;
+    let t177: f32 = q4 + t161;
+    let t178: f32 = t57 * t177;
+    let t179: f32 = t176 + t178;
+    let t180: f32 = t174 + t179;
+    let t181: f32 = t171 + t180;
+    let t182: f32 = t161 * 2.5;
+    let t183: f32 = t117 * t182;
+    let t184: f32 = t161 * 25.0;
+    let t185: f32 = t28 * 4.175;
+    let t186: f32 = t185 - t184;
+    let t187: f32 = t78 * t186;
+    let t188: f32 = t183 + t187;
+    let t189: f32 = t151 * 2.574625;
+    let t190: f32 = t166 * 1.40275;
+    let t191: f32 = t181 * 10.4375;
+    let t192: f32 = t188 * 2.5;
+    let t193: f32 = t184 + t189;
+    let t194: f32 = t192 + t193;
+    let t195: f32 = t185 + t190;
+    let t196: f32 = t191 + t195;
+    let t197: f32 = t194 - t196;
+    let t198: f32 = t196 - t194;
+    let t199: f32 = t10 * t14;
+    let t200: f32 = t21 * t199;
+    let t201: f32 = t6 * t15;
+    let t202: f32 = t72 * t201;
+    let t203: f32 = t3 * t49;
+    let t204: f32 = t14 * t203;
+    let t205: f32 = t75 * t204;
+    let t206: f32 = t202 - t205;
+    let t207: f32 = t68 * t167;
+    let t208: f32 = t68 * t169;
+    let t209: f32 = t207 + t208;
+    let t210: f32 = t89 * t161;
+    let t211: f32 = t91 * t161;
+    let t212: f32 = t210 + t211;
+    let t213: f32 = t94 * t175;
+    let t214: f32 = t96 * t177;
+    let t215: f32 = t213 + t214;
+    let t216: f32 = t212 - t215;
+    let t217: f32 = t209 - t216;
+    let t218: f32 = t185 + 10.01;
+    let t219: f32 = t218 - t184;
+    let t220: f32 = q1 * t219;
+    let t221: f32 = t182 - 0.5;
+    let t222: f32 = t108 * t221;
+    let t223: f32 = t89 * t219;
+    let t224: f32 = t222 + t223;
+    let t225: f32 = t220 - t224;
+    let t226: f32 = t200 * 2.574625;
+    let t227: f32 = t206 * 1.40275;
+    let t228: f32 = t217 * 10.4375;
+    let t229: f32 = t225 * 2.5;
+    let t230: f32 = t226 + t227;
+    let t231: f32 = t229 + t230;
+    let t232: f32 = t228 - t231;
+    let t233: f32 = t184 + 10.01;
+    let t234: f32 = t185 - t233;
+    let t235: f32 = q1 * t234;
+    let t236: f32 = t182 + 0.5;
+    let t237: f32 = t108 * t236;
+    let t238: f32 = t89 * t234;
+    let t239: f32 = t237 + t238;
+    let t240: f32 = t235 - t239;
+    let t241: f32 = t240 * 2.5;
+    let t242: f32 = t230 + t241;
+    let t243: f32 = t242 - t228;
+    let t244: f32 = t126 + t127;
+    let t245: f32 = t128 + t129;
+    let t246: f32 = t244 + t245;
+    let t247: f32 = t130 + t246;
+    let t248: f32 = -t247;
+    let t249: f32 = t145 + 2.0;
+    let t250: f32 = t246 + t249;
+    let t251: f32 = t190 + t191;
+    let t252: f32 = t189 + t192;
+    let t253: f32 = t251 - t252;
+    let t254: f32 = t252 - t251;
+    let t255: f32 = t231 - t228;
+    let t256: f32 = t228 - t242;
+    let t257: f32 = t161 * 10.02;
+    let t258: f32 = t28 * 1.67;
+    let t259: f32 = t257 + t258;
+    let t260: f32 = t114 * t259;
+    let t261: f32 = t122 * t161;
+    let t262: f32 = t260 + t261;
+    let t263: f32 = t262 * 2.5;
+    let t264: f32 = t189 + t263;
+    let t265: f32 = t264 - t251;
+    let t266: f32 = t138 * t259;
+    let t267: f32 = t141 * t161;
+    let t268: f32 = t266 + t267;
+    let t269: f32 = t268 * 2.5;
+    let t270: f32 = t189 + t269;
+    let t271: f32 = t251 - t270;
+    let t272: f32 = t16 * t21;
+    let t273: f32 = q1 * 2.5;
+    let t274: f32 = t273 + 0.5;
+    let t275: f32 = t103 + 10.01;
+    let t276: f32 = t274 * t275;
+    let t277: f32 = t161 * t161;
+    let t278: f32 = t69 + t277;
+    let t279: f32 = t35 * t72;
+    let t280: f32 = t15 * t75;
+    let t281: f32 = t279 + t280;
+    let t282: f32 = t175 * t175;
+    let t283: f32 = t177 * t177;
+    let t284: f32 = t282 + t283;
+    let t285: f32 = t167 * t167;
+    let t286: f32 = t169 * t169;
+    let t287: f32 = t285 + t286;
+    let t288: f32 = t284 + t287;
+    let t289: f32 = t99 + t288;
+    let t290: f32 = t182 * t259;
+    let t291: f32 = t161 * t186;
+    let t292: f32 = t290 + t291;
+    let t293: f32 = t105 + 0.5;
+    let t294: f32 = t108 * t293;
+    let t295: f32 = t89 * t275;
+    let t296: f32 = t294 - t295;
+    let t297: f32 = t292 - t296;
+    let t298: f32 = t272 * 2.574625;
+    let t299: f32 = t278 * 20.875;
+    let t300: f32 = t281 * 1.40275;
+    let t301: f32 = t289 * 10.4375;
+    let t302: f32 = t297 * 2.5;
+    let t303: f32 = t276 + t298;
+    let t304: f32 = t299 + t300;
+    let t305: f32 = t301 + 2.0;
+    let t306: f32 = t303 + t304;
+    let t307: f32 = t305 + t306;
+    let t308: f32 = t307 - t302;
+    let t309: f32 = t103 - 10.01;
+    let t310: f32 = t274 * t309;
+    let t311: f32 = t105 - 0.5;
+    let t312: f32 = t108 * t311;
+    let t313: f32 = t89 * t309;
+    let t314: f32 = t312 - t313;
+    let t315: f32 = t292 - t314;
+    let t316: f32 = t315 * 2.5;
+    let t317: f32 = t298 + t310;
+    let t318: f32 = t304 + t317;
+    let t319: f32 = t301 + t318;
+    let t320: f32 = t316 - t319;
+    let t321: f32 = t1 * t15;
+    let t322: f32 = t21 * t321;
+    let t323: f32 = t120 - t119;
+    let t324: f32 = t274 * t323;
+    let t325: f32 = t6 * t33;
+    let t326: f32 = t14 * t325;
+    let t327: f32 = t72 * t326;
+    let t328: f32 = t14 * t49;
+    let t329: f32 = t75 * t328;
     let t330: f32 = t327 - t329;
-    let t331: f32 = t329 - t327;
-    let t332: f32 = t245 - t243;
-    let t333: f32 = t255 - t158;
-    let t334: f32 = t258 - 0.5;
-    let t335: f32 = t260 * t334;
-    let t336: f32 = t281 + t335;
-    let t337: f32 = t286 + t336;
-    let t338: f32 = t287 + t337;
-    let t339: f32 = t193 - t338;
-    let t340: f32 = t291 * t334;
-    let t341: f32 = t281 + t340;
-    let t342: f32 = t303 + t341;
-    let t343: f32 = t304 + t342;
-    let t344: f32 = t343 - t301;
-    let t345: f32 = t92 * t334;
-    let t346: f32 = t321 + t345;
-    let t347: f32 = t324 + t346;
-    let t348: f32 = t347 - t327;
-    let t349: f32 = t327 - t347;
-    let t350: f32 = t97 * t142;
-    let t351: f32 = q1 * t142;
-    let t352: f32 = q2 * t142;
-    let t353: f32 = t351 + t352;
-    let t354: f32 = t5 + t37;
-    let t355: f32 = t350 * 2.5;
-    let t356: f32 = t74 * 12.5;
-    let t357: f32 = t353 * 10.4375;
-    let t358: f32 = t354 * 2.0875;
-    let t359: f32 = t192 + t356;
-    let t360: f32 = t195 + t357;
-    let t361: f32 = t359 + t360;
-    let t362: f32 = t358 + t361;
-    let t363: f32 = t355 - t362;
-    let t364: f32 = t362 - t355;
-    let t365: f32 = t89 * t260;
-    let t366: f32 = t89 * t271;
-    let t367: f32 = t57 + 0.2;
-    let t368: f32 = -t367;
-    let t369: f32 = t274 * t368;
-    let t370: f32 = t366 + t369;
-    let t371: f32 = t365 - t370;
-    let t372: f32 = t23 + t37;
-    let t373: f32 = t371 * 2.5;
-    let t374: f32 = t372 * 2.0875;
-    let t375: f32 = t217 + t323;
-    let t376: f32 = t373 + t375;
-    let t377: f32 = t321 + t356;
-    let t378: f32 = t374 + 6.005;
+    let t331: f32 = t68 * t83;
+    let t332: f32 = t68 * t85;
+    let t333: f32 = t331 + t332;
+    let t334: f32 = t78 * t89;
+    let t335: f32 = t80 * t91;
+    let t336: f32 = t334 + t335;
+    let t337: f32 = t57 * t94;
+    let t338: f32 = t57 * t96;
+    let t339: f32 = t337 + t338;
+    let t340: f32 = t336 - t339;
+    let t341: f32 = t333 - t340;
+    let t342: f32 = t108 * t113;
+    let t343: f32 = t89 * t323;
+    let t344: f32 = t342 + t343;
+    let t345: f32 = t322 * 2.574625;
+    let t346: f32 = t330 * 1.40275;
+    let t347: f32 = t341 * 10.4375;
+    let t348: f32 = t344 * 2.5;
+    let t349: f32 = t346 + t347;
+    let t350: f32 = t348 + t349;
+    let t351: f32 = t324 + t345;
+    let t352: f32 = t350 - t351;
+    let t353: f32 = t351 - t350;
+    let t354: f32 = t251 - t264;
+    let t355: f32 = t270 - t251;
+    let t356: f32 = t273 - 0.5;
+    let t357: f32 = t275 * t356;
+    let t358: f32 = t298 + t357;
+    let t359: f32 = t304 + t358;
+    let t360: f32 = t301 + t359;
+    let t361: f32 = t302 - t360;
+    let t362: f32 = t309 * t356;
+    let t363: f32 = t298 + t362;
+    let t364: f32 = t304 + t363;
+    let t365: f32 = t305 + t364;
+    let t366: f32 = t365 - t316;
+    let t367: f32 = t323 * t356;
+    let t368: f32 = t345 + t367;
+    let t369: f32 = t368 - t350;
+    let t370: f32 = t350 - t368;
+    let t371: f32 = t105 * t259;
+    let t372: f32 = t103 * t161;
+    let t373: f32 = t371 - t372;
+    let t374: f32 = t68 * 12.5;
+    let t375: f32 = t23 * 2.0875;
+    let t376: f32 = t373 * 2.5;
+    let t377: f32 = t226 + t374;
+    let t378: f32 = t227 + t375;
     let t379: f32 = t377 + t378;
-    let t380: f32 = t376 - t379;
-    let t381: f32 = t89 * t291;
-    let t382: f32 = t89 * t293;
-    let t383: f32 = t296 * t368;
-    let t384: f32 = t382 + t383;
-    let t385: f32 = t381 - t384;
-    let t386: f32 = t37 - t23;
-    let t387: f32 = t385 * 2.5;
-    let t388: f32 = t386 * 2.0875;
-    let t389: f32 = t217 + t388;
-    let t390: f32 = t377 + t389;
-    let t391: f32 = t323 + t387;
-    let t392: f32 = t391 + 6.005;
-    let t393: f32 = t390 - t392;
-    let t394: f32 = t15 * t21;
-    let t395: f32 = t48 * t59;
-    let t396: f32 = t30 * t62;
-    let t397: f32 = t395 + t396;
-    let t398: f32 = q5 * t80;
-    let t399: f32 = q6 * t84;
-    let t400: f32 = t398 + t399;
-    let t401: f32 = t23 + t42;
-    let t402: f32 = t178 * t265;
-    let t403: f32 = t182 * t267;
+    let t380: f32 = t376 + t379;
+    let t381: f32 = t228 - t380;
+    let t382: f32 = t380 - t228;
+    let t383: f32 = t117 * t293;
+    let t384: f32 = t78 * t275;
+    let t385: f32 = t383 - t384;
+    let t386: f32 = t385 * 2.5;
+    let t387: f32 = t345 + t374;
+    let t388: f32 = t375 + t386;
+    let t389: f32 = t387 + t388;
+    let t390: f32 = t389 + 5.005;
+    let t391: f32 = t349 - t390;
+    let t392: f32 = t117 * t311;
+    let t393: f32 = t78 * t309;
+    let t394: f32 = t392 - t393;
+    let t395: f32 = t394 * 2.5;
+    let t396: f32 = t375 + t395;
+    let t397: f32 = t387 + t396;
+    let t398: f32 = t349 + 5.005;
+    let t399: f32 = t397 - t398;
+    let t400: f32 = t15 * t21;
+    let t401: f32 = t58 + t277;
+    let t402: f32 = t34 * t72;
+    let t403: f32 = t50 * t75;
     let t404: f32 = t402 + t403;
-    let t405: f32 = t89 * t92;
-    let t406: f32 = t142 * t187;
-    let t407: f32 = t405 + t406;
-    let t408: f32 = t404 - t407;
-    let t409: f32 = t394 * 2.574625;
-    let t410: f32 = t57 * 12.5;
-    let t411: f32 = t142 * 0.85;
-    let t412: f32 = t397 * 1.40275;
-    let t413: f32 = t400 * 10.4375;
-    let t414: f32 = t401 * 2.0875;
-    let t415: f32 = t408 * 2.5;
-    let t416: f32 = t409 + t410;
-    let t417: f32 = t411 + t412;
-    let t418: f32 = t413 + t414;
-    let t419: f32 = t415 + 8.675;
-    let t420: f32 = t416 + t417;
-    let t421: f32 = t418 + t419;
-    let t422: f32 = t420 + t421;
-    let t423: f32 = t201 * t265;
-    let t424: f32 = t405 - t423;
-    let t425: f32 = t203 * t267;
-    let t426: f32 = t142 * t207;
-    let t427: f32 = t425 - t426;
-    let t428: f32 = t424 - t427;
-    let t429: f32 = t142 * 25.85;
-    let t430: f32 = t428 * 2.5;
+    let t405: f32 = t88 + t288;
+    let t406: f32 = t57 + t161;
+    let t407: f32 = t28 + t43;
+    let t408: f32 = t113 * t117;
+    let t409: f32 = t78 * t323;
+    let t410: f32 = t408 + t409;
+    let t411: f32 = t221 * t259;
+    let t412: f32 = t161 * t219;
+    let t413: f32 = t411 + t412;
+    let t414: f32 = t410 + t413;
+    let t415: f32 = t400 * 2.574625;
+    let t416: f32 = t401 * 20.875;
+    let t417: f32 = t404 * 1.40275;
+    let t418: f32 = t405 * 10.4375;
+    let t419: f32 = t406 * 12.5;
+    let t420: f32 = t407 * 2.0875;
+    let t421: f32 = t414 * 2.5;
+    let t422: f32 = t415 + t416;
+    let t423: f32 = t417 + t418;
+    let t424: f32 = t420 + 7.005;
+    let t425: f32 = t422 + t423;
+    let t426: f32 = t424 + t425;
+    let t427: f32 = t419 + t421;
+    let t428: f32 = t426 - t427;
+    let t429: f32 = t236 * t259;
+    let t430: f32 = t161 * t234;
     let t431: f32 = t429 + t430;
-    let t432: f32 = t431 + 3.335;
-    let t433: f32 = t412 + t413;
-    let t434: f32 = t416 + t433;
-    let t435: f32 = t414 + t434;
-    let t436: f32 = t432 - t435;
-    let t437: f32 = t37 - t5;
-    let t438: f32 = t437 * 2.0875;
-    let t439: f32 = t192 + t195;
-    let t440: f32 = t357 + t439;
-    let t441: f32 = t355 + t356;
-    let t442: f32 = t438 + t441;
-    let t443: f32 = t440 - t442;
-    let t444: f32 = t442 - t440;
-    let t445: f32 = t379 - t376;
-    let t446: f32 = t392 - t390;
-    let t447: f32 = t42 - t23;
-    let t448: f32 = t142 * 25.85;
-    let t449: f32 = t447 * 2.0875;
-    let t450: f32 = t449 + 3.335;
-    let t451: f32 = t412 + t448;
-    let t452: f32 = t413 + t415;
-    let t453: f32 = t416 + t451;
-    let t454: f32 = t452 + t453;
-    let t455: f32 = t450 - t454;
-    let t456: f32 = t434 + 8.675;
-    let t457: f32 = t411 + t449;
-    let t458: f32 = t430 + t457;
-    let t459: f32 = t456 - t458;
-    let t460: f32 = 1.0 - t13;
-    let t461: f32 = t14 * t20;
-    let t462: f32 = -t461;
-    let t463: f32 = t14 * t58;
-    let t464: f32 = -t463;
-    let t465: f32 = t14 * t61;
-    let t466: f32 = -t465;
+    let t432: f32 = t410 + t431;
+    let t433: f32 = t432 * 2.5;
+    let t434: f32 = t419 + t433;
+    let t435: f32 = t434 + 5.005;
+    let t436: f32 = t420 + t425;
+    let t437: f32 = t435 - t436;
+    let t438: f32 = t230 + t376;
+    let t439: f32 = t374 + t375;
+    let t440: f32 = t228 + t439;
+    let t441: f32 = t438 - t440;
+    let t442: f32 = t440 - t438;
+    let t443: f32 = t390 - t349;
+    let t444: f32 = t398 - t397;
+    let t445: f32 = t161 - t57;
+    let t446: f32 = t28 - t43;
+    let t447: f32 = t445 * 12.5;
+    let t448: f32 = t446 * 2.0875;
+    let t449: f32 = t421 + t448;
+    let t450: f32 = t449 + 5.005;
+    let t451: f32 = t425 + t447;
+    let t452: f32 = t450 - t451;
+    let t453: f32 = t447 + 7.005;
+    let t454: f32 = t425 + t453;
+    let t455: f32 = t433 + t448;
+    let t456: f32 = t454 - t455;
+    let t457: f32 = 1.0 - t13;
+    let t458: f32 = t14 * t20;
+    let t459: f32 = -t458;
+    let t460: f32 = t14 * t71;
+    let t461: f32 = -t460;
+    let t462: f32 = t14 * t74;
+    let t463: f32 = -t462;
     (
         [
-            [t113, t129, t166, t167, t200, t216],
-            [t221, t226, t229, t230, t231, t232],
-            [t246, t256, t290, t307, t330, t331],
-            [t332, t333, t339, t344, t348, t349],
-            [t363, t364, t380, t393, t422, t436],
-            [t443, t444, t445, t446, t455, t459],
+            [t137, t148, t197, t198, t232, t243],
+            [t248, t250, t253, t254, t255, t256],
+            [t265, t271, t308, t320, t352, t353],
+            [t354, t355, t361, t366, t369, t370],
+            [t381, t382, t391, t399, t428, t437],
+            [t441, t442, t443, t444, t452, t456],
         ],
-        [t460, t462, t464, t466],
+        [t457, t459, t461, t463],
     )
 }
 /// Joint-space bias `c_q` of `Γ = M_q Q̈_a + c_q`: Coriolis, centrifugal, gravity.
@@ -5354,7 +4665,7 @@ pub fn joint_inertia(q: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 4]) {
 /// - `c`: `c_q` (N), segment order
 /// - `singular`: `[1 + abc, r11, r22, r33]`: the forward singularity term (the actuator positions belong to a pose of the workspace only where it is positive; the other results are meaningless where it is near zero or negative) and the divisors of eq 16
 ///
-/// Operations: 313 mul, 3 div, 273 add, 4 neg, 3 sqrt (chapter convention: 316m + 273a).
+/// Operations: 216 mul, 3 div, 167 add, 3 neg, 3 sqrt (chapter convention: 219m + 167a).
 #[inline]
 pub fn joint_bias(q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
     let [q1, q2, q3, q4, q5, q6] = *q;
@@ -5464,498 +4775,294 @@ pub fn joint_bias(q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
     let t102: f32 = t55 + 0.5;
     let t103: f32 = t100 * t102;
     let t104: f32 = t101 - t103;
-    let t105: f32 = t90 * t90;
-    let t106: f32 = t58 * t58;
-    let t107: f32 = t105 + t106;
-    let t108: f32 = t83 * t107;
-    let t109: f32 = t95 * 2.5;
-    let t110: f32 = t68 * t109;
-    let t111: f32 = t58 * t110;
-    let t112: f32 = t90 * t109;
-    let t113: f32 = t54 * t112;
-    let t114: f32 = t111 + t113;
-    let t115: f32 = t108 + t114;
-    let t116: f32 = t68 + 0.2;
-    let t117: f32 = t58 * t109;
-    let t118: f32 = t116 * t117;
-    let t119: f32 = q5 + t54;
-    let t120: f32 = t112 * t119;
-    let t121: f32 = t118 + t120;
-    let t122: f32 = t68 - 0.2;
-    let t123: f32 = t117 * t122;
-    let t124: f32 = q6 + t54;
-    let t125: f32 = t112 * t124;
-    let t126: f32 = t123 + t125;
-    let t127: f32 = t121 + t126;
-    let t128: f32 = t54 + 0.2;
-    let t129: f32 = t109 * t128;
-    let t130: f32 = t90 * t129;
-    let t131: f32 = q1 - t83;
-    let t132: f32 = t107 * t131;
-    let t133: f32 = t130 - t132;
-    let t134: f32 = t54 - 0.2;
-    let t135: f32 = t112 * t134;
-    let t136: f32 = q2 - t83;
-    let t137: f32 = t107 * t136;
-    let t138: f32 = t135 - t137;
-    let t139: f32 = t133 + t138;
-    let t140: f32 = t83 - 0.2;
-    let t141: f32 = t107 * t140;
-    let t142: f32 = q3 + t68;
-    let t143: f32 = t117 * t142;
-    let t144: f32 = t141 + t143;
-    let t145: f32 = t83 + 0.2;
-    let t146: f32 = t107 * t145;
-    let t147: f32 = q4 + t68;
-    let t148: f32 = t117 * t147;
-    let t149: f32 = t146 + t148;
-    let t150: f32 = t144 + t149;
-    let t151: f32 = t139 + t150;
-    let t152: f32 = t127 + t151;
-    let t153: f32 = sqrt(t51);
-    let t154: f32 = sqrt(t21);
-    let t155: f32 = t10 * t154;
-    let t156: f32 = t109 * t155;
-    let t157: f32 = t16 * t154;
-    let t158: f32 = t58 * t157;
-    let t159: f32 = t156 - t158;
-    let t160: f32 = t3 * t10;
-    let t161: f32 = t154 * t160;
-    let t162: f32 = t90 * t161;
-    let t163: f32 = t159 - t162;
-    let t164: f32 = sqrt(t35);
-    let t165: f32 = t30 * t164;
-    let t166: f32 = t90 * t165;
-    let t167: f32 = t5 * t10;
-    let t168: f32 = t164 * t167;
-    let t169: f32 = t109 * t168;
-    let t170: f32 = t10 * t164;
-    let t171: f32 = t58 * t170;
-    let t172: f32 = t169 - t171;
-    let t173: f32 = t166 + t172;
-    let t174: f32 = t173 * 0.0084;
-    let t175: f32 = t163 * t174;
-    let t176: f32 = t163 * 0.00167;
-    let t177: f32 = t173 * t176;
-    let t178: f32 = t175 - t177;
-    let t179: f32 = t7 * t10;
-    let t180: f32 = t153 * t179;
-    let t181: f32 = t178 * t180;
-    let t182: f32 = t46 * t153;
-    let t183: f32 = t109 * t182;
-    let t184: f32 = t58 * t180;
+    let t105: f32 = t95 * 2.5;
+    let t106: f32 = t68 * 10.02;
+    let t107: f32 = t25 * 1.67;
+    let t108: f32 = t106 + t107;
+    let t109: f32 = t105 * t108;
+    let t110: f32 = t83 * 10.02;
+    let t111: f32 = t0 * 1.67;
+    let t112: f32 = t111 - t110;
+    let t113: f32 = t58 * t112;
+    let t114: f32 = t109 - t113;
+    let t115: f32 = t58 * t114;
+    let t116: f32 = t90 * t112;
+    let t117: f32 = t54 * 10.02;
+    let t118: f32 = t40 * 1.67;
+    let t119: f32 = t117 + t118;
+    let t120: f32 = t105 * t119;
+    let t121: f32 = t116 - t120;
+    let t122: f32 = t90 * t121;
+    let t123: f32 = t115 - t122;
+    let t124: f32 = t68 * t68;
+    let t125: f32 = t83 * t83;
+    let t126: f32 = q1 - t83;
+    let t127: f32 = t126 * t126;
+    let t128: f32 = q2 - t83;
+    let t129: f32 = t128 * t128;
+    let t130: f32 = t127 + t129;
+    let t131: f32 = t83 - 0.2;
+    let t132: f32 = t131 * t131;
+    let t133: f32 = t83 + 0.2;
+    let t134: f32 = t133 * t133;
+    let t135: f32 = t132 + t134;
+    let t136: f32 = t130 + t135;
+    let t137: f32 = q3 + t68;
+    let t138: f32 = t137 * t137;
+    let t139: f32 = q4 + t68;
+    let t140: f32 = t139 * t139;
+    let t141: f32 = t138 + t140;
+    let t142: f32 = t68 + 0.2;
+    let t143: f32 = t142 * t142;
+    let t144: f32 = t68 - 0.2;
+    let t145: f32 = t144 * t144;
+    let t146: f32 = t143 + t145;
+    let t147: f32 = t141 + t146;
+    let t148: f32 = t124 + t125;
+    let t149: f32 = t148 * 3.34;
+    let t150: f32 = t136 + t147;
+    let t151: f32 = t150 * 1.67;
+    let t152: f32 = t149 + t151;
+    let t153: f32 = t90 * t152;
+    let t154: f32 = t54 + 0.2;
+    let t155: f32 = t126 * t154;
+    let t156: f32 = t54 - 0.2;
+    let t157: f32 = t128 * t156;
+    let t158: f32 = t54 * 3.34;
+    let t159: f32 = t118 + t158;
+    let t160: f32 = t83 * t159;
+    let t161: f32 = t83 * 3.34;
+    let t162: f32 = t54 * t161;
+    let t163: f32 = t155 + t157;
+    let t164: f32 = t163 * 1.67;
+    let t165: f32 = t160 + t162;
+    let t166: f32 = t164 - t165;
+    let t167: f32 = t105 * t166;
+    let t168: f32 = q5 + t54;
+    let t169: f32 = t142 * t168;
+    let t170: f32 = q6 + t54;
+    let t171: f32 = t144 * t170;
+    let t172: f32 = t68 * t158;
+    let t173: f32 = t68 * 3.34;
+    let t174: f32 = t107 + t173;
+    let t175: f32 = t54 * t174;
+    let t176: f32 = t169 + t171;
+    let t177: f32 = t176 * 1.67;
+    let t178: f32 = t172 + t177;
+    let t179: f32 = t175 + t178;
+    let t180: f32 = t58 * t179;
+    let t181: f32 = t167 + t180;
+    let t182: f32 = t181 - t153;
+    let t183: f32 = t105 * t182;
+    let t184: f32 = t104 * t119;
     let t185: f32 = t183 + t184;
-    let t186: f32 = t10 * t153;
-    let t187: f32 = t90 * t186;
-    let t188: f32 = t185 - t187;
-    let t189: f32 = t188 * 0.0084;
-    let t190: f32 = t173 * t189;
-    let t191: f32 = t173 * 0.00167;
-    let t192: f32 = t188 * t191;
-    let t193: f32 = t190 - t192;
-    let t194: f32 = t157 * t193;
-    let t195: f32 = t181 - t194;
-    let t196: f32 = t163 * t189;
-    let t197: f32 = t163 * 0.0084;
-    let t198: f32 = t188 * t197;
-    let t199: f32 = t196 - t198;
-    let t200: f32 = t170 * t199;
-    let t201: f32 = t163 * t191;
-    let t202: f32 = t173 * t197;
-    let t203: f32 = t201 - t202;
-    let t204: f32 = t180 * t203;
-    let t205: f32 = t200 + t204;
-    let t206: f32 = t195 + t205;
-    let t207: f32 = t174 * t188;
-    let t208: f32 = t188 * 0.00167;
-    let t209: f32 = t173 * t208;
-    let t210: f32 = t207 - t209;
-    let t211: f32 = t157 * t210;
-    let t212: f32 = t163 * t208;
-    let t213: f32 = t198 - t212;
-    let t214: f32 = t170 * t213;
-    let t215: f32 = t211 - t214;
-    let t216: f32 = t175 - t202;
-    let t217: f32 = t180 * t216;
-    let t218: f32 = t190 - t207;
-    let t219: f32 = t157 * t218;
-    let t220: f32 = t176 * t188;
-    let t221: f32 = t220 - t196;
-    let t222: f32 = t170 * t221;
-    let t223: f32 = t219 + t222;
-    let t224: f32 = t217 - t223;
-    let t225: f32 = t215 + t224;
-    let t226: f32 = t206 + t225;
-    let t227: f32 = t109 * t131;
-    let t228: f32 = t90 * t227;
-    let t229: f32 = t109 * t109;
-    let t230: f32 = t106 + t229;
-    let t231: f32 = t128 * t230;
-    let t232: f32 = t228 - t231;
-    let t233: f32 = t98 * t109;
-    let t234: f32 = qd1 * t56;
-    let t235: f32 = qd2 * t102;
-    let t236: f32 = t69 * t89;
-    let t237: f32 = t235 + t236;
-    let t238: f32 = t234 - t237;
-    let t239: f32 = t58 * t238;
-    let t240: f32 = t233 + t239;
-    let t241: f32 = t70 * t240;
-    let t242: f32 = t72 * t240;
-    let t243: f32 = t241 - t242;
-    let t244: f32 = t58 * t68;
-    let t245: f32 = t90 * t244;
-    let t246: f32 = t243 - t245;
-    let t247: f32 = t246 - t232;
-    let t248: f32 = t247 * 1.67;
-    let t249: f32 = t248 - 16.3827;
-    let t250: f32 = t131 * t249;
-    let t251: f32 = t111 + t138;
-    let t252: f32 = t251 * 1.67;
-    let t253: f32 = t104 * 3.67;
-    let t254: f32 = t100 * 2.0;
-    let t255: f32 = t252 + t253;
-    let t256: f32 = t254 + t255;
-    let t257: f32 = t134 * t256;
-    let t258: f32 = t250 + t257;
-    let t259: f32 = t112 * t136;
-    let t260: f32 = t134 * t230;
-    let t261: f32 = t259 - t260;
-    let t262: f32 = t246 - t261;
-    let t263: f32 = t262 * 1.67;
-    let t264: f32 = t263 - 16.3827;
-    let t265: f32 = t136 * t264;
-    let t266: f32 = t104 + t113;
-    let t267: f32 = t144 + t266;
-    let t268: f32 = t267 * 1.67;
-    let t269: f32 = t54 * t268;
-    let t270: f32 = t265 + t269;
-    let t271: f32 = t258 + t270;
-    let t272: f32 = t109 * t140;
-    let t273: f32 = t90 * t272;
-    let t274: f32 = t58 * t90;
-    let t275: f32 = t142 * t274;
-    let t276: f32 = t273 - t275;
-    let t277: f32 = t54 * t230;
-    let t278: f32 = t243 + t277;
-    let t279: f32 = t276 + t278;
-    let t280: f32 = t279 * 1.67;
-    let t281: f32 = t280 - 16.3827;
-    let t282: f32 = t140 * t281;
-    let t283: f32 = t149 + t266;
-    let t284: f32 = t283 * 1.67;
-    let t285: f32 = t54 * t284;
-    let t286: f32 = t282 - t285;
-    let t287: f32 = t109 * t145;
-    let t288: f32 = t90 * t287;
-    let t289: f32 = t147 * t274;
-    let t290: f32 = t288 - t289;
-    let t291: f32 = t278 + t290;
-    let t292: f32 = t291 * 1.67;
-    let t293: f32 = t292 - 16.3827;
-    let t294: f32 = t145 * t293;
-    let t295: f32 = t104 + t108;
-    let t296: f32 = t121 + t295;
-    let t297: f32 = t296 * 1.67;
-    let t298: f32 = t119 * t297;
-    let t299: f32 = t294 - t298;
-    let t300: f32 = t286 + t299;
-    let t301: f32 = t271 - t300;
-    let t302: f32 = t83 * t109;
-    let t303: f32 = t90 * t302;
-    let t304: f32 = t116 * t274;
-    let t305: f32 = t119 * t230;
-    let t306: f32 = t304 - t305;
-    let t307: f32 = t303 - t306;
-    let t308: f32 = t307 * 1.67;
-    let t309: f32 = t243 * 3.67;
-    let t310: f32 = t240 * 2.0;
-    let t311: f32 = t308 + t309;
-    let t312: f32 = t310 + t311;
-    let t313: f32 = t312 - 36.0027;
-    let t314: f32 = t83 * t313;
-    let t315: f32 = t126 + t295;
-    let t316: f32 = t315 * 1.67;
-    let t317: f32 = t124 * t316;
-    let t318: f32 = t314 - t317;
-    let t319: f32 = t122 * t274;
-    let t320: f32 = t124 * t230;
-    let t321: f32 = t319 - t320;
-    let t322: f32 = t303 - t321;
-    let t323: f32 = t322 * 1.67;
-    let t324: f32 = t309 + t323;
-    let t325: f32 = t310 + t324;
-    let t326: f32 = t325 - 36.0027;
-    let t327: f32 = t83 * t326;
-    let t328: f32 = t104 * 24.02;
-    let t329: f32 = t100 * 4.0;
-    let t330: f32 = t115 * 3.34;
-    let t331: f32 = t152 * 1.67;
-    let t332: f32 = t328 + t329;
-    let t333: f32 = t330 + t331;
-    let t334: f32 = t332 + t333;
-    let t335: f32 = t128 * t334;
-    let t336: f32 = t327 + t335;
-    let t337: f32 = t318 + t336;
-    let t338: f32 = t245 - t277;
-    let t339: f32 = t338 - t303;
-    let t340: f32 = t306 + t321;
-    let t341: f32 = t232 + t261;
-    let t342: f32 = t276 + t290;
-    let t343: f32 = t341 - t342;
-    let t344: f32 = t340 + t343;
-    let t345: f32 = t243 * 24.02;
-    let t346: f32 = t240 * 4.0;
-    let t347: f32 = t339 * 3.34;
-    let t348: f32 = t344 * 1.67;
-    let t349: f32 = t345 + t346;
-    let t350: f32 = t347 + t348;
-    let t351: f32 = t350 + 235.6362;
-    let t352: f32 = t349 - t351;
-    let t353: f32 = t131 * t352;
-    let t354: f32 = q1 * t352;
-    let t355: f32 = t353 - t354;
-    let t356: f32 = t188 * 0.1875;
-    let t357: f32 = t173 * t356;
-    let t358: f32 = t173 * 0.1875;
-    let t359: f32 = t188 * t358;
-    let t360: f32 = t357 - t359;
-    let t361: f32 = t157 * t360;
-    let t362: f32 = t163 * 0.375;
-    let t363: f32 = t188 * t362;
-    let t364: f32 = t163 * t356;
-    let t365: f32 = t363 - t364;
-    let t366: f32 = t170 * t365;
-    let t367: f32 = t361 + t366;
-    let t368: f32 = t163 * t358;
-    let t369: f32 = t173 * t362;
-    let t370: f32 = t368 - t369;
-    let t371: f32 = t180 * t370;
-    let t372: f32 = t111 + t133;
-    let t373: f32 = t372 * 1.67;
-    let t374: f32 = t253 + t373;
-    let t375: f32 = t254 + t374;
-    let t376: f32 = t128 * t375;
-    let t377: f32 = t371 - t376;
-    let t378: f32 = t367 - t377;
-    let t379: f32 = t355 - t378;
-    let t380: f32 = t337 + t379;
-    let t381: f32 = t301 - t380;
-    let t382: f32 = t226 * 5.0;
-    let t383: f32 = t381 * 2.5;
-    let t384: f32 = t334 + t383;
-    let t385: f32 = t384 - t382;
-    let t386: f32 = t382 - t383;
-    let t387: f32 = q1 * 2.5;
-    let t388: f32 = t387 + 0.5;
-    let t389: f32 = t90 * t238;
-    let t390: f32 = t87 * t109;
-    let t391: f32 = t389 - t390;
-    let t392: f32 = t91 * t391;
-    let t393: f32 = t93 * t391;
-    let t394: f32 = t392 - t393;
-    let t395: f32 = t54 * t274;
-    let t396: f32 = t105 + t229;
-    let t397: f32 = t68 * t396;
-    let t398: f32 = t395 - t397;
-    let t399: f32 = t58 * t302;
-    let t400: f32 = t398 - t399;
-    let t401: f32 = t58 * t227;
-    let t402: f32 = t58 * t128;
-    let t403: f32 = t90 * t402;
-    let t404: f32 = t401 + t403;
-    let t405: f32 = t117 * t136;
-    let t406: f32 = t134 * t274;
-    let t407: f32 = t405 + t406;
-    let t408: f32 = t404 + t407;
-    let t409: f32 = t58 * t272;
-    let t410: f32 = t142 * t396;
-    let t411: f32 = t409 + t410;
-    let t412: f32 = t58 * t287;
-    let t413: f32 = t147 * t396;
-    let t414: f32 = t412 + t413;
-    let t415: f32 = t411 + t414;
-    let t416: f32 = t408 - t415;
-    let t417: f32 = t116 * t396;
-    let t418: f32 = t119 * t274;
-    let t419: f32 = t417 - t418;
-    let t420: f32 = t122 * t396;
-    let t421: f32 = t124 * t274;
-    let t422: f32 = t420 - t421;
-    let t423: f32 = t419 + t422;
-    let t424: f32 = t416 - t423;
-    let t425: f32 = t394 * 24.02;
-    let t426: f32 = t391 * 4.0;
-    let t427: f32 = t400 * 3.34;
-    let t428: f32 = t424 * 1.67;
-    let t429: f32 = t426 + t427;
-    let t430: f32 = t428 + t429;
-    let t431: f32 = t430 - t425;
-    let t432: f32 = t388 * t431;
-    let t433: f32 = t178 * t186;
-    let t434: f32 = t161 * t193;
-    let t435: f32 = t433 + t434;
-    let t436: f32 = t165 * t199;
-    let t437: f32 = t186 * t203;
-    let t438: f32 = t436 + t437;
-    let t439: f32 = t435 + t438;
-    let t440: f32 = t161 * t210;
-    let t441: f32 = t165 * t213;
-    let t442: f32 = t440 + t441;
-    let t443: f32 = t186 * t216;
-    let t444: f32 = t161 * t218;
-    let t445: f32 = t165 * t221;
-    let t446: f32 = t444 - t445;
-    let t447: f32 = t443 + t446;
-    let t448: f32 = t442 - t447;
-    let t449: f32 = t439 - t448;
-    let t450: f32 = t186 * t370;
-    let t451: f32 = t68 * t375;
-    let t452: f32 = t450 - t451;
-    let t453: f32 = t394 + t397;
-    let t454: f32 = t453 - t404;
-    let t455: f32 = t454 * 1.67;
-    let t456: f32 = t131 * t455;
-    let t457: f32 = t68 * t256;
-    let t458: f32 = t456 + t457;
-    let t459: f32 = t452 - t458;
-    let t460: f32 = t453 - t407;
-    let t461: f32 = t460 * 1.67;
-    let t462: f32 = t136 * t461;
-    let t463: f32 = t142 * t268;
-    let t464: f32 = t462 + t463;
-    let t465: f32 = t395 - t411;
-    let t466: f32 = t465 * 1.67;
-    let t467: f32 = t394 * 3.67;
-    let t468: f32 = t391 * 2.0;
-    let t469: f32 = t466 + t468;
-    let t470: f32 = t469 - t467;
-    let t471: f32 = t140 * t470;
-    let t472: f32 = t147 * t284;
-    let t473: f32 = t471 + t472;
-    let t474: f32 = t464 + t473;
-    let t475: f32 = t459 - t474;
-    let t476: f32 = t395 - t414;
-    let t477: f32 = t476 * 1.67;
-    let t478: f32 = t468 + t477;
-    let t479: f32 = t478 - t467;
-    let t480: f32 = t145 * t479;
-    let t481: f32 = t116 * t297;
-    let t482: f32 = t480 + t481;
-    let t483: f32 = t394 + t399;
-    let t484: f32 = t419 + t483;
-    let t485: f32 = t484 * 1.67;
-    let t486: f32 = t83 * t485;
-    let t487: f32 = t122 * t316;
-    let t488: f32 = t486 - t487;
-    let t489: f32 = t482 - t488;
-    let t490: f32 = t422 + t483;
-    let t491: f32 = t490 * 1.67;
-    let t492: f32 = t83 * t491;
-    let t493: f32 = t68 * t334;
-    let t494: f32 = t492 + t493;
-    let t495: f32 = t131 * t431;
-    let t496: f32 = t161 * t360;
-    let t497: f32 = t165 * t365;
-    let t498: f32 = t496 - t497;
-    let t499: f32 = t495 - t498;
-    let t500: f32 = t494 - t499;
-    let t501: f32 = t489 - t500;
-    let t502: f32 = t475 - t501;
-    let t503: f32 = t449 * 5.0;
-    let t504: f32 = t502 * 2.5;
-    let t505: f32 = t432 + t503;
-    let t506: f32 = t504 + t505;
-    let t507: f32 = t387 - 0.5;
-    let t508: f32 = t431 * t507;
-    let t509: f32 = t503 + t508;
-    let t510: f32 = t504 + t509;
-    let t511: f32 = -t510;
-    let t512: f32 = t178 * t182;
-    let t513: f32 = t155 * t193;
-    let t514: f32 = t512 + t513;
-    let t515: f32 = t168 * t199;
-    let t516: f32 = t182 * t203;
-    let t517: f32 = t515 - t516;
-    let t518: f32 = t514 - t517;
-    let t519: f32 = t155 * t210;
-    let t520: f32 = t168 * t213;
-    let t521: f32 = t519 - t520;
-    let t522: f32 = t182 * t216;
-    let t523: f32 = t155 * t218;
-    let t524: f32 = t168 * t221;
-    let t525: f32 = t523 + t524;
-    let t526: f32 = t522 + t525;
-    let t527: f32 = t521 - t526;
-    let t528: f32 = t518 - t527;
-    let t529: f32 = t182 * t370;
-    let t530: f32 = t128 * t455;
-    let t531: f32 = t529 - t530;
-    let t532: f32 = t68 * t249;
-    let t533: f32 = t134 * t461;
-    let t534: f32 = t532 - t533;
-    let t535: f32 = t531 + t534;
-    let t536: f32 = t68 * t264;
-    let t537: f32 = t54 * t470;
-    let t538: f32 = t536 + t537;
-    let t539: f32 = t142 * t281;
-    let t540: f32 = t54 * t479;
-    let t541: f32 = t539 + t540;
-    let t542: f32 = t538 + t541;
-    let t543: f32 = t535 + t542;
-    let t544: f32 = t147 * t293;
-    let t545: f32 = t119 * t485;
-    let t546: f32 = t544 - t545;
-    let t547: f32 = t116 * t313;
-    let t548: f32 = t124 * t491;
-    let t549: f32 = t547 - t548;
-    let t550: f32 = t546 + t549;
-    let t551: f32 = t122 * t326;
-    let t552: f32 = t128 * t431;
-    let t553: f32 = t551 - t552;
-    let t554: f32 = t68 * t352;
-    let t555: f32 = t155 * t360;
-    let t556: f32 = t168 * t365;
-    let t557: f32 = t555 + t556;
-    let t558: f32 = t554 - t557;
-    let t559: f32 = t553 - t558;
-    let t560: f32 = t550 + t559;
-    let t561: f32 = t543 + t560;
-    let t562: f32 = t394 - t243;
-    let t563: f32 = t562 * 12.01;
-    let t564: f32 = t240 + t391;
-    let t565: f32 = t564 * 2.0;
-    let t566: f32 = t339 - t400;
-    let t567: f32 = t566 * 1.67;
-    let t568: f32 = t344 - t424;
-    let t569: f32 = t568 * 0.835;
-    let t570: f32 = t528 * 5.0;
-    let t571: f32 = t561 * 2.5;
-    let t572: f32 = t563 + t567;
-    let t573: f32 = t569 + 117.8181;
-    let t574: f32 = t572 + t573;
-    let t575: f32 = t565 + t570;
-    let t576: f32 = t571 + t575;
-    let t577: f32 = t574 - t576;
-    let t578: f32 = t243 + t394;
-    let t579: f32 = t578 * 12.01;
-    let t580: f32 = t391 - t240;
-    let t581: f32 = t580 * 2.0;
-    let t582: f32 = t339 + t400;
-    let t583: f32 = t582 * 1.67;
-    let t584: f32 = t344 + t424;
-    let t585: f32 = t584 * 0.835;
-    let t586: f32 = t581 + t583;
-    let t587: f32 = t570 + t585;
-    let t588: f32 = t571 + 117.8181;
-    let t589: f32 = t586 + t587;
-    let t590: f32 = t588 + t589;
-    let t591: f32 = t590 - t579;
-    let t592: f32 = 1.0 - t9;
-    let t593: f32 = -t155;
-    let t594: f32 = -t170;
-    let t595: f32 = -t186;
-    ([t385, t386, t506, t511, t577, t591], [t592, t593, t594, t595])
+    let t186: f32 = t98 * t105;
+    let t187: f32 = qd1 * t56;
+    let t188: f32 = qd2 * t102;
+    let t189: f32 = t69 * t89;
+    let t190: f32 = t188 + t189;
+    let t191: f32 = t187 - t190;
+    let t192: f32 = t58 * t191;
+    let t193: f32 = t186 + t192;
+    let t194: f32 = t70 * t193;
+    let t195: f32 = t72 * t193;
+    let t196: f32 = t194 - t195;
+    let t197: f32 = t196 - 9.81;
+    let t198: f32 = t112 * t197;
+    let t199: f32 = t104 * 20.02;
+    let t200: f32 = t123 + t199;
+    let t201: f32 = t154 * t200;
+    let t202: f32 = t198 - t201;
+    let t203: f32 = t185 + t202;
+    let t204: f32 = t105 * t121;
+    let t205: f32 = t58 * t119;
+    let t206: f32 = t90 * t108;
+    let t207: f32 = t205 - t206;
+    let t208: f32 = t58 * t207;
+    let t209: f32 = t204 - t208;
+    let t210: f32 = t196 * 20.02;
+    let t211: f32 = t209 + 196.3962;
+    let t212: f32 = t210 - t211;
+    let t213: f32 = t126 * t212;
+    let t214: f32 = q1 * t212;
+    let t215: f32 = t213 - t214;
+    let t216: f32 = sqrt(t21);
+    let t217: f32 = sqrt(t35);
+    let t218: f32 = t30 * t217;
+    let t219: f32 = t90 * t218;
+    let t220: f32 = t5 * t10;
+    let t221: f32 = t217 * t220;
+    let t222: f32 = t105 * t221;
+    let t223: f32 = t10 * t217;
+    let t224: f32 = t58 * t223;
+    let t225: f32 = t222 - t224;
+    let t226: f32 = t219 + t225;
+    let t227: f32 = sqrt(t51);
+    let t228: f32 = t46 * t227;
+    let t229: f32 = t105 * t228;
+    let t230: f32 = t7 * t10;
+    let t231: f32 = t227 * t230;
+    let t232: f32 = t58 * t231;
+    let t233: f32 = t229 + t232;
+    let t234: f32 = t10 * t227;
+    let t235: f32 = t90 * t234;
+    let t236: f32 = t233 - t235;
+    let t237: f32 = t236 * 0.22444;
+    let t238: f32 = t226 * t237;
+    let t239: f32 = t226 * 0.22444;
+    let t240: f32 = t236 * t239;
+    let t241: f32 = t238 - t240;
+    let t242: f32 = t16 * t216;
+    let t243: f32 = t241 * t242;
+    let t244: f32 = t10 * t216;
+    let t245: f32 = t105 * t244;
+    let t246: f32 = t58 * t242;
+    let t247: f32 = t245 - t246;
+    let t248: f32 = t3 * t10;
+    let t249: f32 = t216 * t248;
+    let t250: f32 = t90 * t249;
+    let t251: f32 = t247 - t250;
+    let t252: f32 = t251 * 0.41194;
+    let t253: f32 = t236 * t252;
+    let t254: f32 = t237 * t251;
+    let t255: f32 = t253 - t254;
+    let t256: f32 = t223 * t255;
+    let t257: f32 = t243 + t256;
+    let t258: f32 = t239 * t251;
+    let t259: f32 = t226 * t252;
+    let t260: f32 = t258 - t259;
+    let t261: f32 = t231 * t260;
+    let t262: f32 = t54 * t54;
+    let t263: f32 = t154 * t154;
+    let t264: f32 = t156 * t156;
+    let t265: f32 = t263 + t264;
+    let t266: f32 = t168 * t168;
+    let t267: f32 = t170 * t170;
+    let t268: f32 = t266 + t267;
+    let t269: f32 = t265 + t268;
+    let t270: f32 = t124 + t262;
+    let t271: f32 = t270 * 3.34;
+    let t272: f32 = t147 + t269;
+    let t273: f32 = t272 * 1.67;
+    let t274: f32 = t271 + t273;
+    let t275: f32 = t105 * t274;
+    let t276: f32 = t131 * t137;
+    let t277: f32 = t133 * t139;
+    let t278: f32 = t83 * t173;
+    let t279: f32 = t111 - t161;
+    let t280: f32 = t68 * t279;
+    let t281: f32 = t276 + t277;
+    let t282: f32 = t281 * 1.67;
+    let t283: f32 = t278 + t282;
+    let t284: f32 = t280 - t283;
+    let t285: f32 = t58 * t284;
+    let t286: f32 = t90 * t166;
+    let t287: f32 = t285 + t286;
+    let t288: f32 = t275 - t287;
+    let t289: f32 = t90 * t288;
+    let t290: f32 = t261 - t289;
+    let t291: f32 = t257 - t290;
+    let t292: f32 = t215 - t291;
+    let t293: f32 = t203 - t292;
+    let t294: f32 = t104 * 22.02;
+    let t295: f32 = t100 * 2.0;
+    let t296: f32 = t293 * 2.5;
+    let t297: f32 = t294 + t295;
+    let t298: f32 = t123 + t296;
+    let t299: f32 = t297 + t298;
+    let t300: f32 = t100 + t104;
+    let t301: f32 = t300 * 2.0;
+    let t302: f32 = t301 - t296;
+    let t303: f32 = q1 * 2.5;
+    let t304: f32 = t303 + 0.5;
+    let t305: f32 = t90 * t191;
+    let t306: f32 = t87 * t105;
+    let t307: f32 = t305 - t306;
+    let t308: f32 = t91 * t307;
+    let t309: f32 = t93 * t307;
+    let t310: f32 = t308 - t309;
+    let t311: f32 = t105 * t114;
+    let t312: f32 = t90 * t207;
+    let t313: f32 = t311 - t312;
+    let t314: f32 = t310 * 20.02;
+    let t315: f32 = t313 + t314;
+    let t316: f32 = t304 * t315;
+    let t317: f32 = t307 - t310;
+    let t318: f32 = t234 * t260;
+    let t319: f32 = t125 + t262;
+    let t320: f32 = t319 * 3.34;
+    let t321: f32 = t136 + t269;
+    let t322: f32 = t321 * 1.67;
+    let t323: f32 = t320 + t322;
+    let t324: f32 = t58 * t323;
+    let t325: f32 = t105 * t284;
+    let t326: f32 = t90 * t179;
+    let t327: f32 = t325 + t326;
+    let t328: f32 = t327 - t324;
+    let t329: f32 = t105 * t328;
+    let t330: f32 = t318 - t329;
+    let t331: f32 = t58 * t288;
+    let t332: f32 = t112 * t310;
+    let t333: f32 = t331 + t332;
+    let t334: f32 = t330 - t333;
+    let t335: f32 = t104 * t108;
+    let t336: f32 = t68 * t200;
+    let t337: f32 = t335 - t336;
+    let t338: f32 = t126 * t315;
+    let t339: f32 = t241 * t249;
+    let t340: f32 = t218 * t255;
+    let t341: f32 = t339 - t340;
+    let t342: f32 = t338 + t341;
+    let t343: f32 = t337 - t342;
+    let t344: f32 = t334 - t343;
+    let t345: f32 = t317 * 2.0;
+    let t346: f32 = t344 * 2.5;
+    let t347: f32 = t345 + t346;
+    let t348: f32 = t347 - t316;
+    let t349: f32 = t303 - 0.5;
+    let t350: f32 = t315 * t349;
+    let t351: f32 = t345 + t350;
+    let t352: f32 = t351 - t346;
+    let t353: f32 = t228 * t260;
+    let t354: f32 = t58 * t182;
+    let t355: f32 = t353 + t354;
+    let t356: f32 = t90 * t328;
+    let t357: f32 = t108 * t197;
+    let t358: f32 = t356 - t357;
+    let t359: f32 = t355 - t358;
+    let t360: f32 = t119 * t310;
+    let t361: f32 = t154 * t315;
+    let t362: f32 = t360 - t361;
+    let t363: f32 = t68 * t212;
+    let t364: f32 = t241 * t244;
+    let t365: f32 = t221 * t255;
+    let t366: f32 = t364 + t365;
+    let t367: f32 = t363 - t366;
+    let t368: f32 = t362 + t367;
+    let t369: f32 = t359 - t368;
+    let t370: f32 = t310 * 10.01;
+    let t371: f32 = t196 * 12.01;
+    let t372: f32 = t209 + t313;
+    let t373: f32 = t372 * 0.5;
+    let t374: f32 = t193 * 2.0;
+    let t375: f32 = t369 * 2.5;
+    let t376: f32 = t370 + t373;
+    let t377: f32 = t376 + 117.8181;
+    let t378: f32 = t371 + t374;
+    let t379: f32 = t375 + t378;
+    let t380: f32 = t377 - t379;
+    let t381: f32 = t209 - t313;
+    let t382: f32 = t381 * 0.5;
+    let t383: f32 = t375 + t382;
+    let t384: f32 = t383 + 117.8181;
+    let t385: f32 = t370 + t371;
+    let t386: f32 = t374 + t385;
+    let t387: f32 = t384 - t386;
+    let t388: f32 = 1.0 - t9;
+    let t389: f32 = -t244;
+    let t390: f32 = -t223;
+    let t391: f32 = -t234;
+    ([t299, t302, t348, t352, t380, t387], [t388, t389, t390, t391])
 }
 /// What the robot's limits bound, at a pose: each ball's position `Q_i1` on its actuator, its offset on its plate, and the cosine of its tilt.
 ///
@@ -7899,7 +7006,7 @@ pub fn platform_wrench_params(
 /// - `m`: `M_x` (kg, kg·m, kg·m²), rows and columns `[ωx ωy ωz vx vy vz]`, base frame
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 348 mul, 4 div, 349 add, 0 neg, 3 sin_cos (chapter convention: 352m + 349a).
+/// Operations: 367 mul, 4 div, 316 add, 3 neg, 3 sin_cos (chapter convention: 371m + 316a).
 #[inline]
 pub fn task_inertia_params(
     pose: &[f32; 6],
@@ -7921,719 +7028,708 @@ pub fn task_inertia_params(
     rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint6_mass, joint6_mx, joint6_my,
     joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz, joint6_iyy, joint6_iyz, joint6_izz] = *params;
     let t0: f32 = zc - half_spacing;
-    let (t1, t2): (f32, f32) = sin_cos(alpha);
-    let (t3, t4): (f32, f32) = sin_cos(beta);
-    let t5: f32 = joint1_mz * t2;
-    let t6: f32 = t4 * t5;
-    let (t7, t8): (f32, f32) = sin_cos(gamma);
-    let t9: f32 = t1 * t7;
-    let t10: f32 = t2 * t3;
-    let t11: f32 = t8 * t10;
-    let t12: f32 = t9 - t11;
-    let t13: f32 = joint1_mx * t12;
-    let t14: f32 = t1 * t8;
-    let t15: f32 = t3 * t7;
-    let t16: f32 = t2 * t15;
-    let t17: f32 = t14 + t16;
-    let t18: f32 = joint1_my * t17;
-    let t19: f32 = t13 + t18;
-    let t20: f32 = t6 + t19;
-    let t21: f32 = joint1_mass * t0;
-    let t22: f32 = t20 - t21;
-    let t23: f32 = t0 * t22;
-    let t24: f32 = zc + half_spacing;
-    let t25: f32 = joint2_mz * t2;
-    let t26: f32 = t4 * t25;
-    let t27: f32 = joint2_mx * t12;
-    let t28: f32 = joint2_my * t17;
-    let t29: f32 = t27 + t28;
-    let t30: f32 = t26 + t29;
-    let t31: f32 = joint2_mass * t24;
-    let t32: f32 = t30 - t31;
-    let t33: f32 = t24 * t32;
-    let t34: f32 = yc - half_spacing;
-    let t35: f32 = rod5_mass * t34;
-    let t36: f32 = t2 * t7;
-    let t37: f32 = t1 * t3;
-    let t38: f32 = t8 * t37;
-    let t39: f32 = t36 + t38;
-    let t40: f32 = joint5_mx * t39;
-    let t41: f32 = t2 * t8;
-    let t42: f32 = t7 * t37;
-    let t43: f32 = t41 - t42;
-    let t44: f32 = joint5_my * t43;
-    let t45: f32 = t40 + t44;
-    let t46: f32 = joint5_mz * t1;
-    let t47: f32 = t4 * t46;
-    let t48: f32 = t45 - t47;
-    let t49: f32 = joint5_mass * t34;
-    let t50: f32 = t48 - t49;
-    let t51: f32 = t50 - t35;
-    let t52: f32 = t34 * t51;
-    let t53: f32 = yc + half_spacing;
-    let t54: f32 = rod6_mass * t53;
-    let t55: f32 = joint6_mx * t39;
-    let t56: f32 = joint6_my * t43;
-    let t57: f32 = t55 + t56;
-    let t58: f32 = joint6_mz * t1;
-    let t59: f32 = t4 * t58;
-    let t60: f32 = t57 - t59;
-    let t61: f32 = joint6_mass * t53;
-    let t62: f32 = t60 - t61;
-    let t63: f32 = t62 - t54;
-    let t64: f32 = t53 * t63;
-    let t65: f32 = platform_iyz + joint1_iyz;
-    let t66: f32 = joint2_iyz + joint3_iyz;
-    let t67: f32 = joint4_iyz + joint5_iyz;
-    let t68: f32 = t65 + t66;
-    let t69: f32 = joint6_iyz + t67;
-    let t70: f32 = t68 + t69;
-    let t71: f32 = t3 * t70;
-    let t72: f32 = platform_iyy + joint1_iyy;
-    let t73: f32 = joint2_iyy + joint3_iyy;
-    let t74: f32 = joint4_iyy + joint5_iyy;
-    let t75: f32 = t72 + t73;
-    let t76: f32 = joint6_iyy + t74;
-    let t77: f32 = t75 + t76;
-    let t78: f32 = t7 * t77;
-    let t79: f32 = platform_ixy + joint1_ixy;
-    let t80: f32 = joint2_ixy + joint3_ixy;
-    let t81: f32 = joint4_ixy + joint5_ixy;
-    let t82: f32 = t79 + t80;
-    let t83: f32 = joint6_ixy + t81;
-    let t84: f32 = t82 + t83;
-    let t85: f32 = t8 * t84;
-    let t86: f32 = t78 - t85;
-    let t87: f32 = t4 * t86;
-    let t88: f32 = t71 - t87;
-    let t89: f32 = t7 * t88;
-    let t90: f32 = platform_ixz + joint1_ixz;
-    let t91: f32 = joint2_ixz + joint3_ixz;
-    let t92: f32 = joint4_ixz + joint5_ixz;
-    let t93: f32 = t90 + t91;
-    let t94: f32 = joint6_ixz + t92;
-    let t95: f32 = t93 + t94;
-    let t96: f32 = t3 * t95;
-    let t97: f32 = t7 * t84;
-    let t98: f32 = platform_ixx + joint1_ixx;
-    let t99: f32 = joint2_ixx + joint3_ixx;
-    let t100: f32 = joint4_ixx + joint5_ixx;
-    let t101: f32 = t98 + t99;
-    let t102: f32 = joint6_ixx + t100;
-    let t103: f32 = t101 + t102;
-    let t104: f32 = t8 * t103;
-    let t105: f32 = t97 - t104;
-    let t106: f32 = t4 * t105;
-    let t107: f32 = t96 - t106;
-    let t108: f32 = t8 * t107;
-    let t109: f32 = t89 - t108;
-    let t110: f32 = t4 * t109;
-    let t111: f32 = platform_izz + joint1_izz;
-    let t112: f32 = joint2_izz + joint3_izz;
-    let t113: f32 = joint4_izz + joint5_izz;
-    let t114: f32 = t111 + t112;
-    let t115: f32 = joint6_izz + t113;
-    let t116: f32 = t114 + t115;
-    let t117: f32 = t3 * t116;
-    let t118: f32 = t7 * t70;
-    let t119: f32 = t8 * t95;
-    let t120: f32 = t118 - t119;
-    let t121: f32 = t4 * t120;
-    let t122: f32 = t117 - t121;
-    let t123: f32 = t3 * t122;
-    let t124: f32 = joint1_mx * t39;
-    let t125: f32 = joint1_my * t43;
-    let t126: f32 = t124 + t125;
-    let t127: f32 = joint1_mz * t1;
-    let t128: f32 = t4 * t127;
-    let t129: f32 = t126 - t128;
-    let t130: f32 = yc * joint1_mass;
-    let t131: f32 = t129 - t130;
-    let t132: f32 = joint2_mx * t39;
-    let t133: f32 = joint2_my * t43;
-    let t134: f32 = t132 + t133;
-    let t135: f32 = joint2_mz * t1;
-    let t136: f32 = t4 * t135;
-    let t137: f32 = t134 - t136;
-    let t138: f32 = yc * joint2_mass;
-    let t139: f32 = t137 - t138;
-    let t140: f32 = t131 + t139;
-    let t141: f32 = yc * t140;
-    let t142: f32 = joint3_mz * t2;
-    let t143: f32 = t4 * t142;
-    let t144: f32 = joint3_mx * t12;
-    let t145: f32 = joint3_my * t17;
+    let t1: f32 = t0 * t0;
+    let t2: f32 = yc * yc;
+    let t3: f32 = t1 + t2;
+    let t4: f32 = joint1_mass * t3;
+    let t5: f32 = zc + half_spacing;
+    let t6: f32 = t5 * t5;
+    let t7: f32 = t2 + t6;
+    let t8: f32 = joint2_mass * t7;
+    let t9: f32 = zc * zc;
+    let (t10, t11): (f32, f32) = sin_cos(alpha);
+    let (t12, t13): (f32, f32) = sin_cos(gamma);
+    let t14: f32 = t11 * t13;
+    let (t15, t16): (f32, f32) = sin_cos(beta);
+    let t17: f32 = t10 * t15;
+    let t18: f32 = t12 * t17;
+    let t19: f32 = t14 - t18;
+    let t20: f32 = 1.0 / t19;
+    let t21: f32 = t20 * t20;
+    let t22: f32 = xc - half_spacing;
+    let t23: f32 = t12 * t16;
+    let t24: f32 = t22 * t23;
+    let t25: f32 = t10 * t13;
+    let t26: f32 = t12 * t15;
+    let t27: f32 = t11 * t26;
+    let t28: f32 = t25 + t27;
+    let t29: f32 = zc * t28;
+    let t30: f32 = t24 - t29;
+    let t31: f32 = t30 * t30;
+    let t32: f32 = t21 * t31;
+    let t33: f32 = t9 + t32;
+    let t34: f32 = joint3_mass * t33;
+    let t35: f32 = xc + half_spacing;
+    let t36: f32 = t23 * t35;
+    let t37: f32 = t29 - t36;
+    let t38: f32 = t37 * t37;
+    let t39: f32 = t21 * t38;
+    let t40: f32 = t9 + t39;
+    let t41: f32 = joint4_mass * t40;
+    let t42: f32 = 1.0 / t11;
+    let t43: f32 = t42 * t42;
+    let t44: f32 = 1.0 / t16;
+    let t45: f32 = t44 * t44;
+    let t46: f32 = xc * t15;
+    let t47: f32 = yc - half_spacing;
+    let t48: f32 = t10 * t16;
+    let t49: f32 = t47 * t48;
+    let t50: f32 = t46 - t49;
+    let t51: f32 = t50 * t50;
+    let t52: f32 = t43 * t45;
+    let t53: f32 = t51 * t52;
+    let t54: f32 = t47 * t47;
+    let t55: f32 = t53 + t54;
+    let t56: f32 = joint5_mass * t55;
+    let t57: f32 = yc + half_spacing;
+    let t58: f32 = t48 * t57;
+    let t59: f32 = t46 - t58;
+    let t60: f32 = t59 * t59;
+    let t61: f32 = t52 * t60;
+    let t62: f32 = t57 * t57;
+    let t63: f32 = t61 + t62;
+    let t64: f32 = joint6_mass * t63;
+    let t65: f32 = rod5_mass * t54;
+    let t66: f32 = rod6_mass * t62;
+    let t67: f32 = platform_izz + joint1_izz;
+    let t68: f32 = joint2_izz + joint3_izz;
+    let t69: f32 = joint4_izz + joint5_izz;
+    let t70: f32 = t67 + t68;
+    let t71: f32 = joint6_izz + t69;
+    let t72: f32 = t70 + t71;
+    let t73: f32 = t15 * t72;
+    let t74: f32 = platform_ixz + joint1_ixz;
+    let t75: f32 = joint2_ixz + joint3_ixz;
+    let t76: f32 = joint4_ixz + joint5_ixz;
+    let t77: f32 = t74 + t75;
+    let t78: f32 = joint6_ixz + t76;
+    let t79: f32 = t77 + t78;
+    let t80: f32 = t13 * t79;
+    let t81: f32 = platform_iyz + joint1_iyz;
+    let t82: f32 = joint2_iyz + joint3_iyz;
+    let t83: f32 = joint4_iyz + joint5_iyz;
+    let t84: f32 = t81 + t82;
+    let t85: f32 = joint6_iyz + t83;
+    let t86: f32 = t84 + t85;
+    let t87: f32 = t12 * t86;
+    let t88: f32 = t80 - t87;
+    let t89: f32 = t16 * t88;
+    let t90: f32 = t73 + t89;
+    let t91: f32 = t15 * t90;
+    let t92: f32 = rod3_mass + rod4_mass;
+    let t93: f32 = t9 * t92;
+    let t94: f32 = t15 * t79;
+    let t95: f32 = platform_ixx + joint1_ixx;
+    let t96: f32 = joint2_ixx + joint3_ixx;
+    let t97: f32 = joint4_ixx + joint5_ixx;
+    let t98: f32 = t95 + t96;
+    let t99: f32 = joint6_ixx + t97;
+    let t100: f32 = t98 + t99;
+    let t101: f32 = t13 * t100;
+    let t102: f32 = platform_ixy + joint1_ixy;
+    let t103: f32 = joint2_ixy + joint3_ixy;
+    let t104: f32 = joint4_ixy + joint5_ixy;
+    let t105: f32 = t102 + t103;
+    let t106: f32 = joint6_ixy + t104;
+    let t107: f32 = t105 + t106;
+    let t108: f32 = t12 * t107;
+    let t109: f32 = t101 - t108;
+    let t110: f32 = t16 * t109;
+    let t111: f32 = t94 + t110;
+    let t112: f32 = t13 * t111;
+    let t113: f32 = t15 * t86;
+    let t114: f32 = t13 * t107;
+    let t115: f32 = platform_iyy + joint1_iyy;
+    let t116: f32 = joint2_iyy + joint3_iyy;
+    let t117: f32 = joint4_iyy + joint5_iyy;
+    let t118: f32 = t115 + t116;
+    let t119: f32 = joint6_iyy + t117;
+    let t120: f32 = t118 + t119;
+    let t121: f32 = t12 * t120;
+    let t122: f32 = t114 - t121;
+    let t123: f32 = t16 * t122;
+    let t124: f32 = t113 + t123;
+    let t125: f32 = t12 * t124;
+    let t126: f32 = t112 - t125;
+    let t127: f32 = t16 * t126;
+    let t128: f32 = t10 * t12;
+    let t129: f32 = t11 * t15;
+    let t130: f32 = t13 * t129;
+    let t131: f32 = t128 - t130;
+    let t132: f32 = joint5_mx * t131;
+    let t133: f32 = joint5_my * t28;
+    let t134: f32 = joint5_mz * t11;
+    let t135: f32 = t16 * t134;
+    let t136: f32 = t132 + t133;
+    let t137: f32 = t135 + t136;
+    let t138: f32 = t42 * t44;
+    let t139: f32 = t50 * t138;
+    let t140: f32 = t137 * t139;
+    let t141: f32 = joint6_mx * t131;
+    let t142: f32 = joint6_my * t28;
+    let t143: f32 = joint6_mz * t11;
+    let t144: f32 = t16 * t143;
+    let t145: f32 = t141 + t142;
     let t146: f32 = t144 + t145;
-    let t147: f32 = t143 + t146;
-    let t148: f32 = zc * joint3_mass;
-    let t149: f32 = t147 - t148;
-    let t150: f32 = joint4_mz * t2;
-    let t151: f32 = t4 * t150;
-    let t152: f32 = joint4_mx * t12;
-    let t153: f32 = joint4_my * t17;
-    let t154: f32 = t152 + t153;
-    let t155: f32 = t151 + t154;
-    let t156: f32 = zc * joint4_mass;
-    let t157: f32 = t155 - t156;
-    let t158: f32 = t149 + t157;
-    let t159: f32 = zc * rod3_mass;
-    let t160: f32 = zc * rod4_mass;
-    let t161: f32 = t159 + t160;
-    let t162: f32 = t158 - t161;
-    let t163: f32 = zc * t162;
-    let t164: f32 = 1.0 / t43;
-    let t165: f32 = zc * t17;
-    let t166: f32 = xc + half_spacing;
-    let t167: f32 = t4 * t7;
-    let t168: f32 = t166 * t167;
-    let t169: f32 = t165 - t168;
-    let t170: f32 = joint4_mx * t39;
-    let t171: f32 = joint4_my * t43;
-    let t172: f32 = t170 + t171;
-    let t173: f32 = joint4_mz * t1;
-    let t174: f32 = t4 * t173;
-    let t175: f32 = t172 - t174;
-    let t176: f32 = t164 * t169;
-    let t177: f32 = t175 * t176;
-    let t178: f32 = joint4_mass * t164;
-    let t179: f32 = t169 * t178;
-    let t180: f32 = t175 + t179;
-    let t181: f32 = t176 * t180;
-    let t182: f32 = t177 + t181;
-    let t183: f32 = t34 * t48;
-    let t184: f32 = t53 * t60;
-    let t185: f32 = t183 + t184;
-    let t186: f32 = t182 - t185;
-    let t187: f32 = yc * t129;
-    let t188: f32 = yc * t137;
-    let t189: f32 = t187 + t188;
-    let t190: f32 = xc - half_spacing;
-    let t191: f32 = t167 * t190;
-    let t192: f32 = t191 - t165;
-    let t193: f32 = joint3_mx * t39;
-    let t194: f32 = joint3_my * t43;
-    let t195: f32 = t193 + t194;
-    let t196: f32 = joint3_mz * t1;
-    let t197: f32 = t4 * t196;
-    let t198: f32 = t195 - t197;
-    let t199: f32 = t164 * t192;
+    let t147: f32 = t59 * t138;
+    let t148: f32 = t146 * t147;
+    let t149: f32 = t140 + t148;
+    let t150: f32 = joint1_mx * t131;
+    let t151: f32 = joint1_my * t28;
+    let t152: f32 = joint1_mz * t11;
+    let t153: f32 = t16 * t152;
+    let t154: f32 = t150 + t151;
+    let t155: f32 = t153 + t154;
+    let t156: f32 = t0 * t155;
+    let t157: f32 = joint2_mx * t131;
+    let t158: f32 = joint2_my * t28;
+    let t159: f32 = joint2_mz * t11;
+    let t160: f32 = t16 * t159;
+    let t161: f32 = t157 + t158;
+    let t162: f32 = t160 + t161;
+    let t163: f32 = t5 * t162;
+    let t164: f32 = t156 + t163;
+    let t165: f32 = joint3_mx * t131;
+    let t166: f32 = joint3_my * t28;
+    let t167: f32 = joint3_mz * t11;
+    let t168: f32 = t16 * t167;
+    let t169: f32 = t165 + t166;
+    let t170: f32 = t168 + t169;
+    let t171: f32 = zc * t170;
+    let t172: f32 = joint4_mx * t131;
+    let t173: f32 = joint4_my * t28;
+    let t174: f32 = joint4_mz * t11;
+    let t175: f32 = t16 * t174;
+    let t176: f32 = t172 + t173;
+    let t177: f32 = t175 + t176;
+    let t178: f32 = zc * t177;
+    let t179: f32 = t171 + t178;
+    let t180: f32 = t164 + t179;
+    let t181: f32 = t149 - t180;
+    let t182: f32 = t11 * t12;
+    let t183: f32 = t13 * t17;
+    let t184: f32 = t182 + t183;
+    let t185: f32 = joint4_mx * t184;
+    let t186: f32 = joint4_my * t19;
+    let t187: f32 = joint4_mz * t10;
+    let t188: f32 = t16 * t187;
+    let t189: f32 = t185 + t186;
+    let t190: f32 = t189 - t188;
+    let t191: f32 = t20 * t37;
+    let t192: f32 = t190 * t191;
+    let t193: f32 = joint3_mx * t184;
+    let t194: f32 = joint3_my * t19;
+    let t195: f32 = joint3_mz * t10;
+    let t196: f32 = t16 * t195;
+    let t197: f32 = t193 + t194;
+    let t198: f32 = t197 - t196;
+    let t199: f32 = t20 * t30;
     let t200: f32 = t198 * t199;
-    let t201: f32 = joint3_mass * t164;
-    let t202: f32 = t192 * t201;
-    let t203: f32 = t198 - t202;
-    let t204: f32 = t199 * t203;
-    let t205: f32 = t200 + t204;
-    let t206: f32 = t189 + t205;
-    let t207: f32 = t186 - t206;
-    let t208: f32 = 1.0 / t2;
-    let t209: f32 = 1.0 / t4;
-    let t210: f32 = xc * t3;
-    let t211: f32 = t1 * t4;
-    let t212: f32 = t34 * t211;
-    let t213: f32 = t210 - t212;
-    let t214: f32 = joint5_mz * t2;
-    let t215: f32 = t4 * t214;
-    let t216: f32 = joint5_mx * t12;
-    let t217: f32 = joint5_my * t17;
-    let t218: f32 = t216 + t217;
-    let t219: f32 = t215 + t218;
-    let t220: f32 = t208 * t209;
-    let t221: f32 = t213 * t220;
-    let t222: f32 = t219 * t221;
-    let t223: f32 = joint5_mass * t208;
-    let t224: f32 = t209 * t223;
-    let t225: f32 = t213 * t224;
-    let t226: f32 = t219 + t225;
-    let t227: f32 = t221 * t226;
-    let t228: f32 = t222 + t227;
-    let t229: f32 = t53 * t211;
-    let t230: f32 = t210 - t229;
-    let t231: f32 = joint6_mz * t2;
-    let t232: f32 = t4 * t231;
-    let t233: f32 = joint6_mx * t12;
-    let t234: f32 = joint6_my * t17;
-    let t235: f32 = t233 + t234;
-    let t236: f32 = t232 + t235;
-    let t237: f32 = t220 * t230;
-    let t238: f32 = t236 * t237;
-    let t239: f32 = joint6_mass * t208;
-    let t240: f32 = t209 * t239;
-    let t241: f32 = t230 * t240;
-    let t242: f32 = t236 + t241;
-    let t243: f32 = t237 * t242;
-    let t244: f32 = t238 + t243;
-    let t245: f32 = t228 + t244;
-    let t246: f32 = t0 * t20;
-    let t247: f32 = t24 * t30;
-    let t248: f32 = t246 + t247;
-    let t249: f32 = zc * t147;
-    let t250: f32 = zc * t155;
-    let t251: f32 = t249 + t250;
-    let t252: f32 = t248 + t251;
-    let t253: f32 = t245 - t252;
-    let t254: f32 = t123 + t207;
-    let t255: f32 = t253 + t254;
-    let t256: f32 = t23 + t33;
-    let t257: f32 = t52 + t64;
-    let t258: f32 = t110 + t141;
-    let t259: f32 = t256 + t257;
-    let t260: f32 = t163 + t258;
-    let t261: f32 = t259 + t260;
-    let t262: f32 = t255 - t261;
-    let t263: f32 = t190 * t198;
-    let t264: f32 = t166 * t175;
-    let t265: f32 = xc * rod5_mass;
-    let t266: f32 = joint5_mz * t3;
-    let t267: f32 = joint5_mx * t4;
-    let t268: f32 = t8 * t267;
-    let t269: f32 = joint5_my * t7;
-    let t270: f32 = t4 * t269;
-    let t271: f32 = t268 - t270;
-    let t272: f32 = t266 + t271;
-    let t273: f32 = xc * joint5_mass;
-    let t274: f32 = t272 - t273;
-    let t275: f32 = t274 - t265;
-    let t276: f32 = t34 * t275;
-    let t277: f32 = xc * rod6_mass;
-    let t278: f32 = joint6_mz * t3;
-    let t279: f32 = joint6_mx * t4;
-    let t280: f32 = t8 * t279;
-    let t281: f32 = joint6_my * t7;
-    let t282: f32 = t4 * t281;
-    let t283: f32 = t280 - t282;
-    let t284: f32 = t278 + t283;
-    let t285: f32 = xc * joint6_mass;
+    let t201: f32 = t192 - t200;
+    let t202: f32 = joint1_mx * t184;
+    let t203: f32 = joint1_my * t19;
+    let t204: f32 = joint1_mz * t10;
+    let t205: f32 = t16 * t204;
+    let t206: f32 = t202 + t203;
+    let t207: f32 = t206 - t205;
+    let t208: f32 = yc * t207;
+    let t209: f32 = joint2_mx * t184;
+    let t210: f32 = joint2_my * t19;
+    let t211: f32 = joint2_mz * t10;
+    let t212: f32 = t16 * t211;
+    let t213: f32 = t209 + t210;
+    let t214: f32 = t213 - t212;
+    let t215: f32 = yc * t214;
+    let t216: f32 = t208 + t215;
+    let t217: f32 = t201 - t216;
+    let t218: f32 = joint5_mx * t184;
+    let t219: f32 = joint5_my * t19;
+    let t220: f32 = joint5_mz * t10;
+    let t221: f32 = t16 * t220;
+    let t222: f32 = t218 + t219;
+    let t223: f32 = t222 - t221;
+    let t224: f32 = t47 * t223;
+    let t225: f32 = joint6_mx * t184;
+    let t226: f32 = joint6_my * t19;
+    let t227: f32 = joint6_mz * t10;
+    let t228: f32 = t16 * t227;
+    let t229: f32 = t225 + t226;
+    let t230: f32 = t229 - t228;
+    let t231: f32 = t57 * t230;
+    let t232: f32 = t224 + t231;
+    let t233: f32 = t217 - t232;
+    let t234: f32 = t181 + t233;
+    let t235: f32 = t234 * 2.0;
+    let t236: f32 = t4 + t8;
+    let t237: f32 = t34 + t41;
+    let t238: f32 = t56 + t64;
+    let t239: f32 = t65 + t66;
+    let t240: f32 = t91 + t93;
+    let t241: f32 = t127 + t235;
+    let t242: f32 = t236 + t237;
+    let t243: f32 = t238 + t239;
+    let t244: f32 = t240 + t241;
+    let t245: f32 = t242 + t243;
+    let t246: f32 = t244 + t245;
+    let t247: f32 = t79 * t184;
+    let t248: f32 = t19 * t86;
+    let t249: f32 = t48 * t72;
+    let t250: f32 = t247 + t248;
+    let t251: f32 = t250 - t249;
+    let t252: f32 = t15 * t251;
+    let t253: f32 = t100 * t184;
+    let t254: f32 = t19 * t107;
+    let t255: f32 = t48 * t79;
+    let t256: f32 = t253 + t254;
+    let t257: f32 = t256 - t255;
+    let t258: f32 = t13 * t257;
+    let t259: f32 = t107 * t184;
+    let t260: f32 = t19 * t120;
+    let t261: f32 = t48 * t86;
+    let t262: f32 = t259 + t260;
+    let t263: f32 = t262 - t261;
+    let t264: f32 = t12 * t263;
+    let t265: f32 = t258 - t264;
+    let t266: f32 = t16 * t265;
+    let t267: f32 = xc * t223;
+    let t268: f32 = xc * joint5_mass;
+    let t269: f32 = t47 * t268;
+    let t270: f32 = t267 - t269;
+    let t271: f32 = xc * t230;
+    let t272: f32 = xc * joint6_mass;
+    let t273: f32 = t57 * t272;
+    let t274: f32 = t271 - t273;
+    let t275: f32 = t270 + t274;
+    let t276: f32 = joint1_mz * t15;
+    let t277: f32 = joint1_mx * t13;
+    let t278: f32 = joint1_my * t12;
+    let t279: f32 = t277 - t278;
+    let t280: f32 = t16 * t279;
+    let t281: f32 = t276 + t280;
+    let t282: f32 = yc * t281;
+    let t283: f32 = joint2_mz * t15;
+    let t284: f32 = joint2_mx * t13;
+    let t285: f32 = joint2_my * t12;
     let t286: f32 = t284 - t285;
-    let t287: f32 = t286 - t277;
-    let t288: f32 = t53 * t287;
-    let t289: f32 = t70 * t211;
-    let t290: f32 = t39 * t84;
-    let t291: f32 = t43 * t77;
-    let t292: f32 = t290 + t291;
-    let t293: f32 = t289 - t292;
-    let t294: f32 = t7 * t293;
-    let t295: f32 = t95 * t211;
-    let t296: f32 = t39 * t103;
-    let t297: f32 = t43 * t84;
-    let t298: f32 = t296 + t297;
-    let t299: f32 = t295 - t298;
-    let t300: f32 = t8 * t299;
-    let t301: f32 = t294 - t300;
-    let t302: f32 = t4 * t301;
-    let t303: f32 = t116 * t211;
-    let t304: f32 = t39 * t95;
-    let t305: f32 = t43 * t70;
-    let t306: f32 = t304 + t305;
-    let t307: f32 = t303 - t306;
-    let t308: f32 = t3 * t307;
-    let t309: f32 = t48 + t60;
-    let t310: f32 = xc * t309;
-    let t311: f32 = 1.0 / t8;
-    let t312: f32 = yc * t39;
-    let t313: f32 = t0 * t12;
-    let t314: f32 = t312 + t313;
-    let t315: f32 = joint1_mass * t209;
-    let t316: f32 = t311 * t315;
-    let t317: f32 = t314 * t316;
-    let t318: f32 = joint1_mz * t3;
-    let t319: f32 = joint1_mx * t4;
-    let t320: f32 = t8 * t319;
-    let t321: f32 = joint1_my * t7;
-    let t322: f32 = t4 * t321;
-    let t323: f32 = t320 - t322;
-    let t324: f32 = t318 + t323;
-    let t325: f32 = t317 + t324;
-    let t326: f32 = t12 * t24;
-    let t327: f32 = t312 + t326;
-    let t328: f32 = joint2_mass * t209;
-    let t329: f32 = t311 * t328;
-    let t330: f32 = t327 * t329;
-    let t331: f32 = joint2_mz * t3;
-    let t332: f32 = joint2_mx * t4;
-    let t333: f32 = t8 * t332;
-    let t334: f32 = joint2_my * t7;
-    let t335: f32 = t4 * t334;
-    let t336: f32 = t333 - t335;
-    let t337: f32 = t331 + t336;
-    let t338: f32 = t330 + t337;
-    let t339: f32 = t325 + t338;
-    let t340: f32 = yc * t339;
-    let t341: f32 = t129 * t314;
-    let t342: f32 = t137 * t327;
-    let t343: f32 = t341 + t342;
-    let t344: f32 = t209 * t311;
-    let t345: f32 = t343 * t344;
-    let t346: f32 = joint3_mz * t3;
-    let t347: f32 = joint3_mx * t4;
-    let t348: f32 = t8 * t347;
-    let t349: f32 = joint3_my * t7;
-    let t350: f32 = t4 * t349;
-    let t351: f32 = t348 - t350;
-    let t352: f32 = t346 + t351;
-    let t353: f32 = joint3_mass * t190;
-    let t354: f32 = t352 - t353;
-    let t355: f32 = t192 * t354;
-    let t356: f32 = joint4_mz * t3;
-    let t357: f32 = joint4_mx * t4;
-    let t358: f32 = t8 * t357;
-    let t359: f32 = joint4_my * t7;
-    let t360: f32 = t4 * t359;
-    let t361: f32 = t358 - t360;
-    let t362: f32 = t356 + t361;
-    let t363: f32 = joint4_mass * t166;
-    let t364: f32 = t362 - t363;
-    let t365: f32 = t169 * t364;
-    let t366: f32 = t355 - t365;
-    let t367: f32 = t164 * t366;
-    let t368: f32 = t263 + t264;
-    let t369: f32 = t276 + t288;
-    let t370: f32 = t302 + t310;
-    let t371: f32 = t340 + t367;
-    let t372: f32 = t368 + t369;
-    let t373: f32 = t370 + t371;
-    let t374: f32 = t372 + t373;
-    let t375: f32 = t308 + t345;
-    let t376: f32 = t374 - t375;
-    let t377: f32 = t0 * t325;
-    let t378: f32 = t24 * t338;
-    let t379: f32 = t147 * t190;
-    let t380: f32 = t155 * t166;
-    let t381: f32 = t2 * t4;
-    let t382: f32 = t70 * t381;
-    let t383: f32 = t12 * t84;
-    let t384: f32 = t17 * t77;
-    let t385: f32 = t382 + t383;
-    let t386: f32 = t384 + t385;
-    let t387: f32 = t7 * t386;
-    let t388: f32 = t95 * t381;
-    let t389: f32 = t12 * t103;
-    let t390: f32 = t17 * t84;
-    let t391: f32 = t388 + t389;
+    let t287: f32 = t16 * t286;
+    let t288: f32 = t283 + t287;
+    let t289: f32 = yc * t288;
+    let t290: f32 = t282 + t289;
+    let t291: f32 = xc * rod5_mass;
+    let t292: f32 = t47 * t291;
+    let t293: f32 = xc * rod6_mass;
+    let t294: f32 = t57 * t293;
+    let t295: f32 = t292 + t294;
+    let t296: f32 = t290 - t295;
+    let t297: f32 = t275 + t296;
+    let t298: f32 = joint3_mz * t15;
+    let t299: f32 = joint3_mx * t13;
+    let t300: f32 = joint3_my * t12;
+    let t301: f32 = t299 - t300;
+    let t302: f32 = t16 * t301;
+    let t303: f32 = t298 + t302;
+    let t304: f32 = t199 * t303;
+    let t305: f32 = joint4_mz * t15;
+    let t306: f32 = joint4_mx * t13;
+    let t307: f32 = joint4_my * t12;
+    let t308: f32 = t306 - t307;
+    let t309: f32 = t16 * t308;
+    let t310: f32 = t305 + t309;
+    let t311: f32 = t191 * t310;
+    let t312: f32 = t304 - t311;
+    let t313: f32 = joint5_mz * t15;
+    let t314: f32 = joint5_mx * t13;
+    let t315: f32 = joint5_my * t12;
+    let t316: f32 = t314 - t315;
+    let t317: f32 = t16 * t316;
+    let t318: f32 = t313 + t317;
+    let t319: f32 = t47 * t318;
+    let t320: f32 = joint6_mz * t15;
+    let t321: f32 = joint6_mx * t13;
+    let t322: f32 = joint6_my * t12;
+    let t323: f32 = t321 - t322;
+    let t324: f32 = t16 * t323;
+    let t325: f32 = t320 + t324;
+    let t326: f32 = t57 * t325;
+    let t327: f32 = t319 + t326;
+    let t328: f32 = t312 + t327;
+    let t329: f32 = 1.0 / t13;
+    let t330: f32 = yc * t184;
+    let t331: f32 = t0 * t131;
+    let t332: f32 = t330 + t331;
+    let t333: f32 = yc * joint1_mass;
+    let t334: f32 = t44 * t333;
+    let t335: f32 = t329 * t334;
+    let t336: f32 = t332 * t335;
+    let t337: f32 = t44 * t329;
+    let t338: f32 = t332 * t337;
+    let t339: f32 = t207 * t338;
+    let t340: f32 = t336 - t339;
+    let t341: f32 = t5 * t131;
+    let t342: f32 = t330 + t341;
+    let t343: f32 = yc * joint2_mass;
+    let t344: f32 = t44 * t343;
+    let t345: f32 = t329 * t344;
+    let t346: f32 = t342 * t345;
+    let t347: f32 = t337 * t342;
+    let t348: f32 = t214 * t347;
+    let t349: f32 = t346 - t348;
+    let t350: f32 = t340 + t349;
+    let t351: f32 = t22 * t198;
+    let t352: f32 = joint3_mass * t20;
+    let t353: f32 = t22 * t352;
+    let t354: f32 = t30 * t353;
+    let t355: f32 = t351 - t354;
+    let t356: f32 = joint4_mass * t20;
+    let t357: f32 = t35 * t356;
+    let t358: f32 = t37 * t357;
+    let t359: f32 = t35 * t190;
+    let t360: f32 = t358 + t359;
+    let t361: f32 = t355 + t360;
+    let t362: f32 = t350 + t361;
+    let t363: f32 = t328 + t362;
+    let t364: f32 = t297 + t363;
+    let t365: f32 = t252 + t266;
+    let t366: f32 = t364 + t365;
+    let t367: f32 = t79 * t131;
+    let t368: f32 = t28 * t86;
+    let t369: f32 = t11 * t16;
+    let t370: f32 = t72 * t369;
+    let t371: f32 = t367 + t368;
+    let t372: f32 = t370 + t371;
+    let t373: f32 = t15 * t372;
+    let t374: f32 = t100 * t131;
+    let t375: f32 = t28 * t107;
+    let t376: f32 = t79 * t369;
+    let t377: f32 = t374 + t375;
+    let t378: f32 = t376 + t377;
+    let t379: f32 = t13 * t378;
+    let t380: f32 = t107 * t131;
+    let t381: f32 = t28 * t120;
+    let t382: f32 = t86 * t369;
+    let t383: f32 = t380 + t381;
+    let t384: f32 = t382 + t383;
+    let t385: f32 = t12 * t384;
+    let t386: f32 = t379 - t385;
+    let t387: f32 = t16 * t386;
+    let t388: f32 = t42 * t268;
+    let t389: f32 = t44 * t388;
+    let t390: f32 = t50 * t389;
+    let t391: f32 = xc * t137;
     let t392: f32 = t390 + t391;
-    let t393: f32 = t8 * t392;
-    let t394: f32 = t387 - t393;
-    let t395: f32 = t4 * t394;
-    let t396: f32 = t116 * t381;
-    let t397: f32 = t12 * t95;
-    let t398: f32 = t17 * t70;
-    let t399: f32 = t396 + t397;
-    let t400: f32 = t398 + t399;
-    let t401: f32 = t3 * t400;
-    let t402: f32 = t213 * t274;
-    let t403: f32 = t230 * t286;
-    let t404: f32 = t402 + t403;
-    let t405: f32 = t208 * t404;
-    let t406: f32 = t20 * t314;
-    let t407: f32 = t30 * t327;
-    let t408: f32 = t406 + t407;
-    let t409: f32 = t311 * t408;
-    let t410: f32 = t405 + t409;
-    let t411: f32 = t209 * t410;
-    let t412: f32 = t219 + t236;
-    let t413: f32 = xc * t412;
-    let t414: f32 = t354 + t364;
-    let t415: f32 = rod3_mass * t190;
-    let t416: f32 = rod4_mass * t166;
-    let t417: f32 = t415 + t416;
-    let t418: f32 = t414 - t417;
-    let t419: f32 = zc * t418;
-    let t420: f32 = t377 + t378;
-    let t421: f32 = t379 + t380;
-    let t422: f32 = t401 + t413;
-    let t423: f32 = t420 + t421;
-    let t424: f32 = t419 + t422;
-    let t425: f32 = t423 + t424;
-    let t426: f32 = t395 + t411;
+    let t393: f32 = t42 * t272;
+    let t394: f32 = t44 * t393;
+    let t395: f32 = t59 * t394;
+    let t396: f32 = xc * t146;
+    let t397: f32 = t395 + t396;
+    let t398: f32 = t392 + t397;
+    let t399: f32 = t0 * t281;
+    let t400: f32 = t5 * t288;
+    let t401: f32 = t399 + t400;
+    let t402: f32 = zc * rod3_mass;
+    let t403: f32 = t22 * t402;
+    let t404: f32 = zc * rod4_mass;
+    let t405: f32 = t35 * t404;
+    let t406: f32 = t403 + t405;
+    let t407: f32 = t401 - t406;
+    let t408: f32 = t398 + t407;
+    let t409: f32 = zc * t303;
+    let t410: f32 = zc * t310;
+    let t411: f32 = t409 + t410;
+    let t412: f32 = t139 * t318;
+    let t413: f32 = t147 * t325;
+    let t414: f32 = t412 + t413;
+    let t415: f32 = t411 - t414;
+    let t416: f32 = joint1_mass * t44;
+    let t417: f32 = t329 * t416;
+    let t418: f32 = t0 * t417;
+    let t419: f32 = t332 * t418;
+    let t420: f32 = t155 * t338;
+    let t421: f32 = t419 - t420;
+    let t422: f32 = joint2_mass * t44;
+    let t423: f32 = t329 * t422;
+    let t424: f32 = t5 * t423;
+    let t425: f32 = t342 * t424;
+    let t426: f32 = t162 * t347;
     let t427: f32 = t425 - t426;
-    let t428: f32 = joint3_mass + joint4_mass;
-    let t429: f32 = rod3_mass + rod4_mass;
-    let t430: f32 = t428 + t429;
-    let t431: f32 = zc * t430;
-    let t432: f32 = t22 + t32;
-    let t433: f32 = platform_mx * t12;
-    let t434: f32 = platform_my * t17;
-    let t435: f32 = t433 + t434;
-    let t436: f32 = platform_mz * t2;
-    let t437: f32 = t4 * t436;
-    let t438: f32 = t226 + t242;
-    let t439: f32 = t437 + t438;
-    let t440: f32 = t435 + t439;
-    let t441: f32 = t147 + t155;
-    let t442: f32 = t432 + t440;
-    let t443: f32 = t441 + t442;
-    let t444: f32 = t431 - t443;
-    let t445: f32 = rod5_mass + joint5_mass;
-    let t446: f32 = t34 * t445;
-    let t447: f32 = rod6_mass + joint6_mass;
-    let t448: f32 = t53 * t447;
-    let t449: f32 = platform_mx * t39;
-    let t450: f32 = platform_my * t43;
-    let t451: f32 = t449 + t450;
-    let t452: f32 = platform_mz * t1;
-    let t453: f32 = t4 * t452;
-    let t454: f32 = t180 + t203;
-    let t455: f32 = t453 - t454;
-    let t456: f32 = t451 - t455;
-    let t457: f32 = t140 + t456;
-    let t458: f32 = t309 + t457;
-    let t459: f32 = t446 + t448;
-    let t460: f32 = t458 - t459;
-    let t461: f32 = t190 * t203;
-    let t462: f32 = t166 * t180;
-    let t463: f32 = t34 * t272;
-    let t464: f32 = t53 * t284;
-    let t465: f32 = t122 * t211;
-    let t466: f32 = t39 * t107;
-    let t467: f32 = t43 * t88;
-    let t468: f32 = t50 + t62;
-    let t469: f32 = t35 + t54;
-    let t470: f32 = t468 - t469;
-    let t471: f32 = xc * t470;
-    let t472: f32 = t324 + t337;
-    let t473: f32 = yc * t472;
-    let t474: f32 = t131 * t314;
-    let t475: f32 = t139 * t327;
-    let t476: f32 = t474 + t475;
-    let t477: f32 = t344 * t476;
-    let t478: f32 = t192 * t352;
-    let t479: f32 = t169 * t362;
-    let t480: f32 = t478 - t479;
-    let t481: f32 = t164 * t480;
-    let t482: f32 = t461 + t462;
-    let t483: f32 = t463 + t464;
-    let t484: f32 = t466 + t467;
-    let t485: f32 = t471 + t473;
-    let t486: f32 = t482 + t483;
-    let t487: f32 = t484 + t485;
-    let t488: f32 = t486 + t487;
-    let t489: f32 = t481 + t488;
-    let t490: f32 = t465 + t477;
-    let t491: f32 = t489 - t490;
-    let t492: f32 = rod1_mass * t0;
-    let t493: f32 = t22 - t492;
-    let t494: f32 = t0 * t493;
-    let t495: f32 = rod2_mass * t24;
-    let t496: f32 = t32 - t495;
-    let t497: f32 = t24 * t496;
-    let t498: f32 = t190 * t354;
-    let t499: f32 = t166 * t364;
-    let t500: f32 = t211 * t307;
-    let t501: f32 = t39 * t299;
-    let t502: f32 = t43 * t293;
-    let t503: f32 = t274 + t286;
-    let t504: f32 = t265 + t277;
-    let t505: f32 = t503 - t504;
-    let t506: f32 = xc * t505;
-    let t507: f32 = zc * t158;
-    let t508: f32 = t314 * t344;
-    let t509: f32 = t324 * t508;
-    let t510: f32 = t325 * t508;
-    let t511: f32 = t509 + t510;
-    let t512: f32 = t327 * t344;
-    let t513: f32 = t337 * t512;
-    let t514: f32 = t338 * t512;
-    let t515: f32 = t513 + t514;
-    let t516: f32 = t511 + t515;
-    let t517: f32 = t190 * t352;
-    let t518: f32 = t166 * t362;
-    let t519: f32 = t517 + t518;
-    let t520: f32 = xc * t272;
-    let t521: f32 = xc * t284;
-    let t522: f32 = t520 + t521;
-    let t523: f32 = t519 + t522;
-    let t524: f32 = t516 - t523;
-    let t525: f32 = t253 + t500;
-    let t526: f32 = t524 + t525;
-    let t527: f32 = t494 + t497;
-    let t528: f32 = t498 + t499;
-    let t529: f32 = t501 + t502;
-    let t530: f32 = t506 + t507;
-    let t531: f32 = t527 + t528;
-    let t532: f32 = t529 + t530;
-    let t533: f32 = t531 + t532;
-    let t534: f32 = t526 - t533;
-    let t535: f32 = yc * rod1_mass;
-    let t536: f32 = t131 - t535;
-    let t537: f32 = t0 * t536;
-    let t538: f32 = yc * rod2_mass;
-    let t539: f32 = t139 - t538;
-    let t540: f32 = t24 * t539;
-    let t541: f32 = t34 * t219;
-    let t542: f32 = t53 * t236;
-    let t543: f32 = t211 * t400;
-    let t544: f32 = t39 * t392;
-    let t545: f32 = t43 * t386;
-    let t546: f32 = t20 + t30;
-    let t547: f32 = yc * t546;
-    let t548: f32 = zc * t454;
-    let t549: f32 = t50 * t213;
-    let t550: f32 = t62 * t230;
-    let t551: f32 = t549 + t550;
-    let t552: f32 = t220 * t551;
-    let t553: f32 = t147 * t192;
-    let t554: f32 = t155 * t169;
-    let t555: f32 = t553 - t554;
-    let t556: f32 = t164 * t555;
-    let t557: f32 = t537 + t540;
-    let t558: f32 = t541 + t542;
-    let t559: f32 = t544 + t545;
-    let t560: f32 = t547 + t548;
-    let t561: f32 = t557 + t558;
-    let t562: f32 = t559 + t560;
-    let t563: f32 = t561 + t562;
-    let t564: f32 = t556 + t563;
-    let t565: f32 = t543 + t552;
-    let t566: f32 = t564 - t565;
-    let t567: f32 = rod1_mass + joint1_mass;
-    let t568: f32 = t0 * t567;
-    let t569: f32 = rod2_mass + joint2_mass;
-    let t570: f32 = t24 * t569;
-    let t571: f32 = t158 + t440;
-    let t572: f32 = t546 + t571;
-    let t573: f32 = t568 + t570;
-    let t574: f32 = t572 - t573;
-    let t575: f32 = joint5_mass + joint6_mass;
-    let t576: f32 = rod5_mass + rod6_mass;
-    let t577: f32 = t575 + t576;
-    let t578: f32 = xc * t577;
-    let t579: f32 = platform_mx * t4;
-    let t580: f32 = t8 * t579;
-    let t581: f32 = platform_my * t7;
-    let t582: f32 = t4 * t581;
-    let t583: f32 = t580 - t582;
-    let t584: f32 = platform_mz * t3;
-    let t585: f32 = t339 + t584;
-    let t586: f32 = t583 + t585;
-    let t587: f32 = t272 + t284;
-    let t588: f32 = t414 + t586;
-    let t589: f32 = t587 + t588;
-    let t590: f32 = t578 - t589;
-    let t591: f32 = t0 * t324;
-    let t592: f32 = t24 * t337;
-    let t593: f32 = t149 - t159;
-    let t594: f32 = t190 * t593;
-    let t595: f32 = t157 - t160;
-    let t596: f32 = t166 * t595;
-    let t597: f32 = t122 * t381;
-    let t598: f32 = t12 * t107;
-    let t599: f32 = t17 * t88;
-    let t600: f32 = t213 * t272;
-    let t601: f32 = t230 * t284;
-    let t602: f32 = t600 + t601;
-    let t603: f32 = t208 * t602;
-    let t604: f32 = t22 * t314;
-    let t605: f32 = t32 * t327;
-    let t606: f32 = t604 + t605;
-    let t607: f32 = t311 * t606;
-    let t608: f32 = t603 + t607;
-    let t609: f32 = t209 * t608;
-    let t610: f32 = xc * t438;
-    let t611: f32 = t352 + t362;
-    let t612: f32 = zc * t611;
-    let t613: f32 = t591 + t592;
-    let t614: f32 = t594 + t596;
-    let t615: f32 = t597 + t598;
-    let t616: f32 = t599 + t610;
-    let t617: f32 = t613 + t614;
-    let t618: f32 = t615 + t616;
-    let t619: f32 = t617 + t618;
-    let t620: f32 = t612 + t619;
-    let t621: f32 = t620 - t609;
-    let t622: f32 = t0 * t129;
-    let t623: f32 = t24 * t137;
-    let t624: f32 = t34 * t226;
-    let t625: f32 = t53 * t242;
-    let t626: f32 = t307 * t381;
-    let t627: f32 = t12 * t299;
-    let t628: f32 = t17 * t293;
-    let t629: f32 = t492 + t495;
-    let t630: f32 = t432 - t629;
-    let t631: f32 = yc * t630;
-    let t632: f32 = t175 + t198;
-    let t633: f32 = zc * t632;
-    let t634: f32 = t48 * t213;
-    let t635: f32 = t60 * t230;
-    let t636: f32 = t634 + t635;
-    let t637: f32 = t220 * t636;
-    let t638: f32 = t149 * t192;
-    let t639: f32 = t157 * t169;
-    let t640: f32 = t638 - t639;
-    let t641: f32 = t164 * t640;
-    let t642: f32 = t622 + t623;
-    let t643: f32 = t624 + t625;
-    let t644: f32 = t631 + t633;
-    let t645: f32 = t642 + t643;
-    let t646: f32 = t641 + t644;
-    let t647: f32 = t645 + t646;
-    let t648: f32 = t626 + t627;
-    let t649: f32 = t628 + t637;
-    let t650: f32 = t648 + t649;
-    let t651: f32 = t647 - t650;
-    let t652: f32 = t354 - t415;
-    let t653: f32 = t190 * t652;
-    let t654: f32 = t364 - t416;
-    let t655: f32 = t166 * t654;
-    let t656: f32 = t34 * t50;
-    let t657: f32 = t53 * t62;
-    let t658: f32 = t381 * t400;
-    let t659: f32 = t12 * t392;
-    let t660: f32 = t17 * t386;
-    let t661: f32 = xc * t503;
-    let t662: f32 = t535 + t538;
-    let t663: f32 = t140 - t662;
-    let t664: f32 = yc * t663;
-    let t665: f32 = t658 + t659;
-    let t666: f32 = t207 + t660;
-    let t667: f32 = t665 + t666;
-    let t668: f32 = t524 + t667;
-    let t669: f32 = t653 + t655;
-    let t670: f32 = t656 + t657;
-    let t671: f32 = t661 + t664;
-    let t672: f32 = t669 + t670;
-    let t673: f32 = t671 + t672;
-    let t674: f32 = t668 - t673;
-    let t675: f32 = joint1_mass + joint2_mass;
-    let t676: f32 = rod1_mass + rod2_mass;
-    let t677: f32 = t675 + t676;
-    let t678: f32 = yc * t677;
-    let t679: f32 = t129 + t137;
-    let t680: f32 = t456 + t468;
-    let t681: f32 = t679 + t680;
-    let t682: f32 = t678 - t681;
-    let t683: f32 = rod3_mass + joint3_mass;
-    let t684: f32 = t190 * t683;
-    let t685: f32 = rod4_mass + joint4_mass;
-    let t686: f32 = t166 * t685;
-    let t687: f32 = t503 + t586;
-    let t688: f32 = t611 + t687;
-    let t689: f32 = t684 + t686;
-    let t690: f32 = t688 - t689;
-    let t691: f32 = t432 + t571;
-    let t692: f32 = t691 - t629;
-    let t693: f32 = t457 + t468;
-    let t694: f32 = t662 - t693;
-    let t695: f32 = platform_mass + t675;
-    let t696: f32 = t428 + t575;
-    let t697: f32 = t695 + t696;
-    let t698: f32 = t676 + t697;
-    let t699: f32 = t161 - t691;
-    let t700: f32 = t414 + t687;
-    let t701: f32 = t700 - t417;
-    let t702: f32 = t429 + t697;
-    let t703: f32 = t693 - t469;
-    let t704: f32 = t504 - t700;
-    let t705: f32 = t576 + t697;
-    let t706: f32 = t4 * t8;
+    let t428: f32 = t421 + t427;
+    let t429: f32 = t22 * t170;
+    let t430: f32 = zc * joint3_mass;
+    let t431: f32 = t22 * t430;
+    let t432: f32 = t429 - t431;
+    let t433: f32 = t35 * t177;
+    let t434: f32 = zc * joint4_mass;
+    let t435: f32 = t35 * t434;
+    let t436: f32 = t433 - t435;
+    let t437: f32 = t432 + t436;
+    let t438: f32 = t428 + t437;
+    let t439: f32 = t415 + t438;
+    let t440: f32 = t408 + t439;
+    let t441: f32 = t373 + t387;
+    let t442: f32 = t440 + t441;
+    let t443: f32 = zc * t92;
+    let t444: f32 = t430 + t434;
+    let t445: f32 = joint5_mass * t42;
+    let t446: f32 = t44 * t445;
+    let t447: f32 = t50 * t446;
+    let t448: f32 = joint6_mass * t42;
+    let t449: f32 = t44 * t448;
+    let t450: f32 = t59 * t449;
+    let t451: f32 = t447 + t450;
+    let t452: f32 = t444 - t451;
+    let t453: f32 = platform_mx + joint1_mx;
+    let t454: f32 = joint2_mx + joint3_mx;
+    let t455: f32 = joint4_mx + joint5_mx;
+    let t456: f32 = t453 + t454;
+    let t457: f32 = joint6_mx + t455;
+    let t458: f32 = t456 + t457;
+    let t459: f32 = t131 * t458;
+    let t460: f32 = platform_my + joint1_my;
+    let t461: f32 = joint2_my + joint3_my;
+    let t462: f32 = joint4_my + joint5_my;
+    let t463: f32 = t460 + t461;
+    let t464: f32 = joint6_my + t462;
+    let t465: f32 = t463 + t464;
+    let t466: f32 = t28 * t465;
+    let t467: f32 = t459 + t466;
+    let t468: f32 = platform_mz + joint1_mz;
+    let t469: f32 = joint2_mz + joint3_mz;
+    let t470: f32 = joint4_mz + joint5_mz;
+    let t471: f32 = t468 + t469;
+    let t472: f32 = joint6_mz + t470;
+    let t473: f32 = t471 + t472;
+    let t474: f32 = t369 * t473;
+    let t475: f32 = joint1_mass * t0;
+    let t476: f32 = joint2_mass * t5;
+    let t477: f32 = t475 + t476;
+    let t478: f32 = t474 - t477;
+    let t479: f32 = t467 + t478;
+    let t480: f32 = t452 - t479;
+    let t481: f32 = t443 + t480;
+    let t482: f32 = rod5_mass * t47;
+    let t483: f32 = rod6_mass * t57;
+    let t484: f32 = t30 * t352;
+    let t485: f32 = t37 * t356;
+    let t486: f32 = t484 - t485;
+    let t487: f32 = joint5_mass * t47;
+    let t488: f32 = joint6_mass * t57;
+    let t489: f32 = t487 + t488;
+    let t490: f32 = t486 + t489;
+    let t491: f32 = t184 * t458;
+    let t492: f32 = t19 * t465;
+    let t493: f32 = t491 + t492;
+    let t494: f32 = t48 * t473;
+    let t495: f32 = t333 + t343;
+    let t496: f32 = t494 + t495;
+    let t497: f32 = t493 - t496;
+    let t498: f32 = t490 - t497;
+    let t499: f32 = t482 + t483;
+    let t500: f32 = t498 + t499;
+    let t501: f32 = -t500;
+    let t502: f32 = t111 * t184;
+    let t503: f32 = t19 * t124;
+    let t504: f32 = t48 * t90;
+    let t505: f32 = t502 + t503;
+    let t506: f32 = t364 + t505;
+    let t507: f32 = t506 - t504;
+    let t508: f32 = t329 * t329;
+    let t509: f32 = t332 * t332;
+    let t510: f32 = t45 * t508;
+    let t511: f32 = t509 * t510;
+    let t512: f32 = t1 + t511;
+    let t513: f32 = joint1_mass * t512;
+    let t514: f32 = t342 * t342;
+    let t515: f32 = t510 * t514;
+    let t516: f32 = t6 + t515;
+    let t517: f32 = joint2_mass * t516;
+    let t518: f32 = t22 * t22;
+    let t519: f32 = t9 + t518;
+    let t520: f32 = joint3_mass * t519;
+    let t521: f32 = t35 * t35;
+    let t522: f32 = t9 + t521;
+    let t523: f32 = joint4_mass * t522;
+    let t524: f32 = xc * xc;
+    let t525: f32 = t53 + t524;
+    let t526: f32 = joint5_mass * t525;
+    let t527: f32 = t61 + t524;
+    let t528: f32 = joint6_mass * t527;
+    let t529: f32 = t184 * t257;
+    let t530: f32 = t19 * t263;
+    let t531: f32 = t48 * t251;
+    let t532: f32 = rod1_mass * t1;
+    let t533: f32 = rod2_mass * t6;
+    let t534: f32 = rod5_mass + rod6_mass;
+    let t535: f32 = t524 * t534;
+    let t536: f32 = t281 * t338;
+    let t537: f32 = t288 * t347;
+    let t538: f32 = t536 + t537;
+    let t539: f32 = t22 * t303;
+    let t540: f32 = t35 * t310;
+    let t541: f32 = t539 + t540;
+    let t542: f32 = t538 - t541;
+    let t543: f32 = xc * t318;
+    let t544: f32 = xc * t325;
+    let t545: f32 = t543 + t544;
+    let t546: f32 = t542 - t545;
+    let t547: f32 = t181 + t546;
+    let t548: f32 = t547 * 2.0;
+    let t549: f32 = t513 + t517;
+    let t550: f32 = t520 + t523;
+    let t551: f32 = t526 + t528;
+    let t552: f32 = t529 + t530;
+    let t553: f32 = t532 + t533;
+    let t554: f32 = t535 + t548;
+    let t555: f32 = t549 + t550;
+    let t556: f32 = t551 + t552;
+    let t557: f32 = t553 + t554;
+    let t558: f32 = t555 + t556;
+    let t559: f32 = t557 + t558;
+    let t560: f32 = t559 - t531;
+    let t561: f32 = t184 * t378;
+    let t562: f32 = t19 * t384;
+    let t563: f32 = t48 * t372;
+    let t564: f32 = t170 * t199;
+    let t565: f32 = t20 * t434;
+    let t566: f32 = t37 * t565;
+    let t567: f32 = t564 + t566;
+    let t568: f32 = zc * t190;
+    let t569: f32 = t177 * t191;
+    let t570: f32 = t568 - t569;
+    let t571: f32 = t567 + t570;
+    let t572: f32 = t47 * t446;
+    let t573: f32 = t50 * t572;
+    let t574: f32 = t139 * t223;
+    let t575: f32 = t573 - t574;
+    let t576: f32 = t47 * t137;
+    let t577: f32 = t57 * t449;
+    let t578: f32 = t59 * t577;
+    let t579: f32 = t576 + t578;
+    let t580: f32 = t575 + t579;
+    let t581: f32 = t571 + t580;
+    let t582: f32 = t57 * t146;
+    let t583: f32 = t147 * t230;
+    let t584: f32 = t582 - t583;
+    let t585: f32 = yc * rod1_mass;
+    let t586: f32 = t0 * t585;
+    let t587: f32 = yc * rod2_mass;
+    let t588: f32 = t5 * t587;
+    let t589: f32 = t586 + t588;
+    let t590: f32 = t584 - t589;
+    let t591: f32 = t0 * t207;
+    let t592: f32 = t0 * t333;
+    let t593: f32 = t591 - t592;
+    let t594: f32 = yc * t155;
+    let t595: f32 = t5 * t343;
+    let t596: f32 = t594 - t595;
+    let t597: f32 = t593 + t596;
+    let t598: f32 = t5 * t214;
+    let t599: f32 = yc * t162;
+    let t600: f32 = t598 + t599;
+    let t601: f32 = zc * t198;
+    let t602: f32 = t20 * t430;
+    let t603: f32 = t30 * t602;
+    let t604: f32 = t601 - t603;
+    let t605: f32 = t600 + t604;
+    let t606: f32 = t597 + t605;
+    let t607: f32 = t590 + t606;
+    let t608: f32 = t581 + t607;
+    let t609: f32 = t561 + t562;
+    let t610: f32 = t608 + t609;
+    let t611: f32 = t610 - t563;
+    let t612: f32 = rod1_mass * t0;
+    let t613: f32 = rod2_mass * t5;
+    let t614: f32 = t612 + t613;
+    let t615: f32 = t480 + t614;
+    let t616: f32 = -t615;
+    let t617: f32 = xc * t534;
+    let t618: f32 = joint3_mass * t22;
+    let t619: f32 = joint4_mass * t35;
+    let t620: f32 = t618 + t619;
+    let t621: f32 = t268 + t272;
+    let t622: f32 = t620 + t621;
+    let t623: f32 = t13 * t16;
+    let t624: f32 = t458 * t623;
+    let t625: f32 = t23 * t465;
+    let t626: f32 = t624 - t625;
+    let t627: f32 = t15 * t473;
+    let t628: f32 = t332 * t417;
+    let t629: f32 = t342 * t423;
+    let t630: f32 = t628 + t629;
+    let t631: f32 = t627 + t630;
+    let t632: f32 = t626 + t631;
+    let t633: f32 = t622 - t632;
+    let t634: f32 = t617 + t633;
+    let t635: f32 = t111 * t131;
+    let t636: f32 = t28 * t124;
+    let t637: f32 = t90 * t369;
+    let t638: f32 = t635 + t636;
+    let t639: f32 = t440 + t637;
+    let t640: f32 = t638 + t639;
+    let t641: f32 = t131 * t257;
+    let t642: f32 = t28 * t263;
+    let t643: f32 = t251 * t369;
+    let t644: f32 = t641 + t642;
+    let t645: f32 = t608 + t643;
+    let t646: f32 = t644 + t645;
+    let t647: f32 = t2 + t511;
+    let t648: f32 = joint1_mass * t647;
+    let t649: f32 = t2 + t515;
+    let t650: f32 = joint2_mass * t649;
+    let t651: f32 = t32 + t518;
+    let t652: f32 = joint3_mass * t651;
+    let t653: f32 = t39 + t521;
+    let t654: f32 = joint4_mass * t653;
+    let t655: f32 = t54 + t524;
+    let t656: f32 = joint5_mass * t655;
+    let t657: f32 = t62 + t524;
+    let t658: f32 = joint6_mass * t657;
+    let t659: f32 = t131 * t378;
+    let t660: f32 = t28 * t384;
+    let t661: f32 = t369 * t372;
+    let t662: f32 = rod3_mass * t518;
+    let t663: f32 = rod4_mass * t521;
+    let t664: f32 = rod1_mass + rod2_mass;
+    let t665: f32 = t2 * t664;
+    let t666: f32 = t233 + t546;
+    let t667: f32 = t666 * 2.0;
+    let t668: f32 = t648 + t650;
+    let t669: f32 = t652 + t654;
+    let t670: f32 = t656 + t658;
+    let t671: f32 = t659 + t660;
+    let t672: f32 = t661 + t662;
+    let t673: f32 = t663 + t665;
+    let t674: f32 = t668 + t669;
+    let t675: f32 = t670 + t671;
+    let t676: f32 = t672 + t673;
+    let t677: f32 = t674 + t675;
+    let t678: f32 = t667 + t676;
+    let t679: f32 = t677 + t678;
+    let t680: f32 = yc * t664;
+    let t681: f32 = t498 + t680;
+    let t682: f32 = rod3_mass * t22;
+    let t683: f32 = rod4_mass * t35;
+    let t684: f32 = t682 + t683;
+    let t685: f32 = t633 + t684;
+    let t686: f32 = -t685;
+    let t687: f32 = platform_mass + joint1_mass;
+    let t688: f32 = joint6_mass + t687;
+    let t689: f32 = joint2_mass + joint3_mass;
+    let t690: f32 = joint4_mass + joint5_mass;
+    let t691: f32 = t689 + t690;
+    let t692: f32 = t688 + t691;
+    let t693: f32 = t664 + t692;
+    let t694: f32 = t92 + t692;
+    let t695: f32 = t534 + t692;
     (
         [
-            [t262, t376, t427, 0.0, t444, t460],
-            [t491, t534, t566, t574, 0.0, t590],
-            [t621, t651, t674, t682, t690, 0.0],
-            [0.0, t692, t694, t698, 0.0, 0.0],
-            [t699, 0.0, t701, 0.0, t702, 0.0],
-            [t703, t704, 0.0, 0.0, 0.0, t705],
+            [t246, t366, t442, 0.0, t481, t501],
+            [t507, t560, t611, t616, 0.0, t634],
+            [t640, t646, t679, t681, t686, 0.0],
+            [0.0, t616, t681, t693, 0.0, 0.0],
+            [t481, 0.0, t686, 0.0, t694, 0.0],
+            [t501, t634, 0.0, 0.0, 0.0, t695],
         ],
-        [t706, t43, t381],
+        [t623, t19, t369],
     )
 }
 /// Task-space bias `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal, gravity.
@@ -8656,7 +7752,7 @@ pub fn task_inertia_params(
 /// - `h`: `h = (n; f)` at `C`, base frame (N·m, N)
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 471 mul, 4 div, 377 add, 6 neg, 3 sin_cos (chapter convention: 475m + 377a).
+/// Operations: 353 mul, 4 div, 307 add, 1 neg, 3 sin_cos (chapter convention: 357m + 307a).
 #[inline]
 pub fn task_bias_params(
     pose: &[f32; 6],
@@ -8680,868 +7776,675 @@ pub fn task_bias_params(
     joint5_iyy, joint5_iyz, joint5_izz, rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _,
     joint6_mass, joint6_mx, joint6_my, joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz,
     joint6_iyy, joint6_iyz, joint6_izz] = *params;
-    let (t0, t1): (f32, f32) = sin_cos(gamma);
-    let (t2, t3): (f32, f32) = sin_cos(alpha);
-    let t4: f32 = t0 * t3;
-    let (t5, t6): (f32, f32) = sin_cos(beta);
-    let t7: f32 = t2 * t5;
-    let t8: f32 = t1 * t7;
-    let t9: f32 = t4 + t8;
-    let t10: f32 = platform_mx * t9;
-    let t11: f32 = t1 * t3;
-    let t12: f32 = t0 * t7;
-    let t13: f32 = t11 - t12;
-    let t14: f32 = platform_my * t13;
-    let t15: f32 = platform_mz * t2;
-    let t16: f32 = t6 * t15;
-    let t17: f32 = t10 + t14;
-    let t18: f32 = t17 - t16;
-    let t19: f32 = gravity_z * t18;
-    let t20: f32 = t0 * t2;
-    let t21: f32 = t3 * t5;
-    let t22: f32 = t1 * t21;
-    let t23: f32 = t20 - t22;
-    let t24: f32 = platform_mx * t23;
-    let t25: f32 = t1 * t2;
-    let t26: f32 = t0 * t5;
-    let t27: f32 = t3 * t26;
-    let t28: f32 = t25 + t27;
-    let t29: f32 = platform_my * t28;
-    let t30: f32 = platform_mz * t3;
-    let t31: f32 = t6 * t30;
-    let t32: f32 = t24 + t29;
-    let t33: f32 = t31 + t32;
-    let t34: f32 = gravity_y * t33;
-    let t35: f32 = joint1_mx * t9;
-    let t36: f32 = joint1_my * t13;
-    let t37: f32 = joint1_mz * t2;
-    let t38: f32 = t6 * t37;
-    let t39: f32 = t35 + t36;
-    let t40: f32 = t39 - t38;
-    let t41: f32 = 1.0 / t6;
-    let t42: f32 = 1.0 / t1;
-    let t43: f32 = yc * t9;
-    let t44: f32 = zc - half_spacing;
-    let t45: f32 = t23 * t44;
-    let t46: f32 = t43 + t45;
-    let t47: f32 = wx * wz;
-    let t48: f32 = t41 * t47;
-    let t49: f32 = t42 * t48;
-    let t50: f32 = t46 * t49;
-    let t51: f32 = wy * wy;
-    let t52: f32 = wx * wx;
-    let t53: f32 = t51 + t52;
-    let t54: f32 = t44 * t53;
-    let t55: f32 = yc * wy;
-    let t56: f32 = wz * t55;
-    let t57: f32 = gravity_z + t56;
-    let t58: f32 = t50 + t54;
-    let t59: f32 = t57 - t58;
-    let t60: f32 = t40 * t59;
-    let t61: f32 = joint2_mx * t9;
-    let t62: f32 = joint2_my * t13;
-    let t63: f32 = joint2_mz * t2;
-    let t64: f32 = t6 * t63;
-    let t65: f32 = t61 + t62;
-    let t66: f32 = t65 - t64;
-    let t67: f32 = zc + half_spacing;
-    let t68: f32 = t23 * t67;
-    let t69: f32 = t43 + t68;
-    let t70: f32 = t49 * t69;
-    let t71: f32 = t53 * t67;
-    let t72: f32 = t70 + t71;
-    let t73: f32 = t57 - t72;
-    let t74: f32 = t66 * t73;
-    let t75: f32 = joint3_mx * t23;
-    let t76: f32 = joint3_my * t28;
-    let t77: f32 = joint3_mz * t3;
-    let t78: f32 = t6 * t77;
-    let t79: f32 = t75 + t76;
-    let t80: f32 = t78 + t79;
-    let t81: f32 = xc - half_spacing;
-    let t82: f32 = wx * wy;
-    let t83: f32 = t81 * t82;
-    let t84: f32 = 1.0 / t13;
-    let t85: f32 = t0 * t6;
-    let t86: f32 = t81 * t85;
-    let t87: f32 = zc * t28;
-    let t88: f32 = t86 - t87;
-    let t89: f32 = wz * wz;
-    let t90: f32 = t52 + t89;
-    let t91: f32 = t84 * t88;
-    let t92: f32 = t90 * t91;
-    let t93: f32 = zc * wy;
-    let t94: f32 = wz * t93;
-    let t95: f32 = gravity_y + t94;
-    let t96: f32 = t83 + t95;
-    let t97: f32 = t96 - t92;
-    let t98: f32 = t80 * t97;
-    let t99: f32 = joint4_mx * t23;
-    let t100: f32 = joint4_my * t28;
-    let t101: f32 = joint4_mz * t3;
-    let t102: f32 = t6 * t101;
-    let t103: f32 = t99 + t100;
-    let t104: f32 = t102 + t103;
-    let t105: f32 = xc + half_spacing;
-    let t106: f32 = t82 * t105;
-    let t107: f32 = t85 * t105;
-    let t108: f32 = t87 - t107;
-    let t109: f32 = t84 * t108;
-    let t110: f32 = t90 * t109;
-    let t111: f32 = t106 + t110;
-    let t112: f32 = t95 + t111;
-    let t113: f32 = t104 * t112;
-    let t114: f32 = joint5_mx * t9;
-    let t115: f32 = joint5_my * t13;
-    let t116: f32 = joint5_mz * t2;
-    let t117: f32 = t6 * t116;
-    let t118: f32 = t114 + t115;
-    let t119: f32 = t118 - t117;
-    let t120: f32 = yc - half_spacing;
-    let t121: f32 = wy * wz;
-    let t122: f32 = t120 * t121;
-    let t123: f32 = 1.0 / t3;
-    let t124: f32 = xc * t5;
-    let t125: f32 = t2 * t6;
-    let t126: f32 = t120 * t125;
-    let t127: f32 = t124 - t126;
-    let t128: f32 = t41 * t123;
-    let t129: f32 = t127 * t128;
-    let t130: f32 = t53 * t129;
-    let t131: f32 = xc * wx;
-    let t132: f32 = wz * t131;
-    let t133: f32 = gravity_z + t132;
-    let t134: f32 = t122 + t130;
-    let t135: f32 = t133 + t134;
-    let t136: f32 = t119 * t135;
-    let t137: f32 = joint5_mx * t23;
-    let t138: f32 = joint5_my * t28;
-    let t139: f32 = joint5_mz * t3;
-    let t140: f32 = t6 * t139;
-    let t141: f32 = t137 + t138;
-    let t142: f32 = t140 + t141;
-    let t143: f32 = t90 * t120;
-    let t144: f32 = t121 * t123;
-    let t145: f32 = t41 * t144;
-    let t146: f32 = t127 * t145;
-    let t147: f32 = wy * t131;
-    let t148: f32 = gravity_y + t147;
-    let t149: f32 = t143 + t146;
-    let t150: f32 = t148 - t149;
-    let t151: f32 = t142 * t150;
-    let t152: f32 = joint6_mx * t9;
-    let t153: f32 = joint6_my * t13;
-    let t154: f32 = joint6_mz * t2;
-    let t155: f32 = t6 * t154;
-    let t156: f32 = t152 + t153;
-    let t157: f32 = t156 - t155;
-    let t158: f32 = yc + half_spacing;
-    let t159: f32 = t121 * t158;
-    let t160: f32 = t125 * t158;
-    let t161: f32 = t124 - t160;
-    let t162: f32 = t128 * t161;
-    let t163: f32 = t53 * t162;
-    let t164: f32 = t159 + t163;
-    let t165: f32 = t133 + t164;
-    let t166: f32 = t157 * t165;
-    let t167: f32 = joint6_mx * t23;
-    let t168: f32 = joint6_my * t28;
-    let t169: f32 = joint6_mz * t3;
-    let t170: f32 = t6 * t169;
-    let t171: f32 = t167 + t168;
-    let t172: f32 = t170 + t171;
-    let t173: f32 = t90 * t158;
-    let t174: f32 = t145 * t161;
-    let t175: f32 = t173 + t174;
-    let t176: f32 = t148 - t175;
-    let t177: f32 = t172 * t176;
-    let t178: f32 = joint1_mx * t23;
-    let t179: f32 = joint1_my * t28;
-    let t180: f32 = joint1_mz * t3;
-    let t181: f32 = t6 * t180;
-    let t182: f32 = t178 + t179;
-    let t183: f32 = t181 + t182;
-    let t184: f32 = wx * t41;
-    let t185: f32 = t42 * t184;
-    let t186: f32 = t46 * t185;
-    let t187: f32 = wz * t44;
-    let t188: f32 = t186 - t187;
-    let t189: f32 = wy * t188;
-    let t190: f32 = yc * t90;
-    let t191: f32 = gravity_y - t190;
-    let t192: f32 = t191 - t189;
-    let t193: f32 = t183 * t192;
-    let t194: f32 = wx * t40;
-    let t195: f32 = joint1_mz * t5;
-    let t196: f32 = joint1_mx * t1;
-    let t197: f32 = joint1_my * t0;
-    let t198: f32 = t196 - t197;
-    let t199: f32 = t6 * t198;
-    let t200: f32 = t195 + t199;
-    let t201: f32 = wy * t200;
-    let t202: f32 = t194 - t201;
-    let t203: f32 = wx * t202;
-    let t204: f32 = wy * t183;
-    let t205: f32 = wz * t40;
-    let t206: f32 = t204 - t205;
-    let t207: f32 = wz * t206;
-    let t208: f32 = joint1_mass * t192;
-    let t209: f32 = t207 - t208;
-    let t210: f32 = t203 - t209;
-    let t211: f32 = t44 * t210;
-    let t212: f32 = joint2_mx * t23;
-    let t213: f32 = joint2_my * t28;
-    let t214: f32 = joint2_mz * t3;
-    let t215: f32 = t6 * t214;
+    let (t0, t1): (f32, f32) = sin_cos(beta);
+    let (t2, t3): (f32, f32) = sin_cos(gamma);
+    let t4: f32 = wx * t1;
+    let t5: f32 = t3 * t4;
+    let (t6, t7): (f32, f32) = sin_cos(alpha);
+    let t8: f32 = t2 * t7;
+    let t9: f32 = t0 * t6;
+    let t10: f32 = t3 * t9;
+    let t11: f32 = t8 + t10;
+    let t12: f32 = wy * t11;
+    let t13: f32 = t2 * t6;
+    let t14: f32 = t0 * t7;
+    let t15: f32 = t3 * t14;
+    let t16: f32 = t13 - t15;
+    let t17: f32 = wz * t16;
+    let t18: f32 = t5 + t12;
+    let t19: f32 = t17 + t18;
+    let t20: f32 = platform_ixy + joint1_ixy;
+    let t21: f32 = joint2_ixy + joint3_ixy;
+    let t22: f32 = joint4_ixy + joint5_ixy;
+    let t23: f32 = t20 + t21;
+    let t24: f32 = joint6_ixy + t22;
+    let t25: f32 = t23 + t24;
+    let t26: f32 = t19 * t25;
+    let t27: f32 = platform_iyy + joint1_iyy;
+    let t28: f32 = joint2_iyy + joint3_iyy;
+    let t29: f32 = joint4_iyy + joint5_iyy;
+    let t30: f32 = t27 + t28;
+    let t31: f32 = joint6_iyy + t29;
+    let t32: f32 = t30 + t31;
+    let t33: f32 = wx * t2;
+    let t34: f32 = t1 * t33;
+    let t35: f32 = t3 * t7;
+    let t36: f32 = t2 * t9;
+    let t37: f32 = t35 - t36;
+    let t38: f32 = wy * t37;
+    let t39: f32 = t3 * t6;
+    let t40: f32 = t0 * t2;
+    let t41: f32 = t7 * t40;
+    let t42: f32 = t39 + t41;
+    let t43: f32 = wz * t42;
+    let t44: f32 = t38 + t43;
+    let t45: f32 = t34 - t44;
+    let t46: f32 = t32 * t45;
+    let t47: f32 = platform_iyz + joint1_iyz;
+    let t48: f32 = joint2_iyz + joint3_iyz;
+    let t49: f32 = joint4_iyz + joint5_iyz;
+    let t50: f32 = t47 + t48;
+    let t51: f32 = joint6_iyz + t49;
+    let t52: f32 = t50 + t51;
+    let t53: f32 = wx * t0;
+    let t54: f32 = wy * t6;
+    let t55: f32 = wz * t7;
+    let t56: f32 = t54 - t55;
+    let t57: f32 = t1 * t56;
+    let t58: f32 = t53 - t57;
+    let t59: f32 = t52 * t58;
+    let t60: f32 = t26 + t59;
+    let t61: f32 = t60 - t46;
+    let t62: f32 = t19 * t61;
+    let t63: f32 = platform_ixx + joint1_ixx;
+    let t64: f32 = joint2_ixx + joint3_ixx;
+    let t65: f32 = joint4_ixx + joint5_ixx;
+    let t66: f32 = t63 + t64;
+    let t67: f32 = joint6_ixx + t65;
+    let t68: f32 = t66 + t67;
+    let t69: f32 = t19 * t68;
+    let t70: f32 = t25 * t45;
+    let t71: f32 = platform_ixz + joint1_ixz;
+    let t72: f32 = joint2_ixz + joint3_ixz;
+    let t73: f32 = joint4_ixz + joint5_ixz;
+    let t74: f32 = t71 + t72;
+    let t75: f32 = joint6_ixz + t73;
+    let t76: f32 = t74 + t75;
+    let t77: f32 = t58 * t76;
+    let t78: f32 = t69 + t77;
+    let t79: f32 = t78 - t70;
+    let t80: f32 = t45 * t79;
+    let t81: f32 = t62 + t80;
+    let t82: f32 = t0 * t81;
+    let t83: f32 = xc - half_spacing;
+    let t84: f32 = joint3_mx * t16;
+    let t85: f32 = joint3_my * t42;
+    let t86: f32 = joint3_mz * t7;
+    let t87: f32 = t1 * t86;
+    let t88: f32 = t84 + t85;
+    let t89: f32 = t87 + t88;
+    let t90: f32 = t83 * t89;
+    let t91: f32 = xc + half_spacing;
+    let t92: f32 = joint4_mx * t16;
+    let t93: f32 = joint4_my * t42;
+    let t94: f32 = joint4_mz * t7;
+    let t95: f32 = t1 * t94;
+    let t96: f32 = t92 + t93;
+    let t97: f32 = t95 + t96;
+    let t98: f32 = t91 * t97;
+    let t99: f32 = zc - half_spacing;
+    let t100: f32 = joint1_mz * t0;
+    let t101: f32 = joint1_mx * t3;
+    let t102: f32 = joint1_my * t2;
+    let t103: f32 = t101 - t102;
+    let t104: f32 = t1 * t103;
+    let t105: f32 = t100 + t104;
+    let t106: f32 = t99 * t105;
+    let t107: f32 = zc + half_spacing;
+    let t108: f32 = joint2_mz * t0;
+    let t109: f32 = joint2_mx * t3;
+    let t110: f32 = joint2_my * t2;
+    let t111: f32 = t109 - t110;
+    let t112: f32 = t1 * t111;
+    let t113: f32 = t108 + t112;
+    let t114: f32 = t107 * t113;
+    let t115: f32 = 1.0 / t1;
+    let t116: f32 = 1.0 / t7;
+    let t117: f32 = xc * t0;
+    let t118: f32 = yc - half_spacing;
+    let t119: f32 = t1 * t6;
+    let t120: f32 = t118 * t119;
+    let t121: f32 = t117 - t120;
+    let t122: f32 = joint5_mz * t0;
+    let t123: f32 = joint5_mx * t3;
+    let t124: f32 = joint5_my * t2;
+    let t125: f32 = t123 - t124;
+    let t126: f32 = t1 * t125;
+    let t127: f32 = t122 + t126;
+    let t128: f32 = t121 * t127;
+    let t129: f32 = yc + half_spacing;
+    let t130: f32 = t119 * t129;
+    let t131: f32 = t117 - t130;
+    let t132: f32 = joint6_mz * t0;
+    let t133: f32 = joint6_mx * t3;
+    let t134: f32 = joint6_my * t2;
+    let t135: f32 = t133 - t134;
+    let t136: f32 = t1 * t135;
+    let t137: f32 = t132 + t136;
+    let t138: f32 = t131 * t137;
+    let t139: f32 = joint5_mass * t121;
+    let t140: f32 = joint6_mass * t131;
+    let t141: f32 = t139 + t140;
+    let t142: f32 = xc * t141;
+    let t143: f32 = t128 + t138;
+    let t144: f32 = t143 - t142;
+    let t145: f32 = t116 * t144;
+    let t146: f32 = 1.0 / t3;
+    let t147: f32 = yc * t11;
+    let t148: f32 = t16 * t99;
+    let t149: f32 = t147 + t148;
+    let t150: f32 = joint1_mass * t99;
+    let t151: f32 = joint1_mz * t7;
+    let t152: f32 = t1 * t151;
+    let t153: f32 = joint1_mx * t16;
+    let t154: f32 = joint1_my * t42;
+    let t155: f32 = t153 + t154;
+    let t156: f32 = t152 + t155;
+    let t157: f32 = t156 - t150;
+    let t158: f32 = t149 * t157;
+    let t159: f32 = t16 * t107;
+    let t160: f32 = t147 + t159;
+    let t161: f32 = joint2_mass * t107;
+    let t162: f32 = joint2_mz * t7;
+    let t163: f32 = t1 * t162;
+    let t164: f32 = joint2_mx * t16;
+    let t165: f32 = joint2_my * t42;
+    let t166: f32 = t164 + t165;
+    let t167: f32 = t163 + t166;
+    let t168: f32 = t167 - t161;
+    let t169: f32 = t160 * t168;
+    let t170: f32 = t158 + t169;
+    let t171: f32 = t146 * t170;
+    let t172: f32 = t145 + t171;
+    let t173: f32 = t115 * t172;
+    let t174: f32 = joint3_mz + joint4_mz;
+    let t175: f32 = t0 * t174;
+    let t176: f32 = joint3_my + joint4_my;
+    let t177: f32 = t2 * t176;
+    let t178: f32 = joint3_mx + joint4_mx;
+    let t179: f32 = t3 * t178;
+    let t180: f32 = t177 - t179;
+    let t181: f32 = t1 * t180;
+    let t182: f32 = joint3_mass * t83;
+    let t183: f32 = joint4_mass * t91;
+    let t184: f32 = t182 + t183;
+    let t185: f32 = t181 + t184;
+    let t186: f32 = t185 - t175;
+    let t187: f32 = zc * t186;
+    let t188: f32 = joint5_mz + joint6_mz;
+    let t189: f32 = t1 * t7;
+    let t190: f32 = t188 * t189;
+    let t191: f32 = joint5_mx + joint6_mx;
+    let t192: f32 = t16 * t191;
+    let t193: f32 = joint5_my + joint6_my;
+    let t194: f32 = t42 * t193;
+    let t195: f32 = t190 + t192;
+    let t196: f32 = t194 + t195;
+    let t197: f32 = xc * t196;
+    let t198: f32 = t90 + t98;
+    let t199: f32 = t106 + t114;
+    let t200: f32 = t198 + t199;
+    let t201: f32 = t197 + t200;
+    let t202: f32 = t173 + t187;
+    let t203: f32 = t201 - t202;
+    let t204: f32 = wx * t203;
+    let t205: f32 = joint1_mx * t11;
+    let t206: f32 = joint1_my * t37;
+    let t207: f32 = joint1_mz * t6;
+    let t208: f32 = t1 * t207;
+    let t209: f32 = t205 + t206;
+    let t210: f32 = t209 - t208;
+    let t211: f32 = t99 * t210;
+    let t212: f32 = joint2_mx * t11;
+    let t213: f32 = joint2_my * t37;
+    let t214: f32 = joint2_mz * t6;
+    let t215: f32 = t1 * t214;
     let t216: f32 = t212 + t213;
-    let t217: f32 = t215 + t216;
-    let t218: f32 = t69 * t185;
-    let t219: f32 = wz * t67;
-    let t220: f32 = t218 - t219;
-    let t221: f32 = wy * t220;
-    let t222: f32 = t191 - t221;
-    let t223: f32 = t217 * t222;
-    let t224: f32 = wx * t66;
-    let t225: f32 = joint2_mz * t5;
-    let t226: f32 = joint2_mx * t1;
-    let t227: f32 = joint2_my * t0;
-    let t228: f32 = t226 - t227;
-    let t229: f32 = t6 * t228;
-    let t230: f32 = t225 + t229;
-    let t231: f32 = wy * t230;
-    let t232: f32 = t224 - t231;
-    let t233: f32 = wx * t232;
-    let t234: f32 = wy * t217;
-    let t235: f32 = wz * t66;
-    let t236: f32 = t234 - t235;
-    let t237: f32 = wz * t236;
-    let t238: f32 = joint2_mass * t222;
-    let t239: f32 = t237 - t238;
-    let t240: f32 = t233 - t239;
-    let t241: f32 = t67 * t240;
-    let t242: f32 = joint3_mx * t9;
-    let t243: f32 = joint3_my * t13;
-    let t244: f32 = joint3_mz * t2;
-    let t245: f32 = t6 * t244;
-    let t246: f32 = t242 + t243;
-    let t247: f32 = t246 - t245;
-    let t248: f32 = wx * t81;
-    let t249: f32 = wy * t84;
-    let t250: f32 = t88 * t249;
-    let t251: f32 = t248 + t250;
-    let t252: f32 = wz * t251;
-    let t253: f32 = zc * t53;
-    let t254: f32 = gravity_z - t253;
-    let t255: f32 = t252 + t254;
-    let t256: f32 = t247 * t255;
-    let t257: f32 = joint4_mx * t9;
-    let t258: f32 = joint4_my * t13;
-    let t259: f32 = joint4_mz * t2;
-    let t260: f32 = t6 * t259;
-    let t261: f32 = t257 + t258;
-    let t262: f32 = t261 - t260;
-    let t263: f32 = wx * t105;
-    let t264: f32 = t108 * t249;
-    let t265: f32 = t263 - t264;
-    let t266: f32 = wz * t265;
-    let t267: f32 = t254 + t266;
-    let t268: f32 = t262 * t267;
-    let t269: f32 = wx * t142;
-    let t270: f32 = joint5_mz * t5;
-    let t271: f32 = joint5_mx * t1;
-    let t272: f32 = joint5_my * t0;
-    let t273: f32 = t271 - t272;
-    let t274: f32 = t6 * t273;
-    let t275: f32 = t270 + t274;
-    let t276: f32 = wz * t275;
-    let t277: f32 = t276 - t269;
-    let t278: f32 = wx * t277;
-    let t279: f32 = wx * vy;
-    let t280: f32 = wy * vx;
-    let t281: f32 = gravity_z + t279;
-    let t282: f32 = t281 - t280;
-    let t283: f32 = rod5_mass * t282;
-    let t284: f32 = joint5_mass * t135;
-    let t285: f32 = wy * t142;
-    let t286: f32 = wz * t119;
-    let t287: f32 = t285 - t286;
-    let t288: f32 = wy * t287;
-    let t289: f32 = t284 + t288;
-    let t290: f32 = t283 + t289;
-    let t291: f32 = t278 - t290;
-    let t292: f32 = -t291;
-    let t293: f32 = t120 * t292;
-    let t294: f32 = wx * t172;
-    let t295: f32 = joint6_mz * t5;
-    let t296: f32 = joint6_mx * t1;
-    let t297: f32 = joint6_my * t0;
-    let t298: f32 = t296 - t297;
-    let t299: f32 = t6 * t298;
-    let t300: f32 = t295 + t299;
-    let t301: f32 = wz * t300;
-    let t302: f32 = t301 - t294;
-    let t303: f32 = wx * t302;
-    let t304: f32 = rod6_mass * t282;
-    let t305: f32 = joint6_mass * t165;
-    let t306: f32 = wy * t172;
-    let t307: f32 = wz * t157;
-    let t308: f32 = t306 - t307;
-    let t309: f32 = wy * t308;
-    let t310: f32 = t305 + t309;
-    let t311: f32 = t304 + t310;
-    let t312: f32 = t303 - t311;
-    let t313: f32 = -t312;
-    let t314: f32 = t158 * t313;
-    let t315: f32 = wx * t6;
-    let t316: f32 = t1 * t315;
-    let t317: f32 = wy * t9;
-    let t318: f32 = wz * t23;
-    let t319: f32 = t316 + t317;
+    let t217: f32 = t216 - t215;
+    let t218: f32 = t107 * t217;
+    let t219: f32 = joint5_mx * t16;
+    let t220: f32 = joint5_my * t42;
+    let t221: f32 = joint5_mz * t7;
+    let t222: f32 = t1 * t221;
+    let t223: f32 = t219 + t220;
+    let t224: f32 = t222 + t223;
+    let t225: f32 = t118 * t224;
+    let t226: f32 = joint6_mx * t16;
+    let t227: f32 = joint6_my * t42;
+    let t228: f32 = joint6_mz * t7;
+    let t229: f32 = t1 * t228;
+    let t230: f32 = t226 + t227;
+    let t231: f32 = t229 + t230;
+    let t232: f32 = t129 * t231;
+    let t233: f32 = joint1_mz + joint2_mz;
+    let t234: f32 = t189 * t233;
+    let t235: f32 = joint1_mx + joint2_mx;
+    let t236: f32 = t16 * t235;
+    let t237: f32 = joint1_my + joint2_my;
+    let t238: f32 = t42 * t237;
+    let t239: f32 = t150 + t161;
+    let t240: f32 = t234 + t236;
+    let t241: f32 = t238 + t240;
+    let t242: f32 = t239 - t241;
+    let t243: f32 = yc * t242;
+    let t244: f32 = t119 * t174;
+    let t245: f32 = t11 * t178;
+    let t246: f32 = t37 * t176;
+    let t247: f32 = 1.0 / t37;
+    let t248: f32 = t1 * t2;
+    let t249: f32 = t83 * t248;
+    let t250: f32 = zc * t42;
+    let t251: f32 = t249 - t250;
+    let t252: f32 = joint3_mass * t251;
+    let t253: f32 = t91 * t248;
+    let t254: f32 = t250 - t253;
+    let t255: f32 = joint4_mass * t254;
+    let t256: f32 = t252 - t255;
+    let t257: f32 = t247 * t256;
+    let t258: f32 = t244 + t257;
+    let t259: f32 = t245 + t246;
+    let t260: f32 = t258 - t259;
+    let t261: f32 = zc * t260;
+    let t262: f32 = joint5_mass * t118;
+    let t263: f32 = joint5_mx * t11;
+    let t264: f32 = joint5_my * t37;
+    let t265: f32 = t263 + t264;
+    let t266: f32 = joint5_mz * t6;
+    let t267: f32 = t1 * t266;
+    let t268: f32 = t265 - t267;
+    let t269: f32 = t268 - t262;
+    let t270: f32 = t121 * t269;
+    let t271: f32 = joint6_mass * t129;
+    let t272: f32 = joint6_mx * t11;
+    let t273: f32 = joint6_my * t37;
+    let t274: f32 = t272 + t273;
+    let t275: f32 = joint6_mz * t6;
+    let t276: f32 = t1 * t275;
+    let t277: f32 = t274 - t276;
+    let t278: f32 = t277 - t271;
+    let t279: f32 = t131 * t278;
+    let t280: f32 = t270 + t279;
+    let t281: f32 = t115 * t116;
+    let t282: f32 = t280 * t281;
+    let t283: f32 = t89 * t251;
+    let t284: f32 = t97 * t254;
+    let t285: f32 = t283 - t284;
+    let t286: f32 = t247 * t285;
+    let t287: f32 = t243 + t261;
+    let t288: f32 = t282 + t287;
+    let t289: f32 = t211 + t218;
+    let t290: f32 = t225 + t232;
+    let t291: f32 = t289 + t290;
+    let t292: f32 = t286 + t291;
+    let t293: f32 = t288 - t292;
+    let t294: f32 = wy * t293;
+    let t295: f32 = yc * yc;
+    let t296: f32 = t115 * t115;
+    let t297: f32 = t146 * t146;
+    let t298: f32 = t149 * t149;
+    let t299: f32 = t296 * t297;
+    let t300: f32 = t298 * t299;
+    let t301: f32 = t295 + t300;
+    let t302: f32 = joint1_mass * t301;
+    let t303: f32 = t160 * t160;
+    let t304: f32 = t299 * t303;
+    let t305: f32 = t295 + t304;
+    let t306: f32 = joint2_mass * t305;
+    let t307: f32 = t247 * t247;
+    let t308: f32 = t251 * t251;
+    let t309: f32 = t307 * t308;
+    let t310: f32 = t83 * t83;
+    let t311: f32 = t309 + t310;
+    let t312: f32 = joint3_mass * t311;
+    let t313: f32 = t254 * t254;
+    let t314: f32 = t307 * t313;
+    let t315: f32 = t91 * t91;
+    let t316: f32 = t314 + t315;
+    let t317: f32 = joint4_mass * t316;
+    let t318: f32 = t118 * t118;
+    let t319: f32 = xc * xc;
     let t320: f32 = t318 + t319;
-    let t321: f32 = platform_ixz + joint1_ixz;
-    let t322: f32 = joint2_ixz + joint3_ixz;
-    let t323: f32 = joint4_ixz + joint5_ixz;
-    let t324: f32 = t321 + t322;
-    let t325: f32 = joint6_ixz + t323;
-    let t326: f32 = t324 + t325;
-    let t327: f32 = t320 * t326;
-    let t328: f32 = wx * t0;
-    let t329: f32 = t6 * t328;
-    let t330: f32 = wy * t13;
-    let t331: f32 = wz * t28;
-    let t332: f32 = t330 + t331;
-    let t333: f32 = t329 - t332;
-    let t334: f32 = platform_iyz + joint1_iyz;
-    let t335: f32 = joint2_iyz + joint3_iyz;
-    let t336: f32 = joint4_iyz + joint5_iyz;
-    let t337: f32 = t334 + t335;
-    let t338: f32 = joint6_iyz + t336;
-    let t339: f32 = t337 + t338;
-    let t340: f32 = t333 * t339;
-    let t341: f32 = wx * t5;
-    let t342: f32 = wy * t2;
-    let t343: f32 = wz * t3;
-    let t344: f32 = t342 - t343;
-    let t345: f32 = t6 * t344;
-    let t346: f32 = t341 - t345;
-    let t347: f32 = platform_izz + joint1_izz;
-    let t348: f32 = joint2_izz + joint3_izz;
-    let t349: f32 = joint4_izz + joint5_izz;
-    let t350: f32 = t347 + t348;
-    let t351: f32 = joint6_izz + t349;
-    let t352: f32 = t350 + t351;
-    let t353: f32 = t346 * t352;
-    let t354: f32 = t327 + t353;
-    let t355: f32 = t354 - t340;
-    let t356: f32 = t320 * t355;
-    let t357: f32 = platform_ixx + joint1_ixx;
-    let t358: f32 = joint2_ixx + joint3_ixx;
-    let t359: f32 = joint4_ixx + joint5_ixx;
-    let t360: f32 = t357 + t358;
-    let t361: f32 = joint6_ixx + t359;
-    let t362: f32 = t360 + t361;
-    let t363: f32 = t320 * t362;
-    let t364: f32 = platform_ixy + joint1_ixy;
-    let t365: f32 = joint2_ixy + joint3_ixy;
-    let t366: f32 = joint4_ixy + joint5_ixy;
-    let t367: f32 = t364 + t365;
-    let t368: f32 = joint6_ixy + t366;
-    let t369: f32 = t367 + t368;
-    let t370: f32 = t333 * t369;
-    let t371: f32 = t326 * t346;
-    let t372: f32 = t363 + t371;
-    let t373: f32 = t372 - t370;
-    let t374: f32 = t346 * t373;
-    let t375: f32 = t356 - t374;
-    let t376: f32 = t0 * t375;
-    let t377: f32 = t333 * t355;
-    let t378: f32 = t320 * t369;
-    let t379: f32 = platform_iyy + joint1_iyy;
-    let t380: f32 = joint2_iyy + joint3_iyy;
-    let t381: f32 = joint4_iyy + joint5_iyy;
-    let t382: f32 = t379 + t380;
-    let t383: f32 = joint6_iyy + t381;
-    let t384: f32 = t382 + t383;
-    let t385: f32 = t333 * t384;
-    let t386: f32 = t339 * t346;
-    let t387: f32 = t378 + t386;
-    let t388: f32 = t387 - t385;
-    let t389: f32 = t346 * t388;
-    let t390: f32 = t377 + t389;
-    let t391: f32 = t1 * t390;
-    let t392: f32 = t376 - t391;
-    let t393: f32 = t6 * t392;
-    let t394: f32 = t320 * t388;
-    let t395: f32 = t333 * t373;
-    let t396: f32 = t394 + t395;
-    let t397: f32 = t5 * t396;
-    let t398: f32 = joint1_mz + joint2_mz;
-    let t399: f32 = t3 * t6;
-    let t400: f32 = t398 * t399;
-    let t401: f32 = joint1_mx + joint2_mx;
-    let t402: f32 = t23 * t401;
-    let t403: f32 = joint1_my + joint2_my;
-    let t404: f32 = t28 * t403;
-    let t405: f32 = t400 + t402;
-    let t406: f32 = t404 + t405;
-    let t407: f32 = wx * t406;
-    let t408: f32 = t5 * t398;
-    let t409: f32 = t0 * t403;
-    let t410: f32 = t1 * t401;
-    let t411: f32 = t409 - t410;
-    let t412: f32 = t6 * t411;
-    let t413: f32 = t408 - t412;
-    let t414: f32 = wz * t413;
-    let t415: f32 = t407 - t414;
-    let t416: f32 = wx * t415;
-    let t417: f32 = joint1_mass * t59;
-    let t418: f32 = wy * t206;
-    let t419: f32 = t417 + t418;
-    let t420: f32 = joint2_mass * t73;
-    let t421: f32 = wy * t236;
-    let t422: f32 = t420 + t421;
-    let t423: f32 = t416 + t419;
-    let t424: f32 = t422 + t423;
-    let t425: f32 = yc * t424;
-    let t426: f32 = joint3_mz + joint4_mz;
-    let t427: f32 = t125 * t426;
-    let t428: f32 = joint3_mx + joint4_mx;
-    let t429: f32 = t9 * t428;
-    let t430: f32 = joint3_my + joint4_my;
-    let t431: f32 = t13 * t430;
-    let t432: f32 = t429 + t431;
-    let t433: f32 = t427 - t432;
-    let t434: f32 = wx * t433;
-    let t435: f32 = t5 * t426;
-    let t436: f32 = t0 * t430;
-    let t437: f32 = t1 * t428;
-    let t438: f32 = t436 - t437;
-    let t439: f32 = t6 * t438;
-    let t440: f32 = t435 - t439;
-    let t441: f32 = wy * t440;
-    let t442: f32 = t434 + t441;
-    let t443: f32 = wx * t442;
-    let t444: f32 = wz * vx;
-    let t445: f32 = wx * vz;
-    let t446: f32 = gravity_y + t444;
-    let t447: f32 = t446 - t445;
-    let t448: f32 = rod3_mass * t447;
-    let t449: f32 = joint3_mass * t97;
-    let t450: f32 = wy * t80;
-    let t451: f32 = wz * t247;
-    let t452: f32 = t450 - t451;
-    let t453: f32 = wz * t452;
-    let t454: f32 = t449 - t453;
-    let t455: f32 = t448 + t454;
-    let t456: f32 = rod4_mass * t447;
-    let t457: f32 = joint4_mass * t112;
-    let t458: f32 = wy * t104;
-    let t459: f32 = wz * t262;
-    let t460: f32 = t458 - t459;
-    let t461: f32 = wz * t460;
-    let t462: f32 = t457 - t461;
-    let t463: f32 = t456 + t462;
-    let t464: f32 = t455 + t463;
-    let t465: f32 = t464 - t443;
-    let t466: f32 = zc * t465;
-    let t467: f32 = wx * t119;
-    let t468: f32 = wy * t275;
-    let t469: f32 = t467 - t468;
-    let t470: f32 = wx * t469;
-    let t471: f32 = joint5_mass * t150;
-    let t472: f32 = wz * t287;
-    let t473: f32 = t471 - t472;
-    let t474: f32 = t470 + t473;
-    let t475: f32 = t127 * t474;
-    let t476: f32 = wx * t157;
-    let t477: f32 = wy * t300;
-    let t478: f32 = t476 - t477;
-    let t479: f32 = wx * t478;
-    let t480: f32 = joint6_mass * t176;
-    let t481: f32 = wz * t308;
-    let t482: f32 = t480 - t481;
-    let t483: f32 = t479 + t482;
-    let t484: f32 = t161 * t483;
-    let t485: f32 = t475 + t484;
-    let t486: f32 = t128 * t485;
-    let t487: f32 = wx * t80;
-    let t488: f32 = joint3_mz * t5;
-    let t489: f32 = joint3_mx * t1;
-    let t490: f32 = joint3_my * t0;
-    let t491: f32 = t489 - t490;
-    let t492: f32 = t6 * t491;
-    let t493: f32 = t488 + t492;
-    let t494: f32 = wz * t493;
-    let t495: f32 = t494 - t487;
-    let t496: f32 = wx * t495;
-    let t497: f32 = wy * t452;
-    let t498: f32 = joint3_mass * t255;
-    let t499: f32 = t497 + t498;
-    let t500: f32 = t496 - t499;
-    let t501: f32 = -t500;
-    let t502: f32 = t88 * t501;
-    let t503: f32 = wx * t104;
-    let t504: f32 = joint4_mz * t5;
-    let t505: f32 = joint4_mx * t1;
-    let t506: f32 = joint4_my * t0;
-    let t507: f32 = t505 - t506;
-    let t508: f32 = t6 * t507;
-    let t509: f32 = t504 + t508;
-    let t510: f32 = wz * t509;
-    let t511: f32 = t510 - t503;
-    let t512: f32 = wx * t511;
-    let t513: f32 = wy * t460;
-    let t514: f32 = joint4_mass * t267;
-    let t515: f32 = t513 + t514;
-    let t516: f32 = t512 - t515;
-    let t517: f32 = -t516;
-    let t518: f32 = t108 * t517;
-    let t519: f32 = t502 - t518;
-    let t520: f32 = t84 * t519;
-    let t521: f32 = t34 + t98;
-    let t522: f32 = t113 + t151;
-    let t523: f32 = t177 + t193;
-    let t524: f32 = t223 + t293;
-    let t525: f32 = t314 + t393;
-    let t526: f32 = t397 + t425;
-    let t527: f32 = t486 + t520;
-    let t528: f32 = t521 + t522;
-    let t529: f32 = t523 + t524;
-    let t530: f32 = t525 + t526;
-    let t531: f32 = t528 + t529;
-    let t532: f32 = t527 + t530;
-    let t533: f32 = t531 + t532;
-    let t534: f32 = t19 + t60;
-    let t535: f32 = t74 + t136;
-    let t536: f32 = t166 + t211;
-    let t537: f32 = t241 + t256;
-    let t538: f32 = t268 + t466;
-    let t539: f32 = t534 + t535;
-    let t540: f32 = t536 + t537;
-    let t541: f32 = t539 + t540;
-    let t542: f32 = t538 + t541;
-    let t543: f32 = t533 - t542;
-    let t544: f32 = gravity_x * t33;
-    let t545: f32 = t51 + t89;
-    let t546: f32 = t41 * t42;
-    let t547: f32 = t46 * t546;
-    let t548: f32 = t545 * t547;
-    let t549: f32 = t44 * t47;
-    let t550: f32 = yc * wx;
-    let t551: f32 = wy * t550;
-    let t552: f32 = gravity_x + t551;
-    let t553: f32 = t548 + t549;
-    let t554: f32 = t552 + t553;
-    let t555: f32 = t183 * t554;
-    let t556: f32 = t69 * t546;
-    let t557: f32 = t545 * t556;
-    let t558: f32 = t47 * t67;
-    let t559: f32 = t557 + t558;
-    let t560: f32 = t552 + t559;
-    let t561: f32 = t217 * t560;
-    let t562: f32 = t81 * t545;
-    let t563: f32 = t82 * t84;
-    let t564: f32 = t88 * t563;
-    let t565: f32 = zc * wx;
-    let t566: f32 = wz * t565;
-    let t567: f32 = gravity_x + t566;
-    let t568: f32 = t564 + t567;
-    let t569: f32 = t568 - t562;
-    let t570: f32 = t80 * t569;
-    let t571: f32 = t105 * t545;
-    let t572: f32 = t108 * t563;
-    let t573: f32 = t571 + t572;
-    let t574: f32 = t567 - t573;
-    let t575: f32 = t104 * t574;
-    let t576: f32 = platform_mz * t5;
-    let t577: f32 = platform_mx * t1;
-    let t578: f32 = platform_my * t0;
-    let t579: f32 = t577 - t578;
-    let t580: f32 = t6 * t579;
-    let t581: f32 = t576 + t580;
-    let t582: f32 = gravity_z * t581;
-    let t583: f32 = t59 * t200;
-    let t584: f32 = joint1_mass * t554;
-    let t585: f32 = wy * vz;
-    let t586: f32 = wz * vy;
-    let t587: f32 = gravity_x + t585;
-    let t588: f32 = t587 - t586;
-    let t589: f32 = rod1_mass * t588;
-    let t590: f32 = t584 + t589;
-    let t591: f32 = wy * t202;
-    let t592: f32 = wx * t183;
-    let t593: f32 = wz * t200;
-    let t594: f32 = t593 - t592;
-    let t595: f32 = wz * t594;
-    let t596: f32 = t591 - t595;
-    let t597: f32 = t590 - t596;
-    let t598: f32 = t44 * t597;
-    let t599: f32 = t73 * t230;
-    let t600: f32 = joint2_mass * t560;
-    let t601: f32 = rod2_mass * t588;
-    let t602: f32 = t600 + t601;
-    let t603: f32 = wy * t232;
-    let t604: f32 = wx * t217;
-    let t605: f32 = wz * t230;
-    let t606: f32 = t605 - t604;
-    let t607: f32 = wz * t606;
-    let t608: f32 = t603 - t607;
-    let t609: f32 = t602 - t608;
-    let t610: f32 = t67 * t609;
-    let t611: f32 = t255 * t493;
-    let t612: f32 = t81 * t501;
-    let t613: f32 = t267 * t509;
-    let t614: f32 = t105 * t517;
-    let t615: f32 = wy * t120;
-    let t616: f32 = wz * t123;
-    let t617: f32 = t41 * t616;
-    let t618: f32 = t127 * t617;
-    let t619: f32 = t615 - t618;
-    let t620: f32 = wx * t619;
-    let t621: f32 = xc * t545;
-    let t622: f32 = gravity_x - t621;
-    let t623: f32 = t620 + t622;
-    let t624: f32 = t142 * t623;
-    let t625: f32 = t135 * t275;
-    let t626: f32 = wy * t158;
-    let t627: f32 = t161 * t617;
-    let t628: f32 = t626 - t627;
-    let t629: f32 = wx * t628;
-    let t630: f32 = t622 + t629;
-    let t631: f32 = t172 * t630;
-    let t632: f32 = t165 * t300;
-    let t633: f32 = t125 * t396;
-    let t634: f32 = t9 * t390;
-    let t635: f32 = t13 * t375;
-    let t636: f32 = wz * t277;
-    let t637: f32 = joint5_mass * t623;
-    let t638: f32 = wy * t469;
-    let t639: f32 = t637 - t638;
-    let t640: f32 = t636 + t639;
-    let t641: f32 = t127 * t640;
-    let t642: f32 = wz * t302;
-    let t643: f32 = joint6_mass * t630;
-    let t644: f32 = wy * t478;
-    let t645: f32 = t643 - t644;
-    let t646: f32 = t642 + t645;
-    let t647: f32 = t161 * t646;
-    let t648: f32 = t641 + t647;
-    let t649: f32 = t123 * t648;
-    let t650: f32 = wx * t594;
-    let t651: f32 = t650 - t419;
+    let t321: f32 = joint5_mass * t320;
+    let t322: f32 = t129 * t129;
+    let t323: f32 = t319 + t322;
+    let t324: f32 = joint6_mass * t323;
+    let t325: f32 = joint4_mx * t11;
+    let t326: f32 = joint4_my * t37;
+    let t327: f32 = joint4_mz * t6;
+    let t328: f32 = t1 * t327;
+    let t329: f32 = t325 + t326;
+    let t330: f32 = t329 - t328;
+    let t331: f32 = t247 * t254;
+    let t332: f32 = t330 * t331;
+    let t333: f32 = joint3_mx * t11;
+    let t334: f32 = joint3_my * t37;
+    let t335: f32 = joint3_mz * t6;
+    let t336: f32 = t1 * t335;
+    let t337: f32 = t333 + t334;
+    let t338: f32 = t337 - t336;
+    let t339: f32 = t247 * t251;
+    let t340: f32 = t338 * t339;
+    let t341: f32 = t332 - t340;
+    let t342: f32 = yc * t210;
+    let t343: f32 = yc * t217;
+    let t344: f32 = t342 + t343;
+    let t345: f32 = t341 - t344;
+    let t346: f32 = t118 * t268;
+    let t347: f32 = t129 * t277;
+    let t348: f32 = t346 + t347;
+    let t349: f32 = t345 - t348;
+    let t350: f32 = t115 * t146;
+    let t351: f32 = t149 * t350;
+    let t352: f32 = t105 * t351;
+    let t353: f32 = t160 * t350;
+    let t354: f32 = t113 * t353;
+    let t355: f32 = t352 + t354;
+    let t356: f32 = joint3_mz * t0;
+    let t357: f32 = joint3_mx * t3;
+    let t358: f32 = joint3_my * t2;
+    let t359: f32 = t357 - t358;
+    let t360: f32 = t1 * t359;
+    let t361: f32 = t356 + t360;
+    let t362: f32 = t83 * t361;
+    let t363: f32 = joint4_mz * t0;
+    let t364: f32 = joint4_mx * t3;
+    let t365: f32 = joint4_my * t2;
+    let t366: f32 = t364 - t365;
+    let t367: f32 = t1 * t366;
+    let t368: f32 = t363 + t367;
+    let t369: f32 = t91 * t368;
+    let t370: f32 = t362 + t369;
+    let t371: f32 = t355 - t370;
+    let t372: f32 = xc * t127;
+    let t373: f32 = xc * t137;
+    let t374: f32 = t372 + t373;
+    let t375: f32 = t371 - t374;
+    let t376: f32 = t349 + t375;
+    let t377: f32 = t376 * 2.0;
+    let t378: f32 = t302 + t306;
+    let t379: f32 = t312 + t317;
+    let t380: f32 = t321 + t324;
+    let t381: f32 = t378 + t379;
+    let t382: f32 = t377 + t380;
+    let t383: f32 = t381 + t382;
+    let t384: f32 = wz * t383;
+    let t385: f32 = t204 + t384;
+    let t386: f32 = t385 - t294;
+    let t387: f32 = wy * t386;
+    let t388: f32 = t83 * t338;
+    let t389: f32 = t91 * t330;
+    let t390: f32 = t118 * t127;
+    let t391: f32 = t129 * t137;
+    let t392: f32 = t119 * t188;
+    let t393: f32 = t11 * t191;
+    let t394: f32 = t37 * t193;
+    let t395: f32 = t262 + t271;
+    let t396: f32 = t392 + t395;
+    let t397: f32 = t393 + t394;
+    let t398: f32 = t396 - t397;
+    let t399: f32 = xc * t398;
+    let t400: f32 = t0 * t233;
+    let t401: f32 = t2 * t237;
+    let t402: f32 = t3 * t235;
+    let t403: f32 = t401 - t402;
+    let t404: f32 = t1 * t403;
+    let t405: f32 = joint1_mass * t149;
+    let t406: f32 = joint2_mass * t160;
+    let t407: f32 = t405 + t406;
+    let t408: f32 = t350 * t407;
+    let t409: f32 = t400 + t408;
+    let t410: f32 = t409 - t404;
+    let t411: f32 = yc * t410;
+    let t412: f32 = t361 - t182;
+    let t413: f32 = t251 * t412;
+    let t414: f32 = t368 - t183;
+    let t415: f32 = t254 * t414;
+    let t416: f32 = t413 - t415;
+    let t417: f32 = t247 * t416;
+    let t418: f32 = t149 * t210;
+    let t419: f32 = t160 * t217;
+    let t420: f32 = t418 + t419;
+    let t421: f32 = t350 * t420;
+    let t422: f32 = t388 + t389;
+    let t423: f32 = t390 + t391;
+    let t424: f32 = t411 + t417;
+    let t425: f32 = t422 + t423;
+    let t426: f32 = t424 + t425;
+    let t427: f32 = t399 + t421;
+    let t428: f32 = t426 - t427;
+    let t429: f32 = wx * t428;
+    let t430: f32 = t99 * t99;
+    let t431: f32 = t300 + t430;
+    let t432: f32 = joint1_mass * t431;
+    let t433: f32 = t107 * t107;
+    let t434: f32 = t304 + t433;
+    let t435: f32 = joint2_mass * t434;
+    let t436: f32 = zc * zc;
+    let t437: f32 = t310 + t436;
+    let t438: f32 = joint3_mass * t437;
+    let t439: f32 = t315 + t436;
+    let t440: f32 = joint4_mass * t439;
+    let t441: f32 = t116 * t116;
+    let t442: f32 = t121 * t121;
+    let t443: f32 = t296 * t441;
+    let t444: f32 = t442 * t443;
+    let t445: f32 = t319 + t444;
+    let t446: f32 = joint5_mass * t445;
+    let t447: f32 = t131 * t131;
+    let t448: f32 = t443 * t447;
+    let t449: f32 = t319 + t448;
+    let t450: f32 = joint6_mass * t449;
+    let t451: f32 = t121 * t281;
+    let t452: f32 = t224 * t451;
+    let t453: f32 = t131 * t281;
+    let t454: f32 = t231 * t453;
+    let t455: f32 = t452 + t454;
+    let t456: f32 = t99 * t156;
+    let t457: f32 = t107 * t167;
+    let t458: f32 = t456 + t457;
+    let t459: f32 = zc * t89;
+    let t460: f32 = zc * t97;
+    let t461: f32 = t459 + t460;
+    let t462: f32 = t458 + t461;
+    let t463: f32 = t455 - t462;
+    let t464: f32 = t375 + t463;
+    let t465: f32 = t464 * 2.0;
+    let t466: f32 = t432 + t435;
+    let t467: f32 = t438 + t440;
+    let t468: f32 = t446 + t450;
+    let t469: f32 = t466 + t467;
+    let t470: f32 = t465 + t468;
+    let t471: f32 = t469 + t470;
+    let t472: f32 = wy * t471;
+    let t473: f32 = wz * t293;
+    let t474: f32 = t429 + t472;
+    let t475: f32 = t474 - t473;
+    let t476: f32 = wz * t475;
+    let t477: f32 = platform_mx + t235;
+    let t478: f32 = t178 + t191;
+    let t479: f32 = t477 + t478;
+    let t480: f32 = t11 * t479;
+    let t481: f32 = platform_my + t237;
+    let t482: f32 = t176 + t193;
+    let t483: f32 = t481 + t482;
+    let t484: f32 = t37 * t483;
+    let t485: f32 = platform_mz + t233;
+    let t486: f32 = t174 + t188;
+    let t487: f32 = t485 + t486;
+    let t488: f32 = t119 * t487;
+    let t489: f32 = joint1_mass + joint2_mass;
+    let t490: f32 = yc * t489;
+    let t491: f32 = t257 + t488;
+    let t492: f32 = t395 + t490;
+    let t493: f32 = t491 + t492;
+    let t494: f32 = t480 + t484;
+    let t495: f32 = t493 - t494;
+    let t496: f32 = gravity_z * t495;
+    let t497: f32 = t16 * t479;
+    let t498: f32 = t42 * t483;
+    let t499: f32 = t189 * t487;
+    let t500: f32 = joint3_mass + joint4_mass;
+    let t501: f32 = zc * t500;
+    let t502: f32 = t141 * t281;
+    let t503: f32 = t239 + t501;
+    let t504: f32 = t497 + t498;
+    let t505: f32 = t499 + t502;
+    let t506: f32 = t504 + t505;
+    let t507: f32 = t503 - t506;
+    let t508: f32 = gravity_y * t507;
+    let t509: f32 = wz * vx;
+    let t510: f32 = wx * vz;
+    let t511: f32 = gravity_y + t509;
+    let t512: f32 = t511 - t510;
+    let t513: f32 = rod3_mass + rod4_mass;
+    let t514: f32 = zc * t512;
+    let t515: f32 = t513 * t514;
+    let t516: f32 = t19 * t76;
+    let t517: f32 = t45 * t52;
+    let t518: f32 = platform_izz + joint1_izz;
+    let t519: f32 = joint2_izz + joint3_izz;
+    let t520: f32 = joint4_izz + joint5_izz;
+    let t521: f32 = t518 + t519;
+    let t522: f32 = joint6_izz + t520;
+    let t523: f32 = t521 + t522;
+    let t524: f32 = t58 * t523;
+    let t525: f32 = t516 + t524;
+    let t526: f32 = t525 - t517;
+    let t527: f32 = t45 * t526;
+    let t528: f32 = t58 * t61;
+    let t529: f32 = t527 + t528;
+    let t530: f32 = t3 * t529;
+    let t531: f32 = t58 * t79;
+    let t532: f32 = t19 * t526;
+    let t533: f32 = t531 - t532;
+    let t534: f32 = t2 * t533;
+    let t535: f32 = t530 + t534;
+    let t536: f32 = t1 * t535;
+    let t537: f32 = wx * vy;
+    let t538: f32 = wy * vx;
+    let t539: f32 = gravity_z + t537;
+    let t540: f32 = t539 - t538;
+    let t541: f32 = rod5_mass * t118;
+    let t542: f32 = rod6_mass * t129;
+    let t543: f32 = t541 + t542;
+    let t544: f32 = t540 * t543;
+    let t545: f32 = t82 + t387;
+    let t546: f32 = t496 + t544;
+    let t547: f32 = t545 + t546;
+    let t548: f32 = t476 + t508;
+    let t549: f32 = t515 + t536;
+    let t550: f32 = t548 + t549;
+    let t551: f32 = t547 - t550;
+    let t552: f32 = t11 * t529;
+    let t553: f32 = t37 * t533;
+    let t554: f32 = t81 * t119;
+    let t555: f32 = t295 + t430;
+    let t556: f32 = joint1_mass * t555;
+    let t557: f32 = t295 + t433;
+    let t558: f32 = joint2_mass * t557;
+    let t559: f32 = t309 + t436;
+    let t560: f32 = joint3_mass * t559;
+    let t561: f32 = t314 + t436;
+    let t562: f32 = joint4_mass * t561;
+    let t563: f32 = t318 + t444;
+    let t564: f32 = joint5_mass * t563;
+    let t565: f32 = t322 + t448;
+    let t566: f32 = joint6_mass * t565;
+    let t567: f32 = t349 + t463;
+    let t568: f32 = t567 * 2.0;
+    let t569: f32 = t556 + t558;
+    let t570: f32 = t560 + t562;
+    let t571: f32 = t564 + t566;
+    let t572: f32 = t569 + t570;
+    let t573: f32 = t568 + t571;
+    let t574: f32 = t572 + t573;
+    let t575: f32 = wx * t574;
+    let t576: f32 = wy * t428;
+    let t577: f32 = wz * t203;
+    let t578: f32 = t575 + t576;
+    let t579: f32 = t577 + t578;
+    let t580: f32 = wz * t579;
+    let t581: f32 = wx * t386;
+    let t582: f32 = gravity_x * t507;
+    let t583: f32 = t0 * t487;
+    let t584: f32 = joint5_mass + joint6_mass;
+    let t585: f32 = xc * t584;
+    let t586: f32 = t3 * t479;
+    let t587: f32 = t2 * t483;
+    let t588: f32 = t586 - t587;
+    let t589: f32 = t1 * t588;
+    let t590: f32 = t408 + t583;
+    let t591: f32 = t589 + t590;
+    let t592: f32 = t184 + t585;
+    let t593: f32 = t591 - t592;
+    let t594: f32 = gravity_z * t593;
+    let t595: f32 = rod5_mass + rod6_mass;
+    let t596: f32 = xc * t540;
+    let t597: f32 = t595 * t596;
+    let t598: f32 = wy * vz;
+    let t599: f32 = wz * vy;
+    let t600: f32 = gravity_x + t598;
+    let t601: f32 = t600 - t599;
+    let t602: f32 = rod1_mass * t99;
+    let t603: f32 = rod2_mass * t107;
+    let t604: f32 = t602 + t603;
+    let t605: f32 = t601 * t604;
+    let t606: f32 = t553 + t580;
+    let t607: f32 = t582 + t594;
+    let t608: f32 = t606 + t607;
+    let t609: f32 = t605 + t608;
+    let t610: f32 = t552 + t554;
+    let t611: f32 = t581 + t597;
+    let t612: f32 = t610 + t611;
+    let t613: f32 = t609 - t612;
+    let t614: f32 = t16 * t529;
+    let t615: f32 = t42 * t533;
+    let t616: f32 = t81 * t189;
+    let t617: f32 = wx * t475;
+    let t618: f32 = wy * t579;
+    let t619: f32 = gravity_y * t593;
+    let t620: f32 = gravity_x * t495;
+    let t621: f32 = rod1_mass + rod2_mass;
+    let t622: f32 = yc * t601;
+    let t623: f32 = t621 * t622;
+    let t624: f32 = rod3_mass * t83;
+    let t625: f32 = rod4_mass * t91;
+    let t626: f32 = t624 + t625;
+    let t627: f32 = t512 * t626;
+    let t628: f32 = t615 + t616;
+    let t629: f32 = t617 + t627;
+    let t630: f32 = t628 + t629;
+    let t631: f32 = t614 + t618;
+    let t632: f32 = t619 + t620;
+    let t633: f32 = t631 + t632;
+    let t634: f32 = t623 + t633;
+    let t635: f32 = t630 - t634;
+    let t636: f32 = platform_mass + t489;
+    let t637: f32 = t500 + t584;
+    let t638: f32 = t636 + t637;
+    let t639: f32 = gravity_x * t638;
+    let t640: f32 = t601 * t621;
+    let t641: f32 = wx * t495;
+    let t642: f32 = wy * t593;
+    let t643: f32 = t641 + t642;
+    let t644: f32 = wy * t643;
+    let t645: f32 = wz * t593;
+    let t646: f32 = wx * t507;
+    let t647: f32 = t645 + t646;
+    let t648: f32 = wz * t647;
+    let t649: f32 = t639 + t640;
+    let t650: f32 = t644 + t648;
+    let t651: f32 = t649 + t650;
     let t652: f32 = -t651;
-    let t653: f32 = t46 * t652;
-    let t654: f32 = wx * t606;
-    let t655: f32 = t654 - t422;
-    let t656: f32 = -t655;
-    let t657: f32 = t69 * t656;
-    let t658: f32 = t653 + t657;
-    let t659: f32 = t42 * t658;
-    let t660: f32 = t649 - t659;
-    let t661: f32 = t41 * t660;
-    let t662: f32 = joint5_mz + joint6_mz;
-    let t663: f32 = t399 * t662;
-    let t664: f32 = joint5_mx + joint6_mx;
-    let t665: f32 = t23 * t664;
-    let t666: f32 = joint5_my + joint6_my;
-    let t667: f32 = t28 * t666;
-    let t668: f32 = t663 + t665;
-    let t669: f32 = t667 + t668;
-    let t670: f32 = wx * t669;
-    let t671: f32 = t5 * t662;
-    let t672: f32 = t0 * t666;
-    let t673: f32 = t1 * t664;
-    let t674: f32 = t672 - t673;
-    let t675: f32 = t6 * t674;
-    let t676: f32 = t671 - t675;
-    let t677: f32 = wz * t676;
-    let t678: f32 = t670 - t677;
-    let t679: f32 = wx * t678;
-    let t680: f32 = t290 + t679;
-    let t681: f32 = t311 + t680;
-    let t682: f32 = xc * t681;
-    let t683: f32 = wy * t442;
-    let t684: f32 = t399 * t426;
-    let t685: f32 = t23 * t428;
-    let t686: f32 = t28 * t430;
-    let t687: f32 = t684 + t685;
-    let t688: f32 = t686 + t687;
-    let t689: f32 = wx * t688;
-    let t690: f32 = wz * t440;
-    let t691: f32 = t689 - t690;
-    let t692: f32 = wz * t691;
-    let t693: f32 = joint3_mass * t569;
-    let t694: f32 = joint4_mass * t574;
-    let t695: f32 = t693 + t694;
-    let t696: f32 = t683 + t695;
-    let t697: f32 = t696 - t692;
-    let t698: f32 = zc * t697;
-    let t699: f32 = t582 + t583;
-    let t700: f32 = t598 + t599;
-    let t701: f32 = t610 + t611;
-    let t702: f32 = t613 + t625;
-    let t703: f32 = t632 + t698;
-    let t704: f32 = t699 + t700;
-    let t705: f32 = t701 + t702;
-    let t706: f32 = t704 + t705;
-    let t707: f32 = t703 + t706;
-    let t708: f32 = t544 + t555;
-    let t709: f32 = t561 + t570;
-    let t710: f32 = t575 + t612;
-    let t711: f32 = t614 + t624;
-    let t712: f32 = t631 + t633;
-    let t713: f32 = t634 + t635;
-    let t714: f32 = t661 + t682;
-    let t715: f32 = t708 + t709;
-    let t716: f32 = t710 + t711;
-    let t717: f32 = t712 + t713;
-    let t718: f32 = t715 + t716;
-    let t719: f32 = t714 + t717;
-    let t720: f32 = t718 + t719;
-    let t721: f32 = t707 - t720;
-    let t722: f32 = gravity_x * t18;
-    let t723: f32 = t40 * t554;
-    let t724: f32 = t66 * t560;
-    let t725: f32 = t247 * t569;
-    let t726: f32 = t262 * t574;
-    let t727: f32 = gravity_y * t581;
-    let t728: f32 = t192 * t200;
-    let t729: f32 = t222 * t230;
-    let t730: f32 = t97 * t493;
-    let t731: f32 = wx * t247;
-    let t732: f32 = wy * t493;
-    let t733: f32 = t731 - t732;
-    let t734: f32 = wx * t733;
-    let t735: f32 = t455 + t734;
-    let t736: f32 = t81 * t735;
-    let t737: f32 = t112 * t509;
-    let t738: f32 = wx * t262;
-    let t739: f32 = wy * t509;
-    let t740: f32 = t738 - t739;
-    let t741: f32 = wx * t740;
-    let t742: f32 = t463 + t741;
-    let t743: f32 = t105 * t742;
-    let t744: f32 = t150 * t275;
-    let t745: f32 = t119 * t623;
-    let t746: f32 = t120 * t640;
-    let t747: f32 = t176 * t300;
-    let t748: f32 = t157 * t630;
-    let t749: f32 = t158 * t646;
-    let t750: f32 = t396 * t399;
-    let t751: f32 = t23 * t390;
-    let t752: f32 = t28 * t375;
-    let t753: f32 = t125 * t662;
-    let t754: f32 = t9 * t664;
-    let t755: f32 = t13 * t666;
-    let t756: f32 = t754 + t755;
-    let t757: f32 = t753 - t756;
-    let t758: f32 = wx * t757;
-    let t759: f32 = wy * t676;
-    let t760: f32 = t758 + t759;
-    let t761: f32 = wx * t760;
-    let t762: f32 = t473 + t482;
-    let t763: f32 = t762 - t761;
-    let t764: f32 = xc * t763;
-    let t765: f32 = t125 * t398;
-    let t766: f32 = t9 * t401;
-    let t767: f32 = t13 * t403;
-    let t768: f32 = t766 + t767;
-    let t769: f32 = t765 - t768;
-    let t770: f32 = wx * t769;
-    let t771: f32 = wy * t413;
-    let t772: f32 = t770 + t771;
-    let t773: f32 = wy * t772;
-    let t774: f32 = wz * t415;
-    let t775: f32 = t590 + t602;
-    let t776: f32 = t773 + t775;
-    let t777: f32 = t776 - t774;
-    let t778: f32 = yc * t777;
-    let t779: f32 = t46 * t210;
-    let t780: f32 = t69 * t240;
-    let t781: f32 = t779 + t780;
-    let t782: f32 = t546 * t781;
-    let t783: f32 = wy * t733;
-    let t784: f32 = wz * t495;
-    let t785: f32 = t783 - t784;
-    let t786: f32 = t693 - t785;
-    let t787: f32 = t88 * t786;
-    let t788: f32 = wy * t740;
-    let t789: f32 = wz * t511;
-    let t790: f32 = t788 - t789;
-    let t791: f32 = t694 - t790;
-    let t792: f32 = t108 * t791;
-    let t793: f32 = t787 - t792;
-    let t794: f32 = t84 * t793;
-    let t795: f32 = t722 + t723;
-    let t796: f32 = t724 + t725;
-    let t797: f32 = t726 + t736;
-    let t798: f32 = t743 + t745;
-    let t799: f32 = t748 + t750;
-    let t800: f32 = t795 + t796;
-    let t801: f32 = t797 + t798;
-    let t802: f32 = t764 + t799;
-    let t803: f32 = t800 + t801;
-    let t804: f32 = t802 + t803;
-    let t805: f32 = t727 + t728;
-    let t806: f32 = t729 + t730;
-    let t807: f32 = t737 + t744;
-    let t808: f32 = t746 + t747;
-    let t809: f32 = t749 + t751;
-    let t810: f32 = t752 + t778;
-    let t811: f32 = t782 + t794;
-    let t812: f32 = t805 + t806;
-    let t813: f32 = t807 + t808;
-    let t814: f32 = t809 + t810;
-    let t815: f32 = t812 + t813;
-    let t816: f32 = t811 + t814;
-    let t817: f32 = t815 + t816;
-    let t818: f32 = t804 - t817;
-    let t819: f32 = gravity_x * platform_mass;
-    let t820: f32 = wx * t18;
-    let t821: f32 = wy * t581;
-    let t822: f32 = t820 - t821;
-    let t823: f32 = wy * t822;
-    let t824: f32 = wx * t33;
-    let t825: f32 = wz * t581;
-    let t826: f32 = t825 - t824;
-    let t827: f32 = wz * t826;
-    let t828: f32 = t596 + t823;
-    let t829: f32 = t608 + t785;
-    let t830: f32 = t828 + t829;
-    let t831: f32 = t790 + t830;
-    let t832: f32 = t819 + t827;
-    let t833: f32 = t640 + t695;
-    let t834: f32 = t646 + t775;
-    let t835: f32 = t832 + t833;
-    let t836: f32 = t834 + t835;
-    let t837: f32 = t831 - t836;
-    let t838: f32 = gravity_y * platform_mass;
-    let t839: f32 = wy * t33;
-    let t840: f32 = wz * t18;
-    let t841: f32 = t839 - t840;
-    let t842: f32 = wz * t841;
-    let t843: f32 = wx * t822;
-    let t844: f32 = t838 + t843;
-    let t845: f32 = t210 + t240;
-    let t846: f32 = t735 + t742;
-    let t847: f32 = t474 + t483;
-    let t848: f32 = t844 + t845;
-    let t849: f32 = t846 + t847;
-    let t850: f32 = t848 + t849;
-    let t851: f32 = t842 - t850;
-    let t852: f32 = gravity_z * platform_mass;
-    let t853: f32 = wy * t841;
-    let t854: f32 = wx * t826;
-    let t855: f32 = t651 + t854;
-    let t856: f32 = t500 + t655;
-    let t857: f32 = t291 + t516;
-    let t858: f32 = t855 + t856;
-    let t859: f32 = t312 + t857;
-    let t860: f32 = t858 + t859;
-    let t861: f32 = t852 + t853;
-    let t862: f32 = t860 - t861;
-    let t863: f32 = t1 * t6;
-    ([t543, t721, t818, t837, t851, t862], [t863, t13, t399])
+    let t653: f32 = gravity_y * t638;
+    let t654: f32 = t512 * t513;
+    let t655: f32 = wy * t507;
+    let t656: f32 = wz * t495;
+    let t657: f32 = t655 - t656;
+    let t658: f32 = wz * t657;
+    let t659: f32 = wx * t643;
+    let t660: f32 = t653 + t654;
+    let t661: f32 = t658 + t660;
+    let t662: f32 = t659 - t661;
+    let t663: f32 = gravity_z * t638;
+    let t664: f32 = t540 * t595;
+    let t665: f32 = wx * t647;
+    let t666: f32 = wy * t657;
+    let t667: f32 = t665 + t666;
+    let t668: f32 = t663 + t664;
+    let t669: f32 = t667 - t668;
+    let t670: f32 = t1 * t3;
+    ([t551, t613, t635, t652, t662, t669], [t670, t37, t189])
 }
 /// Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
 ///
@@ -9565,7 +8468,7 @@ pub fn task_bias_params(
 /// - `accel`: classical platform acceleration `(ω̇; a_C)` (rad/s², m/s²), base frame
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 709 mul, 10 div, 569 add, 1 neg, 3 sin_cos (chapter convention: 719m + 569a).
+/// Operations: 665 mul, 15 div, 519 add, 2 neg, 3 sin_cos (chapter convention: 680m + 519a).
 #[inline]
 pub fn forward_dynamics_params(
     pose: &[f32; 6],
@@ -9592,1558 +8495,1362 @@ pub fn forward_dynamics_params(
     joint6_mass, joint6_mx, joint6_my, joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz,
     joint6_iyy, joint6_iyz, joint6_izz] = *params;
     let (
-        t0,
-        t4,
-        t8,
-        t12,
-        t17,
-        t20,
-        t24,
-        t30,
-        t34,
-        t42,
-        t47,
-        t53,
-        t59,
-        t129,
-        t137,
-        t147,
-        t155,
-        t167,
-        t168,
+        t95,
+        t105,
+        t145,
+        t161,
         t172,
-        t178,
-        t187,
-        t189,
-        t195,
-        t215,
-        t216,
-        t220,
-        t226,
-        t237,
-        t243,
-        t263,
+        t247,
+        t253,
+        t260,
         t272,
-        t280,
-        t293,
-        t300,
-        t303,
-        t306,
-        t309,
-        t312,
-        t320,
-        t328,
-        t341,
-        t392,
-        t400,
-        t421,
-        t429,
-        t432,
-        t443,
-        t474,
-        t481,
-        t507,
-        t546,
-        t547,
-        t554,
-        t561,
-        t574,
-        t577,
-        t582,
-        t585,
-        t593,
-        t599,
-        t600,
-        t602,
-        t617,
+        t281,
+        t307,
+        t323,
+        t330,
+        t345,
+        t349,
+        t370,
+        t377,
+        t385,
+        t387,
+        t404,
+        t407,
+        t412,
+        t436,
+        t446,
+        t486,
+        t488,
+        t491,
+        t508,
+        t564,
+        t565,
+        t592,
         t618,
-        t625,
-        t628,
-        t629,
-        t633,
-        t640,
-        t658,
-        t659,
-        t662,
-        t663,
-        t666,
-        t667,
+        t626,
+        t651,
         t670,
+        t672,
         t682,
+        t685,
+        t687,
+        t688,
         t692,
-        t696,
-        t699,
-        t710,
+        t697,
         t714,
-        t715,
-        t721,
+        t718,
+        t727,
+        t730,
+        t731,
         t732,
-        t736,
-        t739,
-        t747,
-        t751,
-        t754,
-        t755,
-        t788,
-        t797,
-        t803,
-        t809,
-        t820,
-        t827,
-        t831,
-        t836,
-        t843,
+        t734,
+        t735,
+        t738,
+        t763,
+        t768,
+        t841,
+        t842,
+        t847,
         t854,
-        t859,
-        t862,
-        t868,
-        t873,
-        t876,
-        t884,
-        t897,
-        t906,
-        t913,
-        t948,
-        t952,
-        t956,
-        t965,
+        t863,
+        t866,
+        t893,
+        t895,
+        t903,
+        t928,
+        t936,
+        t950,
         t969,
-        t973,
-        t983,
-        t985,
+        t981,
         t986,
-        t987,
-        t992,
+        t989,
         t995,
-        t998,
         t1001,
         t1002,
     ) = {
-        let t0: f32 = zc - half_spacing;
-        let (t1, t2): (f32, f32) = sin_cos(alpha);
-        let (t3, t4): (f32, f32) = sin_cos(beta);
-        let t5: f32 = joint1_mz * t2;
-        let t6: f32 = t4 * t5;
-        let (t7, t8): (f32, f32) = sin_cos(gamma);
-        let t9: f32 = t1 * t7;
-        let t10: f32 = t2 * t3;
-        let t11: f32 = t8 * t10;
-        let t12: f32 = t9 - t11;
-        let t13: f32 = joint1_mx * t12;
-        let t14: f32 = t1 * t8;
-        let t15: f32 = t3 * t7;
-        let t16: f32 = t2 * t15;
-        let t17: f32 = t14 + t16;
-        let t18: f32 = joint1_my * t17;
-        let t19: f32 = t13 + t18;
-        let t20: f32 = t6 + t19;
-        let t21: f32 = joint1_mass * t0;
-        let t22: f32 = t20 - t21;
-        let t23: f32 = t0 * t22;
-        let t24: f32 = zc + half_spacing;
-        let t25: f32 = joint2_mz * t2;
-        let t26: f32 = t4 * t25;
-        let t27: f32 = joint2_mx * t12;
-        let t28: f32 = joint2_my * t17;
+        let t0: f32 = yc - half_spacing;
+        let t1: f32 = t0 * t0;
+        let t2: f32 = rod5_mass * t1;
+        let t3: f32 = yc + half_spacing;
+        let t4: f32 = t3 * t3;
+        let t5: f32 = rod6_mass * t4;
+        let (t6, t7): (f32, f32) = sin_cos(beta);
+        let t8: f32 = platform_izz + joint1_izz;
+        let t9: f32 = joint2_izz + joint3_izz;
+        let t10: f32 = joint4_izz + joint5_izz;
+        let t11: f32 = t8 + t9;
+        let t12: f32 = joint6_izz + t10;
+        let t13: f32 = t11 + t12;
+        let t14: f32 = t6 * t13;
+        let (t15, t16): (f32, f32) = sin_cos(gamma);
+        let t17: f32 = platform_ixz + joint1_ixz;
+        let t18: f32 = joint2_ixz + joint3_ixz;
+        let t19: f32 = joint4_ixz + joint5_ixz;
+        let t20: f32 = t17 + t18;
+        let t21: f32 = joint6_ixz + t19;
+        let t22: f32 = t20 + t21;
+        let t23: f32 = t16 * t22;
+        let t24: f32 = platform_iyz + joint1_iyz;
+        let t25: f32 = joint2_iyz + joint3_iyz;
+        let t26: f32 = joint4_iyz + joint5_iyz;
+        let t27: f32 = t24 + t25;
+        let t28: f32 = joint6_iyz + t26;
         let t29: f32 = t27 + t28;
-        let t30: f32 = t26 + t29;
-        let t31: f32 = joint2_mass * t24;
-        let t32: f32 = t30 - t31;
-        let t33: f32 = t24 * t32;
-        let t34: f32 = yc - half_spacing;
-        let t35: f32 = t2 * t7;
-        let t36: f32 = t1 * t3;
-        let t37: f32 = t8 * t36;
-        let t38: f32 = t35 + t37;
-        let t39: f32 = joint5_mx * t38;
-        let t40: f32 = t2 * t8;
-        let t41: f32 = t7 * t36;
-        let t42: f32 = t40 - t41;
-        let t43: f32 = joint5_my * t42;
-        let t44: f32 = t39 + t43;
-        let t45: f32 = joint5_mz * t1;
-        let t46: f32 = t4 * t45;
-        let t47: f32 = t44 - t46;
-        let t48: f32 = joint5_mass * t34;
-        let t49: f32 = t47 - t48;
-        let t50: f32 = rod5_mass * t34;
-        let t51: f32 = t49 - t50;
-        let t52: f32 = t34 * t51;
-        let t53: f32 = yc + half_spacing;
-        let t54: f32 = joint6_mx * t38;
-        let t55: f32 = joint6_my * t42;
-        let t56: f32 = t54 + t55;
-        let t57: f32 = joint6_mz * t1;
-        let t58: f32 = t4 * t57;
-        let t59: f32 = t56 - t58;
-        let t60: f32 = joint6_mass * t53;
-        let t61: f32 = t59 - t60;
-        let t62: f32 = rod6_mass * t53;
-        let t63: f32 = t61 - t62;
-        let t64: f32 = t53 * t63;
-        let t65: f32 = platform_iyz + joint1_iyz;
-        let t66: f32 = joint2_iyz + joint3_iyz;
-        let t67: f32 = joint4_iyz + joint5_iyz;
-        let t68: f32 = t65 + t66;
-        let t69: f32 = joint6_iyz + t67;
-        let t70: f32 = t68 + t69;
-        let t71: f32 = t3 * t70;
-        let t72: f32 = platform_iyy + joint1_iyy;
-        let t73: f32 = joint2_iyy + joint3_iyy;
-        let t74: f32 = joint4_iyy + joint5_iyy;
-        let t75: f32 = t72 + t73;
-        let t76: f32 = joint6_iyy + t74;
-        let t77: f32 = t75 + t76;
-        let t78: f32 = t7 * t77;
-        let t79: f32 = platform_ixy + joint1_ixy;
-        let t80: f32 = joint2_ixy + joint3_ixy;
-        let t81: f32 = joint4_ixy + joint5_ixy;
-        let t82: f32 = t79 + t80;
-        let t83: f32 = joint6_ixy + t81;
-        let t84: f32 = t82 + t83;
-        let t85: f32 = t8 * t84;
-        let t86: f32 = t78 - t85;
-        let t87: f32 = t4 * t86;
-        let t88: f32 = t71 - t87;
-        let t89: f32 = t7 * t88;
-        let t90: f32 = platform_ixz + joint1_ixz;
-        let t91: f32 = joint2_ixz + joint3_ixz;
-        let t92: f32 = joint4_ixz + joint5_ixz;
-        let t93: f32 = t90 + t91;
-        let t94: f32 = joint6_ixz + t92;
-        let t95: f32 = t93 + t94;
-        let t96: f32 = t3 * t95;
-        let t97: f32 = t7 * t84;
-        let t98: f32 = platform_ixx + joint1_ixx;
-        let t99: f32 = joint2_ixx + joint3_ixx;
-        let t100: f32 = joint4_ixx + joint5_ixx;
-        let t101: f32 = t98 + t99;
-        let t102: f32 = joint6_ixx + t100;
-        let t103: f32 = t101 + t102;
-        let t104: f32 = t8 * t103;
-        let t105: f32 = t97 - t104;
-        let t106: f32 = t4 * t105;
-        let t107: f32 = t96 - t106;
-        let t108: f32 = t8 * t107;
-        let t109: f32 = t89 - t108;
-        let t110: f32 = t4 * t109;
-        let t111: f32 = platform_izz + joint1_izz;
-        let t112: f32 = joint2_izz + joint3_izz;
-        let t113: f32 = joint4_izz + joint5_izz;
-        let t114: f32 = t111 + t112;
-        let t115: f32 = joint6_izz + t113;
-        let t116: f32 = t114 + t115;
-        let t117: f32 = t3 * t116;
-        let t118: f32 = t7 * t70;
-        let t119: f32 = t8 * t95;
-        let t120: f32 = t118 - t119;
-        let t121: f32 = t4 * t120;
-        let t122: f32 = t117 - t121;
-        let t123: f32 = t3 * t122;
-        let t124: f32 = joint1_mx * t38;
-        let t125: f32 = joint1_my * t42;
-        let t126: f32 = t124 + t125;
-        let t127: f32 = joint1_mz * t1;
-        let t128: f32 = t4 * t127;
-        let t129: f32 = t126 - t128;
-        let t130: f32 = yc * joint1_mass;
-        let t131: f32 = t129 - t130;
-        let t132: f32 = joint2_mx * t38;
-        let t133: f32 = joint2_my * t42;
-        let t134: f32 = t132 + t133;
-        let t135: f32 = joint2_mz * t1;
-        let t136: f32 = t4 * t135;
-        let t137: f32 = t134 - t136;
-        let t138: f32 = yc * joint2_mass;
-        let t139: f32 = t137 - t138;
-        let t140: f32 = t131 + t139;
-        let t141: f32 = yc * t140;
-        let t142: f32 = joint3_mz * t2;
-        let t143: f32 = t4 * t142;
-        let t144: f32 = joint3_mx * t12;
-        let t145: f32 = joint3_my * t17;
-        let t146: f32 = t144 + t145;
-        let t147: f32 = t143 + t146;
-        let t148: f32 = zc * joint3_mass;
-        let t149: f32 = t147 - t148;
-        let t150: f32 = joint4_mz * t2;
-        let t151: f32 = t4 * t150;
-        let t152: f32 = joint4_mx * t12;
-        let t153: f32 = joint4_my * t17;
+        let t30: f32 = t15 * t29;
+        let t31: f32 = t23 - t30;
+        let t32: f32 = t7 * t31;
+        let t33: f32 = t14 + t32;
+        let t34: f32 = t6 * t33;
+        let t35: f32 = zc * zc;
+        let t36: f32 = rod3_mass + rod4_mass;
+        let t37: f32 = t35 * t36;
+        let t38: f32 = t6 * t22;
+        let t39: f32 = platform_ixx + joint1_ixx;
+        let t40: f32 = joint2_ixx + joint3_ixx;
+        let t41: f32 = joint4_ixx + joint5_ixx;
+        let t42: f32 = t39 + t40;
+        let t43: f32 = joint6_ixx + t41;
+        let t44: f32 = t42 + t43;
+        let t45: f32 = t16 * t44;
+        let t46: f32 = platform_ixy + joint1_ixy;
+        let t47: f32 = joint2_ixy + joint3_ixy;
+        let t48: f32 = joint4_ixy + joint5_ixy;
+        let t49: f32 = t46 + t47;
+        let t50: f32 = joint6_ixy + t48;
+        let t51: f32 = t49 + t50;
+        let t52: f32 = t15 * t51;
+        let t53: f32 = t45 - t52;
+        let t54: f32 = t7 * t53;
+        let t55: f32 = t38 + t54;
+        let t56: f32 = t16 * t55;
+        let t57: f32 = t6 * t29;
+        let t58: f32 = t16 * t51;
+        let t59: f32 = platform_iyy + joint1_iyy;
+        let t60: f32 = joint2_iyy + joint3_iyy;
+        let t61: f32 = joint4_iyy + joint5_iyy;
+        let t62: f32 = t59 + t60;
+        let t63: f32 = joint6_iyy + t61;
+        let t64: f32 = t62 + t63;
+        let t65: f32 = t15 * t64;
+        let t66: f32 = t58 - t65;
+        let t67: f32 = t7 * t66;
+        let t68: f32 = t57 + t67;
+        let t69: f32 = t15 * t68;
+        let t70: f32 = t56 - t69;
+        let t71: f32 = t7 * t70;
+        let (t72, t73): (f32, f32) = sin_cos(alpha);
+        let t74: f32 = 1.0 / t73;
+        let t75: f32 = 1.0 / t7;
+        let t76: f32 = xc * t6;
+        let t77: f32 = t7 * t72;
+        let t78: f32 = t0 * t77;
+        let t79: f32 = t76 - t78;
+        let t80: f32 = t15 * t72;
+        let t81: f32 = t6 * t73;
+        let t82: f32 = t16 * t81;
+        let t83: f32 = t80 - t82;
+        let t84: f32 = joint5_mx * t83;
+        let t85: f32 = t16 * t72;
+        let t86: f32 = t6 * t15;
+        let t87: f32 = t73 * t86;
+        let t88: f32 = t85 + t87;
+        let t89: f32 = joint5_my * t88;
+        let t90: f32 = joint5_mz * t73;
+        let t91: f32 = t7 * t90;
+        let t92: f32 = t84 + t89;
+        let t93: f32 = t91 + t92;
+        let t94: f32 = t74 * t75;
+        let t95: f32 = t79 * t94;
+        let t96: f32 = t93 * t95;
+        let t97: f32 = t3 * t77;
+        let t98: f32 = t76 - t97;
+        let t99: f32 = joint6_mx * t83;
+        let t100: f32 = joint6_my * t88;
+        let t101: f32 = joint6_mz * t73;
+        let t102: f32 = t7 * t101;
+        let t103: f32 = t99 + t100;
+        let t104: f32 = t102 + t103;
+        let t105: f32 = t94 * t98;
+        let t106: f32 = t104 * t105;
+        let t107: f32 = t96 + t106;
+        let t108: f32 = zc - half_spacing;
+        let t109: f32 = joint1_mx * t83;
+        let t110: f32 = joint1_my * t88;
+        let t111: f32 = joint1_mz * t73;
+        let t112: f32 = t7 * t111;
+        let t113: f32 = t109 + t110;
+        let t114: f32 = t112 + t113;
+        let t115: f32 = t108 * t114;
+        let t116: f32 = zc + half_spacing;
+        let t117: f32 = joint2_mx * t83;
+        let t118: f32 = joint2_my * t88;
+        let t119: f32 = joint2_mz * t73;
+        let t120: f32 = t7 * t119;
+        let t121: f32 = t117 + t118;
+        let t122: f32 = t120 + t121;
+        let t123: f32 = t116 * t122;
+        let t124: f32 = t115 + t123;
+        let t125: f32 = joint3_mx * t83;
+        let t126: f32 = joint3_my * t88;
+        let t127: f32 = joint3_mz * t73;
+        let t128: f32 = t7 * t127;
+        let t129: f32 = t125 + t126;
+        let t130: f32 = t128 + t129;
+        let t131: f32 = zc * t130;
+        let t132: f32 = joint4_mx * t83;
+        let t133: f32 = joint4_my * t88;
+        let t134: f32 = joint4_mz * t73;
+        let t135: f32 = t7 * t134;
+        let t136: f32 = t132 + t133;
+        let t137: f32 = t135 + t136;
+        let t138: f32 = zc * t137;
+        let t139: f32 = t131 + t138;
+        let t140: f32 = t124 + t139;
+        let t141: f32 = t107 - t140;
+        let t142: f32 = t16 * t73;
+        let t143: f32 = t6 * t72;
+        let t144: f32 = t15 * t143;
+        let t145: f32 = t142 - t144;
+        let t146: f32 = 1.0 / t145;
+        let t147: f32 = zc * t88;
+        let t148: f32 = xc + half_spacing;
+        let t149: f32 = t7 * t15;
+        let t150: f32 = t148 * t149;
+        let t151: f32 = t147 - t150;
+        let t152: f32 = t15 * t73;
+        let t153: f32 = t16 * t143;
         let t154: f32 = t152 + t153;
-        let t155: f32 = t151 + t154;
-        let t156: f32 = zc * joint4_mass;
-        let t157: f32 = t155 - t156;
-        let t158: f32 = t149 + t157;
-        let t159: f32 = zc * rod3_mass;
-        let t160: f32 = zc * rod4_mass;
-        let t161: f32 = t159 + t160;
-        let t162: f32 = t158 - t161;
-        let t163: f32 = zc * t162;
-        let t164: f32 = yc * t129;
-        let t165: f32 = yc * t137;
-        let t166: f32 = t164 + t165;
-        let t167: f32 = 1.0 / t42;
-        let t168: f32 = xc - half_spacing;
-        let t169: f32 = t4 * t7;
-        let t170: f32 = t168 * t169;
-        let t171: f32 = zc * t17;
-        let t172: f32 = t170 - t171;
-        let t173: f32 = joint3_mx * t38;
-        let t174: f32 = joint3_my * t42;
-        let t175: f32 = t173 + t174;
-        let t176: f32 = joint3_mz * t1;
-        let t177: f32 = t4 * t176;
-        let t178: f32 = t175 - t177;
-        let t179: f32 = t167 * t172;
-        let t180: f32 = t178 * t179;
-        let t181: f32 = joint3_mass * t167;
-        let t182: f32 = t172 * t181;
-        let t183: f32 = t178 - t182;
-        let t184: f32 = t179 * t183;
-        let t185: f32 = t180 + t184;
-        let t186: f32 = t166 + t185;
-        let t187: f32 = xc + half_spacing;
-        let t188: f32 = t169 * t187;
-        let t189: f32 = t171 - t188;
-        let t190: f32 = joint4_mx * t38;
-        let t191: f32 = joint4_my * t42;
-        let t192: f32 = t190 + t191;
-        let t193: f32 = joint4_mz * t1;
-        let t194: f32 = t4 * t193;
-        let t195: f32 = t192 - t194;
-        let t196: f32 = t167 * t189;
-        let t197: f32 = t195 * t196;
-        let t198: f32 = joint4_mass * t167;
-        let t199: f32 = t189 * t198;
-        let t200: f32 = t195 + t199;
-        let t201: f32 = t196 * t200;
-        let t202: f32 = t197 + t201;
-        let t203: f32 = t34 * t47;
-        let t204: f32 = t53 * t59;
-        let t205: f32 = t203 + t204;
-        let t206: f32 = t202 - t205;
-        let t207: f32 = t186 - t206;
-        let t208: f32 = t0 * t20;
-        let t209: f32 = t24 * t30;
-        let t210: f32 = t208 + t209;
-        let t211: f32 = zc * t147;
-        let t212: f32 = zc * t155;
-        let t213: f32 = t211 + t212;
-        let t214: f32 = t210 + t213;
-        let t215: f32 = 1.0 / t2;
-        let t216: f32 = 1.0 / t4;
-        let t217: f32 = xc * t3;
-        let t218: f32 = t1 * t4;
-        let t219: f32 = t34 * t218;
-        let t220: f32 = t217 - t219;
-        let t221: f32 = joint5_mz * t2;
-        let t222: f32 = t4 * t221;
-        let t223: f32 = joint5_mx * t12;
-        let t224: f32 = joint5_my * t17;
-        let t225: f32 = t223 + t224;
-        let t226: f32 = t222 + t225;
-        let t227: f32 = t215 * t216;
-        let t228: f32 = t220 * t227;
-        let t229: f32 = t226 * t228;
-        let t230: f32 = joint5_mass * t215;
-        let t231: f32 = t216 * t230;
-        let t232: f32 = t220 * t231;
-        let t233: f32 = t226 + t232;
+        let t155: f32 = joint4_mx * t154;
+        let t156: f32 = joint4_my * t145;
+        let t157: f32 = joint4_mz * t72;
+        let t158: f32 = t7 * t157;
+        let t159: f32 = t155 + t156;
+        let t160: f32 = t159 - t158;
+        let t161: f32 = t146 * t151;
+        let t162: f32 = t160 * t161;
+        let t163: f32 = xc - half_spacing;
+        let t164: f32 = t149 * t163;
+        let t165: f32 = t164 - t147;
+        let t166: f32 = joint3_mx * t154;
+        let t167: f32 = joint3_my * t145;
+        let t168: f32 = joint3_mz * t72;
+        let t169: f32 = t7 * t168;
+        let t170: f32 = t166 + t167;
+        let t171: f32 = t170 - t169;
+        let t172: f32 = t146 * t165;
+        let t173: f32 = t171 * t172;
+        let t174: f32 = t162 - t173;
+        let t175: f32 = joint1_mx * t154;
+        let t176: f32 = joint1_my * t145;
+        let t177: f32 = joint1_mz * t72;
+        let t178: f32 = t7 * t177;
+        let t179: f32 = t175 + t176;
+        let t180: f32 = t179 - t178;
+        let t181: f32 = yc * t180;
+        let t182: f32 = joint2_mx * t154;
+        let t183: f32 = joint2_my * t145;
+        let t184: f32 = joint2_mz * t72;
+        let t185: f32 = t7 * t184;
+        let t186: f32 = t182 + t183;
+        let t187: f32 = t186 - t185;
+        let t188: f32 = yc * t187;
+        let t189: f32 = t181 + t188;
+        let t190: f32 = t174 - t189;
+        let t191: f32 = joint5_mx * t154;
+        let t192: f32 = joint5_my * t145;
+        let t193: f32 = joint5_mz * t72;
+        let t194: f32 = t7 * t193;
+        let t195: f32 = t191 + t192;
+        let t196: f32 = t195 - t194;
+        let t197: f32 = t0 * t196;
+        let t198: f32 = joint6_mx * t154;
+        let t199: f32 = joint6_my * t145;
+        let t200: f32 = joint6_mz * t72;
+        let t201: f32 = t7 * t200;
+        let t202: f32 = t198 + t199;
+        let t203: f32 = t202 - t201;
+        let t204: f32 = t3 * t203;
+        let t205: f32 = t197 + t204;
+        let t206: f32 = t190 - t205;
+        let t207: f32 = t141 + t206;
+        let t208: f32 = t74 * t74;
+        let t209: f32 = t75 * t75;
+        let t210: f32 = t79 * t79;
+        let t211: f32 = t208 * t209;
+        let t212: f32 = t210 * t211;
+        let t213: f32 = t1 + t212;
+        let t214: f32 = joint5_mass * t213;
+        let t215: f32 = t98 * t98;
+        let t216: f32 = t211 * t215;
+        let t217: f32 = t4 + t216;
+        let t218: f32 = joint6_mass * t217;
+        let t219: f32 = t214 + t218;
+        let t220: f32 = t108 * t108;
+        let t221: f32 = yc * yc;
+        let t222: f32 = t220 + t221;
+        let t223: f32 = joint1_mass * t222;
+        let t224: f32 = t116 * t116;
+        let t225: f32 = t221 + t224;
+        let t226: f32 = joint2_mass * t225;
+        let t227: f32 = t223 + t226;
+        let t228: f32 = t146 * t146;
+        let t229: f32 = t165 * t165;
+        let t230: f32 = t228 * t229;
+        let t231: f32 = t35 + t230;
+        let t232: f32 = joint3_mass * t231;
+        let t233: f32 = t151 * t151;
         let t234: f32 = t228 * t233;
-        let t235: f32 = t229 + t234;
-        let t236: f32 = t53 * t218;
-        let t237: f32 = t217 - t236;
-        let t238: f32 = joint6_mz * t2;
-        let t239: f32 = t4 * t238;
-        let t240: f32 = joint6_mx * t12;
-        let t241: f32 = joint6_my * t17;
-        let t242: f32 = t240 + t241;
-        let t243: f32 = t239 + t242;
-        let t244: f32 = t227 * t237;
-        let t245: f32 = t243 * t244;
-        let t246: f32 = joint6_mass * t215;
-        let t247: f32 = t216 * t246;
-        let t248: f32 = t237 * t247;
-        let t249: f32 = t243 + t248;
-        let t250: f32 = t244 * t249;
-        let t251: f32 = t245 + t250;
-        let t252: f32 = t235 + t251;
-        let t253: f32 = t214 - t252;
-        let t254: f32 = t23 + t33;
-        let t255: f32 = t52 + t64;
-        let t256: f32 = t110 + t141;
-        let t257: f32 = t163 + t207;
-        let t258: f32 = t254 + t255;
-        let t259: f32 = t256 + t257;
-        let t260: f32 = t258 + t259;
-        let t261: f32 = t253 + t260;
-        let t262: f32 = t123 - t261;
-        let t263: f32 = 1.0 / t262;
-        let t264: f32 = t168 * t183;
-        let t265: f32 = t187 * t200;
-        let t266: f32 = joint5_mz * t3;
-        let t267: f32 = joint5_mx * t4;
-        let t268: f32 = t8 * t267;
-        let t269: f32 = joint5_my * t7;
-        let t270: f32 = t4 * t269;
-        let t271: f32 = t268 - t270;
-        let t272: f32 = t266 + t271;
-        let t273: f32 = t34 * t272;
-        let t274: f32 = joint6_mz * t3;
-        let t275: f32 = joint6_mx * t4;
-        let t276: f32 = t8 * t275;
-        let t277: f32 = joint6_my * t7;
-        let t278: f32 = t4 * t277;
-        let t279: f32 = t276 - t278;
-        let t280: f32 = t274 + t279;
-        let t281: f32 = t53 * t280;
-        let t282: f32 = t122 * t218;
-        let t283: f32 = t38 * t107;
-        let t284: f32 = t42 * t88;
-        let t285: f32 = t51 + t63;
-        let t286: f32 = xc * t285;
-        let t287: f32 = joint1_mz * t3;
-        let t288: f32 = joint1_mx * t4;
-        let t289: f32 = t8 * t288;
-        let t290: f32 = joint1_my * t7;
-        let t291: f32 = t4 * t290;
-        let t292: f32 = t289 - t291;
-        let t293: f32 = t287 + t292;
-        let t294: f32 = joint2_mz * t3;
-        let t295: f32 = joint2_mx * t4;
-        let t296: f32 = t8 * t295;
-        let t297: f32 = joint2_my * t7;
-        let t298: f32 = t4 * t297;
-        let t299: f32 = t296 - t298;
-        let t300: f32 = t294 + t299;
-        let t301: f32 = t293 + t300;
-        let t302: f32 = yc * t301;
-        let t303: f32 = 1.0 / t8;
-        let t304: f32 = yc * t38;
-        let t305: f32 = t0 * t12;
-        let t306: f32 = t304 + t305;
-        let t307: f32 = t131 * t306;
-        let t308: f32 = t12 * t24;
-        let t309: f32 = t304 + t308;
-        let t310: f32 = t139 * t309;
-        let t311: f32 = t307 + t310;
-        let t312: f32 = t216 * t303;
-        let t313: f32 = t311 * t312;
-        let t314: f32 = joint3_mz * t3;
-        let t315: f32 = joint3_mx * t4;
-        let t316: f32 = t8 * t315;
-        let t317: f32 = joint3_my * t7;
-        let t318: f32 = t4 * t317;
-        let t319: f32 = t316 - t318;
-        let t320: f32 = t314 + t319;
-        let t321: f32 = t172 * t320;
-        let t322: f32 = joint4_mz * t3;
-        let t323: f32 = joint4_mx * t4;
-        let t324: f32 = t8 * t323;
-        let t325: f32 = joint4_my * t7;
-        let t326: f32 = t4 * t325;
-        let t327: f32 = t324 - t326;
-        let t328: f32 = t322 + t327;
-        let t329: f32 = t189 * t328;
-        let t330: f32 = t321 - t329;
-        let t331: f32 = t167 * t330;
-        let t332: f32 = t264 + t265;
-        let t333: f32 = t273 + t281;
-        let t334: f32 = t283 + t284;
-        let t335: f32 = t286 + t302;
-        let t336: f32 = t332 + t333;
-        let t337: f32 = t334 + t335;
+        let t235: f32 = t35 + t234;
+        let t236: f32 = joint4_mass * t235;
+        let t237: f32 = t232 + t236;
+        let t238: f32 = t227 + t237;
+        let t239: f32 = t219 + t238;
+        let t240: f32 = t207 * 2.0;
+        let t241: f32 = t2 + t5;
+        let t242: f32 = t34 + t37;
+        let t243: f32 = t71 + t239;
+        let t244: f32 = t241 + t242;
+        let t245: f32 = t240 + t243;
+        let t246: f32 = t244 + t245;
+        let t247: f32 = 1.0 / t246;
+        let t248: f32 = joint5_mz * t6;
+        let t249: f32 = joint5_mx * t16;
+        let t250: f32 = joint5_my * t15;
+        let t251: f32 = t249 - t250;
+        let t252: f32 = t7 * t251;
+        let t253: f32 = t248 + t252;
+        let t254: f32 = t0 * t253;
+        let t255: f32 = joint6_mz * t6;
+        let t256: f32 = joint6_mx * t16;
+        let t257: f32 = joint6_my * t15;
+        let t258: f32 = t256 - t257;
+        let t259: f32 = t7 * t258;
+        let t260: f32 = t255 + t259;
+        let t261: f32 = t3 * t260;
+        let t262: f32 = t254 + t261;
+        let t263: f32 = 1.0 / t16;
+        let t264: f32 = yc * t154;
+        let t265: f32 = t83 * t108;
+        let t266: f32 = t264 + t265;
+        let t267: f32 = yc * joint1_mass;
+        let t268: f32 = t75 * t267;
+        let t269: f32 = t263 * t268;
+        let t270: f32 = t266 * t269;
+        let t271: f32 = t75 * t263;
+        let t272: f32 = t266 * t271;
+        let t273: f32 = t180 * t272;
+        let t274: f32 = t270 - t273;
+        let t275: f32 = t83 * t116;
+        let t276: f32 = t264 + t275;
+        let t277: f32 = yc * joint2_mass;
+        let t278: f32 = t75 * t277;
+        let t279: f32 = t263 * t278;
+        let t280: f32 = t276 * t279;
+        let t281: f32 = t271 * t276;
+        let t282: f32 = t187 * t281;
+        let t283: f32 = t280 - t282;
+        let t284: f32 = t274 + t283;
+        let t285: f32 = t262 + t284;
+        let t286: f32 = t163 * t171;
+        let t287: f32 = joint3_mass * t146;
+        let t288: f32 = t163 * t287;
+        let t289: f32 = t165 * t288;
+        let t290: f32 = t286 - t289;
+        let t291: f32 = joint4_mass * t146;
+        let t292: f32 = t148 * t291;
+        let t293: f32 = t151 * t292;
+        let t294: f32 = t148 * t160;
+        let t295: f32 = t293 + t294;
+        let t296: f32 = t290 + t295;
+        let t297: f32 = xc * t196;
+        let t298: f32 = xc * joint5_mass;
+        let t299: f32 = t0 * t298;
+        let t300: f32 = t297 - t299;
+        let t301: f32 = xc * t203;
+        let t302: f32 = xc * joint6_mass;
+        let t303: f32 = t3 * t302;
+        let t304: f32 = t301 - t303;
+        let t305: f32 = t300 + t304;
+        let t306: f32 = t296 + t305;
+        let t307: f32 = t285 + t306;
+        let t308: f32 = joint1_mz + joint2_mz;
+        let t309: f32 = t6 * t308;
+        let t310: f32 = joint1_my + joint2_my;
+        let t311: f32 = t15 * t310;
+        let t312: f32 = joint1_mx + joint2_mx;
+        let t313: f32 = t16 * t312;
+        let t314: f32 = t311 - t313;
+        let t315: f32 = t7 * t314;
+        let t316: f32 = t309 - t315;
+        let t317: f32 = yc * t316;
+        let t318: f32 = joint3_mz * t6;
+        let t319: f32 = joint3_mx * t16;
+        let t320: f32 = joint3_my * t15;
+        let t321: f32 = t319 - t320;
+        let t322: f32 = t7 * t321;
+        let t323: f32 = t318 + t322;
+        let t324: f32 = t165 * t323;
+        let t325: f32 = joint4_mz * t6;
+        let t326: f32 = joint4_mx * t16;
+        let t327: f32 = joint4_my * t15;
+        let t328: f32 = t326 - t327;
+        let t329: f32 = t7 * t328;
+        let t330: f32 = t325 + t329;
+        let t331: f32 = t151 * t330;
+        let t332: f32 = t324 - t331;
+        let t333: f32 = t146 * t332;
+        let t334: f32 = t317 + t333;
+        let t335: f32 = t307 + t334;
+        let t336: f32 = t55 * t154;
+        let t337: f32 = t68 * t145;
         let t338: f32 = t336 + t337;
-        let t339: f32 = t331 + t338;
-        let t340: f32 = t282 + t313;
-        let t341: f32 = t339 - t340;
-        let t342: f32 = rod1_mass * t0;
-        let t343: f32 = t22 - t342;
-        let t344: f32 = t0 * t343;
-        let t345: f32 = rod2_mass * t24;
-        let t346: f32 = t32 - t345;
-        let t347: f32 = t24 * t346;
-        let t348: f32 = joint3_mass * t168;
-        let t349: f32 = t320 - t348;
-        let t350: f32 = t168 * t349;
-        let t351: f32 = joint4_mass * t187;
-        let t352: f32 = t328 - t351;
-        let t353: f32 = t187 * t352;
-        let t354: f32 = t341 * t341;
-        let t355: f32 = t263 * t354;
-        let t356: f32 = t116 * t218;
-        let t357: f32 = t38 * t95;
-        let t358: f32 = t42 * t70;
-        let t359: f32 = t357 + t358;
+        let t339: f32 = t33 * t77;
+        let t340: f32 = rod5_mass * t0;
+        let t341: f32 = rod6_mass * t3;
+        let t342: f32 = t340 + t341;
+        let t343: f32 = xc * t342;
+        let t344: f32 = t339 + t343;
+        let t345: f32 = t338 - t344;
+        let t346: f32 = t335 + t345;
+        let t347: f32 = t346 * t346;
+        let t348: f32 = t247 * t347;
+        let t349: f32 = rod5_mass + rod6_mass;
+        let t350: f32 = xc * t349;
+        let t351: f32 = joint5_mz + joint6_mz;
+        let t352: f32 = t351 * 2.0;
+        let t353: f32 = t6 * t352;
+        let t354: f32 = joint5_my + joint6_my;
+        let t355: f32 = t354 * 2.0;
+        let t356: f32 = t15 * t355;
+        let t357: f32 = joint5_mx + joint6_mx;
+        let t358: f32 = t357 * 2.0;
+        let t359: f32 = t16 * t358;
         let t360: f32 = t356 - t359;
-        let t361: f32 = t218 * t360;
-        let t362: f32 = t95 * t218;
-        let t363: f32 = t38 * t103;
-        let t364: f32 = t42 * t84;
-        let t365: f32 = t363 + t364;
-        let t366: f32 = t362 - t365;
-        let t367: f32 = t38 * t366;
-        let t368: f32 = t70 * t218;
-        let t369: f32 = t38 * t84;
-        let t370: f32 = t42 * t77;
-        let t371: f32 = t369 + t370;
-        let t372: f32 = t368 - t371;
-        let t373: f32 = t42 * t372;
-        let t374: f32 = t272 + t280;
-        let t375: f32 = xc * joint5_mass;
-        let t376: f32 = xc * joint6_mass;
-        let t377: f32 = t375 + t376;
-        let t378: f32 = t374 - t377;
-        let t379: f32 = xc * rod5_mass;
-        let t380: f32 = xc * rod6_mass;
-        let t381: f32 = t379 + t380;
-        let t382: f32 = t378 - t381;
-        let t383: f32 = xc * t382;
-        let t384: f32 = zc * t158;
-        let t385: f32 = t168 * t320;
-        let t386: f32 = t187 * t328;
-        let t387: f32 = t385 + t386;
-        let t388: f32 = xc * t272;
-        let t389: f32 = xc * t280;
-        let t390: f32 = t388 + t389;
-        let t391: f32 = t387 + t390;
-        let t392: f32 = t306 * t312;
-        let t393: f32 = t293 * t392;
-        let t394: f32 = joint1_mass * t216;
-        let t395: f32 = t303 * t394;
-        let t396: f32 = t306 * t395;
-        let t397: f32 = t293 + t396;
-        let t398: f32 = t392 * t397;
-        let t399: f32 = t393 + t398;
-        let t400: f32 = t309 * t312;
-        let t401: f32 = t300 * t400;
-        let t402: f32 = joint2_mass * t216;
-        let t403: f32 = t303 * t402;
-        let t404: f32 = t309 * t403;
-        let t405: f32 = t300 + t404;
-        let t406: f32 = t400 * t405;
-        let t407: f32 = t401 + t406;
-        let t408: f32 = t399 + t407;
-        let t409: f32 = t391 - t408;
-        let t410: f32 = t344 + t347;
-        let t411: f32 = t350 + t353;
-        let t412: f32 = t355 + t367;
-        let t413: f32 = t373 + t383;
-        let t414: f32 = t253 + t384;
-        let t415: f32 = t410 + t411;
-        let t416: f32 = t412 + t413;
-        let t417: f32 = t409 + t414;
-        let t418: f32 = t415 + t416;
-        let t419: f32 = t417 + t418;
-        let t420: f32 = t419 - t361;
-        let t421: f32 = 1.0 / t420;
-        let t422: f32 = t343 + t346;
-        let t423: f32 = t233 + t249;
-        let t424: f32 = platform_mz * t2;
-        let t425: f32 = t4 * t424;
-        let t426: f32 = platform_mx * t12;
-        let t427: f32 = platform_my * t17;
-        let t428: f32 = t426 + t427;
-        let t429: f32 = t425 + t428;
-        let t430: f32 = t158 + t429;
-        let t431: f32 = t423 + t430;
-        let t432: f32 = t422 + t431;
-        let t433: f32 = t432 * t432;
-        let t434: f32 = t421 * t433;
-        let t435: f32 = rod3_mass * t168;
-        let t436: f32 = t349 - t435;
-        let t437: f32 = t168 * t436;
-        let t438: f32 = rod4_mass * t187;
-        let t439: f32 = t352 - t438;
-        let t440: f32 = t187 * t439;
-        let t441: f32 = t34 * t49;
-        let t442: f32 = t53 * t61;
-        let t443: f32 = t2 * t4;
-        let t444: f32 = t122 * t443;
-        let t445: f32 = t12 * t107;
-        let t446: f32 = t444 + t445;
-        let t447: f32 = t17 * t88;
-        let t448: f32 = t220 * t272;
-        let t449: f32 = t237 * t280;
+        let t361: f32 = t7 * t360;
+        let t362: f32 = t353 - t361;
+        let t363: f32 = t350 - t362;
+        let t364: f32 = xc * t363;
+        let t365: f32 = joint1_mz * t6;
+        let t366: f32 = joint1_mx * t16;
+        let t367: f32 = joint1_my * t15;
+        let t368: f32 = t366 - t367;
+        let t369: f32 = t7 * t368;
+        let t370: f32 = t365 + t369;
+        let t371: f32 = t266 * t370;
+        let t372: f32 = joint2_mz * t6;
+        let t373: f32 = joint2_mx * t16;
+        let t374: f32 = joint2_my * t15;
+        let t375: f32 = t373 - t374;
+        let t376: f32 = t7 * t375;
+        let t377: f32 = t372 + t376;
+        let t378: f32 = t276 * t377;
+        let t379: f32 = t371 + t378;
+        let t380: f32 = t379 * 2.0;
+        let t381: f32 = t271 * t380;
+        let t382: f32 = t163 * t323;
+        let t383: f32 = t148 * t330;
+        let t384: f32 = t382 + t383;
+        let t385: f32 = t141 - t384;
+        let t386: f32 = rod2_mass * t224;
+        let t387: f32 = xc * xc;
+        let t388: f32 = t212 + t387;
+        let t389: f32 = joint5_mass * t388;
+        let t390: f32 = t216 + t387;
+        let t391: f32 = joint6_mass * t390;
+        let t392: f32 = t389 + t391;
+        let t393: f32 = t263 * t263;
+        let t394: f32 = t266 * t266;
+        let t395: f32 = t209 * t393;
+        let t396: f32 = t394 * t395;
+        let t397: f32 = t220 + t396;
+        let t398: f32 = joint1_mass * t397;
+        let t399: f32 = t276 * t276;
+        let t400: f32 = t395 * t399;
+        let t401: f32 = t224 + t400;
+        let t402: f32 = joint2_mass * t401;
+        let t403: f32 = t398 + t402;
+        let t404: f32 = t163 * t163;
+        let t405: f32 = t35 + t404;
+        let t406: f32 = joint3_mass * t405;
+        let t407: f32 = t148 * t148;
+        let t408: f32 = t35 + t407;
+        let t409: f32 = joint4_mass * t408;
+        let t410: f32 = t406 + t409;
+        let t411: f32 = t403 + t410;
+        let t412: f32 = t392 + t411;
+        let t413: f32 = t386 + t412;
+        let t414: f32 = t44 * t154;
+        let t415: f32 = t51 * t145;
+        let t416: f32 = t22 * t77;
+        let t417: f32 = t414 + t415;
+        let t418: f32 = t417 - t416;
+        let t419: f32 = t154 * t418;
+        let t420: f32 = t51 * t154;
+        let t421: f32 = t64 * t145;
+        let t422: f32 = t29 * t77;
+        let t423: f32 = t420 + t421;
+        let t424: f32 = t423 - t422;
+        let t425: f32 = t145 * t424;
+        let t426: f32 = t419 + t425;
+        let t427: f32 = rod1_mass * t220;
+        let t428: f32 = t22 * t154;
+        let t429: f32 = t29 * t145;
+        let t430: f32 = t13 * t77;
+        let t431: f32 = t428 + t429;
+        let t432: f32 = t431 - t430;
+        let t433: f32 = t77 * t432;
+        let t434: f32 = t427 - t433;
+        let t435: f32 = t426 + t434;
+        let t436: f32 = t413 + t435;
+        let t437: f32 = t385 * 2.0;
+        let t438: f32 = t364 + t381;
+        let t439: f32 = t436 + t437;
+        let t440: f32 = t438 + t439;
+        let t441: f32 = t440 - t348;
+        let t442: f32 = 1.0 / t441;
+        let t443: f32 = t55 * t83;
+        let t444: f32 = t68 * t88;
+        let t445: f32 = t443 + t444;
+        let t446: f32 = t7 * t73;
+        let t447: f32 = t33 * t446;
+        let t448: f32 = t108 * t370;
+        let t449: f32 = t116 * t377;
         let t450: f32 = t448 + t449;
-        let t451: f32 = t215 * t450;
-        let t452: f32 = t22 * t306;
-        let t453: f32 = t32 * t309;
-        let t454: f32 = t452 + t453;
-        let t455: f32 = t303 * t454;
-        let t456: f32 = t451 + t455;
-        let t457: f32 = t216 * t456;
-        let t458: f32 = t447 - t457;
-        let t459: f32 = t446 + t458;
-        let t460: f32 = xc * t423;
-        let t461: f32 = t320 + t328;
-        let t462: f32 = zc * t461;
-        let t463: f32 = t460 + t462;
-        let t464: f32 = t0 * t293;
-        let t465: f32 = t24 * t300;
-        let t466: f32 = t464 + t465;
-        let t467: f32 = t149 - t159;
-        let t468: f32 = t168 * t467;
-        let t469: f32 = t157 - t160;
-        let t470: f32 = t187 * t469;
-        let t471: f32 = t468 + t470;
-        let t472: f32 = t466 + t471;
-        let t473: f32 = t463 + t472;
-        let t474: f32 = t459 + t473;
-        let t475: f32 = t474 * t474;
-        let t476: f32 = t263 * t475;
-        let t477: f32 = t0 * t129;
-        let t478: f32 = t24 * t137;
-        let t479: f32 = t34 * t233;
-        let t480: f32 = t53 * t249;
-        let t481: f32 = t263 * t341;
-        let t482: f32 = t474 * t481;
-        let t483: f32 = t360 * t443;
-        let t484: f32 = t12 * t366;
-        let t485: f32 = t17 * t372;
-        let t486: f32 = yc * t422;
-        let t487: f32 = t178 + t195;
-        let t488: f32 = zc * t487;
-        let t489: f32 = t47 * t220;
-        let t490: f32 = t59 * t237;
+        let t451: f32 = joint1_mass * t75;
+        let t452: f32 = t263 * t451;
+        let t453: f32 = t108 * t452;
+        let t454: f32 = t266 * t453;
+        let t455: f32 = t114 * t272;
+        let t456: f32 = t454 - t455;
+        let t457: f32 = joint2_mass * t75;
+        let t458: f32 = t263 * t457;
+        let t459: f32 = t116 * t458;
+        let t460: f32 = t276 * t459;
+        let t461: f32 = t122 * t281;
+        let t462: f32 = t460 - t461;
+        let t463: f32 = t456 + t462;
+        let t464: f32 = t450 + t463;
+        let t465: f32 = t130 * t163;
+        let t466: f32 = zc * joint3_mass;
+        let t467: f32 = t163 * t466;
+        let t468: f32 = t465 - t467;
+        let t469: f32 = t137 * t148;
+        let t470: f32 = zc * joint4_mass;
+        let t471: f32 = t148 * t470;
+        let t472: f32 = t469 - t471;
+        let t473: f32 = t468 + t472;
+        let t474: f32 = t74 * t298;
+        let t475: f32 = t75 * t474;
+        let t476: f32 = t79 * t475;
+        let t477: f32 = xc * t93;
+        let t478: f32 = t476 + t477;
+        let t479: f32 = t74 * t302;
+        let t480: f32 = t75 * t479;
+        let t481: f32 = t98 * t480;
+        let t482: f32 = xc * t104;
+        let t483: f32 = t481 + t482;
+        let t484: f32 = t478 + t483;
+        let t485: f32 = t473 + t484;
+        let t486: f32 = t464 + t485;
+        let t487: f32 = t447 + t486;
+        let t488: f32 = t445 + t487;
+        let t489: f32 = rod3_mass * t163;
+        let t490: f32 = rod4_mass * t148;
         let t491: f32 = t489 + t490;
-        let t492: f32 = t227 * t491;
-        let t493: f32 = t149 * t172;
-        let t494: f32 = t157 * t189;
-        let t495: f32 = t493 - t494;
-        let t496: f32 = t167 * t495;
-        let t497: f32 = t477 + t478;
-        let t498: f32 = t479 + t480;
-        let t499: f32 = t486 + t488;
-        let t500: f32 = t497 + t498;
-        let t501: f32 = t496 + t499;
-        let t502: f32 = t500 + t501;
-        let t503: f32 = t482 + t483;
-        let t504: f32 = t484 + t485;
+        let t492: f32 = joint3_mz + joint4_mz;
+        let t493: f32 = t6 * t492;
+        let t494: f32 = joint3_my + joint4_my;
+        let t495: f32 = t15 * t494;
+        let t496: f32 = joint3_mx + joint4_mx;
+        let t497: f32 = t16 * t496;
+        let t498: f32 = t495 - t497;
+        let t499: f32 = t7 * t498;
+        let t500: f32 = t493 - t499;
+        let t501: f32 = t491 - t500;
+        let t502: f32 = zc * t501;
+        let t503: f32 = t79 * t253;
+        let t504: f32 = t98 * t260;
         let t505: f32 = t503 + t504;
-        let t506: f32 = t492 + t505;
-        let t507: f32 = t502 - t506;
-        let t508: f32 = t507 * t507;
-        let t509: f32 = t421 * t508;
-        let t510: f32 = t116 * t443;
-        let t511: f32 = t12 * t95;
-        let t512: f32 = t17 * t70;
-        let t513: f32 = t510 + t511;
-        let t514: f32 = t512 + t513;
-        let t515: f32 = t443 * t514;
-        let t516: f32 = t95 * t443;
-        let t517: f32 = t12 * t103;
-        let t518: f32 = t17 * t84;
-        let t519: f32 = t516 + t517;
-        let t520: f32 = t518 + t519;
-        let t521: f32 = t12 * t520;
-        let t522: f32 = t70 * t443;
-        let t523: f32 = t12 * t84;
-        let t524: f32 = t17 * t77;
-        let t525: f32 = t522 + t523;
-        let t526: f32 = t524 + t525;
-        let t527: f32 = t17 * t526;
-        let t528: f32 = xc * t378;
-        let t529: f32 = yc * rod1_mass;
-        let t530: f32 = yc * rod2_mass;
-        let t531: f32 = t529 + t530;
-        let t532: f32 = t140 - t531;
-        let t533: f32 = yc * t532;
-        let t534: f32 = t437 + t440;
-        let t535: f32 = t441 + t442;
-        let t536: f32 = t476 + t528;
-        let t537: f32 = t207 + t533;
-        let t538: f32 = t534 + t535;
-        let t539: f32 = t536 + t537;
-        let t540: f32 = t538 + t539;
-        let t541: f32 = t409 + t540;
-        let t542: f32 = t509 + t515;
-        let t543: f32 = t521 + t527;
-        let t544: f32 = t542 + t543;
-        let t545: f32 = t541 - t544;
-        let t546: f32 = 1.0 / t545;
-        let t547: f32 = t421 * t432;
-        let t548: f32 = t507 * t547;
-        let t549: f32 = platform_mx * t38;
-        let t550: f32 = platform_my * t42;
-        let t551: f32 = t549 + t550;
-        let t552: f32 = platform_mz * t1;
-        let t553: f32 = t4 * t552;
-        let t554: f32 = t551 - t553;
-        let t555: f32 = t140 + t554;
-        let t556: f32 = t183 + t200;
-        let t557: f32 = t555 + t556;
-        let t558: f32 = t49 + t61;
-        let t559: f32 = t557 + t558;
-        let t560: f32 = t531 + t548;
-        let t561: f32 = t559 - t560;
-        let t562: f32 = t561 * t561;
-        let t563: f32 = t546 * t562;
-        let t564: f32 = platform_mass + joint1_mass;
-        let t565: f32 = joint6_mass + t564;
-        let t566: f32 = joint2_mass + joint3_mass;
-        let t567: f32 = joint4_mass + joint5_mass;
-        let t568: f32 = t566 + t567;
-        let t569: f32 = t565 + t568;
-        let t570: f32 = rod1_mass + rod2_mass;
-        let t571: f32 = t434 + t563;
-        let t572: f32 = t570 + t571;
-        let t573: f32 = t569 + t572;
-        let t574: f32 = 1.0 / t573;
-        let t575: f32 = t22 + t32;
-        let t576: f32 = t431 + t575;
-        let t577: f32 = t576 - t161;
-        let t578: f32 = t432 * t577;
-        let t579: f32 = t263 * t578;
-        let t580: f32 = t341 * t579;
-        let t581: f32 = t421 * t580;
-        let t582: f32 = t341 * t421;
-        let t583: f32 = t507 * t582;
-        let t584: f32 = t474 + t583;
-        let t585: f32 = t263 * t577;
-        let t586: f32 = t584 * t585;
-        let t587: f32 = platform_mz * t3;
-        let t588: f32 = platform_mx * t4;
-        let t589: f32 = t8 * t588;
-        let t590: f32 = platform_my * t7;
-        let t591: f32 = t4 * t590;
-        let t592: f32 = t589 - t591;
-        let t593: f32 = t587 + t592;
-        let t594: f32 = t378 + t593;
-        let t595: f32 = t397 + t405;
-        let t596: f32 = t594 + t595;
-        let t597: f32 = t436 + t586;
-        let t598: f32 = t439 + t596;
-        let t599: f32 = t597 + t598;
-        let t600: f32 = t546 * t561;
-        let t601: f32 = t599 * t600;
-        let t602: f32 = t581 - t601;
-        let t603: f32 = t599 * t599;
-        let t604: f32 = t546 * t603;
-        let t605: f32 = t602 * t602;
-        let t606: f32 = t574 * t605;
-        let t607: f32 = t577 * t577;
-        let t608: f32 = t355 * t421;
-        let t609: f32 = t608 - 1.0;
-        let t610: f32 = t263 * t607;
-        let t611: f32 = t609 * t610;
-        let t612: f32 = rod3_mass + rod4_mass;
-        let t613: f32 = t604 + t611;
-        let t614: f32 = t612 + t613;
-        let t615: f32 = t569 + t614;
-        let t616: f32 = t615 - t606;
-        let t617: f32 = 1.0 / t616;
-        let t618: f32 = t285 + t557;
-        let t619: f32 = t263 * t618;
-        let t620: f32 = t474 * t619;
-        let t621: f32 = t341 * t619;
-        let t622: f32 = t349 + t621;
-        let t623: f32 = t352 + t596;
+        let t506: f32 = t94 * t505;
+        let t507: f32 = t502 + t506;
+        let t508: f32 = t488 - t507;
+        let t509: f32 = t247 * t508;
+        let t510: f32 = t346 * t509;
+        let t511: f32 = rod1_mass * t108;
+        let t512: f32 = rod2_mass * t116;
+        let t513: f32 = t511 + t512;
+        let t514: f32 = yc * t513;
+        let t515: f32 = t432 * t446;
+        let t516: f32 = t514 - t515;
+        let t517: f32 = t146 * t466;
+        let t518: f32 = t165 * t517;
+        let t519: f32 = zc * t171;
+        let t520: f32 = t518 - t519;
+        let t521: f32 = t116 * t187;
+        let t522: f32 = yc * t122;
+        let t523: f32 = t521 + t522;
+        let t524: f32 = t520 - t523;
+        let t525: f32 = t137 * t161;
+        let t526: f32 = zc * t160;
+        let t527: f32 = t525 - t526;
+        let t528: f32 = t130 * t172;
+        let t529: f32 = t146 * t470;
+        let t530: f32 = t151 * t529;
+        let t531: f32 = t528 + t530;
+        let t532: f32 = t527 - t531;
+        let t533: f32 = t524 + t532;
+        let t534: f32 = t95 * t196;
+        let t535: f32 = joint5_mass * t74;
+        let t536: f32 = t75 * t535;
+        let t537: f32 = t0 * t536;
+        let t538: f32 = t79 * t537;
+        let t539: f32 = t534 - t538;
+        let t540: f32 = t0 * t93;
+        let t541: f32 = joint6_mass * t74;
+        let t542: f32 = t75 * t541;
+        let t543: f32 = t3 * t542;
+        let t544: f32 = t98 * t543;
+        let t545: f32 = t540 + t544;
+        let t546: f32 = t539 - t545;
+        let t547: f32 = t105 * t203;
+        let t548: f32 = t3 * t104;
+        let t549: f32 = t547 - t548;
+        let t550: f32 = t108 * t267;
+        let t551: f32 = t108 * t180;
+        let t552: f32 = t550 - t551;
+        let t553: f32 = t116 * t277;
+        let t554: f32 = yc * t114;
+        let t555: f32 = t553 - t554;
+        let t556: f32 = t552 + t555;
+        let t557: f32 = t549 + t556;
+        let t558: f32 = t546 + t557;
+        let t559: f32 = t533 + t558;
+        let t560: f32 = t83 * t418;
+        let t561: f32 = t88 * t424;
+        let t562: f32 = t560 + t561;
+        let t563: f32 = t559 - t562;
+        let t564: f32 = t516 + t563;
+        let t565: f32 = t510 + t564;
+        let t566: f32 = t508 * t508;
+        let t567: f32 = t247 * t566;
+        let t568: f32 = t565 * t565;
+        let t569: f32 = t442 * t568;
+        let t570: f32 = t323 * 2.0;
+        let t571: f32 = t570 - t489;
+        let t572: f32 = t163 * t571;
+        let t573: f32 = t330 * 2.0;
+        let t574: f32 = t573 - t490;
+        let t575: f32 = t148 * t574;
+        let t576: f32 = t1 + t387;
+        let t577: f32 = joint5_mass * t576;
+        let t578: f32 = t4 + t387;
+        let t579: f32 = joint6_mass * t578;
+        let t580: f32 = t577 + t579;
+        let t581: f32 = t221 + t396;
+        let t582: f32 = joint1_mass * t581;
+        let t583: f32 = t221 + t400;
+        let t584: f32 = joint2_mass * t583;
+        let t585: f32 = t582 + t584;
+        let t586: f32 = t230 + t404;
+        let t587: f32 = joint3_mass * t586;
+        let t588: f32 = t234 + t407;
+        let t589: f32 = joint4_mass * t588;
+        let t590: f32 = t587 + t589;
+        let t591: f32 = t585 + t590;
+        let t592: f32 = t580 + t591;
+        let t593: f32 = xc * t362;
+        let t594: f32 = t381 - t593;
+        let t595: f32 = t592 + t594;
+        let t596: f32 = t44 * t83;
+        let t597: f32 = t51 * t88;
+        let t598: f32 = t22 * t446;
+        let t599: f32 = t596 + t597;
+        let t600: f32 = t598 + t599;
+        let t601: f32 = t83 * t600;
+        let t602: f32 = t51 * t83;
+        let t603: f32 = t64 * t88;
+        let t604: f32 = t29 * t446;
+        let t605: f32 = t602 + t603;
+        let t606: f32 = t604 + t605;
+        let t607: f32 = t88 * t606;
+        let t608: f32 = t601 + t607;
+        let t609: f32 = t22 * t83;
+        let t610: f32 = t29 * t88;
+        let t611: f32 = t13 * t446;
+        let t612: f32 = t609 + t610;
+        let t613: f32 = t611 + t612;
+        let t614: f32 = t446 * t613;
+        let t615: f32 = rod1_mass + rod2_mass;
+        let t616: f32 = t221 * t615;
+        let t617: f32 = t614 + t616;
+        let t618: f32 = t608 + t617;
+        let t619: f32 = t206 * 2.0;
+        let t620: f32 = t595 + t618;
+        let t621: f32 = t619 + t620;
+        let t622: f32 = t567 + t569;
+        let t623: f32 = t572 + t575;
         let t624: f32 = t622 + t623;
-        let t625: f32 = t624 - t381;
-        let t626: f32 = t421 * t507;
-        let t627: f32 = t625 * t626;
-        let t628: f32 = t620 + t627;
-        let t629: f32 = t546 * t599;
-        let t630: f32 = t628 * t629;
-        let t631: f32 = t547 * t625;
-        let t632: f32 = t600 * t628;
-        let t633: f32 = t631 - t632;
-        let t634: f32 = t574 * t602;
-        let t635: f32 = t633 * t634;
-        let t636: f32 = t582 * t625;
-        let t637: f32 = t618 - t636;
-        let t638: f32 = t585 * t637;
-        let t639: f32 = t635 + t638;
-        let t640: f32 = t639 - t630;
-        let t641: f32 = t618 * t618;
-        let t642: f32 = t263 * t641;
-        let t643: f32 = t625 * t625;
-        let t644: f32 = t421 * t643;
-        let t645: f32 = t628 * t628;
-        let t646: f32 = t546 * t645;
-        let t647: f32 = t633 * t633;
-        let t648: f32 = t574 * t647;
-        let t649: f32 = t640 * t640;
-        let t650: f32 = t617 * t649;
-        let t651: f32 = rod5_mass + rod6_mass;
-        let t652: f32 = t644 + t646;
-        let t653: f32 = t651 + t652;
-        let t654: f32 = t569 + t653;
-        let t655: f32 = t642 + t648;
-        let t656: f32 = t650 + t655;
-        let t657: f32 = t654 - t656;
-        let t658: f32 = 1.0 / t657;
-        let t659: f32 = gravity_z * platform_mass;
-        let t660: f32 = wz * t593;
-        let t661: f32 = wx * t429;
-        let t662: f32 = t660 - t661;
-        let t663: f32 = wx * t662;
-        let t664: f32 = wy * t429;
-        let t665: f32 = wz * t554;
-        let t666: f32 = t664 - t665;
-        let t667: f32 = wy * t666;
-        let t668: f32 = wx * t178;
-        let t669: f32 = wy * t320;
-        let t670: f32 = t668 - t669;
-        let t671: f32 = wx * t670;
-        let t672: f32 = wy * t147;
-        let t673: f32 = wz * t178;
-        let t674: f32 = t672 - t673;
-        let t675: f32 = wz * t674;
-        let t676: f32 = t671 - t675;
-        let t677: f32 = wz * vx;
-        let t678: f32 = wx * vz;
-        let t679: f32 = gravity_y + t677;
-        let t680: f32 = t679 - t678;
-        let t681: f32 = rod3_mass * t680;
-        let t682: f32 = wx * wy;
-        let t683: f32 = t168 * t682;
-        let t684: f32 = wz * wz;
-        let t685: f32 = wx * wx;
-        let t686: f32 = t684 + t685;
-        let t687: f32 = t179 * t686;
-        let t688: f32 = zc * wy;
-        let t689: f32 = wz * t688;
-        let t690: f32 = gravity_y + t689;
-        let t691: f32 = t683 + t690;
-        let t692: f32 = t691 - t687;
-        let t693: f32 = joint3_mass * t692;
-        let t694: f32 = g3 + t693;
-        let t695: f32 = t681 + t694;
-        let t696: f32 = t676 + t695;
-        let t697: f32 = wx * t195;
-        let t698: f32 = wy * t328;
-        let t699: f32 = t697 - t698;
-        let t700: f32 = wx * t699;
-        let t701: f32 = wy * t155;
-        let t702: f32 = wz * t195;
-        let t703: f32 = t701 - t702;
-        let t704: f32 = wz * t703;
-        let t705: f32 = t700 - t704;
-        let t706: f32 = rod4_mass * t680;
-        let t707: f32 = t187 * t682;
-        let t708: f32 = t196 * t686;
+        let t625: f32 = t621 - t624;
+        let t626: f32 = 1.0 / t625;
+        let t627: f32 = t466 + t470;
+        let t628: f32 = t79 * t536;
+        let t629: f32 = t98 * t542;
+        let t630: f32 = t628 + t629;
+        let t631: f32 = t627 - t630;
+        let t632: f32 = joint1_mass * t108;
+        let t633: f32 = joint2_mass * t116;
+        let t634: f32 = t632 + t633;
+        let t635: f32 = platform_mz + t308;
+        let t636: f32 = t351 + t492;
+        let t637: f32 = t635 + t636;
+        let t638: f32 = t446 * t637;
+        let t639: f32 = t634 - t638;
+        let t640: f32 = platform_mx + t312;
+        let t641: f32 = t357 + t496;
+        let t642: f32 = t640 + t641;
+        let t643: f32 = t83 * t642;
+        let t644: f32 = platform_my + t310;
+        let t645: f32 = t354 + t494;
+        let t646: f32 = t644 + t645;
+        let t647: f32 = t88 * t646;
+        let t648: f32 = t643 + t647;
+        let t649: f32 = t639 - t648;
+        let t650: f32 = t631 + t649;
+        let t651: f32 = t513 + t650;
+        let t652: f32 = t442 * t651;
+        let t653: f32 = t565 * t652;
+        let t654: f32 = yc * t615;
+        let t655: f32 = t165 * t287;
+        let t656: f32 = t151 * t291;
+        let t657: f32 = t655 - t656;
+        let t658: f32 = joint5_mass * t0;
+        let t659: f32 = joint6_mass * t3;
+        let t660: f32 = t658 + t659;
+        let t661: f32 = t657 + t660;
+        let t662: f32 = t77 * t637;
+        let t663: f32 = t267 + t277;
+        let t664: f32 = t662 + t663;
+        let t665: f32 = t154 * t642;
+        let t666: f32 = t145 * t646;
+        let t667: f32 = t665 + t666;
+        let t668: f32 = t664 - t667;
+        let t669: f32 = t661 + t668;
+        let t670: f32 = t654 + t669;
+        let t671: f32 = t670 - t653;
+        let t672: f32 = t651 * t651;
+        let t673: f32 = t442 * t672;
+        let t674: f32 = t671 * t671;
+        let t675: f32 = t626 * t674;
+        let t676: f32 = platform_mass + joint1_mass;
+        let t677: f32 = joint6_mass + t676;
+        let t678: f32 = joint2_mass + joint3_mass;
+        let t679: f32 = joint4_mass + joint5_mass;
+        let t680: f32 = t678 + t679;
+        let t681: f32 = t677 + t680;
+        let t682: f32 = t615 + t681;
+        let t683: f32 = t673 + t675;
+        let t684: f32 = t682 - t683;
+        let t685: f32 = 1.0 / t684;
+        let t686: f32 = zc * t36;
+        let t687: f32 = t650 + t686;
+        let t688: f32 = t247 * t651;
+        let t689: f32 = t687 * t688;
+        let t690: f32 = t346 * t689;
+        let t691: f32 = t442 * t690;
+        let t692: f32 = t346 * t442;
+        let t693: f32 = t565 * t692;
+        let t694: f32 = t508 + t693;
+        let t695: f32 = t247 * t687;
+        let t696: f32 = t694 * t695;
+        let t697: f32 = t7 * t16;
+        let t698: f32 = t642 * t697;
+        let t699: f32 = t149 * t646;
+        let t700: f32 = t698 - t699;
+        let t701: f32 = t6 * t637;
+        let t702: f32 = t266 * t452;
+        let t703: f32 = t276 * t458;
+        let t704: f32 = t702 + t703;
+        let t705: f32 = t701 + t704;
+        let t706: f32 = t700 + t705;
+        let t707: f32 = joint3_mass * t163;
+        let t708: f32 = joint4_mass * t148;
         let t709: f32 = t707 + t708;
-        let t710: f32 = t690 + t709;
-        let t711: f32 = joint4_mass * t710;
-        let t712: f32 = g4 + t711;
-        let t713: f32 = t706 + t712;
-        let t714: f32 = t705 + t713;
-        let t715: f32 = t696 + t714;
-        let t716: f32 = zc * t715;
-        let t717: f32 = wy * t20;
-        let t718: f32 = wz * t129;
-        let t719: f32 = t717 - t718;
-        let t720: f32 = wy * t719;
-        let t721: f32 = wx * wz;
-        let t722: f32 = t216 * t721;
-        let t723: f32 = t303 * t722;
-        let t724: f32 = t306 * t723;
-        let t725: f32 = wy * wy;
-        let t726: f32 = t685 + t725;
-        let t727: f32 = t0 * t726;
-        let t728: f32 = yc * wy;
-        let t729: f32 = wz * t728;
-        let t730: f32 = gravity_z + t729;
-        let t731: f32 = t724 + t727;
-        let t732: f32 = t730 - t731;
-        let t733: f32 = joint1_mass * t732;
-        let t734: f32 = wz * t293;
-        let t735: f32 = wx * t20;
-        let t736: f32 = t734 - t735;
-        let t737: f32 = wx * t736;
-        let t738: f32 = t733 - t737;
-        let t739: f32 = t720 + t738;
-        let t740: f32 = wy * t30;
-        let t741: f32 = wz * t137;
-        let t742: f32 = t740 - t741;
-        let t743: f32 = wy * t742;
-        let t744: f32 = t309 * t723;
-        let t745: f32 = t24 * t726;
-        let t746: f32 = t744 + t745;
-        let t747: f32 = t730 - t746;
-        let t748: f32 = joint2_mass * t747;
-        let t749: f32 = wz * t300;
-        let t750: f32 = wx * t30;
-        let t751: f32 = t749 - t750;
-        let t752: f32 = wx * t751;
-        let t753: f32 = t748 - t752;
-        let t754: f32 = t743 + t753;
-        let t755: f32 = t739 + t754;
-        let t756: f32 = yc * t755;
-        let t757: f32 = t716 - t756;
-        let t758: f32 = wx * t4;
-        let t759: f32 = t8 * t758;
-        let t760: f32 = wy * t38;
-        let t761: f32 = wz * t12;
-        let t762: f32 = t759 + t760;
-        let t763: f32 = t761 + t762;
-        let t764: f32 = t95 * t763;
-        let t765: f32 = wx * t7;
-        let t766: f32 = t4 * t765;
-        let t767: f32 = wy * t42;
-        let t768: f32 = wz * t17;
-        let t769: f32 = t767 + t768;
-        let t770: f32 = t766 - t769;
-        let t771: f32 = t70 * t770;
-        let t772: f32 = wx * t3;
-        let t773: f32 = wy * t1;
-        let t774: f32 = wz * t2;
-        let t775: f32 = t773 - t774;
-        let t776: f32 = t4 * t775;
-        let t777: f32 = t772 - t776;
-        let t778: f32 = t116 * t777;
-        let t779: f32 = t764 + t778;
-        let t780: f32 = t779 - t771;
-        let t781: f32 = t763 * t780;
-        let t782: f32 = t103 * t763;
-        let t783: f32 = t84 * t770;
-        let t784: f32 = t95 * t777;
-        let t785: f32 = t782 + t784;
-        let t786: f32 = t785 - t783;
-        let t787: f32 = t777 * t786;
-        let t788: f32 = t781 - t787;
-        let t789: f32 = t7 * t788;
-        let t790: f32 = t770 * t780;
-        let t791: f32 = t84 * t763;
-        let t792: f32 = t77 * t770;
-        let t793: f32 = t70 * t777;
-        let t794: f32 = t791 + t793;
-        let t795: f32 = t794 - t792;
-        let t796: f32 = t777 * t795;
-        let t797: f32 = t790 + t796;
-        let t798: f32 = t8 * t797;
-        let t799: f32 = t789 - t798;
-        let t800: f32 = t4 * t799;
-        let t801: f32 = t763 * t795;
-        let t802: f32 = t770 * t786;
-        let t803: f32 = t801 + t802;
-        let t804: f32 = t3 * t803;
-        let t805: f32 = t800 + t804;
-        let t806: f32 = t757 - t805;
-        let t807: f32 = wx * t47;
-        let t808: f32 = wy * t272;
-        let t809: f32 = t807 - t808;
-        let t810: f32 = wx * t809;
-        let t811: f32 = t34 * t686;
-        let t812: f32 = wy * wz;
-        let t813: f32 = t215 * t812;
-        let t814: f32 = t216 * t813;
-        let t815: f32 = t220 * t814;
-        let t816: f32 = xc * wx;
-        let t817: f32 = wy * t816;
-        let t818: f32 = gravity_y + t817;
-        let t819: f32 = t811 + t815;
-        let t820: f32 = t818 - t819;
-        let t821: f32 = joint5_mass * t820;
-        let t822: f32 = wy * t226;
-        let t823: f32 = wz * t47;
-        let t824: f32 = t822 - t823;
-        let t825: f32 = wz * t824;
-        let t826: f32 = t821 - t825;
-        let t827: f32 = t810 + t826;
-        let t828: f32 = t220 * t827;
-        let t829: f32 = wx * t59;
-        let t830: f32 = wy * t280;
-        let t831: f32 = t829 - t830;
-        let t832: f32 = wx * t831;
-        let t833: f32 = t53 * t686;
-        let t834: f32 = t237 * t814;
-        let t835: f32 = t833 + t834;
-        let t836: f32 = t818 - t835;
-        let t837: f32 = joint6_mass * t836;
-        let t838: f32 = wy * t243;
-        let t839: f32 = wz * t59;
-        let t840: f32 = t838 - t839;
-        let t841: f32 = wz * t840;
-        let t842: f32 = t837 - t841;
-        let t843: f32 = t832 + t842;
-        let t844: f32 = t237 * t843;
-        let t845: f32 = t828 + t844;
-        let t846: f32 = t227 * t845;
-        let t847: f32 = wx * t168;
-        let t848: f32 = wy * t167;
-        let t849: f32 = t172 * t848;
-        let t850: f32 = t847 + t849;
-        let t851: f32 = wz * t850;
-        let t852: f32 = zc * t726;
-        let t853: f32 = gravity_z - t852;
-        let t854: f32 = t851 + t853;
-        let t855: f32 = joint3_mass * t854;
-        let t856: f32 = wy * t674;
-        let t857: f32 = wz * t320;
-        let t858: f32 = wx * t147;
-        let t859: f32 = t857 - t858;
-        let t860: f32 = wx * t859;
-        let t861: f32 = t856 - t860;
-        let t862: f32 = t855 + t861;
-        let t863: f32 = t172 * t862;
-        let t864: f32 = wx * t187;
-        let t865: f32 = t189 * t848;
-        let t866: f32 = t864 - t865;
-        let t867: f32 = wz * t866;
-        let t868: f32 = t853 + t867;
-        let t869: f32 = joint4_mass * t868;
-        let t870: f32 = wy * t703;
-        let t871: f32 = wz * t328;
-        let t872: f32 = wx * t155;
+        let t710: f32 = t298 + t302;
+        let t711: f32 = t709 + t710;
+        let t712: f32 = t706 - t711;
+        let t713: f32 = t491 + t696;
+        let t714: f32 = t712 - t713;
+        let t715: f32 = t626 * t714;
+        let t716: f32 = t671 * t715;
+        let t717: f32 = t691 + t716;
+        let t718: f32 = t714 * t714;
+        let t719: f32 = t626 * t718;
+        let t720: f32 = t717 * t717;
+        let t721: f32 = t685 * t720;
+        let t722: f32 = t347 * t695;
+        let t723: f32 = t442 * t722;
+        let t724: f32 = t687 + t723;
+        let t725: f32 = t695 * t724;
+        let t726: f32 = t681 - t725;
+        let t727: f32 = t36 + t726;
+        let t728: f32 = t719 + t721;
+        let t729: f32 = t727 - t728;
+        let t730: f32 = 1.0 / t729;
+        let t731: f32 = t342 + t669;
+        let t732: f32 = t247 * t731;
+        let t733: f32 = t346 * t732;
+        let t734: f32 = t712 - t350;
+        let t735: f32 = t734 - t733;
+        let t736: f32 = t692 * t735;
+        let t737: f32 = t731 - t736;
+        let t738: f32 = t695 * t737;
+        let t739: f32 = t508 * t732;
+        let t740: f32 = t442 * t565;
+        let t741: f32 = t735 * t740;
+        let t742: f32 = t739 - t741;
+        let t743: f32 = t715 * t742;
+        let t744: f32 = t652 * t735;
+        let t745: f32 = t626 * t671;
+        let t746: f32 = t742 * t745;
+        let t747: f32 = t744 + t746;
+        let t748: f32 = t685 * t717;
+        let t749: f32 = t747 * t748;
+        let t750: f32 = t743 + t749;
+        let t751: f32 = t738 - t750;
+        let t752: f32 = t735 * t735;
+        let t753: f32 = t442 * t752;
+        let t754: f32 = t742 * t742;
+        let t755: f32 = t626 * t754;
+        let t756: f32 = t747 * t747;
+        let t757: f32 = t685 * t756;
+        let t758: f32 = t751 * t751;
+        let t759: f32 = t730 * t758;
+        let t760: f32 = t731 * t731;
+        let t761: f32 = t247 * t760;
+        let t762: f32 = t681 - t761;
+        let t763: f32 = t349 + t762;
+        let t764: f32 = t753 + t755;
+        let t765: f32 = t757 + t759;
+        let t766: f32 = t764 + t765;
+        let t767: f32 = t763 - t766;
+        let t768: f32 = 1.0 / t767;
+        let t769: f32 = wx * vy;
+        let t770: f32 = wy * vx;
+        let t771: f32 = gravity_z + t769;
+        let t772: f32 = t771 - t770;
+        let t773: f32 = rod6_mass * t772;
+        let t774: f32 = g6 + t773;
+        let t775: f32 = t3 * t774;
+        let t776: f32 = gravity_z * t669;
+        let t777: f32 = gravity_y * t650;
+        let t778: f32 = t776 - t777;
+        let t779: f32 = t775 + t778;
+        let t780: f32 = wx * t7;
+        let t781: f32 = t16 * t780;
+        let t782: f32 = wy * t154;
+        let t783: f32 = wz * t83;
+        let t784: f32 = t781 + t782;
+        let t785: f32 = t783 + t784;
+        let t786: f32 = t51 * t785;
+        let t787: f32 = wx * t15;
+        let t788: f32 = t7 * t787;
+        let t789: f32 = wy * t145;
+        let t790: f32 = wz * t88;
+        let t791: f32 = t789 + t790;
+        let t792: f32 = t788 - t791;
+        let t793: f32 = t64 * t792;
+        let t794: f32 = wx * t6;
+        let t795: f32 = wy * t72;
+        let t796: f32 = wz * t73;
+        let t797: f32 = t795 - t796;
+        let t798: f32 = t7 * t797;
+        let t799: f32 = t794 - t798;
+        let t800: f32 = t29 * t799;
+        let t801: f32 = t786 + t800;
+        let t802: f32 = t801 - t793;
+        let t803: f32 = t785 * t802;
+        let t804: f32 = t44 * t785;
+        let t805: f32 = t51 * t792;
+        let t806: f32 = t22 * t799;
+        let t807: f32 = t804 + t806;
+        let t808: f32 = t807 - t805;
+        let t809: f32 = t792 * t808;
+        let t810: f32 = t803 + t809;
+        let t811: f32 = t6 * t810;
+        let t812: f32 = wz * vx;
+        let t813: f32 = wx * vz;
+        let t814: f32 = gravity_y + t812;
+        let t815: f32 = t814 - t813;
+        let t816: f32 = t36 * t815;
+        let t817: f32 = g3 + g4;
+        let t818: f32 = t816 + t817;
+        let t819: f32 = zc * t818;
+        let t820: f32 = t811 - t819;
+        let t821: f32 = rod5_mass * t772;
+        let t822: f32 = g5 + t821;
+        let t823: f32 = t0 * t822;
+        let t824: f32 = t22 * t785;
+        let t825: f32 = t29 * t792;
+        let t826: f32 = t13 * t799;
+        let t827: f32 = t824 + t826;
+        let t828: f32 = t827 - t825;
+        let t829: f32 = t792 * t828;
+        let t830: f32 = t799 * t802;
+        let t831: f32 = t829 + t830;
+        let t832: f32 = t16 * t831;
+        let t833: f32 = t799 * t808;
+        let t834: f32 = t785 * t828;
+        let t835: f32 = t833 - t834;
+        let t836: f32 = t15 * t835;
+        let t837: f32 = t832 + t836;
+        let t838: f32 = t7 * t837;
+        let t839: f32 = t823 - t838;
+        let t840: f32 = t820 + t839;
+        let t841: f32 = t779 + t840;
+        let t842: f32 = wy * t559;
+        let t843: f32 = zc * t500;
+        let t844: f32 = t486 + t843;
+        let t845: f32 = t844 - t506;
+        let t846: f32 = wx * t845;
+        let t847: f32 = t206 - t384;
+        let t848: f32 = t847 * 2.0;
+        let t849: f32 = t595 + t848;
+        let t850: f32 = wz * t849;
+        let t851: f32 = t846 + t850;
+        let t852: f32 = t851 - t842;
+        let t853: f32 = wy * t852;
+        let t854: f32 = wz * t559;
+        let t855: f32 = wx * t335;
+        let t856: f32 = t412 + t437;
+        let t857: f32 = t594 + t856;
+        let t858: f32 = wy * t857;
+        let t859: f32 = t855 + t858;
+        let t860: f32 = t859 - t854;
+        let t861: f32 = wz * t860;
+        let t862: f32 = t853 - t861;
+        let t863: f32 = t841 + t862;
+        let t864: f32 = -t863;
+        let t865: f32 = t732 * t864;
+        let t866: f32 = t247 * t346;
+        let t867: f32 = t864 * t866;
+        let t868: f32 = gravity_x * t650;
+        let t869: f32 = gravity_z * t712;
+        let t870: f32 = t868 + t869;
+        let t871: f32 = t145 * t835;
+        let t872: f32 = t154 * t831;
         let t873: f32 = t871 - t872;
-        let t874: f32 = wx * t873;
-        let t875: f32 = t870 - t874;
-        let t876: f32 = t869 + t875;
-        let t877: f32 = t189 * t876;
-        let t878: f32 = t863 - t877;
-        let t879: f32 = t167 * t878;
-        let t880: f32 = t846 + t879;
-        let t881: f32 = wy * t824;
-        let t882: f32 = wz * t272;
-        let t883: f32 = wx * t226;
-        let t884: f32 = t882 - t883;
-        let t885: f32 = wx * t884;
-        let t886: f32 = t881 - t885;
-        let t887: f32 = wx * vy;
-        let t888: f32 = wy * vx;
-        let t889: f32 = gravity_z + t887;
-        let t890: f32 = t889 - t888;
-        let t891: f32 = rod5_mass * t890;
-        let t892: f32 = t34 * t812;
-        let t893: f32 = t228 * t726;
-        let t894: f32 = wz * t816;
-        let t895: f32 = gravity_z + t894;
-        let t896: f32 = t892 + t893;
-        let t897: f32 = t895 + t896;
-        let t898: f32 = joint5_mass * t897;
-        let t899: f32 = g5 + t898;
-        let t900: f32 = t891 + t899;
-        let t901: f32 = t886 + t900;
-        let t902: f32 = t34 * t901;
-        let t903: f32 = wy * t840;
-        let t904: f32 = wz * t280;
-        let t905: f32 = wx * t243;
-        let t906: f32 = t904 - t905;
-        let t907: f32 = wx * t906;
-        let t908: f32 = t903 - t907;
-        let t909: f32 = rod6_mass * t890;
-        let t910: f32 = t53 * t812;
-        let t911: f32 = t244 * t726;
-        let t912: f32 = t910 + t911;
-        let t913: f32 = t895 + t912;
-        let t914: f32 = joint6_mass * t913;
-        let t915: f32 = g6 + t914;
-        let t916: f32 = t909 + t915;
-        let t917: f32 = t908 + t916;
-        let t918: f32 = t53 * t917;
-        let t919: f32 = t902 + t918;
-        let t920: f32 = t880 + t919;
-        let t921: f32 = t806 - t920;
-        let t922: f32 = gravity_z * t554;
-        let t923: f32 = gravity_y * t429;
-        let t924: f32 = t922 - t923;
-        let t925: f32 = t129 * t732;
-        let t926: f32 = t137 * t747;
-        let t927: f32 = t925 + t926;
-        let t928: f32 = t924 + t927;
-        let t929: f32 = t47 * t897;
-        let t930: f32 = t226 * t820;
+        let t874: f32 = t870 + t873;
+        let t875: f32 = wy * vz;
+        let t876: f32 = wz * vy;
+        let t877: f32 = gravity_x + t875;
+        let t878: f32 = t877 - t876;
+        let t879: f32 = rod1_mass * t878;
+        let t880: f32 = g1 + t879;
+        let t881: f32 = t108 * t880;
+        let t882: f32 = rod2_mass * t878;
+        let t883: f32 = g2 + t882;
+        let t884: f32 = t116 * t883;
+        let t885: f32 = t881 + t884;
+        let t886: f32 = t77 * t810;
+        let t887: f32 = t349 * t772;
+        let t888: f32 = g5 + g6;
+        let t889: f32 = t887 + t888;
+        let t890: f32 = xc * t889;
+        let t891: f32 = t886 + t890;
+        let t892: f32 = t885 - t891;
+        let t893: f32 = t874 + t892;
+        let t894: f32 = t239 + t240;
+        let t895: f32 = wx * t894;
+        let t896: f32 = wy * t335;
+        let t897: f32 = wz * t845;
+        let t898: f32 = t895 + t896;
+        let t899: f32 = t897 + t898;
+        let t900: f32 = wz * t899;
+        let t901: f32 = wx * t852;
+        let t902: f32 = t900 - t901;
+        let t903: f32 = t893 + t902;
+        let t904: f32 = t867 + t903;
+        let t905: f32 = t442 * t904;
+        let t906: f32 = t735 * t905;
+        let t907: f32 = gravity_y * t712;
+        let t908: f32 = gravity_x * t669;
+        let t909: f32 = t907 + t908;
+        let t910: f32 = t83 * t831;
+        let t911: f32 = t88 * t835;
+        let t912: f32 = t910 - t911;
+        let t913: f32 = t909 + t912;
+        let t914: f32 = t615 * t878;
+        let t915: f32 = g1 + g2;
+        let t916: f32 = t914 + t915;
+        let t917: f32 = yc * t916;
+        let t918: f32 = t446 * t810;
+        let t919: f32 = t917 - t918;
+        let t920: f32 = rod3_mass * t815;
+        let t921: f32 = g3 + t920;
+        let t922: f32 = t163 * t921;
+        let t923: f32 = rod4_mass * t815;
+        let t924: f32 = g4 + t923;
+        let t925: f32 = t148 * t924;
+        let t926: f32 = t922 + t925;
+        let t927: f32 = t919 - t926;
+        let t928: f32 = t913 + t927;
+        let t929: f32 = wy * t899;
+        let t930: f32 = wx * t860;
         let t931: f32 = t929 - t930;
-        let t932: f32 = t147 * t692;
-        let t933: f32 = t155 * t710;
-        let t934: f32 = t932 + t933;
-        let t935: f32 = t931 - t934;
-        let t936: f32 = t928 + t935;
-        let t937: f32 = t59 * t913;
-        let t938: f32 = t243 * t836;
-        let t939: f32 = t937 - t938;
-        let t940: f32 = wx * t216;
-        let t941: f32 = t303 * t940;
-        let t942: f32 = t306 * t941;
-        let t943: f32 = wz * t0;
-        let t944: f32 = t942 - t943;
-        let t945: f32 = wy * t944;
-        let t946: f32 = yc * t686;
-        let t947: f32 = gravity_y - t946;
-        let t948: f32 = t947 - t945;
-        let t949: f32 = joint1_mass * t948;
-        let t950: f32 = wx * t129;
-        let t951: f32 = wy * t293;
-        let t952: f32 = t950 - t951;
-        let t953: f32 = wx * t952;
-        let t954: f32 = wz * t719;
-        let t955: f32 = t953 - t954;
-        let t956: f32 = t949 + t955;
-        let t957: f32 = t0 * t956;
-        let t958: f32 = t20 * t948;
-        let t959: f32 = t957 - t958;
-        let t960: f32 = t939 + t959;
-        let t961: f32 = t309 * t941;
-        let t962: f32 = wz * t24;
-        let t963: f32 = t961 - t962;
-        let t964: f32 = wy * t963;
-        let t965: f32 = t947 - t964;
-        let t966: f32 = joint2_mass * t965;
-        let t967: f32 = wx * t137;
-        let t968: f32 = wy * t300;
-        let t969: f32 = t967 - t968;
-        let t970: f32 = wx * t969;
-        let t971: f32 = wz * t742;
+        let t932: f32 = t928 + t931;
+        let t933: f32 = t509 * t864;
+        let t934: f32 = t740 * t904;
+        let t935: f32 = t933 + t934;
+        let t936: f32 = t932 - t935;
+        let t937: f32 = t626 * t936;
+        let t938: f32 = t742 * t937;
+        let t939: f32 = gravity_x * t681;
+        let t940: f32 = wx * t669;
+        let t941: f32 = wy * t712;
+        let t942: f32 = t940 + t941;
+        let t943: f32 = wy * t942;
+        let t944: f32 = t939 + t943;
+        let t945: f32 = wz * t712;
+        let t946: f32 = wx * t650;
+        let t947: f32 = t945 + t946;
+        let t948: f32 = wz * t947;
+        let t949: f32 = t916 + t948;
+        let t950: f32 = t944 + t949;
+        let t951: f32 = t652 * t904;
+        let t952: f32 = t671 * t937;
+        let t953: f32 = t951 + t952;
+        let t954: f32 = t950 - t953;
+        let t955: f32 = t685 * t954;
+        let t956: f32 = t747 * t955;
+        let t957: f32 = t692 * t904;
+        let t958: f32 = t863 - t957;
+        let t959: f32 = t695 * t958;
+        let t960: f32 = wx * t942;
+        let t961: f32 = t959 - t960;
+        let t962: f32 = gravity_y * t681;
+        let t963: f32 = wy * t650;
+        let t964: f32 = wz * t669;
+        let t965: f32 = t963 - t964;
+        let t966: f32 = wz * t965;
+        let t967: f32 = t962 + t966;
+        let t968: f32 = t818 + t967;
+        let t969: f32 = t961 + t968;
+        let t970: f32 = t717 * t955;
+        let t971: f32 = t715 * t936;
         let t972: f32 = t970 - t971;
-        let t973: f32 = t966 + t972;
-        let t974: f32 = t24 * t973;
-        let t975: f32 = t30 * t965;
-        let t976: f32 = t974 - t975;
-        let t977: f32 = t178 * t854;
-        let t978: f32 = t195 * t868;
-        let t979: f32 = t977 + t978;
-        let t980: f32 = t976 + t979;
-        let t981: f32 = t960 + t980;
-        let t982: f32 = t936 + t981;
-        let t983: f32 = t921 + t982;
-        let t984: f32 = t618 * t983;
-        let t985: f32 = t263 * t984;
-        let t986: f32 = t263 * t983;
-        let t987: f32 = t341 * t986;
-        let t988: f32 = t218 * t803;
-        let t989: f32 = t38 * t797;
-        let t990: f32 = t988 + t989;
-        let t991: f32 = t42 * t788;
-        let t992: f32 = t901 + t917;
-        let t993: f32 = xc * t992;
+        let t973: f32 = t969 + t972;
+        let t974: f32 = t730 * t751;
+        let t975: f32 = t973 * t974;
+        let t976: f32 = gravity_z * t681;
+        let t977: f32 = wx * t947;
+        let t978: f32 = t976 - t977;
+        let t979: f32 = wy * t965;
+        let t980: f32 = t889 - t979;
+        let t981: f32 = t978 + t980;
+        let t982: f32 = t865 + t956;
+        let t983: f32 = t981 + t982;
+        let t984: f32 = t906 + t938;
+        let t985: f32 = t975 + t984;
+        let t986: f32 = t983 - t985;
+        let t987: f32 = t751 * t768;
+        let t988: f32 = t986 * t987;
+        let t989: f32 = t973 - t988;
+        let t990: f32 = t717 * t730;
+        let t991: f32 = t989 * t990;
+        let t992: f32 = t747 * t768;
+        let t993: f32 = t986 * t992;
         let t994: f32 = t991 + t993;
-        let t995: f32 = t990 + t994;
-        let t996: f32 = wy * t34;
-        let t997: f32 = wz * t215;
-        let t998: f32 = t216 * t997;
-        let t999: f32 = t220 * t998;
-        let t1000: f32 = t996 - t999;
-        let t1001: f32 = wx * t1000;
-        let t1002: f32 = t684 + t725;
+        let t995: f32 = t954 + t994;
+        let t996: f32 = t671 * t685;
+        let t997: f32 = t995 * t996;
+        let t998: f32 = t714 * t730;
+        let t999: f32 = t989 * t998;
+        let t1000: f32 = t742 * t768;
+        let t1001: f32 = t986 * t1000;
+        let t1002: f32 = t997 + t999;
         (
-            t0,
-            t4,
-            t8,
-            t12,
-            t17,
-            t20,
-            t24,
-            t30,
-            t34,
-            t42,
-            t47,
-            t53,
-            t59,
-            t129,
-            t137,
-            t147,
-            t155,
-            t167,
-            t168,
+            t95,
+            t105,
+            t145,
+            t161,
             t172,
-            t178,
-            t187,
-            t189,
-            t195,
-            t215,
-            t216,
-            t220,
-            t226,
-            t237,
-            t243,
-            t263,
+            t247,
+            t253,
+            t260,
             t272,
-            t280,
-            t293,
-            t300,
-            t303,
-            t306,
-            t309,
-            t312,
-            t320,
-            t328,
-            t341,
-            t392,
-            t400,
-            t421,
-            t429,
-            t432,
-            t443,
-            t474,
-            t481,
-            t507,
-            t546,
-            t547,
-            t554,
-            t561,
-            t574,
-            t577,
-            t582,
-            t585,
-            t593,
-            t599,
-            t600,
-            t602,
-            t617,
+            t281,
+            t307,
+            t323,
+            t330,
+            t345,
+            t349,
+            t370,
+            t377,
+            t385,
+            t387,
+            t404,
+            t407,
+            t412,
+            t436,
+            t446,
+            t486,
+            t488,
+            t491,
+            t508,
+            t564,
+            t565,
+            t592,
             t618,
-            t625,
-            t628,
-            t629,
-            t633,
-            t640,
-            t658,
-            t659,
-            t662,
-            t663,
-            t666,
-            t667,
+            t626,
+            t651,
             t670,
+            t672,
             t682,
+            t685,
+            t687,
+            t688,
             t692,
-            t696,
-            t699,
-            t710,
+            t697,
             t714,
-            t715,
-            t721,
+            t718,
+            t727,
+            t730,
+            t731,
             t732,
-            t736,
-            t739,
-            t747,
-            t751,
-            t754,
-            t755,
-            t788,
-            t797,
-            t803,
-            t809,
-            t820,
-            t827,
-            t831,
-            t836,
-            t843,
+            t734,
+            t735,
+            t738,
+            t763,
+            t768,
+            t841,
+            t842,
+            t847,
             t854,
-            t859,
-            t862,
-            t868,
-            t873,
-            t876,
-            t884,
-            t897,
-            t906,
-            t913,
-            t948,
-            t952,
-            t956,
-            t965,
+            t863,
+            t866,
+            t893,
+            t895,
+            t903,
+            t928,
+            t936,
+            t950,
             t969,
-            t973,
-            t983,
-            t985,
+            t981,
             t986,
-            t987,
-            t992,
+            t989,
             t995,
-            t998,
             t1001,
             t1002,
         )
     };
-    let (t1271, t1280, t1290, t1291, t1292, t1293, t1294) = {
-        let t1003: f32 = xc * t1002;
-        let t1004: f32 = gravity_x - t1003;
-        let t1005: f32 = t1001 + t1004;
-        let t1006: f32 = joint5_mass * t1005;
-        let t1007: f32 = wz * t884;
-        let t1008: f32 = wy * t809;
-        let t1009: f32 = t1007 - t1008;
-        let t1010: f32 = t1006 + t1009;
-        let t1011: f32 = t220 * t1010;
-        let t1012: f32 = wy * t53;
-        let t1013: f32 = t237 * t998;
-        let t1014: f32 = t1012 - t1013;
-        let t1015: f32 = wx * t1014;
-        let t1016: f32 = t1004 + t1015;
-        let t1017: f32 = joint6_mass * t1016;
-        let t1018: f32 = wz * t906;
-        let t1019: f32 = wy * t831;
-        let t1020: f32 = t1018 - t1019;
-        let t1021: f32 = t1017 + t1020;
-        let t1022: f32 = t237 * t1021;
-        let t1023: f32 = t1011 + t1022;
-        let t1024: f32 = t215 * t1023;
-        let t1025: f32 = t306 * t739;
-        let t1026: f32 = t309 * t754;
-        let t1027: f32 = t1025 + t1026;
-        let t1028: f32 = t303 * t1027;
-        let t1029: f32 = t1024 - t1028;
-        let t1030: f32 = t216 * t1029;
-        let t1031: f32 = wz * t859;
-        let t1032: f32 = t168 * t1002;
-        let t1033: f32 = t167 * t682;
-        let t1034: f32 = t172 * t1033;
-        let t1035: f32 = zc * wx;
-        let t1036: f32 = wz * t1035;
-        let t1037: f32 = gravity_x + t1036;
-        let t1038: f32 = t1034 + t1037;
-        let t1039: f32 = t1038 - t1032;
-        let t1040: f32 = joint3_mass * t1039;
-        let t1041: f32 = wy * t670;
-        let t1042: f32 = t1040 - t1041;
-        let t1043: f32 = t1031 + t1042;
-        let t1044: f32 = wz * t873;
-        let t1045: f32 = t187 * t1002;
-        let t1046: f32 = t189 * t1033;
-        let t1047: f32 = t1045 + t1046;
-        let t1048: f32 = t1037 - t1047;
-        let t1049: f32 = joint4_mass * t1048;
-        let t1050: f32 = wy * t699;
-        let t1051: f32 = t1049 - t1050;
-        let t1052: f32 = t1044 + t1051;
-        let t1053: f32 = t1043 + t1052;
-        let t1054: f32 = zc * t1053;
-        let t1055: f32 = t1030 - t1054;
-        let t1056: f32 = wz * t736;
-        let t1057: f32 = wy * t952;
-        let t1058: f32 = t1056 - t1057;
-        let t1059: f32 = wy * vz;
-        let t1060: f32 = wz * vy;
-        let t1061: f32 = gravity_x + t1059;
-        let t1062: f32 = t1061 - t1060;
-        let t1063: f32 = rod1_mass * t1062;
-        let t1064: f32 = t392 * t1002;
-        let t1065: f32 = t0 * t721;
-        let t1066: f32 = yc * wx;
-        let t1067: f32 = wy * t1066;
-        let t1068: f32 = gravity_x + t1067;
-        let t1069: f32 = t1064 + t1065;
-        let t1070: f32 = t1068 + t1069;
-        let t1071: f32 = joint1_mass * t1070;
-        let t1072: f32 = g1 + t1071;
-        let t1073: f32 = t1063 + t1072;
-        let t1074: f32 = t1058 + t1073;
-        let t1075: f32 = t0 * t1074;
-        let t1076: f32 = wz * t751;
-        let t1077: f32 = wy * t969;
-        let t1078: f32 = t1076 - t1077;
-        let t1079: f32 = rod2_mass * t1062;
-        let t1080: f32 = t400 * t1002;
-        let t1081: f32 = t24 * t721;
-        let t1082: f32 = t1080 + t1081;
-        let t1083: f32 = t1068 + t1082;
-        let t1084: f32 = joint2_mass * t1083;
-        let t1085: f32 = g2 + t1084;
-        let t1086: f32 = t1079 + t1085;
-        let t1087: f32 = t1078 + t1086;
-        let t1088: f32 = t24 * t1087;
-        let t1089: f32 = t1075 + t1088;
-        let t1090: f32 = t1055 - t1089;
-        let t1091: f32 = t995 + t1090;
-        let t1092: f32 = gravity_x * t429;
-        let t1093: f32 = gravity_z * t593;
-        let t1094: f32 = t1092 - t1093;
-        let t1095: f32 = t20 * t1070;
-        let t1096: f32 = t293 * t732;
-        let t1097: f32 = t1095 - t1096;
-        let t1098: f32 = t1094 + t1097;
-        let t1099: f32 = t30 * t1083;
-        let t1100: f32 = t300 * t747;
-        let t1101: f32 = t1099 - t1100;
-        let t1102: f32 = t147 * t1039;
-        let t1103: f32 = t155 * t1048;
+    let (t1028, t1202, t1203, t1204, t1205, t1206) = {
+        let t1003: f32 = t1001 + t1002;
+        let t1004: f32 = t936 - t1003;
+        let t1005: f32 = t565 * t626;
+        let t1006: f32 = t1004 * t1005;
+        let t1007: f32 = t651 * t685;
+        let t1008: f32 = t995 * t1007;
+        let t1009: f32 = t735 * t768;
+        let t1010: f32 = t986 * t1009;
+        let t1011: f32 = t687 * t730;
+        let t1012: f32 = t989 * t1011;
+        let t1013: f32 = t863 + t1012;
+        let t1014: f32 = t866 * t1013;
+        let t1015: f32 = t1006 + t1008;
+        let t1016: f32 = t1010 + t1014;
+        let t1017: f32 = t1015 + t1016;
+        let t1018: f32 = t903 - t1017;
+        let t1019: f32 = t692 * t1018;
+        let t1020: f32 = t508 * t626;
+        let t1021: f32 = t1004 * t1020;
+        let t1022: f32 = t731 * t768;
+        let t1023: f32 = t986 * t1022;
+        let t1024: f32 = t1013 + t1021;
+        let t1025: f32 = t1019 + t1023;
+        let t1026: f32 = t1024 - t1025;
+        let t1027: f32 = t247 * t1026;
+        let t1028: f32 = -t1027;
+        let t1029: f32 = t172 * t323;
+        let t1030: f32 = t161 * t330;
+        let t1031: f32 = t1029 - t1030;
+        let t1032: f32 = yc * t370;
+        let t1033: f32 = yc * t377;
+        let t1034: f32 = t1032 + t1033;
+        let t1035: f32 = t307 + t1034;
+        let t1036: f32 = t1031 + t1035;
+        let t1037: f32 = t345 + t1036;
+        let t1038: f32 = t1037 * t1037;
+        let t1039: f32 = t247 * t1038;
+        let t1040: f32 = t349 * t387;
+        let t1041: f32 = t272 * t370;
+        let t1042: f32 = t281 * t377;
+        let t1043: f32 = t1041 + t1042;
+        let t1044: f32 = xc * t253;
+        let t1045: f32 = xc * t260;
+        let t1046: f32 = t1044 + t1045;
+        let t1047: f32 = t1043 - t1046;
+        let t1048: f32 = t385 + t1047;
+        let t1049: f32 = t1048 * 2.0;
+        let t1050: f32 = t436 + t1040;
+        let t1051: f32 = t1049 + t1050;
+        let t1052: f32 = t1051 - t1039;
+        let t1053: f32 = 1.0 / t1052;
+        let t1054: f32 = wy * t1036;
+        let t1055: f32 = zc * t323;
+        let t1056: f32 = zc * t330;
+        let t1057: f32 = t1055 + t1056;
+        let t1058: f32 = t95 * t253;
+        let t1059: f32 = t105 * t260;
+        let t1060: f32 = t1058 + t1059;
+        let t1061: f32 = t1057 - t1060;
+        let t1062: f32 = t486 + t1061;
+        let t1063: f32 = wz * t1062;
+        let t1064: f32 = t895 + t1054;
+        let t1065: f32 = t1063 + t1064;
+        let t1066: f32 = wz * t1065;
+        let t1067: f32 = wx * t1062;
+        let t1068: f32 = t847 + t1047;
+        let t1069: f32 = t1068 * 2.0;
+        let t1070: f32 = t592 + t1069;
+        let t1071: f32 = wz * t1070;
+        let t1072: f32 = t1067 + t1071;
+        let t1073: f32 = t1072 - t842;
+        let t1074: f32 = wx * t1073;
+        let t1075: f32 = wy * t1073;
+        let t1076: f32 = wx * t1036;
+        let t1077: f32 = t412 + t1049;
+        let t1078: f32 = wy * t1077;
+        let t1079: f32 = t1076 + t1078;
+        let t1080: f32 = t1079 - t854;
+        let t1081: f32 = wz * t1080;
+        let t1082: f32 = t841 + t1075;
+        let t1083: f32 = t1081 - t1082;
+        let t1084: f32 = t247 * t1083;
+        let t1085: f32 = t1037 * t1084;
+        let t1086: f32 = t1066 + t1085;
+        let t1087: f32 = t893 + t1086;
+        let t1088: f32 = t1087 - t1074;
+        let t1089: f32 = t1053 * t1088;
+        let t1090: f32 = zc * t491;
+        let t1091: f32 = t488 + t1061;
+        let t1092: f32 = t1091 - t1090;
+        let t1093: f32 = t247 * t1037;
+        let t1094: f32 = t1092 * t1093;
+        let t1095: f32 = t564 + t1094;
+        let t1096: f32 = rod3_mass * t404;
+        let t1097: f32 = rod4_mass * t407;
+        let t1098: f32 = t1092 * t1092;
+        let t1099: f32 = t247 * t1098;
+        let t1100: f32 = t1095 * t1095;
+        let t1101: f32 = t1053 * t1100;
+        let t1102: f32 = t1096 + t1097;
+        let t1103: f32 = t592 + t618;
         let t1104: f32 = t1102 + t1103;
-        let t1105: f32 = t1101 + t1104;
-        let t1106: f32 = t1098 + t1105;
-        let t1107: f32 = t272 * t897;
-        let t1108: f32 = t280 * t913;
-        let t1109: f32 = t1107 + t1108;
-        let t1110: f32 = t320 * t854;
-        let t1111: f32 = t168 * t862;
-        let t1112: f32 = t1110 - t1111;
-        let t1113: f32 = t1109 + t1112;
-        let t1114: f32 = t328 * t868;
-        let t1115: f32 = t187 * t876;
-        let t1116: f32 = t1114 - t1115;
-        let t1117: f32 = t226 * t1005;
-        let t1118: f32 = t243 * t1016;
-        let t1119: f32 = t1117 + t1118;
-        let t1120: f32 = t1116 - t1119;
-        let t1121: f32 = t1113 + t1120;
-        let t1122: f32 = t1106 - t1121;
-        let t1123: f32 = t1091 + t1122;
-        let t1124: f32 = t987 - t1123;
-        let t1125: f32 = t421 * t1124;
-        let t1126: f32 = t625 * t1125;
-        let t1127: f32 = t306 * t956;
-        let t1128: f32 = t309 * t973;
-        let t1129: f32 = t1127 + t1128;
-        let t1130: f32 = t312 * t1129;
-        let t1131: f32 = t827 + t843;
-        let t1132: f32 = xc * t1131;
-        let t1133: f32 = t1130 - t1132;
-        let t1134: f32 = t172 * t1043;
-        let t1135: f32 = t189 * t1052;
-        let t1136: f32 = t1134 - t1135;
-        let t1137: f32 = t167 * t1136;
-        let t1138: f32 = t168 * t696;
-        let t1139: f32 = t1137 - t1138;
-        let t1140: f32 = t1133 + t1139;
-        let t1141: f32 = gravity_y * t593;
-        let t1142: f32 = gravity_x * t554;
-        let t1143: f32 = t1141 - t1142;
-        let t1144: f32 = t187 * t714;
+        let t1105: f32 = t1069 + t1104;
+        let t1106: f32 = t1099 + t1101;
+        let t1107: f32 = t1105 - t1106;
+        let t1108: f32 = 1.0 / t1107;
+        let t1109: f32 = t1053 * t1095;
+        let t1110: f32 = t1108 * t1109;
+        let t1111: f32 = t1004 * t1110;
+        let t1112: f32 = t672 * t1053;
+        let t1113: f32 = t651 * t1053;
+        let t1114: f32 = t1095 * t1113;
+        let t1115: f32 = t670 - t1114;
+        let t1116: f32 = t1115 * t1115;
+        let t1117: f32 = t1108 * t1116;
+        let t1118: f32 = t1112 + t1117;
+        let t1119: f32 = t682 - t1118;
+        let t1120: f32 = 1.0 / t1119;
+        let t1121: f32 = t1113 * t1120;
+        let t1122: f32 = t995 * t1121;
+        let t1123: f32 = t718 * t1108;
+        let t1124: f32 = t688 * t1037;
+        let t1125: f32 = t1053 * t1124;
+        let t1126: f32 = t687 * t1125;
+        let t1127: f32 = t1108 * t1115;
+        let t1128: f32 = t714 * t1127;
+        let t1129: f32 = t1126 + t1128;
+        let t1130: f32 = t1129 * t1129;
+        let t1131: f32 = t1120 * t1130;
+        let t1132: f32 = t1123 + t1131;
+        let t1133: f32 = t727 - t1132;
+        let t1134: f32 = 1.0 / t1133;
+        let t1135: f32 = t1053 * t1093;
+        let t1136: f32 = t687 * t1135;
+        let t1137: f32 = t1134 * t1136;
+        let t1138: f32 = t989 * t1137;
+        let t1139: f32 = t732 * t1037;
+        let t1140: f32 = t734 - t1139;
+        let t1141: f32 = t1140 * t1140;
+        let t1142: f32 = t1053 * t1141;
+        let t1143: f32 = t732 * t1092;
+        let t1144: f32 = t1109 * t1140;
         let t1145: f32 = t1143 - t1144;
-        let t1146: f32 = t320 * t692;
-        let t1147: f32 = t178 * t1039;
-        let t1148: f32 = t1146 - t1147;
-        let t1149: f32 = t129 * t1070;
-        let t1150: f32 = t137 * t1083;
-        let t1151: f32 = t1149 + t1150;
-        let t1152: f32 = t1148 - t1151;
-        let t1153: f32 = t1145 + t1152;
-        let t1154: f32 = t1140 + t1153;
-        let t1155: f32 = t328 * t710;
-        let t1156: f32 = t195 * t1048;
-        let t1157: f32 = t1155 - t1156;
-        let t1158: f32 = t272 * t820;
-        let t1159: f32 = t280 * t836;
-        let t1160: f32 = t1158 + t1159;
-        let t1161: f32 = t1157 + t1160;
-        let t1162: f32 = t293 * t948;
-        let t1163: f32 = t300 * t965;
-        let t1164: f32 = t1162 + t1163;
-        let t1165: f32 = t34 * t1010;
-        let t1166: f32 = t47 * t1005;
-        let t1167: f32 = t1165 - t1166;
-        let t1168: f32 = t1164 + t1167;
-        let t1169: f32 = t1161 + t1168;
-        let t1170: f32 = t53 * t1021;
-        let t1171: f32 = t59 * t1016;
-        let t1172: f32 = t1170 - t1171;
-        let t1173: f32 = t474 * t986;
-        let t1174: f32 = t507 * t1125;
-        let t1175: f32 = t1173 + t1174;
-        let t1176: f32 = t1172 - t1175;
-        let t1177: f32 = t12 * t797;
-        let t1178: f32 = t443 * t803;
-        let t1179: f32 = t1177 - t1178;
-        let t1180: f32 = t17 * t788;
-        let t1181: f32 = t1074 + t1087;
-        let t1182: f32 = yc * t1181;
-        let t1183: f32 = t1180 + t1182;
-        let t1184: f32 = t1179 + t1183;
-        let t1185: f32 = t1176 + t1184;
-        let t1186: f32 = t1169 + t1185;
-        let t1187: f32 = t1154 + t1186;
-        let t1188: f32 = t546 * t1187;
-        let t1189: f32 = t628 * t1188;
-        let t1190: f32 = wz * t662;
-        let t1191: f32 = t547 * t1124;
-        let t1192: f32 = t1190 - t1191;
-        let t1193: f32 = t561 * t1188;
-        let t1194: f32 = t1010 - t1193;
-        let t1195: f32 = t1192 + t1194;
-        let t1196: f32 = t1021 + t1053;
-        let t1197: f32 = gravity_x * platform_mass;
-        let t1198: f32 = wx * t554;
-        let t1199: f32 = wy * t593;
-        let t1200: f32 = t1198 - t1199;
-        let t1201: f32 = wy * t1200;
-        let t1202: f32 = t1197 - t1201;
-        let t1203: f32 = t1181 + t1202;
-        let t1204: f32 = t1196 + t1203;
-        let t1205: f32 = t1195 + t1204;
-        let t1206: f32 = t574 * t1205;
-        let t1207: f32 = t633 * t1206;
-        let t1208: f32 = t582 * t1124;
-        let t1209: f32 = t983 - t1208;
-        let t1210: f32 = t585 * t1209;
-        let t1211: f32 = t602 * t1206;
-        let t1212: f32 = t1210 - t1211;
-        let t1213: f32 = t956 + t973;
-        let t1214: f32 = t1212 + t1213;
-        let t1215: f32 = t715 + t1131;
-        let t1216: f32 = gravity_y * platform_mass;
-        let t1217: f32 = wz * t666;
-        let t1218: f32 = t1216 - t1217;
-        let t1219: f32 = wx * t1200;
-        let t1220: f32 = t599 * t1188;
-        let t1221: f32 = t1219 + t1220;
-        let t1222: f32 = t1218 + t1221;
-        let t1223: f32 = t1215 + t1222;
-        let t1224: f32 = t1214 + t1223;
-        let t1225: f32 = t617 * t1224;
-        let t1226: f32 = t640 * t1225;
-        let t1227: f32 = t659 + t667;
-        let t1228: f32 = t1126 + t1207;
-        let t1229: f32 = t862 + t876;
-        let t1230: f32 = t755 + t992;
-        let t1231: f32 = t1227 + t1228;
-        let t1232: f32 = t1229 + t1230;
-        let t1233: f32 = t1231 + t1232;
-        let t1234: f32 = t663 + t985;
-        let t1235: f32 = t1189 + t1226;
-        let t1236: f32 = t1234 + t1235;
-        let t1237: f32 = t1233 - t1236;
-        let t1238: f32 = t640 * t658;
-        let t1239: f32 = t1237 * t1238;
-        let t1240: f32 = t1224 - t1239;
-        let t1241: f32 = t602 * t617;
-        let t1242: f32 = t1240 * t1241;
-        let t1243: f32 = t633 * t658;
-        let t1244: f32 = t1237 * t1243;
-        let t1245: f32 = t1205 + t1244;
-        let t1246: f32 = t1245 - t1242;
-        let t1247: f32 = t432 * t574;
-        let t1248: f32 = t1246 * t1247;
-        let t1249: f32 = t625 * t658;
-        let t1250: f32 = t1237 * t1249;
-        let t1251: f32 = t561 * t574;
-        let t1252: f32 = t1246 * t1251;
-        let t1253: f32 = t599 * t617;
-        let t1254: f32 = t1240 * t1253;
-        let t1255: f32 = t628 * t658;
-        let t1256: f32 = t1237 * t1255;
-        let t1257: f32 = t1252 + t1256;
-        let t1258: f32 = t1187 + t1257;
-        let t1259: f32 = t1258 - t1254;
-        let t1260: f32 = t507 * t546;
-        let t1261: f32 = t1259 * t1260;
-        let t1262: f32 = t577 * t617;
-        let t1263: f32 = t1240 * t1262;
-        let t1264: f32 = t983 + t1263;
-        let t1265: f32 = t481 * t1264;
-        let t1266: f32 = t1250 + t1261;
-        let t1267: f32 = t1123 + t1266;
-        let t1268: f32 = t1248 + t1265;
-        let t1269: f32 = t1267 - t1268;
-        let t1270: f32 = t421 * t1269;
-        let t1271: f32 = -t1270;
-        let t1272: f32 = t341 * t1271;
-        let t1273: f32 = t618 * t658;
-        let t1274: f32 = t1237 * t1273;
-        let t1275: f32 = t474 * t546;
-        let t1276: f32 = t1259 * t1275;
-        let t1277: f32 = t1264 + t1276;
-        let t1278: f32 = t1272 + t1274;
-        let t1279: f32 = t1277 - t1278;
-        let t1280: f32 = t263 * t1279;
-        let t1281: f32 = t574 * t600;
-        let t1282: f32 = t1246 * t1281;
-        let t1283: f32 = t617 * t629;
-        let t1284: f32 = t1240 * t1283;
-        let t1285: f32 = t546 * t628;
-        let t1286: f32 = t658 * t1285;
-        let t1287: f32 = t1237 * t1286;
-        let t1288: f32 = t1188 + t1282;
-        let t1289: f32 = t1287 + t1288;
-        let t1290: f32 = t1284 - t1289;
-        let t1291: f32 = t574 * t1246;
-        let t1292: f32 = t617 * t1240;
-        let t1293: f32 = t658 * t1237;
-        let t1294: f32 = t4 * t8;
-        (t1271, t1280, t1290, t1291, t1292, t1293, t1294)
+        let t1146: f32 = t1145 * t1145;
+        let t1147: f32 = t1108 * t1146;
+        let t1148: f32 = t1113 * t1140;
+        let t1149: f32 = t1127 * t1145;
+        let t1150: f32 = t1148 + t1149;
+        let t1151: f32 = t1150 * t1150;
+        let t1152: f32 = t1120 * t1151;
+        let t1153: f32 = t714 * t1108;
+        let t1154: f32 = t1145 * t1153;
+        let t1155: f32 = t1120 * t1129;
+        let t1156: f32 = t1150 * t1155;
+        let t1157: f32 = t1154 + t1156;
+        let t1158: f32 = t738 - t1157;
+        let t1159: f32 = t1158 * t1158;
+        let t1160: f32 = t1134 * t1159;
+        let t1161: f32 = t1142 + t1147;
+        let t1162: f32 = t1152 + t1160;
+        let t1163: f32 = t1161 + t1162;
+        let t1164: f32 = t763 - t1163;
+        let t1165: f32 = 1.0 / t1164;
+        let t1166: f32 = t731 * t1083;
+        let t1167: f32 = t247 * t1166;
+        let t1168: f32 = t1089 * t1140;
+        let t1169: f32 = wx * t1080;
+        let t1170: f32 = wy * t1065;
+        let t1171: f32 = t1084 * t1092;
+        let t1172: f32 = t1089 * t1095;
+        let t1173: f32 = t928 + t1170;
+        let t1174: f32 = t1169 + t1171;
+        let t1175: f32 = t1172 + t1174;
+        let t1176: f32 = t1173 - t1175;
+        let t1177: f32 = t1108 * t1176;
+        let t1178: f32 = t1145 * t1177;
+        let t1179: f32 = t1088 * t1113;
+        let t1180: f32 = t1115 * t1177;
+        let t1181: f32 = t1179 + t1180;
+        let t1182: f32 = t950 - t1181;
+        let t1183: f32 = t1120 * t1182;
+        let t1184: f32 = t1150 * t1183;
+        let t1185: f32 = t714 * t1177;
+        let t1186: f32 = t1129 * t1183;
+        let t1187: f32 = t969 + t1186;
+        let t1188: f32 = t1187 - t1185;
+        let t1189: f32 = t1134 * t1188;
+        let t1190: f32 = t1158 * t1189;
+        let t1191: f32 = t1167 + t1184;
+        let t1192: f32 = t981 + t1191;
+        let t1193: f32 = t1168 + t1178;
+        let t1194: f32 = t1190 + t1193;
+        let t1195: f32 = t1192 - t1194;
+        let t1196: f32 = t1053 * t1140;
+        let t1197: f32 = t1165 * t1196;
+        let t1198: f32 = t1195 * t1197;
+        let t1199: f32 = t1111 + t1122;
+        let t1200: f32 = t1138 + t1198;
+        let t1201: f32 = t1199 + t1200;
+        let t1202: f32 = t1201 - t1089;
+        let t1203: f32 = t1004 * t1108;
+        let t1204: f32 = t995 * t1120;
+        let t1205: f32 = t989 * t1134;
+        let t1206: f32 = t1165 * t1195;
+        (t1028, t1202, t1203, t1204, t1205, t1206)
     };
-    ([t1280, t1271, t1290, t1291, t1292, t1293], [t1294, t42, t443])
+    ([t1028, t1202, t1203, t1204, t1205, t1206], [t697, t145, t446])
 }
 /// Inverse dynamics end to end: actuator forces `Γ` from the platform state.
 ///
@@ -11166,7 +9873,7 @@ pub fn forward_dynamics_params(
 /// - `gamma`: `Γ` (N), segment order; positive pushes the rod along `+n_i`
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 560 mul, 5 div, 493 add, 1 neg, 3 sin_cos (chapter convention: 565m + 493a).
+/// Operations: 406 mul, 5 div, 356 add, 0 neg, 3 sin_cos (chapter convention: 411m + 356a).
 #[inline]
 pub fn inverse_dynamics_params(
     pose: &[f32; 6],
@@ -11192,1195 +9899,777 @@ pub fn inverse_dynamics_params(
     joint5_iyy, joint5_iyz, joint5_izz, rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _,
     joint6_mass, joint6_mx, joint6_my, joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz,
     joint6_iyy, joint6_iyz, joint6_izz] = *params;
-    let (
-        t0,
-        t1,
-        t3,
-        t4,
-        t17,
-        t51,
-        t236,
-        t242,
-        t246,
-        t249,
-        t251,
-        t277,
-        t281,
-        t296,
-        t302,
-        t303,
-        t327,
-        t328,
-        t331,
-        t347,
-        t356,
-        t375,
-        t410,
-        t459,
-        t462,
-        t556,
-        t571,
-        t581,
-        t590,
-        t670,
-        t672,
-        t744,
-        t758,
-        t765,
-        t768,
-        t784,
-        t789,
-        t793,
-        t829,
-        t879,
-        t915,
-        t926,
-        t931,
-        t936,
-        t985,
-        t989,
-        t990,
-        t991,
-        t992,
-        t993,
-        t994,
-        t995,
-        t996,
-        t997,
-        t998,
-        t999,
-        t1000,
-        t1001,
-        t1002,
-    ) = {
-        let (t0, t1): (f32, f32) = sin_cos(beta);
-        let t2: f32 = 1.0 / t1;
-        let (t3, t4): (f32, f32) = sin_cos(gamma);
-        let t5: f32 = 1.0 / t4;
-        let (t6, t7): (f32, f32) = sin_cos(alpha);
-        let t8: f32 = t3 * t7;
-        let t9: f32 = t0 * t6;
-        let t10: f32 = t4 * t9;
-        let t11: f32 = t8 + t10;
-        let t12: f32 = yc * t11;
-        let t13: f32 = t3 * t6;
-        let t14: f32 = t0 * t7;
-        let t15: f32 = t4 * t14;
-        let t16: f32 = t13 - t15;
-        let t17: f32 = zc - half_spacing;
-        let t18: f32 = t16 * t17;
-        let t19: f32 = t12 + t18;
-        let t20: f32 = wz * wz;
-        let t21: f32 = wy * wy;
-        let t22: f32 = t20 + t21;
-        let t23: f32 = t2 * t5;
-        let t24: f32 = t19 * t23;
-        let t25: f32 = t22 * t24;
-        let t26: f32 = wx * wz;
-        let t27: f32 = wdy + t26;
-        let t28: f32 = t17 * t27;
-        let t29: f32 = wx * wy;
-        let t30: f32 = wdz - t29;
-        let t31: f32 = yc * t30;
-        let t32: f32 = ax - gravity_x;
-        let t33: f32 = t31 + t32;
-        let t34: f32 = t25 + t28;
-        let t35: f32 = t33 - t34;
-        let t36: f32 = joint1_mass * t35;
-        let t37: f32 = joint1_mx * t16;
-        let t38: f32 = t4 * t6;
-        let t39: f32 = t0 * t3;
-        let t40: f32 = t7 * t39;
-        let t41: f32 = t38 + t40;
-        let t42: f32 = joint1_my * t41;
-        let t43: f32 = joint1_mz * t7;
-        let t44: f32 = t1 * t43;
-        let t45: f32 = t37 + t42;
-        let t46: f32 = t44 + t45;
-        let t47: f32 = wdy * t46;
-        let t48: f32 = joint1_mx * t11;
-        let t49: f32 = t4 * t7;
-        let t50: f32 = t3 * t9;
-        let t51: f32 = t49 - t50;
-        let t52: f32 = joint1_my * t51;
-        let t53: f32 = joint1_mz * t6;
-        let t54: f32 = t1 * t53;
-        let t55: f32 = t48 + t52;
-        let t56: f32 = t55 - t54;
-        let t57: f32 = wdz * t56;
-        let t58: f32 = wdy * t17;
-        let t59: f32 = wz * vy;
-        let t60: f32 = wy * vz;
-        let t61: f32 = t59 - t60;
-        let t62: f32 = yc * wdz;
-        let t63: f32 = t32 + t62;
-        let t64: f32 = t61 + t63;
-        let t65: f32 = t64 - t58;
-        let t66: f32 = rod1_mass * t65;
-        let t67: f32 = platform_mx * t11;
-        let t68: f32 = platform_my * t51;
-        let t69: f32 = platform_mz * t6;
-        let t70: f32 = t1 * t69;
-        let t71: f32 = t67 + t68;
-        let t72: f32 = t71 - t70;
-        let t73: f32 = wx * t72;
-        let t74: f32 = platform_mz * t0;
-        let t75: f32 = platform_mx * t4;
-        let t76: f32 = platform_my * t3;
-        let t77: f32 = t75 - t76;
-        let t78: f32 = t1 * t77;
-        let t79: f32 = t74 + t78;
-        let t80: f32 = wy * t79;
-        let t81: f32 = t73 - t80;
-        let t82: f32 = wy * t81;
-        let t83: f32 = platform_mx * t16;
-        let t84: f32 = platform_my * t41;
-        let t85: f32 = platform_mz * t7;
-        let t86: f32 = t1 * t85;
-        let t87: f32 = t83 + t84;
-        let t88: f32 = t86 + t87;
-        let t89: f32 = wx * t88;
-        let t90: f32 = wz * t79;
-        let t91: f32 = t90 - t89;
-        let t92: f32 = wz * t91;
-        let t93: f32 = wx * t56;
-        let t94: f32 = joint1_mz * t0;
-        let t95: f32 = joint1_mx * t4;
-        let t96: f32 = joint1_my * t3;
-        let t97: f32 = t95 - t96;
-        let t98: f32 = t1 * t97;
-        let t99: f32 = t94 + t98;
-        let t100: f32 = wy * t99;
-        let t101: f32 = t93 - t100;
-        let t102: f32 = wy * t101;
-        let t103: f32 = wx * t46;
-        let t104: f32 = wz * t99;
-        let t105: f32 = t104 - t103;
-        let t106: f32 = wz * t105;
-        let t107: f32 = joint2_mx * t11;
-        let t108: f32 = joint2_my * t51;
-        let t109: f32 = joint2_mz * t6;
-        let t110: f32 = t1 * t109;
-        let t111: f32 = t107 + t108;
-        let t112: f32 = t111 - t110;
-        let t113: f32 = wx * t112;
-        let t114: f32 = joint2_mz * t0;
-        let t115: f32 = joint2_mx * t4;
-        let t116: f32 = joint2_my * t3;
-        let t117: f32 = t115 - t116;
-        let t118: f32 = t1 * t117;
-        let t119: f32 = t114 + t118;
-        let t120: f32 = wy * t119;
-        let t121: f32 = t113 - t120;
-        let t122: f32 = wy * t121;
-        let t123: f32 = joint2_mx * t16;
-        let t124: f32 = joint2_my * t41;
-        let t125: f32 = joint2_mz * t7;
-        let t126: f32 = t1 * t125;
-        let t127: f32 = t123 + t124;
-        let t128: f32 = t126 + t127;
-        let t129: f32 = wx * t128;
-        let t130: f32 = wz * t119;
-        let t131: f32 = t130 - t129;
-        let t132: f32 = wz * t131;
-        let t133: f32 = t122 - t132;
-        let t134: f32 = joint3_mx * t11;
-        let t135: f32 = joint3_my * t51;
-        let t136: f32 = joint3_mz * t6;
-        let t137: f32 = t1 * t136;
-        let t138: f32 = t134 + t135;
-        let t139: f32 = t138 - t137;
-        let t140: f32 = wx * t139;
-        let t141: f32 = joint3_mz * t0;
-        let t142: f32 = joint3_mx * t4;
-        let t143: f32 = joint3_my * t3;
-        let t144: f32 = t142 - t143;
-        let t145: f32 = t1 * t144;
-        let t146: f32 = t141 + t145;
-        let t147: f32 = wy * t146;
-        let t148: f32 = t140 - t147;
-        let t149: f32 = wy * t148;
-        let t150: f32 = joint3_mx * t16;
-        let t151: f32 = joint3_my * t41;
-        let t152: f32 = joint3_mz * t7;
-        let t153: f32 = t1 * t152;
-        let t154: f32 = t150 + t151;
-        let t155: f32 = t153 + t154;
-        let t156: f32 = wx * t155;
-        let t157: f32 = wz * t146;
-        let t158: f32 = t157 - t156;
-        let t159: f32 = wz * t158;
-        let t160: f32 = t149 - t159;
-        let t161: f32 = joint4_mx * t11;
-        let t162: f32 = joint4_my * t51;
-        let t163: f32 = joint4_mz * t6;
-        let t164: f32 = t1 * t163;
-        let t165: f32 = t161 + t162;
-        let t166: f32 = t165 - t164;
-        let t167: f32 = wx * t166;
-        let t168: f32 = joint4_mz * t0;
-        let t169: f32 = joint4_mx * t4;
-        let t170: f32 = joint4_my * t3;
-        let t171: f32 = t169 - t170;
-        let t172: f32 = t1 * t171;
-        let t173: f32 = t168 + t172;
-        let t174: f32 = wy * t173;
-        let t175: f32 = t167 - t174;
-        let t176: f32 = wy * t175;
-        let t177: f32 = joint4_mx * t16;
-        let t178: f32 = joint4_my * t41;
-        let t179: f32 = joint4_mz * t7;
-        let t180: f32 = t1 * t179;
-        let t181: f32 = t177 + t178;
-        let t182: f32 = t180 + t181;
-        let t183: f32 = wx * t182;
-        let t184: f32 = wz * t173;
-        let t185: f32 = t184 - t183;
-        let t186: f32 = wz * t185;
-        let t187: f32 = t176 - t186;
-        let t188: f32 = joint5_mx * t11;
-        let t189: f32 = joint5_my * t51;
-        let t190: f32 = joint5_mz * t6;
-        let t191: f32 = t1 * t190;
-        let t192: f32 = t188 + t189;
-        let t193: f32 = t192 - t191;
-        let t194: f32 = wx * t193;
-        let t195: f32 = joint5_mz * t0;
-        let t196: f32 = joint5_mx * t4;
-        let t197: f32 = joint5_my * t3;
-        let t198: f32 = t196 - t197;
-        let t199: f32 = t1 * t198;
-        let t200: f32 = t195 + t199;
-        let t201: f32 = wy * t200;
-        let t202: f32 = t194 - t201;
-        let t203: f32 = wy * t202;
-        let t204: f32 = joint5_mx * t16;
-        let t205: f32 = joint5_my * t41;
-        let t206: f32 = joint5_mz * t7;
-        let t207: f32 = t1 * t206;
-        let t208: f32 = t204 + t205;
-        let t209: f32 = t207 + t208;
-        let t210: f32 = wx * t209;
-        let t211: f32 = wz * t200;
-        let t212: f32 = t211 - t210;
-        let t213: f32 = wz * t212;
-        let t214: f32 = t203 - t213;
-        let t215: f32 = joint6_mx * t11;
-        let t216: f32 = joint6_my * t51;
-        let t217: f32 = joint6_mz * t6;
-        let t218: f32 = t1 * t217;
-        let t219: f32 = t215 + t216;
-        let t220: f32 = t219 - t218;
-        let t221: f32 = wx * t220;
-        let t222: f32 = joint6_mz * t0;
-        let t223: f32 = joint6_mx * t4;
-        let t224: f32 = joint6_my * t3;
-        let t225: f32 = t223 - t224;
-        let t226: f32 = t1 * t225;
-        let t227: f32 = t222 + t226;
-        let t228: f32 = wy * t227;
-        let t229: f32 = t221 - t228;
-        let t230: f32 = wy * t229;
-        let t231: f32 = joint6_mx * t16;
-        let t232: f32 = joint6_my * t41;
-        let t233: f32 = joint6_mz * t7;
-        let t234: f32 = t1 * t233;
-        let t235: f32 = t231 + t232;
-        let t236: f32 = t234 + t235;
-        let t237: f32 = wx * t236;
-        let t238: f32 = wz * t227;
-        let t239: f32 = t238 - t237;
-        let t240: f32 = wz * t239;
-        let t241: f32 = t230 - t240;
-        let t242: f32 = 1.0 / half_spacing;
-        let t243: f32 = xc + t24;
-        let t244: f32 = wx * t212;
-        let t245: f32 = wdy * t200;
-        let t246: f32 = t244 - t245;
-        let t247: f32 = wx * t239;
-        let t248: f32 = wdy * t227;
-        let t249: f32 = t247 - t248;
-        let t250: f32 = t246 + t249;
-        let t251: f32 = zc + half_spacing;
-        let t252: f32 = t16 * t251;
-        let t253: f32 = t12 + t252;
-        let t254: f32 = wdy - t26;
-        let t255: f32 = t23 * t253;
-        let t256: f32 = t254 * t255;
-        let t257: f32 = wx * wx;
-        let t258: f32 = t21 + t257;
-        let t259: f32 = t251 * t258;
-        let t260: f32 = az - gravity_z;
-        let t261: f32 = wy * wz;
-        let t262: f32 = wdx + t261;
-        let t263: f32 = yc * t262;
-        let t264: f32 = t260 - t263;
-        let t265: f32 = t259 + t264;
-        let t266: f32 = t265 - t256;
-        let t267: f32 = joint2_mass * t266;
-        let t268: f32 = wdx * t112;
-        let t269: f32 = t267 + t268;
-        let t270: f32 = wy * t128;
-        let t271: f32 = wz * t112;
-        let t272: f32 = t270 - t271;
-        let t273: f32 = wy * t272;
-        let t274: f32 = t269 - t273;
-        let t275: f32 = xc + half_spacing;
-        let t276: f32 = t254 * t275;
-        let t277: f32 = 1.0 / t51;
-        let t278: f32 = zc * t41;
-        let t279: f32 = t1 * t3;
-        let t280: f32 = t275 * t279;
-        let t281: f32 = t278 - t280;
-        let t282: f32 = t277 * t281;
-        let t283: f32 = t262 * t282;
-        let t284: f32 = zc * t258;
-        let t285: f32 = t260 + t284;
-        let t286: f32 = t276 + t283;
-        let t287: f32 = t285 + t286;
-        let t288: f32 = joint4_mass * t287;
-        let t289: f32 = wdx * t166;
-        let t290: f32 = t288 + t289;
-        let t291: f32 = wy * t182;
-        let t292: f32 = wz * t166;
-        let t293: f32 = t291 - t292;
-        let t294: f32 = wy * t293;
-        let t295: f32 = t290 - t294;
-        let t296: f32 = yc - half_spacing;
-        let t297: f32 = t262 * t296;
-        let t298: f32 = 1.0 / t7;
-        let t299: f32 = xc * t0;
-        let t300: f32 = t1 * t6;
-        let t301: f32 = t296 * t300;
-        let t302: f32 = t299 - t301;
-        let t303: f32 = t2 * t298;
-        let t304: f32 = t302 * t303;
-        let t305: f32 = t258 * t304;
-        let t306: f32 = xc * t254;
-        let t307: f32 = t260 + t306;
-        let t308: f32 = t297 + t305;
-        let t309: f32 = t307 - t308;
-        let t310: f32 = joint5_mass * t309;
-        let t311: f32 = wdx * t193;
-        let t312: f32 = t310 + t311;
-        let t313: f32 = wdx * t296;
-        let t314: f32 = wy * vx;
-        let t315: f32 = wx * vy;
-        let t316: f32 = t314 - t315;
-        let t317: f32 = xc * wdy;
-        let t318: f32 = t260 + t317;
-        let t319: f32 = t316 + t318;
-        let t320: f32 = t319 - t313;
-        let t321: f32 = rod5_mass * t320;
-        let t322: f32 = wy * t209;
-        let t323: f32 = wz * t193;
-        let t324: f32 = t322 - t323;
-        let t325: f32 = wy * t324;
-        let t326: f32 = t321 - t325;
-        let t327: f32 = t312 + t326;
-        let t328: f32 = yc + half_spacing;
-        let t329: f32 = t262 * t328;
-        let t330: f32 = t300 * t328;
-        let t331: f32 = t299 - t330;
-        let t332: f32 = t303 * t331;
-        let t333: f32 = t258 * t332;
-        let t334: f32 = t329 + t333;
-        let t335: f32 = t307 - t334;
-        let t336: f32 = joint6_mass * t335;
-        let t337: f32 = wdx * t220;
-        let t338: f32 = t336 + t337;
-        let t339: f32 = wdx * t328;
-        let t340: f32 = t319 - t339;
-        let t341: f32 = rod6_mass * t340;
-        let t342: f32 = wy * t236;
-        let t343: f32 = wz * t220;
-        let t344: f32 = t342 - t343;
-        let t345: f32 = wy * t344;
-        let t346: f32 = t341 - t345;
-        let t347: f32 = t338 + t346;
-        let t348: f32 = t327 + t347;
-        let t349: f32 = t295 + t348;
-        let t350: f32 = platform_mass * t260;
-        let t351: f32 = wdx * t72;
-        let t352: f32 = t350 + t351;
-        let t353: f32 = xc - half_spacing;
-        let t354: f32 = t254 * t353;
-        let t355: f32 = t279 * t353;
-        let t356: f32 = t355 - t278;
-        let t357: f32 = t277 * t356;
-        let t358: f32 = t262 * t357;
-        let t359: f32 = t285 + t354;
-        let t360: f32 = t359 - t358;
-        let t361: f32 = joint3_mass * t360;
-        let t362: f32 = wdx * t139;
-        let t363: f32 = t361 + t362;
-        let t364: f32 = wy * t155;
-        let t365: f32 = wz * t139;
-        let t366: f32 = t364 - t365;
-        let t367: f32 = wy * t366;
-        let t368: f32 = t363 - t367;
-        let t369: f32 = wy * t88;
-        let t370: f32 = wz * t72;
-        let t371: f32 = t369 - t370;
-        let t372: f32 = wy * t371;
-        let t373: f32 = t368 - t372;
-        let t374: f32 = t352 + t373;
-        let t375: f32 = t349 + t374;
-        let t376: f32 = t274 + t375;
-        let t377: f32 = t24 * t254;
-        let t378: f32 = t17 * t258;
-        let t379: f32 = t264 + t378;
-        let t380: f32 = t379 - t377;
-        let t381: f32 = joint1_mass * t380;
-        let t382: f32 = wdx * t56;
-        let t383: f32 = t381 + t382;
-        let t384: f32 = t376 + t383;
-        let t385: f32 = t250 + t384;
-        let t386: f32 = wx * t91;
-        let t387: f32 = wdy * t99;
-        let t388: f32 = t386 - t387;
-        let t389: f32 = wy * t46;
-        let t390: f32 = wz * t56;
-        let t391: f32 = t389 - t390;
-        let t392: f32 = wy * t391;
-        let t393: f32 = wdy * t79;
-        let t394: f32 = t392 + t393;
-        let t395: f32 = t388 - t394;
-        let t396: f32 = wx * t105;
-        let t397: f32 = wx * t131;
-        let t398: f32 = wdy * t119;
-        let t399: f32 = t397 - t398;
-        let t400: f32 = t396 + t399;
-        let t401: f32 = wx * t158;
-        let t402: f32 = wdy * t146;
-        let t403: f32 = t401 - t402;
-        let t404: f32 = wx * t185;
-        let t405: f32 = wdy * t173;
-        let t406: f32 = t404 - t405;
-        let t407: f32 = t403 + t406;
-        let t408: f32 = t400 + t407;
-        let t409: f32 = t395 + t408;
-        let t410: f32 = t385 + t409;
-        let t411: f32 = t242 * t243;
-        let t412: f32 = t410 * t411;
-        let t413: f32 = t32 * t88;
-        let t414: f32 = t35 * t46;
-        let t415: f32 = t22 * t255;
-        let t416: f32 = t27 * t251;
-        let t417: f32 = t415 + t416;
-        let t418: f32 = t33 - t417;
-        let t419: f32 = t128 * t418;
-        let t420: f32 = t22 * t353;
-        let t421: f32 = t30 * t357;
-        let t422: f32 = zc * t27;
-        let t423: f32 = t32 - t422;
-        let t424: f32 = t420 + t421;
-        let t425: f32 = t423 + t424;
-        let t426: f32 = t155 * t425;
-        let t427: f32 = t22 * t275;
-        let t428: f32 = t30 * t282;
-        let t429: f32 = t423 + t427;
-        let t430: f32 = t429 - t428;
-        let t431: f32 = t182 * t430;
-        let t432: f32 = t30 * t296;
-        let t433: f32 = t27 * t304;
-        let t434: f32 = xc * t22;
-        let t435: f32 = t32 + t434;
-        let t436: f32 = t432 + t433;
-        let t437: f32 = t435 + t436;
-        let t438: f32 = t209 * t437;
-        let t439: f32 = t30 * t328;
-        let t440: f32 = t27 * t332;
-        let t441: f32 = t439 + t440;
-        let t442: f32 = t435 + t441;
-        let t443: f32 = t236 * t442;
-        let t444: f32 = t79 * t260;
-        let t445: f32 = t99 * t380;
-        let t446: f32 = t119 * t266;
-        let t447: f32 = joint2_mass * t418;
-        let t448: f32 = wdy * t128;
-        let t449: f32 = t447 + t448;
-        let t450: f32 = wdy * t251;
-        let t451: f32 = t64 - t450;
-        let t452: f32 = rod2_mass * t451;
-        let t453: f32 = wdz * t112;
-        let t454: f32 = t452 - t453;
-        let t455: f32 = t449 + t454;
-        let t456: f32 = t133 + t455;
-        let t457: f32 = t251 * t456;
-        let t458: f32 = t146 * t360;
-        let t459: f32 = t368 + t403;
-        let t460: f32 = t353 * t459;
-        let t461: f32 = t173 * t287;
-        let t462: f32 = t295 + t406;
-        let t463: f32 = t275 * t462;
-        let t464: f32 = t200 * t309;
-        let t465: f32 = t227 * t335;
-        let t466: f32 = wx * t1;
-        let t467: f32 = t4 * t466;
-        let t468: f32 = wy * t11;
-        let t469: f32 = wz * t16;
-        let t470: f32 = t467 + t468;
-        let t471: f32 = t469 + t470;
-        let t472: f32 = platform_ixy + joint1_ixy;
-        let t473: f32 = joint2_ixy + joint3_ixy;
-        let t474: f32 = joint4_ixy + joint5_ixy;
-        let t475: f32 = t472 + t473;
-        let t476: f32 = joint6_ixy + t474;
-        let t477: f32 = t475 + t476;
-        let t478: f32 = t471 * t477;
-        let t479: f32 = wx * t3;
-        let t480: f32 = t1 * t479;
-        let t481: f32 = wy * t51;
-        let t482: f32 = wz * t41;
-        let t483: f32 = t481 + t482;
-        let t484: f32 = t480 - t483;
-        let t485: f32 = platform_iyy + joint1_iyy;
-        let t486: f32 = joint2_iyy + joint3_iyy;
-        let t487: f32 = joint4_iyy + joint5_iyy;
-        let t488: f32 = t485 + t486;
-        let t489: f32 = joint6_iyy + t487;
-        let t490: f32 = t488 + t489;
-        let t491: f32 = t484 * t490;
-        let t492: f32 = wx * t0;
-        let t493: f32 = wy * t6;
-        let t494: f32 = wz * t7;
-        let t495: f32 = t493 - t494;
-        let t496: f32 = t1 * t495;
-        let t497: f32 = t492 - t496;
-        let t498: f32 = platform_iyz + joint1_iyz;
-        let t499: f32 = joint2_iyz + joint3_iyz;
-        let t500: f32 = joint4_iyz + joint5_iyz;
-        let t501: f32 = t498 + t499;
-        let t502: f32 = joint6_iyz + t500;
-        let t503: f32 = t501 + t502;
-        let t504: f32 = t497 * t503;
-        let t505: f32 = t478 + t504;
-        let t506: f32 = t505 - t491;
-        let t507: f32 = t471 * t506;
-        let t508: f32 = wdx * t1;
-        let t509: f32 = t4 * t508;
-        let t510: f32 = wdy * t11;
-        let t511: f32 = wdz * t16;
-        let t512: f32 = t509 + t510;
-        let t513: f32 = t511 + t512;
-        let t514: f32 = platform_ixz + joint1_ixz;
-        let t515: f32 = joint2_ixz + joint3_ixz;
-        let t516: f32 = joint4_ixz + joint5_ixz;
-        let t517: f32 = t514 + t515;
-        let t518: f32 = joint6_ixz + t516;
-        let t519: f32 = t517 + t518;
-        let t520: f32 = t513 * t519;
-        let t521: f32 = wdx * t3;
-        let t522: f32 = t1 * t521;
-        let t523: f32 = wdy * t51;
-        let t524: f32 = wdz * t41;
-        let t525: f32 = t523 + t524;
-        let t526: f32 = t522 - t525;
-        let t527: f32 = t503 * t526;
-        let t528: f32 = platform_ixx + joint1_ixx;
-        let t529: f32 = joint2_ixx + joint3_ixx;
-        let t530: f32 = joint4_ixx + joint5_ixx;
-        let t531: f32 = t528 + t529;
-        let t532: f32 = joint6_ixx + t530;
-        let t533: f32 = t531 + t532;
-        let t534: f32 = t471 * t533;
-        let t535: f32 = t477 * t484;
-        let t536: f32 = t497 * t519;
-        let t537: f32 = t534 + t536;
-        let t538: f32 = t537 - t535;
-        let t539: f32 = t484 * t538;
-        let t540: f32 = wdx * t0;
-        let t541: f32 = wdy * t6;
-        let t542: f32 = wdz * t7;
-        let t543: f32 = t541 - t542;
-        let t544: f32 = t1 * t543;
-        let t545: f32 = t540 - t544;
-        let t546: f32 = platform_izz + joint1_izz;
-        let t547: f32 = joint2_izz + joint3_izz;
-        let t548: f32 = joint4_izz + joint5_izz;
-        let t549: f32 = t546 + t547;
-        let t550: f32 = joint6_izz + t548;
-        let t551: f32 = t549 + t550;
-        let t552: f32 = t545 * t551;
-        let t553: f32 = t507 + t520;
-        let t554: f32 = t539 + t552;
-        let t555: f32 = t553 + t554;
-        let t556: f32 = t555 - t527;
-        let t557: f32 = t300 * t556;
-        let t558: f32 = t513 * t533;
-        let t559: f32 = t477 * t526;
-        let t560: f32 = t471 * t519;
-        let t561: f32 = t484 * t503;
-        let t562: f32 = t497 * t551;
-        let t563: f32 = t560 + t562;
-        let t564: f32 = t563 - t561;
-        let t565: f32 = t484 * t564;
-        let t566: f32 = t519 * t545;
-        let t567: f32 = t497 * t506;
-        let t568: f32 = t558 + t566;
-        let t569: f32 = t559 + t565;
-        let t570: f32 = t567 + t569;
-        let t571: f32 = t568 - t570;
-        let t572: f32 = t11 * t571;
-        let t573: f32 = t471 * t564;
-        let t574: f32 = t477 * t513;
-        let t575: f32 = t490 * t526;
-        let t576: f32 = t503 * t545;
-        let t577: f32 = t497 * t538;
-        let t578: f32 = t573 + t575;
-        let t579: f32 = t574 + t576;
-        let t580: f32 = t577 + t579;
-        let t581: f32 = t578 - t580;
-        let t582: f32 = t51 * t581;
-        let t583: f32 = t274 + t399;
-        let t584: f32 = t253 * t583;
-        let t585: f32 = joint5_mz + joint6_mz;
-        let t586: f32 = joint3_mz + joint4_mz;
-        let t587: f32 = platform_mz + t586;
-        let t588: f32 = t585 + t587;
-        let t589: f32 = joint2_mz + t588;
-        let t590: f32 = t1 * t7;
-        let t591: f32 = t589 * t590;
-        let t592: f32 = joint5_mx + joint6_mx;
-        let t593: f32 = joint3_mx + joint4_mx;
-        let t594: f32 = platform_mx + t593;
-        let t595: f32 = t592 + t594;
-        let t596: f32 = joint2_mx + t595;
-        let t597: f32 = t16 * t596;
-        let t598: f32 = joint5_my + joint6_my;
-        let t599: f32 = joint3_my + joint4_my;
-        let t600: f32 = platform_my + t599;
-        let t601: f32 = t598 + t600;
-        let t602: f32 = joint2_my + t601;
-        let t603: f32 = t41 * t602;
-        let t604: f32 = t591 + t597;
-        let t605: f32 = t603 + t604;
-        let t606: f32 = wx * t605;
-        let t607: f32 = t0 * t589;
-        let t608: f32 = t3 * t602;
-        let t609: f32 = t4 * t596;
-        let t610: f32 = t608 - t609;
-        let t611: f32 = t1 * t610;
-        let t612: f32 = t607 - t611;
-        let t613: f32 = wz * t612;
-        let t614: f32 = t606 - t613;
-        let t615: f32 = wx * t614;
-        let t616: f32 = wdy * t612;
-        let t617: f32 = t615 + t616;
-        let t618: f32 = t376 - t617;
-        let t619: f32 = t19 * t618;
-        let t620: f32 = t584 - t619;
-        let t621: f32 = t5 * t620;
-        let t622: f32 = joint5_mass * t437;
-        let t623: f32 = wdy * t209;
-        let t624: f32 = t622 + t623;
-        let t625: f32 = wdz * t193;
-        let t626: f32 = t624 - t625;
-        let t627: f32 = t214 + t626;
-        let t628: f32 = t302 * t627;
-        let t629: f32 = joint6_mass * t442;
-        let t630: f32 = wdy * t236;
-        let t631: f32 = t629 + t630;
-        let t632: f32 = wdz * t220;
-        let t633: f32 = t631 - t632;
-        let t634: f32 = t241 + t633;
-        let t635: f32 = t331 * t634;
-        let t636: f32 = t628 + t635;
-        let t637: f32 = t298 * t636;
-        let t638: f32 = t621 - t637;
-        let t639: f32 = t2 * t638;
-        let t640: f32 = t585 * t590;
-        let t641: f32 = t16 * t592;
-        let t642: f32 = t41 * t598;
-        let t643: f32 = t640 + t641;
-        let t644: f32 = t642 + t643;
-        let t645: f32 = wx * t644;
-        let t646: f32 = t0 * t585;
-        let t647: f32 = t3 * t598;
-        let t648: f32 = t4 * t592;
-        let t649: f32 = t647 - t648;
-        let t650: f32 = t1 * t649;
-        let t651: f32 = t646 - t650;
-        let t652: f32 = wz * t651;
-        let t653: f32 = t645 - t652;
-        let t654: f32 = wx * t653;
-        let t655: f32 = wdy * t651;
-        let t656: f32 = t654 + t655;
-        let t657: f32 = t348 - t656;
-        let t658: f32 = xc * t657;
-        let t659: f32 = t300 * t586;
-        let t660: f32 = t11 * t593;
-        let t661: f32 = t51 * t599;
-        let t662: f32 = t660 + t661;
-        let t663: f32 = t659 - t662;
-        let t664: f32 = wx * t663;
-        let t665: f32 = t0 * t586;
-        let t666: f32 = t3 * t599;
-        let t667: f32 = t4 * t593;
-        let t668: f32 = t666 - t667;
-        let t669: f32 = t1 * t668;
-        let t670: f32 = t665 - t669;
-        let t671: f32 = wy * t670;
-        let t672: f32 = t664 + t671;
-        let t673: f32 = wy * t672;
-        let t674: f32 = t586 * t590;
-        let t675: f32 = t16 * t593;
-        let t676: f32 = t41 * t599;
-        let t677: f32 = t674 + t675;
-        let t678: f32 = t676 + t677;
-        let t679: f32 = wx * t678;
-        let t680: f32 = wz * t670;
-        let t681: f32 = t679 - t680;
-        let t682: f32 = wz * t681;
-        let t683: f32 = joint3_mass * t425;
-        let t684: f32 = wdy * t155;
-        let t685: f32 = t683 + t684;
-        let t686: f32 = wdz * t139;
-        let t687: f32 = t685 - t686;
-        let t688: f32 = joint4_mass * t430;
-        let t689: f32 = wdy * t182;
-        let t690: f32 = t688 + t689;
-        let t691: f32 = wdz * t166;
-        let t692: f32 = t690 - t691;
-        let t693: f32 = t687 + t692;
-        let t694: f32 = t682 + t693;
-        let t695: f32 = t694 - t673;
-        let t696: f32 = zc * t695;
-        let t697: f32 = t300 * t589;
-        let t698: f32 = t11 * t596;
-        let t699: f32 = t51 * t602;
-        let t700: f32 = t698 + t699;
-        let t701: f32 = t697 - t700;
-        let t702: f32 = wx * t701;
-        let t703: f32 = wy * t612;
-        let t704: f32 = t702 + t703;
-        let t705: f32 = wy * t704;
-        let t706: f32 = wz * t614;
-        let t707: f32 = t633 + t693;
-        let t708: f32 = platform_mass * t32;
-        let t709: f32 = wdy * t88;
-        let t710: f32 = t708 + t709;
-        let t711: f32 = wdz * t72;
-        let t712: f32 = t626 - t711;
-        let t713: f32 = t710 + t712;
-        let t714: f32 = t707 + t713;
-        let t715: f32 = t455 + t714;
-        let t716: f32 = t706 + t715;
-        let t717: f32 = t716 - t705;
-        let t718: f32 = t17 * t717;
-        let t719: f32 = t413 + t414;
-        let t720: f32 = t419 + t426;
-        let t721: f32 = t431 + t438;
-        let t722: f32 = t443 + t460;
-        let t723: f32 = t463 + t572;
-        let t724: f32 = t658 + t718;
-        let t725: f32 = t719 + t720;
-        let t726: f32 = t721 + t722;
-        let t727: f32 = t723 + t724;
-        let t728: f32 = t725 + t726;
-        let t729: f32 = t727 + t728;
-        let t730: f32 = t444 + t445;
-        let t731: f32 = t446 + t457;
-        let t732: f32 = t458 + t461;
-        let t733: f32 = t464 + t465;
-        let t734: f32 = t557 + t582;
-        let t735: f32 = t639 + t696;
-        let t736: f32 = t730 + t731;
-        let t737: f32 = t732 + t733;
-        let t738: f32 = t734 + t735;
-        let t739: f32 = t736 + t737;
-        let t740: f32 = t738 + t739;
-        let t741: f32 = t729 - t740;
-        let t742: f32 = t242 * t741;
-        let t743: f32 = t412 - t742;
-        let t744: f32 = t743 * 0.5;
-        let t745: f32 = t36 + t47;
-        let t746: f32 = t66 + t82;
-        let t747: f32 = t102 + t133;
-        let t748: f32 = t160 + t187;
-        let t749: f32 = t214 + t241;
-        let t750: f32 = t745 + t746;
-        let t751: f32 = t747 + t748;
-        let t752: f32 = t715 + t749;
-        let t753: f32 = t750 + t751;
-        let t754: f32 = t752 + t753;
-        let t755: f32 = t57 + t92;
-        let t756: f32 = t106 + t744;
-        let t757: f32 = t755 + t756;
-        let t758: f32 = t754 - t757;
-        let t759: f32 = t24 + t353;
-        let t760: f32 = t242 * t759;
-        let t761: f32 = t760 * 0.5;
-        let t762: f32 = t761 + 1.0;
-        let t763: f32 = wdz * t200;
-        let t764: f32 = wx * t202;
-        let t765: f32 = t763 - t764;
-        let t766: f32 = wdz * t227;
-        let t767: f32 = wx * t229;
-        let t768: f32 = t766 - t767;
-        let t769: f32 = t765 + t768;
-        let t770: f32 = wz * t324;
-        let t771: f32 = t20 + t257;
-        let t772: f32 = t296 * t771;
-        let t773: f32 = wdx - t261;
-        let t774: f32 = t304 * t773;
-        let t775: f32 = ay - gravity_y;
-        let t776: f32 = wdz + t29;
-        let t777: f32 = xc * t776;
-        let t778: f32 = t775 - t777;
-        let t779: f32 = t772 + t778;
-        let t780: f32 = t779 - t774;
-        let t781: f32 = joint5_mass * t780;
-        let t782: f32 = wdx * t209;
-        let t783: f32 = t781 - t782;
-        let t784: f32 = t770 + t783;
-        let t785: f32 = wz * t344;
-        let t786: f32 = t328 * t771;
-        let t787: f32 = t332 * t773;
-        let t788: f32 = t778 + t786;
-        let t789: f32 = t788 - t787;
-        let t790: f32 = joint6_mass * t789;
-        let t791: f32 = wdx * t236;
-        let t792: f32 = t790 - t791;
-        let t793: f32 = t785 + t792;
-        let t794: f32 = t784 + t793;
-        let t795: f32 = t353 * t776;
-        let t796: f32 = t357 * t771;
-        let t797: f32 = zc * t773;
-        let t798: f32 = t775 + t797;
-        let t799: f32 = t796 + t798;
-        let t800: f32 = t799 - t795;
-        let t801: f32 = joint3_mass * t800;
-        let t802: f32 = wdx * t155;
-        let t803: f32 = t801 - t802;
-        let t804: f32 = wz * t366;
-        let t805: f32 = wdz * t353;
-        let t806: f32 = wx * vz;
-        let t807: f32 = wz * vx;
-        let t808: f32 = t806 - t807;
-        let t809: f32 = zc * wdx;
-        let t810: f32 = t775 + t809;
-        let t811: f32 = t808 + t810;
-        let t812: f32 = t811 - t805;
-        let t813: f32 = rod3_mass * t812;
-        let t814: f32 = t804 + t813;
-        let t815: f32 = t803 + t814;
-        let t816: f32 = t275 * t776;
-        let t817: f32 = t282 * t771;
-        let t818: f32 = t816 + t817;
-        let t819: f32 = t798 - t818;
-        let t820: f32 = joint4_mass * t819;
-        let t821: f32 = wdx * t182;
-        let t822: f32 = t820 - t821;
-        let t823: f32 = wz * t293;
-        let t824: f32 = wdz * t275;
-        let t825: f32 = t811 - t824;
-        let t826: f32 = rod4_mass * t825;
-        let t827: f32 = t823 + t826;
-        let t828: f32 = t822 + t827;
-        let t829: f32 = t815 + t828;
-        let t830: f32 = t794 + t829;
-        let t831: f32 = platform_mass * t775;
-        let t832: f32 = wdx * t88;
-        let t833: f32 = t831 - t832;
-        let t834: f32 = wz * t371;
-        let t835: f32 = wz * t272;
-        let t836: f32 = t255 * t776;
-        let t837: f32 = t251 * t773;
-        let t838: f32 = yc * t771;
-        let t839: f32 = t775 + t838;
-        let t840: f32 = t836 + t837;
-        let t841: f32 = t839 + t840;
-        let t842: f32 = joint2_mass * t841;
-        let t843: f32 = wdx * t128;
-        let t844: f32 = t842 - t843;
-        let t845: f32 = t835 + t844;
-        let t846: f32 = t834 + t845;
-        let t847: f32 = t833 + t846;
-        let t848: f32 = t830 + t847;
-        let t849: f32 = t24 * t776;
-        let t850: f32 = t17 * t773;
-        let t851: f32 = t849 + t850;
-        let t852: f32 = t839 + t851;
-        let t853: f32 = joint1_mass * t852;
-        let t854: f32 = wdx * t46;
-        let t855: f32 = t853 - t854;
-        let t856: f32 = t848 + t855;
-        let t857: f32 = t769 + t856;
-        let t858: f32 = wz * t391;
-        let t859: f32 = wdz * t79;
-        let t860: f32 = t858 + t859;
-        let t861: f32 = wdz * t99;
-        let t862: f32 = wx * t81;
-        let t863: f32 = t861 - t862;
-        let t864: f32 = t860 + t863;
-        let t865: f32 = wdz * t119;
-        let t866: f32 = wx * t121;
-        let t867: f32 = t865 - t866;
-        let t868: f32 = wx * t101;
-        let t869: f32 = t867 - t868;
-        let t870: f32 = wdz * t146;
-        let t871: f32 = wx * t148;
-        let t872: f32 = t870 - t871;
-        let t873: f32 = wdz * t173;
-        let t874: f32 = wx * t175;
-        let t875: f32 = t873 - t874;
-        let t876: f32 = t872 + t875;
-        let t877: f32 = t869 + t876;
-        let t878: f32 = t864 + t877;
-        let t879: f32 = t857 + t878;
-        let t880: f32 = t762 * t879;
-        let t881: f32 = t32 * t72;
-        let t882: f32 = t35 * t56;
-        let t883: f32 = t112 * t418;
-        let t884: f32 = t139 * t425;
-        let t885: f32 = t166 * t430;
-        let t886: f32 = t193 * t437;
-        let t887: f32 = t220 * t442;
-        let t888: f32 = t79 * t775;
-        let t889: f32 = t99 * t852;
-        let t890: f32 = t119 * t841;
-        let t891: f32 = t146 * t800;
-        let t892: f32 = t815 + t872;
-        let t893: f32 = t353 * t892;
-        let t894: f32 = t173 * t819;
-        let t895: f32 = t828 + t875;
-        let t896: f32 = t275 * t895;
-        let t897: f32 = t200 * t780;
-        let t898: f32 = t296 * t627;
-        let t899: f32 = t227 * t789;
-        let t900: f32 = t328 * t634;
-        let t901: f32 = t556 * t590;
-        let t902: f32 = t16 * t571;
-        let t903: f32 = t41 * t581;
-        let t904: f32 = t300 * t588;
-        let t905: f32 = t11 * t595;
-        let t906: f32 = t51 * t601;
-        let t907: f32 = t905 + t906;
-        let t908: f32 = t904 - t907;
-        let t909: f32 = wx * t908;
-        let t910: f32 = t0 * t588;
-        let t911: f32 = t3 * t601;
-        let t912: f32 = t4 * t595;
-        let t913: f32 = t911 - t912;
-        let t914: f32 = t1 * t913;
-        let t915: f32 = t910 - t914;
-        let t916: f32 = wy * t915;
-        let t917: f32 = t909 + t916;
-        let t918: f32 = wy * t917;
-        let t919: f32 = t588 * t590;
-        let t920: f32 = t16 * t595;
-        let t921: f32 = t41 * t601;
-        let t922: f32 = t919 + t920;
-        let t923: f32 = t921 + t922;
-        let t924: f32 = wx * t923;
-        let t925: f32 = wz * t915;
-        let t926: f32 = t924 - t925;
-        let t927: f32 = wz * t926;
-        let t928: f32 = t714 + t927;
-        let t929: f32 = t928 - t918;
-        let t930: f32 = yc * t929;
-        let t931: f32 = t845 + t867;
-        let t932: f32 = t253 * t931;
-        let t933: f32 = wx * t704;
-        let t934: f32 = wdz * t612;
-        let t935: f32 = t933 + t934;
-        let t936: f32 = t848 + t935;
-        let t937: f32 = t19 * t936;
-        let t938: f32 = t932 - t937;
-        let t939: f32 = t23 * t938;
-        let t940: f32 = t300 * t585;
-        let t941: f32 = t11 * t592;
-        let t942: f32 = t51 * t598;
-        let t943: f32 = t941 + t942;
-        let t944: f32 = t940 - t943;
-        let t945: f32 = wx * t944;
-        let t946: f32 = wy * t651;
-        let t947: f32 = t945 + t946;
-        let t948: f32 = wx * t947;
-        let t949: f32 = wdz * t651;
-        let t950: f32 = t948 + t949;
-        let t951: f32 = t794 + t950;
-        let t952: f32 = xc * t951;
-        let t953: f32 = t160 + t687;
-        let t954: f32 = t356 * t953;
-        let t955: f32 = t187 + t692;
-        let t956: f32 = t281 * t955;
-        let t957: f32 = t954 - t956;
-        let t958: f32 = t277 * t957;
-        let t959: f32 = t888 + t889;
-        let t960: f32 = t890 + t891;
-        let t961: f32 = t894 + t897;
-        let t962: f32 = t898 + t899;
-        let t963: f32 = t900 + t901;
-        let t964: f32 = t902 + t939;
-        let t965: f32 = t959 + t960;
-        let t966: f32 = t961 + t962;
-        let t967: f32 = t963 + t964;
-        let t968: f32 = t965 + t966;
-        let t969: f32 = t958 + t967;
-        let t970: f32 = t968 + t969;
-        let t971: f32 = t881 + t882;
-        let t972: f32 = t883 + t884;
-        let t973: f32 = t885 + t886;
-        let t974: f32 = t887 + t893;
-        let t975: f32 = t896 + t903;
-        let t976: f32 = t930 + t952;
-        let t977: f32 = t971 + t972;
-        let t978: f32 = t973 + t974;
-        let t979: f32 = t975 + t976;
-        let t980: f32 = t977 + t978;
-        let t981: f32 = t979 + t980;
-        let t982: f32 = t970 - t981;
-        let t983: f32 = t242 * t982;
-        let t984: f32 = t983 * 0.5;
-        let t985: f32 = t880 + t984;
-        let t986: f32 = t760 * t879;
-        let t987: f32 = t983 + t986;
-        let t988: f32 = t987 * 0.5;
-        let t989: f32 = -t988;
-        let t990: f32 = t72 * t260;
-        let t991: f32 = t88 * t775;
-        let t992: f32 = t56 * t380;
-        let t993: f32 = t46 * t852;
-        let t994: f32 = t112 * t266;
-        let t995: f32 = t128 * t841;
-        let t996: f32 = t139 * t360;
-        let t997: f32 = t155 * t800;
-        let t998: f32 = t166 * t287;
-        let t999: f32 = t182 * t819;
-        let t1000: f32 = t193 * t309;
-        let t1001: f32 = t209 * t780;
-        let t1002: f32 = t220 * t335;
-        (
-            t0,
-            t1,
-            t3,
-            t4,
-            t17,
-            t51,
-            t236,
-            t242,
-            t246,
-            t249,
-            t251,
-            t277,
-            t281,
-            t296,
-            t302,
-            t303,
-            t327,
-            t328,
-            t331,
-            t347,
-            t356,
-            t375,
-            t410,
-            t459,
-            t462,
-            t556,
-            t571,
-            t581,
-            t590,
-            t670,
-            t672,
-            t744,
-            t758,
-            t765,
-            t768,
-            t784,
-            t789,
-            t793,
-            t829,
-            t879,
-            t915,
-            t926,
-            t931,
-            t936,
-            t985,
-            t989,
-            t990,
-            t991,
-            t992,
-            t993,
-            t994,
-            t995,
-            t996,
-            t997,
-            t998,
-            t999,
-            t1000,
-            t1001,
-            t1002,
-        )
-    };
-    let (t1061, t1063, t1064) = {
-        let t1003: f32 = t236 * t789;
-        let t1004: f32 = t251 * t931;
-        let t1005: f32 = t246 + t327;
-        let t1006: f32 = t296 * t1005;
-        let t1007: f32 = t249 + t347;
-        let t1008: f32 = t328 * t1007;
-        let t1009: f32 = t3 * t581;
-        let t1010: f32 = t4 * t571;
-        let t1011: f32 = t1009 + t1010;
-        let t1012: f32 = t1 * t1011;
-        let t1013: f32 = t0 * t556;
-        let t1014: f32 = wx * t926;
-        let t1015: f32 = wdy * t915;
-        let t1016: f32 = t1014 + t1015;
-        let t1017: f32 = t375 - t1016;
-        let t1018: f32 = yc * t1017;
-        let t1019: f32 = wx * t672;
-        let t1020: f32 = wdz * t670;
-        let t1021: f32 = t1019 + t1020;
-        let t1022: f32 = t829 + t1021;
-        let t1023: f32 = zc * t1022;
-        let t1024: f32 = t765 + t784;
-        let t1025: f32 = t302 * t1024;
-        let t1026: f32 = t768 + t793;
-        let t1027: f32 = t331 * t1026;
-        let t1028: f32 = t1025 + t1027;
-        let t1029: f32 = t303 * t1028;
-        let t1030: f32 = t356 * t459;
-        let t1031: f32 = t281 * t462;
-        let t1032: f32 = t1030 - t1031;
-        let t1033: f32 = t277 * t1032;
-        let t1034: f32 = t17 * t936;
-        let t1035: f32 = t990 + t992;
-        let t1036: f32 = t994 + t996;
-        let t1037: f32 = t998 + t1000;
-        let t1038: f32 = t1002 + t1004;
-        let t1039: f32 = t1012 + t1013;
-        let t1040: f32 = t1018 + t1023;
-        let t1041: f32 = t1035 + t1036;
-        let t1042: f32 = t1037 + t1038;
-        let t1043: f32 = t1039 + t1040;
-        let t1044: f32 = t1041 + t1042;
-        let t1045: f32 = t1043 + t1044;
-        let t1046: f32 = t991 + t993;
-        let t1047: f32 = t995 + t997;
-        let t1048: f32 = t999 + t1001;
-        let t1049: f32 = t1003 + t1006;
-        let t1050: f32 = t1008 + t1029;
-        let t1051: f32 = t1033 + t1034;
-        let t1052: f32 = t1046 + t1047;
-        let t1053: f32 = t1048 + t1049;
-        let t1054: f32 = t1050 + t1051;
-        let t1055: f32 = t1052 + t1053;
-        let t1056: f32 = t1054 + t1055;
-        let t1057: f32 = t1045 - t1056;
-        let t1058: f32 = t242 * t1057;
-        let t1059: f32 = t1058 - t879;
-        let t1060: f32 = t410 + t1059;
-        let t1061: f32 = t1060 * 0.5;
-        let t1062: f32 = t410 - t1059;
-        let t1063: f32 = t1062 * 0.5;
-        let t1064: f32 = t1 * t4;
-        (t1061, t1063, t1064)
-    };
-    ([t758, t744, t985, t989, t1061, t1063], [t1064, t51, t590])
+    let t0: f32 = zc - half_spacing;
+    let t1: f32 = wdy * t0;
+    let t2: f32 = wz * vy;
+    let t3: f32 = wy * vz;
+    let t4: f32 = t2 - t3;
+    let t5: f32 = yc * wdz;
+    let t6: f32 = ax - gravity_x;
+    let t7: f32 = t5 + t6;
+    let t8: f32 = t4 + t7;
+    let t9: f32 = t8 - t1;
+    let t10: f32 = rod1_mass * t9;
+    let t11: f32 = 1.0 / half_spacing;
+    let (t12, t13): (f32, f32) = sin_cos(beta);
+    let t14: f32 = 1.0 / t13;
+    let (t15, t16): (f32, f32) = sin_cos(gamma);
+    let t17: f32 = 1.0 / t16;
+    let (t18, t19): (f32, f32) = sin_cos(alpha);
+    let t20: f32 = t15 * t19;
+    let t21: f32 = t12 * t18;
+    let t22: f32 = t16 * t21;
+    let t23: f32 = t20 + t22;
+    let t24: f32 = yc * t23;
+    let t25: f32 = t15 * t18;
+    let t26: f32 = t12 * t19;
+    let t27: f32 = t16 * t26;
+    let t28: f32 = t25 - t27;
+    let t29: f32 = t0 * t28;
+    let t30: f32 = t24 + t29;
+    let t31: f32 = t14 * t17;
+    let t32: f32 = t30 * t31;
+    let t33: f32 = xc + t32;
+    let t34: f32 = joint1_mz + joint2_mz;
+    let t35: f32 = joint3_mz + joint4_mz;
+    let t36: f32 = joint5_mz + joint6_mz;
+    let t37: f32 = platform_mz + t34;
+    let t38: f32 = t35 + t36;
+    let t39: f32 = t37 + t38;
+    let t40: f32 = t12 * t39;
+    let t41: f32 = joint5_mass + joint6_mass;
+    let t42: f32 = xc * t41;
+    let t43: f32 = joint1_mx + joint2_mx;
+    let t44: f32 = joint3_mx + joint4_mx;
+    let t45: f32 = joint5_mx + joint6_mx;
+    let t46: f32 = platform_mx + t43;
+    let t47: f32 = t44 + t45;
+    let t48: f32 = t46 + t47;
+    let t49: f32 = t16 * t48;
+    let t50: f32 = joint1_my + joint2_my;
+    let t51: f32 = joint3_my + joint4_my;
+    let t52: f32 = joint5_my + joint6_my;
+    let t53: f32 = platform_my + t50;
+    let t54: f32 = t51 + t52;
+    let t55: f32 = t53 + t54;
+    let t56: f32 = t15 * t55;
+    let t57: f32 = t49 - t56;
+    let t58: f32 = t13 * t57;
+    let t59: f32 = joint1_mass * t30;
+    let t60: f32 = zc + half_spacing;
+    let t61: f32 = t28 * t60;
+    let t62: f32 = t24 + t61;
+    let t63: f32 = joint2_mass * t62;
+    let t64: f32 = t59 + t63;
+    let t65: f32 = t31 * t64;
+    let t66: f32 = xc - half_spacing;
+    let t67: f32 = joint3_mass * t66;
+    let t68: f32 = xc + half_spacing;
+    let t69: f32 = joint4_mass * t68;
+    let t70: f32 = t67 + t69;
+    let t71: f32 = t40 + t58;
+    let t72: f32 = t65 + t71;
+    let t73: f32 = t42 + t70;
+    let t74: f32 = t72 - t73;
+    let t75: f32 = wz * t74;
+    let t76: f32 = t28 * t48;
+    let t77: f32 = t16 * t18;
+    let t78: f32 = t12 * t15;
+    let t79: f32 = t19 * t78;
+    let t80: f32 = t77 + t79;
+    let t81: f32 = t55 * t80;
+    let t82: f32 = t13 * t19;
+    let t83: f32 = t39 * t82;
+    let t84: f32 = joint3_mass + joint4_mass;
+    let t85: f32 = zc * t84;
+    let t86: f32 = 1.0 / t19;
+    let t87: f32 = xc * t12;
+    let t88: f32 = yc - half_spacing;
+    let t89: f32 = t13 * t18;
+    let t90: f32 = t88 * t89;
+    let t91: f32 = t87 - t90;
+    let t92: f32 = joint5_mass * t91;
+    let t93: f32 = yc + half_spacing;
+    let t94: f32 = t89 * t93;
+    let t95: f32 = t87 - t94;
+    let t96: f32 = joint6_mass * t95;
+    let t97: f32 = t92 + t96;
+    let t98: f32 = t14 * t86;
+    let t99: f32 = t97 * t98;
+    let t100: f32 = joint1_mass * t0;
+    let t101: f32 = joint2_mass * t60;
+    let t102: f32 = t100 + t101;
+    let t103: f32 = t85 + t102;
+    let t104: f32 = t76 + t81;
+    let t105: f32 = t83 + t99;
+    let t106: f32 = t104 + t105;
+    let t107: f32 = t103 - t106;
+    let t108: f32 = wx * t107;
+    let t109: f32 = t75 + t108;
+    let t110: f32 = wx * t109;
+    let t111: f32 = wdy * t74;
+    let t112: f32 = t110 - t111;
+    let t113: f32 = wy * t107;
+    let t114: f32 = t23 * t48;
+    let t115: f32 = t16 * t19;
+    let t116: f32 = t15 * t21;
+    let t117: f32 = t115 - t116;
+    let t118: f32 = t55 * t117;
+    let t119: f32 = t39 * t89;
+    let t120: f32 = joint1_mass + joint2_mass;
+    let t121: f32 = yc * t120;
+    let t122: f32 = 1.0 / t117;
+    let t123: f32 = t13 * t15;
+    let t124: f32 = t66 * t123;
+    let t125: f32 = zc * t80;
+    let t126: f32 = t124 - t125;
+    let t127: f32 = joint3_mass * t126;
+    let t128: f32 = t68 * t123;
+    let t129: f32 = t125 - t128;
+    let t130: f32 = joint4_mass * t129;
+    let t131: f32 = t127 - t130;
+    let t132: f32 = t122 * t131;
+    let t133: f32 = joint5_mass * t88;
+    let t134: f32 = joint6_mass * t93;
+    let t135: f32 = t133 + t134;
+    let t136: f32 = t119 + t121;
+    let t137: f32 = t132 + t135;
+    let t138: f32 = t136 + t137;
+    let t139: f32 = t114 + t118;
+    let t140: f32 = t138 - t139;
+    let t141: f32 = wz * t140;
+    let t142: f32 = t113 - t141;
+    let t143: f32 = wy * t142;
+    let t144: f32 = platform_mass + t120;
+    let t145: f32 = t41 + t84;
+    let t146: f32 = t144 + t145;
+    let t147: f32 = az - gravity_z;
+    let t148: f32 = t146 * t147;
+    let t149: f32 = wdx * t140;
+    let t150: f32 = t148 - t149;
+    let t151: f32 = t143 + t150;
+    let t152: f32 = t112 + t151;
+    let t153: f32 = t11 * t33;
+    let t154: f32 = t152 * t153;
+    let t155: f32 = wdx * t13;
+    let t156: f32 = t16 * t155;
+    let t157: f32 = wdy * t23;
+    let t158: f32 = wdz * t28;
+    let t159: f32 = t156 + t157;
+    let t160: f32 = t158 + t159;
+    let t161: f32 = platform_ixx + joint1_ixx;
+    let t162: f32 = joint2_ixx + joint3_ixx;
+    let t163: f32 = joint4_ixx + joint5_ixx;
+    let t164: f32 = t161 + t162;
+    let t165: f32 = joint6_ixx + t163;
+    let t166: f32 = t164 + t165;
+    let t167: f32 = t160 * t166;
+    let t168: f32 = platform_ixy + joint1_ixy;
+    let t169: f32 = joint2_ixy + joint3_ixy;
+    let t170: f32 = joint4_ixy + joint5_ixy;
+    let t171: f32 = t168 + t169;
+    let t172: f32 = joint6_ixy + t170;
+    let t173: f32 = t171 + t172;
+    let t174: f32 = wdx * t15;
+    let t175: f32 = t13 * t174;
+    let t176: f32 = wdy * t117;
+    let t177: f32 = wdz * t80;
+    let t178: f32 = t176 + t177;
+    let t179: f32 = t175 - t178;
+    let t180: f32 = t173 * t179;
+    let t181: f32 = platform_ixz + joint1_ixz;
+    let t182: f32 = joint2_ixz + joint3_ixz;
+    let t183: f32 = joint4_ixz + joint5_ixz;
+    let t184: f32 = t181 + t182;
+    let t185: f32 = joint6_ixz + t183;
+    let t186: f32 = t184 + t185;
+    let t187: f32 = wdx * t12;
+    let t188: f32 = wdy * t18;
+    let t189: f32 = wdz * t19;
+    let t190: f32 = t188 - t189;
+    let t191: f32 = t13 * t190;
+    let t192: f32 = t187 - t191;
+    let t193: f32 = t186 * t192;
+    let t194: f32 = wx * t15;
+    let t195: f32 = t13 * t194;
+    let t196: f32 = wy * t117;
+    let t197: f32 = wz * t80;
+    let t198: f32 = t196 + t197;
+    let t199: f32 = t195 - t198;
+    let t200: f32 = wx * t13;
+    let t201: f32 = t16 * t200;
+    let t202: f32 = wy * t23;
+    let t203: f32 = wz * t28;
+    let t204: f32 = t201 + t202;
+    let t205: f32 = t203 + t204;
+    let t206: f32 = t186 * t205;
+    let t207: f32 = platform_iyz + joint1_iyz;
+    let t208: f32 = joint2_iyz + joint3_iyz;
+    let t209: f32 = joint4_iyz + joint5_iyz;
+    let t210: f32 = t207 + t208;
+    let t211: f32 = joint6_iyz + t209;
+    let t212: f32 = t210 + t211;
+    let t213: f32 = t199 * t212;
+    let t214: f32 = platform_izz + joint1_izz;
+    let t215: f32 = joint2_izz + joint3_izz;
+    let t216: f32 = joint4_izz + joint5_izz;
+    let t217: f32 = t214 + t215;
+    let t218: f32 = joint6_izz + t216;
+    let t219: f32 = t217 + t218;
+    let t220: f32 = wx * t12;
+    let t221: f32 = wy * t18;
+    let t222: f32 = wz * t19;
+    let t223: f32 = t221 - t222;
+    let t224: f32 = t13 * t223;
+    let t225: f32 = t220 - t224;
+    let t226: f32 = t219 * t225;
+    let t227: f32 = t206 + t226;
+    let t228: f32 = t227 - t213;
+    let t229: f32 = t199 * t228;
+    let t230: f32 = t173 * t205;
+    let t231: f32 = platform_iyy + joint1_iyy;
+    let t232: f32 = joint2_iyy + joint3_iyy;
+    let t233: f32 = joint4_iyy + joint5_iyy;
+    let t234: f32 = t231 + t232;
+    let t235: f32 = joint6_iyy + t233;
+    let t236: f32 = t234 + t235;
+    let t237: f32 = t199 * t236;
+    let t238: f32 = t212 * t225;
+    let t239: f32 = t230 + t238;
+    let t240: f32 = t239 - t237;
+    let t241: f32 = t225 * t240;
+    let t242: f32 = t167 + t193;
+    let t243: f32 = t180 + t229;
+    let t244: f32 = t241 + t243;
+    let t245: f32 = t242 - t244;
+    let t246: f32 = t23 * t245;
+    let t247: f32 = t160 * t173;
+    let t248: f32 = t179 * t236;
+    let t249: f32 = t192 * t212;
+    let t250: f32 = t166 * t205;
+    let t251: f32 = t173 * t199;
+    let t252: f32 = t186 * t225;
+    let t253: f32 = t250 + t252;
+    let t254: f32 = t253 - t251;
+    let t255: f32 = t225 * t254;
+    let t256: f32 = t205 * t228;
+    let t257: f32 = t247 + t249;
+    let t258: f32 = t255 + t257;
+    let t259: f32 = t248 + t256;
+    let t260: f32 = t258 - t259;
+    let t261: f32 = t117 * t260;
+    let t262: f32 = t160 * t186;
+    let t263: f32 = t179 * t212;
+    let t264: f32 = t192 * t219;
+    let t265: f32 = t205 * t240;
+    let t266: f32 = t199 * t254;
+    let t267: f32 = t262 + t264;
+    let t268: f32 = t265 + t266;
+    let t269: f32 = t267 + t268;
+    let t270: f32 = t269 - t263;
+    let t271: f32 = t89 * t270;
+    let t272: f32 = joint3_mx * t23;
+    let t273: f32 = joint3_my * t117;
+    let t274: f32 = joint3_mz * t18;
+    let t275: f32 = t13 * t274;
+    let t276: f32 = t272 + t273;
+    let t277: f32 = t276 - t275;
+    let t278: f32 = t66 * t277;
+    let t279: f32 = joint4_mx * t23;
+    let t280: f32 = joint4_my * t117;
+    let t281: f32 = joint4_mz * t18;
+    let t282: f32 = t13 * t281;
+    let t283: f32 = t279 + t280;
+    let t284: f32 = t283 - t282;
+    let t285: f32 = t68 * t284;
+    let t286: f32 = joint5_mz * t12;
+    let t287: f32 = joint5_mx * t16;
+    let t288: f32 = joint5_my * t15;
+    let t289: f32 = t287 - t288;
+    let t290: f32 = t13 * t289;
+    let t291: f32 = t286 + t290;
+    let t292: f32 = t88 * t291;
+    let t293: f32 = joint6_mz * t12;
+    let t294: f32 = joint6_mx * t16;
+    let t295: f32 = joint6_my * t15;
+    let t296: f32 = t294 - t295;
+    let t297: f32 = t13 * t296;
+    let t298: f32 = t293 + t297;
+    let t299: f32 = t93 * t298;
+    let t300: f32 = t36 * t89;
+    let t301: f32 = t23 * t45;
+    let t302: f32 = t52 * t117;
+    let t303: f32 = t135 + t300;
+    let t304: f32 = t301 + t302;
+    let t305: f32 = t303 - t304;
+    let t306: f32 = xc * t305;
+    let t307: f32 = t12 * t34;
+    let t308: f32 = t15 * t50;
+    let t309: f32 = t16 * t43;
+    let t310: f32 = t308 - t309;
+    let t311: f32 = t13 * t310;
+    let t312: f32 = t65 + t307;
+    let t313: f32 = t312 - t311;
+    let t314: f32 = yc * t313;
+    let t315: f32 = joint3_mz * t12;
+    let t316: f32 = joint3_mx * t16;
+    let t317: f32 = joint3_my * t15;
+    let t318: f32 = t316 - t317;
+    let t319: f32 = t13 * t318;
+    let t320: f32 = t315 + t319;
+    let t321: f32 = t320 - t67;
+    let t322: f32 = t126 * t321;
+    let t323: f32 = joint4_mz * t12;
+    let t324: f32 = joint4_mx * t16;
+    let t325: f32 = joint4_my * t15;
+    let t326: f32 = t324 - t325;
+    let t327: f32 = t13 * t326;
+    let t328: f32 = t323 + t327;
+    let t329: f32 = t328 - t69;
+    let t330: f32 = t129 * t329;
+    let t331: f32 = t322 - t330;
+    let t332: f32 = t122 * t331;
+    let t333: f32 = joint1_mx * t23;
+    let t334: f32 = joint1_my * t117;
+    let t335: f32 = joint1_mz * t18;
+    let t336: f32 = t13 * t335;
+    let t337: f32 = t333 + t334;
+    let t338: f32 = t337 - t336;
+    let t339: f32 = t30 * t338;
+    let t340: f32 = joint2_mx * t23;
+    let t341: f32 = joint2_my * t117;
+    let t342: f32 = joint2_mz * t18;
+    let t343: f32 = t13 * t342;
+    let t344: f32 = t340 + t341;
+    let t345: f32 = t344 - t343;
+    let t346: f32 = t62 * t345;
+    let t347: f32 = t339 + t346;
+    let t348: f32 = t31 * t347;
+    let t349: f32 = t278 + t285;
+    let t350: f32 = t292 + t299;
+    let t351: f32 = t314 + t332;
+    let t352: f32 = t349 + t350;
+    let t353: f32 = t351 + t352;
+    let t354: f32 = t306 + t348;
+    let t355: f32 = t353 - t354;
+    let t356: f32 = wdx * t355;
+    let t357: f32 = t0 * t0;
+    let t358: f32 = t14 * t14;
+    let t359: f32 = t17 * t17;
+    let t360: f32 = t30 * t30;
+    let t361: f32 = t358 * t359;
+    let t362: f32 = t360 * t361;
+    let t363: f32 = t357 + t362;
+    let t364: f32 = joint1_mass * t363;
+    let t365: f32 = t60 * t60;
+    let t366: f32 = t62 * t62;
+    let t367: f32 = t361 * t366;
+    let t368: f32 = t365 + t367;
+    let t369: f32 = joint2_mass * t368;
+    let t370: f32 = zc * zc;
+    let t371: f32 = t66 * t66;
+    let t372: f32 = t370 + t371;
+    let t373: f32 = joint3_mass * t372;
+    let t374: f32 = t68 * t68;
+    let t375: f32 = t370 + t374;
+    let t376: f32 = joint4_mass * t375;
+    let t377: f32 = t86 * t86;
+    let t378: f32 = t91 * t91;
+    let t379: f32 = t358 * t377;
+    let t380: f32 = t378 * t379;
+    let t381: f32 = xc * xc;
+    let t382: f32 = t380 + t381;
+    let t383: f32 = joint5_mass * t382;
+    let t384: f32 = t95 * t95;
+    let t385: f32 = t379 * t384;
+    let t386: f32 = t381 + t385;
+    let t387: f32 = joint6_mass * t386;
+    let t388: f32 = joint5_mx * t28;
+    let t389: f32 = joint5_my * t80;
+    let t390: f32 = joint5_mz * t19;
+    let t391: f32 = t13 * t390;
+    let t392: f32 = t388 + t389;
+    let t393: f32 = t391 + t392;
+    let t394: f32 = t91 * t98;
+    let t395: f32 = t393 * t394;
+    let t396: f32 = joint6_mx * t28;
+    let t397: f32 = joint6_my * t80;
+    let t398: f32 = joint6_mz * t19;
+    let t399: f32 = t13 * t398;
+    let t400: f32 = t396 + t397;
+    let t401: f32 = t399 + t400;
+    let t402: f32 = t95 * t98;
+    let t403: f32 = t401 * t402;
+    let t404: f32 = t395 + t403;
+    let t405: f32 = joint1_mz * t19;
+    let t406: f32 = t13 * t405;
+    let t407: f32 = joint1_mx * t28;
+    let t408: f32 = joint1_my * t80;
+    let t409: f32 = t407 + t408;
+    let t410: f32 = t406 + t409;
+    let t411: f32 = t0 * t410;
+    let t412: f32 = joint2_mz * t19;
+    let t413: f32 = t13 * t412;
+    let t414: f32 = joint2_mx * t28;
+    let t415: f32 = joint2_my * t80;
+    let t416: f32 = t414 + t415;
+    let t417: f32 = t413 + t416;
+    let t418: f32 = t60 * t417;
+    let t419: f32 = t411 + t418;
+    let t420: f32 = joint3_mx * t28;
+    let t421: f32 = joint3_my * t80;
+    let t422: f32 = joint3_mz * t19;
+    let t423: f32 = t13 * t422;
+    let t424: f32 = t420 + t421;
+    let t425: f32 = t423 + t424;
+    let t426: f32 = zc * t425;
+    let t427: f32 = joint4_mx * t28;
+    let t428: f32 = joint4_my * t80;
+    let t429: f32 = joint4_mz * t19;
+    let t430: f32 = t13 * t429;
+    let t431: f32 = t427 + t428;
+    let t432: f32 = t430 + t431;
+    let t433: f32 = zc * t432;
+    let t434: f32 = t426 + t433;
+    let t435: f32 = t419 + t434;
+    let t436: f32 = t404 - t435;
+    let t437: f32 = joint1_mz * t12;
+    let t438: f32 = joint1_mx * t16;
+    let t439: f32 = joint1_my * t15;
+    let t440: f32 = t438 - t439;
+    let t441: f32 = t13 * t440;
+    let t442: f32 = t437 + t441;
+    let t443: f32 = t32 * t442;
+    let t444: f32 = joint2_mz * t12;
+    let t445: f32 = joint2_mx * t16;
+    let t446: f32 = joint2_my * t15;
+    let t447: f32 = t445 - t446;
+    let t448: f32 = t13 * t447;
+    let t449: f32 = t444 + t448;
+    let t450: f32 = t31 * t62;
+    let t451: f32 = t449 * t450;
+    let t452: f32 = t443 + t451;
+    let t453: f32 = t66 * t320;
+    let t454: f32 = t68 * t328;
+    let t455: f32 = t453 + t454;
+    let t456: f32 = t452 - t455;
+    let t457: f32 = xc * t291;
+    let t458: f32 = xc * t298;
+    let t459: f32 = t457 + t458;
+    let t460: f32 = t456 - t459;
+    let t461: f32 = t436 + t460;
+    let t462: f32 = t461 * 2.0;
+    let t463: f32 = t364 + t369;
+    let t464: f32 = t373 + t376;
+    let t465: f32 = t383 + t387;
+    let t466: f32 = t463 + t464;
+    let t467: f32 = t462 + t465;
+    let t468: f32 = t466 + t467;
+    let t469: f32 = wdy * t468;
+    let t470: f32 = t0 * t338;
+    let t471: f32 = t60 * t345;
+    let t472: f32 = t88 * t393;
+    let t473: f32 = t93 * t401;
+    let t474: f32 = t34 * t82;
+    let t475: f32 = t28 * t43;
+    let t476: f32 = t50 * t80;
+    let t477: f32 = t474 + t475;
+    let t478: f32 = t476 + t477;
+    let t479: f32 = t102 - t478;
+    let t480: f32 = yc * t479;
+    let t481: f32 = t35 * t89;
+    let t482: f32 = t23 * t44;
+    let t483: f32 = t51 * t117;
+    let t484: f32 = t132 + t481;
+    let t485: f32 = t482 + t483;
+    let t486: f32 = t484 - t485;
+    let t487: f32 = zc * t486;
+    let t488: f32 = joint5_mx * t23;
+    let t489: f32 = joint5_my * t117;
+    let t490: f32 = t488 + t489;
+    let t491: f32 = joint5_mz * t18;
+    let t492: f32 = t13 * t491;
+    let t493: f32 = t490 - t492;
+    let t494: f32 = t493 - t133;
+    let t495: f32 = t91 * t494;
+    let t496: f32 = joint6_mx * t23;
+    let t497: f32 = joint6_my * t117;
+    let t498: f32 = t496 + t497;
+    let t499: f32 = joint6_mz * t18;
+    let t500: f32 = t13 * t499;
+    let t501: f32 = t498 - t500;
+    let t502: f32 = t501 - t134;
+    let t503: f32 = t95 * t502;
+    let t504: f32 = t495 + t503;
+    let t505: f32 = t98 * t504;
+    let t506: f32 = t126 * t425;
+    let t507: f32 = t129 * t432;
+    let t508: f32 = t506 - t507;
+    let t509: f32 = t122 * t508;
+    let t510: f32 = t480 + t487;
+    let t511: f32 = t505 + t510;
+    let t512: f32 = t470 + t471;
+    let t513: f32 = t472 + t473;
+    let t514: f32 = t512 + t513;
+    let t515: f32 = t509 + t514;
+    let t516: f32 = t511 - t515;
+    let t517: f32 = wdz * t516;
+    let t518: f32 = yc * yc;
+    let t519: f32 = t357 + t518;
+    let t520: f32 = joint1_mass * t519;
+    let t521: f32 = t365 + t518;
+    let t522: f32 = joint2_mass * t521;
+    let t523: f32 = t122 * t122;
+    let t524: f32 = t126 * t126;
+    let t525: f32 = t523 * t524;
+    let t526: f32 = t370 + t525;
+    let t527: f32 = joint3_mass * t526;
+    let t528: f32 = t129 * t129;
+    let t529: f32 = t523 * t528;
+    let t530: f32 = t370 + t529;
+    let t531: f32 = joint4_mass * t530;
+    let t532: f32 = t88 * t88;
+    let t533: f32 = t380 + t532;
+    let t534: f32 = joint5_mass * t533;
+    let t535: f32 = t93 * t93;
+    let t536: f32 = t385 + t535;
+    let t537: f32 = joint6_mass * t536;
+    let t538: f32 = t122 * t129;
+    let t539: f32 = t284 * t538;
+    let t540: f32 = t122 * t126;
+    let t541: f32 = t277 * t540;
+    let t542: f32 = t539 - t541;
+    let t543: f32 = yc * t338;
+    let t544: f32 = yc * t345;
+    let t545: f32 = t543 + t544;
+    let t546: f32 = t542 - t545;
+    let t547: f32 = t88 * t493;
+    let t548: f32 = t93 * t501;
+    let t549: f32 = t547 + t548;
+    let t550: f32 = t546 - t549;
+    let t551: f32 = t436 + t550;
+    let t552: f32 = t551 * 2.0;
+    let t553: f32 = t520 + t522;
+    let t554: f32 = t527 + t531;
+    let t555: f32 = t534 + t537;
+    let t556: f32 = t553 + t554;
+    let t557: f32 = t552 + t555;
+    let t558: f32 = t556 + t557;
+    let t559: f32 = wx * t558;
+    let t560: f32 = wy * t355;
+    let t561: f32 = t66 * t425;
+    let t562: f32 = t68 * t432;
+    let t563: f32 = t0 * t442;
+    let t564: f32 = t60 * t449;
+    let t565: f32 = t91 * t291;
+    let t566: f32 = t95 * t298;
+    let t567: f32 = xc * t97;
+    let t568: f32 = t565 + t566;
+    let t569: f32 = t568 - t567;
+    let t570: f32 = t86 * t569;
+    let t571: f32 = t410 - t100;
+    let t572: f32 = t30 * t571;
+    let t573: f32 = t417 - t101;
+    let t574: f32 = t62 * t573;
+    let t575: f32 = t572 + t574;
+    let t576: f32 = t17 * t575;
+    let t577: f32 = t570 + t576;
+    let t578: f32 = t14 * t577;
+    let t579: f32 = t12 * t35;
+    let t580: f32 = t15 * t51;
+    let t581: f32 = t16 * t44;
+    let t582: f32 = t580 - t581;
+    let t583: f32 = t13 * t582;
+    let t584: f32 = t70 + t583;
+    let t585: f32 = t584 - t579;
+    let t586: f32 = zc * t585;
+    let t587: f32 = t36 * t82;
+    let t588: f32 = t28 * t45;
+    let t589: f32 = t52 * t80;
+    let t590: f32 = t587 + t588;
+    let t591: f32 = t589 + t590;
+    let t592: f32 = xc * t591;
+    let t593: f32 = t561 + t562;
+    let t594: f32 = t563 + t564;
+    let t595: f32 = t593 + t594;
+    let t596: f32 = t592 + t595;
+    let t597: f32 = t578 + t586;
+    let t598: f32 = t596 - t597;
+    let t599: f32 = wz * t598;
+    let t600: f32 = t559 + t560;
+    let t601: f32 = t599 + t600;
+    let t602: f32 = wz * t601;
+    let t603: f32 = wx * t598;
+    let t604: f32 = wy * t516;
+    let t605: f32 = t362 + t518;
+    let t606: f32 = joint1_mass * t605;
+    let t607: f32 = t367 + t518;
+    let t608: f32 = joint2_mass * t607;
+    let t609: f32 = t371 + t525;
+    let t610: f32 = joint3_mass * t609;
+    let t611: f32 = t374 + t529;
+    let t612: f32 = joint4_mass * t611;
+    let t613: f32 = t381 + t532;
+    let t614: f32 = joint5_mass * t613;
+    let t615: f32 = t381 + t535;
+    let t616: f32 = joint6_mass * t615;
+    let t617: f32 = t460 + t550;
+    let t618: f32 = t617 * 2.0;
+    let t619: f32 = t606 + t608;
+    let t620: f32 = t610 + t612;
+    let t621: f32 = t614 + t616;
+    let t622: f32 = t619 + t620;
+    let t623: f32 = t618 + t621;
+    let t624: f32 = t622 + t623;
+    let t625: f32 = wz * t624;
+    let t626: f32 = t603 + t625;
+    let t627: f32 = t626 - t604;
+    let t628: f32 = wx * t627;
+    let t629: f32 = t6 * t107;
+    let t630: f32 = t74 * t147;
+    let t631: f32 = wdz * t140;
+    let t632: f32 = wx * t140;
+    let t633: f32 = wy * t74;
+    let t634: f32 = t632 + t633;
+    let t635: f32 = wy * t634;
+    let t636: f32 = t631 - t635;
+    let t637: f32 = t6 * t146;
+    let t638: f32 = wdy * t107;
+    let t639: f32 = t637 - t638;
+    let t640: f32 = wz * t109;
+    let t641: f32 = t639 - t640;
+    let t642: f32 = t636 + t641;
+    let t643: f32 = t0 * t642;
+    let t644: f32 = t32 * t152;
+    let t645: f32 = t246 + t261;
+    let t646: f32 = t356 + t469;
+    let t647: f32 = t602 + t643;
+    let t648: f32 = t645 + t646;
+    let t649: f32 = t644 + t647;
+    let t650: f32 = t648 + t649;
+    let t651: f32 = t271 + t517;
+    let t652: f32 = t628 + t629;
+    let t653: f32 = t651 + t652;
+    let t654: f32 = t630 + t653;
+    let t655: f32 = t650 - t654;
+    let t656: f32 = t11 * t655;
+    let t657: f32 = t154 - t656;
+    let t658: f32 = t657 * 0.5;
+    let t659: f32 = t10 + t642;
+    let t660: f32 = t659 - t658;
+    let t661: f32 = wdy * t60;
+    let t662: f32 = t8 - t661;
+    let t663: f32 = rod2_mass * t662;
+    let t664: f32 = t658 + t663;
+    let t665: f32 = wdz * t66;
+    let t666: f32 = wx * vz;
+    let t667: f32 = wz * vx;
+    let t668: f32 = t666 - t667;
+    let t669: f32 = zc * wdx;
+    let t670: f32 = ay - gravity_y;
+    let t671: f32 = t669 + t670;
+    let t672: f32 = t668 + t671;
+    let t673: f32 = t672 - t665;
+    let t674: f32 = rod3_mass * t673;
+    let t675: f32 = t32 + t66;
+    let t676: f32 = t11 * t675;
+    let t677: f32 = t676 * 0.5;
+    let t678: f32 = t677 + 1.0;
+    let t679: f32 = wdx * t107;
+    let t680: f32 = wz * t142;
+    let t681: f32 = t679 - t680;
+    let t682: f32 = wx * t634;
+    let t683: f32 = t146 * t670;
+    let t684: f32 = wdz * t74;
+    let t685: f32 = t683 + t684;
+    let t686: f32 = t682 + t685;
+    let t687: f32 = t681 + t686;
+    let t688: f32 = t678 * t687;
+    let t689: f32 = t28 * t245;
+    let t690: f32 = t80 * t260;
+    let t691: f32 = t82 * t270;
+    let t692: f32 = wdx * t598;
+    let t693: f32 = wdy * t516;
+    let t694: f32 = wdz * t624;
+    let t695: f32 = wx * t355;
+    let t696: f32 = wy * t468;
+    let t697: f32 = wz * t516;
+    let t698: f32 = t695 + t696;
+    let t699: f32 = t698 - t697;
+    let t700: f32 = wx * t699;
+    let t701: f32 = wy * t601;
+    let t702: f32 = t74 * t670;
+    let t703: f32 = t6 * t140;
+    let t704: f32 = yc * t642;
+    let t705: f32 = t32 * t687;
+    let t706: f32 = t689 + t690;
+    let t707: f32 = t691 + t692;
+    let t708: f32 = t694 + t700;
+    let t709: f32 = t702 + t703;
+    let t710: f32 = t706 + t707;
+    let t711: f32 = t708 + t709;
+    let t712: f32 = t710 + t711;
+    let t713: f32 = t693 + t701;
+    let t714: f32 = t704 + t705;
+    let t715: f32 = t713 + t714;
+    let t716: f32 = t712 - t715;
+    let t717: f32 = t11 * t716;
+    let t718: f32 = t717 * 0.5;
+    let t719: f32 = t674 + t688;
+    let t720: f32 = t718 + t719;
+    let t721: f32 = wdz * t68;
+    let t722: f32 = t672 - t721;
+    let t723: f32 = rod4_mass * t722;
+    let t724: f32 = t676 * t687;
+    let t725: f32 = t717 + t724;
+    let t726: f32 = t725 * 0.5;
+    let t727: f32 = t723 - t726;
+    let t728: f32 = wdx * t88;
+    let t729: f32 = wy * vx;
+    let t730: f32 = wx * vy;
+    let t731: f32 = t729 - t730;
+    let t732: f32 = xc * wdy;
+    let t733: f32 = t147 + t732;
+    let t734: f32 = t731 + t733;
+    let t735: f32 = t734 - t728;
+    let t736: f32 = rod5_mass * t735;
+    let t737: f32 = wdx * t558;
+    let t738: f32 = t12 * t270;
+    let t739: f32 = wdy * t355;
+    let t740: f32 = wdz * t598;
+    let t741: f32 = wy * t627;
+    let t742: f32 = wz * t699;
+    let t743: f32 = t140 * t147;
+    let t744: f32 = t107 * t670;
+    let t745: f32 = t0 * t687;
+    let t746: f32 = yc * t152;
+    let t747: f32 = t16 * t245;
+    let t748: f32 = t15 * t260;
+    let t749: f32 = t747 - t748;
+    let t750: f32 = t13 * t749;
+    let t751: f32 = t737 + t738;
+    let t752: f32 = t739 + t740;
+    let t753: f32 = t741 + t744;
+    let t754: f32 = t746 + t750;
+    let t755: f32 = t751 + t752;
+    let t756: f32 = t753 + t754;
+    let t757: f32 = t755 + t756;
+    let t758: f32 = t742 + t743;
+    let t759: f32 = t745 + t758;
+    let t760: f32 = t757 - t759;
+    let t761: f32 = t11 * t760;
+    let t762: f32 = t761 - t687;
+    let t763: f32 = t152 + t762;
+    let t764: f32 = t763 * 0.5;
+    let t765: f32 = t736 + t764;
+    let t766: f32 = wdx * t93;
+    let t767: f32 = t734 - t766;
+    let t768: f32 = rod6_mass * t767;
+    let t769: f32 = t152 - t762;
+    let t770: f32 = t769 * 0.5;
+    let t771: f32 = t768 + t770;
+    let t772: f32 = t13 * t16;
+    ([t660, t664, t720, t727, t765, t771], [t772, t117, t82])
 }
 /// Forward kinematics in closed form: the platform's `R` and `C` from the actuator positions.
 ///
@@ -13331,7 +11620,7 @@ pub fn platform_state_params(
 /// - `gamma`: `Γ` (N), segment order; positive pushes the rod along `+n_i`
 /// - `singular`: `[1 + abc, r11, r22, r33]`: the forward singularity term (the actuator positions belong to a pose of the workspace only where it is positive; the other results are meaningless where it is near zero or negative) and the divisors of eq 16
 ///
-/// Operations: 1053 mul, 4 div, 734 add, 17 neg, 3 sqrt (chapter convention: 1057m + 734a).
+/// Operations: 607 mul, 4 div, 509 add, 12 neg, 3 sqrt (chapter convention: 611m + 509a).
 #[inline]
 pub fn inverse_dynamics_joint_params(
     q: &[f32; 6],
@@ -13359,2475 +11648,71 @@ pub fn inverse_dynamics_joint_params(
     joint6_iyy, joint6_iyz, joint6_izz] = *params;
     let (
         t0,
-        t11,
-        t12,
-        t44,
-        t67,
-        t80,
-        t85,
-        t98,
-        t118,
-        t125,
-        t128,
+        t107,
+        t109,
+        t122,
+        t124,
         t130,
         t132,
         t133,
-        t136,
-        t147,
-        t162,
-        t176,
-        t177,
-        t181,
+        t140,
+        t144,
+        t148,
+        t163,
+        t169,
         t184,
-        t185,
-        t189,
-        t194,
-        t195,
-        t199,
-        t200,
-        t203,
-        t207,
-        t213,
-        t214,
-        t218,
-        t229,
-        t230,
-        t242,
-        t244,
-        t245,
-        t246,
-        t250,
-        t251,
-        t252,
-        t253,
-        t254,
-        t261,
-        t267,
-        t268,
-        t279,
-        t280,
-        t291,
-        t292,
-        t304,
-        t306,
-        t307,
-        t311,
-        t318,
-        t323,
-        t325,
-        t328,
-        t337,
-        t350,
-        t362,
-        t364,
-        t366,
-        t369,
-        t376,
-        t380,
-        t381,
-        t382,
-        t389,
-        t403,
-        t408,
-        t412,
-        t419,
-        t426,
-        t437,
-        t451,
-        t464,
-        t480,
-        t482,
-        t485,
-        t487,
-        t488,
-        t491,
-        t507,
-        t520,
-        t522,
-        t536,
-        t538,
-        t541,
-        t544,
-        t549,
-        t566,
-        t579,
-        t581,
-        t595,
-        t597,
-        t599,
-        t602,
-        t605,
-        t621,
-        t633,
-        t635,
-        t638,
-        t645,
-        t648,
-        t662,
-        t670,
-        t674,
-        t676,
-        t677,
-        t678,
-        t679,
-        t680,
-        t685,
-        t686,
-        t687,
-        t700,
-        t704,
-        t706,
-        t708,
-        t715,
-        t716,
-        t717,
-        t718,
-        t719,
-        t724,
-        t725,
-        t726,
-        t727,
-        t728,
-        t735,
-        t736,
-        t737,
-        t741,
-        t749,
-        t750,
-        t755,
-        t756,
-        t757,
-        t761,
-        t769,
-        t770,
-        t771,
-        t772,
-        t774,
-        t775,
-        t778,
-        t779,
-        t784,
-        t790,
-        t791,
-        t799,
-        t806,
-        t807,
-        t808,
-        t811,
-        t820,
-        t827,
-        t839,
-        t845,
-        t846,
-        t849,
-        t861,
-        t871,
-        t877,
-        t878,
-        t886,
-        t891,
-        t896,
-        t898,
-        t912,
-        t917,
-        t918,
-        t921,
-        t932,
-        t936,
-        t937,
-        t938,
-        t939,
-        t941,
-        t943,
-        t957,
-        t958,
-        t961,
-        t963,
-        t967,
-        t968,
-        t973,
-        t976,
-        t978,
-        t982,
-        t983,
-        t984,
-        t986,
-        t987,
-        t988,
-        t992,
-        t996,
-        t997,
-        t999,
-    ) = {
-        let t0: f32 = 1.0 / half_spacing;
-        let t1: f32 = q1 - q2;
-        let t2: f32 = q1 + q2;
-        let t3: f32 = t2 * 0.5;
-        let t4: f32 = t0 * t0;
-        let t5: f32 = t0 * t4;
-        let t6: f32 = q3 - q4;
-        let t7: f32 = q5 - q6;
-        let t8: f32 = t1 * t5;
-        let t9: f32 = t6 * t8;
-        let t10: f32 = t7 * t9;
-        let t11: f32 = t10 * 0.125;
-        let t12: f32 = t11 - 1.0;
-        let t13: f32 = t12 * t12;
-        let t14: f32 = t0 * t1;
-        let t15: f32 = t7 * t14;
-        let t16: f32 = t1 * t1;
-        let t17: f32 = t4 * t16;
-        let t18: f32 = t17 * 0.25;
-        let t19: f32 = t18 + 1.0;
-        let t20: f32 = t6 * t19;
-        let t21: f32 = t15 * 0.25;
-        let t22: f32 = t20 * 0.5;
-        let t23: f32 = t21 + t22;
-        let t24: f32 = t23 * t23;
-        let t25: f32 = t13 * t16;
-        let t26: f32 = t25 * 0.25;
-        let t27: f32 = t24 + t26;
-        let t28: f32 = t4 * t27;
-        let t29: f32 = t13 + t28;
-        let t30: f32 = 1.0 / t29;
-        let t31: f32 = t3 * t14;
-        let t32: f32 = t13 * t31;
-        let t33: f32 = t30 * t32;
-        let t34: f32 = q3 + q4;
-        let t35: f32 = t34 * 0.5;
-        let t36: f32 = t6 * t14;
-        let t37: f32 = t6 * t6;
-        let t38: f32 = t4 * t37;
-        let t39: f32 = t38 * 0.25;
-        let t40: f32 = t39 + 1.0;
-        let t41: f32 = t7 * t40;
-        let t42: f32 = t36 * 0.25;
-        let t43: f32 = t41 * 0.5;
-        let t44: f32 = t42 + t43;
-        let t45: f32 = t13 * t37;
-        let t46: f32 = t44 * t44;
-        let t47: f32 = t45 * 0.25;
-        let t48: f32 = t46 + t47;
-        let t49: f32 = t4 * t48;
-        let t50: f32 = t13 + t49;
-        let t51: f32 = 1.0 / t50;
-        let t52: f32 = t0 * t35;
-        let t53: f32 = t12 * t52;
-        let t54: f32 = t44 * t53;
-        let t55: f32 = t51 * t54;
-        let t56: f32 = q5 + q6;
-        let t57: f32 = t56 * 0.5;
-        let t58: f32 = t0 * t6;
-        let t59: f32 = t7 * t58;
-        let t60: f32 = t7 * t7;
-        let t61: f32 = t4 * t60;
-        let t62: f32 = t61 * 0.25;
-        let t63: f32 = t62 + 1.0;
-        let t64: f32 = t1 * t63;
-        let t65: f32 = t59 * 0.25;
-        let t66: f32 = t64 * 0.5;
-        let t67: f32 = t65 + t66;
-        let t68: f32 = t67 * t67;
-        let t69: f32 = t13 * t60;
-        let t70: f32 = t69 * 0.25;
-        let t71: f32 = t68 + t70;
-        let t72: f32 = t4 * t71;
-        let t73: f32 = t13 + t72;
-        let t74: f32 = 1.0 / t73;
-        let t75: f32 = t13 * t57;
-        let t76: f32 = t74 * t75;
-        let t77: f32 = t55 - t76;
-        let t78: f32 = t33 * 0.5;
-        let t79: f32 = half_spacing + t77;
-        let t80: f32 = t78 + t79;
-        let t81: f32 = t0 * t80;
-        let t82: f32 = t81 * 0.5;
-        let t83: f32 = t82 - 1.0;
-        let t84: f32 = qd1 - qd2;
-        let t85: f32 = t84 * 0.5;
-        let t86: f32 = t0 * t7;
-        let t87: f32 = t57 * t86;
-        let t88: f32 = t13 * t87;
-        let t89: f32 = t74 * t88;
-        let t90: f32 = t0 * t3;
-        let t91: f32 = t12 * t90;
-        let t92: f32 = t23 * t91;
-        let t93: f32 = t30 * t92;
-        let t94: f32 = t13 * t35;
-        let t95: f32 = t51 * t94;
-        let t96: f32 = t93 - t95;
-        let t97: f32 = t89 * 0.5;
-        let t98: f32 = t96 + t97;
-        let t99: f32 = t0 * t98;
-        let t100: f32 = t99 * 0.5;
-        let t101: f32 = t100 - 0.5;
-        let t102: f32 = qd5 * t101;
-        let t103: f32 = t100 + 0.5;
-        let t104: f32 = qd6 * t103;
-        let t105: f32 = q1 * t0;
-        let t106: f32 = t35 * t58;
-        let t107: f32 = t13 * t106;
-        let t108: f32 = t51 * t107;
-        let t109: f32 = t0 * t57;
-        let t110: f32 = t12 * t109;
-        let t111: f32 = t67 * t110;
-        let t112: f32 = t74 * t111;
-        let t113: f32 = t3 * t13;
-        let t114: f32 = t30 * t113;
-        let t115: f32 = t112 - t114;
-        let t116: f32 = t108 * 0.5;
-        let t117: f32 = q1 + t115;
-        let t118: f32 = t116 + t117;
-        let t119: f32 = t0 * t118;
-        let t120: f32 = t105 - t119;
-        let t121: f32 = t120 * 0.5;
-        let t122: f32 = t84 * t121;
-        let t123: f32 = t102 + t122;
-        let t124: f32 = t123 - t104;
-        let t125: f32 = t0 * t85;
-        let t126: f32 = t124 * t125;
-        let t127: f32 = qd3 - qd4;
-        let t128: f32 = t127 * 0.5;
-        let t129: f32 = q1 - half_spacing;
-        let t130: f32 = t0 * t129;
-        let t131: f32 = t130 - t119;
-        let t132: f32 = t131 * 0.5;
-        let t133: f32 = t132 + 1.0;
-        let t134: f32 = qd3 * t133;
-        let t135: f32 = qd4 * t132;
-        let t136: f32 = t82 - 0.5;
-        let t137: f32 = qd5 - qd6;
-        let t138: f32 = t136 * t137;
-        let t139: f32 = t134 + t138;
-        let t140: f32 = t139 - t135;
-        let t141: f32 = t0 * t128;
-        let t142: f32 = t140 * t141;
-        let t143: f32 = t126 + t142;
-        let t144: f32 = qdd1 - t143;
-        let t145: f32 = t83 * t144;
-        let t146: f32 = gravity_x + t145;
-        let t147: f32 = t137 * 0.5;
-        let t148: f32 = t0 * t124;
-        let t149: f32 = t147 * t148;
-        let t150: f32 = qd1 * t83;
-        let t151: f32 = t12 * t57;
-        let t152: f32 = t74 * t151;
-        let t153: f32 = t1 * t3;
-        let t154: f32 = t12 * t153;
-        let t155: f32 = t30 * t154;
-        let t156: f32 = t35 * t44;
-        let t157: f32 = t51 * t156;
-        let t158: f32 = t155 * 0.5;
-        let t159: f32 = t157 + t158;
-        let t160: f32 = t0 * t159;
-        let t161: f32 = t152 - t160;
-        let t162: f32 = t12 * t161;
-        let t163: f32 = half_spacing - t162;
-        let t164: f32 = qd2 * t163;
-        let t165: f32 = t12 * t35;
-        let t166: f32 = t51 * t165;
-        let t167: f32 = t3 * t23;
-        let t168: f32 = t30 * t167;
-        let t169: f32 = t7 * t57;
-        let t170: f32 = t12 * t169;
-        let t171: f32 = t74 * t170;
-        let t172: f32 = t171 * 0.5;
-        let t173: f32 = t168 + t172;
-        let t174: f32 = t0 * t173;
-        let t175: f32 = t166 - t174;
-        let t176: f32 = t12 * t175;
-        let t177: f32 = -t176;
-        let t178: f32 = t128 * t177;
-        let t179: f32 = t164 * 0.5;
-        let t180: f32 = t178 + t179;
-        let t181: f32 = t0 * t180;
-        let t182: f32 = t150 - t181;
-        let t183: f32 = t141 * t182;
-        let t184: f32 = t149 - t183;
-        let t185: f32 = qdd4 + t184;
-        let t186: f32 = t99 * t185;
-        let t187: f32 = qdd2 - t143;
-        let t188: f32 = t81 * t187;
-        let t189: f32 = qdd3 + t184;
-        let t190: f32 = t99 * t189;
-        let t191: f32 = t188 + t190;
-        let t192: f32 = t186 - t191;
-        let t193: f32 = t192 * 0.5;
-        let t194: f32 = t146 + t193;
-        let t195: f32 = platform_mass * t194;
-        let t196: f32 = t0 * t144;
-        let t197: f32 = t0 * t187;
-        let t198: f32 = t196 - t197;
-        let t199: f32 = t198 * 0.5;
-        let t200: f32 = sqrt(t74);
-        let t201: f32 = platform_mz * t12;
-        let t202: f32 = t200 * t201;
-        let t203: f32 = sqrt(t30);
-        let t204: f32 = platform_mx * t1;
-        let t205: f32 = t12 * t204;
-        let t206: f32 = t203 * t205;
-        let t207: f32 = sqrt(t51);
-        let t208: f32 = platform_my * t44;
-        let t209: f32 = t207 * t208;
-        let t210: f32 = t206 * 0.5;
-        let t211: f32 = t209 + t210;
-        let t212: f32 = t0 * t211;
-        let t213: f32 = t212 - t202;
-        let t214: f32 = t199 * t213;
-        let t215: f32 = t0 * t189;
-        let t216: f32 = t0 * t185;
-        let t217: f32 = t215 - t216;
-        let t218: f32 = t217 * 0.5;
-        let t219: f32 = platform_my * t12;
-        let t220: f32 = t207 * t219;
-        let t221: f32 = platform_mx * t23;
-        let t222: f32 = t203 * t221;
-        let t223: f32 = platform_mz * t7;
-        let t224: f32 = t12 * t223;
-        let t225: f32 = t200 * t224;
-        let t226: f32 = t225 * 0.5;
-        let t227: f32 = t222 + t226;
-        let t228: f32 = t0 * t227;
-        let t229: f32 = t228 - t220;
-        let t230: f32 = t218 * t229;
-        let t231: f32 = t147 * t229;
-        let t232: f32 = platform_mx * t12;
-        let t233: f32 = t203 * t232;
-        let t234: f32 = platform_my * t6;
-        let t235: f32 = t12 * t234;
-        let t236: f32 = t207 * t235;
-        let t237: f32 = platform_mz * t67;
-        let t238: f32 = t200 * t237;
-        let t239: f32 = t236 * 0.5;
-        let t240: f32 = t238 + t239;
-        let t241: f32 = t0 * t240;
-        let t242: f32 = t233 - t241;
-        let t243: f32 = t85 * t242;
-        let t244: f32 = t231 + t243;
-        let t245: f32 = t4 * t85;
-        let t246: f32 = t244 * t245;
-        let t247: f32 = t128 * t242;
-        let t248: f32 = t147 * t213;
-        let t249: f32 = t247 + t248;
-        let t250: f32 = t4 * t128;
-        let t251: f32 = t249 * t250;
-        let t252: f32 = t128 * t128;
-        let t253: f32 = t4 * t252;
-        let t254: f32 = t85 * t85;
-        let t255: f32 = t4 * t254;
-        let t256: f32 = t253 + t255;
-        let t257: f32 = t118 * t256;
-        let t258: f32 = t147 * t250;
-        let t259: f32 = t199 + t258;
-        let t260: f32 = t80 * t259;
-        let t261: f32 = t147 * t245;
-        let t262: f32 = t218 - t261;
-        let t263: f32 = t98 * t262;
-        let t264: f32 = t146 + t263;
-        let t265: f32 = t257 + t264;
-        let t266: f32 = t193 + t265;
-        let t267: f32 = t266 - t260;
-        let t268: f32 = joint1_mass * t267;
-        let t269: f32 = joint1_mz * t12;
-        let t270: f32 = t200 * t269;
-        let t271: f32 = joint1_mx * t1;
-        let t272: f32 = t12 * t271;
-        let t273: f32 = t203 * t272;
-        let t274: f32 = joint1_my * t44;
-        let t275: f32 = t207 * t274;
-        let t276: f32 = t273 * 0.5;
-        let t277: f32 = t275 + t276;
-        let t278: f32 = t0 * t277;
-        let t279: f32 = t278 - t270;
-        let t280: f32 = t199 * t279;
-        let t281: f32 = joint1_my * t12;
-        let t282: f32 = t207 * t281;
-        let t283: f32 = joint1_mx * t23;
-        let t284: f32 = t203 * t283;
-        let t285: f32 = joint1_mz * t7;
-        let t286: f32 = t12 * t285;
-        let t287: f32 = t200 * t286;
-        let t288: f32 = t287 * 0.5;
-        let t289: f32 = t284 + t288;
-        let t290: f32 = t0 * t289;
-        let t291: f32 = t290 - t282;
-        let t292: f32 = t218 * t291;
-        let t293: f32 = t147 * t291;
-        let t294: f32 = joint1_mx * t12;
-        let t295: f32 = t203 * t294;
-        let t296: f32 = joint1_my * t6;
-        let t297: f32 = t12 * t296;
-        let t298: f32 = t207 * t297;
-        let t299: f32 = joint1_mz * t67;
-        let t300: f32 = t200 * t299;
-        let t301: f32 = t298 * 0.5;
-        let t302: f32 = t300 + t301;
-        let t303: f32 = t0 * t302;
-        let t304: f32 = t295 - t303;
-        let t305: f32 = t85 * t304;
-        let t306: f32 = t293 + t305;
-        let t307: f32 = t245 * t306;
-        let t308: f32 = t128 * t304;
-        let t309: f32 = t147 * t279;
-        let t310: f32 = t308 + t309;
-        let t311: f32 = t250 * t310;
-        let t312: f32 = t80 * t199;
-        let t313: f32 = t98 * t218;
-        let t314: f32 = t146 + t313;
-        let t315: f32 = t314 - t143;
-        let t316: f32 = t193 + t315;
-        let t317: f32 = t316 - t312;
-        let t318: f32 = rod1_mass * t317;
-        let t319: f32 = t0 * t140;
-        let t320: f32 = t147 * t319;
-        let t321: f32 = t125 * t182;
-        let t322: f32 = t320 + t321;
-        let t323: f32 = qdd5 + t322;
-        let t324: f32 = t0 * t323;
-        let t325: f32 = qdd6 + t322;
-        let t326: f32 = t0 * t325;
-        let t327: f32 = t324 - t326;
-        let t328: f32 = t327 * 0.5;
-        let t329: f32 = t229 * t328;
-        let t330: f32 = t101 * t323;
-        let t331: f32 = t121 * t187;
-        let t332: f32 = t330 - t331;
-        let t333: f32 = t121 * t144;
-        let t334: f32 = gravity_z + t333;
-        let t335: f32 = t103 * t325;
-        let t336: f32 = t334 - t335;
-        let t337: f32 = t332 + t336;
-        let t338: f32 = platform_mass * t337;
-        let t339: f32 = t329 - t338;
-        let t340: f32 = joint6_mz * t12;
-        let t341: f32 = t200 * t340;
-        let t342: f32 = joint6_mx * t1;
-        let t343: f32 = t12 * t342;
-        let t344: f32 = t203 * t343;
-        let t345: f32 = joint6_my * t44;
-        let t346: f32 = t207 * t345;
-        let t347: f32 = t344 * 0.5;
-        let t348: f32 = t346 + t347;
-        let t349: f32 = t0 * t348;
-        let t350: f32 = t349 - t341;
-        let t351: f32 = t85 * t350;
-        let t352: f32 = joint6_my * t12;
-        let t353: f32 = t207 * t352;
-        let t354: f32 = joint6_mx * t23;
-        let t355: f32 = t203 * t354;
-        let t356: f32 = joint6_mz * t7;
-        let t357: f32 = t12 * t356;
-        let t358: f32 = t200 * t357;
-        let t359: f32 = t358 * 0.5;
-        let t360: f32 = t355 + t359;
-        let t361: f32 = t0 * t360;
-        let t362: f32 = t361 - t353;
-        let t363: f32 = t128 * t362;
-        let t364: f32 = t351 - t363;
-        let t365: f32 = t245 * t364;
-        let t366: f32 = half_spacing - t98;
-        let t367: f32 = t328 * t366;
-        let t368: f32 = t115 + t116;
-        let t369: f32 = -t368;
-        let t370: f32 = t199 * t369;
-        let t371: f32 = t337 - t370;
-        let t372: f32 = t322 + t371;
-        let t373: f32 = t367 + t372;
-        let t374: f32 = rod6_mass * t373;
-        let t375: f32 = t365 + t374;
-        let t376: f32 = t128 * t245;
-        let t377: f32 = t328 + t376;
-        let t378: f32 = t366 * t377;
-        let t379: f32 = q6 + t77;
-        let t380: f32 = t78 + t379;
-        let t381: f32 = t147 * t147;
-        let t382: f32 = t4 * t381;
-        let t383: f32 = t255 + t382;
-        let t384: f32 = t380 * t383;
-        let t385: f32 = t199 - t258;
-        let t386: f32 = t369 * t385;
-        let t387: f32 = t337 - t386;
-        let t388: f32 = t378 + t384;
-        let t389: f32 = t387 + t388;
-        let t390: f32 = joint6_mass * t389;
-        let t391: f32 = t328 * t362;
-        let t392: f32 = t390 - t391;
-        let t393: f32 = joint6_mx * t12;
-        let t394: f32 = t203 * t393;
-        let t395: f32 = joint6_my * t6;
-        let t396: f32 = t12 * t395;
-        let t397: f32 = t207 * t396;
-        let t398: f32 = joint6_mz * t67;
-        let t399: f32 = t200 * t398;
-        let t400: f32 = t397 * 0.5;
-        let t401: f32 = t399 + t400;
-        let t402: f32 = t0 * t401;
-        let t403: f32 = t394 - t402;
-        let t404: f32 = t199 * t403;
-        let t405: f32 = t128 * t403;
-        let t406: f32 = t147 * t350;
-        let t407: f32 = t405 + t406;
-        let t408: f32 = t4 * t147;
-        let t409: f32 = t407 * t408;
-        let t410: f32 = t404 - t409;
-        let t411: f32 = t392 - t410;
-        let t412: f32 = t375 + t411;
-        let t413: f32 = t339 - t412;
-        let t414: f32 = t199 * t242;
-        let t415: f32 = t249 * t408;
-        let t416: f32 = t414 - t415;
-        let t417: f32 = t85 * t213;
-        let t418: f32 = t128 * t229;
-        let t419: f32 = t417 - t418;
-        let t420: f32 = t245 * t419;
-        let t421: f32 = t118 * t385;
-        let t422: f32 = t80 * t383;
-        let t423: f32 = t98 * t377;
-        let t424: f32 = t337 - t423;
-        let t425: f32 = t421 + t422;
-        let t426: f32 = t424 + t425;
-        let t427: f32 = joint1_mass * t426;
-        let t428: f32 = t420 + t427;
-        let t429: f32 = t416 - t428;
-        let t430: f32 = t413 + t429;
-        let t431: f32 = t291 * t328;
-        let t432: f32 = t199 * t304;
-        let t433: f32 = t431 + t432;
-        let t434: f32 = t310 * t408;
-        let t435: f32 = t85 * t279;
-        let t436: f32 = t128 * t291;
-        let t437: f32 = t435 - t436;
-        let t438: f32 = t245 * t437;
-        let t439: f32 = t434 + t438;
-        let t440: f32 = t433 - t439;
-        let t441: f32 = joint2_mx * t12;
-        let t442: f32 = t203 * t441;
-        let t443: f32 = joint2_my * t6;
-        let t444: f32 = t12 * t443;
-        let t445: f32 = t207 * t444;
-        let t446: f32 = joint2_mz * t67;
-        let t447: f32 = t200 * t446;
-        let t448: f32 = t445 * 0.5;
-        let t449: f32 = t447 + t448;
-        let t450: f32 = t0 * t449;
-        let t451: f32 = t442 - t450;
-        let t452: f32 = t199 * t451;
-        let t453: f32 = t128 * t451;
-        let t454: f32 = joint2_mz * t12;
-        let t455: f32 = t200 * t454;
-        let t456: f32 = joint2_mx * t1;
-        let t457: f32 = t12 * t456;
-        let t458: f32 = t203 * t457;
-        let t459: f32 = joint2_my * t44;
-        let t460: f32 = t207 * t459;
-        let t461: f32 = t458 * 0.5;
-        let t462: f32 = t460 + t461;
-        let t463: f32 = t0 * t462;
-        let t464: f32 = t463 - t455;
-        let t465: f32 = t147 * t464;
-        let t466: f32 = t453 + t465;
-        let t467: f32 = t408 * t466;
-        let t468: f32 = t452 - t467;
-        let t469: f32 = t85 * t464;
-        let t470: f32 = joint2_my * t12;
-        let t471: f32 = t207 * t470;
-        let t472: f32 = joint2_mx * t23;
-        let t473: f32 = t203 * t472;
-        let t474: f32 = joint2_mz * t7;
-        let t475: f32 = t12 * t474;
-        let t476: f32 = t200 * t475;
-        let t477: f32 = t476 * 0.5;
-        let t478: f32 = t473 + t477;
-        let t479: f32 = t0 * t478;
-        let t480: f32 = t479 - t471;
-        let t481: f32 = t128 * t480;
-        let t482: f32 = t469 - t481;
-        let t483: f32 = t245 * t482;
-        let t484: f32 = q2 + t115;
-        let t485: f32 = t116 + t484;
-        let t486: f32 = t385 * t485;
-        let t487: f32 = t77 + t78;
-        let t488: f32 = half_spacing - t487;
-        let t489: f32 = t383 * t488;
-        let t490: f32 = t424 + t486;
-        let t491: f32 = t490 - t489;
-        let t492: f32 = joint2_mass * t491;
-        let t493: f32 = t328 * t480;
-        let t494: f32 = t492 - t493;
-        let t495: f32 = t483 + t494;
-        let t496: f32 = t468 - t495;
-        let t497: f32 = joint3_mx * t12;
-        let t498: f32 = t203 * t497;
-        let t499: f32 = joint3_my * t6;
-        let t500: f32 = t12 * t499;
-        let t501: f32 = t207 * t500;
-        let t502: f32 = joint3_mz * t67;
-        let t503: f32 = t200 * t502;
-        let t504: f32 = t501 * 0.5;
-        let t505: f32 = t503 + t504;
-        let t506: f32 = t0 * t505;
-        let t507: f32 = t498 - t506;
-        let t508: f32 = t199 * t507;
-        let t509: f32 = t128 * t507;
-        let t510: f32 = joint3_mz * t12;
-        let t511: f32 = t200 * t510;
-        let t512: f32 = joint3_mx * t1;
-        let t513: f32 = t12 * t512;
-        let t514: f32 = t203 * t513;
-        let t515: f32 = joint3_my * t44;
-        let t516: f32 = t207 * t515;
-        let t517: f32 = t514 * 0.5;
-        let t518: f32 = t516 + t517;
-        let t519: f32 = t0 * t518;
-        let t520: f32 = t519 - t511;
-        let t521: f32 = t147 * t520;
-        let t522: f32 = t509 + t521;
-        let t523: f32 = t408 * t522;
-        let t524: f32 = t508 - t523;
-        let t525: f32 = t85 * t520;
-        let t526: f32 = joint3_my * t12;
-        let t527: f32 = t207 * t526;
-        let t528: f32 = joint3_mx * t23;
-        let t529: f32 = t203 * t528;
-        let t530: f32 = joint3_mz * t7;
-        let t531: f32 = t12 * t530;
-        let t532: f32 = t200 * t531;
-        let t533: f32 = t532 * 0.5;
-        let t534: f32 = t529 + t533;
-        let t535: f32 = t0 * t534;
-        let t536: f32 = t535 - t527;
-        let t537: f32 = t128 * t536;
-        let t538: f32 = t525 - t537;
-        let t539: f32 = t245 * t538;
-        let t540: f32 = half_spacing + t115;
-        let t541: f32 = t116 + t540;
-        let t542: f32 = t385 * t541;
-        let t543: f32 = q3 + t96;
-        let t544: f32 = t97 + t543;
-        let t545: f32 = t377 * t544;
-        let t546: f32 = t383 * t487;
-        let t547: f32 = t337 + t546;
-        let t548: f32 = t542 + t547;
-        let t549: f32 = t548 - t545;
-        let t550: f32 = joint3_mass * t549;
-        let t551: f32 = t328 * t536;
-        let t552: f32 = t550 - t551;
-        let t553: f32 = t539 + t552;
-        let t554: f32 = t524 - t553;
-        let t555: f32 = t496 + t554;
-        let t556: f32 = joint4_mx * t12;
-        let t557: f32 = t203 * t556;
-        let t558: f32 = joint4_my * t6;
-        let t559: f32 = t12 * t558;
-        let t560: f32 = t207 * t559;
-        let t561: f32 = joint4_mz * t67;
-        let t562: f32 = t200 * t561;
-        let t563: f32 = t560 * 0.5;
-        let t564: f32 = t562 + t563;
-        let t565: f32 = t0 * t564;
-        let t566: f32 = t557 - t565;
-        let t567: f32 = t199 * t566;
-        let t568: f32 = t128 * t566;
-        let t569: f32 = joint4_mz * t12;
-        let t570: f32 = t200 * t569;
-        let t571: f32 = joint4_mx * t1;
-        let t572: f32 = t12 * t571;
-        let t573: f32 = t203 * t572;
-        let t574: f32 = joint4_my * t44;
-        let t575: f32 = t207 * t574;
-        let t576: f32 = t573 * 0.5;
-        let t577: f32 = t575 + t576;
-        let t578: f32 = t0 * t577;
-        let t579: f32 = t578 - t570;
-        let t580: f32 = t147 * t579;
-        let t581: f32 = t568 + t580;
-        let t582: f32 = t408 * t581;
-        let t583: f32 = t567 - t582;
-        let t584: f32 = t85 * t579;
-        let t585: f32 = joint4_my * t12;
-        let t586: f32 = t207 * t585;
-        let t587: f32 = joint4_mx * t23;
-        let t588: f32 = t203 * t587;
-        let t589: f32 = joint4_mz * t7;
-        let t590: f32 = t12 * t589;
-        let t591: f32 = t200 * t590;
-        let t592: f32 = t591 * 0.5;
-        let t593: f32 = t588 + t592;
-        let t594: f32 = t0 * t593;
-        let t595: f32 = t594 - t586;
-        let t596: f32 = t128 * t595;
-        let t597: f32 = t584 - t596;
-        let t598: f32 = t245 * t597;
-        let t599: f32 = half_spacing - t368;
-        let t600: f32 = t385 * t599;
-        let t601: f32 = q4 + t96;
-        let t602: f32 = t97 + t601;
-        let t603: f32 = t377 * t602;
-        let t604: f32 = t600 + t603;
-        let t605: f32 = t547 - t604;
-        let t606: f32 = joint4_mass * t605;
-        let t607: f32 = t328 * t595;
-        let t608: f32 = t606 - t607;
-        let t609: f32 = t598 + t608;
-        let t610: f32 = t583 - t609;
-        let t611: f32 = joint5_mz * t12;
-        let t612: f32 = t200 * t611;
-        let t613: f32 = joint5_mx * t1;
-        let t614: f32 = t12 * t613;
-        let t615: f32 = t203 * t614;
-        let t616: f32 = joint5_my * t44;
-        let t617: f32 = t207 * t616;
-        let t618: f32 = t615 * 0.5;
-        let t619: f32 = t617 + t618;
-        let t620: f32 = t0 * t619;
-        let t621: f32 = t620 - t612;
-        let t622: f32 = t85 * t621;
-        let t623: f32 = joint5_my * t12;
-        let t624: f32 = t207 * t623;
-        let t625: f32 = joint5_mx * t23;
-        let t626: f32 = t203 * t625;
-        let t627: f32 = joint5_mz * t7;
-        let t628: f32 = t12 * t627;
-        let t629: f32 = t200 * t628;
-        let t630: f32 = t629 * 0.5;
-        let t631: f32 = t626 + t630;
-        let t632: f32 = t0 * t631;
-        let t633: f32 = t632 - t624;
-        let t634: f32 = t128 * t633;
-        let t635: f32 = t622 - t634;
-        let t636: f32 = t245 * t635;
-        let t637: f32 = half_spacing + t96;
-        let t638: f32 = t97 + t637;
-        let t639: f32 = t328 * t638;
-        let t640: f32 = t372 - t639;
-        let t641: f32 = rod5_mass * t640;
-        let t642: f32 = t636 + t641;
-        let t643: f32 = t377 * t638;
-        let t644: f32 = q5 + t77;
-        let t645: f32 = t78 + t644;
-        let t646: f32 = t383 * t645;
-        let t647: f32 = t387 + t646;
-        let t648: f32 = t647 - t643;
-        let t649: f32 = joint5_mass * t648;
-        let t650: f32 = t328 * t633;
-        let t651: f32 = t649 - t650;
-        let t652: f32 = joint5_mx * t12;
-        let t653: f32 = t203 * t652;
-        let t654: f32 = joint5_my * t6;
-        let t655: f32 = t12 * t654;
-        let t656: f32 = t207 * t655;
-        let t657: f32 = joint5_mz * t67;
-        let t658: f32 = t200 * t657;
-        let t659: f32 = t656 * 0.5;
-        let t660: f32 = t658 + t659;
-        let t661: f32 = t0 * t660;
-        let t662: f32 = t653 - t661;
-        let t663: f32 = t199 * t662;
-        let t664: f32 = t128 * t662;
-        let t665: f32 = t147 * t621;
-        let t666: f32 = t664 + t665;
-        let t667: f32 = t408 * t666;
-        let t668: f32 = t663 - t667;
-        let t669: f32 = t651 - t668;
-        let t670: f32 = t642 + t669;
-        let t671: f32 = t610 - t670;
-        let t672: f32 = t555 + t671;
-        let t673: f32 = t440 + t672;
-        let t674: f32 = t430 + t673;
-        let t675: f32 = -t674;
-        let t676: f32 = t105 * t675;
-        let t677: f32 = t194 * t213;
-        let t678: f32 = t242 * t337;
-        let t679: f32 = t267 * t279;
-        let t680: f32 = t304 * t426;
-        let t681: f32 = t256 * t485;
-        let t682: f32 = t259 * t488;
-        let t683: f32 = t681 + t682;
-        let t684: f32 = t193 + t264;
-        let t685: f32 = t683 + t684;
-        let t686: f32 = t464 * t685;
-        let t687: f32 = t451 * t491;
-        let t688: f32 = t250 * t466;
-        let t689: f32 = t199 * t488;
-        let t690: f32 = t315 + t689;
-        let t691: f32 = t193 + t690;
-        let t692: f32 = rod2_mass * t691;
-        let t693: f32 = t688 - t692;
-        let t694: f32 = joint2_mass * t685;
-        let t695: f32 = t199 * t464;
-        let t696: f32 = t694 - t695;
-        let t697: f32 = t218 * t480;
-        let t698: f32 = t147 * t480;
-        let t699: f32 = t85 * t451;
-        let t700: f32 = t698 + t699;
-        let t701: f32 = t245 * t700;
-        let t702: f32 = t697 - t701;
-        let t703: f32 = t696 + t702;
-        let t704: f32 = t693 - t703;
-        let t705: f32 = -t704;
-        let t706: f32 = t488 * t705;
-        let t707: f32 = -t496;
-        let t708: f32 = t485 * t707;
-        let t709: f32 = t256 * t541;
-        let t710: f32 = t262 * t544;
-        let t711: f32 = t259 * t487;
-        let t712: f32 = t146 - t711;
-        let t713: f32 = t709 + t710;
-        let t714: f32 = t193 + t712;
-        let t715: f32 = t713 + t714;
-        let t716: f32 = t520 * t715;
-        let t717: f32 = t507 * t549;
-        let t718: f32 = -t554;
-        let t719: f32 = t541 * t718;
-        let t720: f32 = t256 * t599;
-        let t721: f32 = t262 * t602;
-        let t722: f32 = t712 + t721;
-        let t723: f32 = t193 + t722;
-        let t724: f32 = t723 - t720;
-        let t725: f32 = t579 * t724;
-        let t726: f32 = t566 * t605;
-        let t727: f32 = -t610;
-        let t728: f32 = t599 * t727;
-        let t729: f32 = t262 * t638;
-        let t730: f32 = t259 * t645;
-        let t731: f32 = t256 * t369;
-        let t732: f32 = t146 - t731;
-        let t733: f32 = t729 + t732;
-        let t734: f32 = t193 + t733;
-        let t735: f32 = t734 - t730;
-        let t736: f32 = t621 * t735;
-        let t737: f32 = t648 * t662;
-        let t738: f32 = t218 * t633;
-        let t739: f32 = t147 * t633;
-        let t740: f32 = t85 * t662;
-        let t741: f32 = t739 + t740;
-        let t742: f32 = t245 * t741;
-        let t743: f32 = t738 - t742;
-        let t744: f32 = t250 * t666;
-        let t745: f32 = joint5_mass * t735;
-        let t746: f32 = t199 * t621;
-        let t747: f32 = t745 - t746;
-        let t748: f32 = t744 - t747;
-        let t749: f32 = t743 - t748;
-        let t750: f32 = t645 * t749;
-        let t751: f32 = t262 * t366;
-        let t752: f32 = t259 * t380;
-        let t753: f32 = t193 + t732;
-        let t754: f32 = t751 + t752;
-        let t755: f32 = t753 - t754;
-        let t756: f32 = t350 * t755;
-        let t757: f32 = t389 * t403;
-        let t758: f32 = t218 * t362;
-        let t759: f32 = t147 * t362;
-        let t760: f32 = t85 * t403;
-        let t761: f32 = t759 + t760;
-        let t762: f32 = t245 * t761;
-        let t763: f32 = t758 - t762;
-        let t764: f32 = t250 * t407;
-        let t765: f32 = joint6_mass * t755;
-        let t766: f32 = t199 * t350;
-        let t767: f32 = t765 - t766;
-        let t768: f32 = t764 - t767;
-        let t769: f32 = t763 - t768;
-        let t770: f32 = t380 * t769;
-        let t771: f32 = qdd5 - qdd6;
-        let t772: f32 = t771 * 0.5;
-        let t773: f32 = t12 * t772;
-        let t774: f32 = qdd1 - qdd2;
-        let t775: f32 = t774 * 0.5;
-        let t776: f32 = t23 * t775;
-        let t777: f32 = qdd3 - qdd4;
-        let t778: f32 = t777 * 0.5;
-        let t779: f32 = t1 * t12;
-        let t780: f32 = t778 * t779;
-        let t781: f32 = t780 * 0.5;
-        let t782: f32 = t776 + t781;
-        let t783: f32 = t0 * t782;
-        let t784: f32 = t773 - t783;
-        let t785: f32 = platform_ixz + joint1_ixz;
-        let t786: f32 = joint6_ixz + t785;
-        let t787: f32 = joint2_ixz + joint3_ixz;
-        let t788: f32 = joint4_ixz + joint5_ixz;
-        let t789: f32 = t787 + t788;
-        let t790: f32 = t786 + t789;
-        let t791: f32 = t790 * 0.5;
-        let t792: f32 = t784 * t791;
-        let t793: f32 = t12 * t147;
-        let t794: f32 = t23 * t85;
-        let t795: f32 = t128 * t779;
-        let t796: f32 = t795 * 0.5;
-        let t797: f32 = t794 + t796;
-        let t798: f32 = t0 * t797;
-        let t799: f32 = t793 - t798;
-        let t800: f32 = platform_ixy + joint1_ixy;
-        let t801: f32 = joint6_ixy + t800;
-        let t802: f32 = joint2_ixy + joint3_ixy;
-        let t803: f32 = joint4_ixy + joint5_ixy;
-        let t804: f32 = t802 + t803;
-        let t805: f32 = t801 + t804;
-        let t806: f32 = t805 * 0.5;
-        let t807: f32 = t0 * t203;
-        let t808: f32 = t799 * t807;
-        let t809: f32 = t806 * t808;
-        let t810: f32 = t12 * t85;
-        let t811: f32 = t6 * t12;
-        let t812: f32 = t147 * t811;
-        let t813: f32 = t44 * t128;
-        let t814: f32 = t812 * 0.5;
-        let t815: f32 = t813 + t814;
-        let t816: f32 = t0 * t815;
-        let t817: f32 = t810 - t816;
-        let t818: f32 = t0 * t207;
-        let t819: f32 = t817 * t818;
-        let t820: f32 = -t819;
-        let t821: f32 = platform_iyy + joint1_iyy;
-        let t822: f32 = joint6_iyy + t821;
-        let t823: f32 = joint2_iyy + joint3_iyy;
-        let t824: f32 = joint4_iyy + joint5_iyy;
-        let t825: f32 = t823 + t824;
-        let t826: f32 = t822 + t825;
-        let t827: f32 = t826 * 0.5;
-        let t828: f32 = t820 * t827;
-        let t829: f32 = t12 * t128;
-        let t830: f32 = t67 * t147;
-        let t831: f32 = t7 * t12;
-        let t832: f32 = t85 * t831;
-        let t833: f32 = t832 * 0.5;
-        let t834: f32 = t830 + t833;
-        let t835: f32 = t0 * t834;
-        let t836: f32 = t829 - t835;
-        let t837: f32 = t0 * t200;
-        let t838: f32 = t836 * t837;
-        let t839: f32 = -t838;
-        let t840: f32 = platform_iyz + joint1_iyz;
-        let t841: f32 = joint6_iyz + t840;
-        let t842: f32 = joint2_iyz + joint3_iyz;
-        let t843: f32 = joint4_iyz + joint5_iyz;
-        let t844: f32 = t842 + t843;
-        let t845: f32 = t841 + t844;
-        let t846: f32 = t845 * 0.5;
-        let t847: f32 = t839 * t846;
-        let t848: f32 = t828 + t847;
-        let t849: f32 = t809 - t848;
-        let t850: f32 = t799 * t849;
-        let t851: f32 = t792 - t850;
-        let t852: f32 = t807 * t851;
-        let t853: f32 = t12 * t775;
-        let t854: f32 = t772 * t811;
-        let t855: f32 = t44 * t778;
-        let t856: f32 = t854 * 0.5;
-        let t857: f32 = t855 + t856;
-        let t858: f32 = t0 * t857;
-        let t859: f32 = t853 - t858;
-        let t860: f32 = t818 * t859;
-        let t861: f32 = -t860;
-        let t862: f32 = t846 * t861;
-        let t863: f32 = t12 * t778;
-        let t864: f32 = t67 * t772;
-        let t865: f32 = t775 * t831;
-        let t866: f32 = t865 * 0.5;
-        let t867: f32 = t864 + t866;
-        let t868: f32 = t0 * t867;
-        let t869: f32 = t863 - t868;
-        let t870: f32 = t837 * t869;
-        let t871: f32 = -t870;
-        let t872: f32 = platform_izz + joint1_izz;
-        let t873: f32 = joint6_izz + t872;
-        let t874: f32 = joint2_izz + joint3_izz;
-        let t875: f32 = joint4_izz + joint5_izz;
-        let t876: f32 = t874 + t875;
-        let t877: f32 = t873 + t876;
-        let t878: f32 = t877 * 0.5;
-        let t879: f32 = t871 * t878;
-        let t880: f32 = platform_ixx + joint1_ixx;
-        let t881: f32 = joint6_ixx + t880;
-        let t882: f32 = joint2_ixx + joint3_ixx;
-        let t883: f32 = joint4_ixx + joint5_ixx;
-        let t884: f32 = t882 + t883;
-        let t885: f32 = t881 + t884;
-        let t886: f32 = t885 * 0.5;
-        let t887: f32 = t808 * t886;
-        let t888: f32 = t806 * t820;
-        let t889: f32 = t791 * t839;
-        let t890: f32 = t888 + t889;
-        let t891: f32 = t887 - t890;
-        let t892: f32 = t820 * t891;
-        let t893: f32 = t862 + t879;
-        let t894: f32 = t892 + t893;
-        let t895: f32 = t852 - t894;
-        let t896: f32 = t200 * t831;
-        let t897: f32 = t895 * t896;
-        let t898: f32 = t784 * t807;
-        let t899: f32 = t885 * t898;
-        let t900: f32 = t805 * t861;
-        let t901: f32 = t790 * t871;
-        let t902: f32 = t790 * t808;
-        let t903: f32 = t820 * t845;
-        let t904: f32 = t839 * t877;
-        let t905: f32 = t903 + t904;
-        let t906: f32 = t902 - t905;
-        let t907: f32 = t820 * t906;
-        let t908: f32 = t805 * t808;
-        let t909: f32 = t820 * t826;
-        let t910: f32 = t839 * t845;
-        let t911: f32 = t909 + t910;
-        let t912: f32 = t908 - t911;
-        let t913: f32 = t839 * t912;
-        let t914: f32 = t899 + t907;
-        let t915: f32 = t900 + t901;
-        let t916: f32 = t913 + t915;
-        let t917: f32 = t914 - t916;
-        let t918: f32 = t23 * t203;
-        let t919: f32 = t917 * t918;
-        let t920: f32 = t897 + t919;
-        let t921: f32 = t0 * t920;
-        let t922: f32 = t784 * t805;
-        let t923: f32 = t799 * t906;
-        let t924: f32 = t922 + t923;
-        let t925: f32 = t807 * t924;
-        let t926: f32 = t826 * t861;
-        let t927: f32 = t845 * t871;
-        let t928: f32 = t808 * t885;
-        let t929: f32 = t805 * t820;
-        let t930: f32 = t790 * t839;
-        let t931: f32 = t929 + t930;
-        let t932: f32 = t928 - t931;
-        let t933: f32 = t839 * t932;
-        let t934: f32 = t925 + t933;
-        let t935: f32 = t926 + t927;
-        let t936: f32 = t934 - t935;
-        let t937: f32 = t12 * t207;
-        let t938: f32 = t936 * t937;
-        let t939: f32 = t0 * t177;
-        let t940: f32 = t939 * 0.5;
-        let t941: f32 = t940 - 0.5;
-        let t942: f32 = qd5 * t941;
-        let t943: f32 = t940 + 0.5;
-        let t944: f32 = qd6 * t943;
-        let t945: f32 = t3 * t12;
-        let t946: f32 = t30 * t945;
-        let t947: f32 = t6 * t35;
-        let t948: f32 = t12 * t947;
-        let t949: f32 = t51 * t948;
-        let t950: f32 = t57 * t67;
-        let t951: f32 = t74 * t950;
-        let t952: f32 = t949 * 0.5;
-        let t953: f32 = t951 + t952;
-        let t954: f32 = t0 * t953;
-        let t955: f32 = t946 - t954;
-        let t956: f32 = t0 * t12;
-        let t957: f32 = t955 * t956;
-        let t958: f32 = t957 * 0.5;
-        let t959: f32 = t84 * t958;
-        let t960: f32 = t942 + t959;
-        let t961: f32 = t960 - t944;
-        let t962: f32 = t85 * t961;
-        let t963: f32 = t12 * t955;
-        let t964: f32 = q1 - t963;
-        let t965: f32 = t0 * t964;
-        let t966: f32 = t130 - t965;
-        let t967: f32 = t966 * 0.5;
-        let t968: f32 = t967 + 1.0;
-        let t969: f32 = qd3 * t968;
-        let t970: f32 = qd4 * t967;
-        let t971: f32 = t0 * t163;
-        let t972: f32 = t971 * 0.5;
-        let t973: f32 = t972 - 0.5;
-        let t974: f32 = t137 * t973;
-        let t975: f32 = t969 + t974;
-        let t976: f32 = t975 - t970;
-        let t977: f32 = t128 * t976;
-        let t978: f32 = t962 + t977;
-        let t979: f32 = t0 * t978;
-        let t980: f32 = qdd2 - t979;
-        let t981: f32 = t163 * t980;
-        let t982: f32 = t252 + t254;
-        let t983: f32 = q2 - t963;
-        let t984: f32 = t0 * t982;
-        let t985: f32 = t983 * t984;
-        let t986: f32 = t141 * t147;
-        let t987: f32 = t775 + t986;
-        let t988: f32 = half_spacing + t162;
-        let t989: f32 = t987 * t988;
-        let t990: f32 = t125 * t177;
-        let t991: f32 = t147 * t990;
-        let t992: f32 = t981 * 0.5;
-        let t993: f32 = t991 + t992;
-        let t994: f32 = t985 + t989;
-        let t995: f32 = t993 - t994;
-        let t996: f32 = t0 * t995;
-        let t997: f32 = t972 - 1.0;
-        let t998: f32 = qdd1 - t979;
-        let t999: f32 = t997 * t998;
-        (
-            t0,
-            t11,
-            t12,
-            t44,
-            t67,
-            t80,
-            t85,
-            t98,
-            t118,
-            t125,
-            t128,
-            t130,
-            t132,
-            t133,
-            t136,
-            t147,
-            t162,
-            t176,
-            t177,
-            t181,
-            t184,
-            t185,
-            t189,
-            t194,
-            t195,
-            t199,
-            t200,
-            t203,
-            t207,
-            t213,
-            t214,
-            t218,
-            t229,
-            t230,
-            t242,
-            t244,
-            t245,
-            t246,
-            t250,
-            t251,
-            t252,
-            t253,
-            t254,
-            t261,
-            t267,
-            t268,
-            t279,
-            t280,
-            t291,
-            t292,
-            t304,
-            t306,
-            t307,
-            t311,
-            t318,
-            t323,
-            t325,
-            t328,
-            t337,
-            t350,
-            t362,
-            t364,
-            t366,
-            t369,
-            t376,
-            t380,
-            t381,
-            t382,
-            t389,
-            t403,
-            t408,
-            t412,
-            t419,
-            t426,
-            t437,
-            t451,
-            t464,
-            t480,
-            t482,
-            t485,
-            t487,
-            t488,
-            t491,
-            t507,
-            t520,
-            t522,
-            t536,
-            t538,
-            t541,
-            t544,
-            t549,
-            t566,
-            t579,
-            t581,
-            t595,
-            t597,
-            t599,
-            t602,
-            t605,
-            t621,
-            t633,
-            t635,
-            t638,
-            t645,
-            t648,
-            t662,
-            t670,
-            t674,
-            t676,
-            t677,
-            t678,
-            t679,
-            t680,
-            t685,
-            t686,
-            t687,
-            t700,
-            t704,
-            t706,
-            t708,
-            t715,
-            t716,
-            t717,
-            t718,
-            t719,
-            t724,
-            t725,
-            t726,
-            t727,
-            t728,
-            t735,
-            t736,
-            t737,
-            t741,
-            t749,
-            t750,
-            t755,
-            t756,
-            t757,
-            t761,
-            t769,
-            t770,
-            t771,
-            t772,
-            t774,
-            t775,
-            t778,
-            t779,
-            t784,
-            t790,
-            t791,
-            t799,
-            t806,
-            t807,
-            t808,
-            t811,
-            t820,
-            t827,
-            t839,
-            t845,
-            t846,
-            t849,
-            t861,
-            t871,
-            t877,
-            t878,
-            t886,
-            t891,
-            t896,
-            t898,
-            t912,
-            t917,
-            t918,
-            t921,
-            t932,
-            t936,
-            t937,
-            t938,
-            t939,
-            t941,
-            t943,
-            t957,
-            t958,
-            t961,
-            t963,
-            t967,
-            t968,
-            t973,
-            t976,
-            t978,
-            t982,
-            t983,
-            t984,
-            t986,
-            t987,
-            t988,
-            t992,
-            t996,
-            t997,
-            t999,
-        )
-    };
-    let (t1363, t1364, t1707, t1710, t1804, t1806, t1807, t1808, t1809, t1810) = {
-        let t1000: f32 = gravity_x + t999;
-        let t1001: f32 = t1000 - t996;
-        let t1002: f32 = joint2_mass * t1001;
-        let t1003: f32 = t775 * t988;
-        let t1004: f32 = t978 + t992;
-        let t1005: f32 = t1004 - t1003;
-        let t1006: f32 = t0 * t1005;
-        let t1007: f32 = t1000 - t1006;
-        let t1008: f32 = rod2_mass * t1007;
-        let t1009: f32 = joint5_my + joint6_my;
-        let t1010: f32 = joint3_my + joint4_my;
-        let t1011: f32 = platform_my + t1010;
-        let t1012: f32 = t1009 + t1011;
-        let t1013: f32 = joint2_my + t1012;
-        let t1014: f32 = t1013 * 0.5;
-        let t1015: f32 = t207 * t811;
-        let t1016: f32 = t1014 * t1015;
-        let t1017: f32 = joint5_mz + joint6_mz;
-        let t1018: f32 = joint3_mz + joint4_mz;
-        let t1019: f32 = platform_mz + t1018;
-        let t1020: f32 = t1017 + t1019;
-        let t1021: f32 = joint2_mz + t1020;
-        let t1022: f32 = t67 * t200;
-        let t1023: f32 = t1021 * t1022;
-        let t1024: f32 = t1016 + t1023;
-        let t1025: f32 = t0 * t1024;
-        let t1026: f32 = joint5_mx + joint6_mx;
-        let t1027: f32 = joint3_mx + joint4_mx;
-        let t1028: f32 = platform_mx + t1027;
-        let t1029: f32 = t1026 + t1028;
-        let t1030: f32 = joint2_mx + t1029;
-        let t1031: f32 = t12 * t203;
-        let t1032: f32 = t1030 * t1031;
-        let t1033: f32 = t1025 - t1032;
-        let t1034: f32 = t85 * t1033;
-        let t1035: f32 = t1021 * 0.5;
-        let t1036: f32 = t896 * t1035;
-        let t1037: f32 = t918 * t1030;
-        let t1038: f32 = t1036 + t1037;
-        let t1039: f32 = t0 * t1038;
-        let t1040: f32 = t937 * t1013;
-        let t1041: f32 = t1039 - t1040;
-        let t1042: f32 = t147 * t1041;
-        let t1043: f32 = t1034 - t1042;
-        let t1044: f32 = t85 * t1043;
-        let t1045: f32 = t128 * t1033;
-        let t1046: f32 = t1030 * 0.5;
-        let t1047: f32 = t203 * t779;
-        let t1048: f32 = t1046 * t1047;
-        let t1049: f32 = t44 * t207;
-        let t1050: f32 = t1013 * t1049;
-        let t1051: f32 = t1048 + t1050;
-        let t1052: f32 = t0 * t1051;
-        let t1053: f32 = t12 * t200;
-        let t1054: f32 = t1021 * t1053;
-        let t1055: f32 = t1052 - t1054;
-        let t1056: f32 = t147 * t1055;
-        let t1057: f32 = t1045 - t1056;
-        let t1058: f32 = t128 * t1057;
-        let t1059: f32 = t1044 + t1058;
-        let t1060: f32 = t0 * t1059;
-        let t1061: f32 = t775 * t1055;
-        let t1062: f32 = t778 * t1041;
-        let t1063: f32 = t1060 + t1062;
-        let t1064: f32 = t1063 - t1061;
-        let t1065: f32 = t0 * t1064;
-        let t1066: f32 = t177 * t778;
-        let t1067: f32 = t992 + t1066;
-        let t1068: f32 = t0 * t1067;
-        let t1069: f32 = t1000 - t1068;
-        let t1070: f32 = platform_mass * t1069;
-        let t1071: f32 = t125 * t147;
-        let t1072: f32 = t778 - t1071;
-        let t1073: f32 = half_spacing - t176;
-        let t1074: f32 = t1072 * t1073;
-        let t1075: f32 = q5 - t162;
-        let t1076: f32 = t987 * t1075;
-        let t1077: f32 = t957 * t982;
-        let t1078: f32 = t1066 + t1077;
-        let t1079: f32 = t992 + t1076;
-        let t1080: f32 = t1078 + t1079;
-        let t1081: f32 = t1080 - t1074;
-        let t1082: f32 = t0 * t1081;
-        let t1083: f32 = t1000 - t1082;
-        let t1084: f32 = joint5_mass * t1083;
-        let t1085: f32 = t1070 + t1084;
-        let t1086: f32 = half_spacing + t176;
-        let t1087: f32 = t1072 * t1086;
-        let t1088: f32 = q6 - t162;
-        let t1089: f32 = t987 * t1088;
-        let t1090: f32 = t992 + t1087;
-        let t1091: f32 = t1078 + t1089;
-        let t1092: f32 = t1090 + t1091;
-        let t1093: f32 = t0 * t1092;
-        let t1094: f32 = t1000 - t1093;
-        let t1095: f32 = joint6_mass * t1094;
-        let t1096: f32 = half_spacing - t963;
-        let t1097: f32 = t984 * t1096;
-        let t1098: f32 = q3 - t176;
-        let t1099: f32 = t1072 * t1098;
-        let t1100: f32 = -t162;
-        let t1101: f32 = t987 * t1100;
-        let t1102: f32 = t1066 + t1101;
-        let t1103: f32 = t992 + t1102;
-        let t1104: f32 = t1097 + t1099;
-        let t1105: f32 = t1103 - t1104;
-        let t1106: f32 = t0 * t1105;
-        let t1107: f32 = t1000 - t1106;
-        let t1108: f32 = joint3_mass * t1107;
-        let t1109: f32 = half_spacing + t963;
-        let t1110: f32 = t984 * t1109;
-        let t1111: f32 = q4 - t176;
-        let t1112: f32 = t1072 * t1111;
-        let t1113: f32 = t992 + t1110;
-        let t1114: f32 = t1102 + t1113;
-        let t1115: f32 = t1114 - t1112;
-        let t1116: f32 = t0 * t1115;
-        let t1117: f32 = t1000 - t1116;
-        let t1118: f32 = joint4_mass * t1117;
-        let t1119: f32 = t1108 + t1118;
-        let t1120: f32 = t1095 + t1119;
-        let t1121: f32 = t1085 + t1120;
-        let t1122: f32 = t1002 + t1008;
-        let t1123: f32 = t1065 + t1121;
-        let t1124: f32 = t1122 + t1123;
-        let t1125: f32 = t80 * t1124;
-        let t1126: f32 = t125 * t128;
-        let t1127: f32 = t772 + t1126;
-        let t1128: f32 = t177 * t1127;
-        let t1129: f32 = t775 - t986;
-        let t1130: f32 = t983 * t1129;
-        let t1131: f32 = t254 + t381;
-        let t1132: f32 = t0 * t988;
-        let t1133: f32 = t1131 * t1132;
-        let t1134: f32 = t1128 + t1133;
-        let t1135: f32 = t1134 - t1130;
-        let t1136: f32 = t0 * t1135;
-        let t1137: f32 = t147 * t976;
-        let t1138: f32 = qd1 * t997;
-        let t1139: f32 = t1138 - t181;
-        let t1140: f32 = t85 * t1139;
-        let t1141: f32 = t1137 + t1140;
-        let t1142: f32 = t0 * t1141;
-        let t1143: f32 = qdd5 + t1142;
-        let t1144: f32 = t941 * t1143;
-        let t1145: f32 = gravity_z + t1144;
-        let t1146: f32 = t774 * t958;
-        let t1147: f32 = qdd6 + t1142;
-        let t1148: f32 = t943 * t1147;
-        let t1149: f32 = t1146 - t1148;
-        let t1150: f32 = t1145 + t1149;
-        let t1151: f32 = t1150 - t1136;
-        let t1152: f32 = joint2_mass * t1151;
-        let t1153: f32 = t85 * t1055;
-        let t1154: f32 = t128 * t1041;
-        let t1155: f32 = t1153 - t1154;
-        let t1156: f32 = t85 * t1155;
-        let t1157: f32 = t147 * t1057;
-        let t1158: f32 = t1156 - t1157;
-        let t1159: f32 = t0 * t1158;
-        let t1160: f32 = t772 * t1041;
-        let t1161: f32 = t775 * t1033;
-        let t1162: f32 = t1159 + t1161;
-        let t1163: f32 = t1162 - t1160;
-        let t1164: f32 = t0 * t1163;
-        let t1165: f32 = platform_mass * t1150;
-        let t1166: f32 = t1096 * t1129;
-        let t1167: f32 = t1098 * t1127;
-        let t1168: f32 = t0 * t1100;
-        let t1169: f32 = t1131 * t1168;
-        let t1170: f32 = t1166 + t1169;
-        let t1171: f32 = t1170 - t1167;
-        let t1172: f32 = t0 * t1171;
-        let t1173: f32 = t1150 + t1172;
-        let t1174: f32 = joint3_mass * t1173;
-        let t1175: f32 = t1165 + t1174;
-        let t1176: f32 = t1109 * t1129;
-        let t1177: f32 = t1111 * t1127;
-        let t1178: f32 = t1176 + t1177;
-        let t1179: f32 = t1169 - t1178;
-        let t1180: f32 = t0 * t1179;
-        let t1181: f32 = t1150 + t1180;
-        let t1182: f32 = joint4_mass * t1181;
-        let t1183: f32 = t963 * t1129;
-        let t1184: f32 = t1073 * t1127;
-        let t1185: f32 = t0 * t1075;
-        let t1186: f32 = t1131 * t1185;
-        let t1187: f32 = t1183 + t1184;
-        let t1188: f32 = t1187 - t1186;
-        let t1189: f32 = t0 * t1188;
-        let t1190: f32 = t1150 - t1189;
-        let t1191: f32 = joint5_mass * t1190;
-        let t1192: f32 = t772 * t1073;
-        let t1193: f32 = t775 * t963;
-        let t1194: f32 = t1141 - t1193;
-        let t1195: f32 = t1194 - t1192;
-        let t1196: f32 = t0 * t1195;
-        let t1197: f32 = t1150 + t1196;
-        let t1198: f32 = rod5_mass * t1197;
-        let t1199: f32 = t1191 + t1198;
-        let t1200: f32 = t1086 * t1127;
-        let t1201: f32 = t0 * t1088;
-        let t1202: f32 = t1131 * t1201;
-        let t1203: f32 = t1200 + t1202;
-        let t1204: f32 = t1183 - t1203;
-        let t1205: f32 = t0 * t1204;
-        let t1206: f32 = t1150 - t1205;
-        let t1207: f32 = joint6_mass * t1206;
-        let t1208: f32 = t772 * t1086;
-        let t1209: f32 = t1194 + t1208;
-        let t1210: f32 = t0 * t1209;
-        let t1211: f32 = t1150 + t1210;
-        let t1212: f32 = rod6_mass * t1211;
-        let t1213: f32 = t1207 + t1212;
-        let t1214: f32 = t1199 + t1213;
-        let t1215: f32 = t1182 + t1214;
-        let t1216: f32 = t1175 + t1215;
-        let t1217: f32 = t1152 + t1164;
-        let t1218: f32 = t1216 + t1217;
-        let t1219: f32 = t118 * t1218;
-        let t1220: f32 = t1010 * 0.5;
-        let t1221: f32 = t1015 * t1220;
-        let t1222: f32 = t1018 * t1022;
-        let t1223: f32 = t1221 + t1222;
-        let t1224: f32 = t0 * t1223;
-        let t1225: f32 = t1027 * t1031;
-        let t1226: f32 = t1224 - t1225;
-        let t1227: f32 = t85 * t1226;
-        let t1228: f32 = t1018 * 0.5;
-        let t1229: f32 = t896 * t1228;
-        let t1230: f32 = t918 * t1027;
-        let t1231: f32 = t1229 + t1230;
-        let t1232: f32 = t0 * t1231;
-        let t1233: f32 = t937 * t1010;
-        let t1234: f32 = t1232 - t1233;
-        let t1235: f32 = t147 * t1234;
-        let t1236: f32 = t1227 - t1235;
-        let t1237: f32 = t85 * t1236;
-        let t1238: f32 = t128 * t1226;
-        let t1239: f32 = t1027 * 0.5;
-        let t1240: f32 = t1047 * t1239;
-        let t1241: f32 = t1010 * t1049;
-        let t1242: f32 = t1240 + t1241;
-        let t1243: f32 = t0 * t1242;
-        let t1244: f32 = t1018 * t1053;
-        let t1245: f32 = t1243 - t1244;
-        let t1246: f32 = t147 * t1245;
-        let t1247: f32 = t1238 - t1246;
-        let t1248: f32 = t128 * t1247;
-        let t1249: f32 = t1237 + t1248;
-        let t1250: f32 = t0 * t1249;
-        let t1251: f32 = t775 * t1245;
-        let t1252: f32 = t778 * t1234;
-        let t1253: f32 = t1250 + t1252;
-        let t1254: f32 = t1253 - t1251;
-        let t1255: f32 = t0 * t1254;
-        let t1256: f32 = t1119 + t1255;
-        let t1257: f32 = t487 * t1256;
-        let t1258: f32 = t1026 * 0.5;
-        let t1259: f32 = t1047 * t1258;
-        let t1260: f32 = t1009 * t1049;
-        let t1261: f32 = t1259 + t1260;
-        let t1262: f32 = t0 * t1261;
-        let t1263: f32 = t1017 * t1053;
-        let t1264: f32 = t1262 - t1263;
-        let t1265: f32 = t85 * t1264;
-        let t1266: f32 = t1017 * 0.5;
-        let t1267: f32 = t896 * t1266;
-        let t1268: f32 = t918 * t1026;
-        let t1269: f32 = t1267 + t1268;
-        let t1270: f32 = t0 * t1269;
-        let t1271: f32 = t937 * t1009;
-        let t1272: f32 = t1270 - t1271;
-        let t1273: f32 = t128 * t1272;
-        let t1274: f32 = t1265 - t1273;
-        let t1275: f32 = t85 * t1274;
-        let t1276: f32 = t1009 * 0.5;
-        let t1277: f32 = t1015 * t1276;
-        let t1278: f32 = t1017 * t1022;
-        let t1279: f32 = t1277 + t1278;
-        let t1280: f32 = t0 * t1279;
-        let t1281: f32 = t1026 * t1031;
-        let t1282: f32 = t1280 - t1281;
-        let t1283: f32 = t128 * t1282;
-        let t1284: f32 = t147 * t1264;
-        let t1285: f32 = t1283 - t1284;
-        let t1286: f32 = t147 * t1285;
-        let t1287: f32 = t1275 - t1286;
-        let t1288: f32 = t0 * t1287;
-        let t1289: f32 = t772 * t1272;
-        let t1290: f32 = t775 * t1282;
-        let t1291: f32 = t1288 + t1290;
-        let t1292: f32 = t1291 - t1289;
-        let t1293: f32 = t0 * t1292;
-        let t1294: f32 = t1214 + t1293;
-        let t1295: f32 = t369 * t1294;
-        let t1296: f32 = t677 + t678;
-        let t1297: f32 = t679 + t680;
-        let t1298: f32 = t686 + t687;
-        let t1299: f32 = t716 + t717;
-        let t1300: f32 = t725 + t726;
-        let t1301: f32 = t728 + t736;
-        let t1302: f32 = t737 + t750;
-        let t1303: f32 = t756 + t757;
-        let t1304: f32 = t770 + t921;
-        let t1305: f32 = t1219 + t1257;
-        let t1306: f32 = t1296 + t1297;
-        let t1307: f32 = t1298 + t1299;
-        let t1308: f32 = t1300 + t1301;
-        let t1309: f32 = t1302 + t1303;
-        let t1310: f32 = t1304 + t1305;
-        let t1311: f32 = t1306 + t1307;
-        let t1312: f32 = t1308 + t1309;
-        let t1313: f32 = t1295 + t1310;
-        let t1314: f32 = t1311 + t1312;
-        let t1315: f32 = t1313 + t1314;
-        let t1316: f32 = t706 + t708;
-        let t1317: f32 = t719 + t938;
-        let t1318: f32 = t1316 + t1317;
-        let t1319: f32 = t1125 + t1318;
-        let t1320: f32 = t1315 - t1319;
-        let t1321: f32 = t0 * t1320;
-        let t1322: f32 = t676 - t1321;
-        let t1323: f32 = t218 * t536;
-        let t1324: f32 = t147 * t536;
-        let t1325: f32 = t85 * t507;
-        let t1326: f32 = t1324 + t1325;
-        let t1327: f32 = t245 * t1326;
-        let t1328: f32 = t1323 - t1327;
-        let t1329: f32 = t250 * t522;
-        let t1330: f32 = joint3_mass * t715;
-        let t1331: f32 = t199 * t520;
-        let t1332: f32 = t1330 - t1331;
-        let t1333: f32 = t1329 - t1332;
-        let t1334: f32 = t1328 - t1333;
-        let t1335: f32 = t218 * t595;
-        let t1336: f32 = t147 * t595;
-        let t1337: f32 = t85 * t566;
-        let t1338: f32 = t1336 + t1337;
-        let t1339: f32 = t245 * t1338;
-        let t1340: f32 = t1335 - t1339;
-        let t1341: f32 = t250 * t581;
-        let t1342: f32 = joint4_mass * t724;
-        let t1343: f32 = t199 * t579;
-        let t1344: f32 = t1342 - t1343;
-        let t1345: f32 = t1341 - t1344;
-        let t1346: f32 = t1340 - t1345;
-        let t1347: f32 = t1322 * 0.5;
-        let t1348: f32 = t214 + t246;
-        let t1349: f32 = t251 + t280;
-        let t1350: f32 = t307 + t311;
-        let t1351: f32 = t704 + t1347;
-        let t1352: f32 = t1348 + t1349;
-        let t1353: f32 = t1350 + t1351;
-        let t1354: f32 = t1352 + t1353;
-        let t1355: f32 = t195 + t230;
-        let t1356: f32 = t268 + t292;
-        let t1357: f32 = t318 + t1334;
-        let t1358: f32 = t749 + t1346;
-        let t1359: f32 = t1355 + t1356;
-        let t1360: f32 = t1357 + t1358;
-        let t1361: f32 = t1359 + t1360;
-        let t1362: f32 = t769 + t1361;
-        let t1363: f32 = t1354 - t1362;
-        let t1364: f32 = -t1347;
-        let t1365: f32 = t130 * 0.5;
-        let t1366: f32 = t1365 + 1.0;
-        let t1367: f32 = t328 * t350;
-        let t1368: f32 = t250 * t364;
-        let t1369: f32 = t1367 - t1368;
-        let t1370: f32 = t408 * t761;
-        let t1371: f32 = t253 + t382;
-        let t1372: f32 = t366 * t1371;
-        let t1373: f32 = t328 - t376;
-        let t1374: f32 = t380 * t1373;
-        let t1375: f32 = t218 + t261;
-        let t1376: f32 = t369 * t1375;
-        let t1377: f32 = t132 * t185;
-        let t1378: f32 = t136 * t323;
-        let t1379: f32 = t1377 - t1378;
-        let t1380: f32 = t136 * t325;
-        let t1381: f32 = t133 * t189;
-        let t1382: f32 = gravity_y - t1381;
-        let t1383: f32 = t1380 + t1382;
-        let t1384: f32 = t1379 + t1383;
-        let t1385: f32 = t1376 + t1384;
-        let t1386: f32 = t1374 + t1385;
-        let t1387: f32 = t1386 - t1372;
-        let t1388: f32 = joint6_mass * t1387;
-        let t1389: f32 = t218 * t403;
-        let t1390: f32 = t1388 + t1389;
-        let t1391: f32 = t1370 + t1390;
-        let t1392: f32 = t1369 + t1391;
-        let t1393: f32 = platform_mass * t1384;
-        let t1394: f32 = t218 * t242;
-        let t1395: f32 = t1393 + t1394;
-        let t1396: f32 = t1392 + t1395;
-        let t1397: f32 = t213 * t328;
-        let t1398: f32 = t250 * t419;
-        let t1399: f32 = t1397 - t1398;
-        let t1400: f32 = t244 * t408;
-        let t1401: f32 = t118 * t1375;
-        let t1402: f32 = t80 * t1373;
-        let t1403: f32 = t98 * t1371;
-        let t1404: f32 = t1384 + t1403;
-        let t1405: f32 = t1402 + t1404;
-        let t1406: f32 = t1405 - t1401;
-        let t1407: f32 = joint1_mass * t1406;
-        let t1408: f32 = t1400 + t1407;
-        let t1409: f32 = t1399 + t1408;
-        let t1410: f32 = t1396 + t1409;
-        let t1411: f32 = t218 * t304;
-        let t1412: f32 = t279 * t328;
-        let t1413: f32 = t1411 + t1412;
-        let t1414: f32 = t306 * t408;
-        let t1415: f32 = t250 * t437;
-        let t1416: f32 = t1414 - t1415;
-        let t1417: f32 = t1413 + t1416;
-        let t1418: f32 = t328 * t464;
-        let t1419: f32 = t250 * t482;
-        let t1420: f32 = t1418 - t1419;
-        let t1421: f32 = t408 * t700;
-        let t1422: f32 = t485 * t1375;
-        let t1423: f32 = t488 * t1373;
-        let t1424: f32 = t1422 + t1423;
-        let t1425: f32 = t1404 - t1424;
-        let t1426: f32 = joint2_mass * t1425;
-        let t1427: f32 = t218 * t451;
-        let t1428: f32 = t1426 + t1427;
-        let t1429: f32 = t1421 + t1428;
-        let t1430: f32 = t1420 + t1429;
-        let t1431: f32 = t408 * t1326;
-        let t1432: f32 = t218 * t541;
-        let t1433: f32 = t328 * t487;
-        let t1434: f32 = t1384 + t1433;
-        let t1435: f32 = t184 + t1434;
-        let t1436: f32 = t1435 - t1432;
-        let t1437: f32 = rod3_mass * t1436;
-        let t1438: f32 = t1431 + t1437;
-        let t1439: f32 = t541 * t1375;
-        let t1440: f32 = t544 * t1371;
-        let t1441: f32 = t487 * t1373;
-        let t1442: f32 = t1384 + t1441;
-        let t1443: f32 = t1440 + t1442;
-        let t1444: f32 = t1443 - t1439;
-        let t1445: f32 = joint3_mass * t1444;
-        let t1446: f32 = t218 * t507;
-        let t1447: f32 = t1445 + t1446;
-        let t1448: f32 = t328 * t520;
-        let t1449: f32 = t250 * t538;
-        let t1450: f32 = t1448 - t1449;
-        let t1451: f32 = t1447 + t1450;
-        let t1452: f32 = t1438 + t1451;
-        let t1453: f32 = t1430 + t1452;
-        let t1454: f32 = t408 * t1338;
-        let t1455: f32 = t218 * t599;
-        let t1456: f32 = t1435 + t1455;
-        let t1457: f32 = rod4_mass * t1456;
-        let t1458: f32 = t1454 + t1457;
-        let t1459: f32 = t599 * t1375;
-        let t1460: f32 = t602 * t1371;
-        let t1461: f32 = t1459 + t1460;
-        let t1462: f32 = t1442 + t1461;
-        let t1463: f32 = joint4_mass * t1462;
-        let t1464: f32 = t218 * t566;
-        let t1465: f32 = t1463 + t1464;
-        let t1466: f32 = t328 * t579;
-        let t1467: f32 = t250 * t597;
-        let t1468: f32 = t1466 - t1467;
-        let t1469: f32 = t1465 + t1468;
-        let t1470: f32 = t1458 + t1469;
-        let t1471: f32 = t328 * t621;
-        let t1472: f32 = t250 * t635;
-        let t1473: f32 = t1471 - t1472;
-        let t1474: f32 = t408 * t741;
-        let t1475: f32 = t638 * t1371;
-        let t1476: f32 = t645 * t1373;
-        let t1477: f32 = t1475 + t1476;
-        let t1478: f32 = t1385 + t1477;
-        let t1479: f32 = joint5_mass * t1478;
-        let t1480: f32 = t218 * t662;
-        let t1481: f32 = t1479 + t1480;
-        let t1482: f32 = t1474 + t1481;
-        let t1483: f32 = t1473 + t1482;
-        let t1484: f32 = t1470 + t1483;
-        let t1485: f32 = t1453 + t1484;
-        let t1486: f32 = t1417 + t1485;
-        let t1487: f32 = t1410 + t1486;
-        let t1488: f32 = t1366 * t1487;
-        let t1489: f32 = t242 * t1384;
-        let t1490: f32 = t194 * t229;
-        let t1491: f32 = t304 * t1406;
-        let t1492: f32 = t267 * t291;
-        let t1493: f32 = t451 * t1425;
-        let t1494: f32 = t480 * t685;
-        let t1495: f32 = t485 * t1430;
-        let t1496: f32 = t507 * t1444;
-        let t1497: f32 = t536 * t715;
-        let t1498: f32 = t544 * t1334;
-        let t1499: f32 = t541 * t1452;
-        let t1500: f32 = t566 * t1462;
-        let t1501: f32 = t595 * t724;
-        let t1502: f32 = t602 * t1346;
-        let t1503: f32 = t599 * t1470;
-        let t1504: f32 = t662 * t1478;
-        let t1505: f32 = t633 * t735;
-        let t1506: f32 = t638 * t749;
-        let t1507: f32 = t403 * t1387;
-        let t1508: f32 = t362 * t755;
-        let t1509: f32 = t366 * t769;
-        let t1510: f32 = t886 * t898;
-        let t1511: f32 = t806 * t861;
-        let t1512: f32 = t791 * t871;
-        let t1513: f32 = t791 * t808;
-        let t1514: f32 = t820 * t846;
-        let t1515: f32 = t839 * t878;
-        let t1516: f32 = t1514 + t1515;
-        let t1517: f32 = t1513 - t1516;
-        let t1518: f32 = t820 * t1517;
-        let t1519: f32 = t839 * t849;
-        let t1520: f32 = t1510 + t1518;
-        let t1521: f32 = t1511 + t1512;
-        let t1522: f32 = t1519 + t1521;
-        let t1523: f32 = t1520 - t1522;
-        let t1524: f32 = t1047 * t1523;
-        let t1525: f32 = t936 * t1049;
-        let t1526: f32 = t1524 + t1525;
-        let t1527: f32 = t0 * t1526;
-        let t1528: f32 = t784 * t790;
-        let t1529: f32 = t799 * t912;
-        let t1530: f32 = t1528 - t1529;
-        let t1531: f32 = t807 * t1530;
-        let t1532: f32 = t845 * t861;
-        let t1533: f32 = t871 * t877;
-        let t1534: f32 = t820 * t932;
-        let t1535: f32 = t1532 + t1533;
-        let t1536: f32 = t1534 + t1535;
-        let t1537: f32 = t1531 - t1536;
-        let t1538: f32 = t1053 * t1537;
-        let t1539: f32 = t1012 * 0.5;
-        let t1540: f32 = t1015 * t1539;
-        let t1541: f32 = t1020 * t1022;
-        let t1542: f32 = t1540 + t1541;
-        let t1543: f32 = t0 * t1542;
-        let t1544: f32 = t1029 * t1031;
-        let t1545: f32 = t1543 - t1544;
-        let t1546: f32 = t85 * t1545;
-        let t1547: f32 = t1020 * 0.5;
-        let t1548: f32 = t896 * t1547;
-        let t1549: f32 = t918 * t1029;
-        let t1550: f32 = t1548 + t1549;
-        let t1551: f32 = t0 * t1550;
-        let t1552: f32 = t937 * t1012;
-        let t1553: f32 = t1551 - t1552;
-        let t1554: f32 = t147 * t1553;
-        let t1555: f32 = t1546 - t1554;
-        let t1556: f32 = t85 * t1555;
-        let t1557: f32 = t128 * t1545;
-        let t1558: f32 = t1029 * 0.5;
-        let t1559: f32 = t1047 * t1558;
-        let t1560: f32 = t1012 * t1049;
-        let t1561: f32 = t1559 + t1560;
-        let t1562: f32 = t0 * t1561;
-        let t1563: f32 = t1020 * t1053;
-        let t1564: f32 = t1562 - t1563;
-        let t1565: f32 = t147 * t1564;
-        let t1566: f32 = t1557 - t1565;
-        let t1567: f32 = t128 * t1566;
-        let t1568: f32 = t1556 + t1567;
-        let t1569: f32 = t0 * t1568;
-        let t1570: f32 = t775 * t1564;
-        let t1571: f32 = t778 * t1553;
-        let t1572: f32 = t1569 + t1571;
-        let t1573: f32 = t1572 - t1570;
-        let t1574: f32 = t0 * t1573;
-        let t1575: f32 = t1121 + t1574;
-        let t1576: f32 = t98 * t1575;
-        let t1577: f32 = t128 * t1139;
-        let t1578: f32 = t147 * t961;
-        let t1579: f32 = t1577 - t1578;
-        let t1580: f32 = t0 * t1579;
-        let t1581: f32 = qdd3 - t1580;
-        let t1582: f32 = t968 * t1581;
-        let t1583: f32 = gravity_y - t1582;
-        let t1584: f32 = qdd4 - t1580;
-        let t1585: f32 = t967 * t1584;
-        let t1586: f32 = t771 * t973;
-        let t1587: f32 = t1585 - t1586;
-        let t1588: f32 = t1583 + t1587;
-        let t1589: f32 = platform_mass * t1588;
-        let t1590: f32 = t252 + t381;
-        let t1591: f32 = t939 * t1590;
-        let t1592: f32 = t778 + t1071;
-        let t1593: f32 = t983 * t1592;
-        let t1594: f32 = t772 - t1126;
-        let t1595: f32 = t988 * t1594;
-        let t1596: f32 = t1593 + t1595;
-        let t1597: f32 = t1591 - t1596;
-        let t1598: f32 = t0 * t1597;
-        let t1599: f32 = t1588 + t1598;
-        let t1600: f32 = joint2_mass * t1599;
-        let t1601: f32 = t128 * t1155;
-        let t1602: f32 = t147 * t1043;
-        let t1603: f32 = t1601 + t1602;
-        let t1604: f32 = t0 * t1603;
-        let t1605: f32 = t772 * t1055;
-        let t1606: f32 = t778 * t1033;
-        let t1607: f32 = t1604 + t1606;
-        let t1608: f32 = t1607 - t1605;
-        let t1609: f32 = t0 * t1608;
-        let t1610: f32 = t963 * t1592;
-        let t1611: f32 = t0 * t1073;
-        let t1612: f32 = t1590 * t1611;
-        let t1613: f32 = t1075 * t1594;
-        let t1614: f32 = t1610 + t1612;
-        let t1615: f32 = t1613 + t1614;
-        let t1616: f32 = t0 * t1615;
-        let t1617: f32 = t1588 + t1616;
-        let t1618: f32 = joint5_mass * t1617;
-        let t1619: f32 = t0 * t1086;
-        let t1620: f32 = t1590 * t1619;
-        let t1621: f32 = t1088 * t1594;
-        let t1622: f32 = t1610 + t1621;
-        let t1623: f32 = t1622 - t1620;
-        let t1624: f32 = t0 * t1623;
-        let t1625: f32 = t1588 + t1624;
-        let t1626: f32 = joint6_mass * t1625;
-        let t1627: f32 = t1618 + t1626;
-        let t1628: f32 = t1096 * t1592;
-        let t1629: f32 = t0 * t1098;
-        let t1630: f32 = t1590 * t1629;
-        let t1631: f32 = t1100 * t1594;
-        let t1632: f32 = t1630 + t1631;
-        let t1633: f32 = t1628 - t1632;
-        let t1634: f32 = t0 * t1633;
-        let t1635: f32 = t1588 - t1634;
-        let t1636: f32 = joint3_mass * t1635;
-        let t1637: f32 = t778 * t1096;
-        let t1638: f32 = t772 * t1100;
-        let t1639: f32 = t1579 - t1638;
-        let t1640: f32 = t1637 + t1639;
-        let t1641: f32 = t0 * t1640;
-        let t1642: f32 = t1588 - t1641;
-        let t1643: f32 = rod3_mass * t1642;
-        let t1644: f32 = t1636 + t1643;
-        let t1645: f32 = t1109 * t1592;
-        let t1646: f32 = t0 * t1111;
-        let t1647: f32 = t1590 * t1646;
-        let t1648: f32 = t1631 + t1645;
-        let t1649: f32 = t1647 + t1648;
-        let t1650: f32 = t0 * t1649;
-        let t1651: f32 = t1588 + t1650;
-        let t1652: f32 = joint4_mass * t1651;
-        let t1653: f32 = t778 * t1109;
-        let t1654: f32 = t1639 - t1653;
-        let t1655: f32 = t0 * t1654;
-        let t1656: f32 = t1588 - t1655;
-        let t1657: f32 = rod4_mass * t1656;
-        let t1658: f32 = t1652 + t1657;
-        let t1659: f32 = t1644 + t1658;
-        let t1660: f32 = t1589 + t1600;
-        let t1661: f32 = t1627 + t1659;
-        let t1662: f32 = t1660 + t1661;
-        let t1663: f32 = t1662 - t1609;
-        let t1664: f32 = t118 * t1663;
-        let t1665: f32 = t128 * t1274;
-        let t1666: f32 = t85 * t1282;
-        let t1667: f32 = t147 * t1272;
-        let t1668: f32 = t1666 - t1667;
-        let t1669: f32 = t147 * t1668;
-        let t1670: f32 = t1665 + t1669;
-        let t1671: f32 = t0 * t1670;
-        let t1672: f32 = t772 * t1264;
-        let t1673: f32 = t778 * t1282;
-        let t1674: f32 = t1671 + t1673;
-        let t1675: f32 = t1674 - t1672;
-        let t1676: f32 = t0 * t1675;
-        let t1677: f32 = t1627 - t1676;
-        let t1678: f32 = t369 * t1677;
-        let t1679: f32 = t1495 + t1499;
-        let t1680: f32 = t1509 + t1527;
-        let t1681: f32 = t1679 + t1680;
-        let t1682: f32 = t1576 + t1681;
-        let t1683: f32 = t1489 + t1490;
-        let t1684: f32 = t1491 + t1492;
-        let t1685: f32 = t1493 + t1494;
-        let t1686: f32 = t1496 + t1497;
-        let t1687: f32 = t1498 + t1500;
-        let t1688: f32 = t1501 + t1502;
-        let t1689: f32 = t1503 + t1504;
-        let t1690: f32 = t1505 + t1506;
-        let t1691: f32 = t1507 + t1508;
-        let t1692: f32 = t1538 + t1664;
-        let t1693: f32 = t1683 + t1684;
-        let t1694: f32 = t1685 + t1686;
-        let t1695: f32 = t1687 + t1688;
-        let t1696: f32 = t1689 + t1690;
-        let t1697: f32 = t1691 + t1692;
-        let t1698: f32 = t1693 + t1694;
-        let t1699: f32 = t1695 + t1696;
-        let t1700: f32 = t1678 + t1697;
-        let t1701: f32 = t1698 + t1699;
-        let t1702: f32 = t1700 + t1701;
-        let t1703: f32 = t1682 - t1702;
-        let t1704: f32 = t0 * t1703;
-        let t1705: f32 = t1704 * 0.5;
-        let t1706: f32 = t1488 + t1705;
-        let t1707: f32 = -t1706;
-        let t1708: f32 = t130 * t1487;
-        let t1709: f32 = t1704 + t1708;
-        let t1710: f32 = t1709 * 0.5;
-        let t1711: f32 = t229 * t337;
-        let t1712: f32 = t213 * t1384;
-        let t1713: f32 = t291 * t426;
-        let t1714: f32 = t279 * t1406;
-        let t1715: f32 = t480 * t491;
-        let t1716: f32 = t464 * t1425;
-        let t1717: f32 = t488 * t1430;
-        let t1718: f32 = t536 * t549;
-        let t1719: f32 = t520 * t1444;
-        let t1720: f32 = t544 * t718;
-        let t1721: f32 = t595 * t605;
-        let t1722: f32 = t579 * t1462;
-        let t1723: f32 = t602 * t727;
-        let t1724: f32 = t633 * t648;
-        let t1725: f32 = t621 * t1478;
-        let t1726: f32 = t645 * t1483;
-        let t1727: f32 = t638 * t670;
-        let t1728: f32 = t362 * t389;
-        let t1729: f32 = t350 * t1387;
-        let t1730: f32 = t380 * t1392;
-        let t1731: f32 = t366 * t412;
-        let t1732: f32 = t784 * t806;
-        let t1733: f32 = t799 * t1517;
-        let t1734: f32 = t1732 + t1733;
-        let t1735: f32 = t807 * t1734;
-        let t1736: f32 = t827 * t861;
-        let t1737: f32 = t846 * t871;
-        let t1738: f32 = t839 * t891;
-        let t1739: f32 = t1735 + t1738;
-        let t1740: f32 = t1736 + t1737;
-        let t1741: f32 = t1739 - t1740;
-        let t1742: f32 = t1015 * t1741;
-        let t1743: f32 = t1022 * t1537;
-        let t1744: f32 = t1742 + t1743;
-        let t1745: f32 = t0 * t1744;
-        let t1746: f32 = t917 * t1031;
-        let t1747: f32 = t85 * t1564;
-        let t1748: f32 = t128 * t1553;
-        let t1749: f32 = t1747 - t1748;
-        let t1750: f32 = t85 * t1749;
-        let t1751: f32 = t147 * t1566;
-        let t1752: f32 = t1750 - t1751;
-        let t1753: f32 = t0 * t1752;
-        let t1754: f32 = t772 * t1553;
-        let t1755: f32 = t775 * t1545;
-        let t1756: f32 = t1753 + t1755;
-        let t1757: f32 = t1756 - t1754;
-        let t1758: f32 = t0 * t1757;
-        let t1759: f32 = t1216 + t1758;
-        let t1760: f32 = t98 * t1759;
-        let t1761: f32 = t80 * t1663;
-        let t1762: f32 = t85 * t1245;
-        let t1763: f32 = t128 * t1234;
-        let t1764: f32 = t1762 - t1763;
-        let t1765: f32 = t128 * t1764;
-        let t1766: f32 = t147 * t1236;
-        let t1767: f32 = t1765 + t1766;
-        let t1768: f32 = t0 * t1767;
-        let t1769: f32 = t772 * t1245;
-        let t1770: f32 = t778 * t1226;
-        let t1771: f32 = t1768 + t1770;
-        let t1772: f32 = t1771 - t1769;
-        let t1773: f32 = t0 * t1772;
-        let t1774: f32 = t1659 - t1773;
-        let t1775: f32 = t487 * t1774;
-        let t1776: f32 = t1712 + t1714;
-        let t1777: f32 = t1716 + t1719;
-        let t1778: f32 = t1722 + t1725;
-        let t1779: f32 = t1726 + t1729;
-        let t1780: f32 = t1730 + t1731;
-        let t1781: f32 = t1746 + t1760;
-        let t1782: f32 = t1776 + t1777;
-        let t1783: f32 = t1778 + t1779;
-        let t1784: f32 = t1780 + t1781;
-        let t1785: f32 = t1782 + t1783;
-        let t1786: f32 = t1775 + t1784;
-        let t1787: f32 = t1785 + t1786;
-        let t1788: f32 = t1711 + t1713;
-        let t1789: f32 = t1715 + t1717;
-        let t1790: f32 = t1718 + t1720;
-        let t1791: f32 = t1721 + t1723;
-        let t1792: f32 = t1724 + t1727;
-        let t1793: f32 = t1728 + t1745;
-        let t1794: f32 = t1788 + t1789;
-        let t1795: f32 = t1790 + t1791;
-        let t1796: f32 = t1792 + t1793;
-        let t1797: f32 = t1794 + t1795;
-        let t1798: f32 = t1761 + t1796;
-        let t1799: f32 = t1797 + t1798;
-        let t1800: f32 = t1787 - t1799;
-        let t1801: f32 = t0 * t1800;
-        let t1802: f32 = t1487 + t1801;
-        let t1803: f32 = t674 + t1802;
-        let t1804: f32 = t1803 * 0.5;
-        let t1805: f32 = t674 - t1802;
-        let t1806: f32 = t1805 * 0.5;
-        let t1807: f32 = 1.0 - t11;
-        let t1808: f32 = -t1031;
-        let t1809: f32 = -t937;
-        let t1810: f32 = -t1053;
-        (t1363, t1364, t1707, t1710, t1804, t1806, t1807, t1808, t1809, t1810)
-    };
-    ([t1363, t1364, t1707, t1710, t1804, t1806], [t1807, t1808, t1809, t1810])
-}
-/// Joint-space inertia `M_q = Jᵀ M_x J` of `Γ = M_q Q̈_a + c_q`: symmetric positive definite.
-///
-/// Equations: 15, 16, 27, 43-48, 49-57, 60, ∂W/∂V̇. Setting: joint.
-///
-/// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
-/// Actuators are in segment order 1..6; the chapter lists them 6..1.
-/// `M_q = ∂Γ/∂Q̈_a`, the exact derivative of the joint-space inverse dynamics.
-/// The robot's parameters listed in `params` are inputs; the others are folded in.
-/// The last result holds the forward singularity term and the divisors of eq 16 for a singularity check.
-///
-/// # Arguments
-///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
-/// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
-///
-/// # Returns
-///
-/// - `m`: `M_q` (kg), rows and columns in segment order
-/// - `singular`: `[1 + abc, r11, r22, r33]`: the forward singularity term (the actuator positions belong to a pose of the workspace only where it is positive; the other results are meaningless where it is near zero or negative) and the divisors of eq 16
-///
-/// Operations: 1444 mul, 4 div, 1063 add, 50 neg, 3 sqrt (chapter convention: 1448m + 1063a).
-#[inline]
-pub fn joint_inertia_params(
-    q: &[f32; 6],
-    params: &[f32; 152],
-) -> ([[f32; 6]; 6], [f32; 4]) {
-    let [q1, q2, q3, q4, q5, q6] = *q;
-    let [half_spacing, _, _, _, platform_mass, platform_mx, platform_my, platform_mz,
-    platform_ixx, platform_ixy, platform_ixz, platform_iyy, platform_iyz, platform_izz,
-    rod1_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint1_mass, joint1_mx, joint1_my,
-    joint1_mz, joint1_ixx, joint1_ixy, joint1_ixz, joint1_iyy, joint1_iyz, joint1_izz,
-    rod2_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint2_mass, joint2_mx, joint2_my,
-    joint2_mz, joint2_ixx, joint2_ixy, joint2_ixz, joint2_iyy, joint2_iyz, joint2_izz,
-    rod3_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint3_mass, joint3_mx, joint3_my,
-    joint3_mz, joint3_ixx, joint3_ixy, joint3_ixz, joint3_iyy, joint3_iyz, joint3_izz,
-    rod4_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint4_mass, joint4_mx, joint4_my,
-    joint4_mz, joint4_ixx, joint4_ixy, joint4_ixz, joint4_iyy, joint4_iyz, joint4_izz,
-    rod5_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint5_mass, joint5_mx, joint5_my,
-    joint5_mz, joint5_ixx, joint5_ixy, joint5_ixz, joint5_iyy, joint5_iyz, joint5_izz,
-    rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint6_mass, joint6_mx, joint6_my,
-    joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz, joint6_iyy, joint6_iyz, joint6_izz] = *params;
-    let (
-        t0,
-        t1,
-        t3,
-        t8,
-        t23,
-        t33,
-        t57,
-        t62,
-        t81,
-        t89,
-        t95,
-        t96,
-        t98,
-        t99,
-        t107,
-        t108,
-        t109,
-        t112,
-        t113,
-        t114,
-        t115,
-        t117,
-        t120,
-        t121,
-        t124,
-        t127,
-        t128,
-        t130,
-        t133,
-        t137,
-        t142,
-        t145,
-        t147,
-        t154,
-        t156,
-        t157,
-        t164,
-        t174,
-        t175,
-        t182,
-        t183,
-        t191,
-        t199,
-        t203,
-        t204,
-        t206,
-        t209,
-        t210,
-        t214,
-        t218,
+        t198,
+        t212,
         t225,
-        t228,
-        t233,
-        t240,
-        t241,
-        t251,
-        t259,
-        t268,
-        t276,
-        t280,
-        t281,
-        t289,
-        t292,
-        t293,
-        t295,
-        t296,
+        t238,
+        t261,
+        t274,
         t299,
-        t307,
-        t310,
-        t311,
-        t313,
-        t317,
+        t302,
+        t312,
+        t316,
         t318,
-        t320,
-        t323,
-        t324,
+        t325,
         t326,
-        t330,
-        t336,
-        t340,
-        t341,
-        t344,
-        t345,
-        t353,
-        t355,
-        t356,
-        t358,
-        t360,
-        t361,
-        t363,
-        t364,
+        t332,
+        t339,
+        t347,
+        t350,
+        t359,
+        t362,
         t366,
-        t368,
-        t369,
-        t371,
-        t372,
-        t374,
-        t375,
-        t376,
-        t378,
-        t380,
-        t382,
-        t386,
-        t391,
-        t398,
+        t379,
+        t381,
         t405,
-        t409,
-        t411,
-        t413,
-        t426,
-        t429,
-        t433,
-        t438,
-        t439,
-        t445,
-        t449,
-        t455,
-        t463,
-        t474,
-        t490,
-        t499,
-        t509,
-        t515,
+        t408,
+        t507,
         t525,
-        t535,
-        t544,
-        t549,
-        t550,
-        t560,
+        t536,
+        t553,
+        t562,
+        t567,
         t569,
-        t582,
-        t586,
-        t587,
-        t596,
-        t607,
-        t616,
-        t620,
-        t621,
-        t633,
-        t642,
-        t652,
-        t657,
-        t658,
-        t669,
-        t678,
-        t688,
-        t711,
-        t720,
-        t721,
-        t722,
-        t732,
-        t735,
-        t760,
-        t779,
-        t786,
-        t797,
-        t798,
-        t800,
-        t803,
-        t804,
-        t806,
-        t809,
-        t810,
-        t813,
-        t816,
-        t819,
-        t822,
-        t825,
-        t826,
-        t827,
-        t828,
-        t835,
-        t837,
-        t838,
-        t839,
-        t840,
-        t847,
-        t849,
-        t850,
-        t851,
-        t858,
-        t859,
-        t868,
-        t876,
-        t877,
+        t577,
+        t628,
+        t630,
+        t670,
+        t780,
+        t842,
         t886,
-        t887,
-        t894,
-        t895,
-        t899,
-        t901,
-        t902,
-        t910,
-        t913,
-        t925,
-        t933,
-        t941,
-        t945,
-        t953,
-        t961,
-        t966,
-        t975,
-        t987,
+        t921,
+        t924,
+        t949,
+        t952,
+        t971,
+        t976,
         t989,
-        t991,
+        t990,
         t993,
+        t994,
         t995,
         t996,
+        t997,
+        t998,
         t999,
     ) = {
         let t0: f32 = 1.0 / half_spacing;
@@ -15938,3018 +11823,2728 @@ pub fn joint_inertia_params(
         let t105: f32 = t48 * 0.125;
         let t106: f32 = half_spacing + t104;
         let t107: f32 = t106 - t105;
-        let t108: f32 = t0 * t107;
-        let t109: f32 = t105 - t104;
-        let t110: f32 = t0 * t109;
-        let t111: f32 = t108 + t110;
-        let t112: f32 = t111 * 0.5;
-        let t113: f32 = t112 - 1.0;
-        let t114: f32 = joint3_mass * t113;
-        let t115: f32 = joint4_mass * t113;
-        let t116: f32 = q5 + t104;
-        let t117: f32 = t116 - t105;
-        let t118: f32 = t0 * t117;
-        let t119: f32 = t108 - t118;
-        let t120: f32 = t119 * 0.5;
-        let t121: f32 = t120 - 1.0;
-        let t122: f32 = joint5_mass * t121;
-        let t123: f32 = q6 + t104;
-        let t124: f32 = t123 - t105;
-        let t125: f32 = t0 * t124;
-        let t126: f32 = t108 - t125;
-        let t127: f32 = t126 * 0.5;
-        let t128: f32 = t127 - 1.0;
-        let t129: f32 = joint6_mass * t128;
-        let t130: f32 = platform_mass * t0;
-        let t131: f32 = t107 * t130;
-        let t132: f32 = -t95;
-        let t133: f32 = sqrt(t132);
-        let t134: f32 = platform_mx * t81;
-        let t135: f32 = t133 * t134;
-        let t136: f32 = -t69;
-        let t137: f32 = sqrt(t136);
-        let t138: f32 = platform_my * t57;
-        let t139: f32 = t137 * t138;
-        let t140: f32 = t135 - t139;
-        let t141: f32 = -t41;
-        let t142: f32 = sqrt(t141);
-        let t143: f32 = t8 * t142;
-        let t144: f32 = t143 * 0.125;
-        let t145: f32 = t142 - t144;
-        let t146: f32 = platform_mz * t145;
-        let t147: f32 = t140 - t146;
-        let t148: f32 = t0 * t147;
-        let t149: f32 = t131 + t148;
-        let t150: f32 = joint1_mx * t81;
-        let t151: f32 = t133 * t150;
-        let t152: f32 = joint1_my * t57;
-        let t153: f32 = t137 * t152;
-        let t154: f32 = t151 - t153;
-        let t155: f32 = joint1_mz * t145;
-        let t156: f32 = t154 - t155;
-        let t157: f32 = t0 * t156;
-        let t158: f32 = joint2_mx * t81;
-        let t159: f32 = t133 * t158;
-        let t160: f32 = joint2_my * t57;
-        let t161: f32 = t137 * t160;
-        let t162: f32 = joint2_mz * t145;
-        let t163: f32 = t161 + t162;
-        let t164: f32 = t159 - t163;
-        let t165: f32 = t0 * t164;
-        let t166: f32 = t157 + t165;
-        let t167: f32 = t149 + t166;
-        let t168: f32 = joint3_mx * t81;
-        let t169: f32 = t133 * t168;
-        let t170: f32 = joint3_my * t57;
-        let t171: f32 = t137 * t170;
-        let t172: f32 = joint3_mz * t145;
-        let t173: f32 = t171 + t172;
-        let t174: f32 = t169 - t173;
-        let t175: f32 = t0 * t174;
-        let t176: f32 = joint4_mx * t81;
-        let t177: f32 = t133 * t176;
-        let t178: f32 = joint4_my * t57;
-        let t179: f32 = t137 * t178;
-        let t180: f32 = joint4_mz * t145;
-        let t181: f32 = t179 + t180;
-        let t182: f32 = t177 - t181;
-        let t183: f32 = t0 * t182;
-        let t184: f32 = t175 + t183;
-        let t185: f32 = joint5_mx * t81;
-        let t186: f32 = t133 * t185;
-        let t187: f32 = joint5_my * t57;
-        let t188: f32 = t137 * t187;
-        let t189: f32 = joint5_mz * t145;
-        let t190: f32 = t188 + t189;
-        let t191: f32 = t186 - t190;
-        let t192: f32 = t0 * t191;
-        let t193: f32 = joint6_mx * t81;
-        let t194: f32 = t133 * t193;
-        let t195: f32 = joint6_my * t57;
-        let t196: f32 = t137 * t195;
-        let t197: f32 = joint6_mz * t145;
-        let t198: f32 = t196 + t197;
-        let t199: f32 = t194 - t198;
-        let t200: f32 = t0 * t199;
-        let t201: f32 = t192 + t200;
-        let t202: f32 = t184 + t201;
-        let t203: f32 = t167 + t202;
-        let t204: f32 = platform_mass + joint1_mass;
-        let t205: f32 = half_spacing + t105;
-        let t206: f32 = t205 - t104;
-        let t207: f32 = t0 * t206;
-        let t208: f32 = t108 + t207;
-        let t209: f32 = t208 * 0.5;
-        let t210: f32 = t209 - 1.0;
-        let t211: f32 = joint2_mass * t210;
-        let t212: f32 = rod2_mass * t210;
-        let t213: f32 = t211 + t212;
-        let t214: f32 = q1 * t0;
-        let t215: f32 = joint1_mass * t214;
-        let t216: f32 = t8 * t133;
-        let t217: f32 = t216 * 0.125;
-        let t218: f32 = t133 - t217;
-        let t219: f32 = joint6_mx * t218;
-        let t220: f32 = joint6_my * t62;
-        let t221: f32 = t137 * t220;
-        let t222: f32 = joint6_mz * t33;
-        let t223: f32 = t142 * t222;
-        let t224: f32 = t219 + t223;
-        let t225: f32 = t224 - t221;
-        let t226: f32 = t0 * t225;
-        let t227: f32 = platform_mz * t33;
-        let t228: f32 = t142 * t227;
-        let t229: f32 = platform_mx * t218;
-        let t230: f32 = platform_my * t62;
-        let t231: f32 = t137 * t230;
-        let t232: f32 = t229 - t231;
-        let t233: f32 = t228 + t232;
-        let t234: f32 = t0 * t233;
-        let t235: f32 = joint1_mx * t218;
-        let t236: f32 = joint1_mz * t33;
-        let t237: f32 = t142 * t236;
-        let t238: f32 = joint1_my * t62;
-        let t239: f32 = t137 * t238;
-        let t240: f32 = t237 - t239;
-        let t241: f32 = t235 + t240;
-        let t242: f32 = t0 * t241;
-        let t243: f32 = t234 + t242;
-        let t244: f32 = t226 + t243;
-        let t245: f32 = joint2_mz * t33;
-        let t246: f32 = t142 * t245;
-        let t247: f32 = joint2_mx * t218;
-        let t248: f32 = joint2_my * t62;
-        let t249: f32 = t137 * t248;
-        let t250: f32 = t247 - t249;
-        let t251: f32 = t246 + t250;
-        let t252: f32 = t0 * t251;
-        let t253: f32 = joint3_mx * t218;
-        let t254: f32 = joint3_my * t62;
-        let t255: f32 = t137 * t254;
-        let t256: f32 = joint3_mz * t33;
-        let t257: f32 = t142 * t256;
-        let t258: f32 = t253 + t257;
-        let t259: f32 = t258 - t255;
-        let t260: f32 = t0 * t259;
-        let t261: f32 = t252 + t260;
-        let t262: f32 = joint4_mx * t218;
-        let t263: f32 = joint4_my * t62;
-        let t264: f32 = t137 * t263;
-        let t265: f32 = joint4_mz * t33;
-        let t266: f32 = t142 * t265;
-        let t267: f32 = t262 + t266;
-        let t268: f32 = t267 - t264;
-        let t269: f32 = t0 * t268;
-        let t270: f32 = joint5_mx * t218;
-        let t271: f32 = joint5_my * t62;
-        let t272: f32 = t137 * t271;
-        let t273: f32 = joint5_mz * t33;
-        let t274: f32 = t142 * t273;
-        let t275: f32 = t270 + t274;
-        let t276: f32 = t275 - t272;
-        let t277: f32 = t0 * t276;
-        let t278: f32 = t269 + t277;
-        let t279: f32 = t261 + t278;
-        let t280: f32 = t244 + t279;
-        let t281: f32 = t215 + t280;
-        let t282: f32 = t8 * t95;
-        let t283: f32 = t100 * t282;
-        let t284: f32 = t95 * t100;
-        let t285: f32 = t33 * t41;
-        let t286: f32 = t46 * t285;
-        let t287: f32 = t62 * t69;
-        let t288: f32 = t74 * t287;
-        let t289: f32 = t286 - t288;
-        let t290: f32 = t284 + t289;
-        let t291: f32 = t283 * 0.125;
-        let t292: f32 = t290 - t291;
-        let t293: f32 = t0 * t292;
-        let t294: f32 = q1 + t290;
-        let t295: f32 = t294 - t291;
-        let t296: f32 = t0 * t295;
-        let t297: f32 = t214 - t296;
-        let t298: f32 = t293 + t297;
-        let t299: f32 = t298 * 0.5;
-        let t300: f32 = joint5_mass * t299;
-        let t301: f32 = rod5_mass * t299;
-        let t302: f32 = t300 + t301;
-        let t303: f32 = joint6_mass * t299;
-        let t304: f32 = rod6_mass * t299;
-        let t305: f32 = t303 + t304;
-        let t306: f32 = t302 + t305;
-        let t307: f32 = t297 * 0.5;
-        let t308: f32 = platform_mass * t307;
-        let t309: f32 = q2 + t290;
-        let t310: f32 = t309 - t291;
-        let t311: f32 = t0 * t310;
-        let t312: f32 = t297 + t311;
-        let t313: f32 = t312 * 0.5;
-        let t314: f32 = joint2_mass * t313;
-        let t315: f32 = t308 + t314;
-        let t316: f32 = half_spacing + t290;
-        let t317: f32 = t316 - t291;
-        let t318: f32 = t0 * t317;
-        let t319: f32 = t297 + t318;
-        let t320: f32 = t319 * 0.5;
-        let t321: f32 = joint3_mass * t320;
-        let t322: f32 = half_spacing + t291;
-        let t323: f32 = t322 - t290;
-        let t324: f32 = t0 * t323;
-        let t325: f32 = t297 - t324;
-        let t326: f32 = t325 * 0.5;
-        let t327: f32 = joint4_mass * t326;
-        let t328: f32 = t321 + t327;
-        let t329: f32 = t315 + t328;
-        let t330: f32 = t306 + t329;
-        let t331: f32 = t281 * 0.5;
+        let t108: f32 = qdd1 - qdd2;
+        let t109: f32 = t108 * 0.5;
+        let t110: f32 = t0 * t107;
+        let t111: f32 = t109 * t110;
+        let t112: f32 = t8 * t69;
+        let t113: f32 = t74 * t112;
+        let t114: f32 = t69 * t74;
+        let t115: f32 = t89 * t95;
+        let t116: f32 = t100 * t115;
+        let t117: f32 = t23 * t41;
+        let t118: f32 = t46 * t117;
+        let t119: f32 = t116 - t118;
+        let t120: f32 = t114 + t119;
+        let t121: f32 = t113 * 0.125;
+        let t122: f32 = t120 - t121;
+        let t123: f32 = qd3 - qd4;
+        let t124: f32 = t123 * 0.5;
+        let t125: f32 = t70 - t72;
+        let t126: f32 = t125 * 0.125;
+        let t127: f32 = t8 * t126;
+        let t128: f32 = t73 - t127;
+        let t129: f32 = t69 * t128;
+        let t130: f32 = t119 + t129;
+        let t131: f32 = t124 * t130;
+        let t132: f32 = qd1 - qd2;
+        let t133: f32 = t132 * 0.5;
+        let t134: f32 = t42 - t44;
+        let t135: f32 = t134 * 0.125;
+        let t136: f32 = t8 * t135;
+        let t137: f32 = t45 - t136;
+        let t138: f32 = t41 * t137;
+        let t139: f32 = t103 + t138;
+        let t140: f32 = half_spacing + t139;
+        let t141: f32 = t133 * t140;
+        let t142: f32 = t131 - t141;
+        let t143: f32 = t0 * t142;
+        let t144: f32 = qd1 + t143;
+        let t145: f32 = t0 * t124;
+        let t146: f32 = t144 * t145;
+        let t147: f32 = qd5 - qd6;
+        let t148: f32 = t147 * 0.5;
+        let t149: f32 = t0 * t130;
+        let t150: f32 = t148 * t149;
+        let t151: f32 = q1 * t0;
+        let t152: f32 = t8 * t95;
+        let t153: f32 = t100 * t152;
+        let t154: f32 = t95 * t100;
+        let t155: f32 = t33 * t41;
+        let t156: f32 = t46 * t155;
+        let t157: f32 = t62 * t69;
+        let t158: f32 = t74 * t157;
+        let t159: f32 = t156 - t158;
+        let t160: f32 = t154 + t159;
+        let t161: f32 = t153 * 0.125;
+        let t162: f32 = q1 + t160;
+        let t163: f32 = t162 - t161;
+        let t164: f32 = t0 * t163;
+        let t165: f32 = t151 - t164;
+        let t166: f32 = t165 * 0.5;
+        let t167: f32 = t132 * t166;
+        let t168: f32 = qd5 + qd6;
+        let t169: f32 = t168 * 0.5;
+        let t170: f32 = t150 + t167;
+        let t171: f32 = t169 - t170;
+        let t172: f32 = t0 * t148;
+        let t173: f32 = t171 * t172;
+        let t174: f32 = t146 - t173;
+        let t175: f32 = qdd3 + t174;
+        let t176: f32 = t0 * t122;
+        let t177: f32 = t175 * t176;
+        let t178: f32 = qdd4 + t174;
+        let t179: f32 = t176 * t178;
+        let t180: f32 = t177 - t179;
+        let t181: f32 = t0 * t133;
+        let t182: f32 = t171 * t181;
+        let t183: f32 = q1 - half_spacing;
+        let t184: f32 = t0 * t183;
+        let t185: f32 = t184 - t164;
+        let t186: f32 = t185 * 0.5;
+        let t187: f32 = t186 + 1.0;
+        let t188: f32 = qd3 * t187;
+        let t189: f32 = qd4 * t186;
+        let t190: f32 = t140 * t172;
+        let t191: f32 = t148 + t189;
+        let t192: f32 = t188 + t190;
+        let t193: f32 = t191 - t192;
+        let t194: f32 = t145 * t193;
+        let t195: f32 = t182 + t194;
+        let t196: f32 = qdd2 + t195;
+        let t197: f32 = t110 * t196;
+        let t198: f32 = t1 * t124;
+        let t199: f32 = t107 * t198;
+        let t200: f32 = t193 * t199;
+        let t201: f32 = t197 - t200;
+        let t202: f32 = qdd1 * t0;
+        let t203: f32 = t107 * t202;
+        let t204: f32 = t1 * t133;
+        let t205: f32 = t171 * t204;
+        let t206: f32 = t107 * t205;
+        let t207: f32 = t203 + t206;
+        let t208: f32 = t201 - t207;
+        let t209: f32 = t180 + t208;
+        let t210: f32 = qdd1 - gravity_x;
+        let t211: f32 = qdd3 - qdd4;
+        let t212: f32 = t211 * 0.5;
+        let t213: f32 = t176 * t212;
+        let t214: f32 = t210 - t213;
+        let t215: f32 = t209 * 0.5;
+        let t216: f32 = t111 + t214;
+        let t217: f32 = t215 + t216;
+        let t218: f32 = rod1_mass * t217;
+        let t219: f32 = joint1_mx + joint2_mx;
+        let t220: f32 = joint3_mx + joint4_mx;
+        let t221: f32 = joint5_mx + joint6_mx;
+        let t222: f32 = platform_mx + t219;
+        let t223: f32 = t220 + t221;
+        let t224: f32 = t222 + t223;
+        let t225: f32 = t8 * 0.125;
+        let t226: f32 = t225 - 1.0;
+        let t227: f32 = -t95;
+        let t228: f32 = sqrt(t227);
+        let t229: f32 = t226 * t228;
+        let t230: f32 = -t229;
+        let t231: f32 = t224 * t230;
+        let t232: f32 = joint5_mass + joint6_mass;
+        let t233: f32 = t96 - t98;
+        let t234: f32 = t233 * 0.125;
+        let t235: f32 = t8 * t234;
+        let t236: f32 = t99 - t235;
+        let t237: f32 = t95 * t236;
+        let t238: f32 = t159 + t237;
+        let t239: f32 = t232 * t238;
+        let t240: f32 = joint1_mz + joint2_mz;
+        let t241: f32 = joint3_mz + joint4_mz;
+        let t242: f32 = joint5_mz + joint6_mz;
+        let t243: f32 = platform_mz + t240;
+        let t244: f32 = t241 + t242;
+        let t245: f32 = t243 + t244;
+        let t246: f32 = -t41;
+        let t247: f32 = sqrt(t246);
+        let t248: f32 = t33 * t245;
+        let t249: f32 = t247 * t248;
+        let t250: f32 = joint1_my + joint2_my;
+        let t251: f32 = joint3_my + joint4_my;
+        let t252: f32 = joint5_my + joint6_my;
+        let t253: f32 = platform_my + t250;
+        let t254: f32 = t251 + t252;
+        let t255: f32 = t253 + t254;
+        let t256: f32 = -t69;
+        let t257: f32 = sqrt(t256);
+        let t258: f32 = t62 * t255;
+        let t259: f32 = t257 * t258;
+        let t260: f32 = t249 - t259;
+        let t261: f32 = q1 + t238;
+        let t262: f32 = joint1_mass * t261;
+        let t263: f32 = q2 + t238;
+        let t264: f32 = joint2_mass * t263;
+        let t265: f32 = t262 + t264;
+        let t266: f32 = half_spacing + t238;
+        let t267: f32 = joint3_mass * t266;
+        let t268: f32 = half_spacing - t238;
+        let t269: f32 = joint4_mass * t268;
+        let t270: f32 = t267 - t269;
+        let t271: f32 = t231 + t239;
+        let t272: f32 = t260 + t265;
+        let t273: f32 = t271 + t272;
+        let t274: f32 = t270 + t273;
+        let t275: f32 = t124 * t274;
+        let t276: f32 = t226 * t247;
+        let t277: f32 = -t276;
+        let t278: f32 = t245 * t277;
+        let t279: f32 = joint3_mass + joint4_mass;
+        let t280: f32 = -t139;
+        let t281: f32 = t279 * t280;
+        let t282: f32 = t57 * t255;
+        let t283: f32 = t257 * t282;
+        let t284: f32 = t81 * t224;
+        let t285: f32 = t228 * t284;
+        let t286: f32 = t283 - t285;
+        let t287: f32 = joint1_mass * t140;
+        let t288: f32 = half_spacing - t139;
+        let t289: f32 = joint2_mass * t288;
+        let t290: f32 = t287 - t289;
+        let t291: f32 = q5 + t139;
+        let t292: f32 = joint5_mass * t291;
+        let t293: f32 = q6 + t139;
+        let t294: f32 = joint6_mass * t293;
+        let t295: f32 = t292 + t294;
+        let t296: f32 = t278 + t286;
+        let t297: f32 = t290 + t295;
+        let t298: f32 = t296 + t297;
+        let t299: f32 = t298 - t281;
+        let t300: f32 = t148 * t299;
+        let t301: f32 = t275 - t300;
+        let t302: f32 = t1 * t148;
+        let t303: f32 = t301 * t302;
+        let t304: f32 = joint1_mass * t163;
+        let t305: f32 = q2 + t160;
+        let t306: f32 = t305 - t161;
+        let t307: f32 = joint2_mass * t306;
+        let t308: f32 = half_spacing + t160;
+        let t309: f32 = t308 - t161;
+        let t310: f32 = joint3_mass * t309;
+        let t311: f32 = half_spacing + t161;
+        let t312: f32 = t311 - t160;
+        let t313: f32 = joint4_mass * t312;
+        let t314: f32 = t8 * t228;
+        let t315: f32 = t314 * 0.125;
+        let t316: f32 = t228 - t315;
+        let t317: f32 = t224 * t316;
+        let t318: f32 = t160 - t161;
+        let t319: f32 = t232 * t318;
+        let t320: f32 = t304 + t307;
+        let t321: f32 = t310 + t317;
+        let t322: f32 = t260 + t319;
+        let t323: f32 = t320 + t321;
+        let t324: f32 = t322 + t323;
+        let t325: f32 = t324 - t313;
+        let t326: f32 = t0 * t109;
+        let t327: f32 = t325 * t326;
+        let t328: f32 = t303 - t327;
+        let t329: f32 = joint1_mass + joint2_mass;
+        let t330: f32 = platform_mass + t329;
+        let t331: f32 = t232 + t279;
         let t332: f32 = t330 + t331;
-        let t333: f32 = t214 * t332;
-        let t334: f32 = t214 * t241;
-        let t335: f32 = t164 * t210;
-        let t336: f32 = t165 * 0.5;
-        let t337: f32 = t213 + t336;
-        let t338: f32 = t206 * t337;
-        let t339: f32 = t121 * t191;
-        let t340: f32 = t192 * 0.5;
-        let t341: f32 = t122 + t340;
-        let t342: f32 = t117 * t341;
-        let t343: f32 = t128 * t199;
-        let t344: f32 = t200 * 0.5;
-        let t345: f32 = t129 + t344;
-        let t346: f32 = t124 * t345;
-        let t347: f32 = t42 - t44;
-        let t348: f32 = t347 * 0.125;
-        let t349: f32 = t8 * t348;
-        let t350: f32 = t45 - t349;
-        let t351: f32 = t41 * t350;
-        let t352: f32 = t103 + t351;
-        let t353: f32 = half_spacing + t352;
-        let t354: f32 = platform_mass * t353;
-        let t355: f32 = joint3_mx + joint4_mx;
-        let t356: f32 = joint5_mx + joint6_mx;
-        let t357: f32 = t355 + t356;
-        let t358: f32 = platform_mx + t357;
-        let t359: f32 = joint2_mx + t358;
-        let t360: f32 = t359 * 0.5;
-        let t361: f32 = t81 * t133;
-        let t362: f32 = t360 * t361;
-        let t363: f32 = joint3_my + joint4_my;
-        let t364: f32 = joint5_my + joint6_my;
-        let t365: f32 = t363 + t364;
-        let t366: f32 = platform_my + t365;
-        let t367: f32 = joint2_my + t366;
-        let t368: f32 = t367 * 0.5;
-        let t369: f32 = t57 * t137;
-        let t370: f32 = t368 * t369;
-        let t371: f32 = t8 * 0.125;
-        let t372: f32 = t371 - 1.0;
-        let t373: f32 = t142 * t372;
-        let t374: f32 = -t373;
-        let t375: f32 = joint3_mz + joint4_mz;
-        let t376: f32 = joint5_mz + joint6_mz;
-        let t377: f32 = t375 + t376;
-        let t378: f32 = platform_mz + t377;
-        let t379: f32 = joint2_mz + t378;
-        let t380: f32 = t379 * 0.5;
-        let t381: f32 = t374 * t380;
-        let t382: f32 = t354 * 0.5;
-        let t383: f32 = t362 + t382;
-        let t384: f32 = t370 + t381;
-        let t385: f32 = t383 - t384;
-        let t386: f32 = t0 * t385;
-        let t387: f32 = rod2_mass + joint2_mass;
-        let t388: f32 = t387 * 0.0;
-        let t389: f32 = q5 - half_spacing;
-        let t390: f32 = t389 * 0.5;
-        let t391: f32 = t0 * t390;
-        let t392: f32 = t391 + 1.0;
-        let t393: f32 = -t392;
-        let t394: f32 = joint5_mass * t393;
-        let t395: f32 = platform_mass - t394;
-        let t396: f32 = q6 - half_spacing;
-        let t397: f32 = t396 * 0.5;
-        let t398: f32 = t0 * t397;
-        let t399: f32 = t398 + 1.0;
-        let t400: f32 = -t399;
-        let t401: f32 = joint6_mass * t400;
-        let t402: f32 = joint3_mass + joint4_mass;
-        let t403: f32 = t402 * -0.5;
-        let t404: f32 = t401 + t403;
-        let t405: f32 = t395 - t404;
-        let t406: f32 = t386 + t388;
-        let t407: f32 = t405 - t406;
-        let t408: f32 = t107 * t407;
-        let t409: f32 = t355 * 0.5;
-        let t410: f32 = t361 * t409;
-        let t411: f32 = t363 * 0.5;
-        let t412: f32 = t369 * t411;
-        let t413: f32 = t375 * 0.5;
-        let t414: f32 = t374 * t413;
-        let t415: f32 = t412 + t414;
-        let t416: f32 = t410 - t415;
-        let t417: f32 = t0 * t416;
-        let t418: f32 = t403 + t417;
-        let t419: f32 = t109 * t418;
-        let t420: f32 = t355 * t361;
-        let t421: f32 = t363 * t369;
-        let t422: f32 = t374 * t375;
-        let t423: f32 = t421 + t422;
-        let t424: f32 = t420 - t423;
-        let t425: f32 = t113 * t424;
-        let t426: f32 = platform_mz * t0;
-        let t427: f32 = t107 * t426;
-        let t428: f32 = t145 * t427;
-        let t429: f32 = platform_my * t0;
-        let t430: f32 = t57 * t429;
-        let t431: f32 = t107 * t430;
-        let t432: f32 = t137 * t431;
-        let t433: f32 = platform_mx * t0;
-        let t434: f32 = t81 * t433;
-        let t435: f32 = t107 * t434;
-        let t436: f32 = t133 * t435;
-        let t437: f32 = t432 - t436;
-        let t438: f32 = t428 + t437;
-        let t439: f32 = t147 + t156;
-        let t440: f32 = joint1_ixx * t89;
-        let t441: f32 = t133 * t440;
-        let t442: f32 = joint1_ixz * t23;
-        let t443: f32 = t142 * t442;
-        let t444: f32 = t137 * t372;
-        let t445: f32 = -t444;
-        let t446: f32 = joint1_ixy * t445;
-        let t447: f32 = t441 + t446;
-        let t448: f32 = t447 - t443;
-        let t449: f32 = t448 * 0.5;
-        let t450: f32 = t0 * t89;
-        let t451: f32 = t133 * t450;
-        let t452: f32 = t449 * t451;
-        let t453: f32 = t8 * t137;
-        let t454: f32 = t453 * 0.125;
-        let t455: f32 = t137 - t454;
-        let t456: f32 = joint1_ixy * t89;
-        let t457: f32 = t133 * t456;
-        let t458: f32 = joint1_iyz * t23;
-        let t459: f32 = t142 * t458;
-        let t460: f32 = joint1_iyy * t445;
-        let t461: f32 = t457 + t460;
-        let t462: f32 = t461 - t459;
-        let t463: f32 = t462 * 0.5;
-        let t464: f32 = t0 * t455;
-        let t465: f32 = t463 * t464;
+        let t333: f32 = t172 * t193;
+        let t334: f32 = t144 * t181;
+        let t335: f32 = t166 * t196;
+        let t336: f32 = qdd1 + t195;
+        let t337: f32 = t166 * t336;
+        let t338: f32 = gravity_z + t337;
+        let t339: f32 = t335 - t338;
+        let t340: f32 = qdd5 + qdd6;
+        let t341: f32 = qdd6 * t0;
+        let t342: f32 = t122 * t341;
+        let t343: f32 = qdd5 * t0;
+        let t344: f32 = t122 * t343;
+        let t345: f32 = t342 - t344;
+        let t346: f32 = t340 + t345;
+        let t347: f32 = t346 * 0.5;
+        let t348: f32 = t339 + t347;
+        let t349: f32 = t333 + t334;
+        let t350: f32 = t348 - t349;
+        let t351: f32 = t332 * t350;
+        let t352: f32 = q3 + t120;
+        let t353: f32 = t352 - t121;
+        let t354: f32 = joint3_mass * t353;
+        let t355: f32 = q4 + t120;
+        let t356: f32 = t355 - t121;
+        let t357: f32 = joint4_mass * t356;
+        let t358: f32 = half_spacing + t120;
+        let t359: f32 = t358 - t121;
+        let t360: f32 = joint5_mass * t359;
+        let t361: f32 = half_spacing + t121;
+        let t362: f32 = t361 - t120;
+        let t363: f32 = joint6_mass * t362;
+        let t364: f32 = t8 * t257;
+        let t365: f32 = t364 * 0.125;
+        let t366: f32 = t257 - t365;
+        let t367: f32 = t255 * t366;
+        let t368: f32 = t122 * t329;
+        let t369: f32 = t89 * t224;
+        let t370: f32 = t228 * t369;
+        let t371: f32 = t23 * t245;
+        let t372: f32 = t247 * t371;
+        let t373: f32 = t370 - t372;
+        let t374: f32 = t354 + t357;
+        let t375: f32 = t360 + t367;
+        let t376: f32 = t368 + t373;
+        let t377: f32 = t374 + t375;
+        let t378: f32 = t376 + t377;
+        let t379: f32 = t378 - t363;
+        let t380: f32 = qdd5 - qdd6;
+        let t381: f32 = t380 * 0.5;
+        let t382: f32 = t0 * t379;
+        let t383: f32 = t381 * t382;
+        let t384: f32 = t351 + t383;
+        let t385: f32 = t133 * t299;
+        let t386: f32 = t226 * t257;
+        let t387: f32 = -t386;
+        let t388: f32 = t255 * t387;
+        let t389: f32 = t130 * t329;
+        let t390: f32 = q3 + t130;
+        let t391: f32 = joint3_mass * t390;
+        let t392: f32 = q4 + t130;
+        let t393: f32 = joint4_mass * t392;
+        let t394: f32 = t391 + t393;
+        let t395: f32 = half_spacing + t130;
+        let t396: f32 = joint5_mass * t395;
+        let t397: f32 = half_spacing - t130;
+        let t398: f32 = joint6_mass * t397;
+        let t399: f32 = t396 - t398;
+        let t400: f32 = t388 + t389;
+        let t401: f32 = t373 + t394;
+        let t402: f32 = t400 + t401;
+        let t403: f32 = t399 + t402;
+        let t404: f32 = t124 * t403;
+        let t405: f32 = t385 - t404;
+        let t406: f32 = t204 * t405;
+        let t407: f32 = t384 - t406;
+        let t408: f32 = t328 + t407;
+        let t409: f32 = t151 * t408;
+        let t410: f32 = platform_ixy + joint1_ixy;
+        let t411: f32 = joint2_ixy + joint3_ixy;
+        let t412: f32 = joint4_ixy + joint5_ixy;
+        let t413: f32 = t410 + t411;
+        let t414: f32 = joint6_ixy + t412;
+        let t415: f32 = t413 + t414;
+        let t416: f32 = t109 * t387;
+        let t417: f32 = t62 * t381;
+        let t418: f32 = t57 * t212;
+        let t419: f32 = t417 - t418;
+        let t420: f32 = t257 * t419;
+        let t421: f32 = t416 - t420;
+        let t422: f32 = t0 * t421;
+        let t423: f32 = -t422;
+        let t424: f32 = t415 * t423;
+        let t425: f32 = t133 * t387;
+        let t426: f32 = t62 * t148;
+        let t427: f32 = t57 * t124;
+        let t428: f32 = t426 - t427;
+        let t429: f32 = t257 * t428;
+        let t430: f32 = t425 - t429;
+        let t431: f32 = t0 * t430;
+        let t432: f32 = -t431;
+        let t433: f32 = platform_iyz + joint1_iyz;
+        let t434: f32 = joint2_iyz + joint3_iyz;
+        let t435: f32 = joint4_iyz + joint5_iyz;
+        let t436: f32 = t433 + t434;
+        let t437: f32 = joint6_iyz + t435;
+        let t438: f32 = t436 + t437;
+        let t439: f32 = t432 * t438;
+        let t440: f32 = platform_ixz + joint1_ixz;
+        let t441: f32 = joint2_ixz + joint3_ixz;
+        let t442: f32 = joint4_ixz + joint5_ixz;
+        let t443: f32 = t440 + t441;
+        let t444: f32 = joint6_ixz + t442;
+        let t445: f32 = t443 + t444;
+        let t446: f32 = t148 * t230;
+        let t447: f32 = t89 * t133;
+        let t448: f32 = t81 * t124;
+        let t449: f32 = t447 - t448;
+        let t450: f32 = t228 * t449;
+        let t451: f32 = t446 + t450;
+        let t452: f32 = t445 * t451;
+        let t453: f32 = platform_izz + joint1_izz;
+        let t454: f32 = joint2_izz + joint3_izz;
+        let t455: f32 = joint4_izz + joint5_izz;
+        let t456: f32 = t453 + t454;
+        let t457: f32 = joint6_izz + t455;
+        let t458: f32 = t456 + t457;
+        let t459: f32 = t124 * t277;
+        let t460: f32 = t33 * t148;
+        let t461: f32 = t23 * t133;
+        let t462: f32 = t460 - t461;
+        let t463: f32 = t247 * t462;
+        let t464: f32 = t459 + t463;
+        let t465: f32 = t458 * t464;
         let t466: f32 = t452 + t465;
-        let t467: f32 = joint1_ixz * t89;
-        let t468: f32 = t133 * t467;
-        let t469: f32 = joint1_izz * t23;
-        let t470: f32 = t142 * t469;
-        let t471: f32 = joint1_iyz * t445;
-        let t472: f32 = t468 + t471;
-        let t473: f32 = t472 - t470;
-        let t474: f32 = t473 * 0.5;
-        let t475: f32 = t0 * t23;
-        let t476: f32 = t142 * t475;
-        let t477: f32 = t474 * t476;
-        let t478: f32 = t215 + t242;
-        let t479: f32 = t478 * 0.5;
-        let t480: f32 = t295 * t479;
-        let t481: f32 = t477 - t480;
-        let t482: f32 = t466 - t481;
-        let t483: f32 = joint2_ixx * t89;
-        let t484: f32 = t133 * t483;
-        let t485: f32 = joint2_ixz * t23;
-        let t486: f32 = t142 * t485;
-        let t487: f32 = joint2_ixy * t445;
-        let t488: f32 = t484 + t487;
-        let t489: f32 = t488 - t486;
-        let t490: f32 = t489 * 0.5;
-        let t491: f32 = t451 * t490;
-        let t492: f32 = joint2_ixy * t89;
-        let t493: f32 = t133 * t492;
-        let t494: f32 = joint2_iyz * t23;
-        let t495: f32 = t142 * t494;
-        let t496: f32 = joint2_iyy * t445;
-        let t497: f32 = t493 + t496;
-        let t498: f32 = t497 - t495;
-        let t499: f32 = t498 * 0.5;
-        let t500: f32 = t464 * t499;
-        let t501: f32 = t491 + t500;
-        let t502: f32 = joint2_ixz * t89;
-        let t503: f32 = t133 * t502;
-        let t504: f32 = joint2_izz * t23;
-        let t505: f32 = t142 * t504;
-        let t506: f32 = joint2_iyz * t445;
-        let t507: f32 = t503 + t506;
-        let t508: f32 = t507 - t505;
-        let t509: f32 = t508 * 0.5;
-        let t510: f32 = t476 * t509;
-        let t511: f32 = t251 * t313;
-        let t512: f32 = t510 - t511;
-        let t513: f32 = t501 - t512;
-        let t514: f32 = t482 + t513;
-        let t515: f32 = t252 * 0.5;
-        let t516: f32 = t314 + t515;
-        let t517: f32 = t310 * t516;
-        let t518: f32 = joint3_ixx * t89;
-        let t519: f32 = t133 * t518;
-        let t520: f32 = joint3_ixz * t23;
-        let t521: f32 = t142 * t520;
-        let t522: f32 = joint3_ixy * t445;
-        let t523: f32 = t519 + t522;
-        let t524: f32 = t523 - t521;
-        let t525: f32 = t524 * 0.5;
-        let t526: f32 = t451 * t525;
-        let t527: f32 = t517 + t526;
-        let t528: f32 = joint3_ixy * t89;
-        let t529: f32 = t133 * t528;
-        let t530: f32 = joint3_iyz * t23;
-        let t531: f32 = t142 * t530;
-        let t532: f32 = joint3_iyy * t445;
-        let t533: f32 = t529 + t532;
-        let t534: f32 = t533 - t531;
-        let t535: f32 = t534 * 0.5;
-        let t536: f32 = t464 * t535;
-        let t537: f32 = joint3_ixz * t89;
-        let t538: f32 = t133 * t537;
-        let t539: f32 = joint3_izz * t23;
-        let t540: f32 = t142 * t539;
-        let t541: f32 = joint3_iyz * t445;
-        let t542: f32 = t538 + t541;
-        let t543: f32 = t542 - t540;
-        let t544: f32 = t543 * 0.5;
-        let t545: f32 = t476 * t544;
-        let t546: f32 = t536 - t545;
-        let t547: f32 = t527 + t546;
-        let t548: f32 = t259 * t320;
-        let t549: f32 = t260 * 0.5;
-        let t550: f32 = t321 + t549;
-        let t551: f32 = t317 * t550;
-        let t552: f32 = t548 + t551;
-        let t553: f32 = joint4_ixx * t89;
-        let t554: f32 = t133 * t553;
-        let t555: f32 = joint4_ixz * t23;
-        let t556: f32 = t142 * t555;
-        let t557: f32 = joint4_ixy * t445;
-        let t558: f32 = t554 + t557;
-        let t559: f32 = t558 - t556;
-        let t560: f32 = t559 * 0.5;
-        let t561: f32 = t451 * t560;
-        let t562: f32 = joint4_ixy * t89;
-        let t563: f32 = t133 * t562;
-        let t564: f32 = joint4_iyz * t23;
-        let t565: f32 = t142 * t564;
-        let t566: f32 = joint4_iyy * t445;
-        let t567: f32 = t563 + t566;
-        let t568: f32 = t567 - t565;
-        let t569: f32 = t568 * 0.5;
-        let t570: f32 = t464 * t569;
-        let t571: f32 = t561 + t570;
-        let t572: f32 = t552 + t571;
-        let t573: f32 = t547 + t572;
-        let t574: f32 = t514 + t573;
-        let t575: f32 = joint4_ixz * t89;
-        let t576: f32 = t133 * t575;
-        let t577: f32 = joint4_izz * t23;
-        let t578: f32 = t142 * t577;
-        let t579: f32 = joint4_iyz * t445;
-        let t580: f32 = t576 + t579;
-        let t581: f32 = t580 - t578;
-        let t582: f32 = t581 * 0.5;
-        let t583: f32 = t476 * t582;
-        let t584: f32 = t268 * t326;
-        let t585: f32 = t583 - t584;
-        let t586: f32 = t269 * 0.5;
-        let t587: f32 = t327 + t586;
-        let t588: f32 = t323 * t587;
-        let t589: f32 = joint5_ixx * t89;
-        let t590: f32 = t133 * t589;
-        let t591: f32 = joint5_ixz * t23;
-        let t592: f32 = t142 * t591;
-        let t593: f32 = joint5_ixy * t445;
-        let t594: f32 = t590 + t593;
-        let t595: f32 = t594 - t592;
-        let t596: f32 = t595 * 0.5;
-        let t597: f32 = t451 * t596;
-        let t598: f32 = t588 - t597;
-        let t599: f32 = t585 + t598;
-        let t600: f32 = joint5_ixy * t89;
-        let t601: f32 = t133 * t600;
-        let t602: f32 = joint5_iyz * t23;
-        let t603: f32 = t142 * t602;
-        let t604: f32 = joint5_iyy * t445;
-        let t605: f32 = t601 + t604;
-        let t606: f32 = t605 - t603;
-        let t607: f32 = t606 * 0.5;
-        let t608: f32 = t464 * t607;
-        let t609: f32 = joint5_ixz * t89;
-        let t610: f32 = t133 * t609;
-        let t611: f32 = joint5_izz * t23;
-        let t612: f32 = t142 * t611;
-        let t613: f32 = joint5_iyz * t445;
-        let t614: f32 = t610 + t613;
-        let t615: f32 = t614 - t612;
-        let t616: f32 = t615 * 0.5;
-        let t617: f32 = t476 * t616;
-        let t618: f32 = t608 - t617;
-        let t619: f32 = t276 * t299;
-        let t620: f32 = t277 * 0.5;
-        let t621: f32 = t302 + t620;
-        let t622: f32 = t292 * t621;
-        let t623: f32 = t619 + t622;
-        let t624: f32 = t618 + t623;
-        let t625: f32 = t599 - t624;
-        let t626: f32 = joint6_ixx * t89;
-        let t627: f32 = t133 * t626;
-        let t628: f32 = joint6_ixz * t23;
-        let t629: f32 = t142 * t628;
-        let t630: f32 = joint6_ixy * t445;
-        let t631: f32 = t627 + t630;
-        let t632: f32 = t631 - t629;
-        let t633: f32 = t632 * 0.5;
-        let t634: f32 = t451 * t633;
-        let t635: f32 = joint6_ixy * t89;
-        let t636: f32 = t133 * t635;
-        let t637: f32 = joint6_iyz * t23;
-        let t638: f32 = t142 * t637;
-        let t639: f32 = joint6_iyy * t445;
-        let t640: f32 = t636 + t639;
-        let t641: f32 = t640 - t638;
-        let t642: f32 = t641 * 0.5;
-        let t643: f32 = t464 * t642;
-        let t644: f32 = t634 + t643;
-        let t645: f32 = joint6_ixz * t89;
-        let t646: f32 = t133 * t645;
-        let t647: f32 = joint6_izz * t23;
-        let t648: f32 = t142 * t647;
-        let t649: f32 = joint6_iyz * t445;
-        let t650: f32 = t646 + t649;
-        let t651: f32 = t650 - t648;
-        let t652: f32 = t651 * 0.5;
-        let t653: f32 = t476 * t652;
-        let t654: f32 = t225 * t299;
-        let t655: f32 = t653 - t654;
-        let t656: f32 = t644 - t655;
-        let t657: f32 = t226 * 0.5;
-        let t658: f32 = t305 + t657;
-        let t659: f32 = t292 * t658;
-        let t660: f32 = t295 * t332;
-        let t661: f32 = t659 - t660;
-        let t662: f32 = platform_ixx * t89;
-        let t663: f32 = t133 * t662;
-        let t664: f32 = platform_ixz * t23;
-        let t665: f32 = t142 * t664;
-        let t666: f32 = platform_ixy * t445;
-        let t667: f32 = t663 + t666;
-        let t668: f32 = t667 - t665;
-        let t669: f32 = t668 * 0.5;
-        let t670: f32 = t451 * t669;
-        let t671: f32 = platform_ixy * t89;
-        let t672: f32 = t133 * t671;
-        let t673: f32 = platform_iyz * t23;
-        let t674: f32 = t142 * t673;
-        let t675: f32 = platform_iyy * t445;
-        let t676: f32 = t672 + t675;
-        let t677: f32 = t676 - t674;
-        let t678: f32 = t677 * 0.5;
-        let t679: f32 = t464 * t678;
-        let t680: f32 = t670 + t679;
-        let t681: f32 = platform_ixz * t89;
-        let t682: f32 = t133 * t681;
-        let t683: f32 = platform_izz * t23;
-        let t684: f32 = t142 * t683;
-        let t685: f32 = platform_iyz * t445;
-        let t686: f32 = t682 + t685;
-        let t687: f32 = t686 - t684;
-        let t688: f32 = t687 * 0.5;
-        let t689: f32 = t476 * t688;
-        let t690: f32 = t233 * t307;
-        let t691: f32 = t689 - t690;
-        let t692: f32 = t680 - t691;
-        let t693: f32 = t661 + t692;
-        let t694: f32 = t656 + t693;
-        let t695: f32 = t625 - t694;
-        let t696: f32 = t574 - t695;
-        let t697: f32 = t438 - t334;
-        let t698: f32 = t697 * 0.5;
-        let t699: f32 = t342 + t698;
-        let t700: f32 = t346 + t408;
-        let t701: f32 = t699 + t700;
-        let t702: f32 = t439 + t701;
-        let t703: f32 = t335 + t338;
-        let t704: f32 = t339 + t343;
-        let t705: f32 = t419 + t425;
-        let t706: f32 = t703 + t704;
-        let t707: f32 = t696 + t705;
-        let t708: f32 = t706 + t707;
-        let t709: f32 = t702 - t708;
-        let t710: f32 = t0 * t709;
-        let t711: f32 = t333 - t710;
-        let t712: f32 = t711 - t203;
-        let t713: f32 = t712 * 0.5;
-        let t714: f32 = rod1_mass + t204;
-        let t715: f32 = t713 + t714;
-        let t716: f32 = t114 + t115;
-        let t717: f32 = t122 + t129;
-        let t718: f32 = t716 + t717;
-        let t719: f32 = t213 + t718;
+        let t467: f32 = t0 * t466;
+        let t468: f32 = t467 - t439;
+        let t469: f32 = t432 * t468;
+        let t470: f32 = platform_ixx + joint1_ixx;
+        let t471: f32 = joint2_ixx + joint3_ixx;
+        let t472: f32 = joint4_ixx + joint5_ixx;
+        let t473: f32 = t470 + t471;
+        let t474: f32 = joint6_ixx + t472;
+        let t475: f32 = t473 + t474;
+        let t476: f32 = t230 * t381;
+        let t477: f32 = t89 * t109;
+        let t478: f32 = t81 * t212;
+        let t479: f32 = t477 - t478;
+        let t480: f32 = t228 * t479;
+        let t481: f32 = t476 + t480;
+        let t482: f32 = t475 * t481;
+        let t483: f32 = t212 * t277;
+        let t484: f32 = t33 * t381;
+        let t485: f32 = t23 * t109;
+        let t486: f32 = t484 - t485;
+        let t487: f32 = t247 * t486;
+        let t488: f32 = t483 + t487;
+        let t489: f32 = t445 * t488;
+        let t490: f32 = platform_iyy + joint1_iyy;
+        let t491: f32 = joint2_iyy + joint3_iyy;
+        let t492: f32 = joint4_iyy + joint5_iyy;
+        let t493: f32 = t490 + t491;
+        let t494: f32 = joint6_iyy + t492;
+        let t495: f32 = t493 + t494;
+        let t496: f32 = t432 * t495;
+        let t497: f32 = t415 * t451;
+        let t498: f32 = t438 * t464;
+        let t499: f32 = t497 + t498;
+        let t500: f32 = t0 * t499;
+        let t501: f32 = t500 - t496;
+        let t502: f32 = t464 * t501;
+        let t503: f32 = t482 + t489;
+        let t504: f32 = t503 - t502;
+        let t505: f32 = t0 * t504;
+        let t506: f32 = t424 + t469;
+        let t507: f32 = t505 - t506;
+        let t508: f32 = t89 * t228;
+        let t509: f32 = t507 * t508;
+        let t510: f32 = t423 * t495;
+        let t511: f32 = t415 * t481;
+        let t512: f32 = t438 * t488;
+        let t513: f32 = t415 * t432;
+        let t514: f32 = t451 * t475;
+        let t515: f32 = t445 * t464;
+        let t516: f32 = t514 + t515;
+        let t517: f32 = t0 * t516;
+        let t518: f32 = t517 - t513;
+        let t519: f32 = t464 * t518;
+        let t520: f32 = t451 * t468;
+        let t521: f32 = t511 + t512;
+        let t522: f32 = t519 + t521;
+        let t523: f32 = t522 - t520;
+        let t524: f32 = t0 * t523;
+        let t525: f32 = t524 - t510;
+        let t526: f32 = t366 * t525;
+        let t527: f32 = t423 * t438;
+        let t528: f32 = t432 * t518;
+        let t529: f32 = t445 * t481;
+        let t530: f32 = t458 * t488;
+        let t531: f32 = t451 * t501;
+        let t532: f32 = t529 + t530;
+        let t533: f32 = t531 + t532;
+        let t534: f32 = t0 * t533;
+        let t535: f32 = t528 + t534;
+        let t536: f32 = t535 - t527;
+        let t537: f32 = t23 * t247;
+        let t538: f32 = t536 * t537;
+        let t539: f32 = t195 + t210;
+        let t540: f32 = t215 + t539;
+        let t541: f32 = joint1_mass * t107;
+        let t542: f32 = half_spacing + t105;
+        let t543: f32 = t542 - t104;
+        let t544: f32 = joint2_mass * t543;
+        let t545: f32 = q5 + t104;
+        let t546: f32 = t545 - t105;
+        let t547: f32 = joint5_mass * t546;
+        let t548: f32 = q6 + t104;
+        let t549: f32 = t548 - t105;
+        let t550: f32 = joint6_mass * t549;
+        let t551: f32 = t8 * t247;
+        let t552: f32 = t551 * 0.125;
+        let t553: f32 = t247 - t552;
+        let t554: f32 = t245 * t553;
+        let t555: f32 = t105 - t104;
+        let t556: f32 = t279 * t555;
+        let t557: f32 = t541 + t547;
+        let t558: f32 = t550 + t554;
+        let t559: f32 = t557 + t558;
+        let t560: f32 = t286 + t559;
+        let t561: f32 = t544 + t556;
+        let t562: f32 = t560 - t561;
+        let t563: f32 = t540 * t562;
+        let t564: f32 = t325 * t350;
+        let t565: f32 = t148 * t403;
+        let t566: f32 = t133 * t274;
+        let t567: f32 = t565 - t566;
+        let t568: f32 = t204 * t567;
+        let t569: f32 = t0 * t212;
+        let t570: f32 = t379 * t569;
+        let t571: f32 = t568 - t570;
+        let t572: f32 = t332 * t540;
+        let t573: f32 = t326 * t562;
+        let t574: f32 = t572 + t573;
+        let t575: f32 = t198 * t301;
+        let t576: f32 = t574 - t575;
+        let t577: f32 = t571 + t576;
+        let t578: f32 = t107 * t577;
+        let t579: f32 = t163 * t408;
+        let t580: f32 = joint1_mx * t89;
+        let t581: f32 = t228 * t580;
+        let t582: f32 = joint1_mz * t23;
+        let t583: f32 = t247 * t582;
+        let t584: f32 = joint1_my * t387;
+        let t585: f32 = t581 + t584;
+        let t586: f32 = t585 - t583;
+        let t587: f32 = t261 * t586;
+        let t588: f32 = joint2_mx * t89;
+        let t589: f32 = t228 * t588;
+        let t590: f32 = joint2_mz * t23;
+        let t591: f32 = t247 * t590;
+        let t592: f32 = joint2_my * t387;
+        let t593: f32 = t589 + t592;
+        let t594: f32 = t593 - t591;
+        let t595: f32 = t263 * t594;
+        let t596: f32 = joint3_mx * t89;
+        let t597: f32 = t228 * t596;
+        let t598: f32 = joint3_mz * t23;
+        let t599: f32 = t247 * t598;
+        let t600: f32 = joint3_my * t387;
+        let t601: f32 = t597 + t600;
+        let t602: f32 = t601 - t599;
+        let t603: f32 = t266 * t602;
+        let t604: f32 = joint4_mx * t89;
+        let t605: f32 = t228 * t604;
+        let t606: f32 = joint4_mz * t23;
+        let t607: f32 = t247 * t606;
+        let t608: f32 = joint4_my * t387;
+        let t609: f32 = t605 + t608;
+        let t610: f32 = t609 - t607;
+        let t611: f32 = t268 * t610;
+        let t612: f32 = joint5_my * t62;
+        let t613: f32 = t257 * t612;
+        let t614: f32 = joint5_mz * t33;
+        let t615: f32 = t247 * t614;
+        let t616: f32 = joint5_mx * t230;
+        let t617: f32 = t615 + t616;
+        let t618: f32 = t617 - t613;
+        let t619: f32 = t395 * t618;
+        let t620: f32 = joint6_my * t62;
+        let t621: f32 = t257 * t620;
+        let t622: f32 = joint6_mz * t33;
+        let t623: f32 = t247 * t622;
+        let t624: f32 = joint6_mx * t230;
+        let t625: f32 = t623 + t624;
+        let t626: f32 = t625 - t621;
+        let t627: f32 = t397 * t626;
+        let t628: f32 = t62 * t257;
+        let t629: f32 = t250 * t628;
+        let t630: f32 = t33 * t247;
+        let t631: f32 = t240 * t630;
+        let t632: f32 = t219 * t230;
+        let t633: f32 = t631 + t632;
+        let t634: f32 = t265 + t633;
+        let t635: f32 = t634 - t629;
+        let t636: f32 = t130 * t635;
+        let t637: f32 = t242 * t537;
+        let t638: f32 = t221 * t508;
+        let t639: f32 = t252 * t387;
+        let t640: f32 = t638 + t639;
+        let t641: f32 = t399 + t640;
+        let t642: f32 = t641 - t637;
+        let t643: f32 = t238 * t642;
+        let t644: f32 = joint3_mx * t230;
+        let t645: f32 = joint3_mz * t33;
+        let t646: f32 = t247 * t645;
+        let t647: f32 = joint3_my * t62;
+        let t648: f32 = t257 * t647;
+        let t649: f32 = t646 - t648;
+        let t650: f32 = t644 + t649;
+        let t651: f32 = t267 + t650;
+        let t652: f32 = t390 * t651;
+        let t653: f32 = joint4_mx * t230;
+        let t654: f32 = joint4_my * t62;
+        let t655: f32 = t257 * t654;
+        let t656: f32 = joint4_mz * t33;
+        let t657: f32 = t247 * t656;
+        let t658: f32 = t655 - t657;
+        let t659: f32 = t653 - t658;
+        let t660: f32 = t269 - t659;
+        let t661: f32 = t392 * t660;
+        let t662: f32 = t587 + t595;
+        let t663: f32 = t603 + t619;
+        let t664: f32 = t636 + t643;
+        let t665: f32 = t662 + t663;
+        let t666: f32 = t652 + t664;
+        let t667: f32 = t665 + t666;
+        let t668: f32 = t611 + t627;
+        let t669: f32 = t661 + t668;
+        let t670: f32 = t667 - t669;
+        let t671: f32 = t381 * t670;
+        let t672: f32 = t220 * 2.0;
+        let t673: f32 = t81 * t228;
+        let t674: f32 = t672 * t673;
+        let t675: f32 = t251 * 2.0;
+        let t676: f32 = t57 * t257;
+        let t677: f32 = t675 * t676;
+        let t678: f32 = t241 * 2.0;
+        let t679: f32 = t277 * t678;
+        let t680: f32 = t677 + t679;
+        let t681: f32 = t674 - t680;
+        let t682: f32 = t280 * t681;
+        let t683: f32 = t252 * 2.0;
+        let t684: f32 = t628 * t683;
+        let t685: f32 = t242 * 2.0;
+        let t686: f32 = t630 * t685;
+        let t687: f32 = t221 * 2.0;
+        let t688: f32 = t230 * t687;
+        let t689: f32 = t686 + t688;
+        let t690: f32 = t684 - t689;
+        let t691: f32 = t238 * t690;
+        let t692: f32 = t140 * t140;
+        let t693: f32 = t261 * t261;
+        let t694: f32 = t692 + t693;
+        let t695: f32 = joint1_mass * t694;
+        let t696: f32 = t288 * t288;
+        let t697: f32 = t263 * t263;
+        let t698: f32 = t696 + t697;
+        let t699: f32 = joint2_mass * t698;
+        let t700: f32 = t280 * t280;
+        let t701: f32 = t266 * t266;
+        let t702: f32 = t700 + t701;
+        let t703: f32 = joint3_mass * t702;
+        let t704: f32 = t268 * t268;
+        let t705: f32 = t700 + t704;
+        let t706: f32 = joint4_mass * t705;
+        let t707: f32 = t291 * t291;
+        let t708: f32 = t238 * t238;
+        let t709: f32 = t707 + t708;
+        let t710: f32 = joint5_mass * t709;
+        let t711: f32 = t293 * t293;
+        let t712: f32 = t708 + t711;
+        let t713: f32 = joint6_mass * t712;
+        let t714: f32 = joint2_mx * t81;
+        let t715: f32 = t228 * t714;
+        let t716: f32 = joint2_my * t57;
+        let t717: f32 = t257 * t716;
+        let t718: f32 = joint2_mz * t277;
+        let t719: f32 = t717 + t718;
         let t720: f32 = t715 - t719;
-        let t721: f32 = joint3_mass * t112;
-        let t722: f32 = joint4_mass * t112;
-        let t723: f32 = joint5_mass * t120;
-        let t724: f32 = joint6_mass * t127;
-        let t725: f32 = t164 * t209;
-        let t726: f32 = joint2_mass * t209;
-        let t727: f32 = rod2_mass * t209;
-        let t728: f32 = t726 + t727;
-        let t729: f32 = t336 + t728;
-        let t730: f32 = t206 * t729;
-        let t731: f32 = t120 * t191;
-        let t732: f32 = t340 + t723;
-        let t733: f32 = t117 * t732;
-        let t734: f32 = t127 * t199;
-        let t735: f32 = t344 + t724;
-        let t736: f32 = t124 * t735;
-        let t737: f32 = joint2_mx + t357;
-        let t738: f32 = t737 * 0.5;
-        let t739: f32 = platform_mx + t738;
-        let t740: f32 = t361 * t739;
-        let t741: f32 = joint2_my + t365;
-        let t742: f32 = t741 * 0.5;
-        let t743: f32 = platform_my + t742;
-        let t744: f32 = t369 * t743;
-        let t745: f32 = joint2_mz + t377;
-        let t746: f32 = t745 * 0.5;
-        let t747: f32 = platform_mz + t746;
-        let t748: f32 = t374 * t747;
-        let t749: f32 = t382 + t740;
-        let t750: f32 = t744 + t748;
-        let t751: f32 = t749 - t750;
-        let t752: f32 = t0 * t751;
-        let t753: f32 = t387 * 1.0;
-        let t754: f32 = t402 * 0.5;
-        let t755: f32 = -t391;
-        let t756: f32 = joint5_mass * t755;
-        let t757: f32 = -t398;
-        let t758: f32 = joint6_mass * t757;
-        let t759: f32 = t756 + t758;
-        let t760: f32 = t754 + t759;
-        let t761: f32 = t752 + t753;
-        let t762: f32 = t760 + t761;
-        let t763: f32 = t107 * t762;
-        let t764: f32 = t417 + t754;
-        let t765: f32 = t109 * t764;
-        let t766: f32 = t112 * t424;
-        let t767: f32 = t334 * 0.5;
-        let t768: f32 = t725 + t767;
-        let t769: f32 = t730 + t731;
-        let t770: f32 = t734 + t763;
-        let t771: f32 = t765 + t766;
-        let t772: f32 = t768 + t769;
-        let t773: f32 = t770 + t771;
-        let t774: f32 = t772 + t773;
-        let t775: f32 = t696 + t774;
-        let t776: f32 = t733 + t736;
-        let t777: f32 = t775 - t776;
-        let t778: f32 = t0 * t777;
-        let t779: f32 = t333 + t778;
-        let t780: f32 = t203 - t779;
-        let t781: f32 = t780 * 0.5;
-        let t782: f32 = t721 + t722;
-        let t783: f32 = t723 + t724;
-        let t784: f32 = t728 + t781;
-        let t785: f32 = t782 + t783;
-        let t786: f32 = t784 + t785;
-        let t787: f32 = t8 * t69;
-        let t788: f32 = t74 * t787;
-        let t789: f32 = t69 * t74;
-        let t790: f32 = t89 * t95;
-        let t791: f32 = t100 * t790;
-        let t792: f32 = t23 * t41;
-        let t793: f32 = t46 * t792;
-        let t794: f32 = t791 - t793;
-        let t795: f32 = t789 + t794;
-        let t796: f32 = t788 * 0.125;
-        let t797: f32 = t795 - t796;
-        let t798: f32 = t0 * t797;
-        let t799: f32 = q3 + t795;
-        let t800: f32 = t799 - t796;
-        let t801: f32 = t0 * t800;
-        let t802: f32 = t798 - t801;
-        let t803: f32 = t802 * 0.5;
-        let t804: f32 = joint3_mass * t803;
-        let t805: f32 = q4 + t795;
-        let t806: f32 = t805 - t796;
-        let t807: f32 = t0 * t806;
-        let t808: f32 = t798 - t807;
-        let t809: f32 = t808 * 0.5;
-        let t810: f32 = joint4_mass * t809;
-        let t811: f32 = t804 + t810;
-        let t812: f32 = half_spacing + t795;
-        let t813: f32 = t812 - t796;
-        let t814: f32 = t0 * t813;
-        let t815: f32 = t798 - t814;
-        let t816: f32 = t815 * 0.5;
-        let t817: f32 = joint5_mass * t816;
-        let t818: f32 = half_spacing + t796;
-        let t819: f32 = t818 - t795;
-        let t820: f32 = t0 * t819;
-        let t821: f32 = t798 + t820;
-        let t822: f32 = t821 * 0.5;
-        let t823: f32 = joint6_mass * t822;
-        let t824: f32 = t817 + t823;
-        let t825: f32 = t811 + t824;
-        let t826: f32 = t174 * t803;
-        let t827: f32 = t182 * t809;
-        let t828: f32 = t191 * t816;
-        let t829: f32 = joint5_mx * t89;
-        let t830: f32 = t133 * t829;
-        let t831: f32 = joint5_my * t455;
-        let t832: f32 = joint5_mz * t23;
-        let t833: f32 = t142 * t832;
-        let t834: f32 = t830 + t831;
-        let t835: f32 = t834 - t833;
-        let t836: f32 = t0 * t835;
-        let t837: f32 = t836 * 0.5;
-        let t838: f32 = t817 - t837;
-        let t839: f32 = t117 * t838;
-        let t840: f32 = t199 * t822;
-        let t841: f32 = joint6_mx * t89;
-        let t842: f32 = t133 * t841;
-        let t843: f32 = joint6_my * t455;
-        let t844: f32 = joint6_mz * t23;
-        let t845: f32 = t142 * t844;
-        let t846: f32 = t842 + t843;
-        let t847: f32 = t846 - t845;
-        let t848: f32 = t0 * t847;
-        let t849: f32 = t848 * 0.5;
-        let t850: f32 = t823 - t849;
-        let t851: f32 = t124 * t850;
-        let t852: f32 = t130 * t797;
-        let t853: f32 = platform_my * t455;
-        let t854: f32 = platform_mx * t89;
-        let t855: f32 = t133 * t854;
-        let t856: f32 = platform_mz * t23;
-        let t857: f32 = t142 * t856;
-        let t858: f32 = t855 - t857;
-        let t859: f32 = t853 + t858;
-        let t860: f32 = t0 * t859;
-        let t861: f32 = t852 - t860;
-        let t862: f32 = joint1_my * t455;
-        let t863: f32 = joint1_mx * t89;
-        let t864: f32 = t133 * t863;
-        let t865: f32 = joint1_mz * t23;
-        let t866: f32 = t142 * t865;
-        let t867: f32 = t864 - t866;
-        let t868: f32 = t862 + t867;
-        let t869: f32 = t0 * t868;
-        let t870: f32 = joint2_my * t455;
-        let t871: f32 = joint2_mx * t89;
-        let t872: f32 = t133 * t871;
-        let t873: f32 = joint2_mz * t23;
-        let t874: f32 = t142 * t873;
-        let t875: f32 = t872 - t874;
-        let t876: f32 = t870 + t875;
-        let t877: f32 = t0 * t876;
-        let t878: f32 = t869 + t877;
-        let t879: f32 = t861 - t878;
-        let t880: f32 = joint3_mx * t89;
-        let t881: f32 = t133 * t880;
-        let t882: f32 = joint3_my * t455;
-        let t883: f32 = joint3_mz * t23;
-        let t884: f32 = t142 * t883;
-        let t885: f32 = t881 + t882;
-        let t886: f32 = t885 - t884;
-        let t887: f32 = t0 * t886;
-        let t888: f32 = joint4_mx * t89;
-        let t889: f32 = t133 * t888;
-        let t890: f32 = joint4_my * t455;
-        let t891: f32 = joint4_mz * t23;
-        let t892: f32 = t142 * t891;
-        let t893: f32 = t889 + t890;
-        let t894: f32 = t893 - t892;
-        let t895: f32 = t0 * t894;
-        let t896: f32 = t887 + t895;
-        let t897: f32 = t836 + t848;
+        let t721: f32 = t288 * t720;
+        let t722: f32 = joint1_mz * t277;
+        let t723: f32 = joint1_mx * t81;
+        let t724: f32 = t228 * t723;
+        let t725: f32 = joint1_my * t57;
+        let t726: f32 = t257 * t725;
+        let t727: f32 = t724 - t726;
+        let t728: f32 = t722 - t727;
+        let t729: f32 = -t728;
+        let t730: f32 = t140 * t729;
+        let t731: f32 = t721 - t730;
+        let t732: f32 = joint5_mx * t81;
+        let t733: f32 = t228 * t732;
+        let t734: f32 = joint5_my * t57;
+        let t735: f32 = t257 * t734;
+        let t736: f32 = joint5_mz * t277;
+        let t737: f32 = t735 + t736;
+        let t738: f32 = t733 - t737;
+        let t739: f32 = t291 * t738;
+        let t740: f32 = joint6_mx * t81;
+        let t741: f32 = t228 * t740;
+        let t742: f32 = joint6_my * t57;
+        let t743: f32 = t257 * t742;
+        let t744: f32 = joint6_mz * t277;
+        let t745: f32 = t743 + t744;
+        let t746: f32 = t741 - t745;
+        let t747: f32 = t293 * t746;
+        let t748: f32 = t739 + t747;
+        let t749: f32 = t731 - t748;
+        let t750: f32 = joint1_my * t62;
+        let t751: f32 = t257 * t750;
+        let t752: f32 = joint1_mz * t33;
+        let t753: f32 = t247 * t752;
+        let t754: f32 = joint1_mx * t230;
+        let t755: f32 = t753 + t754;
+        let t756: f32 = t755 - t751;
+        let t757: f32 = t261 * t756;
+        let t758: f32 = joint2_mx * t230;
+        let t759: f32 = joint2_mz * t33;
+        let t760: f32 = t247 * t759;
+        let t761: f32 = joint2_my * t62;
+        let t762: f32 = t257 * t761;
+        let t763: f32 = t760 - t762;
+        let t764: f32 = t758 + t763;
+        let t765: f32 = t263 * t764;
+        let t766: f32 = t757 + t765;
+        let t767: f32 = t266 * t650;
+        let t768: f32 = t268 * t659;
+        let t769: f32 = t767 - t768;
+        let t770: f32 = t766 + t769;
+        let t771: f32 = t749 + t770;
+        let t772: f32 = t771 * 2.0;
+        let t773: f32 = t682 + t695;
+        let t774: f32 = t699 + t703;
+        let t775: f32 = t706 + t710;
+        let t776: f32 = t713 + t772;
+        let t777: f32 = t773 + t774;
+        let t778: f32 = t775 + t776;
+        let t779: f32 = t777 + t778;
+        let t780: f32 = t779 - t691;
+        let t781: f32 = t109 * t780;
+        let t782: f32 = t140 * t586;
+        let t783: f32 = t288 * t594;
+        let t784: f32 = joint3_mx * t81;
+        let t785: f32 = t228 * t784;
+        let t786: f32 = joint3_my * t57;
+        let t787: f32 = t257 * t786;
+        let t788: f32 = joint3_mz * t277;
+        let t789: f32 = t787 + t788;
+        let t790: f32 = t785 - t789;
+        let t791: f32 = t390 * t790;
+        let t792: f32 = joint4_mx * t81;
+        let t793: f32 = t228 * t792;
+        let t794: f32 = joint4_my * t57;
+        let t795: f32 = t257 * t794;
+        let t796: f32 = joint4_mz * t277;
+        let t797: f32 = t795 + t796;
+        let t798: f32 = t793 - t797;
+        let t799: f32 = t392 * t798;
+        let t800: f32 = t395 * t738;
+        let t801: f32 = t397 * t746;
+        let t802: f32 = t219 * t673;
+        let t803: f32 = t250 * t676;
+        let t804: f32 = t240 * t277;
+        let t805: f32 = t803 + t804;
+        let t806: f32 = t290 + t805;
+        let t807: f32 = t806 - t802;
+        let t808: f32 = t130 * t807;
+        let t809: f32 = t241 * t537;
+        let t810: f32 = t220 * t508;
+        let t811: f32 = t251 * t387;
+        let t812: f32 = t810 + t811;
+        let t813: f32 = t394 + t812;
+        let t814: f32 = t813 - t809;
+        let t815: f32 = t280 * t814;
+        let t816: f32 = joint5_my * t387;
+        let t817: f32 = joint5_mx * t89;
+        let t818: f32 = t228 * t817;
+        let t819: f32 = joint5_mz * t23;
+        let t820: f32 = t247 * t819;
+        let t821: f32 = t818 - t820;
+        let t822: f32 = t816 + t821;
+        let t823: f32 = t396 + t822;
+        let t824: f32 = t291 * t823;
+        let t825: f32 = joint6_my * t387;
+        let t826: f32 = joint6_mx * t89;
+        let t827: f32 = t228 * t826;
+        let t828: f32 = joint6_mz * t23;
+        let t829: f32 = t247 * t828;
+        let t830: f32 = t827 - t829;
+        let t831: f32 = t825 + t830;
+        let t832: f32 = t398 - t831;
+        let t833: f32 = t293 * t832;
+        let t834: f32 = t782 + t801;
+        let t835: f32 = t808 + t824;
+        let t836: f32 = t834 + t835;
+        let t837: f32 = t783 + t791;
+        let t838: f32 = t799 + t800;
+        let t839: f32 = t815 + t833;
+        let t840: f32 = t837 + t838;
+        let t841: f32 = t839 + t840;
+        let t842: f32 = t836 - t841;
+        let t843: f32 = t212 * t842;
+        let t844: f32 = t130 * t130;
+        let t845: f32 = t692 + t844;
+        let t846: f32 = joint1_mass * t845;
+        let t847: f32 = t696 + t844;
+        let t848: f32 = joint2_mass * t847;
+        let t849: f32 = t390 * t390;
+        let t850: f32 = t700 + t849;
+        let t851: f32 = joint3_mass * t850;
+        let t852: f32 = t392 * t392;
+        let t853: f32 = t700 + t852;
+        let t854: f32 = joint4_mass * t853;
+        let t855: f32 = t395 * t395;
+        let t856: f32 = t707 + t855;
+        let t857: f32 = joint5_mass * t856;
+        let t858: f32 = t397 * t397;
+        let t859: f32 = t711 + t858;
+        let t860: f32 = joint6_mass * t859;
+        let t861: f32 = t240 * 2.0;
+        let t862: f32 = t537 * t861;
+        let t863: f32 = t219 * 2.0;
+        let t864: f32 = t508 * t863;
+        let t865: f32 = t250 * 2.0;
+        let t866: f32 = t387 * t865;
+        let t867: f32 = t864 + t866;
+        let t868: f32 = t862 - t867;
+        let t869: f32 = t130 * t868;
+        let t870: f32 = t390 * t602;
+        let t871: f32 = t392 * t610;
+        let t872: f32 = t870 + t871;
+        let t873: f32 = t395 * t822;
+        let t874: f32 = t397 * t831;
+        let t875: f32 = t873 - t874;
+        let t876: f32 = t872 + t875;
+        let t877: f32 = t749 + t876;
+        let t878: f32 = t877 * 2.0;
+        let t879: f32 = t846 + t848;
+        let t880: f32 = t851 + t854;
+        let t881: f32 = t857 + t860;
+        let t882: f32 = t682 + t878;
+        let t883: f32 = t879 + t880;
+        let t884: f32 = t881 + t882;
+        let t885: f32 = t883 + t884;
+        let t886: f32 = t885 - t869;
+        let t887: f32 = t148 * t886;
+        let t888: f32 = t133 * t670;
+        let t889: f32 = t140 * t756;
+        let t890: f32 = t263 * t720;
+        let t891: f32 = t266 * t790;
+        let t892: f32 = t268 * t798;
+        let t893: f32 = t291 * t618;
+        let t894: f32 = t293 * t626;
+        let t895: f32 = t251 * t628;
+        let t896: f32 = t241 * t630;
+        let t897: f32 = t220 * t230;
         let t898: f32 = t896 + t897;
-        let t899: f32 = t879 - t898;
-        let t900: f32 = t899 * 0.5;
-        let t901: f32 = t825 + t900;
-        let t902: f32 = t107 * t901;
-        let t903: f32 = platform_mz * t374;
-        let t904: f32 = t140 - t903;
-        let t905: f32 = t70 - t72;
-        let t906: f32 = t905 * 0.125;
-        let t907: f32 = t8 * t906;
-        let t908: f32 = t73 - t907;
-        let t909: f32 = t69 * t908;
-        let t910: f32 = t794 + t909;
-        let t911: f32 = t904 * t910;
-        let t912: f32 = joint1_my * t445;
-        let t913: f32 = t867 + t912;
-        let t914: f32 = t353 * t913;
-        let t915: f32 = half_spacing - t352;
-        let t916: f32 = joint2_my * t445;
-        let t917: f32 = t875 + t916;
-        let t918: f32 = t915 * t917;
-        let t919: f32 = platform_ixz + joint1_ixz;
-        let t920: f32 = joint2_ixz + joint3_ixz;
-        let t921: f32 = joint4_ixz + joint5_ixz;
-        let t922: f32 = t919 + t920;
-        let t923: f32 = joint6_ixz + t921;
-        let t924: f32 = t922 + t923;
-        let t925: f32 = t924 * 0.5;
-        let t926: f32 = t361 * t925;
-        let t927: f32 = platform_iyz + joint1_iyz;
-        let t928: f32 = joint2_iyz + joint3_iyz;
-        let t929: f32 = joint4_iyz + joint5_iyz;
-        let t930: f32 = t927 + t928;
-        let t931: f32 = joint6_iyz + t929;
-        let t932: f32 = t930 + t931;
-        let t933: f32 = t932 * 0.5;
-        let t934: f32 = t369 * t933;
-        let t935: f32 = platform_izz + joint1_izz;
-        let t936: f32 = joint2_izz + joint3_izz;
-        let t937: f32 = joint4_izz + joint5_izz;
-        let t938: f32 = t935 + t936;
-        let t939: f32 = joint6_izz + t937;
-        let t940: f32 = t938 + t939;
-        let t941: f32 = t940 * 0.5;
-        let t942: f32 = t374 * t941;
-        let t943: f32 = t934 + t942;
-        let t944: f32 = t926 - t943;
-        let t945: f32 = t23 * t142;
-        let t946: f32 = t944 * t945;
-        let t947: f32 = platform_ixx + joint1_ixx;
-        let t948: f32 = joint2_ixx + joint3_ixx;
-        let t949: f32 = joint4_ixx + joint5_ixx;
-        let t950: f32 = t947 + t948;
-        let t951: f32 = joint6_ixx + t949;
-        let t952: f32 = t950 + t951;
-        let t953: f32 = t952 * 0.5;
-        let t954: f32 = t361 * t953;
-        let t955: f32 = platform_ixy + joint1_ixy;
-        let t956: f32 = joint2_ixy + joint3_ixy;
-        let t957: f32 = joint4_ixy + joint5_ixy;
-        let t958: f32 = t955 + t956;
-        let t959: f32 = joint6_ixy + t957;
-        let t960: f32 = t958 + t959;
-        let t961: f32 = t960 * 0.5;
-        let t962: f32 = t369 * t961;
-        let t963: f32 = t374 * t925;
-        let t964: f32 = t962 + t963;
-        let t965: f32 = t954 - t964;
-        let t966: f32 = t89 * t133;
-        let t967: f32 = t965 * t966;
-        let t968: f32 = t361 * t961;
-        let t969: f32 = platform_iyy + joint1_iyy;
-        let t970: f32 = joint2_iyy + joint3_iyy;
-        let t971: f32 = joint4_iyy + joint5_iyy;
-        let t972: f32 = t969 + t970;
-        let t973: f32 = joint6_iyy + t971;
-        let t974: f32 = t972 + t973;
-        let t975: f32 = t974 * 0.5;
-        let t976: f32 = t369 * t975;
-        let t977: f32 = t374 * t933;
-        let t978: f32 = t976 + t977;
-        let t979: f32 = t968 - t978;
-        let t980: f32 = t445 * t979;
-        let t981: f32 = t911 + t914;
-        let t982: f32 = t981 - t918;
-        let t983: f32 = t982 * 0.5;
-        let t984: f32 = t967 + t983;
-        let t985: f32 = t980 + t984;
-        let t986: f32 = t985 - t946;
-        let t987: f32 = t0 * t986;
-        let t988: f32 = q3 * t0;
-        let t989: f32 = t988 * 0.5;
-        let t990: f32 = -t989;
-        let t991: f32 = joint3_mass * t990;
-        let t992: f32 = q4 * t0;
-        let t993: f32 = t992 * 0.5;
-        let t994: f32 = -t993;
-        let t995: f32 = joint4_mass * t994;
-        let t996: f32 = t413 * t945;
-        let t997: f32 = t409 * t966;
-        let t998: f32 = t411 * t445;
-        let t999: f32 = t997 + t998;
+        let t899: f32 = t270 + t898;
+        let t900: f32 = t899 - t895;
+        let t901: f32 = t280 * t900;
+        let t902: f32 = t221 * t673;
+        let t903: f32 = t252 * t676;
+        let t904: f32 = t242 * t277;
+        let t905: f32 = t903 + t904;
+        let t906: f32 = t295 + t905;
+        let t907: f32 = t906 - t902;
+        let t908: f32 = t238 * t907;
+        let t909: f32 = t287 + t728;
+        let t910: f32 = t261 * t909;
+        let t911: f32 = t264 + t764;
+        let t912: f32 = t288 * t911;
+        let t913: f32 = t889 + t892;
+        let t914: f32 = t893 + t894;
+        let t915: f32 = t908 + t910;
+        let t916: f32 = t913 + t914;
+        let t917: f32 = t915 + t916;
+        let t918: f32 = t890 + t891;
+        let t919: f32 = t901 + t912;
+        let t920: f32 = t918 + t919;
+        let t921: f32 = t917 - t920;
+        let t922: f32 = t124 * t921;
+        let t923: f32 = t888 + t922;
+        let t924: f32 = t887 - t923;
+        let t925: f32 = t124 * t924;
+        let t926: f32 = t148 * t921;
+        let t927: f32 = t133 * t842;
+        let t928: f32 = t693 + t844;
+        let t929: f32 = joint1_mass * t928;
+        let t930: f32 = t697 + t844;
+        let t931: f32 = joint2_mass * t930;
+        let t932: f32 = t701 + t849;
+        let t933: f32 = joint3_mass * t932;
+        let t934: f32 = t704 + t852;
+        let t935: f32 = joint4_mass * t934;
+        let t936: f32 = t708 + t855;
+        let t937: f32 = joint5_mass * t936;
+        let t938: f32 = t708 + t858;
+        let t939: f32 = joint6_mass * t938;
+        let t940: f32 = t770 + t876;
+        let t941: f32 = t940 * 2.0;
+        let t942: f32 = t929 + t931;
+        let t943: f32 = t933 + t935;
+        let t944: f32 = t937 + t939;
+        let t945: f32 = t942 + t943;
+        let t946: f32 = t941 + t944;
+        let t947: f32 = t945 + t946;
+        let t948: f32 = t691 + t869;
+        let t949: f32 = t947 - t948;
+        let t950: f32 = t124 * t949;
+        let t951: f32 = t926 + t927;
+        let t952: f32 = t951 - t950;
+        let t953: f32 = t148 * t952;
+        let t954: f32 = t925 + t953;
+        let t955: f32 = t0 * t954;
+        let t956: f32 = t671 + t843;
+        let t957: f32 = t781 + t955;
+        let t958: f32 = t956 - t957;
+        let t959: f32 = t0 * t958;
+        let t960: f32 = t509 + t526;
+        let t961: f32 = t563 + t579;
+        let t962: f32 = t960 + t961;
+        let t963: f32 = t538 + t564;
+        let t964: f32 = t578 + t959;
+        let t965: f32 = t963 + t964;
+        let t966: f32 = t962 - t965;
+        let t967: f32 = t0 * t966;
+        let t968: f32 = t409 - t967;
+        let t969: f32 = t968 * 0.5;
+        let t970: f32 = t218 + t577;
+        let t971: f32 = t970 - t969;
+        let t972: f32 = t326 * t543;
+        let t973: f32 = t214 + t215;
+        let t974: f32 = t973 - t972;
+        let t975: f32 = rod2_mass * t974;
+        let t976: f32 = t969 + t975;
+        let t977: f32 = t309 * t569;
+        let t978: f32 = t107 * t341;
+        let t979: f32 = t107 * t343;
+        let t980: f32 = t978 - t979;
+        let t981: f32 = t380 + t980;
+        let t982: f32 = t178 * t186;
+        let t983: f32 = t175 * t187;
+        let t984: f32 = gravity_y - t983;
+        let t985: f32 = t982 + t984;
+        let t986: f32 = t0 * t555;
+        let t987: f32 = t381 * t986;
+        let t988: f32 = t174 - t987;
+        let t989: f32 = t985 + t988;
+        let t990: f32 = t981 * 0.5;
+        let t991: f32 = t989 + t990;
+        let t992: f32 = t991 - t977;
+        let t993: f32 = rod3_mass * t992;
+        let t994: f32 = t507 * t673;
+        let t995: f32 = t525 * t676;
+        let t996: f32 = t536 * t553;
+        let t997: f32 = t985 + t990;
+        let t998: f32 = t325 * t997;
+        let t999: f32 = t379 * t540;
         (
             t0,
-            t1,
-            t3,
-            t8,
-            t23,
-            t33,
-            t57,
-            t62,
-            t81,
-            t89,
-            t95,
-            t96,
-            t98,
-            t99,
             t107,
-            t108,
             t109,
-            t112,
+            t122,
+            t124,
+            t130,
+            t132,
+            t133,
+            t140,
+            t144,
+            t148,
+            t163,
+            t169,
+            t184,
+            t198,
+            t212,
+            t225,
+            t238,
+            t261,
+            t274,
+            t299,
+            t302,
+            t312,
+            t316,
+            t318,
+            t325,
+            t326,
+            t332,
+            t339,
+            t347,
+            t350,
+            t359,
+            t362,
+            t366,
+            t379,
+            t381,
+            t405,
+            t408,
+            t507,
+            t525,
+            t536,
+            t553,
+            t562,
+            t567,
+            t569,
+            t577,
+            t628,
+            t630,
+            t670,
+            t780,
+            t842,
+            t886,
+            t921,
+            t924,
+            t949,
+            t952,
+            t971,
+            t976,
+            t989,
+            t990,
+            t993,
+            t994,
+            t995,
+            t996,
+            t997,
+            t998,
+            t999,
+        )
+    };
+    let (t1080, t1088, t1125, t1133, t1134) = {
+        let t1000: f32 = t122 * t577;
+        let t1001: f32 = t0 * t562;
+        let t1002: f32 = t381 * t1001;
+        let t1003: f32 = t198 * t405;
+        let t1004: f32 = t1002 - t1003;
+        let t1005: f32 = t302 * t567;
+        let t1006: f32 = t332 * t997;
+        let t1007: f32 = t325 * t569;
+        let t1008: f32 = t1006 - t1007;
+        let t1009: f32 = t1005 + t1008;
+        let t1010: f32 = t1004 + t1009;
+        let t1011: f32 = t163 * t1010;
+        let t1012: f32 = t381 * t921;
+        let t1013: f32 = t109 * t842;
+        let t1014: f32 = t212 * t949;
+        let t1015: f32 = t148 * t670;
+        let t1016: f32 = t133 * t780;
+        let t1017: f32 = t124 * t842;
+        let t1018: f32 = t1015 + t1017;
+        let t1019: f32 = t1018 - t1016;
+        let t1020: f32 = t148 * t1019;
+        let t1021: f32 = t133 * t924;
+        let t1022: f32 = t1020 + t1021;
+        let t1023: f32 = t0 * t1022;
+        let t1024: f32 = t1012 + t1013;
+        let t1025: f32 = t1023 + t1024;
+        let t1026: f32 = t1025 - t1014;
+        let t1027: f32 = t0 * t1026;
+        let t1028: f32 = t994 + t998;
+        let t1029: f32 = t999 + t1027;
+        let t1030: f32 = t1028 + t1029;
+        let t1031: f32 = t995 + t996;
+        let t1032: f32 = t1000 + t1011;
+        let t1033: f32 = t1031 + t1032;
+        let t1034: f32 = t1030 - t1033;
+        let t1035: f32 = t0 * t1034;
+        let t1036: f32 = t0 * t261;
+        let t1037: f32 = t184 - t1036;
+        let t1038: f32 = t1037 * 0.5;
+        let t1039: f32 = t1038 + 1.0;
+        let t1040: f32 = t124 * t144;
+        let t1041: f32 = t130 * t148;
+        let t1042: f32 = t238 * 0.5;
+        let t1043: f32 = -t1042;
+        let t1044: f32 = t132 * t1043;
+        let t1045: f32 = t1041 + t1044;
+        let t1046: f32 = t0 * t1045;
+        let t1047: f32 = t169 - t1046;
+        let t1048: f32 = t148 * t1047;
+        let t1049: f32 = t1040 - t1048;
+        let t1050: f32 = t0 * t1049;
+        let t1051: f32 = qdd3 + t1050;
+        let t1052: f32 = t1039 * t1051;
+        let t1053: f32 = qdd4 + t1050;
+        let t1054: f32 = t1038 * t1053;
+        let t1055: f32 = t0 * t140;
+        let t1056: f32 = t381 * t1055;
+        let t1057: f32 = gravity_y + t1054;
+        let t1058: f32 = t381 + t1057;
+        let t1059: f32 = t1052 + t1056;
+        let t1060: f32 = t1058 - t1059;
+        let t1061: f32 = t332 * t1060;
+        let t1062: f32 = t212 * t274;
+        let t1063: f32 = t299 * t381;
+        let t1064: f32 = t124 * t405;
+        let t1065: f32 = t148 * t567;
+        let t1066: f32 = t1064 - t1065;
+        let t1067: f32 = t1066 * 0.5;
+        let t1068: f32 = t0 * t1067;
+        let t1069: f32 = t1062 - t1063;
+        let t1070: f32 = t1069 * 0.5;
+        let t1071: f32 = t1068 + t1070;
+        let t1072: f32 = t0 * t1071;
+        let t1073: f32 = t1061 * 0.5;
+        let t1074: f32 = t1073 - t1072;
+        let t1075: f32 = t184 * t1074;
+        let t1076: f32 = t1035 * 0.5;
+        let t1077: f32 = t993 + t1075;
+        let t1078: f32 = t1010 + t1076;
+        let t1079: f32 = t1077 + t1078;
+        let t1080: f32 = -t1079;
+        let t1081: f32 = t312 * t569;
+        let t1082: f32 = t989 + t1081;
+        let t1083: f32 = t990 + t1082;
+        let t1084: f32 = rod4_mass * t1083;
+        let t1085: f32 = t184 * t1010;
+        let t1086: f32 = t1035 + t1085;
+        let t1087: f32 = t1086 * 0.5;
+        let t1088: f32 = t1087 - t1084;
+        let t1089: f32 = t0 * t359;
+        let t1090: f32 = t381 * t1089;
+        let t1091: f32 = t318 * t326;
+        let t1092: f32 = t339 - t1091;
+        let t1093: f32 = t1090 + t1092;
+        let t1094: f32 = t347 + t1093;
+        let t1095: f32 = rod5_mass * t1094;
+        let t1096: f32 = t316 * t507;
+        let t1097: f32 = t525 * t628;
+        let t1098: f32 = t536 * t630;
+        let t1099: f32 = t350 * t379;
+        let t1100: f32 = t562 * t997;
+        let t1101: f32 = t107 * t1010;
+        let t1102: f32 = t122 * t408;
+        let t1103: f32 = t381 * t886;
+        let t1104: f32 = t109 * t670;
+        let t1105: f32 = t212 * t921;
+        let t1106: f32 = t133 * t952;
+        let t1107: f32 = t124 * t1019;
+        let t1108: f32 = t1106 - t1107;
+        let t1109: f32 = t0 * t1108;
+        let t1110: f32 = t1104 + t1105;
+        let t1111: f32 = t1109 + t1110;
+        let t1112: f32 = t1103 - t1111;
+        let t1113: f32 = t0 * t1112;
+        let t1114: f32 = t1096 + t1098;
+        let t1115: f32 = t1099 + t1100;
+        let t1116: f32 = t1114 + t1115;
+        let t1117: f32 = t1113 + t1116;
+        let t1118: f32 = t1097 + t1101;
+        let t1119: f32 = t1102 + t1118;
+        let t1120: f32 = t1117 - t1119;
+        let t1121: f32 = t0 * t1120;
+        let t1122: f32 = t1010 + t1121;
+        let t1123: f32 = t408 + t1122;
+        let t1124: f32 = t1123 * 0.5;
+        let t1125: f32 = t1095 + t1124;
+        let t1126: f32 = t0 * t362;
+        let t1127: f32 = t381 * t1126;
+        let t1128: f32 = t347 + t1092;
+        let t1129: f32 = t1128 - t1127;
+        let t1130: f32 = rod6_mass * t1129;
+        let t1131: f32 = t408 - t1122;
+        let t1132: f32 = t1131 * 0.5;
+        let t1133: f32 = t1130 + t1132;
+        let t1134: f32 = 1.0 - t225;
+        (t1080, t1088, t1125, t1133, t1134)
+    };
+    ([t971, t976, t1080, t1088, t1125, t1133], [t1134, t316, t366, t553])
+}
+/// Joint-space inertia `M_q = Jᵀ M_x J` of `Γ = M_q Q̈_a + c_q`: symmetric positive definite.
+///
+/// Equations: 15, 16, 27, 43-48, 49-57, 60, ∂W/∂V̇. Setting: joint.
+///
+/// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
+/// Actuators are in segment order 1..6; the chapter lists them 6..1.
+/// `M_q = ∂Γ/∂Q̈_a`, the exact derivative of the joint-space inverse dynamics.
+/// The robot's parameters listed in `params` are inputs; the others are folded in.
+/// The last result holds the forward singularity term and the divisors of eq 16 for a singularity check.
+///
+/// # Arguments
+///
+/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
+///
+/// # Returns
+///
+/// - `m`: `M_q` (kg), rows and columns in segment order
+/// - `singular`: `[1 + abc, r11, r22, r33]`: the forward singularity term (the actuator positions belong to a pose of the workspace only where it is positive; the other results are meaningless where it is near zero or negative) and the divisors of eq 16
+///
+/// Operations: 758 mul, 4 div, 469 add, 29 neg, 3 sqrt (chapter convention: 762m + 469a).
+#[inline]
+pub fn joint_inertia_params(
+    q: &[f32; 6],
+    params: &[f32; 152],
+) -> ([[f32; 6]; 6], [f32; 4]) {
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [half_spacing, _, _, _, platform_mass, platform_mx, platform_my, platform_mz,
+    platform_ixx, platform_ixy, platform_ixz, platform_iyy, platform_iyz, platform_izz,
+    rod1_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint1_mass, joint1_mx, joint1_my,
+    joint1_mz, joint1_ixx, joint1_ixy, joint1_ixz, joint1_iyy, joint1_iyz, joint1_izz,
+    rod2_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint2_mass, joint2_mx, joint2_my,
+    joint2_mz, joint2_ixx, joint2_ixy, joint2_ixz, joint2_iyy, joint2_iyz, joint2_izz,
+    rod3_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint3_mass, joint3_mx, joint3_my,
+    joint3_mz, joint3_ixx, joint3_ixy, joint3_ixz, joint3_iyy, joint3_iyz, joint3_izz,
+    rod4_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint4_mass, joint4_mx, joint4_my,
+    joint4_mz, joint4_ixx, joint4_ixy, joint4_ixz, joint4_iyy, joint4_iyz, joint4_izz,
+    rod5_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint5_mass, joint5_mx, joint5_my,
+    joint5_mz, joint5_ixx, joint5_ixy, joint5_ixz, joint5_iyy, joint5_iyz, joint5_izz,
+    rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _, joint6_mass, joint6_mx, joint6_my,
+    joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz, joint6_iyy, joint6_iyz, joint6_izz] = *params;
+    let (
+        t5,
+        t6,
+        t10,
+        t12,
+        t17,
+        t18,
+        t64,
+        t73,
+        t86,
+        t87,
+        t88,
+        t92,
+        t93,
+        t96,
+        t99,
+        t103,
+        t104,
+        t108,
+        t113,
+        t114,
+        t118,
+        t124,
+        t125,
+        t130,
+        t138,
+        t140,
+        t141,
+        t176,
+        t181,
+        t194,
+        t198,
+        t200,
+        t204,
+        t206,
+        t211,
+        t215,
+        t216,
+        t220,
+        t258,
+        t270,
+        t283,
+        t295,
+        t299,
+        t310,
+        t322,
+        t360,
+        t372,
+        t412,
+        t435,
+        t436,
+        t441,
+        t442,
+        t463,
+        t465,
+        t466,
+        t467,
+        t468,
+        t482,
+        t507,
+        t520,
+        t563,
+        t565,
+        t566,
+        t597,
+        t599,
+        t603,
+        t662,
+        t685,
+        t686,
+        t703,
+        t718,
+        t733,
+        t734,
+        t735,
+        t737,
+        t738,
+        t740,
+        t771,
+        t773,
+        t775,
+        t777,
+        t779,
+        t783,
+        t824,
+        t835,
+        t852,
+        t866,
+        t867,
+        t877,
+        t878,
+        t879,
+        t880,
+        t881,
+        t889,
+        t898,
+        t902,
+        t903,
+        t904,
+        t905,
+        t922,
+        t932,
+        t933,
+        t936,
+        t937,
+        t939,
+        t941,
+        t943,
+        t944,
+        t945,
+        t946,
+        t947,
+        t948,
+        t949,
+        t950,
+        t952,
+        t957,
+        t960,
+        t963,
+        t966,
+        t983,
+        t995,
+        t996,
+        t999,
+    ) = {
+        let t0: f32 = platform_mass + joint2_mass;
+        let t1: f32 = joint3_mass + joint4_mass;
+        let t2: f32 = joint5_mass + joint6_mass;
+        let t3: f32 = t1 + t2;
+        let t4: f32 = t0 + t3;
+        let t5: f32 = joint1_mass + t4;
+        let t6: f32 = 1.0 / half_spacing;
+        let t7: f32 = q1 - q2;
+        let t8: f32 = q1 + q2;
+        let t9: f32 = t8 * 0.5;
+        let t10: f32 = t6 * t6;
+        let t11: f32 = t6 * t10;
+        let t12: f32 = q3 - q4;
+        let t13: f32 = q5 - q6;
+        let t14: f32 = t7 * t11;
+        let t15: f32 = t12 * t14;
+        let t16: f32 = t13 * t15;
+        let t17: f32 = t16 * 0.125;
+        let t18: f32 = t17 - 1.0;
+        let t19: f32 = t18 * t18;
+        let t20: f32 = t6 * t7;
+        let t21: f32 = t13 * t20;
+        let t22: f32 = t7 * t7;
+        let t23: f32 = t10 * t22;
+        let t24: f32 = t23 * 0.25;
+        let t25: f32 = t24 + 1.0;
+        let t26: f32 = t12 * t25;
+        let t27: f32 = t21 * 0.25;
+        let t28: f32 = t26 * 0.5;
+        let t29: f32 = t27 + t28;
+        let t30: f32 = t29 * t29;
+        let t31: f32 = t19 * t22;
+        let t32: f32 = t31 * 0.25;
+        let t33: f32 = t30 + t32;
+        let t34: f32 = t10 * t33;
+        let t35: f32 = t19 + t34;
+        let t36: f32 = 1.0 / t35;
+        let t37: f32 = t9 * t20;
+        let t38: f32 = t19 * t37;
+        let t39: f32 = t36 * t38;
+        let t40: f32 = q3 + q4;
+        let t41: f32 = t40 * 0.5;
+        let t42: f32 = t12 * t20;
+        let t43: f32 = t12 * t12;
+        let t44: f32 = t10 * t43;
+        let t45: f32 = t44 * 0.25;
+        let t46: f32 = t45 + 1.0;
+        let t47: f32 = t13 * t46;
+        let t48: f32 = t42 * 0.25;
+        let t49: f32 = t47 * 0.5;
+        let t50: f32 = t48 + t49;
+        let t51: f32 = t19 * t43;
+        let t52: f32 = t50 * t50;
+        let t53: f32 = t51 * 0.25;
+        let t54: f32 = t52 + t53;
+        let t55: f32 = t10 * t54;
+        let t56: f32 = t19 + t55;
+        let t57: f32 = 1.0 / t56;
+        let t58: f32 = t6 * t41;
+        let t59: f32 = t18 * t58;
+        let t60: f32 = t50 * t59;
+        let t61: f32 = t57 * t60;
+        let t62: f32 = q5 + q6;
+        let t63: f32 = t62 * 0.5;
+        let t64: f32 = t6 * t12;
+        let t65: f32 = t13 * t64;
+        let t66: f32 = t13 * t13;
+        let t67: f32 = t10 * t66;
+        let t68: f32 = t67 * 0.25;
+        let t69: f32 = t68 + 1.0;
+        let t70: f32 = t7 * t69;
+        let t71: f32 = t65 * 0.25;
+        let t72: f32 = t70 * 0.5;
+        let t73: f32 = t71 + t72;
+        let t74: f32 = t73 * t73;
+        let t75: f32 = t19 * t66;
+        let t76: f32 = t75 * 0.25;
+        let t77: f32 = t74 + t76;
+        let t78: f32 = t10 * t77;
+        let t79: f32 = t19 + t78;
+        let t80: f32 = 1.0 / t79;
+        let t81: f32 = t19 * t63;
+        let t82: f32 = t80 * t81;
+        let t83: f32 = t61 - t82;
+        let t84: f32 = t39 * 0.5;
+        let t85: f32 = half_spacing + t83;
+        let t86: f32 = t84 + t85;
+        let t87: f32 = t6 * t86;
+        let t88: f32 = t87 * 0.5;
+        let t89: f32 = t88 - 1.0;
+        let t90: f32 = t5 * t89;
+        let t91: f32 = joint1_mass * t86;
+        let t92: f32 = t83 + t84;
+        let t93: f32 = half_spacing - t92;
+        let t94: f32 = joint2_mass * t93;
+        let t95: f32 = q5 + t83;
+        let t96: f32 = t84 + t95;
+        let t97: f32 = joint5_mass * t96;
+        let t98: f32 = q6 + t83;
+        let t99: f32 = t84 + t98;
+        let t100: f32 = joint6_mass * t99;
+        let t101: f32 = t1 * t92;
+        let t102: f32 = joint1_mx + joint2_mx;
+        let t103: f32 = joint5_mx + joint6_mx;
+        let t104: f32 = joint3_mx + joint4_mx;
+        let t105: f32 = platform_mx + t102;
+        let t106: f32 = t103 + t104;
+        let t107: f32 = t105 + t106;
+        let t108: f32 = sqrt(t36);
+        let t109: f32 = t7 * t18;
+        let t110: f32 = t107 * t109;
+        let t111: f32 = t108 * t110;
+        let t112: f32 = joint1_my + joint2_my;
+        let t113: f32 = joint3_my + joint4_my;
+        let t114: f32 = joint5_my + joint6_my;
+        let t115: f32 = platform_my + t112;
+        let t116: f32 = t113 + t114;
+        let t117: f32 = t115 + t116;
+        let t118: f32 = sqrt(t57);
+        let t119: f32 = t50 * t117;
+        let t120: f32 = t118 * t119;
+        let t121: f32 = t111 * 0.5;
+        let t122: f32 = t120 + t121;
+        let t123: f32 = t6 * t122;
+        let t124: f32 = joint3_mz + joint4_mz;
+        let t125: f32 = joint5_mz + joint6_mz;
+        let t126: f32 = joint1_mz + joint2_mz;
+        let t127: f32 = platform_mz + t124;
+        let t128: f32 = t125 + t126;
+        let t129: f32 = t127 + t128;
+        let t130: f32 = sqrt(t80);
+        let t131: f32 = t18 * t129;
+        let t132: f32 = t130 * t131;
+        let t133: f32 = t123 - t132;
+        let t134: f32 = t91 + t97;
+        let t135: f32 = t100 + t101;
+        let t136: f32 = t134 + t135;
+        let t137: f32 = t133 + t136;
+        let t138: f32 = t137 - t94;
+        let t139: f32 = t89 * t138;
+        let t140: f32 = t6 * t138;
+        let t141: f32 = t140 * 0.5;
+        let t142: f32 = t90 - t141;
+        let t143: f32 = t86 * t142;
+        let t144: f32 = platform_iyz + joint1_iyz;
+        let t145: f32 = joint2_iyz + joint3_iyz;
+        let t146: f32 = joint4_iyz + joint5_iyz;
+        let t147: f32 = t144 + t145;
+        let t148: f32 = joint6_iyz + t146;
+        let t149: f32 = t147 + t148;
+        let t150: f32 = t18 * t149;
+        let t151: f32 = t118 * t150;
+        let t152: f32 = platform_ixz + joint1_ixz;
+        let t153: f32 = joint2_ixz + joint3_ixz;
+        let t154: f32 = joint4_ixz + joint5_ixz;
+        let t155: f32 = t152 + t153;
+        let t156: f32 = joint6_ixz + t154;
+        let t157: f32 = t155 + t156;
+        let t158: f32 = t29 * t157;
+        let t159: f32 = t108 * t158;
+        let t160: f32 = platform_izz + joint1_izz;
+        let t161: f32 = joint2_izz + joint3_izz;
+        let t162: f32 = joint4_izz + joint5_izz;
+        let t163: f32 = t160 + t161;
+        let t164: f32 = joint6_izz + t162;
+        let t165: f32 = t163 + t164;
+        let t166: f32 = t13 * t18;
+        let t167: f32 = t165 * t166;
+        let t168: f32 = t130 * t167;
+        let t169: f32 = t159 * 0.5;
+        let t170: f32 = t168 * 0.25;
+        let t171: f32 = t169 + t170;
+        let t172: f32 = t6 * t171;
+        let t173: f32 = t151 * 0.5;
+        let t174: f32 = t173 - t172;
+        let t175: f32 = t6 * t174;
+        let t176: f32 = -t175;
+        let t177: f32 = t6 * t13;
+        let t178: f32 = t18 * t177;
+        let t179: f32 = t130 * t178;
+        let t180: f32 = t176 * t179;
+        let t181: f32 = t86 * t86;
+        let t182: f32 = t41 * t64;
+        let t183: f32 = t19 * t182;
+        let t184: f32 = t57 * t183;
+        let t185: f32 = t6 * t63;
+        let t186: f32 = t18 * t185;
+        let t187: f32 = t73 * t186;
+        let t188: f32 = t80 * t187;
+        let t189: f32 = t9 * t19;
+        let t190: f32 = t36 * t189;
+        let t191: f32 = t188 - t190;
+        let t192: f32 = t184 * 0.5;
+        let t193: f32 = q1 + t191;
+        let t194: f32 = t192 + t193;
+        let t195: f32 = t194 * t194;
+        let t196: f32 = t181 + t195;
+        let t197: f32 = joint1_mass * t196;
+        let t198: f32 = t93 * t93;
+        let t199: f32 = q2 + t191;
+        let t200: f32 = t192 + t199;
+        let t201: f32 = t200 * t200;
+        let t202: f32 = t198 + t201;
+        let t203: f32 = joint2_mass * t202;
+        let t204: f32 = t92 * t92;
+        let t205: f32 = half_spacing + t191;
+        let t206: f32 = t192 + t205;
+        let t207: f32 = t206 * t206;
+        let t208: f32 = t204 + t207;
+        let t209: f32 = joint3_mass * t208;
+        let t210: f32 = t191 + t192;
+        let t211: f32 = half_spacing - t210;
+        let t212: f32 = t211 * t211;
+        let t213: f32 = t204 + t212;
+        let t214: f32 = joint4_mass * t213;
+        let t215: f32 = t96 * t96;
+        let t216: f32 = -t210;
+        let t217: f32 = t216 * t216;
+        let t218: f32 = t215 + t217;
+        let t219: f32 = joint5_mass * t218;
+        let t220: f32 = t99 * t99;
+        let t221: f32 = t217 + t220;
+        let t222: f32 = joint6_mass * t221;
+        let t223: f32 = joint5_mz * t18;
+        let t224: f32 = t130 * t223;
+        let t225: f32 = joint5_mx * t7;
+        let t226: f32 = t18 * t225;
+        let t227: f32 = t108 * t226;
+        let t228: f32 = joint5_my * t50;
+        let t229: f32 = t118 * t228;
+        let t230: f32 = t227 * 0.5;
+        let t231: f32 = t229 + t230;
+        let t232: f32 = t6 * t231;
+        let t233: f32 = t232 - t224;
+        let t234: f32 = t96 * t233;
+        let t235: f32 = joint6_mz * t18;
+        let t236: f32 = t130 * t235;
+        let t237: f32 = joint6_mx * t7;
+        let t238: f32 = t18 * t237;
+        let t239: f32 = t108 * t238;
+        let t240: f32 = joint6_my * t50;
+        let t241: f32 = t118 * t240;
+        let t242: f32 = t239 * 0.5;
+        let t243: f32 = t241 + t242;
+        let t244: f32 = t6 * t243;
+        let t245: f32 = t244 - t236;
+        let t246: f32 = t99 * t245;
+        let t247: f32 = t234 + t246;
+        let t248: f32 = joint1_mz * t18;
+        let t249: f32 = t130 * t248;
+        let t250: f32 = joint1_mx * t7;
+        let t251: f32 = t18 * t250;
+        let t252: f32 = t108 * t251;
+        let t253: f32 = joint1_my * t50;
+        let t254: f32 = t118 * t253;
+        let t255: f32 = t252 * 0.5;
+        let t256: f32 = t254 + t255;
+        let t257: f32 = t6 * t256;
+        let t258: f32 = t257 - t249;
+        let t259: f32 = t86 * t258;
+        let t260: f32 = joint2_mz * t18;
+        let t261: f32 = t130 * t260;
+        let t262: f32 = joint2_mx * t7;
+        let t263: f32 = t18 * t262;
+        let t264: f32 = t108 * t263;
+        let t265: f32 = joint2_my * t50;
+        let t266: f32 = t118 * t265;
+        let t267: f32 = t264 * 0.5;
+        let t268: f32 = t266 + t267;
+        let t269: f32 = t6 * t268;
+        let t270: f32 = t269 - t261;
+        let t271: f32 = t93 * t270;
+        let t272: f32 = t259 - t271;
+        let t273: f32 = joint3_mz * t18;
+        let t274: f32 = t130 * t273;
+        let t275: f32 = joint3_mx * t7;
+        let t276: f32 = t18 * t275;
+        let t277: f32 = t108 * t276;
+        let t278: f32 = joint3_my * t50;
+        let t279: f32 = t118 * t278;
+        let t280: f32 = t277 * 0.5;
+        let t281: f32 = t279 + t280;
+        let t282: f32 = t6 * t281;
+        let t283: f32 = t282 - t274;
+        let t284: f32 = t92 * t283;
+        let t285: f32 = joint4_mz * t18;
+        let t286: f32 = t130 * t285;
+        let t287: f32 = joint4_mx * t7;
+        let t288: f32 = t18 * t287;
+        let t289: f32 = t108 * t288;
+        let t290: f32 = joint4_my * t50;
+        let t291: f32 = t118 * t290;
+        let t292: f32 = t289 * 0.5;
+        let t293: f32 = t291 + t292;
+        let t294: f32 = t6 * t293;
+        let t295: f32 = t294 - t286;
+        let t296: f32 = t92 * t295;
+        let t297: f32 = t284 + t296;
+        let t298: f32 = t272 + t297;
+        let t299: f32 = t247 + t298;
+        let t300: f32 = joint5_mx * t18;
+        let t301: f32 = t108 * t300;
+        let t302: f32 = joint5_my * t12;
+        let t303: f32 = t18 * t302;
+        let t304: f32 = t118 * t303;
+        let t305: f32 = joint5_mz * t73;
+        let t306: f32 = t130 * t305;
+        let t307: f32 = t304 * 0.5;
+        let t308: f32 = t306 + t307;
+        let t309: f32 = t6 * t308;
+        let t310: f32 = t301 - t309;
+        let t311: f32 = t216 * t310;
+        let t312: f32 = joint6_mx * t18;
+        let t313: f32 = t108 * t312;
+        let t314: f32 = joint6_my * t12;
+        let t315: f32 = t18 * t314;
+        let t316: f32 = t118 * t315;
+        let t317: f32 = joint6_mz * t73;
+        let t318: f32 = t130 * t317;
+        let t319: f32 = t316 * 0.5;
+        let t320: f32 = t318 + t319;
+        let t321: f32 = t6 * t320;
+        let t322: f32 = t313 - t321;
+        let t323: f32 = t216 * t322;
+        let t324: f32 = t311 + t323;
+        let t325: f32 = joint4_mx * t18;
+        let t326: f32 = t108 * t325;
+        let t327: f32 = joint4_my * t12;
+        let t328: f32 = t18 * t327;
+        let t329: f32 = t118 * t328;
+        let t330: f32 = joint4_mz * t73;
+        let t331: f32 = t130 * t330;
+        let t332: f32 = t329 * 0.5;
+        let t333: f32 = t331 + t332;
+        let t334: f32 = t6 * t333;
+        let t335: f32 = t326 - t334;
+        let t336: f32 = t211 * t335;
+        let t337: f32 = joint3_mx * t18;
+        let t338: f32 = t108 * t337;
+        let t339: f32 = joint3_my * t12;
+        let t340: f32 = t18 * t339;
+        let t341: f32 = t118 * t340;
+        let t342: f32 = joint3_mz * t73;
+        let t343: f32 = t130 * t342;
+        let t344: f32 = t341 * 0.5;
+        let t345: f32 = t343 + t344;
+        let t346: f32 = t6 * t345;
+        let t347: f32 = t338 - t346;
+        let t348: f32 = t206 * t347;
+        let t349: f32 = t336 - t348;
+        let t350: f32 = joint1_mx * t18;
+        let t351: f32 = t108 * t350;
+        let t352: f32 = joint1_my * t12;
+        let t353: f32 = t18 * t352;
+        let t354: f32 = t118 * t353;
+        let t355: f32 = joint1_mz * t73;
+        let t356: f32 = t130 * t355;
+        let t357: f32 = t354 * 0.5;
+        let t358: f32 = t356 + t357;
+        let t359: f32 = t6 * t358;
+        let t360: f32 = t351 - t359;
+        let t361: f32 = t194 * t360;
+        let t362: f32 = joint2_mx * t18;
+        let t363: f32 = t108 * t362;
+        let t364: f32 = joint2_my * t12;
+        let t365: f32 = t18 * t364;
+        let t366: f32 = t118 * t365;
+        let t367: f32 = joint2_mz * t73;
+        let t368: f32 = t130 * t367;
+        let t369: f32 = t366 * 0.5;
+        let t370: f32 = t368 + t369;
+        let t371: f32 = t6 * t370;
+        let t372: f32 = t363 - t371;
+        let t373: f32 = t200 * t372;
+        let t374: f32 = t361 + t373;
+        let t375: f32 = t349 - t374;
+        let t376: f32 = t324 + t375;
+        let t377: f32 = t299 + t376;
+        let t378: f32 = t377 * 2.0;
+        let t379: f32 = t197 + t203;
+        let t380: f32 = t209 + t214;
+        let t381: f32 = t219 + t222;
+        let t382: f32 = t379 + t380;
+        let t383: f32 = t378 + t381;
+        let t384: f32 = t382 + t383;
+        let t385: f32 = t6 * t384;
+        let t386: f32 = t180 + t385;
+        let t387: f32 = platform_ixy + joint1_ixy;
+        let t388: f32 = joint2_ixy + joint3_ixy;
+        let t389: f32 = joint4_ixy + joint5_ixy;
+        let t390: f32 = t387 + t388;
+        let t391: f32 = joint6_ixy + t389;
+        let t392: f32 = t390 + t391;
+        let t393: f32 = t18 * t392;
+        let t394: f32 = t118 * t393;
+        let t395: f32 = platform_ixx + joint1_ixx;
+        let t396: f32 = joint2_ixx + joint3_ixx;
+        let t397: f32 = joint4_ixx + joint5_ixx;
+        let t398: f32 = t395 + t396;
+        let t399: f32 = joint6_ixx + t397;
+        let t400: f32 = t398 + t399;
+        let t401: f32 = t29 * t400;
+        let t402: f32 = t108 * t401;
+        let t403: f32 = t157 * t166;
+        let t404: f32 = t130 * t403;
+        let t405: f32 = t402 * 0.5;
+        let t406: f32 = t404 * 0.25;
+        let t407: f32 = t405 + t406;
+        let t408: f32 = t6 * t407;
+        let t409: f32 = t394 * 0.5;
+        let t410: f32 = t409 - t408;
+        let t411: f32 = t6 * t410;
+        let t412: f32 = -t411;
+        let t413: f32 = t6 * t29;
+        let t414: f32 = t108 * t413;
+        let t415: f32 = t412 * t414;
+        let t416: f32 = platform_iyy + joint1_iyy;
+        let t417: f32 = joint2_iyy + joint3_iyy;
+        let t418: f32 = joint4_iyy + joint5_iyy;
+        let t419: f32 = t416 + t417;
+        let t420: f32 = joint6_iyy + t418;
+        let t421: f32 = t419 + t420;
+        let t422: f32 = t18 * t421;
+        let t423: f32 = t118 * t422;
+        let t424: f32 = t29 * t392;
+        let t425: f32 = t108 * t424;
+        let t426: f32 = t149 * t166;
+        let t427: f32 = t130 * t426;
+        let t428: f32 = t425 * 0.5;
+        let t429: f32 = t427 * 0.25;
+        let t430: f32 = t428 + t429;
+        let t431: f32 = t6 * t430;
+        let t432: f32 = t423 * 0.5;
+        let t433: f32 = t432 - t431;
+        let t434: f32 = t6 * t433;
+        let t435: f32 = -t434;
+        let t436: f32 = t18 * t118;
+        let t437: f32 = t435 * t436;
+        let t438: f32 = t415 - t437;
+        let t439: f32 = q1 * t6;
+        let t440: f32 = t6 * t194;
+        let t441: f32 = t439 - t440;
+        let t442: f32 = t441 * 0.5;
+        let t443: f32 = joint1_mass * t194;
+        let t444: f32 = joint2_mass * t200;
+        let t445: f32 = joint3_mass * t206;
+        let t446: f32 = joint4_mass * t211;
+        let t447: f32 = t18 * t107;
+        let t448: f32 = t108 * t447;
+        let t449: f32 = t12 * t18;
+        let t450: f32 = t117 * t449;
+        let t451: f32 = t118 * t450;
+        let t452: f32 = t73 * t129;
+        let t453: f32 = t130 * t452;
+        let t454: f32 = t451 * 0.5;
+        let t455: f32 = t453 + t454;
+        let t456: f32 = t6 * t455;
+        let t457: f32 = t2 * t216;
+        let t458: f32 = t443 + t444;
+        let t459: f32 = t445 + t456;
+        let t460: f32 = t458 + t459;
+        let t461: f32 = t446 + t448;
+        let t462: f32 = t457 + t461;
+        let t463: f32 = t460 - t462;
+        let t464: f32 = t442 * t463;
+        let t465: f32 = t5 * t442;
+        let t466: f32 = t6 * t463;
+        let t467: f32 = t466 * 0.5;
+        let t468: f32 = t465 + t467;
+        let t469: f32 = t194 * t468;
+        let t470: f32 = t464 - t469;
+        let t471: f32 = t438 + t470;
+        let t472: f32 = t386 * 0.5;
+        let t473: f32 = t143 + t471;
+        let t474: f32 = t472 + t473;
+        let t475: f32 = t474 - t139;
+        let t476: f32 = t6 * t475;
+        let t477: f32 = t439 * t468;
+        let t478: f32 = t140 + t477;
+        let t479: f32 = t476 + t478;
+        let t480: f32 = t479 * 0.5;
+        let t481: f32 = rod1_mass + t480;
+        let t482: f32 = t481 - t90;
+        let t483: f32 = t5 * t6;
+        let t484: f32 = t86 * t483;
+        let t485: f32 = t18 * t63;
+        let t486: f32 = t80 * t485;
+        let t487: f32 = t7 * t9;
+        let t488: f32 = t18 * t487;
+        let t489: f32 = t36 * t488;
+        let t490: f32 = t41 * t50;
+        let t491: f32 = t57 * t490;
+        let t492: f32 = t489 * 0.5;
+        let t493: f32 = t491 + t492;
+        let t494: f32 = t6 * t493;
+        let t495: f32 = t486 - t494;
+        let t496: f32 = t18 * t495;
+        let t497: f32 = half_spacing + t496;
+        let t498: f32 = joint2_mass * t497;
+        let t499: f32 = half_spacing - t496;
+        let t500: f32 = t4 - joint1_mass;
+        let t501: f32 = t500 * 0.5;
+        let t502: f32 = t499 * t501;
+        let t503: f32 = q5 - t496;
+        let t504: f32 = joint5_mass * t503;
+        let t505: f32 = q6 - t496;
+        let t506: f32 = joint6_mass * t505;
+        let t507: f32 = t504 + t506;
+        let t508: f32 = -t496;
+        let t509: f32 = t1 * t508;
+        let t510: f32 = t133 + t509;
+        let t511: f32 = t507 + t510;
+        let t512: f32 = t498 + t502;
+        let t513: f32 = t512 - t511;
+        let t514: f32 = t87 * t513;
+        let t515: f32 = t471 + t514;
+        let t516: f32 = t472 + t515;
+        let t517: f32 = t6 * t516;
+        let t518: f32 = t478 + t517;
+        let t519: f32 = t484 - t518;
+        let t520: f32 = t519 * 0.5;
+        let t521: f32 = joint1_my * t18;
+        let t522: f32 = t118 * t521;
+        let t523: f32 = joint1_mx * t29;
+        let t524: f32 = t108 * t523;
+        let t525: f32 = joint1_mz * t13;
+        let t526: f32 = t18 * t525;
+        let t527: f32 = t130 * t526;
+        let t528: f32 = t527 * 0.5;
+        let t529: f32 = t524 + t528;
+        let t530: f32 = t6 * t529;
+        let t531: f32 = t530 - t522;
+        let t532: f32 = t86 * t531;
+        let t533: f32 = joint2_my * t18;
+        let t534: f32 = t118 * t533;
+        let t535: f32 = joint2_mx * t29;
+        let t536: f32 = t108 * t535;
+        let t537: f32 = joint2_mz * t13;
+        let t538: f32 = t18 * t537;
+        let t539: f32 = t130 * t538;
+        let t540: f32 = t539 * 0.5;
+        let t541: f32 = t536 + t540;
+        let t542: f32 = t6 * t541;
+        let t543: f32 = t542 - t534;
+        let t544: f32 = t93 * t543;
+        let t545: f32 = t63 * t177;
+        let t546: f32 = t19 * t545;
+        let t547: f32 = t80 * t546;
+        let t548: f32 = t6 * t9;
+        let t549: f32 = t18 * t548;
+        let t550: f32 = t29 * t549;
+        let t551: f32 = t36 * t550;
+        let t552: f32 = t19 * t41;
+        let t553: f32 = t57 * t552;
+        let t554: f32 = t551 - t553;
+        let t555: f32 = t547 * 0.5;
+        let t556: f32 = q3 + t554;
+        let t557: f32 = t555 + t556;
+        let t558: f32 = t283 * t557;
+        let t559: f32 = q4 + t554;
+        let t560: f32 = t555 + t559;
+        let t561: f32 = t295 * t560;
+        let t562: f32 = half_spacing + t554;
+        let t563: f32 = t555 + t562;
+        let t564: f32 = t233 * t563;
+        let t565: f32 = t554 + t555;
+        let t566: f32 = half_spacing - t565;
+        let t567: f32 = t245 * t566;
+        let t568: f32 = t18 * t41;
+        let t569: f32 = t57 * t568;
+        let t570: f32 = t9 * t29;
+        let t571: f32 = t36 * t570;
+        let t572: f32 = t13 * t63;
+        let t573: f32 = t18 * t572;
+        let t574: f32 = t80 * t573;
+        let t575: f32 = t574 * 0.5;
+        let t576: f32 = t571 + t575;
+        let t577: f32 = t6 * t576;
+        let t578: f32 = t569 - t577;
+        let t579: f32 = t18 * t578;
+        let t580: f32 = q3 - t579;
+        let t581: f32 = joint3_mass * t580;
+        let t582: f32 = q4 - t579;
+        let t583: f32 = joint4_mass * t582;
+        let t584: f32 = t124 * 0.5;
+        let t585: f32 = t130 * t166;
+        let t586: f32 = t584 * t585;
+        let t587: f32 = t29 * t108;
+        let t588: f32 = t104 * t587;
+        let t589: f32 = t586 + t588;
+        let t590: f32 = t6 * t589;
+        let t591: f32 = t113 * t436;
+        let t592: f32 = t581 + t583;
+        let t593: f32 = t590 + t592;
+        let t594: f32 = t593 - t591;
+        let t595: f32 = t92 * t594;
+        let t596: f32 = t102 * 0.5;
+        let t597: f32 = t108 * t109;
+        let t598: f32 = t596 * t597;
+        let t599: f32 = t50 * t118;
+        let t600: f32 = t112 * t599;
+        let t601: f32 = t598 + t600;
+        let t602: f32 = t6 * t601;
+        let t603: f32 = t18 * t130;
+        let t604: f32 = t126 * t603;
+        let t605: f32 = joint1_mass * t499;
+        let t606: f32 = t605 - t498;
+        let t607: f32 = t602 + t606;
+        let t608: f32 = t607 - t604;
+        let t609: f32 = t565 * t608;
+        let t610: f32 = half_spacing - t579;
+        let t611: f32 = joint5_mass * t610;
+        let t612: f32 = joint5_my * t18;
+        let t613: f32 = t118 * t612;
+        let t614: f32 = joint5_mx * t29;
+        let t615: f32 = t108 * t614;
+        let t616: f32 = joint5_mz * t13;
+        let t617: f32 = t18 * t616;
+        let t618: f32 = t130 * t617;
+        let t619: f32 = t618 * 0.5;
+        let t620: f32 = t615 + t619;
+        let t621: f32 = t6 * t620;
+        let t622: f32 = t613 - t621;
+        let t623: f32 = t622 - t611;
+        let t624: f32 = t96 * t623;
+        let t625: f32 = half_spacing + t579;
+        let t626: f32 = joint6_mass * t625;
+        let t627: f32 = joint6_my * t18;
+        let t628: f32 = t118 * t627;
+        let t629: f32 = joint6_mx * t29;
+        let t630: f32 = t108 * t629;
+        let t631: f32 = joint6_mz * t13;
+        let t632: f32 = t18 * t631;
+        let t633: f32 = t130 * t632;
+        let t634: f32 = t633 * 0.5;
+        let t635: f32 = t630 + t634;
+        let t636: f32 = t6 * t635;
+        let t637: f32 = t628 - t636;
+        let t638: f32 = t626 + t637;
+        let t639: f32 = t99 * t638;
+        let t640: f32 = t532 + t558;
+        let t641: f32 = t561 + t564;
+        let t642: f32 = t595 + t609;
+        let t643: f32 = t640 + t641;
+        let t644: f32 = t642 + t643;
+        let t645: f32 = t544 + t567;
+        let t646: f32 = t624 + t639;
+        let t647: f32 = t645 + t646;
+        let t648: f32 = t644 - t647;
+        let t649: f32 = t6 * t648;
+        let t650: f32 = t130 * t150;
+        let t651: f32 = t109 * t392;
+        let t652: f32 = t108 * t651;
+        let t653: f32 = t50 * t421;
+        let t654: f32 = t118 * t653;
+        let t655: f32 = t652 * 0.25;
+        let t656: f32 = t654 * 0.5;
+        let t657: f32 = t655 + t656;
+        let t658: f32 = t6 * t657;
+        let t659: f32 = t650 * 0.5;
+        let t660: f32 = t659 - t658;
+        let t661: f32 = t6 * t660;
+        let t662: f32 = -t661;
+        let t663: f32 = t436 * t662;
+        let t664: f32 = t483 * t565;
+        let t665: f32 = joint3_mass * t557;
+        let t666: f32 = joint4_mass * t560;
+        let t667: f32 = joint5_mass * t563;
+        let t668: f32 = joint6_mass * t566;
+        let t669: f32 = t18 * t117;
+        let t670: f32 = t118 * t669;
+        let t671: f32 = t29 * t107;
+        let t672: f32 = t108 * t671;
+        let t673: f32 = t129 * t166;
+        let t674: f32 = t130 * t673;
+        let t675: f32 = t674 * 0.5;
+        let t676: f32 = t672 + t675;
+        let t677: f32 = t6 * t676;
+        let t678: f32 = joint1_mass + joint2_mass;
+        let t679: f32 = t565 * t678;
+        let t680: f32 = t665 + t666;
+        let t681: f32 = t667 + t677;
+        let t682: f32 = t680 + t681;
+        let t683: f32 = t679 + t682;
+        let t684: f32 = t668 + t670;
+        let t685: f32 = t683 - t684;
+        let t686: f32 = t6 * t685;
+        let t687: f32 = t664 - t686;
+        let t688: f32 = t687 * 0.5;
+        let t689: f32 = t86 * t688;
+        let t690: f32 = t18 * t157;
+        let t691: f32 = t130 * t690;
+        let t692: f32 = t109 * t400;
+        let t693: f32 = t108 * t692;
+        let t694: f32 = t50 * t392;
+        let t695: f32 = t118 * t694;
+        let t696: f32 = t693 * 0.25;
+        let t697: f32 = t695 * 0.5;
+        let t698: f32 = t696 + t697;
+        let t699: f32 = t6 * t698;
+        let t700: f32 = t691 * 0.5;
+        let t701: f32 = t700 - t699;
+        let t702: f32 = t6 * t701;
+        let t703: f32 = -t702;
+        let t704: f32 = t587 * t703;
+        let t705: f32 = t18 * t165;
+        let t706: f32 = t130 * t705;
+        let t707: f32 = t109 * t157;
+        let t708: f32 = t108 * t707;
+        let t709: f32 = t50 * t149;
+        let t710: f32 = t118 * t709;
+        let t711: f32 = t708 * 0.25;
+        let t712: f32 = t710 * 0.5;
+        let t713: f32 = t711 + t712;
+        let t714: f32 = t6 * t713;
+        let t715: f32 = t706 * 0.5;
+        let t716: f32 = t715 - t714;
+        let t717: f32 = t6 * t716;
+        let t718: f32 = -t717;
+        let t719: f32 = t585 * t718;
+        let t720: f32 = t511 + t606;
+        let t721: f32 = -t579;
+        let t722: f32 = t720 * t721;
+        let t723: f32 = t719 + t722;
+        let t724: f32 = t723 * 0.5;
+        let t725: f32 = t704 + t724;
+        let t726: f32 = t6 * t725;
+        let t727: f32 = t649 * 0.5;
+        let t728: f32 = t663 + t727;
+        let t729: f32 = t689 + t728;
+        let t730: f32 = t729 - t726;
+        let t731: f32 = t6 * t730;
+        let t732: f32 = t731 - t687;
+        let t733: f32 = t732 * 0.5;
+        let t734: f32 = -t733;
+        let t735: f32 = t6 * t565;
+        let t736: f32 = t735 * 0.5;
+        let t737: f32 = t736 - 0.5;
+        let t738: f32 = t5 * t737;
+        let t739: f32 = t686 * 0.5;
+        let t740: f32 = t739 - t738;
+        let t741: f32 = t439 * t740;
+        let t742: f32 = t463 * t737;
+        let t743: f32 = t194 * t740;
+        let t744: f32 = t194 * t531;
+        let t745: f32 = t200 * t543;
+        let t746: f32 = t347 * t557;
+        let t747: f32 = t335 * t560;
+        let t748: f32 = t310 * t563;
+        let t749: f32 = t322 * t566;
+        let t750: f32 = t125 * 0.5;
+        let t751: f32 = t585 * t750;
+        let t752: f32 = t103 * t587;
+        let t753: f32 = t751 + t752;
+        let t754: f32 = t6 * t753;
+        let t755: f32 = t114 * t436;
+        let t756: f32 = t611 + t754;
+        let t757: f32 = t626 + t755;
+        let t758: f32 = t756 - t757;
+        let t759: f32 = t216 * t758;
+        let t760: f32 = t9 * t18;
+        let t761: f32 = t36 * t760;
+        let t762: f32 = t12 * t41;
+        let t763: f32 = t18 * t762;
+        let t764: f32 = t57 * t763;
+        let t765: f32 = t63 * t73;
+        let t766: f32 = t80 * t765;
+        let t767: f32 = t764 * 0.5;
+        let t768: f32 = t766 + t767;
+        let t769: f32 = t6 * t768;
+        let t770: f32 = t761 - t769;
+        let t771: f32 = t18 * t770;
+        let t772: f32 = q1 - t771;
+        let t773: f32 = joint1_mass * t772;
+        let t774: f32 = q2 - t771;
+        let t775: f32 = joint2_mass * t774;
+        let t776: f32 = t112 * 0.5;
+        let t777: f32 = t118 * t449;
+        let t778: f32 = t776 * t777;
+        let t779: f32 = t73 * t130;
+        let t780: f32 = t126 * t779;
+        let t781: f32 = t778 + t780;
+        let t782: f32 = t6 * t781;
+        let t783: f32 = t18 * t108;
+        let t784: f32 = t102 * t783;
+        let t785: f32 = t773 + t775;
+        let t786: f32 = t782 + t785;
+        let t787: f32 = t786 - t784;
+        let t788: f32 = t565 * t787;
+        let t789: f32 = joint3_my * t18;
+        let t790: f32 = t118 * t789;
+        let t791: f32 = joint3_mx * t29;
+        let t792: f32 = t108 * t791;
+        let t793: f32 = joint3_mz * t13;
+        let t794: f32 = t18 * t793;
+        let t795: f32 = t130 * t794;
+        let t796: f32 = t795 * 0.5;
+        let t797: f32 = t792 + t796;
+        let t798: f32 = t6 * t797;
+        let t799: f32 = t790 - t798;
+        let t800: f32 = t799 - t581;
+        let t801: f32 = t206 * t800;
+        let t802: f32 = joint4_my * t18;
+        let t803: f32 = t118 * t802;
+        let t804: f32 = joint4_mx * t29;
+        let t805: f32 = t108 * t804;
+        let t806: f32 = joint4_mz * t13;
+        let t807: f32 = t18 * t806;
+        let t808: f32 = t130 * t807;
+        let t809: f32 = t808 * 0.5;
+        let t810: f32 = t805 + t809;
+        let t811: f32 = t6 * t810;
+        let t812: f32 = t803 - t811;
+        let t813: f32 = t812 - t583;
+        let t814: f32 = t211 * t813;
+        let t815: f32 = t744 + t745;
+        let t816: f32 = t749 + t788;
+        let t817: f32 = t815 + t816;
+        let t818: f32 = t814 + t817;
+        let t819: f32 = t746 + t747;
+        let t820: f32 = t748 + t759;
+        let t821: f32 = t819 + t820;
+        let t822: f32 = t801 + t821;
+        let t823: f32 = t818 - t822;
+        let t824: f32 = t6 * t823;
+        let t825: f32 = t108 * t690;
+        let t826: f32 = t149 * t449;
+        let t827: f32 = t118 * t826;
+        let t828: f32 = t73 * t165;
+        let t829: f32 = t130 * t828;
+        let t830: f32 = t827 * 0.25;
+        let t831: f32 = t829 * 0.5;
+        let t832: f32 = t830 + t831;
+        let t833: f32 = t6 * t832;
+        let t834: f32 = t825 * 0.5;
+        let t835: f32 = t834 - t833;
+        let t836: f32 = t10 * t13;
+        let t837: f32 = t18 * t836;
+        let t838: f32 = t130 * t837;
+        let t839: f32 = t835 * t838;
+        let t840: f32 = t824 + t839;
+        let t841: f32 = t18 * t400;
+        let t842: f32 = t108 * t841;
+        let t843: f32 = t392 * t449;
+        let t844: f32 = t118 * t843;
+        let t845: f32 = t73 * t157;
+        let t846: f32 = t130 * t845;
+        let t847: f32 = t844 * 0.25;
+        let t848: f32 = t846 * 0.5;
+        let t849: f32 = t847 + t848;
+        let t850: f32 = t6 * t849;
+        let t851: f32 = t842 * 0.5;
+        let t852: f32 = t851 - t850;
+        let t853: f32 = t10 * t29;
+        let t854: f32 = t108 * t853;
+        let t855: f32 = t852 * t854;
+        let t856: f32 = t108 * t393;
+        let t857: f32 = t421 * t449;
+        let t858: f32 = t118 * t857;
+        let t859: f32 = t73 * t149;
+        let t860: f32 = t130 * t859;
+        let t861: f32 = t858 * 0.25;
+        let t862: f32 = t860 * 0.5;
+        let t863: f32 = t861 + t862;
+        let t864: f32 = t6 * t863;
+        let t865: f32 = t856 * 0.5;
+        let t866: f32 = t865 - t864;
+        let t867: f32 = t6 * t18;
+        let t868: f32 = t118 * t867;
+        let t869: f32 = t866 * t868;
+        let t870: f32 = t855 - t869;
+        let t871: f32 = t840 * 0.5;
+        let t872: f32 = t870 + t871;
+        let t873: f32 = t742 + t743;
+        let t874: f32 = t872 - t873;
+        let t875: f32 = t6 * t874;
+        let t876: f32 = t741 + t875;
+        let t877: f32 = t876 * 0.5;
+        let t878: f32 = -t877;
+        let t879: f32 = t736 + 0.5;
+        let t880: f32 = t5 * t879;
+        let t881: f32 = t739 - t880;
+        let t882: f32 = t439 * t881;
+        let t883: f32 = t463 * t879;
+        let t884: f32 = t194 * t881;
+        let t885: f32 = t883 + t884;
+        let t886: f32 = t872 - t885;
+        let t887: f32 = t6 * t886;
+        let t888: f32 = t882 + t887;
+        let t889: f32 = t888 * 0.5;
+        let t890: f32 = t6 * t93;
+        let t891: f32 = t87 + t890;
+        let t892: f32 = t891 * 0.5;
+        let t893: f32 = t892 - 1.0;
+        let t894: f32 = rod2_mass * t893;
+        let t895: f32 = t476 + t477;
+        let t896: f32 = t895 * 0.5;
+        let t897: f32 = t894 + t896;
+        let t898: f32 = -t897;
+        let t899: f32 = rod2_mass * t892;
+        let t900: f32 = t477 + t517;
+        let t901: f32 = t900 * 0.5;
+        let t902: f32 = t899 + t901;
+        let t903: f32 = t731 * 0.5;
+        let t904: f32 = -t903;
+        let t905: f32 = -t889;
+        let t906: f32 = t89 * t685;
+        let t907: f32 = t142 * t565;
+        let t908: f32 = t18 * t20;
+        let t909: f32 = t108 * t908;
+        let t910: f32 = t412 * t909;
+        let t911: f32 = t910 - t649;
+        let t912: f32 = t6 * t50;
+        let t913: f32 = t118 * t912;
+        let t914: f32 = t435 * t913;
+        let t915: f32 = t176 * t603;
+        let t916: f32 = t914 - t915;
+        let t917: f32 = t911 * 0.5;
+        let t918: f32 = t906 + t916;
+        let t919: f32 = t917 + t918;
+        let t920: f32 = t919 - t907;
+        let t921: f32 = t6 * t920;
+        let t922: f32 = t921 * 0.5;
+        let t923: f32 = t87 * t685;
+        let t924: f32 = t140 - t484;
+        let t925: f32 = t924 * 0.5;
+        let t926: f32 = t565 * t925;
+        let t927: f32 = t911 + t923;
+        let t928: f32 = t927 * 0.5;
+        let t929: f32 = t926 + t928;
+        let t930: f32 = t916 + t929;
+        let t931: f32 = t6 * t930;
+        let t932: f32 = t931 * 0.5;
+        let t933: f32 = -t932;
+        let t934: f32 = t6 * t206;
+        let t935: f32 = q1 - half_spacing;
+        let t936: f32 = t6 * t935;
+        let t937: f32 = t936 - t440;
+        let t938: f32 = t934 + t937;
+        let t939: f32 = t938 * 0.5;
+        let t940: f32 = t939 + 1.0;
+        let t941: f32 = rod3_mass * t940;
+        let t942: f32 = t936 * 0.5;
+        let t943: f32 = t942 + 1.0;
+        let t944: f32 = t937 * 0.5;
+        let t945: f32 = t944 + 1.0;
+        let t946: f32 = t5 * t945;
+        let t947: f32 = t467 + t946;
+        let t948: f32 = t943 * t947;
+        let t949: f32 = t463 * t945;
+        let t950: f32 = t194 * t947;
+        let t951: f32 = t703 * t909;
+        let t952: f32 = t565 * t565;
+        let t953: f32 = t195 + t952;
+        let t954: f32 = joint1_mass * t953;
+        let t955: f32 = t201 + t952;
+        let t956: f32 = joint2_mass * t955;
+        let t957: f32 = t557 * t557;
+        let t958: f32 = t207 + t957;
+        let t959: f32 = joint3_mass * t958;
+        let t960: f32 = t560 * t560;
+        let t961: f32 = t212 + t960;
+        let t962: f32 = joint4_mass * t961;
+        let t963: f32 = t563 * t563;
+        let t964: f32 = t217 + t963;
+        let t965: f32 = joint5_mass * t964;
+        let t966: f32 = t566 * t566;
+        let t967: f32 = t217 + t966;
+        let t968: f32 = joint6_mass * t967;
+        let t969: f32 = -t622;
+        let t970: f32 = t563 * t969;
+        let t971: f32 = -t637;
+        let t972: f32 = t566 * t971;
+        let t973: f32 = t970 - t972;
+        let t974: f32 = t531 * t565;
+        let t975: f32 = t543 * t565;
+        let t976: f32 = t974 + t975;
+        let t977: f32 = -t799;
+        let t978: f32 = t557 * t977;
+        let t979: f32 = -t812;
+        let t980: f32 = t560 * t979;
+        let t981: f32 = t978 + t980;
+        let t982: f32 = t976 + t981;
+        let t983: f32 = t973 + t982;
+        let t984: f32 = t376 + t983;
+        let t985: f32 = t984 * 2.0;
+        let t986: f32 = t954 + t956;
+        let t987: f32 = t959 + t962;
+        let t988: f32 = t965 + t968;
+        let t989: f32 = t986 + t987;
+        let t990: f32 = t985 + t988;
+        let t991: f32 = t989 + t990;
+        let t992: f32 = t6 * t991;
+        let t993: f32 = t951 + t992;
+        let t994: f32 = t685 * t735;
+        let t995: f32 = t993 - t994;
+        let t996: f32 = t565 * t688;
+        let t997: f32 = t662 * t913;
+        let t998: f32 = t603 * t718;
+        let t999: f32 = t997 - t998;
+        (
+            t5,
+            t6,
+            t10,
+            t12,
+            t17,
+            t18,
+            t64,
+            t73,
+            t86,
+            t87,
+            t88,
+            t92,
+            t93,
+            t96,
+            t99,
+            t103,
+            t104,
+            t108,
             t113,
             t114,
-            t115,
-            t117,
-            t120,
-            t121,
+            t118,
             t124,
-            t127,
-            t128,
+            t125,
             t130,
-            t133,
-            t137,
-            t142,
-            t145,
-            t147,
-            t154,
-            t156,
-            t157,
-            t164,
-            t174,
-            t175,
-            t182,
-            t183,
-            t191,
-            t199,
-            t203,
+            t138,
+            t140,
+            t141,
+            t176,
+            t181,
+            t194,
+            t198,
+            t200,
             t204,
             t206,
-            t209,
-            t210,
-            t214,
-            t218,
-            t225,
-            t228,
-            t233,
-            t240,
-            t241,
-            t251,
-            t259,
-            t268,
-            t276,
-            t280,
-            t281,
-            t289,
-            t292,
-            t293,
+            t211,
+            t215,
+            t216,
+            t220,
+            t258,
+            t270,
+            t283,
             t295,
-            t296,
             t299,
-            t307,
             t310,
-            t311,
-            t313,
-            t317,
-            t318,
-            t320,
-            t323,
-            t324,
-            t326,
-            t330,
-            t336,
-            t340,
-            t341,
-            t344,
-            t345,
-            t353,
-            t355,
-            t356,
-            t358,
+            t322,
             t360,
-            t361,
-            t363,
-            t364,
-            t366,
-            t368,
-            t369,
-            t371,
             t372,
-            t374,
-            t375,
-            t376,
-            t378,
-            t380,
-            t382,
-            t386,
-            t391,
-            t398,
-            t405,
-            t409,
-            t411,
-            t413,
-            t426,
-            t429,
-            t433,
-            t438,
-            t439,
-            t445,
-            t449,
-            t455,
+            t412,
+            t435,
+            t436,
+            t441,
+            t442,
             t463,
-            t474,
-            t490,
-            t499,
-            t509,
-            t515,
-            t525,
-            t535,
-            t544,
-            t549,
-            t550,
-            t560,
-            t569,
-            t582,
-            t586,
-            t587,
-            t596,
-            t607,
-            t616,
-            t620,
-            t621,
-            t633,
-            t642,
-            t652,
-            t657,
-            t658,
-            t669,
-            t678,
-            t688,
-            t711,
-            t720,
-            t721,
-            t722,
-            t732,
+            t465,
+            t466,
+            t467,
+            t468,
+            t482,
+            t507,
+            t520,
+            t563,
+            t565,
+            t566,
+            t597,
+            t599,
+            t603,
+            t662,
+            t685,
+            t686,
+            t703,
+            t718,
+            t733,
+            t734,
             t735,
-            t760,
+            t737,
+            t738,
+            t740,
+            t771,
+            t773,
+            t775,
+            t777,
             t779,
-            t786,
-            t797,
-            t798,
-            t800,
-            t803,
-            t804,
-            t806,
-            t809,
-            t810,
-            t813,
-            t816,
-            t819,
-            t822,
-            t825,
-            t826,
-            t827,
-            t828,
+            t783,
+            t824,
             t835,
-            t837,
-            t838,
-            t839,
-            t840,
-            t847,
-            t849,
-            t850,
-            t851,
-            t858,
-            t859,
-            t868,
-            t876,
+            t852,
+            t866,
+            t867,
             t877,
-            t886,
-            t887,
-            t894,
-            t895,
-            t899,
-            t901,
+            t878,
+            t879,
+            t880,
+            t881,
+            t889,
+            t898,
             t902,
-            t910,
-            t913,
-            t925,
+            t903,
+            t904,
+            t905,
+            t922,
+            t932,
             t933,
+            t936,
+            t937,
+            t939,
             t941,
+            t943,
+            t944,
             t945,
-            t953,
-            t961,
+            t946,
+            t947,
+            t948,
+            t949,
+            t950,
+            t952,
+            t957,
+            t960,
+            t963,
             t966,
-            t975,
-            t987,
-            t989,
-            t991,
-            t993,
+            t983,
             t995,
             t996,
             t999,
         )
     };
     let (
-        t1016,
-        t1017,
-        t1018,
-        t1019,
-        t1021,
-        t1024,
-        t1027,
-        t1028,
-        t1031,
-        t1033,
-        t1043,
-        t1047,
-        t1055,
-        t1073,
-        t1078,
-        t1080,
-        t1082,
+        t1008,
+        t1022,
+        t1092,
+        t1093,
         t1094,
-        t1099,
-        t1106,
-        t1112,
-        t1123,
-        t1135,
-        t1146,
-        t1159,
-        t1170,
-        t1182,
-        t1193,
-        t1207,
-        t1218,
-        t1230,
+        t1103,
+        t1108,
+        t1113,
+        t1114,
+        t1137,
+        t1138,
+        t1157,
+        t1158,
+        t1167,
+        t1222,
+        t1234,
+        t1239,
+        t1240,
         t1241,
         t1252,
-        t1266,
-        t1277,
-        t1289,
-        t1300,
-        t1313,
-        t1324,
-        t1336,
-        t1347,
-        t1368,
-        t1369,
-        t1370,
-        t1371,
-        t1373,
-        t1376,
-        t1379,
-        t1380,
-        t1383,
-        t1385,
-        t1394,
-        t1397,
-        t1409,
-        t1429,
-        t1430,
-        t1432,
-        t1433,
-        t1434,
-        t1435,
-        t1437,
-        t1440,
-        t1450,
-        t1452,
-        t1454,
-        t1456,
-        t1470,
-        t1472,
-        t1474,
-        t1479,
-        t1529,
-        t1530,
-        t1556,
-        t1557,
-        t1559,
-        t1560,
-        t1562,
-        t1563,
-        t1566,
-        t1567,
-        t1570,
-        t1573,
-        t1574,
-        t1582,
-        t1583,
-        t1595,
-        t1597,
-        t1604,
-        t1606,
-        t1615,
-        t1628,
-        t1630,
-        t1634,
-        t1636,
-        t1638,
-        t1641,
-        t1652,
-        t1653,
-        t1675,
-        t1684,
-        t1694,
-        t1703,
-        t1715,
-        t1724,
-        t1734,
-        t1743,
-        t1754,
-        t1763,
-        t1773,
-        t1782,
-        t1795,
-        t1804,
-        t1819,
-        t1831,
-        t1844,
-        t1853,
-        t1863,
-        t1875,
-        t1884,
-        t1908,
-        t1909,
-        t1911,
-        t1913,
-        t1923,
-        t1925,
-        t1928,
-        t1932,
-        t1949,
-        t1953,
-        t1957,
-        t1958,
-        t1963,
-        t1969,
-        t1976,
-        t1977,
-        t1979,
-        t1981,
-        t1984,
-        t1988,
-        t1998,
-        t1999,
+        t1258,
+        t1259,
+        t1260,
+        t1261,
+        t1262,
     ) = {
-        let t1000: f32 = t996 - t999;
-        let t1001: f32 = t0 * t1000;
-        let t1002: f32 = t991 + t995;
+        let t1000: f32 = t996 + t999;
+        let t1001: f32 = t995 * 0.5;
+        let t1002: f32 = t949 + t1000;
         let t1003: f32 = t1001 + t1002;
-        let t1004: f32 = t109 * t1003;
-        let t1005: f32 = t826 + t827;
-        let t1006: f32 = t828 + t840;
-        let t1007: f32 = t902 + t987;
-        let t1008: f32 = t1005 + t1006;
-        let t1009: f32 = t1004 + t1007;
-        let t1010: f32 = t1008 + t1009;
-        let t1011: f32 = t839 + t851;
-        let t1012: f32 = t1010 - t1011;
-        let t1013: f32 = t0 * t1012;
-        let t1014: f32 = t1013 - t899;
-        let t1015: f32 = t1014 * 0.5;
-        let t1016: f32 = t825 - t1015;
-        let t1017: f32 = t1015 - t825;
-        let t1018: f32 = joint2_mass - t899;
-        let t1019: f32 = t803 - 0.5;
-        let t1020: f32 = joint3_mass * t1019;
-        let t1021: f32 = t809 - 0.5;
-        let t1022: f32 = joint4_mass * t1021;
-        let t1023: f32 = t1020 + t1022;
-        let t1024: f32 = t816 - 0.5;
-        let t1025: f32 = joint5_mass * t1024;
-        let t1026: f32 = rod5_mass * t1024;
-        let t1027: f32 = t1025 + t1026;
-        let t1028: f32 = t822 - 0.5;
-        let t1029: f32 = joint6_mass * t1028;
-        let t1030: f32 = rod6_mass * t1028;
-        let t1031: f32 = t1029 + t1030;
-        let t1032: f32 = t1027 + t1031;
-        let t1033: f32 = t1023 + t1032;
-        let t1034: f32 = t204 + t1018;
-        let t1035: f32 = t1034 * 0.5;
-        let t1036: f32 = t1035 - t1033;
-        let t1037: f32 = t214 * t1036;
-        let t1038: f32 = joint2_mass + t877;
-        let t1039: f32 = t1038 * 0.5;
-        let t1040: f32 = t310 * t1039;
-        let t1041: f32 = t259 * t1019;
-        let t1042: f32 = t887 * 0.5;
-        let t1043: f32 = t1042 - t1020;
-        let t1044: f32 = t317 * t1043;
-        let t1045: f32 = t268 * t1021;
-        let t1046: f32 = t895 * 0.5;
-        let t1047: f32 = t1046 - t1022;
-        let t1048: f32 = t323 * t1047;
-        let t1049: f32 = t276 * t1024;
-        let t1050: f32 = t225 * t1028;
-        let t1051: f32 = platform_mass * t910;
-        let t1052: f32 = t380 * t945;
-        let t1053: f32 = t360 * t966;
-        let t1054: f32 = t368 * t445;
-        let t1055: f32 = t1051 * 0.5;
-        let t1056: f32 = t1052 + t1055;
-        let t1057: f32 = t1053 + t1054;
-        let t1058: f32 = t1056 - t1057;
-        let t1059: f32 = t0 * t1058;
-        let t1060: f32 = platform_mass + joint2_mass;
-        let t1061: f32 = rod6_mass + joint6_mass;
-        let t1062: f32 = t1061 * 0.0;
-        let t1063: f32 = rod5_mass + joint5_mass;
-        let t1064: f32 = t1063 * -1.0;
-        let t1065: f32 = t1062 + t1064;
-        let t1066: f32 = t989 + 0.5;
-        let t1067: f32 = -t1066;
-        let t1068: f32 = joint3_mass * t1067;
-        let t1069: f32 = t993 + 0.5;
-        let t1070: f32 = -t1069;
-        let t1071: f32 = joint4_mass * t1070;
-        let t1072: f32 = t1068 + t1071;
-        let t1073: f32 = t1065 + t1072;
-        let t1074: f32 = t1060 * 0.5;
-        let t1075: f32 = t1059 + t1073;
-        let t1076: f32 = t1074 - t1075;
-        let t1077: f32 = t295 * t1076;
-        let t1078: f32 = t376 * 0.5;
-        let t1079: f32 = t945 * t1078;
-        let t1080: f32 = t356 * 0.5;
-        let t1081: f32 = t966 * t1080;
-        let t1082: f32 = t364 * 0.5;
-        let t1083: f32 = t445 * t1082;
-        let t1084: f32 = t1081 + t1083;
-        let t1085: f32 = t1079 - t1084;
-        let t1086: f32 = t0 * t1085;
-        let t1087: f32 = t1065 + t1086;
-        let t1088: f32 = t292 * t1087;
-        let t1089: f32 = t33 * t426;
-        let t1090: f32 = t142 * t1089;
-        let t1091: f32 = t797 * t1090;
-        let t1092: f32 = t218 * t433;
-        let t1093: f32 = t797 * t1092;
-        let t1094: f32 = t62 * t429;
-        let t1095: f32 = t137 * t1094;
-        let t1096: f32 = t797 * t1095;
-        let t1097: f32 = t1093 - t1096;
-        let t1098: f32 = t1091 + t1097;
-        let t1099: f32 = t233 + t241;
-        let t1100: f32 = t251 + t1099;
-        let t1101: f32 = joint3_iyy * t62;
-        let t1102: f32 = t137 * t1101;
-        let t1103: f32 = joint3_iyz * t33;
-        let t1104: f32 = t142 * t1103;
-        let t1105: f32 = t133 * t372;
-        let t1106: f32 = -t1105;
-        let t1107: f32 = joint3_ixy * t1106;
-        let t1108: f32 = t1104 + t1107;
-        let t1109: f32 = t1102 - t1108;
-        let t1110: f32 = t1109 * 0.5;
-        let t1111: f32 = t0 * t1110;
-        let t1112: f32 = -t1111;
-        let t1113: f32 = t455 * t1112;
-        let t1114: f32 = joint3_iyz * t62;
-        let t1115: f32 = t137 * t1114;
-        let t1116: f32 = joint3_izz * t33;
-        let t1117: f32 = t142 * t1116;
-        let t1118: f32 = joint3_ixz * t1106;
-        let t1119: f32 = t1117 + t1118;
-        let t1120: f32 = t1115 - t1119;
-        let t1121: f32 = t1120 * 0.5;
-        let t1122: f32 = t0 * t1121;
-        let t1123: f32 = -t1122;
-        let t1124: f32 = t945 * t1123;
-        let t1125: f32 = t1113 - t1124;
-        let t1126: f32 = joint4_ixy * t62;
-        let t1127: f32 = t137 * t1126;
-        let t1128: f32 = joint4_ixz * t33;
-        let t1129: f32 = t142 * t1128;
-        let t1130: f32 = joint4_ixx * t1106;
-        let t1131: f32 = t1129 + t1130;
-        let t1132: f32 = t1127 - t1131;
-        let t1133: f32 = t1132 * 0.5;
-        let t1134: f32 = t0 * t1133;
-        let t1135: f32 = -t1134;
-        let t1136: f32 = t966 * t1135;
-        let t1137: f32 = joint4_iyy * t62;
-        let t1138: f32 = t137 * t1137;
-        let t1139: f32 = joint4_iyz * t33;
-        let t1140: f32 = t142 * t1139;
-        let t1141: f32 = joint4_ixy * t1106;
-        let t1142: f32 = t1140 + t1141;
-        let t1143: f32 = t1138 - t1142;
-        let t1144: f32 = t1143 * 0.5;
-        let t1145: f32 = t0 * t1144;
-        let t1146: f32 = -t1145;
-        let t1147: f32 = t455 * t1146;
-        let t1148: f32 = t1136 + t1147;
-        let t1149: f32 = t1125 + t1148;
-        let t1150: f32 = joint4_iyz * t62;
-        let t1151: f32 = t137 * t1150;
-        let t1152: f32 = joint4_izz * t33;
-        let t1153: f32 = t142 * t1152;
-        let t1154: f32 = joint4_ixz * t1106;
-        let t1155: f32 = t1153 + t1154;
-        let t1156: f32 = t1151 - t1155;
-        let t1157: f32 = t1156 * 0.5;
-        let t1158: f32 = t0 * t1157;
-        let t1159: f32 = -t1158;
-        let t1160: f32 = t945 * t1159;
-        let t1161: f32 = joint5_ixy * t62;
-        let t1162: f32 = t137 * t1161;
-        let t1163: f32 = joint5_ixz * t33;
-        let t1164: f32 = t142 * t1163;
-        let t1165: f32 = joint5_ixx * t1106;
-        let t1166: f32 = t1164 + t1165;
-        let t1167: f32 = t1162 - t1166;
-        let t1168: f32 = t1167 * 0.5;
-        let t1169: f32 = t0 * t1168;
-        let t1170: f32 = -t1169;
-        let t1171: f32 = t966 * t1170;
-        let t1172: f32 = t1160 - t1171;
-        let t1173: f32 = joint5_iyy * t62;
-        let t1174: f32 = t137 * t1173;
-        let t1175: f32 = joint5_iyz * t33;
-        let t1176: f32 = t142 * t1175;
-        let t1177: f32 = joint5_ixy * t1106;
-        let t1178: f32 = t1176 + t1177;
-        let t1179: f32 = t1174 - t1178;
-        let t1180: f32 = t1179 * 0.5;
-        let t1181: f32 = t0 * t1180;
-        let t1182: f32 = -t1181;
-        let t1183: f32 = t455 * t1182;
-        let t1184: f32 = joint5_iyz * t62;
-        let t1185: f32 = t137 * t1184;
-        let t1186: f32 = joint5_izz * t33;
-        let t1187: f32 = t142 * t1186;
-        let t1188: f32 = joint5_ixz * t1106;
-        let t1189: f32 = t1187 + t1188;
-        let t1190: f32 = t1185 - t1189;
-        let t1191: f32 = t1190 * 0.5;
-        let t1192: f32 = t0 * t1191;
-        let t1193: f32 = -t1192;
-        let t1194: f32 = t945 * t1193;
-        let t1195: f32 = t1183 - t1194;
-        let t1196: f32 = t1172 - t1195;
-        let t1197: f32 = t1149 - t1196;
-        let t1198: f32 = joint6_ixy * t62;
-        let t1199: f32 = t137 * t1198;
-        let t1200: f32 = joint6_ixz * t33;
-        let t1201: f32 = t142 * t1200;
-        let t1202: f32 = joint6_ixx * t1106;
-        let t1203: f32 = t1201 + t1202;
-        let t1204: f32 = t1199 - t1203;
-        let t1205: f32 = t1204 * 0.5;
-        let t1206: f32 = t0 * t1205;
-        let t1207: f32 = -t1206;
-        let t1208: f32 = t966 * t1207;
-        let t1209: f32 = joint6_iyy * t62;
-        let t1210: f32 = t137 * t1209;
-        let t1211: f32 = joint6_iyz * t33;
-        let t1212: f32 = t142 * t1211;
-        let t1213: f32 = joint6_ixy * t1106;
-        let t1214: f32 = t1212 + t1213;
-        let t1215: f32 = t1210 - t1214;
-        let t1216: f32 = t1215 * 0.5;
-        let t1217: f32 = t0 * t1216;
-        let t1218: f32 = -t1217;
-        let t1219: f32 = t455 * t1218;
-        let t1220: f32 = t1208 + t1219;
-        let t1221: f32 = joint6_iyz * t62;
-        let t1222: f32 = t137 * t1221;
-        let t1223: f32 = joint6_izz * t33;
-        let t1224: f32 = t142 * t1223;
-        let t1225: f32 = joint6_ixz * t1106;
-        let t1226: f32 = t1224 + t1225;
-        let t1227: f32 = t1222 - t1226;
-        let t1228: f32 = t1227 * 0.5;
-        let t1229: f32 = t0 * t1228;
-        let t1230: f32 = -t1229;
-        let t1231: f32 = t945 * t1230;
-        let t1232: f32 = platform_ixy * t62;
-        let t1233: f32 = t137 * t1232;
-        let t1234: f32 = platform_ixz * t33;
-        let t1235: f32 = t142 * t1234;
-        let t1236: f32 = platform_ixx * t1106;
-        let t1237: f32 = t1235 + t1236;
-        let t1238: f32 = t1233 - t1237;
-        let t1239: f32 = t1238 * 0.5;
-        let t1240: f32 = t0 * t1239;
-        let t1241: f32 = -t1240;
-        let t1242: f32 = t966 * t1241;
-        let t1243: f32 = platform_iyy * t62;
-        let t1244: f32 = t137 * t1243;
-        let t1245: f32 = platform_iyz * t33;
-        let t1246: f32 = t142 * t1245;
-        let t1247: f32 = platform_ixy * t1106;
-        let t1248: f32 = t1246 + t1247;
-        let t1249: f32 = t1244 - t1248;
-        let t1250: f32 = t1249 * 0.5;
-        let t1251: f32 = t0 * t1250;
-        let t1252: f32 = -t1251;
-        let t1253: f32 = t455 * t1252;
-        let t1254: f32 = t1242 + t1253;
-        let t1255: f32 = t1231 - t1254;
-        let t1256: f32 = t1220 - t1255;
-        let t1257: f32 = platform_iyz * t62;
-        let t1258: f32 = t137 * t1257;
-        let t1259: f32 = platform_izz * t33;
-        let t1260: f32 = t142 * t1259;
-        let t1261: f32 = platform_ixz * t1106;
-        let t1262: f32 = t1260 + t1261;
-        let t1263: f32 = t1258 - t1262;
-        let t1264: f32 = t1263 * 0.5;
-        let t1265: f32 = t0 * t1264;
-        let t1266: f32 = -t1265;
-        let t1267: f32 = t945 * t1266;
-        let t1268: f32 = joint1_ixy * t62;
-        let t1269: f32 = t137 * t1268;
-        let t1270: f32 = joint1_ixz * t33;
-        let t1271: f32 = t142 * t1270;
-        let t1272: f32 = joint1_ixx * t1106;
-        let t1273: f32 = t1271 + t1272;
-        let t1274: f32 = t1269 - t1273;
-        let t1275: f32 = t1274 * 0.5;
-        let t1276: f32 = t0 * t1275;
-        let t1277: f32 = -t1276;
-        let t1278: f32 = t966 * t1277;
-        let t1279: f32 = t1267 - t1278;
-        let t1280: f32 = joint1_iyy * t62;
-        let t1281: f32 = t137 * t1280;
-        let t1282: f32 = joint1_iyz * t33;
-        let t1283: f32 = t142 * t1282;
-        let t1284: f32 = joint1_ixy * t1106;
-        let t1285: f32 = t1283 + t1284;
-        let t1286: f32 = t1281 - t1285;
-        let t1287: f32 = t1286 * 0.5;
-        let t1288: f32 = t0 * t1287;
-        let t1289: f32 = -t1288;
-        let t1290: f32 = t455 * t1289;
-        let t1291: f32 = joint1_iyz * t62;
-        let t1292: f32 = t137 * t1291;
-        let t1293: f32 = joint1_izz * t33;
-        let t1294: f32 = t142 * t1293;
-        let t1295: f32 = joint1_ixz * t1106;
-        let t1296: f32 = t1294 + t1295;
-        let t1297: f32 = t1292 - t1296;
-        let t1298: f32 = t1297 * 0.5;
-        let t1299: f32 = t0 * t1298;
-        let t1300: f32 = -t1299;
-        let t1301: f32 = t945 * t1300;
-        let t1302: f32 = t1290 - t1301;
-        let t1303: f32 = t1279 - t1302;
-        let t1304: f32 = joint2_ixy * t62;
-        let t1305: f32 = t137 * t1304;
-        let t1306: f32 = joint2_ixz * t33;
-        let t1307: f32 = t142 * t1306;
-        let t1308: f32 = joint2_ixx * t1106;
-        let t1309: f32 = t1307 + t1308;
-        let t1310: f32 = t1305 - t1309;
-        let t1311: f32 = t1310 * 0.5;
-        let t1312: f32 = t0 * t1311;
-        let t1313: f32 = -t1312;
-        let t1314: f32 = t966 * t1313;
-        let t1315: f32 = joint2_iyy * t62;
-        let t1316: f32 = t137 * t1315;
-        let t1317: f32 = joint2_iyz * t33;
-        let t1318: f32 = t142 * t1317;
-        let t1319: f32 = joint2_ixy * t1106;
-        let t1320: f32 = t1318 + t1319;
-        let t1321: f32 = t1316 - t1320;
-        let t1322: f32 = t1321 * 0.5;
-        let t1323: f32 = t0 * t1322;
-        let t1324: f32 = -t1323;
-        let t1325: f32 = t455 * t1324;
-        let t1326: f32 = t1314 + t1325;
-        let t1327: f32 = joint2_iyz * t62;
-        let t1328: f32 = t137 * t1327;
-        let t1329: f32 = joint2_izz * t33;
-        let t1330: f32 = t142 * t1329;
-        let t1331: f32 = joint2_ixz * t1106;
-        let t1332: f32 = t1330 + t1331;
-        let t1333: f32 = t1328 - t1332;
-        let t1334: f32 = t1333 * 0.5;
-        let t1335: f32 = t0 * t1334;
-        let t1336: f32 = -t1335;
-        let t1337: f32 = t945 * t1336;
-        let t1338: f32 = joint3_ixy * t62;
-        let t1339: f32 = t137 * t1338;
-        let t1340: f32 = joint3_ixz * t33;
-        let t1341: f32 = t142 * t1340;
-        let t1342: f32 = joint3_ixx * t1106;
-        let t1343: f32 = t1341 + t1342;
-        let t1344: f32 = t1339 - t1343;
-        let t1345: f32 = t1344 * 0.5;
-        let t1346: f32 = t0 * t1345;
-        let t1347: f32 = -t1346;
-        let t1348: f32 = t966 * t1347;
-        let t1349: f32 = t1337 - t1348;
-        let t1350: f32 = t1326 - t1349;
-        let t1351: f32 = t1303 - t1350;
-        let t1352: f32 = t1256 - t1351;
-        let t1353: f32 = t1197 + t1352;
-        let t1354: f32 = t1100 - t1098;
-        let t1355: f32 = t1354 * 0.5;
-        let t1356: f32 = t1040 + t1044;
-        let t1357: f32 = t1355 + t1356;
-        let t1358: f32 = t1041 + t1045;
-        let t1359: f32 = t1048 + t1049;
-        let t1360: f32 = t1050 + t1077;
-        let t1361: f32 = t1088 + t1353;
-        let t1362: f32 = t1358 + t1359;
-        let t1363: f32 = t1360 + t1361;
-        let t1364: f32 = t1362 + t1363;
-        let t1365: f32 = t1357 - t1364;
-        let t1366: f32 = t0 * t1365;
-        let t1367: f32 = t1037 + t1366;
-        let t1368: f32 = t1367 * 0.5;
-        let t1369: f32 = -t1368;
-        let t1370: f32 = joint2_mass + t899;
-        let t1371: f32 = t803 + 0.5;
-        let t1372: f32 = joint3_mass * t1371;
-        let t1373: f32 = t809 + 0.5;
-        let t1374: f32 = joint4_mass * t1373;
-        let t1375: f32 = t1372 + t1374;
-        let t1376: f32 = t816 + 0.5;
-        let t1377: f32 = joint5_mass * t1376;
-        let t1378: f32 = rod5_mass * t1376;
-        let t1379: f32 = t1377 + t1378;
-        let t1380: f32 = t822 + 0.5;
-        let t1381: f32 = joint6_mass * t1380;
-        let t1382: f32 = rod6_mass * t1380;
-        let t1383: f32 = t1381 + t1382;
-        let t1384: f32 = t1379 + t1383;
-        let t1385: f32 = t1375 + t1384;
-        let t1386: f32 = t204 + t1370;
-        let t1387: f32 = t1386 * 0.5;
-        let t1388: f32 = t1385 + t1387;
-        let t1389: f32 = t214 * t1388;
-        let t1390: f32 = joint2_mass - t877;
-        let t1391: f32 = t1390 * 0.5;
-        let t1392: f32 = t310 * t1391;
-        let t1393: f32 = t259 * t1371;
-        let t1394: f32 = t1042 - t1372;
-        let t1395: f32 = t317 * t1394;
-        let t1396: f32 = t268 * t1373;
-        let t1397: f32 = t1046 - t1374;
-        let t1398: f32 = t323 * t1397;
-        let t1399: f32 = t276 * t1376;
-        let t1400: f32 = t225 * t1380;
-        let t1401: f32 = t1063 * 0.0;
-        let t1402: f32 = t1061 * 1.0;
-        let t1403: f32 = t1401 + t1402;
-        let t1404: f32 = 0.5 - t989;
-        let t1405: f32 = joint3_mass * t1404;
-        let t1406: f32 = 0.5 - t993;
-        let t1407: f32 = joint4_mass * t1406;
-        let t1408: f32 = t1405 + t1407;
-        let t1409: f32 = t1403 + t1408;
-        let t1410: f32 = t1059 + t1409;
-        let t1411: f32 = t1074 + t1410;
-        let t1412: f32 = t295 * t1411;
-        let t1413: f32 = t1086 + t1403;
-        let t1414: f32 = t292 * t1413;
-        let t1415: f32 = t1098 + t1100;
-        let t1416: f32 = t1415 * 0.5;
-        let t1417: f32 = t1392 + t1393;
-        let t1418: f32 = t1396 + t1398;
-        let t1419: f32 = t1399 + t1400;
-        let t1420: f32 = t1353 + t1414;
-        let t1421: f32 = t1417 + t1418;
-        let t1422: f32 = t1419 + t1420;
-        let t1423: f32 = t1421 + t1422;
-        let t1424: f32 = t1416 + t1423;
-        let t1425: f32 = t1395 + t1412;
-        let t1426: f32 = t1424 - t1425;
-        let t1427: f32 = t0 * t1426;
-        let t1428: f32 = t1389 + t1427;
-        let t1429: f32 = t1428 * 0.5;
-        let t1430: f32 = -t1429;
-        let t1431: f32 = t711 * 0.5;
-        let t1432: f32 = -t1431;
-        let t1433: f32 = t779 * 0.5;
-        let t1434: f32 = t1013 * 0.5;
-        let t1435: f32 = -t1434;
-        let t1436: f32 = t210 * t876;
-        let t1437: f32 = t175 * 0.5;
-        let t1438: f32 = t114 + t1437;
-        let t1439: f32 = t800 * t1438;
-        let t1440: f32 = t183 * 0.5;
-        let t1441: f32 = t115 + t1440;
-        let t1442: f32 = t806 * t1441;
-        let t1443: f32 = t121 * t835;
-        let t1444: f32 = t341 * t813;
-        let t1445: f32 = t128 * t847;
-        let t1446: f32 = t345 * t819;
-        let t1447: f32 = platform_my * t445;
-        let t1448: f32 = t858 + t1447;
-        let t1449: f32 = t1448 * 0.5;
-        let t1450: f32 = t0 * t353;
-        let t1451: f32 = t1449 * t1450;
-        let t1452: f32 = t358 * 0.5;
-        let t1453: f32 = t361 * t1452;
-        let t1454: f32 = t366 * 0.5;
-        let t1455: f32 = t369 * t1454;
-        let t1456: f32 = t378 * 0.5;
-        let t1457: f32 = t374 * t1456;
-        let t1458: f32 = t382 + t1453;
-        let t1459: f32 = t1455 + t1457;
-        let t1460: f32 = t1458 - t1459;
-        let t1461: f32 = t0 * t1460;
-        let t1462: f32 = t405 - t1461;
-        let t1463: f32 = t797 * t1462;
-        let t1464: f32 = t375 * t945;
-        let t1465: f32 = t355 * t966;
-        let t1466: f32 = t363 * t445;
-        let t1467: f32 = t1465 + t1466;
-        let t1468: f32 = t1464 - t1467;
-        let t1469: f32 = t113 * t1468;
-        let t1470: f32 = t859 + t868;
-        let t1471: f32 = t0 * t81;
-        let t1472: f32 = t133 * t1471;
-        let t1473: f32 = t560 * t1472;
-        let t1474: f32 = t0 * t57;
-        let t1475: f32 = t137 * t1474;
-        let t1476: f32 = t569 * t1475;
-        let t1477: f32 = t1473 - t1476;
-        let t1478: f32 = t535 * t1475;
-        let t1479: f32 = t0 * t145;
-        let t1480: f32 = t544 * t1479;
-        let t1481: f32 = t1478 + t1480;
-        let t1482: f32 = t1477 - t1481;
-        let t1483: f32 = t596 * t1472;
-        let t1484: f32 = t582 * t1479;
-        let t1485: f32 = t1483 - t1484;
-        let t1486: f32 = t607 * t1475;
-        let t1487: f32 = t616 * t1479;
-        let t1488: f32 = t1486 + t1487;
-        let t1489: f32 = t1485 - t1488;
-        let t1490: f32 = t1482 + t1489;
-        let t1491: f32 = t633 * t1472;
-        let t1492: f32 = t642 * t1475;
-        let t1493: f32 = t1491 - t1492;
-        let t1494: f32 = t669 * t1472;
-        let t1495: f32 = t678 * t1475;
-        let t1496: f32 = t1494 - t1495;
-        let t1497: f32 = t652 * t1479;
-        let t1498: f32 = t1496 - t1497;
-        let t1499: f32 = t1493 + t1498;
-        let t1500: f32 = t449 * t1472;
-        let t1501: f32 = t688 * t1479;
-        let t1502: f32 = t1500 - t1501;
-        let t1503: f32 = t463 * t1475;
-        let t1504: f32 = t474 * t1479;
-        let t1505: f32 = t1503 + t1504;
-        let t1506: f32 = t1502 - t1505;
-        let t1507: f32 = t490 * t1472;
-        let t1508: f32 = t499 * t1475;
-        let t1509: f32 = t1507 - t1508;
-        let t1510: f32 = t525 * t1472;
-        let t1511: f32 = t509 * t1479;
-        let t1512: f32 = t1510 - t1511;
-        let t1513: f32 = t1509 + t1512;
-        let t1514: f32 = t1506 + t1513;
-        let t1515: f32 = t1499 + t1514;
-        let t1516: f32 = t1490 + t1515;
-        let t1517: f32 = t1446 + t1469;
-        let t1518: f32 = t1470 + t1516;
-        let t1519: f32 = t1517 + t1518;
-        let t1520: f32 = t1436 + t1439;
-        let t1521: f32 = t1442 + t1443;
-        let t1522: f32 = t1444 + t1445;
-        let t1523: f32 = t1451 + t1463;
-        let t1524: f32 = t1520 + t1521;
-        let t1525: f32 = t1522 + t1523;
-        let t1526: f32 = t1524 + t1525;
-        let t1527: f32 = t1519 - t1526;
-        let t1528: f32 = t0 * t1527;
-        let t1529: f32 = t1528 * 0.5;
-        let t1530: f32 = -t1529;
-        let t1531: f32 = t108 * t859;
-        let t1532: f32 = t209 * t876;
-        let t1533: f32 = t721 + t1437;
-        let t1534: f32 = t800 * t1533;
-        let t1535: f32 = t722 + t1440;
-        let t1536: f32 = t806 * t1535;
-        let t1537: f32 = t120 * t835;
-        let t1538: f32 = t732 * t813;
-        let t1539: f32 = t127 * t847;
-        let t1540: f32 = t735 * t819;
-        let t1541: f32 = t760 + t1461;
-        let t1542: f32 = t797 * t1541;
-        let t1543: f32 = t112 * t1468;
-        let t1544: f32 = t1531 * 0.5;
-        let t1545: f32 = t1540 + t1542;
-        let t1546: f32 = t1516 + t1543;
-        let t1547: f32 = t1545 + t1546;
-        let t1548: f32 = t1532 + t1544;
-        let t1549: f32 = t1534 + t1536;
-        let t1550: f32 = t1537 + t1538;
-        let t1551: f32 = t1548 + t1549;
-        let t1552: f32 = t1539 + t1550;
-        let t1553: f32 = t1551 + t1552;
-        let t1554: f32 = t1547 - t1553;
-        let t1555: f32 = t0 * t1554;
-        let t1556: f32 = t1555 * 0.5;
-        let t1557: f32 = q1 - half_spacing;
-        let t1558: f32 = joint1_mass * t0;
-        let t1559: f32 = t1557 * t1558;
-        let t1560: f32 = t0 * t1557;
-        let t1561: f32 = t1560 - t296;
-        let t1562: f32 = t1561 * 0.5;
-        let t1563: f32 = t1562 + 1.0;
-        let t1564: f32 = t233 * t1563;
-        let t1565: f32 = t311 + t1561;
-        let t1566: f32 = t1565 * 0.5;
-        let t1567: f32 = t1566 + 1.0;
-        let t1568: f32 = t251 * t1567;
-        let t1569: f32 = joint2_mass * t1567;
-        let t1570: f32 = t515 + t1569;
-        let t1571: f32 = t310 * t1570;
-        let t1572: f32 = t318 + t1561;
-        let t1573: f32 = t1572 * 0.5;
-        let t1574: f32 = t1573 + 1.0;
-        let t1575: f32 = t259 * t1574;
-        let t1576: f32 = joint3_mass * t1574;
-        let t1577: f32 = rod3_mass * t1574;
-        let t1578: f32 = t1576 + t1577;
-        let t1579: f32 = t549 + t1578;
-        let t1580: f32 = t317 * t1579;
-        let t1581: f32 = t1561 - t324;
-        let t1582: f32 = t1581 * 0.5;
-        let t1583: f32 = t1582 + 1.0;
-        let t1584: f32 = t268 * t1583;
-        let t1585: f32 = joint4_mass * t1583;
-        let t1586: f32 = rod4_mass * t1583;
-        let t1587: f32 = t1585 + t1586;
-        let t1588: f32 = t586 + t1587;
-        let t1589: f32 = t323 * t1588;
-        let t1590: f32 = joint1_mx * t1106;
-        let t1591: f32 = t240 + t1590;
-        let t1592: f32 = t1591 * 0.5;
-        let t1593: f32 = -t1592;
-        let t1594: f32 = t1560 * t1593;
-        let t1595: f32 = t62 * t137;
-        let t1596: f32 = t368 * t1595;
-        let t1597: f32 = t33 * t142;
-        let t1598: f32 = t380 * t1597;
-        let t1599: f32 = t360 * t1106;
-        let t1600: f32 = t1598 + t1599;
-        let t1601: f32 = t1596 - t1600;
-        let t1602: f32 = t0 * t1601;
-        let t1603: f32 = t1560 - t214;
-        let t1604: f32 = t1603 * 0.5;
-        let t1605: f32 = t1604 + 1.0;
-        let t1606: f32 = joint5_mass + joint6_mass;
-        let t1607: f32 = t1605 * t1606;
-        let t1608: f32 = t96 - t98;
-        let t1609: f32 = t1608 * 0.125;
-        let t1610: f32 = t8 * t1609;
-        let t1611: f32 = t99 - t1610;
-        let t1612: f32 = t95 * t1611;
-        let t1613: f32 = q1 + t1612;
-        let t1614: f32 = t289 + t1613;
-        let t1615: f32 = t0 * t1614;
-        let t1616: f32 = t1560 - t1615;
-        let t1617: f32 = t1616 * 0.5;
-        let t1618: f32 = t1617 + 1.0;
-        let t1619: f32 = platform_mass * t1618;
-        let t1620: f32 = t3 * 0.5;
-        let t1621: f32 = t0 * t1620;
-        let t1622: f32 = t1560 * 0.5;
-        let t1623: f32 = t1622 + 1.0;
-        let t1624: f32 = t1623 - t1621;
-        let t1625: f32 = joint2_mass * t1624;
-        let t1626: f32 = t1619 + t1625;
-        let t1627: f32 = t1557 * 0.5;
-        let t1628: f32 = t0 * t1627;
-        let t1629: f32 = t1623 - t1628;
-        let t1630: f32 = rod3_mass + joint3_mass;
-        let t1631: f32 = t1629 * t1630;
-        let t1632: f32 = q1 + half_spacing;
-        let t1633: f32 = t1632 * 0.5;
-        let t1634: f32 = t0 * t1633;
-        let t1635: f32 = t1623 - t1634;
-        let t1636: f32 = rod4_mass + joint4_mass;
-        let t1637: f32 = t1635 * t1636;
-        let t1638: f32 = t1631 + t1637;
-        let t1639: f32 = t1607 + t1626;
-        let t1640: f32 = t1638 + t1639;
-        let t1641: f32 = t1640 - t1602;
-        let t1642: f32 = t295 * t1641;
-        let t1643: f32 = t1082 * t1595;
-        let t1644: f32 = t1078 * t1597;
-        let t1645: f32 = t1080 * t1106;
-        let t1646: f32 = t1644 + t1645;
-        let t1647: f32 = t1643 - t1646;
-        let t1648: f32 = t0 * t1647;
-        let t1649: f32 = t1607 - t1648;
-        let t1650: f32 = t292 * t1649;
-        let t1651: f32 = t293 + t1561;
-        let t1652: f32 = t1651 * 0.5;
-        let t1653: f32 = t1652 + 1.0;
-        let t1654: f32 = t364 * t1595;
-        let t1655: f32 = t376 * t1597;
-        let t1656: f32 = t356 * t1106;
-        let t1657: f32 = t1655 + t1656;
-        let t1658: f32 = t1654 - t1657;
-        let t1659: f32 = t1653 * t1658;
-        let t1660: f32 = t798 * t876;
-        let t1661: f32 = t798 * t868;
-        let t1662: f32 = t798 * t859;
-        let t1663: f32 = t1661 - t1662;
-        let t1664: f32 = t1660 + t1663;
-        let t1665: f32 = t819 * t850;
-        let t1666: f32 = t797 * t901;
-        let t1667: f32 = t1665 + t1666;
-        let t1668: f32 = platform_ixx * t81;
-        let t1669: f32 = t133 * t1668;
-        let t1670: f32 = platform_ixy * t57;
-        let t1671: f32 = t137 * t1670;
-        let t1672: f32 = platform_ixz * t374;
-        let t1673: f32 = t1671 + t1672;
-        let t1674: f32 = t1669 - t1673;
-        let t1675: f32 = t1674 * 0.5;
-        let t1676: f32 = t1472 * t1675;
-        let t1677: f32 = platform_ixy * t81;
-        let t1678: f32 = t133 * t1677;
-        let t1679: f32 = platform_iyy * t57;
-        let t1680: f32 = t137 * t1679;
-        let t1681: f32 = platform_iyz * t374;
-        let t1682: f32 = t1680 + t1681;
-        let t1683: f32 = t1678 - t1682;
-        let t1684: f32 = t1683 * 0.5;
-        let t1685: f32 = t1475 * t1684;
-        let t1686: f32 = t1676 - t1685;
-        let t1687: f32 = joint1_ixx * t81;
-        let t1688: f32 = t133 * t1687;
-        let t1689: f32 = joint1_ixy * t57;
-        let t1690: f32 = t137 * t1689;
-        let t1691: f32 = joint1_ixz * t374;
-        let t1692: f32 = t1690 + t1691;
-        let t1693: f32 = t1688 - t1692;
-        let t1694: f32 = t1693 * 0.5;
-        let t1695: f32 = t1472 * t1694;
-        let t1696: f32 = platform_ixz * t81;
-        let t1697: f32 = t133 * t1696;
-        let t1698: f32 = platform_iyz * t57;
-        let t1699: f32 = t137 * t1698;
-        let t1700: f32 = platform_izz * t374;
-        let t1701: f32 = t1699 + t1700;
-        let t1702: f32 = t1697 - t1701;
-        let t1703: f32 = t1702 * 0.5;
-        let t1704: f32 = t1479 * t1703;
-        let t1705: f32 = t1695 - t1704;
-        let t1706: f32 = t1686 + t1705;
-        let t1707: f32 = t1667 + t1706;
-        let t1708: f32 = joint2_ixx * t81;
-        let t1709: f32 = t133 * t1708;
-        let t1710: f32 = joint2_ixy * t57;
-        let t1711: f32 = t137 * t1710;
-        let t1712: f32 = joint2_ixz * t374;
-        let t1713: f32 = t1711 + t1712;
-        let t1714: f32 = t1709 - t1713;
-        let t1715: f32 = t1714 * 0.5;
-        let t1716: f32 = t1472 * t1715;
-        let t1717: f32 = joint2_ixy * t81;
-        let t1718: f32 = t133 * t1717;
-        let t1719: f32 = joint2_iyy * t57;
-        let t1720: f32 = t137 * t1719;
-        let t1721: f32 = joint2_iyz * t374;
-        let t1722: f32 = t1720 + t1721;
-        let t1723: f32 = t1718 - t1722;
-        let t1724: f32 = t1723 * 0.5;
-        let t1725: f32 = t1475 * t1724;
-        let t1726: f32 = t1716 - t1725;
-        let t1727: f32 = joint1_ixy * t81;
-        let t1728: f32 = t133 * t1727;
-        let t1729: f32 = joint1_iyy * t57;
-        let t1730: f32 = t137 * t1729;
-        let t1731: f32 = joint1_iyz * t374;
-        let t1732: f32 = t1730 + t1731;
-        let t1733: f32 = t1728 - t1732;
-        let t1734: f32 = t1733 * 0.5;
-        let t1735: f32 = t1475 * t1734;
-        let t1736: f32 = joint1_ixz * t81;
-        let t1737: f32 = t133 * t1736;
-        let t1738: f32 = joint1_iyz * t57;
-        let t1739: f32 = t137 * t1738;
-        let t1740: f32 = joint1_izz * t374;
-        let t1741: f32 = t1739 + t1740;
-        let t1742: f32 = t1737 - t1741;
-        let t1743: f32 = t1742 * 0.5;
-        let t1744: f32 = t1479 * t1743;
-        let t1745: f32 = t1735 + t1744;
-        let t1746: f32 = t1726 - t1745;
-        let t1747: f32 = joint3_ixx * t81;
-        let t1748: f32 = t133 * t1747;
-        let t1749: f32 = joint3_ixy * t57;
-        let t1750: f32 = t137 * t1749;
-        let t1751: f32 = joint3_ixz * t374;
-        let t1752: f32 = t1750 + t1751;
-        let t1753: f32 = t1748 - t1752;
-        let t1754: f32 = t1753 * 0.5;
-        let t1755: f32 = t1472 * t1754;
-        let t1756: f32 = joint2_ixz * t81;
-        let t1757: f32 = t133 * t1756;
-        let t1758: f32 = joint2_iyz * t57;
-        let t1759: f32 = t137 * t1758;
-        let t1760: f32 = joint2_izz * t374;
-        let t1761: f32 = t1759 + t1760;
-        let t1762: f32 = t1757 - t1761;
-        let t1763: f32 = t1762 * 0.5;
-        let t1764: f32 = t1479 * t1763;
-        let t1765: f32 = t1755 - t1764;
-        let t1766: f32 = joint3_ixy * t81;
-        let t1767: f32 = t133 * t1766;
-        let t1768: f32 = joint3_iyy * t57;
-        let t1769: f32 = t137 * t1768;
-        let t1770: f32 = joint3_iyz * t374;
-        let t1771: f32 = t1769 + t1770;
-        let t1772: f32 = t1767 - t1771;
-        let t1773: f32 = t1772 * 0.5;
-        let t1774: f32 = t1475 * t1773;
-        let t1775: f32 = joint3_ixz * t81;
-        let t1776: f32 = t133 * t1775;
-        let t1777: f32 = joint3_iyz * t57;
-        let t1778: f32 = t137 * t1777;
-        let t1779: f32 = joint3_izz * t374;
-        let t1780: f32 = t1778 + t1779;
-        let t1781: f32 = t1776 - t1780;
-        let t1782: f32 = t1781 * 0.5;
-        let t1783: f32 = t1479 * t1782;
-        let t1784: f32 = t1774 + t1783;
-        let t1785: f32 = t1765 - t1784;
-        let t1786: f32 = t1746 + t1785;
-        let t1787: f32 = t1707 + t1786;
-        let t1788: f32 = joint4_ixx * t81;
-        let t1789: f32 = t133 * t1788;
-        let t1790: f32 = joint4_ixy * t57;
-        let t1791: f32 = t137 * t1790;
-        let t1792: f32 = joint4_ixz * t374;
-        let t1793: f32 = t1791 + t1792;
-        let t1794: f32 = t1789 - t1793;
-        let t1795: f32 = t1794 * 0.5;
-        let t1796: f32 = t1472 * t1795;
-        let t1797: f32 = joint4_ixy * t81;
-        let t1798: f32 = t133 * t1797;
-        let t1799: f32 = joint4_iyy * t57;
-        let t1800: f32 = t137 * t1799;
-        let t1801: f32 = joint4_iyz * t374;
-        let t1802: f32 = t1800 + t1801;
-        let t1803: f32 = t1798 - t1802;
-        let t1804: f32 = t1803 * 0.5;
-        let t1805: f32 = t1475 * t1804;
-        let t1806: f32 = t1796 - t1805;
-        let t1807: f32 = t803 * t886;
-        let t1808: f32 = t804 - t1042;
-        let t1809: f32 = t800 * t1808;
-        let t1810: f32 = t1807 + t1809;
-        let t1811: f32 = t1806 - t1810;
-        let t1812: f32 = joint5_ixx * t81;
-        let t1813: f32 = t133 * t1812;
-        let t1814: f32 = joint5_ixy * t57;
-        let t1815: f32 = t137 * t1814;
-        let t1816: f32 = joint5_ixz * t374;
-        let t1817: f32 = t1815 + t1816;
-        let t1818: f32 = t1813 - t1817;
-        let t1819: f32 = t1818 * 0.5;
-        let t1820: f32 = t1472 * t1819;
-        let t1821: f32 = t810 - t1046;
-        let t1822: f32 = t806 * t1821;
-        let t1823: f32 = t1820 - t1822;
-        let t1824: f32 = joint4_ixz * t81;
-        let t1825: f32 = t133 * t1824;
-        let t1826: f32 = joint4_iyz * t57;
-        let t1827: f32 = t137 * t1826;
-        let t1828: f32 = joint4_izz * t374;
-        let t1829: f32 = t1827 + t1828;
-        let t1830: f32 = t1825 - t1829;
-        let t1831: f32 = t1830 * 0.5;
-        let t1832: f32 = t1479 * t1831;
-        let t1833: f32 = t809 * t894;
-        let t1834: f32 = t1832 + t1833;
-        let t1835: f32 = t1823 - t1834;
-        let t1836: f32 = t1811 + t1835;
-        let t1837: f32 = joint6_ixx * t81;
-        let t1838: f32 = t133 * t1837;
-        let t1839: f32 = joint6_ixy * t57;
-        let t1840: f32 = t137 * t1839;
-        let t1841: f32 = joint6_ixz * t374;
-        let t1842: f32 = t1840 + t1841;
-        let t1843: f32 = t1838 - t1842;
-        let t1844: f32 = t1843 * 0.5;
-        let t1845: f32 = t1472 * t1844;
-        let t1846: f32 = joint6_ixy * t81;
-        let t1847: f32 = t133 * t1846;
-        let t1848: f32 = joint6_iyy * t57;
-        let t1849: f32 = t137 * t1848;
-        let t1850: f32 = joint6_iyz * t374;
-        let t1851: f32 = t1849 + t1850;
-        let t1852: f32 = t1847 - t1851;
-        let t1853: f32 = t1852 * 0.5;
-        let t1854: f32 = t1475 * t1853;
-        let t1855: f32 = t1845 - t1854;
-        let t1856: f32 = joint6_ixz * t81;
-        let t1857: f32 = t133 * t1856;
-        let t1858: f32 = joint6_iyz * t57;
-        let t1859: f32 = t137 * t1858;
-        let t1860: f32 = joint6_izz * t374;
-        let t1861: f32 = t1859 + t1860;
-        let t1862: f32 = t1857 - t1861;
-        let t1863: f32 = t1862 * 0.5;
-        let t1864: f32 = t1479 * t1863;
-        let t1865: f32 = t822 * t847;
-        let t1866: f32 = t1864 + t1865;
-        let t1867: f32 = t1855 - t1866;
-        let t1868: f32 = joint5_ixy * t81;
-        let t1869: f32 = t133 * t1868;
-        let t1870: f32 = joint5_iyy * t57;
-        let t1871: f32 = t137 * t1870;
-        let t1872: f32 = joint5_iyz * t374;
-        let t1873: f32 = t1871 + t1872;
-        let t1874: f32 = t1869 - t1873;
-        let t1875: f32 = t1874 * 0.5;
-        let t1876: f32 = t1475 * t1875;
-        let t1877: f32 = joint5_ixz * t81;
-        let t1878: f32 = t133 * t1877;
-        let t1879: f32 = joint5_iyz * t57;
-        let t1880: f32 = t137 * t1879;
-        let t1881: f32 = joint5_izz * t374;
-        let t1882: f32 = t1880 + t1881;
-        let t1883: f32 = t1878 - t1882;
-        let t1884: f32 = t1883 * 0.5;
-        let t1885: f32 = t1479 * t1884;
-        let t1886: f32 = t1876 + t1885;
-        let t1887: f32 = t816 * t835;
-        let t1888: f32 = t813 * t838;
-        let t1889: f32 = t1887 + t1888;
-        let t1890: f32 = t1886 + t1889;
-        let t1891: f32 = t1867 - t1890;
-        let t1892: f32 = t1836 + t1891;
-        let t1893: f32 = t1787 + t1892;
-        let t1894: f32 = t1664 * 0.5;
-        let t1895: f32 = t1564 + t1568;
-        let t1896: f32 = t1571 + t1575;
-        let t1897: f32 = t1580 + t1584;
-        let t1898: f32 = t241 + t1650;
-        let t1899: f32 = t1893 + t1894;
-        let t1900: f32 = t1895 + t1896;
-        let t1901: f32 = t1897 + t1898;
-        let t1902: f32 = t1900 + t1901;
-        let t1903: f32 = t1899 + t1902;
-        let t1904: f32 = t1589 + t1594;
-        let t1905: f32 = t1642 + t1659;
-        let t1906: f32 = t1904 + t1905;
-        let t1907: f32 = t1903 - t1906;
-        let t1908: f32 = t0 * t1907;
-        let t1909: f32 = t1630 * 0.5;
-        let t1910: f32 = t1629 * t1909;
-        let t1911: f32 = t1636 * 0.5;
-        let t1912: f32 = t1635 * t1911;
-        let t1913: f32 = t1606 * 0.5;
-        let t1914: f32 = t1605 * t1913;
-        let t1915: f32 = t1626 * 0.5;
-        let t1916: f32 = t1910 + t1912;
-        let t1917: f32 = t1914 + t1915;
-        let t1918: f32 = t1916 + t1917;
-        let t1919: f32 = t1560 * t1918;
-        let t1920: f32 = platform_mass * t1563;
-        let t1921: f32 = joint1_mass + t1920;
-        let t1922: f32 = t1587 + t1921;
-        let t1923: f32 = joint5_mass * t1653;
-        let t1924: f32 = t1569 + t1923;
-        let t1925: f32 = joint6_mass * t1653;
-        let t1926: f32 = t1578 + t1925;
-        let t1927: f32 = t1924 + t1926;
-        let t1928: f32 = t1922 + t1927;
-        let t1929: f32 = t1557 * t1557;
-        let t1930: f32 = joint1_mass * t1;
-        let t1931: f32 = t1929 * t1930;
-        let t1932: f32 = t1 * t1557;
-        let t1933: f32 = t233 * t1932;
-        let t1934: f32 = t1931 + t1933;
-        let t1935: f32 = t241 * t1932;
-        let t1936: f32 = t251 * t1932;
-        let t1937: f32 = t1935 + t1936;
-        let t1938: f32 = t1934 + t1937;
-        let t1939: f32 = t259 * t1932;
-        let t1940: f32 = t268 * t1932;
-        let t1941: f32 = t1939 + t1940;
-        let t1942: f32 = t276 * t1932;
-        let t1943: f32 = t225 * t1932;
-        let t1944: f32 = t1942 + t1943;
-        let t1945: f32 = t1941 + t1944;
-        let t1946: f32 = t1938 + t1945;
-        let t1947: f32 = t280 + t1908;
-        let t1948: f32 = t1947 * 0.5;
-        let t1949: f32 = t1946 * 0.25;
-        let t1950: f32 = t1559 + t1919;
-        let t1951: f32 = t1928 + t1948;
-        let t1952: f32 = t1950 + t1951;
-        let t1953: f32 = t1949 + t1952;
-        let t1954: f32 = t241 * t1560;
-        let t1955: f32 = t233 * t1562;
-        let t1956: f32 = t251 * t1566;
-        let t1957: f32 = joint2_mass * t1566;
-        let t1958: f32 = t515 + t1957;
-        let t1959: f32 = t310 * t1958;
-        let t1960: f32 = t259 * t1573;
-        let t1961: f32 = joint3_mass * t1573;
-        let t1962: f32 = rod3_mass * t1573;
-        let t1963: f32 = t1961 + t1962;
-        let t1964: f32 = t549 + t1963;
-        let t1965: f32 = t317 * t1964;
-        let t1966: f32 = t268 * t1582;
-        let t1967: f32 = joint4_mass * t1582;
-        let t1968: f32 = rod4_mass * t1582;
-        let t1969: f32 = t1967 + t1968;
-        let t1970: f32 = t586 + t1969;
-        let t1971: f32 = t323 * t1970;
-        let t1972: f32 = t1604 * t1606;
-        let t1973: f32 = platform_mass * t1617;
-        let t1974: f32 = t1622 - t1621;
-        let t1975: f32 = joint2_mass * t1974;
-        let t1976: f32 = t1973 + t1975;
-        let t1977: f32 = t1622 - t1628;
-        let t1978: f32 = t1630 * t1977;
-        let t1979: f32 = t1622 - t1634;
-        let t1980: f32 = t1636 * t1979;
-        let t1981: f32 = t1978 + t1980;
-        let t1982: f32 = t1972 + t1976;
-        let t1983: f32 = t1981 + t1982;
-        let t1984: f32 = t1602 - t1983;
-        let t1985: f32 = t295 * t1984;
-        let t1986: f32 = t1648 - t1972;
-        let t1987: f32 = t292 * t1986;
-        let t1988: f32 = t1652 * t1658;
-        let t1989: f32 = t1664 + t1954;
-        let t1990: f32 = t1989 * 0.5;
-        let t1991: f32 = t1955 + t1990;
-        let t1992: f32 = t1956 + t1959;
-        let t1993: f32 = t1960 + t1965;
-        let t1994: f32 = t1966 + t1985;
-        let t1995: f32 = t1991 + t1992;
-        let t1996: f32 = t1993 + t1994;
-        let t1997: f32 = t1995 + t1996;
-        let t1998: f32 = t1893 + t1997;
-        let t1999: f32 = t1971 + t1987;
+        let t1004: f32 = t1003 - t950;
+        let t1005: f32 = t6 * t1004;
+        let t1006: f32 = t1005 * 0.5;
+        let t1007: f32 = t941 + t948;
+        let t1008: f32 = t1006 + t1007;
+        let t1009: f32 = rod3_mass * t939;
+        let t1010: f32 = t5 * t944;
+        let t1011: f32 = t467 + t1010;
+        let t1012: f32 = t943 * t1011;
+        let t1013: f32 = t463 * t944;
+        let t1014: f32 = t194 * t1011;
+        let t1015: f32 = t1000 + t1013;
+        let t1016: f32 = t1001 + t1015;
+        let t1017: f32 = t1016 - t1014;
+        let t1018: f32 = t6 * t1017;
+        let t1019: f32 = t1018 * 0.5;
+        let t1020: f32 = t1009 + t1012;
+        let t1021: f32 = t1019 + t1020;
+        let t1022: f32 = -t1021;
+        let t1023: f32 = t194 * t258;
+        let t1024: f32 = t200 * t270;
+        let t1025: f32 = t206 * t283;
+        let t1026: f32 = t211 * t295;
+        let t1027: f32 = t96 * t310;
+        let t1028: f32 = t99 * t322;
+        let t1029: f32 = half_spacing - t771;
+        let t1030: f32 = joint3_mass * t1029;
+        let t1031: f32 = half_spacing + t771;
+        let t1032: f32 = joint4_mass * t1031;
+        let t1033: f32 = t113 * 0.5;
+        let t1034: f32 = t777 * t1033;
+        let t1035: f32 = t124 * t779;
+        let t1036: f32 = t1034 + t1035;
+        let t1037: f32 = t6 * t1036;
+        let t1038: f32 = t104 * t783;
+        let t1039: f32 = t1030 + t1037;
+        let t1040: f32 = t1032 + t1038;
+        let t1041: f32 = t1039 - t1040;
+        let t1042: f32 = t92 * t1041;
+        let t1043: f32 = t103 * 0.5;
+        let t1044: f32 = t597 * t1043;
+        let t1045: f32 = t114 * t599;
+        let t1046: f32 = t1044 + t1045;
+        let t1047: f32 = t6 * t1046;
+        let t1048: f32 = t125 * t603;
+        let t1049: f32 = t507 + t1047;
+        let t1050: f32 = t1049 - t1048;
+        let t1051: f32 = t216 * t1050;
+        let t1052: f32 = t360 - t773;
+        let t1053: f32 = t86 * t1052;
+        let t1054: f32 = t372 - t775;
+        let t1055: f32 = t93 * t1054;
+        let t1056: f32 = t1023 + t1024;
+        let t1057: f32 = t1025 + t1042;
+        let t1058: f32 = t1056 + t1057;
+        let t1059: f32 = t1055 + t1058;
+        let t1060: f32 = t1026 + t1027;
+        let t1061: f32 = t1028 + t1051;
+        let t1062: f32 = t1060 + t1061;
+        let t1063: f32 = t1053 + t1062;
+        let t1064: f32 = t1059 - t1063;
+        let t1065: f32 = t6 * t1064;
+        let t1066: f32 = t88 - 0.5;
+        let t1067: f32 = t463 * t1066;
+        let t1068: f32 = t5 * t1066;
+        let t1069: f32 = t141 - t1068;
+        let t1070: f32 = t194 * t1069;
+        let t1071: f32 = t603 * t835;
+        let t1072: f32 = t597 * t852;
+        let t1073: f32 = t599 * t866;
+        let t1074: f32 = t1072 * 0.5;
+        let t1075: f32 = t1073 + t1074;
+        let t1076: f32 = t6 * t1075;
+        let t1077: f32 = t1071 - t1076;
+        let t1078: f32 = t6 * t1077;
+        let t1079: f32 = t1065 * 0.5;
+        let t1080: f32 = t1067 + t1070;
+        let t1081: f32 = t1078 + t1080;
+        let t1082: f32 = t1079 - t1081;
+        let t1083: f32 = t6 * t1082;
+        let t1084: f32 = t6 * t92;
+        let t1085: f32 = t87 - t1084;
+        let t1086: f32 = t1085 * 0.5;
+        let t1087: f32 = t1086 - 0.5;
+        let t1088: f32 = rod3_mass * t1087;
+        let t1089: f32 = t943 * t1069;
+        let t1090: f32 = t1088 - t1089;
+        let t1091: f32 = t1083 * 0.5;
+        let t1092: f32 = t1090 - t1091;
+        let t1093: f32 = t1091 - t1090;
+        let t1094: f32 = -t922;
+        let t1095: f32 = t6 * t211;
+        let t1096: f32 = t937 - t1095;
+        let t1097: f32 = t1096 * 0.5;
+        let t1098: f32 = t1097 + 1.0;
+        let t1099: f32 = rod4_mass * t1098;
+        let t1100: f32 = t936 * t947;
+        let t1101: f32 = t1005 + t1100;
+        let t1102: f32 = t1101 * 0.5;
+        let t1103: f32 = t1099 - t1102;
+        let t1104: f32 = rod4_mass * t1097;
+        let t1105: f32 = t936 * t1011;
+        let t1106: f32 = t1018 + t1105;
+        let t1107: f32 = t1106 * 0.5;
+        let t1108: f32 = t1107 - t1104;
+        let t1109: f32 = rod4_mass * t1087;
+        let t1110: f32 = t936 * t1069;
+        let t1111: f32 = t1083 + t1110;
+        let t1112: f32 = t1111 * 0.5;
+        let t1113: f32 = t1109 + t1112;
+        let t1114: f32 = -t1113;
+        let t1115: f32 = t6 * t216;
+        let t1116: f32 = t441 - t1115;
+        let t1117: f32 = t1116 * 0.5;
+        let t1118: f32 = rod5_mass * t1117;
+        let t1119: f32 = t412 * t783;
+        let t1120: f32 = t442 * t685;
+        let t1121: f32 = t468 * t565;
+        let t1122: f32 = t435 * t777;
+        let t1123: f32 = t176 * t779;
+        let t1124: f32 = t1122 * 0.5;
+        let t1125: f32 = t1123 + t1124;
+        let t1126: f32 = t6 * t1125;
+        let t1127: f32 = t824 * 0.5;
+        let t1128: f32 = t1119 + t1127;
+        let t1129: f32 = t1120 + t1128;
+        let t1130: f32 = t1121 + t1126;
+        let t1131: f32 = t1129 - t1130;
+        let t1132: f32 = t6 * t1131;
+        let t1133: f32 = t465 + t1132;
+        let t1134: f32 = t466 * 0.25;
+        let t1135: f32 = t1133 * 0.5;
+        let t1136: f32 = t1118 + t1134;
+        let t1137: f32 = t1135 + t1136;
+        let t1138: f32 = -t1137;
+        let t1139: f32 = t138 * t945;
+        let t1140: f32 = t86 * t947;
+        let t1141: f32 = t18 * t64;
+        let t1142: f32 = t118 * t1141;
+        let t1143: f32 = t662 * t1142;
+        let t1144: f32 = t1065 - t1143;
+        let t1145: f32 = t703 * t783;
+        let t1146: f32 = t6 * t73;
+        let t1147: f32 = t130 * t1146;
+        let t1148: f32 = t718 * t1147;
+        let t1149: f32 = t1145 - t1148;
+        let t1150: f32 = t1144 * 0.5;
+        let t1151: f32 = t1139 + t1149;
+        let t1152: f32 = t1150 + t1151;
+        let t1153: f32 = t1152 - t1140;
+        let t1154: f32 = t6 * t1153;
+        let t1155: f32 = t946 + t1154;
+        let t1156: f32 = t1155 * 0.5;
+        let t1157: f32 = t1134 + t1156;
+        let t1158: f32 = -t1157;
+        let t1159: f32 = t138 * t944;
+        let t1160: f32 = t86 * t1011;
+        let t1161: f32 = t1149 + t1159;
+        let t1162: f32 = t1150 + t1161;
+        let t1163: f32 = t1162 - t1160;
+        let t1164: f32 = t6 * t1163;
+        let t1165: f32 = t1010 + t1164;
+        let t1166: f32 = t1165 * 0.5;
+        let t1167: f32 = t1134 + t1166;
+        let t1168: f32 = t6 * t563;
+        let t1169: f32 = t735 - t1168;
+        let t1170: f32 = t1169 * 0.5;
+        let t1171: f32 = t1170 - 0.5;
+        let t1172: f32 = rod5_mass * t1171;
+        let t1173: f32 = t140 + t686;
+        let t1174: f32 = t685 * t737;
+        let t1175: f32 = t565 * t740;
+        let t1176: f32 = t181 + t952;
+        let t1177: f32 = joint1_mass * t1176;
+        let t1178: f32 = t198 + t952;
+        let t1179: f32 = joint2_mass * t1178;
+        let t1180: f32 = t204 + t957;
+        let t1181: f32 = joint3_mass * t1180;
+        let t1182: f32 = t204 + t960;
+        let t1183: f32 = joint4_mass * t1182;
+        let t1184: f32 = t215 + t963;
+        let t1185: f32 = joint5_mass * t1184;
+        let t1186: f32 = t220 + t966;
+        let t1187: f32 = joint6_mass * t1186;
+        let t1188: f32 = t299 + t983;
+        let t1189: f32 = t1188 * 2.0;
+        let t1190: f32 = t1177 + t1179;
+        let t1191: f32 = t1181 + t1183;
+        let t1192: f32 = t1185 + t1187;
+        let t1193: f32 = t1190 + t1191;
+        let t1194: f32 = t1189 + t1192;
+        let t1195: f32 = t1193 + t1194;
+        let t1196: f32 = t6 * t1195;
+        let t1197: f32 = t10 * t12;
+        let t1198: f32 = t18 * t1197;
+        let t1199: f32 = t118 * t1198;
+        let t1200: f32 = t866 * t1199;
+        let t1201: f32 = t1196 - t1200;
+        let t1202: f32 = t108 * t867;
+        let t1203: f32 = t852 * t1202;
+        let t1204: f32 = t10 * t73;
+        let t1205: f32 = t130 * t1204;
+        let t1206: f32 = t835 * t1205;
+        let t1207: f32 = t1203 - t1206;
+        let t1208: f32 = t138 * t1066;
+        let t1209: f32 = t86 * t1069;
+        let t1210: f32 = t1208 + t1209;
+        let t1211: f32 = t1207 - t1210;
+        let t1212: f32 = t1201 * 0.5;
+        let t1213: f32 = t1211 + t1212;
+        let t1214: f32 = t1174 + t1175;
+        let t1215: f32 = t1213 - t1214;
+        let t1216: f32 = t6 * t1215;
+        let t1217: f32 = t1068 - t1216;
+        let t1218: f32 = t738 + t1217;
+        let t1219: f32 = t1218 * 0.5;
+        let t1220: f32 = t1173 * 0.25;
+        let t1221: f32 = t1172 + t1219;
+        let t1222: f32 = t1220 - t1221;
+        let t1223: f32 = t1170 + 0.5;
+        let t1224: f32 = rod5_mass * t1223;
+        let t1225: f32 = t685 * t879;
+        let t1226: f32 = t565 * t881;
+        let t1227: f32 = t1225 + t1226;
+        let t1228: f32 = t1213 - t1227;
+        let t1229: f32 = t6 * t1228;
+        let t1230: f32 = t1068 - t1229;
+        let t1231: f32 = t880 + t1230;
+        let t1232: f32 = t1231 * 0.5;
+        let t1233: f32 = t1224 + t1232;
+        let t1234: f32 = t1233 - t1220;
+        let t1235: f32 = rod6_mass * t1117;
+        let t1236: f32 = t465 - t1132;
+        let t1237: f32 = t1236 * 0.5;
+        let t1238: f32 = t1134 + t1235;
+        let t1239: f32 = t1237 + t1238;
+        let t1240: f32 = -t1239;
+        let t1241: f32 = -t1167;
+        let t1242: f32 = t6 * t566;
+        let t1243: f32 = t735 + t1242;
+        let t1244: f32 = t1243 * 0.5;
+        let t1245: f32 = t1244 - 0.5;
+        let t1246: f32 = rod6_mass * t1245;
+        let t1247: f32 = t140 - t686;
+        let t1248: f32 = t1217 - t738;
+        let t1249: f32 = t1248 * 0.5;
+        let t1250: f32 = t1247 * 0.25;
+        let t1251: f32 = t1246 + t1250;
+        let t1252: f32 = t1249 - t1251;
+        let t1253: f32 = t1244 + 0.5;
+        let t1254: f32 = rod6_mass * t1253;
+        let t1255: f32 = t880 - t1230;
+        let t1256: f32 = t1255 * 0.5;
+        let t1257: f32 = t1254 + t1256;
+        let t1258: f32 = t1250 + t1257;
+        let t1259: f32 = 1.0 - t17;
+        let t1260: f32 = -t783;
+        let t1261: f32 = -t436;
+        let t1262: f32 = -t603;
         (
-            t1016,
-            t1017,
-            t1018,
-            t1019,
-            t1021,
-            t1024,
-            t1027,
-            t1028,
-            t1031,
-            t1033,
-            t1043,
-            t1047,
-            t1055,
-            t1073,
-            t1078,
-            t1080,
-            t1082,
+            t1008,
+            t1022,
+            t1092,
+            t1093,
             t1094,
-            t1099,
-            t1106,
-            t1112,
-            t1123,
-            t1135,
-            t1146,
-            t1159,
-            t1170,
-            t1182,
-            t1193,
-            t1207,
-            t1218,
-            t1230,
+            t1103,
+            t1108,
+            t1113,
+            t1114,
+            t1137,
+            t1138,
+            t1157,
+            t1158,
+            t1167,
+            t1222,
+            t1234,
+            t1239,
+            t1240,
             t1241,
             t1252,
-            t1266,
-            t1277,
-            t1289,
-            t1300,
-            t1313,
-            t1324,
-            t1336,
-            t1347,
-            t1368,
-            t1369,
-            t1370,
-            t1371,
-            t1373,
-            t1376,
-            t1379,
-            t1380,
-            t1383,
-            t1385,
-            t1394,
-            t1397,
-            t1409,
-            t1429,
-            t1430,
-            t1432,
-            t1433,
-            t1434,
-            t1435,
-            t1437,
-            t1440,
-            t1450,
-            t1452,
-            t1454,
-            t1456,
-            t1470,
-            t1472,
-            t1474,
-            t1479,
-            t1529,
-            t1530,
-            t1556,
-            t1557,
-            t1559,
-            t1560,
-            t1562,
-            t1563,
-            t1566,
-            t1567,
-            t1570,
-            t1573,
-            t1574,
-            t1582,
-            t1583,
-            t1595,
-            t1597,
-            t1604,
-            t1606,
-            t1615,
-            t1628,
-            t1630,
-            t1634,
-            t1636,
-            t1638,
-            t1641,
-            t1652,
-            t1653,
-            t1675,
-            t1684,
-            t1694,
-            t1703,
-            t1715,
-            t1724,
-            t1734,
-            t1743,
-            t1754,
-            t1763,
-            t1773,
-            t1782,
-            t1795,
-            t1804,
-            t1819,
-            t1831,
-            t1844,
-            t1853,
-            t1863,
-            t1875,
-            t1884,
-            t1908,
-            t1909,
-            t1911,
-            t1913,
-            t1923,
-            t1925,
-            t1928,
-            t1932,
-            t1949,
-            t1953,
-            t1957,
-            t1958,
-            t1963,
-            t1969,
-            t1976,
-            t1977,
-            t1979,
-            t1981,
-            t1984,
-            t1988,
-            t1998,
-            t1999,
-        )
-    };
-    let (
-        t2025,
-        t2176,
-        t2177,
-        t2178,
-        t2184,
-        t2188,
-        t2193,
-        t2194,
-        t2269,
-        t2270,
-        t2361,
-        t2391,
-        t2513,
-        t2545,
-        t2548,
-        t2549,
-        t2550,
-        t2551,
-        t2556,
-        t2562,
-        t2563,
-    ) = {
-        let t2000: f32 = t1988 + t1999;
-        let t2001: f32 = t1998 - t2000;
-        let t2002: f32 = t0 * t2001;
-        let t2003: f32 = t1909 * t1977;
-        let t2004: f32 = t1911 * t1979;
-        let t2005: f32 = t1604 * t1913;
-        let t2006: f32 = t1976 * 0.5;
-        let t2007: f32 = t2003 + t2004;
-        let t2008: f32 = t2005 + t2006;
-        let t2009: f32 = t2007 + t2008;
-        let t2010: f32 = t1560 * t2009;
-        let t2011: f32 = t280 + t1559;
-        let t2012: f32 = t1963 + t1969;
-        let t2013: f32 = platform_mass * t1562;
-        let t2014: f32 = t1957 + t2013;
-        let t2015: f32 = joint5_mass * t1652;
-        let t2016: f32 = joint6_mass * t1652;
-        let t2017: f32 = t2015 + t2016;
-        let t2018: f32 = t2014 + t2017;
-        let t2019: f32 = t2012 + t2018;
-        let t2020: f32 = t2002 + t2011;
-        let t2021: f32 = t2020 * 0.5;
-        let t2022: f32 = t2010 + t2021;
-        let t2023: f32 = t1949 + t2019;
-        let t2024: f32 = t2022 + t2023;
-        let t2025: f32 = -t2024;
-        let t2026: f32 = t127 - 0.5;
-        let t2027: f32 = joint6_mass * t2026;
-        let t2028: f32 = t112 - 0.5;
-        let t2029: f32 = joint3_mass * t2028;
-        let t2030: f32 = rod3_mass * t2028;
-        let t2031: f32 = t2029 + t2030;
-        let t2032: f32 = t2027 + t2031;
-        let t2033: f32 = joint4_mass * t2028;
-        let t2034: f32 = rod4_mass * t2028;
-        let t2035: f32 = t2033 + t2034;
-        let t2036: f32 = t209 - 0.5;
-        let t2037: f32 = joint2_mass * t2036;
-        let t2038: f32 = t120 - 0.5;
-        let t2039: f32 = joint5_mass * t2038;
-        let t2040: f32 = t2037 + t2039;
-        let t2041: f32 = t2035 + t2040;
-        let t2042: f32 = t2032 + t2041;
-        let t2043: f32 = t156 * t1932;
-        let t2044: f32 = t164 * t1932;
-        let t2045: f32 = t2043 + t2044;
-        let t2046: f32 = t174 * t1932;
-        let t2047: f32 = t182 * t1932;
-        let t2048: f32 = t2046 + t2047;
-        let t2049: f32 = t2045 + t2048;
-        let t2050: f32 = t191 * t1932;
-        let t2051: f32 = t199 * t1932;
-        let t2052: f32 = t2050 + t2051;
-        let t2053: f32 = t130 * t1557;
-        let t2054: f32 = t1559 + t2053;
-        let t2055: f32 = platform_mass * t1;
-        let t2056: f32 = t1557 * t2055;
-        let t2057: f32 = t107 * t2056;
-        let t2058: f32 = t147 * t1932;
-        let t2059: f32 = t2057 + t2058;
-        let t2060: f32 = t2054 - t2059;
-        let t2061: f32 = t2052 - t2060;
-        let t2062: f32 = t2049 + t2061;
-        let t2063: f32 = rod3_mass * t0;
-        let t2064: f32 = t1557 * t2063;
-        let t2065: f32 = t2028 * t2064;
-        let t2066: f32 = joint4_mass * t0;
-        let t2067: f32 = t1557 * t2066;
-        let t2068: f32 = t2028 * t2067;
-        let t2069: f32 = t2065 + t2068;
-        let t2070: f32 = rod4_mass * t0;
-        let t2071: f32 = t1557 * t2070;
-        let t2072: f32 = t2028 * t2071;
-        let t2073: f32 = joint5_mass * t0;
-        let t2074: f32 = t1557 * t2073;
-        let t2075: f32 = t2038 * t2074;
-        let t2076: f32 = t2072 + t2075;
-        let t2077: f32 = t2069 + t2076;
-        let t2078: f32 = joint6_mass * t0;
-        let t2079: f32 = t1557 * t2078;
-        let t2080: f32 = t2026 * t2079;
-        let t2081: f32 = t251 * t2036;
-        let t2082: f32 = t336 + t2037;
-        let t2083: f32 = t310 * t2082;
-        let t2084: f32 = t1437 + t2031;
-        let t2085: f32 = t317 * t2084;
-        let t2086: f32 = t1440 + t2035;
-        let t2087: f32 = t323 * t2086;
-        let t2088: f32 = t276 * t2038;
-        let t2089: f32 = t225 * t2026;
-        let t2090: f32 = t353 * t1094;
-        let t2091: f32 = t975 * t1595;
-        let t2092: f32 = t933 * t1597;
-        let t2093: f32 = t961 * t1106;
-        let t2094: f32 = t2092 + t2093;
-        let t2095: f32 = t2091 - t2094;
-        let t2096: f32 = t1474 * t2095;
-        let t2097: f32 = t2090 * 0.5;
-        let t2098: f32 = t2096 + t2097;
-        let t2099: f32 = t137 * t2098;
-        let t2100: f32 = t961 * t1595;
-        let t2101: f32 = t925 * t1597;
-        let t2102: f32 = t953 * t1106;
-        let t2103: f32 = t2101 + t2102;
-        let t2104: f32 = t2100 - t2103;
-        let t2105: f32 = t1472 * t2104;
-        let t2106: f32 = t933 * t1595;
-        let t2107: f32 = t941 * t1597;
-        let t2108: f32 = t925 * t1106;
-        let t2109: f32 = t2107 + t2108;
-        let t2110: f32 = t2106 - t2109;
-        let t2111: f32 = t1479 * t2110;
-        let t2112: f32 = platform_mx * t1106;
-        let t2113: f32 = t228 + t2112;
-        let t2114: f32 = t2113 * 0.5;
-        let t2115: f32 = t1450 * t2114;
-        let t2116: f32 = joint2_mass * 0.5;
-        let t2117: f32 = t1630 + t1636;
-        let t2118: f32 = t2117 * 0.0;
-        let t2119: f32 = t391 + 0.5;
-        let t2120: f32 = -t2119;
-        let t2121: f32 = joint5_mass * t2120;
-        let t2122: f32 = t398 + 0.5;
-        let t2123: f32 = -t2122;
-        let t2124: f32 = joint6_mass * t2123;
-        let t2125: f32 = t2121 + t2124;
-        let t2126: f32 = platform_mass * 0.5;
-        let t2127: f32 = t386 + t2116;
-        let t2128: f32 = t2118 + t2125;
-        let t2129: f32 = t2127 + t2128;
-        let t2130: f32 = t2126 - t2129;
-        let t2131: f32 = t295 * t2130;
-        let t2132: f32 = t361 * t1080;
-        let t2133: f32 = t369 * t1082;
-        let t2134: f32 = t374 * t1078;
-        let t2135: f32 = t2133 + t2134;
-        let t2136: f32 = t2132 - t2135;
-        let t2137: f32 = t0 * t2136;
-        let t2138: f32 = t2125 + t2137;
-        let t2139: f32 = t292 * t2138;
-        let t2140: f32 = t363 * t1595;
-        let t2141: f32 = t375 * t1597;
-        let t2142: f32 = t355 * t1106;
-        let t2143: f32 = t2141 + t2142;
-        let t2144: f32 = t2140 - t2143;
-        let t2145: f32 = t2028 * t2144;
-        let t2146: f32 = t1099 * 0.5;
-        let t2147: f32 = t2087 + t2099;
-        let t2148: f32 = t2111 + t2145;
-        let t2149: f32 = t2147 + t2148;
-        let t2150: f32 = t2146 + t2149;
-        let t2151: f32 = t2081 + t2083;
-        let t2152: f32 = t2085 + t2088;
-        let t2153: f32 = t2089 + t2105;
-        let t2154: f32 = t2115 + t2131;
-        let t2155: f32 = t2151 + t2152;
-        let t2156: f32 = t2153 + t2154;
-        let t2157: f32 = t2155 + t2156;
-        let t2158: f32 = t2139 + t2157;
-        let t2159: f32 = t2150 - t2158;
-        let t2160: f32 = t0 * t2159;
-        let t2161: f32 = t2080 - t2160;
-        let t2162: f32 = t204 - t203;
-        let t2163: f32 = joint2_mass * t0;
-        let t2164: f32 = t1557 * t2163;
-        let t2165: f32 = t2036 * t2164;
-        let t2166: f32 = joint3_mass * t0;
-        let t2167: f32 = t1557 * t2166;
-        let t2168: f32 = t2028 * t2167;
-        let t2169: f32 = t2165 + t2168;
-        let t2170: f32 = t2162 - t2169;
-        let t2171: f32 = t2161 - t2170;
-        let t2172: f32 = t2077 + t2171;
-        let t2173: f32 = t2062 * 0.25;
-        let t2174: f32 = t2172 * 0.5;
-        let t2175: f32 = t2042 + t2173;
-        let t2176: f32 = t2174 + t2175;
-        let t2177: f32 = -t2176;
-        let t2178: f32 = -t1556;
-        let t2179: f32 = t2011 * 0.5;
-        let t2180: f32 = t1928 + t2179;
-        let t2181: f32 = t1560 * t2180;
-        let t2182: f32 = t1908 + t2181;
-        let t2183: f32 = t2182 * 0.5;
-        let t2184: f32 = -t2183;
-        let t2185: f32 = t2019 + t2179;
-        let t2186: f32 = t1560 * t2185;
-        let t2187: f32 = t2002 + t2186;
-        let t2188: f32 = t2187 * 0.5;
-        let t2189: f32 = t2162 * 0.5;
-        let t2190: f32 = t2189 - t2042;
-        let t2191: f32 = t1560 * t2190;
-        let t2192: f32 = t2160 + t2191;
-        let t2193: f32 = t2192 * 0.5;
-        let t2194: f32 = -t2193;
-        let t2195: f32 = t307 * t859;
-        let t2196: f32 = t313 * t876;
-        let t2197: f32 = t320 * t886;
-        let t2198: f32 = t550 * t800;
-        let t2199: f32 = t326 * t894;
-        let t2200: f32 = t587 * t806;
-        let t2201: f32 = t621 * t813;
-        let t2202: f32 = t658 * t819;
-        let t2203: f32 = q1 * t913;
-        let t2204: f32 = t933 * t945;
-        let t2205: f32 = t961 * t966;
-        let t2206: f32 = t445 * t975;
-        let t2207: f32 = t2205 + t2206;
-        let t2208: f32 = t2204 - t2207;
-        let t2209: f32 = t1595 * t2208;
-        let t2210: f32 = t941 * t945;
-        let t2211: f32 = t925 * t966;
-        let t2212: f32 = t445 * t933;
-        let t2213: f32 = t2211 + t2212;
-        let t2214: f32 = t2210 - t2213;
-        let t2215: f32 = t1597 * t2214;
-        let t2216: f32 = t925 * t945;
-        let t2217: f32 = t953 * t966;
-        let t2218: f32 = t445 * t961;
-        let t2219: f32 = t2217 + t2218;
-        let t2220: f32 = t2216 - t2219;
-        let t2221: f32 = t1106 * t2220;
-        let t2222: f32 = t2203 * 0.5;
-        let t2223: f32 = t2215 + t2222;
-        let t2224: f32 = t2221 + t2223;
-        let t2225: f32 = t2224 - t2209;
-        let t2226: f32 = t0 * t2225;
-        let t2227: f32 = t214 - t1615;
-        let t2228: f32 = t2227 * 0.5;
-        let t2229: f32 = platform_mass * t2228;
-        let t2230: f32 = t214 * 0.5;
-        let t2231: f32 = t2230 - t1628;
-        let t2232: f32 = joint3_mass * t2231;
-        let t2233: f32 = t2230 - t1634;
-        let t2234: f32 = joint4_mass * t2233;
-        let t2235: f32 = t1454 * t1595;
-        let t2236: f32 = t1456 * t1597;
-        let t2237: f32 = t1106 * t1452;
-        let t2238: f32 = t2236 + t2237;
-        let t2239: f32 = t2235 - t2238;
-        let t2240: f32 = t0 * t2239;
-        let t2241: f32 = rod5_mass + rod6_mass;
-        let t2242: f32 = t1606 + t2241;
-        let t2243: f32 = t2242 * 0.0;
-        let t2244: f32 = t2229 + t2232;
-        let t2245: f32 = t2234 + t2243;
-        let t2246: f32 = t2244 + t2245;
-        let t2247: f32 = t2246 - t2240;
-        let t2248: f32 = t797 * t2247;
-        let t2249: f32 = t376 * t945;
-        let t2250: f32 = t356 * t966;
-        let t2251: f32 = t364 * t445;
-        let t2252: f32 = t2250 + t2251;
-        let t2253: f32 = t2249 - t2252;
-        let t2254: f32 = t299 * t2253;
-        let t2255: f32 = t2202 + t2248;
-        let t2256: f32 = t2254 + t2255;
-        let t2257: f32 = t2195 + t2196;
-        let t2258: f32 = t2197 + t2198;
-        let t2259: f32 = t2199 + t2200;
-        let t2260: f32 = t2201 + t2226;
-        let t2261: f32 = t2257 + t2258;
-        let t2262: f32 = t2259 + t2260;
-        let t2263: f32 = t2261 + t2262;
-        let t2264: f32 = t2256 - t2263;
-        let t2265: f32 = t0 * t2264;
-        let t2266: f32 = t2265 - t330;
-        let t2267: f32 = t281 * 0.25;
-        let t2268: f32 = t2266 * 0.5;
-        let t2269: f32 = t2268 - t2267;
-        let t2270: f32 = t2267 - t2268;
-        let t2271: f32 = t147 * t1563;
-        let t2272: f32 = t164 * t1567;
-        let t2273: f32 = t206 * t1570;
-        let t2274: f32 = t174 * t1574;
-        let t2275: f32 = t182 * t1583;
-        let t2276: f32 = t620 + t1923;
-        let t2277: f32 = t117 * t2276;
-        let t2278: f32 = t657 + t1925;
-        let t2279: f32 = t124 * t2278;
-        let t2280: f32 = joint1_mz * t374;
-        let t2281: f32 = t154 - t2280;
-        let t2282: f32 = t2281 * 0.5;
-        let t2283: f32 = t1560 * t2282;
-        let t2284: f32 = t107 * t1641;
-        let t2285: f32 = t411 * t1595;
-        let t2286: f32 = t413 * t1597;
-        let t2287: f32 = t409 * t1106;
-        let t2288: f32 = t2286 + t2287;
-        let t2289: f32 = t2285 - t2288;
-        let t2290: f32 = t0 * t2289;
-        let t2291: f32 = t1638 - t2290;
-        let t2292: f32 = t109 * t2291;
-        let t2293: f32 = t356 * t361;
-        let t2294: f32 = t364 * t369;
-        let t2295: f32 = t374 * t376;
-        let t2296: f32 = t2294 + t2295;
-        let t2297: f32 = t2293 - t2296;
-        let t2298: f32 = t1653 * t2297;
-        let t2299: f32 = t0 * t62;
-        let t2300: f32 = t137 * t2299;
-        let t2301: f32 = t1773 * t2300;
-        let t2302: f32 = t0 * t33;
-        let t2303: f32 = t142 * t2302;
-        let t2304: f32 = t1782 * t2303;
-        let t2305: f32 = t2301 - t2304;
-        let t2306: f32 = t0 * t218;
-        let t2307: f32 = t1795 * t2306;
-        let t2308: f32 = t1804 * t2300;
-        let t2309: f32 = t2307 - t2308;
-        let t2310: f32 = t2305 - t2309;
-        let t2311: f32 = t1831 * t2303;
-        let t2312: f32 = t1819 * t2306;
-        let t2313: f32 = t2311 + t2312;
-        let t2314: f32 = t1875 * t2300;
-        let t2315: f32 = t1884 * t2303;
-        let t2316: f32 = t2314 - t2315;
-        let t2317: f32 = t2313 - t2316;
-        let t2318: f32 = t2310 - t2317;
-        let t2319: f32 = t1844 * t2306;
-        let t2320: f32 = t1853 * t2300;
-        let t2321: f32 = t2319 - t2320;
-        let t2322: f32 = t1863 * t2303;
-        let t2323: f32 = t1675 * t2306;
-        let t2324: f32 = t1684 * t2300;
-        let t2325: f32 = t2323 - t2324;
-        let t2326: f32 = t2322 + t2325;
-        let t2327: f32 = t2321 + t2326;
-        let t2328: f32 = t1703 * t2303;
-        let t2329: f32 = t1694 * t2306;
-        let t2330: f32 = t2328 + t2329;
-        let t2331: f32 = t1734 * t2300;
-        let t2332: f32 = t1743 * t2303;
-        let t2333: f32 = t2331 - t2332;
-        let t2334: f32 = t2330 - t2333;
-        let t2335: f32 = t1715 * t2306;
-        let t2336: f32 = t1724 * t2300;
-        let t2337: f32 = t2335 - t2336;
-        let t2338: f32 = t1763 * t2303;
-        let t2339: f32 = t1754 * t2306;
-        let t2340: f32 = t2338 + t2339;
-        let t2341: f32 = t2337 + t2340;
-        let t2342: f32 = t2334 + t2341;
-        let t2343: f32 = t2327 + t2342;
-        let t2344: f32 = t2318 - t2343;
-        let t2345: f32 = t2271 + t2272;
-        let t2346: f32 = t2273 + t2274;
-        let t2347: f32 = t2275 + t2283;
-        let t2348: f32 = t2284 + t2292;
-        let t2349: f32 = t156 + t2298;
-        let t2350: f32 = t2345 + t2346;
-        let t2351: f32 = t2347 + t2348;
-        let t2352: f32 = t2344 + t2349;
-        let t2353: f32 = t2350 + t2351;
-        let t2354: f32 = t2352 + t2353;
-        let t2355: f32 = t2277 + t2279;
-        let t2356: f32 = t2354 - t2355;
-        let t2357: f32 = t0 * t2356;
-        let t2358: f32 = t2357 - t1928;
-        let t2359: f32 = t2011 * 0.25;
-        let t2360: f32 = t2358 * 0.5;
-        let t2361: f32 = t2360 - t2359;
-        let t2362: f32 = t147 * t1562;
-        let t2363: f32 = t156 * t1560;
-        let t2364: f32 = t164 * t1566;
-        let t2365: f32 = t206 * t1958;
-        let t2366: f32 = t174 * t1573;
-        let t2367: f32 = t182 * t1582;
-        let t2368: f32 = t620 + t2015;
-        let t2369: f32 = t117 * t2368;
-        let t2370: f32 = t657 + t2016;
-        let t2371: f32 = t124 * t2370;
-        let t2372: f32 = t107 * t1984;
-        let t2373: f32 = t1981 - t2290;
-        let t2374: f32 = t109 * t2373;
-        let t2375: f32 = t1652 * t2297;
-        let t2376: f32 = t2363 * 0.5;
-        let t2377: f32 = t2369 + t2371;
-        let t2378: f32 = t2372 + t2377;
-        let t2379: f32 = t2362 + t2364;
-        let t2380: f32 = t2365 + t2366;
-        let t2381: f32 = t2367 + t2374;
-        let t2382: f32 = t2344 + t2375;
-        let t2383: f32 = t2379 + t2380;
-        let t2384: f32 = t2381 + t2382;
-        let t2385: f32 = t2383 + t2384;
-        let t2386: f32 = t2376 + t2385;
-        let t2387: f32 = t2378 - t2386;
-        let t2388: f32 = t0 * t2387;
-        let t2389: f32 = t2019 + t2388;
-        let t2390: f32 = t2389 * 0.5;
-        let t2391: f32 = t2359 + t2390;
-        let t2392: f32 = t886 * t1019;
-        let t2393: f32 = t800 * t1043;
-        let t2394: f32 = t894 * t1021;
-        let t2395: f32 = t806 * t1047;
-        let t2396: f32 = t835 * t1024;
-        let t2397: f32 = t837 - t1027;
-        let t2398: f32 = t813 * t2397;
-        let t2399: f32 = t847 * t1028;
-        let t2400: f32 = t849 - t1031;
-        let t2401: f32 = t819 * t2400;
-        let t2402: f32 = t945 * t1456;
-        let t2403: f32 = t966 * t1452;
-        let t2404: f32 = t445 * t1454;
-        let t2405: f32 = t1055 + t2402;
-        let t2406: f32 = t2403 + t2404;
-        let t2407: f32 = t2405 - t2406;
-        let t2408: f32 = t0 * t2407;
-        let t2409: f32 = t1073 + t2408;
-        let t2410: f32 = t2126 - t2409;
-        let t2411: f32 = t797 * t2410;
-        let t2412: f32 = t876 + t1470;
-        let t2413: f32 = t23 * t426;
-        let t2414: f32 = t142 * t2413;
-        let t2415: f32 = t797 * t2414;
-        let t2416: f32 = t2415 - t438;
-        let t2417: f32 = t89 * t433;
-        let t2418: f32 = t133 * t2417;
-        let t2419: f32 = t797 * t2418;
-        let t2420: f32 = t429 * t455;
-        let t2421: f32 = t797 * t2420;
-        let t2422: f32 = t2419 + t2421;
-        let t2423: f32 = t439 + t2422;
-        let t2424: f32 = t2416 - t2423;
-        let t2425: f32 = t1266 * t1597;
-        let t2426: f32 = t218 * t1277;
-        let t2427: f32 = t2425 + t2426;
-        let t2428: f32 = t1289 * t1595;
-        let t2429: f32 = t1300 * t1597;
-        let t2430: f32 = t2428 - t2429;
-        let t2431: f32 = t2427 - t2430;
-        let t2432: f32 = joint1_mass - t157;
-        let t2433: f32 = t2432 * 0.5;
-        let t2434: f32 = t107 * t2433;
-        let t2435: f32 = t218 * t1313;
-        let t2436: f32 = t2434 + t2435;
-        let t2437: f32 = t1324 * t1595;
-        let t2438: f32 = t1336 * t1597;
-        let t2439: f32 = t2437 - t2438;
-        let t2440: f32 = t2436 - t2439;
-        let t2441: f32 = t2431 + t2440;
-        let t2442: f32 = t164 * t2036;
-        let t2443: f32 = t206 * t2082;
-        let t2444: f32 = t2442 + t2443;
-        let t2445: f32 = t218 * t1347;
-        let t2446: f32 = t1112 * t1595;
-        let t2447: f32 = t2445 - t2446;
-        let t2448: f32 = t2444 + t2447;
-        let t2449: f32 = t1123 * t1597;
-        let t2450: f32 = t174 * t2028;
-        let t2451: f32 = t2449 + t2450;
-        let t2452: f32 = t109 * t2084;
-        let t2453: f32 = t218 * t1135;
-        let t2454: f32 = t2452 + t2453;
-        let t2455: f32 = t2451 + t2454;
-        let t2456: f32 = t2448 + t2455;
-        let t2457: f32 = t2441 + t2456;
-        let t2458: f32 = t1146 * t1595;
-        let t2459: f32 = t1159 * t1597;
-        let t2460: f32 = t2458 - t2459;
-        let t2461: f32 = t182 * t2028;
-        let t2462: f32 = t109 * t2086;
-        let t2463: f32 = t2461 + t2462;
-        let t2464: f32 = t2460 - t2463;
-        let t2465: f32 = t218 * t1170;
-        let t2466: f32 = t1182 * t1595;
-        let t2467: f32 = t2465 - t2466;
-        let t2468: f32 = t1193 * t1597;
-        let t2469: f32 = t191 * t2038;
-        let t2470: f32 = t2468 + t2469;
-        let t2471: f32 = t2467 + t2470;
-        let t2472: f32 = t2464 - t2471;
-        let t2473: f32 = t340 + t2039;
-        let t2474: f32 = t117 * t2473;
-        let t2475: f32 = t218 * t1207;
-        let t2476: f32 = t2474 - t2475;
-        let t2477: f32 = t1218 * t1595;
-        let t2478: f32 = t1230 * t1597;
-        let t2479: f32 = t2477 - t2478;
-        let t2480: f32 = t2476 + t2479;
-        let t2481: f32 = t199 * t2026;
-        let t2482: f32 = t344 + t2027;
-        let t2483: f32 = t124 * t2482;
-        let t2484: f32 = t2481 - t2483;
-        let t2485: f32 = t107 * t2190;
-        let t2486: f32 = t218 * t1241;
-        let t2487: f32 = t1252 * t1595;
-        let t2488: f32 = t2486 - t2487;
-        let t2489: f32 = t2485 - t2488;
-        let t2490: f32 = t2484 - t2489;
-        let t2491: f32 = t2480 - t2490;
-        let t2492: f32 = t2472 + t2491;
-        let t2493: f32 = t2457 - t2492;
-        let t2494: f32 = t2412 + t2424;
-        let t2495: f32 = t2494 * 0.5;
-        let t2496: f32 = t2393 + t2395;
-        let t2497: f32 = t2398 + t2493;
-        let t2498: f32 = t2496 + t2497;
-        let t2499: f32 = t2495 + t2498;
-        let t2500: f32 = t2392 + t2394;
-        let t2501: f32 = t2396 + t2399;
-        let t2502: f32 = t2401 + t2411;
-        let t2503: f32 = t2500 + t2501;
-        let t2504: f32 = t2502 + t2503;
-        let t2505: f32 = t2499 - t2504;
-        let t2506: f32 = t0 * t2505;
-        let t2507: f32 = t2506 - t2042;
-        let t2508: f32 = t1018 - t203;
-        let t2509: f32 = t2508 * 0.25;
-        let t2510: f32 = t204 + t2507;
-        let t2511: f32 = t2510 - t1033;
-        let t2512: f32 = t2511 * 0.5;
-        let t2513: f32 = t2509 + t2512;
-        let t2514: f32 = t886 * t1371;
-        let t2515: f32 = t800 * t1394;
-        let t2516: f32 = t894 * t1373;
-        let t2517: f32 = t806 * t1397;
-        let t2518: f32 = t835 * t1376;
-        let t2519: f32 = t837 - t1379;
-        let t2520: f32 = t813 * t2519;
-        let t2521: f32 = t847 * t1380;
-        let t2522: f32 = t849 - t1383;
-        let t2523: f32 = t819 * t2522;
-        let t2524: f32 = t2126 + t2408;
-        let t2525: f32 = t1409 + t2524;
-        let t2526: f32 = t797 * t2525;
-        let t2527: f32 = t2412 - t2424;
-        let t2528: f32 = t2527 * 0.5;
-        let t2529: f32 = t2514 + t2516;
-        let t2530: f32 = t2518 + t2521;
-        let t2531: f32 = t2523 + t2528;
-        let t2532: f32 = t2529 + t2530;
-        let t2533: f32 = t2531 + t2532;
-        let t2534: f32 = t2515 + t2517;
-        let t2535: f32 = t2520 + t2526;
-        let t2536: f32 = t2534 + t2535;
-        let t2537: f32 = t2493 + t2536;
-        let t2538: f32 = t2533 - t2537;
-        let t2539: f32 = t0 * t2538;
-        let t2540: f32 = t2042 + t2539;
-        let t2541: f32 = t203 + t1370;
-        let t2542: f32 = t2541 * 0.25;
-        let t2543: f32 = t1385 + t2540;
-        let t2544: f32 = t2543 * 0.5;
-        let t2545: f32 = t2542 + t2544;
-        let t2546: f32 = t330 + t2265;
-        let t2547: f32 = t2546 * 0.5;
-        let t2548: f32 = t2267 + t2547;
-        let t2549: f32 = -t2548;
-        let t2550: f32 = t2359 - t2360;
-        let t2551: f32 = -t2391;
-        let t2552: f32 = t203 + t1018;
-        let t2553: f32 = t2552 * 0.25;
-        let t2554: f32 = t1033 + t2507;
-        let t2555: f32 = t2554 * 0.5;
-        let t2556: f32 = t2553 - t2555;
-        let t2557: f32 = t1370 - t203;
-        let t2558: f32 = t2557 * 0.25;
-        let t2559: f32 = t204 + t1385;
-        let t2560: f32 = t2559 - t2540;
-        let t2561: f32 = t2560 * 0.5;
-        let t2562: f32 = t2558 + t2561;
-        let t2563: f32 = 1.0 - t371;
-        (
-            t2025,
-            t2176,
-            t2177,
-            t2178,
-            t2184,
-            t2188,
-            t2193,
-            t2194,
-            t2269,
-            t2270,
-            t2361,
-            t2391,
-            t2513,
-            t2545,
-            t2548,
-            t2549,
-            t2550,
-            t2551,
-            t2556,
-            t2562,
-            t2563,
+            t1258,
+            t1259,
+            t1260,
+            t1261,
+            t1262,
         )
     };
     (
         [
-            [t720, t786, t1016, t1017, t1369, t1430],
-            [t1432, t1433, t1434, t1435, t1368, t1429],
-            [t1530, t1556, t1953, t2025, t2176, t2177],
-            [t1529, t2178, t2184, t2188, t2193, t2194],
-            [t2269, t2270, t2361, t2391, t2513, t2545],
-            [t2549, t2548, t2550, t2551, t2556, t2562],
+            [t482, t520, t734, t733, t878, t889],
+            [t898, t902, t903, t904, t877, t905],
+            [t922, t933, t1008, t1022, t1092, t1093],
+            [t1094, t932, t1103, t1108, t1113, t1114],
+            [t1138, t1137, t1158, t1167, t1222, t1234],
+            [t1240, t1239, t1157, t1241, t1252, t1258],
         ],
-        [t2563, t218, t455, t145],
+        [t1259, t1260, t1261, t1262],
     )
 }
 /// Joint-space bias `c_q` of `Γ = M_q Q̈_a + c_q`: Coriolis, centrifugal, gravity.
@@ -18973,7 +14568,7 @@ pub fn joint_inertia_params(
 /// - `c`: `c_q` (N), segment order
 /// - `singular`: `[1 + abc, r11, r22, r33]`: the forward singularity term (the actuator positions belong to a pose of the workspace only where it is positive; the other results are meaningless where it is near zero or negative) and the divisors of eq 16
 ///
-/// Operations: 791 mul, 4 div, 637 add, 14 neg, 3 sqrt (chapter convention: 795m + 637a).
+/// Operations: 530 mul, 4 div, 440 add, 14 neg, 3 sqrt (chapter convention: 534m + 440a).
 #[inline]
 pub fn joint_bias_params(
     q: &[f32; 6],
@@ -18997,1836 +14592,998 @@ pub fn joint_bias_params(
     joint5_iyy, joint5_iyz, joint5_izz, rod6_mass, _, _, _, _, _, _, _, _, _, _, _, _,
     joint6_mass, joint6_mx, joint6_my, joint6_mz, joint6_ixx, joint6_ixy, joint6_ixz,
     joint6_iyy, joint6_iyz, joint6_izz] = *params;
-    let (
-        t0,
-        t1,
-        t3,
-        t10,
-        t25,
-        t35,
-        t107,
-        t109,
-        t125,
-        t133,
-        t145,
-        t146,
-        t150,
-        t152,
-        t154,
-        t155,
-        t164,
-        t165,
-        t170,
-        t176,
-        t184,
-        t185,
-        t186,
-        t189,
-        t191,
-        t201,
-        t205,
-        t214,
-        t215,
-        t218,
-        t228,
-        t229,
-        t230,
-        t235,
-        t243,
-        t249,
-        t250,
-        t256,
-        t267,
-        t268,
-        t279,
-        t281,
-        t301,
-        t304,
-        t305,
-        t307,
-        t312,
-        t319,
-        t323,
-        t326,
-        t346,
-        t349,
-        t353,
-        t360,
-        t364,
-        t367,
-        t386,
-        t389,
-        t392,
-        t396,
-        t403,
-        t407,
-        t410,
-        t429,
-        t432,
-        t436,
-        t443,
-        t447,
-        t450,
-        t453,
-        t462,
-        t463,
-        t471,
-        t475,
-        t476,
-        t477,
-        t481,
-        t488,
-        t491,
-        t492,
-        t496,
-        t504,
-        t507,
-        t508,
-        t511,
-        t516,
-        t520,
-        t523,
-        t526,
-        t529,
-        t532,
-        t536,
-        t544,
-        t553,
-        t560,
-        t576,
-        t579,
-        t582,
-        t585,
-        t588,
-        t603,
-        t604,
-        t609,
-        t611,
-        t614,
-        t616,
-        t617,
-        t620,
-        t622,
-        t623,
-        t625,
-        t626,
-        t628,
-        t629,
-        t634,
-        t636,
-        t637,
-        t639,
-        t640,
-        t644,
-        t650,
-        t651,
-        t653,
-        t655,
-        t656,
-        t658,
-        t659,
-        t660,
-        t661,
-        t663,
-        t664,
-        t666,
-        t667,
-        t668,
-        t669,
-        t671,
-        t672,
-        t674,
-        t675,
-        t676,
-        t678,
-        t679,
-        t681,
-        t682,
-        t683,
-        t748,
-        t750,
-        t766,
-        t767,
-        t768,
-        t772,
-        t773,
-        t774,
-        t780,
-        t785,
-        t802,
-        t805,
-        t806,
-        t807,
-        t809,
-        t812,
-        t813,
-        t814,
-        t816,
-        t819,
-        t820,
-        t831,
-        t834,
-        t836,
-        t867,
-        t886,
-        t888,
-        t891,
-        t894,
-        t905,
-        t916,
-        t941,
-        t961,
-        t965,
-        t976,
-        t978,
-        t984,
-        t992,
-        t997,
-        t998,
-        t999,
-    ) = {
-        let t0: f32 = 1.0 / half_spacing;
-        let t1: f32 = t0 * t0;
-        let t2: f32 = qd1 - qd2;
-        let t3: f32 = t2 * 0.5;
-        let t4: f32 = t0 * t1;
-        let t5: f32 = q1 - q2;
-        let t6: f32 = q3 - q4;
-        let t7: f32 = q5 - q6;
-        let t8: f32 = t4 * t5;
-        let t9: f32 = t6 * t8;
-        let t10: f32 = t7 * t9;
-        let t11: f32 = t4 * t4;
-        let t12: f32 = t5 * t5;
-        let t13: f32 = t6 * t6;
-        let t14: f32 = t7 * t7;
-        let t15: f32 = t11 * t12;
-        let t16: f32 = t13 * t15;
-        let t17: f32 = t14 * t16;
-        let t18: f32 = t0 * t6;
-        let t19: f32 = t1 * t1;
-        let t20: f32 = t5 * t19;
-        let t21: f32 = t13 * t20;
-        let t22: f32 = t7 * t21;
-        let t23: f32 = t18 * 0.5;
-        let t24: f32 = t22 * 0.0625;
-        let t25: f32 = t23 - t24;
-        let t26: f32 = t25 * t25;
-        let t27: f32 = t0 * t7;
-        let t28: f32 = t7 * t18;
-        let t29: f32 = t28 * 0.125;
-        let t30: f32 = t5 * 0.25;
-        let t31: f32 = t29 + t30;
-        let t32: f32 = t1 * t6;
-        let t33: f32 = t31 * t32;
-        let t34: f32 = t27 * 0.5;
-        let t35: f32 = t33 + t34;
-        let t36: f32 = t35 * t35;
-        let t37: f32 = t10 * 0.25;
-        let t38: f32 = t17 * 0.015625;
-        let t39: f32 = t26 + t38;
-        let t40: f32 = t36 + 1.0;
-        let t41: f32 = t39 + t40;
-        let t42: f32 = t37 - t41;
-        let t43: f32 = 1.0 / t42;
-        let t44: f32 = q3 + q4;
-        let t45: f32 = t44 * 0.0625;
-        let t46: f32 = t10 * t45;
-        let t47: f32 = t44 - t46;
-        let t48: f32 = t47 * 0.125;
-        let t49: f32 = t10 * t48;
-        let t50: f32 = t44 * 0.5;
-        let t51: f32 = t50 - t49;
-        let t52: f32 = t43 * t51;
-        let t53: f32 = t0 * t5;
-        let t54: f32 = t6 * t53;
-        let t55: f32 = t54 * 0.125;
-        let t56: f32 = t7 * 0.25;
-        let t57: f32 = t55 + t56;
-        let t58: f32 = t1 * t5;
-        let t59: f32 = t57 * t58;
-        let t60: f32 = t23 + t59;
-        let t61: f32 = t12 * t19;
-        let t62: f32 = t6 * t61;
-        let t63: f32 = t7 * t62;
-        let t64: f32 = t53 * 0.5;
-        let t65: f32 = t63 * 0.0625;
-        let t66: f32 = t64 - t65;
-        let t67: f32 = t66 * t66;
-        let t68: f32 = t60 * t60;
-        let t69: f32 = t38 + t67;
-        let t70: f32 = t68 + 1.0;
-        let t71: f32 = t69 + t70;
-        let t72: f32 = t37 - t71;
-        let t73: f32 = 1.0 / t72;
-        let t74: f32 = q1 + q2;
-        let t75: f32 = t74 * 0.0625;
-        let t76: f32 = t10 * t75;
-        let t77: f32 = t74 * 0.5;
-        let t78: f32 = t77 - t76;
-        let t79: f32 = t60 * t73;
-        let t80: f32 = t78 * t79;
-        let t81: f32 = t6 * t20;
-        let t82: f32 = t14 * t81;
-        let t83: f32 = t82 * 0.0625;
-        let t84: f32 = t34 - t83;
-        let t85: f32 = t84 * t84;
-        let t86: f32 = t7 * t53;
-        let t87: f32 = t86 * 0.125;
-        let t88: f32 = t6 * 0.25;
-        let t89: f32 = t87 + t88;
-        let t90: f32 = t1 * t7;
-        let t91: f32 = t89 * t90;
-        let t92: f32 = t64 + t91;
-        let t93: f32 = t92 * t92;
-        let t94: f32 = t38 + t85;
-        let t95: f32 = t93 + 1.0;
-        let t96: f32 = t94 + t95;
-        let t97: f32 = t37 - t96;
-        let t98: f32 = 1.0 / t97;
-        let t99: f32 = q5 + q6;
-        let t100: f32 = t99 * 0.0625;
-        let t101: f32 = t10 * t100;
-        let t102: f32 = t99 * 0.5;
-        let t103: f32 = t102 - t101;
-        let t104: f32 = t84 * t98;
-        let t105: f32 = t103 * t104;
-        let t106: f32 = t80 - t105;
-        let t107: f32 = t52 + t106;
-        let t108: f32 = qd5 - qd6;
-        let t109: f32 = t108 * 0.5;
-        let t110: f32 = t0 * t107;
-        let t111: f32 = t109 * t110;
-        let t112: f32 = q1 * t0;
-        let t113: f32 = t10 * t73;
-        let t114: f32 = t78 * t113;
-        let t115: f32 = t73 * t78;
-        let t116: f32 = t92 * t98;
-        let t117: f32 = t103 * t116;
-        let t118: f32 = t50 - t46;
-        let t119: f32 = t25 * t43;
-        let t120: f32 = t118 * t119;
-        let t121: f32 = t117 - t120;
-        let t122: f32 = t115 + t121;
-        let t123: f32 = t114 * 0.125;
-        let t124: f32 = q1 + t122;
-        let t125: f32 = t124 - t123;
-        let t126: f32 = t0 * t125;
-        let t127: f32 = t112 - t126;
-        let t128: f32 = t127 * 0.5;
-        let t129: f32 = t2 * t128;
-        let t130: f32 = qd5 + qd6;
-        let t131: f32 = t130 * 0.5;
-        let t132: f32 = t111 + t129;
-        let t133: f32 = t131 - t132;
-        let t134: f32 = t10 * t98;
-        let t135: f32 = t103 * t134;
-        let t136: f32 = t98 * t103;
-        let t137: f32 = t35 * t43;
-        let t138: f32 = t118 * t137;
-        let t139: f32 = t66 * t73;
-        let t140: f32 = t78 * t139;
-        let t141: f32 = t138 - t140;
-        let t142: f32 = t136 + t141;
-        let t143: f32 = t135 * 0.125;
-        let t144: f32 = half_spacing + t142;
-        let t145: f32 = t144 - t143;
-        let t146: f32 = t1 * t3;
-        let t147: f32 = t133 * t146;
-        let t148: f32 = t145 * t147;
-        let t149: f32 = qd3 - qd4;
-        let t150: f32 = t149 * 0.5;
-        let t151: f32 = q1 - half_spacing;
-        let t152: f32 = t0 * t151;
-        let t153: f32 = t152 - t126;
-        let t154: f32 = t153 * 0.5;
-        let t155: f32 = t154 + 1.0;
-        let t156: f32 = qd3 * t155;
-        let t157: f32 = qd4 * t154;
-        let t158: f32 = t99 - t101;
-        let t159: f32 = t158 * 0.125;
-        let t160: f32 = t10 * t159;
-        let t161: f32 = t102 - t160;
-        let t162: f32 = t98 * t161;
-        let t163: f32 = t141 + t162;
-        let t164: f32 = half_spacing + t163;
-        let t165: f32 = t0 * t109;
-        let t166: f32 = t164 * t165;
-        let t167: f32 = t109 + t157;
-        let t168: f32 = t156 + t166;
-        let t169: f32 = t167 - t168;
-        let t170: f32 = t1 * t150;
-        let t171: f32 = t145 * t170;
-        let t172: f32 = t169 * t171;
-        let t173: f32 = t148 + t172;
-        let t174: f32 = t0 * t3;
-        let t175: f32 = t133 * t174;
-        let t176: f32 = t0 * t150;
-        let t177: f32 = t169 * t176;
-        let t178: f32 = t175 + t177;
-        let t179: f32 = t0 * t145;
-        let t180: f32 = t178 * t179;
-        let t181: f32 = t173 - t180;
-        let t182: f32 = gravity_x - t178;
-        let t183: f32 = t181 * 0.5;
-        let t184: f32 = t182 + t183;
-        let t185: f32 = platform_mass * t184;
-        let t186: f32 = t10 * 0.125;
-        let t187: f32 = t186 - 1.0;
-        let t188: f32 = -t43;
-        let t189: f32 = sqrt(t188);
-        let t190: f32 = t187 * t189;
-        let t191: f32 = -t190;
-        let t192: f32 = platform_my * t191;
-        let t193: f32 = -t73;
-        let t194: f32 = sqrt(t193);
-        let t195: f32 = platform_mx * t60;
-        let t196: f32 = t194 * t195;
-        let t197: f32 = -t98;
-        let t198: f32 = sqrt(t197);
-        let t199: f32 = platform_mz * t84;
-        let t200: f32 = t198 * t199;
-        let t201: f32 = t196 - t200;
-        let t202: f32 = t192 + t201;
-        let t203: f32 = t109 * t202;
-        let t204: f32 = t187 * t194;
-        let t205: f32 = -t204;
-        let t206: f32 = platform_mx * t205;
-        let t207: f32 = platform_mz * t92;
-        let t208: f32 = t198 * t207;
-        let t209: f32 = platform_my * t25;
-        let t210: f32 = t189 * t209;
-        let t211: f32 = t208 - t210;
-        let t212: f32 = t206 + t211;
-        let t213: f32 = t3 * t212;
-        let t214: f32 = t203 - t213;
-        let t215: f32 = t146 * t214;
-        let t216: f32 = t150 * t212;
-        let t217: f32 = t187 * t198;
-        let t218: f32 = -t217;
-        let t219: f32 = platform_mz * t218;
-        let t220: f32 = platform_mx * t66;
-        let t221: f32 = t194 * t220;
-        let t222: f32 = platform_my * t35;
-        let t223: f32 = t189 * t222;
-        let t224: f32 = t221 - t223;
-        let t225: f32 = t224 - t219;
-        let t226: f32 = t109 * t225;
-        let t227: f32 = t216 + t226;
-        let t228: f32 = t170 * t227;
-        let t229: f32 = t150 * t150;
-        let t230: f32 = t1 * t229;
-        let t231: f32 = t3 * t3;
-        let t232: f32 = t1 * t231;
-        let t233: f32 = t230 + t232;
-        let t234: f32 = t125 * t233;
-        let t235: f32 = t1 * t109;
-        let t236: f32 = t150 * t235;
-        let t237: f32 = t145 * t236;
-        let t238: f32 = t10 * t43;
-        let t239: f32 = t118 * t238;
-        let t240: f32 = t43 * t118;
-        let t241: f32 = t106 + t240;
-        let t242: f32 = t239 * 0.125;
-        let t243: f32 = t241 - t242;
-        let t244: f32 = t146 * t243;
-        let t245: f32 = t109 * t244;
-        let t246: f32 = t182 - t245;
-        let t247: f32 = t234 + t246;
-        let t248: f32 = t183 + t247;
-        let t249: f32 = t248 - t237;
-        let t250: f32 = joint1_mass * t249;
-        let t251: f32 = joint1_my * t191;
-        let t252: f32 = joint1_mx * t60;
-        let t253: f32 = t194 * t252;
-        let t254: f32 = joint1_mz * t84;
-        let t255: f32 = t198 * t254;
-        let t256: f32 = t253 - t255;
-        let t257: f32 = t251 + t256;
-        let t258: f32 = t109 * t257;
-        let t259: f32 = joint1_mx * t205;
-        let t260: f32 = joint1_mz * t92;
-        let t261: f32 = t198 * t260;
-        let t262: f32 = joint1_my * t25;
-        let t263: f32 = t189 * t262;
-        let t264: f32 = t261 - t263;
-        let t265: f32 = t259 + t264;
-        let t266: f32 = t3 * t265;
-        let t267: f32 = t258 - t266;
-        let t268: f32 = t146 * t267;
-        let t269: f32 = t150 * t265;
-        let t270: f32 = joint1_mz * t218;
-        let t271: f32 = joint1_mx * t66;
-        let t272: f32 = t194 * t271;
-        let t273: f32 = joint1_my * t35;
-        let t274: f32 = t189 * t273;
-        let t275: f32 = t272 - t274;
-        let t276: f32 = t275 - t270;
-        let t277: f32 = t109 * t276;
-        let t278: f32 = t269 + t277;
-        let t279: f32 = t170 * t278;
-        let t280: f32 = gravity_x + t183;
-        let t281: f32 = rod1_mass * t280;
-        let t282: f32 = joint3_mx * t205;
-        let t283: f32 = joint3_mz * t92;
-        let t284: f32 = t198 * t283;
-        let t285: f32 = joint3_my * t25;
-        let t286: f32 = t189 * t285;
-        let t287: f32 = t284 - t286;
-        let t288: f32 = t282 + t287;
-        let t289: f32 = t150 * t288;
-        let t290: f32 = joint3_mz * t218;
-        let t291: f32 = joint3_mx * t66;
-        let t292: f32 = t194 * t291;
-        let t293: f32 = joint3_my * t35;
-        let t294: f32 = t189 * t293;
-        let t295: f32 = t292 - t294;
-        let t296: f32 = t295 - t290;
-        let t297: f32 = t109 * t296;
-        let t298: f32 = t289 + t297;
-        let t299: f32 = t170 * t298;
-        let t300: f32 = half_spacing + t122;
-        let t301: f32 = t300 - t123;
-        let t302: f32 = t233 * t301;
-        let t303: f32 = q3 + t241;
-        let t304: f32 = t303 - t242;
-        let t305: f32 = t109 * t146;
-        let t306: f32 = t304 * t305;
-        let t307: f32 = t143 - t142;
-        let t308: f32 = t236 * t307;
-        let t309: f32 = t182 + t308;
-        let t310: f32 = t302 + t309;
-        let t311: f32 = t183 + t310;
-        let t312: f32 = t311 - t306;
-        let t313: f32 = joint3_mass * t312;
-        let t314: f32 = joint3_my * t191;
-        let t315: f32 = joint3_mx * t60;
-        let t316: f32 = t194 * t315;
-        let t317: f32 = joint3_mz * t84;
-        let t318: f32 = t198 * t317;
-        let t319: f32 = t316 - t318;
-        let t320: f32 = t314 + t319;
-        let t321: f32 = t109 * t320;
-        let t322: f32 = t3 * t288;
-        let t323: f32 = t321 - t322;
-        let t324: f32 = t146 * t323;
-        let t325: f32 = t313 - t324;
-        let t326: f32 = t299 + t325;
-        let t327: f32 = joint4_mx * t205;
-        let t328: f32 = joint4_mz * t92;
-        let t329: f32 = t198 * t328;
-        let t330: f32 = joint4_my * t25;
-        let t331: f32 = t189 * t330;
-        let t332: f32 = t329 - t331;
-        let t333: f32 = t327 + t332;
-        let t334: f32 = t150 * t333;
-        let t335: f32 = joint4_mz * t218;
-        let t336: f32 = joint4_mx * t66;
-        let t337: f32 = t194 * t336;
-        let t338: f32 = joint4_my * t35;
-        let t339: f32 = t189 * t338;
-        let t340: f32 = t337 - t339;
-        let t341: f32 = t340 - t335;
-        let t342: f32 = t109 * t341;
-        let t343: f32 = t334 + t342;
-        let t344: f32 = t170 * t343;
-        let t345: f32 = half_spacing + t123;
-        let t346: f32 = t345 - t122;
-        let t347: f32 = t233 * t346;
-        let t348: f32 = q4 + t241;
-        let t349: f32 = t348 - t242;
-        let t350: f32 = t305 * t349;
-        let t351: f32 = t183 + t309;
-        let t352: f32 = t347 + t350;
-        let t353: f32 = t351 - t352;
-        let t354: f32 = joint4_mass * t353;
-        let t355: f32 = joint4_my * t191;
-        let t356: f32 = joint4_mx * t60;
-        let t357: f32 = t194 * t356;
-        let t358: f32 = joint4_mz * t84;
-        let t359: f32 = t198 * t358;
-        let t360: f32 = t357 - t359;
-        let t361: f32 = t355 + t360;
-        let t362: f32 = t109 * t361;
-        let t363: f32 = t3 * t333;
-        let t364: f32 = t362 - t363;
-        let t365: f32 = t146 * t364;
-        let t366: f32 = t354 - t365;
-        let t367: f32 = t344 + t366;
-        let t368: f32 = joint5_mx * t205;
-        let t369: f32 = joint5_mz * t92;
-        let t370: f32 = t198 * t369;
-        let t371: f32 = joint5_my * t25;
-        let t372: f32 = t189 * t371;
-        let t373: f32 = t370 - t372;
-        let t374: f32 = t368 + t373;
-        let t375: f32 = t150 * t374;
-        let t376: f32 = joint5_mz * t218;
-        let t377: f32 = joint5_mx * t66;
-        let t378: f32 = t194 * t377;
-        let t379: f32 = joint5_my * t35;
-        let t380: f32 = t189 * t379;
-        let t381: f32 = t378 - t380;
-        let t382: f32 = t381 - t376;
-        let t383: f32 = t109 * t382;
-        let t384: f32 = t375 + t383;
-        let t385: f32 = t170 * t384;
-        let t386: f32 = half_spacing + t107;
-        let t387: f32 = t3 * t386;
-        let t388: f32 = q5 + t163;
-        let t389: f32 = t150 * t388;
-        let t390: f32 = t387 + t389;
-        let t391: f32 = t235 * t390;
-        let t392: f32 = t122 - t123;
-        let t393: f32 = t233 * t392;
-        let t394: f32 = t182 + t393;
-        let t395: f32 = t183 + t394;
-        let t396: f32 = t395 - t391;
-        let t397: f32 = joint5_mass * t396;
-        let t398: f32 = joint5_my * t191;
-        let t399: f32 = joint5_mx * t60;
-        let t400: f32 = t194 * t399;
-        let t401: f32 = joint5_mz * t84;
-        let t402: f32 = t198 * t401;
-        let t403: f32 = t400 - t402;
-        let t404: f32 = t398 + t403;
-        let t405: f32 = t109 * t404;
-        let t406: f32 = t3 * t374;
-        let t407: f32 = t405 - t406;
-        let t408: f32 = t146 * t407;
-        let t409: f32 = t397 - t408;
-        let t410: f32 = t385 + t409;
-        let t411: f32 = joint6_mx * t205;
-        let t412: f32 = joint6_mz * t92;
-        let t413: f32 = t198 * t412;
-        let t414: f32 = joint6_my * t25;
-        let t415: f32 = t189 * t414;
-        let t416: f32 = t413 - t415;
-        let t417: f32 = t411 + t416;
-        let t418: f32 = t150 * t417;
-        let t419: f32 = joint6_mz * t218;
-        let t420: f32 = joint6_mx * t66;
-        let t421: f32 = t194 * t420;
-        let t422: f32 = joint6_my * t35;
-        let t423: f32 = t189 * t422;
-        let t424: f32 = t421 - t423;
-        let t425: f32 = t424 - t419;
-        let t426: f32 = t109 * t425;
-        let t427: f32 = t418 + t426;
-        let t428: f32 = t170 * t427;
-        let t429: f32 = half_spacing - t107;
-        let t430: f32 = t3 * t429;
-        let t431: f32 = q6 + t163;
-        let t432: f32 = t150 * t431;
-        let t433: f32 = t430 - t432;
-        let t434: f32 = t235 * t433;
-        let t435: f32 = t394 + t434;
-        let t436: f32 = t183 + t435;
-        let t437: f32 = joint6_mass * t436;
-        let t438: f32 = joint6_my * t191;
-        let t439: f32 = joint6_mx * t60;
-        let t440: f32 = t194 * t439;
-        let t441: f32 = joint6_mz * t84;
-        let t442: f32 = t198 * t441;
-        let t443: f32 = t440 - t442;
-        let t444: f32 = t438 + t443;
-        let t445: f32 = t109 * t444;
-        let t446: f32 = t3 * t417;
-        let t447: f32 = t445 - t446;
-        let t448: f32 = t146 * t447;
-        let t449: f32 = t437 - t448;
-        let t450: f32 = t428 + t449;
-        let t451: f32 = t3 * t296;
-        let t452: f32 = t150 * t320;
-        let t453: f32 = t451 + t452;
-        let t454: f32 = t146 * t453;
-        let t455: f32 = t74 - t76;
-        let t456: f32 = t455 * 0.125;
-        let t457: f32 = t10 * t456;
-        let t458: f32 = t77 - t457;
-        let t459: f32 = t73 * t458;
-        let t460: f32 = t121 + t459;
-        let t461: f32 = half_spacing + t460;
-        let t462: f32 = t109 * t461;
-        let t463: f32 = q3 + t107;
-        let t464: f32 = t3 * t463;
-        let t465: f32 = t462 + t464;
-        let t466: f32 = t170 * t465;
-        let t467: f32 = t107 * t150;
-        let t468: f32 = t3 * t164;
-        let t469: f32 = t467 - t468;
-        let t470: f32 = t0 * t469;
-        let t471: f32 = qd1 + t470;
-        let t472: f32 = t174 * t471;
-        let t473: f32 = t165 * t169;
-        let t474: f32 = gravity_z + t473;
-        let t475: f32 = t472 + t474;
-        let t476: f32 = t109 * t109;
-        let t477: f32 = t1 * t476;
-        let t478: f32 = t232 + t477;
-        let t479: f32 = t307 * t478;
-        let t480: f32 = t475 - t479;
-        let t481: f32 = t480 - t466;
-        let t482: f32 = joint3_mass * t481;
-        let t483: f32 = t235 * t298;
-        let t484: f32 = t482 - t483;
-        let t485: f32 = t454 - t484;
-        let t486: f32 = t3 * t341;
-        let t487: f32 = t150 * t361;
-        let t488: f32 = t486 + t487;
-        let t489: f32 = t146 * t488;
-        let t490: f32 = half_spacing - t460;
-        let t491: f32 = t109 * t490;
-        let t492: f32 = q4 + t107;
-        let t493: f32 = t3 * t492;
-        let t494: f32 = t491 - t493;
-        let t495: f32 = t170 * t494;
-        let t496: f32 = t480 + t495;
-        let t497: f32 = joint4_mass * t496;
-        let t498: f32 = t235 * t343;
-        let t499: f32 = t497 - t498;
-        let t500: f32 = t489 - t499;
-        let t501: f32 = t485 + t500;
-        let t502: f32 = t3 * t382;
-        let t503: f32 = t150 * t404;
-        let t504: f32 = t502 + t503;
-        let t505: f32 = t146 * t504;
-        let t506: f32 = half_spacing + t241;
-        let t507: f32 = t506 - t242;
-        let t508: f32 = t146 * t150;
-        let t509: f32 = t507 * t508;
-        let t510: f32 = q5 + t142;
-        let t511: f32 = t510 - t143;
-        let t512: f32 = t478 * t511;
-        let t513: f32 = t236 * t392;
-        let t514: f32 = t475 - t513;
-        let t515: f32 = t512 + t514;
-        let t516: f32 = t515 - t509;
-        let t517: f32 = joint5_mass * t516;
-        let t518: f32 = t235 * t384;
-        let t519: f32 = t517 - t518;
-        let t520: f32 = t505 - t519;
-        let t521: f32 = t3 * t425;
-        let t522: f32 = t150 * t444;
-        let t523: f32 = t521 + t522;
-        let t524: f32 = t146 * t523;
-        let t525: f32 = half_spacing + t242;
-        let t526: f32 = t525 - t241;
-        let t527: f32 = t508 * t526;
-        let t528: f32 = q6 + t142;
-        let t529: f32 = t528 - t143;
-        let t530: f32 = t478 * t529;
-        let t531: f32 = t527 + t530;
-        let t532: f32 = t514 + t531;
-        let t533: f32 = joint6_mass * t532;
-        let t534: f32 = t235 * t427;
-        let t535: f32 = t533 - t534;
-        let t536: f32 = t524 - t535;
-        let t537: f32 = t520 + t536;
-        let t538: f32 = t501 + t537;
-        let t539: f32 = t227 * t235;
-        let t540: f32 = platform_mass * t475;
-        let t541: f32 = t539 - t540;
-        let t542: f32 = t3 * t225;
-        let t543: f32 = t150 * t202;
-        let t544: f32 = t542 + t543;
-        let t545: f32 = t146 * t544;
-        let t546: f32 = t1 * t125;
-        let t547: f32 = t109 * t546;
-        let t548: f32 = t150 * t547;
-        let t549: f32 = t145 * t478;
-        let t550: f32 = t150 * t244;
-        let t551: f32 = t475 - t550;
-        let t552: f32 = t549 + t551;
-        let t553: f32 = t552 - t548;
-        let t554: f32 = joint1_mass * t553;
-        let t555: f32 = t545 - t554;
-        let t556: f32 = t541 + t555;
-        let t557: f32 = t235 * t278;
-        let t558: f32 = t3 * t276;
-        let t559: f32 = t150 * t257;
-        let t560: f32 = t558 + t559;
-        let t561: f32 = t146 * t560;
-        let t562: f32 = t557 + t561;
-        let t563: f32 = joint2_mz * t218;
-        let t564: f32 = joint2_mx * t66;
-        let t565: f32 = t194 * t564;
-        let t566: f32 = joint2_my * t35;
-        let t567: f32 = t189 * t566;
-        let t568: f32 = t565 - t567;
-        let t569: f32 = t568 - t563;
-        let t570: f32 = t3 * t569;
-        let t571: f32 = joint2_my * t191;
-        let t572: f32 = joint2_mx * t60;
-        let t573: f32 = t194 * t572;
-        let t574: f32 = joint2_mz * t84;
-        let t575: f32 = t198 * t574;
-        let t576: f32 = t573 - t575;
-        let t577: f32 = t571 + t576;
-        let t578: f32 = t150 * t577;
-        let t579: f32 = t570 + t578;
-        let t580: f32 = t146 * t579;
-        let t581: f32 = q2 + t122;
-        let t582: f32 = t581 - t123;
-        let t583: f32 = t236 * t582;
-        let t584: f32 = half_spacing + t143;
-        let t585: f32 = t584 - t142;
-        let t586: f32 = t478 * t585;
-        let t587: f32 = t583 + t586;
-        let t588: f32 = t551 - t587;
-        let t589: f32 = joint2_mass * t588;
-        let t590: f32 = joint2_mx * t205;
-        let t591: f32 = joint2_mz * t92;
-        let t592: f32 = t198 * t591;
-        let t593: f32 = joint2_my * t25;
-        let t594: f32 = t189 * t593;
-        let t595: f32 = t592 - t594;
-        let t596: f32 = t590 + t595;
-        let t597: f32 = t150 * t596;
-        let t598: f32 = t109 * t569;
-        let t599: f32 = t597 + t598;
-        let t600: f32 = t235 * t599;
-        let t601: f32 = t589 - t600;
-        let t602: f32 = t580 - t601;
-        let t603: f32 = gravity_z * rod5_mass;
-        let t604: f32 = gravity_z * rod6_mass;
-        let t605: f32 = t603 + t604;
-        let t606: f32 = t602 - t605;
-        let t607: f32 = t562 + t606;
-        let t608: f32 = t556 + t607;
-        let t609: f32 = t538 + t608;
-        let t610: f32 = -t609;
-        let t611: f32 = t112 * t610;
-        let t612: f32 = t10 * t198;
-        let t613: f32 = t612 * 0.125;
-        let t614: f32 = t198 - t613;
-        let t615: f32 = platform_mz * t614;
-        let t616: f32 = t224 - t615;
-        let t617: f32 = t184 * t616;
-        let t618: f32 = t10 * t194;
-        let t619: f32 = t618 * 0.125;
-        let t620: f32 = t194 - t619;
-        let t621: f32 = platform_mx * t620;
-        let t622: f32 = t211 + t621;
-        let t623: f32 = t475 * t622;
-        let t624: f32 = joint1_mz * t614;
-        let t625: f32 = t275 - t624;
-        let t626: f32 = t249 * t625;
-        let t627: f32 = joint1_mx * t620;
-        let t628: f32 = t264 + t627;
-        let t629: f32 = t553 * t628;
-        let t630: f32 = t233 * t582;
-        let t631: f32 = t236 * t585;
-        let t632: f32 = t630 + t631;
-        let t633: f32 = t183 + t246;
-        let t634: f32 = t632 + t633;
-        let t635: f32 = joint2_mz * t614;
-        let t636: f32 = t568 - t635;
-        let t637: f32 = t634 * t636;
-        let t638: f32 = joint2_mx * t620;
-        let t639: f32 = t595 + t638;
-        let t640: f32 = t588 * t639;
-        let t641: f32 = joint2_mass * t634;
-        let t642: f32 = t109 * t577;
-        let t643: f32 = t3 * t596;
-        let t644: f32 = t642 - t643;
-        let t645: f32 = t146 * t644;
-        let t646: f32 = t641 - t645;
-        let t647: f32 = t170 * t599;
-        let t648: f32 = rod2_mass * t280;
-        let t649: f32 = t647 + t648;
-        let t650: f32 = t646 + t649;
-        let t651: f32 = t585 * t650;
-        let t652: f32 = -t602;
-        let t653: f32 = t582 * t652;
-        let t654: f32 = joint3_mz * t614;
-        let t655: f32 = t295 - t654;
-        let t656: f32 = t312 * t655;
-        let t657: f32 = joint3_mx * t620;
-        let t658: f32 = t287 + t657;
-        let t659: f32 = t481 * t658;
-        let t660: f32 = -t485;
-        let t661: f32 = t301 * t660;
-        let t662: f32 = joint4_mz * t614;
-        let t663: f32 = t340 - t662;
-        let t664: f32 = t353 * t663;
-        let t665: f32 = joint4_mx * t620;
-        let t666: f32 = t332 + t665;
-        let t667: f32 = t496 * t666;
-        let t668: f32 = -t500;
-        let t669: f32 = t346 * t668;
-        let t670: f32 = joint5_mz * t614;
-        let t671: f32 = t381 - t670;
-        let t672: f32 = t396 * t671;
-        let t673: f32 = joint5_mx * t620;
-        let t674: f32 = t373 + t673;
-        let t675: f32 = t516 * t674;
-        let t676: f32 = t410 * t511;
-        let t677: f32 = joint6_mz * t614;
-        let t678: f32 = t424 - t677;
-        let t679: f32 = t436 * t678;
-        let t680: f32 = joint6_mx * t620;
-        let t681: f32 = t416 + t680;
-        let t682: f32 = t532 * t681;
-        let t683: f32 = t450 * t529;
-        let t684: f32 = t109 * t205;
-        let t685: f32 = t3 * t60;
-        let t686: f32 = t66 * t150;
-        let t687: f32 = t685 - t686;
-        let t688: f32 = t194 * t687;
-        let t689: f32 = t684 + t688;
-        let t690: f32 = platform_ixz + joint1_ixz;
-        let t691: f32 = joint2_ixz + joint3_ixz;
-        let t692: f32 = joint4_ixz + joint5_ixz;
-        let t693: f32 = t690 + t691;
-        let t694: f32 = joint6_ixz + t692;
-        let t695: f32 = t693 + t694;
-        let t696: f32 = t689 * t695;
-        let t697: f32 = t150 * t218;
-        let t698: f32 = t92 * t109;
-        let t699: f32 = t3 * t84;
-        let t700: f32 = t698 - t699;
-        let t701: f32 = t198 * t700;
-        let t702: f32 = t697 + t701;
-        let t703: f32 = platform_izz + joint1_izz;
-        let t704: f32 = joint2_izz + joint3_izz;
-        let t705: f32 = joint4_izz + joint5_izz;
-        let t706: f32 = t703 + t704;
-        let t707: f32 = joint6_izz + t705;
-        let t708: f32 = t706 + t707;
-        let t709: f32 = t702 * t708;
-        let t710: f32 = t696 + t709;
-        let t711: f32 = t0 * t710;
-        let t712: f32 = t3 * t191;
-        let t713: f32 = t25 * t109;
-        let t714: f32 = t35 * t150;
-        let t715: f32 = t713 - t714;
-        let t716: f32 = t189 * t715;
-        let t717: f32 = t712 - t716;
-        let t718: f32 = t0 * t717;
-        let t719: f32 = -t718;
-        let t720: f32 = platform_iyz + joint1_iyz;
-        let t721: f32 = joint2_iyz + joint3_iyz;
-        let t722: f32 = joint4_iyz + joint5_iyz;
-        let t723: f32 = t720 + t721;
-        let t724: f32 = joint6_iyz + t722;
-        let t725: f32 = t723 + t724;
-        let t726: f32 = t719 * t725;
-        let t727: f32 = t711 - t726;
-        let t728: f32 = t689 * t727;
-        let t729: f32 = platform_ixx + joint1_ixx;
-        let t730: f32 = joint2_ixx + joint3_ixx;
-        let t731: f32 = joint4_ixx + joint5_ixx;
-        let t732: f32 = t729 + t730;
-        let t733: f32 = joint6_ixx + t731;
-        let t734: f32 = t732 + t733;
-        let t735: f32 = t689 * t734;
-        let t736: f32 = t695 * t702;
-        let t737: f32 = t735 + t736;
-        let t738: f32 = t0 * t737;
-        let t739: f32 = platform_ixy + joint1_ixy;
-        let t740: f32 = joint2_ixy + joint3_ixy;
-        let t741: f32 = joint4_ixy + joint5_ixy;
-        let t742: f32 = t739 + t740;
-        let t743: f32 = joint6_ixy + t741;
-        let t744: f32 = t742 + t743;
-        let t745: f32 = t719 * t744;
-        let t746: f32 = t738 - t745;
-        let t747: f32 = t702 * t746;
-        let t748: f32 = t728 - t747;
-        let t749: f32 = t0 * t191;
-        let t750: f32 = t748 * t749;
-        let t751: f32 = t689 * t744;
-        let t752: f32 = t702 * t725;
-        let t753: f32 = t751 + t752;
-        let t754: f32 = t0 * t753;
-        let t755: f32 = platform_iyy + joint1_iyy;
-        let t756: f32 = joint2_iyy + joint3_iyy;
-        let t757: f32 = joint4_iyy + joint5_iyy;
-        let t758: f32 = t755 + t756;
-        let t759: f32 = joint6_iyy + t757;
-        let t760: f32 = t758 + t759;
-        let t761: f32 = t719 * t760;
-        let t762: f32 = t754 - t761;
-        let t763: f32 = t0 * t689;
-        let t764: f32 = t762 * t763;
-        let t765: f32 = t719 * t746;
-        let t766: f32 = t764 + t765;
-        let t767: f32 = t84 * t198;
-        let t768: f32 = t766 * t767;
-        let t769: f32 = t0 * t702;
-        let t770: f32 = t762 * t769;
-        let t771: f32 = t719 * t727;
-        let t772: f32 = t770 + t771;
-        let t773: f32 = t60 * t194;
-        let t774: f32 = t772 * t773;
-        let t775: f32 = half_spacing - t163;
-        let t776: f32 = t231 + t476;
-        let t777: f32 = t775 * t776;
-        let t778: f32 = t3 * t107;
-        let t779: f32 = q2 + t460;
-        let t780: f32 = t109 * t779;
-        let t781: f32 = t778 + t780;
-        let t782: f32 = t150 * t781;
-        let t783: f32 = t777 + t782;
-        let t784: f32 = t0 * t783;
-        let t785: f32 = q1 + t460;
-        let t786: f32 = t0 * t785;
-        let t787: f32 = t152 - t786;
-        let t788: f32 = t787 * 0.5;
-        let t789: f32 = t788 + 1.0;
-        let t790: f32 = qd3 * t789;
-        let t791: f32 = qd4 * t788;
-        let t792: f32 = t109 + t791;
-        let t793: f32 = t166 + t790;
-        let t794: f32 = t792 - t793;
-        let t795: f32 = t109 * t794;
-        let t796: f32 = t3 * t471;
-        let t797: f32 = t795 + t796;
-        let t798: f32 = t797 - t784;
-        let t799: f32 = t0 * t798;
-        let t800: f32 = gravity_z + t799;
-        let t801: f32 = joint2_mass * t800;
-        let t802: f32 = joint5_mx + joint6_mx;
-        let t803: f32 = joint3_mx + joint4_mx;
-        let t804: f32 = platform_mx + t803;
-        let t805: f32 = t802 + t804;
-        let t806: f32 = joint2_mx + t805;
-        let t807: f32 = t66 * t194;
-        let t808: f32 = t806 * t807;
-        let t809: f32 = joint5_my + joint6_my;
-        let t810: f32 = joint3_my + joint4_my;
-        let t811: f32 = platform_my + t810;
-        let t812: f32 = t809 + t811;
-        let t813: f32 = joint2_my + t812;
-        let t814: f32 = t35 * t189;
-        let t815: f32 = t813 * t814;
-        let t816: f32 = joint5_mz + joint6_mz;
-        let t817: f32 = joint3_mz + joint4_mz;
-        let t818: f32 = platform_mz + t817;
-        let t819: f32 = t816 + t818;
-        let t820: f32 = joint2_mz + t819;
-        let t821: f32 = t218 * t820;
-        let t822: f32 = t815 + t821;
-        let t823: f32 = t808 - t822;
-        let t824: f32 = t3 * t823;
-        let t825: f32 = t767 * t820;
-        let t826: f32 = t773 * t806;
-        let t827: f32 = t191 * t813;
-        let t828: f32 = t826 + t827;
-        let t829: f32 = t825 - t828;
-        let t830: f32 = t150 * t829;
-        let t831: f32 = t824 - t830;
-        let t832: f32 = t3 * t831;
-        let t833: f32 = t109 * t823;
-        let t834: f32 = t25 * t189;
-        let t835: f32 = t813 * t834;
-        let t836: f32 = t92 * t198;
-        let t837: f32 = t820 * t836;
-        let t838: f32 = t205 * t806;
-        let t839: f32 = t837 + t838;
-        let t840: f32 = t835 - t839;
-        let t841: f32 = t150 * t840;
-        let t842: f32 = t833 - t841;
-        let t843: f32 = t109 * t842;
-        let t844: f32 = t832 + t843;
-        let t845: f32 = t1 * t844;
-        let t846: f32 = t0 * t797;
-        let t847: f32 = gravity_z + t846;
-        let t848: f32 = platform_mass * t847;
-        let t849: f32 = t150 * t465;
-        let t850: f32 = -t163;
-        let t851: f32 = t776 * t850;
-        let t852: f32 = t849 + t851;
-        let t853: f32 = t0 * t852;
-        let t854: f32 = t797 - t853;
-        let t855: f32 = t0 * t854;
-        let t856: f32 = gravity_z + t855;
-        let t857: f32 = joint3_mass * t856;
-        let t858: f32 = t848 + t857;
-        let t859: f32 = t150 * t494;
-        let t860: f32 = t859 - t851;
-        let t861: f32 = t0 * t860;
-        let t862: f32 = t797 + t861;
-        let t863: f32 = t0 * t862;
-        let t864: f32 = gravity_z + t863;
-        let t865: f32 = joint4_mass * t864;
-        let t866: f32 = t388 * t776;
-        let t867: f32 = t109 * t460;
-        let t868: f32 = t387 + t867;
-        let t869: f32 = t150 * t868;
-        let t870: f32 = t866 - t869;
-        let t871: f32 = t0 * t870;
-        let t872: f32 = t797 + t871;
-        let t873: f32 = t0 * t872;
-        let t874: f32 = gravity_z + t873;
-        let t875: f32 = joint5_mass * t874;
-        let t876: f32 = t431 * t776;
-        let t877: f32 = t430 - t867;
-        let t878: f32 = t150 * t877;
-        let t879: f32 = t876 + t878;
-        let t880: f32 = t0 * t879;
-        let t881: f32 = t797 + t880;
-        let t882: f32 = t0 * t881;
-        let t883: f32 = gravity_z + t882;
-        let t884: f32 = joint6_mass * t883;
-        let t885: f32 = t875 + t884;
-        let t886: f32 = t605 + t885;
-        let t887: f32 = t865 + t886;
-        let t888: f32 = t858 + t887;
-        let t889: f32 = t801 + t888;
-        let t890: f32 = t889 - t845;
-        let t891: f32 = t125 * t890;
-        let t892: f32 = t229 + t231;
-        let t893: f32 = t779 * t892;
-        let t894: f32 = t150 * t775;
-        let t895: f32 = t778 - t894;
-        let t896: f32 = t109 * t895;
-        let t897: f32 = t893 - t896;
-        let t898: f32 = t0 * t897;
-        let t899: f32 = t107 * t109;
-        let t900: f32 = t460 * 0.5;
-        let t901: f32 = -t900;
-        let t902: f32 = t2 * t901;
-        let t903: f32 = t899 + t902;
-        let t904: f32 = t0 * t903;
-        let t905: f32 = t131 - t904;
-        let t906: f32 = t3 * t905;
-        let t907: f32 = t150 * t794;
-        let t908: f32 = t906 + t907;
-        let t909: f32 = t908 - t898;
-        let t910: f32 = t0 * t909;
-        let t911: f32 = gravity_x - t910;
-        let t912: f32 = joint2_mass * t911;
-        let t913: f32 = gravity_x * rod2_mass;
-        let t914: f32 = t3 * t840;
-        let t915: f32 = t109 * t829;
-        let t916: f32 = t914 - t915;
-        let t917: f32 = t3 * t916;
-        let t918: f32 = t150 * t842;
-        let t919: f32 = t917 - t918;
-        let t920: f32 = t1 * t919;
-        let t921: f32 = t0 * t908;
-        let t922: f32 = gravity_x - t921;
-        let t923: f32 = platform_mass * t922;
-        let t924: f32 = t109 * t390;
-        let t925: f32 = t460 * t892;
-        let t926: f32 = t924 - t925;
-        let t927: f32 = t0 * t926;
-        let t928: f32 = t908 + t927;
-        let t929: f32 = t0 * t928;
-        let t930: f32 = gravity_x - t929;
-        let t931: f32 = joint5_mass * t930;
-        let t932: f32 = t923 + t931;
-        let t933: f32 = t109 * t433;
-        let t934: f32 = t925 + t933;
-        let t935: f32 = t0 * t934;
-        let t936: f32 = t908 - t935;
-        let t937: f32 = t0 * t936;
-        let t938: f32 = gravity_x - t937;
-        let t939: f32 = joint6_mass * t938;
-        let t940: f32 = t461 * t892;
-        let t941: f32 = t150 * t850;
-        let t942: f32 = t464 - t941;
-        let t943: f32 = t109 * t942;
-        let t944: f32 = t940 - t943;
-        let t945: f32 = t0 * t944;
-        let t946: f32 = t908 - t945;
-        let t947: f32 = t0 * t946;
-        let t948: f32 = gravity_x - t947;
-        let t949: f32 = joint3_mass * t948;
-        let t950: f32 = t490 * t892;
-        let t951: f32 = t493 - t941;
-        let t952: f32 = t109 * t951;
-        let t953: f32 = t950 + t952;
-        let t954: f32 = t0 * t953;
-        let t955: f32 = t908 + t954;
-        let t956: f32 = t0 * t955;
-        let t957: f32 = gravity_x - t956;
-        let t958: f32 = joint4_mass * t957;
-        let t959: f32 = t949 + t958;
-        let t960: f32 = t939 + t959;
-        let t961: f32 = t932 + t960;
-        let t962: f32 = t912 + t913;
-        let t963: f32 = t961 + t962;
-        let t964: f32 = t963 - t920;
-        let t965: f32 = t145 * t964;
-        let t966: f32 = t810 * t834;
-        let t967: f32 = t817 * t836;
-        let t968: f32 = t205 * t803;
-        let t969: f32 = t967 + t968;
-        let t970: f32 = t966 - t969;
-        let t971: f32 = t3 * t970;
-        let t972: f32 = t767 * t817;
-        let t973: f32 = t773 * t803;
-        let t974: f32 = t191 * t810;
-        let t975: f32 = t973 + t974;
-        let t976: f32 = t972 - t975;
-        let t977: f32 = t109 * t976;
-        let t978: f32 = t971 - t977;
-        let t979: f32 = t3 * t978;
-        let t980: f32 = t803 * t807;
-        let t981: f32 = t810 * t814;
-        let t982: f32 = t218 * t817;
-        let t983: f32 = t981 + t982;
-        let t984: f32 = t980 - t983;
-        let t985: f32 = t109 * t984;
-        let t986: f32 = t150 * t970;
-        let t987: f32 = t985 - t986;
-        let t988: f32 = t150 * t987;
-        let t989: f32 = t979 - t988;
-        let t990: f32 = t1 * t989;
-        let t991: f32 = t959 - t990;
-        let t992: f32 = t307 * t991;
-        let t993: f32 = t802 * t807;
-        let t994: f32 = t809 * t814;
-        let t995: f32 = t218 * t816;
-        let t996: f32 = t994 + t995;
-        let t997: f32 = t993 - t996;
-        let t998: f32 = t3 * t997;
-        let t999: f32 = t767 * t816;
-        (
-            t0,
-            t1,
-            t3,
-            t10,
-            t25,
-            t35,
-            t107,
-            t109,
-            t125,
-            t133,
-            t145,
-            t146,
-            t150,
-            t152,
-            t154,
-            t155,
-            t164,
-            t165,
-            t170,
-            t176,
-            t184,
-            t185,
-            t186,
-            t189,
-            t191,
-            t201,
-            t205,
-            t214,
-            t215,
-            t218,
-            t228,
-            t229,
-            t230,
-            t235,
-            t243,
-            t249,
-            t250,
-            t256,
-            t267,
-            t268,
-            t279,
-            t281,
-            t301,
-            t304,
-            t305,
-            t307,
-            t312,
-            t319,
-            t323,
-            t326,
-            t346,
-            t349,
-            t353,
-            t360,
-            t364,
-            t367,
-            t386,
-            t389,
-            t392,
-            t396,
-            t403,
-            t407,
-            t410,
-            t429,
-            t432,
-            t436,
-            t443,
-            t447,
-            t450,
-            t453,
-            t462,
-            t463,
-            t471,
-            t475,
-            t476,
-            t477,
-            t481,
-            t488,
-            t491,
-            t492,
-            t496,
-            t504,
-            t507,
-            t508,
-            t511,
-            t516,
-            t520,
-            t523,
-            t526,
-            t529,
-            t532,
-            t536,
-            t544,
-            t553,
-            t560,
-            t576,
-            t579,
-            t582,
-            t585,
-            t588,
-            t603,
-            t604,
-            t609,
-            t611,
-            t614,
-            t616,
-            t617,
-            t620,
-            t622,
-            t623,
-            t625,
-            t626,
-            t628,
-            t629,
-            t634,
-            t636,
-            t637,
-            t639,
-            t640,
-            t644,
-            t650,
-            t651,
-            t653,
-            t655,
-            t656,
-            t658,
-            t659,
-            t660,
-            t661,
-            t663,
-            t664,
-            t666,
-            t667,
-            t668,
-            t669,
-            t671,
-            t672,
-            t674,
-            t675,
-            t676,
-            t678,
-            t679,
-            t681,
-            t682,
-            t683,
-            t748,
-            t750,
-            t766,
-            t767,
-            t768,
-            t772,
-            t773,
-            t774,
-            t780,
-            t785,
-            t802,
-            t805,
-            t806,
-            t807,
-            t809,
-            t812,
-            t813,
-            t814,
-            t816,
-            t819,
-            t820,
-            t831,
-            t834,
-            t836,
-            t867,
-            t886,
-            t888,
-            t891,
-            t894,
-            t905,
-            t916,
-            t941,
-            t961,
-            t965,
-            t976,
-            t978,
-            t984,
-            t992,
-            t997,
-            t998,
-            t999,
-        )
-    };
-    let (t1060, t1061, t1072, t1365, t1368, t1445, t1447, t1448) = {
-        let t1000: f32 = t773 * t802;
-        let t1001: f32 = t191 * t809;
-        let t1002: f32 = t1000 + t1001;
-        let t1003: f32 = t999 - t1002;
-        let t1004: f32 = t150 * t1003;
-        let t1005: f32 = t998 - t1004;
-        let t1006: f32 = t3 * t1005;
-        let t1007: f32 = t109 * t997;
-        let t1008: f32 = t809 * t834;
-        let t1009: f32 = t816 * t836;
-        let t1010: f32 = t205 * t802;
-        let t1011: f32 = t1009 + t1010;
-        let t1012: f32 = t1008 - t1011;
-        let t1013: f32 = t150 * t1012;
-        let t1014: f32 = t1007 - t1013;
-        let t1015: f32 = t109 * t1014;
-        let t1016: f32 = t1006 + t1015;
-        let t1017: f32 = t1 * t1016;
-        let t1018: f32 = t886 - t1017;
-        let t1019: f32 = t392 * t1018;
-        let t1020: f32 = t669 + t676;
-        let t1021: f32 = t683 + t750;
-        let t1022: f32 = t768 + t774;
-        let t1023: f32 = t1020 + t1021;
-        let t1024: f32 = t891 + t1022;
-        let t1025: f32 = t1023 + t1024;
-        let t1026: f32 = t617 + t623;
-        let t1027: f32 = t626 + t629;
-        let t1028: f32 = t637 + t640;
-        let t1029: f32 = t651 + t653;
-        let t1030: f32 = t656 + t659;
-        let t1031: f32 = t661 + t664;
-        let t1032: f32 = t667 + t672;
-        let t1033: f32 = t675 + t679;
-        let t1034: f32 = t682 + t965;
-        let t1035: f32 = t992 + t1019;
-        let t1036: f32 = t1026 + t1027;
-        let t1037: f32 = t1028 + t1029;
-        let t1038: f32 = t1030 + t1031;
-        let t1039: f32 = t1032 + t1033;
-        let t1040: f32 = t1034 + t1035;
-        let t1041: f32 = t1036 + t1037;
-        let t1042: f32 = t1038 + t1039;
-        let t1043: f32 = t1041 + t1042;
-        let t1044: f32 = t1040 + t1043;
-        let t1045: f32 = t1025 - t1044;
-        let t1046: f32 = t0 * t1045;
-        let t1047: f32 = t611 - t1046;
-        let t1048: f32 = t1047 * 0.5;
-        let t1049: f32 = t215 + t268;
-        let t1050: f32 = t1048 + t1049;
-        let t1051: f32 = t185 + t228;
-        let t1052: f32 = t250 + t279;
-        let t1053: f32 = t281 + t326;
-        let t1054: f32 = t367 + t410;
-        let t1055: f32 = t450 + t650;
-        let t1056: f32 = t1051 + t1052;
-        let t1057: f32 = t1053 + t1054;
-        let t1058: f32 = t1056 + t1057;
-        let t1059: f32 = t1055 + t1058;
-        let t1060: f32 = t1050 - t1059;
-        let t1061: f32 = -t1048;
-        let t1062: f32 = t176 * t471;
-        let t1063: f32 = t133 * t165;
-        let t1064: f32 = t1062 - t1063;
-        let t1065: f32 = t154 * t1064;
-        let t1066: f32 = t155 * t1064;
-        let t1067: f32 = gravity_y - t1066;
-        let t1068: f32 = t1065 + t1067;
-        let t1069: f32 = t622 * t1068;
-        let t1070: f32 = t10 * t189;
-        let t1071: f32 = t1070 * 0.125;
-        let t1072: f32 = t189 - t1071;
-        let t1073: f32 = platform_my * t1072;
-        let t1074: f32 = t201 + t1073;
-        let t1075: f32 = t184 * t1074;
-        let t1076: f32 = t109 * t785;
-        let t1077: f32 = t150 * t164;
-        let t1078: f32 = t1076 + t1077;
-        let t1079: f32 = t146 * t1078;
-        let t1080: f32 = t230 + t477;
-        let t1081: f32 = t243 * t1080;
-        let t1082: f32 = t1068 + t1081;
-        let t1083: f32 = t1082 - t1079;
-        let t1084: f32 = t628 * t1083;
-        let t1085: f32 = joint1_my * t1072;
-        let t1086: f32 = t256 + t1085;
-        let t1087: f32 = t249 * t1086;
-        let t1088: f32 = t780 - t894;
-        let t1089: f32 = t146 * t1088;
-        let t1090: f32 = t1082 - t1089;
-        let t1091: f32 = t639 * t1090;
-        let t1092: f32 = joint2_my * t1072;
-        let t1093: f32 = t576 + t1092;
-        let t1094: f32 = t634 * t1093;
-        let t1095: f32 = t235 * t644;
-        let t1096: f32 = joint2_mass * t1090;
-        let t1097: f32 = t170 * t579;
-        let t1098: f32 = t1096 + t1097;
-        let t1099: f32 = t1095 + t1098;
-        let t1100: f32 = t582 * t1099;
-        let t1101: f32 = t301 * t305;
-        let t1102: f32 = t304 * t1080;
-        let t1103: f32 = t307 * t508;
-        let t1104: f32 = t1068 + t1103;
-        let t1105: f32 = t1102 + t1104;
-        let t1106: f32 = t1105 - t1101;
-        let t1107: f32 = t658 * t1106;
-        let t1108: f32 = joint3_my * t1072;
-        let t1109: f32 = t319 + t1108;
-        let t1110: f32 = t312 * t1109;
-        let t1111: f32 = t304 * t326;
-        let t1112: f32 = joint3_mass * t1106;
-        let t1113: f32 = t170 * t453;
-        let t1114: f32 = t1112 + t1113;
-        let t1115: f32 = t235 * t323;
-        let t1116: f32 = t1064 + t1068;
-        let t1117: f32 = rod3_mass * t1116;
-        let t1118: f32 = t1115 + t1117;
-        let t1119: f32 = t1114 + t1118;
-        let t1120: f32 = t301 * t1119;
-        let t1121: f32 = t305 * t346;
-        let t1122: f32 = t349 * t1080;
-        let t1123: f32 = t1121 + t1122;
-        let t1124: f32 = t1104 + t1123;
-        let t1125: f32 = t666 * t1124;
-        let t1126: f32 = joint4_my * t1072;
-        let t1127: f32 = t360 + t1126;
-        let t1128: f32 = t353 * t1127;
-        let t1129: f32 = t349 * t367;
-        let t1130: f32 = joint4_mass * t1124;
-        let t1131: f32 = t170 * t488;
-        let t1132: f32 = t1130 + t1131;
-        let t1133: f32 = t235 * t364;
-        let t1134: f32 = rod4_mass * t1116;
-        let t1135: f32 = t1133 + t1134;
-        let t1136: f32 = t1132 + t1135;
-        let t1137: f32 = t346 * t1136;
-        let t1138: f32 = t507 * t1080;
-        let t1139: f32 = t508 * t511;
-        let t1140: f32 = t305 * t392;
-        let t1141: f32 = t1068 - t1140;
-        let t1142: f32 = t1138 + t1141;
-        let t1143: f32 = t1142 - t1139;
-        let t1144: f32 = t674 * t1143;
-        let t1145: f32 = joint5_my * t1072;
-        let t1146: f32 = t403 + t1145;
-        let t1147: f32 = t396 * t1146;
-        let t1148: f32 = t410 * t507;
-        let t1149: f32 = t526 * t1080;
-        let t1150: f32 = t508 * t529;
-        let t1151: f32 = t1149 + t1150;
-        let t1152: f32 = t1141 - t1151;
-        let t1153: f32 = t681 * t1152;
-        let t1154: f32 = joint6_my * t1072;
-        let t1155: f32 = t443 + t1154;
-        let t1156: f32 = t436 * t1155;
-        let t1157: f32 = t450 * t526;
-        let t1158: f32 = t0 * t35;
-        let t1159: f32 = t189 * t1158;
-        let t1160: f32 = t748 * t1159;
-        let t1161: f32 = t772 * t807;
-        let t1162: f32 = t614 * t766;
-        let t1163: f32 = t812 * t834;
-        let t1164: f32 = t819 * t836;
-        let t1165: f32 = t205 * t805;
-        let t1166: f32 = t1164 + t1165;
-        let t1167: f32 = t1163 - t1166;
-        let t1168: f32 = t3 * t1167;
-        let t1169: f32 = t767 * t819;
-        let t1170: f32 = t773 * t805;
-        let t1171: f32 = t191 * t812;
-        let t1172: f32 = t1170 + t1171;
-        let t1173: f32 = t1169 - t1172;
-        let t1174: f32 = t109 * t1173;
-        let t1175: f32 = t1168 - t1174;
-        let t1176: f32 = t3 * t1175;
-        let t1177: f32 = t805 * t807;
-        let t1178: f32 = t812 * t814;
-        let t1179: f32 = t218 * t819;
-        let t1180: f32 = t1178 + t1179;
-        let t1181: f32 = t1177 - t1180;
-        let t1182: f32 = t109 * t1181;
-        let t1183: f32 = t150 * t1167;
-        let t1184: f32 = t1182 - t1183;
-        let t1185: f32 = t150 * t1184;
-        let t1186: f32 = t1176 - t1185;
-        let t1187: f32 = t1 * t1186;
-        let t1188: f32 = t961 - t1187;
-        let t1189: f32 = t243 * t1188;
-        let t1190: f32 = t109 * t916;
-        let t1191: f32 = t150 * t831;
-        let t1192: f32 = t1190 + t1191;
-        let t1193: f32 = t1 * t1192;
-        let t1194: f32 = rod3_mass + rod4_mass;
-        let t1195: f32 = gravity_y * t1194;
-        let t1196: f32 = t229 + t476;
-        let t1197: f32 = t463 * t1196;
-        let t1198: f32 = t462 - t941;
-        let t1199: f32 = t3 * t1198;
-        let t1200: f32 = t1197 - t1199;
-        let t1201: f32 = t0 * t1200;
-        let t1202: f32 = t150 * t471;
-        let t1203: f32 = t109 * t905;
-        let t1204: f32 = t1202 - t1203;
-        let t1205: f32 = t1204 - t1201;
-        let t1206: f32 = t0 * t1205;
-        let t1207: f32 = gravity_y - t1206;
-        let t1208: f32 = joint3_mass * t1207;
-        let t1209: f32 = t492 * t1196;
-        let t1210: f32 = t491 + t941;
-        let t1211: f32 = t3 * t1210;
-        let t1212: f32 = t1209 + t1211;
-        let t1213: f32 = t0 * t1212;
-        let t1214: f32 = t1204 - t1213;
-        let t1215: f32 = t0 * t1214;
-        let t1216: f32 = gravity_y - t1215;
-        let t1217: f32 = joint4_mass * t1216;
-        let t1218: f32 = t1208 + t1217;
-        let t1219: f32 = t1195 + t1218;
-        let t1220: f32 = t386 * t1196;
-        let t1221: f32 = t389 + t867;
-        let t1222: f32 = t3 * t1221;
-        let t1223: f32 = t1220 - t1222;
-        let t1224: f32 = t0 * t1223;
-        let t1225: f32 = t1204 - t1224;
-        let t1226: f32 = t0 * t1225;
-        let t1227: f32 = gravity_y - t1226;
-        let t1228: f32 = joint5_mass * t1227;
-        let t1229: f32 = t429 * t1196;
-        let t1230: f32 = t432 + t867;
-        let t1231: f32 = t3 * t1230;
-        let t1232: f32 = t1229 + t1231;
-        let t1233: f32 = t0 * t1232;
-        let t1234: f32 = t1204 + t1233;
-        let t1235: f32 = t0 * t1234;
-        let t1236: f32 = gravity_y - t1235;
-        let t1237: f32 = joint6_mass * t1236;
-        let t1238: f32 = t1228 + t1237;
-        let t1239: f32 = t0 * t1204;
-        let t1240: f32 = gravity_y - t1239;
-        let t1241: f32 = platform_mass * t1240;
-        let t1242: f32 = t3 * t1088;
-        let t1243: f32 = t107 * t1196;
-        let t1244: f32 = t1242 - t1243;
-        let t1245: f32 = t0 * t1244;
-        let t1246: f32 = t1204 + t1245;
-        let t1247: f32 = t0 * t1246;
-        let t1248: f32 = gravity_y - t1247;
-        let t1249: f32 = joint2_mass * t1248;
-        let t1250: f32 = t1241 + t1249;
-        let t1251: f32 = t1238 + t1250;
-        let t1252: f32 = t1193 + t1219;
-        let t1253: f32 = t1251 + t1252;
-        let t1254: f32 = t125 * t1253;
-        let t1255: f32 = t3 * t1012;
-        let t1256: f32 = t109 * t1003;
-        let t1257: f32 = t1255 - t1256;
-        let t1258: f32 = t109 * t1257;
-        let t1259: f32 = t150 * t1005;
-        let t1260: f32 = t1258 + t1259;
-        let t1261: f32 = t1 * t1260;
-        let t1262: f32 = t1238 + t1261;
-        let t1263: f32 = t392 * t1262;
-        let t1264: f32 = t1075 + t1087;
-        let t1265: f32 = t1094 + t1110;
-        let t1266: f32 = t1111 + t1128;
-        let t1267: f32 = t1129 + t1137;
-        let t1268: f32 = t1147 + t1148;
-        let t1269: f32 = t1156 + t1161;
-        let t1270: f32 = t1162 + t1254;
-        let t1271: f32 = t1264 + t1265;
-        let t1272: f32 = t1266 + t1267;
-        let t1273: f32 = t1268 + t1269;
-        let t1274: f32 = t1271 + t1272;
-        let t1275: f32 = t1270 + t1273;
-        let t1276: f32 = t1274 + t1275;
-        let t1277: f32 = t1069 + t1084;
-        let t1278: f32 = t1091 + t1100;
-        let t1279: f32 = t1107 + t1120;
-        let t1280: f32 = t1125 + t1144;
-        let t1281: f32 = t1153 + t1157;
-        let t1282: f32 = t1160 + t1189;
-        let t1283: f32 = t1277 + t1278;
-        let t1284: f32 = t1279 + t1280;
-        let t1285: f32 = t1281 + t1282;
-        let t1286: f32 = t1283 + t1284;
-        let t1287: f32 = t1263 + t1285;
-        let t1288: f32 = t1286 + t1287;
-        let t1289: f32 = t1276 - t1288;
-        let t1290: f32 = t0 * t1289;
-        let t1291: f32 = t3 * t1078;
-        let t1292: f32 = t1291 - t1243;
-        let t1293: f32 = t0 * t1292;
-        let t1294: f32 = t1204 + t1293;
-        let t1295: f32 = t0 * t1294;
-        let t1296: f32 = gravity_y - t1295;
-        let t1297: f32 = joint1_mass * t1296;
-        let t1298: f32 = joint1_my + t813;
-        let t1299: f32 = t1298 * 0.5;
-        let t1300: f32 = t834 * t1299;
-        let t1301: f32 = joint1_mz + t820;
-        let t1302: f32 = t1301 * 0.5;
-        let t1303: f32 = t836 * t1302;
-        let t1304: f32 = joint1_mx + t806;
-        let t1305: f32 = t1304 * 0.5;
-        let t1306: f32 = t205 * t1305;
-        let t1307: f32 = t1303 + t1306;
-        let t1308: f32 = t1300 - t1307;
-        let t1309: f32 = t3 * t1308;
-        let t1310: f32 = t767 * t1302;
-        let t1311: f32 = t773 * t1305;
-        let t1312: f32 = t191 * t1299;
-        let t1313: f32 = t1311 + t1312;
-        let t1314: f32 = t1310 - t1313;
-        let t1315: f32 = t109 * t1314;
-        let t1316: f32 = t1309 - t1315;
-        let t1317: f32 = t109 * t1316;
-        let t1318: f32 = t807 * t1305;
-        let t1319: f32 = t814 * t1299;
-        let t1320: f32 = t218 * t1302;
-        let t1321: f32 = t1319 + t1320;
-        let t1322: f32 = t1318 - t1321;
-        let t1323: f32 = t3 * t1322;
-        let t1324: f32 = t150 * t1314;
-        let t1325: f32 = t1323 - t1324;
-        let t1326: f32 = t150 * t1325;
-        let t1327: f32 = t1317 + t1326;
-        let t1328: f32 = t1 * t1327;
-        let t1329: f32 = t1194 * 0.5;
-        let t1330: f32 = gravity_y * t1329;
-        let t1331: f32 = t1218 + t1297;
-        let t1332: f32 = t1251 + t1331;
-        let t1333: f32 = t1332 * 0.5;
-        let t1334: f32 = t1328 + t1333;
-        let t1335: f32 = t1330 + t1334;
-        let t1336: f32 = t152 * t1335;
-        let t1337: f32 = t235 * t407;
-        let t1338: f32 = joint5_mass * t1143;
-        let t1339: f32 = t170 * t504;
-        let t1340: f32 = t1338 + t1339;
-        let t1341: f32 = t1337 + t1340;
-        let t1342: f32 = t1099 + t1341;
-        let t1343: f32 = t235 * t447;
-        let t1344: f32 = joint6_mass * t1152;
-        let t1345: f32 = t170 * t523;
-        let t1346: f32 = t1344 + t1345;
-        let t1347: f32 = t1343 + t1346;
-        let t1348: f32 = t1119 + t1347;
-        let t1349: f32 = t1342 + t1348;
-        let t1350: f32 = platform_mass * t1068;
-        let t1351: f32 = t170 * t544;
-        let t1352: f32 = t1350 + t1351;
-        let t1353: f32 = t1136 + t1352;
-        let t1354: f32 = t214 * t235;
-        let t1355: f32 = joint1_mass * t1083;
-        let t1356: f32 = t1354 + t1355;
-        let t1357: f32 = t170 * t560;
-        let t1358: f32 = t235 * t267;
-        let t1359: f32 = t1357 + t1358;
-        let t1360: f32 = t1356 + t1359;
-        let t1361: f32 = t1353 + t1360;
-        let t1362: f32 = t1349 + t1361;
-        let t1363: f32 = t1290 * 0.5;
-        let t1364: f32 = t1336 + t1362;
-        let t1365: f32 = t1363 - t1364;
-        let t1366: f32 = t152 * t1362;
-        let t1367: f32 = t1366 - t1290;
-        let t1368: f32 = t1367 * 0.5;
-        let t1369: f32 = t475 * t1074;
-        let t1370: f32 = t616 * t1068;
-        let t1371: f32 = t553 * t1086;
-        let t1372: f32 = t625 * t1083;
-        let t1373: f32 = t588 * t1093;
-        let t1374: f32 = t636 * t1090;
-        let t1375: f32 = t585 * t1099;
-        let t1376: f32 = t481 * t1109;
-        let t1377: f32 = t655 * t1106;
-        let t1378: f32 = t304 * t660;
-        let t1379: f32 = t496 * t1127;
-        let t1380: f32 = t663 * t1124;
-        let t1381: f32 = t349 * t668;
-        let t1382: f32 = t516 * t1146;
-        let t1383: f32 = t671 * t1143;
-        let t1384: f32 = t511 * t1341;
-        let t1385: f32 = t603 - t520;
-        let t1386: f32 = t507 * t1385;
-        let t1387: f32 = t532 * t1155;
-        let t1388: f32 = t678 * t1152;
-        let t1389: f32 = t529 * t1347;
-        let t1390: f32 = t604 - t536;
-        let t1391: f32 = t526 * t1390;
-        let t1392: f32 = t0 * t25;
-        let t1393: f32 = t189 * t1392;
-        let t1394: f32 = t748 * t1393;
-        let t1395: f32 = t766 * t836;
-        let t1396: f32 = t620 * t772;
-        let t1397: f32 = t3 * t1181;
-        let t1398: f32 = t150 * t1173;
-        let t1399: f32 = t1397 - t1398;
-        let t1400: f32 = t3 * t1399;
-        let t1401: f32 = t109 * t1184;
-        let t1402: f32 = t1400 + t1401;
-        let t1403: f32 = t1 * t1402;
-        let t1404: f32 = t888 - t1403;
-        let t1405: f32 = t243 * t1404;
-        let t1406: f32 = t145 * t1253;
-        let t1407: f32 = t109 * t978;
-        let t1408: f32 = t3 * t984;
-        let t1409: f32 = t150 * t976;
-        let t1410: f32 = t1408 - t1409;
-        let t1411: f32 = t150 * t1410;
-        let t1412: f32 = t1407 + t1411;
-        let t1413: f32 = t1 * t1412;
-        let t1414: f32 = t1219 + t1413;
-        let t1415: f32 = t307 * t1414;
-        let t1416: f32 = t1369 + t1370;
-        let t1417: f32 = t1371 + t1372;
-        let t1418: f32 = t1373 + t1374;
-        let t1419: f32 = t1375 + t1376;
-        let t1420: f32 = t1377 + t1378;
-        let t1421: f32 = t1379 + t1380;
-        let t1422: f32 = t1381 + t1382;
-        let t1423: f32 = t1383 + t1386;
-        let t1424: f32 = t1387 + t1388;
-        let t1425: f32 = t1396 + t1406;
-        let t1426: f32 = t1416 + t1417;
-        let t1427: f32 = t1418 + t1419;
-        let t1428: f32 = t1420 + t1421;
-        let t1429: f32 = t1422 + t1423;
-        let t1430: f32 = t1424 + t1425;
-        let t1431: f32 = t1426 + t1427;
-        let t1432: f32 = t1428 + t1429;
-        let t1433: f32 = t1415 + t1430;
-        let t1434: f32 = t1431 + t1432;
-        let t1435: f32 = t1433 + t1434;
-        let t1436: f32 = t1384 + t1389;
-        let t1437: f32 = t1391 + t1394;
-        let t1438: f32 = t1395 + t1405;
-        let t1439: f32 = t1436 + t1437;
-        let t1440: f32 = t1438 + t1439;
-        let t1441: f32 = t1435 - t1440;
-        let t1442: f32 = t0 * t1441;
-        let t1443: f32 = t1442 - t1362;
-        let t1444: f32 = t609 - t1443;
-        let t1445: f32 = t1444 * 0.5;
-        let t1446: f32 = t609 + t1443;
-        let t1447: f32 = t1446 * 0.5;
-        let t1448: f32 = 1.0 - t186;
-        (t1060, t1061, t1072, t1365, t1368, t1445, t1447, t1448)
-    };
-    ([t1060, t1061, t1365, t1368, t1445, t1447], [t1448, t620, t1072, t614])
+    let t0: f32 = 1.0 / half_spacing;
+    let t1: f32 = t0 * t0;
+    let t2: f32 = qd1 - qd2;
+    let t3: f32 = t2 * 0.5;
+    let t4: f32 = t0 * t1;
+    let t5: f32 = q1 - q2;
+    let t6: f32 = q3 - q4;
+    let t7: f32 = q5 - q6;
+    let t8: f32 = t4 * t5;
+    let t9: f32 = t6 * t8;
+    let t10: f32 = t7 * t9;
+    let t11: f32 = t4 * t4;
+    let t12: f32 = t5 * t5;
+    let t13: f32 = t6 * t6;
+    let t14: f32 = t7 * t7;
+    let t15: f32 = t11 * t12;
+    let t16: f32 = t13 * t15;
+    let t17: f32 = t14 * t16;
+    let t18: f32 = t0 * t6;
+    let t19: f32 = t1 * t1;
+    let t20: f32 = t5 * t19;
+    let t21: f32 = t13 * t20;
+    let t22: f32 = t7 * t21;
+    let t23: f32 = t18 * 0.5;
+    let t24: f32 = t22 * 0.0625;
+    let t25: f32 = t23 - t24;
+    let t26: f32 = t25 * t25;
+    let t27: f32 = t0 * t7;
+    let t28: f32 = t7 * t18;
+    let t29: f32 = t28 * 0.125;
+    let t30: f32 = t5 * 0.25;
+    let t31: f32 = t29 + t30;
+    let t32: f32 = t1 * t6;
+    let t33: f32 = t31 * t32;
+    let t34: f32 = t27 * 0.5;
+    let t35: f32 = t33 + t34;
+    let t36: f32 = t35 * t35;
+    let t37: f32 = t10 * 0.25;
+    let t38: f32 = t17 * 0.015625;
+    let t39: f32 = t26 + t38;
+    let t40: f32 = t36 + 1.0;
+    let t41: f32 = t39 + t40;
+    let t42: f32 = t37 - t41;
+    let t43: f32 = 1.0 / t42;
+    let t44: f32 = q3 + q4;
+    let t45: f32 = t44 * 0.0625;
+    let t46: f32 = t10 * t45;
+    let t47: f32 = t44 - t46;
+    let t48: f32 = t47 * 0.125;
+    let t49: f32 = t10 * t48;
+    let t50: f32 = t44 * 0.5;
+    let t51: f32 = t50 - t49;
+    let t52: f32 = t43 * t51;
+    let t53: f32 = t0 * t5;
+    let t54: f32 = t6 * t53;
+    let t55: f32 = t54 * 0.125;
+    let t56: f32 = t7 * 0.25;
+    let t57: f32 = t55 + t56;
+    let t58: f32 = t1 * t5;
+    let t59: f32 = t57 * t58;
+    let t60: f32 = t23 + t59;
+    let t61: f32 = t12 * t19;
+    let t62: f32 = t6 * t61;
+    let t63: f32 = t7 * t62;
+    let t64: f32 = t53 * 0.5;
+    let t65: f32 = t63 * 0.0625;
+    let t66: f32 = t64 - t65;
+    let t67: f32 = t66 * t66;
+    let t68: f32 = t60 * t60;
+    let t69: f32 = t38 + t67;
+    let t70: f32 = t68 + 1.0;
+    let t71: f32 = t69 + t70;
+    let t72: f32 = t37 - t71;
+    let t73: f32 = 1.0 / t72;
+    let t74: f32 = q1 + q2;
+    let t75: f32 = t74 * 0.0625;
+    let t76: f32 = t10 * t75;
+    let t77: f32 = t74 * 0.5;
+    let t78: f32 = t77 - t76;
+    let t79: f32 = t60 * t73;
+    let t80: f32 = t78 * t79;
+    let t81: f32 = t6 * t20;
+    let t82: f32 = t14 * t81;
+    let t83: f32 = t82 * 0.0625;
+    let t84: f32 = t34 - t83;
+    let t85: f32 = t84 * t84;
+    let t86: f32 = t7 * t53;
+    let t87: f32 = t86 * 0.125;
+    let t88: f32 = t6 * 0.25;
+    let t89: f32 = t87 + t88;
+    let t90: f32 = t1 * t7;
+    let t91: f32 = t89 * t90;
+    let t92: f32 = t64 + t91;
+    let t93: f32 = t92 * t92;
+    let t94: f32 = t38 + t85;
+    let t95: f32 = t93 + 1.0;
+    let t96: f32 = t94 + t95;
+    let t97: f32 = t37 - t96;
+    let t98: f32 = 1.0 / t97;
+    let t99: f32 = q5 + q6;
+    let t100: f32 = t99 * 0.0625;
+    let t101: f32 = t10 * t100;
+    let t102: f32 = t99 * 0.5;
+    let t103: f32 = t102 - t101;
+    let t104: f32 = t84 * t98;
+    let t105: f32 = t103 * t104;
+    let t106: f32 = t80 - t105;
+    let t107: f32 = t52 + t106;
+    let t108: f32 = qd5 - qd6;
+    let t109: f32 = t108 * 0.5;
+    let t110: f32 = t0 * t107;
+    let t111: f32 = t109 * t110;
+    let t112: f32 = q1 * t0;
+    let t113: f32 = t10 * t73;
+    let t114: f32 = t78 * t113;
+    let t115: f32 = t73 * t78;
+    let t116: f32 = t92 * t98;
+    let t117: f32 = t103 * t116;
+    let t118: f32 = t50 - t46;
+    let t119: f32 = t25 * t43;
+    let t120: f32 = t118 * t119;
+    let t121: f32 = t117 - t120;
+    let t122: f32 = t115 + t121;
+    let t123: f32 = t114 * 0.125;
+    let t124: f32 = q1 + t122;
+    let t125: f32 = t124 - t123;
+    let t126: f32 = t0 * t125;
+    let t127: f32 = t112 - t126;
+    let t128: f32 = t127 * 0.5;
+    let t129: f32 = t2 * t128;
+    let t130: f32 = qd5 + qd6;
+    let t131: f32 = t130 * 0.5;
+    let t132: f32 = t111 + t129;
+    let t133: f32 = t131 - t132;
+    let t134: f32 = t10 * t98;
+    let t135: f32 = t103 * t134;
+    let t136: f32 = t98 * t103;
+    let t137: f32 = t35 * t43;
+    let t138: f32 = t118 * t137;
+    let t139: f32 = t66 * t73;
+    let t140: f32 = t78 * t139;
+    let t141: f32 = t138 - t140;
+    let t142: f32 = t136 + t141;
+    let t143: f32 = t135 * 0.125;
+    let t144: f32 = half_spacing + t142;
+    let t145: f32 = t144 - t143;
+    let t146: f32 = t1 * t3;
+    let t147: f32 = t133 * t146;
+    let t148: f32 = t145 * t147;
+    let t149: f32 = qd3 - qd4;
+    let t150: f32 = t149 * 0.5;
+    let t151: f32 = q1 - half_spacing;
+    let t152: f32 = t0 * t151;
+    let t153: f32 = t152 - t126;
+    let t154: f32 = t153 * 0.5;
+    let t155: f32 = t154 + 1.0;
+    let t156: f32 = qd3 * t155;
+    let t157: f32 = qd4 * t154;
+    let t158: f32 = t99 - t101;
+    let t159: f32 = t158 * 0.125;
+    let t160: f32 = t10 * t159;
+    let t161: f32 = t102 - t160;
+    let t162: f32 = t98 * t161;
+    let t163: f32 = t141 + t162;
+    let t164: f32 = half_spacing + t163;
+    let t165: f32 = t0 * t109;
+    let t166: f32 = t164 * t165;
+    let t167: f32 = t109 + t157;
+    let t168: f32 = t156 + t166;
+    let t169: f32 = t167 - t168;
+    let t170: f32 = t1 * t150;
+    let t171: f32 = t145 * t170;
+    let t172: f32 = t169 * t171;
+    let t173: f32 = t148 + t172;
+    let t174: f32 = t0 * t3;
+    let t175: f32 = t133 * t174;
+    let t176: f32 = t0 * t150;
+    let t177: f32 = t169 * t176;
+    let t178: f32 = t175 + t177;
+    let t179: f32 = t0 * t145;
+    let t180: f32 = t178 * t179;
+    let t181: f32 = t173 - t180;
+    let t182: f32 = t181 * 0.5;
+    let t183: f32 = gravity_x + t182;
+    let t184: f32 = rod1_mass * t183;
+    let t185: f32 = joint1_mx + joint2_mx;
+    let t186: f32 = joint3_mx + joint4_mx;
+    let t187: f32 = joint5_mx + joint6_mx;
+    let t188: f32 = platform_mx + t185;
+    let t189: f32 = t186 + t187;
+    let t190: f32 = t188 + t189;
+    let t191: f32 = t10 * 0.125;
+    let t192: f32 = t191 - 1.0;
+    let t193: f32 = -t73;
+    let t194: f32 = sqrt(t193);
+    let t195: f32 = t192 * t194;
+    let t196: f32 = -t195;
+    let t197: f32 = t190 * t196;
+    let t198: f32 = joint5_mass + joint6_mass;
+    let t199: f32 = t74 - t76;
+    let t200: f32 = t199 * 0.125;
+    let t201: f32 = t10 * t200;
+    let t202: f32 = t77 - t201;
+    let t203: f32 = t73 * t202;
+    let t204: f32 = t121 + t203;
+    let t205: f32 = t198 * t204;
+    let t206: f32 = joint1_mz + joint2_mz;
+    let t207: f32 = joint3_mz + joint4_mz;
+    let t208: f32 = joint5_mz + joint6_mz;
+    let t209: f32 = platform_mz + t206;
+    let t210: f32 = t207 + t208;
+    let t211: f32 = t209 + t210;
+    let t212: f32 = -t98;
+    let t213: f32 = sqrt(t212);
+    let t214: f32 = t92 * t211;
+    let t215: f32 = t213 * t214;
+    let t216: f32 = joint1_my + joint2_my;
+    let t217: f32 = joint3_my + joint4_my;
+    let t218: f32 = joint5_my + joint6_my;
+    let t219: f32 = platform_my + t216;
+    let t220: f32 = t217 + t218;
+    let t221: f32 = t219 + t220;
+    let t222: f32 = -t43;
+    let t223: f32 = sqrt(t222);
+    let t224: f32 = t25 * t221;
+    let t225: f32 = t223 * t224;
+    let t226: f32 = t215 - t225;
+    let t227: f32 = q1 + t204;
+    let t228: f32 = joint1_mass * t227;
+    let t229: f32 = q2 + t204;
+    let t230: f32 = joint2_mass * t229;
+    let t231: f32 = t228 + t230;
+    let t232: f32 = half_spacing + t204;
+    let t233: f32 = joint3_mass * t232;
+    let t234: f32 = half_spacing - t204;
+    let t235: f32 = joint4_mass * t234;
+    let t236: f32 = t233 - t235;
+    let t237: f32 = t197 + t205;
+    let t238: f32 = t226 + t231;
+    let t239: f32 = t237 + t238;
+    let t240: f32 = t236 + t239;
+    let t241: f32 = t150 * t240;
+    let t242: f32 = t192 * t213;
+    let t243: f32 = -t242;
+    let t244: f32 = t211 * t243;
+    let t245: f32 = joint3_mass + joint4_mass;
+    let t246: f32 = -t163;
+    let t247: f32 = t245 * t246;
+    let t248: f32 = t35 * t221;
+    let t249: f32 = t223 * t248;
+    let t250: f32 = t66 * t190;
+    let t251: f32 = t194 * t250;
+    let t252: f32 = t249 - t251;
+    let t253: f32 = joint1_mass * t164;
+    let t254: f32 = half_spacing - t163;
+    let t255: f32 = joint2_mass * t254;
+    let t256: f32 = t253 - t255;
+    let t257: f32 = q5 + t163;
+    let t258: f32 = joint5_mass * t257;
+    let t259: f32 = q6 + t163;
+    let t260: f32 = joint6_mass * t259;
+    let t261: f32 = t258 + t260;
+    let t262: f32 = t244 + t252;
+    let t263: f32 = t256 + t261;
+    let t264: f32 = t262 + t263;
+    let t265: f32 = t264 - t247;
+    let t266: f32 = t109 * t265;
+    let t267: f32 = t241 - t266;
+    let t268: f32 = t170 * t267;
+    let t269: f32 = joint1_mass + joint2_mass;
+    let t270: f32 = platform_mass + t269;
+    let t271: f32 = t198 + t245;
+    let t272: f32 = t270 + t271;
+    let t273: f32 = t183 - t178;
+    let t274: f32 = t272 * t273;
+    let t275: f32 = t192 * t223;
+    let t276: f32 = -t275;
+    let t277: f32 = t221 * t276;
+    let t278: f32 = t107 * t269;
+    let t279: f32 = t60 * t190;
+    let t280: f32 = t194 * t279;
+    let t281: f32 = t84 * t211;
+    let t282: f32 = t213 * t281;
+    let t283: f32 = t280 - t282;
+    let t284: f32 = q3 + t107;
+    let t285: f32 = joint3_mass * t284;
+    let t286: f32 = q4 + t107;
+    let t287: f32 = joint4_mass * t286;
+    let t288: f32 = t285 + t287;
+    let t289: f32 = half_spacing + t107;
+    let t290: f32 = joint5_mass * t289;
+    let t291: f32 = half_spacing - t107;
+    let t292: f32 = joint6_mass * t291;
+    let t293: f32 = t290 - t292;
+    let t294: f32 = t277 + t278;
+    let t295: f32 = t283 + t288;
+    let t296: f32 = t294 + t295;
+    let t297: f32 = t293 + t296;
+    let t298: f32 = t109 * t297;
+    let t299: f32 = t3 * t240;
+    let t300: f32 = t298 - t299;
+    let t301: f32 = t146 * t300;
+    let t302: f32 = t274 - t301;
+    let t303: f32 = t268 + t302;
+    let t304: f32 = t1 * t109;
+    let t305: f32 = t267 * t304;
+    let t306: f32 = t107 * t150;
+    let t307: f32 = t3 * t164;
+    let t308: f32 = t306 - t307;
+    let t309: f32 = t0 * t308;
+    let t310: f32 = qd1 + t309;
+    let t311: f32 = t3 * t310;
+    let t312: f32 = t0 * t227;
+    let t313: f32 = t152 - t312;
+    let t314: f32 = t313 * 0.5;
+    let t315: f32 = t314 + 1.0;
+    let t316: f32 = qd3 * t315;
+    let t317: f32 = qd4 * t314;
+    let t318: f32 = t109 + t317;
+    let t319: f32 = t166 + t316;
+    let t320: f32 = t318 - t319;
+    let t321: f32 = t109 * t320;
+    let t322: f32 = t311 + t321;
+    let t323: f32 = t0 * t322;
+    let t324: f32 = gravity_z + t323;
+    let t325: f32 = t272 * t324;
+    let t326: f32 = t305 - t325;
+    let t327: f32 = t3 * t265;
+    let t328: f32 = t150 * t297;
+    let t329: f32 = t327 - t328;
+    let t330: f32 = t146 * t329;
+    let t331: f32 = t326 - t330;
+    let t332: f32 = -t331;
+    let t333: f32 = t112 * t332;
+    let t334: f32 = t3 * t276;
+    let t335: f32 = t25 * t109;
+    let t336: f32 = t35 * t150;
+    let t337: f32 = t335 - t336;
+    let t338: f32 = t223 * t337;
+    let t339: f32 = t334 - t338;
+    let t340: f32 = t0 * t339;
+    let t341: f32 = -t340;
+    let t342: f32 = platform_iyz + joint1_iyz;
+    let t343: f32 = joint2_iyz + joint3_iyz;
+    let t344: f32 = joint4_iyz + joint5_iyz;
+    let t345: f32 = t342 + t343;
+    let t346: f32 = joint6_iyz + t344;
+    let t347: f32 = t345 + t346;
+    let t348: f32 = t341 * t347;
+    let t349: f32 = platform_ixz + joint1_ixz;
+    let t350: f32 = joint2_ixz + joint3_ixz;
+    let t351: f32 = joint4_ixz + joint5_ixz;
+    let t352: f32 = t349 + t350;
+    let t353: f32 = joint6_ixz + t351;
+    let t354: f32 = t352 + t353;
+    let t355: f32 = t109 * t196;
+    let t356: f32 = t3 * t60;
+    let t357: f32 = t66 * t150;
+    let t358: f32 = t356 - t357;
+    let t359: f32 = t194 * t358;
+    let t360: f32 = t355 + t359;
+    let t361: f32 = t354 * t360;
+    let t362: f32 = platform_izz + joint1_izz;
+    let t363: f32 = joint2_izz + joint3_izz;
+    let t364: f32 = joint4_izz + joint5_izz;
+    let t365: f32 = t362 + t363;
+    let t366: f32 = joint6_izz + t364;
+    let t367: f32 = t365 + t366;
+    let t368: f32 = t150 * t243;
+    let t369: f32 = t92 * t109;
+    let t370: f32 = t3 * t84;
+    let t371: f32 = t369 - t370;
+    let t372: f32 = t213 * t371;
+    let t373: f32 = t368 + t372;
+    let t374: f32 = t367 * t373;
+    let t375: f32 = t361 + t374;
+    let t376: f32 = t0 * t375;
+    let t377: f32 = t376 - t348;
+    let t378: f32 = t341 * t377;
+    let t379: f32 = platform_iyy + joint1_iyy;
+    let t380: f32 = joint2_iyy + joint3_iyy;
+    let t381: f32 = joint4_iyy + joint5_iyy;
+    let t382: f32 = t379 + t380;
+    let t383: f32 = joint6_iyy + t381;
+    let t384: f32 = t382 + t383;
+    let t385: f32 = t341 * t384;
+    let t386: f32 = platform_ixy + joint1_ixy;
+    let t387: f32 = joint2_ixy + joint3_ixy;
+    let t388: f32 = joint4_ixy + joint5_ixy;
+    let t389: f32 = t386 + t387;
+    let t390: f32 = joint6_ixy + t388;
+    let t391: f32 = t389 + t390;
+    let t392: f32 = t360 * t391;
+    let t393: f32 = t347 * t373;
+    let t394: f32 = t392 + t393;
+    let t395: f32 = t0 * t394;
+    let t396: f32 = t395 - t385;
+    let t397: f32 = t0 * t373;
+    let t398: f32 = t396 * t397;
+    let t399: f32 = t378 + t398;
+    let t400: f32 = t60 * t194;
+    let t401: f32 = t399 * t400;
+    let t402: f32 = t0 * t360;
+    let t403: f32 = t396 * t402;
+    let t404: f32 = t341 * t391;
+    let t405: f32 = platform_ixx + joint1_ixx;
+    let t406: f32 = joint2_ixx + joint3_ixx;
+    let t407: f32 = joint4_ixx + joint5_ixx;
+    let t408: f32 = t405 + t406;
+    let t409: f32 = joint6_ixx + t407;
+    let t410: f32 = t408 + t409;
+    let t411: f32 = t360 * t410;
+    let t412: f32 = t354 * t373;
+    let t413: f32 = t411 + t412;
+    let t414: f32 = t0 * t413;
+    let t415: f32 = t414 - t404;
+    let t416: f32 = t341 * t415;
+    let t417: f32 = t403 + t416;
+    let t418: f32 = t84 * t213;
+    let t419: f32 = t417 * t418;
+    let t420: f32 = joint1_mass * t145;
+    let t421: f32 = half_spacing + t143;
+    let t422: f32 = t421 - t142;
+    let t423: f32 = joint2_mass * t422;
+    let t424: f32 = q5 + t142;
+    let t425: f32 = t424 - t143;
+    let t426: f32 = joint5_mass * t425;
+    let t427: f32 = q6 + t142;
+    let t428: f32 = t427 - t143;
+    let t429: f32 = joint6_mass * t428;
+    let t430: f32 = t10 * t213;
+    let t431: f32 = t430 * 0.125;
+    let t432: f32 = t213 - t431;
+    let t433: f32 = t211 * t432;
+    let t434: f32 = t143 - t142;
+    let t435: f32 = t245 * t434;
+    let t436: f32 = t420 + t426;
+    let t437: f32 = t429 + t433;
+    let t438: f32 = t436 + t437;
+    let t439: f32 = t252 + t438;
+    let t440: f32 = t423 + t435;
+    let t441: f32 = t439 - t440;
+    let t442: f32 = t273 * t441;
+    let t443: f32 = joint1_mass * t125;
+    let t444: f32 = q2 + t122;
+    let t445: f32 = t444 - t123;
+    let t446: f32 = joint2_mass * t445;
+    let t447: f32 = half_spacing + t122;
+    let t448: f32 = t447 - t123;
+    let t449: f32 = joint3_mass * t448;
+    let t450: f32 = half_spacing + t123;
+    let t451: f32 = t450 - t122;
+    let t452: f32 = joint4_mass * t451;
+    let t453: f32 = t10 * t194;
+    let t454: f32 = t453 * 0.125;
+    let t455: f32 = t194 - t454;
+    let t456: f32 = t190 * t455;
+    let t457: f32 = t122 - t123;
+    let t458: f32 = t198 * t457;
+    let t459: f32 = t443 + t446;
+    let t460: f32 = t449 + t456;
+    let t461: f32 = t226 + t458;
+    let t462: f32 = t459 + t460;
+    let t463: f32 = t461 + t462;
+    let t464: f32 = t463 - t452;
+    let t465: f32 = t324 * t464;
+    let t466: f32 = t145 * t303;
+    let t467: f32 = t125 * t332;
+    let t468: f32 = t373 * t415;
+    let t469: f32 = t360 * t377;
+    let t470: f32 = t468 - t469;
+    let t471: f32 = t276 * t470;
+    let t472: f32 = t164 * t164;
+    let t473: f32 = t107 * t107;
+    let t474: f32 = t472 + t473;
+    let t475: f32 = joint1_mass * t474;
+    let t476: f32 = t254 * t254;
+    let t477: f32 = t473 + t476;
+    let t478: f32 = joint2_mass * t477;
+    let t479: f32 = t246 * t246;
+    let t480: f32 = t284 * t284;
+    let t481: f32 = t479 + t480;
+    let t482: f32 = joint3_mass * t481;
+    let t483: f32 = t286 * t286;
+    let t484: f32 = t479 + t483;
+    let t485: f32 = joint4_mass * t484;
+    let t486: f32 = t257 * t257;
+    let t487: f32 = t289 * t289;
+    let t488: f32 = t486 + t487;
+    let t489: f32 = joint5_mass * t488;
+    let t490: f32 = t259 * t259;
+    let t491: f32 = t291 * t291;
+    let t492: f32 = t490 + t491;
+    let t493: f32 = joint6_mass * t492;
+    let t494: f32 = t206 * 2.0;
+    let t495: f32 = t418 * t494;
+    let t496: f32 = t185 * 2.0;
+    let t497: f32 = t400 * t496;
+    let t498: f32 = t216 * 2.0;
+    let t499: f32 = t276 * t498;
+    let t500: f32 = t497 + t499;
+    let t501: f32 = t495 - t500;
+    let t502: f32 = t107 * t501;
+    let t503: f32 = t186 * 2.0;
+    let t504: f32 = t66 * t194;
+    let t505: f32 = t503 * t504;
+    let t506: f32 = t217 * 2.0;
+    let t507: f32 = t35 * t223;
+    let t508: f32 = t506 * t507;
+    let t509: f32 = t207 * 2.0;
+    let t510: f32 = t243 * t509;
+    let t511: f32 = t508 + t510;
+    let t512: f32 = t505 - t511;
+    let t513: f32 = t246 * t512;
+    let t514: f32 = joint2_mx * t66;
+    let t515: f32 = t194 * t514;
+    let t516: f32 = joint2_my * t35;
+    let t517: f32 = t223 * t516;
+    let t518: f32 = t515 - t517;
+    let t519: f32 = joint2_mz * t243;
+    let t520: f32 = t518 - t519;
+    let t521: f32 = t254 * t520;
+    let t522: f32 = joint1_mz * t243;
+    let t523: f32 = joint1_mx * t66;
+    let t524: f32 = t194 * t523;
+    let t525: f32 = joint1_my * t35;
+    let t526: f32 = t223 * t525;
+    let t527: f32 = t524 - t526;
+    let t528: f32 = t522 - t527;
+    let t529: f32 = -t528;
+    let t530: f32 = t164 * t529;
+    let t531: f32 = t521 - t530;
+    let t532: f32 = joint5_mz * t243;
+    let t533: f32 = joint5_mx * t66;
+    let t534: f32 = t194 * t533;
+    let t535: f32 = joint5_my * t35;
+    let t536: f32 = t223 * t535;
+    let t537: f32 = t534 - t536;
+    let t538: f32 = t532 - t537;
+    let t539: f32 = -t538;
+    let t540: f32 = t257 * t539;
+    let t541: f32 = joint6_mz * t243;
+    let t542: f32 = joint6_mx * t66;
+    let t543: f32 = t194 * t542;
+    let t544: f32 = joint6_my * t35;
+    let t545: f32 = t223 * t544;
+    let t546: f32 = t543 - t545;
+    let t547: f32 = t541 - t546;
+    let t548: f32 = -t547;
+    let t549: f32 = t259 * t548;
+    let t550: f32 = t540 + t549;
+    let t551: f32 = t531 - t550;
+    let t552: f32 = joint3_mx * t60;
+    let t553: f32 = t194 * t552;
+    let t554: f32 = joint3_mz * t84;
+    let t555: f32 = t213 * t554;
+    let t556: f32 = joint3_my * t276;
+    let t557: f32 = t553 + t556;
+    let t558: f32 = t557 - t555;
+    let t559: f32 = t284 * t558;
+    let t560: f32 = joint4_mx * t60;
+    let t561: f32 = t194 * t560;
+    let t562: f32 = joint4_mz * t84;
+    let t563: f32 = t213 * t562;
+    let t564: f32 = joint4_my * t276;
+    let t565: f32 = t561 + t564;
+    let t566: f32 = t565 - t563;
+    let t567: f32 = t286 * t566;
+    let t568: f32 = t559 + t567;
+    let t569: f32 = joint5_mx * t60;
+    let t570: f32 = t194 * t569;
+    let t571: f32 = joint5_mz * t84;
+    let t572: f32 = t213 * t571;
+    let t573: f32 = joint5_my * t276;
+    let t574: f32 = t570 + t573;
+    let t575: f32 = t574 - t572;
+    let t576: f32 = t289 * t575;
+    let t577: f32 = joint6_mx * t60;
+    let t578: f32 = t194 * t577;
+    let t579: f32 = joint6_mz * t84;
+    let t580: f32 = t213 * t579;
+    let t581: f32 = joint6_my * t276;
+    let t582: f32 = t578 + t581;
+    let t583: f32 = t582 - t580;
+    let t584: f32 = t291 * t583;
+    let t585: f32 = t576 - t584;
+    let t586: f32 = t568 + t585;
+    let t587: f32 = t551 + t586;
+    let t588: f32 = t587 * 2.0;
+    let t589: f32 = t475 + t478;
+    let t590: f32 = t482 + t485;
+    let t591: f32 = t489 + t493;
+    let t592: f32 = t513 + t588;
+    let t593: f32 = t589 + t590;
+    let t594: f32 = t591 + t592;
+    let t595: f32 = t593 + t594;
+    let t596: f32 = t595 - t502;
+    let t597: f32 = t109 * t596;
+    let t598: f32 = joint1_mx * t60;
+    let t599: f32 = t194 * t598;
+    let t600: f32 = joint1_mz * t84;
+    let t601: f32 = t213 * t600;
+    let t602: f32 = joint1_my * t276;
+    let t603: f32 = t599 + t602;
+    let t604: f32 = t603 - t601;
+    let t605: f32 = t227 * t604;
+    let t606: f32 = joint2_mx * t60;
+    let t607: f32 = t194 * t606;
+    let t608: f32 = joint2_mz * t84;
+    let t609: f32 = t213 * t608;
+    let t610: f32 = joint2_my * t276;
+    let t611: f32 = t607 + t610;
+    let t612: f32 = t611 - t609;
+    let t613: f32 = t229 * t612;
+    let t614: f32 = t232 * t558;
+    let t615: f32 = t234 * t566;
+    let t616: f32 = joint5_my * t25;
+    let t617: f32 = t223 * t616;
+    let t618: f32 = joint5_mz * t92;
+    let t619: f32 = t213 * t618;
+    let t620: f32 = joint5_mx * t196;
+    let t621: f32 = t619 + t620;
+    let t622: f32 = t621 - t617;
+    let t623: f32 = t289 * t622;
+    let t624: f32 = joint6_my * t25;
+    let t625: f32 = t223 * t624;
+    let t626: f32 = joint6_mz * t92;
+    let t627: f32 = t213 * t626;
+    let t628: f32 = joint6_mx * t196;
+    let t629: f32 = t627 + t628;
+    let t630: f32 = t629 - t625;
+    let t631: f32 = t291 * t630;
+    let t632: f32 = t25 * t223;
+    let t633: f32 = t216 * t632;
+    let t634: f32 = t92 * t213;
+    let t635: f32 = t206 * t634;
+    let t636: f32 = t185 * t196;
+    let t637: f32 = t635 + t636;
+    let t638: f32 = t231 + t637;
+    let t639: f32 = t638 - t633;
+    let t640: f32 = t107 * t639;
+    let t641: f32 = t208 * t418;
+    let t642: f32 = t187 * t400;
+    let t643: f32 = t218 * t276;
+    let t644: f32 = t642 + t643;
+    let t645: f32 = t293 + t644;
+    let t646: f32 = t645 - t641;
+    let t647: f32 = t204 * t646;
+    let t648: f32 = joint3_mx * t196;
+    let t649: f32 = joint3_mz * t92;
+    let t650: f32 = t213 * t649;
+    let t651: f32 = joint3_my * t25;
+    let t652: f32 = t223 * t651;
+    let t653: f32 = t650 - t652;
+    let t654: f32 = t648 + t653;
+    let t655: f32 = t233 + t654;
+    let t656: f32 = t284 * t655;
+    let t657: f32 = joint4_mx * t196;
+    let t658: f32 = joint4_my * t25;
+    let t659: f32 = t223 * t658;
+    let t660: f32 = joint4_mz * t92;
+    let t661: f32 = t213 * t660;
+    let t662: f32 = t659 - t661;
+    let t663: f32 = t657 - t662;
+    let t664: f32 = t235 - t663;
+    let t665: f32 = t286 * t664;
+    let t666: f32 = t605 + t613;
+    let t667: f32 = t614 + t623;
+    let t668: f32 = t640 + t647;
+    let t669: f32 = t666 + t667;
+    let t670: f32 = t656 + t668;
+    let t671: f32 = t669 + t670;
+    let t672: f32 = t615 + t631;
+    let t673: f32 = t665 + t672;
+    let t674: f32 = t671 - t673;
+    let t675: f32 = t3 * t674;
+    let t676: f32 = joint1_my * t25;
+    let t677: f32 = t223 * t676;
+    let t678: f32 = joint1_mz * t92;
+    let t679: f32 = t213 * t678;
+    let t680: f32 = joint1_mx * t196;
+    let t681: f32 = t679 + t680;
+    let t682: f32 = t681 - t677;
+    let t683: f32 = t164 * t682;
+    let t684: f32 = joint2_my * t25;
+    let t685: f32 = t223 * t684;
+    let t686: f32 = joint2_mz * t92;
+    let t687: f32 = t213 * t686;
+    let t688: f32 = joint2_mx * t196;
+    let t689: f32 = t687 + t688;
+    let t690: f32 = t689 - t685;
+    let t691: f32 = t254 * t690;
+    let t692: f32 = joint3_mx * t66;
+    let t693: f32 = t194 * t692;
+    let t694: f32 = joint3_my * t35;
+    let t695: f32 = t223 * t694;
+    let t696: f32 = joint3_mz * t243;
+    let t697: f32 = t695 + t696;
+    let t698: f32 = t693 - t697;
+    let t699: f32 = t232 * t698;
+    let t700: f32 = joint4_mx * t66;
+    let t701: f32 = t194 * t700;
+    let t702: f32 = joint4_my * t35;
+    let t703: f32 = t223 * t702;
+    let t704: f32 = joint4_mz * t243;
+    let t705: f32 = t703 + t704;
+    let t706: f32 = t701 - t705;
+    let t707: f32 = t234 * t706;
+    let t708: f32 = t257 * t622;
+    let t709: f32 = t259 * t630;
+    let t710: f32 = t187 * t504;
+    let t711: f32 = t218 * t507;
+    let t712: f32 = t208 * t243;
+    let t713: f32 = t711 + t712;
+    let t714: f32 = t261 + t713;
+    let t715: f32 = t714 - t710;
+    let t716: f32 = t204 * t715;
+    let t717: f32 = t217 * t632;
+    let t718: f32 = t207 * t634;
+    let t719: f32 = t186 * t196;
+    let t720: f32 = t718 + t719;
+    let t721: f32 = t236 + t720;
+    let t722: f32 = t721 - t717;
+    let t723: f32 = t246 * t722;
+    let t724: f32 = t253 + t528;
+    let t725: f32 = t227 * t724;
+    let t726: f32 = t255 + t520;
+    let t727: f32 = t229 * t726;
+    let t728: f32 = t683 + t707;
+    let t729: f32 = t708 + t709;
+    let t730: f32 = t716 + t725;
+    let t731: f32 = t728 + t729;
+    let t732: f32 = t730 + t731;
+    let t733: f32 = t691 + t699;
+    let t734: f32 = t723 + t727;
+    let t735: f32 = t733 + t734;
+    let t736: f32 = t732 - t735;
+    let t737: f32 = t150 * t736;
+    let t738: f32 = t675 + t737;
+    let t739: f32 = t597 - t738;
+    let t740: f32 = t150 * t739;
+    let t741: f32 = t109 * t736;
+    let t742: f32 = t164 * t604;
+    let t743: f32 = t254 * t612;
+    let t744: f32 = t284 * t698;
+    let t745: f32 = t286 * t706;
+    let t746: f32 = t257 * t575;
+    let t747: f32 = t259 * t583;
+    let t748: f32 = t185 * t504;
+    let t749: f32 = t216 * t507;
+    let t750: f32 = t206 * t243;
+    let t751: f32 = t749 + t750;
+    let t752: f32 = t256 + t751;
+    let t753: f32 = t752 - t748;
+    let t754: f32 = t107 * t753;
+    let t755: f32 = t207 * t418;
+    let t756: f32 = t186 * t400;
+    let t757: f32 = t217 * t276;
+    let t758: f32 = t756 + t757;
+    let t759: f32 = t288 + t758;
+    let t760: f32 = t759 - t755;
+    let t761: f32 = t246 * t760;
+    let t762: f32 = t258 + t538;
+    let t763: f32 = t289 * t762;
+    let t764: f32 = t260 + t547;
+    let t765: f32 = t291 * t764;
+    let t766: f32 = t742 + t746;
+    let t767: f32 = t747 + t754;
+    let t768: f32 = t766 + t767;
+    let t769: f32 = t763 + t768;
+    let t770: f32 = t743 + t744;
+    let t771: f32 = t745 + t761;
+    let t772: f32 = t770 + t771;
+    let t773: f32 = t765 + t772;
+    let t774: f32 = t769 - t773;
+    let t775: f32 = t3 * t774;
+    let t776: f32 = t227 * t227;
+    let t777: f32 = t473 + t776;
+    let t778: f32 = joint1_mass * t777;
+    let t779: f32 = t229 * t229;
+    let t780: f32 = t473 + t779;
+    let t781: f32 = joint2_mass * t780;
+    let t782: f32 = t232 * t232;
+    let t783: f32 = t480 + t782;
+    let t784: f32 = joint3_mass * t783;
+    let t785: f32 = t234 * t234;
+    let t786: f32 = t483 + t785;
+    let t787: f32 = joint4_mass * t786;
+    let t788: f32 = t204 * t204;
+    let t789: f32 = t487 + t788;
+    let t790: f32 = joint5_mass * t789;
+    let t791: f32 = t491 + t788;
+    let t792: f32 = joint6_mass * t791;
+    let t793: f32 = t218 * 2.0;
+    let t794: f32 = t632 * t793;
+    let t795: f32 = t208 * 2.0;
+    let t796: f32 = t634 * t795;
+    let t797: f32 = t187 * 2.0;
+    let t798: f32 = t196 * t797;
+    let t799: f32 = t796 + t798;
+    let t800: f32 = t794 - t799;
+    let t801: f32 = t204 * t800;
+    let t802: f32 = t227 * t682;
+    let t803: f32 = t229 * t690;
+    let t804: f32 = t802 + t803;
+    let t805: f32 = t232 * t654;
+    let t806: f32 = t234 * t663;
+    let t807: f32 = t805 - t806;
+    let t808: f32 = t804 + t807;
+    let t809: f32 = t586 + t808;
+    let t810: f32 = t809 * 2.0;
+    let t811: f32 = t778 + t781;
+    let t812: f32 = t784 + t787;
+    let t813: f32 = t790 + t792;
+    let t814: f32 = t811 + t812;
+    let t815: f32 = t810 + t813;
+    let t816: f32 = t814 + t815;
+    let t817: f32 = t502 + t801;
+    let t818: f32 = t816 - t817;
+    let t819: f32 = t150 * t818;
+    let t820: f32 = t741 + t775;
+    let t821: f32 = t820 - t819;
+    let t822: f32 = t109 * t821;
+    let t823: f32 = t740 + t822;
+    let t824: f32 = t0 * t823;
+    let t825: f32 = t471 + t824;
+    let t826: f32 = t0 * t825;
+    let t827: f32 = t401 + t419;
+    let t828: f32 = t442 + t467;
+    let t829: f32 = t827 + t828;
+    let t830: f32 = t465 + t466;
+    let t831: f32 = t826 + t830;
+    let t832: f32 = t829 - t831;
+    let t833: f32 = t0 * t832;
+    let t834: f32 = t333 - t833;
+    let t835: f32 = t834 * 0.5;
+    let t836: f32 = t184 + t303;
+    let t837: f32 = t835 - t836;
+    let t838: f32 = rod2_mass * t183;
+    let t839: f32 = t835 + t838;
+    let t840: f32 = -t839;
+    let t841: f32 = t176 * t310;
+    let t842: f32 = t133 * t165;
+    let t843: f32 = t841 - t842;
+    let t844: f32 = t154 * t843;
+    let t845: f32 = t155 * t843;
+    let t846: f32 = gravity_y - t845;
+    let t847: f32 = t844 + t846;
+    let t848: f32 = t843 + t847;
+    let t849: f32 = rod3_mass * t848;
+    let t850: f32 = t399 * t504;
+    let t851: f32 = t417 * t432;
+    let t852: f32 = t464 * t847;
+    let t853: f32 = t10 * t43;
+    let t854: f32 = t118 * t853;
+    let t855: f32 = t43 * t118;
+    let t856: f32 = t106 + t855;
+    let t857: f32 = t854 * 0.125;
+    let t858: f32 = q3 + t856;
+    let t859: f32 = t858 - t857;
+    let t860: f32 = joint3_mass * t859;
+    let t861: f32 = q4 + t856;
+    let t862: f32 = t861 - t857;
+    let t863: f32 = joint4_mass * t862;
+    let t864: f32 = half_spacing + t856;
+    let t865: f32 = t864 - t857;
+    let t866: f32 = joint5_mass * t865;
+    let t867: f32 = half_spacing + t857;
+    let t868: f32 = t867 - t856;
+    let t869: f32 = joint6_mass * t868;
+    let t870: f32 = t10 * t223;
+    let t871: f32 = t870 * 0.125;
+    let t872: f32 = t223 - t871;
+    let t873: f32 = t221 * t872;
+    let t874: f32 = t856 - t857;
+    let t875: f32 = t269 * t874;
+    let t876: f32 = t860 + t863;
+    let t877: f32 = t866 + t873;
+    let t878: f32 = t283 + t875;
+    let t879: f32 = t876 + t877;
+    let t880: f32 = t878 + t879;
+    let t881: f32 = t880 - t869;
+    let t882: f32 = t273 * t881;
+    let t883: f32 = t303 * t874;
+    let t884: f32 = t300 * t304;
+    let t885: f32 = t272 * t847;
+    let t886: f32 = t170 * t329;
+    let t887: f32 = t885 - t886;
+    let t888: f32 = t884 + t887;
+    let t889: f32 = t125 * t888;
+    let t890: f32 = t470 * t507;
+    let t891: f32 = t109 * t674;
+    let t892: f32 = t472 + t776;
+    let t893: f32 = joint1_mass * t892;
+    let t894: f32 = t476 + t779;
+    let t895: f32 = joint2_mass * t894;
+    let t896: f32 = t479 + t782;
+    let t897: f32 = joint3_mass * t896;
+    let t898: f32 = t479 + t785;
+    let t899: f32 = joint4_mass * t898;
+    let t900: f32 = t486 + t788;
+    let t901: f32 = joint5_mass * t900;
+    let t902: f32 = t490 + t788;
+    let t903: f32 = joint6_mass * t902;
+    let t904: f32 = t551 + t808;
+    let t905: f32 = t904 * 2.0;
+    let t906: f32 = t513 + t893;
+    let t907: f32 = t895 + t897;
+    let t908: f32 = t899 + t901;
+    let t909: f32 = t903 + t905;
+    let t910: f32 = t906 + t907;
+    let t911: f32 = t908 + t909;
+    let t912: f32 = t910 + t911;
+    let t913: f32 = t912 - t801;
+    let t914: f32 = t3 * t913;
+    let t915: f32 = t150 * t774;
+    let t916: f32 = t891 + t915;
+    let t917: f32 = t916 - t914;
+    let t918: f32 = t109 * t917;
+    let t919: f32 = t3 * t739;
+    let t920: f32 = t918 + t919;
+    let t921: f32 = t0 * t920;
+    let t922: f32 = t890 - t921;
+    let t923: f32 = t0 * t922;
+    let t924: f32 = t850 + t851;
+    let t925: f32 = t882 + t889;
+    let t926: f32 = t924 + t925;
+    let t927: f32 = t923 + t926;
+    let t928: f32 = t852 + t883;
+    let t929: f32 = t927 - t928;
+    let t930: f32 = t0 * t929;
+    let t931: f32 = t150 * t310;
+    let t932: f32 = t107 * t109;
+    let t933: f32 = t204 * 0.5;
+    let t934: f32 = -t933;
+    let t935: f32 = t2 * t934;
+    let t936: f32 = t932 + t935;
+    let t937: f32 = t0 * t936;
+    let t938: f32 = t131 - t937;
+    let t939: f32 = t109 * t938;
+    let t940: f32 = t931 - t939;
+    let t941: f32 = t0 * t940;
+    let t942: f32 = gravity_y - t941;
+    let t943: f32 = t272 * t942;
+    let t944: f32 = t150 * t329;
+    let t945: f32 = t109 * t300;
+    let t946: f32 = t944 - t945;
+    let t947: f32 = t946 * 0.5;
+    let t948: f32 = t1 * t947;
+    let t949: f32 = t943 * 0.5;
+    let t950: f32 = t949 - t948;
+    let t951: f32 = t152 * t950;
+    let t952: f32 = t930 * 0.5;
+    let t953: f32 = t849 + t951;
+    let t954: f32 = t888 + t953;
+    let t955: f32 = t952 - t954;
+    let t956: f32 = rod4_mass * t848;
+    let t957: f32 = t152 * t888;
+    let t958: f32 = t957 - t930;
+    let t959: f32 = t958 * 0.5;
+    let t960: f32 = t959 - t956;
+    let t961: f32 = gravity_z * rod5_mass;
+    let t962: f32 = t399 * t455;
+    let t963: f32 = t417 * t634;
+    let t964: f32 = t324 * t881;
+    let t965: f32 = t441 * t847;
+    let t966: f32 = t145 * t888;
+    let t967: f32 = t332 * t874;
+    let t968: f32 = t470 * t632;
+    let t969: f32 = t3 * t821;
+    let t970: f32 = t150 * t917;
+    let t971: f32 = t969 - t970;
+    let t972: f32 = t0 * t971;
+    let t973: f32 = t968 + t972;
+    let t974: f32 = t0 * t973;
+    let t975: f32 = t962 + t964;
+    let t976: f32 = t966 + t974;
+    let t977: f32 = t975 + t976;
+    let t978: f32 = t963 + t965;
+    let t979: f32 = t967 + t978;
+    let t980: f32 = t977 - t979;
+    let t981: f32 = t0 * t980;
+    let t982: f32 = t981 - t888;
+    let t983: f32 = t331 - t982;
+    let t984: f32 = t983 * 0.5;
+    let t985: f32 = t984 - t961;
+    let t986: f32 = gravity_z * rod6_mass;
+    let t987: f32 = t331 + t982;
+    let t988: f32 = t987 * 0.5;
+    let t989: f32 = t988 - t986;
+    let t990: f32 = 1.0 - t191;
+    ([t837, t840, t955, t960, t985, t989], [t990, t455, t872, t432])
 }
 /// What the robot's limits bound, at a pose: each ball's position `Q_i1` on its actuator, its offset on its plate, and the cosine of its tilt.
 ///

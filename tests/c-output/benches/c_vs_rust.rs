@@ -2,7 +2,9 @@
 //! Rust (the default target: their FMA twins where the CPU has FMA, `rust_*`, and the separate
 //! path, `rust_*_separate`), and both against the SymPy baseline (`sympy/generate.py`) built
 //! `gcc -O3 -march=native` twice: `-std=c99` (`sympy_*`, no contraction) and GCC's default GNU
-//! mode (`sympy_gnu_*`, `a * b + c` contracted into fused multiply-adds), in one run:
+//! mode (`sympy_gnu_*`, `a * b + c` contracted into fused multiply-adds), in one run; the paper
+//! model's SymPy baseline twice, regrouped as ours (`sympy_paper`) and leg by leg as the chapter
+//! computes it (`sympy_paper_by_legs`):
 //! `cargo bench -p c5-c-output-test`.
 
 use c5_c_output_test::native;
@@ -100,10 +102,18 @@ fn inverse_dynamics(c: &mut Criterion) {
         ),
         ("sympy_paper", native::sympy_paper_inverse_dynamics),
         (
+            "sympy_paper_by_legs",
+            native::sympy_paper_by_legs_inverse_dynamics,
+        ),
+        (
             "sympy_gnu_consistent",
             native::sympy_gnu_consistent_inverse_dynamics,
         ),
         ("sympy_gnu_paper", native::sympy_gnu_paper_inverse_dynamics),
+        (
+            "sympy_gnu_paper_by_legs",
+            native::sympy_gnu_paper_by_legs_inverse_dynamics,
+        ),
     ] {
         g.bench_function(name, |b| {
             b.iter(|| {

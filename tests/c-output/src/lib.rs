@@ -118,6 +118,13 @@ pub mod native {
             accel: *const f64,
             gamma: *mut f64,
         );
+        /// The SymPy baseline of the paper model leg by leg, as the chapter computes it.
+        pub fn sympy_paper_by_legs_inverse_dynamics(
+            pose: *const f64,
+            twist: *const f64,
+            accel: *const f64,
+            gamma: *mut f64,
+        );
         /// The SymPy baseline built in GCC's default GNU mode (`a * b + c` contracted into
         /// fused multiply-adds).
         pub fn sympy_gnu_consistent_inverse_dynamics(
@@ -128,6 +135,13 @@ pub mod native {
         );
         /// The SymPy baseline built in GCC's default GNU mode.
         pub fn sympy_gnu_paper_inverse_dynamics(
+            pose: *const f64,
+            twist: *const f64,
+            accel: *const f64,
+            gamma: *mut f64,
+        );
+        /// The chapter's leg-by-leg SymPy baseline built in GCC's default GNU mode.
+        pub fn sympy_gnu_paper_by_legs_inverse_dynamics(
             pose: *const f64,
             twist: *const f64,
             accel: *const f64,

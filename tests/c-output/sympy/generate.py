@@ -3,13 +3,14 @@
 The baseline a user would pick instead of c5-codegen: the same equations as
 `codegen/src/model/{geometry,bodies,paper,consistent}.rs` (the same formulations: Euler's
 equations in the platform frame, one point-acceleration map, the consistent model in the
-platform frame with its 3x3 pair system), the default robot folded in, then `sympy.cse` and
-`sympy.ccode`. Regenerate with
+platform frame with its 3x3 pair system, the paper model regrouped), the default robot folded
+in, then `sympy.cse` and `sympy.ccode`; and the paper model leg by leg as the chapter computes
+it (`sympy_paper_by_legs.c`), what a user transcribing the chapter gets. Regenerate with
 
     pip install sympy==1.14.0
     python3 tests/c-output/sympy/generate.py
 
-which rewrites `sympy_consistent.c` and `sympy_paper.c` beside this file and prints the counted
+which rewrites the `sympy_*.c` files beside this file and prints the counted
 operations of each.
 """
 
@@ -81,8 +82,54 @@ def euler(inertia):
     return inertia * wd_p + cross(w_p, inertia * w_p)
 
 
+def step6(k):
+    # Eq 62: Gamma = Pi1^T J1^T K.
+    x = lambda i: P[i - 1][0]
+    y = lambda i: P[i - 1][1]
+    z = lambda i: P[i - 1][2]
+    e = lambda i: sp.Matrix([1 if j == i - 1 else 0 for j in range(6)])
+    al = (e(5) - e(6)) / (y(6) - y(5))
+    be = (e(1) - e(2)) / (z(2) - z(1))
+    ga = (e(3) - e(4)) / (x(4) - x(3))
+    u = al * (z(1) - z(3)) + ga * (x(3) - x(1)) + e(3)
+    w = al * (y(5) - y(1)) + be * (x(1) - x(5)) + e(5)
+    pi1 = sp.Matrix.hstack(w, u, ga, be, al, e(1)).T
+    x1, y1, z1 = P[0]
+    j1 = sp.Matrix([
+        [0, 0, 0, 0, 1, 0], [0, 0, 0, 1, 0, 0], [0, 0, 1, 0, 0, 0],
+        [0, 0, -y1, z1, 0, 1], [0, 1, x1, 0, -z1, 0], [1, 0, 0, -x1, y1, 0],
+    ])
+    return pi1.T * (j1.T * k)
+
+
 def paper():
-    """Eqs 43-62 with the slips corrected, as `codegen/src/model/paper.rs`."""
+    """Eq 60 regrouped, as `codegen/src/model/paper.rs`: the platform and the bodies 2 lumped
+    into one body about C, the rods' axial loads added after step 6."""
+    a_s = a_c - cross(omega, v_c)  # the spatial acceleration of eq 43
+    pam = tilde(omega_dot) + tilde(omega) * tilde(omega)
+    # The lumped body: reference points B_i = C - P_i, centres of mass there.
+    mass = M_PLATFORM + 6 * M_JOINT
+    h = sp.zeros(3, 1)
+    i_rot = I_PLATFORM
+    i_offsets = sp.zeros(3, 3)
+    for i in range(6):
+        h += -M_JOINT * P[i]
+        i_rot = i_rot + i_joint(i)
+        i_offsets += -M_JOINT * tilde(P[i]) * tilde(P[i])
+    a = a_c - G
+    force = mass * a + pam * h
+    moment = (R * euler(i_rot) + i_offsets * omega_dot + cross(omega, i_offsets * omega)
+              + cross(h, a))
+    k = sp.Matrix.vstack(moment, force)
+    # The rods' axial loads, Q_i1'' by projection (eq 47).
+    tau = sp.Matrix([M_ROD * (unit(AXIS[i]).dot(a_s + cross(P[i], omega_dot))
+                              - G[AXIS[i]]) for i in range(6)])
+    return step6(k) + tau
+
+
+def paper_by_legs():
+    """Eqs 43-62 with the slips corrected, leg by leg as the chapter computes them
+    (`inverse_dynamics_by_legs` in `codegen/src/model/paper.rs`)."""
     a_s = a_c - cross(omega, v_c)  # the spatial acceleration of eq 43
     pam = tilde(omega_dot) + tilde(omega) * tilde(omega)
     phi = sp.zeros(6, 1)
@@ -102,23 +149,7 @@ def paper():
     # Eqs 52-57 (centre of mass at C).
     f_platform = sp.Matrix.vstack(R * euler(I_PLATFORM), M_PLATFORM * (a_c - G))
     k = f_platform + phi
-    # Eq 62: Gamma = Pi1^T J1^T K.
-    x = lambda i: P[i - 1][0]
-    y = lambda i: P[i - 1][1]
-    z = lambda i: P[i - 1][2]
-    e = lambda i: sp.Matrix([1 if j == i - 1 else 0 for j in range(6)])
-    al = (e(5) - e(6)) / (y(6) - y(5))
-    be = (e(1) - e(2)) / (z(2) - z(1))
-    ga = (e(3) - e(4)) / (x(4) - x(3))
-    u = al * (z(1) - z(3)) + ga * (x(3) - x(1)) + e(3)
-    w = al * (y(5) - y(1)) + be * (x(1) - x(5)) + e(5)
-    pi1 = sp.Matrix.hstack(w, u, ga, be, al, e(1)).T
-    x1, y1, z1 = P[0]
-    j1 = sp.Matrix([
-        [0, 0, 0, 0, 1, 0], [0, 0, 0, 1, 0, 0], [0, 0, 1, 0, 0, 0],
-        [0, 0, -y1, z1, 0, 1], [0, 1, x1, 0, -z1, 0], [1, 0, 0, -x1, y1, 0],
-    ])
-    return pi1.T * (j1.T * k)
+    return step6(k)
 
 
 def consistent():
@@ -191,4 +222,5 @@ def emit(name, gamma_expr):
 
 
 emit("paper", paper())
+emit("paper_by_legs", paper_by_legs())
 emit("consistent", consistent())

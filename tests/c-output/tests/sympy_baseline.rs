@@ -1,5 +1,6 @@
 //! The SymPy baseline of the bench computes the inverse dynamics our kernels compute, so the
-//! comparison is between two ways of computing one thing.
+//! comparison is between two ways of computing one thing; the chapter's leg-by-leg recursion,
+//! written independently in SymPy, also checks the regrouped paper model.
 
 use c5_c_output_test::native;
 use c5_generated::f64::{consistent, paper};
@@ -14,15 +15,14 @@ fn the_sympy_baseline_computes_our_inverse_dynamics() {
         let v = [u(1.0), u(1.0), u(1.0), u(0.5), u(0.5), u(0.5)];
         let a = [u(5.0), u(5.0), u(5.0), u(2.0), u(2.0), u(2.0)];
         type Kernel = unsafe extern "C" fn(*const f64, *const f64, *const f64, *mut f64);
-        let cases: [(Kernel, [f64; 6]); 2] = [
+        let paper = paper::inverse_dynamics(&x, &v, &a).0;
+        let cases: [(Kernel, [f64; 6]); 3] = [
             (
                 native::sympy_consistent_inverse_dynamics,
                 consistent::inverse_dynamics(&x, &v, &a).0,
             ),
-            (
-                native::sympy_paper_inverse_dynamics,
-                paper::inverse_dynamics(&x, &v, &a).0,
-            ),
+            (native::sympy_paper_inverse_dynamics, paper),
+            (native::sympy_paper_by_legs_inverse_dynamics, paper),
         ];
         for (sympy, want) in cases {
             let mut got = [0.0; 6];
