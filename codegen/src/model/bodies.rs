@@ -262,6 +262,9 @@ impl<'g> Lumped<'g> {
         a_c: &Vec3<'g>,
         gravity: &Vec3<'g>,
     ) -> Vec6<'g> {
+        // One first moment `H` for the whole group: `wrench_turning_with_platform` of the summed
+        // parameters plus the offsets' own terms gives the same wrench, but costs the `_params`
+        // kernels 18 multiplications and 15 additions more (`H × a` and `A H` split in two).
         let h = frame.to_base(&self.first_moment) + self.offset_moment;
         let a = *a_c - *gravity;
         let f = a.scale(self.mass) + omega_dot.cross(&h) + omega.cross(&omega.cross(&h));
