@@ -445,8 +445,8 @@ fn leg_wrench_from_spatial<'g>(
 }
 
 /// Eq 60 regrouped, the kernels' inverse dynamics: `Γ = Π1ᵀ J1ᵀ (F_{N+1} + Φ₂) + τ` (Slip 1:
-/// `J⁻ᵀ`, not `J⁻¹`; step 6 by eq 62). It equals the chapter's steps 1-6 ([`leg_wrench`]) and
-/// costs half as much: `J_Bi` is a permutation (eq 50), so `J_Bi T_i = F_i2 + H_i1 H_i1ᵀ (F_i1 -
+/// `J⁻ᵀ`, not `J⁻¹`; step 6 by eq 62). It equals the chapter's steps 1-6 ([`leg_wrench`]) at
+/// 400 counted operations against their 582: `J_Bi` is a permutation (eq 50), so `J_Bi T_i = F_i2 + H_i1 H_i1ᵀ (F_i1 -
 /// F_i2)`, and `H_i1ᵀ P̂_i1 F_i2` is `n_i·f_i2`: each body 2's wrench reaches `C` whole, and of
 /// the rod only its axial load `τ_i`, along column `i` of `J⁻ᵀ` (eq 22), so that `Jᵀ` gives it
 /// back unchanged. The bodies 2 move as points of the platform (eq 43): their wrenches at `C`
