@@ -50,6 +50,9 @@ struct Cases<'a> {
     arrays: &'a [([f64; 6], [f64; 6], [f64; 6])],
     arrays32: &'a [([f32; 6], [f32; 6], [f32; 6])],
     batches: &'a [[[[f64; 4]; 6]; 3]],
+    /// The same states turned beyond a quarter turn (`|α|` in 0.8-1.0 rad), single and batched.
+    beyond: &'a [([f64; 6], [f64; 6], [f64; 6])],
+    beyond_batches: &'a [[[[f64; 4]; 6]; 3]],
     params: &'a [f64; 152],
 }
 
@@ -99,6 +102,28 @@ impl Cases<'_> {
                 })
             })
         });
+        // Beyond a quarter turn the sines and cosines are the library's, and a batch goes
+        // state by state through the single kernel.
+        let (beyond, beyond_batches) = (self.beyond, self.beyond_batches);
+        g.throughput(Throughput::Elements(count));
+        g.bench_function(format!("generated_{model}_beyond_quarter_turn"), |b| {
+            b.iter(|| {
+                i = (i + 1) % beyond.len();
+                let (x, v, a) = black_box(&beyond[i]);
+                kernels.inverse_dynamics(x, v, a).0
+            })
+        });
+        g.throughput(Throughput::Elements(4 * count));
+        g.bench_function(
+            format!("generated_{model}_batch_x4_beyond_quarter_turn"),
+            |b| {
+                b.iter(|| {
+                    i = (i + 1) % beyond_batches.len();
+                    let [x, v, a] = black_box(&beyond_batches[i]);
+                    kernels.inverse_dynamics_x4(x, v, a).0
+                })
+            },
+        );
         g.throughput(Throughput::Elements(ops(
             model,
             Kernel::InverseDynamics,
@@ -213,6 +238,23 @@ fn soa(rows: &[[f64; 6]; 4]) -> [[f64; 4]; 6] {
     std::array::from_fn(|k| std::array::from_fn(|l| rows[l][k]))
 }
 
+/// States four at a time, in the batch kernels' `[element][lane]` form.
+fn in_fours(arrays: &[([f64; 6], [f64; 6], [f64; 6])]) -> Vec<[[[f64; 4]; 6]; 3]> {
+    arrays
+        .chunks(4)
+        .map(|c| {
+            let col = |j: usize| -> [[f64; 6]; 4] {
+                std::array::from_fn(|l| match j {
+                    0 => c[l].0,
+                    1 => c[l].1,
+                    _ => c[l].2,
+                })
+            };
+            [soa(&col(0)), soa(&col(1)), soa(&col(2))]
+        })
+        .collect()
+}
+
 fn inverse_dynamics(c: &mut Criterion) {
     let robot = Robot::default();
     let params: [f64; 152] = robot.kernel_parameters().try_into().unwrap();
@@ -231,24 +273,21 @@ fn inverse_dynamics(c: &mut Criterion) {
             )
         })
         .collect();
-    let batches: Vec<[[[f64; 4]; 6]; 3]> = arrays
-        .chunks(4)
-        .map(|c| {
-            let col = |j: usize| -> [[f64; 6]; 4] {
-                std::array::from_fn(|l| match j {
-                    0 => c[l].0,
-                    1 => c[l].1,
-                    _ => c[l].2,
-                })
-            };
-            [soa(&col(0)), soa(&col(1)), soa(&col(2))]
+    let beyond: Vec<_> = arrays
+        .iter()
+        .map(|&(mut x, v, a)| {
+            x[0] = x[0].signum() * (0.8 + 0.4 * x[0].abs());
+            (x, v, a)
         })
         .collect();
+    let (batches, beyond_batches) = (in_fours(&arrays), in_fours(&beyond));
     let mut g = c.benchmark_group("inverse_dynamics");
     let cases = Cases {
         arrays: &arrays,
         arrays32: &arrays32,
         batches: &batches,
+        beyond: &beyond,
+        beyond_batches: &beyond_batches,
         params: &params,
     };
     cases.inverse_dynamics(&mut g, &Consistent, &Consistent32);

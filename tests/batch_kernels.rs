@@ -52,6 +52,7 @@ fn every_lane_of_the_f64_batch_kernels_is_the_single_state_kernel_on_each_path()
 
 fn f64_lanes_equal_single_states() {
     let mut rng = rng(41);
+    let mut vectorised = 0;
     for n in 0..BATCHES {
         let robot = if n % 2 == 0 {
             random_robot(&mut rng)
@@ -59,8 +60,9 @@ fn f64_lanes_equal_single_states() {
             Robot::default()
         };
         let params: [f64; 152] = robot.kernel_parameters().try_into().unwrap();
-        // Every other pair of batches turns beyond a quarter turn (to 1.25 rad), where the lanes
-        // take their sines and cosines one by one instead of four at once.
+        // Every other pair of batches turns beyond a quarter turn (to 1.25 rad), where a batch
+        // with a lane beyond goes state by state through the single kernel instead of four
+        // lanes at once.
         let turn = if n % 4 < 2 { 1.0 } else { 2.5 };
         let states: [[[f64; 6]; 3]; 4] = std::array::from_fn(|_| {
             let mut s = state_arrays(&random_state(&mut rng));
@@ -69,6 +71,13 @@ fn f64_lanes_equal_single_states() {
             }
             s
         });
+        if states.iter().all(|s| {
+            s[0][..3]
+                .iter()
+                .all(|a| a.abs() <= std::f64::consts::FRAC_PI_4)
+        }) {
+            vectorised += 1;
+        }
         // Forces of the robot's size for the forward dynamics.
         let forces: [[[f64; 6]; 3]; 4] = std::array::from_fn(|l| {
             let mut s = states[l];
@@ -121,6 +130,11 @@ fn f64_lanes_equal_single_states() {
             &params
         );
     }
+    // Both ways through the batch kernels: four lanes at once, and state by state.
+    assert!(
+        (BATCHES / 4..BATCHES).contains(&vectorised),
+        "{vectorised} of {BATCHES} batches within a quarter turn"
+    );
 }
 
 #[test]

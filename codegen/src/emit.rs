@@ -523,8 +523,48 @@ pub fn emit_batch_kernel(
         }
     };
     let read_after = compiled.program.output_temps();
+    let name = ident(&format!("{}_x{lanes}", spec.name));
+    let args: Vec<Ident> = spec.inputs.iter().map(|a| ident(&a.name)).collect();
+    // `f64` lanes compute the sine-cosine pairs of the inputs in vector instructions when every
+    // lane lies within a quarter turn, checked on entry, all at once: one branch ahead of any
+    // arithmetic. A batch with a lane beyond goes state by state through the single kernel.
+    // Choosing at each pair instead merged the two ways through memory, and checking at each
+    // pair split the blocks LLVM schedules: each cost the paper model's batch inverse dynamics
+    // 10-20 %. Running the lanes a second time with the library's pairs would keep such a batch
+    // at vector speed, at a third more build time for `c5-generated`.
+    let mut on_entry: Vec<u32> = Vec::new();
+    for instr in &compiled.program.instrs {
+        if let Instr::SinCos(Operand::Input(k)) = *instr {
+            if !on_entry.contains(&k) {
+                on_entry.push(k);
+            }
+        }
+    }
+    let quarter_turn = scalar == Scalar::F64 && !on_entry.is_empty();
+    let by_states = ident(&format!("{}_x{lanes}_by_states", spec.name));
+    let by_states_fused = ident(&format!("{}_x{lanes}_by_states_fused", spec.name));
     let body = |fusion: Option<&Fusion>| -> Vec<TokenStream> {
         let mut body = Vec::new();
+        if quarter_turn {
+            let checks = on_entry.iter().map(|&k| {
+                let x = operand(Operand::Input(k));
+                quote!(#x.within_quarter_turn())
+            });
+            let by_states = if fusion.is_some() {
+                &by_states_fused
+            } else {
+                &by_states
+            };
+            body.push(Let {
+                binds: Vec::new(),
+                // `&`, not `&&`: the comparisons combine without a branch each.
+                tokens: quote! {
+                    if !(#(#checks)&*) {
+                        return #by_states(#(#args),*);
+                    }
+                },
+            });
+        }
         for (i, instr) in compiled.program.instrs.iter().enumerate() {
             let t = ident(&format!("t{i}"));
             let rhs = match fused_rhs(fusion, i, &operand, &quote!(#lane)) {
@@ -537,10 +577,16 @@ pub fn emit_batch_kernel(
                     }
                     Instr::SinCos(a) => {
                         let c = ident(&format!("t{}", i + 1));
+                        let checked = quarter_turn && matches!(a, Operand::Input(_));
                         let a = operand(a);
+                        let tokens = if checked {
+                            quote!(let (#t, #c) = #a.sin_cos_quarter_turn();)
+                        } else {
+                            quote!(let (#t, #c) = #a.sin_cos();)
+                        };
                         body.push(Let {
                             binds: vec![i as u32, i as u32 + 1],
-                            tokens: quote!(let (#t, #c) = #a.sin_cos();),
+                            tokens,
                         });
                         continue;
                     }
@@ -582,9 +628,7 @@ pub fn emit_batch_kernel(
          each lane computing exactly what `{}` computes. {}",
         spec.name, spec.name, spec.title
     );
-    let name = ident(&format!("{}_x{lanes}", spec.name));
     let portable = ident(&format!("{}_x{lanes}_lanes", spec.name));
-    let args: Vec<Ident> = spec.inputs.iter().map(|a| ident(&a.name)).collect();
     let separate = body(None);
     // The FMA twin of the lanes: the single kernel's fusion plan, so each lane computes what
     // the single kernel's fused twin computes.
@@ -633,6 +677,43 @@ pub fn emit_batch_kernel(
     // four `f64` (eight `f32`) to an instruction instead of two (four). On the FMA path (as the
     // single kernels take it) the lanes fuse what the single kernels fuse; on the other, every
     // operation is rounded on its own. Either way each lane computes the single kernel's bits.
+    let by_states_fns = quarter_turn.then(|| {
+        let single = ident(&format!("{}_separate", spec.name));
+        let single_fused = ident(&format!("{}_fused", spec.name));
+        let (body, body_fused) = (
+            by_states_body(spec, lanes, &single),
+            by_states_body(spec, lanes, &single_fused),
+        );
+        let cfg = FmaDispatch::crate_switch().cfg;
+        let doc = format!(
+            " [`{name}`] state by state through [`{single}`], for a batch with an angle beyond a \
+             quarter turn."
+        );
+        let doc_fused = format!(" [`{by_states}`] through [`{single_fused}`].");
+        quote! {
+            #[doc = #doc]
+            #[cold]
+            #[inline(never)]
+            fn #by_states(#(#params),*) -> #ret_ty {
+                #body
+            }
+
+            #[doc = #doc_fused]
+            ///
+            /// # Safety
+            /// The CPU must have FMA.
+            #[cfg(#cfg)]
+            #[cold]
+            #[inline(never)]
+            unsafe fn #by_states_fused(#(#params),*) -> #ret_ty {
+                #body_fused
+            }
+        }
+    });
+    // The lanes are written for any vector width; on x86 with `std`, a CPU with AVX2 runs them
+    // four `f64` (eight `f32`) to an instruction instead of two (four). On the FMA path (as the
+    // single kernels take it) the lanes fuse what the single kernels fuse; on the other, every
+    // operation is rounded on its own. Either way each lane computes the single kernel's bits.
     Ok(quote! {
         #[doc = #doc]
         #[inline]
@@ -662,7 +743,50 @@ pub fn emit_batch_kernel(
         }
 
         #lanes_fused
+
+        #by_states_fns
     })
+}
+
+/// The body of a batch kernel run state by state: each lane's inputs gathered, the single kernel
+/// `single` called on them, its results scattered back into the lanes.
+fn by_states_body(spec: &KernelSpec, lanes: usize, single: &Ident) -> TokenStream {
+    let n = Literal::usize_unsuffixed(lanes);
+    let inputs = spec.inputs.iter().map(|a| {
+        let name = ident(&a.name);
+        // As in the batch signature: the robot's parameters are one for all lanes.
+        if a.name == "params" {
+            quote!(#name)
+        } else {
+            quote!(&core::array::from_fn(|k| #name[k][lane]))
+        }
+    });
+    let outs: Vec<Ident> = (0..spec.outputs.len())
+        .map(|k| ident(&format!("out{k}")))
+        .collect();
+    let states: Vec<Ident> = (0..spec.outputs.len())
+        .map(|k| ident(&format!("state{k}")))
+        .collect();
+    let lens = spec
+        .outputs
+        .iter()
+        .map(|a| Literal::usize_unsuffixed(a.shape.len()));
+    let (pattern, ret) = match (&outs[..], &states[..]) {
+        ([out], [state]) => (quote!(#state), quote!(#out)),
+        _ => (quote!((#(#states),*)), quote!((#(#outs),*))),
+    };
+    quote! {
+        #(let mut #outs = [[0.0; #n]; #lens];)*
+        for lane in 0..#n {
+            let #pattern = #single(#(#inputs),*);
+            #(
+                for (k, v) in #states.into_iter().enumerate() {
+                    #outs[k][lane] = v;
+                }
+            )*
+        }
+        #ret
+    }
 }
 
 /// Emits a file of batch kernels.

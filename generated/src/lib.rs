@@ -307,6 +307,20 @@ pub mod lanes {
         pub fn sin_cos(self) -> (Self, Self) {
             crate::sincos::sin_cos_lanes(self)
         }
+
+        /// Whether all four lanes lie within a quarter turn, where
+        /// [`F64x4::sin_cos_quarter_turn`] is the library's sine and cosine.
+        #[inline(always)]
+        pub fn within_quarter_turn(self) -> bool {
+            crate::sincos::within_quarter_turn(self)
+        }
+
+        /// `(sin, cos)` of four lanes [`F64x4::within_quarter_turn`], in vector instructions,
+        /// each equal to [`crate::trig::sin_cos`] of it (only there).
+        #[inline(always)]
+        pub fn sin_cos_quarter_turn(self) -> (Self, Self) {
+            crate::sincos::sin_cos_quarter_turn(self)
+        }
     }
 
     impl F32x8 {

@@ -1,7 +1,12 @@
 //! The sine and cosine of several arguments at once, for the batch kernels: when every lane
 //! lies within a quarter turn, [`crate::quarter`]'s polynomials run on all lanes together
-//! (vector instructions, no call); otherwise each lane calls what the single-state kernels
-//! call. Either way a lane gets the single-state kernel's bits.
+//! (vector instructions, no call), and a lane gets the single-state kernel's bits.
+//!
+//! The batch kernels ask [`within_quarter_turn`] first and, where a lane lies beyond, hand the
+//! whole batch to the single-state kernel lane by lane: a kernel that chose between the
+//! vectorised pair and a call per lane at each sine-cosine merged the two through memory, which
+//! cost the paper model's batch inverse dynamics a fifth of its time. [`sin_cos_lanes`] keeps
+//! the per-pair choice for other callers.
 //!
 //! A branch-free vectorised reduction by `π/2` (fdlibm's, within one ulp of the library beyond
 //! `π/4`) was tried and dropped: one ulp of a sine, amplified by the conditioning of a pose near
@@ -23,15 +28,28 @@ impl Arith for F64x4 {
     }
 }
 
+/// Whether every lane lies within a quarter turn (`|x| ≤ π/4`, not NaN), where
+/// [`sin_cos_quarter_turn`] computes the library's sine and cosine.
+#[inline(always)]
+pub fn within_quarter_turn(x: F64x4) -> bool {
+    // `&` rather than `&&`: one vector comparison, no branch per lane.
+    x.0.iter()
+        .fold(true, |all, v| all & (v.abs() <= quarter::RANGE))
+}
+
+/// `(sin x, cos x)` of four values [`within_quarter_turn`], in vector instructions, each lane
+/// equal to [`crate::trig::sin_cos`] of it. Beyond a quarter turn the lanes are fdlibm's
+/// polynomials without its argument reduction: close, but not the library's bits.
+#[inline(always)]
+pub fn sin_cos_quarter_turn(x: F64x4) -> (F64x4, F64x4) {
+    quarter::kernel(x)
+}
+
 /// `(sin x, cos x)` of four values at once, each lane equal to [`crate::trig::sin_cos`] of it.
 #[inline(always)]
 pub fn sin_cos_lanes(x: F64x4) -> (F64x4, F64x4) {
-    // `&` rather than `&&`: one vector comparison, no branch per lane.
-    if x.0
-        .iter()
-        .fold(true, |all, v| all & (v.abs() <= quarter::RANGE))
-    {
-        quarter::kernel(x)
+    if within_quarter_turn(x) {
+        sin_cos_quarter_turn(x)
     } else {
         lane_by_lane(x)
     }
@@ -50,6 +68,15 @@ fn lane_by_lane(x: F64x4) -> (F64x4, F64x4) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_quarter_turn_is_where_every_lane_lies_within_pi_over_4() {
+        let r = quarter::RANGE;
+        assert!(within_quarter_turn(F64x4([0.0, -0.0, r, -r])));
+        assert!(!within_quarter_turn(F64x4([0.0, 0.0, 0.0, r.next_up()])));
+        assert!(!within_quarter_turn(F64x4([-r.next_up(), 0.0, 0.0, 0.0])));
+        assert!(!within_quarter_turn(F64x4([0.0, f64::NAN, 0.0, 0.0])));
+    }
 
     #[test]
     fn every_lane_is_the_single_state_sine_and_cosine() {

@@ -118,17 +118,22 @@ fn forward_dynamics_x4_lanes(
     let g4 = F64x4(forces[3]);
     let g5 = F64x4(forces[4]);
     let g6 = F64x4(forces[5]);
-    let (t0, t1) = alpha.sin_cos();
+    if !(alpha.within_quarter_turn() & beta.within_quarter_turn()
+        & gamma.within_quarter_turn())
+    {
+        return forward_dynamics_x4_by_states(pose, twist, forces);
+    }
+    let (t0, t1) = alpha.sin_cos_quarter_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
     let t3: F64x4 = t2 * t2;
-    let (t4, t5) = beta.sin_cos();
+    let (t4, t5) = beta.sin_cos_quarter_turn();
     let t6: F64x4 = F64x4::splat(1.0) / t5;
     let t7: F64x4 = t6 * t6;
     let t8: F64x4 = t3 * t7;
     let t9: F64x4 = t8 * F64x4::splat(7.34);
     let t10: F64x4 = t9 + F64x4::splat(10.0);
     let t11: F64x4 = F64x4::splat(1.0) / t10;
-    let (t12, t13) = gamma.sin_cos();
+    let (t12, t13) = gamma.sin_cos_quarter_turn();
     let t14: F64x4 = t1 * t13;
     let t15: F64x4 = t0 * t4;
     let t16: F64x4 = t12 * t15;
@@ -755,16 +760,21 @@ unsafe fn forward_dynamics_x4_lanes_fused(
     let g4 = F64x4(forces[3]);
     let g5 = F64x4(forces[4]);
     let g6 = F64x4(forces[5]);
-    let (t0, t1) = alpha.sin_cos();
+    if !(alpha.within_quarter_turn() & beta.within_quarter_turn()
+        & gamma.within_quarter_turn())
+    {
+        return forward_dynamics_x4_by_states_fused(pose, twist, forces);
+    }
+    let (t0, t1) = alpha.sin_cos_quarter_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
     let t3: F64x4 = t2 * t2;
-    let (t4, t5) = beta.sin_cos();
+    let (t4, t5) = beta.sin_cos_quarter_turn();
     let t6: F64x4 = F64x4::splat(1.0) / t5;
     let t7: F64x4 = t6 * t6;
     let t8: F64x4 = t3 * t7;
     let t10: F64x4 = F64x4::mul_add(t8, F64x4::splat(7.34), F64x4::splat(10.0));
     let t11: F64x4 = F64x4::splat(1.0) / t10;
-    let (t12, t13) = gamma.sin_cos();
+    let (t12, t13) = gamma.sin_cos_quarter_turn();
     let t15: F64x4 = t0 * t4;
     let t16: F64x4 = t12 * t15;
     let t17: F64x4 = F64x4::mul_add(t1, t13, -t16);
@@ -1189,6 +1199,60 @@ unsafe fn forward_dynamics_x4_lanes_fused(
         [(t197).0, (t17).0, (t142).0],
     )
 }
+/// [`forward_dynamics_x4`] state by state through [`forward_dynamics_separate`], for a batch with an angle beyond a quarter turn.
+#[cold]
+#[inline(never)]
+fn forward_dynamics_x4_by_states(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    forces: &[[f64; 4]; 6],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1) = forward_dynamics_separate(
+            &core::array::from_fn(|k| pose[k][lane]),
+            &core::array::from_fn(|k| twist[k][lane]),
+            &core::array::from_fn(|k| forces[k][lane]),
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+    }
+    (out0, out1)
+}
+/// [`forward_dynamics_x4_by_states`] through [`forward_dynamics_fused`].
+///
+/// # Safety
+/// The CPU must have FMA.
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[cold]
+#[inline(never)]
+unsafe fn forward_dynamics_x4_by_states_fused(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    forces: &[[f64; 4]; 6],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1) = forward_dynamics_fused(
+            &core::array::from_fn(|k| pose[k][lane]),
+            &core::array::from_fn(|k| twist[k][lane]),
+            &core::array::from_fn(|k| forces[k][lane]),
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+    }
+    (out0, out1)
+}
 /// The batch version of [`inverse_dynamics`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `inverse_dynamics` computes. Inverse dynamics end to end: actuator forces `Γ` from the platform state.
 #[inline]
 pub fn inverse_dynamics_x4(
@@ -1260,11 +1324,16 @@ fn inverse_dynamics_x4_lanes(
     let ax = F64x4(accel[3]);
     let ay = F64x4(accel[4]);
     let az = F64x4(accel[5]);
-    let (t0, t1) = beta.sin_cos();
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return inverse_dynamics_x4_by_states(pose, twist, accel);
+    }
+    let (t0, t1) = beta.sin_cos_quarter_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos();
+    let (t3, t4) = gamma.sin_cos_quarter_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos();
+    let (t6, t7) = alpha.sin_cos_quarter_turn();
     let t8: F64x4 = yc * t6;
     let t9: F64x4 = t1 * t8;
     let t10: F64x4 = t3 * t7;
@@ -1716,11 +1785,16 @@ unsafe fn inverse_dynamics_x4_lanes_fused(
     let ax = F64x4(accel[3]);
     let ay = F64x4(accel[4]);
     let az = F64x4(accel[5]);
-    let (t0, t1) = beta.sin_cos();
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return inverse_dynamics_x4_by_states_fused(pose, twist, accel);
+    }
+    let (t0, t1) = beta.sin_cos_quarter_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos();
+    let (t3, t4) = gamma.sin_cos_quarter_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos();
+    let (t6, t7) = alpha.sin_cos_quarter_turn();
     let t8: F64x4 = yc * t6;
     let t9: F64x4 = t1 * t8;
     let t11: F64x4 = t0 * t6;
@@ -2029,6 +2103,60 @@ unsafe fn inverse_dynamics_x4_lanes_fused(
         [(t273).0, (t301).0, (t337).0, (t365).0, (t398).0, (t428).0],
         [(t171).0, (t33).0, (t25).0],
     )
+}
+/// [`inverse_dynamics_x4`] state by state through [`inverse_dynamics_separate`], for a batch with an angle beyond a quarter turn.
+#[cold]
+#[inline(never)]
+fn inverse_dynamics_x4_by_states(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    accel: &[[f64; 4]; 6],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1) = inverse_dynamics_separate(
+            &core::array::from_fn(|k| pose[k][lane]),
+            &core::array::from_fn(|k| twist[k][lane]),
+            &core::array::from_fn(|k| accel[k][lane]),
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+    }
+    (out0, out1)
+}
+/// [`inverse_dynamics_x4_by_states`] through [`inverse_dynamics_fused`].
+///
+/// # Safety
+/// The CPU must have FMA.
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[cold]
+#[inline(never)]
+unsafe fn inverse_dynamics_x4_by_states_fused(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    accel: &[[f64; 4]; 6],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1) = inverse_dynamics_fused(
+            &core::array::from_fn(|k| pose[k][lane]),
+            &core::array::from_fn(|k| twist[k][lane]),
+            &core::array::from_fn(|k| accel[k][lane]),
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+    }
+    (out0, out1)
 }
 /// The batch version of [`inverse_dynamics_joint`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `inverse_dynamics_joint` computes. Inverse dynamics from what the encoders measure: `Γ` from the actuators' positions, rates and accelerations.
 #[inline]
@@ -3276,11 +3404,16 @@ fn limit_geometry_x4_lanes(
     let xc = F64x4(pose[3]);
     let yc = F64x4(pose[4]);
     let zc = F64x4(pose[5]);
-    let (t0, t1) = beta.sin_cos();
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return limit_geometry_x4_by_states(pose);
+    }
+    let (t0, t1) = beta.sin_cos_quarter_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos();
+    let (t3, t4) = gamma.sin_cos_quarter_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos();
+    let (t6, t7) = alpha.sin_cos_quarter_turn();
     let t8: F64x4 = t3 * t7;
     let t9: F64x4 = t0 * t6;
     let t10: F64x4 = t4 * t9;
@@ -3443,11 +3576,16 @@ unsafe fn limit_geometry_x4_lanes_fused(
     let xc = F64x4(pose[3]);
     let yc = F64x4(pose[4]);
     let zc = F64x4(pose[5]);
-    let (t0, t1) = beta.sin_cos();
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return limit_geometry_x4_by_states_fused(pose);
+    }
+    let (t0, t1) = beta.sin_cos_quarter_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos();
+    let (t3, t4) = gamma.sin_cos_quarter_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos();
+    let (t6, t7) = alpha.sin_cos_quarter_turn();
     let t9: F64x4 = t0 * t6;
     let t10: F64x4 = t4 * t9;
     let t11: F64x4 = F64x4::mul_add(t3, t7, t10);
@@ -3559,6 +3697,68 @@ unsafe fn limit_geometry_x4_lanes_fused(
         [(t89).0, (t89).0, (t30).0, (t30).0, (t74).0, (t74).0],
         [(t89).0, (t30).0, (t74).0],
     )
+}
+/// [`limit_geometry_x4`] state by state through [`limit_geometry_separate`], for a batch with an angle beyond a quarter turn.
+#[cold]
+#[inline(never)]
+fn limit_geometry_x4_by_states(
+    pose: &[[f64; 4]; 6],
+) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 12];
+    let mut out2 = [[0.0; 4]; 6];
+    let mut out3 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1, state2, state3) = limit_geometry_separate(
+            &core::array::from_fn(|k| pose[k][lane]),
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+        for (k, v) in state2.into_iter().enumerate() {
+            out2[k][lane] = v;
+        }
+        for (k, v) in state3.into_iter().enumerate() {
+            out3[k][lane] = v;
+        }
+    }
+    (out0, out1, out2, out3)
+}
+/// [`limit_geometry_x4_by_states`] through [`limit_geometry_fused`].
+///
+/// # Safety
+/// The CPU must have FMA.
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[cold]
+#[inline(never)]
+unsafe fn limit_geometry_x4_by_states_fused(
+    pose: &[[f64; 4]; 6],
+) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 12];
+    let mut out2 = [[0.0; 4]; 6];
+    let mut out3 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1, state2, state3) = limit_geometry_fused(
+            &core::array::from_fn(|k| pose[k][lane]),
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+        for (k, v) in state2.into_iter().enumerate() {
+            out2[k][lane] = v;
+        }
+        for (k, v) in state3.into_iter().enumerate() {
+            out3[k][lane] = v;
+        }
+    }
+    (out0, out1, out2, out3)
 }
 /// The batch version of [`forward_dynamics_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `forward_dynamics_params` computes. Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
 #[inline]
@@ -3733,6 +3933,7 @@ fn forward_dynamics_params_x4_lanes(
         t53,
         t56,
         t57,
+        t58,
         t59,
         t68,
         t91,
@@ -3839,12 +4040,16 @@ fn forward_dynamics_params_x4_lanes(
         t994,
         t998,
         t1001,
-        t1002,
     ) = {
-        let (t0, t1) = alpha.sin_cos();
-        let (t2, t3) = gamma.sin_cos();
+        if !(alpha.within_quarter_turn() & gamma.within_quarter_turn()
+            & beta.within_quarter_turn())
+        {
+            return forward_dynamics_params_x4_by_states(pose, twist, forces, params);
+        }
+        let (t0, t1) = alpha.sin_cos_quarter_turn();
+        let (t2, t3) = gamma.sin_cos_quarter_turn();
         let t4: F64x4 = t1 * t3;
-        let (t5, t6) = beta.sin_cos();
+        let (t5, t6) = beta.sin_cos_quarter_turn();
         let t7: F64x4 = t0 * t5;
         let t8: F64x4 = t2 * t7;
         let t9: F64x4 = t4 - t8;
@@ -4840,7 +5045,6 @@ fn forward_dynamics_params_x4_lanes(
         let t999: F64x4 = t613 * t998;
         let t1000: F64x4 = t995 + t999;
         let t1001: F64x4 = t59 * t1000;
-        let t1002: F64x4 = t58 * t606;
         (
             t2,
             t3,
@@ -4854,6 +5058,7 @@ fn forward_dynamics_params_x4_lanes(
             t53,
             t56,
             t57,
+            t58,
             t59,
             t68,
             t91,
@@ -4960,10 +5165,10 @@ fn forward_dynamics_params_x4_lanes(
             t994,
             t998,
             t1001,
-            t1002,
         )
     };
     let (t1241, t1247, t1253, t1290, t1308, t1316) = {
+        let t1002: F64x4 = t58 * t606;
         let t1003: F64x4 = t235 * t613;
         let t1004: F64x4 = t1002 + t1003;
         let t1005: F64x4 = t613 * t1004;
@@ -5391,9 +5596,14 @@ unsafe fn forward_dynamics_params_x4_lanes_fused(
     let joint6_iyy = F64x4::splat(params[149]);
     let joint6_iyz = F64x4::splat(params[150]);
     let joint6_izz = F64x4::splat(params[151]);
-    let (t0, t1) = alpha.sin_cos();
-    let (t2, t3) = gamma.sin_cos();
-    let (t5, t6) = beta.sin_cos();
+    if !(alpha.within_quarter_turn() & gamma.within_quarter_turn()
+        & beta.within_quarter_turn())
+    {
+        return forward_dynamics_params_x4_by_states_fused(pose, twist, forces, params);
+    }
+    let (t0, t1) = alpha.sin_cos_quarter_turn();
+    let (t2, t3) = gamma.sin_cos_quarter_turn();
+    let (t5, t6) = beta.sin_cos_quarter_turn();
     let t7: F64x4 = t0 * t5;
     let t8: F64x4 = t2 * t7;
     let t9: F64x4 = F64x4::mul_add(t1, t3, -t8);
@@ -6298,6 +6508,64 @@ unsafe fn forward_dynamics_params_x4_lanes_fused(
         [(t215).0, (t9).0, (t59).0],
     )
 }
+/// [`forward_dynamics_params_x4`] state by state through [`forward_dynamics_params_separate`], for a batch with an angle beyond a quarter turn.
+#[cold]
+#[inline(never)]
+fn forward_dynamics_params_x4_by_states(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    forces: &[[f64; 4]; 6],
+    params: &[f64; 152],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1) = forward_dynamics_params_separate(
+            &core::array::from_fn(|k| pose[k][lane]),
+            &core::array::from_fn(|k| twist[k][lane]),
+            &core::array::from_fn(|k| forces[k][lane]),
+            params,
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+    }
+    (out0, out1)
+}
+/// [`forward_dynamics_params_x4_by_states`] through [`forward_dynamics_params_fused`].
+///
+/// # Safety
+/// The CPU must have FMA.
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[cold]
+#[inline(never)]
+unsafe fn forward_dynamics_params_x4_by_states_fused(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    forces: &[[f64; 4]; 6],
+    params: &[f64; 152],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1) = forward_dynamics_params_fused(
+            &core::array::from_fn(|k| pose[k][lane]),
+            &core::array::from_fn(|k| twist[k][lane]),
+            &core::array::from_fn(|k| forces[k][lane]),
+            params,
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+    }
+    (out0, out1)
+}
 /// The batch version of [`inverse_dynamics_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `inverse_dynamics_params` computes. Inverse dynamics end to end: actuator forces `Γ` from the platform state.
 #[inline]
 pub fn inverse_dynamics_params_x4(
@@ -6456,12 +6724,17 @@ fn inverse_dynamics_params_x4_lanes(
     let joint6_iyy = F64x4::splat(params[149]);
     let joint6_iyz = F64x4::splat(params[150]);
     let joint6_izz = F64x4::splat(params[151]);
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return inverse_dynamics_params_x4_by_states(pose, twist, accel, params);
+    }
     let t0: F64x4 = rod1_mass + joint1_mass;
-    let (t1, t2) = beta.sin_cos();
+    let (t1, t2) = beta.sin_cos_quarter_turn();
     let t3: F64x4 = F64x4::splat(1.0) / t2;
-    let (t4, t5) = gamma.sin_cos();
+    let (t4, t5) = gamma.sin_cos_quarter_turn();
     let t6: F64x4 = F64x4::splat(1.0) / t5;
-    let (t7, t8) = alpha.sin_cos();
+    let (t7, t8) = alpha.sin_cos_quarter_turn();
     let t9: F64x4 = t4 * t7;
     let t10: F64x4 = t1 * t8;
     let t11: F64x4 = t5 * t10;
@@ -7456,12 +7729,17 @@ unsafe fn inverse_dynamics_params_x4_lanes_fused(
     let joint6_iyy = F64x4::splat(params[149]);
     let joint6_iyz = F64x4::splat(params[150]);
     let joint6_izz = F64x4::splat(params[151]);
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return inverse_dynamics_params_x4_by_states_fused(pose, twist, accel, params);
+    }
     let t0: F64x4 = rod1_mass + joint1_mass;
-    let (t1, t2) = beta.sin_cos();
+    let (t1, t2) = beta.sin_cos_quarter_turn();
     let t3: F64x4 = F64x4::splat(1.0) / t2;
-    let (t4, t5) = gamma.sin_cos();
+    let (t4, t5) = gamma.sin_cos_quarter_turn();
     let t6: F64x4 = F64x4::splat(1.0) / t5;
-    let (t7, t8) = alpha.sin_cos();
+    let (t7, t8) = alpha.sin_cos_quarter_turn();
     let t10: F64x4 = t1 * t8;
     let t11: F64x4 = t5 * t10;
     let t12: F64x4 = F64x4::mul_add(t4, t7, -t11);
@@ -8088,6 +8366,64 @@ unsafe fn inverse_dynamics_params_x4_lanes_fused(
         [(t647).0, (t696).0, (t746).0, (t795).0, (t840).0, (t891).0],
         [(t207).0, (t25).0, (t52).0],
     )
+}
+/// [`inverse_dynamics_params_x4`] state by state through [`inverse_dynamics_params_separate`], for a batch with an angle beyond a quarter turn.
+#[cold]
+#[inline(never)]
+fn inverse_dynamics_params_x4_by_states(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    accel: &[[f64; 4]; 6],
+    params: &[f64; 152],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1) = inverse_dynamics_params_separate(
+            &core::array::from_fn(|k| pose[k][lane]),
+            &core::array::from_fn(|k| twist[k][lane]),
+            &core::array::from_fn(|k| accel[k][lane]),
+            params,
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+    }
+    (out0, out1)
+}
+/// [`inverse_dynamics_params_x4_by_states`] through [`inverse_dynamics_params_fused`].
+///
+/// # Safety
+/// The CPU must have FMA.
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[cold]
+#[inline(never)]
+unsafe fn inverse_dynamics_params_x4_by_states_fused(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    accel: &[[f64; 4]; 6],
+    params: &[f64; 152],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1) = inverse_dynamics_params_fused(
+            &core::array::from_fn(|k| pose[k][lane]),
+            &core::array::from_fn(|k| twist[k][lane]),
+            &core::array::from_fn(|k| accel[k][lane]),
+            params,
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+    }
+    (out0, out1)
 }
 /// The batch version of [`inverse_dynamics_joint_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `inverse_dynamics_joint_params` computes. Inverse dynamics from what the encoders measure: `Γ` from the actuators' positions, rates and accelerations.
 #[inline]
@@ -11029,11 +11365,16 @@ fn limit_geometry_params_x4_lanes(
     let yc = F64x4(pose[4]);
     let zc = F64x4(pose[5]);
     let half_spacing = F64x4::splat(params[0]);
-    let (t0, t1) = beta.sin_cos();
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return limit_geometry_params_x4_by_states(pose, params);
+    }
+    let (t0, t1) = beta.sin_cos_quarter_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos();
+    let (t3, t4) = gamma.sin_cos_quarter_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos();
+    let (t6, t7) = alpha.sin_cos_quarter_turn();
     let t8: F64x4 = t3 * t7;
     let t9: F64x4 = t0 * t6;
     let t10: F64x4 = t4 * t9;
@@ -11198,11 +11539,16 @@ unsafe fn limit_geometry_params_x4_lanes_fused(
     let yc = F64x4(pose[4]);
     let zc = F64x4(pose[5]);
     let half_spacing = F64x4::splat(params[0]);
-    let (t0, t1) = beta.sin_cos();
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return limit_geometry_params_x4_by_states_fused(pose, params);
+    }
+    let (t0, t1) = beta.sin_cos_quarter_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos();
+    let (t3, t4) = gamma.sin_cos_quarter_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos();
+    let (t6, t7) = alpha.sin_cos_quarter_turn();
     let t9: F64x4 = t0 * t6;
     let t10: F64x4 = t4 * t9;
     let t11: F64x4 = F64x4::mul_add(t3, t7, t10);
@@ -11313,4 +11659,70 @@ unsafe fn limit_geometry_params_x4_lanes_fused(
         [(t89).0, (t89).0, (t30).0, (t30).0, (t74).0, (t74).0],
         [(t89).0, (t30).0, (t74).0],
     )
+}
+/// [`limit_geometry_params_x4`] state by state through [`limit_geometry_params_separate`], for a batch with an angle beyond a quarter turn.
+#[cold]
+#[inline(never)]
+fn limit_geometry_params_x4_by_states(
+    pose: &[[f64; 4]; 6],
+    params: &[f64; 152],
+) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 12];
+    let mut out2 = [[0.0; 4]; 6];
+    let mut out3 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1, state2, state3) = limit_geometry_params_separate(
+            &core::array::from_fn(|k| pose[k][lane]),
+            params,
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+        for (k, v) in state2.into_iter().enumerate() {
+            out2[k][lane] = v;
+        }
+        for (k, v) in state3.into_iter().enumerate() {
+            out3[k][lane] = v;
+        }
+    }
+    (out0, out1, out2, out3)
+}
+/// [`limit_geometry_params_x4_by_states`] through [`limit_geometry_params_fused`].
+///
+/// # Safety
+/// The CPU must have FMA.
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[cold]
+#[inline(never)]
+unsafe fn limit_geometry_params_x4_by_states_fused(
+    pose: &[[f64; 4]; 6],
+    params: &[f64; 152],
+) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 12];
+    let mut out2 = [[0.0; 4]; 6];
+    let mut out3 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1, state2, state3) = limit_geometry_params_fused(
+            &core::array::from_fn(|k| pose[k][lane]),
+            params,
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+        for (k, v) in state2.into_iter().enumerate() {
+            out2[k][lane] = v;
+        }
+        for (k, v) in state3.into_iter().enumerate() {
+            out3[k][lane] = v;
+        }
+    }
+    (out0, out1, out2, out3)
 }

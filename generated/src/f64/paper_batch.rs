@@ -126,10 +126,15 @@ fn forward_dynamics_x4_lanes(
     let g4 = F64x4(forces[3]);
     let g5 = F64x4(forces[4]);
     let g6 = F64x4(forces[5]);
-    let (t0, t1) = beta.sin_cos();
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return forward_dynamics_x4_by_states(pose, twist, forces);
+    }
+    let (t0, t1) = beta.sin_cos_quarter_turn();
     let t2: F64x4 = t0 * t0;
     let t3: F64x4 = t1 * t1;
-    let (t4, t5) = gamma.sin_cos();
+    let (t4, t5) = gamma.sin_cos_quarter_turn();
     let t6: F64x4 = t5 * t5;
     let t7: F64x4 = t4 * t4;
     let t8: F64x4 = t6 * F64x4::splat(0.4119400000000001);
@@ -139,7 +144,7 @@ fn forward_dynamics_x4_lanes(
     let t12: F64x4 = zc * zc;
     let t13: F64x4 = yc * yc;
     let t14: F64x4 = t12 + t13;
-    let (t15, t16) = alpha.sin_cos();
+    let (t15, t16) = alpha.sin_cos_quarter_turn();
     let t17: F64x4 = t5 * t16;
     let t18: F64x4 = t0 * t15;
     let t19: F64x4 = t4 * t18;
@@ -746,10 +751,15 @@ unsafe fn forward_dynamics_x4_lanes_fused(
     let g4 = F64x4(forces[3]);
     let g5 = F64x4(forces[4]);
     let g6 = F64x4(forces[5]);
-    let (t0, t1) = beta.sin_cos();
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return forward_dynamics_x4_by_states_fused(pose, twist, forces);
+    }
+    let (t0, t1) = beta.sin_cos_quarter_turn();
     let t2: F64x4 = t0 * t0;
     let t3: F64x4 = t1 * t1;
-    let (t4, t5) = gamma.sin_cos();
+    let (t4, t5) = gamma.sin_cos_quarter_turn();
     let t6: F64x4 = t5 * t5;
     let t7: F64x4 = t4 * t4;
     let t9: F64x4 = t7 * F64x4::splat(0.22443999999999997);
@@ -757,7 +767,7 @@ unsafe fn forward_dynamics_x4_lanes_fused(
     let t12: F64x4 = zc * zc;
     let t13: F64x4 = yc * yc;
     let t14: F64x4 = t12 + t13;
-    let (t15, t16) = alpha.sin_cos();
+    let (t15, t16) = alpha.sin_cos_quarter_turn();
     let t18: F64x4 = t0 * t15;
     let t19: F64x4 = t4 * t18;
     let t20: F64x4 = F64x4::mul_add(t5, t16, -t19);
@@ -1218,6 +1228,60 @@ unsafe fn forward_dynamics_x4_lanes_fused(
         [(t592).0, (t20).0, (t452).0],
     )
 }
+/// [`forward_dynamics_x4`] state by state through [`forward_dynamics_separate`], for a batch with an angle beyond a quarter turn.
+#[cold]
+#[inline(never)]
+fn forward_dynamics_x4_by_states(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    forces: &[[f64; 4]; 6],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1) = forward_dynamics_separate(
+            &core::array::from_fn(|k| pose[k][lane]),
+            &core::array::from_fn(|k| twist[k][lane]),
+            &core::array::from_fn(|k| forces[k][lane]),
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+    }
+    (out0, out1)
+}
+/// [`forward_dynamics_x4_by_states`] through [`forward_dynamics_fused`].
+///
+/// # Safety
+/// The CPU must have FMA.
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[cold]
+#[inline(never)]
+unsafe fn forward_dynamics_x4_by_states_fused(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    forces: &[[f64; 4]; 6],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1) = forward_dynamics_fused(
+            &core::array::from_fn(|k| pose[k][lane]),
+            &core::array::from_fn(|k| twist[k][lane]),
+            &core::array::from_fn(|k| forces[k][lane]),
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+    }
+    (out0, out1)
+}
 /// The batch version of [`inverse_dynamics`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `inverse_dynamics` computes. Inverse dynamics end to end: actuator forces `Γ` from the platform state.
 #[inline]
 pub fn inverse_dynamics_x4(
@@ -1289,13 +1353,18 @@ fn inverse_dynamics_x4_lanes(
     let ax = F64x4(accel[3]);
     let ay = F64x4(accel[4]);
     let az = F64x4(accel[5]);
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return inverse_dynamics_x4_by_states(pose, twist, accel);
+    }
     let t0: F64x4 = zc - F64x4::splat(0.2);
     let t1: F64x4 = wdy * t0;
-    let (t2, t3) = beta.sin_cos();
+    let (t2, t3) = beta.sin_cos_quarter_turn();
     let t4: F64x4 = F64x4::splat(1.0) / t3;
-    let (t5, t6) = gamma.sin_cos();
+    let (t5, t6) = gamma.sin_cos_quarter_turn();
     let t7: F64x4 = F64x4::splat(1.0) / t6;
-    let (t8, t9) = alpha.sin_cos();
+    let (t8, t9) = alpha.sin_cos_quarter_turn();
     let t10: F64x4 = t5 * t9;
     let t11: F64x4 = t2 * t8;
     let t12: F64x4 = t6 * t11;
@@ -1722,12 +1791,17 @@ unsafe fn inverse_dynamics_x4_lanes_fused(
     let ax = F64x4(accel[3]);
     let ay = F64x4(accel[4]);
     let az = F64x4(accel[5]);
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return inverse_dynamics_x4_by_states_fused(pose, twist, accel);
+    }
     let t0: F64x4 = zc - F64x4::splat(0.2);
-    let (t2, t3) = beta.sin_cos();
+    let (t2, t3) = beta.sin_cos_quarter_turn();
     let t4: F64x4 = F64x4::splat(1.0) / t3;
-    let (t5, t6) = gamma.sin_cos();
+    let (t5, t6) = gamma.sin_cos_quarter_turn();
     let t7: F64x4 = F64x4::splat(1.0) / t6;
-    let (t8, t9) = alpha.sin_cos();
+    let (t8, t9) = alpha.sin_cos_quarter_turn();
     let t11: F64x4 = t2 * t8;
     let t12: F64x4 = t6 * t11;
     let t13: F64x4 = F64x4::mul_add(t5, t9, t12);
@@ -2026,6 +2100,60 @@ unsafe fn inverse_dynamics_x4_lanes_fused(
         [(t288).0, (t294).0, (t346).0, (t353).0, (t395).0, (t405).0],
         [(t367).0, (t36).0, (t327).0],
     )
+}
+/// [`inverse_dynamics_x4`] state by state through [`inverse_dynamics_separate`], for a batch with an angle beyond a quarter turn.
+#[cold]
+#[inline(never)]
+fn inverse_dynamics_x4_by_states(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    accel: &[[f64; 4]; 6],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1) = inverse_dynamics_separate(
+            &core::array::from_fn(|k| pose[k][lane]),
+            &core::array::from_fn(|k| twist[k][lane]),
+            &core::array::from_fn(|k| accel[k][lane]),
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+    }
+    (out0, out1)
+}
+/// [`inverse_dynamics_x4_by_states`] through [`inverse_dynamics_fused`].
+///
+/// # Safety
+/// The CPU must have FMA.
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[cold]
+#[inline(never)]
+unsafe fn inverse_dynamics_x4_by_states_fused(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    accel: &[[f64; 4]; 6],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1) = inverse_dynamics_fused(
+            &core::array::from_fn(|k| pose[k][lane]),
+            &core::array::from_fn(|k| twist[k][lane]),
+            &core::array::from_fn(|k| accel[k][lane]),
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+    }
+    (out0, out1)
 }
 /// The batch version of [`inverse_dynamics_joint`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `inverse_dynamics_joint` computes. Inverse dynamics from what the encoders measure: `Γ` from the actuators' positions, rates and accelerations.
 #[inline]
@@ -3050,11 +3178,16 @@ fn limit_geometry_x4_lanes(
     let xc = F64x4(pose[3]);
     let yc = F64x4(pose[4]);
     let zc = F64x4(pose[5]);
-    let (t0, t1) = beta.sin_cos();
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return limit_geometry_x4_by_states(pose);
+    }
+    let (t0, t1) = beta.sin_cos_quarter_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos();
+    let (t3, t4) = gamma.sin_cos_quarter_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos();
+    let (t6, t7) = alpha.sin_cos_quarter_turn();
     let t8: F64x4 = t3 * t7;
     let t9: F64x4 = t0 * t6;
     let t10: F64x4 = t4 * t9;
@@ -3217,11 +3350,16 @@ unsafe fn limit_geometry_x4_lanes_fused(
     let xc = F64x4(pose[3]);
     let yc = F64x4(pose[4]);
     let zc = F64x4(pose[5]);
-    let (t0, t1) = beta.sin_cos();
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return limit_geometry_x4_by_states_fused(pose);
+    }
+    let (t0, t1) = beta.sin_cos_quarter_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos();
+    let (t3, t4) = gamma.sin_cos_quarter_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos();
+    let (t6, t7) = alpha.sin_cos_quarter_turn();
     let t9: F64x4 = t0 * t6;
     let t10: F64x4 = t4 * t9;
     let t11: F64x4 = F64x4::mul_add(t3, t7, t10);
@@ -3333,6 +3471,68 @@ unsafe fn limit_geometry_x4_lanes_fused(
         [(t89).0, (t89).0, (t30).0, (t30).0, (t74).0, (t74).0],
         [(t89).0, (t30).0, (t74).0],
     )
+}
+/// [`limit_geometry_x4`] state by state through [`limit_geometry_separate`], for a batch with an angle beyond a quarter turn.
+#[cold]
+#[inline(never)]
+fn limit_geometry_x4_by_states(
+    pose: &[[f64; 4]; 6],
+) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 12];
+    let mut out2 = [[0.0; 4]; 6];
+    let mut out3 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1, state2, state3) = limit_geometry_separate(
+            &core::array::from_fn(|k| pose[k][lane]),
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+        for (k, v) in state2.into_iter().enumerate() {
+            out2[k][lane] = v;
+        }
+        for (k, v) in state3.into_iter().enumerate() {
+            out3[k][lane] = v;
+        }
+    }
+    (out0, out1, out2, out3)
+}
+/// [`limit_geometry_x4_by_states`] through [`limit_geometry_fused`].
+///
+/// # Safety
+/// The CPU must have FMA.
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[cold]
+#[inline(never)]
+unsafe fn limit_geometry_x4_by_states_fused(
+    pose: &[[f64; 4]; 6],
+) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 12];
+    let mut out2 = [[0.0; 4]; 6];
+    let mut out3 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1, state2, state3) = limit_geometry_fused(
+            &core::array::from_fn(|k| pose[k][lane]),
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+        for (k, v) in state2.into_iter().enumerate() {
+            out2[k][lane] = v;
+        }
+        for (k, v) in state3.into_iter().enumerate() {
+            out3[k][lane] = v;
+        }
+    }
+    (out0, out1, out2, out3)
 }
 /// The batch version of [`forward_dynamics_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `forward_dynamics_params` computes. Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
 #[inline]
@@ -3565,16 +3765,22 @@ fn forward_dynamics_params_x4_lanes(
         t986,
         t989,
         t995,
+        t997,
+        t999,
         t1001,
-        t1002,
     ) = {
+        if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+            & alpha.within_quarter_turn())
+        {
+            return forward_dynamics_params_x4_by_states(pose, twist, forces, params);
+        }
         let t0: F64x4 = yc - half_spacing;
         let t1: F64x4 = t0 * t0;
         let t2: F64x4 = rod5_mass * t1;
         let t3: F64x4 = yc + half_spacing;
         let t4: F64x4 = t3 * t3;
         let t5: F64x4 = rod6_mass * t4;
-        let (t6, t7) = beta.sin_cos();
+        let (t6, t7) = beta.sin_cos_quarter_turn();
         let t8: F64x4 = platform_izz + joint1_izz;
         let t9: F64x4 = joint2_izz + joint3_izz;
         let t10: F64x4 = joint4_izz + joint5_izz;
@@ -3582,7 +3788,7 @@ fn forward_dynamics_params_x4_lanes(
         let t12: F64x4 = joint6_izz + t10;
         let t13: F64x4 = t11 + t12;
         let t14: F64x4 = t6 * t13;
-        let (t15, t16) = gamma.sin_cos();
+        let (t15, t16) = gamma.sin_cos_quarter_turn();
         let t17: F64x4 = platform_ixz + joint1_ixz;
         let t18: F64x4 = joint2_ixz + joint3_ixz;
         let t19: F64x4 = joint4_ixz + joint5_ixz;
@@ -3638,7 +3844,7 @@ fn forward_dynamics_params_x4_lanes(
         let t69: F64x4 = t15 * t68;
         let t70: F64x4 = t56 - t69;
         let t71: F64x4 = t7 * t70;
-        let (t72, t73) = alpha.sin_cos();
+        let (t72, t73) = alpha.sin_cos_quarter_turn();
         let t74: F64x4 = F64x4::splat(1.0) / t73;
         let t75: F64x4 = F64x4::splat(1.0) / t7;
         let t76: F64x4 = xc * t6;
@@ -4567,7 +4773,6 @@ fn forward_dynamics_params_x4_lanes(
         let t999: F64x4 = t989 * t998;
         let t1000: F64x4 = t742 * t768;
         let t1001: F64x4 = t986 * t1000;
-        let t1002: F64x4 = t997 + t999;
         (
             t95,
             t105,
@@ -4639,11 +4844,13 @@ fn forward_dynamics_params_x4_lanes(
             t986,
             t989,
             t995,
+            t997,
+            t999,
             t1001,
-            t1002,
         )
     };
     let (t1028, t1202, t1203, t1204, t1205, t1206) = {
+        let t1002: F64x4 = t997 + t999;
         let t1003: F64x4 = t1001 + t1002;
         let t1004: F64x4 = t936 - t1003;
         let t1005: F64x4 = t565 * t626;
@@ -4961,19 +5168,24 @@ unsafe fn forward_dynamics_params_x4_lanes_fused(
     let joint6_iyy = F64x4::splat(params[149]);
     let joint6_iyz = F64x4::splat(params[150]);
     let joint6_izz = F64x4::splat(params[151]);
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return forward_dynamics_params_x4_by_states_fused(pose, twist, forces, params);
+    }
     let t0: F64x4 = yc - half_spacing;
     let t1: F64x4 = t0 * t0;
     let t3: F64x4 = yc + half_spacing;
     let t4: F64x4 = t3 * t3;
     let t5: F64x4 = rod6_mass * t4;
-    let (t6, t7) = beta.sin_cos();
+    let (t6, t7) = beta.sin_cos_quarter_turn();
     let t8: F64x4 = platform_izz + joint1_izz;
     let t9: F64x4 = joint2_izz + joint3_izz;
     let t10: F64x4 = joint4_izz + joint5_izz;
     let t11: F64x4 = t8 + t9;
     let t12: F64x4 = joint6_izz + t10;
     let t13: F64x4 = t11 + t12;
-    let (t15, t16) = gamma.sin_cos();
+    let (t15, t16) = gamma.sin_cos_quarter_turn();
     let t17: F64x4 = platform_ixz + joint1_ixz;
     let t18: F64x4 = joint2_ixz + joint3_ixz;
     let t19: F64x4 = joint4_ixz + joint5_ixz;
@@ -5021,7 +5233,7 @@ unsafe fn forward_dynamics_params_x4_lanes_fused(
     let t68: F64x4 = F64x4::mul_add(t6, t29, t67);
     let t69: F64x4 = t15 * t68;
     let t70: F64x4 = F64x4::mul_add(t16, t55, -t69);
-    let (t72, t73) = alpha.sin_cos();
+    let (t72, t73) = alpha.sin_cos_quarter_turn();
     let t74: F64x4 = F64x4::splat(1.0) / t73;
     let t75: F64x4 = F64x4::splat(1.0) / t7;
     let t76: F64x4 = xc * t6;
@@ -5881,6 +6093,64 @@ unsafe fn forward_dynamics_params_x4_lanes_fused(
         [(t697).0, (t145).0, (t446).0],
     )
 }
+/// [`forward_dynamics_params_x4`] state by state through [`forward_dynamics_params_separate`], for a batch with an angle beyond a quarter turn.
+#[cold]
+#[inline(never)]
+fn forward_dynamics_params_x4_by_states(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    forces: &[[f64; 4]; 6],
+    params: &[f64; 152],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1) = forward_dynamics_params_separate(
+            &core::array::from_fn(|k| pose[k][lane]),
+            &core::array::from_fn(|k| twist[k][lane]),
+            &core::array::from_fn(|k| forces[k][lane]),
+            params,
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+    }
+    (out0, out1)
+}
+/// [`forward_dynamics_params_x4_by_states`] through [`forward_dynamics_params_fused`].
+///
+/// # Safety
+/// The CPU must have FMA.
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[cold]
+#[inline(never)]
+unsafe fn forward_dynamics_params_x4_by_states_fused(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    forces: &[[f64; 4]; 6],
+    params: &[f64; 152],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1) = forward_dynamics_params_fused(
+            &core::array::from_fn(|k| pose[k][lane]),
+            &core::array::from_fn(|k| twist[k][lane]),
+            &core::array::from_fn(|k| forces[k][lane]),
+            params,
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+    }
+    (out0, out1)
+}
 /// The batch version of [`inverse_dynamics_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `inverse_dynamics_params` computes. Inverse dynamics end to end: actuator forces `Γ` from the platform state.
 #[inline]
 pub fn inverse_dynamics_params_x4(
@@ -6039,6 +6309,11 @@ fn inverse_dynamics_params_x4_lanes(
     let joint6_iyy = F64x4::splat(params[149]);
     let joint6_iyz = F64x4::splat(params[150]);
     let joint6_izz = F64x4::splat(params[151]);
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return inverse_dynamics_params_x4_by_states(pose, twist, accel, params);
+    }
     let t0: F64x4 = zc - half_spacing;
     let t1: F64x4 = wdy * t0;
     let t2: F64x4 = wz * vy;
@@ -6051,11 +6326,11 @@ fn inverse_dynamics_params_x4_lanes(
     let t9: F64x4 = t8 - t1;
     let t10: F64x4 = rod1_mass * t9;
     let t11: F64x4 = F64x4::splat(1.0) / half_spacing;
-    let (t12, t13) = beta.sin_cos();
+    let (t12, t13) = beta.sin_cos_quarter_turn();
     let t14: F64x4 = F64x4::splat(1.0) / t13;
-    let (t15, t16) = gamma.sin_cos();
+    let (t15, t16) = gamma.sin_cos_quarter_turn();
     let t17: F64x4 = F64x4::splat(1.0) / t16;
-    let (t18, t19) = alpha.sin_cos();
+    let (t18, t19) = alpha.sin_cos_quarter_turn();
     let t20: F64x4 = t15 * t19;
     let t21: F64x4 = t12 * t18;
     let t22: F64x4 = t16 * t21;
@@ -6920,6 +7195,11 @@ unsafe fn inverse_dynamics_params_x4_lanes_fused(
     let joint6_iyy = F64x4::splat(params[149]);
     let joint6_iyz = F64x4::splat(params[150]);
     let joint6_izz = F64x4::splat(params[151]);
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return inverse_dynamics_params_x4_by_states_fused(pose, twist, accel, params);
+    }
     let t0: F64x4 = zc - half_spacing;
     let t3: F64x4 = wy * vz;
     let t4: F64x4 = F64x4::mul_add(wz, vy, -t3);
@@ -6928,11 +7208,11 @@ unsafe fn inverse_dynamics_params_x4_lanes_fused(
     let t8: F64x4 = t4 + t7;
     let t9: F64x4 = F64x4::mul_add(-wdy, t0, t8);
     let t11: F64x4 = F64x4::splat(1.0) / half_spacing;
-    let (t12, t13) = beta.sin_cos();
+    let (t12, t13) = beta.sin_cos_quarter_turn();
     let t14: F64x4 = F64x4::splat(1.0) / t13;
-    let (t15, t16) = gamma.sin_cos();
+    let (t15, t16) = gamma.sin_cos_quarter_turn();
     let t17: F64x4 = F64x4::splat(1.0) / t16;
-    let (t18, t19) = alpha.sin_cos();
+    let (t18, t19) = alpha.sin_cos_quarter_turn();
     let t21: F64x4 = t12 * t18;
     let t22: F64x4 = t16 * t21;
     let t23: F64x4 = F64x4::mul_add(t15, t19, t22);
@@ -7493,6 +7773,64 @@ unsafe fn inverse_dynamics_params_x4_lanes_fused(
         [(t660).0, (t664).0, (t720).0, (t727).0, (t765).0, (t771).0],
         [(t772).0, (t117).0, (t82).0],
     )
+}
+/// [`inverse_dynamics_params_x4`] state by state through [`inverse_dynamics_params_separate`], for a batch with an angle beyond a quarter turn.
+#[cold]
+#[inline(never)]
+fn inverse_dynamics_params_x4_by_states(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    accel: &[[f64; 4]; 6],
+    params: &[f64; 152],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1) = inverse_dynamics_params_separate(
+            &core::array::from_fn(|k| pose[k][lane]),
+            &core::array::from_fn(|k| twist[k][lane]),
+            &core::array::from_fn(|k| accel[k][lane]),
+            params,
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+    }
+    (out0, out1)
+}
+/// [`inverse_dynamics_params_x4_by_states`] through [`inverse_dynamics_params_fused`].
+///
+/// # Safety
+/// The CPU must have FMA.
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[cold]
+#[inline(never)]
+unsafe fn inverse_dynamics_params_x4_by_states_fused(
+    pose: &[[f64; 4]; 6],
+    twist: &[[f64; 4]; 6],
+    accel: &[[f64; 4]; 6],
+    params: &[f64; 152],
+) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1) = inverse_dynamics_params_fused(
+            &core::array::from_fn(|k| pose[k][lane]),
+            &core::array::from_fn(|k| twist[k][lane]),
+            &core::array::from_fn(|k| accel[k][lane]),
+            params,
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+    }
+    (out0, out1)
 }
 /// The batch version of [`inverse_dynamics_joint_params`]: 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what `inverse_dynamics_joint_params` computes. Inverse dynamics from what the encoders measure: `Γ` from the actuators' positions, rates and accelerations.
 #[inline]
@@ -9977,11 +10315,16 @@ fn limit_geometry_params_x4_lanes(
     let yc = F64x4(pose[4]);
     let zc = F64x4(pose[5]);
     let half_spacing = F64x4::splat(params[0]);
-    let (t0, t1) = beta.sin_cos();
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return limit_geometry_params_x4_by_states(pose, params);
+    }
+    let (t0, t1) = beta.sin_cos_quarter_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos();
+    let (t3, t4) = gamma.sin_cos_quarter_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos();
+    let (t6, t7) = alpha.sin_cos_quarter_turn();
     let t8: F64x4 = t3 * t7;
     let t9: F64x4 = t0 * t6;
     let t10: F64x4 = t4 * t9;
@@ -10146,11 +10489,16 @@ unsafe fn limit_geometry_params_x4_lanes_fused(
     let yc = F64x4(pose[4]);
     let zc = F64x4(pose[5]);
     let half_spacing = F64x4::splat(params[0]);
-    let (t0, t1) = beta.sin_cos();
+    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
+        & alpha.within_quarter_turn())
+    {
+        return limit_geometry_params_x4_by_states_fused(pose, params);
+    }
+    let (t0, t1) = beta.sin_cos_quarter_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos();
+    let (t3, t4) = gamma.sin_cos_quarter_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos();
+    let (t6, t7) = alpha.sin_cos_quarter_turn();
     let t9: F64x4 = t0 * t6;
     let t10: F64x4 = t4 * t9;
     let t11: F64x4 = F64x4::mul_add(t3, t7, t10);
@@ -10261,4 +10609,70 @@ unsafe fn limit_geometry_params_x4_lanes_fused(
         [(t89).0, (t89).0, (t30).0, (t30).0, (t74).0, (t74).0],
         [(t89).0, (t30).0, (t74).0],
     )
+}
+/// [`limit_geometry_params_x4`] state by state through [`limit_geometry_params_separate`], for a batch with an angle beyond a quarter turn.
+#[cold]
+#[inline(never)]
+fn limit_geometry_params_x4_by_states(
+    pose: &[[f64; 4]; 6],
+    params: &[f64; 152],
+) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 12];
+    let mut out2 = [[0.0; 4]; 6];
+    let mut out3 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1, state2, state3) = limit_geometry_params_separate(
+            &core::array::from_fn(|k| pose[k][lane]),
+            params,
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+        for (k, v) in state2.into_iter().enumerate() {
+            out2[k][lane] = v;
+        }
+        for (k, v) in state3.into_iter().enumerate() {
+            out3[k][lane] = v;
+        }
+    }
+    (out0, out1, out2, out3)
+}
+/// [`limit_geometry_params_x4_by_states`] through [`limit_geometry_params_fused`].
+///
+/// # Safety
+/// The CPU must have FMA.
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[cold]
+#[inline(never)]
+unsafe fn limit_geometry_params_x4_by_states_fused(
+    pose: &[[f64; 4]; 6],
+    params: &[f64; 152],
+) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
+    let mut out0 = [[0.0; 4]; 6];
+    let mut out1 = [[0.0; 4]; 12];
+    let mut out2 = [[0.0; 4]; 6];
+    let mut out3 = [[0.0; 4]; 3];
+    for lane in 0..4 {
+        let (state0, state1, state2, state3) = limit_geometry_params_fused(
+            &core::array::from_fn(|k| pose[k][lane]),
+            params,
+        );
+        for (k, v) in state0.into_iter().enumerate() {
+            out0[k][lane] = v;
+        }
+        for (k, v) in state1.into_iter().enumerate() {
+            out1[k][lane] = v;
+        }
+        for (k, v) in state2.into_iter().enumerate() {
+            out2[k][lane] = v;
+        }
+        for (k, v) in state3.into_iter().enumerate() {
+            out3[k][lane] = v;
+        }
+    }
+    (out0, out1, out2, out3)
 }
