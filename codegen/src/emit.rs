@@ -528,10 +528,10 @@ pub fn emit_batch_kernel(
     // `f64` lanes compute the sine-cosine pairs of the inputs in vector instructions when every
     // lane lies within a quarter turn, checked on entry, all at once: one branch ahead of any
     // arithmetic. A batch with a lane beyond goes state by state through the single kernel.
-    // Choosing at each pair instead merged the two ways through memory, and checking at each
-    // pair split the blocks LLVM schedules: each cost the paper model's batch inverse dynamics
-    // 10-20 %. Running the lanes a second time with the library's pairs would keep such a batch
-    // at vector speed, at a third more build time for `c5-generated`.
+    // Choosing at each pair instead merged the two ways through memory (the paper model's batch
+    // inverse dynamics 20 % slower), and checking at each pair split the blocks LLVM schedules
+    // (6 %). Running the lanes a second time with the library's pairs would keep such a batch at
+    // vector speed, at a third more build time for `c5-generated`.
     let mut on_entry: Vec<u32> = Vec::new();
     for instr in &compiled.program.instrs {
         if let Instr::SinCos(Operand::Input(k)) = *instr {
@@ -673,10 +673,6 @@ pub fn emit_batch_kernel(
         (dispatch, lanes_fused)
     });
     let (dispatch, lanes_fused) = fused.unzip();
-    // The lanes are written for any vector width; on x86 with `std`, a CPU with AVX2 runs them
-    // four `f64` (eight `f32`) to an instruction instead of two (four). On the FMA path (as the
-    // single kernels take it) the lanes fuse what the single kernels fuse; on the other, every
-    // operation is rounded on its own. Either way each lane computes the single kernel's bits.
     let by_states_fns = quarter_turn.then(|| {
         let single = ident(&format!("{}_separate", spec.name));
         let single_fused = ident(&format!("{}_fused", spec.name));
