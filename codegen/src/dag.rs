@@ -492,17 +492,34 @@ impl Arena {
         wrt: u32,
         memo: &mut HashMap<NodeId, NodeId>,
     ) -> NodeId {
+        let one = self.constant(1.0);
+        self.tangent(id, &HashMap::from([(wrt, one)]), memo)
+    }
+
+    /// `Σₓ ∂id/∂x · rates[x]`, the exact derivative of `id` along the direction `rates` (forward
+    /// mode, one pass): with `rates` the time derivatives of the inputs it names, the time
+    /// derivative of `id`. Inputs `rates` does not name are held constant. `memo` holds the
+    /// tangents already built for these `rates`.
+    pub fn tangent(
+        &mut self,
+        id: NodeId,
+        rates: &HashMap<u32, NodeId>,
+        memo: &mut HashMap<NodeId, NodeId>,
+    ) -> NodeId {
         if let Some(&d) = memo.get(&id) {
             return d;
         }
         let d = match self.node(id).clone() {
             Node::Const(_) => self.constant(0.0),
-            Node::Input(i) => self.constant(if i == wrt { 1.0 } else { 0.0 }),
+            Node::Input(i) => match rates.get(&i) {
+                Some(&rate) => rate,
+                None => self.constant(0.0),
+            },
             Node::Sum { terms, .. } => {
                 let mut form: BTreeMap<NodeId, f64> = BTreeMap::new();
                 let mut constant = 0.0;
                 for (t, c) in terms {
-                    let dt = self.derivative(t, wrt, memo);
+                    let dt = self.tangent(t, rates, memo);
                     let (lt, lc) = self.linear(dt);
                     constant += c.get() * lc;
                     for (u, k) in lt {
@@ -515,7 +532,7 @@ impl Arena {
                 // Σ_k e_k b_k^(e_k - 1) Π_{j≠k} b_j^(e_j) ∂b_k.
                 let mut sum = self.constant(0.0);
                 for (k, &(base, exp)) in factors.iter().enumerate() {
-                    let db = self.derivative(base, wrt, memo);
+                    let db = self.tangent(base, rates, memo);
                     if self.const_value(db) == Some(0.0) {
                         continue;
                     }
@@ -530,7 +547,7 @@ impl Arena {
                 sum
             }
             Node::Call(f, a) => {
-                let da = self.derivative(a, wrt, memo);
+                let da = self.tangent(a, rates, memo);
                 if self.const_value(da) == Some(0.0) {
                     da
                 } else {
@@ -699,6 +716,34 @@ impl Graph {
             .iter()
             .map(|e| {
                 let id = self.with(|a| a.derivative(e.id, wrt, &mut memo));
+                self.wrap(id)
+            })
+            .collect()
+    }
+
+    /// `Σₓ ∂e/∂x · rate(x)` for each of `exprs`: their exact derivatives along `rates`, pairs of
+    /// an input `x` and its rate (for instance the time derivatives of the inputs, which makes
+    /// these the time derivatives of `exprs`); the inputs not named are held constant.
+    ///
+    /// # Panics
+    /// If a named `x` is not an input node (a bug in the model).
+    pub fn tangents<'g>(
+        &'g self,
+        exprs: &[Expr<'g>],
+        rates: &[(Expr<'g>, Expr<'g>)],
+    ) -> Vec<Expr<'g>> {
+        let rates: HashMap<u32, NodeId> = rates
+            .iter()
+            .map(|(x, v)| match *self.arena().node(x.id) {
+                Node::Input(i) => (i, v.id),
+                _ => panic!("tangents are taken along inputs"),
+            })
+            .collect();
+        let mut memo = HashMap::new();
+        exprs
+            .iter()
+            .map(|e| {
+                let id = self.with(|a| a.tangent(e.id, &rates, &mut memo));
                 self.wrap(id)
             })
             .collect()
@@ -919,6 +964,48 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A tangent is the derivative along a line: `d/dt f(x + t r)` at `t = 0`, and twice
+    /// applied, with the rates' own rates named, the second derivative along a curve.
+    #[test]
+    fn tangents_are_derivatives_along_a_direction() {
+        use crate::lower::{factor, lower};
+        let point = [0.7, -0.4, 1.3];
+        let (rate, rate_of_rate) = ([0.3, 1.1, -0.8], [0.5, -0.2, 0.9]);
+        let g = Graph::new(FLAT);
+        let ids = {
+            let x = [g.input(0), g.input(1), g.input(2)];
+            let xd = [g.input(3), g.input(4), g.input(5)];
+            let xdd = [g.input(6), g.input(7), g.input(8)];
+            let f = (x[0] * x[1]).sin() * x[2].sqrt() + x[0] / (x[1] * x[1] + x[2]);
+            let first: Vec<_> = (0..3).map(|k| (x[k], xd[k])).collect();
+            let second: Vec<_> = (0..3)
+                .flat_map(|k| [(x[k], xd[k]), (xd[k], xdd[k])])
+                .collect();
+            let fd = g.tangents(&[f], &first)[0];
+            let fdd = g.tangents(&[fd], &second)[0];
+            [f.id, fd.id, fdd.id]
+        };
+        let mut arena = g.into_arena();
+        let outs = factor(&mut arena, &ids);
+        let program = lower(&arena, &outs, true);
+        // Along x(t) = x + t r + t²/2 r', f(x(t)) has the first and second derivatives above.
+        let along = |t: f64| {
+            let mut inputs = vec![0.0; 9];
+            for k in 0..3 {
+                inputs[k] = point[k] + t * rate[k] + 0.5 * t * t * rate_of_rate[k];
+                inputs[3 + k] = rate[k];
+                inputs[6 + k] = rate_of_rate[k];
+            }
+            program.eval(&inputs)
+        };
+        let h = 1e-4;
+        let (up, mid, down) = (along(h)[0], along(0.0), along(-h)[0]);
+        let first = (up - down) / (2.0 * h);
+        let second = (up - 2.0 * mid[0] + down) / (h * h);
+        assert!((mid[1] - first).abs() < 1e-7, "{} vs {first}", mid[1]);
+        assert!((mid[2] - second).abs() < 1e-5, "{} vs {second}", mid[2]);
     }
 
     #[test]

@@ -23,11 +23,11 @@ pub struct Naming {
 }
 
 impl Naming {
-    /// `c5_{model}_{kernel}`, with `_f` appended for `float` kernels (as C's `sinf`), so both
-    /// models and both precisions link into one program.
-    pub fn standard(model: c5_robot::Model, scalar: Scalar) -> Self {
+    /// `{prefix}{kernel}`, with `_f` appended for `float` kernels (as C's `sinf`), so both
+    /// precisions link into one program.
+    pub fn with_scalar_suffix(prefix: &str, scalar: Scalar) -> Self {
         Naming {
-            prefix: format!("c5_{model}_"),
+            prefix: prefix.to_string(),
             suffix: match scalar {
                 Scalar::F64 => String::new(),
                 Scalar::F32 => "_f".to_string(),

@@ -263,7 +263,12 @@ mod tests {
     #[test]
     fn the_inverse_dynamics_fuses_about_half_its_products() {
         for model in Model::ALL {
-            let entries = specs(model, &Robot::default(), &ParameterSet::None, "").unwrap();
+            let entries = specs(
+                &crate::Mechanism::c5(&Robot::default(), model),
+                &ParameterSet::None,
+                "",
+            )
+            .unwrap();
             let entry = entries
                 .iter()
                 .find(|e| e.spec.name == "inverse_dynamics")

@@ -9,7 +9,6 @@ use crate::dag::{Graph, NodeId, Policy};
 use crate::error::Error;
 use crate::lower::{factor, lower, Program};
 use crate::Expr;
-use c5_robot::Model;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -17,8 +16,9 @@ use std::fmt;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Setting {
-    /// The chapter's: the components of `P_i2` are free inputs (what its counts assume).
-    Chapter,
+    /// Free inputs: the kernel reads quantities its caller gives directly (for instance the
+    /// vectors of a published derivation, as its own operation counts assume).
+    Free,
     /// From the platform state (pose, twist, acceleration), end to end.
     Pose,
     /// From the actuators' positions, rates and accelerations (what the robot measures), end
@@ -29,7 +29,7 @@ pub enum Setting {
 impl fmt::Display for Setting {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
-            Setting::Chapter => "chapter",
+            Setting::Free => "free",
             Setting::Pose => "pose",
             Setting::Joint => "joint",
         })
@@ -120,8 +120,10 @@ impl Objective {
 /// A kernel to generate.
 pub struct KernelSpec {
     pub name: String,
-    /// The model whose equations the kernel computes.
-    pub model: Model,
+    /// The family the kernel belongs to: the caller's name for the equations it computes (a
+    /// model or a mechanism). Kernels of one family are emitted side by side; the engine reads
+    /// nothing else into it.
+    pub family: String,
     pub setting: Setting,
     pub equations: Vec<String>,
     /// One line saying what the kernel computes.

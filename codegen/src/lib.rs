@@ -63,7 +63,7 @@ pub use emit_c::Naming as CNaming;
 pub use error::Error;
 pub use kernel::{Compiled, KernelSpec, Setting, Shape};
 pub use lower::Program;
-pub use model::{Kernel, KernelId, ParameterSet};
+pub use model::{Kernel, KernelId, Mechanism, ParameterSet};
 
 use emit::TrigCalls;
 use model::Entry;
@@ -207,26 +207,30 @@ impl Config {
         self
     }
 
+    /// The mechanism the configuration describes.
+    fn mechanism(&self) -> Result<Mechanism, Error> {
+        self.robot.validate()?;
+        Ok(Mechanism::c5(&self.robot, self.model))
+    }
+
     /// The kernels, compiled and self-checked.
     fn compile(&self) -> Result<(Vec<Entry>, Vec<Compiled>), Error> {
-        self.robot.validate()?;
+        let mechanism = self.mechanism()?;
         let mut entries = Vec::new();
         if self.chapter_kernels {
-            entries.extend(model::kernels::chapter_specs(Model::Paper));
+            entries.extend(model::kernels::chapter_specs(&Mechanism::c5(
+                &self.robot,
+                Model::Paper,
+            )));
         }
-        entries.extend(model::kernels::specs(
-            self.model,
-            &self.robot,
-            &self.parameters,
-            "",
-        )?);
+        entries.extend(model::kernels::specs(&mechanism, &self.parameters, "")?);
         let compiled = compile_all(&entries)?;
         let robot_kernels: Vec<_> = entries
             .iter()
             .zip(&compiled)
-            .filter(|(e, _)| e.spec.model == self.model && e.spec.setting != Setting::Chapter)
+            .filter(|(e, _)| e.spec.family == mechanism.name() && e.spec.setting != Setting::Free)
             .collect();
-        model::self_check(&self.robot, &robot_kernels)?;
+        model::self_check(&mechanism, &robot_kernels)?;
         Ok((entries, compiled))
     }
 
@@ -267,9 +271,10 @@ impl Config {
     /// output fails the generator's self-check.
     pub fn generate_to_string(&self) -> Result<String, Error> {
         let (entries, compiled) = self.compile()?;
+        let mechanism = self.mechanism()?;
         let identification = self
             .regressors
-            .then(|| model::regressor::Identification::compile(self.model, &self.robot))
+            .then(|| model::regressor::Identification::compile(&mechanism))
             .transpose()?;
         let mut pairs: Vec<_> = entries.iter().map(|e| &e.spec).zip(&compiled).collect();
         if let Some(id) = &identification {
@@ -284,7 +289,10 @@ impl Config {
             self.fused_multiply_add.then_some(&fma),
         )?;
         if let Some(id) = &identification {
-            file.push_str(&model::regressor::constants(&id.base)?);
+            file.push_str(&model::regressor::constants(
+                &id.base,
+                mechanism.structure().standard_inertial_doc(),
+            )?);
         }
         Ok(file)
     }
@@ -309,7 +317,7 @@ impl Config {
                 let naming = self
                     .c_naming
                     .clone()
-                    .unwrap_or_else(|| emit_c::Naming::standard(self.model, self.scalar));
+                    .unwrap_or_else(|| c_naming(self.model, self.scalar));
                 let guard: String = stem
                     .chars()
                     .map(|c| {
@@ -365,6 +373,12 @@ impl Config {
     }
 }
 
+/// The C functions' names of `model`'s kernels: `c5_{model}_{kernel}`, `_f` appended for
+/// `float`.
+fn c_naming(model: Model, scalar: Scalar) -> emit_c::Naming {
+    emit_c::Naming::with_scalar_suffix(&format!("c5_{model}_"), scalar)
+}
+
 /// Compiles every kernel, on every core: each is independent.
 fn compile_all<E: std::borrow::Borrow<Entry> + Sync>(
     entries: &[E],
@@ -398,29 +412,39 @@ pub fn generate() -> Result<(), Error> {
     Config::new().generate()
 }
 
-/// The kernels of the checked-in crate for one model: the chapter-setting ones (the paper
-/// model's), the robot kernels with the default robot folded, and with every parameter an
-/// input (`*_params`).
-fn crate_kernels(model: Model) -> Result<Vec<Entry>, Error> {
-    let mut entries = model::kernels::chapter_specs(model);
-    entries.extend(folded_and_with_parameters(model, model::kernels::specs)?);
+/// The mechanisms of the checked-in crate: the C5's two models with the chapter's robot.
+fn checked_in_mechanisms() -> Vec<Mechanism> {
+    Model::ALL
+        .into_iter()
+        .map(|m| Mechanism::c5(&Robot::default(), m))
+        .collect()
+}
+
+/// The kernels of the checked-in crate for one mechanism: the free-input ones (the paper
+/// model's chapter setting), the robot kernels with its description folded, and with every
+/// parameter an input (`*_params`).
+fn crate_kernels(mechanism: &Mechanism) -> Result<Vec<Entry>, Error> {
+    let mut entries = model::kernels::chapter_specs(mechanism);
+    entries.extend(folded_and_with_parameters(
+        mechanism,
+        model::kernels::specs,
+    )?);
     Ok(entries)
 }
 
-/// The derivative kernels of the checked-in crate for one model, folded and `*_params`.
-fn crate_derivatives(model: Model) -> Result<Vec<Entry>, Error> {
-    folded_and_with_parameters(model, model::kernels::derivative_specs)
+/// The derivative kernels of the checked-in crate for one mechanism, folded and `*_params`.
+fn crate_derivatives(mechanism: &Mechanism) -> Result<Vec<Entry>, Error> {
+    folded_and_with_parameters(mechanism, model::kernels::derivative_specs)
 }
 
-/// A table's kernels for one model, given the robot, its parameter set and a name suffix.
-type Specs = fn(Model, &Robot, &ParameterSet, &str) -> Result<Vec<Entry>, Error>;
+/// A table's kernels for one mechanism, given its parameter set and a name suffix.
+type Specs = fn(&Mechanism, &ParameterSet, &str) -> Result<Vec<Entry>, Error>;
 
-/// The kernels `specs` declares for one model, with the default robot folded in, then with
-/// every parameter an input (`*_params`).
-fn folded_and_with_parameters(model: Model, specs: Specs) -> Result<Vec<Entry>, Error> {
-    let robot = Robot::default();
-    let mut entries = specs(model, &robot, &ParameterSet::None, "")?;
-    entries.extend(specs(model, &robot, &ParameterSet::All, "_params")?);
+/// The kernels `specs` declares for one mechanism, its description folded in, then with every
+/// parameter an input (`*_params`).
+fn folded_and_with_parameters(mechanism: &Mechanism, specs: Specs) -> Result<Vec<Entry>, Error> {
+    let mut entries = specs(mechanism, &ParameterSet::None, "")?;
+    entries.extend(specs(mechanism, &ParameterSet::All, "_params")?);
     Ok(entries)
 }
 
@@ -434,24 +458,24 @@ fn folded_and_with_parameters(model: Model, specs: Specs) -> Result<Vec<Entry>, 
 /// A model the engine cannot emit, that fails the self-check, or whose kernels' signatures
 /// differ from another model's (a bug).
 pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
-    let robot = Robot::default();
-    let per_model = Model::ALL
-        .into_iter()
-        .map(|m| Ok((m, crate_kernels(m)?)))
+    let mechanisms = checked_in_mechanisms();
+    let per_model = mechanisms
+        .iter()
+        .map(crate_kernels)
         .collect::<Result<Vec<_>, Error>>()?;
-    let derivative_entries = Model::ALL
-        .into_iter()
+    let derivative_entries = mechanisms
+        .iter()
         .map(crate_derivatives)
         .collect::<Result<Vec<_>, Error>>()?;
     let all: Vec<&Entry> = per_model
         .iter()
-        .flat_map(|(_, s)| s)
+        .flatten()
         .chain(derivative_entries.iter().flatten())
         .collect();
     let (compiled, identification) = std::thread::scope(|scope| {
-        let identification: Vec<_> = Model::ALL
-            .map(|m| scope.spawn(move || model::regressor::Identification::compile(m, &robot)))
-            .into_iter()
+        let identification: Vec<_> = mechanisms
+            .iter()
+            .map(|m| scope.spawn(move || model::regressor::Identification::compile(m)))
             .collect();
         let compiled = compile_all(&all);
         let identification: Result<Vec<_>, Error> = identification
@@ -471,23 +495,24 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
             .iter()
             .any(|d| d.kernel == e.id.kernel)
     };
-    for model in Model::ALL {
+    for mechanism in &mechanisms {
+        let model = mechanism.name();
         let (derivatives, mine): (Vec<_>, Vec<_>) = kernels
             .iter()
             .copied()
-            .filter(|(e, _)| e.spec.model == model)
+            .filter(|(e, _)| e.spec.family == model)
             .partition(|(e, _)| is_derivative(e));
         for parameters in [false, true] {
             let group: Vec<_> = mine
                 .iter()
                 .copied()
                 .filter(|(e, _)| {
-                    e.spec.setting != Setting::Chapter
+                    e.spec.setting != Setting::Free
                         && (e.id.parameters == parameters
                             || e.spec.inputs.iter().all(|a| a.name != "params"))
                 })
                 .collect();
-            model::self_check(&robot, &group)?;
+            model::self_check(mechanism, &group)?;
         }
         let specs: Vec<_> = mine.iter().map(|(e, c)| (&e.spec, *c)).collect();
         let header = manifest::header(
@@ -519,11 +544,11 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
         let ident: Vec<_> = regressors
             .iter()
             .copied()
-            .filter(|(e, _)| e.spec.model == model)
+            .filter(|(e, _)| e.spec.family == model)
             .collect();
         sets.push(emit::KernelSet {
-            module: model.name().to_string(),
-            summary: model::mechanics(model).summary().to_string(),
+            module: model.to_string(),
+            summary: mechanism.mechanics.summary().to_string(),
             kernels: mine
                 .iter()
                 .filter(|(e, _)| model::kernels::is_shared(e.id.kernel))
@@ -549,7 +574,8 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
             )?,
         ));
     }
-    for (model, id) in Model::ALL.into_iter().zip(&identification) {
+    for (mechanism, id) in mechanisms.iter().zip(&identification) {
+        let model = mechanism.name();
         let pairs: Vec<_> = id.pairs().into_iter().map(|(e, c)| (&e.spec, c)).collect();
         let header = manifest::header(
             &pairs,
@@ -562,7 +588,10 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
         files.push((
             PathBuf::from(format!("src/f64/{model}_regressor.rs")),
             emit::emit_file(&header, &pairs, Scalar::F64, TrigCalls::Functions, None)?
-                + &model::regressor::constants(&id.base)?,
+                + &model::regressor::constants(
+                    &id.base,
+                    mechanism.structure().standard_inertial_doc(),
+                )?,
         ));
     }
     let how = format!("by c5-codegen; regenerate with `{REGENERATE}`");

@@ -783,9 +783,10 @@ mod tests {
     #[test]
     fn the_model_kernels_verify_after_lowering_and_scheduling() {
         use crate::model::kernels::specs;
-        use crate::{Model, ParameterSet, Robot};
+        use crate::{Mechanism, Model, ParameterSet, Robot};
         for model in Model::ALL {
-            for entry in specs(model, &Robot::default(), &ParameterSet::None, "").unwrap() {
+            let mechanism = Mechanism::c5(&Robot::default(), model);
+            for entry in specs(&mechanism, &ParameterSet::None, "").unwrap() {
                 let program = entry.spec.compile().unwrap().program;
                 assert_eq!(program.verify(), Ok(()), "{}", entry.spec.name);
                 let scheduled = crate::schedule::schedule(&program);

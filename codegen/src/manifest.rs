@@ -4,7 +4,7 @@ use crate::count::OpCount;
 use crate::error::Error;
 use crate::kernel::{ChapterCount, Compiled, KernelSpec, Setting};
 use crate::model::{Kernel, KernelId};
-use c5_robot::{Model, Robot};
+use c5_robot::Robot;
 use serde::{Deserialize, Serialize};
 
 /// One kernel's entry in `ops.json`. The counts hold for every scalar type and every output
@@ -12,8 +12,9 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Entry {
     pub name: String,
-    /// The model whose equations the kernel computes (`"consistent"` or `"paper"`).
-    pub model: Model,
+    /// The family whose equations the kernel computes: the model or mechanism
+    /// (`"consistent"`, `"paper"`, `"gough-stewart"`).
+    pub model: String,
     pub setting: Setting,
     pub equations: Vec<String>,
     #[serde(flatten)]
@@ -32,7 +33,7 @@ fn entries(kernels: &[(&KernelSpec, &Compiled)]) -> Vec<Entry> {
         .iter()
         .map(|(s, c)| Entry {
             name: s.name.clone(),
-            model: s.model,
+            model: s.family.clone(),
             setting: s.setting,
             equations: s.equations.clone(),
             count: c.count.clone(),
@@ -133,8 +134,8 @@ fn rust_file(how: &str, what: &str, code: &str) -> Result<String, Error> {
     ))
 }
 
-/// The length and names of the `*_params` kernels' parameter vector, from the one definition
-/// (`Robot::kernel_parameter_names`), as Rust constants.
+/// The length and names of the C5's `*_params` kernels' parameter vector, from the one
+/// definition (`Robot::kernel_parameter_names`), as Rust constants.
 ///
 /// # Errors
 /// Emitted code that does not parse (a bug).
@@ -153,7 +154,7 @@ pub fn parameter_constants(how: &str) -> Result<String, Error> {
         names.len(),
         names.len(),
         quoted.join(", "),
-        crate::model::kernels::GEOMETRY
+        c5_robot::GEOMETRY_PARAMETERS
     );
     rust_file(how, "The robot parameters of the kernels.", &code)
 }
@@ -190,7 +191,7 @@ pub fn rust_constants(
                 id.kernel,
                 id.parameters,
                 e.name,
-                e.model.name(),
+                e.model,
                 e.setting.to_string(),
                 equations.join(", "),
                 c.mul,

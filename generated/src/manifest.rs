@@ -862,7 +862,7 @@ pub const KERNELS: &[Entry] = &[
         parameters: false,
         name: "inverse_jacobian",
         model: "paper",
-        setting: "chapter",
+        setting: "free",
         equations: &["22"],
         count: Count {
             mul: 0,
@@ -878,7 +878,7 @@ pub const KERNELS: &[Entry] = &[
         parameters: false,
         name: "pi1",
         model: "paper",
-        setting: "chapter",
+        setting: "free",
         equations: &["36", "37", "38", "39"],
         count: Count {
             mul: 4,
@@ -894,7 +894,7 @@ pub const KERNELS: &[Entry] = &[
         parameters: false,
         name: "jacobian",
         model: "paper",
-        setting: "chapter",
+        setting: "free",
         equations: &["39", "40", "41"],
         count: Count {
             mul: 6,
@@ -910,7 +910,7 @@ pub const KERNELS: &[Entry] = &[
         parameters: false,
         name: "joint_accelerations_segment",
         model: "paper",
-        setting: "chapter",
+        setting: "free",
         equations: &["43", "44", "45", "46", "47", "48"],
         count: Count {
             mul: 6,
@@ -926,7 +926,7 @@ pub const KERNELS: &[Entry] = &[
         parameters: false,
         name: "step6_factored",
         model: "paper",
-        setting: "chapter",
+        setting: "free",
         equations: &["62"],
         count: Count {
             mul: 6,
@@ -942,7 +942,7 @@ pub const KERNELS: &[Entry] = &[
         parameters: false,
         name: "pi1_denominators",
         model: "paper",
-        setting: "chapter",
+        setting: "free",
         equations: &["39"],
         count: Count {
             mul: 0,

@@ -199,7 +199,7 @@ fn main() {
                         prefix: format!("c5_fused_{model}_"),
                         suffix: String::new(),
                     },
-                    _ => Naming::standard(model, scalar),
+                    _ => Naming::with_scalar_suffix(&format!("c5_{model}_"), scalar),
                 };
                 let stem = format!("c5_{}{model}_{}", path.suffix(), scalar.name());
                 let source = generate(&out, model, scalar, &stem, &naming);

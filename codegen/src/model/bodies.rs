@@ -30,26 +30,28 @@ impl<'g> Inertial<'g> {
     }
 }
 
-/// The robot's dynamic parameters as the dynamics uses them: gravity (base frame), and the
-/// standard parameters of the platform (reference point `C`, platform frame), of each body 2
-/// (reference point `B_i`, platform frame: it keeps the platform's orientation) and of each rod
-/// (reference point `B_i`, base frame: it translates, so only its mass counts).
+/// A mechanism's dynamic parameters as the dynamics uses them: gravity (base frame), the
+/// standard parameters of the platform (reference point `C`, platform frame) and of each leg's
+/// two moving bodies, each in the frame and about the reference point its mechanism says. For
+/// the C5: body 1 is the rod (reference point `B_i`, base frame: it translates, so only its mass
+/// counts), body 2 the C5 joint (reference point `B_i`, platform frame: it keeps the platform's
+/// orientation).
 pub struct Dynamics<'g> {
     pub gravity: Vec3<'g>,
     pub platform: Inertial<'g>,
-    pub joints: [Inertial<'g>; 6],
-    pub rods: [Inertial<'g>; 6],
-    /// The part of each rod's inertia that grows with `Q_i1²` (the appendix's `J_Gi1`), which
-    /// multiplies a zero angular velocity (slip 5).
+    /// `[body 1, body 2]` of each leg, in actuator order.
+    pub legs: [[Inertial<'g>; 2]; 6],
+    /// The part of each C5 rod's inertia that grows with `Q_i1²` (the appendix's `J_Gi1`),
+    /// which multiplies a zero angular velocity (slip 5); zero for other mechanisms.
     pub rod_inertia_per_length_squared: [Mat3<'g>; 6],
 }
 
-/// The number of standard inertial parameters: ten for each of the 13 bodies, in the order
-/// platform, then rod and body 2 of each segment.
+/// The number of standard inertial parameters of the C5: ten for each of the 13 bodies, in the
+/// order platform, then rod and body 2 of each segment.
 pub const STANDARD_INERTIAL: usize = 130;
 
 impl<'g> Dynamics<'g> {
-    /// From the parameter vector of the `*_params` kernels (`Robot::kernel_parameters`:
+    /// The C5's, from the parameter vector of the `*_params` kernels (`Robot::kernel_parameters`:
     /// [`Robot::flatten`]'s layout, each body's centre of mass and inertia in standard form,
     /// the first moment `m c` and the inertia about the reference point).
     pub fn from_kernel_parameters(p: &[Expr<'g>]) -> Self {
@@ -65,11 +67,13 @@ impl<'g> Dynamics<'g> {
         Dynamics {
             gravity: Vector(robot.gravity),
             platform: standard(&robot.platform),
-            joints: robot.segments.map(|s| standard(&s.joint)),
-            rods: robot.segments.map(|s| Inertial {
-                mass: s.rod.mass,
-                first_moment: Vector([zero; 3]),
-                inertia: Mat(s.rod.inertia),
+            legs: robot.segments.map(|s| {
+                let rod = Inertial {
+                    mass: s.rod.mass,
+                    first_moment: Vector([zero; 3]),
+                    inertia: Mat(s.rod.inertia),
+                };
+                [rod, standard(&s.joint)]
             }),
             rod_inertia_per_length_squared: robot
                 .segments
@@ -77,15 +81,14 @@ impl<'g> Dynamics<'g> {
         }
     }
 
-    /// From the [`STANDARD_INERTIAL`] standard parameters (platform, then rod and body 2 of
-    /// segments 1..6, ten each) and gravity.
+    /// The C5's, from the [`STANDARD_INERTIAL`] standard parameters (platform, then rod and
+    /// body 2 of segments 1..6, ten each) and gravity.
     pub fn from_standard(g: &'g Graph, gravity: Vec3<'g>, p: &[Expr<'g>]) -> Self {
         let body = |k: usize| Inertial::from_standard(&p[10 * k..10 * k + 10]);
         Dynamics {
             gravity,
             platform: body(0),
-            rods: std::array::from_fn(|i| body(1 + 2 * i)),
-            joints: std::array::from_fn(|i| body(2 + 2 * i)),
+            legs: std::array::from_fn(|i| [body(1 + 2 * i), body(2 + 2 * i)]),
             rod_inertia_per_length_squared: [Mat::zeros(g); 6],
         }
     }

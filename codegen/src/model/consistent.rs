@@ -18,8 +18,9 @@
 //! frame once the platform turns).
 
 use super::bodies::{wrench_in_platform_frame, Dynamics, Frame};
-use super::geometry::{anchor, divisor, platform_axis, JointMotion, Motion, Posed};
-use super::{Mechanics, Model, Quantity};
+use super::c5::C5;
+use super::geometry::{anchor, divisor, half_spacing, platform_axis, JointMotion, Motion, Posed};
+use super::{Mechanics, Model, Quantity, Structure};
 use crate::dag::Expr;
 use crate::linalg::{Mat, Mat3, Mat6, Vec3, Vec6, Vector};
 use c5_robot::AXIS;
@@ -28,8 +29,12 @@ use c5_robot::AXIS;
 pub struct Consistent;
 
 impl Mechanics for Consistent {
-    fn model(&self) -> Model {
-        Model::Consistent
+    fn name(&self) -> &'static str {
+        Model::Consistent.name()
+    }
+
+    fn structure(&self) -> &'static dyn Structure {
+        &C5
     }
 
     fn summary(&self) -> &'static str {
@@ -181,7 +186,9 @@ pub fn platform_view<'g>(posed: &Posed<'g>) -> PlatformView<'g> {
     let nu: [Vec3<'g>; 6] = std::array::from_fn(|i| posed.r.row(AXIS[i]));
     let p = std::array::from_fn(|i| {
         let full = match posed.centre_in_platform {
-            Some(centre) => centre - rt * anchor(posed.half_spacing, i) - nu[i].scale(posed.q[i]),
+            Some(centre) => {
+                centre - rt * anchor(half_spacing(&posed.geometry), i) - nu[i].scale(posed.q[i])
+            }
             None => rt * posed.p[i],
         };
         Vector::from_fn(|j| if j == AXIS[i] { g.zero() } else { full[j] })
@@ -406,7 +413,7 @@ fn leg_loads<'g>(
     let mut moments = [Vec3::zeros(g); 6];
     let mut direct = Vec6::zeros(g);
     for i in 0..6 {
-        let (rod, body) = (&dynamics.rods[i], &dynamics.joints[i]);
+        let (rod, body) = (&dynamics.legs[i][0], &dynamics.legs[i][1]);
         let k = AXIS[i];
         // Body 2 about B_i, whose classical acceleration is Q̈_i1 n_i (ν_i in this frame).
         let wrench = wrench_in_platform_frame(body, frame, &view.nu[i].scale(qdd[i]), gravity);

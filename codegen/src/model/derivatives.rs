@@ -187,7 +187,7 @@ pub const KERNELS: [Decl; 3] = [
             jacobian("d_twist", "`∂Γ/∂V` (N·s/rad, N·s/m)"),
             jacobian("d_accel", "`∂Γ/∂(ω̇; a_C)` (N·s²/rad, kg)"),
         ],
-        guard: Guard::Eq16,
+        guard: Guard::Solve,
         reads: Reads::Robot,
         batch: false,
         chapter: None,
@@ -214,7 +214,7 @@ pub const KERNELS: [Decl; 3] = [
             jacobian("d_twist", "`∂a/∂V`"),
             jacobian("d_gamma", "`∂a/∂Γ` (rad/s²/N, m/s²/N)"),
         ],
-        guard: Guard::Eq16,
+        guard: Guard::Pose,
         reads: Reads::Robot,
         batch: false,
         chapter: None,
@@ -262,7 +262,7 @@ pub const KERNELS: [Decl; 3] = [
 #[cfg(test)]
 mod tests {
     use super::super::kernels::derivative_specs;
-    use crate::{Model, ParameterSet, Robot};
+    use crate::{Mechanism, Model, ParameterSet, Robot};
 
     /// Each Jacobian against central differences of the kernel's own value, both models.
     #[test]
@@ -271,20 +271,19 @@ mod tests {
             0.17, -0.26, 0.35, 0.01, -0.02, 0.03, 0.3, -0.2, 0.1, 0.05, 0.02, -0.01, 40.0, -20.0,
             15.0, 30.0, 80.0, 95.0,
         ];
-        let ik =
-            super::super::kernels::specs(Model::Paper, &Robot::default(), &ParameterSet::None, "")
-                .unwrap()
-                .into_iter()
-                .find(|e| e.id.kernel == super::super::kernels::Kernel::InverseKinematics)
-                .unwrap()
-                .spec
-                .compile()
-                .unwrap()
-                .program;
+        let paper = Mechanism::c5(&Robot::default(), Model::Paper);
+        let ik = super::super::kernels::specs(&paper, &ParameterSet::None, "")
+            .unwrap()
+            .into_iter()
+            .find(|e| e.id.kernel == super::super::kernels::Kernel::InverseKinematics)
+            .unwrap()
+            .spec
+            .compile()
+            .unwrap()
+            .program;
         for model in Model::ALL {
-            for entry in
-                derivative_specs(model, &Robot::default(), &ParameterSet::None, "").unwrap()
-            {
+            let mechanism = Mechanism::c5(&Robot::default(), model);
+            for entry in derivative_specs(&mechanism, &ParameterSet::None, "").unwrap() {
                 let started = std::time::Instant::now();
                 let compiled = entry.spec.compile().unwrap();
                 eprintln!(

@@ -113,15 +113,22 @@ pub struct Posed<'g> {
     /// `1 + abc` when the pose was found from the actuator positions ([`forward_kinematics`]):
     /// the forward singularity term, positive in the workspace.
     pub forward: Option<Expr<'g>>,
-    /// `L`, the half-spacing of the robot.
-    pub half_spacing: Expr<'g>,
+    /// The mechanism's geometric parameters as the kernel sees them (constants, or entries of
+    /// its `params`): the leading entries of its parameter vector (the C5's `[L gx gy gz]`).
+    pub geometry: Vec<Expr<'g>>,
     /// `Rᵀ C`, the centre in the platform frame, when it is known without rotating `C`
     /// (the forward kinematics gives it as `[r11 h1, r22 h2, r33 h3]`).
     pub centre_in_platform: Option<Vec3<'g>>,
 }
 
-/// Eqs 15, 16 and 27 from the pose `[α β γ xc yc zc]` of a robot of half-spacing `L`.
-pub fn pose<'g>(half_spacing: Expr<'g>, x: &[Expr<'g>]) -> Posed<'g> {
+/// `L`, the half-spacing of a C5 robot, from its geometric parameters.
+pub fn half_spacing<'g>(geometry: &[Expr<'g>]) -> Expr<'g> {
+    geometry[0]
+}
+
+/// Eqs 15, 16 and 27 from the pose `[α β γ xc yc zc]` of a C5 robot of geometry `[L ...]`.
+pub fn pose<'g>(geometry: &[Expr<'g>], x: &[Expr<'g>]) -> Posed<'g> {
+    let half_spacing = self::half_spacing(geometry);
     let r = rotation_of_pose(x);
     let c = Vector([x[3], x[4], x[5]]);
     let g = x[0].graph();
@@ -134,7 +141,7 @@ pub fn pose<'g>(half_spacing: Expr<'g>, x: &[Expr<'g>]) -> Posed<'g> {
         q,
         p,
         forward: None,
-        half_spacing,
+        geometry: geometry.to_vec(),
         centre_in_platform: None,
     }
 }
@@ -160,7 +167,8 @@ const PAIRS: [(usize, usize, usize); 3] = [(0, 1, 2), (2, 3, 0), (4, 5, 1)];
 /// half-sums `h_k` of the pairs give `m̂_k·C = (1 + abc) h_k` for
 /// these columns `m̂_k`, so `C = Σ_k m̂_k (1 + abc) h_k / |m̂_k|²`, and `Rᵀ C` is simply
 /// `[r11 h1, r22 h2, r33 h3]`.
-pub fn forward_kinematics<'g>(half_spacing: Expr<'g>, q: &[Expr<'g>; 6]) -> Posed<'g> {
+pub fn forward_kinematics<'g>(geometry: &[Expr<'g>], q: &[Expr<'g>; 6]) -> Posed<'g> {
+    let half_spacing = self::half_spacing(geometry);
     let g = half_spacing.graph();
     let scale = (half_spacing * 2.0).recip();
     // Per axis k: the pair's ratio m_j/m_k and half-sum.
@@ -206,7 +214,7 @@ pub fn forward_kinematics<'g>(half_spacing: Expr<'g>, q: &[Expr<'g>; 6]) -> Pose
         q: *q,
         p,
         forward: Some(forward),
-        half_spacing,
+        geometry: geometry.to_vec(),
         centre_in_platform: Some(centre_in_platform),
     }
 }

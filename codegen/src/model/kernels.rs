@@ -9,12 +9,11 @@
 
 use super::bodies::{platform_wrench, Dynamics, Frame};
 use super::geometry::{self, JointMotion, Motion, Posed};
-use super::{Mechanics, Model, Quantity, INTERNAL_INPUTS};
+use super::{Mechanics, Mechanism, Quantity, INTERNAL_INPUTS};
 use crate::dag::{Expr, Graph};
 use crate::error::Error;
 use crate::kernel::{Arg, ChapterCount, KernelSpec, Objective, Setting, Shape};
 use crate::linalg::{Mat, Mat3, Vec6, Vector};
-use c5_robot::Robot;
 
 macro_rules! kernels {
     ($($(#[$doc:meta])* $id:ident => $name:literal,)*) => {
@@ -255,7 +254,7 @@ impl Input {
         match self {
             Input::Pose => Some(Setting::Pose),
             Input::Actuators | Input::Rotation => Some(Setting::Joint),
-            Input::P | Input::P1 => Some(Setting::Chapter),
+            Input::P | Input::P1 => Some(Setting::Free),
             _ => None,
         }
     }
@@ -278,15 +277,19 @@ pub enum Cite {
     Model(Quantity),
 }
 
-/// Which singularity terms a kernel returns as its last result, the same for every model.
+/// Which singularity terms a kernel returns as its last result; what they are is the
+/// mechanism's ([`Structure::guard`](super::Structure::guard)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Guard {
     /// None: the kernel never divides by a term that can vanish.
     Never,
-    /// The divisors of eq 16, `[r11 r22 r33]`.
-    Eq16,
-    /// From the actuator positions: the forward singularity term `1 + abc`, then the divisors
-    /// of eq 16, `[1 + abc, r11, r22, r33]`.
+    /// Those of the pose: where the legs' closed forms divide (the C5's divisors of eq 16,
+    /// `[r11 r22 r33]`).
+    Pose,
+    /// Those of the pose and of the solve with `J⁻ᵀ` (the C5 needs none beyond the pose's).
+    Solve,
+    /// From the actuator positions: the forward singularity term, then the pose's (the C5's
+    /// `[1 + abc, r11, r22, r33]`).
     Forward,
 }
 
@@ -298,15 +301,12 @@ pub enum Reads {
     /// Its parameters, folded or a `params` argument as the [`ParameterSet`] says (the
     /// checked-in crate has both, the second named `*_params`).
     Robot,
-    /// Its geometry and gravity, always a `params` argument (the first [`GEOMETRY`] of
-    /// [`Robot::kernel_parameters`]); the identification kernels, whose unknowns are the
+    /// Its geometry and gravity, always a `params` argument (the first
+    /// [`Structure::geometry_parameters`](super::Structure::geometry_parameters) of its
+    /// parameter vector); the identification kernels, whose unknowns are the
     /// inertial parameters.
     Geometry,
 }
-
-/// The robot's parameters the identification kernels read: its half-spacing and gravity, the
-/// first of [`Robot::kernel_parameters`].
-pub const GEOMETRY: usize = c5_robot::GEOMETRY_PARAMETERS;
 
 /// Builds a robot kernel's outputs from its [`Context`].
 pub type RobotBuild = for<'c, 'g> fn(&Context<'c, 'g>) -> Vec<Vec<Expr<'g>>>;
@@ -360,7 +360,8 @@ pub struct Decl {
 pub struct Context<'c, 'g> {
     pub mech: &'c dyn Mechanics,
     pub dynamics: &'c Dynamics<'g>,
-    pub half_spacing: Expr<'g>,
+    /// The mechanism's geometry and gravity ([`Posed::geometry`]).
+    pub geometry: &'c [Expr<'g>],
     graph: &'g Graph,
     bound: Vec<(Input, Vec<Expr<'g>>)>,
 }
@@ -397,15 +398,20 @@ impl<'c, 'g> Context<'c, 'g> {
         self.has(kind).then(|| self.vector(kind))
     }
 
-    /// The pose, expanded (eqs 15, 16, 27): from the pose the kernel takes, or from the
-    /// actuator positions by the forward kinematics.
+    /// The pose, expanded (eqs 15, 16, 27 for the C5): from the pose the kernel takes, or from
+    /// the actuator positions by the mechanism's closed-form forward kinematics.
     pub fn posed(&self) -> Posed<'g> {
+        let structure = self.mech.structure();
         if self.has(Input::Actuators) {
             let q = self.input(Input::Actuators);
-            geometry::forward_kinematics(self.half_spacing, &std::array::from_fn(|i| q[i]))
-        } else {
-            geometry::pose(self.half_spacing, &self.input(Input::Pose))
+            let q = std::array::from_fn(|i| q[i]);
+            if let Some(posed) = structure.forward_kinematics(self.geometry, &q) {
+                return posed;
+            }
+            self.graph
+                .invalidate("the mechanism has no closed-form forward kinematics".into());
         }
+        structure.pose(self.geometry, &self.input(Input::Pose))
     }
 
     /// The platform's motion: the twist and acceleration the kernel takes, zero where it
@@ -451,7 +457,7 @@ impl<'c, 'g> Context<'c, 'g> {
         Context {
             mech: self.mech,
             dynamics: self.dynamics,
-            half_spacing: self.half_spacing,
+            geometry: self.geometry,
             graph: self.graph,
             bound,
         }
@@ -466,24 +472,7 @@ impl<'c, 'g> Context<'c, 'g> {
 
     /// The singularity terms of `guard`.
     fn guard(&self, guard: Guard) -> Option<Vec<Expr<'g>>> {
-        match guard {
-            Guard::Never => None,
-            Guard::Eq16 => Some(geometry::divisors(&self.posed().r)),
-            Guard::Forward => {
-                let posed = self.posed();
-                let forward = posed.forward.unwrap_or_else(|| {
-                    self.graph.invalidate(
-                        "a forward guard on a kernel without actuator positions".into(),
-                    );
-                    self.graph.zero()
-                });
-                Some(
-                    std::iter::once(forward)
-                        .chain(geometry::divisors(&posed.r))
-                        .collect(),
-                )
-            }
-        }
+        (guard != Guard::Never).then(|| self.mech.structure().guard(guard, &self.posed()))
     }
 }
 
@@ -501,19 +490,6 @@ const GAMMA: Output = Output {
     name: "gamma",
     shape: Shape::Vector(6),
     doc: "`Γ` (N), segment order; positive pushes the rod along `+n_i`",
-};
-const DIVISORS: Output = Output {
-    name: "r",
-    shape: Shape::Vector(3),
-    doc: "`[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one \
-          is near zero",
-};
-const FORWARD: Output = Output {
-    name: "singular",
-    shape: Shape::Vector(4),
-    doc: "`[1 + abc, r11, r22, r33]`: the forward singularity term (the actuator positions \
-          belong to a pose of the workspace only where it is positive; the other results are \
-          meaningless where it is near zero or negative) and the divisors of eq 16",
 };
 
 const POSE_MOTION: &[Input] = &[Input::Pose, Input::Twist, Input::Accel];
@@ -578,7 +554,7 @@ pub const TABLE: &[Decl] = &[
         reads: Reads::Nothing,
         batch: false,
         chapter: None,
-        build: Build::Robot(|cx| vec![geometry::divisors(&cx.posed().r)]),
+        build: Build::Robot(|cx| vec![cx.mech.structure().guard(Guard::Pose, &cx.posed())]),
     },
     Decl {
         kernel: Kernel::InverseKinematics,
@@ -598,7 +574,7 @@ pub const TABLE: &[Decl] = &[
                 doc: "`P_i2` from `B_i` to `C` (m), base frame",
             },
         ],
-        guard: Guard::Eq16,
+        guard: Guard::Pose,
         reads: Reads::Robot,
         batch: false,
         chapter: None,
@@ -617,7 +593,7 @@ pub const TABLE: &[Decl] = &[
         equations: Cite::Model(Quantity::InverseJacobian),
         inputs: &[Input::Pose],
         outputs: &[JINV],
-        guard: Guard::Eq16,
+        guard: Guard::Pose,
         reads: Reads::Robot,
         batch: false,
         chapter: None,
@@ -630,7 +606,7 @@ pub const TABLE: &[Decl] = &[
         equations: Cite::Model(Quantity::Jacobian),
         inputs: &[Input::Pose],
         outputs: &[JAC],
-        guard: Guard::Eq16,
+        guard: Guard::Solve,
         reads: Reads::Robot,
         batch: false,
         chapter: None,
@@ -647,7 +623,7 @@ pub const TABLE: &[Decl] = &[
             shape: Shape::Vector(6),
             doc: "`Q̇_i1` (m/s), segment order",
         }],
-        guard: Guard::Eq16,
+        guard: Guard::Pose,
         reads: Reads::Robot,
         batch: false,
         chapter: None,
@@ -669,7 +645,7 @@ pub const TABLE: &[Decl] = &[
             shape: Shape::Vector(6),
             doc: "`Q̈_i1` (m/s²), segment order",
         }],
-        guard: Guard::Eq16,
+        guard: Guard::Pose,
         reads: Reads::Robot,
         batch: false,
         chapter: None,
@@ -691,7 +667,7 @@ pub const TABLE: &[Decl] = &[
             shape: Shape::Vector(6),
             doc: "`Φ = (n; f)` at `C`, base frame (N·m, N)",
         }],
-        guard: Guard::Eq16,
+        guard: Guard::Pose,
         reads: Reads::Robot,
         batch: false,
         chapter: None,
@@ -735,7 +711,7 @@ pub const TABLE: &[Decl] = &[
             shape: Shape::Matrix(6, 6),
             doc: "`M_x` (kg, kg·m, kg·m²), rows and columns `[ωx ωy ωz vx vy vz]`, base frame",
         }],
-        guard: Guard::Eq16,
+        guard: Guard::Pose,
         reads: Reads::Robot,
         batch: false,
         chapter: None,
@@ -753,7 +729,7 @@ pub const TABLE: &[Decl] = &[
             shape: Shape::Vector(6),
             doc: "`h = (n; f)` at `C`, base frame (N·m, N)",
         }],
-        guard: Guard::Eq16,
+        guard: Guard::Pose,
         reads: Reads::Robot,
         batch: false,
         chapter: None,
@@ -777,7 +753,7 @@ pub const TABLE: &[Decl] = &[
             shape: Shape::Vector(6),
             doc: "classical platform acceleration `(ω̇; a_C)` (rad/s², m/s²), base frame",
         }],
-        guard: Guard::Eq16,
+        guard: Guard::Pose,
         reads: Reads::Robot,
         batch: true,
         chapter: None,
@@ -795,7 +771,7 @@ pub const TABLE: &[Decl] = &[
         equations: Cite::Model(Quantity::InverseDynamics),
         inputs: POSE_MOTION,
         outputs: &[GAMMA],
-        guard: Guard::Eq16,
+        guard: Guard::Solve,
         reads: Reads::Robot,
         batch: true,
         chapter: None,
@@ -990,7 +966,7 @@ pub const TABLE: &[Decl] = &[
                 doc: "`cos` of each ball's tilt, `n_i · m_i`",
             },
         ],
-        guard: Guard::Eq16,
+        guard: Guard::Pose,
         reads: Reads::Robot,
         batch: true,
         chapter: None,
@@ -1001,7 +977,8 @@ pub const TABLE: &[Decl] = &[
             let mut tilt = Vec::with_capacity(6);
             for i in 0..6 {
                 // `P_i2 = C - B_i`: the ball from the centre is `-P_i2`.
-                let offset = -(rt * posed.p[i]) - geometry::anchor(cx.half_spacing, i);
+                let offset =
+                    -(rt * posed.p[i]) - geometry::anchor(geometry::half_spacing(cx.geometry), i);
                 let k = c5_robot::AXIS[i];
                 plate.extend((0..3).filter(|&a| a != k).map(|a| offset[a]));
                 tilt.push(geometry::divisor(&posed.r, i));
@@ -1036,13 +1013,12 @@ pub enum ParameterSet {
 }
 
 impl ParameterSet {
-    /// Indices into [`Robot::kernel_parameters`] of the parameters that are inputs, in the order
-    /// of the kernels' `params` argument.
+    /// Indices into the parameter vector, whose names are `names`, of the parameters that are
+    /// inputs, in the order of the kernels' `params` argument.
     ///
     /// # Errors
     /// [`Error::UnknownParameter`] or [`Error::DuplicateParameter`] for a bad name.
-    pub fn indices(&self) -> Result<Vec<usize>, Error> {
-        let names = Robot::<f64>::kernel_parameter_names();
+    pub fn indices(&self, names: &[String]) -> Result<Vec<usize>, Error> {
         match self {
             ParameterSet::None => Ok(vec![]),
             ParameterSet::All => Ok((0..names.len()).collect()),
@@ -1064,16 +1040,15 @@ impl ParameterSet {
     }
 }
 
-/// The robot's kernel parameters as the kernels see them: folded constants, or entries of the
-/// `params` input (`params[k]` is the parameter `indices[k]` of [`Robot::kernel_parameters`]).
+/// The mechanism's parameters as the kernels see them: folded constants, or entries of the
+/// `params` input (`params[k]` is the parameter `indices[k]` of the vector `values`).
 fn symbolic_parameters<'g>(
     g: &'g Graph,
-    robot: &Robot,
+    values: &[f64],
     indices: &[usize],
     params: Option<&Vec<Expr<'g>>>,
 ) -> Vec<Expr<'g>> {
-    robot
-        .kernel_parameters()
+    values
         .iter()
         .enumerate()
         .map(
@@ -1085,25 +1060,23 @@ fn symbolic_parameters<'g>(
         .collect()
 }
 
-const ORDER_NOTE: &str = "Actuators are in segment order 1..6; the chapter lists them 6..1.";
-
-/// The robot kernels of `model` for `robot` (the table, and the model's own), the robot's
-/// parameters as `parameters` says; with `suffix` appended to the names of those that read
-/// robot parameters when some are inputs. With a non-empty suffix (a second set beside a
-/// folded one), the kernels that read no parameter are left out.
+/// The robot kernels of `mechanism` (the table's that its structure has, and its mechanics'
+/// own), its parameters as `parameters` says; with `suffix` appended to the names of those that
+/// read parameters when some are inputs. With a non-empty suffix (a second set beside a folded
+/// one), the kernels that read no parameter are left out.
 ///
 /// # Errors
 /// A bad [`ParameterSet`].
 pub fn specs(
-    model: Model,
-    robot: &Robot,
+    mechanism: &Mechanism,
     parameters: &ParameterSet,
     suffix: &str,
 ) -> Result<Vec<Entry>, Error> {
-    let mech = super::mechanics(model);
-    let indices = parameters.indices()?;
+    let (mech, structure) = (mechanism.mechanics, mechanism.structure());
+    let indices = parameters.indices(&structure.parameter_names())?;
     Ok(TABLE
         .iter()
+        .filter(|d| structure.has_kernel(d.kernel))
         .chain(mech.extra_kernels())
         .filter(|d| match (d.build, d.reads) {
             (Build::Free(_), _) => false,
@@ -1111,53 +1084,54 @@ pub fn specs(
             _ => suffix.is_empty(),
         })
         .filter(|d| d.reads != Reads::Geometry)
-        .map(|d| spec(d, mech, robot, &indices, suffix, None))
+        .map(|d| spec(d, mechanism, &indices, suffix, None))
         .collect())
 }
 
-/// The derivative kernels of `model` ([`super::derivatives::KERNELS`]) for `robot`, the
-/// robot's parameters as `parameters` says, named with `suffix` when some are inputs.
+/// The derivative kernels of `mechanism` ([`super::derivatives::KERNELS`], those its structure
+/// has), its parameters as `parameters` says, named with `suffix` when some are inputs.
 ///
 /// # Errors
 /// A bad [`ParameterSet`].
 pub fn derivative_specs(
-    model: Model,
-    robot: &Robot,
+    mechanism: &Mechanism,
     parameters: &ParameterSet,
     suffix: &str,
 ) -> Result<Vec<Entry>, Error> {
-    let mech = super::mechanics(model);
-    let indices = parameters.indices()?;
+    let structure = mechanism.structure();
+    let indices = parameters.indices(&structure.parameter_names())?;
     Ok(super::derivatives::KERNELS
         .iter()
-        .map(|d| spec(d, mech, robot, &indices, suffix, None))
+        .filter(|d| structure.has_kernel(d.kernel))
+        .map(|d| spec(d, mechanism, &indices, suffix, None))
         .collect())
 }
 
-/// The chapter-setting kernels of `model` (the paper model's equations with the components of
-/// `P_i2` as free inputs, the setting the chapter's operation counts assume); none for a model
-/// without them.
-pub fn chapter_specs(model: Model) -> Vec<Entry> {
-    let mech = super::mechanics(model);
-    mech.extra_kernels()
+/// The free-input kernels of `mechanism` (the paper model's equations with the components of
+/// `P_i2` as free inputs, the setting the chapter's operation counts assume); none for a
+/// mechanism without them.
+pub fn chapter_specs(mechanism: &Mechanism) -> Vec<Entry> {
+    mechanism
+        .mechanics
+        .extra_kernels()
         .iter()
         .filter(|d| matches!(d.build, Build::Free(_)))
-        .map(|d| spec(d, mech, &Robot::default(), &[], "", None))
+        .map(|d| spec(d, mechanism, &[], "", None))
         .collect()
 }
 
-/// The engine's specification of `decl` for `model`'s mechanics: the robot's parameters
-/// `indices` are its `params` input, the others folded; `base` gives the columns of a
-/// [`Columns::Base`] regressor.
+/// The engine's specification of `decl` for `mechanism`: the parameters `indices` are its
+/// `params` input, the others folded; `base` gives the columns of a [`Columns::Base`]
+/// regressor.
 pub(crate) fn spec(
     decl: &Decl,
-    mech: &'static dyn Mechanics,
-    robot: &Robot,
+    mechanism: &Mechanism,
     indices: &[usize],
     suffix: &str,
     base: Option<Vec<usize>>,
 ) -> Entry {
-    let model = mech.model();
+    let (mech, structure) = (mechanism.mechanics, mechanism.structure());
+    let family = mech.name();
     let equations: Vec<String> = match decl.equations {
         Cite::Fixed(e) => e.iter().map(|s| s.to_string()).collect(),
         Cite::Model(q) => mech.equations(q).iter().map(|s| s.to_string()).collect(),
@@ -1168,7 +1142,11 @@ pub(crate) fn spec(
         .iter()
         .map(|o| Arg::output(o.name, o.shape, o.doc))
         .collect();
-    let mut doc = format!("Model: {model}. {}\n{ORDER_NOTE}", mech.summary());
+    let mut doc = format!(
+        "Model: {family}. {}\n{}",
+        mech.summary(),
+        structure.conventions()
+    );
     if !decl.doc.is_empty() {
         doc.push('\n');
         doc.push_str(decl.doc);
@@ -1185,26 +1163,15 @@ pub(crate) fn spec(
     let indices: Vec<usize> = match decl.reads {
         Reads::Nothing => Vec::new(),
         Reads::Robot => indices.to_vec(),
-        Reads::Geometry => (0..GEOMETRY).collect(),
+        Reads::Geometry => (0..structure.geometry_parameters()).collect(),
     };
     let params_at = (!indices.is_empty()).then(|| {
-        let all = Robot::<f64>::kernel_parameter_names();
-        let doc = match decl.reads {
-            Reads::Geometry => {
-                "`[L gx gy gz]`, the robot's half spacing and gravity (the first four of \
-                 `Robot::kernel_parameters`)"
-            }
-            _ => {
-                "robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` \
-                 and inertia about its reference point), in the order of the names in this \
-                 signature"
-            }
-        };
+        let all = structure.parameter_names();
         inputs.push(Arg::new(
             "params",
             Shape::Vector(indices.len()),
             indices.iter().map(|&i| all[i].clone()).collect(),
-            doc,
+            structure.parameter_doc(decl.reads),
         ));
         inputs.len() - 1
     });
@@ -1220,19 +1187,10 @@ pub(crate) fn spec(
              are `params`.",
         ),
     }
-    match decl.guard {
-        Guard::Never => {}
-        Guard::Eq16 => {
-            outputs.push(Arg::output(DIVISORS.name, DIVISORS.shape, DIVISORS.doc));
-            doc.push_str("\nThe last result holds the divisors of eq 16 for a singularity check.");
-        }
-        Guard::Forward => {
-            outputs.push(Arg::output(FORWARD.name, FORWARD.shape, FORWARD.doc));
-            doc.push_str(
-                "\nThe last result holds the forward singularity term and the divisors of eq 16 \
-                 for a singularity check.",
-            );
-        }
+    if decl.guard != Guard::Never {
+        let (output, note) = structure.guard_output(decl.guard);
+        outputs.push(Arg::output(output.name, output.shape, output.doc));
+        doc.push_str(note);
     }
     let id = KernelId {
         kernel: decl.kernel,
@@ -1243,11 +1201,12 @@ pub(crate) fn spec(
     } else {
         decl.kernel.name().to_string()
     };
-    let robot = *robot;
+    let values = mechanism.parameters.clone();
+    let geometry_len = structure.geometry_parameters();
     let (build, guard, kinds) = (decl.build, decl.guard, decl.inputs);
     let spec = KernelSpec {
         name,
-        model,
+        family: family.to_string(),
         setting,
         equations,
         title: decl.title.to_string(),
@@ -1259,12 +1218,12 @@ pub(crate) fn spec(
         build: match build {
             Build::Free(f) => Box::new(f),
             Build::Robot(_) | Build::Regressor(_) => Box::new(move |g, i| {
-                let sym = symbolic_parameters(g, &robot, &indices, params_at.map(|k| &i[k]));
-                let dynamics = Dynamics::from_kernel_parameters(&sym);
+                let sym = symbolic_parameters(g, &values, &indices, params_at.map(|k| &i[k]));
+                let dynamics = structure.dynamics(&sym);
                 let cx = Context {
                     mech,
                     dynamics: &dynamics,
-                    half_spacing: sym[0],
+                    geometry: &sym[..geometry_len],
                     graph: g,
                     bound: kinds.iter().copied().zip(i.iter().cloned()).collect(),
                 };
@@ -1301,6 +1260,7 @@ pub fn jacobian_wrt<'g>(g: &'g Graph, w: &[Expr<'g>], x: &[Expr<'g>]) -> crate::
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{Model, Robot};
 
     fn named(names: &[&str]) -> ParameterSet {
         ParameterSet::Named(names.iter().map(|s| s.to_string()).collect())
@@ -1311,7 +1271,7 @@ mod tests {
         let names = Robot::<f64>::kernel_parameter_names();
         let at = |n: &str| names.iter().position(|x| x == n).unwrap();
         let indices = named(&["gravity_z", "gravity_x", "platform_mass"])
-            .indices()
+            .indices(&names)
             .unwrap();
         assert_eq!(
             indices,
@@ -1326,10 +1286,14 @@ mod tests {
 
     #[test]
     fn unknown_and_repeated_names_are_refused() {
-        let e = named(&["gravity_w"]).indices().unwrap_err().to_string();
+        let names = Robot::<f64>::kernel_parameter_names();
+        let e = named(&["gravity_w"])
+            .indices(&names)
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("unknown parameter `gravity_w`"), "{e}");
         let e = named(&["gravity_x", "gravity_x"])
-            .indices()
+            .indices(&names)
             .unwrap_err()
             .to_string();
         assert_eq!(e, "parameter `gravity_x` is named twice");
@@ -1358,14 +1322,8 @@ mod tests {
             chapter: None,
             build: Build::Robot(|cx| vec![cx.forces().to_vec()]),
         };
-        let entry = spec(
-            &decl,
-            super::super::mechanics(Model::Consistent),
-            &Robot::default(),
-            &[],
-            "",
-            None,
-        );
+        let mechanism = Mechanism::c5(&Robot::default(), Model::Consistent);
+        let entry = spec(&decl, &mechanism, &[], "", None);
         let e = entry.spec.compile().unwrap_err().to_string();
         assert!(e.contains("undeclared input Gamma"), "{e}");
     }

@@ -1,27 +1,38 @@
-//! The C5 robot's models: the equations, and the kernel table a model is built into.
+//! The mechanisms: the equations, and the kernel table a mechanism is built into.
 //!
-//! A model is a value: [`mechanics`] gives the [`Mechanics`] of a [`Model`], and the kernel
-//! table ([`kernels`]) is the same for every model, so a third model is one new file
-//! implementing [`Mechanics`] (and a name in [`Model`]). What both models share lives in
-//! [`geometry`] (eqs 15, 16, 27) and [`bodies`] (Newton-Euler, eqs 52-57).
+//! A mechanism is a value ([`Mechanism`]): the kind of robot with its description's numbers.
+//! Its kind answers two questions. [`Structure`]: what its description holds (the parameter
+//! vector, the pose and the leg closed forms, the bodies' dynamics, the singularities); and
+//! [`Mechanics`]: how the legs tie the actuators to the platform (the Jacobians, rates,
+//! accelerations and forces). The kernel table ([`kernels`]) is the same for every mechanism,
+//! less the kernels a structure does not have, so a new mechanism is one new file implementing
+//! both traits. The C5 has two models of its legs, [`paper`] and [`consistent`], over one
+//! structure ([`c5`]): what they share lives in [`geometry`] (eqs 15, 16, 27) and [`bodies`]
+//! (Newton-Euler, eqs 52-57). Mechanisms whose platform rides on legs of known types derive
+//! everything from the legs' closed forms ([`legged`]): the Gough-Stewart platform
+//! ([`gough_stewart`]).
 //!
-//! This is the only place that knows both the robot and the kernel list; the engine sees
+//! This is the only place that knows both the robots and the kernel list; the engine sees
 //! [`KernelSpec`](crate::KernelSpec)s and nothing else.
 
 pub mod bodies;
+pub mod c5;
 pub mod consistent;
 pub mod derivatives;
 pub mod geometry;
+// pub mod gough_stewart;
 pub mod kernels;
+// pub mod legged;
 pub mod paper;
 pub mod regressor;
 mod selfcheck;
 
 pub use c5_robot::Model;
-pub use kernels::{Decl, Entry, Kernel, KernelId, ParameterSet};
+pub use kernels::{Decl, Entry, Guard, Kernel, KernelId, Output, ParameterSet};
 pub use selfcheck::self_check;
 
-use crate::linalg::{Mat6, Vec6, Vector};
+use crate::dag::{Expr, Graph};
+use crate::linalg::{Mat6, Vec3, Vec6, Vector};
 use bodies::Dynamics;
 use geometry::{JointMotion, Motion, Posed};
 
@@ -51,10 +62,14 @@ pub const INTERNAL_INPUTS: u32 = 1 << 30;
 /// needs them, the platform's motion and the bodies' standard parameters ([`Dynamics`]), in
 /// which the dynamics is linear; segment order 1..6 throughout.
 pub trait Mechanics: Sync {
-    fn model(&self) -> Model;
+    /// The family's name: the generated module's (with `_` for `-`), the manifest's and the
+    /// command line's.
+    fn name(&self) -> &'static str;
+    /// What the mechanism's description holds.
+    fn structure(&self) -> &'static dyn Structure;
     /// One line on what the model is, for the documentation of its kernels.
     fn summary(&self) -> &'static str;
-    /// The equations (the chapter's numbers, or DESIGN.md's) behind `quantity`.
+    /// The equations (the chapter's numbers, or the design's) behind `quantity`.
     fn equations(&self, quantity: Quantity) -> &'static [&'static str];
     /// `J⁻¹`, row `i` for segment `i+1`, columns `[ωx ωy ωz vx vy vz]`.
     fn inverse_jacobian<'g>(&self, posed: &Posed<'g>) -> Mat6<'g>;
@@ -174,7 +189,102 @@ pub trait Mechanics: Sync {
     }
 }
 
-/// The mechanics of `model`.
+/// What a mechanism's description holds, for the kernels: its parameter vector, its pose in
+/// closed form, its bodies' dynamic parameters and its singularities.
+pub trait Structure: Sync {
+    /// The names of the parameter vector of the `*_params` kernels, in order (valid Rust
+    /// identifiers).
+    fn parameter_names(&self) -> Vec<String>;
+    /// How many of the first parameters are the geometry and gravity: [`Posed::geometry`], and
+    /// the `params` of the identification kernels.
+    fn geometry_parameters(&self) -> usize;
+    /// The platform at the pose `[α β γ xc yc zc]` (eq 15), with the actuator values and the
+    /// vectors from each leg's platform joint to `C`.
+    fn pose<'g>(&self, geometry: &[Expr<'g>], x: &[Expr<'g>]) -> Posed<'g>;
+    /// The platform from the actuator positions in closed form, where the mechanism has one
+    /// (the kernels that read actuator positions exist only then).
+    fn forward_kinematics<'g>(
+        &self,
+        _geometry: &[Expr<'g>],
+        _q: &[Expr<'g>; 6],
+    ) -> Option<Posed<'g>> {
+        None
+    }
+    /// The bodies' dynamic parameters from the whole parameter vector.
+    fn dynamics<'g>(&self, parameters: &[Expr<'g>]) -> Dynamics<'g>;
+    /// The names of the standard inertial parameters, the unknowns of identification (friction
+    /// not included), in the order of [`Structure::dynamics_from_standard`].
+    fn standard_inertial_names(&self) -> Vec<String>;
+    /// What the standard inertial parameters are, for their documentation: the bodies, their
+    /// reference points and frames.
+    fn standard_inertial_doc(&self) -> &'static str;
+    /// The dynamics with the standard inertial parameters `p` and gravity given.
+    fn dynamics_from_standard<'g>(
+        &self,
+        g: &'g Graph,
+        gravity: Vec3<'g>,
+        p: &[Expr<'g>],
+    ) -> Dynamics<'g>;
+    /// The singularity terms a kernel of `guard` returns as its last result.
+    fn guard<'g>(&self, guard: Guard, posed: &Posed<'g>) -> Vec<Expr<'g>>;
+    /// That result's declaration, and the sentence the kernel's documentation adds about it.
+    fn guard_output(&self, guard: Guard) -> (Output, &'static str);
+    /// What the documentation of every kernel says of the conventions (the actuators' order).
+    fn conventions(&self) -> &'static str;
+    /// The documentation of the `params` argument of the kernels that read `reads`.
+    fn parameter_doc(&self, reads: kernels::Reads) -> &'static str;
+    /// Whether the mechanism has `kernel` of the shared table ([`kernels::TABLE`]).
+    fn has_kernel(&self, _kernel: kernels::Kernel) -> bool {
+        true
+    }
+    /// The pose around which seeded states are drawn (checks, base parameters).
+    fn home(&self, parameters: &[f64]) -> [f64; 6];
+    /// A length of the workspace: seeded states stay within a fraction of it of [`Structure::home`].
+    fn reach(&self, parameters: &[f64]) -> f64;
+}
+
+/// A mechanism with its description's numbers: what a kernel set is generated from.
+#[derive(Clone)]
+pub struct Mechanism {
+    pub mechanics: &'static dyn Mechanics,
+    /// The description's kernel parameters, in the order of
+    /// [`Structure::parameter_names`]: folded into the kernels, or the values of their `params`.
+    pub parameters: Vec<f64>,
+}
+
+impl std::fmt::Debug for Mechanism {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Mechanism")
+            .field("name", &self.mechanics.name())
+            .field("parameters", &self.parameters)
+            .finish()
+    }
+}
+
+impl Mechanism {
+    /// A C5 robot with one of its models.
+    pub fn c5(robot: &c5_robot::Robot, model: Model) -> Self {
+        Mechanism {
+            mechanics: mechanics(model),
+            parameters: robot.kernel_parameters(),
+        }
+    }
+
+    pub fn name(&self) -> &'static str {
+        self.mechanics.name()
+    }
+
+    pub fn structure(&self) -> &'static dyn Structure {
+        self.mechanics.structure()
+    }
+
+    /// The geometry and gravity: the first [`Structure::geometry_parameters`] parameters.
+    pub fn geometry(&self) -> &[f64] {
+        &self.parameters[..self.structure().geometry_parameters()]
+    }
+}
+
+/// The mechanics of a C5 `model`.
 pub fn mechanics(model: Model) -> &'static dyn Mechanics {
     match model {
         Model::Consistent => &consistent::Consistent,

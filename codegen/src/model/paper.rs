@@ -10,9 +10,10 @@ use super::bodies::{
     platform_wrench, point_acceleration_map, rigid_body_wrench, wrench_turning_with_platform,
     Dynamics, Frame, Lumped,
 };
+use super::c5::C5;
 use super::geometry::{axis, p_hat, p_hat_inv, spatial_acceleration, Motion, Posed};
 use super::kernels::{Build, Cite, Decl, Guard, Input, Kernel, Output, Reads};
-use super::{Mechanics, Model, Quantity};
+use super::{Mechanics, Model, Quantity, Structure};
 use crate::dag::Expr;
 use crate::kernel::{ChapterCount, Shape};
 use crate::linalg::{Mat, Mat3, Mat6, Vec3, Vec6, Vector};
@@ -22,8 +23,12 @@ use c5_robot::AXIS;
 pub struct Paper;
 
 impl Mechanics for Paper {
-    fn model(&self) -> Model {
-        Model::Paper
+    fn name(&self) -> &'static str {
+        Model::Paper.name()
+    }
+
+    fn structure(&self) -> &'static dyn Structure {
+        &C5
     }
 
     fn summary(&self) -> &'static str {
@@ -249,7 +254,7 @@ const EXTRA_KERNELS: &[Decl] = &[
             shape: Shape::Matrix(6, 6),
             doc: "row `i`: `Q̈_i = [ẅ_p ü_p γ̈_p β̈_p α̈_p Q̈_i1]` of segment `i+1`",
         }],
-        guard: Guard::Eq16,
+        guard: Guard::Pose,
         reads: Reads::Robot,
         batch: false,
         chapter: None,
@@ -387,7 +392,7 @@ pub fn leg_dynamics<'g>(
     let a_b = a_c - point_acceleration_map(&omega, &omega_dot) * *p;
     let frame = Frame::new(r, &omega, &omega_dot);
     let f2 = wrench_turning_with_platform(
-        &dynamics.joints[i],
+        &dynamics.legs[i][1],
         &frame,
         &omega,
         &omega_dot,
@@ -397,7 +402,7 @@ pub fn leg_dynamics<'g>(
     // Body 1: never rotates; centre of mass at Q_i1/2 along n_i from A_i; J_Gi1 in the base
     // frame multiplies its zero angular velocity and acceleration (Slip 5).
     let zero = Vec3::zeros(g);
-    let rod = &dynamics.rods[i];
+    let rod = &dynamics.legs[i][0];
     let j_g1 = rod.inertia + dynamics.rod_inertia_per_length_squared[i].scale(q * q);
     let n_g1 = j_g1 * zero + zero.cross(&(j_g1 * zero));
     let f1 = rigid_body_wrench(
@@ -499,7 +504,7 @@ pub fn platform_and_bodies2<'g>(
     frame: &Frame<'g>,
 ) -> Lumped<'g> {
     (0..6).fold(Lumped::platform(&dynamics.platform), |lumped, i| {
-        lumped.with(&dynamics.joints[i], frame, &-posed.p[i])
+        lumped.with(&dynamics.legs[i][1], frame, &-posed.p[i])
     })
 }
 
@@ -509,7 +514,7 @@ pub fn platform_and_bodies2<'g>(
 pub fn rod_load<'g>(dynamics: &Dynamics<'g>, i: usize, p: &Vec3<'g>, vdot: &Vec6<'g>) -> Expr<'g> {
     let qdd = joint_accelerations_segment(p, vdot, i)[5];
     let n = axis(p[0].graph(), i);
-    dynamics.rods[i].mass * (qdd - n.dot(&dynamics.gravity))
+    dynamics.legs[i][0].mass * (qdd - n.dot(&dynamics.gravity))
 }
 
 /// Eq 60 with step 6 by eq 62, as the chapter computes it: `Γ = Π1ᵀ J1ᵀ (F_{N+1} + Φ)`, `Φ`
@@ -584,7 +589,7 @@ mod tests {
                 constants(&[1.0, 1.0, 1.0, 0.5, 0.5, 0.5]),
                 constants(&[5.0, 5.0, 5.0, 2.0, 2.0, 2.0]),
             );
-            let posed = pose(params[0], &x.0);
+            let posed = pose(&params[..4], &x.0);
             let want = values(&inverse_dynamics_by_legs(&dynamics, &posed, &motion));
             let got = values(&inverse_dynamics(&dynamics, &posed, &motion));
             let frame = Frame::new(posed.r, &motion.twist.top(), &motion.accel.top());

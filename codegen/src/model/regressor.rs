@@ -8,18 +8,25 @@
 //! stacked over seeded states, QR with column pivoting, the columns of `R` past its numerical
 //! rank rebuilt from the others; the base regressor keeps only the independent columns.
 
-use super::bodies::{Dynamics, STANDARD_INERTIAL};
 use super::geometry::{Motion, Posed};
 use super::kernels::{
-    self, Build, Cite, Columns, Context, Decl, Entry, Guard, Input, Kernel, Output, Reads, GEOMETRY,
+    self, Build, Cite, Columns, Context, Decl, Entry, Guard, Input, Kernel, Output, Reads,
 };
-use super::{mechanics, Mechanics, Model, Quantity, INTERNAL_INPUTS};
+use super::{Mechanics, Mechanism, Quantity, INTERNAL_INPUTS};
 use crate::dag::Expr;
 use crate::error::Error;
 use crate::kernel::{Compiled, Shape};
 use crate::linalg::Vec3;
 use crate::numeric::{pivoted_qr, Lcg};
-use c5_robot::{standard_parameter_names, Robot, STANDARD_PARAMETERS};
+
+/// The names of a mechanism's standard parameters, the columns of its regressor: the inertial
+/// ones of its structure, then viscous (`fv1`..) and Coulomb (`fc1`..) friction per actuator.
+pub fn standard_parameter_names(mech: &dyn Mechanics) -> Vec<String> {
+    let mut names = mech.structure().standard_inertial_names();
+    names.extend((1..=6).map(|i| format!("fv{i}")));
+    names.extend((1..=6).map(|i| format!("fc{i}")));
+    names
+}
 
 /// The columns of `Y` (each the six actuators' entries) for the model's inverse dynamics, with
 /// the bodies' standard parameters as unknowns and gravity as given.
@@ -30,10 +37,11 @@ pub fn regressor<'g>(
     motion: &Motion<'g>,
 ) -> Vec<[Expr<'g>; 6]> {
     let g = posed.c[0].graph();
-    let unknown: Vec<Expr<'g>> = (0..STANDARD_INERTIAL)
+    let structure = mech.structure();
+    let unknown: Vec<Expr<'g>> = (0..structure.standard_inertial_names().len())
         .map(|j| g.input(INTERNAL_INPUTS + j as u32))
         .collect();
-    let dynamics = Dynamics::from_standard(g, gravity, &unknown);
+    let dynamics = structure.dynamics_from_standard(g, gravity, &unknown);
     let gamma = mech
         .inverse_dynamics_by_body(&dynamics, posed, motion)
         .to_vec();
@@ -64,9 +72,11 @@ pub(crate) fn rows<'g>(cx: &Context<'_, 'g>, columns: Option<&[usize]>) -> Vec<E
         .collect()
 }
 
+/// The regressor's output; its width is the mechanism's number of standard (or base)
+/// parameters, set when the kernel is specified.
 const Y: Output = Output {
     name: "y",
-    shape: Shape::Matrix(6, STANDARD_PARAMETERS),
+    shape: Shape::Matrix(6, 0),
     doc: "row `i` for actuator `i+1`, one column per parameter (N per unit)",
 };
 
@@ -82,7 +92,7 @@ pub const KERNELS: [Decl; 2] = [
         equations: Cite::Model(Quantity::Identification),
         inputs: &[Input::Pose, Input::Twist, Input::Accel],
         outputs: &[Y],
-        guard: Guard::Eq16,
+        guard: Guard::Solve,
         reads: Reads::Geometry,
         batch: false,
         chapter: None,
@@ -97,7 +107,7 @@ pub const KERNELS: [Decl; 2] = [
         inputs: &[Input::Pose, Input::Twist, Input::Accel],
         // The width is the model's number of base parameters, set when they are known.
         outputs: &[Y],
-        guard: Guard::Eq16,
+        guard: Guard::Solve,
         reads: Reads::Geometry,
         batch: false,
         chapter: None,
@@ -105,22 +115,20 @@ pub const KERNELS: [Decl; 2] = [
     },
 ];
 
-/// The full regressor kernel of `model`: `Γ = Y π` with `π` the standard parameters.
-pub fn regressor_spec(model: Model) -> Entry {
-    kernels::spec(
-        &KERNELS[0],
-        mechanics(model),
-        &Robot::default(),
-        &[],
-        "",
-        None,
-    )
+/// The full regressor kernel of `mechanism`: `Γ = Y π` with `π` the standard parameters.
+pub fn regressor_spec(mechanism: &Mechanism) -> Entry {
+    let mut entry = kernels::spec(&KERNELS[0], mechanism, &[], "", None);
+    let width = standard_parameter_names(mechanism.mechanics).len();
+    entry.spec.outputs[0].shape = Shape::Matrix(6, width);
+    entry
 }
 
 /// The base parameters of a model: each a standard parameter (its lead) with the standard
 /// parameters whose columns depend on it folded in, `β_j = π_lead + Σ c_k π_k`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BaseParameters {
+    /// The standard parameters' names.
+    pub names: Vec<String>,
     /// Per base parameter, its terms `(standard index, coefficient)`, the lead first with 1.
     pub groups: Vec<Vec<(usize, f64)>>,
 }
@@ -133,9 +141,8 @@ impl BaseParameters {
 
     /// Base parameter `j`'s name: its lead's, with `_R` (regrouped) when others fold into it.
     pub fn name(&self, j: usize) -> String {
-        let names = standard_parameter_names();
         let group = &self.groups[j];
-        let lead = &names[group[0].0];
+        let lead = &self.names[group[0].0];
         if group.len() > 1 {
             format!("{lead}_R")
         } else {
@@ -145,7 +152,7 @@ impl BaseParameters {
 
     /// Base parameter `j` as a readable relation, `platform_izz_R = platform_izz + joint1_izz ...`.
     pub fn relation(&self, j: usize) -> String {
-        let names = standard_parameter_names();
+        let names = &self.names;
         let mut out = format!("{} = {}", self.name(j), names[self.groups[j][0].0]);
         for &(k, c) in &self.groups[j][1..] {
             let (sign, magnitude) = if c < 0.0 { ("-", -c) } else { ("+", c) };
@@ -162,21 +169,25 @@ impl BaseParameters {
 /// How many seeded states the base parameters are found from.
 const STATES: usize = 120;
 
-/// The base parameters of a model from its compiled full regressor ([`regressor_spec`]) for
-/// `robot`'s geometry: `Y` on seeded states of the workspace, stacked, pivoted QR, rank at
-/// `1e-9` of the largest pivot.
-pub fn base_parameters(regressor: &Compiled, robot: &Robot) -> BaseParameters {
-    let geometry = &robot.kernel_parameters()[..GEOMETRY];
+/// The base parameters of a mechanism from its compiled full regressor ([`regressor_spec`]) for
+/// its geometry: `Y` on seeded states of the workspace, stacked, pivoted QR, rank at `1e-9` of
+/// the largest pivot.
+pub fn base_parameters(regressor: &Compiled, mechanism: &Mechanism) -> BaseParameters {
+    let names = standard_parameter_names(mechanism.mechanics);
+    let width = names.len();
+    let geometry = mechanism.geometry();
+    let home = mechanism.structure().home(&mechanism.parameters);
     let mut rng = Lcg::new(0x5eed_c5c5);
     let mut rows: Vec<Vec<f64>> = Vec::with_capacity(6 * STATES);
     for _ in 0..STATES {
-        let mut input = rng.vector(&[0.4, 0.4, 0.4, 0.05, 0.05, 0.05]);
+        let offset = rng.vector(&[0.4, 0.4, 0.4, 0.05, 0.05, 0.05]);
+        let mut input: Vec<f64> = offset.iter().zip(&home).map(|(d, h)| h + d).collect();
         input.extend(rng.vector(&[1.0, 1.0, 1.0, 0.5, 0.5, 0.5]));
         input.extend(rng.vector(&[5.0, 5.0, 5.0, 2.0, 2.0, 2.0]));
         input.extend(geometry);
         let y = regressor.program.eval(&input);
         for i in 0..6 {
-            rows.push(y[i * STANDARD_PARAMETERS..(i + 1) * STANDARD_PARAMETERS].to_vec());
+            rows.push(y[i * width..(i + 1) * width].to_vec());
         }
     }
     let qr = pivoted_qr(&rows);
@@ -202,27 +213,21 @@ pub fn base_parameters(regressor: &Compiled, robot: &Robot) -> BaseParameters {
         })
         .collect();
     groups.sort_by_key(|g| g[0].0);
-    BaseParameters { groups }
+    BaseParameters { names, groups }
 }
 
 /// The base regressor kernel: the columns of the base parameters' leads, `Γ = Y_b β`.
-pub fn base_regressor_spec(model: Model, base: &BaseParameters) -> Entry {
-    let mut entry = kernels::spec(
-        &KERNELS[1],
-        mechanics(model),
-        &Robot::default(),
-        &[],
-        "",
-        Some(base.leads()),
-    );
+pub fn base_regressor_spec(mechanism: &Mechanism, base: &BaseParameters) -> Entry {
+    let mut entry = kernels::spec(&KERNELS[1], mechanism, &[], "", Some(base.leads()));
     entry.spec.outputs[0].shape = Shape::Matrix(6, base.groups.len());
     entry
 }
 
-/// The identification data of a model as Rust constants: the standard and base parameters'
-/// names, the relations, and `β = B π` as sparse rows.
-pub fn constants(base: &BaseParameters) -> Result<String, Error> {
-    let names = standard_parameter_names();
+/// The identification data of a mechanism as Rust constants: the standard and base parameters'
+/// names (`standard_doc` says what the standard ones are), the relations, and `β = B π` as
+/// sparse rows.
+pub fn constants(base: &BaseParameters, standard_doc: &str) -> Result<String, Error> {
+    let names = &base.names;
     let nb = base.groups.len();
     let base_names: Vec<String> = (0..nb).map(|j| base.name(j)).collect();
     let relations: Vec<String> = (0..nb).map(|j| base.relation(j)).collect();
@@ -241,10 +246,8 @@ pub fn constants(base: &BaseParameters) -> Result<String, Error> {
             .join(", ")
     };
     let code = format!(
-        "/// The standard parameters, the columns of [`regressor`]: ten per body (mass, first \
-         moment `m c`, inertia about the reference point; the platform about `C` in its frame, \
-         each rod about `B_i` in the base frame, each body 2 about `B_i` in the platform frame), \
-         then viscous and Coulomb friction per actuator.\n\
+        "/// The standard parameters, the columns of [`regressor`]: {standard_doc}, then viscous \
+         and Coulomb friction per actuator.\n\
          pub const STANDARD_PARAMETERS: [&str; {}] = [{}];\n\
          /// The base parameters, the columns of [`base_regressor`].\n\
          pub const BASE_PARAMETERS: [&str; {nb}] = [{}];\n\
@@ -253,7 +256,7 @@ pub fn constants(base: &BaseParameters) -> Result<String, Error> {
          /// `β = B π`: row `j` holds base parameter `j`'s terms `(standard index, coefficient)`.\n\
          pub const BASE_OF_STANDARD: [&[(usize, f64)]; {nb}] = [{}];\n",
         names.len(),
-        quoted(&names),
+        quoted(names),
         quoted(&base_names),
         quoted(&relations),
         rows.join(", ")
@@ -274,15 +277,15 @@ pub struct Identification {
 }
 
 impl Identification {
-    /// Compiles `model`'s regressors, the base parameters found with `robot`'s geometry.
+    /// Compiles `mechanism`'s regressors, the base parameters found with its geometry.
     ///
     /// # Errors
-    /// A model the engine cannot emit (a bug).
-    pub fn compile(model: Model, robot: &Robot) -> Result<Self, Error> {
-        let full = regressor_spec(model);
+    /// A mechanism the engine cannot emit (a bug).
+    pub fn compile(mechanism: &Mechanism) -> Result<Self, Error> {
+        let full = regressor_spec(mechanism);
         let full_compiled = full.spec.compile()?;
-        let base = base_parameters(&full_compiled, robot);
-        let reduced = base_regressor_spec(model, &base);
+        let base = base_parameters(&full_compiled, mechanism);
+        let reduced = base_regressor_spec(mechanism, &base);
         let reduced_compiled = reduced.spec.compile()?;
         Ok(Identification {
             base,
@@ -300,10 +303,11 @@ impl Identification {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::bodies::STANDARD_INERTIAL;
     use crate::model::kernels;
-    use crate::model::lopsided;
+    use crate::model::{lopsided, Model};
     use crate::ParameterSet;
-    use c5_robot::Friction;
+    use c5_robot::{Friction, Robot, GEOMETRY_PARAMETERS as GEOMETRY, STANDARD_PARAMETERS};
 
     #[test]
     fn the_regressor_times_the_standard_parameters_is_the_inverse_dynamics() {
@@ -314,8 +318,9 @@ mod tests {
         });
         let pi = robot.standard_parameters(&friction);
         for model in Model::ALL {
-            let y = regressor_spec(model).spec.compile().unwrap();
-            let id = kernels::specs(model, &robot, &ParameterSet::None, "")
+            let mechanism = Mechanism::c5(&robot, model);
+            let y = regressor_spec(&mechanism).spec.compile().unwrap();
+            let id = kernels::specs(&mechanism, &ParameterSet::None, "")
                 .unwrap()
                 .into_iter()
                 .find(|e| e.id.kernel == Kernel::InverseDynamics)
@@ -353,10 +358,14 @@ mod tests {
         let robot = Robot::default();
         let geometry = &robot.kernel_parameters()[..GEOMETRY];
         for (model, expected) in [(Model::Consistent, 46), (Model::Paper, 52)] {
-            let y = regressor_spec(model).spec.compile().unwrap();
-            let base = base_parameters(&y, &robot);
+            let mechanism = Mechanism::c5(&robot, model);
+            let y = regressor_spec(&mechanism).spec.compile().unwrap();
+            let base = base_parameters(&y, &mechanism);
             assert_eq!(base.groups.len(), expected, "{model}");
-            let yb = base_regressor_spec(model, &base).spec.compile().unwrap();
+            let yb = base_regressor_spec(&mechanism, &base)
+                .spec
+                .compile()
+                .unwrap();
             let nb = base.groups.len();
             let mut rng = Lcg::new(11);
             let pi = rng.vector(&[1.0; STANDARD_PARAMETERS]);

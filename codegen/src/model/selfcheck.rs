@@ -9,20 +9,21 @@
 //! the model or the engine has a bug.
 
 use super::kernels::{Entry, Kernel};
+use super::Mechanism;
 use crate::error::Error;
 use crate::kernel::Compiled;
 use crate::numeric::Lcg;
-use c5_robot::Robot;
 
-/// The kernels of one model and parameter variant, found by what they compute.
+/// The kernels of one mechanism and parameter variant, found by what they compute.
 struct Kernels<'a> {
-    robot: &'a Robot,
+    mechanism: &'a Mechanism,
+    names: Vec<String>,
     list: &'a [(&'a Entry, &'a Compiled)],
 }
 
 impl Kernels<'_> {
     /// Evaluates `kernel` on `motion` (pose, then twist and acceleration as it takes them), its
-    /// `params` taken from the robot.
+    /// `params` taken from the mechanism's description.
     ///
     /// # Errors
     /// [`Error::SelfCheck`] when the group has no such kernel: a kernel the check expects is
@@ -37,13 +38,16 @@ impl Kernels<'_> {
                 check: "the kernel is missing from the generated set".to_string(),
             })?;
         let spec = &entry.spec;
-        let values = self.robot.kernel_parameters();
-        let names = Robot::<f64>::kernel_parameter_names();
+        let values = &self.mechanism.parameters;
         let mut inputs = Vec::with_capacity(spec.input_len());
         for (k, arg) in spec.inputs.iter().enumerate() {
             if arg.name == "params" {
                 inputs.extend(arg.elements.iter().map(|e| {
-                    let i = names.iter().position(|n| n == e).expect("a parameter name");
+                    let i = self
+                        .names
+                        .iter()
+                        .position(|n| n == e)
+                        .expect("a parameter name");
                     values[i]
                 }));
             } else {
@@ -79,34 +83,44 @@ fn close(got: f64, want: f64, scale: f64) -> bool {
     (got - want).abs() <= 1e-9 * scale.max(1.0)
 }
 
-/// Checks the identities between the kernels of one model and parameter variant, on seeded
-/// states of `robot`'s workspace.
+/// Checks the identities between the kernels of one mechanism and parameter variant, on
+/// seeded states of its workspace; those of the joint setting where its structure has them.
 ///
 /// # Errors
 /// [`Error::SelfCheck`] naming the kernel and the identity that fails, or a kernel the check
 /// expects that is missing.
-pub fn self_check(robot: &Robot, list: &[(&Entry, &Compiled)]) -> Result<(), Error> {
-    let kernels = Kernels { robot, list };
+pub fn self_check(mechanism: &Mechanism, list: &[(&Entry, &Compiled)]) -> Result<(), Error> {
+    let structure = mechanism.structure();
+    let kernels = Kernels {
+        mechanism,
+        names: structure.parameter_names(),
+        list,
+    };
     let fail = |kernel: Kernel, check: String| Error::SelfCheck {
         kernel: kernel.name().to_string(),
         check,
     };
+    let joint_setting = structure.has_kernel(Kernel::ForwardKinematics);
     let mut rng = Lcg::new(0x00c5_c5c5);
-    let l = robot.half_spacing;
+    let l = structure.reach(&mechanism.parameters);
+    let home = structure.home(&mechanism.parameters);
     for _ in 0..8 {
-        let pose = rng.vector(&[0.4, 0.4, 0.4, 0.3 * l, 0.3 * l, 0.3 * l]);
+        let offset = rng.vector(&[0.4, 0.4, 0.4, 0.3 * l, 0.3 * l, 0.3 * l]);
+        let pose: Vec<f64> = offset.iter().zip(&home).map(|(d, h)| h + d).collect();
         let twist = rng.vector(&[1.0, 1.0, 1.0, 0.5, 0.5, 0.5]);
         let accel = rng.vector(&[5.0, 5.0, 5.0, 2.0, 2.0, 2.0]);
-        // The forward kinematics undoes the inverse: R and C of the pose from its Q.
         let q = kernels.eval(Kernel::InverseKinematics, &[&pose])?;
-        let placement = kernels.eval(Kernel::ForwardKinematics, &[&q[..6]])?;
-        let want = rotation_and_centre(&pose);
-        for (k, (&got, &want)) in placement.iter().zip(&want).enumerate() {
-            if !close(got, want, 1.0) {
-                return Err(fail(
-                    Kernel::ForwardKinematics,
-                    format!("(R, C)[{k}] = {got} but the pose gives {want} at {pose:?}"),
-                ));
+        if joint_setting {
+            // The forward kinematics undoes the inverse: R and C of the pose from its Q.
+            let placement = kernels.eval(Kernel::ForwardKinematics, &[&q[..6]])?;
+            let want = rotation_and_centre(&pose);
+            for (k, (&got, &want)) in placement.iter().zip(&want).enumerate() {
+                if !close(got, want, 1.0) {
+                    return Err(fail(
+                        Kernel::ForwardKinematics,
+                        format!("(R, C)[{k}] = {got} but the pose gives {want} at {pose:?}"),
+                    ));
+                }
             }
         }
         let jinv = kernels.eval(Kernel::InverseJacobianPose, &[&pose])?;
@@ -150,6 +164,10 @@ pub fn self_check(robot: &Robot, list: &[(&Entry, &Compiled)]) -> Result<(), Err
         // From what the encoders would measure, the same state and the same forces.
         let qd = &qd[..6];
         let qdd = kernels.eval(Kernel::JointAccelerations, &full)?;
+        if !joint_setting {
+            check_forward(&kernels, &pose, &twist, &accel, &gamma)?;
+            continue;
+        }
         let joint = [&q[..6], qd, &qdd[..6]];
         let state = kernels.eval(Kernel::PlatformState, &joint)?;
         for (k, want) in pose.iter().chain(&twist).chain(&accel).enumerate() {
@@ -177,15 +195,27 @@ pub fn self_check(robot: &Robot, list: &[(&Entry, &Compiled)]) -> Result<(), Err
                 ));
             }
         }
-        let back = kernels.eval(Kernel::ForwardDynamics, &[&pose, &twist, &gamma[..6]])?;
-        let scale = accel.iter().fold(1.0_f64, |m, a| m.max(a.abs()));
-        for k in 0..6 {
-            if !close(back[k], accel[k], scale) {
-                return Err(fail(
-                    Kernel::ForwardDynamics,
-                    format!("forward(Γ(V̇))[{k}] = {} but V̇[{k}] = {}", back[k], accel[k]),
-                ));
-            }
+        check_forward(&kernels, &pose, &twist, &accel, &gamma)?;
+    }
+    Ok(())
+}
+
+/// `forward(Γ(V̇)) = V̇`.
+fn check_forward(
+    kernels: &Kernels<'_>,
+    pose: &[f64],
+    twist: &[f64],
+    accel: &[f64],
+    gamma: &[f64],
+) -> Result<(), Error> {
+    let back = kernels.eval(Kernel::ForwardDynamics, &[pose, twist, &gamma[..6]])?;
+    let scale = accel.iter().fold(1.0_f64, |m, a| m.max(a.abs()));
+    for k in 0..6 {
+        if !close(back[k], accel[k], scale) {
+            return Err(Error::SelfCheck {
+                kernel: Kernel::ForwardDynamics.name().to_string(),
+                check: format!("forward(Γ(V̇))[{k}] = {} but V̇[{k}] = {}", back[k], accel[k]),
+            });
         }
     }
     Ok(())

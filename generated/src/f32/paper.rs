@@ -57,7 +57,7 @@
 
 /// Inverse Jacobian `J⁻¹` of the paper model, rows `[(n_i × P_i2)ᵀ n_iᵀ]`.
 ///
-/// Equations: 22. Setting: chapter.
+/// Equations: 22. Setting: free.
 ///
 /// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
@@ -91,7 +91,7 @@ pub fn inverse_jacobian(p: &[[f32; 3]; 6]) -> [[f32; 6]; 6] {
 }
 /// `Π1`, the map from actuator rates to the joint rates of segment 1, `Q̇_1 = Π1 Q̇_a`.
 ///
-/// Equations: 36, 37, 38, 39. Setting: chapter.
+/// Equations: 36, 37, 38, 39. Setting: free.
 ///
 /// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
@@ -142,7 +142,7 @@ pub fn pi1(p: &[[f32; 3]; 6]) -> [[f32; 6]; 6] {
 }
 /// Jacobian in factored form, `J = J1 Π1`, including `Π1`.
 ///
-/// Equations: 39, 40, 41. Setting: chapter.
+/// Equations: 39, 40, 41. Setting: free.
 ///
 /// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
@@ -192,7 +192,7 @@ pub fn jacobian(p: &[[f32; 3]; 6]) -> [[f32; 6]; 6] {
 }
 /// Joint accelerations of segment 1 by projection, `Q̈_1 = [Q̈_12; Q̈_11]`.
 ///
-/// Equations: 43, 44, 45, 46, 47, 48. Setting: chapter.
+/// Equations: 43, 44, 45, 46, 47, 48. Setting: free.
 ///
 /// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
@@ -228,7 +228,7 @@ pub fn joint_accelerations_segment(p1: &[f32; 3], vdot: &[f32; 6]) -> [f32; 6] {
 }
 /// Step 6 of the inverse dynamics, `Γ = Π1ᵀ J1ᵀ K`, with no linear solve.
 ///
-/// Equations: 62. Setting: chapter.
+/// Equations: 62. Setting: free.
 ///
 /// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
@@ -279,7 +279,7 @@ pub fn step6_factored(p: &[[f32; 3]; 6], k: &[f32; 6]) -> [f32; 6] {
 }
 /// The denominators of `Π1`, `[y5 - y6, z1 - z2, x3 - x4]`.
 ///
-/// Equations: 39. Setting: chapter.
+/// Equations: 39. Setting: free.
 ///
 /// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
