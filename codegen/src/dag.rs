@@ -57,6 +57,10 @@ pub enum Func {
     Sign,
     /// The arc tangent, in `(-π/2, π/2)`: the RPY angles of a rotation in the workspace.
     Atan,
+    /// The identity, as a unit: a subexpression computed once whose value products and sums
+    /// use whole, without flattening through it (a unit vector's component, say, that many
+    /// dot products read). It costs nothing: the lowering gives it its argument's value.
+    Keep,
 }
 
 /// `sign x`: `-1`, `0` or `1`.
@@ -72,6 +76,7 @@ impl Func {
             Func::Sqrt => "sqrt",
             Func::Sign => "sign",
             Func::Atan => "atan",
+            Func::Keep => "keep",
         }
     }
 }
@@ -411,8 +416,14 @@ impl Arena {
                 Func::Sqrt => c.sqrt(),
                 Func::Sign => sign(c),
                 Func::Atan => c.atan(),
+                Func::Keep => c,
             };
             return self.constant(v);
+        }
+        // An input, or a value already kept, is a unit already.
+        if func == Func::Keep && matches!(self.node(a), Node::Input(_) | Node::Call(Func::Keep, _))
+        {
+            return a;
         }
         let (k, m) = self.split_sign(a);
         match (func, k, m) {
@@ -422,9 +433,9 @@ impl Arena {
                 self.neg(s)
             }
             (Func::Cos, -1.0, Some(m)) => self.intern(Node::Call(Func::Cos, m)),
-            // atan is odd too.
-            (Func::Atan, -1.0, Some(m)) => {
-                let s = self.intern(Node::Call(Func::Atan, m));
+            // atan and the identity are odd too.
+            (Func::Atan | Func::Keep, -1.0, Some(m)) => {
+                let s = self.intern(Node::Call(func, m));
                 self.neg(s)
             }
             _ => self.intern(Node::Call(func, a)),
@@ -564,6 +575,7 @@ impl Arena {
                         }
                         // Zero wherever it is defined.
                         Func::Sign => self.constant(0.0),
+                        Func::Keep => self.constant(1.0),
                         // 1 / (1 + a²).
                         Func::Atan => {
                             let square = self.mul(a, a);
@@ -783,6 +795,10 @@ impl<'g> Expr<'g> {
     }
     pub fn atan(self) -> Self {
         self.wrap(self.graph.with(|a| a.call(Func::Atan, self.id)))
+    }
+    /// The same value as a unit ([`Func::Keep`]): computed once, used whole.
+    pub fn keep(self) -> Self {
+        self.wrap(self.graph.with(|a| a.call(Func::Keep, self.id)))
     }
     pub fn recip(self) -> Self {
         self.wrap(self.graph.with(|a| a.recip(self.id)))

@@ -1051,7 +1051,12 @@ fn methods(set: &KernelSet, scalar: Scalar) -> Vec<Method> {
 ///
 /// # Errors
 /// A kernel whose signature differs between models, or that one model lacks.
-pub fn emit_kernel_sets(how: &str, sets: &[KernelSet], scalar: Scalar) -> Result<String, Error> {
+pub fn emit_kernel_sets(
+    how: &str,
+    sets: &[KernelSet],
+    standalone: &[KernelSet],
+    scalar: Scalar,
+) -> Result<String, Error> {
     let per_set: Vec<Vec<Method>> = sets.iter().map(|s| methods(s, scalar)).collect();
     let first = &per_set[0];
     for (set, methods) in sets.iter().zip(&per_set).skip(1) {
@@ -1112,10 +1117,18 @@ pub fn emit_kernel_sets(how: &str, sets: &[KernelSet], scalar: Scalar) -> Result
     });
     let (lane, _) = lane_type(scalar);
     let lane = ident(lane);
-    let modules = sets.iter().map(|set| {
+    let modules = sets.iter().chain(standalone).map(|set| {
         let module = ident(&set.module);
         let file = |part: &str| format!("{}{part}.rs", set.module);
         let (kernels, batch) = (file(""), file("_batch"));
+        let batch = set.kernels.iter().any(|(_, b)| *b).then(|| {
+            quote! {
+                #[cfg(feature = "batch")]
+                use crate::lanes::#lane;
+                #[cfg(feature = "batch")]
+                include!(#batch);
+            }
+        });
         let regressors = (scalar == Scalar::F64 && !set.regressors.is_empty()).then(|| {
             let regressors = file("_regressor");
             quote! {
@@ -1131,7 +1144,7 @@ pub fn emit_kernel_sets(how: &str, sets: &[KernelSet], scalar: Scalar) -> Result
             }
         });
         let doc = format!(
-            " The {} model, `{}`: {}",
+            " The {} kernels, `{}`: {}",
             set.module,
             scalar.name(),
             set.summary
@@ -1142,10 +1155,7 @@ pub fn emit_kernel_sets(how: &str, sets: &[KernelSet], scalar: Scalar) -> Result
             pub mod #module {
                 use crate::trig::{atan, cos, sin, sin_cos, sqrt};
                 include!(#kernels);
-                #[cfg(feature = "batch")]
-                use crate::lanes::#lane;
-                #[cfg(feature = "batch")]
-                include!(#batch);
+                #batch
                 #regressors
                 #derivatives
             }
@@ -1194,8 +1204,9 @@ pub fn emit_kernel_sets(how: &str, sets: &[KernelSet], scalar: Scalar) -> Result
         message: e.to_string(),
     })?;
     Ok(format!(
-        "// @generated {how}. Do not edit.\n\n//! Kernels in `{}`: one module per model, the same kernel names and \
-         arguments in each, and the kernel-set trait [`Kernels`] that every model implements.\n\n\
+        "// @generated {how}. Do not edit.\n\n//! Kernels in `{}`: one module per model or mechanism; the C5's models \
+         have the same kernel names and arguments, and the kernel-set trait [`Kernels`] that \
+         each of them implements.\n\n\
          // The derivative kernels return a value, three Jacobians and the singularity terms.\n\
          #![allow(clippy::type_complexity)]\n\n{}",
         scalar.name(),

@@ -412,12 +412,40 @@ pub fn generate() -> Result<(), Error> {
     Config::new().generate()
 }
 
-/// The mechanisms of the checked-in crate: the C5's two models with the chapter's robot.
-fn checked_in_mechanisms() -> Vec<Mechanism> {
-    Model::ALL
-        .into_iter()
-        .map(|m| Mechanism::c5(&Robot::default(), m))
-        .collect()
+/// A mechanism of the checked-in crate, and which of its kernels the crate holds.
+struct CheckedIn {
+    mechanism: Mechanism,
+    /// One of the C5's models: they share the kernel-set trait.
+    c5: bool,
+    /// With batch forms and folded derivative kernels. The Gough-Stewart platform's are
+    /// left out: its batch forms, kernels of 4 000 to 5 000 operations instantiated for three
+    /// instruction sets, took LLVM six minutes to build, twelve times the rest of the crate.
+    complete: bool,
+}
+
+/// The mechanisms of the checked-in crate: the C5's two models with the chapter's robot, and
+/// the Gough-Stewart platform of `docs/hexapod.toml`.
+fn checked_in_mechanisms() -> Vec<CheckedIn> {
+    let c5 = Model::ALL.into_iter().map(|m| CheckedIn {
+        mechanism: Mechanism::c5(&Robot::default(), m),
+        c5: true,
+        complete: true,
+    });
+    c5.chain([CheckedIn {
+        mechanism: Mechanism::gough_stewart(&c5_robot::GoughStewart::example()),
+        c5: false,
+        complete: false,
+    }])
+    .collect()
+}
+
+/// What the robot of a checked-in mechanism is, for the files' headers.
+fn checked_in_robot(mechanism: &Mechanism) -> &'static str {
+    if mechanism.name() == c5_robot::description::GOUGH_STEWART {
+        "the example of docs/hexapod.toml (GoughStewart::example())"
+    } else {
+        "the chapter's (Robot::default())"
+    }
 }
 
 /// The kernels of the checked-in crate for one mechanism: the free-input ones (the paper
@@ -432,9 +460,15 @@ fn crate_kernels(mechanism: &Mechanism) -> Result<Vec<Entry>, Error> {
     Ok(entries)
 }
 
-/// The derivative kernels of the checked-in crate for one mechanism, folded and `*_params`.
-fn crate_derivatives(mechanism: &Mechanism) -> Result<Vec<Entry>, Error> {
-    folded_and_with_parameters(mechanism, model::kernels::derivative_specs)
+/// The derivative kernels of the checked-in crate for one mechanism, folded and `*_params`
+/// for the C5; `*_params` alone for a mechanism whose kernels any robot of its kind uses (the
+/// folded ones would double the largest file for a benchmark).
+fn crate_derivatives(mechanism: &Mechanism, folded: bool) -> Result<Vec<Entry>, Error> {
+    if folded {
+        folded_and_with_parameters(mechanism, model::kernels::derivative_specs)
+    } else {
+        model::kernels::derivative_specs(mechanism, &ParameterSet::All, "_params")
+    }
 }
 
 /// A table's kernels for one mechanism, given its parameter set and a name suffix.
@@ -448,26 +482,39 @@ fn folded_and_with_parameters(mechanism: &Mechanism, specs: Specs) -> Result<Vec
     Ok(entries)
 }
 
+/// One mechanism's compiled kernels, by kind.
+struct MechanismKernels<'a> {
+    mechanism: &'a Mechanism,
+    kernels: Vec<(&'a Entry, &'a Compiled)>,
+    derivatives: Vec<(&'a Entry, &'a Compiled)>,
+    identification: &'a model::regressor::Identification,
+}
+
 /// The files of the checked-in `generated/` crate, relative to it, with their contents: one
-/// kernel file per model and scalar (`src/f64/consistent.rs`, ...), their batch forms, the
-/// identification kernels per model (`src/f64/consistent_regressor.rs`, ...), the kernel-set
-/// trait of each scalar with its implementation per model (`src/f64/kernels.rs`), the
-/// parameter and operation-count constants, and the manifest.
+/// kernel file per mechanism (or C5 model) and scalar (`src/f64/consistent.rs`, ...), their
+/// batch forms, the identification and derivative kernels (`f64`), the module file of each
+/// scalar with the C5's kernel-set trait (`src/f64/mod.rs`), the parameter and
+/// operation-count constants, and the manifest.
 ///
 /// # Errors
-/// A model the engine cannot emit, that fails the self-check, or whose kernels' signatures
-/// differ from another model's (a bug).
+/// A mechanism the engine cannot emit, that fails the self-check, or a C5 model whose kernels'
+/// signatures differ from another's (a bug).
 pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
-    let mechanisms = checked_in_mechanisms();
-    let per_model = mechanisms
+    let checked_in = checked_in_mechanisms();
+    let mechanisms: Vec<&Mechanism> = checked_in.iter().map(|c| &c.mechanism).collect();
+    let per_mechanism = checked_in
         .iter()
-        .map(crate_kernels)
+        .map(|c| {
+            let mut entries = crate_kernels(&c.mechanism)?;
+            entries.iter_mut().for_each(|e| e.batch &= c.complete);
+            Ok(entries)
+        })
         .collect::<Result<Vec<_>, Error>>()?;
-    let derivative_entries = mechanisms
+    let derivative_entries = checked_in
         .iter()
-        .map(crate_derivatives)
+        .map(|c| crate_derivatives(&c.mechanism, c.complete))
         .collect::<Result<Vec<_>, Error>>()?;
-    let all: Vec<&Entry> = per_model
+    let all: Vec<&Entry> = per_mechanism
         .iter()
         .flatten()
         .chain(derivative_entries.iter().flatten())
@@ -475,7 +522,7 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
     let (compiled, identification) = std::thread::scope(|scope| {
         let identification: Vec<_> = mechanisms
             .iter()
-            .map(|m| scope.spawn(move || model::regressor::Identification::compile(m)))
+            .map(|&m| scope.spawn(move || model::regressor::Identification::compile(m)))
             .collect();
         let compiled = compile_all(&all);
         let identification: Result<Vec<_>, Error> = identification
@@ -488,117 +535,63 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
     let kernels: Vec<(&Entry, &Compiled)> = all.iter().copied().zip(&compiled).collect();
     let regressors: Vec<(&Entry, &Compiled)> =
         identification.iter().flat_map(|id| id.pairs()).collect();
-    let mut files = Vec::new();
-    let mut sets = Vec::new();
     let is_derivative = |e: &Entry| {
         model::derivatives::KERNELS
             .iter()
             .any(|d| d.kernel == e.id.kernel)
     };
-    for mechanism in &mechanisms {
-        let model = mechanism.name();
-        let (derivatives, mine): (Vec<_>, Vec<_>) = kernels
-            .iter()
-            .copied()
-            .filter(|(e, _)| e.spec.family == model)
-            .partition(|(e, _)| is_derivative(e));
-        for parameters in [false, true] {
-            let group: Vec<_> = mine
+    let how = format!("by c5-codegen; regenerate with `{REGENERATE}`");
+    let mut files = Vec::new();
+    let groups: Vec<MechanismKernels> = mechanisms
+        .iter()
+        .zip(&identification)
+        .map(|(&mechanism, identification)| {
+            let (derivatives, kernels) = kernels
                 .iter()
                 .copied()
-                .filter(|(e, _)| {
-                    e.spec.setting != Setting::Free
-                        && (e.id.parameters == parameters
-                            || e.spec.inputs.iter().all(|a| a.name != "params"))
-                })
-                .collect();
-            model::self_check(mechanism, &group)?;
-        }
-        let specs: Vec<_> = mine.iter().map(|(e, c)| (&e.spec, *c)).collect();
-        let header = manifest::header(
-            &specs,
-            &format!("by c5-codegen; regenerate with `{REGENERATE}`"),
-            &format!("model: {model}; robot: the chapter's (Robot::default())"),
-        );
-        let batched: Vec<_> = mine
-            .iter()
-            .filter(|(e, _)| e.batch)
-            .map(|(e, c)| (&e.spec, *c))
-            .collect();
-        for scalar in [Scalar::F64, Scalar::F32] {
-            files.push((
-                PathBuf::from(format!("src/{}/{model}.rs", scalar.name())),
-                emit::emit_file(
-                    &header,
-                    &specs,
-                    scalar,
-                    TrigCalls::Functions,
-                    Some(&emit::FmaDispatch::crate_switch()),
-                )?,
-            ));
-            files.push((
-                PathBuf::from(format!("src/{}/{model}_batch.rs", scalar.name())),
-                emit::emit_batch_file(&header, &batched, scalar)?,
-            ));
-        }
-        let ident: Vec<_> = regressors
-            .iter()
-            .copied()
-            .filter(|(e, _)| e.spec.family == model)
-            .collect();
-        sets.push(emit::KernelSet {
-            module: model.to_string(),
-            summary: mechanism.mechanics.summary().to_string(),
-            kernels: mine
+                .filter(|(e, _)| e.spec.family == mechanism.name())
+                .partition(|(e, _)| is_derivative(e));
+            MechanismKernels {
+                mechanism,
+                kernels,
+                derivatives,
+                identification,
+            }
+        })
+        .collect();
+    for group in &groups {
+        files.extend(mechanism_files(group)?);
+    }
+    fn set<'a>(group: &MechanismKernels<'a>) -> emit::KernelSet<'a> {
+        emit::KernelSet {
+            module: module_name(group.mechanism),
+            summary: group.mechanism.mechanics.summary().to_string(),
+            kernels: group
+                .kernels
                 .iter()
                 .filter(|(e, _)| model::kernels::is_shared(e.id.kernel))
                 .map(|(e, _)| (&e.spec, e.batch))
                 .collect(),
-            regressors: ident.iter().map(|(e, _)| &e.spec).collect(),
-            derivatives: derivatives.iter().map(|(e, _)| &e.spec).collect(),
-        });
-        let pairs: Vec<_> = derivatives.iter().map(|(e, c)| (&e.spec, *c)).collect();
-        let header = manifest::header(
-            &pairs,
-            &format!("by c5-codegen; regenerate with `{REGENERATE}`"),
-            &format!("model: {model}; robot: the chapter's (Robot::default())"),
-        );
-        files.push((
-            PathBuf::from(format!("src/f64/{model}_derivatives.rs")),
-            emit::emit_file(
-                &header,
-                &pairs,
-                Scalar::F64,
-                TrigCalls::Functions,
-                Some(&emit::FmaDispatch::crate_switch()),
-            )?,
-        ));
+            regressors: group
+                .identification
+                .pairs()
+                .into_iter()
+                .map(|(e, _)| &e.spec)
+                .collect(),
+            derivatives: group.derivatives.iter().map(|(e, _)| &e.spec).collect(),
+        }
     }
-    for (mechanism, id) in mechanisms.iter().zip(&identification) {
-        let model = mechanism.name();
-        let pairs: Vec<_> = id.pairs().into_iter().map(|(e, c)| (&e.spec, c)).collect();
-        let header = manifest::header(
-            &pairs,
-            &format!("by c5-codegen; regenerate with `{REGENERATE}`"),
-            &format!(
-                "model: {model}; any robot of the family (geometry and gravity are `params`; \
-                 base parameters found with the chapter's)"
-            ),
-        );
-        files.push((
-            PathBuf::from(format!("src/f64/{model}_regressor.rs")),
-            emit::emit_file(&header, &pairs, Scalar::F64, TrigCalls::Functions, None)?
-                + &model::regressor::constants(
-                    &id.base,
-                    mechanism.structure().standard_inertial_doc(),
-                )?,
-        ));
-    }
-    let how = format!("by c5-codegen; regenerate with `{REGENERATE}`");
+    let (sets, standalone): (Vec<_>, Vec<_>) = groups.iter().partition(|g| {
+        checked_in
+            .iter()
+            .any(|c| c.c5 && std::ptr::eq(&c.mechanism, g.mechanism))
+    });
+    let sets: Vec<_> = sets.into_iter().map(set).collect();
+    let standalone: Vec<_> = standalone.into_iter().map(set).collect();
     for scalar in [Scalar::F64, Scalar::F32] {
         files.push((
             PathBuf::from(format!("src/{}/mod.rs", scalar.name())),
-            emit::emit_kernel_sets(&how, &sets, scalar)?,
+            emit::emit_kernel_sets(&how, &sets, &standalone, scalar)?,
         ));
     }
     let everything: Vec<(&KernelSpec, &Compiled)> = kernels
@@ -621,6 +614,101 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
     ));
     files.push((PathBuf::from("ops.json"), manifest::json(&everything)));
     files.push((PathBuf::from("OPS.md"), manifest::markdown(&everything)));
+    Ok(files)
+}
+
+/// The generated module of a mechanism: its name with `_` for `-`.
+fn module_name(mechanism: &Mechanism) -> String {
+    mechanism.name().replace('-', "_")
+}
+
+/// One mechanism's files: its kernels in `f64` and `f32` and their batch forms, its
+/// derivative and identification kernels in `f64`, each self-checked first.
+fn mechanism_files(group: &MechanismKernels<'_>) -> Result<Vec<(PathBuf, String)>, Error> {
+    let (mechanism, mine) = (group.mechanism, &group.kernels);
+    let module = module_name(mechanism);
+    let robot = checked_in_robot(mechanism);
+    for parameters in [false, true] {
+        let checked: Vec<_> = mine
+            .iter()
+            .copied()
+            .filter(|(e, _)| {
+                e.spec.setting != Setting::Free
+                    && (e.id.parameters == parameters
+                        || e.spec.inputs.iter().all(|a| a.name != "params"))
+            })
+            .collect();
+        model::self_check(mechanism, &checked)?;
+    }
+    let header = |pairs: &[(&KernelSpec, &Compiled)], what: &str| {
+        manifest::header(
+            pairs,
+            &format!("by c5-codegen; regenerate with `{REGENERATE}`"),
+            what,
+        )
+    };
+    let what = format!("model: {}; robot: {robot}", mechanism.name());
+    let specs: Vec<_> = mine.iter().map(|(e, c)| (&e.spec, *c)).collect();
+    let batched: Vec<_> = mine
+        .iter()
+        .filter(|(e, _)| e.batch)
+        .map(|(e, c)| (&e.spec, *c))
+        .collect();
+    let mut files = Vec::new();
+    for scalar in [Scalar::F64, Scalar::F32] {
+        let mut kernels = emit::emit_file(
+            &header(&specs, &what),
+            &specs,
+            scalar,
+            TrigCalls::Functions,
+            Some(&emit::FmaDispatch::crate_switch()),
+        )?;
+        kernels.push_str(&manifest::mechanism_parameter_constants(mechanism)?);
+        files.push((
+            PathBuf::from(format!("src/{}/{module}.rs", scalar.name())),
+            kernels,
+        ));
+        if !batched.is_empty() {
+            files.push((
+                PathBuf::from(format!("src/{}/{module}_batch.rs", scalar.name())),
+                emit::emit_batch_file(&header(&specs, &what), &batched, scalar)?,
+            ));
+        }
+    }
+    let pairs: Vec<_> = group
+        .derivatives
+        .iter()
+        .map(|(e, c)| (&e.spec, *c))
+        .collect();
+    files.push((
+        PathBuf::from(format!("src/f64/{module}_derivatives.rs")),
+        emit::emit_file(
+            &header(&pairs, &what),
+            &pairs,
+            Scalar::F64,
+            TrigCalls::Functions,
+            Some(&emit::FmaDispatch::crate_switch()),
+        )?,
+    ));
+    let id = group.identification;
+    let pairs: Vec<_> = id.pairs().into_iter().map(|(e, c)| (&e.spec, c)).collect();
+    files.push((
+        PathBuf::from(format!("src/f64/{module}_regressor.rs")),
+        emit::emit_file(
+            &header(
+                &pairs,
+                &format!(
+                    "model: {}; any robot of its kind (geometry and gravity are `params`; \
+                     base parameters found with {robot})",
+                    mechanism.name()
+                ),
+            ),
+            &pairs,
+            Scalar::F64,
+            TrigCalls::Functions,
+            None,
+        )? + &model::regressor::constants(&id.base, mechanism.structure().standard_inertial_doc())?,
+    ));
     Ok(files)
 }
 

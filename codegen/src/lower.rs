@@ -108,6 +108,7 @@ impl Program {
                         Func::Sqrt => x.sqrt(),
                         Func::Sign => crate::dag::sign(x),
                         Func::Atan => x.atan(),
+                        Func::Keep => x,
                     }
                 }
                 Instr::SinCos(a) => val(&t, a).sin(),
@@ -456,6 +457,8 @@ impl Lowerer<'_> {
         let o = match self.arena.node(id).clone() {
             Node::Const(c) => Operand::Const(c),
             Node::Input(i) => Operand::Input(i),
+            // A unit is its argument's value: no instruction.
+            Node::Call(Func::Keep, a) => self.value(a),
             Node::Call(f, arg) if matches!(f, Func::Sin | Func::Cos) => {
                 let a = self.value(arg);
                 match self.sin_cos_pairs.get(&arg).copied() {

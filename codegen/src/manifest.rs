@@ -159,6 +159,35 @@ pub fn parameter_constants(how: &str) -> Result<String, Error> {
     rust_file(how, "The robot parameters of the kernels.", &code)
 }
 
+/// A mechanism's parameter vector as Rust constants in its module: its length, the names, and
+/// how many open it as the geometry (the identification kernels' `params`).
+///
+/// # Errors
+/// Emitted code that does not parse (a bug).
+pub fn mechanism_parameter_constants(mechanism: &crate::Mechanism) -> Result<String, Error> {
+    let structure = mechanism.structure();
+    let names = structure.parameter_names();
+    let quoted: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
+    let code = format!(
+        "/// Length of the parameter vector of the `*_params` kernels.\n\
+         pub const PARAMETERS: usize = {};\n\
+         /// The parameters' names, in the order of the vector.\n\
+         pub const PARAMETER_NAMES: [&str; {}] = [{}];\n\
+         /// How many of the first parameters are the geometry and gravity (the identification \
+         kernels' `params`).\n\
+         pub const GEOMETRY_PARAMETERS: usize = {};\n",
+        names.len(),
+        names.len(),
+        quoted.join(", "),
+        structure.geometry_parameters()
+    );
+    let file: syn::File = syn::parse_str(&code).map_err(|e| Error::Emit {
+        kernel: "parameter constants".to_string(),
+        message: e.to_string(),
+    })?;
+    Ok(format!("\n{}", prettyplease::unparse(&file)))
+}
+
 /// The manifest as Rust constants (`c5_generated::manifest::KERNELS`), for the audit and the
 /// operation budget without parsing `ops.json`.
 ///

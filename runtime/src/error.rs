@@ -35,6 +35,17 @@ pub enum Error {
         value: f64,
         margin: f64,
     },
+    /// A singularity term is below its bound (or NaN): `term` names it (a Gough-Stewart
+    /// platform's U joint, or the legs' hold on the platform), `value` is its value and `bound`
+    /// the least the results need.
+    Singularity {
+        term: &'static str,
+        value: f64,
+        bound: f64,
+    },
+    /// An iteration stopped short of its tolerance: `what` it computes, and the residual it
+    /// reached.
+    NotConverged { what: &'static str, residual: f64 },
     /// A slice argument has the wrong length.
     WrongLength {
         input: &'static str,
@@ -80,6 +91,15 @@ impl fmt::Display for Error {
             }
             Error::Robot { field, rule } => write!(f, "invalid robot: `{field}` {rule}"),
             Error::Invalid { what, rule } => write!(f, "{what}: {rule}"),
+            Error::Singularity { term, value, bound } => write!(
+                f,
+                "singular pose: {term} = {value:e} (it must be at least {bound:e})"
+            ),
+            Error::NotConverged { what, residual } => write!(
+                f,
+                "{what} did not converge: the residual stays at {residual:e} (no pose near the \
+                 start has these actuator positions)"
+            ),
             Error::WrongLength {
                 input,
                 expected,

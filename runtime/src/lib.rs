@@ -37,14 +37,17 @@ extern crate alloc;
 
 mod batch;
 pub mod control;
+mod dense;
 #[cfg(feature = "derivatives")]
 pub mod derivatives;
 pub mod dynamics;
 pub mod error;
+pub mod gough_stewart;
 #[cfg(feature = "identify")]
 pub mod identify;
 pub mod limits;
 mod math;
+pub mod mechanism;
 #[cfg(feature = "plan")]
 pub mod plan;
 #[cfg(feature = "reference")]
@@ -55,9 +58,11 @@ pub mod types;
 #[cfg(feature = "workspace")]
 pub mod workspace;
 
-pub use c5_robot::{Limits, Model, Robot};
+pub use c5_robot::{Description, Limits, Model, Robot};
 pub use error::Error;
+pub use gough_stewart::GoughStewart;
 pub use limits::{Limit, LimitMargins};
+pub use mechanism::ParallelRobot;
 pub use types::{Acceleration, Pose, State, Twist};
 
 pub use c5_generated::f64::Kernels;

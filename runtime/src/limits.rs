@@ -19,6 +19,12 @@ pub enum Limit {
     PlateTravel,
     /// The angle between the rod's axis and the plate's normal (rad).
     Tilt,
+    /// A Gough-Stewart leg's angle from its direction at home, base frame: the U joint's
+    /// cone (rad).
+    UJoint,
+    /// A Gough-Stewart leg's angle from its direction at home, seen from the platform: the
+    /// S joint's cone (rad).
+    SJoint,
     /// The actuator's speed `|Q̇_i1|` (m/s).
     Speed,
     /// The actuator's force `|Γ_i|` (N).
@@ -32,6 +38,8 @@ impl Limit {
             Limit::Stroke => "stroke",
             Limit::PlateTravel => "plate travel",
             Limit::Tilt => "tilt",
+            Limit::UJoint => "U joint",
+            Limit::SJoint => "S joint",
             Limit::Speed => "speed",
             Limit::Force => "force",
         }
@@ -41,7 +49,7 @@ impl Limit {
     pub const fn unit(self) -> &'static str {
         match self {
             Limit::Stroke | Limit::PlateTravel => "m",
-            Limit::Tilt => "rad",
+            Limit::Tilt | Limit::UJoint | Limit::SJoint => "rad",
             Limit::Speed => "m/s",
             Limit::Force => "N",
         }
@@ -185,7 +193,7 @@ impl C5 {
 }
 
 /// The value of `values` furthest over `bound` in magnitude, as an error.
-fn over(limit: Limit, bound: Option<f64>, values: &[f64; 6]) -> Result<(), Error> {
+pub(crate) fn over(limit: Limit, bound: Option<f64>, values: &[f64; 6]) -> Result<(), Error> {
     let Some(bound) = bound else { return Ok(()) };
     let (i, margin) = values.iter().map(|v| bound - v.abs()).enumerate().fold(
         (0, f64::INFINITY),

@@ -1,4 +1,8 @@
-//! The description of a C5 joint parallel robot, and the choice of contact model.
+//! The descriptions of the robots the project knows, and the choice of the C5's contact model.
+//!
+//! [`Description`] is a robot of one of the mechanisms, read from a robot file whose
+//! `mechanism` line chooses: a C5 joint parallel robot ([`Robot`], the default) or a
+//! Gough-Stewart platform ([`GoughStewart`]).
 //!
 //! [`Robot`] holds the geometry, gravity and the dynamic parameters of every body; it is
 //! generic over its scalar, so the same description holds numbers (`Robot<f64>`, validated by
@@ -28,14 +32,19 @@
 
 extern crate alloc;
 
+pub mod description;
 mod error;
+pub mod gough_stewart;
 mod inertia;
 mod limits;
+mod math;
 mod model;
 mod robot;
 mod standard;
 
+pub use description::Description;
 pub use error::Error;
+pub use gough_stewart::{GoughStewart, LegBody, LegLimits, Platform, UpsLeg};
 pub use inertia::check_inertia;
 pub use limits::Limits;
 pub use model::Model;

@@ -111,7 +111,7 @@ impl Limits {
 
 /// `[min, max]` for all six actuators, or six pairs.
 #[cfg(feature = "serde")]
-mod one_or_six {
+pub(crate) mod one_or_six {
     use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
     #[derive(Deserialize)]

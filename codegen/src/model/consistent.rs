@@ -45,6 +45,8 @@ impl Mechanics for Consistent {
 
     fn equations(&self, quantity: Quantity) -> &'static [&'static str] {
         match quantity {
+            Quantity::InverseKinematics => &["15", "16", "27"],
+            Quantity::PlatformWrench => &["52", "54", "55", "56", "57"],
             Quantity::InverseJacobian => &["15", "16", "16 d/dt", "27"],
             Quantity::Jacobian => &["15", "16", "16 d/dt", "27", "40 (J = diag(R,R) S⁻¹ D)"],
             Quantity::JointVelocities => &["15", "16", "16 d/dt"],

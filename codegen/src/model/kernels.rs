@@ -106,6 +106,8 @@ kernels! {
     ForwardDynamicsDerivatives => "forward_dynamics_derivatives",
     /// `Γ` and `∂Γ/∂(q, q̇, q̈)`.
     InverseDynamicsJointDerivatives => "inverse_dynamics_joint_derivatives",
+    /// A Newton step of the forward kinematics: the actuators' residual and `∂q/∂X`.
+    ForwardKinematicsStep => "forward_kinematics_step",
 }
 
 /// A generated kernel: what it computes and whether the robot's parameters are its inputs.
@@ -402,7 +404,7 @@ impl<'c, 'g> Context<'c, 'g> {
     /// the actuator positions by the mechanism's closed-form forward kinematics.
     pub fn posed(&self) -> Posed<'g> {
         let structure = self.mech.structure();
-        if self.has(Input::Actuators) {
+        if self.has(Input::Actuators) && !self.has(Input::Pose) {
             let q = self.input(Input::Actuators);
             let q = std::array::from_fn(|i| q[i]);
             if let Some(posed) = structure.forward_kinematics(self.geometry, &q) {
@@ -560,7 +562,7 @@ pub const TABLE: &[Decl] = &[
         kernel: Kernel::InverseKinematics,
         title: "Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.",
         doc: "",
-        equations: Cite::Fixed(&["15", "16", "27"]),
+        equations: Cite::Model(Quantity::InverseKinematics),
         inputs: &[Input::Pose],
         outputs: &[
             Output {
@@ -682,7 +684,7 @@ pub const TABLE: &[Decl] = &[
         kernel: Kernel::PlatformWrench,
         title: "The platform's wrench `F_{N+1} = Λ_C V̇ + C_C + G_C` at `C`.",
         doc: "",
-        equations: Cite::Fixed(&["52", "54", "55", "56", "57"]),
+        equations: Cite::Model(Quantity::PlatformWrench),
         inputs: POSE_MOTION,
         outputs: &[Output {
             name: "f",

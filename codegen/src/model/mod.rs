@@ -20,9 +20,9 @@ pub mod c5;
 pub mod consistent;
 pub mod derivatives;
 pub mod geometry;
-// pub mod gough_stewart;
+pub mod gough_stewart;
 pub mod kernels;
-// pub mod legged;
+pub mod legged;
 pub mod paper;
 pub mod regressor;
 mod selfcheck;
@@ -39,12 +39,15 @@ use geometry::{JointMotion, Motion, Posed};
 /// A quantity whose equations differ between models.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Quantity {
+    InverseKinematics,
     InverseJacobian,
     Jacobian,
     JointVelocities,
     JointAccelerations,
     LegWrench,
     InverseDynamics,
+    /// The platform's own wrench.
+    PlatformWrench,
     /// `M_x` and `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`.
     TaskSpace,
     ForwardDynamics,
@@ -266,6 +269,14 @@ impl Mechanism {
     pub fn c5(robot: &c5_robot::Robot, model: Model) -> Self {
         Mechanism {
             mechanics: mechanics(model),
+            parameters: robot.kernel_parameters(),
+        }
+    }
+
+    /// A Gough-Stewart platform.
+    pub fn gough_stewart(robot: &c5_robot::GoughStewart) -> Self {
+        Mechanism {
+            mechanics: &gough_stewart::GoughStewartMechanics,
             parameters: robot.kernel_parameters(),
         }
     }

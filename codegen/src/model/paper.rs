@@ -38,6 +38,8 @@ impl Mechanics for Paper {
 
     fn equations(&self, quantity: Quantity) -> &'static [&'static str] {
         match quantity {
+            Quantity::InverseKinematics => &["15", "16", "27"],
+            Quantity::PlatformWrench => &["52", "54", "55", "56", "57"],
             Quantity::InverseJacobian => &["15", "16", "22", "27"],
             Quantity::Jacobian => &["15", "16", "27", "39", "40", "41"],
             Quantity::JointVelocities => &["20", "22"],

@@ -4,7 +4,7 @@ use crate::identify::load_estimate;
 use crate::jsonl::{self, Key};
 use crate::options::RobotArgs;
 use c5_runtime::identify::Estimate;
-use c5_runtime::{Acceleration, Limit, Pose, State, Twist, C5};
+use c5_runtime::{Acceleration, Limit, ParallelRobot, Pose, State, Twist, C5};
 use clap::Args;
 use serde_json::json;
 use std::path::PathBuf;
@@ -108,16 +108,20 @@ fn parse_line(line: &str) -> Result<Line, String> {
 }
 
 pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
-    let robot = args.robot.load()?;
-    let estimate = args
-        .base_parameters
-        .as_ref()
-        .map(|p| load_estimate(&robot, p))
+    let robot = args.robot.load_any()?;
+    // What only the C5 has: identified parameters and the dynamics' derivatives.
+    let c5 = (args.base_parameters.is_some() || args.derivatives)
+        .then(|| args.robot.load())
         .transpose()?;
+    let estimate = match (&args.base_parameters, &c5) {
+        (Some(p), Some(c5)) => Some(load_estimate(c5, p)?),
+        _ => None,
+    };
+    let derivatives = c5.as_ref().filter(|_| args.derivatives);
     eval(
-        &robot,
-        estimate.as_ref(),
-        args.derivatives,
+        robot.as_ref(),
+        c5.as_ref().zip(estimate.as_ref()),
+        derivatives,
         args.strict_limits,
     )
 }
@@ -125,17 +129,14 @@ pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
 /// The smallest margin of every limit the robot sets, at the pose and with the actuators'
 /// speeds and forces: the limit, the actuator (1..6), the margin and the value.
 fn smallest_margin(
-    robot: &C5,
+    robot: &dyn ParallelRobot,
     pose: &c5_runtime::Pose,
     qd: &[f64; 6],
     gamma: &[f64; 6],
 ) -> Result<Option<(Limit, usize, f64, f64)>, c5_runtime::Error> {
-    let mut best = robot.limit_margins(pose)?.smallest();
-    let limits = robot.robot().limits;
-    for (limit, bound, values) in [
-        (Limit::Speed, limits.speed, qd),
-        (Limit::Force, limits.force, gamma),
-    ] {
+    let mut best = robot.smallest_pose_margin(pose)?;
+    let (speed, force) = robot.speed_and_force_limits();
+    for (limit, bound, values) in [(Limit::Speed, speed, qd), (Limit::Force, force, gamma)] {
         let Some(bound) = bound else { continue };
         for (i, v) in values.iter().enumerate() {
             let margin = bound - v.abs();
@@ -148,9 +149,9 @@ fn smallest_margin(
 }
 
 fn eval(
-    robot: &C5,
-    identified: Option<&Estimate>,
-    derivatives: bool,
+    robot: &dyn ParallelRobot,
+    identified: Option<(&C5, &Estimate)>,
+    derivatives: Option<&C5>,
     strict_limits: bool,
 ) -> crate::Result<ExitCode> {
     jsonl::answer_lines(|line| {
@@ -158,7 +159,9 @@ fn eval(
             Line::Platform(state) => (state, None),
             Line::Actuators(joints) => {
                 let [q, qd, qdd] = &joints;
-                let state = robot.joint_state(q, qd, qdd).map_err(|e| e.to_string())?;
+                let state = robot
+                    .joint_state(q, qd, qdd, None)
+                    .map_err(|e| e.to_string())?;
                 (state, Some(joints))
             }
         };
@@ -169,7 +172,7 @@ fn eval(
             // controller calls), and the platform state they give, in the input keys'
             // conventions.
             let gamma = robot
-                .inverse_dynamics_joint(&q, &qd, &qdd)
+                .inverse_dynamics_joint(&q, &qd, &qdd, Some(&state.pose))
                 .map_err(|e| e.to_string())?;
             out["q"] = json!(q);
             out["qd"] = json!(qd);
@@ -181,7 +184,7 @@ fn eval(
             out["omega_dot"] = json!(state.accel.omega_dot);
             out["acceleration"] = json!(state.accel.linear);
         }
-        if derivatives {
+        if let Some(robot) = derivatives {
             let keys = match joints {
                 Some([q, qd, qdd]) => {
                     let d = robot
@@ -208,11 +211,11 @@ fn eval(
                 out[key] = json!(jacobian);
             }
         }
-        if let Some(estimate) = identified {
-            let gamma = estimate.forces(robot, &state).map_err(|e| e.to_string())?;
+        if let Some((c5, estimate)) = identified {
+            let gamma = estimate.forces(c5, &state).map_err(|e| e.to_string())?;
             out["gamma"] = json!(gamma);
         }
-        if robot.robot().limits.any() {
+        if robot.has_limits() {
             let gamma: [f64; 6] =
                 serde_json::from_value(out["gamma"].clone()).map_err(|e| e.to_string())?;
             let smallest =

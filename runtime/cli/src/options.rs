@@ -1,6 +1,6 @@
 //! The options several commands share, declared once: the robot and its model.
 
-use c5_runtime::{Model, Robot, C5};
+use c5_runtime::{Description, Model, ParallelRobot, Robot, C5};
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::Args;
 use std::path::PathBuf;
@@ -17,9 +17,20 @@ pub struct RobotArgs {
 }
 
 impl RobotArgs {
-    /// The robot of `--robot` (or the chapter's) with the model of `--model`.
+    /// The C5 robot of `--robot` (or the chapter's) with the model of `--model`, for what only
+    /// the C5 has (`what` names it); a file of another mechanism is refused.
     pub fn load(&self) -> crate::Result<C5> {
         load(self.robot.as_ref(), self.model)
+    }
+
+    /// The robot of `--robot` (or the chapter's), of any mechanism; a C5 with the model of
+    /// `--model`.
+    pub fn load_any(&self) -> crate::Result<Box<dyn ParallelRobot>> {
+        let description = match &self.robot {
+            Some(p) => Description::from_toml_file(p)?,
+            None => Description::default(),
+        };
+        Ok(c5_runtime::mechanism::robot(description, self.model)?)
     }
 }
 
@@ -29,10 +40,21 @@ pub fn model_parser() -> impl TypedValueParser<Value = Model> {
         .map(|name| name.parse::<Model>().expect("one of the possible values"))
 }
 
-/// The robot of `path` (or the chapter's) with `model`.
+/// The C5 robot of `path` (or the chapter's) with `model`; a file of another mechanism is
+/// refused, naming it.
 pub fn load(path: Option<&PathBuf>, model: Model) -> crate::Result<C5> {
     let robot = match path {
-        Some(p) => Robot::from_toml_file(p)?,
+        Some(p) => match Description::from_toml_file(p)? {
+            Description::C5(robot) => robot,
+            other => {
+                return Err(format!(
+                    "{}: this works with C5 robots only, and the file describes a {} robot",
+                    p.display(),
+                    other.mechanism()
+                )
+                .into())
+            }
+        },
         None => Robot::default(),
     };
     Ok(C5::with_model(robot, model)?)

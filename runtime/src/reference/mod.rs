@@ -8,6 +8,7 @@
 //! corrected where marked.
 
 pub mod consistent;
+pub mod gough_stewart;
 
 use crate::types::{Acceleration, Pose, Twist};
 use c5_robot::Robot;

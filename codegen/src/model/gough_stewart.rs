@@ -1,0 +1,421 @@
+//! The Gough-Stewart platform (6-UPS): six U-P-S legs ([`legged::ups`]) carry the platform.
+//!
+//! Everything is derived by [`legged`] from the leg's closed forms: `J⁻¹` row `i` is
+//! `[(R p_i × u_i)ᵀ u_iᵀ]`, the rates and accelerations are the exact derivatives of
+//! `q_i = |C + R p_i - A_i| + o_i`, the legs' wrench comes from their bodies' Newton-Euler
+//! equations by virtual work, and the inverse dynamics solves `J⁻ᵀ Γ = F_{N+1} + Φ` through the
+//! normal equations (`LDLᵀ`, no pivoting needed). The parameter vector and the descriptions'
+//! conventions are `c5_robot::GoughStewart`'s.
+
+use super::bodies::{Dynamics, Inertial};
+use super::geometry::{rotation_of_pose, Motion, Posed};
+use super::kernels::{jacobian_wrt, Build, Cite, Decl, Guard, Input, Kernel, Output, Reads};
+use super::legged::{self, ups::Ups, Leg, LegState};
+use super::{Mechanics, Quantity, Structure};
+use crate::dag::{Expr, Graph};
+use crate::kernel::Shape;
+use crate::linalg::{Mat, Mat3, Mat6, Vec3, Vec6, Vector};
+use c5_robot::gough_stewart::{GEOMETRY_PARAMETERS, LEG_BODY_STANDARD};
+use c5_robot::GoughStewart;
+
+/// The Gough-Stewart platform's [`Structure`].
+pub struct GoughStewartStructure;
+
+/// The Gough-Stewart platform's [`Mechanics`].
+pub struct GoughStewartMechanics;
+
+/// The entries of one leg in the geometry: `A_i`, `a_i`, `p_i`, the offset.
+const LEG_GEOMETRY: usize = 10;
+/// The standard parameters of one leg body.
+const LEG_BODY: usize = LEG_BODY_STANDARD.len();
+
+/// One leg's geometry: `A_i`, the unit `a_i`, `p_i` and the encoder's offset.
+struct LegGeometry<'g> {
+    base: Vec3<'g>,
+    axis: Vec3<'g>,
+    platform: Vec3<'g>,
+    offset: Expr<'g>,
+}
+
+fn vec3<'g>(v: &[Expr<'g>]) -> Vec3<'g> {
+    Vector([v[0], v[1], v[2]])
+}
+
+/// Leg `i`'s geometry from the mechanism's geometric parameters.
+fn leg_geometry<'g>(geometry: &[Expr<'g>], i: usize) -> LegGeometry<'g> {
+    let at = &geometry[3 + LEG_GEOMETRY * i..3 + LEG_GEOMETRY * (i + 1)];
+    LegGeometry {
+        base: vec3(&at[0..3]),
+        axis: vec3(&at[3..6]),
+        platform: vec3(&at[6..9]),
+        offset: at[9],
+    }
+}
+
+/// A leg body's standard parameters `[m, m c_z, It, Ia]` as inertial parameters in the leg
+/// frame: the first moment along `z'`, the inertia `diag(It, It, Ia)`.
+fn leg_body<'g>(p: &[Expr<'g>]) -> Inertial<'g> {
+    let z = p[0].graph().zero();
+    Inertial {
+        mass: p[0],
+        first_moment: Vector([z, z, p[1]]),
+        inertia: Mat([[p[2], z, z], [z, p[2], z], [z, z, p[3]]]),
+    }
+}
+
+/// The dynamics from the standard inertial parameters `p` (platform, then each leg's cylinder
+/// and rod) and gravity.
+fn dynamics_of<'g>(gravity: Vec3<'g>, p: &[Expr<'g>]) -> Dynamics<'g> {
+    let g = p[0].graph();
+    let body = |k: usize| leg_body(&p[10 + LEG_BODY * k..10 + LEG_BODY * (k + 1)]);
+    Dynamics {
+        gravity,
+        platform: Inertial::from_standard(&p[..10]),
+        legs: std::array::from_fn(|i| [body(2 * i), body(2 * i + 1)]),
+        rod_inertia_per_length_squared: [Mat::zeros(g); 6],
+    }
+}
+
+/// The six legs, their bodies' parameters from `dynamics` (or massless, for kinematics).
+fn legs<'g>(geometry: &[Expr<'g>], dynamics: Option<&Dynamics<'g>>) -> Vec<Box<dyn Leg<'g> + 'g>> {
+    let g = geometry[0].graph();
+    let massless = Inertial {
+        mass: g.zero(),
+        first_moment: Vec3::zeros(g),
+        inertia: Mat3::zeros(g),
+    };
+    (0..6)
+        .map(|i| {
+            let at = leg_geometry(geometry, i);
+            let [cylinder, rod] = dynamics.map_or([massless; 2], |d| d.legs[i]);
+            Box::new(Ups {
+                base: at.base,
+                axis: at.axis,
+                platform: at.platform,
+                offset: at.offset,
+                cylinder,
+                rod,
+                closed_form: true,
+            }) as Box<dyn Leg<'g> + 'g>
+        })
+        .collect()
+}
+
+/// The legs at the pose and motion, under the dynamics' gravity (or none, for kinematics).
+fn states<'g>(
+    posed: &Posed<'g>,
+    motion: &Motion<'g>,
+    dynamics: Option<&Dynamics<'g>>,
+) -> Vec<LegState<'g>> {
+    let g = posed.c[0].graph();
+    let placement = (posed.r, posed.c);
+    let gravity = dynamics.map_or(Vec3::zeros(g), |d| d.gravity);
+    legged::leg_states(
+        &legs(&posed.geometry, dynamics),
+        &placement,
+        motion,
+        &gravity,
+    )
+}
+
+fn at_rest<'g>(posed: &Posed<'g>) -> Motion<'g> {
+    let g = posed.c[0].graph();
+    Motion::new(Vec6::zeros(g), Vec6::zeros(g))
+}
+
+/// `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the U joint (and
+/// the leg's frame) is singular where it vanishes.
+fn u_joint_sines<'g>(posed: &Posed<'g>) -> Vec<Expr<'g>> {
+    (0..6)
+        .map(|i| {
+            let at = leg_geometry(&posed.geometry, i);
+            let d = (posed.c + posed.r * at.platform) - at.base;
+            let e = d.cross(&at.axis);
+            e.dot(&e).sqrt() * d.dot(&d).sqrt().recip()
+        })
+        .collect()
+}
+
+const SINES: Output = Output {
+    name: "singular",
+    shape: Shape::Vector(6),
+    doc: "`|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other \
+          results are meaningless where one is near zero",
+};
+const SINES_AND_PIVOTS: Output = Output {
+    name: "singular",
+    shape: Shape::Vector(12),
+    doc: "`|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of \
+          `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve \
+          loses about as many digits as the smallest takes from one): the other results are \
+          meaningless where one is near zero",
+};
+
+impl Structure for GoughStewartStructure {
+    fn parameter_names(&self) -> Vec<String> {
+        GoughStewart::kernel_parameter_names()
+    }
+
+    fn geometry_parameters(&self) -> usize {
+        GEOMETRY_PARAMETERS
+    }
+
+    fn pose<'g>(&self, geometry: &[Expr<'g>], x: &[Expr<'g>]) -> Posed<'g> {
+        let r = rotation_of_pose(x);
+        let c = vec3(&x[3..6]);
+        let legs: Vec<LegGeometry<'g>> = (0..6).map(|i| leg_geometry(geometry, i)).collect();
+        let b: Vec<Vec3<'g>> = legs.iter().map(|l| c + r * l.platform).collect();
+        Posed {
+            r,
+            c,
+            q: std::array::from_fn(|i| {
+                let d = b[i] - legs[i].base;
+                d.dot(&d).sqrt() + legs[i].offset
+            }),
+            p: std::array::from_fn(|i| c - b[i]),
+            forward: None,
+            geometry: geometry.to_vec(),
+            centre_in_platform: None,
+        }
+    }
+
+    fn dynamics<'g>(&self, parameters: &[Expr<'g>]) -> Dynamics<'g> {
+        dynamics_of(vec3(&parameters[..3]), &parameters[GEOMETRY_PARAMETERS..])
+    }
+
+    fn standard_inertial_names(&self) -> Vec<String> {
+        GoughStewart::standard_inertial_names()
+    }
+
+    fn standard_inertial_doc(&self) -> &'static str {
+        "the platform's ten (mass, first moment `m c`, inertia about `C`, platform frame), \
+         then each leg's cylinder and rod, four each (mass, first moment along the leg, \
+         transverse and axial inertia about `A_i` and `B_i`, leg frame)"
+    }
+
+    fn dynamics_from_standard<'g>(
+        &self,
+        _g: &'g Graph,
+        gravity: Vec3<'g>,
+        p: &[Expr<'g>],
+    ) -> Dynamics<'g> {
+        dynamics_of(gravity, p)
+    }
+
+    fn guard<'g>(&self, guard: Guard, posed: &Posed<'g>) -> Vec<Expr<'g>> {
+        match guard {
+            Guard::Never | Guard::Forward => Vec::new(),
+            Guard::Pose => u_joint_sines(posed),
+            Guard::Solve => {
+                let jinv = legged::inverse_jacobian(&states(posed, &at_rest(posed), None));
+                let mut terms = u_joint_sines(posed);
+                terms.extend(legged::pivot_ratios(&jinv));
+                terms
+            }
+        }
+    }
+
+    fn guard_output(&self, guard: Guard) -> (Output, &'static str) {
+        match guard {
+            Guard::Solve => (
+                SINES_AND_PIVOTS,
+                "\nThe last result holds the U joints' sines and the solve's pivots for a \
+                 singularity check.",
+            ),
+            _ => (
+                SINES,
+                "\nThe last result holds the U joints' sines for a singularity check.",
+            ),
+        }
+    }
+
+    fn conventions(&self) -> &'static str {
+        "Actuators in leg order 1..6; `q_i = |B_i - A_i| + o_i`, the encoder's reading, \
+         `B_i = C + R p_i`; a positive force extends the leg."
+    }
+
+    fn parameter_doc(&self, reads: Reads) -> &'static str {
+        match reads {
+            Reads::Geometry => {
+                "gravity, then per leg `A_i`, the unit `a_i`, `p_i` and the encoder's offset \
+                 (the first entries of `GoughStewart::kernel_parameters`)"
+            }
+            _ => {
+                "robot parameters (`GoughStewart::kernel_parameters`: gravity, the legs' \
+                 geometry, each body's standard inertial parameters), in the order of the names \
+                 in this signature"
+            }
+        }
+    }
+
+    fn has_kernel(&self, kernel: Kernel) -> bool {
+        // The C5's closed forms (its forward kinematics and what reads actuator positions, its
+        // plates' limits) and its divisors; this mechanism has its own singularity terms.
+        !matches!(
+            kernel,
+            Kernel::SingularityTerms
+                | Kernel::ForwardKinematics
+                | Kernel::RpyAngles
+                | Kernel::PlatformTwist
+                | Kernel::PlatformAcceleration
+                | Kernel::PlatformState
+                | Kernel::InverseDynamicsJoint
+                | Kernel::JointInertia
+                | Kernel::JointBias
+                | Kernel::LimitGeometry
+                | Kernel::InverseDynamicsJointDerivatives
+        )
+    }
+
+    fn home(&self, parameters: &[f64]) -> [f64; 6] {
+        // Level, centred, the legs rising at 60° on average: what `GoughStewart::home` gives a
+        // description without `home` or strokes.
+        let leg = |i: usize| &parameters[3 + LEG_GEOMETRY * i..3 + LEG_GEOMETRY * (i + 1)];
+        let (mut rise, mut span) = (0.0, 0.0);
+        for i in 0..6 {
+            let (a, p) = (&leg(i)[0..3], &leg(i)[6..9]);
+            rise += (a[2] - p[2]) / 6.0;
+            span += (a[0] - p[0]).hypot(a[1] - p[1]) / 6.0;
+        }
+        [0.0, 0.0, 0.0, 0.0, 0.0, rise + span * 3f64.sqrt()]
+    }
+
+    fn reach(&self, parameters: &[f64]) -> f64 {
+        let leg = |i: usize| &parameters[3 + LEG_GEOMETRY * i..3 + LEG_GEOMETRY * (i + 1)];
+        (0..6).map(|i| leg(i)[0].hypot(leg(i)[1])).sum::<f64>() / 6.0 * 0.2
+    }
+}
+
+/// The Gough-Stewart platform's own kernels: its singularity terms, and the Newton step of its
+/// forward kinematics, which has no closed form.
+const EXTRA_KERNELS: &[Decl] = &[
+    Decl {
+        kernel: Kernel::SingularityTerms,
+        title: "The singularity terms at a pose: each U joint's sine, and the legs' hold on the \
+            platform.",
+        doc: "Cheaper than the dynamics it guards: one check before them.",
+        equations: Cite::Model(Quantity::InverseJacobian),
+        inputs: &[Input::Pose],
+        outputs: &[],
+        guard: Guard::Solve,
+        reads: Reads::Robot,
+        batch: false,
+        chapter: None,
+        build: Build::Robot(|_| Vec::new()),
+    },
+    Decl {
+        kernel: Kernel::ForwardKinematicsStep,
+        title: "A Newton step of the forward kinematics: the actuators' residual at a pose and \
+                its Jacobian with respect to the pose.",
+        doc: "`r = q - q(X)` and `∂q/∂X` (row `i` for actuator `i+1`, columns `α β γ xc yc zc`: \
+              `J⁻¹` times the map from the pose's rates to the twist). The runtime solves \
+              `(∂q/∂X) δ = r` and steps to `X + δ`, from the previous solution or the home pose, \
+              until the residual is below its tolerance.",
+        equations: Cite::Model(Quantity::InverseJacobian),
+        inputs: &[Input::Pose, Input::Actuators],
+        outputs: &[
+            Output {
+                name: "residual",
+                shape: Shape::Vector(6),
+                doc: "`q - q(X)` (m): the given actuator positions less those of the pose",
+            },
+            Output {
+                name: "jacobian",
+                shape: Shape::Matrix(6, 6),
+                doc: "`∂q/∂X`, row `i` for actuator `i+1`, columns `α β γ xc yc zc`",
+            },
+        ],
+        guard: Guard::Pose,
+        reads: Reads::Robot,
+        batch: false,
+        chapter: None,
+        build: Build::Robot(|cx| {
+            let posed = cx.posed();
+            let (q, x) = (cx.input(Input::Actuators), cx.input(Input::Pose));
+            let residual = (0..6).map(|i| q[i] - posed.q[i]).collect();
+            vec![residual, jacobian_wrt(cx.graph(), &posed.q, &x).rows()]
+        }),
+    },
+];
+
+impl Mechanics for GoughStewartMechanics {
+    fn name(&self) -> &'static str {
+        c5_robot::description::GOUGH_STEWART
+    }
+
+    fn structure(&self) -> &'static dyn Structure {
+        &GoughStewartStructure
+    }
+
+    fn summary(&self) -> &'static str {
+        "The Gough-Stewart platform (6-UPS): each leg a universal joint on the base, a \
+         prismatic actuator (cylinder and rod, turning with the leg) and a spherical joint on \
+         the platform; every quantity derived from the leg's closed forms by exact \
+         differentiation."
+    }
+
+    fn equations(&self, quantity: Quantity) -> &'static [&'static str] {
+        match quantity {
+            Quantity::InverseKinematics => &["q = |C + R p - A| + o"],
+            Quantity::PlatformWrench => &["Newton-Euler of the platform"],
+            Quantity::InverseJacobian | Quantity::Jacobian | Quantity::JointVelocities => {
+                &["q = |C + R p - A| + o", "∂q/∂(θ, C)"]
+            }
+            Quantity::JointAccelerations => &["q = |C + R p - A| + o", "d²q/dt²"],
+            Quantity::LegWrench => &["legs' Newton-Euler", "virtual work"],
+            Quantity::InverseDynamics | Quantity::Identification => &[
+                "q = |C + R p - A| + o",
+                "Newton-Euler",
+                "virtual work",
+                "J⁻ᵀ Γ = F + Φ (LDLᵀ of J⁻¹ J⁻ᵀ)",
+            ],
+            Quantity::TaskSpace => &["Newton-Euler", "virtual work", "∂W/∂V̇"],
+            Quantity::ForwardDynamics => {
+                &["Newton-Euler", "virtual work", "M_x V̇ = J⁻ᵀ Γ - h (LDLᵀ)"]
+            }
+        }
+    }
+
+    fn inverse_jacobian<'g>(&self, posed: &Posed<'g>) -> Mat6<'g> {
+        legged::inverse_jacobian(&states(posed, &at_rest(posed), None))
+    }
+
+    fn jacobian<'g>(&self, posed: &Posed<'g>) -> Mat6<'g> {
+        legged::jacobian(&self.inverse_jacobian(posed))
+    }
+
+    fn joint_velocities<'g>(&self, posed: &Posed<'g>, twist: &Vec6<'g>) -> Vec6<'g> {
+        self.inverse_jacobian(posed) * *twist
+    }
+
+    fn joint_accelerations<'g>(&self, posed: &Posed<'g>, motion: &Motion<'g>) -> Vec6<'g> {
+        let legs = states(posed, motion, None);
+        Vector::from_fn(|i| legs[i].qdd)
+    }
+
+    fn leg_wrench<'g>(
+        &self,
+        dynamics: &Dynamics<'g>,
+        posed: &Posed<'g>,
+        motion: &Motion<'g>,
+    ) -> Vec6<'g> {
+        legged::leg_wrench(&states(posed, motion, Some(dynamics)))
+    }
+
+    fn inverse_dynamics<'g>(
+        &self,
+        dynamics: &Dynamics<'g>,
+        posed: &Posed<'g>,
+        motion: &Motion<'g>,
+    ) -> Vec6<'g> {
+        let wrench = self.task_wrench(dynamics, posed, motion);
+        legged::solve_transposed(&self.inverse_jacobian(posed), &wrench)
+    }
+
+    fn extra_kernels(&self) -> &'static [Decl] {
+        EXTRA_KERNELS
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,452 @@
+//! Mechanisms whose platform rides on legs, derived from the legs' types.
+//!
+//! A leg type ([`Leg`]) gives three things as expressions: the leg's coordinates (a few numbers
+//! the platform's placement fixes, such as the position of its platform joint), and, as
+//! functions of those coordinates, its actuator's value and the pose of each of its moving
+//! bodies. Everything else is derived here, once for every such mechanism, by exact
+//! differentiation on the expression graph:
+//!
+//! - the coordinates' rates and accelerations from the platform's twist and classical
+//!   acceleration (`Ṙ = ω̃ R`, `Ċ = v_C`), and their map from the twist, `ṡ = T V`;
+//! - the actuator's rate and acceleration, and the row `∇q T` of `J⁻¹`;
+//! - each body's angular velocity (in its own frame, from `Rᵀ Ṙ`) and its reference point's
+//!   velocity, their accelerations, its Newton-Euler wrench, and through virtual work the
+//!   leg's generalized force on its coordinates, `φ = Σ Gᵀ F`, which reaches the platform as
+//!   the wrench `Tᵀ φ` at `C`.
+//!
+//! Each derivation is built on fresh symbols (the placement, the platform's motion, the leg's
+//! coordinates) and the symbols are then replaced by the kernel's expressions, so the leg types
+//! stay functions of a few numbers and the kernels share every subexpression.
+
+pub mod psp;
+pub mod ups;
+
+use super::bodies::{wrench_in_platform_frame, Frame, Inertial};
+use super::geometry::Motion;
+use crate::dag::{Expr, Graph};
+use crate::linalg::{Mat, Mat3, Mat6, Vec3, Vec6, Vector};
+use std::cell::RefCell;
+
+/// The first index of the symbols the derivation builds on; none survives in a kernel.
+const SYMBOLS: u32 = 1 << 29;
+/// The first index of the platform points' symbols ([`Placement::point`]).
+const POINT_SYMBOLS: u32 = SYMBOLS + 24;
+/// The first index of a leg's coordinate symbols (its coordinates, their rates, their
+/// accelerations, [`MAX_COORDINATES`] each).
+const LEG_SYMBOLS: u32 = SYMBOLS + 64;
+/// The most coordinates a leg may have.
+pub const MAX_COORDINATES: usize = 32;
+
+/// The platform's placement as a leg's coordinates read it: its rotation `R` (eq 15) and its
+/// origin `C`, base frame, and the points fixed in the platform ([`Placement::point`]).
+pub struct Placement<'g> {
+    pub r: Mat3<'g>,
+    pub c: Vec3<'g>,
+    /// The platform points asked for: each the symbol of `R p` and its `p`.
+    points: RefCell<Vec<(Vec3<'g>, Vec3<'g>)>>,
+}
+
+impl<'g> Placement<'g> {
+    /// `C + R p`, the point at `p` (platform frame) of the platform. Its motion is the
+    /// platform's, `ω × R p` and `ω̇ × R p + ω × (ω × R p)`, which the derivation uses
+    /// directly: cheaper than through `R`'s entries.
+    pub fn point(&self, p: &Vec3<'g>) -> Vec3<'g> {
+        let g = p[0].graph();
+        let mut points = self.points.borrow_mut();
+        let first = POINT_SYMBOLS + 3 * points.len() as u32;
+        assert!(first + 3 <= LEG_SYMBOLS, "too many platform points");
+        let symbol = vec3(&symbols(g, first, 3));
+        points.push((symbol, *p));
+        self.c + symbol
+    }
+}
+
+/// A moving body of a leg, as expressions of the leg's coordinates.
+pub struct LegBody<'g> {
+    /// The body's frame in the base frame: its columns are the body's axes.
+    pub rotation: Mat3<'g>,
+    /// The reference point of its inertial parameters, base frame.
+    pub origin: Vec3<'g>,
+    /// Its standard inertial parameters about `origin`, in its own frame.
+    pub inertial: Inertial<'g>,
+    /// Its angular motion in closed form, where the leg type knows it (a test of the leg type
+    /// holds it to the derived one); `None` derives it from `rotation`.
+    pub angular: Option<AngularMotion<'g>>,
+}
+
+/// A body's angular motion in its own frame, `ω = G ṡ` and `ω̇ = G s̈ + b`.
+#[derive(Clone)]
+pub struct AngularMotion<'g> {
+    /// `G`, by columns: the angular velocity per unit rate of each coordinate.
+    pub rates: Vec<Vec3<'g>>,
+    /// `b = Ġ ṡ`, the angular acceleration at rest coordinates' accelerations (a function of
+    /// the coordinates and their rates).
+    pub bias: Vec3<'g>,
+}
+
+/// A leg type, its parameters given: the seam every leg type implements.
+pub trait Leg<'g> {
+    /// The leg's coordinates as expressions of the platform's placement.
+    fn coordinates(&self, placement: &Placement<'g>) -> Vec<Expr<'g>>;
+    /// The actuator's value as a function of the coordinates `s`.
+    fn actuator(&self, s: &[Expr<'g>]) -> Expr<'g>;
+    /// The leg's moving bodies as functions of the coordinates `s` (and their rates `ṡ`, which
+    /// only a closed-form [`AngularMotion::bias`] reads).
+    fn bodies(&self, s: &[Expr<'g>], sd: &[Expr<'g>]) -> Vec<LegBody<'g>>;
+}
+
+/// The coordinates of a leg at the platform's state: their values, rates and accelerations,
+/// and the rows of `T = ∂ṡ/∂V`.
+struct CoordinateMotion<'g> {
+    s: Vec<Expr<'g>>,
+    sd: Vec<Expr<'g>>,
+    sdd: Vec<Expr<'g>>,
+    t: Vec<Vec6<'g>>,
+}
+
+fn symbols(g: &Graph, first: u32, n: usize) -> Vec<Expr<'_>> {
+    (0..n as u32).map(|k| g.input(first + k)).collect()
+}
+
+fn vec3<'g>(v: &[Expr<'g>]) -> Vec3<'g> {
+    Vector([v[0], v[1], v[2]])
+}
+
+/// `Σₖ aₖ bₖ`.
+fn dot<'g>(a: &[Expr<'g>], b: &[Expr<'g>]) -> Expr<'g> {
+    a.iter()
+        .zip(b)
+        .map(|(&x, &y)| x * y)
+        .fold(a[0].graph().zero(), |sum, t| sum + t)
+}
+
+/// The leg's coordinates at the platform's state: from `Ṙ = ω̃ R`, `Ċ = v_C`, `ω̇`, `a_C`, the
+/// exact first and second time derivatives of the coordinates, and `T`.
+fn coordinate_motion<'g>(
+    leg: &dyn Leg<'g>,
+    placement: &(Mat3<'g>, Vec3<'g>),
+    motion: &Motion<'g>,
+) -> CoordinateMotion<'g> {
+    let g = placement.1[0].graph();
+    let r_hat = symbols(g, SYMBOLS, 9);
+    let c_hat = symbols(g, SYMBOLS + 9, 3);
+    let twist = symbols(g, SYMBOLS + 12, 6);
+    let accel = symbols(g, SYMBOLS + 18, 6);
+    let r = Mat::from_fn(|i, j| r_hat[3 * i + j]);
+    let symbolic = Placement {
+        r,
+        c: vec3(&c_hat),
+        points: RefCell::new(Vec::new()),
+    };
+    let s = leg.coordinates(&symbolic);
+    let points = symbolic.points.into_inner();
+    // `Ṙ = ω̃ R`, `(R p)˙ = ω × R p` and `Ċ = v_C`; then `ω̇` and `a_C` are the rates of the
+    // twist.
+    let omega = vec3(&twist[..3]);
+    let r_dot = omega.tilde() * r;
+    let mut rates: Vec<(Expr<'g>, Expr<'g>)> = (0..9)
+        .map(|k| (r_hat[k], r_dot.0[k / 3][k % 3]))
+        .chain((0..3).map(|k| (c_hat[k], twist[3 + k])))
+        .chain(points.iter().flat_map(|(symbol, _)| {
+            let rate = omega.cross(symbol);
+            (0..3).map(move |k| (symbol[k], rate[k]))
+        }))
+        .collect();
+    let sd = g.tangents(&s, &rates);
+    rates.extend((0..6).map(|k| (twist[k], accel[k])));
+    let sdd = g.tangents(&sd, &rates);
+    let columns: Vec<Vec<Expr<'g>>> = twist.iter().map(|&w| g.derivatives(&sd, w)).collect();
+    // The symbols replaced by the kernel's expressions.
+    let (rotation, centre) = placement;
+    let values: Vec<(Expr<'g>, Expr<'g>)> = (0..9)
+        .map(|k| (r_hat[k], rotation.0[k / 3][k % 3]))
+        .chain((0..3).map(|k| (c_hat[k], centre[k])))
+        .chain(points.iter().flat_map(|(symbol, p)| {
+            let at = *rotation * *p;
+            (0..3).map(move |k| (symbol[k], at[k]))
+        }))
+        .chain((0..6).map(|k| (twist[k], motion.twist[k])))
+        .chain((0..6).map(|k| (accel[k], motion.accel[k])))
+        .collect();
+    let n = s.len();
+    let flat: Vec<Expr<'g>> = s
+        .iter()
+        .chain(&sd)
+        .chain(&sdd)
+        .chain(columns.iter().flatten())
+        .copied()
+        .collect();
+    let all = g.substitute(&flat, &values);
+    CoordinateMotion {
+        s: all[..n].to_vec(),
+        sd: all[n..2 * n].to_vec(),
+        sdd: all[2 * n..3 * n].to_vec(),
+        t: (0..n)
+            .map(|k| Vector::from_fn(|j| all[3 * n + j * n + k]))
+            .collect(),
+    }
+}
+
+/// One body's angular velocity in its own frame per unit coordinate rate: column `k` is
+/// `vee(Rᵀ ∂R/∂s_k) = (z·∂y, x·∂z, y·∂x)` for the body's axes `x, y, z`.
+pub fn derived_angular_rates<'g>(rotation: &Mat3<'g>, s: &[Expr<'g>]) -> Vec<Vec3<'g>> {
+    let g = s[0].graph();
+    let axes: Vec<Expr<'g>> = rotation.rows();
+    s.iter()
+        .map(|&sk| {
+            let d = g.derivatives(&axes, sk);
+            let dm: Mat3<'g> = Mat::from_fn(|i, j| d[3 * i + j]);
+            let (x, y, z) = (rotation.column(0), rotation.column(1), rotation.column(2));
+            let (dx, dy, dz) = (dm.column(0), dm.column(1), dm.column(2));
+            Vector([z.dot(&dy), x.dot(&dz), y.dot(&dx)])
+        })
+        .collect()
+}
+
+/// Adds `load` to the entry of `map` in `list`, or a new entry.
+fn add_to<'g>(list: &mut Vec<(Vec<Vec3<'g>>, Vec3<'g>)>, map: Vec<Vec3<'g>>, load: Vec3<'g>) {
+    let same = |a: &[Vec3<'g>], b: &[Vec3<'g>]| {
+        a.iter()
+            .zip(b)
+            .all(|(x, y)| x.0.iter().zip(&y.0).all(|(p, q)| p.id == q.id))
+    };
+    match list.iter_mut().find(|(m, _)| same(m, &map)) {
+        Some((_, total)) => *total = *total + load,
+        None => list.push((map, load)),
+    }
+}
+
+/// What a leg gives, derived on its coordinate symbols `s`, `ṡ`, `s̈`.
+struct LegEquations<'g> {
+    q: Expr<'g>,
+    grad: Vec<Expr<'g>>,
+    qdd: Expr<'g>,
+    /// The generalized force on the coordinates that moves the leg's bodies against gravity.
+    phi: Vec<Expr<'g>>,
+}
+
+/// The leg's actuator and bodies differentiated on its coordinate symbols; the bodies'
+/// Newton-Euler wrenches under `gravity`, and their generalized force by virtual work.
+fn leg_equations<'g>(
+    leg: &dyn Leg<'g>,
+    g: &'g Graph,
+    n: usize,
+    gravity: &Vec3<'g>,
+) -> (LegEquations<'g>, [Vec<Expr<'g>>; 3]) {
+    assert!(n <= MAX_COORDINATES, "a leg of {n} coordinates");
+    let s = symbols(g, LEG_SYMBOLS, n);
+    let sd = symbols(g, LEG_SYMBOLS + MAX_COORDINATES as u32, n);
+    let sdd = symbols(g, LEG_SYMBOLS + 2 * MAX_COORDINATES as u32, n);
+    let rates: Vec<(Expr<'g>, Expr<'g>)> = (0..n)
+        .map(|k| (s[k], sd[k]))
+        .chain((0..n).map(|k| (sd[k], sdd[k])))
+        .collect();
+    let time_derivative = |v: &[Expr<'g>]| g.tangents(v, &rates);
+    let q = leg.actuator(&s);
+    let grad: Vec<Expr<'g>> = s.iter().map(|&sk| g.derivatives(&[q], sk)[0]).collect();
+    let qd = dot(&grad, &sd);
+    let qdd = time_derivative(&[qd])[0];
+    let combine = |columns: &[Vec3<'g>], weights: &[Expr<'g>]| {
+        (0..n).fold(Vec3::zeros(g), |sum, k| sum + columns[k].scale(weights[k]))
+    };
+    // Bodies that turn alike (one angular map) add their moments before the map's transpose
+    // reads them, and those whose origins move alike add their forces.
+    let mut moments: Vec<(Vec<Vec3<'g>>, Vec3<'g>)> = Vec::new();
+    let mut forces: Vec<(Vec<Vec3<'g>>, Vec3<'g>)> = Vec::new();
+    for body in leg.bodies(&s, &sd) {
+        let angular = body.angular.unwrap_or_else(|| {
+            let rates = derived_angular_rates(&body.rotation, &s);
+            let at_rest = sdd.iter().map(|_| g.zero()).collect::<Vec<_>>();
+            let omega = combine(&rates, &sd);
+            let all = time_derivative(&omega.to_vec());
+            let bias = g.substitute(&all, &sdd.iter().copied().zip(at_rest).collect::<Vec<_>>());
+            AngularMotion {
+                rates,
+                bias: vec3(&bias),
+            }
+        });
+        let linear: Vec<Vec3<'g>> = s
+            .iter()
+            .map(|&sk| vec3(&g.derivatives(&body.origin.to_vec(), sk)))
+            .collect();
+        let omega = combine(&angular.rates, &sd);
+        let omega_dot = combine(&angular.rates, &sdd) + angular.bias;
+        let a_origin = vec3(&time_derivative(&combine(&linear, &sd).to_vec()));
+        let to_body = body.rotation.transpose();
+        let frame = Frame {
+            r: body.rotation,
+            omega,
+            omega_dot,
+        };
+        let wrench = wrench_in_platform_frame(
+            &body.inertial,
+            &frame,
+            &(to_body * a_origin),
+            &(to_body * *gravity),
+        );
+        add_to(&mut moments, angular.rates, wrench.top());
+        if linear
+            .iter()
+            .any(|c| c.0.iter().any(|e| e.as_const() != Some(0.0)))
+        {
+            add_to(&mut forces, linear, body.rotation * wrench.bottom());
+        }
+    }
+    let mut phi = vec![g.zero(); n];
+    for (map, load) in moments.iter().chain(&forces) {
+        for k in 0..n {
+            phi[k] = phi[k] + map[k].dot(load);
+        }
+    }
+    (LegEquations { q, grad, qdd, phi }, [s, sd, sdd])
+}
+
+/// One leg at the platform's state: its actuator's value, rate and acceleration, its row of
+/// `J⁻¹`, and the wrench at `C` (base frame) its bodies need, `Tᵀ φ`.
+pub struct LegState<'g> {
+    pub q: Expr<'g>,
+    pub qd: Expr<'g>,
+    pub qdd: Expr<'g>,
+    pub jinv_row: Vec6<'g>,
+    pub wrench: Vec6<'g>,
+}
+
+/// `leg` at the platform's placement (`R`, `C`) and motion, its bodies under `gravity`.
+pub fn leg_state<'g>(
+    leg: &dyn Leg<'g>,
+    placement: &(Mat3<'g>, Vec3<'g>),
+    motion: &Motion<'g>,
+    gravity: &Vec3<'g>,
+) -> LegState<'g> {
+    let g = placement.1[0].graph();
+    let coordinates = coordinate_motion(leg, placement, motion);
+    let n = coordinates.s.len();
+    let (equations, [s, sd, sdd]) = leg_equations(leg, g, n, gravity);
+    let values: Vec<(Expr<'g>, Expr<'g>)> = (0..n)
+        .flat_map(|k| {
+            [
+                (s[k], coordinates.s[k]),
+                (sd[k], coordinates.sd[k]),
+                (sdd[k], coordinates.sdd[k]),
+            ]
+        })
+        .collect();
+    let flat: Vec<Expr<'g>> = [equations.q, equations.qdd]
+        .into_iter()
+        .chain(equations.grad)
+        .chain(equations.phi)
+        .collect();
+    let all = g.substitute(&flat, &values);
+    let (grad, phi) = (&all[2..2 + n], &all[2 + n..]);
+    let along = |weights: &[Expr<'g>]| {
+        (0..n).fold(Vec6::zeros(g), |sum, k| {
+            sum + coordinates.t[k].scale(weights[k])
+        })
+    };
+    let jinv_row = along(grad);
+    LegState {
+        q: all[0],
+        qd: jinv_row.dot(&motion.twist),
+        qdd: all[1],
+        jinv_row,
+        wrench: along(phi),
+    }
+}
+
+/// Every leg at the platform's state.
+pub fn leg_states<'g>(
+    legs: &[Box<dyn Leg<'g> + 'g>],
+    placement: &(Mat3<'g>, Vec3<'g>),
+    motion: &Motion<'g>,
+    gravity: &Vec3<'g>,
+) -> Vec<LegState<'g>> {
+    legs.iter()
+        .map(|leg| leg_state(leg.as_ref(), placement, motion, gravity))
+        .collect()
+}
+
+/// `J⁻¹` from the legs' rows.
+pub fn inverse_jacobian<'g>(states: &[LegState<'g>]) -> Mat6<'g> {
+    Mat(std::array::from_fn(|i| states[i].jinv_row.0))
+}
+
+/// `Σ Tᵀ φ`: the wrench at `C` (base frame) the legs' bodies need, `Φ` of
+/// `Γ = Jᵀ (F_{N+1} + Φ)`.
+pub fn leg_wrench<'g>(states: &[LegState<'g>]) -> Vec6<'g> {
+    let g = states[0].q.graph();
+    states
+        .iter()
+        .fold(Vec6::zeros(g), |sum, leg| sum + leg.wrench)
+}
+
+/// `x` with `J⁻ᵀ x = w`, `M = J⁻¹`: through the normal equations `M Mᵀ y = M w`, `x = y`,
+/// whose matrix is symmetric positive definite wherever `M` is regular, so the unrolled
+/// `LDLᵀ` needs no pivoting.
+pub fn solve_transposed<'g>(m: &Mat6<'g>, w: &Vec6<'g>) -> Vec6<'g> {
+    normal_matrix(m).ldlt_solve(&(*m * *w))
+}
+
+/// `M Mᵀ`, lower triangle (the `LDLᵀ` reads nothing else; the upper is its mirror).
+pub fn normal_matrix<'g>(m: &Mat6<'g>) -> Mat6<'g> {
+    let rows: [Vec6<'g>; 6] = std::array::from_fn(|i| m.row(i));
+    let g = m.0[0][0].graph();
+    Mat::from_fn(|i, j| {
+        if j <= i {
+            rows[i].dot(&rows[j])
+        } else {
+            g.zero()
+        }
+    })
+}
+
+/// `J = (J⁻¹)⁻¹ = Mᵀ (M Mᵀ)⁻¹`, one factorization for the six columns.
+pub fn jacobian<'g>(m: &Mat6<'g>) -> Mat6<'g> {
+    let a = normal_matrix(m);
+    let g = m.0[0][0].graph();
+    let columns: Vec<Vec6<'g>> = (0..6)
+        .map(|j| {
+            let e = Vector::from_fn(|i| if i == j { g.one() } else { g.zero() });
+            m.transpose() * a.ldlt_solve(&e)
+        })
+        .collect();
+    Mat::from_fn(|i, j| columns[j][i])
+}
+
+/// The pivots of the `LDLᵀ` of `M Mᵀ` over its diagonal: each in `(0, 1]` where `M` is regular
+/// (their product is `det(M)² / Π |m_i|²`, one at orthogonal rows); the solve loses about as
+/// many digits as the smallest takes from one.
+pub fn pivot_ratios<'g>(m: &Mat6<'g>) -> Vec<Expr<'g>> {
+    let a = normal_matrix(m);
+    ldlt_pivots(&a)
+        .into_iter()
+        .enumerate()
+        .map(|(j, d)| d / a.0[j][j])
+        .collect()
+}
+
+/// The pivots `D_jj` of the unrolled `LDLᵀ` of a symmetric matrix (lower triangle), the same
+/// expressions [`Mat::ldlt_solve`] builds.
+fn ldlt_pivots<'g>(m: &Mat6<'g>) -> Vec<Expr<'g>> {
+    let g = m.0[0][0].graph();
+    let mut l = [[g.zero(); 6]; 6];
+    let mut d = [g.zero(); 6];
+    for j in 0..6 {
+        let mut djj = m.0[j][j];
+        for k in 0..j {
+            djj = djj - l[j][k] * l[j][k] * d[k];
+        }
+        d[j] = djj;
+        let d_inv = djj.recip();
+        for i in j + 1..6 {
+            let mut lij = m.0[i][j];
+            for k in 0..j {
+                lij = lij - l[i][k] * l[j][k] * d[k];
+            }
+            l[i][j] = lij * d_inv;
+        }
+    }
+    d.to_vec()
+}
+
+#[cfg(test)]
+mod tests;

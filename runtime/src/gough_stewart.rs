@@ -1,0 +1,547 @@
+//! The Gough-Stewart platform (6-UPS) for controllers: a safe, typed API over its generated
+//! kernels (`c5_generated::f64::gough_stewart`, the variants that take the robot's parameters,
+//! so any valid description works).
+//!
+//! Its conventions are the C5's: pose `[α β γ xc yc zc]` with `R = Rx(α) Ry(β) Rz(γ)`, twist
+//! `(ω; v_C)` and classical acceleration `(ω̇; a_C)` at the platform origin `C`, base frame.
+//! The actuator values are the encoders' readings, `q_i = |B_i - A_i| + o_i` (m), and a
+//! positive force `Γ_i` extends leg `i`. Every call checks its inputs, refuses a pose where a
+//! U joint or the legs' hold on the platform is singular ([`Error::Singularity`]), and its
+//! results are finite. The forward kinematics has no closed form: a generated Newton step,
+//! iterated here from a previous solution or from a level start.
+
+use crate::dense;
+use crate::error::Error;
+use crate::limits::Limit;
+use crate::{check_finite, finite, finite_matrix, Acceleration, Evaluation, Pose, State, Twist};
+use c5_generated::f64::gough_stewart as kernels;
+pub use c5_robot::GoughStewart as Description;
+
+/// The length of the parameter vector of the hexapod's `*_params` kernels.
+pub const PARAMETERS: usize = kernels::PARAMETERS;
+
+/// Smallest accepted sine of a leg's angle with its U joint's first axis: below it the leg's
+/// frame (its spin about its own axis) is lost.
+pub const U_JOINT_TOLERANCE: f64 = 1e-6;
+
+/// Smallest accepted pivot ratio of the solve with `J⁻ᵀ` (the `LDLᵀ` of `J⁻¹ J⁻ᵀ`, each pivot
+/// over its diagonal entry): near zero the legs lose their hold on the platform (a parallel
+/// singularity) and the forces grow without bound.
+pub const HOLD_TOLERANCE: f64 = 1e-8;
+
+/// The forward kinematics' tolerance: the largest residual of an actuator position (m).
+pub const FORWARD_TOLERANCE: f64 = 1e-12;
+
+/// The most Newton steps the forward kinematics takes.
+pub const FORWARD_ITERATIONS: usize = 50;
+
+/// The names of the singularity terms, as errors report them: the U joints, then the pivots.
+const TERMS: [&str; 12] = [
+    "U joint of leg 1",
+    "U joint of leg 2",
+    "U joint of leg 3",
+    "U joint of leg 4",
+    "U joint of leg 5",
+    "U joint of leg 6",
+    "legs' hold (pivot 1)",
+    "legs' hold (pivot 2)",
+    "legs' hold (pivot 3)",
+    "legs' hold (pivot 4)",
+    "legs' hold (pivot 5)",
+    "legs' hold (pivot 6)",
+];
+
+/// Refuses the singularity terms below their tolerance (or NaN): the U joints' sines, then
+/// (when given) the pivots of the solve.
+fn check_terms(terms: &[f64]) -> Result<(), Error> {
+    for (k, &value) in terms.iter().enumerate() {
+        let bound = if k < 6 {
+            U_JOINT_TOLERANCE
+        } else {
+            HOLD_TOLERANCE
+        };
+        if value.is_nan() || value < bound {
+            return Err(Error::Singularity {
+                term: TERMS[k],
+                value,
+                bound,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// A validated Gough-Stewart platform and its parameter vector.
+#[derive(Clone, Debug)]
+pub struct GoughStewart {
+    robot: Description,
+    params: [f64; PARAMETERS],
+    /// Each leg's direction at home, base frame and platform frame: what the joints' cone
+    /// angles are measured from.
+    home_directions: [([f64; 3], [f64; 3]); 6],
+}
+
+/// The margins of the pose-bound limits of a Gough-Stewart platform, per leg: positive
+/// inside, negative outside, `+∞` where the description sets no such limit; with the values
+/// they are margins of (m, rad).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LegMargins {
+    /// `min(q_i - min, max - q_i)` (m), and `q_i`.
+    pub stroke: [(f64, f64); 6],
+    /// `u_joint - θ_U` (rad), and the U joint's cone angle `θ_U`.
+    pub u_joint: [(f64, f64); 6],
+    /// `s_joint - θ_S` (rad), and the S joint's cone angle `θ_S`.
+    pub s_joint: [(f64, f64); 6],
+}
+
+impl LegMargins {
+    /// The smallest margin: the limit, the leg (1..6), the margin and the value; `None` when
+    /// the description sets none of these limits.
+    pub fn smallest(&self) -> Option<(Limit, usize, f64, f64)> {
+        let mut best: Option<(Limit, usize, f64, f64)> = None;
+        for (limit, margins) in [
+            (Limit::Stroke, &self.stroke),
+            (Limit::UJoint, &self.u_joint),
+            (Limit::SJoint, &self.s_joint),
+        ] {
+            for (i, &(margin, value)) in margins.iter().enumerate() {
+                if margin.is_finite() && best.is_none_or(|(_, _, m, _)| margin < m) {
+                    best = Some((limit, i + 1, margin, value));
+                }
+            }
+        }
+        best
+    }
+}
+
+fn unit(v: [f64; 3]) -> [f64; 3] {
+    let n = crate::math::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    v.map(|x| x / n)
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// `Rᵀ v` for the rotation of `pose`.
+fn to_platform(pose: &[f64; 6], v: [f64; 3]) -> [f64; 3] {
+    let r = c5_robot::gough_stewart::rotation(pose);
+    core::array::from_fn(|k| r[0][k] * v[0] + r[1][k] * v[1] + r[2][k] * v[2])
+}
+
+/// Each leg's direction from `A_i` to `B_i`, base frame, from `C` and the vectors from each
+/// `B_i` to `C`.
+fn directions(robot: &Description, centre: [f64; 3], p: &[[f64; 3]; 6]) -> [[f64; 3]; 6] {
+    core::array::from_fn(|i| {
+        let a = robot.legs[i].base;
+        unit(core::array::from_fn(|k| centre[k] - p[i][k] - a[k]))
+    })
+}
+
+impl GoughStewart {
+    /// The platform of `robot`.
+    ///
+    /// # Errors
+    /// [`Error::Robot`] if the description breaks a rule of `GoughStewart::validate`.
+    pub fn new(robot: Description) -> Result<Self, Error> {
+        robot.validate().map_err(Error::from_robot)?;
+        let mut params = [0.0; PARAMETERS];
+        params.copy_from_slice(&robot.kernel_parameters());
+        let home = robot.home();
+        let (_, p, _) = kernels::inverse_kinematics_params(&home, &params);
+        let base = directions(&robot, [home[3], home[4], home[5]], &p);
+        let home_directions = core::array::from_fn(|i| (base[i], to_platform(&home, base[i])));
+        Ok(GoughStewart {
+            robot,
+            params,
+            home_directions,
+        })
+    }
+
+    /// Every margin of the description's stroke and joint-cone limits at `pose`.
+    ///
+    /// # Errors
+    /// A non-finite pose, or a U joint at its singularity.
+    pub fn limit_margins(&self, pose: &Pose) -> Result<LegMargins, Error> {
+        let (q, p) = self.inverse_kinematics(pose)?;
+        let x = pose.to_array();
+        let u = directions(&self.robot, pose.center, &p);
+        let limits = &self.robot.limits;
+        let angle = |a: [f64; 3], b: [f64; 3]| crate::math::acos(dot(a, b).clamp(-1.0, 1.0));
+        let margin =
+            |bound: Option<f64>, value: f64| (bound.map_or(f64::INFINITY, |b| b - value), value);
+        Ok(LegMargins {
+            stroke: core::array::from_fn(|i| match limits.stroke {
+                Some(s) => ((q[i] - s[i][0]).min(s[i][1] - q[i]), q[i]),
+                None => (f64::INFINITY, q[i]),
+            }),
+            u_joint: core::array::from_fn(|i| {
+                margin(limits.u_joint, angle(u[i], self.home_directions[i].0))
+            }),
+            s_joint: core::array::from_fn(|i| {
+                margin(
+                    limits.s_joint,
+                    angle(to_platform(&x, u[i]), self.home_directions[i].1),
+                )
+            }),
+        })
+    }
+
+    /// Refuses a pose outside the stroke or joint-cone limits.
+    ///
+    /// # Errors
+    /// [`Error::Limit`] naming the limit with the smallest (negative) margin, its leg and value;
+    /// or a non-finite or singular pose.
+    pub fn check_limits(&self, pose: &Pose) -> Result<(), Error> {
+        match self.limit_margins(pose)?.smallest() {
+            Some((limit, actuator, margin, value)) if margin < 0.0 => Err(Error::Limit {
+                limit,
+                actuator,
+                value,
+                margin,
+            }),
+            _ => Ok(()),
+        }
+    }
+
+    pub fn robot(&self) -> &Description {
+        &self.robot
+    }
+
+    /// The parameter vector, as the `*_params` kernels take it.
+    pub fn parameters(&self) -> &[f64; PARAMETERS] {
+        &self.params
+    }
+
+    /// The home pose: where the forward kinematics starts without a previous solution when
+    /// the level start fails, and the joints' cone angles are measured from.
+    pub fn home(&self) -> Pose {
+        Pose::from_array(self.robot.home())
+    }
+
+    /// The singularity terms at `pose`: each U joint's sine (of the leg's angle with the
+    /// joint's first axis), then the six pivot ratios of the solve with `J⁻ᵀ` (in `(0, 1]`, one
+    /// at legs meeting the platform at right angles, zero at a parallel singularity).
+    ///
+    /// # Errors
+    /// A non-finite pose.
+    pub fn singularity_terms(&self, pose: &Pose) -> Result<[f64; 12], Error> {
+        let x = pose.to_array();
+        check_finite("pose", &x)?;
+        Ok(kernels::singularity_terms_params(&x, &self.params))
+    }
+
+    /// The actuator positions `q_i = |B_i - A_i| + o_i` (m) and the vectors from each leg's S
+    /// joint `B_i` to `C` (m, base frame).
+    ///
+    /// # Errors
+    /// A non-finite pose, or a U joint at its singularity.
+    pub fn inverse_kinematics(&self, pose: &Pose) -> Result<([f64; 6], [[f64; 3]; 6]), Error> {
+        let x = pose.to_array();
+        check_finite("pose", &x)?;
+        let (q, p, guard) = kernels::inverse_kinematics_params(&x, &self.params);
+        check_terms(&guard)?;
+        Ok((finite("q", q)?, finite_matrix("p", p)?))
+    }
+
+    /// `J⁻¹`: row `i` is leg `i`'s `[(R p_i × u_i)ᵀ u_iᵀ]`, columns `ωx ωy ωz vx vy vz`.
+    ///
+    /// # Errors
+    /// A non-finite pose, or a U joint at its singularity.
+    pub fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        let x = pose.to_array();
+        check_finite("pose", &x)?;
+        let (jinv, guard) = kernels::inverse_jacobian_pose_params(&x, &self.params);
+        check_terms(&guard)?;
+        finite_matrix("jinv", jinv)
+    }
+
+    /// `J = (J⁻¹)⁻¹`, rows `ωx … vz`, column `i` for leg `i`.
+    ///
+    /// # Errors
+    /// A non-finite pose, or a singular one.
+    pub fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        let x = pose.to_array();
+        check_finite("pose", &x)?;
+        let (jac, guard) = kernels::jacobian_pose_params(&x, &self.params);
+        check_terms(&guard)?;
+        finite_matrix("jacobian", jac)
+    }
+
+    /// `q̇ = J⁻¹ V` (m/s).
+    ///
+    /// # Errors
+    /// Non-finite inputs, or a U joint at its singularity.
+    pub fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        let (x, v) = (pose.to_array(), twist.to_array());
+        check_finite("pose", &x)?;
+        check_finite("twist", &v)?;
+        let (qd, guard) = kernels::joint_velocities_params(&x, &v, &self.params);
+        check_terms(&guard)?;
+        finite("qd", qd)
+    }
+
+    /// `q̈` (m/s²), the second derivative of the legs' lengths.
+    ///
+    /// # Errors
+    /// Non-finite inputs, or a U joint at its singularity.
+    pub fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
+        let [x, v, a] = crate::C5::checked_motion(state)?;
+        let (qdd, guard) = kernels::joint_accelerations_params(&x, &v, &a, &self.params);
+        check_terms(&guard)?;
+        finite("qdd", qdd)
+    }
+
+    /// The actuator forces `Γ` (N) for the platform to follow `state`: the platform's and the
+    /// legs' bodies' Newton-Euler equations (the legs turning in their U joints, spin
+    /// included), by virtual work.
+    ///
+    /// # Errors
+    /// Non-finite inputs, or a singular pose.
+    pub fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
+        let [x, v, a] = crate::C5::checked_motion(state)?;
+        let (gamma, guard) = kernels::inverse_dynamics_params(&x, &v, &a, &self.params);
+        check_terms(&guard)?;
+        finite("gamma", gamma)
+    }
+
+    /// `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`, symmetric positive definite.
+    ///
+    /// # Errors
+    /// A non-finite pose, or a U joint at its singularity.
+    pub fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        let x = pose.to_array();
+        check_finite("pose", &x)?;
+        let (m, guard) = kernels::task_inertia_params(&x, &self.params);
+        check_terms(&guard)?;
+        finite_matrix("task inertia", m)
+    }
+
+    /// `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal and gravity terms at `C`.
+    ///
+    /// # Errors
+    /// Non-finite inputs, or a U joint at its singularity.
+    pub fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        let (x, v) = (pose.to_array(), twist.to_array());
+        check_finite("pose", &x)?;
+        check_finite("twist", &v)?;
+        let (h, guard) = kernels::task_bias_params(&x, &v, &self.params);
+        check_terms(&guard)?;
+        finite("task bias", h)
+    }
+
+    /// The forward dynamics: the platform's classical acceleration `(ω̇; a_C)` under the
+    /// actuator forces `gamma` (N).
+    ///
+    /// # Errors
+    /// Non-finite inputs, a U joint at its singularity, or a non-finite result.
+    pub fn forward_dynamics(
+        &self,
+        pose: &Pose,
+        twist: &Twist,
+        gamma: &[f64; 6],
+    ) -> Result<Acceleration, Error> {
+        let (x, v) = (pose.to_array(), twist.to_array());
+        check_finite("pose", &x)?;
+        check_finite("twist", &v)?;
+        check_finite("gamma", gamma)?;
+        let (a, guard) = kernels::forward_dynamics_params(&x, &v, gamma, &self.params);
+        check_terms(&guard)?;
+        Ok(Acceleration::from_array(finite("acceleration", a)?))
+    }
+
+    /// The pose whose actuator positions are `q` (m), found by Newton's method from `near` (a
+    /// previous solution: two or three steps at a controller's rate) or, without it, from the
+    /// level pose that fits `q` best; to [`FORWARD_TOLERANCE`] on every actuator. A hexapod
+    /// has up to 40 poses for one `q`: this is the one Newton reaches from the start, the
+    /// workspace's from a start within it.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`]; [`Error::NotConverged`] when the steps stop reducing the residual
+    /// (positions no pose near the start has); [`Error::Singularity`] when a step meets a
+    /// singular pose.
+    pub fn forward_kinematics(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<Pose, Error> {
+        check_finite("q", q)?;
+        let start = match near {
+            Some(p) => {
+                check_finite("near", &p.to_array())?;
+                p.to_array()
+            }
+            None => self.level_start(q),
+        };
+        self.newton(q, start).map(Pose::from_array)
+    }
+
+    /// Newton's method on `q(X) = q` from `x`, each step halved until it reduces the residual.
+    fn newton(&self, q: &[f64; 6], mut x: [f64; 6]) -> Result<[f64; 6], Error> {
+        let step = |x: &[f64; 6]| {
+            let (r, jac, guard) = kernels::forward_kinematics_step_params(x, q, &self.params);
+            check_terms(&guard)?;
+            Ok::<_, Error>((finite("residual", r)?, jac))
+        };
+        let (mut residual, mut jac) = step(&x)?;
+        for _ in 0..FORWARD_ITERATIONS {
+            let size = dense::max_abs(&residual);
+            if size <= FORWARD_TOLERANCE {
+                return Ok(x);
+            }
+            let delta = dense::solve(&jac, &residual, 1e-13).ok_or(Error::Singularity {
+                term: "forward kinematics' Jacobian",
+                value: 0.0,
+                bound: 1e-13,
+            })?;
+            let mut scale = 1.0;
+            loop {
+                let trial: [f64; 6] = core::array::from_fn(|k| x[k] + scale * delta[k]);
+                match step(&trial) {
+                    Ok((r, j)) if dense::max_abs(&r) < size => {
+                        (x, residual, jac) = (trial, r, j);
+                        break;
+                    }
+                    _ if scale > 1e-3 => scale *= 0.5,
+                    _ => {
+                        return Err(Error::NotConverged {
+                            what: "forward kinematics",
+                            residual: size,
+                        })
+                    }
+                }
+            }
+        }
+        Err(Error::NotConverged {
+            what: "forward kinematics",
+            residual: dense::max_abs(&residual),
+        })
+    }
+
+    /// The level pose (`R = I`) whose leg lengths fit `q` best: Gauss-Newton on the centre, from
+    /// above the home pose's.
+    fn level_start(&self, q: &[f64; 6]) -> [f64; 6] {
+        let home = self.robot.home();
+        let mut c = [0.0, 0.0, home[5]];
+        for _ in 0..20 {
+            let mut normal = [[0.0; 3]; 3];
+            let mut rhs = [0.0; 3];
+            for (leg, qi) in self.robot.legs.iter().zip(q) {
+                let d: [f64; 3] = core::array::from_fn(|k| c[k] + leg.platform[k] - leg.base[k]);
+                let length = crate::math::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+                let u = d.map(|x| x / length);
+                let error = qi - leg.encoder_offset - length;
+                for i in 0..3 {
+                    rhs[i] += u[i] * error;
+                    for j in 0..3 {
+                        normal[i][j] += u[i] * u[j];
+                    }
+                }
+            }
+            let Some(step) = dense::solve(&normal, &rhs, 1e-12) else {
+                break;
+            };
+            for k in 0..3 {
+                c[k] += step[k];
+            }
+            if dense::max_abs(&step) < 1e-13 {
+                break;
+            }
+        }
+        if c.iter().all(|x| x.is_finite()) {
+            [0.0, 0.0, 0.0, c[0], c[1], c[2]]
+        } else {
+            home
+        }
+    }
+
+    /// The platform state from the actuators' positions, rates and accelerations: the forward
+    /// kinematics (from `near`, as [`GoughStewart::forward_kinematics`]), `V = J q̇`, and
+    /// `(ω̇; a_C) = J (q̈ - b)` with `b` the actuators' accelerations at zero platform
+    /// acceleration.
+    ///
+    /// # Errors
+    /// As [`GoughStewart::forward_kinematics`], or a singular pose.
+    pub fn joint_state(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<State, Error> {
+        check_finite("qd", qd)?;
+        check_finite("qdd", qdd)?;
+        let pose = self.forward_kinematics(q, near)?;
+        let jac = self.jacobian(&pose)?;
+        let twist = Twist::from_array(dense::mul_vec(&jac, qd));
+        let at_rest = State {
+            pose,
+            twist,
+            accel: Acceleration::default(),
+        };
+        let bias = self.joint_accelerations(&at_rest)?;
+        let relative: [f64; 6] = core::array::from_fn(|i| qdd[i] - bias[i]);
+        Ok(State {
+            pose,
+            twist,
+            accel: Acceleration::from_array(finite(
+                "acceleration",
+                dense::mul_vec(&jac, &relative),
+            )?),
+        })
+    }
+
+    /// The actuator forces from the actuators' motion: the inverse dynamics at
+    /// [`GoughStewart::joint_state`].
+    ///
+    /// # Errors
+    /// As [`GoughStewart::joint_state`].
+    pub fn inverse_dynamics_joint(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<[f64; 6], Error> {
+        self.inverse_dynamics(&self.joint_state(q, qd, qdd, near)?)
+    }
+
+    /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia `Jᵀ M_x J` (kg), at the pose of the
+    /// actuator positions `q` (found from `near`).
+    ///
+    /// # Errors
+    /// As [`GoughStewart::forward_kinematics`], or a singular pose.
+    pub fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
+        let pose = self.forward_kinematics(q, near)?;
+        let (jac, m) = (self.jacobian(&pose)?, self.task_inertia(&pose)?);
+        finite_matrix(
+            "joint inertia",
+            dense::mul(&dense::transpose(&jac), &dense::mul(&m, &jac)),
+        )
+    }
+
+    /// `c_q` of `Γ = M_q q̈ + c_q`: the forces at zero actuator acceleration (N).
+    ///
+    /// # Errors
+    /// As [`GoughStewart::joint_state`].
+    pub fn joint_bias(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<[f64; 6], Error> {
+        self.inverse_dynamics_joint(q, qd, &[0.0; 6], near)
+    }
+
+    /// Everything `eval` reports for one state.
+    ///
+    /// # Errors
+    /// Non-finite inputs or a singular pose.
+    pub fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
+        let (q, _) = self.inverse_kinematics(&state.pose)?;
+        Ok(Evaluation {
+            q,
+            qd: self.joint_velocities(&state.pose, &state.twist)?,
+            qdd: self.joint_accelerations(state)?,
+            gamma: self.inverse_dynamics(state)?,
+            jinv: self.inverse_jacobian(&state.pose)?,
+            jacobian: self.jacobian(&state.pose)?,
+        })
+    }
+}

@@ -1,0 +1,230 @@
+//! Any parallel robot the runtime knows, behind one trait: what code that serves every
+//! mechanism calls (the command line's `eval`, `forward`, `simulate`, `track`, ...).
+//!
+//! [`ParallelRobot`] is the kinematics and dynamics of a platform on six actuators, in the
+//! conventions every mechanism shares (pose `[α β γ xc yc zc]`, twist `(ω; v_C)`, classical
+//! acceleration, actuator values and forces in actuator order). [`robot`] makes one from a
+//! [`Description`]: the one place a description is mapped to its mechanism.
+
+use crate::{Acceleration, Error, Evaluation, GoughStewart, Limit, Model, Pose, State, Twist, C5};
+use alloc::boxed::Box;
+use c5_robot::Description;
+
+/// A parallel robot: the kinematics and dynamics every mechanism has.
+pub trait ParallelRobot: core::fmt::Debug + Send + Sync {
+    /// The mechanism's name, as robot files spell it (`c5`, `gough-stewart`).
+    fn mechanism(&self) -> &'static str;
+    /// The pose the robot rests at, where its forward kinematics starts without a previous
+    /// solution.
+    fn home(&self) -> Pose;
+    /// The actuator values at `pose` (m).
+    fn actuator_positions(&self, pose: &Pose) -> Result<[f64; 6], Error>;
+    /// `J⁻¹`, row `i` for actuator `i`, columns `ωx ωy ωz vx vy vz`.
+    fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error>;
+    /// `J`, rows `ωx … vz`, column `i` for actuator `i`.
+    fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error>;
+    /// `q̇ = J⁻¹ V`.
+    fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error>;
+    /// `q̈` from the platform's motion.
+    fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error>;
+    /// The actuator forces `Γ` (N).
+    fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error>;
+    /// `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`.
+    fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error>;
+    /// `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`.
+    fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error>;
+    /// The platform's classical acceleration under the actuator forces `gamma` (N).
+    fn forward_dynamics(
+        &self,
+        pose: &Pose,
+        twist: &Twist,
+        gamma: &[f64; 6],
+    ) -> Result<Acceleration, Error>;
+    /// The pose of the actuator positions `q` (m), from `near` where the mechanism iterates.
+    fn forward_kinematics(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<Pose, Error>;
+    /// The platform state from the actuators' positions, rates and accelerations.
+    fn joint_state(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<State, Error>;
+    /// The actuator forces from the actuators' motion.
+    fn inverse_dynamics_joint(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<[f64; 6], Error>;
+    /// `q`, `q̇`, `q̈`, `Γ`, `J⁻¹` and `J` at one state.
+    fn evaluate(&self, state: &State) -> Result<Evaluation, Error>;
+    /// The smallest margin of the pose-bound limits at `pose` (the limit, its actuator 1..6,
+    /// the margin and the value), `None` when the description sets none.
+    fn smallest_pose_margin(&self, pose: &Pose) -> Result<Option<(Limit, usize, f64, f64)>, Error>;
+    /// The actuators' speed and force limits (m/s, N), where the description sets them.
+    fn speed_and_force_limits(&self) -> (Option<f64>, Option<f64>);
+    /// Whether the description sets any limit.
+    fn has_limits(&self) -> bool;
+}
+
+/// The robot of `description`, the C5 with `model` (the other mechanisms have one model).
+///
+/// # Errors
+/// [`Error::Robot`] if the description breaks a rule of its mechanism.
+pub fn robot(description: Description, model: Model) -> Result<Box<dyn ParallelRobot>, Error> {
+    Ok(match description {
+        Description::C5(r) => Box::new(C5::with_model(r, model)?),
+        Description::GoughStewart(r) => Box::new(GoughStewart::new(r)?),
+    })
+}
+
+impl ParallelRobot for C5 {
+    fn mechanism(&self) -> &'static str {
+        c5_robot::description::C5
+    }
+    fn home(&self) -> Pose {
+        Pose::default()
+    }
+    fn actuator_positions(&self, pose: &Pose) -> Result<[f64; 6], Error> {
+        Ok(self.inverse_kinematics(pose)?.0)
+    }
+    fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        C5::inverse_jacobian(self, pose)
+    }
+    fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        C5::jacobian(self, pose)
+    }
+    fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        C5::joint_velocities(self, pose, twist)
+    }
+    fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
+        C5::joint_accelerations(self, state)
+    }
+    fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
+        C5::inverse_dynamics(self, state)
+    }
+    fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        C5::task_inertia(self, pose)
+    }
+    fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        C5::task_bias(self, pose, twist)
+    }
+    fn forward_dynamics(
+        &self,
+        pose: &Pose,
+        twist: &Twist,
+        gamma: &[f64; 6],
+    ) -> Result<Acceleration, Error> {
+        C5::forward_dynamics(self, pose, twist, gamma)
+    }
+    /// In closed form: `near` is not needed.
+    fn forward_kinematics(&self, q: &[f64; 6], _near: Option<&Pose>) -> Result<Pose, Error> {
+        C5::forward_kinematics(self, q)
+    }
+    fn joint_state(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        _near: Option<&Pose>,
+    ) -> Result<State, Error> {
+        C5::joint_state(self, q, qd, qdd)
+    }
+    fn inverse_dynamics_joint(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        _near: Option<&Pose>,
+    ) -> Result<[f64; 6], Error> {
+        C5::inverse_dynamics_joint(self, q, qd, qdd)
+    }
+    fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
+        C5::evaluate(self, state)
+    }
+    fn smallest_pose_margin(&self, pose: &Pose) -> Result<Option<(Limit, usize, f64, f64)>, Error> {
+        Ok(self.limit_margins(pose)?.smallest())
+    }
+    fn speed_and_force_limits(&self) -> (Option<f64>, Option<f64>) {
+        (self.robot().limits.speed, self.robot().limits.force)
+    }
+    fn has_limits(&self) -> bool {
+        self.robot().limits.any()
+    }
+}
+
+impl ParallelRobot for GoughStewart {
+    fn mechanism(&self) -> &'static str {
+        c5_robot::description::GOUGH_STEWART
+    }
+    fn home(&self) -> Pose {
+        GoughStewart::home(self)
+    }
+    fn actuator_positions(&self, pose: &Pose) -> Result<[f64; 6], Error> {
+        Ok(self.inverse_kinematics(pose)?.0)
+    }
+    fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        GoughStewart::inverse_jacobian(self, pose)
+    }
+    fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        GoughStewart::jacobian(self, pose)
+    }
+    fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        GoughStewart::joint_velocities(self, pose, twist)
+    }
+    fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
+        GoughStewart::joint_accelerations(self, state)
+    }
+    fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
+        GoughStewart::inverse_dynamics(self, state)
+    }
+    fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        GoughStewart::task_inertia(self, pose)
+    }
+    fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        GoughStewart::task_bias(self, pose, twist)
+    }
+    fn forward_dynamics(
+        &self,
+        pose: &Pose,
+        twist: &Twist,
+        gamma: &[f64; 6],
+    ) -> Result<Acceleration, Error> {
+        GoughStewart::forward_dynamics(self, pose, twist, gamma)
+    }
+    fn forward_kinematics(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<Pose, Error> {
+        GoughStewart::forward_kinematics(self, q, near)
+    }
+    fn joint_state(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<State, Error> {
+        GoughStewart::joint_state(self, q, qd, qdd, near)
+    }
+    fn inverse_dynamics_joint(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<[f64; 6], Error> {
+        GoughStewart::inverse_dynamics_joint(self, q, qd, qdd, near)
+    }
+    fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
+        GoughStewart::evaluate(self, state)
+    }
+    fn smallest_pose_margin(&self, pose: &Pose) -> Result<Option<(Limit, usize, f64, f64)>, Error> {
+        Ok(self.limit_margins(pose)?.smallest())
+    }
+    fn speed_and_force_limits(&self) -> (Option<f64>, Option<f64>) {
+        (self.robot().limits.speed, self.robot().limits.force)
+    }
+    fn has_limits(&self) -> bool {
+        self.robot().limits.any()
+    }
+}

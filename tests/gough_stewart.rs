@@ -1,0 +1,347 @@
+//! The Gough-Stewart platform: its generated kernels (through the runtime and directly)
+//! against the reference written another way (Newton-Euler leg by leg through the U joints'
+//! angles, `c5_runtime::reference::gough_stewart`), and against mechanics: the power balance
+//! along a turning motion, `J⁻¹ J = I`, the forward kinematics undoing the inverse, the
+//! regressor times the parameters, the derivatives against central differences.
+
+mod support;
+
+use c5_generated::f64::gough_stewart as kernels;
+use c5_robot::{GoughStewart as Description, LegBody};
+use c5_runtime::reference::gough_stewart as reference;
+use c5_runtime::{Acceleration, GoughStewart, Pose, State, Twist};
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+use support::{flat, rel_err, rng};
+
+/// A hexapod unlike the example: every joint moved by centimetres, other masses and
+/// inertias, the platform's centre of mass off its origin and a full inertia, encoder offsets,
+/// tilted gravity.
+fn random_hexapod(r: &mut ChaCha8Rng) -> Description {
+    let mut robot = Description::example();
+    let mut jitter = |v: &mut [f64; 3], by: f64| {
+        for x in v.iter_mut() {
+            *x += r.gen_range(-by..by);
+        }
+    };
+    robot.gravity = [0.5, -0.3, -9.81];
+    for leg in &mut robot.legs {
+        jitter(&mut leg.base, 0.03);
+        jitter(&mut leg.platform, 0.02);
+        jitter(&mut leg.u_axis, 0.1);
+        leg.u_axis[2] = 0.0;
+    }
+    let mut r2 = rng(99);
+    for leg in &mut robot.legs {
+        let body = |r: &mut ChaCha8Rng| LegBody {
+            mass: r.gen_range(0.5..3.0),
+            com: r.gen_range(0.05..0.3),
+            inertia: {
+                let t = r.gen_range(0.005..0.05);
+                [t, t, r.gen_range(0.0..t)]
+            },
+        };
+        leg.cylinder = body(&mut r2);
+        leg.rod = body(&mut r2);
+        leg.encoder_offset = r2.gen_range(-0.05..0.05);
+    }
+    robot.platform.centre_of_mass = [0.01, -0.02, 0.04];
+    robot.platform.inertia = [0.35, 0.42, 0.6, 0.01, -0.02, 0.015];
+    robot.validate().expect("a valid hexapod");
+    robot
+}
+
+/// A state about the robot's home: |α|,|β|,|γ| ≤ 0.25 rad, ±0.05 m, the motion as in
+/// `support::random_state`.
+fn random_state(r: &mut ChaCha8Rng, home: &Pose) -> State {
+    let mut s = support::random_state(r);
+    s.pose.alpha *= 0.5;
+    s.pose.beta *= 0.5;
+    s.pose.gamma *= 0.5;
+    for k in 0..3 {
+        s.pose.center[k] = home.center[k] + 0.6 * s.pose.center[k];
+    }
+    s
+}
+
+fn robots() -> Vec<Description> {
+    let mut r = rng(7);
+    vec![
+        Description::example(),
+        random_hexapod(&mut r),
+        random_hexapod(&mut r),
+    ]
+}
+
+/// The runtime (the `*_params` kernels) against the reference.
+#[test]
+fn the_kernels_agree_with_newton_euler_leg_by_leg() {
+    for robot in robots() {
+        let hexapod = GoughStewart::new(robot).unwrap();
+        let mut r = rng(11);
+        let mut worst = [0.0_f64; 6];
+        for _ in 0..200 {
+            let s = random_state(&mut r, &hexapod.home());
+            let (q, _) = hexapod.inverse_kinematics(&s.pose).unwrap();
+            let jinv = hexapod.inverse_jacobian(&s.pose).unwrap();
+            let qd = hexapod.joint_velocities(&s.pose, &s.twist).unwrap();
+            let qdd = hexapod.joint_accelerations(&s).unwrap();
+            let gamma = hexapod.inverse_dynamics(&s).unwrap();
+            let gamma_in: [f64; 6] = std::array::from_fn(|_| r.gen_range(-200.0..200.0));
+            let accel = hexapod
+                .forward_dynamics(&s.pose, &s.twist, &gamma_in)
+                .unwrap();
+            let (qd_ref, qdd_ref) = reference::joint_rates(&robot, &s);
+            let jinv_ref = reference::inverse_jacobian(&robot, &s.pose);
+            let errors = [
+                rel_err(&q, &reference::actuator_positions(&robot, &s.pose), 1.0),
+                rel_err(&flat(&jinv), jinv_ref.transpose().as_slice(), 1.0),
+                rel_err(&qd, &qd_ref, 1.0),
+                rel_err(&qdd, &qdd_ref, 1.0),
+                rel_err(&gamma, &reference::inverse_dynamics(&robot, &s), 1.0),
+                rel_err(
+                    &accel.to_array(),
+                    &reference::forward_dynamics(&robot, &s.pose, &s.twist, &gamma_in).to_array(),
+                    1.0,
+                ),
+            ];
+            for (w, e) in worst.iter_mut().zip(errors) {
+                *w = w.max(e);
+            }
+        }
+        eprintln!("worst relative errors (q, J⁻¹, q̇, q̈, Γ, forward): {worst:?}");
+        // Measured: 1e-16 to 1e-15 for the kinematics, 1e-14 for Γ, 6e-14 for the forward
+        // dynamics (the reference solves by LU, the kernels by the normal equations).
+        let bounds = [1e-15, 1e-15, 1e-15, 1e-14, 1e-13, 5e-13];
+        for ((what, e), bound) in ["q", "J⁻¹", "q̇", "q̈", "Γ", "forward dynamics"]
+            .iter()
+            .zip(worst)
+            .zip(bounds)
+        {
+            assert!(e < bound, "{what}: {e:e}");
+        }
+    }
+}
+
+/// The folded kernels of the example hexapod (docs/hexapod.toml) against the reference.
+#[test]
+fn the_folded_kernels_are_the_example_hexapods() {
+    let robot = Description::example();
+    let home = Pose::from_array(robot.home());
+    let mut r = rng(3);
+    for _ in 0..100 {
+        let s = random_state(&mut r, &home);
+        let (x, v, a) = (s.pose.to_array(), s.twist.to_array(), s.accel.to_array());
+        let (gamma, guard) = kernels::inverse_dynamics(&x, &v, &a);
+        assert!(guard.iter().all(|&t| t > 1e-3), "{guard:?}");
+        let want = reference::inverse_dynamics(&robot, &s);
+        assert!(rel_err(&gamma, &want, 1.0) < 1e-10, "{gamma:?} vs {want:?}");
+        let (accel, _) = kernels::forward_dynamics(&x, &v, &gamma);
+        assert!(rel_err(&accel, &a, 1.0) < 1e-9, "{accel:?} vs {a:?}");
+    }
+}
+
+/// `Γ·q̇ = d/dt (T + U)` along a motion that turns about every axis, with the energies of the
+/// reference's bodies (the legs' spin about their axes included) differentiated centrally.
+#[test]
+fn the_forces_close_the_power_balance() {
+    for robot in robots() {
+        let hexapod = GoughStewart::new(robot).unwrap();
+        let home = hexapod.home().to_array();
+        // Each pose coordinate `c + a sin(f t + φ)`, differentiated exactly.
+        let waves: [(f64, f64, f64, f64); 6] = [
+            (0.0, 0.2, 1.3, 0.0),
+            (0.0, -0.15, 0.9, 0.4),
+            (0.0, 0.25, 0.7, 0.0),
+            (0.0, 0.03, 1.1, 1.5),
+            (0.0, 0.02, 1.7, 0.0),
+            (home[5], 0.04, 0.8, 0.0),
+        ];
+        let motion = |t: f64| -> State {
+            let x = waves.map(|(c, a, f, phi)| c + a * (f * t + phi).sin());
+            let xd = waves.map(|(_, a, f, phi)| a * f * (f * t + phi).cos());
+            let xdd = waves.map(|(_, a, f, phi)| -a * f * f * (f * t + phi).sin());
+            c5_runtime::trajectory::state_from_pose_derivatives(x, xd, xdd)
+        };
+        let mut worst = 0.0_f64;
+        for k in 0..40 {
+            let t = 0.1 * k as f64;
+            let s = motion(t);
+            let gamma = hexapod.inverse_dynamics(&s).unwrap();
+            let qd = hexapod.joint_velocities(&s.pose, &s.twist).unwrap();
+            let power: f64 = gamma.iter().zip(&qd).map(|(g, v)| g * v).sum();
+            let h = 1e-4;
+            let total = |t: f64| {
+                let (kinetic, potential) = reference::energy(&robot, &motion(t));
+                kinetic + potential
+            };
+            let rate = (total(t + h) - total(t - h)) / (2.0 * h);
+            let scale = gamma
+                .iter()
+                .zip(&qd)
+                .map(|(g, v)| (g * v).abs())
+                .sum::<f64>()
+                .max(1e-3);
+            worst = worst.max((power - rate).abs() / scale);
+        }
+        eprintln!("power balance: worst |Γ·q̇ - d(T+U)/dt| / Σ|Γ_i q̇_i| = {worst:.1e}");
+        // Measured: 1e-9, the central differences' own error.
+        assert!(worst < 1e-8, "{worst:e}");
+    }
+}
+
+/// `J⁻¹ J = I`, and the forward kinematics returns the pose of the inverse's positions, from a
+/// level start and from a nearby pose.
+#[test]
+fn the_jacobians_invert_and_the_forward_kinematics_undoes_the_inverse() {
+    for robot in robots() {
+        let hexapod = GoughStewart::new(robot).unwrap();
+        let mut r = rng(5);
+        for _ in 0..100 {
+            let s = random_state(&mut r, &hexapod.home());
+            let jinv = hexapod.inverse_jacobian(&s.pose).unwrap();
+            let jac = hexapod.jacobian(&s.pose).unwrap();
+            for (i, row) in jinv.iter().enumerate() {
+                for j in 0..6 {
+                    let p: f64 = row.iter().zip(&jac).map(|(a, b)| a * b[j]).sum();
+                    let want = if i == j { 1.0 } else { 0.0 };
+                    assert!((p - want).abs() < 1e-11, "(J⁻¹ J)[{i}][{j}] = {p}");
+                }
+            }
+            let (q, _) = hexapod.inverse_kinematics(&s.pose).unwrap();
+            let mut near = s.pose;
+            near.alpha += 0.01;
+            near.center[2] -= 0.005;
+            for start in [None, Some(&near)] {
+                let pose = hexapod.forward_kinematics(&q, start).unwrap();
+                let err = rel_err(&pose.to_array(), &s.pose.to_array(), 1.0);
+                assert!(err < 1e-11, "{start:?}: {err:e}");
+            }
+        }
+    }
+}
+
+/// The joint-space state from the actuators' motion is the platform's, and its forces are the
+/// pose's.
+#[test]
+fn the_joint_space_state_and_forces_are_the_platforms() {
+    let robot = random_hexapod(&mut rng(8));
+    let hexapod = GoughStewart::new(robot).unwrap();
+    let mut r = rng(9);
+    for _ in 0..50 {
+        let s = random_state(&mut r, &hexapod.home());
+        let (q, _) = hexapod.inverse_kinematics(&s.pose).unwrap();
+        let qd = hexapod.joint_velocities(&s.pose, &s.twist).unwrap();
+        let qdd = hexapod.joint_accelerations(&s).unwrap();
+        let back = hexapod.joint_state(&q, &qd, &qdd, None).unwrap();
+        let got = [
+            back.pose.to_array(),
+            back.twist.to_array(),
+            back.accel.to_array(),
+        ]
+        .concat();
+        let want = [s.pose.to_array(), s.twist.to_array(), s.accel.to_array()].concat();
+        assert!(rel_err(&got, &want, 1.0) < 1e-9, "{got:?} vs {want:?}");
+        let gamma = hexapod.inverse_dynamics_joint(&q, &qd, &qdd, None).unwrap();
+        let m = hexapod.joint_inertia(&q, None).unwrap();
+        let c = hexapod.joint_bias(&q, &qd, None).unwrap();
+        let split: [f64; 6] =
+            std::array::from_fn(|i| c[i] + (0..6).map(|k| m[i][k] * qdd[k]).sum::<f64>());
+        let want = hexapod.inverse_dynamics(&s).unwrap();
+        assert!(rel_err(&gamma, &want, 1.0) < 1e-9);
+        assert!(rel_err(&split, &want, 1.0) < 1e-9);
+    }
+}
+
+/// `Y π = Γ` with `π` the description's standard parameters and friction.
+#[test]
+fn the_regressor_times_the_parameters_is_the_inverse_dynamics() {
+    let robot = random_hexapod(&mut rng(12));
+    let hexapod = GoughStewart::new(robot).unwrap();
+    let mut pi = robot.standard_inertial_parameters();
+    let friction: [(f64, f64); 6] = std::array::from_fn(|i| (2.0 + i as f64, 1.5 - 0.2 * i as f64));
+    pi.extend(friction.iter().map(|f| f.0));
+    pi.extend(friction.iter().map(|f| f.1));
+    assert_eq!(pi.len(), kernels::STANDARD_PARAMETERS.len());
+    let geometry: [f64; kernels::GEOMETRY_PARAMETERS] =
+        std::array::from_fn(|k| hexapod.parameters()[k]);
+    let mut r = rng(13);
+    for _ in 0..50 {
+        let s = random_state(&mut r, &hexapod.home());
+        let (x, v, a) = (s.pose.to_array(), s.twist.to_array(), s.accel.to_array());
+        let (y, _) = kernels::regressor(&x, &v, &a, &geometry);
+        let gamma = hexapod.inverse_dynamics(&s).unwrap();
+        let qd = hexapod.joint_velocities(&s.pose, &s.twist).unwrap();
+        for i in 0..6 {
+            let predicted: f64 = y[i].iter().zip(&pi).map(|(y, p)| y * p).sum();
+            let want = gamma[i] + friction[i].0 * qd[i] + friction[i].1 * qd[i].signum();
+            assert!(
+                (predicted - want).abs() < 1e-10 * want.abs().max(1.0),
+                "actuator {i}: {predicted} vs {want}"
+            );
+        }
+    }
+}
+
+/// The inverse dynamics' exact Jacobians against central differences of the forces.
+#[test]
+fn the_inverse_dynamics_derivatives_are_the_forces_derivatives() {
+    let robot = Description::example();
+    let hexapod = GoughStewart::new(robot).unwrap();
+    let params = hexapod.parameters();
+    let mut r = rng(14);
+    for _ in 0..10 {
+        let s = random_state(&mut r, &hexapod.home());
+        let base = [s.pose.to_array(), s.twist.to_array(), s.accel.to_array()];
+        let (_, d_pose, d_twist, d_accel, _) =
+            kernels::inverse_dynamics_derivatives_params(&base[0], &base[1], &base[2], params);
+        for (k, jacobian) in [d_pose, d_twist, d_accel].iter().enumerate() {
+            for j in 0..6 {
+                let h = 1e-6;
+                let at = |delta: f64| {
+                    let mut x = base;
+                    x[k][j] += delta;
+                    kernels::inverse_dynamics_params(&x[0], &x[1], &x[2], params).0
+                };
+                let (up, down) = (at(h), at(-h));
+                for i in 0..6 {
+                    let fd = (up[i] - down[i]) / (2.0 * h);
+                    let exact = jacobian[i][j];
+                    assert!(
+                        (fd - exact).abs() < 1e-5 * exact.abs().max(1.0),
+                        "∂Γ{i}/∂x{k}[{j}]: {exact} vs {fd}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Bad input is refused with a typed error, never a panic: a non-finite state, a pose that
+/// puts a leg along its U joint's axis.
+#[test]
+fn bad_states_are_refused() {
+    let hexapod = GoughStewart::new(Description::example()).unwrap();
+    let mut s = State {
+        pose: hexapod.home(),
+        twist: Twist::default(),
+        accel: Acceleration::default(),
+    };
+    s.pose.beta = f64::NAN;
+    let e = hexapod.inverse_dynamics(&s).unwrap_err().to_string();
+    assert!(e.contains("pose[1] is not a finite number"), "{e}");
+    let e = hexapod
+        .forward_kinematics(&[f64::INFINITY; 6], None)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("q[0] is not a finite number"), "{e}");
+    // Leg lengths no pose has (longer than the base and platform allow together).
+    let e = hexapod
+        .forward_kinematics(&[0.1, 3.0, 0.1, 3.0, 0.1, 3.0], None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("did not converge") || e.contains("singular"),
+        "{e}"
+    );
+}
