@@ -16,6 +16,13 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 #[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Debug)]
 pub struct NodeId(u32);
 
+impl NodeId {
+    /// The node at `index` of an arena (for walking it).
+    pub fn from_index(index: usize) -> Self {
+        NodeId(index as u32)
+    }
+}
+
 impl fmt::Display for NodeId {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "v{}", self.0)
@@ -420,9 +427,9 @@ impl Arena {
             };
             return self.constant(v);
         }
-        // An input, or a value already kept, is a unit already.
-        if func == Func::Keep && matches!(self.node(a), Node::Input(_) | Node::Call(Func::Keep, _))
-        {
+        // A value already kept is a unit already. (An input is too, but kept it stays a unit
+        // when a substitution replaces it by an expression.)
+        if func == Func::Keep && matches!(self.node(a), Node::Call(Func::Keep, _)) {
             return a;
         }
         let (k, m) = self.split_sign(a);

@@ -55,7 +55,7 @@ mod schedule;
 mod subsum;
 mod write;
 
-pub use c5_robot::{Model, Robot};
+pub use c5_robot::{Description, GoughStewart, Model, Robot};
 pub use count::OpCount;
 pub use dag::{Expr, Graph};
 pub use emit::Scalar;
@@ -86,7 +86,7 @@ pub enum Language {
 /// Configuration of a generation, in the manner of `prost_build::Config`.
 #[derive(Clone, Debug)]
 pub struct Config {
-    robot: Robot,
+    robot: Description,
     model: Model,
     parameters: ParameterSet,
     scalar: Scalar,
@@ -102,7 +102,7 @@ pub struct Config {
 impl Default for Config {
     fn default() -> Self {
         Config {
-            robot: Robot::default(),
+            robot: Description::default(),
             model: Model::default(),
             parameters: ParameterSet::None,
             scalar: Scalar::F64,
@@ -122,14 +122,23 @@ impl Config {
         Self::default()
     }
 
-    /// The robot whose parameters are folded in. Default: the chapter's robot.
+    /// The C5 robot whose parameters are folded in. Default: the chapter's robot.
     pub fn robot(&mut self, robot: Robot) -> &mut Self {
+        self.robot = Description::C5(robot);
+        self
+    }
+
+    /// The robot, of any mechanism (read a robot file with
+    /// [`Description::from_toml_file`]), whose parameters are folded in. Default: the
+    /// chapter's C5 robot.
+    pub fn description(&mut self, robot: Description) -> &mut Self {
         self.robot = robot;
         self
     }
 
-    /// The model of the legs' mechanism. Default: [`Model::Consistent`], the mechanism of
-    /// eq 16; [`Model::Paper`] reproduces the chapter as published.
+    /// The C5's model of its legs' mechanism. Default: [`Model::Consistent`], the mechanism of
+    /// eq 16; [`Model::Paper`] reproduces the chapter as published. Other mechanisms have one
+    /// model and ignore this.
     pub fn model(&mut self, model: Model) -> &mut Self {
         self.model = model;
         self
@@ -210,7 +219,7 @@ impl Config {
     /// The mechanism the configuration describes.
     fn mechanism(&self) -> Result<Mechanism, Error> {
         self.robot.validate()?;
-        Ok(Mechanism::c5(&self.robot, self.model))
+        Ok(Mechanism::of(&self.robot, self.model))
     }
 
     /// The kernels, compiled and self-checked.
@@ -219,7 +228,7 @@ impl Config {
         let mut entries = Vec::new();
         if self.chapter_kernels {
             entries.extend(model::kernels::chapter_specs(&Mechanism::c5(
-                &self.robot,
+                &Robot::default(),
                 Model::Paper,
             )));
         }
@@ -244,24 +253,21 @@ impl Config {
         Ok(entries.iter().map(|e| Signature::of(&e.spec)).collect())
     }
 
-    fn banner(&self, pairs: &[(&KernelSpec, &Compiled)]) -> String {
-        let robot = if self.robot == Robot::default() {
+    fn banner(&self, pairs: &[(&KernelSpec, &Compiled)]) -> Result<String, Error> {
+        let robot = if self.robot == Description::default() {
             "the chapter's (Robot::default())".to_string()
         } else {
-            format!(
-                "given to Config::robot (half_spacing {} m, platform mass {} kg)",
-                self.robot.half_spacing, self.robot.platform.mass
-            )
+            format!("given to Config ({})", self.robot.summary())
         };
-        manifest::header(
+        Ok(manifest::header(
             pairs,
             "by the c5-codegen build API",
             &format!(
                 "model: {}; robot: {robot}; scalar: {}",
-                self.model,
+                self.mechanism()?.name(),
                 self.scalar.name()
             ),
-        )
+        ))
     }
 
     /// Generates the kernels and returns the Rust file's contents.
@@ -282,7 +288,7 @@ impl Config {
         }
         let fma = emit::FmaDispatch::detected();
         let mut file = emit::emit_file(
-            &self.banner(&pairs),
+            &self.banner(&pairs)?,
             &pairs,
             self.scalar,
             TrigCalls::Methods,
@@ -308,16 +314,16 @@ impl Config {
             Language::C => {
                 let (entries, compiled) = self.compile()?;
                 let pairs: Vec<_> = entries.iter().map(|e| &e.spec).zip(&compiled).collect();
-                let banner = emit_c::c_banner(&self.banner(&pairs));
+                let banner = emit_c::c_banner(&self.banner(&pairs)?);
                 let stem = Path::new(&self.file_name)
                     .file_stem()
                     .and_then(|s| s.to_str())
                     .unwrap_or("c5_kernels")
                     .to_string();
-                let naming = self
-                    .c_naming
-                    .clone()
-                    .unwrap_or_else(|| c_naming(self.model, self.scalar));
+                let naming = match &self.c_naming {
+                    Some(naming) => naming.clone(),
+                    None => c_naming(&self.mechanism()?, self.scalar),
+                };
                 let guard: String = stem
                     .chars()
                     .map(|c| {
@@ -373,10 +379,10 @@ impl Config {
     }
 }
 
-/// The C functions' names of `model`'s kernels: `c5_{model}_{kernel}`, `_f` appended for
-/// `float`.
-fn c_naming(model: Model, scalar: Scalar) -> emit_c::Naming {
-    emit_c::Naming::with_scalar_suffix(&format!("c5_{model}_"), scalar)
+/// The C functions' names of a mechanism's kernels: `c5_{module}_{kernel}` (`c5_consistent_`,
+/// `c5_gough_stewart_`), `_f` appended for `float`.
+fn c_naming(mechanism: &Mechanism, scalar: Scalar) -> emit_c::Naming {
+    emit_c::Naming::with_scalar_suffix(&format!("c5_{}_", module_name(mechanism)), scalar)
 }
 
 /// Compiles every kernel, on every core: each is independent.

@@ -3,7 +3,7 @@
 use crate::dynamics::{rotation, Matrix3, PlantState};
 use crate::math::sqrt;
 use crate::types::{Acceleration, State};
-use crate::{Error, C5};
+use crate::{Error, ParallelRobot};
 
 /// `log(R_d Rᵀ)`: the rotation (axis × angle, base frame) that takes `r` to `r_d`.
 pub fn orientation_error(r_d: &Matrix3, r: &Matrix3) -> [f64; 3] {
@@ -70,16 +70,16 @@ impl ComputedTorque {
     /// limit. With an exact model each actuator's error obeys `ë + Kd ė + Kp e = 0`.
     ///
     /// # Errors
-    /// As [`C5::inverse_dynamics_joint`] of the controller's robot.
+    /// As [`ParallelRobot::inverse_dynamics_joint`] of the controller's robot.
     pub fn joint_forces(
         &self,
-        controller: &C5,
+        controller: &dyn ParallelRobot,
         desired: &[[f64; 6]; 3],
         q: &[f64; 6],
         qd: &[f64; 6],
     ) -> Result<[f64; 6], Error> {
         let qdd = self.joint_acceleration(desired, q, qd);
-        let gamma = controller.inverse_dynamics_joint(q, qd, &qdd)?;
+        let gamma = controller.inverse_dynamics_joint(q, qd, &qdd, None)?;
         Ok(self.limited(gamma))
     }
 
@@ -104,10 +104,10 @@ impl ComputedTorque {
     /// The actuator forces (N, segment order), within the force limit.
     ///
     /// # Errors
-    /// As [`C5::inverse_dynamics`] of the controller's robot.
+    /// As [`ParallelRobot::inverse_dynamics`] of the controller's robot.
     pub fn forces(
         &self,
-        controller: &C5,
+        controller: &dyn ParallelRobot,
         desired: &State,
         actual: &PlantState,
     ) -> Result<[f64; 6], Error> {

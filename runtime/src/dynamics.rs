@@ -5,7 +5,7 @@
 
 use crate::math::{asin, atan2, sqrt};
 use crate::types::{Acceleration, Pose, State, Twist};
-use crate::{Error, C5};
+use crate::{Error, ParallelRobot};
 
 /// A 3×3 matrix, rows first.
 pub type Matrix3 = [[f64; 3]; 3];
@@ -224,10 +224,10 @@ impl PlantState {
 /// hold), return the same forces whatever the stage.
 ///
 /// # Errors
-/// The first error of `forces`, or of [`C5::forward_dynamics`] (a singular pose or a non-finite
+/// The first error of `forces`, or of [`ParallelRobot::forward_dynamics`] (a singular pose or a non-finite
 /// result on the way).
 pub fn rk4_step(
-    plant: &C5,
+    plant: &dyn ParallelRobot,
     state: &PlantState,
     t: f64,
     dt: f64,

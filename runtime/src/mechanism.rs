@@ -8,12 +8,20 @@
 
 use crate::{Acceleration, Error, Evaluation, GoughStewart, Limit, Model, Pose, State, Twist, C5};
 use alloc::boxed::Box;
+use alloc::vec::Vec;
 use c5_robot::Description;
 
 /// A parallel robot: the kinematics and dynamics every mechanism has.
 pub trait ParallelRobot: core::fmt::Debug + Send + Sync {
     /// The mechanism's name, as robot files spell it (`c5`, `gough-stewart`).
     fn mechanism(&self) -> &'static str;
+    /// The name of the model the results follow (`consistent`, `paper`, `gough-stewart`).
+    fn model_name(&self) -> &'static str;
+    /// The same robot under each of its other models (the C5's: the paper model beside the
+    /// consistent one); none for a mechanism of one model.
+    fn other_models(&self) -> Vec<Box<dyn ParallelRobot>> {
+        Vec::new()
+    }
     /// The pose the robot rests at, where its forward kinematics starts without a previous
     /// solution.
     fn home(&self) -> Pose;
@@ -67,6 +75,53 @@ pub trait ParallelRobot: core::fmt::Debug + Send + Sync {
     fn speed_and_force_limits(&self) -> (Option<f64>, Option<f64>);
     /// Whether the description sets any limit.
     fn has_limits(&self) -> bool;
+
+    /// [`ParallelRobot::evaluate`] of every state, or the first refused with its index.
+    fn evaluate_many(&self, states: &[State]) -> Result<Vec<Evaluation>, (usize, Error)> {
+        states
+            .iter()
+            .enumerate()
+            .map(|(k, s)| self.evaluate(s).map_err(|e| (k, e)))
+            .collect()
+    }
+    /// [`ParallelRobot::inverse_dynamics`] of every state, or the first refused with its
+    /// index.
+    fn inverse_dynamics_many(&self, states: &[State]) -> Result<Vec<[f64; 6]>, (usize, Error)> {
+        states
+            .iter()
+            .enumerate()
+            .map(|(k, s)| self.inverse_dynamics(s).map_err(|e| (k, e)))
+            .collect()
+    }
+    /// Refuses a pose beyond the description's pose-bound limits.
+    ///
+    /// # Errors
+    /// [`Error::Limit`] naming the limit with the smallest (negative) margin.
+    fn check_limits(&self, pose: &Pose) -> Result<(), Error> {
+        match self.smallest_pose_margin(pose)? {
+            Some((limit, actuator, margin, value)) if margin < 0.0 => Err(Error::Limit {
+                limit,
+                actuator,
+                value,
+                margin,
+            }),
+            _ => Ok(()),
+        }
+    }
+    /// Refuses actuator speeds beyond the description's limit.
+    ///
+    /// # Errors
+    /// [`Error::Limit`] for the fastest actuator over the limit.
+    fn check_speeds(&self, qd: &[f64; 6]) -> Result<(), Error> {
+        crate::limits::over(Limit::Speed, self.speed_and_force_limits().0, qd)
+    }
+    /// Refuses actuator forces beyond the description's limit.
+    ///
+    /// # Errors
+    /// [`Error::Limit`] for the largest force over the limit.
+    fn check_forces(&self, gamma: &[f64; 6]) -> Result<(), Error> {
+        crate::limits::over(Limit::Force, self.speed_and_force_limits().1, gamma)
+    }
 }
 
 /// The robot of `description`, the C5 with `model` (the other mechanisms have one model).
@@ -83,6 +138,24 @@ pub fn robot(description: Description, model: Model) -> Result<Box<dyn ParallelR
 impl ParallelRobot for C5 {
     fn mechanism(&self) -> &'static str {
         c5_robot::description::C5
+    }
+    fn model_name(&self) -> &'static str {
+        self.model().name()
+    }
+    fn other_models(&self) -> Vec<Box<dyn ParallelRobot>> {
+        Model::ALL
+            .into_iter()
+            .filter(|&m| m != self.model())
+            .map(|m| Box::new(self.to_model(m)) as Box<dyn ParallelRobot>)
+            .collect()
+    }
+    /// Four states at a time through the batch kernels.
+    fn evaluate_many(&self, states: &[State]) -> Result<Vec<Evaluation>, (usize, Error)> {
+        C5::evaluate_many(self, states)
+    }
+    /// Four states at a time through the batch kernels.
+    fn inverse_dynamics_many(&self, states: &[State]) -> Result<Vec<[f64; 6]>, (usize, Error)> {
+        C5::inverse_dynamics_many(self, states)
     }
     fn home(&self) -> Pose {
         Pose::default()
@@ -157,6 +230,9 @@ impl ParallelRobot for C5 {
 
 impl ParallelRobot for GoughStewart {
     fn mechanism(&self) -> &'static str {
+        c5_robot::description::GOUGH_STEWART
+    }
+    fn model_name(&self) -> &'static str {
         c5_robot::description::GOUGH_STEWART
     }
     fn home(&self) -> Pose {

@@ -1,7 +1,7 @@
 //! `c5-codegen`: regenerates the checked-in `generated/` crate, or writes kernels for a robot
 //! described in a TOML file.
 
-use c5_codegen::{Config, Language, Model, ParameterSet, Robot, Scalar};
+use c5_codegen::{Config, Description, Language, Model, ParameterSet, Scalar};
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
@@ -107,11 +107,14 @@ fn kernels(
     c: bool,
 ) -> Result<(), String> {
     let robot = match robot {
-        Some(path) => Robot::from_toml_file(path).map_err(|e| e.to_string())?,
-        None => Robot::default(),
+        Some(path) => Description::from_toml_file(path).map_err(|e| e.to_string())?,
+        None => Description::default(),
     };
     let mut config = Config::new();
-    config.robot(robot).model(model).chapter_kernels(chapter);
+    config
+        .description(robot)
+        .model(model)
+        .chapter_kernels(chapter);
     // For C, `out` is a directory; for Rust, the file.
     let dir = if c {
         config.language(Language::C);

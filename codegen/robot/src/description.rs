@@ -41,6 +41,21 @@ impl Description {
         }
     }
 
+    /// A line on the robot, for generated files' headers.
+    pub fn summary(&self) -> alloc::string::String {
+        match self {
+            Description::C5(r) => alloc::format!(
+                "a C5 robot, half_spacing {} m, platform mass {} kg",
+                r.half_spacing,
+                r.platform.mass
+            ),
+            Description::GoughStewart(r) => alloc::format!(
+                "a Gough-Stewart platform, platform mass {} kg",
+                r.platform.mass
+            ),
+        }
+    }
+
     /// Checks every rule of the mechanism's description.
     ///
     /// # Errors

@@ -602,7 +602,7 @@ impl GoughStewart {
 impl GoughStewart {
     /// The example of `docs/hexapod.toml`: a positioner of about one metre across (base joints
     /// on a circle of 0.457 m, platform joints on one of 0.292 m, classically crossed legs),
-    /// legs of 0.35 to 0.50 m, at mid-stroke 0.368 m above the base at home.
+    /// legs of 0.30 to 0.65 m, at mid-stroke 0.425 m above the base at home.
     pub fn example() -> Self {
         let leg = |base: [f64; 3], u_axis: [f64; 3], platform: [f64; 3]| UpsLeg {
             base,
@@ -661,7 +661,7 @@ impl GoughStewart {
             ],
             home: None,
             limits: LegLimits {
-                stroke: Some([[0.35, 0.50]; 6]),
+                stroke: Some([[0.30, 0.65]; 6]),
                 u_joint: Some(0.6),
                 s_joint: Some(0.7),
                 speed: Some(0.5),
@@ -725,7 +725,7 @@ mod tests {
             let robot = GoughStewart::from_toml(&text, path).unwrap();
             assert_eq!(robot, GoughStewart::example());
             let home = robot.home()[5];
-            assert!((home - 0.368).abs() < 5e-4, "{home}");
+            assert!((home - 0.425).abs() < 5e-4, "{home}");
         }
     }
 

@@ -123,14 +123,30 @@ fn at_rest<'g>(posed: &Posed<'g>) -> Motion<'g> {
     Motion::new(Vec6::zeros(g), Vec6::zeros(g))
 }
 
+/// `B_i = C + R p_i` and `d_i = B_i - A_i`, built as the legs' derivation builds them (units
+/// where it has them), so that every kernel computes them once.
+fn joint_and_leg<'g>(
+    geometry: &[Expr<'g>],
+    r: &Mat3<'g>,
+    c: &Vec3<'g>,
+    i: usize,
+) -> (Vec3<'g>, Vec3<'g>) {
+    let at = leg_geometry(geometry, i);
+    let b = *c + Vector((*r * at.platform).0.map(Expr::keep));
+    (b, Vector((b - at.base).0.map(Expr::keep)))
+}
+
 /// `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the U joint (and
 /// the leg's frame) is singular where it vanishes.
 fn u_joint_sines<'g>(posed: &Posed<'g>) -> Vec<Expr<'g>> {
     (0..6)
         .map(|i| {
-            let at = leg_geometry(&posed.geometry, i);
-            let d = (posed.c + posed.r * at.platform) - at.base;
-            let e = d.cross(&at.axis);
+            let (_, d) = joint_and_leg(&posed.geometry, &posed.r, &posed.c, i);
+            let e = Vector(
+                d.cross(&leg_geometry(&posed.geometry, i).axis)
+                    .0
+                    .map(Expr::keep),
+            );
             e.dot(&e).sqrt() * d.dot(&d).sqrt().recip()
         })
         .collect()
@@ -163,16 +179,16 @@ impl Structure for GoughStewartStructure {
     fn pose<'g>(&self, geometry: &[Expr<'g>], x: &[Expr<'g>]) -> Posed<'g> {
         let r = rotation_of_pose(x);
         let c = vec3(&x[3..6]);
-        let legs: Vec<LegGeometry<'g>> = (0..6).map(|i| leg_geometry(geometry, i)).collect();
-        let b: Vec<Vec3<'g>> = legs.iter().map(|l| c + r * l.platform).collect();
+        let legs: [(Vec3<'g>, Vec3<'g>); 6] =
+            std::array::from_fn(|i| joint_and_leg(geometry, &r, &c, i));
         Posed {
             r,
             c,
             q: std::array::from_fn(|i| {
-                let d = b[i] - legs[i].base;
-                d.dot(&d).sqrt() + legs[i].offset
+                let d = legs[i].1;
+                d.dot(&d).sqrt() + leg_geometry(geometry, i).offset
             }),
-            p: std::array::from_fn(|i| c - b[i]),
+            p: std::array::from_fn(|i| c - legs[i].0),
             forward: None,
             geometry: geometry.to_vec(),
             centre_in_platform: None,
@@ -207,9 +223,9 @@ impl Structure for GoughStewartStructure {
             Guard::Never | Guard::Forward => Vec::new(),
             Guard::Pose => u_joint_sines(posed),
             Guard::Solve => {
-                let jinv = legged::inverse_jacobian(&states(posed, &at_rest(posed), None));
+                let rows = legged::Rows::of(&states(posed, &at_rest(posed), None));
                 let mut terms = u_joint_sines(posed);
-                terms.extend(legged::pivot_ratios(&jinv));
+                terms.extend(legged::pivot_ratios(&rows));
                 terms
             }
         }
@@ -381,7 +397,7 @@ impl Mechanics for GoughStewartMechanics {
     }
 
     fn jacobian<'g>(&self, posed: &Posed<'g>) -> Mat6<'g> {
-        legged::jacobian(&self.inverse_jacobian(posed))
+        legged::jacobian(&legged::Rows::of(&states(posed, &at_rest(posed), None)))
     }
 
     fn joint_velocities<'g>(&self, posed: &Posed<'g>, twist: &Vec6<'g>) -> Vec6<'g> {
@@ -409,7 +425,8 @@ impl Mechanics for GoughStewartMechanics {
         motion: &Motion<'g>,
     ) -> Vec6<'g> {
         let wrench = self.task_wrench(dynamics, posed, motion);
-        legged::solve_transposed(&self.inverse_jacobian(posed), &wrench)
+        let rows = legged::Rows::of(&states(posed, &at_rest(posed), None));
+        legged::solve_transposed(&rows, &wrench)
     }
 
     fn extra_kernels(&self) -> &'static [Decl] {

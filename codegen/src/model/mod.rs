@@ -273,6 +273,14 @@ impl Mechanism {
         }
     }
 
+    /// The robot of `description`; a C5 with `model` (the other mechanisms have one model).
+    pub fn of(description: &c5_robot::Description, model: Model) -> Self {
+        match description {
+            c5_robot::Description::C5(robot) => Mechanism::c5(robot, model),
+            c5_robot::Description::GoughStewart(robot) => Mechanism::gough_stewart(robot),
+        }
+    }
+
     /// A Gough-Stewart platform.
     pub fn gough_stewart(robot: &c5_robot::GoughStewart) -> Self {
         Mechanism {

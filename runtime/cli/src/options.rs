@@ -1,6 +1,7 @@
 //! The options several commands share, declared once: the robot and its model.
 
-use c5_runtime::{Description, Model, ParallelRobot, Robot, C5};
+use c5_runtime::trajectory::LinearMove;
+use c5_runtime::{Description, Model, ParallelRobot, Pose, Robot, C5};
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::Args;
 use std::path::PathBuf;
@@ -26,11 +27,7 @@ impl RobotArgs {
     /// The robot of `--robot` (or the chapter's), of any mechanism; a C5 with the model of
     /// `--model`.
     pub fn load_any(&self) -> crate::Result<Box<dyn ParallelRobot>> {
-        let description = match &self.robot {
-            Some(p) => Description::from_toml_file(p)?,
-            None => Description::default(),
-        };
-        Ok(c5_runtime::mechanism::robot(description, self.model)?)
+        load_any(self.robot.as_ref(), self.model)
     }
 }
 
@@ -58,6 +55,26 @@ pub fn load(path: Option<&PathBuf>, model: Model) -> crate::Result<C5> {
         None => Robot::default(),
     };
     Ok(C5::with_model(robot, model)?)
+}
+
+/// The robot of `path` (or the chapter's), of any mechanism; a C5 with `model`.
+pub fn load_any(path: Option<&PathBuf>, model: Model) -> crate::Result<Box<dyn ParallelRobot>> {
+    let description = match path {
+        Some(p) => Description::from_toml_file(p)?,
+        None => Description::default(),
+    };
+    Ok(c5_runtime::mechanism::robot(description, model)?)
+}
+
+/// Section 9's move (the chapter's default trajectory), from `home`: the C5's home is the
+/// origin, a hexapod's above its base.
+pub fn section9_from(home: Pose) -> LinearMove {
+    let mut motion = LinearMove::section9();
+    for k in 0..3 {
+        motion.start.center[k] += home.center[k];
+        motion.end[k] += home.center[k];
+    }
+    motion
 }
 
 /// The sample times of a default trajectory of `duration` at `rate`, or why not.

@@ -4,8 +4,7 @@
 use crate::columns;
 use crate::options::{self, RobotArgs};
 use crate::trajectory_csv;
-use c5_runtime::trajectory::LinearMove;
-use c5_runtime::{Error, Evaluation, Model, State, C5};
+use c5_runtime::{Error, Evaluation, ParallelRobot, State};
 use clap::Args;
 use plotters::prelude::*;
 use std::io::Write;
@@ -44,12 +43,12 @@ pub struct SimulateArgs {
 }
 
 pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
-    let robot = args.robot.load()?;
+    let robot = args.robot.load_any()?;
     let (out, rate) = (&args.out, args.rate);
     let states = match &args.trajectory {
         Some(path) => trajectory_csv::read(path)?,
         None => {
-            let motion = LinearMove::section9();
+            let motion = options::section9_from(robot.home());
             let times = options::sample_times(motion.duration, rate, "samples")?;
             times.into_iter().map(|t| (t, motion.state(t))).collect()
         }
@@ -59,7 +58,8 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
     }
     let (encoders, mut noise) = (args.sensors.encoders()?, args.sensors.noise()?);
     // Everything is computed before anything is written: a refused sample writes nothing.
-    let study = run(&robot, &states).map_err(|(t, e)| format!("sample at t = {t} s: {e}"))?;
+    let study =
+        run(robot.as_ref(), &states).map_err(|(t, e)| format!("sample at t = {t} s: {e}"))?;
     if !args.ignore_limits {
         for s in &study.samples {
             robot
@@ -153,10 +153,10 @@ pub struct Sample {
 #[derive(Clone, Debug)]
 pub struct Study {
     /// The model of [`Sample::eval`]; the others gave [`Sample::others`].
-    pub model: Model,
-    pub others: Vec<Model>,
+    pub model: &'static str,
+    pub others: Vec<&'static str>,
     pub samples: Vec<Sample>,
-    /// Mean wall time of [`C5::evaluate`] per sample (s).
+    /// Mean wall time of [`ParallelRobot::evaluate`] per sample (s).
     pub time_per_sample: f64,
 }
 
@@ -164,7 +164,7 @@ pub struct Study {
 ///
 /// # Errors
 /// The first sample whose state is refused (non-finite or singular), with its time.
-pub fn run(robot: &C5, states: &[(f64, State)]) -> Result<Study, (f64, Error)> {
+pub fn run(robot: &dyn ParallelRobot, states: &[(f64, State)]) -> Result<Study, (f64, Error)> {
     let only: Vec<State> = states.iter().map(|&(_, s)| s).collect();
     let time_of = |k: usize| states[k].0;
     let start = Instant::now();
@@ -172,16 +172,12 @@ pub fn run(robot: &C5, states: &[(f64, State)]) -> Result<Study, (f64, Error)> {
         .evaluate_many(&only)
         .map_err(|(k, e)| (time_of(k), e))?;
     let time_per_sample = start.elapsed().as_secs_f64() / evals.len().max(1) as f64;
-    let others: Vec<Model> = Model::ALL
-        .into_iter()
-        .filter(|&m| m != robot.model())
-        .collect();
-    let forces = others
+    let other_robots = robot.other_models();
+    let others: Vec<&'static str> = other_robots.iter().map(|r| r.model_name()).collect();
+    let forces = other_robots
         .iter()
-        .map(|&m| {
-            robot
-                .to_model(m)
-                .inverse_dynamics_many(&only)
+        .map(|r| {
+            r.inverse_dynamics_many(&only)
                 .map_err(|(k, e)| (time_of(k), e))
         })
         .collect::<Result<Vec<_>, _>>()?;
@@ -197,7 +193,7 @@ pub fn run(robot: &C5, states: &[(f64, State)]) -> Result<Study, (f64, Error)> {
         })
         .collect();
     Ok(Study {
-        model: robot.model(),
+        model: robot.model_name(),
         others,
         samples,
         time_per_sample,
@@ -206,7 +202,7 @@ pub fn run(robot: &C5, states: &[(f64, State)]) -> Result<Study, (f64, Error)> {
 
 /// Header of the CSV: time, pose, twist, acceleration, `Q_a`, `Q̇_a`, `Q̈_a`, `Γ` of the chosen
 /// model, and `Γ` of each other one (`gamma_paper1..6` or `gamma_consistent1..6`).
-pub fn csv_header(others: &[Model]) -> Vec<String> {
+pub fn csv_header(others: &[&str]) -> Vec<String> {
     let mut h = columns::state();
     for name in ["q", "qd", "qdd", "gamma"] {
         h.extend(columns::per_actuator(name));
@@ -360,20 +356,27 @@ fn plot_forces(path: &Path, study: &Study, t: &[f64]) -> Result<(), Box<dyn std:
     register_font();
     let root = BitMapBackend::new(path, (1200, 720)).into_drawing_area();
     root.fill(&WHITE)?;
-    let root = root.titled(
-        "Actuator forces Γ (fig. 10): consistent model solid, paper model dashed",
-        ("sans-serif", 22),
-    )?;
-    let gamma =
-        |s: &Sample, model: Model, i: usize| match study.others.iter().position(|&m| m == model) {
-            Some(k) => s.others[k][i],
-            None => s.eval.gamma[i],
-        };
+    let title = match study.others.first() {
+        Some(other) => format!(
+            "Actuator forces Γ (fig. 10): {} model solid, {other} model dashed",
+            study.model
+        ),
+        None => format!("Actuator forces Γ ({})", study.model),
+    };
+    let root = root.titled(&title, ("sans-serif", 22))?;
     for (i, panel) in root.split_evenly((2, 3)).iter().enumerate() {
-        let series: Vec<(Model, Vec<f64>)> = Model::ALL
-            .into_iter()
-            .map(|m| (m, study.samples.iter().map(|s| gamma(s, m, i)).collect()))
-            .collect();
+        let series: Vec<(&str, Vec<f64>)> = std::iter::once((
+            study.model,
+            study.samples.iter().map(|s| s.eval.gamma[i]).collect(),
+        ))
+        .chain(
+            study
+                .others
+                .iter()
+                .enumerate()
+                .map(|(k, &m)| (m, study.samples.iter().map(|s| s.others[k][i]).collect())),
+        )
+        .collect();
         let (lo, hi) = series
             .iter()
             .flat_map(|(_, v)| v.iter().copied())

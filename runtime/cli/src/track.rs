@@ -7,8 +7,7 @@ use crate::trajectory_csv;
 use c5_runtime::control::{orientation_error, ComputedTorque};
 use c5_runtime::dynamics::{compose, exp_rotation, rk4_step, rotation, rpy, PlantState};
 use c5_runtime::sensors::{Encoders, RateEstimator};
-use c5_runtime::trajectory::LinearMove;
-use c5_runtime::{Acceleration, Error, Model, Pose, State, Twist, C5};
+use c5_runtime::{Acceleration, Error, Model, ParallelRobot, Pose, State, Twist};
 use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -83,11 +82,12 @@ pub enum Space {
 }
 
 pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
-    let controller = o.controller.load()?;
-    let plant = match o.plant_robot.as_ref() {
-        Some(p) => options::load(Some(p), o.plant_model)?,
-        None => controller.to_model(o.plant_model),
-    };
+    let controller = o.controller.load_any()?;
+    // The plant is the controller's robot (or its own file) under the plant's model.
+    let plant = options::load_any(
+        o.plant_robot.as_ref().or(o.controller.robot.as_ref()),
+        o.plant_model,
+    )?;
     let offset: [f64; 6] = match &o.initial_offset {
         None => [0.0; 6],
         Some(v) => <[f64; 6]>::try_from(v.as_slice()).map_err(|_| {
@@ -115,7 +115,7 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
             (Desired::Samples(samples), times)
         }
         None => {
-            let motion = LinearMove::section9();
+            let motion = options::section9_from(controller.home());
             let times = options::sample_times(motion.duration, o.rate, "steps")?;
             (Desired::Motion(Box::new(move |t| motion.state(t))), times)
         }
@@ -135,10 +135,10 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
     };
     let mut law = ComputedTorque::critically_damped(o.bandwidth);
     // The actuators saturate at the robot's force limit unless told otherwise.
-    law.force_limit = o.force_limit.or(plant.robot().limits.force);
+    law.force_limit = o.force_limit.or(plant.speed_and_force_limits().1);
     let setup = Setup {
-        controller: &controller,
-        plant: &plant,
+        controller: controller.as_ref(),
+        plant: plant.as_ref(),
         law,
         hold: o.hold,
         space: o.space,
@@ -197,12 +197,12 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
         "tracked {} steps in {:.1} ms: controller {} model in {} space, plant {} model{}",
         samples.len(),
         elapsed.as_secs_f64() * 1e3,
-        controller.model(),
+        controller.model_name(),
         match o.space {
             Space::Task => "task",
             Space::Joint => "joint",
         },
-        plant.model(),
+        plant.model_name(),
         if measured {
             ", measured (encoders and estimated rates)"
         } else {
@@ -273,8 +273,8 @@ pub struct Sample {
 
 /// What `track` needs: the controller's and the plant's robots, the law, how to hold the forces.
 pub struct Setup<'a> {
-    pub controller: &'a C5,
-    pub plant: &'a C5,
+    pub controller: &'a dyn ParallelRobot,
+    pub plant: &'a dyn ParallelRobot,
     pub law: ComputedTorque,
     /// A sampled controller: the forces held over each step (else the law runs at every stage).
     pub hold: bool,
@@ -291,7 +291,7 @@ impl Setup<'_> {
             Space::Task => self.law.forces(self.controller, desired, actual),
             Space::Joint => {
                 let state = actual.with_acceleration(Acceleration::default());
-                let (q, _) = self.controller.inverse_kinematics(&state.pose)?;
+                let q = self.controller.actuator_positions(&state.pose)?;
                 let qd = self
                     .controller
                     .joint_velocities(&state.pose, &state.twist)?;
@@ -305,7 +305,7 @@ impl Setup<'_> {
     fn joints(&self, desired: &State) -> Result<[[f64; 6]; 3], Error> {
         let c = self.controller;
         Ok([
-            c.inverse_kinematics(&desired.pose)?.0,
+            c.actuator_positions(&desired.pose)?,
             c.joint_velocities(&desired.pose, &desired.twist)?,
             c.joint_accelerations(desired)?,
         ])
@@ -329,8 +329,8 @@ fn sample(
     actual: &PlantState,
     gamma: [f64; 6],
 ) -> Result<Sample, Error> {
-    let (q_d, _) = setup.controller.inverse_kinematics(&desired.pose)?;
-    let (q, _) = setup.plant.inverse_kinematics(&actual.pose())?;
+    let q_d = setup.controller.actuator_positions(&desired.pose)?;
+    let q = setup.plant.actuator_positions(&actual.pose())?;
     if setup.limits {
         let plant = setup.plant;
         let state = actual.with_acceleration(Acceleration::default());
@@ -407,14 +407,14 @@ pub fn run_measured(
     let mut gamma = [0.0; 6];
     // The actuators' acceleration the last command asked for: the estimator's input.
     let mut commanded = [0.0; 6];
+    let mut seen: Option<Pose> = None;
     for (k, &t) in times.iter().enumerate() {
         let now = desired.at(t);
         if k % sensors.every == 0 {
             let truth = setup
                 .plant
-                .inverse_kinematics(&state.pose())
-                .map_err(|e| (t, e))?
-                .0;
+                .actuator_positions(&state.pose())
+                .map_err(|e| (t, e))?;
             let counts = sensors.encoders.read(&truth);
             let joints = setup.joints(&now).map_err(|e| (t, e))?;
             // The estimator starts at the first counts with the planned rates.
@@ -432,12 +432,18 @@ pub fn run_measured(
                     commanded = setup.law.joint_acceleration(&joints, &q, &qd);
                     setup.law.joint_forces(c, &joints, &q, &qd)
                 }
-                Space::Task => c.joint_state(&q, &qd, &[0.0; 6]).and_then(|seen| {
-                    let actual = PlantState::new(&seen.pose, &seen.twist);
-                    let accel = setup.law.commanded_acceleration(&now, &actual);
-                    commanded = c.joint_accelerations(&actual.with_acceleration(accel))?;
-                    setup.law.forces(c, &now, &actual)
-                }),
+                // From the last pose seen: a warm start where the forward kinematics iterates.
+                Space::Task => {
+                    c.joint_state(&q, &qd, &[0.0; 6], seen.as_ref())
+                        .and_then(|now_seen| {
+                            seen = Some(now_seen.pose);
+                            let seen = now_seen;
+                            let actual = PlantState::new(&seen.pose, &seen.twist);
+                            let accel = setup.law.commanded_acceleration(&now, &actual);
+                            commanded = c.joint_accelerations(&actual.with_acceleration(accel))?;
+                            setup.law.forces(c, &now, &actual)
+                        })
+                }
             }
             .map_err(|e| (t, e))?;
             gamma = sensors.noise.add(&command);

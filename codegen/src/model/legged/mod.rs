@@ -93,6 +93,12 @@ pub trait Leg<'g> {
     /// The leg's moving bodies as functions of the coordinates `s` (and their rates `ṡ`, which
     /// only a closed-form [`AngularMotion::bias`] reads).
     fn bodies(&self, s: &[Expr<'g>], sd: &[Expr<'g>]) -> Vec<LegBody<'g>>;
+    /// Whether the actuator's rate per unit platform velocity, `∂q̇/∂v_C`, is a unit vector
+    /// (a leg whose actuator is the distance between two of its joints): the solve with `J⁻ᵀ`
+    /// then knows that part of its rows' norms.
+    fn unit_translation(&self) -> bool {
+        false
+    }
 }
 
 /// The coordinates of a leg at the platform's state: their values, rates and accelerations,
@@ -162,8 +168,10 @@ fn coordinate_motion<'g>(
         .map(|k| (r_hat[k], rotation.0[k / 3][k % 3]))
         .chain((0..3).map(|k| (c_hat[k], centre[k])))
         .chain(points.iter().flat_map(|(symbol, p)| {
+            // A unit, so that with `p` constant its three products are not re-evaluated in
+            // every expression that reads the point.
             let at = *rotation * *p;
-            (0..3).map(move |k| (symbol[k], at[k]))
+            (0..3).map(move |k| (symbol[k], at[k].keep()))
         }))
         .chain((0..6).map(|k| (twist[k], motion.twist[k])))
         .chain((0..6).map(|k| (accel[k], motion.accel[k])))
@@ -269,8 +277,11 @@ fn leg_equations<'g>(
             .iter()
             .map(|&sk| vec3(&g.derivatives(&body.origin.to_vec(), sk)))
             .collect();
-        let omega = combine(&angular.rates, &sd);
-        let omega_dot = combine(&angular.rates, &sdd) + angular.bias;
+        // The body's motion in its frame as units: the Newton-Euler products read them whole
+        // instead of re-multiplying their factors in every term.
+        let unit = |v: Vec3<'g>| Vector(v.0.map(Expr::keep));
+        let omega = unit(combine(&angular.rates, &sd));
+        let omega_dot = unit(combine(&angular.rates, &sdd) + angular.bias);
         let a_origin = vec3(&time_derivative(&combine(&linear, &sd).to_vec()));
         let to_body = body.rotation.transpose();
         let frame = Frame {
@@ -281,8 +292,8 @@ fn leg_equations<'g>(
         let wrench = wrench_in_platform_frame(
             &body.inertial,
             &frame,
-            &(to_body * a_origin),
-            &(to_body * *gravity),
+            &unit(to_body * a_origin),
+            &unit(to_body * *gravity),
         );
         add_to(&mut moments, angular.rates, wrench.top());
         if linear
@@ -309,6 +320,8 @@ pub struct LegState<'g> {
     pub qdd: Expr<'g>,
     pub jinv_row: Vec6<'g>,
     pub wrench: Vec6<'g>,
+    /// [`Leg::unit_translation`].
+    pub unit_translation: bool,
 }
 
 /// `leg` at the platform's placement (`R`, `C`) and motion, its bodies under `gravity`.
@@ -350,6 +363,7 @@ pub fn leg_state<'g>(
         qdd: all[1],
         jinv_row,
         wrench: along(phi),
+        unit_translation: leg.unit_translation(),
     }
 }
 
@@ -370,6 +384,22 @@ pub fn inverse_jacobian<'g>(states: &[LegState<'g>]) -> Mat6<'g> {
     Mat(std::array::from_fn(|i| states[i].jinv_row.0))
 }
 
+/// `J⁻¹` with what the solve may know of its rows: which translation parts are unit vectors.
+#[derive(Clone, Copy)]
+pub struct Rows<'g> {
+    pub m: Mat6<'g>,
+    pub unit_translation: [bool; 6],
+}
+
+impl<'g> Rows<'g> {
+    pub fn of(states: &[LegState<'g>]) -> Self {
+        Rows {
+            m: inverse_jacobian(states),
+            unit_translation: std::array::from_fn(|i| states[i].unit_translation),
+        }
+    }
+}
+
 /// `Σ Tᵀ φ`: the wrench at `C` (base frame) the legs' bodies need, `Φ` of
 /// `Γ = Jᵀ (F_{N+1} + Φ)`.
 pub fn leg_wrench<'g>(states: &[LegState<'g>]) -> Vec6<'g> {
@@ -379,44 +409,87 @@ pub fn leg_wrench<'g>(states: &[LegState<'g>]) -> Vec6<'g> {
         .fold(Vec6::zeros(g), |sum, leg| sum + leg.wrench)
 }
 
-/// `x` with `J⁻ᵀ x = w`, `M = J⁻¹`: through the normal equations `M Mᵀ y = M w`, `x = y`,
-/// whose matrix is symmetric positive definite wherever `M` is regular, so the unrolled
-/// `LDLᵀ` needs no pivoting.
-pub fn solve_transposed<'g>(m: &Mat6<'g>, w: &Vec6<'g>) -> Vec6<'g> {
-    normal_matrix(m).ldlt_solve(&(*m * *w))
+/// `x` with `J⁻ᵀ x = w`, `M = J⁻¹`: through the normal equations `M Mᵀ x = M w`, whose
+/// matrix is symmetric positive definite wherever `M` is regular, so the unrolled `LDLᵀ` needs
+/// no pivoting.
+pub fn solve_transposed<'g>(rows: &Rows<'g>, w: &Vec6<'g>) -> Vec6<'g> {
+    normal_solve(rows, &(rows.m * *w))
 }
 
-/// `M Mᵀ`, lower triangle (the `LDLᵀ` reads nothing else; the upper is its mirror).
-pub fn normal_matrix<'g>(m: &Mat6<'g>) -> Mat6<'g> {
-    let rows: [Vec6<'g>; 6] = std::array::from_fn(|i| m.row(i));
-    let g = m.0[0][0].graph();
+/// `L` and `D` of `A = L D Lᵀ` (lower triangle of `A` read), with `L_ik D_k` kept as units:
+/// each term of the recursion then costs one product, not two.
+fn ldlt<'g>(a: &Mat6<'g>) -> ([[Expr<'g>; 6]; 6], [Expr<'g>; 6]) {
+    let g = a.0[0][0].graph();
+    let mut l = [[g.zero(); 6]; 6];
+    let mut ld = [[g.zero(); 6]; 6];
+    let mut d = [g.zero(); 6];
+    for j in 0..6 {
+        d[j] = (0..j)
+            .fold(a.0[j][j], |acc, k| acc - ld[j][k] * l[j][k])
+            .keep();
+        let d_inv = d[j].recip();
+        for i in j + 1..6 {
+            ld[i][j] = (0..j)
+                .fold(a.0[i][j], |acc, k| acc - ld[i][k] * l[j][k])
+                .keep();
+            l[i][j] = (ld[i][j] * d_inv).keep();
+        }
+    }
+    (l, d)
+}
+
+/// `M Mᵀ`, lower triangle (the `LDLᵀ` reads nothing else; the upper is its mirror); a row's
+/// unit translation part adds one to its diagonal entry.
+pub fn normal_matrix<'g>(rows: &Rows<'g>) -> Mat6<'g> {
+    let r: [Vec6<'g>; 6] = std::array::from_fn(|i| rows.m.row(i));
+    let g = rows.m.0[0][0].graph();
     Mat::from_fn(|i, j| {
-        if j <= i {
-            rows[i].dot(&rows[j])
+        if j < i {
+            r[i].dot(&r[j])
+        } else if j == i && rows.unit_translation[i] {
+            r[i].top().dot(&r[i].top()) + 1.0
+        } else if j == i {
+            r[i].dot(&r[i])
         } else {
             g.zero()
         }
     })
 }
 
-/// `J = (J⁻¹)⁻¹ = Mᵀ (M Mᵀ)⁻¹`, one factorization for the six columns.
-pub fn jacobian<'g>(m: &Mat6<'g>) -> Mat6<'g> {
-    let a = normal_matrix(m);
-    let g = m.0[0][0].graph();
+/// `J = (J⁻¹)⁻¹`: column `j` solves `M x = e_j`, that is `x = Mᵀ y` with `M Mᵀ y = e_j`,
+/// one factorization for the six columns.
+pub fn jacobian<'g>(rows: &Rows<'g>) -> Mat6<'g> {
+    let g = rows.m.0[0][0].graph();
+    let mt = rows.m.transpose();
     let columns: Vec<Vec6<'g>> = (0..6)
         .map(|j| {
-            let e = Vector::from_fn(|i| if i == j { g.one() } else { g.zero() });
-            m.transpose() * a.ldlt_solve(&e)
+            let e: Vec6<'g> = Vector::from_fn(|i| if i == j { g.one() } else { g.zero() });
+            mt * normal_solve(rows, &e)
         })
         .collect();
     Mat::from_fn(|i, j| columns[j][i])
 }
 
+/// `y` with `M Mᵀ y = b`.
+fn normal_solve<'g>(rows: &Rows<'g>, b: &Vec6<'g>) -> Vec6<'g> {
+    let (l, d) = ldlt(&normal_matrix(rows));
+    let g = b[0].graph();
+    let mut z = [g.zero(); 6];
+    for i in 0..6 {
+        z[i] = (0..i).fold(b[i], |acc, k| acc - l[i][k] * z[k]);
+    }
+    let mut y = [g.zero(); 6];
+    for i in (0..6).rev() {
+        y[i] = (i + 1..6).fold(z[i] * d[i].recip(), |acc, k| acc - l[k][i] * y[k]);
+    }
+    Vector(y)
+}
+
 /// The pivots of the `LDLᵀ` of `M Mᵀ` over its diagonal: each in `(0, 1]` where `M` is regular
 /// (their product is `det(M)² / Π |m_i|²`, one at orthogonal rows); the solve loses about as
 /// many digits as the smallest takes from one.
-pub fn pivot_ratios<'g>(m: &Mat6<'g>) -> Vec<Expr<'g>> {
-    let a = normal_matrix(m);
+pub fn pivot_ratios<'g>(rows: &Rows<'g>) -> Vec<Expr<'g>> {
+    let a = normal_matrix(rows);
     ldlt_pivots(&a)
         .into_iter()
         .enumerate()
@@ -424,28 +497,10 @@ pub fn pivot_ratios<'g>(m: &Mat6<'g>) -> Vec<Expr<'g>> {
         .collect()
 }
 
-/// The pivots `D_jj` of the unrolled `LDLᵀ` of a symmetric matrix (lower triangle), the same
-/// expressions [`Mat::ldlt_solve`] builds.
+/// The pivots `D_jj` of the unrolled `LDLᵀ` of a symmetric matrix (lower triangle): the
+/// same expressions [`solve_transposed`] divides by.
 fn ldlt_pivots<'g>(m: &Mat6<'g>) -> Vec<Expr<'g>> {
-    let g = m.0[0][0].graph();
-    let mut l = [[g.zero(); 6]; 6];
-    let mut d = [g.zero(); 6];
-    for j in 0..6 {
-        let mut djj = m.0[j][j];
-        for k in 0..j {
-            djj = djj - l[j][k] * l[j][k] * d[k];
-        }
-        d[j] = djj;
-        let d_inv = djj.recip();
-        for i in j + 1..6 {
-            let mut lij = m.0[i][j];
-            for k in 0..j {
-                lij = lij - l[i][k] * l[j][k] * d[k];
-            }
-            l[i][j] = lij * d_inv;
-        }
-    }
-    d.to_vec()
+    ldlt(m).1.to_vec()
 }
 
 #[cfg(test)]

@@ -62,7 +62,7 @@ fn the_c5_from_its_legs_is_the_consistent_model() {
             super::super::bodies::Frame::new(posed.r, &motion.twist.top(), &motion.accel.top());
         let wrench =
             platform_wrench(&dynamics, &frame, &motion.twist, &motion.accel) + leg_wrench(&states);
-        let gamma = solve_transposed(&jinv, &wrench);
+        let gamma = solve_transposed(&Rows::of(&states), &wrench);
         let want_jinv = consistent::inverse_jacobian(&posed);
         for i in 0..6 {
             assert!(

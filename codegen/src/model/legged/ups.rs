@@ -28,10 +28,16 @@ pub struct Ups<'g> {
 }
 
 impl<'g> Ups<'g> {
+    /// `d = B - A`, as units (with `A` constant, their sums would flatten into every
+    /// expression that reads them).
+    fn leg_vector(&self, s: &[Expr<'g>]) -> Vec3<'g> {
+        Vector((Vector([s[0], s[1], s[2]]) - self.base).0.map(Expr::keep))
+    }
+
     /// `d = B - A`, `e = d × a` and the leg frame's axes `x', y', z'` at the coordinates `s`.
     fn frame(&self, s: &[Expr<'g>]) -> (Vec3<'g>, Vec3<'g>, [Vec3<'g>; 3]) {
-        let d = Vector([s[0], s[1], s[2]]) - self.base;
-        let e = d.cross(&self.axis);
+        let d = self.leg_vector(s);
+        let e = Vector(d.cross(&self.axis).0.map(Expr::keep));
         // The axes as units: every projection on them then costs three products.
         let z = d.scale(d.dot(&d).sqrt().recip()).0.map(Expr::keep);
         let y = e.scale(e.dot(&e).sqrt().recip()).0.map(Expr::keep);
@@ -41,12 +47,17 @@ impl<'g> Ups<'g> {
 }
 
 impl<'g> Leg<'g> for Ups<'g> {
+    /// `q̇ = u·ḋ`: the translation part of the row is `u`.
+    fn unit_translation(&self) -> bool {
+        true
+    }
+
     fn coordinates(&self, placement: &Placement<'g>) -> Vec<Expr<'g>> {
         placement.point(&self.platform).to_vec()
     }
 
     fn actuator(&self, s: &[Expr<'g>]) -> Expr<'g> {
-        let d = Vector([s[0], s[1], s[2]]) - self.base;
+        let d = self.leg_vector(s);
         d.dot(&d).sqrt() + self.offset
     }
 
@@ -81,16 +92,16 @@ impl<'g> Ups<'g> {
         let (d, e, [x, y, z]) = self.frame(s);
         let rate = Vector([sd[0], sd[1], sd[2]]);
         let squared_length = d.dot(&d);
-        let inverse_length = squared_length.sqrt().recip();
-        let inverse_sine = e.dot(&e).sqrt().recip();
-        let kappa = self.axis.dot(&d) * inverse_sine;
+        let inverse_length = squared_length.sqrt().recip().keep();
+        let inverse_sine = e.dot(&e).sqrt().recip().keep();
+        let kappa = (self.axis.dot(&d) * inverse_sine).keep();
         let rates = (0..3)
             .map(|k| Vector([-y[k], x[k], -(kappa * y[k])]).scale(inverse_length))
             .collect();
         let omega_x = -(y.dot(&rate) * inverse_length);
         let omega_y = x.dot(&rate) * inverse_length;
         let omega_z = kappa * omega_x;
-        let qd2 = z.dot(&rate) * inverse_length * 2.0;
+        let qd2 = (z.dot(&rate) * inverse_length * 2.0).keep();
         let bias_x = omega_y * omega_z - qd2 * omega_x;
         let bias_y = -(omega_x * omega_z) - qd2 * omega_y;
         // `1/|u × a|² = |d|²/|d × a|²` for a unit `a`.

@@ -1,0 +1,135 @@
+//! The Gough-Stewart platform's kernels, in one run: the folded kernels of the example hexapod
+//! (`docs/hexapod.toml`), the `*_params` kernels the runtime calls for any hexapod, the
+//! runtime's forward kinematics from a warm start, and the matrix-form reference (Newton-Euler
+//! leg by leg in nalgebra).
+//!
+//! `cargo bench --bench gough_stewart` (pin it: `taskset -c 0`). Inputs cycle through seeded
+//! states about the home pose behind `black_box`.
+
+use c5_generated::f64::gough_stewart as k;
+use c5_generated::manifest::Kernel;
+use c5_runtime::reference::gough_stewart as reference;
+use c5_runtime::{Acceleration, GoughStewart, Pose, State, Twist};
+use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
+use rand::{Rng, SeedableRng};
+
+/// Seeded states about the home pose: |α|,|β|,|γ| ≤ 0.25 rad, ±0.05 m.
+fn states(home: &Pose) -> Vec<State> {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(42);
+    let mut u = |b: f64| rng.gen_range(-b..=b);
+    (0..256)
+        .map(|_| State {
+            pose: Pose {
+                alpha: u(0.25),
+                beta: u(0.25),
+                gamma: u(0.25),
+                center: [u(0.05), u(0.05), home.center[2] + u(0.05)],
+            },
+            twist: Twist {
+                omega: [u(1.0), u(1.0), u(1.0)],
+                velocity: [u(0.5), u(0.5), u(0.5)],
+            },
+            accel: Acceleration {
+                omega_dot: [u(5.0), u(5.0), u(5.0)],
+                linear: [u(2.0), u(2.0), u(2.0)],
+            },
+        })
+        .collect()
+}
+
+/// The counted operations of a kernel, criterion's throughput (`Gelem/s` = operations per ns).
+fn ops(kernel: Kernel, parameters: bool) -> Throughput {
+    let c = c5_generated::manifest::entry("gough-stewart", kernel, parameters)
+        .expect("in the manifest")
+        .count;
+    Throughput::Elements(u64::from(c.mul + c.div + c.add + c.neg))
+}
+
+fn bench(c: &mut Criterion) {
+    let robot = c5_robot::GoughStewart::example();
+    let hexapod = GoughStewart::new(robot).expect("the example is valid");
+    let params = hexapod.parameters();
+    let cases = states(&hexapod.home());
+    let arrays: Vec<_> = cases
+        .iter()
+        .map(|s| (s.pose.to_array(), s.twist.to_array(), s.accel.to_array()))
+        .collect();
+    let forces: Vec<[f64; 6]> = cases
+        .iter()
+        .map(|s| hexapod.inverse_dynamics(s).expect("a regular state"))
+        .collect();
+    let mut i = 0;
+    let mut g = c.benchmark_group("gough_stewart");
+    g.throughput(ops(Kernel::InverseDynamics, false));
+    g.bench_function("inverse_dynamics", |b| {
+        b.iter(|| {
+            i = (i + 1) % arrays.len();
+            let (x, v, a) = black_box(&arrays[i]);
+            k::inverse_dynamics(x, v, a).0
+        })
+    });
+    g.throughput(ops(Kernel::InverseDynamics, true));
+    g.bench_function("inverse_dynamics_params", |b| {
+        b.iter(|| {
+            i = (i + 1) % arrays.len();
+            let (x, v, a) = black_box(&arrays[i]);
+            k::inverse_dynamics_params(x, v, a, params).0
+        })
+    });
+    g.throughput(ops(Kernel::ForwardDynamics, false));
+    g.bench_function("forward_dynamics", |b| {
+        b.iter(|| {
+            i = (i + 1) % arrays.len();
+            let (x, v, _) = black_box(&arrays[i]);
+            k::forward_dynamics(x, v, &forces[i]).0
+        })
+    });
+    g.throughput(ops(Kernel::ForwardDynamics, true));
+    g.bench_function("forward_dynamics_params", |b| {
+        b.iter(|| {
+            i = (i + 1) % arrays.len();
+            let (x, v, _) = black_box(&arrays[i]);
+            k::forward_dynamics_params(x, v, &forces[i], params).0
+        })
+    });
+    // A controller's case: the previous sample's pose, 1 ms of a brisk motion away.
+    let readings: Vec<([f64; 6], Pose)> = cases
+        .iter()
+        .map(|s| {
+            let (q, _) = hexapod.inverse_kinematics(&s.pose).expect("regular");
+            let mut previous = s.pose;
+            previous.alpha -= 1e-3 * s.twist.omega[0];
+            previous.beta -= 1e-3 * s.twist.omega[1];
+            previous.gamma -= 1e-3 * s.twist.omega[2];
+            for k in 0..3 {
+                previous.center[k] -= 1e-3 * s.twist.velocity[k];
+            }
+            (q, previous)
+        })
+        .collect();
+    g.throughput(Throughput::Elements(1));
+    g.bench_function("forward_kinematics_warm", |b| {
+        b.iter(|| {
+            i = (i + 1) % readings.len();
+            let (q, near) = black_box(&readings[i]);
+            hexapod.forward_kinematics(q, Some(near))
+        })
+    });
+    g.bench_function("forward_kinematics_level_start", |b| {
+        b.iter(|| {
+            i = (i + 1) % readings.len();
+            let (q, _) = black_box(&readings[i]);
+            hexapod.forward_kinematics(q, None)
+        })
+    });
+    g.bench_function("reference_inverse_dynamics", |b| {
+        b.iter(|| {
+            i = (i + 1) % cases.len();
+            reference::inverse_dynamics(&robot, black_box(&cases[i]))
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
