@@ -164,8 +164,8 @@ impl Config {
         self
     }
 
-    /// The C functions' names, `{prefix}{kernel}{suffix}`. Default:
-    /// [`emit_c::Naming::standard`], `c5_{model}_{kernel}` (and `_f` for `float`).
+    /// The C functions' names, `{prefix}{kernel}{suffix}`. Default: `c5_{module}_{kernel}`
+    /// (`c5_consistent_`, `c5_gough_stewart_`), and `_f` appended for `float`.
     pub fn c_naming(&mut self, prefix: &str, suffix: &str) -> &mut Self {
         self.c_naming = Some(emit_c::Naming {
             prefix: prefix.to_string(),

@@ -17,6 +17,9 @@ use crate::{check_finite, finite, finite_matrix, Acceleration, Evaluation, Pose,
 use c5_generated::f64::gough_stewart as kernels;
 pub use c5_robot::GoughStewart as Description;
 
+/// The mechanism's name, as robot files and the manifest spell it.
+pub const MECHANISM: &str = c5_robot::description::GOUGH_STEWART;
+
 /// The length of the parameter vector of the hexapod's `*_params` kernels.
 pub const PARAMETERS: usize = kernels::PARAMETERS;
 

@@ -59,7 +59,7 @@ impl Description {
     /// Checks every rule of the mechanism's description.
     ///
     /// # Errors
-    /// [`Error::Invalid`](crate::Error::Invalid) naming the field.
+    /// `Error::Invalid` naming the field.
     pub fn validate(&self) -> Result<(), crate::Error> {
         match self {
             Description::C5(r) => r.validate(),

@@ -1006,11 +1006,13 @@ pub enum ParameterSet {
     /// Every parameter folded (the fastest kernels).
     #[default]
     None,
-    /// Every parameter an input, in the order of [`Robot::kernel_parameters`] (one kernel set
-    /// for any robot).
+    /// Every parameter an input, in the order of the mechanism's parameter vector
+    /// ([`Structure::parameter_names`](super::Structure::parameter_names); the C5's
+    /// `Robot::kernel_parameters`): one kernel set for any robot of the mechanism.
     All,
-    /// These parameters (names of [`Robot::kernel_parameter_names`]) are inputs, in the order
-    /// given.
+    /// These parameters (names of
+    /// [`Structure::parameter_names`](super::Structure::parameter_names)) are inputs, in the
+    /// order given.
     Named(Vec<String>),
 }
 

@@ -2,7 +2,7 @@
 //! (`c5_robot::standard_parameter_names`), and the base parameters, the combinations of them
 //! that the forces determine.
 //!
-//! The dynamics is linear in each body's standard parameters ([`Dynamics`]), so column `j` of
+//! The dynamics is linear in each body's standard parameters ([`Dynamics`](super::bodies::Dynamics)), so column `j` of
 //! `Y` is the exact derivative `∂Γ/∂π_j`, built by the engine and free of `π`; the friction
 //! columns are `Q̇_i1` and `sign(Q̇_i1)`. The base parameters are found the standard way: `Y`
 //! stacked over seeded states, QR with column pivoting, the columns of `R` past its numerical

@@ -2,20 +2,31 @@
 //! the manifest the generator compiled into `c5-generated`.
 
 use c5_generated::manifest::{Count, KERNELS};
-use c5_runtime::Model;
+use c5_runtime::{Description, Model};
 use clap::Args;
 use std::io::Write;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use crate::options::model_parser;
 
-/// Prints the generated kernels' operation counts beside the chapter's.
+/// Prints the generated kernels' operation counts beside the chapter's (the C5's) or a peer's
+/// (the Gough-Stewart platform's).
 #[derive(Args)]
 pub struct AuditArgs {
-    /// Only the kernels of this model (default: both).
+    /// Only the kernels of this C5 model (default: every model and mechanism).
     #[arg(long, value_parser = model_parser())]
     model: Option<Model>,
+    /// Only the kernels of this robot file's mechanism (a C5 file: both C5 models, or
+    /// `--model`'s). The `*_params` kernels' counts hold for every robot of the mechanism; the
+    /// folded ones are those of the checked-in robot (the chapter's, `docs/hexapod.toml`).
+    #[arg(long)]
+    robot: Option<PathBuf>,
 }
+
+/// robsynth's generated inverse dynamics of a 6-UPS in task space, parameters as inputs and the
+/// legs' joint angles given (`P6RRPRRR14V3G1A0_invdyn_para_pf_slag_vp1`): its published count.
+const ROBSYNTH_UPS: [u32; 4] = [2660, 12, 1664, 42];
 
 fn calls(c: &Count) -> String {
     if c.calls.is_empty() {
@@ -32,14 +43,16 @@ fn calls(c: &Count) -> String {
 /// The audit table: each kernel's `m + a` (a division counted as a multiplication) beside the
 /// chapter's and their ratio, then the separate counts; only `model`'s kernels when given.
 pub fn table(model: Option<Model>) -> String {
+    table_of(&|m| model.is_none_or(|model| model.name() == m))
+}
+
+/// The audit table of the kernels whose model `keep` keeps.
+fn table_of(keep: &dyn Fn(&str) -> bool) -> String {
     let mut out = format!(
         "{:<10} {:<30} {:>8} {:>12} {:>12} {:>6}  mul/div/add/neg, calls\n",
         "model", "kernel", "setting", "chapter", "generated", "ratio"
     );
-    for e in KERNELS
-        .iter()
-        .filter(|e| model.is_none_or(|m| m.name() == e.model))
-    {
+    for e in KERNELS.iter().filter(|e| keep(e.model)) {
         let c = &e.count;
         let (m, a) = (c.chapter_m(), c.chapter_a());
         let (chapter, ratio) = match e.chapter {
@@ -65,16 +78,58 @@ pub fn table(model: Option<Model>) -> String {
         ));
     }
     out.push_str(
-        "\nratio = generated (m + a) / chapter (m + a); a division counts as a multiplication.\n\
-         The chapter's Khalil step 6 (J⁻¹ by eq 22, then an LU solve of eq 61) costs 134m + 125a;\n\
-         the generated factored step 6 is `step6_factored`.\n",
+        "\nratio = generated (m + a) / chapter (m + a); a division counts as a multiplication.\n",
     );
+    if keep("consistent") || keep("paper") {
+        out.push_str(
+            "The chapter's Khalil step 6 (J⁻¹ by eq 22, then an LU solve of eq 61) costs 134m + 125a;\n\
+             the generated factored step 6 is `step6_factored`.\n",
+        );
+    }
+    let hexapod = c5_runtime::gough_stewart::MECHANISM;
+    if let (true, Some(e)) = (
+        keep(hexapod),
+        KERNELS
+            .iter()
+            .find(|e| e.model == hexapod && e.name == "inverse_dynamics_params"),
+    ) {
+        let [mul, div, add, calls] = ROBSYNTH_UPS;
+        let c = &e.count;
+        out.push_str(&format!(
+            "The 6-UPS inverse dynamics with every parameter an input (inverse kinematics included):\n\
+             generated `inverse_dynamics_params` {}/{}/{}/{} ({} calls), robsynth's \
+             {mul}/{div}/{add}/- ({calls} calls, joint angles given): {:.2} of its multiplications, \
+             {:.2} of its additions.\n",
+            c.mul,
+            c.div,
+            c.add,
+            c.neg,
+            c.calls.iter().map(|(_, n)| n).sum::<u32>(),
+            f64::from(c.mul) / f64::from(mul),
+            f64::from(c.add) / f64::from(add),
+        ));
+    }
     out
 }
 
 pub fn run(args: &AuditArgs) -> crate::Result<ExitCode> {
-    std::io::stdout()
-        .lock()
-        .write_all(table(args.model).as_bytes())?;
+    let table = match &args.robot {
+        None => table(args.model),
+        Some(path) => {
+            let mechanism = match Description::from_toml_file(path)? {
+                Description::C5(_) => None,
+                other => Some(other.mechanism()),
+            };
+            let model = args.model;
+            table_of(&move |m| match mechanism {
+                Some(name) => m == name,
+                None => {
+                    m != c5_runtime::gough_stewart::MECHANISM
+                        && model.is_none_or(|model| model.name() == m)
+                }
+            })
+        }
+    };
+    std::io::stdout().lock().write_all(table.as_bytes())?;
     Ok(ExitCode::SUCCESS)
 }
