@@ -75,6 +75,9 @@ pub trait ParallelRobot: core::fmt::Debug + Send + Sync {
     fn speed_and_force_limits(&self) -> (Option<f64>, Option<f64>);
     /// Whether the description sets any limit.
     fn has_limits(&self) -> bool;
+    /// A length of the robot that turns rates into speeds for dexterity measures (m): the
+    /// C5's half-spacing, a hexapod's platform radius.
+    fn characteristic_length(&self) -> f64;
 
     /// [`ParallelRobot::evaluate`] of every state, or the first refused with its index.
     fn evaluate_many(&self, states: &[State]) -> Result<Vec<Evaluation>, (usize, Error)> {
@@ -226,6 +229,9 @@ impl ParallelRobot for C5 {
     fn has_limits(&self) -> bool {
         self.robot().limits.any()
     }
+    fn characteristic_length(&self) -> f64 {
+        self.robot().half_spacing
+    }
 }
 
 impl ParallelRobot for GoughStewart {
@@ -302,5 +308,13 @@ impl ParallelRobot for GoughStewart {
     }
     fn has_limits(&self) -> bool {
         self.robot().limits.any()
+    }
+    /// The mean distance of the platform joints from `C`.
+    fn characteristic_length(&self) -> f64 {
+        let legs = &self.robot().legs;
+        legs.iter()
+            .map(|l| crate::math::sqrt(l.platform.iter().map(|x| x * x).sum()))
+            .sum::<f64>()
+            / legs.len() as f64
     }
 }

@@ -3,12 +3,12 @@
 //! limit of its description, and regular) and how well conditioned it is there.
 //!
 //! Two measures at each reachable pose (Merlet's): the inverse condition number of `J⁻¹`, its
-//! angular columns divided by the half-spacing `L` so that every column is in m/s (the
-//! characteristic-length normalisation; 1 is isotropic, 0 singular), and the largest actuator
+//! angular columns divided by a characteristic length (the C5's half-spacing `L`, a hexapod's
+//! platform radius) so that every column is in m/s (1 is isotropic, 0 singular), and the largest actuator
 //! force per newton of load on the platform, `max_i |J_v,i|` (column `i` of `J`'s linear rows:
 //! `Γ = Jᵀ (0; f)` for a unit force `f`).
 
-use crate::{Error, Pose, C5};
+use crate::{Error, ParallelRobot, Pose};
 use nalgebra::{Matrix6, SymmetricEigen};
 
 /// What a grid sweeps: the centre at a fixed orientation, or the orientation at a fixed centre.
@@ -90,11 +90,11 @@ impl Map {
 
 /// The dexterity at `pose`, or `None` if the robot does not reach it (a limit broken, a
 /// singular pose).
-pub fn dexterity(robot: &C5, pose: &Pose) -> Option<(f64, f64)> {
+pub fn dexterity(robot: &dyn ParallelRobot, pose: &Pose) -> Option<(f64, f64)> {
     robot.check_limits(pose).ok()?;
     let jinv = robot.inverse_jacobian(pose).ok()?;
     let jac = robot.jacobian(pose).ok()?;
-    let l = robot.robot().half_spacing;
+    let l = robot.characteristic_length();
     let n = Matrix6::from_fn(|i, j| jinv[i][j] / if j < 3 { l } else { 1.0 });
     let eigen = SymmetricEigen::new(n.transpose() * n).eigenvalues;
     let (lo, hi) = eigen
@@ -114,7 +114,11 @@ pub fn dexterity(robot: &C5, pose: &Pose) -> Option<(f64, f64)> {
 /// # Errors
 /// [`Error::Invalid`] for a grid of fewer than 2 points per axis, a box that is empty or not
 /// finite, or more than 10⁸ points.
-pub fn map(robot: &C5, grid: &Grid, progress: &(dyn Fn(usize) + Sync)) -> Result<Map, Error> {
+pub fn map(
+    robot: &dyn ParallelRobot,
+    grid: &Grid,
+    progress: &(dyn Fn(usize) + Sync),
+) -> Result<Map, Error> {
     let ok = (0..3).all(|a| {
         grid.lower[a].is_finite() && grid.upper[a].is_finite() && grid.lower[a] < grid.upper[a]
     });

@@ -44,32 +44,36 @@ pub struct WorkspaceArgs {
     out: PathBuf,
 }
 
-fn three(v: &Option<Vec<f64>>, flag: &str) -> crate::Result<[f64; 3]> {
+fn three(v: &Option<Vec<f64>>, flag: &str, default: [f64; 3]) -> crate::Result<[f64; 3]> {
     match v {
-        None => Ok([0.0; 3]),
+        None => Ok(default),
         Some(v) if v.len() == 3 && v.iter().all(|x| x.is_finite()) => Ok([v[0], v[1], v[2]]),
         Some(_) => Err(format!("{flag} takes three finite numbers").into()),
     }
 }
 
 pub fn run(args: &WorkspaceArgs) -> crate::Result<ExitCode> {
-    let robot = args.robot.load()?;
-    let (sweep, range, names, unit) = match &args.at {
+    let robot = args.robot.load_any()?;
+    // About the robot's home: the C5's is the origin, a hexapod's above its base.
+    let home = robot.home().center;
+    let (sweep, range, names, unit, middle) = match &args.at {
         Some(_) => (
             Sweep::Orientations {
-                centre: three(&args.at, "--at")?,
+                centre: three(&args.at, "--at", home)?,
             },
             args.range.unwrap_or(1.2),
             ["alpha", "beta", "gamma"],
             "rad³",
+            [0.0; 3],
         ),
         None => (
             Sweep::Centres {
-                orientation: three(&args.orientation, "--orientation")?,
+                orientation: three(&args.orientation, "--orientation", [0.0; 3])?,
             },
             args.range.unwrap_or(0.3),
             ["xc", "yc", "zc"],
             "m³",
+            home,
         ),
     };
     if !(range > 0.0 && range.is_finite()) {
@@ -77,8 +81,8 @@ pub fn run(args: &WorkspaceArgs) -> crate::Result<ExitCode> {
     }
     let grid = Grid {
         sweep,
-        lower: [-range; 3],
-        upper: [range; 3],
+        lower: middle.map(|m| m - range),
+        upper: middle.map(|m| m + range),
         points: args.points,
     };
     let total = args.points.saturating_pow(3);
@@ -88,7 +92,7 @@ pub fn run(args: &WorkspaceArgs) -> crate::Result<ExitCode> {
             .expect("a valid template"),
     );
     let started = Instant::now();
-    let m = map(&robot, &grid, &|done| bar.set_position(done as u64))?;
+    let m = map(robot.as_ref(), &grid, &|done| bar.set_position(done as u64))?;
     bar.finish_and_clear();
     let elapsed = started.elapsed();
     std::fs::create_dir_all(&args.out)?;
@@ -107,7 +111,7 @@ pub fn run(args: &WorkspaceArgs) -> crate::Result<ExitCode> {
         written.push(path);
     }
     let mut report = std::io::stdout().lock();
-    if !robot.robot().limits.any() {
+    if !robot.has_limits() {
         writeln!(
             report,
             "note: the robot sets no [limits]; only singular poses are out of reach"
