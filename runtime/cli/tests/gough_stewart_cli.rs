@@ -227,9 +227,9 @@ fn simulate_track_workspace_and_audit_serve_the_hexapod() {
                 accel: c5_runtime::Acceleration::from_array(accel),
             })
             .unwrap();
-        for i in 0..6 {
+        for (i, expected) in gamma.iter().enumerate() {
             let got = v(&format!("gamma{}", i + 1));
-            assert!((got - gamma[i]).abs() < 1e-9 * gamma[i].abs().max(1.0));
+            assert!((got - expected).abs() < 1e-9 * expected.abs().max(1.0));
         }
     }
     // Computed torque from an offset start converges onto the trajectory.
