@@ -52,7 +52,7 @@ fn the_regressors_times_the_parameters_are_the_inverse_dynamics_with_friction() 
             let friction = random_friction(&mut r);
             let c5 = C5::with_model(robot, model).unwrap();
             let pi = robot.standard_parameters(&friction);
-            let beta = c5.base_parameters().of_robot(&robot, &friction);
+            let beta = c5.base_parameters().of_robot(&c5, &friction).unwrap();
             for _ in 0..20 {
                 let state = random_state(&mut r);
                 let want = measured(&c5, &friction, &state);
@@ -85,9 +85,11 @@ fn the_base_parameters_are_few_and_read_as_relations() {
     assert_eq!((consistent.len(), paper.len()), (46, 52));
     assert!(consistent
         .relations()
-        .contains(&"rod1_mass_R = rod1_mass + joint1_mass"));
+        .iter()
+        .any(|r| r == "rod1_mass_R = rod1_mass + joint1_mass"));
     // The paper model moves body 2 unlike its rod, so their masses stay apart.
-    assert!(paper.names().contains(&"joint1_mass") && paper.names().contains(&"rod1_mass"));
+    let named = |name: &str| paper.names().iter().any(|n| n == name);
+    assert!(named("joint1_mass") && named("rod1_mass"));
 }
 
 /// A short exciting trajectory for the tests (the CLI searches longer).
@@ -121,7 +123,7 @@ fn noise_free_data_identify_a_robot_that_predicts_unseen_forces() {
         };
         let blank = C5::with_model(geometry_only, model).unwrap();
         let trajectory = excitation(&blank);
-        let mut identifier = Identifier::new(&blank);
+        let mut identifier = Identifier::new(&blank).unwrap();
         for state in samples(&trajectory, 2000) {
             identifier
                 .add(&state, &measured(&truth, &friction, &state))
@@ -133,7 +135,7 @@ fn noise_free_data_identify_a_robot_that_predicts_unseen_forces() {
             "{}",
             estimate.condition_number
         );
-        let beta = blank.base_parameters().of_robot(&robot, &friction);
+        let beta = blank.base_parameters().of_robot(&truth, &friction).unwrap();
         let err = estimate
             .values
             .iter()
@@ -172,7 +174,7 @@ fn the_reported_standard_deviations_match_the_spread_over_noisy_draws() {
     let mut values = vec![Vec::with_capacity(draws); nb];
     let mut reported = vec![0.0; nb];
     for _ in 0..draws {
-        let mut identifier = Identifier::new(&c5);
+        let mut identifier = Identifier::new(&c5).unwrap();
         for (state, gamma) in states.iter().zip(&clean) {
             let noisy = std::array::from_fn(|i| gamma[i] + sigma[i] * gaussian(&mut r));
             identifier.add(state, &noisy).unwrap();
@@ -203,7 +205,7 @@ fn the_reported_standard_deviations_match_the_spread_over_noisy_draws() {
 #[test]
 fn too_few_samples_are_refused() {
     let c5 = C5::new(Robot::default()).unwrap();
-    let mut identifier = Identifier::new(&c5);
+    let mut identifier = Identifier::new(&c5).unwrap();
     let mut r = rng(93);
     for _ in 0..5 {
         let state = random_state(&mut r);
@@ -218,7 +220,7 @@ fn too_few_samples_are_refused() {
 #[test]
 fn section_9_cannot_identify_the_rotational_parameters_and_says_which() {
     let c5 = C5::new(Robot::default()).unwrap();
-    let mut identifier = Identifier::new(&c5);
+    let mut identifier = Identifier::new(&c5).unwrap();
     let motion = LinearMove::section9();
     for k in 0..=1000 {
         let state = motion.state(k as f64 / 1000.0);
@@ -256,7 +258,7 @@ fn section_9_cannot_identify_the_rotational_parameters_and_says_which() {
 #[test]
 fn bad_samples_are_refused_and_lose_nothing() {
     let c5 = C5::new(Robot::default()).unwrap();
-    let mut identifier = Identifier::new(&c5);
+    let mut identifier = Identifier::new(&c5).unwrap();
     let mut state = State::default();
     assert!(identifier.add(&state, &[f64::NAN; 6]).is_err());
     state.pose.beta = std::f64::consts::FRAC_PI_2;

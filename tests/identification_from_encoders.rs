@@ -60,7 +60,7 @@ fn identify(truth: &C5, friction: &[Friction; 6], filter: LogFilter, seed: u64) 
         ..Robot::default()
     })
     .unwrap();
-    let mut identifier = Identifier::new(&geometry);
+    let mut identifier = Identifier::new(&geometry).unwrap();
     for s in &kept {
         let state = geometry.joint_state(&s.q, &s.qd, &s.qdd).unwrap();
         identifier.add(&state, &s.gamma).unwrap();

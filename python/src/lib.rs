@@ -1,4 +1,5 @@
-//! `c5_kernels`: the C5 robot's generated kernels for numpy.
+//! `c5_kernels`: the generated kernels of the C5 robot and of any mechanism a robot file
+//! describes (the Gough–Stewart platform), for numpy.
 //!
 //! Every method takes one state (vectors of shape `(6,)` or `(3,)`) or a batch (`(N, 6)`,
 //! `(N, 3)`) and returns arrays of the matching shape. Inputs that are contiguous `float64`
@@ -6,8 +7,10 @@
 //! without the GIL, in Rust, the inverse and forward dynamics four states at a time through the
 //! batch kernels (each lane computing exactly what the single-state kernel does).
 
-use c5_runtime::identify::{standard_parameter_names, Friction, Identifier, STANDARD_PARAMETERS};
-use c5_runtime::{Acceleration, Error, Model, Pose, Robot, State, Twist, C5 as Robot5};
+use c5_runtime::identify::{BaseParameters, Friction, Identifier};
+use c5_runtime::{
+    Acceleration, Description, Error, Model, ParallelRobot, Pose, State, Twist, C5 as Robot5,
+};
 use numpy::ndarray::{ArrayD, IxDyn};
 use numpy::{
     AllowTypeChange, IntoPyArray, PyArray1, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods,
@@ -18,6 +21,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use std::borrow::Cow;
+use std::sync::OnceLock;
 
 create_exception!(
     c5_kernels,
@@ -318,31 +322,63 @@ fn forward_args<'a, 'py>(
     ]
 }
 
-/// The C5 joint parallel robot: a robot description and a model of its legs' mechanism.
+/// A parallel robot from its description: the C5 joint parallel robot (the default, with a
+/// model of its legs' mechanism) or any mechanism a robot file names (`mechanism =
+/// "gough-stewart"`).
 ///
 /// Conventions (as the Rust crates): SI units and radians; pose `[α β γ xc yc zc]` with
 /// `R = Rx(α) Ry(β) Rz(γ)`; twist `ω`, `v_C` at the platform centre, base frame; classical
-/// accelerations `ω̇`, `a_C = d v_C/dt`; actuators in segment order 1..6, `q` the ball centre's
-/// position along the actuator axis, a positive force pushing the rod along `+n_i`.
+/// accelerations `ω̇`, `a_C = d v_C/dt`; actuators in order 1..6. The C5's `q` is the ball
+/// centre's position along the actuator axis, a positive force pushing the rod along `+n_i`;
+/// a hexapod's `q` is the leg's length (plus its encoder offset), a positive force extending
+/// the leg.
 #[pyclass(module = "c5_kernels", frozen)]
 struct C5 {
-    inner: Robot5,
+    inner: Box<dyn ParallelRobot>,
+    /// Found on first use: a hexapod's groupings take a few hundred microseconds.
+    base: OnceLock<Result<BaseParameters, String>>,
 }
 
-fn load(model: &str, robot: Option<std::path::PathBuf>) -> PyResult<Robot5> {
+fn load(model: &str, robot: Option<std::path::PathBuf>) -> PyResult<Box<dyn ParallelRobot>> {
     let model: Model = model
         .parse()
         .map_err(|e: c5_robot::Error| PyValueError::new_err(e.to_string()))?;
-    let robot = match robot {
-        None => Robot::default(),
+    let description = match robot {
+        None => Description::default(),
         Some(path) => {
-            Robot::from_toml_file(&path).map_err(|e| PyValueError::new_err(e.to_string()))?
+            Description::from_toml_file(&path).map_err(|e| PyValueError::new_err(e.to_string()))?
         }
     };
-    Robot5::with_model(robot, model).map_err(|e| PyValueError::new_err(e.to_string()))
+    c5_runtime::mechanism::robot(description, model)
+        .map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
+/// What only the C5 serves, refused for another mechanism.
+fn unsupported(what: &'static str, robot: &dyn ParallelRobot) -> Error {
+    Error::Unsupported {
+        what,
+        mechanism: robot.mechanism(),
+        why: "it is the C5's alone",
+    }
 }
 
 impl C5 {
+    /// The robot as a C5, for what only the C5 serves.
+    fn c5(&self, what: &'static str) -> PyResult<&Robot5> {
+        self.inner
+            .as_any()
+            .downcast_ref::<Robot5>()
+            .ok_or_else(|| PyValueError::new_err(unsupported(what, &*self.inner).to_string()))
+    }
+
+    /// The robot's base parameters.
+    fn base(&self) -> PyResult<&BaseParameters> {
+        self.base
+            .get_or_init(|| self.inner.base_parameters().map_err(|e| e.to_string()))
+            .as_ref()
+            .map_err(|e| PyValueError::new_err(e.clone()))
+    }
+
     /// Inputs to rows: each given argument checked against the call's shape, each omitted one
     /// zeros.
     fn read<'a>(args: &[(&str, usize, Option<&'a Array<'_>>)]) -> PyResult<(Vec<Rows<'a>>, Batch)> {
@@ -373,12 +409,12 @@ impl C5 {
         f: F,
     ) -> PyResult<Bound<'py, PyAny>>
     where
-        F: Fn(&Robot5, &[f64; 6]) -> Result<[[f64; 6]; 6], Error> + Sync,
+        F: Fn(&dyn ParallelRobot, &[f64; 6]) -> Result<[[f64; 6]; 6], Error> + Sync,
     {
         let mode = on_error(errors)?;
         let (r, batch) = Self::read(&[(name, 6, Some(arg))])?;
         each_row(py, batch, mode, &[&[6, 6]], |k, out| {
-            let m = f(&self.inner, &r[0].row(k))?;
+            let m = f(&*self.inner, &r[0].row(k))?;
             out.put(0, k, m.as_flattened());
             Ok(())
         })
@@ -387,21 +423,29 @@ impl C5 {
 
 #[pymethods]
 impl C5 {
-    /// The robot of the TOML file `robot` (or the chapter's, `None`) with `model`,
+    /// The robot of the TOML file `robot` (or the chapter's C5, `None`); a C5 with `model`,
     /// `"consistent"` (the mechanism of eq 16, the default) or `"paper"` (the chapter as
-    /// published).
+    /// published). A file of another mechanism (`mechanism = "gough-stewart"`) gives that
+    /// robot, whose one model is its mechanism's.
     #[new]
     #[pyo3(signature = (model = "consistent", robot = None))]
     fn new(model: &str, robot: Option<std::path::PathBuf>) -> PyResult<Self> {
         Ok(C5 {
             inner: load(model, robot)?,
+            base: OnceLock::new(),
         })
     }
 
-    /// The model's name.
+    /// The model's name (`consistent`, `paper`, `gough-stewart`).
     #[getter]
     fn model(&self) -> &'static str {
-        self.inner.model().name()
+        self.inner.model_name()
+    }
+
+    /// The mechanism's name, as robot files spell it (`c5`, `gough-stewart`).
+    #[getter]
+    fn mechanism(&self) -> &'static str {
+        self.inner.mechanism()
     }
 
     /// The robot's parameter vector, as the generated `*_params` kernels take it.
@@ -412,13 +456,14 @@ impl C5 {
 
     fn __repr__(&self) -> String {
         format!(
-            "C5(model={:?}, half_spacing={} m)",
-            self.inner.model().name(),
-            self.inner.robot().half_spacing
+            "C5(mechanism={:?}, model={:?}, characteristic_length={} m)",
+            self.inner.mechanism(),
+            self.inner.model_name(),
+            self.inner.characteristic_length()
         )
     }
 
-    /// Actuator positions `q` (m), segment order, of `pose`: `(6,)` or `(N, 6)`.
+    /// Actuator positions `q` (m), actuator order, of `pose`: `(6,)` or `(N, 6)`.
     #[pyo3(signature = (pose, *, errors = "raise"))]
     fn inverse_kinematics<'py>(
         &self,
@@ -430,7 +475,7 @@ impl C5 {
         let (r, batch) = Self::read(&[("pose", 6, Some(&pose))])?;
         let c5 = &self.inner;
         each_row(py, batch, mode, &[&[6]], |k, out| {
-            let (q, _) = c5.inverse_kinematics(&Pose::from_array(r[0].row(k)))?;
+            let q = c5.actuator_positions(&Pose::from_array(r[0].row(k)))?;
             out.put(0, k, &q);
             Ok(())
         })
@@ -513,14 +558,10 @@ impl C5 {
         ))?;
         let c5 = &self.inner;
         call(py, batch, mode, &[&[6]], |out| {
-            c5.inverse_dynamics_each(
-                batch.n,
-                |k| motion(&r, k),
-                |k, gamma| match gamma {
-                    Ok(gamma) => out.put(0, k, &gamma),
-                    Err(e) => out.refuse(k, e),
-                },
-            )
+            c5.inverse_dynamics_each(batch.n, &|k| motion(&r, k), &mut |k, gamma| match gamma {
+                Ok(gamma) => out.put(0, k, &gamma),
+                Err(e) => out.refuse(k, e),
+            })
         })
     }
 
@@ -548,7 +589,7 @@ impl C5 {
             (Pose::from_array(r[0].row(k)), twist, r[3].row(k))
         };
         call(py, batch, mode, &[&[3], &[3]], |out| {
-            c5.forward_dynamics_each(batch.n, input, |k, a| match a {
+            c5.forward_dynamics_each(batch.n, &input, &mut |k, a| match a {
                 Ok(a) => {
                     out.put(0, k, &a.omega_dot);
                     out.put(1, k, &a.linear);
@@ -571,9 +612,9 @@ impl C5 {
         })
     }
 
-    /// The forward kinematics in closed form: the pose `[α β γ xc yc zc]` of the actuator
-    /// positions `q` (m): `(6,)` or `(N, 6)`. Raises `SingularPoseError` at or beyond the
-    /// forward singularity (`1 + abc < 1e-9`).
+    /// The forward kinematics: the pose `[α β γ xc yc zc]` of the actuator positions `q` (m):
+    /// `(6,)` or `(N, 6)`; the C5's in closed form (raises `SingularPoseError` at or beyond
+    /// the forward singularity, `1 + abc < 1e-9`), a hexapod's by Newton from its home pose.
     #[pyo3(signature = (q, *, errors = "raise"))]
     fn forward_kinematics<'py>(
         &self,
@@ -585,7 +626,7 @@ impl C5 {
         let (r, batch) = Self::read(&[("q", 6, Some(&q))])?;
         let c5 = &self.inner;
         each_row(py, batch, mode, &[&[6]], |k, out| {
-            let pose = c5.forward_kinematics(&r[0].row(k))?;
+            let pose = c5.forward_kinematics(&r[0].row(k), None)?;
             out.put(0, k, &pose.to_array());
             Ok(())
         })
@@ -611,7 +652,7 @@ impl C5 {
             mode,
             &[&[6], &[3], &[3], &[3], &[3]],
             |k, out| {
-                let s = c5.joint_state(&r[0].row(k), &r[1].row(k), &r[2].row(k))?;
+                let s = c5.joint_state(&r[0].row(k), &r[1].row(k), &r[2].row(k), None)?;
                 out.put(0, k, &s.pose.to_array());
                 out.put(1, k, &s.twist.omega);
                 out.put(2, k, &s.twist.velocity);
@@ -639,7 +680,7 @@ impl C5 {
         let c5 = &self.inner;
         let sample = |k: usize| [r[0].row(k), r[1].row(k), r[2].row(k)];
         call(py, batch, mode, &[&[6]], |out| {
-            c5.inverse_dynamics_joint_each(batch.n, sample, |k, gamma| match gamma {
+            c5.inverse_dynamics_joint_each(batch.n, &sample, &mut |k, gamma| match gamma {
                 Ok(gamma) => out.put(0, k, &gamma),
                 Err(e) => out.refuse(k, e),
             })
@@ -655,7 +696,7 @@ impl C5 {
         q: Array<'py>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        self.matrices(py, "q", &q, errors, |c5, q| c5.joint_inertia(q))
+        self.matrices(py, "q", &q, errors, |c5, q| c5.joint_inertia(q, None))
     }
 
     /// The inverse dynamics and its exact Jacobians, from one generated kernel: `(gamma,
@@ -726,7 +767,7 @@ impl C5 {
     }
 
     /// The joint-space inverse dynamics and its exact Jacobians: `(gamma, d_q, d_qd, d_qdd)`,
-    /// row `i` actuator `i`, columns actuators 1..6; `d_qdd` is `M_q`.
+    /// row `i` actuator `i`, columns actuators 1..6; `d_qdd` is `M_q`. The C5's only.
     #[pyo3(signature = (q, qd = None, qdd = None, *, errors = "raise"))]
     fn inverse_dynamics_joint_derivatives<'py>(
         &self,
@@ -738,7 +779,7 @@ impl C5 {
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = on_error(errors)?;
         let (r, batch) = Self::read(&joint_args(&q, &qd, &qdd))?;
-        let c5 = &self.inner;
+        let c5 = self.c5("joint-space derivatives")?;
         let shapes: [&[usize]; 4] = [&[6], &[6, 6], &[6, 6], &[6, 6]];
         each_row(py, batch, mode, &shapes, |k, out| {
             let d =
@@ -754,7 +795,7 @@ impl C5 {
     /// The margins of the robot's stroke, plate-travel and tilt limits at `pose`: `(stroke,
     /// plate, tilt)`, `(6,)` (m), `(6, 2)` (m, the plate's two axes) and `(6,)` (rad), or with a
     /// leading `N`; positive inside, negative outside, `inf` where the robot file sets no such
-    /// limit.
+    /// limit. The C5's only (a hexapod's limits: `c5 workspace`).
     #[pyo3(signature = (pose, *, errors = "raise"))]
     fn limit_margins<'py>(
         &self,
@@ -764,7 +805,7 @@ impl C5 {
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = on_error(errors)?;
         let (r, batch) = Self::read(&[("pose", 6, Some(&pose))])?;
-        let c5 = &self.inner;
+        let c5 = self.c5("limit margins")?;
         each_row(py, batch, mode, &[&[6], &[6, 2], &[6]], |k, out| {
             let m = c5.limit_margins(&Pose::from_array(r[0].row(k)))?;
             out.put(0, k, &m.stroke);
@@ -776,10 +817,10 @@ impl C5 {
 
     /// The robot's limits as its file gives them: a dict with `stroke` (`(6, 2)`, m, min and
     /// max), `plate_travel` (`(2,)`, m), `tilt` (rad), `speed` (m/s) and `force` (N), each `None`
-    /// where the file sets none.
+    /// where the file sets none. The C5's only.
     #[getter]
     fn limits<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let l = &self.inner.robot().limits;
+        let l = &self.c5("limits")?.robot().limits;
         let d = PyDict::new(py);
         d.set_item("stroke", l.stroke.map(|s| s.to_vec()))?;
         d.set_item("plate_travel", l.plate_travel.map(|t| t.to_vec()))?;
@@ -809,14 +850,14 @@ impl C5 {
             [&omega, &velocity, &omega_dot, &acceleration],
         ))?;
         let c5 = &self.inner;
-        let nb = c5.base_parameters().len();
+        let nb = self.base()?.len();
         each_row(py, batch, mode, &[&[6, nb]], |k, out| {
             c5.base_regressor_into(&motion(&r, k), out.slot(0, k))
         })
     }
 
-    /// The regressor `Y` of `Γ = Y π` (with friction): `(6, 142)` or `(N, 6, 142)`, the
-    /// columns the standard parameters of `standard_parameters`.
+    /// The regressor `Y` of `Γ = Y π` (with friction): `(6, n)` or `(N, 6, n)`, the columns
+    /// the standard parameters of `standard_parameters` (142 for the C5, 70 for a hexapod).
     #[pyo3(signature = (pose, omega = None, velocity = None, omega_dot = None, acceleration = None, *, errors = "raise"))]
     #[allow(clippy::too_many_arguments)]
     fn regressor<'py>(
@@ -835,8 +876,9 @@ impl C5 {
             [&omega, &velocity, &omega_dot, &acceleration],
         ))?;
         let c5 = &self.inner;
-        each_row(py, batch, mode, &[&[6, STANDARD_PARAMETERS]], |k, out| {
-            let y = c5.regressor(&motion(&r, k))?;
+        let n = self.base()?.standard_names().len();
+        each_row(py, batch, mode, &[&[6, n]], |k, out| {
+            let y = c5.standard_regressor(&motion(&r, k))?;
             // nalgebra stores columns; the array is row-major.
             for (slot, value) in out.slot(0, k).iter_mut().zip(y.transpose().iter()) {
                 *slot = *value;
@@ -845,13 +887,13 @@ impl C5 {
         })
     }
 
-    /// The standard parameters' names, the columns of `regressor`: per body (`platform`,
-    /// `rod1`, `joint1`, …, `joint6`) mass, first moment `m c` and inertia (`platform_mass`,
-    /// `platform_mx`, …, `platform_izz`), then the actuators' friction `fv1`…`fv6`,
-    /// `fc1`…`fc6`.
+    /// The standard parameters' names, the columns of `regressor`: per body (the C5's
+    /// `platform`, `rod1`, `joint1`, …; a hexapod's `platform`, `cylinder1`, `rod1`, …) mass,
+    /// first moment `m c` and inertia (`platform_mass`, `platform_mx`, …, `platform_izz`),
+    /// then the actuators' friction `fv1`…`fv6`, `fc1`…`fc6`.
     #[getter]
-    fn standard_parameters(&self) -> Vec<String> {
-        standard_parameter_names()
+    fn standard_parameters(&self) -> PyResult<Vec<String>> {
+        Ok(self.base()?.standard_names().to_vec())
     }
 
     /// This robot's standard parameters `π`, in the order of `standard_parameters`, with the
@@ -864,7 +906,7 @@ impl C5 {
         coulomb: Option<[f64; 6]>,
     ) -> Bound<'py, PyArrayDyn<f64>> {
         let friction = friction(viscous, coulomb);
-        vector(py, self.inner.robot().standard_parameters(&friction))
+        vector(py, self.inner.standard_parameters(&friction))
     }
 
     /// This robot's base parameters `β = B π`, in the order of `base_parameters`, with the
@@ -875,16 +917,19 @@ impl C5 {
         py: Python<'py>,
         viscous: Option<[f64; 6]>,
         coulomb: Option<[f64; 6]>,
-    ) -> Bound<'py, PyArrayDyn<f64>> {
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let friction = friction(viscous, coulomb);
-        let base = self.inner.base_parameters();
-        vector(py, base.of_robot(self.inner.robot(), &friction))
+        let beta = self
+            .base()?
+            .of_robot(&*self.inner, &friction)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Ok(vector(py, beta))
     }
 
     /// The base parameters' names, the columns of `base_regressor`.
     #[getter]
-    fn base_parameters(&self) -> Vec<&'static str> {
-        self.inner.base_parameters().names().to_vec()
+    fn base_parameters(&self) -> PyResult<Vec<String>> {
+        Ok(self.base()?.names().to_vec())
     }
 
     /// Identifies the base parameters (inertial and friction) from measured states and forces
@@ -910,9 +955,9 @@ impl C5 {
             ("acceleration", 3, Some(&acceleration)),
             ("gamma", 6, Some(&gamma)),
         ])?;
-        let c5 = &self.inner;
+        let c5 = &*self.inner;
         let estimate = py.detach(|| -> Result<_, String> {
-            let mut identifier = Identifier::new(c5);
+            let mut identifier = Identifier::new(c5).map_err(|e| e.to_string())?;
             for k in 0..batch.n {
                 let state = motion(&r, k);
                 identifier
@@ -923,7 +968,7 @@ impl C5 {
         });
         let e = estimate.map_err(PyValueError::new_err)?;
         let d = PyDict::new(py);
-        d.set_item("model", e.model.name())?;
+        d.set_item("model", e.model.clone())?;
         d.set_item("names", e.names.clone())?;
         d.set_item("values", e.values.clone())?;
         d.set_item("std_dev", e.std_dev.clone())?;
@@ -934,7 +979,8 @@ impl C5 {
     }
 }
 
-/// The C5 joint parallel robot's generated kernels for numpy. See `C5`.
+/// The generated kernels of the C5 joint parallel robot and the Gough–Stewart platform, for
+/// numpy. See `C5`.
 #[pymodule]
 fn c5_kernels(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<C5>()?;

@@ -7,8 +7,10 @@
 //! its key's own order: the pose `α β γ xc yc zc`, the twist `ωx ωy ωz vx vy vz`, the
 //! acceleration `ω̇x ω̇y ω̇z ax ay az`, forces and actuator values in segment order.
 
+use crate::gough_stewart::{check_terms, GoughStewart};
 use crate::{check_divisors, check_finite, check_forward, finite, finite_matrix};
 use crate::{Acceleration, Error, Kernels, Pose, State, Twist, C5};
+use c5_generated::f64::gough_stewart as hexapod;
 
 /// `Γ` and its exact Jacobians at a platform state.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -124,6 +126,55 @@ impl C5 {
             d_q: finite_matrix("d_gamma_d_q", d_q)?,
             d_qd: finite_matrix("d_gamma_d_qd", d_qd)?,
             d_qdd: finite_matrix("d_gamma_d_qdd", d_qdd)?,
+        })
+    }
+}
+
+impl GoughStewart {
+    /// The inverse dynamics and its exact Jacobians with respect to the pose, the twist and the
+    /// acceleration, in one kernel.
+    ///
+    /// # Errors
+    /// Non-finite inputs, a singular pose or a non-finite result.
+    pub fn inverse_dynamics_derivatives(
+        &self,
+        state: &State,
+    ) -> Result<InverseDynamicsDerivatives, Error> {
+        let [x, v, a] = C5::checked_motion(state)?;
+        let (gamma, d_pose, d_twist, d_accel, guard) =
+            hexapod::inverse_dynamics_derivatives_params(&x, &v, &a, self.parameters());
+        check_terms(&guard)?;
+        Ok(InverseDynamicsDerivatives {
+            gamma: finite("gamma", gamma)?,
+            d_pose: finite_matrix("d_gamma_d_pose", d_pose)?,
+            d_twist: finite_matrix("d_gamma_d_twist", d_twist)?,
+            d_accel: finite_matrix("d_gamma_d_acceleration", d_accel)?,
+        })
+    }
+
+    /// The forward dynamics and its exact Jacobians with respect to the pose, the twist and the
+    /// actuator forces `gamma` (N, leg order), in one kernel.
+    ///
+    /// # Errors
+    /// Non-finite inputs, a singular pose or a non-finite result.
+    pub fn forward_dynamics_derivatives(
+        &self,
+        pose: &Pose,
+        twist: &Twist,
+        gamma: &[f64; 6],
+    ) -> Result<ForwardDynamicsDerivatives, Error> {
+        let (x, v) = (pose.to_array(), twist.to_array());
+        check_finite("pose", &x)?;
+        check_finite("twist", &v)?;
+        check_finite("gamma", gamma)?;
+        let (a, d_pose, d_twist, d_gamma, guard) =
+            hexapod::forward_dynamics_derivatives_params(&x, &v, gamma, self.parameters());
+        check_terms(&guard)?;
+        Ok(ForwardDynamicsDerivatives {
+            accel: Acceleration::from_array(finite("acceleration", a)?),
+            d_pose: finite_matrix("d_acceleration_d_pose", d_pose)?,
+            d_twist: finite_matrix("d_acceleration_d_twist", d_twist)?,
+            d_gamma: finite_matrix("d_acceleration_d_gamma", d_gamma)?,
         })
     }
 }

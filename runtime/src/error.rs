@@ -46,6 +46,13 @@ pub enum Error {
     /// An iteration stopped short of its tolerance: `what` it computes, and the residual it
     /// reached.
     NotConverged { what: &'static str, residual: f64 },
+    /// The robot's mechanism has no such computation: `what` was asked of the `mechanism`,
+    /// and `why` it has none (and what to do instead).
+    Unsupported {
+        what: &'static str,
+        mechanism: &'static str,
+        why: &'static str,
+    },
     /// A slice argument has the wrong length.
     WrongLength {
         input: &'static str,
@@ -100,6 +107,11 @@ impl fmt::Display for Error {
                 "{what} did not converge: the residual stays at {residual:e} (no pose near the \
                  start has these actuator positions)"
             ),
+            Error::Unsupported {
+                what,
+                mechanism,
+                why,
+            } => write!(f, "no {what} for the {mechanism} mechanism: {why}"),
             Error::WrongLength {
                 input,
                 expected,

@@ -56,7 +56,7 @@ const TERMS: [&str; 12] = [
 
 /// Refuses the singularity terms below their tolerance (or NaN): the U joints' sines, then
 /// (when given) the pivots of the solve.
-fn check_terms(terms: &[f64]) -> Result<(), Error> {
+pub(crate) fn check_terms(terms: &[f64]) -> Result<(), Error> {
     for (k, &value) in terms.iter().enumerate() {
         let bound = if k < 6 {
             U_JOINT_TOLERANCE

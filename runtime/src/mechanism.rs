@@ -6,6 +6,10 @@
 //! acceleration, actuator values and forces in actuator order). [`robot`] makes one from a
 //! [`Description`]: the one place a description is mapped to its mechanism.
 
+#[cfg(feature = "derivatives")]
+use crate::derivatives::{ForwardDynamicsDerivatives, InverseDynamicsDerivatives};
+#[cfg(feature = "identify")]
+use crate::identify::{BaseParameters, Friction};
 use crate::{Acceleration, Error, Evaluation, GoughStewart, Limit, Model, Pose, State, Twist, C5};
 use alloc::boxed::Box;
 use alloc::vec::Vec;
@@ -78,6 +82,90 @@ pub trait ParallelRobot: core::fmt::Debug + Send + Sync {
     /// A length of the robot that turns rates into speeds for dexterity measures (m): the
     /// C5's half-spacing, a hexapod's platform radius.
     fn characteristic_length(&self) -> f64;
+    /// The robot's parameter vector, as its generated `*_params` kernels take it.
+    fn parameters(&self) -> &[f64];
+    /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia at the actuator positions `q`,
+    /// from `near` where the mechanism iterates.
+    fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error>;
+    /// The smallest of the pose's singularity terms, each about 1 far from its singularity
+    /// and 0 at it: the C5's `|r11|`, `|r22|`, `|r33|` (eq 16), a hexapod's U-joint sines and
+    /// pivot ratios of its legs' hold.
+    ///
+    /// # Errors
+    /// A non-finite pose.
+    fn singularity_clearance(&self, pose: &Pose) -> Result<f64, Error>;
+    /// The robot itself, for what only its mechanism serves (the C5's encoders, its paper
+    /// model's kernels).
+    fn as_any(&self) -> &dyn core::any::Any;
+    /// A boxed copy.
+    fn clone_box(&self) -> Box<dyn ParallelRobot>;
+
+    /// The standard parameters `π` of this robot with the actuators' `friction`: the inertial
+    /// ones, then viscous and Coulomb friction per actuator.
+    #[cfg(feature = "identify")]
+    fn standard_parameters(&self, friction: &[Friction; 6]) -> Vec<f64>;
+    /// The base parameters of this robot's base regressor.
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`] where this geometry has base parameters the generated
+    /// regressor lacks.
+    #[cfg(feature = "identify")]
+    fn base_parameters(&self) -> Result<BaseParameters, Error>;
+    /// `Y` at `state` (`6 × n`, columns the standard parameters): `Γ = Y π` with friction.
+    ///
+    /// # Errors
+    /// Non-finite inputs, a singular pose or a non-finite result.
+    #[cfg(feature = "identify")]
+    fn standard_regressor(&self, state: &State) -> Result<nalgebra::DMatrix<f64>, Error>;
+    /// `Y_b` at `state` into `out`, row-major (`6 × n_b`): `Γ = Y_b β` with friction.
+    ///
+    /// # Errors
+    /// Non-finite inputs, a singular pose, a non-finite result, or `out` not `6 n_b` long.
+    #[cfg(feature = "identify")]
+    fn base_regressor_into(&self, state: &State, out: &mut [f64]) -> Result<(), Error>;
+
+    /// `Γ` and its exact Jacobians with respect to the pose, twist and acceleration.
+    ///
+    /// # Errors
+    /// Non-finite inputs, a singular pose or a non-finite result.
+    #[cfg(feature = "derivatives")]
+    fn inverse_dynamics_derivatives(
+        &self,
+        state: &State,
+    ) -> Result<InverseDynamicsDerivatives, Error>;
+    /// The forward dynamics and its exact Jacobians with respect to the pose, twist and
+    /// forces.
+    ///
+    /// # Errors
+    /// Non-finite inputs, a singular pose or a non-finite result.
+    #[cfg(feature = "derivatives")]
+    fn forward_dynamics_derivatives(
+        &self,
+        pose: &Pose,
+        twist: &Twist,
+        gamma: &[f64; 6],
+    ) -> Result<ForwardDynamicsDerivatives, Error>;
+    /// The joint-space inverse dynamics and its exact Jacobians with respect to `q`, `q̇`,
+    /// `q̈`.
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`] for a mechanism without the joint-space kernels' derivatives
+    /// (all but the C5, whose forward kinematics has a closed form); else non-finite inputs,
+    /// a singular pose or a non-finite result.
+    #[cfg(feature = "derivatives")]
+    fn inverse_dynamics_joint_derivatives(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+    ) -> Result<crate::derivatives::JointDynamicsDerivatives, Error> {
+        let _ = (q, qd, qdd);
+        Err(Error::Unsupported {
+            what: "joint-space derivatives",
+            mechanism: self.mechanism(),
+            why: "its forward kinematics iterates; use the task-space derivatives with J⁻¹",
+        })
+    }
 
     /// [`ParallelRobot::evaluate`] of every state, or the first refused with its index.
     fn evaluate_many(&self, states: &[State]) -> Result<Vec<Evaluation>, (usize, Error)> {
@@ -95,6 +183,44 @@ pub trait ParallelRobot: core::fmt::Debug + Send + Sync {
             .enumerate()
             .map(|(k, s)| self.inverse_dynamics(s).map_err(|e| (k, e)))
             .collect()
+    }
+    /// [`ParallelRobot::inverse_dynamics`] of states `0..n` (`state(k)` the `k`-th), each
+    /// result handed to `each` in order: for callers that read states from their own storage
+    /// (numpy arrays, a log). The C5 goes four states at a time through its batch kernels.
+    fn inverse_dynamics_each(
+        &self,
+        n: usize,
+        state: &(dyn Fn(usize) -> State + Sync),
+        each: &mut dyn FnMut(usize, Result<[f64; 6], Error>),
+    ) {
+        (0..n).for_each(|k| each(k, self.inverse_dynamics(&state(k))));
+    }
+    /// [`ParallelRobot::forward_dynamics`] of inputs `0..n` (pose, twist, forces), each
+    /// result handed to `each` in order.
+    fn forward_dynamics_each(
+        &self,
+        n: usize,
+        input: &(dyn Fn(usize) -> (Pose, Twist, [f64; 6]) + Sync),
+        each: &mut dyn FnMut(usize, Result<Acceleration, Error>),
+    ) {
+        (0..n).for_each(|k| {
+            let (pose, twist, gamma) = input(k);
+            each(k, self.forward_dynamics(&pose, &twist, &gamma))
+        });
+    }
+    /// [`ParallelRobot::inverse_dynamics_joint`] of samples `0..n` (`[q, q̇, q̈]`, each
+    /// solved from home where the mechanism iterates), each result handed to `each` in
+    /// order.
+    fn inverse_dynamics_joint_each(
+        &self,
+        n: usize,
+        sample: &(dyn Fn(usize) -> [[f64; 6]; 3] + Sync),
+        each: &mut dyn FnMut(usize, Result<[f64; 6], Error>),
+    ) {
+        (0..n).for_each(|k| {
+            let [q, qd, qdd] = sample(k);
+            each(k, self.inverse_dynamics_joint(&q, &qd, &qdd, None))
+        });
     }
     /// Refuses a pose beyond the description's pose-bound limits.
     ///
@@ -127,6 +253,12 @@ pub trait ParallelRobot: core::fmt::Debug + Send + Sync {
     }
 }
 
+impl Clone for Box<dyn ParallelRobot> {
+    fn clone(&self) -> Self {
+        self.clone_box()
+    }
+}
+
 /// The robot of `description`, the C5 with `model` (the other mechanisms have one model).
 ///
 /// # Errors
@@ -155,6 +287,39 @@ impl ParallelRobot for C5 {
     /// Four states at a time through the batch kernels.
     fn evaluate_many(&self, states: &[State]) -> Result<Vec<Evaluation>, (usize, Error)> {
         C5::evaluate_many(self, states)
+    }
+    #[cfg(feature = "derivatives")]
+    fn inverse_dynamics_joint_derivatives(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+    ) -> Result<crate::derivatives::JointDynamicsDerivatives, Error> {
+        C5::inverse_dynamics_joint_derivatives(self, q, qd, qdd)
+    }
+    fn inverse_dynamics_each(
+        &self,
+        n: usize,
+        state: &(dyn Fn(usize) -> State + Sync),
+        each: &mut dyn FnMut(usize, Result<[f64; 6], Error>),
+    ) {
+        C5::inverse_dynamics_each(self, n, state, each)
+    }
+    fn forward_dynamics_each(
+        &self,
+        n: usize,
+        input: &(dyn Fn(usize) -> (Pose, Twist, [f64; 6]) + Sync),
+        each: &mut dyn FnMut(usize, Result<Acceleration, Error>),
+    ) {
+        C5::forward_dynamics_each(self, n, input, each)
+    }
+    fn inverse_dynamics_joint_each(
+        &self,
+        n: usize,
+        sample: &(dyn Fn(usize) -> [[f64; 6]; 3] + Sync),
+        each: &mut dyn FnMut(usize, Result<[f64; 6], Error>),
+    ) {
+        C5::inverse_dynamics_joint_each(self, n, sample, each)
     }
     /// Four states at a time through the batch kernels.
     fn inverse_dynamics_many(&self, states: &[State]) -> Result<Vec<[f64; 6]>, (usize, Error)> {
@@ -231,6 +396,61 @@ impl ParallelRobot for C5 {
     }
     fn characteristic_length(&self) -> f64 {
         self.robot().half_spacing
+    }
+    fn singularity_clearance(&self, pose: &Pose) -> Result<f64, Error> {
+        Ok(C5::singularity_terms(pose)?
+            .iter()
+            .fold(f64::INFINITY, |m, r| m.min(r.abs())))
+    }
+    fn parameters(&self) -> &[f64] {
+        C5::parameters(self)
+    }
+    /// In closed form: `near` is not needed.
+    fn joint_inertia(&self, q: &[f64; 6], _near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
+        C5::joint_inertia(self, q)
+    }
+    #[cfg(feature = "identify")]
+    fn standard_regressor(&self, state: &State) -> Result<nalgebra::DMatrix<f64>, Error> {
+        let y = C5::regressor(self, state)?;
+        Ok(nalgebra::DMatrix::from_iterator(
+            6,
+            y.ncols(),
+            y.iter().copied(),
+        ))
+    }
+    fn as_any(&self) -> &dyn core::any::Any {
+        self
+    }
+    fn clone_box(&self) -> Box<dyn ParallelRobot> {
+        Box::new(self.clone())
+    }
+    #[cfg(feature = "identify")]
+    fn standard_parameters(&self, friction: &[Friction; 6]) -> Vec<f64> {
+        self.robot().standard_parameters(friction)
+    }
+    #[cfg(feature = "identify")]
+    fn base_parameters(&self) -> Result<BaseParameters, Error> {
+        Ok(C5::base_parameters(self))
+    }
+    #[cfg(feature = "identify")]
+    fn base_regressor_into(&self, state: &State, out: &mut [f64]) -> Result<(), Error> {
+        C5::base_regressor_into(self, state, out)
+    }
+    #[cfg(feature = "derivatives")]
+    fn inverse_dynamics_derivatives(
+        &self,
+        state: &State,
+    ) -> Result<InverseDynamicsDerivatives, Error> {
+        C5::inverse_dynamics_derivatives(self, state)
+    }
+    #[cfg(feature = "derivatives")]
+    fn forward_dynamics_derivatives(
+        &self,
+        pose: &Pose,
+        twist: &Twist,
+        gamma: &[f64; 6],
+    ) -> Result<ForwardDynamicsDerivatives, Error> {
+        C5::forward_dynamics_derivatives(self, pose, twist, gamma)
     }
 }
 
@@ -316,5 +536,56 @@ impl ParallelRobot for GoughStewart {
             .map(|l| crate::math::sqrt(l.platform.iter().map(|x| x * x).sum()))
             .sum::<f64>()
             / legs.len() as f64
+    }
+    fn singularity_clearance(&self, pose: &Pose) -> Result<f64, Error> {
+        Ok(self
+            .singularity_terms(pose)?
+            .iter()
+            .fold(f64::INFINITY, |m, &r| m.min(r)))
+    }
+    fn parameters(&self) -> &[f64] {
+        GoughStewart::parameters(self)
+    }
+    fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
+        GoughStewart::joint_inertia(self, q, near)
+    }
+    #[cfg(feature = "identify")]
+    fn standard_regressor(&self, state: &State) -> Result<nalgebra::DMatrix<f64>, Error> {
+        let y = GoughStewart::regressor(self, state)?;
+        Ok(nalgebra::DMatrix::from_fn(6, y[0].len(), |i, j| y[i][j]))
+    }
+    fn as_any(&self) -> &dyn core::any::Any {
+        self
+    }
+    fn clone_box(&self) -> Box<dyn ParallelRobot> {
+        Box::new(self.clone())
+    }
+    #[cfg(feature = "identify")]
+    fn standard_parameters(&self, friction: &[Friction; 6]) -> Vec<f64> {
+        self.robot().standard_parameters(friction)
+    }
+    #[cfg(feature = "identify")]
+    fn base_parameters(&self) -> Result<BaseParameters, Error> {
+        GoughStewart::base_parameters(self)
+    }
+    #[cfg(feature = "identify")]
+    fn base_regressor_into(&self, state: &State, out: &mut [f64]) -> Result<(), Error> {
+        GoughStewart::base_regressor_into(self, state, out)
+    }
+    #[cfg(feature = "derivatives")]
+    fn inverse_dynamics_derivatives(
+        &self,
+        state: &State,
+    ) -> Result<InverseDynamicsDerivatives, Error> {
+        GoughStewart::inverse_dynamics_derivatives(self, state)
+    }
+    #[cfg(feature = "derivatives")]
+    fn forward_dynamics_derivatives(
+        &self,
+        pose: &Pose,
+        twist: &Twist,
+        gamma: &[f64; 6],
+    ) -> Result<ForwardDynamicsDerivatives, Error> {
+        GoughStewart::forward_dynamics_derivatives(self, pose, twist, gamma)
     }
 }

@@ -366,6 +366,16 @@ impl GoughStewart {
         out
     }
 
+    /// The standard parameters `π` of `Γ = Y π` with the actuators' `friction`: the inertial
+    /// ones ([`GoughStewart::standard_inertial_parameters`]), then the viscous and the Coulomb
+    /// coefficients, six each.
+    pub fn standard_parameters(&self, friction: &[crate::Friction; 6]) -> Vec<f64> {
+        let mut out = self.standard_inertial_parameters();
+        out.extend(friction.iter().map(|f| f.viscous));
+        out.extend(friction.iter().map(|f| f.coulomb));
+        out
+    }
+
     /// The parameter vector of the `*_params` kernels: gravity; per leg `A_i`, `a_i`
     /// normalised, `p_i` and the encoder's offset; then the standard inertial parameters.
     pub fn kernel_parameters(&self) -> Vec<f64> {

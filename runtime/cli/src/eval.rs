@@ -4,7 +4,7 @@ use crate::identify::load_estimate;
 use crate::jsonl::{self, Key};
 use crate::options::RobotArgs;
 use c5_runtime::identify::Estimate;
-use c5_runtime::{Acceleration, Limit, ParallelRobot, Pose, State, Twist, C5};
+use c5_runtime::{Acceleration, Limit, ParallelRobot, Pose, State, Twist};
 use clap::Args;
 use serde_json::json;
 use std::path::PathBuf;
@@ -23,7 +23,7 @@ pub struct EvalArgs {
     /// Also write the inverse dynamics' exact Jacobians, 6×6 each, row `i` actuator `i`:
     /// `d_gamma_d_pose`, `d_gamma_d_twist`, `d_gamma_d_acceleration` (columns α β γ xc yc zc;
     /// ωx ωy ωz vx vy vz; ω̇x ω̇y ω̇z ax ay az), or for lines of actuator values `d_gamma_d_q`,
-    /// `d_gamma_d_qd`, `d_gamma_d_qdd` (columns actuators 1..6).
+    /// `d_gamma_d_qd`, `d_gamma_d_qdd` (columns actuators 1..6; the C5's only).
     #[arg(long, conflicts_with = "base_parameters")]
     derivatives: bool,
     /// Make a line whose pose, actuator speeds or forces break a limit of the robot file's
@@ -109,19 +109,14 @@ fn parse_line(line: &str) -> Result<Line, String> {
 
 pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
     let robot = args.robot.load_any()?;
-    // What only the C5 has: identified parameters and the dynamics' derivatives.
-    let c5 = (args.base_parameters.is_some() || args.derivatives)
-        .then(|| args.robot.load())
-        .transpose()?;
-    let estimate = match (&args.base_parameters, &c5) {
-        (Some(p), Some(c5)) => Some(load_estimate(c5, p)?),
-        _ => None,
+    let estimate = match &args.base_parameters {
+        Some(p) => Some(load_estimate(robot.as_ref(), p)?),
+        None => None,
     };
-    let derivatives = c5.as_ref().filter(|_| args.derivatives);
     eval(
         robot.as_ref(),
-        c5.as_ref().zip(estimate.as_ref()),
-        derivatives,
+        estimate.as_ref(),
+        args.derivatives,
         args.strict_limits,
     )
 }
@@ -150,8 +145,8 @@ fn smallest_margin(
 
 fn eval(
     robot: &dyn ParallelRobot,
-    identified: Option<(&C5, &Estimate)>,
-    derivatives: Option<&C5>,
+    identified: Option<&Estimate>,
+    derivatives: bool,
     strict_limits: bool,
 ) -> crate::Result<ExitCode> {
     jsonl::answer_lines(|line| {
@@ -184,7 +179,7 @@ fn eval(
             out["omega_dot"] = json!(state.accel.omega_dot);
             out["acceleration"] = json!(state.accel.linear);
         }
-        if let Some(robot) = derivatives {
+        if derivatives {
             let keys = match joints {
                 Some([q, qd, qdd]) => {
                     let d = robot
@@ -211,8 +206,8 @@ fn eval(
                 out[key] = json!(jacobian);
             }
         }
-        if let Some((c5, estimate)) = identified {
-            let gamma = estimate.forces(c5, &state).map_err(|e| e.to_string())?;
+        if let Some(estimate) = identified {
+            let gamma = estimate.forces(robot, &state).map_err(|e| e.to_string())?;
             out["gamma"] = json!(gamma);
         }
         if robot.has_limits() {

@@ -1,17 +1,17 @@
 //! `c5 excite`: an exciting trajectory for identification.
 
 use crate::columns;
-use crate::options::RobotArgs;
+use crate::options::{section9_from, RobotArgs};
 use crate::Result;
 use c5_runtime::identify::excite::{self, Envelope, Search};
-use c5_runtime::trajectory::LinearMove;
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-/// Writes an exciting trajectory for identification (a Fourier series inside the
-/// workspace, away from singular poses, of low condition number) as a trajectory CSV.
+/// Writes an exciting trajectory for identification (a Fourier series about the robot's home
+/// pose, inside its limits, away from singular poses, of low condition number) as a
+/// trajectory CSV; for any mechanism.
 #[derive(Args)]
 pub struct ExciteArgs {
     /// Output CSV.
@@ -40,7 +40,7 @@ pub struct ExciteArgs {
 /// Writes an exciting trajectory (one period at `rate`) and reports its condition number
 /// against Section 9's.
 pub fn run(o: &ExciteArgs) -> Result<ExitCode> {
-    let robot = &o.robot.load()?;
+    let robot = &*o.robot.load_any()?;
     let out = &o.out;
     if !(o.rate.is_finite() && o.rate > 0.0) {
         return Err(format!("--rate must be a positive number, got {}", o.rate).into());
@@ -69,7 +69,7 @@ pub fn run(o: &ExciteArgs) -> Result<ExitCode> {
     }
     w.flush()?;
     let written = excite::condition_number(robot, states)?;
-    let motion = LinearMove::section9();
+    let motion = section9_from(robot.home());
     let section9 =
         excite::condition_number(robot, (0..=1000).map(|k| motion.state(k as f64 / 1000.0)))?;
     let mut stdout = std::io::stdout().lock();
@@ -83,8 +83,8 @@ pub fn run(o: &ExciteArgs) -> Result<ExitCode> {
     writeln!(
         stdout,
         "condition number of the base regressor ({} model, {} base parameters): {written:.1}",
-        robot.model(),
-        robot.base_parameters().len()
+        robot.model_name(),
+        robot.base_parameters()?.len()
     )?;
     writeln!(
         stdout,

@@ -31,8 +31,6 @@ const FORWARD_KEYS: [Key; 4] = [
 
 pub fn run(args: &ForwardArgs) -> crate::Result<ExitCode> {
     let robot = args.robot.load_any()?;
-    // The derivatives are the C5's only.
-    let c5 = args.derivatives.then(|| args.robot.load()).transpose()?;
     jsonl::answer_lines(|line| {
         let v = jsonl::parse(line, &FORWARD_KEYS)?;
         let pose = Pose::from_array(std::array::from_fn(|i| v[0][i]));
@@ -41,8 +39,8 @@ pub fn run(args: &ForwardArgs) -> crate::Result<ExitCode> {
             velocity: [v[2][0], v[2][1], v[2][2]],
         };
         let gamma: [f64; 6] = std::array::from_fn(|i| v[3][i]);
-        if let Some(c5) = &c5 {
-            let d = c5
+        if args.derivatives {
+            let d = robot
                 .forward_dynamics_derivatives(&pose, &twist, &gamma)
                 .map_err(|e| e.to_string())?;
             return Ok(json!({

@@ -7,7 +7,7 @@ use crate::trajectory_csv;
 use crate::Result;
 use c5_runtime::identify::encoder_log::{Filtered, LogFilter, LogProcessor};
 use c5_runtime::identify::{Estimate, Identifier};
-use c5_runtime::C5;
+use c5_runtime::{ParallelRobot, Pose};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
@@ -16,8 +16,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// Identifies the base parameters (inertial and friction) from measured motion and forces:
-/// weighted least squares, streaming. The robot file gives the geometry and gravity; its
-/// masses play no part.
+/// weighted least squares, streaming, for any mechanism. The robot file gives the geometry
+/// and gravity; its masses play no part.
 #[derive(Args)]
 pub struct IdentifyArgs {
     /// Samples: a trajectory CSV (t, alpha, beta, gamma, xc, yc, zc, optionally the twist
@@ -41,11 +41,12 @@ pub struct IdentifyArgs {
 }
 
 pub fn run(args: &IdentifyArgs) -> Result<ExitCode> {
-    let robot = args.robot.load()?;
+    let robot = args.robot.load_any()?;
+    let robot = &*robot;
     if encoder_log::is_encoder_log(&args.data) {
-        let (estimate, report) = from_encoders(&robot, args)?;
+        let (estimate, report) = from_encoders(robot, args)?;
         write(
-            &robot,
+            robot.base_parameters()?.relations().to_vec(),
             &args.data,
             args.out.as_deref(),
             estimate,
@@ -61,7 +62,7 @@ pub fn run(args: &IdentifyArgs) -> Result<ExitCode> {
             )
             .into());
         }
-        identify_cmd(&robot, &args.data, args.out.as_deref())?;
+        identify_cmd(robot, &args.data, args.out.as_deref())?;
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -96,7 +97,10 @@ pub struct FilterReport {
 /// Identifies from an encoder log: the samples through [`LogProcessor`] (filter, central
 /// differences, decimation, edges dropped), then the forward kinematics and the actuators'
 /// motion to the platform's state, into the streaming estimator.
-fn from_encoders(robot: &C5, args: &IdentifyArgs) -> Result<(Estimate, FilterReport)> {
+fn from_encoders(
+    robot: &dyn ParallelRobot,
+    args: &IdentifyArgs,
+) -> Result<(Estimate, FilterReport)> {
     let data = &args.data;
     let mut rows = encoder_log::open(data)?;
     let progress = progress_bar(rows.len);
@@ -120,8 +124,10 @@ fn from_encoders(robot: &C5, args: &IdentifyArgs) -> Result<(Estimate, FilterRep
     }
     let mut pipeline =
         LogProcessor::new(settings, rate).map_err(|e| format!("{}: {e}", data.display()))?;
-    let mut identifier = Identifier::new(robot);
+    let mut identifier = Identifier::new(robot)?;
     let mut kept: Vec<Filtered> = Vec::new();
+    // Where the forward kinematics iterates, it starts from the previous sample's pose.
+    let mut near: Option<Pose> = None;
     // The lines of the samples not yet kept or passed over: sample `index` is
     // `lines[index - passed]`.
     let mut lines: std::collections::VecDeque<usize> = std::collections::VecDeque::new();
@@ -134,8 +140,9 @@ fn from_encoders(robot: &C5, args: &IdentifyArgs) -> Result<(Estimate, FilterRep
         for s in kept.drain(..) {
             let line = lines[s.index - *passed];
             let state = robot
-                .joint_state(&s.q, &s.qd, &s.qdd)
+                .joint_state(&s.q, &s.qd, &s.qdd, near.as_ref())
                 .map_err(|e| format!("{}:{line}: {e}", data.display()))?;
+            near = Some(state.pose);
             identifier
                 .add(&state, &s.gamma)
                 .map_err(|e| format!("{}:{line}: {e}", data.display()))?;
@@ -206,11 +213,11 @@ fn progress_bar(len: u64) -> ProgressBar {
 const PROGRESS_FROM_BYTES: u64 = 10 << 20;
 
 /// Fits the base parameters of `robot`'s model and geometry to the samples of `data`.
-fn identify_cmd(robot: &C5, data: &Path, out: Option<&Path>) -> Result<()> {
+fn identify_cmd(robot: &dyn ParallelRobot, data: &Path, out: Option<&Path>) -> Result<()> {
     let samples = trajectory_csv::open(data, &GAMMA)?;
     let progress = progress_bar(samples.len);
     let derived = samples.derived;
-    let mut identifier = Identifier::new(robot);
+    let mut identifier = Identifier::new(robot)?;
     let mut samples = samples;
     while let Some(sample) = samples.next() {
         let sample = sample?;
@@ -226,12 +233,13 @@ fn identify_cmd(robot: &C5, data: &Path, out: Option<&Path>) -> Result<()> {
     let estimate = identifier
         .estimate()
         .map_err(|e| format!("{}: {e}", data.display()))?;
-    write(robot, data, out, estimate, None, derived)
+    let relations = identifier.base_parameters().relations().to_vec();
+    write(relations, data, out, estimate, None, derived)
 }
 
 /// Writes the parameters (JSON on stdout, or to `out` with a summary on stdout).
 fn write(
-    robot: &C5,
+    relations: Vec<String>,
     data: &Path,
     out: Option<&Path>,
     estimate: Estimate,
@@ -239,12 +247,7 @@ fn write(
     derived: (bool, bool),
 ) -> Result<()> {
     let identified = Identified {
-        relations: robot
-            .base_parameters()
-            .relations()
-            .iter()
-            .map(|s| s.to_string())
-            .collect(),
+        relations,
         estimate,
         filter,
     };
@@ -309,13 +312,13 @@ fn write(
 }
 
 /// Reads identified parameters for `robot`'s model.
-pub fn load_estimate(robot: &C5, path: &Path) -> Result<Estimate> {
+pub fn load_estimate(robot: &dyn ParallelRobot, path: &Path) -> Result<Estimate> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let identified: Identified =
         serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
     let e = identified.estimate;
-    let base = robot.base_parameters();
-    if e.model != robot.model() {
+    let base = robot.base_parameters()?;
+    if e.model != robot.model_name() {
         return Err(format!(
             "{}: parameters of the {} model; pass --model {}",
             path.display(),
@@ -324,16 +327,11 @@ pub fn load_estimate(robot: &C5, path: &Path) -> Result<Estimate> {
         )
         .into());
     }
-    if e.names
-        .iter()
-        .map(String::as_str)
-        .ne(base.names().iter().copied())
-        || e.values.len() != base.len()
-    {
+    if e.names != base.names() || e.values.len() != base.len() {
         return Err(format!(
             "{}: the base parameters are not those of this version's {} model",
             path.display(),
-            robot.model()
+            robot.model_name()
         )
         .into());
     }

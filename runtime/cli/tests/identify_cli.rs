@@ -249,7 +249,7 @@ fn bad_data_is_refused_with_the_file_and_line() {
 #[test]
 fn an_infinite_relative_deviation_survives_json() {
     let e = c5_runtime::identify::Estimate {
-        model: c5_runtime::Model::Consistent,
+        model: c5_runtime::Model::Consistent.name().to_string(),
         names: vec!["a".into(), "b".into()],
         values: vec![0.0, 2.0],
         std_dev: vec![0.1, 0.2],

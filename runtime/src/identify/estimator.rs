@@ -8,7 +8,7 @@
 //! normal matrices are equilibrated (unit diagonal) before they are factored.
 
 use super::BaseParameters;
-use crate::{check_finite, Error, Model, State, C5};
+use crate::{check_finite, Error, ParallelRobot, State};
 use nalgebra::{Cholesky, DMatrix, DVector, SymmetricEigen};
 use std::fmt;
 
@@ -61,8 +61,8 @@ impl std::error::Error for IdentifyError {}
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Estimate {
-    /// The model whose base regressor was fitted.
-    pub model: Model,
+    /// The model whose base regressor was fitted (`consistent`, `paper`, `gough-stewart`).
+    pub model: String,
     /// The base parameters' names ([`BaseParameters::names`]).
     pub names: Vec<String>,
     /// `β`.
@@ -82,13 +82,21 @@ pub struct Estimate {
 }
 
 impl Estimate {
-    /// The actuator forces these parameters predict at `state` on `c5`'s geometry: `Y_b β`.
+    /// The actuator forces these parameters predict at `state` on `robot`'s geometry:
+    /// `Y_b β`.
     ///
     /// # Errors
-    /// [`Error::WrongLength`] if `c5`'s model has another number of base parameters (the
-    /// estimate is of another model), and [`C5::base_regressor_into`]'s errors.
-    pub fn forces(&self, c5: &C5, state: &State) -> Result<[f64; 6], Error> {
-        let nb = c5.base_parameters().len();
+    /// [`Error::Unsupported`] if `robot` is of another model than the estimate,
+    /// [`Error::WrongLength`] if its values are not as many as its names, and [`ParallelRobot::base_regressor_into`]'s errors.
+    pub fn forces(&self, robot: &dyn ParallelRobot, state: &State) -> Result<[f64; 6], Error> {
+        if robot.model_name() != self.model {
+            return Err(Error::Unsupported {
+                what: "forces from these base parameters",
+                mechanism: robot.model_name(),
+                why: "they were identified on another model",
+            });
+        }
+        let nb = self.names.len();
         if self.values.len() != nb {
             return Err(Error::WrongLength {
                 input: "base parameters",
@@ -97,7 +105,7 @@ impl Estimate {
             });
         }
         let mut y = vec![0.0; 6 * nb];
-        c5.base_regressor_into(state, &mut y)?;
+        robot.base_regressor_into(state, &mut y)?;
         Ok(std::array::from_fn(|i| {
             y[i * nb..(i + 1) * nb]
                 .iter()
@@ -112,7 +120,7 @@ impl Estimate {
 /// parameters to them. Memory: a few `n_b × n_b` matrices, whatever the number of samples.
 #[derive(Clone, Debug)]
 pub struct Identifier {
-    c5: C5,
+    robot: Box<dyn ParallelRobot>,
     base: BaseParameters,
     /// `A_i`, `b_i`, `Σ Γ_i²` per actuator.
     normal: Vec<DMatrix<f64>>,
@@ -127,12 +135,15 @@ pub struct Identifier {
 }
 
 impl Identifier {
-    /// An identifier for `c5`'s model and geometry (its inertial parameters play no part).
-    pub fn new(c5: &C5) -> Self {
-        let base = c5.base_parameters();
+    /// An identifier for `robot`'s model and geometry (its inertial parameters play no part).
+    ///
+    /// # Errors
+    /// [`ParallelRobot::base_parameters`]' errors.
+    pub fn new(robot: &dyn ParallelRobot) -> Result<Self, Error> {
+        let base = robot.base_parameters()?;
         let nb = base.len();
-        Identifier {
-            c5: c5.clone(),
+        Ok(Identifier {
+            robot: robot.clone_box(),
             base,
             normal: vec![DMatrix::zeros(nb, nb); 6],
             rhs: vec![DVector::zeros(nb); 6],
@@ -142,12 +153,12 @@ impl Identifier {
             block_gamma: vec![DVector::zeros(BLOCK); 6],
             filled: 0,
             row: vec![0.0; 6 * nb],
-        }
+        })
     }
 
     /// The base parameters being identified.
-    pub fn base_parameters(&self) -> BaseParameters {
-        self.base
+    pub fn base_parameters(&self) -> &BaseParameters {
+        &self.base
     }
 
     /// Samples added so far.
@@ -161,7 +172,7 @@ impl Identifier {
     /// Non-finite inputs or a singular pose; the sample is then not added.
     pub fn add(&mut self, state: &State, gamma: &[f64; 6]) -> Result<(), Error> {
         check_finite("gamma", gamma)?;
-        self.c5.base_regressor_into(state, &mut self.row)?;
+        self.robot.base_regressor_into(state, &mut self.row)?;
         let nb = self.base.len();
         for (i, &force) in gamma.iter().enumerate() {
             self.block[i]
@@ -219,7 +230,7 @@ impl Identifier {
             .map(|(v, s)| 100.0 * s / v.abs())
             .collect();
         Ok(Estimate {
-            model: self.c5.model(),
+            model: self.robot.model_name().to_string(),
             names: self.base.names().iter().map(|s| s.to_string()).collect(),
             values: weighted.values.iter().copied().collect(),
             std_dev: weighted.std_dev.iter().copied().collect(),

@@ -1,20 +1,20 @@
 //! Exciting trajectories: a finite Fourier series in every pose coordinate, chosen to keep the
 //! condition number of the stacked base regressor low, inside a box of the workspace, within
-//! the robot's limits (strokes, plates, tilt, speeds, forces) and away from the singular poses
-//! of eq 16.
+//! the robot's limits (strokes, plates, tilt, joint cones, speeds, forces) and away from its
+//! singular poses (eq 16's for the C5), about the robot's home pose, for any mechanism.
 
 use super::Identifier;
 use crate::trajectory::Fourier;
-use crate::{Error, State, C5};
+use crate::{Error, ParallelRobot, Pose, State};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// Where an exciting trajectory may go, and how fast.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Envelope {
-    /// Largest `|α|`, `|β|`, `|γ|` (rad).
+    /// Largest `|α|`, `|β|`, `|γ|` from home (rad).
     pub angle: f64,
-    /// Largest `|xc|`, `|yc|`, `|zc|` (m).
+    /// Largest `|xc|`, `|yc|`, `|zc|` from home (m).
     pub center: f64,
     /// Largest `|ω|` component (rad/s) and `|v_C|` component (m/s).
     pub omega: f64,
@@ -22,7 +22,9 @@ pub struct Envelope {
     /// Largest `|ω̇|` component (rad/s²) and `|a_C|` component (m/s²).
     pub omega_dot: f64,
     pub acceleration: f64,
-    /// Smallest `|r11|`, `|r22|`, `|r33|` (eq 16): the distance kept from singular poses.
+    /// Smallest [`ParallelRobot::singularity_clearance`] as a fraction of the home pose's
+    /// (for the C5, whose home clearance is 1, its smallest `|r11|`, `|r22|`, `|r33|` of eq
+    /// 16): the distance kept from singular poses.
     pub divisor: f64,
 }
 
@@ -86,8 +88,18 @@ fn times(search: &Search) -> impl Iterator<Item = f64> + '_ {
 ///
 /// # Errors
 /// A state the robot refuses (non-finite or singular).
-pub fn condition_number(c5: &C5, states: impl IntoIterator<Item = State>) -> Result<f64, Error> {
-    let mut identifier = Identifier::new(c5);
+pub fn condition_number(
+    robot: &dyn ParallelRobot,
+    states: impl IntoIterator<Item = State>,
+) -> Result<f64, Error> {
+    stacked_condition(Identifier::new(robot)?, states)
+}
+
+/// The condition number of the states added to an empty `identifier`.
+fn stacked_condition(
+    mut identifier: Identifier,
+    states: impl IntoIterator<Item = State>,
+) -> Result<f64, Error> {
     for state in states {
         identifier.add(&state, &[0.0; 6])?;
     }
@@ -100,10 +112,11 @@ fn peak_ratio(trajectory: &Fourier, envelope: &Envelope, search: &Search) -> f64
     times(search)
         .map(|t| {
             let (x, _, _) = trajectory.pose_derivatives(t);
+            let d: [f64; 6] = core::array::from_fn(|k| x[k] - trajectory.offset[k]);
             let s = trajectory.state(t);
             [
-                largest(&x[..3]) / envelope.angle,
-                largest(&x[3..]) / envelope.center,
+                largest(&d[..3]) / envelope.angle,
+                largest(&d[3..]) / envelope.center,
                 largest(&s.twist.omega) / envelope.omega,
                 largest(&s.twist.velocity) / envelope.velocity,
                 largest(&s.accel.omega_dot) / envelope.omega_dot,
@@ -116,8 +129,14 @@ fn peak_ratio(trajectory: &Fourier, envelope: &Envelope, search: &Search) -> f64
 }
 
 /// `trajectory` scaled down (about its offset) to fit `envelope`'s box and rates; `None` if it
-/// then comes closer to a singular pose than `envelope.divisor`.
-fn fit(mut trajectory: Fourier, envelope: &Envelope, search: &Search) -> Option<Fourier> {
+/// then comes closer to a singular pose than `clearance`.
+fn fit(
+    robot: &dyn ParallelRobot,
+    clearance: f64,
+    mut trajectory: Fourier,
+    envelope: &Envelope,
+    search: &Search,
+) -> Option<Fourier> {
     // The rates are nearly linear in the amplitude (the RPY maps and `Ė θ̇` bend them a
     // little), so a few shrinks settle it.
     for _ in 0..8 {
@@ -125,8 +144,9 @@ fn fit(mut trajectory: Fourier, envelope: &Envelope, search: &Search) -> Option<
         if ratio <= 1.0 {
             let clear = times(search).all(|t| {
                 let (x, _, _) = trajectory.pose_derivatives(t);
-                C5::singularity_terms(&crate::Pose::from_array(x))
-                    .is_ok_and(|r| r.iter().all(|d| d.abs() >= envelope.divisor))
+                robot
+                    .singularity_clearance(&Pose::from_array(x))
+                    .is_ok_and(|c| c >= clearance)
             });
             return clear.then_some(trajectory);
         }
@@ -144,28 +164,34 @@ fn fit(mut trajectory: Fourier, envelope: &Envelope, search: &Search) -> Option<
 
 /// Whether `state` keeps every limit of the robot: its pose, the actuators' speeds and the
 /// forces the motion needs.
-fn within_limits(c5: &C5, state: &State) -> bool {
-    c5.check_limits(&state.pose).is_ok()
-        && c5
+fn within_limits(robot: &dyn ParallelRobot, state: &State) -> bool {
+    robot.check_limits(&state.pose).is_ok()
+        && robot
             .joint_velocities(&state.pose, &state.twist)
-            .and_then(|qd| c5.check_speeds(&qd))
+            .and_then(|qd| robot.check_speeds(&qd))
             .is_ok()
-        && c5
+        && robot
             .inverse_dynamics(state)
-            .and_then(|gamma| c5.check_forces(&gamma))
+            .and_then(|gamma| robot.check_forces(&gamma))
             .is_ok()
 }
 
 /// The condition number of a candidate; infinite for one that leaves the robot's limits.
-fn score(c5: &C5, trajectory: &Fourier, search: &Search) -> f64 {
-    if c5.robot().limits.any() && !times(search).all(|t| within_limits(c5, &trajectory.state(t))) {
+fn score(
+    robot: &dyn ParallelRobot,
+    empty: &Identifier,
+    trajectory: &Fourier,
+    search: &Search,
+) -> f64 {
+    if robot.has_limits() && !times(search).all(|t| within_limits(robot, &trajectory.state(t))) {
         return f64::INFINITY;
     }
-    condition_number(c5, times(search).map(|t| trajectory.state(t))).unwrap_or(f64::INFINITY)
+    stacked_condition(empty.clone(), times(search).map(|t| trajectory.state(t)))
+        .unwrap_or(f64::INFINITY)
 }
 
 /// A random series, harmonic `l` with amplitude falling as `1/l` (smooth motion).
-fn random(rng: &mut ChaCha8Rng, envelope: &Envelope, search: &Search) -> Fourier {
+fn random(rng: &mut ChaCha8Rng, home: &Pose, envelope: &Envelope, search: &Search) -> Fourier {
     let bounds = [
         envelope.angle,
         envelope.angle,
@@ -180,7 +206,7 @@ fn random(rng: &mut ChaCha8Rng, envelope: &Envelope, search: &Search) -> Fourier
     let sine = (0..search.harmonics).map(&mut harmonic).collect();
     let cosine = (0..search.harmonics).map(&mut harmonic).collect();
     Fourier {
-        offset: [0.0; 6],
+        offset: home.to_array(),
         period: search.period,
         sine,
         cosine,
@@ -193,8 +219,12 @@ fn random(rng: &mut ChaCha8Rng, envelope: &Envelope, search: &Search) -> Fourier
 /// # Errors
 /// [`DesignError::EmptySearch`] if `search` asks for no candidates, harmonics or samples, or a
 /// period that is not positive; [`DesignError::NothingFits`] if no candidate keeps clear of
-/// the singular poses.
-pub fn design(c5: &C5, envelope: &Envelope, search: &Search) -> Result<Excitation, DesignError> {
+/// the singular poses; [`DesignError::Robot`] if the robot has no base regressor.
+pub fn design(
+    robot: &dyn ParallelRobot,
+    envelope: &Envelope,
+    search: &Search,
+) -> Result<Excitation, DesignError> {
     if search.candidates == 0
         || search.harmonics == 0
         || search.samples == 0
@@ -202,6 +232,12 @@ pub fn design(c5: &C5, envelope: &Envelope, search: &Search) -> Result<Excitatio
     {
         return Err(DesignError::EmptySearch);
     }
+    let empty = Identifier::new(robot).map_err(DesignError::Robot)?;
+    let home = robot.home();
+    let clearance = envelope.divisor
+        * robot
+            .singularity_clearance(&home)
+            .map_err(DesignError::Robot)?;
     let mut rng = ChaCha8Rng::seed_from_u64(search.seed);
     let mut best: Option<(Fourier, f64)> = None;
     let mut step = 0.5;
@@ -222,12 +258,12 @@ pub fn design(c5: &C5, envelope: &Envelope, search: &Search) -> Result<Excitatio
                 step = (step * 0.995).max(0.02);
                 c
             }
-            _ => random(&mut rng, envelope, search),
+            _ => random(&mut rng, &home, envelope, search),
         };
-        let Some(candidate) = fit(candidate, envelope, search) else {
+        let Some(candidate) = fit(robot, clearance, candidate, envelope, search) else {
             continue;
         };
-        let cond = score(c5, &candidate, search);
+        let cond = score(robot, &empty, &candidate, search);
         if cond.is_finite() && best.as_ref().is_none_or(|(_, b)| cond < *b) {
             best = Some((candidate, cond));
         }
@@ -240,27 +276,30 @@ pub fn design(c5: &C5, envelope: &Envelope, search: &Search) -> Result<Excitatio
 }
 
 /// Why no exciting trajectory was found.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum DesignError {
     /// No candidates, harmonics or samples, or a period that is not positive and finite.
     EmptySearch,
     /// Every candidate came closer to a singular pose than the envelope allows, or left the
     /// robot's limits.
     NothingFits,
+    /// The robot has no base regressor to excite.
+    Robot(Error),
 }
 
 impl core::fmt::Display for DesignError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.write_str(match self {
-            DesignError::EmptySearch => {
-                "an excitation search needs candidates, harmonics, samples and a positive period"
-            }
-            DesignError::NothingFits => {
+        match self {
+            DesignError::EmptySearch => f.write_str(
+                "an excitation search needs candidates, harmonics, samples and a positive period",
+            ),
+            DesignError::NothingFits => f.write_str(
                 "no candidate trajectory keeps clear of the singular poses and within the \
                  robot's limits (and its base regressor of full rank): shrink the envelope's box \
-                 or widen the limits"
-            }
-        })
+                 or widen the limits",
+            ),
+            DesignError::Robot(e) => write!(f, "{e}"),
+        }
     }
 }
 

@@ -14,35 +14,92 @@ pub mod encoder_log;
 mod estimator;
 pub mod excite;
 pub mod filter;
+mod gough_stewart;
+mod grouping;
 
 pub use estimator::{Estimate, Identifier, IdentifyError};
 
-use crate::{check_divisors, Error, Kernels, Model, State, C5};
+use crate::{check_divisors, Error, Kernels, Model, ParallelRobot, State, C5};
+use alloc::string::{String, ToString};
+use alloc::vec::Vec;
 pub use c5_robot::{standard_parameter_names, Friction, STANDARD_PARAMETERS};
 use nalgebra::{DMatrix, SMatrix};
 
-/// A model's base parameters: names, what each groups, and `β = B π`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A robot's base parameters: names, what each groups, and `β = B π`.
+#[derive(Clone, Debug, PartialEq)]
 pub struct BaseParameters {
-    model: Model,
-    names: &'static [&'static str],
-    relations: &'static [&'static str],
-    of_standard: &'static [&'static [(usize, f64)]],
+    model: &'static str,
+    standard: Vec<String>,
+    names: Vec<String>,
+    relations: Vec<String>,
+    of_standard: Vec<Vec<(usize, f64)>>,
 }
 
 impl BaseParameters {
-    /// The base parameters of `model`.
+    /// The base parameters of the C5 under `model` (the same for every C5 geometry).
     pub fn of(model: Model) -> Self {
         let kernels = crate::kernels(model);
         BaseParameters {
-            model,
-            names: kernels.base_parameters(),
-            relations: kernels.base_relations(),
-            of_standard: kernels.base_of_standard(),
+            model: model.name(),
+            standard: standard_parameter_names(),
+            names: kernels
+                .base_parameters()
+                .iter()
+                .map(|s| s.to_string())
+                .collect(),
+            relations: kernels
+                .base_relations()
+                .iter()
+                .map(|s| s.to_string())
+                .collect(),
+            of_standard: kernels
+                .base_of_standard()
+                .iter()
+                .map(|t| t.to_vec())
+                .collect(),
         }
     }
 
-    pub fn model(&self) -> Model {
+    /// The base parameters whose columns are `leads` (indices into `standard`, one per base
+    /// parameter), each grouping what `y` (the full regressor stacked over states that excite
+    /// every direction) says depends on it: `Y = Y_b B`, solved by least squares. For a
+    /// mechanism whose groupings depend on its geometry (a hexapod's rod masses join the
+    /// platform's at its joints `p_i`).
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`] when `Y_b B` falls short of `Y` (this geometry has base
+    /// parameters the generated `Y_b` lacks).
+    pub(crate) fn from_regressor(
+        model: &'static str,
+        standard: Vec<String>,
+        leads: &[usize],
+        y: &DMatrix<f64>,
+    ) -> Result<Self, Error> {
+        let groups = grouping::groups(y, leads).ok_or(Error::Unsupported {
+            what: "base parameters",
+            mechanism: model,
+            why: "this geometry's regressor has directions the generated base regressor \
+                  lacks; generate the robot's own kernels (c5-codegen kernels --robot FILE)",
+        })?;
+        let names = groups
+            .iter()
+            .map(|g| grouping::name(&standard, g))
+            .collect();
+        let relations = groups
+            .iter()
+            .map(|g| grouping::relation(&standard, g))
+            .collect();
+        Ok(BaseParameters {
+            model,
+            standard,
+            names,
+            relations,
+            of_standard: groups,
+        })
+    }
+
+    /// The name of the model whose base regressor these are (`consistent`, `gough-stewart`).
+    pub fn model(&self) -> &'static str {
         self.model
     }
 
@@ -57,39 +114,52 @@ impl BaseParameters {
     }
 
     /// Their names, `platform_ixx_R` for one that groups others, else the standard name.
-    pub fn names(&self) -> &'static [&'static str] {
-        self.names
+    pub fn names(&self) -> &[String] {
+        &self.names
     }
 
     /// What each groups, `rod1_mass_R = rod1_mass + joint1_mass`.
-    pub fn relations(&self) -> &'static [&'static str] {
-        self.relations
+    pub fn relations(&self) -> &[String] {
+        &self.relations
     }
 
-    /// `β = B π` for the standard parameters `standard` (order of [`standard_parameter_names`]).
+    /// The standard parameters' names, the columns of the full regressor.
+    pub fn standard_names(&self) -> &[String] {
+        &self.standard
+    }
+
+    /// `β = B π` for the standard parameters `standard` (order of
+    /// [`BaseParameters::standard_names`]).
     ///
     /// # Errors
-    /// [`Error::WrongLength`] if `standard` is not [`STANDARD_PARAMETERS`] long,
+    /// [`Error::WrongLength`] if `standard` is not as long as the standard parameters,
     /// [`Error::NonFinite`] if it holds a non-finite value.
     pub fn from_standard(&self, standard: &[f64]) -> Result<Vec<f64>, Error> {
-        if standard.len() != STANDARD_PARAMETERS {
+        if standard.len() != self.standard.len() {
             return Err(Error::WrongLength {
                 input: "standard parameters",
-                expected: STANDARD_PARAMETERS,
+                expected: self.standard.len(),
                 got: standard.len(),
             });
         }
         crate::check_finite("standard parameters", standard)?;
-        Ok(self
-            .of_standard
-            .iter()
-            .map(|terms| terms.iter().map(|&(k, c)| c * standard[k]).sum())
-            .collect())
+        Ok(self.apply(standard))
     }
 
-    /// The base parameters of a robot with the actuators' `friction`.
-    pub fn of_robot(&self, robot: &crate::Robot, friction: &[Friction; 6]) -> Vec<f64> {
-        let standard = robot.standard_parameters(friction);
+    /// The base parameters of `robot` with the actuators' `friction`.
+    ///
+    /// # Errors
+    /// [`Error::WrongLength`] if `robot` is of another mechanism (another number of standard
+    /// parameters).
+    pub fn of_robot(
+        &self,
+        robot: &dyn ParallelRobot,
+        friction: &[Friction; 6],
+    ) -> Result<Vec<f64>, Error> {
+        self.from_standard(&robot.standard_parameters(friction))
+    }
+
+    fn apply(&self, standard: &[f64]) -> Vec<f64> {
         self.of_standard
             .iter()
             .map(|terms| terms.iter().map(|&(k, c)| c * standard[k]).sum())
@@ -115,7 +185,7 @@ impl C5 {
     /// # Errors
     /// Non-finite inputs, a singular pose, a non-finite result, or `out` not `6 n_b` long.
     pub fn base_regressor_into(&self, state: &State, out: &mut [f64]) -> Result<(), Error> {
-        let nb = self.base_parameters().len();
+        let nb = self.kernels().base_parameters().len();
         if out.len() != 6 * nb {
             return Err(Error::WrongLength {
                 input: "out",
@@ -147,7 +217,7 @@ impl C5 {
     /// # Errors
     /// Non-finite inputs, a singular pose or a non-finite result.
     pub fn base_regressor(&self, state: &State) -> Result<DMatrix<f64>, Error> {
-        let nb = self.base_parameters().len();
+        let nb = self.kernels().base_parameters().len();
         let mut rows = vec![0.0; 6 * nb];
         self.base_regressor_into(state, &mut rows)?;
         Ok(DMatrix::from_row_slice(6, nb, &rows))
