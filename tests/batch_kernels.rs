@@ -2,6 +2,9 @@
 //! both models, both precisions, folded and with the robot's parameters as inputs, and for
 //! `f64` on each arithmetic path (the FMA twins where the CPU has FMA, and the separate
 //! roundings): the path is switched for the whole process, so the `f64` check is one test.
+//! And the elementary functions under them: the inline sine-cosine pair within `π/4` is
+//! `libm::sincos` bit for bit, and the lanes' pair is the single state's. (They live here, not
+//! as unit tests of `c5-generated`, whose test build would compile its kernels a second time.)
 
 mod support;
 
@@ -158,5 +161,60 @@ fn every_lane_of_the_f32_batch_kernels_is_the_single_state_kernel() {
             k32::paper::inverse_dynamics_x8,
             states
         );
+    }
+}
+
+/// Within `π/4` the kernels' inline sine-cosine pair (`trig::sin_cos`, `crate::quarter`'s
+/// polynomials) is `libm::sincos`, bit for bit, on a million seeded arguments and the ends.
+#[test]
+fn the_inline_sine_and_cosine_are_libms_bit_for_bit_within_pi_over_4() {
+    let range = c5_generated::quarter::RANGE;
+    let mut state = 0x9E37_79B9_7F4A_7C15_u64;
+    let mut xs = vec![0.0, -0.0, 1e-300, 5e-324, 1e-9, range, -range];
+    for _ in 0..1_000_000 {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        let u = (state >> 11) as f64 / (1u64 << 53) as f64;
+        xs.push((2.0 * u - 1.0) * range);
+    }
+    for x in xs {
+        let (s, c) = c5_generated::trig::sin_cos(x);
+        let (ls, lc) = libm::sincos(x);
+        assert_eq!(
+            (s.to_bits(), c.to_bits()),
+            (ls.to_bits(), lc.to_bits()),
+            "x = {x:e}"
+        );
+    }
+}
+
+#[test]
+fn four_lanes_are_within_a_quarter_turn_when_each_lies_within_pi_over_4() {
+    use c5_generated::lanes::F64x4;
+    let r = c5_generated::quarter::RANGE;
+    assert!(F64x4([0.0, -0.0, r, -r]).within_quarter_turn());
+    assert!(!F64x4([0.0, 0.0, 0.0, r.next_up()]).within_quarter_turn());
+    assert!(!F64x4([-r.next_up(), 0.0, 0.0, 0.0]).within_quarter_turn());
+    assert!(!F64x4([0.0, f64::NAN, 0.0, 0.0]).within_quarter_turn());
+}
+
+#[test]
+fn every_lanes_sine_and_cosine_is_the_single_states() {
+    use c5_generated::lanes::F64x4;
+    let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || a.is_nan() && b.is_nan();
+    for xs in [
+        [0.3, -0.0, 0.785, -1e-300],
+        [0.3, -2.0, 0.7, 63.9],
+        [1e6, f64::NAN, 0.0, f64::INFINITY],
+    ] {
+        let (s, c) = F64x4(xs).sin_cos();
+        for l in 0..4 {
+            let one = c5_generated::trig::sin_cos(xs[l]);
+            assert!(
+                same(s.0[l], one.0) && same(c.0[l], one.1),
+                "{xs:?}, lane {l}"
+            );
+        }
     }
 }

@@ -64,36 +64,3 @@ fn lane_by_lane(x: F64x4) -> (F64x4, F64x4) {
     }
     (F64x4(s), F64x4(c))
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_quarter_turn_is_where_every_lane_lies_within_pi_over_4() {
-        let r = quarter::RANGE;
-        assert!(within_quarter_turn(F64x4([0.0, -0.0, r, -r])));
-        assert!(!within_quarter_turn(F64x4([0.0, 0.0, 0.0, r.next_up()])));
-        assert!(!within_quarter_turn(F64x4([-r.next_up(), 0.0, 0.0, 0.0])));
-        assert!(!within_quarter_turn(F64x4([0.0, f64::NAN, 0.0, 0.0])));
-    }
-
-    #[test]
-    fn every_lane_is_the_single_state_sine_and_cosine() {
-        let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || a.is_nan() && b.is_nan();
-        for xs in [
-            [0.3, -0.0, 0.785, -1e-300],
-            [0.3, -2.0, 0.7, 63.9],
-            [1e6, f64::NAN, 0.0, f64::INFINITY],
-        ] {
-            let (s, c) = sin_cos_lanes(F64x4(xs));
-            for l in 0..4 {
-                let one = crate::trig::sin_cos(xs[l]);
-                assert!(
-                    same(s.0[l], one.0) && same(c.0[l], one.1),
-                    "{xs:?}, lane {l}"
-                );
-            }
-        }
-    }
-}
