@@ -1,7 +1,7 @@
 //! The Gough-Stewart platform's kernels, in one run: the folded kernels of the example hexapod
 //! (`docs/hexapod.toml`), the `*_params` kernels the runtime calls for any hexapod, the
 //! runtime's forward kinematics from a warm start, and the matrix-form reference (Newton-Euler
-//! leg by leg in nalgebra).
+//! leg by leg in nalgebra); and kinematic calibration (the residual kernel, a whole fit, a plan).
 //!
 //! `cargo bench --bench gough_stewart` (pin it: `taskset -c 0`). Inputs cycle through seeded
 //! states about the home pose behind `black_box`.
@@ -131,5 +131,41 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+/// Kinematic calibration: the residual kernel once, and a whole fit of the 42 parameters to
+/// 60 planned poses measured with a tracker's noise (the target: under 50 ms).
+fn calibration(c: &mut Criterion) {
+    use c5_runtime::calibrate::{calibrate, plan, simulate, Noise, Options};
+    let robot = c5_robot::GoughStewart::example();
+    let hexapod = GoughStewart::new(robot).unwrap();
+    let mut truth = robot;
+    for (i, leg) in truth.legs.iter_mut().enumerate() {
+        leg.base[0] += 1e-3 * (i as f64 - 2.5);
+        leg.platform[2] -= 0.5e-3 * i as f64;
+        leg.encoder_offset = 2e-3;
+    }
+    let truth = GoughStewart::new(truth).unwrap();
+    let options = Options::default();
+    let poses = plan(&hexapod, 60, &options, 1).unwrap();
+    let data = simulate(&truth, &poses, &Noise::default(), 2).unwrap();
+    let geometry: [f64; k::GEOMETRY_PARAMETERS] = std::array::from_fn(|j| hexapod.parameters()[j]);
+    let mut g = c.benchmark_group("gough_stewart_calibration");
+    let mut i = 0;
+    g.bench_function("calibration_residuals", |b| {
+        b.iter(|| {
+            i = (i + 1) % data.len();
+            let m = black_box(&data[i]);
+            k::calibration_residuals(&m.pose.to_array(), &m.q, &geometry)
+        })
+    });
+    g.sample_size(20);
+    g.bench_function("calibrate_60_poses", |b| {
+        b.iter(|| calibrate(&hexapod, black_box(&data), &options).unwrap())
+    });
+    g.bench_function("plan_60_poses", |b| {
+        b.iter(|| plan(&hexapod, 60, &options, black_box(1)).unwrap())
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench, calibration);
 criterion_main!(benches);

@@ -46,6 +46,26 @@ class Identification(TypedDict):
     residual_rms: list[float]
     samples: int
 
+class Unobservable(TypedDict):
+    leg: int
+    combination: list[tuple[str, float]]
+    std_dev: float
+    fixed: str
+    text: str
+
+class Calibration(TypedDict):
+    names: list[str]
+    nominal: Array
+    values: Array
+    std_dev: Array
+    residuals_before: Array
+    residuals_after: Array
+    singular_values: Array
+    unobservable: list[Unobservable]
+    variance_factor: float
+    iterations: int
+    robot_toml: str
+
 class Limits(TypedDict):
     stroke: Optional[list[list[float]]]
     plate_travel: Optional[list[float]]
@@ -251,3 +271,22 @@ class C5:
     ) -> Identification:
         """The base parameters (inertial and friction) by weighted least squares from measured
         states ``(N, ...)`` and forces ``(N, 6)``."""
+
+    def calibrate(
+        self,
+        pose: ArrayLike,
+        q: ArrayLike,
+        *,
+        noise_position: float = 10e-6,
+        noise_angle: float = 20e-6,
+        noise_encoder: float = 1e-6,
+        scale: float = 1e-3,
+        observable: float = 5e-3,
+        strict: bool = False,
+    ) -> Calibration:
+        """Kinematic calibration of a Gough-Stewart platform: each leg's ``A_i``, ``p_i`` and
+        encoder offset fitted to measured poses ``(N, 6)`` and readings ``(N, 6)``
+        (docs/calibration.md). ``std_dev`` is NaN for a parameter fixed as unobservable."""
+
+    def calibration_plan(self, n: int, *, seed: int = 1) -> Array:
+        """``n`` poses ``(n, 6)`` inside the limits that make the geometry best observable."""

@@ -72,6 +72,8 @@ pub enum Kernel {
     InverseDynamicsJointDerivatives,
     /// `forward_kinematics_step`.
     ForwardKinematicsStep,
+    /// `calibration_residuals`.
+    CalibrationResiduals,
 }
 impl Kernel {
     /// The generated function's base name (`_params` is appended when the robot's parameters are inputs).
@@ -113,6 +115,7 @@ impl Kernel {
                 "inverse_dynamics_joint_derivatives"
             }
             Kernel::ForwardKinematicsStep => "forward_kinematics_step",
+            Kernel::CalibrationResiduals => "calibration_residuals",
         }
     }
 }
@@ -1858,6 +1861,22 @@ pub const KERNELS: &[Entry] = &[
             add: 153,
             neg: 16,
             calls: &[("sin_cos", 3), ("sqrt", 12)],
+        },
+        chapter: None,
+    },
+    Entry {
+        kernel: Kernel::CalibrationResiduals,
+        parameters: false,
+        name: "calibration_residuals",
+        model: "gough-stewart",
+        setting: "pose",
+        equations: &["q = |C + R p - A| + o", "∂q/∂(A, p, o)", "∂q/∂X"],
+        count: Count {
+            mul: 306,
+            div: 6,
+            add: 180,
+            neg: 36,
+            calls: &[("sin_cos", 3), ("sqrt", 6)],
         },
         chapter: None,
     },

@@ -7,9 +7,11 @@
 //! without the GIL, in Rust, the inverse and forward dynamics four states at a time through the
 //! batch kernels (each lane computing exactly what the single-state kernel does).
 
+use c5_runtime::calibrate::{self, Measurement, Noise, Options};
 use c5_runtime::identify::{BaseParameters, Friction, Identifier};
 use c5_runtime::{
-    Acceleration, Description, Error, Model, ParallelRobot, Pose, State, Twist, C5 as Robot5,
+    Acceleration, Description, Error, GoughStewart, Model, ParallelRobot, Pose, State, Twist,
+    C5 as Robot5,
 };
 use numpy::ndarray::{ArrayD, IxDyn};
 use numpy::{
@@ -19,7 +21,7 @@ use numpy::{
 use pyo3::create_exception;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyTuple};
+use pyo3::types::{PyDict, PyList, PyTuple};
 use std::borrow::Cow;
 use std::sync::OnceLock;
 
@@ -369,6 +371,23 @@ impl C5 {
             .as_any()
             .downcast_ref::<Robot5>()
             .ok_or_else(|| PyValueError::new_err(unsupported(what, &*self.inner).to_string()))
+    }
+
+    /// The robot as a Gough-Stewart platform, for what only it serves.
+    fn hexapod(&self, what: &'static str) -> PyResult<&GoughStewart> {
+        self.inner
+            .as_any()
+            .downcast_ref::<GoughStewart>()
+            .ok_or_else(|| {
+                PyValueError::new_err(
+                    Error::Unsupported {
+                        what,
+                        mechanism: self.inner.mechanism(),
+                        why: "calibration fits the legs' geometry of a Gough-Stewart platform",
+                    }
+                    .to_string(),
+                )
+            })
     }
 
     /// The robot's base parameters.
@@ -976,6 +995,117 @@ impl C5 {
         d.set_item("residual_rms", e.residual_rms.to_vec())?;
         d.set_item("samples", e.samples)?;
         Ok(d)
+    }
+
+    /// Kinematic calibration (a Gough-Stewart platform): each leg's base joint centre `A_i`,
+    /// platform joint centre `p_i` and encoder offset `o_i` fitted to measured poses `(N, 6)`
+    /// and encoder readings `(N, 6)`. Returns a dict: `names`, `nominal`, `values`, `std_dev`
+    /// (NaN where fixed), `residuals_before`, `residuals_after` (`(N, 6)`, m),
+    /// `singular_values` (`(6, 7)`), `unobservable` (a list of dicts), `variance_factor`,
+    /// `iterations` and `robot_toml`, the calibrated robot file.
+    #[pyo3(signature = (pose, q, *, noise_position = 10e-6, noise_angle = 20e-6,
+        noise_encoder = 1e-6, scale = 1e-3, observable = 5e-3, strict = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn calibrate<'py>(
+        &self,
+        py: Python<'py>,
+        pose: Array<'py>,
+        q: Array<'py>,
+        noise_position: f64,
+        noise_angle: f64,
+        noise_encoder: f64,
+        scale: f64,
+        observable: f64,
+        strict: bool,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let robot = self.hexapod("calibration")?;
+        let (r, batch) = Self::read(&[("pose", 6, Some(&pose)), ("q", 6, Some(&q))])?;
+        let data: Vec<Measurement> = (0..batch.n)
+            .map(|k| Measurement {
+                pose: Pose::from_array(r[0].row(k)),
+                q: r[1].row(k),
+            })
+            .collect();
+        let options = Options {
+            noise: Noise {
+                position: noise_position,
+                angle: noise_angle,
+                encoder: noise_encoder,
+            },
+            scale,
+            observable,
+            strict,
+            ..Options::default()
+        };
+        let report = py
+            .detach(|| calibrate::calibrate(robot, &data, &options))
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let d = PyDict::new(py);
+        let p = &report.parameters;
+        d.set_item(
+            "names",
+            p.iter().map(|x| x.name.clone()).collect::<Vec<_>>(),
+        )?;
+        d.set_item("nominal", vector(py, p.iter().map(|x| x.nominal).collect()))?;
+        d.set_item("values", vector(py, p.iter().map(|x| x.estimate).collect()))?;
+        let sigma = p.iter().map(|x| x.std_dev.unwrap_or(f64::NAN)).collect();
+        d.set_item("std_dev", vector(py, sigma))?;
+        let table = |rows: &[[f64; 6]]| {
+            ArrayD::from_shape_vec(IxDyn(&[rows.len(), 6]), rows.as_flattened().to_vec())
+                .map(|a| a.into_pyarray(py))
+        };
+        let to_py = |e: numpy::ndarray::ShapeError| PyValueError::new_err(e.to_string());
+        d.set_item(
+            "residuals_before",
+            table(&report.residuals_before).map_err(to_py)?,
+        )?;
+        d.set_item(
+            "residuals_after",
+            table(&report.residuals_after).map_err(to_py)?,
+        )?;
+        let singular = ArrayD::from_shape_vec(
+            IxDyn(&[6, calibrate::PER_LEG]),
+            report.singular_values.as_flattened().to_vec(),
+        )
+        .map_err(to_py)?;
+        d.set_item("singular_values", singular.into_pyarray(py))?;
+        let unobservable = PyList::empty(py);
+        for u in &report.unobservable {
+            let entry = PyDict::new(py);
+            entry.set_item("leg", u.leg)?;
+            entry.set_item("combination", u.combination.clone())?;
+            entry.set_item("std_dev", u.std_dev)?;
+            entry.set_item("fixed", u.fixed.clone())?;
+            entry.set_item("text", u.to_string())?;
+            unobservable.append(entry)?;
+        }
+        d.set_item("unobservable", unobservable)?;
+        d.set_item("variance_factor", report.variance_factor)?;
+        d.set_item("iterations", report.iterations)?;
+        d.set_item(
+            "robot_toml",
+            Description::GoughStewart(report.robot).to_toml(),
+        )?;
+        Ok(d)
+    }
+
+    /// `n` poses `(n, 6)` inside the robot's limits that make its geometry best observable for
+    /// calibration (a Gough-Stewart platform), drawn with `seed`.
+    #[pyo3(signature = (n, *, seed = 1))]
+    fn calibration_plan<'py>(
+        &self,
+        py: Python<'py>,
+        n: usize,
+        seed: u64,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let robot = self.hexapod("calibration plan")?;
+        let poses = py
+            .detach(|| calibrate::plan(robot, n, &Options::default(), seed))
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let flat: Vec<f64> = poses.iter().flat_map(|p| p.to_array()).collect();
+        ArrayD::from_shape_vec(IxDyn(&[poses.len(), 6]), flat)
+            .map(|a| a.into_pyarray(py))
+            .map_err(|e| PyValueError::new_err(e.to_string()))
     }
 }
 

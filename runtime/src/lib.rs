@@ -14,7 +14,8 @@
 //! feature, `identify` fits the robot's inertial parameters and friction to measured motion and
 //! forces. With the `reference` feature, `reference` is the chapter and the consistent model in
 //! matrix form with `nalgebra`, kept independent of the generator so the two check each other.
-//! With the `derivatives` feature, [`derivatives`] gives the dynamics with their exact Jacobians.
+//! With the `calibrate` feature, [`calibrate`] fits a Gough-Stewart platform's geometry to
+//! measured poses. With the `derivatives` feature, [`derivatives`] gives the dynamics with their exact Jacobians.
 //!
 //! # Example
 //!
@@ -36,6 +37,8 @@
 extern crate alloc;
 
 mod batch;
+#[cfg(feature = "calibrate")]
+pub mod calibrate;
 pub mod control;
 mod dense;
 #[cfg(feature = "derivatives")]

@@ -108,6 +108,9 @@ kernels! {
     InverseDynamicsJointDerivatives => "inverse_dynamics_joint_derivatives",
     /// A Newton step of the forward kinematics: the actuators' residual and `∂q/∂X`.
     ForwardKinematicsStep => "forward_kinematics_step",
+    /// Kinematic calibration: the legs' residuals at a measured pose and their Jacobians with
+    /// respect to the geometry and the pose.
+    CalibrationResiduals => "calibration_residuals",
 }
 
 /// A generated kernel: what it computes and whether the robot's parameters are its inputs.
@@ -1087,7 +1090,6 @@ pub fn specs(
             (_, Reads::Robot) => true,
             _ => suffix.is_empty(),
         })
-        .filter(|d| d.reads != Reads::Geometry)
         .map(|d| spec(d, mechanism, &indices, suffix, None))
         .collect())
 }
@@ -1186,10 +1188,7 @@ pub(crate) fn spec(
         } else {
             "\nThe robot's parameters are folded in as constants."
         }),
-        Reads::Geometry => doc.push_str(
-            "\nThe inertial parameters and friction are the unknowns; the geometry and gravity \
-             are `params`.",
-        ),
+        Reads::Geometry => doc.push_str("\nThe geometry and gravity are `params`."),
     }
     if decl.guard != Guard::Never {
         let (output, note) = structure.guard_output(decl.guard);

@@ -88,7 +88,8 @@ pub const KERNELS: [Decl; 2] = [
         title: "The regressor `Y` of the standard parameters: `Γ = Y π`.",
         doc: "Columns in the order of `STANDARD_PARAMETERS`: ten per body (mass, first moment \
               `m c`, inertia about the reference point) for the platform, then the rod and body \
-              2 of each segment, then viscous and Coulomb friction per actuator.",
+              2 of each segment, then viscous and Coulomb friction per actuator. The inertial \
+              parameters and friction are the unknowns.",
         equations: Cite::Model(Quantity::Identification),
         inputs: &[Input::Pose, Input::Twist, Input::Accel],
         outputs: &[Y],
@@ -102,7 +103,8 @@ pub const KERNELS: [Decl; 2] = [
         kernel: Kernel::BaseRegressor,
         title: "The regressor `Y_b` of the base parameters: `Γ = Y_b β`.",
         doc: "Columns in the order of `BASE_PARAMETERS`: the columns of their leading standard \
-              parameters (`BASE_RELATIONS` says what each base parameter groups).",
+              parameters (`BASE_RELATIONS` says what each base parameter groups). The inertial \
+              parameters and friction are the unknowns.",
         equations: Cite::Model(Quantity::Identification),
         inputs: &[Input::Pose, Input::Twist, Input::Accel],
         // The width is the model's number of base parameters, set when they are known.

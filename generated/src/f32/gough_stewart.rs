@@ -15,6 +15,7 @@
 //   inverse_dynamics                  1206   24   793   39  3 sin_cos, 12 sqrt
 //   singularity_terms                  342   17   227   15  3 sin_cos, 12 sqrt
 //   forward_kinematics_step            260    6   153   16  3 sin_cos, 12 sqrt
+//   calibration_residuals              306    6   180   36  3 sin_cos, 6 sqrt
 //   inverse_kinematics_params          144    6   120   12  3 sin_cos, 12 sqrt
 //   inverse_jacobian_pose_params       222    6   132   18  3 sin_cos, 12 sqrt
 //   jacobian_pose_params               829   22   571   27  3 sin_cos, 12 sqrt
@@ -20514,6 +20515,602 @@ pub fn forward_kinematics_step(
             [t350, t361, t372, t373, t374, t375],
         ],
         [t389, t402, t415, t428, t440, t452],
+    )
+}
+/// Kinematic calibration: the legs' residuals at a measured pose, and their exact Jacobians with respect to each leg's geometry and to the pose.
+///
+/// Equations: q = |C + R p - A| + o, ∂q/∂(A, p, o), ∂q/∂X. Setting: pose.
+///
+/// Model: gough-stewart. The Gough-Stewart platform (6-UPS): each leg a universal joint on the base, a prismatic actuator (cylinder and rod, turning with the leg) and a spherical joint on the platform; every quantity derived from the leg's closed forms by exact differentiation.
+/// Actuators in leg order 1..6; `q_i = |B_i - A_i| + o_i`, the encoder's reading, `B_i = C + R p_i`; a positive force extends the leg.
+/// `r_i = ρ_i(X; θ) - q_i` with `ρ_i = |C + R p_i - A_i| + o_i`, the actuator value the geometry `θ` (the `params`) predicts at the measured pose `X`, less the encoder's reading `q_i`. Leg `i`'s residual depends on its own seven parameters only (`A_i`, `p_i`, `o_i`): row `i` of `geometry_jacobian` holds those seven derivatives; `pose_jacobian` is `∂ρ/∂X`, which carries the pose's measurement noise into the residuals.
+/// The geometry and gravity are `params`.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `params`: gravity, then per leg `A_i`, the unit `a_i`, `p_i` and the encoder's offset (the first entries of `GoughStewart::kernel_parameters`)
+///
+/// # Returns
+///
+/// - `residual`: `ρ(X; θ) - q` (m): the actuator values the geometry predicts at the pose less the readings
+/// - `geometry_jacobian`: `∂ρ_i/∂(A_i, p_i, o_i)`, row `i` for leg `i+1`, columns `A_x A_y A_z p_x p_y p_z o` (base frame for `A`, platform frame for `p`)
+/// - `pose_jacobian`: `∂ρ/∂X`, row `i` for leg `i+1`, columns `α β γ xc yc zc`
+///
+/// Operations: 306 mul, 6 div, 180 add, 36 neg, 3 sin_cos, 6 sqrt (chapter convention: 312m + 180a).
+#[inline]
+pub fn calibration_residuals(
+    pose: &[f32; 6],
+    q: &[f32; 6],
+    params: &[f32; 63],
+) -> ([f32; 6], [[f32; 7]; 6], [[f32; 6]; 6]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [_, _, _, leg1_base_x, leg1_base_y, leg1_base_z, _, _, _, leg1_platform_x,
+    leg1_platform_y, leg1_platform_z, leg1_offset, leg2_base_x, leg2_base_y, leg2_base_z,
+    _, _, _, leg2_platform_x, leg2_platform_y, leg2_platform_z, leg2_offset, leg3_base_x,
+    leg3_base_y, leg3_base_z, _, _, _, leg3_platform_x, leg3_platform_y, leg3_platform_z,
+    leg3_offset, leg4_base_x, leg4_base_y, leg4_base_z, _, _, _, leg4_platform_x,
+    leg4_platform_y, leg4_platform_z, leg4_offset, leg5_base_x, leg5_base_y, leg5_base_z,
+    _, _, _, leg5_platform_x, leg5_platform_y, leg5_platform_z, leg5_offset, leg6_base_x,
+    leg6_base_y, leg6_base_z, _, _, _, leg6_platform_x, leg6_platform_y, leg6_platform_z,
+    leg6_offset] = *params;
+    let (t0, t1): (f32, f32) = sin_cos(beta);
+    let t2: f32 = leg1_platform_z * t0;
+    let (t3, t4): (f32, f32) = sin_cos(gamma);
+    let t5: f32 = leg1_platform_x * t4;
+    let t6: f32 = leg1_platform_y * t3;
+    let t7: f32 = t5 - t6;
+    let t8: f32 = t1 * t7;
+    let t9: f32 = t2 + t8;
+    let t10: f32 = xc + t9;
+    let t11: f32 = t10 - leg1_base_x;
+    let t12: f32 = t11 * t11;
+    let (t13, t14): (f32, f32) = sin_cos(alpha);
+    let t15: f32 = leg1_platform_z * t1;
+    let t16: f32 = t0 * t7;
+    let t17: f32 = t15 - t16;
+    let t18: f32 = t13 * t17;
+    let t19: f32 = leg1_platform_x * t3;
+    let t20: f32 = leg1_platform_y * t4;
+    let t21: f32 = t19 + t20;
+    let t22: f32 = t14 * t21;
+    let t23: f32 = t18 - t22;
+    let t24: f32 = leg1_base_y + t23;
+    let t25: f32 = yc - t24;
+    let t26: f32 = t25 * t25;
+    let t27: f32 = t14 * t17;
+    let t28: f32 = t13 * t21;
+    let t29: f32 = t27 + t28;
+    let t30: f32 = zc + t29;
+    let t31: f32 = t30 - leg1_base_z;
+    let t32: f32 = t31 * t31;
+    let t33: f32 = t12 + t26;
+    let t34: f32 = t32 + t33;
+    let t35: f32 = sqrt(t34);
+    let t36: f32 = leg1_offset + t35;
+    let t37: f32 = t36 - q1;
+    let t38: f32 = leg2_platform_z * t0;
+    let t39: f32 = leg2_platform_x * t4;
+    let t40: f32 = leg2_platform_y * t3;
+    let t41: f32 = t39 - t40;
+    let t42: f32 = t1 * t41;
+    let t43: f32 = t38 + t42;
+    let t44: f32 = xc + t43;
+    let t45: f32 = t44 - leg2_base_x;
+    let t46: f32 = t45 * t45;
+    let t47: f32 = leg2_platform_z * t1;
+    let t48: f32 = t0 * t41;
+    let t49: f32 = t47 - t48;
+    let t50: f32 = t13 * t49;
+    let t51: f32 = leg2_platform_x * t3;
+    let t52: f32 = leg2_platform_y * t4;
+    let t53: f32 = t51 + t52;
+    let t54: f32 = t14 * t53;
+    let t55: f32 = t50 - t54;
+    let t56: f32 = leg2_base_y + t55;
+    let t57: f32 = yc - t56;
+    let t58: f32 = t57 * t57;
+    let t59: f32 = t14 * t49;
+    let t60: f32 = t13 * t53;
+    let t61: f32 = t59 + t60;
+    let t62: f32 = zc + t61;
+    let t63: f32 = t62 - leg2_base_z;
+    let t64: f32 = t63 * t63;
+    let t65: f32 = t46 + t58;
+    let t66: f32 = t64 + t65;
+    let t67: f32 = sqrt(t66);
+    let t68: f32 = leg2_offset + t67;
+    let t69: f32 = t68 - q2;
+    let t70: f32 = leg3_platform_z * t0;
+    let t71: f32 = leg3_platform_x * t4;
+    let t72: f32 = leg3_platform_y * t3;
+    let t73: f32 = t71 - t72;
+    let t74: f32 = t1 * t73;
+    let t75: f32 = t70 + t74;
+    let t76: f32 = xc + t75;
+    let t77: f32 = t76 - leg3_base_x;
+    let t78: f32 = t77 * t77;
+    let t79: f32 = leg3_platform_z * t1;
+    let t80: f32 = t0 * t73;
+    let t81: f32 = t79 - t80;
+    let t82: f32 = t13 * t81;
+    let t83: f32 = leg3_platform_x * t3;
+    let t84: f32 = leg3_platform_y * t4;
+    let t85: f32 = t83 + t84;
+    let t86: f32 = t14 * t85;
+    let t87: f32 = t82 - t86;
+    let t88: f32 = leg3_base_y + t87;
+    let t89: f32 = yc - t88;
+    let t90: f32 = t89 * t89;
+    let t91: f32 = t14 * t81;
+    let t92: f32 = t13 * t85;
+    let t93: f32 = t91 + t92;
+    let t94: f32 = zc + t93;
+    let t95: f32 = t94 - leg3_base_z;
+    let t96: f32 = t95 * t95;
+    let t97: f32 = t78 + t90;
+    let t98: f32 = t96 + t97;
+    let t99: f32 = sqrt(t98);
+    let t100: f32 = leg3_offset + t99;
+    let t101: f32 = t100 - q3;
+    let t102: f32 = leg4_platform_z * t0;
+    let t103: f32 = leg4_platform_x * t4;
+    let t104: f32 = leg4_platform_y * t3;
+    let t105: f32 = t103 - t104;
+    let t106: f32 = t1 * t105;
+    let t107: f32 = t102 + t106;
+    let t108: f32 = xc + t107;
+    let t109: f32 = t108 - leg4_base_x;
+    let t110: f32 = t109 * t109;
+    let t111: f32 = leg4_platform_z * t1;
+    let t112: f32 = t0 * t105;
+    let t113: f32 = t111 - t112;
+    let t114: f32 = t13 * t113;
+    let t115: f32 = leg4_platform_x * t3;
+    let t116: f32 = leg4_platform_y * t4;
+    let t117: f32 = t115 + t116;
+    let t118: f32 = t14 * t117;
+    let t119: f32 = t114 - t118;
+    let t120: f32 = leg4_base_y + t119;
+    let t121: f32 = yc - t120;
+    let t122: f32 = t121 * t121;
+    let t123: f32 = t14 * t113;
+    let t124: f32 = t13 * t117;
+    let t125: f32 = t123 + t124;
+    let t126: f32 = zc + t125;
+    let t127: f32 = t126 - leg4_base_z;
+    let t128: f32 = t127 * t127;
+    let t129: f32 = t110 + t122;
+    let t130: f32 = t128 + t129;
+    let t131: f32 = sqrt(t130);
+    let t132: f32 = leg4_offset + t131;
+    let t133: f32 = t132 - q4;
+    let t134: f32 = leg5_platform_z * t0;
+    let t135: f32 = leg5_platform_x * t4;
+    let t136: f32 = leg5_platform_y * t3;
+    let t137: f32 = t135 - t136;
+    let t138: f32 = t1 * t137;
+    let t139: f32 = t134 + t138;
+    let t140: f32 = xc + t139;
+    let t141: f32 = t140 - leg5_base_x;
+    let t142: f32 = t141 * t141;
+    let t143: f32 = leg5_platform_z * t1;
+    let t144: f32 = t0 * t137;
+    let t145: f32 = t143 - t144;
+    let t146: f32 = t13 * t145;
+    let t147: f32 = leg5_platform_x * t3;
+    let t148: f32 = leg5_platform_y * t4;
+    let t149: f32 = t147 + t148;
+    let t150: f32 = t14 * t149;
+    let t151: f32 = t146 - t150;
+    let t152: f32 = leg5_base_y + t151;
+    let t153: f32 = yc - t152;
+    let t154: f32 = t153 * t153;
+    let t155: f32 = t14 * t145;
+    let t156: f32 = t13 * t149;
+    let t157: f32 = t155 + t156;
+    let t158: f32 = zc + t157;
+    let t159: f32 = t158 - leg5_base_z;
+    let t160: f32 = t159 * t159;
+    let t161: f32 = t142 + t154;
+    let t162: f32 = t160 + t161;
+    let t163: f32 = sqrt(t162);
+    let t164: f32 = leg5_offset + t163;
+    let t165: f32 = t164 - q5;
+    let t166: f32 = leg6_platform_z * t0;
+    let t167: f32 = leg6_platform_x * t4;
+    let t168: f32 = leg6_platform_y * t3;
+    let t169: f32 = t167 - t168;
+    let t170: f32 = t1 * t169;
+    let t171: f32 = t166 + t170;
+    let t172: f32 = xc + t171;
+    let t173: f32 = t172 - leg6_base_x;
+    let t174: f32 = t173 * t173;
+    let t175: f32 = leg6_platform_z * t1;
+    let t176: f32 = t0 * t169;
+    let t177: f32 = t175 - t176;
+    let t178: f32 = t13 * t177;
+    let t179: f32 = leg6_platform_x * t3;
+    let t180: f32 = leg6_platform_y * t4;
+    let t181: f32 = t179 + t180;
+    let t182: f32 = t14 * t181;
+    let t183: f32 = t178 - t182;
+    let t184: f32 = leg6_base_y + t183;
+    let t185: f32 = yc - t184;
+    let t186: f32 = t185 * t185;
+    let t187: f32 = t14 * t177;
+    let t188: f32 = t13 * t181;
+    let t189: f32 = t187 + t188;
+    let t190: f32 = zc + t189;
+    let t191: f32 = t190 - leg6_base_z;
+    let t192: f32 = t191 * t191;
+    let t193: f32 = t174 + t186;
+    let t194: f32 = t192 + t193;
+    let t195: f32 = sqrt(t194);
+    let t196: f32 = leg6_offset + t195;
+    let t197: f32 = t196 - q6;
+    let t198: f32 = 1.0 / t35;
+    let t199: f32 = t11 * t198;
+    let t200: f32 = -t199;
+    let t201: f32 = t25 * t198;
+    let t202: f32 = -t201;
+    let t203: f32 = t31 * t198;
+    let t204: f32 = -t203;
+    let t205: f32 = t1 * t11;
+    let t206: f32 = t13 * t25;
+    let t207: f32 = t14 * t31;
+    let t208: f32 = t206 - t207;
+    let t209: f32 = t0 * t208;
+    let t210: f32 = t205 + t209;
+    let t211: f32 = t4 * t210;
+    let t212: f32 = t14 * t25;
+    let t213: f32 = t13 * t31;
+    let t214: f32 = t212 + t213;
+    let t215: f32 = t3 * t214;
+    let t216: f32 = t211 + t215;
+    let t217: f32 = t198 * t216;
+    let t218: f32 = t3 * t210;
+    let t219: f32 = t4 * t214;
+    let t220: f32 = t218 - t219;
+    let t221: f32 = t198 * t220;
+    let t222: f32 = -t221;
+    let t223: f32 = t0 * t11;
+    let t224: f32 = t1 * t208;
+    let t225: f32 = t223 - t224;
+    let t226: f32 = t198 * t225;
+    let t227: f32 = 1.0 / t67;
+    let t228: f32 = t45 * t227;
+    let t229: f32 = -t228;
+    let t230: f32 = t57 * t227;
+    let t231: f32 = -t230;
+    let t232: f32 = t63 * t227;
+    let t233: f32 = -t232;
+    let t234: f32 = t1 * t45;
+    let t235: f32 = t13 * t57;
+    let t236: f32 = t14 * t63;
+    let t237: f32 = t235 - t236;
+    let t238: f32 = t0 * t237;
+    let t239: f32 = t234 + t238;
+    let t240: f32 = t4 * t239;
+    let t241: f32 = t14 * t57;
+    let t242: f32 = t13 * t63;
+    let t243: f32 = t241 + t242;
+    let t244: f32 = t3 * t243;
+    let t245: f32 = t240 + t244;
+    let t246: f32 = t227 * t245;
+    let t247: f32 = t3 * t239;
+    let t248: f32 = t4 * t243;
+    let t249: f32 = t247 - t248;
+    let t250: f32 = t227 * t249;
+    let t251: f32 = -t250;
+    let t252: f32 = t0 * t45;
+    let t253: f32 = t1 * t237;
+    let t254: f32 = t252 - t253;
+    let t255: f32 = t227 * t254;
+    let t256: f32 = 1.0 / t99;
+    let t257: f32 = t77 * t256;
+    let t258: f32 = -t257;
+    let t259: f32 = t89 * t256;
+    let t260: f32 = -t259;
+    let t261: f32 = t95 * t256;
+    let t262: f32 = -t261;
+    let t263: f32 = t1 * t77;
+    let t264: f32 = t13 * t89;
+    let t265: f32 = t14 * t95;
+    let t266: f32 = t264 - t265;
+    let t267: f32 = t0 * t266;
+    let t268: f32 = t263 + t267;
+    let t269: f32 = t4 * t268;
+    let t270: f32 = t14 * t89;
+    let t271: f32 = t13 * t95;
+    let t272: f32 = t270 + t271;
+    let t273: f32 = t3 * t272;
+    let t274: f32 = t269 + t273;
+    let t275: f32 = t256 * t274;
+    let t276: f32 = t3 * t268;
+    let t277: f32 = t4 * t272;
+    let t278: f32 = t276 - t277;
+    let t279: f32 = t256 * t278;
+    let t280: f32 = -t279;
+    let t281: f32 = t0 * t77;
+    let t282: f32 = t1 * t266;
+    let t283: f32 = t281 - t282;
+    let t284: f32 = t256 * t283;
+    let t285: f32 = 1.0 / t131;
+    let t286: f32 = t109 * t285;
+    let t287: f32 = -t286;
+    let t288: f32 = t121 * t285;
+    let t289: f32 = -t288;
+    let t290: f32 = t127 * t285;
+    let t291: f32 = -t290;
+    let t292: f32 = t1 * t109;
+    let t293: f32 = t13 * t121;
+    let t294: f32 = t14 * t127;
+    let t295: f32 = t293 - t294;
+    let t296: f32 = t0 * t295;
+    let t297: f32 = t292 + t296;
+    let t298: f32 = t4 * t297;
+    let t299: f32 = t14 * t121;
+    let t300: f32 = t13 * t127;
+    let t301: f32 = t299 + t300;
+    let t302: f32 = t3 * t301;
+    let t303: f32 = t298 + t302;
+    let t304: f32 = t285 * t303;
+    let t305: f32 = t3 * t297;
+    let t306: f32 = t4 * t301;
+    let t307: f32 = t305 - t306;
+    let t308: f32 = t285 * t307;
+    let t309: f32 = -t308;
+    let t310: f32 = t0 * t109;
+    let t311: f32 = t1 * t295;
+    let t312: f32 = t310 - t311;
+    let t313: f32 = t285 * t312;
+    let t314: f32 = 1.0 / t163;
+    let t315: f32 = t141 * t314;
+    let t316: f32 = -t315;
+    let t317: f32 = t153 * t314;
+    let t318: f32 = -t317;
+    let t319: f32 = t159 * t314;
+    let t320: f32 = -t319;
+    let t321: f32 = t1 * t141;
+    let t322: f32 = t13 * t153;
+    let t323: f32 = t14 * t159;
+    let t324: f32 = t322 - t323;
+    let t325: f32 = t0 * t324;
+    let t326: f32 = t321 + t325;
+    let t327: f32 = t4 * t326;
+    let t328: f32 = t14 * t153;
+    let t329: f32 = t13 * t159;
+    let t330: f32 = t328 + t329;
+    let t331: f32 = t3 * t330;
+    let t332: f32 = t327 + t331;
+    let t333: f32 = t314 * t332;
+    let t334: f32 = t3 * t326;
+    let t335: f32 = t4 * t330;
+    let t336: f32 = t334 - t335;
+    let t337: f32 = t314 * t336;
+    let t338: f32 = -t337;
+    let t339: f32 = t0 * t141;
+    let t340: f32 = t1 * t324;
+    let t341: f32 = t339 - t340;
+    let t342: f32 = t314 * t341;
+    let t343: f32 = 1.0 / t195;
+    let t344: f32 = t173 * t343;
+    let t345: f32 = -t344;
+    let t346: f32 = t185 * t343;
+    let t347: f32 = -t346;
+    let t348: f32 = t191 * t343;
+    let t349: f32 = -t348;
+    let t350: f32 = t1 * t173;
+    let t351: f32 = t13 * t185;
+    let t352: f32 = t14 * t191;
+    let t353: f32 = t351 - t352;
+    let t354: f32 = t0 * t353;
+    let t355: f32 = t350 + t354;
+    let t356: f32 = t4 * t355;
+    let t357: f32 = t14 * t185;
+    let t358: f32 = t13 * t191;
+    let t359: f32 = t357 + t358;
+    let t360: f32 = t3 * t359;
+    let t361: f32 = t356 + t360;
+    let t362: f32 = t343 * t361;
+    let t363: f32 = t3 * t355;
+    let t364: f32 = t4 * t359;
+    let t365: f32 = t363 - t364;
+    let t366: f32 = t343 * t365;
+    let t367: f32 = -t366;
+    let t368: f32 = t0 * t173;
+    let t369: f32 = t1 * t353;
+    let t370: f32 = t368 - t369;
+    let t371: f32 = t343 * t370;
+    let t372: f32 = t17 * t31;
+    let t373: f32 = t21 * t25;
+    let t374: f32 = t372 + t373;
+    let t375: f32 = t13 * t374;
+    let t376: f32 = t17 * t25;
+    let t377: f32 = t21 * t31;
+    let t378: f32 = t376 - t377;
+    let t379: f32 = t14 * t378;
+    let t380: f32 = t375 + t379;
+    let t381: f32 = t198 * t380;
+    let t382: f32 = -t381;
+    let t383: f32 = leg1_platform_z * t11;
+    let t384: f32 = t5 * t208;
+    let t385: f32 = t6 * t208;
+    let t386: f32 = t383 + t384;
+    let t387: f32 = t386 - t385;
+    let t388: f32 = t1 * t387;
+    let t389: f32 = leg1_platform_z * t208;
+    let t390: f32 = t7 * t11;
+    let t391: f32 = t389 - t390;
+    let t392: f32 = t0 * t391;
+    let t393: f32 = t388 + t392;
+    let t394: f32 = t198 * t393;
+    let t395: f32 = leg1_platform_x * t220;
+    let t396: f32 = leg1_platform_y * t216;
+    let t397: f32 = t395 + t396;
+    let t398: f32 = t198 * t397;
+    let t399: f32 = -t398;
+    let t400: f32 = t49 * t63;
+    let t401: f32 = t53 * t57;
+    let t402: f32 = t400 + t401;
+    let t403: f32 = t13 * t402;
+    let t404: f32 = t49 * t57;
+    let t405: f32 = t53 * t63;
+    let t406: f32 = t404 - t405;
+    let t407: f32 = t14 * t406;
+    let t408: f32 = t403 + t407;
+    let t409: f32 = t227 * t408;
+    let t410: f32 = -t409;
+    let t411: f32 = leg2_platform_z * t45;
+    let t412: f32 = t39 * t237;
+    let t413: f32 = t40 * t237;
+    let t414: f32 = t411 + t412;
+    let t415: f32 = t414 - t413;
+    let t416: f32 = t1 * t415;
+    let t417: f32 = leg2_platform_z * t237;
+    let t418: f32 = t41 * t45;
+    let t419: f32 = t417 - t418;
+    let t420: f32 = t0 * t419;
+    let t421: f32 = t416 + t420;
+    let t422: f32 = t227 * t421;
+    let t423: f32 = leg2_platform_x * t249;
+    let t424: f32 = leg2_platform_y * t245;
+    let t425: f32 = t423 + t424;
+    let t426: f32 = t227 * t425;
+    let t427: f32 = -t426;
+    let t428: f32 = t81 * t95;
+    let t429: f32 = t85 * t89;
+    let t430: f32 = t428 + t429;
+    let t431: f32 = t13 * t430;
+    let t432: f32 = t81 * t89;
+    let t433: f32 = t85 * t95;
+    let t434: f32 = t432 - t433;
+    let t435: f32 = t14 * t434;
+    let t436: f32 = t431 + t435;
+    let t437: f32 = t256 * t436;
+    let t438: f32 = -t437;
+    let t439: f32 = leg3_platform_z * t77;
+    let t440: f32 = t71 * t266;
+    let t441: f32 = t72 * t266;
+    let t442: f32 = t439 + t440;
+    let t443: f32 = t442 - t441;
+    let t444: f32 = t1 * t443;
+    let t445: f32 = leg3_platform_z * t266;
+    let t446: f32 = t73 * t77;
+    let t447: f32 = t445 - t446;
+    let t448: f32 = t0 * t447;
+    let t449: f32 = t444 + t448;
+    let t450: f32 = t256 * t449;
+    let t451: f32 = leg3_platform_x * t278;
+    let t452: f32 = leg3_platform_y * t274;
+    let t453: f32 = t451 + t452;
+    let t454: f32 = t256 * t453;
+    let t455: f32 = -t454;
+    let t456: f32 = t113 * t127;
+    let t457: f32 = t117 * t121;
+    let t458: f32 = t456 + t457;
+    let t459: f32 = t13 * t458;
+    let t460: f32 = t113 * t121;
+    let t461: f32 = t117 * t127;
+    let t462: f32 = t460 - t461;
+    let t463: f32 = t14 * t462;
+    let t464: f32 = t459 + t463;
+    let t465: f32 = t285 * t464;
+    let t466: f32 = -t465;
+    let t467: f32 = leg4_platform_z * t109;
+    let t468: f32 = t103 * t295;
+    let t469: f32 = t104 * t295;
+    let t470: f32 = t467 + t468;
+    let t471: f32 = t470 - t469;
+    let t472: f32 = t1 * t471;
+    let t473: f32 = leg4_platform_z * t295;
+    let t474: f32 = t105 * t109;
+    let t475: f32 = t473 - t474;
+    let t476: f32 = t0 * t475;
+    let t477: f32 = t472 + t476;
+    let t478: f32 = t285 * t477;
+    let t479: f32 = leg4_platform_x * t307;
+    let t480: f32 = leg4_platform_y * t303;
+    let t481: f32 = t479 + t480;
+    let t482: f32 = t285 * t481;
+    let t483: f32 = -t482;
+    let t484: f32 = t145 * t159;
+    let t485: f32 = t149 * t153;
+    let t486: f32 = t484 + t485;
+    let t487: f32 = t13 * t486;
+    let t488: f32 = t145 * t153;
+    let t489: f32 = t149 * t159;
+    let t490: f32 = t488 - t489;
+    let t491: f32 = t14 * t490;
+    let t492: f32 = t487 + t491;
+    let t493: f32 = t314 * t492;
+    let t494: f32 = -t493;
+    let t495: f32 = leg5_platform_z * t141;
+    let t496: f32 = t135 * t324;
+    let t497: f32 = t136 * t324;
+    let t498: f32 = t495 + t496;
+    let t499: f32 = t498 - t497;
+    let t500: f32 = t1 * t499;
+    let t501: f32 = leg5_platform_z * t324;
+    let t502: f32 = t137 * t141;
+    let t503: f32 = t501 - t502;
+    let t504: f32 = t0 * t503;
+    let t505: f32 = t500 + t504;
+    let t506: f32 = t314 * t505;
+    let t507: f32 = leg5_platform_x * t336;
+    let t508: f32 = leg5_platform_y * t332;
+    let t509: f32 = t507 + t508;
+    let t510: f32 = t314 * t509;
+    let t511: f32 = -t510;
+    let t512: f32 = t177 * t191;
+    let t513: f32 = t181 * t185;
+    let t514: f32 = t512 + t513;
+    let t515: f32 = t13 * t514;
+    let t516: f32 = t177 * t185;
+    let t517: f32 = t181 * t191;
+    let t518: f32 = t516 - t517;
+    let t519: f32 = t14 * t518;
+    let t520: f32 = t515 + t519;
+    let t521: f32 = t343 * t520;
+    let t522: f32 = -t521;
+    let t523: f32 = leg6_platform_z * t173;
+    let t524: f32 = t167 * t353;
+    let t525: f32 = t168 * t353;
+    let t526: f32 = t523 + t524;
+    let t527: f32 = t526 - t525;
+    let t528: f32 = t1 * t527;
+    let t529: f32 = leg6_platform_z * t353;
+    let t530: f32 = t169 * t173;
+    let t531: f32 = t529 - t530;
+    let t532: f32 = t0 * t531;
+    let t533: f32 = t528 + t532;
+    let t534: f32 = t343 * t533;
+    let t535: f32 = leg6_platform_x * t365;
+    let t536: f32 = leg6_platform_y * t361;
+    let t537: f32 = t535 + t536;
+    let t538: f32 = t343 * t537;
+    let t539: f32 = -t538;
+    (
+        [t37, t69, t101, t133, t165, t197],
+        [
+            [t200, t202, t204, t217, t222, t226, 1.0],
+            [t229, t231, t233, t246, t251, t255, 1.0],
+            [t258, t260, t262, t275, t280, t284, 1.0],
+            [t287, t289, t291, t304, t309, t313, 1.0],
+            [t316, t318, t320, t333, t338, t342, 1.0],
+            [t345, t347, t349, t362, t367, t371, 1.0],
+        ],
+        [
+            [t382, t394, t399, t199, t201, t203],
+            [t410, t422, t427, t228, t230, t232],
+            [t438, t450, t455, t257, t259, t261],
+            [t466, t478, t483, t286, t288, t290],
+            [t494, t506, t511, t315, t317, t319],
+            [t522, t534, t539, t344, t346, t348],
+        ],
     )
 }
 /// Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.

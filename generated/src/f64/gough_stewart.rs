@@ -15,6 +15,7 @@
 //   inverse_dynamics                  1206   24   793   39  3 sin_cos, 12 sqrt
 //   singularity_terms                  342   17   227   15  3 sin_cos, 12 sqrt
 //   forward_kinematics_step            260    6   153   16  3 sin_cos, 12 sqrt
+//   calibration_residuals              306    6   180   36  3 sin_cos, 6 sqrt
 //   inverse_kinematics_params          144    6   120   12  3 sin_cos, 12 sqrt
 //   inverse_jacobian_pose_params       222    6   132   18  3 sin_cos, 12 sqrt
 //   jacobian_pose_params               829   22   571   27  3 sin_cos, 12 sqrt
@@ -35888,6 +35889,1069 @@ pub unsafe fn forward_kinematics_step_fused(
             [t350, t361, t372, t373, t374, t375],
         ],
         [t389, t402, t415, t428, t440, t452],
+    )
+}
+/// Kinematic calibration: the legs' residuals at a measured pose, and their exact Jacobians with respect to each leg's geometry and to the pose.
+///
+/// Equations: q = |C + R p - A| + o, ∂q/∂(A, p, o), ∂q/∂X. Setting: pose.
+///
+/// Model: gough-stewart. The Gough-Stewart platform (6-UPS): each leg a universal joint on the base, a prismatic actuator (cylinder and rod, turning with the leg) and a spherical joint on the platform; every quantity derived from the leg's closed forms by exact differentiation.
+/// Actuators in leg order 1..6; `q_i = |B_i - A_i| + o_i`, the encoder's reading, `B_i = C + R p_i`; a positive force extends the leg.
+/// `r_i = ρ_i(X; θ) - q_i` with `ρ_i = |C + R p_i - A_i| + o_i`, the actuator value the geometry `θ` (the `params`) predicts at the measured pose `X`, less the encoder's reading `q_i`. Leg `i`'s residual depends on its own seven parameters only (`A_i`, `p_i`, `o_i`): row `i` of `geometry_jacobian` holds those seven derivatives; `pose_jacobian` is `∂ρ/∂X`, which carries the pose's measurement noise into the residuals.
+/// The geometry and gravity are `params`.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `params`: gravity, then per leg `A_i`, the unit `a_i`, `p_i` and the encoder's offset (the first entries of `GoughStewart::kernel_parameters`)
+///
+/// # Returns
+///
+/// - `residual`: `ρ(X; θ) - q` (m): the actuator values the geometry predicts at the pose less the readings
+/// - `geometry_jacobian`: `∂ρ_i/∂(A_i, p_i, o_i)`, row `i` for leg `i+1`, columns `A_x A_y A_z p_x p_y p_z o` (base frame for `A`, platform frame for `p`)
+/// - `pose_jacobian`: `∂ρ/∂X`, row `i` for leg `i+1`, columns `α β γ xc yc zc`
+///
+/// Operations: 306 mul, 6 div, 180 add, 36 neg, 3 sin_cos, 6 sqrt (chapter convention: 312m + 180a).
+#[inline]
+pub fn calibration_residuals(
+    pose: &[f64; 6],
+    q: &[f64; 6],
+    params: &[f64; 63],
+) -> ([f64; 6], [[f64; 7]; 6], [[f64; 6]; 6]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { calibration_residuals_fused(pose, q, params) };
+    }
+    calibration_residuals_separate(pose, q, params)
+}
+/// [`calibration_residuals`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn calibration_residuals_separate(
+    pose: &[f64; 6],
+    q: &[f64; 6],
+    params: &[f64; 63],
+) -> ([f64; 6], [[f64; 7]; 6], [[f64; 6]; 6]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [_, _, _, leg1_base_x, leg1_base_y, leg1_base_z, _, _, _, leg1_platform_x,
+    leg1_platform_y, leg1_platform_z, leg1_offset, leg2_base_x, leg2_base_y, leg2_base_z,
+    _, _, _, leg2_platform_x, leg2_platform_y, leg2_platform_z, leg2_offset, leg3_base_x,
+    leg3_base_y, leg3_base_z, _, _, _, leg3_platform_x, leg3_platform_y, leg3_platform_z,
+    leg3_offset, leg4_base_x, leg4_base_y, leg4_base_z, _, _, _, leg4_platform_x,
+    leg4_platform_y, leg4_platform_z, leg4_offset, leg5_base_x, leg5_base_y, leg5_base_z,
+    _, _, _, leg5_platform_x, leg5_platform_y, leg5_platform_z, leg5_offset, leg6_base_x,
+    leg6_base_y, leg6_base_z, _, _, _, leg6_platform_x, leg6_platform_y, leg6_platform_z,
+    leg6_offset] = *params;
+    let (t0, t1): (f64, f64) = sin_cos(beta);
+    let t2: f64 = leg1_platform_z * t0;
+    let (t3, t4): (f64, f64) = sin_cos(gamma);
+    let t5: f64 = leg1_platform_x * t4;
+    let t6: f64 = leg1_platform_y * t3;
+    let t7: f64 = t5 - t6;
+    let t8: f64 = t1 * t7;
+    let t9: f64 = t2 + t8;
+    let t10: f64 = xc + t9;
+    let t11: f64 = t10 - leg1_base_x;
+    let t12: f64 = t11 * t11;
+    let (t13, t14): (f64, f64) = sin_cos(alpha);
+    let t15: f64 = leg1_platform_z * t1;
+    let t16: f64 = t0 * t7;
+    let t17: f64 = t15 - t16;
+    let t18: f64 = t13 * t17;
+    let t19: f64 = leg1_platform_x * t3;
+    let t20: f64 = leg1_platform_y * t4;
+    let t21: f64 = t19 + t20;
+    let t22: f64 = t14 * t21;
+    let t23: f64 = t18 - t22;
+    let t24: f64 = leg1_base_y + t23;
+    let t25: f64 = yc - t24;
+    let t26: f64 = t25 * t25;
+    let t27: f64 = t14 * t17;
+    let t28: f64 = t13 * t21;
+    let t29: f64 = t27 + t28;
+    let t30: f64 = zc + t29;
+    let t31: f64 = t30 - leg1_base_z;
+    let t32: f64 = t31 * t31;
+    let t33: f64 = t12 + t26;
+    let t34: f64 = t32 + t33;
+    let t35: f64 = sqrt(t34);
+    let t36: f64 = leg1_offset + t35;
+    let t37: f64 = t36 - q1;
+    let t38: f64 = leg2_platform_z * t0;
+    let t39: f64 = leg2_platform_x * t4;
+    let t40: f64 = leg2_platform_y * t3;
+    let t41: f64 = t39 - t40;
+    let t42: f64 = t1 * t41;
+    let t43: f64 = t38 + t42;
+    let t44: f64 = xc + t43;
+    let t45: f64 = t44 - leg2_base_x;
+    let t46: f64 = t45 * t45;
+    let t47: f64 = leg2_platform_z * t1;
+    let t48: f64 = t0 * t41;
+    let t49: f64 = t47 - t48;
+    let t50: f64 = t13 * t49;
+    let t51: f64 = leg2_platform_x * t3;
+    let t52: f64 = leg2_platform_y * t4;
+    let t53: f64 = t51 + t52;
+    let t54: f64 = t14 * t53;
+    let t55: f64 = t50 - t54;
+    let t56: f64 = leg2_base_y + t55;
+    let t57: f64 = yc - t56;
+    let t58: f64 = t57 * t57;
+    let t59: f64 = t14 * t49;
+    let t60: f64 = t13 * t53;
+    let t61: f64 = t59 + t60;
+    let t62: f64 = zc + t61;
+    let t63: f64 = t62 - leg2_base_z;
+    let t64: f64 = t63 * t63;
+    let t65: f64 = t46 + t58;
+    let t66: f64 = t64 + t65;
+    let t67: f64 = sqrt(t66);
+    let t68: f64 = leg2_offset + t67;
+    let t69: f64 = t68 - q2;
+    let t70: f64 = leg3_platform_z * t0;
+    let t71: f64 = leg3_platform_x * t4;
+    let t72: f64 = leg3_platform_y * t3;
+    let t73: f64 = t71 - t72;
+    let t74: f64 = t1 * t73;
+    let t75: f64 = t70 + t74;
+    let t76: f64 = xc + t75;
+    let t77: f64 = t76 - leg3_base_x;
+    let t78: f64 = t77 * t77;
+    let t79: f64 = leg3_platform_z * t1;
+    let t80: f64 = t0 * t73;
+    let t81: f64 = t79 - t80;
+    let t82: f64 = t13 * t81;
+    let t83: f64 = leg3_platform_x * t3;
+    let t84: f64 = leg3_platform_y * t4;
+    let t85: f64 = t83 + t84;
+    let t86: f64 = t14 * t85;
+    let t87: f64 = t82 - t86;
+    let t88: f64 = leg3_base_y + t87;
+    let t89: f64 = yc - t88;
+    let t90: f64 = t89 * t89;
+    let t91: f64 = t14 * t81;
+    let t92: f64 = t13 * t85;
+    let t93: f64 = t91 + t92;
+    let t94: f64 = zc + t93;
+    let t95: f64 = t94 - leg3_base_z;
+    let t96: f64 = t95 * t95;
+    let t97: f64 = t78 + t90;
+    let t98: f64 = t96 + t97;
+    let t99: f64 = sqrt(t98);
+    let t100: f64 = leg3_offset + t99;
+    let t101: f64 = t100 - q3;
+    let t102: f64 = leg4_platform_z * t0;
+    let t103: f64 = leg4_platform_x * t4;
+    let t104: f64 = leg4_platform_y * t3;
+    let t105: f64 = t103 - t104;
+    let t106: f64 = t1 * t105;
+    let t107: f64 = t102 + t106;
+    let t108: f64 = xc + t107;
+    let t109: f64 = t108 - leg4_base_x;
+    let t110: f64 = t109 * t109;
+    let t111: f64 = leg4_platform_z * t1;
+    let t112: f64 = t0 * t105;
+    let t113: f64 = t111 - t112;
+    let t114: f64 = t13 * t113;
+    let t115: f64 = leg4_platform_x * t3;
+    let t116: f64 = leg4_platform_y * t4;
+    let t117: f64 = t115 + t116;
+    let t118: f64 = t14 * t117;
+    let t119: f64 = t114 - t118;
+    let t120: f64 = leg4_base_y + t119;
+    let t121: f64 = yc - t120;
+    let t122: f64 = t121 * t121;
+    let t123: f64 = t14 * t113;
+    let t124: f64 = t13 * t117;
+    let t125: f64 = t123 + t124;
+    let t126: f64 = zc + t125;
+    let t127: f64 = t126 - leg4_base_z;
+    let t128: f64 = t127 * t127;
+    let t129: f64 = t110 + t122;
+    let t130: f64 = t128 + t129;
+    let t131: f64 = sqrt(t130);
+    let t132: f64 = leg4_offset + t131;
+    let t133: f64 = t132 - q4;
+    let t134: f64 = leg5_platform_z * t0;
+    let t135: f64 = leg5_platform_x * t4;
+    let t136: f64 = leg5_platform_y * t3;
+    let t137: f64 = t135 - t136;
+    let t138: f64 = t1 * t137;
+    let t139: f64 = t134 + t138;
+    let t140: f64 = xc + t139;
+    let t141: f64 = t140 - leg5_base_x;
+    let t142: f64 = t141 * t141;
+    let t143: f64 = leg5_platform_z * t1;
+    let t144: f64 = t0 * t137;
+    let t145: f64 = t143 - t144;
+    let t146: f64 = t13 * t145;
+    let t147: f64 = leg5_platform_x * t3;
+    let t148: f64 = leg5_platform_y * t4;
+    let t149: f64 = t147 + t148;
+    let t150: f64 = t14 * t149;
+    let t151: f64 = t146 - t150;
+    let t152: f64 = leg5_base_y + t151;
+    let t153: f64 = yc - t152;
+    let t154: f64 = t153 * t153;
+    let t155: f64 = t14 * t145;
+    let t156: f64 = t13 * t149;
+    let t157: f64 = t155 + t156;
+    let t158: f64 = zc + t157;
+    let t159: f64 = t158 - leg5_base_z;
+    let t160: f64 = t159 * t159;
+    let t161: f64 = t142 + t154;
+    let t162: f64 = t160 + t161;
+    let t163: f64 = sqrt(t162);
+    let t164: f64 = leg5_offset + t163;
+    let t165: f64 = t164 - q5;
+    let t166: f64 = leg6_platform_z * t0;
+    let t167: f64 = leg6_platform_x * t4;
+    let t168: f64 = leg6_platform_y * t3;
+    let t169: f64 = t167 - t168;
+    let t170: f64 = t1 * t169;
+    let t171: f64 = t166 + t170;
+    let t172: f64 = xc + t171;
+    let t173: f64 = t172 - leg6_base_x;
+    let t174: f64 = t173 * t173;
+    let t175: f64 = leg6_platform_z * t1;
+    let t176: f64 = t0 * t169;
+    let t177: f64 = t175 - t176;
+    let t178: f64 = t13 * t177;
+    let t179: f64 = leg6_platform_x * t3;
+    let t180: f64 = leg6_platform_y * t4;
+    let t181: f64 = t179 + t180;
+    let t182: f64 = t14 * t181;
+    let t183: f64 = t178 - t182;
+    let t184: f64 = leg6_base_y + t183;
+    let t185: f64 = yc - t184;
+    let t186: f64 = t185 * t185;
+    let t187: f64 = t14 * t177;
+    let t188: f64 = t13 * t181;
+    let t189: f64 = t187 + t188;
+    let t190: f64 = zc + t189;
+    let t191: f64 = t190 - leg6_base_z;
+    let t192: f64 = t191 * t191;
+    let t193: f64 = t174 + t186;
+    let t194: f64 = t192 + t193;
+    let t195: f64 = sqrt(t194);
+    let t196: f64 = leg6_offset + t195;
+    let t197: f64 = t196 - q6;
+    let t198: f64 = 1.0 / t35;
+    let t199: f64 = t11 * t198;
+    let t200: f64 = -t199;
+    let t201: f64 = t25 * t198;
+    let t202: f64 = -t201;
+    let t203: f64 = t31 * t198;
+    let t204: f64 = -t203;
+    let t205: f64 = t1 * t11;
+    let t206: f64 = t13 * t25;
+    let t207: f64 = t14 * t31;
+    let t208: f64 = t206 - t207;
+    let t209: f64 = t0 * t208;
+    let t210: f64 = t205 + t209;
+    let t211: f64 = t4 * t210;
+    let t212: f64 = t14 * t25;
+    let t213: f64 = t13 * t31;
+    let t214: f64 = t212 + t213;
+    let t215: f64 = t3 * t214;
+    let t216: f64 = t211 + t215;
+    let t217: f64 = t198 * t216;
+    let t218: f64 = t3 * t210;
+    let t219: f64 = t4 * t214;
+    let t220: f64 = t218 - t219;
+    let t221: f64 = t198 * t220;
+    let t222: f64 = -t221;
+    let t223: f64 = t0 * t11;
+    let t224: f64 = t1 * t208;
+    let t225: f64 = t223 - t224;
+    let t226: f64 = t198 * t225;
+    let t227: f64 = 1.0 / t67;
+    let t228: f64 = t45 * t227;
+    let t229: f64 = -t228;
+    let t230: f64 = t57 * t227;
+    let t231: f64 = -t230;
+    let t232: f64 = t63 * t227;
+    let t233: f64 = -t232;
+    let t234: f64 = t1 * t45;
+    let t235: f64 = t13 * t57;
+    let t236: f64 = t14 * t63;
+    let t237: f64 = t235 - t236;
+    let t238: f64 = t0 * t237;
+    let t239: f64 = t234 + t238;
+    let t240: f64 = t4 * t239;
+    let t241: f64 = t14 * t57;
+    let t242: f64 = t13 * t63;
+    let t243: f64 = t241 + t242;
+    let t244: f64 = t3 * t243;
+    let t245: f64 = t240 + t244;
+    let t246: f64 = t227 * t245;
+    let t247: f64 = t3 * t239;
+    let t248: f64 = t4 * t243;
+    let t249: f64 = t247 - t248;
+    let t250: f64 = t227 * t249;
+    let t251: f64 = -t250;
+    let t252: f64 = t0 * t45;
+    let t253: f64 = t1 * t237;
+    let t254: f64 = t252 - t253;
+    let t255: f64 = t227 * t254;
+    let t256: f64 = 1.0 / t99;
+    let t257: f64 = t77 * t256;
+    let t258: f64 = -t257;
+    let t259: f64 = t89 * t256;
+    let t260: f64 = -t259;
+    let t261: f64 = t95 * t256;
+    let t262: f64 = -t261;
+    let t263: f64 = t1 * t77;
+    let t264: f64 = t13 * t89;
+    let t265: f64 = t14 * t95;
+    let t266: f64 = t264 - t265;
+    let t267: f64 = t0 * t266;
+    let t268: f64 = t263 + t267;
+    let t269: f64 = t4 * t268;
+    let t270: f64 = t14 * t89;
+    let t271: f64 = t13 * t95;
+    let t272: f64 = t270 + t271;
+    let t273: f64 = t3 * t272;
+    let t274: f64 = t269 + t273;
+    let t275: f64 = t256 * t274;
+    let t276: f64 = t3 * t268;
+    let t277: f64 = t4 * t272;
+    let t278: f64 = t276 - t277;
+    let t279: f64 = t256 * t278;
+    let t280: f64 = -t279;
+    let t281: f64 = t0 * t77;
+    let t282: f64 = t1 * t266;
+    let t283: f64 = t281 - t282;
+    let t284: f64 = t256 * t283;
+    let t285: f64 = 1.0 / t131;
+    let t286: f64 = t109 * t285;
+    let t287: f64 = -t286;
+    let t288: f64 = t121 * t285;
+    let t289: f64 = -t288;
+    let t290: f64 = t127 * t285;
+    let t291: f64 = -t290;
+    let t292: f64 = t1 * t109;
+    let t293: f64 = t13 * t121;
+    let t294: f64 = t14 * t127;
+    let t295: f64 = t293 - t294;
+    let t296: f64 = t0 * t295;
+    let t297: f64 = t292 + t296;
+    let t298: f64 = t4 * t297;
+    let t299: f64 = t14 * t121;
+    let t300: f64 = t13 * t127;
+    let t301: f64 = t299 + t300;
+    let t302: f64 = t3 * t301;
+    let t303: f64 = t298 + t302;
+    let t304: f64 = t285 * t303;
+    let t305: f64 = t3 * t297;
+    let t306: f64 = t4 * t301;
+    let t307: f64 = t305 - t306;
+    let t308: f64 = t285 * t307;
+    let t309: f64 = -t308;
+    let t310: f64 = t0 * t109;
+    let t311: f64 = t1 * t295;
+    let t312: f64 = t310 - t311;
+    let t313: f64 = t285 * t312;
+    let t314: f64 = 1.0 / t163;
+    let t315: f64 = t141 * t314;
+    let t316: f64 = -t315;
+    let t317: f64 = t153 * t314;
+    let t318: f64 = -t317;
+    let t319: f64 = t159 * t314;
+    let t320: f64 = -t319;
+    let t321: f64 = t1 * t141;
+    let t322: f64 = t13 * t153;
+    let t323: f64 = t14 * t159;
+    let t324: f64 = t322 - t323;
+    let t325: f64 = t0 * t324;
+    let t326: f64 = t321 + t325;
+    let t327: f64 = t4 * t326;
+    let t328: f64 = t14 * t153;
+    let t329: f64 = t13 * t159;
+    let t330: f64 = t328 + t329;
+    let t331: f64 = t3 * t330;
+    let t332: f64 = t327 + t331;
+    let t333: f64 = t314 * t332;
+    let t334: f64 = t3 * t326;
+    let t335: f64 = t4 * t330;
+    let t336: f64 = t334 - t335;
+    let t337: f64 = t314 * t336;
+    let t338: f64 = -t337;
+    let t339: f64 = t0 * t141;
+    let t340: f64 = t1 * t324;
+    let t341: f64 = t339 - t340;
+    let t342: f64 = t314 * t341;
+    let t343: f64 = 1.0 / t195;
+    let t344: f64 = t173 * t343;
+    let t345: f64 = -t344;
+    let t346: f64 = t185 * t343;
+    let t347: f64 = -t346;
+    let t348: f64 = t191 * t343;
+    let t349: f64 = -t348;
+    let t350: f64 = t1 * t173;
+    let t351: f64 = t13 * t185;
+    let t352: f64 = t14 * t191;
+    let t353: f64 = t351 - t352;
+    let t354: f64 = t0 * t353;
+    let t355: f64 = t350 + t354;
+    let t356: f64 = t4 * t355;
+    let t357: f64 = t14 * t185;
+    let t358: f64 = t13 * t191;
+    let t359: f64 = t357 + t358;
+    let t360: f64 = t3 * t359;
+    let t361: f64 = t356 + t360;
+    let t362: f64 = t343 * t361;
+    let t363: f64 = t3 * t355;
+    let t364: f64 = t4 * t359;
+    let t365: f64 = t363 - t364;
+    let t366: f64 = t343 * t365;
+    let t367: f64 = -t366;
+    let t368: f64 = t0 * t173;
+    let t369: f64 = t1 * t353;
+    let t370: f64 = t368 - t369;
+    let t371: f64 = t343 * t370;
+    let t372: f64 = t17 * t31;
+    let t373: f64 = t21 * t25;
+    let t374: f64 = t372 + t373;
+    let t375: f64 = t13 * t374;
+    let t376: f64 = t17 * t25;
+    let t377: f64 = t21 * t31;
+    let t378: f64 = t376 - t377;
+    let t379: f64 = t14 * t378;
+    let t380: f64 = t375 + t379;
+    let t381: f64 = t198 * t380;
+    let t382: f64 = -t381;
+    let t383: f64 = leg1_platform_z * t11;
+    let t384: f64 = t5 * t208;
+    let t385: f64 = t6 * t208;
+    let t386: f64 = t383 + t384;
+    let t387: f64 = t386 - t385;
+    let t388: f64 = t1 * t387;
+    let t389: f64 = leg1_platform_z * t208;
+    let t390: f64 = t7 * t11;
+    let t391: f64 = t389 - t390;
+    let t392: f64 = t0 * t391;
+    let t393: f64 = t388 + t392;
+    let t394: f64 = t198 * t393;
+    let t395: f64 = leg1_platform_x * t220;
+    let t396: f64 = leg1_platform_y * t216;
+    let t397: f64 = t395 + t396;
+    let t398: f64 = t198 * t397;
+    let t399: f64 = -t398;
+    let t400: f64 = t49 * t63;
+    let t401: f64 = t53 * t57;
+    let t402: f64 = t400 + t401;
+    let t403: f64 = t13 * t402;
+    let t404: f64 = t49 * t57;
+    let t405: f64 = t53 * t63;
+    let t406: f64 = t404 - t405;
+    let t407: f64 = t14 * t406;
+    let t408: f64 = t403 + t407;
+    let t409: f64 = t227 * t408;
+    let t410: f64 = -t409;
+    let t411: f64 = leg2_platform_z * t45;
+    let t412: f64 = t39 * t237;
+    let t413: f64 = t40 * t237;
+    let t414: f64 = t411 + t412;
+    let t415: f64 = t414 - t413;
+    let t416: f64 = t1 * t415;
+    let t417: f64 = leg2_platform_z * t237;
+    let t418: f64 = t41 * t45;
+    let t419: f64 = t417 - t418;
+    let t420: f64 = t0 * t419;
+    let t421: f64 = t416 + t420;
+    let t422: f64 = t227 * t421;
+    let t423: f64 = leg2_platform_x * t249;
+    let t424: f64 = leg2_platform_y * t245;
+    let t425: f64 = t423 + t424;
+    let t426: f64 = t227 * t425;
+    let t427: f64 = -t426;
+    let t428: f64 = t81 * t95;
+    let t429: f64 = t85 * t89;
+    let t430: f64 = t428 + t429;
+    let t431: f64 = t13 * t430;
+    let t432: f64 = t81 * t89;
+    let t433: f64 = t85 * t95;
+    let t434: f64 = t432 - t433;
+    let t435: f64 = t14 * t434;
+    let t436: f64 = t431 + t435;
+    let t437: f64 = t256 * t436;
+    let t438: f64 = -t437;
+    let t439: f64 = leg3_platform_z * t77;
+    let t440: f64 = t71 * t266;
+    let t441: f64 = t72 * t266;
+    let t442: f64 = t439 + t440;
+    let t443: f64 = t442 - t441;
+    let t444: f64 = t1 * t443;
+    let t445: f64 = leg3_platform_z * t266;
+    let t446: f64 = t73 * t77;
+    let t447: f64 = t445 - t446;
+    let t448: f64 = t0 * t447;
+    let t449: f64 = t444 + t448;
+    let t450: f64 = t256 * t449;
+    let t451: f64 = leg3_platform_x * t278;
+    let t452: f64 = leg3_platform_y * t274;
+    let t453: f64 = t451 + t452;
+    let t454: f64 = t256 * t453;
+    let t455: f64 = -t454;
+    let t456: f64 = t113 * t127;
+    let t457: f64 = t117 * t121;
+    let t458: f64 = t456 + t457;
+    let t459: f64 = t13 * t458;
+    let t460: f64 = t113 * t121;
+    let t461: f64 = t117 * t127;
+    let t462: f64 = t460 - t461;
+    let t463: f64 = t14 * t462;
+    let t464: f64 = t459 + t463;
+    let t465: f64 = t285 * t464;
+    let t466: f64 = -t465;
+    let t467: f64 = leg4_platform_z * t109;
+    let t468: f64 = t103 * t295;
+    let t469: f64 = t104 * t295;
+    let t470: f64 = t467 + t468;
+    let t471: f64 = t470 - t469;
+    let t472: f64 = t1 * t471;
+    let t473: f64 = leg4_platform_z * t295;
+    let t474: f64 = t105 * t109;
+    let t475: f64 = t473 - t474;
+    let t476: f64 = t0 * t475;
+    let t477: f64 = t472 + t476;
+    let t478: f64 = t285 * t477;
+    let t479: f64 = leg4_platform_x * t307;
+    let t480: f64 = leg4_platform_y * t303;
+    let t481: f64 = t479 + t480;
+    let t482: f64 = t285 * t481;
+    let t483: f64 = -t482;
+    let t484: f64 = t145 * t159;
+    let t485: f64 = t149 * t153;
+    let t486: f64 = t484 + t485;
+    let t487: f64 = t13 * t486;
+    let t488: f64 = t145 * t153;
+    let t489: f64 = t149 * t159;
+    let t490: f64 = t488 - t489;
+    let t491: f64 = t14 * t490;
+    let t492: f64 = t487 + t491;
+    let t493: f64 = t314 * t492;
+    let t494: f64 = -t493;
+    let t495: f64 = leg5_platform_z * t141;
+    let t496: f64 = t135 * t324;
+    let t497: f64 = t136 * t324;
+    let t498: f64 = t495 + t496;
+    let t499: f64 = t498 - t497;
+    let t500: f64 = t1 * t499;
+    let t501: f64 = leg5_platform_z * t324;
+    let t502: f64 = t137 * t141;
+    let t503: f64 = t501 - t502;
+    let t504: f64 = t0 * t503;
+    let t505: f64 = t500 + t504;
+    let t506: f64 = t314 * t505;
+    let t507: f64 = leg5_platform_x * t336;
+    let t508: f64 = leg5_platform_y * t332;
+    let t509: f64 = t507 + t508;
+    let t510: f64 = t314 * t509;
+    let t511: f64 = -t510;
+    let t512: f64 = t177 * t191;
+    let t513: f64 = t181 * t185;
+    let t514: f64 = t512 + t513;
+    let t515: f64 = t13 * t514;
+    let t516: f64 = t177 * t185;
+    let t517: f64 = t181 * t191;
+    let t518: f64 = t516 - t517;
+    let t519: f64 = t14 * t518;
+    let t520: f64 = t515 + t519;
+    let t521: f64 = t343 * t520;
+    let t522: f64 = -t521;
+    let t523: f64 = leg6_platform_z * t173;
+    let t524: f64 = t167 * t353;
+    let t525: f64 = t168 * t353;
+    let t526: f64 = t523 + t524;
+    let t527: f64 = t526 - t525;
+    let t528: f64 = t1 * t527;
+    let t529: f64 = leg6_platform_z * t353;
+    let t530: f64 = t169 * t173;
+    let t531: f64 = t529 - t530;
+    let t532: f64 = t0 * t531;
+    let t533: f64 = t528 + t532;
+    let t534: f64 = t343 * t533;
+    let t535: f64 = leg6_platform_x * t365;
+    let t536: f64 = leg6_platform_y * t361;
+    let t537: f64 = t535 + t536;
+    let t538: f64 = t343 * t537;
+    let t539: f64 = -t538;
+    (
+        [t37, t69, t101, t133, t165, t197],
+        [
+            [t200, t202, t204, t217, t222, t226, 1.0],
+            [t229, t231, t233, t246, t251, t255, 1.0],
+            [t258, t260, t262, t275, t280, t284, 1.0],
+            [t287, t289, t291, t304, t309, t313, 1.0],
+            [t316, t318, t320, t333, t338, t342, 1.0],
+            [t345, t347, t349, t362, t367, t371, 1.0],
+        ],
+        [
+            [t382, t394, t399, t199, t201, t203],
+            [t410, t422, t427, t228, t230, t232],
+            [t438, t450, t455, t257, t259, t261],
+            [t466, t478, t483, t286, t288, t290],
+            [t494, t506, t511, t315, t317, t319],
+            [t522, t534, t539, t344, t346, t348],
+        ],
+    )
+}
+/// [`calibration_residuals`] with 126 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`calibration_residuals`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn calibration_residuals_fused(
+    pose: &[f64; 6],
+    q: &[f64; 6],
+    params: &[f64; 63],
+) -> ([f64; 6], [[f64; 7]; 6], [[f64; 6]; 6]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [_, _, _, leg1_base_x, leg1_base_y, leg1_base_z, _, _, _, leg1_platform_x,
+    leg1_platform_y, leg1_platform_z, leg1_offset, leg2_base_x, leg2_base_y, leg2_base_z,
+    _, _, _, leg2_platform_x, leg2_platform_y, leg2_platform_z, leg2_offset, leg3_base_x,
+    leg3_base_y, leg3_base_z, _, _, _, leg3_platform_x, leg3_platform_y, leg3_platform_z,
+    leg3_offset, leg4_base_x, leg4_base_y, leg4_base_z, _, _, _, leg4_platform_x,
+    leg4_platform_y, leg4_platform_z, leg4_offset, leg5_base_x, leg5_base_y, leg5_base_z,
+    _, _, _, leg5_platform_x, leg5_platform_y, leg5_platform_z, leg5_offset, leg6_base_x,
+    leg6_base_y, leg6_base_z, _, _, _, leg6_platform_x, leg6_platform_y, leg6_platform_z,
+    leg6_offset] = *params;
+    let (t0, t1): (f64, f64) = sin_cos(beta);
+    let (t3, t4): (f64, f64) = sin_cos(gamma);
+    let t5: f64 = leg1_platform_x * t4;
+    let t6: f64 = leg1_platform_y * t3;
+    let t7: f64 = t5 - t6;
+    let t8: f64 = t1 * t7;
+    let t9: f64 = f64::mul_add(leg1_platform_z, t0, t8);
+    let t10: f64 = xc + t9;
+    let t11: f64 = t10 - leg1_base_x;
+    let (t13, t14): (f64, f64) = sin_cos(alpha);
+    let t16: f64 = t0 * t7;
+    let t17: f64 = f64::mul_add(leg1_platform_z, t1, -t16);
+    let t20: f64 = leg1_platform_y * t4;
+    let t21: f64 = f64::mul_add(leg1_platform_x, t3, t20);
+    let t22: f64 = t14 * t21;
+    let t23: f64 = f64::mul_add(t13, t17, -t22);
+    let t24: f64 = leg1_base_y + t23;
+    let t25: f64 = yc - t24;
+    let t26: f64 = t25 * t25;
+    let t28: f64 = t13 * t21;
+    let t29: f64 = f64::mul_add(t14, t17, t28);
+    let t30: f64 = zc + t29;
+    let t31: f64 = t30 - leg1_base_z;
+    let t33: f64 = f64::mul_add(t11, t11, t26);
+    let t34: f64 = f64::mul_add(t31, t31, t33);
+    let t35: f64 = sqrt(t34);
+    let t36: f64 = leg1_offset + t35;
+    let t37: f64 = t36 - q1;
+    let t39: f64 = leg2_platform_x * t4;
+    let t40: f64 = leg2_platform_y * t3;
+    let t41: f64 = t39 - t40;
+    let t42: f64 = t1 * t41;
+    let t43: f64 = f64::mul_add(leg2_platform_z, t0, t42);
+    let t44: f64 = xc + t43;
+    let t45: f64 = t44 - leg2_base_x;
+    let t48: f64 = t0 * t41;
+    let t49: f64 = f64::mul_add(leg2_platform_z, t1, -t48);
+    let t52: f64 = leg2_platform_y * t4;
+    let t53: f64 = f64::mul_add(leg2_platform_x, t3, t52);
+    let t54: f64 = t14 * t53;
+    let t55: f64 = f64::mul_add(t13, t49, -t54);
+    let t56: f64 = leg2_base_y + t55;
+    let t57: f64 = yc - t56;
+    let t58: f64 = t57 * t57;
+    let t60: f64 = t13 * t53;
+    let t61: f64 = f64::mul_add(t14, t49, t60);
+    let t62: f64 = zc + t61;
+    let t63: f64 = t62 - leg2_base_z;
+    let t65: f64 = f64::mul_add(t45, t45, t58);
+    let t66: f64 = f64::mul_add(t63, t63, t65);
+    let t67: f64 = sqrt(t66);
+    let t68: f64 = leg2_offset + t67;
+    let t69: f64 = t68 - q2;
+    let t71: f64 = leg3_platform_x * t4;
+    let t72: f64 = leg3_platform_y * t3;
+    let t73: f64 = t71 - t72;
+    let t74: f64 = t1 * t73;
+    let t75: f64 = f64::mul_add(leg3_platform_z, t0, t74);
+    let t76: f64 = xc + t75;
+    let t77: f64 = t76 - leg3_base_x;
+    let t80: f64 = t0 * t73;
+    let t81: f64 = f64::mul_add(leg3_platform_z, t1, -t80);
+    let t84: f64 = leg3_platform_y * t4;
+    let t85: f64 = f64::mul_add(leg3_platform_x, t3, t84);
+    let t86: f64 = t14 * t85;
+    let t87: f64 = f64::mul_add(t13, t81, -t86);
+    let t88: f64 = leg3_base_y + t87;
+    let t89: f64 = yc - t88;
+    let t90: f64 = t89 * t89;
+    let t92: f64 = t13 * t85;
+    let t93: f64 = f64::mul_add(t14, t81, t92);
+    let t94: f64 = zc + t93;
+    let t95: f64 = t94 - leg3_base_z;
+    let t97: f64 = f64::mul_add(t77, t77, t90);
+    let t98: f64 = f64::mul_add(t95, t95, t97);
+    let t99: f64 = sqrt(t98);
+    let t100: f64 = leg3_offset + t99;
+    let t101: f64 = t100 - q3;
+    let t103: f64 = leg4_platform_x * t4;
+    let t104: f64 = leg4_platform_y * t3;
+    let t105: f64 = t103 - t104;
+    let t106: f64 = t1 * t105;
+    let t107: f64 = f64::mul_add(leg4_platform_z, t0, t106);
+    let t108: f64 = xc + t107;
+    let t109: f64 = t108 - leg4_base_x;
+    let t112: f64 = t0 * t105;
+    let t113: f64 = f64::mul_add(leg4_platform_z, t1, -t112);
+    let t116: f64 = leg4_platform_y * t4;
+    let t117: f64 = f64::mul_add(leg4_platform_x, t3, t116);
+    let t118: f64 = t14 * t117;
+    let t119: f64 = f64::mul_add(t13, t113, -t118);
+    let t120: f64 = leg4_base_y + t119;
+    let t121: f64 = yc - t120;
+    let t122: f64 = t121 * t121;
+    let t124: f64 = t13 * t117;
+    let t125: f64 = f64::mul_add(t14, t113, t124);
+    let t126: f64 = zc + t125;
+    let t127: f64 = t126 - leg4_base_z;
+    let t129: f64 = f64::mul_add(t109, t109, t122);
+    let t130: f64 = f64::mul_add(t127, t127, t129);
+    let t131: f64 = sqrt(t130);
+    let t132: f64 = leg4_offset + t131;
+    let t133: f64 = t132 - q4;
+    let t135: f64 = leg5_platform_x * t4;
+    let t136: f64 = leg5_platform_y * t3;
+    let t137: f64 = t135 - t136;
+    let t138: f64 = t1 * t137;
+    let t139: f64 = f64::mul_add(leg5_platform_z, t0, t138);
+    let t140: f64 = xc + t139;
+    let t141: f64 = t140 - leg5_base_x;
+    let t144: f64 = t0 * t137;
+    let t145: f64 = f64::mul_add(leg5_platform_z, t1, -t144);
+    let t148: f64 = leg5_platform_y * t4;
+    let t149: f64 = f64::mul_add(leg5_platform_x, t3, t148);
+    let t150: f64 = t14 * t149;
+    let t151: f64 = f64::mul_add(t13, t145, -t150);
+    let t152: f64 = leg5_base_y + t151;
+    let t153: f64 = yc - t152;
+    let t154: f64 = t153 * t153;
+    let t156: f64 = t13 * t149;
+    let t157: f64 = f64::mul_add(t14, t145, t156);
+    let t158: f64 = zc + t157;
+    let t159: f64 = t158 - leg5_base_z;
+    let t161: f64 = f64::mul_add(t141, t141, t154);
+    let t162: f64 = f64::mul_add(t159, t159, t161);
+    let t163: f64 = sqrt(t162);
+    let t164: f64 = leg5_offset + t163;
+    let t165: f64 = t164 - q5;
+    let t167: f64 = leg6_platform_x * t4;
+    let t168: f64 = leg6_platform_y * t3;
+    let t169: f64 = t167 - t168;
+    let t170: f64 = t1 * t169;
+    let t171: f64 = f64::mul_add(leg6_platform_z, t0, t170);
+    let t172: f64 = xc + t171;
+    let t173: f64 = t172 - leg6_base_x;
+    let t176: f64 = t0 * t169;
+    let t177: f64 = f64::mul_add(leg6_platform_z, t1, -t176);
+    let t180: f64 = leg6_platform_y * t4;
+    let t181: f64 = f64::mul_add(leg6_platform_x, t3, t180);
+    let t182: f64 = t14 * t181;
+    let t183: f64 = f64::mul_add(t13, t177, -t182);
+    let t184: f64 = leg6_base_y + t183;
+    let t185: f64 = yc - t184;
+    let t186: f64 = t185 * t185;
+    let t188: f64 = t13 * t181;
+    let t189: f64 = f64::mul_add(t14, t177, t188);
+    let t190: f64 = zc + t189;
+    let t191: f64 = t190 - leg6_base_z;
+    let t193: f64 = f64::mul_add(t173, t173, t186);
+    let t194: f64 = f64::mul_add(t191, t191, t193);
+    let t195: f64 = sqrt(t194);
+    let t196: f64 = leg6_offset + t195;
+    let t197: f64 = t196 - q6;
+    let t198: f64 = 1.0 / t35;
+    let t199: f64 = t11 * t198;
+    let t200: f64 = -t199;
+    let t201: f64 = t25 * t198;
+    let t202: f64 = -t201;
+    let t203: f64 = t31 * t198;
+    let t204: f64 = -t203;
+    let t207: f64 = t14 * t31;
+    let t208: f64 = f64::mul_add(t13, t25, -t207);
+    let t209: f64 = t0 * t208;
+    let t210: f64 = f64::mul_add(t1, t11, t209);
+    let t213: f64 = t13 * t31;
+    let t214: f64 = f64::mul_add(t14, t25, t213);
+    let t215: f64 = t3 * t214;
+    let t216: f64 = f64::mul_add(t4, t210, t215);
+    let t217: f64 = t198 * t216;
+    let t219: f64 = t4 * t214;
+    let t220: f64 = f64::mul_add(t3, t210, -t219);
+    let t221: f64 = t198 * t220;
+    let t222: f64 = -t221;
+    let t224: f64 = t1 * t208;
+    let t225: f64 = f64::mul_add(t0, t11, -t224);
+    let t226: f64 = t198 * t225;
+    let t227: f64 = 1.0 / t67;
+    let t228: f64 = t45 * t227;
+    let t229: f64 = -t228;
+    let t230: f64 = t57 * t227;
+    let t231: f64 = -t230;
+    let t232: f64 = t63 * t227;
+    let t233: f64 = -t232;
+    let t236: f64 = t14 * t63;
+    let t237: f64 = f64::mul_add(t13, t57, -t236);
+    let t238: f64 = t0 * t237;
+    let t239: f64 = f64::mul_add(t1, t45, t238);
+    let t242: f64 = t13 * t63;
+    let t243: f64 = f64::mul_add(t14, t57, t242);
+    let t244: f64 = t3 * t243;
+    let t245: f64 = f64::mul_add(t4, t239, t244);
+    let t246: f64 = t227 * t245;
+    let t248: f64 = t4 * t243;
+    let t249: f64 = f64::mul_add(t3, t239, -t248);
+    let t250: f64 = t227 * t249;
+    let t251: f64 = -t250;
+    let t253: f64 = t1 * t237;
+    let t254: f64 = f64::mul_add(t0, t45, -t253);
+    let t255: f64 = t227 * t254;
+    let t256: f64 = 1.0 / t99;
+    let t257: f64 = t77 * t256;
+    let t258: f64 = -t257;
+    let t259: f64 = t89 * t256;
+    let t260: f64 = -t259;
+    let t261: f64 = t95 * t256;
+    let t262: f64 = -t261;
+    let t265: f64 = t14 * t95;
+    let t266: f64 = f64::mul_add(t13, t89, -t265);
+    let t267: f64 = t0 * t266;
+    let t268: f64 = f64::mul_add(t1, t77, t267);
+    let t271: f64 = t13 * t95;
+    let t272: f64 = f64::mul_add(t14, t89, t271);
+    let t273: f64 = t3 * t272;
+    let t274: f64 = f64::mul_add(t4, t268, t273);
+    let t275: f64 = t256 * t274;
+    let t277: f64 = t4 * t272;
+    let t278: f64 = f64::mul_add(t3, t268, -t277);
+    let t279: f64 = t256 * t278;
+    let t280: f64 = -t279;
+    let t282: f64 = t1 * t266;
+    let t283: f64 = f64::mul_add(t0, t77, -t282);
+    let t284: f64 = t256 * t283;
+    let t285: f64 = 1.0 / t131;
+    let t286: f64 = t109 * t285;
+    let t287: f64 = -t286;
+    let t288: f64 = t121 * t285;
+    let t289: f64 = -t288;
+    let t290: f64 = t127 * t285;
+    let t291: f64 = -t290;
+    let t294: f64 = t14 * t127;
+    let t295: f64 = f64::mul_add(t13, t121, -t294);
+    let t296: f64 = t0 * t295;
+    let t297: f64 = f64::mul_add(t1, t109, t296);
+    let t300: f64 = t13 * t127;
+    let t301: f64 = f64::mul_add(t14, t121, t300);
+    let t302: f64 = t3 * t301;
+    let t303: f64 = f64::mul_add(t4, t297, t302);
+    let t304: f64 = t285 * t303;
+    let t306: f64 = t4 * t301;
+    let t307: f64 = f64::mul_add(t3, t297, -t306);
+    let t308: f64 = t285 * t307;
+    let t309: f64 = -t308;
+    let t311: f64 = t1 * t295;
+    let t312: f64 = f64::mul_add(t0, t109, -t311);
+    let t313: f64 = t285 * t312;
+    let t314: f64 = 1.0 / t163;
+    let t315: f64 = t141 * t314;
+    let t316: f64 = -t315;
+    let t317: f64 = t153 * t314;
+    let t318: f64 = -t317;
+    let t319: f64 = t159 * t314;
+    let t320: f64 = -t319;
+    let t323: f64 = t14 * t159;
+    let t324: f64 = f64::mul_add(t13, t153, -t323);
+    let t325: f64 = t0 * t324;
+    let t326: f64 = f64::mul_add(t1, t141, t325);
+    let t329: f64 = t13 * t159;
+    let t330: f64 = f64::mul_add(t14, t153, t329);
+    let t331: f64 = t3 * t330;
+    let t332: f64 = f64::mul_add(t4, t326, t331);
+    let t333: f64 = t314 * t332;
+    let t335: f64 = t4 * t330;
+    let t336: f64 = f64::mul_add(t3, t326, -t335);
+    let t337: f64 = t314 * t336;
+    let t338: f64 = -t337;
+    let t340: f64 = t1 * t324;
+    let t341: f64 = f64::mul_add(t0, t141, -t340);
+    let t342: f64 = t314 * t341;
+    let t343: f64 = 1.0 / t195;
+    let t344: f64 = t173 * t343;
+    let t345: f64 = -t344;
+    let t346: f64 = t185 * t343;
+    let t347: f64 = -t346;
+    let t348: f64 = t191 * t343;
+    let t349: f64 = -t348;
+    let t352: f64 = t14 * t191;
+    let t353: f64 = f64::mul_add(t13, t185, -t352);
+    let t354: f64 = t0 * t353;
+    let t355: f64 = f64::mul_add(t1, t173, t354);
+    let t358: f64 = t13 * t191;
+    let t359: f64 = f64::mul_add(t14, t185, t358);
+    let t360: f64 = t3 * t359;
+    let t361: f64 = f64::mul_add(t4, t355, t360);
+    let t362: f64 = t343 * t361;
+    let t364: f64 = t4 * t359;
+    let t365: f64 = f64::mul_add(t3, t355, -t364);
+    let t366: f64 = t343 * t365;
+    let t367: f64 = -t366;
+    let t369: f64 = t1 * t353;
+    let t370: f64 = f64::mul_add(t0, t173, -t369);
+    let t371: f64 = t343 * t370;
+    let t373: f64 = t21 * t25;
+    let t374: f64 = f64::mul_add(t17, t31, t373);
+    let t377: f64 = t21 * t31;
+    let t378: f64 = f64::mul_add(t17, t25, -t377);
+    let t379: f64 = t14 * t378;
+    let t380: f64 = f64::mul_add(t13, t374, t379);
+    let t381: f64 = t198 * t380;
+    let t382: f64 = -t381;
+    let t384: f64 = t5 * t208;
+    let t386: f64 = f64::mul_add(leg1_platform_z, t11, t384);
+    let t387: f64 = f64::mul_add(-t6, t208, t386);
+    let t390: f64 = t7 * t11;
+    let t391: f64 = f64::mul_add(leg1_platform_z, t208, -t390);
+    let t392: f64 = t0 * t391;
+    let t393: f64 = f64::mul_add(t1, t387, t392);
+    let t394: f64 = t198 * t393;
+    let t396: f64 = leg1_platform_y * t216;
+    let t397: f64 = f64::mul_add(leg1_platform_x, t220, t396);
+    let t398: f64 = t198 * t397;
+    let t399: f64 = -t398;
+    let t401: f64 = t53 * t57;
+    let t402: f64 = f64::mul_add(t49, t63, t401);
+    let t405: f64 = t53 * t63;
+    let t406: f64 = f64::mul_add(t49, t57, -t405);
+    let t407: f64 = t14 * t406;
+    let t408: f64 = f64::mul_add(t13, t402, t407);
+    let t409: f64 = t227 * t408;
+    let t410: f64 = -t409;
+    let t412: f64 = t39 * t237;
+    let t414: f64 = f64::mul_add(leg2_platform_z, t45, t412);
+    let t415: f64 = f64::mul_add(-t40, t237, t414);
+    let t418: f64 = t41 * t45;
+    let t419: f64 = f64::mul_add(leg2_platform_z, t237, -t418);
+    let t420: f64 = t0 * t419;
+    let t421: f64 = f64::mul_add(t1, t415, t420);
+    let t422: f64 = t227 * t421;
+    let t424: f64 = leg2_platform_y * t245;
+    let t425: f64 = f64::mul_add(leg2_platform_x, t249, t424);
+    let t426: f64 = t227 * t425;
+    let t427: f64 = -t426;
+    let t429: f64 = t85 * t89;
+    let t430: f64 = f64::mul_add(t81, t95, t429);
+    let t433: f64 = t85 * t95;
+    let t434: f64 = f64::mul_add(t81, t89, -t433);
+    let t435: f64 = t14 * t434;
+    let t436: f64 = f64::mul_add(t13, t430, t435);
+    let t437: f64 = t256 * t436;
+    let t438: f64 = -t437;
+    let t440: f64 = t71 * t266;
+    let t442: f64 = f64::mul_add(leg3_platform_z, t77, t440);
+    let t443: f64 = f64::mul_add(-t72, t266, t442);
+    let t446: f64 = t73 * t77;
+    let t447: f64 = f64::mul_add(leg3_platform_z, t266, -t446);
+    let t448: f64 = t0 * t447;
+    let t449: f64 = f64::mul_add(t1, t443, t448);
+    let t450: f64 = t256 * t449;
+    let t452: f64 = leg3_platform_y * t274;
+    let t453: f64 = f64::mul_add(leg3_platform_x, t278, t452);
+    let t454: f64 = t256 * t453;
+    let t455: f64 = -t454;
+    let t457: f64 = t117 * t121;
+    let t458: f64 = f64::mul_add(t113, t127, t457);
+    let t461: f64 = t117 * t127;
+    let t462: f64 = f64::mul_add(t113, t121, -t461);
+    let t463: f64 = t14 * t462;
+    let t464: f64 = f64::mul_add(t13, t458, t463);
+    let t465: f64 = t285 * t464;
+    let t466: f64 = -t465;
+    let t468: f64 = t103 * t295;
+    let t470: f64 = f64::mul_add(leg4_platform_z, t109, t468);
+    let t471: f64 = f64::mul_add(-t104, t295, t470);
+    let t474: f64 = t105 * t109;
+    let t475: f64 = f64::mul_add(leg4_platform_z, t295, -t474);
+    let t476: f64 = t0 * t475;
+    let t477: f64 = f64::mul_add(t1, t471, t476);
+    let t478: f64 = t285 * t477;
+    let t480: f64 = leg4_platform_y * t303;
+    let t481: f64 = f64::mul_add(leg4_platform_x, t307, t480);
+    let t482: f64 = t285 * t481;
+    let t483: f64 = -t482;
+    let t485: f64 = t149 * t153;
+    let t486: f64 = f64::mul_add(t145, t159, t485);
+    let t489: f64 = t149 * t159;
+    let t490: f64 = f64::mul_add(t145, t153, -t489);
+    let t491: f64 = t14 * t490;
+    let t492: f64 = f64::mul_add(t13, t486, t491);
+    let t493: f64 = t314 * t492;
+    let t494: f64 = -t493;
+    let t496: f64 = t135 * t324;
+    let t498: f64 = f64::mul_add(leg5_platform_z, t141, t496);
+    let t499: f64 = f64::mul_add(-t136, t324, t498);
+    let t502: f64 = t137 * t141;
+    let t503: f64 = f64::mul_add(leg5_platform_z, t324, -t502);
+    let t504: f64 = t0 * t503;
+    let t505: f64 = f64::mul_add(t1, t499, t504);
+    let t506: f64 = t314 * t505;
+    let t508: f64 = leg5_platform_y * t332;
+    let t509: f64 = f64::mul_add(leg5_platform_x, t336, t508);
+    let t510: f64 = t314 * t509;
+    let t511: f64 = -t510;
+    let t513: f64 = t181 * t185;
+    let t514: f64 = f64::mul_add(t177, t191, t513);
+    let t517: f64 = t181 * t191;
+    let t518: f64 = f64::mul_add(t177, t185, -t517);
+    let t519: f64 = t14 * t518;
+    let t520: f64 = f64::mul_add(t13, t514, t519);
+    let t521: f64 = t343 * t520;
+    let t522: f64 = -t521;
+    let t524: f64 = t167 * t353;
+    let t526: f64 = f64::mul_add(leg6_platform_z, t173, t524);
+    let t527: f64 = f64::mul_add(-t168, t353, t526);
+    let t530: f64 = t169 * t173;
+    let t531: f64 = f64::mul_add(leg6_platform_z, t353, -t530);
+    let t532: f64 = t0 * t531;
+    let t533: f64 = f64::mul_add(t1, t527, t532);
+    let t534: f64 = t343 * t533;
+    let t536: f64 = leg6_platform_y * t361;
+    let t537: f64 = f64::mul_add(leg6_platform_x, t365, t536);
+    let t538: f64 = t343 * t537;
+    let t539: f64 = -t538;
+    (
+        [t37, t69, t101, t133, t165, t197],
+        [
+            [t200, t202, t204, t217, t222, t226, 1.0],
+            [t229, t231, t233, t246, t251, t255, 1.0],
+            [t258, t260, t262, t275, t280, t284, 1.0],
+            [t287, t289, t291, t304, t309, t313, 1.0],
+            [t316, t318, t320, t333, t338, t342, 1.0],
+            [t345, t347, t349, t362, t367, t371, 1.0],
+        ],
+        [
+            [t382, t394, t399, t199, t201, t203],
+            [t410, t422, t427, t228, t230, t232],
+            [t438, t450, t455, t257, t259, t261],
+            [t466, t478, t483, t286, t288, t290],
+            [t494, t506, t511, t315, t317, t319],
+            [t522, t534, t539, t344, t346, t348],
+        ],
     )
 }
 /// Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.

@@ -15,8 +15,8 @@
 ///
 /// Model: gough-stewart. The Gough-Stewart platform (6-UPS): each leg a universal joint on the base, a prismatic actuator (cylinder and rod, turning with the leg) and a spherical joint on the platform; every quantity derived from the leg's closed forms by exact differentiation.
 /// Actuators in leg order 1..6; `q_i = |B_i - A_i| + o_i`, the encoder's reading, `B_i = C + R p_i`; a positive force extends the leg.
-/// Columns in the order of `STANDARD_PARAMETERS`: ten per body (mass, first moment `m c`, inertia about the reference point) for the platform, then the rod and body 2 of each segment, then viscous and Coulomb friction per actuator.
-/// The inertial parameters and friction are the unknowns; the geometry and gravity are `params`.
+/// Columns in the order of `STANDARD_PARAMETERS`: ten per body (mass, first moment `m c`, inertia about the reference point) for the platform, then the rod and body 2 of each segment, then viscous and Coulomb friction per actuator. The inertial parameters and friction are the unknowns.
+/// The geometry and gravity are `params`.
 /// The last result holds the U joints' sines and the solve's pivots for a singularity check.
 ///
 /// # Arguments
@@ -9776,8 +9776,8 @@ pub fn regressor(
 ///
 /// Model: gough-stewart. The Gough-Stewart platform (6-UPS): each leg a universal joint on the base, a prismatic actuator (cylinder and rod, turning with the leg) and a spherical joint on the platform; every quantity derived from the leg's closed forms by exact differentiation.
 /// Actuators in leg order 1..6; `q_i = |B_i - A_i| + o_i`, the encoder's reading, `B_i = C + R p_i`; a positive force extends the leg.
-/// Columns in the order of `BASE_PARAMETERS`: the columns of their leading standard parameters (`BASE_RELATIONS` says what each base parameter groups).
-/// The inertial parameters and friction are the unknowns; the geometry and gravity are `params`.
+/// Columns in the order of `BASE_PARAMETERS`: the columns of their leading standard parameters (`BASE_RELATIONS` says what each base parameter groups). The inertial parameters and friction are the unknowns.
+/// The geometry and gravity are `params`.
 /// The last result holds the U joints' sines and the solve's pivots for a singularity check.
 ///
 /// # Arguments

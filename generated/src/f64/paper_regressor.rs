@@ -15,8 +15,8 @@
 ///
 /// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
-/// Columns in the order of `STANDARD_PARAMETERS`: ten per body (mass, first moment `m c`, inertia about the reference point) for the platform, then the rod and body 2 of each segment, then viscous and Coulomb friction per actuator.
-/// The inertial parameters and friction are the unknowns; the geometry and gravity are `params`.
+/// Columns in the order of `STANDARD_PARAMETERS`: ten per body (mass, first moment `m c`, inertia about the reference point) for the platform, then the rod and body 2 of each segment, then viscous and Coulomb friction per actuator. The inertial parameters and friction are the unknowns.
+/// The geometry and gravity are `params`.
 /// The last result holds the divisors of eq 16 for a singularity check.
 ///
 /// # Arguments
@@ -3134,8 +3134,8 @@ pub fn regressor(
 ///
 /// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
-/// Columns in the order of `BASE_PARAMETERS`: the columns of their leading standard parameters (`BASE_RELATIONS` says what each base parameter groups).
-/// The inertial parameters and friction are the unknowns; the geometry and gravity are `params`.
+/// Columns in the order of `BASE_PARAMETERS`: the columns of their leading standard parameters (`BASE_RELATIONS` says what each base parameter groups). The inertial parameters and friction are the unknowns.
+/// The geometry and gravity are `params`.
 /// The last result holds the divisors of eq 16 for a singularity check.
 ///
 /// # Arguments

@@ -2,6 +2,7 @@
 //! identification, and the operation-count audit; one module per command.
 
 mod audit;
+mod calibrate;
 mod columns;
 mod encoder_log;
 mod eval;
@@ -46,6 +47,7 @@ enum Command {
     Plan(plan::PlanArgs),
     Workspace(workspace::WorkspaceArgs),
     Audit(audit::AuditArgs),
+    Calibrate(calibrate::CalibrateArgs),
 }
 
 /// Whether `e` is a write to a closed pipe (`c5 eval | head -1`): the reader has all it
@@ -81,6 +83,7 @@ fn main() -> ExitCode {
         Command::Plan(args) => plan::run(&args),
         Command::Workspace(args) => workspace::run(&args),
         Command::Audit(args) => audit::run(&args),
+        Command::Calibrate(args) => calibrate::run(&args),
     };
     match result {
         Ok(code) => code,

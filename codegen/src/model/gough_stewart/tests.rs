@@ -60,3 +60,53 @@ fn the_singularity_terms_are_sines_and_ratios() {
         "{terms:?}"
     );
 }
+
+/// The calibration kernel's residual vanishes at the readings of its own geometry, and its
+/// Jacobians are the residual's derivatives with respect to each leg's `A_i`, `p_i`, `o_i` and
+/// to the pose (central differences).
+#[test]
+fn the_calibration_jacobians_are_the_residuals_derivatives() {
+    let robot = GoughStewart::example();
+    let (ik, calibration) = (
+        compiled(Kernel::InverseKinematics),
+        compiled(Kernel::CalibrationResiduals),
+    );
+    let pose: Vec<f64> = robot
+        .home()
+        .iter()
+        .zip([0.08, -0.06, 0.15, 0.02, -0.01, 0.03])
+        .map(|(h, d)| h + d)
+        .collect();
+    let q = ik.eval(&pose)[..6].to_vec();
+    let geometry = robot.kernel_parameters()[..GEOMETRY_PARAMETERS].to_vec();
+    let at = |x: &[f64], theta: &[f64]| calibration.eval(&[x, &q[..], theta].concat());
+    let out = at(&pose, &geometry);
+    assert!(out[..6].iter().all(|r| r.abs() < 1e-15), "{:?}", &out[..6]);
+    let h = 1e-6;
+    let n = CALIBRATION_PARAMETERS_PER_LEG;
+    for leg in 0..6 {
+        for (column, k) in CALIBRATED_ENTRIES.iter().enumerate() {
+            let entry = 3 + LEG_GEOMETRY * leg + k;
+            let (mut up, mut down) = (geometry.clone(), geometry.clone());
+            up[entry] += h;
+            down[entry] -= h;
+            let fd = (at(&pose, &up)[leg] - at(&pose, &down)[leg]) / (2.0 * h);
+            let exact = out[6 + n * leg + column];
+            assert!(
+                (fd - exact).abs() < 1e-8,
+                "leg {leg} column {column}: {exact} vs {fd}"
+            );
+        }
+    }
+    for j in 0..6 {
+        let (mut up, mut down) = (pose.clone(), pose.clone());
+        up[j] += h;
+        down[j] -= h;
+        let (a, b) = (at(&up, &geometry), at(&down, &geometry));
+        for i in 0..6 {
+            let fd = (a[i] - b[i]) / (2.0 * h);
+            let exact = out[6 + 6 * n + 6 * i + j];
+            assert!((fd - exact).abs() < 1e-8, "∂ρ{i}/∂x{j}: {exact} vs {fd}");
+        }
+    }
+}
