@@ -30,8 +30,9 @@ create_exception!(
     SingularPoseError,
     PyValueError,
     "A pose, or actuator positions, where the kernels would divide by (nearly) zero: a divisor \
-     of eq 16 (r11, r22, r33) or the forward singularity term 1 + abc below 1e-9. The message \
-     names the divisor, its value and the row."
+     of eq 16 (r11, r22, r33) or the forward singularity term 1 + abc below 1e-9; or a forward \
+     dynamics nearer eq 16's singularities than 1e-2, where it cannot be served to 1e-8. The \
+     message names the divisor, its value and the row."
 );
 
 type Array<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
@@ -136,7 +137,7 @@ fn exception(row: usize, single: bool, e: &Error) -> PyErr {
         format!(" (row {row})")
     };
     match e {
-        Error::Singular { .. } | Error::ForwardSingular { .. } => {
+        Error::Singular { .. } | Error::ForwardSingular { .. } | Error::IllConditioned { .. } => {
             SingularPoseError::new_err(format!("{e}{at}"))
         }
         _ => PyValueError::new_err(format!("{e}{at}")),

@@ -6,7 +6,10 @@
 //! a time, as is a remainder of fewer than four: every state gets the result, or the error,
 //! that the single-state method gives it.
 
-use crate::{check_divisors, check_forward, Acceleration, Error, Kernels, Pose, State, Twist, C5};
+use crate::{
+    check_divisors, check_forward, check_forward_dynamics, Acceleration, Error, Kernels, Pose,
+    State, Twist, C5,
+};
 use alloc::vec::Vec;
 
 /// `[element][lane]` from four states' arrays.
@@ -155,7 +158,7 @@ impl C5 {
                 self.kernels
                     .forward_dynamics_params_x4(x, v, g, &self.params)
             },
-            guard: check_divisors,
+            guard: check_forward_dynamics,
             single: |k| {
                 let (pose, twist, gamma) = input(k);
                 self.forward_dynamics(&pose, &twist, &gamma)

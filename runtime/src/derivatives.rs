@@ -8,7 +8,9 @@
 //! acceleration `ω̇x ω̇y ω̇z ax ay az`, forces and actuator values in segment order.
 
 use crate::gough_stewart::{check_terms, GoughStewart};
-use crate::{check_divisors, check_finite, check_forward, finite, finite_matrix};
+use crate::{
+    check_divisors, check_finite, check_forward, check_forward_dynamics, finite, finite_matrix,
+};
 use crate::{Acceleration, Error, Kernels, Pose, State, Twist, C5};
 use c5_generated::f64::gough_stewart as hexapod;
 
@@ -96,7 +98,7 @@ impl C5 {
         let (a, d_pose, d_twist, d_gamma, r) =
             self.kernels
                 .forward_dynamics_derivatives_params(&x, &v, gamma, &self.params);
-        check_divisors(r)?;
+        check_forward_dynamics(r)?;
         Ok(ForwardDynamicsDerivatives {
             accel: Acceleration::from_array(finite("acceleration", a)?),
             d_pose: finite_matrix("d_acceleration_d_pose", d_pose)?,

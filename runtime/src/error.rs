@@ -43,6 +43,15 @@ pub enum Error {
         value: f64,
         bound: f64,
     },
+    /// The pose is too near a singularity for `what` to be served to its accuracy bound:
+    /// `term` (`r11`, `r22` or `r33` of eq 16) is `value`, below `bound`, where the result's
+    /// error against exact arithmetic would pass `1e-8` (docs/embedding.md).
+    IllConditioned {
+        what: &'static str,
+        term: &'static str,
+        value: f64,
+        bound: f64,
+    },
     /// An iteration stopped short of its tolerance: `what` it computes, and the residual it
     /// reached.
     NotConverged { what: &'static str, residual: f64 },
@@ -101,6 +110,17 @@ impl fmt::Display for Error {
             Error::Singularity { term, value, bound } => write!(
                 f,
                 "singular pose: {term} = {value:e} (it must be at least {bound:e})"
+            ),
+            Error::IllConditioned {
+                what,
+                term,
+                value,
+                bound,
+            } => write!(
+                f,
+                "{what} refused: {term} = {value:e} is nearer eq 16's singularity than \
+                 {bound:e}, where its error against exact arithmetic would exceed 1e-8 (it grows \
+                 as 1/{term}³)"
             ),
             Error::NotConverged { what, residual } => write!(
                 f,

@@ -91,6 +91,37 @@ pub fn kernels(model: Model) -> AnyModel {
 /// [`Error::Singular`]: an actuator length would be off by more than `|Δ|/1e-9` per unit error.
 pub const SINGULARITY_TOLERANCE: f64 = 1e-9;
 
+/// Smallest `|r11|`, `|r22|`, `|r33|` at which the forward dynamics is served (its accuracy
+/// contract, docs/embedding.md). Near eq 16's singularities the forward dynamics is ill
+/// conditioned: the forces that hold a modest acceleration grow like `1/s³`, so their rounding
+/// moves the acceleration by about `1.2e-15/s³` relative (measured against a 50-digit
+/// reference, `python/tests/test_accuracy.py`), and faster still below `s = 1e-3`. At `1e-2`
+/// the worst measured error is `3.8e-10`, within the `1e-8` the `f64` API promises; below it
+/// the call is refused ([`Error::IllConditioned`]). The other kernels stay within `1e-14` up to
+/// [`SINGULARITY_TOLERANCE`].
+pub const FORWARD_DYNAMICS_TOLERANCE: f64 = 1e-2;
+
+/// Refuses a pose where the forward dynamics cannot be served to its bound: a divisor of eq
+/// 16 below [`FORWARD_DYNAMICS_TOLERANCE`] (after [`check_divisors`]).
+///
+/// # Errors
+/// [`Error::Singular`] or [`Error::IllConditioned`] naming the divisor.
+#[inline]
+pub(crate) fn check_forward_dynamics(r: [f64; 3]) -> Result<(), Error> {
+    check_divisors(r)?;
+    for (term, value) in ["r11", "r22", "r33"].into_iter().zip(r) {
+        if value.abs() < FORWARD_DYNAMICS_TOLERANCE {
+            return Err(Error::IllConditioned {
+                what: "forward dynamics",
+                term,
+                value,
+                bound: FORWARD_DYNAMICS_TOLERANCE,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// A validated robot, the model its kernels follow, and its parameter vector.
 #[derive(Clone, Debug)]
 pub struct C5 {
@@ -365,7 +396,7 @@ impl C5 {
         let (a, r) = self
             .kernels
             .forward_dynamics_params(&x, &v, gamma, &self.params);
-        check_divisors(r)?;
+        check_forward_dynamics(r)?;
         let a = finite("acceleration", a)?;
         Ok(Acceleration::from_array(a))
     }
