@@ -50,7 +50,7 @@ struct Cases<'a> {
     arrays: &'a [([f64; 6], [f64; 6], [f64; 6])],
     arrays32: &'a [([f32; 6], [f32; 6], [f32; 6])],
     batches: &'a [[[[f64; 4]; 6]; 3]],
-    /// The same states turned beyond a quarter turn (`|α|` in 0.8-1.0 rad), single and batched.
+    /// The same states turned beyond an eighth of a turn (`|α|` in 0.8-1.0 rad), single and batched.
     beyond: &'a [([f64; 6], [f64; 6], [f64; 6])],
     beyond_batches: &'a [[[[f64; 4]; 6]; 3]],
     params: &'a [f64; 152],
@@ -102,11 +102,11 @@ impl Cases<'_> {
                 })
             })
         });
-        // Beyond a quarter turn the sines and cosines are the library's, and a batch goes
+        // Beyond an eighth of a turn the sines and cosines are the library's, and a batch goes
         // state by state through the single kernel.
         let (beyond, beyond_batches) = (self.beyond, self.beyond_batches);
         g.throughput(Throughput::Elements(count));
-        g.bench_function(format!("generated_{model}_beyond_quarter_turn"), |b| {
+        g.bench_function(format!("generated_{model}_beyond_eighth_turn"), |b| {
             b.iter(|| {
                 i = (i + 1) % beyond.len();
                 let (x, v, a) = black_box(&beyond[i]);
@@ -115,7 +115,7 @@ impl Cases<'_> {
         });
         g.throughput(Throughput::Elements(4 * count));
         g.bench_function(
-            format!("generated_{model}_batch_x4_beyond_quarter_turn"),
+            format!("generated_{model}_batch_x4_beyond_eighth_turn"),
             |b| {
                 b.iter(|| {
                     i = (i + 1) % beyond_batches.len();

@@ -63,7 +63,7 @@ fn f64_lanes_equal_single_states() {
             Robot::default()
         };
         let params: [f64; 152] = robot.kernel_parameters().try_into().unwrap();
-        // Every other pair of batches turns beyond a quarter turn (to 1.25 rad), where a batch
+        // Every other pair of batches turns beyond an eighth of a turn (to 1.25 rad), where a batch
         // with a lane beyond goes state by state through the single kernel instead of four
         // lanes at once.
         let turn = if n % 4 < 2 { 1.0 } else { 2.5 };
@@ -136,7 +136,7 @@ fn f64_lanes_equal_single_states() {
     // Both ways through the batch kernels: four lanes at once, and state by state.
     assert!(
         (BATCHES / 4..BATCHES).contains(&vectorised),
-        "{vectorised} of {BATCHES} batches within a quarter turn"
+        "{vectorised} of {BATCHES} batches within an eighth of a turn"
     );
 }
 
@@ -164,11 +164,11 @@ fn every_lane_of_the_f32_batch_kernels_is_the_single_state_kernel() {
     }
 }
 
-/// Within `π/4` the kernels' inline sine-cosine pair (`trig::sin_cos`, `crate::quarter`'s
+/// Within `π/4` the kernels' inline sine-cosine pair (`trig::sin_cos`, `crate::eighth_turn`'s
 /// polynomials) is `libm::sincos`, bit for bit, on a million seeded arguments and the ends.
 #[test]
 fn the_inline_sine_and_cosine_are_libms_bit_for_bit_within_pi_over_4() {
-    let range = c5_generated::quarter::RANGE;
+    let range = c5_generated::eighth_turn::RANGE;
     let mut state = 0x9E37_79B9_7F4A_7C15_u64;
     let mut xs = vec![0.0, -0.0, 1e-300, 5e-324, 1e-9, range, -range];
     for _ in 0..1_000_000 {
@@ -190,13 +190,13 @@ fn the_inline_sine_and_cosine_are_libms_bit_for_bit_within_pi_over_4() {
 }
 
 #[test]
-fn four_lanes_are_within_a_quarter_turn_when_each_lies_within_pi_over_4() {
+fn four_lanes_are_within_an_eighth_turn_when_each_lies_within_pi_over_4() {
     use c5_generated::lanes::F64x4;
-    let r = c5_generated::quarter::RANGE;
-    assert!(F64x4([0.0, -0.0, r, -r]).within_quarter_turn());
-    assert!(!F64x4([0.0, 0.0, 0.0, r.next_up()]).within_quarter_turn());
-    assert!(!F64x4([-r.next_up(), 0.0, 0.0, 0.0]).within_quarter_turn());
-    assert!(!F64x4([0.0, f64::NAN, 0.0, 0.0]).within_quarter_turn());
+    let r = c5_generated::eighth_turn::RANGE;
+    assert!(F64x4([0.0, -0.0, r, -r]).within_eighth_turn());
+    assert!(!F64x4([0.0, 0.0, 0.0, r.next_up()]).within_eighth_turn());
+    assert!(!F64x4([-r.next_up(), 0.0, 0.0, 0.0]).within_eighth_turn());
+    assert!(!F64x4([0.0, f64::NAN, 0.0, 0.0]).within_eighth_turn());
 }
 
 #[test]

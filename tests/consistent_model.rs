@@ -244,8 +244,8 @@ fn at_rest_the_plate_forces_and_gravity_balance_the_platform() {
 }
 
 /// At home both models load only the vertical actuators, but not equally: in the paper model
-/// every body 2 moves with the platform, so the platform carries all six (DESIGN.md's
-/// 117.82 N); in the consistent one a body 2 rides on its ball, and the weight of a horizontal
+/// every body 2 moves with the platform, so the platform carries all six (117.82 N
+/// each); in the consistent one a body 2 rides on its ball, and the weight of a horizontal
 /// leg's body 2 lies in its plates' plane, where only the ball (so the rod's guide) can hold it.
 #[test]
 fn home_statics_in_both_models() {

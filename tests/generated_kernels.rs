@@ -250,6 +250,7 @@ fn f32_kernels_track_f64_within_single_precision() {
             "worst relative error of f32 inverse_dynamics, {}: {w:.2e}",
             k.model()
         );
-        assert!(*w < 1e-5, "{}: {w}", k.model());
+        // docs/verification.md states 1.6e-7 (paper) and 3.3e-7 (consistent); held to 10x.
+        assert!(*w < 3.3e-6, "{}: {w}", k.model());
     }
 }

@@ -142,19 +142,30 @@ fn noise_free_data_identify_a_robot_that_predicts_unseen_forces() {
             .zip(&beta)
             .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max);
-        assert!(
-            err < 1e-7 * largest(&beta),
-            "{model}: parameters off by {err}"
-        );
+        println!("{model}: parameters off by {err:.1e} (absolute)");
+        // docs/identification.md states 1.1e-10 (consistent) and 5e-11 (paper); held to 10x.
+        let stated = if model == Model::Consistent {
+            1.1e-10
+        } else {
+            5e-11
+        };
+        assert!(err < 10.0 * stated, "{model}: parameters off by {err}");
         // Unseen states, away from the trajectory.
+        let mut worst: f64 = 0.0;
         for _ in 0..50 {
             let state = random_state(&mut r);
             let want = measured(&truth, &friction, &state);
             let got = estimate.forces(&blank, &state).unwrap();
             let rel = (0..6).map(|i| (got[i] - want[i]).abs()).fold(0.0, f64::max)
                 / largest(&want).max(1.0);
-            assert!(rel < 1e-8, "{model}: prediction off by {rel:e} relative");
+            worst = worst.max(rel);
         }
+        println!("{model}: unseen forces off by {worst:.1e} relative");
+        // docs/identification.md states 7e-12; held to 10x.
+        assert!(
+            worst < 7e-11,
+            "{model}: prediction off by {worst:e} relative"
+        );
     }
 }
 

@@ -526,7 +526,7 @@ pub fn emit_batch_kernel(
     let name = ident(&format!("{}_x{lanes}", spec.name));
     let args: Vec<Ident> = spec.inputs.iter().map(|a| ident(&a.name)).collect();
     // `f64` lanes compute the sine-cosine pairs of the inputs in vector instructions when every
-    // lane lies within a quarter turn, checked on entry, all at once: one branch ahead of any
+    // lane lies within an eighth of a turn, checked on entry, all at once: one branch ahead of any
     // arithmetic. A batch with a lane beyond goes state by state through the single kernel.
     // Choosing at each pair instead merged the two ways through memory (the paper model's batch
     // inverse dynamics 20 % slower), and checking at each pair split the blocks LLVM schedules
@@ -540,15 +540,15 @@ pub fn emit_batch_kernel(
             }
         }
     }
-    let quarter_turn = scalar == Scalar::F64 && !on_entry.is_empty();
+    let eighth_turn = scalar == Scalar::F64 && !on_entry.is_empty();
     let by_states = ident(&format!("{}_x{lanes}_by_states", spec.name));
     let by_states_fused = ident(&format!("{}_x{lanes}_by_states_fused", spec.name));
     let body = |fusion: Option<&Fusion>| -> Vec<TokenStream> {
         let mut body = Vec::new();
-        if quarter_turn {
+        if eighth_turn {
             let checks = on_entry.iter().map(|&k| {
                 let x = operand(Operand::Input(k));
-                quote!(#x.within_quarter_turn())
+                quote!(#x.within_eighth_turn())
             });
             let by_states = if fusion.is_some() {
                 &by_states_fused
@@ -577,10 +577,10 @@ pub fn emit_batch_kernel(
                     }
                     Instr::SinCos(a) => {
                         let c = ident(&format!("t{}", i + 1));
-                        let checked = quarter_turn && matches!(a, Operand::Input(_));
+                        let checked = eighth_turn && matches!(a, Operand::Input(_));
                         let a = operand(a);
                         let tokens = if checked {
-                            quote!(let (#t, #c) = #a.sin_cos_quarter_turn();)
+                            quote!(let (#t, #c) = #a.sin_cos_eighth_turn();)
                         } else {
                             quote!(let (#t, #c) = #a.sin_cos();)
                         };
@@ -673,7 +673,7 @@ pub fn emit_batch_kernel(
         (dispatch, lanes_fused)
     });
     let (dispatch, lanes_fused) = fused.unzip();
-    let by_states_fns = quarter_turn.then(|| {
+    let by_states_fns = eighth_turn.then(|| {
         let single = ident(&format!("{}_separate", spec.name));
         let single_fused = ident(&format!("{}_fused", spec.name));
         let (body, body_fused) = (
@@ -682,8 +682,8 @@ pub fn emit_batch_kernel(
         );
         let cfg = FmaDispatch::crate_switch().cfg;
         let doc = format!(
-            " [`{name}`] state by state through [`{single}`], for a batch with an angle beyond a \
-             quarter turn."
+            " [`{name}`] state by state through [`{single}`], for a batch with an angle beyond an \
+             eighth of a turn (π/4)."
         );
         let doc_fused = format!(" [`{by_states}`] through [`{single_fused}`].");
         quote! {

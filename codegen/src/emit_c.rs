@@ -249,7 +249,7 @@ fn emit_function(
 
 /// The sine and cosine of one argument for the `double` kernels. Within `π/4` (where the
 /// robot's angles mostly are) fdlibm's kernel polynomials inline, exactly what musl's `sincos`
-/// and the Rust kernels (`c5_generated::quarter`) compute there; outside, the C library's `sin`
+/// and the Rust kernels (`c5_generated::eighth_turn`) compute there; outside, the C library's `sin`
 /// and `cos`. The C library's own `sincos`, which compilers call for a `sin`-`cos` pair, cost
 /// glibc twice the time of the `libm` crate's on this project's machine (30 against 14 ns for
 /// the kernels' three pairs), about the whole gap there was between the C and the Rust kernels.

@@ -28,7 +28,7 @@
 //! kernel of the process take the separate path, the same bits on every machine.
 //! Trigonometry comes from the standard library (`std`, the default) or from `libm` (feature
 //! `libm`, also without `std`; its `sincos` is twice as fast as the standard library's pair of
-//! calls); an `f64` sine-cosine pair within a quarter turn is computed inline (`quarter`). The files under `src/f64`,
+//! calls); an `f64` sine-cosine pair within an eighth of a turn is computed inline (`eighth_turn`). The files under `src/f64`,
 //! `src/f32`, `ops.json` and `OPS.md` are written by `cargo run -p c5-codegen -- generate`;
 //! a test fails when they are stale.
 //!
@@ -58,8 +58,8 @@
 
 #![cfg_attr(not(feature = "std"), no_std)]
 
+pub mod eighth_turn;
 pub mod fma;
-pub mod quarter;
 #[cfg(feature = "batch")]
 mod sincos;
 
@@ -69,7 +69,7 @@ compile_error!("c5-generated needs sin and cos: enable the `std` feature or the 
 /// The elementary functions the kernels call: from `libm` when its feature is on (its `sincos`
 /// computes a sine and a cosine in about the time the standard library takes for one of them),
 /// else from the standard library; except the `f64` sine-cosine pair within `π/4`, inline
-/// ([`crate::quarter`], equal to `libm::sincos` there bit for bit). Public so that code compiled
+/// ([`crate::eighth_turn`], equal to `libm::sincos` there bit for bit). Public so that code compiled
 /// elsewhere (the C output, in its test) can use exactly the same ones.
 pub mod trig {
     /// `f64` and `f32`.
@@ -140,25 +140,25 @@ pub mod trig {
 
     elementary!(f64, sin, cos, sqrt, atan, sin_cos_f64);
 
-    /// `(sin x, cos x)` of `f64`: inline within `π/4` ([`crate::quarter`]), the library's beyond.
+    /// `(sin x, cos x)` of `f64`: inline within `π/4` ([`crate::eighth_turn`]), the library's beyond.
     #[inline(always)]
     fn sin_cos_f64(x: f64) -> (f64, f64) {
-        if x.abs() <= crate::quarter::RANGE {
-            crate::quarter::sin_cos(x)
+        if x.abs() <= crate::eighth_turn::RANGE {
+            crate::eighth_turn::sin_cos(x)
         } else {
-            beyond_a_quarter_turn(x)
+            beyond_an_eighth_turn(x)
         }
     }
 
     #[cfg(feature = "libm")]
     #[inline(never)]
-    fn beyond_a_quarter_turn(x: f64) -> (f64, f64) {
+    fn beyond_an_eighth_turn(x: f64) -> (f64, f64) {
         libm::sincos(x)
     }
 
     #[cfg(not(feature = "libm"))]
     #[inline(never)]
-    fn beyond_a_quarter_turn(x: f64) -> (f64, f64) {
+    fn beyond_an_eighth_turn(x: f64) -> (f64, f64) {
         x.sin_cos()
     }
 
@@ -205,7 +205,7 @@ pub mod trig {
 
 /// The lane types of the batch kernels: a value per state, every operation lane by lane (LLVM
 /// turns them into vector instructions) and rounded as in the single-state kernel, the
-/// elementary functions those of [`trig`] (the `f64` sine-cosine pairs within a quarter turn
+/// elementary functions those of [`trig`] (the `f64` sine-cosine pairs within an eighth of a turn
 /// four lanes at once), so a lane computes exactly what the single-state kernel does.
 #[cfg(feature = "batch")]
 pub mod lanes {
@@ -302,24 +302,24 @@ pub mod lanes {
         }
 
         /// `(sin, cos)` of the four lanes, each equal to [`crate::trig::sin_cos`] of it; in
-        /// vector instructions when all four are within a quarter turn.
+        /// vector instructions when all four are within an eighth of a turn.
         #[inline(always)]
         pub fn sin_cos(self) -> (Self, Self) {
             crate::sincos::sin_cos_lanes(self)
         }
 
-        /// Whether all four lanes lie within a quarter turn, where
-        /// [`F64x4::sin_cos_quarter_turn`] is the library's sine and cosine.
+        /// Whether all four lanes lie within an eighth of a turn, where
+        /// [`F64x4::sin_cos_eighth_turn`] is the library's sine and cosine.
         #[inline(always)]
-        pub fn within_quarter_turn(self) -> bool {
-            crate::sincos::within_quarter_turn(self)
+        pub fn within_eighth_turn(self) -> bool {
+            crate::sincos::within_eighth_turn(self)
         }
 
-        /// `(sin, cos)` of four lanes [`F64x4::within_quarter_turn`], in vector instructions,
+        /// `(sin, cos)` of four lanes [`F64x4::within_eighth_turn`], in vector instructions,
         /// each equal to [`crate::trig::sin_cos`] of it (only there).
         #[inline(always)]
-        pub fn sin_cos_quarter_turn(self) -> (Self, Self) {
-            crate::sincos::sin_cos_quarter_turn(self)
+        pub fn sin_cos_eighth_turn(self) -> (Self, Self) {
+            crate::sincos::sin_cos_eighth_turn(self)
         }
     }
 
@@ -392,7 +392,7 @@ pub mod manifest {
         /// `chapter` (the vectors `P_i2` as inputs, the chapter's setting) or `pose` (from the
         /// platform state, end to end).
         pub setting: &'static str,
-        /// The chapter's equations (or DESIGN.md's) it computes.
+        /// The chapter's equations (or the consistent model's, docs/models.md) it computes.
         pub equations: &'static [&'static str],
         pub count: Count,
         pub chapter: Option<ChapterCount>,

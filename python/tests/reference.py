@@ -1,4 +1,4 @@
-"""The consistent model in numpy, derived again from DESIGN.md by another route than the Rust
+"""The consistent model in numpy, derived again from the mechanism of docs/models.md by another route than the Rust
 code: ``Q_i1`` from ``m_i . (B_i - C) = 0`` differentiated twice in time, and the forces by the
 power balance ``gamma . qd = sum over bodies of f . v_G + n . omega`` for the six unit twists.
 It shares nothing with the generator or the nalgebra reference but the mechanism's definition.

@@ -95,7 +95,16 @@ fn check_evaluation(robot: &C5, state: &State) -> Result<(), TestCaseError> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(2000))]
+    // Seeded, so every run tries the same cases; a failing case found is written to
+    // `never_panics.proptest-regressions` beside this file (checked in) and replayed first.
+    #![proptest_config(ProptestConfig {
+        cases: 2000,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0x00c5_5eed),
+        failure_persistence: Some(Box::new(
+            proptest::test_runner::FileFailurePersistence::WithSource("proptest-regressions"),
+        )),
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn any_state_gets_a_result_or_a_typed_error(

@@ -16,7 +16,7 @@ use core::str::FromStr;
     serde(rename_all = "lowercase")
 )]
 pub enum Model {
-    /// The mechanism eq 16 describes (a design decision, DESIGN.md): the ball centre `B_i` is on
+    /// The mechanism eq 16 describes (a design decision, docs/models.md): the ball centre `B_i` is on
     /// the actuator axis, the crossed plates slide in the platform plane through `C` with normal
     /// `m_i = R e_k`, the plates and ball housing (body 2) keep the platform's orientation. Its
     /// velocities and accelerations are the exact time derivatives of eq 16, and its forces

@@ -1,4 +1,4 @@
-//! The consistent model: the mechanism eq 16 describes (DESIGN.md), whose kinematics are the
+//! The consistent model: the mechanism eq 16 describes (docs/models.md), whose kinematics are the
 //! exact time derivatives of eq 16 and whose forces close the power balance.
 //!
 //! A design decision, drawn from eq 16, eq 27 and Section 3 ("a spherical joint tied to two
@@ -38,7 +38,7 @@ impl Mechanics for Consistent {
     }
 
     fn summary(&self) -> &'static str {
-        "The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the \
+        "The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the \
          platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time \
          derivatives of eq 16 and the forces close the power balance."
     }

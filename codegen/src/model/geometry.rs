@@ -1,7 +1,7 @@
 //! What both models share of the geometry: the layout, eq 15 (`R`), eq 16 (`Q_i1`), eq 27
 //! (`P_i2`) and the transport matrix `P̂` of section 2.2.
 //!
-//! Conventions (DESIGN.md): pose `X = [α β γ xc yc zc]`, twist `V = (ω; v_C)`, wrench
+//! Conventions (README, "Conventions"): pose `X = [α β γ xc yc zc]`, twist `V = (ω; v_C)`, wrench
 //! `F = (n; f)`, `P̂ = [[U, P̃], [0, U]]`, segments in the order 1..6 everywhere (the chapter lists
 //! actuators 6..1; only the nalgebra reference keeps that order).
 
@@ -48,7 +48,7 @@ pub fn rotation_of_pose<'g>(x: &[Expr<'g>]) -> Mat3<'g> {
 }
 
 /// `m_i = R e_k`: the platform axis of segment `i`, the normal of the plane its plates slide
-/// in (DESIGN.md, the consistent model; `k` is the axis of `n_i`).
+/// in (docs/models.md, the consistent model; `k` is the axis of `n_i`).
 pub fn platform_axis<'g>(r: &Mat3<'g>, i: usize) -> Vec3<'g> {
     r.column(AXIS[i])
 }
@@ -150,7 +150,7 @@ pub fn pose<'g>(geometry: &[Expr<'g>], x: &[Expr<'g>]) -> Posed<'g> {
 /// `j` of their anchors `A_a = +L e_j`, `A_b = -L e_j`: the layout eq 16 encodes.
 const PAIRS: [(usize, usize, usize); 3] = [(0, 1, 2), (2, 3, 0), (4, 5, 1)];
 
-/// The forward kinematics in closed form (DESIGN.md, "Joint space"): `R` and `C` from the
+/// The forward kinematics in closed form (docs/joint-space.md): `R` and `C` from the
 /// actuator positions `Q_i1`, with no trigonometry and no linear solve.
 ///
 /// For the pair `(a, b)` on axis `k` with anchors `±L e_j`, eq 16 is `m·(A + Q e_k - C) = 0`

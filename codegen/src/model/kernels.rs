@@ -794,7 +794,7 @@ pub const TABLE: &[Decl] = &[
         doc: "No trigonometry and no linear solve: eq 16's pair differences fix each column of \
               `R` up to one unknown, orthogonality makes the three unknowns a rational function \
               of `a = (Q2 - Q1)/2L`, `b = (Q4 - Q3)/2L`, `c = (Q6 - Q5)/2L`, and the half-sums \
-              give `C` (DESIGN.md, \"Joint space\").",
+              give `C` (docs/joint-space.md).",
         equations: Cite::Fixed(&["15", "16"]),
         inputs: &[Input::Actuators],
         outputs: &PLACEMENT,

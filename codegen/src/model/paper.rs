@@ -350,7 +350,7 @@ pub fn leg_jacobian_at_b<'g>(g: &'g crate::Graph, i: usize) -> Mat6<'g> {
 }
 
 /// Eq 43: `V̇_i2 = P̂_i2⁻ᵀ V̇_{N+1}`, with `V̇_{N+1}` the spatial acceleration
-/// `(ω̇; a_C - ω × v_C)` (DESIGN.md, Conventions).
+/// `(ω̇; a_C - ω × v_C)` (README, "Conventions").
 pub fn body2_acceleration<'g>(p: &Vec3<'g>, vdot: &Vec6<'g>) -> Vec6<'g> {
     // P̂⁻ᵀ = [[U, 0], [P̃, U]]: the linear part gains P × ω̇.
     Vec6::spatial(vdot.top(), vdot.bottom() + p.cross(&vdot.top()))

@@ -51,7 +51,7 @@
 ///
 /// Equations: 15, 16. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// Cheaper than the kernels it guards: one check before them costs a few ns.
 ///
@@ -82,7 +82,7 @@ pub fn singularity_terms(pose: &[f32; 6]) -> [f32; 3] {
 ///
 /// Equations: 15, 16, 27. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -178,7 +178,7 @@ pub fn inverse_kinematics(pose: &[f32; 6]) -> ([f32; 6], [[f32; 3]; 6], [f32; 3]
 ///
 /// Equations: 15, 16, 16 d/dt, 27. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -344,7 +344,7 @@ pub fn inverse_jacobian_pose(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
 ///
 /// Equations: 15, 16, 16 d/dt, 27, 40 (J = diag(R,R) S⁻¹ D). Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -774,7 +774,7 @@ pub fn jacobian_pose(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
 ///
 /// Equations: 15, 16, 16 d/dt. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -983,7 +983,7 @@ pub fn joint_velocities(pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 3
 ///
 /// Equations: 15, 16, 16 d²/dt². Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -1343,7 +1343,7 @@ pub fn joint_accelerations(
 ///
 /// Equations: 16 d²/dt², virtual work. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -1885,7 +1885,7 @@ pub fn leg_wrench(
 ///
 /// Equations: 52, 54, 55, 56, 57. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 ///
@@ -2007,7 +2007,7 @@ pub fn platform_wrench(pose: &[f32; 6], twist: &[f32; 6], accel: &[f32; 6]) -> [
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, ∂W/∂V̇. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `M_x = ∂(J⁻ᵀ Γ)/∂(ω̇; a_C)`, the exact derivative of the inverse dynamics.
 /// The robot's parameters are folded in as constants.
@@ -2677,7 +2677,7 @@ pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, ∂W/∂V̇. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -3129,7 +3129,7 @@ pub fn task_bias(pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 3]) {
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, M_x V̇ = J⁻ᵀ Γ - h (LDLᵀ). Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `M_x (ω̇; a_C) = J⁻ᵀ Γ - h`, solved by an unrolled `LDLᵀ` (no pivoting: `M_x` is symmetric positive definite).
 /// The robot's parameters are folded in as constants.
@@ -3769,7 +3769,7 @@ pub fn forward_dynamics(
 ///
 /// Equations: 15, 16, 16 d²/dt², 27, 52-57, virtual work, 62 (Γ = D S⁻ᵀ Rᵀ K + τ). Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -4227,9 +4227,9 @@ pub fn inverse_dynamics(
 ///
 /// Equations: 15, 16. Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
-/// No trigonometry and no linear solve: eq 16's pair differences fix each column of `R` up to one unknown, orthogonality makes the three unknowns a rational function of `a = (Q2 - Q1)/2L`, `b = (Q4 - Q3)/2L`, `c = (Q6 - Q5)/2L`, and the half-sums give `C` (DESIGN.md, "Joint space").
+/// No trigonometry and no linear solve: eq 16's pair differences fix each column of `R` up to one unknown, orthogonality makes the three unknowns a rational function of `a = (Q2 - Q1)/2L`, `b = (Q4 - Q3)/2L`, `c = (Q6 - Q5)/2L`, and the half-sums give `C` (docs/joint-space.md).
 /// The robot's parameters are folded in as constants.
 /// The last result holds the forward singularity term and the divisors of eq 16 for a singularity check.
 ///
@@ -4351,7 +4351,7 @@ pub fn forward_kinematics(q: &[f32; 6]) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]) {
 ///
 /// Equations: 15. Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `α = atan(-r23/r33)`, `β = atan(r13 / √(r11² + r12²))`, `γ = atan(-r12/r11)`, each in `(-π/2, π/2)`: right for every rotation with `r11 > 0` and `r33 > 0`, which every pose of the workspace has (and [`forward_kinematics`] returns).
 ///
@@ -4385,7 +4385,7 @@ pub fn rpy_angles(r: &[[f32; 3]; 3]) -> [f32; 3] {
 ///
 /// Equations: 15, 16, 16 d/dt, 27, 40 (J = diag(R,R) S⁻¹ D). Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// Through the model's factored `J` (no 6×6 solve), at the pose of the forward kinematics.
 /// The robot's parameters are folded in as constants.
@@ -4640,7 +4640,7 @@ pub fn platform_twist(q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
 ///
 /// Equations: 15, 16, 16 d²/dt². Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `(ω̇; a_C) = J (Q̈_a - h)`, `h` the actuator accelerations at zero platform acceleration: the model's second-order kinematics solved the way `J` is, no 6×6 solve.
 /// The robot's parameters are folded in as constants.
@@ -5147,7 +5147,7 @@ pub fn platform_acceleration(
 ///
 /// Equations: 15, 16, 16 d²/dt². Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The forward kinematics, the RPY angles of its `R`, `V = J Q̇_a` and `(ω̇; a_C) = J (Q̈_a - h)` in one kernel.
 /// The robot's parameters are folded in as constants.
@@ -5755,7 +5755,7 @@ pub fn platform_state(
 ///
 /// Equations: 15, 16, 16 d²/dt², 27, 52-57, virtual work, 62 (Γ = D S⁻ᵀ Rᵀ K + τ). Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The forward kinematics, then the model's inverse dynamics at the state found, without trigonometry.
 /// The robot's parameters are folded in as constants.
@@ -6400,7 +6400,7 @@ pub fn inverse_dynamics_joint(
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, ∂W/∂V̇. Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `M_q = ∂Γ/∂Q̈_a`, the exact derivative of the joint-space inverse dynamics.
 /// The robot's parameters are folded in as constants.
@@ -6941,7 +6941,7 @@ pub fn joint_inertia(q: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 4]) {
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, ∂W/∂V̇. Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `Γ` at `Q̈_a = 0`.
 /// The robot's parameters are folded in as constants.
@@ -7547,7 +7547,7 @@ pub fn joint_bias(q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
 ///
 /// Equations: 15, 16, 27. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The plate's offset is `Rᵀ (B_i - C) - A_i`, where the ball sits in the platform frame against where it sits at the home pose, along the plate's two axes (the platform axes other than its normal, in the order x, y, z). The tilt is the angle between the rod's axis `n_i` and the plate's normal `m_i`: its cosine is `n_i · m_i = r_kk`. Every limit of `c5_robot::Limits` but speed and force is a bound on one of these.
 /// The robot's parameters are folded in as constants.
@@ -7715,7 +7715,7 @@ pub fn limit_geometry(pose: &[f32; 6]) -> ([f32; 6], [f32; 12], [f32; 6], [f32; 
 ///
 /// Equations: 15, 16, 27. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -7821,7 +7821,7 @@ pub fn inverse_kinematics_params(
 ///
 /// Equations: 15, 16, 16 d/dt, 27. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -7997,7 +7997,7 @@ pub fn inverse_jacobian_pose_params(
 ///
 /// Equations: 15, 16, 16 d/dt, 27, 40 (J = diag(R,R) S⁻¹ D). Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -8437,7 +8437,7 @@ pub fn jacobian_pose_params(
 ///
 /// Equations: 15, 16, 16 d/dt. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -8657,7 +8657,7 @@ pub fn joint_velocities_params(
 ///
 /// Equations: 15, 16, 16 d²/dt². Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -9025,7 +9025,7 @@ pub fn joint_accelerations_params(
 ///
 /// Equations: 16 d²/dt², virtual work. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -10019,7 +10019,7 @@ pub fn leg_wrench_params(
 ///
 /// Equations: 52, 54, 55, 56, 57. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 ///
@@ -10242,7 +10242,7 @@ pub fn platform_wrench_params(
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, ∂W/∂V̇. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `M_x = ∂(J⁻ᵀ Γ)/∂(ω̇; a_C)`, the exact derivative of the inverse dynamics.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -11996,7 +11996,7 @@ pub fn task_inertia_params(
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, ∂W/∂V̇. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -12855,7 +12855,7 @@ pub fn task_bias_params(
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, M_x V̇ = J⁻ᵀ Γ - h (LDLᵀ). Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `M_x (ω̇; a_C) = J⁻ᵀ Γ - h`, solved by an unrolled `LDLᵀ` (no pivoting: `M_x` is symmetric positive definite).
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -14465,7 +14465,7 @@ pub fn forward_dynamics_params(
 ///
 /// Equations: 15, 16, 16 d²/dt², 27, 52-57, virtual work, 62 (Γ = D S⁻ᵀ Rᵀ K + τ). Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -15403,9 +15403,9 @@ pub fn inverse_dynamics_params(
 ///
 /// Equations: 15, 16. Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
-/// No trigonometry and no linear solve: eq 16's pair differences fix each column of `R` up to one unknown, orthogonality makes the three unknowns a rational function of `a = (Q2 - Q1)/2L`, `b = (Q4 - Q3)/2L`, `c = (Q6 - Q5)/2L`, and the half-sums give `C` (DESIGN.md, "Joint space").
+/// No trigonometry and no linear solve: eq 16's pair differences fix each column of `R` up to one unknown, orthogonality makes the three unknowns a rational function of `a = (Q2 - Q1)/2L`, `b = (Q4 - Q3)/2L`, `c = (Q6 - Q5)/2L`, and the half-sums give `C` (docs/joint-space.md).
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the forward singularity term and the divisors of eq 16 for a singularity check.
 ///
@@ -15573,7 +15573,7 @@ pub fn forward_kinematics_params(
 ///
 /// Equations: 15, 16, 16 d/dt, 27, 40 (J = diag(R,R) S⁻¹ D). Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// Through the model's factored `J` (no 6×6 solve), at the pose of the forward kinematics.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -15924,7 +15924,7 @@ pub fn platform_twist_params(
 ///
 /// Equations: 15, 16, 16 d²/dt². Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `(ω̇; a_C) = J (Q̈_a - h)`, `h` the actuator accelerations at zero platform acceleration: the model's second-order kinematics solved the way `J` is, no 6×6 solve.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -16459,7 +16459,7 @@ pub fn platform_acceleration_params(
 ///
 /// Equations: 15, 16, 16 d²/dt². Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The forward kinematics, the RPY angles of its `R`, `V = J Q̇_a` and `(ω̇; a_C) = J (Q̈_a - h)` in one kernel.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -17085,7 +17085,7 @@ pub fn platform_state_params(
 ///
 /// Equations: 15, 16, 16 d²/dt², 27, 52-57, virtual work, 62 (Γ = D S⁻ᵀ Rᵀ K + τ). Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The forward kinematics, then the model's inverse dynamics at the state found, without trigonometry.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -18659,7 +18659,7 @@ pub fn inverse_dynamics_joint_params(
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, ∂W/∂V̇. Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `M_q = ∂Γ/∂Q̈_a`, the exact derivative of the joint-space inverse dynamics.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -21676,7 +21676,7 @@ pub fn joint_inertia_params(
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, ∂W/∂V̇. Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `Γ` at `Q̈_a = 0`.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -23059,7 +23059,7 @@ pub fn joint_bias_params(
 ///
 /// Equations: 15, 16, 27. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The plate's offset is `Rᵀ (B_i - C) - A_i`, where the ball sits in the platform frame against where it sits at the home pose, along the plate's two axes (the platform axes other than its normal, in the order x, y, z). The tilt is the angle between the rod's axis `n_i` and the plate's normal `m_i`: its cosine is `n_i · m_i = r_kk`. Every limit of `c5_robot::Limits` but speed and force is a bound on one of these.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.

@@ -51,7 +51,7 @@
 ///
 /// Equations: 15, 16. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// Cheaper than the kernels it guards: one check before them costs a few ns.
 ///
@@ -110,7 +110,7 @@ pub unsafe fn singularity_terms_fused(pose: &[f64; 6]) -> [f64; 3] {
 ///
 /// Equations: 15, 16, 27. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -291,7 +291,7 @@ pub unsafe fn inverse_kinematics_fused(
 ///
 /// Equations: 15, 16, 16 d/dt, 27. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -591,7 +591,7 @@ pub unsafe fn inverse_jacobian_pose_fused(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f
 ///
 /// Equations: 15, 16, 16 d/dt, 27, 40 (J = diag(R,R) S⁻¹ D). Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -1363,7 +1363,7 @@ pub unsafe fn jacobian_pose_fused(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) 
 ///
 /// Equations: 15, 16, 16 d/dt. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -1725,7 +1725,7 @@ pub unsafe fn joint_velocities_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt². Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -2338,7 +2338,7 @@ pub unsafe fn joint_accelerations_fused(
 ///
 /// Equations: 16 d²/dt², virtual work. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -3270,7 +3270,7 @@ pub unsafe fn leg_wrench_fused(
 ///
 /// Equations: 52, 54, 55, 56, 57. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 ///
@@ -3490,7 +3490,7 @@ pub unsafe fn platform_wrench_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, ∂W/∂V̇. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `M_x = ∂(J⁻ᵀ Γ)/∂(ω̇; a_C)`, the exact derivative of the inverse dynamics.
 /// The robot's parameters are folded in as constants.
@@ -4636,7 +4636,7 @@ pub unsafe fn task_inertia_fused(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, ∂W/∂V̇. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -5416,7 +5416,7 @@ pub unsafe fn task_bias_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, M_x V̇ = J⁻ᵀ Γ - h (LDLᵀ). Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `M_x (ω̇; a_C) = J⁻ᵀ Γ - h`, solved by an unrolled `LDLᵀ` (no pivoting: `M_x` is symmetric positive definite).
 /// The robot's parameters are folded in as constants.
@@ -6515,7 +6515,7 @@ pub unsafe fn forward_dynamics_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt², 27, 52-57, virtual work, 62 (Γ = D S⁻ᵀ Rᵀ K + τ). Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters are folded in as constants.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -7308,9 +7308,9 @@ pub unsafe fn inverse_dynamics_fused(
 ///
 /// Equations: 15, 16. Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
-/// No trigonometry and no linear solve: eq 16's pair differences fix each column of `R` up to one unknown, orthogonality makes the three unknowns a rational function of `a = (Q2 - Q1)/2L`, `b = (Q4 - Q3)/2L`, `c = (Q6 - Q5)/2L`, and the half-sums give `C` (DESIGN.md, "Joint space").
+/// No trigonometry and no linear solve: eq 16's pair differences fix each column of `R` up to one unknown, orthogonality makes the three unknowns a rational function of `a = (Q2 - Q1)/2L`, `b = (Q4 - Q3)/2L`, `c = (Q6 - Q5)/2L`, and the half-sums give `C` (docs/joint-space.md).
 /// The robot's parameters are folded in as constants.
 /// The last result holds the forward singularity term and the divisors of eq 16 for a singularity check.
 ///
@@ -7537,7 +7537,7 @@ pub unsafe fn forward_kinematics_fused(
 ///
 /// Equations: 15. Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `α = atan(-r23/r33)`, `β = atan(r13 / √(r11² + r12²))`, `γ = atan(-r12/r11)`, each in `(-π/2, π/2)`: right for every rotation with `r11 > 0` and `r33 > 0`, which every pose of the workspace has (and [`forward_kinematics`] returns).
 ///
@@ -7602,7 +7602,7 @@ pub unsafe fn rpy_angles_fused(r: &[[f64; 3]; 3]) -> [f64; 3] {
 ///
 /// Equations: 15, 16, 16 d/dt, 27, 40 (J = diag(R,R) S⁻¹ D). Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// Through the model's factored `J` (no 6×6 solve), at the pose of the forward kinematics.
 /// The robot's parameters are folded in as constants.
@@ -8055,7 +8055,7 @@ pub unsafe fn platform_twist_fused(q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f
 ///
 /// Equations: 15, 16, 16 d²/dt². Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `(ω̇; a_C) = J (Q̈_a - h)`, `h` the actuator accelerations at zero platform acceleration: the model's second-order kinematics solved the way `J` is, no 6×6 solve.
 /// The robot's parameters are folded in as constants.
@@ -8961,7 +8961,7 @@ pub unsafe fn platform_acceleration_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt². Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The forward kinematics, the RPY angles of its `R`, `V = J Q̇_a` and `(ω̇; a_C) = J (Q̈_a - h)` in one kernel.
 /// The robot's parameters are folded in as constants.
@@ -10047,7 +10047,7 @@ pub unsafe fn platform_state_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt², 27, 52-57, virtual work, 62 (Γ = D S⁻ᵀ Rᵀ K + τ). Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The forward kinematics, then the model's inverse dynamics at the state found, without trigonometry.
 /// The robot's parameters are folded in as constants.
@@ -11201,7 +11201,7 @@ pub unsafe fn inverse_dynamics_joint_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, ∂W/∂V̇. Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `M_q = ∂Γ/∂Q̈_a`, the exact derivative of the joint-space inverse dynamics.
 /// The robot's parameters are folded in as constants.
@@ -12181,7 +12181,7 @@ pub unsafe fn joint_inertia_fused(q: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 4]) {
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, ∂W/∂V̇. Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `Γ` at `Q̈_a = 0`.
 /// The robot's parameters are folded in as constants.
@@ -13267,7 +13267,7 @@ pub unsafe fn joint_bias_fused(q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 
 ///
 /// Equations: 15, 16, 27. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The plate's offset is `Rᵀ (B_i - C) - A_i`, where the ball sits in the platform frame against where it sits at the home pose, along the plate's two axes (the platform axes other than its normal, in the order x, y, z). The tilt is the angle between the rod's axis `n_i` and the plate's normal `m_i`: its cosine is `n_i · m_i = r_kk`. Every limit of `c5_robot::Limits` but speed and force is a bound on one of these.
 /// The robot's parameters are folded in as constants.
@@ -13561,7 +13561,7 @@ pub unsafe fn limit_geometry_fused(
 ///
 /// Equations: 15, 16, 27. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -13760,7 +13760,7 @@ pub unsafe fn inverse_kinematics_params_fused(
 ///
 /// Equations: 15, 16, 16 d/dt, 27. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -14082,7 +14082,7 @@ pub unsafe fn inverse_jacobian_pose_params_fused(
 ///
 /// Equations: 15, 16, 16 d/dt, 27, 40 (J = diag(R,R) S⁻¹ D). Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -14876,7 +14876,7 @@ pub unsafe fn jacobian_pose_params_fused(
 ///
 /// Equations: 15, 16, 16 d/dt. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -15257,7 +15257,7 @@ pub unsafe fn joint_velocities_params_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt². Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -15886,7 +15886,7 @@ pub unsafe fn joint_accelerations_params_fused(
 ///
 /// Equations: 16 d²/dt², virtual work. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -17568,7 +17568,7 @@ pub unsafe fn leg_wrench_params_fused(
 ///
 /// Equations: 52, 54, 55, 56, 57. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 ///
@@ -17955,7 +17955,7 @@ pub unsafe fn platform_wrench_params_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, ∂W/∂V̇. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `M_x = ∂(J⁻ᵀ Γ)/∂(ω̇; a_C)`, the exact derivative of the inverse dynamics.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -20753,7 +20753,7 @@ pub unsafe fn task_inertia_params_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, ∂W/∂V̇. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -22216,7 +22216,7 @@ pub unsafe fn task_bias_params_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, M_x V̇ = J⁻ᵀ Γ - h (LDLᵀ). Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `M_x (ω̇; a_C) = J⁻ᵀ Γ - h`, solved by an unrolled `LDLᵀ` (no pivoting: `M_x` is symmetric positive definite).
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -24775,7 +24775,7 @@ pub unsafe fn forward_dynamics_params_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt², 27, 52-57, virtual work, 62 (Γ = D S⁻ᵀ Rᵀ K + τ). Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the divisors of eq 16 for a singularity check.
@@ -26388,9 +26388,9 @@ pub unsafe fn inverse_dynamics_params_fused(
 ///
 /// Equations: 15, 16. Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
-/// No trigonometry and no linear solve: eq 16's pair differences fix each column of `R` up to one unknown, orthogonality makes the three unknowns a rational function of `a = (Q2 - Q1)/2L`, `b = (Q4 - Q3)/2L`, `c = (Q6 - Q5)/2L`, and the half-sums give `C` (DESIGN.md, "Joint space").
+/// No trigonometry and no linear solve: eq 16's pair differences fix each column of `R` up to one unknown, orthogonality makes the three unknowns a rational function of `a = (Q2 - Q1)/2L`, `b = (Q4 - Q3)/2L`, `c = (Q6 - Q5)/2L`, and the half-sums give `C` (docs/joint-space.md).
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the forward singularity term and the divisors of eq 16 for a singularity check.
 ///
@@ -26706,7 +26706,7 @@ pub unsafe fn forward_kinematics_params_fused(
 ///
 /// Equations: 15, 16, 16 d/dt, 27, 40 (J = diag(R,R) S⁻¹ D). Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// Through the model's factored `J` (no 6×6 solve), at the pose of the forward kinematics.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -27338,7 +27338,7 @@ pub unsafe fn platform_twist_params_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt². Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `(ω̇; a_C) = J (Q̈_a - h)`, `h` the actuator accelerations at zero platform acceleration: the model's second-order kinematics solved the way `J` is, no 6×6 solve.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -28294,7 +28294,7 @@ pub unsafe fn platform_acceleration_params_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt². Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The forward kinematics, the RPY angles of its `R`, `V = J Q̇_a` and `(ω̇; a_C) = J (Q̈_a - h)` in one kernel.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -29409,7 +29409,7 @@ pub unsafe fn platform_state_params_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt², 27, 52-57, virtual work, 62 (Γ = D S⁻ᵀ Rᵀ K + τ). Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The forward kinematics, then the model's inverse dynamics at the state found, without trigonometry.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -32117,7 +32117,7 @@ pub unsafe fn inverse_dynamics_joint_params_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, ∂W/∂V̇. Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `M_q = ∂Γ/∂Q̈_a`, the exact derivative of the joint-space inverse dynamics.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -37611,7 +37611,7 @@ pub unsafe fn joint_inertia_params_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, ∂W/∂V̇. Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// `Γ` at `Q̈_a = 0`.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -39961,7 +39961,7 @@ pub unsafe fn joint_bias_params_fused(
 ///
 /// Equations: 15, 16, 27. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// The plate's offset is `Rᵀ (B_i - C) - A_i`, where the ball sits in the platform frame against where it sits at the home pose, along the plate's two axes (the platform axes other than its normal, in the order x, y, z). The tilt is the angle between the rod's axis `n_i` and the plate's normal `m_i`: its cosine is `n_i · m_i = r_kk`. Every limit of `c5_robot::Limits` but speed and force is a bound on one of these.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.

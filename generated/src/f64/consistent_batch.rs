@@ -118,22 +118,22 @@ fn forward_dynamics_x4_lanes(
     let g4 = F64x4(forces[3]);
     let g5 = F64x4(forces[4]);
     let g6 = F64x4(forces[5]);
-    if !(alpha.within_quarter_turn() & beta.within_quarter_turn()
-        & gamma.within_quarter_turn())
+    if !(alpha.within_eighth_turn() & beta.within_eighth_turn()
+        & gamma.within_eighth_turn())
     {
         return forward_dynamics_x4_by_states(pose, twist, forces);
     }
-    let (t0, t1) = alpha.sin_cos_quarter_turn();
+    let (t0, t1) = alpha.sin_cos_eighth_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
     let t3: F64x4 = t2 * t2;
-    let (t4, t5) = beta.sin_cos_quarter_turn();
+    let (t4, t5) = beta.sin_cos_eighth_turn();
     let t6: F64x4 = F64x4::splat(1.0) / t5;
     let t7: F64x4 = t6 * t6;
     let t8: F64x4 = t3 * t7;
     let t9: F64x4 = t8 * F64x4::splat(7.34);
     let t10: F64x4 = t9 + F64x4::splat(10.0);
     let t11: F64x4 = F64x4::splat(1.0) / t10;
-    let (t12, t13) = gamma.sin_cos_quarter_turn();
+    let (t12, t13) = gamma.sin_cos_eighth_turn();
     let t14: F64x4 = t1 * t13;
     let t15: F64x4 = t0 * t4;
     let t16: F64x4 = t12 * t15;
@@ -760,21 +760,21 @@ unsafe fn forward_dynamics_x4_lanes_fused(
     let g4 = F64x4(forces[3]);
     let g5 = F64x4(forces[4]);
     let g6 = F64x4(forces[5]);
-    if !(alpha.within_quarter_turn() & beta.within_quarter_turn()
-        & gamma.within_quarter_turn())
+    if !(alpha.within_eighth_turn() & beta.within_eighth_turn()
+        & gamma.within_eighth_turn())
     {
         return forward_dynamics_x4_by_states_fused(pose, twist, forces);
     }
-    let (t0, t1) = alpha.sin_cos_quarter_turn();
+    let (t0, t1) = alpha.sin_cos_eighth_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
     let t3: F64x4 = t2 * t2;
-    let (t4, t5) = beta.sin_cos_quarter_turn();
+    let (t4, t5) = beta.sin_cos_eighth_turn();
     let t6: F64x4 = F64x4::splat(1.0) / t5;
     let t7: F64x4 = t6 * t6;
     let t8: F64x4 = t3 * t7;
     let t10: F64x4 = F64x4::mul_add(t8, F64x4::splat(7.34), F64x4::splat(10.0));
     let t11: F64x4 = F64x4::splat(1.0) / t10;
-    let (t12, t13) = gamma.sin_cos_quarter_turn();
+    let (t12, t13) = gamma.sin_cos_eighth_turn();
     let t15: F64x4 = t0 * t4;
     let t16: F64x4 = t12 * t15;
     let t17: F64x4 = F64x4::mul_add(t1, t13, -t16);
@@ -1199,7 +1199,7 @@ unsafe fn forward_dynamics_x4_lanes_fused(
         [(t197).0, (t17).0, (t142).0],
     )
 }
-/// [`forward_dynamics_x4`] state by state through [`forward_dynamics_separate`], for a batch with an angle beyond a quarter turn.
+/// [`forward_dynamics_x4`] state by state through [`forward_dynamics_separate`], for a batch with an angle beyond an eighth of a turn (π/4).
 #[cold]
 #[inline(never)]
 fn forward_dynamics_x4_by_states(
@@ -1324,16 +1324,16 @@ fn inverse_dynamics_x4_lanes(
     let ax = F64x4(accel[3]);
     let ay = F64x4(accel[4]);
     let az = F64x4(accel[5]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return inverse_dynamics_x4_by_states(pose, twist, accel);
     }
-    let (t0, t1) = beta.sin_cos_quarter_turn();
+    let (t0, t1) = beta.sin_cos_eighth_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos_quarter_turn();
+    let (t3, t4) = gamma.sin_cos_eighth_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos_quarter_turn();
+    let (t6, t7) = alpha.sin_cos_eighth_turn();
     let t8: F64x4 = yc * t6;
     let t9: F64x4 = t1 * t8;
     let t10: F64x4 = t3 * t7;
@@ -1785,16 +1785,16 @@ unsafe fn inverse_dynamics_x4_lanes_fused(
     let ax = F64x4(accel[3]);
     let ay = F64x4(accel[4]);
     let az = F64x4(accel[5]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return inverse_dynamics_x4_by_states_fused(pose, twist, accel);
     }
-    let (t0, t1) = beta.sin_cos_quarter_turn();
+    let (t0, t1) = beta.sin_cos_eighth_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos_quarter_turn();
+    let (t3, t4) = gamma.sin_cos_eighth_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos_quarter_turn();
+    let (t6, t7) = alpha.sin_cos_eighth_turn();
     let t8: F64x4 = yc * t6;
     let t9: F64x4 = t1 * t8;
     let t11: F64x4 = t0 * t6;
@@ -2104,7 +2104,7 @@ unsafe fn inverse_dynamics_x4_lanes_fused(
         [(t171).0, (t33).0, (t25).0],
     )
 }
-/// [`inverse_dynamics_x4`] state by state through [`inverse_dynamics_separate`], for a batch with an angle beyond a quarter turn.
+/// [`inverse_dynamics_x4`] state by state through [`inverse_dynamics_separate`], for a batch with an angle beyond an eighth of a turn (π/4).
 #[cold]
 #[inline(never)]
 fn inverse_dynamics_x4_by_states(
@@ -3404,16 +3404,16 @@ fn limit_geometry_x4_lanes(
     let xc = F64x4(pose[3]);
     let yc = F64x4(pose[4]);
     let zc = F64x4(pose[5]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return limit_geometry_x4_by_states(pose);
     }
-    let (t0, t1) = beta.sin_cos_quarter_turn();
+    let (t0, t1) = beta.sin_cos_eighth_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos_quarter_turn();
+    let (t3, t4) = gamma.sin_cos_eighth_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos_quarter_turn();
+    let (t6, t7) = alpha.sin_cos_eighth_turn();
     let t8: F64x4 = t3 * t7;
     let t9: F64x4 = t0 * t6;
     let t10: F64x4 = t4 * t9;
@@ -3576,16 +3576,16 @@ unsafe fn limit_geometry_x4_lanes_fused(
     let xc = F64x4(pose[3]);
     let yc = F64x4(pose[4]);
     let zc = F64x4(pose[5]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return limit_geometry_x4_by_states_fused(pose);
     }
-    let (t0, t1) = beta.sin_cos_quarter_turn();
+    let (t0, t1) = beta.sin_cos_eighth_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos_quarter_turn();
+    let (t3, t4) = gamma.sin_cos_eighth_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos_quarter_turn();
+    let (t6, t7) = alpha.sin_cos_eighth_turn();
     let t9: F64x4 = t0 * t6;
     let t10: F64x4 = t4 * t9;
     let t11: F64x4 = F64x4::mul_add(t3, t7, t10);
@@ -3698,7 +3698,7 @@ unsafe fn limit_geometry_x4_lanes_fused(
         [(t89).0, (t30).0, (t74).0],
     )
 }
-/// [`limit_geometry_x4`] state by state through [`limit_geometry_separate`], for a batch with an angle beyond a quarter turn.
+/// [`limit_geometry_x4`] state by state through [`limit_geometry_separate`], for a batch with an angle beyond an eighth of a turn (π/4).
 #[cold]
 #[inline(never)]
 fn limit_geometry_x4_by_states(
@@ -4041,15 +4041,15 @@ fn forward_dynamics_params_x4_lanes(
         t998,
         t1001,
     ) = {
-        if !(alpha.within_quarter_turn() & gamma.within_quarter_turn()
-            & beta.within_quarter_turn())
+        if !(alpha.within_eighth_turn() & gamma.within_eighth_turn()
+            & beta.within_eighth_turn())
         {
             return forward_dynamics_params_x4_by_states(pose, twist, forces, params);
         }
-        let (t0, t1) = alpha.sin_cos_quarter_turn();
-        let (t2, t3) = gamma.sin_cos_quarter_turn();
+        let (t0, t1) = alpha.sin_cos_eighth_turn();
+        let (t2, t3) = gamma.sin_cos_eighth_turn();
         let t4: F64x4 = t1 * t3;
-        let (t5, t6) = beta.sin_cos_quarter_turn();
+        let (t5, t6) = beta.sin_cos_eighth_turn();
         let t7: F64x4 = t0 * t5;
         let t8: F64x4 = t2 * t7;
         let t9: F64x4 = t4 - t8;
@@ -5596,14 +5596,14 @@ unsafe fn forward_dynamics_params_x4_lanes_fused(
     let joint6_iyy = F64x4::splat(params[149]);
     let joint6_iyz = F64x4::splat(params[150]);
     let joint6_izz = F64x4::splat(params[151]);
-    if !(alpha.within_quarter_turn() & gamma.within_quarter_turn()
-        & beta.within_quarter_turn())
+    if !(alpha.within_eighth_turn() & gamma.within_eighth_turn()
+        & beta.within_eighth_turn())
     {
         return forward_dynamics_params_x4_by_states_fused(pose, twist, forces, params);
     }
-    let (t0, t1) = alpha.sin_cos_quarter_turn();
-    let (t2, t3) = gamma.sin_cos_quarter_turn();
-    let (t5, t6) = beta.sin_cos_quarter_turn();
+    let (t0, t1) = alpha.sin_cos_eighth_turn();
+    let (t2, t3) = gamma.sin_cos_eighth_turn();
+    let (t5, t6) = beta.sin_cos_eighth_turn();
     let t7: F64x4 = t0 * t5;
     let t8: F64x4 = t2 * t7;
     let t9: F64x4 = F64x4::mul_add(t1, t3, -t8);
@@ -6508,7 +6508,7 @@ unsafe fn forward_dynamics_params_x4_lanes_fused(
         [(t215).0, (t9).0, (t59).0],
     )
 }
-/// [`forward_dynamics_params_x4`] state by state through [`forward_dynamics_params_separate`], for a batch with an angle beyond a quarter turn.
+/// [`forward_dynamics_params_x4`] state by state through [`forward_dynamics_params_separate`], for a batch with an angle beyond an eighth of a turn (π/4).
 #[cold]
 #[inline(never)]
 fn forward_dynamics_params_x4_by_states(
@@ -6724,17 +6724,17 @@ fn inverse_dynamics_params_x4_lanes(
     let joint6_iyy = F64x4::splat(params[149]);
     let joint6_iyz = F64x4::splat(params[150]);
     let joint6_izz = F64x4::splat(params[151]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return inverse_dynamics_params_x4_by_states(pose, twist, accel, params);
     }
     let t0: F64x4 = rod1_mass + joint1_mass;
-    let (t1, t2) = beta.sin_cos_quarter_turn();
+    let (t1, t2) = beta.sin_cos_eighth_turn();
     let t3: F64x4 = F64x4::splat(1.0) / t2;
-    let (t4, t5) = gamma.sin_cos_quarter_turn();
+    let (t4, t5) = gamma.sin_cos_eighth_turn();
     let t6: F64x4 = F64x4::splat(1.0) / t5;
-    let (t7, t8) = alpha.sin_cos_quarter_turn();
+    let (t7, t8) = alpha.sin_cos_eighth_turn();
     let t9: F64x4 = t4 * t7;
     let t10: F64x4 = t1 * t8;
     let t11: F64x4 = t5 * t10;
@@ -7729,17 +7729,17 @@ unsafe fn inverse_dynamics_params_x4_lanes_fused(
     let joint6_iyy = F64x4::splat(params[149]);
     let joint6_iyz = F64x4::splat(params[150]);
     let joint6_izz = F64x4::splat(params[151]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return inverse_dynamics_params_x4_by_states_fused(pose, twist, accel, params);
     }
     let t0: F64x4 = rod1_mass + joint1_mass;
-    let (t1, t2) = beta.sin_cos_quarter_turn();
+    let (t1, t2) = beta.sin_cos_eighth_turn();
     let t3: F64x4 = F64x4::splat(1.0) / t2;
-    let (t4, t5) = gamma.sin_cos_quarter_turn();
+    let (t4, t5) = gamma.sin_cos_eighth_turn();
     let t6: F64x4 = F64x4::splat(1.0) / t5;
-    let (t7, t8) = alpha.sin_cos_quarter_turn();
+    let (t7, t8) = alpha.sin_cos_eighth_turn();
     let t10: F64x4 = t1 * t8;
     let t11: F64x4 = t5 * t10;
     let t12: F64x4 = F64x4::mul_add(t4, t7, -t11);
@@ -8367,7 +8367,7 @@ unsafe fn inverse_dynamics_params_x4_lanes_fused(
         [(t207).0, (t25).0, (t52).0],
     )
 }
-/// [`inverse_dynamics_params_x4`] state by state through [`inverse_dynamics_params_separate`], for a batch with an angle beyond a quarter turn.
+/// [`inverse_dynamics_params_x4`] state by state through [`inverse_dynamics_params_separate`], for a batch with an angle beyond an eighth of a turn (π/4).
 #[cold]
 #[inline(never)]
 fn inverse_dynamics_params_x4_by_states(
@@ -11365,16 +11365,16 @@ fn limit_geometry_params_x4_lanes(
     let yc = F64x4(pose[4]);
     let zc = F64x4(pose[5]);
     let half_spacing = F64x4::splat(params[0]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return limit_geometry_params_x4_by_states(pose, params);
     }
-    let (t0, t1) = beta.sin_cos_quarter_turn();
+    let (t0, t1) = beta.sin_cos_eighth_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos_quarter_turn();
+    let (t3, t4) = gamma.sin_cos_eighth_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos_quarter_turn();
+    let (t6, t7) = alpha.sin_cos_eighth_turn();
     let t8: F64x4 = t3 * t7;
     let t9: F64x4 = t0 * t6;
     let t10: F64x4 = t4 * t9;
@@ -11539,16 +11539,16 @@ unsafe fn limit_geometry_params_x4_lanes_fused(
     let yc = F64x4(pose[4]);
     let zc = F64x4(pose[5]);
     let half_spacing = F64x4::splat(params[0]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return limit_geometry_params_x4_by_states_fused(pose, params);
     }
-    let (t0, t1) = beta.sin_cos_quarter_turn();
+    let (t0, t1) = beta.sin_cos_eighth_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos_quarter_turn();
+    let (t3, t4) = gamma.sin_cos_eighth_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos_quarter_turn();
+    let (t6, t7) = alpha.sin_cos_eighth_turn();
     let t9: F64x4 = t0 * t6;
     let t10: F64x4 = t4 * t9;
     let t11: F64x4 = F64x4::mul_add(t3, t7, t10);
@@ -11660,7 +11660,7 @@ unsafe fn limit_geometry_params_x4_lanes_fused(
         [(t89).0, (t30).0, (t74).0],
     )
 }
-/// [`limit_geometry_params_x4`] state by state through [`limit_geometry_params_separate`], for a batch with an angle beyond a quarter turn.
+/// [`limit_geometry_params_x4`] state by state through [`limit_geometry_params_separate`], for a batch with an angle beyond an eighth of a turn (π/4).
 #[cold]
 #[inline(never)]
 fn limit_geometry_params_x4_by_states(

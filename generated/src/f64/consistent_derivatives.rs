@@ -17,7 +17,7 @@
 ///
 /// Equations: 15, 16, 16 d²/dt², 27, 52-57, virtual work, 62 (Γ = D S⁻ᵀ Rᵀ K + τ). Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// Row `i` of each Jacobian is actuator `i+1`; its columns are the components of the input in its own order (`α β γ xc yc zc`; `ωx ωy ωz vx vy vz`; `ω̇x ω̇y ω̇z ax ay az`). `∂Γ/∂(ω̇; a_C) = Jᵀ M_x`.
 /// The robot's parameters are folded in as constants.
@@ -7012,7 +7012,7 @@ pub unsafe fn inverse_dynamics_derivatives_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, M_x V̇ = J⁻ᵀ Γ - h (LDLᵀ). Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// Rows `ω̇x ω̇y ω̇z ax ay az`; columns the components of the input in its own order (`α β γ xc yc zc`; `ωx ωy ωz vx vy vz`; `Γ1 … Γ6`). `∂a/∂Γ = M_x⁻¹ J⁻ᵀ`; by the implicit function theorem on `ID(X, V, a) = Γ`, `∂a/∂X = -(∂a/∂Γ) ∂ID/∂X`.
 /// The robot's parameters are folded in as constants.
@@ -18008,7 +18008,7 @@ pub unsafe fn forward_dynamics_derivatives_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt², 27, 52-57, virtual work, 62 (Γ = D S⁻ᵀ Rᵀ K + τ). Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// Row `i` of each Jacobian is actuator `i+1`, column `j` actuator `j+1`. `∂Γ/∂q̈ = M_q`.
 /// The robot's parameters are folded in as constants.
@@ -37609,7 +37609,7 @@ pub unsafe fn inverse_dynamics_joint_derivatives_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt², 27, 52-57, virtual work, 62 (Γ = D S⁻ᵀ Rᵀ K + τ). Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// Row `i` of each Jacobian is actuator `i+1`; its columns are the components of the input in its own order (`α β γ xc yc zc`; `ωx ωy ωz vx vy vz`; `ω̇x ω̇y ω̇z ax ay az`). `∂Γ/∂(ω̇; a_C) = Jᵀ M_x`.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -52681,7 +52681,7 @@ pub unsafe fn inverse_dynamics_derivatives_params_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt², 52-57, virtual work, M_x V̇ = J⁻ᵀ Γ - h (LDLᵀ). Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// Rows `ω̇x ω̇y ω̇z ax ay az`; columns the components of the input in its own order (`α β γ xc yc zc`; `ωx ωy ωz vx vy vz`; `Γ1 … Γ6`). `∂a/∂Γ = M_x⁻¹ J⁻ᵀ`; by the implicit function theorem on `ID(X, V, a) = Γ`, `∂a/∂X = -(∂a/∂Γ) ∂ID/∂X`.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
@@ -70556,7 +70556,7 @@ pub unsafe fn forward_dynamics_derivatives_params_fused(
 ///
 /// Equations: 15, 16, 16 d²/dt², 27, 52-57, virtual work, 62 (Γ = D S⁻ᵀ Rᵀ K + τ). Setting: joint.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// Row `i` of each Jacobian is actuator `i+1`, column `j` actuator `j+1`. `∂Γ/∂q̈ = M_q`.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.

@@ -13,7 +13,7 @@
 ///
 /// Equations: 15, 16, 16 d²/dt², 27, 52-57, virtual work, 62 (Γ = D S⁻ᵀ Rᵀ K + τ), ∂Γ/∂π. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// Columns in the order of `STANDARD_PARAMETERS`: ten per body (mass, first moment `m c`, inertia about the reference point) for the platform, then the rod and body 2 of each segment, then viscous and Coulomb friction per actuator. The inertial parameters and friction are the unknowns.
 /// The geometry and gravity are `params`.
@@ -2360,7 +2360,7 @@ pub fn regressor(
 ///
 /// Equations: 15, 16, 16 d²/dt², 27, 52-57, virtual work, 62 (Γ = D S⁻ᵀ Rᵀ K + τ), ∂Γ/∂π. Setting: pose.
 ///
-/// Model: consistent. The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// Model: consistent. The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
 /// Columns in the order of `BASE_PARAMETERS`: the columns of their leading standard parameters (`BASE_RELATIONS` says what each base parameter groups). The inertial parameters and friction are the unknowns.
 /// The geometry and gravity are `params`.

@@ -5,7 +5,7 @@
 // The derivative kernels return a value, three Jacobians and the singularity terms.
 #![allow(clippy::type_complexity)]
 
-/// The consistent kernels, `f64`: The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// The consistent kernels, `f64`: The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
 pub mod consistent {
     use crate::trig::{atan, cos, sin, sin_cos, sqrt};
@@ -414,7 +414,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
     /// `β = B π`: each base parameter's terms `(standard index, coefficient)`.
     fn base_of_standard(&self) -> &'static [&'static [(usize, f64)]];
 }
-/// The consistent model's kernels: The mechanism eq 16 describes (DESIGN.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
+/// The consistent model's kernels: The mechanism eq 16 describes (docs/models.md): the plates of segment `i` slide in the platform plane of normal `m_i = R e_k`; rates and accelerations are the exact time derivatives of eq 16 and the forces close the power balance.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Consistent;
 impl Kernels for Consistent {

@@ -5235,7 +5235,7 @@ pub unsafe fn inverse_dynamics_fused(
 ///
 /// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
-/// No trigonometry and no linear solve: eq 16's pair differences fix each column of `R` up to one unknown, orthogonality makes the three unknowns a rational function of `a = (Q2 - Q1)/2L`, `b = (Q4 - Q3)/2L`, `c = (Q6 - Q5)/2L`, and the half-sums give `C` (DESIGN.md, "Joint space").
+/// No trigonometry and no linear solve: eq 16's pair differences fix each column of `R` up to one unknown, orthogonality makes the three unknowns a rational function of `a = (Q2 - Q1)/2L`, `b = (Q4 - Q3)/2L`, `c = (Q6 - Q5)/2L`, and the half-sums give `C` (docs/joint-space.md).
 /// The robot's parameters are folded in as constants.
 /// The last result holds the forward singularity term and the divisors of eq 16 for a singularity check.
 ///
@@ -18878,7 +18878,7 @@ pub unsafe fn inverse_dynamics_params_fused(
 ///
 /// Model: paper. The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 /// Actuators are in segment order 1..6; the chapter lists them 6..1.
-/// No trigonometry and no linear solve: eq 16's pair differences fix each column of `R` up to one unknown, orthogonality makes the three unknowns a rational function of `a = (Q2 - Q1)/2L`, `b = (Q4 - Q3)/2L`, `c = (Q6 - Q5)/2L`, and the half-sums give `C` (DESIGN.md, "Joint space").
+/// No trigonometry and no linear solve: eq 16's pair differences fix each column of `R` up to one unknown, orthogonality makes the three unknowns a rational function of `a = (Q2 - Q1)/2L`, `b = (Q4 - Q3)/2L`, `c = (Q6 - Q5)/2L`, and the half-sums give `C` (docs/joint-space.md).
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the forward singularity term and the divisors of eq 16 for a singularity check.
 ///

@@ -126,15 +126,15 @@ fn forward_dynamics_x4_lanes(
     let g4 = F64x4(forces[3]);
     let g5 = F64x4(forces[4]);
     let g6 = F64x4(forces[5]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return forward_dynamics_x4_by_states(pose, twist, forces);
     }
-    let (t0, t1) = beta.sin_cos_quarter_turn();
+    let (t0, t1) = beta.sin_cos_eighth_turn();
     let t2: F64x4 = t0 * t0;
     let t3: F64x4 = t1 * t1;
-    let (t4, t5) = gamma.sin_cos_quarter_turn();
+    let (t4, t5) = gamma.sin_cos_eighth_turn();
     let t6: F64x4 = t5 * t5;
     let t7: F64x4 = t4 * t4;
     let t8: F64x4 = t6 * F64x4::splat(0.4119400000000001);
@@ -144,7 +144,7 @@ fn forward_dynamics_x4_lanes(
     let t12: F64x4 = zc * zc;
     let t13: F64x4 = yc * yc;
     let t14: F64x4 = t12 + t13;
-    let (t15, t16) = alpha.sin_cos_quarter_turn();
+    let (t15, t16) = alpha.sin_cos_eighth_turn();
     let t17: F64x4 = t5 * t16;
     let t18: F64x4 = t0 * t15;
     let t19: F64x4 = t4 * t18;
@@ -751,15 +751,15 @@ unsafe fn forward_dynamics_x4_lanes_fused(
     let g4 = F64x4(forces[3]);
     let g5 = F64x4(forces[4]);
     let g6 = F64x4(forces[5]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return forward_dynamics_x4_by_states_fused(pose, twist, forces);
     }
-    let (t0, t1) = beta.sin_cos_quarter_turn();
+    let (t0, t1) = beta.sin_cos_eighth_turn();
     let t2: F64x4 = t0 * t0;
     let t3: F64x4 = t1 * t1;
-    let (t4, t5) = gamma.sin_cos_quarter_turn();
+    let (t4, t5) = gamma.sin_cos_eighth_turn();
     let t6: F64x4 = t5 * t5;
     let t7: F64x4 = t4 * t4;
     let t9: F64x4 = t7 * F64x4::splat(0.22443999999999997);
@@ -767,7 +767,7 @@ unsafe fn forward_dynamics_x4_lanes_fused(
     let t12: F64x4 = zc * zc;
     let t13: F64x4 = yc * yc;
     let t14: F64x4 = t12 + t13;
-    let (t15, t16) = alpha.sin_cos_quarter_turn();
+    let (t15, t16) = alpha.sin_cos_eighth_turn();
     let t18: F64x4 = t0 * t15;
     let t19: F64x4 = t4 * t18;
     let t20: F64x4 = F64x4::mul_add(t5, t16, -t19);
@@ -1228,7 +1228,7 @@ unsafe fn forward_dynamics_x4_lanes_fused(
         [(t592).0, (t20).0, (t452).0],
     )
 }
-/// [`forward_dynamics_x4`] state by state through [`forward_dynamics_separate`], for a batch with an angle beyond a quarter turn.
+/// [`forward_dynamics_x4`] state by state through [`forward_dynamics_separate`], for a batch with an angle beyond an eighth of a turn (π/4).
 #[cold]
 #[inline(never)]
 fn forward_dynamics_x4_by_states(
@@ -1353,18 +1353,18 @@ fn inverse_dynamics_x4_lanes(
     let ax = F64x4(accel[3]);
     let ay = F64x4(accel[4]);
     let az = F64x4(accel[5]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return inverse_dynamics_x4_by_states(pose, twist, accel);
     }
     let t0: F64x4 = zc - F64x4::splat(0.2);
     let t1: F64x4 = wdy * t0;
-    let (t2, t3) = beta.sin_cos_quarter_turn();
+    let (t2, t3) = beta.sin_cos_eighth_turn();
     let t4: F64x4 = F64x4::splat(1.0) / t3;
-    let (t5, t6) = gamma.sin_cos_quarter_turn();
+    let (t5, t6) = gamma.sin_cos_eighth_turn();
     let t7: F64x4 = F64x4::splat(1.0) / t6;
-    let (t8, t9) = alpha.sin_cos_quarter_turn();
+    let (t8, t9) = alpha.sin_cos_eighth_turn();
     let t10: F64x4 = t5 * t9;
     let t11: F64x4 = t2 * t8;
     let t12: F64x4 = t6 * t11;
@@ -1791,17 +1791,17 @@ unsafe fn inverse_dynamics_x4_lanes_fused(
     let ax = F64x4(accel[3]);
     let ay = F64x4(accel[4]);
     let az = F64x4(accel[5]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return inverse_dynamics_x4_by_states_fused(pose, twist, accel);
     }
     let t0: F64x4 = zc - F64x4::splat(0.2);
-    let (t2, t3) = beta.sin_cos_quarter_turn();
+    let (t2, t3) = beta.sin_cos_eighth_turn();
     let t4: F64x4 = F64x4::splat(1.0) / t3;
-    let (t5, t6) = gamma.sin_cos_quarter_turn();
+    let (t5, t6) = gamma.sin_cos_eighth_turn();
     let t7: F64x4 = F64x4::splat(1.0) / t6;
-    let (t8, t9) = alpha.sin_cos_quarter_turn();
+    let (t8, t9) = alpha.sin_cos_eighth_turn();
     let t11: F64x4 = t2 * t8;
     let t12: F64x4 = t6 * t11;
     let t13: F64x4 = F64x4::mul_add(t5, t9, t12);
@@ -2101,7 +2101,7 @@ unsafe fn inverse_dynamics_x4_lanes_fused(
         [(t367).0, (t36).0, (t327).0],
     )
 }
-/// [`inverse_dynamics_x4`] state by state through [`inverse_dynamics_separate`], for a batch with an angle beyond a quarter turn.
+/// [`inverse_dynamics_x4`] state by state through [`inverse_dynamics_separate`], for a batch with an angle beyond an eighth of a turn (π/4).
 #[cold]
 #[inline(never)]
 fn inverse_dynamics_x4_by_states(
@@ -3178,16 +3178,16 @@ fn limit_geometry_x4_lanes(
     let xc = F64x4(pose[3]);
     let yc = F64x4(pose[4]);
     let zc = F64x4(pose[5]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return limit_geometry_x4_by_states(pose);
     }
-    let (t0, t1) = beta.sin_cos_quarter_turn();
+    let (t0, t1) = beta.sin_cos_eighth_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos_quarter_turn();
+    let (t3, t4) = gamma.sin_cos_eighth_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos_quarter_turn();
+    let (t6, t7) = alpha.sin_cos_eighth_turn();
     let t8: F64x4 = t3 * t7;
     let t9: F64x4 = t0 * t6;
     let t10: F64x4 = t4 * t9;
@@ -3350,16 +3350,16 @@ unsafe fn limit_geometry_x4_lanes_fused(
     let xc = F64x4(pose[3]);
     let yc = F64x4(pose[4]);
     let zc = F64x4(pose[5]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return limit_geometry_x4_by_states_fused(pose);
     }
-    let (t0, t1) = beta.sin_cos_quarter_turn();
+    let (t0, t1) = beta.sin_cos_eighth_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos_quarter_turn();
+    let (t3, t4) = gamma.sin_cos_eighth_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos_quarter_turn();
+    let (t6, t7) = alpha.sin_cos_eighth_turn();
     let t9: F64x4 = t0 * t6;
     let t10: F64x4 = t4 * t9;
     let t11: F64x4 = F64x4::mul_add(t3, t7, t10);
@@ -3472,7 +3472,7 @@ unsafe fn limit_geometry_x4_lanes_fused(
         [(t89).0, (t30).0, (t74).0],
     )
 }
-/// [`limit_geometry_x4`] state by state through [`limit_geometry_separate`], for a batch with an angle beyond a quarter turn.
+/// [`limit_geometry_x4`] state by state through [`limit_geometry_separate`], for a batch with an angle beyond an eighth of a turn (π/4).
 #[cold]
 #[inline(never)]
 fn limit_geometry_x4_by_states(
@@ -3769,8 +3769,8 @@ fn forward_dynamics_params_x4_lanes(
         t999,
         t1001,
     ) = {
-        if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-            & alpha.within_quarter_turn())
+        if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+            & alpha.within_eighth_turn())
         {
             return forward_dynamics_params_x4_by_states(pose, twist, forces, params);
         }
@@ -3780,7 +3780,7 @@ fn forward_dynamics_params_x4_lanes(
         let t3: F64x4 = yc + half_spacing;
         let t4: F64x4 = t3 * t3;
         let t5: F64x4 = rod6_mass * t4;
-        let (t6, t7) = beta.sin_cos_quarter_turn();
+        let (t6, t7) = beta.sin_cos_eighth_turn();
         let t8: F64x4 = platform_izz + joint1_izz;
         let t9: F64x4 = joint2_izz + joint3_izz;
         let t10: F64x4 = joint4_izz + joint5_izz;
@@ -3788,7 +3788,7 @@ fn forward_dynamics_params_x4_lanes(
         let t12: F64x4 = joint6_izz + t10;
         let t13: F64x4 = t11 + t12;
         let t14: F64x4 = t6 * t13;
-        let (t15, t16) = gamma.sin_cos_quarter_turn();
+        let (t15, t16) = gamma.sin_cos_eighth_turn();
         let t17: F64x4 = platform_ixz + joint1_ixz;
         let t18: F64x4 = joint2_ixz + joint3_ixz;
         let t19: F64x4 = joint4_ixz + joint5_ixz;
@@ -3844,7 +3844,7 @@ fn forward_dynamics_params_x4_lanes(
         let t69: F64x4 = t15 * t68;
         let t70: F64x4 = t56 - t69;
         let t71: F64x4 = t7 * t70;
-        let (t72, t73) = alpha.sin_cos_quarter_turn();
+        let (t72, t73) = alpha.sin_cos_eighth_turn();
         let t74: F64x4 = F64x4::splat(1.0) / t73;
         let t75: F64x4 = F64x4::splat(1.0) / t7;
         let t76: F64x4 = xc * t6;
@@ -5168,8 +5168,8 @@ unsafe fn forward_dynamics_params_x4_lanes_fused(
     let joint6_iyy = F64x4::splat(params[149]);
     let joint6_iyz = F64x4::splat(params[150]);
     let joint6_izz = F64x4::splat(params[151]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return forward_dynamics_params_x4_by_states_fused(pose, twist, forces, params);
     }
@@ -5178,14 +5178,14 @@ unsafe fn forward_dynamics_params_x4_lanes_fused(
     let t3: F64x4 = yc + half_spacing;
     let t4: F64x4 = t3 * t3;
     let t5: F64x4 = rod6_mass * t4;
-    let (t6, t7) = beta.sin_cos_quarter_turn();
+    let (t6, t7) = beta.sin_cos_eighth_turn();
     let t8: F64x4 = platform_izz + joint1_izz;
     let t9: F64x4 = joint2_izz + joint3_izz;
     let t10: F64x4 = joint4_izz + joint5_izz;
     let t11: F64x4 = t8 + t9;
     let t12: F64x4 = joint6_izz + t10;
     let t13: F64x4 = t11 + t12;
-    let (t15, t16) = gamma.sin_cos_quarter_turn();
+    let (t15, t16) = gamma.sin_cos_eighth_turn();
     let t17: F64x4 = platform_ixz + joint1_ixz;
     let t18: F64x4 = joint2_ixz + joint3_ixz;
     let t19: F64x4 = joint4_ixz + joint5_ixz;
@@ -5233,7 +5233,7 @@ unsafe fn forward_dynamics_params_x4_lanes_fused(
     let t68: F64x4 = F64x4::mul_add(t6, t29, t67);
     let t69: F64x4 = t15 * t68;
     let t70: F64x4 = F64x4::mul_add(t16, t55, -t69);
-    let (t72, t73) = alpha.sin_cos_quarter_turn();
+    let (t72, t73) = alpha.sin_cos_eighth_turn();
     let t74: F64x4 = F64x4::splat(1.0) / t73;
     let t75: F64x4 = F64x4::splat(1.0) / t7;
     let t76: F64x4 = xc * t6;
@@ -6093,7 +6093,7 @@ unsafe fn forward_dynamics_params_x4_lanes_fused(
         [(t697).0, (t145).0, (t446).0],
     )
 }
-/// [`forward_dynamics_params_x4`] state by state through [`forward_dynamics_params_separate`], for a batch with an angle beyond a quarter turn.
+/// [`forward_dynamics_params_x4`] state by state through [`forward_dynamics_params_separate`], for a batch with an angle beyond an eighth of a turn (π/4).
 #[cold]
 #[inline(never)]
 fn forward_dynamics_params_x4_by_states(
@@ -6309,8 +6309,8 @@ fn inverse_dynamics_params_x4_lanes(
     let joint6_iyy = F64x4::splat(params[149]);
     let joint6_iyz = F64x4::splat(params[150]);
     let joint6_izz = F64x4::splat(params[151]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return inverse_dynamics_params_x4_by_states(pose, twist, accel, params);
     }
@@ -6326,11 +6326,11 @@ fn inverse_dynamics_params_x4_lanes(
     let t9: F64x4 = t8 - t1;
     let t10: F64x4 = rod1_mass * t9;
     let t11: F64x4 = F64x4::splat(1.0) / half_spacing;
-    let (t12, t13) = beta.sin_cos_quarter_turn();
+    let (t12, t13) = beta.sin_cos_eighth_turn();
     let t14: F64x4 = F64x4::splat(1.0) / t13;
-    let (t15, t16) = gamma.sin_cos_quarter_turn();
+    let (t15, t16) = gamma.sin_cos_eighth_turn();
     let t17: F64x4 = F64x4::splat(1.0) / t16;
-    let (t18, t19) = alpha.sin_cos_quarter_turn();
+    let (t18, t19) = alpha.sin_cos_eighth_turn();
     let t20: F64x4 = t15 * t19;
     let t21: F64x4 = t12 * t18;
     let t22: F64x4 = t16 * t21;
@@ -7195,8 +7195,8 @@ unsafe fn inverse_dynamics_params_x4_lanes_fused(
     let joint6_iyy = F64x4::splat(params[149]);
     let joint6_iyz = F64x4::splat(params[150]);
     let joint6_izz = F64x4::splat(params[151]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return inverse_dynamics_params_x4_by_states_fused(pose, twist, accel, params);
     }
@@ -7208,11 +7208,11 @@ unsafe fn inverse_dynamics_params_x4_lanes_fused(
     let t8: F64x4 = t4 + t7;
     let t9: F64x4 = F64x4::mul_add(-wdy, t0, t8);
     let t11: F64x4 = F64x4::splat(1.0) / half_spacing;
-    let (t12, t13) = beta.sin_cos_quarter_turn();
+    let (t12, t13) = beta.sin_cos_eighth_turn();
     let t14: F64x4 = F64x4::splat(1.0) / t13;
-    let (t15, t16) = gamma.sin_cos_quarter_turn();
+    let (t15, t16) = gamma.sin_cos_eighth_turn();
     let t17: F64x4 = F64x4::splat(1.0) / t16;
-    let (t18, t19) = alpha.sin_cos_quarter_turn();
+    let (t18, t19) = alpha.sin_cos_eighth_turn();
     let t21: F64x4 = t12 * t18;
     let t22: F64x4 = t16 * t21;
     let t23: F64x4 = F64x4::mul_add(t15, t19, t22);
@@ -7774,7 +7774,7 @@ unsafe fn inverse_dynamics_params_x4_lanes_fused(
         [(t772).0, (t117).0, (t82).0],
     )
 }
-/// [`inverse_dynamics_params_x4`] state by state through [`inverse_dynamics_params_separate`], for a batch with an angle beyond a quarter turn.
+/// [`inverse_dynamics_params_x4`] state by state through [`inverse_dynamics_params_separate`], for a batch with an angle beyond an eighth of a turn (π/4).
 #[cold]
 #[inline(never)]
 fn inverse_dynamics_params_x4_by_states(
@@ -10315,16 +10315,16 @@ fn limit_geometry_params_x4_lanes(
     let yc = F64x4(pose[4]);
     let zc = F64x4(pose[5]);
     let half_spacing = F64x4::splat(params[0]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return limit_geometry_params_x4_by_states(pose, params);
     }
-    let (t0, t1) = beta.sin_cos_quarter_turn();
+    let (t0, t1) = beta.sin_cos_eighth_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos_quarter_turn();
+    let (t3, t4) = gamma.sin_cos_eighth_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos_quarter_turn();
+    let (t6, t7) = alpha.sin_cos_eighth_turn();
     let t8: F64x4 = t3 * t7;
     let t9: F64x4 = t0 * t6;
     let t10: F64x4 = t4 * t9;
@@ -10489,16 +10489,16 @@ unsafe fn limit_geometry_params_x4_lanes_fused(
     let yc = F64x4(pose[4]);
     let zc = F64x4(pose[5]);
     let half_spacing = F64x4::splat(params[0]);
-    if !(beta.within_quarter_turn() & gamma.within_quarter_turn()
-        & alpha.within_quarter_turn())
+    if !(beta.within_eighth_turn() & gamma.within_eighth_turn()
+        & alpha.within_eighth_turn())
     {
         return limit_geometry_params_x4_by_states_fused(pose, params);
     }
-    let (t0, t1) = beta.sin_cos_quarter_turn();
+    let (t0, t1) = beta.sin_cos_eighth_turn();
     let t2: F64x4 = F64x4::splat(1.0) / t1;
-    let (t3, t4) = gamma.sin_cos_quarter_turn();
+    let (t3, t4) = gamma.sin_cos_eighth_turn();
     let t5: F64x4 = F64x4::splat(1.0) / t4;
-    let (t6, t7) = alpha.sin_cos_quarter_turn();
+    let (t6, t7) = alpha.sin_cos_eighth_turn();
     let t9: F64x4 = t0 * t6;
     let t10: F64x4 = t4 * t9;
     let t11: F64x4 = F64x4::mul_add(t3, t7, t10);
@@ -10610,7 +10610,7 @@ unsafe fn limit_geometry_params_x4_lanes_fused(
         [(t89).0, (t30).0, (t74).0],
     )
 }
-/// [`limit_geometry_params_x4`] state by state through [`limit_geometry_params_separate`], for a batch with an angle beyond a quarter turn.
+/// [`limit_geometry_params_x4`] state by state through [`limit_geometry_params_separate`], for a batch with an angle beyond an eighth of a turn (π/4).
 #[cold]
 #[inline(never)]
 fn limit_geometry_params_x4_by_states(

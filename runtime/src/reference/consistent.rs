@@ -1,4 +1,4 @@
-//! The consistent model in matrix form (DESIGN.md, "The consistent model"), segment order.
+//! The consistent model in matrix form (docs/models.md, "Which model?"), segment order.
 //!
 //! Written in the base frame, as a reader of the mechanism would: `J⁻¹` row by row, `J` by
 //! inverting it (LU), `Q̈` from eq 16 differentiated twice in vector form, and `Γ` by virtual

@@ -1,10 +1,10 @@
 //! The matrix-form reference, written with `nalgebra` straight from the chapter (the paper
-//! model, this module) and from DESIGN.md (the consistent model, [`consistent`]).
+//! model, this module) and from docs/models.md (the consistent model, [`consistent`]).
 //!
 //! One function per equation, in the chapter's own order: `J⁻¹` rows, `Π1` columns, `Q_a` and
 //! `Γ` are `[6 5 4 3 2 1]` here (eq 30). [`CHAPTER_ORDER`] converts to the segment order of the
 //! public API ([`consistent`] is in segment order). This module is deliberately independent of
-//! the generator's symbolic model, so the two can check each other; the slips of DESIGN.md are
+//! the generator's symbolic model, so the two can check each other; the chapter's slips (docs/models.md) are
 //! corrected where marked.
 
 pub mod consistent;
