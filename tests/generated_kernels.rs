@@ -254,3 +254,202 @@ fn f32_kernels_track_f64_within_single_precision() {
         assert!(*w < 3.3e-6, "{}: {w}", k.model());
     }
 }
+
+/// A kernel's results as groups of numbers, one per output, in `f64`.
+trait Groups {
+    fn groups(&self) -> Vec<Vec<f64>>;
+}
+
+macro_rules! array_groups {
+    ($($t:ty),*) => {$(
+        impl<const N: usize> Groups for [$t; N] {
+            fn groups(&self) -> Vec<Vec<f64>> {
+                vec![self.iter().map(|&x| f64::from(x)).collect()]
+            }
+        }
+        impl<const N: usize, const M: usize> Groups for [[$t; M]; N] {
+            fn groups(&self) -> Vec<Vec<f64>> {
+                vec![self.iter().flatten().map(|&x| f64::from(x)).collect()]
+            }
+        }
+    )*};
+}
+array_groups!(f32, f64);
+
+macro_rules! tuple_groups {
+    ($($name:ident),+) => {
+        impl<$($name: Groups),+> Groups for ($($name,)+) {
+            #[allow(non_snake_case)]
+            fn groups(&self) -> Vec<Vec<f64>> {
+                let ($($name,)+) = self;
+                let mut out = Vec::new();
+                $(out.extend($name.groups());)+
+                out
+            }
+        }
+    };
+}
+tuple_groups!(A, B);
+tuple_groups!(A, B, C);
+tuple_groups!(A, B, C, D);
+tuple_groups!(A, B, C, D, E);
+
+/// The worst normwise relative error of any output of `got` against `want`.
+fn output_error(got: &impl Groups, want: &impl Groups) -> f64 {
+    got.groups()
+        .iter()
+        .zip(want.groups())
+        .map(|(g, w)| rel_err(g, &w, 1e-300))
+        .fold(0.0, f64::max)
+}
+
+/// One state's inputs in one precision: pose, twist, acceleration, forces, the actuators'
+/// positions, rates and accelerations, and the default robot's parameter vector.
+struct Inputs<T> {
+    x: [T; 6],
+    v: [T; 6],
+    a: [T; 6],
+    g: [T; 6],
+    q: [T; 6],
+    qd: [T; 6],
+    qdd: [T; 6],
+    p: [T; 152],
+}
+
+/// The `f32` figure of each kernel family, stated in docs/embedding.md: its worst normwise
+/// relative error against the `f64` kernel (itself the reference's to 1e-12) over 2000 seeded
+/// states, both models, folded and `_params`; asserted at ten times.
+const F32_STATED: &[(&str, f64)] = &[
+    ("singularity_terms", 1.1e-7),
+    ("inverse_kinematics", 2.7e-7),
+    ("inverse_jacobian_pose", 1.3e-7),
+    ("jacobian_pose", 3.6e-7),
+    ("joint_velocities", 2.9e-7),
+    ("joint_accelerations", 3.9e-7),
+    ("leg_wrench", 3.1e-7),
+    ("platform_wrench", 1.6e-7),
+    ("task_inertia", 1.2e-7),
+    ("task_bias", 1.7e-7),
+    ("forward_dynamics", 4.0e-6),
+    ("inverse_dynamics", 4.0e-7),
+    ("forward_kinematics", 3.2e-7),
+    ("platform_twist", 7.8e-7),
+    ("platform_acceleration", 7.1e-7),
+    ("platform_state", 7.8e-7),
+    ("inverse_dynamics_joint", 3.4e-7),
+    ("joint_inertia", 3.4e-7),
+    ("joint_bias", 3.3e-7),
+    ("limit_geometry", 8.0e-7),
+];
+
+#[test]
+fn every_f32_kernel_tracks_f64_within_its_stated_bound() {
+    use std::collections::BTreeMap;
+    let mut rng = rng(17);
+    let p64: [f64; 152] = Robot::default().kernel_parameters().try_into().unwrap();
+    let mut worst: BTreeMap<String, f64> = BTreeMap::new();
+    for _ in 0..2000 {
+        let s = random_state(&mut rng);
+        let (x, v, a) = (s.pose.to_array(), s.twist.to_array(), s.accel.to_array());
+        for (k64, k32) in c5_generated::f64::MODELS
+            .iter()
+            .zip(c5_generated::f32::MODELS)
+        {
+            let (g, _) = k64.inverse_dynamics(&x, &v, &a);
+            let (q, _, _) = k64.inverse_kinematics(&x);
+            let (qd, _) = k64.joint_velocities(&x, &v);
+            let (qdd, _) = k64.joint_accelerations(&x, &v, &a);
+            let i64 = Inputs {
+                x,
+                v,
+                a,
+                g,
+                q,
+                qd,
+                qdd,
+                p: p64,
+            };
+            let f = |u: &[f64; 6]| u.map(|e| e as f32);
+            let i32 = Inputs {
+                x: f(&x),
+                v: f(&v),
+                a: f(&a),
+                g: f(&g),
+                q: f(&q),
+                qd: f(&qd),
+                qdd: f(&qdd),
+                p: p64.map(|e| e as f32),
+            };
+            let mut record = |name: &str, e: f64| {
+                let w = worst
+                    .entry(format!("{} {name}", k64.model()))
+                    .or_insert(0.0);
+                *w = w.max(e);
+            };
+            macro_rules! compare {
+                ($($kernel:ident($($arg:ident),*)),* $(,)?) => {$(
+                    record(
+                        stringify!($kernel),
+                        output_error(&k32.$kernel($(&i32.$arg),*), &k64.$kernel($(&i64.$arg),*)),
+                    );
+                )*};
+            }
+            compare!(
+                singularity_terms(x),
+                inverse_kinematics(x),
+                inverse_jacobian_pose(x),
+                jacobian_pose(x),
+                joint_velocities(x, v),
+                joint_accelerations(x, v, a),
+                leg_wrench(x, v, a),
+                platform_wrench(x, v, a),
+                task_inertia(x),
+                task_bias(x, v),
+                forward_dynamics(x, v, g),
+                inverse_dynamics(x, v, a),
+                forward_kinematics(q),
+                platform_twist(q, qd),
+                platform_acceleration(q, qd, qdd),
+                platform_state(q, qd, qdd),
+                inverse_dynamics_joint(q, qd, qdd),
+                joint_inertia(q),
+                joint_bias(q, qd),
+                limit_geometry(x),
+                inverse_kinematics_params(x, p),
+                inverse_jacobian_pose_params(x, p),
+                jacobian_pose_params(x, p),
+                joint_velocities_params(x, v, p),
+                joint_accelerations_params(x, v, a, p),
+                leg_wrench_params(x, v, a, p),
+                platform_wrench_params(x, v, a, p),
+                task_inertia_params(x, p),
+                task_bias_params(x, v, p),
+                forward_dynamics_params(x, v, g, p),
+                inverse_dynamics_params(x, v, a, p),
+                forward_kinematics_params(q, p),
+                platform_twist_params(q, qd, p),
+                platform_acceleration_params(q, qd, qdd, p),
+                platform_state_params(q, qd, qdd, p),
+                inverse_dynamics_joint_params(q, qd, qdd, p),
+                joint_inertia_params(q, p),
+                joint_bias_params(q, qd, p),
+                limit_geometry_params(x, p),
+            );
+        }
+    }
+    let mut over = Vec::new();
+    for (name, w) in &worst {
+        let family = name.split(' ').nth(1).unwrap().trim_end_matches("_params");
+        let bound = 10.0
+            * F32_STATED
+                .iter()
+                .find(|(f, _)| *f == family)
+                .map(|(_, b)| *b)
+                .unwrap_or_else(|| panic!("no stated f32 figure for {family}"));
+        println!("f32 {name}: {w:.2e} (bound {bound:.0e})");
+        if *w >= bound {
+            over.push(format!("{name}: {w:e} ≥ {bound:e}"));
+        }
+    }
+    assert!(over.is_empty(), "{over:#?}");
+}

@@ -399,3 +399,92 @@ fn at_and_beyond_the_forward_singularity_the_error_is_typed_never_a_wrong_pose()
         })
     );
 }
+
+/// The workless terms on their own, which a power balance cannot see: with gravity off, the
+/// joint-space bias `c(q, q̇) = Γ(q, q̇, q̈ = 0)` is the Coriolis and centrifugal force of the
+/// inertia `M(q)`, `c_i = Σ_jk (∂M_ij/∂q_k - ½ ∂M_jk/∂q_i) q̇_j q̇_k` (its Christoffel symbols),
+/// with `∂M/∂q` by central differences of `joint_inertia`. Both mechanisms, through the trait;
+/// the C5 in the consistent model (the paper model is not a mechanism: no inertia has its bias).
+#[test]
+fn the_bias_is_the_christoffel_form_of_the_inertia() {
+    use c5_runtime::mechanism::{robot, ParallelRobot};
+    use c5_runtime::{Description, Model};
+    let c5 = c5_runtime::Robot {
+        gravity: [0.0; 3],
+        ..c5_runtime::Robot::default()
+    };
+    let mut hexapod = c5_robot::GoughStewart::example();
+    hexapod.gravity = [0.0; 3];
+    // The paper model, whose bias is not its inertia's, must fail the same check: the check
+    // can tell.
+    // The robot, a pose, the actuators' rates, and whether it is a mechanism.
+    type Case = (Box<dyn ParallelRobot>, [f64; 6], [f64; 6], bool);
+    let cases: [Case; 3] = [
+        (
+            robot(Description::C5(c5), Model::Paper).unwrap(),
+            [0.2, -0.15, 0.25, 0.01, -0.02, 0.015],
+            [0.05, -0.08, 0.03, 0.07, -0.04, 0.06],
+            false,
+        ),
+        (
+            robot(Description::C5(c5), Model::Consistent).unwrap(),
+            [0.2, -0.15, 0.25, 0.01, -0.02, 0.015],
+            [0.05, -0.08, 0.03, 0.07, -0.04, 0.06],
+            true,
+        ),
+        (
+            robot(Description::GoughStewart(hexapod), Model::Consistent).unwrap(),
+            [0.1, -0.08, 0.15, 0.02, -0.015, 0.44],
+            [0.04, -0.06, 0.05, 0.03, -0.05, 0.02],
+            true,
+        ),
+    ];
+    for (robot, x, qd, mechanism) in cases {
+        let pose = Pose::from_array(x);
+        let q = robot
+            .evaluate(&State {
+                pose,
+                ..State::default()
+            })
+            .unwrap()
+            .q;
+        let bias = robot
+            .inverse_dynamics_joint(&q, &qd, &[0.0; 6], Some(&pose))
+            .unwrap();
+        let h = 1e-6;
+        let d_m: Vec<[[f64; 6]; 6]> = (0..6)
+            .map(|k| {
+                let (mut up, mut down) = (q, q);
+                up[k] += h;
+                down[k] -= h;
+                let (a, b) = (
+                    robot.joint_inertia(&up, Some(&pose)).unwrap(),
+                    robot.joint_inertia(&down, Some(&pose)).unwrap(),
+                );
+                std::array::from_fn(|i| std::array::from_fn(|j| (a[i][j] - b[i][j]) / (2.0 * h)))
+            })
+            .collect();
+        let christoffel: [f64; 6] = std::array::from_fn(|i| {
+            let mut c = 0.0;
+            for j in 0..6 {
+                for k in 0..6 {
+                    c += (d_m[k][i][j] - 0.5 * d_m[i][j][k]) * qd[j] * qd[k];
+                }
+            }
+            c
+        });
+        let scale = bias.iter().fold(0.0f64, |m, b| m.max(b.abs()));
+        let off = (0..6).fold(0.0f64, |m, i| m.max((bias[i] - christoffel[i]).abs()));
+        let name = format!("{} ({})", robot.mechanism(), robot.model_name());
+        println!(
+            "{name}: bias {scale:.3e} N, Christoffel form off by {:.1e} relative",
+            off / scale
+        );
+        assert!(scale > 1e-3, "{name}: the test needs a bias to compare");
+        if mechanism {
+            assert!(off < 1e-6 * scale, "{name}: {bias:?} vs {christoffel:?}");
+        } else {
+            assert!(off > 1e-2 * scale, "{name}: {bias:?} vs {christoffel:?}");
+        }
+    }
+}
