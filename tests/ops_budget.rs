@@ -1,5 +1,8 @@
-//! The operation budget (`benches/ops-budget.txt`) holds: no generated kernel costs more than
-//! its line allows, and every kernel of every model has a line.
+//! The budgets hold. The operation budget (`benches/ops-budget.txt`): no generated kernel costs
+//! more than its line allows, and every kernel of every model has a line. The size budget
+//! (`benches/size-budget.txt`): no generated file has more lines than its line allows (compile
+//! time grows with them), every generated file has a line, and all of them stay within the
+//! total.
 
 use c5_generated::manifest::KERNELS;
 use std::collections::BTreeMap;
@@ -43,5 +46,49 @@ fn no_kernel_exceeds_its_budget() {
     assert!(
         over.is_empty(),
         "over budget (mul div add neg calls): {over:#?}"
+    );
+}
+
+#[test]
+fn no_generated_file_exceeds_its_size_budget() {
+    let text = include_str!("../benches/size-budget.txt");
+    let budget: BTreeMap<&str, usize> = text
+        .lines()
+        .filter(|l| !l.trim_start().starts_with('#') && !l.trim().is_empty())
+        .map(|l| {
+            let mut f = l.split_whitespace();
+            let name = f.next().unwrap();
+            (name, f.next().unwrap().parse().expect("a line count"))
+        })
+        .collect();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("generated/src");
+    let (mut over, mut total) = (Vec::new(), 0);
+    for dir in ["f64", "f32"] {
+        for entry in std::fs::read_dir(root.join(dir)).unwrap() {
+            let path = entry.unwrap().path();
+            let name = format!("{dir}/{}", path.file_name().unwrap().to_string_lossy());
+            let lines = std::fs::read_to_string(&path).unwrap().lines().count();
+            total += lines;
+            let limit = *budget.get(name.as_str()).unwrap_or_else(|| {
+                panic!("generated/src/{name} has no line in benches/size-budget.txt")
+            });
+            if lines > limit {
+                over.push(format!("{name}: {lines} lines > budget {limit}"));
+            }
+        }
+    }
+    println!(
+        "generated kernel files: {total} lines (budget {})",
+        budget["total"]
+    );
+    assert!(
+        total <= budget["total"],
+        "{total} lines > total budget {}",
+        budget["total"]
+    );
+    assert!(
+        over.is_empty(),
+        "generated code over its budget (raise the line in benches/size-budget.txt in the \
+         change that grows it, and say why): {over:#?}"
     );
 }
