@@ -11,13 +11,16 @@ readings, and the median of the parameters' standard deviations.
 
 from __future__ import annotations
 
-import re
+import sys
 import tempfile
 from pathlib import Path
 
 import numpy as np
 
-import c5_kernels
+sys.path.insert(0, str(Path(__file__).resolve().parent / "tests"))
+
+import c5_kernels  # noqa: E402
+from test_calibration import as_built  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 HEXAPOD = ROOT / "docs" / "hexapod.toml"
@@ -27,23 +30,9 @@ POSES = [15, 30, 60, 120]
 ROBOTS = 5
 
 
-def as_built(path: Path, rng) -> None:
-    text = HEXAPOD.read_text()
-
-    def jig(m):
-        values = [float(v) + rng.uniform(-2e-3, 2e-3) for v in m.group(2).split(",")]
-        return m.group(1) + "[" + ", ".join(f"{v:.9f}" for v in values) + "]"
-
-    text = re.sub(r"^(base = |platform = )\[([^\]]*)\]", jig, text, flags=re.M)
-    text = re.sub(r"^(rod = .*)$",
-                  lambda m: m.group(1) + f"\nencoder_offset = {rng.uniform(-3e-3, 3e-3):.9f}",
-                  text, flags=re.M)
-    path.write_text(text)
-
-
 def trial(nominal, n, position, angle, seed, tmp: Path):
-    rng = np.random.default_rng(seed)
-    as_built(tmp / "truth.toml", rng)
+    as_built(tmp / "truth.toml", seed)
+    rng = np.random.default_rng(seed + 100)
     truth = c5_kernels.C5(robot=tmp / "truth.toml")
     poses = nominal.calibration_plan(n, seed=seed)
     q = truth.inverse_kinematics(poses) + rng.normal(0, 1e-6, (n, 6))

@@ -3,8 +3,8 @@
 
 use super::observability::{self, LegDesign};
 use super::{
-    leg_parameters, parameter_name, with_leg_parameters, CalibrationError, Measurement, Options,
-    Parameter, Report, PER_LEG,
+    leg_parameters, parameter_name, residual_sigma, with_leg_parameters, CalibrationError,
+    Measurement, Options, Parameter, Report, PER_LEG,
 };
 use crate::gough_stewart::{Description, GoughStewart};
 use alloc::vec::Vec;
@@ -41,19 +41,9 @@ fn evaluate(robot: &Description, data: &[Measurement]) -> Evaluation {
 
 /// Each residual's standard deviation: the encoder's noise and the pose's, carried by `∂ρ/∂X`.
 fn sigmas(at: &Evaluation, options: &Options) -> Vec<[f64; 6]> {
-    let noise = &options.noise;
     at.pose_jacobians
         .iter()
-        .map(|jx| {
-            core::array::from_fn(|i| {
-                let angles: f64 = jx[i][..3].iter().map(|d| d * d).sum();
-                let positions: f64 = jx[i][3..].iter().map(|d| d * d).sum();
-                let variance = noise.encoder * noise.encoder
-                    + angles * noise.angle * noise.angle
-                    + positions * noise.position * noise.position;
-                variance.sqrt()
-            })
-        })
+        .map(|jx| core::array::from_fn(|i| residual_sigma(&jx[i], &options.noise)))
         .collect()
 }
 

@@ -280,6 +280,18 @@ impl fmt::Display for CalibrationError {
 
 impl std::error::Error for CalibrationError {}
 
+/// The standard deviation of a leg's residual: the encoder's noise and the measured pose's,
+/// carried by the leg's row `∂ρ_i/∂X` of the pose Jacobian (angles, then positions).
+pub(crate) fn residual_sigma(pose_row: &[f64; 6], noise: &Noise) -> f64 {
+    let angles: f64 = pose_row[..3].iter().map(|d| d * d).sum();
+    let positions: f64 = pose_row[3..].iter().map(|d| d * d).sum();
+    crate::math::sqrt(
+        noise.encoder * noise.encoder
+            + angles * noise.angle * noise.angle
+            + positions * noise.position * noise.position,
+    )
+}
+
 /// The name of parameter `k` (`0..7`) of leg `leg` (`0..6`).
 pub fn parameter_name(leg: usize, k: usize) -> String {
     let i = leg + 1;

@@ -123,14 +123,8 @@ fn rows(robot: &GoughStewart, pose: &Pose, options: &Options) -> [Row; 6] {
         .inverse_kinematics(pose)
         .unwrap_or(([0.0; 6], [[0.0; 3]; 6]));
     let (_, j, jx) = calibration_residuals(&x, &q, &geometry);
-    let noise = &options.noise;
     core::array::from_fn(|leg| {
-        let angles: f64 = jx[leg][..3].iter().map(|d| d * d).sum();
-        let positions: f64 = jx[leg][3..].iter().map(|d| d * d).sum();
-        let sigma = (noise.encoder.powi(2)
-            + angles * noise.angle.powi(2)
-            + positions * noise.position.powi(2))
-        .sqrt();
+        let sigma = super::residual_sigma(&jx[leg], &options.noise);
         Row::from_fn(|k, _| j[leg][k] * options.scale / sigma)
     })
 }
