@@ -229,7 +229,8 @@ impl Input {
                 "q",
                 Shape::Vector(6),
                 (1..=6).map(|i| format!("q{i}")).collect(),
-                "actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`",
+                "actuator positions (m) in actuator order, as the conventions above define them \
+                 (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)",
             ),
             Input::ActuatorRates => Arg::new(
                 "qd",
@@ -571,7 +572,8 @@ pub const TABLE: &[Decl] = &[
             Output {
                 name: "q",
                 shape: Shape::Vector(6),
-                doc: "`Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`, zero at the home pose",
+                doc: "actuator positions (m) in actuator order, as the conventions above define \
+                      them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`, zero at the home pose)",
             },
             Output {
                 name: "p",

@@ -93,7 +93,7 @@ pub fn singularity_terms(pose: &[f32; 6]) -> [f32; 3] {
 ///
 /// # Returns
 ///
-/// - `q`: `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`, zero at the home pose
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`, zero at the home pose)
 /// - `p`: `P_i2` from `B_i` to `C` (m), base frame
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
@@ -4235,7 +4235,7 @@ pub fn inverse_dynamics(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 ///
 /// # Returns
 ///
@@ -4393,7 +4393,7 @@ pub fn rpy_angles(r: &[[f32; 3]; 3]) -> [f32; 3] {
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 ///
 /// # Returns
@@ -4648,7 +4648,7 @@ pub fn platform_twist(q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 ///
@@ -5155,7 +5155,7 @@ pub fn platform_acceleration(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 ///
@@ -5763,7 +5763,7 @@ pub fn platform_state(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 ///
@@ -6408,7 +6408,7 @@ pub fn inverse_dynamics_joint(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 ///
 /// # Returns
 ///
@@ -6949,7 +6949,7 @@ pub fn joint_inertia(q: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 4]) {
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 ///
 /// # Returns
@@ -7727,7 +7727,7 @@ pub fn limit_geometry(pose: &[f32; 6]) -> ([f32; 6], [f32; 12], [f32; 6], [f32; 
 ///
 /// # Returns
 ///
-/// - `q`: `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`, zero at the home pose
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`, zero at the home pose)
 /// - `p`: `P_i2` from `B_i` to `C` (m), base frame
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
@@ -15411,7 +15411,7 @@ pub fn inverse_dynamics_params(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
 ///
 /// # Returns
@@ -15581,7 +15581,7 @@ pub fn forward_kinematics_params(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
 ///
@@ -15932,7 +15932,7 @@ pub fn platform_twist_params(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
@@ -16467,7 +16467,7 @@ pub fn platform_acceleration_params(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
@@ -17093,7 +17093,7 @@ pub fn platform_state_params(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
@@ -18667,7 +18667,7 @@ pub fn inverse_dynamics_joint_params(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
 ///
 /// # Returns
@@ -21684,7 +21684,7 @@ pub fn joint_inertia_params(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
 ///

@@ -49,7 +49,7 @@
 ///
 /// # Returns
 ///
-/// - `q`: `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`, zero at the home pose
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`, zero at the home pose)
 /// - `p`: `P_i2` from `B_i` to `C` (m), base frame
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
@@ -20038,7 +20038,7 @@ pub fn singularity_terms(pose: &[f32; 6]) -> [f32; 12] {
 /// # Arguments
 ///
 /// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 ///
 /// # Returns
 ///
@@ -20529,7 +20529,7 @@ pub fn forward_kinematics_step(
 /// # Arguments
 ///
 /// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `params`: gravity, then per leg `A_i`, the unit `a_i`, `p_i` and the encoder's offset (the first entries of `GoughStewart::kernel_parameters`)
 ///
 /// # Returns
@@ -21129,7 +21129,7 @@ pub fn calibration_residuals(
 ///
 /// # Returns
 ///
-/// - `q`: `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`, zero at the home pose
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`, zero at the home pose)
 /// - `p`: `P_i2` from `B_i` to `C` (m), base frame
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
@@ -42146,7 +42146,7 @@ pub fn singularity_terms_params(pose: &[f32; 6], params: &[f32; 121]) -> [f32; 1
 /// # Arguments
 ///
 /// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `params`: robot parameters (`GoughStewart::kernel_parameters`: gravity, the legs' geometry, each body's standard inertial parameters), in the order of the names in this signature
 ///
 /// # Returns

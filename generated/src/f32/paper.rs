@@ -348,7 +348,7 @@ pub fn singularity_terms(pose: &[f32; 6]) -> [f32; 3] {
 ///
 /// # Returns
 ///
-/// - `q`: `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`, zero at the home pose
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`, zero at the home pose)
 /// - `p`: `P_i2` from `B_i` to `C` (m), base frame
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
@@ -2933,7 +2933,7 @@ pub fn inverse_dynamics(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 ///
 /// # Returns
 ///
@@ -3091,7 +3091,7 @@ pub fn rpy_angles(r: &[[f32; 3]; 3]) -> [f32; 3] {
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 ///
 /// # Returns
@@ -3233,7 +3233,7 @@ pub fn platform_twist(q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 ///
@@ -3417,7 +3417,7 @@ pub fn platform_acceleration(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 ///
@@ -3629,7 +3629,7 @@ pub fn platform_state(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 ///
@@ -4158,7 +4158,7 @@ pub fn inverse_dynamics_joint(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 ///
 /// # Returns
 ///
@@ -4657,7 +4657,7 @@ pub fn joint_inertia(q: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 4]) {
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 ///
 /// # Returns
@@ -5420,7 +5420,7 @@ pub fn leg_joint_accelerations(
 ///
 /// # Returns
 ///
-/// - `q`: `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`, zero at the home pose
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`, zero at the home pose)
 /// - `p`: `P_i2` from `B_i` to `C` (m), base frame
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
@@ -10683,7 +10683,7 @@ pub fn inverse_dynamics_params(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
 ///
 /// # Returns
@@ -10853,7 +10853,7 @@ pub fn forward_kinematics_params(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
 ///
@@ -11051,7 +11051,7 @@ pub fn platform_twist_params(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
@@ -11303,7 +11303,7 @@ pub fn platform_acceleration_params(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
@@ -11610,7 +11610,7 @@ pub fn platform_state_params(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
@@ -12937,7 +12937,7 @@ pub fn inverse_dynamics_joint_params(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
 ///
 /// # Returns
@@ -14559,7 +14559,7 @@ pub fn joint_inertia_params(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
 ///

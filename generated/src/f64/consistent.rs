@@ -121,7 +121,7 @@ pub unsafe fn singularity_terms_fused(pose: &[f64; 6]) -> [f64; 3] {
 ///
 /// # Returns
 ///
-/// - `q`: `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`, zero at the home pose
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`, zero at the home pose)
 /// - `p`: `P_i2` from `B_i` to `C` (m), base frame
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
@@ -7316,7 +7316,7 @@ pub unsafe fn inverse_dynamics_fused(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 ///
 /// # Returns
 ///
@@ -7610,7 +7610,7 @@ pub unsafe fn rpy_angles_fused(r: &[[f64; 3]; 3]) -> [f64; 3] {
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 ///
 /// # Returns
@@ -8063,7 +8063,7 @@ pub unsafe fn platform_twist_fused(q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 ///
@@ -8969,7 +8969,7 @@ pub unsafe fn platform_acceleration_fused(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 ///
@@ -10055,7 +10055,7 @@ pub unsafe fn platform_state_fused(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 ///
@@ -11209,7 +11209,7 @@ pub unsafe fn inverse_dynamics_joint_fused(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 ///
 /// # Returns
 ///
@@ -12189,7 +12189,7 @@ pub unsafe fn joint_inertia_fused(q: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 4]) {
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 ///
 /// # Returns
@@ -13573,7 +13573,7 @@ pub unsafe fn limit_geometry_fused(
 ///
 /// # Returns
 ///
-/// - `q`: `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`, zero at the home pose
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`, zero at the home pose)
 /// - `p`: `P_i2` from `B_i` to `C` (m), base frame
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
@@ -26396,7 +26396,7 @@ pub unsafe fn inverse_dynamics_params_fused(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
 ///
 /// # Returns
@@ -26714,7 +26714,7 @@ pub unsafe fn forward_kinematics_params_fused(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
 ///
@@ -27346,7 +27346,7 @@ pub unsafe fn platform_twist_params_fused(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
@@ -28302,7 +28302,7 @@ pub unsafe fn platform_acceleration_params_fused(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
@@ -29417,7 +29417,7 @@ pub unsafe fn platform_state_params_fused(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
@@ -32125,7 +32125,7 @@ pub unsafe fn inverse_dynamics_joint_params_fused(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
 ///
 /// # Returns
@@ -37619,7 +37619,7 @@ pub unsafe fn joint_inertia_params_fused(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
 ///

@@ -49,7 +49,7 @@
 ///
 /// # Returns
 ///
-/// - `q`: `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`, zero at the home pose
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`, zero at the home pose)
 /// - `p`: `P_i2` from `B_i` to `C` (m), base frame
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
@@ -34988,7 +34988,7 @@ pub unsafe fn singularity_terms_fused(pose: &[f64; 6]) -> [f64; 12] {
 /// # Arguments
 ///
 /// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 ///
 /// # Returns
 ///
@@ -35903,7 +35903,7 @@ pub unsafe fn forward_kinematics_step_fused(
 /// # Arguments
 ///
 /// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `params`: gravity, then per leg `A_i`, the unit `a_i`, `p_i` and the encoder's offset (the first entries of `GoughStewart::kernel_parameters`)
 ///
 /// # Returns
@@ -36970,7 +36970,7 @@ pub unsafe fn calibration_residuals_fused(
 ///
 /// # Returns
 ///
-/// - `q`: `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`, zero at the home pose
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`, zero at the home pose)
 /// - `p`: `P_i2` from `B_i` to `C` (m), base frame
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
@@ -74306,7 +74306,7 @@ pub unsafe fn singularity_terms_params_fused(
 /// # Arguments
 ///
 /// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `params`: robot parameters (`GoughStewart::kernel_parameters`: gravity, the legs' geometry, each body's standard inertial parameters), in the order of the names in this signature
 ///
 /// # Returns

@@ -14869,7 +14869,7 @@ pub unsafe fn forward_dynamics_derivatives_fused(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 ///
@@ -44506,7 +44506,7 @@ pub unsafe fn forward_dynamics_derivatives_params_fused(
 ///
 /// # Arguments
 ///
-/// - `q`: actuator positions `Q_i1` (m), segment order: `B_i = A_i + Q_i1 n_i`
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
 /// - `qd`: actuator rates `Q̇_i1` (m/s), segment order
 /// - `qdd`: actuator accelerations `Q̈_i1` (m/s²), segment order
 /// - `params`: robot parameters (`Robot::kernel_parameters`: each body's first moment `m c` and inertia about its reference point), in the order of the names in this signature
