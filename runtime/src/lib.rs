@@ -55,6 +55,7 @@ pub mod mechanism;
 pub mod plan;
 #[cfg(feature = "reference")]
 pub mod reference;
+pub mod scene;
 pub mod sensors;
 pub mod trajectory;
 pub mod types;

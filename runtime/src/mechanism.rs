@@ -10,6 +10,7 @@
 use crate::derivatives::{ForwardDynamicsDerivatives, InverseDynamicsDerivatives};
 #[cfg(feature = "identify")]
 use crate::identify::{BaseParameters, Friction};
+use crate::scene::Scene;
 use crate::{Acceleration, Error, Evaluation, GoughStewart, Limit, Model, Pose, State, Twist, C5};
 use alloc::boxed::Box;
 use alloc::vec::Vec;
@@ -99,6 +100,12 @@ pub trait ParallelRobot: core::fmt::Debug + Send + Sync {
     fn as_any(&self) -> &dyn core::any::Any;
     /// A boxed copy.
     fn clone_box(&self) -> Box<dyn ParallelRobot>;
+    /// The robot's parts at `pose`, for drawing it, with the joints and legs past a limit
+    /// flagged.
+    ///
+    /// # Errors
+    /// A non-finite or singular pose.
+    fn scene(&self, pose: &Pose) -> Result<Scene, Error>;
 
     /// The standard parameters `π` of this robot with the actuators' `friction`: the inertial
     /// ones, then viscous and Coulomb friction per actuator.
@@ -331,6 +338,9 @@ impl ParallelRobot for C5 {
     fn actuator_positions(&self, pose: &Pose) -> Result<[f64; 6], Error> {
         Ok(self.inverse_kinematics(pose)?.0)
     }
+    fn scene(&self, pose: &Pose) -> Result<Scene, Error> {
+        Self::scene(self, pose)
+    }
     fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
         C5::inverse_jacobian(self, pose)
     }
@@ -466,6 +476,9 @@ impl ParallelRobot for GoughStewart {
     }
     fn actuator_positions(&self, pose: &Pose) -> Result<[f64; 6], Error> {
         Ok(self.inverse_kinematics(pose)?.0)
+    }
+    fn scene(&self, pose: &Pose) -> Result<Scene, Error> {
+        Self::scene(self, pose)
     }
     fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
         GoughStewart::inverse_jacobian(self, pose)

@@ -15,6 +15,7 @@ mod plan;
 mod simulate;
 mod track;
 mod trajectory_csv;
+mod view;
 mod workspace;
 
 use clap::{Parser, Subcommand};
@@ -48,6 +49,7 @@ enum Command {
     Workspace(workspace::WorkspaceArgs),
     Audit(audit::AuditArgs),
     Calibrate(calibrate::CalibrateArgs),
+    View(view::ViewArgs),
 }
 
 /// Whether `e` is a write to a closed pipe (`c5 eval | head -1`): the reader has all it
@@ -84,6 +86,7 @@ fn main() -> ExitCode {
         Command::Workspace(args) => workspace::run(&args),
         Command::Audit(args) => audit::run(&args),
         Command::Calibrate(args) => calibrate::run(&args),
+        Command::View(args) => view::run(&args),
     };
     match result {
         Ok(code) => code,

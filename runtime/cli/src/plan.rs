@@ -5,6 +5,7 @@
 use crate::columns;
 use crate::options::{self, RobotArgs};
 use crate::simulate::plot;
+use crate::view;
 use c5_runtime::plan::{plan, Problem, Settings};
 use c5_runtime::trajectory::LinearMove;
 use c5_runtime::{Pose, C5};
@@ -39,6 +40,8 @@ pub struct PlanArgs {
     /// Output directory.
     #[arg(long, default_value = "out")]
     out: PathBuf,
+    #[command(flatten)]
+    view: view::PageArgs,
 }
 
 fn pose(given: &Option<Vec<f64>>, default: Pose, flag: &str) -> crate::Result<Pose> {
@@ -93,6 +96,19 @@ pub fn run(args: &PlanArgs) -> crate::Result<ExitCode> {
     );
     println!("forces: peak {peak:.2} N, RMS {rms:.2} N (the quintic move: peak {q_peak:.2} N, RMS {q_rms:.2} N)");
     println!("wrote {} and {}", csv.display(), png.display());
+    let drawn: Vec<view::Sample> = planned
+        .times
+        .iter()
+        .zip(&planned.states)
+        .enumerate()
+        .map(|(k, (&t, s))| {
+            view::Sample::of_state(t, s, planned.forces[k.min(planned.forces.len() - 1)])
+        })
+        .collect();
+    let title = "Minimum-effort plan (iLQR)";
+    if let Some(p) = args.view.write(&robot, &drawn, title, &args.out)? {
+        println!("wrote {} (the 3D view)", p.display());
+    }
     Ok(ExitCode::SUCCESS)
 }
 

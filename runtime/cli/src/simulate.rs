@@ -4,6 +4,7 @@
 use crate::columns;
 use crate::options::{self, RobotArgs};
 use crate::trajectory_csv;
+use crate::view;
 use c5_runtime::{Error, Evaluation, ParallelRobot, State};
 use clap::Args;
 use plotters::prelude::*;
@@ -40,6 +41,8 @@ pub struct SimulateArgs {
     /// stopping at the first sample that breaks one.
     #[arg(long)]
     ignore_limits: bool,
+    #[command(flatten)]
+    view: view::PageArgs,
 }
 
 pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
@@ -93,6 +96,16 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
     let csv = out.join(format!("{stem}.csv"));
     write_csv(&csv, &study)?;
     let plots = write_plots(out, &study)?;
+    let drawn: Vec<view::Sample> = study
+        .samples
+        .iter()
+        .map(|s| view::Sample::of_state(s.t, &s.state, s.eval.gamma))
+        .collect();
+    let title = match &args.trajectory {
+        Some(p) => format!("{} ({} robot)", p.display(), robot.mechanism()),
+        None => format!("Section 9 ({} robot)", robot.mechanism()),
+    };
+    let page = args.view.write(robot.as_ref(), &drawn, &title, out)?;
     let mut report = std::io::stdout().lock();
     match &args.trajectory {
         Some(p) => writeln!(report, "{}: {} samples", p.display(), study.samples.len())?,
@@ -108,6 +121,13 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
     }
     for p in plots {
         writeln!(report, "wrote {}", out.join(p).display())?;
+    }
+    if let Some(p) = page {
+        writeln!(
+            report,
+            "wrote {} (the 3D view: open it in a browser)",
+            p.display()
+        )?;
     }
     for (k, other) in study.others.iter().enumerate() {
         writeln!(

@@ -4,6 +4,7 @@ use crate::columns;
 use crate::options::{self, model_parser, ForceNoise, RobotArgs, SensorArgs};
 use crate::simulate::plot;
 use crate::trajectory_csv;
+use crate::view;
 use c5_runtime::control::{orientation_error, ComputedTorque};
 use c5_runtime::dynamics::{compose, exp_rotation, rk4_step, rotation, rpy, PlantState};
 use c5_runtime::sensors::{Encoders, RateEstimator};
@@ -70,6 +71,9 @@ pub struct TrackArgs {
     /// instead of stopping at the first one broken.
     #[arg(long)]
     ignore_limits: bool,
+    /// The 3D view of the plant along its tracked motion.
+    #[command(flatten)]
+    view: view::PageArgs,
 }
 
 /// Where a computed-torque law closes the loop.
@@ -189,6 +193,17 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
     let csv = o.out.join("track.csv");
     write_csv(&csv, &samples)?;
     let plots = write_plots(&o.out, &samples)?;
+    let drawn: Vec<view::Sample> = samples
+        .iter()
+        .map(|s| view::Sample {
+            t: s.t,
+            pose: s.actual,
+            twist: None,
+            gamma: s.gamma,
+        })
+        .collect();
+    let title = format!("Tracking ({} robot, the plant)", plant.mechanism());
+    let page = o.view.write(plant.as_ref(), &drawn, &title, &o.out)?;
     let [max_pos, max_ori, end_pos, end_ori] = summary(&samples);
     let [rms_pos, rms_ori] = rms(&samples);
     let mut report = std::io::stdout().lock();
@@ -212,6 +227,9 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
     writeln!(report, "wrote {}", csv.display())?;
     for p in plots {
         writeln!(report, "wrote {}", o.out.join(p).display())?;
+    }
+    if let Some(p) = page {
+        writeln!(report, "wrote {} (the 3D view)", p.display())?;
     }
     writeln!(
         report,

@@ -3,6 +3,7 @@
 //! dexterity measures; a CSV of the reachable points, slices plotted, and the volume.
 
 use crate::options::RobotArgs;
+use crate::view;
 use c5_runtime::workspace::{map, Grid, Map, Sweep};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -42,6 +43,9 @@ pub struct WorkspaceArgs {
     /// Output directory.
     #[arg(long, default_value = "out")]
     out: PathBuf,
+    /// Do not write the 3D page of the reachable points (`workspace.html`).
+    #[arg(long)]
+    no_view: bool,
 }
 
 fn three(v: &Option<Vec<f64>>, flag: &str, default: [f64; 3]) -> crate::Result<[f64; 3]> {
@@ -108,6 +112,37 @@ pub fn run(args: &WorkspaceArgs) -> crate::Result<ExitCode> {
     ] {
         let path = args.out.join(format!("workspace_{}.png", measure.file()));
         plot_slices(&path, &m, measure, title, &names)?;
+        written.push(path);
+    }
+    if !args.no_view {
+        let path = args.out.join("workspace.html");
+        let points: Vec<[f64; 3]> = m
+            .reachable
+            .iter()
+            .map(|c| m.grid.coordinates(c.index))
+            .collect();
+        let values: Vec<f64> = m.reachable.iter().map(|c| c.inverse_condition).collect();
+        // The robot among its reachable centres, at the swept orientation's grid middle.
+        let scene = match &args.at {
+            None => Some(robot.scene(&m.grid.pose([args.points / 2; 3]))?),
+            Some(_) => None,
+        };
+        let axes = names.map(|n| {
+            if args.at.is_some() {
+                format!("{n} (rad)")
+            } else {
+                format!("{n} (m)")
+            }
+        });
+        view::write_cloud(
+            &points,
+            &values,
+            "inverse condition number of J⁻¹",
+            axes.each_ref().map(String::as_str),
+            scene.as_ref(),
+            &format!("Workspace ({} robot)", robot.mechanism()),
+            &path,
+        )?;
         written.push(path);
     }
     let mut report = std::io::stdout().lock();

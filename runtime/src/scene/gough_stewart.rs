@@ -1,0 +1,141 @@
+//! A Gough-Stewart platform as drawn: each leg from its U joint `A_i` on the base to its S
+//! joint `B_i` on the platform, the base and the platform as plates through their joints.
+
+use super::{platform_axes, Joint, JointKind, Leg, Scene, Solid};
+use crate::{Error, GoughStewart, Pose};
+use alloc::vec::Vec;
+
+impl GoughStewart {
+    /// The robot's parts at `pose` (`B_i = C - p_i` from the generated inverse kinematics),
+    /// each leg and joint flagged where the robot file's stroke or joint-cone limit is
+    /// crossed.
+    ///
+    /// # Errors
+    /// A non-finite pose, or a U joint at its singularity.
+    pub fn scene(&self, pose: &Pose) -> Result<Scene, Error> {
+        let (_, p) = self.inverse_kinematics(pose)?;
+        let margins = self.limit_margins(pose)?;
+        let c = pose.center;
+        let legs = core::array::from_fn(|i| Leg {
+            base: Joint {
+                kind: JointKind::Universal,
+                at: self.robot().legs[i].base,
+                over_limit: margins.u_joint[i].0 < 0.0,
+            },
+            platform: Joint {
+                kind: JointKind::Spherical,
+                at: core::array::from_fn(|k| c[k] - p[i][k]),
+                over_limit: margins.s_joint[i].0 < 0.0,
+            },
+            over_stroke: margins.stroke[i].0 < 0.0,
+        });
+        let axes = platform_axes(pose);
+        let size = self.platform_radius();
+        let base_axes = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        Ok(Scene {
+            platform: plate(&legs.map(|l| l.platform.at), axes, 0.04 * size),
+            base: plate(&legs.map(|l| l.base.at), base_axes, 0.04 * size),
+            legs,
+            centre: c,
+            axes,
+            size,
+        })
+    }
+
+    /// The largest distance of an S joint from the platform's origin (m).
+    fn platform_radius(&self) -> f64 {
+        self.robot()
+            .legs
+            .iter()
+            .map(|l| crate::math::sqrt(l.platform.iter().map(|x| x * x).sum()))
+            .fold(0.0, f64::max)
+    }
+}
+
+/// A plate of thickness `thickness` along `axes[2]` whose rim runs through `points`, taken in
+/// order of their angle about the plate's centre.
+fn plate(points: &[[f64; 3]; 6], axes: [[f64; 3]; 3], thickness: f64) -> Solid {
+    let centre: [f64; 3] = core::array::from_fn(|k| points.iter().map(|p| p[k]).sum::<f64>() / 6.0);
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let mut rim: Vec<([f64; 3], f64)> = points
+        .iter()
+        .map(|&p| {
+            let d: [f64; 3] = core::array::from_fn(|k| p[k] - centre[k]);
+            (p, crate::math::atan2(dot(d, axes[1]), dot(d, axes[0])))
+        })
+        .collect();
+    rim.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let offset =
+        |p: [f64; 3], s: f64| -> [f64; 3] { core::array::from_fn(|k| p[k] + s * axes[2][k]) };
+    let mut solid = Solid::default();
+    let h = 0.5 * thickness;
+    for s in [-h, h] {
+        let hub = solid.vertices.len();
+        solid.vertices.push(offset(centre, s));
+        for &(p, _) in &rim {
+            solid.vertices.push(offset(p, s));
+        }
+        for k in 0..6 {
+            solid
+                .triangles
+                .push([hub, hub + 1 + k, hub + 1 + (k + 1) % 6]);
+        }
+    }
+    for k in 0..6 {
+        let (p, q) = (rim[k].0, rim[(k + 1) % 6].0);
+        solid.quad([offset(p, -h), offset(q, -h), offset(q, h), offset(p, h)]);
+    }
+    solid
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use c5_robot::gough_stewart::{rotation, GoughStewart as Description};
+
+    /// Each S joint is at `C + R b_i` of the description, and each leg's length plus its
+    /// encoder's offset is the actuator position the kernels give.
+    #[test]
+    fn each_joint_is_where_the_kinematics_puts_it() {
+        let description = Description::example();
+        let robot = GoughStewart::new(description).unwrap();
+        let home = robot.home().to_array();
+        for k in 0..40 {
+            let s = |a: f64| (a * (f64::from(k) + 1.0)).sin();
+            let mut x = home;
+            for (j, v) in x.iter_mut().enumerate() {
+                *v += [0.2, 0.2, 0.3, 0.05, 0.05, 0.04][j] * s(0.7 + 0.61 * j as f64);
+            }
+            let pose = Pose::from_array(x);
+            let scene = robot.scene(&pose).unwrap();
+            let q = robot.inverse_kinematics(&pose).unwrap().0;
+            let r = rotation(&x);
+            for (i, leg) in scene.legs.iter().enumerate() {
+                let b_i = description.legs[i].platform;
+                for c in 0..3 {
+                    let expected = x[3 + c] + (0..3).map(|j| r[c][j] * b_i[j]).sum::<f64>();
+                    assert!((leg.platform.at[c] - expected).abs() < 1e-12);
+                }
+                let d: [f64; 3] = core::array::from_fn(|c| leg.platform.at[c] - leg.base.at[c]);
+                let length = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                let offset = description.legs[i].encoder_offset;
+                assert!((length + offset - q[i]).abs() < 1e-12, "leg {i}");
+                assert_eq!(leg.base.at, description.legs[i].base);
+            }
+        }
+    }
+
+    /// The plates are closed solids: every triangle's vertices exist, none is degenerate.
+    #[test]
+    fn the_plates_are_well_formed() {
+        let robot = GoughStewart::new(Description::example()).unwrap();
+        let scene = robot.scene(&robot.home()).unwrap();
+        for solid in [&scene.platform, &scene.base] {
+            assert_eq!(solid.triangles.len(), 24);
+            for t in &solid.triangles {
+                assert!(t.iter().all(|&v| v < solid.vertices.len()));
+                assert!(t[0] != t[1] && t[1] != t[2] && t[0] != t[2]);
+            }
+        }
+    }
+}
