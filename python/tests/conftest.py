@@ -21,7 +21,9 @@ def c5_program() -> Path:
     """The `c5` program of this checkout (`C5_PROGRAM` overrides), built if need be."""
     if "C5_PROGRAM" in os.environ:
         return Path(os.environ["C5_PROGRAM"])
-    subprocess.run(["cargo", "build", "--release", "-q", "-p", "c5-cli"], cwd=ROOT, check=True)
+    # Every command: the tests call `eval --derivatives` and `identify` too.
+    subprocess.run(["cargo", "build", "--release", "-q", "-p", "c5-cli", "--features", "full"],
+                   cwd=ROOT, check=True)
     return ROOT / "target" / "release" / "c5"
 
 

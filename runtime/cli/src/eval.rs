@@ -1,9 +1,7 @@
 //! `c5 eval`: JSON Lines of platform states in, everything the model gives out, one line each.
 
-use crate::identify::load_estimate;
 use crate::jsonl::{self, Key};
 use crate::options::RobotArgs;
-use c5_runtime::identify::Estimate;
 use c5_runtime::{Acceleration, Limit, ParallelRobot, Pose, State, Twist};
 use clap::Args;
 use serde_json::json;
@@ -108,9 +106,12 @@ fn parse_line(line: &str) -> Result<Line, String> {
 }
 
 pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
+    if args.derivatives && !cfg!(feature = "derivatives") {
+        return Err(crate::unbuilt::needs("`--derivatives`", "derivatives"));
+    }
     let robot = args.robot.load_any()?;
     let estimate = match &args.base_parameters {
-        Some(p) => Some(load_estimate(robot.as_ref(), p)?),
+        Some(p) => Some(identified::load(robot.as_ref(), p)?),
         None => None,
     };
     eval(
@@ -119,6 +120,91 @@ pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
         args.derivatives,
         args.strict_limits,
     )
+}
+
+/// The forces of identified parameters, where this build has identification.
+#[cfg(feature = "identify")]
+mod identified {
+    pub use c5_runtime::identify::Estimate;
+
+    pub fn load(
+        robot: &dyn c5_runtime::ParallelRobot,
+        path: &std::path::Path,
+    ) -> crate::Result<Estimate> {
+        crate::identify::load_estimate(robot, path)
+    }
+
+    pub fn forces(
+        estimate: &Estimate,
+        robot: &dyn c5_runtime::ParallelRobot,
+        state: &c5_runtime::State,
+    ) -> Result<[f64; 6], String> {
+        estimate.forces(robot, state).map_err(|e| e.to_string())
+    }
+}
+
+/// Without identification: `--base-parameters` says which feature it needs.
+#[cfg(not(feature = "identify"))]
+mod identified {
+    pub enum Estimate {}
+
+    pub fn load(
+        _robot: &dyn c5_runtime::ParallelRobot,
+        _path: &std::path::Path,
+    ) -> crate::Result<Estimate> {
+        Err(crate::unbuilt::needs("`--base-parameters`", "identify"))
+    }
+
+    pub fn forces(
+        estimate: &Estimate,
+        _robot: &dyn c5_runtime::ParallelRobot,
+        _state: &c5_runtime::State,
+    ) -> Result<[f64; 6], String> {
+        match *estimate {}
+    }
+}
+
+/// The inverse dynamics' three Jacobians, each under its key.
+type KeyedJacobians = [(&'static str, [[f64; 6]; 6]); 3];
+
+/// The inverse dynamics' Jacobians of a line, under their keys.
+#[cfg(feature = "derivatives")]
+fn derivative_keys(
+    robot: &dyn ParallelRobot,
+    state: &State,
+    joints: Option<[[f64; 6]; 3]>,
+) -> Result<KeyedJacobians, String> {
+    Ok(match joints {
+        Some([q, qd, qdd]) => {
+            let d = robot
+                .inverse_dynamics_joint_derivatives(&q, &qd, &qdd)
+                .map_err(|e| e.to_string())?;
+            [
+                ("d_gamma_d_q", d.d_q),
+                ("d_gamma_d_qd", d.d_qd),
+                ("d_gamma_d_qdd", d.d_qdd),
+            ]
+        }
+        None => {
+            let d = robot
+                .inverse_dynamics_derivatives(state)
+                .map_err(|e| e.to_string())?;
+            [
+                ("d_gamma_d_pose", d.d_pose),
+                ("d_gamma_d_twist", d.d_twist),
+                ("d_gamma_d_acceleration", d.d_accel),
+            ]
+        }
+    })
+}
+
+#[cfg(not(feature = "derivatives"))]
+fn derivative_keys(
+    _robot: &dyn ParallelRobot,
+    _state: &State,
+    _joints: Option<[[f64; 6]; 3]>,
+) -> Result<KeyedJacobians, String> {
+    Err(crate::unbuilt::needs("`--derivatives`", "derivatives").to_string())
 }
 
 /// The smallest margin of every limit the robot sets, at the pose and with the actuators'
@@ -145,7 +231,7 @@ fn smallest_margin(
 
 fn eval(
     robot: &dyn ParallelRobot,
-    identified: Option<&Estimate>,
+    identified: Option<&identified::Estimate>,
     derivatives: bool,
     strict_limits: bool,
 ) -> crate::Result<ExitCode> {
@@ -180,35 +266,12 @@ fn eval(
             out["acceleration"] = json!(state.accel.linear);
         }
         if derivatives {
-            let keys = match joints {
-                Some([q, qd, qdd]) => {
-                    let d = robot
-                        .inverse_dynamics_joint_derivatives(&q, &qd, &qdd)
-                        .map_err(|e| e.to_string())?;
-                    [
-                        ("d_gamma_d_q", d.d_q),
-                        ("d_gamma_d_qd", d.d_qd),
-                        ("d_gamma_d_qdd", d.d_qdd),
-                    ]
-                }
-                None => {
-                    let d = robot
-                        .inverse_dynamics_derivatives(&state)
-                        .map_err(|e| e.to_string())?;
-                    [
-                        ("d_gamma_d_pose", d.d_pose),
-                        ("d_gamma_d_twist", d.d_twist),
-                        ("d_gamma_d_acceleration", d.d_accel),
-                    ]
-                }
-            };
-            for (key, jacobian) in keys {
+            for (key, jacobian) in derivative_keys(robot, &state, joints)? {
                 out[key] = json!(jacobian);
             }
         }
         if let Some(estimate) = identified {
-            let gamma = estimate.forces(robot, &state).map_err(|e| e.to_string())?;
-            out["gamma"] = json!(gamma);
+            out["gamma"] = json!(identified::forces(estimate, robot, &state)?);
         }
         if robot.has_limits() {
             let gamma: [f64; 6] =

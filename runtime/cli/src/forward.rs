@@ -30,6 +30,9 @@ const FORWARD_KEYS: [Key; 4] = [
 ];
 
 pub fn run(args: &ForwardArgs) -> crate::Result<ExitCode> {
+    if args.derivatives && !cfg!(feature = "derivatives") {
+        return Err(crate::unbuilt::needs("`--derivatives`", "derivatives"));
+    }
     let robot = args.robot.load_any()?;
     jsonl::answer_lines(|line| {
         let v = jsonl::parse(line, &FORWARD_KEYS)?;
@@ -39,6 +42,7 @@ pub fn run(args: &ForwardArgs) -> crate::Result<ExitCode> {
             velocity: [v[2][0], v[2][1], v[2][2]],
         };
         let gamma: [f64; 6] = std::array::from_fn(|i| v[3][i]);
+        #[cfg(feature = "derivatives")]
         if args.derivatives {
             let d = robot
                 .forward_dynamics_derivatives(&pose, &twist, &gamma)

@@ -4,17 +4,23 @@
 mod audit;
 mod calibrate;
 mod columns;
+#[cfg(feature = "identify")]
 mod encoder_log;
 mod eval;
+#[cfg(feature = "identify")]
 mod excite;
 mod forward;
+#[cfg(feature = "identify")]
 mod identify;
 mod jsonl;
 mod options;
+#[cfg(feature = "derivatives")]
 mod plan;
+mod png_figure;
 mod simulate;
 mod track;
 mod trajectory_csv;
+mod unbuilt;
 mod view;
 mod workspace;
 
@@ -41,11 +47,23 @@ struct Cli {
 enum Command {
     Simulate(simulate::SimulateArgs),
     Eval(eval::EvalArgs),
+    #[cfg(feature = "identify")]
     Identify(identify::IdentifyArgs),
+    /// Identification [not in this build: the `identify` feature].
+    #[cfg(not(feature = "identify"))]
+    Identify(unbuilt::UnbuiltArgs),
+    #[cfg(feature = "identify")]
     Excite(excite::ExciteArgs),
+    /// An exciting trajectory for identification [not in this build: the `identify` feature].
+    #[cfg(not(feature = "identify"))]
+    Excite(unbuilt::UnbuiltArgs),
     Forward(forward::ForwardArgs),
     Track(track::TrackArgs),
+    #[cfg(feature = "derivatives")]
     Plan(plan::PlanArgs),
+    /// A minimum-effort move by iLQR [not in this build: the `derivatives` feature].
+    #[cfg(not(feature = "derivatives"))]
+    Plan(unbuilt::UnbuiltArgs),
     Workspace(workspace::WorkspaceArgs),
     Audit(audit::AuditArgs),
     Calibrate(calibrate::CalibrateArgs),
@@ -78,11 +96,20 @@ fn main() -> ExitCode {
     let result = match Cli::parse().command {
         Command::Simulate(args) => simulate::run_cmd(&args),
         Command::Eval(args) => eval::run(&args),
+        #[cfg(feature = "identify")]
         Command::Identify(args) => identify::run(&args),
+        #[cfg(feature = "identify")]
         Command::Excite(args) => excite::run(&args),
+        #[cfg(not(feature = "identify"))]
+        Command::Identify(_) => Err(unbuilt::needs("`c5 identify`", "identify")),
+        #[cfg(not(feature = "identify"))]
+        Command::Excite(_) => Err(unbuilt::needs("`c5 excite`", "identify")),
         Command::Forward(args) => forward::run(&args),
         Command::Track(args) => track::run_cmd(&args),
+        #[cfg(feature = "derivatives")]
         Command::Plan(args) => plan::run(&args),
+        #[cfg(not(feature = "derivatives"))]
+        Command::Plan(_) => Err(unbuilt::needs("`c5 plan`", "derivatives")),
         Command::Workspace(args) => workspace::run(&args),
         Command::Audit(args) => audit::run(&args),
         Command::Calibrate(args) => calibrate::run(&args),

@@ -1,7 +1,9 @@
 //! The options several commands share, declared once: the robot and its model.
 
 use c5_runtime::trajectory::LinearMove;
-use c5_runtime::{Description, Model, ParallelRobot, Pose, Robot, C5};
+use c5_runtime::{Description, Model, ParallelRobot, Pose};
+#[cfg(any(feature = "identify", feature = "derivatives"))]
+use c5_runtime::{Robot, C5};
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::Args;
 use std::path::PathBuf;
@@ -20,6 +22,7 @@ pub struct RobotArgs {
 impl RobotArgs {
     /// The C5 robot of `--robot` (or the chapter's) with the model of `--model`, for what only
     /// the C5 has (`what` names it); a file of another mechanism is refused.
+    #[cfg(any(feature = "identify", feature = "derivatives"))]
     pub fn load(&self) -> crate::Result<C5> {
         load(self.robot.as_ref(), self.model)
     }
@@ -39,6 +42,7 @@ pub fn model_parser() -> impl TypedValueParser<Value = Model> {
 
 /// The C5 robot of `path` (or the chapter's) with `model`; a file of another mechanism is
 /// refused, naming it.
+#[cfg(any(feature = "identify", feature = "derivatives"))]
 pub fn load(path: Option<&PathBuf>, model: Model) -> crate::Result<C5> {
     let robot = match path {
         Some(p) => match Description::from_toml_file(p)? {

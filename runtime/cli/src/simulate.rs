@@ -278,47 +278,47 @@ pub fn plot(
     series: &[(String, Vec<f64>)],
 ) -> Result<(), Box<dyn std::error::Error>> {
     register_font();
-    let root = BitMapBackend::new(path, (900, 560)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (lo, hi) = series
-        .iter()
-        .flat_map(|(_, v)| v.iter().copied())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-            (a.min(v), b.max(v))
-        });
-    let pad = ((hi - lo) * 0.08).max(1e-9);
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 24))
-        .margin(12)
-        .x_label_area_size(48)
-        .y_label_area_size(80)
-        .build_cartesian_2d(t[0]..t[t.len() - 1], (lo - pad)..(hi + pad))?;
-    chart
-        .configure_mesh()
-        .x_desc("time t (s)")
-        .y_desc(y_label)
-        .label_style(("sans-serif", 15))
-        .draw()?;
-    for (k, (name, v)) in series.iter().enumerate() {
-        let color = Palette99::pick(k).to_rgba();
-        chart
-            .draw_series(LineSeries::new(
-                t.iter().copied().zip(v.iter().copied()),
-                color.stroke_width(2),
-            ))?
-            .label(name.clone())
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+    crate::png_figure::write(path, (900, 560), |root| {
+        root.fill(&WHITE)?;
+        let (lo, hi) = series
+            .iter()
+            .flat_map(|(_, v)| v.iter().copied())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(v), b.max(v))
             });
-    }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 15))
-        .draw()?;
-    root.present()?;
-    Ok(())
+        let pad = ((hi - lo) * 0.08).max(1e-9);
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 24))
+            .margin(12)
+            .x_label_area_size(48)
+            .y_label_area_size(80)
+            .build_cartesian_2d(t[0]..t[t.len() - 1], (lo - pad)..(hi + pad))?;
+        chart
+            .configure_mesh()
+            .x_desc("time t (s)")
+            .y_desc(y_label)
+            .label_style(("sans-serif", 15))
+            .draw()?;
+        for (k, (name, v)) in series.iter().enumerate() {
+            let color = Palette99::pick(k).to_rgba();
+            chart
+                .draw_series(LineSeries::new(
+                    t.iter().copied().zip(v.iter().copied()),
+                    color.stroke_width(2),
+                ))?
+                .label(name.clone())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 15))
+            .draw()?;
+        Ok(())
+    })
 }
 
 /// The four figures of Section 9 (figs 7-10) as PNG files in `dir`.
@@ -374,81 +374,81 @@ pub fn write_plots(dir: &Path, study: &Study) -> Result<Vec<String>, Box<dyn std
 /// (the consistent one) solid and the others dashed, in the actuator's colour.
 fn plot_forces(path: &Path, study: &Study, t: &[f64]) -> Result<(), Box<dyn std::error::Error>> {
     register_font();
-    let root = BitMapBackend::new(path, (1200, 720)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let title = match study.others.first() {
-        Some(other) => format!(
-            "Actuator forces Γ (fig. 10): {} model solid, {other} model dashed",
-            study.model
-        ),
-        None => format!("Actuator forces Γ ({})", study.model),
-    };
-    let root = root.titled(&title, ("sans-serif", 22))?;
-    for (i, panel) in root.split_evenly((2, 3)).iter().enumerate() {
-        let series: Vec<(&str, Vec<f64>)> = std::iter::once((
-            study.model,
-            study.samples.iter().map(|s| s.eval.gamma[i]).collect(),
-        ))
-        .chain(
-            study
-                .others
+    crate::png_figure::write(path, (1200, 720), |root| {
+        root.fill(&WHITE)?;
+        let title = match study.others.first() {
+            Some(other) => format!(
+                "Actuator forces Γ (fig. 10): {} model solid, {other} model dashed",
+                study.model
+            ),
+            None => format!("Actuator forces Γ ({})", study.model),
+        };
+        let root = root.titled(&title, ("sans-serif", 22))?;
+        for (i, panel) in root.split_evenly((2, 3)).iter().enumerate() {
+            let series: Vec<(&str, Vec<f64>)> = std::iter::once((
+                study.model,
+                study.samples.iter().map(|s| s.eval.gamma[i]).collect(),
+            ))
+            .chain(
+                study
+                    .others
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &m)| (m, study.samples.iter().map(|s| s.others[k][i]).collect())),
+            )
+            .collect();
+            let (lo, hi) = series
                 .iter()
-                .enumerate()
-                .map(|(k, &m)| (m, study.samples.iter().map(|s| s.others[k][i]).collect())),
-        )
-        .collect();
-        let (lo, hi) = series
-            .iter()
-            .flat_map(|(_, v)| v.iter().copied())
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                (a.min(v), b.max(v))
-            });
-        let pad = ((hi - lo) * 0.1).max(0.5);
-        let mut chart = ChartBuilder::on(panel)
-            .caption(format!("Γ{}", i + 1), ("sans-serif", 18))
-            .margin(8)
-            .x_label_area_size(36)
-            .y_label_area_size(56)
-            .build_cartesian_2d(t[0]..t[t.len() - 1], (lo - pad)..(hi + pad))?;
-        chart
-            .configure_mesh()
-            .x_desc("t (s)")
-            .y_desc("force (N)")
-            .label_style(("sans-serif", 13))
-            .draw()?;
-        let color = Palette99::pick(i).to_rgba();
-        for (k, (model, values)) in series.iter().enumerate() {
-            let points = t.iter().copied().zip(values.iter().copied());
-            let style = color.stroke_width(2);
-            let label = model.to_string();
-            if k == 0 {
-                chart
-                    .draw_series(LineSeries::new(points, style))?
-                    .label(label)
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
-            } else {
-                // Each further model dashed a little finer.
-                let dash = 7 - k.min(4) as u32;
-                chart
-                    .draw_series(DashedLineSeries::new(points, dash, 5, style))?
-                    .label(label)
-                    .legend(move |(x, y)| {
-                        EmptyElement::at((x, y))
-                            + PathElement::new(vec![(0, 0), (dash as i32, 0)], style)
-                            + PathElement::new(
-                                vec![(dash as i32 + 5, 0), (2 * dash as i32 + 5, 0)],
-                                style,
-                            )
-                    });
+                .flat_map(|(_, v)| v.iter().copied())
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                    (a.min(v), b.max(v))
+                });
+            let pad = ((hi - lo) * 0.1).max(0.5);
+            let mut chart = ChartBuilder::on(panel)
+                .caption(format!("Γ{}", i + 1), ("sans-serif", 18))
+                .margin(8)
+                .x_label_area_size(36)
+                .y_label_area_size(56)
+                .build_cartesian_2d(t[0]..t[t.len() - 1], (lo - pad)..(hi + pad))?;
+            chart
+                .configure_mesh()
+                .x_desc("t (s)")
+                .y_desc("force (N)")
+                .label_style(("sans-serif", 13))
+                .draw()?;
+            let color = Palette99::pick(i).to_rgba();
+            for (k, (model, values)) in series.iter().enumerate() {
+                let points = t.iter().copied().zip(values.iter().copied());
+                let style = color.stroke_width(2);
+                let label = model.to_string();
+                if k == 0 {
+                    chart
+                        .draw_series(LineSeries::new(points, style))?
+                        .label(label)
+                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+                } else {
+                    // Each further model dashed a little finer.
+                    let dash = 7 - k.min(4) as u32;
+                    chart
+                        .draw_series(DashedLineSeries::new(points, dash, 5, style))?
+                        .label(label)
+                        .legend(move |(x, y)| {
+                            EmptyElement::at((x, y))
+                                + PathElement::new(vec![(0, 0), (dash as i32, 0)], style)
+                                + PathElement::new(
+                                    vec![(dash as i32 + 5, 0), (2 * dash as i32 + 5, 0)],
+                                    style,
+                                )
+                        });
+                }
             }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 13))
+                .draw()?;
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 13))
-            .draw()?;
-    }
-    root.present()?;
-    Ok(())
+        Ok(())
+    })
 }

@@ -200,7 +200,9 @@ fn twist_from_pose_rate(state: &mut State, rate: [f64; 6]) {
     };
 }
 
-/// A trajectory file opened for streaming.
+/// A trajectory file opened for streaming (its progress and derived columns are read by
+/// `identify`).
+#[cfg_attr(not(feature = "identify"), allow(dead_code))]
 pub struct Trajectory {
     samples: Box<dyn Iterator<Item = Item>>,
     bytes: Rc<Cell<u64>>,
@@ -218,6 +220,7 @@ impl Iterator for Trajectory {
     }
 }
 
+#[cfg_attr(not(feature = "identify"), allow(dead_code))]
 impl Trajectory {
     /// Bytes of the file read so far.
     pub fn position(&self) -> u64 {

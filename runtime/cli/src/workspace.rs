@@ -253,61 +253,61 @@ fn plot_slices(
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
             (a.min(v), b.max(v))
         });
-    let root = BitMapBackend::new(path, (1500, 560)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (top, panels) = root.split_vertically(60);
-    top.titled(
-        &format!(
-            "{title}: {:.3} to {:.3} (viridis); white: out of reach",
-            lo, hi
-        ),
-        ("sans-serif", 22),
-    )?;
-    let (h, lower, upper) = (m.grid.step(), m.grid.lower, m.grid.upper);
-    for (normal, panel) in panels.split_evenly((1, 3)).iter().enumerate() {
-        let (a, b) = match normal {
-            0 => (1, 2),
-            1 => (0, 2),
-            _ => (0, 1),
-        };
-        let at = lower[normal] + mid as f64 * h[normal];
-        let mut chart = ChartBuilder::on(panel)
-            .caption(format!("{} = {at:.3}", names[normal]), ("sans-serif", 18))
-            .margin(10)
-            .x_label_area_size(36)
-            .y_label_area_size(56)
-            .build_cartesian_2d(lower[a]..upper[a], lower[b]..upper[b])?;
-        chart
-            .configure_mesh()
-            .x_desc(names[a])
-            .y_desc(names[b])
-            .disable_mesh()
-            .label_style(("sans-serif", 13))
-            .draw()?;
-        let mut cells = Vec::new();
-        for i in 0..n {
-            for j in 0..n {
-                let mut index = [mid; 3];
-                index[a] = i;
-                index[b] = j;
-                let v = values[(index[0] * n + index[1]) * n + index[2]];
-                if v.is_nan() {
-                    continue;
+    crate::png_figure::write(path, (1500, 560), |root| {
+        root.fill(&WHITE)?;
+        let (top, panels) = root.split_vertically(60);
+        top.titled(
+            &format!(
+                "{title}: {:.3} to {:.3} (viridis); white: out of reach",
+                lo, hi
+            ),
+            ("sans-serif", 22),
+        )?;
+        let (h, lower, upper) = (m.grid.step(), m.grid.lower, m.grid.upper);
+        for (normal, panel) in panels.split_evenly((1, 3)).iter().enumerate() {
+            let (a, b) = match normal {
+                0 => (1, 2),
+                1 => (0, 2),
+                _ => (0, 1),
+            };
+            let at = lower[normal] + mid as f64 * h[normal];
+            let mut chart = ChartBuilder::on(panel)
+                .caption(format!("{} = {at:.3}", names[normal]), ("sans-serif", 18))
+                .margin(10)
+                .x_label_area_size(36)
+                .y_label_area_size(56)
+                .build_cartesian_2d(lower[a]..upper[a], lower[b]..upper[b])?;
+            chart
+                .configure_mesh()
+                .x_desc(names[a])
+                .y_desc(names[b])
+                .disable_mesh()
+                .label_style(("sans-serif", 13))
+                .draw()?;
+            let mut cells = Vec::new();
+            for i in 0..n {
+                for j in 0..n {
+                    let mut index = [mid; 3];
+                    index[a] = i;
+                    index[b] = j;
+                    let v = values[(index[0] * n + index[1]) * n + index[2]];
+                    if v.is_nan() {
+                        continue;
+                    }
+                    let t = if hi > lo { (v - lo) / (hi - lo) } else { 0.5 };
+                    let color = ViridisRGB::get_color(t);
+                    let (x, y) = (lower[a] + i as f64 * h[a], lower[b] + j as f64 * h[b]);
+                    cells.push(Rectangle::new(
+                        [
+                            (x - h[a] / 2.0, y - h[b] / 2.0),
+                            (x + h[a] / 2.0, y + h[b] / 2.0),
+                        ],
+                        color.filled(),
+                    ));
                 }
-                let t = if hi > lo { (v - lo) / (hi - lo) } else { 0.5 };
-                let color = ViridisRGB::get_color(t);
-                let (x, y) = (lower[a] + i as f64 * h[a], lower[b] + j as f64 * h[b]);
-                cells.push(Rectangle::new(
-                    [
-                        (x - h[a] / 2.0, y - h[b] / 2.0),
-                        (x + h[a] / 2.0, y + h[b] / 2.0),
-                    ],
-                    color.filled(),
-                ));
             }
+            chart.draw_series(cells)?;
         }
-        chart.draw_series(cells)?;
-    }
-    root.present()?;
-    Ok(())
+        Ok(())
+    })
 }

@@ -127,65 +127,65 @@ pub fn json(report: &Report) -> serde_json::Value {
 /// Each leg's residual at each measurement, nominal (mm, top) and calibrated (µm, bottom).
 pub fn plot(path: &Path, report: &Report) -> Result<()> {
     register_font();
-    let root = BitMapBackend::new(path, (1000, 760)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let panels = root.split_evenly((2, 1));
-    let n = report.residuals_before.len();
-    for (panel, (rows, title, unit, factor)) in panels.iter().zip([
-        (
-            &report.residuals_before,
-            "Nominal geometry: residuals ρ(X) - q",
-            "residual (mm)",
-            1e3,
-        ),
-        (
-            &report.residuals_after,
-            "Calibrated geometry: residuals ρ(X) - q",
-            "residual (µm)",
-            1e6,
-        ),
-    ]) {
-        let peak = rows
-            .iter()
-            .flatten()
-            .fold(0.0f64, |m, r| m.max(r.abs() * factor))
-            .max(1e-12)
-            * 1.1;
-        let mut chart = ChartBuilder::on(panel)
-            .caption(title, ("sans-serif", 20))
-            .margin(10)
-            .x_label_area_size(36)
-            .y_label_area_size(64)
-            .build_cartesian_2d(0.5..n as f64 + 0.5, -peak..peak)?;
-        chart
-            .configure_mesh()
-            .x_desc("measurement")
-            .x_label_formatter(&|x| format!("{x:.0}"))
-            .y_desc(unit)
-            .label_style(("sans-serif", 14))
-            .draw()?;
-        for leg in 0..6 {
-            let color = Palette99::pick(leg).to_rgba();
-            let points = rows
+    crate::png_figure::write(path, (1000, 760), |root| {
+        root.fill(&WHITE)?;
+        let panels = root.split_evenly((2, 1));
+        let n = report.residuals_before.len();
+        for (panel, (rows, title, unit, factor)) in panels.iter().zip([
+            (
+                &report.residuals_before,
+                "Nominal geometry: residuals ρ(X) - q",
+                "residual (mm)",
+                1e3,
+            ),
+            (
+                &report.residuals_after,
+                "Calibrated geometry: residuals ρ(X) - q",
+                "residual (µm)",
+                1e6,
+            ),
+        ]) {
+            let peak = rows
                 .iter()
-                .enumerate()
-                .map(|(k, r)| ((k + 1) as f64, r[leg] * factor));
+                .flatten()
+                .fold(0.0f64, |m, r| m.max(r.abs() * factor))
+                .max(1e-12)
+                * 1.1;
+            let mut chart = ChartBuilder::on(panel)
+                .caption(title, ("sans-serif", 20))
+                .margin(10)
+                .x_label_area_size(36)
+                .y_label_area_size(64)
+                .build_cartesian_2d(0.5..n as f64 + 0.5, -peak..peak)?;
             chart
-                .draw_series(LineSeries::new(points.clone(), color.stroke_width(1)))?
-                .label(format!("leg {}", leg + 1))
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                });
-            chart.draw_series(points.map(|p| Circle::new(p, 2, color.filled())))?;
+                .configure_mesh()
+                .x_desc("measurement")
+                .x_label_formatter(&|x| format!("{x:.0}"))
+                .y_desc(unit)
+                .label_style(("sans-serif", 14))
+                .draw()?;
+            for leg in 0..6 {
+                let color = Palette99::pick(leg).to_rgba();
+                let points = rows
+                    .iter()
+                    .enumerate()
+                    .map(|(k, r)| ((k + 1) as f64, r[leg] * factor));
+                chart
+                    .draw_series(LineSeries::new(points.clone(), color.stroke_width(1)))?
+                    .label(format!("leg {}", leg + 1))
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                    });
+                chart.draw_series(points.map(|p| Circle::new(p, 2, color.filled())))?;
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 13))
+                .draw()?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 13))
-            .draw()?;
-    }
-    root.present()?;
-    Ok(())
+        Ok(())
+    })
 }

@@ -1,8 +1,6 @@
 //! The view's colours: a diverging scale for the actuator forces (blue pulls, grey idles, red
 //! pushes) and one warning colour outside it, for what crosses a limit.
 
-use plotly::common::{ColorScale, ColorScaleElement};
-
 /// The colour of a leg or joint past one of the robot file's `[limits]`; not on the scale.
 pub const WARNING: &str = "#ff00ff";
 /// A joint within its limits.
@@ -49,14 +47,13 @@ pub fn force_colour(gamma: f64, scale: f64) -> String {
     }))
 }
 
-/// The force scale as plotly's colour scale, for the colour bar.
-pub fn force_scale() -> ColorScale {
-    ColorScale::Vector(
-        STOPS
-            .iter()
-            .map(|&(at, c)| ColorScaleElement(at, hex(c)))
-            .collect(),
-    )
+/// The force scale as a plotly.js colour scale (`[[position, colour], ...]`), for the colour
+/// bar.
+pub fn force_scale() -> serde_json::Value {
+    STOPS
+        .iter()
+        .map(|&(at, c)| serde_json::json!([at, hex(c)]))
+        .collect()
 }
 
 #[cfg(test)]

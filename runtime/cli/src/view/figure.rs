@@ -1,17 +1,12 @@
-//! The robot along a trajectory as a plotly figure: a trace per leg, the joints, the platform,
+//! The robot along a trajectory as a plotly.js figure: a trace per leg, the joints, the platform,
 //! its frame, then what does not move (the base, the path of `C`, the colour bar); one
 //! animation frame per drawn instant.
 
 use super::colors::{self, force_colour, WARNING};
+use super::plotly::{self, title, Figure};
 use c5_runtime::scene::{Joint, Scene, Solid};
-use plotly::common::{
-    ColorBar, ColorScale, ColorScalePalette, Line, Marker, MarkerSymbol, Mode, ThicknessMode, Title,
-};
-use plotly::layout::{
-    AspectMode, AspectRatio, Axis, Camera, Eye, Frame, LayoutScene, Legend, Margin,
-};
-use plotly::{Layout, Mesh3D, Plot, Scatter3D, Trace, Traces};
 use serde::Serialize;
+use serde_json::{json, Value};
 
 /// One drawn instant: its time, the robot's parts, the forces and what crosses a limit.
 #[derive(Clone, Debug)]
@@ -78,133 +73,109 @@ fn xyz(points: &[[f64; 3]]) -> [Vec<f64>; 3] {
     })
 }
 
-fn line(
-    points: &[[f64; 3]],
-    colour: &str,
-    width: f64,
-    name: &str,
-) -> Box<Scatter3D<f64, f64, f64>> {
-    let [x, y, z] = xyz(points);
-    Scatter3D::new(x, y, z)
-        .mode(Mode::Lines)
-        .line(Line::new().color(colour.to_string()).width(width))
-        .name(name)
-        .hover_info(plotly::common::HoverInfo::Name)
+fn line(points: &[[f64; 3]], colour: &str, width: f64, name: &str) -> Value {
+    let mut trace = plotly::scatter3d(name, "lines", xyz(points));
+    trace["line"] = json!({"color": colour, "width": width});
+    trace["hoverinfo"] = json!("name");
+    trace
 }
 
-fn joints(joints: &[Joint; 6], symbol: MarkerSymbol, size: usize) -> Box<Scatter3D<f64, f64, f64>> {
-    let [x, y, z] = xyz(&joints.map(|j| j.at));
-    let colours: Vec<String> = joints
+/// A trace that leaves the legend alone.
+fn unlisted(mut trace: Value) -> Value {
+    trace["showlegend"] = json!(false);
+    trace
+}
+
+fn joints(joints: &[Joint; 6], symbol: &str, size: usize) -> Value {
+    let colours: Vec<&str> = joints
         .iter()
-        .map(|j| if j.over_limit { WARNING } else { colors::JOINT }.to_string())
+        .map(|j| if j.over_limit { WARNING } else { colors::JOINT })
         .collect();
-    Scatter3D::new(x, y, z)
-        .mode(Mode::Markers)
-        .marker(Marker::new().symbol(symbol).size(size).color_array(colours))
-        .name(joints[0].kind.name())
+    let mut trace = plotly::scatter3d(joints[0].kind.name(), "markers", xyz(&joints.map(|j| j.at)));
+    trace["marker"] = json!({"symbol": symbol, "size": size, "color": colours});
+    trace
 }
 
 /// A solid's trace; `with_triangles` false for an animation frame, where the triangles of the
 /// first frame stay and only the vertices move.
-fn solid(
-    solid: &Solid,
-    colour: &str,
-    name: &str,
-    with_triangles: bool,
-) -> Box<Mesh3D<f64, f64, f64>> {
-    let [x, y, z] = xyz(&solid.vertices);
-    let [i, j, k]: [Option<Vec<usize>>; 3] = core::array::from_fn(|c| {
-        with_triangles.then(|| solid.triangles.iter().map(|t| t[c]).collect())
-    });
-    Mesh3D::new(x, y, z, i, j, k)
-        .color(colour.to_string())
-        .flat_shading(true)
-        .name(name)
-        .show_legend(true)
+fn solid(solid: &Solid, colour: &str, name: &str, with_triangles: bool) -> Value {
+    let triangles = with_triangles.then_some(solid.triangles.as_slice());
+    let mut mesh = plotly::mesh3d(name, xyz(&solid.vertices), triangles);
+    mesh["color"] = json!(colour);
+    mesh["flatshading"] = json!(true);
+    mesh["showlegend"] = json!(true);
+    mesh
 }
 
 /// The traces that move, in the order of [`MOVING_TRACES`]; `first` for the figure's own
 /// traces, which carry what frames leave out.
-fn moving(shot: &Shot, scale: f64, first: bool) -> Vec<Box<dyn Trace>> {
+fn moving(shot: &Shot, scale: f64, first: bool) -> Vec<Value> {
     let s = &shot.scene;
-    let mut traces: Vec<Box<dyn Trace>> = Vec::with_capacity(MOVING_TRACES);
+    let mut traces = Vec::with_capacity(MOVING_TRACES);
     for (i, leg) in s.legs.iter().enumerate() {
-        let trace = line(
+        traces.push(unlisted(line(
             &[leg.base.at, leg.platform.at],
             &shot.leg_colour(i, scale),
             10.0,
             &format!("leg {}", i + 1),
-        )
-        .show_legend(false);
-        traces.push(trace);
+        )));
     }
-    traces.push(joints(&s.legs.map(|l| l.base), MarkerSymbol::Square, 5));
-    traces.push(joints(&s.legs.map(|l| l.platform), MarkerSymbol::Circle, 6));
+    traces.push(joints(&s.legs.map(|l| l.base), "square", 5));
+    traces.push(joints(&s.legs.map(|l| l.platform), "circle", 6));
     traces.push(solid(&s.platform, colors::PLATFORM, "platform", first));
     for (k, name) in ["x", "y", "z"].iter().enumerate() {
         let tip: [f64; 3] = core::array::from_fn(|c| s.centre[c] + 1.3 * s.size * s.axes[k][c]);
-        let trace = line(
+        traces.push(unlisted(line(
             &[s.centre, tip],
             colors::AXES[k],
             8.0,
             &format!("platform {name}"),
-        )
-        .show_legend(false);
-        traces.push(trace);
+        )));
     }
     traces
 }
 
 /// The figure of `shots`, forces coloured on `±scale` (N).
-pub fn figure(shots: &[Shot], scale: f64) -> Plot {
-    let mut plot = Plot::new();
+pub fn figure(shots: &[Shot], scale: f64) -> Figure {
     let first = &shots[0];
-    plot.add_traces(moving(first, scale, true));
-    plot.add_trace(solid(&first.scene.base, colors::BASE, "base", true));
+    let mut data = moving(first, scale, true);
+    data.push(solid(&first.scene.base, colors::BASE, "base", true));
     let path: Vec<[f64; 3]> = shots.iter().map(|s| s.scene.centre).collect();
-    plot.add_trace(line(&path, "#9a9a9a", 2.0, "path of C").opacity(0.6));
-    plot.add_trace(colour_bar(first.scene.centre, scale));
-    // A legend entry only: its point is not a number, so nothing is drawn.
-    plot.add_trace(line(&[[f64::NAN; 3]], WARNING, 10.0, "past a limit"));
-    for (k, shot) in shots.iter().enumerate() {
-        let mut data = Traces::new();
-        for t in moving(shot, scale, false) {
-            data.push(t);
-        }
-        plot.add_frame(
-            Frame::new()
-                .name(k.to_string())
-                .data(data)
-                .traces((0..MOVING_TRACES).collect()),
-        );
+    let mut path = line(&path, "#9a9a9a", 2.0, "path of C");
+    path["opacity"] = json!(0.6);
+    data.push(path);
+    data.push(colour_bar(first.scene.centre, scale));
+    // A legend entry only: its point is not a number (`null`), so nothing is drawn.
+    data.push(line(&[[f64::NAN; 3]], WARNING, 10.0, "past a limit"));
+    let frames = shots
+        .iter()
+        .enumerate()
+        .map(|(k, shot)| {
+            plotly::frame(&k.to_string(), moving(shot, scale, false), 0..MOVING_TRACES)
+        })
+        .collect();
+    Figure {
+        data,
+        layout: layout(extent(shots), METRES),
+        frames,
     }
-    plot.set_layout(layout(extent(shots), METRES));
-    plot
 }
 
 /// An invisible point that carries the force scale's colour bar.
-fn colour_bar(at: [f64; 3], scale: f64) -> Box<Scatter3D<f64, f64, f64>> {
-    Scatter3D::new(vec![at[0]], vec![at[1]], vec![at[2]])
-        .mode(Mode::Markers)
-        .marker(
-            Marker::new()
-                .size(1)
-                .opacity(0.0)
-                .color_array(vec![0.0])
-                .cmin(-scale)
-                .cmax(scale)
-                .color_scale(colors::force_scale())
-                .show_scale(true)
-                .color_bar(
-                    ColorBar::new()
-                        .title(Title::with_text("Γ (N)"))
-                        .len_mode(ThicknessMode::Pixels)
-                        .len(260),
-                ),
-        )
-        .name("actuator force")
-        .show_legend(false)
-        .hover_info(plotly::common::HoverInfo::Skip)
+fn colour_bar(at: [f64; 3], scale: f64) -> Value {
+    let mut trace = plotly::scatter3d("actuator force", "markers", at.map(|c| vec![c]));
+    trace["marker"] = json!({
+        "size": 1,
+        "opacity": 0.0,
+        "color": [0.0],
+        "cmin": -scale,
+        "cmax": scale,
+        "colorscale": colors::force_scale(),
+        "showscale": true,
+        "colorbar": {"title": title("Γ (N)"), "lenmode": "pixels", "len": 260},
+    });
+    trace["hoverinfo"] = json!("skip");
+    unlisted(trace)
 }
 
 /// Every point the figure of `shots` draws.
@@ -220,7 +191,7 @@ fn extent(shots: &[Shot]) -> impl Iterator<Item = [f64; 3]> + '_ {
 }
 
 /// Fixed axes that hold every point, at one scale on all three, titled `names`.
-fn layout(points: impl Iterator<Item = [f64; 3]>, names: [&str; 3]) -> Layout {
+fn layout(points: impl Iterator<Item = [f64; 3]>, names: [&str; 3]) -> Value {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for p in points {
@@ -232,28 +203,24 @@ fn layout(points: impl Iterator<Item = [f64; 3]>, names: [&str; 3]) -> Layout {
     let pad = 0.05 * (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
     let span: [f64; 3] = core::array::from_fn(|k| hi[k] - lo[k] + 2.0 * pad);
     let longest = span.iter().copied().fold(0.0, f64::max);
-    let axis = |k: usize| {
-        Axis::new()
-            .range(vec![lo[k] - pad, hi[k] + pad])
-            .title(Title::with_text(names[k]))
-    };
-    let ratio = AspectRatio::new()
-        .x(span[0] / longest)
-        .y(span[1] / longest)
-        .z(span[2] / longest);
-    Layout::new()
-        .scene(
-            LayoutScene::new()
-                .x_axis(axis(0))
-                .y_axis(axis(1))
-                .z_axis(axis(2))
-                .aspect_mode(AspectMode::Manual)
-                .aspect_ratio(ratio)
-                .camera(Camera::new().eye(Eye::new().x(1.5).y(-1.5).z(0.9))),
-        )
-        .legend(Legend::new().x(0.0).y(1.0))
-        .margin(Margin::new().left(0).right(0).top(0).bottom(0))
-        .show_legend(true)
+    let axis = |k: usize| json!({"range": [lo[k] - pad, hi[k] + pad], "title": title(names[k])});
+    json!({
+        "scene": {
+            "xaxis": axis(0),
+            "yaxis": axis(1),
+            "zaxis": axis(2),
+            "aspectmode": "manual",
+            "aspectratio": {
+                "x": span[0] / longest,
+                "y": span[1] / longest,
+                "z": span[2] / longest,
+            },
+            "camera": {"eye": {"x": 1.5, "y": -1.5, "z": 0.9}},
+        },
+        "legend": {"x": 0.0, "y": 1.0},
+        "margin": {"l": 0, "r": 0, "t": 0, "b": 0},
+        "showlegend": true,
+    })
 }
 
 /// The axes' titles of a robot's figure.
@@ -267,23 +234,17 @@ pub fn cloud(
     measure: &str,
     names: [&str; 3],
     robot: Option<&Scene>,
-) -> Plot {
-    let mut plot = Plot::new();
-    let [x, y, z] = xyz(points);
-    plot.add_trace(
-        Scatter3D::new(x, y, z)
-            .mode(Mode::Markers)
-            .marker(
-                Marker::new()
-                    .size(2)
-                    .color_array(values.to_vec())
-                    .color_scale(ColorScale::Palette(ColorScalePalette::Viridis))
-                    .show_scale(true)
-                    .color_bar(ColorBar::new().title(Title::with_text(measure))),
-            )
-            .opacity(0.4)
-            .name("reachable"),
-    );
+) -> Figure {
+    let mut reachable = plotly::scatter3d("reachable", "markers", xyz(points));
+    reachable["marker"] = json!({
+        "size": 2,
+        "color": values,
+        "colorscale": "Viridis",
+        "showscale": true,
+        "colorbar": {"title": title(measure)},
+    });
+    reachable["opacity"] = json!(0.4);
+    let mut data = vec![reachable];
     let mut extent: Vec<[f64; 3]> = points.to_vec();
     if let Some(scene) = robot {
         let shot = Shot {
@@ -293,10 +254,13 @@ pub fn cloud(
             over_force: [false; 6],
             over_speed: [false; 6],
         };
-        plot.add_traces(moving(&shot, 1.0, true));
-        plot.add_trace(solid(&scene.base, colors::BASE, "base", true));
+        data.extend(moving(&shot, 1.0, true));
+        data.push(solid(&scene.base, colors::BASE, "base", true));
         extent.extend(self::extent(core::slice::from_ref(&shot)));
     }
-    plot.set_layout(layout(extent.into_iter(), names));
-    plot
+    Figure {
+        data,
+        layout: layout(extent.into_iter(), names),
+        frames: Vec::new(),
+    }
 }

@@ -6,6 +6,7 @@
 mod colors;
 mod figure;
 mod page;
+mod plotly;
 
 use crate::columns::GAMMA;
 use crate::options::RobotArgs;

@@ -1,19 +1,8 @@
-//! The page: plotly.js embedded (from the `plotly` crate's offline copy), the figure and the
-//! per-frame readout as JSON, and a few lines of script for play, pause and the time slider.
-//! It loads nothing: no server, no network.
+//! The page: plotly.js embedded, the figure and the per-frame readout as JSON, and a few lines
+//! of script for play, pause and the time slider. It loads nothing: no server, no network.
 
 use super::figure::Readout;
-use plotly::Plot;
-
-/// plotly.js as the crate embeds it, without the MathJax the crate adds for LaTeX titles the
-/// page does not use (two of the page's seven megabytes).
-fn plotly_js() -> String {
-    let scripts = Plot::offline_js_sources();
-    match scripts.split_once("</script>") {
-        Some((plotly, _)) => format!("{plotly}</script>"),
-        None => scripts,
-    }
-}
+use super::plotly::{Figure, PLOTLY_JS};
 
 /// JSON that cannot end the `<script>` element it sits in.
 fn embeddable(json: String) -> String {
@@ -24,7 +13,7 @@ fn embeddable(json: String) -> String {
 pub fn page(
     title: &str,
     note: &str,
-    plot: &Plot,
+    plot: &Figure,
     readout: &[Readout],
 ) -> Result<String, serde_json::Error> {
     let figure = embeddable(plot.to_json());
@@ -71,7 +60,7 @@ h1 {{ font-size: 17px; margin: 0 0 2px; }}
 </body>
 </html>
 "#,
-        plotly_js = plotly_js(),
+        plotly_js = format_args!("<script type=\"text/javascript\">{PLOTLY_JS}</script>"),
     ))
 }
 
