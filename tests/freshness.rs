@@ -5,17 +5,24 @@
 
 use c5_generated::manifest::{entry, Kernel, KERNELS};
 use serde_json::Value;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+/// One generation for every test here: it is the suite's longest step (tens of seconds).
+fn fresh_files() -> &'static [(PathBuf, String)] {
+    static FILES: OnceLock<Vec<(PathBuf, String)>> = OnceLock::new();
+    FILES.get_or_init(|| c5_codegen::generated_crate_files().expect("generation succeeds"))
+}
 
 #[test]
 fn generated_files_are_fresh() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("generated");
     let mut stale = Vec::new();
-    for (rel, contents) in c5_codegen::generated_crate_files().expect("generation succeeds") {
+    for (rel, contents) in fresh_files() {
         let path = dir.join(&rel);
         if std::fs::read_to_string(&path).ok().as_deref() != Some(contents.as_str()) {
             if std::env::var_os("UPDATE_GENERATED").is_some() {
-                std::fs::write(&path, &contents).expect("rewrite");
+                std::fs::write(&path, contents).expect("rewrite");
             }
             stale.push(rel.display().to_string());
         }
@@ -29,8 +36,7 @@ fn generated_files_are_fresh() {
 
 /// The kernels of a fresh `ops.json`.
 fn fresh_manifest() -> Vec<Value> {
-    let files = c5_codegen::generated_crate_files().expect("generation succeeds");
-    let (_, json) = files
+    let (_, json) = fresh_files()
         .iter()
         .find(|(rel, _)| rel == Path::new("ops.json"))
         .expect("ops.json is generated");
@@ -96,9 +102,16 @@ fn the_parameter_count_is_the_robot_descriptions() {
 fn every_generated_function_has_its_manifest_entry_and_model() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("generated/src/f64");
     for model in c5_codegen::Model::ALL {
-        let code = ["", "_derivatives", "_regressor"]
-            .map(|part| std::fs::read_to_string(dir.join(format!("{model}{part}.rs"))).unwrap())
-            .concat();
+        // The robot-free and `_params` kernels, and the folded ones in files of their own.
+        let code = [
+            "",
+            "_folded",
+            "_derivatives",
+            "_folded_derivatives",
+            "_regressor",
+        ]
+        .map(|part| std::fs::read_to_string(dir.join(format!("{model}{part}.rs"))).unwrap())
+        .concat();
         let all: Vec<&str> = code
             .lines()
             .filter_map(|l| l.strip_prefix("pub fn "))
@@ -106,7 +119,7 @@ fn every_generated_function_has_its_manifest_entry_and_model() {
             .collect();
         // The FMA twins of a kernel sit beside it: `{kernel}_separate` (safe) and
         // `{kernel}_fused` (`unsafe`, FMA only); the regressors have none.
-        let functions: Vec<&str> = all
+        let mut functions: Vec<&str> = all
             .iter()
             .copied()
             .filter(|f| !f.ends_with("_separate"))
@@ -121,11 +134,13 @@ fn every_generated_function_has_its_manifest_entry_and_model() {
                 "{model}: {f}_fused"
             );
         }
-        let listed: Vec<&str> = KERNELS
+        let mut listed: Vec<&str> = KERNELS
             .iter()
             .filter(|k| k.model == model.name())
             .map(|k| k.name)
             .collect();
+        functions.sort_unstable();
+        listed.sort_unstable();
         assert_eq!(functions, listed, "{model}");
         for kernel in [
             Kernel::InverseDynamics,

@@ -865,13 +865,41 @@ pub struct KernelSet<'a> {
     pub module: String,
     /// A line on the model, for the type's documentation.
     pub summary: String,
-    /// The kernels every model shares, each with whether it also has a batch form.
-    pub kernels: Vec<(&'a KernelSpec, bool)>,
+    /// The kernels every model shares.
+    pub kernels: Vec<SetKernel<'a>>,
     /// The identification kernels (`f64` only, feature `regressor`): the regressor, then the
     /// base regressor whose width is the model's.
     pub regressors: Vec<&'a KernelSpec>,
     /// The derivative kernels (`f64` only, feature `derivatives`).
-    pub derivatives: Vec<&'a KernelSpec>,
+    pub derivatives: Vec<SetKernel<'a>>,
+}
+
+/// A kernel of a [`KernelSet`].
+#[derive(Clone, Copy)]
+pub struct SetKernel<'a> {
+    pub spec: &'a KernelSpec,
+    /// It also has a batch form (feature `batch`).
+    pub batch: bool,
+    /// The robot's parameters are folded in (feature `folded`): its file is
+    /// `{module}_folded*.rs`, and its trait method exists with the feature.
+    pub folded: bool,
+}
+
+impl SetKernel<'_> {
+    /// The `cfg` of its trait method, `extra` (another feature) added.
+    fn cfg(&self, extra: Option<&str>) -> TokenStream {
+        let features: Vec<&str> = self
+            .folded
+            .then_some("folded")
+            .into_iter()
+            .chain(extra)
+            .collect();
+        match features.as_slice() {
+            [] => quote!(),
+            [one] => quote!(#[cfg(feature = #one)]),
+            many => quote!(#[cfg(all(#(feature = #many),*))]),
+        }
+    }
 }
 
 fn type_name(module: &str) -> Ident {
@@ -918,20 +946,20 @@ fn method(
 fn methods(set: &KernelSet, scalar: Scalar) -> Vec<Method> {
     let module = ident(&set.module);
     let mut out = Vec::new();
-    let none = quote!();
-    for (spec, batch) in &set.kernels {
+    for kernel in &set.kernels {
+        let spec = kernel.spec;
         let name = ident(&spec.name);
         let sig = single_signature(spec, scalar);
         let args = sig.0.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
         let doc = format!(" {}", spec.title);
         out.push(method(
             &doc,
-            &none,
+            &kernel.cfg(None),
             &name,
             &sig,
             quote!(#module::#name(#(#args),*)),
         ));
-        if *batch {
+        if kernel.batch {
             let lanes = lane_type(scalar).1;
             let batched = ident(&format!("{}_x{lanes}", spec.name));
             let sig = batch_signature(spec, scalar);
@@ -942,7 +970,7 @@ fn methods(set: &KernelSet, scalar: Scalar) -> Vec<Method> {
             );
             out.push(method(
                 &doc,
-                &quote!(#[cfg(feature = "batch")]),
+                &kernel.cfg(Some("batch")),
                 &batched,
                 &sig,
                 quote!(#module::#batched(#(#args),*)),
@@ -950,14 +978,14 @@ fn methods(set: &KernelSet, scalar: Scalar) -> Vec<Method> {
         }
     }
     if scalar == Scalar::F64 {
-        let cfg = quote!(#[cfg(feature = "derivatives")]);
-        for spec in &set.derivatives {
+        for kernel in &set.derivatives {
+            let spec = kernel.spec;
             let name = ident(&spec.name);
             let sig = single_signature(spec, scalar);
             let args = sig.0.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
             out.push(method(
                 &format!(" {}", spec.title),
-                &cfg,
+                &kernel.cfg(Some("derivatives")),
                 &name,
                 &sig,
                 quote!(#module::#name(#(#args),*)),
@@ -1120,27 +1148,44 @@ pub fn emit_kernel_sets(
     let modules = sets.iter().chain(standalone).map(|set| {
         let module = ident(&set.module);
         let file = |part: &str| format!("{}{part}.rs", set.module);
-        let (kernels, batch) = (file(""), file("_batch"));
-        let batch = set.kernels.iter().any(|(_, b)| *b).then(|| {
+        let kernels = file("");
+        let batch = set.kernels.iter().any(|k| k.batch).then(|| {
             quote! {
                 #[cfg(feature = "batch")]
                 use crate::lanes::#lane;
-                #[cfg(feature = "batch")]
-                include!(#batch);
             }
         });
+        // One `include!` per file the set has, under the features its kernels need.
+        let parts = [
+            ("", None),
+            ("_batch", Some("batch")),
+            ("_derivatives", Some("derivatives")),
+        ];
+        let files = [false, true].into_iter().flat_map(|folded| {
+            parts.into_iter().filter_map(move |(part, feature)| {
+                let kernels: Vec<&SetKernel> = match feature {
+                    Some("derivatives") if scalar == Scalar::F64 => {
+                        set.derivatives.iter().collect()
+                    }
+                    Some("derivatives") => Vec::new(),
+                    Some(_) => set.kernels.iter().filter(|k| k.batch).collect(),
+                    None => set.kernels.iter().collect(),
+                };
+                let first = kernels.into_iter().find(|k| k.folded == folded)?;
+                if first.cfg(feature).is_empty() {
+                    return None; // the set's main file, included unconditionally
+                }
+                let cfg = first.cfg(feature);
+                let name = file(&format!("{}{part}", if folded { "_folded" } else { "" }));
+                Some(quote!(#cfg include!(#name);))
+            })
+        });
+        let files: Vec<TokenStream> = files.collect();
         let regressors = (scalar == Scalar::F64 && !set.regressors.is_empty()).then(|| {
             let regressors = file("_regressor");
             quote! {
                 #[cfg(feature = "regressor")]
                 include!(#regressors);
-            }
-        });
-        let derivatives = (scalar == Scalar::F64 && !set.derivatives.is_empty()).then(|| {
-            let derivatives = file("_derivatives");
-            quote! {
-                #[cfg(feature = "derivatives")]
-                include!(#derivatives);
             }
         });
         let doc = format!(
@@ -1156,8 +1201,8 @@ pub fn emit_kernel_sets(
                 use crate::trig::{atan, cos, sin, sin_cos, sqrt};
                 include!(#kernels);
                 #batch
+                #(#files)*
                 #regressors
-                #derivatives
             }
         }
     });

@@ -576,7 +576,11 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
                 .kernels
                 .iter()
                 .filter(|(e, _)| model::kernels::is_shared(e.id.kernel))
-                .map(|(e, _)| (&e.spec, e.batch))
+                .map(|(e, _)| emit::SetKernel {
+                    spec: &e.spec,
+                    batch: e.batch,
+                    folded: e.folded,
+                })
                 .collect(),
             regressors: group
                 .identification
@@ -584,7 +588,15 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
                 .into_iter()
                 .map(|(e, _)| &e.spec)
                 .collect(),
-            derivatives: group.derivatives.iter().map(|(e, _)| &e.spec).collect(),
+            derivatives: group
+                .derivatives
+                .iter()
+                .map(|(e, _)| emit::SetKernel {
+                    spec: &e.spec,
+                    batch: false,
+                    folded: e.folded,
+                })
+                .collect(),
         }
     }
     let (sets, standalone): (Vec<_>, Vec<_>) = groups.iter().partition(|g| {
@@ -654,48 +666,63 @@ fn mechanism_files(group: &MechanismKernels<'_>) -> Result<Vec<(PathBuf, String)
         )
     };
     let what = format!("model: {}; robot: {robot}", mechanism.name());
-    let specs: Vec<_> = mine.iter().map(|(e, c)| (&e.spec, *c)).collect();
-    let batched: Vec<_> = mine
-        .iter()
-        .filter(|(e, _)| e.batch)
-        .map(|(e, c)| (&e.spec, *c))
-        .collect();
     let mut files = Vec::new();
-    for scalar in [Scalar::F64, Scalar::F32] {
-        let mut kernels = emit::emit_file(
-            &header(&specs, &what),
-            &specs,
-            scalar,
-            TrigCalls::Functions,
-            Some(&emit::FmaDispatch::crate_switch()),
-        )?;
-        kernels.push_str(&manifest::mechanism_parameter_constants(mechanism)?);
-        files.push((
-            PathBuf::from(format!("src/{}/{module}.rs", scalar.name())),
-            kernels,
-        ));
-        if !batched.is_empty() {
+    // The kernels with the robot folded in as constants go to files of their own, which the
+    // crate compiles with its `folded` feature: the runtime calls the `*_params` forms, which
+    // serve any robot of the kind, and a build that does not ask for the folded ones does not
+    // pay for them (docs/build-time.md).
+    for (part, folded) in [("", false), ("_folded", true)] {
+        let specs: Vec<_> = mine
+            .iter()
+            .filter(|(e, _)| e.folded == folded)
+            .map(|(e, c)| (&e.spec, *c))
+            .collect();
+        let batched: Vec<_> = mine
+            .iter()
+            .filter(|(e, _)| e.batch && e.folded == folded)
+            .map(|(e, c)| (&e.spec, *c))
+            .collect();
+        for scalar in [Scalar::F64, Scalar::F32] {
+            let mut kernels = emit::emit_file(
+                &header(&specs, &what),
+                &specs,
+                scalar,
+                TrigCalls::Functions,
+                Some(&emit::FmaDispatch::crate_switch()),
+            )?;
+            if !folded {
+                kernels.push_str(&manifest::mechanism_parameter_constants(mechanism)?);
+            }
             files.push((
-                PathBuf::from(format!("src/{}/{module}_batch.rs", scalar.name())),
-                emit::emit_batch_file(&header(&specs, &what), &batched, scalar)?,
+                PathBuf::from(format!("src/{}/{module}{part}.rs", scalar.name())),
+                kernels,
+            ));
+            if !batched.is_empty() {
+                files.push((
+                    PathBuf::from(format!("src/{}/{module}{part}_batch.rs", scalar.name())),
+                    emit::emit_batch_file(&header(&batched, &what), &batched, scalar)?,
+                ));
+            }
+        }
+        let derivatives: Vec<_> = group
+            .derivatives
+            .iter()
+            .filter(|(e, _)| e.folded == folded)
+            .map(|(e, c)| (&e.spec, *c))
+            .collect();
+        if !derivatives.is_empty() {
+            files.push((
+                PathBuf::from(format!("src/f64/{module}{part}_derivatives.rs")),
+                emit::emit_file(
+                    &header(&derivatives, &what),
+                    &derivatives,
+                    Scalar::F64,
+                    TrigCalls::Functions,
+                    Some(&emit::FmaDispatch::crate_switch()),
+                )?,
             ));
         }
     }
-    let pairs: Vec<_> = group
-        .derivatives
-        .iter()
-        .map(|(e, c)| (&e.spec, *c))
-        .collect();
-    files.push((
-        PathBuf::from(format!("src/f64/{module}_derivatives.rs")),
-        emit::emit_file(
-            &header(&pairs, &what),
-            &pairs,
-            Scalar::F64,
-            TrigCalls::Functions,
-            Some(&emit::FmaDispatch::crate_switch()),
-        )?,
-    ));
     let id = group.identification;
     let pairs: Vec<_> = id.pairs().into_iter().map(|(e, c)| (&e.spec, c)).collect();
     files.push((

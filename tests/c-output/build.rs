@@ -22,11 +22,6 @@ fn config(out: &Path, model: Model, scalar: Scalar, stem: &str, naming: &Naming)
     config
 }
 
-fn generate(out: &Path, model: Model, scalar: Scalar, stem: &str, naming: &Naming) -> PathBuf {
-    config(out, model, scalar, stem, naming).generate().unwrap();
-    out.join(format!("{stem}.c"))
-}
-
 fn rust_type(shape: Shape, ty: &str) -> String {
     match shape {
         Shape::Vector(n) => format!("[{ty}; {n}]"),
@@ -179,6 +174,22 @@ fn own_trigonometry(source: &Path) {
     std::fs::write(source, text).unwrap();
 }
 
+/// A copy of the generated `{stem}.c` and `{stem}.h` with every name that starts with `from`
+/// starting with `to` instead (the functions, the file names, the `#include`): the same kernels
+/// under another prefix, without generating them again.
+fn renamed(out: &Path, stem: &str, from: &str, to: &str) -> PathBuf {
+    let new_stem = stem.replacen(from, to, 1);
+    for ext in ["c", "h"] {
+        let text = std::fs::read_to_string(out.join(format!("{stem}.{ext}"))).unwrap();
+        std::fs::write(
+            out.join(format!("{new_stem}.{ext}")),
+            text.replace(from, to),
+        )
+        .unwrap();
+    }
+    out.join(format!("{new_stem}.c"))
+}
+
 fn main() {
     let out = PathBuf::from(std::env::var("OUT_DIR").unwrap());
     let mut sources = Vec::new();
@@ -187,31 +198,48 @@ fn main() {
         "// Written by build.rs: FFI adapters of the C kernels and the Rust kernels.\n",
     );
     let mut fused_sources = Vec::new();
+    let mut native = Vec::new();
     for model in Model::ALL {
         for scalar in [Scalar::F64, Scalar::F32] {
+            // One generation per model and scalar: the separate and the fused arithmetic are the
+            // same C source (`C5_FMA` is chosen when it is compiled), under two prefixes.
+            let naming = Naming::with_scalar_suffix(&format!("c5_{model}_"), scalar);
+            let stem = format!("c5_{model}_{}", scalar.name());
+            let config = config(&out, model, scalar, &stem, &naming);
+            config.generate().unwrap();
+            let signatures = config.signatures().unwrap();
             let paths: &[Arithmetic] = match scalar {
                 Scalar::F64 => &[Arithmetic::Separate, Arithmetic::Fused],
                 Scalar::F32 => &[Arithmetic::Only],
             };
+            if scalar == Scalar::F64 {
+                // For the bench: the kernels as a user would build them, with the C library.
+                native.push(renamed(
+                    &out,
+                    &stem,
+                    &format!("c5_{model}_"),
+                    &format!("native_{model}_"),
+                ));
+            }
             for &path in paths {
-                let naming = match path {
-                    Arithmetic::Fused => Naming {
-                        prefix: format!("c5_fused_{model}_"),
-                        suffix: String::new(),
-                    },
-                    _ => Naming::with_scalar_suffix(&format!("c5_{model}_"), scalar),
+                let (source, naming) = match path {
+                    Arithmetic::Fused => {
+                        let prefix = format!("c5_fused_{model}_");
+                        let source = renamed(&out, &stem, &naming.prefix, &prefix);
+                        let naming = Naming {
+                            prefix,
+                            suffix: String::new(),
+                        };
+                        (source, naming)
+                    }
+                    _ => (out.join(format!("{stem}.c")), naming.clone()),
                 };
-                let stem = format!("c5_{}{model}_{}", path.suffix(), scalar.name());
-                let source = generate(&out, model, scalar, &stem, &naming);
                 own_trigonometry(&source);
                 if path == Arithmetic::Fused {
                     fused_sources.push(source);
                 } else {
                     sources.push(source);
                 }
-                let signatures = config(&out, model, scalar, &stem, &naming)
-                    .signatures()
-                    .unwrap();
                 for spec in &signatures {
                     let id = adapters(&mut code, spec, model, scalar, &naming, path);
                     let inputs: Vec<String> = spec
@@ -259,21 +287,6 @@ fn main() {
         .extra_warnings(true)
         .warnings_into_errors(true)
         .compile("c5kernels_fused");
-    // For the bench: the f64 kernels as a user would build them for speed.
-    let mut native = Vec::new();
-    for model in Model::ALL {
-        let naming = Naming {
-            prefix: format!("native_{model}_"),
-            suffix: String::new(),
-        };
-        native.push(generate(
-            &out,
-            model,
-            Scalar::F64,
-            &format!("native_{model}"),
-            &naming,
-        ));
-    }
     // The baseline: the same inverse dynamics written with SymPy (sympy/generate.py).
     // `paper_by_legs`: the paper model as the chapter computes it, leg by leg.
     let baselines = ["consistent", "paper", "paper_by_legs"];

@@ -136,6 +136,9 @@ pub struct Entry {
     pub spec: KernelSpec,
     /// Also emitted in batch form.
     pub batch: bool,
+    /// The robot's parameters are folded in as constants, and a `*_params` form of the same
+    /// kernel takes them as inputs: a program for any robot of the kind needs only the latter.
+    pub folded: bool,
 }
 
 /// The kind of an input of a kernel; a build reads its inputs by kind through [`Context`].
@@ -1252,6 +1255,7 @@ pub(crate) fn spec(
         id,
         spec,
         batch: decl.batch,
+        folded: decl.reads == Reads::Robot && params_at.is_none(),
     }
 }
 

@@ -14,6 +14,10 @@ pub mod consistent {
     use crate::lanes::F32x8;
     #[cfg(feature = "batch")]
     include!("consistent_batch.rs");
+    #[cfg(feature = "folded")]
+    include!("consistent_folded.rs");
+    #[cfg(all(feature = "folded", feature = "batch"))]
+    include!("consistent_folded_batch.rs");
 }
 /// The paper kernels, `f32`: The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
@@ -24,12 +28,18 @@ pub mod paper {
     use crate::lanes::F32x8;
     #[cfg(feature = "batch")]
     include!("paper_batch.rs");
+    #[cfg(feature = "folded")]
+    include!("paper_folded.rs");
+    #[cfg(all(feature = "folded", feature = "batch"))]
+    include!("paper_folded_batch.rs");
 }
 /// The gough_stewart kernels, `f32`: The Gough-Stewart platform (6-UPS): each leg a universal joint on the base, a prismatic actuator (cylinder and rod, turning with the leg) and a spherical joint on the platform; every quantity derived from the leg's closed forms by exact differentiation.
 #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
 pub mod gough_stewart {
     use crate::trig::{atan, cos, sin, sin_cos, sqrt};
     include!("gough_stewart.rs");
+    #[cfg(feature = "folded")]
+    include!("gough_stewart_folded.rs");
 }
 /// The kernels every model has, with one signature for all (`f32`): pick a model once ([`Consistent`], [`Paper`]) and call every kernel through it, statically (`K: Kernels`) or dynamically (`&dyn Kernels`).
 pub trait Kernels: core::fmt::Debug + Sync {
@@ -37,18 +47,23 @@ pub trait Kernels: core::fmt::Debug + Sync {
     fn model(&self) -> &'static str;
     /// The divisors of eq 16, `[r11 r22 r33]`: the pose is singular where one vanishes.
     fn singularity_terms(&self, pose: &[f32; 6]) -> [f32; 3];
+    #[cfg(feature = "folded")]
     /// Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.
     fn inverse_kinematics(&self, pose: &[f32; 6]) -> ([f32; 6], [[f32; 3]; 6], [f32; 3]);
+    #[cfg(feature = "folded")]
     /// Inverse Jacobian `J⁻¹` at a pose.
     fn inverse_jacobian_pose(&self, pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]);
+    #[cfg(feature = "folded")]
     /// Jacobian `J` at a pose, in factored form.
     fn jacobian_pose(&self, pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]);
+    #[cfg(feature = "folded")]
     /// Actuator rates `Q̇_a = J⁻¹ V`.
     fn joint_velocities(
         &self,
         pose: &[f32; 6],
         twist: &[f32; 6],
     ) -> ([f32; 6], [f32; 3]);
+    #[cfg(feature = "folded")]
     /// Actuator accelerations `Q̈_a` from the platform's motion.
     fn joint_accelerations(
         &self,
@@ -56,6 +71,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[f32; 6],
         accel: &[f32; 6],
     ) -> ([f32; 6], [f32; 3]);
+    #[cfg(feature = "folded")]
     /// The legs' loads as one wrench `Φ` at `C`, such that `Γ = Jᵀ (F_{N+1} + Φ)`.
     fn leg_wrench(
         &self,
@@ -63,6 +79,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[f32; 6],
         accel: &[f32; 6],
     ) -> ([f32; 6], [f32; 3]);
+    #[cfg(feature = "folded")]
     /// The platform's wrench `F_{N+1} = Λ_C V̇ + C_C + G_C` at `C`.
     fn platform_wrench(
         &self,
@@ -70,10 +87,13 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[f32; 6],
         accel: &[f32; 6],
     ) -> [f32; 6];
+    #[cfg(feature = "folded")]
     /// Task-space inertia `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: symmetric positive definite.
     fn task_inertia(&self, pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]);
+    #[cfg(feature = "folded")]
     /// Task-space bias `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal, gravity.
     fn task_bias(&self, pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 3]);
+    #[cfg(feature = "folded")]
     /// Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
     fn forward_dynamics(
         &self,
@@ -81,7 +101,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[f32; 6],
         forces: &[f32; 6],
     ) -> ([f32; 6], [f32; 3]);
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     /// [`Kernels::forward_dynamics`] of 8 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what the single-state kernel computes.
     fn forward_dynamics_x8(
         &self,
@@ -89,6 +109,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[[f32; 8]; 6],
         forces: &[[f32; 8]; 6],
     ) -> ([[f32; 8]; 6], [[f32; 8]; 3]);
+    #[cfg(feature = "folded")]
     /// Inverse dynamics end to end: actuator forces `Γ` from the platform state.
     fn inverse_dynamics(
         &self,
@@ -96,7 +117,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[f32; 6],
         accel: &[f32; 6],
     ) -> ([f32; 6], [f32; 3]);
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     /// [`Kernels::inverse_dynamics`] of 8 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what the single-state kernel computes.
     fn inverse_dynamics_x8(
         &self,
@@ -104,12 +125,15 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[[f32; 8]; 6],
         accel: &[[f32; 8]; 6],
     ) -> ([[f32; 8]; 6], [[f32; 8]; 3]);
+    #[cfg(feature = "folded")]
     /// Forward kinematics in closed form: the platform's `R` and `C` from the actuator positions.
     fn forward_kinematics(&self, q: &[f32; 6]) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]);
     /// The RPY angles `[α β γ]` of a rotation of the workspace (eq 15 inverted).
     fn rpy_angles(&self, r: &[[f32; 3]; 3]) -> [f32; 3];
+    #[cfg(feature = "folded")]
     /// The platform twist from the actuator rates, `V = J Q̇_a`.
     fn platform_twist(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]);
+    #[cfg(feature = "folded")]
     /// The platform's classical acceleration from the actuators' motion.
     fn platform_acceleration(
         &self,
@@ -117,6 +141,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         qd: &[f32; 6],
         qdd: &[f32; 6],
     ) -> ([f32; 6], [f32; 4]);
+    #[cfg(feature = "folded")]
     /// The platform state (pose, twist, acceleration) from the actuators' motion.
     fn platform_state(
         &self,
@@ -124,6 +149,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         qd: &[f32; 6],
         qdd: &[f32; 6],
     ) -> ([f32; 6], [f32; 6], [f32; 6], [f32; 4]);
+    #[cfg(feature = "folded")]
     /// Inverse dynamics from what the encoders measure: `Γ` from the actuators' positions, rates and accelerations.
     fn inverse_dynamics_joint(
         &self,
@@ -131,7 +157,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         qd: &[f32; 6],
         qdd: &[f32; 6],
     ) -> ([f32; 6], [f32; 4]);
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     /// [`Kernels::inverse_dynamics_joint`] of 8 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what the single-state kernel computes.
     fn inverse_dynamics_joint_x8(
         &self,
@@ -139,16 +165,19 @@ pub trait Kernels: core::fmt::Debug + Sync {
         qd: &[[f32; 8]; 6],
         qdd: &[[f32; 8]; 6],
     ) -> ([[f32; 8]; 6], [[f32; 8]; 4]);
+    #[cfg(feature = "folded")]
     /// Joint-space inertia `M_q = Jᵀ M_x J` of `Γ = M_q Q̈_a + c_q`: symmetric positive definite.
     fn joint_inertia(&self, q: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 4]);
+    #[cfg(feature = "folded")]
     /// Joint-space bias `c_q` of `Γ = M_q Q̈_a + c_q`: Coriolis, centrifugal, gravity.
     fn joint_bias(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]);
+    #[cfg(feature = "folded")]
     /// What the robot's limits bound, at a pose: each ball's position `Q_i1` on its actuator, its offset on its plate, and the cosine of its tilt.
     fn limit_geometry(
         &self,
         pose: &[f32; 6],
     ) -> ([f32; 6], [f32; 12], [f32; 6], [f32; 3]);
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     /// [`Kernels::limit_geometry`] of 8 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what the single-state kernel computes.
     fn limit_geometry_x8(
         &self,
@@ -335,6 +364,7 @@ impl Kernels for Consistent {
     fn singularity_terms(&self, pose: &[f32; 6]) -> [f32; 3] {
         consistent::singularity_terms(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_kinematics(
         &self,
@@ -342,14 +372,17 @@ impl Kernels for Consistent {
     ) -> ([f32; 6], [[f32; 3]; 6], [f32; 3]) {
         consistent::inverse_kinematics(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_jacobian_pose(&self, pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
         consistent::inverse_jacobian_pose(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn jacobian_pose(&self, pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
         consistent::jacobian_pose(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_velocities(
         &self,
@@ -358,6 +391,7 @@ impl Kernels for Consistent {
     ) -> ([f32; 6], [f32; 3]) {
         consistent::joint_velocities(pose, twist)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_accelerations(
         &self,
@@ -367,6 +401,7 @@ impl Kernels for Consistent {
     ) -> ([f32; 6], [f32; 3]) {
         consistent::joint_accelerations(pose, twist, accel)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn leg_wrench(
         &self,
@@ -376,6 +411,7 @@ impl Kernels for Consistent {
     ) -> ([f32; 6], [f32; 3]) {
         consistent::leg_wrench(pose, twist, accel)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_wrench(
         &self,
@@ -385,14 +421,17 @@ impl Kernels for Consistent {
     ) -> [f32; 6] {
         consistent::platform_wrench(pose, twist, accel)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn task_inertia(&self, pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
         consistent::task_inertia(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn task_bias(&self, pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 3]) {
         consistent::task_bias(pose, twist)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn forward_dynamics(
         &self,
@@ -402,7 +441,7 @@ impl Kernels for Consistent {
     ) -> ([f32; 6], [f32; 3]) {
         consistent::forward_dynamics(pose, twist, forces)
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn forward_dynamics_x8(
         &self,
@@ -412,6 +451,7 @@ impl Kernels for Consistent {
     ) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
         consistent::forward_dynamics_x8(pose, twist, forces)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_dynamics(
         &self,
@@ -421,7 +461,7 @@ impl Kernels for Consistent {
     ) -> ([f32; 6], [f32; 3]) {
         consistent::inverse_dynamics(pose, twist, accel)
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn inverse_dynamics_x8(
         &self,
@@ -431,6 +471,7 @@ impl Kernels for Consistent {
     ) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
         consistent::inverse_dynamics_x8(pose, twist, accel)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn forward_kinematics(&self, q: &[f32; 6]) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]) {
         consistent::forward_kinematics(q)
@@ -439,10 +480,12 @@ impl Kernels for Consistent {
     fn rpy_angles(&self, r: &[[f32; 3]; 3]) -> [f32; 3] {
         consistent::rpy_angles(r)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_twist(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
         consistent::platform_twist(q, qd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_acceleration(
         &self,
@@ -452,6 +495,7 @@ impl Kernels for Consistent {
     ) -> ([f32; 6], [f32; 4]) {
         consistent::platform_acceleration(q, qd, qdd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_state(
         &self,
@@ -461,6 +505,7 @@ impl Kernels for Consistent {
     ) -> ([f32; 6], [f32; 6], [f32; 6], [f32; 4]) {
         consistent::platform_state(q, qd, qdd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_dynamics_joint(
         &self,
@@ -470,7 +515,7 @@ impl Kernels for Consistent {
     ) -> ([f32; 6], [f32; 4]) {
         consistent::inverse_dynamics_joint(q, qd, qdd)
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn inverse_dynamics_joint_x8(
         &self,
@@ -480,14 +525,17 @@ impl Kernels for Consistent {
     ) -> ([[f32; 8]; 6], [[f32; 8]; 4]) {
         consistent::inverse_dynamics_joint_x8(q, qd, qdd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_inertia(&self, q: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 4]) {
         consistent::joint_inertia(q)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_bias(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
         consistent::joint_bias(q, qd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn limit_geometry(
         &self,
@@ -495,7 +543,7 @@ impl Kernels for Consistent {
     ) -> ([f32; 6], [f32; 12], [f32; 6], [f32; 3]) {
         consistent::limit_geometry(pose)
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn limit_geometry_x8(
         &self,
@@ -730,6 +778,7 @@ impl Kernels for Paper {
     fn singularity_terms(&self, pose: &[f32; 6]) -> [f32; 3] {
         paper::singularity_terms(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_kinematics(
         &self,
@@ -737,14 +786,17 @@ impl Kernels for Paper {
     ) -> ([f32; 6], [[f32; 3]; 6], [f32; 3]) {
         paper::inverse_kinematics(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_jacobian_pose(&self, pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
         paper::inverse_jacobian_pose(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn jacobian_pose(&self, pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
         paper::jacobian_pose(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_velocities(
         &self,
@@ -753,6 +805,7 @@ impl Kernels for Paper {
     ) -> ([f32; 6], [f32; 3]) {
         paper::joint_velocities(pose, twist)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_accelerations(
         &self,
@@ -762,6 +815,7 @@ impl Kernels for Paper {
     ) -> ([f32; 6], [f32; 3]) {
         paper::joint_accelerations(pose, twist, accel)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn leg_wrench(
         &self,
@@ -771,6 +825,7 @@ impl Kernels for Paper {
     ) -> ([f32; 6], [f32; 3]) {
         paper::leg_wrench(pose, twist, accel)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_wrench(
         &self,
@@ -780,14 +835,17 @@ impl Kernels for Paper {
     ) -> [f32; 6] {
         paper::platform_wrench(pose, twist, accel)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn task_inertia(&self, pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
         paper::task_inertia(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn task_bias(&self, pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 3]) {
         paper::task_bias(pose, twist)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn forward_dynamics(
         &self,
@@ -797,7 +855,7 @@ impl Kernels for Paper {
     ) -> ([f32; 6], [f32; 3]) {
         paper::forward_dynamics(pose, twist, forces)
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn forward_dynamics_x8(
         &self,
@@ -807,6 +865,7 @@ impl Kernels for Paper {
     ) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
         paper::forward_dynamics_x8(pose, twist, forces)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_dynamics(
         &self,
@@ -816,7 +875,7 @@ impl Kernels for Paper {
     ) -> ([f32; 6], [f32; 3]) {
         paper::inverse_dynamics(pose, twist, accel)
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn inverse_dynamics_x8(
         &self,
@@ -826,6 +885,7 @@ impl Kernels for Paper {
     ) -> ([[f32; 8]; 6], [[f32; 8]; 3]) {
         paper::inverse_dynamics_x8(pose, twist, accel)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn forward_kinematics(&self, q: &[f32; 6]) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]) {
         paper::forward_kinematics(q)
@@ -834,10 +894,12 @@ impl Kernels for Paper {
     fn rpy_angles(&self, r: &[[f32; 3]; 3]) -> [f32; 3] {
         paper::rpy_angles(r)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_twist(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
         paper::platform_twist(q, qd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_acceleration(
         &self,
@@ -847,6 +909,7 @@ impl Kernels for Paper {
     ) -> ([f32; 6], [f32; 4]) {
         paper::platform_acceleration(q, qd, qdd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_state(
         &self,
@@ -856,6 +919,7 @@ impl Kernels for Paper {
     ) -> ([f32; 6], [f32; 6], [f32; 6], [f32; 4]) {
         paper::platform_state(q, qd, qdd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_dynamics_joint(
         &self,
@@ -865,7 +929,7 @@ impl Kernels for Paper {
     ) -> ([f32; 6], [f32; 4]) {
         paper::inverse_dynamics_joint(q, qd, qdd)
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn inverse_dynamics_joint_x8(
         &self,
@@ -875,14 +939,17 @@ impl Kernels for Paper {
     ) -> ([[f32; 8]; 6], [[f32; 8]; 4]) {
         paper::inverse_dynamics_joint_x8(q, qd, qdd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_inertia(&self, q: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 4]) {
         paper::joint_inertia(q)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_bias(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
         paper::joint_bias(q, qd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn limit_geometry(
         &self,
@@ -890,7 +957,7 @@ impl Kernels for Paper {
     ) -> ([f32; 6], [f32; 12], [f32; 6], [f32; 3]) {
         paper::limit_geometry(pose)
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn limit_geometry_x8(
         &self,
@@ -1144,6 +1211,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.singularity_terms(pose),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_kinematics(
         &self,
@@ -1154,6 +1222,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.inverse_kinematics(pose),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_jacobian_pose(&self, pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
         match self {
@@ -1161,6 +1230,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.inverse_jacobian_pose(pose),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn jacobian_pose(&self, pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
         match self {
@@ -1168,6 +1238,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.jacobian_pose(pose),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_velocities(
         &self,
@@ -1179,6 +1250,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.joint_velocities(pose, twist),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_accelerations(
         &self,
@@ -1191,6 +1263,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.joint_accelerations(pose, twist, accel),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn leg_wrench(
         &self,
@@ -1203,6 +1276,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.leg_wrench(pose, twist, accel),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_wrench(
         &self,
@@ -1215,6 +1289,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.platform_wrench(pose, twist, accel),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn task_inertia(&self, pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 3]) {
         match self {
@@ -1222,6 +1297,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.task_inertia(pose),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn task_bias(&self, pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 3]) {
         match self {
@@ -1229,6 +1305,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.task_bias(pose, twist),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn forward_dynamics(
         &self,
@@ -1241,7 +1318,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.forward_dynamics(pose, twist, forces),
         }
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn forward_dynamics_x8(
         &self,
@@ -1254,6 +1331,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.forward_dynamics_x8(pose, twist, forces),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_dynamics(
         &self,
@@ -1266,7 +1344,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.inverse_dynamics(pose, twist, accel),
         }
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn inverse_dynamics_x8(
         &self,
@@ -1279,6 +1357,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.inverse_dynamics_x8(pose, twist, accel),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn forward_kinematics(&self, q: &[f32; 6]) -> ([[f32; 3]; 3], [f32; 3], [f32; 4]) {
         match self {
@@ -1293,6 +1372,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.rpy_angles(r),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_twist(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
         match self {
@@ -1300,6 +1380,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.platform_twist(q, qd),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_acceleration(
         &self,
@@ -1312,6 +1393,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.platform_acceleration(q, qd, qdd),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_state(
         &self,
@@ -1324,6 +1406,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.platform_state(q, qd, qdd),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_dynamics_joint(
         &self,
@@ -1336,7 +1419,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.inverse_dynamics_joint(q, qd, qdd),
         }
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn inverse_dynamics_joint_x8(
         &self,
@@ -1349,6 +1432,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.inverse_dynamics_joint_x8(q, qd, qdd),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_inertia(&self, q: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 4]) {
         match self {
@@ -1356,6 +1440,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.joint_inertia(q),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_bias(&self, q: &[f32; 6], qd: &[f32; 6]) -> ([f32; 6], [f32; 4]) {
         match self {
@@ -1363,6 +1448,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.joint_bias(q, qd),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn limit_geometry(
         &self,
@@ -1373,7 +1459,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.limit_geometry(pose),
         }
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn limit_geometry_x8(
         &self,

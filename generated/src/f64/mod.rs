@@ -14,10 +14,16 @@ pub mod consistent {
     use crate::lanes::F64x4;
     #[cfg(feature = "batch")]
     include!("consistent_batch.rs");
-    #[cfg(feature = "regressor")]
-    include!("consistent_regressor.rs");
     #[cfg(feature = "derivatives")]
     include!("consistent_derivatives.rs");
+    #[cfg(feature = "folded")]
+    include!("consistent_folded.rs");
+    #[cfg(all(feature = "folded", feature = "batch"))]
+    include!("consistent_folded_batch.rs");
+    #[cfg(all(feature = "folded", feature = "derivatives"))]
+    include!("consistent_folded_derivatives.rs");
+    #[cfg(feature = "regressor")]
+    include!("consistent_regressor.rs");
 }
 /// The paper kernels, `f64`: The chapter as published: `J⁻¹` of eq 22 (rows `[(n_i × P_i2)ᵀ n_iᵀ]`), the derivative of eq 16 only at zero orientation (slip 4).
 #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
@@ -28,20 +34,28 @@ pub mod paper {
     use crate::lanes::F64x4;
     #[cfg(feature = "batch")]
     include!("paper_batch.rs");
-    #[cfg(feature = "regressor")]
-    include!("paper_regressor.rs");
     #[cfg(feature = "derivatives")]
     include!("paper_derivatives.rs");
+    #[cfg(feature = "folded")]
+    include!("paper_folded.rs");
+    #[cfg(all(feature = "folded", feature = "batch"))]
+    include!("paper_folded_batch.rs");
+    #[cfg(all(feature = "folded", feature = "derivatives"))]
+    include!("paper_folded_derivatives.rs");
+    #[cfg(feature = "regressor")]
+    include!("paper_regressor.rs");
 }
 /// The gough_stewart kernels, `f64`: The Gough-Stewart platform (6-UPS): each leg a universal joint on the base, a prismatic actuator (cylinder and rod, turning with the leg) and a spherical joint on the platform; every quantity derived from the leg's closed forms by exact differentiation.
 #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
 pub mod gough_stewart {
     use crate::trig::{atan, cos, sin, sin_cos, sqrt};
     include!("gough_stewart.rs");
-    #[cfg(feature = "regressor")]
-    include!("gough_stewart_regressor.rs");
     #[cfg(feature = "derivatives")]
     include!("gough_stewart_derivatives.rs");
+    #[cfg(feature = "folded")]
+    include!("gough_stewart_folded.rs");
+    #[cfg(feature = "regressor")]
+    include!("gough_stewart_regressor.rs");
 }
 /// The kernels every model has, with one signature for all (`f64`): pick a model once ([`Consistent`], [`Paper`]) and call every kernel through it, statically (`K: Kernels`) or dynamically (`&dyn Kernels`).
 pub trait Kernels: core::fmt::Debug + Sync {
@@ -49,18 +63,23 @@ pub trait Kernels: core::fmt::Debug + Sync {
     fn model(&self) -> &'static str;
     /// The divisors of eq 16, `[r11 r22 r33]`: the pose is singular where one vanishes.
     fn singularity_terms(&self, pose: &[f64; 6]) -> [f64; 3];
+    #[cfg(feature = "folded")]
     /// Inverse kinematics: actuator lengths `Q_i1` and the vectors `P_i2`.
     fn inverse_kinematics(&self, pose: &[f64; 6]) -> ([f64; 6], [[f64; 3]; 6], [f64; 3]);
+    #[cfg(feature = "folded")]
     /// Inverse Jacobian `J⁻¹` at a pose.
     fn inverse_jacobian_pose(&self, pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]);
+    #[cfg(feature = "folded")]
     /// Jacobian `J` at a pose, in factored form.
     fn jacobian_pose(&self, pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]);
+    #[cfg(feature = "folded")]
     /// Actuator rates `Q̇_a = J⁻¹ V`.
     fn joint_velocities(
         &self,
         pose: &[f64; 6],
         twist: &[f64; 6],
     ) -> ([f64; 6], [f64; 3]);
+    #[cfg(feature = "folded")]
     /// Actuator accelerations `Q̈_a` from the platform's motion.
     fn joint_accelerations(
         &self,
@@ -68,6 +87,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[f64; 6],
         accel: &[f64; 6],
     ) -> ([f64; 6], [f64; 3]);
+    #[cfg(feature = "folded")]
     /// The legs' loads as one wrench `Φ` at `C`, such that `Γ = Jᵀ (F_{N+1} + Φ)`.
     fn leg_wrench(
         &self,
@@ -75,6 +95,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[f64; 6],
         accel: &[f64; 6],
     ) -> ([f64; 6], [f64; 3]);
+    #[cfg(feature = "folded")]
     /// The platform's wrench `F_{N+1} = Λ_C V̇ + C_C + G_C` at `C`.
     fn platform_wrench(
         &self,
@@ -82,10 +103,13 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[f64; 6],
         accel: &[f64; 6],
     ) -> [f64; 6];
+    #[cfg(feature = "folded")]
     /// Task-space inertia `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: symmetric positive definite.
     fn task_inertia(&self, pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]);
+    #[cfg(feature = "folded")]
     /// Task-space bias `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal, gravity.
     fn task_bias(&self, pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64; 3]);
+    #[cfg(feature = "folded")]
     /// Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
     fn forward_dynamics(
         &self,
@@ -93,7 +117,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[f64; 6],
         forces: &[f64; 6],
     ) -> ([f64; 6], [f64; 3]);
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     /// [`Kernels::forward_dynamics`] of 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what the single-state kernel computes.
     fn forward_dynamics_x4(
         &self,
@@ -101,6 +125,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[[f64; 4]; 6],
         forces: &[[f64; 4]; 6],
     ) -> ([[f64; 4]; 6], [[f64; 4]; 3]);
+    #[cfg(feature = "folded")]
     /// Inverse dynamics end to end: actuator forces `Γ` from the platform state.
     fn inverse_dynamics(
         &self,
@@ -108,7 +133,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[f64; 6],
         accel: &[f64; 6],
     ) -> ([f64; 6], [f64; 3]);
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     /// [`Kernels::inverse_dynamics`] of 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what the single-state kernel computes.
     fn inverse_dynamics_x4(
         &self,
@@ -116,12 +141,15 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[[f64; 4]; 6],
         accel: &[[f64; 4]; 6],
     ) -> ([[f64; 4]; 6], [[f64; 4]; 3]);
+    #[cfg(feature = "folded")]
     /// Forward kinematics in closed form: the platform's `R` and `C` from the actuator positions.
     fn forward_kinematics(&self, q: &[f64; 6]) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]);
     /// The RPY angles `[α β γ]` of a rotation of the workspace (eq 15 inverted).
     fn rpy_angles(&self, r: &[[f64; 3]; 3]) -> [f64; 3];
+    #[cfg(feature = "folded")]
     /// The platform twist from the actuator rates, `V = J Q̇_a`.
     fn platform_twist(&self, q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]);
+    #[cfg(feature = "folded")]
     /// The platform's classical acceleration from the actuators' motion.
     fn platform_acceleration(
         &self,
@@ -129,6 +157,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         qd: &[f64; 6],
         qdd: &[f64; 6],
     ) -> ([f64; 6], [f64; 4]);
+    #[cfg(feature = "folded")]
     /// The platform state (pose, twist, acceleration) from the actuators' motion.
     fn platform_state(
         &self,
@@ -136,6 +165,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         qd: &[f64; 6],
         qdd: &[f64; 6],
     ) -> ([f64; 6], [f64; 6], [f64; 6], [f64; 4]);
+    #[cfg(feature = "folded")]
     /// Inverse dynamics from what the encoders measure: `Γ` from the actuators' positions, rates and accelerations.
     fn inverse_dynamics_joint(
         &self,
@@ -143,7 +173,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         qd: &[f64; 6],
         qdd: &[f64; 6],
     ) -> ([f64; 6], [f64; 4]);
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     /// [`Kernels::inverse_dynamics_joint`] of 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what the single-state kernel computes.
     fn inverse_dynamics_joint_x4(
         &self,
@@ -151,16 +181,19 @@ pub trait Kernels: core::fmt::Debug + Sync {
         qd: &[[f64; 4]; 6],
         qdd: &[[f64; 4]; 6],
     ) -> ([[f64; 4]; 6], [[f64; 4]; 4]);
+    #[cfg(feature = "folded")]
     /// Joint-space inertia `M_q = Jᵀ M_x J` of `Γ = M_q Q̈_a + c_q`: symmetric positive definite.
     fn joint_inertia(&self, q: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 4]);
+    #[cfg(feature = "folded")]
     /// Joint-space bias `c_q` of `Γ = M_q Q̈_a + c_q`: Coriolis, centrifugal, gravity.
     fn joint_bias(&self, q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]);
+    #[cfg(feature = "folded")]
     /// What the robot's limits bound, at a pose: each ball's position `Q_i1` on its actuator, its offset on its plate, and the cosine of its tilt.
     fn limit_geometry(
         &self,
         pose: &[f64; 6],
     ) -> ([f64; 6], [f64; 12], [f64; 6], [f64; 3]);
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     /// [`Kernels::limit_geometry`] of 4 states at once, one lane each (`pose[k][lane]`), each lane computing exactly what the single-state kernel computes.
     fn limit_geometry_x4(
         &self,
@@ -334,7 +367,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         pose: &[[f64; 4]; 6],
         params: &[f64; 152],
     ) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]);
-    #[cfg(feature = "derivatives")]
+    #[cfg(all(feature = "folded", feature = "derivatives"))]
     /// Inverse dynamics and its exact Jacobians: `Γ`, `∂Γ/∂X`, `∂Γ/∂V`, `∂Γ/∂(ω̇; a_C)`.
     fn inverse_dynamics_derivatives(
         &self,
@@ -342,7 +375,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[f64; 6],
         accel: &[f64; 6],
     ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]);
-    #[cfg(feature = "derivatives")]
+    #[cfg(all(feature = "folded", feature = "derivatives"))]
     /// Forward dynamics and its exact Jacobians: `a = (ω̇; a_C)`, `∂a/∂X`, `∂a/∂V`, `∂a/∂Γ`.
     fn forward_dynamics_derivatives(
         &self,
@@ -350,7 +383,7 @@ pub trait Kernels: core::fmt::Debug + Sync {
         twist: &[f64; 6],
         forces: &[f64; 6],
     ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]);
-    #[cfg(feature = "derivatives")]
+    #[cfg(all(feature = "folded", feature = "derivatives"))]
     /// Inverse dynamics from the actuators' motion and its exact Jacobians: `Γ`, `∂Γ/∂q`, `∂Γ/∂q̇`, `∂Γ/∂q̈`.
     fn inverse_dynamics_joint_derivatives(
         &self,
@@ -426,6 +459,7 @@ impl Kernels for Consistent {
     fn singularity_terms(&self, pose: &[f64; 6]) -> [f64; 3] {
         consistent::singularity_terms(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_kinematics(
         &self,
@@ -433,14 +467,17 @@ impl Kernels for Consistent {
     ) -> ([f64; 6], [[f64; 3]; 6], [f64; 3]) {
         consistent::inverse_kinematics(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_jacobian_pose(&self, pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
         consistent::inverse_jacobian_pose(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn jacobian_pose(&self, pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
         consistent::jacobian_pose(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_velocities(
         &self,
@@ -449,6 +486,7 @@ impl Kernels for Consistent {
     ) -> ([f64; 6], [f64; 3]) {
         consistent::joint_velocities(pose, twist)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_accelerations(
         &self,
@@ -458,6 +496,7 @@ impl Kernels for Consistent {
     ) -> ([f64; 6], [f64; 3]) {
         consistent::joint_accelerations(pose, twist, accel)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn leg_wrench(
         &self,
@@ -467,6 +506,7 @@ impl Kernels for Consistent {
     ) -> ([f64; 6], [f64; 3]) {
         consistent::leg_wrench(pose, twist, accel)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_wrench(
         &self,
@@ -476,14 +516,17 @@ impl Kernels for Consistent {
     ) -> [f64; 6] {
         consistent::platform_wrench(pose, twist, accel)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn task_inertia(&self, pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
         consistent::task_inertia(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn task_bias(&self, pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64; 3]) {
         consistent::task_bias(pose, twist)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn forward_dynamics(
         &self,
@@ -493,7 +536,7 @@ impl Kernels for Consistent {
     ) -> ([f64; 6], [f64; 3]) {
         consistent::forward_dynamics(pose, twist, forces)
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn forward_dynamics_x4(
         &self,
@@ -503,6 +546,7 @@ impl Kernels for Consistent {
     ) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
         consistent::forward_dynamics_x4(pose, twist, forces)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_dynamics(
         &self,
@@ -512,7 +556,7 @@ impl Kernels for Consistent {
     ) -> ([f64; 6], [f64; 3]) {
         consistent::inverse_dynamics(pose, twist, accel)
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn inverse_dynamics_x4(
         &self,
@@ -522,6 +566,7 @@ impl Kernels for Consistent {
     ) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
         consistent::inverse_dynamics_x4(pose, twist, accel)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn forward_kinematics(&self, q: &[f64; 6]) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]) {
         consistent::forward_kinematics(q)
@@ -530,10 +575,12 @@ impl Kernels for Consistent {
     fn rpy_angles(&self, r: &[[f64; 3]; 3]) -> [f64; 3] {
         consistent::rpy_angles(r)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_twist(&self, q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]) {
         consistent::platform_twist(q, qd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_acceleration(
         &self,
@@ -543,6 +590,7 @@ impl Kernels for Consistent {
     ) -> ([f64; 6], [f64; 4]) {
         consistent::platform_acceleration(q, qd, qdd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_state(
         &self,
@@ -552,6 +600,7 @@ impl Kernels for Consistent {
     ) -> ([f64; 6], [f64; 6], [f64; 6], [f64; 4]) {
         consistent::platform_state(q, qd, qdd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_dynamics_joint(
         &self,
@@ -561,7 +610,7 @@ impl Kernels for Consistent {
     ) -> ([f64; 6], [f64; 4]) {
         consistent::inverse_dynamics_joint(q, qd, qdd)
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn inverse_dynamics_joint_x4(
         &self,
@@ -571,14 +620,17 @@ impl Kernels for Consistent {
     ) -> ([[f64; 4]; 6], [[f64; 4]; 4]) {
         consistent::inverse_dynamics_joint_x4(q, qd, qdd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_inertia(&self, q: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 4]) {
         consistent::joint_inertia(q)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_bias(&self, q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]) {
         consistent::joint_bias(q, qd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn limit_geometry(
         &self,
@@ -586,7 +638,7 @@ impl Kernels for Consistent {
     ) -> ([f64; 6], [f64; 12], [f64; 6], [f64; 3]) {
         consistent::limit_geometry(pose)
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn limit_geometry_x4(
         &self,
@@ -808,7 +860,7 @@ impl Kernels for Consistent {
     ) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
         consistent::limit_geometry_params_x4(pose, params)
     }
-    #[cfg(feature = "derivatives")]
+    #[cfg(all(feature = "folded", feature = "derivatives"))]
     #[inline]
     fn inverse_dynamics_derivatives(
         &self,
@@ -818,7 +870,7 @@ impl Kernels for Consistent {
     ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]) {
         consistent::inverse_dynamics_derivatives(pose, twist, accel)
     }
-    #[cfg(feature = "derivatives")]
+    #[cfg(all(feature = "folded", feature = "derivatives"))]
     #[inline]
     fn forward_dynamics_derivatives(
         &self,
@@ -828,7 +880,7 @@ impl Kernels for Consistent {
     ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]) {
         consistent::forward_dynamics_derivatives(pose, twist, forces)
     }
-    #[cfg(feature = "derivatives")]
+    #[cfg(all(feature = "folded", feature = "derivatives"))]
     #[inline]
     fn inverse_dynamics_joint_derivatives(
         &self,
@@ -930,6 +982,7 @@ impl Kernels for Paper {
     fn singularity_terms(&self, pose: &[f64; 6]) -> [f64; 3] {
         paper::singularity_terms(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_kinematics(
         &self,
@@ -937,14 +990,17 @@ impl Kernels for Paper {
     ) -> ([f64; 6], [[f64; 3]; 6], [f64; 3]) {
         paper::inverse_kinematics(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_jacobian_pose(&self, pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
         paper::inverse_jacobian_pose(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn jacobian_pose(&self, pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
         paper::jacobian_pose(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_velocities(
         &self,
@@ -953,6 +1009,7 @@ impl Kernels for Paper {
     ) -> ([f64; 6], [f64; 3]) {
         paper::joint_velocities(pose, twist)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_accelerations(
         &self,
@@ -962,6 +1019,7 @@ impl Kernels for Paper {
     ) -> ([f64; 6], [f64; 3]) {
         paper::joint_accelerations(pose, twist, accel)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn leg_wrench(
         &self,
@@ -971,6 +1029,7 @@ impl Kernels for Paper {
     ) -> ([f64; 6], [f64; 3]) {
         paper::leg_wrench(pose, twist, accel)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_wrench(
         &self,
@@ -980,14 +1039,17 @@ impl Kernels for Paper {
     ) -> [f64; 6] {
         paper::platform_wrench(pose, twist, accel)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn task_inertia(&self, pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
         paper::task_inertia(pose)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn task_bias(&self, pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64; 3]) {
         paper::task_bias(pose, twist)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn forward_dynamics(
         &self,
@@ -997,7 +1059,7 @@ impl Kernels for Paper {
     ) -> ([f64; 6], [f64; 3]) {
         paper::forward_dynamics(pose, twist, forces)
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn forward_dynamics_x4(
         &self,
@@ -1007,6 +1069,7 @@ impl Kernels for Paper {
     ) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
         paper::forward_dynamics_x4(pose, twist, forces)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_dynamics(
         &self,
@@ -1016,7 +1079,7 @@ impl Kernels for Paper {
     ) -> ([f64; 6], [f64; 3]) {
         paper::inverse_dynamics(pose, twist, accel)
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn inverse_dynamics_x4(
         &self,
@@ -1026,6 +1089,7 @@ impl Kernels for Paper {
     ) -> ([[f64; 4]; 6], [[f64; 4]; 3]) {
         paper::inverse_dynamics_x4(pose, twist, accel)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn forward_kinematics(&self, q: &[f64; 6]) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]) {
         paper::forward_kinematics(q)
@@ -1034,10 +1098,12 @@ impl Kernels for Paper {
     fn rpy_angles(&self, r: &[[f64; 3]; 3]) -> [f64; 3] {
         paper::rpy_angles(r)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_twist(&self, q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]) {
         paper::platform_twist(q, qd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_acceleration(
         &self,
@@ -1047,6 +1113,7 @@ impl Kernels for Paper {
     ) -> ([f64; 6], [f64; 4]) {
         paper::platform_acceleration(q, qd, qdd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_state(
         &self,
@@ -1056,6 +1123,7 @@ impl Kernels for Paper {
     ) -> ([f64; 6], [f64; 6], [f64; 6], [f64; 4]) {
         paper::platform_state(q, qd, qdd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_dynamics_joint(
         &self,
@@ -1065,7 +1133,7 @@ impl Kernels for Paper {
     ) -> ([f64; 6], [f64; 4]) {
         paper::inverse_dynamics_joint(q, qd, qdd)
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn inverse_dynamics_joint_x4(
         &self,
@@ -1075,14 +1143,17 @@ impl Kernels for Paper {
     ) -> ([[f64; 4]; 6], [[f64; 4]; 4]) {
         paper::inverse_dynamics_joint_x4(q, qd, qdd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_inertia(&self, q: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 4]) {
         paper::joint_inertia(q)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_bias(&self, q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]) {
         paper::joint_bias(q, qd)
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn limit_geometry(
         &self,
@@ -1090,7 +1161,7 @@ impl Kernels for Paper {
     ) -> ([f64; 6], [f64; 12], [f64; 6], [f64; 3]) {
         paper::limit_geometry(pose)
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn limit_geometry_x4(
         &self,
@@ -1312,7 +1383,7 @@ impl Kernels for Paper {
     ) -> ([[f64; 4]; 6], [[f64; 4]; 12], [[f64; 4]; 6], [[f64; 4]; 3]) {
         paper::limit_geometry_params_x4(pose, params)
     }
-    #[cfg(feature = "derivatives")]
+    #[cfg(all(feature = "folded", feature = "derivatives"))]
     #[inline]
     fn inverse_dynamics_derivatives(
         &self,
@@ -1322,7 +1393,7 @@ impl Kernels for Paper {
     ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]) {
         paper::inverse_dynamics_derivatives(pose, twist, accel)
     }
-    #[cfg(feature = "derivatives")]
+    #[cfg(all(feature = "folded", feature = "derivatives"))]
     #[inline]
     fn forward_dynamics_derivatives(
         &self,
@@ -1332,7 +1403,7 @@ impl Kernels for Paper {
     ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], [f64; 3]) {
         paper::forward_dynamics_derivatives(pose, twist, forces)
     }
-    #[cfg(feature = "derivatives")]
+    #[cfg(all(feature = "folded", feature = "derivatives"))]
     #[inline]
     fn inverse_dynamics_joint_derivatives(
         &self,
@@ -1453,6 +1524,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.singularity_terms(pose),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_kinematics(
         &self,
@@ -1463,6 +1535,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.inverse_kinematics(pose),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_jacobian_pose(&self, pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
         match self {
@@ -1470,6 +1543,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.inverse_jacobian_pose(pose),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn jacobian_pose(&self, pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
         match self {
@@ -1477,6 +1551,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.jacobian_pose(pose),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_velocities(
         &self,
@@ -1488,6 +1563,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.joint_velocities(pose, twist),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_accelerations(
         &self,
@@ -1500,6 +1576,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.joint_accelerations(pose, twist, accel),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn leg_wrench(
         &self,
@@ -1512,6 +1589,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.leg_wrench(pose, twist, accel),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_wrench(
         &self,
@@ -1524,6 +1602,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.platform_wrench(pose, twist, accel),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn task_inertia(&self, pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 3]) {
         match self {
@@ -1531,6 +1610,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.task_inertia(pose),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn task_bias(&self, pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64; 3]) {
         match self {
@@ -1538,6 +1618,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.task_bias(pose, twist),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn forward_dynamics(
         &self,
@@ -1550,7 +1631,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.forward_dynamics(pose, twist, forces),
         }
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn forward_dynamics_x4(
         &self,
@@ -1563,6 +1644,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.forward_dynamics_x4(pose, twist, forces),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_dynamics(
         &self,
@@ -1575,7 +1657,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.inverse_dynamics(pose, twist, accel),
         }
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn inverse_dynamics_x4(
         &self,
@@ -1588,6 +1670,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.inverse_dynamics_x4(pose, twist, accel),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn forward_kinematics(&self, q: &[f64; 6]) -> ([[f64; 3]; 3], [f64; 3], [f64; 4]) {
         match self {
@@ -1602,6 +1685,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.rpy_angles(r),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_twist(&self, q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]) {
         match self {
@@ -1609,6 +1693,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.platform_twist(q, qd),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_acceleration(
         &self,
@@ -1621,6 +1706,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.platform_acceleration(q, qd, qdd),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn platform_state(
         &self,
@@ -1633,6 +1719,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.platform_state(q, qd, qdd),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn inverse_dynamics_joint(
         &self,
@@ -1645,7 +1732,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.inverse_dynamics_joint(q, qd, qdd),
         }
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn inverse_dynamics_joint_x4(
         &self,
@@ -1658,6 +1745,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.inverse_dynamics_joint_x4(q, qd, qdd),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_inertia(&self, q: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 4]) {
         match self {
@@ -1665,6 +1753,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.joint_inertia(q),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn joint_bias(&self, q: &[f64; 6], qd: &[f64; 6]) -> ([f64; 6], [f64; 4]) {
         match self {
@@ -1672,6 +1761,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.joint_bias(q, qd),
         }
     }
+    #[cfg(feature = "folded")]
     #[inline]
     fn limit_geometry(
         &self,
@@ -1682,7 +1772,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.limit_geometry(pose),
         }
     }
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "folded", feature = "batch"))]
     #[inline]
     fn limit_geometry_x4(
         &self,
@@ -2004,7 +2094,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.limit_geometry_params_x4(pose, params),
         }
     }
-    #[cfg(feature = "derivatives")]
+    #[cfg(all(feature = "folded", feature = "derivatives"))]
     #[inline]
     fn inverse_dynamics_derivatives(
         &self,
@@ -2019,7 +2109,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.inverse_dynamics_derivatives(pose, twist, accel),
         }
     }
-    #[cfg(feature = "derivatives")]
+    #[cfg(all(feature = "folded", feature = "derivatives"))]
     #[inline]
     fn forward_dynamics_derivatives(
         &self,
@@ -2034,7 +2124,7 @@ impl Kernels for AnyModel {
             AnyModel::Paper => Paper.forward_dynamics_derivatives(pose, twist, forces),
         }
     }
-    #[cfg(feature = "derivatives")]
+    #[cfg(all(feature = "folded", feature = "derivatives"))]
     #[inline]
     fn inverse_dynamics_joint_derivatives(
         &self,
