@@ -10,7 +10,7 @@
 
 use proc_macro2::{TokenStream, TokenTree};
 use quote::{format_ident, quote};
-use std::collections::HashSet;
+use rustc_hash::FxHashSet as HashSet;
 
 /// The most `let`s one scope of an emitted body holds (the kernels up to the primal dynamics fit
 /// in one; rustc overflows at about 2 700).
@@ -99,7 +99,7 @@ mod tests {
     fn a_short_body_is_left_as_it_is() {
         let body = chain(10);
         let expected: Vec<String> = body.iter().map(|s| s.tokens.to_string()).collect();
-        let out = nest(body, &HashSet::from([9]));
+        let out = nest(body, &HashSet::from_iter([9]));
         let got: Vec<String> = out.iter().map(|s| s.to_string()).collect();
         assert_eq!(got, expected);
     }
@@ -107,7 +107,7 @@ mod tests {
     #[test]
     fn a_long_body_hands_on_exactly_what_is_read_later() {
         let n = 2 * MAX_LETS_PER_SCOPE as u32 + 5;
-        let out = nest(chain(n), &HashSet::from([n - 1]));
+        let out = nest(chain(n), &HashSet::from_iter([n - 1]));
         assert_eq!(out.len(), 3);
         // Block 0 hands on its last temporary (read by the next `let`) and the halves that
         // block 1 and 2 read: t{i/2} for i in the later blocks lies in [500, 1002].

@@ -6,8 +6,9 @@
 //! signs float up into the enclosing sum where they cost nothing. Children always precede their
 //! parents, and equal nodes are one node, so hash-consing is the common-subexpression elimination.
 
+use rustc_hash::FxHashMap as HashMap;
 use std::cell::RefCell;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 use std::fmt;
 use std::hash::{Hash, Hasher};
 use std::ops::{Add, Div, Mul, Neg, Sub};
@@ -511,7 +512,7 @@ impl Arena {
         memo: &mut HashMap<NodeId, NodeId>,
     ) -> NodeId {
         let one = self.constant(1.0);
-        self.tangent(id, &HashMap::from([(wrt, one)]), memo)
+        self.tangent(id, &HashMap::from_iter([(wrt, one)]), memo)
     }
 
     /// `Σₓ ∂id/∂x · rates[x]`, the exact derivative of `id` along the direction `rates` (forward
@@ -712,7 +713,7 @@ impl Graph {
                 _ => panic!("only inputs are substituted"),
             })
             .collect();
-        let mut memo = HashMap::new();
+        let mut memo = HashMap::default();
         exprs
             .iter()
             .map(|e| {
@@ -730,7 +731,7 @@ impl Graph {
         let Node::Input(wrt) = *self.arena().node(x.id) else {
             panic!("derivatives are taken with respect to an input");
         };
-        let mut memo = HashMap::new();
+        let mut memo = HashMap::default();
         exprs
             .iter()
             .map(|e| {
@@ -758,7 +759,7 @@ impl Graph {
                 _ => panic!("tangents are taken along inputs"),
             })
             .collect();
-        let mut memo = HashMap::new();
+        let mut memo = HashMap::default();
         exprs
             .iter()
             .map(|e| {

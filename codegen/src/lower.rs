@@ -9,7 +9,8 @@
 use crate::count::OpCount;
 use crate::dag::{Arena, Func, Node, NodeId, Real};
 use crate::subsum::{self, Item, Plan};
-use std::collections::{BTreeMap, HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
+use std::collections::BTreeMap;
 
 /// An operand of an instruction.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
@@ -186,7 +187,7 @@ impl Program {
 
 /// How often each node reachable from `outputs` is referenced.
 fn use_counts(arena: &Arena, outputs: &[NodeId]) -> HashMap<NodeId, usize> {
-    let mut uses: HashMap<NodeId, usize> = HashMap::new();
+    let mut uses: HashMap<NodeId, usize> = HashMap::default();
     let mut stack: Vec<NodeId> = Vec::new();
     for &o in outputs {
         if *uses.entry(o).or_insert(0) == 0 {
@@ -212,7 +213,7 @@ pub fn factor(arena: &mut Arena, outputs: &[NodeId]) -> Vec<NodeId> {
     let mut f = Factorer {
         arena,
         uses,
-        memo: HashMap::new(),
+        memo: HashMap::default(),
     };
     outputs.iter().map(|&o| f.opt(o)).collect()
 }
@@ -366,7 +367,7 @@ pub fn lower(arena: &Arena, outputs: &[NodeId], share_subsums: bool) -> Program 
 
 fn lower_unchecked(arena: &Arena, outputs: &[NodeId], share_subsums: bool) -> Program {
     let uses = use_counts(arena, outputs);
-    let mut reciprocal_uses: HashMap<NodeId, usize> = HashMap::new();
+    let mut reciprocal_uses: HashMap<NodeId, usize> = HashMap::default();
     for &id in uses.keys() {
         if let Node::Product(fs) = arena.node(id) {
             for &(b, e) in fs {
@@ -407,12 +408,12 @@ fn lower_unchecked(arena: &Arena, outputs: &[NodeId], share_subsums: bool) -> Pr
     let mut l = Lowerer {
         arena,
         program: Program::default(),
-        values: HashMap::new(),
-        memo: HashMap::new(),
+        values: HashMap::default(),
+        memo: HashMap::default(),
         shared_reciprocals,
         sin_cos_pairs,
         plan,
-        subsum_values: HashMap::new(),
+        subsum_values: HashMap::default(),
     };
     let outs: Vec<Operand> = outputs.iter().map(|&o| l.value(o)).collect();
     l.program.outputs = outs;

@@ -8,8 +8,9 @@
 //! a program dearer.
 
 use crate::dag::{Arena, Node, NodeId};
+use rustc_hash::FxHashMap as HashMap;
 use std::cmp::Reverse;
-use std::collections::{BTreeMap, BTreeSet, BinaryHeap, HashMap};
+use std::collections::{BTreeMap, BTreeSet, BinaryHeap};
 
 /// Sums wider than this offer no pairs (a sum of `n` items holds `n²/2` of them); they still
 /// use the sub-sums narrower sums make.
@@ -98,7 +99,7 @@ pub fn plan<'a>(arena: &Arena, nodes: impl IntoIterator<Item = &'a NodeId>) -> P
         })
         .collect();
     // Which sums hold each pair.
-    let mut holders: HashMap<Key, BTreeSet<usize>> = HashMap::new();
+    let mut holders: HashMap<Key, BTreeSet<usize>> = HashMap::default();
     for (s, list) in items.iter().enumerate() {
         for key in pairs(list) {
             holders.entry(key).or_default().insert(s);

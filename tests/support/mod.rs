@@ -95,7 +95,7 @@ pub fn from_na(m: &nalgebra::Matrix6<f64>) -> [[f64; 6]; 6] {
 /// velocities and positions: the platform (centre of mass `C + R c`), the rods (rigid,
 /// translating with the ball at `Q̇_i n_i`: every point of a rod rises as `B_i` does) and the
 /// bodies 2 (turning with the platform, centre of mass `B_i + R c_i`, velocity
-/// `Q̇_i n_i + ω × R c_i`). `Q̇` is `J⁻¹ V`, which `tests/consistent_model.rs` holds to the
+/// `Q̇_i n_i + ω × R c_i`). `Q̇` is `J⁻¹ V`, which `tests/suite/consistent_model.rs` holds to the
 /// derivative of eq 16.
 pub fn consistent_energy(robot: &Robot, s: &State) -> (f64, f64) {
     let l = robot.half_spacing;

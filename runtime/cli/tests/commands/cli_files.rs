@@ -1,10 +1,10 @@
 //! `--robot FILE.toml` and `--trajectory FILE.csv`: good files are used, bad ones are refused
 //! with the file, the field or line, and the rule, and nothing is written.
 
+use crate::support;
 use c5_runtime::reference::{self as r, consistent as rc, Step6};
 use c5_runtime::trajectory::LinearMove;
 use c5_runtime::Robot;
-mod support;
 
 use std::path::{Path, PathBuf};
 use support::{c5, c5_ok};

@@ -1,7 +1,7 @@
 //! The matrix-form reference against mechanics: identities, statics, finite differences,
 //! power balance, and the chapter's slips measured.
 
-mod support;
+use crate::support;
 
 use c5_runtime::reference::{self as r, Step6, CHAPTER_ORDER};
 use c5_runtime::trajectory::LinearMove;

@@ -3,7 +3,7 @@
 //! kinematics written independently with nalgebra, against finite differences of the forward
 //! kinematics along a rotating motion, and against the bodies' kinetic energy.
 
-mod support;
+use crate::support;
 
 use c5_runtime::reference::{self as r, consistent as rc};
 use c5_runtime::{Error, Kernels, Model, Pose, Robot, State, C5};

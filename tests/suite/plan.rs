@@ -42,7 +42,7 @@ fn a_short_move_converges_to_the_goal_within_the_limits() {
         .fold(0.0_f64, |m, f| m.max(f.abs()));
     // A limit below the free plan's peak force binds, and is kept.
     let limit = 0.9 * peak;
-    let bound = plan(&robot, &crate::problem(Some(limit)), &Settings::default()).unwrap();
+    let bound = plan(&robot, &self::problem(Some(limit)), &Settings::default()).unwrap();
     assert!(bound.goal_error <= 1e-6);
     assert!(
         bound.force_excess <= 1e-6,

@@ -3,7 +3,7 @@
 //! seeded states, to 1e-6 relative to each Jacobian's largest entry (step 1e-5: the finite
 //! differences themselves are good to about 1e-9 here).
 
-mod support;
+use crate::support;
 
 use c5_runtime::reference as r;
 use c5_runtime::{Acceleration, Model, Pose, Robot, Twist};

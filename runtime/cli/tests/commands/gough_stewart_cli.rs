@@ -3,7 +3,7 @@
 //! they came from, bad hexapod files are refused naming the file and the field, and
 //! `simulate`, `track`, `workspace` and `audit` serve it.
 
-mod support;
+use crate::support;
 
 use c5_runtime::{GoughStewart, Pose, State};
 use serde_json::{json, Value};

@@ -8,7 +8,7 @@ use c5_generated::manifest::KERNELS;
 use std::collections::BTreeMap;
 
 fn budget() -> BTreeMap<(String, String), [u32; 5]> {
-    let text = include_str!("../benches/ops-budget.txt");
+    let text = include_str!("../../benches/ops-budget.txt");
     text.lines()
         .filter(|l| !l.trim_start().starts_with('#') && !l.trim().is_empty())
         .map(|l| {
@@ -51,7 +51,7 @@ fn no_kernel_exceeds_its_budget() {
 
 #[test]
 fn no_generated_file_exceeds_its_size_budget() {
-    let text = include_str!("../benches/size-budget.txt");
+    let text = include_str!("../../benches/size-budget.txt");
     let budget: BTreeMap<&str, usize> = text
         .lines()
         .filter(|l| !l.trim_start().starts_with('#') && !l.trim().is_empty())

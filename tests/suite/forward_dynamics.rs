@@ -2,7 +2,7 @@
 //! both models against their inverse dynamics, the nalgebra reference and mechanics (the
 //! kinetic energy, its conservation, and a controller's error dynamics).
 
-mod support;
+use crate::support;
 
 use c5_runtime::control::ComputedTorque;
 use c5_runtime::dynamics::{rk4_step, PlantState};

@@ -4,7 +4,7 @@
 //! unseen poses within 50 µm, and whose every parameter lies within four reported standard
 //! deviations of the truth; bad input refused with a message and nothing written.
 
-mod support;
+use crate::support;
 
 use c5_runtime::{GoughStewart, Pose};
 use rand::{Rng, SeedableRng};

@@ -5,7 +5,7 @@
 //! mode (`sympy_gnu_*`, `a * b + c` contracted into fused multiply-adds), in one run; the paper
 //! model's SymPy baseline twice, regrouped as ours (`sympy_paper`) and leg by leg as the chapter
 //! computes it (`sympy_paper_by_legs`):
-//! `cargo bench -p c5-c-output-test`.
+//! `cargo bench --bench c_vs_rust`.
 
 use c5_c_output_test::native;
 use c5_generated::f64::{consistent, paper};

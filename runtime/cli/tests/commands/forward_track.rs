@@ -1,7 +1,7 @@
 //! `c5 forward` (JSON Lines of states and forces → accelerations) and `c5 track` (a
 //! computed-torque controller on a simulated robot).
 
-mod support;
+use crate::support;
 
 use c5_runtime::reference as r;
 use c5_runtime::{Model, Pose, Robot, Twist};

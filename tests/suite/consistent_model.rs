@@ -6,7 +6,7 @@
 //! free-body equilibrium solved from scratch, and the bodies' accelerations with finite
 //! differences of their positions.
 
-mod support;
+use crate::support;
 
 use c5_runtime::reference::{self as r, consistent as rc, Step6};
 use c5_runtime::trajectory::{omega_from_rpy_rates, Fourier, LinearMove};

@@ -1,7 +1,7 @@
 //! `c5 excite`, `c5 identify` and `c5 eval --base-parameters`: the round trip identifies a
 //! robot that predicts its own forces, and bad data is refused with the file and line.
 
-mod support;
+use crate::support;
 
 use c5_runtime::identify::Friction;
 use c5_runtime::{Robot, State, C5};

@@ -2,7 +2,7 @@
 //! unknown arguments and bad values refused with the choices, a closed stdout ends the run
 //! quietly, and `simulate`'s sampling stays within bounds and ends on the end of the motion.
 
-mod support;
+use crate::support;
 
 use std::io::{BufRead, BufReader, Write};
 use std::process::{Command, Stdio};

@@ -9,7 +9,7 @@
 //! has four orders of margin and still catches any wrong term (a wrong sign, a missing
 //! product rule term, a swapped column are all of order one).
 
-mod support;
+use crate::support;
 
 use c5_runtime::reference as r;
 use c5_runtime::{Acceleration, Model, Pose, Robot, State, Twist, C5};

@@ -5,7 +5,7 @@
 //! reference itself goes through LU factorisations (the paper's `Φ` and `Γ`, the consistent
 //! `J` and `Γ`: 6×6 solves with condition numbers up to ~1e2 here), where it is 1e-11.
 
-mod support;
+use crate::support;
 
 use c5_generated::f64::paper as k;
 use c5_runtime::reference::{self as r, consistent as rc, CHAPTER_ORDER};

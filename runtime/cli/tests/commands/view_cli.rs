@@ -4,7 +4,7 @@
 //! colour, decimation to the frame budget, and bad input refused with nothing written. The
 //! page in a browser is `tests/browser/view_check.py`'s (run by CI).
 
-mod support;
+use crate::support;
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};

@@ -6,7 +6,7 @@
 //! identification: the base parameters of unseen hexapods, a hexapod recovered from its
 //! motion and forces.
 
-mod support;
+use crate::support;
 
 use c5_generated::f64::gough_stewart as kernels;
 use c5_robot::{GoughStewart as Description, LegBody};

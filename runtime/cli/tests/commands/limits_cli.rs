@@ -2,7 +2,7 @@
 //! else the chapter's), `eval --strict-limits` refusing by name, `eval`'s `limits` key, `track`
 //! and `simulate` stopping at the first violation, `workspace` mapping a grid.
 
-mod support;
+use crate::support;
 
 use serde_json::Value;
 use std::path::PathBuf;

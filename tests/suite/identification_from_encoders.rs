@@ -3,7 +3,7 @@
 //! the identified robot predicts the forces of unseen states, and without the low-pass filter
 //! it measurably does not.
 
-mod support;
+use crate::support;
 
 use c5_runtime::identify::encoder_log::{LogFilter, LogProcessor};
 use c5_runtime::identify::excite::{self, Envelope, Search};

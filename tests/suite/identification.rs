@@ -1,7 +1,7 @@
 //! Identification: the regressors reproduce the inverse dynamics, and the estimator recovers a
 //! robot from its motion and forces, with honest standard deviations.
 
-mod support;
+use crate::support;
 
 use c5_runtime::identify::excite::{self, Envelope, Search};
 use c5_runtime::identify::{

@@ -2,7 +2,7 @@
 //! repeated keys are refused), results equal to the matrix-form reference of the model asked
 //! for.
 
-mod support;
+use crate::support;
 
 use c5_runtime::reference::{self as r, consistent as rc, Step6, CHAPTER_ORDER};
 use c5_runtime::{Acceleration, Pose, Robot, Twist};

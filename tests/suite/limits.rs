@@ -3,7 +3,7 @@
 //! tilt `arccos(n_i · R e_k)`), and each limit just inside (accepted) and just outside
 //! (refused, naming the limit and the actuator), at every actuator.
 
-mod support;
+use crate::support;
 
 use c5_runtime::reference::{self as r, consistent as rc};
 use c5_runtime::{Error, Limit, Limits, Pose, Robot, C5};
