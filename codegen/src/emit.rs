@@ -1155,32 +1155,32 @@ pub fn emit_kernel_sets(
                 use crate::lanes::#lane;
             }
         });
-        // One `include!` per file the set has, under the features its kernels need.
-        let parts = [
-            ("", None),
-            ("_batch", Some("batch")),
-            ("_derivatives", Some("derivatives")),
+        // One `include!` per further file the set has, under the features its kernels need:
+        // each part's robot-free and `*_params` kernels, then its folded ones.
+        let batched: Vec<SetKernel> = set.kernels.iter().filter(|k| k.batch).copied().collect();
+        let derivatives: &[SetKernel] = match scalar {
+            Scalar::F64 => &set.derivatives,
+            Scalar::F32 => &[],
+        };
+        let parts: [(&str, Option<&str>, &[SetKernel]); 3] = [
+            ("", None, &set.kernels),
+            ("_batch", Some("batch"), &batched),
+            ("_derivatives", Some("derivatives"), derivatives),
         ];
-        let files = [false, true].into_iter().flat_map(|folded| {
-            parts.into_iter().filter_map(move |(part, feature)| {
-                let kernels: Vec<&SetKernel> = match feature {
-                    Some("derivatives") if scalar == Scalar::F64 => {
-                        set.derivatives.iter().collect()
-                    }
-                    Some("derivatives") => Vec::new(),
-                    Some(_) => set.kernels.iter().filter(|k| k.batch).collect(),
-                    None => set.kernels.iter().collect(),
+        let mut files = Vec::new();
+        for folded in [false, true] {
+            for (part, feature, kernels) in parts {
+                let Some(first) = kernels.iter().find(|k| k.folded == folded) else {
+                    continue;
                 };
-                let first = kernels.into_iter().find(|k| k.folded == folded)?;
-                if first.cfg(feature).is_empty() {
-                    return None; // the set's main file, included unconditionally
-                }
                 let cfg = first.cfg(feature);
+                if cfg.is_empty() {
+                    continue; // the main file, included above without a condition
+                }
                 let name = file(&format!("{}{part}", if folded { "_folded" } else { "" }));
-                Some(quote!(#cfg include!(#name);))
-            })
-        });
-        let files: Vec<TokenStream> = files.collect();
+                files.push(quote!(#cfg include!(#name);));
+            }
+        }
         let regressors = (scalar == Scalar::F64 && !set.regressors.is_empty()).then(|| {
             let regressors = file("_regressor");
             quote! {
