@@ -2,10 +2,10 @@
 //! identification, calibration, the workspace, the 3D view and the operation-count audit; one
 //! module per command. The program (`src/main.rs`) calls [`main`].
 //!
-//! The commands live in this library rather than in the binary so that cargo compiles them
-//! while the kernels' crates finish, leaving the binary little more than a link (docs/build-time.md),
-//! and so that the package's tests can depend on the package with every command built in
-//! (`[dev-dependencies] c5-cli = { path = ".", features = ["full"] }`).
+//! The commands live in this library rather than in the binary so that the package's tests
+//! can depend on the package with every command built in
+//! (`[dev-dependencies] c5-cli = { path = ".", features = ["full"] }`): a plain build leaves
+//! the identification and derivative kernels out (docs/build-time.md).
 
 mod audit;
 mod calibrate;
