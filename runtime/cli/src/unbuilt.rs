@@ -21,7 +21,7 @@ pub fn needs(what: &str, feature: &str) -> Box<dyn std::error::Error> {
     format!(
         "{what} is not in this build of c5: it needs the `{feature}` feature ({kernels}), which \
          `cargo run --release -F c5-cli/{feature} -- ...` builds (or `-F c5-cli/full`, every \
-         command; `cargo install c5-cli --features full` installs it)"
+         command; `cargo install --path runtime/cli --features full` installs it)"
     )
     .into()
 }
@@ -35,6 +35,7 @@ mod tests {
         let e = needs("`c5 plan`", "derivatives").to_string();
         assert!(e.starts_with("`c5 plan` is not in this build of c5"));
         assert!(e.contains("-F c5-cli/derivatives") && e.contains("derivative kernels"));
+        assert!(e.contains("cargo install --path runtime/cli --features full"));
         let e = needs("`--base-parameters`", "identify").to_string();
         assert!(e.contains("-F c5-cli/identify") && e.contains("regressor"));
     }
