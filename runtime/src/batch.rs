@@ -1,23 +1,28 @@
 //! Many states at once: the batch kernels four states at a time, each state's result or why it
 //! was refused, so one bad state costs only itself.
 //!
+//! Without the `batch` feature the same methods go one state at a time, with the same results
+//! to the bit: a program that calls them for convenience (the `c5` program's `simulate`) then
+//! does not compile the batch kernels, about 15 s of LLVM on two cores (docs/build-time.md).
+//!
 //! The batch kernels' lanes compute exactly what the single-state kernels compute (the tests
 //! hold them equal to the bit), so a group of four with a refused state is redone one state at
 //! a time, as is a remainder of fewer than four: every state gets the result, or the error,
 //! that the single-state method gives it.
 
-use crate::{
-    check_divisors, check_forward, check_forward_dynamics, Acceleration, Error, Kernels, Pose,
-    State, Twist, C5,
-};
+#[cfg(feature = "batch")]
+use crate::{check_divisors, check_forward, check_forward_dynamics, Kernels};
+use crate::{Acceleration, Error, Pose, State, Twist, C5};
 use alloc::vec::Vec;
 
 /// `[element][lane]` from four states' arrays.
+#[cfg(feature = "batch")]
 fn lanes(rows: &[[f64; 6]; 4]) -> [[f64; 4]; 6] {
     core::array::from_fn(|k| core::array::from_fn(|l| rows[l][k]))
 }
 
 /// Whether every value is finite, without a branch per value.
+#[cfg(feature = "batch")]
 #[inline]
 fn all_finite(values: &[f64]) -> bool {
     values.iter().fold(true, |ok, x| ok & x.is_finite())
@@ -25,6 +30,7 @@ fn all_finite(values: &[f64]) -> bool {
 
 /// One row of a batch call: its three input arrays, the kernel, and the single-state method
 /// that must agree with a lane.
+#[cfg(feature = "batch")]
 struct Batched<Input, Kernel, Guard, Single> {
     /// Row `k`'s three input arrays.
     input: Input,
@@ -36,6 +42,7 @@ struct Batched<Input, Kernel, Guard, Single> {
     single: Single,
 }
 
+#[cfg(feature = "batch")]
 impl<Input, Kernel, Guard, Single, const G: usize> Batched<Input, Kernel, Guard, Single>
 where
     Input: Fn(usize) -> [[f64; 6]; 3],
@@ -82,6 +89,17 @@ where
     }
 }
 
+/// Every row `0..n` in order through the single-state method: the batch methods without the
+/// batch kernels.
+#[cfg(not(feature = "batch"))]
+fn one_at_a_time<T>(
+    n: usize,
+    single: impl Fn(usize) -> Result<T, Error>,
+    mut each: impl FnMut(usize, Result<T, Error>),
+) {
+    (0..n).for_each(|k| each(k, single(k)));
+}
+
 /// Collects `run`'s results, or the first refused index and why.
 fn collect<T>(
     n: usize,
@@ -104,7 +122,7 @@ fn collect<T>(
 
 impl C5 {
     /// [`C5::inverse_dynamics`] of states `0..n` (`state(k)` the `k`-th), four at a time
-    /// through the batch kernel: each state's forces, or why it was refused, handed to `each`
+    /// through the batch kernel (one at a time without the `batch` feature): each state's forces, or why it was refused, handed to `each`
     /// in order. For callers that read states from their own storage (numpy arrays, a log).
     pub fn inverse_dynamics_each(
         &self,
@@ -112,6 +130,8 @@ impl C5 {
         state: impl Fn(usize) -> State,
         each: impl FnMut(usize, Result<[f64; 6], Error>),
     ) {
+        let single = |k| self.inverse_dynamics(&state(k));
+        #[cfg(feature = "batch")]
         Batched {
             input: |k| {
                 let s = state(k);
@@ -122,9 +142,11 @@ impl C5 {
                     .inverse_dynamics_params_x4(x, v, a, &self.params)
             },
             guard: check_divisors,
-            single: |k| self.inverse_dynamics(&state(k)),
+            single,
         }
         .run(n, each);
+        #[cfg(not(feature = "batch"))]
+        one_at_a_time(n, single, each);
     }
 
     /// Actuator forces `Γ` of many states, four at a time through the batch kernels (each lane
@@ -140,7 +162,8 @@ impl C5 {
     }
 
     /// [`C5::forward_dynamics`] of inputs `0..n` (`input(k)` the `k`-th pose, twist and
-    /// actuator forces), four at a time through the batch kernel: each platform acceleration,
+    /// actuator forces), four at a time through the batch kernel (one at a time without the
+    /// `batch` feature): each platform acceleration,
     /// or why it was refused, handed to `each` in order.
     pub fn forward_dynamics_each(
         &self,
@@ -148,28 +171,33 @@ impl C5 {
         input: impl Fn(usize) -> (Pose, Twist, [f64; 6]),
         mut each: impl FnMut(usize, Result<Acceleration, Error>),
     ) {
-        let arrays = |k| {
+        let single = |k| {
             let (pose, twist, gamma) = input(k);
-            [pose.to_array(), twist.to_array(), gamma]
+            self.forward_dynamics(&pose, &twist, &gamma)
+                .map(|a| a.to_array())
         };
+        let each = |k, a: Result<[f64; 6], Error>| each(k, a.map(Acceleration::from_array));
+        #[cfg(feature = "batch")]
         Batched {
-            input: arrays,
+            input: |k| {
+                let (pose, twist, gamma) = input(k);
+                [pose.to_array(), twist.to_array(), gamma]
+            },
             kernel: |x: &_, v: &_, g: &_| {
                 self.kernels
                     .forward_dynamics_params_x4(x, v, g, &self.params)
             },
             guard: check_forward_dynamics,
-            single: |k| {
-                let (pose, twist, gamma) = input(k);
-                self.forward_dynamics(&pose, &twist, &gamma)
-                    .map(|a| a.to_array())
-            },
+            single,
         }
-        .run(n, |k, a| each(k, a.map(Acceleration::from_array)));
+        .run(n, each);
+        #[cfg(not(feature = "batch"))]
+        one_at_a_time(n, single, each);
     }
 
     /// [`C5::inverse_dynamics_joint`] of samples `0..n` (`sample(k)` the `k`-th `[q, q̇, q̈]`),
-    /// four at a time through the batch kernel: each sample's forces, or why it was refused,
+    /// four at a time through the batch kernel (one at a time without the `batch` feature):
+    /// each sample's forces, or why it was refused,
     /// handed to `each` in order.
     pub fn inverse_dynamics_joint_each(
         &self,
@@ -177,6 +205,11 @@ impl C5 {
         sample: impl Fn(usize) -> [[f64; 6]; 3],
         each: impl FnMut(usize, Result<[f64; 6], Error>),
     ) {
+        let single = |k| {
+            let [q, qd, qdd] = sample(k);
+            self.inverse_dynamics_joint(&q, &qd, &qdd)
+        };
+        #[cfg(feature = "batch")]
         Batched {
             input: &sample,
             kernel: |q: &_, qd: &_, qdd: &_| {
@@ -184,12 +217,11 @@ impl C5 {
                     .inverse_dynamics_joint_params_x4(q, qd, qdd, &self.params)
             },
             guard: check_forward,
-            single: |k| {
-                let [q, qd, qdd] = sample(k);
-                self.inverse_dynamics_joint(&q, &qd, &qdd)
-            },
+            single,
         }
         .run(n, each);
+        #[cfg(not(feature = "batch"))]
+        one_at_a_time(n, single, each);
     }
 
     /// [`C5::inverse_dynamics_joint`] for many samples `(q, q̇, q̈)`, four at a time through the

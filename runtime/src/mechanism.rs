@@ -193,7 +193,8 @@ pub trait ParallelRobot: core::fmt::Debug + Send + Sync {
     }
     /// [`ParallelRobot::inverse_dynamics`] of states `0..n` (`state(k)` the `k`-th), each
     /// result handed to `each` in order: for callers that read states from their own storage
-    /// (numpy arrays, a log). The C5 goes four states at a time through its batch kernels.
+    /// (numpy arrays, a log). The C5 goes four states at a time through its batch kernels
+    /// (feature `batch`).
     fn inverse_dynamics_each(
         &self,
         n: usize,
@@ -291,7 +292,7 @@ impl ParallelRobot for C5 {
             .map(|m| Box::new(self.to_model(m)) as Box<dyn ParallelRobot>)
             .collect()
     }
-    /// Four states at a time through the batch kernels.
+    /// Four states at a time through the batch kernels (feature `batch`).
     fn evaluate_many(&self, states: &[State]) -> Result<Vec<Evaluation>, (usize, Error)> {
         C5::evaluate_many(self, states)
     }
@@ -328,7 +329,7 @@ impl ParallelRobot for C5 {
     ) {
         C5::inverse_dynamics_joint_each(self, n, sample, each)
     }
-    /// Four states at a time through the batch kernels.
+    /// Four states at a time through the batch kernels (feature `batch`).
     fn inverse_dynamics_many(&self, states: &[State]) -> Result<Vec<[f64; 6]>, (usize, Error)> {
         C5::inverse_dynamics_many(self, states)
     }
