@@ -20,7 +20,10 @@ import pytest
 pin = pytest.importorskip("pinocchio")
 
 HOME_HEIGHT = 0.6  # a height of the test robot's workspace
-TOLERANCE = 1e-9  # relative: the issue's; measured 1e-13 and better
+# The largest relative difference from Pinocchio that docs/mechanisms.md states, per result
+# (the issue asked for 1e-9).
+STATED = {"q": 3e-16, "qd": 7e-16, "qdd": 6e-14, "gamma": 6e-14, "forward": 2e-15,
+          "pose": 2e-12}
 
 
 def rotation(pose):
@@ -198,13 +201,21 @@ def test_eval_and_forward_agree_with_pinocchio(seed, run_c5, tmp_path):
     forward = run_c5("forward", [dict(pose=p, omega=t[:3], velocity=t[3:], gamma=g)
                                  for (p, t, _), g in zip(states, forces)], "--robot", str(path))
     poses = run_c5("eval", [dict(q=e["q"]) for e in evaluated], "--robot", str(path))
+    worst = dict.fromkeys(STATED, 0.0)
     for (pose, twist, accel), e, f, g, back in zip(states, evaluated, forward, forces, poses):
         accel_back, q, qd, qdd = engine.forward(pose, twist, e["gamma"])
-        assert relative(e["q"], q) < TOLERANCE
-        assert relative(e["qd"], qd) < TOLERANCE
-        assert relative(e["qdd"], qdd) < TOLERANCE
-        assert relative(np.array(e["jinv"]) @ np.array(twist), qd) < TOLERANCE
-        assert relative(accel_back, accel) < TOLERANCE, "Γ of c5 eval"
         accel_of_forces, _, _, _ = engine.forward(pose, twist, g)
-        assert relative(f["omega_dot"] + f["acceleration"], accel_of_forces) < TOLERANCE
-        assert relative(back["pose"], pose) < TOLERANCE, "the pose from the leg lengths"
+        for what, error in [
+            ("q", relative(e["q"], q)),
+            ("qd", relative(e["qd"], qd)),
+            ("qd", relative(np.array(e["jinv"]) @ np.array(twist), qd)),
+            ("qdd", relative(e["qdd"], qdd)),
+            ("gamma", relative(accel_back, accel)),
+            ("forward", relative(f["omega_dot"] + f["acceleration"], accel_of_forces)),
+            ("pose", relative(back["pose"], pose)),
+        ]:
+            worst[what] = max(worst[what], error)
+    print("worst relative differences from Pinocchio:", worst)
+    # docs/mechanisms.md states these figures; each is held at ten times.
+    for what, stated in STATED.items():
+        assert worst[what] < 10 * stated, (what, worst[what])

@@ -79,8 +79,9 @@ fn rates_and_accelerations_are_the_derivatives_of_eq16_and_the_papers_are_not() 
         "consistent vs finite differences of eq 16: Q̇ {worst_rate:.1e}, Q̈ {worst_accel:.1e}; \
          paper Q̇ {paper_rate:.2}"
     );
-    assert!(worst_rate < 1e-7, "{worst_rate}");
-    assert!(worst_accel < 1e-5, "{worst_accel}");
+    // docs/verification.md states 1.4e-9 and 1.6e-7: held at ten times.
+    assert!(worst_rate < 1.4e-8, "{worst_rate}");
+    assert!(worst_accel < 1.6e-6, "{worst_accel}");
     assert!(
         paper_rate > 0.05,
         "the paper model's rates are not eq 16's: {paper_rate}"

@@ -251,7 +251,11 @@ fn f32_kernels_track_f64_within_single_precision() {
             k.model()
         );
         // docs/verification.md states 1.6e-7 (paper) and 3.3e-7 (consistent); held to 10x.
-        assert!(*w < 3.3e-6, "{}: {w}", k.model());
+        let stated = match k.model() {
+            "paper" => 1.6e-7,
+            _ => 3.3e-7,
+        };
+        assert!(*w < 10.0 * stated, "{}: {w}", k.model());
     }
 }
 

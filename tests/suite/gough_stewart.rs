@@ -116,7 +116,8 @@ fn the_kernels_agree_with_newton_euler_leg_by_leg() {
         eprintln!("worst relative errors (q, J⁻¹, q̇, q̈, Γ, forward): {worst:?}");
         // Measured: 1e-16 to 1e-15 for the kinematics, 1e-14 for Γ, 6e-14 for the forward
         // dynamics (the reference solves by LU, the kernels by the normal equations).
-        let bounds = [1e-15, 1e-15, 1e-15, 1e-14, 1e-13, 5e-13];
+        // docs/mechanisms.md states 3e-16, 1e-15, 9e-15 and 6e-14: held at ten times or less.
+        let bounds = [1e-15, 1e-15, 1e-15, 1e-14, 9e-14, 5e-13];
         for ((what, e), bound) in ["q", "J⁻¹", "q̇", "q̈", "Γ", "forward dynamics"]
             .iter()
             .zip(worst)

@@ -232,8 +232,9 @@ fn the_twist_and_acceleration_are_the_derivatives_of_the_forward_kinematics() {
         worst_a = worst_a.max(rel_err(&state.accel.to_array(), &accel_fd, 1e-2));
     }
     println!("worst relative error: twist {worst_v:.1e}, acceleration {worst_a:.1e}");
-    assert!(worst_v < 1e-8, "{worst_v}");
-    assert!(worst_a < 1e-6, "{worst_a}");
+    // docs/joint-space.md states 1.9e-10 and 1.7e-8: held at ten times.
+    assert!(worst_v < 1.9e-9, "{worst_v}");
+    assert!(worst_a < 1.7e-7, "{worst_a}");
 }
 
 #[test]

@@ -146,5 +146,6 @@ fn c_beyond_an_eighth_of_a_turn_with_the_system_libm_agrees_with_rust() {
         worst = worst.max(off / scale);
     }
     println!("C with the system libm against Rust beyond π/4: {worst:.1e} relative");
-    assert!(worst < 1e-12, "{worst:e}");
+    // docs/verification.md states 1.4e-15: held at ten times.
+    assert!(worst < 1.4e-14, "{worst:e}");
 }
