@@ -148,8 +148,9 @@ class Exact:
         return list(mp.lu_solve(mp.matrix(transpose(self.jinv)), mp.matrix(wrench)))
 
 
-def forward_dynamics(robot: Robot, pose, omega, velocity, gamma):
-    """``(omega_dot; acceleration)``: the forces are affine in the acceleration."""
+def acceleration_map(robot: Robot, pose, omega=(0, 0, 0), velocity=(0, 0, 0)):
+    """``Γ`` at zero acceleration and ``C = ∂Γ/∂(ω̇; a_C)``: the forces are affine in the
+    acceleration, so six differences of exact evaluations give ``C`` exactly."""
     bias = Exact(robot, pose, omega, velocity).gamma()
     columns = []
     for j in range(6):
@@ -157,5 +158,53 @@ def forward_dynamics(robot: Robot, pose, omega, velocity, gamma):
         e[j] = 1
         g = Exact(robot, pose, omega, velocity, e[:3], e[3:]).gamma()
         columns.append([x - b for x, b in zip(g, bias)])
+    return bias, mp.matrix(transpose(columns))
+
+
+def forward_dynamics(robot: Robot, pose, omega, velocity, gamma):
+    """``(omega_dot; acceleration)``: the forces are affine in the acceleration."""
+    bias, c = acceleration_map(robot, pose, omega, velocity)
     rhs = [mpf(x) - b for x, b in zip(gamma, bias)]
-    return list(mp.lu_solve(mp.matrix(transpose(columns)), mp.matrix(rhs)))
+    return list(mp.lu_solve(c, mp.matrix(rhs)))
+
+
+def task_inertia(robot: Robot, pose):
+    """``M_x`` of ``J⁻ᵀ Γ = M_x (ω̇; a_C) + h``: the wrench at ``C`` per unit acceleration."""
+    _, c = acceleration_map(robot, pose)
+    return mp.matrix(Exact(robot, pose).jinv).T * c
+
+
+def joint_state(robot: Robot, q, qd=(0,) * 6, qdd=(0,) * 6, guess=None):
+    """The pose, twist and acceleration whose actuators are at ``q``, ``q̇``, ``q̈``: eq 16
+    solved for the pose by Newton's method in 50 digits from ``guess`` (a pose near the one
+    sought), then ``q̇ = J⁻¹ V`` and ``q̈ = J⁻¹ A + q̈(V, 0)`` solved for ``V`` and ``A``."""
+    q = vec(q)
+
+    def residual(*pose):
+        return [x - y for x, y in zip(Exact(robot, pose).q, q)]
+
+    pose = list(mp.findroot(residual, vec(guess), tol=mpf(10) ** -45))
+    jinv = mp.matrix(Exact(robot, pose).jinv)
+    twist = list(mp.lu_solve(jinv, mp.matrix(vec(qd))))
+    at_rest = Exact(robot, pose, twist[:3], twist[3:]).qdd
+    accel = list(mp.lu_solve(jinv, mp.matrix([mpf(x) - b for x, b in zip(qdd, at_rest)])))
+    return pose, twist, accel
+
+
+def joint_inertia(robot: Robot, pose):
+    """``M_q = ∂Γ/∂q̈ = C J``, at the pose the actuators give."""
+    _, c = acceleration_map(robot, pose)
+    return c * mp.matrix(Exact(robot, pose).jinv) ** -1
+
+
+def central(f, x, h):
+    """``∂f/∂x`` by central differences in 50 digits, row output, column component of ``x``.
+    With ``h`` far below ``f64``'s resolution and far above 50 digits' rounding, both the
+    truncation (``h²``) and the rounding (``10⁻⁵⁰/h``) are far below what ``f64`` resolves."""
+    columns = []
+    for j in range(len(x)):
+        up, down = vec(x), vec(x)
+        up[j] += h
+        down[j] -= h
+        columns.append([(a - b) / (2 * h) for a, b in zip(f(up), f(down))])
+    return transpose(columns)

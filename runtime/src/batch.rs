@@ -11,7 +11,7 @@
 //! that the single-state method gives it.
 
 #[cfg(feature = "batch")]
-use crate::{check_divisors, check_forward, check_forward_dynamics, Kernels};
+use crate::{check_divisors, check_forward_dynamics, check_joint_dynamics, Kernels};
 use crate::{Acceleration, Error, Pose, State, Twist, C5};
 use alloc::vec::Vec;
 
@@ -216,7 +216,7 @@ impl C5 {
                 self.kernels
                     .inverse_dynamics_joint_params_x4(q, qd, qdd, &self.params)
             },
-            guard: check_forward,
+            guard: check_joint_dynamics,
             single,
         }
         .run(n, each);

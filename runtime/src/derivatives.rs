@@ -9,7 +9,8 @@
 
 use crate::gough_stewart::{check_terms, GoughStewart};
 use crate::{
-    check_divisors, check_finite, check_forward, check_forward_dynamics, finite, finite_matrix,
+    check_divisors, check_finite, check_forward, check_forward_dynamics, check_joint_derivatives,
+    finite, finite_matrix,
 };
 use crate::{Acceleration, Error, Kernels, Pose, State, Twist, C5};
 use c5_generated::f64::gough_stewart as hexapod;
@@ -111,7 +112,9 @@ impl C5 {
     /// exact Jacobians with respect to each, in one kernel.
     ///
     /// # Errors
-    /// Non-finite inputs, [`Error::ForwardSingular`], a singular pose or a non-finite result.
+    /// Non-finite inputs, [`Error::ForwardSingular`], a singular pose, a non-finite result, or
+    /// [`Error::IllConditioned`] at a pose nearer eq 16's singularities than
+    /// [`crate::JOINT_STATE_TOLERANCE`], where `∂Γ/∂q` cannot be served to `1e-8`.
     pub fn inverse_dynamics_joint_derivatives(
         &self,
         q: &[f64; 6],
@@ -123,6 +126,7 @@ impl C5 {
             .kernels
             .inverse_dynamics_joint_derivatives_params(q, qd, qdd, &self.params);
         check_forward(guard)?;
+        check_joint_derivatives([guard[1], guard[2], guard[3]])?;
         Ok(JointDynamicsDerivatives {
             gamma: finite("gamma", gamma)?,
             d_q: finite_matrix("d_gamma_d_q", d_q)?,

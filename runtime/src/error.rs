@@ -119,8 +119,7 @@ impl fmt::Display for Error {
             } => write!(
                 f,
                 "{what} refused: {term} = {value:e} is nearer eq 16's singularity than \
-                 {bound:e}, where its error against exact arithmetic would exceed 1e-8 (it grows \
-                 as 1/{term}³)"
+                 {bound:e}, where its error against exact arithmetic would exceed 1e-8"
             ),
             Error::NotConverged { what, residual } => write!(
                 f,

@@ -98,9 +98,78 @@ pub const SINGULARITY_TOLERANCE: f64 = 1e-9;
 /// moves the acceleration by about `1.2e-15/s³` relative (measured against a 50-digit
 /// reference, `python/tests/test_accuracy.py`), and faster still below `s = 1e-3`. At `1e-2`
 /// the worst measured error is `3.8e-10`, within the `1e-8` the `f64` API promises; below it
-/// the call is refused ([`Error::IllConditioned`]). The other kernels stay within `1e-14` up to
-/// [`SINGULARITY_TOLERANCE`].
+/// the call is refused ([`Error::IllConditioned`]). The task-space kernels that evaluate (the
+/// kinematics, the inverse dynamics, `M_x`, `∂Γ/∂(X, V, A)`) stay within `1e-14` up to
+/// [`SINGULARITY_TOLERANCE`]; the joint-space ones have bounds of their own
+/// ([`JOINT_STATE_TOLERANCE`], [`JOINT_DYNAMICS_TOLERANCE`]).
 pub const FORWARD_DYNAMICS_TOLERANCE: f64 = 1e-2;
+
+/// Smallest `|r11|`, `|r22|`, `|r33|` at which the platform's twist and acceleration are
+/// served from the actuators' rates and accelerations ([`C5::joint_state`], `c5 eval` on
+/// actuator lines): `V = J q̇` and `(ω̇; a_C) = J (q̈ - h)` apply `J`, which is ill conditioned
+/// near eq 16's singularities. Against a 50-digit reference the acceleration errs by about
+/// `3e-18/s³` relative (`2.5e-10` at worst in `[1e-3, 1e-2)`, `1.3e-8` in `[1e-4, 1e-3)`) and
+/// the twist by about `1e-18/s²`; below this bound, with nonzero rates or accelerations, the
+/// call is refused ([`Error::IllConditioned`]). The pose alone is served down to
+/// [`SINGULARITY_TOLERANCE`], as are the joint-space forces and inertia, which stay accurate.
+pub const JOINT_STATE_TOLERANCE: f64 = 1e-3;
+
+/// Smallest `|r11|`, `|r22|`, `|r33|` at which the joint-space inverse dynamics, inertia and
+/// bias are served ([`C5::inverse_dynamics_joint`], [`C5::joint_inertia`],
+/// [`C5::joint_bias`]). Their error against a 50-digit reference grows as `1/s`: about
+/// `2.6e-17/s` for `Γ` and `1.4e-17/s` for `M_q`, so `2.5e-8` at worst in `[1e-9, 1e-8)`,
+/// past the `1e-8` bound, and `1.9e-10` in `[1e-7, 1e-6)`.
+pub const JOINT_DYNAMICS_TOLERANCE: f64 = 1e-7;
+
+/// Refuses a pose where `what` cannot be served to its bound: a divisor of eq 16 below
+/// `bound` (after [`check_divisors`]).
+///
+/// # Errors
+/// [`Error::Singular`] or [`Error::IllConditioned`] naming the divisor.
+#[inline]
+fn check_conditioned(what: &'static str, bound: f64, r: [f64; 3]) -> Result<(), Error> {
+    check_divisors(r)?;
+    for (term, value) in ["r11", "r22", "r33"].into_iter().zip(r) {
+        if value.abs() < bound {
+            return Err(Error::IllConditioned {
+                what,
+                term,
+                value,
+                bound,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Refuses actuator positions where the joint-space inverse dynamics, inertia or bias cannot be
+/// served to their bound: at or beyond the forward singularity ([`check_forward`]), or a
+/// divisor of eq 16 below [`JOINT_DYNAMICS_TOLERANCE`].
+///
+/// # Errors
+/// [`Error::ForwardSingular`], [`Error::Singular`] or [`Error::IllConditioned`].
+#[inline]
+pub(crate) fn check_joint_dynamics(guard: [f64; 4]) -> Result<(), Error> {
+    check_forward(guard)?;
+    check_conditioned(
+        "joint-space dynamics",
+        JOINT_DYNAMICS_TOLERANCE,
+        [guard[1], guard[2], guard[3]],
+    )
+}
+
+/// Refuses a pose where the joint-space Jacobians `∂Γ/∂q`, `∂Γ/∂q̇` cannot be served to their
+/// bound: a divisor of eq 16 below [`JOINT_STATE_TOLERANCE`]. They differentiate through the
+/// pose the actuators give, and err against a 50-digit reference by `1.7e-11` at worst in
+/// `[1e-4, 1e-3)` and by `3e-4` near `5e-6`.
+///
+/// # Errors
+/// [`Error::Singular`] or [`Error::IllConditioned`] naming the divisor.
+#[cfg(feature = "derivatives")]
+#[inline]
+pub(crate) fn check_joint_derivatives(r: [f64; 3]) -> Result<(), Error> {
+    check_conditioned("joint-space derivatives", JOINT_STATE_TOLERANCE, r)
+}
 
 /// Refuses a pose where the forward dynamics cannot be served to its bound: a divisor of eq
 /// 16 below [`FORWARD_DYNAMICS_TOLERANCE`] (after [`check_divisors`]).
@@ -109,18 +178,7 @@ pub const FORWARD_DYNAMICS_TOLERANCE: f64 = 1e-2;
 /// [`Error::Singular`] or [`Error::IllConditioned`] naming the divisor.
 #[inline]
 pub(crate) fn check_forward_dynamics(r: [f64; 3]) -> Result<(), Error> {
-    check_divisors(r)?;
-    for (term, value) in ["r11", "r22", "r33"].into_iter().zip(r) {
-        if value.abs() < FORWARD_DYNAMICS_TOLERANCE {
-            return Err(Error::IllConditioned {
-                what: "forward dynamics",
-                term,
-                value,
-                bound: FORWARD_DYNAMICS_TOLERANCE,
-            });
-        }
-    }
-    Ok(())
+    check_conditioned("forward dynamics", FORWARD_DYNAMICS_TOLERANCE, r)
 }
 
 /// A validated robot, the model its kernels follow, and its parameter vector.
@@ -428,11 +486,21 @@ impl C5 {
     /// `(ω̇; a_C) = J (q̈ - h)` of the model, in one kernel.
     ///
     /// # Errors
-    /// Non-finite inputs, [`Error::ForwardSingular`], a singular pose or a non-finite result.
+    /// Non-finite inputs, [`Error::ForwardSingular`], a singular pose, a non-finite result,
+    /// or [`Error::IllConditioned`] for nonzero rates or accelerations at a pose nearer eq
+    /// 16's singularities than [`JOINT_STATE_TOLERANCE`].
     pub fn joint_state(&self, q: &[f64; 6], qd: &[f64; 6], qdd: &[f64; 6]) -> Result<State, Error> {
         Self::check_joints(q, qd, qdd)?;
         let (x, v, a, guard) = self.kernels.platform_state_params(q, qd, qdd, &self.params);
         check_forward(guard)?;
+        // At rest the twist and acceleration are zero, exactly, wherever the pose is served.
+        if qd.iter().chain(qdd).any(|&x| x != 0.0) {
+            check_conditioned(
+                "platform motion from the actuators",
+                JOINT_STATE_TOLERANCE,
+                [guard[1], guard[2], guard[3]],
+            )?;
+        }
         Ok(State {
             pose: Pose::from_array(finite("pose", x)?),
             twist: Twist::from_array(finite("twist", v)?),
@@ -450,7 +518,8 @@ impl C5 {
     /// accelerations: the inverse dynamics at the state they give, without trigonometry.
     ///
     /// # Errors
-    /// Non-finite inputs, [`Error::ForwardSingular`], a singular pose or a non-finite result.
+    /// Non-finite inputs, [`Error::ForwardSingular`], a non-finite result, or a pose nearer
+    /// eq 16's singularities than [`JOINT_DYNAMICS_TOLERANCE`] ([`Error::IllConditioned`]).
     pub fn inverse_dynamics_joint(
         &self,
         q: &[f64; 6],
@@ -461,7 +530,7 @@ impl C5 {
         let (gamma, guard) = self
             .kernels
             .inverse_dynamics_joint_params(q, qd, qdd, &self.params);
-        check_forward(guard)?;
+        check_joint_dynamics(guard)?;
         finite("gamma", gamma)
     }
 
@@ -469,11 +538,12 @@ impl C5 {
     /// `Jᵀ M_x J`), at the actuator positions `q`.
     ///
     /// # Errors
-    /// A non-finite input, [`Error::ForwardSingular`], a singular pose or a non-finite result.
+    /// A non-finite input, [`Error::ForwardSingular`], a non-finite result, or a pose nearer
+    /// eq 16's singularities than [`JOINT_DYNAMICS_TOLERANCE`] ([`Error::IllConditioned`]).
     pub fn joint_inertia(&self, q: &[f64; 6]) -> Result<[[f64; 6]; 6], Error> {
         check_finite("q", q)?;
         let (m, guard) = self.kernels.joint_inertia_params(q, &self.params);
-        check_forward(guard)?;
+        check_joint_dynamics(guard)?;
         finite_matrix("joint inertia", m)
     }
 
@@ -481,12 +551,13 @@ impl C5 {
     /// actuators' positions `q` and rates `qd`.
     ///
     /// # Errors
-    /// Non-finite inputs, [`Error::ForwardSingular`], a singular pose or a non-finite result.
+    /// Non-finite inputs, [`Error::ForwardSingular`], a non-finite result, or a pose nearer
+    /// eq 16's singularities than [`JOINT_DYNAMICS_TOLERANCE`] ([`Error::IllConditioned`]).
     pub fn joint_bias(&self, q: &[f64; 6], qd: &[f64; 6]) -> Result<[f64; 6], Error> {
         check_finite("q", q)?;
         check_finite("qd", qd)?;
         let (c, guard) = self.kernels.joint_bias_params(q, qd, &self.params);
-        check_forward(guard)?;
+        check_joint_dynamics(guard)?;
         finite("joint bias", c)
     }
 

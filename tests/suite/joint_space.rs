@@ -489,3 +489,63 @@ fn the_bias_is_the_christoffel_form_of_the_inertia() {
         }
     }
 }
+
+/// A state of the default robot with `β = π/2 - s`, so that `|r11|` and `|r33|` are about `s`.
+fn near_singular(s: f64) -> State {
+    let mut state = State::default();
+    state.pose.alpha = 0.1;
+    state.pose.beta = std::f64::consts::FRAC_PI_2 - s;
+    state.pose.gamma = -0.2;
+    state.twist.omega = [0.3, -0.2, 0.1];
+    state.accel.linear = [0.5, -1.0, 0.2];
+    state
+}
+
+/// Where `1e-8` cannot be met the joint-space calls refuse, each at its own bound (the growth
+/// of its error against the 50-digit reference, `python/tests/test_accuracy.py`), and serve
+/// beyond it.
+#[test]
+fn near_eq16s_singularities_the_joint_space_refuses_where_its_bound_cannot_be_met() {
+    use c5_runtime::{JOINT_DYNAMICS_TOLERANCE, JOINT_STATE_TOLERANCE};
+    let c5 = C5::new(Robot::default()).unwrap();
+    fn ill<T>(result: Result<T, Error>, what: &str, bound: f64) {
+        match result {
+            Err(Error::IllConditioned {
+                what: w, bound: b, ..
+            }) => assert!(w == what && b == bound, "{w} {b}"),
+            other => panic!("{what}: expected a refusal, got {:?}", other.map(|_| ())),
+        }
+    }
+    for s in [3e-4, 1e-5, 1e-6] {
+        let [q, qd, qdd] = actuators(&c5, &near_singular(s));
+        let motion = "platform motion from the actuators";
+        ill(c5.joint_state(&q, &qd, &qdd), motion, JOINT_STATE_TOLERANCE);
+        ill(
+            c5.joint_state(&q, &[0.0; 6], &qdd),
+            motion,
+            JOINT_STATE_TOLERANCE,
+        );
+        // At rest the motion is zero exactly, and the pose is served.
+        let rest = c5.joint_state(&q, &[0.0; 6], &[0.0; 6]).unwrap();
+        assert_eq!(rest.twist.to_array(), [0.0; 6]);
+        assert_eq!(rest.accel.to_array(), [0.0; 6]);
+        assert!(c5.inverse_dynamics_joint(&q, &qd, &qdd).is_ok());
+        assert!(c5.joint_inertia(&q).is_ok());
+    }
+    for s in [3e-8, 1e-8] {
+        let [q, qd, qdd] = actuators(&c5, &near_singular(s));
+        let dynamics = "joint-space dynamics";
+        ill(
+            c5.inverse_dynamics_joint(&q, &qd, &qdd),
+            dynamics,
+            JOINT_DYNAMICS_TOLERANCE,
+        );
+        ill(c5.joint_inertia(&q), dynamics, JOINT_DYNAMICS_TOLERANCE);
+        ill(c5.joint_bias(&q, &qd), dynamics, JOINT_DYNAMICS_TOLERANCE);
+        let batch = c5.inverse_dynamics_joint_many(&[[q, qd, qdd]; 5]);
+        assert!(matches!(batch, Err((0, Error::IllConditioned { .. }))));
+        assert!(c5.forward_kinematics(&q).is_ok());
+    }
+    let [q, qd, qdd] = actuators(&c5, &near_singular(2e-3));
+    assert!(c5.joint_state(&q, &qd, &qdd).is_ok());
+}
