@@ -148,22 +148,81 @@ class Exact:
         return list(mp.lu_solve(mp.matrix(transpose(self.jinv)), mp.matrix(wrench)))
 
 
-def acceleration_map(robot: Robot, pose, omega=(0, 0, 0), velocity=(0, 0, 0)):
+class ExactPaper:
+    """One state of the paper model (docs/models.md, the chapter as published with its slips 1-3
+    corrected) for ``robot``, in 50 digits, written from the chapter's equations: ``q`` by eq 16;
+    ``J⁻¹`` by eq 22, rows ``[(n_i × P_i2)ᵀ n_iᵀ]`` with ``P_i2 = C - B_i``; ``q̈`` by the
+    projection of eq 47, ``n_i · (a_C - ω × v_C + P_i2 × ω̇)``; the forces by eq 60 as Newton-Euler
+    of the platform and the bodies 2 moving as points of the platform (eq 43), the rods' axial
+    loads ``m_i1 (q̈_i - n_i·g)``, and ``Γ = Jᵀ W + τ``."""
+
+    def __init__(self, robot: Robot, pose, omega=(0, 0, 0), velocity=(0, 0, 0),
+                 omega_dot=(0, 0, 0), acceleration=(0, 0, 0)):
+        self.robot = robot
+        pose = vec(pose)
+        self.r = rotation(*pose[:3])
+        self.c = pose[3:]
+        self.w, self.v = vec(omega), vec(velocity)
+        self.wd, self.a = vec(omega_dot), vec(acceleration)
+        l = mpf(robot.half_spacing)
+        twist = self.w + self.v
+        spatial = add(self.a, scale(-1, cross(self.w, self.v)))
+        self.q, self.p, self.qd, self.qdd, self.jinv = [], [], [], [], []
+        for i in range(6):
+            k, a_i, n = AXIS[i], anchor(l, i), axis(i)
+            m = [self.r[j][k] for j in range(3)]
+            q = dot(m, add(self.c, scale(-1, a_i))) / m[k]
+            p = add(self.c, scale(-1, add(a_i, scale(q, n))))
+            row = cross(n, p) + n
+            self.q.append(q)
+            self.p.append(p)
+            self.jinv.append(row)
+            self.qd.append(dot(row, twist))
+            self.qdd.append(dot(n, add(spatial, cross(p, self.wd))))
+
+    def gamma(self):
+        rb = self.robot
+        g = vec(rb.gravity)
+        w, wd = self.w, self.wd
+        wrench = [mpf(0)] * 6  # (moment; force) at C, base frame
+
+        def add_body(mass, inertia_body, offset):
+            """A body turning with the platform, its centre of mass at ``C + offset``."""
+            a_g = add(self.a, cross(wd, offset), cross(w, cross(w, offset)))
+            f = scale(mpf(mass), add(a_g, scale(-1, g)))
+            inertia = matmul(matmul(self.r, [vec(r) for r in inertia_body]), transpose(self.r))
+            n = add(matvec(inertia, wd), cross(w, matvec(inertia, w)), cross(offset, f))
+            for k in range(3):
+                wrench[k] += n[k]
+                wrench[3 + k] += f[k]
+
+        add_body(rb.platform.mass, rb.platform.inertia, matvec(self.r, vec(rb.platform.com)))
+        for i, j in enumerate(rb.joints):
+            add_body(j.mass, j.inertia, add(scale(-1, self.p[i]), matvec(self.r, vec(j.com))))
+        tau = [mpf(rb.rod_masses[i]) * (self.qdd[i] - dot(axis(i), g)) for i in range(6)]
+        wrench_share = mp.lu_solve(mp.matrix(transpose(self.jinv)), mp.matrix(wrench))
+        return [wrench_share[i] + tau[i] for i in range(6)]
+
+
+MODELS = {"consistent": Exact, "paper": ExactPaper}
+
+
+def acceleration_map(robot: Robot, pose, omega=(0, 0, 0), velocity=(0, 0, 0), model=Exact):
     """``Γ`` at zero acceleration and ``C = ∂Γ/∂(ω̇; a_C)``: the forces are affine in the
     acceleration, so six differences of exact evaluations give ``C`` exactly."""
-    bias = Exact(robot, pose, omega, velocity).gamma()
+    bias = model(robot, pose, omega, velocity).gamma()
     columns = []
     for j in range(6):
         e = [0] * 6
         e[j] = 1
-        g = Exact(robot, pose, omega, velocity, e[:3], e[3:]).gamma()
+        g = model(robot, pose, omega, velocity, e[:3], e[3:]).gamma()
         columns.append([x - b for x, b in zip(g, bias)])
     return bias, mp.matrix(transpose(columns))
 
 
-def forward_dynamics(robot: Robot, pose, omega, velocity, gamma):
+def forward_dynamics(robot: Robot, pose, omega, velocity, gamma, model=Exact):
     """``(omega_dot; acceleration)``: the forces are affine in the acceleration."""
-    bias, c = acceleration_map(robot, pose, omega, velocity)
+    bias, c = acceleration_map(robot, pose, omega, velocity, model)
     rhs = [mpf(x) - b for x, b in zip(gamma, bias)]
     return list(mp.lu_solve(c, mp.matrix(rhs)))
 
