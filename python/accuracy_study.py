@@ -1,10 +1,11 @@
 """The accuracy contract's figures (docs/embedding.md): the worst relative error of what the
 consistent model serves against a 50-digit reference (python/tests/exact.py), by distance
 `s = min |r_kk|` from eq 16's singularities, over random states near them; and how many
-forward-dynamics calls are refused.
+forward-dynamics calls are refused. With `--joint-plot`, the same for the joint space: the
+platform's acceleration from the actuators' and the forces from them, each with its guard.
 
-    python python/accuracy_study.py [--plot FILE.png]   (c5_kernels and mpmath installed;
-                                                         matplotlib for the plot)
+    python python/accuracy_study.py [--plot FILE.png] [--joint-plot FILE.png]
+        (c5_kernels and mpmath installed; matplotlib for the plots)
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent / "tests"))
 
 import c5_kernels  # noqa: E402
 from conftest import DEFAULT_ROBOT  # noqa: E402
-from exact import Exact, forward_dynamics  # noqa: E402
+from exact import Exact, forward_dynamics, joint_state  # noqa: E402
 from reference import Robot, rotation  # noqa: E402
 
 STATES = 400
@@ -56,6 +57,8 @@ def main() -> None:
     rows = np.array(rows)
     if "--plot" in sys.argv:
         plot(rows, sys.argv[sys.argv.index("--plot") + 1])
+    if "--joint-plot" in sys.argv:
+        joint_plot(joint_rows(robot, c5), sys.argv[sys.argv.index("--joint-plot") + 1])
     print("| s = min \\|r_kk\\| | states | Γ | q̇ | forward dynamics served | refused |")
     print("|---|---:|---:|---:|---:|---:|")
     for lo in range(-7, 0):
@@ -90,6 +93,67 @@ def plot(rows, path: str) -> None:
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(0.01, 0.92))
     fig.tight_layout()
     fig.savefig(path, dpi=110)
+
+
+def joint_rows(robot, c5):
+    """Per state: the distance, and the relative errors of the platform acceleration from
+    `(q, q̇, q̈)` (`joint_state`) and of `Γ(q, q̇, q̈)`, NaN where refused."""
+    rng = np.random.default_rng(3)
+    rows = []
+    for _ in range(STATES):
+        which, s = rng.integers(0, 3), 10 ** rng.uniform(-9, 0)
+        pose = np.concatenate([rng.uniform(-0.4, 0.4, 3), rng.uniform(-0.05, 0.05, 3)])
+        pose[which] = (np.pi / 2 - s) * rng.choice([-1, 1])
+        exact = Exact(robot, pose, *rng.uniform(-1, 1, (4, 3)))
+        q, qd, qdd = (np.array([float(x) for x in v]) for v in (exact.q, exact.qd, exact.qdd))
+        try:
+            found = c5.forward_kinematics(q)
+        except ValueError:
+            continue  # beyond the forward singularity
+        pose, twist, accel = joint_state(robot, q, qd, qdd, guess=found)
+        errors = [float(np.min(np.abs(np.diag(rotation(*found[:3])))))]
+        try:
+            served = c5.joint_state(q, qd, qdd)
+            errors.append(relative(np.concatenate(served[3:]), accel))
+        except ValueError:
+            errors.append(np.nan)
+        try:
+            gamma = Exact(robot, pose, twist[:3], twist[3:], accel[:3], accel[3:]).gamma()
+            errors.append(relative(c5.inverse_dynamics_joint(q, qd, qdd), gamma))
+        except ValueError:
+            errors.append(np.nan)
+        rows.append(errors)
+    return np.array(rows)
+
+
+def joint_plot(rows, path: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8, 5))
+    for column, marker, label in [(1, "o", "platform acceleration from (q, q̇, q̈), served"),
+                                  (2, ".", "Γ(q, q̇, q̈), served")]:
+        served = ~np.isnan(rows[:, column])
+        ax.loglog(rows[served, 0], rows[served, column], marker, label=label, alpha=0.7)
+    ax.axhline(1e-8, color="k", lw=1, ls="--", label="the f64 bound, 1e-8")
+    ax.axvline(1e-3, color="C0", lw=1, label="JOINT_STATE_TOLERANCE = 1e-3")
+    ax.axvline(1e-7, color="C1", lw=1, label="JOINT_DYNAMICS_TOLERANCE = 1e-7")
+    s = np.logspace(-3, 0, 20)
+    ax.loglog(s, 3e-18 / s**3, "C0:", lw=1, label="3e-18 / s³ (measured before the guard)")
+    s = np.logspace(-7, 0, 20)
+    ax.loglog(s, 2.6e-17 / s, "C1:", lw=1, label="2.6e-17 / s (measured before the guard)")
+    ax.set_xlabel("s = min |r_kk|, distance from eq 16's singularities")
+    ax.set_ylabel("relative error against 50 digits")
+    ax.set_title("Consistent model, default robot: the joint space, what is served")
+    ax.set_ylim(1e-28, 1e-6)
+    ax.legend(fontsize=8, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    refused = np.isnan(rows[:, 1:]).sum(axis=0)
+    print(f"joint space: {len(rows)} states; refused: acceleration {refused[0]}, Γ {refused[1]};"
+          f" worst served: acceleration {np.nanmax(rows[:, 1]):.1e}, Γ {np.nanmax(rows[:, 2]):.1e}")
 
 
 if __name__ == "__main__":

@@ -108,7 +108,7 @@ pub const FORWARD_DYNAMICS_TOLERANCE: f64 = 1e-2;
 /// served from the actuators' rates and accelerations ([`C5::joint_state`], `c5 eval` on
 /// actuator lines): `V = J q̇` and `(ω̇; a_C) = J (q̈ - h)` apply `J`, which is ill conditioned
 /// near eq 16's singularities. Against a 50-digit reference the acceleration errs by about
-/// `3e-18/s³` relative (`2.5e-10` at worst in `[1e-3, 1e-2)`, `1.3e-8` in `[1e-4, 1e-3)`) and
+/// `3e-18/s³` relative (`3.1e-10` at worst in `[1e-3, 1e-2)`, `1.3e-8` in `[1e-4, 1e-3)`) and
 /// the twist by about `1e-18/s²`; below this bound, with nonzero rates or accelerations, the
 /// call is refused ([`Error::IllConditioned`]). The pose alone is served down to
 /// [`SINGULARITY_TOLERANCE`], as are the joint-space forces and inertia, which stay accurate.
