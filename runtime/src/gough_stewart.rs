@@ -27,10 +27,14 @@ pub const PARAMETERS: usize = kernels::PARAMETERS;
 /// frame (its spin about its own axis) is lost.
 pub const U_JOINT_TOLERANCE: f64 = 1e-6;
 
-/// Smallest accepted pivot ratio of the solve with `J⁻ᵀ` (the `LDLᵀ` of `J⁻¹ J⁻ᵀ`, each pivot
-/// over its diagonal entry): near zero the legs lose their hold on the platform (a parallel
-/// singularity) and the forces grow without bound.
-pub const HOLD_TOLERANCE: f64 = 1e-8;
+/// Smallest accepted pivot ratio `ρ` of the solve with `J⁻ᵀ` (the `LDLᵀ` of `J⁻¹ J⁻ᵀ`, each
+/// pivot over its diagonal entry): near zero the legs lose their hold on the platform (a
+/// parallel singularity) and the forces grow without bound. Against a 50-digit reference
+/// (`python/tests/exact_hexapod.py`), the inverse dynamics and `J` err by about `1.5e-15/ρ`
+/// relative and the forward dynamics by up to `3e-18/ρ^1.5`, so at `1e-7` they were already
+/// past `1e-8`; at this bound the worst measured is `2.2e-11` (docs/embedding.md). The forward
+/// dynamics, which solves `M_x`, checks it too.
+pub const HOLD_TOLERANCE: f64 = 1e-5;
 
 /// The forward kinematics' tolerance: the largest residual of an actuator position (m).
 pub const FORWARD_TOLERANCE: f64 = 1e-12;
@@ -350,6 +354,7 @@ impl GoughStewart {
         check_finite("gamma", gamma)?;
         let (a, guard) = kernels::forward_dynamics_params(&x, &v, gamma, &self.params);
         check_terms(&guard)?;
+        self.check_hold(&x)?;
         Ok(Acceleration::from_array(finite("acceleration", a)?))
     }
 
@@ -373,6 +378,12 @@ impl GoughStewart {
             None => self.level_start(q),
         };
         self.newton(q, start).map(Pose::from_array)
+    }
+
+    /// Refuses a pose where the legs' hold is below [`HOLD_TOLERANCE`]: for the kernels that
+    /// solve with `M_x` rather than `J⁻ᵀ`, whose own singularity terms are the U joints' alone.
+    pub(crate) fn check_hold(&self, x: &[f64; 6]) -> Result<(), Error> {
+        check_terms(&kernels::singularity_terms_params(x, &self.params))
     }
 
     /// Newton's method on `q(X) = q` from `x`, each step halved until it reduces the residual.
