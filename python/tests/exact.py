@@ -227,33 +227,33 @@ def forward_dynamics(robot: Robot, pose, omega, velocity, gamma, model=Exact):
     return list(mp.lu_solve(c, mp.matrix(rhs)))
 
 
-def task_inertia(robot: Robot, pose):
+def task_inertia(robot: Robot, pose, model=Exact):
     """``M_x`` of ``J⁻ᵀ Γ = M_x (ω̇; a_C) + h``: the wrench at ``C`` per unit acceleration."""
-    _, c = acceleration_map(robot, pose)
-    return mp.matrix(Exact(robot, pose).jinv).T * c
+    _, c = acceleration_map(robot, pose, model=model)
+    return mp.matrix(model(robot, pose).jinv).T * c
 
 
-def joint_state(robot: Robot, q, qd=(0,) * 6, qdd=(0,) * 6, guess=None):
+def joint_state(robot: Robot, q, qd=(0,) * 6, qdd=(0,) * 6, guess=None, model=Exact):
     """The pose, twist and acceleration whose actuators are at ``q``, ``q̇``, ``q̈``: eq 16
     solved for the pose by Newton's method in 50 digits from ``guess`` (a pose near the one
     sought), then ``q̇ = J⁻¹ V`` and ``q̈ = J⁻¹ A + q̈(V, 0)`` solved for ``V`` and ``A``."""
     q = vec(q)
 
     def residual(*pose):
-        return [x - y for x, y in zip(Exact(robot, pose).q, q)]
+        return [x - y for x, y in zip(model(robot, pose).q, q)]
 
     pose = list(mp.findroot(residual, vec(guess), tol=mpf(10) ** -45))
-    jinv = mp.matrix(Exact(robot, pose).jinv)
+    jinv = mp.matrix(model(robot, pose).jinv)
     twist = list(mp.lu_solve(jinv, mp.matrix(vec(qd))))
-    at_rest = Exact(robot, pose, twist[:3], twist[3:]).qdd
+    at_rest = model(robot, pose, twist[:3], twist[3:]).qdd
     accel = list(mp.lu_solve(jinv, mp.matrix([mpf(x) - b for x, b in zip(qdd, at_rest)])))
     return pose, twist, accel
 
 
-def joint_inertia(robot: Robot, pose):
+def joint_inertia(robot: Robot, pose, model=Exact):
     """``M_q = ∂Γ/∂q̈ = C J``, at the pose the actuators give."""
-    _, c = acceleration_map(robot, pose)
-    return c * mp.matrix(Exact(robot, pose).jinv) ** -1
+    _, c = acceleration_map(robot, pose, model=model)
+    return c * mp.matrix(model(robot, pose).jinv) ** -1
 
 
 def central(f, x, h):
