@@ -306,7 +306,8 @@ def test_the_derivatives_are_exact_to_their_bounds_or_refused(robot, model):
 # ten times; nearer than HOLD_TOLERANCE on the pivot ratio, refused.
 HEXAPOD = ROOT / "docs" / "hexapod.toml"
 HOLD_TOLERANCE = 1e-5
-HEXAPOD_STATED = {"kinematics": 5e-16, "Γ": 3e-11, "J": 3e-11, "forward": 3e-11}
+HEXAPOD_STATED = {"kinematics": 5e-16, "Γ": 3e-11, "J": 3e-11, "forward": 3e-11,
+                  "∂Γ/∂X": 1.5e-10, "∂Γ/∂V": 6e-11, "∂a/∂X": 5e-15}
 
 
 def pivot_ratio(jinv) -> float:
@@ -337,6 +338,7 @@ def hexapod_near_singular_states(robot, seed: int):
 
 def test_the_hexapod_serves_within_the_bound_or_refuses(c5_program):
     robot = load_hexapod(HEXAPOD)
+    hexapod = c5_kernels.C5(robot=str(HEXAPOD))
     states = list(hexapod_near_singular_states(robot, 6))
     exact = [ExactHexapod(robot, *state) for state in states]
     forces = [[float(x) for x in e.gamma()] for e in exact]
@@ -372,6 +374,16 @@ def test_the_hexapod_serves_within_the_bound_or_refuses(c5_program):
         exact_forward = forward_dynamics(robot, state[0], state[1], state[2], g, ExactHexapod)
         worst["forward"] = max(worst["forward"],
                                relative(fwd["omega_dot"] + fwd["acceleration"], exact_forward))
+        pose, w, v, wd, a = state
+        _, d_pose, d_twist, _ = hexapod.inverse_dynamics_derivatives(pose, w, v, wd, a)
+        step = mpf(10) ** -18
+        worst["∂Γ/∂X"] = max(worst["∂Γ/∂X"], relative(d_pose, central(
+            lambda x: ExactHexapod(robot, x, w, v, wd, a).gamma(), pose, step)))
+        worst["∂Γ/∂V"] = max(worst["∂Γ/∂V"], relative(d_twist, central(
+            lambda t: ExactHexapod(robot, pose, t[:3], t[3:], wd, a).gamma(), np.r_[w, v], step)))
+        da_pose = hexapod.forward_dynamics_derivatives(pose, w, v, g)[2]
+        worst["∂a/∂X"] = max(worst["∂a/∂X"], relative(da_pose, central(
+            lambda x: forward_dynamics(robot, x, w, v, g, ExactHexapod), pose, step)))
     print("hexapod: worst relative errors where served", worst, "refused", refused)
     for what, error in worst.items():
         assert error < 10 * HEXAPOD_STATED[what], (what, error)
