@@ -137,6 +137,17 @@ class C5:
         """The platform's classical acceleration ``(omega_dot, acceleration)`` under the actuator
         forces ``gamma`` (N)."""
 
+    def task_bias(
+        self,
+        pose: ArrayLike,
+        omega: Optional[ArrayLike] = None,
+        velocity: Optional[ArrayLike] = None,
+        *,
+        errors: Errors = "raise",
+    ) -> Result:
+        """``h`` of ``gamma = J^T (M_x (omega_dot; acceleration) + h)``: the Coriolis, centrifugal
+        and gravity terms at ``C``, ``(6,)`` or ``(N, 6)``."""
+
     def task_inertia(self, pose: ArrayLike, *, errors: Errors = "raise") -> Result:
         """``M_x`` of ``gamma = J^T (M_x (omega_dot; acceleration) + h)``: ``(6, 6)`` or
         ``(N, 6, 6)``."""

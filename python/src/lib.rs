@@ -619,6 +619,34 @@ impl C5 {
         })
     }
 
+    /// The task-space bias `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal and
+    /// gravity terms at `C`, `(6,)` or `(N, 6)`.
+    #[pyo3(signature = (pose, omega = None, velocity = None, *, errors = "raise"))]
+    fn task_bias<'py>(
+        &self,
+        py: Python<'py>,
+        pose: Array<'py>,
+        omega: Option<Array<'py>>,
+        velocity: Option<Array<'py>>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&[
+            ("pose", 6, Some(&pose)),
+            ("omega", 3, omega.as_ref()),
+            ("velocity", 3, velocity.as_ref()),
+        ])?;
+        let c5 = &self.inner;
+        each_row(py, batch, mode, &[&[6]], |k, out| {
+            let twist = Twist {
+                omega: r[1].row(k),
+                velocity: r[2].row(k),
+            };
+            out.put(0, k, &c5.task_bias(&Pose::from_array(r[0].row(k)), &twist)?);
+            Ok(())
+        })
+    }
+
     /// The task-space inertia `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: `(6, 6)` or `(N, 6, 6)`.
     #[pyo3(signature = (pose, *, errors = "raise"))]
     fn task_inertia<'py>(

@@ -233,6 +233,12 @@ def task_inertia(robot: Robot, pose, model=Exact):
     return mp.matrix(model(robot, pose).jinv).T * c
 
 
+def task_bias(robot: Robot, pose, omega, velocity, model=Exact):
+    """``h = J⁻ᵀ Γ(X, V, 0)``: the wrench at ``C`` the motion needs at zero acceleration."""
+    bias = model(robot, pose, omega, velocity).gamma()
+    return list(mp.matrix(model(robot, pose).jinv).T * mp.matrix(bias))
+
+
 def joint_state(robot: Robot, q, qd=(0,) * 6, qdd=(0,) * 6, guess=None, model=Exact):
     """The pose, twist and acceleration whose actuators are at ``q``, ``q̇``, ``q̈``: eq 16
     solved for the pose by Newton's method in 50 digits from ``guess`` (a pose near the one
