@@ -92,6 +92,15 @@ fn bench(c: &mut Criterion) {
             k::forward_dynamics_params(x, v, &forces[i], params).0
         })
     });
+    // What a caller of the runtime pays: the checks, and the legs' hold (the singularity
+    // terms' kernel) that the forward dynamics' own guard lacks.
+    g.bench_function("forward_dynamics_runtime", |b| {
+        b.iter(|| {
+            i = (i + 1) % cases.len();
+            let s = black_box(&cases[i]);
+            hexapod.forward_dynamics(&s.pose, &s.twist, &forces[i])
+        })
+    });
     // A controller's case: the previous sample's pose, 1 ms of a brisk motion away.
     let readings: Vec<([f64; 6], Pose)> = cases
         .iter()
