@@ -160,6 +160,7 @@ def actuator_motion(robot, state, model="consistent"):
 
 @pytest.mark.parametrize("model", ["consistent", "paper"])
 def test_eval_on_actuator_lines_serves_within_the_bound_or_refuses(robot, answers, model):
+    reference = EXACT[model]
     states = list(near_singular_states(3))
     inputs = [actuator_motion(robot, (p, w, v, wd, a), model) for _, p, w, v, wd, a in states]
     out = answers("eval", [{"q": list(q), "qd": list(qd), "qdd": list(qdd)}
@@ -178,14 +179,14 @@ def test_eval_on_actuator_lines_serves_within_the_bound_or_refuses(robot, answer
             continue
         assert distance(line["pose"]) >= JOINT_STATE_TOLERANCE, (s, line)
         found, twist, accel = joint_state(robot, q, qd, qdd, guess=line["pose"],
-                                          model=EXACT[model])
+                                          model=reference)
         worst["pose from q"] = max(worst["pose from q"], relative(line["pose"], found))
         worst["twist from q̇"] = max(worst["twist from q̇"],
                                      relative(line["omega"] + line["velocity"], twist))
         worst["acceleration from q̈"] = max(
             worst["acceleration from q̈"],
             relative(line["omega_dot"] + line["acceleration"], accel))
-        gamma = EXACT[model](robot, found, twist[:3], twist[3:], accel[:3], accel[3:]).gamma()
+        gamma = reference(robot, found, twist[:3], twist[3:], accel[:3], accel[3:]).gamma()
         worst["Γ from q, q̇, q̈"] = max(worst["Γ from q, q̇, q̈"],
                                         relative(line["gamma"], gamma))
         served += 1
@@ -200,14 +201,15 @@ def test_eval_on_actuator_lines_serves_within_the_bound_or_refuses(robot, answer
 def test_the_joint_space_forces_and_the_inertias_are_exact_or_refused(robot, model):
     """`Γ(q, q̇, q̈)` and `M_q` err as `1/s`: served down to `JOINT_DYNAMICS_TOLERANCE`
     (1e-7), refused below. `M_x` is an evaluation, served down to eq 16's own tolerance."""
+    reference = EXACT[model]
     c5 = c5_kernels.C5(model)
     worst = {"Γ from q, q̇, q̈": 0.0, "M_q": 0.0, "M_x": 0.0, "h": 0.0}
     refused = 0
     for _, pose, w, v, wd, a in near_singular_states(4, DISTANCES + [1e-8, 3e-9]):
         worst["M_x"] = max(worst["M_x"], relative(c5.task_inertia(pose),
-                                                  task_inertia(robot, pose, EXACT[model]).tolist()))
+                                                  task_inertia(robot, pose, reference).tolist()))
         worst["h"] = max(worst["h"], relative(c5.task_bias(pose, w, v),
-                                              task_bias(robot, pose, w, v, EXACT[model])))
+                                              task_bias(robot, pose, w, v, reference)))
         q, qd, qdd = actuator_motion(robot, (pose, w, v, wd, a), model)
         try:
             found = c5.forward_kinematics(q)
@@ -223,12 +225,12 @@ def test_the_joint_space_forces_and_the_inertias_are_exact_or_refused(robot, mod
             refused += 1
             continue
         exact_pose, twist, accel = joint_state(robot, q, qd, qdd, guess=found,
-                                               model=EXACT[model])
-        gamma = EXACT[model](robot, exact_pose, twist[:3], twist[3:], accel[:3], accel[3:]).gamma()
+                                               model=reference)
+        gamma = reference(robot, exact_pose, twist[:3], twist[3:], accel[:3], accel[3:]).gamma()
         worst["Γ from q, q̇, q̈"] = max(worst["Γ from q, q̇, q̈"],
                                         relative(c5.inverse_dynamics_joint(q, qd, qdd), gamma))
-        worst["M_q"] = max(worst["M_q"], relative(c5.joint_inertia(q),
-                                                  joint_inertia(robot, exact_pose, EXACT[model]).tolist()))
+        exact_inertia = joint_inertia(robot, exact_pose, reference).tolist()
+        worst["M_q"] = max(worst["M_q"], relative(c5.joint_inertia(q), exact_inertia))
     print(f"{model}: worst relative errors:", worst)
     for what, error in worst.items():
         assert error < 10 * STATED[model][what], (what, error)
@@ -243,6 +245,7 @@ def step(pose):
 
 @pytest.mark.parametrize("model", ["consistent", "paper"])
 def test_the_derivatives_are_exact_to_their_bounds_or_refused(robot, model):
+    reference = EXACT[model]
     c5 = c5_kernels.C5(model)
     worst = dict.fromkeys(["∂Γ/∂X", "∂Γ/∂V", "∂Γ/∂A", "∂a/∂X", "∂a/∂V", "∂a/∂Γ",
                            "∂Γ/∂q", "∂Γ/∂q̇"], 0.0)
@@ -257,24 +260,28 @@ def test_the_derivatives_are_exact_to_their_bounds_or_refused(robot, model):
         h, twist = step(pose), np.r_[w, v]
         gamma, d_pose, d_twist, d_accel = c5.inverse_dynamics_derivatives(pose, w, v, wd, a)
         for what, served, exact in [
-            ("∂Γ/∂X", d_pose, central(lambda x: EXACT[model](robot, x, w, v, wd, a).gamma(), pose, h)),
+            ("∂Γ/∂X", d_pose, central(lambda x: reference(robot, x, w, v, wd, a).gamma(), pose, h)),
             ("∂Γ/∂V", d_twist, central(
-                lambda t: EXACT[model](robot, pose, t[:3], t[3:], wd, a).gamma(), twist, h)),
-            ("∂Γ/∂A", d_accel, acceleration_map(robot, pose, w, v, EXACT[model])[1].tolist()),
+                lambda t: reference(robot, pose, t[:3], t[3:], wd, a).gamma(), twist, h)),
+            ("∂Γ/∂A", d_accel, acceleration_map(robot, pose, w, v, reference)[1].tolist()),
         ]:
             worst[what] = max(worst[what], relative(served, exact))
-        forces = [float(x) for x in EXACT[model](robot, pose, w, v, wd, a).gamma()]
+        forces = [float(x) for x in reference(robot, pose, w, v, wd, a).gamma()]
         if distance(pose) < FORWARD_DYNAMICS_TOLERANCE:
             with pytest.raises(c5_kernels.SingularPoseError, match="forward dynamics refused"):
                 c5.forward_dynamics_derivatives(pose, w, v, forces)
         else:
             _, _, da_pose, da_twist, da_gamma = c5.forward_dynamics_derivatives(
                 pose, w, v, forces)
-            accel = lambda x, t: forward_dynamics(robot, x, t[:3], t[3:], forces, EXACT[model])  # noqa: E731
+
+            def accel(x, t):
+                return forward_dynamics(robot, x, t[:3], t[3:], forces, reference)
+
             for what, served, exact in [
                 ("∂a/∂X", da_pose, central(lambda x: accel(x, twist), pose, h)),
                 ("∂a/∂V", da_twist, central(lambda t: accel(pose, t), twist, h)),
-                ("∂a/∂Γ", da_gamma, (acceleration_map(robot, pose, w, v, EXACT[model])[1] ** -1).tolist()),
+                ("∂a/∂Γ", da_gamma,
+                 (acceleration_map(robot, pose, w, v, reference)[1] ** -1).tolist()),
             ]:
                 worst[what] = max(worst[what], relative(served, exact))
         q, qd, qdd = actuator_motion(robot, (pose, w, v, wd, a), model)
@@ -290,8 +297,8 @@ def test_the_derivatives_are_exact_to_their_bounds_or_refused(robot, model):
 
         def joint_gamma(positions, rates):
             p, t, acc = joint_state(robot, positions, rates, qdd, guess=found,
-                                    model=EXACT[model])
-            return EXACT[model](robot, p, t[:3], t[3:], acc[:3], acc[3:]).gamma()
+                                    model=reference)
+            return reference(robot, p, t[:3], t[3:], acc[:3], acc[3:]).gamma()
 
         worst["∂Γ/∂q"] = max(worst["∂Γ/∂q"],
                              relative(d_q, central(lambda x: joint_gamma(x, qd), q, h)))

@@ -122,8 +122,9 @@ fn collect<T>(
 
 impl C5 {
     /// [`C5::inverse_dynamics`] of states `0..n` (`state(k)` the `k`-th), four at a time
-    /// through the batch kernel (one at a time without the `batch` feature): each state's forces, or why it was refused, handed to `each`
-    /// in order. For callers that read states from their own storage (numpy arrays, a log).
+    /// through the batch kernel (one at a time without the `batch` feature): each state's
+    /// forces, or why it was refused, handed to `each` in order. For callers that read states
+    /// from their own storage (numpy arrays, a log).
     pub fn inverse_dynamics_each(
         &self,
         n: usize,
@@ -163,8 +164,8 @@ impl C5 {
 
     /// [`C5::forward_dynamics`] of inputs `0..n` (`input(k)` the `k`-th pose, twist and
     /// actuator forces), four at a time through the batch kernel (one at a time without the
-    /// `batch` feature): each platform acceleration,
-    /// or why it was refused, handed to `each` in order.
+    /// `batch` feature): each platform acceleration, or why it was refused, handed to `each` in
+    /// order.
     pub fn forward_dynamics_each(
         &self,
         n: usize,
@@ -197,8 +198,7 @@ impl C5 {
 
     /// [`C5::inverse_dynamics_joint`] of samples `0..n` (`sample(k)` the `k`-th `[q, q̇, q̈]`),
     /// four at a time through the batch kernel (one at a time without the `batch` feature):
-    /// each sample's forces, or why it was refused,
-    /// handed to `each` in order.
+    /// each sample's forces, or why it was refused, handed to `each` in order.
     pub fn inverse_dynamics_joint_each(
         &self,
         n: usize,
