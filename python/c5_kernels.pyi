@@ -180,6 +180,12 @@ class C5:
     def joint_inertia(self, q: ArrayLike, *, errors: Errors = "raise") -> Result:
         """``M_q`` of ``gamma = M_q qdd + c_q`` (kg, ``J^T M_x J``): ``(6, 6)`` or ``(N, 6, 6)``."""
 
+    def joint_bias(
+        self, q: ArrayLike, qd: Optional[ArrayLike] = None, *, errors: Errors = "raise"
+    ) -> Result:
+        """``c_q`` of ``gamma = M_q qdd + c_q`` (N): Coriolis, centrifugal and gravity forces
+        at the actuators' positions and rates, ``(6,)`` or ``(N, 6)``."""
+
     def inverse_dynamics_derivatives(
         self,
         pose: ArrayLike,

@@ -137,9 +137,10 @@ fn exception(row: usize, single: bool, e: &Error) -> PyErr {
         format!(" (row {row})")
     };
     match e {
-        Error::Singular { .. } | Error::ForwardSingular { .. } | Error::IllConditioned { .. } => {
-            SingularPoseError::new_err(format!("{e}{at}"))
-        }
+        Error::Singular { .. }
+        | Error::Singularity { .. }
+        | Error::ForwardSingular { .. }
+        | Error::IllConditioned { .. } => SingularPoseError::new_err(format!("{e}{at}")),
         _ => PyValueError::new_err(format!("{e}{at}")),
     }
 }
@@ -745,6 +746,25 @@ impl C5 {
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         self.matrices(py, "q", &q, errors, |c5, q| c5.joint_inertia(q, None))
+    }
+
+    /// `c_q` of `Γ = M_q q̈ + c_q`: Coriolis, centrifugal and gravity forces (N) at the
+    /// actuator positions `q` and rates `qd` (m, m/s): `(6,)` or `(N, 6)`.
+    #[pyo3(signature = (q, qd = None, *, errors = "raise"))]
+    fn joint_bias<'py>(
+        &self,
+        py: Python<'py>,
+        q: Array<'py>,
+        qd: Option<Array<'py>>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = on_error(errors)?;
+        let (r, batch) = Self::read(&[("q", 6, Some(&q)), ("qd", 6, qd.as_ref())])?;
+        let c5 = &self.inner;
+        each_row(py, batch, mode, &[&[6]], |k, out| {
+            out.put(0, k, &c5.joint_bias(&r[0].row(k), &r[1].row(k), None)?);
+            Ok(())
+        })
     }
 
     /// The inverse dynamics and its exact Jacobians, from one generated kernel: `(gamma,

@@ -138,13 +138,13 @@ def test_forward_serves_within_the_bound_or_refuses(robot, answers, model):
 # figures docs/embedding.md states (its table "Every kernel family"), each held at ten times.
 STATED = {"consistent": {
     "pose from q": 1e-16, "twist from q̇": 5e-13, "acceleration from q̈": 3.1e-10,
-    "Γ from q, q̇, q̈": 3e-10, "M_x": 1e-15, "M_q": 1e-10, "h": 2e-15,
+    "Γ from q, q̇, q̈": 3e-10, "M_x": 1e-15, "M_q": 1e-10, "c_q": 6e-10, "h": 2e-15,
     "∂Γ/∂X": 2e-15, "∂Γ/∂V": 2e-15, "∂Γ/∂A": 2e-15,
     "∂a/∂X": 3e-11, "∂a/∂V": 3e-11, "∂a/∂Γ": 1e-13,
     "∂Γ/∂q": 5e-14, "∂Γ/∂q̇": 5e-14,
 }, "paper": {
     "pose from q": 1e-16, "twist from q̇": 3e-15, "acceleration from q̈": 3e-15,
-    "Γ from q, q̇, q̈": 1e-15, "M_x": 1e-15, "M_q": 1e-15, "h": 2e-15,
+    "Γ from q, q̇, q̈": 1e-15, "M_x": 1e-15, "M_q": 1e-15, "c_q": 4e-15, "h": 2e-15,
     "∂Γ/∂X": 3e-15, "∂Γ/∂V": 1e-15, "∂Γ/∂A": 1e-15,
     "∂a/∂X": 2e-14, "∂a/∂V": 2e-14, "∂a/∂Γ": 1e-15,
     "∂Γ/∂q": 1e-15, "∂Γ/∂q̇": 1e-15,
@@ -203,7 +203,7 @@ def test_the_joint_space_forces_and_the_inertias_are_exact_or_refused(robot, mod
     (1e-7), refused below. `M_x` is an evaluation, served down to eq 16's own tolerance."""
     reference = EXACT[model]
     c5 = c5_kernels.C5(model)
-    worst = {"Γ from q, q̇, q̈": 0.0, "M_q": 0.0, "M_x": 0.0, "h": 0.0}
+    worst = {"Γ from q, q̇, q̈": 0.0, "M_q": 0.0, "c_q": 0.0, "M_x": 0.0, "h": 0.0}
     refused = 0
     for _, pose, w, v, wd, a in near_singular_states(4, DISTANCES + [1e-8, 3e-9]):
         worst["M_x"] = max(worst["M_x"], relative(c5.task_inertia(pose),
@@ -218,7 +218,7 @@ def test_the_joint_space_forces_and_the_inertias_are_exact_or_refused(robot, mod
             continue
         if distance(found) < JOINT_DYNAMICS_TOLERANCE:
             for call in (lambda: c5.inverse_dynamics_joint(q, qd, qdd),
-                         lambda: c5.joint_inertia(q)):
+                         lambda: c5.joint_inertia(q), lambda: c5.joint_bias(q, qd)):
                 with pytest.raises(c5_kernels.SingularPoseError,
                                    match="joint-space dynamics refused"):
                     call()
@@ -231,6 +231,11 @@ def test_the_joint_space_forces_and_the_inertias_are_exact_or_refused(robot, mod
                                         relative(c5.inverse_dynamics_joint(q, qd, qdd), gamma))
         exact_inertia = joint_inertia(robot, exact_pose, reference).tolist()
         worst["M_q"] = max(worst["M_q"], relative(c5.joint_inertia(q), exact_inertia))
+        # c_q = Γ(q, q̇, 0): the platform's motion at q̈ = 0, then the exact forces of it.
+        exact_pose, twist, accel = joint_state(robot, q, qd, [0.0] * 6, guess=found,
+                                               model=reference)
+        bias = reference(robot, exact_pose, twist[:3], twist[3:], accel[:3], accel[3:]).gamma()
+        worst["c_q"] = max(worst["c_q"], relative(c5.joint_bias(q, qd), bias))
     print(f"{model}: worst relative errors:", worst)
     for what, error in worst.items():
         assert error < 10 * STATED[model][what], (what, error)
@@ -315,6 +320,7 @@ def test_the_derivatives_are_exact_to_their_bounds_or_refused(robot, model):
 # ten times; nearer than HOLD_TOLERANCE on the pivot ratio, refused.
 HEXAPOD = ROOT / "docs" / "hexapod.toml"
 HOLD_TOLERANCE = 1e-5
+JOINT_STATE_HOLD_TOLERANCE = 1e-3
 HEXAPOD_STATED = {"kinematics": 5e-16, "Γ": 3e-11, "J": 3e-11, "forward": 3e-11,
                   "∂Γ/∂X": 1.5e-10, "∂Γ/∂V": 6e-11, "∂a/∂X": 5e-15}
 
@@ -333,14 +339,17 @@ def pivot_ratio(jinv) -> float:
     return float(min(ratios))
 
 
-def hexapod_near_singular_states(robot, seed: int):
+def hexapod_near_singular_states(robot, seed: int, offsets=(1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-7),
+                                 angles=(1e-1, 1e-2, 1e-3, 1e-5, 1e-7)):
+    """Near the example's parallel singularity (a yaw of π/2 ± `offsets`) and leg 1's U joint
+    (the leg `angles` from the joint's first axis), the motion at random."""
     rng = np.random.default_rng(seed)
-    for offset in (1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-7):
+    for offset in offsets:
         for sign in (1.0, -1.0):
             yield [0, 0, np.pi / 2 + sign * offset, 0, 0, 0.425], *rng.uniform(-1, 1, (4, 3))
     leg = robot["legs"][0]
     axis = np.array(leg["u_axis"]) / np.linalg.norm(leg["u_axis"])
-    for angle in (1e-1, 1e-2, 1e-3, 1e-5, 1e-7):
+    for angle in angles:
         joint = np.array(leg["base"]) + 0.45 * (np.cos(angle) * axis + np.sin(angle) * np.eye(3)[2])
         yield [0, 0, 0, *(joint - np.array(leg["platform"]))], *rng.uniform(-1, 1, (4, 3))
 
@@ -397,3 +406,64 @@ def test_the_hexapod_serves_within_the_bound_or_refuses(c5_program):
     for what, error in worst.items():
         assert error < 10 * HEXAPOD_STATED[what], (what, error)
     assert refused >= 8, refused
+
+
+HEXAPOD_JOINT_STATED = {"pose from q": 3e-13, "twist from q̇": 3e-13, "acceleration from q̈": 1e-11,
+                        "Γ from q, q̇, q̈": 3e-10, "M_q": 7e-11, "c_q": 1e-10}
+
+
+def test_the_hexapod_joint_space_serves_within_the_bound_or_refuses():
+    """The hexapod's joint space (its forward kinematics by Newton's method) against the exact
+    state of the same actuator readings (`exact.joint_state` on `ExactHexapod`, in 50 digits
+    from the served pose, whichever of the poses of the same `q` Newton reached): the platform
+    motion served down to `JOINT_STATE_HOLD_TOLERANCE` of the legs' hold, the pose, the forces,
+    the inertia and the bias down to `HOLD_TOLERANCE`, each refused below."""
+    robot = load_hexapod(HEXAPOD)
+    hexapod = c5_kernels.C5(robot=str(HEXAPOD))
+    worst = dict.fromkeys(HEXAPOD_JOINT_STATED, 0.0)
+    motion_refused = refused = 0
+    for state in hexapod_near_singular_states(robot, 7, offsets=(2e-1, 1e-1, 3e-2, 1e-2, 1e-3,
+                                                                 1e-5),
+                                              angles=(2e-1, 1e-1, 3e-2, 1e-2, 3e-3, 1e-5)):
+        e = ExactHexapod(robot, *state)
+        q, qd, qdd = ([float(x) for x in xs] for xs in (e.q, e.qd, e.qdd))
+        try:
+            found = hexapod.forward_kinematics(q)
+        except c5_kernels.SingularPoseError as error:
+            assert "legs' hold" in str(error) or "U joint" in str(error), error
+            # Where Newton stopped: the same start, the same steps, the pose it refused.
+            assert pivot_ratio(e.jinv) < 1.01 * HOLD_TOLERANCE or "U joint" in str(error), error
+            for call in (lambda: hexapod.inverse_dynamics_joint(q, qd, qdd),
+                         lambda: hexapod.joint_inertia(q), lambda: hexapod.joint_bias(q, qd)):
+                with pytest.raises(c5_kernels.SingularPoseError, match="legs' hold|U joint"):
+                    call()
+            refused += 1
+            continue
+        exact_pose, twist, accel = joint_state(robot, q, qd, qdd, guess=found, model=ExactHexapod)
+        ratio = pivot_ratio(ExactHexapod(robot, exact_pose).jinv)
+        assert ratio > 0.99 * HOLD_TOLERANCE, ratio
+        worst["pose from q"] = max(worst["pose from q"], relative(found, exact_pose))
+        exact = ExactHexapod(robot, exact_pose, twist[:3], twist[3:], accel[:3], accel[3:])
+        worst["Γ from q, q̇, q̈"] = max(worst["Γ from q, q̇, q̈"], relative(
+            hexapod.inverse_dynamics_joint(q, qd, qdd), exact.gamma()))
+        worst["M_q"] = max(worst["M_q"], relative(
+            hexapod.joint_inertia(q), joint_inertia(robot, exact_pose, ExactHexapod).tolist()))
+        _, bias_twist, bias_accel = joint_state(robot, q, qd, [0] * 6, guess=found,
+                                                model=ExactHexapod)
+        bias = ExactHexapod(robot, exact_pose, bias_twist[:3], bias_twist[3:], bias_accel[:3],
+                            bias_accel[3:]).gamma()
+        worst["c_q"] = max(worst["c_q"], relative(hexapod.joint_bias(q, qd), bias))
+        if ratio < JOINT_STATE_HOLD_TOLERANCE:
+            with pytest.raises(c5_kernels.SingularPoseError, match="platform motion .* legs' hold"):
+                hexapod.joint_state(q, qd, qdd)
+            motion_refused += 1
+            continue
+        _, w, v, wd, a = hexapod.joint_state(q, qd, qdd)
+        worst["twist from q̇"] = max(worst["twist from q̇"], relative(np.r_[w, v], twist))
+        worst["acceleration from q̈"] = max(worst["acceleration from q̈"],
+                                            relative(np.r_[wd, a], accel))
+    print("hexapod joint space: worst relative errors where served", worst,
+          "motion refused", motion_refused, "refused", refused)
+    for what, error in worst.items():
+        assert error < 10 * HEXAPOD_JOINT_STATED[what], (what, error)
+    assert motion_refused >= 4 and refused >= 4, (motion_refused, refused)

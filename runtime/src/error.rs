@@ -44,8 +44,9 @@ pub enum Error {
         bound: f64,
     },
     /// The pose is too near a singularity for `what` to be served to its accuracy bound:
-    /// `term` (`r11`, `r22` or `r33` of eq 16) is `value`, below `bound`, where the result's
-    /// error against exact arithmetic would pass `1e-8` (docs/embedding.md).
+    /// `term` (the C5's `r11`, `r22` or `r33` of eq 16, a hexapod's legs' hold) is `value`,
+    /// below `bound`, where the result's error against exact arithmetic would pass `1e-8`
+    /// (docs/embedding.md).
     IllConditioned {
         what: &'static str,
         term: &'static str,
@@ -118,8 +119,8 @@ impl fmt::Display for Error {
                 bound,
             } => write!(
                 f,
-                "{what} refused: {term} = {value:e} is nearer eq 16's singularity than \
-                 {bound:e}, where its error against exact arithmetic would exceed 1e-8"
+                "{what} refused: {term} = {value:e} is below {bound:e}, too near its \
+                 singularity for an error within 1e-8 of exact arithmetic"
             ),
             Error::NotConverged { what, residual } => write!(
                 f,

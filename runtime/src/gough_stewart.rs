@@ -36,6 +36,16 @@ pub const U_JOINT_TOLERANCE: f64 = 1e-6;
 /// dynamics, which solves `M_x`, checks it too.
 pub const HOLD_TOLERANCE: f64 = 1e-5;
 
+/// Smallest pivot ratio `ρ` (as [`HOLD_TOLERANCE`]) at which the platform's twist and
+/// acceleration are served from the actuators' rates and accelerations
+/// ([`GoughStewart::joint_state`], `c5 eval` on actuator lines): `V = J q̇` and
+/// `(ω̇; a_C) = J (q̈ - b)` apply `J`, ill conditioned near the parallel singularity. Against
+/// a 50-digit reference the acceleration errs by up to about `1.7e-15/ρ^1.5` relative (6.4e-9
+/// at `ρ = 1.8e-5`, 7e-11 at `4e-4`); below this bound, with nonzero rates or accelerations,
+/// the call is refused ([`Error::IllConditioned`]). The pose alone, the joint-space forces
+/// and the inertia stay accurate and are served down to [`HOLD_TOLERANCE`].
+pub const JOINT_STATE_HOLD_TOLERANCE: f64 = 1e-3;
+
 /// The forward kinematics' tolerance: the largest residual of an actuator position (m).
 pub const FORWARD_TOLERANCE: f64 = 1e-12;
 
@@ -364,10 +374,15 @@ impl GoughStewart {
     /// has up to 40 poses for one `q`: this is the one Newton reaches from the start, the
     /// workspace's from a start within it.
     ///
+    /// The pose is refused where the legs' hold is below [`HOLD_TOLERANCE`], as every kernel
+    /// of the hexapod refuses it: against a 50-digit reference its error grows as about
+    /// `6.5e-19/ρ` relative (2.3e-8 at `ρ = 1.8e-11`), and within the bound it is at most
+    /// `3e-13`.
+    ///
     /// # Errors
     /// [`Error::NonFinite`]; [`Error::NotConverged`] when the steps stop reducing the residual
     /// (positions no pose near the start has); [`Error::Singularity`] when a step meets a
-    /// singular pose.
+    /// singular pose, or the pose found is one.
     pub fn forward_kinematics(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<Pose, Error> {
         check_finite("q", q)?;
         let start = match near {
@@ -377,7 +392,9 @@ impl GoughStewart {
             }
             None => self.level_start(q),
         };
-        self.newton(q, start).map(Pose::from_array)
+        let x = self.newton(q, start)?;
+        self.check_hold(&x)?;
+        Ok(Pose::from_array(x))
     }
 
     /// Refuses a pose where the legs' hold is below [`HOLD_TOLERANCE`]: for the kernels that
@@ -471,8 +488,41 @@ impl GoughStewart {
     /// acceleration.
     ///
     /// # Errors
-    /// As [`GoughStewart::forward_kinematics`], or a singular pose.
+    /// As [`GoughStewart::forward_kinematics`], a singular pose, or
+    /// [`Error::IllConditioned`] for nonzero rates or accelerations where the legs' hold is
+    /// below [`JOINT_STATE_HOLD_TOLERANCE`].
     pub fn joint_state(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<State, Error> {
+        let state = self.platform_state(q, qd, qdd, near)?;
+        // At rest the twist and acceleration are zero, exactly, wherever the pose is served.
+        if qd.iter().chain(qdd).any(|&x| x != 0.0) {
+            self.check_motion_hold(&state.pose)?;
+        }
+        Ok(state)
+    }
+
+    /// Refuses a pose where the legs' hold is below [`JOINT_STATE_HOLD_TOLERANCE`].
+    fn check_motion_hold(&self, pose: &Pose) -> Result<(), Error> {
+        let terms = kernels::singularity_terms_params(&pose.to_array(), &self.params);
+        match (6..terms.len()).find(|&k| terms[k] < JOINT_STATE_HOLD_TOLERANCE) {
+            Some(k) => Err(Error::IllConditioned {
+                what: "platform motion from the actuators",
+                term: TERMS[k],
+                value: terms[k],
+                bound: JOINT_STATE_HOLD_TOLERANCE,
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// [`GoughStewart::joint_state`] without its bound on the motion: for the joint-space
+    /// forces, which stay accurate down to [`HOLD_TOLERANCE`].
+    fn platform_state(
         &self,
         q: &[f64; 6],
         qd: &[f64; 6],
@@ -501,11 +551,12 @@ impl GoughStewart {
         })
     }
 
-    /// The actuator forces from the actuators' motion: the inverse dynamics at
-    /// [`GoughStewart::joint_state`].
+    /// The actuator forces from the actuators' motion: the inverse dynamics at the platform
+    /// state of [`GoughStewart::joint_state`], served down to [`HOLD_TOLERANCE`] (the forces
+    /// stay accurate where the platform's acceleration does not).
     ///
     /// # Errors
-    /// As [`GoughStewart::joint_state`].
+    /// As [`GoughStewart::forward_kinematics`], or a singular pose.
     pub fn inverse_dynamics_joint(
         &self,
         q: &[f64; 6],
@@ -513,7 +564,7 @@ impl GoughStewart {
         qdd: &[f64; 6],
         near: Option<&Pose>,
     ) -> Result<[f64; 6], Error> {
-        self.inverse_dynamics(&self.joint_state(q, qd, qdd, near)?)
+        self.inverse_dynamics(&self.platform_state(q, qd, qdd, near)?)
     }
 
     /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia `Jᵀ M_x J` (kg), at the pose of the

@@ -88,6 +88,14 @@ pub trait ParallelRobot: core::fmt::Debug + Send + Sync {
     /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia at the actuator positions `q`,
     /// from `near` where the mechanism iterates.
     fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error>;
+    /// `c_q` of `Γ = M_q q̈ + c_q`: Coriolis, centrifugal and gravity forces at the actuator
+    /// positions `q` and rates `qd`, from `near` where the mechanism iterates.
+    fn joint_bias(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<[f64; 6], Error>;
     /// The smallest of the pose's singularity terms, each about 1 far from its singularity
     /// and 0 at it: the C5's `|r11|`, `|r22|`, `|r33|` (eq 16), a hexapod's U-joint sines and
     /// pivot ratios of its legs' hold.
@@ -420,6 +428,15 @@ impl ParallelRobot for C5 {
     fn joint_inertia(&self, q: &[f64; 6], _near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
         C5::joint_inertia(self, q)
     }
+    /// In closed form: `near` is not needed.
+    fn joint_bias(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        _near: Option<&Pose>,
+    ) -> Result<[f64; 6], Error> {
+        C5::joint_bias(self, q, qd)
+    }
     #[cfg(feature = "identify")]
     fn standard_regressor(&self, state: &State) -> Result<nalgebra::DMatrix<f64>, Error> {
         let y = C5::regressor(self, state)?;
@@ -562,6 +579,14 @@ impl ParallelRobot for GoughStewart {
     }
     fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
         GoughStewart::joint_inertia(self, q, near)
+    }
+    fn joint_bias(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<[f64; 6], Error> {
+        GoughStewart::joint_bias(self, q, qd, near)
     }
     #[cfg(feature = "identify")]
     fn standard_regressor(&self, state: &State) -> Result<nalgebra::DMatrix<f64>, Error> {

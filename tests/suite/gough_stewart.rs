@@ -258,6 +258,50 @@ fn the_joint_space_state_and_forces_are_the_platforms() {
     }
 }
 
+/// Near the example's parallel singularity (a yaw of π/2), between `HOLD_TOLERANCE` and
+/// `JOINT_STATE_HOLD_TOLERANCE`: the platform's motion from the actuators is refused, naming
+/// the legs' hold, while the pose at rest and the joint-space forces, which stay accurate
+/// (`test_the_hexapod_joint_space_serves_within_the_bound_or_refuses`), are served.
+#[test]
+fn near_the_parallel_singularity_the_motion_from_the_actuators_is_refused_the_forces_served() {
+    use c5_runtime::gough_stewart::{HOLD_TOLERANCE, JOINT_STATE_HOLD_TOLERANCE};
+    let hexapod = GoughStewart::new(Description::example()).unwrap();
+    let mut r = rng(10);
+    let mut s = random_state(&mut r, &hexapod.home());
+    s.pose = Pose::from_array([
+        0.0,
+        0.0,
+        std::f64::consts::FRAC_PI_2 + 1e-2,
+        0.0,
+        0.0,
+        0.425,
+    ]);
+    let hold = hexapod.singularity_terms(&s.pose).unwrap()[6..]
+        .iter()
+        .fold(f64::INFINITY, |m, &x| m.min(x));
+    assert!(
+        HOLD_TOLERANCE < hold && hold < JOINT_STATE_HOLD_TOLERANCE,
+        "{hold}"
+    );
+    let (q, _) = hexapod.inverse_kinematics(&s.pose).unwrap();
+    let qd = hexapod.joint_velocities(&s.pose, &s.twist).unwrap();
+    let qdd = hexapod.joint_accelerations(&s).unwrap();
+    let near = Some(&s.pose);
+    let e = hexapod.joint_state(&q, &qd, &qdd, near).unwrap_err();
+    assert!(
+        matches!(e, c5_runtime::Error::IllConditioned { term, bound, .. }
+            if term.starts_with("legs' hold") && bound == JOINT_STATE_HOLD_TOLERANCE),
+        "{e}"
+    );
+    let at_rest = hexapod.joint_state(&q, &[0.0; 6], &[0.0; 6], near).unwrap();
+    assert!(rel_err(&at_rest.pose.to_array(), &s.pose.to_array(), 1.0) < 1e-12);
+    assert_eq!(at_rest.twist.to_array(), [0.0; 6]);
+    let gamma = hexapod.inverse_dynamics_joint(&q, &qd, &qdd, near).unwrap();
+    let want = hexapod.inverse_dynamics(&s).unwrap();
+    assert!(rel_err(&gamma, &want, 1.0) < 1e-8, "{gamma:?} vs {want:?}");
+    hexapod.joint_bias(&q, &qd, near).unwrap();
+}
+
 /// `Y π = Γ` with `π` the description's standard parameters and friction.
 #[test]
 fn the_regressor_times_the_parameters_is_the_inverse_dynamics() {
