@@ -321,7 +321,9 @@ def test_the_derivatives_are_exact_to_their_bounds_or_refused(robot, model):
 HEXAPOD = ROOT / "docs" / "hexapod.toml"
 HOLD_TOLERANCE = 1e-5
 JOINT_STATE_HOLD_TOLERANCE = 1e-3
-HEXAPOD_STATED = {"kinematics": 5e-16, "Γ": 3e-11, "J": 3e-11, "forward": 3e-11,
+U_JOINT_TOLERANCE = 1e-6
+FORWARD_U_JOINT_TOLERANCE = 1e-2
+HEXAPOD_STATED = {"kinematics": 5e-16, "Γ": 3e-11, "J": 3e-11, "forward": 2e-12,
                   "∂Γ/∂X": 1.5e-10, "∂Γ/∂V": 6e-11, "∂a/∂X": 5e-15}
 
 
@@ -389,9 +391,6 @@ def test_the_hexapod_serves_within_the_bound_or_refuses(c5_program):
         worst["Γ"] = max(worst["Γ"], relative(line["gamma"], g))
         worst["J"] = max(worst["J"], relative(line["jacobian"],
                                               (mp.matrix(e.jinv) ** -1).tolist()))
-        exact_forward = forward_dynamics(robot, state[0], state[1], state[2], g, ExactHexapod)
-        worst["forward"] = max(worst["forward"],
-                               relative(fwd["omega_dot"] + fwd["acceleration"], exact_forward))
         pose, w, v, wd, a = state
         _, d_pose, d_twist, _ = hexapod.inverse_dynamics_derivatives(pose, w, v, wd, a)
         step = mpf(10) ** -18
@@ -399,6 +398,12 @@ def test_the_hexapod_serves_within_the_bound_or_refuses(c5_program):
             lambda x: ExactHexapod(robot, x, w, v, wd, a).gamma(), pose, step)))
         worst["∂Γ/∂V"] = max(worst["∂Γ/∂V"], relative(d_twist, central(
             lambda t: ExactHexapod(robot, pose, t[:3], t[3:], wd, a).gamma(), np.r_[w, v], step)))
+        if float(min(e.sines)) < FORWARD_U_JOINT_TOLERANCE:
+            assert "forward dynamics refused: U joint" in fwd.get("error", ""), fwd
+            continue
+        exact_forward = forward_dynamics(robot, state[0], state[1], state[2], g, ExactHexapod)
+        worst["forward"] = max(worst["forward"],
+                               relative(fwd["omega_dot"] + fwd["acceleration"], exact_forward))
         da_pose = hexapod.forward_dynamics_derivatives(pose, w, v, g)[2]
         worst["∂a/∂X"] = max(worst["∂a/∂X"], relative(da_pose, central(
             lambda x: forward_dynamics(robot, x, w, v, g, ExactHexapod), pose, step)))
@@ -467,3 +472,65 @@ def test_the_hexapod_joint_space_serves_within_the_bound_or_refuses():
     for what, error in worst.items():
         assert error < 10 * HEXAPOD_JOINT_STATED[what], (what, error)
     assert motion_refused >= 4 and refused >= 4, (motion_refused, refused)
+
+
+HEXAPOD_U_JOINT_STATED = {"Γ": 3e-11, "J": 3e-15, "M_x": 2e-12, "h": 3e-11, "forward": 4e-13}
+
+
+def test_the_hexapod_near_a_u_joint_serves_within_the_bound_or_refuses(tmp_path):
+    """Leg 1's U joint turned so that, at a pose where the legs hold the platform well
+    (`ρ = 0.14`), the leg runs `1e-7`..`3e-2` from the joint's first axis: a U joint's
+    singularity apart from the legs' hold. The inverse dynamics, `J`, `M_x` and `h` are
+    served down to `U_JOINT_TOLERANCE`; the forward dynamics, which loses the digits of
+    `J⁻ᵀ Γ - h` to the leg's spin (`Γ` grows as `1/sine³`), down to `FORWARD_U_JOINT_TOLERANCE`."""
+    pose = np.array([0, 0, 0, 0.05, 0.0, 0.425])
+    robot = load_hexapod(HEXAPOD)
+    leg = robot["legs"][0]
+    along = pose[3:] + np.array(leg["platform"]) - np.array(leg["base"])
+    across = np.cross(along, [0, 0, 1.0])
+    rng = np.random.default_rng(12)
+    worst = dict.fromkeys(HEXAPOD_U_JOINT_STATED, 0.0)
+    refused = forward_refused = 0
+    for sine in (3e-2, 1.2e-2, 3e-3, 1e-3, 1e-4, 1e-5, 1e-7):
+        axis = along / np.linalg.norm(along) + sine * across / np.linalg.norm(across)
+        text = HEXAPOD.read_text().replace(
+            "u_axis = " + json.dumps(leg["u_axis"]),
+            "u_axis = " + json.dumps([float(x) for x in axis]), 1)
+        path = tmp_path / f"u-{sine:g}.toml"
+        path.write_text(text)
+        robot = load_hexapod(path)
+        hexapod = c5_kernels.C5(robot=str(path))
+        w, v, wd, a = rng.uniform(-1, 1, (4, 3))
+        e = ExactHexapod(robot, pose, w, v, wd, a)
+        exact_sine = float(min(e.sines))
+        assert abs(exact_sine - sine) < 1e-3 * sine and pivot_ratio(e.jinv) > 0.1
+        if exact_sine < U_JOINT_TOLERANCE:
+            with pytest.raises(c5_kernels.SingularPoseError, match="U joint of leg 1"):
+                hexapod.inverse_dynamics(pose, w, v, wd, a)
+            refused += 1
+            continue
+        gamma = e.gamma()
+        worst["Γ"] = max(worst["Γ"], relative(hexapod.inverse_dynamics(pose, w, v, wd, a), gamma))
+        worst["J"] = max(worst["J"], relative(hexapod.jacobian(pose),
+                                              (mp.matrix(e.jinv) ** -1).tolist()))
+        worst["M_x"] = max(worst["M_x"], relative(
+            hexapod.task_inertia(pose), task_inertia(robot, pose, ExactHexapod).tolist()))
+        worst["h"] = max(worst["h"], relative(hexapod.task_bias(pose, w, v),
+                                              task_bias(robot, pose, w, v, ExactHexapod)))
+        g = [float(x) for x in gamma]
+        if exact_sine < FORWARD_U_JOINT_TOLERANCE:
+            for call in (lambda: hexapod.forward_dynamics(pose, w, v, g),
+                         lambda: hexapod.forward_dynamics_derivatives(pose, w, v, g)):
+                with pytest.raises(c5_kernels.SingularPoseError,
+                                   match="forward dynamics refused: U joint of leg 1"):
+                    call()
+            forward_refused += 1
+            continue
+        worst["forward"] = max(worst["forward"], relative(
+            np.r_[hexapod.forward_dynamics(pose, w, v, g)],
+            forward_dynamics(robot, pose, w, v, g, ExactHexapod)))
+    print("hexapod near a U joint: worst relative errors where served", worst,
+          "forward refused", forward_refused, "refused", refused)
+    for what, error in worst.items():
+        assert error < 10 * HEXAPOD_U_JOINT_STATED[what], (what, error)
+    assert forward_refused == 4 and refused == 1, (forward_refused, refused)

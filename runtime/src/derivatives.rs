@@ -176,7 +176,7 @@ impl GoughStewart {
         let (a, d_pose, d_twist, d_gamma, guard) =
             hexapod::forward_dynamics_derivatives_params(&x, &v, gamma, self.parameters());
         check_terms(&guard)?;
-        self.check_hold(&x)?;
+        self.check_acceleration_solve(&x, &guard)?;
         Ok(ForwardDynamicsDerivatives {
             accel: Acceleration::from_array(finite("acceleration", a)?),
             d_pose: finite_matrix("d_acceleration_d_pose", d_pose)?,

@@ -302,6 +302,47 @@ fn near_the_parallel_singularity_the_motion_from_the_actuators_is_refused_the_fo
     hexapod.joint_bias(&q, &qd, near).unwrap();
 }
 
+/// Leg 1's U joint turned so that the leg runs `sine` from its first axis at a pose where the
+/// legs hold the platform well: the inverse dynamics is served (and stays accurate,
+/// `test_the_hexapod_near_a_u_joint_serves_within_the_bound_or_refuses`), the forward
+/// dynamics and its derivatives, which solve `M_x` and lose its digits to the leg's spin, are
+/// refused below `FORWARD_U_JOINT_TOLERANCE`, naming the joint.
+#[test]
+fn near_a_u_joint_the_forward_dynamics_is_refused_the_inverse_served() {
+    use c5_runtime::gough_stewart::FORWARD_U_JOINT_TOLERANCE;
+    let pose = Pose::from_array([0.0, 0.0, 0.0, 0.05, 0.0, 0.425]);
+    let mut robot = Description::example();
+    let leg = &robot.legs[0];
+    let along: [f64; 3] =
+        std::array::from_fn(|k| pose.to_array()[3 + k] + leg.platform[k] - leg.base[k]);
+    let across = [along[1], -along[0], 0.0];
+    let norm = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    let (l, c) = (norm(along), norm(across));
+    let mut r = rng(11);
+    for (sine, served) in [(3e-2, true), (3e-3, false)] {
+        robot.legs[0].u_axis = std::array::from_fn(|k| along[k] / l + sine * across[k] / c);
+        let hexapod = GoughStewart::new(robot.clone()).unwrap();
+        let mut s = random_state(&mut r, &pose);
+        s.pose = pose;
+        let gamma = hexapod.inverse_dynamics(&s).unwrap();
+        let forward = hexapod.forward_dynamics(&s.pose, &s.twist, &gamma);
+        let derivatives = hexapod.forward_dynamics_derivatives(&s.pose, &s.twist, &gamma);
+        if served {
+            let a = forward.unwrap().to_array();
+            assert!(rel_err(&a, &s.accel.to_array(), 1.0) < 1e-9, "{a:?}");
+            derivatives.unwrap();
+            continue;
+        }
+        for e in [forward.unwrap_err(), derivatives.unwrap_err()] {
+            assert!(
+                matches!(e, c5_runtime::Error::IllConditioned { term, bound, .. }
+                    if term == "U joint of leg 1" && bound == FORWARD_U_JOINT_TOLERANCE),
+                "{e}"
+            );
+        }
+    }
+}
+
 /// `Y π = Γ` with `π` the description's standard parameters and friction.
 #[test]
 fn the_regressor_times_the_parameters_is_the_inverse_dynamics() {
