@@ -321,7 +321,7 @@ fn near_a_u_joint_the_forward_dynamics_is_refused_the_inverse_served() {
     let mut r = rng(11);
     for (sine, served) in [(3e-2, true), (3e-3, false)] {
         robot.legs[0].u_axis = std::array::from_fn(|k| along[k] / l + sine * across[k] / c);
-        let hexapod = GoughStewart::new(robot.clone()).unwrap();
+        let hexapod = GoughStewart::new(robot).unwrap();
         let mut s = random_state(&mut r, &pose);
         s.pose = pose;
         let gamma = hexapod.inverse_dynamics(&s).unwrap();
