@@ -30,9 +30,10 @@ create_exception!(
     SingularPoseError,
     PyValueError,
     "A pose, or actuator positions, where the kernels would divide by (nearly) zero: a divisor \
-     of eq 16 (r11, r22, r33) or the forward singularity term 1 + abc below 1e-9; or a forward \
-     dynamics nearer eq 16's singularities than 1e-2, where it cannot be served to 1e-8. The \
-     message names the divisor, its value and the row."
+     of eq 16 (r11, r22, r33) or the forward singularity term 1 + abc below 1e-9, a hexapod's \
+     U joint or legs' hold at its singularity; or a call nearer a singularity than its own \
+     bound (the forward dynamics within 1e-2 of eq 16's, 1e-4 in the paper model), where it \
+     cannot be served to 1e-8. The message names the term, its value and the row."
 );
 
 type Array<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;

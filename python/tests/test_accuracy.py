@@ -25,7 +25,7 @@ from exact_hexapod import load as load_hexapod
 from reference import Robot, rotation
 
 # The runtime's guards (`c5_runtime::*_TOLERANCE`, docs/embedding.md).
-FORWARD_DYNAMICS_TOLERANCE = 1e-2
+FORWARD_DYNAMICS_TOLERANCE = {"consistent": 1e-2, "paper": 1e-4}
 JOINT_STATE_TOLERANCE = 1e-3
 JOINT_DYNAMICS_TOLERANCE = 1e-7
 DISTANCES = [1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7]
@@ -122,16 +122,18 @@ def test_forward_serves_within_the_bound_or_refuses(robot, answers, model):
     for (s, pose, w, v, _, _), gamma, line in zip(states, gammas, out):
         if "error" in line:
             assert "forward dynamics refused" in line["error"], line["error"]
-            assert distance(pose) < FORWARD_DYNAMICS_TOLERANCE, (s, line["error"])
+            assert distance(pose) < FORWARD_DYNAMICS_TOLERANCE[model], (s, line["error"])
             refused += 1
             continue
+        assert distance(pose) >= FORWARD_DYNAMICS_TOLERANCE[model], (s, line)
         served = line["omega_dot"] + line["acceleration"]
         worst = max(worst, relative(served, forward_dynamics(robot, pose, w, v, gamma,
                                                              EXACT[model])))
     print(f"{model}: worst relative error of forward {worst:.1e}")
     assert worst < 10 * FORWARD_STATED[model], worst
-    # Every state within 1e-3 of a singularity is refused, none beyond the bound.
-    assert refused >= sum(1 for s, *_ in states if s <= 1e-3)
+    # Every state nearer than the model's bound is refused, none beyond it.
+    assert refused == sum(1 for _, pose, *_ in states
+                          if distance(pose) < FORWARD_DYNAMICS_TOLERANCE[model])
 
 
 # The joint-space kernels, the inertias and the derivatives, against the same 50 digits. The
@@ -146,7 +148,7 @@ STATED = {"consistent": {
     "pose from q": 1e-16, "twist from q̇": 3e-15, "acceleration from q̈": 3e-15,
     "Γ from q, q̇, q̈": 1e-15, "M_x": 1e-15, "M_q": 1e-15, "c_q": 4e-15, "h": 2e-15,
     "∂Γ/∂X": 3e-15, "∂Γ/∂V": 1e-15, "∂Γ/∂A": 1e-15,
-    "∂a/∂X": 2e-14, "∂a/∂V": 2e-14, "∂a/∂Γ": 1e-15,
+    "∂a/∂X": 2e-14, "∂a/∂V": 5e-13, "∂a/∂Γ": 1e-15,
     "∂Γ/∂q": 1e-15, "∂Γ/∂q̇": 1e-15,
 }}
 
@@ -272,7 +274,7 @@ def test_the_derivatives_are_exact_to_their_bounds_or_refused(robot, model):
         ]:
             worst[what] = max(worst[what], relative(served, exact))
         forces = [float(x) for x in reference(robot, pose, w, v, wd, a).gamma()]
-        if distance(pose) < FORWARD_DYNAMICS_TOLERANCE:
+        if distance(pose) < FORWARD_DYNAMICS_TOLERANCE[model]:
             with pytest.raises(c5_kernels.SingularPoseError, match="forward dynamics refused"):
                 c5.forward_dynamics_derivatives(pose, w, v, forces)
         else:

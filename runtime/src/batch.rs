@@ -188,7 +188,7 @@ impl C5 {
                 self.kernels
                     .forward_dynamics_params_x4(x, v, g, &self.params)
             },
-            guard: check_forward_dynamics,
+            guard: |r| check_forward_dynamics(self.forward_dynamics_tolerance(), r),
             single,
         }
         .run(n, each);

@@ -99,7 +99,7 @@ impl C5 {
         let (a, d_pose, d_twist, d_gamma, r) =
             self.kernels
                 .forward_dynamics_derivatives_params(&x, &v, gamma, &self.params);
-        check_forward_dynamics(r)?;
+        check_forward_dynamics(self.forward_dynamics_tolerance(), r)?;
         Ok(ForwardDynamicsDerivatives {
             accel: Acceleration::from_array(finite("acceleration", a)?),
             d_pose: finite_matrix("d_acceleration_d_pose", d_pose)?,

@@ -104,6 +104,12 @@ pub const SINGULARITY_TOLERANCE: f64 = 1e-9;
 /// ([`JOINT_STATE_TOLERANCE`], [`JOINT_DYNAMICS_TOLERANCE`]).
 pub const FORWARD_DYNAMICS_TOLERANCE: f64 = 1e-2;
 
+/// [`FORWARD_DYNAMICS_TOLERANCE`] for the paper model, whose forward dynamics is better
+/// conditioned near eq 16's singularities (its `J⁻¹` divides by nothing). Against its own
+/// 50-digit reference (`ExactPaper`, `python/tests/exact.py`) its error grows as about `1/s²`:
+/// 1e-12 at worst in `[1e-3, 1e-2)`, 8.3e-11 in `[1e-4, 1e-3)`, 1.1e-8 in `[1e-5, 1e-4)`.
+pub const PAPER_FORWARD_DYNAMICS_TOLERANCE: f64 = 1e-4;
+
 /// Smallest `|r11|`, `|r22|`, `|r33|` at which the platform's twist and acceleration are
 /// served from the actuators' rates and accelerations ([`C5::joint_state`], `c5 eval` on
 /// actuator lines): `V = J q̇` and `(ω̇; a_C) = J (q̈ - h)` apply `J`, which is ill conditioned
@@ -172,13 +178,13 @@ pub(crate) fn check_joint_derivatives(r: [f64; 3]) -> Result<(), Error> {
 }
 
 /// Refuses a pose where the forward dynamics cannot be served to its bound: a divisor of eq
-/// 16 below [`FORWARD_DYNAMICS_TOLERANCE`] (after [`check_divisors`]).
+/// 16 below the model's [`C5::forward_dynamics_tolerance`] (after [`check_divisors`]).
 ///
 /// # Errors
 /// [`Error::Singular`] or [`Error::IllConditioned`] naming the divisor.
 #[inline]
-pub(crate) fn check_forward_dynamics(r: [f64; 3]) -> Result<(), Error> {
-    check_conditioned("forward dynamics", FORWARD_DYNAMICS_TOLERANCE, r)
+pub(crate) fn check_forward_dynamics(bound: f64, r: [f64; 3]) -> Result<(), Error> {
+    check_conditioned("forward dynamics", bound, r)
 }
 
 /// A validated robot, the model its kernels follow, and its parameter vector.
@@ -290,6 +296,16 @@ impl C5 {
 
     pub fn model(&self) -> Model {
         self.model
+    }
+
+    /// The smallest `|r11|`, `|r22|`, `|r33|` at which this model's forward dynamics (and its
+    /// batch and derivative forms) is served: [`FORWARD_DYNAMICS_TOLERANCE`] for the
+    /// consistent model, [`PAPER_FORWARD_DYNAMICS_TOLERANCE`] for the paper model.
+    pub fn forward_dynamics_tolerance(&self) -> f64 {
+        match self.model {
+            Model::Consistent => FORWARD_DYNAMICS_TOLERANCE,
+            Model::Paper => PAPER_FORWARD_DYNAMICS_TOLERANCE,
+        }
     }
 
     /// The same robot with another model.
@@ -441,7 +457,8 @@ impl C5 {
     /// forces `gamma` (N, segment order).
     ///
     /// # Errors
-    /// Non-finite inputs, a singular pose, or a non-finite result.
+    /// Non-finite inputs, a singular pose, a pose nearer eq 16's singularities than
+    /// [`C5::forward_dynamics_tolerance`] ([`Error::IllConditioned`]), or a non-finite result.
     pub fn forward_dynamics(
         &self,
         pose: &Pose,
@@ -455,7 +472,7 @@ impl C5 {
         let (a, r) = self
             .kernels
             .forward_dynamics_params(&x, &v, gamma, &self.params);
-        check_forward_dynamics(r)?;
+        check_forward_dynamics(self.forward_dynamics_tolerance(), r)?;
         let a = finite("acceleration", a)?;
         Ok(Acceleration::from_array(a))
     }

@@ -56,6 +56,64 @@ fn check_state(c5: &C5, s: &State, gamma_probe: &[f64; 6]) {
     );
 }
 
+/// Each model's forward dynamics (single, batch and derivative forms) refuses a pose nearer
+/// eq 16's singularities than its own bound, the paper model's the nearer, naming the divisor,
+/// and serves beyond it the acceleration its inverse dynamics was given.
+#[test]
+fn each_model_refuses_the_forward_dynamics_nearer_than_its_own_bound() {
+    use c5_runtime::{Error, FORWARD_DYNAMICS_TOLERANCE, PAPER_FORWARD_DYNAMICS_TOLERANCE};
+    let consistent = C5::new(Robot::default()).unwrap();
+    let paper = consistent.to_model(Model::Paper);
+    assert_eq!(
+        consistent.forward_dynamics_tolerance(),
+        FORWARD_DYNAMICS_TOLERANCE
+    );
+    assert_eq!(
+        paper.forward_dynamics_tolerance(),
+        PAPER_FORWARD_DYNAMICS_TOLERANCE
+    );
+    for c5 in [consistent, paper] {
+        let mut served = 0;
+        for s in [3e-2, 3e-3, 3e-4, 3e-5] {
+            let state = State {
+                pose: Pose::from_array([0.1, std::f64::consts::FRAC_PI_2 - s, 0.2, 0.01, 0.0, 0.0]),
+                twist: Twist::from_array([0.3, -0.2, 0.1, 0.05, 0.02, -0.04]),
+                accel: Acceleration::from_array([0.5, 0.1, -0.3, 0.2, -0.1, 0.4]),
+            };
+            let distance = C5::singularity_terms(&state.pose)
+                .unwrap()
+                .iter()
+                .fold(f64::INFINITY, |m, r| m.min(r.abs()));
+            let gamma = c5.inverse_dynamics(&state).unwrap();
+            let single = c5.forward_dynamics(&state.pose, &state.twist, &gamma);
+            let mut many = Vec::new();
+            c5.forward_dynamics_each(5, |_| (state.pose, state.twist, gamma), |_, a| many.push(a));
+            let derivatives = c5.forward_dynamics_derivatives(&state.pose, &state.twist, &gamma);
+            if distance >= c5.forward_dynamics_tolerance() {
+                let a = single.unwrap().to_array();
+                assert!(rel_err(&a, &state.accel.to_array(), 1.0) < 1e-8, "{a:?}");
+                assert!(many.into_iter().all(|b| b.unwrap().to_array() == a));
+                let from_derivatives = derivatives.unwrap().accel.to_array();
+                assert!(
+                    rel_err(&from_derivatives, &a, 1.0) < 1e-12,
+                    "{from_derivatives:?}"
+                );
+                served += 1;
+                continue;
+            }
+            let refused = |e: Error| {
+                matches!(e, Error::IllConditioned { what: "forward dynamics", bound, .. }
+                    if bound == c5.forward_dynamics_tolerance())
+            };
+            assert!(refused(single.unwrap_err()), "{}", c5.model());
+            assert!(many.into_iter().all(|b| refused(b.unwrap_err())));
+            assert!(refused(derivatives.unwrap_err()));
+        }
+        let expected = if c5.model() == Model::Paper { 3 } else { 1 };
+        assert_eq!(served, expected, "{}", c5.model());
+    }
+}
+
 #[test]
 fn forward_and_inverse_dynamics_invert_each_other_in_both_models_for_any_robot() {
     let mut rng = rng(31);
