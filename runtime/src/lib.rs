@@ -78,13 +78,32 @@ pub use c5_generated::fma;
 // The parameter vector's length is generated from the robot description's one definition.
 const _: () = assert!(c5_generated::PARAMETERS == c5_robot::PARAMETERS);
 
-/// The generated kernels of `model`: the one place a model is mapped to its code. Every model
-/// has the same kernels with the same signatures ([`Kernels`]), so everything else calls them
-/// through this, statically (only the kernels called are built).
+/// The generated kernels of `model`. Every model has the same kernels with the same signatures
+/// ([`Kernels`]), so everything else calls them through this, statically (only the kernels
+/// called are built).
 pub fn kernels(model: Model) -> AnyModel {
-    match model {
-        Model::Consistent => AnyModel::Consistent,
-        Model::Paper => AnyModel::Paper,
+    ModelParts::of(model).kernels
+}
+
+/// What differs between the models at run time: the one place a model is mapped to its code
+/// and its bounds.
+#[derive(Clone, Copy, Debug)]
+struct ModelParts {
+    kernels: AnyModel,
+    /// The smallest divisor of eq 16 at which the model's forward dynamics is served.
+    forward_dynamics_tolerance: f64,
+}
+
+impl ModelParts {
+    fn of(model: Model) -> Self {
+        let (kernels, forward_dynamics_tolerance) = match model {
+            Model::Consistent => (AnyModel::Consistent, FORWARD_DYNAMICS_TOLERANCE),
+            Model::Paper => (AnyModel::Paper, PAPER_FORWARD_DYNAMICS_TOLERANCE),
+        };
+        ModelParts {
+            kernels,
+            forward_dynamics_tolerance,
+        }
     }
 }
 
@@ -193,6 +212,7 @@ pub struct C5 {
     robot: Robot,
     model: Model,
     kernels: AnyModel,
+    forward_dynamics_tolerance: f64,
     params: [f64; c5_generated::PARAMETERS],
 }
 
@@ -282,10 +302,12 @@ impl C5 {
         robot.validate().map_err(Error::from_robot)?;
         let mut params = [0.0; c5_generated::PARAMETERS];
         params.copy_from_slice(&robot.kernel_parameters());
+        let parts = ModelParts::of(model);
         Ok(C5 {
             robot,
             model,
-            kernels: kernels(model),
+            kernels: parts.kernels,
+            forward_dynamics_tolerance: parts.forward_dynamics_tolerance,
             params,
         })
     }
@@ -302,17 +324,16 @@ impl C5 {
     /// batch and derivative forms) is served: [`FORWARD_DYNAMICS_TOLERANCE`] for the
     /// consistent model, [`PAPER_FORWARD_DYNAMICS_TOLERANCE`] for the paper model.
     pub fn forward_dynamics_tolerance(&self) -> f64 {
-        match self.model {
-            Model::Consistent => FORWARD_DYNAMICS_TOLERANCE,
-            Model::Paper => PAPER_FORWARD_DYNAMICS_TOLERANCE,
-        }
+        self.forward_dynamics_tolerance
     }
 
     /// The same robot with another model.
     pub fn to_model(&self, model: Model) -> Self {
+        let parts = ModelParts::of(model);
         C5 {
             model,
-            kernels: kernels(model),
+            kernels: parts.kernels,
+            forward_dynamics_tolerance: parts.forward_dynamics_tolerance,
             ..self.clone()
         }
     }
