@@ -98,6 +98,20 @@ pub(crate) fn check_terms(terms: &[f64]) -> Result<(), Error> {
     Ok(())
 }
 
+/// Refuses singularity terms whose legs' hold is below [`JOINT_STATE_HOLD_TOLERANCE`]: for the
+/// platform's motion from the actuators.
+fn check_motion_hold(terms: &[f64; 12]) -> Result<(), Error> {
+    match (6..terms.len()).find(|&k| terms[k] < JOINT_STATE_HOLD_TOLERANCE) {
+        Some(k) => Err(Error::IllConditioned {
+            what: "platform motion from the actuators",
+            term: TERMS[k],
+            value: terms[k],
+            bound: JOINT_STATE_HOLD_TOLERANCE,
+        }),
+        None => Ok(()),
+    }
+}
+
 /// A validated Gough-Stewart platform and its parameter vector.
 #[derive(Clone, Debug)]
 pub struct GoughStewart {
@@ -396,6 +410,12 @@ impl GoughStewart {
     /// (positions no pose near the start has); [`Error::Singularity`] when a step meets a
     /// singular pose, or the pose found is one.
     pub fn forward_kinematics(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<Pose, Error> {
+        self.located(q, near).map(|(pose, _)| pose)
+    }
+
+    /// [`GoughStewart::forward_kinematics`], with the singularity terms at the pose found (all
+    /// within their tolerances), for the callers that hold it to a nearer bound.
+    fn located(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<(Pose, [f64; 12]), Error> {
         check_finite("q", q)?;
         let start = match near {
             Some(p) => {
@@ -405,8 +425,9 @@ impl GoughStewart {
             None => self.level_start(q),
         };
         let x = self.newton(q, start)?;
-        self.check_hold(&x)?;
-        Ok(Pose::from_array(x))
+        let terms = kernels::singularity_terms_params(&x, &self.params);
+        check_terms(&terms)?;
+        Ok((Pose::from_array(x), terms))
     }
 
     /// Refuses a pose where the legs' hold is below [`HOLD_TOLERANCE`]: for the kernels that
@@ -530,40 +551,27 @@ impl GoughStewart {
         qdd: &[f64; 6],
         near: Option<&Pose>,
     ) -> Result<State, Error> {
-        let state = self.platform_state(q, qd, qdd, near)?;
+        let (state, terms) = self.platform_state(q, qd, qdd, near)?;
         // At rest the twist and acceleration are zero, exactly, wherever the pose is served.
         if qd.iter().chain(qdd).any(|&x| x != 0.0) {
-            self.check_motion_hold(&state.pose)?;
+            check_motion_hold(&terms)?;
         }
         Ok(state)
     }
 
-    /// Refuses a pose where the legs' hold is below [`JOINT_STATE_HOLD_TOLERANCE`].
-    fn check_motion_hold(&self, pose: &Pose) -> Result<(), Error> {
-        let terms = kernels::singularity_terms_params(&pose.to_array(), &self.params);
-        match (6..terms.len()).find(|&k| terms[k] < JOINT_STATE_HOLD_TOLERANCE) {
-            Some(k) => Err(Error::IllConditioned {
-                what: "platform motion from the actuators",
-                term: TERMS[k],
-                value: terms[k],
-                bound: JOINT_STATE_HOLD_TOLERANCE,
-            }),
-            None => Ok(()),
-        }
-    }
-
-    /// [`GoughStewart::joint_state`] without its bound on the motion: for the joint-space
-    /// forces, which stay accurate down to [`HOLD_TOLERANCE`].
+    /// [`GoughStewart::joint_state`] without its bound on the motion (for the joint-space
+    /// forces, which stay accurate down to [`HOLD_TOLERANCE`]), and the singularity terms at
+    /// its pose.
     fn platform_state(
         &self,
         q: &[f64; 6],
         qd: &[f64; 6],
         qdd: &[f64; 6],
         near: Option<&Pose>,
-    ) -> Result<State, Error> {
+    ) -> Result<(State, [f64; 12]), Error> {
         check_finite("qd", qd)?;
         check_finite("qdd", qdd)?;
-        let pose = self.forward_kinematics(q, near)?;
+        let (pose, terms) = self.located(q, near)?;
         let jac = self.jacobian(&pose)?;
         let twist = Twist::from_array(dense::mul_vec(&jac, qd));
         let at_rest = State {
@@ -573,14 +581,13 @@ impl GoughStewart {
         };
         let bias = self.joint_accelerations(&at_rest)?;
         let relative: [f64; 6] = core::array::from_fn(|i| qdd[i] - bias[i]);
-        Ok(State {
+        let accel = dense::mul_vec(&jac, &relative);
+        let state = State {
             pose,
             twist,
-            accel: Acceleration::from_array(finite(
-                "acceleration",
-                dense::mul_vec(&jac, &relative),
-            )?),
-        })
+            accel: Acceleration::from_array(finite("acceleration", accel)?),
+        };
+        Ok((state, terms))
     }
 
     /// The actuator forces from the actuators' motion: the inverse dynamics at the platform
@@ -596,7 +603,7 @@ impl GoughStewart {
         qdd: &[f64; 6],
         near: Option<&Pose>,
     ) -> Result<[f64; 6], Error> {
-        self.inverse_dynamics(&self.platform_state(q, qd, qdd, near)?)
+        self.inverse_dynamics(&self.platform_state(q, qd, qdd, near)?.0)
     }
 
     /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia `Jᵀ M_x J` (kg), at the pose of the
