@@ -98,15 +98,20 @@ pub(crate) fn check_terms(terms: &[f64]) -> Result<(), Error> {
     Ok(())
 }
 
-/// Refuses singularity terms whose legs' hold is below [`JOINT_STATE_HOLD_TOLERANCE`]: for the
-/// platform's motion from the actuators.
-fn check_motion_hold(terms: &[f64; 12]) -> Result<(), Error> {
-    match (6..terms.len()).find(|&k| terms[k] < JOINT_STATE_HOLD_TOLERANCE) {
+/// Refuses the first of `terms` (named by `names`) below `bound`, where `what` cannot be
+/// served to its accuracy bound though the pose is not singular.
+fn check_conditioned(
+    what: &'static str,
+    terms: &[f64],
+    names: &[&'static str],
+    bound: f64,
+) -> Result<(), Error> {
+    match terms.iter().position(|&value| value < bound) {
         Some(k) => Err(Error::IllConditioned {
-            what: "platform motion from the actuators",
-            term: TERMS[k],
+            what,
+            term: names[k],
             value: terms[k],
-            bound: JOINT_STATE_HOLD_TOLERANCE,
+            bound,
         }),
         None => Ok(()),
     }
@@ -445,15 +450,12 @@ impl GoughStewart {
         sines: &[f64],
     ) -> Result<(), Error> {
         self.check_hold(x)?;
-        match sines.iter().position(|&s| s < FORWARD_U_JOINT_TOLERANCE) {
-            Some(k) => Err(Error::IllConditioned {
-                what: "forward dynamics",
-                term: TERMS[k],
-                value: sines[k],
-                bound: FORWARD_U_JOINT_TOLERANCE,
-            }),
-            None => Ok(()),
-        }
+        check_conditioned(
+            "forward dynamics",
+            sines,
+            &TERMS[..6],
+            FORWARD_U_JOINT_TOLERANCE,
+        )
     }
 
     /// Newton's method on `q(X) = q` from `x`, each step halved until it reduces the residual.
@@ -554,7 +556,12 @@ impl GoughStewart {
         let (state, terms) = self.platform_state(q, qd, qdd, near)?;
         // At rest the twist and acceleration are zero, exactly, wherever the pose is served.
         if qd.iter().chain(qdd).any(|&x| x != 0.0) {
-            check_motion_hold(&terms)?;
+            check_conditioned(
+                "platform motion from the actuators",
+                &terms[6..],
+                &TERMS[6..],
+                JOINT_STATE_HOLD_TOLERANCE,
+            )?;
         }
         Ok(state)
     }
