@@ -73,8 +73,9 @@ class Limits(TypedDict):
     speed: Optional[float]
     force: Optional[float]
 
-class C5:
-    """The C5 joint parallel robot: a robot description and a model of its legs' mechanism."""
+class Robot:
+    """A parallel robot: the C5 joint parallel robot (the default, with a model of its legs'
+    mechanism) or the robot of a file's ``mechanism`` (``"gough-stewart"``)."""
 
     def __init__(
         self,
@@ -87,6 +88,13 @@ class C5:
 
     @property
     def model(self) -> str: ...
+    @property
+    def mechanism(self) -> str: ...
+    def to_mjcf(self) -> str:
+        """The robot as MJCF for MuJoCo and Pinocchio (docs/export.md); the paper model is
+        refused (``ValueError``), it is not a mechanism."""
+    def to_urdf(self) -> str:
+        """The robot as URDF, loops cut, closures as ``<constraint>`` (docs/export.md)."""
     @property
     def parameters(self) -> Array:
         """The robot's parameter vector, as the generated ``*_params`` kernels take it."""
@@ -307,3 +315,6 @@ class C5:
 
     def calibration_plan(self, n: int, *, seed: int = 1) -> Array:
         """``n`` poses ``(n, 6)`` inside the limits that make the geometry best observable."""
+
+C5 = Robot
+"""The chapter's robot's name for :class:`Robot`."""

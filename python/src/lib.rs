@@ -337,7 +337,7 @@ fn forward_args<'a, 'py>(
 /// centre's position along the actuator axis, a positive force pushing the rod along `+n_i`;
 /// a hexapod's `q` is the leg's length (plus its encoder offset), a positive force extending
 /// the leg.
-#[pyclass(module = "c5_kernels", frozen)]
+#[pyclass(module = "c5_kernels", name = "Robot", frozen)]
 struct C5 {
     inner: Box<dyn ParallelRobot>,
     /// Found on first use: a hexapod's groupings take a few hundred microseconds.
@@ -368,6 +368,20 @@ fn unsupported(what: &'static str, robot: &dyn ParallelRobot) -> Error {
 }
 
 impl C5 {
+    /// The robot's mechanism in `format`; the paper model is not a mechanism.
+    fn export(&self, format: c5_robot::Format) -> PyResult<String> {
+        if self.inner.model_name() == Model::Paper.name() {
+            return Err(PyValueError::new_err(
+                "the paper model is the chapter's equations, not a mechanism: it has no bodies \
+                 and joints to export (export the consistent model, the default)",
+            ));
+        }
+        self.inner
+            .description()
+            .export(format)
+            .map_err(|e| PyValueError::new_err(e.to_string()))
+    }
+
     /// The robot as a C5, for what only the C5 serves.
     fn c5(&self, what: &'static str) -> PyResult<&Robot5> {
         self.inner
@@ -468,6 +482,18 @@ impl C5 {
     #[getter]
     fn mechanism(&self) -> &'static str {
         self.inner.mechanism()
+    }
+
+    /// The robot as MJCF, for MuJoCo and Pinocchio (docs/export.md): the platform as the
+    /// root body, each leg hanging from it and welded to the base, one motor per actuator.
+    fn to_mjcf(&self) -> PyResult<String> {
+        self.export(c5_robot::Format::Mjcf)
+    }
+
+    /// The robot as URDF (docs/export.md): the tree with its loops cut, each closure as
+    /// urdfdom's proposed `<constraint>`.
+    fn to_urdf(&self) -> PyResult<String> {
+        self.export(c5_robot::Format::Urdf)
     }
 
     /// The robot's parameter vector, as the generated `*_params` kernels take it.
@@ -1164,6 +1190,8 @@ impl C5 {
 #[pymodule]
 fn c5_kernels(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<C5>()?;
+    // The chapter's robot's name, kept for the programs written before other mechanisms.
+    m.add("C5", m.getattr("Robot")?)?;
     m.add("SingularPoseError", m.py().get_type::<SingularPoseError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("SINGULARITY_TOLERANCE", c5_runtime::SINGULARITY_TOLERANCE)?;

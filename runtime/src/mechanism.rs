@@ -30,6 +30,9 @@ pub trait ParallelRobot: core::fmt::Debug + Send + Sync {
     /// The pose the robot rests at, where its forward kinematics starts without a previous
     /// solution.
     fn home(&self) -> Pose;
+    /// The robot's description, as its file gives it: what [`Description::export`] writes
+    /// for other tools.
+    fn description(&self) -> Description;
     /// The actuator values at `pose` (m).
     fn actuator_positions(&self, pose: &Pose) -> Result<[f64; 6], Error>;
     /// `J⁻¹`, row `i` for actuator `i`, columns `ωx ωy ωz vx vy vz`.
@@ -344,6 +347,9 @@ impl ParallelRobot for C5 {
     fn home(&self) -> Pose {
         Pose::default()
     }
+    fn description(&self) -> Description {
+        Description::C5(*self.robot())
+    }
     fn actuator_positions(&self, pose: &Pose) -> Result<[f64; 6], Error> {
         Ok(self.inverse_kinematics(pose)?.0)
     }
@@ -491,6 +497,9 @@ impl ParallelRobot for GoughStewart {
     }
     fn home(&self) -> Pose {
         GoughStewart::home(self)
+    }
+    fn description(&self) -> Description {
+        Description::GoughStewart(*self.robot())
     }
     fn actuator_positions(&self, pose: &Pose) -> Result<[f64; 6], Error> {
         Ok(self.inverse_kinematics(pose)?.0)

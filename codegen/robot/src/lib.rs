@@ -10,6 +10,10 @@
 //! the order of the runtime parameter vector once. [`Model`] names the two models of the legs'
 //! mechanism the kernels implement.
 //!
+//! [`Description::export`] writes any of them for other tools: MJCF (MuJoCo, and Pinocchio
+//! with its loop closures) or URDF, from the robot as a tree of rigid bodies
+//! ([`Description::body_tree`], [`tree`]) whose loops are cut at the base (docs/export.md).
+//!
 //! This crate has no dependency by default and is `no_std` (with `alloc`) without its `std`
 //! feature, so a controller can hold and check a robot description without the generator.
 //!
@@ -34,6 +38,7 @@ extern crate alloc;
 
 pub mod description;
 mod error;
+pub mod export;
 pub mod gough_stewart;
 mod inertia;
 mod limits;
@@ -41,9 +46,11 @@ mod math;
 mod model;
 mod robot;
 mod standard;
+pub mod tree;
 
 pub use description::Description;
 pub use error::Error;
+pub use export::Format;
 pub use gough_stewart::{GoughStewart, LegBody, LegLimits, Platform, UpsLeg};
 pub use inertia::check_inertia;
 pub use limits::Limits;
@@ -52,3 +59,4 @@ pub use robot::{
     standard_of, RigidBody, Robot, Rod, Segment, AXIS, GEOMETRY_PARAMETERS, PARAMETERS,
 };
 pub use standard::{standard_parameter_names, Friction, STANDARD_PARAMETERS};
+pub use tree::BodyTree;

@@ -19,3 +19,11 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
 
 #[cfg(not(any(feature = "std", feature = "libm")))]
 compile_error!("c5-robot needs square roots: enable the `std` feature or the `libm` feature");
+
+/// `atan2(y, x)`.
+pub fn atan2(y: f64, x: f64) -> f64 {
+    #[cfg(feature = "std")]
+    return y.atan2(x);
+    #[cfg(not(feature = "std"))]
+    return libm::atan2(y, x);
+}

@@ -1,5 +1,6 @@
 //! `c5`: the Section 9 study, JSON Lines evaluation, forward dynamics and tracking,
-//! identification, calibration, the workspace, the 3D view and the operation-count audit; one
+//! identification, calibration, the workspace, the 3D view, the operation-count audit and the
+//! export to MJCF and URDF; one
 //! module per command. The program (`src/main.rs`) calls [`main`].
 //!
 //! The commands live in this library rather than in the binary so that the package's tests
@@ -15,7 +16,9 @@ mod encoder_log;
 mod eval;
 #[cfg(feature = "identify")]
 mod excite;
+mod export;
 mod forward;
+mod held;
 #[cfg(feature = "identify")]
 mod identify;
 mod jsonl;
@@ -74,6 +77,7 @@ enum Command {
     Audit(audit::AuditArgs),
     Calibrate(calibrate::CalibrateArgs),
     View(view::ViewArgs),
+    Export(export::ExportArgs),
 }
 
 /// Whether `e` is a write to a closed pipe (`c5 eval | head -1`): the reader has all it
@@ -121,6 +125,7 @@ pub fn main() -> ExitCode {
         Command::Audit(args) => audit::run(&args),
         Command::Calibrate(args) => calibrate::run(&args),
         Command::View(args) => view::run(&args),
+        Command::Export(args) => export::run(&args),
     };
     match result {
         Ok(code) => code,

@@ -43,9 +43,61 @@ pub struct SimulateArgs {
     ignore_limits: bool,
     #[command(flatten)]
     view: view::PageArgs,
+    /// Instead of the inverse dynamics along a trajectory, the forward dynamics: the robot let
+    /// go from home at rest with its actuators held at these forces `Γ1,…,Γ6` (N, or N·m for
+    /// a motor that turns), integrated by RK4 at `--rate` for `--duration`; writes
+    /// `held.csv` (t, the pose, the twist). MuJoCo simulating `c5 export`'s file under the
+    /// same `ctrl` follows it (docs/export.md).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true,
+          conflicts_with_all = ["trajectory", "encoder_log"])]
+    torques: Option<Vec<f64>>,
+    /// How long `--torques` runs (s).
+    #[arg(long, default_value_t = 0.5, requires = "torques")]
+    duration: f64,
+}
+
+/// `--torques`: the forward dynamics under held forces.
+fn run_held(args: &SimulateArgs, torques: &[f64]) -> crate::Result<ExitCode> {
+    let robot = args.robot.load_any()?;
+    let gamma: [f64; 6] = torques.try_into().map_err(|_| {
+        format!(
+            "--torques takes one force per actuator, 6, got {}",
+            torques.len()
+        )
+    })?;
+    if !gamma.iter().all(|g| g.is_finite()) {
+        return Err("--torques must be finite numbers".into());
+    }
+    let (duration, rate) = (args.duration, args.rate);
+    if !(duration.is_finite() && duration > 0.0 && rate.is_finite() && rate > 0.0)
+        || duration * rate > crate::MAX_SAMPLES as f64
+    {
+        return Err(format!(
+            "--duration and --rate must be positive, with at most {} steps; got {duration} s at \
+             {rate} Hz",
+            crate::MAX_SAMPLES
+        )
+        .into());
+    }
+    let samples = crate::held::run(robot.as_ref(), gamma, duration, rate)
+        .map_err(|(t, e)| format!("step at t = {t} s: {e}"))?;
+    std::fs::create_dir_all(&args.out)?;
+    let csv = args.out.join("held.csv");
+    crate::held::write_csv(&csv, &samples)?;
+    let mut report = std::io::stdout().lock();
+    writeln!(
+        report,
+        "held forces: {} steps of RK4 at {rate} Hz from home at rest\nwrote {}",
+        samples.len() - 1,
+        csv.display()
+    )?;
+    Ok(ExitCode::SUCCESS)
 }
 
 pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
+    if let Some(torques) = &args.torques {
+        return run_held(args, torques);
+    }
     let robot = args.robot.load_any()?;
     let (out, rate) = (&args.out, args.rate);
     let states = match &args.trajectory {

@@ -9,6 +9,7 @@ mod cli_files;
 mod conventions;
 mod derivatives_cli;
 mod eval_cli;
+mod export_cli;
 mod forward_track;
 mod gough_stewart_cli;
 mod identify_cli;

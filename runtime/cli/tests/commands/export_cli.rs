@@ -1,0 +1,176 @@
+//! `c5 export`: both formats for both mechanisms, the same refusals as `eval` with nothing
+//! written, and `simulate --torques`, the held-force run an export is compared with. The
+//! exported files are checked against Pinocchio and MuJoCo in python/tests/test_export.py.
+
+use crate::support::{c5, c5_ok};
+use std::path::{Path, PathBuf};
+
+const HEXAPOD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/hexapod.toml");
+const C5_ROBOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/default-robot.toml");
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("c5-export-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn export_writes_each_format_for_each_mechanism_to_stdout_or_a_file() {
+    let dir = scratch("formats");
+    for (robot, motor) in [(C5_ROBOT, "segment6_stroke"), (HEXAPOD, "leg6_stroke")] {
+        for (format, root) in [("mjcf", "<mujoco model="), ("urdf", "<robot name=")] {
+            let out = c5_ok(&["export", "--robot", robot, "--format", format], "");
+            let text = String::from_utf8(out.stdout).unwrap();
+            assert!(
+                text.contains(root) && text.contains(motor),
+                "{robot} {format}"
+            );
+            let file = dir.join(format!("robot.{format}"));
+            let path = file.to_str().unwrap();
+            c5_ok(
+                &[
+                    "export", "--robot", robot, "--format", format, "--out", path,
+                ],
+                "",
+            );
+            assert_eq!(
+                std::fs::read_to_string(&file).unwrap(),
+                text,
+                "{robot} {format}"
+            );
+        }
+    }
+    // The default robot without `--robot`, as a file.
+    let file = dir.join("c5.xml");
+    c5_ok(&["export", "--out", file.to_str().unwrap()], "");
+    let written = std::fs::read_to_string(&file).unwrap();
+    let printed = String::from_utf8(c5_ok(&["export", "--robot", C5_ROBOT], "").stdout).unwrap();
+    assert_eq!(
+        written, printed,
+        "docs/default-robot.toml is the default robot"
+    );
+}
+
+#[test]
+fn a_file_eval_refuses_is_refused_by_export_with_the_same_message_and_nothing_written() {
+    let dir = scratch("refused");
+    let good = std::fs::read_to_string(HEXAPOD).unwrap();
+    let c5_good = std::fs::read_to_string(C5_ROBOT).unwrap();
+    let cases = [
+        ("mass.toml", good.replacen("mass = 12.0", "mass = -12.0", 1)),
+        (
+            "axis.toml",
+            good.replacen(
+                "u_axis = [-0.175033, 0.984563, 0.0]",
+                "u_axis = [0, 0, 0]",
+                1,
+            ),
+        ),
+        (
+            "spacing.toml",
+            c5_good.replacen("half_spacing = 0.2\n", "half_spacing = -0.2\n", 1),
+        ),
+        (
+            "unknown.toml",
+            c5_good.replacen("half_spacing", "half_width", 1),
+        ),
+    ];
+    for (name, text) in cases {
+        let file = dir.join(name);
+        std::fs::write(&file, text).unwrap();
+        let file = file.to_str().unwrap();
+        let eval = c5(&["eval", "--robot", file], "{\"pose\": [0,0,0,0,0,0.4]}\n");
+        let target = dir.join(format!("{name}.xml"));
+        let export = c5(
+            &["export", "--robot", file, "--out", target.to_str().unwrap()],
+            "",
+        );
+        assert!(!eval.status.success() && !export.status.success(), "{name}");
+        assert_eq!(export.stderr, eval.stderr, "{name}: the same message");
+        assert!(
+            String::from_utf8_lossy(&export.stderr).contains(file),
+            "{name}"
+        );
+        assert!(!target.exists(), "{name}: nothing written");
+    }
+}
+
+#[test]
+fn the_paper_model_is_not_exported() {
+    let out = c5(&["export", "--model", "paper"], "");
+    assert!(!out.status.success() && out.stdout.is_empty());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("not a mechanism"));
+}
+
+#[test]
+fn simulate_with_held_torques_writes_the_motion_from_rest_at_home() {
+    let dir = scratch("held");
+    // The C5's home statics (docs: 85.05 N on each vertical actuator): held, it stays.
+    let hold = "0,0,0,0,85.0527,85.0527";
+    c5_ok(
+        &[
+            "simulate",
+            "--torques",
+            hold,
+            "--duration",
+            "0.05",
+            "--out",
+            dir.to_str().unwrap(),
+        ],
+        "",
+    );
+    let rows = read_csv(&dir.join("held.csv"));
+    assert_eq!(rows.len(), 51, "t = 0 and 50 steps at 1 kHz");
+    assert_eq!(
+        rows[0][1..].iter().map(|x| x.abs()).sum::<f64>(),
+        0.0,
+        "home, at rest"
+    );
+    let last = rows.last().unwrap();
+    assert!((last[0] - 0.05).abs() < 1e-12);
+    assert!(
+        last[1..].iter().all(|x| x.abs() < 1e-9),
+        "held, it stays: {last:?}"
+    );
+    // One more newton on actuator 5 lifts the platform: z moves up by a t²/2 nearly.
+    let push = "0,0,0,0,86.0527,85.0527";
+    c5_ok(
+        &[
+            "simulate",
+            "--torques",
+            push,
+            "--duration",
+            "0.05",
+            "--out",
+            dir.to_str().unwrap(),
+        ],
+        "",
+    );
+    let rows = read_csv(&dir.join("held.csv"));
+    assert!(rows.last().unwrap()[6] > 1e-6, "{:?}", rows.last());
+}
+
+#[test]
+fn simulate_refuses_held_torques_of_the_wrong_count_or_not_finite() {
+    for torques in ["1,2,3", "1,2,3,4,5,NaN"] {
+        let out = c5(
+            &["simulate", "--torques", torques, "--out", "/nonexistent/x"],
+            "",
+        );
+        assert!(!out.status.success());
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains("--torques"),
+            "{torques}"
+        );
+    }
+}
+
+fn read_csv(path: &Path) -> Vec<Vec<f64>> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect()
+}
