@@ -317,4 +317,12 @@ class Robot:
         """``n`` poses ``(n, 6)`` inside the limits that make the geometry best observable."""
 
 C5 = Robot
+
+def export(
+    robot: Optional[Union[str, PathLike[str]]] = None,
+    format: Literal["mjcf", "urdf"] = "mjcf",
+) -> str:
+    """The robot of a file, any mechanism (the chapter's C5 for ``None``), as MJCF or URDF
+    text, as ``c5 export`` writes it; also for the rotary hexapod and the Delta, whose kernels
+    are not generated yet (docs/export.md)."""
 """The chapter's robot's name for :class:`Robot`."""

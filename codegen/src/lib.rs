@@ -219,7 +219,7 @@ impl Config {
     /// The mechanism the configuration describes.
     fn mechanism(&self) -> Result<Mechanism, Error> {
         self.robot.validate()?;
-        Ok(Mechanism::of(&self.robot, self.model))
+        Mechanism::of(&self.robot, self.model)
     }
 
     /// The kernels, compiled and self-checked.

@@ -1187,9 +1187,34 @@ impl C5 {
 
 /// The generated kernels of the C5 joint parallel robot and the Gough–Stewart platform, for
 /// numpy. See `C5`.
+/// The robot of the TOML file `robot` (any mechanism the project describes; the chapter's C5
+/// for `None`) as `"mjcf"` or `"urdf"` text, as `c5 export` writes it (docs/export.md): also
+/// for a mechanism whose kernels are not generated yet (the rotary hexapod, the Delta).
+#[pyfunction]
+#[pyo3(signature = (robot = None, format = "mjcf"))]
+fn export(robot: Option<std::path::PathBuf>, format: &str) -> PyResult<String> {
+    let format: c5_robot::Format = format
+        .parse()
+        .map_err(|e: c5_robot::Error| PyValueError::new_err(e.to_string()))?;
+    let description = match robot {
+        None => Description::default(),
+        Some(path) => {
+            Description::from_toml_file(&path).map_err(|e| PyValueError::new_err(e.to_string()))?
+        }
+    };
+    match c5_runtime::mechanism::robot(description.clone(), Model::Consistent) {
+        Ok(_) | Err(Error::Unsupported { .. }) => {}
+        Err(e) => return Err(PyValueError::new_err(e.to_string())),
+    }
+    description
+        .export(format)
+        .map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
 #[pymodule]
 fn c5_kernels(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<C5>()?;
+    m.add_function(wrap_pyfunction!(export, m)?)?;
     // The chapter's robot's name, kept for the programs written before other mechanisms.
     m.add("C5", m.getattr("Robot")?)?;
     m.add("SingularPoseError", m.py().get_type::<SingularPoseError>())?;

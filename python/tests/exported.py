@@ -5,7 +5,8 @@ found from the file alone: Newton on the welds' errors with the platform held, t
 the welds' Jacobian. The actuators are the file's `<motor>`s, in order.
 
 Conventions (docs/export.md): the platform body's origin is `C`; `R = Rx(α) Ry(β) Rz(γ)`;
-twists `(ω; v_C)` and classical accelerations `(ω̇; a_C)` in the base frame.
+twists `(ω; v_C)` and classical accelerations `(ω̇; a_C)` in the base frame. A platform that
+only translates (the Delta) takes poses `[xc yc zc]` and velocities `v_C`.
 """
 
 from __future__ import annotations
@@ -45,21 +46,39 @@ class PinocchioExport:
         for c in constraints:
             self.constraints.append(c)
         root = self.model.joints[1]
-        assert root.shortname() == "JointModelFreeFlyer", "the platform is the free root"
+        self.free = root.shortname() == "JointModelFreeFlyer"
+        self.platform_dofs = root.nv
+        assert self.free or root.nv == 3, "the platform is free, or translates (three slides)"
+        # The slides' zero is the home position, where MuJoCo places the platform body.
+        self.home_centre = mujoco.MjModel.from_xml_path(str(path)).body_pos[1].copy()
         self.actuated = [self.model.joints[self.model.getJointId(name)].idx_v
                          for name in motor_joints(path)]
 
+    def joint_value(self, q, name):
+        """The value in `q` of the joint `name` (a hinge or a slide)."""
+        return q[self.model.joints[self.model.getJointId(name)].idx_q]
+
     def _constraint_jacobian(self, data, q):
+        """The welds' and balls' errors at `q` and their Jacobian. The constraints' data hold
+        the anchors' placements only after a constraint-dynamics pass, so one runs first."""
         m = self.model
-        pin.computeJointJacobians(m, data, q)
-        pin.forwardKinematics(m, data, q)
-        rows, errors = [], []
+        datas = pin.StdVec_RigidConstraintData()
         for c in self.constraints:
-            cd = c.createData()
+            datas.append(c.createData())
+        pin.initConstraintDynamics(m, data, self.constraints, datas)
+        pin.constraintDynamics(m, data, q, np.zeros(m.nv), np.zeros(m.nv), self.constraints,
+                               datas, pin.ProximalSettings(1e-12, 1e-10, 10))
+        pin.computeJointJacobians(m, data, q)
+        rows, errors = [], []
+        for c, cd in zip(self.constraints, datas):
             rows.append(pin.getConstraintJacobian(m, data, c, cd))
             one = data.oMi[c.joint1_id] * c.joint1_placement
             two = data.oMi[c.joint2_id] * c.joint2_placement
-            errors.append(pin.log6(one.inverse() * two).vector)
+            relative = one.inverse() * two
+            if c.type == pin.ContactType.CONTACT_3D:
+                errors.append(relative.translation)
+            else:
+                errors.append(pin.log6(relative).vector)
         return np.vstack(rows), np.concatenate(errors)
 
     def state(self, pose, twist, start=None):
@@ -69,22 +88,28 @@ class PinocchioExport:
         m = self.model
         data = m.createData()
         q = (m.referenceConfigurations["home"] if start is None else start).copy()
-        rot = rotation(pose)
-        q[0:3] = pose[3:]
-        q[3:7] = pin.Quaternion(rot).coeffs()
+        n = self.platform_dofs
+        v = np.zeros(m.nv)
+        if self.free:
+            rot = rotation(pose)
+            q[0:3] = pose[3:]
+            q[3:7] = pin.Quaternion(rot).coeffs()
+            w, vc = np.asarray(twist[:3], float), np.asarray(twist[3:], float)
+            v[0:3], v[3:6] = rot.T @ vc, rot.T @ w
+        else:
+            q[0:3] = np.asarray(pose, float) - self.home_centre
+            v[0:3] = twist
         for _ in range(50):
             jac, err = self._constraint_jacobian(data, q)
             if np.max(np.abs(err)) < 1e-15:
                 break
             step = np.zeros(m.nv)
-            # Pinocchio's constraint Jacobian is that of the relative motion the error undoes.
-            step[6:] = np.linalg.solve(jac[:, 6:], err)
+            # Pinocchio's constraint Jacobian is that of the relative motion the error undoes;
+            # least squares, as a Delta's parallelograms repeat constraints.
+            step[n:] = np.linalg.lstsq(jac[:, n:], err, rcond=None)[0]
             q = pin.integrate(m, q, step)
         jac, err = self._constraint_jacobian(data, q)
-        w, vc = np.asarray(twist[:3], float), np.asarray(twist[3:], float)
-        v = np.zeros(m.nv)
-        v[0:3], v[3:6] = rot.T @ vc, rot.T @ w
-        v[6:] = -np.linalg.solve(jac[:, 6:], jac[:, :6] @ v[:6])
+        v[n:] = -np.linalg.lstsq(jac[:, n:], jac[:, :n] @ v[:n], rcond=None)[0]
         return q, v, np.max(np.abs(err))
 
     def forward(self, pose, twist, gamma):
@@ -99,7 +124,11 @@ class PinocchioExport:
         for c in self.constraints:
             datas.append(c.createData())
         pin.initConstraintDynamics(m, data, self.constraints, datas)
+        # The proximal iterations converge on the exact solution, and need a positive `mu`
+        # where constraints repeat (a Delta's parallelograms and its platform's slides).
         ddq = pin.constraintDynamics(m, data, q, v, tau, self.constraints, datas,
-                                     pin.ProximalSettings(1e-14, 0.0, 1))
+                                     pin.ProximalSettings(1e-14, 1e-8, 100))
+        if not self.free:
+            return ddq[0:3]
         rot = rotation(pose)
         return np.concatenate([rot @ ddq[3:6], rot @ (ddq[0:3] + np.cross(v[3:6], v[0:3]))])

@@ -281,11 +281,21 @@ impl Clone for Box<dyn ParallelRobot> {
 /// The robot of `description`, the C5 with `model` (the other mechanisms have one model).
 ///
 /// # Errors
-/// [`Error::Robot`] if the description breaks a rule of its mechanism.
+/// [`Error::Robot`] if the description breaks a rule of its mechanism; [`Error::Unsupported`]
+/// for a mechanism the project describes and exports but has no kernels for yet (the rotary
+/// hexapod, the Delta).
 pub fn robot(description: Description, model: Model) -> Result<Box<dyn ParallelRobot>, Error> {
     Ok(match description {
         Description::C5(r) => Box::new(C5::with_model(r, model)?),
         Description::GoughStewart(r) => Box::new(GoughStewart::new(r)?),
+        Description::RusHexapod(_) | Description::Delta(_) => {
+            return Err(Error::Unsupported {
+                what: "kinematics or dynamics kernels",
+                mechanism: description.mechanism(),
+                why: "its robot files are read, checked and exported (`c5 export`, \
+                      docs/export.md), and its kernels are not generated yet",
+            })
+        }
     })
 }
 

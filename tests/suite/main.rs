@@ -10,6 +10,7 @@ mod calibration;
 mod chapter_model;
 mod consistent_model;
 mod derivatives;
+mod docs_examples;
 mod docs_figures;
 mod forward_dynamics;
 mod freshness;

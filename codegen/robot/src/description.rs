@@ -1,9 +1,9 @@
 //! A robot file names its mechanism: a C5 joint parallel robot (the default, for files without
-//! the line) or a Gough-Stewart platform.
+//! the line), a Gough-Stewart platform, a rotary hexapod or a Delta.
 
 #[cfg(feature = "toml")]
 use crate::Error;
-use crate::{GoughStewart, Robot};
+use crate::{Delta, GoughStewart, Robot, RusHexapod};
 #[cfg(feature = "toml")]
 use alloc::format;
 #[cfg(feature = "toml")]
@@ -13,6 +13,10 @@ use alloc::string::ToString;
 pub const GOUGH_STEWART: &str = "gough-stewart";
 /// The `mechanism` of a C5 file (the default).
 pub const C5: &str = "c5";
+/// The `mechanism` of a rotary hexapod's file.
+pub const RUS_HEXAPOD: &str = "rus-hexapod";
+/// The `mechanism` of a Delta's file.
+pub const DELTA: &str = "delta";
 
 /// A robot of one of the mechanisms the project knows.
 // The variants stay inline: a description is built once and read, never moved in a loop.
@@ -23,6 +27,10 @@ pub enum Description {
     C5(Robot),
     /// A Gough-Stewart platform (6-UPS).
     GoughStewart(GoughStewart),
+    /// A rotary hexapod (6-RUS).
+    RusHexapod(RusHexapod),
+    /// A Delta (3 translations).
+    Delta(Delta),
 }
 
 impl Default for Description {
@@ -38,6 +46,8 @@ impl Description {
         match self {
             Description::C5(_) => C5,
             Description::GoughStewart(_) => GOUGH_STEWART,
+            Description::RusHexapod(_) => RUS_HEXAPOD,
+            Description::Delta(_) => DELTA,
         }
     }
 
@@ -53,6 +63,12 @@ impl Description {
                 "a Gough-Stewart platform, platform mass {} kg",
                 r.platform.mass
             ),
+            Description::RusHexapod(r) => {
+                alloc::format!("a rotary hexapod, platform mass {} kg", r.platform.mass)
+            }
+            Description::Delta(r) => {
+                alloc::format!("a Delta, platform mass {} kg", r.platform.mass)
+            }
         }
     }
 
@@ -64,6 +80,8 @@ impl Description {
         match self {
             Description::C5(r) => r.validate(),
             Description::GoughStewart(r) => r.validate(),
+            Description::RusHexapod(r) => r.validate(),
+            Description::Delta(r) => r.validate(),
         }
     }
 
@@ -83,6 +101,12 @@ impl Description {
             Some(toml::Value::String(m)) if m == GOUGH_STEWART => {
                 GoughStewart::from_toml(text, source).map(Description::GoughStewart)
             }
+            Some(toml::Value::String(m)) if m == RUS_HEXAPOD => {
+                RusHexapod::from_toml(text, source).map(Description::RusHexapod)
+            }
+            Some(toml::Value::String(m)) if m == DELTA => {
+                Delta::from_toml(text, source).map(Description::Delta)
+            }
             Some(toml::Value::String(m)) if m == C5 => {
                 let mut table = table;
                 table.remove("mechanism");
@@ -95,8 +119,8 @@ impl Description {
             Some(other) => Err(Error::File {
                 source: source.to_string(),
                 message: format!(
-                    "unknown `mechanism` {other} (choose \"{C5}\", the default, or \
-                     \"{GOUGH_STEWART}\")"
+                    "unknown `mechanism` {other} (choose \"{C5}\", the default, \
+                     \"{GOUGH_STEWART}\", \"{RUS_HEXAPOD}\" or \"{DELTA}\")"
                 ),
             }),
         }
@@ -121,16 +145,81 @@ impl Description {
         match self {
             Description::C5(r) => r.to_toml(),
             Description::GoughStewart(r) => r.to_toml(),
+            Description::RusHexapod(r) => r.to_toml(),
+            Description::Delta(r) => r.to_toml(),
         }
     }
 
-    /// The parameter vector of the mechanism's `*_params` kernels.
+    /// The parameter vector of the mechanism's `*_params` kernels; empty for a mechanism
+    /// whose kernels are not generated yet (the rotary hexapod, the Delta).
     pub fn kernel_parameters(&self) -> alloc::vec::Vec<f64> {
         match self {
             Description::C5(r) => r.kernel_parameters(),
             Description::GoughStewart(r) => r.kernel_parameters(),
+            Description::RusHexapod(_) | Description::Delta(_) => alloc::vec::Vec::new(),
         }
     }
+}
+
+/// Reads a description of `mechanism` from TOML: the `mechanism` line checked and dropped, the
+/// rest deserialised (unknown fields refused).
+#[cfg(feature = "toml")]
+pub(crate) fn read_toml<T: serde::de::DeserializeOwned>(
+    text: &str,
+    source: &str,
+    mechanism: &str,
+) -> Result<T, Error> {
+    let file_error = |message: alloc::string::String| Error::File {
+        source: source.to_string(),
+        message,
+    };
+    let mut table: toml::Table = toml::from_str(text).map_err(|e| file_error(e.to_string()))?;
+    match table.remove("mechanism") {
+        Some(toml::Value::String(s)) if s == mechanism => {}
+        other => {
+            return Err(file_error(format!(
+                "`mechanism` must be \"{mechanism}\", got {other:?}"
+            )))
+        }
+    }
+    toml::Value::Table(table)
+        .try_into()
+        .map_err(|e: toml::de::Error| file_error(e.to_string()))
+}
+
+/// A description as TOML with its `mechanism` line first.
+#[cfg(feature = "toml")]
+pub(crate) fn write_toml<T: serde::Serialize>(robot: &T, mechanism: &str) -> alloc::string::String {
+    let body = toml::to_string(robot).expect("a description of finite numbers serialises");
+    format!("mechanism = \"{mechanism}\"\n{body}")
+}
+
+/// A serde module for `[T; N]` read from a list of exactly `N` tables, refusing another count
+/// with a message that names it (`what`: "six [[legs]]").
+#[cfg(feature = "serde")]
+#[macro_export]
+#[doc(hidden)]
+macro_rules! counted_list {
+    ($item:ty, $n:expr, $what:expr) => {
+        use super::*;
+        use alloc::vec::Vec;
+        use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+        pub fn serialize<S: Serializer>(items: &[$item; $n], s: S) -> Result<S::Ok, S::Error> {
+            items.as_slice().serialize(s)
+        }
+
+        pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<[$item; $n], D::Error> {
+            let items = Vec::<$item>::deserialize(d)?;
+            let n = items.len();
+            items.try_into().map_err(|_| {
+                serde::de::Error::custom(alloc::format!(
+                    "must hold exactly {}, in actuator order; the file gives {n}",
+                    $what
+                ))
+            })
+        }
+    };
 }
 
 #[cfg(all(test, feature = "toml"))]
@@ -143,12 +232,16 @@ mod tests {
         assert!(matches!(c5, Description::C5(r) if r.half_spacing == 0.25));
         let named = Description::from_toml("mechanism = \"c5\"\nhalf_spacing = 0.3", "b.toml");
         assert!(matches!(named.unwrap(), Description::C5(r) if r.half_spacing == 0.3));
-        let e = Description::from_toml("mechanism = \"delta\"", "c.toml")
+        let e = Description::from_toml("mechanism = \"scara\"", "c.toml")
             .unwrap_err()
             .to_string();
         assert!(
-            e.starts_with("c.toml: unknown `mechanism` \"delta\""),
+            e.starts_with("c.toml: unknown `mechanism` \"scara\"") && e.contains("\"delta\""),
             "{e}"
         );
+        let e = Description::from_toml("mechanism = \"delta\"", "d.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("d.toml: missing field"), "{e}");
     }
 }

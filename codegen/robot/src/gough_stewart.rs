@@ -34,6 +34,27 @@ pub struct Platform {
 }
 
 impl Platform {
+    /// Its numbers finite, its mass positive, its inertia a rigid body's.
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming the field.
+    pub fn validate(&self) -> Result<(), Error> {
+        let finite = |field: &str, v: &[f64]| {
+            if v.iter().all(|x| x.is_finite()) {
+                Ok(())
+            } else {
+                Err(invalid(field, "must be finite"))
+            }
+        };
+        finite("platform.mass", &[self.mass])?;
+        finite("platform.centre_of_mass", &self.centre_of_mass)?;
+        finite("platform.inertia", &self.inertia)?;
+        if self.mass <= 0.0 {
+            return Err(invalid("platform.mass", "must be positive"));
+        }
+        check_inertia("platform.inertia", &self.inertia_matrix(), false)
+    }
+
     /// The inertia as a symmetric matrix.
     pub fn inertia_matrix(&self) -> [[f64; 3]; 3] {
         let [xx, yy, zz, xy, xz, yz] = self.inertia;
@@ -462,14 +483,7 @@ impl GoughStewart {
             }
         };
         finite("gravity".into(), &self.gravity)?;
-        let p = &self.platform;
-        finite("platform.mass".into(), &[p.mass])?;
-        finite("platform.centre_of_mass".into(), &p.centre_of_mass)?;
-        finite("platform.inertia".into(), &p.inertia)?;
-        if p.mass <= 0.0 {
-            return Err(invalid("platform.mass", "must be positive"));
-        }
-        check_inertia("platform.inertia", &p.inertia_matrix(), false)?;
+        self.platform.validate()?;
         for (i, leg) in self.legs.iter().enumerate() {
             let at = |field: &str| format!("legs[{}].{field}", i + 1);
             finite(at("base"), &leg.base)?;

@@ -36,6 +36,7 @@
 
 extern crate alloc;
 
+pub mod delta;
 pub mod description;
 mod error;
 pub mod export;
@@ -45,9 +46,12 @@ mod limits;
 mod math;
 mod model;
 mod robot;
+pub mod rus;
+pub mod rus_hexapod;
 mod standard;
 pub mod tree;
 
+pub use delta::{Delta, DeltaPlatform};
 pub use description::Description;
 pub use error::Error;
 pub use export::Format;
@@ -58,5 +62,7 @@ pub use model::Model;
 pub use robot::{
     standard_of, RigidBody, Robot, Rod, Segment, AXIS, GEOMETRY_PARAMETERS, PARAMETERS,
 };
+pub use rus::{Crank, RusLeg, RusRod};
+pub use rus_hexapod::RusHexapod;
 pub use standard::{standard_parameter_names, Friction, STANDARD_PARAMETERS};
 pub use tree::BodyTree;

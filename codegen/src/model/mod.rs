@@ -274,11 +274,19 @@ impl Mechanism {
     }
 
     /// The robot of `description`; a C5 with `model` (the other mechanisms have one model).
-    pub fn of(description: &c5_robot::Description, model: Model) -> Self {
-        match description {
+    ///
+    /// # Errors
+    /// [`crate::Error::NoKernels`] for a mechanism without kernels yet.
+    pub fn of(description: &c5_robot::Description, model: Model) -> Result<Self, crate::Error> {
+        Ok(match description {
             c5_robot::Description::C5(robot) => Mechanism::c5(robot, model),
             c5_robot::Description::GoughStewart(robot) => Mechanism::gough_stewart(robot),
-        }
+            c5_robot::Description::RusHexapod(_) | c5_robot::Description::Delta(_) => {
+                return Err(crate::Error::NoKernels {
+                    mechanism: description.mechanism(),
+                })
+            }
+        })
     }
 
     /// A Gough-Stewart platform.

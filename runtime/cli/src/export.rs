@@ -2,7 +2,8 @@
 //! for every mechanism (docs/export.md).
 
 use crate::options::RobotArgs;
-use c5_robot::Format;
+use c5_robot::{Description, Format};
+use c5_runtime::Model;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::Args;
 use std::io::Write;
@@ -29,19 +30,27 @@ fn format_parser() -> impl TypedValueParser<Value = Format> {
         .map(|name| name.parse::<Format>().expect("one of the possible values"))
 }
 
-/// Loads the robot as every command does (so a file `eval` refuses is refused here with the
-/// same message) and writes it; nothing is written on an error.
+/// Reads the robot as every command does (so a file `eval` refuses for its robot is refused
+/// here with the same message), and writes it; nothing is written on an error. A mechanism
+/// whose kernels are not generated yet is exported all the same: its description is checked.
 pub fn run(args: &ExportArgs) -> crate::Result<ExitCode> {
+    let description = match &args.robot.robot {
+        Some(path) => Description::from_toml_file(path)?,
+        None => Description::default(),
+    };
     // The runtime's checks too (a home pose the legs cannot hold, say), as `eval`'s.
-    let robot = args.robot.load_any()?;
-    if robot.model_name() == c5_runtime::Model::Paper.name() {
+    match c5_runtime::mechanism::robot(description.clone(), args.robot.model) {
+        Ok(_) | Err(c5_runtime::Error::Unsupported { .. }) => {}
+        Err(e) => return Err(e.into()),
+    }
+    if matches!(description, Description::C5(_)) && args.robot.model == Model::Paper {
         return Err(
             "the paper model is the chapter's equations, not a mechanism: it has no \
                     bodies and joints to export (export the consistent model, the default)"
                 .into(),
         );
     }
-    let text = robot.description().export(args.format)?;
+    let text = description.export(args.format)?;
     match &args.out {
         Some(path) => std::fs::write(path, text)
             .map_err(|e| format!("cannot write {}: {e}", path.display()))?,

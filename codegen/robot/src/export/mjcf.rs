@@ -2,13 +2,16 @@
 //!
 //! The layout both engines load (measured with Pinocchio 4.1 and MuJoCo): one root body, the
 //! platform, with a `freejoint` (Pinocchio reads only the first body tree under `worldbody`,
-//! and MuJoCo allows a `freejoint` only on a top-level body); each leg nested under it; each
-//! leg's last body closed on the world by `equality/weld` at its pose in the reference
-//! configuration, which is the assembled robot at home. Bodies with several joints compose them
-//! in order, as Pinocchio's composite joint does.
+//! and MuJoCo allows a `freejoint` only on a top-level body), or three slides where it only
+//! translates; each leg nested under it; each cut loop closed by `equality/weld` (a body on
+//! the world) or `equality/connect` (a ball on the platform) at the bodies' poses in the
+//! reference configuration, which is the assembled robot at home. Bodies with several joints
+//! compose them in order, as Pinocchio's composite joint does.
 
 use super::{header, numbers, Num, Triple};
-use crate::tree::{quaternion, Body, BodyTree, JointKind, Mat3, Shape, Vec3};
+use crate::tree::{
+    quaternion, Body, BodyTree, Chain, Closure, Freedom, JointKind, Mat3, Shape, Vec3, IDENTITY,
+};
 use alloc::string::String;
 use alloc::vec::Vec;
 use core::fmt::Write;
@@ -31,65 +34,81 @@ const WELDED_INERTIA: f64 = 1e-3;
 /// The tree as an MJCF document.
 pub fn mjcf(tree: &BodyTree) -> String {
     let mut out = String::new();
-    let mut w = |s: core::fmt::Arguments| out.write_fmt(s).expect("writing to a String");
-    w(format_args!(
-        "<!-- {} -->\n",
-        header(tree, super::Format::Mjcf)
-    ));
-    w(format_args!("<mujoco model=\"{}\">\n", tree.mechanism));
-    w(format_args!(
-        "  <compiler angle=\"radian\" autolimits=\"true\"/>\n\
-         \x20 <!-- The loops are closed by soft welds: MuJoCo lets each open in proportion to \
-         the force it carries, by solref {} {} (the stiffest for the timestep) and solimp \
-         {} {} {} {} {}; RK4 at {} s keeps them closed to the tolerance docs/export.md \
-         states. Contacts are off: the legs pass through each other as the kernels' do. -->\n",
-        SOLREF[0], SOLREF[1], SOLIMP[0], SOLIMP[1], SOLIMP[2], SOLIMP[3], SOLIMP[4], TIMESTEP
-    ));
-    w(format_args!(
-        "  <option gravity=\"{}\" timestep=\"{}\" integrator=\"RK4\">\n\
-         \x20   <flag contact=\"disable\"/>\n  </option>\n",
+    let _ = write!(
+        out,
+        "<!-- {} -->\n<mujoco model=\"{}\">\n  <compiler angle=\"radian\" \
+         autolimits=\"true\"/>\n  <!-- The loops are closed by soft equality constraints: \
+         MuJoCo lets each open in proportion to the force it carries, by solref {} (the \
+         stiffest for the timestep) and solimp {} (the hardest MuJoCo takes); RK4 at {} s keeps \
+         them closed to the tolerance docs/export.md states. Contacts are off: the legs pass \
+         through each other as the kernels' do. -->\n  <option gravity=\"{}\" \
+         timestep=\"{}\" integrator=\"RK4\">\n    <flag contact=\"disable\"/>\n  </option>\n  \
+         <default>\n    <geom contype=\"0\" conaffinity=\"0\" rgba=\"0.6 0.65 0.7 1\"/>\n  \
+         </default>\n  <worldbody>\n    <light pos=\"0 0 3\" dir=\"0 0 -1\"/>\n",
+        header(tree, super::Format::Mjcf),
+        tree.mechanism,
+        numbers(&SOLREF),
+        numbers(&SOLIMP),
+        Num(TIMESTEP),
         Triple(tree.gravity),
         Num(TIMESTEP)
-    ));
-    w(format_args!(
-        "  <default>\n    <geom contype=\"0\" conaffinity=\"0\" rgba=\"0.6 0.65 0.7 1\"/>\n  \
-         </default>\n  <worldbody>\n    <light pos=\"0 0 3\" dir=\"0 0 -1\"/>\n"
-    ));
+    );
     let p = &tree.platform;
-    w(format_args!(
-        "    <body name=\"{}\" pos=\"{}\" quat=\"{}\">\n      <freejoint name=\"{}\"/>\n",
+    let _ = writeln!(
+        out,
+        "    <body name=\"{}\" pos=\"{}\" quat=\"{}\">",
         p.name,
         Triple(p.origin),
-        Quat(quaternion(&p.rotation)),
-        p.name
-    ));
+        Quat(quaternion(&p.rotation))
+    );
+    match tree.freedom {
+        Freedom::Free => {
+            let _ = writeln!(out, "      <freejoint name=\"{}\"/>", p.name);
+        }
+        Freedom::Translations => {
+            for (axis, name) in IDENTITY.iter().zip(["x", "y", "z"]) {
+                let _ = writeln!(
+                    out,
+                    "      <joint name=\"{}_{name}\" type=\"slide\" axis=\"{}\"/>",
+                    p.name,
+                    Triple(*axis)
+                );
+            }
+        }
+    }
     body_contents(&mut out, p, 6);
     for leg in &tree.legs {
-        let mut parent = p;
-        for (depth, body) in leg.bodies.iter().enumerate() {
-            nested_body(&mut out, parent, body, 6 + 2 * depth);
-            parent = body;
-        }
-        for depth in (0..leg.bodies.len()).rev() {
-            out.push_str(&indent(6 + 2 * depth));
-            out.push_str("</body>\n");
+        for child in leg.children(None) {
+            nested_body(&mut out, leg, p, child, 6);
         }
     }
     out.push_str("    </body>\n  </worldbody>\n  <equality>\n");
+    let soft = alloc::format!(
+        "solref=\"{}\" solimp=\"{}\"",
+        numbers(&SOLREF),
+        numbers(&SOLIMP)
+    );
     for leg in &tree.legs {
-        let last = leg.bodies.last().expect("a leg has bodies");
-        let _ = writeln!(
-            out,
-            "    <!-- {}: the loop is cut here, {} welded to the world where it is at home -->\n\
-             \x20   <weld name=\"{}_closure\" body1=\"{}\" solref=\"{} {}\" solimp=\"{}\"/>",
-            leg.name,
-            last.name,
-            leg.name,
-            last.name,
-            SOLREF[0],
-            SOLREF[1],
-            numbers(&SOLIMP)
-        );
+        for closure in &leg.closures {
+            let _ = match *closure {
+                Closure::Weld { body } => writeln!(
+                    out,
+                    "    <!-- {}: a loop is cut here, {} welded to the world where it is at \
+                     home -->\n    <weld name=\"{1}_closure\" body1=\"{1}\" {soft}/>",
+                    leg.name, leg.bodies[body].name,
+                ),
+                Closure::Ball { body, anchor } => writeln!(
+                    out,
+                    "    <!-- {}: a loop is cut here, {} holding the platform by its ball -->\n    \
+                     <connect name=\"{1}_closure\" body1=\"{1}\" body2=\"{}\" anchor=\"{}\" \
+                     {soft}/>",
+                    leg.name,
+                    leg.bodies[body].name,
+                    p.name,
+                    Triple(anchor),
+                ),
+            };
+        }
     }
     out.push_str("  </equality>\n  <actuator>\n");
     for leg in &tree.legs {
@@ -109,10 +128,11 @@ pub fn mjcf(tree: &BodyTree) -> String {
     out
 }
 
-/// `<body>` of `body`, placed relative to `parent`, with its joints, inertia and shapes, left
-/// open for its children.
-fn nested_body(out: &mut String, parent: &Body, body: &Body, depth: usize) {
-    let (pos, rot) = body.relative_to(parent);
+/// `<body>` of `leg.bodies[k]`, placed relative to its parent, with its joints, inertia,
+/// shapes and children.
+fn nested_body(out: &mut String, leg: &Chain, platform: &Body, k: usize, depth: usize) {
+    let body = &leg.bodies[k];
+    let (pos, rot) = body.relative_to(leg.parent(k, platform));
     let _ = writeln!(
         out,
         "{}<body name=\"{}\" pos=\"{}\" quat=\"{}\">",
@@ -122,36 +142,44 @@ fn nested_body(out: &mut String, parent: &Body, body: &Body, depth: usize) {
         Quat(quaternion(&rot))
     );
     for joint in &body.joints {
-        let _ = match joint.kind {
-            JointKind::Hinge { axis } => writeln!(
-                out,
-                "{}<joint name=\"{}\" type=\"hinge\" axis=\"{}\"/>",
-                indent(depth + 2),
-                joint.name,
-                Triple(axis)
-            ),
-            JointKind::Slide { axis } => writeln!(
-                out,
-                "{}<joint name=\"{}\" type=\"slide\" axis=\"{}\"/>",
-                indent(depth + 2),
-                joint.name,
-                Triple(axis)
-            ),
-            JointKind::Ball => writeln!(
-                out,
-                "{}<joint name=\"{}\" type=\"ball\"/>",
-                indent(depth + 2),
-                joint.name
-            ),
+        let (kind, axis) = match joint.kind {
+            JointKind::Hinge { axis } => ("hinge", Some(axis)),
+            JointKind::Slide { axis } => ("slide", Some(axis)),
+            JointKind::Ball => ("ball", None),
         };
+        let axis = axis.map_or(String::new(), |a| alloc::format!(" axis=\"{}\"", Triple(a)));
+        let _ = writeln!(
+            out,
+            "{}<joint name=\"{}\" type=\"{kind}\"{axis}/>",
+            indent(depth + 2),
+            joint.name
+        );
     }
     body_contents(out, body, depth + 2);
+    for child in leg.children(Some(k)) {
+        nested_body(out, leg, platform, child, depth + 2);
+    }
+    let _ = writeln!(out, "{}</body>", indent(depth));
 }
 
 /// A body's inertia and shapes.
 fn body_contents(out: &mut String, body: &Body, depth: usize) {
-    let (mass, com, inertia) = if body.mass > 0.0 {
+    let no_inertia = body.inertia.iter().flatten().all(|&x| x == 0.0);
+    let (mass, com, inertia) = if body.mass > 0.0 && !no_inertia {
         (body.mass, body.com, body.inertia)
+    } else if body.mass > 0.0 {
+        let _ = writeln!(
+            out,
+            "{}<!-- No inertia in the robot file: a nominal one, never felt (it only \
+             translates). -->",
+            indent(depth)
+        );
+        let i = WELDED_INERTIA;
+        (
+            body.mass,
+            body.com,
+            [[i, 0.0, 0.0], [0.0, i, 0.0], [0.0, 0.0, i]],
+        )
     } else {
         let i = WELDED_INERTIA;
         (
@@ -203,22 +231,32 @@ fn body_contents(out: &mut String, body: &Body, depth: usize) {
     }
 }
 
-/// The joint coordinates at home, in MuJoCo's order (depth first): the platform's placement,
-/// then each joint at its reference (a ball's identity quaternion, zero for the others).
+/// The joint coordinates at home, in MuJoCo's order (depth first): the platform's placement
+/// (a translating platform's slides at zero), then each joint at its reference (a ball's
+/// identity quaternion, zero for the others).
 fn home_qpos(tree: &BodyTree) -> String {
-    let p = &tree.platform;
-    let mut q: Vec<f64> = p.origin.to_vec();
-    q.extend(quaternion(&p.rotation));
-    for joint in tree
-        .legs
-        .iter()
-        .flat_map(|l| &l.bodies)
-        .flat_map(|b| &b.joints)
-    {
-        match joint.kind {
-            JointKind::Ball => q.extend([1.0, 0.0, 0.0, 0.0]),
-            JointKind::Hinge { .. } | JointKind::Slide { .. } => q.push(0.0),
+    fn visit(leg: &Chain, parent: Option<usize>, q: &mut Vec<f64>) {
+        for k in leg.children(parent) {
+            for joint in &leg.bodies[k].joints {
+                match joint.kind {
+                    JointKind::Ball => q.extend([1.0, 0.0, 0.0, 0.0]),
+                    JointKind::Hinge { .. } | JointKind::Slide { .. } => q.push(0.0),
+                }
+            }
+            visit(leg, Some(k), q);
         }
+    }
+    let p = &tree.platform;
+    let mut q: Vec<f64> = match tree.freedom {
+        Freedom::Free => p
+            .origin
+            .into_iter()
+            .chain(quaternion(&p.rotation))
+            .collect(),
+        Freedom::Translations => alloc::vec![0.0; 3],
+    };
+    for leg in &tree.legs {
+        visit(leg, None, &mut q);
     }
     numbers(&q)
 }

@@ -72,6 +72,8 @@ impl Description {
         match self {
             Description::C5(r) => r.body_tree(),
             Description::GoughStewart(r) => r.body_tree(),
+            Description::RusHexapod(r) => r.body_tree(),
+            Description::Delta(r) => r.body_tree(),
         }
     }
 

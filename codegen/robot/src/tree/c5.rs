@@ -3,7 +3,9 @@
 //! with the platform), the rod on the ball at `B_i` (body 1), and the actuator's guide on the
 //! rod's slide along `n_i`, welded to the base.
 
-use super::{add, dot, scale, sub, Body, BodyTree, Chain, Joint, JointKind, Shape, IDENTITY};
+use super::{
+    add, dot, scale, sub, Body, BodyTree, Chain, Freedom, Joint, JointKind, Shape, IDENTITY,
+};
 use crate::{Robot, AXIS};
 use alloc::format;
 use alloc::string::ToString;
@@ -108,11 +110,11 @@ impl Robot {
                     to: scale(n, -l),
                     radius: 0.08 * l,
                 });
-                Chain {
-                    name: format!("segment{}", i + 1),
-                    bodies: vec![plates, rod, guide],
-                    actuated: (2, 0),
-                }
+                Chain::serial(
+                    format!("segment{}", i + 1),
+                    vec![plates, rod, guide],
+                    (2, 0),
+                )
             })
             .collect::<Vec<_>>();
         BodyTree {
@@ -120,6 +122,7 @@ impl Robot {
             gravity: self.gravity,
             home: [0.0; 6],
             platform,
+            freedom: Freedom::Free,
             legs,
         }
     }

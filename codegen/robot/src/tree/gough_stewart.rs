@@ -4,7 +4,7 @@
 
 use super::{
     columns, cross, diagonal, norm, scale, sub, times, transpose_times, unit, Body, BodyTree,
-    Chain, Joint, JointKind, Shape,
+    Chain, Freedom, Joint, JointKind, Shape,
 };
 use crate::gough_stewart::rotation;
 use crate::GoughStewart;
@@ -103,11 +103,7 @@ impl GoughStewart {
                     centre: [0.0; 3],
                     radius: 1.5 * radius,
                 });
-                Chain {
-                    name: format!("leg{}", i + 1),
-                    bodies: vec![rod, cylinder, yoke],
-                    actuated: (1, 0),
-                }
+                Chain::serial(format!("leg{}", i + 1), vec![rod, cylinder, yoke], (1, 0))
             })
             .collect::<Vec<_>>();
         BodyTree {
@@ -115,6 +111,7 @@ impl GoughStewart {
             gravity: self.gravity,
             home,
             platform,
+            freedom: Freedom::Free,
             legs,
         }
     }

@@ -2,17 +2,19 @@
 //!
 //! A parallel robot is a closed chain; the formats other tools read want a tree. The tree here
 //! is the one both Pinocchio's and MuJoCo's MJCF readers accept: the platform is the single
-//! root, each leg hangs from it as a chain of bodies, body after body towards the base, and
-//! the chain's last body (the part of the leg fixed to the base: a guide, a U joint's yoke) is
-//! closed on the world by a weld. Every body is placed at the robot's home pose, so the tree's
-//! zero joint coordinates are the assembled robot at home and the loops are closed there by
-//! construction.
+//! root, each leg hangs from it, body after body towards the base, and the leg's part fixed to
+//! the base (a guide, a U joint's yoke, a motor's housing) is closed on the world by a weld; a
+//! body whose other end holds the platform by a ball (the second rod of a Delta's
+//! parallelogram) is closed on it by that ball. Every body is placed at the robot's home pose,
+//! so the tree's zero joint coordinates are the assembled robot at home and the loops are
+//! closed there by construction.
 //!
 //! A mechanism builds its tree from its description ([`crate::Description::body_tree`]); the
 //! writers ([`crate::export`]) know nothing of mechanisms.
 
 mod c5;
 mod gough_stewart;
+mod rus;
 
 use alloc::string::String;
 use alloc::vec::Vec;
@@ -31,22 +33,72 @@ pub struct BodyTree {
     pub gravity: Vec3,
     /// The home pose `[α β γ xc yc zc]` the bodies are placed at.
     pub home: [f64; 6],
-    /// The platform, the tree's root: free in space (six coordinates).
+    /// The platform, the tree's root.
     pub platform: Body,
+    /// How the platform may move.
+    pub freedom: Freedom,
     /// The legs in actuator order, each hanging from the platform.
     pub legs: Vec<Chain>,
 }
 
-/// One leg: its bodies from the platform outwards; the last is welded to the world.
+/// How the platform moves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Freedom {
+    /// Free in space: six coordinates.
+    Free,
+    /// Translations only, its frame parallel to the base's (the Delta).
+    Translations,
+}
+
+/// One leg: its bodies from the platform outwards, and where its loops close.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Chain {
     /// The actuator's name (`leg1`, `segment1`).
     pub name: String,
-    /// The bodies, each the child of the one before (the first, of the platform).
+    /// The bodies, each after its parent.
     pub bodies: Vec<Body>,
+    /// Each body's parent: `None` the platform, `Some(k)` `bodies[k]`, `k` before it.
+    pub parents: Vec<Option<usize>>,
+    /// Where the loops through this leg are cut.
+    pub closures: Vec<Closure>,
     /// Which joint the motor drives: `(body, joint)` indices into [`Chain::bodies`]. Its
     /// positive direction is the actuator's: a positive `Γ_i` drives it positive.
     pub actuated: (usize, usize),
+}
+
+/// A cut loop, closed again by a constraint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Closure {
+    /// `bodies[body]` is welded to the world where it is at home.
+    Weld { body: usize },
+    /// `bodies[body]`'s point `anchor` (its frame) is held by a ball at the platform's point
+    /// that is there at home.
+    Ball { body: usize, anchor: Vec3 },
+}
+
+impl Chain {
+    /// A chain of `bodies`, each the child of the one before (the first, of the platform),
+    /// the last welded to the world.
+    pub(crate) fn serial(name: String, bodies: Vec<Body>, actuated: (usize, usize)) -> Self {
+        let n = bodies.len();
+        Chain {
+            name,
+            bodies,
+            parents: (0..n).map(|k| k.checked_sub(1)).collect(),
+            closures: alloc::vec![Closure::Weld { body: n - 1 }],
+            actuated,
+        }
+    }
+
+    /// The children of `parent` (`None`: the platform), in order.
+    pub fn children(&self, parent: Option<usize>) -> impl Iterator<Item = usize> + '_ {
+        (0..self.bodies.len()).filter(move |&k| self.parents[k] == parent)
+    }
+
+    /// The parent body of `bodies[k]` (the platform for `None`).
+    pub fn parent<'a>(&'a self, k: usize, platform: &'a Body) -> &'a Body {
+        self.parents[k].map_or(platform, |p| &self.bodies[p])
+    }
 }
 
 /// A rigid body, placed at the home pose.

@@ -174,3 +174,104 @@ fn read_csv(path: &Path) -> Vec<Vec<f64>> {
         .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
         .collect()
 }
+
+const RUS_HEXAPOD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/rus-hexapod.toml");
+const DELTA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/delta.toml");
+
+#[test]
+fn the_rotary_hexapod_and_the_delta_export_and_say_their_kernels_are_not_there_yet() {
+    for (file, actuators) in [(RUS_HEXAPOD, 6), (DELTA, 3)] {
+        let text = String::from_utf8(c5_ok(&["export", "--robot", file], "").stdout).unwrap();
+        assert_eq!(text.matches("<motor ").count(), actuators, "{file}");
+        let urdf = c5_ok(&["export", "--robot", file, "--format", "urdf"], "");
+        assert!(String::from_utf8_lossy(&urdf.stdout).contains("<constraint "));
+        let eval = c5(&["eval", "--robot", file], "{\"pose\": [0, 0, 0.3]}\n");
+        let err = String::from_utf8_lossy(&eval.stderr);
+        assert!(!eval.status.success() && eval.stdout.is_empty());
+        assert!(err.contains("kernels are not generated yet"), "{err}");
+    }
+}
+
+#[test]
+fn bad_rotary_hexapod_and_delta_files_are_refused_by_field_and_nothing_is_written() {
+    let dir = scratch("bad-rus");
+    let rus = std::fs::read_to_string(RUS_HEXAPOD).unwrap();
+    let delta = std::fs::read_to_string(DELTA).unwrap();
+    let first_arm = "axis = [0.0, 1.0, 0.0]\nzero = [1.0, 0.0, 0.0]";
+    let cases: Vec<(&str, String, &str)> = vec![
+        (
+            "unknown.toml",
+            rus.replacen("\nbranch = -1\n", "\nbranch = -1\nelbow = 2\n", 1),
+            "unknown field `elbow`",
+        ),
+        (
+            "five-legs.toml",
+            rus.rsplit_once("[[legs]]").unwrap().0.to_string(),
+            "exactly six [[legs]]",
+        ),
+        (
+            "two-arms.toml",
+            delta.rsplit_once("[[arms]]").unwrap().0.to_string(),
+            "exactly three [[arms]]",
+        ),
+        (
+            "zero-axis.toml",
+            delta.replacen("axis = [0.0, 1.0, 0.0]", "axis = [0.0, 0.0, 0.0]", 1),
+            "`arms[1].axis` must not be zero",
+        ),
+        (
+            "zero-along-axis.toml",
+            delta.replacen(
+                first_arm,
+                "axis = [0.0, 1.0, 0.0]\nzero = [0.0, 2.0, 0.0]",
+                1,
+            ),
+            "`arms[1].zero` must not be along `axis`",
+        ),
+        (
+            "short-rod.toml",
+            delta.replacen("length = 0.62", "length = 0.1", 1),
+            "`arms[1]` cannot reach the platform at any height",
+        ),
+        (
+            "massless.toml",
+            rus.replacen("mass = 0.35", "mass = 0.0", 1),
+            "`legs[1].crank.mass` must be positive",
+        ),
+        (
+            "inertia.toml",
+            rus.replacen(
+                "inertia = [2e-5, 4.2e-4, 4.3e-4]",
+                "inertia = [2e-5, 4.2e-4, 9e-4]",
+                1,
+            ),
+            "`legs[1].crank.inertia` breaks the triangle inequality",
+        ),
+        (
+            "branch.toml",
+            rus.replacen("\nbranch = -1\n", "\nbranch = 0\n", 1),
+            "`legs[1].branch` must be 1 or -1",
+        ),
+        (
+            "separation.toml",
+            delta.replacen("separation = 0.07, ", "", 1),
+            "`arms[1].rod.separation` is missing",
+        ),
+    ];
+    for (name, text, needle) in cases {
+        let file = dir.join(name);
+        std::fs::write(&file, text).unwrap();
+        let path = file.to_str().unwrap();
+        let target = dir.join(format!("{name}.xml"));
+        for args in [
+            vec!["export", "--robot", path, "--out", target.to_str().unwrap()],
+            vec!["eval", "--robot", path],
+        ] {
+            let out = c5(&args, "{\"pose\": [0, 0, 0.3]}\n");
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert!(!out.status.success(), "{name}: {args:?}");
+            assert!(err.contains(path) && err.contains(needle), "{name}: {err}");
+        }
+        assert!(!target.exists(), "{name}: nothing written");
+    }
+}
