@@ -3,10 +3,9 @@
 //! translates. Pick-and-place and packaging lines. The arm is [`crate::rus`]'s leg with
 //! `B_i = C + p_i`; its two rods run from `E_i ± (w_i/2) r_i` to `C + p_i ± (w_i/2) r_i`.
 
-use crate::rus::{home_height, invalid, no_home, RusLeg};
+use crate::rus::{actuator_angles, invalid, level_home, validate_legs, RusLeg};
 use crate::tree::add;
 use crate::Error;
-use alloc::format;
 #[cfg(feature = "toml")]
 use alloc::string::String;
 use alloc::vec::Vec;
@@ -58,16 +57,8 @@ impl Delta {
     /// The home position: the file's `home`, else centred at the height where the arms are
     /// nearest their zero; `None` where no height reaches every arm.
     pub fn home(&self) -> Option<[f64; 3]> {
-        if self.home.is_some() {
-            return self.home;
-        }
-        let points = |z: f64| -> Vec<[f64; 3]> {
-            self.arms
-                .iter()
-                .map(|a| add(a.platform, [0.0, 0.0, z]))
-                .collect()
-        };
-        home_height(&self.arms, &points).map(|z| [0.0, 0.0, z])
+        self.home
+            .or_else(|| level_home(&self.arms).map(|z| [0.0, 0.0, z]))
     }
 
     /// The actuators' values `θ_i + encoder_offset` at the platform position `c`.
@@ -75,20 +66,13 @@ impl Delta {
     /// # Errors
     /// [`Error::Invalid`] naming the first arm that cannot reach.
     pub fn actuator_angles(&self, c: &[f64; 3]) -> Result<[f64; 3], Error> {
-        let mut q = [0.0; 3];
-        for (i, arm) in self.arms.iter().enumerate() {
-            let theta = arm.crank_angle(add(*c, arm.platform)).map_err(|u| {
-                invalid(
-                    format!("arms[{}]", i + 1),
-                    format_args!(
-                        "cannot reach the platform: |K/ρ| = {:.6} > 1",
-                        u.ratio.abs()
-                    ),
-                )
-            })?;
-            q[i] = theta + arm.encoder_offset;
-        }
-        Ok(q)
+        let q = actuator_angles(&self.arms, &self.balls(c), "arms")?;
+        Ok(core::array::from_fn(|i| q[i]))
+    }
+
+    /// `B_i = C + p_i` at the platform position `c`.
+    fn balls(&self, c: &[f64; 3]) -> Vec<[f64; 3]> {
+        self.arms.iter().map(|a| add(*c, a.platform)).collect()
     }
 
     /// Checks every rule a physical Delta obeys.
@@ -97,9 +81,6 @@ impl Delta {
     /// [`Error::Invalid`] naming the first field that breaks a rule (as
     /// [`crate::RusHexapod::validate`], and a missing or non-positive `rod.separation`).
     pub fn validate(&self) -> Result<(), Error> {
-        if !self.gravity.iter().all(|g| g.is_finite()) {
-            return Err(invalid("gravity", "must be finite"));
-        }
         let p = &self.platform;
         if !(p.mass.is_finite() && p.centre_of_mass.iter().all(|x| x.is_finite())) {
             return Err(invalid("platform", "must be finite"));
@@ -107,28 +88,9 @@ impl Delta {
         if p.mass <= 0.0 {
             return Err(invalid("platform.mass", "must be positive"));
         }
-        for (i, arm) in self.arms.iter().enumerate() {
-            arm.validate(&|field| format!("arms[{}].{field}", i + 1), true)?;
-        }
-        if let Some(home) = self.home {
-            if !home.iter().all(|x| x.is_finite()) {
-                return Err(invalid("home", "must be finite"));
-            }
-        }
-        let points = |z: f64| -> Vec<[f64; 3]> {
-            self.arms
-                .iter()
-                .map(|a| add(a.platform, [0.0, 0.0, z]))
-                .collect()
-        };
-        let home = self
-            .home()
-            .ok_or_else(|| no_home(&self.arms, &points, "arms"))?;
-        self.actuator_angles(&home).map_err(|e| match e {
-            Error::Invalid { field, rule } => invalid(field, format_args!("{rule} at home")),
-            other => other,
-        })?;
-        Ok(())
+        let balls = self.home().map(|home| self.balls(&home));
+        let home = self.home.as_ref().map(|h| h.as_slice());
+        validate_legs(&self.gravity, &self.arms, "arms", true, home, balls)
     }
 
     /// Reads a Delta in TOML (`mechanism = "delta"`); `source` names the file.

@@ -237,9 +237,73 @@ pub(crate) fn invalid(field: impl Into<String>, rule: impl core::fmt::Display) -
     }
 }
 
+/// The balls of a level platform centred over the base at height `z`: `p_i + (0, 0, z)`.
+fn level(legs: &[RusLeg], z: f64) -> alloc::vec::Vec<[f64; 3]> {
+    legs.iter()
+        .map(|l| [l.platform[0], l.platform[1], l.platform[2] + z])
+        .collect()
+}
+
+/// The default home height of a platform on `legs` ([`home_height`] of a level platform).
+pub(crate) fn level_home(legs: &[RusLeg]) -> Option<f64> {
+    home_height(legs, &|z| level(legs, z))
+}
+
+/// The actuators' values `θ_i + encoder_offset` of `legs` reaching `balls`.
+///
+/// # Errors
+/// [`Error::Invalid`] naming the first leg (`{what}[i]`) that cannot reach its ball.
+pub(crate) fn actuator_angles(
+    legs: &[RusLeg],
+    balls: &[[f64; 3]],
+    what: &str,
+) -> Result<alloc::vec::Vec<f64>, Error> {
+    legs.iter()
+        .zip(balls)
+        .enumerate()
+        .map(|(i, (leg, &ball))| {
+            let theta = leg.crank_angle(ball).map_err(|u| {
+                invalid(
+                    format!("{what}[{}]", i + 1),
+                    format_args!("cannot reach its ball: |K/ρ| = {:.6} > 1", u.ratio.abs()),
+                )
+            })?;
+            Ok(theta + leg.encoder_offset)
+        })
+        .collect()
+}
+
+/// The checks both mechanisms share: finite gravity, every leg's rules, a finite `home` if
+/// given, and every leg reaching its ball at home (`balls_at(home)`, or the default level
+/// home, named as [`no_home`] says where there is none).
+pub(crate) fn validate_legs(
+    gravity: &[f64; 3],
+    legs: &[RusLeg],
+    what: &str,
+    delta: bool,
+    home: Option<&[f64]>,
+    balls_at_home: Option<alloc::vec::Vec<[f64; 3]>>,
+) -> Result<(), Error> {
+    if !gravity.iter().all(|g| g.is_finite()) {
+        return Err(invalid("gravity", "must be finite"));
+    }
+    for (i, leg) in legs.iter().enumerate() {
+        leg.validate(&|field| format!("{what}[{}].{field}", i + 1), delta)?;
+    }
+    if home.is_some_and(|h| !h.iter().all(|x| x.is_finite())) {
+        return Err(invalid("home", "must be finite"));
+    }
+    let balls = balls_at_home.ok_or_else(|| no_home(legs, &|z| level(legs, z), what))?;
+    actuator_angles(legs, &balls, what).map_err(|e| match e {
+        Error::Invalid { field, rule } => invalid(field, format_args!("{rule} at home")),
+        other => other,
+    })?;
+    Ok(())
+}
+
 /// Why no default home exists: the first leg (`what[i]`, "legs" or "arms") that reaches its
 /// ball at no height at all, else the legs together.
-pub(crate) fn no_home(
+fn no_home(
     legs: &[RusLeg],
     points: &dyn Fn(f64) -> alloc::vec::Vec<[f64; 3]>,
     what: &str,

@@ -4,10 +4,9 @@
 //! ([`crate::Platform`]), with the same pose, twist and acceleration conventions.
 
 use crate::gough_stewart::rotation;
-use crate::rus::{home_height, invalid, no_home, RusLeg};
+use crate::rus::{actuator_angles, level_home, validate_legs, RusLeg};
 use crate::tree::{add, times};
 use crate::{Error, Platform};
-use alloc::format;
 #[cfg(feature = "toml")]
 use alloc::string::{String, ToString};
 use alloc::vec::Vec;
@@ -45,16 +44,8 @@ impl RusHexapod {
     /// The home pose: the file's `home`, else level and centred at the height where the cranks
     /// are nearest their zero; `None` where no height reaches every leg.
     pub fn home(&self) -> Option<[f64; 6]> {
-        if self.home.is_some() {
-            return self.home;
-        }
-        let points = |z: f64| -> Vec<[f64; 3]> {
-            self.legs
-                .iter()
-                .map(|l| add(l.platform, [0.0, 0.0, z]))
-                .collect()
-        };
-        home_height(&self.legs, &points).map(|z| [0.0, 0.0, 0.0, 0.0, 0.0, z])
+        self.home
+            .or_else(|| level_home(&self.legs).map(|z| [0.0, 0.0, 0.0, 0.0, 0.0, z]))
     }
 
     /// `B_i = C + R p_i` at `pose`.
@@ -71,17 +62,9 @@ impl RusHexapod {
     /// # Errors
     /// [`Error::Invalid`] naming the first leg whose crank cannot reach its ball.
     pub fn actuator_angles(&self, pose: &[f64; 6]) -> Result<[f64; 6], Error> {
-        let mut q = [0.0; 6];
-        for (i, leg) in self.legs.iter().enumerate() {
-            let theta = leg.crank_angle(self.ball(i, pose)).map_err(|u| {
-                invalid(
-                    format!("legs[{}]", i + 1),
-                    format_args!("cannot reach its ball: |K/ρ| = {:.6} > 1", u.ratio.abs()),
-                )
-            })?;
-            q[i] = theta + leg.encoder_offset;
-        }
-        Ok(q)
+        let balls: Vec<[f64; 3]> = (0..6).map(|i| self.ball(i, pose)).collect();
+        let q = actuator_angles(&self.legs, &balls, "legs")?;
+        Ok(core::array::from_fn(|i| q[i]))
     }
 
     /// Checks every rule a physical rotary hexapod obeys.
@@ -91,32 +74,12 @@ impl RusHexapod {
     /// non-positive mass or length, an inertia no rigid body has, a zero axis, a `zero` along
     /// its axis, a branch other than ±1, or a rod that cannot reach at home.
     pub fn validate(&self) -> Result<(), Error> {
-        if !self.gravity.iter().all(|g| g.is_finite()) {
-            return Err(invalid("gravity", "must be finite"));
-        }
         self.platform.validate()?;
-        for (i, leg) in self.legs.iter().enumerate() {
-            leg.validate(&|field| format!("legs[{}].{field}", i + 1), false)?;
-        }
-        if let Some(home) = self.home {
-            if !home.iter().all(|x| x.is_finite()) {
-                return Err(invalid("home", "must be finite"));
-            }
-        }
-        let points = |z: f64| -> Vec<[f64; 3]> {
-            self.legs
-                .iter()
-                .map(|l| add(l.platform, [0.0, 0.0, z]))
-                .collect()
-        };
-        let home = self
+        let balls = self
             .home()
-            .ok_or_else(|| no_home(&self.legs, &points, "legs"))?;
-        self.actuator_angles(&home).map_err(|e| match e {
-            Error::Invalid { field, rule } => invalid(field, format_args!("{rule} at home")),
-            other => other,
-        })?;
-        Ok(())
+            .map(|home| (0..6).map(|i| self.ball(i, &home)).collect());
+        let home = self.home.as_ref().map(|h| h.as_slice());
+        validate_legs(&self.gravity, &self.legs, "legs", false, home, balls)
     }
 
     /// Reads a rotary hexapod in TOML (`mechanism = "rus-hexapod"`); `source` names the file.

@@ -45,7 +45,9 @@ type Result<T> = std::result::Result<T, Box<dyn std::error::Error>>;
 #[command(
     name = "c5",
     version,
-    about = "Kinematics and inverse dynamics of the C5 joint parallel robot"
+    about = "Kinematics and dynamics of parallel robots: the C5 joint parallel robot (the \
+             chapter's, the default) and the Gough-Stewart platform from a robot file \
+             (`--robot`); the rotary hexapod and the Delta are read and exported so far"
 )]
 struct Cli {
     #[command(subcommand)]

@@ -11,7 +11,8 @@ use std::path::PathBuf;
 /// The robot description and the model of the legs' mechanism.
 #[derive(Args, Clone, Debug)]
 pub struct RobotArgs {
-    /// A robot description (TOML) instead of the chapter's robot.
+    /// A robot description (TOML) instead of the chapter's robot: its `mechanism` line says
+    /// which ("c5", the default, "gough-stewart", "rus-hexapod", "delta"; docs/mechanisms.md).
     #[arg(long)]
     pub robot: Option<PathBuf>,
     /// The model of the legs' mechanism the results follow.

@@ -20,7 +20,7 @@ pub fn needs(what: &str, feature: &str) -> Box<dyn std::error::Error> {
     };
     format!(
         "{what} is not in this build of c5: it needs the `{feature}` feature ({kernels}), which \
-         `cargo run --release -F c5-cli/{feature} -- ...` builds (or `-F c5-cli/full`, every \
+         `cargo run --release -p c5-cli -F {feature} -- ...` builds (or `-F full`, every \
          command; `cargo install --path runtime/cli --features full` installs it)"
     )
     .into()
@@ -34,9 +34,9 @@ mod tests {
     fn the_error_says_what_to_build() {
         let e = needs("`c5 plan`", "derivatives").to_string();
         assert!(e.starts_with("`c5 plan` is not in this build of c5"));
-        assert!(e.contains("-F c5-cli/derivatives") && e.contains("derivative kernels"));
+        assert!(e.contains("-p c5-cli -F derivatives") && e.contains("derivative kernels"));
         assert!(e.contains("cargo install --path runtime/cli --features full"));
         let e = needs("`--base-parameters`", "identify").to_string();
-        assert!(e.contains("-F c5-cli/identify") && e.contains("regressor"));
+        assert!(e.contains("-p c5-cli -F identify") && e.contains("regressor"));
     }
 }

@@ -9,7 +9,6 @@ use super::{
 use crate::gough_stewart::rotation;
 use crate::GoughStewart;
 use alloc::format;
-use alloc::string::ToString;
 use alloc::vec;
 use alloc::vec::Vec;
 
@@ -29,14 +28,7 @@ impl GoughStewart {
             .iter()
             .map(|l| norm(l.platform))
             .fold(0.0, f64::max);
-        let mut platform = Body::at("platform".to_string(), r0, c0);
-        platform.mass = self.platform.mass;
-        platform.com = self.platform.centre_of_mass;
-        platform.inertia = self.platform.inertia_matrix();
-        platform.shapes.push(Shape::Box {
-            centre: [0.0; 3],
-            half_sizes: [size, size, 0.03 * size],
-        });
+        let platform = self.platform.root_body(r0, c0, size);
         let legs = self
             .legs
             .iter()

@@ -193,6 +193,22 @@ impl Body {
     }
 }
 
+impl crate::Platform {
+    /// The platform as the tree's root at `rotation` and `origin`, drawn as a plate `size`
+    /// across its joints (the largest `|p_i|`).
+    pub(crate) fn root_body(&self, rotation: Mat3, origin: Vec3, size: f64) -> Body {
+        let mut platform = Body::at("platform".into(), rotation, origin);
+        platform.mass = self.mass;
+        platform.com = self.centre_of_mass;
+        platform.inertia = self.inertia_matrix();
+        platform.shapes.push(Shape::Box {
+            centre: [0.0; 3],
+            half_sizes: [size, size, 0.04 * size],
+        });
+        platform
+    }
+}
+
 pub(crate) fn sub(a: Vec3, b: Vec3) -> Vec3 {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
