@@ -245,3 +245,46 @@ mod tests {
         assert!(e.starts_with("d.toml: missing field"), "{e}");
     }
 }
+
+#[cfg(all(test, feature = "toml"))]
+mod new_mechanisms {
+    use super::*;
+
+    fn docs(name: &str) -> String {
+        std::fs::read_to_string(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../docs/{name}")),
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn the_rotary_hexapod_and_the_delta_read_and_write_their_files() {
+        for name in ["rus-hexapod.toml", "delta.toml"] {
+            let robot = Description::from_toml(&docs(name), name).unwrap();
+            let again = Description::from_toml(&robot.to_toml(), "written").unwrap();
+            assert_eq!(robot, again, "{name}");
+            assert_eq!(robot.mechanism(), name.trim_end_matches(".toml"));
+            assert!(robot.kernel_parameters().is_empty(), "no kernels yet");
+        }
+    }
+
+    #[test]
+    fn a_given_home_is_the_home_and_one_out_of_reach_is_refused_by_leg() {
+        let text =
+            docs("delta.toml").replacen("[platform]", "home = [0.0, 0.0, -0.4]\n[platform]", 1);
+        let Description::Delta(delta) = Description::from_toml(&text, "home.toml").unwrap() else {
+            panic!("a Delta");
+        };
+        assert_eq!(delta.home(), Some([0.0, 0.0, -0.4]));
+        assert!(delta.actuator_angles(&[0.0, 0.0, -0.4]).is_ok());
+        let far =
+            docs("delta.toml").replacen("[platform]", "home = [0.0, 0.0, -2.0]\n[platform]", 1);
+        let err = Description::from_toml(&far, "far.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("`arms[1]` cannot reach its ball") && err.contains("at home"),
+            "{err}"
+        );
+    }
+}

@@ -1294,6 +1294,25 @@ mod tests {
     }
 
     #[test]
+    fn a_mechanism_without_kernels_is_refused_by_name() {
+        let delta = c5_robot::Description::from_toml(
+            &std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/delta.toml"))
+                .unwrap(),
+            "delta.toml",
+        )
+        .unwrap();
+        let e = crate::Config::new()
+            .description(delta)
+            .generate_to_string()
+            .unwrap_err();
+        assert!(
+            matches!(e, crate::Error::NoKernels { mechanism: "delta" }),
+            "{e}"
+        );
+        assert!(e.to_string().contains("not generated yet"));
+    }
+
+    #[test]
     fn unknown_and_repeated_names_are_refused() {
         let names = Robot::<f64>::kernel_parameter_names();
         let e = named(&["gravity_w"])
