@@ -174,8 +174,8 @@ fn bad_hexapod_files_are_refused_by_field() {
             "`platform.inertia` breaks the triangle inequality",
         ),
         (
-            "delta.toml",
-            good.replacen("mechanism = \"gough-stewart\"", "mechanism = \"delta\"", 1),
+            "scara.toml",
+            good.replacen("mechanism = \"gough-stewart\"", "mechanism = \"scara\"", 1),
             "unknown `mechanism`",
         ),
     ];
