@@ -370,15 +370,11 @@ fn unsupported(what: &'static str, robot: &dyn ParallelRobot) -> Error {
 impl C5 {
     /// The robot's mechanism in `format`; the paper model is not a mechanism.
     fn export(&self, format: c5_robot::Format) -> PyResult<String> {
-        if self.inner.model_name() == Model::Paper.name() {
-            return Err(PyValueError::new_err(
-                "the paper model is the chapter's equations, not a mechanism: it has no bodies \
-                 and joints to export (export the consistent model, the default)",
-            ));
-        }
-        self.inner
-            .description()
-            .export(format)
+        let model = Model::ALL
+            .into_iter()
+            .find(|m| m.name() == self.inner.model_name())
+            .unwrap_or_default();
+        c5_runtime::mechanism::export(&self.inner.description(), model, format)
             .map_err(|e| PyValueError::new_err(e.to_string()))
     }
 
@@ -1202,12 +1198,7 @@ fn export(robot: Option<std::path::PathBuf>, format: &str) -> PyResult<String> {
             Description::from_toml_file(&path).map_err(|e| PyValueError::new_err(e.to_string()))?
         }
     };
-    match c5_runtime::mechanism::robot(description.clone(), Model::Consistent) {
-        Ok(_) | Err(Error::Unsupported { .. }) => {}
-        Err(e) => return Err(PyValueError::new_err(e.to_string())),
-    }
-    description
-        .export(format)
+    c5_runtime::mechanism::export(&description, Model::Consistent, format)
         .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 

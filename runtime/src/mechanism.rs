@@ -299,6 +299,33 @@ pub fn robot(description: Description, model: Model) -> Result<Box<dyn ParallelR
     })
 }
 
+/// The robot of `description` in `format` for other tools (docs/export.md), after the checks
+/// [`robot`] makes, so that a file the commands refuse is refused here with the same message;
+/// a mechanism without kernels yet is exported on its description's checks.
+///
+/// # Errors
+/// As [`robot`] (but [`Error::Unsupported`] for a mechanism without kernels); the C5's paper
+/// model, which is not a mechanism, is refused.
+pub fn export(
+    description: &Description,
+    model: Model,
+    format: c5_robot::Format,
+) -> Result<alloc::string::String, Error> {
+    match robot(description.clone(), model) {
+        Ok(_) | Err(Error::Unsupported { .. }) => {}
+        Err(e) => return Err(e),
+    }
+    if matches!(description, Description::C5(_)) && model == Model::Paper {
+        return Err(Error::Unsupported {
+            what: "export",
+            mechanism: description.mechanism(),
+            why: "the paper model is the chapter's equations, not a mechanism: it has no bodies \
+                  and joints to export (export the consistent model, the default)",
+        });
+    }
+    description.export(format).map_err(Error::from_robot)
+}
+
 impl ParallelRobot for C5 {
     fn mechanism(&self) -> &'static str {
         c5_robot::description::C5

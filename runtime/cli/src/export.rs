@@ -3,7 +3,6 @@
 
 use crate::options::RobotArgs;
 use c5_robot::{Description, Format};
-use c5_runtime::Model;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::Args;
 use std::io::Write;
@@ -38,19 +37,7 @@ pub fn run(args: &ExportArgs) -> crate::Result<ExitCode> {
         Some(path) => Description::from_toml_file(path)?,
         None => Description::default(),
     };
-    // The runtime's checks too (a home pose the legs cannot hold, say), as `eval`'s.
-    match c5_runtime::mechanism::robot(description.clone(), args.robot.model) {
-        Ok(_) | Err(c5_runtime::Error::Unsupported { .. }) => {}
-        Err(e) => return Err(e.into()),
-    }
-    if matches!(description, Description::C5(_)) && args.robot.model == Model::Paper {
-        return Err(
-            "the paper model is the chapter's equations, not a mechanism: it has no \
-                    bodies and joints to export (export the consistent model, the default)"
-                .into(),
-        );
-    }
-    let text = description.export(args.format)?;
+    let text = c5_runtime::mechanism::export(&description, args.robot.model, args.format)?;
     match &args.out {
         Some(path) => std::fs::write(path, text)
             .map_err(|e| format!("cannot write {}: {e}", path.display()))?,
