@@ -344,17 +344,21 @@ struct C5 {
     base: OnceLock<Result<BaseParameters, String>>,
 }
 
+/// The robot file `robot`'s description, the chapter's C5 for `None`.
+fn read_description(robot: Option<std::path::PathBuf>) -> PyResult<Description> {
+    match robot {
+        None => Ok(Description::default()),
+        Some(path) => {
+            Description::from_toml_file(&path).map_err(|e| PyValueError::new_err(e.to_string()))
+        }
+    }
+}
+
 fn load(model: &str, robot: Option<std::path::PathBuf>) -> PyResult<Box<dyn ParallelRobot>> {
     let model: Model = model
         .parse()
         .map_err(|e: c5_robot::Error| PyValueError::new_err(e.to_string()))?;
-    let description = match robot {
-        None => Description::default(),
-        Some(path) => {
-            Description::from_toml_file(&path).map_err(|e| PyValueError::new_err(e.to_string()))?
-        }
-    };
-    c5_runtime::mechanism::robot(description, model)
+    c5_runtime::mechanism::robot(read_description(robot)?, model)
         .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
@@ -1181,8 +1185,6 @@ impl C5 {
     }
 }
 
-/// The generated kernels of the C5 joint parallel robot and the Gough–Stewart platform, for
-/// numpy. See `C5`.
 /// The robot of the TOML file `robot` (any mechanism the project describes; the chapter's C5
 /// for `None`) as `"mjcf"` or `"urdf"` text, as `c5 export` writes it (docs/export.md): also
 /// for a mechanism whose kernels are not generated yet (the rotary hexapod, the Delta).
@@ -1192,16 +1194,12 @@ fn export(robot: Option<std::path::PathBuf>, format: &str) -> PyResult<String> {
     let format: c5_robot::Format = format
         .parse()
         .map_err(|e: c5_robot::Error| PyValueError::new_err(e.to_string()))?;
-    let description = match robot {
-        None => Description::default(),
-        Some(path) => {
-            Description::from_toml_file(&path).map_err(|e| PyValueError::new_err(e.to_string()))?
-        }
-    };
-    c5_runtime::mechanism::export(&description, Model::Consistent, format)
+    c5_runtime::mechanism::export(&read_description(robot)?, Model::Consistent, format)
         .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
+/// The generated kernels of the parallel robots the project describes (the C5 joint parallel
+/// robot, the Gough–Stewart platform), for numpy. See `Robot`.
 #[pymodule]
 fn c5_kernels(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<C5>()?;

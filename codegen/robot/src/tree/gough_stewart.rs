@@ -6,7 +6,6 @@ use super::{
     columns, cross, diagonal, norm, scale, sub, times, transpose_times, unit, Body, BodyTree,
     Chain, Freedom, Joint, JointKind, Shape,
 };
-use crate::gough_stewart::rotation;
 use crate::GoughStewart;
 use alloc::format;
 use alloc::vec;
@@ -21,14 +20,9 @@ impl GoughStewart {
     /// extends the leg, as `Γ_i` does.
     pub fn body_tree(&self) -> BodyTree {
         let home = self.home();
-        let r0 = rotation(&home);
-        let c0 = [home[3], home[4], home[5]];
-        let size = self
-            .legs
-            .iter()
-            .map(|l| norm(l.platform))
-            .fold(0.0, f64::max);
-        let platform = self.platform.root_body(r0, c0, size);
+        let (platform, r0, c0) = self
+            .platform
+            .root_at(&home, self.legs.iter().map(|l| l.platform));
         let legs = self
             .legs
             .iter()

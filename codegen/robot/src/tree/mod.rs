@@ -194,9 +194,22 @@ impl Body {
 }
 
 impl crate::Platform {
+    /// The platform as the tree's root at the pose `home`, drawn as a plate across its joints
+    /// `joints` (platform frame): the body, its rotation and its origin.
+    pub(crate) fn root_at(
+        &self,
+        home: &[f64; 6],
+        joints: impl Iterator<Item = Vec3>,
+    ) -> (Body, Mat3, Vec3) {
+        let rotation = crate::gough_stewart::rotation(home);
+        let origin = [home[3], home[4], home[5]];
+        let size = joints.map(norm).fold(0.0, f64::max);
+        (self.root_body(rotation, origin, size), rotation, origin)
+    }
+
     /// The platform as the tree's root at `rotation` and `origin`, drawn as a plate `size`
     /// across its joints (the largest `|p_i|`).
-    pub(crate) fn root_body(&self, rotation: Mat3, origin: Vec3, size: f64) -> Body {
+    fn root_body(&self, rotation: Mat3, origin: Vec3, size: f64) -> Body {
         let mut platform = Body::at("platform".into(), rotation, origin);
         platform.mass = self.mass;
         platform.com = self.centre_of_mass;

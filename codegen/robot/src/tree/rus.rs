@@ -7,7 +7,6 @@ use super::{
     add, columns, cross, diagonal, norm, scale, sub, transpose_times, unit, Body, BodyTree, Chain,
     Closure, Freedom, Joint, JointKind, Shape, Vec3, IDENTITY,
 };
-use crate::gough_stewart::rotation;
 use crate::{Delta, RusHexapod, RusLeg};
 use alloc::format;
 use alloc::string::{String, ToString};
@@ -24,14 +23,9 @@ impl RusHexapod {
     /// about `r_i`, as `Γ_i` does.
     pub fn body_tree(&self) -> BodyTree {
         let home = self.home().unwrap_or([0.0; 6]);
-        let r0 = rotation(&home);
-        let c0 = [home[3], home[4], home[5]];
-        let size = self
-            .legs
-            .iter()
-            .map(|l| norm(l.platform))
-            .fold(0.0, f64::max);
-        let platform = self.platform.root_body(r0, c0, size);
+        let (platform, _, _) = self
+            .platform
+            .root_at(&home, self.legs.iter().map(|l| l.platform));
         let legs = self
             .legs
             .iter()
