@@ -323,6 +323,6 @@ def export(
     format: Literal["mjcf", "urdf"] = "mjcf",
 ) -> str:
     """The robot of a file, any mechanism (the chapter's C5 for ``None``), as MJCF or URDF
-    text, as ``c5 export`` writes it; also for the rotary hexapod and the Delta, whose kernels
-    are not generated yet (docs/export.md)."""
+    text, as ``c5 export`` writes it; also for the Delta, whose kernels are not generated yet
+    (docs/export.md)."""
 """The chapter's robot's name for :class:`Robot`."""

@@ -27,7 +27,7 @@ pub enum Error {
     },
     /// The emitted tokens did not parse as Rust (a bug in the emitter).
     Emit { kernel: String, message: String },
-    /// The description's mechanism has no kernels yet (the rotary hexapod, the Delta: their
+    /// The description's mechanism has no kernels yet (the Delta: its
     /// robot files are read, checked and exported).
     NoKernels { mechanism: &'static str },
 }

@@ -427,6 +427,9 @@ struct CheckedIn {
     /// left out: its batch forms, kernels of 4 000 to 5 000 operations instantiated for three
     /// instruction sets, took LLVM six minutes to build, twelve times the rest of the crate.
     complete: bool,
+    /// With the folded kernels, the derivative and the identification kernels: a mechanism
+    /// new to the crate has its `*_params` kernels alone until the runtime serves the others.
+    extended: bool,
 }
 
 /// The mechanisms of the checked-in crate: the C5's two models with the chapter's robot, and
@@ -436,12 +439,22 @@ fn checked_in_mechanisms() -> Vec<CheckedIn> {
         mechanism: Mechanism::c5(&Robot::default(), m),
         c5: true,
         complete: true,
+        extended: true,
     });
-    c5.chain([CheckedIn {
-        mechanism: Mechanism::gough_stewart(&c5_robot::GoughStewart::example()),
-        c5: false,
-        complete: false,
-    }])
+    c5.chain([
+        CheckedIn {
+            mechanism: Mechanism::gough_stewart(&c5_robot::GoughStewart::example()),
+            c5: false,
+            complete: false,
+            extended: true,
+        },
+        CheckedIn {
+            mechanism: Mechanism::rus_hexapod(&c5_robot::RusHexapod::example()),
+            c5: false,
+            complete: false,
+            extended: false,
+        },
+    ])
     .collect()
 }
 
@@ -449,6 +462,8 @@ fn checked_in_mechanisms() -> Vec<CheckedIn> {
 fn checked_in_robot(mechanism: &Mechanism) -> &'static str {
     if mechanism.name() == c5_robot::description::GOUGH_STEWART {
         "the example of docs/hexapod.toml (GoughStewart::example())"
+    } else if mechanism.name() == c5_robot::description::RUS_HEXAPOD {
+        "the example of docs/rus-hexapod.toml (RusHexapod::example())"
     } else {
         "the chapter's (Robot::default())"
     }
@@ -457,20 +472,32 @@ fn checked_in_robot(mechanism: &Mechanism) -> &'static str {
 /// The kernels of the checked-in crate for one mechanism: the free-input ones (the paper
 /// model's chapter setting), the robot kernels with its description folded, and with every
 /// parameter an input (`*_params`).
-fn crate_kernels(mechanism: &Mechanism) -> Result<Vec<Entry>, Error> {
+fn crate_kernels(checked_in: &CheckedIn) -> Result<Vec<Entry>, Error> {
+    let mechanism = &checked_in.mechanism;
     let mut entries = model::kernels::chapter_specs(mechanism);
-    entries.extend(folded_and_with_parameters(
-        mechanism,
-        model::kernels::specs,
-    )?);
+    if checked_in.extended {
+        entries.extend(folded_and_with_parameters(
+            mechanism,
+            model::kernels::specs,
+        )?);
+    } else {
+        entries.extend(model::kernels::specs(
+            mechanism,
+            &ParameterSet::All,
+            "_params",
+        )?);
+    }
     Ok(entries)
 }
 
 /// The derivative kernels of the checked-in crate for one mechanism, folded and `*_params`
 /// for the C5; `*_params` alone for a mechanism whose kernels any robot of its kind uses (the
 /// folded ones would double the largest file for a benchmark).
-fn crate_derivatives(mechanism: &Mechanism, folded: bool) -> Result<Vec<Entry>, Error> {
-    if folded {
+fn crate_derivatives(checked_in: &CheckedIn) -> Result<Vec<Entry>, Error> {
+    let mechanism = &checked_in.mechanism;
+    if !checked_in.extended {
+        Ok(Vec::new())
+    } else if checked_in.complete {
         folded_and_with_parameters(mechanism, model::kernels::derivative_specs)
     } else {
         model::kernels::derivative_specs(mechanism, &ParameterSet::All, "_params")
@@ -493,7 +520,7 @@ struct MechanismKernels<'a> {
     mechanism: &'a Mechanism,
     kernels: Vec<(&'a Entry, &'a Compiled)>,
     derivatives: Vec<(&'a Entry, &'a Compiled)>,
-    identification: &'a model::regressor::Identification,
+    identification: Option<&'a model::regressor::Identification>,
 }
 
 /// The files of the checked-in `generated/` crate, relative to it, with their contents: one
@@ -511,14 +538,14 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
     let per_mechanism = checked_in
         .iter()
         .map(|c| {
-            let mut entries = crate_kernels(&c.mechanism)?;
+            let mut entries = crate_kernels(c)?;
             entries.iter_mut().for_each(|e| e.batch &= c.complete);
             Ok(entries)
         })
         .collect::<Result<Vec<_>, Error>>()?;
     let derivative_entries = checked_in
         .iter()
-        .map(|c| crate_derivatives(&c.mechanism, c.complete))
+        .map(crate_derivatives)
         .collect::<Result<Vec<_>, Error>>()?;
     let all: Vec<&Entry> = per_mechanism
         .iter()
@@ -526,21 +553,31 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
         .chain(derivative_entries.iter().flatten())
         .collect();
     let (compiled, identification) = std::thread::scope(|scope| {
-        let identification: Vec<_> = mechanisms
+        let identification: Vec<_> = checked_in
             .iter()
-            .map(|&m| scope.spawn(move || model::regressor::Identification::compile(m)))
+            .map(|c| {
+                let m = &c.mechanism;
+                c.extended
+                    .then(|| scope.spawn(move || model::regressor::Identification::compile(m)))
+            })
             .collect();
         let compiled = compile_all(&all);
         let identification: Result<Vec<_>, Error> = identification
             .into_iter()
-            .map(|h| h.join().expect("a kernel compilation does not panic"))
+            .map(|h| {
+                h.map(|h| h.join().expect("a kernel compilation does not panic"))
+                    .transpose()
+            })
             .collect();
         (compiled, identification)
     });
     let (compiled, identification) = (compiled?, identification?);
     let kernels: Vec<(&Entry, &Compiled)> = all.iter().copied().zip(&compiled).collect();
-    let regressors: Vec<(&Entry, &Compiled)> =
-        identification.iter().flat_map(|id| id.pairs()).collect();
+    let regressors: Vec<(&Entry, &Compiled)> = identification
+        .iter()
+        .flatten()
+        .flat_map(|id| id.pairs())
+        .collect();
     let is_derivative = |e: &Entry| {
         model::derivatives::KERNELS
             .iter()
@@ -552,6 +589,7 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
         .iter()
         .zip(&identification)
         .map(|(&mechanism, identification)| {
+            let identification = identification.as_ref();
             let (derivatives, kernels) = kernels
                 .iter()
                 .copied()
@@ -584,8 +622,8 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
                 .collect(),
             regressors: group
                 .identification
-                .pairs()
-                .into_iter()
+                .iter()
+                .flat_map(|id| id.pairs())
                 .map(|(e, _)| &e.spec)
                 .collect(),
             derivatives: group
@@ -604,12 +642,18 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
             .iter()
             .any(|c| c.c5 && std::ptr::eq(&c.mechanism, g.mechanism))
     });
+    let extended = |g: &MechanismKernels| g.identification.is_some();
     let sets: Vec<_> = sets.into_iter().map(set).collect();
+    let standalone_f32: Vec<_> = standalone
+        .iter()
+        .filter(|g| extended(g))
+        .map(|g| set(g))
+        .collect();
     let standalone: Vec<_> = standalone.into_iter().map(set).collect();
-    for scalar in [Scalar::F64, Scalar::F32] {
+    for (scalar, standalone) in [(Scalar::F64, &standalone), (Scalar::F32, &standalone_f32)] {
         files.push((
             PathBuf::from(format!("src/{}/mod.rs", scalar.name())),
-            emit::emit_kernel_sets(&how, &sets, &standalone, scalar)?,
+            emit::emit_kernel_sets(&how, &sets, standalone, scalar)?,
         ));
     }
     let everything: Vec<(&KernelSpec, &Compiled)> = kernels
@@ -656,6 +700,9 @@ fn mechanism_files(group: &MechanismKernels<'_>) -> Result<Vec<(PathBuf, String)
                         || e.spec.inputs.iter().all(|a| a.name != "params"))
             })
             .collect();
+        if checked.is_empty() {
+            continue; // no folded kernels
+        }
         model::self_check(mechanism, &checked)?;
     }
     let header = |pairs: &[(&KernelSpec, &Compiled)], what: &str| {
@@ -677,12 +724,21 @@ fn mechanism_files(group: &MechanismKernels<'_>) -> Result<Vec<(PathBuf, String)
             .filter(|(e, _)| e.folded == folded)
             .map(|(e, c)| (&e.spec, *c))
             .collect();
+        if specs.is_empty() {
+            continue;
+        }
         let batched: Vec<_> = mine
             .iter()
             .filter(|(e, _)| e.batch && e.folded == folded)
             .map(|(e, c)| (&e.spec, *c))
             .collect();
-        for scalar in [Scalar::F64, Scalar::F32] {
+        // A mechanism new to the crate comes in `f64` alone.
+        let scalars: &[Scalar] = if group.identification.is_some() {
+            &[Scalar::F64, Scalar::F32]
+        } else {
+            &[Scalar::F64]
+        };
+        for &scalar in scalars {
             let mut kernels = emit::emit_file(
                 &header(&specs, &what),
                 &specs,
@@ -723,7 +779,9 @@ fn mechanism_files(group: &MechanismKernels<'_>) -> Result<Vec<(PathBuf, String)
             ));
         }
     }
-    let id = group.identification;
+    let Some(id) = group.identification else {
+        return Ok(files);
+    };
     let pairs: Vec<_> = id.pairs().into_iter().map(|(e, c)| (&e.spec, c)).collect();
     files.push((
         PathBuf::from(format!("src/f64/{module}_regressor.rs")),

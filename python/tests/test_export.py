@@ -2,8 +2,9 @@
 `constraintDynamics` on the exported MJCF (its welds as rigid constraints) against `c5 forward`,
 MuJoCo simulating the same file under held actuator forces against `c5 simulate --torques`, and
 a URDF parser's tree summed against the robot file (docs/export.md). The rotary hexapod and the
-Delta, whose kernels are not generated yet, are held to their robot files' geometry and
-statics written from the mechanism issue's formulas (rus_geometry.py).
+Delta are also held to their robot files' geometry and statics written from the mechanism
+issue's formulas (rus_geometry.py); the rotary hexapod's kernels against Pinocchio:
+test_rus_hexapod.py.
 
 The engines read the exported files alone (exported.py): no test here tells them which
 mechanism the file holds. Robots: the chapter's C5, a C5 no Rust test uses, docs/hexapod.toml,
@@ -372,7 +373,7 @@ def new_robot_files(tmp_path_factory):
 
 @pytest.fixture(params=["rus-hexapod", "delta", "unseen-rus-hexapod", "unseen-delta"])
 def new_robot(request, new_robot_files, c5_program, tmp_path):
-    """A robot of a mechanism without kernels yet: its geometry from the file, its export in
+    """A rotary hexapod or a Delta: its geometry from the file, its export in
     Pinocchio, its MJCF path and its home pose."""
     file = new_robot_files[request.param]
     path = export(c5_program, ["--robot", str(file)], "mjcf", tmp_path)

@@ -100,7 +100,7 @@ pub(crate) fn check_terms(terms: &[f64]) -> Result<(), Error> {
 
 /// Refuses the first of `terms` (named by `names`) below `bound`, where `what` cannot be
 /// served to its accuracy bound though the pose is not singular.
-fn check_conditioned(
+pub(crate) fn check_conditioned(
     what: &'static str,
     terms: &[f64],
     names: &[&'static str],
@@ -115,6 +115,52 @@ fn check_conditioned(
         }),
         None => Ok(()),
     }
+}
+
+/// Newton's method from `x` on the residual and Jacobian `step` gives at a pose (a generated
+/// forward-kinematics step), each step halved until it reduces the largest residual, to
+/// [`FORWARD_TOLERANCE`] within [`FORWARD_ITERATIONS`] steps.
+///
+/// # Errors
+/// The step's errors; [`Error::NotConverged`] when the steps stop reducing the residual;
+/// [`Error::Singularity`] when the Jacobian is singular.
+pub(crate) fn newton(
+    step: impl Fn(&[f64; 6]) -> Result<([f64; 6], [[f64; 6]; 6]), Error>,
+    mut x: [f64; 6],
+) -> Result<[f64; 6], Error> {
+    let (mut residual, mut jac) = step(&x)?;
+    for _ in 0..FORWARD_ITERATIONS {
+        let size = dense::max_abs(&residual);
+        if size <= FORWARD_TOLERANCE {
+            return Ok(x);
+        }
+        let delta = dense::solve(&jac, &residual, 1e-13).ok_or(Error::Singularity {
+            term: "forward kinematics' Jacobian",
+            value: 0.0,
+            bound: 1e-13,
+        })?;
+        let mut scale = 1.0;
+        loop {
+            let trial: [f64; 6] = core::array::from_fn(|k| x[k] + scale * delta[k]);
+            match step(&trial) {
+                Ok((r, j)) if dense::max_abs(&r) < size => {
+                    (x, residual, jac) = (trial, r, j);
+                    break;
+                }
+                _ if scale > 1e-3 => scale *= 0.5,
+                _ => {
+                    return Err(Error::NotConverged {
+                        what: "forward kinematics",
+                        residual: size,
+                    })
+                }
+            }
+        }
+    }
+    Err(Error::NotConverged {
+        what: "forward kinematics",
+        residual: dense::max_abs(&residual),
+    })
 }
 
 /// A validated Gough-Stewart platform and its parameter vector.
@@ -458,46 +504,16 @@ impl GoughStewart {
         )
     }
 
-    /// Newton's method on `q(X) = q` from `x`, each step halved until it reduces the residual.
-    fn newton(&self, q: &[f64; 6], mut x: [f64; 6]) -> Result<[f64; 6], Error> {
-        let step = |x: &[f64; 6]| {
-            let (r, jac, guard) = kernels::forward_kinematics_step_params(x, q, &self.params);
-            check_terms(&guard)?;
-            Ok::<_, Error>((finite("residual", r)?, jac))
-        };
-        let (mut residual, mut jac) = step(&x)?;
-        for _ in 0..FORWARD_ITERATIONS {
-            let size = dense::max_abs(&residual);
-            if size <= FORWARD_TOLERANCE {
-                return Ok(x);
-            }
-            let delta = dense::solve(&jac, &residual, 1e-13).ok_or(Error::Singularity {
-                term: "forward kinematics' Jacobian",
-                value: 0.0,
-                bound: 1e-13,
-            })?;
-            let mut scale = 1.0;
-            loop {
-                let trial: [f64; 6] = core::array::from_fn(|k| x[k] + scale * delta[k]);
-                match step(&trial) {
-                    Ok((r, j)) if dense::max_abs(&r) < size => {
-                        (x, residual, jac) = (trial, r, j);
-                        break;
-                    }
-                    _ if scale > 1e-3 => scale *= 0.5,
-                    _ => {
-                        return Err(Error::NotConverged {
-                            what: "forward kinematics",
-                            residual: size,
-                        })
-                    }
-                }
-            }
-        }
-        Err(Error::NotConverged {
-            what: "forward kinematics",
-            residual: dense::max_abs(&residual),
-        })
+    /// Newton's method on `q(X) = q` from `x` ([`newton`]).
+    fn newton(&self, q: &[f64; 6], x: [f64; 6]) -> Result<[f64; 6], Error> {
+        newton(
+            |x| {
+                let (r, jac, guard) = kernels::forward_kinematics_step_params(x, q, &self.params);
+                check_terms(&guard)?;
+                Ok((finite("residual", r)?, jac))
+            },
+            x,
+        )
     }
 
     /// The level pose (`R = I`) whose leg lengths fit `q` best: Gauss-Newton on the centre, from

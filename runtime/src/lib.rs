@@ -55,6 +55,7 @@ pub mod mechanism;
 pub mod plan;
 #[cfg(feature = "reference")]
 pub mod reference;
+pub mod rus_hexapod;
 pub mod scene;
 pub mod sensors;
 pub mod trajectory;
@@ -67,6 +68,7 @@ pub use error::Error;
 pub use gough_stewart::GoughStewart;
 pub use limits::{Limit, LimitMargins};
 pub use mechanism::ParallelRobot;
+pub use rus_hexapod::RusHexapod;
 pub use types::{Acceleration, Pose, State, Twist};
 
 pub use c5_generated::f64::Kernels;

@@ -11,7 +11,9 @@ use crate::derivatives::{ForwardDynamicsDerivatives, InverseDynamicsDerivatives}
 #[cfg(feature = "identify")]
 use crate::identify::{BaseParameters, Friction};
 use crate::scene::Scene;
-use crate::{Acceleration, Error, Evaluation, GoughStewart, Limit, Model, Pose, State, Twist, C5};
+use crate::{
+    Acceleration, Error, Evaluation, GoughStewart, Limit, Model, Pose, RusHexapod, State, Twist, C5,
+};
 use alloc::boxed::Box;
 use alloc::vec::Vec;
 use c5_robot::Description;
@@ -282,13 +284,13 @@ impl Clone for Box<dyn ParallelRobot> {
 ///
 /// # Errors
 /// [`Error::Robot`] if the description breaks a rule of its mechanism; [`Error::Unsupported`]
-/// for a mechanism the project describes and exports but has no kernels for yet (the rotary
-/// hexapod, the Delta).
+/// for a mechanism the project describes and exports but has no kernels for yet (the Delta).
 pub fn robot(description: Description, model: Model) -> Result<Box<dyn ParallelRobot>, Error> {
     Ok(match description {
         Description::C5(r) => Box::new(C5::with_model(r, model)?),
         Description::GoughStewart(r) => Box::new(GoughStewart::new(r)?),
-        Description::RusHexapod(_) | Description::Delta(_) => {
+        Description::RusHexapod(r) => Box::new(RusHexapod::new(r)?),
+        Description::Delta(_) => {
             return Err(Error::Unsupported {
                 what: "kinematics or dynamics kernels",
                 mechanism: description.mechanism(),
@@ -301,7 +303,7 @@ pub fn robot(description: Description, model: Model) -> Result<Box<dyn ParallelR
 
 /// The robot of `description` in `format` for other tools (docs/export.md), after the checks
 /// [`robot`] makes, so that a file the commands refuse is refused here with the same message;
-/// a mechanism without kernels yet is exported on its description's checks.
+/// a mechanism without kernels yet (the Delta) is exported on its description's checks.
 ///
 /// # Errors
 /// As [`robot`] (but [`Error::Unsupported`] for a mechanism without kernels); the C5's paper
@@ -672,5 +674,168 @@ impl ParallelRobot for GoughStewart {
         gamma: &[f64; 6],
     ) -> Result<ForwardDynamicsDerivatives, Error> {
         GoughStewart::forward_dynamics_derivatives(self, pose, twist, gamma)
+    }
+}
+
+/// What the rotary hexapod does not serve yet, and why.
+fn rus_hexapod_lacks(what: &'static str) -> Error {
+    Error::Unsupported {
+        what,
+        mechanism: c5_robot::description::RUS_HEXAPOD,
+        why: "its identification, derivative and drawing kernels are not generated yet; its \
+              kinematics and dynamics are (docs/mechanisms.md)",
+    }
+}
+
+impl ParallelRobot for RusHexapod {
+    fn mechanism(&self) -> &'static str {
+        c5_robot::description::RUS_HEXAPOD
+    }
+    fn model_name(&self) -> &'static str {
+        c5_robot::description::RUS_HEXAPOD
+    }
+    fn home(&self) -> Pose {
+        RusHexapod::home(self)
+    }
+    fn description(&self) -> Description {
+        Description::RusHexapod(*self.robot())
+    }
+    fn actuator_positions(&self, pose: &Pose) -> Result<[f64; 6], Error> {
+        Ok(self.inverse_kinematics(pose)?.0)
+    }
+    fn scene(&self, _pose: &Pose) -> Result<Scene, Error> {
+        Err(rus_hexapod_lacks("drawing"))
+    }
+    fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        RusHexapod::inverse_jacobian(self, pose)
+    }
+    fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        RusHexapod::jacobian(self, pose)
+    }
+    fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        RusHexapod::joint_velocities(self, pose, twist)
+    }
+    fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
+        RusHexapod::joint_accelerations(self, state)
+    }
+    fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
+        RusHexapod::inverse_dynamics(self, state)
+    }
+    fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        RusHexapod::task_inertia(self, pose)
+    }
+    fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        RusHexapod::task_bias(self, pose, twist)
+    }
+    fn forward_dynamics(
+        &self,
+        pose: &Pose,
+        twist: &Twist,
+        gamma: &[f64; 6],
+    ) -> Result<Acceleration, Error> {
+        RusHexapod::forward_dynamics(self, pose, twist, gamma)
+    }
+    fn forward_kinematics(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<Pose, Error> {
+        RusHexapod::forward_kinematics(self, q, near)
+    }
+    fn joint_state(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<State, Error> {
+        RusHexapod::joint_state(self, q, qd, qdd, near)
+    }
+    fn inverse_dynamics_joint(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<[f64; 6], Error> {
+        RusHexapod::inverse_dynamics_joint(self, q, qd, qdd, near)
+    }
+    fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
+        RusHexapod::evaluate(self, state)
+    }
+    /// Its description sets no limits.
+    fn smallest_pose_margin(&self, pose: &Pose) -> Result<Option<(Limit, usize, f64, f64)>, Error> {
+        self.inverse_kinematics(pose).map(|_| None)
+    }
+    fn speed_and_force_limits(&self) -> (Option<f64>, Option<f64>) {
+        (None, None)
+    }
+    fn has_limits(&self) -> bool {
+        false
+    }
+    /// The mean distance of the balls from `C`.
+    fn characteristic_length(&self) -> f64 {
+        let legs = &self.robot().legs;
+        legs.iter()
+            .map(|l| crate::math::sqrt(l.platform.iter().map(|x| x * x).sum()))
+            .sum::<f64>()
+            / legs.len() as f64
+    }
+    fn singularity_clearance(&self, pose: &Pose) -> Result<f64, Error> {
+        Ok(self
+            .singularity_terms(pose)?
+            .iter()
+            .fold(f64::INFINITY, |m, &r| m.min(r)))
+    }
+    fn parameters(&self) -> &[f64] {
+        RusHexapod::parameters(self)
+    }
+    fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
+        RusHexapod::joint_inertia(self, q, near)
+    }
+    fn joint_bias(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<[f64; 6], Error> {
+        RusHexapod::joint_bias(self, q, qd, near)
+    }
+    fn as_any(&self) -> &dyn core::any::Any {
+        self
+    }
+    fn clone_box(&self) -> Box<dyn ParallelRobot> {
+        Box::new(self.clone())
+    }
+    #[cfg(feature = "identify")]
+    fn standard_parameters(&self, friction: &[Friction; 6]) -> Vec<f64> {
+        let mut out = self.robot().standard_inertial_parameters();
+        out.extend(friction.iter().map(|f| f.viscous));
+        out.extend(friction.iter().map(|f| f.coulomb));
+        out
+    }
+    #[cfg(feature = "identify")]
+    fn base_parameters(&self) -> Result<BaseParameters, Error> {
+        Err(rus_hexapod_lacks("base parameters"))
+    }
+    #[cfg(feature = "identify")]
+    fn standard_regressor(&self, _state: &State) -> Result<nalgebra::DMatrix<f64>, Error> {
+        Err(rus_hexapod_lacks("regressor"))
+    }
+    #[cfg(feature = "identify")]
+    fn base_regressor_into(&self, _state: &State, _out: &mut [f64]) -> Result<(), Error> {
+        Err(rus_hexapod_lacks("regressor"))
+    }
+    #[cfg(feature = "derivatives")]
+    fn inverse_dynamics_derivatives(
+        &self,
+        _state: &State,
+    ) -> Result<InverseDynamicsDerivatives, Error> {
+        Err(rus_hexapod_lacks("derivatives"))
+    }
+    #[cfg(feature = "derivatives")]
+    fn forward_dynamics_derivatives(
+        &self,
+        _pose: &Pose,
+        _twist: &Twist,
+        _gamma: &[f64; 6],
+    ) -> Result<ForwardDynamicsDerivatives, Error> {
+        Err(rus_hexapod_lacks("derivatives"))
     }
 }

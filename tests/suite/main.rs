@@ -22,3 +22,4 @@ mod joint_space;
 mod limits;
 mod ops_budget;
 mod plan;
+mod rus_hexapod;

@@ -55,6 +55,28 @@ impl Platform {
         check_inertia("platform.inertia", &self.inertia_matrix(), false)
     }
 
+    /// Its ten standard parameters about `C`, platform frame, in the order of
+    /// [`PLATFORM_STANDARD`]: mass, first moment `m c`, and the inertia moved from the centre
+    /// of mass to `C`.
+    pub fn standard_parameters(&self) -> [f64; 10] {
+        let (m, c) = (self.mass, self.centre_of_mass);
+        let c2 = dot(c, c);
+        let i = self.inertia_matrix();
+        let at = |a: usize, b: usize| i[a][b] + m * (if a == b { c2 } else { 0.0 } - c[a] * c[b]);
+        [
+            m,
+            m * c[0],
+            m * c[1],
+            m * c[2],
+            at(0, 0),
+            at(0, 1),
+            at(0, 2),
+            at(1, 1),
+            at(1, 2),
+            at(2, 2),
+        ]
+    }
+
     /// The inertia as a symmetric matrix.
     pub fn inertia_matrix(&self) -> [[f64; 3]; 3] {
         let [xx, yy, zz, xy, xz, yz] = self.inertia;
@@ -306,7 +328,7 @@ pub fn rotation(pose: &[f64; 6]) -> [[f64; 3]; 3] {
 pub const LEG_BODY_STANDARD: [&str; 4] = ["mass", "mz", "ixx", "izz"];
 
 /// The names of the platform's ten standard parameters.
-const PLATFORM_STANDARD: [&str; 10] = [
+pub const PLATFORM_STANDARD: [&str; 10] = [
     "mass", "mx", "my", "mz", "ixx", "ixy", "ixz", "iyy", "iyz", "izz",
 ];
 
@@ -362,24 +384,8 @@ impl GoughStewart {
     /// The standard inertial parameters, in the order of
     /// [`GoughStewart::standard_inertial_names`].
     pub fn standard_inertial_parameters(&self) -> Vec<f64> {
-        let p = &self.platform;
-        let (m, c) = (p.mass, p.centre_of_mass);
-        let c2 = dot(c, c);
-        let i = p.inertia_matrix();
-        let at = |a: usize, b: usize| i[a][b] + m * (if a == b { c2 } else { 0.0 } - c[a] * c[b]);
         let mut out = Vec::with_capacity(PARAMETERS - GEOMETRY_PARAMETERS);
-        out.extend([
-            m,
-            m * c[0],
-            m * c[1],
-            m * c[2],
-            at(0, 0),
-            at(0, 1),
-            at(0, 2),
-            at(1, 1),
-            at(1, 2),
-            at(2, 2),
-        ]);
+        out.extend(self.platform.standard_parameters());
         for leg in &self.legs {
             out.extend(leg.cylinder.standard(leg.cylinder.com));
             out.extend(leg.rod.standard(-leg.rod.com));

@@ -208,6 +208,79 @@ impl RusLeg {
     }
 }
 
+/// The entries of one leg in the kernels' geometry ([`RusLeg::kernel_geometry`]).
+pub const LEG_GEOMETRY: usize = 16;
+
+/// The names of [`RusLeg::kernel_geometry`]'s entries, after `leg{n}_`.
+pub const LEG_GEOMETRY_NAMES: [&str; LEG_GEOMETRY] = [
+    "base_x",
+    "base_y",
+    "base_z",
+    "axis_x",
+    "axis_y",
+    "axis_z",
+    "zero_x",
+    "zero_y",
+    "zero_z",
+    "platform_x",
+    "platform_y",
+    "platform_z",
+    "crank_length",
+    "rod_length",
+    "branch",
+    "offset",
+];
+
+/// The names of the crank's standard parameters ([`RusLeg::crank_standard`]).
+pub const CRANK_STANDARD: [&str; 5] = ["mass", "mx", "ixx", "iyy", "izz"];
+
+/// The names of a rod's standard parameters ([`RusLeg::rod_standard`]).
+pub const ROD_STANDARD: [&str; 4] = ["mass", "mz", "ixx", "izz"];
+
+impl RusLeg {
+    /// The leg's entries in the kernels' parameter vector: `A_i`, the unit `r_i` and `h_i`,
+    /// `p_i`, the crank's and the rod's lengths, the branch and the encoder's offset.
+    pub fn kernel_geometry(&self) -> [f64; LEG_GEOMETRY] {
+        let (r, h, _) = self.axes();
+        let mut out = [0.0; LEG_GEOMETRY];
+        out[0..3].copy_from_slice(&self.base);
+        out[3..6].copy_from_slice(&r);
+        out[6..9].copy_from_slice(&h);
+        out[9..12].copy_from_slice(&self.platform);
+        out[12] = self.crank.length;
+        out[13] = self.rod.length;
+        out[14] = self.branch;
+        out[15] = self.encoder_offset;
+        out
+    }
+
+    /// The crank's standard parameters about `A_i` in the crank frame (`x''` along the crank,
+    /// `z'' = r_i`): mass, first moment `m com` along `x''`, and the diagonal inertia moved
+    /// from the centre of mass by the parallel-axis theorem.
+    pub fn crank_standard(&self) -> [f64; 5] {
+        let Crank {
+            mass: m,
+            com,
+            inertia: [xx, yy, zz],
+            ..
+        } = self.crank;
+        [m, m * com, xx, yy + m * com * com, zz + m * com * com]
+    }
+
+    /// A rod's standard parameters about its U joint's centre in the rod frame (`z'` along
+    /// the rod): mass, first moment `m com` along `z'`, transverse and axial inertia (the
+    /// transverse moved from the centre of mass).
+    pub fn rod_standard(&self) -> [f64; 4] {
+        let RusRod {
+            mass: m,
+            com,
+            inertia: [t, _, a],
+            ..
+        } = self.rod;
+        [m, m * com, t + m * com * com, a]
+    }
+}
+
 fn diagonal(a: f64, b: f64, c: f64) -> [[f64; 3]; 3] {
     [[a, 0.0, 0.0], [0.0, b, 0.0], [0.0, 0.0, c]]
 }

@@ -3,12 +3,17 @@
 //! The leg is [`crate::rus`]'s; the platform is the Gough-Stewart platform's
 //! ([`crate::Platform`]), with the same pose, twist and acceleration conventions.
 
-use crate::gough_stewart::rotation;
-use crate::rus::{actuator_angles, level_home, validate_legs, RusLeg};
+use crate::gough_stewart::{rotation, PLATFORM_STANDARD};
+use crate::rus::{
+    actuator_angles, level_home, validate_legs, Crank, RusLeg, RusRod, CRANK_STANDARD,
+    LEG_GEOMETRY, LEG_GEOMETRY_NAMES, ROD_STANDARD,
+};
 use crate::tree::{add, times};
 use crate::{Error, Platform};
+use alloc::format;
+use alloc::string::String;
 #[cfg(feature = "toml")]
-use alloc::string::{String, ToString};
+use alloc::string::ToString;
 use alloc::vec::Vec;
 
 /// A rotary hexapod.
@@ -34,6 +39,15 @@ pub struct RusHexapod {
     )]
     pub home: Option<[f64; 6]>,
 }
+
+/// How many entries open the parameter vector before the inertial ones: gravity, then each
+/// leg's [`RusLeg::kernel_geometry`].
+pub const GEOMETRY_PARAMETERS: usize = 3 + 6 * LEG_GEOMETRY;
+
+/// Length of the parameter vector of the `*_params` kernels: the geometry, the platform's ten
+/// standard parameters, each leg's crank's five and rod's four.
+pub const PARAMETERS: usize =
+    GEOMETRY_PARAMETERS + 10 + 6 * (CRANK_STANDARD.len() + ROD_STANDARD.len());
 
 #[cfg(feature = "serde")]
 mod exactly_six {
@@ -65,6 +79,132 @@ impl RusHexapod {
         let balls: Vec<[f64; 3]> = (0..6).map(|i| self.ball(i, pose)).collect();
         let q = actuator_angles(&self.legs, &balls, "legs")?;
         Ok(core::array::from_fn(|i| q[i]))
+    }
+
+    /// The names of [`RusHexapod::kernel_parameters`], in order (valid Rust identifiers).
+    pub fn kernel_parameter_names() -> Vec<String> {
+        let mut out: Vec<String> = ["x", "y", "z"]
+            .iter()
+            .map(|a| format!("gravity_{a}"))
+            .collect();
+        for n in 1..=6 {
+            out.extend(LEG_GEOMETRY_NAMES.map(|s| format!("leg{n}_{s}")));
+        }
+        out.extend(Self::standard_inertial_names());
+        out
+    }
+
+    /// The names of the standard inertial parameters: the platform's ten (about `C`, platform
+    /// frame), then each leg's crank ([`CRANK_STANDARD`], about `A_i`, crank frame) and rod
+    /// ([`ROD_STANDARD`], about the crank's tip `E_i`, rod frame).
+    pub fn standard_inertial_names() -> Vec<String> {
+        let mut out: Vec<String> = PLATFORM_STANDARD
+            .iter()
+            .map(|s| format!("platform_{s}"))
+            .collect();
+        for n in 1..=6 {
+            out.extend(CRANK_STANDARD.map(|s| format!("leg{n}_crank_{s}")));
+            out.extend(ROD_STANDARD.map(|s| format!("leg{n}_rod_{s}")));
+        }
+        out
+    }
+
+    /// The standard inertial parameters, in the order of
+    /// [`RusHexapod::standard_inertial_names`].
+    pub fn standard_inertial_parameters(&self) -> Vec<f64> {
+        let mut out = Vec::with_capacity(PARAMETERS - GEOMETRY_PARAMETERS);
+        out.extend(self.platform.standard_parameters());
+        for leg in &self.legs {
+            out.extend(leg.crank_standard());
+            out.extend(leg.rod_standard());
+        }
+        out
+    }
+
+    /// The parameter vector of the `*_params` kernels: gravity, each leg's geometry
+    /// ([`RusLeg::kernel_geometry`]), then the standard inertial parameters.
+    pub fn kernel_parameters(&self) -> Vec<f64> {
+        let mut out = Vec::with_capacity(PARAMETERS);
+        out.extend(self.gravity);
+        for leg in &self.legs {
+            out.extend(leg.kernel_geometry());
+        }
+        out.extend(self.standard_inertial_parameters());
+        out
+    }
+
+    /// The example of `docs/rus-hexapod.toml`: a motion-simulator platform of about 0.7 m
+    /// across, its motors on a circle of 0.31 m, its balls on one of 0.19 m, standing about
+    /// 0.33 m above its motors at home.
+    pub fn example() -> Self {
+        let leg = |base: [f64; 3], axis: [f64; 3], zero: [f64; 3], platform: [f64; 3]| RusLeg {
+            base,
+            axis,
+            zero,
+            crank: Crank {
+                length: 0.12,
+                mass: 0.35,
+                com: 0.055,
+                inertia: [2e-5, 6.5e-4, 6.6e-4],
+            },
+            rod: RusRod {
+                length: 0.34,
+                separation: None,
+                mass: 0.22,
+                com: 0.16,
+                inertia: [2.2e-3, 2.2e-3, 1.5e-5],
+            },
+            platform,
+            branch: -1.0,
+            encoder_offset: 0.0,
+        };
+        RusHexapod {
+            gravity: [0.0, 0.0, -9.81],
+            platform: Platform {
+                mass: 3.8,
+                centre_of_mass: [0.0, 0.0, 0.025],
+                inertia: [0.031, 0.034, 0.058, 0.0, 0.0, 0.0],
+            },
+            legs: [
+                leg(
+                    [0.3, 0.08, 0.0],
+                    [0.97, 0.25, 0.0],
+                    [-0.25, 0.97, 0.0],
+                    [0.17, 0.09, -0.015],
+                ),
+                leg(
+                    [0.3, -0.08, 0.0],
+                    [-0.97, 0.25, 0.0],
+                    [-0.25, -0.97, 0.0],
+                    [0.17, -0.09, -0.015],
+                ),
+                leg(
+                    [-0.219282, 0.219808, 0.0],
+                    [-0.701506, 0.715045, 0.0],
+                    [-0.715045, -0.701506, 0.0],
+                    [-0.162942, 0.102224, -0.015],
+                ),
+                leg(
+                    [-0.080718, 0.299808, 0.0],
+                    [0.268494, -0.965045, 0.0],
+                    [0.965045, 0.268494, 0.0],
+                    [-0.007058, 0.192224, -0.015],
+                ),
+                leg(
+                    [-0.080718, -0.299808, 0.0],
+                    [-0.268494, -0.965045, 0.0],
+                    [0.965045, -0.268494, 0.0],
+                    [-0.007058, -0.192224, -0.015],
+                ),
+                leg(
+                    [-0.219282, -0.219808, 0.0],
+                    [0.701506, 0.715045, 0.0],
+                    [-0.715045, 0.701506, 0.0],
+                    [-0.162942, -0.102224, -0.015],
+                ),
+            ],
+            home: None,
+        }
     }
 
     /// Checks every rule a physical rotary hexapod obeys.
@@ -104,5 +244,26 @@ pub(crate) fn file_error(source: &str, e: Error) -> Error {
     Error::File {
         source: source.to_string(),
         message: e.to_string(),
+    }
+}
+
+#[cfg(all(test, feature = "toml"))]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_example_is_the_docs_file() {
+        let file = include_str!("../../../docs/rus-hexapod.toml");
+        let read = RusHexapod::from_toml(file, "docs/rus-hexapod.toml").unwrap();
+        assert_eq!(read, RusHexapod::example());
+    }
+
+    #[test]
+    fn the_parameter_vector_has_its_names() {
+        let names = RusHexapod::kernel_parameter_names();
+        assert_eq!(names.len(), PARAMETERS);
+        assert_eq!(RusHexapod::example().kernel_parameters().len(), PARAMETERS);
+        assert_eq!(names[GEOMETRY_PARAMETERS], "platform_mass");
+        assert_eq!(names[3 + LEG_GEOMETRY], "leg2_base_x");
     }
 }

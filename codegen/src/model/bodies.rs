@@ -20,6 +20,15 @@ pub struct Inertial<'g> {
 }
 
 impl<'g> Inertial<'g> {
+    /// No mass: a body that moves but weighs nothing (kinematics).
+    pub fn massless(g: &'g crate::dag::Graph) -> Self {
+        Inertial {
+            mass: g.zero(),
+            first_moment: crate::linalg::Vec3::zeros(g),
+            inertia: crate::linalg::Mat3::zeros(g),
+        }
+    }
+
     /// From the ten standard parameters `[m, hx, hy, hz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz]`.
     pub fn from_standard(p: &[Expr<'g>]) -> Self {
         Inertial {

@@ -10,7 +10,7 @@
 use super::bodies::{Dynamics, Inertial};
 use super::geometry::{rotation_of_pose, Motion, Posed};
 use super::kernels::{jacobian_wrt, Build, Cite, Decl, Guard, Input, Kernel, Output, Reads};
-use super::legged::{self, ups::Ups, Leg, LegState};
+use super::legged::{self, ups::Ups, Leg};
 use super::{Mechanics, Quantity, Structure};
 use crate::dag::{Expr, Graph};
 use crate::kernel::Shape;
@@ -76,51 +76,31 @@ fn dynamics_of<'g>(gravity: Vec3<'g>, p: &[Expr<'g>]) -> Dynamics<'g> {
     }
 }
 
-/// The six legs, their bodies' parameters from `dynamics` (or massless, for kinematics).
-fn legs<'g>(geometry: &[Expr<'g>], dynamics: Option<&Dynamics<'g>>) -> Vec<Box<dyn Leg<'g> + 'g>> {
-    let g = geometry[0].graph();
-    let massless = Inertial {
-        mass: g.zero(),
-        first_moment: Vec3::zeros(g),
-        inertia: Mat3::zeros(g),
-    };
-    (0..6)
-        .map(|i| {
-            let at = leg_geometry(geometry, i);
-            let [cylinder, rod] = dynamics.map_or([massless; 2], |d| d.legs[i]);
-            Box::new(Ups {
-                base: at.base,
-                axis: at.axis,
-                platform: at.platform,
-                offset: at.offset,
-                cylinder,
-                rod,
-                closed_form: true,
-            }) as Box<dyn Leg<'g> + 'g>
-        })
-        .collect()
-}
-
-/// The legs at the pose and motion, under the dynamics' gravity (or none, for kinematics).
-fn states<'g>(
-    posed: &Posed<'g>,
-    motion: &Motion<'g>,
-    dynamics: Option<&Dynamics<'g>>,
-) -> Vec<LegState<'g>> {
-    let g = posed.c[0].graph();
-    let placement = (posed.r, posed.c);
-    let gravity = dynamics.map_or(Vec3::zeros(g), |d| d.gravity);
-    legged::leg_states(
-        &legs(&posed.geometry, dynamics),
-        &placement,
-        motion,
-        &gravity,
-    )
-}
-
-fn at_rest<'g>(posed: &Posed<'g>) -> Motion<'g> {
-    let g = posed.c[0].graph();
-    Motion::new(Vec6::zeros(g), Vec6::zeros(g))
+impl legged::Legs for GoughStewartMechanics {
+    /// The six U-P-S legs, their bodies' parameters from `dynamics` (or massless).
+    fn legs<'g>(
+        &self,
+        geometry: &[Expr<'g>],
+        dynamics: Option<&Dynamics<'g>>,
+    ) -> Vec<Box<dyn Leg<'g> + 'g>> {
+        let g = geometry[0].graph();
+        let massless = Inertial::massless(g);
+        (0..6)
+            .map(|i| {
+                let at = leg_geometry(geometry, i);
+                let [cylinder, rod] = dynamics.map_or([massless; 2], |d| d.legs[i]);
+                Box::new(Ups {
+                    base: at.base,
+                    axis: at.axis,
+                    platform: at.platform,
+                    offset: at.offset,
+                    cylinder,
+                    rod,
+                    closed_form: true,
+                }) as Box<dyn Leg<'g> + 'g>
+            })
+            .collect()
+    }
 }
 
 /// `B_i = C + R p_i` and `d_i = B_i - A_i`, built as the legs' derivation builds them (units
@@ -223,7 +203,7 @@ impl Structure for GoughStewartStructure {
             Guard::Never | Guard::Forward => Vec::new(),
             Guard::Pose => u_joint_sines(posed),
             Guard::Solve => {
-                let rows = legged::Rows::of(&states(posed, &at_rest(posed), None));
+                let rows = legged::rows_at(&GoughStewartMechanics, posed);
                 let mut terms = u_joint_sines(posed);
                 terms.extend(legged::pivot_ratios(&rows));
                 terms
@@ -450,11 +430,11 @@ impl Mechanics for GoughStewartMechanics {
     }
 
     fn inverse_jacobian<'g>(&self, posed: &Posed<'g>) -> Mat6<'g> {
-        legged::inverse_jacobian(&states(posed, &at_rest(posed), None))
+        legged::rows_at(self, posed).m
     }
 
     fn jacobian<'g>(&self, posed: &Posed<'g>) -> Mat6<'g> {
-        legged::jacobian(&legged::Rows::of(&states(posed, &at_rest(posed), None)))
+        legged::jacobian(&legged::rows_at(self, posed))
     }
 
     fn joint_velocities<'g>(&self, posed: &Posed<'g>, twist: &Vec6<'g>) -> Vec6<'g> {
@@ -462,7 +442,7 @@ impl Mechanics for GoughStewartMechanics {
     }
 
     fn joint_accelerations<'g>(&self, posed: &Posed<'g>, motion: &Motion<'g>) -> Vec6<'g> {
-        let legs = states(posed, motion, None);
+        let legs = legged::states_at(self, posed, motion, None);
         Vector::from_fn(|i| legs[i].qdd)
     }
 
@@ -472,7 +452,7 @@ impl Mechanics for GoughStewartMechanics {
         posed: &Posed<'g>,
         motion: &Motion<'g>,
     ) -> Vec6<'g> {
-        legged::leg_wrench(&states(posed, motion, Some(dynamics)))
+        legged::leg_wrench(&legged::states_at(self, posed, motion, Some(dynamics)))
     }
 
     fn inverse_dynamics<'g>(
@@ -482,7 +462,7 @@ impl Mechanics for GoughStewartMechanics {
         motion: &Motion<'g>,
     ) -> Vec6<'g> {
         let wrench = self.task_wrench(dynamics, posed, motion);
-        let rows = legged::Rows::of(&states(posed, &at_rest(posed), None));
+        let rows = legged::rows_at(self, posed);
         legged::solve_transposed(&rows, &wrench)
     }
 

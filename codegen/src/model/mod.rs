@@ -25,6 +25,7 @@ pub mod kernels;
 pub mod legged;
 pub mod paper;
 pub mod regressor;
+pub mod rus_hexapod;
 mod selfcheck;
 
 pub use c5_robot::Model;
@@ -244,6 +245,10 @@ pub trait Structure: Sync {
     fn home(&self, parameters: &[f64]) -> [f64; 6];
     /// A length of the workspace: seeded states stay within a fraction of it of [`Structure::home`].
     fn reach(&self, parameters: &[f64]) -> f64;
+    /// The largest turn (rad) about each axis from [`Structure::home`] of seeded states.
+    fn turn_reach(&self) -> f64 {
+        0.4
+    }
 }
 
 /// A mechanism with its description's numbers: what a kernel set is generated from.
@@ -281,7 +286,8 @@ impl Mechanism {
         Ok(match description {
             c5_robot::Description::C5(robot) => Mechanism::c5(robot, model),
             c5_robot::Description::GoughStewart(robot) => Mechanism::gough_stewart(robot),
-            c5_robot::Description::RusHexapod(_) | c5_robot::Description::Delta(_) => {
+            c5_robot::Description::RusHexapod(robot) => Mechanism::rus_hexapod(robot),
+            c5_robot::Description::Delta(_) => {
                 return Err(crate::Error::NoKernels {
                     mechanism: description.mechanism(),
                 })
@@ -293,6 +299,14 @@ impl Mechanism {
     pub fn gough_stewart(robot: &c5_robot::GoughStewart) -> Self {
         Mechanism {
             mechanics: &gough_stewart::GoughStewartMechanics,
+            parameters: robot.kernel_parameters(),
+        }
+    }
+
+    /// A rotary hexapod.
+    pub fn rus_hexapod(robot: &c5_robot::RusHexapod) -> Self {
+        Mechanism {
+            mechanics: &rus_hexapod::RusHexapodMechanics,
             parameters: robot.kernel_parameters(),
         }
     }

@@ -182,7 +182,8 @@ pub fn base_parameters(regressor: &Compiled, mechanism: &Mechanism) -> BaseParam
     let mut rng = Lcg::new(0x5eed_c5c5);
     let mut rows: Vec<Vec<f64>> = Vec::with_capacity(6 * STATES);
     for _ in 0..STATES {
-        let offset = rng.vector(&[0.4, 0.4, 0.4, 0.05, 0.05, 0.05]);
+        let t = mechanism.structure().turn_reach();
+        let offset = rng.vector(&[t, t, t, 0.05, 0.05, 0.05]);
         let mut input: Vec<f64> = offset.iter().zip(&home).map(|(d, h)| h + d).collect();
         input.extend(rng.vector(&[1.0, 1.0, 1.0, 0.5, 0.5, 0.5]));
         input.extend(rng.vector(&[5.0, 5.0, 5.0, 2.0, 2.0, 2.0]));

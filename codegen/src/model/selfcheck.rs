@@ -105,7 +105,8 @@ pub fn self_check(mechanism: &Mechanism, list: &[(&Entry, &Compiled)]) -> Result
     let l = structure.reach(&mechanism.parameters);
     let home = structure.home(&mechanism.parameters);
     for _ in 0..8 {
-        let offset = rng.vector(&[0.4, 0.4, 0.4, 0.3 * l, 0.3 * l, 0.3 * l]);
+        let t = structure.turn_reach();
+        let offset = rng.vector(&[t, t, t, 0.3 * l, 0.3 * l, 0.3 * l]);
         let pose: Vec<f64> = offset.iter().zip(&home).map(|(d, h)| h + d).collect();
         let twist = rng.vector(&[1.0, 1.0, 1.0, 0.5, 0.5, 0.5]);
         let accel = rng.vector(&[5.0, 5.0, 5.0, 2.0, 2.0, 2.0]);

@@ -57,6 +57,12 @@ pub mod gough_stewart {
     #[cfg(feature = "regressor")]
     include!("gough_stewart_regressor.rs");
 }
+/// The rus_hexapod kernels, `f64`: The rotary hexapod (6-RUS): each leg a motor on the base turning a crank, a rod from a universal joint at the crank's tip to a spherical joint on the platform; every quantity derived from the leg's closed forms by exact differentiation.
+#[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
+pub mod rus_hexapod {
+    use crate::trig::{atan, cos, sin, sin_cos, sqrt};
+    include!("rus_hexapod.rs");
+}
 /// The kernels every model has, with one signature for all (`f64`): pick a model once ([`Consistent`], [`Paper`]) and call every kernel through it, statically (`K: Kernels`) or dynamically (`&dyn Kernels`).
 pub trait Kernels: core::fmt::Debug + Sync {
     /// The model's name, as the command line and the manifest spell it.

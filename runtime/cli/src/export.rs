@@ -31,7 +31,8 @@ fn format_parser() -> impl TypedValueParser<Value = Format> {
 
 /// Reads the robot as every command does (so a file `eval` refuses for its robot is refused
 /// here with the same message), and writes it; nothing is written on an error. A mechanism
-/// whose kernels are not generated yet is exported all the same: its description is checked.
+/// whose kernels are not generated yet (the Delta) is exported all the same: its description
+/// is checked.
 pub fn run(args: &ExportArgs) -> crate::Result<ExitCode> {
     let description = match &args.robot.robot {
         Some(path) => Description::from_toml_file(path)?,

@@ -19,10 +19,12 @@
 //! stay functions of a few numbers and the kernels share every subexpression.
 
 pub mod psp;
+pub mod rus;
 pub mod ups;
 
-use super::bodies::{wrench_in_platform_frame, Frame, Inertial};
+use super::bodies::{wrench_in_platform_frame, Dynamics, Frame, Inertial};
 use super::geometry::Motion;
+use super::geometry::Posed;
 use crate::dag::{Expr, Graph};
 use crate::linalg::{Mat, Mat3, Mat6, Vec3, Vec6, Vector};
 use std::cell::RefCell;
@@ -72,6 +74,9 @@ pub struct LegBody<'g> {
     /// Its angular motion in closed form, where the leg type knows it (a test of the leg type
     /// holds it to the derived one); `None` derives it from `rotation`.
     pub angular: Option<AngularMotion<'g>>,
+    /// Without [`LegBody::angular`]: `G` alone in closed form, the bias derived from it;
+    /// `None` derives both.
+    pub angular_rates: Option<Vec<Vec3<'g>>>,
 }
 
 /// A body's angular motion in its own frame, `ω = G ṡ` and `ω̇ = G s̈ + b`.
@@ -84,7 +89,22 @@ pub struct AngularMotion<'g> {
     pub bias: Vec3<'g>,
 }
 
+/// A quantity a leg's expressions read as a coordinate of their own, though the leg's
+/// coordinates fix it (a crank's `cos θ` and `sin θ`): its closed form, and its partial
+/// derivatives in closed form. The derivation differentiates through the symbol by the chain
+/// rule, with these partials, instead of through the closed form.
+pub struct Hidden<'g> {
+    /// Its value, an expression of the leg's coordinates alone.
+    pub value: Expr<'g>,
+    /// `∂/∂s_k` for each coordinate `s_k`, expressions of the coordinates and the hidden
+    /// symbols.
+    pub gradient: Vec<Expr<'g>>,
+}
+
 /// A leg type, its parameters given: the seam every leg type implements.
+///
+/// The coordinates `s` its methods receive are the leg's own ([`Leg::coordinates`]), then the
+/// symbols of its [`Leg::hidden`] quantities; the rates `ṡ` are the coordinates' alone.
 pub trait Leg<'g> {
     /// The leg's coordinates as expressions of the platform's placement.
     fn coordinates(&self, placement: &Placement<'g>) -> Vec<Expr<'g>>;
@@ -98,6 +118,19 @@ pub trait Leg<'g> {
     /// then knows that part of its rows' norms.
     fn unit_translation(&self) -> bool {
         false
+    }
+    /// How many hidden quantities the leg's expressions read ([`Leg::hidden`]).
+    fn hidden_count(&self) -> usize {
+        0
+    }
+    /// The hidden quantities, at the coordinates and hidden symbols `s`.
+    fn hidden(&self, _s: &[Expr<'g>]) -> Vec<Hidden<'g>> {
+        Vec::new()
+    }
+    /// `∂q/∂s_k` in closed form, where the leg type has one cheaper than the derivative of
+    /// [`Leg::actuator`]; `None` derives it.
+    fn actuator_gradient(&self, _s: &[Expr<'g>]) -> Option<Vec<Expr<'g>>> {
+        None
     }
 }
 
@@ -199,10 +232,20 @@ fn coordinate_motion<'g>(
 /// `vee(Rᵀ ∂R/∂s_k) = (z·∂y, x·∂z, y·∂x)` for the body's axes `x, y, z`.
 pub fn derived_angular_rates<'g>(rotation: &Mat3<'g>, s: &[Expr<'g>]) -> Vec<Vec3<'g>> {
     let g = s[0].graph();
+    angular_rates_by(rotation, s.len(), &|v, k| g.derivatives(v, s[k]))
+}
+
+/// [`derived_angular_rates`] with the partial derivative `∂v/∂s_k` given as `partial(v, k)`, for
+/// `n` coordinates.
+fn angular_rates_by<'g>(
+    rotation: &Mat3<'g>,
+    n: usize,
+    partial: &dyn Fn(&[Expr<'g>], usize) -> Vec<Expr<'g>>,
+) -> Vec<Vec3<'g>> {
     let axes: Vec<Expr<'g>> = rotation.rows();
-    s.iter()
-        .map(|&sk| {
-            let d = g.derivatives(&axes, sk);
+    (0..n)
+        .map(|k| {
+            let d = partial(&axes, k);
             let dm: Mat3<'g> = Mat::from_fn(|i, j| d[3 * i + j]);
             let (x, y, z) = (rotation.column(0), rotation.column(1), rotation.column(2));
             let (dx, dy, dz) = (dm.column(0), dm.column(1), dm.column(2));
@@ -241,17 +284,40 @@ fn leg_equations<'g>(
     n: usize,
     gravity: &Vec3<'g>,
 ) -> (LegEquations<'g>, [Vec<Expr<'g>>; 3]) {
-    assert!(n <= MAX_COORDINATES, "a leg of {n} coordinates");
-    let s = symbols(g, LEG_SYMBOLS, n);
+    let m = n + leg.hidden_count();
+    assert!(m <= MAX_COORDINATES, "a leg of {m} coordinates");
+    let all = symbols(g, LEG_SYMBOLS, m);
+    let (s, hidden_symbols) = all.split_at(n);
     let sd = symbols(g, LEG_SYMBOLS + MAX_COORDINATES as u32, n);
     let sdd = symbols(g, LEG_SYMBOLS + 2 * MAX_COORDINATES as u32, n);
+    let hidden = leg.hidden(&all);
+    // `∂v/∂s_k` through the hidden symbols by the chain rule.
+    let partial = |v: &[Expr<'g>], k: usize| {
+        let rates: Vec<(Expr<'g>, Expr<'g>)> = std::iter::once((s[k], g.one()))
+            .chain(
+                hidden_symbols
+                    .iter()
+                    .zip(&hidden)
+                    .map(|(&h, q)| (h, q.gradient[k])),
+            )
+            .collect();
+        g.tangents(v, &rates)
+    };
     let rates: Vec<(Expr<'g>, Expr<'g>)> = (0..n)
         .map(|k| (s[k], sd[k]))
         .chain((0..n).map(|k| (sd[k], sdd[k])))
+        .chain(
+            hidden_symbols
+                .iter()
+                .zip(&hidden)
+                .map(|(&h, q)| (h, dot(&q.gradient, &sd))),
+        )
         .collect();
     let time_derivative = |v: &[Expr<'g>]| g.tangents(v, &rates);
-    let q = leg.actuator(&s);
-    let grad: Vec<Expr<'g>> = s.iter().map(|&sk| g.derivatives(&[q], sk)[0]).collect();
+    let q = leg.actuator(&all);
+    let grad: Vec<Expr<'g>> = leg
+        .actuator_gradient(&all)
+        .unwrap_or_else(|| (0..n).map(|k| partial(&[q], k)[0]).collect());
     let qd = dot(&grad, &sd);
     let qdd = time_derivative(&[qd])[0];
     let combine = |columns: &[Vec3<'g>], weights: &[Expr<'g>]| {
@@ -261,9 +327,11 @@ fn leg_equations<'g>(
     // reads them, and those whose origins move alike add their forces.
     let mut moments: Vec<(Vec<Vec3<'g>>, Vec3<'g>)> = Vec::new();
     let mut forces: Vec<(Vec<Vec3<'g>>, Vec3<'g>)> = Vec::new();
-    for body in leg.bodies(&s, &sd) {
+    for body in leg.bodies(&all, &sd) {
         let angular = body.angular.unwrap_or_else(|| {
-            let rates = derived_angular_rates(&body.rotation, &s);
+            let rates = body
+                .angular_rates
+                .unwrap_or_else(|| angular_rates_by(&body.rotation, n, &partial));
             let at_rest = sdd.iter().map(|_| g.zero()).collect::<Vec<_>>();
             let omega = combine(&rates, &sd);
             let all = time_derivative(&omega.to_vec());
@@ -273,9 +341,8 @@ fn leg_equations<'g>(
                 bias: vec3(&bias),
             }
         });
-        let linear: Vec<Vec3<'g>> = s
-            .iter()
-            .map(|&sk| vec3(&g.derivatives(&body.origin.to_vec(), sk)))
+        let linear: Vec<Vec3<'g>> = (0..n)
+            .map(|k| vec3(&partial(&body.origin.to_vec(), k)))
             .collect();
         // The body's motion in its frame as units: the Newton-Euler products read them whole
         // instead of re-multiplying their factors in every term.
@@ -309,7 +376,25 @@ fn leg_equations<'g>(
             phi[k] = phi[k] + map[k].dot(load);
         }
     }
-    (LegEquations { q, grad, qdd, phi }, [s, sd, sdd])
+    // The hidden symbols replaced by their closed forms.
+    let values: Vec<(Expr<'g>, Expr<'g>)> = hidden_symbols
+        .iter()
+        .zip(&hidden)
+        .map(|(&h, q)| (h, q.value))
+        .collect();
+    let flat: Vec<Expr<'g>> = [q, qdd].into_iter().chain(grad).chain(phi).collect();
+    let flat = if values.is_empty() {
+        flat
+    } else {
+        g.substitute(&flat, &values)
+    };
+    let equations = LegEquations {
+        q: flat[0],
+        qdd: flat[1],
+        grad: flat[2..2 + n].to_vec(),
+        phi: flat[2 + n..].to_vec(),
+    };
+    (equations, [s.to_vec(), sd, sdd])
 }
 
 /// One leg at the platform's state: its actuator's value, rate and acceleration, its row of
@@ -379,16 +464,68 @@ pub fn leg_states<'g>(
         .collect()
 }
 
+/// A mechanism whose platform rides on six legs of known types: the legs, from its geometric
+/// parameters and (for the dynamics) its bodies' parameters.
+pub trait Legs: Sync {
+    /// The legs in actuator order; massless without `dynamics`.
+    fn legs<'g>(
+        &self,
+        geometry: &[Expr<'g>],
+        dynamics: Option<&Dynamics<'g>>,
+    ) -> Vec<Box<dyn Leg<'g> + 'g>>;
+    /// [`Rows::translation_weight`] from the geometric parameters; default none.
+    fn translation_weight<'g>(&self, _geometry: &[Expr<'g>]) -> Option<Expr<'g>> {
+        None
+    }
+}
+
+/// The legs of `mechanism` at the pose and motion, under the dynamics' gravity (or none, for
+/// kinematics).
+pub fn states_at<'g>(
+    mechanism: &dyn Legs,
+    posed: &Posed<'g>,
+    motion: &Motion<'g>,
+    dynamics: Option<&Dynamics<'g>>,
+) -> Vec<LegState<'g>> {
+    let g = posed.c[0].graph();
+    let placement = (posed.r, posed.c);
+    let gravity = dynamics.map_or(Vec3::zeros(g), |d| d.gravity);
+    leg_states(
+        &mechanism.legs(&posed.geometry, dynamics),
+        &placement,
+        motion,
+        &gravity,
+    )
+}
+
+/// The legs of `mechanism` at the pose with the platform at rest, massless: what `J⁻¹`, `J`
+/// and the solve read.
+pub fn rows_at<'g>(mechanism: &dyn Legs, posed: &Posed<'g>) -> Rows<'g> {
+    let g = posed.c[0].graph();
+    let rest = Motion::new(Vec6::zeros(g), Vec6::zeros(g));
+    Rows {
+        translation_weight: mechanism.translation_weight(&posed.geometry),
+        ..Rows::of(&states_at(mechanism, posed, &rest, None))
+    }
+}
+
 /// `J⁻¹` from the legs' rows.
 pub fn inverse_jacobian<'g>(states: &[LegState<'g>]) -> Mat6<'g> {
     Mat(std::array::from_fn(|i| states[i].jinv_row.0))
 }
 
-/// `J⁻¹` with what the solve may know of its rows: which translation parts are unit vectors.
+/// `J⁻¹` with what the solve may know of its rows: which translation parts are unit vectors,
+/// and the weight of the translation columns.
 #[derive(Clone, Copy)]
 pub struct Rows<'g> {
     pub m: Mat6<'g>,
     pub unit_translation: [bool; 6],
+    /// `ℓ²` of the normal equations `M D² Mᵀ`, `D = diag(1, 1, 1, ℓ, ℓ, ℓ)`, where the rows'
+    /// rotation parts (rad per rad) and translation parts (per metre) differ by a length
+    /// `ℓ`: balanced, the pivots measure the legs' hold rather than the units (a rotary
+    /// hexapod's rows are nearly alike in their translation parts, and unweighted its pivots
+    /// are 1e-3 at home). `None`: `D = I`.
+    pub translation_weight: Option<Expr<'g>>,
 }
 
 impl<'g> Rows<'g> {
@@ -396,6 +533,23 @@ impl<'g> Rows<'g> {
         Rows {
             m: inverse_jacobian(states),
             unit_translation: std::array::from_fn(|i| states[i].unit_translation),
+            translation_weight: None,
+        }
+    }
+
+    /// `D² v`.
+    fn weighted(&self, v: &Vec6<'g>) -> Vec6<'g> {
+        match self.translation_weight {
+            Some(w) => Vector::from_fn(|k| if k < 3 { v[k] } else { v[k] * w }),
+            None => *v,
+        }
+    }
+
+    /// `a D² b` of two rows.
+    fn product(&self, a: &Vec6<'g>, b: &Vec6<'g>) -> Expr<'g> {
+        match self.translation_weight {
+            Some(w) => a.top().dot(&b.top()) + a.bottom().dot(&b.bottom()) * w,
+            None => a.dot(b),
         }
     }
 }
@@ -413,7 +567,7 @@ pub fn leg_wrench<'g>(states: &[LegState<'g>]) -> Vec6<'g> {
 /// matrix is symmetric positive definite wherever `M` is regular, so the unrolled `LDLᵀ` needs
 /// no pivoting.
 pub fn solve_transposed<'g>(rows: &Rows<'g>, w: &Vec6<'g>) -> Vec6<'g> {
-    normal_solve(rows, &(rows.m * *w))
+    normal_solve(rows, &(rows.m * rows.weighted(w)))
 }
 
 /// `L` and `D` of `A = L D Lᵀ` (lower triangle of `A` read), with `L_ik D_k` kept as units:
@@ -438,33 +592,33 @@ fn ldlt<'g>(a: &Mat6<'g>) -> ([[Expr<'g>; 6]; 6], [Expr<'g>; 6]) {
     (l, d)
 }
 
-/// `M Mᵀ`, lower triangle (the `LDLᵀ` reads nothing else; the upper is its mirror); a row's
-/// unit translation part adds one to its diagonal entry.
+/// `M D² Mᵀ`, lower triangle (the `LDLᵀ` reads nothing else; the upper is its mirror); a
+/// row's unit translation part adds `ℓ²` (one) to its diagonal entry.
 pub fn normal_matrix<'g>(rows: &Rows<'g>) -> Mat6<'g> {
     let r: [Vec6<'g>; 6] = std::array::from_fn(|i| rows.m.row(i));
     let g = rows.m.0[0][0].graph();
     Mat::from_fn(|i, j| {
         if j < i {
-            r[i].dot(&r[j])
+            rows.product(&r[i], &r[j])
         } else if j == i && rows.unit_translation[i] {
-            r[i].top().dot(&r[i].top()) + 1.0
+            r[i].top().dot(&r[i].top()) + rows.translation_weight.unwrap_or(g.one())
         } else if j == i {
-            r[i].dot(&r[i])
+            rows.product(&r[i], &r[i])
         } else {
             g.zero()
         }
     })
 }
 
-/// `J = (J⁻¹)⁻¹`: column `j` solves `M x = e_j`, that is `x = Mᵀ y` with `M Mᵀ y = e_j`,
-/// one factorization for the six columns.
+/// `J = (J⁻¹)⁻¹`: column `j` solves `M x = e_j`, that is `x = D² Mᵀ y` with
+/// `M D² Mᵀ y = e_j`, one factorization for the six columns.
 pub fn jacobian<'g>(rows: &Rows<'g>) -> Mat6<'g> {
     let g = rows.m.0[0][0].graph();
     let mt = rows.m.transpose();
     let columns: Vec<Vec6<'g>> = (0..6)
         .map(|j| {
             let e: Vec6<'g> = Vector::from_fn(|i| if i == j { g.one() } else { g.zero() });
-            mt * normal_solve(rows, &e)
+            rows.weighted(&(mt * normal_solve(rows, &e)))
         })
         .collect();
     Mat::from_fn(|i, j| columns[j][i])

@@ -53,12 +53,14 @@ impl<'g> Leg<'g> for Psp<'g> {
                 origin: ball,
                 inertial: self.rod,
                 angular: None,
+                angular_rates: None,
             },
             LegBody {
                 rotation: r,
                 origin: ball,
                 inertial: self.joint,
                 angular: None,
+                angular_rates: None,
             },
         ]
     }

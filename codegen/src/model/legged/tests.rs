@@ -147,3 +147,117 @@ fn the_ups_closed_forms_are_the_derived_ones() {
         assert!(derived[0].angular.is_none());
     }
 }
+
+/// The R-U-S leg's closed forms (the crank angle's gradient, the crank's and the rods' angular
+/// motion through the hidden `cos θ`, `sin θ`) give the leg's state the plain derivation gives,
+/// differentiating the crank angle's closed form through its square root: at seeded states
+/// of a platform on one leg with a Delta's two rods, under gravity.
+#[test]
+fn the_rus_closed_forms_are_the_derived_ones() {
+    let g = Graph::new(Policy::FLAT);
+    let c = |v: [f64; 3]| Vector(v.map(|x| g.constant(x)));
+    let unit = |a: [f64; 3]| {
+        let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        c(a.map(|x| x / n))
+    };
+    let axis = unit([0.97, 0.25, 0.1]);
+    let zero = {
+        let z = [-0.25, 0.97, 0.0];
+        let r = values(&axis);
+        let along = z[0] * r[0] + z[1] * r[1] + z[2] * r[2];
+        unit([
+            z[0] - along * r[0],
+            z[1] - along * r[1],
+            z[2] - along * r[2],
+        ])
+    };
+    let inertial = |m: f64, first: [f64; 3]| Inertial {
+        mass: g.constant(m),
+        first_moment: c(first),
+        inertia: Mat::from_values(&g, [[0.02, 0.0, 0.0], [0.0, 0.03, 0.0], [0.0, 0.0, 0.004]]),
+    };
+    let leg = |closed_form: bool| {
+        Box::new(rus::Rus {
+            base: c([0.3, 0.08, 0.0]),
+            axis,
+            zero,
+            platform: c([0.17, 0.09, -0.015]),
+            crank_length: g.constant(0.085),
+            rod_length: g.constant(0.34),
+            branch: g.constant(-1.0),
+            offset: g.constant(0.02),
+            crank: inertial(0.35, [0.014, 0.0, 0.0]),
+            rod: inertial(0.22, [0.0, 0.0, 0.035]),
+            rods: vec![g.constant(0.035), g.constant(-0.035)],
+            closed_form,
+        }) as Box<dyn Leg<'_> + '_>
+    };
+    let plain = NoClosedForms(leg(false));
+    let gravity = c([0.0, 0.0, -9.81]);
+    let mut rng = Lcg::new(31);
+    for _ in 0..10 {
+        let mut constants = |bounds: &[f64]| -> Vec6<'_> {
+            let v = rng.vector(bounds);
+            Vector::from_fn(|i| g.constant(v[i]))
+        };
+        let x = constants(&[0.1, 0.1, 0.1, 0.02, 0.02, 0.02]);
+        let x: Vec6<'_> = Vector::from_fn(|i| if i == 5 { x[i] + 0.33 } else { x[i] });
+        let motion = Motion::new(
+            constants(&[1.0, 1.0, 1.0, 0.5, 0.5, 0.5]),
+            constants(&[5.0, 5.0, 5.0, 2.0, 2.0, 2.0]),
+        );
+        let r = super::super::geometry::rotation_of_pose(&x.0);
+        let placement = (r, Vector([x[3], x[4], x[5]]));
+        let closed = leg_state(leg(true).as_ref(), &placement, &motion, &gravity);
+        let derived = leg_state(&plain, &placement, &motion, &gravity);
+        let scalars = |s: &LegState<'_>| [s.q, s.qd, s.qdd].map(|e| e.as_const().unwrap());
+        assert!(
+            close(&scalars(&closed), &scalars(&derived), 1e-12),
+            "q, q̇, q̈"
+        );
+        assert!(
+            close(&values(&closed.jinv_row), &values(&derived.jinv_row), 1e-12),
+            "J⁻¹ row"
+        );
+        assert!(
+            close(&values(&closed.wrench), &values(&derived.wrench), 1e-11),
+            "{:?} vs {:?}",
+            values(&closed.wrench),
+            values(&derived.wrench)
+        );
+    }
+}
+
+/// A leg seen without its closed forms: no hidden quantities, the actuator's closed form
+/// differentiated, every body's angular motion derived.
+struct NoClosedForms<'g>(Box<dyn Leg<'g> + 'g>);
+
+impl<'g> Leg<'g> for NoClosedForms<'g> {
+    fn coordinates(&self, placement: &Placement<'g>) -> Vec<Expr<'g>> {
+        self.0.coordinates(placement)
+    }
+    fn actuator(&self, s: &[Expr<'g>]) -> Expr<'g> {
+        self.0.actuator(&self.with_hidden(s))
+    }
+    fn bodies(&self, s: &[Expr<'g>], sd: &[Expr<'g>]) -> Vec<LegBody<'g>> {
+        let mut bodies = self.0.bodies(&self.with_hidden(s), sd);
+        for body in &mut bodies {
+            body.angular = None;
+            body.angular_rates = None;
+        }
+        bodies
+    }
+}
+
+impl<'g> NoClosedForms<'g> {
+    /// `s` and the hidden quantities' closed forms in place of their symbols.
+    fn with_hidden(&self, s: &[Expr<'g>]) -> Vec<Expr<'g>> {
+        let n = s.len();
+        let g = s[0].graph();
+        let placeholders = symbols(g, LEG_SYMBOLS + n as u32, self.0.hidden_count());
+        let all: Vec<Expr<'g>> = s.iter().chain(&placeholders).copied().collect();
+        let mut out = s.to_vec();
+        out.extend(self.0.hidden(&all).into_iter().map(|h| h.value));
+        out
+    }
+}

@@ -71,12 +71,14 @@ impl<'g> Leg<'g> for Ups<'g> {
                 origin: self.base,
                 inertial: self.cylinder,
                 angular: angular.clone(),
+                angular_rates: None,
             },
             LegBody {
                 rotation,
                 origin: Vector([s[0], s[1], s[2]]),
                 inertial: self.rod,
                 angular,
+                angular_rates: None,
             },
         ]
     }

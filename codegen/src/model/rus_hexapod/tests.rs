@@ -1,0 +1,100 @@
+use super::*;
+use crate::model::kernels::specs;
+use crate::model::Mechanism;
+use crate::ParameterSet;
+
+fn compiled(kernel: Kernel) -> crate::Program {
+    let mechanism = Mechanism::rus_hexapod(&RusHexapod::example());
+    specs(&mechanism, &ParameterSet::None, "")
+        .unwrap()
+        .into_iter()
+        .find(|e| e.id.kernel == kernel)
+        .unwrap()
+        .spec
+        .compile()
+        .unwrap()
+        .program
+}
+
+fn near_home(offsets: [f64; 6]) -> Vec<f64> {
+    RusHexapod::example()
+        .home()
+        .unwrap()
+        .iter()
+        .zip(offsets)
+        .map(|(h, d)| h + d)
+        .collect()
+}
+
+/// The generated crank angles are the description's closed form (`atan2` and `acos`, which
+/// the kernels do not call) at poses around home.
+#[test]
+fn the_crank_angles_are_the_descriptions() {
+    let ik = compiled(Kernel::InverseKinematics);
+    let robot = RusHexapod::example();
+    for offsets in [
+        [0.0; 6],
+        [0.1, -0.05, 0.2, 0.01, 0.02, -0.03],
+        [-0.12, 0.08, -0.3, -0.02, 0.01, 0.04],
+    ] {
+        let pose = near_home(offsets);
+        let want = robot
+            .actuator_angles(&pose.clone().try_into().unwrap())
+            .unwrap();
+        let got = ik.eval(&pose);
+        for i in 0..6 {
+            assert!(
+                (got[i] - want[i]).abs() < 1e-14,
+                "{i}: {} vs {}",
+                got[i],
+                want[i]
+            );
+        }
+    }
+}
+
+/// The Newton step's Jacobian is the derivative of its residual (central differences), and its
+/// residual is zero at the pose of the positions given.
+#[test]
+fn the_newton_step_is_the_residuals_derivative() {
+    let (ik, step) = (
+        compiled(Kernel::InverseKinematics),
+        compiled(Kernel::ForwardKinematicsStep),
+    );
+    let pose = near_home([0.1, -0.05, 0.2, 0.01, 0.02, -0.03]);
+    let q = ik.eval(&pose)[..6].to_vec();
+    let at = |x: &[f64]| step.eval(&[x, &q[..]].concat());
+    let out = at(&pose);
+    assert!(out[..6].iter().all(|r| r.abs() < 1e-15), "{:?}", &out[..6]);
+    for j in 0..6 {
+        let h = 1e-6;
+        let (mut up, mut down) = (pose.clone(), pose.clone());
+        up[j] += h;
+        down[j] -= h;
+        let (a, b) = (at(&up), at(&down));
+        for i in 0..6 {
+            let fd = -(a[i] - b[i]) / (2.0 * h);
+            let exact = out[6 + 6 * i + j];
+            assert!((fd - exact).abs() < 1e-7, "∂q{i}/∂x{j}: {exact} vs {fd}");
+        }
+    }
+}
+
+/// At home every U joint's sine and every crank's reach term is in `(0, 1]`, and the pivots
+/// over their diagonal entries too.
+#[test]
+fn the_singularity_terms_are_sines_and_ratios() {
+    let terms = compiled(Kernel::SingularityTerms).eval(&near_home([0.0; 6]));
+    assert_eq!(terms.len(), 18);
+    assert!(
+        terms.iter().all(|&t| t > 0.0 && t <= 1.0 + 1e-15),
+        "{terms:?}"
+    );
+}
+
+/// Beyond a crank's reach its term is negative: the platform lifted out of the legs' reach.
+#[test]
+fn a_ball_out_of_reach_has_a_negative_term() {
+    let terms = compiled(Kernel::SingularityTerms).eval(&near_home([0.0, 0.0, 0.0, 0.0, 0.0, 0.2]));
+    assert!(terms[6..12].iter().all(|&t| t < 0.0), "{terms:?}");
+}

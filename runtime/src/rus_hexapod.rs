@@ -1,0 +1,415 @@
+//! The rotary hexapod (6-RUS) for controllers: a safe, typed API over its generated kernels
+//! (`c5_generated::f64::rus_hexapod`, the variants that take the robot's parameters, so any
+//! valid description works).
+//!
+//! Its conventions are the Gough-Stewart platform's for the platform (pose
+//! `[α β γ xc yc zc]`, twist `(ω; v_C)`, classical acceleration `(ω̇; a_C)` at `C`, base
+//! frame). The actuator values are the encoders' readings of the crank angles,
+//! `q_i = θ_i + o_i` (rad), and `Γ_i` is the motor's torque about its axis `r_i` (N·m), a
+//! positive torque driving `θ_i` positive. Every call checks its inputs and refuses a pose
+//! where a ball is beyond its crank's reach, a crank and its rod align, a U joint or the legs'
+//! hold on the platform is singular ([`Error::Singularity`], naming the term). The forward
+//! kinematics is a generated Newton step iterated here, from a previous solution or from home.
+
+use crate::dense;
+use crate::error::Error;
+use crate::gough_stewart::{
+    check_conditioned, newton, FORWARD_U_JOINT_TOLERANCE, HOLD_TOLERANCE,
+    JOINT_STATE_HOLD_TOLERANCE, U_JOINT_TOLERANCE,
+};
+use crate::{check_finite, finite, finite_matrix, Acceleration, Evaluation, Pose, State, Twist};
+use c5_generated::f64::rus_hexapod as kernels;
+pub use c5_robot::RusHexapod as Description;
+
+/// The mechanism's name, as robot files and the manifest spell it.
+pub const MECHANISM: &str = c5_robot::description::RUS_HEXAPOD;
+
+/// The length of the parameter vector of the rotary hexapod's `*_params` kernels.
+pub const PARAMETERS: usize = kernels::PARAMETERS;
+
+/// Smallest accepted `1 - (K/ρ)²`, the squared sine of the angle between a crank and its rod
+/// in the crank's plane: at zero they align (the ball at the edge of the crank's reach, where
+/// `∂θ/∂B` is unbounded); negative, the ball is beyond reach.
+pub const REACH_TOLERANCE: f64 = 1e-10;
+
+/// The names of the singularity terms, as errors report them.
+const TERMS: [&str; 18] = [
+    "U joint of leg 1",
+    "U joint of leg 2",
+    "U joint of leg 3",
+    "U joint of leg 4",
+    "U joint of leg 5",
+    "U joint of leg 6",
+    "crank and rod of leg 1 aligned (1 - (K/ρ)²)",
+    "crank and rod of leg 2 aligned (1 - (K/ρ)²)",
+    "crank and rod of leg 3 aligned (1 - (K/ρ)²)",
+    "crank and rod of leg 4 aligned (1 - (K/ρ)²)",
+    "crank and rod of leg 5 aligned (1 - (K/ρ)²)",
+    "crank and rod of leg 6 aligned (1 - (K/ρ)²)",
+    "legs' hold (pivot 1)",
+    "legs' hold (pivot 2)",
+    "legs' hold (pivot 3)",
+    "legs' hold (pivot 4)",
+    "legs' hold (pivot 5)",
+    "legs' hold (pivot 6)",
+];
+
+/// The cranks' reach terms' names where they are negative.
+const BEYOND_REACH: [&str; 6] = [
+    "ball of leg 1 beyond its crank's reach (1 - (K/ρ)²)",
+    "ball of leg 2 beyond its crank's reach (1 - (K/ρ)²)",
+    "ball of leg 3 beyond its crank's reach (1 - (K/ρ)²)",
+    "ball of leg 4 beyond its crank's reach (1 - (K/ρ)²)",
+    "ball of leg 5 beyond its crank's reach (1 - (K/ρ)²)",
+    "ball of leg 6 beyond its crank's reach (1 - (K/ρ)²)",
+];
+
+/// Refuses the singularity terms below their tolerance (or NaN): the U joints' sines, the
+/// cranks' reach, then (when given) the pivots of the solve.
+fn check_terms(terms: &[f64]) -> Result<(), Error> {
+    // The reach first: beyond it every other term is NaN.
+    for k in (6..12).chain(0..6).chain(12..terms.len()) {
+        let value = terms[k];
+        let bound = match k {
+            0..6 => U_JOINT_TOLERANCE,
+            6..12 => REACH_TOLERANCE,
+            _ => HOLD_TOLERANCE,
+        };
+        if value.is_nan() || value < bound {
+            let beyond = (6..12).contains(&k) && value < 0.0;
+            return Err(Error::Singularity {
+                term: if beyond {
+                    BEYOND_REACH[k - 6]
+                } else {
+                    TERMS[k]
+                },
+                value,
+                bound,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// A validated rotary hexapod and its parameter vector.
+#[derive(Clone, Debug)]
+pub struct RusHexapod {
+    robot: Description,
+    params: [f64; PARAMETERS],
+    home: [f64; 6],
+}
+
+impl RusHexapod {
+    /// The rotary hexapod of `robot`.
+    ///
+    /// # Errors
+    /// [`Error::Robot`] if the description breaks a rule of `RusHexapod::validate`.
+    pub fn new(robot: Description) -> Result<Self, Error> {
+        robot.validate().map_err(Error::from_robot)?;
+        let home = robot.home().ok_or_else(|| Error::Robot {
+            field: "home".into(),
+            rule: "is missing, and no level height reaches every leg".into(),
+        })?;
+        let mut params = [0.0; PARAMETERS];
+        params.copy_from_slice(&robot.kernel_parameters());
+        Ok(RusHexapod {
+            robot,
+            params,
+            home,
+        })
+    }
+
+    pub fn robot(&self) -> &Description {
+        &self.robot
+    }
+
+    /// The parameter vector, as the `*_params` kernels take it.
+    pub fn parameters(&self) -> &[f64; PARAMETERS] {
+        &self.params
+    }
+
+    /// The home pose: where the forward kinematics starts without a previous solution.
+    pub fn home(&self) -> Pose {
+        Pose::from_array(self.home)
+    }
+
+    /// The singularity terms at `pose`: each U joint's sine, each crank's `1 - (K/ρ)²`, then
+    /// the six pivot ratios of the solve with `J⁻ᵀ`.
+    ///
+    /// # Errors
+    /// A non-finite pose.
+    pub fn singularity_terms(&self, pose: &Pose) -> Result<[f64; 18], Error> {
+        let x = pose.to_array();
+        check_finite("pose", &x)?;
+        Ok(kernels::singularity_terms_params(&x, &self.params))
+    }
+
+    /// The actuator positions `q_i = θ_i + o_i` (rad) and the vectors from each leg's ball
+    /// `B_i` to `C` (m, base frame).
+    ///
+    /// # Errors
+    /// A non-finite pose, a ball beyond reach, or a singular pose.
+    pub fn inverse_kinematics(&self, pose: &Pose) -> Result<([f64; 6], [[f64; 3]; 6]), Error> {
+        let x = pose.to_array();
+        check_finite("pose", &x)?;
+        let (q, p, guard) = kernels::inverse_kinematics_params(&x, &self.params);
+        check_terms(&guard)?;
+        Ok((finite("q", q)?, finite_matrix("p", p)?))
+    }
+
+    /// `J⁻¹` (`q̇ = J⁻¹ V`), row `i` for leg `i`, columns `ωx ωy ωz vx vy vz`.
+    ///
+    /// # Errors
+    /// A non-finite or singular pose.
+    pub fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        let x = pose.to_array();
+        check_finite("pose", &x)?;
+        let (jinv, guard) = kernels::inverse_jacobian_pose_params(&x, &self.params);
+        check_terms(&guard)?;
+        finite_matrix("jinv", jinv)
+    }
+
+    /// `J = (J⁻¹)⁻¹`, rows `ωx … vz`, column `i` for leg `i`.
+    ///
+    /// # Errors
+    /// A non-finite or singular pose.
+    pub fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        let x = pose.to_array();
+        check_finite("pose", &x)?;
+        let (jac, guard) = kernels::jacobian_pose_params(&x, &self.params);
+        check_terms(&guard)?;
+        finite_matrix("jacobian", jac)
+    }
+
+    /// `q̇ = J⁻¹ V` (rad/s).
+    ///
+    /// # Errors
+    /// Non-finite inputs, or a singular pose.
+    pub fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        let (x, v) = (pose.to_array(), twist.to_array());
+        check_finite("pose", &x)?;
+        check_finite("twist", &v)?;
+        let (qd, guard) = kernels::joint_velocities_params(&x, &v, &self.params);
+        check_terms(&guard)?;
+        finite("qd", qd)
+    }
+
+    /// `q̈` (rad/s²), the crank angles' second derivatives.
+    ///
+    /// # Errors
+    /// Non-finite inputs, or a singular pose.
+    pub fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
+        let [x, v, a] = crate::C5::checked_motion(state)?;
+        let (qdd, guard) = kernels::joint_accelerations_params(&x, &v, &a, &self.params);
+        check_terms(&guard)?;
+        finite("qdd", qdd)
+    }
+
+    /// The motor torques `Γ` (N·m) for the platform to follow `state`: the platform's, the
+    /// cranks' and the rods' Newton-Euler equations, by virtual work.
+    ///
+    /// # Errors
+    /// Non-finite inputs, or a singular pose.
+    pub fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
+        let [x, v, a] = crate::C5::checked_motion(state)?;
+        let (gamma, guard) = kernels::inverse_dynamics_params(&x, &v, &a, &self.params);
+        check_terms(&guard)?;
+        finite("gamma", gamma)
+    }
+
+    /// `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`.
+    ///
+    /// # Errors
+    /// A non-finite or singular pose.
+    pub fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        let x = pose.to_array();
+        check_finite("pose", &x)?;
+        let (m, guard) = kernels::task_inertia_params(&x, &self.params);
+        check_terms(&guard)?;
+        finite_matrix("task inertia", m)
+    }
+
+    /// `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`.
+    ///
+    /// # Errors
+    /// Non-finite inputs, or a singular pose.
+    pub fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        let (x, v) = (pose.to_array(), twist.to_array());
+        check_finite("pose", &x)?;
+        check_finite("twist", &v)?;
+        let (h, guard) = kernels::task_bias_params(&x, &v, &self.params);
+        check_terms(&guard)?;
+        finite("task bias", h)
+    }
+
+    /// The forward dynamics: the platform's classical acceleration under the motor torques
+    /// `gamma` (N·m).
+    ///
+    /// # Errors
+    /// Non-finite inputs, a singular pose, a U joint too near its singularity for the
+    /// acceleration's bound ([`Error::IllConditioned`]), or a non-finite result.
+    pub fn forward_dynamics(
+        &self,
+        pose: &Pose,
+        twist: &Twist,
+        gamma: &[f64; 6],
+    ) -> Result<Acceleration, Error> {
+        let (x, v) = (pose.to_array(), twist.to_array());
+        check_finite("pose", &x)?;
+        check_finite("twist", &v)?;
+        check_finite("gamma", gamma)?;
+        let (a, guard) = kernels::forward_dynamics_params(&x, &v, gamma, &self.params);
+        check_terms(&guard)?;
+        check_terms(&kernels::singularity_terms_params(&x, &self.params))?;
+        check_conditioned(
+            "forward dynamics",
+            &guard[..6],
+            &TERMS[..6],
+            FORWARD_U_JOINT_TOLERANCE,
+        )?;
+        Ok(Acceleration::from_array(finite("acceleration", a)?))
+    }
+
+    /// The pose whose actuator positions are `q` (rad), by Newton's method from `near` (a
+    /// previous solution) or from home; the pose found is refused where it is singular.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`], [`Error::NotConverged`], [`Error::Singularity`].
+    pub fn forward_kinematics(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<Pose, Error> {
+        self.located(q, near).map(|(pose, _)| pose)
+    }
+
+    /// [`RusHexapod::forward_kinematics`] and the singularity terms at the pose found.
+    fn located(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<(Pose, [f64; 18]), Error> {
+        check_finite("q", q)?;
+        let start = match near {
+            Some(p) => {
+                check_finite("near", &p.to_array())?;
+                p.to_array()
+            }
+            None => self.home,
+        };
+        let x = newton(
+            |x| {
+                let (r, jac, guard) = kernels::forward_kinematics_step_params(x, q, &self.params);
+                check_terms(&guard)?;
+                Ok((finite("residual", r)?, jac))
+            },
+            start,
+        )?;
+        let terms = kernels::singularity_terms_params(&x, &self.params);
+        check_terms(&terms)?;
+        Ok((Pose::from_array(x), terms))
+    }
+
+    /// The platform state from the actuators' positions, rates and accelerations: the forward
+    /// kinematics, `V = J q̇`, and `(ω̇; a_C) = J (q̈ - b)` with `b` the actuators'
+    /// accelerations at zero platform acceleration.
+    ///
+    /// # Errors
+    /// As [`RusHexapod::forward_kinematics`], a singular pose, or [`Error::IllConditioned`]
+    /// for nonzero rates or accelerations where the legs' hold is below
+    /// [`JOINT_STATE_HOLD_TOLERANCE`].
+    pub fn joint_state(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<State, Error> {
+        let (state, terms) = self.platform_state(q, qd, qdd, near)?;
+        if qd.iter().chain(qdd).any(|&x| x != 0.0) {
+            check_conditioned(
+                "platform motion from the actuators",
+                &terms[12..],
+                &TERMS[12..],
+                JOINT_STATE_HOLD_TOLERANCE,
+            )?;
+        }
+        Ok(state)
+    }
+
+    fn platform_state(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<(State, [f64; 18]), Error> {
+        check_finite("qd", qd)?;
+        check_finite("qdd", qdd)?;
+        let (pose, terms) = self.located(q, near)?;
+        let jac = self.jacobian(&pose)?;
+        let twist = Twist::from_array(dense::mul_vec(&jac, qd));
+        let at_rest = State {
+            pose,
+            twist,
+            accel: Acceleration::default(),
+        };
+        let bias = self.joint_accelerations(&at_rest)?;
+        let relative: [f64; 6] = core::array::from_fn(|i| qdd[i] - bias[i]);
+        let accel = dense::mul_vec(&jac, &relative);
+        let state = State {
+            pose,
+            twist,
+            accel: Acceleration::from_array(finite("acceleration", accel)?),
+        };
+        Ok((state, terms))
+    }
+
+    /// The motor torques from the actuators' motion.
+    ///
+    /// # Errors
+    /// As [`RusHexapod::forward_kinematics`], or a singular pose.
+    pub fn inverse_dynamics_joint(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<[f64; 6], Error> {
+        self.inverse_dynamics(&self.platform_state(q, qd, qdd, near)?.0)
+    }
+
+    /// `M_q = Jᵀ M_x J` (kg·m²) at the pose of the actuator positions `q`.
+    ///
+    /// # Errors
+    /// As [`RusHexapod::forward_kinematics`], or a singular pose.
+    pub fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
+        let pose = self.forward_kinematics(q, near)?;
+        let (jac, m) = (self.jacobian(&pose)?, self.task_inertia(&pose)?);
+        finite_matrix(
+            "joint inertia",
+            dense::mul(&dense::transpose(&jac), &dense::mul(&m, &jac)),
+        )
+    }
+
+    /// `c_q` of `Γ = M_q q̈ + c_q` (N·m).
+    ///
+    /// # Errors
+    /// As [`RusHexapod::joint_state`].
+    pub fn joint_bias(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<[f64; 6], Error> {
+        self.inverse_dynamics_joint(q, qd, &[0.0; 6], near)
+    }
+
+    /// Everything `eval` reports for one state.
+    ///
+    /// # Errors
+    /// Non-finite inputs or a singular pose.
+    pub fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
+        let (q, _) = self.inverse_kinematics(&state.pose)?;
+        Ok(Evaluation {
+            q,
+            qd: self.joint_velocities(&state.pose, &state.twist)?,
+            qdd: self.joint_accelerations(state)?,
+            gamma: self.inverse_dynamics(state)?,
+            jinv: self.inverse_jacobian(&state.pose)?,
+            jacobian: self.jacobian(&state.pose)?,
+        })
+    }
+}
