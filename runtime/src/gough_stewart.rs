@@ -12,6 +12,7 @@
 
 use crate::dense;
 use crate::error::Error;
+use crate::legged::{self, check_conditioned, newton, Legged};
 use crate::limits::Limit;
 use crate::{check_finite, finite, finite_matrix, Acceleration, Evaluation, Pose, State, Twist};
 use c5_generated::f64::gough_stewart as kernels;
@@ -36,16 +37,6 @@ pub const U_JOINT_TOLERANCE: f64 = 1e-6;
 /// dynamics, which solves `M_x`, checks it too.
 pub const HOLD_TOLERANCE: f64 = 1e-5;
 
-/// Smallest pivot ratio `ρ` (as [`HOLD_TOLERANCE`]) at which the platform's twist and
-/// acceleration are served from the actuators' rates and accelerations
-/// ([`GoughStewart::joint_state`], `c5 eval` on actuator lines): `V = J q̇` and
-/// `(ω̇; a_C) = J (q̈ - b)` apply `J`, ill conditioned near the parallel singularity. Against
-/// a 50-digit reference the acceleration errs by up to about `1.7e-15/ρ^1.5` relative (6.4e-9
-/// at `ρ = 1.8e-5`, 7e-11 at `4e-4`); below this bound, with nonzero rates or accelerations,
-/// the call is refused ([`Error::IllConditioned`]). The pose alone, the joint-space forces
-/// and the inertia stay accurate and are served down to [`HOLD_TOLERANCE`].
-pub const JOINT_STATE_HOLD_TOLERANCE: f64 = 1e-3;
-
 /// Smallest sine of a leg's angle with its U joint's first axis at which the forward dynamics
 /// (and its derivatives) are served. Near that singularity the leg's spin about its own axis
 /// grows as `1/sine` for a given platform twist, and with it `M_x` and `h`: each stays within
@@ -56,11 +47,7 @@ pub const JOINT_STATE_HOLD_TOLERANCE: f64 = 1e-3;
 /// [`U_JOINT_TOLERANCE`].
 pub const FORWARD_U_JOINT_TOLERANCE: f64 = 1e-2;
 
-/// The forward kinematics' tolerance: the largest residual of an actuator position (m).
-pub const FORWARD_TOLERANCE: f64 = 1e-12;
-
-/// The most Newton steps the forward kinematics takes.
-pub const FORWARD_ITERATIONS: usize = 50;
+pub use crate::legged::{FORWARD_ITERATIONS, FORWARD_TOLERANCE, JOINT_STATE_HOLD_TOLERANCE};
 
 /// The names of the singularity terms, as errors report them: the U joints, then the pivots.
 const TERMS: [&str; 12] = [
@@ -96,71 +83,6 @@ pub(crate) fn check_terms(terms: &[f64]) -> Result<(), Error> {
         }
     }
     Ok(())
-}
-
-/// Refuses the first of `terms` (named by `names`) below `bound`, where `what` cannot be
-/// served to its accuracy bound though the pose is not singular.
-pub(crate) fn check_conditioned(
-    what: &'static str,
-    terms: &[f64],
-    names: &[&'static str],
-    bound: f64,
-) -> Result<(), Error> {
-    match terms.iter().position(|&value| value < bound) {
-        Some(k) => Err(Error::IllConditioned {
-            what,
-            term: names[k],
-            value: terms[k],
-            bound,
-        }),
-        None => Ok(()),
-    }
-}
-
-/// Newton's method from `x` on the residual and Jacobian `step` gives at a pose (a generated
-/// forward-kinematics step), each step halved until it reduces the largest residual, to
-/// [`FORWARD_TOLERANCE`] within [`FORWARD_ITERATIONS`] steps.
-///
-/// # Errors
-/// The step's errors; [`Error::NotConverged`] when the steps stop reducing the residual;
-/// [`Error::Singularity`] when the Jacobian is singular.
-pub(crate) fn newton(
-    step: impl Fn(&[f64; 6]) -> Result<([f64; 6], [[f64; 6]; 6]), Error>,
-    mut x: [f64; 6],
-) -> Result<[f64; 6], Error> {
-    let (mut residual, mut jac) = step(&x)?;
-    for _ in 0..FORWARD_ITERATIONS {
-        let size = dense::max_abs(&residual);
-        if size <= FORWARD_TOLERANCE {
-            return Ok(x);
-        }
-        let delta = dense::solve(&jac, &residual, 1e-13).ok_or(Error::Singularity {
-            term: "forward kinematics' Jacobian",
-            value: 0.0,
-            bound: 1e-13,
-        })?;
-        let mut scale = 1.0;
-        loop {
-            let trial: [f64; 6] = core::array::from_fn(|k| x[k] + scale * delta[k]);
-            match step(&trial) {
-                Ok((r, j)) if dense::max_abs(&r) < size => {
-                    (x, residual, jac) = (trial, r, j);
-                    break;
-                }
-                _ if scale > 1e-3 => scale *= 0.5,
-                _ => {
-                    return Err(Error::NotConverged {
-                        what: "forward kinematics",
-                        residual: size,
-                    })
-                }
-            }
-        }
-    }
-    Err(Error::NotConverged {
-        what: "forward kinematics",
-        residual: dense::max_abs(&residual),
-    })
 }
 
 /// A validated Gough-Stewart platform and its parameter vector.
@@ -569,48 +491,7 @@ impl GoughStewart {
         qdd: &[f64; 6],
         near: Option<&Pose>,
     ) -> Result<State, Error> {
-        let (state, terms) = self.platform_state(q, qd, qdd, near)?;
-        // At rest the twist and acceleration are zero, exactly, wherever the pose is served.
-        if qd.iter().chain(qdd).any(|&x| x != 0.0) {
-            check_conditioned(
-                "platform motion from the actuators",
-                &terms[6..],
-                &TERMS[6..],
-                JOINT_STATE_HOLD_TOLERANCE,
-            )?;
-        }
-        Ok(state)
-    }
-
-    /// [`GoughStewart::joint_state`] without its bound on the motion (for the joint-space
-    /// forces, which stay accurate down to [`HOLD_TOLERANCE`]), and the singularity terms at
-    /// its pose.
-    fn platform_state(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        qdd: &[f64; 6],
-        near: Option<&Pose>,
-    ) -> Result<(State, [f64; 12]), Error> {
-        check_finite("qd", qd)?;
-        check_finite("qdd", qdd)?;
-        let (pose, terms) = self.located(q, near)?;
-        let jac = self.jacobian(&pose)?;
-        let twist = Twist::from_array(dense::mul_vec(&jac, qd));
-        let at_rest = State {
-            pose,
-            twist,
-            accel: Acceleration::default(),
-        };
-        let bias = self.joint_accelerations(&at_rest)?;
-        let relative: [f64; 6] = core::array::from_fn(|i| qdd[i] - bias[i]);
-        let accel = dense::mul_vec(&jac, &relative);
-        let state = State {
-            pose,
-            twist,
-            accel: Acceleration::from_array(finite("acceleration", accel)?),
-        };
-        Ok((state, terms))
+        legged::joint_state(self, q, qd, qdd, near)
     }
 
     /// The actuator forces from the actuators' motion: the inverse dynamics at the platform
@@ -626,7 +507,7 @@ impl GoughStewart {
         qdd: &[f64; 6],
         near: Option<&Pose>,
     ) -> Result<[f64; 6], Error> {
-        self.inverse_dynamics(&self.platform_state(q, qd, qdd, near)?.0)
+        legged::inverse_dynamics_joint(self, q, qd, qdd, near)
     }
 
     /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia `Jᵀ M_x J` (kg), at the pose of the
@@ -635,12 +516,7 @@ impl GoughStewart {
     /// # Errors
     /// As [`GoughStewart::forward_kinematics`], or a singular pose.
     pub fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
-        let pose = self.forward_kinematics(q, near)?;
-        let (jac, m) = (self.jacobian(&pose)?, self.task_inertia(&pose)?);
-        finite_matrix(
-            "joint inertia",
-            dense::mul(&dense::transpose(&jac), &dense::mul(&m, &jac)),
-        )
+        legged::joint_inertia(self, q, near)
     }
 
     /// `c_q` of `Γ = M_q q̈ + c_q`: the forces at zero actuator acceleration (N).
@@ -661,14 +537,36 @@ impl GoughStewart {
     /// # Errors
     /// Non-finite inputs or a singular pose.
     pub fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
-        let (q, _) = self.inverse_kinematics(&state.pose)?;
-        Ok(Evaluation {
-            q,
-            qd: self.joint_velocities(&state.pose, &state.twist)?,
-            qdd: self.joint_accelerations(state)?,
-            gamma: self.inverse_dynamics(state)?,
-            jinv: self.inverse_jacobian(&state.pose)?,
-            jacobian: self.jacobian(&state.pose)?,
-        })
+        legged::evaluate(self, state)
+    }
+}
+
+impl Legged for GoughStewart {
+    const PIVOTS: [&'static str; 6] =
+        [TERMS[6], TERMS[7], TERMS[8], TERMS[9], TERMS[10], TERMS[11]];
+    fn located(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<(Pose, [f64; 6]), Error> {
+        let (pose, terms) = GoughStewart::located(self, q, near)?;
+        Ok((pose, core::array::from_fn(|k| terms[6 + k])))
+    }
+    fn actuators(&self, pose: &Pose) -> Result<[f64; 6], Error> {
+        Ok(self.inverse_kinematics(pose)?.0)
+    }
+    fn rates(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        self.joint_velocities(pose, twist)
+    }
+    fn accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
+        self.joint_accelerations(state)
+    }
+    fn forces(&self, state: &State) -> Result<[f64; 6], Error> {
+        self.inverse_dynamics(state)
+    }
+    fn inverse(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        self.inverse_jacobian(pose)
+    }
+    fn jacobian_at(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        self.jacobian(pose)
+    }
+    fn inertia_at(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        self.task_inertia(pose)
     }
 }

@@ -527,77 +527,120 @@ impl ParallelRobot for C5 {
     }
 }
 
+/// The [`ParallelRobot`] methods a legged mechanism's runtime type (the Gough-Stewart
+/// platform, the rotary hexapod) serves with its inherent methods of the same names, in its
+/// impl block.
+macro_rules! legged_robot {
+    () => {
+        fn home(&self) -> Pose {
+            Self::home(self)
+        }
+        fn actuator_positions(&self, pose: &Pose) -> Result<[f64; 6], Error> {
+            Ok(self.inverse_kinematics(pose)?.0)
+        }
+        fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+            Self::inverse_jacobian(self, pose)
+        }
+        fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+            Self::jacobian(self, pose)
+        }
+        fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+            Self::joint_velocities(self, pose, twist)
+        }
+        fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
+            Self::joint_accelerations(self, state)
+        }
+        fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
+            Self::inverse_dynamics(self, state)
+        }
+        fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+            Self::task_inertia(self, pose)
+        }
+        fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+            Self::task_bias(self, pose, twist)
+        }
+        fn forward_dynamics(
+            &self,
+            pose: &Pose,
+            twist: &Twist,
+            gamma: &[f64; 6],
+        ) -> Result<Acceleration, Error> {
+            Self::forward_dynamics(self, pose, twist, gamma)
+        }
+        fn forward_kinematics(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<Pose, Error> {
+            Self::forward_kinematics(self, q, near)
+        }
+        fn joint_state(
+            &self,
+            q: &[f64; 6],
+            qd: &[f64; 6],
+            qdd: &[f64; 6],
+            near: Option<&Pose>,
+        ) -> Result<State, Error> {
+            Self::joint_state(self, q, qd, qdd, near)
+        }
+        fn inverse_dynamics_joint(
+            &self,
+            q: &[f64; 6],
+            qd: &[f64; 6],
+            qdd: &[f64; 6],
+            near: Option<&Pose>,
+        ) -> Result<[f64; 6], Error> {
+            Self::inverse_dynamics_joint(self, q, qd, qdd, near)
+        }
+        fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
+            Self::evaluate(self, state)
+        }
+        /// The mean distance of the platform joints from `C`.
+        fn characteristic_length(&self) -> f64 {
+            let legs = &self.robot().legs;
+            legs.iter()
+                .map(|l| crate::math::sqrt(l.platform.iter().map(|x| x * x).sum()))
+                .sum::<f64>()
+                / legs.len() as f64
+        }
+        fn singularity_clearance(&self, pose: &Pose) -> Result<f64, Error> {
+            Ok(self
+                .singularity_terms(pose)?
+                .iter()
+                .fold(f64::INFINITY, |m, &r| m.min(r)))
+        }
+        fn parameters(&self) -> &[f64] {
+            Self::parameters(self)
+        }
+        fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
+            Self::joint_inertia(self, q, near)
+        }
+        fn joint_bias(
+            &self,
+            q: &[f64; 6],
+            qd: &[f64; 6],
+            near: Option<&Pose>,
+        ) -> Result<[f64; 6], Error> {
+            Self::joint_bias(self, q, qd, near)
+        }
+        fn as_any(&self) -> &dyn core::any::Any {
+            self
+        }
+        fn clone_box(&self) -> Box<dyn ParallelRobot> {
+            Box::new(self.clone())
+        }
+    };
+}
+
 impl ParallelRobot for GoughStewart {
+    legged_robot!();
     fn mechanism(&self) -> &'static str {
         c5_robot::description::GOUGH_STEWART
     }
     fn model_name(&self) -> &'static str {
         c5_robot::description::GOUGH_STEWART
     }
-    fn home(&self) -> Pose {
-        GoughStewart::home(self)
-    }
     fn description(&self) -> Description {
         Description::GoughStewart(*self.robot())
     }
-    fn actuator_positions(&self, pose: &Pose) -> Result<[f64; 6], Error> {
-        Ok(self.inverse_kinematics(pose)?.0)
-    }
     fn scene(&self, pose: &Pose) -> Result<Scene, Error> {
         Self::scene(self, pose)
-    }
-    fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        GoughStewart::inverse_jacobian(self, pose)
-    }
-    fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        GoughStewart::jacobian(self, pose)
-    }
-    fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-        GoughStewart::joint_velocities(self, pose, twist)
-    }
-    fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
-        GoughStewart::joint_accelerations(self, state)
-    }
-    fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
-        GoughStewart::inverse_dynamics(self, state)
-    }
-    fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        GoughStewart::task_inertia(self, pose)
-    }
-    fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-        GoughStewart::task_bias(self, pose, twist)
-    }
-    fn forward_dynamics(
-        &self,
-        pose: &Pose,
-        twist: &Twist,
-        gamma: &[f64; 6],
-    ) -> Result<Acceleration, Error> {
-        GoughStewart::forward_dynamics(self, pose, twist, gamma)
-    }
-    fn forward_kinematics(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<Pose, Error> {
-        GoughStewart::forward_kinematics(self, q, near)
-    }
-    fn joint_state(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        qdd: &[f64; 6],
-        near: Option<&Pose>,
-    ) -> Result<State, Error> {
-        GoughStewart::joint_state(self, q, qd, qdd, near)
-    }
-    fn inverse_dynamics_joint(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        qdd: &[f64; 6],
-        near: Option<&Pose>,
-    ) -> Result<[f64; 6], Error> {
-        GoughStewart::inverse_dynamics_joint(self, q, qd, qdd, near)
-    }
-    fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
-        GoughStewart::evaluate(self, state)
     }
     fn smallest_pose_margin(&self, pose: &Pose) -> Result<Option<(Limit, usize, f64, f64)>, Error> {
         Ok(self.limit_margins(pose)?.smallest())
@@ -608,44 +651,10 @@ impl ParallelRobot for GoughStewart {
     fn has_limits(&self) -> bool {
         self.robot().limits.any()
     }
-    /// The mean distance of the platform joints from `C`.
-    fn characteristic_length(&self) -> f64 {
-        let legs = &self.robot().legs;
-        legs.iter()
-            .map(|l| crate::math::sqrt(l.platform.iter().map(|x| x * x).sum()))
-            .sum::<f64>()
-            / legs.len() as f64
-    }
-    fn singularity_clearance(&self, pose: &Pose) -> Result<f64, Error> {
-        Ok(self
-            .singularity_terms(pose)?
-            .iter()
-            .fold(f64::INFINITY, |m, &r| m.min(r)))
-    }
-    fn parameters(&self) -> &[f64] {
-        GoughStewart::parameters(self)
-    }
-    fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
-        GoughStewart::joint_inertia(self, q, near)
-    }
-    fn joint_bias(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        near: Option<&Pose>,
-    ) -> Result<[f64; 6], Error> {
-        GoughStewart::joint_bias(self, q, qd, near)
-    }
     #[cfg(feature = "identify")]
     fn standard_regressor(&self, state: &State) -> Result<nalgebra::DMatrix<f64>, Error> {
         let y = GoughStewart::regressor(self, state)?;
         Ok(nalgebra::DMatrix::from_fn(6, y[0].len(), |i, j| y[i][j]))
-    }
-    fn as_any(&self) -> &dyn core::any::Any {
-        self
-    }
-    fn clone_box(&self) -> Box<dyn ParallelRobot> {
-        Box::new(self.clone())
     }
     #[cfg(feature = "identify")]
     fn standard_parameters(&self, friction: &[Friction; 6]) -> Vec<f64> {
@@ -688,76 +697,18 @@ fn rus_hexapod_lacks(what: &'static str) -> Error {
 }
 
 impl ParallelRobot for RusHexapod {
+    legged_robot!();
     fn mechanism(&self) -> &'static str {
         c5_robot::description::RUS_HEXAPOD
     }
     fn model_name(&self) -> &'static str {
         c5_robot::description::RUS_HEXAPOD
     }
-    fn home(&self) -> Pose {
-        RusHexapod::home(self)
-    }
     fn description(&self) -> Description {
         Description::RusHexapod(*self.robot())
     }
-    fn actuator_positions(&self, pose: &Pose) -> Result<[f64; 6], Error> {
-        Ok(self.inverse_kinematics(pose)?.0)
-    }
     fn scene(&self, _pose: &Pose) -> Result<Scene, Error> {
         Err(rus_hexapod_lacks("drawing"))
-    }
-    fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        RusHexapod::inverse_jacobian(self, pose)
-    }
-    fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        RusHexapod::jacobian(self, pose)
-    }
-    fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-        RusHexapod::joint_velocities(self, pose, twist)
-    }
-    fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
-        RusHexapod::joint_accelerations(self, state)
-    }
-    fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
-        RusHexapod::inverse_dynamics(self, state)
-    }
-    fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        RusHexapod::task_inertia(self, pose)
-    }
-    fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-        RusHexapod::task_bias(self, pose, twist)
-    }
-    fn forward_dynamics(
-        &self,
-        pose: &Pose,
-        twist: &Twist,
-        gamma: &[f64; 6],
-    ) -> Result<Acceleration, Error> {
-        RusHexapod::forward_dynamics(self, pose, twist, gamma)
-    }
-    fn forward_kinematics(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<Pose, Error> {
-        RusHexapod::forward_kinematics(self, q, near)
-    }
-    fn joint_state(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        qdd: &[f64; 6],
-        near: Option<&Pose>,
-    ) -> Result<State, Error> {
-        RusHexapod::joint_state(self, q, qd, qdd, near)
-    }
-    fn inverse_dynamics_joint(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        qdd: &[f64; 6],
-        near: Option<&Pose>,
-    ) -> Result<[f64; 6], Error> {
-        RusHexapod::inverse_dynamics_joint(self, q, qd, qdd, near)
-    }
-    fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
-        RusHexapod::evaluate(self, state)
     }
     /// Its description sets no limits.
     fn smallest_pose_margin(&self, pose: &Pose) -> Result<Option<(Limit, usize, f64, f64)>, Error> {
@@ -768,40 +719,6 @@ impl ParallelRobot for RusHexapod {
     }
     fn has_limits(&self) -> bool {
         false
-    }
-    /// The mean distance of the balls from `C`.
-    fn characteristic_length(&self) -> f64 {
-        let legs = &self.robot().legs;
-        legs.iter()
-            .map(|l| crate::math::sqrt(l.platform.iter().map(|x| x * x).sum()))
-            .sum::<f64>()
-            / legs.len() as f64
-    }
-    fn singularity_clearance(&self, pose: &Pose) -> Result<f64, Error> {
-        Ok(self
-            .singularity_terms(pose)?
-            .iter()
-            .fold(f64::INFINITY, |m, &r| m.min(r)))
-    }
-    fn parameters(&self) -> &[f64] {
-        RusHexapod::parameters(self)
-    }
-    fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
-        RusHexapod::joint_inertia(self, q, near)
-    }
-    fn joint_bias(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        near: Option<&Pose>,
-    ) -> Result<[f64; 6], Error> {
-        RusHexapod::joint_bias(self, q, qd, near)
-    }
-    fn as_any(&self) -> &dyn core::any::Any {
-        self
-    }
-    fn clone_box(&self) -> Box<dyn ParallelRobot> {
-        Box::new(self.clone())
     }
     #[cfg(feature = "identify")]
     fn standard_parameters(&self, friction: &[Friction; 6]) -> Vec<f64> {

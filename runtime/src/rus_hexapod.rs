@@ -11,12 +11,9 @@
 //! hold on the platform is singular ([`Error::Singularity`], naming the term). The forward
 //! kinematics is a generated Newton step iterated here, from a previous solution or from home.
 
-use crate::dense;
 use crate::error::Error;
-use crate::gough_stewart::{
-    check_conditioned, newton, FORWARD_U_JOINT_TOLERANCE, HOLD_TOLERANCE,
-    JOINT_STATE_HOLD_TOLERANCE, U_JOINT_TOLERANCE,
-};
+use crate::gough_stewart::{FORWARD_U_JOINT_TOLERANCE, HOLD_TOLERANCE, U_JOINT_TOLERANCE};
+use crate::legged::{self, check_conditioned, newton, Legged};
 use crate::{check_finite, finite, finite_matrix, Acceleration, Evaluation, Pose, State, Twist};
 use c5_generated::f64::rus_hexapod as kernels;
 pub use c5_robot::RusHexapod as Description;
@@ -309,7 +306,7 @@ impl RusHexapod {
     /// # Errors
     /// As [`RusHexapod::forward_kinematics`], a singular pose, or [`Error::IllConditioned`]
     /// for nonzero rates or accelerations where the legs' hold is below
-    /// [`JOINT_STATE_HOLD_TOLERANCE`].
+    /// [`legged::JOINT_STATE_HOLD_TOLERANCE`].
     pub fn joint_state(
         &self,
         q: &[f64; 6],
@@ -317,44 +314,7 @@ impl RusHexapod {
         qdd: &[f64; 6],
         near: Option<&Pose>,
     ) -> Result<State, Error> {
-        let (state, terms) = self.platform_state(q, qd, qdd, near)?;
-        if qd.iter().chain(qdd).any(|&x| x != 0.0) {
-            check_conditioned(
-                "platform motion from the actuators",
-                &terms[12..],
-                &TERMS[12..],
-                JOINT_STATE_HOLD_TOLERANCE,
-            )?;
-        }
-        Ok(state)
-    }
-
-    fn platform_state(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        qdd: &[f64; 6],
-        near: Option<&Pose>,
-    ) -> Result<(State, [f64; 18]), Error> {
-        check_finite("qd", qd)?;
-        check_finite("qdd", qdd)?;
-        let (pose, terms) = self.located(q, near)?;
-        let jac = self.jacobian(&pose)?;
-        let twist = Twist::from_array(dense::mul_vec(&jac, qd));
-        let at_rest = State {
-            pose,
-            twist,
-            accel: Acceleration::default(),
-        };
-        let bias = self.joint_accelerations(&at_rest)?;
-        let relative: [f64; 6] = core::array::from_fn(|i| qdd[i] - bias[i]);
-        let accel = dense::mul_vec(&jac, &relative);
-        let state = State {
-            pose,
-            twist,
-            accel: Acceleration::from_array(finite("acceleration", accel)?),
-        };
-        Ok((state, terms))
+        legged::joint_state(self, q, qd, qdd, near)
     }
 
     /// The motor torques from the actuators' motion.
@@ -368,7 +328,7 @@ impl RusHexapod {
         qdd: &[f64; 6],
         near: Option<&Pose>,
     ) -> Result<[f64; 6], Error> {
-        self.inverse_dynamics(&self.platform_state(q, qd, qdd, near)?.0)
+        legged::inverse_dynamics_joint(self, q, qd, qdd, near)
     }
 
     /// `M_q = Jᵀ M_x J` (kg·m²) at the pose of the actuator positions `q`.
@@ -376,12 +336,7 @@ impl RusHexapod {
     /// # Errors
     /// As [`RusHexapod::forward_kinematics`], or a singular pose.
     pub fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
-        let pose = self.forward_kinematics(q, near)?;
-        let (jac, m) = (self.jacobian(&pose)?, self.task_inertia(&pose)?);
-        finite_matrix(
-            "joint inertia",
-            dense::mul(&dense::transpose(&jac), &dense::mul(&m, &jac)),
-        )
+        legged::joint_inertia(self, q, near)
     }
 
     /// `c_q` of `Γ = M_q q̈ + c_q` (N·m).
@@ -402,14 +357,37 @@ impl RusHexapod {
     /// # Errors
     /// Non-finite inputs or a singular pose.
     pub fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
-        let (q, _) = self.inverse_kinematics(&state.pose)?;
-        Ok(Evaluation {
-            q,
-            qd: self.joint_velocities(&state.pose, &state.twist)?,
-            qdd: self.joint_accelerations(state)?,
-            gamma: self.inverse_dynamics(state)?,
-            jinv: self.inverse_jacobian(&state.pose)?,
-            jacobian: self.jacobian(&state.pose)?,
-        })
+        legged::evaluate(self, state)
+    }
+}
+
+impl Legged for RusHexapod {
+    const PIVOTS: [&'static str; 6] = [
+        TERMS[12], TERMS[13], TERMS[14], TERMS[15], TERMS[16], TERMS[17],
+    ];
+    fn located(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<(Pose, [f64; 6]), Error> {
+        let (pose, terms) = RusHexapod::located(self, q, near)?;
+        Ok((pose, core::array::from_fn(|k| terms[12 + k])))
+    }
+    fn actuators(&self, pose: &Pose) -> Result<[f64; 6], Error> {
+        Ok(self.inverse_kinematics(pose)?.0)
+    }
+    fn rates(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        self.joint_velocities(pose, twist)
+    }
+    fn accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
+        self.joint_accelerations(state)
+    }
+    fn forces(&self, state: &State) -> Result<[f64; 6], Error> {
+        self.inverse_dynamics(state)
+    }
+    fn inverse(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        self.inverse_jacobian(pose)
+    }
+    fn jacobian_at(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        self.jacobian(pose)
+    }
+    fn inertia_at(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        self.task_inertia(pose)
     }
 }

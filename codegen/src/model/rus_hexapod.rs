@@ -8,13 +8,13 @@
 //! parameter vector and the descriptions' conventions are `c5_robot::RusHexapod`'s.
 
 use super::bodies::{Dynamics, Inertial};
-use super::geometry::{rotation_of_pose, Motion, Posed};
+use super::geometry::{rotation_of_pose, Posed};
 use super::kernels::{jacobian_wrt, Build, Cite, Decl, Guard, Input, Kernel, Output, Reads};
 use super::legged::{self, rus::Rus, Leg};
 use super::{Mechanics, Quantity, Structure};
 use crate::dag::{Expr, Graph};
 use crate::kernel::Shape;
-use crate::linalg::{Mat, Mat3, Mat6, Vec3, Vec6, Vector};
+use crate::linalg::{Mat, Mat3, Vec3, Vector};
 use c5_robot::rus::{CRANK_STANDARD, LEG_GEOMETRY, ROD_STANDARD};
 use c5_robot::rus_hexapod::GEOMETRY_PARAMETERS;
 use c5_robot::RusHexapod;
@@ -393,41 +393,7 @@ impl Mechanics for RusHexapodMechanics {
         }
     }
 
-    fn inverse_jacobian<'g>(&self, posed: &Posed<'g>) -> Mat6<'g> {
-        legged::rows_at(self, posed).m
-    }
-
-    fn jacobian<'g>(&self, posed: &Posed<'g>) -> Mat6<'g> {
-        legged::jacobian(&legged::rows_at(self, posed))
-    }
-
-    fn joint_velocities<'g>(&self, posed: &Posed<'g>, twist: &Vec6<'g>) -> Vec6<'g> {
-        self.inverse_jacobian(posed) * *twist
-    }
-
-    fn joint_accelerations<'g>(&self, posed: &Posed<'g>, motion: &Motion<'g>) -> Vec6<'g> {
-        let legs = legged::states_at(self, posed, motion, None);
-        Vector::from_fn(|i| legs[i].qdd)
-    }
-
-    fn leg_wrench<'g>(
-        &self,
-        dynamics: &Dynamics<'g>,
-        posed: &Posed<'g>,
-        motion: &Motion<'g>,
-    ) -> Vec6<'g> {
-        legged::leg_wrench(&legged::states_at(self, posed, motion, Some(dynamics)))
-    }
-
-    fn inverse_dynamics<'g>(
-        &self,
-        dynamics: &Dynamics<'g>,
-        posed: &Posed<'g>,
-        motion: &Motion<'g>,
-    ) -> Vec6<'g> {
-        let wrench = self.task_wrench(dynamics, posed, motion);
-        legged::solve_transposed(&legged::rows_at(self, posed), &wrench)
-    }
+    legged::legged_mechanics!();
 
     fn extra_kernels(&self) -> &'static [Decl] {
         EXTRA_KERNELS

@@ -464,6 +464,70 @@ pub fn leg_states<'g>(
         .collect()
 }
 
+/// The [`super::Mechanics`] methods of a mechanism that implements [`Legs`], in its impl
+/// block: `J⁻¹` from the legs' rows, `J` and the inverse dynamics through the normal
+/// equations, the rates, accelerations and the legs' wrench from the derivation.
+macro_rules! legged_mechanics {
+    () => {
+        fn inverse_jacobian<'g>(
+            &self,
+            posed: &$crate::model::geometry::Posed<'g>,
+        ) -> $crate::linalg::Mat6<'g> {
+            $crate::model::legged::rows_at(self, posed).m
+        }
+
+        fn jacobian<'g>(
+            &self,
+            posed: &$crate::model::geometry::Posed<'g>,
+        ) -> $crate::linalg::Mat6<'g> {
+            $crate::model::legged::jacobian(&$crate::model::legged::rows_at(self, posed))
+        }
+
+        fn joint_velocities<'g>(
+            &self,
+            posed: &$crate::model::geometry::Posed<'g>,
+            twist: &$crate::linalg::Vec6<'g>,
+        ) -> $crate::linalg::Vec6<'g> {
+            self.inverse_jacobian(posed) * *twist
+        }
+
+        fn joint_accelerations<'g>(
+            &self,
+            posed: &$crate::model::geometry::Posed<'g>,
+            motion: &$crate::model::geometry::Motion<'g>,
+        ) -> $crate::linalg::Vec6<'g> {
+            let legs = $crate::model::legged::states_at(self, posed, motion, None);
+            $crate::linalg::Vector::from_fn(|i| legs[i].qdd)
+        }
+
+        fn leg_wrench<'g>(
+            &self,
+            dynamics: &$crate::model::bodies::Dynamics<'g>,
+            posed: &$crate::model::geometry::Posed<'g>,
+            motion: &$crate::model::geometry::Motion<'g>,
+        ) -> $crate::linalg::Vec6<'g> {
+            $crate::model::legged::leg_wrench(&$crate::model::legged::states_at(
+                self,
+                posed,
+                motion,
+                Some(dynamics),
+            ))
+        }
+
+        fn inverse_dynamics<'g>(
+            &self,
+            dynamics: &$crate::model::bodies::Dynamics<'g>,
+            posed: &$crate::model::geometry::Posed<'g>,
+            motion: &$crate::model::geometry::Motion<'g>,
+        ) -> $crate::linalg::Vec6<'g> {
+            let wrench = self.task_wrench(dynamics, posed, motion);
+            let rows = $crate::model::legged::rows_at(self, posed);
+            $crate::model::legged::solve_transposed(&rows, &wrench)
+        }
+    };
+}
+pub(crate) use legged_mechanics;
+
 /// A mechanism whose platform rides on six legs of known types: the legs, from its geometric
 /// parameters and (for the dynamics) its bodies' parameters.
 pub trait Legs: Sync {

@@ -1,0 +1,198 @@
+//! What the runtime's legged mechanisms (the Gough-Stewart platform, the rotary hexapod) share
+//! beyond their kernels: the forward kinematics' Newton iteration, the platform's motion from
+//! the actuators' (`V = J q̇`, `(ω̇; a_C) = J (q̈ - b)`), the joint-space forces and inertia,
+//! and `eval`'s evaluation; written once over [`Legged`], which each mechanism implements with
+//! its own kernels.
+
+use crate::error::Error;
+use crate::{dense, finite, finite_matrix, Acceleration, Evaluation, Pose, State, Twist};
+
+/// The forward kinematics' tolerance: the largest residual of an actuator position (m or rad).
+pub const FORWARD_TOLERANCE: f64 = 1e-12;
+
+/// The most Newton steps the forward kinematics takes.
+pub const FORWARD_ITERATIONS: usize = 50;
+
+/// Smallest pivot ratio `ρ` of the legs' hold (the `LDLᵀ` of the solve with `J⁻ᵀ`, each pivot
+/// over its diagonal entry) at which the platform's twist and acceleration are served from the
+/// actuators' rates and accelerations: `V = J q̇` and `(ω̇; a_C) = J (q̈ - b)` apply `J`, ill
+/// conditioned near the parallel singularity. Against a 50-digit reference of the
+/// Gough-Stewart platform the acceleration errs by up to about `1.7e-15/ρ^1.5` relative (6.4e-9
+/// at `ρ = 1.8e-5`, 7e-11 at `4e-4`); below this bound, with nonzero rates or accelerations,
+/// the call is refused ([`Error::IllConditioned`]). The pose alone, the joint-space forces and
+/// the inertia stay accurate and are served down to the mechanism's hold tolerance.
+pub const JOINT_STATE_HOLD_TOLERANCE: f64 = 1e-3;
+
+/// A mechanism whose platform rides on legs, through its kernels: what the shared methods
+/// below are written over.
+pub(crate) trait Legged {
+    /// The names of the legs' hold's six pivot ratios, as errors report them.
+    const PIVOTS: [&'static str; 6];
+    /// The pose of the actuator positions `q` (found from `near`, or the mechanism's start)
+    /// and the six pivot ratios of the legs' hold there, the pose refused where singular.
+    fn located(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<(Pose, [f64; 6]), Error>;
+    fn actuators(&self, pose: &Pose) -> Result<[f64; 6], Error>;
+    fn rates(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error>;
+    fn accelerations(&self, state: &State) -> Result<[f64; 6], Error>;
+    fn forces(&self, state: &State) -> Result<[f64; 6], Error>;
+    fn inverse(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error>;
+    fn jacobian_at(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error>;
+    fn inertia_at(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error>;
+}
+
+/// Newton's method from `x` on the residual and Jacobian `step` gives at a pose (a generated
+/// forward-kinematics step), each step halved until it reduces the largest residual, to
+/// [`FORWARD_TOLERANCE`] within [`FORWARD_ITERATIONS`] steps.
+///
+/// # Errors
+/// The step's errors; [`Error::NotConverged`] when the steps stop reducing the residual;
+/// [`Error::Singularity`] when the Jacobian is singular.
+pub(crate) fn newton(
+    step: impl Fn(&[f64; 6]) -> Result<([f64; 6], [[f64; 6]; 6]), Error>,
+    mut x: [f64; 6],
+) -> Result<[f64; 6], Error> {
+    let (mut residual, mut jac) = step(&x)?;
+    for _ in 0..FORWARD_ITERATIONS {
+        let size = dense::max_abs(&residual);
+        if size <= FORWARD_TOLERANCE {
+            return Ok(x);
+        }
+        let delta = dense::solve(&jac, &residual, 1e-13).ok_or(Error::Singularity {
+            term: "forward kinematics' Jacobian",
+            value: 0.0,
+            bound: 1e-13,
+        })?;
+        let mut scale = 1.0;
+        loop {
+            let trial: [f64; 6] = core::array::from_fn(|k| x[k] + scale * delta[k]);
+            match step(&trial) {
+                Ok((r, j)) if dense::max_abs(&r) < size => {
+                    (x, residual, jac) = (trial, r, j);
+                    break;
+                }
+                _ if scale > 1e-3 => scale *= 0.5,
+                _ => {
+                    return Err(Error::NotConverged {
+                        what: "forward kinematics",
+                        residual: size,
+                    })
+                }
+            }
+        }
+    }
+    Err(Error::NotConverged {
+        what: "forward kinematics",
+        residual: dense::max_abs(&residual),
+    })
+}
+
+/// Refuses the first of `terms` (named by `names`) below `bound`, where `what` cannot be
+/// served to its accuracy bound though the pose is not singular.
+pub(crate) fn check_conditioned(
+    what: &'static str,
+    terms: &[f64],
+    names: &[&'static str],
+    bound: f64,
+) -> Result<(), Error> {
+    match terms.iter().position(|&value| value < bound) {
+        Some(k) => Err(Error::IllConditioned {
+            what,
+            term: names[k],
+            value: terms[k],
+            bound,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// The platform state from the actuators' positions, rates and accelerations, refused with
+/// nonzero rates or accelerations where the legs' hold is below [`JOINT_STATE_HOLD_TOLERANCE`].
+pub(crate) fn joint_state<R: Legged>(
+    robot: &R,
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    qdd: &[f64; 6],
+    near: Option<&Pose>,
+) -> Result<State, Error> {
+    let (state, pivots) = platform_state(robot, q, qd, qdd, near)?;
+    // At rest the twist and acceleration are zero, exactly, wherever the pose is served.
+    if qd.iter().chain(qdd).any(|&x| x != 0.0) {
+        check_conditioned(
+            "platform motion from the actuators",
+            &pivots,
+            &R::PIVOTS,
+            JOINT_STATE_HOLD_TOLERANCE,
+        )?;
+    }
+    Ok(state)
+}
+
+/// [`joint_state`] without its bound on the motion (for the joint-space forces, which stay
+/// accurate down to the hold tolerance), and the pivots at its pose: the forward kinematics,
+/// `V = J q̇`, and `(ω̇; a_C) = J (q̈ - b)` with `b` the actuators' accelerations at zero
+/// platform acceleration.
+fn platform_state<R: Legged>(
+    robot: &R,
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    qdd: &[f64; 6],
+    near: Option<&Pose>,
+) -> Result<(State, [f64; 6]), Error> {
+    crate::check_finite("qd", qd)?;
+    crate::check_finite("qdd", qdd)?;
+    let (pose, pivots) = robot.located(q, near)?;
+    let jac = robot.jacobian_at(&pose)?;
+    let twist = Twist::from_array(dense::mul_vec(&jac, qd));
+    let at_rest = State {
+        pose,
+        twist,
+        accel: Acceleration::default(),
+    };
+    let bias = robot.accelerations(&at_rest)?;
+    let relative: [f64; 6] = core::array::from_fn(|i| qdd[i] - bias[i]);
+    let accel = dense::mul_vec(&jac, &relative);
+    let state = State {
+        pose,
+        twist,
+        accel: Acceleration::from_array(finite("acceleration", accel)?),
+    };
+    Ok((state, pivots))
+}
+
+/// The actuator forces from the actuators' motion: the inverse dynamics at the platform state
+/// of [`joint_state`], served down to the hold tolerance.
+pub(crate) fn inverse_dynamics_joint<R: Legged>(
+    robot: &R,
+    q: &[f64; 6],
+    qd: &[f64; 6],
+    qdd: &[f64; 6],
+    near: Option<&Pose>,
+) -> Result<[f64; 6], Error> {
+    robot.forces(&platform_state(robot, q, qd, qdd, near)?.0)
+}
+
+/// `M_q = Jᵀ M_x J` at the pose of the actuator positions `q`.
+pub(crate) fn joint_inertia<R: Legged>(
+    robot: &R,
+    q: &[f64; 6],
+    near: Option<&Pose>,
+) -> Result<[[f64; 6]; 6], Error> {
+    let (pose, _) = robot.located(q, near)?;
+    let (jac, m) = (robot.jacobian_at(&pose)?, robot.inertia_at(&pose)?);
+    finite_matrix(
+        "joint inertia",
+        dense::mul(&dense::transpose(&jac), &dense::mul(&m, &jac)),
+    )
+}
+
+/// Everything `eval` reports for one state.
+pub(crate) fn evaluate<R: Legged>(robot: &R, state: &State) -> Result<Evaluation, Error> {
+    Ok(Evaluation {
+        q: robot.actuators(&state.pose)?,
+        qd: robot.rates(&state.pose, &state.twist)?,
+        qdd: robot.accelerations(state)?,
+        gamma: robot.forces(state)?,
+        jinv: robot.inverse(&state.pose)?,
+        jacobian: robot.jacobian_at(&state.pose)?,
+    })
+}
