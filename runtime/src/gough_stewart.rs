@@ -12,7 +12,7 @@
 
 use crate::dense;
 use crate::error::Error;
-use crate::legged::{self, check_conditioned, newton, Legged};
+use crate::legged::{self, check_conditioned, newton};
 use crate::limits::Limit;
 use crate::{check_finite, finite, finite_matrix, Acceleration, Evaluation, Pose, State, Twist};
 use c5_generated::f64::gough_stewart as kernels;
@@ -233,116 +233,7 @@ impl GoughStewart {
         Pose::from_array(self.robot.home())
     }
 
-    /// The singularity terms at `pose`: each U joint's sine (of the leg's angle with the
-    /// joint's first axis), then the six pivot ratios of the solve with `J⁻ᵀ` (in `(0, 1]`, one
-    /// at legs meeting the platform at right angles, zero at a parallel singularity).
-    ///
-    /// # Errors
-    /// A non-finite pose.
-    pub fn singularity_terms(&self, pose: &Pose) -> Result<[f64; 12], Error> {
-        let x = pose.to_array();
-        check_finite("pose", &x)?;
-        Ok(kernels::singularity_terms_params(&x, &self.params))
-    }
-
-    /// The actuator positions `q_i = |B_i - A_i| + o_i` (m) and the vectors from each leg's S
-    /// joint `B_i` to `C` (m, base frame).
-    ///
-    /// # Errors
-    /// A non-finite pose, or a U joint at its singularity.
-    pub fn inverse_kinematics(&self, pose: &Pose) -> Result<([f64; 6], [[f64; 3]; 6]), Error> {
-        let x = pose.to_array();
-        check_finite("pose", &x)?;
-        let (q, p, guard) = kernels::inverse_kinematics_params(&x, &self.params);
-        check_terms(&guard)?;
-        Ok((finite("q", q)?, finite_matrix("p", p)?))
-    }
-
-    /// `J⁻¹`: row `i` is leg `i`'s `[(R p_i × u_i)ᵀ u_iᵀ]`, columns `ωx ωy ωz vx vy vz`.
-    ///
-    /// # Errors
-    /// A non-finite pose, or a U joint at its singularity.
-    pub fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        let x = pose.to_array();
-        check_finite("pose", &x)?;
-        let (jinv, guard) = kernels::inverse_jacobian_pose_params(&x, &self.params);
-        check_terms(&guard)?;
-        finite_matrix("jinv", jinv)
-    }
-
-    /// `J = (J⁻¹)⁻¹`, rows `ωx … vz`, column `i` for leg `i`.
-    ///
-    /// # Errors
-    /// A non-finite pose, or a singular one.
-    pub fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        let x = pose.to_array();
-        check_finite("pose", &x)?;
-        let (jac, guard) = kernels::jacobian_pose_params(&x, &self.params);
-        check_terms(&guard)?;
-        finite_matrix("jacobian", jac)
-    }
-
-    /// `q̇ = J⁻¹ V` (m/s).
-    ///
-    /// # Errors
-    /// Non-finite inputs, or a U joint at its singularity.
-    pub fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-        let (x, v) = (pose.to_array(), twist.to_array());
-        check_finite("pose", &x)?;
-        check_finite("twist", &v)?;
-        let (qd, guard) = kernels::joint_velocities_params(&x, &v, &self.params);
-        check_terms(&guard)?;
-        finite("qd", qd)
-    }
-
-    /// `q̈` (m/s²), the second derivative of the legs' lengths.
-    ///
-    /// # Errors
-    /// Non-finite inputs, or a U joint at its singularity.
-    pub fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
-        let [x, v, a] = crate::C5::checked_motion(state)?;
-        let (qdd, guard) = kernels::joint_accelerations_params(&x, &v, &a, &self.params);
-        check_terms(&guard)?;
-        finite("qdd", qdd)
-    }
-
-    /// The actuator forces `Γ` (N) for the platform to follow `state`: the platform's and the
-    /// legs' bodies' Newton-Euler equations (the legs turning in their U joints, spin
-    /// included), by virtual work.
-    ///
-    /// # Errors
-    /// Non-finite inputs, or a singular pose.
-    pub fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
-        let [x, v, a] = crate::C5::checked_motion(state)?;
-        let (gamma, guard) = kernels::inverse_dynamics_params(&x, &v, &a, &self.params);
-        check_terms(&guard)?;
-        finite("gamma", gamma)
-    }
-
-    /// `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`, symmetric positive definite.
-    ///
-    /// # Errors
-    /// A non-finite pose, or a U joint at its singularity.
-    pub fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        let x = pose.to_array();
-        check_finite("pose", &x)?;
-        let (m, guard) = kernels::task_inertia_params(&x, &self.params);
-        check_terms(&guard)?;
-        finite_matrix("task inertia", m)
-    }
-
-    /// `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal and gravity terms at `C`.
-    ///
-    /// # Errors
-    /// Non-finite inputs, or a U joint at its singularity.
-    pub fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-        let (x, v) = (pose.to_array(), twist.to_array());
-        check_finite("pose", &x)?;
-        check_finite("twist", &v)?;
-        let (h, guard) = kernels::task_bias_params(&x, &v, &self.params);
-        check_terms(&guard)?;
-        finite("task bias", h)
-    }
+    legged::kernel_calls!(12);
 
     /// The forward dynamics: the platform's classical acceleration `(ω̇; a_C)` under the
     /// actuator forces `gamma` (N).
@@ -475,98 +366,7 @@ impl GoughStewart {
         }
     }
 
-    /// The platform state from the actuators' positions, rates and accelerations: the forward
-    /// kinematics (from `near`, as [`GoughStewart::forward_kinematics`]), `V = J q̇`, and
-    /// `(ω̇; a_C) = J (q̈ - b)` with `b` the actuators' accelerations at zero platform
-    /// acceleration.
-    ///
-    /// # Errors
-    /// As [`GoughStewart::forward_kinematics`], a singular pose, or
-    /// [`Error::IllConditioned`] for nonzero rates or accelerations where the legs' hold is
-    /// below [`JOINT_STATE_HOLD_TOLERANCE`].
-    pub fn joint_state(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        qdd: &[f64; 6],
-        near: Option<&Pose>,
-    ) -> Result<State, Error> {
-        legged::joint_state(self, q, qd, qdd, near)
-    }
-
-    /// The actuator forces from the actuators' motion: the inverse dynamics at the platform
-    /// state of [`GoughStewart::joint_state`], served down to [`HOLD_TOLERANCE`] (the forces
-    /// stay accurate where the platform's acceleration does not).
-    ///
-    /// # Errors
-    /// As [`GoughStewart::forward_kinematics`], or a singular pose.
-    pub fn inverse_dynamics_joint(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        qdd: &[f64; 6],
-        near: Option<&Pose>,
-    ) -> Result<[f64; 6], Error> {
-        legged::inverse_dynamics_joint(self, q, qd, qdd, near)
-    }
-
-    /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia `Jᵀ M_x J` (kg), at the pose of the
-    /// actuator positions `q` (found from `near`).
-    ///
-    /// # Errors
-    /// As [`GoughStewart::forward_kinematics`], or a singular pose.
-    pub fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
-        legged::joint_inertia(self, q, near)
-    }
-
-    /// `c_q` of `Γ = M_q q̈ + c_q`: the forces at zero actuator acceleration (N).
-    ///
-    /// # Errors
-    /// As [`GoughStewart::joint_state`].
-    pub fn joint_bias(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        near: Option<&Pose>,
-    ) -> Result<[f64; 6], Error> {
-        self.inverse_dynamics_joint(q, qd, &[0.0; 6], near)
-    }
-
-    /// Everything `eval` reports for one state.
-    ///
-    /// # Errors
-    /// Non-finite inputs or a singular pose.
-    pub fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
-        legged::evaluate(self, state)
-    }
+    legged::joint_space_methods!();
 }
 
-impl Legged for GoughStewart {
-    const PIVOTS: [&'static str; 6] =
-        [TERMS[6], TERMS[7], TERMS[8], TERMS[9], TERMS[10], TERMS[11]];
-    fn located(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<(Pose, [f64; 6]), Error> {
-        let (pose, terms) = GoughStewart::located(self, q, near)?;
-        Ok((pose, core::array::from_fn(|k| terms[6 + k])))
-    }
-    fn actuators(&self, pose: &Pose) -> Result<[f64; 6], Error> {
-        Ok(self.inverse_kinematics(pose)?.0)
-    }
-    fn rates(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-        self.joint_velocities(pose, twist)
-    }
-    fn accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
-        self.joint_accelerations(state)
-    }
-    fn forces(&self, state: &State) -> Result<[f64; 6], Error> {
-        self.inverse_dynamics(state)
-    }
-    fn inverse(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        self.inverse_jacobian(pose)
-    }
-    fn jacobian_at(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        self.jacobian(pose)
-    }
-    fn inertia_at(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        self.task_inertia(pose)
-    }
-}
+legged::legged_impl!(GoughStewart, 6);

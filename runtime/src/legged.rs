@@ -196,3 +196,247 @@ pub(crate) fn evaluate<R: Legged>(robot: &R, state: &State) -> Result<Evaluation
         jacobian: robot.jacobian_at(&state.pose)?,
     })
 }
+
+/// The checked calls of a legged mechanism's kernels (`kernels::*_params`, the type's `params`),
+/// in its impl block: each checks its inputs are finite, calls the kernel, refuses the pose
+/// where the kernel's singularity terms say so (the module's `check_terms`), and its results
+/// are finite. Quantities are in the mechanism's units (its module's documentation): the
+/// actuators' positions in m or rad, their forces in N or N·m. `$terms` is the length of the
+/// singularity terms.
+macro_rules! kernel_calls {
+    ($terms:literal) => {
+        /// The singularity terms at `pose` (the kernel `singularity_terms`): the joints' terms,
+        /// then the six pivot ratios of the solve with `J⁻ᵀ` (in `(0, 1]`, zero at a parallel
+        /// singularity).
+        ///
+        /// # Errors
+        /// A non-finite pose.
+        pub fn singularity_terms(&self, pose: &Pose) -> Result<[f64; $terms], Error> {
+            let x = pose.to_array();
+            check_finite("pose", &x)?;
+            Ok(kernels::singularity_terms_params(&x, &self.params))
+        }
+
+        /// The actuator positions `q` and the vectors from each leg's platform joint `B_i` to
+        /// `C` (m, base frame).
+        ///
+        /// # Errors
+        /// A non-finite or singular pose.
+        pub fn inverse_kinematics(&self, pose: &Pose) -> Result<([f64; 6], [[f64; 3]; 6]), Error> {
+            let x = pose.to_array();
+            check_finite("pose", &x)?;
+            let (q, p, guard) = kernels::inverse_kinematics_params(&x, &self.params);
+            check_terms(&guard)?;
+            Ok((finite("q", q)?, finite_matrix("p", p)?))
+        }
+
+        /// `J⁻¹` (`q̇ = J⁻¹ V`), row `i` for actuator `i`, columns `ωx ωy ωz vx vy vz`.
+        ///
+        /// # Errors
+        /// A non-finite or singular pose.
+        pub fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+            let x = pose.to_array();
+            check_finite("pose", &x)?;
+            let (jinv, guard) = kernels::inverse_jacobian_pose_params(&x, &self.params);
+            check_terms(&guard)?;
+            finite_matrix("jinv", jinv)
+        }
+
+        /// `J = (J⁻¹)⁻¹`, rows `ωx … vz`, column `i` for actuator `i`.
+        ///
+        /// # Errors
+        /// A non-finite or singular pose.
+        pub fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+            let x = pose.to_array();
+            check_finite("pose", &x)?;
+            let (jac, guard) = kernels::jacobian_pose_params(&x, &self.params);
+            check_terms(&guard)?;
+            finite_matrix("jacobian", jac)
+        }
+
+        /// `q̇ = J⁻¹ V`.
+        ///
+        /// # Errors
+        /// Non-finite inputs, or a singular pose.
+        pub fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+            let (x, v) = (pose.to_array(), twist.to_array());
+            check_finite("pose", &x)?;
+            check_finite("twist", &v)?;
+            let (qd, guard) = kernels::joint_velocities_params(&x, &v, &self.params);
+            check_terms(&guard)?;
+            finite("qd", qd)
+        }
+
+        /// `q̈`, the actuator positions' second derivatives along the platform's motion.
+        ///
+        /// # Errors
+        /// Non-finite inputs, or a singular pose.
+        pub fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
+            let [x, v, a] = crate::C5::checked_motion(state)?;
+            let (qdd, guard) = kernels::joint_accelerations_params(&x, &v, &a, &self.params);
+            check_terms(&guard)?;
+            finite("qdd", qdd)
+        }
+
+        /// The actuator forces `Γ` for the platform to follow `state`: the platform's and the
+        /// legs' bodies' Newton-Euler equations, by virtual work.
+        ///
+        /// # Errors
+        /// Non-finite inputs, or a singular pose.
+        pub fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
+            let [x, v, a] = crate::C5::checked_motion(state)?;
+            let (gamma, guard) = kernels::inverse_dynamics_params(&x, &v, &a, &self.params);
+            check_terms(&guard)?;
+            finite("gamma", gamma)
+        }
+
+        /// `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`, symmetric positive definite.
+        ///
+        /// # Errors
+        /// A non-finite or singular pose.
+        pub fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+            let x = pose.to_array();
+            check_finite("pose", &x)?;
+            let (m, guard) = kernels::task_inertia_params(&x, &self.params);
+            check_terms(&guard)?;
+            finite_matrix("task inertia", m)
+        }
+
+        /// `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal and gravity terms at
+        /// `C`.
+        ///
+        /// # Errors
+        /// Non-finite inputs, or a singular pose.
+        pub fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+            let (x, v) = (pose.to_array(), twist.to_array());
+            check_finite("pose", &x)?;
+            check_finite("twist", &v)?;
+            let (h, guard) = kernels::task_bias_params(&x, &v, &self.params);
+            check_terms(&guard)?;
+            finite("task bias", h)
+        }
+    };
+}
+pub(crate) use kernel_calls;
+
+/// The [`Legged`] implementation of a legged mechanism's runtime type through its inherent
+/// methods; the six pivot ratios are its singularity terms from `$pivots` on.
+macro_rules! legged_impl {
+    ($robot:ty, $pivots:literal) => {
+        impl $crate::legged::Legged for $robot {
+            const PIVOTS: [&'static str; 6] = [
+                TERMS[$pivots],
+                TERMS[$pivots + 1],
+                TERMS[$pivots + 2],
+                TERMS[$pivots + 3],
+                TERMS[$pivots + 4],
+                TERMS[$pivots + 5],
+            ];
+            fn located(
+                &self,
+                q: &[f64; 6],
+                near: Option<&Pose>,
+            ) -> Result<(Pose, [f64; 6]), Error> {
+                let (pose, terms) = <$robot>::located(self, q, near)?;
+                Ok((pose, core::array::from_fn(|k| terms[$pivots + k])))
+            }
+            fn actuators(&self, pose: &Pose) -> Result<[f64; 6], Error> {
+                Ok(self.inverse_kinematics(pose)?.0)
+            }
+            fn rates(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+                self.joint_velocities(pose, twist)
+            }
+            fn accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
+                self.joint_accelerations(state)
+            }
+            fn forces(&self, state: &State) -> Result<[f64; 6], Error> {
+                self.inverse_dynamics(state)
+            }
+            fn inverse(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+                self.inverse_jacobian(pose)
+            }
+            fn jacobian_at(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+                self.jacobian(pose)
+            }
+            fn inertia_at(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+                self.task_inertia(pose)
+            }
+        }
+    };
+}
+pub(crate) use legged_impl;
+
+/// The joint-space methods and `evaluate` of a legged mechanism's runtime type (through the
+/// functions above), in its impl block.
+macro_rules! joint_space_methods {
+    () => {
+        /// The platform state from the actuators' positions, rates and accelerations: the
+        /// forward kinematics (from `near`), `V = J q̇`, and `(ω̇; a_C) = J (q̈ - b)` with `b`
+        /// the actuators' accelerations at zero platform acceleration.
+        ///
+        /// # Errors
+        /// As the forward kinematics, a singular pose, or [`Error::IllConditioned`] for
+        /// nonzero rates or accelerations where the legs' hold is below
+        /// [`crate::gough_stewart::JOINT_STATE_HOLD_TOLERANCE`].
+        pub fn joint_state(
+            &self,
+            q: &[f64; 6],
+            qd: &[f64; 6],
+            qdd: &[f64; 6],
+            near: Option<&Pose>,
+        ) -> Result<State, Error> {
+            legged::joint_state(self, q, qd, qdd, near)
+        }
+
+        /// The actuator forces from the actuators' motion: the inverse dynamics at the
+        /// platform state of `joint_state`, served down to the legs' hold tolerance (the
+        /// forces stay accurate where the platform's acceleration does not).
+        ///
+        /// # Errors
+        /// As the forward kinematics, or a singular pose.
+        pub fn inverse_dynamics_joint(
+            &self,
+            q: &[f64; 6],
+            qd: &[f64; 6],
+            qdd: &[f64; 6],
+            near: Option<&Pose>,
+        ) -> Result<[f64; 6], Error> {
+            legged::inverse_dynamics_joint(self, q, qd, qdd, near)
+        }
+
+        /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia `Jᵀ M_x J`, at the pose of the
+        /// actuator positions `q` (found from `near`).
+        ///
+        /// # Errors
+        /// As the forward kinematics, or a singular pose.
+        pub fn joint_inertia(
+            &self,
+            q: &[f64; 6],
+            near: Option<&Pose>,
+        ) -> Result<[[f64; 6]; 6], Error> {
+            legged::joint_inertia(self, q, near)
+        }
+
+        /// `c_q` of `Γ = M_q q̈ + c_q`: the forces at zero actuator acceleration.
+        ///
+        /// # Errors
+        /// As `joint_state`.
+        pub fn joint_bias(
+            &self,
+            q: &[f64; 6],
+            qd: &[f64; 6],
+            near: Option<&Pose>,
+        ) -> Result<[f64; 6], Error> {
+            self.inverse_dynamics_joint(q, qd, &[0.0; 6], near)
+        }
+
+        /// Everything `eval` reports for one state.
+        ///
+        /// # Errors
+        /// Non-finite inputs or a singular pose.
+        pub fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
+            legged::evaluate(self, state)
+        }
+    };
+}
+pub(crate) use joint_space_methods;

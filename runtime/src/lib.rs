@@ -48,7 +48,7 @@ pub mod error;
 pub mod gough_stewart;
 #[cfg(feature = "identify")]
 pub mod identify;
-pub mod legged;
+mod legged;
 pub mod limits;
 mod math;
 pub mod mechanism;

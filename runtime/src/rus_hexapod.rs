@@ -13,7 +13,7 @@
 
 use crate::error::Error;
 use crate::gough_stewart::{FORWARD_U_JOINT_TOLERANCE, HOLD_TOLERANCE, U_JOINT_TOLERANCE};
-use crate::legged::{self, check_conditioned, newton, Legged};
+use crate::legged::{self, check_conditioned, newton};
 use crate::{check_finite, finite, finite_matrix, Acceleration, Evaluation, Pose, State, Twist};
 use c5_generated::f64::rus_hexapod as kernels;
 pub use c5_robot::RusHexapod as Description;
@@ -130,114 +130,7 @@ impl RusHexapod {
         Pose::from_array(self.home)
     }
 
-    /// The singularity terms at `pose`: each U joint's sine, each crank's `1 - (K/ρ)²`, then
-    /// the six pivot ratios of the solve with `J⁻ᵀ`.
-    ///
-    /// # Errors
-    /// A non-finite pose.
-    pub fn singularity_terms(&self, pose: &Pose) -> Result<[f64; 18], Error> {
-        let x = pose.to_array();
-        check_finite("pose", &x)?;
-        Ok(kernels::singularity_terms_params(&x, &self.params))
-    }
-
-    /// The actuator positions `q_i = θ_i + o_i` (rad) and the vectors from each leg's ball
-    /// `B_i` to `C` (m, base frame).
-    ///
-    /// # Errors
-    /// A non-finite pose, a ball beyond reach, or a singular pose.
-    pub fn inverse_kinematics(&self, pose: &Pose) -> Result<([f64; 6], [[f64; 3]; 6]), Error> {
-        let x = pose.to_array();
-        check_finite("pose", &x)?;
-        let (q, p, guard) = kernels::inverse_kinematics_params(&x, &self.params);
-        check_terms(&guard)?;
-        Ok((finite("q", q)?, finite_matrix("p", p)?))
-    }
-
-    /// `J⁻¹` (`q̇ = J⁻¹ V`), row `i` for leg `i`, columns `ωx ωy ωz vx vy vz`.
-    ///
-    /// # Errors
-    /// A non-finite or singular pose.
-    pub fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        let x = pose.to_array();
-        check_finite("pose", &x)?;
-        let (jinv, guard) = kernels::inverse_jacobian_pose_params(&x, &self.params);
-        check_terms(&guard)?;
-        finite_matrix("jinv", jinv)
-    }
-
-    /// `J = (J⁻¹)⁻¹`, rows `ωx … vz`, column `i` for leg `i`.
-    ///
-    /// # Errors
-    /// A non-finite or singular pose.
-    pub fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        let x = pose.to_array();
-        check_finite("pose", &x)?;
-        let (jac, guard) = kernels::jacobian_pose_params(&x, &self.params);
-        check_terms(&guard)?;
-        finite_matrix("jacobian", jac)
-    }
-
-    /// `q̇ = J⁻¹ V` (rad/s).
-    ///
-    /// # Errors
-    /// Non-finite inputs, or a singular pose.
-    pub fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-        let (x, v) = (pose.to_array(), twist.to_array());
-        check_finite("pose", &x)?;
-        check_finite("twist", &v)?;
-        let (qd, guard) = kernels::joint_velocities_params(&x, &v, &self.params);
-        check_terms(&guard)?;
-        finite("qd", qd)
-    }
-
-    /// `q̈` (rad/s²), the crank angles' second derivatives.
-    ///
-    /// # Errors
-    /// Non-finite inputs, or a singular pose.
-    pub fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
-        let [x, v, a] = crate::C5::checked_motion(state)?;
-        let (qdd, guard) = kernels::joint_accelerations_params(&x, &v, &a, &self.params);
-        check_terms(&guard)?;
-        finite("qdd", qdd)
-    }
-
-    /// The motor torques `Γ` (N·m) for the platform to follow `state`: the platform's, the
-    /// cranks' and the rods' Newton-Euler equations, by virtual work.
-    ///
-    /// # Errors
-    /// Non-finite inputs, or a singular pose.
-    pub fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
-        let [x, v, a] = crate::C5::checked_motion(state)?;
-        let (gamma, guard) = kernels::inverse_dynamics_params(&x, &v, &a, &self.params);
-        check_terms(&guard)?;
-        finite("gamma", gamma)
-    }
-
-    /// `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`.
-    ///
-    /// # Errors
-    /// A non-finite or singular pose.
-    pub fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        let x = pose.to_array();
-        check_finite("pose", &x)?;
-        let (m, guard) = kernels::task_inertia_params(&x, &self.params);
-        check_terms(&guard)?;
-        finite_matrix("task inertia", m)
-    }
-
-    /// `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`.
-    ///
-    /// # Errors
-    /// Non-finite inputs, or a singular pose.
-    pub fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-        let (x, v) = (pose.to_array(), twist.to_array());
-        check_finite("pose", &x)?;
-        check_finite("twist", &v)?;
-        let (h, guard) = kernels::task_bias_params(&x, &v, &self.params);
-        check_terms(&guard)?;
-        finite("task bias", h)
-    }
+    legged::kernel_calls!(18);
 
     /// The forward dynamics: the platform's classical acceleration under the motor torques
     /// `gamma` (N·m).
@@ -299,95 +192,7 @@ impl RusHexapod {
         Ok((Pose::from_array(x), terms))
     }
 
-    /// The platform state from the actuators' positions, rates and accelerations: the forward
-    /// kinematics, `V = J q̇`, and `(ω̇; a_C) = J (q̈ - b)` with `b` the actuators'
-    /// accelerations at zero platform acceleration.
-    ///
-    /// # Errors
-    /// As [`RusHexapod::forward_kinematics`], a singular pose, or [`Error::IllConditioned`]
-    /// for nonzero rates or accelerations where the legs' hold is below
-    /// [`legged::JOINT_STATE_HOLD_TOLERANCE`].
-    pub fn joint_state(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        qdd: &[f64; 6],
-        near: Option<&Pose>,
-    ) -> Result<State, Error> {
-        legged::joint_state(self, q, qd, qdd, near)
-    }
-
-    /// The motor torques from the actuators' motion.
-    ///
-    /// # Errors
-    /// As [`RusHexapod::forward_kinematics`], or a singular pose.
-    pub fn inverse_dynamics_joint(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        qdd: &[f64; 6],
-        near: Option<&Pose>,
-    ) -> Result<[f64; 6], Error> {
-        legged::inverse_dynamics_joint(self, q, qd, qdd, near)
-    }
-
-    /// `M_q = Jᵀ M_x J` (kg·m²) at the pose of the actuator positions `q`.
-    ///
-    /// # Errors
-    /// As [`RusHexapod::forward_kinematics`], or a singular pose.
-    pub fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
-        legged::joint_inertia(self, q, near)
-    }
-
-    /// `c_q` of `Γ = M_q q̈ + c_q` (N·m).
-    ///
-    /// # Errors
-    /// As [`RusHexapod::joint_state`].
-    pub fn joint_bias(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        near: Option<&Pose>,
-    ) -> Result<[f64; 6], Error> {
-        self.inverse_dynamics_joint(q, qd, &[0.0; 6], near)
-    }
-
-    /// Everything `eval` reports for one state.
-    ///
-    /// # Errors
-    /// Non-finite inputs or a singular pose.
-    pub fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
-        legged::evaluate(self, state)
-    }
+    legged::joint_space_methods!();
 }
 
-impl Legged for RusHexapod {
-    const PIVOTS: [&'static str; 6] = [
-        TERMS[12], TERMS[13], TERMS[14], TERMS[15], TERMS[16], TERMS[17],
-    ];
-    fn located(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<(Pose, [f64; 6]), Error> {
-        let (pose, terms) = RusHexapod::located(self, q, near)?;
-        Ok((pose, core::array::from_fn(|k| terms[12 + k])))
-    }
-    fn actuators(&self, pose: &Pose) -> Result<[f64; 6], Error> {
-        Ok(self.inverse_kinematics(pose)?.0)
-    }
-    fn rates(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-        self.joint_velocities(pose, twist)
-    }
-    fn accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
-        self.joint_accelerations(state)
-    }
-    fn forces(&self, state: &State) -> Result<[f64; 6], Error> {
-        self.inverse_dynamics(state)
-    }
-    fn inverse(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        self.inverse_jacobian(pose)
-    }
-    fn jacobian_at(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        self.jacobian(pose)
-    }
-    fn inertia_at(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        self.task_inertia(pose)
-    }
-}
+legged::legged_impl!(RusHexapod, 12);

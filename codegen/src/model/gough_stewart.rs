@@ -245,22 +245,7 @@ impl Structure for GoughStewartStructure {
     }
 
     fn has_kernel(&self, kernel: Kernel) -> bool {
-        // The C5's closed forms (its forward kinematics and what reads actuator positions, its
-        // plates' limits) and its divisors; this mechanism has its own singularity terms.
-        !matches!(
-            kernel,
-            Kernel::SingularityTerms
-                | Kernel::ForwardKinematics
-                | Kernel::RpyAngles
-                | Kernel::PlatformTwist
-                | Kernel::PlatformAcceleration
-                | Kernel::PlatformState
-                | Kernel::InverseDynamicsJoint
-                | Kernel::JointInertia
-                | Kernel::JointBias
-                | Kernel::LimitGeometry
-                | Kernel::InverseDynamicsJointDerivatives
-        )
+        !legged::LACKS.contains(&kernel)
     }
 
     fn home(&self, parameters: &[f64]) -> [f64; 6] {

@@ -251,22 +251,7 @@ impl Structure for RusHexapodMechanics {
     }
 
     fn has_kernel(&self, kernel: Kernel) -> bool {
-        // As the Gough-Stewart platform: no closed-form forward kinematics, its own
-        // singularity terms.
-        !matches!(
-            kernel,
-            Kernel::SingularityTerms
-                | Kernel::ForwardKinematics
-                | Kernel::RpyAngles
-                | Kernel::PlatformTwist
-                | Kernel::PlatformAcceleration
-                | Kernel::PlatformState
-                | Kernel::InverseDynamicsJoint
-                | Kernel::JointInertia
-                | Kernel::JointBias
-                | Kernel::LimitGeometry
-                | Kernel::InverseDynamicsJointDerivatives
-        )
+        !legged::LACKS.contains(&kernel)
     }
 
     fn home(&self, parameters: &[f64]) -> [f64; 6] {

@@ -528,6 +528,23 @@ macro_rules! legged_mechanics {
 }
 pub(crate) use legged_mechanics;
 
+/// The kernels of the shared table a legged mechanism lacks: the C5's closed forms (its
+/// forward kinematics and what reads actuator positions, its plates' limits) and its divisors;
+/// a legged mechanism has its own singularity terms.
+pub const LACKS: &[super::Kernel] = &[
+    super::Kernel::SingularityTerms,
+    super::Kernel::ForwardKinematics,
+    super::Kernel::RpyAngles,
+    super::Kernel::PlatformTwist,
+    super::Kernel::PlatformAcceleration,
+    super::Kernel::PlatformState,
+    super::Kernel::InverseDynamicsJoint,
+    super::Kernel::JointInertia,
+    super::Kernel::JointBias,
+    super::Kernel::LimitGeometry,
+    super::Kernel::InverseDynamicsJointDerivatives,
+];
+
 /// A mechanism whose platform rides on six legs of known types: the legs, from its geometric
 /// parameters and (for the dynamics) its bodies' parameters.
 pub trait Legs: Sync {
