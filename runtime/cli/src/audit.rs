@@ -24,9 +24,34 @@ pub struct AuditArgs {
     robot: Option<PathBuf>,
 }
 
-/// robsynth's generated inverse dynamics of a 6-UPS in task space, parameters as inputs and the
-/// legs' joint angles given (`P6RRPRRR14V3G1A0_invdyn_para_pf_slag_vp1`): its published count.
-const ROBSYNTH_UPS: [u32; 4] = [2660, 12, 1664, 42];
+/// A peer's count of a mechanism's inverse dynamics with every parameter an input.
+struct Peer {
+    mechanism: &'static str,
+    /// What the mechanism is and what the peer's count covers.
+    what: &'static str,
+    mul: u32,
+    add: u32,
+}
+
+/// robsynth's generated inverse dynamics in task space, parameters as inputs: the 6-UPS's
+/// (`P6RRPRRR14V3G1A0_invdyn_para_pf_slag_vp1`, the legs' joint angles given; 12 divisions,
+/// 42 calls) and the 6-RUS's, their published counts (the mechanisms issue).
+const ROBSYNTH: [Peer; 2] = [
+    Peer {
+        mechanism: c5_runtime::gough_stewart::MECHANISM,
+        what: "The 6-UPS inverse dynamics with every parameter an input (inverse kinematics \
+               included; robsynth's with the joint angles given)",
+        mul: 2660,
+        add: 1664,
+    },
+    Peer {
+        mechanism: c5_runtime::rus_hexapod::MECHANISM,
+        what: "The 6-RUS inverse dynamics with every parameter an input (inverse kinematics \
+               included)",
+        mul: 43548,
+        add: 26665,
+    },
+];
 
 fn calls(c: &Count) -> String {
     if c.calls.is_empty() {
@@ -86,27 +111,28 @@ fn table_of(keep: &dyn Fn(&str) -> bool) -> String {
              the generated factored step 6 is `step6_factored`.\n",
         );
     }
-    let hexapod = c5_runtime::gough_stewart::MECHANISM;
-    if let (true, Some(e)) = (
-        keep(hexapod),
-        KERNELS
+    for peer in &ROBSYNTH {
+        let Some(e) = KERNELS
             .iter()
-            .find(|e| e.model == hexapod && e.name == "inverse_dynamics_params"),
-    ) {
-        let [mul, div, add, calls] = ROBSYNTH_UPS;
+            .find(|e| e.model == peer.mechanism && e.name == "inverse_dynamics_params")
+            .filter(|_| keep(peer.mechanism))
+        else {
+            continue;
+        };
         let c = &e.count;
         out.push_str(&format!(
-            "The 6-UPS inverse dynamics with every parameter an input (inverse kinematics included):\n\
-             generated `inverse_dynamics_params` {}/{}/{}/{} ({} calls), robsynth's \
-             {mul}/{div}/{add}/- ({calls} calls, joint angles given): {:.2} of its multiplications, \
-             {:.2} of its additions.\n",
+            "{}: generated `inverse_dynamics_params` {}/{}/{}/{} ({} calls), robsynth's {}m + \
+             {}a: {:.2} of its multiplications, {:.2} of its additions.\n",
+            peer.what,
             c.mul,
             c.div,
             c.add,
             c.neg,
             c.calls.iter().map(|(_, n)| n).sum::<u32>(),
-            f64::from(c.mul) / f64::from(mul),
-            f64::from(c.add) / f64::from(add),
+            peer.mul,
+            peer.add,
+            f64::from(c.mul) / f64::from(peer.mul),
+            f64::from(c.add) / f64::from(peer.add),
         ));
     }
     out

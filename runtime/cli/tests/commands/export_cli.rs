@@ -215,6 +215,13 @@ fn the_rotary_hexapod_is_served_by_eval_and_forward() {
         let a: Vec<f64> = serde_json::from_value(out[key].clone()).unwrap();
         assert!(a.iter().all(|x| x.abs() < 1e-9), "{key}: {a:?}");
     }
+    let audit = c5_ok(&["audit", "--robot", RUS_HEXAPOD], "");
+    let text = String::from_utf8_lossy(&audit.stdout);
+    assert!(
+        text.contains("rus-hexapod inverse_dynamics_params"),
+        "{text}"
+    );
+    assert!(text.contains("robsynth's 43548m + 26665a"), "{text}");
 }
 
 #[test]
