@@ -432,8 +432,9 @@ struct CheckedIn {
     extended: bool,
 }
 
-/// The mechanisms of the checked-in crate: the C5's two models with the chapter's robot, and
-/// the Gough-Stewart platform of `docs/hexapod.toml`.
+/// The mechanisms of the checked-in crate: the C5's two models with the chapter's robot, the
+/// Gough-Stewart platform of `docs/hexapod.toml` and the rotary hexapod of
+/// `docs/rus-hexapod.toml` (its `*_params` kernels alone, `f64`).
 fn checked_in_mechanisms() -> Vec<CheckedIn> {
     let c5 = Model::ALL.into_iter().map(|m| CheckedIn {
         mechanism: Mechanism::c5(&Robot::default(), m),
@@ -470,8 +471,8 @@ fn checked_in_robot(mechanism: &Mechanism) -> &'static str {
 }
 
 /// The kernels of the checked-in crate for one mechanism: the free-input ones (the paper
-/// model's chapter setting), the robot kernels with its description folded, and with every
-/// parameter an input (`*_params`).
+/// model's chapter setting), the robot kernels with its description folded (an extended
+/// mechanism's), and with every parameter an input (`*_params`).
 fn crate_kernels(checked_in: &CheckedIn) -> Result<Vec<Entry>, Error> {
     let mechanism = &checked_in.mechanism;
     let mut entries = model::kernels::chapter_specs(mechanism);
