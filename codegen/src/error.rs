@@ -27,20 +27,12 @@ pub enum Error {
     },
     /// The emitted tokens did not parse as Rust (a bug in the emitter).
     Emit { kernel: String, message: String },
-    /// The description's mechanism has no kernels yet (the Delta: its
-    /// robot files are read, checked and exported).
-    NoKernels { mechanism: &'static str },
 }
 
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Error::Robot(e) => write!(f, "{e}"),
-            Error::NoKernels { mechanism } => write!(
-                f,
-                "no kernels for the {mechanism} mechanism: its robot files are read, checked and \
-                 exported (docs/export.md), and its kernels are not generated yet"
-            ),
             Error::UnknownParameter { name } => write!(
                 f,
                 "unknown parameter `{name}` (the names are those of Robot::kernel_parameter_names, \

@@ -219,7 +219,7 @@ impl Config {
     /// The mechanism the configuration describes.
     fn mechanism(&self) -> Result<Mechanism, Error> {
         self.robot.validate()?;
-        Mechanism::of(&self.robot, self.model)
+        Ok(Mechanism::of(&self.robot, self.model))
     }
 
     /// The kernels, compiled and self-checked.
@@ -433,8 +433,9 @@ struct CheckedIn {
 }
 
 /// The mechanisms of the checked-in crate: the C5's two models with the chapter's robot, the
-/// Gough-Stewart platform of `docs/hexapod.toml` and the rotary hexapod of
-/// `docs/rus-hexapod.toml` (its `*_params` kernels alone, `f64`).
+/// Gough-Stewart platform of `docs/hexapod.toml`, the rotary hexapod of
+/// `docs/rus-hexapod.toml` and the Delta of `docs/delta.toml` (their `*_params` kernels alone,
+/// `f64`).
 fn checked_in_mechanisms() -> Vec<CheckedIn> {
     let c5 = Model::ALL.into_iter().map(|m| CheckedIn {
         mechanism: Mechanism::c5(&Robot::default(), m),
@@ -455,6 +456,12 @@ fn checked_in_mechanisms() -> Vec<CheckedIn> {
             complete: false,
             extended: false,
         },
+        CheckedIn {
+            mechanism: Mechanism::delta(&c5_robot::Delta::example()),
+            c5: false,
+            complete: false,
+            extended: false,
+        },
     ])
     .collect()
 }
@@ -465,6 +472,8 @@ fn checked_in_robot(mechanism: &Mechanism) -> &'static str {
         "the example of docs/hexapod.toml (GoughStewart::example())"
     } else if mechanism.name() == c5_robot::description::RUS_HEXAPOD {
         "the example of docs/rus-hexapod.toml (RusHexapod::example())"
+    } else if mechanism.name() == c5_robot::description::DELTA {
+        "the example of docs/delta.toml (Delta::example())"
     } else {
         "the chapter's (Robot::default())"
     }

@@ -1187,7 +1187,7 @@ impl C5 {
 
 /// The robot of the TOML file `robot` (any mechanism the project describes; the chapter's C5
 /// for `None`) as `"mjcf"` or `"urdf"` text, as `c5 export` writes it (docs/export.md): also
-/// for a mechanism whose kernels are not generated yet (the Delta).
+/// for the Delta, which `Robot` does not serve yet.
 #[pyfunction]
 #[pyo3(signature = (robot = None, format = "mjcf"))]
 fn export(robot: Option<std::path::PathBuf>, format: &str) -> PyResult<String> {

@@ -87,8 +87,9 @@ def pinocchio_motor_rates(engine, pose, twist):
 
 def pinocchio_torques(engine, pose, twist, accel):
     """The torques under which Pinocchio's platform has the classical acceleration `accel`."""
-    base = engine.forward(pose, twist, np.zeros(6))
-    columns = [engine.forward(pose, twist, np.eye(6)[k]) - base for k in range(6)]
+    n = len(accel)
+    base = engine.forward(pose, twist, np.zeros(n))
+    columns = [engine.forward(pose, twist, np.eye(n)[k]) - base for k in range(n)]
     return np.linalg.solve(np.column_stack(columns), accel - base)
 
 

@@ -40,6 +40,7 @@ mod batch;
 #[cfg(feature = "calibrate")]
 pub mod calibrate;
 pub mod control;
+pub mod delta;
 mod dense;
 #[cfg(feature = "derivatives")]
 pub mod derivatives;
@@ -65,6 +66,7 @@ pub mod types;
 pub mod workspace;
 
 pub use c5_robot::{Description, Limits, Model, Robot};
+pub use delta::Delta;
 pub use error::Error;
 pub use gough_stewart::GoughStewart;
 pub use limits::{Limit, LimitMargins};

@@ -284,7 +284,7 @@ impl Clone for Box<dyn ParallelRobot> {
 ///
 /// # Errors
 /// [`Error::Robot`] if the description breaks a rule of its mechanism; [`Error::Unsupported`]
-/// for a mechanism the project describes and exports but has no kernels for yet (the Delta).
+/// for the Delta, whose platform has three freedoms: [`crate::Delta`] serves it.
 pub fn robot(description: Description, model: Model) -> Result<Box<dyn ParallelRobot>, Error> {
     Ok(match description {
         Description::C5(r) => Box::new(C5::with_model(r, model)?),
@@ -292,10 +292,10 @@ pub fn robot(description: Description, model: Model) -> Result<Box<dyn ParallelR
         Description::RusHexapod(r) => Box::new(RusHexapod::new(r)?),
         Description::Delta(_) => {
             return Err(Error::Unsupported {
-                what: "kinematics or dynamics kernels",
+                what: "six-freedom platform",
                 mechanism: description.mechanism(),
-                why: "its robot files are read, checked and exported (`c5 export`, \
-                      docs/export.md), and its kernels are not generated yet",
+                why: "its platform only translates: `c5 eval`, `c5 forward` and \
+                      `c5_runtime::Delta` serve it, and this command takes six freedoms",
             })
         }
     })
@@ -303,7 +303,7 @@ pub fn robot(description: Description, model: Model) -> Result<Box<dyn ParallelR
 
 /// The robot of `description` in `format` for other tools (docs/export.md), after the checks
 /// [`robot`] makes, so that a file the commands refuse is refused here with the same message;
-/// a mechanism without kernels yet (the Delta) is exported on its description's checks.
+/// the Delta, which [`robot`] does not serve, is exported on its description's checks.
 ///
 /// # Errors
 /// As [`robot`] (but [`Error::Unsupported`] for a mechanism without kernels); the C5's paper

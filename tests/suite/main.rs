@@ -9,6 +9,7 @@ mod support;
 mod calibration;
 mod chapter_model;
 mod consistent_model;
+mod delta;
 mod derivatives;
 mod docs_examples;
 mod docs_figures;

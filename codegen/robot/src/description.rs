@@ -150,14 +150,13 @@ impl Description {
         }
     }
 
-    /// The parameter vector of the mechanism's `*_params` kernels; empty for a mechanism
-    /// whose kernels are not generated yet (the Delta).
+    /// The parameter vector of the mechanism's `*_params` kernels.
     pub fn kernel_parameters(&self) -> alloc::vec::Vec<f64> {
         match self {
             Description::C5(r) => r.kernel_parameters(),
             Description::GoughStewart(r) => r.kernel_parameters(),
             Description::RusHexapod(r) => r.kernel_parameters(),
-            Description::Delta(_) => alloc::vec::Vec::new(),
+            Description::Delta(r) => r.kernel_parameters(),
         }
     }
 }

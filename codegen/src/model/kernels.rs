@@ -168,6 +168,12 @@ pub enum Input {
     ActuatorAccelerations,
     /// A rotation matrix `R`.
     Rotation,
+    /// The position `C` of a platform that only translates (the Delta's `[xc yc zc]`).
+    Position,
+    /// Its velocity `v_C`.
+    Velocity,
+    /// Its acceleration `a_C`.
+    LinearAccel,
 }
 
 fn names(list: &[&str]) -> Vec<String> {
@@ -175,7 +181,9 @@ fn names(list: &[&str]) -> Vec<String> {
 }
 
 impl Input {
-    pub(crate) fn arg(self) -> Arg {
+    /// The argument of this kind for a mechanism of `actuators` actuators.
+    pub(crate) fn arg(self, actuators: usize) -> Arg {
+        let each = |prefix: &str| (1..=actuators).map(|i| format!("{prefix}{i}")).collect();
         match self {
             Input::Pose => Arg::new(
                 "pose",
@@ -198,8 +206,8 @@ impl Input {
             // Not `gamma`: the pose's third element has that name.
             Input::Gamma => Arg::new(
                 "forces",
-                Shape::Vector(6),
-                (1..=6).map(|i| format!("g{i}")).collect(),
+                Shape::Vector(actuators),
+                each("g"),
                 "actuator forces `Γ` (N), segment order; positive pushes the rod along `+n_i`",
             ),
             Input::P => Arg::new(
@@ -230,21 +238,21 @@ impl Input {
             ),
             Input::Actuators => Arg::new(
                 "q",
-                Shape::Vector(6),
-                (1..=6).map(|i| format!("q{i}")).collect(),
+                Shape::Vector(actuators),
+                each("q"),
                 "actuator positions (m) in actuator order, as the conventions above define them \
                  (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)",
             ),
             Input::ActuatorRates => Arg::new(
                 "qd",
-                Shape::Vector(6),
-                (1..=6).map(|i| format!("qd{i}")).collect(),
+                Shape::Vector(actuators),
+                each("qd"),
                 "actuator rates `Q̇_i1` (m/s), segment order",
             ),
             Input::ActuatorAccelerations => Arg::new(
                 "qdd",
-                Shape::Vector(6),
-                (1..=6).map(|i| format!("qdd{i}")).collect(),
+                Shape::Vector(actuators),
+                each("qdd"),
                 "actuator accelerations `Q̈_i1` (m/s²), segment order",
             ),
             Input::Rotation => Arg::new(
@@ -254,6 +262,25 @@ impl Input {
                     .flat_map(|i| (1..=3).map(move |j| format!("r{i}{j}")))
                     .collect(),
                 "a rotation `R` of the workspace (`r11 > 0`, `r33 > 0`), row-major",
+            ),
+            Input::Position => Arg::new(
+                "position",
+                Shape::Vector(3),
+                names(&["xc", "yc", "zc"]),
+                "the platform's position `C` (m), base frame; its frame stays parallel to the \
+                 base's",
+            ),
+            Input::Velocity => Arg::new(
+                "velocity",
+                Shape::Vector(3),
+                names(&["vx", "vy", "vz"]),
+                "the platform's velocity `v_C` (m/s), base frame",
+            ),
+            Input::LinearAccel => Arg::new(
+                "accel",
+                Shape::Vector(3),
+                names(&["ax", "ay", "az"]),
+                "the platform's acceleration `a_C` (m/s²), base frame",
             ),
         }
     }
@@ -393,7 +420,7 @@ impl<'c, 'g> Context<'c, 'g> {
             None => {
                 self.graph
                     .invalidate(format!("the build reads an undeclared input {kind:?}"));
-                vec![self.graph.zero(); kind.arg().shape.len()]
+                vec![self.graph.zero(); kind.arg(self.mech.structure().actuators()).shape.len()]
             }
         }
     }
@@ -1147,7 +1174,8 @@ pub(crate) fn spec(
         Cite::Fixed(e) => e.iter().map(|s| s.to_string()).collect(),
         Cite::Model(q) => mech.equations(q).iter().map(|s| s.to_string()).collect(),
     };
-    let mut inputs: Vec<Arg> = decl.inputs.iter().map(|i| i.arg()).collect();
+    let actuators = structure.actuators();
+    let mut inputs: Vec<Arg> = decl.inputs.iter().map(|i| i.arg(actuators)).collect();
     let mut outputs: Vec<Arg> = decl
         .outputs
         .iter()
@@ -1294,22 +1322,24 @@ mod tests {
     }
 
     #[test]
-    fn a_mechanism_without_kernels_is_refused_by_name() {
+    fn a_delta_file_generates_the_deltas_kernels_folded_and_with_parameters() {
         let delta = c5_robot::Description::from_toml(
             &std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/delta.toml"))
                 .unwrap(),
             "delta.toml",
         )
         .unwrap();
-        let e = crate::Config::new()
-            .description(delta)
-            .generate_to_string()
-            .unwrap_err();
-        assert!(
-            matches!(e, crate::Error::NoKernels { mechanism: "delta" }),
-            "{e}"
-        );
-        assert!(e.to_string().contains("not generated yet"));
+        for parameters in [ParameterSet::None, ParameterSet::All] {
+            let code = crate::Config::new()
+                .description(delta.clone())
+                .runtime_parameters(parameters)
+                .generate_to_string()
+                .unwrap();
+            for kernel in ["inverse_dynamics", "forward_dynamics", "forward_kinematics"] {
+                assert!(code.contains(&format!("pub fn {kernel}(")), "{kernel}");
+            }
+            assert!(code.contains("position: &[f64; 3]"));
+        }
     }
 
     #[test]

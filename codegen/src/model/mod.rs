@@ -18,6 +18,7 @@
 pub mod bodies;
 pub mod c5;
 pub mod consistent;
+pub mod delta;
 pub mod derivatives;
 pub mod geometry;
 pub mod gough_stewart;
@@ -245,6 +246,11 @@ pub trait Structure: Sync {
     fn home(&self, parameters: &[f64]) -> [f64; 6];
     /// A length of the workspace: seeded states stay within a fraction of it of [`Structure::home`].
     fn reach(&self, parameters: &[f64]) -> f64;
+    /// How many actuators (and platform freedoms) the mechanism has: the length of its
+    /// actuator inputs.
+    fn actuators(&self) -> usize {
+        6
+    }
     /// The largest turn (rad) about each axis from [`Structure::home`] of seeded states.
     fn turn_reach(&self) -> f64 {
         0.4
@@ -279,20 +285,13 @@ impl Mechanism {
     }
 
     /// The robot of `description`; a C5 with `model` (the other mechanisms have one model).
-    ///
-    /// # Errors
-    /// [`crate::Error::NoKernels`] for a mechanism without kernels yet.
-    pub fn of(description: &c5_robot::Description, model: Model) -> Result<Self, crate::Error> {
-        Ok(match description {
+    pub fn of(description: &c5_robot::Description, model: Model) -> Self {
+        match description {
             c5_robot::Description::C5(robot) => Mechanism::c5(robot, model),
             c5_robot::Description::GoughStewart(robot) => Mechanism::gough_stewart(robot),
             c5_robot::Description::RusHexapod(robot) => Mechanism::rus_hexapod(robot),
-            c5_robot::Description::Delta(_) => {
-                return Err(crate::Error::NoKernels {
-                    mechanism: description.mechanism(),
-                })
-            }
-        })
+            c5_robot::Description::Delta(robot) => Mechanism::delta(robot),
+        }
     }
 
     /// A Gough-Stewart platform.
@@ -307,6 +306,14 @@ impl Mechanism {
     pub fn rus_hexapod(robot: &c5_robot::RusHexapod) -> Self {
         Mechanism {
             mechanics: &rus_hexapod::RusHexapodMechanics,
+            parameters: robot.kernel_parameters(),
+        }
+    }
+
+    /// A Delta.
+    pub fn delta(robot: &c5_robot::Delta) -> Self {
+        Mechanism {
+            mechanics: &delta::DeltaMechanics,
             parameters: robot.kernel_parameters(),
         }
     }

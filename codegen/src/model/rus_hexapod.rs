@@ -50,7 +50,7 @@ fn leg<'g>(geometry: &[Expr<'g>], i: usize) -> Rus<'g> {
 }
 
 /// The crank's standard parameters `[m, m x, Ixx, Iyy, Izz]` (about `A_i`, crank frame).
-fn crank_body<'g>(p: &[Expr<'g>]) -> Inertial<'g> {
+pub(super) fn crank_body<'g>(p: &[Expr<'g>]) -> Inertial<'g> {
     let z = p[0].graph().zero();
     Inertial {
         mass: p[0],
@@ -60,7 +60,7 @@ fn crank_body<'g>(p: &[Expr<'g>]) -> Inertial<'g> {
 }
 
 /// The rod's standard parameters `[m, m z, It, Ia]` (about the crank's tip, rod frame).
-fn rod_body<'g>(p: &[Expr<'g>]) -> Inertial<'g> {
+pub(super) fn rod_body<'g>(p: &[Expr<'g>]) -> Inertial<'g> {
     let z = p[0].graph().zero();
     Inertial {
         mass: p[0],

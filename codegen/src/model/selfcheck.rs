@@ -100,6 +100,9 @@ pub fn self_check(mechanism: &Mechanism, list: &[(&Entry, &Compiled)]) -> Result
         kernel: kernel.name().to_string(),
         check,
     };
+    if structure.actuators() == 3 {
+        return translating(&kernels);
+    }
     let joint_setting = structure.has_kernel(Kernel::ForwardKinematics);
     let mut rng = Lcg::new(0x00c5_c5c5);
     let l = structure.reach(&mechanism.parameters);
@@ -217,6 +220,78 @@ fn check_forward(
                 kernel: Kernel::ForwardDynamics.name().to_string(),
                 check: format!("forward(Γ(V̇))[{k}] = {} but V̇[{k}] = {}", back[k], accel[k]),
             });
+        }
+    }
+    Ok(())
+}
+
+/// The identities of a mechanism whose platform translates on three actuators (the Delta):
+/// `J⁻¹ J = I`, `q̇ = J⁻¹ v_C`, `forward(Γ(a_C)) = a_C`, and one of the forward kinematics'
+/// two points the position whose angles it was given.
+fn translating(kernels: &Kernels<'_>) -> Result<(), Error> {
+    let fail = |kernel: Kernel, check: String| Error::SelfCheck {
+        kernel: kernel.name().to_string(),
+        check,
+    };
+    let (mechanism, structure) = (kernels.mechanism, kernels.mechanism.structure());
+    let l = structure.reach(&mechanism.parameters);
+    let home = &structure.home(&mechanism.parameters)[3..];
+    let mut rng = Lcg::new(0x00c5_c5c5);
+    for _ in 0..8 {
+        let offset = rng.vector(&[0.3 * l, 0.3 * l, 0.3 * l]);
+        let position: Vec<f64> = offset.iter().zip(home).map(|(d, h)| h + d).collect();
+        let velocity = rng.vector(&[0.5, 0.5, 0.5]);
+        let accel = rng.vector(&[2.0, 2.0, 2.0]);
+        let q = kernels.eval(Kernel::InverseKinematics, &[&position])?;
+        let points = kernels.eval(Kernel::ForwardKinematics, &[&q[..3]])?;
+        let found = points[..6].chunks(3).any(|p| {
+            p.iter()
+                .zip(&position)
+                .all(|(got, want)| close(*got, *want, 1.0))
+        });
+        if !found {
+            return Err(fail(
+                Kernel::ForwardKinematics,
+                format!("neither of {:?} is {position:?}", &points[..6]),
+            ));
+        }
+        let jinv = kernels.eval(Kernel::InverseJacobianPose, &[&position])?;
+        let jac = kernels.eval(Kernel::JacobianPose, &[&position])?;
+        for i in 0..3 {
+            for j in 0..3 {
+                let product: f64 = (0..3).map(|k| jinv[3 * i + k] * jac[3 * k + j]).sum();
+                let want = if i == j { 1.0 } else { 0.0 };
+                if !close(product, want, 1.0) {
+                    return Err(fail(
+                        Kernel::JacobianPose,
+                        format!("(J⁻¹ J)[{i}][{j}] = {product} at {position:?}"),
+                    ));
+                }
+            }
+        }
+        let qd = kernels.eval(Kernel::JointVelocities, &[&position, &velocity])?;
+        for i in 0..3 {
+            let want: f64 = (0..3).map(|k| jinv[3 * i + k] * velocity[k]).sum();
+            if !close(qd[i], want, want.abs()) {
+                return Err(fail(
+                    Kernel::JointVelocities,
+                    format!("q̇_{} = {} but (J⁻¹ v) = {want}", i + 1, qd[i]),
+                ));
+            }
+        }
+        let gamma = kernels.eval(Kernel::InverseDynamics, &[&position, &velocity, &accel])?;
+        let back = kernels.eval(
+            Kernel::ForwardDynamics,
+            &[&position, &velocity, &gamma[..3]],
+        )?;
+        let scale = accel.iter().fold(1.0_f64, |m, a| m.max(a.abs()));
+        for k in 0..3 {
+            if !close(back[k], accel[k], scale) {
+                return Err(fail(
+                    Kernel::ForwardDynamics,
+                    format!("forward(Γ(a))[{k}] = {} but a[{k}] = {}", back[k], accel[k]),
+                ));
+            }
         }
     }
     Ok(())

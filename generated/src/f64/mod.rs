@@ -63,6 +63,12 @@ pub mod rus_hexapod {
     use crate::trig::{atan, cos, sin, sin_cos, sqrt};
     include!("rus_hexapod.rs");
 }
+/// The delta kernels, `f64`: The Delta: three motors on the base turn upper arms; a parallelogram of two rods from each arm's tip keeps the platform parallel to the base, so it only translates; every quantity derived from the arm's closed forms by exact differentiation.
+#[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
+pub mod delta {
+    use crate::trig::{atan, cos, sin, sin_cos, sqrt};
+    include!("delta.rs");
+}
 /// The kernels every model has, with one signature for all (`f64`): pick a model once ([`Consistent`], [`Paper`]) and call every kernel through it, statically (`K: Kernels`) or dynamically (`&dyn Kernels`).
 pub trait Kernels: core::fmt::Debug + Sync {
     /// The model's name, as the command line and the manifest spell it.

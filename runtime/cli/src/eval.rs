@@ -1,7 +1,7 @@
 //! `c5 eval`: JSON Lines of platform states in, everything the model gives out, one line each.
 
 use crate::jsonl::{self, Key};
-use crate::options::RobotArgs;
+use crate::options::{Loaded, RobotArgs};
 use c5_runtime::{Acceleration, Limit, ParallelRobot, Pose, State, Twist};
 use clap::Args;
 use serde_json::json;
@@ -109,7 +109,20 @@ pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
     if args.derivatives && !cfg!(feature = "derivatives") {
         return Err(crate::unbuilt::needs("`--derivatives`", "derivatives"));
     }
-    let robot = args.robot.load_any()?;
+    let robot = match args.robot.load_freedoms()? {
+        Loaded::Six(robot) => robot,
+        Loaded::Translating(delta) => {
+            if args.derivatives || args.base_parameters.is_some() || args.strict_limits {
+                return Err(
+                    "`--derivatives`, `--base-parameters` and `--strict-limits` are \
+                            not served for the Delta yet: `c5 eval` gives its kinematics and \
+                            torques"
+                        .into(),
+                );
+            }
+            return crate::translating::eval(&delta);
+        }
+    };
     let estimate = match &args.base_parameters {
         Some(p) => Some(identified::load(robot.as_ref(), p)?),
         None => None,

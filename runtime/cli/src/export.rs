@@ -30,8 +30,8 @@ fn format_parser() -> impl TypedValueParser<Value = Format> {
 }
 
 /// Reads the robot as every command does (so a file `eval` refuses for its robot is refused
-/// here with the same message), and writes it; nothing is written on an error. A mechanism
-/// whose kernels are not generated yet (the Delta) is exported all the same: its description
+/// here with the same message), and writes it; nothing is written on an error. The Delta,
+/// which the commands of six freedoms do not serve, is exported all the same: its description
 /// is checked.
 pub fn run(args: &ExportArgs) -> crate::Result<ExitCode> {
     let description = match &args.robot.robot {

@@ -2,7 +2,7 @@
 //! acceleration out.
 
 use crate::jsonl::{self, Key};
-use crate::options::RobotArgs;
+use crate::options::{Loaded, RobotArgs};
 use c5_runtime::{Pose, Twist};
 use clap::Args;
 use serde_json::json;
@@ -33,7 +33,13 @@ pub fn run(args: &ForwardArgs) -> crate::Result<ExitCode> {
     if args.derivatives && !cfg!(feature = "derivatives") {
         return Err(crate::unbuilt::needs("`--derivatives`", "derivatives"));
     }
-    let robot = args.robot.load_any()?;
+    let robot = match args.robot.load_freedoms()? {
+        Loaded::Six(robot) => robot,
+        Loaded::Translating(_) if args.derivatives => {
+            return Err("`--derivatives` is not served for the Delta yet".into())
+        }
+        Loaded::Translating(delta) => return crate::translating::forward(&delta),
+    };
     jsonl::answer_lines(|line| {
         let v = jsonl::parse(line, &FORWARD_KEYS)?;
         let pose = Pose::from_array(std::array::from_fn(|i| v[0][i]));

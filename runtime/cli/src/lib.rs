@@ -29,6 +29,7 @@ mod png_figure;
 mod simulate;
 mod track;
 mod trajectory_csv;
+mod translating;
 mod unbuilt;
 mod view;
 mod workspace;

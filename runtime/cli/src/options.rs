@@ -28,11 +28,34 @@ impl RobotArgs {
         load(self.robot.as_ref(), self.model)
     }
 
+    /// The robot of `--robot` (or the chapter's), of any mechanism whose platform has six
+    /// freedoms, or a Delta; a C5 with the model of `--model`.
+    pub fn load_freedoms(&self) -> crate::Result<Loaded> {
+        let description = match &self.robot {
+            Some(p) => Description::from_toml_file(p)?,
+            None => Description::default(),
+        };
+        Ok(match description {
+            Description::Delta(robot) => {
+                Loaded::Translating(Box::new(c5_runtime::Delta::new(robot)?))
+            }
+            other => Loaded::Six(c5_runtime::mechanism::robot(other, self.model)?),
+        })
+    }
+
     /// The robot of `--robot` (or the chapter's), of any mechanism; a C5 with the model of
     /// `--model`.
     pub fn load_any(&self) -> crate::Result<Box<dyn ParallelRobot>> {
         load_any(self.robot.as_ref(), self.model)
     }
+}
+
+/// A robot file's robot, by its platform's freedoms: what `eval` and `forward` serve.
+pub enum Loaded {
+    /// Six: the C5, the hexapods.
+    Six(Box<dyn ParallelRobot>),
+    /// The three translations: the Delta.
+    Translating(Box<c5_runtime::Delta>),
 }
 
 /// Parses a model's name, listing the names in `--help`.

@@ -179,17 +179,17 @@ const RUS_HEXAPOD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/rus-h
 const DELTA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/delta.toml");
 
 #[test]
-fn the_rotary_hexapod_and_the_delta_export_and_the_delta_says_its_kernels_are_not_there_yet() {
+fn the_rotary_hexapod_and_the_delta_export_and_a_six_freedom_command_refuses_the_delta() {
     for (file, actuators) in [(RUS_HEXAPOD, 6), (DELTA, 3)] {
         let text = String::from_utf8(c5_ok(&["export", "--robot", file], "").stdout).unwrap();
         assert_eq!(text.matches("<motor ").count(), actuators, "{file}");
         let urdf = c5_ok(&["export", "--robot", file, "--format", "urdf"], "");
         assert!(String::from_utf8_lossy(&urdf.stdout).contains("<constraint "));
     }
-    let eval = c5(&["eval", "--robot", DELTA], "{\"pose\": [0, 0, 0.3]}\n");
-    let err = String::from_utf8_lossy(&eval.stderr);
-    assert!(!eval.status.success() && eval.stdout.is_empty());
-    assert!(err.contains("kernels are not generated yet"), "{err}");
+    let simulate = c5(&["simulate", "--robot", DELTA], "");
+    let err = String::from_utf8_lossy(&simulate.stderr);
+    assert!(!simulate.status.success() && simulate.stdout.is_empty());
+    assert!(err.contains("its platform only translates"), "{err}");
 }
 
 #[test]

@@ -1,0 +1,187 @@
+"""The Delta's kernels (`c5 eval`, `c5 forward`, `eval` fed `q`) against engines that share
+nothing with them: Pinocchio 4.1's `constraintDynamics` on the exported MJCF (the platform on
+three slides, each rod's ball closed by a constraint; exported.py knows nothing of the
+mechanism), the mechanism issue's formulas written in numpy (rus_geometry.py) and the statics
+by virtual work on their potential energy. Robots: docs/delta.toml and one of other numbers
+(geometry, masses, gravity off the z axis, encoder offsets), on seeded states near home.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import tomllib
+
+import numpy as np
+import pytest
+
+from conftest import ROOT
+from rus_geometry import RusRobot
+from test_export import export, toml_text, unseen
+from test_rus_hexapod import (BOUND, engine_ddq, offsets, pinocchio_motor_rates,
+                              pinocchio_torques, relative)
+
+pin = pytest.importorskip("pinocchio")
+from exported import PinocchioExport  # noqa: E402  (needs pinocchio)
+
+
+@pytest.fixture(scope="module", params=["example", "unseen"])
+def delta(request, c5_program, tmp_path_factory):
+    """The robot file, its geometry, its export in Pinocchio and its home position."""
+    file = ROOT / "docs" / "delta.toml"
+    doc = tomllib.loads(file.read_text())
+    if request.param == "unseen":
+        doc = unseen(doc, np.random.default_rng(31))
+        file = tmp_path_factory.mktemp("delta") / "unseen-delta.toml"
+        file.write_text(toml_text(doc))
+    out = tmp_path_factory.mktemp("delta-export")
+    path = export(c5_program, ["--robot", str(file)], "mjcf", out)
+    engine = PinocchioExport(path)
+    return file, RusRobot(doc), engine, np.asarray(engine.home_centre, float)
+
+
+def states(home, count, seed):
+    rng = np.random.default_rng(seed)
+    for _ in range(count):
+        yield (home + rng.uniform(-0.05, 0.05, 3), rng.uniform(-0.5, 0.5, 3),
+               rng.uniform(-5, 5, 3))
+
+
+def line(position, velocity, acceleration=None, gamma=None):
+    out = dict(pose=list(position), velocity=list(velocity))
+    if acceleration is not None:
+        out["acceleration"] = list(acceleration)
+    if gamma is not None:
+        out["gamma"] = list(gamma)
+    return out
+
+
+def test_eval_agrees_with_pinocchio_and_the_issues_formula(delta, run_c5):
+    file, geometry, engine, home = delta
+    samples = list(states(home, 8, 5))
+    ours = run_c5("eval", [line(*s) for s in samples], "--robot", str(file))
+    worst = dict(q=0.0, jinv=0.0, qd=0.0, gamma=0.0, qdd=0.0, identity=0.0)
+    for (position, velocity, accel), mine in zip(samples, ours):
+        assert "error" not in mine, mine
+        worst["q"] = max(worst["q"], relative(mine["q"],
+                                              geometry.angles(position) + offsets(geometry)))
+        jinv = np.column_stack([pinocchio_motor_rates(engine, position, e) for e in np.eye(3)])
+        worst["jinv"] = max(worst["jinv"], relative(mine["jinv"], jinv))
+        worst["qd"] = max(worst["qd"], relative(mine["qd"], jinv @ velocity))
+        identity = np.asarray(mine["jinv"]) @ np.asarray(mine["jacobian"])
+        worst["identity"] = max(worst["identity"], np.max(np.abs(identity - np.eye(3))))
+        worst["gamma"] = max(worst["gamma"], relative(
+            mine["gamma"], pinocchio_torques(engine, position, velocity, accel)))
+        q, v, _ = engine.state(position, velocity)
+        ddq = engine_ddq(engine, q, v, mine["gamma"])
+        worst["qdd"] = max(worst["qdd"], relative(mine["qdd"], ddq[engine.actuated]))
+    print("eval against Pinocchio, relative: " +
+          ", ".join(f"{k} {v:.1e}" for k, v in worst.items()))
+    assert all(v < BOUND for v in worst.values()), worst
+
+
+def test_forward_agrees_with_pinocchio_constraint_dynamics(delta, run_c5):
+    file, _, engine, home = delta
+    rng = np.random.default_rng(8)
+    samples = [(p, v, rng.uniform(-5, 5, 3)) for p, v, _ in states(home, 10, 6)]
+    ours = run_c5("forward", [line(p, v, gamma=g) for p, v, g in samples], "--robot", str(file))
+    worst = 0.0
+    for (position, velocity, gamma), mine in zip(samples, ours):
+        theirs = engine.forward(position, velocity, gamma)
+        worst = max(worst, relative(mine["acceleration"], theirs))
+    print(f"forward dynamics against Pinocchio: {worst:.1e} relative")
+    assert worst < BOUND
+
+
+def test_the_holding_torques_are_the_statics_by_virtual_work(delta, run_c5):
+    """At rest, `Γ = (∂θ/∂C)⁻ᵀ ∂U/∂C` with `U` every body's potential energy from the file."""
+    file, geometry, _, home = delta
+    positions = [p for p, _, _ in states(home, 5, 4)]
+    ours = run_c5("eval", [line(p, np.zeros(3), np.zeros(3)) for p in positions],
+                  "--robot", str(file))
+    worst = max(relative(mine["gamma"], geometry.holding_torques(p))
+                for p, mine in zip(positions, ours))
+    print(f"statics against virtual work: {worst:.1e} relative")
+    # The central differences (h = 1e-6) of the potential bound what can be seen.
+    assert worst < 1e-7
+
+
+def test_the_pose_from_q_has_those_arm_angles(delta, run_c5):
+    file, geometry, _, home = delta
+    positions = [s[0] for s in states(home, 8, 9)]
+    q = [geometry.angles(p) + offsets(geometry) for p in positions]
+    ours = run_c5("eval", [dict(q=list(x)) for x in q], "--robot", str(file))
+    worst_q = worst_pose = 0.0
+    for position, angles, mine in zip(positions, q, ours):
+        found = np.asarray(mine["pose"])
+        worst_q = max(worst_q, np.max(np.abs(geometry.angles(found) + offsets(geometry)
+                                             - angles)))
+        worst_pose = max(worst_pose, np.max(np.abs(found - position)))
+    print(f"pose from q: arm angles within {worst_q:.1e} rad, position within {worst_pose:.1e}")
+    assert worst_q < 1e-12
+    assert worst_pose < 1e-12
+
+
+def test_the_motors_motion_gives_back_the_platforms(delta, run_c5):
+    """`eval` fed `q`, `qd`, `qdd` of a state gives that state, and its torques."""
+    file, _, _, home = delta
+    samples = list(states(home, 6, 10))
+    forward = run_c5("eval", [line(*s) for s in samples], "--robot", str(file))
+    back = run_c5("eval", [dict(q=m["q"], qd=m["qd"], qdd=m["qdd"]) for m in forward],
+                  "--robot", str(file))
+    for (position, velocity, accel), there, here in zip(samples, forward, back):
+        assert relative(here["pose"], position) < 1e-12
+        assert relative(here["velocity"], velocity) < 1e-10
+        assert relative(here["acceleration"], accel) < 1e-9
+        assert relative(here["gamma"], there["gamma"]) < 1e-9
+
+
+def test_the_torques_close_the_power_balance_with_pinocchios_energies(delta, run_c5):
+    """`Γ·q̇ = d/dt (T + U)` along a trajectory, `T` and `U` Pinocchio's, of every body."""
+    file, _, engine, home = delta
+    waves = [(0.04, 1.3, 0.0), (-0.03, 0.9, 0.4), (0.05, 1.7, 1.0)]
+
+    def motion(t):
+        x = home + np.array([a * np.sin(f * t + p) for a, f, p in waves])
+        xd = np.array([a * f * np.cos(f * t + p) for a, f, p in waves])
+        xdd = np.array([-a * f * f * np.sin(f * t + p) for a, f, p in waves])
+        return x, xd, xdd
+
+    def energy(t):
+        x, xd, _ = motion(t)
+        q, v, _ = engine.state(x, xd)
+        data = engine.model.createData()
+        return (pin.computeKineticEnergy(engine.model, data, q, v)
+                + pin.computePotentialEnergy(engine.model, data, q))
+
+    times = np.linspace(0.0, 3.0, 12)
+    ours = run_c5("eval", [line(*motion(t)) for t in times], "--robot", str(file))
+    worst = 0.0
+    for t, mine in zip(times, ours):
+        power = np.dot(mine["gamma"], mine["qd"])
+        h = 1e-4
+        rate = (energy(t + h) - energy(t - h)) / (2 * h)
+        scale = max(np.sum(np.abs(np.multiply(mine["gamma"], mine["qd"]))), 1e-3)
+        worst = max(worst, abs(power - rate) / scale)
+    print(f"power balance against Pinocchio's energies: {worst:.1e}")
+    # The central differences of the energy (h = 1e-4) bound what can be seen.
+    assert worst < 1e-6
+
+
+def test_bad_lines_are_refused_naming_the_term(delta, c5_program):
+    """A platform beyond an arm's reach, a six-element pose and a non-finite one: each line
+    refused by name, the others served."""
+    file, _, _, home = delta
+    far = home + np.array([0.0, 0.0, -1.5])
+    rest = np.zeros(3)
+    text = "".join(json.dumps(x) + "\n" for x in [
+        line(far, rest, rest), line(home, rest, rest), dict(pose=[0, 0, 0, 0, 0, 0])])
+    text += '{"pose": [0, 0, 1e999]}\n'
+    done = subprocess.run([str(c5_program), "eval", "--robot", str(file)], input=text,
+                          text=True, capture_output=True)
+    out = [json.loads(x) for x in done.stdout.splitlines()]
+    assert "beyond the reach of arm" in out[0]["error"], out[0]
+    assert "gamma" in out[1]
+    assert "3 numbers" in out[2]["error"], out[2]
+    assert "error" in out[3]
+    assert done.returncode != 0

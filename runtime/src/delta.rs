@@ -1,0 +1,385 @@
+//! The Delta for controllers: a safe, typed API over its generated kernels
+//! (`c5_generated::f64::delta`, the variants that take the robot's parameters, so any valid
+//! description works).
+//!
+//! The platform only translates: its state is its position `C`, velocity `v_C` and
+//! acceleration `a_C` (base frame, m, m/s, m/s²). The actuator values are the encoders'
+//! readings of the upper arms' angles, `q_i = θ_i + o_i` (rad), and `Γ_i` is the motor's torque
+//! about its axis `r_i` (N·m), a positive torque driving `θ_i` positive. Every call checks its
+//! inputs and refuses a position where the platform is beyond an arm's reach, an arm's crank
+//! and rods align, a U joint or the arms' hold on the platform is singular
+//! ([`Error::Singularity`], naming the term). The forward kinematics is in closed form: of the
+//! two points where the arms' spheres meet, the one on the home position's side.
+
+use crate::error::Error;
+use crate::gough_stewart::U_JOINT_TOLERANCE;
+use crate::rus_hexapod::REACH_TOLERANCE;
+use crate::{check_finite, finite, finite_matrix};
+use c5_generated::f64::delta as kernels;
+pub use c5_robot::Delta as Description;
+
+/// The mechanism's name, as robot files and the manifest spell it.
+pub const MECHANISM: &str = c5_robot::description::DELTA;
+
+/// The length of the parameter vector of the Delta's `*_params` kernels.
+pub const PARAMETERS: usize = c5_robot::delta::PARAMETERS;
+
+/// Smallest accepted hold of the arms on the platform, `det(J⁻¹)² / Π |row_i|²` (one where
+/// the arms' rows are orthogonal, zero where they cannot hold the platform): below it the
+/// torques and accelerations lose more digits than the `1e-9` the kernels are held to.
+pub const HOLD_TOLERANCE: f64 = 1e-8;
+
+/// Smallest accepted term of the forward kinematics: how far inside the three spheres' reach
+/// the platform is, `(L_1² − |y_0|²)/L_1²` (zero where the two meeting points merge), and how
+/// far from a line their centres are, `|n|²/(|a|² |b|²)`.
+pub const FORWARD_TOLERANCE: f64 = 1e-10;
+
+/// The names of the singularity terms, as errors report them.
+const TERMS: [&str; 7] = [
+    "U joints of arm 1",
+    "U joints of arm 2",
+    "U joints of arm 3",
+    "crank and rods of arm 1 aligned (1 - (K/ρ)²)",
+    "crank and rods of arm 2 aligned (1 - (K/ρ)²)",
+    "crank and rods of arm 3 aligned (1 - (K/ρ)²)",
+    "arms' hold (det(J⁻¹)² / Π |row|²)",
+];
+
+/// The reach terms' names where they are negative.
+const BEYOND_REACH: [&str; 3] = [
+    "platform beyond the reach of arm 1 (1 - (K/ρ)²)",
+    "platform beyond the reach of arm 2 (1 - (K/ρ)²)",
+    "platform beyond the reach of arm 3 (1 - (K/ρ)²)",
+];
+
+/// The forward kinematics' terms' names.
+const FORWARD_TERMS: [&str; 2] = [
+    "the arms' spheres do not meet, or touch at one point ((L² - |y0|²)/L²)",
+    "the arms' sphere centres in a line (|n|²/(|a|² |b|²))",
+];
+
+/// Refuses the singularity terms below their tolerance (or NaN): the reach first (beyond it
+/// every other term is NaN), then the U joints, then (when given) the hold.
+fn check_terms(terms: &[f64]) -> Result<(), Error> {
+    for k in (3..6).chain(0..3).chain(6..terms.len()) {
+        let value = terms[k];
+        let bound = match k {
+            0..3 => U_JOINT_TOLERANCE,
+            3..6 => REACH_TOLERANCE,
+            _ => HOLD_TOLERANCE,
+        };
+        if value.is_nan() || value < bound {
+            let beyond = (3..6).contains(&k) && value < 0.0;
+            return Err(Error::Singularity {
+                term: if beyond {
+                    BEYOND_REACH[k - 3]
+                } else {
+                    TERMS[k]
+                },
+                value,
+                bound,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The platform's state: position, velocity and acceleration of `C` (base frame).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Translation {
+    /// `C` (m).
+    pub position: [f64; 3],
+    /// `v_C` (m/s).
+    pub velocity: [f64; 3],
+    /// `a_C` (m/s²).
+    pub acceleration: [f64; 3],
+}
+
+/// The kinematic and dynamic quantities of one state, arm order.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct DeltaEvaluation {
+    /// The motors' angles `q_i` (rad).
+    pub q: [f64; 3],
+    /// Their rates, `J⁻¹ v_C` (rad/s).
+    pub qd: [f64; 3],
+    /// Their accelerations (rad/s²).
+    pub qdd: [f64; 3],
+    /// The motors' torques `Γ_i` (N·m).
+    pub gamma: [f64; 3],
+    /// `J⁻¹`, row `i` = arm `i+1`, columns `[vx vy vz]`.
+    pub jinv: [[f64; 3]; 3],
+    /// `J`, column `i` = arm `i+1`.
+    pub jacobian: [[f64; 3]; 3],
+}
+
+/// A validated Delta and its parameter vector.
+#[derive(Clone, Debug)]
+pub struct Delta {
+    robot: Description,
+    params: [f64; PARAMETERS],
+    home: [f64; 3],
+}
+
+impl Delta {
+    /// The Delta of `robot`.
+    ///
+    /// # Errors
+    /// [`Error::Robot`] if the description breaks a rule of `Delta::validate`.
+    pub fn new(robot: Description) -> Result<Self, Error> {
+        robot.validate().map_err(Error::from_robot)?;
+        let home = robot.home().ok_or_else(|| Error::Robot {
+            field: "home".into(),
+            rule: "is missing, and no height reaches every arm".into(),
+        })?;
+        let mut params = [0.0; PARAMETERS];
+        params.copy_from_slice(&robot.kernel_parameters());
+        Ok(Delta {
+            robot,
+            params,
+            home,
+        })
+    }
+
+    pub fn robot(&self) -> &Description {
+        &self.robot
+    }
+
+    /// The `*_params` kernels' parameter vector (`Delta::kernel_parameters`).
+    pub fn parameters(&self) -> &[f64; PARAMETERS] {
+        &self.params
+    }
+
+    /// The home position: the file's, or centred at the height where the arms are nearest
+    /// their zero.
+    pub fn home(&self) -> [f64; 3] {
+        self.home
+    }
+
+    /// The singularity terms at `position` ([`TERMS`]'s order), unchecked: for monitoring
+    /// how near a singularity the platform is.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for a non-finite input.
+    pub fn singularity_terms(&self, position: &[f64; 3]) -> Result<[f64; 7], Error> {
+        check_finite("position", position)?;
+        Ok(kernels::singularity_terms_params(position, &self.params))
+    }
+
+    /// The motors' angles at `position`.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`]; [`Error::Singularity`] naming the term.
+    pub fn inverse_kinematics(&self, position: &[f64; 3]) -> Result<[f64; 3], Error> {
+        check_finite("position", position)?;
+        let (q, terms) = kernels::inverse_kinematics_params(position, &self.params);
+        check_terms(&terms)?;
+        finite("q", q)
+    }
+
+    /// `J⁻¹` at `position`: `q̇ = J⁻¹ v_C`.
+    ///
+    /// # Errors
+    /// As [`Delta::inverse_kinematics`].
+    pub fn inverse_jacobian(&self, position: &[f64; 3]) -> Result<[[f64; 3]; 3], Error> {
+        check_finite("position", position)?;
+        let (jinv, terms) = kernels::inverse_jacobian_pose_params(position, &self.params);
+        check_terms(&terms)?;
+        finite_matrix("jinv", jinv)
+    }
+
+    /// `J = (J⁻¹)⁻¹` at `position`: `v_C = J q̇`.
+    ///
+    /// # Errors
+    /// As [`Delta::inverse_kinematics`], and the arms' hold.
+    pub fn jacobian(&self, position: &[f64; 3]) -> Result<[[f64; 3]; 3], Error> {
+        check_finite("position", position)?;
+        let (jac, terms) = kernels::jacobian_pose_params(position, &self.params);
+        check_terms(&terms)?;
+        finite_matrix("jacobian", jac)
+    }
+
+    /// The motors' rates `J⁻¹ v_C`.
+    ///
+    /// # Errors
+    /// As [`Delta::inverse_kinematics`].
+    pub fn joint_velocities(
+        &self,
+        position: &[f64; 3],
+        velocity: &[f64; 3],
+    ) -> Result<[f64; 3], Error> {
+        check_finite("position", position)?;
+        check_finite("velocity", velocity)?;
+        let (qd, terms) = kernels::joint_velocities_params(position, velocity, &self.params);
+        check_terms(&terms)?;
+        finite("qd", qd)
+    }
+
+    /// The motors' accelerations.
+    ///
+    /// # Errors
+    /// As [`Delta::inverse_kinematics`].
+    pub fn joint_accelerations(&self, state: &Translation) -> Result<[f64; 3], Error> {
+        self.check_state(state)?;
+        let (qdd, terms) = kernels::joint_accelerations_params(
+            &state.position,
+            &state.velocity,
+            &state.acceleration,
+            &self.params,
+        );
+        check_terms(&terms)?;
+        finite("qdd", qdd)
+    }
+
+    /// The motors' torques that give the platform `state`'s motion.
+    ///
+    /// # Errors
+    /// As [`Delta::jacobian`].
+    pub fn inverse_dynamics(&self, state: &Translation) -> Result<[f64; 3], Error> {
+        self.check_state(state)?;
+        let (gamma, terms) = kernels::inverse_dynamics_params(
+            &state.position,
+            &state.velocity,
+            &state.acceleration,
+            &self.params,
+        );
+        check_terms(&terms)?;
+        finite("gamma", gamma)
+    }
+
+    /// The platform's acceleration under the motors' torques `gamma`.
+    ///
+    /// # Errors
+    /// As [`Delta::jacobian`].
+    pub fn forward_dynamics(
+        &self,
+        position: &[f64; 3],
+        velocity: &[f64; 3],
+        gamma: &[f64; 3],
+    ) -> Result<[f64; 3], Error> {
+        check_finite("position", position)?;
+        check_finite("velocity", velocity)?;
+        check_finite("gamma", gamma)?;
+        let (accel, terms) =
+            kernels::forward_dynamics_params(position, velocity, gamma, &self.params);
+        check_terms(&terms)?;
+        finite("acceleration", accel)
+    }
+
+    /// The position whose motors' angles are `q`: of the two points where the arms' spheres
+    /// meet, the one on the home position's side of the spheres' centres (the plane halfway
+    /// between the two points). Refused where the spheres miss or touch, or at the point's
+    /// singularities as [`Delta::jacobian`].
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`]; [`Error::Singularity`] naming the term.
+    pub fn forward_kinematics(&self, q: &[f64; 3]) -> Result<[f64; 3], Error> {
+        check_finite("q", q)?;
+        let (points, terms) = kernels::forward_kinematics_params(q, &self.params);
+        for (k, &value) in terms.iter().enumerate() {
+            if value.is_nan() || value < FORWARD_TOLERANCE {
+                return Err(Error::Singularity {
+                    term: FORWARD_TERMS[k],
+                    value,
+                    bound: FORWARD_TOLERANCE,
+                });
+            }
+        }
+        let [plus, minus] = points;
+        let side: f64 = (0..3)
+            .map(|k| (plus[k] - minus[k]) * (self.home[k] - 0.5 * (plus[k] + minus[k])))
+            .sum();
+        let position = finite("position", if side >= 0.0 { plus } else { minus })?;
+        check_terms(&self.singularity_terms(&position)?)?;
+        Ok(position)
+    }
+
+    /// The platform's state from the motors' angles, rates and accelerations:
+    /// `C` by [`Delta::forward_kinematics`], `v_C = J q̇`, `a_C = J (q̈ − b)` with `b` the motors'
+    /// accelerations at the velocity and no platform acceleration.
+    ///
+    /// # Errors
+    /// As [`Delta::forward_kinematics`].
+    pub fn joint_state(
+        &self,
+        q: &[f64; 3],
+        qd: &[f64; 3],
+        qdd: &[f64; 3],
+    ) -> Result<Translation, Error> {
+        check_finite("qd", qd)?;
+        check_finite("qdd", qdd)?;
+        let position = self.forward_kinematics(q)?;
+        let jac = self.jacobian(&position)?;
+        let apply = |v: [f64; 3]| -> [f64; 3] {
+            core::array::from_fn(|i| (0..3).map(|k| jac[i][k] * v[k]).sum())
+        };
+        let velocity = apply(*qd);
+        let bias = self.joint_accelerations(&Translation {
+            position,
+            velocity,
+            acceleration: [0.0; 3],
+        })?;
+        Ok(Translation {
+            position,
+            velocity,
+            acceleration: apply(core::array::from_fn(|k| qdd[k] - bias[k])),
+        })
+    }
+
+    /// Everything `c5 eval` writes for one state.
+    ///
+    /// # Errors
+    /// As [`Delta::inverse_dynamics`].
+    pub fn evaluate(&self, state: &Translation) -> Result<DeltaEvaluation, Error> {
+        Ok(DeltaEvaluation {
+            q: self.inverse_kinematics(&state.position)?,
+            qd: self.joint_velocities(&state.position, &state.velocity)?,
+            qdd: self.joint_accelerations(state)?,
+            gamma: self.inverse_dynamics(state)?,
+            jinv: self.inverse_jacobian(&state.position)?,
+            jacobian: self.jacobian(&state.position)?,
+        })
+    }
+
+    fn check_state(&self, state: &Translation) -> Result<(), Error> {
+        check_finite("position", &state.position)?;
+        check_finite("velocity", &state.velocity)?;
+        check_finite("acceleration", &state.acceleration)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn example() -> Delta {
+        Delta::new(Description::example()).unwrap()
+    }
+
+    #[test]
+    fn home_is_served_and_its_angles_give_it_back() {
+        let robot = example();
+        let home = robot.home();
+        let q = robot.inverse_kinematics(&home).unwrap();
+        let back = robot.forward_kinematics(&q).unwrap();
+        for k in 0..3 {
+            assert!((back[k] - home[k]).abs() < 1e-12, "{back:?} {home:?}");
+        }
+    }
+
+    #[test]
+    fn a_platform_out_of_reach_is_refused_by_name() {
+        let robot = example();
+        let mut far = robot.home();
+        far[2] -= 2.0;
+        match robot.inverse_kinematics(&far) {
+            Err(Error::Singularity { term, .. }) => assert!(term.contains("beyond the reach")),
+            other => panic!("{other:?}"),
+        }
+        assert!(matches!(
+            robot.inverse_kinematics(&[f64::NAN, 0.0, 0.0]),
+            Err(Error::NonFinite { .. })
+        ));
+    }
+}

@@ -1,0 +1,228 @@
+//! The Delta through the runtime, against mechanics: the arm angles the description's closed
+//! form, `J⁻¹` and `q̈` their derivatives (central differences), `J⁻¹ J = I`, the forward
+//! kinematics and dynamics undoing the inverse ones, the motors' motion giving back the
+//! platform's, and the holding torques the statics by virtual work on the potential energy of
+//! every body placed by the description alone. Pinocchio's closed-loop dynamics on the
+//! exported robot checks the same kernels from Python (python/tests/test_delta.py).
+
+use crate::support;
+
+use c5_robot::Delta as Description;
+use c5_runtime::delta::Translation;
+use c5_runtime::{Delta, Error};
+use nalgebra::{Matrix3, Vector3};
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+use support::{rel_err, rng};
+
+/// The example with every joint moved by millimetres, other masses, tilted gravity, encoder
+/// offsets: a robot no generated file folds in.
+fn jittered(r: &mut ChaCha8Rng) -> Description {
+    let mut robot = Description::example();
+    robot.gravity = [0.3, -0.2, -9.8];
+    robot.platform.mass = 0.9;
+    for arm in &mut robot.arms {
+        for x in arm.base.iter_mut().chain(&mut arm.platform) {
+            *x += r.gen_range(-0.004..0.004);
+        }
+        arm.axis[2] += r.gen_range(-0.05..0.05);
+        arm.crank.mass *= r.gen_range(0.8..1.2);
+        arm.rod.mass *= r.gen_range(0.8..1.2);
+        arm.encoder_offset = r.gen_range(-0.1..0.1);
+    }
+    robot.validate().expect("a valid Delta");
+    robot
+}
+
+fn robots() -> Vec<Delta> {
+    let mut r = rng(43);
+    [Description::example(), jittered(&mut r)]
+        .into_iter()
+        .map(|d| Delta::new(d).unwrap())
+        .collect()
+}
+
+/// A state within 5 cm of home.
+fn near_home(r: &mut ChaCha8Rng, robot: &Delta) -> Translation {
+    let home = robot.home();
+    Translation {
+        position: core::array::from_fn(|k| home[k] + r.gen_range(-0.05..0.05)),
+        velocity: core::array::from_fn(|_| r.gen_range(-0.5..0.5)),
+        acceleration: core::array::from_fn(|_| r.gen_range(-5.0..5.0)),
+    }
+}
+
+/// The state at time `t` of `C + t v + t² a/2`.
+fn along(s: &Translation, t: f64) -> Translation {
+    Translation {
+        position: core::array::from_fn(|k| {
+            s.position[k] + t * s.velocity[k] + 0.5 * t * t * s.acceleration[k]
+        }),
+        velocity: core::array::from_fn(|k| s.velocity[k] + t * s.acceleration[k]),
+        acceleration: s.acceleration,
+    }
+}
+
+#[test]
+fn the_arm_angles_are_the_descriptions_and_the_jacobians_invert() {
+    for robot in robots() {
+        let mut r = rng(3);
+        for _ in 0..50 {
+            let s = near_home(&mut r, &robot);
+            let q = robot.inverse_kinematics(&s.position).unwrap();
+            let want = robot.robot().actuator_angles(&s.position).unwrap();
+            assert!(rel_err(&q, &want, 1.0) < 1e-14, "{q:?} vs {want:?}");
+            let jinv = Matrix3::from(robot.inverse_jacobian(&s.position).unwrap()).transpose();
+            let jac = Matrix3::from(robot.jacobian(&s.position).unwrap()).transpose();
+            let off = (jinv * jac - Matrix3::identity()).abs().max();
+            assert!(off < 1e-12, "J⁻¹ J - I: {off:e}");
+        }
+    }
+}
+
+/// `q̇ = J⁻¹ v_C` is the rate of the arm angles, and `q̈` the rate of `q̇`, along a motion.
+#[test]
+fn the_rates_and_accelerations_are_the_angles_derivatives() {
+    let h = 1e-6;
+    for robot in robots() {
+        let mut r = rng(4);
+        for _ in 0..20 {
+            let s = near_home(&mut r, &robot);
+            let q_at = |t: f64| robot.inverse_kinematics(&along(&s, t).position).unwrap();
+            let (up, down) = (q_at(h), q_at(-h));
+            let fd: [f64; 3] = core::array::from_fn(|i| (up[i] - down[i]) / (2.0 * h));
+            let qd = robot.joint_velocities(&s.position, &s.velocity).unwrap();
+            assert!(rel_err(&qd, &fd, 1.0) < 1e-8, "{qd:?} vs {fd:?}");
+            let qd_at = |t: f64| {
+                let s = along(&s, t);
+                robot.joint_velocities(&s.position, &s.velocity).unwrap()
+            };
+            let (up, down) = (qd_at(h), qd_at(-h));
+            let fd: [f64; 3] = core::array::from_fn(|i| (up[i] - down[i]) / (2.0 * h));
+            let qdd = robot.joint_accelerations(&s).unwrap();
+            assert!(rel_err(&qdd, &fd, 1.0) < 1e-7, "{qdd:?} vs {fd:?}");
+        }
+    }
+}
+
+/// The forward kinematics returns the position of the inverse's angles, the forward dynamics
+/// the acceleration the inverse dynamics was given, the motors' motion the platform's.
+#[test]
+fn the_forward_models_undo_the_inverse_ones() {
+    for robot in robots() {
+        let mut r = rng(5);
+        for _ in 0..30 {
+            let s = near_home(&mut r, &robot);
+            let q = robot.inverse_kinematics(&s.position).unwrap();
+            let found = robot.forward_kinematics(&q).unwrap();
+            assert!(rel_err(&found, &s.position, 1.0) < 1e-13, "{found:?}");
+            let gamma = robot.inverse_dynamics(&s).unwrap();
+            let accel = robot
+                .forward_dynamics(&s.position, &s.velocity, &gamma)
+                .unwrap();
+            assert!(rel_err(&accel, &s.acceleration, 1.0) < 1e-11, "{accel:?}");
+            let qd = robot.joint_velocities(&s.position, &s.velocity).unwrap();
+            let qdd = robot.joint_accelerations(&s).unwrap();
+            let joint = robot.joint_state(&q, &qd, &qdd).unwrap();
+            assert!(rel_err(&joint.velocity, &s.velocity, 1.0) < 1e-12);
+            assert!(rel_err(&joint.acceleration, &s.acceleration, 1.0) < 1e-10);
+        }
+    }
+}
+
+/// The potential energy of every body at the platform position `c`, placed by the
+/// description's own closed forms (crank angle, elbow, the rods' direction).
+fn potential(robot: &Description, c: &[f64; 3]) -> f64 {
+    let g = Vector3::from(robot.gravity);
+    let at = |p: Vector3<f64>, mass: f64| -mass * g.dot(&p);
+    let centre = Vector3::from(*c);
+    let mut u = at(
+        centre + Vector3::from(robot.platform.centre_of_mass),
+        robot.platform.mass,
+    );
+    for arm in &robot.arms {
+        let ball = centre + Vector3::from(arm.platform);
+        let theta = arm.crank_angle(ball.into()).unwrap();
+        let (r, _, _) = arm.axes();
+        let base = Vector3::from(arm.base);
+        let elbow = Vector3::from(arm.elbow(theta));
+        let along = (elbow - base) / arm.crank.length;
+        u += at(base + along * arm.crank.com, arm.crank.mass);
+        let rod = (ball - elbow) / arm.rod.length;
+        let half = 0.5 * arm.rod.separation.unwrap();
+        for offset in [half, -half] {
+            let com = elbow + Vector3::from(r) * offset + rod * arm.rod.com;
+            u += at(com, arm.rod.mass);
+        }
+    }
+    u
+}
+
+/// At rest the torques hold the robot: `Γ = (∂θ/∂C)⁻ᵀ ∂U/∂C`, both by central differences of
+/// the description's closed forms.
+#[test]
+fn the_holding_torques_are_the_statics_by_virtual_work() {
+    let h = 1e-6;
+    for robot in robots() {
+        let mut r = rng(6);
+        for _ in 0..10 {
+            let mut s = near_home(&mut r, &robot);
+            s.velocity = [0.0; 3];
+            s.acceleration = [0.0; 3];
+            let description = robot.robot();
+            let mut jinv = Matrix3::zeros();
+            let mut grad = Vector3::zeros();
+            for j in 0..3 {
+                let (mut up, mut down) = (s.position, s.position);
+                up[j] += h;
+                down[j] -= h;
+                let (qu, qd) = (
+                    description.actuator_angles(&up).unwrap(),
+                    description.actuator_angles(&down).unwrap(),
+                );
+                for i in 0..3 {
+                    jinv[(i, j)] = (qu[i] - qd[i]) / (2.0 * h);
+                }
+                grad[j] = (potential(description, &up) - potential(description, &down)) / (2.0 * h);
+            }
+            let want = jinv.transpose().lu().solve(&grad).unwrap();
+            let gamma = robot.inverse_dynamics(&s).unwrap();
+            assert!(
+                rel_err(&gamma, want.as_slice(), 1.0) < 1e-7,
+                "{gamma:?} vs {want}"
+            );
+        }
+    }
+}
+
+/// A platform beyond an arm's reach, angles whose spheres miss, non-finite inputs: typed
+/// errors naming the term.
+#[test]
+fn bad_states_are_refused() {
+    let robot = Delta::new(Description::example()).unwrap();
+    let mut low = robot.home();
+    low[2] -= 1.5;
+    match robot.inverse_kinematics(&low) {
+        Err(Error::Singularity { term, value, .. }) => {
+            assert!(term.contains("beyond the reach of arm 1"), "{term}");
+            assert!(value < 0.0);
+        }
+        other => panic!("{other:?}"),
+    }
+    // Rods of 0.3 m from upper arms held straight out (0.417 m from the axis): the arms'
+    // spheres cannot meet.
+    let mut short = Description::example();
+    short.arms.iter_mut().for_each(|a| a.rod.length = 0.3);
+    let short = Delta::new(short).unwrap();
+    match short.forward_kinematics(&[0.0; 3]) {
+        Err(Error::Singularity { term, value, .. }) => {
+            assert!(term.contains("spheres do not meet"), "{term}");
+            assert!(value < 0.0);
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(
+        robot.forward_dynamics(&robot.home(), &[0.0; 3], &[f64::NAN, 0.0, 0.0]),
+        Err(Error::NonFinite { input: "gamma", .. })
+    ));
+}
