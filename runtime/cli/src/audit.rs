@@ -36,7 +36,7 @@ struct Peer {
 /// robsynth's generated inverse dynamics in task space, parameters as inputs: the 6-UPS's
 /// (`P6RRPRRR14V3G1A0_invdyn_para_pf_slag_vp1`, the legs' joint angles given; 12 divisions,
 /// 42 calls) and the 6-RUS's, their published counts (the mechanisms issue).
-const ROBSYNTH: [Peer; 2] = [
+const ROBSYNTH: [Peer; 3] = [
     Peer {
         mechanism: c5_runtime::gough_stewart::MECHANISM,
         what: "The 6-UPS inverse dynamics with every parameter an input (inverse kinematics \
@@ -50,6 +50,13 @@ const ROBSYNTH: [Peer; 2] = [
                included)",
         mul: 43548,
         add: 26665,
+    },
+    Peer {
+        mechanism: c5_runtime::delta::MECHANISM,
+        what: "The Delta's inverse dynamics with every parameter an input (inverse kinematics \
+               included)",
+        mul: 3010,
+        add: 1835,
     },
 ];
 

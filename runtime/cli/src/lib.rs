@@ -47,8 +47,9 @@ type Result<T> = std::result::Result<T, Box<dyn std::error::Error>>;
     name = "c5",
     version,
     about = "Kinematics and dynamics of parallel robots: the C5 joint parallel robot (the \
-             chapter's, the default) and the Gough-Stewart platform from a robot file \
-             (`--robot`); the rotary hexapod and the Delta are read and exported so far"
+             chapter's, the default), and from a robot file (`--robot`) the Gough-Stewart \
+             platform, the rotary hexapod (6-RUS) and the Delta (`eval`, `forward`, `audit`, \
+             `export`)"
 )]
 struct Cli {
     #[command(subcommand)]

@@ -307,3 +307,42 @@ fn bad_rotary_hexapod_and_delta_files_are_refused_by_field_and_nothing_is_writte
         assert!(!target.exists(), "{name}: nothing written");
     }
 }
+
+#[test]
+fn the_delta_is_served_by_eval_and_forward_on_three_element_lines() {
+    let home = c5_runtime::Delta::new(c5_robot::Delta::example())
+        .unwrap()
+        .home();
+    let line = format!("{{\"pose\": {home:?}, \"velocity\": [0, 0, 0]}}\n");
+    let eval = c5_ok(&["eval", "--robot", DELTA], &line);
+    let out: serde_json::Value = serde_json::from_slice(&eval.stdout).unwrap();
+    let gamma: Vec<f64> = serde_json::from_value(out["gamma"].clone()).unwrap();
+    // At rest the motors hold the platform's and the arms' weight, the three alike.
+    assert_eq!(gamma.len(), 3);
+    assert!(gamma.iter().all(|g| g.abs() > 0.1), "{gamma:?}");
+    assert!(
+        (gamma[0] - gamma[1]).abs() < 1e-4 * gamma[0].abs(),
+        "{gamma:?}"
+    );
+    let jinv: Vec<Vec<f64>> = serde_json::from_value(out["jinv"].clone()).unwrap();
+    assert_eq!((jinv.len(), jinv[0].len()), (3, 3));
+    let held = format!("{{\"pose\": {home:?}, \"gamma\": {gamma:?}}}\n");
+    let forward = c5_ok(&["forward", "--robot", DELTA], &held);
+    let out: serde_json::Value = serde_json::from_slice(&forward.stdout).unwrap();
+    let a: Vec<f64> = serde_json::from_value(out["acceleration"].clone()).unwrap();
+    assert!(a.len() == 3 && a.iter().all(|x| x.abs() < 1e-9), "{a:?}");
+    let q: Vec<f64> = serde_json::from_value(
+        serde_json::from_slice::<serde_json::Value>(&eval.stdout).unwrap()["q"].clone(),
+    )
+    .unwrap();
+    let back = c5_ok(&["eval", "--robot", DELTA], &format!("{{\"q\": {q:?}}}\n"));
+    let out: serde_json::Value = serde_json::from_slice(&back.stdout).unwrap();
+    let pose: Vec<f64> = serde_json::from_value(out["pose"].clone()).unwrap();
+    assert!(
+        pose.iter().zip(home).all(|(p, h)| (p - h).abs() < 1e-12),
+        "{pose:?}"
+    );
+    let audit = c5_ok(&["audit", "--robot", DELTA], "");
+    let text = String::from_utf8_lossy(&audit.stdout);
+    assert!(text.contains("robsynth's 3010m + 1835a"), "{text}");
+}
