@@ -18,8 +18,7 @@ import pytest
 from conftest import ROOT
 from rus_geometry import RusRobot
 from test_export import export, toml_text, unseen
-from test_rus_hexapod import (BOUND, engine_ddq, offsets, pinocchio_motor_rates,
-                              pinocchio_torques, relative)
+from test_rus_hexapod import BOUND, eval_differences, offsets, relative
 
 pin = pytest.importorskip("pinocchio")
 from exported import PinocchioExport  # noqa: E402  (needs pinocchio)
@@ -60,23 +59,7 @@ def test_eval_agrees_with_pinocchio_and_the_issues_formula(delta, run_c5):
     file, geometry, engine, home = delta
     samples = list(states(home, 8, 5))
     ours = run_c5("eval", [line(*s) for s in samples], "--robot", str(file))
-    worst = dict(q=0.0, jinv=0.0, qd=0.0, gamma=0.0, qdd=0.0, identity=0.0)
-    for (position, velocity, accel), mine in zip(samples, ours):
-        assert "error" not in mine, mine
-        worst["q"] = max(worst["q"], relative(mine["q"],
-                                              geometry.angles(position) + offsets(geometry)))
-        jinv = np.column_stack([pinocchio_motor_rates(engine, position, e) for e in np.eye(3)])
-        worst["jinv"] = max(worst["jinv"], relative(mine["jinv"], jinv))
-        worst["qd"] = max(worst["qd"], relative(mine["qd"], jinv @ velocity))
-        identity = np.asarray(mine["jinv"]) @ np.asarray(mine["jacobian"])
-        worst["identity"] = max(worst["identity"], np.max(np.abs(identity - np.eye(3))))
-        worst["gamma"] = max(worst["gamma"], relative(
-            mine["gamma"], pinocchio_torques(engine, position, velocity, accel)))
-        q, v, _ = engine.state(position, velocity)
-        ddq = engine_ddq(engine, q, v, mine["gamma"])
-        worst["qdd"] = max(worst["qdd"], relative(mine["qdd"], ddq[engine.actuated]))
-    print("eval against Pinocchio, relative: " +
-          ", ".join(f"{k} {v:.1e}" for k, v in worst.items()))
+    worst = eval_differences(engine, geometry, samples, ours)
     assert all(v < BOUND for v in worst.values()), worst
 
 

@@ -93,20 +93,21 @@ def pinocchio_torques(engine, pose, twist, accel):
     return np.linalg.solve(np.column_stack(columns), accel - base)
 
 
-def test_eval_agrees_with_pinocchio_and_the_issues_formula(hexapod, run_c5):
-    file, geometry, engine, home = hexapod
-    samples = list(states(home, 8, 5))
-    ours = run_c5("eval", [line(*s) for s in samples], "--robot", str(file))
+def eval_differences(engine, geometry, samples, ours):
+    """The worst relative differences of `eval`'s lines `ours` at the states `samples`
+    (pose, twist, acceleration; a Delta's position, velocity, acceleration) from Pinocchio's
+    and the issue's formula: `q`, `jinv`, `qd`, `gamma`, `qdd`, and `J⁻¹ J - I`."""
     worst = dict(q=0.0, jinv=0.0, qd=0.0, gamma=0.0, qdd=0.0, identity=0.0)
     for (pose, twist, accel), mine in zip(samples, ours):
         assert "error" not in mine, mine
+        n = len(twist)
         worst["q"] = max(worst["q"], relative(mine["q"],
                                               geometry.angles(pose) + offsets(geometry)))
-        jinv = np.column_stack([pinocchio_motor_rates(engine, pose, e) for e in np.eye(6)])
+        jinv = np.column_stack([pinocchio_motor_rates(engine, pose, e) for e in np.eye(n)])
         worst["jinv"] = max(worst["jinv"], relative(mine["jinv"], jinv))
         worst["qd"] = max(worst["qd"], relative(mine["qd"], jinv @ twist))
         identity = np.asarray(mine["jinv"]) @ np.asarray(mine["jacobian"])
-        worst["identity"] = max(worst["identity"], np.max(np.abs(identity - np.eye(6))))
+        worst["identity"] = max(worst["identity"], np.max(np.abs(identity - np.eye(n))))
         worst["gamma"] = max(worst["gamma"], relative(
             mine["gamma"], pinocchio_torques(engine, pose, twist, accel)))
         q, v, _ = engine.state(pose, twist)
@@ -114,6 +115,14 @@ def test_eval_agrees_with_pinocchio_and_the_issues_formula(hexapod, run_c5):
         worst["qdd"] = max(worst["qdd"], relative(mine["qdd"], ddq[engine.actuated]))
     print("eval against Pinocchio, relative: " +
           ", ".join(f"{k} {v:.1e}" for k, v in worst.items()))
+    return worst
+
+
+def test_eval_agrees_with_pinocchio_and_the_issues_formula(hexapod, run_c5):
+    file, geometry, engine, home = hexapod
+    samples = list(states(home, 8, 5))
+    ours = run_c5("eval", [line(*s) for s in samples], "--robot", str(file))
+    worst = eval_differences(engine, geometry, samples, ours)
     assert all(v < BOUND for v in worst.values()), worst
 
 

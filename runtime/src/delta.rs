@@ -157,8 +157,9 @@ impl Delta {
         self.home
     }
 
-    /// The singularity terms at `position` ([`TERMS`]'s order), unchecked: for monitoring
-    /// how near a singularity the platform is.
+    /// The singularity terms at `position`, unchecked: each arm's U joints' sine, each arm's
+    /// reach `1 - (K/ρ)²`, and the arms' hold `det(J⁻¹)² / Π |row_i|²`; for monitoring how
+    /// near a singularity the platform is.
     ///
     /// # Errors
     /// [`Error::NonFinite`] for a non-finite input.

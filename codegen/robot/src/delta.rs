@@ -9,9 +9,7 @@ use crate::rus::{
 };
 use crate::tree::add;
 use crate::Error;
-#[cfg(feature = "toml")]
-use alloc::string::String;
-use alloc::string::ToString;
+use alloc::string::{String, ToString};
 use alloc::vec::Vec;
 
 /// The entries of one arm in the kernels' geometry: the rotary hexapod leg's

@@ -10,7 +10,8 @@
 //! structure ([`c5`]): what they share lives in [`geometry`] (eqs 15, 16, 27) and [`bodies`]
 //! (Newton-Euler, eqs 52-57). Mechanisms whose platform rides on legs of known types derive
 //! everything from the legs' closed forms ([`legged`]): the Gough-Stewart platform
-//! ([`gough_stewart`]).
+//! ([`gough_stewart`]), the rotary hexapod ([`rus_hexapod`]) and the Delta ([`delta`]), whose
+//! platform only translates and whose kernels are its own, on three actuators.
 //!
 //! This is the only place that knows both the robots and the kernel list; the engine sees
 //! [`KernelSpec`](crate::KernelSpec)s and nothing else.
