@@ -253,8 +253,14 @@ impl GoughStewart {
         check_finite("twist", &v)?;
         check_finite("gamma", gamma)?;
         let (a, guard) = kernels::forward_dynamics_params(&x, &v, gamma, &self.params);
+        // The U joints' sines and the legs' hold.
         check_terms(&guard)?;
-        self.check_acceleration_solve(&x, &guard)?;
+        check_conditioned(
+            "forward dynamics",
+            &guard[..6],
+            &TERMS[..6],
+            FORWARD_U_JOINT_TOLERANCE,
+        )?;
         Ok(Acceleration::from_array(finite("acceleration", a)?))
     }
 
@@ -296,6 +302,7 @@ impl GoughStewart {
 
     /// Refuses a pose where the legs' hold is below [`HOLD_TOLERANCE`]: for the kernels that
     /// solve with `M_x` rather than `J⁻ᵀ`, whose own singularity terms are the U joints' alone.
+    #[cfg(feature = "derivatives")]
     pub(crate) fn check_hold(&self, x: &[f64; 6]) -> Result<(), Error> {
         check_terms(&kernels::singularity_terms_params(x, &self.params))
     }
@@ -303,6 +310,7 @@ impl GoughStewart {
     /// Refuses, for the kernels that solve `M_x` for the acceleration, a pose where the legs'
     /// hold is below [`HOLD_TOLERANCE`] or a U joint's sine (of `sines`, the kernel's guard)
     /// below [`FORWARD_U_JOINT_TOLERANCE`].
+    #[cfg(feature = "derivatives")]
     pub(crate) fn check_acceleration_solve(
         &self,
         x: &[f64; 6],

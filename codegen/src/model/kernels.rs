@@ -790,7 +790,9 @@ pub const TABLE: &[Decl] = &[
             shape: Shape::Vector(6),
             doc: "classical platform acceleration `(ω̇; a_C)` (rad/s², m/s²), base frame",
         }],
-        guard: Guard::Pose,
+        // The solve's terms too: a hexapod's hold on the platform comes with the acceleration
+        // (its rows are the kernel's own) rather than from a second kernel call.
+        guard: Guard::Solve,
         reads: Reads::Robot,
         batch: true,
         chapter: None,

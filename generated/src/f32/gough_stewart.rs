@@ -10,9 +10,9 @@
 //   joint_accelerations_params         359    6   274    6  3 sin_cos, 12 sqrt
 //   leg_wrench_params                 1013   12   658   15  3 sin_cos, 12 sqrt
 //   platform_wrench_params             110    0    70    0  3 sin_cos
-//   task_inertia_params               1688   12  1000   10  3 sin_cos, 12 sqrt
+//   task_inertia_params                759   12   538   12  3 sin_cos, 12 sqrt
 //   task_bias_params                  1049   12   652   12  3 sin_cos, 12 sqrt
-//   forward_dynamics_params           2758   24  1777   25  3 sin_cos, 12 sqrt
+//   forward_dynamics_params           2096   29  1417   41  3 sin_cos, 12 sqrt
 //   inverse_dynamics_params           1310   24   888   33  3 sin_cos, 12 sqrt
 //   singularity_terms_params           406   17   264   16  3 sin_cos, 12 sqrt
 //   forward_kinematics_step_params     347    6   184   18  3 sin_cos, 12 sqrt
@@ -6615,7 +6615,7 @@ pub fn platform_wrench_params(
 /// - `m`: `M_x` (kg, kg·m, kg·m²), rows and columns `[ωx ωy ωz vx vy vz]`, base frame
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
-/// Operations: 1688 mul, 12 div, 1000 add, 10 neg, 3 sin_cos, 12 sqrt (chapter convention: 1700m + 1000a).
+/// Operations: 759 mul, 12 div, 538 add, 12 neg, 3 sin_cos, 12 sqrt (chapter convention: 771m + 538a).
 #[inline]
 pub fn task_inertia_params(
     pose: &[f32; 6],
@@ -6645,3541 +6645,1651 @@ pub fn task_inertia_params(
     let (
         t0,
         t1,
+        t2,
         t3,
-        t4,
+        t5,
+        t6,
         t9,
-        t11,
-        t12,
-        t16,
-        t21,
-        t26,
-        t30,
-        t34,
-        t39,
-        t48,
-        t67,
-        t69,
+        t14,
+        t19,
+        t23,
+        t27,
+        t32,
+        t44,
+        t51,
+        t70,
+        t73,
         t76,
-        t77,
-        t79,
-        t80,
-        t82,
-        t84,
-        t86,
-        t88,
-        t90,
-        t93,
-        t97,
-        t100,
-        t107,
-        t108,
-        t115,
-        t117,
-        t122,
-        t123,
-        t130,
-        t141,
-        t144,
-        t151,
-        t158,
+        t106,
+        t113,
+        t121,
+        t125,
+        t137,
+        t146,
+        t152,
         t164,
-        t173,
-        t192,
-        t194,
-        t201,
-        t202,
-        t204,
-        t205,
-        t207,
-        t209,
-        t211,
-        t213,
-        t215,
-        t218,
-        t222,
-        t225,
-        t232,
+        t171,
+        t190,
+        t193,
+        t196,
+        t226,
         t233,
-        t240,
-        t242,
-        t247,
-        t248,
-        t255,
+        t241,
+        t245,
+        t257,
         t266,
-        t269,
-        t276,
-        t283,
-        t289,
-        t298,
-        t317,
-        t319,
-        t326,
-        t327,
-        t329,
-        t330,
-        t332,
-        t334,
-        t336,
-        t338,
-        t340,
-        t343,
-        t347,
-        t350,
-        t357,
-        t358,
+        t272,
+        t284,
+        t291,
+        t310,
+        t313,
+        t316,
+        t346,
+        t353,
+        t361,
         t365,
-        t367,
-        t372,
-        t373,
-        t380,
-        t391,
-        t394,
-        t401,
-        t408,
-        t414,
-        t423,
-        t442,
-        t444,
-        t451,
-        t452,
-        t454,
-        t455,
-        t457,
-        t459,
-        t461,
-        t463,
-        t465,
-        t468,
-        t472,
-        t475,
-        t482,
-        t483,
-        t490,
-        t492,
+        t377,
+        t386,
+        t392,
+        t404,
+        t411,
+        t430,
+        t433,
+        t436,
+        t466,
+        t473,
+        t481,
+        t485,
         t497,
-        t498,
-        t505,
-        t516,
-        t519,
-        t526,
-        t533,
-        t539,
-        t548,
-        t567,
-        t569,
-        t576,
-        t577,
-        t579,
-        t580,
-        t582,
-        t584,
+        t506,
+        t512,
+        t524,
+        t531,
+        t550,
+        t553,
+        t556,
         t586,
-        t588,
-        t590,
         t593,
-        t597,
-        t600,
-        t607,
-        t608,
-        t609,
-        t615,
+        t601,
+        t605,
         t617,
-        t622,
-        t623,
-        t625,
-        t630,
-        t635,
-        t641,
+        t626,
+        t632,
         t644,
-        t646,
         t651,
-        t658,
-        t664,
+        t670,
         t673,
-        t692,
-        t694,
-        t701,
-        t702,
-        t704,
-        t705,
-        t707,
-        t709,
-        t711,
+        t676,
+        t706,
         t713,
-        t715,
-        t718,
-        t722,
+        t721,
         t725,
-        t732,
-        t733,
-        t734,
-        t740,
-        t742,
-        t747,
-        t748,
-        t750,
-        t755,
-        t760,
-        t766,
-        t769,
-        t771,
+        t737,
         t776,
         t783,
-        t790,
+        t787,
+        t788,
+        t795,
+        t796,
         t806,
-        t812,
-        t813,
-        t816,
+        t810,
+        t811,
+        t818,
         t819,
-        t821,
-        t825,
-        t827,
-        t830,
-        t836,
-        t838,
+        t829,
+        t833,
+        t834,
+        t841,
         t842,
-        t843,
-        t845,
-        t848,
-        t851,
+        t852,
         t856,
-        t860,
-        t861,
+        t857,
         t864,
-        t867,
-        t869,
-        t873,
+        t865,
         t875,
-        t878,
-        t884,
-        t886,
-        t890,
-        t891,
-        t893,
-        t896,
-        t899,
-        t904,
-        t908,
-        t909,
-        t912,
-        t915,
+        t879,
+        t880,
+        t887,
+        t888,
+        t898,
+        t902,
+        t903,
+        t910,
+        t911,
         t917,
-        t921,
-        t923,
-        t926,
-        t932,
-        t934,
-        t938,
-        t939,
-        t941,
-        t944,
-        t947,
-        t952,
-        t956,
-        t957,
-        t960,
+        t933,
+        t948,
         t963,
-        t965,
         t969,
-        t971,
-        t974,
-        t980,
+        t975,
         t982,
-        t986,
-        t987,
-        t989,
-        t992,
+        t988,
         t994,
-        t995,
-        t998,
         t1000,
+        t1001,
         t1002,
     ) = {
-        let (t0, t1): (f32, f32) = sin_cos(beta);
-        let t2: f32 = platform_izz * t0;
-        let (t3, t4): (f32, f32) = sin_cos(gamma);
-        let t5: f32 = platform_ixz * t4;
-        let t6: f32 = platform_iyz * t3;
-        let t7: f32 = t5 - t6;
-        let t8: f32 = t1 * t7;
-        let t9: f32 = t2 + t8;
-        let t10: f32 = t0 * t9;
-        let (t11, t12): (f32, f32) = sin_cos(alpha);
-        let t13: f32 = t3 * t11;
-        let t14: f32 = t0 * t12;
-        let t15: f32 = t4 * t14;
-        let t16: f32 = t13 - t15;
-        let t17: f32 = leg1_platform_x * t16;
-        let t18: f32 = t4 * t11;
-        let t19: f32 = t0 * t3;
-        let t20: f32 = t12 * t19;
-        let t21: f32 = t18 + t20;
-        let t22: f32 = leg1_platform_y * t21;
-        let t23: f32 = leg1_platform_z * t12;
-        let t24: f32 = t1 * t23;
-        let t25: f32 = t17 + t22;
-        let t26: f32 = t24 + t25;
-        let t27: f32 = t3 * t12;
-        let t28: f32 = t0 * t11;
-        let t29: f32 = t4 * t28;
-        let t30: f32 = t27 + t29;
-        let t31: f32 = leg1_platform_x * t30;
-        let t32: f32 = t4 * t12;
-        let t33: f32 = t3 * t28;
-        let t34: f32 = t32 - t33;
-        let t35: f32 = leg1_platform_y * t34;
-        let t36: f32 = leg1_platform_z * t11;
-        let t37: f32 = t1 * t36;
-        let t38: f32 = t31 + t35;
-        let t39: f32 = t38 - t37;
-        let t40: f32 = yc + t39;
-        let t41: f32 = t40 - leg1_base_y;
-        let t42: f32 = leg1_axis_x * t41;
-        let t43: f32 = leg1_platform_z * t0;
-        let t44: f32 = leg1_platform_x * t4;
-        let t45: f32 = leg1_platform_y * t3;
-        let t46: f32 = t44 - t45;
-        let t47: f32 = t1 * t46;
-        let t48: f32 = t43 + t47;
-        let t49: f32 = xc + t48;
-        let t50: f32 = t49 - leg1_base_x;
-        let t51: f32 = leg1_axis_y * t50;
-        let t52: f32 = t42 - t51;
-        let t53: f32 = -t52;
-        let t54: f32 = leg1_axis_z * t41;
-        let t55: f32 = zc + t26;
-        let t56: f32 = t55 - leg1_base_z;
-        let t57: f32 = leg1_axis_y * t56;
-        let t58: f32 = t54 - t57;
-        let t59: f32 = t58 * t58;
-        let t60: f32 = leg1_axis_x * t56;
-        let t61: f32 = leg1_axis_z * t50;
-        let t62: f32 = t60 - t61;
-        let t63: f32 = t62 * t62;
-        let t64: f32 = t53 * t53;
-        let t65: f32 = t59 + t63;
-        let t66: f32 = t64 + t65;
-        let t67: f32 = sqrt(t66);
-        let t68: f32 = 1.0 / t67;
-        let t69: f32 = t53 * t68;
-        let t70: f32 = t41 * t41;
-        let t71: f32 = t56 * t56;
-        let t72: f32 = t50 * t50;
-        let t73: f32 = t70 + t71;
-        let t74: f32 = t72 + t73;
-        let t75: f32 = sqrt(t74);
-        let t76: f32 = 1.0 / t75;
-        let t77: f32 = t50 * t76;
-        let t78: f32 = t69 * t77;
-        let t79: f32 = t56 * t76;
-        let t80: f32 = t58 * t68;
-        let t81: f32 = t79 * t80;
-        let t82: f32 = t78 - t81;
-        let t83: f32 = t26 * t82;
-        let t84: f32 = t41 * t76;
-        let t85: f32 = t80 * t84;
-        let t86: f32 = t62 * t68;
-        let t87: f32 = t77 * t86;
-        let t88: f32 = t85 - t87;
-        let t89: f32 = t39 * t88;
-        let t90: f32 = t83 - t89;
-        let t91: f32 = leg1_cylinder_ixx + leg1_rod_ixx;
-        let t92: f32 = t76 * t91;
-        let t93: f32 = leg1_rod_mz + t92;
-        let t94: f32 = t82 * t90;
-        let t95: f32 = t76 * t94;
-        let t96: f32 = t93 * t95;
-        let t97: f32 = t76 * t76;
-        let t98: f32 = t26 * t86;
-        let t99: f32 = t39 * t69;
-        let t100: f32 = t98 - t99;
-        let t101: f32 = leg1_axis_y * t41;
-        let t102: f32 = leg1_axis_z * t56;
-        let t103: f32 = leg1_axis_x * t50;
-        let t104: f32 = t101 + t102;
-        let t105: f32 = t103 + t104;
-        let t106: f32 = t68 * t105;
-        let t107: f32 = t106 * t106;
-        let t108: f32 = leg1_cylinder_izz + leg1_rod_izz;
-        let t109: f32 = t86 * t97;
-        let t110: f32 = t100 * t109;
-        let t111: f32 = t107 * t110;
-        let t112: f32 = t108 * t111;
-        let t113: f32 = t96 + t112;
-        let t114: f32 = leg1_rod_mz * t76;
-        let t115: f32 = leg1_rod_mass + t114;
-        let t116: f32 = t94 * t115;
-        let t117: f32 = t86 * t115;
-        let t118: f32 = t100 * t117;
-        let t119: f32 = t116 + t118;
-        let t120: f32 = t26 * t84;
-        let t121: f32 = t39 * t79;
-        let t122: f32 = t120 - t121;
-        let t123: f32 = leg1_rod_mass * t84;
-        let t124: f32 = t122 * t123;
-        let t125: f32 = t76 * t86;
-        let t126: f32 = t100 * t125;
-        let t127: f32 = t93 * t126;
-        let t128: f32 = t124 + t127;
-        let t129: f32 = t119 + t128;
-        let t130: f32 = t113 + t129;
-        let t131: f32 = t26 * t130;
-        let t132: f32 = t88 * t90;
-        let t133: f32 = t76 * t132;
-        let t134: f32 = t93 * t133;
-        let t135: f32 = t69 * t97;
-        let t136: f32 = t100 * t135;
-        let t137: f32 = t107 * t136;
-        let t138: f32 = t108 * t137;
-        let t139: f32 = t134 + t138;
-        let t140: f32 = t115 * t132;
-        let t141: f32 = t69 * t115;
-        let t142: f32 = t100 * t141;
-        let t143: f32 = t140 + t142;
-        let t144: f32 = leg1_rod_mass * t79;
-        let t145: f32 = t122 * t144;
-        let t146: f32 = t69 * t76;
-        let t147: f32 = t100 * t146;
-        let t148: f32 = t93 * t147;
-        let t149: f32 = t145 + t148;
-        let t150: f32 = t143 + t149;
-        let t151: f32 = t139 + t150;
-        let t152: f32 = t39 * t151;
-        let t153: f32 = leg2_platform_x * t16;
-        let t154: f32 = leg2_platform_y * t21;
-        let t155: f32 = leg2_platform_z * t12;
-        let t156: f32 = t1 * t155;
-        let t157: f32 = t153 + t154;
-        let t158: f32 = t156 + t157;
-        let t159: f32 = leg2_platform_x * t30;
-        let t160: f32 = leg2_platform_y * t34;
-        let t161: f32 = leg2_platform_z * t11;
-        let t162: f32 = t1 * t161;
-        let t163: f32 = t159 + t160;
-        let t164: f32 = t163 - t162;
-        let t165: f32 = yc + t164;
-        let t166: f32 = t165 - leg2_base_y;
-        let t167: f32 = leg2_axis_x * t166;
-        let t168: f32 = leg2_platform_z * t0;
-        let t169: f32 = leg2_platform_x * t4;
-        let t170: f32 = leg2_platform_y * t3;
-        let t171: f32 = t169 - t170;
-        let t172: f32 = t1 * t171;
-        let t173: f32 = t168 + t172;
-        let t174: f32 = xc + t173;
-        let t175: f32 = t174 - leg2_base_x;
-        let t176: f32 = leg2_axis_y * t175;
-        let t177: f32 = t167 - t176;
+        let (t0, t1): (f32, f32) = sin_cos(alpha);
+        let (t2, t3): (f32, f32) = sin_cos(gamma);
+        let t4: f32 = t0 * t2;
+        let (t5, t6): (f32, f32) = sin_cos(beta);
+        let t7: f32 = t1 * t5;
+        let t8: f32 = t3 * t7;
+        let t9: f32 = t4 - t8;
+        let t10: f32 = leg1_platform_x * t9;
+        let t11: f32 = t0 * t3;
+        let t12: f32 = t2 * t5;
+        let t13: f32 = t1 * t12;
+        let t14: f32 = t11 + t13;
+        let t15: f32 = leg1_platform_y * t14;
+        let t16: f32 = leg1_platform_z * t1;
+        let t17: f32 = t6 * t16;
+        let t18: f32 = t10 + t15;
+        let t19: f32 = t17 + t18;
+        let t20: f32 = t1 * t2;
+        let t21: f32 = t0 * t5;
+        let t22: f32 = t3 * t21;
+        let t23: f32 = t20 + t22;
+        let t24: f32 = leg1_platform_x * t23;
+        let t25: f32 = t1 * t3;
+        let t26: f32 = t2 * t21;
+        let t27: f32 = t25 - t26;
+        let t28: f32 = leg1_platform_y * t27;
+        let t29: f32 = leg1_platform_z * t0;
+        let t30: f32 = t6 * t29;
+        let t31: f32 = t24 + t28;
+        let t32: f32 = t31 - t30;
+        let t33: f32 = yc + t32;
+        let t34: f32 = t33 - leg1_base_y;
+        let t35: f32 = t34 * t34;
+        let t36: f32 = zc + t19;
+        let t37: f32 = t36 - leg1_base_z;
+        let t38: f32 = t37 * t37;
+        let t39: f32 = leg1_platform_z * t5;
+        let t40: f32 = leg1_platform_x * t3;
+        let t41: f32 = leg1_platform_y * t2;
+        let t42: f32 = t40 - t41;
+        let t43: f32 = t6 * t42;
+        let t44: f32 = t39 + t43;
+        let t45: f32 = xc + t44;
+        let t46: f32 = t45 - leg1_base_x;
+        let t47: f32 = t46 * t46;
+        let t48: f32 = t35 + t38;
+        let t49: f32 = t47 + t48;
+        let t50: f32 = sqrt(t49);
+        let t51: f32 = 1.0 / t50;
+        let t52: f32 = t34 * t51;
+        let t53: f32 = t52 * t52;
+        let t54: f32 = leg1_rod_mass * t53;
+        let t55: f32 = leg1_axis_x * t34;
+        let t56: f32 = leg1_axis_y * t46;
+        let t57: f32 = t55 - t56;
+        let t58: f32 = -t57;
+        let t59: f32 = leg1_axis_z * t34;
+        let t60: f32 = leg1_axis_y * t37;
+        let t61: f32 = t59 - t60;
+        let t62: f32 = t61 * t61;
+        let t63: f32 = leg1_axis_x * t37;
+        let t64: f32 = leg1_axis_z * t46;
+        let t65: f32 = t63 - t64;
+        let t66: f32 = t65 * t65;
+        let t67: f32 = t58 * t58;
+        let t68: f32 = t62 + t66;
+        let t69: f32 = t67 + t68;
+        let t70: f32 = sqrt(t69);
+        let t71: f32 = 1.0 / t70;
+        let t72: f32 = t58 * t71;
+        let t73: f32 = t46 * t51;
+        let t74: f32 = t72 * t73;
+        let t75: f32 = t37 * t51;
+        let t76: f32 = t61 * t71;
+        let t77: f32 = t75 * t76;
+        let t78: f32 = t74 - t77;
+        let t79: f32 = t78 * t78;
+        let t80: f32 = leg1_cylinder_ixx + leg1_rod_ixx;
+        let t81: f32 = t51 * t80;
+        let t82: f32 = leg1_rod_mz + t81;
+        let t83: f32 = t79 * t82;
+        let t84: f32 = t65 * t71;
+        let t85: f32 = t84 * t84;
+        let t86: f32 = leg1_axis_y * t34;
+        let t87: f32 = leg1_axis_z * t37;
+        let t88: f32 = leg1_axis_x * t46;
+        let t89: f32 = t86 + t87;
+        let t90: f32 = t88 + t89;
+        let t91: f32 = t71 * t90;
+        let t92: f32 = t91 * t91;
+        let t93: f32 = leg1_cylinder_izz + leg1_rod_izz;
+        let t94: f32 = t92 * t93;
+        let t95: f32 = t80 + t94;
+        let t96: f32 = t51 * t95;
+        let t97: f32 = leg1_rod_mz + t96;
+        let t98: f32 = t85 * t97;
+        let t99: f32 = t83 + t98;
+        let t100: f32 = t51 * t99;
+        let t101: f32 = leg1_rod_mz * t51;
+        let t102: f32 = leg1_rod_mass + t101;
+        let t103: f32 = t79 + t85;
+        let t104: f32 = t102 * t103;
+        let t105: f32 = t54 + t100;
+        let t106: f32 = t104 + t105;
+        let t107: f32 = t19 * t106;
+        let t108: f32 = leg1_rod_mass * t75;
+        let t109: f32 = t52 * t108;
+        let t110: f32 = leg1_rod_mz * 2.0;
+        let t111: f32 = t96 + t110;
+        let t112: f32 = t51 * t111;
+        let t113: f32 = leg1_rod_mass + t112;
+        let t114: f32 = t72 * t84;
+        let t115: f32 = t113 * t114;
+        let t116: f32 = t52 * t76;
+        let t117: f32 = t73 * t84;
+        let t118: f32 = t116 - t117;
+        let t119: f32 = t81 + t110;
+        let t120: f32 = t51 * t119;
+        let t121: f32 = leg1_rod_mass + t120;
+        let t122: f32 = t78 * t118;
+        let t123: f32 = t121 * t122;
+        let t124: f32 = t109 + t115;
+        let t125: f32 = t123 + t124;
+        let t126: f32 = t32 * t125;
+        let t127: f32 = t107 - t126;
+        let t128: f32 = t19 * t127;
+        let t129: f32 = t19 * t125;
+        let t130: f32 = t75 * t75;
+        let t131: f32 = leg1_rod_mass * t130;
+        let t132: f32 = t72 * t72;
+        let t133: f32 = t113 * t132;
+        let t134: f32 = t118 * t118;
+        let t135: f32 = t121 * t134;
+        let t136: f32 = t131 + t133;
+        let t137: f32 = t135 + t136;
+        let t138: f32 = t32 * t137;
+        let t139: f32 = t129 - t138;
+        let t140: f32 = t32 * t139;
+        let t141: f32 = leg2_platform_x * t9;
+        let t142: f32 = leg2_platform_y * t14;
+        let t143: f32 = leg2_platform_z * t1;
+        let t144: f32 = t6 * t143;
+        let t145: f32 = t141 + t142;
+        let t146: f32 = t144 + t145;
+        let t147: f32 = leg2_platform_x * t23;
+        let t148: f32 = leg2_platform_y * t27;
+        let t149: f32 = leg2_platform_z * t0;
+        let t150: f32 = t6 * t149;
+        let t151: f32 = t147 + t148;
+        let t152: f32 = t151 - t150;
+        let t153: f32 = yc + t152;
+        let t154: f32 = t153 - leg2_base_y;
+        let t155: f32 = t154 * t154;
+        let t156: f32 = zc + t146;
+        let t157: f32 = t156 - leg2_base_z;
+        let t158: f32 = t157 * t157;
+        let t159: f32 = leg2_platform_z * t5;
+        let t160: f32 = leg2_platform_x * t3;
+        let t161: f32 = leg2_platform_y * t2;
+        let t162: f32 = t160 - t161;
+        let t163: f32 = t6 * t162;
+        let t164: f32 = t159 + t163;
+        let t165: f32 = xc + t164;
+        let t166: f32 = t165 - leg2_base_x;
+        let t167: f32 = t166 * t166;
+        let t168: f32 = t155 + t158;
+        let t169: f32 = t167 + t168;
+        let t170: f32 = sqrt(t169);
+        let t171: f32 = 1.0 / t170;
+        let t172: f32 = t154 * t171;
+        let t173: f32 = t172 * t172;
+        let t174: f32 = leg2_rod_mass * t173;
+        let t175: f32 = leg2_axis_x * t154;
+        let t176: f32 = leg2_axis_y * t166;
+        let t177: f32 = t175 - t176;
         let t178: f32 = -t177;
-        let t179: f32 = leg2_axis_z * t166;
-        let t180: f32 = zc + t158;
-        let t181: f32 = t180 - leg2_base_z;
-        let t182: f32 = leg2_axis_y * t181;
-        let t183: f32 = t179 - t182;
-        let t184: f32 = t183 * t183;
-        let t185: f32 = leg2_axis_x * t181;
-        let t186: f32 = leg2_axis_z * t175;
-        let t187: f32 = t185 - t186;
-        let t188: f32 = t187 * t187;
-        let t189: f32 = t178 * t178;
-        let t190: f32 = t184 + t188;
-        let t191: f32 = t189 + t190;
-        let t192: f32 = sqrt(t191);
-        let t193: f32 = 1.0 / t192;
-        let t194: f32 = t178 * t193;
-        let t195: f32 = t166 * t166;
-        let t196: f32 = t181 * t181;
-        let t197: f32 = t175 * t175;
-        let t198: f32 = t195 + t196;
-        let t199: f32 = t197 + t198;
-        let t200: f32 = sqrt(t199);
-        let t201: f32 = 1.0 / t200;
-        let t202: f32 = t175 * t201;
-        let t203: f32 = t194 * t202;
-        let t204: f32 = t181 * t201;
-        let t205: f32 = t183 * t193;
-        let t206: f32 = t204 * t205;
-        let t207: f32 = t203 - t206;
-        let t208: f32 = t158 * t207;
-        let t209: f32 = t166 * t201;
-        let t210: f32 = t205 * t209;
-        let t211: f32 = t187 * t193;
-        let t212: f32 = t202 * t211;
-        let t213: f32 = t210 - t212;
-        let t214: f32 = t164 * t213;
-        let t215: f32 = t208 - t214;
-        let t216: f32 = leg2_cylinder_ixx + leg2_rod_ixx;
-        let t217: f32 = t201 * t216;
-        let t218: f32 = leg2_rod_mz + t217;
-        let t219: f32 = t207 * t215;
-        let t220: f32 = t201 * t219;
-        let t221: f32 = t218 * t220;
-        let t222: f32 = t201 * t201;
-        let t223: f32 = t158 * t211;
-        let t224: f32 = t164 * t194;
-        let t225: f32 = t223 - t224;
-        let t226: f32 = leg2_axis_y * t166;
-        let t227: f32 = leg2_axis_z * t181;
-        let t228: f32 = leg2_axis_x * t175;
-        let t229: f32 = t226 + t227;
-        let t230: f32 = t228 + t229;
-        let t231: f32 = t193 * t230;
-        let t232: f32 = t231 * t231;
-        let t233: f32 = leg2_cylinder_izz + leg2_rod_izz;
-        let t234: f32 = t211 * t222;
-        let t235: f32 = t225 * t234;
-        let t236: f32 = t232 * t235;
-        let t237: f32 = t233 * t236;
-        let t238: f32 = t221 + t237;
-        let t239: f32 = leg2_rod_mz * t201;
-        let t240: f32 = leg2_rod_mass + t239;
-        let t241: f32 = t219 * t240;
-        let t242: f32 = t211 * t240;
-        let t243: f32 = t225 * t242;
-        let t244: f32 = t241 + t243;
-        let t245: f32 = t158 * t209;
-        let t246: f32 = t164 * t204;
-        let t247: f32 = t245 - t246;
-        let t248: f32 = leg2_rod_mass * t209;
-        let t249: f32 = t247 * t248;
-        let t250: f32 = t201 * t211;
-        let t251: f32 = t225 * t250;
-        let t252: f32 = t218 * t251;
-        let t253: f32 = t249 + t252;
-        let t254: f32 = t244 + t253;
-        let t255: f32 = t238 + t254;
-        let t256: f32 = t158 * t255;
-        let t257: f32 = t213 * t215;
-        let t258: f32 = t201 * t257;
-        let t259: f32 = t218 * t258;
-        let t260: f32 = t194 * t222;
-        let t261: f32 = t225 * t260;
-        let t262: f32 = t232 * t261;
-        let t263: f32 = t233 * t262;
-        let t264: f32 = t259 + t263;
-        let t265: f32 = t240 * t257;
-        let t266: f32 = t194 * t240;
-        let t267: f32 = t225 * t266;
-        let t268: f32 = t265 + t267;
-        let t269: f32 = leg2_rod_mass * t204;
-        let t270: f32 = t247 * t269;
-        let t271: f32 = t194 * t201;
-        let t272: f32 = t225 * t271;
-        let t273: f32 = t218 * t272;
-        let t274: f32 = t270 + t273;
-        let t275: f32 = t268 + t274;
-        let t276: f32 = t264 + t275;
-        let t277: f32 = t164 * t276;
-        let t278: f32 = leg3_platform_x * t16;
-        let t279: f32 = leg3_platform_y * t21;
-        let t280: f32 = leg3_platform_z * t12;
-        let t281: f32 = t1 * t280;
-        let t282: f32 = t278 + t279;
-        let t283: f32 = t281 + t282;
-        let t284: f32 = leg3_platform_x * t30;
-        let t285: f32 = leg3_platform_y * t34;
-        let t286: f32 = leg3_platform_z * t11;
-        let t287: f32 = t1 * t286;
-        let t288: f32 = t284 + t285;
-        let t289: f32 = t288 - t287;
-        let t290: f32 = yc + t289;
-        let t291: f32 = t290 - leg3_base_y;
-        let t292: f32 = leg3_axis_x * t291;
-        let t293: f32 = leg3_platform_z * t0;
-        let t294: f32 = leg3_platform_x * t4;
-        let t295: f32 = leg3_platform_y * t3;
-        let t296: f32 = t294 - t295;
-        let t297: f32 = t1 * t296;
-        let t298: f32 = t293 + t297;
-        let t299: f32 = xc + t298;
-        let t300: f32 = t299 - leg3_base_x;
-        let t301: f32 = leg3_axis_y * t300;
-        let t302: f32 = t292 - t301;
-        let t303: f32 = -t302;
-        let t304: f32 = leg3_axis_z * t291;
-        let t305: f32 = zc + t283;
-        let t306: f32 = t305 - leg3_base_z;
-        let t307: f32 = leg3_axis_y * t306;
-        let t308: f32 = t304 - t307;
-        let t309: f32 = t308 * t308;
-        let t310: f32 = leg3_axis_x * t306;
-        let t311: f32 = leg3_axis_z * t300;
-        let t312: f32 = t310 - t311;
-        let t313: f32 = t312 * t312;
-        let t314: f32 = t303 * t303;
-        let t315: f32 = t309 + t313;
-        let t316: f32 = t314 + t315;
-        let t317: f32 = sqrt(t316);
-        let t318: f32 = 1.0 / t317;
-        let t319: f32 = t303 * t318;
-        let t320: f32 = t291 * t291;
-        let t321: f32 = t306 * t306;
-        let t322: f32 = t300 * t300;
-        let t323: f32 = t320 + t321;
-        let t324: f32 = t322 + t323;
-        let t325: f32 = sqrt(t324);
-        let t326: f32 = 1.0 / t325;
-        let t327: f32 = t300 * t326;
-        let t328: f32 = t319 * t327;
-        let t329: f32 = t306 * t326;
-        let t330: f32 = t308 * t318;
-        let t331: f32 = t329 * t330;
-        let t332: f32 = t328 - t331;
-        let t333: f32 = t283 * t332;
-        let t334: f32 = t291 * t326;
-        let t335: f32 = t330 * t334;
-        let t336: f32 = t312 * t318;
-        let t337: f32 = t327 * t336;
-        let t338: f32 = t335 - t337;
-        let t339: f32 = t289 * t338;
-        let t340: f32 = t333 - t339;
-        let t341: f32 = leg3_cylinder_ixx + leg3_rod_ixx;
-        let t342: f32 = t326 * t341;
-        let t343: f32 = leg3_rod_mz + t342;
-        let t344: f32 = t332 * t340;
-        let t345: f32 = t326 * t344;
-        let t346: f32 = t343 * t345;
-        let t347: f32 = t326 * t326;
-        let t348: f32 = t283 * t336;
-        let t349: f32 = t289 * t319;
-        let t350: f32 = t348 - t349;
-        let t351: f32 = leg3_axis_y * t291;
-        let t352: f32 = leg3_axis_z * t306;
-        let t353: f32 = leg3_axis_x * t300;
-        let t354: f32 = t351 + t352;
-        let t355: f32 = t353 + t354;
-        let t356: f32 = t318 * t355;
-        let t357: f32 = t356 * t356;
-        let t358: f32 = leg3_cylinder_izz + leg3_rod_izz;
-        let t359: f32 = t336 * t347;
-        let t360: f32 = t350 * t359;
-        let t361: f32 = t357 * t360;
-        let t362: f32 = t358 * t361;
-        let t363: f32 = t346 + t362;
-        let t364: f32 = leg3_rod_mz * t326;
-        let t365: f32 = leg3_rod_mass + t364;
-        let t366: f32 = t344 * t365;
-        let t367: f32 = t336 * t365;
-        let t368: f32 = t350 * t367;
-        let t369: f32 = t366 + t368;
-        let t370: f32 = t283 * t334;
-        let t371: f32 = t289 * t329;
-        let t372: f32 = t370 - t371;
-        let t373: f32 = leg3_rod_mass * t334;
-        let t374: f32 = t372 * t373;
-        let t375: f32 = t326 * t336;
-        let t376: f32 = t350 * t375;
-        let t377: f32 = t343 * t376;
-        let t378: f32 = t374 + t377;
-        let t379: f32 = t369 + t378;
-        let t380: f32 = t363 + t379;
-        let t381: f32 = t283 * t380;
-        let t382: f32 = t338 * t340;
-        let t383: f32 = t326 * t382;
-        let t384: f32 = t343 * t383;
-        let t385: f32 = t319 * t347;
-        let t386: f32 = t350 * t385;
-        let t387: f32 = t357 * t386;
-        let t388: f32 = t358 * t387;
-        let t389: f32 = t384 + t388;
-        let t390: f32 = t365 * t382;
-        let t391: f32 = t319 * t365;
-        let t392: f32 = t350 * t391;
-        let t393: f32 = t390 + t392;
-        let t394: f32 = leg3_rod_mass * t329;
-        let t395: f32 = t372 * t394;
-        let t396: f32 = t319 * t326;
-        let t397: f32 = t350 * t396;
-        let t398: f32 = t343 * t397;
-        let t399: f32 = t395 + t398;
-        let t400: f32 = t393 + t399;
-        let t401: f32 = t389 + t400;
-        let t402: f32 = t289 * t401;
-        let t403: f32 = leg4_platform_x * t16;
-        let t404: f32 = leg4_platform_y * t21;
-        let t405: f32 = leg4_platform_z * t12;
-        let t406: f32 = t1 * t405;
-        let t407: f32 = t403 + t404;
-        let t408: f32 = t406 + t407;
-        let t409: f32 = leg4_platform_x * t30;
-        let t410: f32 = leg4_platform_y * t34;
-        let t411: f32 = leg4_platform_z * t11;
-        let t412: f32 = t1 * t411;
-        let t413: f32 = t409 + t410;
-        let t414: f32 = t413 - t412;
-        let t415: f32 = yc + t414;
-        let t416: f32 = t415 - leg4_base_y;
-        let t417: f32 = leg4_axis_x * t416;
-        let t418: f32 = leg4_platform_z * t0;
-        let t419: f32 = leg4_platform_x * t4;
-        let t420: f32 = leg4_platform_y * t3;
+        let t179: f32 = leg2_axis_z * t154;
+        let t180: f32 = leg2_axis_y * t157;
+        let t181: f32 = t179 - t180;
+        let t182: f32 = t181 * t181;
+        let t183: f32 = leg2_axis_x * t157;
+        let t184: f32 = leg2_axis_z * t166;
+        let t185: f32 = t183 - t184;
+        let t186: f32 = t185 * t185;
+        let t187: f32 = t178 * t178;
+        let t188: f32 = t182 + t186;
+        let t189: f32 = t187 + t188;
+        let t190: f32 = sqrt(t189);
+        let t191: f32 = 1.0 / t190;
+        let t192: f32 = t178 * t191;
+        let t193: f32 = t166 * t171;
+        let t194: f32 = t192 * t193;
+        let t195: f32 = t157 * t171;
+        let t196: f32 = t181 * t191;
+        let t197: f32 = t195 * t196;
+        let t198: f32 = t194 - t197;
+        let t199: f32 = t198 * t198;
+        let t200: f32 = leg2_cylinder_ixx + leg2_rod_ixx;
+        let t201: f32 = t171 * t200;
+        let t202: f32 = leg2_rod_mz + t201;
+        let t203: f32 = t199 * t202;
+        let t204: f32 = t185 * t191;
+        let t205: f32 = t204 * t204;
+        let t206: f32 = leg2_axis_y * t154;
+        let t207: f32 = leg2_axis_z * t157;
+        let t208: f32 = leg2_axis_x * t166;
+        let t209: f32 = t206 + t207;
+        let t210: f32 = t208 + t209;
+        let t211: f32 = t191 * t210;
+        let t212: f32 = t211 * t211;
+        let t213: f32 = leg2_cylinder_izz + leg2_rod_izz;
+        let t214: f32 = t212 * t213;
+        let t215: f32 = t200 + t214;
+        let t216: f32 = t171 * t215;
+        let t217: f32 = leg2_rod_mz + t216;
+        let t218: f32 = t205 * t217;
+        let t219: f32 = t203 + t218;
+        let t220: f32 = t171 * t219;
+        let t221: f32 = leg2_rod_mz * t171;
+        let t222: f32 = leg2_rod_mass + t221;
+        let t223: f32 = t199 + t205;
+        let t224: f32 = t222 * t223;
+        let t225: f32 = t174 + t220;
+        let t226: f32 = t224 + t225;
+        let t227: f32 = t146 * t226;
+        let t228: f32 = leg2_rod_mass * t195;
+        let t229: f32 = t172 * t228;
+        let t230: f32 = leg2_rod_mz * 2.0;
+        let t231: f32 = t216 + t230;
+        let t232: f32 = t171 * t231;
+        let t233: f32 = leg2_rod_mass + t232;
+        let t234: f32 = t192 * t204;
+        let t235: f32 = t233 * t234;
+        let t236: f32 = t172 * t196;
+        let t237: f32 = t193 * t204;
+        let t238: f32 = t236 - t237;
+        let t239: f32 = t201 + t230;
+        let t240: f32 = t171 * t239;
+        let t241: f32 = leg2_rod_mass + t240;
+        let t242: f32 = t198 * t238;
+        let t243: f32 = t241 * t242;
+        let t244: f32 = t229 + t235;
+        let t245: f32 = t243 + t244;
+        let t246: f32 = t152 * t245;
+        let t247: f32 = t227 - t246;
+        let t248: f32 = t146 * t247;
+        let t249: f32 = t146 * t245;
+        let t250: f32 = t195 * t195;
+        let t251: f32 = leg2_rod_mass * t250;
+        let t252: f32 = t192 * t192;
+        let t253: f32 = t233 * t252;
+        let t254: f32 = t238 * t238;
+        let t255: f32 = t241 * t254;
+        let t256: f32 = t251 + t253;
+        let t257: f32 = t255 + t256;
+        let t258: f32 = t152 * t257;
+        let t259: f32 = t249 - t258;
+        let t260: f32 = t152 * t259;
+        let t261: f32 = leg3_platform_x * t9;
+        let t262: f32 = leg3_platform_y * t14;
+        let t263: f32 = leg3_platform_z * t1;
+        let t264: f32 = t6 * t263;
+        let t265: f32 = t261 + t262;
+        let t266: f32 = t264 + t265;
+        let t267: f32 = leg3_platform_x * t23;
+        let t268: f32 = leg3_platform_y * t27;
+        let t269: f32 = leg3_platform_z * t0;
+        let t270: f32 = t6 * t269;
+        let t271: f32 = t267 + t268;
+        let t272: f32 = t271 - t270;
+        let t273: f32 = yc + t272;
+        let t274: f32 = t273 - leg3_base_y;
+        let t275: f32 = t274 * t274;
+        let t276: f32 = zc + t266;
+        let t277: f32 = t276 - leg3_base_z;
+        let t278: f32 = t277 * t277;
+        let t279: f32 = leg3_platform_z * t5;
+        let t280: f32 = leg3_platform_x * t3;
+        let t281: f32 = leg3_platform_y * t2;
+        let t282: f32 = t280 - t281;
+        let t283: f32 = t6 * t282;
+        let t284: f32 = t279 + t283;
+        let t285: f32 = xc + t284;
+        let t286: f32 = t285 - leg3_base_x;
+        let t287: f32 = t286 * t286;
+        let t288: f32 = t275 + t278;
+        let t289: f32 = t287 + t288;
+        let t290: f32 = sqrt(t289);
+        let t291: f32 = 1.0 / t290;
+        let t292: f32 = t274 * t291;
+        let t293: f32 = t292 * t292;
+        let t294: f32 = leg3_rod_mass * t293;
+        let t295: f32 = leg3_axis_x * t274;
+        let t296: f32 = leg3_axis_y * t286;
+        let t297: f32 = t295 - t296;
+        let t298: f32 = -t297;
+        let t299: f32 = leg3_axis_z * t274;
+        let t300: f32 = leg3_axis_y * t277;
+        let t301: f32 = t299 - t300;
+        let t302: f32 = t301 * t301;
+        let t303: f32 = leg3_axis_x * t277;
+        let t304: f32 = leg3_axis_z * t286;
+        let t305: f32 = t303 - t304;
+        let t306: f32 = t305 * t305;
+        let t307: f32 = t298 * t298;
+        let t308: f32 = t302 + t306;
+        let t309: f32 = t307 + t308;
+        let t310: f32 = sqrt(t309);
+        let t311: f32 = 1.0 / t310;
+        let t312: f32 = t298 * t311;
+        let t313: f32 = t286 * t291;
+        let t314: f32 = t312 * t313;
+        let t315: f32 = t277 * t291;
+        let t316: f32 = t301 * t311;
+        let t317: f32 = t315 * t316;
+        let t318: f32 = t314 - t317;
+        let t319: f32 = t318 * t318;
+        let t320: f32 = leg3_cylinder_ixx + leg3_rod_ixx;
+        let t321: f32 = t291 * t320;
+        let t322: f32 = leg3_rod_mz + t321;
+        let t323: f32 = t319 * t322;
+        let t324: f32 = t305 * t311;
+        let t325: f32 = t324 * t324;
+        let t326: f32 = leg3_axis_y * t274;
+        let t327: f32 = leg3_axis_z * t277;
+        let t328: f32 = leg3_axis_x * t286;
+        let t329: f32 = t326 + t327;
+        let t330: f32 = t328 + t329;
+        let t331: f32 = t311 * t330;
+        let t332: f32 = t331 * t331;
+        let t333: f32 = leg3_cylinder_izz + leg3_rod_izz;
+        let t334: f32 = t332 * t333;
+        let t335: f32 = t320 + t334;
+        let t336: f32 = t291 * t335;
+        let t337: f32 = leg3_rod_mz + t336;
+        let t338: f32 = t325 * t337;
+        let t339: f32 = t323 + t338;
+        let t340: f32 = t291 * t339;
+        let t341: f32 = leg3_rod_mz * t291;
+        let t342: f32 = leg3_rod_mass + t341;
+        let t343: f32 = t319 + t325;
+        let t344: f32 = t342 * t343;
+        let t345: f32 = t294 + t340;
+        let t346: f32 = t344 + t345;
+        let t347: f32 = t266 * t346;
+        let t348: f32 = leg3_rod_mass * t315;
+        let t349: f32 = t292 * t348;
+        let t350: f32 = leg3_rod_mz * 2.0;
+        let t351: f32 = t336 + t350;
+        let t352: f32 = t291 * t351;
+        let t353: f32 = leg3_rod_mass + t352;
+        let t354: f32 = t312 * t324;
+        let t355: f32 = t353 * t354;
+        let t356: f32 = t292 * t316;
+        let t357: f32 = t313 * t324;
+        let t358: f32 = t356 - t357;
+        let t359: f32 = t321 + t350;
+        let t360: f32 = t291 * t359;
+        let t361: f32 = leg3_rod_mass + t360;
+        let t362: f32 = t318 * t358;
+        let t363: f32 = t361 * t362;
+        let t364: f32 = t349 + t355;
+        let t365: f32 = t363 + t364;
+        let t366: f32 = t272 * t365;
+        let t367: f32 = t347 - t366;
+        let t368: f32 = t266 * t367;
+        let t369: f32 = t266 * t365;
+        let t370: f32 = t315 * t315;
+        let t371: f32 = leg3_rod_mass * t370;
+        let t372: f32 = t312 * t312;
+        let t373: f32 = t353 * t372;
+        let t374: f32 = t358 * t358;
+        let t375: f32 = t361 * t374;
+        let t376: f32 = t371 + t373;
+        let t377: f32 = t375 + t376;
+        let t378: f32 = t272 * t377;
+        let t379: f32 = t369 - t378;
+        let t380: f32 = t272 * t379;
+        let t381: f32 = leg4_platform_x * t9;
+        let t382: f32 = leg4_platform_y * t14;
+        let t383: f32 = leg4_platform_z * t1;
+        let t384: f32 = t6 * t383;
+        let t385: f32 = t381 + t382;
+        let t386: f32 = t384 + t385;
+        let t387: f32 = leg4_platform_x * t23;
+        let t388: f32 = leg4_platform_y * t27;
+        let t389: f32 = leg4_platform_z * t0;
+        let t390: f32 = t6 * t389;
+        let t391: f32 = t387 + t388;
+        let t392: f32 = t391 - t390;
+        let t393: f32 = yc + t392;
+        let t394: f32 = t393 - leg4_base_y;
+        let t395: f32 = t394 * t394;
+        let t396: f32 = zc + t386;
+        let t397: f32 = t396 - leg4_base_z;
+        let t398: f32 = t397 * t397;
+        let t399: f32 = leg4_platform_z * t5;
+        let t400: f32 = leg4_platform_x * t3;
+        let t401: f32 = leg4_platform_y * t2;
+        let t402: f32 = t400 - t401;
+        let t403: f32 = t6 * t402;
+        let t404: f32 = t399 + t403;
+        let t405: f32 = xc + t404;
+        let t406: f32 = t405 - leg4_base_x;
+        let t407: f32 = t406 * t406;
+        let t408: f32 = t395 + t398;
+        let t409: f32 = t407 + t408;
+        let t410: f32 = sqrt(t409);
+        let t411: f32 = 1.0 / t410;
+        let t412: f32 = t394 * t411;
+        let t413: f32 = t412 * t412;
+        let t414: f32 = leg4_rod_mass * t413;
+        let t415: f32 = leg4_axis_x * t394;
+        let t416: f32 = leg4_axis_y * t406;
+        let t417: f32 = t415 - t416;
+        let t418: f32 = -t417;
+        let t419: f32 = leg4_axis_z * t394;
+        let t420: f32 = leg4_axis_y * t397;
         let t421: f32 = t419 - t420;
-        let t422: f32 = t1 * t421;
-        let t423: f32 = t418 + t422;
-        let t424: f32 = xc + t423;
-        let t425: f32 = t424 - leg4_base_x;
-        let t426: f32 = leg4_axis_y * t425;
-        let t427: f32 = t417 - t426;
-        let t428: f32 = -t427;
-        let t429: f32 = leg4_axis_z * t416;
-        let t430: f32 = zc + t408;
-        let t431: f32 = t430 - leg4_base_z;
-        let t432: f32 = leg4_axis_y * t431;
-        let t433: f32 = t429 - t432;
-        let t434: f32 = t433 * t433;
-        let t435: f32 = leg4_axis_x * t431;
-        let t436: f32 = leg4_axis_z * t425;
-        let t437: f32 = t435 - t436;
-        let t438: f32 = t437 * t437;
-        let t439: f32 = t428 * t428;
-        let t440: f32 = t434 + t438;
-        let t441: f32 = t439 + t440;
-        let t442: f32 = sqrt(t441);
-        let t443: f32 = 1.0 / t442;
-        let t444: f32 = t428 * t443;
-        let t445: f32 = t416 * t416;
-        let t446: f32 = t431 * t431;
-        let t447: f32 = t425 * t425;
-        let t448: f32 = t445 + t446;
-        let t449: f32 = t447 + t448;
-        let t450: f32 = sqrt(t449);
-        let t451: f32 = 1.0 / t450;
-        let t452: f32 = t425 * t451;
-        let t453: f32 = t444 * t452;
-        let t454: f32 = t431 * t451;
-        let t455: f32 = t433 * t443;
-        let t456: f32 = t454 * t455;
-        let t457: f32 = t453 - t456;
-        let t458: f32 = t408 * t457;
-        let t459: f32 = t416 * t451;
-        let t460: f32 = t455 * t459;
-        let t461: f32 = t437 * t443;
-        let t462: f32 = t452 * t461;
-        let t463: f32 = t460 - t462;
-        let t464: f32 = t414 * t463;
-        let t465: f32 = t458 - t464;
-        let t466: f32 = leg4_cylinder_ixx + leg4_rod_ixx;
-        let t467: f32 = t451 * t466;
-        let t468: f32 = leg4_rod_mz + t467;
-        let t469: f32 = t457 * t465;
-        let t470: f32 = t451 * t469;
-        let t471: f32 = t468 * t470;
-        let t472: f32 = t451 * t451;
-        let t473: f32 = t408 * t461;
-        let t474: f32 = t414 * t444;
-        let t475: f32 = t473 - t474;
-        let t476: f32 = leg4_axis_y * t416;
-        let t477: f32 = leg4_axis_z * t431;
-        let t478: f32 = leg4_axis_x * t425;
-        let t479: f32 = t476 + t477;
-        let t480: f32 = t478 + t479;
-        let t481: f32 = t443 * t480;
-        let t482: f32 = t481 * t481;
-        let t483: f32 = leg4_cylinder_izz + leg4_rod_izz;
-        let t484: f32 = t461 * t472;
-        let t485: f32 = t475 * t484;
-        let t486: f32 = t482 * t485;
-        let t487: f32 = t483 * t486;
-        let t488: f32 = t471 + t487;
-        let t489: f32 = leg4_rod_mz * t451;
-        let t490: f32 = leg4_rod_mass + t489;
-        let t491: f32 = t469 * t490;
-        let t492: f32 = t461 * t490;
-        let t493: f32 = t475 * t492;
-        let t494: f32 = t491 + t493;
-        let t495: f32 = t408 * t459;
-        let t496: f32 = t414 * t454;
-        let t497: f32 = t495 - t496;
-        let t498: f32 = leg4_rod_mass * t459;
-        let t499: f32 = t497 * t498;
-        let t500: f32 = t451 * t461;
-        let t501: f32 = t475 * t500;
-        let t502: f32 = t468 * t501;
-        let t503: f32 = t499 + t502;
-        let t504: f32 = t494 + t503;
-        let t505: f32 = t488 + t504;
-        let t506: f32 = t408 * t505;
-        let t507: f32 = t463 * t465;
-        let t508: f32 = t451 * t507;
-        let t509: f32 = t468 * t508;
-        let t510: f32 = t444 * t472;
-        let t511: f32 = t475 * t510;
-        let t512: f32 = t482 * t511;
-        let t513: f32 = t483 * t512;
-        let t514: f32 = t509 + t513;
-        let t515: f32 = t490 * t507;
-        let t516: f32 = t444 * t490;
-        let t517: f32 = t475 * t516;
-        let t518: f32 = t515 + t517;
-        let t519: f32 = leg4_rod_mass * t454;
-        let t520: f32 = t497 * t519;
-        let t521: f32 = t444 * t451;
-        let t522: f32 = t475 * t521;
-        let t523: f32 = t468 * t522;
-        let t524: f32 = t520 + t523;
-        let t525: f32 = t518 + t524;
-        let t526: f32 = t514 + t525;
-        let t527: f32 = t414 * t526;
-        let t528: f32 = leg5_platform_x * t16;
-        let t529: f32 = leg5_platform_y * t21;
-        let t530: f32 = leg5_platform_z * t12;
-        let t531: f32 = t1 * t530;
-        let t532: f32 = t528 + t529;
-        let t533: f32 = t531 + t532;
-        let t534: f32 = leg5_platform_x * t30;
-        let t535: f32 = leg5_platform_y * t34;
-        let t536: f32 = leg5_platform_z * t11;
-        let t537: f32 = t1 * t536;
-        let t538: f32 = t534 + t535;
-        let t539: f32 = t538 - t537;
-        let t540: f32 = yc + t539;
-        let t541: f32 = t540 - leg5_base_y;
-        let t542: f32 = leg5_axis_x * t541;
-        let t543: f32 = leg5_platform_z * t0;
-        let t544: f32 = leg5_platform_x * t4;
-        let t545: f32 = leg5_platform_y * t3;
-        let t546: f32 = t544 - t545;
-        let t547: f32 = t1 * t546;
-        let t548: f32 = t543 + t547;
-        let t549: f32 = xc + t548;
-        let t550: f32 = t549 - leg5_base_x;
-        let t551: f32 = leg5_axis_y * t550;
-        let t552: f32 = t542 - t551;
-        let t553: f32 = -t552;
-        let t554: f32 = leg5_axis_z * t541;
-        let t555: f32 = zc + t533;
-        let t556: f32 = t555 - leg5_base_z;
-        let t557: f32 = leg5_axis_y * t556;
+        let t422: f32 = t421 * t421;
+        let t423: f32 = leg4_axis_x * t397;
+        let t424: f32 = leg4_axis_z * t406;
+        let t425: f32 = t423 - t424;
+        let t426: f32 = t425 * t425;
+        let t427: f32 = t418 * t418;
+        let t428: f32 = t422 + t426;
+        let t429: f32 = t427 + t428;
+        let t430: f32 = sqrt(t429);
+        let t431: f32 = 1.0 / t430;
+        let t432: f32 = t418 * t431;
+        let t433: f32 = t406 * t411;
+        let t434: f32 = t432 * t433;
+        let t435: f32 = t397 * t411;
+        let t436: f32 = t421 * t431;
+        let t437: f32 = t435 * t436;
+        let t438: f32 = t434 - t437;
+        let t439: f32 = t438 * t438;
+        let t440: f32 = leg4_cylinder_ixx + leg4_rod_ixx;
+        let t441: f32 = t411 * t440;
+        let t442: f32 = leg4_rod_mz + t441;
+        let t443: f32 = t439 * t442;
+        let t444: f32 = t425 * t431;
+        let t445: f32 = t444 * t444;
+        let t446: f32 = leg4_axis_y * t394;
+        let t447: f32 = leg4_axis_z * t397;
+        let t448: f32 = leg4_axis_x * t406;
+        let t449: f32 = t446 + t447;
+        let t450: f32 = t448 + t449;
+        let t451: f32 = t431 * t450;
+        let t452: f32 = t451 * t451;
+        let t453: f32 = leg4_cylinder_izz + leg4_rod_izz;
+        let t454: f32 = t452 * t453;
+        let t455: f32 = t440 + t454;
+        let t456: f32 = t411 * t455;
+        let t457: f32 = leg4_rod_mz + t456;
+        let t458: f32 = t445 * t457;
+        let t459: f32 = t443 + t458;
+        let t460: f32 = t411 * t459;
+        let t461: f32 = leg4_rod_mz * t411;
+        let t462: f32 = leg4_rod_mass + t461;
+        let t463: f32 = t439 + t445;
+        let t464: f32 = t462 * t463;
+        let t465: f32 = t414 + t460;
+        let t466: f32 = t464 + t465;
+        let t467: f32 = t386 * t466;
+        let t468: f32 = leg4_rod_mass * t435;
+        let t469: f32 = t412 * t468;
+        let t470: f32 = leg4_rod_mz * 2.0;
+        let t471: f32 = t456 + t470;
+        let t472: f32 = t411 * t471;
+        let t473: f32 = leg4_rod_mass + t472;
+        let t474: f32 = t432 * t444;
+        let t475: f32 = t473 * t474;
+        let t476: f32 = t412 * t436;
+        let t477: f32 = t433 * t444;
+        let t478: f32 = t476 - t477;
+        let t479: f32 = t441 + t470;
+        let t480: f32 = t411 * t479;
+        let t481: f32 = leg4_rod_mass + t480;
+        let t482: f32 = t438 * t478;
+        let t483: f32 = t481 * t482;
+        let t484: f32 = t469 + t475;
+        let t485: f32 = t483 + t484;
+        let t486: f32 = t392 * t485;
+        let t487: f32 = t467 - t486;
+        let t488: f32 = t386 * t487;
+        let t489: f32 = t386 * t485;
+        let t490: f32 = t435 * t435;
+        let t491: f32 = leg4_rod_mass * t490;
+        let t492: f32 = t432 * t432;
+        let t493: f32 = t473 * t492;
+        let t494: f32 = t478 * t478;
+        let t495: f32 = t481 * t494;
+        let t496: f32 = t491 + t493;
+        let t497: f32 = t495 + t496;
+        let t498: f32 = t392 * t497;
+        let t499: f32 = t489 - t498;
+        let t500: f32 = t392 * t499;
+        let t501: f32 = leg5_platform_x * t9;
+        let t502: f32 = leg5_platform_y * t14;
+        let t503: f32 = leg5_platform_z * t1;
+        let t504: f32 = t6 * t503;
+        let t505: f32 = t501 + t502;
+        let t506: f32 = t504 + t505;
+        let t507: f32 = leg5_platform_x * t23;
+        let t508: f32 = leg5_platform_y * t27;
+        let t509: f32 = leg5_platform_z * t0;
+        let t510: f32 = t6 * t509;
+        let t511: f32 = t507 + t508;
+        let t512: f32 = t511 - t510;
+        let t513: f32 = yc + t512;
+        let t514: f32 = t513 - leg5_base_y;
+        let t515: f32 = t514 * t514;
+        let t516: f32 = zc + t506;
+        let t517: f32 = t516 - leg5_base_z;
+        let t518: f32 = t517 * t517;
+        let t519: f32 = leg5_platform_z * t5;
+        let t520: f32 = leg5_platform_x * t3;
+        let t521: f32 = leg5_platform_y * t2;
+        let t522: f32 = t520 - t521;
+        let t523: f32 = t6 * t522;
+        let t524: f32 = t519 + t523;
+        let t525: f32 = xc + t524;
+        let t526: f32 = t525 - leg5_base_x;
+        let t527: f32 = t526 * t526;
+        let t528: f32 = t515 + t518;
+        let t529: f32 = t527 + t528;
+        let t530: f32 = sqrt(t529);
+        let t531: f32 = 1.0 / t530;
+        let t532: f32 = t514 * t531;
+        let t533: f32 = t532 * t532;
+        let t534: f32 = leg5_rod_mass * t533;
+        let t535: f32 = leg5_axis_x * t514;
+        let t536: f32 = leg5_axis_y * t526;
+        let t537: f32 = t535 - t536;
+        let t538: f32 = -t537;
+        let t539: f32 = leg5_axis_z * t514;
+        let t540: f32 = leg5_axis_y * t517;
+        let t541: f32 = t539 - t540;
+        let t542: f32 = t541 * t541;
+        let t543: f32 = leg5_axis_x * t517;
+        let t544: f32 = leg5_axis_z * t526;
+        let t545: f32 = t543 - t544;
+        let t546: f32 = t545 * t545;
+        let t547: f32 = t538 * t538;
+        let t548: f32 = t542 + t546;
+        let t549: f32 = t547 + t548;
+        let t550: f32 = sqrt(t549);
+        let t551: f32 = 1.0 / t550;
+        let t552: f32 = t538 * t551;
+        let t553: f32 = t526 * t531;
+        let t554: f32 = t552 * t553;
+        let t555: f32 = t517 * t531;
+        let t556: f32 = t541 * t551;
+        let t557: f32 = t555 * t556;
         let t558: f32 = t554 - t557;
         let t559: f32 = t558 * t558;
-        let t560: f32 = leg5_axis_x * t556;
-        let t561: f32 = leg5_axis_z * t550;
-        let t562: f32 = t560 - t561;
-        let t563: f32 = t562 * t562;
-        let t564: f32 = t553 * t553;
-        let t565: f32 = t559 + t563;
-        let t566: f32 = t564 + t565;
-        let t567: f32 = sqrt(t566);
-        let t568: f32 = 1.0 / t567;
-        let t569: f32 = t553 * t568;
-        let t570: f32 = t541 * t541;
-        let t571: f32 = t556 * t556;
-        let t572: f32 = t550 * t550;
-        let t573: f32 = t570 + t571;
-        let t574: f32 = t572 + t573;
-        let t575: f32 = sqrt(t574);
-        let t576: f32 = 1.0 / t575;
-        let t577: f32 = t550 * t576;
-        let t578: f32 = t569 * t577;
-        let t579: f32 = t556 * t576;
-        let t580: f32 = t558 * t568;
-        let t581: f32 = t579 * t580;
-        let t582: f32 = t578 - t581;
-        let t583: f32 = t533 * t582;
-        let t584: f32 = t541 * t576;
-        let t585: f32 = t580 * t584;
-        let t586: f32 = t562 * t568;
-        let t587: f32 = t577 * t586;
-        let t588: f32 = t585 - t587;
-        let t589: f32 = t539 * t588;
-        let t590: f32 = t583 - t589;
-        let t591: f32 = leg5_cylinder_ixx + leg5_rod_ixx;
-        let t592: f32 = t576 * t591;
-        let t593: f32 = leg5_rod_mz + t592;
-        let t594: f32 = t582 * t590;
-        let t595: f32 = t576 * t594;
-        let t596: f32 = t593 * t595;
-        let t597: f32 = t576 * t576;
-        let t598: f32 = t533 * t586;
-        let t599: f32 = t539 * t569;
-        let t600: f32 = t598 - t599;
-        let t601: f32 = leg5_axis_y * t541;
-        let t602: f32 = leg5_axis_z * t556;
-        let t603: f32 = leg5_axis_x * t550;
-        let t604: f32 = t601 + t602;
+        let t560: f32 = leg5_cylinder_ixx + leg5_rod_ixx;
+        let t561: f32 = t531 * t560;
+        let t562: f32 = leg5_rod_mz + t561;
+        let t563: f32 = t559 * t562;
+        let t564: f32 = t545 * t551;
+        let t565: f32 = t564 * t564;
+        let t566: f32 = leg5_axis_y * t514;
+        let t567: f32 = leg5_axis_z * t517;
+        let t568: f32 = leg5_axis_x * t526;
+        let t569: f32 = t566 + t567;
+        let t570: f32 = t568 + t569;
+        let t571: f32 = t551 * t570;
+        let t572: f32 = t571 * t571;
+        let t573: f32 = leg5_cylinder_izz + leg5_rod_izz;
+        let t574: f32 = t572 * t573;
+        let t575: f32 = t560 + t574;
+        let t576: f32 = t531 * t575;
+        let t577: f32 = leg5_rod_mz + t576;
+        let t578: f32 = t565 * t577;
+        let t579: f32 = t563 + t578;
+        let t580: f32 = t531 * t579;
+        let t581: f32 = leg5_rod_mz * t531;
+        let t582: f32 = leg5_rod_mass + t581;
+        let t583: f32 = t559 + t565;
+        let t584: f32 = t582 * t583;
+        let t585: f32 = t534 + t580;
+        let t586: f32 = t584 + t585;
+        let t587: f32 = t506 * t586;
+        let t588: f32 = leg5_rod_mass * t555;
+        let t589: f32 = t532 * t588;
+        let t590: f32 = leg5_rod_mz * 2.0;
+        let t591: f32 = t576 + t590;
+        let t592: f32 = t531 * t591;
+        let t593: f32 = leg5_rod_mass + t592;
+        let t594: f32 = t552 * t564;
+        let t595: f32 = t593 * t594;
+        let t596: f32 = t532 * t556;
+        let t597: f32 = t553 * t564;
+        let t598: f32 = t596 - t597;
+        let t599: f32 = t561 + t590;
+        let t600: f32 = t531 * t599;
+        let t601: f32 = leg5_rod_mass + t600;
+        let t602: f32 = t558 * t598;
+        let t603: f32 = t601 * t602;
+        let t604: f32 = t589 + t595;
         let t605: f32 = t603 + t604;
-        let t606: f32 = t568 * t605;
-        let t607: f32 = t606 * t606;
-        let t608: f32 = leg5_cylinder_izz + leg5_rod_izz;
-        let t609: f32 = t586 * t597;
-        let t610: f32 = t600 * t609;
-        let t611: f32 = t607 * t610;
-        let t612: f32 = t608 * t611;
-        let t613: f32 = t596 + t612;
-        let t614: f32 = leg5_rod_mz * t576;
-        let t615: f32 = leg5_rod_mass + t614;
-        let t616: f32 = t594 * t615;
-        let t617: f32 = t586 * t615;
-        let t618: f32 = t600 * t617;
-        let t619: f32 = t616 + t618;
-        let t620: f32 = t533 * t584;
-        let t621: f32 = t539 * t579;
-        let t622: f32 = t620 - t621;
-        let t623: f32 = leg5_rod_mass * t584;
-        let t624: f32 = t622 * t623;
-        let t625: f32 = t576 * t586;
-        let t626: f32 = t600 * t625;
-        let t627: f32 = t593 * t626;
-        let t628: f32 = t624 + t627;
-        let t629: f32 = t619 + t628;
-        let t630: f32 = t613 + t629;
-        let t631: f32 = t533 * t630;
-        let t632: f32 = t588 * t590;
-        let t633: f32 = t576 * t632;
-        let t634: f32 = t593 * t633;
-        let t635: f32 = t569 * t597;
-        let t636: f32 = t600 * t635;
-        let t637: f32 = t607 * t636;
-        let t638: f32 = t608 * t637;
-        let t639: f32 = t634 + t638;
-        let t640: f32 = t615 * t632;
-        let t641: f32 = t569 * t615;
-        let t642: f32 = t600 * t641;
-        let t643: f32 = t640 + t642;
-        let t644: f32 = leg5_rod_mass * t579;
-        let t645: f32 = t622 * t644;
-        let t646: f32 = t569 * t576;
-        let t647: f32 = t600 * t646;
-        let t648: f32 = t593 * t647;
-        let t649: f32 = t645 + t648;
-        let t650: f32 = t643 + t649;
-        let t651: f32 = t639 + t650;
-        let t652: f32 = t539 * t651;
-        let t653: f32 = leg6_platform_x * t16;
-        let t654: f32 = leg6_platform_y * t21;
-        let t655: f32 = leg6_platform_z * t12;
-        let t656: f32 = t1 * t655;
-        let t657: f32 = t653 + t654;
-        let t658: f32 = t656 + t657;
-        let t659: f32 = leg6_platform_x * t30;
-        let t660: f32 = leg6_platform_y * t34;
-        let t661: f32 = leg6_platform_z * t11;
-        let t662: f32 = t1 * t661;
-        let t663: f32 = t659 + t660;
-        let t664: f32 = t663 - t662;
-        let t665: f32 = yc + t664;
-        let t666: f32 = t665 - leg6_base_y;
-        let t667: f32 = leg6_axis_x * t666;
-        let t668: f32 = leg6_platform_z * t0;
-        let t669: f32 = leg6_platform_x * t4;
-        let t670: f32 = leg6_platform_y * t3;
-        let t671: f32 = t669 - t670;
-        let t672: f32 = t1 * t671;
-        let t673: f32 = t668 + t672;
-        let t674: f32 = xc + t673;
-        let t675: f32 = t674 - leg6_base_x;
-        let t676: f32 = leg6_axis_y * t675;
-        let t677: f32 = t667 - t676;
-        let t678: f32 = -t677;
-        let t679: f32 = leg6_axis_z * t666;
-        let t680: f32 = zc + t658;
-        let t681: f32 = t680 - leg6_base_z;
-        let t682: f32 = leg6_axis_y * t681;
-        let t683: f32 = t679 - t682;
-        let t684: f32 = t683 * t683;
-        let t685: f32 = leg6_axis_x * t681;
-        let t686: f32 = leg6_axis_z * t675;
-        let t687: f32 = t685 - t686;
-        let t688: f32 = t687 * t687;
-        let t689: f32 = t678 * t678;
-        let t690: f32 = t684 + t688;
-        let t691: f32 = t689 + t690;
-        let t692: f32 = sqrt(t691);
-        let t693: f32 = 1.0 / t692;
-        let t694: f32 = t678 * t693;
-        let t695: f32 = t666 * t666;
-        let t696: f32 = t681 * t681;
-        let t697: f32 = t675 * t675;
-        let t698: f32 = t695 + t696;
-        let t699: f32 = t697 + t698;
-        let t700: f32 = sqrt(t699);
-        let t701: f32 = 1.0 / t700;
-        let t702: f32 = t675 * t701;
-        let t703: f32 = t694 * t702;
-        let t704: f32 = t681 * t701;
-        let t705: f32 = t683 * t693;
-        let t706: f32 = t704 * t705;
-        let t707: f32 = t703 - t706;
-        let t708: f32 = t658 * t707;
-        let t709: f32 = t666 * t701;
-        let t710: f32 = t705 * t709;
-        let t711: f32 = t687 * t693;
-        let t712: f32 = t702 * t711;
-        let t713: f32 = t710 - t712;
-        let t714: f32 = t664 * t713;
-        let t715: f32 = t708 - t714;
-        let t716: f32 = leg6_cylinder_ixx + leg6_rod_ixx;
-        let t717: f32 = t701 * t716;
-        let t718: f32 = leg6_rod_mz + t717;
-        let t719: f32 = t707 * t715;
-        let t720: f32 = t701 * t719;
-        let t721: f32 = t718 * t720;
-        let t722: f32 = t701 * t701;
-        let t723: f32 = t658 * t711;
-        let t724: f32 = t664 * t694;
-        let t725: f32 = t723 - t724;
-        let t726: f32 = leg6_axis_y * t666;
-        let t727: f32 = leg6_axis_z * t681;
-        let t728: f32 = leg6_axis_x * t675;
-        let t729: f32 = t726 + t727;
-        let t730: f32 = t728 + t729;
-        let t731: f32 = t693 * t730;
-        let t732: f32 = t731 * t731;
-        let t733: f32 = leg6_cylinder_izz + leg6_rod_izz;
-        let t734: f32 = t711 * t722;
-        let t735: f32 = t725 * t734;
-        let t736: f32 = t732 * t735;
-        let t737: f32 = t733 * t736;
-        let t738: f32 = t721 + t737;
-        let t739: f32 = leg6_rod_mz * t701;
-        let t740: f32 = leg6_rod_mass + t739;
-        let t741: f32 = t719 * t740;
-        let t742: f32 = t711 * t740;
-        let t743: f32 = t725 * t742;
-        let t744: f32 = t741 + t743;
-        let t745: f32 = t658 * t709;
-        let t746: f32 = t664 * t704;
-        let t747: f32 = t745 - t746;
-        let t748: f32 = leg6_rod_mass * t709;
-        let t749: f32 = t747 * t748;
-        let t750: f32 = t701 * t711;
-        let t751: f32 = t725 * t750;
-        let t752: f32 = t718 * t751;
-        let t753: f32 = t749 + t752;
-        let t754: f32 = t744 + t753;
-        let t755: f32 = t738 + t754;
-        let t756: f32 = t658 * t755;
-        let t757: f32 = t713 * t715;
-        let t758: f32 = t701 * t757;
-        let t759: f32 = t718 * t758;
-        let t760: f32 = t694 * t722;
-        let t761: f32 = t725 * t760;
-        let t762: f32 = t732 * t761;
-        let t763: f32 = t733 * t762;
-        let t764: f32 = t759 + t763;
-        let t765: f32 = t740 * t757;
-        let t766: f32 = t694 * t740;
-        let t767: f32 = t725 * t766;
-        let t768: f32 = t765 + t767;
-        let t769: f32 = leg6_rod_mass * t704;
-        let t770: f32 = t747 * t769;
-        let t771: f32 = t694 * t701;
-        let t772: f32 = t725 * t771;
-        let t773: f32 = t718 * t772;
-        let t774: f32 = t770 + t773;
-        let t775: f32 = t768 + t774;
-        let t776: f32 = t764 + t775;
-        let t777: f32 = t664 * t776;
-        let t778: f32 = platform_ixz * t0;
-        let t779: f32 = platform_ixx * t4;
-        let t780: f32 = platform_ixy * t3;
-        let t781: f32 = t779 - t780;
-        let t782: f32 = t1 * t781;
-        let t783: f32 = t778 + t782;
-        let t784: f32 = t4 * t783;
-        let t785: f32 = platform_iyz * t0;
-        let t786: f32 = platform_ixy * t4;
-        let t787: f32 = platform_iyy * t3;
-        let t788: f32 = t786 - t787;
-        let t789: f32 = t1 * t788;
-        let t790: f32 = t785 + t789;
-        let t791: f32 = t3 * t790;
-        let t792: f32 = t784 - t791;
-        let t793: f32 = t1 * t792;
-        let t794: f32 = t10 + t131;
-        let t795: f32 = t256 + t381;
-        let t796: f32 = t506 + t631;
-        let t797: f32 = t756 + t793;
-        let t798: f32 = t794 + t795;
-        let t799: f32 = t796 + t797;
-        let t800: f32 = t798 + t799;
-        let t801: f32 = t152 + t277;
-        let t802: f32 = t402 + t527;
-        let t803: f32 = t652 + t777;
-        let t804: f32 = t801 + t802;
-        let t805: f32 = t803 + t804;
-        let t806: f32 = t800 - t805;
-        let t807: f32 = platform_ixz * t30;
-        let t808: f32 = platform_iyz * t34;
-        let t809: f32 = platform_izz * t11;
-        let t810: f32 = t1 * t809;
-        let t811: f32 = t807 + t808;
-        let t812: f32 = t811 - t810;
-        let t813: f32 = t0 * t812;
-        let t814: f32 = t79 * t86;
-        let t815: f32 = t69 * t84;
-        let t816: f32 = t814 - t815;
-        let t817: f32 = t26 * t816;
-        let t818: f32 = t48 * t88;
-        let t819: f32 = t817 - t818;
-        let t820: f32 = t76 * t82;
-        let t821: f32 = t93 * t820;
-        let t822: f32 = t819 * t821;
-        let t823: f32 = t26 * t80;
-        let t824: f32 = t48 * t69;
-        let t825: f32 = t823 - t824;
-        let t826: f32 = t107 * t109;
-        let t827: f32 = t108 * t826;
-        let t828: f32 = t825 * t827;
-        let t829: f32 = t822 + t828;
-        let t830: f32 = t82 * t115;
-        let t831: f32 = t819 * t830;
-        let t832: f32 = t117 * t825;
+        let t606: f32 = t512 * t605;
+        let t607: f32 = t587 - t606;
+        let t608: f32 = t506 * t607;
+        let t609: f32 = t506 * t605;
+        let t610: f32 = t555 * t555;
+        let t611: f32 = leg5_rod_mass * t610;
+        let t612: f32 = t552 * t552;
+        let t613: f32 = t593 * t612;
+        let t614: f32 = t598 * t598;
+        let t615: f32 = t601 * t614;
+        let t616: f32 = t611 + t613;
+        let t617: f32 = t615 + t616;
+        let t618: f32 = t512 * t617;
+        let t619: f32 = t609 - t618;
+        let t620: f32 = t512 * t619;
+        let t621: f32 = leg6_platform_x * t9;
+        let t622: f32 = leg6_platform_y * t14;
+        let t623: f32 = leg6_platform_z * t1;
+        let t624: f32 = t6 * t623;
+        let t625: f32 = t621 + t622;
+        let t626: f32 = t624 + t625;
+        let t627: f32 = leg6_platform_x * t23;
+        let t628: f32 = leg6_platform_y * t27;
+        let t629: f32 = leg6_platform_z * t0;
+        let t630: f32 = t6 * t629;
+        let t631: f32 = t627 + t628;
+        let t632: f32 = t631 - t630;
+        let t633: f32 = yc + t632;
+        let t634: f32 = t633 - leg6_base_y;
+        let t635: f32 = t634 * t634;
+        let t636: f32 = zc + t626;
+        let t637: f32 = t636 - leg6_base_z;
+        let t638: f32 = t637 * t637;
+        let t639: f32 = leg6_platform_z * t5;
+        let t640: f32 = leg6_platform_x * t3;
+        let t641: f32 = leg6_platform_y * t2;
+        let t642: f32 = t640 - t641;
+        let t643: f32 = t6 * t642;
+        let t644: f32 = t639 + t643;
+        let t645: f32 = xc + t644;
+        let t646: f32 = t645 - leg6_base_x;
+        let t647: f32 = t646 * t646;
+        let t648: f32 = t635 + t638;
+        let t649: f32 = t647 + t648;
+        let t650: f32 = sqrt(t649);
+        let t651: f32 = 1.0 / t650;
+        let t652: f32 = t634 * t651;
+        let t653: f32 = t652 * t652;
+        let t654: f32 = leg6_rod_mass * t653;
+        let t655: f32 = leg6_axis_x * t634;
+        let t656: f32 = leg6_axis_y * t646;
+        let t657: f32 = t655 - t656;
+        let t658: f32 = -t657;
+        let t659: f32 = leg6_axis_z * t634;
+        let t660: f32 = leg6_axis_y * t637;
+        let t661: f32 = t659 - t660;
+        let t662: f32 = t661 * t661;
+        let t663: f32 = leg6_axis_x * t637;
+        let t664: f32 = leg6_axis_z * t646;
+        let t665: f32 = t663 - t664;
+        let t666: f32 = t665 * t665;
+        let t667: f32 = t658 * t658;
+        let t668: f32 = t662 + t666;
+        let t669: f32 = t667 + t668;
+        let t670: f32 = sqrt(t669);
+        let t671: f32 = 1.0 / t670;
+        let t672: f32 = t658 * t671;
+        let t673: f32 = t646 * t651;
+        let t674: f32 = t672 * t673;
+        let t675: f32 = t637 * t651;
+        let t676: f32 = t661 * t671;
+        let t677: f32 = t675 * t676;
+        let t678: f32 = t674 - t677;
+        let t679: f32 = t678 * t678;
+        let t680: f32 = leg6_cylinder_ixx + leg6_rod_ixx;
+        let t681: f32 = t651 * t680;
+        let t682: f32 = leg6_rod_mz + t681;
+        let t683: f32 = t679 * t682;
+        let t684: f32 = t665 * t671;
+        let t685: f32 = t684 * t684;
+        let t686: f32 = leg6_axis_y * t634;
+        let t687: f32 = leg6_axis_z * t637;
+        let t688: f32 = leg6_axis_x * t646;
+        let t689: f32 = t686 + t687;
+        let t690: f32 = t688 + t689;
+        let t691: f32 = t671 * t690;
+        let t692: f32 = t691 * t691;
+        let t693: f32 = leg6_cylinder_izz + leg6_rod_izz;
+        let t694: f32 = t692 * t693;
+        let t695: f32 = t680 + t694;
+        let t696: f32 = t651 * t695;
+        let t697: f32 = leg6_rod_mz + t696;
+        let t698: f32 = t685 * t697;
+        let t699: f32 = t683 + t698;
+        let t700: f32 = t651 * t699;
+        let t701: f32 = leg6_rod_mz * t651;
+        let t702: f32 = leg6_rod_mass + t701;
+        let t703: f32 = t679 + t685;
+        let t704: f32 = t702 * t703;
+        let t705: f32 = t654 + t700;
+        let t706: f32 = t704 + t705;
+        let t707: f32 = t626 * t706;
+        let t708: f32 = leg6_rod_mass * t675;
+        let t709: f32 = t652 * t708;
+        let t710: f32 = leg6_rod_mz * 2.0;
+        let t711: f32 = t696 + t710;
+        let t712: f32 = t651 * t711;
+        let t713: f32 = leg6_rod_mass + t712;
+        let t714: f32 = t672 * t684;
+        let t715: f32 = t713 * t714;
+        let t716: f32 = t652 * t676;
+        let t717: f32 = t673 * t684;
+        let t718: f32 = t716 - t717;
+        let t719: f32 = t681 + t710;
+        let t720: f32 = t651 * t719;
+        let t721: f32 = leg6_rod_mass + t720;
+        let t722: f32 = t678 * t718;
+        let t723: f32 = t721 * t722;
+        let t724: f32 = t709 + t715;
+        let t725: f32 = t723 + t724;
+        let t726: f32 = t632 * t725;
+        let t727: f32 = t707 - t726;
+        let t728: f32 = t626 * t727;
+        let t729: f32 = t626 * t725;
+        let t730: f32 = t675 * t675;
+        let t731: f32 = leg6_rod_mass * t730;
+        let t732: f32 = t672 * t672;
+        let t733: f32 = t713 * t732;
+        let t734: f32 = t718 * t718;
+        let t735: f32 = t721 * t734;
+        let t736: f32 = t731 + t733;
+        let t737: f32 = t735 + t736;
+        let t738: f32 = t632 * t737;
+        let t739: f32 = t729 - t738;
+        let t740: f32 = t632 * t739;
+        let t741: f32 = platform_izz * t5;
+        let t742: f32 = platform_ixz * t3;
+        let t743: f32 = platform_iyz * t2;
+        let t744: f32 = t742 - t743;
+        let t745: f32 = t6 * t744;
+        let t746: f32 = t741 + t745;
+        let t747: f32 = t5 * t746;
+        let t748: f32 = platform_ixz * t5;
+        let t749: f32 = platform_ixx * t3;
+        let t750: f32 = platform_ixy * t2;
+        let t751: f32 = t749 - t750;
+        let t752: f32 = t6 * t751;
+        let t753: f32 = t748 + t752;
+        let t754: f32 = t3 * t753;
+        let t755: f32 = platform_iyz * t5;
+        let t756: f32 = platform_ixy * t3;
+        let t757: f32 = platform_iyy * t2;
+        let t758: f32 = t756 - t757;
+        let t759: f32 = t6 * t758;
+        let t760: f32 = t755 + t759;
+        let t761: f32 = t2 * t760;
+        let t762: f32 = t754 - t761;
+        let t763: f32 = t6 * t762;
+        let t764: f32 = t128 + t248;
+        let t765: f32 = t368 + t488;
+        let t766: f32 = t608 + t728;
+        let t767: f32 = t747 + t763;
+        let t768: f32 = t764 + t765;
+        let t769: f32 = t766 + t767;
+        let t770: f32 = t768 + t769;
+        let t771: f32 = t140 + t260;
+        let t772: f32 = t380 + t500;
+        let t773: f32 = t620 + t740;
+        let t774: f32 = t771 + t772;
+        let t775: f32 = t773 + t774;
+        let t776: f32 = t770 - t775;
+        let t777: f32 = leg1_rod_mass * t73;
+        let t778: f32 = t52 * t777;
+        let t779: f32 = t76 * t84;
+        let t780: f32 = t113 * t779;
+        let t781: f32 = t75 * t84;
+        let t782: f32 = t52 * t72;
+        let t783: f32 = t781 - t782;
+        let t784: f32 = t78 * t121;
+        let t785: f32 = t783 * t784;
+        let t786: f32 = t778 + t780;
+        let t787: f32 = t785 + t786;
+        let t788: f32 = t19 * t787;
+        let t789: f32 = t75 * t777;
+        let t790: f32 = t72 * t76;
+        let t791: f32 = t113 * t790;
+        let t792: f32 = t118 * t121;
+        let t793: f32 = t783 * t792;
+        let t794: f32 = t789 + t791;
+        let t795: f32 = t793 + t794;
+        let t796: f32 = t32 * t795;
+        let t797: f32 = t788 - t796;
+        let t798: f32 = t19 * t797;
+        let t799: f32 = t44 * t139;
+        let t800: f32 = leg2_rod_mass * t193;
+        let t801: f32 = t172 * t800;
+        let t802: f32 = t196 * t204;
+        let t803: f32 = t233 * t802;
+        let t804: f32 = t195 * t204;
+        let t805: f32 = t172 * t192;
+        let t806: f32 = t804 - t805;
+        let t807: f32 = t198 * t241;
+        let t808: f32 = t806 * t807;
+        let t809: f32 = t801 + t803;
+        let t810: f32 = t808 + t809;
+        let t811: f32 = t146 * t810;
+        let t812: f32 = t195 * t800;
+        let t813: f32 = t192 * t196;
+        let t814: f32 = t233 * t813;
+        let t815: f32 = t238 * t241;
+        let t816: f32 = t806 * t815;
+        let t817: f32 = t812 + t814;
+        let t818: f32 = t816 + t817;
+        let t819: f32 = t152 * t818;
+        let t820: f32 = t811 - t819;
+        let t821: f32 = t146 * t820;
+        let t822: f32 = t164 * t259;
+        let t823: f32 = leg3_rod_mass * t313;
+        let t824: f32 = t292 * t823;
+        let t825: f32 = t316 * t324;
+        let t826: f32 = t353 * t825;
+        let t827: f32 = t315 * t324;
+        let t828: f32 = t292 * t312;
+        let t829: f32 = t827 - t828;
+        let t830: f32 = t318 * t361;
+        let t831: f32 = t829 * t830;
+        let t832: f32 = t824 + t826;
         let t833: f32 = t831 + t832;
-        let t834: f32 = t26 * t77;
-        let t835: f32 = t48 * t79;
-        let t836: f32 = t834 - t835;
-        let t837: f32 = t123 * t836;
-        let t838: f32 = t93 * t125;
-        let t839: f32 = t825 * t838;
-        let t840: f32 = t837 + t839;
-        let t841: f32 = t833 + t840;
-        let t842: f32 = t829 + t841;
-        let t843: f32 = t26 * t842;
-        let t844: f32 = t76 * t88;
-        let t845: f32 = t93 * t844;
-        let t846: f32 = t819 * t845;
-        let t847: f32 = t107 * t135;
-        let t848: f32 = t108 * t847;
-        let t849: f32 = t825 * t848;
-        let t850: f32 = t846 + t849;
-        let t851: f32 = t88 * t115;
-        let t852: f32 = t819 * t851;
-        let t853: f32 = t141 * t825;
-        let t854: f32 = t852 + t853;
-        let t855: f32 = t144 * t836;
-        let t856: f32 = t93 * t146;
-        let t857: f32 = t825 * t856;
-        let t858: f32 = t855 + t857;
-        let t859: f32 = t854 + t858;
-        let t860: f32 = t850 + t859;
-        let t861: f32 = t39 * t860;
-        let t862: f32 = t204 * t211;
-        let t863: f32 = t194 * t209;
-        let t864: f32 = t862 - t863;
-        let t865: f32 = t158 * t864;
-        let t866: f32 = t173 * t213;
-        let t867: f32 = t865 - t866;
-        let t868: f32 = t201 * t207;
-        let t869: f32 = t218 * t868;
-        let t870: f32 = t867 * t869;
-        let t871: f32 = t158 * t205;
-        let t872: f32 = t173 * t194;
-        let t873: f32 = t871 - t872;
-        let t874: f32 = t232 * t234;
-        let t875: f32 = t233 * t874;
-        let t876: f32 = t873 * t875;
-        let t877: f32 = t870 + t876;
-        let t878: f32 = t207 * t240;
-        let t879: f32 = t867 * t878;
-        let t880: f32 = t242 * t873;
-        let t881: f32 = t879 + t880;
-        let t882: f32 = t158 * t202;
-        let t883: f32 = t173 * t204;
-        let t884: f32 = t882 - t883;
-        let t885: f32 = t248 * t884;
-        let t886: f32 = t218 * t250;
-        let t887: f32 = t873 * t886;
-        let t888: f32 = t885 + t887;
-        let t889: f32 = t881 + t888;
-        let t890: f32 = t877 + t889;
-        let t891: f32 = t158 * t890;
-        let t892: f32 = t201 * t213;
-        let t893: f32 = t218 * t892;
-        let t894: f32 = t867 * t893;
-        let t895: f32 = t232 * t260;
-        let t896: f32 = t233 * t895;
-        let t897: f32 = t873 * t896;
-        let t898: f32 = t894 + t897;
-        let t899: f32 = t213 * t240;
-        let t900: f32 = t867 * t899;
-        let t901: f32 = t266 * t873;
+        let t834: f32 = t266 * t833;
+        let t835: f32 = t315 * t823;
+        let t836: f32 = t312 * t316;
+        let t837: f32 = t353 * t836;
+        let t838: f32 = t358 * t361;
+        let t839: f32 = t829 * t838;
+        let t840: f32 = t835 + t837;
+        let t841: f32 = t839 + t840;
+        let t842: f32 = t272 * t841;
+        let t843: f32 = t834 - t842;
+        let t844: f32 = t266 * t843;
+        let t845: f32 = t284 * t379;
+        let t846: f32 = leg4_rod_mass * t433;
+        let t847: f32 = t412 * t846;
+        let t848: f32 = t436 * t444;
+        let t849: f32 = t473 * t848;
+        let t850: f32 = t435 * t444;
+        let t851: f32 = t412 * t432;
+        let t852: f32 = t850 - t851;
+        let t853: f32 = t438 * t481;
+        let t854: f32 = t852 * t853;
+        let t855: f32 = t847 + t849;
+        let t856: f32 = t854 + t855;
+        let t857: f32 = t386 * t856;
+        let t858: f32 = t435 * t846;
+        let t859: f32 = t432 * t436;
+        let t860: f32 = t473 * t859;
+        let t861: f32 = t478 * t481;
+        let t862: f32 = t852 * t861;
+        let t863: f32 = t858 + t860;
+        let t864: f32 = t862 + t863;
+        let t865: f32 = t392 * t864;
+        let t866: f32 = t857 - t865;
+        let t867: f32 = t386 * t866;
+        let t868: f32 = t404 * t499;
+        let t869: f32 = leg5_rod_mass * t553;
+        let t870: f32 = t532 * t869;
+        let t871: f32 = t556 * t564;
+        let t872: f32 = t593 * t871;
+        let t873: f32 = t555 * t564;
+        let t874: f32 = t532 * t552;
+        let t875: f32 = t873 - t874;
+        let t876: f32 = t558 * t601;
+        let t877: f32 = t875 * t876;
+        let t878: f32 = t870 + t872;
+        let t879: f32 = t877 + t878;
+        let t880: f32 = t506 * t879;
+        let t881: f32 = t555 * t869;
+        let t882: f32 = t552 * t556;
+        let t883: f32 = t593 * t882;
+        let t884: f32 = t598 * t601;
+        let t885: f32 = t875 * t884;
+        let t886: f32 = t881 + t883;
+        let t887: f32 = t885 + t886;
+        let t888: f32 = t512 * t887;
+        let t889: f32 = t880 - t888;
+        let t890: f32 = t506 * t889;
+        let t891: f32 = t524 * t619;
+        let t892: f32 = leg6_rod_mass * t673;
+        let t893: f32 = t652 * t892;
+        let t894: f32 = t676 * t684;
+        let t895: f32 = t713 * t894;
+        let t896: f32 = t675 * t684;
+        let t897: f32 = t652 * t672;
+        let t898: f32 = t896 - t897;
+        let t899: f32 = t678 * t721;
+        let t900: f32 = t898 * t899;
+        let t901: f32 = t893 + t895;
         let t902: f32 = t900 + t901;
-        let t903: f32 = t269 * t884;
-        let t904: f32 = t218 * t271;
-        let t905: f32 = t873 * t904;
-        let t906: f32 = t903 + t905;
-        let t907: f32 = t902 + t906;
-        let t908: f32 = t898 + t907;
-        let t909: f32 = t164 * t908;
-        let t910: f32 = t329 * t336;
-        let t911: f32 = t319 * t334;
-        let t912: f32 = t910 - t911;
-        let t913: f32 = t283 * t912;
-        let t914: f32 = t298 * t338;
-        let t915: f32 = t913 - t914;
-        let t916: f32 = t326 * t332;
-        let t917: f32 = t343 * t916;
-        let t918: f32 = t915 * t917;
-        let t919: f32 = t283 * t330;
-        let t920: f32 = t298 * t319;
-        let t921: f32 = t919 - t920;
-        let t922: f32 = t357 * t359;
-        let t923: f32 = t358 * t922;
-        let t924: f32 = t921 * t923;
-        let t925: f32 = t918 + t924;
-        let t926: f32 = t332 * t365;
-        let t927: f32 = t915 * t926;
-        let t928: f32 = t367 * t921;
-        let t929: f32 = t927 + t928;
-        let t930: f32 = t283 * t327;
-        let t931: f32 = t298 * t329;
-        let t932: f32 = t930 - t931;
-        let t933: f32 = t373 * t932;
-        let t934: f32 = t343 * t375;
-        let t935: f32 = t921 * t934;
-        let t936: f32 = t933 + t935;
-        let t937: f32 = t929 + t936;
-        let t938: f32 = t925 + t937;
-        let t939: f32 = t283 * t938;
-        let t940: f32 = t326 * t338;
-        let t941: f32 = t343 * t940;
-        let t942: f32 = t915 * t941;
-        let t943: f32 = t357 * t385;
-        let t944: f32 = t358 * t943;
-        let t945: f32 = t921 * t944;
-        let t946: f32 = t942 + t945;
-        let t947: f32 = t338 * t365;
-        let t948: f32 = t915 * t947;
-        let t949: f32 = t391 * t921;
-        let t950: f32 = t948 + t949;
-        let t951: f32 = t394 * t932;
-        let t952: f32 = t343 * t396;
-        let t953: f32 = t921 * t952;
-        let t954: f32 = t951 + t953;
-        let t955: f32 = t950 + t954;
-        let t956: f32 = t946 + t955;
-        let t957: f32 = t289 * t956;
-        let t958: f32 = t454 * t461;
-        let t959: f32 = t444 * t459;
-        let t960: f32 = t958 - t959;
-        let t961: f32 = t408 * t960;
-        let t962: f32 = t423 * t463;
-        let t963: f32 = t961 - t962;
-        let t964: f32 = t451 * t457;
-        let t965: f32 = t468 * t964;
-        let t966: f32 = t963 * t965;
-        let t967: f32 = t408 * t455;
-        let t968: f32 = t423 * t444;
-        let t969: f32 = t967 - t968;
-        let t970: f32 = t482 * t484;
-        let t971: f32 = t483 * t970;
-        let t972: f32 = t969 * t971;
-        let t973: f32 = t966 + t972;
-        let t974: f32 = t457 * t490;
-        let t975: f32 = t963 * t974;
-        let t976: f32 = t492 * t969;
-        let t977: f32 = t975 + t976;
-        let t978: f32 = t408 * t452;
-        let t979: f32 = t423 * t454;
-        let t980: f32 = t978 - t979;
-        let t981: f32 = t498 * t980;
-        let t982: f32 = t468 * t500;
-        let t983: f32 = t969 * t982;
-        let t984: f32 = t981 + t983;
-        let t985: f32 = t977 + t984;
-        let t986: f32 = t973 + t985;
-        let t987: f32 = t408 * t986;
-        let t988: f32 = t451 * t463;
-        let t989: f32 = t468 * t988;
-        let t990: f32 = t963 * t989;
-        let t991: f32 = t482 * t510;
-        let t992: f32 = t483 * t991;
-        let t993: f32 = t969 * t992;
-        let t994: f32 = t990 + t993;
-        let t995: f32 = t463 * t490;
-        let t996: f32 = t963 * t995;
-        let t997: f32 = t516 * t969;
-        let t998: f32 = t996 + t997;
-        let t999: f32 = t519 * t980;
-        let t1000: f32 = t468 * t521;
-        let t1001: f32 = t969 * t1000;
-        let t1002: f32 = t999 + t1001;
+        let t903: f32 = t626 * t902;
+        let t904: f32 = t675 * t892;
+        let t905: f32 = t672 * t676;
+        let t906: f32 = t713 * t905;
+        let t907: f32 = t718 * t721;
+        let t908: f32 = t898 * t907;
+        let t909: f32 = t904 + t906;
+        let t910: f32 = t908 + t909;
+        let t911: f32 = t632 * t910;
+        let t912: f32 = t903 - t911;
+        let t913: f32 = t626 * t912;
+        let t914: f32 = t644 * t739;
+        let t915: f32 = t23 * t753;
+        let t916: f32 = t27 * t760;
+        let t917: f32 = t0 * t6;
+        let t918: f32 = t746 * t917;
+        let t919: f32 = t798 + t821;
+        let t920: f32 = t844 + t867;
+        let t921: f32 = t890 + t913;
+        let t922: f32 = t919 + t920;
+        let t923: f32 = t918 + t921;
+        let t924: f32 = t922 + t923;
+        let t925: f32 = t799 + t822;
+        let t926: f32 = t845 + t868;
+        let t927: f32 = t891 + t914;
+        let t928: f32 = t915 + t916;
+        let t929: f32 = t925 + t926;
+        let t930: f32 = t927 + t928;
+        let t931: f32 = t929 + t930;
+        let t932: f32 = t924 - t931;
+        let t933: f32 = -t932;
+        let t934: f32 = t32 * t797;
+        let t935: f32 = t44 * t127;
+        let t936: f32 = t152 * t820;
+        let t937: f32 = t164 * t247;
+        let t938: f32 = t272 * t843;
+        let t939: f32 = t284 * t367;
+        let t940: f32 = t392 * t866;
+        let t941: f32 = t404 * t487;
+        let t942: f32 = t512 * t889;
+        let t943: f32 = t524 * t607;
+        let t944: f32 = t632 * t912;
+        let t945: f32 = t644 * t727;
+        let t946: f32 = t9 * t753;
+        let t947: f32 = t14 * t760;
+        let t948: f32 = t1 * t6;
+        let t949: f32 = t746 * t948;
+        let t950: f32 = t934 + t936;
+        let t951: f32 = t938 + t940;
+        let t952: f32 = t942 + t944;
+        let t953: f32 = t946 + t947;
+        let t954: f32 = t950 + t951;
+        let t955: f32 = t952 + t953;
+        let t956: f32 = t954 + t955;
+        let t957: f32 = t949 + t956;
+        let t958: f32 = t935 + t937;
+        let t959: f32 = t939 + t941;
+        let t960: f32 = t943 + t945;
+        let t961: f32 = t958 + t959;
+        let t962: f32 = t960 + t961;
+        let t963: f32 = t957 - t962;
+        let t964: f32 = t797 + t820;
+        let t965: f32 = t843 + t866;
+        let t966: f32 = t889 + t912;
+        let t967: f32 = t964 + t965;
+        let t968: f32 = t966 + t967;
+        let t969: f32 = -t968;
+        let t970: f32 = platform_mz * t1;
+        let t971: f32 = t6 * t970;
+        let t972: f32 = platform_mx * t9;
+        let t973: f32 = platform_my * t14;
+        let t974: f32 = t972 + t973;
+        let t975: f32 = t971 + t974;
+        let t976: f32 = t127 + t247;
+        let t977: f32 = t367 + t487;
+        let t978: f32 = t607 + t727;
+        let t979: f32 = t976 + t977;
+        let t980: f32 = t975 + t978;
+        let t981: f32 = t979 + t980;
+        let t982: f32 = -t981;
+        let t983: f32 = platform_mx * t23;
+        let t984: f32 = platform_my * t27;
+        let t985: f32 = t983 + t984;
+        let t986: f32 = platform_mz * t0;
+        let t987: f32 = t6 * t986;
+        let t988: f32 = t985 - t987;
+        let t989: f32 = t139 + t259;
+        let t990: f32 = t379 + t499;
+        let t991: f32 = t619 + t739;
+        let t992: f32 = t989 + t990;
+        let t993: f32 = t991 + t992;
+        let t994: f32 = t988 - t993;
+        let t995: f32 = platform_ixx * t23;
+        let t996: f32 = platform_ixy * t27;
+        let t997: f32 = platform_ixz * t0;
+        let t998: f32 = t6 * t997;
+        let t999: f32 = t995 + t996;
+        let t1000: f32 = t999 - t998;
+        let t1001: f32 = t23 * t1000;
+        let t1002: f32 = platform_ixy * t23;
         (
             t0,
             t1,
+            t2,
             t3,
-            t4,
+            t5,
+            t6,
             t9,
-            t11,
-            t12,
-            t16,
-            t21,
-            t26,
-            t30,
-            t34,
-            t39,
-            t48,
-            t67,
-            t69,
+            t14,
+            t19,
+            t23,
+            t27,
+            t32,
+            t44,
+            t51,
+            t70,
+            t73,
             t76,
-            t77,
-            t79,
-            t80,
-            t82,
-            t84,
-            t86,
-            t88,
-            t90,
-            t93,
-            t97,
-            t100,
-            t107,
-            t108,
-            t115,
-            t117,
-            t122,
-            t123,
-            t130,
-            t141,
-            t144,
-            t151,
-            t158,
+            t106,
+            t113,
+            t121,
+            t125,
+            t137,
+            t146,
+            t152,
             t164,
-            t173,
-            t192,
-            t194,
-            t201,
-            t202,
-            t204,
-            t205,
-            t207,
-            t209,
-            t211,
-            t213,
-            t215,
-            t218,
-            t222,
-            t225,
-            t232,
+            t171,
+            t190,
+            t193,
+            t196,
+            t226,
             t233,
-            t240,
-            t242,
-            t247,
-            t248,
-            t255,
+            t241,
+            t245,
+            t257,
             t266,
-            t269,
-            t276,
-            t283,
-            t289,
-            t298,
-            t317,
-            t319,
-            t326,
-            t327,
-            t329,
-            t330,
-            t332,
-            t334,
-            t336,
-            t338,
-            t340,
-            t343,
-            t347,
-            t350,
-            t357,
-            t358,
+            t272,
+            t284,
+            t291,
+            t310,
+            t313,
+            t316,
+            t346,
+            t353,
+            t361,
             t365,
-            t367,
-            t372,
-            t373,
-            t380,
-            t391,
-            t394,
-            t401,
-            t408,
-            t414,
-            t423,
-            t442,
-            t444,
-            t451,
-            t452,
-            t454,
-            t455,
-            t457,
-            t459,
-            t461,
-            t463,
-            t465,
-            t468,
-            t472,
-            t475,
-            t482,
-            t483,
-            t490,
-            t492,
+            t377,
+            t386,
+            t392,
+            t404,
+            t411,
+            t430,
+            t433,
+            t436,
+            t466,
+            t473,
+            t481,
+            t485,
             t497,
-            t498,
-            t505,
-            t516,
-            t519,
-            t526,
-            t533,
-            t539,
-            t548,
-            t567,
-            t569,
-            t576,
-            t577,
-            t579,
-            t580,
-            t582,
-            t584,
+            t506,
+            t512,
+            t524,
+            t531,
+            t550,
+            t553,
+            t556,
             t586,
-            t588,
-            t590,
             t593,
-            t597,
-            t600,
-            t607,
-            t608,
-            t609,
-            t615,
+            t601,
+            t605,
             t617,
-            t622,
-            t623,
-            t625,
-            t630,
-            t635,
-            t641,
+            t626,
+            t632,
             t644,
-            t646,
             t651,
-            t658,
-            t664,
+            t670,
             t673,
-            t692,
-            t694,
-            t701,
-            t702,
-            t704,
-            t705,
-            t707,
-            t709,
-            t711,
+            t676,
+            t706,
             t713,
-            t715,
-            t718,
-            t722,
+            t721,
             t725,
-            t732,
-            t733,
-            t734,
-            t740,
-            t742,
-            t747,
-            t748,
-            t750,
-            t755,
-            t760,
-            t766,
-            t769,
-            t771,
+            t737,
             t776,
             t783,
-            t790,
+            t787,
+            t788,
+            t795,
+            t796,
             t806,
-            t812,
-            t813,
-            t816,
+            t810,
+            t811,
+            t818,
             t819,
-            t821,
-            t825,
-            t827,
-            t830,
-            t836,
-            t838,
+            t829,
+            t833,
+            t834,
+            t841,
             t842,
-            t843,
-            t845,
-            t848,
-            t851,
+            t852,
             t856,
-            t860,
-            t861,
+            t857,
             t864,
-            t867,
-            t869,
-            t873,
+            t865,
             t875,
-            t878,
-            t884,
-            t886,
-            t890,
-            t891,
-            t893,
-            t896,
-            t899,
-            t904,
-            t908,
-            t909,
-            t912,
-            t915,
+            t879,
+            t880,
+            t887,
+            t888,
+            t898,
+            t902,
+            t903,
+            t910,
+            t911,
             t917,
-            t921,
-            t923,
-            t926,
-            t932,
-            t934,
-            t938,
-            t939,
-            t941,
-            t944,
-            t947,
-            t952,
-            t956,
-            t957,
-            t960,
+            t933,
+            t948,
             t963,
-            t965,
             t969,
-            t971,
-            t974,
-            t980,
+            t975,
             t982,
-            t986,
-            t987,
-            t989,
-            t992,
+            t988,
             t994,
-            t995,
-            t998,
             t1000,
+            t1001,
             t1002,
         )
     };
     let (
-        t1004,
-        t1008,
-        t1011,
-        t1017,
-        t1028,
-        t1034,
-        t1052,
-        t1056,
-        t1059,
-        t1065,
-        t1076,
-        t1082,
-        t1100,
-        t1107,
-        t1114,
-        t1130,
-        t1136,
-        t1140,
-        t1144,
-        t1152,
-        t1157,
-        t1169,
-        t1173,
+        t1125,
+        t1166,
+        t1172,
         t1177,
-        t1185,
-        t1190,
-        t1202,
-        t1206,
-        t1210,
-        t1218,
-        t1223,
-        t1235,
-        t1239,
-        t1243,
-        t1251,
-        t1256,
-        t1268,
-        t1272,
-        t1276,
-        t1284,
-        t1289,
-        t1301,
+        t1191,
+        t1274,
+        t1281,
+        t1287,
+        t1299,
         t1305,
-        t1309,
-        t1317,
-        t1322,
+        t1310,
+        t1315,
+        t1321,
+        t1326,
+        t1332,
+        t1333,
         t1334,
-        t1341,
-        t1348,
-        t1364,
-        t1374,
-        t1380,
-        t1391,
-        t1397,
-        t1409,
-        t1415,
-        t1426,
-        t1432,
-        t1444,
-        t1450,
-        t1461,
-        t1467,
-        t1471,
-        t1486,
-        t1502,
-        t1519,
-        t1535,
-        t1552,
-        t1568,
-        t1572,
-        t1573,
-        t1591,
-        t1609,
-        t1628,
-        t1646,
-        t1665,
-        t1683,
-        t1702,
-        t1720,
-        t1739,
-        t1757,
-        t1776,
-        t1794,
-        t1801,
-        t1813,
-        t1832,
-        t1852,
-        t1872,
-        t1892,
-        t1912,
-        t1932,
-        t1939,
-        t1951,
-        t1952,
-        t1953,
-        t1954,
-        t1955,
-        t1959,
-        t1966,
-        t1970,
-        t1975,
-        t1976,
-        t1977,
-        t1981,
-        t1988,
-        t1992,
-        t1997,
-        t1998,
-        t1999,
-        t2002,
+        t1335,
+        t1336,
+        t1337,
+        t1338,
     ) = {
-        let t1003: f32 = t998 + t1002;
-        let t1004: f32 = t994 + t1003;
-        let t1005: f32 = t414 * t1004;
-        let t1006: f32 = t579 * t586;
-        let t1007: f32 = t569 * t584;
-        let t1008: f32 = t1006 - t1007;
-        let t1009: f32 = t533 * t1008;
-        let t1010: f32 = t548 * t588;
-        let t1011: f32 = t1009 - t1010;
-        let t1012: f32 = t576 * t582;
-        let t1013: f32 = t593 * t1012;
-        let t1014: f32 = t1011 * t1013;
-        let t1015: f32 = t533 * t580;
-        let t1016: f32 = t548 * t569;
-        let t1017: f32 = t1015 - t1016;
-        let t1018: f32 = t607 * t609;
-        let t1019: f32 = t608 * t1018;
-        let t1020: f32 = t1017 * t1019;
-        let t1021: f32 = t1014 + t1020;
-        let t1022: f32 = t582 * t615;
-        let t1023: f32 = t1011 * t1022;
-        let t1024: f32 = t617 * t1017;
-        let t1025: f32 = t1023 + t1024;
-        let t1026: f32 = t533 * t577;
-        let t1027: f32 = t548 * t579;
-        let t1028: f32 = t1026 - t1027;
-        let t1029: f32 = t623 * t1028;
-        let t1030: f32 = t593 * t625;
-        let t1031: f32 = t1017 * t1030;
-        let t1032: f32 = t1029 + t1031;
-        let t1033: f32 = t1025 + t1032;
-        let t1034: f32 = t1021 + t1033;
-        let t1035: f32 = t533 * t1034;
-        let t1036: f32 = t576 * t588;
-        let t1037: f32 = t593 * t1036;
-        let t1038: f32 = t1011 * t1037;
-        let t1039: f32 = t607 * t635;
-        let t1040: f32 = t608 * t1039;
-        let t1041: f32 = t1017 * t1040;
-        let t1042: f32 = t1038 + t1041;
-        let t1043: f32 = t588 * t615;
-        let t1044: f32 = t1011 * t1043;
-        let t1045: f32 = t641 * t1017;
-        let t1046: f32 = t1044 + t1045;
-        let t1047: f32 = t644 * t1028;
-        let t1048: f32 = t593 * t646;
-        let t1049: f32 = t1017 * t1048;
-        let t1050: f32 = t1047 + t1049;
-        let t1051: f32 = t1046 + t1050;
-        let t1052: f32 = t1042 + t1051;
-        let t1053: f32 = t539 * t1052;
-        let t1054: f32 = t704 * t711;
-        let t1055: f32 = t694 * t709;
-        let t1056: f32 = t1054 - t1055;
-        let t1057: f32 = t658 * t1056;
-        let t1058: f32 = t673 * t713;
-        let t1059: f32 = t1057 - t1058;
-        let t1060: f32 = t701 * t707;
-        let t1061: f32 = t718 * t1060;
-        let t1062: f32 = t1059 * t1061;
-        let t1063: f32 = t658 * t705;
-        let t1064: f32 = t673 * t694;
-        let t1065: f32 = t1063 - t1064;
-        let t1066: f32 = t732 * t734;
-        let t1067: f32 = t733 * t1066;
-        let t1068: f32 = t1065 * t1067;
-        let t1069: f32 = t1062 + t1068;
-        let t1070: f32 = t707 * t740;
-        let t1071: f32 = t1059 * t1070;
-        let t1072: f32 = t742 * t1065;
-        let t1073: f32 = t1071 + t1072;
-        let t1074: f32 = t658 * t702;
-        let t1075: f32 = t673 * t704;
-        let t1076: f32 = t1074 - t1075;
-        let t1077: f32 = t748 * t1076;
-        let t1078: f32 = t718 * t750;
-        let t1079: f32 = t1065 * t1078;
-        let t1080: f32 = t1077 + t1079;
-        let t1081: f32 = t1073 + t1080;
-        let t1082: f32 = t1069 + t1081;
-        let t1083: f32 = t658 * t1082;
-        let t1084: f32 = t701 * t713;
-        let t1085: f32 = t718 * t1084;
-        let t1086: f32 = t1059 * t1085;
-        let t1087: f32 = t732 * t760;
-        let t1088: f32 = t733 * t1087;
-        let t1089: f32 = t1065 * t1088;
-        let t1090: f32 = t1086 + t1089;
-        let t1091: f32 = t713 * t740;
-        let t1092: f32 = t1059 * t1091;
-        let t1093: f32 = t766 * t1065;
-        let t1094: f32 = t1092 + t1093;
-        let t1095: f32 = t769 * t1076;
-        let t1096: f32 = t718 * t771;
-        let t1097: f32 = t1065 * t1096;
-        let t1098: f32 = t1095 + t1097;
-        let t1099: f32 = t1094 + t1098;
-        let t1100: f32 = t1090 + t1099;
-        let t1101: f32 = t664 * t1100;
-        let t1102: f32 = platform_ixx * t30;
-        let t1103: f32 = platform_ixy * t34;
-        let t1104: f32 = platform_ixz * t11;
-        let t1105: f32 = t1 * t1104;
-        let t1106: f32 = t1102 + t1103;
-        let t1107: f32 = t1106 - t1105;
-        let t1108: f32 = t4 * t1107;
-        let t1109: f32 = platform_ixy * t30;
-        let t1110: f32 = platform_iyy * t34;
-        let t1111: f32 = platform_iyz * t11;
-        let t1112: f32 = t1 * t1111;
-        let t1113: f32 = t1109 + t1110;
-        let t1114: f32 = t1113 - t1112;
-        let t1115: f32 = t3 * t1114;
-        let t1116: f32 = t1108 - t1115;
-        let t1117: f32 = t1 * t1116;
-        let t1118: f32 = t813 + t861;
-        let t1119: f32 = t909 + t957;
-        let t1120: f32 = t1005 + t1053;
-        let t1121: f32 = t1101 + t1117;
-        let t1122: f32 = t1118 + t1119;
-        let t1123: f32 = t1120 + t1121;
+        let t1003: f32 = platform_iyy * t27;
+        let t1004: f32 = platform_iyz * t0;
+        let t1005: f32 = t6 * t1004;
+        let t1006: f32 = t1002 + t1003;
+        let t1007: f32 = t1006 - t1005;
+        let t1008: f32 = t27 * t1007;
+        let t1009: f32 = platform_ixz * t23;
+        let t1010: f32 = platform_iyz * t27;
+        let t1011: f32 = platform_izz * t0;
+        let t1012: f32 = t6 * t1011;
+        let t1013: f32 = t1009 + t1010;
+        let t1014: f32 = t1013 - t1012;
+        let t1015: f32 = t917 * t1014;
+        let t1016: f32 = t73 * t73;
+        let t1017: f32 = leg1_rod_mass * t1016;
+        let t1018: f32 = t76 * t76;
+        let t1019: f32 = t113 * t1018;
+        let t1020: f32 = t783 * t783;
+        let t1021: f32 = t121 * t1020;
+        let t1022: f32 = t1017 + t1019;
+        let t1023: f32 = t1021 + t1022;
+        let t1024: f32 = t19 * t1023;
+        let t1025: f32 = t44 * t795;
+        let t1026: f32 = t1024 - t1025;
+        let t1027: f32 = t19 * t1026;
+        let t1028: f32 = t19 * t795;
+        let t1029: f32 = t44 * t137;
+        let t1030: f32 = t1028 - t1029;
+        let t1031: f32 = t44 * t1030;
+        let t1032: f32 = t193 * t193;
+        let t1033: f32 = leg2_rod_mass * t1032;
+        let t1034: f32 = t196 * t196;
+        let t1035: f32 = t233 * t1034;
+        let t1036: f32 = t806 * t806;
+        let t1037: f32 = t241 * t1036;
+        let t1038: f32 = t1033 + t1035;
+        let t1039: f32 = t1037 + t1038;
+        let t1040: f32 = t146 * t1039;
+        let t1041: f32 = t164 * t818;
+        let t1042: f32 = t1040 - t1041;
+        let t1043: f32 = t146 * t1042;
+        let t1044: f32 = t146 * t818;
+        let t1045: f32 = t164 * t257;
+        let t1046: f32 = t1044 - t1045;
+        let t1047: f32 = t164 * t1046;
+        let t1048: f32 = t313 * t313;
+        let t1049: f32 = leg3_rod_mass * t1048;
+        let t1050: f32 = t316 * t316;
+        let t1051: f32 = t353 * t1050;
+        let t1052: f32 = t829 * t829;
+        let t1053: f32 = t361 * t1052;
+        let t1054: f32 = t1049 + t1051;
+        let t1055: f32 = t1053 + t1054;
+        let t1056: f32 = t266 * t1055;
+        let t1057: f32 = t284 * t841;
+        let t1058: f32 = t1056 - t1057;
+        let t1059: f32 = t266 * t1058;
+        let t1060: f32 = t266 * t841;
+        let t1061: f32 = t284 * t377;
+        let t1062: f32 = t1060 - t1061;
+        let t1063: f32 = t284 * t1062;
+        let t1064: f32 = t433 * t433;
+        let t1065: f32 = leg4_rod_mass * t1064;
+        let t1066: f32 = t436 * t436;
+        let t1067: f32 = t473 * t1066;
+        let t1068: f32 = t852 * t852;
+        let t1069: f32 = t481 * t1068;
+        let t1070: f32 = t1065 + t1067;
+        let t1071: f32 = t1069 + t1070;
+        let t1072: f32 = t386 * t1071;
+        let t1073: f32 = t404 * t864;
+        let t1074: f32 = t1072 - t1073;
+        let t1075: f32 = t386 * t1074;
+        let t1076: f32 = t386 * t864;
+        let t1077: f32 = t404 * t497;
+        let t1078: f32 = t1076 - t1077;
+        let t1079: f32 = t404 * t1078;
+        let t1080: f32 = t553 * t553;
+        let t1081: f32 = leg5_rod_mass * t1080;
+        let t1082: f32 = t556 * t556;
+        let t1083: f32 = t593 * t1082;
+        let t1084: f32 = t875 * t875;
+        let t1085: f32 = t601 * t1084;
+        let t1086: f32 = t1081 + t1083;
+        let t1087: f32 = t1085 + t1086;
+        let t1088: f32 = t506 * t1087;
+        let t1089: f32 = t524 * t887;
+        let t1090: f32 = t1088 - t1089;
+        let t1091: f32 = t506 * t1090;
+        let t1092: f32 = t506 * t887;
+        let t1093: f32 = t524 * t617;
+        let t1094: f32 = t1092 - t1093;
+        let t1095: f32 = t524 * t1094;
+        let t1096: f32 = t673 * t673;
+        let t1097: f32 = leg6_rod_mass * t1096;
+        let t1098: f32 = t676 * t676;
+        let t1099: f32 = t713 * t1098;
+        let t1100: f32 = t898 * t898;
+        let t1101: f32 = t721 * t1100;
+        let t1102: f32 = t1097 + t1099;
+        let t1103: f32 = t1101 + t1102;
+        let t1104: f32 = t626 * t1103;
+        let t1105: f32 = t644 * t910;
+        let t1106: f32 = t1104 - t1105;
+        let t1107: f32 = t626 * t1106;
+        let t1108: f32 = t626 * t910;
+        let t1109: f32 = t644 * t737;
+        let t1110: f32 = t1108 - t1109;
+        let t1111: f32 = t644 * t1110;
+        let t1112: f32 = t1001 + t1008;
+        let t1113: f32 = t1027 + t1043;
+        let t1114: f32 = t1059 + t1075;
+        let t1115: f32 = t1091 + t1107;
+        let t1116: f32 = t1112 + t1113;
+        let t1117: f32 = t1114 + t1115;
+        let t1118: f32 = t1116 + t1117;
+        let t1119: f32 = t1015 + t1031;
+        let t1120: f32 = t1047 + t1063;
+        let t1121: f32 = t1079 + t1095;
+        let t1122: f32 = t1119 + t1120;
+        let t1123: f32 = t1111 + t1121;
         let t1124: f32 = t1122 + t1123;
-        let t1125: f32 = t843 + t891;
-        let t1126: f32 = t939 + t987;
-        let t1127: f32 = t1035 + t1083;
-        let t1128: f32 = t1125 + t1126;
-        let t1129: f32 = t1127 + t1128;
-        let t1130: f32 = t1124 - t1129;
-        let t1131: f32 = platform_ixz * t16;
-        let t1132: f32 = platform_iyz * t21;
-        let t1133: f32 = platform_izz * t12;
-        let t1134: f32 = t1 * t1133;
-        let t1135: f32 = t1131 + t1132;
-        let t1136: f32 = t1134 + t1135;
-        let t1137: f32 = t0 * t1136;
-        let t1138: f32 = t39 * t816;
-        let t1139: f32 = t48 * t82;
-        let t1140: f32 = t1138 - t1139;
-        let t1141: f32 = t821 * t1140;
-        let t1142: f32 = t39 * t80;
-        let t1143: f32 = t48 * t86;
-        let t1144: f32 = t1142 - t1143;
-        let t1145: f32 = t827 * t1144;
-        let t1146: f32 = t1141 + t1145;
-        let t1147: f32 = t830 * t1140;
-        let t1148: f32 = t117 * t1144;
-        let t1149: f32 = t1147 + t1148;
-        let t1150: f32 = t39 * t77;
-        let t1151: f32 = t48 * t84;
-        let t1152: f32 = t1150 - t1151;
-        let t1153: f32 = t123 * t1152;
-        let t1154: f32 = t838 * t1144;
-        let t1155: f32 = t1153 + t1154;
-        let t1156: f32 = t1149 + t1155;
-        let t1157: f32 = t1146 + t1156;
-        let t1158: f32 = t26 * t1157;
-        let t1159: f32 = t845 * t1140;
-        let t1160: f32 = t848 * t1144;
-        let t1161: f32 = t1159 + t1160;
-        let t1162: f32 = t851 * t1140;
-        let t1163: f32 = t141 * t1144;
-        let t1164: f32 = t1162 + t1163;
-        let t1165: f32 = t144 * t1152;
-        let t1166: f32 = t856 * t1144;
-        let t1167: f32 = t1165 + t1166;
-        let t1168: f32 = t1164 + t1167;
-        let t1169: f32 = t1161 + t1168;
-        let t1170: f32 = t39 * t1169;
-        let t1171: f32 = t164 * t864;
-        let t1172: f32 = t173 * t207;
-        let t1173: f32 = t1171 - t1172;
-        let t1174: f32 = t869 * t1173;
-        let t1175: f32 = t164 * t205;
-        let t1176: f32 = t173 * t211;
-        let t1177: f32 = t1175 - t1176;
-        let t1178: f32 = t875 * t1177;
-        let t1179: f32 = t1174 + t1178;
-        let t1180: f32 = t878 * t1173;
-        let t1181: f32 = t242 * t1177;
-        let t1182: f32 = t1180 + t1181;
-        let t1183: f32 = t164 * t202;
-        let t1184: f32 = t173 * t209;
-        let t1185: f32 = t1183 - t1184;
-        let t1186: f32 = t248 * t1185;
-        let t1187: f32 = t886 * t1177;
-        let t1188: f32 = t1186 + t1187;
-        let t1189: f32 = t1182 + t1188;
-        let t1190: f32 = t1179 + t1189;
-        let t1191: f32 = t158 * t1190;
-        let t1192: f32 = t893 * t1173;
-        let t1193: f32 = t896 * t1177;
-        let t1194: f32 = t1192 + t1193;
-        let t1195: f32 = t899 * t1173;
-        let t1196: f32 = t266 * t1177;
+        let t1125: f32 = t1118 - t1124;
+        let t1126: f32 = t9 * t1000;
+        let t1127: f32 = t14 * t1007;
+        let t1128: f32 = t948 * t1014;
+        let t1129: f32 = t32 * t1026;
+        let t1130: f32 = t44 * t125;
+        let t1131: f32 = t788 - t1130;
+        let t1132: f32 = t44 * t1131;
+        let t1133: f32 = t152 * t1042;
+        let t1134: f32 = t164 * t245;
+        let t1135: f32 = t811 - t1134;
+        let t1136: f32 = t164 * t1135;
+        let t1137: f32 = t272 * t1058;
+        let t1138: f32 = t284 * t365;
+        let t1139: f32 = t834 - t1138;
+        let t1140: f32 = t284 * t1139;
+        let t1141: f32 = t392 * t1074;
+        let t1142: f32 = t404 * t485;
+        let t1143: f32 = t857 - t1142;
+        let t1144: f32 = t404 * t1143;
+        let t1145: f32 = t512 * t1090;
+        let t1146: f32 = t524 * t605;
+        let t1147: f32 = t880 - t1146;
+        let t1148: f32 = t524 * t1147;
+        let t1149: f32 = t632 * t1106;
+        let t1150: f32 = t644 * t725;
+        let t1151: f32 = t903 - t1150;
+        let t1152: f32 = t644 * t1151;
+        let t1153: f32 = t1126 + t1127;
+        let t1154: f32 = t1128 + t1132;
+        let t1155: f32 = t1136 + t1140;
+        let t1156: f32 = t1144 + t1148;
+        let t1157: f32 = t1153 + t1154;
+        let t1158: f32 = t1155 + t1156;
+        let t1159: f32 = t1157 + t1158;
+        let t1160: f32 = t1152 + t1159;
+        let t1161: f32 = t1129 + t1133;
+        let t1162: f32 = t1137 + t1141;
+        let t1163: f32 = t1145 + t1149;
+        let t1164: f32 = t1161 + t1162;
+        let t1165: f32 = t1163 + t1164;
+        let t1166: f32 = t1160 - t1165;
+        let t1167: f32 = t1026 + t1042;
+        let t1168: f32 = t1058 + t1074;
+        let t1169: f32 = t1090 + t1106;
+        let t1170: f32 = t1167 + t1168;
+        let t1171: f32 = t975 + t1169;
+        let t1172: f32 = t1170 + t1171;
+        let t1173: f32 = t1131 + t1135;
+        let t1174: f32 = t1139 + t1143;
+        let t1175: f32 = t1147 + t1151;
+        let t1176: f32 = t1173 + t1174;
+        let t1177: f32 = t1175 + t1176;
+        let t1178: f32 = platform_mz * t5;
+        let t1179: f32 = platform_mx * t6;
+        let t1180: f32 = t3 * t1179;
+        let t1181: f32 = platform_my * t2;
+        let t1182: f32 = t6 * t1181;
+        let t1183: f32 = t1180 - t1182;
+        let t1184: f32 = t1178 + t1183;
+        let t1185: f32 = t1030 + t1046;
+        let t1186: f32 = t1062 + t1078;
+        let t1187: f32 = t1094 + t1110;
+        let t1188: f32 = t1185 + t1186;
+        let t1189: f32 = t1187 + t1188;
+        let t1190: f32 = t1184 - t1189;
+        let t1191: f32 = -t1190;
+        let t1192: f32 = platform_ixx * t9;
+        let t1193: f32 = platform_ixy * t14;
+        let t1194: f32 = platform_ixz * t1;
+        let t1195: f32 = t6 * t1194;
+        let t1196: f32 = t1192 + t1193;
         let t1197: f32 = t1195 + t1196;
-        let t1198: f32 = t269 * t1185;
-        let t1199: f32 = t904 * t1177;
-        let t1200: f32 = t1198 + t1199;
-        let t1201: f32 = t1197 + t1200;
-        let t1202: f32 = t1194 + t1201;
-        let t1203: f32 = t164 * t1202;
-        let t1204: f32 = t289 * t912;
-        let t1205: f32 = t298 * t332;
-        let t1206: f32 = t1204 - t1205;
-        let t1207: f32 = t917 * t1206;
-        let t1208: f32 = t289 * t330;
-        let t1209: f32 = t298 * t336;
-        let t1210: f32 = t1208 - t1209;
-        let t1211: f32 = t923 * t1210;
-        let t1212: f32 = t1207 + t1211;
-        let t1213: f32 = t926 * t1206;
-        let t1214: f32 = t367 * t1210;
-        let t1215: f32 = t1213 + t1214;
-        let t1216: f32 = t289 * t327;
-        let t1217: f32 = t298 * t334;
-        let t1218: f32 = t1216 - t1217;
-        let t1219: f32 = t373 * t1218;
-        let t1220: f32 = t934 * t1210;
-        let t1221: f32 = t1219 + t1220;
-        let t1222: f32 = t1215 + t1221;
-        let t1223: f32 = t1212 + t1222;
-        let t1224: f32 = t283 * t1223;
-        let t1225: f32 = t941 * t1206;
-        let t1226: f32 = t944 * t1210;
-        let t1227: f32 = t1225 + t1226;
-        let t1228: f32 = t947 * t1206;
-        let t1229: f32 = t391 * t1210;
-        let t1230: f32 = t1228 + t1229;
-        let t1231: f32 = t394 * t1218;
-        let t1232: f32 = t952 * t1210;
-        let t1233: f32 = t1231 + t1232;
-        let t1234: f32 = t1230 + t1233;
-        let t1235: f32 = t1227 + t1234;
-        let t1236: f32 = t289 * t1235;
-        let t1237: f32 = t414 * t960;
-        let t1238: f32 = t423 * t457;
+        let t1198: f32 = t9 * t1197;
+        let t1199: f32 = platform_ixy * t9;
+        let t1200: f32 = platform_iyy * t14;
+        let t1201: f32 = platform_iyz * t1;
+        let t1202: f32 = t6 * t1201;
+        let t1203: f32 = t1199 + t1200;
+        let t1204: f32 = t1202 + t1203;
+        let t1205: f32 = t14 * t1204;
+        let t1206: f32 = platform_ixz * t9;
+        let t1207: f32 = platform_iyz * t14;
+        let t1208: f32 = platform_izz * t1;
+        let t1209: f32 = t6 * t1208;
+        let t1210: f32 = t1206 + t1207;
+        let t1211: f32 = t1209 + t1210;
+        let t1212: f32 = t948 * t1211;
+        let t1213: f32 = t32 * t1023;
+        let t1214: f32 = t44 * t787;
+        let t1215: f32 = t1213 - t1214;
+        let t1216: f32 = t32 * t1215;
+        let t1217: f32 = t32 * t787;
+        let t1218: f32 = t44 * t106;
+        let t1219: f32 = t1217 - t1218;
+        let t1220: f32 = t44 * t1219;
+        let t1221: f32 = t152 * t1039;
+        let t1222: f32 = t164 * t810;
+        let t1223: f32 = t1221 - t1222;
+        let t1224: f32 = t152 * t1223;
+        let t1225: f32 = t152 * t810;
+        let t1226: f32 = t164 * t226;
+        let t1227: f32 = t1225 - t1226;
+        let t1228: f32 = t164 * t1227;
+        let t1229: f32 = t272 * t1055;
+        let t1230: f32 = t284 * t833;
+        let t1231: f32 = t1229 - t1230;
+        let t1232: f32 = t272 * t1231;
+        let t1233: f32 = t272 * t833;
+        let t1234: f32 = t284 * t346;
+        let t1235: f32 = t1233 - t1234;
+        let t1236: f32 = t284 * t1235;
+        let t1237: f32 = t392 * t1071;
+        let t1238: f32 = t404 * t856;
         let t1239: f32 = t1237 - t1238;
-        let t1240: f32 = t965 * t1239;
-        let t1241: f32 = t414 * t455;
-        let t1242: f32 = t423 * t461;
+        let t1240: f32 = t392 * t1239;
+        let t1241: f32 = t392 * t856;
+        let t1242: f32 = t404 * t466;
         let t1243: f32 = t1241 - t1242;
-        let t1244: f32 = t971 * t1243;
-        let t1245: f32 = t1240 + t1244;
-        let t1246: f32 = t974 * t1239;
-        let t1247: f32 = t492 * t1243;
-        let t1248: f32 = t1246 + t1247;
-        let t1249: f32 = t414 * t452;
-        let t1250: f32 = t423 * t459;
+        let t1244: f32 = t404 * t1243;
+        let t1245: f32 = t512 * t1087;
+        let t1246: f32 = t524 * t879;
+        let t1247: f32 = t1245 - t1246;
+        let t1248: f32 = t512 * t1247;
+        let t1249: f32 = t512 * t879;
+        let t1250: f32 = t524 * t586;
         let t1251: f32 = t1249 - t1250;
-        let t1252: f32 = t498 * t1251;
-        let t1253: f32 = t982 * t1243;
-        let t1254: f32 = t1252 + t1253;
-        let t1255: f32 = t1248 + t1254;
-        let t1256: f32 = t1245 + t1255;
-        let t1257: f32 = t408 * t1256;
-        let t1258: f32 = t989 * t1239;
-        let t1259: f32 = t992 * t1243;
-        let t1260: f32 = t1258 + t1259;
-        let t1261: f32 = t995 * t1239;
-        let t1262: f32 = t516 * t1243;
-        let t1263: f32 = t1261 + t1262;
-        let t1264: f32 = t519 * t1251;
-        let t1265: f32 = t1000 * t1243;
-        let t1266: f32 = t1264 + t1265;
-        let t1267: f32 = t1263 + t1266;
-        let t1268: f32 = t1260 + t1267;
-        let t1269: f32 = t414 * t1268;
-        let t1270: f32 = t539 * t1008;
-        let t1271: f32 = t548 * t582;
-        let t1272: f32 = t1270 - t1271;
-        let t1273: f32 = t1013 * t1272;
-        let t1274: f32 = t539 * t580;
-        let t1275: f32 = t548 * t586;
-        let t1276: f32 = t1274 - t1275;
-        let t1277: f32 = t1019 * t1276;
-        let t1278: f32 = t1273 + t1277;
-        let t1279: f32 = t1022 * t1272;
-        let t1280: f32 = t617 * t1276;
-        let t1281: f32 = t1279 + t1280;
-        let t1282: f32 = t539 * t577;
-        let t1283: f32 = t548 * t584;
-        let t1284: f32 = t1282 - t1283;
-        let t1285: f32 = t623 * t1284;
-        let t1286: f32 = t1030 * t1276;
-        let t1287: f32 = t1285 + t1286;
-        let t1288: f32 = t1281 + t1287;
-        let t1289: f32 = t1278 + t1288;
-        let t1290: f32 = t533 * t1289;
-        let t1291: f32 = t1037 * t1272;
-        let t1292: f32 = t1040 * t1276;
-        let t1293: f32 = t1291 + t1292;
-        let t1294: f32 = t1043 * t1272;
-        let t1295: f32 = t641 * t1276;
-        let t1296: f32 = t1294 + t1295;
-        let t1297: f32 = t644 * t1284;
-        let t1298: f32 = t1048 * t1276;
-        let t1299: f32 = t1297 + t1298;
-        let t1300: f32 = t1296 + t1299;
-        let t1301: f32 = t1293 + t1300;
-        let t1302: f32 = t539 * t1301;
-        let t1303: f32 = t664 * t1056;
-        let t1304: f32 = t673 * t707;
-        let t1305: f32 = t1303 - t1304;
-        let t1306: f32 = t1061 * t1305;
-        let t1307: f32 = t664 * t705;
-        let t1308: f32 = t673 * t711;
-        let t1309: f32 = t1307 - t1308;
-        let t1310: f32 = t1067 * t1309;
-        let t1311: f32 = t1306 + t1310;
-        let t1312: f32 = t1070 * t1305;
-        let t1313: f32 = t742 * t1309;
-        let t1314: f32 = t1312 + t1313;
-        let t1315: f32 = t664 * t702;
-        let t1316: f32 = t673 * t709;
-        let t1317: f32 = t1315 - t1316;
-        let t1318: f32 = t748 * t1317;
-        let t1319: f32 = t1078 * t1309;
-        let t1320: f32 = t1318 + t1319;
-        let t1321: f32 = t1314 + t1320;
-        let t1322: f32 = t1311 + t1321;
-        let t1323: f32 = t658 * t1322;
-        let t1324: f32 = t1085 * t1305;
-        let t1325: f32 = t1088 * t1309;
+        let t1252: f32 = t524 * t1251;
+        let t1253: f32 = t632 * t1103;
+        let t1254: f32 = t644 * t902;
+        let t1255: f32 = t1253 - t1254;
+        let t1256: f32 = t632 * t1255;
+        let t1257: f32 = t632 * t902;
+        let t1258: f32 = t644 * t706;
+        let t1259: f32 = t1257 - t1258;
+        let t1260: f32 = t644 * t1259;
+        let t1261: f32 = t1198 + t1205;
+        let t1262: f32 = t1212 + t1216;
+        let t1263: f32 = t1224 + t1232;
+        let t1264: f32 = t1240 + t1248;
+        let t1265: f32 = t1261 + t1262;
+        let t1266: f32 = t1263 + t1264;
+        let t1267: f32 = t1265 + t1266;
+        let t1268: f32 = t1256 + t1267;
+        let t1269: f32 = t1220 + t1228;
+        let t1270: f32 = t1236 + t1244;
+        let t1271: f32 = t1252 + t1260;
+        let t1272: f32 = t1269 + t1270;
+        let t1273: f32 = t1271 + t1272;
+        let t1274: f32 = t1268 - t1273;
+        let t1275: f32 = t1215 + t1223;
+        let t1276: f32 = t1231 + t1239;
+        let t1277: f32 = t1247 + t1255;
+        let t1278: f32 = t1275 + t1276;
+        let t1279: f32 = t988 + t1277;
+        let t1280: f32 = t1278 + t1279;
+        let t1281: f32 = -t1280;
+        let t1282: f32 = t1219 + t1227;
+        let t1283: f32 = t1235 + t1243;
+        let t1284: f32 = t1251 + t1259;
+        let t1285: f32 = t1282 + t1283;
+        let t1286: f32 = t1284 + t1285;
+        let t1287: f32 = t1184 - t1286;
+        let t1288: f32 = t796 - t1130;
+        let t1289: f32 = t819 - t1134;
+        let t1290: f32 = t842 - t1138;
+        let t1291: f32 = t865 - t1142;
+        let t1292: f32 = t888 - t1146;
+        let t1293: f32 = t911 - t1150;
+        let t1294: f32 = t1288 + t1289;
+        let t1295: f32 = t1290 + t1291;
+        let t1296: f32 = t1292 + t1293;
+        let t1297: f32 = t1294 + t1295;
+        let t1298: f32 = t1296 + t1297;
+        let t1299: f32 = -t1298;
+        let t1300: f32 = platform_mass + t1023;
+        let t1301: f32 = t1039 + t1055;
+        let t1302: f32 = t1071 + t1087;
+        let t1303: f32 = t1300 + t1301;
+        let t1304: f32 = t1103 + t1302;
+        let t1305: f32 = t1303 + t1304;
+        let t1306: f32 = t787 + t810;
+        let t1307: f32 = t833 + t856;
+        let t1308: f32 = t879 + t902;
+        let t1309: f32 = t1306 + t1307;
+        let t1310: f32 = t1308 + t1309;
+        let t1311: f32 = t795 + t818;
+        let t1312: f32 = t841 + t864;
+        let t1313: f32 = t887 + t910;
+        let t1314: f32 = t1311 + t1312;
+        let t1315: f32 = t1313 + t1314;
+        let t1316: f32 = platform_mass + t106;
+        let t1317: f32 = t226 + t346;
+        let t1318: f32 = t466 + t586;
+        let t1319: f32 = t1316 + t1317;
+        let t1320: f32 = t706 + t1318;
+        let t1321: f32 = t1319 + t1320;
+        let t1322: f32 = t125 + t245;
+        let t1323: f32 = t365 + t485;
+        let t1324: f32 = t605 + t725;
+        let t1325: f32 = t1322 + t1323;
         let t1326: f32 = t1324 + t1325;
-        let t1327: f32 = t1091 * t1305;
-        let t1328: f32 = t766 * t1309;
-        let t1329: f32 = t1327 + t1328;
-        let t1330: f32 = t769 * t1317;
-        let t1331: f32 = t1096 * t1309;
+        let t1327: f32 = platform_mass + t137;
+        let t1328: f32 = t257 + t377;
+        let t1329: f32 = t497 + t617;
+        let t1330: f32 = t1327 + t1328;
+        let t1331: f32 = t737 + t1329;
         let t1332: f32 = t1330 + t1331;
-        let t1333: f32 = t1329 + t1332;
-        let t1334: f32 = t1326 + t1333;
-        let t1335: f32 = t664 * t1334;
-        let t1336: f32 = platform_ixx * t16;
-        let t1337: f32 = platform_ixy * t21;
-        let t1338: f32 = platform_ixz * t12;
-        let t1339: f32 = t1 * t1338;
-        let t1340: f32 = t1336 + t1337;
-        let t1341: f32 = t1339 + t1340;
-        let t1342: f32 = t4 * t1341;
-        let t1343: f32 = platform_ixy * t16;
-        let t1344: f32 = platform_iyy * t21;
-        let t1345: f32 = platform_iyz * t12;
-        let t1346: f32 = t1 * t1345;
-        let t1347: f32 = t1343 + t1344;
-        let t1348: f32 = t1346 + t1347;
-        let t1349: f32 = t3 * t1348;
-        let t1350: f32 = t1342 - t1349;
-        let t1351: f32 = t1 * t1350;
-        let t1352: f32 = t1137 + t1158;
-        let t1353: f32 = t1191 + t1224;
-        let t1354: f32 = t1257 + t1290;
-        let t1355: f32 = t1323 + t1351;
-        let t1356: f32 = t1352 + t1353;
-        let t1357: f32 = t1354 + t1355;
-        let t1358: f32 = t1356 + t1357;
-        let t1359: f32 = t1170 + t1203;
-        let t1360: f32 = t1236 + t1269;
-        let t1361: f32 = t1302 + t1335;
-        let t1362: f32 = t1359 + t1360;
-        let t1363: f32 = t1361 + t1362;
-        let t1364: f32 = t1358 - t1363;
-        let t1365: f32 = t1008 * t1013;
-        let t1366: f32 = t580 * t586;
-        let t1367: f32 = t597 * t1366;
-        let t1368: f32 = t607 * t1367;
-        let t1369: f32 = t608 * t1368;
-        let t1370: f32 = t1365 + t1369;
-        let t1371: f32 = t1008 * t1022;
-        let t1372: f32 = t615 * t1366;
-        let t1373: f32 = t1371 + t1372;
-        let t1374: f32 = leg5_rod_mass * t577;
-        let t1375: f32 = t584 * t1374;
-        let t1376: f32 = t576 * t1366;
-        let t1377: f32 = t593 * t1376;
-        let t1378: f32 = t1375 + t1377;
-        let t1379: f32 = t1373 + t1378;
-        let t1380: f32 = t1370 + t1379;
-        let t1381: f32 = t533 * t1380;
-        let t1382: f32 = t1056 * t1061;
-        let t1383: f32 = t705 * t711;
-        let t1384: f32 = t722 * t1383;
-        let t1385: f32 = t732 * t1384;
-        let t1386: f32 = t733 * t1385;
-        let t1387: f32 = t1382 + t1386;
-        let t1388: f32 = t1056 * t1070;
-        let t1389: f32 = t740 * t1383;
-        let t1390: f32 = t1388 + t1389;
-        let t1391: f32 = leg6_rod_mass * t702;
-        let t1392: f32 = t709 * t1391;
-        let t1393: f32 = t701 * t1383;
-        let t1394: f32 = t718 * t1393;
-        let t1395: f32 = t1392 + t1394;
-        let t1396: f32 = t1390 + t1395;
-        let t1397: f32 = t1387 + t1396;
-        let t1398: f32 = t658 * t1397;
-        let t1399: f32 = t1381 + t1398;
-        let t1400: f32 = t816 * t821;
-        let t1401: f32 = t80 * t86;
-        let t1402: f32 = t97 * t1401;
-        let t1403: f32 = t107 * t1402;
-        let t1404: f32 = t108 * t1403;
-        let t1405: f32 = t1400 + t1404;
-        let t1406: f32 = t816 * t830;
-        let t1407: f32 = t115 * t1401;
-        let t1408: f32 = t1406 + t1407;
-        let t1409: f32 = leg1_rod_mass * t77;
-        let t1410: f32 = t84 * t1409;
-        let t1411: f32 = t76 * t1401;
-        let t1412: f32 = t93 * t1411;
-        let t1413: f32 = t1410 + t1412;
-        let t1414: f32 = t1408 + t1413;
-        let t1415: f32 = t1405 + t1414;
-        let t1416: f32 = t26 * t1415;
-        let t1417: f32 = t864 * t869;
-        let t1418: f32 = t205 * t211;
-        let t1419: f32 = t222 * t1418;
-        let t1420: f32 = t232 * t1419;
-        let t1421: f32 = t233 * t1420;
-        let t1422: f32 = t1417 + t1421;
-        let t1423: f32 = t864 * t878;
-        let t1424: f32 = t240 * t1418;
-        let t1425: f32 = t1423 + t1424;
-        let t1426: f32 = leg2_rod_mass * t202;
-        let t1427: f32 = t209 * t1426;
-        let t1428: f32 = t201 * t1418;
-        let t1429: f32 = t218 * t1428;
-        let t1430: f32 = t1427 + t1429;
-        let t1431: f32 = t1425 + t1430;
-        let t1432: f32 = t1422 + t1431;
-        let t1433: f32 = t158 * t1432;
-        let t1434: f32 = t1416 + t1433;
-        let t1435: f32 = t912 * t917;
-        let t1436: f32 = t330 * t336;
-        let t1437: f32 = t347 * t1436;
-        let t1438: f32 = t357 * t1437;
-        let t1439: f32 = t358 * t1438;
-        let t1440: f32 = t1435 + t1439;
-        let t1441: f32 = t912 * t926;
-        let t1442: f32 = t365 * t1436;
-        let t1443: f32 = t1441 + t1442;
-        let t1444: f32 = leg3_rod_mass * t327;
-        let t1445: f32 = t334 * t1444;
-        let t1446: f32 = t326 * t1436;
-        let t1447: f32 = t343 * t1446;
-        let t1448: f32 = t1445 + t1447;
-        let t1449: f32 = t1443 + t1448;
-        let t1450: f32 = t1440 + t1449;
-        let t1451: f32 = t283 * t1450;
-        let t1452: f32 = t960 * t965;
-        let t1453: f32 = t455 * t461;
-        let t1454: f32 = t472 * t1453;
-        let t1455: f32 = t482 * t1454;
-        let t1456: f32 = t483 * t1455;
-        let t1457: f32 = t1452 + t1456;
-        let t1458: f32 = t960 * t974;
-        let t1459: f32 = t490 * t1453;
-        let t1460: f32 = t1458 + t1459;
-        let t1461: f32 = leg4_rod_mass * t452;
-        let t1462: f32 = t459 * t1461;
-        let t1463: f32 = t451 * t1453;
-        let t1464: f32 = t468 * t1463;
-        let t1465: f32 = t1462 + t1464;
-        let t1466: f32 = t1460 + t1465;
-        let t1467: f32 = t1457 + t1466;
-        let t1468: f32 = t408 * t1467;
-        let t1469: f32 = t1451 + t1468;
-        let t1470: f32 = t1434 + t1469;
-        let t1471: f32 = t1399 + t1470;
-        let t1472: f32 = t1008 * t1037;
-        let t1473: f32 = t569 * t580;
-        let t1474: f32 = t597 * t1473;
-        let t1475: f32 = t607 * t1474;
-        let t1476: f32 = t608 * t1475;
-        let t1477: f32 = t1472 + t1476;
-        let t1478: f32 = t1008 * t1043;
-        let t1479: f32 = t615 * t1473;
-        let t1480: f32 = t1478 + t1479;
-        let t1481: f32 = t579 * t1374;
-        let t1482: f32 = t576 * t1473;
-        let t1483: f32 = t593 * t1482;
-        let t1484: f32 = t1481 + t1483;
-        let t1485: f32 = t1480 + t1484;
-        let t1486: f32 = t1477 + t1485;
-        let t1487: f32 = t539 * t1486;
-        let t1488: f32 = t1056 * t1085;
-        let t1489: f32 = t694 * t705;
-        let t1490: f32 = t722 * t1489;
-        let t1491: f32 = t732 * t1490;
-        let t1492: f32 = t733 * t1491;
-        let t1493: f32 = t1488 + t1492;
-        let t1494: f32 = t1056 * t1091;
-        let t1495: f32 = t740 * t1489;
-        let t1496: f32 = t1494 + t1495;
-        let t1497: f32 = t704 * t1391;
-        let t1498: f32 = t701 * t1489;
-        let t1499: f32 = t718 * t1498;
-        let t1500: f32 = t1497 + t1499;
-        let t1501: f32 = t1496 + t1500;
-        let t1502: f32 = t1493 + t1501;
-        let t1503: f32 = t664 * t1502;
-        let t1504: f32 = t1487 + t1503;
-        let t1505: f32 = t816 * t845;
-        let t1506: f32 = t69 * t80;
-        let t1507: f32 = t97 * t1506;
-        let t1508: f32 = t107 * t1507;
-        let t1509: f32 = t108 * t1508;
-        let t1510: f32 = t1505 + t1509;
-        let t1511: f32 = t816 * t851;
-        let t1512: f32 = t115 * t1506;
-        let t1513: f32 = t1511 + t1512;
-        let t1514: f32 = t79 * t1409;
-        let t1515: f32 = t76 * t1506;
-        let t1516: f32 = t93 * t1515;
-        let t1517: f32 = t1514 + t1516;
-        let t1518: f32 = t1513 + t1517;
-        let t1519: f32 = t1510 + t1518;
-        let t1520: f32 = t39 * t1519;
-        let t1521: f32 = t864 * t893;
-        let t1522: f32 = t194 * t205;
-        let t1523: f32 = t222 * t1522;
-        let t1524: f32 = t232 * t1523;
-        let t1525: f32 = t233 * t1524;
-        let t1526: f32 = t1521 + t1525;
-        let t1527: f32 = t864 * t899;
-        let t1528: f32 = t240 * t1522;
-        let t1529: f32 = t1527 + t1528;
-        let t1530: f32 = t204 * t1426;
-        let t1531: f32 = t201 * t1522;
-        let t1532: f32 = t218 * t1531;
-        let t1533: f32 = t1530 + t1532;
-        let t1534: f32 = t1529 + t1533;
-        let t1535: f32 = t1526 + t1534;
-        let t1536: f32 = t164 * t1535;
-        let t1537: f32 = t1520 + t1536;
-        let t1538: f32 = t912 * t941;
-        let t1539: f32 = t319 * t330;
-        let t1540: f32 = t347 * t1539;
-        let t1541: f32 = t357 * t1540;
-        let t1542: f32 = t358 * t1541;
-        let t1543: f32 = t1538 + t1542;
-        let t1544: f32 = t912 * t947;
-        let t1545: f32 = t365 * t1539;
-        let t1546: f32 = t1544 + t1545;
-        let t1547: f32 = t329 * t1444;
-        let t1548: f32 = t326 * t1539;
-        let t1549: f32 = t343 * t1548;
-        let t1550: f32 = t1547 + t1549;
-        let t1551: f32 = t1546 + t1550;
-        let t1552: f32 = t1543 + t1551;
-        let t1553: f32 = t289 * t1552;
-        let t1554: f32 = t960 * t989;
-        let t1555: f32 = t444 * t455;
-        let t1556: f32 = t472 * t1555;
-        let t1557: f32 = t482 * t1556;
-        let t1558: f32 = t483 * t1557;
-        let t1559: f32 = t1554 + t1558;
-        let t1560: f32 = t960 * t995;
-        let t1561: f32 = t490 * t1555;
-        let t1562: f32 = t1560 + t1561;
-        let t1563: f32 = t454 * t1461;
-        let t1564: f32 = t451 * t1555;
-        let t1565: f32 = t468 * t1564;
-        let t1566: f32 = t1563 + t1565;
-        let t1567: f32 = t1562 + t1566;
-        let t1568: f32 = t1559 + t1567;
-        let t1569: f32 = t414 * t1568;
-        let t1570: f32 = t1553 + t1569;
-        let t1571: f32 = t1537 + t1570;
-        let t1572: f32 = t1504 + t1571;
-        let t1573: f32 = t1572 - t1471;
-        let t1574: f32 = t82 * t82;
-        let t1575: f32 = t76 * t1574;
-        let t1576: f32 = t93 * t1575;
-        let t1577: f32 = t86 * t86;
-        let t1578: f32 = t97 * t1577;
-        let t1579: f32 = t107 * t1578;
-        let t1580: f32 = t108 * t1579;
-        let t1581: f32 = t1576 + t1580;
-        let t1582: f32 = t115 * t1574;
-        let t1583: f32 = t115 * t1577;
-        let t1584: f32 = t1582 + t1583;
-        let t1585: f32 = t84 * t84;
-        let t1586: f32 = leg1_rod_mass * t1585;
-        let t1587: f32 = t76 * t1577;
-        let t1588: f32 = t93 * t1587;
-        let t1589: f32 = t1586 + t1588;
-        let t1590: f32 = t1584 + t1589;
-        let t1591: f32 = t1581 + t1590;
-        let t1592: f32 = t26 * t1591;
-        let t1593: f32 = t82 * t88;
-        let t1594: f32 = t76 * t1593;
-        let t1595: f32 = t93 * t1594;
-        let t1596: f32 = t69 * t86;
-        let t1597: f32 = t97 * t1596;
-        let t1598: f32 = t107 * t1597;
-        let t1599: f32 = t108 * t1598;
-        let t1600: f32 = t1595 + t1599;
-        let t1601: f32 = t115 * t1593;
-        let t1602: f32 = t115 * t1596;
-        let t1603: f32 = t1601 + t1602;
-        let t1604: f32 = t84 * t144;
-        let t1605: f32 = t76 * t1596;
-        let t1606: f32 = t93 * t1605;
-        let t1607: f32 = t1604 + t1606;
-        let t1608: f32 = t1603 + t1607;
-        let t1609: f32 = t1600 + t1608;
-        let t1610: f32 = t39 * t1609;
-        let t1611: f32 = t207 * t207;
-        let t1612: f32 = t201 * t1611;
-        let t1613: f32 = t218 * t1612;
-        let t1614: f32 = t211 * t211;
-        let t1615: f32 = t222 * t1614;
-        let t1616: f32 = t232 * t1615;
-        let t1617: f32 = t233 * t1616;
-        let t1618: f32 = t1613 + t1617;
-        let t1619: f32 = t240 * t1611;
-        let t1620: f32 = t240 * t1614;
-        let t1621: f32 = t1619 + t1620;
-        let t1622: f32 = t209 * t209;
-        let t1623: f32 = leg2_rod_mass * t1622;
-        let t1624: f32 = t201 * t1614;
-        let t1625: f32 = t218 * t1624;
-        let t1626: f32 = t1623 + t1625;
-        let t1627: f32 = t1621 + t1626;
-        let t1628: f32 = t1618 + t1627;
-        let t1629: f32 = t158 * t1628;
-        let t1630: f32 = t207 * t213;
-        let t1631: f32 = t201 * t1630;
-        let t1632: f32 = t218 * t1631;
-        let t1633: f32 = t194 * t211;
-        let t1634: f32 = t222 * t1633;
-        let t1635: f32 = t232 * t1634;
-        let t1636: f32 = t233 * t1635;
-        let t1637: f32 = t1632 + t1636;
-        let t1638: f32 = t240 * t1630;
-        let t1639: f32 = t240 * t1633;
-        let t1640: f32 = t1638 + t1639;
-        let t1641: f32 = t209 * t269;
-        let t1642: f32 = t201 * t1633;
-        let t1643: f32 = t218 * t1642;
-        let t1644: f32 = t1641 + t1643;
-        let t1645: f32 = t1640 + t1644;
-        let t1646: f32 = t1637 + t1645;
-        let t1647: f32 = t164 * t1646;
-        let t1648: f32 = t332 * t332;
-        let t1649: f32 = t326 * t1648;
-        let t1650: f32 = t343 * t1649;
-        let t1651: f32 = t336 * t336;
-        let t1652: f32 = t347 * t1651;
-        let t1653: f32 = t357 * t1652;
-        let t1654: f32 = t358 * t1653;
-        let t1655: f32 = t1650 + t1654;
-        let t1656: f32 = t365 * t1648;
-        let t1657: f32 = t365 * t1651;
-        let t1658: f32 = t1656 + t1657;
-        let t1659: f32 = t334 * t334;
-        let t1660: f32 = leg3_rod_mass * t1659;
-        let t1661: f32 = t326 * t1651;
-        let t1662: f32 = t343 * t1661;
-        let t1663: f32 = t1660 + t1662;
-        let t1664: f32 = t1658 + t1663;
-        let t1665: f32 = t1655 + t1664;
-        let t1666: f32 = t283 * t1665;
-        let t1667: f32 = t332 * t338;
-        let t1668: f32 = t326 * t1667;
-        let t1669: f32 = t343 * t1668;
-        let t1670: f32 = t319 * t336;
-        let t1671: f32 = t347 * t1670;
-        let t1672: f32 = t357 * t1671;
-        let t1673: f32 = t358 * t1672;
-        let t1674: f32 = t1669 + t1673;
-        let t1675: f32 = t365 * t1667;
-        let t1676: f32 = t365 * t1670;
-        let t1677: f32 = t1675 + t1676;
-        let t1678: f32 = t334 * t394;
-        let t1679: f32 = t326 * t1670;
-        let t1680: f32 = t343 * t1679;
-        let t1681: f32 = t1678 + t1680;
-        let t1682: f32 = t1677 + t1681;
-        let t1683: f32 = t1674 + t1682;
-        let t1684: f32 = t289 * t1683;
-        let t1685: f32 = t457 * t457;
-        let t1686: f32 = t451 * t1685;
-        let t1687: f32 = t468 * t1686;
-        let t1688: f32 = t461 * t461;
-        let t1689: f32 = t472 * t1688;
-        let t1690: f32 = t482 * t1689;
-        let t1691: f32 = t483 * t1690;
-        let t1692: f32 = t1687 + t1691;
-        let t1693: f32 = t490 * t1685;
-        let t1694: f32 = t490 * t1688;
-        let t1695: f32 = t1693 + t1694;
-        let t1696: f32 = t459 * t459;
-        let t1697: f32 = leg4_rod_mass * t1696;
-        let t1698: f32 = t451 * t1688;
-        let t1699: f32 = t468 * t1698;
-        let t1700: f32 = t1697 + t1699;
-        let t1701: f32 = t1695 + t1700;
-        let t1702: f32 = t1692 + t1701;
-        let t1703: f32 = t408 * t1702;
-        let t1704: f32 = t457 * t463;
-        let t1705: f32 = t451 * t1704;
-        let t1706: f32 = t468 * t1705;
-        let t1707: f32 = t444 * t461;
-        let t1708: f32 = t472 * t1707;
-        let t1709: f32 = t482 * t1708;
-        let t1710: f32 = t483 * t1709;
-        let t1711: f32 = t1706 + t1710;
-        let t1712: f32 = t490 * t1704;
-        let t1713: f32 = t490 * t1707;
-        let t1714: f32 = t1712 + t1713;
-        let t1715: f32 = t459 * t519;
-        let t1716: f32 = t451 * t1707;
-        let t1717: f32 = t468 * t1716;
-        let t1718: f32 = t1715 + t1717;
-        let t1719: f32 = t1714 + t1718;
-        let t1720: f32 = t1711 + t1719;
-        let t1721: f32 = t414 * t1720;
-        let t1722: f32 = t582 * t582;
-        let t1723: f32 = t576 * t1722;
-        let t1724: f32 = t593 * t1723;
-        let t1725: f32 = t586 * t586;
-        let t1726: f32 = t597 * t1725;
-        let t1727: f32 = t607 * t1726;
-        let t1728: f32 = t608 * t1727;
-        let t1729: f32 = t1724 + t1728;
-        let t1730: f32 = t615 * t1722;
-        let t1731: f32 = t615 * t1725;
-        let t1732: f32 = t1730 + t1731;
-        let t1733: f32 = t584 * t584;
-        let t1734: f32 = leg5_rod_mass * t1733;
-        let t1735: f32 = t576 * t1725;
-        let t1736: f32 = t593 * t1735;
-        let t1737: f32 = t1734 + t1736;
-        let t1738: f32 = t1732 + t1737;
-        let t1739: f32 = t1729 + t1738;
-        let t1740: f32 = t533 * t1739;
-        let t1741: f32 = t582 * t588;
-        let t1742: f32 = t576 * t1741;
-        let t1743: f32 = t593 * t1742;
-        let t1744: f32 = t569 * t586;
-        let t1745: f32 = t597 * t1744;
-        let t1746: f32 = t607 * t1745;
-        let t1747: f32 = t608 * t1746;
-        let t1748: f32 = t1743 + t1747;
-        let t1749: f32 = t615 * t1741;
-        let t1750: f32 = t615 * t1744;
-        let t1751: f32 = t1749 + t1750;
-        let t1752: f32 = t584 * t644;
-        let t1753: f32 = t576 * t1744;
-        let t1754: f32 = t593 * t1753;
-        let t1755: f32 = t1752 + t1754;
-        let t1756: f32 = t1751 + t1755;
-        let t1757: f32 = t1748 + t1756;
-        let t1758: f32 = t539 * t1757;
-        let t1759: f32 = t707 * t707;
-        let t1760: f32 = t701 * t1759;
-        let t1761: f32 = t718 * t1760;
-        let t1762: f32 = t711 * t711;
-        let t1763: f32 = t722 * t1762;
-        let t1764: f32 = t732 * t1763;
-        let t1765: f32 = t733 * t1764;
-        let t1766: f32 = t1761 + t1765;
-        let t1767: f32 = t740 * t1759;
-        let t1768: f32 = t740 * t1762;
-        let t1769: f32 = t1767 + t1768;
-        let t1770: f32 = t709 * t709;
-        let t1771: f32 = leg6_rod_mass * t1770;
-        let t1772: f32 = t701 * t1762;
-        let t1773: f32 = t718 * t1772;
-        let t1774: f32 = t1771 + t1773;
-        let t1775: f32 = t1769 + t1774;
-        let t1776: f32 = t1766 + t1775;
-        let t1777: f32 = t658 * t1776;
-        let t1778: f32 = t707 * t713;
-        let t1779: f32 = t701 * t1778;
-        let t1780: f32 = t718 * t1779;
-        let t1781: f32 = t694 * t711;
-        let t1782: f32 = t722 * t1781;
-        let t1783: f32 = t732 * t1782;
-        let t1784: f32 = t733 * t1783;
-        let t1785: f32 = t1780 + t1784;
-        let t1786: f32 = t740 * t1778;
-        let t1787: f32 = t740 * t1781;
-        let t1788: f32 = t1786 + t1787;
-        let t1789: f32 = t709 * t769;
-        let t1790: f32 = t701 * t1781;
-        let t1791: f32 = t718 * t1790;
-        let t1792: f32 = t1789 + t1791;
-        let t1793: f32 = t1788 + t1792;
-        let t1794: f32 = t1785 + t1793;
-        let t1795: f32 = t664 * t1794;
-        let t1796: f32 = platform_mz * t12;
-        let t1797: f32 = t1 * t1796;
-        let t1798: f32 = platform_mx * t16;
-        let t1799: f32 = platform_my * t21;
-        let t1800: f32 = t1798 + t1799;
-        let t1801: f32 = t1797 + t1800;
-        let t1802: f32 = t1610 + t1647;
-        let t1803: f32 = t1684 + t1721;
-        let t1804: f32 = t1758 + t1795;
-        let t1805: f32 = t1802 + t1803;
-        let t1806: f32 = t1804 + t1805;
-        let t1807: f32 = t1592 + t1629;
-        let t1808: f32 = t1666 + t1703;
-        let t1809: f32 = t1740 + t1777;
-        let t1810: f32 = t1807 + t1808;
-        let t1811: f32 = t1801 + t1809;
-        let t1812: f32 = t1810 + t1811;
-        let t1813: f32 = t1806 - t1812;
-        let t1814: f32 = t26 * t1609;
-        let t1815: f32 = t88 * t88;
-        let t1816: f32 = t76 * t1815;
-        let t1817: f32 = t93 * t1816;
-        let t1818: f32 = t69 * t69;
-        let t1819: f32 = t97 * t1818;
-        let t1820: f32 = t107 * t1819;
-        let t1821: f32 = t108 * t1820;
-        let t1822: f32 = t1817 + t1821;
-        let t1823: f32 = t115 * t1815;
-        let t1824: f32 = t115 * t1818;
-        let t1825: f32 = t1823 + t1824;
-        let t1826: f32 = t79 * t79;
-        let t1827: f32 = leg1_rod_mass * t1826;
-        let t1828: f32 = t76 * t1818;
-        let t1829: f32 = t93 * t1828;
-        let t1830: f32 = t1827 + t1829;
-        let t1831: f32 = t1825 + t1830;
-        let t1832: f32 = t1822 + t1831;
-        let t1833: f32 = t39 * t1832;
-        let t1834: f32 = t158 * t1646;
-        let t1835: f32 = t213 * t213;
-        let t1836: f32 = t201 * t1835;
-        let t1837: f32 = t218 * t1836;
-        let t1838: f32 = t194 * t194;
-        let t1839: f32 = t222 * t1838;
-        let t1840: f32 = t232 * t1839;
-        let t1841: f32 = t233 * t1840;
-        let t1842: f32 = t1837 + t1841;
-        let t1843: f32 = t240 * t1835;
-        let t1844: f32 = t240 * t1838;
-        let t1845: f32 = t1843 + t1844;
-        let t1846: f32 = t204 * t204;
-        let t1847: f32 = leg2_rod_mass * t1846;
-        let t1848: f32 = t201 * t1838;
-        let t1849: f32 = t218 * t1848;
-        let t1850: f32 = t1847 + t1849;
-        let t1851: f32 = t1845 + t1850;
-        let t1852: f32 = t1842 + t1851;
-        let t1853: f32 = t164 * t1852;
-        let t1854: f32 = t283 * t1683;
-        let t1855: f32 = t338 * t338;
-        let t1856: f32 = t326 * t1855;
-        let t1857: f32 = t343 * t1856;
-        let t1858: f32 = t319 * t319;
-        let t1859: f32 = t347 * t1858;
-        let t1860: f32 = t357 * t1859;
-        let t1861: f32 = t358 * t1860;
-        let t1862: f32 = t1857 + t1861;
-        let t1863: f32 = t365 * t1855;
-        let t1864: f32 = t365 * t1858;
-        let t1865: f32 = t1863 + t1864;
-        let t1866: f32 = t329 * t329;
-        let t1867: f32 = leg3_rod_mass * t1866;
-        let t1868: f32 = t326 * t1858;
-        let t1869: f32 = t343 * t1868;
-        let t1870: f32 = t1867 + t1869;
-        let t1871: f32 = t1865 + t1870;
-        let t1872: f32 = t1862 + t1871;
-        let t1873: f32 = t289 * t1872;
-        let t1874: f32 = t408 * t1720;
-        let t1875: f32 = t463 * t463;
-        let t1876: f32 = t451 * t1875;
-        let t1877: f32 = t468 * t1876;
-        let t1878: f32 = t444 * t444;
-        let t1879: f32 = t472 * t1878;
-        let t1880: f32 = t482 * t1879;
-        let t1881: f32 = t483 * t1880;
-        let t1882: f32 = t1877 + t1881;
-        let t1883: f32 = t490 * t1875;
-        let t1884: f32 = t490 * t1878;
-        let t1885: f32 = t1883 + t1884;
-        let t1886: f32 = t454 * t454;
-        let t1887: f32 = leg4_rod_mass * t1886;
-        let t1888: f32 = t451 * t1878;
-        let t1889: f32 = t468 * t1888;
-        let t1890: f32 = t1887 + t1889;
-        let t1891: f32 = t1885 + t1890;
-        let t1892: f32 = t1882 + t1891;
-        let t1893: f32 = t414 * t1892;
-        let t1894: f32 = t533 * t1757;
-        let t1895: f32 = t588 * t588;
-        let t1896: f32 = t576 * t1895;
-        let t1897: f32 = t593 * t1896;
-        let t1898: f32 = t569 * t569;
-        let t1899: f32 = t597 * t1898;
-        let t1900: f32 = t607 * t1899;
-        let t1901: f32 = t608 * t1900;
-        let t1902: f32 = t1897 + t1901;
-        let t1903: f32 = t615 * t1895;
-        let t1904: f32 = t615 * t1898;
-        let t1905: f32 = t1903 + t1904;
-        let t1906: f32 = t579 * t579;
-        let t1907: f32 = leg5_rod_mass * t1906;
-        let t1908: f32 = t576 * t1898;
-        let t1909: f32 = t593 * t1908;
-        let t1910: f32 = t1907 + t1909;
-        let t1911: f32 = t1905 + t1910;
-        let t1912: f32 = t1902 + t1911;
-        let t1913: f32 = t539 * t1912;
-        let t1914: f32 = t658 * t1794;
-        let t1915: f32 = t713 * t713;
-        let t1916: f32 = t701 * t1915;
-        let t1917: f32 = t718 * t1916;
-        let t1918: f32 = t694 * t694;
-        let t1919: f32 = t722 * t1918;
-        let t1920: f32 = t732 * t1919;
-        let t1921: f32 = t733 * t1920;
-        let t1922: f32 = t1917 + t1921;
-        let t1923: f32 = t740 * t1915;
-        let t1924: f32 = t740 * t1918;
-        let t1925: f32 = t1923 + t1924;
-        let t1926: f32 = t704 * t704;
-        let t1927: f32 = leg6_rod_mass * t1926;
-        let t1928: f32 = t701 * t1918;
-        let t1929: f32 = t718 * t1928;
-        let t1930: f32 = t1927 + t1929;
-        let t1931: f32 = t1925 + t1930;
-        let t1932: f32 = t1922 + t1931;
-        let t1933: f32 = t664 * t1932;
-        let t1934: f32 = platform_mz * t11;
-        let t1935: f32 = t1 * t1934;
-        let t1936: f32 = platform_mx * t30;
-        let t1937: f32 = platform_my * t34;
-        let t1938: f32 = t1936 + t1937;
-        let t1939: f32 = t1935 - t1938;
-        let t1940: f32 = t1833 + t1853;
-        let t1941: f32 = t1873 + t1893;
-        let t1942: f32 = t1913 + t1933;
-        let t1943: f32 = t1940 + t1941;
-        let t1944: f32 = t1942 + t1943;
-        let t1945: f32 = t1814 + t1834;
-        let t1946: f32 = t1854 + t1874;
-        let t1947: f32 = t1894 + t1914;
-        let t1948: f32 = t1945 + t1946;
-        let t1949: f32 = t1939 + t1947;
-        let t1950: f32 = t1948 + t1949;
-        let t1951: f32 = t1944 - t1950;
-        let t1952: f32 = t30 * t783;
-        let t1953: f32 = t34 * t790;
-        let t1954: f32 = t1 * t11;
-        let t1955: f32 = t9 * t1954;
-        let t1956: f32 = t76 * t90;
-        let t1957: f32 = t93 * t1956;
-        let t1958: f32 = t816 * t1957;
-        let t1959: f32 = t80 * t97;
-        let t1960: f32 = t100 * t1959;
-        let t1961: f32 = t107 * t1960;
-        let t1962: f32 = t108 * t1961;
-        let t1963: f32 = t1958 + t1962;
-        let t1964: f32 = t90 * t115;
-        let t1965: f32 = t816 * t1964;
-        let t1966: f32 = t80 * t115;
-        let t1967: f32 = t100 * t1966;
-        let t1968: f32 = t1965 + t1967;
-        let t1969: f32 = t122 * t1409;
-        let t1970: f32 = t76 * t80;
-        let t1971: f32 = t100 * t1970;
-        let t1972: f32 = t93 * t1971;
-        let t1973: f32 = t1969 + t1972;
-        let t1974: f32 = t1968 + t1973;
-        let t1975: f32 = t1963 + t1974;
-        let t1976: f32 = t26 * t1975;
-        let t1977: f32 = t48 * t151;
-        let t1978: f32 = t201 * t215;
-        let t1979: f32 = t218 * t1978;
-        let t1980: f32 = t864 * t1979;
-        let t1981: f32 = t205 * t222;
-        let t1982: f32 = t225 * t1981;
-        let t1983: f32 = t232 * t1982;
-        let t1984: f32 = t233 * t1983;
-        let t1985: f32 = t1980 + t1984;
-        let t1986: f32 = t215 * t240;
-        let t1987: f32 = t864 * t1986;
-        let t1988: f32 = t205 * t240;
-        let t1989: f32 = t225 * t1988;
-        let t1990: f32 = t1987 + t1989;
-        let t1991: f32 = t247 * t1426;
-        let t1992: f32 = t201 * t205;
-        let t1993: f32 = t225 * t1992;
-        let t1994: f32 = t218 * t1993;
-        let t1995: f32 = t1991 + t1994;
-        let t1996: f32 = t1990 + t1995;
-        let t1997: f32 = t1985 + t1996;
-        let t1998: f32 = t158 * t1997;
-        let t1999: f32 = t173 * t276;
-        let t2000: f32 = t326 * t340;
-        let t2001: f32 = t343 * t2000;
-        let t2002: f32 = t912 * t2001;
+        let t1333: f32 = t51 * t70;
+        let t1334: f32 = t171 * t190;
+        let t1335: f32 = t291 * t310;
+        let t1336: f32 = t411 * t430;
+        let t1337: f32 = t531 * t550;
+        let t1338: f32 = t651 * t670;
         (
-            t1004,
-            t1008,
-            t1011,
-            t1017,
-            t1028,
-            t1034,
-            t1052,
-            t1056,
-            t1059,
-            t1065,
-            t1076,
-            t1082,
-            t1100,
-            t1107,
-            t1114,
-            t1130,
-            t1136,
-            t1140,
-            t1144,
-            t1152,
-            t1157,
-            t1169,
-            t1173,
+            t1125,
+            t1166,
+            t1172,
             t1177,
-            t1185,
-            t1190,
-            t1202,
-            t1206,
-            t1210,
-            t1218,
-            t1223,
-            t1235,
-            t1239,
-            t1243,
-            t1251,
-            t1256,
-            t1268,
-            t1272,
-            t1276,
-            t1284,
-            t1289,
-            t1301,
+            t1191,
+            t1274,
+            t1281,
+            t1287,
+            t1299,
             t1305,
-            t1309,
-            t1317,
-            t1322,
+            t1310,
+            t1315,
+            t1321,
+            t1326,
+            t1332,
+            t1333,
             t1334,
-            t1341,
-            t1348,
-            t1364,
-            t1374,
-            t1380,
-            t1391,
-            t1397,
-            t1409,
-            t1415,
-            t1426,
-            t1432,
-            t1444,
-            t1450,
-            t1461,
-            t1467,
-            t1471,
-            t1486,
-            t1502,
-            t1519,
-            t1535,
-            t1552,
-            t1568,
-            t1572,
-            t1573,
-            t1591,
-            t1609,
-            t1628,
-            t1646,
-            t1665,
-            t1683,
-            t1702,
-            t1720,
-            t1739,
-            t1757,
-            t1776,
-            t1794,
-            t1801,
-            t1813,
-            t1832,
-            t1852,
-            t1872,
-            t1892,
-            t1912,
-            t1932,
-            t1939,
-            t1951,
-            t1952,
-            t1953,
-            t1954,
-            t1955,
-            t1959,
-            t1966,
-            t1970,
-            t1975,
-            t1976,
-            t1977,
-            t1981,
-            t1988,
-            t1992,
-            t1997,
-            t1998,
-            t1999,
-            t2002,
-        )
-    };
-    let (
-        t2101,
-        t2232,
-        t2327,
-        t2453,
-        t2465,
-        t2496,
-        t2526,
-        t2555,
-        t2584,
-        t2608,
-        t2632,
-        t2633,
-        t2639,
-        t2645,
-        t2651,
-        t2657,
-        t2662,
-        t2667,
-        t2674,
-        t2679,
-        t2685,
-        t2691,
-        t2696,
-        t2703,
-        t2709,
-        t2715,
-        t2721,
-        t2722,
-        t2723,
-        t2724,
-        t2725,
-        t2726,
-        t2727,
-    ) = {
-        let t2003: f32 = t330 * t347;
-        let t2004: f32 = t350 * t2003;
-        let t2005: f32 = t357 * t2004;
-        let t2006: f32 = t358 * t2005;
-        let t2007: f32 = t2002 + t2006;
-        let t2008: f32 = t340 * t365;
-        let t2009: f32 = t912 * t2008;
-        let t2010: f32 = t330 * t365;
-        let t2011: f32 = t350 * t2010;
-        let t2012: f32 = t2009 + t2011;
-        let t2013: f32 = t372 * t1444;
-        let t2014: f32 = t326 * t330;
-        let t2015: f32 = t350 * t2014;
-        let t2016: f32 = t343 * t2015;
-        let t2017: f32 = t2013 + t2016;
-        let t2018: f32 = t2012 + t2017;
-        let t2019: f32 = t2007 + t2018;
-        let t2020: f32 = t283 * t2019;
-        let t2021: f32 = t298 * t401;
-        let t2022: f32 = t451 * t465;
-        let t2023: f32 = t468 * t2022;
-        let t2024: f32 = t960 * t2023;
-        let t2025: f32 = t455 * t472;
-        let t2026: f32 = t475 * t2025;
-        let t2027: f32 = t482 * t2026;
-        let t2028: f32 = t483 * t2027;
-        let t2029: f32 = t2024 + t2028;
-        let t2030: f32 = t465 * t490;
-        let t2031: f32 = t960 * t2030;
-        let t2032: f32 = t455 * t490;
-        let t2033: f32 = t475 * t2032;
-        let t2034: f32 = t2031 + t2033;
-        let t2035: f32 = t497 * t1461;
-        let t2036: f32 = t451 * t455;
-        let t2037: f32 = t475 * t2036;
-        let t2038: f32 = t468 * t2037;
-        let t2039: f32 = t2035 + t2038;
-        let t2040: f32 = t2034 + t2039;
-        let t2041: f32 = t2029 + t2040;
-        let t2042: f32 = t408 * t2041;
-        let t2043: f32 = t423 * t526;
-        let t2044: f32 = t576 * t590;
-        let t2045: f32 = t593 * t2044;
-        let t2046: f32 = t1008 * t2045;
-        let t2047: f32 = t580 * t597;
-        let t2048: f32 = t600 * t2047;
-        let t2049: f32 = t607 * t2048;
-        let t2050: f32 = t608 * t2049;
-        let t2051: f32 = t2046 + t2050;
-        let t2052: f32 = t590 * t615;
-        let t2053: f32 = t1008 * t2052;
-        let t2054: f32 = t580 * t615;
-        let t2055: f32 = t600 * t2054;
-        let t2056: f32 = t2053 + t2055;
-        let t2057: f32 = t622 * t1374;
-        let t2058: f32 = t576 * t580;
-        let t2059: f32 = t600 * t2058;
-        let t2060: f32 = t593 * t2059;
-        let t2061: f32 = t2057 + t2060;
-        let t2062: f32 = t2056 + t2061;
-        let t2063: f32 = t2051 + t2062;
-        let t2064: f32 = t533 * t2063;
-        let t2065: f32 = t548 * t651;
-        let t2066: f32 = t701 * t715;
-        let t2067: f32 = t718 * t2066;
-        let t2068: f32 = t1056 * t2067;
-        let t2069: f32 = t705 * t722;
-        let t2070: f32 = t725 * t2069;
-        let t2071: f32 = t732 * t2070;
-        let t2072: f32 = t733 * t2071;
-        let t2073: f32 = t2068 + t2072;
-        let t2074: f32 = t715 * t740;
-        let t2075: f32 = t1056 * t2074;
-        let t2076: f32 = t705 * t740;
-        let t2077: f32 = t725 * t2076;
-        let t2078: f32 = t2075 + t2077;
-        let t2079: f32 = t747 * t1391;
-        let t2080: f32 = t701 * t705;
-        let t2081: f32 = t725 * t2080;
-        let t2082: f32 = t718 * t2081;
-        let t2083: f32 = t2079 + t2082;
-        let t2084: f32 = t2078 + t2083;
-        let t2085: f32 = t2073 + t2084;
-        let t2086: f32 = t658 * t2085;
-        let t2087: f32 = t673 * t776;
-        let t2088: f32 = t1952 + t1953;
-        let t2089: f32 = t1977 + t1999;
-        let t2090: f32 = t2021 + t2043;
-        let t2091: f32 = t2065 + t2087;
-        let t2092: f32 = t2088 + t2089;
-        let t2093: f32 = t2090 + t2091;
-        let t2094: f32 = t2092 + t2093;
-        let t2095: f32 = t1955 + t1976;
-        let t2096: f32 = t1998 + t2020;
-        let t2097: f32 = t2042 + t2064;
-        let t2098: f32 = t2095 + t2096;
-        let t2099: f32 = t2086 + t2097;
-        let t2100: f32 = t2098 + t2099;
-        let t2101: f32 = t2094 - t2100;
-        let t2102: f32 = t30 * t1107;
-        let t2103: f32 = t34 * t1114;
-        let t2104: f32 = t812 * t1954;
-        let t2105: f32 = t76 * t93;
-        let t2106: f32 = t816 * t2105;
-        let t2107: f32 = t819 * t2106;
-        let t2108: f32 = t107 * t1959;
-        let t2109: f32 = t108 * t2108;
-        let t2110: f32 = t825 * t2109;
-        let t2111: f32 = t2107 + t2110;
-        let t2112: f32 = t115 * t816;
-        let t2113: f32 = t819 * t2112;
-        let t2114: f32 = t825 * t1966;
-        let t2115: f32 = t2113 + t2114;
-        let t2116: f32 = t836 * t1409;
-        let t2117: f32 = t93 * t1970;
-        let t2118: f32 = t825 * t2117;
-        let t2119: f32 = t2116 + t2118;
-        let t2120: f32 = t2115 + t2119;
-        let t2121: f32 = t2111 + t2120;
-        let t2122: f32 = t26 * t2121;
-        let t2123: f32 = t48 * t860;
-        let t2124: f32 = t201 * t218;
-        let t2125: f32 = t864 * t2124;
-        let t2126: f32 = t867 * t2125;
-        let t2127: f32 = t232 * t1981;
-        let t2128: f32 = t233 * t2127;
-        let t2129: f32 = t873 * t2128;
-        let t2130: f32 = t2126 + t2129;
-        let t2131: f32 = t240 * t864;
-        let t2132: f32 = t867 * t2131;
-        let t2133: f32 = t873 * t1988;
-        let t2134: f32 = t2132 + t2133;
-        let t2135: f32 = t884 * t1426;
-        let t2136: f32 = t218 * t1992;
-        let t2137: f32 = t873 * t2136;
-        let t2138: f32 = t2135 + t2137;
-        let t2139: f32 = t2134 + t2138;
-        let t2140: f32 = t2130 + t2139;
-        let t2141: f32 = t158 * t2140;
-        let t2142: f32 = t173 * t908;
-        let t2143: f32 = t326 * t343;
-        let t2144: f32 = t912 * t2143;
-        let t2145: f32 = t915 * t2144;
-        let t2146: f32 = t357 * t2003;
-        let t2147: f32 = t358 * t2146;
-        let t2148: f32 = t921 * t2147;
-        let t2149: f32 = t2145 + t2148;
-        let t2150: f32 = t365 * t912;
-        let t2151: f32 = t915 * t2150;
-        let t2152: f32 = t921 * t2010;
-        let t2153: f32 = t2151 + t2152;
-        let t2154: f32 = t932 * t1444;
-        let t2155: f32 = t343 * t2014;
-        let t2156: f32 = t921 * t2155;
-        let t2157: f32 = t2154 + t2156;
-        let t2158: f32 = t2153 + t2157;
-        let t2159: f32 = t2149 + t2158;
-        let t2160: f32 = t283 * t2159;
-        let t2161: f32 = t298 * t956;
-        let t2162: f32 = t451 * t468;
-        let t2163: f32 = t960 * t2162;
-        let t2164: f32 = t963 * t2163;
-        let t2165: f32 = t482 * t2025;
-        let t2166: f32 = t483 * t2165;
-        let t2167: f32 = t969 * t2166;
-        let t2168: f32 = t2164 + t2167;
-        let t2169: f32 = t490 * t960;
-        let t2170: f32 = t963 * t2169;
-        let t2171: f32 = t969 * t2032;
-        let t2172: f32 = t2170 + t2171;
-        let t2173: f32 = t980 * t1461;
-        let t2174: f32 = t468 * t2036;
-        let t2175: f32 = t969 * t2174;
-        let t2176: f32 = t2173 + t2175;
-        let t2177: f32 = t2172 + t2176;
-        let t2178: f32 = t2168 + t2177;
-        let t2179: f32 = t408 * t2178;
-        let t2180: f32 = t423 * t1004;
-        let t2181: f32 = t576 * t593;
-        let t2182: f32 = t1008 * t2181;
-        let t2183: f32 = t1011 * t2182;
-        let t2184: f32 = t607 * t2047;
-        let t2185: f32 = t608 * t2184;
-        let t2186: f32 = t1017 * t2185;
-        let t2187: f32 = t2183 + t2186;
-        let t2188: f32 = t615 * t1008;
-        let t2189: f32 = t1011 * t2188;
-        let t2190: f32 = t1017 * t2054;
-        let t2191: f32 = t2189 + t2190;
-        let t2192: f32 = t1028 * t1374;
-        let t2193: f32 = t593 * t2058;
-        let t2194: f32 = t1017 * t2193;
-        let t2195: f32 = t2192 + t2194;
-        let t2196: f32 = t2191 + t2195;
-        let t2197: f32 = t2187 + t2196;
-        let t2198: f32 = t533 * t2197;
-        let t2199: f32 = t548 * t1052;
-        let t2200: f32 = t701 * t718;
-        let t2201: f32 = t1056 * t2200;
-        let t2202: f32 = t1059 * t2201;
-        let t2203: f32 = t732 * t2069;
-        let t2204: f32 = t733 * t2203;
-        let t2205: f32 = t1065 * t2204;
-        let t2206: f32 = t2202 + t2205;
-        let t2207: f32 = t740 * t1056;
-        let t2208: f32 = t1059 * t2207;
-        let t2209: f32 = t1065 * t2076;
-        let t2210: f32 = t2208 + t2209;
-        let t2211: f32 = t1076 * t1391;
-        let t2212: f32 = t718 * t2080;
-        let t2213: f32 = t1065 * t2212;
-        let t2214: f32 = t2211 + t2213;
-        let t2215: f32 = t2210 + t2214;
-        let t2216: f32 = t2206 + t2215;
-        let t2217: f32 = t658 * t2216;
-        let t2218: f32 = t673 * t1100;
-        let t2219: f32 = t2102 + t2103;
-        let t2220: f32 = t2122 + t2141;
-        let t2221: f32 = t2160 + t2179;
-        let t2222: f32 = t2198 + t2217;
-        let t2223: f32 = t2219 + t2220;
-        let t2224: f32 = t2221 + t2222;
-        let t2225: f32 = t2223 + t2224;
-        let t2226: f32 = t2104 + t2123;
-        let t2227: f32 = t2142 + t2161;
-        let t2228: f32 = t2180 + t2199;
-        let t2229: f32 = t2226 + t2227;
-        let t2230: f32 = t2218 + t2228;
-        let t2231: f32 = t2229 + t2230;
-        let t2232: f32 = t2225 - t2231;
-        let t2233: f32 = t30 * t1341;
-        let t2234: f32 = t34 * t1348;
-        let t2235: f32 = t1136 * t1954;
-        let t2236: f32 = t1140 * t2106;
-        let t2237: f32 = t1144 * t2109;
-        let t2238: f32 = t2236 + t2237;
-        let t2239: f32 = t1140 * t2112;
-        let t2240: f32 = t1144 * t1966;
-        let t2241: f32 = t2239 + t2240;
-        let t2242: f32 = t1152 * t1409;
-        let t2243: f32 = t1144 * t2117;
-        let t2244: f32 = t2242 + t2243;
-        let t2245: f32 = t2241 + t2244;
-        let t2246: f32 = t2238 + t2245;
-        let t2247: f32 = t26 * t2246;
-        let t2248: f32 = t48 * t1169;
-        let t2249: f32 = t1173 * t2125;
-        let t2250: f32 = t1177 * t2128;
-        let t2251: f32 = t2249 + t2250;
-        let t2252: f32 = t1173 * t2131;
-        let t2253: f32 = t1177 * t1988;
-        let t2254: f32 = t2252 + t2253;
-        let t2255: f32 = t1185 * t1426;
-        let t2256: f32 = t1177 * t2136;
-        let t2257: f32 = t2255 + t2256;
-        let t2258: f32 = t2254 + t2257;
-        let t2259: f32 = t2251 + t2258;
-        let t2260: f32 = t158 * t2259;
-        let t2261: f32 = t173 * t1202;
-        let t2262: f32 = t1206 * t2144;
-        let t2263: f32 = t1210 * t2147;
-        let t2264: f32 = t2262 + t2263;
-        let t2265: f32 = t1206 * t2150;
-        let t2266: f32 = t1210 * t2010;
-        let t2267: f32 = t2265 + t2266;
-        let t2268: f32 = t1218 * t1444;
-        let t2269: f32 = t1210 * t2155;
-        let t2270: f32 = t2268 + t2269;
-        let t2271: f32 = t2267 + t2270;
-        let t2272: f32 = t2264 + t2271;
-        let t2273: f32 = t283 * t2272;
-        let t2274: f32 = t298 * t1235;
-        let t2275: f32 = t1239 * t2163;
-        let t2276: f32 = t1243 * t2166;
-        let t2277: f32 = t2275 + t2276;
-        let t2278: f32 = t1239 * t2169;
-        let t2279: f32 = t1243 * t2032;
-        let t2280: f32 = t2278 + t2279;
-        let t2281: f32 = t1251 * t1461;
-        let t2282: f32 = t1243 * t2174;
-        let t2283: f32 = t2281 + t2282;
-        let t2284: f32 = t2280 + t2283;
-        let t2285: f32 = t2277 + t2284;
-        let t2286: f32 = t408 * t2285;
-        let t2287: f32 = t423 * t1268;
-        let t2288: f32 = t1272 * t2182;
-        let t2289: f32 = t1276 * t2185;
-        let t2290: f32 = t2288 + t2289;
-        let t2291: f32 = t1272 * t2188;
-        let t2292: f32 = t1276 * t2054;
-        let t2293: f32 = t2291 + t2292;
-        let t2294: f32 = t1284 * t1374;
-        let t2295: f32 = t1276 * t2193;
-        let t2296: f32 = t2294 + t2295;
-        let t2297: f32 = t2293 + t2296;
-        let t2298: f32 = t2290 + t2297;
-        let t2299: f32 = t533 * t2298;
-        let t2300: f32 = t548 * t1301;
-        let t2301: f32 = t1305 * t2201;
-        let t2302: f32 = t1309 * t2204;
-        let t2303: f32 = t2301 + t2302;
-        let t2304: f32 = t1305 * t2207;
-        let t2305: f32 = t1309 * t2076;
-        let t2306: f32 = t2304 + t2305;
-        let t2307: f32 = t1317 * t1391;
-        let t2308: f32 = t1309 * t2212;
-        let t2309: f32 = t2307 + t2308;
-        let t2310: f32 = t2306 + t2309;
-        let t2311: f32 = t2303 + t2310;
-        let t2312: f32 = t658 * t2311;
-        let t2313: f32 = t673 * t1334;
-        let t2314: f32 = t2233 + t2234;
-        let t2315: f32 = t2248 + t2261;
-        let t2316: f32 = t2274 + t2287;
-        let t2317: f32 = t2300 + t2313;
-        let t2318: f32 = t2314 + t2315;
-        let t2319: f32 = t2316 + t2317;
-        let t2320: f32 = t2318 + t2319;
-        let t2321: f32 = t2235 + t2247;
-        let t2322: f32 = t2260 + t2273;
-        let t2323: f32 = t2286 + t2299;
-        let t2324: f32 = t2321 + t2322;
-        let t2325: f32 = t2312 + t2323;
-        let t2326: f32 = t2324 + t2325;
-        let t2327: f32 = t2320 - t2326;
-        let t2328: f32 = t816 * t816;
-        let t2329: f32 = t2105 * t2328;
-        let t2330: f32 = t80 * t80;
-        let t2331: f32 = t97 * t2330;
-        let t2332: f32 = t107 * t2331;
-        let t2333: f32 = t108 * t2332;
-        let t2334: f32 = t2329 + t2333;
-        let t2335: f32 = t115 * t2328;
-        let t2336: f32 = t115 * t2330;
-        let t2337: f32 = t2335 + t2336;
-        let t2338: f32 = t77 * t77;
-        let t2339: f32 = leg1_rod_mass * t2338;
-        let t2340: f32 = t76 * t2330;
-        let t2341: f32 = t93 * t2340;
-        let t2342: f32 = t2339 + t2341;
-        let t2343: f32 = t2337 + t2342;
-        let t2344: f32 = t2334 + t2343;
-        let t2345: f32 = t26 * t2344;
-        let t2346: f32 = t48 * t1519;
-        let t2347: f32 = t864 * t864;
-        let t2348: f32 = t2124 * t2347;
-        let t2349: f32 = t205 * t205;
-        let t2350: f32 = t222 * t2349;
-        let t2351: f32 = t232 * t2350;
-        let t2352: f32 = t233 * t2351;
-        let t2353: f32 = t2348 + t2352;
-        let t2354: f32 = t240 * t2347;
-        let t2355: f32 = t240 * t2349;
-        let t2356: f32 = t2354 + t2355;
-        let t2357: f32 = t202 * t202;
-        let t2358: f32 = leg2_rod_mass * t2357;
-        let t2359: f32 = t201 * t2349;
-        let t2360: f32 = t218 * t2359;
-        let t2361: f32 = t2358 + t2360;
-        let t2362: f32 = t2356 + t2361;
-        let t2363: f32 = t2353 + t2362;
-        let t2364: f32 = t158 * t2363;
-        let t2365: f32 = t173 * t1535;
-        let t2366: f32 = t912 * t912;
-        let t2367: f32 = t2143 * t2366;
-        let t2368: f32 = t330 * t330;
-        let t2369: f32 = t347 * t2368;
-        let t2370: f32 = t357 * t2369;
-        let t2371: f32 = t358 * t2370;
-        let t2372: f32 = t2367 + t2371;
-        let t2373: f32 = t365 * t2366;
-        let t2374: f32 = t365 * t2368;
-        let t2375: f32 = t2373 + t2374;
-        let t2376: f32 = t327 * t327;
-        let t2377: f32 = leg3_rod_mass * t2376;
-        let t2378: f32 = t326 * t2368;
-        let t2379: f32 = t343 * t2378;
-        let t2380: f32 = t2377 + t2379;
-        let t2381: f32 = t2375 + t2380;
-        let t2382: f32 = t2372 + t2381;
-        let t2383: f32 = t283 * t2382;
-        let t2384: f32 = t298 * t1552;
-        let t2385: f32 = t960 * t960;
-        let t2386: f32 = t2162 * t2385;
-        let t2387: f32 = t455 * t455;
-        let t2388: f32 = t472 * t2387;
-        let t2389: f32 = t482 * t2388;
-        let t2390: f32 = t483 * t2389;
-        let t2391: f32 = t2386 + t2390;
-        let t2392: f32 = t490 * t2385;
-        let t2393: f32 = t490 * t2387;
-        let t2394: f32 = t2392 + t2393;
-        let t2395: f32 = t452 * t452;
-        let t2396: f32 = leg4_rod_mass * t2395;
-        let t2397: f32 = t451 * t2387;
-        let t2398: f32 = t468 * t2397;
-        let t2399: f32 = t2396 + t2398;
-        let t2400: f32 = t2394 + t2399;
-        let t2401: f32 = t2391 + t2400;
-        let t2402: f32 = t408 * t2401;
-        let t2403: f32 = t423 * t1568;
-        let t2404: f32 = t1008 * t1008;
-        let t2405: f32 = t2181 * t2404;
-        let t2406: f32 = t580 * t580;
-        let t2407: f32 = t597 * t2406;
-        let t2408: f32 = t607 * t2407;
-        let t2409: f32 = t608 * t2408;
-        let t2410: f32 = t2405 + t2409;
-        let t2411: f32 = t615 * t2404;
-        let t2412: f32 = t615 * t2406;
-        let t2413: f32 = t2411 + t2412;
-        let t2414: f32 = t577 * t577;
-        let t2415: f32 = leg5_rod_mass * t2414;
-        let t2416: f32 = t576 * t2406;
-        let t2417: f32 = t593 * t2416;
-        let t2418: f32 = t2415 + t2417;
-        let t2419: f32 = t2413 + t2418;
-        let t2420: f32 = t2410 + t2419;
-        let t2421: f32 = t533 * t2420;
-        let t2422: f32 = t548 * t1486;
-        let t2423: f32 = t1056 * t1056;
-        let t2424: f32 = t2200 * t2423;
-        let t2425: f32 = t705 * t705;
-        let t2426: f32 = t722 * t2425;
-        let t2427: f32 = t732 * t2426;
-        let t2428: f32 = t733 * t2427;
-        let t2429: f32 = t2424 + t2428;
-        let t2430: f32 = t740 * t2423;
-        let t2431: f32 = t740 * t2425;
-        let t2432: f32 = t2430 + t2431;
-        let t2433: f32 = t702 * t702;
-        let t2434: f32 = leg6_rod_mass * t2433;
-        let t2435: f32 = t701 * t2425;
-        let t2436: f32 = t718 * t2435;
-        let t2437: f32 = t2434 + t2436;
-        let t2438: f32 = t2432 + t2437;
-        let t2439: f32 = t2429 + t2438;
-        let t2440: f32 = t658 * t2439;
-        let t2441: f32 = t673 * t1502;
-        let t2442: f32 = t2345 + t2364;
-        let t2443: f32 = t2383 + t2402;
-        let t2444: f32 = t2421 + t2440;
-        let t2445: f32 = t2442 + t2443;
-        let t2446: f32 = t1801 + t2444;
-        let t2447: f32 = t2445 + t2446;
-        let t2448: f32 = t2346 + t2365;
-        let t2449: f32 = t2384 + t2403;
-        let t2450: f32 = t2422 + t2441;
-        let t2451: f32 = t2448 + t2449;
-        let t2452: f32 = t2450 + t2451;
-        let t2453: f32 = t2447 - t2452;
-        let t2454: f32 = t548 * t1757;
-        let t2455: f32 = t673 * t1794;
-        let t2456: f32 = t2454 + t2455;
-        let t2457: f32 = t48 * t1609;
-        let t2458: f32 = t173 * t1646;
-        let t2459: f32 = t2457 + t2458;
-        let t2460: f32 = t298 * t1683;
-        let t2461: f32 = t423 * t1720;
-        let t2462: f32 = t2460 + t2461;
-        let t2463: f32 = t2459 + t2462;
-        let t2464: f32 = t2456 + t2463;
-        let t2465: f32 = t1471 - t2464;
-        let t2466: f32 = t26 * t1519;
-        let t2467: f32 = t48 * t1832;
-        let t2468: f32 = t158 * t1535;
-        let t2469: f32 = t173 * t1852;
-        let t2470: f32 = t283 * t1552;
-        let t2471: f32 = t298 * t1872;
-        let t2472: f32 = t408 * t1568;
-        let t2473: f32 = t423 * t1892;
-        let t2474: f32 = t533 * t1486;
-        let t2475: f32 = t548 * t1912;
-        let t2476: f32 = t658 * t1502;
-        let t2477: f32 = t673 * t1932;
-        let t2478: f32 = platform_mz * t0;
-        let t2479: f32 = platform_mx * t1;
-        let t2480: f32 = t4 * t2479;
-        let t2481: f32 = platform_my * t3;
-        let t2482: f32 = t1 * t2481;
-        let t2483: f32 = t2480 - t2482;
-        let t2484: f32 = t2478 + t2483;
-        let t2485: f32 = t2466 + t2468;
-        let t2486: f32 = t2470 + t2472;
-        let t2487: f32 = t2474 + t2476;
-        let t2488: f32 = t2485 + t2486;
-        let t2489: f32 = t2487 + t2488;
-        let t2490: f32 = t2467 + t2469;
-        let t2491: f32 = t2471 + t2473;
-        let t2492: f32 = t2475 + t2477;
-        let t2493: f32 = t2490 + t2491;
-        let t2494: f32 = t2484 + t2492;
-        let t2495: f32 = t2493 + t2494;
-        let t2496: f32 = t2489 - t2495;
-        let t2497: f32 = t16 * t783;
-        let t2498: f32 = t21 * t790;
-        let t2499: f32 = t1 * t12;
-        let t2500: f32 = t9 * t2499;
-        let t2501: f32 = t39 * t1975;
-        let t2502: f32 = t48 * t130;
-        let t2503: f32 = t164 * t1997;
-        let t2504: f32 = t173 * t255;
-        let t2505: f32 = t289 * t2019;
-        let t2506: f32 = t298 * t380;
-        let t2507: f32 = t414 * t2041;
-        let t2508: f32 = t423 * t505;
-        let t2509: f32 = t539 * t2063;
-        let t2510: f32 = t548 * t630;
-        let t2511: f32 = t664 * t2085;
-        let t2512: f32 = t673 * t755;
-        let t2513: f32 = t2497 + t2498;
-        let t2514: f32 = t2500 + t2501;
-        let t2515: f32 = t2503 + t2505;
-        let t2516: f32 = t2507 + t2509;
-        let t2517: f32 = t2513 + t2514;
-        let t2518: f32 = t2515 + t2516;
-        let t2519: f32 = t2517 + t2518;
-        let t2520: f32 = t2511 + t2519;
-        let t2521: f32 = t2502 + t2504;
-        let t2522: f32 = t2506 + t2508;
-        let t2523: f32 = t2510 + t2512;
-        let t2524: f32 = t2521 + t2522;
-        let t2525: f32 = t2523 + t2524;
-        let t2526: f32 = t2520 - t2525;
-        let t2527: f32 = t16 * t1107;
-        let t2528: f32 = t21 * t1114;
-        let t2529: f32 = t812 * t2499;
-        let t2530: f32 = t39 * t2121;
-        let t2531: f32 = t48 * t842;
-        let t2532: f32 = t164 * t2140;
-        let t2533: f32 = t173 * t890;
-        let t2534: f32 = t289 * t2159;
-        let t2535: f32 = t298 * t938;
-        let t2536: f32 = t414 * t2178;
-        let t2537: f32 = t423 * t986;
-        let t2538: f32 = t539 * t2197;
-        let t2539: f32 = t548 * t1034;
-        let t2540: f32 = t664 * t2216;
-        let t2541: f32 = t673 * t1082;
-        let t2542: f32 = t2527 + t2528;
-        let t2543: f32 = t2529 + t2531;
-        let t2544: f32 = t2533 + t2535;
-        let t2545: f32 = t2537 + t2539;
-        let t2546: f32 = t2542 + t2543;
-        let t2547: f32 = t2544 + t2545;
-        let t2548: f32 = t2546 + t2547;
-        let t2549: f32 = t2541 + t2548;
-        let t2550: f32 = t2530 + t2532;
-        let t2551: f32 = t2534 + t2536;
-        let t2552: f32 = t2538 + t2540;
-        let t2553: f32 = t2550 + t2551;
-        let t2554: f32 = t2552 + t2553;
-        let t2555: f32 = t2549 - t2554;
-        let t2556: f32 = t16 * t1341;
-        let t2557: f32 = t21 * t1348;
-        let t2558: f32 = t1136 * t2499;
-        let t2559: f32 = t39 * t2246;
-        let t2560: f32 = t48 * t1157;
-        let t2561: f32 = t164 * t2259;
-        let t2562: f32 = t173 * t1190;
-        let t2563: f32 = t289 * t2272;
-        let t2564: f32 = t298 * t1223;
-        let t2565: f32 = t414 * t2285;
-        let t2566: f32 = t423 * t1256;
-        let t2567: f32 = t539 * t2298;
-        let t2568: f32 = t548 * t1289;
-        let t2569: f32 = t664 * t2311;
-        let t2570: f32 = t673 * t1322;
-        let t2571: f32 = t2556 + t2557;
-        let t2572: f32 = t2558 + t2559;
-        let t2573: f32 = t2561 + t2563;
-        let t2574: f32 = t2565 + t2567;
-        let t2575: f32 = t2571 + t2572;
-        let t2576: f32 = t2573 + t2574;
-        let t2577: f32 = t2575 + t2576;
-        let t2578: f32 = t2569 + t2577;
-        let t2579: f32 = t2560 + t2562;
-        let t2580: f32 = t2564 + t2566;
-        let t2581: f32 = t2568 + t2570;
-        let t2582: f32 = t2579 + t2580;
-        let t2583: f32 = t2581 + t2582;
-        let t2584: f32 = t2578 - t2583;
-        let t2585: f32 = t39 * t2344;
-        let t2586: f32 = t48 * t1415;
-        let t2587: f32 = t164 * t2363;
-        let t2588: f32 = t173 * t1432;
-        let t2589: f32 = t289 * t2382;
-        let t2590: f32 = t298 * t1450;
-        let t2591: f32 = t414 * t2401;
-        let t2592: f32 = t423 * t1467;
-        let t2593: f32 = t539 * t2420;
-        let t2594: f32 = t548 * t1380;
-        let t2595: f32 = t664 * t2439;
-        let t2596: f32 = t673 * t1397;
-        let t2597: f32 = t2586 + t2588;
-        let t2598: f32 = t2590 + t2592;
-        let t2599: f32 = t2594 + t2596;
-        let t2600: f32 = t2597 + t2598;
-        let t2601: f32 = t1939 + t2599;
-        let t2602: f32 = t2600 + t2601;
-        let t2603: f32 = t2585 + t2587;
-        let t2604: f32 = t2589 + t2591;
-        let t2605: f32 = t2593 + t2595;
-        let t2606: f32 = t2603 + t2604;
-        let t2607: f32 = t2605 + t2606;
-        let t2608: f32 = t2602 - t2607;
-        let t2609: f32 = t39 * t1415;
-        let t2610: f32 = t48 * t1591;
-        let t2611: f32 = t164 * t1432;
-        let t2612: f32 = t173 * t1628;
-        let t2613: f32 = t289 * t1450;
-        let t2614: f32 = t298 * t1665;
-        let t2615: f32 = t414 * t1467;
-        let t2616: f32 = t423 * t1702;
-        let t2617: f32 = t539 * t1380;
-        let t2618: f32 = t548 * t1739;
-        let t2619: f32 = t664 * t1397;
-        let t2620: f32 = t673 * t1776;
-        let t2621: f32 = t2610 + t2612;
-        let t2622: f32 = t2614 + t2616;
-        let t2623: f32 = t2618 + t2620;
-        let t2624: f32 = t2621 + t2622;
-        let t2625: f32 = t2484 + t2623;
-        let t2626: f32 = t2624 + t2625;
-        let t2627: f32 = t2609 + t2611;
-        let t2628: f32 = t2613 + t2615;
-        let t2629: f32 = t2617 + t2619;
-        let t2630: f32 = t2627 + t2628;
-        let t2631: f32 = t2629 + t2630;
-        let t2632: f32 = t2626 - t2631;
-        let t2633: f32 = t2464 - t1572;
-        let t2634: f32 = t1975 + t1997;
-        let t2635: f32 = t2019 + t2041;
-        let t2636: f32 = t2063 + t2085;
-        let t2637: f32 = t2634 + t2635;
-        let t2638: f32 = t2636 + t2637;
-        let t2639: f32 = -t2638;
-        let t2640: f32 = t1801 + t2121;
-        let t2641: f32 = t2140 + t2159;
-        let t2642: f32 = t2178 + t2197;
-        let t2643: f32 = t2640 + t2641;
-        let t2644: f32 = t2216 + t2642;
-        let t2645: f32 = t2643 + t2644;
-        let t2646: f32 = t2246 + t2259;
-        let t2647: f32 = t2272 + t2285;
-        let t2648: f32 = t2298 + t2311;
-        let t2649: f32 = t2646 + t2647;
-        let t2650: f32 = t2648 + t2649;
-        let t2651: f32 = t1939 - t2650;
-        let t2652: f32 = platform_mass + t2344;
-        let t2653: f32 = t2363 + t2382;
-        let t2654: f32 = t2401 + t2420;
-        let t2655: f32 = t2652 + t2653;
-        let t2656: f32 = t2439 + t2654;
-        let t2657: f32 = t2655 + t2656;
-        let t2658: f32 = t1415 + t1432;
-        let t2659: f32 = t1450 + t1467;
-        let t2660: f32 = t1380 + t1397;
-        let t2661: f32 = t2658 + t2659;
-        let t2662: f32 = t2660 + t2661;
-        let t2663: f32 = t1519 + t1535;
-        let t2664: f32 = t1552 + t1568;
-        let t2665: f32 = t1486 + t1502;
-        let t2666: f32 = t2663 + t2664;
-        let t2667: f32 = t2665 + t2666;
-        let t2668: f32 = t130 + t1801;
-        let t2669: f32 = t255 + t380;
-        let t2670: f32 = t505 + t630;
-        let t2671: f32 = t2668 + t2669;
-        let t2672: f32 = t755 + t2670;
-        let t2673: f32 = t2671 + t2672;
-        let t2674: f32 = -t2673;
-        let t2675: f32 = t842 + t890;
-        let t2676: f32 = t938 + t986;
-        let t2677: f32 = t1034 + t1082;
-        let t2678: f32 = t2675 + t2676;
-        let t2679: f32 = t2677 + t2678;
-        let t2680: f32 = t1157 + t1190;
-        let t2681: f32 = t1223 + t1256;
-        let t2682: f32 = t1289 + t1322;
-        let t2683: f32 = t2680 + t2681;
-        let t2684: f32 = t2682 + t2683;
-        let t2685: f32 = t2484 - t2684;
-        let t2686: f32 = platform_mass + t1591;
-        let t2687: f32 = t1628 + t1665;
-        let t2688: f32 = t1702 + t1739;
-        let t2689: f32 = t2686 + t2687;
-        let t2690: f32 = t1776 + t2688;
-        let t2691: f32 = t2689 + t2690;
-        let t2692: f32 = t1609 + t1646;
-        let t2693: f32 = t1683 + t1720;
-        let t2694: f32 = t1757 + t1794;
-        let t2695: f32 = t2692 + t2693;
-        let t2696: f32 = t2694 + t2695;
-        let t2697: f32 = t151 + t1939;
-        let t2698: f32 = t276 + t401;
-        let t2699: f32 = t526 + t651;
-        let t2700: f32 = t2697 + t2698;
-        let t2701: f32 = t776 + t2699;
-        let t2702: f32 = t2700 + t2701;
-        let t2703: f32 = -t2702;
-        let t2704: f32 = t860 + t908;
-        let t2705: f32 = t956 + t1004;
-        let t2706: f32 = t1052 + t1100;
-        let t2707: f32 = t2704 + t2705;
-        let t2708: f32 = t2706 + t2707;
-        let t2709: f32 = t2708 - t2484;
-        let t2710: f32 = t1169 + t1202;
-        let t2711: f32 = t1235 + t1268;
-        let t2712: f32 = t1301 + t1334;
-        let t2713: f32 = t2710 + t2711;
-        let t2714: f32 = t2712 + t2713;
-        let t2715: f32 = -t2714;
-        let t2716: f32 = platform_mass + t1832;
-        let t2717: f32 = t1852 + t1872;
-        let t2718: f32 = t1892 + t1912;
-        let t2719: f32 = t2716 + t2717;
-        let t2720: f32 = t1932 + t2718;
-        let t2721: f32 = t2719 + t2720;
-        let t2722: f32 = t67 * t76;
-        let t2723: f32 = t192 * t201;
-        let t2724: f32 = t317 * t326;
-        let t2725: f32 = t442 * t451;
-        let t2726: f32 = t567 * t576;
-        let t2727: f32 = t692 * t701;
-        (
-            t2101,
-            t2232,
-            t2327,
-            t2453,
-            t2465,
-            t2496,
-            t2526,
-            t2555,
-            t2584,
-            t2608,
-            t2632,
-            t2633,
-            t2639,
-            t2645,
-            t2651,
-            t2657,
-            t2662,
-            t2667,
-            t2674,
-            t2679,
-            t2685,
-            t2691,
-            t2696,
-            t2703,
-            t2709,
-            t2715,
-            t2721,
-            t2722,
-            t2723,
-            t2724,
-            t2725,
-            t2726,
-            t2727,
+            t1335,
+            t1336,
+            t1337,
+            t1338,
         )
     };
     (
         [
-            [t806, t1130, t1364, t1573, t1813, t1951],
-            [t2101, t2232, t2327, t2453, t2465, t2496],
-            [t2526, t2555, t2584, t2608, t2632, t2633],
-            [t2639, t2645, t2651, t2657, t2662, t2667],
-            [t2674, t2679, t2685, t2662, t2691, t2696],
-            [t2703, t2709, t2715, t2667, t2696, t2721],
+            [t776, t933, t963, t969, t982, t994],
+            [t933, t1125, t1166, t1172, t1177, t1191],
+            [t963, t1166, t1274, t1281, t1287, t1299],
+            [t969, t1172, t1281, t1305, t1310, t1315],
+            [t982, t1177, t1287, t1310, t1321, t1326],
+            [t994, t1191, t1299, t1315, t1326, t1332],
         ],
-        [t2722, t2723, t2724, t2725, t2726, t2727],
+        [t1333, t1334, t1335, t1336, t1337, t1338],
     )
 }
 /// Task-space bias `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal, gravity.
@@ -12228,7 +10338,7 @@ pub fn task_bias_params(
 /// Actuators in leg order 1..6; `q_i = |B_i - A_i| + o_i`, the encoder's reading, `B_i = C + R p_i`; a positive force extends the leg.
 /// `M_x (ω̇; a_C) = J⁻ᵀ Γ - h`, solved by an unrolled `LDLᵀ` (no pivoting: `M_x` is symmetric positive definite).
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
-/// The last result holds the U joints' sines for a singularity check.
+/// The last result holds the U joints' sines and the solve's pivots for a singularity check.
 ///
 /// # Arguments
 ///
@@ -12240,16 +10350,16 @@ pub fn task_bias_params(
 /// # Returns
 ///
 /// - `accel`: classical platform acceleration `(ω̇; a_C)` (rad/s², m/s²), base frame
-/// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
+/// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
-/// Operations: 2758 mul, 24 div, 1777 add, 25 neg, 3 sin_cos, 12 sqrt (chapter convention: 2782m + 1777a).
+/// Operations: 2096 mul, 29 div, 1417 add, 41 neg, 3 sin_cos, 12 sqrt (chapter convention: 2125m + 1417a).
 #[inline]
 pub fn forward_dynamics_params(
     pose: &[f32; 6],
     twist: &[f32; 6],
     forces: &[f32; 6],
     params: &[f32; 121],
-) -> ([f32; 6], [f32; 6]) {
+) -> ([f32; 6], [f32; 12]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [wx, wy, wz, vx, vy, vz] = *twist;
     let [g1, g2, g3, g4, g5, g6] = *forces;
@@ -12289,288 +10399,225 @@ pub fn forward_dynamics_params(
         t27,
         t32,
         t34,
-        t41,
-        t43,
+        t37,
+        t44,
+        t46,
         t49,
-        t60,
-        t61,
-        t62,
-        t67,
-        t69,
+        t51,
+        t52,
         t70,
+        t71,
         t72,
         t73,
         t75,
-        t77,
-        t79,
-        t81,
-        t83,
+        t76,
+        t78,
+        t80,
         t84,
-        t86,
-        t87,
-        t90,
+        t91,
         t93,
-        t99,
-        t100,
-        t101,
-        t102,
-        t108,
-        t110,
-        t116,
-        t117,
+        t106,
         t118,
-        t123,
-        t128,
-        t134,
+        t125,
+        t127,
         t137,
         t139,
-        t144,
-        t151,
+        t146,
+        t152,
+        t154,
         t157,
-        t159,
+        t164,
         t166,
-        t168,
-        t174,
-        t185,
-        t186,
-        t187,
+        t169,
+        t171,
+        t172,
+        t190,
+        t191,
         t192,
-        t194,
+        t193,
         t195,
-        t197,
+        t196,
         t198,
         t200,
-        t202,
         t204,
-        t206,
-        t208,
-        t209,
         t211,
-        t212,
-        t215,
-        t218,
-        t224,
-        t225,
+        t213,
         t226,
-        t227,
-        t233,
-        t235,
-        t241,
-        t242,
-        t243,
-        t248,
-        t253,
+        t238,
+        t245,
+        t247,
+        t257,
         t259,
-        t262,
-        t264,
-        t269,
-        t276,
-        t282,
+        t266,
+        t272,
+        t274,
+        t277,
         t284,
+        t286,
+        t289,
         t291,
-        t293,
-        t299,
+        t292,
         t310,
         t311,
         t312,
-        t317,
-        t319,
+        t313,
+        t315,
+        t316,
+        t318,
         t320,
-        t322,
-        t323,
-        t325,
-        t327,
-        t329,
+        t324,
         t331,
         t333,
-        t334,
-        t336,
-        t337,
-        t340,
-        t343,
-        t349,
-        t350,
-        t351,
-        t352,
+        t346,
         t358,
-        t360,
-        t366,
+        t365,
         t367,
-        t368,
-        t373,
-        t378,
-        t384,
-        t387,
-        t389,
+        t377,
+        t379,
+        t386,
+        t392,
         t394,
-        t401,
-        t407,
+        t397,
+        t404,
+        t406,
         t409,
-        t416,
-        t418,
-        t424,
+        t411,
+        t412,
+        t430,
+        t431,
+        t432,
+        t433,
         t435,
         t436,
-        t437,
-        t442,
+        t438,
+        t440,
         t444,
-        t445,
-        t447,
-        t448,
-        t450,
-        t452,
-        t454,
-        t456,
-        t458,
-        t459,
-        t461,
-        t462,
-        t465,
-        t468,
-        t474,
-        t475,
-        t476,
-        t477,
-        t483,
+        t451,
+        t453,
+        t466,
+        t473,
+        t478,
+        t481,
         t485,
-        t491,
-        t492,
-        t493,
-        t498,
-        t503,
-        t509,
+        t487,
+        t497,
+        t499,
+        t506,
         t512,
         t514,
-        t519,
+        t517,
+        t524,
         t526,
+        t529,
+        t531,
         t532,
-        t534,
-        t541,
-        t543,
-        t549,
+        t550,
+        t551,
+        t552,
+        t553,
+        t555,
+        t556,
+        t558,
         t560,
-        t561,
-        t562,
-        t567,
-        t569,
-        t570,
-        t572,
+        t564,
+        t571,
         t573,
-        t575,
-        t577,
-        t579,
-        t581,
-        t583,
-        t584,
         t586,
-        t587,
-        t590,
         t593,
-        t599,
-        t600,
+        t598,
         t601,
-        t602,
-        t608,
-        t610,
-        t616,
+        t605,
+        t607,
         t617,
-        t618,
-        t623,
-        t628,
+        t619,
+        t626,
+        t632,
         t634,
         t637,
-        t639,
         t644,
+        t646,
+        t649,
         t651,
-        t657,
-        t659,
-        t666,
-        t668,
-        t674,
-        t685,
-        t686,
-        t687,
-        t692,
-        t694,
-        t695,
-        t697,
-        t698,
-        t700,
-        t702,
-        t704,
+        t652,
+        t670,
+        t671,
+        t672,
+        t673,
+        t675,
+        t676,
+        t678,
+        t680,
+        t684,
+        t691,
+        t693,
         t706,
-        t708,
-        t709,
-        t711,
-        t712,
-        t715,
+        t713,
         t718,
-        t724,
+        t721,
         t725,
-        t726,
         t727,
-        t733,
-        t735,
-        t741,
-        t742,
-        t743,
-        t748,
+        t737,
+        t739,
+        t746,
         t753,
-        t759,
-        t762,
-        t764,
-        t769,
-        t776,
-        t783,
-        t790,
-        t794,
+        t760,
+        t777,
+        t784,
+        t788,
+        t789,
+        t796,
+        t797,
+        t798,
         t807,
-        t810,
-        t814,
-        t817,
-        t818,
-        t824,
-        t828,
+        t811,
+        t812,
+        t819,
+        t820,
+        t821,
+        t830,
         t834,
-        t838,
+        t835,
         t842,
-        t845,
-        t846,
-        t852,
-        t856,
-        t862,
+        t843,
+        t844,
+        t853,
+        t857,
+        t858,
+        t865,
         t866,
-        t870,
-        t873,
-        t874,
+        t867,
+        t876,
         t880,
-        t884,
+        t881,
+        t888,
+        t889,
         t890,
-        t894,
-        t898,
-        t901,
-        t902,
-        t908,
+        t899,
+        t903,
+        t904,
+        t911,
         t912,
+        t913,
         t918,
-        t922,
-        t926,
-        t929,
-        t930,
-        t936,
+        t933,
+        t939,
         t940,
         t946,
-        t950,
+        t947,
+        t953,
         t954,
-        t957,
-        t958,
-        t964,
-        t968,
-        t974,
-        t979,
+        t962,
+        t965,
+        t966,
+        t969,
+        t970,
+        t978,
         t981,
-        t993,
-        t996,
+        t982,
+        t985,
+        t986,
+        t994,
+        t997,
         t998,
         t1001,
         t1002,
@@ -12607,974 +10654,974 @@ pub fn forward_dynamics_params(
         let t32: f32 = t31 - t30;
         let t33: f32 = yc + t32;
         let t34: f32 = t33 - leg1_base_y;
-        let t35: f32 = leg1_axis_x * t34;
-        let t36: f32 = leg1_platform_z * t5;
-        let t37: f32 = leg1_platform_x * t3;
-        let t38: f32 = leg1_platform_y * t2;
-        let t39: f32 = t37 - t38;
-        let t40: f32 = t6 * t39;
-        let t41: f32 = t36 + t40;
-        let t42: f32 = xc + t41;
-        let t43: f32 = t42 - leg1_base_x;
-        let t44: f32 = leg1_axis_y * t43;
-        let t45: f32 = t35 - t44;
-        let t46: f32 = -t45;
-        let t47: f32 = leg1_axis_z * t34;
-        let t48: f32 = zc + t19;
-        let t49: f32 = t48 - leg1_base_z;
-        let t50: f32 = leg1_axis_y * t49;
-        let t51: f32 = t47 - t50;
-        let t52: f32 = t51 * t51;
-        let t53: f32 = leg1_axis_x * t49;
-        let t54: f32 = leg1_axis_z * t43;
-        let t55: f32 = t53 - t54;
-        let t56: f32 = t55 * t55;
-        let t57: f32 = t46 * t46;
-        let t58: f32 = t52 + t56;
-        let t59: f32 = t57 + t58;
-        let t60: f32 = sqrt(t59);
-        let t61: f32 = 1.0 / t60;
-        let t62: f32 = t46 * t61;
-        let t63: f32 = t34 * t34;
-        let t64: f32 = t49 * t49;
-        let t65: f32 = t43 * t43;
-        let t66: f32 = t63 + t64;
-        let t67: f32 = t65 + t66;
-        let t68: f32 = sqrt(t67);
-        let t69: f32 = 1.0 / t68;
-        let t70: f32 = t43 * t69;
-        let t71: f32 = t62 * t70;
-        let t72: f32 = t49 * t69;
-        let t73: f32 = t51 * t61;
+        let t35: f32 = t34 * t34;
+        let t36: f32 = zc + t19;
+        let t37: f32 = t36 - leg1_base_z;
+        let t38: f32 = t37 * t37;
+        let t39: f32 = leg1_platform_z * t5;
+        let t40: f32 = leg1_platform_x * t3;
+        let t41: f32 = leg1_platform_y * t2;
+        let t42: f32 = t40 - t41;
+        let t43: f32 = t6 * t42;
+        let t44: f32 = t39 + t43;
+        let t45: f32 = xc + t44;
+        let t46: f32 = t45 - leg1_base_x;
+        let t47: f32 = t46 * t46;
+        let t48: f32 = t35 + t38;
+        let t49: f32 = t47 + t48;
+        let t50: f32 = sqrt(t49);
+        let t51: f32 = 1.0 / t50;
+        let t52: f32 = t34 * t51;
+        let t53: f32 = t52 * t52;
+        let t54: f32 = leg1_rod_mass * t53;
+        let t55: f32 = leg1_axis_x * t34;
+        let t56: f32 = leg1_axis_y * t46;
+        let t57: f32 = t55 - t56;
+        let t58: f32 = -t57;
+        let t59: f32 = leg1_axis_z * t34;
+        let t60: f32 = leg1_axis_y * t37;
+        let t61: f32 = t59 - t60;
+        let t62: f32 = t61 * t61;
+        let t63: f32 = leg1_axis_x * t37;
+        let t64: f32 = leg1_axis_z * t46;
+        let t65: f32 = t63 - t64;
+        let t66: f32 = t65 * t65;
+        let t67: f32 = t58 * t58;
+        let t68: f32 = t62 + t66;
+        let t69: f32 = t67 + t68;
+        let t70: f32 = sqrt(t69);
+        let t71: f32 = 1.0 / t70;
+        let t72: f32 = t58 * t71;
+        let t73: f32 = t46 * t51;
         let t74: f32 = t72 * t73;
-        let t75: f32 = t71 - t74;
-        let t76: f32 = t19 * t75;
-        let t77: f32 = t34 * t69;
-        let t78: f32 = t73 * t77;
-        let t79: f32 = t55 * t61;
-        let t80: f32 = t70 * t79;
-        let t81: f32 = t78 - t80;
-        let t82: f32 = t32 * t81;
-        let t83: f32 = t76 - t82;
-        let t84: f32 = leg1_cylinder_ixx + leg1_rod_ixx;
-        let t85: f32 = t69 * t84;
-        let t86: f32 = leg1_rod_mz + t85;
-        let t87: f32 = t75 * t83;
-        let t88: f32 = t69 * t87;
-        let t89: f32 = t86 * t88;
-        let t90: f32 = t69 * t69;
-        let t91: f32 = t19 * t79;
-        let t92: f32 = t32 * t62;
-        let t93: f32 = t91 - t92;
-        let t94: f32 = leg1_axis_y * t34;
-        let t95: f32 = leg1_axis_z * t49;
-        let t96: f32 = leg1_axis_x * t43;
-        let t97: f32 = t94 + t95;
-        let t98: f32 = t96 + t97;
-        let t99: f32 = t61 * t98;
-        let t100: f32 = t99 * t99;
-        let t101: f32 = leg1_cylinder_izz + leg1_rod_izz;
-        let t102: f32 = t79 * t90;
-        let t103: f32 = t93 * t102;
-        let t104: f32 = t100 * t103;
-        let t105: f32 = t101 * t104;
-        let t106: f32 = t89 + t105;
-        let t107: f32 = leg1_rod_mz * t69;
-        let t108: f32 = leg1_rod_mass + t107;
-        let t109: f32 = t87 * t108;
-        let t110: f32 = t79 * t108;
-        let t111: f32 = t93 * t110;
-        let t112: f32 = t109 + t111;
-        let t113: f32 = t19 * t77;
-        let t114: f32 = t32 * t72;
-        let t115: f32 = t113 - t114;
-        let t116: f32 = leg1_rod_mass * t77;
-        let t117: f32 = t115 * t116;
-        let t118: f32 = t69 * t79;
-        let t119: f32 = t93 * t118;
-        let t120: f32 = t86 * t119;
-        let t121: f32 = t117 + t120;
-        let t122: f32 = t112 + t121;
-        let t123: f32 = t106 + t122;
-        let t124: f32 = t19 * t123;
-        let t125: f32 = t81 * t83;
-        let t126: f32 = t69 * t125;
-        let t127: f32 = t86 * t126;
-        let t128: f32 = t62 * t90;
-        let t129: f32 = t93 * t128;
-        let t130: f32 = t100 * t129;
-        let t131: f32 = t101 * t130;
-        let t132: f32 = t127 + t131;
-        let t133: f32 = t108 * t125;
-        let t134: f32 = t62 * t108;
-        let t135: f32 = t93 * t134;
-        let t136: f32 = t133 + t135;
-        let t137: f32 = leg1_rod_mass * t72;
-        let t138: f32 = t115 * t137;
-        let t139: f32 = t62 * t69;
-        let t140: f32 = t93 * t139;
-        let t141: f32 = t86 * t140;
-        let t142: f32 = t138 + t141;
-        let t143: f32 = t136 + t142;
-        let t144: f32 = t132 + t143;
-        let t145: f32 = t32 * t144;
-        let t146: f32 = leg2_platform_x * t9;
-        let t147: f32 = leg2_platform_y * t14;
-        let t148: f32 = leg2_platform_z * t1;
-        let t149: f32 = t6 * t148;
-        let t150: f32 = t146 + t147;
-        let t151: f32 = t149 + t150;
-        let t152: f32 = leg2_platform_x * t23;
-        let t153: f32 = leg2_platform_y * t27;
-        let t154: f32 = leg2_platform_z * t0;
-        let t155: f32 = t6 * t154;
-        let t156: f32 = t152 + t153;
-        let t157: f32 = t156 - t155;
-        let t158: f32 = yc + t157;
-        let t159: f32 = t158 - leg2_base_y;
-        let t160: f32 = leg2_axis_x * t159;
-        let t161: f32 = leg2_platform_z * t5;
-        let t162: f32 = leg2_platform_x * t3;
-        let t163: f32 = leg2_platform_y * t2;
-        let t164: f32 = t162 - t163;
-        let t165: f32 = t6 * t164;
-        let t166: f32 = t161 + t165;
-        let t167: f32 = xc + t166;
-        let t168: f32 = t167 - leg2_base_x;
-        let t169: f32 = leg2_axis_y * t168;
-        let t170: f32 = t160 - t169;
-        let t171: f32 = -t170;
-        let t172: f32 = leg2_axis_z * t159;
-        let t173: f32 = zc + t151;
-        let t174: f32 = t173 - leg2_base_z;
-        let t175: f32 = leg2_axis_y * t174;
-        let t176: f32 = t172 - t175;
-        let t177: f32 = t176 * t176;
-        let t178: f32 = leg2_axis_x * t174;
-        let t179: f32 = leg2_axis_z * t168;
-        let t180: f32 = t178 - t179;
-        let t181: f32 = t180 * t180;
-        let t182: f32 = t171 * t171;
-        let t183: f32 = t177 + t181;
-        let t184: f32 = t182 + t183;
-        let t185: f32 = sqrt(t184);
-        let t186: f32 = 1.0 / t185;
-        let t187: f32 = t171 * t186;
-        let t188: f32 = t159 * t159;
-        let t189: f32 = t174 * t174;
-        let t190: f32 = t168 * t168;
-        let t191: f32 = t188 + t189;
-        let t192: f32 = t190 + t191;
-        let t193: f32 = sqrt(t192);
-        let t194: f32 = 1.0 / t193;
-        let t195: f32 = t168 * t194;
-        let t196: f32 = t187 * t195;
-        let t197: f32 = t174 * t194;
-        let t198: f32 = t176 * t186;
-        let t199: f32 = t197 * t198;
-        let t200: f32 = t196 - t199;
-        let t201: f32 = t151 * t200;
-        let t202: f32 = t159 * t194;
-        let t203: f32 = t198 * t202;
-        let t204: f32 = t180 * t186;
-        let t205: f32 = t195 * t204;
-        let t206: f32 = t203 - t205;
-        let t207: f32 = t157 * t206;
-        let t208: f32 = t201 - t207;
-        let t209: f32 = leg2_cylinder_ixx + leg2_rod_ixx;
-        let t210: f32 = t194 * t209;
-        let t211: f32 = leg2_rod_mz + t210;
-        let t212: f32 = t200 * t208;
-        let t213: f32 = t194 * t212;
-        let t214: f32 = t211 * t213;
-        let t215: f32 = t194 * t194;
-        let t216: f32 = t151 * t204;
-        let t217: f32 = t157 * t187;
-        let t218: f32 = t216 - t217;
-        let t219: f32 = leg2_axis_y * t159;
-        let t220: f32 = leg2_axis_z * t174;
-        let t221: f32 = leg2_axis_x * t168;
-        let t222: f32 = t219 + t220;
-        let t223: f32 = t221 + t222;
-        let t224: f32 = t186 * t223;
-        let t225: f32 = t224 * t224;
-        let t226: f32 = leg2_cylinder_izz + leg2_rod_izz;
-        let t227: f32 = t204 * t215;
-        let t228: f32 = t218 * t227;
-        let t229: f32 = t225 * t228;
-        let t230: f32 = t226 * t229;
-        let t231: f32 = t214 + t230;
-        let t232: f32 = leg2_rod_mz * t194;
+        let t75: f32 = t37 * t51;
+        let t76: f32 = t61 * t71;
+        let t77: f32 = t75 * t76;
+        let t78: f32 = t74 - t77;
+        let t79: f32 = t78 * t78;
+        let t80: f32 = leg1_cylinder_ixx + leg1_rod_ixx;
+        let t81: f32 = t51 * t80;
+        let t82: f32 = leg1_rod_mz + t81;
+        let t83: f32 = t79 * t82;
+        let t84: f32 = t65 * t71;
+        let t85: f32 = t84 * t84;
+        let t86: f32 = leg1_axis_y * t34;
+        let t87: f32 = leg1_axis_z * t37;
+        let t88: f32 = leg1_axis_x * t46;
+        let t89: f32 = t86 + t87;
+        let t90: f32 = t88 + t89;
+        let t91: f32 = t71 * t90;
+        let t92: f32 = t91 * t91;
+        let t93: f32 = leg1_cylinder_izz + leg1_rod_izz;
+        let t94: f32 = t92 * t93;
+        let t95: f32 = t80 + t94;
+        let t96: f32 = t51 * t95;
+        let t97: f32 = leg1_rod_mz + t96;
+        let t98: f32 = t85 * t97;
+        let t99: f32 = t83 + t98;
+        let t100: f32 = t51 * t99;
+        let t101: f32 = leg1_rod_mz * t51;
+        let t102: f32 = leg1_rod_mass + t101;
+        let t103: f32 = t79 + t85;
+        let t104: f32 = t102 * t103;
+        let t105: f32 = t54 + t100;
+        let t106: f32 = t104 + t105;
+        let t107: f32 = t19 * t106;
+        let t108: f32 = leg1_rod_mass * t75;
+        let t109: f32 = t52 * t108;
+        let t110: f32 = leg1_rod_mz * 2.0;
+        let t111: f32 = t96 + t110;
+        let t112: f32 = t51 * t111;
+        let t113: f32 = leg1_rod_mass + t112;
+        let t114: f32 = t72 * t84;
+        let t115: f32 = t113 * t114;
+        let t116: f32 = t52 * t76;
+        let t117: f32 = t73 * t84;
+        let t118: f32 = t116 - t117;
+        let t119: f32 = t81 + t110;
+        let t120: f32 = t51 * t119;
+        let t121: f32 = leg1_rod_mass + t120;
+        let t122: f32 = t78 * t118;
+        let t123: f32 = t121 * t122;
+        let t124: f32 = t109 + t115;
+        let t125: f32 = t123 + t124;
+        let t126: f32 = t32 * t125;
+        let t127: f32 = t107 - t126;
+        let t128: f32 = t19 * t127;
+        let t129: f32 = t19 * t125;
+        let t130: f32 = t75 * t75;
+        let t131: f32 = leg1_rod_mass * t130;
+        let t132: f32 = t72 * t72;
+        let t133: f32 = t113 * t132;
+        let t134: f32 = t118 * t118;
+        let t135: f32 = t121 * t134;
+        let t136: f32 = t131 + t133;
+        let t137: f32 = t135 + t136;
+        let t138: f32 = t32 * t137;
+        let t139: f32 = t129 - t138;
+        let t140: f32 = t32 * t139;
+        let t141: f32 = leg2_platform_x * t9;
+        let t142: f32 = leg2_platform_y * t14;
+        let t143: f32 = leg2_platform_z * t1;
+        let t144: f32 = t6 * t143;
+        let t145: f32 = t141 + t142;
+        let t146: f32 = t144 + t145;
+        let t147: f32 = leg2_platform_x * t23;
+        let t148: f32 = leg2_platform_y * t27;
+        let t149: f32 = leg2_platform_z * t0;
+        let t150: f32 = t6 * t149;
+        let t151: f32 = t147 + t148;
+        let t152: f32 = t151 - t150;
+        let t153: f32 = yc + t152;
+        let t154: f32 = t153 - leg2_base_y;
+        let t155: f32 = t154 * t154;
+        let t156: f32 = zc + t146;
+        let t157: f32 = t156 - leg2_base_z;
+        let t158: f32 = t157 * t157;
+        let t159: f32 = leg2_platform_z * t5;
+        let t160: f32 = leg2_platform_x * t3;
+        let t161: f32 = leg2_platform_y * t2;
+        let t162: f32 = t160 - t161;
+        let t163: f32 = t6 * t162;
+        let t164: f32 = t159 + t163;
+        let t165: f32 = xc + t164;
+        let t166: f32 = t165 - leg2_base_x;
+        let t167: f32 = t166 * t166;
+        let t168: f32 = t155 + t158;
+        let t169: f32 = t167 + t168;
+        let t170: f32 = sqrt(t169);
+        let t171: f32 = 1.0 / t170;
+        let t172: f32 = t154 * t171;
+        let t173: f32 = t172 * t172;
+        let t174: f32 = leg2_rod_mass * t173;
+        let t175: f32 = leg2_axis_x * t154;
+        let t176: f32 = leg2_axis_y * t166;
+        let t177: f32 = t175 - t176;
+        let t178: f32 = -t177;
+        let t179: f32 = leg2_axis_z * t154;
+        let t180: f32 = leg2_axis_y * t157;
+        let t181: f32 = t179 - t180;
+        let t182: f32 = t181 * t181;
+        let t183: f32 = leg2_axis_x * t157;
+        let t184: f32 = leg2_axis_z * t166;
+        let t185: f32 = t183 - t184;
+        let t186: f32 = t185 * t185;
+        let t187: f32 = t178 * t178;
+        let t188: f32 = t182 + t186;
+        let t189: f32 = t187 + t188;
+        let t190: f32 = sqrt(t189);
+        let t191: f32 = 1.0 / t190;
+        let t192: f32 = t178 * t191;
+        let t193: f32 = t166 * t171;
+        let t194: f32 = t192 * t193;
+        let t195: f32 = t157 * t171;
+        let t196: f32 = t181 * t191;
+        let t197: f32 = t195 * t196;
+        let t198: f32 = t194 - t197;
+        let t199: f32 = t198 * t198;
+        let t200: f32 = leg2_cylinder_ixx + leg2_rod_ixx;
+        let t201: f32 = t171 * t200;
+        let t202: f32 = leg2_rod_mz + t201;
+        let t203: f32 = t199 * t202;
+        let t204: f32 = t185 * t191;
+        let t205: f32 = t204 * t204;
+        let t206: f32 = leg2_axis_y * t154;
+        let t207: f32 = leg2_axis_z * t157;
+        let t208: f32 = leg2_axis_x * t166;
+        let t209: f32 = t206 + t207;
+        let t210: f32 = t208 + t209;
+        let t211: f32 = t191 * t210;
+        let t212: f32 = t211 * t211;
+        let t213: f32 = leg2_cylinder_izz + leg2_rod_izz;
+        let t214: f32 = t212 * t213;
+        let t215: f32 = t200 + t214;
+        let t216: f32 = t171 * t215;
+        let t217: f32 = leg2_rod_mz + t216;
+        let t218: f32 = t205 * t217;
+        let t219: f32 = t203 + t218;
+        let t220: f32 = t171 * t219;
+        let t221: f32 = leg2_rod_mz * t171;
+        let t222: f32 = leg2_rod_mass + t221;
+        let t223: f32 = t199 + t205;
+        let t224: f32 = t222 * t223;
+        let t225: f32 = t174 + t220;
+        let t226: f32 = t224 + t225;
+        let t227: f32 = t146 * t226;
+        let t228: f32 = leg2_rod_mass * t195;
+        let t229: f32 = t172 * t228;
+        let t230: f32 = leg2_rod_mz * 2.0;
+        let t231: f32 = t216 + t230;
+        let t232: f32 = t171 * t231;
         let t233: f32 = leg2_rod_mass + t232;
-        let t234: f32 = t212 * t233;
-        let t235: f32 = t204 * t233;
-        let t236: f32 = t218 * t235;
-        let t237: f32 = t234 + t236;
-        let t238: f32 = t151 * t202;
-        let t239: f32 = t157 * t197;
-        let t240: f32 = t238 - t239;
-        let t241: f32 = leg2_rod_mass * t202;
-        let t242: f32 = t240 * t241;
-        let t243: f32 = t194 * t204;
-        let t244: f32 = t218 * t243;
-        let t245: f32 = t211 * t244;
-        let t246: f32 = t242 + t245;
-        let t247: f32 = t237 + t246;
-        let t248: f32 = t231 + t247;
-        let t249: f32 = t151 * t248;
-        let t250: f32 = t206 * t208;
-        let t251: f32 = t194 * t250;
-        let t252: f32 = t211 * t251;
-        let t253: f32 = t187 * t215;
-        let t254: f32 = t218 * t253;
-        let t255: f32 = t225 * t254;
-        let t256: f32 = t226 * t255;
-        let t257: f32 = t252 + t256;
-        let t258: f32 = t233 * t250;
-        let t259: f32 = t187 * t233;
-        let t260: f32 = t218 * t259;
-        let t261: f32 = t258 + t260;
-        let t262: f32 = leg2_rod_mass * t197;
-        let t263: f32 = t240 * t262;
-        let t264: f32 = t187 * t194;
-        let t265: f32 = t218 * t264;
-        let t266: f32 = t211 * t265;
-        let t267: f32 = t263 + t266;
-        let t268: f32 = t261 + t267;
-        let t269: f32 = t257 + t268;
-        let t270: f32 = t157 * t269;
-        let t271: f32 = leg3_platform_x * t9;
-        let t272: f32 = leg3_platform_y * t14;
-        let t273: f32 = leg3_platform_z * t1;
-        let t274: f32 = t6 * t273;
-        let t275: f32 = t271 + t272;
-        let t276: f32 = t274 + t275;
-        let t277: f32 = leg3_platform_x * t23;
-        let t278: f32 = leg3_platform_y * t27;
-        let t279: f32 = leg3_platform_z * t0;
-        let t280: f32 = t6 * t279;
-        let t281: f32 = t277 + t278;
-        let t282: f32 = t281 - t280;
-        let t283: f32 = yc + t282;
-        let t284: f32 = t283 - leg3_base_y;
-        let t285: f32 = leg3_axis_x * t284;
-        let t286: f32 = leg3_platform_z * t5;
-        let t287: f32 = leg3_platform_x * t3;
-        let t288: f32 = leg3_platform_y * t2;
-        let t289: f32 = t287 - t288;
-        let t290: f32 = t6 * t289;
-        let t291: f32 = t286 + t290;
-        let t292: f32 = xc + t291;
-        let t293: f32 = t292 - leg3_base_x;
-        let t294: f32 = leg3_axis_y * t293;
-        let t295: f32 = t285 - t294;
-        let t296: f32 = -t295;
-        let t297: f32 = leg3_axis_z * t284;
-        let t298: f32 = zc + t276;
-        let t299: f32 = t298 - leg3_base_z;
-        let t300: f32 = leg3_axis_y * t299;
-        let t301: f32 = t297 - t300;
+        let t234: f32 = t192 * t204;
+        let t235: f32 = t233 * t234;
+        let t236: f32 = t172 * t196;
+        let t237: f32 = t193 * t204;
+        let t238: f32 = t236 - t237;
+        let t239: f32 = t201 + t230;
+        let t240: f32 = t171 * t239;
+        let t241: f32 = leg2_rod_mass + t240;
+        let t242: f32 = t198 * t238;
+        let t243: f32 = t241 * t242;
+        let t244: f32 = t229 + t235;
+        let t245: f32 = t243 + t244;
+        let t246: f32 = t152 * t245;
+        let t247: f32 = t227 - t246;
+        let t248: f32 = t146 * t247;
+        let t249: f32 = t146 * t245;
+        let t250: f32 = t195 * t195;
+        let t251: f32 = leg2_rod_mass * t250;
+        let t252: f32 = t192 * t192;
+        let t253: f32 = t233 * t252;
+        let t254: f32 = t238 * t238;
+        let t255: f32 = t241 * t254;
+        let t256: f32 = t251 + t253;
+        let t257: f32 = t255 + t256;
+        let t258: f32 = t152 * t257;
+        let t259: f32 = t249 - t258;
+        let t260: f32 = t152 * t259;
+        let t261: f32 = leg3_platform_x * t9;
+        let t262: f32 = leg3_platform_y * t14;
+        let t263: f32 = leg3_platform_z * t1;
+        let t264: f32 = t6 * t263;
+        let t265: f32 = t261 + t262;
+        let t266: f32 = t264 + t265;
+        let t267: f32 = leg3_platform_x * t23;
+        let t268: f32 = leg3_platform_y * t27;
+        let t269: f32 = leg3_platform_z * t0;
+        let t270: f32 = t6 * t269;
+        let t271: f32 = t267 + t268;
+        let t272: f32 = t271 - t270;
+        let t273: f32 = yc + t272;
+        let t274: f32 = t273 - leg3_base_y;
+        let t275: f32 = t274 * t274;
+        let t276: f32 = zc + t266;
+        let t277: f32 = t276 - leg3_base_z;
+        let t278: f32 = t277 * t277;
+        let t279: f32 = leg3_platform_z * t5;
+        let t280: f32 = leg3_platform_x * t3;
+        let t281: f32 = leg3_platform_y * t2;
+        let t282: f32 = t280 - t281;
+        let t283: f32 = t6 * t282;
+        let t284: f32 = t279 + t283;
+        let t285: f32 = xc + t284;
+        let t286: f32 = t285 - leg3_base_x;
+        let t287: f32 = t286 * t286;
+        let t288: f32 = t275 + t278;
+        let t289: f32 = t287 + t288;
+        let t290: f32 = sqrt(t289);
+        let t291: f32 = 1.0 / t290;
+        let t292: f32 = t274 * t291;
+        let t293: f32 = t292 * t292;
+        let t294: f32 = leg3_rod_mass * t293;
+        let t295: f32 = leg3_axis_x * t274;
+        let t296: f32 = leg3_axis_y * t286;
+        let t297: f32 = t295 - t296;
+        let t298: f32 = -t297;
+        let t299: f32 = leg3_axis_z * t274;
+        let t300: f32 = leg3_axis_y * t277;
+        let t301: f32 = t299 - t300;
         let t302: f32 = t301 * t301;
-        let t303: f32 = leg3_axis_x * t299;
-        let t304: f32 = leg3_axis_z * t293;
+        let t303: f32 = leg3_axis_x * t277;
+        let t304: f32 = leg3_axis_z * t286;
         let t305: f32 = t303 - t304;
         let t306: f32 = t305 * t305;
-        let t307: f32 = t296 * t296;
+        let t307: f32 = t298 * t298;
         let t308: f32 = t302 + t306;
         let t309: f32 = t307 + t308;
         let t310: f32 = sqrt(t309);
         let t311: f32 = 1.0 / t310;
-        let t312: f32 = t296 * t311;
-        let t313: f32 = t284 * t284;
-        let t314: f32 = t299 * t299;
-        let t315: f32 = t293 * t293;
-        let t316: f32 = t313 + t314;
-        let t317: f32 = t315 + t316;
-        let t318: f32 = sqrt(t317);
-        let t319: f32 = 1.0 / t318;
-        let t320: f32 = t293 * t319;
-        let t321: f32 = t312 * t320;
-        let t322: f32 = t299 * t319;
-        let t323: f32 = t301 * t311;
-        let t324: f32 = t322 * t323;
-        let t325: f32 = t321 - t324;
-        let t326: f32 = t276 * t325;
-        let t327: f32 = t284 * t319;
-        let t328: f32 = t323 * t327;
-        let t329: f32 = t305 * t311;
-        let t330: f32 = t320 * t329;
-        let t331: f32 = t328 - t330;
-        let t332: f32 = t282 * t331;
-        let t333: f32 = t326 - t332;
-        let t334: f32 = leg3_cylinder_ixx + leg3_rod_ixx;
-        let t335: f32 = t319 * t334;
-        let t336: f32 = leg3_rod_mz + t335;
-        let t337: f32 = t325 * t333;
-        let t338: f32 = t319 * t337;
-        let t339: f32 = t336 * t338;
-        let t340: f32 = t319 * t319;
-        let t341: f32 = t276 * t329;
-        let t342: f32 = t282 * t312;
-        let t343: f32 = t341 - t342;
-        let t344: f32 = leg3_axis_y * t284;
-        let t345: f32 = leg3_axis_z * t299;
-        let t346: f32 = leg3_axis_x * t293;
-        let t347: f32 = t344 + t345;
-        let t348: f32 = t346 + t347;
-        let t349: f32 = t311 * t348;
-        let t350: f32 = t349 * t349;
-        let t351: f32 = leg3_cylinder_izz + leg3_rod_izz;
-        let t352: f32 = t329 * t340;
-        let t353: f32 = t343 * t352;
-        let t354: f32 = t350 * t353;
-        let t355: f32 = t351 * t354;
-        let t356: f32 = t339 + t355;
-        let t357: f32 = leg3_rod_mz * t319;
-        let t358: f32 = leg3_rod_mass + t357;
-        let t359: f32 = t337 * t358;
-        let t360: f32 = t329 * t358;
-        let t361: f32 = t343 * t360;
-        let t362: f32 = t359 + t361;
-        let t363: f32 = t276 * t327;
-        let t364: f32 = t282 * t322;
-        let t365: f32 = t363 - t364;
-        let t366: f32 = leg3_rod_mass * t327;
-        let t367: f32 = t365 * t366;
-        let t368: f32 = t319 * t329;
-        let t369: f32 = t343 * t368;
-        let t370: f32 = t336 * t369;
-        let t371: f32 = t367 + t370;
-        let t372: f32 = t362 + t371;
-        let t373: f32 = t356 + t372;
-        let t374: f32 = t276 * t373;
-        let t375: f32 = t331 * t333;
-        let t376: f32 = t319 * t375;
-        let t377: f32 = t336 * t376;
-        let t378: f32 = t312 * t340;
-        let t379: f32 = t343 * t378;
-        let t380: f32 = t350 * t379;
-        let t381: f32 = t351 * t380;
-        let t382: f32 = t377 + t381;
-        let t383: f32 = t358 * t375;
-        let t384: f32 = t312 * t358;
-        let t385: f32 = t343 * t384;
-        let t386: f32 = t383 + t385;
-        let t387: f32 = leg3_rod_mass * t322;
-        let t388: f32 = t365 * t387;
-        let t389: f32 = t312 * t319;
-        let t390: f32 = t343 * t389;
-        let t391: f32 = t336 * t390;
-        let t392: f32 = t388 + t391;
-        let t393: f32 = t386 + t392;
-        let t394: f32 = t382 + t393;
-        let t395: f32 = t282 * t394;
-        let t396: f32 = leg4_platform_x * t9;
-        let t397: f32 = leg4_platform_y * t14;
-        let t398: f32 = leg4_platform_z * t1;
-        let t399: f32 = t6 * t398;
-        let t400: f32 = t396 + t397;
-        let t401: f32 = t399 + t400;
-        let t402: f32 = leg4_platform_x * t23;
-        let t403: f32 = leg4_platform_y * t27;
-        let t404: f32 = leg4_platform_z * t0;
-        let t405: f32 = t6 * t404;
-        let t406: f32 = t402 + t403;
-        let t407: f32 = t406 - t405;
-        let t408: f32 = yc + t407;
-        let t409: f32 = t408 - leg4_base_y;
-        let t410: f32 = leg4_axis_x * t409;
-        let t411: f32 = leg4_platform_z * t5;
-        let t412: f32 = leg4_platform_x * t3;
-        let t413: f32 = leg4_platform_y * t2;
-        let t414: f32 = t412 - t413;
-        let t415: f32 = t6 * t414;
-        let t416: f32 = t411 + t415;
-        let t417: f32 = xc + t416;
-        let t418: f32 = t417 - leg4_base_x;
-        let t419: f32 = leg4_axis_y * t418;
-        let t420: f32 = t410 - t419;
-        let t421: f32 = -t420;
-        let t422: f32 = leg4_axis_z * t409;
-        let t423: f32 = zc + t401;
-        let t424: f32 = t423 - leg4_base_z;
-        let t425: f32 = leg4_axis_y * t424;
-        let t426: f32 = t422 - t425;
-        let t427: f32 = t426 * t426;
-        let t428: f32 = leg4_axis_x * t424;
-        let t429: f32 = leg4_axis_z * t418;
-        let t430: f32 = t428 - t429;
-        let t431: f32 = t430 * t430;
-        let t432: f32 = t421 * t421;
-        let t433: f32 = t427 + t431;
-        let t434: f32 = t432 + t433;
-        let t435: f32 = sqrt(t434);
-        let t436: f32 = 1.0 / t435;
-        let t437: f32 = t421 * t436;
-        let t438: f32 = t409 * t409;
-        let t439: f32 = t424 * t424;
-        let t440: f32 = t418 * t418;
-        let t441: f32 = t438 + t439;
-        let t442: f32 = t440 + t441;
-        let t443: f32 = sqrt(t442);
-        let t444: f32 = 1.0 / t443;
-        let t445: f32 = t418 * t444;
-        let t446: f32 = t437 * t445;
-        let t447: f32 = t424 * t444;
-        let t448: f32 = t426 * t436;
-        let t449: f32 = t447 * t448;
-        let t450: f32 = t446 - t449;
-        let t451: f32 = t401 * t450;
-        let t452: f32 = t409 * t444;
-        let t453: f32 = t448 * t452;
-        let t454: f32 = t430 * t436;
-        let t455: f32 = t445 * t454;
-        let t456: f32 = t453 - t455;
-        let t457: f32 = t407 * t456;
-        let t458: f32 = t451 - t457;
-        let t459: f32 = leg4_cylinder_ixx + leg4_rod_ixx;
-        let t460: f32 = t444 * t459;
-        let t461: f32 = leg4_rod_mz + t460;
-        let t462: f32 = t450 * t458;
-        let t463: f32 = t444 * t462;
-        let t464: f32 = t461 * t463;
-        let t465: f32 = t444 * t444;
-        let t466: f32 = t401 * t454;
-        let t467: f32 = t407 * t437;
-        let t468: f32 = t466 - t467;
-        let t469: f32 = leg4_axis_y * t409;
-        let t470: f32 = leg4_axis_z * t424;
-        let t471: f32 = leg4_axis_x * t418;
-        let t472: f32 = t469 + t470;
-        let t473: f32 = t471 + t472;
-        let t474: f32 = t436 * t473;
-        let t475: f32 = t474 * t474;
-        let t476: f32 = leg4_cylinder_izz + leg4_rod_izz;
-        let t477: f32 = t454 * t465;
-        let t478: f32 = t468 * t477;
-        let t479: f32 = t475 * t478;
-        let t480: f32 = t476 * t479;
-        let t481: f32 = t464 + t480;
-        let t482: f32 = leg4_rod_mz * t444;
-        let t483: f32 = leg4_rod_mass + t482;
-        let t484: f32 = t462 * t483;
-        let t485: f32 = t454 * t483;
-        let t486: f32 = t468 * t485;
-        let t487: f32 = t484 + t486;
-        let t488: f32 = t401 * t452;
-        let t489: f32 = t407 * t447;
-        let t490: f32 = t488 - t489;
-        let t491: f32 = leg4_rod_mass * t452;
-        let t492: f32 = t490 * t491;
-        let t493: f32 = t444 * t454;
-        let t494: f32 = t468 * t493;
-        let t495: f32 = t461 * t494;
-        let t496: f32 = t492 + t495;
-        let t497: f32 = t487 + t496;
-        let t498: f32 = t481 + t497;
-        let t499: f32 = t401 * t498;
-        let t500: f32 = t456 * t458;
-        let t501: f32 = t444 * t500;
-        let t502: f32 = t461 * t501;
-        let t503: f32 = t437 * t465;
-        let t504: f32 = t468 * t503;
-        let t505: f32 = t475 * t504;
-        let t506: f32 = t476 * t505;
-        let t507: f32 = t502 + t506;
-        let t508: f32 = t483 * t500;
-        let t509: f32 = t437 * t483;
-        let t510: f32 = t468 * t509;
-        let t511: f32 = t508 + t510;
-        let t512: f32 = leg4_rod_mass * t447;
-        let t513: f32 = t490 * t512;
-        let t514: f32 = t437 * t444;
-        let t515: f32 = t468 * t514;
-        let t516: f32 = t461 * t515;
-        let t517: f32 = t513 + t516;
-        let t518: f32 = t511 + t517;
-        let t519: f32 = t507 + t518;
-        let t520: f32 = t407 * t519;
-        let t521: f32 = leg5_platform_x * t9;
-        let t522: f32 = leg5_platform_y * t14;
-        let t523: f32 = leg5_platform_z * t1;
-        let t524: f32 = t6 * t523;
-        let t525: f32 = t521 + t522;
-        let t526: f32 = t524 + t525;
-        let t527: f32 = leg5_platform_x * t23;
-        let t528: f32 = leg5_platform_y * t27;
-        let t529: f32 = leg5_platform_z * t0;
-        let t530: f32 = t6 * t529;
-        let t531: f32 = t527 + t528;
-        let t532: f32 = t531 - t530;
-        let t533: f32 = yc + t532;
-        let t534: f32 = t533 - leg5_base_y;
-        let t535: f32 = leg5_axis_x * t534;
-        let t536: f32 = leg5_platform_z * t5;
-        let t537: f32 = leg5_platform_x * t3;
-        let t538: f32 = leg5_platform_y * t2;
-        let t539: f32 = t537 - t538;
-        let t540: f32 = t6 * t539;
-        let t541: f32 = t536 + t540;
-        let t542: f32 = xc + t541;
-        let t543: f32 = t542 - leg5_base_x;
-        let t544: f32 = leg5_axis_y * t543;
-        let t545: f32 = t535 - t544;
-        let t546: f32 = -t545;
-        let t547: f32 = leg5_axis_z * t534;
-        let t548: f32 = zc + t526;
-        let t549: f32 = t548 - leg5_base_z;
-        let t550: f32 = leg5_axis_y * t549;
-        let t551: f32 = t547 - t550;
-        let t552: f32 = t551 * t551;
-        let t553: f32 = leg5_axis_x * t549;
-        let t554: f32 = leg5_axis_z * t543;
-        let t555: f32 = t553 - t554;
-        let t556: f32 = t555 * t555;
-        let t557: f32 = t546 * t546;
-        let t558: f32 = t552 + t556;
-        let t559: f32 = t557 + t558;
-        let t560: f32 = sqrt(t559);
-        let t561: f32 = 1.0 / t560;
-        let t562: f32 = t546 * t561;
-        let t563: f32 = t534 * t534;
-        let t564: f32 = t549 * t549;
-        let t565: f32 = t543 * t543;
-        let t566: f32 = t563 + t564;
-        let t567: f32 = t565 + t566;
-        let t568: f32 = sqrt(t567);
-        let t569: f32 = 1.0 / t568;
-        let t570: f32 = t543 * t569;
-        let t571: f32 = t562 * t570;
-        let t572: f32 = t549 * t569;
-        let t573: f32 = t551 * t561;
+        let t312: f32 = t298 * t311;
+        let t313: f32 = t286 * t291;
+        let t314: f32 = t312 * t313;
+        let t315: f32 = t277 * t291;
+        let t316: f32 = t301 * t311;
+        let t317: f32 = t315 * t316;
+        let t318: f32 = t314 - t317;
+        let t319: f32 = t318 * t318;
+        let t320: f32 = leg3_cylinder_ixx + leg3_rod_ixx;
+        let t321: f32 = t291 * t320;
+        let t322: f32 = leg3_rod_mz + t321;
+        let t323: f32 = t319 * t322;
+        let t324: f32 = t305 * t311;
+        let t325: f32 = t324 * t324;
+        let t326: f32 = leg3_axis_y * t274;
+        let t327: f32 = leg3_axis_z * t277;
+        let t328: f32 = leg3_axis_x * t286;
+        let t329: f32 = t326 + t327;
+        let t330: f32 = t328 + t329;
+        let t331: f32 = t311 * t330;
+        let t332: f32 = t331 * t331;
+        let t333: f32 = leg3_cylinder_izz + leg3_rod_izz;
+        let t334: f32 = t332 * t333;
+        let t335: f32 = t320 + t334;
+        let t336: f32 = t291 * t335;
+        let t337: f32 = leg3_rod_mz + t336;
+        let t338: f32 = t325 * t337;
+        let t339: f32 = t323 + t338;
+        let t340: f32 = t291 * t339;
+        let t341: f32 = leg3_rod_mz * t291;
+        let t342: f32 = leg3_rod_mass + t341;
+        let t343: f32 = t319 + t325;
+        let t344: f32 = t342 * t343;
+        let t345: f32 = t294 + t340;
+        let t346: f32 = t344 + t345;
+        let t347: f32 = t266 * t346;
+        let t348: f32 = leg3_rod_mass * t315;
+        let t349: f32 = t292 * t348;
+        let t350: f32 = leg3_rod_mz * 2.0;
+        let t351: f32 = t336 + t350;
+        let t352: f32 = t291 * t351;
+        let t353: f32 = leg3_rod_mass + t352;
+        let t354: f32 = t312 * t324;
+        let t355: f32 = t353 * t354;
+        let t356: f32 = t292 * t316;
+        let t357: f32 = t313 * t324;
+        let t358: f32 = t356 - t357;
+        let t359: f32 = t321 + t350;
+        let t360: f32 = t291 * t359;
+        let t361: f32 = leg3_rod_mass + t360;
+        let t362: f32 = t318 * t358;
+        let t363: f32 = t361 * t362;
+        let t364: f32 = t349 + t355;
+        let t365: f32 = t363 + t364;
+        let t366: f32 = t272 * t365;
+        let t367: f32 = t347 - t366;
+        let t368: f32 = t266 * t367;
+        let t369: f32 = t266 * t365;
+        let t370: f32 = t315 * t315;
+        let t371: f32 = leg3_rod_mass * t370;
+        let t372: f32 = t312 * t312;
+        let t373: f32 = t353 * t372;
+        let t374: f32 = t358 * t358;
+        let t375: f32 = t361 * t374;
+        let t376: f32 = t371 + t373;
+        let t377: f32 = t375 + t376;
+        let t378: f32 = t272 * t377;
+        let t379: f32 = t369 - t378;
+        let t380: f32 = t272 * t379;
+        let t381: f32 = leg4_platform_x * t9;
+        let t382: f32 = leg4_platform_y * t14;
+        let t383: f32 = leg4_platform_z * t1;
+        let t384: f32 = t6 * t383;
+        let t385: f32 = t381 + t382;
+        let t386: f32 = t384 + t385;
+        let t387: f32 = leg4_platform_x * t23;
+        let t388: f32 = leg4_platform_y * t27;
+        let t389: f32 = leg4_platform_z * t0;
+        let t390: f32 = t6 * t389;
+        let t391: f32 = t387 + t388;
+        let t392: f32 = t391 - t390;
+        let t393: f32 = yc + t392;
+        let t394: f32 = t393 - leg4_base_y;
+        let t395: f32 = t394 * t394;
+        let t396: f32 = zc + t386;
+        let t397: f32 = t396 - leg4_base_z;
+        let t398: f32 = t397 * t397;
+        let t399: f32 = leg4_platform_z * t5;
+        let t400: f32 = leg4_platform_x * t3;
+        let t401: f32 = leg4_platform_y * t2;
+        let t402: f32 = t400 - t401;
+        let t403: f32 = t6 * t402;
+        let t404: f32 = t399 + t403;
+        let t405: f32 = xc + t404;
+        let t406: f32 = t405 - leg4_base_x;
+        let t407: f32 = t406 * t406;
+        let t408: f32 = t395 + t398;
+        let t409: f32 = t407 + t408;
+        let t410: f32 = sqrt(t409);
+        let t411: f32 = 1.0 / t410;
+        let t412: f32 = t394 * t411;
+        let t413: f32 = t412 * t412;
+        let t414: f32 = leg4_rod_mass * t413;
+        let t415: f32 = leg4_axis_x * t394;
+        let t416: f32 = leg4_axis_y * t406;
+        let t417: f32 = t415 - t416;
+        let t418: f32 = -t417;
+        let t419: f32 = leg4_axis_z * t394;
+        let t420: f32 = leg4_axis_y * t397;
+        let t421: f32 = t419 - t420;
+        let t422: f32 = t421 * t421;
+        let t423: f32 = leg4_axis_x * t397;
+        let t424: f32 = leg4_axis_z * t406;
+        let t425: f32 = t423 - t424;
+        let t426: f32 = t425 * t425;
+        let t427: f32 = t418 * t418;
+        let t428: f32 = t422 + t426;
+        let t429: f32 = t427 + t428;
+        let t430: f32 = sqrt(t429);
+        let t431: f32 = 1.0 / t430;
+        let t432: f32 = t418 * t431;
+        let t433: f32 = t406 * t411;
+        let t434: f32 = t432 * t433;
+        let t435: f32 = t397 * t411;
+        let t436: f32 = t421 * t431;
+        let t437: f32 = t435 * t436;
+        let t438: f32 = t434 - t437;
+        let t439: f32 = t438 * t438;
+        let t440: f32 = leg4_cylinder_ixx + leg4_rod_ixx;
+        let t441: f32 = t411 * t440;
+        let t442: f32 = leg4_rod_mz + t441;
+        let t443: f32 = t439 * t442;
+        let t444: f32 = t425 * t431;
+        let t445: f32 = t444 * t444;
+        let t446: f32 = leg4_axis_y * t394;
+        let t447: f32 = leg4_axis_z * t397;
+        let t448: f32 = leg4_axis_x * t406;
+        let t449: f32 = t446 + t447;
+        let t450: f32 = t448 + t449;
+        let t451: f32 = t431 * t450;
+        let t452: f32 = t451 * t451;
+        let t453: f32 = leg4_cylinder_izz + leg4_rod_izz;
+        let t454: f32 = t452 * t453;
+        let t455: f32 = t440 + t454;
+        let t456: f32 = t411 * t455;
+        let t457: f32 = leg4_rod_mz + t456;
+        let t458: f32 = t445 * t457;
+        let t459: f32 = t443 + t458;
+        let t460: f32 = t411 * t459;
+        let t461: f32 = leg4_rod_mz * t411;
+        let t462: f32 = leg4_rod_mass + t461;
+        let t463: f32 = t439 + t445;
+        let t464: f32 = t462 * t463;
+        let t465: f32 = t414 + t460;
+        let t466: f32 = t464 + t465;
+        let t467: f32 = t386 * t466;
+        let t468: f32 = leg4_rod_mass * t435;
+        let t469: f32 = t412 * t468;
+        let t470: f32 = leg4_rod_mz * 2.0;
+        let t471: f32 = t456 + t470;
+        let t472: f32 = t411 * t471;
+        let t473: f32 = leg4_rod_mass + t472;
+        let t474: f32 = t432 * t444;
+        let t475: f32 = t473 * t474;
+        let t476: f32 = t412 * t436;
+        let t477: f32 = t433 * t444;
+        let t478: f32 = t476 - t477;
+        let t479: f32 = t441 + t470;
+        let t480: f32 = t411 * t479;
+        let t481: f32 = leg4_rod_mass + t480;
+        let t482: f32 = t438 * t478;
+        let t483: f32 = t481 * t482;
+        let t484: f32 = t469 + t475;
+        let t485: f32 = t483 + t484;
+        let t486: f32 = t392 * t485;
+        let t487: f32 = t467 - t486;
+        let t488: f32 = t386 * t487;
+        let t489: f32 = t386 * t485;
+        let t490: f32 = t435 * t435;
+        let t491: f32 = leg4_rod_mass * t490;
+        let t492: f32 = t432 * t432;
+        let t493: f32 = t473 * t492;
+        let t494: f32 = t478 * t478;
+        let t495: f32 = t481 * t494;
+        let t496: f32 = t491 + t493;
+        let t497: f32 = t495 + t496;
+        let t498: f32 = t392 * t497;
+        let t499: f32 = t489 - t498;
+        let t500: f32 = t392 * t499;
+        let t501: f32 = leg5_platform_x * t9;
+        let t502: f32 = leg5_platform_y * t14;
+        let t503: f32 = leg5_platform_z * t1;
+        let t504: f32 = t6 * t503;
+        let t505: f32 = t501 + t502;
+        let t506: f32 = t504 + t505;
+        let t507: f32 = leg5_platform_x * t23;
+        let t508: f32 = leg5_platform_y * t27;
+        let t509: f32 = leg5_platform_z * t0;
+        let t510: f32 = t6 * t509;
+        let t511: f32 = t507 + t508;
+        let t512: f32 = t511 - t510;
+        let t513: f32 = yc + t512;
+        let t514: f32 = t513 - leg5_base_y;
+        let t515: f32 = t514 * t514;
+        let t516: f32 = zc + t506;
+        let t517: f32 = t516 - leg5_base_z;
+        let t518: f32 = t517 * t517;
+        let t519: f32 = leg5_platform_z * t5;
+        let t520: f32 = leg5_platform_x * t3;
+        let t521: f32 = leg5_platform_y * t2;
+        let t522: f32 = t520 - t521;
+        let t523: f32 = t6 * t522;
+        let t524: f32 = t519 + t523;
+        let t525: f32 = xc + t524;
+        let t526: f32 = t525 - leg5_base_x;
+        let t527: f32 = t526 * t526;
+        let t528: f32 = t515 + t518;
+        let t529: f32 = t527 + t528;
+        let t530: f32 = sqrt(t529);
+        let t531: f32 = 1.0 / t530;
+        let t532: f32 = t514 * t531;
+        let t533: f32 = t532 * t532;
+        let t534: f32 = leg5_rod_mass * t533;
+        let t535: f32 = leg5_axis_x * t514;
+        let t536: f32 = leg5_axis_y * t526;
+        let t537: f32 = t535 - t536;
+        let t538: f32 = -t537;
+        let t539: f32 = leg5_axis_z * t514;
+        let t540: f32 = leg5_axis_y * t517;
+        let t541: f32 = t539 - t540;
+        let t542: f32 = t541 * t541;
+        let t543: f32 = leg5_axis_x * t517;
+        let t544: f32 = leg5_axis_z * t526;
+        let t545: f32 = t543 - t544;
+        let t546: f32 = t545 * t545;
+        let t547: f32 = t538 * t538;
+        let t548: f32 = t542 + t546;
+        let t549: f32 = t547 + t548;
+        let t550: f32 = sqrt(t549);
+        let t551: f32 = 1.0 / t550;
+        let t552: f32 = t538 * t551;
+        let t553: f32 = t526 * t531;
+        let t554: f32 = t552 * t553;
+        let t555: f32 = t517 * t531;
+        let t556: f32 = t541 * t551;
+        let t557: f32 = t555 * t556;
+        let t558: f32 = t554 - t557;
+        let t559: f32 = t558 * t558;
+        let t560: f32 = leg5_cylinder_ixx + leg5_rod_ixx;
+        let t561: f32 = t531 * t560;
+        let t562: f32 = leg5_rod_mz + t561;
+        let t563: f32 = t559 * t562;
+        let t564: f32 = t545 * t551;
+        let t565: f32 = t564 * t564;
+        let t566: f32 = leg5_axis_y * t514;
+        let t567: f32 = leg5_axis_z * t517;
+        let t568: f32 = leg5_axis_x * t526;
+        let t569: f32 = t566 + t567;
+        let t570: f32 = t568 + t569;
+        let t571: f32 = t551 * t570;
+        let t572: f32 = t571 * t571;
+        let t573: f32 = leg5_cylinder_izz + leg5_rod_izz;
         let t574: f32 = t572 * t573;
-        let t575: f32 = t571 - t574;
-        let t576: f32 = t526 * t575;
-        let t577: f32 = t534 * t569;
-        let t578: f32 = t573 * t577;
-        let t579: f32 = t555 * t561;
-        let t580: f32 = t570 * t579;
-        let t581: f32 = t578 - t580;
-        let t582: f32 = t532 * t581;
-        let t583: f32 = t576 - t582;
-        let t584: f32 = leg5_cylinder_ixx + leg5_rod_ixx;
-        let t585: f32 = t569 * t584;
-        let t586: f32 = leg5_rod_mz + t585;
-        let t587: f32 = t575 * t583;
-        let t588: f32 = t569 * t587;
-        let t589: f32 = t586 * t588;
-        let t590: f32 = t569 * t569;
-        let t591: f32 = t526 * t579;
-        let t592: f32 = t532 * t562;
-        let t593: f32 = t591 - t592;
-        let t594: f32 = leg5_axis_y * t534;
-        let t595: f32 = leg5_axis_z * t549;
-        let t596: f32 = leg5_axis_x * t543;
-        let t597: f32 = t594 + t595;
-        let t598: f32 = t596 + t597;
-        let t599: f32 = t561 * t598;
-        let t600: f32 = t599 * t599;
-        let t601: f32 = leg5_cylinder_izz + leg5_rod_izz;
-        let t602: f32 = t579 * t590;
-        let t603: f32 = t593 * t602;
-        let t604: f32 = t600 * t603;
-        let t605: f32 = t601 * t604;
-        let t606: f32 = t589 + t605;
-        let t607: f32 = leg5_rod_mz * t569;
-        let t608: f32 = leg5_rod_mass + t607;
-        let t609: f32 = t587 * t608;
-        let t610: f32 = t579 * t608;
-        let t611: f32 = t593 * t610;
-        let t612: f32 = t609 + t611;
-        let t613: f32 = t526 * t577;
-        let t614: f32 = t532 * t572;
-        let t615: f32 = t613 - t614;
-        let t616: f32 = leg5_rod_mass * t577;
-        let t617: f32 = t615 * t616;
-        let t618: f32 = t569 * t579;
-        let t619: f32 = t593 * t618;
-        let t620: f32 = t586 * t619;
-        let t621: f32 = t617 + t620;
-        let t622: f32 = t612 + t621;
-        let t623: f32 = t606 + t622;
-        let t624: f32 = t526 * t623;
-        let t625: f32 = t581 * t583;
-        let t626: f32 = t569 * t625;
-        let t627: f32 = t586 * t626;
-        let t628: f32 = t562 * t590;
-        let t629: f32 = t593 * t628;
-        let t630: f32 = t600 * t629;
-        let t631: f32 = t601 * t630;
-        let t632: f32 = t627 + t631;
-        let t633: f32 = t608 * t625;
-        let t634: f32 = t562 * t608;
-        let t635: f32 = t593 * t634;
-        let t636: f32 = t633 + t635;
-        let t637: f32 = leg5_rod_mass * t572;
-        let t638: f32 = t615 * t637;
-        let t639: f32 = t562 * t569;
-        let t640: f32 = t593 * t639;
-        let t641: f32 = t586 * t640;
-        let t642: f32 = t638 + t641;
-        let t643: f32 = t636 + t642;
-        let t644: f32 = t632 + t643;
-        let t645: f32 = t532 * t644;
-        let t646: f32 = leg6_platform_x * t9;
-        let t647: f32 = leg6_platform_y * t14;
-        let t648: f32 = leg6_platform_z * t1;
-        let t649: f32 = t6 * t648;
-        let t650: f32 = t646 + t647;
-        let t651: f32 = t649 + t650;
-        let t652: f32 = leg6_platform_x * t23;
-        let t653: f32 = leg6_platform_y * t27;
-        let t654: f32 = leg6_platform_z * t0;
-        let t655: f32 = t6 * t654;
-        let t656: f32 = t652 + t653;
-        let t657: f32 = t656 - t655;
-        let t658: f32 = yc + t657;
-        let t659: f32 = t658 - leg6_base_y;
-        let t660: f32 = leg6_axis_x * t659;
-        let t661: f32 = leg6_platform_z * t5;
-        let t662: f32 = leg6_platform_x * t3;
-        let t663: f32 = leg6_platform_y * t2;
-        let t664: f32 = t662 - t663;
-        let t665: f32 = t6 * t664;
-        let t666: f32 = t661 + t665;
-        let t667: f32 = xc + t666;
-        let t668: f32 = t667 - leg6_base_x;
-        let t669: f32 = leg6_axis_y * t668;
-        let t670: f32 = t660 - t669;
-        let t671: f32 = -t670;
-        let t672: f32 = leg6_axis_z * t659;
-        let t673: f32 = zc + t651;
-        let t674: f32 = t673 - leg6_base_z;
-        let t675: f32 = leg6_axis_y * t674;
-        let t676: f32 = t672 - t675;
-        let t677: f32 = t676 * t676;
-        let t678: f32 = leg6_axis_x * t674;
-        let t679: f32 = leg6_axis_z * t668;
-        let t680: f32 = t678 - t679;
-        let t681: f32 = t680 * t680;
-        let t682: f32 = t671 * t671;
-        let t683: f32 = t677 + t681;
-        let t684: f32 = t682 + t683;
-        let t685: f32 = sqrt(t684);
-        let t686: f32 = 1.0 / t685;
-        let t687: f32 = t671 * t686;
-        let t688: f32 = t659 * t659;
-        let t689: f32 = t674 * t674;
-        let t690: f32 = t668 * t668;
-        let t691: f32 = t688 + t689;
-        let t692: f32 = t690 + t691;
-        let t693: f32 = sqrt(t692);
-        let t694: f32 = 1.0 / t693;
-        let t695: f32 = t668 * t694;
-        let t696: f32 = t687 * t695;
-        let t697: f32 = t674 * t694;
-        let t698: f32 = t676 * t686;
-        let t699: f32 = t697 * t698;
-        let t700: f32 = t696 - t699;
-        let t701: f32 = t651 * t700;
-        let t702: f32 = t659 * t694;
-        let t703: f32 = t698 * t702;
-        let t704: f32 = t680 * t686;
-        let t705: f32 = t695 * t704;
-        let t706: f32 = t703 - t705;
-        let t707: f32 = t657 * t706;
-        let t708: f32 = t701 - t707;
-        let t709: f32 = leg6_cylinder_ixx + leg6_rod_ixx;
-        let t710: f32 = t694 * t709;
-        let t711: f32 = leg6_rod_mz + t710;
-        let t712: f32 = t700 * t708;
-        let t713: f32 = t694 * t712;
-        let t714: f32 = t711 * t713;
-        let t715: f32 = t694 * t694;
-        let t716: f32 = t651 * t704;
-        let t717: f32 = t657 * t687;
+        let t575: f32 = t560 + t574;
+        let t576: f32 = t531 * t575;
+        let t577: f32 = leg5_rod_mz + t576;
+        let t578: f32 = t565 * t577;
+        let t579: f32 = t563 + t578;
+        let t580: f32 = t531 * t579;
+        let t581: f32 = leg5_rod_mz * t531;
+        let t582: f32 = leg5_rod_mass + t581;
+        let t583: f32 = t559 + t565;
+        let t584: f32 = t582 * t583;
+        let t585: f32 = t534 + t580;
+        let t586: f32 = t584 + t585;
+        let t587: f32 = t506 * t586;
+        let t588: f32 = leg5_rod_mass * t555;
+        let t589: f32 = t532 * t588;
+        let t590: f32 = leg5_rod_mz * 2.0;
+        let t591: f32 = t576 + t590;
+        let t592: f32 = t531 * t591;
+        let t593: f32 = leg5_rod_mass + t592;
+        let t594: f32 = t552 * t564;
+        let t595: f32 = t593 * t594;
+        let t596: f32 = t532 * t556;
+        let t597: f32 = t553 * t564;
+        let t598: f32 = t596 - t597;
+        let t599: f32 = t561 + t590;
+        let t600: f32 = t531 * t599;
+        let t601: f32 = leg5_rod_mass + t600;
+        let t602: f32 = t558 * t598;
+        let t603: f32 = t601 * t602;
+        let t604: f32 = t589 + t595;
+        let t605: f32 = t603 + t604;
+        let t606: f32 = t512 * t605;
+        let t607: f32 = t587 - t606;
+        let t608: f32 = t506 * t607;
+        let t609: f32 = t506 * t605;
+        let t610: f32 = t555 * t555;
+        let t611: f32 = leg5_rod_mass * t610;
+        let t612: f32 = t552 * t552;
+        let t613: f32 = t593 * t612;
+        let t614: f32 = t598 * t598;
+        let t615: f32 = t601 * t614;
+        let t616: f32 = t611 + t613;
+        let t617: f32 = t615 + t616;
+        let t618: f32 = t512 * t617;
+        let t619: f32 = t609 - t618;
+        let t620: f32 = t512 * t619;
+        let t621: f32 = leg6_platform_x * t9;
+        let t622: f32 = leg6_platform_y * t14;
+        let t623: f32 = leg6_platform_z * t1;
+        let t624: f32 = t6 * t623;
+        let t625: f32 = t621 + t622;
+        let t626: f32 = t624 + t625;
+        let t627: f32 = leg6_platform_x * t23;
+        let t628: f32 = leg6_platform_y * t27;
+        let t629: f32 = leg6_platform_z * t0;
+        let t630: f32 = t6 * t629;
+        let t631: f32 = t627 + t628;
+        let t632: f32 = t631 - t630;
+        let t633: f32 = yc + t632;
+        let t634: f32 = t633 - leg6_base_y;
+        let t635: f32 = t634 * t634;
+        let t636: f32 = zc + t626;
+        let t637: f32 = t636 - leg6_base_z;
+        let t638: f32 = t637 * t637;
+        let t639: f32 = leg6_platform_z * t5;
+        let t640: f32 = leg6_platform_x * t3;
+        let t641: f32 = leg6_platform_y * t2;
+        let t642: f32 = t640 - t641;
+        let t643: f32 = t6 * t642;
+        let t644: f32 = t639 + t643;
+        let t645: f32 = xc + t644;
+        let t646: f32 = t645 - leg6_base_x;
+        let t647: f32 = t646 * t646;
+        let t648: f32 = t635 + t638;
+        let t649: f32 = t647 + t648;
+        let t650: f32 = sqrt(t649);
+        let t651: f32 = 1.0 / t650;
+        let t652: f32 = t634 * t651;
+        let t653: f32 = t652 * t652;
+        let t654: f32 = leg6_rod_mass * t653;
+        let t655: f32 = leg6_axis_x * t634;
+        let t656: f32 = leg6_axis_y * t646;
+        let t657: f32 = t655 - t656;
+        let t658: f32 = -t657;
+        let t659: f32 = leg6_axis_z * t634;
+        let t660: f32 = leg6_axis_y * t637;
+        let t661: f32 = t659 - t660;
+        let t662: f32 = t661 * t661;
+        let t663: f32 = leg6_axis_x * t637;
+        let t664: f32 = leg6_axis_z * t646;
+        let t665: f32 = t663 - t664;
+        let t666: f32 = t665 * t665;
+        let t667: f32 = t658 * t658;
+        let t668: f32 = t662 + t666;
+        let t669: f32 = t667 + t668;
+        let t670: f32 = sqrt(t669);
+        let t671: f32 = 1.0 / t670;
+        let t672: f32 = t658 * t671;
+        let t673: f32 = t646 * t651;
+        let t674: f32 = t672 * t673;
+        let t675: f32 = t637 * t651;
+        let t676: f32 = t661 * t671;
+        let t677: f32 = t675 * t676;
+        let t678: f32 = t674 - t677;
+        let t679: f32 = t678 * t678;
+        let t680: f32 = leg6_cylinder_ixx + leg6_rod_ixx;
+        let t681: f32 = t651 * t680;
+        let t682: f32 = leg6_rod_mz + t681;
+        let t683: f32 = t679 * t682;
+        let t684: f32 = t665 * t671;
+        let t685: f32 = t684 * t684;
+        let t686: f32 = leg6_axis_y * t634;
+        let t687: f32 = leg6_axis_z * t637;
+        let t688: f32 = leg6_axis_x * t646;
+        let t689: f32 = t686 + t687;
+        let t690: f32 = t688 + t689;
+        let t691: f32 = t671 * t690;
+        let t692: f32 = t691 * t691;
+        let t693: f32 = leg6_cylinder_izz + leg6_rod_izz;
+        let t694: f32 = t692 * t693;
+        let t695: f32 = t680 + t694;
+        let t696: f32 = t651 * t695;
+        let t697: f32 = leg6_rod_mz + t696;
+        let t698: f32 = t685 * t697;
+        let t699: f32 = t683 + t698;
+        let t700: f32 = t651 * t699;
+        let t701: f32 = leg6_rod_mz * t651;
+        let t702: f32 = leg6_rod_mass + t701;
+        let t703: f32 = t679 + t685;
+        let t704: f32 = t702 * t703;
+        let t705: f32 = t654 + t700;
+        let t706: f32 = t704 + t705;
+        let t707: f32 = t626 * t706;
+        let t708: f32 = leg6_rod_mass * t675;
+        let t709: f32 = t652 * t708;
+        let t710: f32 = leg6_rod_mz * 2.0;
+        let t711: f32 = t696 + t710;
+        let t712: f32 = t651 * t711;
+        let t713: f32 = leg6_rod_mass + t712;
+        let t714: f32 = t672 * t684;
+        let t715: f32 = t713 * t714;
+        let t716: f32 = t652 * t676;
+        let t717: f32 = t673 * t684;
         let t718: f32 = t716 - t717;
-        let t719: f32 = leg6_axis_y * t659;
-        let t720: f32 = leg6_axis_z * t674;
-        let t721: f32 = leg6_axis_x * t668;
-        let t722: f32 = t719 + t720;
-        let t723: f32 = t721 + t722;
-        let t724: f32 = t686 * t723;
-        let t725: f32 = t724 * t724;
-        let t726: f32 = leg6_cylinder_izz + leg6_rod_izz;
-        let t727: f32 = t704 * t715;
-        let t728: f32 = t718 * t727;
-        let t729: f32 = t725 * t728;
-        let t730: f32 = t726 * t729;
-        let t731: f32 = t714 + t730;
-        let t732: f32 = leg6_rod_mz * t694;
-        let t733: f32 = leg6_rod_mass + t732;
-        let t734: f32 = t712 * t733;
-        let t735: f32 = t704 * t733;
-        let t736: f32 = t718 * t735;
-        let t737: f32 = t734 + t736;
-        let t738: f32 = t651 * t702;
-        let t739: f32 = t657 * t697;
-        let t740: f32 = t738 - t739;
-        let t741: f32 = leg6_rod_mass * t702;
-        let t742: f32 = t740 * t741;
-        let t743: f32 = t694 * t704;
-        let t744: f32 = t718 * t743;
-        let t745: f32 = t711 * t744;
-        let t746: f32 = t742 + t745;
-        let t747: f32 = t737 + t746;
-        let t748: f32 = t731 + t747;
-        let t749: f32 = t651 * t748;
-        let t750: f32 = t706 * t708;
-        let t751: f32 = t694 * t750;
-        let t752: f32 = t711 * t751;
-        let t753: f32 = t687 * t715;
-        let t754: f32 = t718 * t753;
-        let t755: f32 = t725 * t754;
-        let t756: f32 = t726 * t755;
-        let t757: f32 = t752 + t756;
-        let t758: f32 = t733 * t750;
-        let t759: f32 = t687 * t733;
-        let t760: f32 = t718 * t759;
-        let t761: f32 = t758 + t760;
-        let t762: f32 = leg6_rod_mass * t697;
-        let t763: f32 = t740 * t762;
-        let t764: f32 = t687 * t694;
-        let t765: f32 = t718 * t764;
-        let t766: f32 = t711 * t765;
-        let t767: f32 = t763 + t766;
-        let t768: f32 = t761 + t767;
-        let t769: f32 = t757 + t768;
-        let t770: f32 = t657 * t769;
-        let t771: f32 = platform_izz * t5;
-        let t772: f32 = platform_ixz * t3;
-        let t773: f32 = platform_iyz * t2;
-        let t774: f32 = t772 - t773;
-        let t775: f32 = t6 * t774;
-        let t776: f32 = t771 + t775;
-        let t777: f32 = t5 * t776;
-        let t778: f32 = platform_ixz * t5;
-        let t779: f32 = platform_ixx * t3;
-        let t780: f32 = platform_ixy * t2;
-        let t781: f32 = t779 - t780;
-        let t782: f32 = t6 * t781;
-        let t783: f32 = t778 + t782;
-        let t784: f32 = t3 * t783;
-        let t785: f32 = platform_iyz * t5;
-        let t786: f32 = platform_ixy * t3;
-        let t787: f32 = platform_iyy * t2;
-        let t788: f32 = t786 - t787;
-        let t789: f32 = t6 * t788;
-        let t790: f32 = t785 + t789;
-        let t791: f32 = t2 * t790;
-        let t792: f32 = t784 - t791;
-        let t793: f32 = t6 * t792;
-        let t794: f32 = t777 + t793;
-        let t795: f32 = t124 + t249;
-        let t796: f32 = t374 + t499;
-        let t797: f32 = t624 + t749;
-        let t798: f32 = t795 + t796;
-        let t799: f32 = t794 + t797;
-        let t800: f32 = t798 + t799;
-        let t801: f32 = t145 + t270;
-        let t802: f32 = t395 + t520;
-        let t803: f32 = t645 + t770;
-        let t804: f32 = t801 + t802;
-        let t805: f32 = t803 + t804;
-        let t806: f32 = t800 - t805;
-        let t807: f32 = 1.0 / t806;
-        let t808: f32 = t72 * t79;
-        let t809: f32 = t62 * t77;
-        let t810: f32 = t808 - t809;
-        let t811: f32 = leg1_rod_mz * 2.0;
-        let t812: f32 = t85 + t811;
-        let t813: f32 = t69 * t812;
-        let t814: f32 = leg1_rod_mass + t813;
-        let t815: f32 = t83 * t810;
-        let t816: f32 = t814 * t815;
-        let t817: f32 = leg1_rod_mass * t70;
-        let t818: f32 = t115 * t817;
-        let t819: f32 = t100 * t101;
-        let t820: f32 = t84 + t819;
-        let t821: f32 = t69 * t820;
-        let t822: f32 = t811 + t821;
-        let t823: f32 = t69 * t822;
-        let t824: f32 = leg1_rod_mass + t823;
-        let t825: f32 = t73 * t93;
-        let t826: f32 = t824 * t825;
-        let t827: f32 = t818 + t826;
-        let t828: f32 = t816 + t827;
-        let t829: f32 = t19 * t828;
-        let t830: f32 = t125 * t814;
-        let t831: f32 = t62 * t93;
-        let t832: f32 = t824 * t831;
-        let t833: f32 = t138 + t832;
-        let t834: f32 = t830 + t833;
-        let t835: f32 = t41 * t834;
-        let t836: f32 = t197 * t204;
-        let t837: f32 = t187 * t202;
-        let t838: f32 = t836 - t837;
-        let t839: f32 = leg2_rod_mz * 2.0;
-        let t840: f32 = t210 + t839;
-        let t841: f32 = t194 * t840;
-        let t842: f32 = leg2_rod_mass + t841;
-        let t843: f32 = t208 * t838;
-        let t844: f32 = t842 * t843;
-        let t845: f32 = leg2_rod_mass * t195;
-        let t846: f32 = t240 * t845;
-        let t847: f32 = t225 * t226;
-        let t848: f32 = t209 + t847;
-        let t849: f32 = t194 * t848;
-        let t850: f32 = t839 + t849;
-        let t851: f32 = t194 * t850;
-        let t852: f32 = leg2_rod_mass + t851;
-        let t853: f32 = t198 * t218;
-        let t854: f32 = t852 * t853;
-        let t855: f32 = t846 + t854;
-        let t856: f32 = t844 + t855;
-        let t857: f32 = t151 * t856;
-        let t858: f32 = t250 * t842;
-        let t859: f32 = t187 * t218;
-        let t860: f32 = t852 * t859;
-        let t861: f32 = t263 + t860;
-        let t862: f32 = t858 + t861;
-        let t863: f32 = t166 * t862;
-        let t864: f32 = t322 * t329;
-        let t865: f32 = t312 * t327;
-        let t866: f32 = t864 - t865;
-        let t867: f32 = leg3_rod_mz * 2.0;
-        let t868: f32 = t335 + t867;
-        let t869: f32 = t319 * t868;
-        let t870: f32 = leg3_rod_mass + t869;
-        let t871: f32 = t333 * t866;
-        let t872: f32 = t870 * t871;
-        let t873: f32 = leg3_rod_mass * t320;
-        let t874: f32 = t365 * t873;
-        let t875: f32 = t350 * t351;
-        let t876: f32 = t334 + t875;
-        let t877: f32 = t319 * t876;
-        let t878: f32 = t867 + t877;
-        let t879: f32 = t319 * t878;
-        let t880: f32 = leg3_rod_mass + t879;
-        let t881: f32 = t323 * t343;
-        let t882: f32 = t880 * t881;
-        let t883: f32 = t874 + t882;
-        let t884: f32 = t872 + t883;
-        let t885: f32 = t276 * t884;
-        let t886: f32 = t375 * t870;
-        let t887: f32 = t312 * t343;
-        let t888: f32 = t880 * t887;
-        let t889: f32 = t388 + t888;
-        let t890: f32 = t886 + t889;
-        let t891: f32 = t291 * t890;
-        let t892: f32 = t447 * t454;
-        let t893: f32 = t437 * t452;
-        let t894: f32 = t892 - t893;
-        let t895: f32 = leg4_rod_mz * 2.0;
-        let t896: f32 = t460 + t895;
-        let t897: f32 = t444 * t896;
-        let t898: f32 = leg4_rod_mass + t897;
-        let t899: f32 = t458 * t894;
-        let t900: f32 = t898 * t899;
-        let t901: f32 = leg4_rod_mass * t445;
-        let t902: f32 = t490 * t901;
-        let t903: f32 = t475 * t476;
-        let t904: f32 = t459 + t903;
-        let t905: f32 = t444 * t904;
-        let t906: f32 = t895 + t905;
-        let t907: f32 = t444 * t906;
-        let t908: f32 = leg4_rod_mass + t907;
-        let t909: f32 = t448 * t468;
-        let t910: f32 = t908 * t909;
-        let t911: f32 = t902 + t910;
-        let t912: f32 = t900 + t911;
-        let t913: f32 = t401 * t912;
-        let t914: f32 = t500 * t898;
-        let t915: f32 = t437 * t468;
-        let t916: f32 = t908 * t915;
-        let t917: f32 = t513 + t916;
-        let t918: f32 = t914 + t917;
-        let t919: f32 = t416 * t918;
-        let t920: f32 = t572 * t579;
-        let t921: f32 = t562 * t577;
-        let t922: f32 = t920 - t921;
-        let t923: f32 = leg5_rod_mz * 2.0;
-        let t924: f32 = t585 + t923;
-        let t925: f32 = t569 * t924;
-        let t926: f32 = leg5_rod_mass + t925;
-        let t927: f32 = t583 * t922;
-        let t928: f32 = t926 * t927;
-        let t929: f32 = leg5_rod_mass * t570;
-        let t930: f32 = t615 * t929;
-        let t931: f32 = t600 * t601;
-        let t932: f32 = t584 + t931;
-        let t933: f32 = t569 * t932;
-        let t934: f32 = t923 + t933;
-        let t935: f32 = t569 * t934;
-        let t936: f32 = leg5_rod_mass + t935;
-        let t937: f32 = t573 * t593;
-        let t938: f32 = t936 * t937;
-        let t939: f32 = t930 + t938;
-        let t940: f32 = t928 + t939;
-        let t941: f32 = t526 * t940;
-        let t942: f32 = t625 * t926;
-        let t943: f32 = t562 * t593;
-        let t944: f32 = t936 * t943;
-        let t945: f32 = t638 + t944;
-        let t946: f32 = t942 + t945;
-        let t947: f32 = t541 * t946;
-        let t948: f32 = t697 * t704;
-        let t949: f32 = t687 * t702;
-        let t950: f32 = t948 - t949;
-        let t951: f32 = leg6_rod_mz * 2.0;
-        let t952: f32 = t710 + t951;
-        let t953: f32 = t694 * t952;
-        let t954: f32 = leg6_rod_mass + t953;
-        let t955: f32 = t708 * t950;
-        let t956: f32 = t954 * t955;
-        let t957: f32 = leg6_rod_mass * t695;
-        let t958: f32 = t740 * t957;
-        let t959: f32 = t725 * t726;
-        let t960: f32 = t709 + t959;
-        let t961: f32 = t694 * t960;
-        let t962: f32 = t951 + t961;
-        let t963: f32 = t694 * t962;
-        let t964: f32 = leg6_rod_mass + t963;
-        let t965: f32 = t698 * t718;
-        let t966: f32 = t964 * t965;
-        let t967: f32 = t958 + t966;
-        let t968: f32 = t956 + t967;
-        let t969: f32 = t651 * t968;
-        let t970: f32 = t750 * t954;
-        let t971: f32 = t687 * t718;
-        let t972: f32 = t964 * t971;
-        let t973: f32 = t763 + t972;
-        let t974: f32 = t970 + t973;
-        let t975: f32 = t666 * t974;
-        let t976: f32 = t23 * t783;
-        let t977: f32 = t27 * t790;
+        let t719: f32 = t681 + t710;
+        let t720: f32 = t651 * t719;
+        let t721: f32 = leg6_rod_mass + t720;
+        let t722: f32 = t678 * t718;
+        let t723: f32 = t721 * t722;
+        let t724: f32 = t709 + t715;
+        let t725: f32 = t723 + t724;
+        let t726: f32 = t632 * t725;
+        let t727: f32 = t707 - t726;
+        let t728: f32 = t626 * t727;
+        let t729: f32 = t626 * t725;
+        let t730: f32 = t675 * t675;
+        let t731: f32 = leg6_rod_mass * t730;
+        let t732: f32 = t672 * t672;
+        let t733: f32 = t713 * t732;
+        let t734: f32 = t718 * t718;
+        let t735: f32 = t721 * t734;
+        let t736: f32 = t731 + t733;
+        let t737: f32 = t735 + t736;
+        let t738: f32 = t632 * t737;
+        let t739: f32 = t729 - t738;
+        let t740: f32 = t632 * t739;
+        let t741: f32 = platform_izz * t5;
+        let t742: f32 = platform_ixz * t3;
+        let t743: f32 = platform_iyz * t2;
+        let t744: f32 = t742 - t743;
+        let t745: f32 = t6 * t744;
+        let t746: f32 = t741 + t745;
+        let t747: f32 = t5 * t746;
+        let t748: f32 = platform_ixz * t5;
+        let t749: f32 = platform_ixx * t3;
+        let t750: f32 = platform_ixy * t2;
+        let t751: f32 = t749 - t750;
+        let t752: f32 = t6 * t751;
+        let t753: f32 = t748 + t752;
+        let t754: f32 = t3 * t753;
+        let t755: f32 = platform_iyz * t5;
+        let t756: f32 = platform_ixy * t3;
+        let t757: f32 = platform_iyy * t2;
+        let t758: f32 = t756 - t757;
+        let t759: f32 = t6 * t758;
+        let t760: f32 = t755 + t759;
+        let t761: f32 = t2 * t760;
+        let t762: f32 = t754 - t761;
+        let t763: f32 = t6 * t762;
+        let t764: f32 = t128 + t248;
+        let t765: f32 = t368 + t488;
+        let t766: f32 = t608 + t728;
+        let t767: f32 = t747 + t763;
+        let t768: f32 = t764 + t765;
+        let t769: f32 = t766 + t767;
+        let t770: f32 = t768 + t769;
+        let t771: f32 = t140 + t260;
+        let t772: f32 = t380 + t500;
+        let t773: f32 = t620 + t740;
+        let t774: f32 = t771 + t772;
+        let t775: f32 = t773 + t774;
+        let t776: f32 = t770 - t775;
+        let t777: f32 = 1.0 / t776;
+        let t778: f32 = leg1_rod_mass * t73;
+        let t779: f32 = t52 * t778;
+        let t780: f32 = t76 * t84;
+        let t781: f32 = t113 * t780;
+        let t782: f32 = t75 * t84;
+        let t783: f32 = t52 * t72;
+        let t784: f32 = t782 - t783;
+        let t785: f32 = t78 * t121;
+        let t786: f32 = t784 * t785;
+        let t787: f32 = t779 + t781;
+        let t788: f32 = t786 + t787;
+        let t789: f32 = t19 * t788;
+        let t790: f32 = t75 * t778;
+        let t791: f32 = t72 * t76;
+        let t792: f32 = t113 * t791;
+        let t793: f32 = t118 * t121;
+        let t794: f32 = t784 * t793;
+        let t795: f32 = t790 + t792;
+        let t796: f32 = t794 + t795;
+        let t797: f32 = t32 * t796;
+        let t798: f32 = t789 - t797;
+        let t799: f32 = t19 * t798;
+        let t800: f32 = t44 * t139;
+        let t801: f32 = leg2_rod_mass * t193;
+        let t802: f32 = t172 * t801;
+        let t803: f32 = t196 * t204;
+        let t804: f32 = t233 * t803;
+        let t805: f32 = t195 * t204;
+        let t806: f32 = t172 * t192;
+        let t807: f32 = t805 - t806;
+        let t808: f32 = t198 * t241;
+        let t809: f32 = t807 * t808;
+        let t810: f32 = t802 + t804;
+        let t811: f32 = t809 + t810;
+        let t812: f32 = t146 * t811;
+        let t813: f32 = t195 * t801;
+        let t814: f32 = t192 * t196;
+        let t815: f32 = t233 * t814;
+        let t816: f32 = t238 * t241;
+        let t817: f32 = t807 * t816;
+        let t818: f32 = t813 + t815;
+        let t819: f32 = t817 + t818;
+        let t820: f32 = t152 * t819;
+        let t821: f32 = t812 - t820;
+        let t822: f32 = t146 * t821;
+        let t823: f32 = t164 * t259;
+        let t824: f32 = leg3_rod_mass * t313;
+        let t825: f32 = t292 * t824;
+        let t826: f32 = t316 * t324;
+        let t827: f32 = t353 * t826;
+        let t828: f32 = t315 * t324;
+        let t829: f32 = t292 * t312;
+        let t830: f32 = t828 - t829;
+        let t831: f32 = t318 * t361;
+        let t832: f32 = t830 * t831;
+        let t833: f32 = t825 + t827;
+        let t834: f32 = t832 + t833;
+        let t835: f32 = t266 * t834;
+        let t836: f32 = t315 * t824;
+        let t837: f32 = t312 * t316;
+        let t838: f32 = t353 * t837;
+        let t839: f32 = t358 * t361;
+        let t840: f32 = t830 * t839;
+        let t841: f32 = t836 + t838;
+        let t842: f32 = t840 + t841;
+        let t843: f32 = t272 * t842;
+        let t844: f32 = t835 - t843;
+        let t845: f32 = t266 * t844;
+        let t846: f32 = t284 * t379;
+        let t847: f32 = leg4_rod_mass * t433;
+        let t848: f32 = t412 * t847;
+        let t849: f32 = t436 * t444;
+        let t850: f32 = t473 * t849;
+        let t851: f32 = t435 * t444;
+        let t852: f32 = t412 * t432;
+        let t853: f32 = t851 - t852;
+        let t854: f32 = t438 * t481;
+        let t855: f32 = t853 * t854;
+        let t856: f32 = t848 + t850;
+        let t857: f32 = t855 + t856;
+        let t858: f32 = t386 * t857;
+        let t859: f32 = t435 * t847;
+        let t860: f32 = t432 * t436;
+        let t861: f32 = t473 * t860;
+        let t862: f32 = t478 * t481;
+        let t863: f32 = t853 * t862;
+        let t864: f32 = t859 + t861;
+        let t865: f32 = t863 + t864;
+        let t866: f32 = t392 * t865;
+        let t867: f32 = t858 - t866;
+        let t868: f32 = t386 * t867;
+        let t869: f32 = t404 * t499;
+        let t870: f32 = leg5_rod_mass * t553;
+        let t871: f32 = t532 * t870;
+        let t872: f32 = t556 * t564;
+        let t873: f32 = t593 * t872;
+        let t874: f32 = t555 * t564;
+        let t875: f32 = t532 * t552;
+        let t876: f32 = t874 - t875;
+        let t877: f32 = t558 * t601;
+        let t878: f32 = t876 * t877;
+        let t879: f32 = t871 + t873;
+        let t880: f32 = t878 + t879;
+        let t881: f32 = t506 * t880;
+        let t882: f32 = t555 * t870;
+        let t883: f32 = t552 * t556;
+        let t884: f32 = t593 * t883;
+        let t885: f32 = t598 * t601;
+        let t886: f32 = t876 * t885;
+        let t887: f32 = t882 + t884;
+        let t888: f32 = t886 + t887;
+        let t889: f32 = t512 * t888;
+        let t890: f32 = t881 - t889;
+        let t891: f32 = t506 * t890;
+        let t892: f32 = t524 * t619;
+        let t893: f32 = leg6_rod_mass * t673;
+        let t894: f32 = t652 * t893;
+        let t895: f32 = t676 * t684;
+        let t896: f32 = t713 * t895;
+        let t897: f32 = t675 * t684;
+        let t898: f32 = t652 * t672;
+        let t899: f32 = t897 - t898;
+        let t900: f32 = t678 * t721;
+        let t901: f32 = t899 * t900;
+        let t902: f32 = t894 + t896;
+        let t903: f32 = t901 + t902;
+        let t904: f32 = t626 * t903;
+        let t905: f32 = t675 * t893;
+        let t906: f32 = t672 * t676;
+        let t907: f32 = t713 * t906;
+        let t908: f32 = t718 * t721;
+        let t909: f32 = t899 * t908;
+        let t910: f32 = t905 + t907;
+        let t911: f32 = t909 + t910;
+        let t912: f32 = t632 * t911;
+        let t913: f32 = t904 - t912;
+        let t914: f32 = t626 * t913;
+        let t915: f32 = t644 * t739;
+        let t916: f32 = t23 * t753;
+        let t917: f32 = t27 * t760;
+        let t918: f32 = t0 * t6;
+        let t919: f32 = t746 * t918;
+        let t920: f32 = t799 + t822;
+        let t921: f32 = t845 + t868;
+        let t922: f32 = t891 + t914;
+        let t923: f32 = t920 + t921;
+        let t924: f32 = t919 + t922;
+        let t925: f32 = t923 + t924;
+        let t926: f32 = t800 + t823;
+        let t927: f32 = t846 + t869;
+        let t928: f32 = t892 + t915;
+        let t929: f32 = t916 + t917;
+        let t930: f32 = t926 + t927;
+        let t931: f32 = t928 + t929;
+        let t932: f32 = t930 + t931;
+        let t933: f32 = t925 - t932;
+        let t934: f32 = platform_ixx * t23;
+        let t935: f32 = platform_ixy * t27;
+        let t936: f32 = platform_ixz * t0;
+        let t937: f32 = t6 * t936;
+        let t938: f32 = t934 + t935;
+        let t939: f32 = t938 - t937;
+        let t940: f32 = t23 * t939;
+        let t941: f32 = platform_ixy * t23;
+        let t942: f32 = platform_iyy * t27;
+        let t943: f32 = platform_iyz * t0;
+        let t944: f32 = t6 * t943;
+        let t945: f32 = t941 + t942;
+        let t946: f32 = t945 - t944;
+        let t947: f32 = t27 * t946;
+        let t948: f32 = platform_ixz * t23;
+        let t949: f32 = platform_iyz * t27;
+        let t950: f32 = platform_izz * t0;
+        let t951: f32 = t6 * t950;
+        let t952: f32 = t948 + t949;
+        let t953: f32 = t952 - t951;
+        let t954: f32 = t918 * t953;
+        let t955: f32 = t73 * t73;
+        let t956: f32 = leg1_rod_mass * t955;
+        let t957: f32 = t76 * t76;
+        let t958: f32 = t113 * t957;
+        let t959: f32 = t784 * t784;
+        let t960: f32 = t121 * t959;
+        let t961: f32 = t956 + t958;
+        let t962: f32 = t960 + t961;
+        let t963: f32 = t19 * t962;
+        let t964: f32 = t44 * t796;
+        let t965: f32 = t963 - t964;
+        let t966: f32 = t19 * t965;
+        let t967: f32 = t19 * t796;
+        let t968: f32 = t44 * t137;
+        let t969: f32 = t967 - t968;
+        let t970: f32 = t44 * t969;
+        let t971: f32 = t193 * t193;
+        let t972: f32 = leg2_rod_mass * t971;
+        let t973: f32 = t196 * t196;
+        let t974: f32 = t233 * t973;
+        let t975: f32 = t807 * t807;
+        let t976: f32 = t241 * t975;
+        let t977: f32 = t972 + t974;
         let t978: f32 = t976 + t977;
-        let t979: f32 = t0 * t6;
-        let t980: f32 = t776 * t979;
-        let t981: f32 = t978 - t980;
-        let t982: f32 = t835 + t863;
-        let t983: f32 = t891 + t919;
-        let t984: f32 = t947 + t975;
-        let t985: f32 = t982 + t983;
-        let t986: f32 = t981 + t984;
-        let t987: f32 = t985 + t986;
-        let t988: f32 = t829 + t857;
-        let t989: f32 = t885 + t913;
-        let t990: f32 = t941 + t969;
-        let t991: f32 = t988 + t989;
-        let t992: f32 = t990 + t991;
-        let t993: f32 = t987 - t992;
-        let t994: f32 = t19 * t810;
-        let t995: f32 = t41 * t81;
-        let t996: f32 = t994 - t995;
-        let t997: f32 = t810 * t996;
-        let t998: f32 = t814 * t997;
-        let t999: f32 = t19 * t70;
-        let t1000: f32 = t41 * t72;
+        let t979: f32 = t146 * t978;
+        let t980: f32 = t164 * t819;
+        let t981: f32 = t979 - t980;
+        let t982: f32 = t146 * t981;
+        let t983: f32 = t146 * t819;
+        let t984: f32 = t164 * t257;
+        let t985: f32 = t983 - t984;
+        let t986: f32 = t164 * t985;
+        let t987: f32 = t313 * t313;
+        let t988: f32 = leg3_rod_mass * t987;
+        let t989: f32 = t316 * t316;
+        let t990: f32 = t353 * t989;
+        let t991: f32 = t830 * t830;
+        let t992: f32 = t361 * t991;
+        let t993: f32 = t988 + t990;
+        let t994: f32 = t992 + t993;
+        let t995: f32 = t266 * t994;
+        let t996: f32 = t284 * t842;
+        let t997: f32 = t995 - t996;
+        let t998: f32 = t266 * t997;
+        let t999: f32 = t266 * t842;
+        let t1000: f32 = t284 * t377;
         let t1001: f32 = t999 - t1000;
-        let t1002: f32 = t817 * t1001;
+        let t1002: f32 = t284 * t1001;
         (
             t0,
             t1,
@@ -13589,4549 +11636,3279 @@ pub fn forward_dynamics_params(
             t27,
             t32,
             t34,
-            t41,
-            t43,
+            t37,
+            t44,
+            t46,
             t49,
-            t60,
-            t61,
-            t62,
-            t67,
-            t69,
+            t51,
+            t52,
             t70,
+            t71,
             t72,
             t73,
             t75,
-            t77,
-            t79,
-            t81,
-            t83,
+            t76,
+            t78,
+            t80,
             t84,
-            t86,
-            t87,
-            t90,
+            t91,
             t93,
-            t99,
-            t100,
-            t101,
-            t102,
-            t108,
-            t110,
-            t116,
-            t117,
+            t106,
             t118,
-            t123,
-            t128,
-            t134,
+            t125,
+            t127,
             t137,
             t139,
-            t144,
-            t151,
+            t146,
+            t152,
+            t154,
             t157,
-            t159,
+            t164,
             t166,
-            t168,
-            t174,
-            t185,
-            t186,
-            t187,
+            t169,
+            t171,
+            t172,
+            t190,
+            t191,
             t192,
-            t194,
+            t193,
             t195,
-            t197,
+            t196,
             t198,
             t200,
-            t202,
             t204,
-            t206,
-            t208,
-            t209,
             t211,
-            t212,
-            t215,
-            t218,
-            t224,
-            t225,
+            t213,
             t226,
-            t227,
-            t233,
-            t235,
-            t241,
-            t242,
-            t243,
-            t248,
-            t253,
+            t238,
+            t245,
+            t247,
+            t257,
             t259,
-            t262,
-            t264,
-            t269,
-            t276,
-            t282,
+            t266,
+            t272,
+            t274,
+            t277,
             t284,
+            t286,
+            t289,
             t291,
-            t293,
-            t299,
+            t292,
             t310,
             t311,
             t312,
-            t317,
-            t319,
+            t313,
+            t315,
+            t316,
+            t318,
             t320,
-            t322,
-            t323,
-            t325,
-            t327,
-            t329,
+            t324,
             t331,
             t333,
-            t334,
-            t336,
-            t337,
-            t340,
-            t343,
-            t349,
-            t350,
-            t351,
-            t352,
+            t346,
             t358,
-            t360,
-            t366,
+            t365,
             t367,
-            t368,
-            t373,
-            t378,
-            t384,
-            t387,
-            t389,
+            t377,
+            t379,
+            t386,
+            t392,
             t394,
-            t401,
-            t407,
+            t397,
+            t404,
+            t406,
             t409,
-            t416,
-            t418,
-            t424,
+            t411,
+            t412,
+            t430,
+            t431,
+            t432,
+            t433,
             t435,
             t436,
-            t437,
-            t442,
+            t438,
+            t440,
             t444,
-            t445,
-            t447,
-            t448,
-            t450,
-            t452,
-            t454,
-            t456,
-            t458,
-            t459,
-            t461,
-            t462,
-            t465,
-            t468,
-            t474,
-            t475,
-            t476,
-            t477,
-            t483,
+            t451,
+            t453,
+            t466,
+            t473,
+            t478,
+            t481,
             t485,
-            t491,
-            t492,
-            t493,
-            t498,
-            t503,
-            t509,
+            t487,
+            t497,
+            t499,
+            t506,
             t512,
             t514,
-            t519,
+            t517,
+            t524,
             t526,
+            t529,
+            t531,
             t532,
-            t534,
-            t541,
-            t543,
-            t549,
+            t550,
+            t551,
+            t552,
+            t553,
+            t555,
+            t556,
+            t558,
             t560,
-            t561,
-            t562,
-            t567,
-            t569,
-            t570,
-            t572,
+            t564,
+            t571,
             t573,
-            t575,
-            t577,
-            t579,
-            t581,
-            t583,
-            t584,
             t586,
-            t587,
-            t590,
             t593,
-            t599,
-            t600,
+            t598,
             t601,
-            t602,
-            t608,
-            t610,
-            t616,
+            t605,
+            t607,
             t617,
-            t618,
-            t623,
-            t628,
+            t619,
+            t626,
+            t632,
             t634,
             t637,
-            t639,
             t644,
+            t646,
+            t649,
             t651,
-            t657,
-            t659,
-            t666,
-            t668,
-            t674,
-            t685,
-            t686,
-            t687,
-            t692,
-            t694,
-            t695,
-            t697,
-            t698,
-            t700,
-            t702,
-            t704,
+            t652,
+            t670,
+            t671,
+            t672,
+            t673,
+            t675,
+            t676,
+            t678,
+            t680,
+            t684,
+            t691,
+            t693,
             t706,
-            t708,
-            t709,
-            t711,
-            t712,
-            t715,
+            t713,
             t718,
-            t724,
+            t721,
             t725,
-            t726,
             t727,
-            t733,
-            t735,
-            t741,
-            t742,
-            t743,
-            t748,
+            t737,
+            t739,
+            t746,
             t753,
-            t759,
-            t762,
-            t764,
-            t769,
-            t776,
-            t783,
-            t790,
-            t794,
+            t760,
+            t777,
+            t784,
+            t788,
+            t789,
+            t796,
+            t797,
+            t798,
             t807,
-            t810,
-            t814,
-            t817,
-            t818,
-            t824,
-            t828,
+            t811,
+            t812,
+            t819,
+            t820,
+            t821,
+            t830,
             t834,
-            t838,
+            t835,
             t842,
-            t845,
-            t846,
-            t852,
-            t856,
-            t862,
+            t843,
+            t844,
+            t853,
+            t857,
+            t858,
+            t865,
             t866,
-            t870,
-            t873,
-            t874,
+            t867,
+            t876,
             t880,
-            t884,
+            t881,
+            t888,
+            t889,
             t890,
-            t894,
-            t898,
-            t901,
-            t902,
-            t908,
+            t899,
+            t903,
+            t904,
+            t911,
             t912,
+            t913,
             t918,
-            t922,
-            t926,
-            t929,
-            t930,
-            t936,
+            t933,
+            t939,
             t940,
             t946,
-            t950,
+            t947,
+            t953,
             t954,
-            t957,
-            t958,
-            t964,
-            t968,
-            t974,
-            t979,
+            t962,
+            t965,
+            t966,
+            t969,
+            t970,
+            t978,
             t981,
-            t993,
-            t996,
+            t982,
+            t985,
+            t986,
+            t994,
+            t997,
             t998,
             t1001,
             t1002,
         )
     };
     let (
-        t1005,
-        t1013,
-        t1021,
-        t1027,
-        t1030,
-        t1038,
-        t1046,
-        t1052,
-        t1055,
-        t1063,
-        t1071,
-        t1077,
-        t1080,
+        t1068,
+        t1074,
+        t1085,
+        t1086,
         t1088,
-        t1096,
-        t1102,
-        t1105,
-        t1113,
-        t1121,
-        t1127,
-        t1130,
-        t1138,
-        t1198,
-        t1223,
-        t1237,
-        t1241,
-        t1250,
-        t1259,
+        t1119,
+        t1211,
+        t1257,
+        t1262,
         t1268,
+        t1275,
         t1277,
+        t1280,
         t1286,
-        t1304,
-        t1309,
-        t1321,
-        t1328,
-        t1341,
-        t1344,
-        t1350,
-        t1353,
+        t1297,
+        t1298,
+        t1306,
+        t1307,
+        t1315,
+        t1325,
+        t1326,
+        t1330,
+        t1349,
+        t1360,
         t1361,
-        t1369,
-        t1375,
-        t1378,
-        t1386,
-        t1394,
+        t1370,
+        t1371,
+        t1387,
+        t1388,
         t1400,
-        t1403,
-        t1411,
-        t1419,
-        t1425,
+        t1401,
+        t1406,
         t1428,
-        t1436,
-        t1444,
-        t1450,
-        t1453,
-        t1461,
-        t1469,
-        t1475,
-        t1478,
-        t1486,
-        t1518,
-        t1533,
-        t1538,
-        t1547,
-        t1554,
+        t1467,
+        t1468,
+        t1480,
+        t1487,
+        t1496,
+        t1505,
+        t1516,
+        t1535,
+        t1557,
         t1562,
+        t1567,
         t1570,
-        t1630,
-        t1634,
-        t1640,
-        t1649,
-        t1660,
-        t1668,
-        t1717,
-        t1720,
-        t1782,
-        t1787,
-        t1793,
-        t1802,
-        t1852,
-        t1854,
-        t1908,
-        t1911,
-        t1960,
-        t1964,
-        t1966,
+        t1571,
+        t1572,
+        t1575,
+        t1577,
+        t1579,
+        t1582,
+        t1587,
+        t1588,
+        t1592,
+        t1593,
+        t1598,
+        t1599,
+        t1603,
+        t1604,
+        t1638,
+        t1647,
+        t1651,
+        t1661,
+        t1662,
+        t1666,
+        t1667,
+        t1672,
+        t1711,
+        t1712,
+        t1724,
+        t1731,
+        t1740,
+        t1749,
+        t1760,
+        t1779,
+        t1784,
+        t1801,
+        t1806,
+        t1811,
+        t1814,
+        t1815,
+        t1817,
+        t1819,
+        t1822,
+        t1824,
+        t1825,
+        t1829,
+        t1868,
+        t1869,
+        t1881,
+        t1888,
+        t1897,
+        t1906,
+        t1917,
+        t1936,
+        t1958,
+        t1963,
         t1968,
-        t1970,
+        t1971,
         t1972,
-        t1974,
-        t1997,
+        t1973,
+        t1976,
+        t1978,
+        t1980,
+        t1983,
+        t1985,
+        t1990,
+        t1991,
+        t1994,
+        t1998,
+        t2000,
+        t2001,
         t2002,
     ) = {
-        let t1003: f32 = t19 * t73;
-        let t1004: f32 = t41 * t62;
-        let t1005: f32 = t1003 - t1004;
-        let t1006: f32 = t73 * t1005;
-        let t1007: f32 = t824 * t1006;
-        let t1008: f32 = t1002 + t1007;
-        let t1009: f32 = t998 + t1008;
-        let t1010: f32 = t19 * t1009;
-        let t1011: f32 = t81 * t996;
-        let t1012: f32 = t814 * t1011;
-        let t1013: f32 = t137 * t1001;
-        let t1014: f32 = t62 * t1005;
-        let t1015: f32 = t824 * t1014;
-        let t1016: f32 = t1013 + t1015;
-        let t1017: f32 = t1012 + t1016;
-        let t1018: f32 = t41 * t1017;
-        let t1019: f32 = t151 * t838;
-        let t1020: f32 = t166 * t206;
-        let t1021: f32 = t1019 - t1020;
-        let t1022: f32 = t838 * t1021;
-        let t1023: f32 = t842 * t1022;
-        let t1024: f32 = t151 * t195;
-        let t1025: f32 = t166 * t197;
-        let t1026: f32 = t1024 - t1025;
-        let t1027: f32 = t845 * t1026;
-        let t1028: f32 = t151 * t198;
-        let t1029: f32 = t166 * t187;
-        let t1030: f32 = t1028 - t1029;
-        let t1031: f32 = t198 * t1030;
-        let t1032: f32 = t852 * t1031;
-        let t1033: f32 = t1027 + t1032;
-        let t1034: f32 = t1023 + t1033;
-        let t1035: f32 = t151 * t1034;
-        let t1036: f32 = t206 * t1021;
-        let t1037: f32 = t842 * t1036;
-        let t1038: f32 = t262 * t1026;
-        let t1039: f32 = t187 * t1030;
-        let t1040: f32 = t852 * t1039;
-        let t1041: f32 = t1038 + t1040;
-        let t1042: f32 = t1037 + t1041;
-        let t1043: f32 = t166 * t1042;
-        let t1044: f32 = t276 * t866;
-        let t1045: f32 = t291 * t331;
-        let t1046: f32 = t1044 - t1045;
-        let t1047: f32 = t866 * t1046;
-        let t1048: f32 = t870 * t1047;
-        let t1049: f32 = t276 * t320;
-        let t1050: f32 = t291 * t322;
-        let t1051: f32 = t1049 - t1050;
-        let t1052: f32 = t873 * t1051;
-        let t1053: f32 = t276 * t323;
-        let t1054: f32 = t291 * t312;
-        let t1055: f32 = t1053 - t1054;
-        let t1056: f32 = t323 * t1055;
-        let t1057: f32 = t880 * t1056;
-        let t1058: f32 = t1052 + t1057;
-        let t1059: f32 = t1048 + t1058;
-        let t1060: f32 = t276 * t1059;
-        let t1061: f32 = t331 * t1046;
-        let t1062: f32 = t870 * t1061;
-        let t1063: f32 = t387 * t1051;
-        let t1064: f32 = t312 * t1055;
-        let t1065: f32 = t880 * t1064;
-        let t1066: f32 = t1063 + t1065;
-        let t1067: f32 = t1062 + t1066;
-        let t1068: f32 = t291 * t1067;
-        let t1069: f32 = t401 * t894;
-        let t1070: f32 = t416 * t456;
-        let t1071: f32 = t1069 - t1070;
-        let t1072: f32 = t894 * t1071;
-        let t1073: f32 = t898 * t1072;
-        let t1074: f32 = t401 * t445;
-        let t1075: f32 = t416 * t447;
-        let t1076: f32 = t1074 - t1075;
-        let t1077: f32 = t901 * t1076;
-        let t1078: f32 = t401 * t448;
-        let t1079: f32 = t416 * t437;
-        let t1080: f32 = t1078 - t1079;
-        let t1081: f32 = t448 * t1080;
-        let t1082: f32 = t908 * t1081;
-        let t1083: f32 = t1077 + t1082;
-        let t1084: f32 = t1073 + t1083;
-        let t1085: f32 = t401 * t1084;
-        let t1086: f32 = t456 * t1071;
-        let t1087: f32 = t898 * t1086;
-        let t1088: f32 = t512 * t1076;
-        let t1089: f32 = t437 * t1080;
-        let t1090: f32 = t908 * t1089;
-        let t1091: f32 = t1088 + t1090;
-        let t1092: f32 = t1087 + t1091;
-        let t1093: f32 = t416 * t1092;
-        let t1094: f32 = t526 * t922;
-        let t1095: f32 = t541 * t581;
-        let t1096: f32 = t1094 - t1095;
-        let t1097: f32 = t922 * t1096;
-        let t1098: f32 = t926 * t1097;
-        let t1099: f32 = t526 * t570;
-        let t1100: f32 = t541 * t572;
-        let t1101: f32 = t1099 - t1100;
-        let t1102: f32 = t929 * t1101;
-        let t1103: f32 = t526 * t573;
-        let t1104: f32 = t541 * t562;
-        let t1105: f32 = t1103 - t1104;
-        let t1106: f32 = t573 * t1105;
-        let t1107: f32 = t936 * t1106;
-        let t1108: f32 = t1102 + t1107;
-        let t1109: f32 = t1098 + t1108;
-        let t1110: f32 = t526 * t1109;
-        let t1111: f32 = t581 * t1096;
-        let t1112: f32 = t926 * t1111;
-        let t1113: f32 = t637 * t1101;
-        let t1114: f32 = t562 * t1105;
-        let t1115: f32 = t936 * t1114;
-        let t1116: f32 = t1113 + t1115;
-        let t1117: f32 = t1112 + t1116;
-        let t1118: f32 = t541 * t1117;
-        let t1119: f32 = t651 * t950;
-        let t1120: f32 = t666 * t706;
-        let t1121: f32 = t1119 - t1120;
-        let t1122: f32 = t950 * t1121;
-        let t1123: f32 = t954 * t1122;
-        let t1124: f32 = t651 * t695;
-        let t1125: f32 = t666 * t697;
-        let t1126: f32 = t1124 - t1125;
-        let t1127: f32 = t957 * t1126;
-        let t1128: f32 = t651 * t698;
-        let t1129: f32 = t666 * t687;
-        let t1130: f32 = t1128 - t1129;
-        let t1131: f32 = t698 * t1130;
-        let t1132: f32 = t964 * t1131;
-        let t1133: f32 = t1127 + t1132;
-        let t1134: f32 = t1123 + t1133;
-        let t1135: f32 = t651 * t1134;
-        let t1136: f32 = t706 * t1121;
-        let t1137: f32 = t954 * t1136;
-        let t1138: f32 = t762 * t1126;
-        let t1139: f32 = t687 * t1130;
-        let t1140: f32 = t964 * t1139;
-        let t1141: f32 = t1138 + t1140;
-        let t1142: f32 = t1137 + t1141;
-        let t1143: f32 = t666 * t1142;
-        let t1144: f32 = t87 * t814;
-        let t1145: f32 = t79 * t93;
-        let t1146: f32 = t824 * t1145;
-        let t1147: f32 = t117 + t1146;
-        let t1148: f32 = t1144 + t1147;
-        let t1149: f32 = t19 * t1148;
-        let t1150: f32 = t32 * t834;
-        let t1151: f32 = t212 * t842;
-        let t1152: f32 = t204 * t218;
-        let t1153: f32 = t852 * t1152;
-        let t1154: f32 = t242 + t1153;
-        let t1155: f32 = t1151 + t1154;
-        let t1156: f32 = t151 * t1155;
-        let t1157: f32 = t157 * t862;
-        let t1158: f32 = t337 * t870;
-        let t1159: f32 = t329 * t343;
-        let t1160: f32 = t880 * t1159;
-        let t1161: f32 = t367 + t1160;
-        let t1162: f32 = t1158 + t1161;
-        let t1163: f32 = t276 * t1162;
-        let t1164: f32 = t282 * t890;
-        let t1165: f32 = t462 * t898;
-        let t1166: f32 = t454 * t468;
-        let t1167: f32 = t908 * t1166;
-        let t1168: f32 = t492 + t1167;
-        let t1169: f32 = t1165 + t1168;
-        let t1170: f32 = t401 * t1169;
-        let t1171: f32 = t407 * t918;
-        let t1172: f32 = t587 * t926;
-        let t1173: f32 = t579 * t593;
-        let t1174: f32 = t936 * t1173;
-        let t1175: f32 = t617 + t1174;
-        let t1176: f32 = t1172 + t1175;
-        let t1177: f32 = t526 * t1176;
-        let t1178: f32 = t532 * t946;
-        let t1179: f32 = t712 * t954;
-        let t1180: f32 = t704 * t718;
-        let t1181: f32 = t964 * t1180;
-        let t1182: f32 = t742 + t1181;
-        let t1183: f32 = t1179 + t1182;
-        let t1184: f32 = t651 * t1183;
-        let t1185: f32 = t657 * t974;
-        let t1186: f32 = t1149 + t1156;
-        let t1187: f32 = t1163 + t1170;
-        let t1188: f32 = t1177 + t1184;
-        let t1189: f32 = t1186 + t1187;
-        let t1190: f32 = t794 + t1188;
-        let t1191: f32 = t1189 + t1190;
-        let t1192: f32 = t1150 + t1157;
-        let t1193: f32 = t1164 + t1171;
-        let t1194: f32 = t1178 + t1185;
-        let t1195: f32 = t1192 + t1193;
-        let t1196: f32 = t1194 + t1195;
-        let t1197: f32 = t1191 - t1196;
-        let t1198: f32 = 1.0 / t1197;
-        let t1199: f32 = t993 * t993;
-        let t1200: f32 = t1198 * t1199;
-        let t1201: f32 = platform_ixx * t23;
-        let t1202: f32 = platform_ixy * t27;
-        let t1203: f32 = platform_ixz * t0;
-        let t1204: f32 = t6 * t1203;
-        let t1205: f32 = t1201 + t1202;
-        let t1206: f32 = t1205 - t1204;
-        let t1207: f32 = t23 * t1206;
-        let t1208: f32 = platform_ixy * t23;
-        let t1209: f32 = platform_iyy * t27;
-        let t1210: f32 = platform_iyz * t0;
-        let t1211: f32 = t6 * t1210;
-        let t1212: f32 = t1208 + t1209;
-        let t1213: f32 = t1212 - t1211;
-        let t1214: f32 = t27 * t1213;
-        let t1215: f32 = t1207 + t1214;
-        let t1216: f32 = platform_ixz * t23;
-        let t1217: f32 = platform_iyz * t27;
-        let t1218: f32 = platform_izz * t0;
-        let t1219: f32 = t6 * t1218;
-        let t1220: f32 = t1216 + t1217;
-        let t1221: f32 = t1220 - t1219;
-        let t1222: f32 = t979 * t1221;
-        let t1223: f32 = t1215 - t1222;
-        let t1224: f32 = t1010 + t1035;
-        let t1225: f32 = t1060 + t1085;
-        let t1226: f32 = t1110 + t1135;
-        let t1227: f32 = t1224 + t1225;
-        let t1228: f32 = t1223 + t1226;
-        let t1229: f32 = t1227 + t1228;
-        let t1230: f32 = t1018 + t1043;
-        let t1231: f32 = t1068 + t1093;
-        let t1232: f32 = t1118 + t1143;
-        let t1233: f32 = t1230 + t1231;
-        let t1234: f32 = t1200 + t1232;
-        let t1235: f32 = t1233 + t1234;
-        let t1236: f32 = t1229 - t1235;
-        let t1237: f32 = 1.0 / t1236;
-        let t1238: f32 = t32 * t1009;
-        let t1239: f32 = t75 * t996;
-        let t1240: f32 = t814 * t1239;
-        let t1241: f32 = t116 * t1001;
-        let t1242: f32 = t79 * t1005;
-        let t1243: f32 = t824 * t1242;
-        let t1244: f32 = t1241 + t1243;
-        let t1245: f32 = t1240 + t1244;
-        let t1246: f32 = t41 * t1245;
-        let t1247: f32 = t157 * t1034;
-        let t1248: f32 = t200 * t1021;
-        let t1249: f32 = t842 * t1248;
-        let t1250: f32 = t241 * t1026;
-        let t1251: f32 = t204 * t1030;
-        let t1252: f32 = t852 * t1251;
-        let t1253: f32 = t1250 + t1252;
-        let t1254: f32 = t1249 + t1253;
-        let t1255: f32 = t166 * t1254;
-        let t1256: f32 = t282 * t1059;
-        let t1257: f32 = t325 * t1046;
-        let t1258: f32 = t870 * t1257;
-        let t1259: f32 = t366 * t1051;
-        let t1260: f32 = t329 * t1055;
-        let t1261: f32 = t880 * t1260;
-        let t1262: f32 = t1259 + t1261;
-        let t1263: f32 = t1258 + t1262;
-        let t1264: f32 = t291 * t1263;
-        let t1265: f32 = t407 * t1084;
-        let t1266: f32 = t450 * t1071;
-        let t1267: f32 = t898 * t1266;
-        let t1268: f32 = t491 * t1076;
-        let t1269: f32 = t454 * t1080;
-        let t1270: f32 = t908 * t1269;
-        let t1271: f32 = t1268 + t1270;
-        let t1272: f32 = t1267 + t1271;
-        let t1273: f32 = t416 * t1272;
-        let t1274: f32 = t532 * t1109;
-        let t1275: f32 = t575 * t1096;
-        let t1276: f32 = t926 * t1275;
-        let t1277: f32 = t616 * t1101;
-        let t1278: f32 = t579 * t1105;
-        let t1279: f32 = t936 * t1278;
-        let t1280: f32 = t1277 + t1279;
-        let t1281: f32 = t1276 + t1280;
-        let t1282: f32 = t541 * t1281;
-        let t1283: f32 = t657 * t1134;
-        let t1284: f32 = t700 * t1121;
-        let t1285: f32 = t954 * t1284;
-        let t1286: f32 = t741 * t1126;
-        let t1287: f32 = t704 * t1130;
-        let t1288: f32 = t964 * t1287;
-        let t1289: f32 = t1286 + t1288;
-        let t1290: f32 = t1285 + t1289;
-        let t1291: f32 = t666 * t1290;
-        let t1292: f32 = t32 * t828;
-        let t1293: f32 = t41 * t1148;
-        let t1294: f32 = t157 * t856;
-        let t1295: f32 = t166 * t1155;
-        let t1296: f32 = t282 * t884;
-        let t1297: f32 = t291 * t1162;
-        let t1298: f32 = t407 * t912;
-        let t1299: f32 = t416 * t1169;
-        let t1300: f32 = t532 * t940;
-        let t1301: f32 = t541 * t1176;
-        let t1302: f32 = t657 * t968;
-        let t1303: f32 = t666 * t1183;
-        let t1304: f32 = t1 * t6;
-        let t1305: f32 = t776 * t1304;
-        let t1306: f32 = t9 * t783;
-        let t1307: f32 = t14 * t790;
-        let t1308: f32 = t1306 + t1307;
-        let t1309: f32 = t1305 + t1308;
-        let t1310: f32 = t1292 + t1294;
-        let t1311: f32 = t1296 + t1298;
-        let t1312: f32 = t1300 + t1302;
-        let t1313: f32 = t1310 + t1311;
-        let t1314: f32 = t1309 + t1312;
-        let t1315: f32 = t1313 + t1314;
-        let t1316: f32 = t1293 + t1295;
-        let t1317: f32 = t1297 + t1299;
-        let t1318: f32 = t1301 + t1303;
+        let t1003: f32 = t433 * t433;
+        let t1004: f32 = leg4_rod_mass * t1003;
+        let t1005: f32 = t436 * t436;
+        let t1006: f32 = t473 * t1005;
+        let t1007: f32 = t853 * t853;
+        let t1008: f32 = t481 * t1007;
+        let t1009: f32 = t1004 + t1006;
+        let t1010: f32 = t1008 + t1009;
+        let t1011: f32 = t386 * t1010;
+        let t1012: f32 = t404 * t865;
+        let t1013: f32 = t1011 - t1012;
+        let t1014: f32 = t386 * t1013;
+        let t1015: f32 = t386 * t865;
+        let t1016: f32 = t404 * t497;
+        let t1017: f32 = t1015 - t1016;
+        let t1018: f32 = t404 * t1017;
+        let t1019: f32 = t553 * t553;
+        let t1020: f32 = leg5_rod_mass * t1019;
+        let t1021: f32 = t556 * t556;
+        let t1022: f32 = t593 * t1021;
+        let t1023: f32 = t876 * t876;
+        let t1024: f32 = t601 * t1023;
+        let t1025: f32 = t1020 + t1022;
+        let t1026: f32 = t1024 + t1025;
+        let t1027: f32 = t506 * t1026;
+        let t1028: f32 = t524 * t888;
+        let t1029: f32 = t1027 - t1028;
+        let t1030: f32 = t506 * t1029;
+        let t1031: f32 = t506 * t888;
+        let t1032: f32 = t524 * t617;
+        let t1033: f32 = t1031 - t1032;
+        let t1034: f32 = t524 * t1033;
+        let t1035: f32 = t673 * t673;
+        let t1036: f32 = leg6_rod_mass * t1035;
+        let t1037: f32 = t676 * t676;
+        let t1038: f32 = t713 * t1037;
+        let t1039: f32 = t899 * t899;
+        let t1040: f32 = t721 * t1039;
+        let t1041: f32 = t1036 + t1038;
+        let t1042: f32 = t1040 + t1041;
+        let t1043: f32 = t626 * t1042;
+        let t1044: f32 = t644 * t911;
+        let t1045: f32 = t1043 - t1044;
+        let t1046: f32 = t626 * t1045;
+        let t1047: f32 = t626 * t911;
+        let t1048: f32 = t644 * t737;
+        let t1049: f32 = t1047 - t1048;
+        let t1050: f32 = t644 * t1049;
+        let t1051: f32 = t940 + t947;
+        let t1052: f32 = t966 + t982;
+        let t1053: f32 = t998 + t1014;
+        let t1054: f32 = t1030 + t1046;
+        let t1055: f32 = t1051 + t1052;
+        let t1056: f32 = t1053 + t1054;
+        let t1057: f32 = t1055 + t1056;
+        let t1058: f32 = t954 + t970;
+        let t1059: f32 = t986 + t1002;
+        let t1060: f32 = t1018 + t1034;
+        let t1061: f32 = t1058 + t1059;
+        let t1062: f32 = t1050 + t1060;
+        let t1063: f32 = t1061 + t1062;
+        let t1064: f32 = t1057 - t1063;
+        let t1065: f32 = t933 * t933;
+        let t1066: f32 = t777 * t1065;
+        let t1067: f32 = t1064 - t1066;
+        let t1068: f32 = 1.0 / t1067;
+        let t1069: f32 = platform_mz * t1;
+        let t1070: f32 = t6 * t1069;
+        let t1071: f32 = platform_mx * t9;
+        let t1072: f32 = platform_my * t14;
+        let t1073: f32 = t1071 + t1072;
+        let t1074: f32 = t1070 + t1073;
+        let t1075: f32 = t965 + t981;
+        let t1076: f32 = t997 + t1013;
+        let t1077: f32 = t1029 + t1045;
+        let t1078: f32 = t1075 + t1076;
+        let t1079: f32 = t1074 + t1077;
+        let t1080: f32 = t1078 + t1079;
+        let t1081: f32 = t798 + t821;
+        let t1082: f32 = t844 + t867;
+        let t1083: f32 = t890 + t913;
+        let t1084: f32 = t1081 + t1082;
+        let t1085: f32 = t1083 + t1084;
+        let t1086: f32 = t777 * t933;
+        let t1087: f32 = t1085 * t1086;
+        let t1088: f32 = t1080 - t1087;
+        let t1089: f32 = platform_mass + t962;
+        let t1090: f32 = t978 + t994;
+        let t1091: f32 = t1010 + t1026;
+        let t1092: f32 = t1089 + t1090;
+        let t1093: f32 = t1042 + t1091;
+        let t1094: f32 = t1092 + t1093;
+        let t1095: f32 = t1085 * t1085;
+        let t1096: f32 = t777 * t1095;
+        let t1097: f32 = t1088 * t1088;
+        let t1098: f32 = t1068 * t1097;
+        let t1099: f32 = platform_ixx * t9;
+        let t1100: f32 = platform_ixy * t14;
+        let t1101: f32 = platform_ixz * t1;
+        let t1102: f32 = t6 * t1101;
+        let t1103: f32 = t1099 + t1100;
+        let t1104: f32 = t1102 + t1103;
+        let t1105: f32 = t9 * t1104;
+        let t1106: f32 = platform_ixy * t9;
+        let t1107: f32 = platform_iyy * t14;
+        let t1108: f32 = platform_iyz * t1;
+        let t1109: f32 = t6 * t1108;
+        let t1110: f32 = t1106 + t1107;
+        let t1111: f32 = t1109 + t1110;
+        let t1112: f32 = t14 * t1111;
+        let t1113: f32 = platform_ixz * t9;
+        let t1114: f32 = platform_iyz * t14;
+        let t1115: f32 = platform_izz * t1;
+        let t1116: f32 = t6 * t1115;
+        let t1117: f32 = t1113 + t1114;
+        let t1118: f32 = t1116 + t1117;
+        let t1119: f32 = t1 * t6;
+        let t1120: f32 = t1118 * t1119;
+        let t1121: f32 = t32 * t962;
+        let t1122: f32 = t44 * t788;
+        let t1123: f32 = t1121 - t1122;
+        let t1124: f32 = t32 * t1123;
+        let t1125: f32 = t32 * t788;
+        let t1126: f32 = t44 * t106;
+        let t1127: f32 = t1125 - t1126;
+        let t1128: f32 = t44 * t1127;
+        let t1129: f32 = t152 * t978;
+        let t1130: f32 = t164 * t811;
+        let t1131: f32 = t1129 - t1130;
+        let t1132: f32 = t152 * t1131;
+        let t1133: f32 = t152 * t811;
+        let t1134: f32 = t164 * t226;
+        let t1135: f32 = t1133 - t1134;
+        let t1136: f32 = t164 * t1135;
+        let t1137: f32 = t272 * t994;
+        let t1138: f32 = t284 * t834;
+        let t1139: f32 = t1137 - t1138;
+        let t1140: f32 = t272 * t1139;
+        let t1141: f32 = t272 * t834;
+        let t1142: f32 = t284 * t346;
+        let t1143: f32 = t1141 - t1142;
+        let t1144: f32 = t284 * t1143;
+        let t1145: f32 = t392 * t1010;
+        let t1146: f32 = t404 * t857;
+        let t1147: f32 = t1145 - t1146;
+        let t1148: f32 = t392 * t1147;
+        let t1149: f32 = t392 * t857;
+        let t1150: f32 = t404 * t466;
+        let t1151: f32 = t1149 - t1150;
+        let t1152: f32 = t404 * t1151;
+        let t1153: f32 = t512 * t1026;
+        let t1154: f32 = t524 * t880;
+        let t1155: f32 = t1153 - t1154;
+        let t1156: f32 = t512 * t1155;
+        let t1157: f32 = t512 * t880;
+        let t1158: f32 = t524 * t586;
+        let t1159: f32 = t1157 - t1158;
+        let t1160: f32 = t524 * t1159;
+        let t1161: f32 = t632 * t1042;
+        let t1162: f32 = t644 * t903;
+        let t1163: f32 = t1161 - t1162;
+        let t1164: f32 = t632 * t1163;
+        let t1165: f32 = t632 * t903;
+        let t1166: f32 = t644 * t706;
+        let t1167: f32 = t1165 - t1166;
+        let t1168: f32 = t644 * t1167;
+        let t1169: f32 = t1105 + t1112;
+        let t1170: f32 = t1120 + t1124;
+        let t1171: f32 = t1132 + t1140;
+        let t1172: f32 = t1148 + t1156;
+        let t1173: f32 = t1169 + t1170;
+        let t1174: f32 = t1171 + t1172;
+        let t1175: f32 = t1173 + t1174;
+        let t1176: f32 = t1164 + t1175;
+        let t1177: f32 = t1128 + t1136;
+        let t1178: f32 = t1144 + t1152;
+        let t1179: f32 = t1160 + t1168;
+        let t1180: f32 = t1177 + t1178;
+        let t1181: f32 = t1179 + t1180;
+        let t1182: f32 = t1176 - t1181;
+        let t1183: f32 = t32 * t798;
+        let t1184: f32 = t44 * t127;
+        let t1185: f32 = t152 * t821;
+        let t1186: f32 = t164 * t247;
+        let t1187: f32 = t272 * t844;
+        let t1188: f32 = t284 * t367;
+        let t1189: f32 = t392 * t867;
+        let t1190: f32 = t404 * t487;
+        let t1191: f32 = t512 * t890;
+        let t1192: f32 = t524 * t607;
+        let t1193: f32 = t632 * t913;
+        let t1194: f32 = t644 * t727;
+        let t1195: f32 = t9 * t753;
+        let t1196: f32 = t14 * t760;
+        let t1197: f32 = t746 * t1119;
+        let t1198: f32 = t1183 + t1185;
+        let t1199: f32 = t1187 + t1189;
+        let t1200: f32 = t1191 + t1193;
+        let t1201: f32 = t1195 + t1196;
+        let t1202: f32 = t1198 + t1199;
+        let t1203: f32 = t1200 + t1201;
+        let t1204: f32 = t1202 + t1203;
+        let t1205: f32 = t1197 + t1204;
+        let t1206: f32 = t1184 + t1186;
+        let t1207: f32 = t1188 + t1190;
+        let t1208: f32 = t1192 + t1194;
+        let t1209: f32 = t1206 + t1207;
+        let t1210: f32 = t1208 + t1209;
+        let t1211: f32 = t1205 - t1210;
+        let t1212: f32 = t1211 * t1211;
+        let t1213: f32 = t777 * t1212;
+        let t1214: f32 = t9 * t939;
+        let t1215: f32 = t14 * t946;
+        let t1216: f32 = t953 * t1119;
+        let t1217: f32 = t32 * t965;
+        let t1218: f32 = t44 * t125;
+        let t1219: f32 = t789 - t1218;
+        let t1220: f32 = t44 * t1219;
+        let t1221: f32 = t152 * t981;
+        let t1222: f32 = t164 * t245;
+        let t1223: f32 = t812 - t1222;
+        let t1224: f32 = t164 * t1223;
+        let t1225: f32 = t272 * t997;
+        let t1226: f32 = t284 * t365;
+        let t1227: f32 = t835 - t1226;
+        let t1228: f32 = t284 * t1227;
+        let t1229: f32 = t392 * t1013;
+        let t1230: f32 = t404 * t485;
+        let t1231: f32 = t858 - t1230;
+        let t1232: f32 = t404 * t1231;
+        let t1233: f32 = t512 * t1029;
+        let t1234: f32 = t524 * t605;
+        let t1235: f32 = t881 - t1234;
+        let t1236: f32 = t524 * t1235;
+        let t1237: f32 = t632 * t1045;
+        let t1238: f32 = t644 * t725;
+        let t1239: f32 = t904 - t1238;
+        let t1240: f32 = t644 * t1239;
+        let t1241: f32 = t1214 + t1215;
+        let t1242: f32 = t1216 + t1220;
+        let t1243: f32 = t1224 + t1228;
+        let t1244: f32 = t1232 + t1236;
+        let t1245: f32 = t1241 + t1242;
+        let t1246: f32 = t1243 + t1244;
+        let t1247: f32 = t1245 + t1246;
+        let t1248: f32 = t1240 + t1247;
+        let t1249: f32 = t1217 + t1221;
+        let t1250: f32 = t1225 + t1229;
+        let t1251: f32 = t1233 + t1237;
+        let t1252: f32 = t1249 + t1250;
+        let t1253: f32 = t1251 + t1252;
+        let t1254: f32 = t1248 - t1253;
+        let t1255: f32 = t1086 * t1211;
+        let t1256: f32 = t1254 + t1255;
+        let t1257: f32 = -t1256;
+        let t1258: f32 = t1257 * t1257;
+        let t1259: f32 = t1068 * t1258;
+        let t1260: f32 = t1213 + t1259;
+        let t1261: f32 = t1182 - t1260;
+        let t1262: f32 = 1.0 / t1261;
+        let t1263: f32 = platform_mx * t23;
+        let t1264: f32 = platform_my * t27;
+        let t1265: f32 = t1263 + t1264;
+        let t1266: f32 = platform_mz * t0;
+        let t1267: f32 = t6 * t1266;
+        let t1268: f32 = t1265 - t1267;
+        let t1269: f32 = t1123 + t1131;
+        let t1270: f32 = t1139 + t1147;
+        let t1271: f32 = t1155 + t1163;
+        let t1272: f32 = t1269 + t1270;
+        let t1273: f32 = t1268 + t1271;
+        let t1274: f32 = t1272 + t1273;
+        let t1275: f32 = t777 * t1211;
+        let t1276: f32 = t1085 * t1275;
+        let t1277: f32 = t1068 * t1257;
+        let t1278: f32 = t1088 * t1277;
+        let t1279: f32 = t1276 + t1278;
+        let t1280: f32 = t1274 - t1279;
+        let t1281: f32 = t1280 * t1280;
+        let t1282: f32 = t1262 * t1281;
+        let t1283: f32 = t1096 + t1098;
+        let t1284: f32 = t1282 + t1283;
+        let t1285: f32 = t1094 - t1284;
+        let t1286: f32 = 1.0 / t1285;
+        let t1287: f32 = t788 + t811;
+        let t1288: f32 = t834 + t857;
+        let t1289: f32 = t880 + t903;
+        let t1290: f32 = t1287 + t1288;
+        let t1291: f32 = t1289 + t1290;
+        let t1292: f32 = t127 + t247;
+        let t1293: f32 = t367 + t487;
+        let t1294: f32 = t607 + t727;
+        let t1295: f32 = t1292 + t1293;
+        let t1296: f32 = t1074 + t1294;
+        let t1297: f32 = t1295 + t1296;
+        let t1298: f32 = t777 * t1085;
+        let t1299: f32 = t1297 * t1298;
+        let t1300: f32 = t1219 + t1223;
+        let t1301: f32 = t1227 + t1231;
+        let t1302: f32 = t1235 + t1239;
+        let t1303: f32 = t1300 + t1301;
+        let t1304: f32 = t1302 + t1303;
+        let t1305: f32 = t1086 * t1297;
+        let t1306: f32 = t1304 - t1305;
+        let t1307: f32 = t1068 * t1088;
+        let t1308: f32 = t1306 * t1307;
+        let t1309: f32 = platform_mz * t5;
+        let t1310: f32 = platform_mx * t6;
+        let t1311: f32 = t3 * t1310;
+        let t1312: f32 = platform_my * t2;
+        let t1313: f32 = t6 * t1312;
+        let t1314: f32 = t1311 - t1313;
+        let t1315: f32 = t1309 + t1314;
+        let t1316: f32 = t1127 + t1135;
+        let t1317: f32 = t1143 + t1151;
+        let t1318: f32 = t1159 + t1167;
         let t1319: f32 = t1316 + t1317;
         let t1320: f32 = t1318 + t1319;
         let t1321: f32 = t1315 - t1320;
-        let t1322: f32 = t993 * t1198;
-        let t1323: f32 = t1321 * t1322;
-        let t1324: f32 = t1221 * t1304;
-        let t1325: f32 = t9 * t1206;
-        let t1326: f32 = t14 * t1213;
-        let t1327: f32 = t1325 + t1326;
-        let t1328: f32 = t1324 + t1327;
-        let t1329: f32 = t1246 + t1255;
-        let t1330: f32 = t1264 + t1273;
-        let t1331: f32 = t1282 + t1291;
-        let t1332: f32 = t1329 + t1330;
-        let t1333: f32 = t1328 + t1331;
-        let t1334: f32 = t1332 + t1333;
-        let t1335: f32 = t1238 + t1247;
-        let t1336: f32 = t1256 + t1265;
-        let t1337: f32 = t1274 + t1283;
-        let t1338: f32 = t1335 + t1336;
-        let t1339: f32 = t1323 + t1337;
-        let t1340: f32 = t1338 + t1339;
-        let t1341: f32 = t1334 - t1340;
-        let t1342: f32 = t32 * t810;
-        let t1343: f32 = t41 * t75;
-        let t1344: f32 = t1342 - t1343;
-        let t1345: f32 = t810 * t1344;
-        let t1346: f32 = t814 * t1345;
-        let t1347: f32 = t32 * t70;
-        let t1348: f32 = t41 * t77;
-        let t1349: f32 = t1347 - t1348;
-        let t1350: f32 = t817 * t1349;
-        let t1351: f32 = t32 * t73;
-        let t1352: f32 = t41 * t79;
-        let t1353: f32 = t1351 - t1352;
-        let t1354: f32 = t73 * t1353;
-        let t1355: f32 = t824 * t1354;
-        let t1356: f32 = t1350 + t1355;
-        let t1357: f32 = t1346 + t1356;
-        let t1358: f32 = t32 * t1357;
-        let t1359: f32 = t75 * t1344;
-        let t1360: f32 = t814 * t1359;
-        let t1361: f32 = t116 * t1349;
-        let t1362: f32 = t79 * t1353;
-        let t1363: f32 = t824 * t1362;
-        let t1364: f32 = t1361 + t1363;
-        let t1365: f32 = t1360 + t1364;
-        let t1366: f32 = t41 * t1365;
-        let t1367: f32 = t157 * t838;
-        let t1368: f32 = t166 * t200;
-        let t1369: f32 = t1367 - t1368;
-        let t1370: f32 = t838 * t1369;
-        let t1371: f32 = t842 * t1370;
-        let t1372: f32 = t157 * t195;
-        let t1373: f32 = t166 * t202;
-        let t1374: f32 = t1372 - t1373;
-        let t1375: f32 = t845 * t1374;
-        let t1376: f32 = t157 * t198;
-        let t1377: f32 = t166 * t204;
-        let t1378: f32 = t1376 - t1377;
-        let t1379: f32 = t198 * t1378;
-        let t1380: f32 = t852 * t1379;
-        let t1381: f32 = t1375 + t1380;
-        let t1382: f32 = t1371 + t1381;
-        let t1383: f32 = t157 * t1382;
-        let t1384: f32 = t200 * t1369;
-        let t1385: f32 = t842 * t1384;
-        let t1386: f32 = t241 * t1374;
-        let t1387: f32 = t204 * t1378;
-        let t1388: f32 = t852 * t1387;
-        let t1389: f32 = t1386 + t1388;
-        let t1390: f32 = t1385 + t1389;
-        let t1391: f32 = t166 * t1390;
-        let t1392: f32 = t282 * t866;
-        let t1393: f32 = t291 * t325;
-        let t1394: f32 = t1392 - t1393;
-        let t1395: f32 = t866 * t1394;
-        let t1396: f32 = t870 * t1395;
-        let t1397: f32 = t282 * t320;
-        let t1398: f32 = t291 * t327;
-        let t1399: f32 = t1397 - t1398;
-        let t1400: f32 = t873 * t1399;
-        let t1401: f32 = t282 * t323;
-        let t1402: f32 = t291 * t329;
-        let t1403: f32 = t1401 - t1402;
-        let t1404: f32 = t323 * t1403;
-        let t1405: f32 = t880 * t1404;
-        let t1406: f32 = t1400 + t1405;
-        let t1407: f32 = t1396 + t1406;
-        let t1408: f32 = t282 * t1407;
-        let t1409: f32 = t325 * t1394;
-        let t1410: f32 = t870 * t1409;
-        let t1411: f32 = t366 * t1399;
-        let t1412: f32 = t329 * t1403;
-        let t1413: f32 = t880 * t1412;
-        let t1414: f32 = t1411 + t1413;
-        let t1415: f32 = t1410 + t1414;
-        let t1416: f32 = t291 * t1415;
-        let t1417: f32 = t407 * t894;
-        let t1418: f32 = t416 * t450;
-        let t1419: f32 = t1417 - t1418;
-        let t1420: f32 = t894 * t1419;
-        let t1421: f32 = t898 * t1420;
-        let t1422: f32 = t407 * t445;
-        let t1423: f32 = t416 * t452;
-        let t1424: f32 = t1422 - t1423;
-        let t1425: f32 = t901 * t1424;
-        let t1426: f32 = t407 * t448;
-        let t1427: f32 = t416 * t454;
-        let t1428: f32 = t1426 - t1427;
-        let t1429: f32 = t448 * t1428;
-        let t1430: f32 = t908 * t1429;
-        let t1431: f32 = t1425 + t1430;
-        let t1432: f32 = t1421 + t1431;
-        let t1433: f32 = t407 * t1432;
-        let t1434: f32 = t450 * t1419;
-        let t1435: f32 = t898 * t1434;
-        let t1436: f32 = t491 * t1424;
-        let t1437: f32 = t454 * t1428;
-        let t1438: f32 = t908 * t1437;
-        let t1439: f32 = t1436 + t1438;
-        let t1440: f32 = t1435 + t1439;
-        let t1441: f32 = t416 * t1440;
-        let t1442: f32 = t532 * t922;
-        let t1443: f32 = t541 * t575;
-        let t1444: f32 = t1442 - t1443;
-        let t1445: f32 = t922 * t1444;
-        let t1446: f32 = t926 * t1445;
-        let t1447: f32 = t532 * t570;
-        let t1448: f32 = t541 * t577;
-        let t1449: f32 = t1447 - t1448;
-        let t1450: f32 = t929 * t1449;
-        let t1451: f32 = t532 * t573;
-        let t1452: f32 = t541 * t579;
-        let t1453: f32 = t1451 - t1452;
-        let t1454: f32 = t573 * t1453;
-        let t1455: f32 = t936 * t1454;
-        let t1456: f32 = t1450 + t1455;
-        let t1457: f32 = t1446 + t1456;
-        let t1458: f32 = t532 * t1457;
-        let t1459: f32 = t575 * t1444;
-        let t1460: f32 = t926 * t1459;
-        let t1461: f32 = t616 * t1449;
-        let t1462: f32 = t579 * t1453;
-        let t1463: f32 = t936 * t1462;
-        let t1464: f32 = t1461 + t1463;
-        let t1465: f32 = t1460 + t1464;
-        let t1466: f32 = t541 * t1465;
-        let t1467: f32 = t657 * t950;
-        let t1468: f32 = t666 * t700;
-        let t1469: f32 = t1467 - t1468;
-        let t1470: f32 = t950 * t1469;
-        let t1471: f32 = t954 * t1470;
-        let t1472: f32 = t657 * t695;
-        let t1473: f32 = t666 * t702;
-        let t1474: f32 = t1472 - t1473;
-        let t1475: f32 = t957 * t1474;
-        let t1476: f32 = t657 * t698;
-        let t1477: f32 = t666 * t704;
-        let t1478: f32 = t1476 - t1477;
-        let t1479: f32 = t698 * t1478;
-        let t1480: f32 = t964 * t1479;
-        let t1481: f32 = t1475 + t1480;
-        let t1482: f32 = t1471 + t1481;
-        let t1483: f32 = t657 * t1482;
-        let t1484: f32 = t700 * t1469;
-        let t1485: f32 = t954 * t1484;
-        let t1486: f32 = t741 * t1474;
-        let t1487: f32 = t704 * t1478;
-        let t1488: f32 = t964 * t1487;
-        let t1489: f32 = t1486 + t1488;
-        let t1490: f32 = t1485 + t1489;
-        let t1491: f32 = t666 * t1490;
-        let t1492: f32 = t1321 * t1321;
-        let t1493: f32 = t1198 * t1492;
-        let t1494: f32 = t1341 * t1341;
-        let t1495: f32 = t1237 * t1494;
-        let t1496: f32 = platform_ixz * t9;
-        let t1497: f32 = platform_iyz * t14;
-        let t1498: f32 = platform_izz * t1;
-        let t1499: f32 = t6 * t1498;
-        let t1500: f32 = t1496 + t1497;
-        let t1501: f32 = t1499 + t1500;
-        let t1502: f32 = t1304 * t1501;
-        let t1503: f32 = platform_ixx * t9;
-        let t1504: f32 = platform_ixy * t14;
-        let t1505: f32 = platform_ixz * t1;
-        let t1506: f32 = t6 * t1505;
-        let t1507: f32 = t1503 + t1504;
-        let t1508: f32 = t1506 + t1507;
-        let t1509: f32 = t9 * t1508;
-        let t1510: f32 = platform_ixy * t9;
-        let t1511: f32 = platform_iyy * t14;
-        let t1512: f32 = platform_iyz * t1;
-        let t1513: f32 = t6 * t1512;
-        let t1514: f32 = t1510 + t1511;
+        let t1322: f32 = t1275 * t1297;
+        let t1323: f32 = t1277 * t1306;
+        let t1324: f32 = t1321 + t1322;
+        let t1325: f32 = t1323 + t1324;
+        let t1326: f32 = t1262 * t1280;
+        let t1327: f32 = t1325 * t1326;
+        let t1328: f32 = t1291 + t1327;
+        let t1329: f32 = t1299 + t1308;
+        let t1330: f32 = t1328 - t1329;
+        let t1331: f32 = platform_mass + t106;
+        let t1332: f32 = t226 + t346;
+        let t1333: f32 = t466 + t586;
+        let t1334: f32 = t1331 + t1332;
+        let t1335: f32 = t706 + t1333;
+        let t1336: f32 = t1334 + t1335;
+        let t1337: f32 = t1297 * t1297;
+        let t1338: f32 = t777 * t1337;
+        let t1339: f32 = t1306 * t1306;
+        let t1340: f32 = t1068 * t1339;
+        let t1341: f32 = t1325 * t1325;
+        let t1342: f32 = t1262 * t1341;
+        let t1343: f32 = t1330 * t1330;
+        let t1344: f32 = t1286 * t1343;
+        let t1345: f32 = t1338 + t1340;
+        let t1346: f32 = t1342 + t1344;
+        let t1347: f32 = t1345 + t1346;
+        let t1348: f32 = t1336 - t1347;
+        let t1349: f32 = 1.0 / t1348;
+        let t1350: f32 = t125 + t245;
+        let t1351: f32 = t365 + t485;
+        let t1352: f32 = t605 + t725;
+        let t1353: f32 = t1350 + t1351;
+        let t1354: f32 = t1352 + t1353;
+        let t1355: f32 = t139 + t259;
+        let t1356: f32 = t379 + t499;
+        let t1357: f32 = t619 + t739;
+        let t1358: f32 = t1355 + t1356;
+        let t1359: f32 = t1357 + t1358;
+        let t1360: f32 = t1268 - t1359;
+        let t1361: f32 = t777 * t1297;
+        let t1362: f32 = t1360 * t1361;
+        let t1363: f32 = t969 + t985;
+        let t1364: f32 = t1001 + t1017;
+        let t1365: f32 = t1033 + t1049;
+        let t1366: f32 = t1363 + t1364;
+        let t1367: f32 = t1365 + t1366;
+        let t1368: f32 = t1315 - t1367;
+        let t1369: f32 = t1086 * t1360;
+        let t1370: f32 = t1368 - t1369;
+        let t1371: f32 = t1068 * t1306;
+        let t1372: f32 = t1370 * t1371;
+        let t1373: f32 = t797 - t1218;
+        let t1374: f32 = t820 - t1222;
+        let t1375: f32 = t843 - t1226;
+        let t1376: f32 = t866 - t1230;
+        let t1377: f32 = t889 - t1234;
+        let t1378: f32 = t912 - t1238;
+        let t1379: f32 = t1373 + t1374;
+        let t1380: f32 = t1375 + t1376;
+        let t1381: f32 = t1377 + t1378;
+        let t1382: f32 = t1379 + t1380;
+        let t1383: f32 = t1381 + t1382;
+        let t1384: f32 = t1275 * t1360;
+        let t1385: f32 = t1277 * t1370;
+        let t1386: f32 = t1383 + t1384;
+        let t1387: f32 = t1385 + t1386;
+        let t1388: f32 = t1262 * t1325;
+        let t1389: f32 = t1387 * t1388;
+        let t1390: f32 = t796 + t819;
+        let t1391: f32 = t842 + t865;
+        let t1392: f32 = t888 + t911;
+        let t1393: f32 = t1390 + t1391;
+        let t1394: f32 = t1392 + t1393;
+        let t1395: f32 = t1298 * t1360;
+        let t1396: f32 = t1307 * t1370;
+        let t1397: f32 = t1326 * t1387;
+        let t1398: f32 = t1394 + t1395;
+        let t1399: f32 = t1396 + t1398;
+        let t1400: f32 = t1399 - t1397;
+        let t1401: f32 = t1286 * t1330;
+        let t1402: f32 = t1400 * t1401;
+        let t1403: f32 = t1354 + t1362;
+        let t1404: f32 = t1372 + t1389;
+        let t1405: f32 = t1403 + t1404;
+        let t1406: f32 = t1405 - t1402;
+        let t1407: f32 = platform_mass + t137;
+        let t1408: f32 = t257 + t377;
+        let t1409: f32 = t497 + t617;
+        let t1410: f32 = t1407 + t1408;
+        let t1411: f32 = t737 + t1409;
+        let t1412: f32 = t1410 + t1411;
+        let t1413: f32 = t1360 * t1360;
+        let t1414: f32 = t777 * t1413;
+        let t1415: f32 = t1370 * t1370;
+        let t1416: f32 = t1068 * t1415;
+        let t1417: f32 = t1387 * t1387;
+        let t1418: f32 = t1262 * t1417;
+        let t1419: f32 = t1400 * t1400;
+        let t1420: f32 = t1286 * t1419;
+        let t1421: f32 = t1406 * t1406;
+        let t1422: f32 = t1349 * t1421;
+        let t1423: f32 = t1414 + t1416;
+        let t1424: f32 = t1418 + t1420;
+        let t1425: f32 = t1423 + t1424;
+        let t1426: f32 = t1422 + t1425;
+        let t1427: f32 = t1412 - t1426;
+        let t1428: f32 = 1.0 / t1427;
+        let t1429: f32 = gravity_x * t899;
+        let t1430: f32 = gravity_y * t678;
+        let t1431: f32 = gravity_z * t718;
+        let t1432: f32 = t1429 + t1430;
+        let t1433: f32 = t1431 + t1432;
+        let t1434: f32 = leg6_cylinder_mz * t1433;
+        let t1435: f32 = wy * t626;
+        let t1436: f32 = wz * t632;
+        let t1437: f32 = t1435 - t1436;
+        let t1438: f32 = wy * t1437;
+        let t1439: f32 = wz * t644;
+        let t1440: f32 = wx * t626;
+        let t1441: f32 = t1439 - t1440;
+        let t1442: f32 = wx * t1441;
+        let t1443: f32 = t1442 - t1438;
+        let t1444: f32 = t718 * t1443;
+        let t1445: f32 = wx * t632;
+        let t1446: f32 = wy * t644;
+        let t1447: f32 = t1445 - t1446;
+        let t1448: f32 = wy * t1447;
+        let t1449: f32 = wz * t1441;
+        let t1450: f32 = t1448 - t1449;
+        let t1451: f32 = t899 * t1450;
+        let t1452: f32 = wz * t1437;
+        let t1453: f32 = wx * t1447;
+        let t1454: f32 = t1452 - t1453;
+        let t1455: f32 = t678 * t1454;
+        let t1456: f32 = t1451 + t1455;
+        let t1457: f32 = t1444 + t1456;
+        let t1458: f32 = t1457 - t1433;
+        let t1459: f32 = leg6_rod_mz * t1458;
+        let t1460: f32 = vx + t1437;
+        let t1461: f32 = t676 * t1460;
+        let t1462: f32 = vy + t1441;
+        let t1463: f32 = t684 * t1462;
+        let t1464: f32 = vz + t1447;
+        let t1465: f32 = t672 * t1464;
+        let t1466: f32 = t1461 + t1463;
+        let t1467: f32 = t1465 + t1466;
+        let t1468: f32 = t651 * t1467;
+        let t1469: f32 = t651 * t691;
+        let t1470: f32 = t1467 * t1469;
+        let t1471: f32 = t680 - t693;
+        let t1472: f32 = t1468 * t1470;
+        let t1473: f32 = t1471 * t1472;
+        let t1474: f32 = t1467 * t1467;
+        let t1475: f32 = t1469 * t1474;
+        let t1476: f32 = t899 * t1460;
+        let t1477: f32 = t678 * t1462;
+        let t1478: f32 = t718 * t1464;
+        let t1479: f32 = t1476 + t1477;
+        let t1480: f32 = t1478 + t1479;
+        let t1481: f32 = t673 * t1460;
+        let t1482: f32 = t652 * t1462;
+        let t1483: f32 = t675 * t1464;
+        let t1484: f32 = t1481 + t1482;
+        let t1485: f32 = t1483 + t1484;
+        let t1486: f32 = t651 * t1485;
+        let t1487: f32 = t1486 * 2.0;
+        let t1488: f32 = t1480 * t1487;
+        let t1489: f32 = t1475 + t1488;
+        let t1490: f32 = t1457 - t1489;
+        let t1491: f32 = t651 * t1490;
+        let t1492: f32 = -t1491;
+        let t1493: f32 = t680 * t1492;
+        let t1494: f32 = t1434 + t1493;
+        let t1495: f32 = t1459 + t1473;
+        let t1496: f32 = t1494 - t1495;
+        let t1497: f32 = t678 * t1496;
+        let t1498: f32 = t1469 * t1480;
+        let t1499: f32 = t1487 - t1498;
+        let t1500: f32 = t1467 * t1499;
+        let t1501: f32 = t672 * t1443;
+        let t1502: f32 = t676 * t1450;
+        let t1503: f32 = t684 * t1454;
+        let t1504: f32 = t1502 + t1503;
+        let t1505: f32 = t1501 + t1504;
+        let t1506: f32 = t1505 - t1500;
+        let t1507: f32 = t651 * t1506;
+        let t1508: f32 = t680 * t1507;
+        let t1509: f32 = t671 * t671;
+        let t1510: f32 = t649 * t651;
+        let t1511: f32 = t1509 * t1510;
+        let t1512: f32 = t1467 * t1511;
+        let t1513: f32 = t1480 * t1512;
+        let t1514: f32 = t691 * t1505;
         let t1515: f32 = t1513 + t1514;
-        let t1516: f32 = t14 * t1515;
-        let t1517: f32 = t1509 + t1516;
-        let t1518: f32 = t1502 + t1517;
-        let t1519: f32 = t1358 + t1383;
-        let t1520: f32 = t1408 + t1433;
-        let t1521: f32 = t1458 + t1483;
-        let t1522: f32 = t1519 + t1520;
-        let t1523: f32 = t1518 + t1521;
-        let t1524: f32 = t1522 + t1523;
-        let t1525: f32 = t1366 + t1391;
-        let t1526: f32 = t1416 + t1441;
-        let t1527: f32 = t1466 + t1491;
-        let t1528: f32 = t1493 + t1495;
-        let t1529: f32 = t1525 + t1526;
-        let t1530: f32 = t1527 + t1528;
-        let t1531: f32 = t1529 + t1530;
-        let t1532: f32 = t1524 - t1531;
-        let t1533: f32 = 1.0 / t1532;
-        let t1534: f32 = t828 + t856;
-        let t1535: f32 = t884 + t912;
-        let t1536: f32 = t940 + t968;
-        let t1537: f32 = t1534 + t1535;
-        let t1538: f32 = t1536 + t1537;
-        let t1539: f32 = t1198 * t1321;
-        let t1540: f32 = t1538 * t1539;
-        let t1541: f32 = t1322 * t1538;
-        let t1542: f32 = platform_mz * t1;
-        let t1543: f32 = t6 * t1542;
-        let t1544: f32 = platform_mx * t9;
-        let t1545: f32 = platform_my * t14;
-        let t1546: f32 = t1544 + t1545;
-        let t1547: f32 = t1543 + t1546;
-        let t1548: f32 = t1541 + t1547;
-        let t1549: f32 = t1009 + t1034;
-        let t1550: f32 = t1059 + t1084;
-        let t1551: f32 = t1109 + t1134;
-        let t1552: f32 = t1548 + t1549;
-        let t1553: f32 = t1550 + t1551;
-        let t1554: f32 = t1552 + t1553;
-        let t1555: f32 = t1237 * t1341;
-        let t1556: f32 = t1554 * t1555;
-        let t1557: f32 = platform_mx * t23;
-        let t1558: f32 = platform_my * t27;
-        let t1559: f32 = t1557 + t1558;
-        let t1560: f32 = platform_mz * t0;
-        let t1561: f32 = t6 * t1560;
-        let t1562: f32 = t1559 - t1561;
-        let t1563: f32 = t1556 + t1562;
-        let t1564: f32 = t1357 + t1382;
-        let t1565: f32 = t1407 + t1432;
-        let t1566: f32 = t1457 + t1482;
-        let t1567: f32 = t1563 + t1564;
-        let t1568: f32 = t1565 + t1566;
-        let t1569: f32 = t1567 + t1568;
-        let t1570: f32 = t1569 - t1540;
-        let t1571: f32 = t1538 * t1538;
-        let t1572: f32 = t1198 * t1571;
-        let t1573: f32 = t1554 * t1554;
-        let t1574: f32 = t1237 * t1573;
-        let t1575: f32 = t1570 * t1570;
-        let t1576: f32 = t1533 * t1575;
-        let t1577: f32 = t695 * t695;
-        let t1578: f32 = leg6_rod_mass * t1577;
-        let t1579: f32 = t73 * t73;
-        let t1580: f32 = t824 * t1579;
-        let t1581: f32 = t1578 + t1580;
-        let t1582: f32 = t198 * t198;
-        let t1583: f32 = t852 * t1582;
-        let t1584: f32 = t323 * t323;
-        let t1585: f32 = t880 * t1584;
-        let t1586: f32 = t1583 + t1585;
-        let t1587: f32 = t1581 + t1586;
-        let t1588: f32 = t448 * t448;
-        let t1589: f32 = t908 * t1588;
-        let t1590: f32 = t573 * t573;
-        let t1591: f32 = t936 * t1590;
-        let t1592: f32 = t1589 + t1591;
-        let t1593: f32 = t698 * t698;
-        let t1594: f32 = t964 * t1593;
-        let t1595: f32 = t810 * t810;
-        let t1596: f32 = t814 * t1595;
-        let t1597: f32 = t1594 + t1596;
-        let t1598: f32 = t1592 + t1597;
-        let t1599: f32 = t1587 + t1598;
-        let t1600: f32 = t838 * t838;
-        let t1601: f32 = t842 * t1600;
-        let t1602: f32 = t866 * t866;
-        let t1603: f32 = t870 * t1602;
-        let t1604: f32 = t1601 + t1603;
-        let t1605: f32 = t894 * t894;
-        let t1606: f32 = t898 * t1605;
-        let t1607: f32 = t922 * t922;
-        let t1608: f32 = t926 * t1607;
-        let t1609: f32 = t1606 + t1608;
-        let t1610: f32 = t1604 + t1609;
-        let t1611: f32 = t950 * t950;
-        let t1612: f32 = t954 * t1611;
-        let t1613: f32 = t70 * t70;
-        let t1614: f32 = leg1_rod_mass * t1613;
-        let t1615: f32 = platform_mass + t1614;
-        let t1616: f32 = t1612 + t1615;
-        let t1617: f32 = t195 * t195;
-        let t1618: f32 = leg2_rod_mass * t1617;
-        let t1619: f32 = t320 * t320;
-        let t1620: f32 = leg3_rod_mass * t1619;
-        let t1621: f32 = t1618 + t1620;
-        let t1622: f32 = t445 * t445;
-        let t1623: f32 = leg4_rod_mass * t1622;
-        let t1624: f32 = t570 * t570;
-        let t1625: f32 = leg5_rod_mass * t1624;
-        let t1626: f32 = t1623 + t1625;
-        let t1627: f32 = t1621 + t1626;
-        let t1628: f32 = t1616 + t1627;
-        let t1629: f32 = t1610 + t1628;
-        let t1630: f32 = t1599 + t1629;
-        let t1631: f32 = t1572 + t1574;
-        let t1632: f32 = t1576 + t1631;
-        let t1633: f32 = t1630 - t1632;
-        let t1634: f32 = 1.0 / t1633;
-        let t1635: f32 = t1148 + t1547;
-        let t1636: f32 = t1155 + t1162;
-        let t1637: f32 = t1169 + t1176;
-        let t1638: f32 = t1635 + t1636;
-        let t1639: f32 = t1183 + t1637;
-        let t1640: f32 = t1638 + t1639;
-        let t1641: f32 = t1198 * t1640;
-        let t1642: f32 = t1538 * t1641;
-        let t1643: f32 = t993 * t1641;
-        let t1644: f32 = t1245 + t1643;
-        let t1645: f32 = t1254 + t1263;
-        let t1646: f32 = t1272 + t1281;
-        let t1647: f32 = t1644 + t1645;
-        let t1648: f32 = t1290 + t1646;
-        let t1649: f32 = t1647 + t1648;
-        let t1650: f32 = t1237 * t1649;
-        let t1651: f32 = t1554 * t1650;
-        let t1652: f32 = t1321 * t1641;
-        let t1653: f32 = t1341 * t1650;
-        let t1654: f32 = platform_mz * t5;
-        let t1655: f32 = platform_mx * t6;
-        let t1656: f32 = t3 * t1655;
-        let t1657: f32 = platform_my * t2;
-        let t1658: f32 = t6 * t1657;
-        let t1659: f32 = t1656 - t1658;
-        let t1660: f32 = t1654 + t1659;
-        let t1661: f32 = t1652 + t1660;
-        let t1662: f32 = t1365 + t1653;
-        let t1663: f32 = t1390 + t1415;
-        let t1664: f32 = t1440 + t1465;
-        let t1665: f32 = t1662 + t1663;
-        let t1666: f32 = t1490 + t1664;
-        let t1667: f32 = t1665 + t1666;
-        let t1668: f32 = t1661 - t1667;
-        let t1669: f32 = t1533 * t1668;
-        let t1670: f32 = t1570 * t1669;
-        let t1671: f32 = t577 * t929;
-        let t1672: f32 = t702 * t957;
-        let t1673: f32 = t1671 + t1672;
-        let t1674: f32 = t73 * t79;
-        let t1675: f32 = t824 * t1674;
-        let t1676: f32 = t198 * t204;
-        let t1677: f32 = t852 * t1676;
-        let t1678: f32 = t1675 + t1677;
-        let t1679: f32 = t1673 + t1678;
-        let t1680: f32 = t323 * t329;
-        let t1681: f32 = t880 * t1680;
-        let t1682: f32 = t448 * t454;
-        let t1683: f32 = t908 * t1682;
-        let t1684: f32 = t1681 + t1683;
-        let t1685: f32 = t573 * t579;
-        let t1686: f32 = t936 * t1685;
-        let t1687: f32 = t698 * t704;
-        let t1688: f32 = t964 * t1687;
-        let t1689: f32 = t1686 + t1688;
-        let t1690: f32 = t1684 + t1689;
-        let t1691: f32 = t1679 + t1690;
-        let t1692: f32 = t75 * t810;
-        let t1693: f32 = t814 * t1692;
-        let t1694: f32 = t200 * t838;
-        let t1695: f32 = t842 * t1694;
-        let t1696: f32 = t1693 + t1695;
-        let t1697: f32 = t325 * t866;
-        let t1698: f32 = t870 * t1697;
-        let t1699: f32 = t450 * t894;
-        let t1700: f32 = t898 * t1699;
-        let t1701: f32 = t1698 + t1700;
-        let t1702: f32 = t1696 + t1701;
-        let t1703: f32 = t575 * t922;
-        let t1704: f32 = t926 * t1703;
-        let t1705: f32 = t700 * t950;
-        let t1706: f32 = t954 * t1705;
-        let t1707: f32 = t1704 + t1706;
-        let t1708: f32 = t77 * t817;
-        let t1709: f32 = t202 * t845;
-        let t1710: f32 = t1708 + t1709;
-        let t1711: f32 = t327 * t873;
-        let t1712: f32 = t452 * t901;
-        let t1713: f32 = t1711 + t1712;
-        let t1714: f32 = t1710 + t1713;
-        let t1715: f32 = t1707 + t1714;
-        let t1716: f32 = t1702 + t1715;
-        let t1717: f32 = t1691 + t1716;
-        let t1718: f32 = t1670 + t1717;
-        let t1719: f32 = t1642 + t1651;
-        let t1720: f32 = t1718 - t1719;
-        let t1721: f32 = t1640 * t1640;
-        let t1722: f32 = t1198 * t1721;
-        let t1723: f32 = t1649 * t1649;
-        let t1724: f32 = t1237 * t1723;
-        let t1725: f32 = t1668 * t1668;
-        let t1726: f32 = t1533 * t1725;
-        let t1727: f32 = t1720 * t1720;
-        let t1728: f32 = t1634 * t1727;
-        let t1729: f32 = t702 * t702;
-        let t1730: f32 = leg6_rod_mass * t1729;
-        let t1731: f32 = t79 * t79;
-        let t1732: f32 = t824 * t1731;
-        let t1733: f32 = t1730 + t1732;
-        let t1734: f32 = t204 * t204;
-        let t1735: f32 = t852 * t1734;
-        let t1736: f32 = t329 * t329;
-        let t1737: f32 = t880 * t1736;
-        let t1738: f32 = t1735 + t1737;
-        let t1739: f32 = t1733 + t1738;
-        let t1740: f32 = t454 * t454;
-        let t1741: f32 = t908 * t1740;
-        let t1742: f32 = t579 * t579;
-        let t1743: f32 = t936 * t1742;
-        let t1744: f32 = t1741 + t1743;
-        let t1745: f32 = t704 * t704;
-        let t1746: f32 = t964 * t1745;
-        let t1747: f32 = t75 * t75;
-        let t1748: f32 = t814 * t1747;
-        let t1749: f32 = t1746 + t1748;
-        let t1750: f32 = t1744 + t1749;
-        let t1751: f32 = t1739 + t1750;
-        let t1752: f32 = t200 * t200;
-        let t1753: f32 = t842 * t1752;
-        let t1754: f32 = t325 * t325;
-        let t1755: f32 = t870 * t1754;
-        let t1756: f32 = t1753 + t1755;
-        let t1757: f32 = t450 * t450;
-        let t1758: f32 = t898 * t1757;
-        let t1759: f32 = t575 * t575;
-        let t1760: f32 = t926 * t1759;
-        let t1761: f32 = t1758 + t1760;
-        let t1762: f32 = t1756 + t1761;
-        let t1763: f32 = t700 * t700;
-        let t1764: f32 = t954 * t1763;
-        let t1765: f32 = t77 * t77;
-        let t1766: f32 = leg1_rod_mass * t1765;
-        let t1767: f32 = platform_mass + t1766;
-        let t1768: f32 = t1764 + t1767;
-        let t1769: f32 = t202 * t202;
-        let t1770: f32 = leg2_rod_mass * t1769;
-        let t1771: f32 = t327 * t327;
-        let t1772: f32 = leg3_rod_mass * t1771;
-        let t1773: f32 = t1770 + t1772;
-        let t1774: f32 = t452 * t452;
-        let t1775: f32 = leg4_rod_mass * t1774;
-        let t1776: f32 = t577 * t577;
-        let t1777: f32 = leg5_rod_mass * t1776;
-        let t1778: f32 = t1775 + t1777;
-        let t1779: f32 = t1773 + t1778;
-        let t1780: f32 = t1768 + t1779;
-        let t1781: f32 = t1762 + t1780;
-        let t1782: f32 = t1751 + t1781;
-        let t1783: f32 = t1722 + t1724;
-        let t1784: f32 = t1726 + t1728;
-        let t1785: f32 = t1783 + t1784;
-        let t1786: f32 = t1782 - t1785;
-        let t1787: f32 = 1.0 / t1786;
-        let t1788: f32 = t834 + t862;
-        let t1789: f32 = t890 + t918;
-        let t1790: f32 = t946 + t974;
-        let t1791: f32 = t1788 + t1789;
-        let t1792: f32 = t1790 + t1791;
-        let t1793: f32 = t1562 - t1792;
-        let t1794: f32 = t1641 * t1793;
-        let t1795: f32 = t1322 * t1793;
-        let t1796: f32 = t1660 + t1795;
-        let t1797: f32 = t1017 + t1042;
-        let t1798: f32 = t1067 + t1092;
-        let t1799: f32 = t1117 + t1142;
-        let t1800: f32 = t1797 + t1798;
-        let t1801: f32 = t1799 + t1800;
-        let t1802: f32 = t1796 - t1801;
-        let t1803: f32 = t1650 * t1802;
-        let t1804: f32 = t1539 * t1793;
-        let t1805: f32 = t1555 * t1802;
-        let t1806: f32 = t637 * t1449;
-        let t1807: f32 = t762 * t1474;
-        let t1808: f32 = t1806 + t1807;
-        let t1809: f32 = t62 * t1353;
-        let t1810: f32 = t824 * t1809;
-        let t1811: f32 = t187 * t1378;
-        let t1812: f32 = t852 * t1811;
-        let t1813: f32 = t1810 + t1812;
-        let t1814: f32 = t1808 + t1813;
-        let t1815: f32 = t312 * t1403;
-        let t1816: f32 = t880 * t1815;
-        let t1817: f32 = t437 * t1428;
-        let t1818: f32 = t908 * t1817;
-        let t1819: f32 = t1816 + t1818;
-        let t1820: f32 = t562 * t1453;
-        let t1821: f32 = t936 * t1820;
-        let t1822: f32 = t687 * t1478;
-        let t1823: f32 = t964 * t1822;
-        let t1824: f32 = t1821 + t1823;
-        let t1825: f32 = t1819 + t1824;
-        let t1826: f32 = t1814 + t1825;
-        let t1827: f32 = t81 * t1344;
-        let t1828: f32 = t814 * t1827;
-        let t1829: f32 = t206 * t1369;
-        let t1830: f32 = t842 * t1829;
-        let t1831: f32 = t1828 + t1830;
-        let t1832: f32 = t331 * t1394;
-        let t1833: f32 = t870 * t1832;
-        let t1834: f32 = t456 * t1419;
-        let t1835: f32 = t898 * t1834;
-        let t1836: f32 = t1833 + t1835;
-        let t1837: f32 = t1831 + t1836;
-        let t1838: f32 = t581 * t1444;
-        let t1839: f32 = t926 * t1838;
-        let t1840: f32 = t706 * t1469;
-        let t1841: f32 = t954 * t1840;
-        let t1842: f32 = t1839 + t1841;
-        let t1843: f32 = t137 * t1349;
-        let t1844: f32 = t262 * t1374;
-        let t1845: f32 = t1843 + t1844;
-        let t1846: f32 = t387 * t1399;
-        let t1847: f32 = t512 * t1424;
-        let t1848: f32 = t1846 + t1847;
-        let t1849: f32 = t1845 + t1848;
-        let t1850: f32 = t1842 + t1849;
-        let t1851: f32 = t1837 + t1850;
-        let t1852: f32 = t1826 + t1851;
-        let t1853: f32 = t1804 + t1852;
-        let t1854: f32 = t1853 - t1805;
-        let t1855: f32 = t1669 * t1854;
-        let t1856: f32 = t1198 * t1538;
-        let t1857: f32 = t1793 * t1856;
-        let t1858: f32 = t1237 * t1554;
-        let t1859: f32 = t1802 * t1858;
-        let t1860: f32 = t1533 * t1570;
-        let t1861: f32 = t1854 * t1860;
-        let t1862: f32 = t572 * t929;
-        let t1863: f32 = t697 * t957;
-        let t1864: f32 = t1862 + t1863;
-        let t1865: f32 = t62 * t73;
-        let t1866: f32 = t824 * t1865;
-        let t1867: f32 = t187 * t198;
-        let t1868: f32 = t852 * t1867;
-        let t1869: f32 = t1866 + t1868;
-        let t1870: f32 = t1864 + t1869;
-        let t1871: f32 = t312 * t323;
-        let t1872: f32 = t880 * t1871;
-        let t1873: f32 = t437 * t448;
-        let t1874: f32 = t908 * t1873;
-        let t1875: f32 = t1872 + t1874;
-        let t1876: f32 = t562 * t573;
-        let t1877: f32 = t936 * t1876;
-        let t1878: f32 = t687 * t698;
-        let t1879: f32 = t964 * t1878;
-        let t1880: f32 = t1877 + t1879;
-        let t1881: f32 = t1875 + t1880;
-        let t1882: f32 = t1870 + t1881;
-        let t1883: f32 = t81 * t810;
-        let t1884: f32 = t814 * t1883;
-        let t1885: f32 = t206 * t838;
-        let t1886: f32 = t842 * t1885;
-        let t1887: f32 = t1884 + t1886;
-        let t1888: f32 = t331 * t866;
-        let t1889: f32 = t870 * t1888;
-        let t1890: f32 = t456 * t894;
-        let t1891: f32 = t898 * t1890;
-        let t1892: f32 = t1889 + t1891;
-        let t1893: f32 = t1887 + t1892;
-        let t1894: f32 = t581 * t922;
-        let t1895: f32 = t926 * t1894;
-        let t1896: f32 = t706 * t950;
-        let t1897: f32 = t954 * t1896;
-        let t1898: f32 = t1895 + t1897;
-        let t1899: f32 = t72 * t817;
-        let t1900: f32 = t197 * t845;
-        let t1901: f32 = t1899 + t1900;
-        let t1902: f32 = t322 * t873;
-        let t1903: f32 = t447 * t901;
-        let t1904: f32 = t1902 + t1903;
-        let t1905: f32 = t1901 + t1904;
-        let t1906: f32 = t1898 + t1905;
-        let t1907: f32 = t1893 + t1906;
-        let t1908: f32 = t1882 + t1907;
-        let t1909: f32 = t1857 + t1859;
-        let t1910: f32 = t1908 + t1909;
-        let t1911: f32 = t1910 - t1861;
-        let t1912: f32 = t1634 * t1720;
-        let t1913: f32 = t1911 * t1912;
-        let t1914: f32 = t577 * t637;
-        let t1915: f32 = t702 * t762;
+        let t1516: f32 = t651 * t1515;
+        let t1517: f32 = t1468 * t1499;
+        let t1518: f32 = -t1517;
+        let t1519: f32 = t691 * t1518;
+        let t1520: f32 = t1516 + t1519;
+        let t1521: f32 = t691 * t693;
+        let t1522: f32 = t1520 * t1521;
+        let t1523: f32 = t651 * t1480;
+        let t1524: f32 = t1470 * t1523;
+        let t1525: f32 = t1471 * t1524;
+        let t1526: f32 = gravity_x * t676;
+        let t1527: f32 = gravity_y * t684;
+        let t1528: f32 = gravity_z * t672;
+        let t1529: f32 = t1526 + t1527;
+        let t1530: f32 = t1528 + t1529;
+        let t1531: f32 = leg6_cylinder_mz * t1530;
+        let t1532: f32 = t1505 - t1530;
+        let t1533: f32 = leg6_rod_mz * t1532;
+        let t1534: f32 = t1531 - t1533;
+        let t1535: f32 = t1525 + t1534;
+        let t1536: f32 = t1508 + t1522;
+        let t1537: f32 = t1535 - t1536;
+        let t1538: f32 = t684 * t1537;
+        let t1539: f32 = t1497 + t1538;
+        let t1540: f32 = t651 * t1539;
+        let t1541: f32 = t673 * t1450;
+        let t1542: f32 = t652 * t1454;
+        let t1543: f32 = t675 * t1443;
+        let t1544: f32 = t1541 + t1542;
+        let t1545: f32 = t1543 + t1544;
+        let t1546: f32 = gravity_x * t673;
+        let t1547: f32 = gravity_y * t652;
+        let t1548: f32 = gravity_z * t675;
+        let t1549: f32 = t1546 + t1547;
+        let t1550: f32 = t1548 + t1549;
+        let t1551: f32 = t1545 - t1550;
+        let t1552: f32 = leg6_rod_mass * t1551;
+        let t1553: f32 = t1468 * t1468;
+        let t1554: f32 = t1523 * t1523;
+        let t1555: f32 = t1553 + t1554;
+        let t1556: f32 = leg6_rod_mz * t1555;
+        let t1557: f32 = t1552 - t1556;
+        let t1558: f32 = t652 * t1557;
+        let t1559: f32 = leg6_rod_mass * t1458;
+        let t1560: f32 = t1472 + t1491;
+        let t1561: f32 = leg6_rod_mz * t1560;
+        let t1562: f32 = t1559 + t1561;
+        let t1563: f32 = t678 * t1562;
+        let t1564: f32 = leg6_rod_mass * t1532;
+        let t1565: f32 = t1524 - t1507;
+        let t1566: f32 = leg6_rod_mz * t1565;
+        let t1567: f32 = t1564 - t1566;
+        let t1568: f32 = t684 * t1567;
+        let t1569: f32 = t1563 + t1568;
+        let t1570: f32 = t1558 + t1569;
+        let t1571: f32 = t1540 - t1570;
+        let t1572: f32 = -t1571;
+        let t1573: f32 = t626 * t1572;
+        let t1574: f32 = t651 * t1496;
+        let t1575: f32 = t1562 - t1574;
+        let t1576: f32 = t718 * t1575;
+        let t1577: f32 = t675 * t1557;
+        let t1578: f32 = t651 * t1537;
+        let t1579: f32 = t1567 - t1578;
+        let t1580: f32 = t672 * t1579;
+        let t1581: f32 = t1577 + t1580;
+        let t1582: f32 = t1576 + t1581;
+        let t1583: f32 = t632 * t1582;
+        let t1584: f32 = t1573 - t1583;
+        let t1585: f32 = t266 * t274;
+        let t1586: f32 = t272 * t277;
+        let t1587: f32 = t1585 - t1586;
+        let t1588: f32 = g3 * t291;
+        let t1589: f32 = t1587 * t1588;
+        let t1590: f32 = t386 * t394;
+        let t1591: f32 = t392 * t397;
+        let t1592: f32 = t1590 - t1591;
+        let t1593: f32 = g4 * t411;
+        let t1594: f32 = t1592 * t1593;
+        let t1595: f32 = t1589 + t1594;
+        let t1596: f32 = t506 * t514;
+        let t1597: f32 = t512 * t517;
+        let t1598: f32 = t1596 - t1597;
+        let t1599: f32 = g5 * t531;
+        let t1600: f32 = t1598 * t1599;
+        let t1601: f32 = t626 * t634;
+        let t1602: f32 = t632 * t637;
+        let t1603: f32 = t1601 - t1602;
+        let t1604: f32 = g6 * t651;
+        let t1605: f32 = t1603 * t1604;
+        let t1606: f32 = t1600 + t1605;
+        let t1607: f32 = t1595 + t1606;
+        let t1608: f32 = wx * t6;
+        let t1609: f32 = t3 * t1608;
+        let t1610: f32 = wy * t23;
+        let t1611: f32 = wz * t9;
+        let t1612: f32 = t1609 + t1610;
+        let t1613: f32 = t1611 + t1612;
+        let t1614: f32 = platform_ixy * t1613;
+        let t1615: f32 = wx * t2;
+        let t1616: f32 = t6 * t1615;
+        let t1617: f32 = wy * t27;
+        let t1618: f32 = wz * t14;
+        let t1619: f32 = t1617 + t1618;
+        let t1620: f32 = t1616 - t1619;
+        let t1621: f32 = platform_iyy * t1620;
+        let t1622: f32 = wx * t5;
+        let t1623: f32 = wy * t0;
+        let t1624: f32 = wz * t1;
+        let t1625: f32 = t1623 - t1624;
+        let t1626: f32 = t6 * t1625;
+        let t1627: f32 = t1622 - t1626;
+        let t1628: f32 = platform_iyz * t1627;
+        let t1629: f32 = t1614 + t1628;
+        let t1630: f32 = t1629 - t1621;
+        let t1631: f32 = t1613 * t1630;
+        let t1632: f32 = platform_ixx * t1613;
+        let t1633: f32 = platform_ixy * t1620;
+        let t1634: f32 = platform_ixz * t1627;
+        let t1635: f32 = t1632 + t1634;
+        let t1636: f32 = t1635 - t1633;
+        let t1637: f32 = t1620 * t1636;
+        let t1638: f32 = t1631 + t1637;
+        let t1639: f32 = t5 * t1638;
+        let t1640: f32 = platform_ixz * t1613;
+        let t1641: f32 = platform_iyz * t1620;
+        let t1642: f32 = platform_izz * t1627;
+        let t1643: f32 = t1640 + t1642;
+        let t1644: f32 = t1643 - t1641;
+        let t1645: f32 = t1620 * t1644;
+        let t1646: f32 = t1627 * t1630;
+        let t1647: f32 = t1645 + t1646;
+        let t1648: f32 = t3 * t1647;
+        let t1649: f32 = t1627 * t1636;
+        let t1650: f32 = t1613 * t1644;
+        let t1651: f32 = t1649 - t1650;
+        let t1652: f32 = t2 * t1651;
+        let t1653: f32 = t1648 + t1652;
+        let t1654: f32 = t6 * t1653;
+        let t1655: f32 = t1639 - t1654;
+        let t1656: f32 = gravity_y * t1074;
+        let t1657: f32 = gravity_z * t1268;
+        let t1658: f32 = t1656 - t1657;
+        let t1659: f32 = t19 * t34;
+        let t1660: f32 = t32 * t37;
+        let t1661: f32 = t1659 - t1660;
+        let t1662: f32 = g1 * t51;
+        let t1663: f32 = t1661 * t1662;
+        let t1664: f32 = t146 * t154;
+        let t1665: f32 = t152 * t157;
+        let t1666: f32 = t1664 - t1665;
+        let t1667: f32 = g2 * t171;
+        let t1668: f32 = t1666 * t1667;
+        let t1669: f32 = t1663 + t1668;
+        let t1670: f32 = t1658 + t1669;
+        let t1671: f32 = t1655 + t1670;
+        let t1672: f32 = t1607 + t1671;
+        let t1673: f32 = gravity_x * t784;
+        let t1674: f32 = gravity_y * t78;
+        let t1675: f32 = gravity_z * t118;
+        let t1676: f32 = t1673 + t1674;
+        let t1677: f32 = t1675 + t1676;
+        let t1678: f32 = leg1_cylinder_mz * t1677;
+        let t1679: f32 = wy * t19;
+        let t1680: f32 = wz * t32;
+        let t1681: f32 = t1679 - t1680;
+        let t1682: f32 = wy * t1681;
+        let t1683: f32 = wz * t44;
+        let t1684: f32 = wx * t19;
+        let t1685: f32 = t1683 - t1684;
+        let t1686: f32 = wx * t1685;
+        let t1687: f32 = t1686 - t1682;
+        let t1688: f32 = t118 * t1687;
+        let t1689: f32 = wx * t32;
+        let t1690: f32 = wy * t44;
+        let t1691: f32 = t1689 - t1690;
+        let t1692: f32 = wy * t1691;
+        let t1693: f32 = wz * t1685;
+        let t1694: f32 = t1692 - t1693;
+        let t1695: f32 = t784 * t1694;
+        let t1696: f32 = wz * t1681;
+        let t1697: f32 = wx * t1691;
+        let t1698: f32 = t1696 - t1697;
+        let t1699: f32 = t78 * t1698;
+        let t1700: f32 = t1695 + t1699;
+        let t1701: f32 = t1688 + t1700;
+        let t1702: f32 = t1701 - t1677;
+        let t1703: f32 = leg1_rod_mz * t1702;
+        let t1704: f32 = vx + t1681;
+        let t1705: f32 = t76 * t1704;
+        let t1706: f32 = vy + t1685;
+        let t1707: f32 = t84 * t1706;
+        let t1708: f32 = vz + t1691;
+        let t1709: f32 = t72 * t1708;
+        let t1710: f32 = t1705 + t1707;
+        let t1711: f32 = t1709 + t1710;
+        let t1712: f32 = t51 * t1711;
+        let t1713: f32 = t51 * t91;
+        let t1714: f32 = t1711 * t1713;
+        let t1715: f32 = t80 - t93;
+        let t1716: f32 = t1712 * t1714;
+        let t1717: f32 = t1715 * t1716;
+        let t1718: f32 = t1711 * t1711;
+        let t1719: f32 = t1713 * t1718;
+        let t1720: f32 = t784 * t1704;
+        let t1721: f32 = t78 * t1706;
+        let t1722: f32 = t118 * t1708;
+        let t1723: f32 = t1720 + t1721;
+        let t1724: f32 = t1722 + t1723;
+        let t1725: f32 = t73 * t1704;
+        let t1726: f32 = t52 * t1706;
+        let t1727: f32 = t75 * t1708;
+        let t1728: f32 = t1725 + t1726;
+        let t1729: f32 = t1727 + t1728;
+        let t1730: f32 = t51 * t1729;
+        let t1731: f32 = t1730 * 2.0;
+        let t1732: f32 = t1724 * t1731;
+        let t1733: f32 = t1719 + t1732;
+        let t1734: f32 = t1701 - t1733;
+        let t1735: f32 = t51 * t1734;
+        let t1736: f32 = -t1735;
+        let t1737: f32 = t80 * t1736;
+        let t1738: f32 = t1678 + t1737;
+        let t1739: f32 = t1703 + t1717;
+        let t1740: f32 = t1738 - t1739;
+        let t1741: f32 = t78 * t1740;
+        let t1742: f32 = t1713 * t1724;
+        let t1743: f32 = t1731 - t1742;
+        let t1744: f32 = t1711 * t1743;
+        let t1745: f32 = t72 * t1687;
+        let t1746: f32 = t76 * t1694;
+        let t1747: f32 = t84 * t1698;
+        let t1748: f32 = t1746 + t1747;
+        let t1749: f32 = t1745 + t1748;
+        let t1750: f32 = t1749 - t1744;
+        let t1751: f32 = t51 * t1750;
+        let t1752: f32 = t80 * t1751;
+        let t1753: f32 = t71 * t71;
+        let t1754: f32 = t49 * t51;
+        let t1755: f32 = t1753 * t1754;
+        let t1756: f32 = t1711 * t1755;
+        let t1757: f32 = t1724 * t1756;
+        let t1758: f32 = t91 * t1749;
+        let t1759: f32 = t1757 + t1758;
+        let t1760: f32 = t51 * t1759;
+        let t1761: f32 = t1712 * t1743;
+        let t1762: f32 = -t1761;
+        let t1763: f32 = t91 * t1762;
+        let t1764: f32 = t1760 + t1763;
+        let t1765: f32 = t91 * t93;
+        let t1766: f32 = t1764 * t1765;
+        let t1767: f32 = t51 * t1724;
+        let t1768: f32 = t1714 * t1767;
+        let t1769: f32 = t1715 * t1768;
+        let t1770: f32 = gravity_x * t76;
+        let t1771: f32 = gravity_y * t84;
+        let t1772: f32 = gravity_z * t72;
+        let t1773: f32 = t1770 + t1771;
+        let t1774: f32 = t1772 + t1773;
+        let t1775: f32 = leg1_cylinder_mz * t1774;
+        let t1776: f32 = t1749 - t1774;
+        let t1777: f32 = leg1_rod_mz * t1776;
+        let t1778: f32 = t1775 - t1777;
+        let t1779: f32 = t1769 + t1778;
+        let t1780: f32 = t1752 + t1766;
+        let t1781: f32 = t1779 - t1780;
+        let t1782: f32 = t84 * t1781;
+        let t1783: f32 = t1741 + t1782;
+        let t1784: f32 = t51 * t1783;
+        let t1785: f32 = t73 * t1694;
+        let t1786: f32 = t52 * t1698;
+        let t1787: f32 = t75 * t1687;
+        let t1788: f32 = t1785 + t1786;
+        let t1789: f32 = t1787 + t1788;
+        let t1790: f32 = gravity_x * t73;
+        let t1791: f32 = gravity_y * t52;
+        let t1792: f32 = gravity_z * t75;
+        let t1793: f32 = t1790 + t1791;
+        let t1794: f32 = t1792 + t1793;
+        let t1795: f32 = t1789 - t1794;
+        let t1796: f32 = leg1_rod_mass * t1795;
+        let t1797: f32 = t1712 * t1712;
+        let t1798: f32 = t1767 * t1767;
+        let t1799: f32 = t1797 + t1798;
+        let t1800: f32 = leg1_rod_mz * t1799;
+        let t1801: f32 = t1796 - t1800;
+        let t1802: f32 = t52 * t1801;
+        let t1803: f32 = leg1_rod_mass * t1702;
+        let t1804: f32 = t1716 + t1735;
+        let t1805: f32 = leg1_rod_mz * t1804;
+        let t1806: f32 = t1803 + t1805;
+        let t1807: f32 = t78 * t1806;
+        let t1808: f32 = leg1_rod_mass * t1776;
+        let t1809: f32 = t1768 - t1751;
+        let t1810: f32 = leg1_rod_mz * t1809;
+        let t1811: f32 = t1808 - t1810;
+        let t1812: f32 = t84 * t1811;
+        let t1813: f32 = t1807 + t1812;
+        let t1814: f32 = t1802 + t1813;
+        let t1815: f32 = t1814 - t1784;
+        let t1816: f32 = t19 * t1815;
+        let t1817: f32 = t75 * t1801;
+        let t1818: f32 = t51 * t1781;
+        let t1819: f32 = t1811 - t1818;
+        let t1820: f32 = t72 * t1819;
+        let t1821: f32 = t51 * t1740;
+        let t1822: f32 = t1806 - t1821;
+        let t1823: f32 = t118 * t1822;
+        let t1824: f32 = t1820 + t1823;
+        let t1825: f32 = t1817 + t1824;
+        let t1826: f32 = t32 * t1825;
+        let t1827: f32 = t1816 - t1826;
+        let t1828: f32 = t1672 - t1827;
+        let t1829: f32 = t1584 - t1828;
+        let t1830: f32 = gravity_x * t807;
+        let t1831: f32 = gravity_y * t198;
+        let t1832: f32 = gravity_z * t238;
+        let t1833: f32 = t1830 + t1831;
+        let t1834: f32 = t1832 + t1833;
+        let t1835: f32 = leg2_cylinder_mz * t1834;
+        let t1836: f32 = wy * t146;
+        let t1837: f32 = wz * t152;
+        let t1838: f32 = t1836 - t1837;
+        let t1839: f32 = wy * t1838;
+        let t1840: f32 = wz * t164;
+        let t1841: f32 = wx * t146;
+        let t1842: f32 = t1840 - t1841;
+        let t1843: f32 = wx * t1842;
+        let t1844: f32 = t1843 - t1839;
+        let t1845: f32 = t238 * t1844;
+        let t1846: f32 = wx * t152;
+        let t1847: f32 = wy * t164;
+        let t1848: f32 = t1846 - t1847;
+        let t1849: f32 = wy * t1848;
+        let t1850: f32 = wz * t1842;
+        let t1851: f32 = t1849 - t1850;
+        let t1852: f32 = t807 * t1851;
+        let t1853: f32 = wz * t1838;
+        let t1854: f32 = wx * t1848;
+        let t1855: f32 = t1853 - t1854;
+        let t1856: f32 = t198 * t1855;
+        let t1857: f32 = t1852 + t1856;
+        let t1858: f32 = t1845 + t1857;
+        let t1859: f32 = t1858 - t1834;
+        let t1860: f32 = leg2_rod_mz * t1859;
+        let t1861: f32 = vx + t1838;
+        let t1862: f32 = t196 * t1861;
+        let t1863: f32 = vy + t1842;
+        let t1864: f32 = t204 * t1863;
+        let t1865: f32 = vz + t1848;
+        let t1866: f32 = t192 * t1865;
+        let t1867: f32 = t1862 + t1864;
+        let t1868: f32 = t1866 + t1867;
+        let t1869: f32 = t171 * t1868;
+        let t1870: f32 = t171 * t211;
+        let t1871: f32 = t1868 * t1870;
+        let t1872: f32 = t200 - t213;
+        let t1873: f32 = t1869 * t1871;
+        let t1874: f32 = t1872 * t1873;
+        let t1875: f32 = t1868 * t1868;
+        let t1876: f32 = t1870 * t1875;
+        let t1877: f32 = t807 * t1861;
+        let t1878: f32 = t198 * t1863;
+        let t1879: f32 = t238 * t1865;
+        let t1880: f32 = t1877 + t1878;
+        let t1881: f32 = t1879 + t1880;
+        let t1882: f32 = t193 * t1861;
+        let t1883: f32 = t172 * t1863;
+        let t1884: f32 = t195 * t1865;
+        let t1885: f32 = t1882 + t1883;
+        let t1886: f32 = t1884 + t1885;
+        let t1887: f32 = t171 * t1886;
+        let t1888: f32 = t1887 * 2.0;
+        let t1889: f32 = t1881 * t1888;
+        let t1890: f32 = t1876 + t1889;
+        let t1891: f32 = t1858 - t1890;
+        let t1892: f32 = t171 * t1891;
+        let t1893: f32 = -t1892;
+        let t1894: f32 = t200 * t1893;
+        let t1895: f32 = t1835 + t1894;
+        let t1896: f32 = t1860 + t1874;
+        let t1897: f32 = t1895 - t1896;
+        let t1898: f32 = t198 * t1897;
+        let t1899: f32 = t1870 * t1881;
+        let t1900: f32 = t1888 - t1899;
+        let t1901: f32 = t1868 * t1900;
+        let t1902: f32 = t192 * t1844;
+        let t1903: f32 = t196 * t1851;
+        let t1904: f32 = t204 * t1855;
+        let t1905: f32 = t1903 + t1904;
+        let t1906: f32 = t1902 + t1905;
+        let t1907: f32 = t1906 - t1901;
+        let t1908: f32 = t171 * t1907;
+        let t1909: f32 = t200 * t1908;
+        let t1910: f32 = t191 * t191;
+        let t1911: f32 = t169 * t171;
+        let t1912: f32 = t1910 * t1911;
+        let t1913: f32 = t1868 * t1912;
+        let t1914: f32 = t1881 * t1913;
+        let t1915: f32 = t211 * t1906;
         let t1916: f32 = t1914 + t1915;
-        let t1917: f32 = t62 * t79;
-        let t1918: f32 = t824 * t1917;
-        let t1919: f32 = t187 * t204;
-        let t1920: f32 = t852 * t1919;
-        let t1921: f32 = t1918 + t1920;
-        let t1922: f32 = t1916 + t1921;
-        let t1923: f32 = t312 * t329;
-        let t1924: f32 = t880 * t1923;
-        let t1925: f32 = t437 * t454;
-        let t1926: f32 = t908 * t1925;
-        let t1927: f32 = t1924 + t1926;
-        let t1928: f32 = t562 * t579;
-        let t1929: f32 = t936 * t1928;
-        let t1930: f32 = t687 * t704;
-        let t1931: f32 = t964 * t1930;
-        let t1932: f32 = t1929 + t1931;
-        let t1933: f32 = t1927 + t1932;
-        let t1934: f32 = t1922 + t1933;
-        let t1935: f32 = t75 * t81;
-        let t1936: f32 = t814 * t1935;
-        let t1937: f32 = t200 * t206;
-        let t1938: f32 = t842 * t1937;
-        let t1939: f32 = t1936 + t1938;
-        let t1940: f32 = t325 * t331;
-        let t1941: f32 = t870 * t1940;
-        let t1942: f32 = t450 * t456;
-        let t1943: f32 = t898 * t1942;
-        let t1944: f32 = t1941 + t1943;
-        let t1945: f32 = t1939 + t1944;
-        let t1946: f32 = t575 * t581;
-        let t1947: f32 = t926 * t1946;
-        let t1948: f32 = t700 * t706;
-        let t1949: f32 = t954 * t1948;
-        let t1950: f32 = t1947 + t1949;
-        let t1951: f32 = t77 * t137;
-        let t1952: f32 = t202 * t262;
-        let t1953: f32 = t1951 + t1952;
-        let t1954: f32 = t327 * t387;
-        let t1955: f32 = t452 * t512;
+        let t1917: f32 = t171 * t1916;
+        let t1918: f32 = t1869 * t1900;
+        let t1919: f32 = -t1918;
+        let t1920: f32 = t211 * t1919;
+        let t1921: f32 = t1917 + t1920;
+        let t1922: f32 = t211 * t213;
+        let t1923: f32 = t1921 * t1922;
+        let t1924: f32 = t171 * t1881;
+        let t1925: f32 = t1871 * t1924;
+        let t1926: f32 = t1872 * t1925;
+        let t1927: f32 = gravity_x * t196;
+        let t1928: f32 = gravity_y * t204;
+        let t1929: f32 = gravity_z * t192;
+        let t1930: f32 = t1927 + t1928;
+        let t1931: f32 = t1929 + t1930;
+        let t1932: f32 = leg2_cylinder_mz * t1931;
+        let t1933: f32 = t1906 - t1931;
+        let t1934: f32 = leg2_rod_mz * t1933;
+        let t1935: f32 = t1932 - t1934;
+        let t1936: f32 = t1926 + t1935;
+        let t1937: f32 = t1909 + t1923;
+        let t1938: f32 = t1936 - t1937;
+        let t1939: f32 = t204 * t1938;
+        let t1940: f32 = t1898 + t1939;
+        let t1941: f32 = t171 * t1940;
+        let t1942: f32 = t193 * t1851;
+        let t1943: f32 = t172 * t1855;
+        let t1944: f32 = t195 * t1844;
+        let t1945: f32 = t1942 + t1943;
+        let t1946: f32 = t1944 + t1945;
+        let t1947: f32 = gravity_x * t193;
+        let t1948: f32 = gravity_y * t172;
+        let t1949: f32 = gravity_z * t195;
+        let t1950: f32 = t1947 + t1948;
+        let t1951: f32 = t1949 + t1950;
+        let t1952: f32 = t1946 - t1951;
+        let t1953: f32 = leg2_rod_mass * t1952;
+        let t1954: f32 = t1869 * t1869;
+        let t1955: f32 = t1924 * t1924;
         let t1956: f32 = t1954 + t1955;
-        let t1957: f32 = t1953 + t1956;
-        let t1958: f32 = t1950 + t1957;
-        let t1959: f32 = t1945 + t1958;
-        let t1960: f32 = t1934 + t1959;
-        let t1961: f32 = t1794 + t1803;
-        let t1962: f32 = t1855 + t1960;
-        let t1963: f32 = t1961 + t1962;
-        let t1964: f32 = t1963 - t1913;
-        let t1965: f32 = t1793 * t1793;
-        let t1966: f32 = t1198 * t1965;
-        let t1967: f32 = t1802 * t1802;
-        let t1968: f32 = t1237 * t1967;
-        let t1969: f32 = t1854 * t1854;
-        let t1970: f32 = t1533 * t1969;
-        let t1971: f32 = t1911 * t1911;
-        let t1972: f32 = t1634 * t1971;
-        let t1973: f32 = t1964 * t1964;
-        let t1974: f32 = t1787 * t1973;
-        let t1975: f32 = t697 * t697;
-        let t1976: f32 = leg6_rod_mass * t1975;
-        let t1977: f32 = t62 * t62;
-        let t1978: f32 = t824 * t1977;
-        let t1979: f32 = t1976 + t1978;
-        let t1980: f32 = t187 * t187;
-        let t1981: f32 = t852 * t1980;
-        let t1982: f32 = t312 * t312;
-        let t1983: f32 = t880 * t1982;
-        let t1984: f32 = t1981 + t1983;
-        let t1985: f32 = t1979 + t1984;
-        let t1986: f32 = t437 * t437;
-        let t1987: f32 = t908 * t1986;
-        let t1988: f32 = t562 * t562;
-        let t1989: f32 = t936 * t1988;
-        let t1990: f32 = t1987 + t1989;
-        let t1991: f32 = t687 * t687;
-        let t1992: f32 = t964 * t1991;
-        let t1993: f32 = t81 * t81;
-        let t1994: f32 = t814 * t1993;
-        let t1995: f32 = t1992 + t1994;
-        let t1996: f32 = t1990 + t1995;
-        let t1997: f32 = t1985 + t1996;
-        let t1998: f32 = t206 * t206;
-        let t1999: f32 = t842 * t1998;
-        let t2000: f32 = t331 * t331;
-        let t2001: f32 = t870 * t2000;
-        let t2002: f32 = t1999 + t2001;
+        let t1957: f32 = leg2_rod_mz * t1956;
+        let t1958: f32 = t1953 - t1957;
+        let t1959: f32 = t172 * t1958;
+        let t1960: f32 = leg2_rod_mass * t1859;
+        let t1961: f32 = t1873 + t1892;
+        let t1962: f32 = leg2_rod_mz * t1961;
+        let t1963: f32 = t1960 + t1962;
+        let t1964: f32 = t198 * t1963;
+        let t1965: f32 = leg2_rod_mass * t1933;
+        let t1966: f32 = t1925 - t1908;
+        let t1967: f32 = leg2_rod_mz * t1966;
+        let t1968: f32 = t1965 - t1967;
+        let t1969: f32 = t204 * t1968;
+        let t1970: f32 = t1964 + t1969;
+        let t1971: f32 = t1959 + t1970;
+        let t1972: f32 = t1941 - t1971;
+        let t1973: f32 = -t1972;
+        let t1974: f32 = t146 * t1973;
+        let t1975: f32 = t171 * t1897;
+        let t1976: f32 = t1963 - t1975;
+        let t1977: f32 = t238 * t1976;
+        let t1978: f32 = t195 * t1958;
+        let t1979: f32 = t171 * t1938;
+        let t1980: f32 = t1968 - t1979;
+        let t1981: f32 = t192 * t1980;
+        let t1982: f32 = t1978 + t1981;
+        let t1983: f32 = t1977 + t1982;
+        let t1984: f32 = t152 * t1983;
+        let t1985: f32 = t1974 - t1984;
+        let t1986: f32 = gravity_x * t830;
+        let t1987: f32 = gravity_y * t318;
+        let t1988: f32 = gravity_z * t358;
+        let t1989: f32 = t1986 + t1987;
+        let t1990: f32 = t1988 + t1989;
+        let t1991: f32 = leg3_cylinder_mz * t1990;
+        let t1992: f32 = wy * t266;
+        let t1993: f32 = wz * t272;
+        let t1994: f32 = t1992 - t1993;
+        let t1995: f32 = wy * t1994;
+        let t1996: f32 = wz * t284;
+        let t1997: f32 = wx * t266;
+        let t1998: f32 = t1996 - t1997;
+        let t1999: f32 = wx * t1998;
+        let t2000: f32 = t1999 - t1995;
+        let t2001: f32 = t358 * t2000;
+        let t2002: f32 = wx * t272;
         (
-            t1005,
-            t1013,
-            t1021,
-            t1027,
-            t1030,
-            t1038,
-            t1046,
-            t1052,
-            t1055,
-            t1063,
-            t1071,
-            t1077,
-            t1080,
+            t1068,
+            t1074,
+            t1085,
+            t1086,
             t1088,
-            t1096,
-            t1102,
-            t1105,
-            t1113,
-            t1121,
-            t1127,
-            t1130,
-            t1138,
-            t1198,
-            t1223,
-            t1237,
-            t1241,
-            t1250,
-            t1259,
+            t1119,
+            t1211,
+            t1257,
+            t1262,
             t1268,
+            t1275,
             t1277,
+            t1280,
             t1286,
-            t1304,
-            t1309,
-            t1321,
-            t1328,
-            t1341,
-            t1344,
-            t1350,
-            t1353,
+            t1297,
+            t1298,
+            t1306,
+            t1307,
+            t1315,
+            t1325,
+            t1326,
+            t1330,
+            t1349,
+            t1360,
             t1361,
-            t1369,
-            t1375,
-            t1378,
-            t1386,
-            t1394,
+            t1370,
+            t1371,
+            t1387,
+            t1388,
             t1400,
-            t1403,
-            t1411,
-            t1419,
-            t1425,
+            t1401,
+            t1406,
             t1428,
-            t1436,
-            t1444,
-            t1450,
-            t1453,
-            t1461,
-            t1469,
-            t1475,
-            t1478,
-            t1486,
-            t1518,
-            t1533,
-            t1538,
-            t1547,
-            t1554,
+            t1467,
+            t1468,
+            t1480,
+            t1487,
+            t1496,
+            t1505,
+            t1516,
+            t1535,
+            t1557,
             t1562,
+            t1567,
             t1570,
-            t1630,
-            t1634,
-            t1640,
-            t1649,
-            t1660,
-            t1668,
-            t1717,
-            t1720,
-            t1782,
-            t1787,
-            t1793,
-            t1802,
-            t1852,
-            t1854,
-            t1908,
-            t1911,
-            t1960,
-            t1964,
-            t1966,
+            t1571,
+            t1572,
+            t1575,
+            t1577,
+            t1579,
+            t1582,
+            t1587,
+            t1588,
+            t1592,
+            t1593,
+            t1598,
+            t1599,
+            t1603,
+            t1604,
+            t1638,
+            t1647,
+            t1651,
+            t1661,
+            t1662,
+            t1666,
+            t1667,
+            t1672,
+            t1711,
+            t1712,
+            t1724,
+            t1731,
+            t1740,
+            t1749,
+            t1760,
+            t1779,
+            t1784,
+            t1801,
+            t1806,
+            t1811,
+            t1814,
+            t1815,
+            t1817,
+            t1819,
+            t1822,
+            t1824,
+            t1825,
+            t1829,
+            t1868,
+            t1869,
+            t1881,
+            t1888,
+            t1897,
+            t1906,
+            t1917,
+            t1936,
+            t1958,
+            t1963,
             t1968,
-            t1970,
+            t1971,
             t1972,
-            t1974,
-            t1997,
+            t1973,
+            t1976,
+            t1978,
+            t1980,
+            t1983,
+            t1985,
+            t1990,
+            t1991,
+            t1994,
+            t1998,
+            t2000,
+            t2001,
             t2002,
         )
     };
     let (
-        t2028,
-        t2034,
-        t2072,
-        t2073,
-        t2079,
-        t2084,
-        t2085,
-        t2092,
-        t2101,
-        t2112,
-        t2132,
-        t2139,
-        t2140,
-        t2167,
-        t2172,
-        t2173,
-        t2175,
-        t2176,
-        t2179,
-        t2182,
-        t2188,
-        t2193,
-        t2199,
-        t2204,
-        t2238,
-        t2247,
-        t2251,
-        t2262,
-        t2267,
-        t2272,
-        t2310,
-        t2311,
-        t2317,
-        t2322,
-        t2323,
-        t2330,
-        t2339,
-        t2350,
-        t2370,
-        t2377,
-        t2378,
-        t2405,
-        t2410,
-        t2411,
-        t2413,
-        t2414,
-        t2416,
-        t2419,
-        t2420,
-        t2424,
-        t2462,
+        t2053,
+        t2119,
+        t2124,
+        t2134,
+        t2210,
+        t2276,
+        t2281,
+        t2291,
+        t2366,
+        t2432,
+        t2437,
+        t2447,
         t2463,
-        t2469,
-        t2474,
-        t2475,
-        t2482,
-        t2491,
-        t2502,
-        t2522,
-        t2529,
-        t2530,
-        t2557,
-        t2562,
-        t2563,
-        t2565,
-        t2566,
-        t2569,
-        t2572,
-        t2612,
-        t2613,
-        t2619,
-        t2624,
+        t2467,
+        t2481,
+        t2485,
+        t2490,
+        t2494,
+        t2499,
+        t2546,
+        t2560,
+        t2564,
+        t2578,
+        t2582,
+        t2587,
+        t2591,
+        t2596,
         t2625,
-        t2632,
-        t2641,
-        t2652,
-        t2672,
-        t2679,
-        t2680,
-        t2707,
-        t2712,
-        t2713,
-        t2715,
-        t2716,
-        t2719,
-        t2722,
-        t2725,
-        t2763,
-        t2764,
-        t2770,
-        t2775,
-        t2776,
-        t2783,
-        t2792,
-        t2803,
-        t2823,
-        t2830,
-        t2831,
-        t2858,
+        t2661,
+        t2705,
+        t2742,
+        t2756,
+        t2762,
+        t2799,
+        t2800,
+        t2802,
+        t2810,
+        t2817,
+        t2825,
+        t2826,
+        t2827,
+        t2836,
+        t2837,
+        t2838,
+        t2840,
+        t2848,
+        t2855,
         t2863,
         t2864,
-        t2866,
-        t2867,
-        t2870,
-        t2873,
+        t2865,
         t2875,
+        t2876,
+        t2878,
+        t2886,
+        t2893,
+        t2901,
+        t2902,
+        t2903,
         t2913,
         t2914,
-        t2920,
-        t2925,
-        t2926,
-        t2933,
-        t2942,
-        t2953,
-        t2973,
-        t2980,
-        t2981,
-        t2982,
-        t2988,
-        t2994,
-        t2995,
-        t2996,
+        t2916,
+        t2924,
+        t2931,
+        t2939,
+        t2940,
+        t2941,
+        t2951,
+        t2952,
+        t2954,
+        t2962,
+        t2969,
+        t2977,
+        t2978,
+        t2979,
+        t2989,
+        t2990,
+        t2992,
         t2997,
+        t3000,
+        t3001,
         t3002,
     ) = {
-        let t2003: f32 = t456 * t456;
-        let t2004: f32 = t898 * t2003;
-        let t2005: f32 = t581 * t581;
-        let t2006: f32 = t926 * t2005;
-        let t2007: f32 = t2004 + t2006;
-        let t2008: f32 = t2002 + t2007;
-        let t2009: f32 = t706 * t706;
-        let t2010: f32 = t954 * t2009;
-        let t2011: f32 = t72 * t72;
-        let t2012: f32 = leg1_rod_mass * t2011;
-        let t2013: f32 = platform_mass + t2012;
-        let t2014: f32 = t2010 + t2013;
-        let t2015: f32 = t197 * t197;
-        let t2016: f32 = leg2_rod_mass * t2015;
-        let t2017: f32 = t322 * t322;
-        let t2018: f32 = leg3_rod_mass * t2017;
-        let t2019: f32 = t2016 + t2018;
-        let t2020: f32 = t447 * t447;
-        let t2021: f32 = leg4_rod_mass * t2020;
-        let t2022: f32 = t572 * t572;
-        let t2023: f32 = leg5_rod_mass * t2022;
-        let t2024: f32 = t2021 + t2023;
-        let t2025: f32 = t2019 + t2024;
-        let t2026: f32 = t2014 + t2025;
-        let t2027: f32 = t2008 + t2026;
-        let t2028: f32 = t1997 + t2027;
-        let t2029: f32 = t1966 + t1968;
-        let t2030: f32 = t1970 + t1972;
-        let t2031: f32 = t2029 + t2030;
-        let t2032: f32 = t1974 + t2031;
-        let t2033: f32 = t2028 - t2032;
-        let t2034: f32 = 1.0 / t2033;
-        let t2035: f32 = wx * t657;
-        let t2036: f32 = wy * t666;
-        let t2037: f32 = t2035 - t2036;
-        let t2038: f32 = wy * t2037;
-        let t2039: f32 = wz * t666;
-        let t2040: f32 = wx * t651;
-        let t2041: f32 = t2039 - t2040;
-        let t2042: f32 = wz * t2041;
-        let t2043: f32 = t2038 - t2042;
-        let t2044: f32 = t695 * t2043;
-        let t2045: f32 = wy * t651;
-        let t2046: f32 = wz * t657;
-        let t2047: f32 = t2045 - t2046;
-        let t2048: f32 = wz * t2047;
-        let t2049: f32 = wx * t2037;
-        let t2050: f32 = t2048 - t2049;
-        let t2051: f32 = t702 * t2050;
-        let t2052: f32 = wy * t2047;
-        let t2053: f32 = wx * t2041;
-        let t2054: f32 = t2053 - t2052;
-        let t2055: f32 = t697 * t2054;
-        let t2056: f32 = t2044 + t2051;
-        let t2057: f32 = t2055 + t2056;
-        let t2058: f32 = gravity_x * t695;
-        let t2059: f32 = gravity_y * t702;
-        let t2060: f32 = gravity_z * t697;
-        let t2061: f32 = t2058 + t2059;
-        let t2062: f32 = t2060 + t2061;
-        let t2063: f32 = t2057 - t2062;
-        let t2064: f32 = leg6_rod_mass * t2063;
-        let t2065: f32 = vx + t2047;
-        let t2066: f32 = t698 * t2065;
-        let t2067: f32 = vy + t2041;
-        let t2068: f32 = t704 * t2067;
-        let t2069: f32 = vz + t2037;
-        let t2070: f32 = t687 * t2069;
-        let t2071: f32 = t2066 + t2068;
+        let t2003: f32 = wy * t284;
+        let t2004: f32 = t2002 - t2003;
+        let t2005: f32 = wy * t2004;
+        let t2006: f32 = wz * t1998;
+        let t2007: f32 = t2005 - t2006;
+        let t2008: f32 = t830 * t2007;
+        let t2009: f32 = wz * t1994;
+        let t2010: f32 = wx * t2004;
+        let t2011: f32 = t2009 - t2010;
+        let t2012: f32 = t318 * t2011;
+        let t2013: f32 = t2008 + t2012;
+        let t2014: f32 = t2001 + t2013;
+        let t2015: f32 = t2014 - t1990;
+        let t2016: f32 = leg3_rod_mz * t2015;
+        let t2017: f32 = vx + t1994;
+        let t2018: f32 = t316 * t2017;
+        let t2019: f32 = vy + t1998;
+        let t2020: f32 = t324 * t2019;
+        let t2021: f32 = vz + t2004;
+        let t2022: f32 = t312 * t2021;
+        let t2023: f32 = t2018 + t2020;
+        let t2024: f32 = t2022 + t2023;
+        let t2025: f32 = t291 * t2024;
+        let t2026: f32 = t291 * t331;
+        let t2027: f32 = t2024 * t2026;
+        let t2028: f32 = t320 - t333;
+        let t2029: f32 = t2025 * t2027;
+        let t2030: f32 = t2028 * t2029;
+        let t2031: f32 = t2024 * t2024;
+        let t2032: f32 = t2026 * t2031;
+        let t2033: f32 = t830 * t2017;
+        let t2034: f32 = t318 * t2019;
+        let t2035: f32 = t358 * t2021;
+        let t2036: f32 = t2033 + t2034;
+        let t2037: f32 = t2035 + t2036;
+        let t2038: f32 = t313 * t2017;
+        let t2039: f32 = t292 * t2019;
+        let t2040: f32 = t315 * t2021;
+        let t2041: f32 = t2038 + t2039;
+        let t2042: f32 = t2040 + t2041;
+        let t2043: f32 = t291 * t2042;
+        let t2044: f32 = t2043 * 2.0;
+        let t2045: f32 = t2037 * t2044;
+        let t2046: f32 = t2032 + t2045;
+        let t2047: f32 = t2014 - t2046;
+        let t2048: f32 = t291 * t2047;
+        let t2049: f32 = -t2048;
+        let t2050: f32 = t320 * t2049;
+        let t2051: f32 = t1991 + t2050;
+        let t2052: f32 = t2016 + t2030;
+        let t2053: f32 = t2051 - t2052;
+        let t2054: f32 = t318 * t2053;
+        let t2055: f32 = t2026 * t2037;
+        let t2056: f32 = t2044 - t2055;
+        let t2057: f32 = t2024 * t2056;
+        let t2058: f32 = t312 * t2000;
+        let t2059: f32 = t316 * t2007;
+        let t2060: f32 = t324 * t2011;
+        let t2061: f32 = t2059 + t2060;
+        let t2062: f32 = t2058 + t2061;
+        let t2063: f32 = t2062 - t2057;
+        let t2064: f32 = t291 * t2063;
+        let t2065: f32 = t320 * t2064;
+        let t2066: f32 = t311 * t311;
+        let t2067: f32 = t289 * t291;
+        let t2068: f32 = t2066 * t2067;
+        let t2069: f32 = t2024 * t2068;
+        let t2070: f32 = t2037 * t2069;
+        let t2071: f32 = t331 * t2062;
         let t2072: f32 = t2070 + t2071;
-        let t2073: f32 = t694 * t2072;
-        let t2074: f32 = t2073 * t2073;
-        let t2075: f32 = t950 * t2065;
-        let t2076: f32 = t700 * t2067;
-        let t2077: f32 = t706 * t2069;
-        let t2078: f32 = t2075 + t2076;
-        let t2079: f32 = t2077 + t2078;
-        let t2080: f32 = t694 * t2079;
-        let t2081: f32 = t2080 * t2080;
-        let t2082: f32 = t2074 + t2081;
-        let t2083: f32 = leg6_rod_mz * t2082;
-        let t2084: f32 = t2064 - t2083;
-        let t2085: f32 = t702 * t2084;
-        let t2086: f32 = t695 * t2065;
-        let t2087: f32 = t702 * t2067;
-        let t2088: f32 = t697 * t2069;
-        let t2089: f32 = t2086 + t2087;
-        let t2090: f32 = t2088 + t2089;
-        let t2091: f32 = t694 * t2090;
-        let t2092: f32 = t2091 * 2.0;
-        let t2093: f32 = t694 * t724;
-        let t2094: f32 = t2079 * t2093;
-        let t2095: f32 = t2092 - t2094;
-        let t2096: f32 = t2072 * t2095;
-        let t2097: f32 = t687 * t2054;
-        let t2098: f32 = t698 * t2043;
-        let t2099: f32 = t704 * t2050;
-        let t2100: f32 = t2098 + t2099;
-        let t2101: f32 = t2097 + t2100;
-        let t2102: f32 = t2101 - t2096;
-        let t2103: f32 = t694 * t2102;
-        let t2104: f32 = t709 * t2103;
-        let t2105: f32 = t686 * t686;
-        let t2106: f32 = t692 * t694;
-        let t2107: f32 = t2105 * t2106;
-        let t2108: f32 = t2072 * t2107;
-        let t2109: f32 = t2079 * t2108;
-        let t2110: f32 = t724 * t2101;
-        let t2111: f32 = t2109 + t2110;
-        let t2112: f32 = t694 * t2111;
-        let t2113: f32 = t2073 * t2095;
-        let t2114: f32 = -t2113;
-        let t2115: f32 = t724 * t2114;
-        let t2116: f32 = t2112 + t2115;
-        let t2117: f32 = t724 * t726;
-        let t2118: f32 = t2116 * t2117;
-        let t2119: f32 = t2072 * t2093;
-        let t2120: f32 = t709 - t726;
-        let t2121: f32 = t2080 * t2119;
-        let t2122: f32 = t2120 * t2121;
-        let t2123: f32 = gravity_x * t698;
-        let t2124: f32 = gravity_y * t704;
-        let t2125: f32 = gravity_z * t687;
-        let t2126: f32 = t2123 + t2124;
-        let t2127: f32 = t2125 + t2126;
-        let t2128: f32 = leg6_cylinder_mz * t2127;
-        let t2129: f32 = t2101 - t2127;
-        let t2130: f32 = leg6_rod_mz * t2129;
-        let t2131: f32 = t2128 - t2130;
-        let t2132: f32 = t2122 + t2131;
-        let t2133: f32 = t2104 + t2118;
-        let t2134: f32 = t2132 - t2133;
-        let t2135: f32 = t694 * t2134;
-        let t2136: f32 = leg6_rod_mass * t2129;
-        let t2137: f32 = t2121 - t2103;
-        let t2138: f32 = leg6_rod_mz * t2137;
-        let t2139: f32 = t2136 - t2138;
-        let t2140: f32 = t2139 - t2135;
-        let t2141: f32 = t704 * t2140;
-        let t2142: f32 = gravity_x * t950;
-        let t2143: f32 = gravity_y * t700;
-        let t2144: f32 = gravity_z * t706;
-        let t2145: f32 = t2142 + t2143;
-        let t2146: f32 = t2144 + t2145;
-        let t2147: f32 = leg6_cylinder_mz * t2146;
-        let t2148: f32 = t706 * t2054;
-        let t2149: f32 = t950 * t2043;
-        let t2150: f32 = t700 * t2050;
-        let t2151: f32 = t2149 + t2150;
-        let t2152: f32 = t2148 + t2151;
-        let t2153: f32 = t2152 - t2146;
-        let t2154: f32 = leg6_rod_mz * t2153;
-        let t2155: f32 = t2073 * t2119;
-        let t2156: f32 = t2120 * t2155;
-        let t2157: f32 = t2072 * t2072;
-        let t2158: f32 = t2093 * t2157;
-        let t2159: f32 = t2079 * t2092;
-        let t2160: f32 = t2158 + t2159;
-        let t2161: f32 = t2152 - t2160;
-        let t2162: f32 = t694 * t2161;
-        let t2163: f32 = -t2162;
-        let t2164: f32 = t709 * t2163;
-        let t2165: f32 = t2147 + t2164;
-        let t2166: f32 = t2154 + t2156;
-        let t2167: f32 = t2165 - t2166;
-        let t2168: f32 = t694 * t2167;
-        let t2169: f32 = leg6_rod_mass * t2153;
-        let t2170: f32 = t2155 + t2162;
-        let t2171: f32 = leg6_rod_mz * t2170;
-        let t2172: f32 = t2169 + t2171;
-        let t2173: f32 = t2172 - t2168;
-        let t2174: f32 = t700 * t2173;
-        let t2175: f32 = t2141 + t2174;
-        let t2176: f32 = t2085 + t2175;
-        let t2177: f32 = t651 * t2176;
-        let t2178: f32 = t706 * t2173;
-        let t2179: f32 = t697 * t2084;
-        let t2180: f32 = t687 * t2140;
+        let t2073: f32 = t291 * t2072;
+        let t2074: f32 = t2025 * t2056;
+        let t2075: f32 = -t2074;
+        let t2076: f32 = t331 * t2075;
+        let t2077: f32 = t2073 + t2076;
+        let t2078: f32 = t331 * t333;
+        let t2079: f32 = t2077 * t2078;
+        let t2080: f32 = t291 * t2037;
+        let t2081: f32 = t2027 * t2080;
+        let t2082: f32 = t2028 * t2081;
+        let t2083: f32 = gravity_x * t316;
+        let t2084: f32 = gravity_y * t324;
+        let t2085: f32 = gravity_z * t312;
+        let t2086: f32 = t2083 + t2084;
+        let t2087: f32 = t2085 + t2086;
+        let t2088: f32 = leg3_cylinder_mz * t2087;
+        let t2089: f32 = t2062 - t2087;
+        let t2090: f32 = leg3_rod_mz * t2089;
+        let t2091: f32 = t2088 - t2090;
+        let t2092: f32 = t2082 + t2091;
+        let t2093: f32 = t2065 + t2079;
+        let t2094: f32 = t2092 - t2093;
+        let t2095: f32 = t324 * t2094;
+        let t2096: f32 = t2054 + t2095;
+        let t2097: f32 = t291 * t2096;
+        let t2098: f32 = t313 * t2007;
+        let t2099: f32 = t292 * t2011;
+        let t2100: f32 = t315 * t2000;
+        let t2101: f32 = t2098 + t2099;
+        let t2102: f32 = t2100 + t2101;
+        let t2103: f32 = gravity_x * t313;
+        let t2104: f32 = gravity_y * t292;
+        let t2105: f32 = gravity_z * t315;
+        let t2106: f32 = t2103 + t2104;
+        let t2107: f32 = t2105 + t2106;
+        let t2108: f32 = t2102 - t2107;
+        let t2109: f32 = leg3_rod_mass * t2108;
+        let t2110: f32 = t2025 * t2025;
+        let t2111: f32 = t2080 * t2080;
+        let t2112: f32 = t2110 + t2111;
+        let t2113: f32 = leg3_rod_mz * t2112;
+        let t2114: f32 = t2109 - t2113;
+        let t2115: f32 = t292 * t2114;
+        let t2116: f32 = leg3_rod_mass * t2015;
+        let t2117: f32 = t2029 + t2048;
+        let t2118: f32 = leg3_rod_mz * t2117;
+        let t2119: f32 = t2116 + t2118;
+        let t2120: f32 = t318 * t2119;
+        let t2121: f32 = leg3_rod_mass * t2089;
+        let t2122: f32 = t2081 - t2064;
+        let t2123: f32 = leg3_rod_mz * t2122;
+        let t2124: f32 = t2121 - t2123;
+        let t2125: f32 = t324 * t2124;
+        let t2126: f32 = t2120 + t2125;
+        let t2127: f32 = t2115 + t2126;
+        let t2128: f32 = t2097 - t2127;
+        let t2129: f32 = -t2128;
+        let t2130: f32 = t266 * t2129;
+        let t2131: f32 = t291 * t2053;
+        let t2132: f32 = t2119 - t2131;
+        let t2133: f32 = t358 * t2132;
+        let t2134: f32 = t315 * t2114;
+        let t2135: f32 = t291 * t2094;
+        let t2136: f32 = t2124 - t2135;
+        let t2137: f32 = t312 * t2136;
+        let t2138: f32 = t2134 + t2137;
+        let t2139: f32 = t2133 + t2138;
+        let t2140: f32 = t272 * t2139;
+        let t2141: f32 = t2130 - t2140;
+        let t2142: f32 = t1985 + t2141;
+        let t2143: f32 = gravity_x * t853;
+        let t2144: f32 = gravity_y * t438;
+        let t2145: f32 = gravity_z * t478;
+        let t2146: f32 = t2143 + t2144;
+        let t2147: f32 = t2145 + t2146;
+        let t2148: f32 = leg4_cylinder_mz * t2147;
+        let t2149: f32 = wy * t386;
+        let t2150: f32 = wz * t392;
+        let t2151: f32 = t2149 - t2150;
+        let t2152: f32 = wy * t2151;
+        let t2153: f32 = wz * t404;
+        let t2154: f32 = wx * t386;
+        let t2155: f32 = t2153 - t2154;
+        let t2156: f32 = wx * t2155;
+        let t2157: f32 = t2156 - t2152;
+        let t2158: f32 = t478 * t2157;
+        let t2159: f32 = wx * t392;
+        let t2160: f32 = wy * t404;
+        let t2161: f32 = t2159 - t2160;
+        let t2162: f32 = wy * t2161;
+        let t2163: f32 = wz * t2155;
+        let t2164: f32 = t2162 - t2163;
+        let t2165: f32 = t853 * t2164;
+        let t2166: f32 = wz * t2151;
+        let t2167: f32 = wx * t2161;
+        let t2168: f32 = t2166 - t2167;
+        let t2169: f32 = t438 * t2168;
+        let t2170: f32 = t2165 + t2169;
+        let t2171: f32 = t2158 + t2170;
+        let t2172: f32 = t2171 - t2147;
+        let t2173: f32 = leg4_rod_mz * t2172;
+        let t2174: f32 = vx + t2151;
+        let t2175: f32 = t436 * t2174;
+        let t2176: f32 = vy + t2155;
+        let t2177: f32 = t444 * t2176;
+        let t2178: f32 = vz + t2161;
+        let t2179: f32 = t432 * t2178;
+        let t2180: f32 = t2175 + t2177;
         let t2181: f32 = t2179 + t2180;
-        let t2182: f32 = t2178 + t2181;
-        let t2183: f32 = t657 * t2182;
-        let t2184: f32 = t2177 - t2183;
-        let t2185: f32 = t276 * t284;
-        let t2186: f32 = t282 * t299;
-        let t2187: f32 = t2185 - t2186;
-        let t2188: f32 = g3 * t319;
-        let t2189: f32 = t2187 * t2188;
-        let t2190: f32 = t401 * t409;
-        let t2191: f32 = t407 * t424;
-        let t2192: f32 = t2190 - t2191;
-        let t2193: f32 = g4 * t444;
-        let t2194: f32 = t2192 * t2193;
-        let t2195: f32 = t2189 + t2194;
-        let t2196: f32 = t526 * t534;
-        let t2197: f32 = t532 * t549;
-        let t2198: f32 = t2196 - t2197;
-        let t2199: f32 = g5 * t569;
-        let t2200: f32 = t2198 * t2199;
-        let t2201: f32 = t651 * t659;
-        let t2202: f32 = t657 * t674;
-        let t2203: f32 = t2201 - t2202;
-        let t2204: f32 = g6 * t694;
-        let t2205: f32 = t2203 * t2204;
-        let t2206: f32 = t2200 + t2205;
-        let t2207: f32 = t2195 + t2206;
-        let t2208: f32 = wx * t6;
-        let t2209: f32 = t3 * t2208;
-        let t2210: f32 = wy * t23;
-        let t2211: f32 = wz * t9;
-        let t2212: f32 = t2209 + t2210;
-        let t2213: f32 = t2211 + t2212;
-        let t2214: f32 = platform_ixy * t2213;
-        let t2215: f32 = wx * t2;
-        let t2216: f32 = t6 * t2215;
-        let t2217: f32 = wy * t27;
-        let t2218: f32 = wz * t14;
-        let t2219: f32 = t2217 + t2218;
-        let t2220: f32 = t2216 - t2219;
-        let t2221: f32 = platform_iyy * t2220;
-        let t2222: f32 = wx * t5;
-        let t2223: f32 = wy * t0;
-        let t2224: f32 = wz * t1;
-        let t2225: f32 = t2223 - t2224;
-        let t2226: f32 = t6 * t2225;
-        let t2227: f32 = t2222 - t2226;
-        let t2228: f32 = platform_iyz * t2227;
-        let t2229: f32 = t2214 + t2228;
-        let t2230: f32 = t2229 - t2221;
-        let t2231: f32 = t2213 * t2230;
-        let t2232: f32 = platform_ixx * t2213;
-        let t2233: f32 = platform_ixy * t2220;
-        let t2234: f32 = platform_ixz * t2227;
-        let t2235: f32 = t2232 + t2234;
-        let t2236: f32 = t2235 - t2233;
-        let t2237: f32 = t2220 * t2236;
-        let t2238: f32 = t2231 + t2237;
-        let t2239: f32 = t5 * t2238;
-        let t2240: f32 = platform_ixz * t2213;
-        let t2241: f32 = platform_iyz * t2220;
-        let t2242: f32 = platform_izz * t2227;
-        let t2243: f32 = t2240 + t2242;
-        let t2244: f32 = t2243 - t2241;
-        let t2245: f32 = t2220 * t2244;
-        let t2246: f32 = t2227 * t2230;
-        let t2247: f32 = t2245 + t2246;
-        let t2248: f32 = t3 * t2247;
-        let t2249: f32 = t2227 * t2236;
-        let t2250: f32 = t2213 * t2244;
+        let t2182: f32 = t411 * t2181;
+        let t2183: f32 = t411 * t451;
+        let t2184: f32 = t2181 * t2183;
+        let t2185: f32 = t440 - t453;
+        let t2186: f32 = t2182 * t2184;
+        let t2187: f32 = t2185 * t2186;
+        let t2188: f32 = t2181 * t2181;
+        let t2189: f32 = t2183 * t2188;
+        let t2190: f32 = t853 * t2174;
+        let t2191: f32 = t438 * t2176;
+        let t2192: f32 = t478 * t2178;
+        let t2193: f32 = t2190 + t2191;
+        let t2194: f32 = t2192 + t2193;
+        let t2195: f32 = t433 * t2174;
+        let t2196: f32 = t412 * t2176;
+        let t2197: f32 = t435 * t2178;
+        let t2198: f32 = t2195 + t2196;
+        let t2199: f32 = t2197 + t2198;
+        let t2200: f32 = t411 * t2199;
+        let t2201: f32 = t2200 * 2.0;
+        let t2202: f32 = t2194 * t2201;
+        let t2203: f32 = t2189 + t2202;
+        let t2204: f32 = t2171 - t2203;
+        let t2205: f32 = t411 * t2204;
+        let t2206: f32 = -t2205;
+        let t2207: f32 = t440 * t2206;
+        let t2208: f32 = t2148 + t2207;
+        let t2209: f32 = t2173 + t2187;
+        let t2210: f32 = t2208 - t2209;
+        let t2211: f32 = t438 * t2210;
+        let t2212: f32 = t2183 * t2194;
+        let t2213: f32 = t2201 - t2212;
+        let t2214: f32 = t2181 * t2213;
+        let t2215: f32 = t432 * t2157;
+        let t2216: f32 = t436 * t2164;
+        let t2217: f32 = t444 * t2168;
+        let t2218: f32 = t2216 + t2217;
+        let t2219: f32 = t2215 + t2218;
+        let t2220: f32 = t2219 - t2214;
+        let t2221: f32 = t411 * t2220;
+        let t2222: f32 = t440 * t2221;
+        let t2223: f32 = t431 * t431;
+        let t2224: f32 = t409 * t411;
+        let t2225: f32 = t2223 * t2224;
+        let t2226: f32 = t2181 * t2225;
+        let t2227: f32 = t2194 * t2226;
+        let t2228: f32 = t451 * t2219;
+        let t2229: f32 = t2227 + t2228;
+        let t2230: f32 = t411 * t2229;
+        let t2231: f32 = t2182 * t2213;
+        let t2232: f32 = -t2231;
+        let t2233: f32 = t451 * t2232;
+        let t2234: f32 = t2230 + t2233;
+        let t2235: f32 = t451 * t453;
+        let t2236: f32 = t2234 * t2235;
+        let t2237: f32 = t411 * t2194;
+        let t2238: f32 = t2184 * t2237;
+        let t2239: f32 = t2185 * t2238;
+        let t2240: f32 = gravity_x * t436;
+        let t2241: f32 = gravity_y * t444;
+        let t2242: f32 = gravity_z * t432;
+        let t2243: f32 = t2240 + t2241;
+        let t2244: f32 = t2242 + t2243;
+        let t2245: f32 = leg4_cylinder_mz * t2244;
+        let t2246: f32 = t2219 - t2244;
+        let t2247: f32 = leg4_rod_mz * t2246;
+        let t2248: f32 = t2245 - t2247;
+        let t2249: f32 = t2239 + t2248;
+        let t2250: f32 = t2222 + t2236;
         let t2251: f32 = t2249 - t2250;
-        let t2252: f32 = t2 * t2251;
-        let t2253: f32 = t2248 + t2252;
-        let t2254: f32 = t6 * t2253;
-        let t2255: f32 = t2239 - t2254;
-        let t2256: f32 = gravity_y * t1547;
-        let t2257: f32 = gravity_z * t1562;
-        let t2258: f32 = t2256 - t2257;
-        let t2259: f32 = t19 * t34;
-        let t2260: f32 = t32 * t49;
-        let t2261: f32 = t2259 - t2260;
-        let t2262: f32 = g1 * t69;
-        let t2263: f32 = t2261 * t2262;
-        let t2264: f32 = t151 * t159;
-        let t2265: f32 = t157 * t174;
-        let t2266: f32 = t2264 - t2265;
-        let t2267: f32 = g2 * t194;
-        let t2268: f32 = t2266 * t2267;
-        let t2269: f32 = t2263 + t2268;
-        let t2270: f32 = t2258 + t2269;
-        let t2271: f32 = t2255 + t2270;
-        let t2272: f32 = t2207 + t2271;
-        let t2273: f32 = wx * t32;
-        let t2274: f32 = wy * t41;
-        let t2275: f32 = t2273 - t2274;
-        let t2276: f32 = wy * t2275;
-        let t2277: f32 = wz * t41;
-        let t2278: f32 = wx * t19;
-        let t2279: f32 = t2277 - t2278;
-        let t2280: f32 = wz * t2279;
-        let t2281: f32 = t2276 - t2280;
-        let t2282: f32 = t70 * t2281;
-        let t2283: f32 = wy * t19;
-        let t2284: f32 = wz * t32;
-        let t2285: f32 = t2283 - t2284;
-        let t2286: f32 = wz * t2285;
-        let t2287: f32 = wx * t2275;
-        let t2288: f32 = t2286 - t2287;
-        let t2289: f32 = t77 * t2288;
-        let t2290: f32 = wy * t2285;
-        let t2291: f32 = wx * t2279;
-        let t2292: f32 = t2291 - t2290;
-        let t2293: f32 = t72 * t2292;
-        let t2294: f32 = t2282 + t2289;
-        let t2295: f32 = t2293 + t2294;
-        let t2296: f32 = gravity_x * t70;
-        let t2297: f32 = gravity_y * t77;
-        let t2298: f32 = gravity_z * t72;
-        let t2299: f32 = t2296 + t2297;
-        let t2300: f32 = t2298 + t2299;
-        let t2301: f32 = t2295 - t2300;
-        let t2302: f32 = leg1_rod_mass * t2301;
-        let t2303: f32 = vx + t2285;
-        let t2304: f32 = t73 * t2303;
-        let t2305: f32 = vy + t2279;
-        let t2306: f32 = t79 * t2305;
-        let t2307: f32 = vz + t2275;
-        let t2308: f32 = t62 * t2307;
-        let t2309: f32 = t2304 + t2306;
-        let t2310: f32 = t2308 + t2309;
-        let t2311: f32 = t69 * t2310;
-        let t2312: f32 = t2311 * t2311;
-        let t2313: f32 = t810 * t2303;
-        let t2314: f32 = t75 * t2305;
-        let t2315: f32 = t81 * t2307;
-        let t2316: f32 = t2313 + t2314;
-        let t2317: f32 = t2315 + t2316;
-        let t2318: f32 = t69 * t2317;
-        let t2319: f32 = t2318 * t2318;
-        let t2320: f32 = t2312 + t2319;
-        let t2321: f32 = leg1_rod_mz * t2320;
-        let t2322: f32 = t2302 - t2321;
-        let t2323: f32 = t77 * t2322;
-        let t2324: f32 = t70 * t2303;
-        let t2325: f32 = t77 * t2305;
-        let t2326: f32 = t72 * t2307;
-        let t2327: f32 = t2324 + t2325;
-        let t2328: f32 = t2326 + t2327;
-        let t2329: f32 = t69 * t2328;
-        let t2330: f32 = t2329 * 2.0;
-        let t2331: f32 = t69 * t99;
-        let t2332: f32 = t2317 * t2331;
-        let t2333: f32 = t2330 - t2332;
-        let t2334: f32 = t2310 * t2333;
-        let t2335: f32 = t62 * t2292;
-        let t2336: f32 = t73 * t2281;
-        let t2337: f32 = t79 * t2288;
-        let t2338: f32 = t2336 + t2337;
-        let t2339: f32 = t2335 + t2338;
-        let t2340: f32 = t2339 - t2334;
-        let t2341: f32 = t69 * t2340;
-        let t2342: f32 = t84 * t2341;
-        let t2343: f32 = t61 * t61;
-        let t2344: f32 = t67 * t69;
-        let t2345: f32 = t2343 * t2344;
-        let t2346: f32 = t2310 * t2345;
-        let t2347: f32 = t2317 * t2346;
-        let t2348: f32 = t99 * t2339;
-        let t2349: f32 = t2347 + t2348;
-        let t2350: f32 = t69 * t2349;
-        let t2351: f32 = t2311 * t2333;
-        let t2352: f32 = -t2351;
-        let t2353: f32 = t99 * t2352;
-        let t2354: f32 = t2350 + t2353;
-        let t2355: f32 = t99 * t101;
-        let t2356: f32 = t2354 * t2355;
-        let t2357: f32 = t2310 * t2331;
-        let t2358: f32 = t84 - t101;
-        let t2359: f32 = t2318 * t2357;
-        let t2360: f32 = t2358 * t2359;
-        let t2361: f32 = gravity_x * t73;
-        let t2362: f32 = gravity_y * t79;
-        let t2363: f32 = gravity_z * t62;
-        let t2364: f32 = t2361 + t2362;
-        let t2365: f32 = t2363 + t2364;
-        let t2366: f32 = leg1_cylinder_mz * t2365;
-        let t2367: f32 = t2339 - t2365;
-        let t2368: f32 = leg1_rod_mz * t2367;
-        let t2369: f32 = t2366 - t2368;
-        let t2370: f32 = t2360 + t2369;
-        let t2371: f32 = t2342 + t2356;
-        let t2372: f32 = t2370 - t2371;
-        let t2373: f32 = t69 * t2372;
-        let t2374: f32 = leg1_rod_mass * t2367;
-        let t2375: f32 = t2359 - t2341;
-        let t2376: f32 = leg1_rod_mz * t2375;
-        let t2377: f32 = t2374 - t2376;
-        let t2378: f32 = t2377 - t2373;
-        let t2379: f32 = t79 * t2378;
-        let t2380: f32 = gravity_x * t810;
-        let t2381: f32 = gravity_y * t75;
-        let t2382: f32 = gravity_z * t81;
-        let t2383: f32 = t2380 + t2381;
-        let t2384: f32 = t2382 + t2383;
-        let t2385: f32 = leg1_cylinder_mz * t2384;
-        let t2386: f32 = t81 * t2292;
-        let t2387: f32 = t810 * t2281;
-        let t2388: f32 = t75 * t2288;
-        let t2389: f32 = t2387 + t2388;
+        let t2252: f32 = t444 * t2251;
+        let t2253: f32 = t2211 + t2252;
+        let t2254: f32 = t411 * t2253;
+        let t2255: f32 = t433 * t2164;
+        let t2256: f32 = t412 * t2168;
+        let t2257: f32 = t435 * t2157;
+        let t2258: f32 = t2255 + t2256;
+        let t2259: f32 = t2257 + t2258;
+        let t2260: f32 = gravity_x * t433;
+        let t2261: f32 = gravity_y * t412;
+        let t2262: f32 = gravity_z * t435;
+        let t2263: f32 = t2260 + t2261;
+        let t2264: f32 = t2262 + t2263;
+        let t2265: f32 = t2259 - t2264;
+        let t2266: f32 = leg4_rod_mass * t2265;
+        let t2267: f32 = t2182 * t2182;
+        let t2268: f32 = t2237 * t2237;
+        let t2269: f32 = t2267 + t2268;
+        let t2270: f32 = leg4_rod_mz * t2269;
+        let t2271: f32 = t2266 - t2270;
+        let t2272: f32 = t412 * t2271;
+        let t2273: f32 = leg4_rod_mass * t2172;
+        let t2274: f32 = t2186 + t2205;
+        let t2275: f32 = leg4_rod_mz * t2274;
+        let t2276: f32 = t2273 + t2275;
+        let t2277: f32 = t438 * t2276;
+        let t2278: f32 = leg4_rod_mass * t2246;
+        let t2279: f32 = t2238 - t2221;
+        let t2280: f32 = leg4_rod_mz * t2279;
+        let t2281: f32 = t2278 - t2280;
+        let t2282: f32 = t444 * t2281;
+        let t2283: f32 = t2277 + t2282;
+        let t2284: f32 = t2272 + t2283;
+        let t2285: f32 = t2254 - t2284;
+        let t2286: f32 = -t2285;
+        let t2287: f32 = t386 * t2286;
+        let t2288: f32 = t411 * t2210;
+        let t2289: f32 = t2276 - t2288;
+        let t2290: f32 = t478 * t2289;
+        let t2291: f32 = t435 * t2271;
+        let t2292: f32 = t411 * t2251;
+        let t2293: f32 = t2281 - t2292;
+        let t2294: f32 = t432 * t2293;
+        let t2295: f32 = t2291 + t2294;
+        let t2296: f32 = t2290 + t2295;
+        let t2297: f32 = t392 * t2296;
+        let t2298: f32 = t2287 - t2297;
+        let t2299: f32 = gravity_x * t876;
+        let t2300: f32 = gravity_y * t558;
+        let t2301: f32 = gravity_z * t598;
+        let t2302: f32 = t2299 + t2300;
+        let t2303: f32 = t2301 + t2302;
+        let t2304: f32 = leg5_cylinder_mz * t2303;
+        let t2305: f32 = wy * t506;
+        let t2306: f32 = wz * t512;
+        let t2307: f32 = t2305 - t2306;
+        let t2308: f32 = wy * t2307;
+        let t2309: f32 = wz * t524;
+        let t2310: f32 = wx * t506;
+        let t2311: f32 = t2309 - t2310;
+        let t2312: f32 = wx * t2311;
+        let t2313: f32 = t2312 - t2308;
+        let t2314: f32 = t598 * t2313;
+        let t2315: f32 = wx * t512;
+        let t2316: f32 = wy * t524;
+        let t2317: f32 = t2315 - t2316;
+        let t2318: f32 = wy * t2317;
+        let t2319: f32 = wz * t2311;
+        let t2320: f32 = t2318 - t2319;
+        let t2321: f32 = t876 * t2320;
+        let t2322: f32 = wz * t2307;
+        let t2323: f32 = wx * t2317;
+        let t2324: f32 = t2322 - t2323;
+        let t2325: f32 = t558 * t2324;
+        let t2326: f32 = t2321 + t2325;
+        let t2327: f32 = t2314 + t2326;
+        let t2328: f32 = t2327 - t2303;
+        let t2329: f32 = leg5_rod_mz * t2328;
+        let t2330: f32 = vx + t2307;
+        let t2331: f32 = t556 * t2330;
+        let t2332: f32 = vy + t2311;
+        let t2333: f32 = t564 * t2332;
+        let t2334: f32 = vz + t2317;
+        let t2335: f32 = t552 * t2334;
+        let t2336: f32 = t2331 + t2333;
+        let t2337: f32 = t2335 + t2336;
+        let t2338: f32 = t531 * t2337;
+        let t2339: f32 = t531 * t571;
+        let t2340: f32 = t2337 * t2339;
+        let t2341: f32 = t560 - t573;
+        let t2342: f32 = t2338 * t2340;
+        let t2343: f32 = t2341 * t2342;
+        let t2344: f32 = t2337 * t2337;
+        let t2345: f32 = t2339 * t2344;
+        let t2346: f32 = t876 * t2330;
+        let t2347: f32 = t558 * t2332;
+        let t2348: f32 = t598 * t2334;
+        let t2349: f32 = t2346 + t2347;
+        let t2350: f32 = t2348 + t2349;
+        let t2351: f32 = t553 * t2330;
+        let t2352: f32 = t532 * t2332;
+        let t2353: f32 = t555 * t2334;
+        let t2354: f32 = t2351 + t2352;
+        let t2355: f32 = t2353 + t2354;
+        let t2356: f32 = t531 * t2355;
+        let t2357: f32 = t2356 * 2.0;
+        let t2358: f32 = t2350 * t2357;
+        let t2359: f32 = t2345 + t2358;
+        let t2360: f32 = t2327 - t2359;
+        let t2361: f32 = t531 * t2360;
+        let t2362: f32 = -t2361;
+        let t2363: f32 = t560 * t2362;
+        let t2364: f32 = t2304 + t2363;
+        let t2365: f32 = t2329 + t2343;
+        let t2366: f32 = t2364 - t2365;
+        let t2367: f32 = t558 * t2366;
+        let t2368: f32 = t2339 * t2350;
+        let t2369: f32 = t2357 - t2368;
+        let t2370: f32 = t2337 * t2369;
+        let t2371: f32 = t552 * t2313;
+        let t2372: f32 = t556 * t2320;
+        let t2373: f32 = t564 * t2324;
+        let t2374: f32 = t2372 + t2373;
+        let t2375: f32 = t2371 + t2374;
+        let t2376: f32 = t2375 - t2370;
+        let t2377: f32 = t531 * t2376;
+        let t2378: f32 = t560 * t2377;
+        let t2379: f32 = t551 * t551;
+        let t2380: f32 = t529 * t531;
+        let t2381: f32 = t2379 * t2380;
+        let t2382: f32 = t2337 * t2381;
+        let t2383: f32 = t2350 * t2382;
+        let t2384: f32 = t571 * t2375;
+        let t2385: f32 = t2383 + t2384;
+        let t2386: f32 = t531 * t2385;
+        let t2387: f32 = t2338 * t2369;
+        let t2388: f32 = -t2387;
+        let t2389: f32 = t571 * t2388;
         let t2390: f32 = t2386 + t2389;
-        let t2391: f32 = t2390 - t2384;
-        let t2392: f32 = leg1_rod_mz * t2391;
-        let t2393: f32 = t2311 * t2357;
-        let t2394: f32 = t2358 * t2393;
-        let t2395: f32 = t2310 * t2310;
-        let t2396: f32 = t2331 * t2395;
-        let t2397: f32 = t2317 * t2330;
-        let t2398: f32 = t2396 + t2397;
-        let t2399: f32 = t2390 - t2398;
-        let t2400: f32 = t69 * t2399;
-        let t2401: f32 = -t2400;
-        let t2402: f32 = t84 * t2401;
-        let t2403: f32 = t2385 + t2402;
-        let t2404: f32 = t2392 + t2394;
-        let t2405: f32 = t2403 - t2404;
-        let t2406: f32 = t69 * t2405;
-        let t2407: f32 = leg1_rod_mass * t2391;
-        let t2408: f32 = t2393 + t2400;
-        let t2409: f32 = leg1_rod_mz * t2408;
-        let t2410: f32 = t2407 + t2409;
-        let t2411: f32 = t2410 - t2406;
-        let t2412: f32 = t75 * t2411;
-        let t2413: f32 = t2379 + t2412;
-        let t2414: f32 = t2323 + t2413;
-        let t2415: f32 = t19 * t2414;
-        let t2416: f32 = t72 * t2322;
-        let t2417: f32 = t62 * t2378;
-        let t2418: f32 = t81 * t2411;
-        let t2419: f32 = t2417 + t2418;
-        let t2420: f32 = t2416 + t2419;
-        let t2421: f32 = t32 * t2420;
-        let t2422: f32 = t2415 - t2421;
-        let t2423: f32 = t2272 - t2422;
-        let t2424: f32 = t2184 - t2423;
-        let t2425: f32 = wx * t157;
-        let t2426: f32 = wy * t166;
-        let t2427: f32 = t2425 - t2426;
-        let t2428: f32 = wy * t2427;
-        let t2429: f32 = wz * t166;
-        let t2430: f32 = wx * t151;
-        let t2431: f32 = t2429 - t2430;
-        let t2432: f32 = wz * t2431;
-        let t2433: f32 = t2428 - t2432;
-        let t2434: f32 = t195 * t2433;
-        let t2435: f32 = wy * t151;
-        let t2436: f32 = wz * t157;
-        let t2437: f32 = t2435 - t2436;
-        let t2438: f32 = wz * t2437;
-        let t2439: f32 = wx * t2427;
-        let t2440: f32 = t2438 - t2439;
-        let t2441: f32 = t202 * t2440;
-        let t2442: f32 = wy * t2437;
-        let t2443: f32 = wx * t2431;
-        let t2444: f32 = t2443 - t2442;
-        let t2445: f32 = t197 * t2444;
-        let t2446: f32 = t2434 + t2441;
-        let t2447: f32 = t2445 + t2446;
-        let t2448: f32 = gravity_x * t195;
-        let t2449: f32 = gravity_y * t202;
-        let t2450: f32 = gravity_z * t197;
-        let t2451: f32 = t2448 + t2449;
-        let t2452: f32 = t2450 + t2451;
-        let t2453: f32 = t2447 - t2452;
-        let t2454: f32 = leg2_rod_mass * t2453;
-        let t2455: f32 = vx + t2437;
-        let t2456: f32 = t198 * t2455;
-        let t2457: f32 = vy + t2431;
-        let t2458: f32 = t204 * t2457;
-        let t2459: f32 = vz + t2427;
-        let t2460: f32 = t187 * t2459;
-        let t2461: f32 = t2456 + t2458;
-        let t2462: f32 = t2460 + t2461;
-        let t2463: f32 = t194 * t2462;
-        let t2464: f32 = t2463 * t2463;
-        let t2465: f32 = t838 * t2455;
-        let t2466: f32 = t200 * t2457;
-        let t2467: f32 = t206 * t2459;
-        let t2468: f32 = t2465 + t2466;
-        let t2469: f32 = t2467 + t2468;
-        let t2470: f32 = t194 * t2469;
-        let t2471: f32 = t2470 * t2470;
-        let t2472: f32 = t2464 + t2471;
-        let t2473: f32 = leg2_rod_mz * t2472;
-        let t2474: f32 = t2454 - t2473;
-        let t2475: f32 = t202 * t2474;
-        let t2476: f32 = t195 * t2455;
-        let t2477: f32 = t202 * t2457;
-        let t2478: f32 = t197 * t2459;
-        let t2479: f32 = t2476 + t2477;
-        let t2480: f32 = t2478 + t2479;
-        let t2481: f32 = t194 * t2480;
-        let t2482: f32 = t2481 * 2.0;
-        let t2483: f32 = t194 * t224;
-        let t2484: f32 = t2469 * t2483;
-        let t2485: f32 = t2482 - t2484;
-        let t2486: f32 = t2462 * t2485;
-        let t2487: f32 = t187 * t2444;
-        let t2488: f32 = t198 * t2433;
-        let t2489: f32 = t204 * t2440;
-        let t2490: f32 = t2488 + t2489;
-        let t2491: f32 = t2487 + t2490;
-        let t2492: f32 = t2491 - t2486;
-        let t2493: f32 = t194 * t2492;
-        let t2494: f32 = t209 * t2493;
-        let t2495: f32 = t186 * t186;
-        let t2496: f32 = t192 * t194;
-        let t2497: f32 = t2495 * t2496;
-        let t2498: f32 = t2462 * t2497;
-        let t2499: f32 = t2469 * t2498;
-        let t2500: f32 = t224 * t2491;
-        let t2501: f32 = t2499 + t2500;
-        let t2502: f32 = t194 * t2501;
-        let t2503: f32 = t2463 * t2485;
-        let t2504: f32 = -t2503;
-        let t2505: f32 = t224 * t2504;
-        let t2506: f32 = t2502 + t2505;
-        let t2507: f32 = t224 * t226;
-        let t2508: f32 = t2506 * t2507;
-        let t2509: f32 = t2462 * t2483;
-        let t2510: f32 = t209 - t226;
-        let t2511: f32 = t2470 * t2509;
-        let t2512: f32 = t2510 * t2511;
-        let t2513: f32 = gravity_x * t198;
-        let t2514: f32 = gravity_y * t204;
-        let t2515: f32 = gravity_z * t187;
-        let t2516: f32 = t2513 + t2514;
-        let t2517: f32 = t2515 + t2516;
-        let t2518: f32 = leg2_cylinder_mz * t2517;
-        let t2519: f32 = t2491 - t2517;
-        let t2520: f32 = leg2_rod_mz * t2519;
-        let t2521: f32 = t2518 - t2520;
-        let t2522: f32 = t2512 + t2521;
-        let t2523: f32 = t2494 + t2508;
-        let t2524: f32 = t2522 - t2523;
-        let t2525: f32 = t194 * t2524;
-        let t2526: f32 = leg2_rod_mass * t2519;
-        let t2527: f32 = t2511 - t2493;
-        let t2528: f32 = leg2_rod_mz * t2527;
-        let t2529: f32 = t2526 - t2528;
-        let t2530: f32 = t2529 - t2525;
-        let t2531: f32 = t204 * t2530;
-        let t2532: f32 = gravity_x * t838;
-        let t2533: f32 = gravity_y * t200;
-        let t2534: f32 = gravity_z * t206;
-        let t2535: f32 = t2532 + t2533;
-        let t2536: f32 = t2534 + t2535;
-        let t2537: f32 = leg2_cylinder_mz * t2536;
-        let t2538: f32 = t206 * t2444;
-        let t2539: f32 = t838 * t2433;
-        let t2540: f32 = t200 * t2440;
+        let t2391: f32 = t571 * t573;
+        let t2392: f32 = t2390 * t2391;
+        let t2393: f32 = t531 * t2350;
+        let t2394: f32 = t2340 * t2393;
+        let t2395: f32 = t2341 * t2394;
+        let t2396: f32 = gravity_x * t556;
+        let t2397: f32 = gravity_y * t564;
+        let t2398: f32 = gravity_z * t552;
+        let t2399: f32 = t2396 + t2397;
+        let t2400: f32 = t2398 + t2399;
+        let t2401: f32 = leg5_cylinder_mz * t2400;
+        let t2402: f32 = t2375 - t2400;
+        let t2403: f32 = leg5_rod_mz * t2402;
+        let t2404: f32 = t2401 - t2403;
+        let t2405: f32 = t2395 + t2404;
+        let t2406: f32 = t2378 + t2392;
+        let t2407: f32 = t2405 - t2406;
+        let t2408: f32 = t564 * t2407;
+        let t2409: f32 = t2367 + t2408;
+        let t2410: f32 = t531 * t2409;
+        let t2411: f32 = t553 * t2320;
+        let t2412: f32 = t532 * t2324;
+        let t2413: f32 = t555 * t2313;
+        let t2414: f32 = t2411 + t2412;
+        let t2415: f32 = t2413 + t2414;
+        let t2416: f32 = gravity_x * t553;
+        let t2417: f32 = gravity_y * t532;
+        let t2418: f32 = gravity_z * t555;
+        let t2419: f32 = t2416 + t2417;
+        let t2420: f32 = t2418 + t2419;
+        let t2421: f32 = t2415 - t2420;
+        let t2422: f32 = leg5_rod_mass * t2421;
+        let t2423: f32 = t2338 * t2338;
+        let t2424: f32 = t2393 * t2393;
+        let t2425: f32 = t2423 + t2424;
+        let t2426: f32 = leg5_rod_mz * t2425;
+        let t2427: f32 = t2422 - t2426;
+        let t2428: f32 = t532 * t2427;
+        let t2429: f32 = leg5_rod_mass * t2328;
+        let t2430: f32 = t2342 + t2361;
+        let t2431: f32 = leg5_rod_mz * t2430;
+        let t2432: f32 = t2429 + t2431;
+        let t2433: f32 = t558 * t2432;
+        let t2434: f32 = leg5_rod_mass * t2402;
+        let t2435: f32 = t2394 - t2377;
+        let t2436: f32 = leg5_rod_mz * t2435;
+        let t2437: f32 = t2434 - t2436;
+        let t2438: f32 = t564 * t2437;
+        let t2439: f32 = t2433 + t2438;
+        let t2440: f32 = t2428 + t2439;
+        let t2441: f32 = t2410 - t2440;
+        let t2442: f32 = -t2441;
+        let t2443: f32 = t506 * t2442;
+        let t2444: f32 = t531 * t2366;
+        let t2445: f32 = t2432 - t2444;
+        let t2446: f32 = t598 * t2445;
+        let t2447: f32 = t555 * t2427;
+        let t2448: f32 = t531 * t2407;
+        let t2449: f32 = t2437 - t2448;
+        let t2450: f32 = t552 * t2449;
+        let t2451: f32 = t2447 + t2450;
+        let t2452: f32 = t2446 + t2451;
+        let t2453: f32 = t512 * t2452;
+        let t2454: f32 = t2443 - t2453;
+        let t2455: f32 = t2298 + t2454;
+        let t2456: f32 = t2142 + t2455;
+        let t2457: f32 = t1829 + t2456;
+        let t2458: f32 = -t2457;
+        let t2459: f32 = t777 * t1360;
+        let t2460: f32 = t2458 * t2459;
+        let t2461: f32 = t506 * t526;
+        let t2462: f32 = t517 * t524;
+        let t2463: f32 = t2461 - t2462;
+        let t2464: f32 = t1599 * t2463;
+        let t2465: f32 = t626 * t646;
+        let t2466: f32 = t637 * t644;
+        let t2467: f32 = t2465 - t2466;
+        let t2468: f32 = t1604 * t2467;
+        let t2469: f32 = t2464 + t2468;
+        let t2470: f32 = t23 * t1647;
+        let t2471: f32 = t27 * t1651;
+        let t2472: f32 = t2470 - t2471;
+        let t2473: f32 = t2469 + t2472;
+        let t2474: f32 = t918 * t1638;
+        let t2475: f32 = gravity_x * t1074;
+        let t2476: f32 = gravity_z * t1315;
+        let t2477: f32 = t2475 - t2476;
+        let t2478: f32 = t2474 + t2477;
+        let t2479: f32 = t19 * t46;
+        let t2480: f32 = t37 * t44;
+        let t2481: f32 = t2479 - t2480;
+        let t2482: f32 = t1662 * t2481;
+        let t2483: f32 = t146 * t166;
+        let t2484: f32 = t157 * t164;
+        let t2485: f32 = t2483 - t2484;
+        let t2486: f32 = t1667 * t2485;
+        let t2487: f32 = t2482 + t2486;
+        let t2488: f32 = t266 * t286;
+        let t2489: f32 = t277 * t284;
+        let t2490: f32 = t2488 - t2489;
+        let t2491: f32 = t1588 * t2490;
+        let t2492: f32 = t386 * t406;
+        let t2493: f32 = t397 * t404;
+        let t2494: f32 = t2492 - t2493;
+        let t2495: f32 = t1593 * t2494;
+        let t2496: f32 = t2491 + t2495;
+        let t2497: f32 = t2487 + t2496;
+        let t2498: f32 = t2478 + t2497;
+        let t2499: f32 = t2473 + t2498;
+        let t2500: f32 = t1086 * t2458;
+        let t2501: f32 = t2499 - t2500;
+        let t2502: f32 = t44 * t1825;
+        let t2503: f32 = t73 * t1801;
+        let t2504: f32 = t76 * t1819;
+        let t2505: f32 = t784 * t1822;
+        let t2506: f32 = t2504 + t2505;
+        let t2507: f32 = t2503 + t2506;
+        let t2508: f32 = t19 * t2507;
+        let t2509: f32 = t2502 - t2508;
+        let t2510: f32 = t164 * t1983;
+        let t2511: f32 = t193 * t1958;
+        let t2512: f32 = t196 * t1980;
+        let t2513: f32 = t807 * t1976;
+        let t2514: f32 = t2512 + t2513;
+        let t2515: f32 = t2511 + t2514;
+        let t2516: f32 = t146 * t2515;
+        let t2517: f32 = t2510 - t2516;
+        let t2518: f32 = t2509 + t2517;
+        let t2519: f32 = t2501 + t2518;
+        let t2520: f32 = t284 * t2139;
+        let t2521: f32 = t313 * t2114;
+        let t2522: f32 = t316 * t2136;
+        let t2523: f32 = t830 * t2132;
+        let t2524: f32 = t2522 + t2523;
+        let t2525: f32 = t2521 + t2524;
+        let t2526: f32 = t266 * t2525;
+        let t2527: f32 = t2520 - t2526;
+        let t2528: f32 = t404 * t2296;
+        let t2529: f32 = t433 * t2271;
+        let t2530: f32 = t436 * t2293;
+        let t2531: f32 = t853 * t2289;
+        let t2532: f32 = t2530 + t2531;
+        let t2533: f32 = t2529 + t2532;
+        let t2534: f32 = t386 * t2533;
+        let t2535: f32 = t2528 - t2534;
+        let t2536: f32 = t2527 + t2535;
+        let t2537: f32 = t524 * t2452;
+        let t2538: f32 = t553 * t2427;
+        let t2539: f32 = t556 * t2449;
+        let t2540: f32 = t876 * t2445;
         let t2541: f32 = t2539 + t2540;
         let t2542: f32 = t2538 + t2541;
-        let t2543: f32 = t2542 - t2536;
-        let t2544: f32 = leg2_rod_mz * t2543;
-        let t2545: f32 = t2463 * t2509;
-        let t2546: f32 = t2510 * t2545;
-        let t2547: f32 = t2462 * t2462;
-        let t2548: f32 = t2483 * t2547;
-        let t2549: f32 = t2469 * t2482;
-        let t2550: f32 = t2548 + t2549;
-        let t2551: f32 = t2542 - t2550;
-        let t2552: f32 = t194 * t2551;
-        let t2553: f32 = -t2552;
-        let t2554: f32 = t209 * t2553;
-        let t2555: f32 = t2537 + t2554;
-        let t2556: f32 = t2544 + t2546;
-        let t2557: f32 = t2555 - t2556;
-        let t2558: f32 = t194 * t2557;
-        let t2559: f32 = leg2_rod_mass * t2543;
-        let t2560: f32 = t2545 + t2552;
-        let t2561: f32 = leg2_rod_mz * t2560;
-        let t2562: f32 = t2559 + t2561;
-        let t2563: f32 = t2562 - t2558;
-        let t2564: f32 = t200 * t2563;
-        let t2565: f32 = t2531 + t2564;
-        let t2566: f32 = t2475 + t2565;
-        let t2567: f32 = t151 * t2566;
-        let t2568: f32 = t206 * t2563;
-        let t2569: f32 = t197 * t2474;
-        let t2570: f32 = t187 * t2530;
-        let t2571: f32 = t2569 + t2570;
-        let t2572: f32 = t2568 + t2571;
-        let t2573: f32 = t157 * t2572;
-        let t2574: f32 = t2567 - t2573;
-        let t2575: f32 = wx * t282;
-        let t2576: f32 = wy * t291;
-        let t2577: f32 = t2575 - t2576;
-        let t2578: f32 = wy * t2577;
-        let t2579: f32 = wz * t291;
-        let t2580: f32 = wx * t276;
-        let t2581: f32 = t2579 - t2580;
-        let t2582: f32 = wz * t2581;
-        let t2583: f32 = t2578 - t2582;
-        let t2584: f32 = t320 * t2583;
-        let t2585: f32 = wy * t276;
-        let t2586: f32 = wz * t282;
+        let t2543: f32 = t506 * t2542;
+        let t2544: f32 = t2537 - t2543;
+        let t2545: f32 = t644 * t1582;
+        let t2546: f32 = t673 * t1557;
+        let t2547: f32 = t676 * t1579;
+        let t2548: f32 = t899 * t1575;
+        let t2549: f32 = t2547 + t2548;
+        let t2550: f32 = t2546 + t2549;
+        let t2551: f32 = t626 * t2550;
+        let t2552: f32 = t2545 - t2551;
+        let t2553: f32 = t2544 + t2552;
+        let t2554: f32 = t2536 + t2553;
+        let t2555: f32 = t2519 + t2554;
+        let t2556: f32 = t1068 * t1370;
+        let t2557: f32 = t2555 * t2556;
+        let t2558: f32 = t512 * t526;
+        let t2559: f32 = t514 * t524;
+        let t2560: f32 = t2558 - t2559;
+        let t2561: f32 = t1599 * t2560;
+        let t2562: f32 = t632 * t646;
+        let t2563: f32 = t634 * t644;
+        let t2564: f32 = t2562 - t2563;
+        let t2565: f32 = t1604 * t2564;
+        let t2566: f32 = t2561 + t2565;
+        let t2567: f32 = t14 * t1651;
+        let t2568: f32 = t9 * t1647;
+        let t2569: f32 = t2567 - t2568;
+        let t2570: f32 = t2566 + t2569;
+        let t2571: f32 = t1119 * t1638;
+        let t2572: f32 = gravity_x * t1268;
+        let t2573: f32 = gravity_y * t1315;
+        let t2574: f32 = t2572 - t2573;
+        let t2575: f32 = t2571 + t2574;
+        let t2576: f32 = t32 * t46;
+        let t2577: f32 = t34 * t44;
+        let t2578: f32 = t2576 - t2577;
+        let t2579: f32 = t1662 * t2578;
+        let t2580: f32 = t152 * t166;
+        let t2581: f32 = t154 * t164;
+        let t2582: f32 = t2580 - t2581;
+        let t2583: f32 = t1667 * t2582;
+        let t2584: f32 = t2579 + t2583;
+        let t2585: f32 = t272 * t286;
+        let t2586: f32 = t274 * t284;
         let t2587: f32 = t2585 - t2586;
-        let t2588: f32 = wz * t2587;
-        let t2589: f32 = wx * t2577;
-        let t2590: f32 = t2588 - t2589;
-        let t2591: f32 = t327 * t2590;
-        let t2592: f32 = wy * t2587;
-        let t2593: f32 = wx * t2581;
-        let t2594: f32 = t2593 - t2592;
-        let t2595: f32 = t322 * t2594;
-        let t2596: f32 = t2584 + t2591;
-        let t2597: f32 = t2595 + t2596;
-        let t2598: f32 = gravity_x * t320;
-        let t2599: f32 = gravity_y * t327;
-        let t2600: f32 = gravity_z * t322;
-        let t2601: f32 = t2598 + t2599;
-        let t2602: f32 = t2600 + t2601;
-        let t2603: f32 = t2597 - t2602;
-        let t2604: f32 = leg3_rod_mass * t2603;
-        let t2605: f32 = vx + t2587;
-        let t2606: f32 = t323 * t2605;
-        let t2607: f32 = vy + t2581;
-        let t2608: f32 = t329 * t2607;
-        let t2609: f32 = vz + t2577;
-        let t2610: f32 = t312 * t2609;
-        let t2611: f32 = t2606 + t2608;
-        let t2612: f32 = t2610 + t2611;
-        let t2613: f32 = t319 * t2612;
-        let t2614: f32 = t2613 * t2613;
-        let t2615: f32 = t866 * t2605;
-        let t2616: f32 = t325 * t2607;
-        let t2617: f32 = t331 * t2609;
-        let t2618: f32 = t2615 + t2616;
-        let t2619: f32 = t2617 + t2618;
-        let t2620: f32 = t319 * t2619;
-        let t2621: f32 = t2620 * t2620;
-        let t2622: f32 = t2614 + t2621;
-        let t2623: f32 = leg3_rod_mz * t2622;
-        let t2624: f32 = t2604 - t2623;
-        let t2625: f32 = t327 * t2624;
-        let t2626: f32 = t320 * t2605;
-        let t2627: f32 = t327 * t2607;
-        let t2628: f32 = t322 * t2609;
-        let t2629: f32 = t2626 + t2627;
-        let t2630: f32 = t2628 + t2629;
-        let t2631: f32 = t319 * t2630;
-        let t2632: f32 = t2631 * 2.0;
-        let t2633: f32 = t319 * t349;
-        let t2634: f32 = t2619 * t2633;
-        let t2635: f32 = t2632 - t2634;
-        let t2636: f32 = t2612 * t2635;
-        let t2637: f32 = t312 * t2594;
-        let t2638: f32 = t323 * t2583;
-        let t2639: f32 = t329 * t2590;
-        let t2640: f32 = t2638 + t2639;
-        let t2641: f32 = t2637 + t2640;
-        let t2642: f32 = t2641 - t2636;
-        let t2643: f32 = t319 * t2642;
-        let t2644: f32 = t334 * t2643;
-        let t2645: f32 = t311 * t311;
-        let t2646: f32 = t317 * t319;
-        let t2647: f32 = t2645 * t2646;
-        let t2648: f32 = t2612 * t2647;
-        let t2649: f32 = t2619 * t2648;
-        let t2650: f32 = t349 * t2641;
-        let t2651: f32 = t2649 + t2650;
-        let t2652: f32 = t319 * t2651;
-        let t2653: f32 = t2613 * t2635;
-        let t2654: f32 = -t2653;
-        let t2655: f32 = t349 * t2654;
-        let t2656: f32 = t2652 + t2655;
-        let t2657: f32 = t349 * t351;
-        let t2658: f32 = t2656 * t2657;
-        let t2659: f32 = t2612 * t2633;
-        let t2660: f32 = t334 - t351;
-        let t2661: f32 = t2620 * t2659;
-        let t2662: f32 = t2660 * t2661;
-        let t2663: f32 = gravity_x * t323;
-        let t2664: f32 = gravity_y * t329;
-        let t2665: f32 = gravity_z * t312;
-        let t2666: f32 = t2663 + t2664;
-        let t2667: f32 = t2665 + t2666;
-        let t2668: f32 = leg3_cylinder_mz * t2667;
-        let t2669: f32 = t2641 - t2667;
-        let t2670: f32 = leg3_rod_mz * t2669;
-        let t2671: f32 = t2668 - t2670;
-        let t2672: f32 = t2662 + t2671;
-        let t2673: f32 = t2644 + t2658;
-        let t2674: f32 = t2672 - t2673;
-        let t2675: f32 = t319 * t2674;
-        let t2676: f32 = leg3_rod_mass * t2669;
-        let t2677: f32 = t2661 - t2643;
-        let t2678: f32 = leg3_rod_mz * t2677;
-        let t2679: f32 = t2676 - t2678;
-        let t2680: f32 = t2679 - t2675;
-        let t2681: f32 = t329 * t2680;
-        let t2682: f32 = gravity_x * t866;
-        let t2683: f32 = gravity_y * t325;
-        let t2684: f32 = gravity_z * t331;
-        let t2685: f32 = t2682 + t2683;
-        let t2686: f32 = t2684 + t2685;
-        let t2687: f32 = leg3_cylinder_mz * t2686;
-        let t2688: f32 = t331 * t2594;
-        let t2689: f32 = t866 * t2583;
-        let t2690: f32 = t325 * t2590;
-        let t2691: f32 = t2689 + t2690;
-        let t2692: f32 = t2688 + t2691;
-        let t2693: f32 = t2692 - t2686;
-        let t2694: f32 = leg3_rod_mz * t2693;
-        let t2695: f32 = t2613 * t2659;
-        let t2696: f32 = t2660 * t2695;
-        let t2697: f32 = t2612 * t2612;
-        let t2698: f32 = t2633 * t2697;
-        let t2699: f32 = t2619 * t2632;
-        let t2700: f32 = t2698 + t2699;
-        let t2701: f32 = t2692 - t2700;
-        let t2702: f32 = t319 * t2701;
-        let t2703: f32 = -t2702;
-        let t2704: f32 = t334 * t2703;
-        let t2705: f32 = t2687 + t2704;
-        let t2706: f32 = t2694 + t2696;
-        let t2707: f32 = t2705 - t2706;
-        let t2708: f32 = t319 * t2707;
-        let t2709: f32 = leg3_rod_mass * t2693;
-        let t2710: f32 = t2695 + t2702;
-        let t2711: f32 = leg3_rod_mz * t2710;
-        let t2712: f32 = t2709 + t2711;
-        let t2713: f32 = t2712 - t2708;
-        let t2714: f32 = t325 * t2713;
-        let t2715: f32 = t2681 + t2714;
-        let t2716: f32 = t2625 + t2715;
-        let t2717: f32 = t276 * t2716;
-        let t2718: f32 = t331 * t2713;
-        let t2719: f32 = t322 * t2624;
-        let t2720: f32 = t312 * t2680;
-        let t2721: f32 = t2719 + t2720;
-        let t2722: f32 = t2718 + t2721;
-        let t2723: f32 = t282 * t2722;
-        let t2724: f32 = t2717 - t2723;
-        let t2725: f32 = t2574 + t2724;
-        let t2726: f32 = wx * t407;
-        let t2727: f32 = wy * t416;
-        let t2728: f32 = t2726 - t2727;
-        let t2729: f32 = wy * t2728;
-        let t2730: f32 = wz * t416;
-        let t2731: f32 = wx * t401;
-        let t2732: f32 = t2730 - t2731;
-        let t2733: f32 = wz * t2732;
-        let t2734: f32 = t2729 - t2733;
-        let t2735: f32 = t445 * t2734;
-        let t2736: f32 = wy * t401;
-        let t2737: f32 = wz * t407;
-        let t2738: f32 = t2736 - t2737;
-        let t2739: f32 = wz * t2738;
-        let t2740: f32 = wx * t2728;
-        let t2741: f32 = t2739 - t2740;
-        let t2742: f32 = t452 * t2741;
-        let t2743: f32 = wy * t2738;
-        let t2744: f32 = wx * t2732;
-        let t2745: f32 = t2744 - t2743;
-        let t2746: f32 = t447 * t2745;
-        let t2747: f32 = t2735 + t2742;
-        let t2748: f32 = t2746 + t2747;
-        let t2749: f32 = gravity_x * t445;
-        let t2750: f32 = gravity_y * t452;
-        let t2751: f32 = gravity_z * t447;
-        let t2752: f32 = t2749 + t2750;
-        let t2753: f32 = t2751 + t2752;
-        let t2754: f32 = t2748 - t2753;
-        let t2755: f32 = leg4_rod_mass * t2754;
-        let t2756: f32 = vx + t2738;
-        let t2757: f32 = t448 * t2756;
-        let t2758: f32 = vy + t2732;
-        let t2759: f32 = t454 * t2758;
-        let t2760: f32 = vz + t2728;
-        let t2761: f32 = t437 * t2760;
-        let t2762: f32 = t2757 + t2759;
-        let t2763: f32 = t2761 + t2762;
-        let t2764: f32 = t444 * t2763;
-        let t2765: f32 = t2764 * t2764;
-        let t2766: f32 = t894 * t2756;
-        let t2767: f32 = t450 * t2758;
-        let t2768: f32 = t456 * t2760;
-        let t2769: f32 = t2766 + t2767;
-        let t2770: f32 = t2768 + t2769;
-        let t2771: f32 = t444 * t2770;
-        let t2772: f32 = t2771 * t2771;
-        let t2773: f32 = t2765 + t2772;
-        let t2774: f32 = leg4_rod_mz * t2773;
-        let t2775: f32 = t2755 - t2774;
-        let t2776: f32 = t452 * t2775;
-        let t2777: f32 = t445 * t2756;
-        let t2778: f32 = t452 * t2758;
-        let t2779: f32 = t447 * t2760;
-        let t2780: f32 = t2777 + t2778;
-        let t2781: f32 = t2779 + t2780;
-        let t2782: f32 = t444 * t2781;
-        let t2783: f32 = t2782 * 2.0;
-        let t2784: f32 = t444 * t474;
-        let t2785: f32 = t2770 * t2784;
-        let t2786: f32 = t2783 - t2785;
-        let t2787: f32 = t2763 * t2786;
-        let t2788: f32 = t437 * t2745;
-        let t2789: f32 = t448 * t2734;
-        let t2790: f32 = t454 * t2741;
-        let t2791: f32 = t2789 + t2790;
-        let t2792: f32 = t2788 + t2791;
-        let t2793: f32 = t2792 - t2787;
-        let t2794: f32 = t444 * t2793;
-        let t2795: f32 = t459 * t2794;
-        let t2796: f32 = t436 * t436;
-        let t2797: f32 = t442 * t444;
-        let t2798: f32 = t2796 * t2797;
-        let t2799: f32 = t2763 * t2798;
-        let t2800: f32 = t2770 * t2799;
-        let t2801: f32 = t474 * t2792;
-        let t2802: f32 = t2800 + t2801;
-        let t2803: f32 = t444 * t2802;
-        let t2804: f32 = t2764 * t2786;
-        let t2805: f32 = -t2804;
-        let t2806: f32 = t474 * t2805;
-        let t2807: f32 = t2803 + t2806;
-        let t2808: f32 = t474 * t476;
-        let t2809: f32 = t2807 * t2808;
-        let t2810: f32 = t2763 * t2784;
-        let t2811: f32 = t459 - t476;
-        let t2812: f32 = t2771 * t2810;
-        let t2813: f32 = t2811 * t2812;
-        let t2814: f32 = gravity_x * t448;
-        let t2815: f32 = gravity_y * t454;
-        let t2816: f32 = gravity_z * t437;
-        let t2817: f32 = t2814 + t2815;
-        let t2818: f32 = t2816 + t2817;
-        let t2819: f32 = leg4_cylinder_mz * t2818;
-        let t2820: f32 = t2792 - t2818;
-        let t2821: f32 = leg4_rod_mz * t2820;
-        let t2822: f32 = t2819 - t2821;
-        let t2823: f32 = t2813 + t2822;
-        let t2824: f32 = t2795 + t2809;
-        let t2825: f32 = t2823 - t2824;
-        let t2826: f32 = t444 * t2825;
-        let t2827: f32 = leg4_rod_mass * t2820;
-        let t2828: f32 = t2812 - t2794;
-        let t2829: f32 = leg4_rod_mz * t2828;
-        let t2830: f32 = t2827 - t2829;
-        let t2831: f32 = t2830 - t2826;
-        let t2832: f32 = t454 * t2831;
-        let t2833: f32 = gravity_x * t894;
-        let t2834: f32 = gravity_y * t450;
-        let t2835: f32 = gravity_z * t456;
-        let t2836: f32 = t2833 + t2834;
-        let t2837: f32 = t2835 + t2836;
-        let t2838: f32 = leg4_cylinder_mz * t2837;
-        let t2839: f32 = t456 * t2745;
-        let t2840: f32 = t894 * t2734;
-        let t2841: f32 = t450 * t2741;
-        let t2842: f32 = t2840 + t2841;
-        let t2843: f32 = t2839 + t2842;
-        let t2844: f32 = t2843 - t2837;
-        let t2845: f32 = leg4_rod_mz * t2844;
-        let t2846: f32 = t2764 * t2810;
-        let t2847: f32 = t2811 * t2846;
-        let t2848: f32 = t2763 * t2763;
-        let t2849: f32 = t2784 * t2848;
-        let t2850: f32 = t2770 * t2783;
-        let t2851: f32 = t2849 + t2850;
-        let t2852: f32 = t2843 - t2851;
-        let t2853: f32 = t444 * t2852;
-        let t2854: f32 = -t2853;
-        let t2855: f32 = t459 * t2854;
-        let t2856: f32 = t2838 + t2855;
-        let t2857: f32 = t2845 + t2847;
-        let t2858: f32 = t2856 - t2857;
-        let t2859: f32 = t444 * t2858;
-        let t2860: f32 = leg4_rod_mass * t2844;
-        let t2861: f32 = t2846 + t2853;
-        let t2862: f32 = leg4_rod_mz * t2861;
-        let t2863: f32 = t2860 + t2862;
-        let t2864: f32 = t2863 - t2859;
-        let t2865: f32 = t450 * t2864;
-        let t2866: f32 = t2832 + t2865;
-        let t2867: f32 = t2776 + t2866;
-        let t2868: f32 = t401 * t2867;
-        let t2869: f32 = t456 * t2864;
-        let t2870: f32 = t447 * t2775;
-        let t2871: f32 = t437 * t2831;
-        let t2872: f32 = t2870 + t2871;
-        let t2873: f32 = t2869 + t2872;
-        let t2874: f32 = t407 * t2873;
-        let t2875: f32 = t2868 - t2874;
-        let t2876: f32 = wx * t532;
-        let t2877: f32 = wy * t541;
-        let t2878: f32 = t2876 - t2877;
-        let t2879: f32 = wy * t2878;
-        let t2880: f32 = wz * t541;
-        let t2881: f32 = wx * t526;
-        let t2882: f32 = t2880 - t2881;
-        let t2883: f32 = wz * t2882;
-        let t2884: f32 = t2879 - t2883;
-        let t2885: f32 = t570 * t2884;
-        let t2886: f32 = wy * t526;
-        let t2887: f32 = wz * t532;
-        let t2888: f32 = t2886 - t2887;
-        let t2889: f32 = wz * t2888;
-        let t2890: f32 = wx * t2878;
-        let t2891: f32 = t2889 - t2890;
-        let t2892: f32 = t577 * t2891;
-        let t2893: f32 = wy * t2888;
-        let t2894: f32 = wx * t2882;
-        let t2895: f32 = t2894 - t2893;
-        let t2896: f32 = t572 * t2895;
-        let t2897: f32 = t2885 + t2892;
-        let t2898: f32 = t2896 + t2897;
-        let t2899: f32 = gravity_x * t570;
-        let t2900: f32 = gravity_y * t577;
-        let t2901: f32 = gravity_z * t572;
-        let t2902: f32 = t2899 + t2900;
-        let t2903: f32 = t2901 + t2902;
-        let t2904: f32 = t2898 - t2903;
-        let t2905: f32 = leg5_rod_mass * t2904;
-        let t2906: f32 = vx + t2888;
-        let t2907: f32 = t573 * t2906;
-        let t2908: f32 = vy + t2882;
-        let t2909: f32 = t579 * t2908;
-        let t2910: f32 = vz + t2878;
-        let t2911: f32 = t562 * t2910;
-        let t2912: f32 = t2907 + t2909;
-        let t2913: f32 = t2911 + t2912;
-        let t2914: f32 = t569 * t2913;
-        let t2915: f32 = t2914 * t2914;
-        let t2916: f32 = t922 * t2906;
-        let t2917: f32 = t575 * t2908;
-        let t2918: f32 = t581 * t2910;
-        let t2919: f32 = t2916 + t2917;
-        let t2920: f32 = t2918 + t2919;
-        let t2921: f32 = t569 * t2920;
-        let t2922: f32 = t2921 * t2921;
-        let t2923: f32 = t2915 + t2922;
-        let t2924: f32 = leg5_rod_mz * t2923;
-        let t2925: f32 = t2905 - t2924;
-        let t2926: f32 = t577 * t2925;
-        let t2927: f32 = t570 * t2906;
-        let t2928: f32 = t577 * t2908;
-        let t2929: f32 = t572 * t2910;
-        let t2930: f32 = t2927 + t2928;
-        let t2931: f32 = t2929 + t2930;
-        let t2932: f32 = t569 * t2931;
-        let t2933: f32 = t2932 * 2.0;
-        let t2934: f32 = t569 * t599;
-        let t2935: f32 = t2920 * t2934;
-        let t2936: f32 = t2933 - t2935;
-        let t2937: f32 = t2913 * t2936;
-        let t2938: f32 = t562 * t2895;
-        let t2939: f32 = t573 * t2884;
-        let t2940: f32 = t579 * t2891;
-        let t2941: f32 = t2939 + t2940;
-        let t2942: f32 = t2938 + t2941;
-        let t2943: f32 = t2942 - t2937;
-        let t2944: f32 = t569 * t2943;
-        let t2945: f32 = t584 * t2944;
-        let t2946: f32 = t561 * t561;
-        let t2947: f32 = t567 * t569;
-        let t2948: f32 = t2946 * t2947;
-        let t2949: f32 = t2913 * t2948;
-        let t2950: f32 = t2920 * t2949;
-        let t2951: f32 = t599 * t2942;
-        let t2952: f32 = t2950 + t2951;
-        let t2953: f32 = t569 * t2952;
-        let t2954: f32 = t2914 * t2936;
-        let t2955: f32 = -t2954;
-        let t2956: f32 = t599 * t2955;
-        let t2957: f32 = t2953 + t2956;
-        let t2958: f32 = t599 * t601;
-        let t2959: f32 = t2957 * t2958;
-        let t2960: f32 = t2913 * t2934;
-        let t2961: f32 = t584 - t601;
-        let t2962: f32 = t2921 * t2960;
-        let t2963: f32 = t2961 * t2962;
-        let t2964: f32 = gravity_x * t573;
-        let t2965: f32 = gravity_y * t579;
-        let t2966: f32 = gravity_z * t562;
-        let t2967: f32 = t2964 + t2965;
-        let t2968: f32 = t2966 + t2967;
-        let t2969: f32 = leg5_cylinder_mz * t2968;
-        let t2970: f32 = t2942 - t2968;
-        let t2971: f32 = leg5_rod_mz * t2970;
-        let t2972: f32 = t2969 - t2971;
-        let t2973: f32 = t2963 + t2972;
-        let t2974: f32 = t2945 + t2959;
-        let t2975: f32 = t2973 - t2974;
-        let t2976: f32 = t569 * t2975;
-        let t2977: f32 = leg5_rod_mass * t2970;
-        let t2978: f32 = t2962 - t2944;
-        let t2979: f32 = leg5_rod_mz * t2978;
-        let t2980: f32 = t2977 - t2979;
-        let t2981: f32 = t2980 - t2976;
-        let t2982: f32 = t579 * t2981;
-        let t2983: f32 = gravity_x * t922;
-        let t2984: f32 = gravity_y * t575;
-        let t2985: f32 = gravity_z * t581;
-        let t2986: f32 = t2983 + t2984;
-        let t2987: f32 = t2985 + t2986;
-        let t2988: f32 = leg5_cylinder_mz * t2987;
-        let t2989: f32 = t581 * t2895;
-        let t2990: f32 = t922 * t2884;
-        let t2991: f32 = t575 * t2891;
-        let t2992: f32 = t2990 + t2991;
-        let t2993: f32 = t2989 + t2992;
-        let t2994: f32 = t2993 - t2987;
-        let t2995: f32 = leg5_rod_mz * t2994;
-        let t2996: f32 = t2914 * t2960;
-        let t2997: f32 = t2961 * t2996;
-        let t2998: f32 = t2913 * t2913;
-        let t2999: f32 = t2934 * t2998;
-        let t3000: f32 = t2920 * t2933;
-        let t3001: f32 = t2999 + t3000;
-        let t3002: f32 = t2993 - t3001;
+        let t2588: f32 = t1588 * t2587;
+        let t2589: f32 = t392 * t406;
+        let t2590: f32 = t394 * t404;
+        let t2591: f32 = t2589 - t2590;
+        let t2592: f32 = t1593 * t2591;
+        let t2593: f32 = t2588 + t2592;
+        let t2594: f32 = t2584 + t2593;
+        let t2595: f32 = t2575 + t2594;
+        let t2596: f32 = t2570 + t2595;
+        let t2597: f32 = t32 * t2507;
+        let t2598: f32 = t44 * t1815;
+        let t2599: f32 = t2597 - t2598;
+        let t2600: f32 = t2596 - t2599;
+        let t2601: f32 = t152 * t2515;
+        let t2602: f32 = t164 * t1973;
+        let t2603: f32 = t2601 - t2602;
+        let t2604: f32 = t272 * t2525;
+        let t2605: f32 = t284 * t2129;
+        let t2606: f32 = t2604 - t2605;
+        let t2607: f32 = t2603 + t2606;
+        let t2608: f32 = t2600 - t2607;
+        let t2609: f32 = t392 * t2533;
+        let t2610: f32 = t404 * t2286;
+        let t2611: f32 = t2609 - t2610;
+        let t2612: f32 = t512 * t2542;
+        let t2613: f32 = t524 * t2442;
+        let t2614: f32 = t2612 - t2613;
+        let t2615: f32 = t2611 + t2614;
+        let t2616: f32 = t632 * t2550;
+        let t2617: f32 = t644 * t1572;
+        let t2618: f32 = t2616 - t2617;
+        let t2619: f32 = t1275 * t2458;
+        let t2620: f32 = t1277 * t2555;
+        let t2621: f32 = t2619 + t2620;
+        let t2622: f32 = t2618 + t2621;
+        let t2623: f32 = t2615 + t2622;
+        let t2624: f32 = t2608 - t2623;
+        let t2625: f32 = t1262 * t1387;
+        let t2626: f32 = t2624 * t2625;
+        let t2627: f32 = g6 * t646;
+        let t2628: f32 = t651 * t2627;
+        let t2629: f32 = gravity_x * platform_mass;
+        let t2630: f32 = wx * t1268;
+        let t2631: f32 = wy * t1315;
+        let t2632: f32 = t2630 - t2631;
+        let t2633: f32 = wy * t2632;
+        let t2634: f32 = t2629 - t2633;
+        let t2635: f32 = t2628 + t2634;
+        let t2636: f32 = wz * t1315;
+        let t2637: f32 = wx * t1074;
+        let t2638: f32 = t2636 - t2637;
+        let t2639: f32 = wz * t2638;
+        let t2640: f32 = t2639 - t2503;
+        let t2641: f32 = t2511 + t2521;
+        let t2642: f32 = t2640 - t2641;
+        let t2643: f32 = t2635 + t2642;
+        let t2644: f32 = g1 * t46;
+        let t2645: f32 = t51 * t2644;
+        let t2646: f32 = t2645 - t2546;
+        let t2647: f32 = t2529 + t2538;
+        let t2648: f32 = t2646 - t2647;
+        let t2649: f32 = g2 * t166;
+        let t2650: f32 = t171 * t2649;
+        let t2651: f32 = g3 * t286;
+        let t2652: f32 = t291 * t2651;
+        let t2653: f32 = t2650 + t2652;
+        let t2654: f32 = g4 * t406;
+        let t2655: f32 = t411 * t2654;
+        let t2656: f32 = g5 * t526;
+        let t2657: f32 = t531 * t2656;
+        let t2658: f32 = t2655 + t2657;
+        let t2659: f32 = t2653 + t2658;
+        let t2660: f32 = t2648 + t2659;
+        let t2661: f32 = t2643 + t2660;
+        let t2662: f32 = t2661 - t2549;
+        let t2663: f32 = t1298 * t2458;
+        let t2664: f32 = t1307 * t2555;
+        let t2665: f32 = t2663 + t2664;
+        let t2666: f32 = t1326 * t2624;
+        let t2667: f32 = t2506 + t2666;
+        let t2668: f32 = t2665 + t2667;
+        let t2669: f32 = t2662 - t2668;
+        let t2670: f32 = t2514 + t2524;
+        let t2671: f32 = t2532 + t2541;
+        let t2672: f32 = t2670 + t2671;
+        let t2673: f32 = t2669 - t2672;
+        let t2674: f32 = t1286 * t1400;
+        let t2675: f32 = t2673 * t2674;
+        let t2676: f32 = t2128 + t2285;
+        let t2677: f32 = t1571 + t2441;
+        let t2678: f32 = t2676 + t2677;
+        let t2679: f32 = g2 * t154;
+        let t2680: f32 = t171 * t2679;
+        let t2681: f32 = g3 * t274;
+        let t2682: f32 = t291 * t2681;
+        let t2683: f32 = t2680 + t2682;
+        let t2684: f32 = g4 * t394;
+        let t2685: f32 = t411 * t2684;
+        let t2686: f32 = g5 * t514;
+        let t2687: f32 = t531 * t2686;
+        let t2688: f32 = t2685 + t2687;
+        let t2689: f32 = t2683 + t2688;
+        let t2690: f32 = g6 * t634;
+        let t2691: f32 = t651 * t2690;
+        let t2692: f32 = t2691 - t1814;
+        let t2693: f32 = gravity_y * platform_mass;
+        let t2694: f32 = wy * t1074;
+        let t2695: f32 = wz * t1268;
+        let t2696: f32 = t2694 - t2695;
+        let t2697: f32 = wz * t2696;
+        let t2698: f32 = t2693 - t2697;
+        let t2699: f32 = wx * t2632;
+        let t2700: f32 = g1 * t34;
+        let t2701: f32 = t51 * t2700;
+        let t2702: f32 = t2699 + t2701;
+        let t2703: f32 = t2698 + t2702;
+        let t2704: f32 = t2692 + t2703;
+        let t2705: f32 = t2689 + t2704;
+        let t2706: f32 = t1361 * t2458;
+        let t2707: f32 = t1784 - t2706;
+        let t2708: f32 = t2705 + t2707;
+        let t2709: f32 = t1388 * t2624;
+        let t2710: f32 = t1371 * t2555;
+        let t2711: f32 = t2709 - t2710;
+        let t2712: f32 = t1401 * t2673;
+        let t2713: f32 = t1972 - t2712;
+        let t2714: f32 = t2711 + t2713;
+        let t2715: f32 = t2708 + t2714;
+        let t2716: f32 = t2678 + t2715;
+        let t2717: f32 = t1349 * t1406;
+        let t2718: f32 = t2716 * t2717;
+        let t2719: f32 = g1 * t37;
+        let t2720: f32 = t51 * t2719;
+        let t2721: f32 = g2 * t157;
+        let t2722: f32 = t171 * t2721;
+        let t2723: f32 = t2720 + t2722;
+        let t2724: f32 = g3 * t277;
+        let t2725: f32 = t291 * t2724;
+        let t2726: f32 = g4 * t397;
+        let t2727: f32 = t411 * t2726;
+        let t2728: f32 = t2725 + t2727;
+        let t2729: f32 = t2723 + t2728;
+        let t2730: f32 = g5 * t517;
+        let t2731: f32 = t531 * t2730;
+        let t2732: f32 = g6 * t637;
+        let t2733: f32 = t651 * t2732;
+        let t2734: f32 = t2731 + t2733;
+        let t2735: f32 = gravity_z * platform_mass;
+        let t2736: f32 = wx * t2638;
+        let t2737: f32 = t2735 - t2736;
+        let t2738: f32 = wy * t2696;
+        let t2739: f32 = t2738 - t1817;
+        let t2740: f32 = t2737 + t2739;
+        let t2741: f32 = t2734 + t2740;
+        let t2742: f32 = t2729 + t2741;
+        let t2743: f32 = t2460 + t2557;
+        let t2744: f32 = t2742 + t2743;
+        let t2745: f32 = t2626 + t2675;
+        let t2746: f32 = t1824 + t2718;
+        let t2747: f32 = t1983 + t2139;
+        let t2748: f32 = t2296 + t2452;
+        let t2749: f32 = t2745 + t2746;
+        let t2750: f32 = t2747 + t2748;
+        let t2751: f32 = t2749 + t2750;
+        let t2752: f32 = t1582 + t2751;
+        let t2753: f32 = t2744 - t2752;
+        let t2754: f32 = t1406 * t1428;
+        let t2755: f32 = t2753 * t2754;
+        let t2756: f32 = t2716 - t2755;
+        let t2757: f32 = t1330 * t1349;
+        let t2758: f32 = t2756 * t2757;
+        let t2759: f32 = t1400 * t1428;
+        let t2760: f32 = t2753 * t2759;
+        let t2761: f32 = t2758 + t2760;
+        let t2762: f32 = t2673 - t2761;
+        let t2763: f32 = t1088 * t1286;
+        let t2764: f32 = t2762 * t2763;
+        let t2765: f32 = t1306 * t1349;
+        let t2766: f32 = t2756 * t2765;
+        let t2767: f32 = t1280 * t1286;
+        let t2768: f32 = t2762 * t2767;
+        let t2769: f32 = t1325 * t1349;
+        let t2770: f32 = t2756 * t2769;
+        let t2771: f32 = t1387 * t1428;
+        let t2772: f32 = t2753 * t2771;
+        let t2773: f32 = t2768 + t2772;
+        let t2774: f32 = t2624 + t2770;
+        let t2775: f32 = t2773 - t2774;
+        let t2776: f32 = t1262 * t2775;
+        let t2777: f32 = -t2776;
+        let t2778: f32 = t1257 * t2777;
+        let t2779: f32 = t1370 * t1428;
+        let t2780: f32 = t2753 * t2779;
+        let t2781: f32 = t2555 + t2780;
+        let t2782: f32 = t2764 + t2766;
+        let t2783: f32 = t2778 + t2782;
+        let t2784: f32 = t2781 - t2783;
+        let t2785: f32 = t933 * t1068;
+        let t2786: f32 = t2784 * t2785;
+        let t2787: f32 = t1085 * t1286;
+        let t2788: f32 = t2762 * t2787;
+        let t2789: f32 = t1297 * t1349;
+        let t2790: f32 = t2756 * t2789;
+        let t2791: f32 = t1211 * t2777;
+        let t2792: f32 = t1360 * t1428;
+        let t2793: f32 = t2753 * t2792;
+        let t2794: f32 = t2786 + t2788;
+        let t2795: f32 = t2790 + t2791;
+        let t2796: f32 = t2794 + t2795;
+        let t2797: f32 = t2457 + t2796;
+        let t2798: f32 = t2797 - t2793;
+        let t2799: f32 = t777 * t2798;
+        let t2800: f32 = t1068 * t2784;
+        let t2801: f32 = t51 * t1749;
+        let t2802: f32 = t51 * t51;
+        let t2803: f32 = t91 * t2802;
+        let t2804: f32 = t1711 * t2803;
+        let t2805: f32 = t1724 * t2804;
+        let t2806: f32 = t1712 * t1731;
+        let t2807: f32 = t2805 - t2806;
+        let t2808: f32 = t2801 + t2807;
+        let t2809: f32 = t80 * t2808;
+        let t2810: f32 = t2809 - t1779;
+        let t2811: f32 = t51 * t76;
+        let t2812: f32 = t2810 * t2811;
+        let t2813: f32 = t51 * t784;
+        let t2814: f32 = t1740 * t2813;
+        let t2815: f32 = t2812 - t2814;
+        let t2816: f32 = t91 * t2807;
+        let t2817: f32 = t1760 + t2816;
+        let t2818: f32 = t91 * t2811;
+        let t2819: f32 = t93 * t2818;
+        let t2820: f32 = t2817 * t2819;
+        let t2821: f32 = t784 * t1806;
+        let t2822: f32 = t76 * t1811;
+        let t2823: f32 = t2821 + t2822;
+        let t2824: f32 = t2820 + t2823;
+        let t2825: f32 = t2815 + t2824;
+        let t2826: f32 = t2503 + t2825;
+        let t2827: f32 = t32 * t2826;
+        let t2828: f32 = t51 * t84;
+        let t2829: f32 = t91 * t2828;
+        let t2830: f32 = t93 * t2829;
+        let t2831: f32 = t2817 * t2830;
+        let t2832: f32 = t2810 * t2828;
+        let t2833: f32 = t51 * t78;
+        let t2834: f32 = t1740 * t2833;
+        let t2835: f32 = t2832 - t2834;
+        let t2836: f32 = t2831 + t2835;
+        let t2837: f32 = t1814 + t2836;
+        let t2838: f32 = t44 * t2837;
+        let t2839: f32 = t171 * t1906;
+        let t2840: f32 = t171 * t171;
+        let t2841: f32 = t211 * t2840;
+        let t2842: f32 = t1868 * t2841;
+        let t2843: f32 = t1881 * t2842;
+        let t2844: f32 = t1869 * t1888;
+        let t2845: f32 = t2843 - t2844;
+        let t2846: f32 = t2839 + t2845;
+        let t2847: f32 = t200 * t2846;
+        let t2848: f32 = t2847 - t1936;
+        let t2849: f32 = t171 * t196;
+        let t2850: f32 = t2848 * t2849;
+        let t2851: f32 = t171 * t807;
+        let t2852: f32 = t1897 * t2851;
+        let t2853: f32 = t2850 - t2852;
+        let t2854: f32 = t211 * t2845;
+        let t2855: f32 = t1917 + t2854;
+        let t2856: f32 = t211 * t2849;
+        let t2857: f32 = t213 * t2856;
+        let t2858: f32 = t2855 * t2857;
+        let t2859: f32 = t807 * t1963;
+        let t2860: f32 = t196 * t1968;
+        let t2861: f32 = t2859 + t2860;
+        let t2862: f32 = t2858 + t2861;
+        let t2863: f32 = t2853 + t2862;
+        let t2864: f32 = t2511 + t2863;
+        let t2865: f32 = t152 * t2864;
+        let t2866: f32 = t171 * t204;
+        let t2867: f32 = t2848 * t2866;
+        let t2868: f32 = t171 * t198;
+        let t2869: f32 = t1897 * t2868;
+        let t2870: f32 = t2867 - t2869;
+        let t2871: f32 = t211 * t2866;
+        let t2872: f32 = t213 * t2871;
+        let t2873: f32 = t2855 * t2872;
+        let t2874: f32 = t1971 + t2873;
+        let t2875: f32 = t2870 + t2874;
+        let t2876: f32 = t164 * t2875;
+        let t2877: f32 = t291 * t2062;
+        let t2878: f32 = t291 * t291;
+        let t2879: f32 = t331 * t2878;
+        let t2880: f32 = t2024 * t2879;
+        let t2881: f32 = t2037 * t2880;
+        let t2882: f32 = t2025 * t2044;
+        let t2883: f32 = t2881 - t2882;
+        let t2884: f32 = t2877 + t2883;
+        let t2885: f32 = t320 * t2884;
+        let t2886: f32 = t2885 - t2092;
+        let t2887: f32 = t291 * t316;
+        let t2888: f32 = t2886 * t2887;
+        let t2889: f32 = t291 * t830;
+        let t2890: f32 = t2053 * t2889;
+        let t2891: f32 = t2888 - t2890;
+        let t2892: f32 = t331 * t2883;
+        let t2893: f32 = t2073 + t2892;
+        let t2894: f32 = t331 * t2887;
+        let t2895: f32 = t333 * t2894;
+        let t2896: f32 = t2893 * t2895;
+        let t2897: f32 = t830 * t2119;
+        let t2898: f32 = t316 * t2124;
+        let t2899: f32 = t2897 + t2898;
+        let t2900: f32 = t2896 + t2899;
+        let t2901: f32 = t2891 + t2900;
+        let t2902: f32 = t2521 + t2901;
+        let t2903: f32 = t272 * t2902;
+        let t2904: f32 = t291 * t324;
+        let t2905: f32 = t2886 * t2904;
+        let t2906: f32 = t291 * t318;
+        let t2907: f32 = t2053 * t2906;
+        let t2908: f32 = t2905 - t2907;
+        let t2909: f32 = t331 * t2904;
+        let t2910: f32 = t333 * t2909;
+        let t2911: f32 = t2893 * t2910;
+        let t2912: f32 = t2127 + t2911;
+        let t2913: f32 = t2908 + t2912;
+        let t2914: f32 = t284 * t2913;
+        let t2915: f32 = t411 * t2219;
+        let t2916: f32 = t411 * t411;
+        let t2917: f32 = t451 * t2916;
+        let t2918: f32 = t2181 * t2917;
+        let t2919: f32 = t2194 * t2918;
+        let t2920: f32 = t2182 * t2201;
+        let t2921: f32 = t2919 - t2920;
+        let t2922: f32 = t2915 + t2921;
+        let t2923: f32 = t440 * t2922;
+        let t2924: f32 = t2923 - t2249;
+        let t2925: f32 = t411 * t436;
+        let t2926: f32 = t2924 * t2925;
+        let t2927: f32 = t411 * t853;
+        let t2928: f32 = t2210 * t2927;
+        let t2929: f32 = t2926 - t2928;
+        let t2930: f32 = t451 * t2921;
+        let t2931: f32 = t2230 + t2930;
+        let t2932: f32 = t451 * t2925;
+        let t2933: f32 = t453 * t2932;
+        let t2934: f32 = t2931 * t2933;
+        let t2935: f32 = t853 * t2276;
+        let t2936: f32 = t436 * t2281;
+        let t2937: f32 = t2935 + t2936;
+        let t2938: f32 = t2934 + t2937;
+        let t2939: f32 = t2929 + t2938;
+        let t2940: f32 = t2529 + t2939;
+        let t2941: f32 = t392 * t2940;
+        let t2942: f32 = t411 * t444;
+        let t2943: f32 = t2924 * t2942;
+        let t2944: f32 = t411 * t438;
+        let t2945: f32 = t2210 * t2944;
+        let t2946: f32 = t2943 - t2945;
+        let t2947: f32 = t451 * t2942;
+        let t2948: f32 = t453 * t2947;
+        let t2949: f32 = t2931 * t2948;
+        let t2950: f32 = t2284 + t2949;
+        let t2951: f32 = t2946 + t2950;
+        let t2952: f32 = t404 * t2951;
+        let t2953: f32 = t531 * t2375;
+        let t2954: f32 = t531 * t531;
+        let t2955: f32 = t571 * t2954;
+        let t2956: f32 = t2337 * t2955;
+        let t2957: f32 = t2350 * t2956;
+        let t2958: f32 = t2338 * t2357;
+        let t2959: f32 = t2957 - t2958;
+        let t2960: f32 = t2953 + t2959;
+        let t2961: f32 = t560 * t2960;
+        let t2962: f32 = t2961 - t2405;
+        let t2963: f32 = t531 * t556;
+        let t2964: f32 = t2962 * t2963;
+        let t2965: f32 = t531 * t876;
+        let t2966: f32 = t2366 * t2965;
+        let t2967: f32 = t2964 - t2966;
+        let t2968: f32 = t571 * t2959;
+        let t2969: f32 = t2386 + t2968;
+        let t2970: f32 = t571 * t2963;
+        let t2971: f32 = t573 * t2970;
+        let t2972: f32 = t2969 * t2971;
+        let t2973: f32 = t876 * t2432;
+        let t2974: f32 = t556 * t2437;
+        let t2975: f32 = t2973 + t2974;
+        let t2976: f32 = t2972 + t2975;
+        let t2977: f32 = t2967 + t2976;
+        let t2978: f32 = t2538 + t2977;
+        let t2979: f32 = t512 * t2978;
+        let t2980: f32 = t531 * t564;
+        let t2981: f32 = t2962 * t2980;
+        let t2982: f32 = t531 * t558;
+        let t2983: f32 = t2366 * t2982;
+        let t2984: f32 = t2981 - t2983;
+        let t2985: f32 = t571 * t2980;
+        let t2986: f32 = t573 * t2985;
+        let t2987: f32 = t2969 * t2986;
+        let t2988: f32 = t2440 + t2987;
+        let t2989: f32 = t2984 + t2988;
+        let t2990: f32 = t524 * t2989;
+        let t2991: f32 = t651 * t1505;
+        let t2992: f32 = t651 * t651;
+        let t2993: f32 = t691 * t2992;
+        let t2994: f32 = t1467 * t2993;
+        let t2995: f32 = t1480 * t2994;
+        let t2996: f32 = t1468 * t1487;
+        let t2997: f32 = t2995 - t2996;
+        let t2998: f32 = t2991 + t2997;
+        let t2999: f32 = t680 * t2998;
+        let t3000: f32 = t2999 - t1535;
+        let t3001: f32 = t651 * t676;
+        let t3002: f32 = t3000 * t3001;
         (
-            t2028,
-            t2034,
-            t2072,
-            t2073,
-            t2079,
-            t2084,
-            t2085,
-            t2092,
-            t2101,
-            t2112,
-            t2132,
-            t2139,
-            t2140,
-            t2167,
-            t2172,
-            t2173,
-            t2175,
-            t2176,
-            t2179,
-            t2182,
-            t2188,
-            t2193,
-            t2199,
-            t2204,
-            t2238,
-            t2247,
-            t2251,
-            t2262,
-            t2267,
-            t2272,
-            t2310,
-            t2311,
-            t2317,
-            t2322,
-            t2323,
-            t2330,
-            t2339,
-            t2350,
-            t2370,
-            t2377,
-            t2378,
-            t2405,
-            t2410,
-            t2411,
-            t2413,
-            t2414,
-            t2416,
-            t2419,
-            t2420,
-            t2424,
-            t2462,
+            t2053,
+            t2119,
+            t2124,
+            t2134,
+            t2210,
+            t2276,
+            t2281,
+            t2291,
+            t2366,
+            t2432,
+            t2437,
+            t2447,
             t2463,
-            t2469,
-            t2474,
-            t2475,
-            t2482,
-            t2491,
-            t2502,
-            t2522,
-            t2529,
-            t2530,
-            t2557,
-            t2562,
-            t2563,
-            t2565,
-            t2566,
-            t2569,
-            t2572,
-            t2612,
-            t2613,
-            t2619,
-            t2624,
+            t2467,
+            t2481,
+            t2485,
+            t2490,
+            t2494,
+            t2499,
+            t2546,
+            t2560,
+            t2564,
+            t2578,
+            t2582,
+            t2587,
+            t2591,
+            t2596,
             t2625,
-            t2632,
-            t2641,
-            t2652,
-            t2672,
-            t2679,
-            t2680,
-            t2707,
-            t2712,
-            t2713,
-            t2715,
-            t2716,
-            t2719,
-            t2722,
-            t2725,
-            t2763,
-            t2764,
-            t2770,
-            t2775,
-            t2776,
-            t2783,
-            t2792,
-            t2803,
-            t2823,
-            t2830,
-            t2831,
-            t2858,
+            t2661,
+            t2705,
+            t2742,
+            t2756,
+            t2762,
+            t2799,
+            t2800,
+            t2802,
+            t2810,
+            t2817,
+            t2825,
+            t2826,
+            t2827,
+            t2836,
+            t2837,
+            t2838,
+            t2840,
+            t2848,
+            t2855,
             t2863,
             t2864,
-            t2866,
-            t2867,
-            t2870,
-            t2873,
+            t2865,
             t2875,
+            t2876,
+            t2878,
+            t2886,
+            t2893,
+            t2901,
+            t2902,
+            t2903,
             t2913,
             t2914,
-            t2920,
-            t2925,
-            t2926,
-            t2933,
-            t2942,
-            t2953,
-            t2973,
-            t2980,
-            t2981,
-            t2982,
-            t2988,
-            t2994,
-            t2995,
-            t2996,
+            t2916,
+            t2924,
+            t2931,
+            t2939,
+            t2940,
+            t2941,
+            t2951,
+            t2952,
+            t2954,
+            t2962,
+            t2969,
+            t2977,
+            t2978,
+            t2979,
+            t2989,
+            t2990,
+            t2992,
             t2997,
+            t3000,
+            t3001,
             t3002,
         )
     };
     let (
-        t3008,
-        t3013,
-        t3020,
-        t3071,
-        t3074,
-        t3082,
-        t3092,
-        t3100,
-        t3109,
-        t3117,
-        t3167,
-        t3232,
-        t3278,
-        t3318,
-        t3332,
-        t3338,
-        t3375,
-        t3389,
-        t3394,
+        t3239,
+        t3240,
+        t3241,
+        t3242,
+        t3243,
+        t3244,
+        t3245,
+        t3246,
+        t3247,
+        t3248,
+        t3256,
+        t3283,
+        t3329,
         t3396,
-        t3411,
-        t3426,
-        t3431,
-        t3433,
-        t3448,
-        t3463,
-        t3468,
-        t3470,
-        t3485,
-        t3500,
-        t3505,
-        t3507,
-        t3522,
-        t3537,
-        t3542,
-        t3544,
-        t3559,
-        t3574,
-        t3579,
-        t3581,
-        t3596,
-        t3613,
-        t3631,
-        t3649,
-        t3667,
-        t3685,
-        t3703,
-        t3717,
-        t3733,
-        t3734,
-        t3744,
-        t3745,
-        t3746,
-        t3761,
-        t3762,
-        t3772,
-        t3773,
-        t3774,
-        t3789,
-        t3790,
-        t3800,
-        t3801,
-        t3802,
-        t3817,
-        t3818,
-        t3828,
-        t3829,
-        t3830,
-        t3845,
-        t3846,
-        t3856,
-        t3857,
-        t3858,
-        t3873,
-        t3874,
-        t3884,
-        t3885,
-        t3886,
-        t3901,
-        t3902,
-        t3926,
-        t3928,
-        t3929,
-        t3939,
-        t3940,
-        t3941,
-        t3951,
-        t3952,
-        t3953,
-        t3963,
-        t3964,
-        t3965,
-        t3975,
-        t3976,
-        t3977,
-        t3987,
-        t3988,
-        t3989,
-        t3999,
-        t4000,
-        t4001,
-        t4002,
+        t3486,
+        t3600,
     ) = {
-        let t3003: f32 = t569 * t3002;
-        let t3004: f32 = -t3003;
-        let t3005: f32 = t584 * t3004;
-        let t3006: f32 = t2988 + t3005;
-        let t3007: f32 = t2995 + t2997;
-        let t3008: f32 = t3006 - t3007;
-        let t3009: f32 = t569 * t3008;
-        let t3010: f32 = leg5_rod_mass * t2994;
-        let t3011: f32 = t2996 + t3003;
-        let t3012: f32 = leg5_rod_mz * t3011;
-        let t3013: f32 = t3010 + t3012;
-        let t3014: f32 = t3013 - t3009;
-        let t3015: f32 = t575 * t3014;
-        let t3016: f32 = t2982 + t3015;
-        let t3017: f32 = t2926 + t3016;
-        let t3018: f32 = t526 * t3017;
-        let t3019: f32 = t581 * t3014;
-        let t3020: f32 = t572 * t2925;
-        let t3021: f32 = t562 * t2981;
-        let t3022: f32 = t3020 + t3021;
-        let t3023: f32 = t3019 + t3022;
-        let t3024: f32 = t532 * t3023;
-        let t3025: f32 = t3018 - t3024;
-        let t3026: f32 = t2875 + t3025;
-        let t3027: f32 = t2725 + t3026;
-        let t3028: f32 = t2424 + t3027;
-        let t3029: f32 = -t3028;
-        let t3030: f32 = t1198 * t3029;
-        let t3031: f32 = t1793 * t3030;
-        let t3032: f32 = t993 * t3030;
-        let t3033: f32 = t526 * t543;
-        let t3034: f32 = t541 * t549;
-        let t3035: f32 = t3033 - t3034;
-        let t3036: f32 = t2199 * t3035;
-        let t3037: f32 = t651 * t668;
-        let t3038: f32 = t666 * t674;
-        let t3039: f32 = t3037 - t3038;
-        let t3040: f32 = t2204 * t3039;
-        let t3041: f32 = t3036 + t3040;
-        let t3042: f32 = t23 * t2247;
-        let t3043: f32 = t27 * t2251;
-        let t3044: f32 = t3042 - t3043;
-        let t3045: f32 = t3041 + t3044;
-        let t3046: f32 = t979 * t2238;
-        let t3047: f32 = gravity_x * t1547;
-        let t3048: f32 = gravity_z * t1660;
-        let t3049: f32 = t3047 - t3048;
-        let t3050: f32 = t3046 + t3049;
-        let t3051: f32 = t19 * t43;
-        let t3052: f32 = t41 * t49;
-        let t3053: f32 = t3051 - t3052;
-        let t3054: f32 = t2262 * t3053;
-        let t3055: f32 = t151 * t168;
-        let t3056: f32 = t166 * t174;
-        let t3057: f32 = t3055 - t3056;
-        let t3058: f32 = t2267 * t3057;
-        let t3059: f32 = t3054 + t3058;
-        let t3060: f32 = t276 * t293;
-        let t3061: f32 = t291 * t299;
-        let t3062: f32 = t3060 - t3061;
-        let t3063: f32 = t2188 * t3062;
-        let t3064: f32 = t401 * t418;
-        let t3065: f32 = t416 * t424;
-        let t3066: f32 = t3064 - t3065;
-        let t3067: f32 = t2193 * t3066;
-        let t3068: f32 = t3063 + t3067;
-        let t3069: f32 = t3059 + t3068;
-        let t3070: f32 = t3050 + t3069;
-        let t3071: f32 = t3045 + t3070;
-        let t3072: f32 = t3032 + t3071;
-        let t3073: f32 = t41 * t2420;
-        let t3074: f32 = t70 * t2322;
-        let t3075: f32 = t73 * t2378;
-        let t3076: f32 = t810 * t2411;
-        let t3077: f32 = t3075 + t3076;
-        let t3078: f32 = t3074 + t3077;
-        let t3079: f32 = t19 * t3078;
-        let t3080: f32 = t3073 - t3079;
-        let t3081: f32 = t166 * t2572;
-        let t3082: f32 = t195 * t2474;
-        let t3083: f32 = t198 * t2530;
-        let t3084: f32 = t838 * t2563;
-        let t3085: f32 = t3083 + t3084;
-        let t3086: f32 = t3082 + t3085;
-        let t3087: f32 = t151 * t3086;
-        let t3088: f32 = t3081 - t3087;
-        let t3089: f32 = t3080 + t3088;
-        let t3090: f32 = t3072 + t3089;
-        let t3091: f32 = t291 * t2722;
-        let t3092: f32 = t320 * t2624;
-        let t3093: f32 = t323 * t2680;
-        let t3094: f32 = t866 * t2713;
-        let t3095: f32 = t3093 + t3094;
-        let t3096: f32 = t3092 + t3095;
-        let t3097: f32 = t276 * t3096;
-        let t3098: f32 = t3091 - t3097;
-        let t3099: f32 = t416 * t2873;
-        let t3100: f32 = t445 * t2775;
-        let t3101: f32 = t448 * t2831;
-        let t3102: f32 = t894 * t2864;
-        let t3103: f32 = t3101 + t3102;
-        let t3104: f32 = t3100 + t3103;
-        let t3105: f32 = t401 * t3104;
-        let t3106: f32 = t3099 - t3105;
-        let t3107: f32 = t3098 + t3106;
-        let t3108: f32 = t541 * t3023;
-        let t3109: f32 = t570 * t2925;
-        let t3110: f32 = t573 * t2981;
-        let t3111: f32 = t922 * t3014;
-        let t3112: f32 = t3110 + t3111;
-        let t3113: f32 = t3109 + t3112;
-        let t3114: f32 = t526 * t3113;
-        let t3115: f32 = t3108 - t3114;
-        let t3116: f32 = t666 * t2182;
-        let t3117: f32 = t695 * t2084;
-        let t3118: f32 = t698 * t2140;
-        let t3119: f32 = t950 * t2173;
-        let t3120: f32 = t3118 + t3119;
-        let t3121: f32 = t3117 + t3120;
-        let t3122: f32 = t651 * t3121;
-        let t3123: f32 = t3116 - t3122;
-        let t3124: f32 = t3115 + t3123;
-        let t3125: f32 = t3107 + t3124;
-        let t3126: f32 = t3090 + t3125;
-        let t3127: f32 = t1237 * t3126;
-        let t3128: f32 = t1802 * t3127;
-        let t3129: f32 = t532 * t543;
-        let t3130: f32 = t534 * t541;
-        let t3131: f32 = t3129 - t3130;
-        let t3132: f32 = t2199 * t3131;
-        let t3133: f32 = t657 * t668;
-        let t3134: f32 = t659 * t666;
-        let t3135: f32 = t3133 - t3134;
-        let t3136: f32 = t2204 * t3135;
-        let t3137: f32 = t3132 + t3136;
-        let t3138: f32 = t14 * t2251;
-        let t3139: f32 = t9 * t2247;
-        let t3140: f32 = t3138 - t3139;
-        let t3141: f32 = t3137 + t3140;
-        let t3142: f32 = t1304 * t2238;
-        let t3143: f32 = gravity_x * t1562;
-        let t3144: f32 = gravity_y * t1660;
-        let t3145: f32 = t3143 - t3144;
-        let t3146: f32 = t3142 + t3145;
-        let t3147: f32 = t32 * t43;
-        let t3148: f32 = t34 * t41;
-        let t3149: f32 = t3147 - t3148;
-        let t3150: f32 = t2262 * t3149;
-        let t3151: f32 = t157 * t168;
-        let t3152: f32 = t159 * t166;
-        let t3153: f32 = t3151 - t3152;
-        let t3154: f32 = t2267 * t3153;
-        let t3155: f32 = t3150 + t3154;
-        let t3156: f32 = t282 * t293;
-        let t3157: f32 = t284 * t291;
-        let t3158: f32 = t3156 - t3157;
-        let t3159: f32 = t2188 * t3158;
-        let t3160: f32 = t407 * t418;
-        let t3161: f32 = t409 * t416;
-        let t3162: f32 = t3160 - t3161;
-        let t3163: f32 = t2193 * t3162;
-        let t3164: f32 = t3159 + t3163;
-        let t3165: f32 = t3155 + t3164;
-        let t3166: f32 = t3146 + t3165;
-        let t3167: f32 = t3141 + t3166;
-        let t3168: f32 = t32 * t3078;
-        let t3169: f32 = t41 * t2414;
-        let t3170: f32 = t3168 - t3169;
-        let t3171: f32 = t3167 - t3170;
-        let t3172: f32 = t157 * t3086;
-        let t3173: f32 = t166 * t2566;
-        let t3174: f32 = t3172 - t3173;
-        let t3175: f32 = t282 * t3096;
-        let t3176: f32 = t291 * t2716;
-        let t3177: f32 = t3175 - t3176;
-        let t3178: f32 = t3174 + t3177;
-        let t3179: f32 = t3171 - t3178;
-        let t3180: f32 = t407 * t3104;
-        let t3181: f32 = t416 * t2867;
-        let t3182: f32 = t3180 - t3181;
-        let t3183: f32 = t532 * t3113;
-        let t3184: f32 = t541 * t3017;
-        let t3185: f32 = t3183 - t3184;
-        let t3186: f32 = t3182 + t3185;
-        let t3187: f32 = t657 * t3121;
-        let t3188: f32 = t666 * t2176;
-        let t3189: f32 = t3187 - t3188;
-        let t3190: f32 = t1321 * t3030;
-        let t3191: f32 = t1341 * t3127;
-        let t3192: f32 = t3190 - t3191;
-        let t3193: f32 = t3189 + t3192;
-        let t3194: f32 = t3186 + t3193;
-        let t3195: f32 = t3179 - t3194;
-        let t3196: f32 = t1533 * t3195;
-        let t3197: f32 = t1854 * t3196;
-        let t3198: f32 = g6 * t668;
-        let t3199: f32 = t694 * t3198;
-        let t3200: f32 = gravity_x * platform_mass;
-        let t3201: f32 = wx * t1562;
-        let t3202: f32 = wy * t1660;
-        let t3203: f32 = t3201 - t3202;
-        let t3204: f32 = wy * t3203;
-        let t3205: f32 = t3200 - t3204;
-        let t3206: f32 = t3199 + t3205;
-        let t3207: f32 = wz * t1660;
-        let t3208: f32 = wx * t1547;
-        let t3209: f32 = t3207 - t3208;
-        let t3210: f32 = wz * t3209;
-        let t3211: f32 = t3210 - t3074;
-        let t3212: f32 = t3082 + t3092;
-        let t3213: f32 = t3211 - t3212;
-        let t3214: f32 = t3206 + t3213;
-        let t3215: f32 = g1 * t43;
-        let t3216: f32 = t69 * t3215;
-        let t3217: f32 = t3216 - t3117;
-        let t3218: f32 = t3100 + t3109;
-        let t3219: f32 = t3217 - t3218;
-        let t3220: f32 = g2 * t168;
-        let t3221: f32 = t194 * t3220;
-        let t3222: f32 = g3 * t293;
-        let t3223: f32 = t319 * t3222;
-        let t3224: f32 = t3221 + t3223;
-        let t3225: f32 = g4 * t418;
-        let t3226: f32 = t444 * t3225;
-        let t3227: f32 = g5 * t543;
-        let t3228: f32 = t569 * t3227;
-        let t3229: f32 = t3226 + t3228;
-        let t3230: f32 = t3224 + t3229;
-        let t3231: f32 = t3219 + t3230;
-        let t3232: f32 = t3214 + t3231;
-        let t3233: f32 = t3232 - t3120;
-        let t3234: f32 = t1538 * t3030;
-        let t3235: f32 = t1554 * t3127;
-        let t3236: f32 = t3234 + t3235;
-        let t3237: f32 = t1570 * t3196;
-        let t3238: f32 = t3077 + t3237;
-        let t3239: f32 = t3236 + t3238;
-        let t3240: f32 = t3233 - t3239;
-        let t3241: f32 = t3085 + t3095;
-        let t3242: f32 = t3103 + t3112;
-        let t3243: f32 = t3241 + t3242;
-        let t3244: f32 = t3240 - t3243;
-        let t3245: f32 = t1634 * t3244;
-        let t3246: f32 = t1911 * t3245;
-        let t3247: f32 = g6 * t659;
-        let t3248: f32 = t694 * t3247;
-        let t3249: f32 = gravity_y * platform_mass;
-        let t3250: f32 = wy * t1547;
-        let t3251: f32 = wz * t1562;
-        let t3252: f32 = t3250 - t3251;
-        let t3253: f32 = wz * t3252;
-        let t3254: f32 = t3249 - t3253;
-        let t3255: f32 = t3248 + t3254;
-        let t3256: f32 = wx * t3203;
-        let t3257: f32 = t3256 - t2323;
-        let t3258: f32 = t2475 + t2625;
-        let t3259: f32 = t3257 - t3258;
-        let t3260: f32 = t3255 + t3259;
-        let t3261: f32 = g1 * t34;
-        let t3262: f32 = t69 * t3261;
-        let t3263: f32 = t3262 - t2085;
-        let t3264: f32 = t2776 + t2926;
-        let t3265: f32 = t3263 - t3264;
-        let t3266: f32 = g2 * t159;
-        let t3267: f32 = t194 * t3266;
-        let t3268: f32 = g3 * t284;
-        let t3269: f32 = t319 * t3268;
-        let t3270: f32 = t3267 + t3269;
-        let t3271: f32 = g4 * t409;
-        let t3272: f32 = t444 * t3271;
-        let t3273: f32 = g5 * t534;
-        let t3274: f32 = t569 * t3273;
-        let t3275: f32 = t3272 + t3274;
-        let t3276: f32 = t3270 + t3275;
-        let t3277: f32 = t3265 + t3276;
-        let t3278: f32 = t3260 + t3277;
-        let t3279: f32 = t1640 * t3030;
-        let t3280: f32 = t1649 * t3127;
-        let t3281: f32 = t3279 + t3280;
-        let t3282: f32 = t3278 - t3281;
-        let t3283: f32 = t1668 * t3196;
-        let t3284: f32 = t1720 * t3245;
-        let t3285: f32 = t3283 - t3284;
-        let t3286: f32 = t2413 + t2565;
-        let t3287: f32 = t3285 - t3286;
-        let t3288: f32 = t3282 + t3287;
-        let t3289: f32 = t2715 + t2866;
-        let t3290: f32 = t2175 + t3016;
-        let t3291: f32 = t3289 + t3290;
-        let t3292: f32 = t3288 - t3291;
-        let t3293: f32 = t1787 * t1964;
-        let t3294: f32 = t3292 * t3293;
-        let t3295: f32 = g1 * t49;
-        let t3296: f32 = t69 * t3295;
-        let t3297: f32 = g2 * t174;
-        let t3298: f32 = t194 * t3297;
-        let t3299: f32 = t3296 + t3298;
-        let t3300: f32 = g3 * t299;
-        let t3301: f32 = t319 * t3300;
-        let t3302: f32 = g4 * t424;
-        let t3303: f32 = t444 * t3302;
-        let t3304: f32 = t3301 + t3303;
-        let t3305: f32 = t3299 + t3304;
-        let t3306: f32 = g5 * t549;
-        let t3307: f32 = t569 * t3306;
-        let t3308: f32 = g6 * t674;
-        let t3309: f32 = t694 * t3308;
-        let t3310: f32 = t3307 + t3309;
-        let t3311: f32 = gravity_z * platform_mass;
-        let t3312: f32 = wx * t3209;
-        let t3313: f32 = t3311 - t3312;
-        let t3314: f32 = wy * t3252;
-        let t3315: f32 = t3314 - t2416;
-        let t3316: f32 = t3313 + t3315;
-        let t3317: f32 = t3310 + t3316;
-        let t3318: f32 = t3305 + t3317;
-        let t3319: f32 = t3031 + t3128;
-        let t3320: f32 = t3318 + t3319;
-        let t3321: f32 = t3197 + t3246;
-        let t3322: f32 = t2419 + t3294;
-        let t3323: f32 = t2572 + t2722;
-        let t3324: f32 = t2873 + t3023;
-        let t3325: f32 = t3321 + t3322;
-        let t3326: f32 = t3323 + t3324;
-        let t3327: f32 = t3325 + t3326;
-        let t3328: f32 = t2182 + t3327;
-        let t3329: f32 = t3320 - t3328;
-        let t3330: f32 = t1964 * t2034;
-        let t3331: f32 = t3329 * t3330;
-        let t3332: f32 = t3292 - t3331;
-        let t3333: f32 = t1720 * t1787;
-        let t3334: f32 = t3332 * t3333;
-        let t3335: f32 = t1911 * t2034;
-        let t3336: f32 = t3329 * t3335;
-        let t3337: f32 = t3334 + t3336;
-        let t3338: f32 = t3244 - t3337;
-        let t3339: f32 = t1570 * t1634;
-        let t3340: f32 = t3338 * t3339;
-        let t3341: f32 = t1668 * t1787;
-        let t3342: f32 = t3332 * t3341;
-        let t3343: f32 = t1854 * t2034;
-        let t3344: f32 = t3329 * t3343;
-        let t3345: f32 = t3340 + t3344;
-        let t3346: f32 = t3195 + t3342;
-        let t3347: f32 = t3345 - t3346;
-        let t3348: f32 = t1533 * t3347;
-        let t3349: f32 = -t3348;
-        let t3350: f32 = t1341 * t3349;
-        let t3351: f32 = t1554 * t1634;
-        let t3352: f32 = t3338 * t3351;
-        let t3353: f32 = t1649 * t1787;
-        let t3354: f32 = t3332 * t3353;
-        let t3355: f32 = t1802 * t2034;
-        let t3356: f32 = t3329 * t3355;
-        let t3357: f32 = t3350 + t3356;
-        let t3358: f32 = t3126 + t3357;
-        let t3359: f32 = t3352 + t3354;
-        let t3360: f32 = t3358 - t3359;
-        let t3361: f32 = t993 * t1237;
-        let t3362: f32 = t3360 * t3361;
-        let t3363: f32 = t1321 * t3349;
-        let t3364: f32 = t1538 * t1634;
-        let t3365: f32 = t3338 * t3364;
-        let t3366: f32 = t1640 * t1787;
-        let t3367: f32 = t3332 * t3366;
-        let t3368: f32 = t1793 * t2034;
-        let t3369: f32 = t3329 * t3368;
-        let t3370: f32 = t3363 + t3365;
-        let t3371: f32 = t3028 + t3367;
-        let t3372: f32 = t3370 + t3371;
-        let t3373: f32 = t3362 + t3369;
-        let t3374: f32 = t3372 - t3373;
-        let t3375: f32 = t807 * t3374;
-        let t3376: f32 = t69 * t86;
-        let t3377: f32 = t810 * t3376;
-        let t3378: f32 = t996 * t3377;
-        let t3379: f32 = t73 * t90;
-        let t3380: f32 = t100 * t3379;
-        let t3381: f32 = t101 * t3380;
-        let t3382: f32 = t1005 * t3381;
-        let t3383: f32 = t3378 + t3382;
-        let t3384: f32 = t108 * t810;
-        let t3385: f32 = t996 * t3384;
-        let t3386: f32 = t73 * t108;
-        let t3387: f32 = t1005 * t3386;
-        let t3388: f32 = t3385 + t3387;
-        let t3389: f32 = t69 * t73;
-        let t3390: f32 = t86 * t3389;
-        let t3391: f32 = t1005 * t3390;
-        let t3392: f32 = t1002 + t3391;
-        let t3393: f32 = t3388 + t3392;
-        let t3394: f32 = t3383 + t3393;
-        let t3395: f32 = t19 * t3394;
-        let t3396: f32 = t69 * t81;
-        let t3397: f32 = t86 * t3396;
-        let t3398: f32 = t996 * t3397;
-        let t3399: f32 = t100 * t128;
-        let t3400: f32 = t101 * t3399;
-        let t3401: f32 = t1005 * t3400;
-        let t3402: f32 = t3398 + t3401;
-        let t3403: f32 = t81 * t108;
-        let t3404: f32 = t996 * t3403;
-        let t3405: f32 = t134 * t1005;
-        let t3406: f32 = t3404 + t3405;
-        let t3407: f32 = t86 * t139;
-        let t3408: f32 = t1005 * t3407;
-        let t3409: f32 = t1013 + t3408;
-        let t3410: f32 = t3406 + t3409;
-        let t3411: f32 = t3402 + t3410;
-        let t3412: f32 = t41 * t3411;
-        let t3413: f32 = t194 * t211;
-        let t3414: f32 = t838 * t3413;
-        let t3415: f32 = t1021 * t3414;
-        let t3416: f32 = t198 * t215;
-        let t3417: f32 = t225 * t3416;
-        let t3418: f32 = t226 * t3417;
-        let t3419: f32 = t1030 * t3418;
-        let t3420: f32 = t3415 + t3419;
-        let t3421: f32 = t233 * t838;
-        let t3422: f32 = t1021 * t3421;
-        let t3423: f32 = t198 * t233;
-        let t3424: f32 = t1030 * t3423;
-        let t3425: f32 = t3422 + t3424;
-        let t3426: f32 = t194 * t198;
-        let t3427: f32 = t211 * t3426;
-        let t3428: f32 = t1030 * t3427;
-        let t3429: f32 = t1027 + t3428;
-        let t3430: f32 = t3425 + t3429;
-        let t3431: f32 = t3420 + t3430;
-        let t3432: f32 = t151 * t3431;
-        let t3433: f32 = t194 * t206;
-        let t3434: f32 = t211 * t3433;
-        let t3435: f32 = t1021 * t3434;
-        let t3436: f32 = t225 * t253;
-        let t3437: f32 = t226 * t3436;
-        let t3438: f32 = t1030 * t3437;
-        let t3439: f32 = t3435 + t3438;
-        let t3440: f32 = t206 * t233;
-        let t3441: f32 = t1021 * t3440;
-        let t3442: f32 = t259 * t1030;
-        let t3443: f32 = t3441 + t3442;
-        let t3444: f32 = t211 * t264;
-        let t3445: f32 = t1030 * t3444;
-        let t3446: f32 = t1038 + t3445;
-        let t3447: f32 = t3443 + t3446;
-        let t3448: f32 = t3439 + t3447;
-        let t3449: f32 = t166 * t3448;
-        let t3450: f32 = t319 * t336;
-        let t3451: f32 = t866 * t3450;
-        let t3452: f32 = t1046 * t3451;
-        let t3453: f32 = t323 * t340;
-        let t3454: f32 = t350 * t3453;
-        let t3455: f32 = t351 * t3454;
-        let t3456: f32 = t1055 * t3455;
-        let t3457: f32 = t3452 + t3456;
-        let t3458: f32 = t358 * t866;
-        let t3459: f32 = t1046 * t3458;
-        let t3460: f32 = t323 * t358;
-        let t3461: f32 = t1055 * t3460;
-        let t3462: f32 = t3459 + t3461;
-        let t3463: f32 = t319 * t323;
-        let t3464: f32 = t336 * t3463;
-        let t3465: f32 = t1055 * t3464;
-        let t3466: f32 = t1052 + t3465;
-        let t3467: f32 = t3462 + t3466;
-        let t3468: f32 = t3457 + t3467;
-        let t3469: f32 = t276 * t3468;
-        let t3470: f32 = t319 * t331;
-        let t3471: f32 = t336 * t3470;
-        let t3472: f32 = t1046 * t3471;
-        let t3473: f32 = t350 * t378;
-        let t3474: f32 = t351 * t3473;
-        let t3475: f32 = t1055 * t3474;
-        let t3476: f32 = t3472 + t3475;
-        let t3477: f32 = t331 * t358;
-        let t3478: f32 = t1046 * t3477;
-        let t3479: f32 = t384 * t1055;
-        let t3480: f32 = t3478 + t3479;
-        let t3481: f32 = t336 * t389;
-        let t3482: f32 = t1055 * t3481;
-        let t3483: f32 = t1063 + t3482;
-        let t3484: f32 = t3480 + t3483;
-        let t3485: f32 = t3476 + t3484;
-        let t3486: f32 = t291 * t3485;
-        let t3487: f32 = t444 * t461;
-        let t3488: f32 = t894 * t3487;
-        let t3489: f32 = t1071 * t3488;
-        let t3490: f32 = t448 * t465;
-        let t3491: f32 = t475 * t3490;
-        let t3492: f32 = t476 * t3491;
-        let t3493: f32 = t1080 * t3492;
-        let t3494: f32 = t3489 + t3493;
-        let t3495: f32 = t483 * t894;
-        let t3496: f32 = t1071 * t3495;
-        let t3497: f32 = t448 * t483;
-        let t3498: f32 = t1080 * t3497;
-        let t3499: f32 = t3496 + t3498;
-        let t3500: f32 = t444 * t448;
-        let t3501: f32 = t461 * t3500;
-        let t3502: f32 = t1080 * t3501;
-        let t3503: f32 = t1077 + t3502;
-        let t3504: f32 = t3499 + t3503;
-        let t3505: f32 = t3494 + t3504;
-        let t3506: f32 = t401 * t3505;
-        let t3507: f32 = t444 * t456;
-        let t3508: f32 = t461 * t3507;
-        let t3509: f32 = t1071 * t3508;
-        let t3510: f32 = t475 * t503;
-        let t3511: f32 = t476 * t3510;
-        let t3512: f32 = t1080 * t3511;
-        let t3513: f32 = t3509 + t3512;
-        let t3514: f32 = t456 * t483;
-        let t3515: f32 = t1071 * t3514;
-        let t3516: f32 = t509 * t1080;
-        let t3517: f32 = t3515 + t3516;
-        let t3518: f32 = t461 * t514;
-        let t3519: f32 = t1080 * t3518;
-        let t3520: f32 = t1088 + t3519;
-        let t3521: f32 = t3517 + t3520;
-        let t3522: f32 = t3513 + t3521;
-        let t3523: f32 = t416 * t3522;
-        let t3524: f32 = t569 * t586;
-        let t3525: f32 = t922 * t3524;
-        let t3526: f32 = t1096 * t3525;
-        let t3527: f32 = t573 * t590;
-        let t3528: f32 = t600 * t3527;
-        let t3529: f32 = t601 * t3528;
-        let t3530: f32 = t1105 * t3529;
-        let t3531: f32 = t3526 + t3530;
-        let t3532: f32 = t608 * t922;
-        let t3533: f32 = t1096 * t3532;
-        let t3534: f32 = t573 * t608;
-        let t3535: f32 = t1105 * t3534;
-        let t3536: f32 = t3533 + t3535;
-        let t3537: f32 = t569 * t573;
-        let t3538: f32 = t586 * t3537;
-        let t3539: f32 = t1105 * t3538;
-        let t3540: f32 = t1102 + t3539;
-        let t3541: f32 = t3536 + t3540;
-        let t3542: f32 = t3531 + t3541;
-        let t3543: f32 = t526 * t3542;
-        let t3544: f32 = t569 * t581;
-        let t3545: f32 = t586 * t3544;
-        let t3546: f32 = t1096 * t3545;
-        let t3547: f32 = t600 * t628;
-        let t3548: f32 = t601 * t3547;
-        let t3549: f32 = t1105 * t3548;
-        let t3550: f32 = t3546 + t3549;
-        let t3551: f32 = t581 * t608;
-        let t3552: f32 = t1096 * t3551;
-        let t3553: f32 = t634 * t1105;
-        let t3554: f32 = t3552 + t3553;
-        let t3555: f32 = t586 * t639;
-        let t3556: f32 = t1105 * t3555;
-        let t3557: f32 = t1113 + t3556;
-        let t3558: f32 = t3554 + t3557;
-        let t3559: f32 = t3550 + t3558;
-        let t3560: f32 = t541 * t3559;
-        let t3561: f32 = t694 * t711;
-        let t3562: f32 = t950 * t3561;
-        let t3563: f32 = t1121 * t3562;
-        let t3564: f32 = t698 * t715;
-        let t3565: f32 = t725 * t3564;
-        let t3566: f32 = t726 * t3565;
-        let t3567: f32 = t1130 * t3566;
-        let t3568: f32 = t3563 + t3567;
-        let t3569: f32 = t733 * t950;
-        let t3570: f32 = t1121 * t3569;
-        let t3571: f32 = t698 * t733;
-        let t3572: f32 = t1130 * t3571;
-        let t3573: f32 = t3570 + t3572;
-        let t3574: f32 = t694 * t698;
-        let t3575: f32 = t711 * t3574;
-        let t3576: f32 = t1130 * t3575;
-        let t3577: f32 = t1127 + t3576;
-        let t3578: f32 = t3573 + t3577;
-        let t3579: f32 = t3568 + t3578;
-        let t3580: f32 = t651 * t3579;
-        let t3581: f32 = t694 * t706;
-        let t3582: f32 = t711 * t3581;
-        let t3583: f32 = t1121 * t3582;
-        let t3584: f32 = t725 * t753;
-        let t3585: f32 = t726 * t3584;
-        let t3586: f32 = t1130 * t3585;
-        let t3587: f32 = t3583 + t3586;
-        let t3588: f32 = t706 * t733;
-        let t3589: f32 = t1121 * t3588;
-        let t3590: f32 = t759 * t1130;
-        let t3591: f32 = t3589 + t3590;
-        let t3592: f32 = t711 * t764;
-        let t3593: f32 = t1130 * t3592;
-        let t3594: f32 = t1138 + t3593;
-        let t3595: f32 = t3591 + t3594;
-        let t3596: f32 = t3587 + t3595;
-        let t3597: f32 = t666 * t3596;
-        let t3598: f32 = t69 * t83;
-        let t3599: f32 = t86 * t3598;
-        let t3600: f32 = t810 * t3599;
-        let t3601: f32 = t93 * t3379;
-        let t3602: f32 = t100 * t3601;
-        let t3603: f32 = t101 * t3602;
-        let t3604: f32 = t3600 + t3603;
-        let t3605: f32 = t83 * t108;
-        let t3606: f32 = t810 * t3605;
-        let t3607: f32 = t93 * t3386;
-        let t3608: f32 = t3606 + t3607;
-        let t3609: f32 = t93 * t3389;
-        let t3610: f32 = t86 * t3609;
-        let t3611: f32 = t818 + t3610;
-        let t3612: f32 = t3608 + t3611;
-        let t3613: f32 = t3604 + t3612;
-        let t3614: f32 = t19 * t3613;
-        let t3615: f32 = t41 * t144;
-        let t3616: f32 = t194 * t208;
-        let t3617: f32 = t211 * t3616;
-        let t3618: f32 = t838 * t3617;
-        let t3619: f32 = t218 * t3416;
-        let t3620: f32 = t225 * t3619;
-        let t3621: f32 = t226 * t3620;
-        let t3622: f32 = t3618 + t3621;
-        let t3623: f32 = t208 * t233;
-        let t3624: f32 = t838 * t3623;
-        let t3625: f32 = t218 * t3423;
-        let t3626: f32 = t3624 + t3625;
-        let t3627: f32 = t218 * t3426;
-        let t3628: f32 = t211 * t3627;
-        let t3629: f32 = t846 + t3628;
-        let t3630: f32 = t3626 + t3629;
-        let t3631: f32 = t3622 + t3630;
-        let t3632: f32 = t151 * t3631;
-        let t3633: f32 = t166 * t269;
-        let t3634: f32 = t319 * t333;
-        let t3635: f32 = t336 * t3634;
-        let t3636: f32 = t866 * t3635;
-        let t3637: f32 = t343 * t3453;
-        let t3638: f32 = t350 * t3637;
-        let t3639: f32 = t351 * t3638;
-        let t3640: f32 = t3636 + t3639;
-        let t3641: f32 = t333 * t358;
-        let t3642: f32 = t866 * t3641;
-        let t3643: f32 = t343 * t3460;
-        let t3644: f32 = t3642 + t3643;
-        let t3645: f32 = t343 * t3463;
-        let t3646: f32 = t336 * t3645;
-        let t3647: f32 = t874 + t3646;
-        let t3648: f32 = t3644 + t3647;
-        let t3649: f32 = t3640 + t3648;
-        let t3650: f32 = t276 * t3649;
-        let t3651: f32 = t291 * t394;
-        let t3652: f32 = t444 * t458;
-        let t3653: f32 = t461 * t3652;
-        let t3654: f32 = t894 * t3653;
-        let t3655: f32 = t468 * t3490;
-        let t3656: f32 = t475 * t3655;
-        let t3657: f32 = t476 * t3656;
-        let t3658: f32 = t3654 + t3657;
-        let t3659: f32 = t458 * t483;
-        let t3660: f32 = t894 * t3659;
-        let t3661: f32 = t468 * t3497;
-        let t3662: f32 = t3660 + t3661;
-        let t3663: f32 = t468 * t3500;
-        let t3664: f32 = t461 * t3663;
-        let t3665: f32 = t902 + t3664;
-        let t3666: f32 = t3662 + t3665;
-        let t3667: f32 = t3658 + t3666;
-        let t3668: f32 = t401 * t3667;
-        let t3669: f32 = t416 * t519;
-        let t3670: f32 = t569 * t583;
-        let t3671: f32 = t586 * t3670;
-        let t3672: f32 = t922 * t3671;
-        let t3673: f32 = t593 * t3527;
-        let t3674: f32 = t600 * t3673;
-        let t3675: f32 = t601 * t3674;
-        let t3676: f32 = t3672 + t3675;
-        let t3677: f32 = t583 * t608;
-        let t3678: f32 = t922 * t3677;
-        let t3679: f32 = t593 * t3534;
-        let t3680: f32 = t3678 + t3679;
-        let t3681: f32 = t593 * t3537;
-        let t3682: f32 = t586 * t3681;
-        let t3683: f32 = t930 + t3682;
-        let t3684: f32 = t3680 + t3683;
-        let t3685: f32 = t3676 + t3684;
-        let t3686: f32 = t526 * t3685;
-        let t3687: f32 = t541 * t644;
-        let t3688: f32 = t694 * t708;
-        let t3689: f32 = t711 * t3688;
-        let t3690: f32 = t950 * t3689;
-        let t3691: f32 = t718 * t3564;
-        let t3692: f32 = t725 * t3691;
-        let t3693: f32 = t726 * t3692;
-        let t3694: f32 = t3690 + t3693;
-        let t3695: f32 = t708 * t733;
-        let t3696: f32 = t950 * t3695;
-        let t3697: f32 = t718 * t3571;
-        let t3698: f32 = t3696 + t3697;
-        let t3699: f32 = t718 * t3574;
-        let t3700: f32 = t711 * t3699;
-        let t3701: f32 = t958 + t3700;
-        let t3702: f32 = t3698 + t3701;
-        let t3703: f32 = t3694 + t3702;
-        let t3704: f32 = t651 * t3703;
-        let t3705: f32 = t666 * t769;
-        let t3706: f32 = t3615 + t3633;
-        let t3707: f32 = t3651 + t3669;
-        let t3708: f32 = t3687 + t3705;
-        let t3709: f32 = t3706 + t3707;
-        let t3710: f32 = t981 + t3708;
-        let t3711: f32 = t3709 + t3710;
-        let t3712: f32 = t3614 + t3632;
-        let t3713: f32 = t3650 + t3668;
-        let t3714: f32 = t3686 + t3704;
-        let t3715: f32 = t3712 + t3713;
-        let t3716: f32 = t3714 + t3715;
-        let t3717: f32 = t3711 - t3716;
-        let t3718: f32 = t3717 * t3717;
-        let t3719: f32 = t807 * t3718;
-        let t3720: f32 = t3395 + t3432;
-        let t3721: f32 = t3469 + t3506;
-        let t3722: f32 = t3543 + t3580;
-        let t3723: f32 = t3720 + t3721;
-        let t3724: f32 = t1223 + t3722;
-        let t3725: f32 = t3723 + t3724;
-        let t3726: f32 = t3412 + t3449;
-        let t3727: f32 = t3486 + t3523;
-        let t3728: f32 = t3560 + t3597;
-        let t3729: f32 = t3726 + t3727;
-        let t3730: f32 = t3719 + t3728;
-        let t3731: f32 = t3729 + t3730;
-        let t3732: f32 = t3725 - t3731;
-        let t3733: f32 = 1.0 / t3732;
-        let t3734: f32 = t3360 * t3733;
-        let t3735: f32 = t1344 * t3377;
-        let t3736: f32 = t1353 * t3381;
-        let t3737: f32 = t3735 + t3736;
-        let t3738: f32 = t1344 * t3384;
-        let t3739: f32 = t1353 * t3386;
-        let t3740: f32 = t3738 + t3739;
-        let t3741: f32 = t1353 * t3390;
-        let t3742: f32 = t1350 + t3741;
-        let t3743: f32 = t3740 + t3742;
-        let t3744: f32 = t3737 + t3743;
-        let t3745: f32 = t32 * t3744;
-        let t3746: f32 = t69 * t75;
-        let t3747: f32 = t86 * t3746;
-        let t3748: f32 = t1344 * t3747;
-        let t3749: f32 = t100 * t102;
-        let t3750: f32 = t101 * t3749;
-        let t3751: f32 = t1353 * t3750;
-        let t3752: f32 = t3748 + t3751;
-        let t3753: f32 = t75 * t108;
-        let t3754: f32 = t1344 * t3753;
-        let t3755: f32 = t110 * t1353;
-        let t3756: f32 = t3754 + t3755;
-        let t3757: f32 = t86 * t118;
-        let t3758: f32 = t1353 * t3757;
-        let t3759: f32 = t1361 + t3758;
-        let t3760: f32 = t3756 + t3759;
-        let t3761: f32 = t3752 + t3760;
-        let t3762: f32 = t41 * t3761;
-        let t3763: f32 = t1369 * t3414;
-        let t3764: f32 = t1378 * t3418;
-        let t3765: f32 = t3763 + t3764;
-        let t3766: f32 = t1369 * t3421;
-        let t3767: f32 = t1378 * t3423;
-        let t3768: f32 = t3766 + t3767;
-        let t3769: f32 = t1378 * t3427;
-        let t3770: f32 = t1375 + t3769;
-        let t3771: f32 = t3768 + t3770;
-        let t3772: f32 = t3765 + t3771;
-        let t3773: f32 = t157 * t3772;
-        let t3774: f32 = t194 * t200;
-        let t3775: f32 = t211 * t3774;
-        let t3776: f32 = t1369 * t3775;
-        let t3777: f32 = t225 * t227;
-        let t3778: f32 = t226 * t3777;
-        let t3779: f32 = t1378 * t3778;
-        let t3780: f32 = t3776 + t3779;
-        let t3781: f32 = t200 * t233;
-        let t3782: f32 = t1369 * t3781;
-        let t3783: f32 = t235 * t1378;
-        let t3784: f32 = t3782 + t3783;
-        let t3785: f32 = t211 * t243;
-        let t3786: f32 = t1378 * t3785;
-        let t3787: f32 = t1386 + t3786;
-        let t3788: f32 = t3784 + t3787;
-        let t3789: f32 = t3780 + t3788;
-        let t3790: f32 = t166 * t3789;
-        let t3791: f32 = t1394 * t3451;
-        let t3792: f32 = t1403 * t3455;
-        let t3793: f32 = t3791 + t3792;
-        let t3794: f32 = t1394 * t3458;
-        let t3795: f32 = t1403 * t3460;
-        let t3796: f32 = t3794 + t3795;
-        let t3797: f32 = t1403 * t3464;
-        let t3798: f32 = t1400 + t3797;
-        let t3799: f32 = t3796 + t3798;
-        let t3800: f32 = t3793 + t3799;
-        let t3801: f32 = t282 * t3800;
-        let t3802: f32 = t319 * t325;
-        let t3803: f32 = t336 * t3802;
-        let t3804: f32 = t1394 * t3803;
-        let t3805: f32 = t350 * t352;
-        let t3806: f32 = t351 * t3805;
-        let t3807: f32 = t1403 * t3806;
-        let t3808: f32 = t3804 + t3807;
-        let t3809: f32 = t325 * t358;
-        let t3810: f32 = t1394 * t3809;
-        let t3811: f32 = t360 * t1403;
-        let t3812: f32 = t3810 + t3811;
-        let t3813: f32 = t336 * t368;
-        let t3814: f32 = t1403 * t3813;
-        let t3815: f32 = t1411 + t3814;
-        let t3816: f32 = t3812 + t3815;
-        let t3817: f32 = t3808 + t3816;
-        let t3818: f32 = t291 * t3817;
-        let t3819: f32 = t1419 * t3488;
-        let t3820: f32 = t1428 * t3492;
-        let t3821: f32 = t3819 + t3820;
-        let t3822: f32 = t1419 * t3495;
-        let t3823: f32 = t1428 * t3497;
-        let t3824: f32 = t3822 + t3823;
-        let t3825: f32 = t1428 * t3501;
-        let t3826: f32 = t1425 + t3825;
-        let t3827: f32 = t3824 + t3826;
-        let t3828: f32 = t3821 + t3827;
-        let t3829: f32 = t407 * t3828;
-        let t3830: f32 = t444 * t450;
-        let t3831: f32 = t461 * t3830;
-        let t3832: f32 = t1419 * t3831;
-        let t3833: f32 = t475 * t477;
-        let t3834: f32 = t476 * t3833;
-        let t3835: f32 = t1428 * t3834;
-        let t3836: f32 = t3832 + t3835;
-        let t3837: f32 = t450 * t483;
-        let t3838: f32 = t1419 * t3837;
-        let t3839: f32 = t485 * t1428;
-        let t3840: f32 = t3838 + t3839;
-        let t3841: f32 = t461 * t493;
-        let t3842: f32 = t1428 * t3841;
-        let t3843: f32 = t1436 + t3842;
-        let t3844: f32 = t3840 + t3843;
-        let t3845: f32 = t3836 + t3844;
-        let t3846: f32 = t416 * t3845;
-        let t3847: f32 = t1444 * t3525;
-        let t3848: f32 = t1453 * t3529;
-        let t3849: f32 = t3847 + t3848;
-        let t3850: f32 = t1444 * t3532;
-        let t3851: f32 = t1453 * t3534;
-        let t3852: f32 = t3850 + t3851;
-        let t3853: f32 = t1453 * t3538;
-        let t3854: f32 = t1450 + t3853;
-        let t3855: f32 = t3852 + t3854;
-        let t3856: f32 = t3849 + t3855;
-        let t3857: f32 = t532 * t3856;
-        let t3858: f32 = t569 * t575;
-        let t3859: f32 = t586 * t3858;
-        let t3860: f32 = t1444 * t3859;
-        let t3861: f32 = t600 * t602;
-        let t3862: f32 = t601 * t3861;
-        let t3863: f32 = t1453 * t3862;
-        let t3864: f32 = t3860 + t3863;
-        let t3865: f32 = t575 * t608;
-        let t3866: f32 = t1444 * t3865;
-        let t3867: f32 = t610 * t1453;
-        let t3868: f32 = t3866 + t3867;
-        let t3869: f32 = t586 * t618;
-        let t3870: f32 = t1453 * t3869;
-        let t3871: f32 = t1461 + t3870;
-        let t3872: f32 = t3868 + t3871;
-        let t3873: f32 = t3864 + t3872;
-        let t3874: f32 = t541 * t3873;
-        let t3875: f32 = t1469 * t3562;
-        let t3876: f32 = t1478 * t3566;
-        let t3877: f32 = t3875 + t3876;
-        let t3878: f32 = t1469 * t3569;
-        let t3879: f32 = t1478 * t3571;
-        let t3880: f32 = t3878 + t3879;
-        let t3881: f32 = t1478 * t3575;
-        let t3882: f32 = t1475 + t3881;
-        let t3883: f32 = t3880 + t3882;
-        let t3884: f32 = t3877 + t3883;
-        let t3885: f32 = t657 * t3884;
-        let t3886: f32 = t694 * t700;
-        let t3887: f32 = t711 * t3886;
-        let t3888: f32 = t1469 * t3887;
-        let t3889: f32 = t725 * t727;
-        let t3890: f32 = t726 * t3889;
-        let t3891: f32 = t1478 * t3890;
-        let t3892: f32 = t3888 + t3891;
-        let t3893: f32 = t700 * t733;
-        let t3894: f32 = t1469 * t3893;
-        let t3895: f32 = t735 * t1478;
-        let t3896: f32 = t3894 + t3895;
-        let t3897: f32 = t711 * t743;
-        let t3898: f32 = t1478 * t3897;
-        let t3899: f32 = t1486 + t3898;
-        let t3900: f32 = t3896 + t3899;
-        let t3901: f32 = t3892 + t3900;
-        let t3902: f32 = t666 * t3901;
-        let t3903: f32 = t32 * t3613;
-        let t3904: f32 = t41 * t123;
-        let t3905: f32 = t157 * t3631;
-        let t3906: f32 = t166 * t248;
-        let t3907: f32 = t282 * t3649;
-        let t3908: f32 = t291 * t373;
-        let t3909: f32 = t407 * t3667;
-        let t3910: f32 = t416 * t498;
-        let t3911: f32 = t532 * t3685;
-        let t3912: f32 = t541 * t623;
-        let t3913: f32 = t657 * t3703;
-        let t3914: f32 = t666 * t748;
-        let t3915: f32 = t3903 + t3905;
-        let t3916: f32 = t3907 + t3909;
-        let t3917: f32 = t3911 + t3913;
-        let t3918: f32 = t3915 + t3916;
-        let t3919: f32 = t1309 + t3917;
-        let t3920: f32 = t3918 + t3919;
-        let t3921: f32 = t3904 + t3906;
-        let t3922: f32 = t3908 + t3910;
-        let t3923: f32 = t3912 + t3914;
-        let t3924: f32 = t3921 + t3922;
-        let t3925: f32 = t3923 + t3924;
-        let t3926: f32 = t3920 - t3925;
-        let t3927: f32 = t3926 * t3926;
-        let t3928: f32 = t807 * t3927;
-        let t3929: f32 = t32 * t3394;
-        let t3930: f32 = t996 * t3747;
-        let t3931: f32 = t1005 * t3750;
-        let t3932: f32 = t3930 + t3931;
-        let t3933: f32 = t996 * t3753;
-        let t3934: f32 = t110 * t1005;
-        let t3935: f32 = t3933 + t3934;
-        let t3936: f32 = t1005 * t3757;
-        let t3937: f32 = t1241 + t3936;
-        let t3938: f32 = t3935 + t3937;
-        let t3939: f32 = t3932 + t3938;
-        let t3940: f32 = t41 * t3939;
-        let t3941: f32 = t157 * t3431;
-        let t3942: f32 = t1021 * t3775;
-        let t3943: f32 = t1030 * t3778;
-        let t3944: f32 = t3942 + t3943;
-        let t3945: f32 = t1021 * t3781;
-        let t3946: f32 = t235 * t1030;
-        let t3947: f32 = t3945 + t3946;
-        let t3948: f32 = t1030 * t3785;
-        let t3949: f32 = t1250 + t3948;
-        let t3950: f32 = t3947 + t3949;
-        let t3951: f32 = t3944 + t3950;
-        let t3952: f32 = t166 * t3951;
-        let t3953: f32 = t282 * t3468;
-        let t3954: f32 = t1046 * t3803;
-        let t3955: f32 = t1055 * t3806;
-        let t3956: f32 = t3954 + t3955;
-        let t3957: f32 = t1046 * t3809;
-        let t3958: f32 = t360 * t1055;
-        let t3959: f32 = t3957 + t3958;
-        let t3960: f32 = t1055 * t3813;
-        let t3961: f32 = t1259 + t3960;
-        let t3962: f32 = t3959 + t3961;
-        let t3963: f32 = t3956 + t3962;
-        let t3964: f32 = t291 * t3963;
-        let t3965: f32 = t407 * t3505;
-        let t3966: f32 = t1071 * t3831;
-        let t3967: f32 = t1080 * t3834;
-        let t3968: f32 = t3966 + t3967;
-        let t3969: f32 = t1071 * t3837;
-        let t3970: f32 = t485 * t1080;
-        let t3971: f32 = t3969 + t3970;
-        let t3972: f32 = t1080 * t3841;
-        let t3973: f32 = t1268 + t3972;
-        let t3974: f32 = t3971 + t3973;
-        let t3975: f32 = t3968 + t3974;
-        let t3976: f32 = t416 * t3975;
-        let t3977: f32 = t532 * t3542;
-        let t3978: f32 = t1096 * t3859;
-        let t3979: f32 = t1105 * t3862;
-        let t3980: f32 = t3978 + t3979;
-        let t3981: f32 = t1096 * t3865;
-        let t3982: f32 = t610 * t1105;
-        let t3983: f32 = t3981 + t3982;
-        let t3984: f32 = t1105 * t3869;
-        let t3985: f32 = t1277 + t3984;
-        let t3986: f32 = t3983 + t3985;
-        let t3987: f32 = t3980 + t3986;
-        let t3988: f32 = t541 * t3987;
-        let t3989: f32 = t657 * t3579;
-        let t3990: f32 = t1121 * t3887;
-        let t3991: f32 = t1130 * t3890;
-        let t3992: f32 = t3990 + t3991;
-        let t3993: f32 = t1121 * t3893;
-        let t3994: f32 = t735 * t1130;
-        let t3995: f32 = t3993 + t3994;
-        let t3996: f32 = t1130 * t3897;
-        let t3997: f32 = t1286 + t3996;
-        let t3998: f32 = t3995 + t3997;
-        let t3999: f32 = t3992 + t3998;
-        let t4000: f32 = t666 * t3999;
-        let t4001: f32 = t807 * t3717;
-        let t4002: f32 = t3926 * t4001;
+        let t3003: f32 = t651 * t899;
+        let t3004: f32 = t1496 * t3003;
+        let t3005: f32 = t3002 - t3004;
+        let t3006: f32 = t691 * t2997;
+        let t3007: f32 = t1516 + t3006;
+        let t3008: f32 = t691 * t3001;
+        let t3009: f32 = t693 * t3008;
+        let t3010: f32 = t3007 * t3009;
+        let t3011: f32 = t899 * t1562;
+        let t3012: f32 = t676 * t1567;
+        let t3013: f32 = t3011 + t3012;
+        let t3014: f32 = t3010 + t3013;
+        let t3015: f32 = t3005 + t3014;
+        let t3016: f32 = t2546 + t3015;
+        let t3017: f32 = t632 * t3016;
+        let t3018: f32 = t651 * t684;
+        let t3019: f32 = t3000 * t3018;
+        let t3020: f32 = t651 * t678;
+        let t3021: f32 = t1496 * t3020;
+        let t3022: f32 = t3019 - t3021;
+        let t3023: f32 = t691 * t3018;
+        let t3024: f32 = t693 * t3023;
+        let t3025: f32 = t3007 * t3024;
+        let t3026: f32 = t1570 + t3025;
+        let t3027: f32 = t3022 + t3026;
+        let t3028: f32 = t644 * t3027;
+        let t3029: f32 = t19 * t2837;
+        let t3030: f32 = t51 * t72;
+        let t3031: f32 = t2810 * t3030;
+        let t3032: f32 = t51 * t118;
+        let t3033: f32 = t1740 * t3032;
+        let t3034: f32 = t3031 - t3033;
+        let t3035: f32 = t91 * t3030;
+        let t3036: f32 = t93 * t3035;
+        let t3037: f32 = t2817 * t3036;
+        let t3038: f32 = t118 * t1806;
+        let t3039: f32 = t72 * t1811;
+        let t3040: f32 = t3038 + t3039;
+        let t3041: f32 = t3037 + t3040;
+        let t3042: f32 = t3034 + t3041;
+        let t3043: f32 = t1817 + t3042;
+        let t3044: f32 = t32 * t3043;
+        let t3045: f32 = t146 * t2875;
+        let t3046: f32 = t171 * t238;
+        let t3047: f32 = t1897 * t3046;
+        let t3048: f32 = t171 * t192;
+        let t3049: f32 = t211 * t3048;
+        let t3050: f32 = t213 * t3049;
+        let t3051: f32 = t2855 * t3050;
+        let t3052: f32 = t3047 - t3051;
+        let t3053: f32 = t238 * t1963;
+        let t3054: f32 = t192 * t1968;
+        let t3055: f32 = t3053 + t3054;
+        let t3056: f32 = t2848 * t3048;
+        let t3057: f32 = t1978 + t3056;
+        let t3058: f32 = t3055 + t3057;
+        let t3059: f32 = t3052 - t3058;
+        let t3060: f32 = -t3059;
+        let t3061: f32 = t152 * t3060;
+        let t3062: f32 = t266 * t2913;
+        let t3063: f32 = t291 * t358;
+        let t3064: f32 = t2053 * t3063;
+        let t3065: f32 = t291 * t312;
+        let t3066: f32 = t331 * t3065;
+        let t3067: f32 = t333 * t3066;
+        let t3068: f32 = t2893 * t3067;
+        let t3069: f32 = t3064 - t3068;
+        let t3070: f32 = t358 * t2119;
+        let t3071: f32 = t312 * t2124;
+        let t3072: f32 = t3070 + t3071;
+        let t3073: f32 = t2886 * t3065;
+        let t3074: f32 = t2134 + t3073;
+        let t3075: f32 = t3072 + t3074;
+        let t3076: f32 = t3069 - t3075;
+        let t3077: f32 = -t3076;
+        let t3078: f32 = t272 * t3077;
+        let t3079: f32 = t386 * t2951;
+        let t3080: f32 = t411 * t478;
+        let t3081: f32 = t2210 * t3080;
+        let t3082: f32 = t411 * t432;
+        let t3083: f32 = t451 * t3082;
+        let t3084: f32 = t453 * t3083;
+        let t3085: f32 = t2931 * t3084;
+        let t3086: f32 = t3081 - t3085;
+        let t3087: f32 = t478 * t2276;
+        let t3088: f32 = t432 * t2281;
+        let t3089: f32 = t3087 + t3088;
+        let t3090: f32 = t2924 * t3082;
+        let t3091: f32 = t2291 + t3090;
+        let t3092: f32 = t3089 + t3091;
+        let t3093: f32 = t3086 - t3092;
+        let t3094: f32 = -t3093;
+        let t3095: f32 = t392 * t3094;
+        let t3096: f32 = t506 * t2989;
+        let t3097: f32 = t531 * t598;
+        let t3098: f32 = t2366 * t3097;
+        let t3099: f32 = t531 * t552;
+        let t3100: f32 = t571 * t3099;
+        let t3101: f32 = t573 * t3100;
+        let t3102: f32 = t2969 * t3101;
+        let t3103: f32 = t3098 - t3102;
+        let t3104: f32 = t598 * t2432;
+        let t3105: f32 = t552 * t2437;
+        let t3106: f32 = t3104 + t3105;
+        let t3107: f32 = t2962 * t3099;
+        let t3108: f32 = t2447 + t3107;
+        let t3109: f32 = t3106 + t3108;
+        let t3110: f32 = t3103 - t3109;
+        let t3111: f32 = -t3110;
+        let t3112: f32 = t512 * t3111;
+        let t3113: f32 = t626 * t3027;
+        let t3114: f32 = t651 * t718;
+        let t3115: f32 = t1496 * t3114;
+        let t3116: f32 = t651 * t672;
+        let t3117: f32 = t691 * t3116;
+        let t3118: f32 = t693 * t3117;
+        let t3119: f32 = t3007 * t3118;
+        let t3120: f32 = t3115 - t3119;
+        let t3121: f32 = t718 * t1562;
+        let t3122: f32 = t672 * t1567;
+        let t3123: f32 = t3121 + t3122;
+        let t3124: f32 = t3000 * t3116;
+        let t3125: f32 = t1577 + t3124;
+        let t3126: f32 = t3123 + t3125;
+        let t3127: f32 = t3120 - t3126;
+        let t3128: f32 = -t3127;
+        let t3129: f32 = t632 * t3128;
+        let t3130: f32 = t3044 + t3061;
+        let t3131: f32 = t3078 + t3095;
+        let t3132: f32 = t3112 + t3129;
+        let t3133: f32 = t3130 + t3131;
+        let t3134: f32 = t1672 + t3132;
+        let t3135: f32 = t3133 + t3134;
+        let t3136: f32 = t3029 + t3045;
+        let t3137: f32 = t3062 + t3079;
+        let t3138: f32 = t3096 + t3113;
+        let t3139: f32 = t3136 + t3137;
+        let t3140: f32 = t3138 + t3139;
+        let t3141: f32 = t3135 - t3140;
+        let t3142: f32 = t777 * t3141;
+        let t3143: f32 = t1211 * t3142;
+        let t3144: f32 = t19 * t2826;
+        let t3145: f32 = t44 * t3043;
+        let t3146: f32 = t146 * t2864;
+        let t3147: f32 = t164 * t3060;
+        let t3148: f32 = t266 * t2902;
+        let t3149: f32 = t284 * t3077;
+        let t3150: f32 = t386 * t2940;
+        let t3151: f32 = t404 * t3094;
+        let t3152: f32 = t506 * t2978;
+        let t3153: f32 = t524 * t3111;
+        let t3154: f32 = t626 * t3016;
+        let t3155: f32 = t644 * t3128;
+        let t3156: f32 = t933 * t3142;
+        let t3157: f32 = t3145 + t3147;
+        let t3158: f32 = t3149 + t3151;
+        let t3159: f32 = t3153 + t3155;
+        let t3160: f32 = t3157 + t3158;
+        let t3161: f32 = t2499 + t3159;
+        let t3162: f32 = t3160 + t3161;
+        let t3163: f32 = t3144 + t3146;
+        let t3164: f32 = t3148 + t3150;
+        let t3165: f32 = t3152 + t3154;
+        let t3166: f32 = t3163 + t3164;
+        let t3167: f32 = t3156 + t3165;
+        let t3168: f32 = t3166 + t3167;
+        let t3169: f32 = t3162 - t3168;
+        let t3170: f32 = t1068 * t3169;
+        let t3171: f32 = t1257 * t3170;
+        let t3172: f32 = t2838 + t2876;
+        let t3173: f32 = t2914 + t2952;
+        let t3174: f32 = t2990 + t3028;
+        let t3175: f32 = t3172 + t3173;
+        let t3176: f32 = t2596 + t3174;
+        let t3177: f32 = t3175 + t3176;
+        let t3178: f32 = t2827 + t2865;
+        let t3179: f32 = t2903 + t2941;
+        let t3180: f32 = t2979 + t3017;
+        let t3181: f32 = t3143 + t3171;
+        let t3182: f32 = t3178 + t3179;
+        let t3183: f32 = t3180 + t3181;
+        let t3184: f32 = t3182 + t3183;
+        let t3185: f32 = t3177 - t3184;
+        let t3186: f32 = t1262 * t3185;
+        let t3187: f32 = t1286 * t1326;
+        let t3188: f32 = t2762 * t3187;
+        let t3189: f32 = t1349 * t1388;
+        let t3190: f32 = t2756 * t3189;
+        let t3191: f32 = t1360 * t3142;
+        let t3192: f32 = t1370 * t3170;
+        let t3193: f32 = t1387 * t3186;
+        let t3194: f32 = t1085 * t3142;
+        let t3195: f32 = t1088 * t3170;
+        let t3196: f32 = t1280 * t3186;
+        let t3197: f32 = t3194 + t3195;
+        let t3198: f32 = t2825 + t3196;
+        let t3199: f32 = t2863 + t2901;
+        let t3200: f32 = t2939 + t2977;
+        let t3201: f32 = t3197 + t3198;
+        let t3202: f32 = t3199 + t3200;
+        let t3203: f32 = t3201 + t3202;
+        let t3204: f32 = t3015 + t3203;
+        let t3205: f32 = t2661 - t3204;
+        let t3206: f32 = t1286 * t3205;
+        let t3207: f32 = t1400 * t3206;
+        let t3208: f32 = t1297 * t3142;
+        let t3209: f32 = t1306 * t3170;
+        let t3210: f32 = t1325 * t3186;
+        let t3211: f32 = t1330 * t3206;
+        let t3212: f32 = t2705 + t3210;
+        let t3213: f32 = t3208 + t3209;
+        let t3214: f32 = t2836 + t3211;
+        let t3215: f32 = t2875 + t2913;
+        let t3216: f32 = t2951 + t2989;
+        let t3217: f32 = t3213 + t3214;
+        let t3218: f32 = t3215 + t3216;
+        let t3219: f32 = t3217 + t3218;
+        let t3220: f32 = t3027 + t3219;
+        let t3221: f32 = t3212 - t3220;
+        let t3222: f32 = t1349 * t3221;
+        let t3223: f32 = t1406 * t3222;
+        let t3224: f32 = t3191 + t3192;
+        let t3225: f32 = t3059 + t3076;
+        let t3226: f32 = t3093 + t3110;
+        let t3227: f32 = t2742 + t3127;
+        let t3228: f32 = t3224 + t3225;
+        let t3229: f32 = t3226 + t3227;
+        let t3230: f32 = t3228 + t3229;
+        let t3231: f32 = t3193 + t3207;
+        let t3232: f32 = t3042 + t3223;
+        let t3233: f32 = t3231 + t3232;
+        let t3234: f32 = t3230 - t3233;
+        let t3235: f32 = t1428 * t2625;
+        let t3236: f32 = t3234 * t3235;
+        let t3237: f32 = t3188 + t3236;
+        let t3238: f32 = t3186 + t3190;
+        let t3239: f32 = t3237 - t3238;
+        let t3240: f32 = t1286 * t2762;
+        let t3241: f32 = t1349 * t2756;
+        let t3242: f32 = t1428 * t3234;
+        let t3243: f32 = t51 * t70;
+        let t3244: f32 = t171 * t190;
+        let t3245: f32 = t291 * t310;
+        let t3246: f32 = t411 * t430;
+        let t3247: f32 = t531 * t550;
+        let t3248: f32 = t651 * t670;
+        let t3249: f32 = t1661 * t1661;
+        let t3250: f32 = t2481 * t2481;
+        let t3251: f32 = t2578 * t2578;
+        let t3252: f32 = t3249 + t3250;
+        let t3253: f32 = t3251 + t3252;
+        let t3254: f32 = t2802 * t3253;
+        let t3255: f32 = t3254 + 1.0;
+        let t3256: f32 = t3255 / t3255;
+        let t3257: f32 = t2582 * t2582;
+        let t3258: f32 = t2840 * t3257;
+        let t3259: f32 = t1666 * t1666;
+        let t3260: f32 = t2840 * t3259;
+        let t3261: f32 = t2485 * t2485;
+        let t3262: f32 = t2840 * t3261;
+        let t3263: f32 = t3260 + t3262;
+        let t3264: f32 = t3258 + t3263;
+        let t3265: f32 = t3264 + 1.0;
+        let t3266: f32 = t1661 * t1666;
+        let t3267: f32 = t2481 * t2485;
+        let t3268: f32 = t2578 * t2582;
+        let t3269: f32 = t46 * t166;
+        let t3270: f32 = t34 * t154;
+        let t3271: f32 = t37 * t157;
+        let t3272: f32 = t3266 + t3267;
+        let t3273: f32 = t3268 + t3269;
+        let t3274: f32 = t3270 + t3271;
+        let t3275: f32 = t3272 + t3273;
+        let t3276: f32 = t3274 + t3275;
+        let t3277: f32 = t51 * t171;
+        let t3278: f32 = t3276 * t3277;
+        let t3279: f32 = 1.0 / t3255;
+        let t3280: f32 = t3278 * t3279;
+        let t3281: f32 = t3278 * t3280;
+        let t3282: f32 = t3265 - t3281;
+        let t3283: f32 = t3282 / t3265;
+        let t3284: f32 = t2587 * t2587;
+        let t3285: f32 = t2878 * t3284;
+        let t3286: f32 = t1587 * t1587;
+        let t3287: f32 = t2878 * t3286;
+        let t3288: f32 = t2490 * t2490;
+        let t3289: f32 = t2878 * t3288;
+        let t3290: f32 = t3287 + t3289;
+        let t3291: f32 = t3285 + t3290;
+        let t3292: f32 = t3291 + 1.0;
+        let t3293: f32 = t1587 * t1661;
+        let t3294: f32 = t2481 * t2490;
+        let t3295: f32 = t2578 * t2587;
+        let t3296: f32 = t46 * t286;
+        let t3297: f32 = t34 * t274;
+        let t3298: f32 = t37 * t277;
+        let t3299: f32 = t3293 + t3294;
+        let t3300: f32 = t3295 + t3296;
+        let t3301: f32 = t3297 + t3298;
+        let t3302: f32 = t3299 + t3300;
+        let t3303: f32 = t3301 + t3302;
+        let t3304: f32 = t51 * t291;
+        let t3305: f32 = t3303 * t3304;
+        let t3306: f32 = t3279 * t3305;
+        let t3307: f32 = t3305 * t3306;
+        let t3308: f32 = t3280 * t3305;
+        let t3309: f32 = t1587 * t1666;
+        let t3310: f32 = t2485 * t2490;
+        let t3311: f32 = t2582 * t2587;
+        let t3312: f32 = t166 * t286;
+        let t3313: f32 = t154 * t274;
+        let t3314: f32 = t157 * t277;
+        let t3315: f32 = t3309 + t3310;
+        let t3316: f32 = t3311 + t3312;
+        let t3317: f32 = t3313 + t3314;
+        let t3318: f32 = t3315 + t3316;
+        let t3319: f32 = t3317 + t3318;
+        let t3320: f32 = t171 * t291;
+        let t3321: f32 = t3319 * t3320;
+        let t3322: f32 = t3308 - t3321;
+        let t3323: f32 = -t3322;
+        let t3324: f32 = 1.0 / t3282;
+        let t3325: f32 = t3323 * t3324;
+        let t3326: f32 = t3323 * t3325;
+        let t3327: f32 = t3307 + t3326;
+        let t3328: f32 = t3292 - t3327;
+        let t3329: f32 = t3328 / t3292;
+        let t3330: f32 = t2591 * t2591;
+        let t3331: f32 = t2916 * t3330;
+        let t3332: f32 = t1592 * t1592;
+        let t3333: f32 = t2916 * t3332;
+        let t3334: f32 = t2494 * t2494;
+        let t3335: f32 = t2916 * t3334;
+        let t3336: f32 = t3333 + t3335;
+        let t3337: f32 = t3331 + t3336;
+        let t3338: f32 = t3337 + 1.0;
+        let t3339: f32 = t1592 * t1661;
+        let t3340: f32 = t2481 * t2494;
+        let t3341: f32 = t2578 * t2591;
+        let t3342: f32 = t46 * t406;
+        let t3343: f32 = t34 * t394;
+        let t3344: f32 = t37 * t397;
+        let t3345: f32 = t3339 + t3340;
+        let t3346: f32 = t3341 + t3342;
+        let t3347: f32 = t3343 + t3344;
+        let t3348: f32 = t3345 + t3346;
+        let t3349: f32 = t3347 + t3348;
+        let t3350: f32 = t51 * t411;
+        let t3351: f32 = t3349 * t3350;
+        let t3352: f32 = t3279 * t3351;
+        let t3353: f32 = t3351 * t3352;
+        let t3354: f32 = t3280 * t3351;
+        let t3355: f32 = t1592 * t1666;
+        let t3356: f32 = t2485 * t2494;
+        let t3357: f32 = t2582 * t2591;
+        let t3358: f32 = t166 * t406;
+        let t3359: f32 = t154 * t394;
+        let t3360: f32 = t157 * t397;
+        let t3361: f32 = t3355 + t3356;
+        let t3362: f32 = t3357 + t3358;
+        let t3363: f32 = t3359 + t3360;
+        let t3364: f32 = t3361 + t3362;
+        let t3365: f32 = t3363 + t3364;
+        let t3366: f32 = t171 * t411;
+        let t3367: f32 = t3365 * t3366;
+        let t3368: f32 = t3354 - t3367;
+        let t3369: f32 = -t3368;
+        let t3370: f32 = t3324 * t3369;
+        let t3371: f32 = t3369 * t3370;
+        let t3372: f32 = t3306 * t3351;
+        let t3373: f32 = t3325 * t3369;
+        let t3374: f32 = t1587 * t1592;
+        let t3375: f32 = t2490 * t2494;
+        let t3376: f32 = t2587 * t2591;
+        let t3377: f32 = t286 * t406;
+        let t3378: f32 = t274 * t394;
+        let t3379: f32 = t277 * t397;
+        let t3380: f32 = t3374 + t3375;
+        let t3381: f32 = t3376 + t3377;
+        let t3382: f32 = t3378 + t3379;
+        let t3383: f32 = t3380 + t3381;
+        let t3384: f32 = t3382 + t3383;
+        let t3385: f32 = t291 * t411;
+        let t3386: f32 = t3384 * t3385;
+        let t3387: f32 = t3372 + t3373;
+        let t3388: f32 = t3387 - t3386;
+        let t3389: f32 = -t3388;
+        let t3390: f32 = 1.0 / t3328;
+        let t3391: f32 = t3389 * t3390;
+        let t3392: f32 = t3389 * t3391;
+        let t3393: f32 = t3353 + t3371;
+        let t3394: f32 = t3392 + t3393;
+        let t3395: f32 = t3338 - t3394;
+        let t3396: f32 = t3395 / t3338;
+        let t3397: f32 = t2560 * t2560;
+        let t3398: f32 = t2954 * t3397;
+        let t3399: f32 = t1598 * t1598;
+        let t3400: f32 = t2954 * t3399;
+        let t3401: f32 = t2463 * t2463;
+        let t3402: f32 = t2954 * t3401;
+        let t3403: f32 = t3400 + t3402;
+        let t3404: f32 = t3398 + t3403;
+        let t3405: f32 = t3404 + 1.0;
+        let t3406: f32 = t1598 * t1661;
+        let t3407: f32 = t2463 * t2481;
+        let t3408: f32 = t2560 * t2578;
+        let t3409: f32 = t46 * t526;
+        let t3410: f32 = t34 * t514;
+        let t3411: f32 = t37 * t517;
+        let t3412: f32 = t3406 + t3407;
+        let t3413: f32 = t3408 + t3409;
+        let t3414: f32 = t3410 + t3411;
+        let t3415: f32 = t3412 + t3413;
+        let t3416: f32 = t3414 + t3415;
+        let t3417: f32 = t51 * t531;
+        let t3418: f32 = t3416 * t3417;
+        let t3419: f32 = t3279 * t3418;
+        let t3420: f32 = t3418 * t3419;
+        let t3421: f32 = t3280 * t3418;
+        let t3422: f32 = t1598 * t1666;
+        let t3423: f32 = t2463 * t2485;
+        let t3424: f32 = t2560 * t2582;
+        let t3425: f32 = t166 * t526;
+        let t3426: f32 = t154 * t514;
+        let t3427: f32 = t157 * t517;
+        let t3428: f32 = t3422 + t3423;
+        let t3429: f32 = t3424 + t3425;
+        let t3430: f32 = t3426 + t3427;
+        let t3431: f32 = t3428 + t3429;
+        let t3432: f32 = t3430 + t3431;
+        let t3433: f32 = t171 * t531;
+        let t3434: f32 = t3432 * t3433;
+        let t3435: f32 = t3421 - t3434;
+        let t3436: f32 = -t3435;
+        let t3437: f32 = t3324 * t3436;
+        let t3438: f32 = t3436 * t3437;
+        let t3439: f32 = t3306 * t3418;
+        let t3440: f32 = t3325 * t3436;
+        let t3441: f32 = t1587 * t1598;
+        let t3442: f32 = t2463 * t2490;
+        let t3443: f32 = t2560 * t2587;
+        let t3444: f32 = t286 * t526;
+        let t3445: f32 = t274 * t514;
+        let t3446: f32 = t277 * t517;
+        let t3447: f32 = t3441 + t3442;
+        let t3448: f32 = t3443 + t3444;
+        let t3449: f32 = t3445 + t3446;
+        let t3450: f32 = t3447 + t3448;
+        let t3451: f32 = t3449 + t3450;
+        let t3452: f32 = t291 * t531;
+        let t3453: f32 = t3451 * t3452;
+        let t3454: f32 = t3439 + t3440;
+        let t3455: f32 = t3454 - t3453;
+        let t3456: f32 = -t3455;
+        let t3457: f32 = t3390 * t3456;
+        let t3458: f32 = t3456 * t3457;
+        let t3459: f32 = t3352 * t3418;
+        let t3460: f32 = t3370 * t3436;
+        let t3461: f32 = t3391 * t3456;
+        let t3462: f32 = t1592 * t1598;
+        let t3463: f32 = t2463 * t2494;
+        let t3464: f32 = t2560 * t2591;
+        let t3465: f32 = t406 * t526;
+        let t3466: f32 = t394 * t514;
+        let t3467: f32 = t397 * t517;
+        let t3468: f32 = t3462 + t3463;
+        let t3469: f32 = t3464 + t3465;
+        let t3470: f32 = t3466 + t3467;
+        let t3471: f32 = t3468 + t3469;
+        let t3472: f32 = t3470 + t3471;
+        let t3473: f32 = t411 * t531;
+        let t3474: f32 = t3472 * t3473;
+        let t3475: f32 = t3459 + t3460;
+        let t3476: f32 = t3461 + t3475;
+        let t3477: f32 = t3476 - t3474;
+        let t3478: f32 = -t3477;
+        let t3479: f32 = 1.0 / t3395;
+        let t3480: f32 = t3478 * t3479;
+        let t3481: f32 = t3478 * t3480;
+        let t3482: f32 = t3420 + t3438;
+        let t3483: f32 = t3458 + t3481;
+        let t3484: f32 = t3482 + t3483;
+        let t3485: f32 = t3405 - t3484;
+        let t3486: f32 = t3485 / t3405;
+        let t3487: f32 = t2564 * t2564;
+        let t3488: f32 = t2992 * t3487;
+        let t3489: f32 = t1603 * t1603;
+        let t3490: f32 = t2992 * t3489;
+        let t3491: f32 = t2467 * t2467;
+        let t3492: f32 = t2992 * t3491;
+        let t3493: f32 = t3490 + t3492;
+        let t3494: f32 = t3488 + t3493;
+        let t3495: f32 = t3494 + 1.0;
+        let t3496: f32 = t1603 * t1661;
+        let t3497: f32 = t2467 * t2481;
+        let t3498: f32 = t2564 * t2578;
+        let t3499: f32 = t46 * t646;
+        let t3500: f32 = t34 * t634;
+        let t3501: f32 = t37 * t637;
+        let t3502: f32 = t3496 + t3497;
+        let t3503: f32 = t3498 + t3499;
+        let t3504: f32 = t3500 + t3501;
+        let t3505: f32 = t3502 + t3503;
+        let t3506: f32 = t3504 + t3505;
+        let t3507: f32 = t51 * t651;
+        let t3508: f32 = t3506 * t3507;
+        let t3509: f32 = t3279 * t3508;
+        let t3510: f32 = t3508 * t3509;
+        let t3511: f32 = t3280 * t3508;
+        let t3512: f32 = t1603 * t1666;
+        let t3513: f32 = t2467 * t2485;
+        let t3514: f32 = t2564 * t2582;
+        let t3515: f32 = t166 * t646;
+        let t3516: f32 = t154 * t634;
+        let t3517: f32 = t157 * t637;
+        let t3518: f32 = t3512 + t3513;
+        let t3519: f32 = t3514 + t3515;
+        let t3520: f32 = t3516 + t3517;
+        let t3521: f32 = t3518 + t3519;
+        let t3522: f32 = t3520 + t3521;
+        let t3523: f32 = t171 * t651;
+        let t3524: f32 = t3522 * t3523;
+        let t3525: f32 = t3511 - t3524;
+        let t3526: f32 = -t3525;
+        let t3527: f32 = t3324 * t3526;
+        let t3528: f32 = t3526 * t3527;
+        let t3529: f32 = t3306 * t3508;
+        let t3530: f32 = t3325 * t3526;
+        let t3531: f32 = t1587 * t1603;
+        let t3532: f32 = t2467 * t2490;
+        let t3533: f32 = t2564 * t2587;
+        let t3534: f32 = t286 * t646;
+        let t3535: f32 = t274 * t634;
+        let t3536: f32 = t277 * t637;
+        let t3537: f32 = t3531 + t3532;
+        let t3538: f32 = t3533 + t3534;
+        let t3539: f32 = t3535 + t3536;
+        let t3540: f32 = t3537 + t3538;
+        let t3541: f32 = t3539 + t3540;
+        let t3542: f32 = t291 * t651;
+        let t3543: f32 = t3541 * t3542;
+        let t3544: f32 = t3529 + t3530;
+        let t3545: f32 = t3544 - t3543;
+        let t3546: f32 = -t3545;
+        let t3547: f32 = t3390 * t3546;
+        let t3548: f32 = t3546 * t3547;
+        let t3549: f32 = t3352 * t3508;
+        let t3550: f32 = t3370 * t3526;
+        let t3551: f32 = t3391 * t3546;
+        let t3552: f32 = t1592 * t1603;
+        let t3553: f32 = t2467 * t2494;
+        let t3554: f32 = t2564 * t2591;
+        let t3555: f32 = t406 * t646;
+        let t3556: f32 = t394 * t634;
+        let t3557: f32 = t397 * t637;
+        let t3558: f32 = t3552 + t3553;
+        let t3559: f32 = t3554 + t3555;
+        let t3560: f32 = t3556 + t3557;
+        let t3561: f32 = t3558 + t3559;
+        let t3562: f32 = t3560 + t3561;
+        let t3563: f32 = t411 * t651;
+        let t3564: f32 = t3562 * t3563;
+        let t3565: f32 = t3549 + t3550;
+        let t3566: f32 = t3551 + t3565;
+        let t3567: f32 = t3566 - t3564;
+        let t3568: f32 = -t3567;
+        let t3569: f32 = t3479 * t3568;
+        let t3570: f32 = t3568 * t3569;
+        let t3571: f32 = t3419 * t3508;
+        let t3572: f32 = t3437 * t3526;
+        let t3573: f32 = t3457 * t3546;
+        let t3574: f32 = t3480 * t3568;
+        let t3575: f32 = t1598 * t1603;
+        let t3576: f32 = t2463 * t2467;
+        let t3577: f32 = t2560 * t2564;
+        let t3578: f32 = t526 * t646;
+        let t3579: f32 = t514 * t634;
+        let t3580: f32 = t517 * t637;
+        let t3581: f32 = t3575 + t3576;
+        let t3582: f32 = t3577 + t3578;
+        let t3583: f32 = t3579 + t3580;
+        let t3584: f32 = t3581 + t3582;
+        let t3585: f32 = t3583 + t3584;
+        let t3586: f32 = t531 * t651;
+        let t3587: f32 = t3585 * t3586;
+        let t3588: f32 = t3571 + t3572;
+        let t3589: f32 = t3573 + t3574;
+        let t3590: f32 = t3588 + t3589;
+        let t3591: f32 = t3590 - t3587;
+        let t3592: f32 = -t3591;
+        let t3593: f32 = t3592 / t3485;
+        let t3594: f32 = t3592 * t3593;
+        let t3595: f32 = t3510 + t3528;
+        let t3596: f32 = t3548 + t3570;
+        let t3597: f32 = t3595 + t3596;
+        let t3598: f32 = t3594 + t3597;
+        let t3599: f32 = t3495 - t3598;
+        let t3600: f32 = t3599 / t3495;
         (
-            t3008,
-            t3013,
-            t3020,
-            t3071,
-            t3074,
-            t3082,
-            t3092,
-            t3100,
-            t3109,
-            t3117,
-            t3167,
-            t3232,
-            t3278,
-            t3318,
-            t3332,
-            t3338,
-            t3375,
-            t3389,
-            t3394,
+            t3239,
+            t3240,
+            t3241,
+            t3242,
+            t3243,
+            t3244,
+            t3245,
+            t3246,
+            t3247,
+            t3248,
+            t3256,
+            t3283,
+            t3329,
             t3396,
-            t3411,
-            t3426,
-            t3431,
-            t3433,
-            t3448,
-            t3463,
-            t3468,
-            t3470,
-            t3485,
-            t3500,
-            t3505,
-            t3507,
-            t3522,
-            t3537,
-            t3542,
-            t3544,
-            t3559,
-            t3574,
-            t3579,
-            t3581,
-            t3596,
-            t3613,
-            t3631,
-            t3649,
-            t3667,
-            t3685,
-            t3703,
-            t3717,
-            t3733,
-            t3734,
-            t3744,
-            t3745,
-            t3746,
-            t3761,
-            t3762,
-            t3772,
-            t3773,
-            t3774,
-            t3789,
-            t3790,
-            t3800,
-            t3801,
-            t3802,
-            t3817,
-            t3818,
-            t3828,
-            t3829,
-            t3830,
-            t3845,
-            t3846,
-            t3856,
-            t3857,
-            t3858,
-            t3873,
-            t3874,
-            t3884,
-            t3885,
-            t3886,
-            t3901,
-            t3902,
-            t3926,
-            t3928,
-            t3929,
-            t3939,
-            t3940,
-            t3941,
-            t3951,
-            t3952,
-            t3953,
-            t3963,
-            t3964,
-            t3965,
-            t3975,
-            t3976,
-            t3977,
-            t3987,
-            t3988,
-            t3989,
-            t3999,
-            t4000,
-            t4001,
-            t4002,
+            t3486,
+            t3600,
         )
     };
-    let (t4592, t4593, t4594, t4595, t4596, t4597, t4598, t4599, t4600, t4601) = {
-        let t4003: f32 = t3940 + t3952;
-        let t4004: f32 = t3964 + t3976;
-        let t4005: f32 = t3988 + t4000;
-        let t4006: f32 = t4003 + t4004;
-        let t4007: f32 = t1328 + t4005;
-        let t4008: f32 = t4006 + t4007;
-        let t4009: f32 = t3929 + t3941;
-        let t4010: f32 = t3953 + t3965;
-        let t4011: f32 = t3977 + t3989;
-        let t4012: f32 = t4009 + t4010;
-        let t4013: f32 = t4002 + t4011;
-        let t4014: f32 = t4012 + t4013;
-        let t4015: f32 = t4008 - t4014;
-        let t4016: f32 = t4015 * t4015;
-        let t4017: f32 = t3733 * t4016;
-        let t4018: f32 = t3745 + t3773;
-        let t4019: f32 = t3801 + t3829;
-        let t4020: f32 = t3857 + t3885;
-        let t4021: f32 = t4018 + t4019;
-        let t4022: f32 = t1518 + t4020;
-        let t4023: f32 = t4021 + t4022;
-        let t4024: f32 = t3762 + t3790;
-        let t4025: f32 = t3818 + t3846;
-        let t4026: f32 = t3874 + t3902;
-        let t4027: f32 = t3928 + t4017;
-        let t4028: f32 = t4024 + t4025;
-        let t4029: f32 = t4026 + t4027;
-        let t4030: f32 = t4028 + t4029;
-        let t4031: f32 = t4023 - t4030;
-        let t4032: f32 = 1.0 / t4031;
-        let t4033: f32 = t69 * t2339;
-        let t4034: f32 = t90 * t99;
-        let t4035: f32 = t2310 * t4034;
-        let t4036: f32 = t2317 * t4035;
-        let t4037: f32 = t2311 * t2330;
-        let t4038: f32 = t4036 - t4037;
-        let t4039: f32 = t4033 + t4038;
-        let t4040: f32 = t84 * t4039;
-        let t4041: f32 = t4040 - t2370;
-        let t4042: f32 = t3389 * t4041;
-        let t4043: f32 = t69 * t810;
-        let t4044: f32 = t2405 * t4043;
-        let t4045: f32 = t4042 - t4044;
-        let t4046: f32 = t99 * t4038;
-        let t4047: f32 = t2350 + t4046;
-        let t4048: f32 = t99 * t3389;
-        let t4049: f32 = t101 * t4048;
-        let t4050: f32 = t4047 * t4049;
-        let t4051: f32 = t810 * t2410;
-        let t4052: f32 = t73 * t2377;
-        let t4053: f32 = t4051 + t4052;
-        let t4054: f32 = t4050 + t4053;
-        let t4055: f32 = t4045 + t4054;
-        let t4056: f32 = t3074 + t4055;
-        let t4057: f32 = t32 * t4056;
-        let t4058: f32 = t118 * t4041;
-        let t4059: f32 = t2405 * t3746;
-        let t4060: f32 = t4058 - t4059;
-        let t4061: f32 = t99 * t118;
-        let t4062: f32 = t101 * t4061;
-        let t4063: f32 = t4047 * t4062;
-        let t4064: f32 = t75 * t2410;
-        let t4065: f32 = t79 * t2377;
-        let t4066: f32 = t4064 + t4065;
-        let t4067: f32 = t4063 + t4066;
-        let t4068: f32 = t4060 + t4067;
-        let t4069: f32 = t2323 + t4068;
-        let t4070: f32 = t41 * t4069;
-        let t4071: f32 = t194 * t2491;
-        let t4072: f32 = t215 * t224;
-        let t4073: f32 = t2462 * t4072;
-        let t4074: f32 = t2469 * t4073;
-        let t4075: f32 = t2463 * t2482;
-        let t4076: f32 = t4074 - t4075;
-        let t4077: f32 = t4071 + t4076;
-        let t4078: f32 = t209 * t4077;
-        let t4079: f32 = t4078 - t2522;
-        let t4080: f32 = t3426 * t4079;
-        let t4081: f32 = t194 * t838;
-        let t4082: f32 = t2557 * t4081;
-        let t4083: f32 = t4080 - t4082;
-        let t4084: f32 = t224 * t4076;
-        let t4085: f32 = t2502 + t4084;
-        let t4086: f32 = t224 * t3426;
-        let t4087: f32 = t226 * t4086;
-        let t4088: f32 = t4085 * t4087;
-        let t4089: f32 = t838 * t2562;
-        let t4090: f32 = t198 * t2529;
-        let t4091: f32 = t4089 + t4090;
-        let t4092: f32 = t4088 + t4091;
-        let t4093: f32 = t4083 + t4092;
-        let t4094: f32 = t3082 + t4093;
-        let t4095: f32 = t157 * t4094;
-        let t4096: f32 = t243 * t4079;
-        let t4097: f32 = t2557 * t3774;
-        let t4098: f32 = t4096 - t4097;
-        let t4099: f32 = t224 * t243;
-        let t4100: f32 = t226 * t4099;
-        let t4101: f32 = t4085 * t4100;
-        let t4102: f32 = t200 * t2562;
-        let t4103: f32 = t204 * t2529;
-        let t4104: f32 = t4102 + t4103;
-        let t4105: f32 = t4101 + t4104;
-        let t4106: f32 = t4098 + t4105;
-        let t4107: f32 = t2475 + t4106;
-        let t4108: f32 = t166 * t4107;
-        let t4109: f32 = t319 * t2641;
-        let t4110: f32 = t340 * t349;
-        let t4111: f32 = t2612 * t4110;
-        let t4112: f32 = t2619 * t4111;
-        let t4113: f32 = t2613 * t2632;
-        let t4114: f32 = t4112 - t4113;
-        let t4115: f32 = t4109 + t4114;
-        let t4116: f32 = t334 * t4115;
-        let t4117: f32 = t4116 - t2672;
-        let t4118: f32 = t3463 * t4117;
-        let t4119: f32 = t319 * t866;
-        let t4120: f32 = t2707 * t4119;
-        let t4121: f32 = t4118 - t4120;
-        let t4122: f32 = t349 * t4114;
-        let t4123: f32 = t2652 + t4122;
-        let t4124: f32 = t349 * t3463;
-        let t4125: f32 = t351 * t4124;
-        let t4126: f32 = t4123 * t4125;
-        let t4127: f32 = t866 * t2712;
-        let t4128: f32 = t323 * t2679;
-        let t4129: f32 = t4127 + t4128;
-        let t4130: f32 = t4126 + t4129;
-        let t4131: f32 = t4121 + t4130;
-        let t4132: f32 = t3092 + t4131;
-        let t4133: f32 = t282 * t4132;
-        let t4134: f32 = t368 * t4117;
-        let t4135: f32 = t2707 * t3802;
-        let t4136: f32 = t4134 - t4135;
-        let t4137: f32 = t349 * t368;
-        let t4138: f32 = t351 * t4137;
-        let t4139: f32 = t4123 * t4138;
-        let t4140: f32 = t325 * t2712;
-        let t4141: f32 = t329 * t2679;
-        let t4142: f32 = t4140 + t4141;
-        let t4143: f32 = t4139 + t4142;
-        let t4144: f32 = t4136 + t4143;
-        let t4145: f32 = t2625 + t4144;
-        let t4146: f32 = t291 * t4145;
-        let t4147: f32 = t444 * t2792;
-        let t4148: f32 = t465 * t474;
-        let t4149: f32 = t2763 * t4148;
-        let t4150: f32 = t2770 * t4149;
-        let t4151: f32 = t2764 * t2783;
-        let t4152: f32 = t4150 - t4151;
-        let t4153: f32 = t4147 + t4152;
-        let t4154: f32 = t459 * t4153;
-        let t4155: f32 = t4154 - t2823;
-        let t4156: f32 = t3500 * t4155;
-        let t4157: f32 = t444 * t894;
-        let t4158: f32 = t2858 * t4157;
-        let t4159: f32 = t4156 - t4158;
-        let t4160: f32 = t474 * t4152;
-        let t4161: f32 = t2803 + t4160;
-        let t4162: f32 = t474 * t3500;
-        let t4163: f32 = t476 * t4162;
-        let t4164: f32 = t4161 * t4163;
-        let t4165: f32 = t894 * t2863;
-        let t4166: f32 = t448 * t2830;
-        let t4167: f32 = t4165 + t4166;
-        let t4168: f32 = t4164 + t4167;
-        let t4169: f32 = t4159 + t4168;
-        let t4170: f32 = t3100 + t4169;
-        let t4171: f32 = t407 * t4170;
-        let t4172: f32 = t493 * t4155;
-        let t4173: f32 = t2858 * t3830;
-        let t4174: f32 = t4172 - t4173;
-        let t4175: f32 = t474 * t493;
-        let t4176: f32 = t476 * t4175;
-        let t4177: f32 = t4161 * t4176;
-        let t4178: f32 = t450 * t2863;
-        let t4179: f32 = t454 * t2830;
-        let t4180: f32 = t4178 + t4179;
-        let t4181: f32 = t4177 + t4180;
-        let t4182: f32 = t4174 + t4181;
-        let t4183: f32 = t2776 + t4182;
-        let t4184: f32 = t416 * t4183;
-        let t4185: f32 = t569 * t2942;
-        let t4186: f32 = t590 * t599;
-        let t4187: f32 = t2913 * t4186;
-        let t4188: f32 = t2920 * t4187;
-        let t4189: f32 = t2914 * t2933;
-        let t4190: f32 = t4188 - t4189;
-        let t4191: f32 = t4185 + t4190;
-        let t4192: f32 = t584 * t4191;
-        let t4193: f32 = t4192 - t2973;
-        let t4194: f32 = t3537 * t4193;
-        let t4195: f32 = t569 * t922;
-        let t4196: f32 = t3008 * t4195;
-        let t4197: f32 = t4194 - t4196;
-        let t4198: f32 = t599 * t4190;
-        let t4199: f32 = t2953 + t4198;
-        let t4200: f32 = t599 * t3537;
-        let t4201: f32 = t601 * t4200;
-        let t4202: f32 = t4199 * t4201;
-        let t4203: f32 = t922 * t3013;
-        let t4204: f32 = t573 * t2980;
-        let t4205: f32 = t4203 + t4204;
-        let t4206: f32 = t4202 + t4205;
-        let t4207: f32 = t4197 + t4206;
-        let t4208: f32 = t3109 + t4207;
-        let t4209: f32 = t532 * t4208;
-        let t4210: f32 = t618 * t4193;
-        let t4211: f32 = t3008 * t3858;
-        let t4212: f32 = t4210 - t4211;
-        let t4213: f32 = t599 * t618;
-        let t4214: f32 = t601 * t4213;
-        let t4215: f32 = t4199 * t4214;
-        let t4216: f32 = t575 * t3013;
-        let t4217: f32 = t579 * t2980;
-        let t4218: f32 = t4216 + t4217;
-        let t4219: f32 = t4215 + t4218;
-        let t4220: f32 = t4212 + t4219;
-        let t4221: f32 = t2926 + t4220;
-        let t4222: f32 = t541 * t4221;
-        let t4223: f32 = t694 * t2101;
-        let t4224: f32 = t715 * t724;
-        let t4225: f32 = t2072 * t4224;
-        let t4226: f32 = t2079 * t4225;
-        let t4227: f32 = t2073 * t2092;
-        let t4228: f32 = t4226 - t4227;
-        let t4229: f32 = t4223 + t4228;
-        let t4230: f32 = t709 * t4229;
-        let t4231: f32 = t4230 - t2132;
-        let t4232: f32 = t3574 * t4231;
-        let t4233: f32 = t694 * t950;
-        let t4234: f32 = t2167 * t4233;
-        let t4235: f32 = t4232 - t4234;
-        let t4236: f32 = t724 * t4228;
-        let t4237: f32 = t2112 + t4236;
-        let t4238: f32 = t724 * t3574;
-        let t4239: f32 = t726 * t4238;
-        let t4240: f32 = t4237 * t4239;
-        let t4241: f32 = t950 * t2172;
-        let t4242: f32 = t698 * t2139;
-        let t4243: f32 = t4241 + t4242;
-        let t4244: f32 = t4240 + t4243;
-        let t4245: f32 = t4235 + t4244;
-        let t4246: f32 = t3117 + t4245;
-        let t4247: f32 = t657 * t4246;
-        let t4248: f32 = t743 * t4231;
-        let t4249: f32 = t2167 * t3886;
-        let t4250: f32 = t4248 - t4249;
-        let t4251: f32 = t724 * t743;
-        let t4252: f32 = t726 * t4251;
-        let t4253: f32 = t4237 * t4252;
-        let t4254: f32 = t700 * t2172;
-        let t4255: f32 = t704 * t2139;
-        let t4256: f32 = t4254 + t4255;
-        let t4257: f32 = t4253 + t4256;
-        let t4258: f32 = t4250 + t4257;
-        let t4259: f32 = t2085 + t4258;
-        let t4260: f32 = t666 * t4259;
-        let t4261: f32 = t19 * t4069;
-        let t4262: f32 = t139 * t4041;
-        let t4263: f32 = t2405 * t3396;
-        let t4264: f32 = t4262 - t4263;
-        let t4265: f32 = t99 * t139;
-        let t4266: f32 = t101 * t4265;
-        let t4267: f32 = t4047 * t4266;
-        let t4268: f32 = t81 * t2410;
-        let t4269: f32 = t62 * t2377;
-        let t4270: f32 = t4268 + t4269;
-        let t4271: f32 = t4267 + t4270;
-        let t4272: f32 = t4264 + t4271;
-        let t4273: f32 = t2416 + t4272;
-        let t4274: f32 = t32 * t4273;
-        let t4275: f32 = t151 * t4107;
-        let t4276: f32 = t2557 * t3433;
-        let t4277: f32 = t224 * t264;
-        let t4278: f32 = t226 * t4277;
-        let t4279: f32 = t4085 * t4278;
-        let t4280: f32 = t4276 - t4279;
-        let t4281: f32 = t206 * t2562;
-        let t4282: f32 = t187 * t2529;
-        let t4283: f32 = t4281 + t4282;
-        let t4284: f32 = t264 * t4079;
-        let t4285: f32 = t2569 + t4284;
-        let t4286: f32 = t4283 + t4285;
-        let t4287: f32 = t4280 - t4286;
-        let t4288: f32 = -t4287;
-        let t4289: f32 = t157 * t4288;
-        let t4290: f32 = t276 * t4145;
-        let t4291: f32 = t2707 * t3470;
-        let t4292: f32 = t349 * t389;
-        let t4293: f32 = t351 * t4292;
-        let t4294: f32 = t4123 * t4293;
-        let t4295: f32 = t4291 - t4294;
-        let t4296: f32 = t331 * t2712;
-        let t4297: f32 = t312 * t2679;
-        let t4298: f32 = t4296 + t4297;
-        let t4299: f32 = t389 * t4117;
-        let t4300: f32 = t2719 + t4299;
-        let t4301: f32 = t4298 + t4300;
-        let t4302: f32 = t4295 - t4301;
-        let t4303: f32 = -t4302;
-        let t4304: f32 = t282 * t4303;
-        let t4305: f32 = t401 * t4183;
-        let t4306: f32 = t2858 * t3507;
-        let t4307: f32 = t474 * t514;
-        let t4308: f32 = t476 * t4307;
-        let t4309: f32 = t4161 * t4308;
-        let t4310: f32 = t4306 - t4309;
-        let t4311: f32 = t456 * t2863;
-        let t4312: f32 = t437 * t2830;
-        let t4313: f32 = t4311 + t4312;
-        let t4314: f32 = t514 * t4155;
-        let t4315: f32 = t2870 + t4314;
-        let t4316: f32 = t4313 + t4315;
-        let t4317: f32 = t4310 - t4316;
-        let t4318: f32 = -t4317;
-        let t4319: f32 = t407 * t4318;
-        let t4320: f32 = t526 * t4221;
-        let t4321: f32 = t3008 * t3544;
-        let t4322: f32 = t599 * t639;
-        let t4323: f32 = t601 * t4322;
-        let t4324: f32 = t4199 * t4323;
-        let t4325: f32 = t4321 - t4324;
-        let t4326: f32 = t581 * t3013;
-        let t4327: f32 = t562 * t2980;
-        let t4328: f32 = t4326 + t4327;
-        let t4329: f32 = t639 * t4193;
-        let t4330: f32 = t3020 + t4329;
-        let t4331: f32 = t4328 + t4330;
-        let t4332: f32 = t4325 - t4331;
-        let t4333: f32 = -t4332;
-        let t4334: f32 = t532 * t4333;
-        let t4335: f32 = t651 * t4259;
-        let t4336: f32 = t2167 * t3581;
-        let t4337: f32 = t724 * t764;
-        let t4338: f32 = t726 * t4337;
-        let t4339: f32 = t4237 * t4338;
-        let t4340: f32 = t4336 - t4339;
-        let t4341: f32 = t706 * t2172;
-        let t4342: f32 = t687 * t2139;
-        let t4343: f32 = t4341 + t4342;
-        let t4344: f32 = t764 * t4231;
-        let t4345: f32 = t2179 + t4344;
-        let t4346: f32 = t4343 + t4345;
-        let t4347: f32 = t4340 - t4346;
-        let t4348: f32 = -t4347;
-        let t4349: f32 = t657 * t4348;
-        let t4350: f32 = t4274 + t4289;
-        let t4351: f32 = t4304 + t4319;
-        let t4352: f32 = t4334 + t4349;
-        let t4353: f32 = t4350 + t4351;
-        let t4354: f32 = t2272 + t4352;
-        let t4355: f32 = t4353 + t4354;
-        let t4356: f32 = t4261 + t4275;
-        let t4357: f32 = t4290 + t4305;
-        let t4358: f32 = t4320 + t4335;
-        let t4359: f32 = t4356 + t4357;
-        let t4360: f32 = t4358 + t4359;
-        let t4361: f32 = t4355 - t4360;
-        let t4362: f32 = t807 * t4361;
-        let t4363: f32 = t3926 * t4362;
-        let t4364: f32 = t19 * t4056;
-        let t4365: f32 = t41 * t4273;
-        let t4366: f32 = t151 * t4094;
-        let t4367: f32 = t166 * t4288;
-        let t4368: f32 = t276 * t4132;
-        let t4369: f32 = t291 * t4303;
-        let t4370: f32 = t401 * t4170;
-        let t4371: f32 = t416 * t4318;
-        let t4372: f32 = t526 * t4208;
-        let t4373: f32 = t541 * t4333;
-        let t4374: f32 = t651 * t4246;
-        let t4375: f32 = t666 * t4348;
-        let t4376: f32 = t3717 * t4362;
-        let t4377: f32 = t4365 + t4367;
-        let t4378: f32 = t4369 + t4371;
-        let t4379: f32 = t4373 + t4375;
-        let t4380: f32 = t3071 + t4376;
-        let t4381: f32 = t4377 + t4378;
-        let t4382: f32 = t4379 + t4380;
-        let t4383: f32 = t4381 + t4382;
-        let t4384: f32 = t4364 + t4366;
-        let t4385: f32 = t4368 + t4370;
-        let t4386: f32 = t4372 + t4374;
-        let t4387: f32 = t4384 + t4385;
-        let t4388: f32 = t4386 + t4387;
-        let t4389: f32 = t4383 - t4388;
-        let t4390: f32 = t3733 * t4389;
-        let t4391: f32 = t4015 * t4390;
-        let t4392: f32 = t4070 + t4108;
-        let t4393: f32 = t4146 + t4184;
-        let t4394: f32 = t4222 + t4260;
-        let t4395: f32 = t3167 + t4391;
-        let t4396: f32 = t4392 + t4393;
-        let t4397: f32 = t4394 + t4395;
-        let t4398: f32 = t4396 + t4397;
-        let t4399: f32 = t4057 + t4095;
-        let t4400: f32 = t4133 + t4171;
-        let t4401: f32 = t4209 + t4247;
-        let t4402: f32 = t4399 + t4400;
-        let t4403: f32 = t4363 + t4401;
-        let t4404: f32 = t4402 + t4403;
-        let t4405: f32 = t4398 - t4404;
-        let t4406: f32 = t4032 * t4405;
-        let t4407: f32 = t3613 + t3631;
-        let t4408: f32 = t3649 + t3667;
-        let t4409: f32 = t3685 + t3703;
-        let t4410: f32 = t4407 + t4408;
-        let t4411: f32 = t4409 + t4410;
-        let t4412: f32 = t807 * t3926;
-        let t4413: f32 = t4411 * t4412;
-        let t4414: f32 = t4001 * t4411;
-        let t4415: f32 = t1547 + t4414;
-        let t4416: f32 = t3394 + t3431;
-        let t4417: f32 = t3468 + t3505;
-        let t4418: f32 = t3542 + t3579;
-        let t4419: f32 = t4415 + t4416;
-        let t4420: f32 = t4417 + t4418;
-        let t4421: f32 = t4419 + t4420;
-        let t4422: f32 = t3733 * t4015;
-        let t4423: f32 = t4421 * t4422;
-        let t4424: f32 = t1562 + t4423;
-        let t4425: f32 = t3744 + t3772;
-        let t4426: f32 = t3800 + t3828;
-        let t4427: f32 = t3856 + t3884;
-        let t4428: f32 = t4424 + t4425;
-        let t4429: f32 = t4426 + t4427;
-        let t4430: f32 = t4428 + t4429;
-        let t4431: f32 = t4430 - t4413;
-        let t4432: f32 = t4411 * t4411;
-        let t4433: f32 = t807 * t4432;
-        let t4434: f32 = t4421 * t4421;
-        let t4435: f32 = t3733 * t4434;
-        let t4436: f32 = t4431 * t4431;
-        let t4437: f32 = t4032 * t4436;
-        let t4438: f32 = t4433 + t4435;
-        let t4439: f32 = t4437 + t4438;
-        let t4440: f32 = t1630 - t4439;
-        let t4441: f32 = 1.0 / t4440;
-        let t4442: f32 = t4032 * t4431;
-        let t4443: f32 = t4441 * t4442;
-        let t4444: f32 = t3338 * t4443;
-        let t4445: f32 = t123 + t1547;
-        let t4446: f32 = t248 + t373;
-        let t4447: f32 = t498 + t623;
-        let t4448: f32 = t4445 + t4446;
-        let t4449: f32 = t748 + t4447;
-        let t4450: f32 = t4448 + t4449;
-        let t4451: f32 = t4412 * t4450;
-        let t4452: f32 = t4001 * t4450;
-        let t4453: f32 = t3939 + t4452;
-        let t4454: f32 = t3951 + t3963;
-        let t4455: f32 = t3975 + t3987;
-        let t4456: f32 = t4453 + t4454;
-        let t4457: f32 = t3999 + t4455;
-        let t4458: f32 = t4456 + t4457;
-        let t4459: f32 = t4422 * t4458;
-        let t4460: f32 = t1660 + t4451;
-        let t4461: f32 = t3761 + t4459;
-        let t4462: f32 = t3789 + t3817;
-        let t4463: f32 = t3845 + t3873;
-        let t4464: f32 = t4461 + t4462;
-        let t4465: f32 = t3901 + t4463;
-        let t4466: f32 = t4464 + t4465;
-        let t4467: f32 = t4460 - t4466;
-        let t4468: f32 = t4450 * t4450;
-        let t4469: f32 = t807 * t4468;
-        let t4470: f32 = t4458 * t4458;
-        let t4471: f32 = t3733 * t4470;
-        let t4472: f32 = t4467 * t4467;
-        let t4473: f32 = t4032 * t4472;
-        let t4474: f32 = t807 * t4411;
-        let t4475: f32 = t4450 * t4474;
-        let t4476: f32 = t3733 * t4421;
-        let t4477: f32 = t4458 * t4476;
-        let t4478: f32 = t4442 * t4467;
-        let t4479: f32 = t1717 + t4478;
-        let t4480: f32 = t4475 + t4477;
-        let t4481: f32 = t4479 - t4480;
-        let t4482: f32 = t4481 * t4481;
-        let t4483: f32 = t4441 * t4482;
-        let t4484: f32 = t4469 + t4471;
-        let t4485: f32 = t4473 + t4483;
-        let t4486: f32 = t4484 + t4485;
-        let t4487: f32 = t1782 - t4486;
-        let t4488: f32 = 1.0 / t4487;
-        let t4489: f32 = t4032 * t4467;
-        let t4490: f32 = t4488 * t4489;
-        let t4491: f32 = t3332 * t4490;
-        let t4492: f32 = t144 + t269;
-        let t4493: f32 = t394 + t519;
-        let t4494: f32 = t644 + t769;
-        let t4495: f32 = t4492 + t4493;
-        let t4496: f32 = t4494 + t4495;
-        let t4497: f32 = t1562 - t4496;
-        let t4498: f32 = t4412 * t4497;
-        let t4499: f32 = t4001 * t4497;
-        let t4500: f32 = t1660 + t4499;
-        let t4501: f32 = t3411 + t3448;
-        let t4502: f32 = t3485 + t3522;
-        let t4503: f32 = t3559 + t3596;
-        let t4504: f32 = t4501 + t4502;
-        let t4505: f32 = t4503 + t4504;
-        let t4506: f32 = t4500 - t4505;
-        let t4507: f32 = t4422 * t4506;
-        let t4508: f32 = t1852 + t4498;
-        let t4509: f32 = t4508 - t4507;
-        let t4510: f32 = t4497 * t4497;
-        let t4511: f32 = t807 * t4510;
-        let t4512: f32 = t4506 * t4506;
-        let t4513: f32 = t3733 * t4512;
-        let t4514: f32 = t4509 * t4509;
-        let t4515: f32 = t4032 * t4514;
-        let t4516: f32 = t4474 * t4497;
-        let t4517: f32 = t4476 * t4506;
-        let t4518: f32 = t4442 * t4509;
-        let t4519: f32 = t4516 + t4517;
-        let t4520: f32 = t1908 + t4519;
-        let t4521: f32 = t4520 - t4518;
-        let t4522: f32 = t4521 * t4521;
-        let t4523: f32 = t4441 * t4522;
-        let t4524: f32 = t807 * t4450;
-        let t4525: f32 = t4497 * t4524;
-        let t4526: f32 = t3733 * t4458;
-        let t4527: f32 = t4506 * t4526;
-        let t4528: f32 = t4489 * t4509;
-        let t4529: f32 = t4441 * t4481;
-        let t4530: f32 = t4521 * t4529;
-        let t4531: f32 = t4525 + t4527;
-        let t4532: f32 = t1960 + t4528;
-        let t4533: f32 = t4531 + t4532;
-        let t4534: f32 = t4533 - t4530;
-        let t4535: f32 = t4534 * t4534;
-        let t4536: f32 = t4488 * t4535;
-        let t4537: f32 = t4511 + t4513;
-        let t4538: f32 = t4515 + t4523;
-        let t4539: f32 = t4537 + t4538;
-        let t4540: f32 = t4536 + t4539;
-        let t4541: f32 = t2028 - t4540;
-        let t4542: f32 = 1.0 / t4541;
-        let t4543: f32 = t4362 * t4497;
-        let t4544: f32 = t4390 * t4506;
-        let t4545: f32 = t4406 * t4509;
-        let t4546: f32 = t4362 * t4411;
-        let t4547: f32 = t4390 * t4421;
-        let t4548: f32 = t4406 * t4431;
-        let t4549: f32 = t4546 + t4547;
-        let t4550: f32 = t4055 + t4548;
-        let t4551: f32 = t4093 + t4131;
-        let t4552: f32 = t4169 + t4207;
-        let t4553: f32 = t4549 + t4550;
-        let t4554: f32 = t4551 + t4552;
-        let t4555: f32 = t4553 + t4554;
-        let t4556: f32 = t4245 + t4555;
-        let t4557: f32 = t3232 - t4556;
-        let t4558: f32 = t4441 * t4557;
-        let t4559: f32 = t4521 * t4558;
-        let t4560: f32 = t4362 * t4450;
-        let t4561: f32 = t4390 * t4458;
-        let t4562: f32 = t4406 * t4467;
-        let t4563: f32 = t4481 * t4558;
-        let t4564: f32 = t3278 + t4562;
-        let t4565: f32 = t4560 + t4561;
-        let t4566: f32 = t4068 + t4563;
-        let t4567: f32 = t4106 + t4144;
-        let t4568: f32 = t4182 + t4220;
-        let t4569: f32 = t4565 + t4566;
-        let t4570: f32 = t4567 + t4568;
-        let t4571: f32 = t4569 + t4570;
-        let t4572: f32 = t4258 + t4571;
-        let t4573: f32 = t4564 - t4572;
-        let t4574: f32 = t4488 * t4573;
-        let t4575: f32 = t4534 * t4574;
-        let t4576: f32 = t4543 + t4544;
-        let t4577: f32 = t4287 + t4302;
-        let t4578: f32 = t4317 + t4332;
-        let t4579: f32 = t3318 + t4347;
-        let t4580: f32 = t4576 + t4577;
-        let t4581: f32 = t4578 + t4579;
-        let t4582: f32 = t4580 + t4581;
-        let t4583: f32 = t4545 + t4559;
-        let t4584: f32 = t4272 + t4575;
-        let t4585: f32 = t4583 + t4584;
-        let t4586: f32 = t4582 - t4585;
-        let t4587: f32 = t4032 * t4509;
-        let t4588: f32 = t4542 * t4587;
-        let t4589: f32 = t4586 * t4588;
-        let t4590: f32 = t4444 + t4589;
-        let t4591: f32 = t4406 + t4491;
-        let t4592: f32 = t4590 - t4591;
-        let t4593: f32 = t3338 * t4441;
-        let t4594: f32 = t3332 * t4488;
-        let t4595: f32 = t4542 * t4586;
-        let t4596: f32 = t60 * t69;
-        let t4597: f32 = t185 * t194;
-        let t4598: f32 = t310 * t319;
-        let t4599: f32 = t435 * t444;
-        let t4600: f32 = t560 * t569;
-        let t4601: f32 = t685 * t694;
-        (t4592, t4593, t4594, t4595, t4596, t4597, t4598, t4599, t4600, t4601)
-    };
     (
-        [t3375, t3734, t4592, t4593, t4594, t4595],
-        [t4596, t4597, t4598, t4599, t4600, t4601],
+        [t2799, t2800, t3239, t3240, t3241, t3242],
+        [
+            t3243,
+            t3244,
+            t3245,
+            t3246,
+            t3247,
+            t3248,
+            t3256,
+            t3283,
+            t3329,
+            t3396,
+            t3486,
+            t3600,
+        ],
     )
 }
 /// Inverse dynamics end to end: actuator forces `Γ` from the platform state.

@@ -9,9 +9,9 @@
 //   joint_accelerations                295    6   237    5  3 sin_cos, 12 sqrt
 //   leg_wrench                         874   12   567   19  3 sin_cos, 12 sqrt
 //   platform_wrench                    106    0    51    0  3 sin_cos
-//   task_inertia                      1711   12  1302   31  3 sin_cos, 12 sqrt
+//   task_inertia                       888   12   663   11  3 sin_cos, 12 sqrt
 //   task_bias                          893   12   543   19  3 sin_cos, 12 sqrt
-//   forward_dynamics                  2388   18  1697   52  3 sin_cos, 12 sqrt
+//   forward_dynamics                  2091   29  1503   39  3 sin_cos, 12 sqrt
 //   inverse_dynamics                  1206   24   793   39  3 sin_cos, 12 sqrt
 //   singularity_terms                  342   17   227   15  3 sin_cos, 12 sqrt
 //   forward_kinematics_step            260    6   153   16  3 sin_cos, 12 sqrt
@@ -5212,7 +5212,7 @@ pub fn platform_wrench(pose: &[f32; 6], twist: &[f32; 6], accel: &[f32; 6]) -> [
 /// - `m`: `M_x` (kg, kg·m, kg·m²), rows and columns `[ωx ωy ωz vx vy vz]`, base frame
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
-/// Operations: 1711 mul, 12 div, 1302 add, 31 neg, 3 sin_cos, 12 sqrt (chapter convention: 1723m + 1302a).
+/// Operations: 888 mul, 12 div, 663 add, 11 neg, 3 sin_cos, 12 sqrt (chapter convention: 900m + 663a).
 #[inline]
 pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
@@ -5227,299 +5227,169 @@ pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
         t10,
         t14,
         t17,
-        t29,
-        t35,
-        t38,
-        t41,
-        t50,
-        t52,
+        t21,
+        t24,
+        t27,
+        t34,
+        t44,
         t59,
-        t60,
-        t65,
-        t66,
-        t70,
-        t72,
-        t73,
-        t74,
-        t76,
-        t77,
+        t61,
+        t67,
         t79,
-        t82,
+        t80,
+        t83,
         t85,
-        t86,
-        t93,
-        t99,
-        t104,
-        t105,
-        t110,
+        t96,
         t114,
-        t115,
-        t118,
-        t120,
-        t123,
-        t124,
-        t128,
-        t132,
-        t135,
-        t137,
+        t127,
+        t129,
         t139,
-        t146,
-        t149,
-        t158,
+        t152,
+        t154,
+        t156,
+        t157,
         t160,
-        t167,
-        t168,
-        t173,
-        t174,
-        t178,
-        t180,
-        t181,
-        t182,
+        t170,
         t184,
-        t185,
-        t187,
-        t190,
-        t193,
-        t194,
-        t201,
-        t207,
-        t212,
-        t213,
-        t218,
-        t222,
-        t223,
-        t226,
-        t228,
-        t231,
-        t232,
-        t236,
-        t240,
-        t243,
-        t245,
-        t249,
-        t258,
-        t263,
-        t272,
-        t274,
-        t281,
-        t282,
-        t287,
-        t289,
+        t186,
+        t192,
+        t204,
+        t205,
+        t208,
+        t210,
+        t221,
+        t239,
+        t252,
+        t254,
+        t264,
+        t277,
+        t279,
+        t283,
+        t286,
         t291,
-        t293,
-        t294,
-        t295,
-        t297,
-        t299,
-        t306,
-        t307,
-        t310,
-        t312,
-        t314,
-        t319,
-        t320,
-        t328,
-        t329,
-        t332,
+        t301,
+        t315,
+        t317,
+        t323,
         t335,
+        t336,
         t339,
-        t342,
-        t345,
-        t346,
-        t348,
-        t354,
-        t357,
-        t359,
-        t363,
-        t372,
-        t377,
-        t386,
-        t388,
+        t341,
+        t352,
+        t370,
+        t383,
+        t385,
         t395,
-        t396,
-        t401,
-        t403,
-        t405,
-        t407,
         t408,
-        t409,
-        t411,
-        t412,
+        t410,
         t414,
         t417,
-        t420,
-        t421,
-        t428,
-        t434,
-        t439,
-        t440,
-        t445,
-        t449,
-        t450,
-        t453,
-        t455,
-        t458,
-        t459,
-        t461,
-        t464,
+        t422,
+        t432,
+        t446,
+        t448,
+        t454,
+        t466,
+        t467,
         t470,
         t472,
-        t474,
-        t480,
         t483,
-        t492,
-        t494,
         t501,
-        t502,
-        t507,
-        t509,
-        t511,
-        t513,
         t514,
-        t515,
-        t517,
-        t518,
-        t520,
-        t523,
+        t516,
         t526,
-        t527,
-        t534,
-        t540,
-        t545,
-        t546,
-        t551,
-        t555,
-        t556,
-        t559,
-        t561,
-        t564,
-        t565,
-        t567,
+        t539,
+        t541,
+        t543,
+        t544,
+        t547,
+        t557,
         t570,
-        t576,
+        t572,
         t578,
-        t580,
-        t586,
-        t588,
-        t597,
-        t599,
-        t606,
+        t590,
+        t591,
+        t594,
+        t596,
         t607,
-        t612,
-        t614,
-        t616,
-        t618,
-        t619,
-        t620,
-        t622,
-        t624,
-        t631,
-        t632,
-        t635,
-        t637,
-        t639,
-        t644,
-        t645,
-        t653,
-        t654,
-        t657,
-        t660,
-        t664,
+        t625,
+        t638,
+        t640,
+        t650,
+        t663,
+        t665,
         t667,
-        t670,
+        t668,
         t671,
-        t673,
-        t679,
-        t682,
-        t684,
-        t686,
-        t705,
-        t706,
-        t710,
-        t711,
+        t680,
+        t693,
+        t695,
+        t701,
+        t713,
         t714,
-        t721,
-        t726,
-        t729,
-        t736,
-        t739,
-        t742,
-        t746,
-        t749,
-        t750,
-        t751,
-        t760,
+        t717,
+        t719,
+        t730,
+        t748,
+        t761,
         t763,
-        t764,
-        t768,
-        t769,
-        t772,
-        t779,
-        t784,
-        t787,
-        t794,
-        t797,
-        t800,
-        t804,
-        t807,
-        t808,
+        t773,
+        t786,
+        t788,
+        t790,
         t809,
-        t818,
-        t821,
+        t810,
+        t816,
+        t819,
         t822,
-        t825,
-        t826,
-        t829,
-        t836,
-        t841,
+        t824,
+        t830,
+        t833,
+        t835,
+        t838,
         t844,
-        t851,
-        t854,
-        t857,
+        t847,
+        t850,
+        t852,
+        t858,
         t861,
         t863,
-        t864,
-        t865,
-        t874,
-        t876,
-        t877,
+        t866,
+        t872,
+        t875,
+        t878,
         t880,
-        t881,
-        t884,
+        t886,
+        t889,
         t891,
-        t896,
-        t899,
-        t905,
+        t894,
+        t900,
+        t903,
+        t906,
         t908,
-        t913,
-        t916,
-        t918,
+        t914,
+        t917,
         t919,
-        t920,
-        t929,
+        t922,
+        t928,
         t931,
-        t932,
-        t935,
+        t934,
         t936,
-        t939,
-        t946,
-        t951,
-        t954,
-        t960,
-        t963,
-        t968,
-        t971,
+        t942,
+        t945,
+        t947,
+        t950,
+        t956,
+        t959,
+        t962,
+        t964,
+        t970,
         t973,
-        t974,
         t975,
-        t984,
-        t986,
-        t987,
-        t990,
-        t991,
-        t994,
-        t995,
+        t997,
         t998,
+        t999,
+        t1000,
         t1001,
         t1002,
     ) = {
@@ -5538,991 +5408,991 @@ pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
         let t15: f32 = t10 * 0.25;
         let t16: f32 = t14 * 0.15;
         let t17: f32 = t15 + t16;
-        let t18: f32 = zc + t17;
-        let t19: f32 = t18 * 0.17503293;
-        let t20: f32 = -t19;
-        let t21: f32 = t18 * 0.9845626;
-        let t22: f32 = -t21;
-        let t23: f32 = t22 * t22;
-        let t24: f32 = t20 * t20;
-        let t25: f32 = t1 * t6;
-        let t26: f32 = t1 * t5;
-        let t27: f32 = t25 * 0.25;
-        let t28: f32 = t26 * 0.15;
-        let t29: f32 = t27 - t28;
-        let t30: f32 = xc + t29;
-        let t31: f32 = t30 - 0.45;
-        let t32: f32 = t4 * t5;
-        let t33: f32 = t0 * t3;
-        let t34: f32 = t6 * t33;
-        let t35: f32 = t32 + t34;
-        let t36: f32 = t4 * t6;
-        let t37: f32 = t5 * t33;
-        let t38: f32 = t36 - t37;
-        let t39: f32 = t35 * 0.25;
-        let t40: f32 = t38 * 0.15;
-        let t41: f32 = t39 + t40;
-        let t42: f32 = yc + t41;
-        let t43: f32 = t42 - 0.08;
-        let t44: f32 = t31 * 0.9845626;
-        let t45: f32 = t43 * 0.17503293;
-        let t46: f32 = t44 + t45;
-        let t47: f32 = t46 * t46;
-        let t48: f32 = t23 + t24;
-        let t49: f32 = t47 + t48;
-        let t50: f32 = sqrt(t49);
-        let t51: f32 = 1.0 / t50;
-        let t52: f32 = t20 * t51;
-        let t53: f32 = t31 * t31;
-        let t54: f32 = t43 * t43;
-        let t55: f32 = t18 * t18;
-        let t56: f32 = t53 + t54;
-        let t57: f32 = t55 + t56;
-        let t58: f32 = sqrt(t57);
-        let t59: f32 = 1.0 / t58;
-        let t60: f32 = t59 * t59;
-        let t61: f32 = t31 * 0.17503293;
-        let t62: f32 = t43 * 0.9845626;
-        let t63: f32 = t61 - t62;
-        let t64: f32 = t51 * t63;
-        let t65: f32 = t64 * t64;
-        let t66: f32 = t46 * t51;
-        let t67: f32 = t41 * t66;
-        let t68: f32 = t17 * t52;
-        let t69: f32 = t67 - t68;
-        let t70: f32 = -t69;
-        let t71: f32 = t52 * t60;
-        let t72: f32 = t65 * t71;
-        let t73: f32 = t70 * t72;
-        let t74: f32 = t31 * t59;
-        let t75: f32 = t66 * t74;
-        let t76: f32 = t18 * t59;
-        let t77: f32 = t22 * t51;
-        let t78: f32 = t76 * t77;
-        let t79: f32 = t75 - t78;
-        let t80: f32 = t17 * t59;
+        let t18: f32 = t4 * t5;
+        let t19: f32 = t0 * t3;
+        let t20: f32 = t6 * t19;
+        let t21: f32 = t18 + t20;
+        let t22: f32 = t4 * t6;
+        let t23: f32 = t5 * t19;
+        let t24: f32 = t22 - t23;
+        let t25: f32 = t21 * 0.25;
+        let t26: f32 = t24 * 0.15;
+        let t27: f32 = t25 + t26;
+        let t28: f32 = yc + t27;
+        let t29: f32 = t28 - 0.08;
+        let t30: f32 = t1 * t6;
+        let t31: f32 = t1 * t5;
+        let t32: f32 = t30 * 0.25;
+        let t33: f32 = t31 * 0.15;
+        let t34: f32 = t32 - t33;
+        let t35: f32 = xc + t34;
+        let t36: f32 = t35 - 0.45;
+        let t37: f32 = t36 * t36;
+        let t38: f32 = t29 * t29;
+        let t39: f32 = zc + t17;
+        let t40: f32 = t39 * t39;
+        let t41: f32 = t37 + t38;
+        let t42: f32 = t40 + t41;
+        let t43: f32 = sqrt(t42);
+        let t44: f32 = 1.0 / t43;
+        let t45: f32 = t29 * t44;
+        let t46: f32 = t45 * t45;
+        let t47: f32 = t39 * 0.17503293;
+        let t48: f32 = -t47;
+        let t49: f32 = t39 * 0.9845626;
+        let t50: f32 = -t49;
+        let t51: f32 = t50 * t50;
+        let t52: f32 = t48 * t48;
+        let t53: f32 = t36 * 0.9845626;
+        let t54: f32 = t29 * 0.17503293;
+        let t55: f32 = t53 + t54;
+        let t56: f32 = t55 * t55;
+        let t57: f32 = t51 + t52;
+        let t58: f32 = t56 + t57;
+        let t59: f32 = sqrt(t58);
+        let t60: f32 = 1.0 / t59;
+        let t61: f32 = t48 * t60;
+        let t62: f32 = t44 * t61;
+        let t63: f32 = t36 * 0.17503293;
+        let t64: f32 = t29 * 0.9845626;
+        let t65: f32 = t63 - t64;
+        let t66: f32 = t60 * t65;
+        let t67: f32 = t66 * t66;
+        let t68: f32 = t62 * t67;
+        let t69: f32 = t61 * 0.3;
+        let t70: f32 = t62 * 0.295;
+        let t71: f32 = t68 * 0.003;
+        let t72: f32 = t70 + t71;
+        let t73: f32 = t69 - t72;
+        let t74: f32 = t44 * t73;
+        let t75: f32 = t62 * 0.3;
+        let t76: f32 = t74 + t75;
+        let t77: f32 = t61 - t76;
+        let t78: f32 = t61 * t77;
+        let t79: f32 = t55 * t60;
+        let t80: f32 = t36 * t44;
         let t81: f32 = t79 * t80;
-        let t82: f32 = t43 * t59;
-        let t83: f32 = t77 * t82;
-        let t84: f32 = t52 * t74;
-        let t85: f32 = t83 - t84;
-        let t86: f32 = t41 * t59;
-        let t87: f32 = t85 * t86;
-        let t88: f32 = t81 - t87;
-        let t89: f32 = t41 * t85;
-        let t90: f32 = t17 * t79;
-        let t91: f32 = t89 - t90;
-        let t92: f32 = t88 * 0.3;
-        let t93: f32 = t91 + t92;
-        let t94: f32 = t79 * t93;
-        let t95: f32 = t59 * t68;
-        let t96: f32 = t59 * t67;
-        let t97: f32 = t95 - t96;
-        let t98: f32 = t97 * 0.3;
-        let t99: f32 = t69 + t98;
-        let t100: f32 = t52 * t99;
-        let t101: f32 = t94 + t100;
-        let t102: f32 = t88 * 0.295;
-        let t103: f32 = t91 * 0.3;
-        let t104: f32 = t102 + t103;
-        let t105: f32 = t59 * t79;
-        let t106: f32 = t104 * t105;
-        let t107: f32 = t101 - t106;
-        let t108: f32 = t17 * t82;
-        let t109: f32 = t41 * t76;
-        let t110: f32 = t108 - t109;
-        let t111: f32 = t82 * t110;
-        let t112: f32 = t69 * 0.3;
-        let t113: f32 = t97 * 0.295;
-        let t114: f32 = t112 + t113;
-        let t115: f32 = t52 * t59;
-        let t116: f32 = t114 * t115;
-        let t117: f32 = t111 + t116;
-        let t118: f32 = t107 - t117;
-        let t119: f32 = t73 * 0.003;
-        let t120: f32 = t118 - t119;
-        let t121: f32 = t17 * t120;
-        let t122: f32 = t60 * t66;
-        let t123: f32 = t65 * t122;
-        let t124: f32 = t70 * t123;
-        let t125: f32 = t85 * t93;
-        let t126: f32 = t66 * t99;
+        let t82: f32 = t39 * t44;
+        let t83: f32 = t50 * t60;
+        let t84: f32 = t82 * t83;
+        let t85: f32 = t81 - t84;
+        let t86: f32 = t44 * t85;
+        let t87: f32 = t85 * 0.3;
+        let t88: f32 = t86 * 0.295;
+        let t89: f32 = t87 - t88;
+        let t90: f32 = t44 * t89;
+        let t91: f32 = t86 * 0.3;
+        let t92: f32 = t90 + t91;
+        let t93: f32 = t85 - t92;
+        let t94: f32 = t85 * t93;
+        let t95: f32 = t46 + t78;
+        let t96: f32 = t94 + t95;
+        let t97: f32 = t17 * t96;
+        let t98: f32 = t45 * t82;
+        let t99: f32 = t44 * t44;
+        let t100: f32 = t61 * t79;
+        let t101: f32 = t99 * t100;
+        let t102: f32 = t67 * t101;
+        let t103: f32 = t44 * t79;
+        let t104: f32 = t79 * 0.3;
+        let t105: f32 = t103 * 0.295;
+        let t106: f32 = t104 - t105;
+        let t107: f32 = t44 * t106;
+        let t108: f32 = t103 * 0.3;
+        let t109: f32 = t107 + t108;
+        let t110: f32 = t79 - t109;
+        let t111: f32 = t61 * t110;
+        let t112: f32 = t45 * t83;
+        let t113: f32 = t61 * t80;
+        let t114: f32 = t112 - t113;
+        let t115: f32 = t44 * t114;
+        let t116: f32 = t114 * 0.3;
+        let t117: f32 = t115 * 0.295;
+        let t118: f32 = t116 - t117;
+        let t119: f32 = t44 * t118;
+        let t120: f32 = t115 * 0.3;
+        let t121: f32 = t119 + t120;
+        let t122: f32 = t114 - t121;
+        let t123: f32 = t85 * t122;
+        let t124: f32 = t102 * 0.003;
+        let t125: f32 = t98 + t111;
+        let t126: f32 = t123 + t124;
         let t127: f32 = t125 + t126;
-        let t128: f32 = t59 * t85;
-        let t129: f32 = t104 * t128;
-        let t130: f32 = t127 - t129;
-        let t131: f32 = t76 * t110;
-        let t132: f32 = t59 * t66;
-        let t133: f32 = t114 * t132;
-        let t134: f32 = t131 + t133;
-        let t135: f32 = t130 - t134;
-        let t136: f32 = t124 * 0.003;
-        let t137: f32 = t135 - t136;
-        let t138: f32 = t41 * t137;
-        let t139: f32 = t15 - t16;
-        let t140: f32 = zc + t139;
-        let t141: f32 = t140 * 0.17503293;
-        let t142: f32 = t140 * 0.9845626;
-        let t143: f32 = -t142;
-        let t144: f32 = t143 * t143;
-        let t145: f32 = t141 * t141;
-        let t146: f32 = t27 + t28;
-        let t147: f32 = xc + t146;
-        let t148: f32 = t147 - 0.45;
-        let t149: f32 = t39 - t40;
-        let t150: f32 = yc + t149;
-        let t151: f32 = t150 + 0.08;
-        let t152: f32 = t148 * 0.9845626;
-        let t153: f32 = t151 * 0.17503293;
-        let t154: f32 = t152 - t153;
-        let t155: f32 = t154 * t154;
-        let t156: f32 = t144 + t145;
-        let t157: f32 = t155 + t156;
-        let t158: f32 = sqrt(t157);
-        let t159: f32 = 1.0 / t158;
-        let t160: f32 = t141 * t159;
-        let t161: f32 = t148 * t148;
-        let t162: f32 = t151 * t151;
-        let t163: f32 = t140 * t140;
-        let t164: f32 = t161 + t162;
-        let t165: f32 = t163 + t164;
-        let t166: f32 = sqrt(t165);
-        let t167: f32 = 1.0 / t166;
-        let t168: f32 = t167 * t167;
-        let t169: f32 = t148 * 0.17503293;
-        let t170: f32 = t151 * 0.9845626;
-        let t171: f32 = t169 + t170;
-        let t172: f32 = t159 * t171;
-        let t173: f32 = t172 * t172;
-        let t174: f32 = t154 * t159;
-        let t175: f32 = t149 * t174;
-        let t176: f32 = t139 * t160;
-        let t177: f32 = t175 - t176;
-        let t178: f32 = -t177;
-        let t179: f32 = t160 * t168;
-        let t180: f32 = t173 * t179;
-        let t181: f32 = t178 * t180;
-        let t182: f32 = t148 * t167;
-        let t183: f32 = t174 * t182;
-        let t184: f32 = t140 * t167;
-        let t185: f32 = t143 * t159;
-        let t186: f32 = t184 * t185;
-        let t187: f32 = t183 - t186;
-        let t188: f32 = t139 * t167;
-        let t189: f32 = t187 * t188;
-        let t190: f32 = t151 * t167;
+        let t128: f32 = t27 * t127;
+        let t129: f32 = t97 - t128;
+        let t130: f32 = t17 * t129;
+        let t131: f32 = t69 - t70;
+        let t132: f32 = t44 * t131;
+        let t133: f32 = t75 + t132;
+        let t134: f32 = t61 - t133;
+        let t135: f32 = t79 * t134;
+        let t136: f32 = t93 * t114;
+        let t137: f32 = t98 + t135;
+        let t138: f32 = t124 + t136;
+        let t139: f32 = t137 + t138;
+        let t140: f32 = t17 * t139;
+        let t141: f32 = t82 * t82;
+        let t142: f32 = t67 * t103;
+        let t143: f32 = t142 * 0.003;
+        let t144: f32 = t105 + t143;
+        let t145: f32 = t104 - t144;
+        let t146: f32 = t44 * t145;
+        let t147: f32 = t108 + t146;
+        let t148: f32 = t79 - t147;
+        let t149: f32 = t79 * t148;
+        let t150: f32 = t114 * t122;
+        let t151: f32 = t141 + t149;
+        let t152: f32 = t150 + t151;
+        let t153: f32 = t27 * t152;
+        let t154: f32 = t140 - t153;
+        let t155: f32 = t27 * t154;
+        let t156: f32 = t15 - t16;
+        let t157: f32 = t25 - t26;
+        let t158: f32 = yc + t157;
+        let t159: f32 = t158 + 0.08;
+        let t160: f32 = t32 + t33;
+        let t161: f32 = xc + t160;
+        let t162: f32 = t161 - 0.45;
+        let t163: f32 = t162 * t162;
+        let t164: f32 = t159 * t159;
+        let t165: f32 = zc + t156;
+        let t166: f32 = t165 * t165;
+        let t167: f32 = t163 + t164;
+        let t168: f32 = t166 + t167;
+        let t169: f32 = sqrt(t168);
+        let t170: f32 = 1.0 / t169;
+        let t171: f32 = t159 * t170;
+        let t172: f32 = t171 * t171;
+        let t173: f32 = t165 * 0.17503293;
+        let t174: f32 = t165 * 0.9845626;
+        let t175: f32 = -t174;
+        let t176: f32 = t175 * t175;
+        let t177: f32 = t173 * t173;
+        let t178: f32 = t162 * 0.9845626;
+        let t179: f32 = t159 * 0.17503293;
+        let t180: f32 = t178 - t179;
+        let t181: f32 = t180 * t180;
+        let t182: f32 = t176 + t177;
+        let t183: f32 = t181 + t182;
+        let t184: f32 = sqrt(t183);
+        let t185: f32 = 1.0 / t184;
+        let t186: f32 = t173 * t185;
+        let t187: f32 = t170 * t186;
+        let t188: f32 = t162 * 0.17503293;
+        let t189: f32 = t159 * 0.9845626;
+        let t190: f32 = t188 + t189;
         let t191: f32 = t185 * t190;
-        let t192: f32 = t160 * t182;
-        let t193: f32 = t191 - t192;
-        let t194: f32 = t149 * t167;
-        let t195: f32 = t193 * t194;
-        let t196: f32 = t189 - t195;
-        let t197: f32 = t149 * t193;
-        let t198: f32 = t139 * t187;
-        let t199: f32 = t197 - t198;
-        let t200: f32 = t196 * 0.3;
+        let t192: f32 = t191 * t191;
+        let t193: f32 = t187 * t192;
+        let t194: f32 = t186 * 0.3;
+        let t195: f32 = t187 * 0.295;
+        let t196: f32 = t193 * 0.003;
+        let t197: f32 = t195 + t196;
+        let t198: f32 = t194 - t197;
+        let t199: f32 = t170 * t198;
+        let t200: f32 = t187 * 0.3;
         let t201: f32 = t199 + t200;
-        let t202: f32 = t187 * t201;
-        let t203: f32 = t167 * t176;
-        let t204: f32 = t167 * t175;
-        let t205: f32 = t203 - t204;
-        let t206: f32 = t205 * 0.3;
-        let t207: f32 = t177 + t206;
-        let t208: f32 = t160 * t207;
-        let t209: f32 = t202 + t208;
-        let t210: f32 = t196 * 0.295;
-        let t211: f32 = t199 * 0.3;
-        let t212: f32 = t210 + t211;
-        let t213: f32 = t167 * t187;
-        let t214: f32 = t212 * t213;
-        let t215: f32 = t209 - t214;
-        let t216: f32 = t139 * t190;
-        let t217: f32 = t149 * t184;
-        let t218: f32 = t216 - t217;
-        let t219: f32 = t190 * t218;
-        let t220: f32 = t177 * 0.3;
-        let t221: f32 = t205 * 0.295;
-        let t222: f32 = t220 + t221;
-        let t223: f32 = t160 * t167;
-        let t224: f32 = t222 * t223;
-        let t225: f32 = t219 + t224;
-        let t226: f32 = t215 - t225;
-        let t227: f32 = t181 * 0.003;
-        let t228: f32 = t226 - t227;
-        let t229: f32 = t139 * t228;
-        let t230: f32 = t168 * t174;
-        let t231: f32 = t173 * t230;
-        let t232: f32 = t178 * t231;
-        let t233: f32 = t193 * t201;
-        let t234: f32 = t174 * t207;
-        let t235: f32 = t233 + t234;
-        let t236: f32 = t167 * t193;
-        let t237: f32 = t212 * t236;
-        let t238: f32 = t235 - t237;
-        let t239: f32 = t184 * t218;
-        let t240: f32 = t167 * t174;
-        let t241: f32 = t222 * t240;
-        let t242: f32 = t239 + t241;
-        let t243: f32 = t238 - t242;
-        let t244: f32 = t232 * 0.003;
-        let t245: f32 = t243 - t244;
-        let t246: f32 = t149 * t245;
-        let t247: f32 = t10 * 0.254904;
-        let t248: f32 = t14 * 0.141506;
-        let t249: f32 = t247 - t248;
-        let t250: f32 = zc - t249;
-        let t251: f32 = t250 * 0.76513904;
-        let t252: f32 = -t251;
-        let t253: f32 = t250 * 0.64386505;
-        let t254: f32 = t253 * t253;
-        let t255: f32 = t252 * t252;
-        let t256: f32 = t25 * 0.254904;
-        let t257: f32 = t26 * 0.141506;
-        let t258: f32 = t256 + t257;
-        let t259: f32 = xc + 0.294282;
-        let t260: f32 = t259 - t258;
-        let t261: f32 = t35 * 0.254904;
-        let t262: f32 = t38 * 0.141506;
-        let t263: f32 = t261 - t262;
-        let t264: f32 = t263 + 0.349711;
-        let t265: f32 = yc - t264;
-        let t266: f32 = t260 * 0.64386505;
-        let t267: f32 = t265 * 0.76513904;
-        let t268: f32 = t266 - t267;
-        let t269: f32 = t268 * t268;
-        let t270: f32 = t254 + t255;
-        let t271: f32 = t269 + t270;
-        let t272: f32 = sqrt(t271);
-        let t273: f32 = 1.0 / t272;
-        let t274: f32 = t252 * t273;
-        let t275: f32 = t260 * t260;
-        let t276: f32 = t265 * t265;
-        let t277: f32 = t250 * t250;
-        let t278: f32 = t275 + t276;
-        let t279: f32 = t277 + t278;
-        let t280: f32 = sqrt(t279);
-        let t281: f32 = 1.0 / t280;
-        let t282: f32 = t281 * t281;
-        let t283: f32 = t260 * 0.76513904;
-        let t284: f32 = t265 * 0.64386505;
-        let t285: f32 = t283 + t284;
-        let t286: f32 = t273 * t285;
-        let t287: f32 = t286 * t286;
-        let t288: f32 = t249 * t274;
-        let t289: f32 = t268 * t273;
-        let t290: f32 = t263 * t289;
-        let t291: f32 = t288 + t290;
-        let t292: f32 = t274 * t282;
-        let t293: f32 = t287 * t292;
-        let t294: f32 = t291 * t293;
-        let t295: f32 = t265 * t281;
-        let t296: f32 = t249 * t295;
-        let t297: f32 = t250 * t281;
-        let t298: f32 = t263 * t297;
-        let t299: f32 = t296 - t298;
-        let t300: f32 = t295 * t299;
-        let t301: f32 = t281 * t288;
-        let t302: f32 = t281 * t290;
-        let t303: f32 = t301 + t302;
-        let t304: f32 = t291 * 0.3;
-        let t305: f32 = t303 * 0.295;
-        let t306: f32 = t305 - t304;
-        let t307: f32 = t274 * t281;
-        let t308: f32 = t306 * t307;
-        let t309: f32 = t300 + t308;
-        let t310: f32 = t260 * t281;
-        let t311: f32 = t289 * t310;
-        let t312: f32 = t253 * t273;
-        let t313: f32 = t297 * t312;
-        let t314: f32 = t311 + t313;
-        let t315: f32 = t249 * t281;
-        let t316: f32 = t314 * t315;
-        let t317: f32 = t295 * t312;
-        let t318: f32 = t274 * t310;
-        let t319: f32 = t317 - t318;
-        let t320: f32 = t263 * t281;
-        let t321: f32 = t319 * t320;
-        let t322: f32 = t316 + t321;
-        let t323: f32 = t249 * t314;
-        let t324: f32 = t263 * t319;
-        let t325: f32 = t323 + t324;
-        let t326: f32 = t322 * 0.295;
-        let t327: f32 = t325 * 0.3;
-        let t328: f32 = t326 - t327;
-        let t329: f32 = t281 * t314;
-        let t330: f32 = t328 * t329;
-        let t331: f32 = t322 * 0.3;
-        let t332: f32 = t331 - t325;
-        let t333: f32 = t314 * t332;
-        let t334: f32 = t303 * 0.3;
-        let t335: f32 = t334 - t291;
-        let t336: f32 = t274 * t335;
-        let t337: f32 = t333 + t336;
-        let t338: f32 = t330 - t337;
-        let t339: f32 = t309 + t338;
-        let t340: f32 = t294 * 0.003;
-        let t341: f32 = t339 + t340;
-        let t342: f32 = -t341;
-        let t343: f32 = t249 * t342;
-        let t344: f32 = t282 * t289;
-        let t345: f32 = t287 * t344;
-        let t346: f32 = t291 * t345;
-        let t347: f32 = t297 * t299;
-        let t348: f32 = t281 * t289;
-        let t349: f32 = t306 * t348;
-        let t350: f32 = t347 - t349;
-        let t351: f32 = t319 * t332;
-        let t352: f32 = t289 * t335;
-        let t353: f32 = t351 + t352;
-        let t354: f32 = t281 * t319;
-        let t355: f32 = t328 * t354;
-        let t356: f32 = t353 - t355;
-        let t357: f32 = t350 + t356;
-        let t358: f32 = t346 * 0.003;
-        let t359: f32 = t357 - t358;
-        let t360: f32 = t263 * t359;
-        let t361: f32 = t10 * 0.004904;
-        let t362: f32 = t14 * 0.291506;
-        let t363: f32 = t361 + t362;
-        let t364: f32 = zc + t363;
-        let t365: f32 = t364 * 0.9401728;
-        let t366: f32 = -t365;
-        let t367: f32 = t364 * 0.34069794;
-        let t368: f32 = t367 * t367;
-        let t369: f32 = t366 * t366;
-        let t370: f32 = t25 * 0.004904;
-        let t371: f32 = t26 * 0.291506;
-        let t372: f32 = t370 - t371;
-        let t373: f32 = xc + t372;
-        let t374: f32 = t373 + 0.155718;
-        let t375: f32 = t35 * 0.004904;
-        let t376: f32 = t38 * 0.291506;
+        let t202: f32 = t186 - t201;
+        let t203: f32 = t186 * t202;
+        let t204: f32 = t180 * t185;
+        let t205: f32 = t162 * t170;
+        let t206: f32 = t204 * t205;
+        let t207: f32 = t165 * t170;
+        let t208: f32 = t175 * t185;
+        let t209: f32 = t207 * t208;
+        let t210: f32 = t206 - t209;
+        let t211: f32 = t170 * t210;
+        let t212: f32 = t210 * 0.3;
+        let t213: f32 = t211 * 0.295;
+        let t214: f32 = t212 - t213;
+        let t215: f32 = t170 * t214;
+        let t216: f32 = t211 * 0.3;
+        let t217: f32 = t215 + t216;
+        let t218: f32 = t210 - t217;
+        let t219: f32 = t210 * t218;
+        let t220: f32 = t172 + t203;
+        let t221: f32 = t219 + t220;
+        let t222: f32 = t156 * t221;
+        let t223: f32 = t171 * t207;
+        let t224: f32 = t170 * t170;
+        let t225: f32 = t186 * t204;
+        let t226: f32 = t224 * t225;
+        let t227: f32 = t192 * t226;
+        let t228: f32 = t170 * t204;
+        let t229: f32 = t204 * 0.3;
+        let t230: f32 = t228 * 0.295;
+        let t231: f32 = t229 - t230;
+        let t232: f32 = t170 * t231;
+        let t233: f32 = t228 * 0.3;
+        let t234: f32 = t232 + t233;
+        let t235: f32 = t204 - t234;
+        let t236: f32 = t186 * t235;
+        let t237: f32 = t171 * t208;
+        let t238: f32 = t186 * t205;
+        let t239: f32 = t237 - t238;
+        let t240: f32 = t170 * t239;
+        let t241: f32 = t239 * 0.3;
+        let t242: f32 = t240 * 0.295;
+        let t243: f32 = t241 - t242;
+        let t244: f32 = t170 * t243;
+        let t245: f32 = t240 * 0.3;
+        let t246: f32 = t244 + t245;
+        let t247: f32 = t239 - t246;
+        let t248: f32 = t210 * t247;
+        let t249: f32 = t227 * 0.003;
+        let t250: f32 = t223 + t236;
+        let t251: f32 = t248 + t249;
+        let t252: f32 = t250 + t251;
+        let t253: f32 = t157 * t252;
+        let t254: f32 = t222 - t253;
+        let t255: f32 = t156 * t254;
+        let t256: f32 = t194 - t195;
+        let t257: f32 = t170 * t256;
+        let t258: f32 = t200 + t257;
+        let t259: f32 = t186 - t258;
+        let t260: f32 = t204 * t259;
+        let t261: f32 = t218 * t239;
+        let t262: f32 = t223 + t260;
+        let t263: f32 = t249 + t261;
+        let t264: f32 = t262 + t263;
+        let t265: f32 = t156 * t264;
+        let t266: f32 = t207 * t207;
+        let t267: f32 = t192 * t228;
+        let t268: f32 = t267 * 0.003;
+        let t269: f32 = t230 + t268;
+        let t270: f32 = t229 - t269;
+        let t271: f32 = t170 * t270;
+        let t272: f32 = t233 + t271;
+        let t273: f32 = t204 - t272;
+        let t274: f32 = t204 * t273;
+        let t275: f32 = t239 * t247;
+        let t276: f32 = t266 + t274;
+        let t277: f32 = t275 + t276;
+        let t278: f32 = t157 * t277;
+        let t279: f32 = t265 - t278;
+        let t280: f32 = t157 * t279;
+        let t281: f32 = t10 * 0.254904;
+        let t282: f32 = t14 * 0.141506;
+        let t283: f32 = t281 - t282;
+        let t284: f32 = t21 * 0.254904;
+        let t285: f32 = t24 * 0.141506;
+        let t286: f32 = t284 - t285;
+        let t287: f32 = t286 + 0.349711;
+        let t288: f32 = yc - t287;
+        let t289: f32 = t30 * 0.254904;
+        let t290: f32 = t31 * 0.141506;
+        let t291: f32 = t289 + t290;
+        let t292: f32 = xc + 0.294282;
+        let t293: f32 = t292 - t291;
+        let t294: f32 = t293 * t293;
+        let t295: f32 = t288 * t288;
+        let t296: f32 = zc - t283;
+        let t297: f32 = t296 * t296;
+        let t298: f32 = t294 + t295;
+        let t299: f32 = t297 + t298;
+        let t300: f32 = sqrt(t299);
+        let t301: f32 = 1.0 / t300;
+        let t302: f32 = t288 * t301;
+        let t303: f32 = t302 * t302;
+        let t304: f32 = t296 * 0.76513904;
+        let t305: f32 = -t304;
+        let t306: f32 = t296 * 0.64386505;
+        let t307: f32 = t306 * t306;
+        let t308: f32 = t305 * t305;
+        let t309: f32 = t293 * 0.64386505;
+        let t310: f32 = t288 * 0.76513904;
+        let t311: f32 = t309 - t310;
+        let t312: f32 = t311 * t311;
+        let t313: f32 = t307 + t308;
+        let t314: f32 = t312 + t313;
+        let t315: f32 = sqrt(t314);
+        let t316: f32 = 1.0 / t315;
+        let t317: f32 = t305 * t316;
+        let t318: f32 = t301 * t317;
+        let t319: f32 = t293 * 0.76513904;
+        let t320: f32 = t288 * 0.64386505;
+        let t321: f32 = t319 + t320;
+        let t322: f32 = t316 * t321;
+        let t323: f32 = t322 * t322;
+        let t324: f32 = t318 * t323;
+        let t325: f32 = t317 * 0.3;
+        let t326: f32 = t318 * 0.295;
+        let t327: f32 = t324 * 0.003;
+        let t328: f32 = t326 + t327;
+        let t329: f32 = t325 - t328;
+        let t330: f32 = t301 * t329;
+        let t331: f32 = t318 * 0.3;
+        let t332: f32 = t330 + t331;
+        let t333: f32 = t317 - t332;
+        let t334: f32 = t317 * t333;
+        let t335: f32 = t311 * t316;
+        let t336: f32 = t293 * t301;
+        let t337: f32 = t335 * t336;
+        let t338: f32 = t296 * t301;
+        let t339: f32 = t306 * t316;
+        let t340: f32 = t338 * t339;
+        let t341: f32 = t337 + t340;
+        let t342: f32 = t301 * t341;
+        let t343: f32 = t341 * 0.3;
+        let t344: f32 = t342 * 0.295;
+        let t345: f32 = t343 - t344;
+        let t346: f32 = t301 * t345;
+        let t347: f32 = t342 * 0.3;
+        let t348: f32 = t346 + t347;
+        let t349: f32 = t341 - t348;
+        let t350: f32 = t341 * t349;
+        let t351: f32 = t303 + t334;
+        let t352: f32 = t350 + t351;
+        let t353: f32 = t283 * t352;
+        let t354: f32 = t302 * t338;
+        let t355: f32 = t301 * t301;
+        let t356: f32 = t317 * t335;
+        let t357: f32 = t355 * t356;
+        let t358: f32 = t323 * t357;
+        let t359: f32 = t301 * t335;
+        let t360: f32 = t335 * 0.3;
+        let t361: f32 = t359 * 0.295;
+        let t362: f32 = t360 - t361;
+        let t363: f32 = t301 * t362;
+        let t364: f32 = t359 * 0.3;
+        let t365: f32 = t363 + t364;
+        let t366: f32 = t335 - t365;
+        let t367: f32 = t317 * t366;
+        let t368: f32 = t302 * t339;
+        let t369: f32 = t317 * t336;
+        let t370: f32 = t368 - t369;
+        let t371: f32 = t301 * t370;
+        let t372: f32 = t370 * 0.3;
+        let t373: f32 = t371 * 0.295;
+        let t374: f32 = t372 - t373;
+        let t375: f32 = t301 * t374;
+        let t376: f32 = t371 * 0.3;
         let t377: f32 = t375 + t376;
-        let t378: f32 = yc + t377;
-        let t379: f32 = t378 - 0.429711;
-        let t380: f32 = t374 * 0.34069794;
-        let t381: f32 = t379 * 0.9401728;
-        let t382: f32 = t380 - t381;
-        let t383: f32 = t382 * t382;
-        let t384: f32 = t368 + t369;
-        let t385: f32 = t383 + t384;
-        let t386: f32 = sqrt(t385);
-        let t387: f32 = 1.0 / t386;
-        let t388: f32 = t366 * t387;
-        let t389: f32 = t374 * t374;
-        let t390: f32 = t379 * t379;
-        let t391: f32 = t364 * t364;
-        let t392: f32 = t389 + t390;
+        let t378: f32 = t370 - t377;
+        let t379: f32 = t341 * t378;
+        let t380: f32 = t358 * 0.003;
+        let t381: f32 = t367 + t379;
+        let t382: f32 = t380 + t381;
+        let t383: f32 = t354 - t382;
+        let t384: f32 = t286 * t383;
+        let t385: f32 = t353 - t384;
+        let t386: f32 = t283 * t385;
+        let t387: f32 = t325 - t326;
+        let t388: f32 = t301 * t387;
+        let t389: f32 = t331 + t388;
+        let t390: f32 = t317 - t389;
+        let t391: f32 = t335 * t390;
+        let t392: f32 = t349 * t370;
         let t393: f32 = t391 + t392;
-        let t394: f32 = sqrt(t393);
-        let t395: f32 = 1.0 / t394;
-        let t396: f32 = t395 * t395;
-        let t397: f32 = t374 * 0.9401728;
-        let t398: f32 = t379 * 0.34069794;
-        let t399: f32 = t397 + t398;
-        let t400: f32 = t387 * t399;
-        let t401: f32 = t400 * t400;
-        let t402: f32 = t363 * t388;
-        let t403: f32 = t382 * t387;
-        let t404: f32 = t377 * t403;
-        let t405: f32 = t402 + t404;
-        let t406: f32 = t388 * t396;
-        let t407: f32 = t401 * t406;
-        let t408: f32 = t405 * t407;
-        let t409: f32 = t374 * t395;
-        let t410: f32 = t403 * t409;
-        let t411: f32 = t364 * t395;
-        let t412: f32 = t367 * t387;
-        let t413: f32 = t411 * t412;
-        let t414: f32 = t410 + t413;
-        let t415: f32 = t363 * t395;
-        let t416: f32 = t414 * t415;
-        let t417: f32 = t379 * t395;
-        let t418: f32 = t412 * t417;
-        let t419: f32 = t388 * t409;
-        let t420: f32 = t418 - t419;
-        let t421: f32 = t377 * t395;
-        let t422: f32 = t420 * t421;
-        let t423: f32 = t416 + t422;
-        let t424: f32 = t363 * t414;
-        let t425: f32 = t377 * t420;
-        let t426: f32 = t424 + t425;
-        let t427: f32 = t423 * 0.3;
-        let t428: f32 = t427 - t426;
-        let t429: f32 = t414 * t428;
-        let t430: f32 = t395 * t402;
-        let t431: f32 = t395 * t404;
-        let t432: f32 = t430 + t431;
-        let t433: f32 = t432 * 0.3;
-        let t434: f32 = t433 - t405;
-        let t435: f32 = t388 * t434;
-        let t436: f32 = t429 + t435;
-        let t437: f32 = t423 * 0.295;
-        let t438: f32 = t426 * 0.3;
-        let t439: f32 = t437 - t438;
-        let t440: f32 = t395 * t414;
-        let t441: f32 = t439 * t440;
-        let t442: f32 = t436 - t441;
-        let t443: f32 = t363 * t417;
-        let t444: f32 = t377 * t411;
-        let t445: f32 = t443 - t444;
-        let t446: f32 = t417 * t445;
-        let t447: f32 = t405 * 0.3;
-        let t448: f32 = t432 * 0.295;
-        let t449: f32 = t448 - t447;
-        let t450: f32 = t388 * t395;
-        let t451: f32 = t449 * t450;
-        let t452: f32 = t446 + t451;
-        let t453: f32 = t442 - t452;
-        let t454: f32 = t408 * 0.003;
-        let t455: f32 = t453 - t454;
-        let t456: f32 = t363 * t455;
-        let t457: f32 = t396 * t403;
-        let t458: f32 = t401 * t457;
-        let t459: f32 = t405 * t458;
-        let t460: f32 = t411 * t445;
-        let t461: f32 = t395 * t403;
-        let t462: f32 = t449 * t461;
-        let t463: f32 = t460 - t462;
-        let t464: f32 = t395 * t420;
-        let t465: f32 = t439 * t464;
-        let t466: f32 = t420 * t428;
-        let t467: f32 = t403 * t434;
-        let t468: f32 = t466 + t467;
-        let t469: f32 = t465 - t468;
-        let t470: f32 = t463 - t469;
-        let t471: f32 = t459 * 0.003;
-        let t472: f32 = t470 - t471;
-        let t473: f32 = t377 * t472;
-        let t474: f32 = t361 - t362;
-        let t475: f32 = zc + t474;
-        let t476: f32 = t475 * 0.9401728;
-        let t477: f32 = t475 * 0.34069794;
-        let t478: f32 = t477 * t477;
-        let t479: f32 = t476 * t476;
-        let t480: f32 = t370 + t371;
-        let t481: f32 = xc + t480;
-        let t482: f32 = t481 + 0.155718;
-        let t483: f32 = t375 - t376;
-        let t484: f32 = yc + t483;
-        let t485: f32 = t484 + 0.429711;
-        let t486: f32 = t482 * 0.34069794;
-        let t487: f32 = t485 * 0.9401728;
-        let t488: f32 = t486 + t487;
-        let t489: f32 = t488 * t488;
-        let t490: f32 = t478 + t479;
-        let t491: f32 = t489 + t490;
-        let t492: f32 = sqrt(t491);
-        let t493: f32 = 1.0 / t492;
-        let t494: f32 = t476 * t493;
-        let t495: f32 = t482 * t482;
-        let t496: f32 = t485 * t485;
-        let t497: f32 = t475 * t475;
-        let t498: f32 = t495 + t496;
-        let t499: f32 = t497 + t498;
-        let t500: f32 = sqrt(t499);
-        let t501: f32 = 1.0 / t500;
-        let t502: f32 = t501 * t501;
-        let t503: f32 = t482 * 0.9401728;
-        let t504: f32 = t485 * 0.34069794;
+        let t394: f32 = t380 + t393;
+        let t395: f32 = t354 - t394;
+        let t396: f32 = t283 * t395;
+        let t397: f32 = t338 * t338;
+        let t398: f32 = t323 * t359;
+        let t399: f32 = t398 * 0.003;
+        let t400: f32 = t361 + t399;
+        let t401: f32 = t360 - t400;
+        let t402: f32 = t301 * t401;
+        let t403: f32 = t364 + t402;
+        let t404: f32 = t335 - t403;
+        let t405: f32 = t335 * t404;
+        let t406: f32 = t370 * t378;
+        let t407: f32 = t397 + t405;
+        let t408: f32 = t406 + t407;
+        let t409: f32 = t286 * t408;
+        let t410: f32 = t396 - t409;
+        let t411: f32 = t286 * t410;
+        let t412: f32 = t10 * 0.004904;
+        let t413: f32 = t14 * 0.291506;
+        let t414: f32 = t412 + t413;
+        let t415: f32 = t21 * 0.004904;
+        let t416: f32 = t24 * 0.291506;
+        let t417: f32 = t415 + t416;
+        let t418: f32 = yc + t417;
+        let t419: f32 = t418 - 0.429711;
+        let t420: f32 = t30 * 0.004904;
+        let t421: f32 = t31 * 0.291506;
+        let t422: f32 = t420 - t421;
+        let t423: f32 = xc + t422;
+        let t424: f32 = t423 + 0.155718;
+        let t425: f32 = t424 * t424;
+        let t426: f32 = t419 * t419;
+        let t427: f32 = zc + t414;
+        let t428: f32 = t427 * t427;
+        let t429: f32 = t425 + t426;
+        let t430: f32 = t428 + t429;
+        let t431: f32 = sqrt(t430);
+        let t432: f32 = 1.0 / t431;
+        let t433: f32 = t419 * t432;
+        let t434: f32 = t433 * t433;
+        let t435: f32 = t427 * 0.9401728;
+        let t436: f32 = -t435;
+        let t437: f32 = t427 * 0.34069794;
+        let t438: f32 = t437 * t437;
+        let t439: f32 = t436 * t436;
+        let t440: f32 = t424 * 0.34069794;
+        let t441: f32 = t419 * 0.9401728;
+        let t442: f32 = t440 - t441;
+        let t443: f32 = t442 * t442;
+        let t444: f32 = t438 + t439;
+        let t445: f32 = t443 + t444;
+        let t446: f32 = sqrt(t445);
+        let t447: f32 = 1.0 / t446;
+        let t448: f32 = t436 * t447;
+        let t449: f32 = t432 * t448;
+        let t450: f32 = t424 * 0.9401728;
+        let t451: f32 = t419 * 0.34069794;
+        let t452: f32 = t450 + t451;
+        let t453: f32 = t447 * t452;
+        let t454: f32 = t453 * t453;
+        let t455: f32 = t449 * t454;
+        let t456: f32 = t448 * 0.3;
+        let t457: f32 = t449 * 0.295;
+        let t458: f32 = t455 * 0.003;
+        let t459: f32 = t457 + t458;
+        let t460: f32 = t456 - t459;
+        let t461: f32 = t432 * t460;
+        let t462: f32 = t449 * 0.3;
+        let t463: f32 = t461 + t462;
+        let t464: f32 = t448 - t463;
+        let t465: f32 = t448 * t464;
+        let t466: f32 = t442 * t447;
+        let t467: f32 = t424 * t432;
+        let t468: f32 = t466 * t467;
+        let t469: f32 = t427 * t432;
+        let t470: f32 = t437 * t447;
+        let t471: f32 = t469 * t470;
+        let t472: f32 = t468 + t471;
+        let t473: f32 = t432 * t472;
+        let t474: f32 = t472 * 0.3;
+        let t475: f32 = t473 * 0.295;
+        let t476: f32 = t474 - t475;
+        let t477: f32 = t432 * t476;
+        let t478: f32 = t473 * 0.3;
+        let t479: f32 = t477 + t478;
+        let t480: f32 = t472 - t479;
+        let t481: f32 = t472 * t480;
+        let t482: f32 = t434 + t465;
+        let t483: f32 = t481 + t482;
+        let t484: f32 = t414 * t483;
+        let t485: f32 = t433 * t469;
+        let t486: f32 = t432 * t432;
+        let t487: f32 = t448 * t466;
+        let t488: f32 = t486 * t487;
+        let t489: f32 = t454 * t488;
+        let t490: f32 = t432 * t466;
+        let t491: f32 = t466 * 0.3;
+        let t492: f32 = t490 * 0.295;
+        let t493: f32 = t491 - t492;
+        let t494: f32 = t432 * t493;
+        let t495: f32 = t490 * 0.3;
+        let t496: f32 = t494 + t495;
+        let t497: f32 = t466 - t496;
+        let t498: f32 = t448 * t497;
+        let t499: f32 = t433 * t470;
+        let t500: f32 = t448 * t467;
+        let t501: f32 = t499 - t500;
+        let t502: f32 = t432 * t501;
+        let t503: f32 = t501 * 0.3;
+        let t504: f32 = t502 * 0.295;
         let t505: f32 = t503 - t504;
-        let t506: f32 = t493 * t505;
-        let t507: f32 = t506 * t506;
-        let t508: f32 = t474 * t494;
-        let t509: f32 = t488 * t493;
-        let t510: f32 = t483 * t509;
-        let t511: f32 = t508 + t510;
-        let t512: f32 = t494 * t502;
-        let t513: f32 = t507 * t512;
-        let t514: f32 = t511 * t513;
-        let t515: f32 = t482 * t501;
-        let t516: f32 = t509 * t515;
-        let t517: f32 = t475 * t501;
-        let t518: f32 = t477 * t493;
-        let t519: f32 = t517 * t518;
-        let t520: f32 = t516 + t519;
-        let t521: f32 = t474 * t501;
-        let t522: f32 = t520 * t521;
-        let t523: f32 = t485 * t501;
-        let t524: f32 = t518 * t523;
-        let t525: f32 = t494 * t515;
-        let t526: f32 = t524 - t525;
-        let t527: f32 = t483 * t501;
-        let t528: f32 = t526 * t527;
-        let t529: f32 = t522 + t528;
-        let t530: f32 = t474 * t520;
-        let t531: f32 = t483 * t526;
-        let t532: f32 = t530 + t531;
-        let t533: f32 = t529 * 0.3;
-        let t534: f32 = t533 - t532;
-        let t535: f32 = t520 * t534;
-        let t536: f32 = t501 * t508;
-        let t537: f32 = t501 * t510;
-        let t538: f32 = t536 + t537;
-        let t539: f32 = t538 * 0.3;
-        let t540: f32 = t539 - t511;
-        let t541: f32 = t494 * t540;
-        let t542: f32 = t535 + t541;
-        let t543: f32 = t529 * 0.295;
-        let t544: f32 = t532 * 0.3;
-        let t545: f32 = t543 - t544;
-        let t546: f32 = t501 * t520;
-        let t547: f32 = t545 * t546;
-        let t548: f32 = t542 - t547;
-        let t549: f32 = t474 * t523;
-        let t550: f32 = t483 * t517;
-        let t551: f32 = t549 - t550;
-        let t552: f32 = t523 * t551;
-        let t553: f32 = t511 * 0.3;
-        let t554: f32 = t538 * 0.295;
-        let t555: f32 = t554 - t553;
-        let t556: f32 = t494 * t501;
-        let t557: f32 = t555 * t556;
-        let t558: f32 = t552 + t557;
-        let t559: f32 = t548 - t558;
-        let t560: f32 = t514 * 0.003;
-        let t561: f32 = t559 - t560;
-        let t562: f32 = t474 * t561;
-        let t563: f32 = t502 * t509;
-        let t564: f32 = t507 * t563;
-        let t565: f32 = t511 * t564;
-        let t566: f32 = t517 * t551;
-        let t567: f32 = t501 * t509;
-        let t568: f32 = t555 * t567;
-        let t569: f32 = t566 - t568;
-        let t570: f32 = t501 * t526;
-        let t571: f32 = t545 * t570;
-        let t572: f32 = t526 * t534;
-        let t573: f32 = t509 * t540;
-        let t574: f32 = t572 + t573;
-        let t575: f32 = t571 - t574;
-        let t576: f32 = t569 - t575;
-        let t577: f32 = t565 * 0.003;
-        let t578: f32 = t576 - t577;
-        let t579: f32 = t483 * t578;
-        let t580: f32 = t247 + t248;
-        let t581: f32 = zc - t580;
-        let t582: f32 = t581 * 0.76513904;
-        let t583: f32 = t581 * 0.64386505;
-        let t584: f32 = t583 * t583;
-        let t585: f32 = t582 * t582;
-        let t586: f32 = t256 - t257;
-        let t587: f32 = t259 - t586;
-        let t588: f32 = t261 + t262;
-        let t589: f32 = yc + 0.349711;
-        let t590: f32 = t589 - t588;
-        let t591: f32 = t587 * 0.64386505;
-        let t592: f32 = t590 * 0.76513904;
-        let t593: f32 = t591 + t592;
-        let t594: f32 = t593 * t593;
-        let t595: f32 = t584 + t585;
-        let t596: f32 = t594 + t595;
-        let t597: f32 = sqrt(t596);
-        let t598: f32 = 1.0 / t597;
-        let t599: f32 = t582 * t598;
-        let t600: f32 = t587 * t587;
-        let t601: f32 = t590 * t590;
-        let t602: f32 = t581 * t581;
-        let t603: f32 = t600 + t601;
-        let t604: f32 = t602 + t603;
-        let t605: f32 = sqrt(t604);
-        let t606: f32 = 1.0 / t605;
-        let t607: f32 = t606 * t606;
-        let t608: f32 = t587 * 0.76513904;
-        let t609: f32 = t590 * 0.64386505;
-        let t610: f32 = t608 - t609;
-        let t611: f32 = t598 * t610;
-        let t612: f32 = t611 * t611;
-        let t613: f32 = t580 * t599;
-        let t614: f32 = t593 * t598;
-        let t615: f32 = t588 * t614;
-        let t616: f32 = t613 + t615;
-        let t617: f32 = t599 * t607;
-        let t618: f32 = t612 * t617;
-        let t619: f32 = t616 * t618;
-        let t620: f32 = t590 * t606;
-        let t621: f32 = t580 * t620;
-        let t622: f32 = t581 * t606;
-        let t623: f32 = t588 * t622;
-        let t624: f32 = t621 - t623;
-        let t625: f32 = t620 * t624;
-        let t626: f32 = t606 * t613;
-        let t627: f32 = t606 * t615;
-        let t628: f32 = t626 + t627;
-        let t629: f32 = t616 * 0.3;
-        let t630: f32 = t628 * 0.295;
-        let t631: f32 = t630 - t629;
-        let t632: f32 = t599 * t606;
-        let t633: f32 = t631 * t632;
-        let t634: f32 = t625 + t633;
-        let t635: f32 = t587 * t606;
-        let t636: f32 = t614 * t635;
-        let t637: f32 = t583 * t598;
-        let t638: f32 = t622 * t637;
-        let t639: f32 = t636 + t638;
-        let t640: f32 = t580 * t606;
-        let t641: f32 = t639 * t640;
-        let t642: f32 = t620 * t637;
-        let t643: f32 = t599 * t635;
-        let t644: f32 = t642 - t643;
-        let t645: f32 = t588 * t606;
-        let t646: f32 = t644 * t645;
-        let t647: f32 = t641 + t646;
-        let t648: f32 = t580 * t639;
-        let t649: f32 = t588 * t644;
-        let t650: f32 = t648 + t649;
-        let t651: f32 = t647 * 0.295;
-        let t652: f32 = t650 * 0.3;
-        let t653: f32 = t651 - t652;
-        let t654: f32 = t606 * t639;
-        let t655: f32 = t653 * t654;
-        let t656: f32 = t647 * 0.3;
-        let t657: f32 = t656 - t650;
-        let t658: f32 = t639 * t657;
-        let t659: f32 = t628 * 0.3;
-        let t660: f32 = t659 - t616;
-        let t661: f32 = t599 * t660;
-        let t662: f32 = t658 + t661;
-        let t663: f32 = t655 - t662;
-        let t664: f32 = t634 + t663;
-        let t665: f32 = t619 * 0.003;
-        let t666: f32 = t664 + t665;
-        let t667: f32 = -t666;
-        let t668: f32 = t580 * t667;
-        let t669: f32 = t607 * t614;
-        let t670: f32 = t612 * t669;
-        let t671: f32 = t616 * t670;
-        let t672: f32 = t622 * t624;
-        let t673: f32 = t606 * t614;
-        let t674: f32 = t631 * t673;
-        let t675: f32 = t672 - t674;
-        let t676: f32 = t644 * t657;
-        let t677: f32 = t614 * t660;
+        let t506: f32 = t432 * t505;
+        let t507: f32 = t502 * 0.3;
+        let t508: f32 = t506 + t507;
+        let t509: f32 = t501 - t508;
+        let t510: f32 = t472 * t509;
+        let t511: f32 = t489 * 0.003;
+        let t512: f32 = t498 + t510;
+        let t513: f32 = t511 + t512;
+        let t514: f32 = t485 - t513;
+        let t515: f32 = t417 * t514;
+        let t516: f32 = t484 - t515;
+        let t517: f32 = t414 * t516;
+        let t518: f32 = t456 - t457;
+        let t519: f32 = t432 * t518;
+        let t520: f32 = t462 + t519;
+        let t521: f32 = t448 - t520;
+        let t522: f32 = t466 * t521;
+        let t523: f32 = t480 * t501;
+        let t524: f32 = t522 + t523;
+        let t525: f32 = t511 + t524;
+        let t526: f32 = t485 - t525;
+        let t527: f32 = t414 * t526;
+        let t528: f32 = t469 * t469;
+        let t529: f32 = t454 * t490;
+        let t530: f32 = t529 * 0.003;
+        let t531: f32 = t492 + t530;
+        let t532: f32 = t491 - t531;
+        let t533: f32 = t432 * t532;
+        let t534: f32 = t495 + t533;
+        let t535: f32 = t466 - t534;
+        let t536: f32 = t466 * t535;
+        let t537: f32 = t501 * t509;
+        let t538: f32 = t528 + t536;
+        let t539: f32 = t537 + t538;
+        let t540: f32 = t417 * t539;
+        let t541: f32 = t527 - t540;
+        let t542: f32 = t417 * t541;
+        let t543: f32 = t412 - t413;
+        let t544: f32 = t415 - t416;
+        let t545: f32 = yc + t544;
+        let t546: f32 = t545 + 0.429711;
+        let t547: f32 = t420 + t421;
+        let t548: f32 = xc + t547;
+        let t549: f32 = t548 + 0.155718;
+        let t550: f32 = t549 * t549;
+        let t551: f32 = t546 * t546;
+        let t552: f32 = zc + t543;
+        let t553: f32 = t552 * t552;
+        let t554: f32 = t550 + t551;
+        let t555: f32 = t553 + t554;
+        let t556: f32 = sqrt(t555);
+        let t557: f32 = 1.0 / t556;
+        let t558: f32 = t546 * t557;
+        let t559: f32 = t558 * t558;
+        let t560: f32 = t552 * 0.9401728;
+        let t561: f32 = t552 * 0.34069794;
+        let t562: f32 = t561 * t561;
+        let t563: f32 = t560 * t560;
+        let t564: f32 = t549 * 0.34069794;
+        let t565: f32 = t546 * 0.9401728;
+        let t566: f32 = t564 + t565;
+        let t567: f32 = t566 * t566;
+        let t568: f32 = t562 + t563;
+        let t569: f32 = t567 + t568;
+        let t570: f32 = sqrt(t569);
+        let t571: f32 = 1.0 / t570;
+        let t572: f32 = t560 * t571;
+        let t573: f32 = t557 * t572;
+        let t574: f32 = t549 * 0.9401728;
+        let t575: f32 = t546 * 0.34069794;
+        let t576: f32 = t574 - t575;
+        let t577: f32 = t571 * t576;
+        let t578: f32 = t577 * t577;
+        let t579: f32 = t573 * t578;
+        let t580: f32 = t572 * 0.3;
+        let t581: f32 = t573 * 0.295;
+        let t582: f32 = t579 * 0.003;
+        let t583: f32 = t581 + t582;
+        let t584: f32 = t580 - t583;
+        let t585: f32 = t557 * t584;
+        let t586: f32 = t573 * 0.3;
+        let t587: f32 = t585 + t586;
+        let t588: f32 = t572 - t587;
+        let t589: f32 = t572 * t588;
+        let t590: f32 = t566 * t571;
+        let t591: f32 = t549 * t557;
+        let t592: f32 = t590 * t591;
+        let t593: f32 = t552 * t557;
+        let t594: f32 = t561 * t571;
+        let t595: f32 = t593 * t594;
+        let t596: f32 = t592 + t595;
+        let t597: f32 = t557 * t596;
+        let t598: f32 = t596 * 0.3;
+        let t599: f32 = t597 * 0.295;
+        let t600: f32 = t598 - t599;
+        let t601: f32 = t557 * t600;
+        let t602: f32 = t597 * 0.3;
+        let t603: f32 = t601 + t602;
+        let t604: f32 = t596 - t603;
+        let t605: f32 = t596 * t604;
+        let t606: f32 = t559 + t589;
+        let t607: f32 = t605 + t606;
+        let t608: f32 = t543 * t607;
+        let t609: f32 = t558 * t593;
+        let t610: f32 = t557 * t557;
+        let t611: f32 = t572 * t590;
+        let t612: f32 = t610 * t611;
+        let t613: f32 = t578 * t612;
+        let t614: f32 = t557 * t590;
+        let t615: f32 = t590 * 0.3;
+        let t616: f32 = t614 * 0.295;
+        let t617: f32 = t615 - t616;
+        let t618: f32 = t557 * t617;
+        let t619: f32 = t614 * 0.3;
+        let t620: f32 = t618 + t619;
+        let t621: f32 = t590 - t620;
+        let t622: f32 = t572 * t621;
+        let t623: f32 = t558 * t594;
+        let t624: f32 = t572 * t591;
+        let t625: f32 = t623 - t624;
+        let t626: f32 = t557 * t625;
+        let t627: f32 = t625 * 0.3;
+        let t628: f32 = t626 * 0.295;
+        let t629: f32 = t627 - t628;
+        let t630: f32 = t557 * t629;
+        let t631: f32 = t626 * 0.3;
+        let t632: f32 = t630 + t631;
+        let t633: f32 = t625 - t632;
+        let t634: f32 = t596 * t633;
+        let t635: f32 = t613 * 0.003;
+        let t636: f32 = t622 + t634;
+        let t637: f32 = t635 + t636;
+        let t638: f32 = t609 - t637;
+        let t639: f32 = t544 * t638;
+        let t640: f32 = t608 - t639;
+        let t641: f32 = t543 * t640;
+        let t642: f32 = t580 - t581;
+        let t643: f32 = t557 * t642;
+        let t644: f32 = t586 + t643;
+        let t645: f32 = t572 - t644;
+        let t646: f32 = t590 * t645;
+        let t647: f32 = t604 * t625;
+        let t648: f32 = t646 + t647;
+        let t649: f32 = t635 + t648;
+        let t650: f32 = t609 - t649;
+        let t651: f32 = t543 * t650;
+        let t652: f32 = t593 * t593;
+        let t653: f32 = t578 * t614;
+        let t654: f32 = t653 * 0.003;
+        let t655: f32 = t616 + t654;
+        let t656: f32 = t615 - t655;
+        let t657: f32 = t557 * t656;
+        let t658: f32 = t619 + t657;
+        let t659: f32 = t590 - t658;
+        let t660: f32 = t590 * t659;
+        let t661: f32 = t625 * t633;
+        let t662: f32 = t652 + t660;
+        let t663: f32 = t661 + t662;
+        let t664: f32 = t544 * t663;
+        let t665: f32 = t651 - t664;
+        let t666: f32 = t544 * t665;
+        let t667: f32 = t281 + t282;
+        let t668: f32 = t284 + t285;
+        let t669: f32 = yc + 0.349711;
+        let t670: f32 = t669 - t668;
+        let t671: f32 = t289 - t290;
+        let t672: f32 = t292 - t671;
+        let t673: f32 = t672 * t672;
+        let t674: f32 = t670 * t670;
+        let t675: f32 = zc - t667;
+        let t676: f32 = t675 * t675;
+        let t677: f32 = t673 + t674;
         let t678: f32 = t676 + t677;
-        let t679: f32 = t606 * t644;
-        let t680: f32 = t653 * t679;
-        let t681: f32 = t678 - t680;
-        let t682: f32 = t675 + t681;
-        let t683: f32 = t671 * 0.003;
-        let t684: f32 = t682 - t683;
-        let t685: f32 = t588 * t684;
-        let t686: f32 = t1 * t1;
-        let t687: f32 = t6 * t6;
-        let t688: f32 = t5 * t5;
+        let t679: f32 = sqrt(t678);
+        let t680: f32 = 1.0 / t679;
+        let t681: f32 = t670 * t680;
+        let t682: f32 = t681 * t681;
+        let t683: f32 = t675 * 0.76513904;
+        let t684: f32 = t675 * 0.64386505;
+        let t685: f32 = t684 * t684;
+        let t686: f32 = t683 * t683;
+        let t687: f32 = t672 * 0.64386505;
+        let t688: f32 = t670 * 0.76513904;
         let t689: f32 = t687 + t688;
-        let t690: f32 = t689 * 0.4108;
-        let t691: f32 = t686 * t690;
-        let t692: f32 = t2 * 0.7;
-        let t693: f32 = t138 + t692;
-        let t694: f32 = t246 + t691;
-        let t695: f32 = t693 + t694;
-        let t696: f32 = t121 + t229;
-        let t697: f32 = t343 + t360;
-        let t698: f32 = t456 + t473;
-        let t699: f32 = t562 + t579;
-        let t700: f32 = t668 + t685;
-        let t701: f32 = t696 + t697;
-        let t702: f32 = t698 + t699;
-        let t703: f32 = t701 + t702;
-        let t704: f32 = t700 + t703;
-        let t705: f32 = t695 - t704;
-        let t706: f32 = t1 * t33;
-        let t707: f32 = t29 * t66;
-        let t708: f32 = t17 * t77;
-        let t709: f32 = t707 - t708;
-        let t710: f32 = -t709;
-        let t711: f32 = t72 * t710;
-        let t712: f32 = t17 * t74;
-        let t713: f32 = t29 * t76;
-        let t714: f32 = t712 - t713;
-        let t715: f32 = t82 * t714;
-        let t716: f32 = t77 * t80;
-        let t717: f32 = t59 * t707;
-        let t718: f32 = t716 - t717;
-        let t719: f32 = t709 * 0.3;
-        let t720: f32 = t718 * 0.295;
-        let t721: f32 = t719 + t720;
-        let t722: f32 = t115 * t721;
-        let t723: f32 = t715 + t722;
-        let t724: f32 = t52 * t76;
-        let t725: f32 = t66 * t82;
-        let t726: f32 = t724 - t725;
-        let t727: f32 = t17 * t726;
-        let t728: f32 = t59 * t727;
-        let t729: f32 = t29 * t59;
-        let t730: f32 = t85 * t729;
-        let t731: f32 = t728 - t730;
-        let t732: f32 = t29 * t85;
-        let t733: f32 = t732 - t727;
-        let t734: f32 = t731 * 0.295;
-        let t735: f32 = t733 * 0.3;
-        let t736: f32 = t734 + t735;
-        let t737: f32 = t105 * t736;
-        let t738: f32 = t731 * 0.3;
-        let t739: f32 = t733 + t738;
-        let t740: f32 = t79 * t739;
-        let t741: f32 = t718 * 0.3;
-        let t742: f32 = t709 + t741;
-        let t743: f32 = t52 * t742;
-        let t744: f32 = t740 + t743;
-        let t745: f32 = t737 - t744;
-        let t746: f32 = t723 + t745;
-        let t747: f32 = t711 * 0.003;
-        let t748: f32 = t746 + t747;
-        let t749: f32 = -t748;
-        let t750: f32 = t17 * t749;
-        let t751: f32 = t123 * t710;
-        let t752: f32 = t76 * t714;
-        let t753: f32 = t132 * t721;
-        let t754: f32 = t752 + t753;
-        let t755: f32 = t128 * t736;
-        let t756: f32 = t85 * t739;
-        let t757: f32 = t66 * t742;
-        let t758: f32 = t756 + t757;
-        let t759: f32 = t755 - t758;
-        let t760: f32 = t754 + t759;
-        let t761: f32 = t751 * 0.003;
-        let t762: f32 = t760 + t761;
-        let t763: f32 = -t762;
-        let t764: f32 = t41 * t763;
-        let t765: f32 = t146 * t174;
-        let t766: f32 = t139 * t185;
-        let t767: f32 = t765 - t766;
-        let t768: f32 = -t767;
-        let t769: f32 = t180 * t768;
-        let t770: f32 = t139 * t182;
-        let t771: f32 = t146 * t184;
-        let t772: f32 = t770 - t771;
-        let t773: f32 = t190 * t772;
-        let t774: f32 = t185 * t188;
-        let t775: f32 = t167 * t765;
-        let t776: f32 = t774 - t775;
-        let t777: f32 = t767 * 0.3;
-        let t778: f32 = t776 * 0.295;
-        let t779: f32 = t777 + t778;
-        let t780: f32 = t223 * t779;
-        let t781: f32 = t773 + t780;
-        let t782: f32 = t160 * t184;
-        let t783: f32 = t174 * t190;
-        let t784: f32 = t782 - t783;
-        let t785: f32 = t139 * t784;
-        let t786: f32 = t167 * t785;
-        let t787: f32 = t146 * t167;
-        let t788: f32 = t193 * t787;
-        let t789: f32 = t786 - t788;
-        let t790: f32 = t146 * t193;
-        let t791: f32 = t790 - t785;
-        let t792: f32 = t789 * 0.295;
-        let t793: f32 = t791 * 0.3;
-        let t794: f32 = t792 + t793;
-        let t795: f32 = t213 * t794;
-        let t796: f32 = t789 * 0.3;
-        let t797: f32 = t791 + t796;
-        let t798: f32 = t187 * t797;
-        let t799: f32 = t776 * 0.3;
-        let t800: f32 = t767 + t799;
-        let t801: f32 = t160 * t800;
-        let t802: f32 = t798 + t801;
-        let t803: f32 = t795 - t802;
-        let t804: f32 = t781 + t803;
-        let t805: f32 = t769 * 0.003;
-        let t806: f32 = t804 + t805;
-        let t807: f32 = -t806;
-        let t808: f32 = t139 * t807;
-        let t809: f32 = t231 * t768;
-        let t810: f32 = t184 * t772;
-        let t811: f32 = t240 * t779;
-        let t812: f32 = t810 + t811;
-        let t813: f32 = t236 * t794;
-        let t814: f32 = t193 * t797;
-        let t815: f32 = t174 * t800;
-        let t816: f32 = t814 + t815;
-        let t817: f32 = t813 - t816;
-        let t818: f32 = t812 + t817;
-        let t819: f32 = t809 * 0.003;
-        let t820: f32 = t818 + t819;
-        let t821: f32 = -t820;
-        let t822: f32 = t149 * t821;
-        let t823: f32 = t249 * t312;
-        let t824: f32 = t258 * t289;
-        let t825: f32 = t823 + t824;
-        let t826: f32 = t293 * t825;
-        let t827: f32 = t249 * t310;
-        let t828: f32 = t258 * t297;
-        let t829: f32 = t827 - t828;
-        let t830: f32 = t295 * t829;
-        let t831: f32 = t312 * t315;
-        let t832: f32 = t281 * t824;
+        let t690: f32 = t689 * t689;
+        let t691: f32 = t685 + t686;
+        let t692: f32 = t690 + t691;
+        let t693: f32 = sqrt(t692);
+        let t694: f32 = 1.0 / t693;
+        let t695: f32 = t683 * t694;
+        let t696: f32 = t680 * t695;
+        let t697: f32 = t672 * 0.76513904;
+        let t698: f32 = t670 * 0.64386505;
+        let t699: f32 = t697 - t698;
+        let t700: f32 = t694 * t699;
+        let t701: f32 = t700 * t700;
+        let t702: f32 = t696 * t701;
+        let t703: f32 = t695 * 0.3;
+        let t704: f32 = t696 * 0.295;
+        let t705: f32 = t702 * 0.003;
+        let t706: f32 = t704 + t705;
+        let t707: f32 = t703 - t706;
+        let t708: f32 = t680 * t707;
+        let t709: f32 = t696 * 0.3;
+        let t710: f32 = t708 + t709;
+        let t711: f32 = t695 - t710;
+        let t712: f32 = t695 * t711;
+        let t713: f32 = t689 * t694;
+        let t714: f32 = t672 * t680;
+        let t715: f32 = t713 * t714;
+        let t716: f32 = t675 * t680;
+        let t717: f32 = t684 * t694;
+        let t718: f32 = t716 * t717;
+        let t719: f32 = t715 + t718;
+        let t720: f32 = t680 * t719;
+        let t721: f32 = t719 * 0.3;
+        let t722: f32 = t720 * 0.295;
+        let t723: f32 = t721 - t722;
+        let t724: f32 = t680 * t723;
+        let t725: f32 = t720 * 0.3;
+        let t726: f32 = t724 + t725;
+        let t727: f32 = t719 - t726;
+        let t728: f32 = t719 * t727;
+        let t729: f32 = t682 + t712;
+        let t730: f32 = t728 + t729;
+        let t731: f32 = t667 * t730;
+        let t732: f32 = t681 * t716;
+        let t733: f32 = t680 * t680;
+        let t734: f32 = t695 * t713;
+        let t735: f32 = t733 * t734;
+        let t736: f32 = t701 * t735;
+        let t737: f32 = t680 * t713;
+        let t738: f32 = t713 * 0.3;
+        let t739: f32 = t737 * 0.295;
+        let t740: f32 = t738 - t739;
+        let t741: f32 = t680 * t740;
+        let t742: f32 = t737 * 0.3;
+        let t743: f32 = t741 + t742;
+        let t744: f32 = t713 - t743;
+        let t745: f32 = t695 * t744;
+        let t746: f32 = t681 * t717;
+        let t747: f32 = t695 * t714;
+        let t748: f32 = t746 - t747;
+        let t749: f32 = t680 * t748;
+        let t750: f32 = t748 * 0.3;
+        let t751: f32 = t749 * 0.295;
+        let t752: f32 = t750 - t751;
+        let t753: f32 = t680 * t752;
+        let t754: f32 = t749 * 0.3;
+        let t755: f32 = t753 + t754;
+        let t756: f32 = t748 - t755;
+        let t757: f32 = t719 * t756;
+        let t758: f32 = t736 * 0.003;
+        let t759: f32 = t745 + t757;
+        let t760: f32 = t758 + t759;
+        let t761: f32 = t732 - t760;
+        let t762: f32 = t668 * t761;
+        let t763: f32 = t731 - t762;
+        let t764: f32 = t667 * t763;
+        let t765: f32 = t703 - t704;
+        let t766: f32 = t680 * t765;
+        let t767: f32 = t709 + t766;
+        let t768: f32 = t695 - t767;
+        let t769: f32 = t713 * t768;
+        let t770: f32 = t727 * t748;
+        let t771: f32 = t769 + t770;
+        let t772: f32 = t758 + t771;
+        let t773: f32 = t732 - t772;
+        let t774: f32 = t667 * t773;
+        let t775: f32 = t716 * t716;
+        let t776: f32 = t701 * t737;
+        let t777: f32 = t776 * 0.003;
+        let t778: f32 = t739 + t777;
+        let t779: f32 = t738 - t778;
+        let t780: f32 = t680 * t779;
+        let t781: f32 = t742 + t780;
+        let t782: f32 = t713 - t781;
+        let t783: f32 = t713 * t782;
+        let t784: f32 = t748 * t756;
+        let t785: f32 = t775 + t783;
+        let t786: f32 = t784 + t785;
+        let t787: f32 = t668 * t786;
+        let t788: f32 = t774 - t787;
+        let t789: f32 = t668 * t788;
+        let t790: f32 = t1 * t1;
+        let t791: f32 = t6 * t6;
+        let t792: f32 = t5 * t5;
+        let t793: f32 = t791 + t792;
+        let t794: f32 = t793 * 0.4108;
+        let t795: f32 = t790 * t794;
+        let t796: f32 = t2 * 0.7;
+        let t797: f32 = t130 + t796;
+        let t798: f32 = t255 + t386;
+        let t799: f32 = t517 + t641;
+        let t800: f32 = t764 + t795;
+        let t801: f32 = t797 + t798;
+        let t802: f32 = t799 + t800;
+        let t803: f32 = t801 + t802;
+        let t804: f32 = t155 + t280;
+        let t805: f32 = t411 + t542;
+        let t806: f32 = t666 + t789;
+        let t807: f32 = t804 + t805;
+        let t808: f32 = t806 + t807;
+        let t809: f32 = t803 - t808;
+        let t810: f32 = t45 * t80;
+        let t811: f32 = t61 * t99;
+        let t812: f32 = t67 * t811;
+        let t813: f32 = t83 * t812;
+        let t814: f32 = t61 * t82;
+        let t815: f32 = t45 * t79;
+        let t816: f32 = t814 - t815;
+        let t817: f32 = t93 * t816;
+        let t818: f32 = t83 * t134;
+        let t819: f32 = t813 * 0.003;
+        let t820: f32 = t810 + t817;
+        let t821: f32 = t818 + t819;
+        let t822: f32 = t820 + t821;
+        let t823: f32 = t17 * t822;
+        let t824: f32 = t80 * t82;
+        let t825: f32 = t79 * t99;
+        let t826: f32 = t67 * t825;
+        let t827: f32 = t83 * t826;
+        let t828: f32 = t122 * t816;
+        let t829: f32 = t83 * t110;
+        let t830: f32 = t827 * 0.003;
+        let t831: f32 = t824 + t828;
+        let t832: f32 = t829 + t830;
         let t833: f32 = t831 + t832;
-        let t834: f32 = t825 * 0.3;
-        let t835: f32 = t833 * 0.295;
-        let t836: f32 = t835 - t834;
-        let t837: f32 = t307 * t836;
-        let t838: f32 = t830 + t837;
-        let t839: f32 = t274 * t297;
-        let t840: f32 = t289 * t295;
-        let t841: f32 = t839 + t840;
-        let t842: f32 = t249 * t841;
-        let t843: f32 = t281 * t842;
-        let t844: f32 = t258 * t281;
-        let t845: f32 = t319 * t844;
-        let t846: f32 = t843 - t845;
-        let t847: f32 = t258 * t319;
-        let t848: f32 = t847 - t842;
-        let t849: f32 = t846 * 0.295;
-        let t850: f32 = t848 * 0.3;
-        let t851: f32 = t849 + t850;
-        let t852: f32 = t329 * t851;
-        let t853: f32 = t846 * 0.3;
-        let t854: f32 = t848 + t853;
-        let t855: f32 = t314 * t854;
-        let t856: f32 = t833 * 0.3;
-        let t857: f32 = t856 - t825;
-        let t858: f32 = t274 * t857;
-        let t859: f32 = t855 - t858;
-        let t860: f32 = t852 - t859;
-        let t861: f32 = t838 - t860;
-        let t862: f32 = t826 * 0.003;
-        let t863: f32 = t861 + t862;
-        let t864: f32 = t249 * t863;
-        let t865: f32 = t345 * t825;
-        let t866: f32 = t348 * t836;
-        let t867: f32 = t297 * t829;
-        let t868: f32 = t866 - t867;
-        let t869: f32 = t319 * t854;
-        let t870: f32 = t289 * t857;
-        let t871: f32 = t869 - t870;
-        let t872: f32 = t354 * t851;
-        let t873: f32 = t871 - t872;
-        let t874: f32 = t868 + t873;
-        let t875: f32 = t865 * 0.003;
-        let t876: f32 = t874 + t875;
-        let t877: f32 = t263 * t876;
-        let t878: f32 = t363 * t412;
-        let t879: f32 = t372 * t403;
-        let t880: f32 = t878 + t879;
-        let t881: f32 = t407 * t880;
-        let t882: f32 = t363 * t409;
-        let t883: f32 = t372 * t411;
-        let t884: f32 = t882 - t883;
-        let t885: f32 = t417 * t884;
-        let t886: f32 = t412 * t415;
-        let t887: f32 = t395 * t879;
-        let t888: f32 = t886 + t887;
-        let t889: f32 = t880 * 0.3;
-        let t890: f32 = t888 * 0.295;
-        let t891: f32 = t890 - t889;
-        let t892: f32 = t450 * t891;
-        let t893: f32 = t885 + t892;
-        let t894: f32 = t388 * t411;
-        let t895: f32 = t403 * t417;
-        let t896: f32 = t894 + t895;
-        let t897: f32 = t363 * t896;
-        let t898: f32 = t395 * t897;
-        let t899: f32 = t372 * t395;
-        let t900: f32 = t420 * t899;
-        let t901: f32 = t898 - t900;
-        let t902: f32 = t372 * t420;
-        let t903: f32 = t902 - t897;
-        let t904: f32 = t901 * 0.3;
+        let t834: f32 = t27 * t833;
+        let t835: f32 = t823 - t834;
+        let t836: f32 = t17 * t835;
+        let t837: f32 = t34 * t154;
+        let t838: f32 = t171 * t205;
+        let t839: f32 = t186 * t224;
+        let t840: f32 = t192 * t839;
+        let t841: f32 = t208 * t840;
+        let t842: f32 = t186 * t207;
+        let t843: f32 = t171 * t204;
+        let t844: f32 = t842 - t843;
+        let t845: f32 = t218 * t844;
+        let t846: f32 = t208 * t259;
+        let t847: f32 = t841 * 0.003;
+        let t848: f32 = t838 + t845;
+        let t849: f32 = t846 + t847;
+        let t850: f32 = t848 + t849;
+        let t851: f32 = t156 * t850;
+        let t852: f32 = t205 * t207;
+        let t853: f32 = t204 * t224;
+        let t854: f32 = t192 * t853;
+        let t855: f32 = t208 * t854;
+        let t856: f32 = t247 * t844;
+        let t857: f32 = t208 * t235;
+        let t858: f32 = t855 * 0.003;
+        let t859: f32 = t852 + t856;
+        let t860: f32 = t857 + t858;
+        let t861: f32 = t859 + t860;
+        let t862: f32 = t157 * t861;
+        let t863: f32 = t851 - t862;
+        let t864: f32 = t156 * t863;
+        let t865: f32 = t160 * t279;
+        let t866: f32 = t302 * t336;
+        let t867: f32 = t317 * t355;
+        let t868: f32 = t323 * t867;
+        let t869: f32 = t339 * t868;
+        let t870: f32 = t317 * t338;
+        let t871: f32 = t302 * t335;
+        let t872: f32 = t870 + t871;
+        let t873: f32 = t349 * t872;
+        let t874: f32 = t339 * t390;
+        let t875: f32 = t869 * 0.003;
+        let t876: f32 = t866 + t874;
+        let t877: f32 = t875 + t876;
+        let t878: f32 = t877 - t873;
+        let t879: f32 = t283 * t878;
+        let t880: f32 = t336 * t338;
+        let t881: f32 = t335 * t355;
+        let t882: f32 = t323 * t881;
+        let t883: f32 = t339 * t882;
+        let t884: f32 = t378 * t872;
+        let t885: f32 = t339 * t366;
+        let t886: f32 = t883 * 0.003;
+        let t887: f32 = t880 + t884;
+        let t888: f32 = t885 + t886;
+        let t889: f32 = t887 - t888;
+        let t890: f32 = t286 * t889;
+        let t891: f32 = t879 - t890;
+        let t892: f32 = t283 * t891;
+        let t893: f32 = t291 * t410;
+        let t894: f32 = t433 * t467;
+        let t895: f32 = t448 * t486;
+        let t896: f32 = t454 * t895;
+        let t897: f32 = t470 * t896;
+        let t898: f32 = t448 * t469;
+        let t899: f32 = t433 * t466;
+        let t900: f32 = t898 + t899;
+        let t901: f32 = t480 * t900;
+        let t902: f32 = t470 * t521;
+        let t903: f32 = t897 * 0.003;
+        let t904: f32 = t894 + t902;
         let t905: f32 = t903 + t904;
-        let t906: f32 = t414 * t905;
-        let t907: f32 = t888 * 0.3;
-        let t908: f32 = t907 - t880;
-        let t909: f32 = t388 * t908;
-        let t910: f32 = t906 - t909;
-        let t911: f32 = t901 * 0.295;
-        let t912: f32 = t903 * 0.3;
-        let t913: f32 = t911 + t912;
-        let t914: f32 = t440 * t913;
-        let t915: f32 = t910 - t914;
-        let t916: f32 = t893 + t915;
-        let t917: f32 = t881 * 0.003;
-        let t918: f32 = t916 + t917;
-        let t919: f32 = t363 * t918;
-        let t920: f32 = t458 * t880;
-        let t921: f32 = t411 * t884;
-        let t922: f32 = t461 * t891;
-        let t923: f32 = t921 - t922;
-        let t924: f32 = t464 * t913;
-        let t925: f32 = t420 * t905;
-        let t926: f32 = t403 * t908;
-        let t927: f32 = t925 - t926;
-        let t928: f32 = t924 - t927;
-        let t929: f32 = t923 + t928;
-        let t930: f32 = t920 * 0.003;
-        let t931: f32 = t930 - t929;
-        let t932: f32 = t377 * t931;
-        let t933: f32 = t474 * t518;
-        let t934: f32 = t480 * t509;
-        let t935: f32 = t933 + t934;
-        let t936: f32 = t513 * t935;
-        let t937: f32 = t474 * t515;
-        let t938: f32 = t480 * t517;
-        let t939: f32 = t937 - t938;
-        let t940: f32 = t523 * t939;
-        let t941: f32 = t518 * t521;
-        let t942: f32 = t501 * t934;
-        let t943: f32 = t941 + t942;
-        let t944: f32 = t935 * 0.3;
-        let t945: f32 = t943 * 0.295;
-        let t946: f32 = t945 - t944;
-        let t947: f32 = t556 * t946;
-        let t948: f32 = t940 + t947;
-        let t949: f32 = t494 * t517;
-        let t950: f32 = t509 * t523;
-        let t951: f32 = t949 + t950;
-        let t952: f32 = t474 * t951;
-        let t953: f32 = t501 * t952;
-        let t954: f32 = t480 * t501;
-        let t955: f32 = t526 * t954;
-        let t956: f32 = t953 - t955;
-        let t957: f32 = t480 * t526;
-        let t958: f32 = t957 - t952;
-        let t959: f32 = t956 * 0.3;
-        let t960: f32 = t958 + t959;
-        let t961: f32 = t520 * t960;
-        let t962: f32 = t943 * 0.3;
-        let t963: f32 = t962 - t935;
-        let t964: f32 = t494 * t963;
-        let t965: f32 = t961 - t964;
-        let t966: f32 = t956 * 0.295;
-        let t967: f32 = t958 * 0.3;
-        let t968: f32 = t966 + t967;
-        let t969: f32 = t546 * t968;
-        let t970: f32 = t965 - t969;
-        let t971: f32 = t948 + t970;
-        let t972: f32 = t936 * 0.003;
-        let t973: f32 = t971 + t972;
-        let t974: f32 = t474 * t973;
-        let t975: f32 = t564 * t935;
-        let t976: f32 = t517 * t939;
-        let t977: f32 = t567 * t946;
-        let t978: f32 = t976 - t977;
-        let t979: f32 = t570 * t968;
-        let t980: f32 = t526 * t960;
-        let t981: f32 = t509 * t963;
-        let t982: f32 = t980 - t981;
-        let t983: f32 = t979 - t982;
-        let t984: f32 = t978 + t983;
-        let t985: f32 = t975 * 0.003;
-        let t986: f32 = t985 - t984;
-        let t987: f32 = t483 * t986;
-        let t988: f32 = t580 * t637;
-        let t989: f32 = t586 * t614;
+        let t906: f32 = t905 - t901;
+        let t907: f32 = t414 * t906;
+        let t908: f32 = t467 * t469;
+        let t909: f32 = t466 * t486;
+        let t910: f32 = t454 * t909;
+        let t911: f32 = t470 * t910;
+        let t912: f32 = t509 * t900;
+        let t913: f32 = t470 * t497;
+        let t914: f32 = t911 * 0.003;
+        let t915: f32 = t908 + t912;
+        let t916: f32 = t913 + t914;
+        let t917: f32 = t915 - t916;
+        let t918: f32 = t417 * t917;
+        let t919: f32 = t907 - t918;
+        let t920: f32 = t414 * t919;
+        let t921: f32 = t422 * t541;
+        let t922: f32 = t558 * t591;
+        let t923: f32 = t572 * t610;
+        let t924: f32 = t578 * t923;
+        let t925: f32 = t594 * t924;
+        let t926: f32 = t572 * t593;
+        let t927: f32 = t558 * t590;
+        let t928: f32 = t926 + t927;
+        let t929: f32 = t604 * t928;
+        let t930: f32 = t594 * t645;
+        let t931: f32 = t925 * 0.003;
+        let t932: f32 = t922 + t930;
+        let t933: f32 = t931 + t932;
+        let t934: f32 = t933 - t929;
+        let t935: f32 = t543 * t934;
+        let t936: f32 = t591 * t593;
+        let t937: f32 = t590 * t610;
+        let t938: f32 = t578 * t937;
+        let t939: f32 = t594 * t938;
+        let t940: f32 = t633 * t928;
+        let t941: f32 = t594 * t621;
+        let t942: f32 = t939 * 0.003;
+        let t943: f32 = t936 + t940;
+        let t944: f32 = t941 + t942;
+        let t945: f32 = t943 - t944;
+        let t946: f32 = t544 * t945;
+        let t947: f32 = t935 - t946;
+        let t948: f32 = t543 * t947;
+        let t949: f32 = t547 * t665;
+        let t950: f32 = t681 * t714;
+        let t951: f32 = t695 * t733;
+        let t952: f32 = t701 * t951;
+        let t953: f32 = t717 * t952;
+        let t954: f32 = t695 * t716;
+        let t955: f32 = t681 * t713;
+        let t956: f32 = t954 + t955;
+        let t957: f32 = t727 * t956;
+        let t958: f32 = t717 * t768;
+        let t959: f32 = t953 * 0.003;
+        let t960: f32 = t950 + t958;
+        let t961: f32 = t959 + t960;
+        let t962: f32 = t961 - t957;
+        let t963: f32 = t667 * t962;
+        let t964: f32 = t714 * t716;
+        let t965: f32 = t713 * t733;
+        let t966: f32 = t701 * t965;
+        let t967: f32 = t717 * t966;
+        let t968: f32 = t756 * t956;
+        let t969: f32 = t717 * t744;
+        let t970: f32 = t967 * 0.003;
+        let t971: f32 = t964 + t968;
+        let t972: f32 = t969 + t970;
+        let t973: f32 = t971 - t972;
+        let t974: f32 = t668 * t973;
+        let t975: f32 = t963 - t974;
+        let t976: f32 = t667 * t975;
+        let t977: f32 = t671 * t788;
+        let t978: f32 = t6 * t21;
+        let t979: f32 = t5 * t24;
+        let t980: f32 = t19 * 0.7;
+        let t981: f32 = t979 - t978;
+        let t982: f32 = t981 * 0.4108;
+        let t983: f32 = t980 + t982;
+        let t984: f32 = t1 * t983;
+        let t985: f32 = t836 + t864;
+        let t986: f32 = t892 + t920;
+        let t987: f32 = t948 + t976;
+        let t988: f32 = t985 + t986;
+        let t989: f32 = t984 + t987;
         let t990: f32 = t988 + t989;
-        let t991: f32 = t618 * t990;
-        let t992: f32 = t580 * t635;
-        let t993: f32 = t586 * t622;
-        let t994: f32 = t992 - t993;
-        let t995: f32 = t620 * t994;
-        let t996: f32 = t637 * t640;
-        let t997: f32 = t606 * t989;
-        let t998: f32 = t996 + t997;
-        let t999: f32 = t990 * 0.3;
-        let t1000: f32 = t998 * 0.295;
-        let t1001: f32 = t1000 - t999;
-        let t1002: f32 = t632 * t1001;
+        let t991: f32 = t837 + t865;
+        let t992: f32 = t893 + t921;
+        let t993: f32 = t949 + t977;
+        let t994: f32 = t991 + t992;
+        let t995: f32 = t993 + t994;
+        let t996: f32 = t990 - t995;
+        let t997: f32 = -t996;
+        let t998: f32 = t27 * t835;
+        let t999: f32 = t34 * t129;
+        let t1000: f32 = t157 * t863;
+        let t1001: f32 = t160 * t254;
+        let t1002: f32 = t286 * t891;
         (
             t0,
             t1,
@@ -6534,3079 +6404,827 @@ pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
             t10,
             t14,
             t17,
-            t29,
-            t35,
-            t38,
-            t41,
-            t50,
-            t52,
+            t21,
+            t24,
+            t27,
+            t34,
+            t44,
             t59,
-            t60,
-            t65,
-            t66,
-            t70,
-            t72,
-            t73,
-            t74,
-            t76,
-            t77,
+            t61,
+            t67,
             t79,
-            t82,
+            t80,
+            t83,
             t85,
-            t86,
-            t93,
-            t99,
-            t104,
-            t105,
-            t110,
+            t96,
             t114,
-            t115,
-            t118,
-            t120,
-            t123,
-            t124,
-            t128,
-            t132,
-            t135,
-            t137,
+            t127,
+            t129,
             t139,
-            t146,
-            t149,
-            t158,
+            t152,
+            t154,
+            t156,
+            t157,
             t160,
-            t167,
-            t168,
-            t173,
-            t174,
-            t178,
-            t180,
-            t181,
-            t182,
+            t170,
             t184,
-            t185,
-            t187,
-            t190,
-            t193,
-            t194,
-            t201,
-            t207,
-            t212,
-            t213,
-            t218,
-            t222,
-            t223,
-            t226,
-            t228,
-            t231,
-            t232,
-            t236,
-            t240,
-            t243,
-            t245,
-            t249,
-            t258,
-            t263,
-            t272,
-            t274,
-            t281,
-            t282,
-            t287,
-            t289,
+            t186,
+            t192,
+            t204,
+            t205,
+            t208,
+            t210,
+            t221,
+            t239,
+            t252,
+            t254,
+            t264,
+            t277,
+            t279,
+            t283,
+            t286,
             t291,
-            t293,
-            t294,
-            t295,
-            t297,
-            t299,
-            t306,
-            t307,
-            t310,
-            t312,
-            t314,
-            t319,
-            t320,
-            t328,
-            t329,
-            t332,
+            t301,
+            t315,
+            t317,
+            t323,
             t335,
+            t336,
             t339,
-            t342,
-            t345,
-            t346,
-            t348,
-            t354,
-            t357,
-            t359,
-            t363,
-            t372,
-            t377,
-            t386,
-            t388,
+            t341,
+            t352,
+            t370,
+            t383,
+            t385,
             t395,
-            t396,
-            t401,
-            t403,
-            t405,
-            t407,
             t408,
-            t409,
-            t411,
-            t412,
+            t410,
             t414,
             t417,
-            t420,
-            t421,
-            t428,
-            t434,
-            t439,
-            t440,
-            t445,
-            t449,
-            t450,
-            t453,
-            t455,
-            t458,
-            t459,
-            t461,
-            t464,
+            t422,
+            t432,
+            t446,
+            t448,
+            t454,
+            t466,
+            t467,
             t470,
             t472,
-            t474,
-            t480,
             t483,
-            t492,
-            t494,
             t501,
-            t502,
-            t507,
-            t509,
-            t511,
-            t513,
             t514,
-            t515,
-            t517,
-            t518,
-            t520,
-            t523,
+            t516,
             t526,
-            t527,
-            t534,
-            t540,
-            t545,
-            t546,
-            t551,
-            t555,
-            t556,
-            t559,
-            t561,
-            t564,
-            t565,
-            t567,
+            t539,
+            t541,
+            t543,
+            t544,
+            t547,
+            t557,
             t570,
-            t576,
+            t572,
             t578,
-            t580,
-            t586,
-            t588,
-            t597,
-            t599,
-            t606,
+            t590,
+            t591,
+            t594,
+            t596,
             t607,
-            t612,
-            t614,
-            t616,
-            t618,
-            t619,
-            t620,
-            t622,
-            t624,
-            t631,
-            t632,
-            t635,
-            t637,
-            t639,
-            t644,
-            t645,
-            t653,
-            t654,
-            t657,
-            t660,
-            t664,
+            t625,
+            t638,
+            t640,
+            t650,
+            t663,
+            t665,
             t667,
-            t670,
+            t668,
             t671,
-            t673,
-            t679,
-            t682,
-            t684,
-            t686,
-            t705,
-            t706,
-            t710,
-            t711,
+            t680,
+            t693,
+            t695,
+            t701,
+            t713,
             t714,
-            t721,
-            t726,
-            t729,
-            t736,
-            t739,
-            t742,
-            t746,
-            t749,
-            t750,
-            t751,
-            t760,
+            t717,
+            t719,
+            t730,
+            t748,
+            t761,
             t763,
-            t764,
-            t768,
-            t769,
-            t772,
-            t779,
-            t784,
-            t787,
-            t794,
-            t797,
-            t800,
-            t804,
-            t807,
-            t808,
+            t773,
+            t786,
+            t788,
+            t790,
             t809,
-            t818,
-            t821,
+            t810,
+            t816,
+            t819,
             t822,
-            t825,
-            t826,
-            t829,
-            t836,
-            t841,
+            t824,
+            t830,
+            t833,
+            t835,
+            t838,
             t844,
-            t851,
-            t854,
-            t857,
+            t847,
+            t850,
+            t852,
+            t858,
             t861,
             t863,
-            t864,
-            t865,
-            t874,
-            t876,
-            t877,
+            t866,
+            t872,
+            t875,
+            t878,
             t880,
-            t881,
-            t884,
+            t886,
+            t889,
             t891,
-            t896,
-            t899,
-            t905,
+            t894,
+            t900,
+            t903,
+            t906,
             t908,
-            t913,
-            t916,
-            t918,
+            t914,
+            t917,
             t919,
-            t920,
-            t929,
+            t922,
+            t928,
             t931,
-            t932,
-            t935,
+            t934,
             t936,
-            t939,
-            t946,
-            t951,
-            t954,
-            t960,
-            t963,
-            t968,
-            t971,
+            t942,
+            t945,
+            t947,
+            t950,
+            t956,
+            t959,
+            t962,
+            t964,
+            t970,
             t973,
-            t974,
             t975,
-            t984,
-            t986,
-            t987,
-            t990,
-            t991,
-            t994,
-            t995,
+            t997,
             t998,
+            t999,
+            t1000,
             t1001,
             t1002,
         )
     };
     let (
-        t1006,
-        t1016,
-        t1019,
-        t1022,
-        t1026,
         t1028,
-        t1030,
-        t1039,
-        t1041,
+        t1034,
         t1043,
-        t1045,
-        t1049,
-        t1062,
-        t1067,
-        t1068,
-        t1076,
-        t1082,
-        t1087,
-        t1092,
-        t1096,
-        t1099,
-        t1101,
-        t1103,
-        t1112,
-        t1114,
-        t1119,
-        t1120,
-        t1128,
-        t1134,
-        t1139,
-        t1144,
-        t1148,
-        t1151,
-        t1153,
-        t1155,
-        t1164,
-        t1166,
-        t1171,
-        t1172,
-        t1175,
-        t1182,
-        t1192,
-        t1195,
-        t1200,
-        t1203,
-        t1205,
-        t1207,
-        t1216,
-        t1218,
-        t1223,
-        t1224,
-        t1227,
-        t1234,
-        t1245,
-        t1248,
-        t1251,
-        t1255,
-        t1257,
-        t1259,
-        t1268,
-        t1270,
-        t1275,
-        t1276,
-        t1279,
-        t1286,
-        t1297,
-        t1300,
-        t1303,
-        t1307,
-        t1309,
-        t1311,
-        t1320,
-        t1322,
-        t1327,
-        t1328,
-        t1331,
-        t1338,
-        t1348,
-        t1351,
-        t1356,
-        t1359,
-        t1361,
-        t1363,
-        t1372,
-        t1374,
-        t1376,
-        t1378,
-        t1382,
-        t1395,
-        t1396,
-        t1397,
-        t1398,
-        t1401,
-        t1404,
-        t1406,
-        t1409,
-        t1414,
-        t1417,
-        t1418,
-        t1419,
-        t1421,
-        t1422,
-        t1430,
-        t1431,
-        t1432,
+        t1052,
+        t1349,
+        t1428,
         t1434,
-        t1435,
-        t1436,
         t1439,
-        t1442,
-        t1444,
         t1447,
-        t1452,
-        t1455,
-        t1456,
-        t1457,
-        t1459,
-        t1460,
-        t1468,
-        t1469,
-        t1470,
-        t1472,
-        t1473,
-        t1474,
-        t1477,
-        t1480,
-        t1483,
-        t1486,
-        t1489,
-        t1493,
-        t1494,
-        t1496,
-        t1498,
-        t1499,
-        t1507,
-        t1508,
-        t1509,
-        t1511,
-        t1512,
-        t1513,
         t1516,
-        t1519,
         t1522,
-        t1525,
         t1528,
-        t1532,
-        t1533,
-        t1535,
-        t1537,
-        t1538,
-        t1546,
-        t1547,
-        t1548,
-        t1550,
-        t1551,
         t1552,
-        t1555,
         t1558,
-        t1561,
-        t1564,
-        t1567,
-        t1571,
-        t1572,
+        t1563,
+        t1568,
         t1574,
-        t1576,
-        t1577,
+        t1579,
         t1585,
         t1586,
         t1587,
+        t1588,
         t1589,
         t1590,
         t1591,
-        t1594,
-        t1597,
-        t1600,
-        t1603,
-        t1606,
-        t1610,
-        t1611,
-        t1613,
-        t1615,
-        t1616,
-        t1624,
-        t1625,
-        t1626,
-        t1638,
-        t1642,
-        t1646,
-        t1650,
-        t1653,
-        t1658,
-        t1661,
-        t1663,
-        t1667,
-        t1676,
-        t1678,
-        t1682,
-        t1686,
-        t1690,
-        t1693,
-        t1698,
-        t1701,
-        t1703,
-        t1707,
-        t1716,
-        t1718,
-        t1722,
-        t1726,
-        t1730,
-        t1733,
-        t1738,
-        t1741,
-        t1743,
-        t1747,
-        t1756,
-        t1758,
-        t1762,
-        t1766,
-        t1770,
-        t1773,
-        t1778,
-        t1781,
-        t1783,
-        t1787,
-        t1788,
-        t1796,
-        t1797,
-        t1798,
-        t1802,
-        t1806,
-        t1810,
-        t1813,
-        t1818,
-        t1821,
-        t1823,
-        t1827,
-        t1828,
-        t1836,
-        t1837,
-        t1838,
-        t1842,
-        t1846,
-        t1850,
-        t1853,
-        t1858,
-        t1861,
-        t1863,
-        t1867,
-        t1868,
-        t1876,
-        t1877,
-        t1878,
-        t1880,
-        t1892,
-        t1893,
-        t1895,
-        t1899,
-        t1903,
-        t1908,
-        t1911,
-        t1912,
-        t1913,
-        t1916,
-        t1925,
-        t1927,
-        t1928,
-        t1930,
-        t1934,
-        t1938,
-        t1943,
-        t1946,
-        t1947,
-        t1948,
-        t1951,
-        t1960,
-        t1962,
-        t1963,
-        t1966,
-        t1969,
-        t1974,
-        t1977,
-        t1981,
-        t1982,
-        t1983,
-        t1986,
-        t1995,
-        t1997,
-        t1998,
-        t2001,
-        t2002,
     ) = {
-        let t1003: f32 = t995 + t1002;
-        let t1004: f32 = t599 * t622;
-        let t1005: f32 = t614 * t620;
-        let t1006: f32 = t1004 + t1005;
-        let t1007: f32 = t580 * t1006;
-        let t1008: f32 = t606 * t1007;
-        let t1009: f32 = t586 * t606;
-        let t1010: f32 = t644 * t1009;
-        let t1011: f32 = t1008 - t1010;
-        let t1012: f32 = t586 * t644;
-        let t1013: f32 = t1012 - t1007;
-        let t1014: f32 = t1011 * 0.295;
-        let t1015: f32 = t1013 * 0.3;
-        let t1016: f32 = t1014 + t1015;
-        let t1017: f32 = t654 * t1016;
-        let t1018: f32 = t1011 * 0.3;
-        let t1019: f32 = t1013 + t1018;
-        let t1020: f32 = t639 * t1019;
-        let t1021: f32 = t998 * 0.3;
-        let t1022: f32 = t1021 - t990;
-        let t1023: f32 = t599 * t1022;
-        let t1024: f32 = t1020 - t1023;
-        let t1025: f32 = t1017 - t1024;
-        let t1026: f32 = t1003 - t1025;
-        let t1027: f32 = t991 * 0.003;
-        let t1028: f32 = t1026 + t1027;
-        let t1029: f32 = t580 * t1028;
-        let t1030: f32 = t670 * t990;
-        let t1031: f32 = t673 * t1001;
-        let t1032: f32 = t622 * t994;
+        let t1003: f32 = t291 * t385;
+        let t1004: f32 = t417 * t919;
+        let t1005: f32 = t422 * t516;
+        let t1006: f32 = t544 * t947;
+        let t1007: f32 = t547 * t640;
+        let t1008: f32 = t668 * t975;
+        let t1009: f32 = t671 * t763;
+        let t1010: f32 = t6 * t10;
+        let t1011: f32 = t5 * t14;
+        let t1012: f32 = t8 * 0.7;
+        let t1013: f32 = t1010 - t1011;
+        let t1014: f32 = t1013 * 0.4108;
+        let t1015: f32 = t1012 + t1014;
+        let t1016: f32 = t1 * t1015;
+        let t1017: f32 = t998 + t1000;
+        let t1018: f32 = t1002 + t1004;
+        let t1019: f32 = t1006 + t1008;
+        let t1020: f32 = t1017 + t1018;
+        let t1021: f32 = t1016 + t1019;
+        let t1022: f32 = t1020 + t1021;
+        let t1023: f32 = t999 + t1001;
+        let t1024: f32 = t1003 + t1005;
+        let t1025: f32 = t1007 + t1009;
+        let t1026: f32 = t1023 + t1024;
+        let t1027: f32 = t1025 + t1026;
+        let t1028: f32 = t1022 - t1027;
+        let t1029: f32 = t835 + t863;
+        let t1030: f32 = t919 + t947;
+        let t1031: f32 = t1029 + t1030;
+        let t1032: f32 = t891 + t975;
         let t1033: f32 = t1031 - t1032;
-        let t1034: f32 = t644 * t1019;
-        let t1035: f32 = t614 * t1022;
-        let t1036: f32 = t1034 - t1035;
-        let t1037: f32 = t679 * t1016;
-        let t1038: f32 = t1036 - t1037;
-        let t1039: f32 = t1033 + t1038;
-        let t1040: f32 = t1030 * 0.003;
-        let t1041: f32 = t1039 + t1040;
-        let t1042: f32 = t588 * t1041;
-        let t1043: f32 = t35 * 0.4108;
-        let t1044: f32 = t6 * t1043;
-        let t1045: f32 = t38 * 0.4108;
-        let t1046: f32 = t5 * t1045;
-        let t1047: f32 = t1044 - t1046;
-        let t1048: f32 = t1 * t1047;
-        let t1049: f32 = t706 * 0.7;
-        let t1050: f32 = t750 + t808;
-        let t1051: f32 = t1048 + t1050;
-        let t1052: f32 = t764 + t1049;
-        let t1053: f32 = t822 + t864;
-        let t1054: f32 = t877 + t919;
-        let t1055: f32 = t932 + t974;
-        let t1056: f32 = t987 + t1029;
-        let t1057: f32 = t1052 + t1053;
-        let t1058: f32 = t1054 + t1055;
-        let t1059: f32 = t1042 + t1056;
-        let t1060: f32 = t1057 + t1058;
-        let t1061: f32 = t1059 + t1060;
-        let t1062: f32 = t1051 - t1061;
-        let t1063: f32 = t1 * t8;
-        let t1064: f32 = t29 * t52;
-        let t1065: f32 = t41 * t77;
-        let t1066: f32 = t1064 - t1065;
-        let t1067: f32 = -t1066;
-        let t1068: f32 = t72 * t1067;
-        let t1069: f32 = t41 * t726;
-        let t1070: f32 = t59 * t1069;
-        let t1071: f32 = t79 * t729;
-        let t1072: f32 = t1070 - t1071;
-        let t1073: f32 = t29 * t79;
-        let t1074: f32 = t1073 - t1069;
-        let t1075: f32 = t1072 * 0.3;
-        let t1076: f32 = t1074 + t1075;
-        let t1077: f32 = t79 * t1076;
-        let t1078: f32 = t77 * t86;
-        let t1079: f32 = t59 * t1064;
-        let t1080: f32 = t1078 - t1079;
-        let t1081: f32 = t1080 * 0.3;
-        let t1082: f32 = t1066 + t1081;
-        let t1083: f32 = t52 * t1082;
-        let t1084: f32 = t1077 + t1083;
-        let t1085: f32 = t1072 * 0.295;
-        let t1086: f32 = t1074 * 0.3;
-        let t1087: f32 = t1085 + t1086;
-        let t1088: f32 = t105 * t1087;
-        let t1089: f32 = t1084 - t1088;
-        let t1090: f32 = t41 * t74;
-        let t1091: f32 = t29 * t82;
-        let t1092: f32 = t1090 - t1091;
-        let t1093: f32 = t82 * t1092;
-        let t1094: f32 = t1066 * 0.3;
-        let t1095: f32 = t1080 * 0.295;
-        let t1096: f32 = t1094 + t1095;
-        let t1097: f32 = t115 * t1096;
-        let t1098: f32 = t1093 + t1097;
-        let t1099: f32 = t1089 - t1098;
-        let t1100: f32 = t1068 * 0.003;
-        let t1101: f32 = t1099 - t1100;
-        let t1102: f32 = t17 * t1101;
-        let t1103: f32 = t123 * t1067;
-        let t1104: f32 = t85 * t1076;
-        let t1105: f32 = t66 * t1082;
-        let t1106: f32 = t1104 + t1105;
-        let t1107: f32 = t128 * t1087;
-        let t1108: f32 = t1106 - t1107;
-        let t1109: f32 = t76 * t1092;
-        let t1110: f32 = t132 * t1096;
-        let t1111: f32 = t1109 + t1110;
-        let t1112: f32 = t1108 - t1111;
-        let t1113: f32 = t1103 * 0.003;
-        let t1114: f32 = t1112 - t1113;
-        let t1115: f32 = t41 * t1114;
-        let t1116: f32 = t146 * t160;
-        let t1117: f32 = t149 * t185;
-        let t1118: f32 = t1116 - t1117;
-        let t1119: f32 = -t1118;
-        let t1120: f32 = t180 * t1119;
-        let t1121: f32 = t149 * t784;
-        let t1122: f32 = t167 * t1121;
-        let t1123: f32 = t187 * t787;
-        let t1124: f32 = t1122 - t1123;
-        let t1125: f32 = t146 * t187;
-        let t1126: f32 = t1125 - t1121;
-        let t1127: f32 = t1124 * 0.3;
-        let t1128: f32 = t1126 + t1127;
-        let t1129: f32 = t187 * t1128;
-        let t1130: f32 = t185 * t194;
-        let t1131: f32 = t167 * t1116;
-        let t1132: f32 = t1130 - t1131;
-        let t1133: f32 = t1132 * 0.3;
-        let t1134: f32 = t1118 + t1133;
-        let t1135: f32 = t160 * t1134;
-        let t1136: f32 = t1129 + t1135;
-        let t1137: f32 = t1124 * 0.295;
-        let t1138: f32 = t1126 * 0.3;
-        let t1139: f32 = t1137 + t1138;
-        let t1140: f32 = t213 * t1139;
-        let t1141: f32 = t1136 - t1140;
-        let t1142: f32 = t149 * t182;
-        let t1143: f32 = t146 * t190;
-        let t1144: f32 = t1142 - t1143;
-        let t1145: f32 = t190 * t1144;
-        let t1146: f32 = t1118 * 0.3;
-        let t1147: f32 = t1132 * 0.295;
-        let t1148: f32 = t1146 + t1147;
-        let t1149: f32 = t223 * t1148;
-        let t1150: f32 = t1145 + t1149;
-        let t1151: f32 = t1141 - t1150;
-        let t1152: f32 = t1120 * 0.003;
-        let t1153: f32 = t1151 - t1152;
-        let t1154: f32 = t139 * t1153;
-        let t1155: f32 = t231 * t1119;
-        let t1156: f32 = t193 * t1128;
-        let t1157: f32 = t174 * t1134;
-        let t1158: f32 = t1156 + t1157;
-        let t1159: f32 = t236 * t1139;
-        let t1160: f32 = t1158 - t1159;
-        let t1161: f32 = t184 * t1144;
-        let t1162: f32 = t240 * t1148;
-        let t1163: f32 = t1161 + t1162;
-        let t1164: f32 = t1160 - t1163;
-        let t1165: f32 = t1155 * 0.003;
-        let t1166: f32 = t1164 - t1165;
-        let t1167: f32 = t149 * t1166;
-        let t1168: f32 = t258 * t274;
-        let t1169: f32 = t263 * t312;
-        let t1170: f32 = t1168 - t1169;
-        let t1171: f32 = -t1170;
-        let t1172: f32 = t293 * t1171;
-        let t1173: f32 = t263 * t310;
-        let t1174: f32 = t258 * t295;
-        let t1175: f32 = t1173 - t1174;
-        let t1176: f32 = t295 * t1175;
-        let t1177: f32 = t312 * t320;
-        let t1178: f32 = t281 * t1168;
+        let t1034: f32 = -t1033;
+        let t1035: f32 = t1 * t4;
+        let t1036: f32 = t1035 * 0.36;
+        let t1037: f32 = t129 + t1036;
+        let t1038: f32 = t254 + t516;
+        let t1039: f32 = t1037 + t1038;
+        let t1040: f32 = t640 + t1039;
+        let t1041: f32 = t385 + t763;
+        let t1042: f32 = t1040 - t1041;
+        let t1043: f32 = -t1042;
+        let t1044: f32 = t1 * t3;
+        let t1045: f32 = t1044 * 0.36;
+        let t1046: f32 = t154 + t1045;
+        let t1047: f32 = t279 + t541;
+        let t1048: f32 = t1046 + t1047;
+        let t1049: f32 = t665 + t1048;
+        let t1050: f32 = t410 + t788;
+        let t1051: f32 = t1049 - t1050;
+        let t1052: f32 = -t1051;
+        let t1053: f32 = t21 * 0.4108;
+        let t1054: f32 = t21 * t1053;
+        let t1055: f32 = t24 * 0.4108;
+        let t1056: f32 = t24 * t1055;
+        let t1057: f32 = t3 * t3;
+        let t1058: f32 = t790 * t1057;
+        let t1059: f32 = t44 * t816;
+        let t1060: f32 = t1059 * 0.3;
+        let t1061: f32 = t816 - t1060;
+        let t1062: f32 = t816 * t1061;
+        let t1063: f32 = t44 * t83;
+        let t1064: f32 = t1063 * 0.3;
+        let t1065: f32 = t83 - t1064;
+        let t1066: f32 = t83 * t1065;
+        let t1067: f32 = t80 * t80;
+        let t1068: f32 = t816 * 0.3;
+        let t1069: f32 = t1059 * 0.295;
+        let t1070: f32 = t1068 - t1069;
+        let t1071: f32 = t816 * t1070;
+        let t1072: f32 = t44 * t67;
+        let t1073: f32 = t83 * t1072;
+        let t1074: f32 = t83 * 0.3;
+        let t1075: f32 = t1063 * 0.295;
+        let t1076: f32 = t1073 * 0.003;
+        let t1077: f32 = t1075 + t1076;
+        let t1078: f32 = t1074 - t1077;
+        let t1079: f32 = t83 * t1078;
+        let t1080: f32 = t1071 + t1079;
+        let t1081: f32 = t44 * t1080;
+        let t1082: f32 = t1062 + t1066;
+        let t1083: f32 = t1067 + t1082;
+        let t1084: f32 = t1083 - t1081;
+        let t1085: f32 = t17 * t1084;
+        let t1086: f32 = t34 * t833;
+        let t1087: f32 = t1085 - t1086;
+        let t1088: f32 = t17 * t1087;
+        let t1089: f32 = t1074 - t1075;
+        let t1090: f32 = t44 * t1089;
+        let t1091: f32 = t1064 + t1090;
+        let t1092: f32 = t83 - t1091;
+        let t1093: f32 = t79 * t1092;
+        let t1094: f32 = t44 * t1070;
+        let t1095: f32 = t1060 + t1094;
+        let t1096: f32 = t816 - t1095;
+        let t1097: f32 = t114 * t1096;
+        let t1098: f32 = t824 + t1093;
+        let t1099: f32 = t830 + t1097;
+        let t1100: f32 = t1098 + t1099;
+        let t1101: f32 = t17 * t1100;
+        let t1102: f32 = t34 * t152;
+        let t1103: f32 = t1101 - t1102;
+        let t1104: f32 = t34 * t1103;
+        let t1105: f32 = t170 * t844;
+        let t1106: f32 = t1105 * 0.3;
+        let t1107: f32 = t844 - t1106;
+        let t1108: f32 = t844 * t1107;
+        let t1109: f32 = t170 * t208;
+        let t1110: f32 = t1109 * 0.3;
+        let t1111: f32 = t208 - t1110;
+        let t1112: f32 = t208 * t1111;
+        let t1113: f32 = t205 * t205;
+        let t1114: f32 = t844 * 0.3;
+        let t1115: f32 = t1105 * 0.295;
+        let t1116: f32 = t1114 - t1115;
+        let t1117: f32 = t844 * t1116;
+        let t1118: f32 = t170 * t192;
+        let t1119: f32 = t208 * t1118;
+        let t1120: f32 = t208 * 0.3;
+        let t1121: f32 = t1109 * 0.295;
+        let t1122: f32 = t1119 * 0.003;
+        let t1123: f32 = t1121 + t1122;
+        let t1124: f32 = t1120 - t1123;
+        let t1125: f32 = t208 * t1124;
+        let t1126: f32 = t1117 + t1125;
+        let t1127: f32 = t170 * t1126;
+        let t1128: f32 = t1108 + t1112;
+        let t1129: f32 = t1113 + t1128;
+        let t1130: f32 = t1129 - t1127;
+        let t1131: f32 = t156 * t1130;
+        let t1132: f32 = t160 * t861;
+        let t1133: f32 = t1131 - t1132;
+        let t1134: f32 = t156 * t1133;
+        let t1135: f32 = t1120 - t1121;
+        let t1136: f32 = t170 * t1135;
+        let t1137: f32 = t1110 + t1136;
+        let t1138: f32 = t208 - t1137;
+        let t1139: f32 = t204 * t1138;
+        let t1140: f32 = t170 * t1116;
+        let t1141: f32 = t1106 + t1140;
+        let t1142: f32 = t844 - t1141;
+        let t1143: f32 = t239 * t1142;
+        let t1144: f32 = t852 + t1139;
+        let t1145: f32 = t858 + t1143;
+        let t1146: f32 = t1144 + t1145;
+        let t1147: f32 = t156 * t1146;
+        let t1148: f32 = t160 * t277;
+        let t1149: f32 = t1147 - t1148;
+        let t1150: f32 = t160 * t1149;
+        let t1151: f32 = t301 * t872;
+        let t1152: f32 = t1151 * 0.3;
+        let t1153: f32 = t872 - t1152;
+        let t1154: f32 = t872 * t1153;
+        let t1155: f32 = t301 * t339;
+        let t1156: f32 = t1155 * 0.3;
+        let t1157: f32 = t339 - t1156;
+        let t1158: f32 = t339 * t1157;
+        let t1159: f32 = t336 * t336;
+        let t1160: f32 = t872 * 0.3;
+        let t1161: f32 = t1151 * 0.295;
+        let t1162: f32 = t1160 - t1161;
+        let t1163: f32 = t872 * t1162;
+        let t1164: f32 = t301 * t323;
+        let t1165: f32 = t339 * t1164;
+        let t1166: f32 = t339 * 0.3;
+        let t1167: f32 = t1155 * 0.295;
+        let t1168: f32 = t1165 * 0.003;
+        let t1169: f32 = t1167 + t1168;
+        let t1170: f32 = t1166 - t1169;
+        let t1171: f32 = t339 * t1170;
+        let t1172: f32 = t1163 + t1171;
+        let t1173: f32 = t301 * t1172;
+        let t1174: f32 = t1154 + t1158;
+        let t1175: f32 = t1159 + t1174;
+        let t1176: f32 = t1175 - t1173;
+        let t1177: f32 = t283 * t1176;
+        let t1178: f32 = t291 * t889;
         let t1179: f32 = t1177 - t1178;
-        let t1180: f32 = t1170 * 0.3;
-        let t1181: f32 = t1179 * 0.295;
-        let t1182: f32 = t1180 + t1181;
-        let t1183: f32 = t307 * t1182;
-        let t1184: f32 = t1176 + t1183;
-        let t1185: f32 = t263 * t841;
-        let t1186: f32 = t281 * t1185;
-        let t1187: f32 = t314 * t844;
-        let t1188: f32 = t1186 + t1187;
-        let t1189: f32 = t258 * t314;
-        let t1190: f32 = t1185 + t1189;
-        let t1191: f32 = t1188 * 0.3;
-        let t1192: f32 = t1191 - t1190;
-        let t1193: f32 = t314 * t1192;
-        let t1194: f32 = t1179 * 0.3;
-        let t1195: f32 = t1170 + t1194;
-        let t1196: f32 = t274 * t1195;
-        let t1197: f32 = t1193 - t1196;
-        let t1198: f32 = t1188 * 0.295;
-        let t1199: f32 = t1190 * 0.3;
-        let t1200: f32 = t1198 - t1199;
-        let t1201: f32 = t329 * t1200;
-        let t1202: f32 = t1197 - t1201;
-        let t1203: f32 = t1184 + t1202;
-        let t1204: f32 = t1172 * 0.003;
-        let t1205: f32 = t1203 + t1204;
-        let t1206: f32 = t249 * t1205;
-        let t1207: f32 = t345 * t1171;
-        let t1208: f32 = t297 * t1175;
-        let t1209: f32 = t348 * t1182;
-        let t1210: f32 = t1208 - t1209;
-        let t1211: f32 = t354 * t1200;
-        let t1212: f32 = t319 * t1192;
-        let t1213: f32 = t289 * t1195;
-        let t1214: f32 = t1212 - t1213;
-        let t1215: f32 = t1211 - t1214;
-        let t1216: f32 = t1210 + t1215;
-        let t1217: f32 = t1207 * 0.003;
-        let t1218: f32 = t1217 - t1216;
-        let t1219: f32 = t263 * t1218;
-        let t1220: f32 = t372 * t388;
-        let t1221: f32 = t377 * t412;
-        let t1222: f32 = t1220 - t1221;
-        let t1223: f32 = -t1222;
-        let t1224: f32 = t407 * t1223;
-        let t1225: f32 = t377 * t409;
-        let t1226: f32 = t372 * t417;
-        let t1227: f32 = t1225 - t1226;
-        let t1228: f32 = t417 * t1227;
-        let t1229: f32 = t412 * t421;
-        let t1230: f32 = t395 * t1220;
-        let t1231: f32 = t1229 - t1230;
-        let t1232: f32 = t1222 * 0.3;
-        let t1233: f32 = t1231 * 0.295;
-        let t1234: f32 = t1232 + t1233;
-        let t1235: f32 = t450 * t1234;
-        let t1236: f32 = t1228 + t1235;
-        let t1237: f32 = t377 * t896;
-        let t1238: f32 = t395 * t1237;
-        let t1239: f32 = t414 * t899;
-        let t1240: f32 = t1238 + t1239;
-        let t1241: f32 = t372 * t414;
-        let t1242: f32 = t1237 + t1241;
-        let t1243: f32 = t1240 * 0.295;
-        let t1244: f32 = t1242 * 0.3;
-        let t1245: f32 = t1243 - t1244;
-        let t1246: f32 = t440 * t1245;
-        let t1247: f32 = t1240 * 0.3;
-        let t1248: f32 = t1247 - t1242;
-        let t1249: f32 = t414 * t1248;
-        let t1250: f32 = t1231 * 0.3;
-        let t1251: f32 = t1222 + t1250;
-        let t1252: f32 = t388 * t1251;
-        let t1253: f32 = t1249 - t1252;
-        let t1254: f32 = t1246 - t1253;
-        let t1255: f32 = t1236 - t1254;
-        let t1256: f32 = t1224 * 0.003;
-        let t1257: f32 = t1255 + t1256;
-        let t1258: f32 = t363 * t1257;
-        let t1259: f32 = t458 * t1223;
-        let t1260: f32 = t461 * t1234;
-        let t1261: f32 = t411 * t1227;
-        let t1262: f32 = t1260 - t1261;
-        let t1263: f32 = t420 * t1248;
-        let t1264: f32 = t403 * t1251;
-        let t1265: f32 = t1263 - t1264;
-        let t1266: f32 = t464 * t1245;
-        let t1267: f32 = t1265 - t1266;
-        let t1268: f32 = t1262 + t1267;
-        let t1269: f32 = t1259 * 0.003;
-        let t1270: f32 = t1268 + t1269;
-        let t1271: f32 = t377 * t1270;
-        let t1272: f32 = t480 * t494;
-        let t1273: f32 = t483 * t518;
-        let t1274: f32 = t1272 - t1273;
-        let t1275: f32 = -t1274;
-        let t1276: f32 = t513 * t1275;
-        let t1277: f32 = t483 * t515;
-        let t1278: f32 = t480 * t523;
-        let t1279: f32 = t1277 - t1278;
-        let t1280: f32 = t523 * t1279;
-        let t1281: f32 = t518 * t527;
-        let t1282: f32 = t501 * t1272;
-        let t1283: f32 = t1281 - t1282;
-        let t1284: f32 = t1274 * 0.3;
-        let t1285: f32 = t1283 * 0.295;
-        let t1286: f32 = t1284 + t1285;
-        let t1287: f32 = t556 * t1286;
-        let t1288: f32 = t1280 + t1287;
-        let t1289: f32 = t483 * t951;
-        let t1290: f32 = t501 * t1289;
-        let t1291: f32 = t520 * t954;
-        let t1292: f32 = t1290 + t1291;
-        let t1293: f32 = t480 * t520;
-        let t1294: f32 = t1289 + t1293;
-        let t1295: f32 = t1292 * 0.295;
-        let t1296: f32 = t1294 * 0.3;
-        let t1297: f32 = t1295 - t1296;
-        let t1298: f32 = t546 * t1297;
-        let t1299: f32 = t1292 * 0.3;
-        let t1300: f32 = t1299 - t1294;
-        let t1301: f32 = t520 * t1300;
-        let t1302: f32 = t1283 * 0.3;
-        let t1303: f32 = t1274 + t1302;
-        let t1304: f32 = t494 * t1303;
-        let t1305: f32 = t1301 - t1304;
-        let t1306: f32 = t1298 - t1305;
-        let t1307: f32 = t1288 - t1306;
-        let t1308: f32 = t1276 * 0.003;
-        let t1309: f32 = t1307 + t1308;
-        let t1310: f32 = t474 * t1309;
-        let t1311: f32 = t564 * t1275;
-        let t1312: f32 = t567 * t1286;
-        let t1313: f32 = t517 * t1279;
-        let t1314: f32 = t1312 - t1313;
-        let t1315: f32 = t526 * t1300;
-        let t1316: f32 = t509 * t1303;
+        let t1180: f32 = t283 * t1179;
+        let t1181: f32 = t1166 - t1167;
+        let t1182: f32 = t301 * t1181;
+        let t1183: f32 = t1156 + t1182;
+        let t1184: f32 = t339 - t1183;
+        let t1185: f32 = t335 * t1184;
+        let t1186: f32 = t301 * t1162;
+        let t1187: f32 = t1152 + t1186;
+        let t1188: f32 = t872 - t1187;
+        let t1189: f32 = t370 * t1188;
+        let t1190: f32 = t880 + t1189;
+        let t1191: f32 = t886 + t1185;
+        let t1192: f32 = t1190 - t1191;
+        let t1193: f32 = t283 * t1192;
+        let t1194: f32 = t291 * t408;
+        let t1195: f32 = t1193 - t1194;
+        let t1196: f32 = t291 * t1195;
+        let t1197: f32 = t432 * t900;
+        let t1198: f32 = t1197 * 0.3;
+        let t1199: f32 = t900 - t1198;
+        let t1200: f32 = t900 * t1199;
+        let t1201: f32 = t432 * t470;
+        let t1202: f32 = t1201 * 0.3;
+        let t1203: f32 = t470 - t1202;
+        let t1204: f32 = t470 * t1203;
+        let t1205: f32 = t467 * t467;
+        let t1206: f32 = t900 * 0.3;
+        let t1207: f32 = t1197 * 0.295;
+        let t1208: f32 = t1206 - t1207;
+        let t1209: f32 = t900 * t1208;
+        let t1210: f32 = t432 * t454;
+        let t1211: f32 = t470 * t1210;
+        let t1212: f32 = t470 * 0.3;
+        let t1213: f32 = t1201 * 0.295;
+        let t1214: f32 = t1211 * 0.003;
+        let t1215: f32 = t1213 + t1214;
+        let t1216: f32 = t1212 - t1215;
+        let t1217: f32 = t470 * t1216;
+        let t1218: f32 = t1209 + t1217;
+        let t1219: f32 = t432 * t1218;
+        let t1220: f32 = t1200 + t1204;
+        let t1221: f32 = t1205 + t1220;
+        let t1222: f32 = t1221 - t1219;
+        let t1223: f32 = t414 * t1222;
+        let t1224: f32 = t422 * t917;
+        let t1225: f32 = t1223 - t1224;
+        let t1226: f32 = t414 * t1225;
+        let t1227: f32 = t1212 - t1213;
+        let t1228: f32 = t432 * t1227;
+        let t1229: f32 = t1202 + t1228;
+        let t1230: f32 = t470 - t1229;
+        let t1231: f32 = t466 * t1230;
+        let t1232: f32 = t432 * t1208;
+        let t1233: f32 = t1198 + t1232;
+        let t1234: f32 = t900 - t1233;
+        let t1235: f32 = t501 * t1234;
+        let t1236: f32 = t908 + t1235;
+        let t1237: f32 = t914 + t1231;
+        let t1238: f32 = t1236 - t1237;
+        let t1239: f32 = t414 * t1238;
+        let t1240: f32 = t422 * t539;
+        let t1241: f32 = t1239 - t1240;
+        let t1242: f32 = t422 * t1241;
+        let t1243: f32 = t557 * t928;
+        let t1244: f32 = t1243 * 0.3;
+        let t1245: f32 = t928 - t1244;
+        let t1246: f32 = t928 * t1245;
+        let t1247: f32 = t557 * t594;
+        let t1248: f32 = t1247 * 0.3;
+        let t1249: f32 = t594 - t1248;
+        let t1250: f32 = t594 * t1249;
+        let t1251: f32 = t591 * t591;
+        let t1252: f32 = t928 * 0.3;
+        let t1253: f32 = t1243 * 0.295;
+        let t1254: f32 = t1252 - t1253;
+        let t1255: f32 = t928 * t1254;
+        let t1256: f32 = t557 * t578;
+        let t1257: f32 = t594 * t1256;
+        let t1258: f32 = t594 * 0.3;
+        let t1259: f32 = t1247 * 0.295;
+        let t1260: f32 = t1257 * 0.003;
+        let t1261: f32 = t1259 + t1260;
+        let t1262: f32 = t1258 - t1261;
+        let t1263: f32 = t594 * t1262;
+        let t1264: f32 = t1255 + t1263;
+        let t1265: f32 = t557 * t1264;
+        let t1266: f32 = t1246 + t1250;
+        let t1267: f32 = t1251 + t1266;
+        let t1268: f32 = t1267 - t1265;
+        let t1269: f32 = t543 * t1268;
+        let t1270: f32 = t547 * t945;
+        let t1271: f32 = t1269 - t1270;
+        let t1272: f32 = t543 * t1271;
+        let t1273: f32 = t1258 - t1259;
+        let t1274: f32 = t557 * t1273;
+        let t1275: f32 = t1248 + t1274;
+        let t1276: f32 = t594 - t1275;
+        let t1277: f32 = t590 * t1276;
+        let t1278: f32 = t557 * t1254;
+        let t1279: f32 = t1244 + t1278;
+        let t1280: f32 = t928 - t1279;
+        let t1281: f32 = t625 * t1280;
+        let t1282: f32 = t936 + t1281;
+        let t1283: f32 = t942 + t1277;
+        let t1284: f32 = t1282 - t1283;
+        let t1285: f32 = t543 * t1284;
+        let t1286: f32 = t547 * t663;
+        let t1287: f32 = t1285 - t1286;
+        let t1288: f32 = t547 * t1287;
+        let t1289: f32 = t680 * t956;
+        let t1290: f32 = t1289 * 0.3;
+        let t1291: f32 = t956 - t1290;
+        let t1292: f32 = t956 * t1291;
+        let t1293: f32 = t680 * t717;
+        let t1294: f32 = t1293 * 0.3;
+        let t1295: f32 = t717 - t1294;
+        let t1296: f32 = t717 * t1295;
+        let t1297: f32 = t714 * t714;
+        let t1298: f32 = t956 * 0.3;
+        let t1299: f32 = t1289 * 0.295;
+        let t1300: f32 = t1298 - t1299;
+        let t1301: f32 = t956 * t1300;
+        let t1302: f32 = t680 * t701;
+        let t1303: f32 = t717 * t1302;
+        let t1304: f32 = t717 * 0.3;
+        let t1305: f32 = t1293 * 0.295;
+        let t1306: f32 = t1303 * 0.003;
+        let t1307: f32 = t1305 + t1306;
+        let t1308: f32 = t1304 - t1307;
+        let t1309: f32 = t717 * t1308;
+        let t1310: f32 = t1301 + t1309;
+        let t1311: f32 = t680 * t1310;
+        let t1312: f32 = t1292 + t1296;
+        let t1313: f32 = t1297 + t1312;
+        let t1314: f32 = t1313 - t1311;
+        let t1315: f32 = t667 * t1314;
+        let t1316: f32 = t671 * t973;
         let t1317: f32 = t1315 - t1316;
-        let t1318: f32 = t570 * t1297;
-        let t1319: f32 = t1317 - t1318;
-        let t1320: f32 = t1314 + t1319;
-        let t1321: f32 = t1311 * 0.003;
-        let t1322: f32 = t1320 + t1321;
-        let t1323: f32 = t483 * t1322;
-        let t1324: f32 = t586 * t599;
-        let t1325: f32 = t588 * t637;
-        let t1326: f32 = t1324 - t1325;
-        let t1327: f32 = -t1326;
-        let t1328: f32 = t618 * t1327;
-        let t1329: f32 = t588 * t635;
-        let t1330: f32 = t586 * t620;
-        let t1331: f32 = t1329 - t1330;
-        let t1332: f32 = t620 * t1331;
-        let t1333: f32 = t637 * t645;
-        let t1334: f32 = t606 * t1324;
-        let t1335: f32 = t1333 - t1334;
-        let t1336: f32 = t1326 * 0.3;
-        let t1337: f32 = t1335 * 0.295;
-        let t1338: f32 = t1336 + t1337;
-        let t1339: f32 = t632 * t1338;
-        let t1340: f32 = t1332 + t1339;
-        let t1341: f32 = t588 * t1006;
-        let t1342: f32 = t606 * t1341;
-        let t1343: f32 = t639 * t1009;
-        let t1344: f32 = t1342 + t1343;
-        let t1345: f32 = t586 * t639;
-        let t1346: f32 = t1341 + t1345;
-        let t1347: f32 = t1344 * 0.3;
-        let t1348: f32 = t1347 - t1346;
-        let t1349: f32 = t639 * t1348;
-        let t1350: f32 = t1335 * 0.3;
-        let t1351: f32 = t1326 + t1350;
-        let t1352: f32 = t599 * t1351;
-        let t1353: f32 = t1349 - t1352;
-        let t1354: f32 = t1344 * 0.295;
-        let t1355: f32 = t1346 * 0.3;
-        let t1356: f32 = t1354 - t1355;
-        let t1357: f32 = t654 * t1356;
-        let t1358: f32 = t1353 - t1357;
-        let t1359: f32 = t1340 + t1358;
-        let t1360: f32 = t1328 * 0.003;
-        let t1361: f32 = t1359 + t1360;
-        let t1362: f32 = t580 * t1361;
-        let t1363: f32 = t670 * t1327;
-        let t1364: f32 = t622 * t1331;
-        let t1365: f32 = t673 * t1338;
-        let t1366: f32 = t1364 - t1365;
-        let t1367: f32 = t679 * t1356;
-        let t1368: f32 = t644 * t1348;
-        let t1369: f32 = t614 * t1351;
-        let t1370: f32 = t1368 - t1369;
-        let t1371: f32 = t1367 - t1370;
-        let t1372: f32 = t1366 + t1371;
-        let t1373: f32 = t1363 * 0.003;
-        let t1374: f32 = t1373 - t1372;
-        let t1375: f32 = t588 * t1374;
-        let t1376: f32 = t10 * 0.4108;
-        let t1377: f32 = t6 * t1376;
-        let t1378: f32 = t14 * 0.4108;
-        let t1379: f32 = t5 * t1378;
-        let t1380: f32 = t1377 - t1379;
-        let t1381: f32 = t1 * t1380;
-        let t1382: f32 = t1063 * 0.7;
-        let t1383: f32 = t1115 + t1382;
-        let t1384: f32 = t1167 + t1206;
-        let t1385: f32 = t1219 + t1258;
-        let t1386: f32 = t1271 + t1310;
-        let t1387: f32 = t1323 + t1362;
-        let t1388: f32 = t1375 + t1381;
-        let t1389: f32 = t1383 + t1384;
-        let t1390: f32 = t1385 + t1386;
-        let t1391: f32 = t1387 + t1388;
-        let t1392: f32 = t1389 + t1390;
-        let t1393: f32 = t1391 + t1392;
-        let t1394: f32 = t1102 + t1154;
-        let t1395: f32 = t1393 - t1394;
-        let t1396: f32 = t72 * t77;
-        let t1397: f32 = t74 * t82;
-        let t1398: f32 = t59 * t77;
-        let t1399: f32 = t77 * 0.3;
-        let t1400: f32 = t1398 * 0.295;
-        let t1401: f32 = t1399 - t1400;
-        let t1402: f32 = t115 * t1401;
-        let t1403: f32 = t1397 - t1402;
-        let t1404: f32 = t59 * t726;
-        let t1405: f32 = t1404 * 0.3;
-        let t1406: f32 = t726 - t1405;
-        let t1407: f32 = t79 * t1406;
-        let t1408: f32 = t1398 * 0.3;
-        let t1409: f32 = t77 - t1408;
-        let t1410: f32 = t52 * t1409;
-        let t1411: f32 = t1407 + t1410;
-        let t1412: f32 = t726 * 0.3;
-        let t1413: f32 = t1404 * 0.295;
-        let t1414: f32 = t1412 - t1413;
-        let t1415: f32 = t105 * t1414;
-        let t1416: f32 = t1411 - t1415;
-        let t1417: f32 = t1403 + t1416;
-        let t1418: f32 = t1396 * 0.003;
-        let t1419: f32 = t1417 + t1418;
-        let t1420: f32 = t17 * t1419;
-        let t1421: f32 = t77 * t123;
-        let t1422: f32 = t74 * t76;
-        let t1423: f32 = t132 * t1401;
-        let t1424: f32 = t1422 - t1423;
-        let t1425: f32 = t85 * t1406;
-        let t1426: f32 = t66 * t1409;
+        let t1318: f32 = t667 * t1317;
+        let t1319: f32 = t1304 - t1305;
+        let t1320: f32 = t680 * t1319;
+        let t1321: f32 = t1294 + t1320;
+        let t1322: f32 = t717 - t1321;
+        let t1323: f32 = t713 * t1322;
+        let t1324: f32 = t680 * t1300;
+        let t1325: f32 = t1290 + t1324;
+        let t1326: f32 = t956 - t1325;
+        let t1327: f32 = t748 * t1326;
+        let t1328: f32 = t964 + t1327;
+        let t1329: f32 = t970 + t1323;
+        let t1330: f32 = t1328 - t1329;
+        let t1331: f32 = t667 * t1330;
+        let t1332: f32 = t671 * t786;
+        let t1333: f32 = t1331 - t1332;
+        let t1334: f32 = t671 * t1333;
+        let t1335: f32 = t1058 * 0.7;
+        let t1336: f32 = t1054 + t1056;
+        let t1337: f32 = t1088 + t1134;
+        let t1338: f32 = t1180 + t1226;
+        let t1339: f32 = t1272 + t1318;
+        let t1340: f32 = t1336 + t1337;
+        let t1341: f32 = t1338 + t1339;
+        let t1342: f32 = t1340 + t1341;
+        let t1343: f32 = t1335 + t1342;
+        let t1344: f32 = t1104 + t1150;
+        let t1345: f32 = t1196 + t1242;
+        let t1346: f32 = t1288 + t1334;
+        let t1347: f32 = t1344 + t1345;
+        let t1348: f32 = t1346 + t1347;
+        let t1349: f32 = t1343 - t1348;
+        let t1350: f32 = t10 * t1053;
+        let t1351: f32 = t14 * t1055;
+        let t1352: f32 = t3 * t4;
+        let t1353: f32 = t790 * t1352;
+        let t1354: f32 = t27 * t1087;
+        let t1355: f32 = t61 * t1092;
+        let t1356: f32 = t85 * t1096;
+        let t1357: f32 = t810 + t1355;
+        let t1358: f32 = t819 + t1356;
+        let t1359: f32 = t1357 + t1358;
+        let t1360: f32 = t17 * t1359;
+        let t1361: f32 = t34 * t127;
+        let t1362: f32 = t1360 - t1361;
+        let t1363: f32 = t34 * t1362;
+        let t1364: f32 = t157 * t1133;
+        let t1365: f32 = t186 * t1138;
+        let t1366: f32 = t210 * t1142;
+        let t1367: f32 = t838 + t1365;
+        let t1368: f32 = t847 + t1366;
+        let t1369: f32 = t1367 + t1368;
+        let t1370: f32 = t156 * t1369;
+        let t1371: f32 = t160 * t252;
+        let t1372: f32 = t1370 - t1371;
+        let t1373: f32 = t160 * t1372;
+        let t1374: f32 = t286 * t1179;
+        let t1375: f32 = t317 * t1184;
+        let t1376: f32 = t341 * t1188;
+        let t1377: f32 = t866 + t1375;
+        let t1378: f32 = t875 + t1377;
+        let t1379: f32 = t1378 - t1376;
+        let t1380: f32 = t283 * t1379;
+        let t1381: f32 = t291 * t383;
+        let t1382: f32 = t1380 - t1381;
+        let t1383: f32 = t291 * t1382;
+        let t1384: f32 = t417 * t1225;
+        let t1385: f32 = t448 * t1230;
+        let t1386: f32 = t472 * t1234;
+        let t1387: f32 = t894 + t1385;
+        let t1388: f32 = t903 + t1387;
+        let t1389: f32 = t1388 - t1386;
+        let t1390: f32 = t414 * t1389;
+        let t1391: f32 = t422 * t514;
+        let t1392: f32 = t1390 - t1391;
+        let t1393: f32 = t422 * t1392;
+        let t1394: f32 = t544 * t1271;
+        let t1395: f32 = t572 * t1276;
+        let t1396: f32 = t596 * t1280;
+        let t1397: f32 = t922 + t1395;
+        let t1398: f32 = t931 + t1397;
+        let t1399: f32 = t1398 - t1396;
+        let t1400: f32 = t543 * t1399;
+        let t1401: f32 = t547 * t638;
+        let t1402: f32 = t1400 - t1401;
+        let t1403: f32 = t547 * t1402;
+        let t1404: f32 = t668 * t1317;
+        let t1405: f32 = t695 * t1322;
+        let t1406: f32 = t719 * t1326;
+        let t1407: f32 = t950 + t1405;
+        let t1408: f32 = t959 + t1407;
+        let t1409: f32 = t1408 - t1406;
+        let t1410: f32 = t667 * t1409;
+        let t1411: f32 = t671 * t761;
+        let t1412: f32 = t1410 - t1411;
+        let t1413: f32 = t671 * t1412;
+        let t1414: f32 = t1353 * 0.7;
+        let t1415: f32 = t1350 + t1351;
+        let t1416: f32 = t1363 + t1373;
+        let t1417: f32 = t1383 + t1393;
+        let t1418: f32 = t1403 + t1413;
+        let t1419: f32 = t1415 + t1416;
+        let t1420: f32 = t1417 + t1418;
+        let t1421: f32 = t1419 + t1420;
+        let t1422: f32 = t1354 + t1364;
+        let t1423: f32 = t1374 + t1384;
+        let t1424: f32 = t1394 + t1404;
+        let t1425: f32 = t1422 + t1423;
+        let t1426: f32 = t1414 + t1424;
         let t1427: f32 = t1425 + t1426;
-        let t1428: f32 = t128 * t1414;
-        let t1429: f32 = t1427 - t1428;
-        let t1430: f32 = t1424 + t1429;
-        let t1431: f32 = t1421 * 0.003;
-        let t1432: f32 = t1430 + t1431;
-        let t1433: f32 = t41 * t1432;
-        let t1434: f32 = t180 * t185;
-        let t1435: f32 = t182 * t190;
-        let t1436: f32 = t167 * t185;
-        let t1437: f32 = t185 * 0.3;
-        let t1438: f32 = t1436 * 0.295;
+        let t1428: f32 = t1421 - t1427;
+        let t1429: f32 = t1036 + t1087;
+        let t1430: f32 = t1133 + t1225;
+        let t1431: f32 = t1429 + t1430;
+        let t1432: f32 = t1271 + t1431;
+        let t1433: f32 = t1179 + t1317;
+        let t1434: f32 = t1432 - t1433;
+        let t1435: f32 = t1362 + t1372;
+        let t1436: f32 = t1392 + t1402;
+        let t1437: f32 = t1435 + t1436;
+        let t1438: f32 = t1382 + t1412;
         let t1439: f32 = t1437 - t1438;
-        let t1440: f32 = t223 * t1439;
-        let t1441: f32 = t1435 - t1440;
-        let t1442: f32 = t167 * t784;
-        let t1443: f32 = t1442 * 0.3;
-        let t1444: f32 = t784 - t1443;
-        let t1445: f32 = t187 * t1444;
-        let t1446: f32 = t1436 * 0.3;
-        let t1447: f32 = t185 - t1446;
-        let t1448: f32 = t160 * t1447;
-        let t1449: f32 = t1445 + t1448;
-        let t1450: f32 = t784 * 0.3;
-        let t1451: f32 = t1442 * 0.295;
-        let t1452: f32 = t1450 - t1451;
-        let t1453: f32 = t213 * t1452;
-        let t1454: f32 = t1449 - t1453;
-        let t1455: f32 = t1441 + t1454;
-        let t1456: f32 = t1434 * 0.003;
-        let t1457: f32 = t1455 + t1456;
-        let t1458: f32 = t139 * t1457;
-        let t1459: f32 = t185 * t231;
-        let t1460: f32 = t182 * t184;
-        let t1461: f32 = t240 * t1439;
-        let t1462: f32 = t1460 - t1461;
-        let t1463: f32 = t193 * t1444;
-        let t1464: f32 = t174 * t1447;
-        let t1465: f32 = t1463 + t1464;
-        let t1466: f32 = t236 * t1452;
-        let t1467: f32 = t1465 - t1466;
-        let t1468: f32 = t1462 + t1467;
-        let t1469: f32 = t1459 * 0.003;
-        let t1470: f32 = t1468 + t1469;
-        let t1471: f32 = t149 * t1470;
-        let t1472: f32 = t293 * t312;
-        let t1473: f32 = t295 * t310;
-        let t1474: f32 = t281 * t312;
-        let t1475: f32 = t312 * 0.3;
-        let t1476: f32 = t1474 * 0.295;
-        let t1477: f32 = t1475 - t1476;
-        let t1478: f32 = t307 * t1477;
-        let t1479: f32 = t1473 - t1478;
-        let t1480: f32 = t281 * t841;
-        let t1481: f32 = t841 * 0.3;
-        let t1482: f32 = t1480 * 0.295;
-        let t1483: f32 = t1481 - t1482;
-        let t1484: f32 = t329 * t1483;
-        let t1485: f32 = t1480 * 0.3;
-        let t1486: f32 = t841 - t1485;
-        let t1487: f32 = t314 * t1486;
-        let t1488: f32 = t1474 * 0.3;
-        let t1489: f32 = t312 - t1488;
-        let t1490: f32 = t274 * t1489;
-        let t1491: f32 = t1487 - t1490;
-        let t1492: f32 = t1484 - t1491;
-        let t1493: f32 = t1479 + t1492;
-        let t1494: f32 = t1472 * 0.003;
-        let t1495: f32 = t1493 + t1494;
-        let t1496: f32 = -t1495;
-        let t1497: f32 = t249 * t1496;
-        let t1498: f32 = t312 * t345;
-        let t1499: f32 = t297 * t310;
-        let t1500: f32 = t348 * t1477;
-        let t1501: f32 = t1499 + t1500;
-        let t1502: f32 = t319 * t1486;
-        let t1503: f32 = t289 * t1489;
-        let t1504: f32 = t1502 - t1503;
-        let t1505: f32 = t354 * t1483;
-        let t1506: f32 = t1504 - t1505;
-        let t1507: f32 = t1501 + t1506;
-        let t1508: f32 = t1498 * 0.003;
-        let t1509: f32 = t1507 - t1508;
-        let t1510: f32 = t263 * t1509;
-        let t1511: f32 = t407 * t412;
-        let t1512: f32 = t409 * t417;
-        let t1513: f32 = t395 * t412;
-        let t1514: f32 = t412 * 0.3;
-        let t1515: f32 = t1513 * 0.295;
-        let t1516: f32 = t1514 - t1515;
-        let t1517: f32 = t450 * t1516;
-        let t1518: f32 = t1512 - t1517;
-        let t1519: f32 = t395 * t896;
-        let t1520: f32 = t896 * 0.3;
-        let t1521: f32 = t1519 * 0.295;
-        let t1522: f32 = t1520 - t1521;
-        let t1523: f32 = t440 * t1522;
-        let t1524: f32 = t1519 * 0.3;
-        let t1525: f32 = t896 - t1524;
-        let t1526: f32 = t414 * t1525;
-        let t1527: f32 = t1513 * 0.3;
-        let t1528: f32 = t412 - t1527;
-        let t1529: f32 = t388 * t1528;
-        let t1530: f32 = t1526 - t1529;
-        let t1531: f32 = t1523 - t1530;
-        let t1532: f32 = t1518 + t1531;
-        let t1533: f32 = t1511 * 0.003;
-        let t1534: f32 = t1532 + t1533;
-        let t1535: f32 = -t1534;
-        let t1536: f32 = t363 * t1535;
-        let t1537: f32 = t412 * t458;
-        let t1538: f32 = t409 * t411;
-        let t1539: f32 = t461 * t1516;
-        let t1540: f32 = t1538 + t1539;
-        let t1541: f32 = t420 * t1525;
-        let t1542: f32 = t403 * t1528;
+        let t1440: f32 = t0 * 0.36;
+        let t1441: f32 = t1195 + t1440;
+        let t1442: f32 = t1333 + t1441;
+        let t1443: f32 = t1103 + t1149;
+        let t1444: f32 = t1241 + t1287;
+        let t1445: f32 = t1443 + t1444;
+        let t1446: f32 = t1442 - t1445;
+        let t1447: f32 = -t1446;
+        let t1448: f32 = t10 * 0.4108;
+        let t1449: f32 = t10 * t1448;
+        let t1450: f32 = t14 * 0.4108;
+        let t1451: f32 = t14 * t1450;
+        let t1452: f32 = t4 * t4;
+        let t1453: f32 = t790 * t1452;
+        let t1454: f32 = t27 * t1084;
+        let t1455: f32 = t34 * t822;
+        let t1456: f32 = t1454 - t1455;
+        let t1457: f32 = t27 * t1456;
+        let t1458: f32 = t27 * t1359;
+        let t1459: f32 = t34 * t96;
+        let t1460: f32 = t1458 - t1459;
+        let t1461: f32 = t34 * t1460;
+        let t1462: f32 = t157 * t1130;
+        let t1463: f32 = t160 * t850;
+        let t1464: f32 = t1462 - t1463;
+        let t1465: f32 = t157 * t1464;
+        let t1466: f32 = t157 * t1369;
+        let t1467: f32 = t160 * t221;
+        let t1468: f32 = t1466 - t1467;
+        let t1469: f32 = t160 * t1468;
+        let t1470: f32 = t286 * t1176;
+        let t1471: f32 = t291 * t878;
+        let t1472: f32 = t1470 - t1471;
+        let t1473: f32 = t286 * t1472;
+        let t1474: f32 = t286 * t1379;
+        let t1475: f32 = t291 * t352;
+        let t1476: f32 = t1474 - t1475;
+        let t1477: f32 = t291 * t1476;
+        let t1478: f32 = t417 * t1222;
+        let t1479: f32 = t422 * t906;
+        let t1480: f32 = t1478 - t1479;
+        let t1481: f32 = t417 * t1480;
+        let t1482: f32 = t417 * t1389;
+        let t1483: f32 = t422 * t483;
+        let t1484: f32 = t1482 - t1483;
+        let t1485: f32 = t422 * t1484;
+        let t1486: f32 = t544 * t1268;
+        let t1487: f32 = t547 * t934;
+        let t1488: f32 = t1486 - t1487;
+        let t1489: f32 = t544 * t1488;
+        let t1490: f32 = t544 * t1399;
+        let t1491: f32 = t547 * t607;
+        let t1492: f32 = t1490 - t1491;
+        let t1493: f32 = t547 * t1492;
+        let t1494: f32 = t668 * t1314;
+        let t1495: f32 = t671 * t962;
+        let t1496: f32 = t1494 - t1495;
+        let t1497: f32 = t668 * t1496;
+        let t1498: f32 = t668 * t1409;
+        let t1499: f32 = t671 * t730;
+        let t1500: f32 = t1498 - t1499;
+        let t1501: f32 = t671 * t1500;
+        let t1502: f32 = t1453 * 0.7;
+        let t1503: f32 = t1449 + t1451;
+        let t1504: f32 = t1457 + t1465;
+        let t1505: f32 = t1473 + t1481;
+        let t1506: f32 = t1489 + t1497;
+        let t1507: f32 = t1503 + t1504;
+        let t1508: f32 = t1505 + t1506;
+        let t1509: f32 = t1507 + t1508;
+        let t1510: f32 = t1502 + t1509;
+        let t1511: f32 = t1461 + t1469;
+        let t1512: f32 = t1477 + t1485;
+        let t1513: f32 = t1493 + t1501;
+        let t1514: f32 = t1511 + t1512;
+        let t1515: f32 = t1513 + t1514;
+        let t1516: f32 = t1510 - t1515;
+        let t1517: f32 = t1045 + t1472;
+        let t1518: f32 = t1496 + t1517;
+        let t1519: f32 = t1456 + t1464;
+        let t1520: f32 = t1480 + t1488;
+        let t1521: f32 = t1519 + t1520;
+        let t1522: f32 = t1518 - t1521;
+        let t1523: f32 = t1440 + t1476;
+        let t1524: f32 = t1500 + t1523;
+        let t1525: f32 = t1460 + t1468;
+        let t1526: f32 = t1484 + t1492;
+        let t1527: f32 = t1525 + t1526;
+        let t1528: f32 = t1524 - t1527;
+        let t1529: f32 = t27 * t1100;
+        let t1530: f32 = t34 * t139;
+        let t1531: f32 = t1529 - t1530;
+        let t1532: f32 = t157 * t1146;
+        let t1533: f32 = t160 * t264;
+        let t1534: f32 = t1532 - t1533;
+        let t1535: f32 = t286 * t1192;
+        let t1536: f32 = t291 * t395;
+        let t1537: f32 = t1535 - t1536;
+        let t1538: f32 = t417 * t1238;
+        let t1539: f32 = t422 * t526;
+        let t1540: f32 = t1538 - t1539;
+        let t1541: f32 = t544 * t1284;
+        let t1542: f32 = t547 * t650;
         let t1543: f32 = t1541 - t1542;
-        let t1544: f32 = t464 * t1522;
-        let t1545: f32 = t1543 - t1544;
-        let t1546: f32 = t1540 + t1545;
-        let t1547: f32 = t1537 * 0.003;
-        let t1548: f32 = t1546 - t1547;
-        let t1549: f32 = t377 * t1548;
-        let t1550: f32 = t513 * t518;
-        let t1551: f32 = t515 * t523;
-        let t1552: f32 = t501 * t518;
-        let t1553: f32 = t518 * 0.3;
-        let t1554: f32 = t1552 * 0.295;
-        let t1555: f32 = t1553 - t1554;
-        let t1556: f32 = t556 * t1555;
-        let t1557: f32 = t1551 - t1556;
-        let t1558: f32 = t501 * t951;
-        let t1559: f32 = t951 * 0.3;
-        let t1560: f32 = t1558 * 0.295;
-        let t1561: f32 = t1559 - t1560;
-        let t1562: f32 = t546 * t1561;
-        let t1563: f32 = t1558 * 0.3;
-        let t1564: f32 = t951 - t1563;
-        let t1565: f32 = t520 * t1564;
-        let t1566: f32 = t1552 * 0.3;
-        let t1567: f32 = t518 - t1566;
-        let t1568: f32 = t494 * t1567;
-        let t1569: f32 = t1565 - t1568;
-        let t1570: f32 = t1562 - t1569;
-        let t1571: f32 = t1557 + t1570;
-        let t1572: f32 = t1550 * 0.003;
-        let t1573: f32 = t1571 + t1572;
-        let t1574: f32 = -t1573;
-        let t1575: f32 = t474 * t1574;
-        let t1576: f32 = t518 * t564;
-        let t1577: f32 = t515 * t517;
-        let t1578: f32 = t567 * t1555;
+        let t1544: f32 = t668 * t1330;
+        let t1545: f32 = t671 * t773;
+        let t1546: f32 = t1544 - t1545;
+        let t1547: f32 = t1531 + t1534;
+        let t1548: f32 = t1540 + t1543;
+        let t1549: f32 = t1547 + t1548;
+        let t1550: f32 = t1537 + t1546;
+        let t1551: f32 = t1549 - t1550;
+        let t1552: f32 = -t1551;
+        let t1553: f32 = t1084 + t1130;
+        let t1554: f32 = t1176 + t1222;
+        let t1555: f32 = t1268 + t1314;
+        let t1556: f32 = t1553 + t1554;
+        let t1557: f32 = t1555 + 12.0;
+        let t1558: f32 = t1556 + t1557;
+        let t1559: f32 = t1359 + t1369;
+        let t1560: f32 = t1379 + t1389;
+        let t1561: f32 = t1399 + t1409;
+        let t1562: f32 = t1559 + t1560;
+        let t1563: f32 = t1561 + t1562;
+        let t1564: f32 = t1100 + t1146;
+        let t1565: f32 = t1192 + t1238;
+        let t1566: f32 = t1284 + t1330;
+        let t1567: f32 = t1564 + t1565;
+        let t1568: f32 = t1566 + t1567;
+        let t1569: f32 = t96 + t221;
+        let t1570: f32 = t352 + t483;
+        let t1571: f32 = t607 + t730;
+        let t1572: f32 = t1569 + t1570;
+        let t1573: f32 = t1571 + 12.0;
+        let t1574: f32 = t1572 + t1573;
+        let t1575: f32 = t139 + t264;
+        let t1576: f32 = t395 + t526;
+        let t1577: f32 = t650 + t773;
+        let t1578: f32 = t1575 + t1576;
         let t1579: f32 = t1577 + t1578;
-        let t1580: f32 = t526 * t1564;
-        let t1581: f32 = t509 * t1567;
-        let t1582: f32 = t1580 - t1581;
-        let t1583: f32 = t570 * t1561;
-        let t1584: f32 = t1582 - t1583;
-        let t1585: f32 = t1579 + t1584;
-        let t1586: f32 = t1576 * 0.003;
-        let t1587: f32 = t1585 - t1586;
-        let t1588: f32 = t483 * t1587;
-        let t1589: f32 = t618 * t637;
-        let t1590: f32 = t620 * t635;
-        let t1591: f32 = t606 * t637;
-        let t1592: f32 = t637 * 0.3;
-        let t1593: f32 = t1591 * 0.295;
-        let t1594: f32 = t1592 - t1593;
-        let t1595: f32 = t632 * t1594;
-        let t1596: f32 = t1590 - t1595;
-        let t1597: f32 = t606 * t1006;
-        let t1598: f32 = t1006 * 0.3;
-        let t1599: f32 = t1597 * 0.295;
-        let t1600: f32 = t1598 - t1599;
-        let t1601: f32 = t654 * t1600;
-        let t1602: f32 = t1597 * 0.3;
-        let t1603: f32 = t1006 - t1602;
-        let t1604: f32 = t639 * t1603;
-        let t1605: f32 = t1591 * 0.3;
-        let t1606: f32 = t637 - t1605;
-        let t1607: f32 = t599 * t1606;
-        let t1608: f32 = t1604 - t1607;
-        let t1609: f32 = t1601 - t1608;
-        let t1610: f32 = t1596 + t1609;
-        let t1611: f32 = t1589 * 0.003;
-        let t1612: f32 = t1610 + t1611;
-        let t1613: f32 = -t1612;
-        let t1614: f32 = t580 * t1613;
-        let t1615: f32 = t637 * t670;
-        let t1616: f32 = t622 * t635;
-        let t1617: f32 = t673 * t1594;
-        let t1618: f32 = t1616 + t1617;
-        let t1619: f32 = t644 * t1603;
-        let t1620: f32 = t614 * t1606;
-        let t1621: f32 = t1619 - t1620;
-        let t1622: f32 = t679 * t1600;
-        let t1623: f32 = t1621 - t1622;
-        let t1624: f32 = t1618 + t1623;
-        let t1625: f32 = t1615 * 0.003;
-        let t1626: f32 = t1624 - t1625;
-        let t1627: f32 = t588 * t1626;
-        let t1628: f32 = t1433 + t1471;
-        let t1629: f32 = t1536 + t1549;
-        let t1630: f32 = t1575 + t1588;
-        let t1631: f32 = t1628 + t1629;
-        let t1632: f32 = t1630 + t1631;
-        let t1633: f32 = t1420 + t1458;
-        let t1634: f32 = t1497 + t1510;
-        let t1635: f32 = t1614 + t1627;
-        let t1636: f32 = t1633 + t1634;
-        let t1637: f32 = t1635 + t1636;
-        let t1638: f32 = t1632 - t1637;
-        let t1639: f32 = t1 * t4;
-        let t1640: f32 = t52 * t52;
-        let t1641: f32 = t60 * t1640;
-        let t1642: f32 = t65 * t1641;
-        let t1643: f32 = t82 * t82;
-        let t1644: f32 = t52 * 0.3;
-        let t1645: f32 = t115 * 0.295;
-        let t1646: f32 = t1644 - t1645;
-        let t1647: f32 = t115 * t1646;
-        let t1648: f32 = t1643 - t1647;
-        let t1649: f32 = t105 * 0.3;
-        let t1650: f32 = t79 - t1649;
-        let t1651: f32 = t79 * t1650;
-        let t1652: f32 = t115 * 0.3;
-        let t1653: f32 = t52 - t1652;
-        let t1654: f32 = t52 * t1653;
-        let t1655: f32 = t1651 + t1654;
-        let t1656: f32 = t79 * 0.3;
-        let t1657: f32 = t105 * 0.295;
-        let t1658: f32 = t1656 - t1657;
-        let t1659: f32 = t105 * t1658;
-        let t1660: f32 = t1655 - t1659;
-        let t1661: f32 = t1648 + t1660;
-        let t1662: f32 = t1642 * 0.003;
-        let t1663: f32 = t1661 + t1662;
-        let t1664: f32 = t17 * t1663;
-        let t1665: f32 = t52 * t66;
-        let t1666: f32 = t60 * t1665;
-        let t1667: f32 = t65 * t1666;
-        let t1668: f32 = t76 * t82;
-        let t1669: f32 = t132 * t1646;
-        let t1670: f32 = t1668 - t1669;
-        let t1671: f32 = t85 * t1650;
-        let t1672: f32 = t66 * t1653;
-        let t1673: f32 = t1671 + t1672;
-        let t1674: f32 = t128 * t1658;
-        let t1675: f32 = t1673 - t1674;
-        let t1676: f32 = t1670 + t1675;
-        let t1677: f32 = t1667 * 0.003;
-        let t1678: f32 = t1676 + t1677;
-        let t1679: f32 = t41 * t1678;
-        let t1680: f32 = t160 * t160;
-        let t1681: f32 = t168 * t1680;
-        let t1682: f32 = t173 * t1681;
-        let t1683: f32 = t190 * t190;
-        let t1684: f32 = t160 * 0.3;
-        let t1685: f32 = t223 * 0.295;
-        let t1686: f32 = t1684 - t1685;
-        let t1687: f32 = t223 * t1686;
-        let t1688: f32 = t1683 - t1687;
-        let t1689: f32 = t213 * 0.3;
-        let t1690: f32 = t187 - t1689;
-        let t1691: f32 = t187 * t1690;
-        let t1692: f32 = t223 * 0.3;
-        let t1693: f32 = t160 - t1692;
-        let t1694: f32 = t160 * t1693;
-        let t1695: f32 = t1691 + t1694;
-        let t1696: f32 = t187 * 0.3;
-        let t1697: f32 = t213 * 0.295;
-        let t1698: f32 = t1696 - t1697;
-        let t1699: f32 = t213 * t1698;
-        let t1700: f32 = t1695 - t1699;
-        let t1701: f32 = t1688 + t1700;
-        let t1702: f32 = t1682 * 0.003;
-        let t1703: f32 = t1701 + t1702;
-        let t1704: f32 = t139 * t1703;
-        let t1705: f32 = t160 * t174;
-        let t1706: f32 = t168 * t1705;
-        let t1707: f32 = t173 * t1706;
-        let t1708: f32 = t184 * t190;
-        let t1709: f32 = t240 * t1686;
-        let t1710: f32 = t1708 - t1709;
-        let t1711: f32 = t193 * t1690;
-        let t1712: f32 = t174 * t1693;
-        let t1713: f32 = t1711 + t1712;
-        let t1714: f32 = t236 * t1698;
-        let t1715: f32 = t1713 - t1714;
-        let t1716: f32 = t1710 + t1715;
-        let t1717: f32 = t1707 * 0.003;
-        let t1718: f32 = t1716 + t1717;
-        let t1719: f32 = t149 * t1718;
-        let t1720: f32 = t274 * t274;
-        let t1721: f32 = t282 * t1720;
-        let t1722: f32 = t287 * t1721;
-        let t1723: f32 = t295 * t295;
-        let t1724: f32 = t274 * 0.3;
-        let t1725: f32 = t307 * 0.295;
-        let t1726: f32 = t1724 - t1725;
-        let t1727: f32 = t307 * t1726;
-        let t1728: f32 = t1723 - t1727;
-        let t1729: f32 = t329 * 0.3;
-        let t1730: f32 = t314 - t1729;
-        let t1731: f32 = t314 * t1730;
-        let t1732: f32 = t307 * 0.3;
-        let t1733: f32 = t274 - t1732;
-        let t1734: f32 = t274 * t1733;
-        let t1735: f32 = t1731 + t1734;
-        let t1736: f32 = t314 * 0.3;
-        let t1737: f32 = t329 * 0.295;
-        let t1738: f32 = t1736 - t1737;
-        let t1739: f32 = t329 * t1738;
-        let t1740: f32 = t1735 - t1739;
-        let t1741: f32 = t1728 + t1740;
-        let t1742: f32 = t1722 * 0.003;
-        let t1743: f32 = t1741 + t1742;
-        let t1744: f32 = t249 * t1743;
-        let t1745: f32 = t274 * t289;
-        let t1746: f32 = t282 * t1745;
-        let t1747: f32 = t287 * t1746;
-        let t1748: f32 = t295 * t297;
-        let t1749: f32 = t348 * t1726;
-        let t1750: f32 = t1748 + t1749;
-        let t1751: f32 = t354 * t1738;
-        let t1752: f32 = t319 * t1730;
-        let t1753: f32 = t289 * t1733;
-        let t1754: f32 = t1752 + t1753;
-        let t1755: f32 = t1751 - t1754;
-        let t1756: f32 = t1750 + t1755;
-        let t1757: f32 = t1747 * 0.003;
-        let t1758: f32 = t1757 - t1756;
-        let t1759: f32 = t263 * t1758;
-        let t1760: f32 = t388 * t388;
-        let t1761: f32 = t396 * t1760;
-        let t1762: f32 = t401 * t1761;
-        let t1763: f32 = t417 * t417;
-        let t1764: f32 = t388 * 0.3;
-        let t1765: f32 = t450 * 0.295;
-        let t1766: f32 = t1764 - t1765;
-        let t1767: f32 = t450 * t1766;
-        let t1768: f32 = t1763 - t1767;
-        let t1769: f32 = t440 * 0.3;
-        let t1770: f32 = t414 - t1769;
-        let t1771: f32 = t414 * t1770;
-        let t1772: f32 = t450 * 0.3;
-        let t1773: f32 = t388 - t1772;
-        let t1774: f32 = t388 * t1773;
-        let t1775: f32 = t1771 + t1774;
-        let t1776: f32 = t414 * 0.3;
-        let t1777: f32 = t440 * 0.295;
-        let t1778: f32 = t1776 - t1777;
-        let t1779: f32 = t440 * t1778;
-        let t1780: f32 = t1775 - t1779;
-        let t1781: f32 = t1768 + t1780;
-        let t1782: f32 = t1762 * 0.003;
-        let t1783: f32 = t1781 + t1782;
-        let t1784: f32 = t363 * t1783;
-        let t1785: f32 = t388 * t403;
-        let t1786: f32 = t396 * t1785;
-        let t1787: f32 = t401 * t1786;
-        let t1788: f32 = t411 * t417;
-        let t1789: f32 = t461 * t1766;
-        let t1790: f32 = t1788 + t1789;
-        let t1791: f32 = t464 * t1778;
-        let t1792: f32 = t420 * t1770;
-        let t1793: f32 = t403 * t1773;
-        let t1794: f32 = t1792 + t1793;
-        let t1795: f32 = t1791 - t1794;
-        let t1796: f32 = t1790 + t1795;
-        let t1797: f32 = t1787 * 0.003;
-        let t1798: f32 = t1797 - t1796;
-        let t1799: f32 = t377 * t1798;
-        let t1800: f32 = t494 * t494;
-        let t1801: f32 = t502 * t1800;
-        let t1802: f32 = t507 * t1801;
-        let t1803: f32 = t523 * t523;
-        let t1804: f32 = t494 * 0.3;
-        let t1805: f32 = t556 * 0.295;
-        let t1806: f32 = t1804 - t1805;
-        let t1807: f32 = t556 * t1806;
-        let t1808: f32 = t1803 - t1807;
-        let t1809: f32 = t546 * 0.3;
-        let t1810: f32 = t520 - t1809;
-        let t1811: f32 = t520 * t1810;
-        let t1812: f32 = t556 * 0.3;
-        let t1813: f32 = t494 - t1812;
-        let t1814: f32 = t494 * t1813;
-        let t1815: f32 = t1811 + t1814;
-        let t1816: f32 = t520 * 0.3;
-        let t1817: f32 = t546 * 0.295;
-        let t1818: f32 = t1816 - t1817;
-        let t1819: f32 = t546 * t1818;
-        let t1820: f32 = t1815 - t1819;
-        let t1821: f32 = t1808 + t1820;
-        let t1822: f32 = t1802 * 0.003;
-        let t1823: f32 = t1821 + t1822;
-        let t1824: f32 = t474 * t1823;
-        let t1825: f32 = t494 * t509;
-        let t1826: f32 = t502 * t1825;
-        let t1827: f32 = t507 * t1826;
-        let t1828: f32 = t517 * t523;
-        let t1829: f32 = t567 * t1806;
-        let t1830: f32 = t1828 + t1829;
-        let t1831: f32 = t570 * t1818;
-        let t1832: f32 = t526 * t1810;
-        let t1833: f32 = t509 * t1813;
-        let t1834: f32 = t1832 + t1833;
-        let t1835: f32 = t1831 - t1834;
-        let t1836: f32 = t1830 + t1835;
-        let t1837: f32 = t1827 * 0.003;
-        let t1838: f32 = t1837 - t1836;
-        let t1839: f32 = t483 * t1838;
-        let t1840: f32 = t599 * t599;
-        let t1841: f32 = t607 * t1840;
-        let t1842: f32 = t612 * t1841;
-        let t1843: f32 = t620 * t620;
-        let t1844: f32 = t599 * 0.3;
-        let t1845: f32 = t632 * 0.295;
-        let t1846: f32 = t1844 - t1845;
-        let t1847: f32 = t632 * t1846;
-        let t1848: f32 = t1843 - t1847;
-        let t1849: f32 = t654 * 0.3;
-        let t1850: f32 = t639 - t1849;
-        let t1851: f32 = t639 * t1850;
-        let t1852: f32 = t632 * 0.3;
-        let t1853: f32 = t599 - t1852;
-        let t1854: f32 = t599 * t1853;
-        let t1855: f32 = t1851 + t1854;
-        let t1856: f32 = t639 * 0.3;
-        let t1857: f32 = t654 * 0.295;
-        let t1858: f32 = t1856 - t1857;
-        let t1859: f32 = t654 * t1858;
-        let t1860: f32 = t1855 - t1859;
-        let t1861: f32 = t1848 + t1860;
-        let t1862: f32 = t1842 * 0.003;
-        let t1863: f32 = t1861 + t1862;
-        let t1864: f32 = t580 * t1863;
-        let t1865: f32 = t599 * t614;
-        let t1866: f32 = t607 * t1865;
-        let t1867: f32 = t612 * t1866;
-        let t1868: f32 = t620 * t622;
-        let t1869: f32 = t673 * t1846;
-        let t1870: f32 = t1868 + t1869;
-        let t1871: f32 = t679 * t1858;
-        let t1872: f32 = t644 * t1850;
-        let t1873: f32 = t614 * t1853;
-        let t1874: f32 = t1872 + t1873;
-        let t1875: f32 = t1871 - t1874;
-        let t1876: f32 = t1870 + t1875;
-        let t1877: f32 = t1867 * 0.003;
-        let t1878: f32 = t1877 - t1876;
-        let t1879: f32 = t588 * t1878;
-        let t1880: f32 = t1639 * 0.36;
-        let t1881: f32 = t1679 + t1719;
-        let t1882: f32 = t1744 + t1759;
-        let t1883: f32 = t1864 + t1879;
-        let t1884: f32 = t1881 + t1882;
-        let t1885: f32 = t1883 + t1884;
-        let t1886: f32 = t1664 + t1880;
-        let t1887: f32 = t1704 + t1784;
-        let t1888: f32 = t1799 + t1824;
-        let t1889: f32 = t1886 + t1887;
-        let t1890: f32 = t1839 + t1888;
-        let t1891: f32 = t1889 + t1890;
-        let t1892: f32 = t1885 - t1891;
-        let t1893: f32 = t1 * t3;
-        let t1894: f32 = t132 * 0.3;
-        let t1895: f32 = t66 - t1894;
-        let t1896: f32 = t52 * t1895;
-        let t1897: f32 = t66 * 0.3;
-        let t1898: f32 = t132 * 0.295;
-        let t1899: f32 = t1897 - t1898;
-        let t1900: f32 = t115 * t1899;
-        let t1901: f32 = t1896 - t1900;
-        let t1902: f32 = t128 * 0.3;
-        let t1903: f32 = t85 - t1902;
-        let t1904: f32 = t79 * t1903;
-        let t1905: f32 = t1668 + t1904;
-        let t1906: f32 = t85 * 0.3;
-        let t1907: f32 = t128 * 0.295;
-        let t1908: f32 = t1906 - t1907;
-        let t1909: f32 = t105 * t1908;
-        let t1910: f32 = t1905 - t1909;
-        let t1911: f32 = t1901 + t1910;
-        let t1912: f32 = t1677 + t1911;
-        let t1913: f32 = t17 * t1912;
-        let t1914: f32 = t66 * t66;
-        let t1915: f32 = t60 * t1914;
-        let t1916: f32 = t65 * t1915;
-        let t1917: f32 = t76 * t76;
-        let t1918: f32 = t132 * t1899;
-        let t1919: f32 = t1917 - t1918;
-        let t1920: f32 = t85 * t1903;
-        let t1921: f32 = t66 * t1895;
-        let t1922: f32 = t1920 + t1921;
-        let t1923: f32 = t128 * t1908;
-        let t1924: f32 = t1922 - t1923;
-        let t1925: f32 = t1919 + t1924;
-        let t1926: f32 = t1916 * 0.003;
-        let t1927: f32 = t1925 + t1926;
-        let t1928: f32 = t41 * t1927;
-        let t1929: f32 = t240 * 0.3;
-        let t1930: f32 = t174 - t1929;
-        let t1931: f32 = t160 * t1930;
-        let t1932: f32 = t174 * 0.3;
-        let t1933: f32 = t240 * 0.295;
-        let t1934: f32 = t1932 - t1933;
-        let t1935: f32 = t223 * t1934;
-        let t1936: f32 = t1931 - t1935;
-        let t1937: f32 = t236 * 0.3;
-        let t1938: f32 = t193 - t1937;
-        let t1939: f32 = t187 * t1938;
-        let t1940: f32 = t1708 + t1939;
-        let t1941: f32 = t193 * 0.3;
-        let t1942: f32 = t236 * 0.295;
-        let t1943: f32 = t1941 - t1942;
-        let t1944: f32 = t213 * t1943;
-        let t1945: f32 = t1940 - t1944;
-        let t1946: f32 = t1936 + t1945;
-        let t1947: f32 = t1717 + t1946;
-        let t1948: f32 = t139 * t1947;
-        let t1949: f32 = t174 * t174;
-        let t1950: f32 = t168 * t1949;
-        let t1951: f32 = t173 * t1950;
-        let t1952: f32 = t184 * t184;
-        let t1953: f32 = t240 * t1934;
-        let t1954: f32 = t1952 - t1953;
-        let t1955: f32 = t193 * t1938;
-        let t1956: f32 = t174 * t1930;
-        let t1957: f32 = t1955 + t1956;
-        let t1958: f32 = t236 * t1943;
-        let t1959: f32 = t1957 - t1958;
-        let t1960: f32 = t1954 + t1959;
-        let t1961: f32 = t1951 * 0.003;
-        let t1962: f32 = t1960 + t1961;
-        let t1963: f32 = t149 * t1962;
-        let t1964: f32 = t289 * 0.3;
-        let t1965: f32 = t348 * 0.295;
-        let t1966: f32 = t1964 - t1965;
-        let t1967: f32 = t307 * t1966;
-        let t1968: f32 = t348 * 0.3;
-        let t1969: f32 = t289 - t1968;
-        let t1970: f32 = t274 * t1969;
-        let t1971: f32 = t1967 - t1970;
-        let t1972: f32 = t319 * 0.3;
-        let t1973: f32 = t354 * 0.295;
-        let t1974: f32 = t1972 - t1973;
-        let t1975: f32 = t329 * t1974;
-        let t1976: f32 = t354 * 0.3;
-        let t1977: f32 = t319 - t1976;
-        let t1978: f32 = t314 * t1977;
-        let t1979: f32 = t1748 - t1978;
-        let t1980: f32 = t1975 + t1979;
-        let t1981: f32 = t1971 + t1980;
-        let t1982: f32 = t1981 - t1757;
-        let t1983: f32 = t249 * t1982;
-        let t1984: f32 = t289 * t289;
-        let t1985: f32 = t282 * t1984;
-        let t1986: f32 = t287 * t1985;
-        let t1987: f32 = t297 * t297;
-        let t1988: f32 = t348 * t1966;
-        let t1989: f32 = t1987 - t1988;
-        let t1990: f32 = t319 * t1977;
-        let t1991: f32 = t289 * t1969;
-        let t1992: f32 = t1990 + t1991;
-        let t1993: f32 = t354 * t1974;
-        let t1994: f32 = t1992 - t1993;
-        let t1995: f32 = t1989 + t1994;
-        let t1996: f32 = t1986 * 0.003;
-        let t1997: f32 = t1995 + t1996;
-        let t1998: f32 = t263 * t1997;
-        let t1999: f32 = t403 * 0.3;
-        let t2000: f32 = t461 * 0.295;
-        let t2001: f32 = t1999 - t2000;
-        let t2002: f32 = t450 * t2001;
+        let t1580: f32 = t152 + t277;
+        let t1581: f32 = t408 + t539;
+        let t1582: f32 = t663 + t786;
+        let t1583: f32 = t1580 + t1581;
+        let t1584: f32 = t1582 + 12.0;
+        let t1585: f32 = t1583 + t1584;
+        let t1586: f32 = t44 * t59;
+        let t1587: f32 = t170 * t184;
+        let t1588: f32 = t301 * t315;
+        let t1589: f32 = t432 * t446;
+        let t1590: f32 = t557 * t570;
+        let t1591: f32 = t680 * t693;
         (
-            t1006,
-            t1016,
-            t1019,
-            t1022,
-            t1026,
             t1028,
-            t1030,
-            t1039,
-            t1041,
+            t1034,
             t1043,
-            t1045,
-            t1049,
-            t1062,
-            t1067,
-            t1068,
-            t1076,
-            t1082,
-            t1087,
-            t1092,
-            t1096,
-            t1099,
-            t1101,
-            t1103,
-            t1112,
-            t1114,
-            t1119,
-            t1120,
-            t1128,
-            t1134,
-            t1139,
-            t1144,
-            t1148,
-            t1151,
-            t1153,
-            t1155,
-            t1164,
-            t1166,
-            t1171,
-            t1172,
-            t1175,
-            t1182,
-            t1192,
-            t1195,
-            t1200,
-            t1203,
-            t1205,
-            t1207,
-            t1216,
-            t1218,
-            t1223,
-            t1224,
-            t1227,
-            t1234,
-            t1245,
-            t1248,
-            t1251,
-            t1255,
-            t1257,
-            t1259,
-            t1268,
-            t1270,
-            t1275,
-            t1276,
-            t1279,
-            t1286,
-            t1297,
-            t1300,
-            t1303,
-            t1307,
-            t1309,
-            t1311,
-            t1320,
-            t1322,
-            t1327,
-            t1328,
-            t1331,
-            t1338,
-            t1348,
-            t1351,
-            t1356,
-            t1359,
-            t1361,
-            t1363,
-            t1372,
-            t1374,
-            t1376,
-            t1378,
-            t1382,
-            t1395,
-            t1396,
-            t1397,
-            t1398,
-            t1401,
-            t1404,
-            t1406,
-            t1409,
-            t1414,
-            t1417,
-            t1418,
-            t1419,
-            t1421,
-            t1422,
-            t1430,
-            t1431,
-            t1432,
+            t1052,
+            t1349,
+            t1428,
             t1434,
-            t1435,
-            t1436,
             t1439,
-            t1442,
-            t1444,
             t1447,
-            t1452,
-            t1455,
-            t1456,
-            t1457,
-            t1459,
-            t1460,
-            t1468,
-            t1469,
-            t1470,
-            t1472,
-            t1473,
-            t1474,
-            t1477,
-            t1480,
-            t1483,
-            t1486,
-            t1489,
-            t1493,
-            t1494,
-            t1496,
-            t1498,
-            t1499,
-            t1507,
-            t1508,
-            t1509,
-            t1511,
-            t1512,
-            t1513,
             t1516,
-            t1519,
             t1522,
-            t1525,
             t1528,
-            t1532,
-            t1533,
-            t1535,
-            t1537,
-            t1538,
-            t1546,
-            t1547,
-            t1548,
-            t1550,
-            t1551,
             t1552,
-            t1555,
             t1558,
-            t1561,
-            t1564,
-            t1567,
-            t1571,
-            t1572,
+            t1563,
+            t1568,
             t1574,
-            t1576,
-            t1577,
+            t1579,
             t1585,
             t1586,
             t1587,
+            t1588,
             t1589,
             t1590,
             t1591,
-            t1594,
-            t1597,
-            t1600,
-            t1603,
-            t1606,
-            t1610,
-            t1611,
-            t1613,
-            t1615,
-            t1616,
-            t1624,
-            t1625,
-            t1626,
-            t1638,
-            t1642,
-            t1646,
-            t1650,
-            t1653,
-            t1658,
-            t1661,
-            t1663,
-            t1667,
-            t1676,
-            t1678,
-            t1682,
-            t1686,
-            t1690,
-            t1693,
-            t1698,
-            t1701,
-            t1703,
-            t1707,
-            t1716,
-            t1718,
-            t1722,
-            t1726,
-            t1730,
-            t1733,
-            t1738,
-            t1741,
-            t1743,
-            t1747,
-            t1756,
-            t1758,
-            t1762,
-            t1766,
-            t1770,
-            t1773,
-            t1778,
-            t1781,
-            t1783,
-            t1787,
-            t1788,
-            t1796,
-            t1797,
-            t1798,
-            t1802,
-            t1806,
-            t1810,
-            t1813,
-            t1818,
-            t1821,
-            t1823,
-            t1827,
-            t1828,
-            t1836,
-            t1837,
-            t1838,
-            t1842,
-            t1846,
-            t1850,
-            t1853,
-            t1858,
-            t1861,
-            t1863,
-            t1867,
-            t1868,
-            t1876,
-            t1877,
-            t1878,
-            t1880,
-            t1892,
-            t1893,
-            t1895,
-            t1899,
-            t1903,
-            t1908,
-            t1911,
-            t1912,
-            t1913,
-            t1916,
-            t1925,
-            t1927,
-            t1928,
-            t1930,
-            t1934,
-            t1938,
-            t1943,
-            t1946,
-            t1947,
-            t1948,
-            t1951,
-            t1960,
-            t1962,
-            t1963,
-            t1966,
-            t1969,
-            t1974,
-            t1977,
-            t1981,
-            t1982,
-            t1983,
-            t1986,
-            t1995,
-            t1997,
-            t1998,
-            t2001,
-            t2002,
-        )
-    };
-    let (
-        t2021,
-        t2030,
-        t2056,
-        t2065,
-        t2086,
-        t2091,
-        t2100,
-        t2104,
-        t2116,
-        t2230,
-        t2337,
-        t2442,
-        t2544,
-        t2621,
-        t2688,
-        t2700,
-        t2730,
-        t2758,
-        t2789,
-        t2813,
-        t2837,
-        t2860,
-        t2872,
-        t2885,
-        t2898,
-        t2911,
-        t2923,
-        t2929,
-        t2935,
-        t2948,
-        t2960,
-        t2973,
-        t2979,
-        t2992,
-        t2998,
-        t3001,
-        t3002,
-    ) = {
-        let t2003: f32 = t461 * 0.3;
-        let t2004: f32 = t403 - t2003;
-        let t2005: f32 = t388 * t2004;
-        let t2006: f32 = t2002 - t2005;
-        let t2007: f32 = t420 * 0.3;
-        let t2008: f32 = t464 * 0.295;
-        let t2009: f32 = t2007 - t2008;
-        let t2010: f32 = t440 * t2009;
-        let t2011: f32 = t464 * 0.3;
-        let t2012: f32 = t420 - t2011;
-        let t2013: f32 = t414 * t2012;
-        let t2014: f32 = t1788 - t2013;
-        let t2015: f32 = t2010 + t2014;
-        let t2016: f32 = t2006 + t2015;
-        let t2017: f32 = t2016 - t1797;
-        let t2018: f32 = t363 * t2017;
-        let t2019: f32 = t403 * t403;
-        let t2020: f32 = t396 * t2019;
-        let t2021: f32 = t401 * t2020;
-        let t2022: f32 = t411 * t411;
-        let t2023: f32 = t461 * t2001;
-        let t2024: f32 = t2022 - t2023;
-        let t2025: f32 = t420 * t2012;
-        let t2026: f32 = t403 * t2004;
-        let t2027: f32 = t2025 + t2026;
-        let t2028: f32 = t464 * t2009;
-        let t2029: f32 = t2027 - t2028;
-        let t2030: f32 = t2024 + t2029;
-        let t2031: f32 = t2021 * 0.003;
-        let t2032: f32 = t2030 + t2031;
-        let t2033: f32 = t377 * t2032;
-        let t2034: f32 = t509 * 0.3;
-        let t2035: f32 = t567 * 0.295;
-        let t2036: f32 = t2034 - t2035;
-        let t2037: f32 = t556 * t2036;
-        let t2038: f32 = t567 * 0.3;
-        let t2039: f32 = t509 - t2038;
-        let t2040: f32 = t494 * t2039;
-        let t2041: f32 = t2037 - t2040;
-        let t2042: f32 = t526 * 0.3;
-        let t2043: f32 = t570 * 0.295;
-        let t2044: f32 = t2042 - t2043;
-        let t2045: f32 = t546 * t2044;
-        let t2046: f32 = t570 * 0.3;
-        let t2047: f32 = t526 - t2046;
-        let t2048: f32 = t520 * t2047;
-        let t2049: f32 = t1828 - t2048;
-        let t2050: f32 = t2045 + t2049;
-        let t2051: f32 = t2041 + t2050;
-        let t2052: f32 = t2051 - t1837;
-        let t2053: f32 = t474 * t2052;
-        let t2054: f32 = t509 * t509;
-        let t2055: f32 = t502 * t2054;
-        let t2056: f32 = t507 * t2055;
-        let t2057: f32 = t517 * t517;
-        let t2058: f32 = t567 * t2036;
-        let t2059: f32 = t2057 - t2058;
-        let t2060: f32 = t526 * t2047;
-        let t2061: f32 = t509 * t2039;
-        let t2062: f32 = t2060 + t2061;
-        let t2063: f32 = t570 * t2044;
-        let t2064: f32 = t2062 - t2063;
-        let t2065: f32 = t2059 + t2064;
-        let t2066: f32 = t2056 * 0.003;
-        let t2067: f32 = t2065 + t2066;
-        let t2068: f32 = t483 * t2067;
-        let t2069: f32 = t614 * 0.3;
-        let t2070: f32 = t673 * 0.295;
-        let t2071: f32 = t2069 - t2070;
-        let t2072: f32 = t632 * t2071;
-        let t2073: f32 = t673 * 0.3;
-        let t2074: f32 = t614 - t2073;
-        let t2075: f32 = t599 * t2074;
-        let t2076: f32 = t2072 - t2075;
-        let t2077: f32 = t644 * 0.3;
-        let t2078: f32 = t679 * 0.295;
-        let t2079: f32 = t2077 - t2078;
-        let t2080: f32 = t654 * t2079;
-        let t2081: f32 = t679 * 0.3;
-        let t2082: f32 = t644 - t2081;
-        let t2083: f32 = t639 * t2082;
-        let t2084: f32 = t1868 - t2083;
-        let t2085: f32 = t2080 + t2084;
-        let t2086: f32 = t2076 + t2085;
-        let t2087: f32 = t2086 - t1877;
-        let t2088: f32 = t580 * t2087;
-        let t2089: f32 = t614 * t614;
-        let t2090: f32 = t607 * t2089;
-        let t2091: f32 = t612 * t2090;
-        let t2092: f32 = t622 * t622;
-        let t2093: f32 = t673 * t2071;
-        let t2094: f32 = t2092 - t2093;
-        let t2095: f32 = t644 * t2082;
-        let t2096: f32 = t614 * t2074;
-        let t2097: f32 = t2095 + t2096;
-        let t2098: f32 = t679 * t2079;
-        let t2099: f32 = t2097 - t2098;
-        let t2100: f32 = t2094 + t2099;
-        let t2101: f32 = t2091 * 0.003;
-        let t2102: f32 = t2100 + t2101;
-        let t2103: f32 = t588 * t2102;
-        let t2104: f32 = t1893 * 0.36;
-        let t2105: f32 = t1928 + t1963;
-        let t2106: f32 = t1983 + t2033;
-        let t2107: f32 = t2068 + t2088;
-        let t2108: f32 = t2105 + t2106;
-        let t2109: f32 = t2107 + t2108;
-        let t2110: f32 = t1913 + t2104;
-        let t2111: f32 = t1948 + t1998;
-        let t2112: f32 = t2018 + t2053;
-        let t2113: f32 = t2110 + t2111;
-        let t2114: f32 = t2103 + t2112;
-        let t2115: f32 = t2113 + t2114;
-        let t2116: f32 = t2109 - t2115;
-        let t2117: f32 = t60 * t65;
-        let t2118: f32 = t77 * t2117;
-        let t2119: f32 = t70 * t2118;
-        let t2120: f32 = t93 * t726;
-        let t2121: f32 = t77 * t99;
-        let t2122: f32 = t2120 + t2121;
-        let t2123: f32 = t104 * t1404;
-        let t2124: f32 = t2122 - t2123;
-        let t2125: f32 = t74 * t110;
-        let t2126: f32 = t114 * t1398;
-        let t2127: f32 = t2125 + t2126;
-        let t2128: f32 = t2124 - t2127;
-        let t2129: f32 = t2119 * 0.003;
-        let t2130: f32 = t2128 - t2129;
-        let t2131: f32 = t17 * t2130;
-        let t2132: f32 = t29 * t137;
-        let t2133: f32 = t168 * t173;
-        let t2134: f32 = t185 * t2133;
-        let t2135: f32 = t178 * t2134;
-        let t2136: f32 = t201 * t784;
-        let t2137: f32 = t185 * t207;
-        let t2138: f32 = t2136 + t2137;
-        let t2139: f32 = t212 * t1442;
-        let t2140: f32 = t2138 - t2139;
-        let t2141: f32 = t182 * t218;
-        let t2142: f32 = t222 * t1436;
-        let t2143: f32 = t2141 + t2142;
-        let t2144: f32 = t2140 - t2143;
-        let t2145: f32 = t2135 * 0.003;
-        let t2146: f32 = t2144 - t2145;
-        let t2147: f32 = t139 * t2146;
-        let t2148: f32 = t146 * t245;
-        let t2149: f32 = t282 * t287;
-        let t2150: f32 = t312 * t2149;
-        let t2151: f32 = t291 * t2150;
-        let t2152: f32 = t299 * t310;
-        let t2153: f32 = t306 * t1474;
-        let t2154: f32 = t2152 + t2153;
-        let t2155: f32 = t332 * t841;
-        let t2156: f32 = t312 * t335;
-        let t2157: f32 = t2155 - t2156;
-        let t2158: f32 = t328 * t1480;
-        let t2159: f32 = t2157 - t2158;
-        let t2160: f32 = t2154 + t2159;
-        let t2161: f32 = t2151 * 0.003;
-        let t2162: f32 = t2160 + t2161;
-        let t2163: f32 = t249 * t2162;
-        let t2164: f32 = t258 * t359;
-        let t2165: f32 = t396 * t401;
-        let t2166: f32 = t412 * t2165;
-        let t2167: f32 = t405 * t2166;
-        let t2168: f32 = t409 * t445;
-        let t2169: f32 = t449 * t1513;
-        let t2170: f32 = t2168 + t2169;
-        let t2171: f32 = t439 * t1519;
-        let t2172: f32 = t428 * t896;
-        let t2173: f32 = t412 * t434;
-        let t2174: f32 = t2172 - t2173;
-        let t2175: f32 = t2171 - t2174;
-        let t2176: f32 = t2170 - t2175;
-        let t2177: f32 = t2167 * 0.003;
-        let t2178: f32 = t2176 + t2177;
-        let t2179: f32 = t363 * t2178;
-        let t2180: f32 = t372 * t472;
-        let t2181: f32 = t502 * t507;
-        let t2182: f32 = t518 * t2181;
-        let t2183: f32 = t511 * t2182;
-        let t2184: f32 = t515 * t551;
-        let t2185: f32 = t555 * t1552;
-        let t2186: f32 = t2184 + t2185;
-        let t2187: f32 = t545 * t1558;
-        let t2188: f32 = t534 * t951;
-        let t2189: f32 = t518 * t540;
-        let t2190: f32 = t2188 - t2189;
-        let t2191: f32 = t2187 - t2190;
-        let t2192: f32 = t2186 - t2191;
-        let t2193: f32 = t2183 * 0.003;
-        let t2194: f32 = t2192 + t2193;
-        let t2195: f32 = t474 * t2194;
-        let t2196: f32 = t480 * t578;
-        let t2197: f32 = t607 * t612;
-        let t2198: f32 = t637 * t2197;
-        let t2199: f32 = t616 * t2198;
-        let t2200: f32 = t624 * t635;
-        let t2201: f32 = t631 * t1591;
-        let t2202: f32 = t2200 + t2201;
-        let t2203: f32 = t657 * t1006;
-        let t2204: f32 = t637 * t660;
-        let t2205: f32 = t2203 - t2204;
-        let t2206: f32 = t653 * t1597;
-        let t2207: f32 = t2205 - t2206;
-        let t2208: f32 = t2202 + t2207;
-        let t2209: f32 = t2199 * 0.003;
-        let t2210: f32 = t2208 + t2209;
-        let t2211: f32 = t580 * t2210;
-        let t2212: f32 = t586 * t684;
-        let t2213: f32 = t6 * t35;
-        let t2214: f32 = t5 * t38;
-        let t2215: f32 = t2213 - t2214;
-        let t2216: f32 = t2215 * 0.4108;
-        let t2217: f32 = t1 * t2216;
-        let t2218: f32 = t2131 + t2147;
-        let t2219: f32 = t2164 + t2180;
-        let t2220: f32 = t2196 + t2212;
-        let t2221: f32 = t2218 + t2219;
-        let t2222: f32 = t2217 + t2220;
-        let t2223: f32 = t2221 + t2222;
-        let t2224: f32 = t1049 + t2132;
-        let t2225: f32 = t2148 + t2163;
-        let t2226: f32 = t2179 + t2195;
-        let t2227: f32 = t2224 + t2225;
-        let t2228: f32 = t2211 + t2226;
-        let t2229: f32 = t2227 + t2228;
-        let t2230: f32 = t2223 - t2229;
-        let t2231: f32 = t35 * t1043;
-        let t2232: f32 = t38 * t1045;
-        let t2233: f32 = t3 * t3;
-        let t2234: f32 = t686 * t2233;
-        let t2235: f32 = t710 * t2118;
-        let t2236: f32 = t74 * t714;
-        let t2237: f32 = t721 * t1398;
-        let t2238: f32 = t2236 + t2237;
-        let t2239: f32 = t736 * t1404;
-        let t2240: f32 = t726 * t739;
-        let t2241: f32 = t77 * t742;
-        let t2242: f32 = t2240 + t2241;
-        let t2243: f32 = t2239 - t2242;
-        let t2244: f32 = t2238 + t2243;
-        let t2245: f32 = t2235 * 0.003;
-        let t2246: f32 = t2244 + t2245;
-        let t2247: f32 = -t2246;
-        let t2248: f32 = t17 * t2247;
-        let t2249: f32 = t29 * t763;
-        let t2250: f32 = t768 * t2134;
-        let t2251: f32 = t182 * t772;
-        let t2252: f32 = t779 * t1436;
-        let t2253: f32 = t2251 + t2252;
-        let t2254: f32 = t794 * t1442;
-        let t2255: f32 = t784 * t797;
-        let t2256: f32 = t185 * t800;
-        let t2257: f32 = t2255 + t2256;
-        let t2258: f32 = t2254 - t2257;
-        let t2259: f32 = t2253 + t2258;
-        let t2260: f32 = t2250 * 0.003;
-        let t2261: f32 = t2259 + t2260;
-        let t2262: f32 = -t2261;
-        let t2263: f32 = t139 * t2262;
-        let t2264: f32 = t146 * t821;
-        let t2265: f32 = t825 * t2150;
-        let t2266: f32 = t841 * t854;
-        let t2267: f32 = t312 * t857;
-        let t2268: f32 = t2266 + t2267;
-        let t2269: f32 = t851 * t1480;
-        let t2270: f32 = t2268 - t2269;
-        let t2271: f32 = t310 * t829;
-        let t2272: f32 = t836 * t1474;
-        let t2273: f32 = t2271 + t2272;
-        let t2274: f32 = t2270 - t2273;
-        let t2275: f32 = t2265 * 0.003;
-        let t2276: f32 = t2274 - t2275;
-        let t2277: f32 = t249 * t2276;
-        let t2278: f32 = t258 * t876;
-        let t2279: f32 = t880 * t2166;
-        let t2280: f32 = t409 * t884;
-        let t2281: f32 = t891 * t1513;
-        let t2282: f32 = t2280 + t2281;
-        let t2283: f32 = t913 * t1519;
-        let t2284: f32 = t896 * t905;
-        let t2285: f32 = t412 * t908;
-        let t2286: f32 = t2284 + t2285;
-        let t2287: f32 = t2283 - t2286;
-        let t2288: f32 = t2282 + t2287;
-        let t2289: f32 = t2279 * 0.003;
-        let t2290: f32 = t2288 + t2289;
-        let t2291: f32 = -t2290;
-        let t2292: f32 = t363 * t2291;
-        let t2293: f32 = t372 * t931;
-        let t2294: f32 = t935 * t2182;
-        let t2295: f32 = t515 * t939;
-        let t2296: f32 = t946 * t1552;
-        let t2297: f32 = t2295 + t2296;
-        let t2298: f32 = t968 * t1558;
-        let t2299: f32 = t951 * t960;
-        let t2300: f32 = t518 * t963;
-        let t2301: f32 = t2299 + t2300;
-        let t2302: f32 = t2298 - t2301;
-        let t2303: f32 = t2297 + t2302;
-        let t2304: f32 = t2294 * 0.003;
-        let t2305: f32 = t2303 + t2304;
-        let t2306: f32 = -t2305;
-        let t2307: f32 = t474 * t2306;
-        let t2308: f32 = t480 * t986;
-        let t2309: f32 = t990 * t2198;
-        let t2310: f32 = t1006 * t1019;
-        let t2311: f32 = t637 * t1022;
-        let t2312: f32 = t2310 + t2311;
-        let t2313: f32 = t1016 * t1597;
-        let t2314: f32 = t2312 - t2313;
-        let t2315: f32 = t635 * t994;
-        let t2316: f32 = t1001 * t1591;
-        let t2317: f32 = t2315 + t2316;
-        let t2318: f32 = t2314 - t2317;
-        let t2319: f32 = t2309 * 0.003;
-        let t2320: f32 = t2318 - t2319;
-        let t2321: f32 = t580 * t2320;
-        let t2322: f32 = t586 * t1041;
-        let t2323: f32 = t2234 * 0.7;
-        let t2324: f32 = t2231 + t2232;
-        let t2325: f32 = t2249 + t2264;
-        let t2326: f32 = t2278 + t2293;
-        let t2327: f32 = t2308 + t2322;
-        let t2328: f32 = t2324 + t2325;
-        let t2329: f32 = t2326 + t2327;
-        let t2330: f32 = t2328 + t2329;
-        let t2331: f32 = t2323 + t2330;
-        let t2332: f32 = t2248 + t2263;
-        let t2333: f32 = t2277 + t2292;
-        let t2334: f32 = t2307 + t2321;
-        let t2335: f32 = t2332 + t2333;
-        let t2336: f32 = t2334 + t2335;
-        let t2337: f32 = t2331 - t2336;
-        let t2338: f32 = t3 * t4;
-        let t2339: f32 = t686 * t2338;
-        let t2340: f32 = t35 * t1376;
-        let t2341: f32 = t38 * t1378;
-        let t2342: f32 = t1067 * t2118;
-        let t2343: f32 = t726 * t1076;
-        let t2344: f32 = t77 * t1082;
-        let t2345: f32 = t2343 + t2344;
-        let t2346: f32 = t1087 * t1404;
-        let t2347: f32 = t2345 - t2346;
-        let t2348: f32 = t74 * t1092;
-        let t2349: f32 = t1096 * t1398;
-        let t2350: f32 = t2348 + t2349;
-        let t2351: f32 = t2347 - t2350;
-        let t2352: f32 = t2342 * 0.003;
-        let t2353: f32 = t2351 - t2352;
-        let t2354: f32 = t17 * t2353;
-        let t2355: f32 = t29 * t1114;
-        let t2356: f32 = t1119 * t2134;
-        let t2357: f32 = t784 * t1128;
-        let t2358: f32 = t185 * t1134;
-        let t2359: f32 = t2357 + t2358;
-        let t2360: f32 = t1139 * t1442;
-        let t2361: f32 = t2359 - t2360;
-        let t2362: f32 = t182 * t1144;
-        let t2363: f32 = t1148 * t1436;
-        let t2364: f32 = t2362 + t2363;
-        let t2365: f32 = t2361 - t2364;
-        let t2366: f32 = t2356 * 0.003;
-        let t2367: f32 = t2365 - t2366;
-        let t2368: f32 = t139 * t2367;
-        let t2369: f32 = t146 * t1166;
-        let t2370: f32 = t1171 * t2150;
-        let t2371: f32 = t310 * t1175;
-        let t2372: f32 = t1182 * t1474;
-        let t2373: f32 = t2371 + t2372;
-        let t2374: f32 = t1200 * t1480;
-        let t2375: f32 = t841 * t1192;
-        let t2376: f32 = t312 * t1195;
-        let t2377: f32 = t2375 + t2376;
-        let t2378: f32 = t2374 - t2377;
-        let t2379: f32 = t2373 + t2378;
-        let t2380: f32 = t2370 * 0.003;
-        let t2381: f32 = t2379 + t2380;
-        let t2382: f32 = -t2381;
-        let t2383: f32 = t249 * t2382;
-        let t2384: f32 = t258 * t1218;
-        let t2385: f32 = t1223 * t2166;
-        let t2386: f32 = t896 * t1248;
-        let t2387: f32 = t412 * t1251;
-        let t2388: f32 = t2386 + t2387;
-        let t2389: f32 = t1245 * t1519;
-        let t2390: f32 = t2388 - t2389;
-        let t2391: f32 = t409 * t1227;
-        let t2392: f32 = t1234 * t1513;
-        let t2393: f32 = t2391 + t2392;
-        let t2394: f32 = t2390 - t2393;
-        let t2395: f32 = t2385 * 0.003;
-        let t2396: f32 = t2394 - t2395;
-        let t2397: f32 = t363 * t2396;
-        let t2398: f32 = t372 * t1270;
-        let t2399: f32 = t1275 * t2182;
-        let t2400: f32 = t951 * t1300;
-        let t2401: f32 = t518 * t1303;
-        let t2402: f32 = t2400 + t2401;
-        let t2403: f32 = t1297 * t1558;
-        let t2404: f32 = t2402 - t2403;
-        let t2405: f32 = t515 * t1279;
-        let t2406: f32 = t1286 * t1552;
-        let t2407: f32 = t2405 + t2406;
-        let t2408: f32 = t2404 - t2407;
-        let t2409: f32 = t2399 * 0.003;
-        let t2410: f32 = t2408 - t2409;
-        let t2411: f32 = t474 * t2410;
-        let t2412: f32 = t480 * t1322;
-        let t2413: f32 = t1327 * t2198;
-        let t2414: f32 = t635 * t1331;
-        let t2415: f32 = t1338 * t1591;
-        let t2416: f32 = t2414 + t2415;
-        let t2417: f32 = t1356 * t1597;
-        let t2418: f32 = t1006 * t1348;
-        let t2419: f32 = t637 * t1351;
-        let t2420: f32 = t2418 + t2419;
-        let t2421: f32 = t2417 - t2420;
-        let t2422: f32 = t2416 + t2421;
-        let t2423: f32 = t2413 * 0.003;
-        let t2424: f32 = t2422 + t2423;
-        let t2425: f32 = -t2424;
-        let t2426: f32 = t580 * t2425;
-        let t2427: f32 = t586 * t1374;
-        let t2428: f32 = t2339 * 0.7;
-        let t2429: f32 = t2340 + t2341;
-        let t2430: f32 = t2354 + t2368;
-        let t2431: f32 = t2383 + t2397;
-        let t2432: f32 = t2411 + t2426;
-        let t2433: f32 = t2429 + t2430;
-        let t2434: f32 = t2431 + t2432;
-        let t2435: f32 = t2433 + t2434;
-        let t2436: f32 = t2355 + t2428;
-        let t2437: f32 = t2369 + t2384;
-        let t2438: f32 = t2398 + t2412;
-        let t2439: f32 = t2436 + t2437;
-        let t2440: f32 = t2427 + t2438;
-        let t2441: f32 = t2439 + t2440;
-        let t2442: f32 = t2435 - t2441;
-        let t2443: f32 = t77 * t77;
-        let t2444: f32 = t2117 * t2443;
-        let t2445: f32 = t74 * t74;
-        let t2446: f32 = t1398 * t1401;
-        let t2447: f32 = t2445 - t2446;
-        let t2448: f32 = t726 * t1406;
-        let t2449: f32 = t77 * t1409;
-        let t2450: f32 = t2448 + t2449;
-        let t2451: f32 = t1404 * t1414;
-        let t2452: f32 = t2450 - t2451;
-        let t2453: f32 = t2447 + t2452;
-        let t2454: f32 = t2444 * 0.003;
-        let t2455: f32 = t2453 + t2454;
-        let t2456: f32 = t17 * t2455;
-        let t2457: f32 = t29 * t1432;
-        let t2458: f32 = t185 * t185;
-        let t2459: f32 = t2133 * t2458;
-        let t2460: f32 = t182 * t182;
-        let t2461: f32 = t1436 * t1439;
-        let t2462: f32 = t2460 - t2461;
-        let t2463: f32 = t784 * t1444;
-        let t2464: f32 = t185 * t1447;
-        let t2465: f32 = t2463 + t2464;
-        let t2466: f32 = t1442 * t1452;
-        let t2467: f32 = t2465 - t2466;
-        let t2468: f32 = t2462 + t2467;
-        let t2469: f32 = t2459 * 0.003;
-        let t2470: f32 = t2468 + t2469;
-        let t2471: f32 = t139 * t2470;
-        let t2472: f32 = t146 * t1470;
-        let t2473: f32 = t312 * t312;
-        let t2474: f32 = t2149 * t2473;
-        let t2475: f32 = t310 * t310;
-        let t2476: f32 = t1474 * t1477;
-        let t2477: f32 = t2475 - t2476;
-        let t2478: f32 = t841 * t1486;
-        let t2479: f32 = t312 * t1489;
-        let t2480: f32 = t2478 + t2479;
-        let t2481: f32 = t1480 * t1483;
-        let t2482: f32 = t2480 - t2481;
-        let t2483: f32 = t2477 + t2482;
-        let t2484: f32 = t2474 * 0.003;
-        let t2485: f32 = t2483 + t2484;
-        let t2486: f32 = t249 * t2485;
-        let t2487: f32 = t258 * t1509;
-        let t2488: f32 = t412 * t412;
-        let t2489: f32 = t2165 * t2488;
-        let t2490: f32 = t409 * t409;
-        let t2491: f32 = t1513 * t1516;
-        let t2492: f32 = t2490 - t2491;
-        let t2493: f32 = t896 * t1525;
-        let t2494: f32 = t412 * t1528;
-        let t2495: f32 = t2493 + t2494;
-        let t2496: f32 = t1519 * t1522;
-        let t2497: f32 = t2495 - t2496;
-        let t2498: f32 = t2492 + t2497;
-        let t2499: f32 = t2489 * 0.003;
-        let t2500: f32 = t2498 + t2499;
-        let t2501: f32 = t363 * t2500;
-        let t2502: f32 = t372 * t1548;
-        let t2503: f32 = t518 * t518;
-        let t2504: f32 = t2181 * t2503;
-        let t2505: f32 = t515 * t515;
-        let t2506: f32 = t1552 * t1555;
-        let t2507: f32 = t2505 - t2506;
-        let t2508: f32 = t951 * t1564;
-        let t2509: f32 = t518 * t1567;
-        let t2510: f32 = t2508 + t2509;
-        let t2511: f32 = t1558 * t1561;
-        let t2512: f32 = t2510 - t2511;
-        let t2513: f32 = t2507 + t2512;
-        let t2514: f32 = t2504 * 0.003;
-        let t2515: f32 = t2513 + t2514;
-        let t2516: f32 = t474 * t2515;
-        let t2517: f32 = t480 * t1587;
-        let t2518: f32 = t637 * t637;
-        let t2519: f32 = t2197 * t2518;
-        let t2520: f32 = t635 * t635;
-        let t2521: f32 = t1591 * t1594;
-        let t2522: f32 = t2520 - t2521;
-        let t2523: f32 = t1006 * t1603;
-        let t2524: f32 = t637 * t1606;
-        let t2525: f32 = t2523 + t2524;
-        let t2526: f32 = t1597 * t1600;
-        let t2527: f32 = t2525 - t2526;
-        let t2528: f32 = t2522 + t2527;
-        let t2529: f32 = t2519 * 0.003;
-        let t2530: f32 = t2528 + t2529;
-        let t2531: f32 = t580 * t2530;
-        let t2532: f32 = t586 * t1626;
-        let t2533: f32 = t1880 + t2456;
-        let t2534: f32 = t2471 + t2487;
-        let t2535: f32 = t2501 + t2516;
-        let t2536: f32 = t2533 + t2534;
-        let t2537: f32 = t2532 + t2535;
-        let t2538: f32 = t2536 + t2537;
-        let t2539: f32 = t2457 + t2472;
-        let t2540: f32 = t2486 + t2502;
-        let t2541: f32 = t2517 + t2531;
-        let t2542: f32 = t2539 + t2540;
-        let t2543: f32 = t2541 + t2542;
-        let t2544: f32 = t2538 - t2543;
-        let t2545: f32 = t77 * t1653;
-        let t2546: f32 = t1398 * t1646;
-        let t2547: f32 = t2545 - t2546;
-        let t2548: f32 = t726 * t1650;
-        let t2549: f32 = t1397 + t2548;
-        let t2550: f32 = t1404 * t1658;
-        let t2551: f32 = t2549 - t2550;
-        let t2552: f32 = t2547 + t2551;
-        let t2553: f32 = t1418 + t2552;
-        let t2554: f32 = t17 * t2553;
-        let t2555: f32 = t29 * t1678;
-        let t2556: f32 = t185 * t1693;
-        let t2557: f32 = t1436 * t1686;
-        let t2558: f32 = t2556 - t2557;
-        let t2559: f32 = t784 * t1690;
-        let t2560: f32 = t1435 + t2559;
-        let t2561: f32 = t1442 * t1698;
-        let t2562: f32 = t2560 - t2561;
-        let t2563: f32 = t2558 + t2562;
-        let t2564: f32 = t1456 + t2563;
-        let t2565: f32 = t139 * t2564;
-        let t2566: f32 = t146 * t1718;
-        let t2567: f32 = t312 * t1733;
-        let t2568: f32 = t1474 * t1726;
-        let t2569: f32 = t2567 - t2568;
-        let t2570: f32 = t1480 * t1738;
-        let t2571: f32 = t841 * t1730;
-        let t2572: f32 = t1473 - t2571;
-        let t2573: f32 = t2570 + t2572;
-        let t2574: f32 = t2569 + t2573;
-        let t2575: f32 = t1494 + t2574;
-        let t2576: f32 = t249 * t2575;
-        let t2577: f32 = t258 * t1758;
-        let t2578: f32 = t412 * t1773;
-        let t2579: f32 = t1513 * t1766;
-        let t2580: f32 = t2578 - t2579;
-        let t2581: f32 = t1519 * t1778;
-        let t2582: f32 = t896 * t1770;
-        let t2583: f32 = t1512 - t2582;
-        let t2584: f32 = t2581 + t2583;
-        let t2585: f32 = t2580 + t2584;
-        let t2586: f32 = t1533 + t2585;
-        let t2587: f32 = t363 * t2586;
-        let t2588: f32 = t372 * t1798;
-        let t2589: f32 = t518 * t1813;
-        let t2590: f32 = t1552 * t1806;
-        let t2591: f32 = t2589 - t2590;
-        let t2592: f32 = t1558 * t1818;
-        let t2593: f32 = t951 * t1810;
-        let t2594: f32 = t1551 - t2593;
-        let t2595: f32 = t2592 + t2594;
-        let t2596: f32 = t2591 + t2595;
-        let t2597: f32 = t1572 + t2596;
-        let t2598: f32 = t474 * t2597;
-        let t2599: f32 = t480 * t1838;
-        let t2600: f32 = t637 * t1853;
-        let t2601: f32 = t1591 * t1846;
-        let t2602: f32 = t2600 - t2601;
-        let t2603: f32 = t1597 * t1858;
-        let t2604: f32 = t1006 * t1850;
-        let t2605: f32 = t1590 - t2604;
-        let t2606: f32 = t2603 + t2605;
-        let t2607: f32 = t2602 + t2606;
-        let t2608: f32 = t1611 + t2607;
-        let t2609: f32 = t580 * t2608;
-        let t2610: f32 = t586 * t1878;
-        let t2611: f32 = t2554 + t2565;
-        let t2612: f32 = t2587 + t2588;
-        let t2613: f32 = t2598 + t2599;
-        let t2614: f32 = t2611 + t2612;
-        let t2615: f32 = t2613 + t2614;
-        let t2616: f32 = t2555 + t2566;
-        let t2617: f32 = t2576 + t2577;
-        let t2618: f32 = t2609 + t2610;
-        let t2619: f32 = t2616 + t2617;
-        let t2620: f32 = t2618 + t2619;
-        let t2621: f32 = t2615 - t2620;
-        let t2622: f32 = t77 * t1895;
-        let t2623: f32 = t1398 * t1899;
-        let t2624: f32 = t2622 - t2623;
-        let t2625: f32 = t726 * t1903;
-        let t2626: f32 = t1422 + t2625;
-        let t2627: f32 = t1404 * t1908;
-        let t2628: f32 = t2626 - t2627;
-        let t2629: f32 = t2624 + t2628;
-        let t2630: f32 = t1431 + t2629;
-        let t2631: f32 = t17 * t2630;
-        let t2632: f32 = t29 * t1927;
-        let t2633: f32 = t185 * t1930;
-        let t2634: f32 = t1436 * t1934;
-        let t2635: f32 = t2633 - t2634;
-        let t2636: f32 = t784 * t1938;
-        let t2637: f32 = t1460 + t2636;
-        let t2638: f32 = t1442 * t1943;
-        let t2639: f32 = t2637 - t2638;
-        let t2640: f32 = t2635 + t2639;
-        let t2641: f32 = t1469 + t2640;
-        let t2642: f32 = t139 * t2641;
-        let t2643: f32 = t146 * t1962;
-        let t2644: f32 = t1474 * t1966;
-        let t2645: f32 = t312 * t1969;
-        let t2646: f32 = t2644 - t2645;
-        let t2647: f32 = t841 * t1977;
-        let t2648: f32 = t1499 + t2647;
-        let t2649: f32 = t1480 * t1974;
-        let t2650: f32 = t2648 - t2649;
-        let t2651: f32 = t2646 + t2650;
-        let t2652: f32 = t2651 - t1508;
-        let t2653: f32 = t249 * t2652;
-        let t2654: f32 = t258 * t1997;
-        let t2655: f32 = t1513 * t2001;
-        let t2656: f32 = t412 * t2004;
-        let t2657: f32 = t2655 - t2656;
-        let t2658: f32 = t896 * t2012;
-        let t2659: f32 = t1538 + t2658;
-        let t2660: f32 = t1519 * t2009;
-        let t2661: f32 = t2659 - t2660;
-        let t2662: f32 = t2657 + t2661;
-        let t2663: f32 = t2662 - t1547;
-        let t2664: f32 = t363 * t2663;
-        let t2665: f32 = t372 * t2032;
-        let t2666: f32 = t1552 * t2036;
-        let t2667: f32 = t518 * t2039;
-        let t2668: f32 = t2666 - t2667;
-        let t2669: f32 = t951 * t2047;
-        let t2670: f32 = t1577 + t2669;
-        let t2671: f32 = t1558 * t2044;
-        let t2672: f32 = t2670 - t2671;
-        let t2673: f32 = t2668 + t2672;
-        let t2674: f32 = t2673 - t1586;
-        let t2675: f32 = t474 * t2674;
-        let t2676: f32 = t480 * t2067;
-        let t2677: f32 = t1591 * t2071;
-        let t2678: f32 = t637 * t2074;
-        let t2679: f32 = t2677 - t2678;
-        let t2680: f32 = t1006 * t2082;
-        let t2681: f32 = t1616 + t2680;
-        let t2682: f32 = t1597 * t2079;
-        let t2683: f32 = t2681 - t2682;
-        let t2684: f32 = t2679 + t2683;
-        let t2685: f32 = t2684 - t1625;
-        let t2686: f32 = t580 * t2685;
-        let t2687: f32 = t586 * t2102;
-        let t2688: f32 = t0 * 0.36;
-        let t2689: f32 = t2631 + t2642;
-        let t2690: f32 = t2654 + t2664;
-        let t2691: f32 = t2675 + t2687;
-        let t2692: f32 = t2689 + t2690;
-        let t2693: f32 = t2691 + t2692;
-        let t2694: f32 = t2632 + t2688;
-        let t2695: f32 = t2643 + t2653;
-        let t2696: f32 = t2665 + t2676;
-        let t2697: f32 = t2694 + t2695;
-        let t2698: f32 = t2686 + t2696;
-        let t2699: f32 = t2697 + t2698;
-        let t2700: f32 = t2693 - t2699;
-        let t2701: f32 = t41 * t2130;
-        let t2702: f32 = t29 * t120;
-        let t2703: f32 = t149 * t2146;
-        let t2704: f32 = t146 * t228;
-        let t2705: f32 = t263 * t2162;
-        let t2706: f32 = t258 * t342;
-        let t2707: f32 = t377 * t2178;
-        let t2708: f32 = t372 * t455;
-        let t2709: f32 = t483 * t2194;
-        let t2710: f32 = t480 * t561;
-        let t2711: f32 = t588 * t2210;
-        let t2712: f32 = t586 * t667;
-        let t2713: f32 = t6 * t10;
-        let t2714: f32 = t5 * t14;
-        let t2715: f32 = t2713 - t2714;
-        let t2716: f32 = t2715 * 0.4108;
-        let t2717: f32 = t1 * t2716;
-        let t2718: f32 = t1382 + t2702;
-        let t2719: f32 = t2704 + t2705;
-        let t2720: f32 = t2706 + t2707;
-        let t2721: f32 = t2708 + t2709;
-        let t2722: f32 = t2710 + t2711;
-        let t2723: f32 = t2712 + t2717;
-        let t2724: f32 = t2718 + t2719;
-        let t2725: f32 = t2720 + t2721;
-        let t2726: f32 = t2722 + t2723;
-        let t2727: f32 = t2724 + t2725;
-        let t2728: f32 = t2726 + t2727;
-        let t2729: f32 = t2701 + t2703;
-        let t2730: f32 = t2728 - t2729;
-        let t2731: f32 = t10 * t1043;
-        let t2732: f32 = t14 * t1045;
-        let t2733: f32 = t41 * t2247;
-        let t2734: f32 = t29 * t749;
-        let t2735: f32 = t149 * t2262;
-        let t2736: f32 = t146 * t807;
-        let t2737: f32 = t263 * t2276;
-        let t2738: f32 = t258 * t863;
-        let t2739: f32 = t377 * t2291;
-        let t2740: f32 = t372 * t918;
-        let t2741: f32 = t483 * t2306;
-        let t2742: f32 = t480 * t973;
-        let t2743: f32 = t588 * t2320;
-        let t2744: f32 = t586 * t1028;
-        let t2745: f32 = t2731 + t2732;
-        let t2746: f32 = t2733 + t2735;
-        let t2747: f32 = t2737 + t2738;
-        let t2748: f32 = t2739 + t2740;
-        let t2749: f32 = t2741 + t2742;
-        let t2750: f32 = t2743 + t2744;
-        let t2751: f32 = t2745 + t2746;
-        let t2752: f32 = t2747 + t2748;
-        let t2753: f32 = t2749 + t2750;
-        let t2754: f32 = t2751 + t2752;
-        let t2755: f32 = t2753 + t2754;
-        let t2756: f32 = t2734 + t2736;
-        let t2757: f32 = t2428 + t2756;
-        let t2758: f32 = t2755 - t2757;
-        let t2759: f32 = t10 * t1376;
-        let t2760: f32 = t14 * t1378;
-        let t2761: f32 = t4 * t4;
-        let t2762: f32 = t686 * t2761;
-        let t2763: f32 = t41 * t2353;
-        let t2764: f32 = t29 * t1101;
-        let t2765: f32 = t149 * t2367;
-        let t2766: f32 = t146 * t1153;
-        let t2767: f32 = t263 * t2382;
-        let t2768: f32 = t258 * t1205;
-        let t2769: f32 = t377 * t2396;
-        let t2770: f32 = t372 * t1257;
-        let t2771: f32 = t483 * t2410;
-        let t2772: f32 = t480 * t1309;
-        let t2773: f32 = t588 * t2425;
-        let t2774: f32 = t586 * t1361;
-        let t2775: f32 = t2762 * 0.7;
-        let t2776: f32 = t2759 + t2760;
-        let t2777: f32 = t2764 + t2766;
-        let t2778: f32 = t2776 + t2777;
-        let t2779: f32 = t2775 + t2778;
-        let t2780: f32 = t2763 + t2765;
-        let t2781: f32 = t2767 + t2768;
-        let t2782: f32 = t2769 + t2770;
-        let t2783: f32 = t2771 + t2772;
-        let t2784: f32 = t2773 + t2774;
-        let t2785: f32 = t2780 + t2781;
-        let t2786: f32 = t2782 + t2783;
-        let t2787: f32 = t2785 + t2786;
-        let t2788: f32 = t2784 + t2787;
-        let t2789: f32 = t2779 - t2788;
-        let t2790: f32 = t41 * t2455;
-        let t2791: f32 = t29 * t1419;
-        let t2792: f32 = t149 * t2470;
-        let t2793: f32 = t146 * t1457;
-        let t2794: f32 = t263 * t2485;
-        let t2795: f32 = t258 * t1496;
-        let t2796: f32 = t377 * t2500;
-        let t2797: f32 = t372 * t1535;
-        let t2798: f32 = t483 * t2515;
-        let t2799: f32 = t480 * t1574;
-        let t2800: f32 = t588 * t2530;
-        let t2801: f32 = t586 * t1613;
-        let t2802: f32 = t2104 + t2791;
-        let t2803: f32 = t2793 + t2794;
-        let t2804: f32 = t2795 + t2800;
-        let t2805: f32 = t2802 + t2803;
-        let t2806: f32 = t2801 + t2804;
-        let t2807: f32 = t2805 + t2806;
-        let t2808: f32 = t2790 + t2792;
-        let t2809: f32 = t2796 + t2797;
-        let t2810: f32 = t2798 + t2799;
-        let t2811: f32 = t2808 + t2809;
-        let t2812: f32 = t2810 + t2811;
-        let t2813: f32 = t2807 - t2812;
-        let t2814: f32 = t41 * t2553;
-        let t2815: f32 = t29 * t1663;
-        let t2816: f32 = t149 * t2564;
-        let t2817: f32 = t146 * t1703;
-        let t2818: f32 = t263 * t2575;
-        let t2819: f32 = t258 * t1743;
-        let t2820: f32 = t377 * t2586;
-        let t2821: f32 = t372 * t1783;
-        let t2822: f32 = t483 * t2597;
-        let t2823: f32 = t480 * t1823;
-        let t2824: f32 = t588 * t2608;
-        let t2825: f32 = t586 * t1863;
-        let t2826: f32 = t2688 + t2815;
-        let t2827: f32 = t2817 + t2818;
-        let t2828: f32 = t2821 + t2823;
-        let t2829: f32 = t2826 + t2827;
-        let t2830: f32 = t2824 + t2828;
-        let t2831: f32 = t2829 + t2830;
-        let t2832: f32 = t2814 + t2816;
-        let t2833: f32 = t2819 + t2820;
-        let t2834: f32 = t2822 + t2825;
-        let t2835: f32 = t2832 + t2833;
-        let t2836: f32 = t2834 + t2835;
-        let t2837: f32 = t2831 - t2836;
-        let t2838: f32 = t41 * t2630;
-        let t2839: f32 = t29 * t1912;
-        let t2840: f32 = t149 * t2641;
-        let t2841: f32 = t146 * t1947;
-        let t2842: f32 = t263 * t2652;
-        let t2843: f32 = t258 * t1982;
-        let t2844: f32 = t377 * t2663;
-        let t2845: f32 = t372 * t2017;
-        let t2846: f32 = t483 * t2674;
-        let t2847: f32 = t480 * t2052;
-        let t2848: f32 = t588 * t2685;
-        let t2849: f32 = t586 * t2087;
-        let t2850: f32 = t2839 + t2841;
-        let t2851: f32 = t2842 + t2845;
-        let t2852: f32 = t2847 + t2848;
-        let t2853: f32 = t2850 + t2851;
-        let t2854: f32 = t2852 + t2853;
-        let t2855: f32 = t2838 + t2840;
-        let t2856: f32 = t2843 + t2844;
-        let t2857: f32 = t2846 + t2849;
-        let t2858: f32 = t2855 + t2856;
-        let t2859: f32 = t2857 + t2858;
-        let t2860: f32 = t2854 - t2859;
-        let t2861: f32 = t2151 + t2199;
-        let t2862: f32 = t2119 + t2135;
-        let t2863: f32 = t2167 + t2183;
-        let t2864: f32 = t2862 + t2863;
-        let t2865: f32 = t2861 - t2864;
-        let t2866: f32 = t2865 * 0.003;
-        let t2867: f32 = t2128 + t2866;
-        let t2868: f32 = t2144 + t2160;
-        let t2869: f32 = t2867 + t2868;
-        let t2870: f32 = t2208 + t2869;
-        let t2871: f32 = t2176 + t2192;
-        let t2872: f32 = t2870 - t2871;
-        let t2873: f32 = t2235 + t2250;
-        let t2874: f32 = t2279 + t2294;
-        let t2875: f32 = t2873 + t2874;
-        let t2876: f32 = t2265 + t2309;
-        let t2877: f32 = t2875 - t2876;
-        let t2878: f32 = t2877 * 0.003;
-        let t2879: f32 = t1880 + t2878;
-        let t2880: f32 = t2244 + t2259;
-        let t2881: f32 = t2274 + t2288;
-        let t2882: f32 = t2303 + t2318;
-        let t2883: f32 = t2879 + t2880;
-        let t2884: f32 = t2881 + t2882;
-        let t2885: f32 = t2883 + t2884;
-        let t2886: f32 = t2370 + t2413;
-        let t2887: f32 = t2342 + t2356;
-        let t2888: f32 = t2385 + t2399;
-        let t2889: f32 = t2887 + t2888;
-        let t2890: f32 = t2886 - t2889;
-        let t2891: f32 = t2890 * 0.003;
-        let t2892: f32 = t2104 + t2891;
-        let t2893: f32 = t2351 + t2365;
-        let t2894: f32 = t2379 + t2394;
-        let t2895: f32 = t2408 + t2422;
-        let t2896: f32 = t2892 + t2893;
-        let t2897: f32 = t2894 + t2895;
-        let t2898: f32 = t2896 + t2897;
-        let t2899: f32 = t2444 + t2459;
-        let t2900: f32 = t2474 + t2489;
-        let t2901: f32 = t2504 + t2519;
-        let t2902: f32 = t2899 + t2900;
-        let t2903: f32 = t2901 + t2902;
-        let t2904: f32 = t2903 * 0.003;
-        let t2905: f32 = t2453 + t2904;
-        let t2906: f32 = t2468 + t2483;
-        let t2907: f32 = t2498 + t2513;
-        let t2908: f32 = t2528 + 12.0;
-        let t2909: f32 = t2905 + t2906;
-        let t2910: f32 = t2907 + t2908;
-        let t2911: f32 = t2909 + t2910;
-        let t2912: f32 = t1550 + t1589;
-        let t2913: f32 = t1396 + t1434;
-        let t2914: f32 = t1472 + t1511;
-        let t2915: f32 = t2913 + t2914;
-        let t2916: f32 = t2912 + t2915;
-        let t2917: f32 = t2916 * 0.003;
-        let t2918: f32 = t2552 + t2917;
-        let t2919: f32 = t2563 + t2574;
-        let t2920: f32 = t2585 + t2596;
-        let t2921: f32 = t2918 + t2919;
-        let t2922: f32 = t2607 + t2920;
-        let t2923: f32 = t2921 + t2922;
-        let t2924: f32 = t1421 + t1459;
-        let t2925: f32 = t1498 + t1537;
-        let t2926: f32 = t2924 - t2925;
-        let t2927: f32 = t1576 + t1615;
-        let t2928: f32 = t2926 - t2927;
-        let t2929: f32 = t2928 * 0.003;
-        let t2930: f32 = t2629 + t2929;
-        let t2931: f32 = t2640 + t2651;
-        let t2932: f32 = t2662 + t2673;
-        let t2933: f32 = t2930 + t2931;
-        let t2934: f32 = t2684 + t2932;
-        let t2935: f32 = t2933 + t2934;
-        let t2936: f32 = t294 + t619;
-        let t2937: f32 = t73 + t181;
-        let t2938: f32 = t408 + t514;
-        let t2939: f32 = t2937 + t2938;
-        let t2940: f32 = t2936 - t2939;
-        let t2941: f32 = t2940 * 0.003;
-        let t2942: f32 = t118 + t2941;
-        let t2943: f32 = t226 + t339;
-        let t2944: f32 = t453 + t559;
-        let t2945: f32 = t2942 + t2943;
-        let t2946: f32 = t664 + t2944;
-        let t2947: f32 = t2945 + t2946;
-        let t2948: f32 = t2947 - t1880;
-        let t2949: f32 = t711 + t769;
-        let t2950: f32 = t881 + t936;
-        let t2951: f32 = t2949 + t2950;
-        let t2952: f32 = t826 + t991;
-        let t2953: f32 = t2951 - t2952;
-        let t2954: f32 = t2953 * 0.003;
-        let t2955: f32 = t746 + t2954;
-        let t2956: f32 = t804 + t916;
-        let t2957: f32 = t2955 + t2956;
-        let t2958: f32 = t971 + t2957;
-        let t2959: f32 = t861 + t1026;
-        let t2960: f32 = t2958 - t2959;
-        let t2961: f32 = t1172 + t1328;
-        let t2962: f32 = t1068 + t1120;
-        let t2963: f32 = t1224 + t1276;
-        let t2964: f32 = t2962 + t2963;
-        let t2965: f32 = t2961 - t2964;
-        let t2966: f32 = t2965 * 0.003;
-        let t2967: f32 = t2688 + t2966;
-        let t2968: f32 = t1099 + t1151;
-        let t2969: f32 = t1203 + t1359;
-        let t2970: f32 = t2967 + t2968;
-        let t2971: f32 = t2969 + t2970;
-        let t2972: f32 = t1255 + t1307;
-        let t2973: f32 = t2971 - t2972;
-        let t2974: f32 = t1417 + t1455;
-        let t2975: f32 = t1493 + t1532;
-        let t2976: f32 = t1571 + t1610;
-        let t2977: f32 = t2974 + t2975;
-        let t2978: f32 = t2917 + t2976;
-        let t2979: f32 = t2977 + t2978;
-        let t2980: f32 = t1642 + t1682;
-        let t2981: f32 = t1722 + t1762;
-        let t2982: f32 = t1802 + t1842;
-        let t2983: f32 = t2980 + t2981;
-        let t2984: f32 = t2982 + t2983;
-        let t2985: f32 = t2984 * 0.003;
-        let t2986: f32 = t1661 + t2985;
-        let t2987: f32 = t1701 + t1741;
-        let t2988: f32 = t1781 + t1821;
-        let t2989: f32 = t1861 + 12.0;
-        let t2990: f32 = t2986 + t2987;
-        let t2991: f32 = t2988 + t2989;
-        let t2992: f32 = t2990 + t2991;
-        let t2993: f32 = t1667 + t1707;
-        let t2994: f32 = t1747 + t1787;
-        let t2995: f32 = t2993 - t2994;
-        let t2996: f32 = t1827 + t1867;
-        let t2997: f32 = t2995 - t2996;
-        let t2998: f32 = t2997 * 0.003;
-        let t2999: f32 = t1911 + t2998;
-        let t3000: f32 = t1946 + t1981;
-        let t3001: f32 = t2016 + t2051;
-        let t3002: f32 = t2999 + t3000;
-        (
-            t2021,
-            t2030,
-            t2056,
-            t2065,
-            t2086,
-            t2091,
-            t2100,
-            t2104,
-            t2116,
-            t2230,
-            t2337,
-            t2442,
-            t2544,
-            t2621,
-            t2688,
-            t2700,
-            t2730,
-            t2758,
-            t2789,
-            t2813,
-            t2837,
-            t2860,
-            t2872,
-            t2885,
-            t2898,
-            t2911,
-            t2923,
-            t2929,
-            t2935,
-            t2948,
-            t2960,
-            t2973,
-            t2979,
-            t2992,
-            t2998,
-            t3001,
-            t3002,
-        )
-    };
-    let (
-        t3004,
-        t3017,
-        t3030,
-        t3042,
-        t3048,
-        t3054,
-        t3067,
-        t3068,
-        t3069,
-        t3070,
-        t3071,
-        t3072,
-        t3073,
-    ) = {
-        let t3003: f32 = t2086 + t3001;
-        let t3004: f32 = t3002 + t3003;
-        let t3005: f32 = t459 + t565;
-        let t3006: f32 = t124 + t232;
-        let t3007: f32 = t346 + t671;
-        let t3008: f32 = t3006 + t3007;
-        let t3009: f32 = t3005 - t3008;
-        let t3010: f32 = t3009 * 0.003;
-        let t3011: f32 = t135 + t3010;
-        let t3012: f32 = t243 + t357;
-        let t3013: f32 = t3011 + t3012;
-        let t3014: f32 = t682 + t3013;
-        let t3015: f32 = t470 + t2104;
-        let t3016: f32 = t576 + t3015;
-        let t3017: f32 = t3014 - t3016;
-        let t3018: f32 = t751 + t809;
-        let t3019: f32 = t865 + t1030;
-        let t3020: f32 = t3018 + t3019;
-        let t3021: f32 = t920 + t975;
-        let t3022: f32 = t3020 - t3021;
-        let t3023: f32 = t3022 * 0.003;
-        let t3024: f32 = t760 + t3023;
-        let t3025: f32 = t818 + t874;
-        let t3026: f32 = t929 + t984;
-        let t3027: f32 = t3024 + t3025;
-        let t3028: f32 = t1039 + t3026;
-        let t3029: f32 = t3027 + t3028;
-        let t3030: f32 = t3029 - t2688;
-        let t3031: f32 = t1259 + t1311;
-        let t3032: f32 = t1103 + t1155;
-        let t3033: f32 = t1207 + t1363;
-        let t3034: f32 = t3032 + t3033;
-        let t3035: f32 = t3031 - t3034;
-        let t3036: f32 = t3035 * 0.003;
-        let t3037: f32 = t1112 + t3036;
-        let t3038: f32 = t1164 + t1216;
-        let t3039: f32 = t1268 + t1320;
-        let t3040: f32 = t3037 + t3038;
-        let t3041: f32 = t1372 + t3039;
-        let t3042: f32 = t3040 + t3041;
-        let t3043: f32 = t1430 + t1468;
-        let t3044: f32 = t1507 + t1546;
-        let t3045: f32 = t1585 + t1624;
-        let t3046: f32 = t3043 + t3044;
-        let t3047: f32 = t2929 + t3045;
-        let t3048: f32 = t3046 + t3047;
-        let t3049: f32 = t1676 + t1716;
-        let t3050: f32 = t1756 + t1796;
-        let t3051: f32 = t1836 + t1876;
-        let t3052: f32 = t3049 + t3050;
-        let t3053: f32 = t2998 + t3051;
-        let t3054: f32 = t3052 + t3053;
-        let t3055: f32 = t1916 + t1951;
-        let t3056: f32 = t1986 + t2021;
-        let t3057: f32 = t2056 + t2091;
-        let t3058: f32 = t3055 + t3056;
-        let t3059: f32 = t3057 + t3058;
-        let t3060: f32 = t3059 * 0.003;
-        let t3061: f32 = t1925 + t3060;
-        let t3062: f32 = t1960 + t1995;
-        let t3063: f32 = t2030 + t2065;
-        let t3064: f32 = t2100 + 12.0;
-        let t3065: f32 = t3061 + t3062;
-        let t3066: f32 = t3063 + t3064;
-        let t3067: f32 = t3065 + t3066;
-        let t3068: f32 = t50 * t59;
-        let t3069: f32 = t158 * t167;
-        let t3070: f32 = t272 * t281;
-        let t3071: f32 = t386 * t395;
-        let t3072: f32 = t492 * t501;
-        let t3073: f32 = t597 * t606;
-        (
-            t3004,
-            t3017,
-            t3030,
-            t3042,
-            t3048,
-            t3054,
-            t3067,
-            t3068,
-            t3069,
-            t3070,
-            t3071,
-            t3072,
-            t3073,
         )
     };
     (
         [
-            [t705, t1062, t1395, t1638, t1892, t2116],
-            [t2230, t2337, t2442, t2544, t2621, t2700],
-            [t2730, t2758, t2789, t2813, t2837, t2860],
-            [t2872, t2885, t2898, t2911, t2923, t2935],
-            [t2948, t2960, t2973, t2979, t2992, t3004],
-            [t3017, t3030, t3042, t3048, t3054, t3067],
+            [t809, t997, t1028, t1034, t1043, t1052],
+            [t997, t1349, t1428, t1434, t1439, t1447],
+            [t1028, t1428, t1516, t1522, t1528, t1552],
+            [t1034, t1434, t1522, t1558, t1563, t1568],
+            [t1043, t1439, t1528, t1563, t1574, t1579],
+            [t1052, t1447, t1552, t1568, t1579, t1585],
         ],
-        [t3068, t3069, t3070, t3071, t3072, t3073],
+        [t1586, t1587, t1588, t1589, t1590, t1591],
     )
 }
 /// Task-space bias `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal, gravity.
@@ -11452,7 +9070,7 @@ pub fn task_bias(pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 6]) {
 /// Actuators in leg order 1..6; `q_i = |B_i - A_i| + o_i`, the encoder's reading, `B_i = C + R p_i`; a positive force extends the leg.
 /// `M_x (ω̇; a_C) = J⁻ᵀ Γ - h`, solved by an unrolled `LDLᵀ` (no pivoting: `M_x` is symmetric positive definite).
 /// The robot's parameters are folded in as constants.
-/// The last result holds the U joints' sines for a singularity check.
+/// The last result holds the U joints' sines and the solve's pivots for a singularity check.
 ///
 /// # Arguments
 ///
@@ -11463,15 +9081,15 @@ pub fn task_bias(pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 6]) {
 /// # Returns
 ///
 /// - `accel`: classical platform acceleration `(ω̇; a_C)` (rad/s², m/s²), base frame
-/// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
+/// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
-/// Operations: 2388 mul, 18 div, 1697 add, 52 neg, 3 sin_cos, 12 sqrt (chapter convention: 2406m + 1697a).
+/// Operations: 2091 mul, 29 div, 1503 add, 39 neg, 3 sin_cos, 12 sqrt (chapter convention: 2120m + 1503a).
 #[inline]
 pub fn forward_dynamics(
     pose: &[f32; 6],
     twist: &[f32; 6],
     forces: &[f32; 6],
-) -> ([f32; 6], [f32; 6]) {
+) -> ([f32; 6], [f32; 12]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [wx, wy, wz, vx, vy, vz] = *twist;
     let [g1, g2, g3, g4, g5, g6] = *forces;
@@ -11486,292 +9104,245 @@ pub fn forward_dynamics(
         t10,
         t14,
         t17,
-        t18,
+        t21,
+        t24,
+        t27,
         t29,
-        t31,
-        t35,
-        t38,
-        t41,
-        t43,
-        t50,
-        t51,
-        t52,
-        t57,
+        t34,
+        t36,
+        t39,
+        t42,
+        t44,
+        t45,
         t59,
         t60,
-        t64,
-        t65,
+        t61,
+        t62,
         t66,
-        t72,
-        t73,
-        t74,
-        t76,
+        t67,
+        t79,
+        t80,
+        t82,
+        t83,
+        t85,
         t86,
-        t89,
-        t91,
-        t93,
-        t98,
+        t96,
         t99,
-        t108,
-        t118,
-        t121,
-        t125,
+        t103,
+        t114,
+        t115,
         t127,
-        t130,
-        t136,
-        t141,
-        t142,
-        t148,
-        t150,
-        t151,
-        t153,
+        t129,
+        t139,
+        t152,
+        t154,
+        t156,
+        t157,
+        t159,
         t160,
-        t161,
         t162,
-        t167,
-        t169,
+        t165,
+        t168,
         t170,
-        t174,
-        t175,
-        t176,
-        t182,
-        t183,
+        t171,
         t184,
+        t185,
         t186,
-        t196,
-        t199,
-        t201,
-        t203,
+        t187,
+        t191,
+        t192,
+        t204,
+        t205,
+        t207,
         t208,
-        t209,
-        t218,
+        t210,
+        t211,
+        t221,
+        t224,
         t228,
-        t231,
-        t235,
-        t237,
+        t239,
         t240,
-        t246,
-        t253,
+        t252,
         t254,
-        t262,
         t264,
-        t267,
-        t269,
-        t276,
         t277,
-        t278,
+        t279,
         t283,
-        t285,
         t286,
-        t290,
+        t288,
         t291,
         t293,
-        t297,
-        t298,
+        t296,
         t299,
         t301,
         t302,
-        t304,
-        t307,
-        t310,
-        t311,
-        t330,
-        t340,
-        t343,
-        t345,
-        t348,
-        t349,
-        t351,
-        t354,
-        t360,
-        t366,
-        t367,
-        t375,
-        t377,
-        t380,
-        t382,
-        t389,
-        t390,
-        t391,
-        t396,
-        t398,
-        t399,
-        t403,
-        t404,
-        t406,
+        t315,
+        t316,
+        t317,
+        t318,
+        t322,
+        t323,
+        t335,
+        t336,
+        t338,
+        t339,
+        t341,
+        t342,
+        t352,
+        t355,
+        t359,
+        t370,
+        t371,
+        t383,
+        t385,
+        t395,
+        t408,
         t410,
-        t411,
-        t412,
         t414,
+        t417,
+        t419,
+        t422,
         t424,
         t427,
-        t429,
-        t431,
+        t430,
         t432,
-        t436,
-        t437,
+        t433,
         t446,
-        t456,
-        t459,
-        t462,
-        t463,
-        t465,
-        t471,
-        t474,
-        t478,
-        t479,
-        t484,
+        t447,
+        t448,
+        t449,
+        t453,
+        t454,
+        t466,
+        t467,
+        t469,
+        t470,
+        t472,
+        t473,
+        t483,
         t486,
-        t487,
-        t489,
-        t496,
-        t497,
-        t498,
-        t503,
-        t505,
-        t506,
-        t510,
-        t511,
-        t513,
-        t517,
-        t518,
-        t519,
-        t521,
-        t531,
-        t534,
-        t536,
-        t538,
+        t490,
+        t501,
+        t502,
+        t514,
+        t516,
+        t526,
         t539,
+        t541,
         t543,
         t544,
-        t553,
-        t563,
-        t566,
-        t569,
+        t546,
+        t547,
+        t549,
+        t552,
+        t555,
+        t557,
+        t558,
         t570,
+        t571,
         t572,
+        t573,
+        t577,
         t578,
-        t581,
-        t585,
-        t586,
+        t590,
         t591,
-        t592,
         t593,
-        t595,
-        t602,
-        t603,
-        t604,
-        t609,
-        t611,
-        t612,
-        t616,
-        t617,
-        t619,
-        t623,
-        t624,
+        t594,
+        t596,
+        t597,
+        t607,
+        t610,
+        t614,
         t625,
-        t627,
-        t628,
-        t630,
-        t631,
-        t633,
-        t636,
-        t637,
-        t656,
-        t666,
-        t669,
+        t626,
+        t638,
+        t640,
+        t650,
+        t663,
+        t665,
+        t667,
+        t668,
+        t670,
         t671,
-        t674,
+        t672,
         t675,
-        t677,
+        t678,
         t680,
-        t686,
-        t690,
-        t710,
-        t711,
+        t681,
+        t693,
+        t694,
+        t695,
+        t696,
+        t700,
+        t701,
         t713,
         t714,
+        t716,
         t717,
-        t721,
-        t725,
-        t728,
+        t719,
+        t720,
         t730,
-        t734,
-        t735,
-        t738,
-        t742,
-        t746,
+        t733,
+        t737,
+        t748,
         t749,
-        t751,
-        t755,
-        t756,
-        t758,
+        t761,
         t763,
-        t767,
-        t770,
-        t772,
-        t776,
-        t777,
-        t779,
-        t784,
-        t785,
-        t791,
-        t793,
-        t797,
-        t798,
-        t800,
-        t805,
-        t806,
+        t773,
+        t786,
+        t788,
+        t790,
+        t810,
+        t811,
         t812,
-        t814,
         t818,
-        t819,
         t821,
+        t824,
         t826,
-        t830,
-        t833,
+        t832,
         t835,
-        t856,
-        t857,
-        t858,
-        t859,
+        t837,
+        t840,
+        t846,
+        t849,
+        t852,
+        t854,
         t860,
-        t862,
-        t866,
-        t867,
-        t870,
+        t863,
+        t865,
+        t868,
+        t874,
         t877,
+        t880,
         t882,
-        t889,
-        t892,
-        t895,
-        t899,
+        t888,
+        t891,
+        t893,
+        t896,
         t902,
-        t903,
-        t904,
-        t913,
+        t905,
+        t908,
+        t910,
         t916,
-        t920,
+        t919,
         t921,
         t924,
-        t931,
+        t930,
+        t933,
         t936,
-        t943,
-        t946,
+        t938,
+        t944,
+        t947,
         t949,
-        t953,
-        t956,
-        t957,
+        t952,
         t958,
-        t967,
-        t970,
-        t973,
-        t974,
+        t961,
+        t964,
+        t966,
+        t972,
+        t975,
         t977,
-        t983,
-        t989,
-        t994,
-        t996,
+        t998,
         t999,
         t1000,
         t1001,
@@ -11792,991 +9363,991 @@ pub fn forward_dynamics(
         let t15: f32 = t10 * 0.25;
         let t16: f32 = t14 * 0.15;
         let t17: f32 = t15 + t16;
-        let t18: f32 = zc + t17;
-        let t19: f32 = t18 * 0.17503293;
-        let t20: f32 = -t19;
-        let t21: f32 = t18 * 0.9845626;
-        let t22: f32 = -t21;
-        let t23: f32 = t22 * t22;
-        let t24: f32 = t20 * t20;
-        let t25: f32 = t1 * t6;
-        let t26: f32 = t1 * t5;
-        let t27: f32 = t25 * 0.25;
-        let t28: f32 = t26 * 0.15;
-        let t29: f32 = t27 - t28;
-        let t30: f32 = xc + t29;
-        let t31: f32 = t30 - 0.45;
-        let t32: f32 = t4 * t5;
-        let t33: f32 = t0 * t3;
-        let t34: f32 = t6 * t33;
-        let t35: f32 = t32 + t34;
-        let t36: f32 = t4 * t6;
-        let t37: f32 = t5 * t33;
-        let t38: f32 = t36 - t37;
-        let t39: f32 = t35 * 0.25;
-        let t40: f32 = t38 * 0.15;
-        let t41: f32 = t39 + t40;
-        let t42: f32 = yc + t41;
-        let t43: f32 = t42 - 0.08;
-        let t44: f32 = t31 * 0.9845626;
-        let t45: f32 = t43 * 0.17503293;
-        let t46: f32 = t44 + t45;
-        let t47: f32 = t46 * t46;
-        let t48: f32 = t23 + t24;
-        let t49: f32 = t47 + t48;
-        let t50: f32 = sqrt(t49);
-        let t51: f32 = 1.0 / t50;
-        let t52: f32 = t20 * t51;
-        let t53: f32 = t31 * t31;
-        let t54: f32 = t43 * t43;
-        let t55: f32 = t18 * t18;
-        let t56: f32 = t53 + t54;
-        let t57: f32 = t55 + t56;
-        let t58: f32 = sqrt(t57);
-        let t59: f32 = 1.0 / t58;
-        let t60: f32 = t59 * t59;
-        let t61: f32 = t31 * 0.17503293;
-        let t62: f32 = t43 * 0.9845626;
-        let t63: f32 = t61 - t62;
-        let t64: f32 = t51 * t63;
-        let t65: f32 = t64 * t64;
-        let t66: f32 = t46 * t51;
-        let t67: f32 = t41 * t66;
-        let t68: f32 = t17 * t52;
-        let t69: f32 = t67 - t68;
-        let t70: f32 = -t69;
-        let t71: f32 = t52 * t60;
-        let t72: f32 = t65 * t71;
-        let t73: f32 = t70 * t72;
-        let t74: f32 = t43 * t59;
-        let t75: f32 = t17 * t74;
-        let t76: f32 = t18 * t59;
-        let t77: f32 = t41 * t76;
-        let t78: f32 = t75 - t77;
-        let t79: f32 = t74 * t78;
-        let t80: f32 = t59 * t68;
-        let t81: f32 = t59 * t67;
-        let t82: f32 = t80 - t81;
-        let t83: f32 = t69 * 0.3;
-        let t84: f32 = t82 * 0.295;
-        let t85: f32 = t83 + t84;
-        let t86: f32 = t52 * t59;
-        let t87: f32 = t85 * t86;
-        let t88: f32 = t79 + t87;
-        let t89: f32 = t31 * t59;
-        let t90: f32 = t66 * t89;
-        let t91: f32 = t22 * t51;
-        let t92: f32 = t76 * t91;
-        let t93: f32 = t90 - t92;
-        let t94: f32 = t17 * t59;
-        let t95: f32 = t93 * t94;
-        let t96: f32 = t74 * t91;
-        let t97: f32 = t52 * t89;
-        let t98: f32 = t96 - t97;
-        let t99: f32 = t41 * t59;
-        let t100: f32 = t98 * t99;
-        let t101: f32 = t95 - t100;
-        let t102: f32 = t41 * t98;
-        let t103: f32 = t17 * t93;
-        let t104: f32 = t102 - t103;
-        let t105: f32 = t101 * 0.295;
-        let t106: f32 = t104 * 0.3;
-        let t107: f32 = t105 + t106;
-        let t108: f32 = t59 * t93;
-        let t109: f32 = t107 * t108;
-        let t110: f32 = t101 * 0.3;
-        let t111: f32 = t104 + t110;
-        let t112: f32 = t93 * t111;
-        let t113: f32 = t82 * 0.3;
-        let t114: f32 = t69 + t113;
-        let t115: f32 = t52 * t114;
-        let t116: f32 = t112 + t115;
-        let t117: f32 = t109 - t116;
-        let t118: f32 = t88 + t117;
-        let t119: f32 = t73 * 0.003;
-        let t120: f32 = t118 + t119;
-        let t121: f32 = -t120;
-        let t122: f32 = t17 * t121;
-        let t123: f32 = t60 * t66;
-        let t124: f32 = t65 * t123;
-        let t125: f32 = t70 * t124;
-        let t126: f32 = t76 * t78;
-        let t127: f32 = t59 * t66;
-        let t128: f32 = t85 * t127;
-        let t129: f32 = t126 + t128;
-        let t130: f32 = t59 * t98;
-        let t131: f32 = t107 * t130;
-        let t132: f32 = t98 * t111;
-        let t133: f32 = t66 * t114;
-        let t134: f32 = t132 + t133;
-        let t135: f32 = t131 - t134;
-        let t136: f32 = t129 + t135;
-        let t137: f32 = t125 * 0.003;
-        let t138: f32 = t136 + t137;
-        let t139: f32 = -t138;
-        let t140: f32 = t41 * t139;
-        let t141: f32 = t15 - t16;
-        let t142: f32 = zc + t141;
-        let t143: f32 = t142 * 0.17503293;
-        let t144: f32 = t142 * 0.9845626;
-        let t145: f32 = -t144;
-        let t146: f32 = t145 * t145;
-        let t147: f32 = t143 * t143;
-        let t148: f32 = t27 + t28;
-        let t149: f32 = xc + t148;
-        let t150: f32 = t149 - 0.45;
-        let t151: f32 = t39 - t40;
-        let t152: f32 = yc + t151;
-        let t153: f32 = t152 + 0.08;
-        let t154: f32 = t150 * 0.9845626;
-        let t155: f32 = t153 * 0.17503293;
-        let t156: f32 = t154 - t155;
-        let t157: f32 = t156 * t156;
-        let t158: f32 = t146 + t147;
-        let t159: f32 = t157 + t158;
-        let t160: f32 = sqrt(t159);
-        let t161: f32 = 1.0 / t160;
-        let t162: f32 = t143 * t161;
-        let t163: f32 = t150 * t150;
-        let t164: f32 = t153 * t153;
-        let t165: f32 = t142 * t142;
-        let t166: f32 = t163 + t164;
-        let t167: f32 = t165 + t166;
-        let t168: f32 = sqrt(t167);
-        let t169: f32 = 1.0 / t168;
-        let t170: f32 = t169 * t169;
-        let t171: f32 = t150 * 0.17503293;
-        let t172: f32 = t153 * 0.9845626;
-        let t173: f32 = t171 + t172;
-        let t174: f32 = t161 * t173;
-        let t175: f32 = t174 * t174;
-        let t176: f32 = t156 * t161;
-        let t177: f32 = t151 * t176;
-        let t178: f32 = t141 * t162;
-        let t179: f32 = t177 - t178;
-        let t180: f32 = -t179;
-        let t181: f32 = t162 * t170;
-        let t182: f32 = t175 * t181;
-        let t183: f32 = t180 * t182;
-        let t184: f32 = t153 * t169;
-        let t185: f32 = t141 * t184;
-        let t186: f32 = t142 * t169;
-        let t187: f32 = t151 * t186;
-        let t188: f32 = t185 - t187;
-        let t189: f32 = t184 * t188;
-        let t190: f32 = t169 * t178;
-        let t191: f32 = t169 * t177;
-        let t192: f32 = t190 - t191;
-        let t193: f32 = t179 * 0.3;
-        let t194: f32 = t192 * 0.295;
-        let t195: f32 = t193 + t194;
-        let t196: f32 = t162 * t169;
-        let t197: f32 = t195 * t196;
-        let t198: f32 = t189 + t197;
-        let t199: f32 = t150 * t169;
-        let t200: f32 = t176 * t199;
-        let t201: f32 = t145 * t161;
-        let t202: f32 = t186 * t201;
-        let t203: f32 = t200 - t202;
-        let t204: f32 = t141 * t169;
-        let t205: f32 = t203 * t204;
-        let t206: f32 = t184 * t201;
-        let t207: f32 = t162 * t199;
-        let t208: f32 = t206 - t207;
-        let t209: f32 = t151 * t169;
-        let t210: f32 = t208 * t209;
-        let t211: f32 = t205 - t210;
-        let t212: f32 = t151 * t208;
-        let t213: f32 = t141 * t203;
+        let t18: f32 = t4 * t5;
+        let t19: f32 = t0 * t3;
+        let t20: f32 = t6 * t19;
+        let t21: f32 = t18 + t20;
+        let t22: f32 = t4 * t6;
+        let t23: f32 = t5 * t19;
+        let t24: f32 = t22 - t23;
+        let t25: f32 = t21 * 0.25;
+        let t26: f32 = t24 * 0.15;
+        let t27: f32 = t25 + t26;
+        let t28: f32 = yc + t27;
+        let t29: f32 = t28 - 0.08;
+        let t30: f32 = t1 * t6;
+        let t31: f32 = t1 * t5;
+        let t32: f32 = t30 * 0.25;
+        let t33: f32 = t31 * 0.15;
+        let t34: f32 = t32 - t33;
+        let t35: f32 = xc + t34;
+        let t36: f32 = t35 - 0.45;
+        let t37: f32 = t36 * t36;
+        let t38: f32 = t29 * t29;
+        let t39: f32 = zc + t17;
+        let t40: f32 = t39 * t39;
+        let t41: f32 = t37 + t38;
+        let t42: f32 = t40 + t41;
+        let t43: f32 = sqrt(t42);
+        let t44: f32 = 1.0 / t43;
+        let t45: f32 = t29 * t44;
+        let t46: f32 = t45 * t45;
+        let t47: f32 = t39 * 0.17503293;
+        let t48: f32 = -t47;
+        let t49: f32 = t39 * 0.9845626;
+        let t50: f32 = -t49;
+        let t51: f32 = t50 * t50;
+        let t52: f32 = t48 * t48;
+        let t53: f32 = t36 * 0.9845626;
+        let t54: f32 = t29 * 0.17503293;
+        let t55: f32 = t53 + t54;
+        let t56: f32 = t55 * t55;
+        let t57: f32 = t51 + t52;
+        let t58: f32 = t56 + t57;
+        let t59: f32 = sqrt(t58);
+        let t60: f32 = 1.0 / t59;
+        let t61: f32 = t48 * t60;
+        let t62: f32 = t44 * t61;
+        let t63: f32 = t36 * 0.17503293;
+        let t64: f32 = t29 * 0.9845626;
+        let t65: f32 = t63 - t64;
+        let t66: f32 = t60 * t65;
+        let t67: f32 = t66 * t66;
+        let t68: f32 = t62 * t67;
+        let t69: f32 = t61 * 0.3;
+        let t70: f32 = t62 * 0.295;
+        let t71: f32 = t68 * 0.003;
+        let t72: f32 = t70 + t71;
+        let t73: f32 = t69 - t72;
+        let t74: f32 = t44 * t73;
+        let t75: f32 = t62 * 0.3;
+        let t76: f32 = t74 + t75;
+        let t77: f32 = t61 - t76;
+        let t78: f32 = t61 * t77;
+        let t79: f32 = t55 * t60;
+        let t80: f32 = t36 * t44;
+        let t81: f32 = t79 * t80;
+        let t82: f32 = t39 * t44;
+        let t83: f32 = t50 * t60;
+        let t84: f32 = t82 * t83;
+        let t85: f32 = t81 - t84;
+        let t86: f32 = t44 * t85;
+        let t87: f32 = t85 * 0.3;
+        let t88: f32 = t86 * 0.295;
+        let t89: f32 = t87 - t88;
+        let t90: f32 = t44 * t89;
+        let t91: f32 = t86 * 0.3;
+        let t92: f32 = t90 + t91;
+        let t93: f32 = t85 - t92;
+        let t94: f32 = t85 * t93;
+        let t95: f32 = t46 + t78;
+        let t96: f32 = t94 + t95;
+        let t97: f32 = t17 * t96;
+        let t98: f32 = t45 * t82;
+        let t99: f32 = t44 * t44;
+        let t100: f32 = t61 * t79;
+        let t101: f32 = t99 * t100;
+        let t102: f32 = t67 * t101;
+        let t103: f32 = t44 * t79;
+        let t104: f32 = t79 * 0.3;
+        let t105: f32 = t103 * 0.295;
+        let t106: f32 = t104 - t105;
+        let t107: f32 = t44 * t106;
+        let t108: f32 = t103 * 0.3;
+        let t109: f32 = t107 + t108;
+        let t110: f32 = t79 - t109;
+        let t111: f32 = t61 * t110;
+        let t112: f32 = t45 * t83;
+        let t113: f32 = t61 * t80;
+        let t114: f32 = t112 - t113;
+        let t115: f32 = t44 * t114;
+        let t116: f32 = t114 * 0.3;
+        let t117: f32 = t115 * 0.295;
+        let t118: f32 = t116 - t117;
+        let t119: f32 = t44 * t118;
+        let t120: f32 = t115 * 0.3;
+        let t121: f32 = t119 + t120;
+        let t122: f32 = t114 - t121;
+        let t123: f32 = t85 * t122;
+        let t124: f32 = t102 * 0.003;
+        let t125: f32 = t98 + t111;
+        let t126: f32 = t123 + t124;
+        let t127: f32 = t125 + t126;
+        let t128: f32 = t27 * t127;
+        let t129: f32 = t97 - t128;
+        let t130: f32 = t17 * t129;
+        let t131: f32 = t69 - t70;
+        let t132: f32 = t44 * t131;
+        let t133: f32 = t75 + t132;
+        let t134: f32 = t61 - t133;
+        let t135: f32 = t79 * t134;
+        let t136: f32 = t93 * t114;
+        let t137: f32 = t98 + t135;
+        let t138: f32 = t124 + t136;
+        let t139: f32 = t137 + t138;
+        let t140: f32 = t17 * t139;
+        let t141: f32 = t82 * t82;
+        let t142: f32 = t67 * t103;
+        let t143: f32 = t142 * 0.003;
+        let t144: f32 = t105 + t143;
+        let t145: f32 = t104 - t144;
+        let t146: f32 = t44 * t145;
+        let t147: f32 = t108 + t146;
+        let t148: f32 = t79 - t147;
+        let t149: f32 = t79 * t148;
+        let t150: f32 = t114 * t122;
+        let t151: f32 = t141 + t149;
+        let t152: f32 = t150 + t151;
+        let t153: f32 = t27 * t152;
+        let t154: f32 = t140 - t153;
+        let t155: f32 = t27 * t154;
+        let t156: f32 = t15 - t16;
+        let t157: f32 = t25 - t26;
+        let t158: f32 = yc + t157;
+        let t159: f32 = t158 + 0.08;
+        let t160: f32 = t32 + t33;
+        let t161: f32 = xc + t160;
+        let t162: f32 = t161 - 0.45;
+        let t163: f32 = t162 * t162;
+        let t164: f32 = t159 * t159;
+        let t165: f32 = zc + t156;
+        let t166: f32 = t165 * t165;
+        let t167: f32 = t163 + t164;
+        let t168: f32 = t166 + t167;
+        let t169: f32 = sqrt(t168);
+        let t170: f32 = 1.0 / t169;
+        let t171: f32 = t159 * t170;
+        let t172: f32 = t171 * t171;
+        let t173: f32 = t165 * 0.17503293;
+        let t174: f32 = t165 * 0.9845626;
+        let t175: f32 = -t174;
+        let t176: f32 = t175 * t175;
+        let t177: f32 = t173 * t173;
+        let t178: f32 = t162 * 0.9845626;
+        let t179: f32 = t159 * 0.17503293;
+        let t180: f32 = t178 - t179;
+        let t181: f32 = t180 * t180;
+        let t182: f32 = t176 + t177;
+        let t183: f32 = t181 + t182;
+        let t184: f32 = sqrt(t183);
+        let t185: f32 = 1.0 / t184;
+        let t186: f32 = t173 * t185;
+        let t187: f32 = t170 * t186;
+        let t188: f32 = t162 * 0.17503293;
+        let t189: f32 = t159 * 0.9845626;
+        let t190: f32 = t188 + t189;
+        let t191: f32 = t185 * t190;
+        let t192: f32 = t191 * t191;
+        let t193: f32 = t187 * t192;
+        let t194: f32 = t186 * 0.3;
+        let t195: f32 = t187 * 0.295;
+        let t196: f32 = t193 * 0.003;
+        let t197: f32 = t195 + t196;
+        let t198: f32 = t194 - t197;
+        let t199: f32 = t170 * t198;
+        let t200: f32 = t187 * 0.3;
+        let t201: f32 = t199 + t200;
+        let t202: f32 = t186 - t201;
+        let t203: f32 = t186 * t202;
+        let t204: f32 = t180 * t185;
+        let t205: f32 = t162 * t170;
+        let t206: f32 = t204 * t205;
+        let t207: f32 = t165 * t170;
+        let t208: f32 = t175 * t185;
+        let t209: f32 = t207 * t208;
+        let t210: f32 = t206 - t209;
+        let t211: f32 = t170 * t210;
+        let t212: f32 = t210 * 0.3;
+        let t213: f32 = t211 * 0.295;
         let t214: f32 = t212 - t213;
-        let t215: f32 = t211 * 0.295;
-        let t216: f32 = t214 * 0.3;
+        let t215: f32 = t170 * t214;
+        let t216: f32 = t211 * 0.3;
         let t217: f32 = t215 + t216;
-        let t218: f32 = t169 * t203;
-        let t219: f32 = t217 * t218;
-        let t220: f32 = t211 * 0.3;
-        let t221: f32 = t214 + t220;
-        let t222: f32 = t203 * t221;
-        let t223: f32 = t192 * 0.3;
-        let t224: f32 = t179 + t223;
-        let t225: f32 = t162 * t224;
-        let t226: f32 = t222 + t225;
-        let t227: f32 = t219 - t226;
-        let t228: f32 = t198 + t227;
-        let t229: f32 = t183 * 0.003;
-        let t230: f32 = t228 + t229;
-        let t231: f32 = -t230;
-        let t232: f32 = t141 * t231;
-        let t233: f32 = t170 * t176;
-        let t234: f32 = t175 * t233;
-        let t235: f32 = t180 * t234;
-        let t236: f32 = t186 * t188;
-        let t237: f32 = t169 * t176;
-        let t238: f32 = t195 * t237;
-        let t239: f32 = t236 + t238;
-        let t240: f32 = t169 * t208;
-        let t241: f32 = t217 * t240;
-        let t242: f32 = t208 * t221;
-        let t243: f32 = t176 * t224;
-        let t244: f32 = t242 + t243;
-        let t245: f32 = t241 - t244;
-        let t246: f32 = t239 + t245;
-        let t247: f32 = t235 * 0.003;
-        let t248: f32 = t246 + t247;
-        let t249: f32 = -t248;
-        let t250: f32 = t151 * t249;
-        let t251: f32 = t10 * 0.254904;
-        let t252: f32 = t14 * 0.141506;
-        let t253: f32 = t251 - t252;
-        let t254: f32 = zc - t253;
-        let t255: f32 = t254 * 0.76513904;
-        let t256: f32 = -t255;
-        let t257: f32 = t254 * 0.64386505;
-        let t258: f32 = t257 * t257;
-        let t259: f32 = t256 * t256;
-        let t260: f32 = t25 * 0.254904;
-        let t261: f32 = t26 * 0.141506;
-        let t262: f32 = t260 + t261;
-        let t263: f32 = xc + 0.294282;
-        let t264: f32 = t263 - t262;
-        let t265: f32 = t35 * 0.254904;
-        let t266: f32 = t38 * 0.141506;
-        let t267: f32 = t265 - t266;
-        let t268: f32 = t267 + 0.349711;
-        let t269: f32 = yc - t268;
-        let t270: f32 = t264 * 0.64386505;
-        let t271: f32 = t269 * 0.76513904;
-        let t272: f32 = t270 - t271;
-        let t273: f32 = t272 * t272;
-        let t274: f32 = t258 + t259;
-        let t275: f32 = t273 + t274;
-        let t276: f32 = sqrt(t275);
-        let t277: f32 = 1.0 / t276;
-        let t278: f32 = t256 * t277;
-        let t279: f32 = t264 * t264;
-        let t280: f32 = t269 * t269;
-        let t281: f32 = t254 * t254;
-        let t282: f32 = t279 + t280;
-        let t283: f32 = t281 + t282;
-        let t284: f32 = sqrt(t283);
-        let t285: f32 = 1.0 / t284;
-        let t286: f32 = t285 * t285;
-        let t287: f32 = t264 * 0.76513904;
-        let t288: f32 = t269 * 0.64386505;
-        let t289: f32 = t287 + t288;
-        let t290: f32 = t277 * t289;
-        let t291: f32 = t290 * t290;
-        let t292: f32 = t253 * t278;
-        let t293: f32 = t272 * t277;
-        let t294: f32 = t267 * t293;
-        let t295: f32 = t292 + t294;
-        let t296: f32 = t278 * t286;
-        let t297: f32 = t291 * t296;
-        let t298: f32 = t295 * t297;
-        let t299: f32 = t264 * t285;
-        let t300: f32 = t293 * t299;
-        let t301: f32 = t254 * t285;
-        let t302: f32 = t257 * t277;
-        let t303: f32 = t301 * t302;
-        let t304: f32 = t300 + t303;
-        let t305: f32 = t253 * t285;
-        let t306: f32 = t304 * t305;
-        let t307: f32 = t269 * t285;
-        let t308: f32 = t302 * t307;
-        let t309: f32 = t278 * t299;
-        let t310: f32 = t308 - t309;
-        let t311: f32 = t267 * t285;
-        let t312: f32 = t310 * t311;
-        let t313: f32 = t306 + t312;
-        let t314: f32 = t253 * t304;
-        let t315: f32 = t267 * t310;
-        let t316: f32 = t314 + t315;
-        let t317: f32 = t313 * 0.3;
-        let t318: f32 = t317 - t316;
-        let t319: f32 = t304 * t318;
-        let t320: f32 = t285 * t292;
-        let t321: f32 = t285 * t294;
-        let t322: f32 = t320 + t321;
-        let t323: f32 = t322 * 0.3;
-        let t324: f32 = t323 - t295;
-        let t325: f32 = t278 * t324;
-        let t326: f32 = t319 + t325;
-        let t327: f32 = t313 * 0.295;
-        let t328: f32 = t316 * 0.3;
-        let t329: f32 = t327 - t328;
-        let t330: f32 = t285 * t304;
-        let t331: f32 = t329 * t330;
-        let t332: f32 = t326 - t331;
-        let t333: f32 = t253 * t307;
-        let t334: f32 = t267 * t301;
-        let t335: f32 = t333 - t334;
-        let t336: f32 = t307 * t335;
-        let t337: f32 = t295 * 0.3;
-        let t338: f32 = t322 * 0.295;
-        let t339: f32 = t338 - t337;
-        let t340: f32 = t278 * t285;
-        let t341: f32 = t339 * t340;
-        let t342: f32 = t336 + t341;
-        let t343: f32 = t332 - t342;
-        let t344: f32 = t298 * 0.003;
+        let t218: f32 = t210 - t217;
+        let t219: f32 = t210 * t218;
+        let t220: f32 = t172 + t203;
+        let t221: f32 = t219 + t220;
+        let t222: f32 = t156 * t221;
+        let t223: f32 = t171 * t207;
+        let t224: f32 = t170 * t170;
+        let t225: f32 = t186 * t204;
+        let t226: f32 = t224 * t225;
+        let t227: f32 = t192 * t226;
+        let t228: f32 = t170 * t204;
+        let t229: f32 = t204 * 0.3;
+        let t230: f32 = t228 * 0.295;
+        let t231: f32 = t229 - t230;
+        let t232: f32 = t170 * t231;
+        let t233: f32 = t228 * 0.3;
+        let t234: f32 = t232 + t233;
+        let t235: f32 = t204 - t234;
+        let t236: f32 = t186 * t235;
+        let t237: f32 = t171 * t208;
+        let t238: f32 = t186 * t205;
+        let t239: f32 = t237 - t238;
+        let t240: f32 = t170 * t239;
+        let t241: f32 = t239 * 0.3;
+        let t242: f32 = t240 * 0.295;
+        let t243: f32 = t241 - t242;
+        let t244: f32 = t170 * t243;
+        let t245: f32 = t240 * 0.3;
+        let t246: f32 = t244 + t245;
+        let t247: f32 = t239 - t246;
+        let t248: f32 = t210 * t247;
+        let t249: f32 = t227 * 0.003;
+        let t250: f32 = t223 + t236;
+        let t251: f32 = t248 + t249;
+        let t252: f32 = t250 + t251;
+        let t253: f32 = t157 * t252;
+        let t254: f32 = t222 - t253;
+        let t255: f32 = t156 * t254;
+        let t256: f32 = t194 - t195;
+        let t257: f32 = t170 * t256;
+        let t258: f32 = t200 + t257;
+        let t259: f32 = t186 - t258;
+        let t260: f32 = t204 * t259;
+        let t261: f32 = t218 * t239;
+        let t262: f32 = t223 + t260;
+        let t263: f32 = t249 + t261;
+        let t264: f32 = t262 + t263;
+        let t265: f32 = t156 * t264;
+        let t266: f32 = t207 * t207;
+        let t267: f32 = t192 * t228;
+        let t268: f32 = t267 * 0.003;
+        let t269: f32 = t230 + t268;
+        let t270: f32 = t229 - t269;
+        let t271: f32 = t170 * t270;
+        let t272: f32 = t233 + t271;
+        let t273: f32 = t204 - t272;
+        let t274: f32 = t204 * t273;
+        let t275: f32 = t239 * t247;
+        let t276: f32 = t266 + t274;
+        let t277: f32 = t275 + t276;
+        let t278: f32 = t157 * t277;
+        let t279: f32 = t265 - t278;
+        let t280: f32 = t157 * t279;
+        let t281: f32 = t10 * 0.254904;
+        let t282: f32 = t14 * 0.141506;
+        let t283: f32 = t281 - t282;
+        let t284: f32 = t21 * 0.254904;
+        let t285: f32 = t24 * 0.141506;
+        let t286: f32 = t284 - t285;
+        let t287: f32 = t286 + 0.349711;
+        let t288: f32 = yc - t287;
+        let t289: f32 = t30 * 0.254904;
+        let t290: f32 = t31 * 0.141506;
+        let t291: f32 = t289 + t290;
+        let t292: f32 = xc + 0.294282;
+        let t293: f32 = t292 - t291;
+        let t294: f32 = t293 * t293;
+        let t295: f32 = t288 * t288;
+        let t296: f32 = zc - t283;
+        let t297: f32 = t296 * t296;
+        let t298: f32 = t294 + t295;
+        let t299: f32 = t297 + t298;
+        let t300: f32 = sqrt(t299);
+        let t301: f32 = 1.0 / t300;
+        let t302: f32 = t288 * t301;
+        let t303: f32 = t302 * t302;
+        let t304: f32 = t296 * 0.76513904;
+        let t305: f32 = -t304;
+        let t306: f32 = t296 * 0.64386505;
+        let t307: f32 = t306 * t306;
+        let t308: f32 = t305 * t305;
+        let t309: f32 = t293 * 0.64386505;
+        let t310: f32 = t288 * 0.76513904;
+        let t311: f32 = t309 - t310;
+        let t312: f32 = t311 * t311;
+        let t313: f32 = t307 + t308;
+        let t314: f32 = t312 + t313;
+        let t315: f32 = sqrt(t314);
+        let t316: f32 = 1.0 / t315;
+        let t317: f32 = t305 * t316;
+        let t318: f32 = t301 * t317;
+        let t319: f32 = t293 * 0.76513904;
+        let t320: f32 = t288 * 0.64386505;
+        let t321: f32 = t319 + t320;
+        let t322: f32 = t316 * t321;
+        let t323: f32 = t322 * t322;
+        let t324: f32 = t318 * t323;
+        let t325: f32 = t317 * 0.3;
+        let t326: f32 = t318 * 0.295;
+        let t327: f32 = t324 * 0.003;
+        let t328: f32 = t326 + t327;
+        let t329: f32 = t325 - t328;
+        let t330: f32 = t301 * t329;
+        let t331: f32 = t318 * 0.3;
+        let t332: f32 = t330 + t331;
+        let t333: f32 = t317 - t332;
+        let t334: f32 = t317 * t333;
+        let t335: f32 = t311 * t316;
+        let t336: f32 = t293 * t301;
+        let t337: f32 = t335 * t336;
+        let t338: f32 = t296 * t301;
+        let t339: f32 = t306 * t316;
+        let t340: f32 = t338 * t339;
+        let t341: f32 = t337 + t340;
+        let t342: f32 = t301 * t341;
+        let t343: f32 = t341 * 0.3;
+        let t344: f32 = t342 * 0.295;
         let t345: f32 = t343 - t344;
-        let t346: f32 = t253 * t345;
-        let t347: f32 = t286 * t293;
-        let t348: f32 = t291 * t347;
-        let t349: f32 = t295 * t348;
-        let t350: f32 = t301 * t335;
-        let t351: f32 = t285 * t293;
-        let t352: f32 = t339 * t351;
-        let t353: f32 = t350 - t352;
-        let t354: f32 = t285 * t310;
-        let t355: f32 = t329 * t354;
-        let t356: f32 = t310 * t318;
-        let t357: f32 = t293 * t324;
-        let t358: f32 = t356 + t357;
-        let t359: f32 = t355 - t358;
-        let t360: f32 = t353 - t359;
-        let t361: f32 = t349 * 0.003;
+        let t346: f32 = t301 * t345;
+        let t347: f32 = t342 * 0.3;
+        let t348: f32 = t346 + t347;
+        let t349: f32 = t341 - t348;
+        let t350: f32 = t341 * t349;
+        let t351: f32 = t303 + t334;
+        let t352: f32 = t350 + t351;
+        let t353: f32 = t283 * t352;
+        let t354: f32 = t302 * t338;
+        let t355: f32 = t301 * t301;
+        let t356: f32 = t317 * t335;
+        let t357: f32 = t355 * t356;
+        let t358: f32 = t323 * t357;
+        let t359: f32 = t301 * t335;
+        let t360: f32 = t335 * 0.3;
+        let t361: f32 = t359 * 0.295;
         let t362: f32 = t360 - t361;
-        let t363: f32 = t267 * t362;
-        let t364: f32 = t10 * 0.004904;
-        let t365: f32 = t14 * 0.291506;
-        let t366: f32 = t364 + t365;
-        let t367: f32 = zc + t366;
-        let t368: f32 = t367 * 0.9401728;
-        let t369: f32 = -t368;
-        let t370: f32 = t367 * 0.34069794;
-        let t371: f32 = t370 * t370;
-        let t372: f32 = t369 * t369;
-        let t373: f32 = t25 * 0.004904;
-        let t374: f32 = t26 * 0.291506;
-        let t375: f32 = t373 - t374;
-        let t376: f32 = xc + t375;
-        let t377: f32 = t376 + 0.155718;
-        let t378: f32 = t35 * 0.004904;
-        let t379: f32 = t38 * 0.291506;
-        let t380: f32 = t378 + t379;
-        let t381: f32 = yc + t380;
-        let t382: f32 = t381 - 0.429711;
-        let t383: f32 = t377 * 0.34069794;
-        let t384: f32 = t382 * 0.9401728;
-        let t385: f32 = t383 - t384;
-        let t386: f32 = t385 * t385;
-        let t387: f32 = t371 + t372;
-        let t388: f32 = t386 + t387;
-        let t389: f32 = sqrt(t388);
-        let t390: f32 = 1.0 / t389;
-        let t391: f32 = t369 * t390;
-        let t392: f32 = t377 * t377;
-        let t393: f32 = t382 * t382;
-        let t394: f32 = t367 * t367;
-        let t395: f32 = t392 + t393;
-        let t396: f32 = t394 + t395;
-        let t397: f32 = sqrt(t396);
-        let t398: f32 = 1.0 / t397;
-        let t399: f32 = t398 * t398;
-        let t400: f32 = t377 * 0.9401728;
-        let t401: f32 = t382 * 0.34069794;
-        let t402: f32 = t400 + t401;
-        let t403: f32 = t390 * t402;
-        let t404: f32 = t403 * t403;
-        let t405: f32 = t366 * t391;
-        let t406: f32 = t385 * t390;
-        let t407: f32 = t380 * t406;
-        let t408: f32 = t405 + t407;
-        let t409: f32 = t391 * t399;
-        let t410: f32 = t404 * t409;
-        let t411: f32 = t408 * t410;
-        let t412: f32 = t382 * t398;
-        let t413: f32 = t366 * t412;
-        let t414: f32 = t367 * t398;
-        let t415: f32 = t380 * t414;
-        let t416: f32 = t413 - t415;
-        let t417: f32 = t412 * t416;
-        let t418: f32 = t398 * t405;
-        let t419: f32 = t398 * t407;
-        let t420: f32 = t418 + t419;
-        let t421: f32 = t408 * 0.3;
-        let t422: f32 = t420 * 0.295;
-        let t423: f32 = t422 - t421;
-        let t424: f32 = t391 * t398;
-        let t425: f32 = t423 * t424;
-        let t426: f32 = t417 + t425;
-        let t427: f32 = t377 * t398;
-        let t428: f32 = t406 * t427;
-        let t429: f32 = t370 * t390;
-        let t430: f32 = t414 * t429;
-        let t431: f32 = t428 + t430;
-        let t432: f32 = t366 * t398;
-        let t433: f32 = t431 * t432;
-        let t434: f32 = t412 * t429;
-        let t435: f32 = t391 * t427;
-        let t436: f32 = t434 - t435;
-        let t437: f32 = t380 * t398;
-        let t438: f32 = t436 * t437;
-        let t439: f32 = t433 + t438;
-        let t440: f32 = t366 * t431;
-        let t441: f32 = t380 * t436;
-        let t442: f32 = t440 + t441;
-        let t443: f32 = t439 * 0.295;
-        let t444: f32 = t442 * 0.3;
-        let t445: f32 = t443 - t444;
-        let t446: f32 = t398 * t431;
-        let t447: f32 = t445 * t446;
-        let t448: f32 = t439 * 0.3;
-        let t449: f32 = t448 - t442;
-        let t450: f32 = t431 * t449;
-        let t451: f32 = t420 * 0.3;
-        let t452: f32 = t451 - t408;
-        let t453: f32 = t391 * t452;
-        let t454: f32 = t450 + t453;
-        let t455: f32 = t447 - t454;
-        let t456: f32 = t426 + t455;
-        let t457: f32 = t411 * 0.003;
-        let t458: f32 = t456 + t457;
-        let t459: f32 = -t458;
-        let t460: f32 = t366 * t459;
-        let t461: f32 = t399 * t406;
-        let t462: f32 = t404 * t461;
-        let t463: f32 = t408 * t462;
-        let t464: f32 = t414 * t416;
-        let t465: f32 = t398 * t406;
-        let t466: f32 = t423 * t465;
-        let t467: f32 = t464 - t466;
-        let t468: f32 = t436 * t449;
-        let t469: f32 = t406 * t452;
-        let t470: f32 = t468 + t469;
-        let t471: f32 = t398 * t436;
-        let t472: f32 = t445 * t471;
-        let t473: f32 = t470 - t472;
-        let t474: f32 = t467 + t473;
-        let t475: f32 = t463 * 0.003;
+        let t363: f32 = t301 * t362;
+        let t364: f32 = t359 * 0.3;
+        let t365: f32 = t363 + t364;
+        let t366: f32 = t335 - t365;
+        let t367: f32 = t317 * t366;
+        let t368: f32 = t302 * t339;
+        let t369: f32 = t317 * t336;
+        let t370: f32 = t368 - t369;
+        let t371: f32 = t301 * t370;
+        let t372: f32 = t370 * 0.3;
+        let t373: f32 = t371 * 0.295;
+        let t374: f32 = t372 - t373;
+        let t375: f32 = t301 * t374;
+        let t376: f32 = t371 * 0.3;
+        let t377: f32 = t375 + t376;
+        let t378: f32 = t370 - t377;
+        let t379: f32 = t341 * t378;
+        let t380: f32 = t358 * 0.003;
+        let t381: f32 = t367 + t379;
+        let t382: f32 = t380 + t381;
+        let t383: f32 = t354 - t382;
+        let t384: f32 = t286 * t383;
+        let t385: f32 = t353 - t384;
+        let t386: f32 = t283 * t385;
+        let t387: f32 = t325 - t326;
+        let t388: f32 = t301 * t387;
+        let t389: f32 = t331 + t388;
+        let t390: f32 = t317 - t389;
+        let t391: f32 = t335 * t390;
+        let t392: f32 = t349 * t370;
+        let t393: f32 = t391 + t392;
+        let t394: f32 = t380 + t393;
+        let t395: f32 = t354 - t394;
+        let t396: f32 = t283 * t395;
+        let t397: f32 = t338 * t338;
+        let t398: f32 = t323 * t359;
+        let t399: f32 = t398 * 0.003;
+        let t400: f32 = t361 + t399;
+        let t401: f32 = t360 - t400;
+        let t402: f32 = t301 * t401;
+        let t403: f32 = t364 + t402;
+        let t404: f32 = t335 - t403;
+        let t405: f32 = t335 * t404;
+        let t406: f32 = t370 * t378;
+        let t407: f32 = t397 + t405;
+        let t408: f32 = t406 + t407;
+        let t409: f32 = t286 * t408;
+        let t410: f32 = t396 - t409;
+        let t411: f32 = t286 * t410;
+        let t412: f32 = t10 * 0.004904;
+        let t413: f32 = t14 * 0.291506;
+        let t414: f32 = t412 + t413;
+        let t415: f32 = t21 * 0.004904;
+        let t416: f32 = t24 * 0.291506;
+        let t417: f32 = t415 + t416;
+        let t418: f32 = yc + t417;
+        let t419: f32 = t418 - 0.429711;
+        let t420: f32 = t30 * 0.004904;
+        let t421: f32 = t31 * 0.291506;
+        let t422: f32 = t420 - t421;
+        let t423: f32 = xc + t422;
+        let t424: f32 = t423 + 0.155718;
+        let t425: f32 = t424 * t424;
+        let t426: f32 = t419 * t419;
+        let t427: f32 = zc + t414;
+        let t428: f32 = t427 * t427;
+        let t429: f32 = t425 + t426;
+        let t430: f32 = t428 + t429;
+        let t431: f32 = sqrt(t430);
+        let t432: f32 = 1.0 / t431;
+        let t433: f32 = t419 * t432;
+        let t434: f32 = t433 * t433;
+        let t435: f32 = t427 * 0.9401728;
+        let t436: f32 = -t435;
+        let t437: f32 = t427 * 0.34069794;
+        let t438: f32 = t437 * t437;
+        let t439: f32 = t436 * t436;
+        let t440: f32 = t424 * 0.34069794;
+        let t441: f32 = t419 * 0.9401728;
+        let t442: f32 = t440 - t441;
+        let t443: f32 = t442 * t442;
+        let t444: f32 = t438 + t439;
+        let t445: f32 = t443 + t444;
+        let t446: f32 = sqrt(t445);
+        let t447: f32 = 1.0 / t446;
+        let t448: f32 = t436 * t447;
+        let t449: f32 = t432 * t448;
+        let t450: f32 = t424 * 0.9401728;
+        let t451: f32 = t419 * 0.34069794;
+        let t452: f32 = t450 + t451;
+        let t453: f32 = t447 * t452;
+        let t454: f32 = t453 * t453;
+        let t455: f32 = t449 * t454;
+        let t456: f32 = t448 * 0.3;
+        let t457: f32 = t449 * 0.295;
+        let t458: f32 = t455 * 0.003;
+        let t459: f32 = t457 + t458;
+        let t460: f32 = t456 - t459;
+        let t461: f32 = t432 * t460;
+        let t462: f32 = t449 * 0.3;
+        let t463: f32 = t461 + t462;
+        let t464: f32 = t448 - t463;
+        let t465: f32 = t448 * t464;
+        let t466: f32 = t442 * t447;
+        let t467: f32 = t424 * t432;
+        let t468: f32 = t466 * t467;
+        let t469: f32 = t427 * t432;
+        let t470: f32 = t437 * t447;
+        let t471: f32 = t469 * t470;
+        let t472: f32 = t468 + t471;
+        let t473: f32 = t432 * t472;
+        let t474: f32 = t472 * 0.3;
+        let t475: f32 = t473 * 0.295;
         let t476: f32 = t474 - t475;
-        let t477: f32 = t380 * t476;
-        let t478: f32 = t364 - t365;
-        let t479: f32 = zc + t478;
-        let t480: f32 = t479 * 0.9401728;
-        let t481: f32 = t479 * 0.34069794;
-        let t482: f32 = t481 * t481;
-        let t483: f32 = t480 * t480;
-        let t484: f32 = t373 + t374;
-        let t485: f32 = xc + t484;
-        let t486: f32 = t485 + 0.155718;
-        let t487: f32 = t378 - t379;
-        let t488: f32 = yc + t487;
-        let t489: f32 = t488 + 0.429711;
-        let t490: f32 = t486 * 0.34069794;
-        let t491: f32 = t489 * 0.9401728;
-        let t492: f32 = t490 + t491;
-        let t493: f32 = t492 * t492;
-        let t494: f32 = t482 + t483;
-        let t495: f32 = t493 + t494;
-        let t496: f32 = sqrt(t495);
-        let t497: f32 = 1.0 / t496;
-        let t498: f32 = t480 * t497;
-        let t499: f32 = t486 * t486;
-        let t500: f32 = t489 * t489;
-        let t501: f32 = t479 * t479;
-        let t502: f32 = t499 + t500;
-        let t503: f32 = t501 + t502;
-        let t504: f32 = sqrt(t503);
-        let t505: f32 = 1.0 / t504;
-        let t506: f32 = t505 * t505;
-        let t507: f32 = t486 * 0.9401728;
-        let t508: f32 = t489 * 0.34069794;
-        let t509: f32 = t507 - t508;
-        let t510: f32 = t497 * t509;
-        let t511: f32 = t510 * t510;
-        let t512: f32 = t478 * t498;
-        let t513: f32 = t492 * t497;
-        let t514: f32 = t487 * t513;
-        let t515: f32 = t512 + t514;
-        let t516: f32 = t498 * t506;
-        let t517: f32 = t511 * t516;
-        let t518: f32 = t515 * t517;
-        let t519: f32 = t489 * t505;
-        let t520: f32 = t478 * t519;
-        let t521: f32 = t479 * t505;
-        let t522: f32 = t487 * t521;
-        let t523: f32 = t520 - t522;
-        let t524: f32 = t519 * t523;
-        let t525: f32 = t505 * t512;
-        let t526: f32 = t505 * t514;
-        let t527: f32 = t525 + t526;
-        let t528: f32 = t515 * 0.3;
-        let t529: f32 = t527 * 0.295;
-        let t530: f32 = t529 - t528;
-        let t531: f32 = t498 * t505;
-        let t532: f32 = t530 * t531;
-        let t533: f32 = t524 + t532;
-        let t534: f32 = t486 * t505;
-        let t535: f32 = t513 * t534;
-        let t536: f32 = t481 * t497;
-        let t537: f32 = t521 * t536;
-        let t538: f32 = t535 + t537;
-        let t539: f32 = t478 * t505;
-        let t540: f32 = t538 * t539;
-        let t541: f32 = t519 * t536;
-        let t542: f32 = t498 * t534;
-        let t543: f32 = t541 - t542;
-        let t544: f32 = t487 * t505;
-        let t545: f32 = t543 * t544;
-        let t546: f32 = t540 + t545;
-        let t547: f32 = t478 * t538;
-        let t548: f32 = t487 * t543;
-        let t549: f32 = t547 + t548;
-        let t550: f32 = t546 * 0.295;
-        let t551: f32 = t549 * 0.3;
-        let t552: f32 = t550 - t551;
-        let t553: f32 = t505 * t538;
-        let t554: f32 = t552 * t553;
-        let t555: f32 = t546 * 0.3;
-        let t556: f32 = t555 - t549;
-        let t557: f32 = t538 * t556;
-        let t558: f32 = t527 * 0.3;
-        let t559: f32 = t558 - t515;
-        let t560: f32 = t498 * t559;
-        let t561: f32 = t557 + t560;
-        let t562: f32 = t554 - t561;
-        let t563: f32 = t533 + t562;
-        let t564: f32 = t518 * 0.003;
-        let t565: f32 = t563 + t564;
-        let t566: f32 = -t565;
-        let t567: f32 = t478 * t566;
-        let t568: f32 = t506 * t513;
-        let t569: f32 = t511 * t568;
-        let t570: f32 = t515 * t569;
-        let t571: f32 = t521 * t523;
-        let t572: f32 = t505 * t513;
-        let t573: f32 = t530 * t572;
-        let t574: f32 = t571 - t573;
-        let t575: f32 = t543 * t556;
-        let t576: f32 = t513 * t559;
-        let t577: f32 = t575 + t576;
-        let t578: f32 = t505 * t543;
-        let t579: f32 = t552 * t578;
-        let t580: f32 = t577 - t579;
-        let t581: f32 = t574 + t580;
-        let t582: f32 = t570 * 0.003;
-        let t583: f32 = t581 - t582;
-        let t584: f32 = t487 * t583;
-        let t585: f32 = t251 + t252;
-        let t586: f32 = zc - t585;
-        let t587: f32 = t586 * 0.76513904;
-        let t588: f32 = t586 * 0.64386505;
-        let t589: f32 = t588 * t588;
-        let t590: f32 = t587 * t587;
-        let t591: f32 = t260 - t261;
-        let t592: f32 = t263 - t591;
-        let t593: f32 = t265 + t266;
-        let t594: f32 = yc + 0.349711;
-        let t595: f32 = t594 - t593;
-        let t596: f32 = t592 * 0.64386505;
-        let t597: f32 = t595 * 0.76513904;
-        let t598: f32 = t596 + t597;
-        let t599: f32 = t598 * t598;
-        let t600: f32 = t589 + t590;
-        let t601: f32 = t599 + t600;
-        let t602: f32 = sqrt(t601);
-        let t603: f32 = 1.0 / t602;
-        let t604: f32 = t587 * t603;
-        let t605: f32 = t592 * t592;
-        let t606: f32 = t595 * t595;
-        let t607: f32 = t586 * t586;
-        let t608: f32 = t605 + t606;
-        let t609: f32 = t607 + t608;
-        let t610: f32 = sqrt(t609);
-        let t611: f32 = 1.0 / t610;
-        let t612: f32 = t611 * t611;
-        let t613: f32 = t592 * 0.76513904;
-        let t614: f32 = t595 * 0.64386505;
-        let t615: f32 = t613 - t614;
-        let t616: f32 = t603 * t615;
-        let t617: f32 = t616 * t616;
-        let t618: f32 = t585 * t604;
-        let t619: f32 = t598 * t603;
-        let t620: f32 = t593 * t619;
-        let t621: f32 = t618 + t620;
-        let t622: f32 = t604 * t612;
-        let t623: f32 = t617 * t622;
-        let t624: f32 = t621 * t623;
-        let t625: f32 = t592 * t611;
-        let t626: f32 = t619 * t625;
-        let t627: f32 = t586 * t611;
-        let t628: f32 = t588 * t603;
-        let t629: f32 = t627 * t628;
-        let t630: f32 = t626 + t629;
-        let t631: f32 = t585 * t611;
-        let t632: f32 = t630 * t631;
-        let t633: f32 = t595 * t611;
-        let t634: f32 = t628 * t633;
-        let t635: f32 = t604 * t625;
-        let t636: f32 = t634 - t635;
-        let t637: f32 = t593 * t611;
-        let t638: f32 = t636 * t637;
-        let t639: f32 = t632 + t638;
-        let t640: f32 = t585 * t630;
-        let t641: f32 = t593 * t636;
-        let t642: f32 = t640 + t641;
-        let t643: f32 = t639 * 0.3;
-        let t644: f32 = t643 - t642;
-        let t645: f32 = t630 * t644;
-        let t646: f32 = t611 * t618;
-        let t647: f32 = t611 * t620;
+        let t477: f32 = t432 * t476;
+        let t478: f32 = t473 * 0.3;
+        let t479: f32 = t477 + t478;
+        let t480: f32 = t472 - t479;
+        let t481: f32 = t472 * t480;
+        let t482: f32 = t434 + t465;
+        let t483: f32 = t481 + t482;
+        let t484: f32 = t414 * t483;
+        let t485: f32 = t433 * t469;
+        let t486: f32 = t432 * t432;
+        let t487: f32 = t448 * t466;
+        let t488: f32 = t486 * t487;
+        let t489: f32 = t454 * t488;
+        let t490: f32 = t432 * t466;
+        let t491: f32 = t466 * 0.3;
+        let t492: f32 = t490 * 0.295;
+        let t493: f32 = t491 - t492;
+        let t494: f32 = t432 * t493;
+        let t495: f32 = t490 * 0.3;
+        let t496: f32 = t494 + t495;
+        let t497: f32 = t466 - t496;
+        let t498: f32 = t448 * t497;
+        let t499: f32 = t433 * t470;
+        let t500: f32 = t448 * t467;
+        let t501: f32 = t499 - t500;
+        let t502: f32 = t432 * t501;
+        let t503: f32 = t501 * 0.3;
+        let t504: f32 = t502 * 0.295;
+        let t505: f32 = t503 - t504;
+        let t506: f32 = t432 * t505;
+        let t507: f32 = t502 * 0.3;
+        let t508: f32 = t506 + t507;
+        let t509: f32 = t501 - t508;
+        let t510: f32 = t472 * t509;
+        let t511: f32 = t489 * 0.003;
+        let t512: f32 = t498 + t510;
+        let t513: f32 = t511 + t512;
+        let t514: f32 = t485 - t513;
+        let t515: f32 = t417 * t514;
+        let t516: f32 = t484 - t515;
+        let t517: f32 = t414 * t516;
+        let t518: f32 = t456 - t457;
+        let t519: f32 = t432 * t518;
+        let t520: f32 = t462 + t519;
+        let t521: f32 = t448 - t520;
+        let t522: f32 = t466 * t521;
+        let t523: f32 = t480 * t501;
+        let t524: f32 = t522 + t523;
+        let t525: f32 = t511 + t524;
+        let t526: f32 = t485 - t525;
+        let t527: f32 = t414 * t526;
+        let t528: f32 = t469 * t469;
+        let t529: f32 = t454 * t490;
+        let t530: f32 = t529 * 0.003;
+        let t531: f32 = t492 + t530;
+        let t532: f32 = t491 - t531;
+        let t533: f32 = t432 * t532;
+        let t534: f32 = t495 + t533;
+        let t535: f32 = t466 - t534;
+        let t536: f32 = t466 * t535;
+        let t537: f32 = t501 * t509;
+        let t538: f32 = t528 + t536;
+        let t539: f32 = t537 + t538;
+        let t540: f32 = t417 * t539;
+        let t541: f32 = t527 - t540;
+        let t542: f32 = t417 * t541;
+        let t543: f32 = t412 - t413;
+        let t544: f32 = t415 - t416;
+        let t545: f32 = yc + t544;
+        let t546: f32 = t545 + 0.429711;
+        let t547: f32 = t420 + t421;
+        let t548: f32 = xc + t547;
+        let t549: f32 = t548 + 0.155718;
+        let t550: f32 = t549 * t549;
+        let t551: f32 = t546 * t546;
+        let t552: f32 = zc + t543;
+        let t553: f32 = t552 * t552;
+        let t554: f32 = t550 + t551;
+        let t555: f32 = t553 + t554;
+        let t556: f32 = sqrt(t555);
+        let t557: f32 = 1.0 / t556;
+        let t558: f32 = t546 * t557;
+        let t559: f32 = t558 * t558;
+        let t560: f32 = t552 * 0.9401728;
+        let t561: f32 = t552 * 0.34069794;
+        let t562: f32 = t561 * t561;
+        let t563: f32 = t560 * t560;
+        let t564: f32 = t549 * 0.34069794;
+        let t565: f32 = t546 * 0.9401728;
+        let t566: f32 = t564 + t565;
+        let t567: f32 = t566 * t566;
+        let t568: f32 = t562 + t563;
+        let t569: f32 = t567 + t568;
+        let t570: f32 = sqrt(t569);
+        let t571: f32 = 1.0 / t570;
+        let t572: f32 = t560 * t571;
+        let t573: f32 = t557 * t572;
+        let t574: f32 = t549 * 0.9401728;
+        let t575: f32 = t546 * 0.34069794;
+        let t576: f32 = t574 - t575;
+        let t577: f32 = t571 * t576;
+        let t578: f32 = t577 * t577;
+        let t579: f32 = t573 * t578;
+        let t580: f32 = t572 * 0.3;
+        let t581: f32 = t573 * 0.295;
+        let t582: f32 = t579 * 0.003;
+        let t583: f32 = t581 + t582;
+        let t584: f32 = t580 - t583;
+        let t585: f32 = t557 * t584;
+        let t586: f32 = t573 * 0.3;
+        let t587: f32 = t585 + t586;
+        let t588: f32 = t572 - t587;
+        let t589: f32 = t572 * t588;
+        let t590: f32 = t566 * t571;
+        let t591: f32 = t549 * t557;
+        let t592: f32 = t590 * t591;
+        let t593: f32 = t552 * t557;
+        let t594: f32 = t561 * t571;
+        let t595: f32 = t593 * t594;
+        let t596: f32 = t592 + t595;
+        let t597: f32 = t557 * t596;
+        let t598: f32 = t596 * 0.3;
+        let t599: f32 = t597 * 0.295;
+        let t600: f32 = t598 - t599;
+        let t601: f32 = t557 * t600;
+        let t602: f32 = t597 * 0.3;
+        let t603: f32 = t601 + t602;
+        let t604: f32 = t596 - t603;
+        let t605: f32 = t596 * t604;
+        let t606: f32 = t559 + t589;
+        let t607: f32 = t605 + t606;
+        let t608: f32 = t543 * t607;
+        let t609: f32 = t558 * t593;
+        let t610: f32 = t557 * t557;
+        let t611: f32 = t572 * t590;
+        let t612: f32 = t610 * t611;
+        let t613: f32 = t578 * t612;
+        let t614: f32 = t557 * t590;
+        let t615: f32 = t590 * 0.3;
+        let t616: f32 = t614 * 0.295;
+        let t617: f32 = t615 - t616;
+        let t618: f32 = t557 * t617;
+        let t619: f32 = t614 * 0.3;
+        let t620: f32 = t618 + t619;
+        let t621: f32 = t590 - t620;
+        let t622: f32 = t572 * t621;
+        let t623: f32 = t558 * t594;
+        let t624: f32 = t572 * t591;
+        let t625: f32 = t623 - t624;
+        let t626: f32 = t557 * t625;
+        let t627: f32 = t625 * 0.3;
+        let t628: f32 = t626 * 0.295;
+        let t629: f32 = t627 - t628;
+        let t630: f32 = t557 * t629;
+        let t631: f32 = t626 * 0.3;
+        let t632: f32 = t630 + t631;
+        let t633: f32 = t625 - t632;
+        let t634: f32 = t596 * t633;
+        let t635: f32 = t613 * 0.003;
+        let t636: f32 = t622 + t634;
+        let t637: f32 = t635 + t636;
+        let t638: f32 = t609 - t637;
+        let t639: f32 = t544 * t638;
+        let t640: f32 = t608 - t639;
+        let t641: f32 = t543 * t640;
+        let t642: f32 = t580 - t581;
+        let t643: f32 = t557 * t642;
+        let t644: f32 = t586 + t643;
+        let t645: f32 = t572 - t644;
+        let t646: f32 = t590 * t645;
+        let t647: f32 = t604 * t625;
         let t648: f32 = t646 + t647;
-        let t649: f32 = t648 * 0.3;
-        let t650: f32 = t649 - t621;
-        let t651: f32 = t604 * t650;
-        let t652: f32 = t645 + t651;
-        let t653: f32 = t639 * 0.295;
-        let t654: f32 = t642 * 0.3;
-        let t655: f32 = t653 - t654;
-        let t656: f32 = t611 * t630;
-        let t657: f32 = t655 * t656;
-        let t658: f32 = t652 - t657;
-        let t659: f32 = t585 * t633;
-        let t660: f32 = t593 * t627;
-        let t661: f32 = t659 - t660;
-        let t662: f32 = t633 * t661;
-        let t663: f32 = t621 * 0.3;
-        let t664: f32 = t648 * 0.295;
-        let t665: f32 = t664 - t663;
-        let t666: f32 = t604 * t611;
-        let t667: f32 = t665 * t666;
-        let t668: f32 = t662 + t667;
-        let t669: f32 = t658 - t668;
-        let t670: f32 = t624 * 0.003;
-        let t671: f32 = t669 - t670;
-        let t672: f32 = t585 * t671;
-        let t673: f32 = t612 * t619;
-        let t674: f32 = t617 * t673;
-        let t675: f32 = t621 * t674;
-        let t676: f32 = t627 * t661;
-        let t677: f32 = t611 * t619;
-        let t678: f32 = t665 * t677;
-        let t679: f32 = t676 - t678;
-        let t680: f32 = t611 * t636;
-        let t681: f32 = t655 * t680;
-        let t682: f32 = t636 * t644;
-        let t683: f32 = t619 * t650;
-        let t684: f32 = t682 + t683;
-        let t685: f32 = t681 - t684;
-        let t686: f32 = t679 - t685;
-        let t687: f32 = t675 * 0.003;
-        let t688: f32 = t686 - t687;
-        let t689: f32 = t593 * t688;
-        let t690: f32 = t1 * t1;
-        let t691: f32 = t6 * t6;
-        let t692: f32 = t5 * t5;
-        let t693: f32 = t691 + t692;
-        let t694: f32 = t693 * 0.4108;
-        let t695: f32 = t690 * t694;
-        let t696: f32 = t2 * 0.7;
-        let t697: f32 = t140 + t696;
-        let t698: f32 = t250 + t695;
-        let t699: f32 = t697 + t698;
-        let t700: f32 = t122 + t232;
-        let t701: f32 = t346 + t363;
-        let t702: f32 = t460 + t477;
-        let t703: f32 = t567 + t584;
-        let t704: f32 = t672 + t689;
-        let t705: f32 = t700 + t701;
-        let t706: f32 = t702 + t703;
-        let t707: f32 = t705 + t706;
-        let t708: f32 = t704 + t707;
-        let t709: f32 = t699 - t708;
-        let t710: f32 = 1.0 / t709;
-        let t711: f32 = t1 * t3;
-        let t712: f32 = t60 * t65;
-        let t713: f32 = t91 * t712;
-        let t714: f32 = t70 * t713;
-        let t715: f32 = t52 * t76;
-        let t716: f32 = t66 * t74;
-        let t717: f32 = t715 - t716;
-        let t718: f32 = t111 * t717;
-        let t719: f32 = t91 * t114;
-        let t720: f32 = t718 + t719;
-        let t721: f32 = t59 * t717;
-        let t722: f32 = t107 * t721;
-        let t723: f32 = t720 - t722;
-        let t724: f32 = t78 * t89;
-        let t725: f32 = t59 * t91;
-        let t726: f32 = t85 * t725;
-        let t727: f32 = t724 + t726;
-        let t728: f32 = t723 - t727;
-        let t729: f32 = t714 * 0.003;
-        let t730: f32 = t728 - t729;
-        let t731: f32 = t17 * t730;
-        let t732: f32 = t29 * t139;
-        let t733: f32 = t170 * t175;
-        let t734: f32 = t201 * t733;
-        let t735: f32 = t180 * t734;
-        let t736: f32 = t162 * t186;
-        let t737: f32 = t176 * t184;
-        let t738: f32 = t736 - t737;
-        let t739: f32 = t221 * t738;
-        let t740: f32 = t201 * t224;
-        let t741: f32 = t739 + t740;
-        let t742: f32 = t169 * t738;
-        let t743: f32 = t217 * t742;
-        let t744: f32 = t741 - t743;
-        let t745: f32 = t188 * t199;
-        let t746: f32 = t169 * t201;
-        let t747: f32 = t195 * t746;
-        let t748: f32 = t745 + t747;
-        let t749: f32 = t744 - t748;
-        let t750: f32 = t735 * 0.003;
-        let t751: f32 = t749 - t750;
-        let t752: f32 = t141 * t751;
-        let t753: f32 = t148 * t249;
-        let t754: f32 = t286 * t291;
-        let t755: f32 = t302 * t754;
-        let t756: f32 = t295 * t755;
-        let t757: f32 = t299 * t335;
-        let t758: f32 = t285 * t302;
-        let t759: f32 = t339 * t758;
-        let t760: f32 = t757 + t759;
-        let t761: f32 = t278 * t301;
-        let t762: f32 = t293 * t307;
-        let t763: f32 = t761 + t762;
-        let t764: f32 = t318 * t763;
-        let t765: f32 = t302 * t324;
-        let t766: f32 = t764 - t765;
-        let t767: f32 = t285 * t763;
-        let t768: f32 = t329 * t767;
-        let t769: f32 = t766 - t768;
-        let t770: f32 = t760 + t769;
-        let t771: f32 = t756 * 0.003;
-        let t772: f32 = t770 + t771;
-        let t773: f32 = t253 * t772;
-        let t774: f32 = t262 * t362;
-        let t775: f32 = t399 * t404;
-        let t776: f32 = t429 * t775;
-        let t777: f32 = t408 * t776;
-        let t778: f32 = t416 * t427;
-        let t779: f32 = t398 * t429;
-        let t780: f32 = t423 * t779;
-        let t781: f32 = t778 + t780;
-        let t782: f32 = t391 * t414;
-        let t783: f32 = t406 * t412;
-        let t784: f32 = t782 + t783;
-        let t785: f32 = t398 * t784;
-        let t786: f32 = t445 * t785;
-        let t787: f32 = t449 * t784;
-        let t788: f32 = t429 * t452;
-        let t789: f32 = t787 - t788;
-        let t790: f32 = t786 - t789;
-        let t791: f32 = t781 - t790;
-        let t792: f32 = t777 * 0.003;
+        let t649: f32 = t635 + t648;
+        let t650: f32 = t609 - t649;
+        let t651: f32 = t543 * t650;
+        let t652: f32 = t593 * t593;
+        let t653: f32 = t578 * t614;
+        let t654: f32 = t653 * 0.003;
+        let t655: f32 = t616 + t654;
+        let t656: f32 = t615 - t655;
+        let t657: f32 = t557 * t656;
+        let t658: f32 = t619 + t657;
+        let t659: f32 = t590 - t658;
+        let t660: f32 = t590 * t659;
+        let t661: f32 = t625 * t633;
+        let t662: f32 = t652 + t660;
+        let t663: f32 = t661 + t662;
+        let t664: f32 = t544 * t663;
+        let t665: f32 = t651 - t664;
+        let t666: f32 = t544 * t665;
+        let t667: f32 = t281 + t282;
+        let t668: f32 = t284 + t285;
+        let t669: f32 = yc + 0.349711;
+        let t670: f32 = t669 - t668;
+        let t671: f32 = t289 - t290;
+        let t672: f32 = t292 - t671;
+        let t673: f32 = t672 * t672;
+        let t674: f32 = t670 * t670;
+        let t675: f32 = zc - t667;
+        let t676: f32 = t675 * t675;
+        let t677: f32 = t673 + t674;
+        let t678: f32 = t676 + t677;
+        let t679: f32 = sqrt(t678);
+        let t680: f32 = 1.0 / t679;
+        let t681: f32 = t670 * t680;
+        let t682: f32 = t681 * t681;
+        let t683: f32 = t675 * 0.76513904;
+        let t684: f32 = t675 * 0.64386505;
+        let t685: f32 = t684 * t684;
+        let t686: f32 = t683 * t683;
+        let t687: f32 = t672 * 0.64386505;
+        let t688: f32 = t670 * 0.76513904;
+        let t689: f32 = t687 + t688;
+        let t690: f32 = t689 * t689;
+        let t691: f32 = t685 + t686;
+        let t692: f32 = t690 + t691;
+        let t693: f32 = sqrt(t692);
+        let t694: f32 = 1.0 / t693;
+        let t695: f32 = t683 * t694;
+        let t696: f32 = t680 * t695;
+        let t697: f32 = t672 * 0.76513904;
+        let t698: f32 = t670 * 0.64386505;
+        let t699: f32 = t697 - t698;
+        let t700: f32 = t694 * t699;
+        let t701: f32 = t700 * t700;
+        let t702: f32 = t696 * t701;
+        let t703: f32 = t695 * 0.3;
+        let t704: f32 = t696 * 0.295;
+        let t705: f32 = t702 * 0.003;
+        let t706: f32 = t704 + t705;
+        let t707: f32 = t703 - t706;
+        let t708: f32 = t680 * t707;
+        let t709: f32 = t696 * 0.3;
+        let t710: f32 = t708 + t709;
+        let t711: f32 = t695 - t710;
+        let t712: f32 = t695 * t711;
+        let t713: f32 = t689 * t694;
+        let t714: f32 = t672 * t680;
+        let t715: f32 = t713 * t714;
+        let t716: f32 = t675 * t680;
+        let t717: f32 = t684 * t694;
+        let t718: f32 = t716 * t717;
+        let t719: f32 = t715 + t718;
+        let t720: f32 = t680 * t719;
+        let t721: f32 = t719 * 0.3;
+        let t722: f32 = t720 * 0.295;
+        let t723: f32 = t721 - t722;
+        let t724: f32 = t680 * t723;
+        let t725: f32 = t720 * 0.3;
+        let t726: f32 = t724 + t725;
+        let t727: f32 = t719 - t726;
+        let t728: f32 = t719 * t727;
+        let t729: f32 = t682 + t712;
+        let t730: f32 = t728 + t729;
+        let t731: f32 = t667 * t730;
+        let t732: f32 = t681 * t716;
+        let t733: f32 = t680 * t680;
+        let t734: f32 = t695 * t713;
+        let t735: f32 = t733 * t734;
+        let t736: f32 = t701 * t735;
+        let t737: f32 = t680 * t713;
+        let t738: f32 = t713 * 0.3;
+        let t739: f32 = t737 * 0.295;
+        let t740: f32 = t738 - t739;
+        let t741: f32 = t680 * t740;
+        let t742: f32 = t737 * 0.3;
+        let t743: f32 = t741 + t742;
+        let t744: f32 = t713 - t743;
+        let t745: f32 = t695 * t744;
+        let t746: f32 = t681 * t717;
+        let t747: f32 = t695 * t714;
+        let t748: f32 = t746 - t747;
+        let t749: f32 = t680 * t748;
+        let t750: f32 = t748 * 0.3;
+        let t751: f32 = t749 * 0.295;
+        let t752: f32 = t750 - t751;
+        let t753: f32 = t680 * t752;
+        let t754: f32 = t749 * 0.3;
+        let t755: f32 = t753 + t754;
+        let t756: f32 = t748 - t755;
+        let t757: f32 = t719 * t756;
+        let t758: f32 = t736 * 0.003;
+        let t759: f32 = t745 + t757;
+        let t760: f32 = t758 + t759;
+        let t761: f32 = t732 - t760;
+        let t762: f32 = t668 * t761;
+        let t763: f32 = t731 - t762;
+        let t764: f32 = t667 * t763;
+        let t765: f32 = t703 - t704;
+        let t766: f32 = t680 * t765;
+        let t767: f32 = t709 + t766;
+        let t768: f32 = t695 - t767;
+        let t769: f32 = t713 * t768;
+        let t770: f32 = t727 * t748;
+        let t771: f32 = t769 + t770;
+        let t772: f32 = t758 + t771;
+        let t773: f32 = t732 - t772;
+        let t774: f32 = t667 * t773;
+        let t775: f32 = t716 * t716;
+        let t776: f32 = t701 * t737;
+        let t777: f32 = t776 * 0.003;
+        let t778: f32 = t739 + t777;
+        let t779: f32 = t738 - t778;
+        let t780: f32 = t680 * t779;
+        let t781: f32 = t742 + t780;
+        let t782: f32 = t713 - t781;
+        let t783: f32 = t713 * t782;
+        let t784: f32 = t748 * t756;
+        let t785: f32 = t775 + t783;
+        let t786: f32 = t784 + t785;
+        let t787: f32 = t668 * t786;
+        let t788: f32 = t774 - t787;
+        let t789: f32 = t668 * t788;
+        let t790: f32 = t1 * t1;
+        let t791: f32 = t6 * t6;
+        let t792: f32 = t5 * t5;
         let t793: f32 = t791 + t792;
-        let t794: f32 = t366 * t793;
-        let t795: f32 = t375 * t476;
-        let t796: f32 = t506 * t511;
-        let t797: f32 = t536 * t796;
-        let t798: f32 = t515 * t797;
-        let t799: f32 = t523 * t534;
-        let t800: f32 = t505 * t536;
-        let t801: f32 = t530 * t800;
-        let t802: f32 = t799 + t801;
-        let t803: f32 = t498 * t521;
-        let t804: f32 = t513 * t519;
-        let t805: f32 = t803 + t804;
-        let t806: f32 = t505 * t805;
-        let t807: f32 = t552 * t806;
-        let t808: f32 = t556 * t805;
-        let t809: f32 = t536 * t559;
-        let t810: f32 = t808 - t809;
-        let t811: f32 = t807 - t810;
-        let t812: f32 = t802 - t811;
-        let t813: f32 = t798 * 0.003;
-        let t814: f32 = t812 + t813;
-        let t815: f32 = t478 * t814;
-        let t816: f32 = t484 * t583;
-        let t817: f32 = t612 * t617;
-        let t818: f32 = t628 * t817;
-        let t819: f32 = t621 * t818;
-        let t820: f32 = t625 * t661;
-        let t821: f32 = t611 * t628;
-        let t822: f32 = t665 * t821;
-        let t823: f32 = t820 + t822;
-        let t824: f32 = t604 * t627;
-        let t825: f32 = t619 * t633;
-        let t826: f32 = t824 + t825;
-        let t827: f32 = t644 * t826;
-        let t828: f32 = t628 * t650;
-        let t829: f32 = t827 - t828;
-        let t830: f32 = t611 * t826;
-        let t831: f32 = t655 * t830;
-        let t832: f32 = t829 - t831;
-        let t833: f32 = t823 + t832;
-        let t834: f32 = t819 * 0.003;
+        let t794: f32 = t793 * 0.4108;
+        let t795: f32 = t790 * t794;
+        let t796: f32 = t2 * 0.7;
+        let t797: f32 = t130 + t796;
+        let t798: f32 = t255 + t386;
+        let t799: f32 = t517 + t641;
+        let t800: f32 = t764 + t795;
+        let t801: f32 = t797 + t798;
+        let t802: f32 = t799 + t800;
+        let t803: f32 = t801 + t802;
+        let t804: f32 = t155 + t280;
+        let t805: f32 = t411 + t542;
+        let t806: f32 = t666 + t789;
+        let t807: f32 = t804 + t805;
+        let t808: f32 = t806 + t807;
+        let t809: f32 = t803 - t808;
+        let t810: f32 = 1.0 / t809;
+        let t811: f32 = t1 * t3;
+        let t812: f32 = t45 * t80;
+        let t813: f32 = t61 * t99;
+        let t814: f32 = t67 * t813;
+        let t815: f32 = t83 * t814;
+        let t816: f32 = t61 * t82;
+        let t817: f32 = t45 * t79;
+        let t818: f32 = t816 - t817;
+        let t819: f32 = t93 * t818;
+        let t820: f32 = t83 * t134;
+        let t821: f32 = t815 * 0.003;
+        let t822: f32 = t812 + t819;
+        let t823: f32 = t820 + t821;
+        let t824: f32 = t822 + t823;
+        let t825: f32 = t17 * t824;
+        let t826: f32 = t80 * t82;
+        let t827: f32 = t79 * t99;
+        let t828: f32 = t67 * t827;
+        let t829: f32 = t83 * t828;
+        let t830: f32 = t122 * t818;
+        let t831: f32 = t83 * t110;
+        let t832: f32 = t829 * 0.003;
+        let t833: f32 = t826 + t830;
+        let t834: f32 = t831 + t832;
         let t835: f32 = t833 + t834;
-        let t836: f32 = t585 * t835;
-        let t837: f32 = t591 * t688;
-        let t838: f32 = t6 * t35;
-        let t839: f32 = t5 * t38;
-        let t840: f32 = t33 * 0.7;
-        let t841: f32 = t839 - t838;
-        let t842: f32 = t841 * 0.4108;
-        let t843: f32 = t840 + t842;
-        let t844: f32 = t1 * t843;
-        let t845: f32 = t731 + t752;
-        let t846: f32 = t774 + t795;
-        let t847: f32 = t816 + t837;
-        let t848: f32 = t845 + t846;
-        let t849: f32 = t847 + t848;
-        let t850: f32 = t732 + t753;
-        let t851: f32 = t773 + t794;
-        let t852: f32 = t815 + t836;
-        let t853: f32 = t850 + t851;
-        let t854: f32 = t844 + t852;
-        let t855: f32 = t853 + t854;
-        let t856: f32 = t849 - t855;
-        let t857: f32 = t35 * 0.4108;
-        let t858: f32 = t35 * t857;
-        let t859: f32 = t38 * 0.4108;
-        let t860: f32 = t38 * t859;
-        let t861: f32 = t3 * t3;
-        let t862: f32 = t690 * t861;
-        let t863: f32 = t29 * t66;
-        let t864: f32 = t17 * t91;
-        let t865: f32 = t863 - t864;
-        let t866: f32 = -t865;
-        let t867: f32 = t713 * t866;
-        let t868: f32 = t17 * t89;
-        let t869: f32 = t29 * t76;
-        let t870: f32 = t868 - t869;
-        let t871: f32 = t89 * t870;
-        let t872: f32 = t91 * t94;
-        let t873: f32 = t59 * t863;
-        let t874: f32 = t872 - t873;
-        let t875: f32 = t865 * 0.3;
-        let t876: f32 = t874 * 0.295;
-        let t877: f32 = t875 + t876;
-        let t878: f32 = t725 * t877;
-        let t879: f32 = t871 + t878;
-        let t880: f32 = t17 * t717;
-        let t881: f32 = t59 * t880;
-        let t882: f32 = t29 * t59;
-        let t883: f32 = t98 * t882;
-        let t884: f32 = t881 - t883;
-        let t885: f32 = t29 * t98;
-        let t886: f32 = t885 - t880;
-        let t887: f32 = t884 * 0.295;
-        let t888: f32 = t886 * 0.3;
-        let t889: f32 = t887 + t888;
-        let t890: f32 = t721 * t889;
-        let t891: f32 = t884 * 0.3;
-        let t892: f32 = t886 + t891;
-        let t893: f32 = t717 * t892;
-        let t894: f32 = t874 * 0.3;
-        let t895: f32 = t865 + t894;
-        let t896: f32 = t91 * t895;
-        let t897: f32 = t893 + t896;
-        let t898: f32 = t890 - t897;
-        let t899: f32 = t879 + t898;
-        let t900: f32 = t867 * 0.003;
-        let t901: f32 = t899 + t900;
-        let t902: f32 = -t901;
-        let t903: f32 = t17 * t902;
-        let t904: f32 = t124 * t866;
-        let t905: f32 = t98 * t892;
-        let t906: f32 = t66 * t895;
+        let t836: f32 = t27 * t835;
+        let t837: f32 = t825 - t836;
+        let t838: f32 = t17 * t837;
+        let t839: f32 = t34 * t154;
+        let t840: f32 = t171 * t205;
+        let t841: f32 = t186 * t224;
+        let t842: f32 = t192 * t841;
+        let t843: f32 = t208 * t842;
+        let t844: f32 = t186 * t207;
+        let t845: f32 = t171 * t204;
+        let t846: f32 = t844 - t845;
+        let t847: f32 = t218 * t846;
+        let t848: f32 = t208 * t259;
+        let t849: f32 = t843 * 0.003;
+        let t850: f32 = t840 + t847;
+        let t851: f32 = t848 + t849;
+        let t852: f32 = t850 + t851;
+        let t853: f32 = t156 * t852;
+        let t854: f32 = t205 * t207;
+        let t855: f32 = t204 * t224;
+        let t856: f32 = t192 * t855;
+        let t857: f32 = t208 * t856;
+        let t858: f32 = t247 * t846;
+        let t859: f32 = t208 * t235;
+        let t860: f32 = t857 * 0.003;
+        let t861: f32 = t854 + t858;
+        let t862: f32 = t859 + t860;
+        let t863: f32 = t861 + t862;
+        let t864: f32 = t157 * t863;
+        let t865: f32 = t853 - t864;
+        let t866: f32 = t156 * t865;
+        let t867: f32 = t160 * t279;
+        let t868: f32 = t302 * t336;
+        let t869: f32 = t317 * t355;
+        let t870: f32 = t323 * t869;
+        let t871: f32 = t339 * t870;
+        let t872: f32 = t317 * t338;
+        let t873: f32 = t302 * t335;
+        let t874: f32 = t872 + t873;
+        let t875: f32 = t349 * t874;
+        let t876: f32 = t339 * t390;
+        let t877: f32 = t871 * 0.003;
+        let t878: f32 = t868 + t876;
+        let t879: f32 = t877 + t878;
+        let t880: f32 = t879 - t875;
+        let t881: f32 = t283 * t880;
+        let t882: f32 = t336 * t338;
+        let t883: f32 = t335 * t355;
+        let t884: f32 = t323 * t883;
+        let t885: f32 = t339 * t884;
+        let t886: f32 = t378 * t874;
+        let t887: f32 = t339 * t366;
+        let t888: f32 = t885 * 0.003;
+        let t889: f32 = t882 + t886;
+        let t890: f32 = t887 + t888;
+        let t891: f32 = t889 - t890;
+        let t892: f32 = t286 * t891;
+        let t893: f32 = t881 - t892;
+        let t894: f32 = t283 * t893;
+        let t895: f32 = t291 * t410;
+        let t896: f32 = t433 * t467;
+        let t897: f32 = t448 * t486;
+        let t898: f32 = t454 * t897;
+        let t899: f32 = t470 * t898;
+        let t900: f32 = t448 * t469;
+        let t901: f32 = t433 * t466;
+        let t902: f32 = t900 + t901;
+        let t903: f32 = t480 * t902;
+        let t904: f32 = t470 * t521;
+        let t905: f32 = t899 * 0.003;
+        let t906: f32 = t896 + t904;
         let t907: f32 = t905 + t906;
-        let t908: f32 = t130 * t889;
-        let t909: f32 = t907 - t908;
-        let t910: f32 = t76 * t870;
-        let t911: f32 = t127 * t877;
-        let t912: f32 = t910 + t911;
-        let t913: f32 = t909 - t912;
-        let t914: f32 = t904 * 0.003;
-        let t915: f32 = t913 - t914;
-        let t916: f32 = t29 * t915;
-        let t917: f32 = t148 * t176;
-        let t918: f32 = t141 * t201;
+        let t908: f32 = t907 - t903;
+        let t909: f32 = t414 * t908;
+        let t910: f32 = t467 * t469;
+        let t911: f32 = t466 * t486;
+        let t912: f32 = t454 * t911;
+        let t913: f32 = t470 * t912;
+        let t914: f32 = t509 * t902;
+        let t915: f32 = t470 * t497;
+        let t916: f32 = t913 * 0.003;
+        let t917: f32 = t910 + t914;
+        let t918: f32 = t915 + t916;
         let t919: f32 = t917 - t918;
-        let t920: f32 = -t919;
-        let t921: f32 = t734 * t920;
-        let t922: f32 = t141 * t199;
-        let t923: f32 = t148 * t186;
-        let t924: f32 = t922 - t923;
-        let t925: f32 = t199 * t924;
-        let t926: f32 = t201 * t204;
-        let t927: f32 = t169 * t917;
-        let t928: f32 = t926 - t927;
-        let t929: f32 = t919 * 0.3;
-        let t930: f32 = t928 * 0.295;
-        let t931: f32 = t929 + t930;
-        let t932: f32 = t746 * t931;
-        let t933: f32 = t925 + t932;
-        let t934: f32 = t141 * t738;
-        let t935: f32 = t169 * t934;
-        let t936: f32 = t148 * t169;
-        let t937: f32 = t208 * t936;
-        let t938: f32 = t935 - t937;
-        let t939: f32 = t148 * t208;
-        let t940: f32 = t939 - t934;
-        let t941: f32 = t938 * 0.295;
-        let t942: f32 = t940 * 0.3;
-        let t943: f32 = t941 + t942;
-        let t944: f32 = t742 * t943;
-        let t945: f32 = t938 * 0.3;
-        let t946: f32 = t940 + t945;
-        let t947: f32 = t738 * t946;
-        let t948: f32 = t928 * 0.3;
-        let t949: f32 = t919 + t948;
-        let t950: f32 = t201 * t949;
-        let t951: f32 = t947 + t950;
-        let t952: f32 = t944 - t951;
-        let t953: f32 = t933 + t952;
-        let t954: f32 = t921 * 0.003;
-        let t955: f32 = t953 + t954;
-        let t956: f32 = -t955;
-        let t957: f32 = t141 * t956;
-        let t958: f32 = t234 * t920;
-        let t959: f32 = t208 * t946;
-        let t960: f32 = t176 * t949;
-        let t961: f32 = t959 + t960;
-        let t962: f32 = t240 * t943;
-        let t963: f32 = t961 - t962;
-        let t964: f32 = t186 * t924;
-        let t965: f32 = t237 * t931;
-        let t966: f32 = t964 + t965;
-        let t967: f32 = t963 - t966;
-        let t968: f32 = t958 * 0.003;
-        let t969: f32 = t967 - t968;
-        let t970: f32 = t148 * t969;
-        let t971: f32 = t253 * t302;
-        let t972: f32 = t262 * t293;
-        let t973: f32 = t971 + t972;
-        let t974: f32 = t755 * t973;
-        let t975: f32 = t253 * t763;
-        let t976: f32 = t285 * t975;
-        let t977: f32 = t262 * t285;
-        let t978: f32 = t310 * t977;
-        let t979: f32 = t976 - t978;
-        let t980: f32 = t262 * t310;
-        let t981: f32 = t980 - t975;
-        let t982: f32 = t979 * 0.3;
-        let t983: f32 = t981 + t982;
-        let t984: f32 = t763 * t983;
-        let t985: f32 = t302 * t305;
-        let t986: f32 = t285 * t972;
-        let t987: f32 = t985 + t986;
-        let t988: f32 = t987 * 0.3;
-        let t989: f32 = t988 - t973;
-        let t990: f32 = t302 * t989;
-        let t991: f32 = t984 + t990;
-        let t992: f32 = t979 * 0.295;
-        let t993: f32 = t981 * 0.3;
-        let t994: f32 = t992 + t993;
-        let t995: f32 = t767 * t994;
-        let t996: f32 = t991 - t995;
-        let t997: f32 = t253 * t299;
-        let t998: f32 = t262 * t301;
-        let t999: f32 = t997 - t998;
-        let t1000: f32 = t299 * t999;
-        let t1001: f32 = t973 * 0.3;
-        let t1002: f32 = t987 * 0.295;
+        let t920: f32 = t417 * t919;
+        let t921: f32 = t909 - t920;
+        let t922: f32 = t414 * t921;
+        let t923: f32 = t422 * t541;
+        let t924: f32 = t558 * t591;
+        let t925: f32 = t572 * t610;
+        let t926: f32 = t578 * t925;
+        let t927: f32 = t594 * t926;
+        let t928: f32 = t572 * t593;
+        let t929: f32 = t558 * t590;
+        let t930: f32 = t928 + t929;
+        let t931: f32 = t604 * t930;
+        let t932: f32 = t594 * t645;
+        let t933: f32 = t927 * 0.003;
+        let t934: f32 = t924 + t932;
+        let t935: f32 = t933 + t934;
+        let t936: f32 = t935 - t931;
+        let t937: f32 = t543 * t936;
+        let t938: f32 = t591 * t593;
+        let t939: f32 = t590 * t610;
+        let t940: f32 = t578 * t939;
+        let t941: f32 = t594 * t940;
+        let t942: f32 = t633 * t930;
+        let t943: f32 = t594 * t621;
+        let t944: f32 = t941 * 0.003;
+        let t945: f32 = t938 + t942;
+        let t946: f32 = t943 + t944;
+        let t947: f32 = t945 - t946;
+        let t948: f32 = t544 * t947;
+        let t949: f32 = t937 - t948;
+        let t950: f32 = t543 * t949;
+        let t951: f32 = t547 * t665;
+        let t952: f32 = t681 * t714;
+        let t953: f32 = t695 * t733;
+        let t954: f32 = t701 * t953;
+        let t955: f32 = t717 * t954;
+        let t956: f32 = t695 * t716;
+        let t957: f32 = t681 * t713;
+        let t958: f32 = t956 + t957;
+        let t959: f32 = t727 * t958;
+        let t960: f32 = t717 * t768;
+        let t961: f32 = t955 * 0.003;
+        let t962: f32 = t952 + t960;
+        let t963: f32 = t961 + t962;
+        let t964: f32 = t963 - t959;
+        let t965: f32 = t667 * t964;
+        let t966: f32 = t714 * t716;
+        let t967: f32 = t713 * t733;
+        let t968: f32 = t701 * t967;
+        let t969: f32 = t717 * t968;
+        let t970: f32 = t756 * t958;
+        let t971: f32 = t717 * t744;
+        let t972: f32 = t969 * 0.003;
+        let t973: f32 = t966 + t970;
+        let t974: f32 = t971 + t972;
+        let t975: f32 = t973 - t974;
+        let t976: f32 = t668 * t975;
+        let t977: f32 = t965 - t976;
+        let t978: f32 = t667 * t977;
+        let t979: f32 = t671 * t788;
+        let t980: f32 = t6 * t21;
+        let t981: f32 = t5 * t24;
+        let t982: f32 = t19 * 0.7;
+        let t983: f32 = t981 - t980;
+        let t984: f32 = t983 * 0.4108;
+        let t985: f32 = t982 + t984;
+        let t986: f32 = t1 * t985;
+        let t987: f32 = t838 + t866;
+        let t988: f32 = t894 + t922;
+        let t989: f32 = t950 + t978;
+        let t990: f32 = t987 + t988;
+        let t991: f32 = t986 + t989;
+        let t992: f32 = t990 + t991;
+        let t993: f32 = t839 + t867;
+        let t994: f32 = t895 + t923;
+        let t995: f32 = t951 + t979;
+        let t996: f32 = t993 + t994;
+        let t997: f32 = t995 + t996;
+        let t998: f32 = t992 - t997;
+        let t999: f32 = t21 * 0.4108;
+        let t1000: f32 = t21 * t999;
+        let t1001: f32 = t24 * 0.4108;
+        let t1002: f32 = t24 * t1001;
         (
             t0,
             t1,
@@ -12788,292 +10359,245 @@ pub fn forward_dynamics(
             t10,
             t14,
             t17,
-            t18,
+            t21,
+            t24,
+            t27,
             t29,
-            t31,
-            t35,
-            t38,
-            t41,
-            t43,
-            t50,
-            t51,
-            t52,
-            t57,
+            t34,
+            t36,
+            t39,
+            t42,
+            t44,
+            t45,
             t59,
             t60,
-            t64,
-            t65,
+            t61,
+            t62,
             t66,
-            t72,
-            t73,
-            t74,
-            t76,
+            t67,
+            t79,
+            t80,
+            t82,
+            t83,
+            t85,
             t86,
-            t89,
-            t91,
-            t93,
-            t98,
+            t96,
             t99,
-            t108,
-            t118,
-            t121,
-            t125,
+            t103,
+            t114,
+            t115,
             t127,
-            t130,
-            t136,
-            t141,
-            t142,
-            t148,
-            t150,
-            t151,
-            t153,
+            t129,
+            t139,
+            t152,
+            t154,
+            t156,
+            t157,
+            t159,
             t160,
-            t161,
             t162,
-            t167,
-            t169,
+            t165,
+            t168,
             t170,
-            t174,
-            t175,
-            t176,
-            t182,
-            t183,
+            t171,
             t184,
+            t185,
             t186,
-            t196,
-            t199,
-            t201,
-            t203,
+            t187,
+            t191,
+            t192,
+            t204,
+            t205,
+            t207,
             t208,
-            t209,
-            t218,
+            t210,
+            t211,
+            t221,
+            t224,
             t228,
-            t231,
-            t235,
-            t237,
+            t239,
             t240,
-            t246,
-            t253,
+            t252,
             t254,
-            t262,
             t264,
-            t267,
-            t269,
-            t276,
             t277,
-            t278,
+            t279,
             t283,
-            t285,
             t286,
-            t290,
+            t288,
             t291,
             t293,
-            t297,
-            t298,
+            t296,
             t299,
             t301,
             t302,
-            t304,
-            t307,
-            t310,
-            t311,
-            t330,
-            t340,
-            t343,
-            t345,
-            t348,
-            t349,
-            t351,
-            t354,
-            t360,
-            t366,
-            t367,
-            t375,
-            t377,
-            t380,
-            t382,
-            t389,
-            t390,
-            t391,
-            t396,
-            t398,
-            t399,
-            t403,
-            t404,
-            t406,
+            t315,
+            t316,
+            t317,
+            t318,
+            t322,
+            t323,
+            t335,
+            t336,
+            t338,
+            t339,
+            t341,
+            t342,
+            t352,
+            t355,
+            t359,
+            t370,
+            t371,
+            t383,
+            t385,
+            t395,
+            t408,
             t410,
-            t411,
-            t412,
             t414,
+            t417,
+            t419,
+            t422,
             t424,
             t427,
-            t429,
-            t431,
+            t430,
             t432,
-            t436,
-            t437,
+            t433,
             t446,
-            t456,
-            t459,
-            t462,
-            t463,
-            t465,
-            t471,
-            t474,
-            t478,
-            t479,
-            t484,
+            t447,
+            t448,
+            t449,
+            t453,
+            t454,
+            t466,
+            t467,
+            t469,
+            t470,
+            t472,
+            t473,
+            t483,
             t486,
-            t487,
-            t489,
-            t496,
-            t497,
-            t498,
-            t503,
-            t505,
-            t506,
-            t510,
-            t511,
-            t513,
-            t517,
-            t518,
-            t519,
-            t521,
-            t531,
-            t534,
-            t536,
-            t538,
+            t490,
+            t501,
+            t502,
+            t514,
+            t516,
+            t526,
             t539,
+            t541,
             t543,
             t544,
-            t553,
-            t563,
-            t566,
-            t569,
+            t546,
+            t547,
+            t549,
+            t552,
+            t555,
+            t557,
+            t558,
             t570,
+            t571,
             t572,
+            t573,
+            t577,
             t578,
-            t581,
-            t585,
-            t586,
+            t590,
             t591,
-            t592,
             t593,
-            t595,
-            t602,
-            t603,
-            t604,
-            t609,
-            t611,
-            t612,
-            t616,
-            t617,
-            t619,
-            t623,
-            t624,
+            t594,
+            t596,
+            t597,
+            t607,
+            t610,
+            t614,
             t625,
-            t627,
-            t628,
-            t630,
-            t631,
-            t633,
-            t636,
-            t637,
-            t656,
-            t666,
-            t669,
+            t626,
+            t638,
+            t640,
+            t650,
+            t663,
+            t665,
+            t667,
+            t668,
+            t670,
             t671,
-            t674,
+            t672,
             t675,
-            t677,
+            t678,
             t680,
-            t686,
-            t690,
-            t710,
-            t711,
+            t681,
+            t693,
+            t694,
+            t695,
+            t696,
+            t700,
+            t701,
             t713,
             t714,
+            t716,
             t717,
-            t721,
-            t725,
-            t728,
+            t719,
+            t720,
             t730,
-            t734,
-            t735,
-            t738,
-            t742,
-            t746,
+            t733,
+            t737,
+            t748,
             t749,
-            t751,
-            t755,
-            t756,
-            t758,
+            t761,
             t763,
-            t767,
-            t770,
-            t772,
-            t776,
-            t777,
-            t779,
-            t784,
-            t785,
-            t791,
-            t793,
-            t797,
-            t798,
-            t800,
-            t805,
-            t806,
+            t773,
+            t786,
+            t788,
+            t790,
+            t810,
+            t811,
             t812,
-            t814,
             t818,
-            t819,
             t821,
+            t824,
             t826,
-            t830,
-            t833,
+            t832,
             t835,
-            t856,
-            t857,
-            t858,
-            t859,
+            t837,
+            t840,
+            t846,
+            t849,
+            t852,
+            t854,
             t860,
-            t862,
-            t866,
-            t867,
-            t870,
+            t863,
+            t865,
+            t868,
+            t874,
             t877,
+            t880,
             t882,
-            t889,
-            t892,
-            t895,
-            t899,
+            t888,
+            t891,
+            t893,
+            t896,
             t902,
-            t903,
-            t904,
-            t913,
+            t905,
+            t908,
+            t910,
             t916,
-            t920,
+            t919,
             t921,
             t924,
-            t931,
+            t930,
+            t933,
             t936,
-            t943,
-            t946,
+            t938,
+            t944,
+            t947,
             t949,
-            t953,
-            t956,
-            t957,
+            t952,
             t958,
-            t967,
-            t970,
-            t973,
-            t974,
+            t961,
+            t964,
+            t966,
+            t972,
+            t975,
             t977,
-            t983,
-            t989,
-            t994,
-            t996,
+            t998,
             t999,
             t1000,
             t1001,
@@ -13081,3716 +10605,3087 @@ pub fn forward_dynamics(
         )
     };
     let (
-        t1010,
-        t1019,
-        t1063,
-        t1072,
-        t1116,
-        t1125,
-        t1168,
-        t1177,
-        t1199,
-        t1200,
-        t1212,
-        t1213,
-        t1229,
-        t1285,
-        t1294,
+        t1005,
+        t1009,
+        t1051,
+        t1055,
+        t1097,
+        t1101,
+        t1143,
+        t1147,
+        t1189,
+        t1193,
+        t1235,
+        t1239,
+        t1299,
         t1300,
-        t1305,
-        t1310,
         t1312,
         t1313,
-        t1337,
-        t1346,
-        t1352,
-        t1357,
-        t1362,
-        t1364,
-        t1365,
-        t1389,
-        t1393,
-        t1398,
-        t1399,
-        t1408,
-        t1411,
-        t1413,
-        t1417,
-        t1442,
-        t1449,
-        t1450,
-        t1457,
-        t1462,
-        t1467,
-        t1469,
-        t1470,
-        t1494,
-        t1501,
-        t1502,
+        t1315,
+        t1455,
         t1509,
         t1514,
-        t1519,
-        t1521,
         t1522,
-        t1546,
-        t1550,
-        t1555,
-        t1556,
-        t1565,
-        t1568,
-        t1570,
-        t1574,
-        t1626,
-        t1733,
-        t1753,
-        t1754,
-        t1756,
-        t1758,
-        t1773,
-        t1780,
-        t1794,
+        t1524,
+        t1527,
+        t1533,
+        t1544,
+        t1545,
+        t1553,
+        t1554,
+        t1566,
+        t1567,
+        t1571,
+        t1590,
+        t1601,
+        t1602,
+        t1611,
+        t1612,
+        t1640,
+        t1641,
+        t1653,
+        t1654,
+        t1659,
+        t1681,
+        t1727,
+        t1728,
+        t1749,
+        t1761,
+        t1768,
+        t1770,
+        t1771,
+        t1776,
+        t1799,
+        t1801,
+        t1803,
+        t1807,
         t1808,
-        t1822,
-        t1836,
+        t1811,
+        t1814,
+        t1815,
+        t1817,
+        t1834,
+        t1838,
+        t1839,
+        t1844,
+        t1845,
+        t1849,
         t1850,
-        t1887,
-        t1906,
-        t1907,
-        t1922,
-        t1923,
-        t1927,
-        t1942,
-        t1943,
-        t1944,
-        t1947,
-        t1951,
-        t1955,
+        t1856,
+        t1857,
+        t1869,
+        t1873,
+        t1880,
+        t1881,
+        t1885,
+        t1886,
+        t1890,
+        t1936,
+        t1937,
         t1959,
-        t1963,
-        t1967,
         t1971,
         t1975,
-        t1979,
-        t1980,
-        t1983,
-        t1984,
+        t1976,
+        t1978,
+        t1981,
+        t1986,
         t1987,
         t1988,
-        t1991,
-        t1992,
-        t1997,
-        t1998,
-        t1999,
-        t2000,
+        t1993,
+        t1995,
         t2001,
         t2002,
     ) = {
-        let t1003: f32 = t1002 - t1001;
-        let t1004: f32 = t758 * t1003;
-        let t1005: f32 = t1000 + t1004;
-        let t1006: f32 = t996 - t1005;
-        let t1007: f32 = t974 * 0.003;
-        let t1008: f32 = t1006 - t1007;
-        let t1009: f32 = t253 * t1008;
-        let t1010: f32 = t348 * t973;
-        let t1011: f32 = t301 * t999;
-        let t1012: f32 = t351 * t1003;
-        let t1013: f32 = t1011 - t1012;
-        let t1014: f32 = t354 * t994;
-        let t1015: f32 = t310 * t983;
-        let t1016: f32 = t293 * t989;
-        let t1017: f32 = t1015 - t1016;
-        let t1018: f32 = t1014 - t1017;
-        let t1019: f32 = t1013 + t1018;
-        let t1020: f32 = t1010 * 0.003;
-        let t1021: f32 = t1020 - t1019;
-        let t1022: f32 = t262 * t1021;
-        let t1023: f32 = t366 * t429;
-        let t1024: f32 = t375 * t406;
-        let t1025: f32 = t1023 + t1024;
-        let t1026: f32 = t776 * t1025;
-        let t1027: f32 = t366 * t427;
-        let t1028: f32 = t375 * t414;
-        let t1029: f32 = t1027 - t1028;
-        let t1030: f32 = t427 * t1029;
-        let t1031: f32 = t429 * t432;
-        let t1032: f32 = t398 * t1024;
-        let t1033: f32 = t1031 + t1032;
-        let t1034: f32 = t1025 * 0.3;
-        let t1035: f32 = t1033 * 0.295;
-        let t1036: f32 = t1035 - t1034;
-        let t1037: f32 = t779 * t1036;
-        let t1038: f32 = t1030 + t1037;
-        let t1039: f32 = t366 * t784;
-        let t1040: f32 = t398 * t1039;
-        let t1041: f32 = t375 * t398;
-        let t1042: f32 = t436 * t1041;
-        let t1043: f32 = t1040 - t1042;
-        let t1044: f32 = t375 * t436;
-        let t1045: f32 = t1044 - t1039;
-        let t1046: f32 = t1043 * 0.295;
-        let t1047: f32 = t1045 * 0.3;
-        let t1048: f32 = t1046 + t1047;
-        let t1049: f32 = t785 * t1048;
-        let t1050: f32 = t1043 * 0.3;
-        let t1051: f32 = t1045 + t1050;
-        let t1052: f32 = t784 * t1051;
-        let t1053: f32 = t1033 * 0.3;
-        let t1054: f32 = t1053 - t1025;
-        let t1055: f32 = t429 * t1054;
-        let t1056: f32 = t1052 + t1055;
-        let t1057: f32 = t1049 - t1056;
-        let t1058: f32 = t1038 + t1057;
-        let t1059: f32 = t1026 * 0.003;
-        let t1060: f32 = t1058 + t1059;
-        let t1061: f32 = -t1060;
-        let t1062: f32 = t366 * t1061;
-        let t1063: f32 = t462 * t1025;
-        let t1064: f32 = t465 * t1036;
-        let t1065: f32 = t414 * t1029;
-        let t1066: f32 = t1064 - t1065;
-        let t1067: f32 = t436 * t1051;
-        let t1068: f32 = t406 * t1054;
-        let t1069: f32 = t1067 - t1068;
-        let t1070: f32 = t471 * t1048;
-        let t1071: f32 = t1069 - t1070;
-        let t1072: f32 = t1066 + t1071;
-        let t1073: f32 = t1063 * 0.003;
-        let t1074: f32 = t1072 + t1073;
-        let t1075: f32 = t375 * t1074;
-        let t1076: f32 = t478 * t536;
-        let t1077: f32 = t484 * t513;
-        let t1078: f32 = t1076 + t1077;
-        let t1079: f32 = t797 * t1078;
-        let t1080: f32 = t478 * t534;
-        let t1081: f32 = t484 * t521;
-        let t1082: f32 = t1080 - t1081;
-        let t1083: f32 = t534 * t1082;
-        let t1084: f32 = t536 * t539;
-        let t1085: f32 = t505 * t1077;
-        let t1086: f32 = t1084 + t1085;
-        let t1087: f32 = t1078 * 0.3;
-        let t1088: f32 = t1086 * 0.295;
-        let t1089: f32 = t1088 - t1087;
-        let t1090: f32 = t800 * t1089;
-        let t1091: f32 = t1083 + t1090;
-        let t1092: f32 = t478 * t805;
-        let t1093: f32 = t505 * t1092;
-        let t1094: f32 = t484 * t505;
-        let t1095: f32 = t543 * t1094;
-        let t1096: f32 = t1093 - t1095;
-        let t1097: f32 = t484 * t543;
-        let t1098: f32 = t1097 - t1092;
-        let t1099: f32 = t1096 * 0.295;
-        let t1100: f32 = t1098 * 0.3;
-        let t1101: f32 = t1099 + t1100;
-        let t1102: f32 = t806 * t1101;
-        let t1103: f32 = t1096 * 0.3;
-        let t1104: f32 = t1098 + t1103;
-        let t1105: f32 = t805 * t1104;
-        let t1106: f32 = t1086 * 0.3;
-        let t1107: f32 = t1106 - t1078;
-        let t1108: f32 = t536 * t1107;
-        let t1109: f32 = t1105 + t1108;
-        let t1110: f32 = t1102 - t1109;
-        let t1111: f32 = t1091 + t1110;
-        let t1112: f32 = t1079 * 0.003;
-        let t1113: f32 = t1111 + t1112;
-        let t1114: f32 = -t1113;
-        let t1115: f32 = t478 * t1114;
-        let t1116: f32 = t569 * t1078;
-        let t1117: f32 = t572 * t1089;
-        let t1118: f32 = t521 * t1082;
-        let t1119: f32 = t1117 - t1118;
-        let t1120: f32 = t543 * t1104;
-        let t1121: f32 = t513 * t1107;
-        let t1122: f32 = t1120 - t1121;
-        let t1123: f32 = t578 * t1101;
-        let t1124: f32 = t1122 - t1123;
-        let t1125: f32 = t1119 + t1124;
-        let t1126: f32 = t1116 * 0.003;
-        let t1127: f32 = t1125 + t1126;
-        let t1128: f32 = t484 * t1127;
-        let t1129: f32 = t585 * t628;
-        let t1130: f32 = t591 * t619;
-        let t1131: f32 = t1129 + t1130;
-        let t1132: f32 = t818 * t1131;
-        let t1133: f32 = t585 * t826;
-        let t1134: f32 = t611 * t1133;
-        let t1135: f32 = t591 * t611;
-        let t1136: f32 = t636 * t1135;
-        let t1137: f32 = t1134 - t1136;
-        let t1138: f32 = t591 * t636;
-        let t1139: f32 = t1138 - t1133;
-        let t1140: f32 = t1137 * 0.3;
-        let t1141: f32 = t1139 + t1140;
-        let t1142: f32 = t826 * t1141;
-        let t1143: f32 = t628 * t631;
-        let t1144: f32 = t611 * t1130;
-        let t1145: f32 = t1143 + t1144;
-        let t1146: f32 = t1145 * 0.3;
-        let t1147: f32 = t1146 - t1131;
-        let t1148: f32 = t628 * t1147;
-        let t1149: f32 = t1142 + t1148;
-        let t1150: f32 = t1137 * 0.295;
-        let t1151: f32 = t1139 * 0.3;
-        let t1152: f32 = t1150 + t1151;
-        let t1153: f32 = t830 * t1152;
-        let t1154: f32 = t1149 - t1153;
-        let t1155: f32 = t585 * t625;
-        let t1156: f32 = t591 * t627;
-        let t1157: f32 = t1155 - t1156;
-        let t1158: f32 = t625 * t1157;
-        let t1159: f32 = t1131 * 0.3;
-        let t1160: f32 = t1145 * 0.295;
-        let t1161: f32 = t1160 - t1159;
-        let t1162: f32 = t821 * t1161;
-        let t1163: f32 = t1158 + t1162;
-        let t1164: f32 = t1154 - t1163;
-        let t1165: f32 = t1132 * 0.003;
-        let t1166: f32 = t1164 - t1165;
-        let t1167: f32 = t585 * t1166;
-        let t1168: f32 = t674 * t1131;
-        let t1169: f32 = t627 * t1157;
-        let t1170: f32 = t677 * t1161;
+        let t1003: f32 = t3 * t3;
+        let t1004: f32 = t790 * t1003;
+        let t1005: f32 = t44 * t818;
+        let t1006: f32 = t1005 * 0.3;
+        let t1007: f32 = t818 - t1006;
+        let t1008: f32 = t818 * t1007;
+        let t1009: f32 = t44 * t83;
+        let t1010: f32 = t1009 * 0.3;
+        let t1011: f32 = t83 - t1010;
+        let t1012: f32 = t83 * t1011;
+        let t1013: f32 = t80 * t80;
+        let t1014: f32 = t818 * 0.3;
+        let t1015: f32 = t1005 * 0.295;
+        let t1016: f32 = t1014 - t1015;
+        let t1017: f32 = t818 * t1016;
+        let t1018: f32 = t44 * t67;
+        let t1019: f32 = t83 * t1018;
+        let t1020: f32 = t83 * 0.3;
+        let t1021: f32 = t1009 * 0.295;
+        let t1022: f32 = t1019 * 0.003;
+        let t1023: f32 = t1021 + t1022;
+        let t1024: f32 = t1020 - t1023;
+        let t1025: f32 = t83 * t1024;
+        let t1026: f32 = t1017 + t1025;
+        let t1027: f32 = t44 * t1026;
+        let t1028: f32 = t1008 + t1012;
+        let t1029: f32 = t1013 + t1028;
+        let t1030: f32 = t1029 - t1027;
+        let t1031: f32 = t17 * t1030;
+        let t1032: f32 = t34 * t835;
+        let t1033: f32 = t1031 - t1032;
+        let t1034: f32 = t17 * t1033;
+        let t1035: f32 = t1020 - t1021;
+        let t1036: f32 = t44 * t1035;
+        let t1037: f32 = t1010 + t1036;
+        let t1038: f32 = t83 - t1037;
+        let t1039: f32 = t79 * t1038;
+        let t1040: f32 = t44 * t1016;
+        let t1041: f32 = t1006 + t1040;
+        let t1042: f32 = t818 - t1041;
+        let t1043: f32 = t114 * t1042;
+        let t1044: f32 = t826 + t1039;
+        let t1045: f32 = t832 + t1043;
+        let t1046: f32 = t1044 + t1045;
+        let t1047: f32 = t17 * t1046;
+        let t1048: f32 = t34 * t152;
+        let t1049: f32 = t1047 - t1048;
+        let t1050: f32 = t34 * t1049;
+        let t1051: f32 = t170 * t846;
+        let t1052: f32 = t1051 * 0.3;
+        let t1053: f32 = t846 - t1052;
+        let t1054: f32 = t846 * t1053;
+        let t1055: f32 = t170 * t208;
+        let t1056: f32 = t1055 * 0.3;
+        let t1057: f32 = t208 - t1056;
+        let t1058: f32 = t208 * t1057;
+        let t1059: f32 = t205 * t205;
+        let t1060: f32 = t846 * 0.3;
+        let t1061: f32 = t1051 * 0.295;
+        let t1062: f32 = t1060 - t1061;
+        let t1063: f32 = t846 * t1062;
+        let t1064: f32 = t170 * t192;
+        let t1065: f32 = t208 * t1064;
+        let t1066: f32 = t208 * 0.3;
+        let t1067: f32 = t1055 * 0.295;
+        let t1068: f32 = t1065 * 0.003;
+        let t1069: f32 = t1067 + t1068;
+        let t1070: f32 = t1066 - t1069;
+        let t1071: f32 = t208 * t1070;
+        let t1072: f32 = t1063 + t1071;
+        let t1073: f32 = t170 * t1072;
+        let t1074: f32 = t1054 + t1058;
+        let t1075: f32 = t1059 + t1074;
+        let t1076: f32 = t1075 - t1073;
+        let t1077: f32 = t156 * t1076;
+        let t1078: f32 = t160 * t863;
+        let t1079: f32 = t1077 - t1078;
+        let t1080: f32 = t156 * t1079;
+        let t1081: f32 = t1066 - t1067;
+        let t1082: f32 = t170 * t1081;
+        let t1083: f32 = t1056 + t1082;
+        let t1084: f32 = t208 - t1083;
+        let t1085: f32 = t204 * t1084;
+        let t1086: f32 = t170 * t1062;
+        let t1087: f32 = t1052 + t1086;
+        let t1088: f32 = t846 - t1087;
+        let t1089: f32 = t239 * t1088;
+        let t1090: f32 = t854 + t1085;
+        let t1091: f32 = t860 + t1089;
+        let t1092: f32 = t1090 + t1091;
+        let t1093: f32 = t156 * t1092;
+        let t1094: f32 = t160 * t277;
+        let t1095: f32 = t1093 - t1094;
+        let t1096: f32 = t160 * t1095;
+        let t1097: f32 = t301 * t874;
+        let t1098: f32 = t1097 * 0.3;
+        let t1099: f32 = t874 - t1098;
+        let t1100: f32 = t874 * t1099;
+        let t1101: f32 = t301 * t339;
+        let t1102: f32 = t1101 * 0.3;
+        let t1103: f32 = t339 - t1102;
+        let t1104: f32 = t339 * t1103;
+        let t1105: f32 = t336 * t336;
+        let t1106: f32 = t874 * 0.3;
+        let t1107: f32 = t1097 * 0.295;
+        let t1108: f32 = t1106 - t1107;
+        let t1109: f32 = t874 * t1108;
+        let t1110: f32 = t301 * t323;
+        let t1111: f32 = t339 * t1110;
+        let t1112: f32 = t339 * 0.3;
+        let t1113: f32 = t1101 * 0.295;
+        let t1114: f32 = t1111 * 0.003;
+        let t1115: f32 = t1113 + t1114;
+        let t1116: f32 = t1112 - t1115;
+        let t1117: f32 = t339 * t1116;
+        let t1118: f32 = t1109 + t1117;
+        let t1119: f32 = t301 * t1118;
+        let t1120: f32 = t1100 + t1104;
+        let t1121: f32 = t1105 + t1120;
+        let t1122: f32 = t1121 - t1119;
+        let t1123: f32 = t283 * t1122;
+        let t1124: f32 = t291 * t891;
+        let t1125: f32 = t1123 - t1124;
+        let t1126: f32 = t283 * t1125;
+        let t1127: f32 = t1112 - t1113;
+        let t1128: f32 = t301 * t1127;
+        let t1129: f32 = t1102 + t1128;
+        let t1130: f32 = t339 - t1129;
+        let t1131: f32 = t335 * t1130;
+        let t1132: f32 = t301 * t1108;
+        let t1133: f32 = t1098 + t1132;
+        let t1134: f32 = t874 - t1133;
+        let t1135: f32 = t370 * t1134;
+        let t1136: f32 = t882 + t1135;
+        let t1137: f32 = t888 + t1131;
+        let t1138: f32 = t1136 - t1137;
+        let t1139: f32 = t283 * t1138;
+        let t1140: f32 = t291 * t408;
+        let t1141: f32 = t1139 - t1140;
+        let t1142: f32 = t291 * t1141;
+        let t1143: f32 = t432 * t902;
+        let t1144: f32 = t1143 * 0.3;
+        let t1145: f32 = t902 - t1144;
+        let t1146: f32 = t902 * t1145;
+        let t1147: f32 = t432 * t470;
+        let t1148: f32 = t1147 * 0.3;
+        let t1149: f32 = t470 - t1148;
+        let t1150: f32 = t470 * t1149;
+        let t1151: f32 = t467 * t467;
+        let t1152: f32 = t902 * 0.3;
+        let t1153: f32 = t1143 * 0.295;
+        let t1154: f32 = t1152 - t1153;
+        let t1155: f32 = t902 * t1154;
+        let t1156: f32 = t432 * t454;
+        let t1157: f32 = t470 * t1156;
+        let t1158: f32 = t470 * 0.3;
+        let t1159: f32 = t1147 * 0.295;
+        let t1160: f32 = t1157 * 0.003;
+        let t1161: f32 = t1159 + t1160;
+        let t1162: f32 = t1158 - t1161;
+        let t1163: f32 = t470 * t1162;
+        let t1164: f32 = t1155 + t1163;
+        let t1165: f32 = t432 * t1164;
+        let t1166: f32 = t1146 + t1150;
+        let t1167: f32 = t1151 + t1166;
+        let t1168: f32 = t1167 - t1165;
+        let t1169: f32 = t414 * t1168;
+        let t1170: f32 = t422 * t919;
         let t1171: f32 = t1169 - t1170;
-        let t1172: f32 = t680 * t1152;
-        let t1173: f32 = t636 * t1141;
-        let t1174: f32 = t619 * t1147;
-        let t1175: f32 = t1173 - t1174;
-        let t1176: f32 = t1172 - t1175;
-        let t1177: f32 = t1171 + t1176;
-        let t1178: f32 = t1168 * 0.003;
-        let t1179: f32 = t1178 - t1177;
-        let t1180: f32 = t591 * t1179;
-        let t1181: f32 = t856 * t856;
-        let t1182: f32 = t710 * t1181;
-        let t1183: f32 = t862 * 0.7;
-        let t1184: f32 = t858 + t860;
-        let t1185: f32 = t916 + t970;
-        let t1186: f32 = t1022 + t1075;
-        let t1187: f32 = t1128 + t1180;
-        let t1188: f32 = t1184 + t1185;
-        let t1189: f32 = t1186 + t1187;
-        let t1190: f32 = t1188 + t1189;
-        let t1191: f32 = t1183 + t1190;
-        let t1192: f32 = t903 + t957;
-        let t1193: f32 = t1009 + t1062;
-        let t1194: f32 = t1115 + t1167;
-        let t1195: f32 = t1192 + t1193;
-        let t1196: f32 = t1182 + t1194;
-        let t1197: f32 = t1195 + t1196;
-        let t1198: f32 = t1191 - t1197;
-        let t1199: f32 = 1.0 / t1198;
-        let t1200: f32 = t1 * t4;
-        let t1201: f32 = t756 + t819;
-        let t1202: f32 = t714 + t735;
-        let t1203: f32 = t777 + t798;
-        let t1204: f32 = t1202 + t1203;
-        let t1205: f32 = t1201 - t1204;
-        let t1206: f32 = t1205 * 0.003;
-        let t1207: f32 = t728 + t1206;
-        let t1208: f32 = t749 + t770;
-        let t1209: f32 = t1207 + t1208;
-        let t1210: f32 = t833 + t1209;
-        let t1211: f32 = t791 + t812;
-        let t1212: f32 = t1210 - t1211;
-        let t1213: f32 = t710 * t856;
-        let t1214: f32 = t1212 * t1213;
-        let t1215: f32 = t1200 * 0.36;
-        let t1216: f32 = t867 + t921;
-        let t1217: f32 = t1026 + t1079;
-        let t1218: f32 = t1216 + t1217;
-        let t1219: f32 = t974 + t1132;
-        let t1220: f32 = t1218 - t1219;
-        let t1221: f32 = t1220 * 0.003;
-        let t1222: f32 = t1215 + t1221;
-        let t1223: f32 = t899 + t953;
-        let t1224: f32 = t1006 + t1058;
-        let t1225: f32 = t1111 + t1164;
-        let t1226: f32 = t1222 + t1223;
-        let t1227: f32 = t1224 + t1225;
-        let t1228: f32 = t1226 + t1227;
-        let t1229: f32 = t1228 - t1214;
-        let t1230: f32 = t721 * 0.3;
-        let t1231: f32 = t717 - t1230;
-        let t1232: f32 = t717 * t1231;
-        let t1233: f32 = t725 * 0.3;
-        let t1234: f32 = t91 - t1233;
-        let t1235: f32 = t91 * t1234;
-        let t1236: f32 = t89 * t89;
-        let t1237: f32 = t742 * 0.3;
-        let t1238: f32 = t738 - t1237;
-        let t1239: f32 = t738 * t1238;
-        let t1240: f32 = t746 * 0.3;
-        let t1241: f32 = t201 - t1240;
-        let t1242: f32 = t201 * t1241;
-        let t1243: f32 = t199 * t199;
-        let t1244: f32 = t767 * 0.3;
-        let t1245: f32 = t763 - t1244;
-        let t1246: f32 = t763 * t1245;
-        let t1247: f32 = t758 * 0.3;
-        let t1248: f32 = t302 - t1247;
-        let t1249: f32 = t302 * t1248;
-        let t1250: f32 = t299 * t299;
-        let t1251: f32 = t785 * 0.3;
-        let t1252: f32 = t784 - t1251;
-        let t1253: f32 = t784 * t1252;
-        let t1254: f32 = t779 * 0.3;
-        let t1255: f32 = t429 - t1254;
-        let t1256: f32 = t429 * t1255;
-        let t1257: f32 = t427 * t427;
-        let t1258: f32 = t806 * 0.3;
-        let t1259: f32 = t805 - t1258;
-        let t1260: f32 = t805 * t1259;
-        let t1261: f32 = t800 * 0.3;
-        let t1262: f32 = t536 - t1261;
-        let t1263: f32 = t536 * t1262;
-        let t1264: f32 = t534 * t534;
-        let t1265: f32 = t830 * 0.3;
-        let t1266: f32 = t826 - t1265;
-        let t1267: f32 = t826 * t1266;
-        let t1268: f32 = t821 * 0.3;
-        let t1269: f32 = t628 - t1268;
-        let t1270: f32 = t628 * t1269;
-        let t1271: f32 = t625 * t625;
-        let t1272: f32 = t1212 * t1212;
-        let t1273: f32 = t710 * t1272;
-        let t1274: f32 = t1229 * t1229;
-        let t1275: f32 = t1199 * t1274;
-        let t1276: f32 = t10 * 0.4108;
-        let t1277: f32 = t10 * t1276;
-        let t1278: f32 = t14 * 0.4108;
-        let t1279: f32 = t14 * t1278;
-        let t1280: f32 = t4 * t4;
-        let t1281: f32 = t690 * t1280;
-        let t1282: f32 = t29 * t52;
-        let t1283: f32 = t41 * t91;
-        let t1284: f32 = t1282 - t1283;
-        let t1285: f32 = -t1284;
-        let t1286: f32 = t713 * t1285;
-        let t1287: f32 = t41 * t717;
-        let t1288: f32 = t59 * t1287;
-        let t1289: f32 = t93 * t882;
-        let t1290: f32 = t1288 - t1289;
-        let t1291: f32 = t29 * t93;
-        let t1292: f32 = t1291 - t1287;
-        let t1293: f32 = t1290 * 0.3;
+        let t1172: f32 = t414 * t1171;
+        let t1173: f32 = t1158 - t1159;
+        let t1174: f32 = t432 * t1173;
+        let t1175: f32 = t1148 + t1174;
+        let t1176: f32 = t470 - t1175;
+        let t1177: f32 = t466 * t1176;
+        let t1178: f32 = t432 * t1154;
+        let t1179: f32 = t1144 + t1178;
+        let t1180: f32 = t902 - t1179;
+        let t1181: f32 = t501 * t1180;
+        let t1182: f32 = t910 + t1181;
+        let t1183: f32 = t916 + t1177;
+        let t1184: f32 = t1182 - t1183;
+        let t1185: f32 = t414 * t1184;
+        let t1186: f32 = t422 * t539;
+        let t1187: f32 = t1185 - t1186;
+        let t1188: f32 = t422 * t1187;
+        let t1189: f32 = t557 * t930;
+        let t1190: f32 = t1189 * 0.3;
+        let t1191: f32 = t930 - t1190;
+        let t1192: f32 = t930 * t1191;
+        let t1193: f32 = t557 * t594;
+        let t1194: f32 = t1193 * 0.3;
+        let t1195: f32 = t594 - t1194;
+        let t1196: f32 = t594 * t1195;
+        let t1197: f32 = t591 * t591;
+        let t1198: f32 = t930 * 0.3;
+        let t1199: f32 = t1189 * 0.295;
+        let t1200: f32 = t1198 - t1199;
+        let t1201: f32 = t930 * t1200;
+        let t1202: f32 = t557 * t578;
+        let t1203: f32 = t594 * t1202;
+        let t1204: f32 = t594 * 0.3;
+        let t1205: f32 = t1193 * 0.295;
+        let t1206: f32 = t1203 * 0.003;
+        let t1207: f32 = t1205 + t1206;
+        let t1208: f32 = t1204 - t1207;
+        let t1209: f32 = t594 * t1208;
+        let t1210: f32 = t1201 + t1209;
+        let t1211: f32 = t557 * t1210;
+        let t1212: f32 = t1192 + t1196;
+        let t1213: f32 = t1197 + t1212;
+        let t1214: f32 = t1213 - t1211;
+        let t1215: f32 = t543 * t1214;
+        let t1216: f32 = t547 * t947;
+        let t1217: f32 = t1215 - t1216;
+        let t1218: f32 = t543 * t1217;
+        let t1219: f32 = t1204 - t1205;
+        let t1220: f32 = t557 * t1219;
+        let t1221: f32 = t1194 + t1220;
+        let t1222: f32 = t594 - t1221;
+        let t1223: f32 = t590 * t1222;
+        let t1224: f32 = t557 * t1200;
+        let t1225: f32 = t1190 + t1224;
+        let t1226: f32 = t930 - t1225;
+        let t1227: f32 = t625 * t1226;
+        let t1228: f32 = t938 + t1227;
+        let t1229: f32 = t944 + t1223;
+        let t1230: f32 = t1228 - t1229;
+        let t1231: f32 = t543 * t1230;
+        let t1232: f32 = t547 * t663;
+        let t1233: f32 = t1231 - t1232;
+        let t1234: f32 = t547 * t1233;
+        let t1235: f32 = t680 * t958;
+        let t1236: f32 = t1235 * 0.3;
+        let t1237: f32 = t958 - t1236;
+        let t1238: f32 = t958 * t1237;
+        let t1239: f32 = t680 * t717;
+        let t1240: f32 = t1239 * 0.3;
+        let t1241: f32 = t717 - t1240;
+        let t1242: f32 = t717 * t1241;
+        let t1243: f32 = t714 * t714;
+        let t1244: f32 = t958 * 0.3;
+        let t1245: f32 = t1235 * 0.295;
+        let t1246: f32 = t1244 - t1245;
+        let t1247: f32 = t958 * t1246;
+        let t1248: f32 = t680 * t701;
+        let t1249: f32 = t717 * t1248;
+        let t1250: f32 = t717 * 0.3;
+        let t1251: f32 = t1239 * 0.295;
+        let t1252: f32 = t1249 * 0.003;
+        let t1253: f32 = t1251 + t1252;
+        let t1254: f32 = t1250 - t1253;
+        let t1255: f32 = t717 * t1254;
+        let t1256: f32 = t1247 + t1255;
+        let t1257: f32 = t680 * t1256;
+        let t1258: f32 = t1238 + t1242;
+        let t1259: f32 = t1243 + t1258;
+        let t1260: f32 = t1259 - t1257;
+        let t1261: f32 = t667 * t1260;
+        let t1262: f32 = t671 * t975;
+        let t1263: f32 = t1261 - t1262;
+        let t1264: f32 = t667 * t1263;
+        let t1265: f32 = t1250 - t1251;
+        let t1266: f32 = t680 * t1265;
+        let t1267: f32 = t1240 + t1266;
+        let t1268: f32 = t717 - t1267;
+        let t1269: f32 = t713 * t1268;
+        let t1270: f32 = t680 * t1246;
+        let t1271: f32 = t1236 + t1270;
+        let t1272: f32 = t958 - t1271;
+        let t1273: f32 = t748 * t1272;
+        let t1274: f32 = t966 + t1273;
+        let t1275: f32 = t972 + t1269;
+        let t1276: f32 = t1274 - t1275;
+        let t1277: f32 = t667 * t1276;
+        let t1278: f32 = t671 * t786;
+        let t1279: f32 = t1277 - t1278;
+        let t1280: f32 = t671 * t1279;
+        let t1281: f32 = t1004 * 0.7;
+        let t1282: f32 = t1000 + t1002;
+        let t1283: f32 = t1034 + t1080;
+        let t1284: f32 = t1126 + t1172;
+        let t1285: f32 = t1218 + t1264;
+        let t1286: f32 = t1282 + t1283;
+        let t1287: f32 = t1284 + t1285;
+        let t1288: f32 = t1286 + t1287;
+        let t1289: f32 = t1281 + t1288;
+        let t1290: f32 = t1050 + t1096;
+        let t1291: f32 = t1142 + t1188;
+        let t1292: f32 = t1234 + t1280;
+        let t1293: f32 = t1290 + t1291;
         let t1294: f32 = t1292 + t1293;
-        let t1295: f32 = t717 * t1294;
-        let t1296: f32 = t91 * t99;
-        let t1297: f32 = t59 * t1282;
-        let t1298: f32 = t1296 - t1297;
-        let t1299: f32 = t1298 * 0.3;
-        let t1300: f32 = t1284 + t1299;
-        let t1301: f32 = t91 * t1300;
-        let t1302: f32 = t1295 + t1301;
-        let t1303: f32 = t1290 * 0.295;
-        let t1304: f32 = t1292 * 0.3;
-        let t1305: f32 = t1303 + t1304;
-        let t1306: f32 = t721 * t1305;
-        let t1307: f32 = t1302 - t1306;
-        let t1308: f32 = t41 * t89;
-        let t1309: f32 = t29 * t74;
-        let t1310: f32 = t1308 - t1309;
-        let t1311: f32 = t89 * t1310;
-        let t1312: f32 = t1284 * 0.3;
-        let t1313: f32 = t1298 * 0.295;
-        let t1314: f32 = t1312 + t1313;
-        let t1315: f32 = t725 * t1314;
-        let t1316: f32 = t1311 + t1315;
-        let t1317: f32 = t1307 - t1316;
-        let t1318: f32 = t1286 * 0.003;
-        let t1319: f32 = t1317 - t1318;
-        let t1320: f32 = t41 * t1319;
-        let t1321: f32 = t72 * t1285;
-        let t1322: f32 = t93 * t1294;
-        let t1323: f32 = t52 * t1300;
-        let t1324: f32 = t1322 + t1323;
-        let t1325: f32 = t108 * t1305;
-        let t1326: f32 = t1324 - t1325;
-        let t1327: f32 = t74 * t1310;
-        let t1328: f32 = t86 * t1314;
-        let t1329: f32 = t1327 + t1328;
-        let t1330: f32 = t1326 - t1329;
-        let t1331: f32 = t1321 * 0.003;
-        let t1332: f32 = t1330 - t1331;
-        let t1333: f32 = t29 * t1332;
-        let t1334: f32 = t148 * t162;
-        let t1335: f32 = t151 * t201;
-        let t1336: f32 = t1334 - t1335;
-        let t1337: f32 = -t1336;
-        let t1338: f32 = t734 * t1337;
-        let t1339: f32 = t151 * t738;
-        let t1340: f32 = t169 * t1339;
-        let t1341: f32 = t203 * t936;
-        let t1342: f32 = t1340 - t1341;
-        let t1343: f32 = t148 * t203;
-        let t1344: f32 = t1343 - t1339;
-        let t1345: f32 = t1342 * 0.3;
-        let t1346: f32 = t1344 + t1345;
-        let t1347: f32 = t738 * t1346;
-        let t1348: f32 = t201 * t209;
-        let t1349: f32 = t169 * t1334;
-        let t1350: f32 = t1348 - t1349;
-        let t1351: f32 = t1350 * 0.3;
-        let t1352: f32 = t1336 + t1351;
-        let t1353: f32 = t201 * t1352;
-        let t1354: f32 = t1347 + t1353;
-        let t1355: f32 = t1342 * 0.295;
-        let t1356: f32 = t1344 * 0.3;
-        let t1357: f32 = t1355 + t1356;
-        let t1358: f32 = t742 * t1357;
-        let t1359: f32 = t1354 - t1358;
-        let t1360: f32 = t151 * t199;
-        let t1361: f32 = t148 * t184;
-        let t1362: f32 = t1360 - t1361;
-        let t1363: f32 = t199 * t1362;
-        let t1364: f32 = t1336 * 0.3;
-        let t1365: f32 = t1350 * 0.295;
-        let t1366: f32 = t1364 + t1365;
-        let t1367: f32 = t746 * t1366;
-        let t1368: f32 = t1363 + t1367;
-        let t1369: f32 = t1359 - t1368;
-        let t1370: f32 = t1338 * 0.003;
-        let t1371: f32 = t1369 - t1370;
-        let t1372: f32 = t151 * t1371;
-        let t1373: f32 = t182 * t1337;
-        let t1374: f32 = t203 * t1346;
-        let t1375: f32 = t162 * t1352;
-        let t1376: f32 = t1374 + t1375;
-        let t1377: f32 = t218 * t1357;
-        let t1378: f32 = t1376 - t1377;
-        let t1379: f32 = t184 * t1362;
-        let t1380: f32 = t196 * t1366;
-        let t1381: f32 = t1379 + t1380;
-        let t1382: f32 = t1378 - t1381;
-        let t1383: f32 = t1373 * 0.003;
-        let t1384: f32 = t1382 - t1383;
-        let t1385: f32 = t148 * t1384;
-        let t1386: f32 = t262 * t278;
-        let t1387: f32 = t267 * t302;
-        let t1388: f32 = t1386 - t1387;
-        let t1389: f32 = -t1388;
-        let t1390: f32 = t755 * t1389;
-        let t1391: f32 = t267 * t299;
-        let t1392: f32 = t262 * t307;
-        let t1393: f32 = t1391 - t1392;
-        let t1394: f32 = t299 * t1393;
-        let t1395: f32 = t302 * t311;
-        let t1396: f32 = t285 * t1386;
-        let t1397: f32 = t1395 - t1396;
-        let t1398: f32 = t1388 * 0.3;
-        let t1399: f32 = t1397 * 0.295;
-        let t1400: f32 = t1398 + t1399;
-        let t1401: f32 = t758 * t1400;
-        let t1402: f32 = t1394 + t1401;
-        let t1403: f32 = t267 * t763;
-        let t1404: f32 = t285 * t1403;
-        let t1405: f32 = t304 * t977;
-        let t1406: f32 = t1404 + t1405;
-        let t1407: f32 = t262 * t304;
-        let t1408: f32 = t1403 + t1407;
-        let t1409: f32 = t1406 * 0.295;
-        let t1410: f32 = t1408 * 0.3;
-        let t1411: f32 = t1409 - t1410;
-        let t1412: f32 = t767 * t1411;
-        let t1413: f32 = t1406 * 0.3;
-        let t1414: f32 = t1413 - t1408;
-        let t1415: f32 = t763 * t1414;
-        let t1416: f32 = t1397 * 0.3;
-        let t1417: f32 = t1388 + t1416;
-        let t1418: f32 = t302 * t1417;
-        let t1419: f32 = t1415 + t1418;
-        let t1420: f32 = t1412 - t1419;
-        let t1421: f32 = t1402 + t1420;
-        let t1422: f32 = t1390 * 0.003;
+        let t1295: f32 = t1289 - t1294;
+        let t1296: f32 = t998 * t998;
+        let t1297: f32 = t810 * t1296;
+        let t1298: f32 = t1295 - t1297;
+        let t1299: f32 = 1.0 / t1298;
+        let t1300: f32 = t1 * t4;
+        let t1301: f32 = t1300 * 0.36;
+        let t1302: f32 = t1033 + t1301;
+        let t1303: f32 = t1079 + t1171;
+        let t1304: f32 = t1302 + t1303;
+        let t1305: f32 = t1217 + t1304;
+        let t1306: f32 = t1125 + t1263;
+        let t1307: f32 = t1305 - t1306;
+        let t1308: f32 = t837 + t865;
+        let t1309: f32 = t921 + t949;
+        let t1310: f32 = t1308 + t1309;
+        let t1311: f32 = t893 + t977;
+        let t1312: f32 = t1310 - t1311;
+        let t1313: f32 = t810 * t998;
+        let t1314: f32 = t1312 * t1313;
+        let t1315: f32 = t1307 - t1314;
+        let t1316: f32 = t1030 + t1076;
+        let t1317: f32 = t1122 + t1168;
+        let t1318: f32 = t1214 + t1260;
+        let t1319: f32 = t1316 + t1317;
+        let t1320: f32 = t1318 + 12.0;
+        let t1321: f32 = t1319 + t1320;
+        let t1322: f32 = t1312 * t1312;
+        let t1323: f32 = t810 * t1322;
+        let t1324: f32 = t1315 * t1315;
+        let t1325: f32 = t1299 * t1324;
+        let t1326: f32 = t10 * 0.4108;
+        let t1327: f32 = t10 * t1326;
+        let t1328: f32 = t14 * 0.4108;
+        let t1329: f32 = t14 * t1328;
+        let t1330: f32 = t4 * t4;
+        let t1331: f32 = t790 * t1330;
+        let t1332: f32 = t27 * t1030;
+        let t1333: f32 = t34 * t824;
+        let t1334: f32 = t1332 - t1333;
+        let t1335: f32 = t27 * t1334;
+        let t1336: f32 = t61 * t1038;
+        let t1337: f32 = t85 * t1042;
+        let t1338: f32 = t812 + t1336;
+        let t1339: f32 = t821 + t1337;
+        let t1340: f32 = t1338 + t1339;
+        let t1341: f32 = t27 * t1340;
+        let t1342: f32 = t34 * t96;
+        let t1343: f32 = t1341 - t1342;
+        let t1344: f32 = t34 * t1343;
+        let t1345: f32 = t157 * t1076;
+        let t1346: f32 = t160 * t852;
+        let t1347: f32 = t1345 - t1346;
+        let t1348: f32 = t157 * t1347;
+        let t1349: f32 = t186 * t1084;
+        let t1350: f32 = t210 * t1088;
+        let t1351: f32 = t840 + t1349;
+        let t1352: f32 = t849 + t1350;
+        let t1353: f32 = t1351 + t1352;
+        let t1354: f32 = t157 * t1353;
+        let t1355: f32 = t160 * t221;
+        let t1356: f32 = t1354 - t1355;
+        let t1357: f32 = t160 * t1356;
+        let t1358: f32 = t286 * t1122;
+        let t1359: f32 = t291 * t880;
+        let t1360: f32 = t1358 - t1359;
+        let t1361: f32 = t286 * t1360;
+        let t1362: f32 = t317 * t1130;
+        let t1363: f32 = t341 * t1134;
+        let t1364: f32 = t868 + t1362;
+        let t1365: f32 = t877 + t1364;
+        let t1366: f32 = t1365 - t1363;
+        let t1367: f32 = t286 * t1366;
+        let t1368: f32 = t291 * t352;
+        let t1369: f32 = t1367 - t1368;
+        let t1370: f32 = t291 * t1369;
+        let t1371: f32 = t417 * t1168;
+        let t1372: f32 = t422 * t908;
+        let t1373: f32 = t1371 - t1372;
+        let t1374: f32 = t417 * t1373;
+        let t1375: f32 = t448 * t1176;
+        let t1376: f32 = t472 * t1180;
+        let t1377: f32 = t896 + t1375;
+        let t1378: f32 = t905 + t1377;
+        let t1379: f32 = t1378 - t1376;
+        let t1380: f32 = t417 * t1379;
+        let t1381: f32 = t422 * t483;
+        let t1382: f32 = t1380 - t1381;
+        let t1383: f32 = t422 * t1382;
+        let t1384: f32 = t544 * t1214;
+        let t1385: f32 = t547 * t936;
+        let t1386: f32 = t1384 - t1385;
+        let t1387: f32 = t544 * t1386;
+        let t1388: f32 = t572 * t1222;
+        let t1389: f32 = t596 * t1226;
+        let t1390: f32 = t924 + t1388;
+        let t1391: f32 = t933 + t1390;
+        let t1392: f32 = t1391 - t1389;
+        let t1393: f32 = t544 * t1392;
+        let t1394: f32 = t547 * t607;
+        let t1395: f32 = t1393 - t1394;
+        let t1396: f32 = t547 * t1395;
+        let t1397: f32 = t668 * t1260;
+        let t1398: f32 = t671 * t964;
+        let t1399: f32 = t1397 - t1398;
+        let t1400: f32 = t668 * t1399;
+        let t1401: f32 = t695 * t1268;
+        let t1402: f32 = t719 * t1272;
+        let t1403: f32 = t952 + t1401;
+        let t1404: f32 = t961 + t1403;
+        let t1405: f32 = t1404 - t1402;
+        let t1406: f32 = t668 * t1405;
+        let t1407: f32 = t671 * t730;
+        let t1408: f32 = t1406 - t1407;
+        let t1409: f32 = t671 * t1408;
+        let t1410: f32 = t1331 * 0.7;
+        let t1411: f32 = t1327 + t1329;
+        let t1412: f32 = t1335 + t1348;
+        let t1413: f32 = t1361 + t1374;
+        let t1414: f32 = t1387 + t1400;
+        let t1415: f32 = t1411 + t1412;
+        let t1416: f32 = t1413 + t1414;
+        let t1417: f32 = t1415 + t1416;
+        let t1418: f32 = t1410 + t1417;
+        let t1419: f32 = t1344 + t1357;
+        let t1420: f32 = t1370 + t1383;
+        let t1421: f32 = t1396 + t1409;
+        let t1422: f32 = t1419 + t1420;
         let t1423: f32 = t1421 + t1422;
-        let t1424: f32 = -t1423;
-        let t1425: f32 = t267 * t1424;
-        let t1426: f32 = t297 * t1389;
-        let t1427: f32 = t307 * t1393;
-        let t1428: f32 = t340 * t1400;
-        let t1429: f32 = t1427 + t1428;
-        let t1430: f32 = t304 * t1414;
-        let t1431: f32 = t278 * t1417;
-        let t1432: f32 = t1430 - t1431;
-        let t1433: f32 = t330 * t1411;
-        let t1434: f32 = t1432 - t1433;
-        let t1435: f32 = t1429 + t1434;
-        let t1436: f32 = t1426 * 0.003;
-        let t1437: f32 = t1435 + t1436;
-        let t1438: f32 = t262 * t1437;
-        let t1439: f32 = t375 * t391;
-        let t1440: f32 = t380 * t429;
-        let t1441: f32 = t1439 - t1440;
-        let t1442: f32 = -t1441;
-        let t1443: f32 = t776 * t1442;
-        let t1444: f32 = t380 * t784;
-        let t1445: f32 = t398 * t1444;
-        let t1446: f32 = t431 * t1041;
-        let t1447: f32 = t1445 + t1446;
-        let t1448: f32 = t375 * t431;
-        let t1449: f32 = t1444 + t1448;
-        let t1450: f32 = t1447 * 0.3;
-        let t1451: f32 = t1450 - t1449;
-        let t1452: f32 = t784 * t1451;
-        let t1453: f32 = t429 * t437;
-        let t1454: f32 = t398 * t1439;
-        let t1455: f32 = t1453 - t1454;
-        let t1456: f32 = t1455 * 0.3;
-        let t1457: f32 = t1441 + t1456;
-        let t1458: f32 = t429 * t1457;
-        let t1459: f32 = t1452 + t1458;
-        let t1460: f32 = t1447 * 0.295;
-        let t1461: f32 = t1449 * 0.3;
-        let t1462: f32 = t1460 - t1461;
-        let t1463: f32 = t785 * t1462;
-        let t1464: f32 = t1459 - t1463;
-        let t1465: f32 = t380 * t427;
-        let t1466: f32 = t375 * t412;
-        let t1467: f32 = t1465 - t1466;
-        let t1468: f32 = t427 * t1467;
-        let t1469: f32 = t1441 * 0.3;
-        let t1470: f32 = t1455 * 0.295;
-        let t1471: f32 = t1469 + t1470;
-        let t1472: f32 = t779 * t1471;
-        let t1473: f32 = t1468 + t1472;
-        let t1474: f32 = t1464 - t1473;
-        let t1475: f32 = t1443 * 0.003;
-        let t1476: f32 = t1474 - t1475;
-        let t1477: f32 = t380 * t1476;
-        let t1478: f32 = t410 * t1442;
-        let t1479: f32 = t412 * t1467;
-        let t1480: f32 = t424 * t1471;
-        let t1481: f32 = t1479 + t1480;
-        let t1482: f32 = t446 * t1462;
-        let t1483: f32 = t431 * t1451;
-        let t1484: f32 = t391 * t1457;
+        let t1424: f32 = t1418 - t1423;
+        let t1425: f32 = t27 * t837;
+        let t1426: f32 = t34 * t129;
+        let t1427: f32 = t157 * t865;
+        let t1428: f32 = t160 * t254;
+        let t1429: f32 = t286 * t893;
+        let t1430: f32 = t291 * t385;
+        let t1431: f32 = t417 * t921;
+        let t1432: f32 = t422 * t516;
+        let t1433: f32 = t544 * t949;
+        let t1434: f32 = t547 * t640;
+        let t1435: f32 = t668 * t977;
+        let t1436: f32 = t671 * t763;
+        let t1437: f32 = t6 * t10;
+        let t1438: f32 = t5 * t14;
+        let t1439: f32 = t8 * 0.7;
+        let t1440: f32 = t1437 - t1438;
+        let t1441: f32 = t1440 * 0.4108;
+        let t1442: f32 = t1439 + t1441;
+        let t1443: f32 = t1 * t1442;
+        let t1444: f32 = t1425 + t1427;
+        let t1445: f32 = t1429 + t1431;
+        let t1446: f32 = t1433 + t1435;
+        let t1447: f32 = t1444 + t1445;
+        let t1448: f32 = t1443 + t1446;
+        let t1449: f32 = t1447 + t1448;
+        let t1450: f32 = t1426 + t1428;
+        let t1451: f32 = t1430 + t1432;
+        let t1452: f32 = t1434 + t1436;
+        let t1453: f32 = t1450 + t1451;
+        let t1454: f32 = t1452 + t1453;
+        let t1455: f32 = t1449 - t1454;
+        let t1456: f32 = t1455 * t1455;
+        let t1457: f32 = t810 * t1456;
+        let t1458: f32 = t10 * t999;
+        let t1459: f32 = t14 * t1001;
+        let t1460: f32 = t3 * t4;
+        let t1461: f32 = t790 * t1460;
+        let t1462: f32 = t27 * t1033;
+        let t1463: f32 = t17 * t1340;
+        let t1464: f32 = t34 * t127;
+        let t1465: f32 = t1463 - t1464;
+        let t1466: f32 = t34 * t1465;
+        let t1467: f32 = t157 * t1079;
+        let t1468: f32 = t156 * t1353;
+        let t1469: f32 = t160 * t252;
+        let t1470: f32 = t1468 - t1469;
+        let t1471: f32 = t160 * t1470;
+        let t1472: f32 = t286 * t1125;
+        let t1473: f32 = t283 * t1366;
+        let t1474: f32 = t291 * t383;
+        let t1475: f32 = t1473 - t1474;
+        let t1476: f32 = t291 * t1475;
+        let t1477: f32 = t417 * t1171;
+        let t1478: f32 = t414 * t1379;
+        let t1479: f32 = t422 * t514;
+        let t1480: f32 = t1478 - t1479;
+        let t1481: f32 = t422 * t1480;
+        let t1482: f32 = t544 * t1217;
+        let t1483: f32 = t543 * t1392;
+        let t1484: f32 = t547 * t638;
         let t1485: f32 = t1483 - t1484;
-        let t1486: f32 = t1482 - t1485;
-        let t1487: f32 = t1481 - t1486;
-        let t1488: f32 = t1478 * 0.003;
-        let t1489: f32 = t1487 + t1488;
-        let t1490: f32 = t375 * t1489;
-        let t1491: f32 = t484 * t498;
-        let t1492: f32 = t487 * t536;
-        let t1493: f32 = t1491 - t1492;
-        let t1494: f32 = -t1493;
-        let t1495: f32 = t797 * t1494;
-        let t1496: f32 = t487 * t805;
-        let t1497: f32 = t505 * t1496;
-        let t1498: f32 = t538 * t1094;
+        let t1486: f32 = t547 * t1485;
+        let t1487: f32 = t668 * t1263;
+        let t1488: f32 = t667 * t1405;
+        let t1489: f32 = t671 * t761;
+        let t1490: f32 = t1488 - t1489;
+        let t1491: f32 = t671 * t1490;
+        let t1492: f32 = t1461 * 0.7;
+        let t1493: f32 = t1458 + t1459;
+        let t1494: f32 = t1466 + t1471;
+        let t1495: f32 = t1476 + t1481;
+        let t1496: f32 = t1486 + t1491;
+        let t1497: f32 = t1493 + t1494;
+        let t1498: f32 = t1495 + t1496;
         let t1499: f32 = t1497 + t1498;
-        let t1500: f32 = t484 * t538;
-        let t1501: f32 = t1496 + t1500;
-        let t1502: f32 = t1499 * 0.3;
-        let t1503: f32 = t1502 - t1501;
-        let t1504: f32 = t805 * t1503;
-        let t1505: f32 = t536 * t544;
-        let t1506: f32 = t505 * t1491;
-        let t1507: f32 = t1505 - t1506;
-        let t1508: f32 = t1507 * 0.3;
-        let t1509: f32 = t1493 + t1508;
-        let t1510: f32 = t536 * t1509;
-        let t1511: f32 = t1504 + t1510;
-        let t1512: f32 = t1499 * 0.295;
-        let t1513: f32 = t1501 * 0.3;
-        let t1514: f32 = t1512 - t1513;
-        let t1515: f32 = t806 * t1514;
-        let t1516: f32 = t1511 - t1515;
-        let t1517: f32 = t487 * t534;
-        let t1518: f32 = t484 * t519;
-        let t1519: f32 = t1517 - t1518;
-        let t1520: f32 = t534 * t1519;
-        let t1521: f32 = t1493 * 0.3;
-        let t1522: f32 = t1507 * 0.295;
-        let t1523: f32 = t1521 + t1522;
-        let t1524: f32 = t800 * t1523;
-        let t1525: f32 = t1520 + t1524;
-        let t1526: f32 = t1516 - t1525;
-        let t1527: f32 = t1495 * 0.003;
-        let t1528: f32 = t1526 - t1527;
-        let t1529: f32 = t487 * t1528;
-        let t1530: f32 = t517 * t1494;
-        let t1531: f32 = t519 * t1519;
-        let t1532: f32 = t531 * t1523;
-        let t1533: f32 = t1531 + t1532;
-        let t1534: f32 = t553 * t1514;
-        let t1535: f32 = t538 * t1503;
-        let t1536: f32 = t498 * t1509;
-        let t1537: f32 = t1535 - t1536;
-        let t1538: f32 = t1534 - t1537;
-        let t1539: f32 = t1533 - t1538;
-        let t1540: f32 = t1530 * 0.003;
+        let t1500: f32 = t1462 + t1467;
+        let t1501: f32 = t1472 + t1477;
+        let t1502: f32 = t1482 + t1487;
+        let t1503: f32 = t1500 + t1501;
+        let t1504: f32 = t1492 + t1502;
+        let t1505: f32 = t1503 + t1504;
+        let t1506: f32 = t1499 - t1505;
+        let t1507: f32 = t1313 * t1455;
+        let t1508: f32 = t1506 + t1507;
+        let t1509: f32 = -t1508;
+        let t1510: f32 = t1509 * t1509;
+        let t1511: f32 = t1299 * t1510;
+        let t1512: f32 = t1457 + t1511;
+        let t1513: f32 = t1424 - t1512;
+        let t1514: f32 = 1.0 / t1513;
+        let t1515: f32 = t811 * 0.36;
+        let t1516: f32 = t1360 + t1515;
+        let t1517: f32 = t1399 + t1516;
+        let t1518: f32 = t1334 + t1347;
+        let t1519: f32 = t1373 + t1386;
+        let t1520: f32 = t1518 + t1519;
+        let t1521: f32 = t1517 - t1520;
+        let t1522: f32 = t810 * t1455;
+        let t1523: f32 = t1312 * t1522;
+        let t1524: f32 = t1299 * t1509;
+        let t1525: f32 = t1315 * t1524;
+        let t1526: f32 = t1521 + t1523;
+        let t1527: f32 = t1525 + t1526;
+        let t1528: f32 = t1527 * t1527;
+        let t1529: f32 = t1514 * t1528;
+        let t1530: f32 = t1323 + t1325;
+        let t1531: f32 = t1529 + t1530;
+        let t1532: f32 = t1321 - t1531;
+        let t1533: f32 = 1.0 / t1532;
+        let t1534: f32 = t1340 + t1353;
+        let t1535: f32 = t1366 + t1379;
+        let t1536: f32 = t1392 + t1405;
+        let t1537: f32 = t1534 + t1535;
+        let t1538: f32 = t1536 + t1537;
+        let t1539: f32 = t129 + t1301;
+        let t1540: f32 = t254 + t516;
         let t1541: f32 = t1539 + t1540;
-        let t1542: f32 = t484 * t1541;
-        let t1543: f32 = t591 * t604;
-        let t1544: f32 = t593 * t628;
-        let t1545: f32 = t1543 - t1544;
-        let t1546: f32 = -t1545;
-        let t1547: f32 = t818 * t1546;
-        let t1548: f32 = t593 * t625;
-        let t1549: f32 = t591 * t633;
-        let t1550: f32 = t1548 - t1549;
-        let t1551: f32 = t625 * t1550;
-        let t1552: f32 = t628 * t637;
-        let t1553: f32 = t611 * t1543;
-        let t1554: f32 = t1552 - t1553;
-        let t1555: f32 = t1545 * 0.3;
-        let t1556: f32 = t1554 * 0.295;
-        let t1557: f32 = t1555 + t1556;
-        let t1558: f32 = t821 * t1557;
-        let t1559: f32 = t1551 + t1558;
-        let t1560: f32 = t593 * t826;
-        let t1561: f32 = t611 * t1560;
-        let t1562: f32 = t630 * t1135;
-        let t1563: f32 = t1561 + t1562;
-        let t1564: f32 = t591 * t630;
-        let t1565: f32 = t1560 + t1564;
-        let t1566: f32 = t1563 * 0.295;
-        let t1567: f32 = t1565 * 0.3;
-        let t1568: f32 = t1566 - t1567;
-        let t1569: f32 = t830 * t1568;
-        let t1570: f32 = t1563 * 0.3;
-        let t1571: f32 = t1570 - t1565;
-        let t1572: f32 = t826 * t1571;
-        let t1573: f32 = t1554 * 0.3;
-        let t1574: f32 = t1545 + t1573;
-        let t1575: f32 = t628 * t1574;
-        let t1576: f32 = t1572 + t1575;
-        let t1577: f32 = t1569 - t1576;
-        let t1578: f32 = t1559 + t1577;
-        let t1579: f32 = t1547 * 0.003;
-        let t1580: f32 = t1578 + t1579;
-        let t1581: f32 = -t1580;
-        let t1582: f32 = t593 * t1581;
-        let t1583: f32 = t623 * t1546;
-        let t1584: f32 = t633 * t1550;
-        let t1585: f32 = t666 * t1557;
-        let t1586: f32 = t1584 + t1585;
-        let t1587: f32 = t630 * t1571;
-        let t1588: f32 = t604 * t1574;
-        let t1589: f32 = t1587 - t1588;
-        let t1590: f32 = t656 * t1568;
-        let t1591: f32 = t1589 - t1590;
-        let t1592: f32 = t1586 + t1591;
-        let t1593: f32 = t1583 * 0.003;
-        let t1594: f32 = t1592 + t1593;
-        let t1595: f32 = t591 * t1594;
-        let t1596: f32 = t41 * t730;
-        let t1597: f32 = t29 * t121;
-        let t1598: f32 = t151 * t751;
-        let t1599: f32 = t148 * t231;
-        let t1600: f32 = t267 * t772;
-        let t1601: f32 = t262 * t345;
-        let t1602: f32 = t380 * t793;
-        let t1603: f32 = t375 * t459;
-        let t1604: f32 = t487 * t814;
-        let t1605: f32 = t484 * t566;
-        let t1606: f32 = t593 * t835;
-        let t1607: f32 = t591 * t671;
-        let t1608: f32 = t6 * t10;
-        let t1609: f32 = t5 * t14;
-        let t1610: f32 = t8 * 0.7;
-        let t1611: f32 = t1608 - t1609;
-        let t1612: f32 = t1611 * 0.4108;
-        let t1613: f32 = t1610 + t1612;
-        let t1614: f32 = t1 * t1613;
-        let t1615: f32 = t1597 + t1599;
-        let t1616: f32 = t1600 + t1601;
-        let t1617: f32 = t1602 + t1603;
-        let t1618: f32 = t1604 + t1605;
-        let t1619: f32 = t1606 + t1607;
-        let t1620: f32 = t1615 + t1616;
-        let t1621: f32 = t1617 + t1618;
-        let t1622: f32 = t1614 + t1619;
-        let t1623: f32 = t1620 + t1621;
-        let t1624: f32 = t1622 + t1623;
-        let t1625: f32 = t1596 + t1598;
-        let t1626: f32 = t1624 - t1625;
-        let t1627: f32 = t1626 * t1626;
-        let t1628: f32 = t710 * t1627;
-        let t1629: f32 = t10 * t857;
-        let t1630: f32 = t14 * t859;
-        let t1631: f32 = t3 * t4;
-        let t1632: f32 = t690 * t1631;
-        let t1633: f32 = t41 * t902;
-        let t1634: f32 = t72 * t866;
-        let t1635: f32 = t93 * t892;
-        let t1636: f32 = t52 * t895;
-        let t1637: f32 = t1635 + t1636;
-        let t1638: f32 = t108 * t889;
-        let t1639: f32 = t1637 - t1638;
-        let t1640: f32 = t74 * t870;
-        let t1641: f32 = t86 * t877;
-        let t1642: f32 = t1640 + t1641;
-        let t1643: f32 = t1639 - t1642;
-        let t1644: f32 = t1634 * 0.003;
-        let t1645: f32 = t1643 - t1644;
-        let t1646: f32 = t29 * t1645;
-        let t1647: f32 = t151 * t956;
-        let t1648: f32 = t182 * t920;
-        let t1649: f32 = t203 * t946;
-        let t1650: f32 = t162 * t949;
-        let t1651: f32 = t1649 + t1650;
-        let t1652: f32 = t218 * t943;
-        let t1653: f32 = t1651 - t1652;
-        let t1654: f32 = t184 * t924;
-        let t1655: f32 = t196 * t931;
-        let t1656: f32 = t1654 + t1655;
-        let t1657: f32 = t1653 - t1656;
-        let t1658: f32 = t1648 * 0.003;
+        let t1542: f32 = t640 + t1541;
+        let t1543: f32 = t385 + t763;
+        let t1544: f32 = t1542 - t1543;
+        let t1545: f32 = t810 * t1312;
+        let t1546: f32 = t1544 * t1545;
+        let t1547: f32 = t1465 + t1470;
+        let t1548: f32 = t1480 + t1485;
+        let t1549: f32 = t1547 + t1548;
+        let t1550: f32 = t1475 + t1490;
+        let t1551: f32 = t1549 - t1550;
+        let t1552: f32 = t1313 * t1544;
+        let t1553: f32 = t1551 - t1552;
+        let t1554: f32 = t1299 * t1315;
+        let t1555: f32 = t1553 * t1554;
+        let t1556: f32 = t0 * 0.36;
+        let t1557: f32 = t1369 + t1556;
+        let t1558: f32 = t1408 + t1557;
+        let t1559: f32 = t1343 + t1356;
+        let t1560: f32 = t1382 + t1395;
+        let t1561: f32 = t1559 + t1560;
+        let t1562: f32 = t1558 - t1561;
+        let t1563: f32 = t1522 * t1544;
+        let t1564: f32 = t1524 * t1553;
+        let t1565: f32 = t1562 + t1563;
+        let t1566: f32 = t1564 + t1565;
+        let t1567: f32 = t1514 * t1527;
+        let t1568: f32 = t1566 * t1567;
+        let t1569: f32 = t1546 + t1555;
+        let t1570: f32 = t1568 + t1569;
+        let t1571: f32 = t1538 - t1570;
+        let t1572: f32 = t96 + t221;
+        let t1573: f32 = t352 + t483;
+        let t1574: f32 = t607 + t730;
+        let t1575: f32 = t1572 + t1573;
+        let t1576: f32 = t1574 + 12.0;
+        let t1577: f32 = t1575 + t1576;
+        let t1578: f32 = t1544 * t1544;
+        let t1579: f32 = t810 * t1578;
+        let t1580: f32 = t1553 * t1553;
+        let t1581: f32 = t1299 * t1580;
+        let t1582: f32 = t1566 * t1566;
+        let t1583: f32 = t1514 * t1582;
+        let t1584: f32 = t1571 * t1571;
+        let t1585: f32 = t1533 * t1584;
+        let t1586: f32 = t1579 + t1581;
+        let t1587: f32 = t1583 + t1585;
+        let t1588: f32 = t1586 + t1587;
+        let t1589: f32 = t1577 - t1588;
+        let t1590: f32 = 1.0 / t1589;
+        let t1591: f32 = t139 + t264;
+        let t1592: f32 = t395 + t526;
+        let t1593: f32 = t650 + t773;
+        let t1594: f32 = t1591 + t1592;
+        let t1595: f32 = t1593 + t1594;
+        let t1596: f32 = t154 + t1515;
+        let t1597: f32 = t279 + t541;
+        let t1598: f32 = t1596 + t1597;
+        let t1599: f32 = t665 + t1598;
+        let t1600: f32 = t410 + t788;
+        let t1601: f32 = t1599 - t1600;
+        let t1602: f32 = t810 * t1544;
+        let t1603: f32 = t1601 * t1602;
+        let t1604: f32 = t1141 + t1556;
+        let t1605: f32 = t1279 + t1604;
+        let t1606: f32 = t1049 + t1095;
+        let t1607: f32 = t1187 + t1233;
+        let t1608: f32 = t1606 + t1607;
+        let t1609: f32 = t1605 - t1608;
+        let t1610: f32 = t1313 * t1601;
+        let t1611: f32 = t1609 + t1610;
+        let t1612: f32 = t1299 * t1553;
+        let t1613: f32 = t1611 * t1612;
+        let t1614: f32 = t27 * t1046;
+        let t1615: f32 = t34 * t139;
+        let t1616: f32 = t1614 - t1615;
+        let t1617: f32 = t157 * t1092;
+        let t1618: f32 = t160 * t264;
+        let t1619: f32 = t1617 - t1618;
+        let t1620: f32 = t286 * t1138;
+        let t1621: f32 = t291 * t395;
+        let t1622: f32 = t1620 - t1621;
+        let t1623: f32 = t417 * t1184;
+        let t1624: f32 = t422 * t526;
+        let t1625: f32 = t1623 - t1624;
+        let t1626: f32 = t544 * t1230;
+        let t1627: f32 = t547 * t650;
+        let t1628: f32 = t1626 - t1627;
+        let t1629: f32 = t668 * t1276;
+        let t1630: f32 = t671 * t773;
+        let t1631: f32 = t1629 - t1630;
+        let t1632: f32 = t1616 + t1619;
+        let t1633: f32 = t1625 + t1628;
+        let t1634: f32 = t1632 + t1633;
+        let t1635: f32 = t1622 + t1631;
+        let t1636: f32 = t1634 - t1635;
+        let t1637: f32 = t1522 * t1601;
+        let t1638: f32 = t1524 * t1611;
+        let t1639: f32 = t1636 + t1638;
+        let t1640: f32 = t1639 - t1637;
+        let t1641: f32 = t1514 * t1566;
+        let t1642: f32 = t1640 * t1641;
+        let t1643: f32 = t1046 + t1092;
+        let t1644: f32 = t1138 + t1184;
+        let t1645: f32 = t1230 + t1276;
+        let t1646: f32 = t1643 + t1644;
+        let t1647: f32 = t1645 + t1646;
+        let t1648: f32 = t1545 * t1601;
+        let t1649: f32 = t1554 * t1611;
+        let t1650: f32 = t1567 * t1640;
+        let t1651: f32 = t1647 + t1649;
+        let t1652: f32 = t1650 + t1651;
+        let t1653: f32 = t1652 - t1648;
+        let t1654: f32 = t1533 * t1571;
+        let t1655: f32 = t1653 * t1654;
+        let t1656: f32 = t1595 + t1613;
+        let t1657: f32 = t1642 + t1656;
+        let t1658: f32 = t1603 + t1655;
         let t1659: f32 = t1657 - t1658;
-        let t1660: f32 = t148 * t1659;
-        let t1661: f32 = t267 * t1008;
-        let t1662: f32 = t297 * t973;
-        let t1663: f32 = t307 * t999;
-        let t1664: f32 = t340 * t1003;
+        let t1660: f32 = t152 + t277;
+        let t1661: f32 = t408 + t539;
+        let t1662: f32 = t663 + t786;
+        let t1663: f32 = t1660 + t1661;
+        let t1664: f32 = t1662 + 12.0;
         let t1665: f32 = t1663 + t1664;
-        let t1666: f32 = t304 * t983;
-        let t1667: f32 = t278 * t989;
-        let t1668: f32 = t1666 - t1667;
-        let t1669: f32 = t330 * t994;
-        let t1670: f32 = t1668 - t1669;
-        let t1671: f32 = t1665 + t1670;
-        let t1672: f32 = t1662 * 0.003;
-        let t1673: f32 = t1671 + t1672;
-        let t1674: f32 = t262 * t1673;
-        let t1675: f32 = t380 * t1061;
-        let t1676: f32 = t410 * t1025;
-        let t1677: f32 = t412 * t1029;
-        let t1678: f32 = t424 * t1036;
-        let t1679: f32 = t1677 + t1678;
-        let t1680: f32 = t446 * t1048;
-        let t1681: f32 = t431 * t1051;
-        let t1682: f32 = t391 * t1054;
-        let t1683: f32 = t1681 - t1682;
-        let t1684: f32 = t1680 - t1683;
-        let t1685: f32 = t1679 - t1684;
-        let t1686: f32 = t1676 * 0.003;
-        let t1687: f32 = t1685 + t1686;
-        let t1688: f32 = t375 * t1687;
-        let t1689: f32 = t487 * t1114;
-        let t1690: f32 = t517 * t1078;
-        let t1691: f32 = t519 * t1082;
-        let t1692: f32 = t531 * t1089;
-        let t1693: f32 = t1691 + t1692;
-        let t1694: f32 = t553 * t1101;
-        let t1695: f32 = t538 * t1104;
-        let t1696: f32 = t498 * t1107;
+        let t1666: f32 = t1601 * t1601;
+        let t1667: f32 = t810 * t1666;
+        let t1668: f32 = t1611 * t1611;
+        let t1669: f32 = t1299 * t1668;
+        let t1670: f32 = t1640 * t1640;
+        let t1671: f32 = t1514 * t1670;
+        let t1672: f32 = t1653 * t1653;
+        let t1673: f32 = t1533 * t1672;
+        let t1674: f32 = t1659 * t1659;
+        let t1675: f32 = t1590 * t1674;
+        let t1676: f32 = t1667 + t1669;
+        let t1677: f32 = t1671 + t1673;
+        let t1678: f32 = t1676 + t1677;
+        let t1679: f32 = t1675 + t1678;
+        let t1680: f32 = t1665 - t1679;
+        let t1681: f32 = 1.0 / t1680;
+        let t1682: f32 = wx * t668;
+        let t1683: f32 = wy * t671;
+        let t1684: f32 = t1682 - t1683;
+        let t1685: f32 = wy * t1684;
+        let t1686: f32 = wz * t671;
+        let t1687: f32 = wx * t667;
+        let t1688: f32 = t1686 - t1687;
+        let t1689: f32 = wz * t1688;
+        let t1690: f32 = t1685 - t1689;
+        let t1691: f32 = t714 * t1690;
+        let t1692: f32 = wy * t667;
+        let t1693: f32 = wz * t668;
+        let t1694: f32 = t1692 - t1693;
+        let t1695: f32 = wz * t1694;
+        let t1696: f32 = wx * t1684;
         let t1697: f32 = t1695 - t1696;
-        let t1698: f32 = t1694 - t1697;
-        let t1699: f32 = t1693 - t1698;
-        let t1700: f32 = t1690 * 0.003;
-        let t1701: f32 = t1699 + t1700;
-        let t1702: f32 = t484 * t1701;
-        let t1703: f32 = t593 * t1166;
-        let t1704: f32 = t623 * t1131;
-        let t1705: f32 = t633 * t1157;
-        let t1706: f32 = t666 * t1161;
-        let t1707: f32 = t1705 + t1706;
-        let t1708: f32 = t630 * t1141;
-        let t1709: f32 = t604 * t1147;
-        let t1710: f32 = t1708 - t1709;
-        let t1711: f32 = t656 * t1152;
-        let t1712: f32 = t1710 - t1711;
-        let t1713: f32 = t1707 + t1712;
-        let t1714: f32 = t1704 * 0.003;
-        let t1715: f32 = t1713 + t1714;
-        let t1716: f32 = t591 * t1715;
-        let t1717: f32 = t1213 * t1626;
-        let t1718: f32 = t1632 * 0.7;
-        let t1719: f32 = t1629 + t1630;
-        let t1720: f32 = t1633 + t1647;
-        let t1721: f32 = t1661 + t1674;
-        let t1722: f32 = t1675 + t1688;
-        let t1723: f32 = t1689 + t1702;
-        let t1724: f32 = t1703 + t1716;
-        let t1725: f32 = t1719 + t1720;
-        let t1726: f32 = t1721 + t1722;
-        let t1727: f32 = t1723 + t1724;
-        let t1728: f32 = t1725 + t1726;
-        let t1729: f32 = t1727 + t1728;
-        let t1730: f32 = t1646 + t1660;
-        let t1731: f32 = t1717 + t1718;
-        let t1732: f32 = t1730 + t1731;
-        let t1733: f32 = t1729 - t1732;
-        let t1734: f32 = t1733 * t1733;
-        let t1735: f32 = t1199 * t1734;
-        let t1736: f32 = t1281 * 0.7;
-        let t1737: f32 = t1277 + t1279;
-        let t1738: f32 = t1333 + t1385;
-        let t1739: f32 = t1737 + t1738;
-        let t1740: f32 = t1736 + t1739;
-        let t1741: f32 = t1320 + t1372;
-        let t1742: f32 = t1425 + t1438;
-        let t1743: f32 = t1477 + t1490;
-        let t1744: f32 = t1529 + t1542;
-        let t1745: f32 = t1582 + t1595;
-        let t1746: f32 = t1628 + t1735;
-        let t1747: f32 = t1741 + t1742;
-        let t1748: f32 = t1743 + t1744;
-        let t1749: f32 = t1745 + t1746;
-        let t1750: f32 = t1747 + t1748;
-        let t1751: f32 = t1749 + t1750;
-        let t1752: f32 = t1740 - t1751;
-        let t1753: f32 = 1.0 / t1752;
-        let t1754: f32 = t710 * t1626;
-        let t1755: f32 = t1212 * t1754;
-        let t1756: f32 = t1199 * t1733;
-        let t1757: f32 = t1229 * t1756;
-        let t1758: f32 = t711 * 0.36;
-        let t1759: f32 = t1390 + t1547;
-        let t1760: f32 = t1286 + t1338;
-        let t1761: f32 = t1443 + t1495;
-        let t1762: f32 = t1760 + t1761;
-        let t1763: f32 = t1759 - t1762;
-        let t1764: f32 = t1763 * 0.003;
-        let t1765: f32 = t1758 + t1764;
-        let t1766: f32 = t1317 + t1369;
-        let t1767: f32 = t1421 + t1474;
-        let t1768: f32 = t1526 + t1578;
-        let t1769: f32 = t1765 + t1766;
-        let t1770: f32 = t1767 + t1768;
-        let t1771: f32 = t1769 + t1770;
-        let t1772: f32 = t1755 + t1757;
-        let t1773: f32 = t1771 - t1772;
-        let t1774: f32 = t1773 * t1773;
-        let t1775: f32 = t1753 * t1774;
-        let t1776: f32 = t717 * 0.3;
-        let t1777: f32 = t721 * 0.295;
-        let t1778: f32 = t1776 - t1777;
-        let t1779: f32 = t717 * t1778;
-        let t1780: f32 = t59 * t65;
-        let t1781: f32 = t91 * t1780;
-        let t1782: f32 = t91 * 0.3;
-        let t1783: f32 = t725 * 0.295;
-        let t1784: f32 = t1781 * 0.003;
-        let t1785: f32 = t1783 + t1784;
-        let t1786: f32 = t1782 - t1785;
-        let t1787: f32 = t91 * t1786;
-        let t1788: f32 = t1779 + t1787;
-        let t1789: f32 = t59 * t1788;
-        let t1790: f32 = t738 * 0.3;
-        let t1791: f32 = t742 * 0.295;
-        let t1792: f32 = t1790 - t1791;
-        let t1793: f32 = t738 * t1792;
-        let t1794: f32 = t169 * t175;
-        let t1795: f32 = t201 * t1794;
-        let t1796: f32 = t201 * 0.3;
-        let t1797: f32 = t746 * 0.295;
-        let t1798: f32 = t1795 * 0.003;
-        let t1799: f32 = t1797 + t1798;
-        let t1800: f32 = t1796 - t1799;
-        let t1801: f32 = t201 * t1800;
-        let t1802: f32 = t1793 + t1801;
-        let t1803: f32 = t169 * t1802;
-        let t1804: f32 = t763 * 0.3;
-        let t1805: f32 = t767 * 0.295;
-        let t1806: f32 = t1804 - t1805;
-        let t1807: f32 = t763 * t1806;
-        let t1808: f32 = t285 * t291;
-        let t1809: f32 = t302 * t1808;
-        let t1810: f32 = t302 * 0.3;
-        let t1811: f32 = t758 * 0.295;
-        let t1812: f32 = t1809 * 0.003;
-        let t1813: f32 = t1811 + t1812;
-        let t1814: f32 = t1810 - t1813;
-        let t1815: f32 = t302 * t1814;
-        let t1816: f32 = t1807 + t1815;
-        let t1817: f32 = t285 * t1816;
-        let t1818: f32 = t784 * 0.3;
-        let t1819: f32 = t785 * 0.295;
-        let t1820: f32 = t1818 - t1819;
-        let t1821: f32 = t784 * t1820;
-        let t1822: f32 = t398 * t404;
-        let t1823: f32 = t429 * t1822;
-        let t1824: f32 = t429 * 0.3;
-        let t1825: f32 = t779 * 0.295;
-        let t1826: f32 = t1823 * 0.003;
-        let t1827: f32 = t1825 + t1826;
-        let t1828: f32 = t1824 - t1827;
-        let t1829: f32 = t429 * t1828;
-        let t1830: f32 = t1821 + t1829;
-        let t1831: f32 = t398 * t1830;
-        let t1832: f32 = t805 * 0.3;
-        let t1833: f32 = t806 * 0.295;
-        let t1834: f32 = t1832 - t1833;
-        let t1835: f32 = t805 * t1834;
-        let t1836: f32 = t505 * t511;
-        let t1837: f32 = t536 * t1836;
-        let t1838: f32 = t536 * 0.3;
-        let t1839: f32 = t800 * 0.295;
-        let t1840: f32 = t1837 * 0.003;
-        let t1841: f32 = t1839 + t1840;
-        let t1842: f32 = t1838 - t1841;
-        let t1843: f32 = t536 * t1842;
-        let t1844: f32 = t1835 + t1843;
-        let t1845: f32 = t505 * t1844;
-        let t1846: f32 = t826 * 0.3;
-        let t1847: f32 = t830 * 0.295;
-        let t1848: f32 = t1846 - t1847;
-        let t1849: f32 = t826 * t1848;
-        let t1850: f32 = t611 * t617;
-        let t1851: f32 = t628 * t1850;
-        let t1852: f32 = t628 * 0.3;
-        let t1853: f32 = t821 * 0.295;
-        let t1854: f32 = t1851 * 0.003;
-        let t1855: f32 = t1853 + t1854;
-        let t1856: f32 = t1852 - t1855;
-        let t1857: f32 = t628 * t1856;
-        let t1858: f32 = t1849 + t1857;
-        let t1859: f32 = t611 * t1858;
-        let t1860: f32 = t1232 + t1235;
-        let t1861: f32 = t1236 + t1239;
-        let t1862: f32 = t1242 + t1243;
-        let t1863: f32 = t1246 + t1249;
-        let t1864: f32 = t1250 + t1253;
-        let t1865: f32 = t1256 + t1257;
-        let t1866: f32 = t1260 + t1263;
-        let t1867: f32 = t1264 + t1267;
-        let t1868: f32 = t1270 + t1271;
-        let t1869: f32 = t1860 + t1861;
-        let t1870: f32 = t1862 + t1863;
-        let t1871: f32 = t1864 + t1865;
-        let t1872: f32 = t1866 + t1867;
-        let t1873: f32 = t1868 + 12.0;
-        let t1874: f32 = t1869 + t1870;
-        let t1875: f32 = t1871 + t1872;
-        let t1876: f32 = t1874 + t1875;
-        let t1877: f32 = t1873 + t1876;
-        let t1878: f32 = t1273 + t1275;
-        let t1879: f32 = t1775 + t1789;
-        let t1880: f32 = t1803 + t1817;
-        let t1881: f32 = t1831 + t1845;
-        let t1882: f32 = t1878 + t1879;
-        let t1883: f32 = t1880 + t1881;
-        let t1884: f32 = t1882 + t1883;
-        let t1885: f32 = t1859 + t1884;
-        let t1886: f32 = t1877 - t1885;
-        let t1887: f32 = 1.0 / t1886;
-        let t1888: f32 = t74 * t89;
-        let t1889: f32 = t184 * t199;
-        let t1890: f32 = t299 * t307;
-        let t1891: f32 = t412 * t427;
-        let t1892: f32 = t519 * t534;
-        let t1893: f32 = t625 * t633;
-        let t1894: f32 = t73 + t183;
-        let t1895: f32 = t411 + t518;
-        let t1896: f32 = t1894 + t1895;
-        let t1897: f32 = t298 + t624;
-        let t1898: f32 = t1896 - t1897;
-        let t1899: f32 = t1898 * 0.003;
-        let t1900: f32 = t1215 + t1899;
-        let t1901: f32 = t118 + t228;
-        let t1902: f32 = t343 + t456;
-        let t1903: f32 = t563 + t669;
-        let t1904: f32 = t1900 + t1901;
-        let t1905: f32 = t1902 + t1903;
-        let t1906: f32 = t1904 + t1905;
-        let t1907: f32 = t710 * t1212;
-        let t1908: f32 = t1906 * t1907;
-        let t1909: f32 = t1213 * t1906;
-        let t1910: f32 = t1662 + t1704;
-        let t1911: f32 = t1634 + t1648;
-        let t1912: f32 = t1676 + t1690;
+        let t1698: f32 = t681 * t1697;
+        let t1699: f32 = wx * t1688;
+        let t1700: f32 = wy * t1694;
+        let t1701: f32 = t1699 - t1700;
+        let t1702: f32 = t716 * t1701;
+        let t1703: f32 = t1691 + t1698;
+        let t1704: f32 = t1702 + t1703;
+        let t1705: f32 = t716 * 9.81;
+        let t1706: f32 = -t1705;
+        let t1707: f32 = vx - t1694;
+        let t1708: f32 = t717 * t1707;
+        let t1709: f32 = vy - t1688;
+        let t1710: f32 = t695 * t1709;
+        let t1711: f32 = vz - t1684;
+        let t1712: f32 = t713 * t1711;
+        let t1713: f32 = t1708 + t1710;
+        let t1714: f32 = t1713 - t1712;
+        let t1715: f32 = t680 * t1714;
+        let t1716: f32 = t1715 * t1715;
+        let t1717: f32 = t958 * t1707;
+        let t1718: f32 = t719 * t1709;
+        let t1719: f32 = t748 * t1711;
+        let t1720: f32 = t1717 + t1719;
+        let t1721: f32 = t1720 - t1718;
+        let t1722: f32 = t680 * t1721;
+        let t1723: f32 = t1722 * t1722;
+        let t1724: f32 = t1716 + t1723;
+        let t1725: f32 = t1724 * 0.3;
+        let t1726: f32 = t1704 + t1706;
+        let t1727: f32 = t1726 - t1725;
+        let t1728: f32 = t681 * t1727;
+        let t1729: f32 = t717 * t1690;
+        let t1730: f32 = t695 * t1697;
+        let t1731: f32 = t713 * t1701;
+        let t1732: f32 = t1729 + t1730;
+        let t1733: f32 = t1732 - t1731;
+        let t1734: f32 = t713 * 9.81;
+        let t1735: f32 = t680 * t1733;
+        let t1736: f32 = t700 * t733;
+        let t1737: f32 = t1714 * t1736;
+        let t1738: f32 = t1721 * t1737;
+        let t1739: f32 = t714 * t1707;
+        let t1740: f32 = t681 * t1709;
+        let t1741: f32 = t716 * t1711;
+        let t1742: f32 = t1739 + t1740;
+        let t1743: f32 = t1741 + t1742;
+        let t1744: f32 = t680 * t1743;
+        let t1745: f32 = t1744 * 2.0;
+        let t1746: f32 = t1715 * t1745;
+        let t1747: f32 = t1738 - t1746;
+        let t1748: f32 = t1747 - t1735;
+        let t1749: f32 = t680 * t700;
+        let t1750: f32 = t1714 * t1749;
+        let t1751: f32 = t1722 * t1750;
+        let t1752: f32 = t700 * t1747;
+        let t1753: f32 = t694 * t694;
+        let t1754: f32 = t678 * t680;
+        let t1755: f32 = t1753 * t1754;
+        let t1756: f32 = t1714 * t1755;
+        let t1757: f32 = t1721 * t1756;
+        let t1758: f32 = t700 * t1733;
+        let t1759: f32 = t1757 - t1758;
+        let t1760: f32 = t680 * t1759;
+        let t1761: f32 = t1752 + t1760;
+        let t1762: f32 = t700 * t1761;
+        let t1763: f32 = t1733 * 0.3;
+        let t1764: f32 = t1734 * 0.2;
+        let t1765: f32 = t1748 * 0.295;
+        let t1766: f32 = t1751 * 0.292;
+        let t1767: f32 = t1762 * 0.003;
+        let t1768: f32 = t1763 + t1765;
+        let t1769: f32 = t1767 + t1768;
+        let t1770: f32 = t1764 + t1766;
+        let t1771: f32 = t1769 - t1770;
+        let t1772: f32 = t680 * t1771;
+        let t1773: f32 = t1733 + t1734;
+        let t1774: f32 = t1748 - t1751;
+        let t1775: f32 = t1774 * 0.3;
+        let t1776: f32 = t1773 + t1775;
+        let t1777: f32 = t1776 - t1772;
+        let t1778: f32 = t695 * t1777;
+        let t1779: f32 = t748 * t1701;
+        let t1780: f32 = t958 * t1690;
+        let t1781: f32 = t719 * t1697;
+        let t1782: f32 = t1780 - t1781;
+        let t1783: f32 = t1779 + t1782;
+        let t1784: f32 = t748 * 9.81;
+        let t1785: f32 = -t1784;
+        let t1786: f32 = t1714 * t1714;
+        let t1787: f32 = t1749 * t1786;
+        let t1788: f32 = t1721 * t1745;
+        let t1789: f32 = t1787 + t1788;
+        let t1790: f32 = t1783 + t1789;
+        let t1791: f32 = t680 * t1790;
+        let t1792: f32 = t1715 * t1750;
+        let t1793: f32 = t1783 * 0.3;
+        let t1794: f32 = t1785 * 0.2;
+        let t1795: f32 = t1791 * 0.295;
+        let t1796: f32 = t1792 * 0.292;
+        let t1797: f32 = t1794 + t1795;
+        let t1798: f32 = t1793 + t1796;
+        let t1799: f32 = t1797 - t1798;
+        let t1800: f32 = t680 * t1799;
+        let t1801: f32 = t1783 + t1785;
+        let t1802: f32 = t1791 - t1792;
+        let t1803: f32 = t1802 * 0.3;
+        let t1804: f32 = t1800 + t1801;
+        let t1805: f32 = t1804 - t1803;
+        let t1806: f32 = t719 * t1805;
+        let t1807: f32 = t1778 - t1806;
+        let t1808: f32 = t1728 + t1807;
+        let t1809: f32 = t667 * t1808;
+        let t1810: f32 = t748 * t1805;
+        let t1811: f32 = t716 * t1727;
+        let t1812: f32 = t713 * t1777;
+        let t1813: f32 = t1811 - t1812;
+        let t1814: f32 = t1810 + t1813;
+        let t1815: f32 = -t1814;
+        let t1816: f32 = t668 * t1815;
+        let t1817: f32 = t1809 + t1816;
+        let t1818: f32 = wz * t10;
+        let t1819: f32 = wx * t1;
+        let t1820: f32 = t6 * t1819;
+        let t1821: f32 = wy * t21;
+        let t1822: f32 = t1820 + t1821;
+        let t1823: f32 = t1818 + t1822;
+        let t1824: f32 = wx * t5;
+        let t1825: f32 = t1 * t1824;
+        let t1826: f32 = wy * t24;
+        let t1827: f32 = t1825 - t1826;
+        let t1828: f32 = wz * t14;
+        let t1829: f32 = t1827 - t1828;
+        let t1830: f32 = t1829 * 0.4108;
+        let t1831: f32 = t1823 * t1830;
+        let t1832: f32 = t1823 * 0.4108;
+        let t1833: f32 = t1829 * t1832;
+        let t1834: f32 = t1831 - t1833;
+        let t1835: f32 = t0 * t1834;
+        let t1836: f32 = t17 * t29;
+        let t1837: f32 = t27 * t39;
+        let t1838: f32 = t1836 - t1837;
+        let t1839: f32 = g1 * t44;
+        let t1840: f32 = t1838 * t1839;
+        let t1841: f32 = t1835 - t1840;
+        let t1842: f32 = t283 * t288;
+        let t1843: f32 = t286 * t296;
+        let t1844: f32 = t1842 - t1843;
+        let t1845: f32 = g3 * t301;
+        let t1846: f32 = t1844 * t1845;
+        let t1847: f32 = t156 * t159;
+        let t1848: f32 = t157 * t165;
+        let t1849: f32 = t1847 - t1848;
+        let t1850: f32 = g2 * t170;
+        let t1851: f32 = t1849 * t1850;
+        let t1852: f32 = t1846 - t1851;
+        let t1853: f32 = t1841 + t1852;
+        let t1854: f32 = t667 * t670;
+        let t1855: f32 = t668 * t675;
+        let t1856: f32 = t1854 - t1855;
+        let t1857: f32 = g6 * t680;
+        let t1858: f32 = t1856 * t1857;
+        let t1859: f32 = wz * t4;
+        let t1860: f32 = t1 * t1859;
+        let t1861: f32 = wx * t0;
+        let t1862: f32 = wy * t3;
+        let t1863: f32 = t1 * t1862;
+        let t1864: f32 = t1861 - t1863;
+        let t1865: f32 = t1860 + t1864;
+        let t1866: f32 = t1865 * 0.7;
+        let t1867: f32 = t1829 * t1866;
+        let t1868: f32 = t1830 * t1865;
+        let t1869: f32 = t1867 - t1868;
+        let t1870: f32 = t6 * t1869;
+        let t1871: f32 = t1832 * t1865;
+        let t1872: f32 = t1823 * t1866;
+        let t1873: f32 = t1871 - t1872;
+        let t1874: f32 = t5 * t1873;
+        let t1875: f32 = t1870 + t1874;
+        let t1876: f32 = t1 * t1875;
+        let t1877: f32 = t1858 + t1876;
+        let t1878: f32 = t414 * t419;
+        let t1879: f32 = t417 * t427;
+        let t1880: f32 = t1878 - t1879;
+        let t1881: f32 = g4 * t432;
+        let t1882: f32 = t1880 * t1881;
+        let t1883: f32 = t543 * t546;
+        let t1884: f32 = t544 * t552;
+        let t1885: f32 = t1883 - t1884;
+        let t1886: f32 = g5 * t557;
+        let t1887: f32 = t1885 * t1886;
+        let t1888: f32 = t1882 + t1887;
+        let t1889: f32 = t1877 - t1888;
+        let t1890: f32 = t1853 + t1889;
+        let t1891: f32 = wx * t27;
+        let t1892: f32 = wy * t34;
+        let t1893: f32 = t1891 - t1892;
+        let t1894: f32 = wy * t1893;
+        let t1895: f32 = wz * t34;
+        let t1896: f32 = wx * t17;
+        let t1897: f32 = t1895 - t1896;
+        let t1898: f32 = wz * t1897;
+        let t1899: f32 = t1894 - t1898;
+        let t1900: f32 = t80 * t1899;
+        let t1901: f32 = wy * t17;
+        let t1902: f32 = wz * t27;
+        let t1903: f32 = t1901 - t1902;
+        let t1904: f32 = wz * t1903;
+        let t1905: f32 = wx * t1893;
+        let t1906: f32 = t1904 - t1905;
+        let t1907: f32 = t45 * t1906;
+        let t1908: f32 = wx * t1897;
+        let t1909: f32 = wy * t1903;
+        let t1910: f32 = t1908 - t1909;
+        let t1911: f32 = t82 * t1910;
+        let t1912: f32 = t1900 + t1907;
         let t1913: f32 = t1911 + t1912;
-        let t1914: f32 = t1910 - t1913;
-        let t1915: f32 = t1914 * 0.003;
-        let t1916: f32 = t1643 + t1915;
-        let t1917: f32 = t1657 + t1671;
-        let t1918: f32 = t1916 + t1917;
-        let t1919: f32 = t1713 + t1918;
-        let t1920: f32 = t1685 + t1909;
-        let t1921: f32 = t1699 + t1920;
-        let t1922: f32 = t1919 - t1921;
-        let t1923: f32 = t1199 * t1229;
-        let t1924: f32 = t1922 * t1923;
-        let t1925: f32 = t1754 * t1906;
-        let t1926: f32 = t1756 * t1922;
-        let t1927: f32 = t0 * 0.36;
-        let t1928: f32 = t1426 + t1583;
-        let t1929: f32 = t1321 + t1373;
-        let t1930: f32 = t1478 + t1530;
-        let t1931: f32 = t1929 + t1930;
-        let t1932: f32 = t1928 - t1931;
-        let t1933: f32 = t1932 * 0.003;
-        let t1934: f32 = t1927 + t1933;
-        let t1935: f32 = t1925 + t1926;
-        let t1936: f32 = t1330 + t1382;
-        let t1937: f32 = t1435 + t1592;
-        let t1938: f32 = t1934 + t1935;
-        let t1939: f32 = t1936 + t1937;
-        let t1940: f32 = t1938 + t1939;
-        let t1941: f32 = t1487 + t1539;
-        let t1942: f32 = t1940 - t1941;
-        let t1943: f32 = t1753 * t1773;
-        let t1944: f32 = t1942 * t1943;
-        let t1945: f32 = t59 * t1786;
-        let t1946: f32 = t1233 + t1945;
-        let t1947: f32 = t91 - t1946;
-        let t1948: f32 = t52 * t1947;
-        let t1949: f32 = t169 * t1800;
-        let t1950: f32 = t1240 + t1949;
-        let t1951: f32 = t201 - t1950;
-        let t1952: f32 = t162 * t1951;
-        let t1953: f32 = t285 * t1814;
-        let t1954: f32 = t1247 + t1953;
-        let t1955: f32 = t302 - t1954;
-        let t1956: f32 = t278 * t1955;
-        let t1957: f32 = t398 * t1828;
-        let t1958: f32 = t1254 + t1957;
-        let t1959: f32 = t429 - t1958;
-        let t1960: f32 = t391 * t1959;
-        let t1961: f32 = t505 * t1842;
-        let t1962: f32 = t1261 + t1961;
-        let t1963: f32 = t536 - t1962;
-        let t1964: f32 = t498 * t1963;
-        let t1965: f32 = t611 * t1856;
-        let t1966: f32 = t1268 + t1965;
-        let t1967: f32 = t628 - t1966;
-        let t1968: f32 = t604 * t1967;
-        let t1969: f32 = t59 * t1778;
-        let t1970: f32 = t1230 + t1969;
-        let t1971: f32 = t717 - t1970;
-        let t1972: f32 = t93 * t1971;
-        let t1973: f32 = t169 * t1792;
-        let t1974: f32 = t1237 + t1973;
-        let t1975: f32 = t738 - t1974;
-        let t1976: f32 = t203 * t1975;
-        let t1977: f32 = t285 * t1806;
-        let t1978: f32 = t1244 + t1977;
-        let t1979: f32 = t763 - t1978;
-        let t1980: f32 = t304 * t1979;
-        let t1981: f32 = t398 * t1820;
-        let t1982: f32 = t1251 + t1981;
-        let t1983: f32 = t784 - t1982;
-        let t1984: f32 = t431 * t1983;
-        let t1985: f32 = t505 * t1834;
-        let t1986: f32 = t1258 + t1985;
-        let t1987: f32 = t805 - t1986;
-        let t1988: f32 = t538 * t1987;
-        let t1989: f32 = t611 * t1848;
-        let t1990: f32 = t1265 + t1989;
-        let t1991: f32 = t826 - t1990;
-        let t1992: f32 = t630 * t1991;
-        let t1993: f32 = t1888 + t1889;
-        let t1994: f32 = t1890 + t1891;
-        let t1995: f32 = t1892 + t1893;
-        let t1996: f32 = t1908 + t1924;
-        let t1997: f32 = t1948 + t1952;
-        let t1998: f32 = t1956 + t1960;
-        let t1999: f32 = t1964 + t1968;
-        let t2000: f32 = t1972 + t1976;
-        let t2001: f32 = t1993 + t1994;
-        let t2002: f32 = t1995 + t1996;
+        let t1914: f32 = t82 * 9.81;
+        let t1915: f32 = -t1914;
+        let t1916: f32 = vx + t1903;
+        let t1917: f32 = t83 * t1916;
+        let t1918: f32 = vy + t1897;
+        let t1919: f32 = t61 * t1918;
+        let t1920: f32 = vz + t1893;
+        let t1921: f32 = t79 * t1920;
+        let t1922: f32 = t1917 + t1919;
+        let t1923: f32 = t1921 + t1922;
+        let t1924: f32 = t44 * t1923;
+        let t1925: f32 = t1924 * t1924;
+        let t1926: f32 = t818 * t1916;
+        let t1927: f32 = t85 * t1918;
+        let t1928: f32 = t114 * t1920;
+        let t1929: f32 = t1926 + t1927;
+        let t1930: f32 = t1928 + t1929;
+        let t1931: f32 = t44 * t1930;
+        let t1932: f32 = t1931 * t1931;
+        let t1933: f32 = t1925 + t1932;
+        let t1934: f32 = t1933 * 0.3;
+        let t1935: f32 = t1913 + t1934;
+        let t1936: f32 = t1935 - t1915;
+        let t1937: f32 = t82 * t1936;
+        let t1938: f32 = t83 * t1899;
+        let t1939: f32 = t61 * t1906;
+        let t1940: f32 = t79 * t1910;
+        let t1941: f32 = t1938 + t1939;
+        let t1942: f32 = t1940 + t1941;
+        let t1943: f32 = t79 * 9.81;
+        let t1944: f32 = -t1943;
+        let t1945: f32 = t44 * t1942;
+        let t1946: f32 = t66 * t99;
+        let t1947: f32 = t1923 * t1946;
+        let t1948: f32 = t1930 * t1947;
+        let t1949: f32 = t80 * t1916;
+        let t1950: f32 = t45 * t1918;
+        let t1951: f32 = t82 * t1920;
+        let t1952: f32 = t1949 + t1950;
+        let t1953: f32 = t1951 + t1952;
+        let t1954: f32 = t44 * t1953;
+        let t1955: f32 = t1954 * 2.0;
+        let t1956: f32 = t1924 * t1955;
+        let t1957: f32 = t1948 + t1956;
+        let t1958: f32 = t1957 - t1945;
+        let t1959: f32 = t44 * t66;
+        let t1960: f32 = t1923 * t1959;
+        let t1961: f32 = t1931 * t1960;
+        let t1962: f32 = t66 * t1957;
+        let t1963: f32 = t60 * t60;
+        let t1964: f32 = t42 * t44;
+        let t1965: f32 = t1963 * t1964;
+        let t1966: f32 = t1923 * t1965;
+        let t1967: f32 = t1930 * t1966;
+        let t1968: f32 = t66 * t1942;
+        let t1969: f32 = t1967 - t1968;
+        let t1970: f32 = t44 * t1969;
+        let t1971: f32 = t1962 + t1970;
+        let t1972: f32 = t66 * t1971;
+        let t1973: f32 = t1942 * 0.3;
+        let t1974: f32 = t1944 * 0.2;
+        let t1975: f32 = t1958 * 0.295;
+        let t1976: f32 = t1961 * 0.292;
+        let t1977: f32 = t1972 * 0.003;
+        let t1978: f32 = t1973 + t1974;
+        let t1979: f32 = t1975 + t1977;
+        let t1980: f32 = t1978 + t1979;
+        let t1981: f32 = t1980 - t1976;
+        let t1982: f32 = t44 * t1981;
+        let t1983: f32 = t1942 - t1944;
+        let t1984: f32 = t1958 - t1961;
+        let t1985: f32 = t1984 * 0.3;
+        let t1986: f32 = t1983 + t1985;
+        let t1987: f32 = t1986 - t1982;
+        let t1988: f32 = t79 * t1987;
+        let t1989: f32 = t114 * t1910;
+        let t1990: f32 = t818 * t1899;
+        let t1991: f32 = t85 * t1906;
+        let t1992: f32 = t1990 + t1991;
+        let t1993: f32 = t1989 + t1992;
+        let t1994: f32 = t114 * 9.81;
+        let t1995: f32 = -t1994;
+        let t1996: f32 = t1923 * t1923;
+        let t1997: f32 = t1959 * t1996;
+        let t1998: f32 = t1930 * t1955;
+        let t1999: f32 = t1993 + t1997;
+        let t2000: f32 = t1999 - t1998;
+        let t2001: f32 = t44 * t2000;
+        let t2002: f32 = t1924 * t1960;
         (
-            t1010,
-            t1019,
-            t1063,
-            t1072,
-            t1116,
-            t1125,
-            t1168,
-            t1177,
-            t1199,
-            t1200,
-            t1212,
-            t1213,
-            t1229,
-            t1285,
-            t1294,
+            t1005,
+            t1009,
+            t1051,
+            t1055,
+            t1097,
+            t1101,
+            t1143,
+            t1147,
+            t1189,
+            t1193,
+            t1235,
+            t1239,
+            t1299,
             t1300,
-            t1305,
-            t1310,
             t1312,
             t1313,
-            t1337,
-            t1346,
-            t1352,
-            t1357,
-            t1362,
-            t1364,
-            t1365,
-            t1389,
-            t1393,
-            t1398,
-            t1399,
-            t1408,
-            t1411,
-            t1413,
-            t1417,
-            t1442,
-            t1449,
-            t1450,
-            t1457,
-            t1462,
-            t1467,
-            t1469,
-            t1470,
-            t1494,
-            t1501,
-            t1502,
+            t1315,
+            t1455,
             t1509,
             t1514,
-            t1519,
-            t1521,
             t1522,
-            t1546,
-            t1550,
-            t1555,
-            t1556,
-            t1565,
-            t1568,
-            t1570,
-            t1574,
-            t1626,
-            t1733,
-            t1753,
-            t1754,
-            t1756,
-            t1758,
-            t1773,
-            t1780,
-            t1794,
+            t1524,
+            t1527,
+            t1533,
+            t1544,
+            t1545,
+            t1553,
+            t1554,
+            t1566,
+            t1567,
+            t1571,
+            t1590,
+            t1601,
+            t1602,
+            t1611,
+            t1612,
+            t1640,
+            t1641,
+            t1653,
+            t1654,
+            t1659,
+            t1681,
+            t1727,
+            t1728,
+            t1749,
+            t1761,
+            t1768,
+            t1770,
+            t1771,
+            t1776,
+            t1799,
+            t1801,
+            t1803,
+            t1807,
             t1808,
-            t1822,
-            t1836,
+            t1811,
+            t1814,
+            t1815,
+            t1817,
+            t1834,
+            t1838,
+            t1839,
+            t1844,
+            t1845,
+            t1849,
             t1850,
-            t1887,
-            t1906,
-            t1907,
-            t1922,
-            t1923,
-            t1927,
-            t1942,
-            t1943,
-            t1944,
-            t1947,
-            t1951,
-            t1955,
+            t1856,
+            t1857,
+            t1869,
+            t1873,
+            t1880,
+            t1881,
+            t1885,
+            t1886,
+            t1890,
+            t1936,
+            t1937,
             t1959,
-            t1963,
-            t1967,
             t1971,
             t1975,
-            t1979,
-            t1980,
-            t1983,
-            t1984,
+            t1976,
+            t1978,
+            t1981,
+            t1986,
             t1987,
             t1988,
-            t1991,
-            t1992,
-            t1997,
-            t1998,
-            t1999,
-            t2000,
+            t1993,
+            t1995,
             t2001,
             t2002,
         )
     };
     let (
-        t2012,
-        t2163,
-        t2182,
-        t2183,
-        t2199,
-        t2200,
-        t2292,
-        t2293,
-        t2335,
-        t2336,
-        t2370,
-        t2524,
-        t2570,
-        t2571,
-        t2592,
+        t2009,
+        t2077,
+        t2111,
+        t2149,
+        t2161,
+        t2213,
+        t2234,
+        t2246,
+        t2253,
+        t2254,
+        t2284,
+        t2297,
+        t2350,
+        t2359,
+        t2380,
+        t2411,
+        t2415,
+        t2416,
+        t2418,
+        t2426,
+        t2433,
+        t2485,
+        t2494,
+        t2515,
+        t2546,
+        t2550,
+        t2554,
+        t2568,
+        t2577,
+        t2584,
+        t2590,
+        t2594,
+        t2600,
         t2604,
-        t2611,
-        t2613,
-        t2614,
-        t2619,
-        t2642,
-        t2644,
-        t2646,
-        t2650,
-        t2651,
+        t2612,
+        t2616,
+        t2618,
+        t2637,
+        t2639,
+        t2652,
         t2654,
         t2657,
-        t2658,
-        t2677,
-        t2682,
-        t2688,
-        t2693,
-        t2700,
-        t2712,
-        t2716,
-        t2724,
-        t2729,
-        t2733,
-        t2779,
-        t2780,
-        t2802,
-        t2814,
-        t2818,
-        t2819,
-        t2821,
-        t2824,
-        t2829,
-        t2852,
-        t2854,
-        t2856,
-        t2860,
+        t2665,
+        t2670,
+        t2685,
+        t2687,
+        t2691,
+        t2702,
+        t2705,
+        t2714,
+        t2720,
+        t2726,
+        t2730,
+        t2736,
+        t2740,
+        t2748,
+        t2752,
+        t2781,
+        t2816,
         t2862,
-        t2864,
-        t2867,
-        t2869,
-        t2873,
+        t2898,
+        t2913,
         t2919,
-        t2920,
-        t2942,
-        t2954,
         t2958,
-        t2962,
-        t2964,
-        t2966,
-        t2968,
+        t2959,
+        t2961,
+        t2963,
+        t2967,
+        t2969,
         t2970,
+        t2972,
+        t2979,
+        t2982,
+        t2983,
+        t2985,
+        t2986,
+        t2990,
         t2992,
-        t2994,
-        t2996,
-        t2998,
-        t3000,
-        t3001,
+        t2993,
+        t2995,
         t3002,
     ) = {
-        let t2003: f32 = t1997 + t1998;
-        let t2004: f32 = t1999 + t2000;
-        let t2005: f32 = t2001 + t2002;
-        let t2006: f32 = t2003 + t2004;
-        let t2007: f32 = t2005 + t2006;
-        let t2008: f32 = t1944 + t1980;
-        let t2009: f32 = t1984 + t1988;
-        let t2010: f32 = t2008 + t2009;
-        let t2011: f32 = t1992 + t2010;
-        let t2012: f32 = t2007 - t2011;
-        let t2013: f32 = t74 * t74;
-        let t2014: f32 = t184 * t184;
-        let t2015: f32 = t307 * t307;
-        let t2016: f32 = t412 * t412;
-        let t2017: f32 = t519 * t519;
-        let t2018: f32 = t633 * t633;
-        let t2019: f32 = t1906 * t1906;
-        let t2020: f32 = t710 * t2019;
-        let t2021: f32 = t1922 * t1922;
-        let t2022: f32 = t1199 * t2021;
-        let t2023: f32 = t1942 * t1942;
-        let t2024: f32 = t1753 * t2023;
-        let t2025: f32 = t2012 * t2012;
-        let t2026: f32 = t1887 * t2025;
-        let t2027: f32 = t65 * t86;
-        let t2028: f32 = t52 * 0.3;
-        let t2029: f32 = t86 * 0.295;
-        let t2030: f32 = t2027 * 0.003;
-        let t2031: f32 = t2029 + t2030;
-        let t2032: f32 = t2028 - t2031;
-        let t2033: f32 = t59 * t2032;
-        let t2034: f32 = t86 * 0.3;
-        let t2035: f32 = t2033 + t2034;
-        let t2036: f32 = t52 - t2035;
-        let t2037: f32 = t52 * t2036;
-        let t2038: f32 = t175 * t196;
-        let t2039: f32 = t162 * 0.3;
-        let t2040: f32 = t196 * 0.295;
-        let t2041: f32 = t2038 * 0.003;
-        let t2042: f32 = t2040 + t2041;
-        let t2043: f32 = t2039 - t2042;
-        let t2044: f32 = t169 * t2043;
-        let t2045: f32 = t196 * 0.3;
-        let t2046: f32 = t2044 + t2045;
-        let t2047: f32 = t162 - t2046;
-        let t2048: f32 = t162 * t2047;
-        let t2049: f32 = t291 * t340;
-        let t2050: f32 = t278 * 0.3;
-        let t2051: f32 = t340 * 0.295;
-        let t2052: f32 = t2049 * 0.003;
+        let t2003: f32 = t1993 * 0.3;
+        let t2004: f32 = t1995 * 0.2;
+        let t2005: f32 = t2001 * 0.295;
+        let t2006: f32 = t2002 * 0.292;
+        let t2007: f32 = t2003 + t2004;
+        let t2008: f32 = t2006 + t2007;
+        let t2009: f32 = t2005 - t2008;
+        let t2010: f32 = t44 * t2009;
+        let t2011: f32 = t1993 - t1995;
+        let t2012: f32 = t2001 - t2002;
+        let t2013: f32 = t2012 * 0.3;
+        let t2014: f32 = t2010 + t2011;
+        let t2015: f32 = t2014 - t2013;
+        let t2016: f32 = t114 * t2015;
+        let t2017: f32 = t1988 + t2016;
+        let t2018: f32 = t1937 + t2017;
+        let t2019: f32 = -t2018;
+        let t2020: f32 = t27 * t2019;
+        let t2021: f32 = t45 * t1936;
+        let t2022: f32 = t61 * t1987;
+        let t2023: f32 = t85 * t2015;
+        let t2024: f32 = t2022 + t2023;
+        let t2025: f32 = t2021 + t2024;
+        let t2026: f32 = -t2025;
+        let t2027: f32 = t17 * t2026;
+        let t2028: f32 = t2020 - t2027;
+        let t2029: f32 = t1890 + t2028;
+        let t2030: f32 = t1817 + t2029;
+        let t2031: f32 = wx * t157;
+        let t2032: f32 = wy * t160;
+        let t2033: f32 = t2031 - t2032;
+        let t2034: f32 = wy * t2033;
+        let t2035: f32 = wz * t160;
+        let t2036: f32 = wx * t156;
+        let t2037: f32 = t2035 - t2036;
+        let t2038: f32 = wz * t2037;
+        let t2039: f32 = t2034 - t2038;
+        let t2040: f32 = t205 * t2039;
+        let t2041: f32 = wy * t156;
+        let t2042: f32 = wz * t157;
+        let t2043: f32 = t2041 - t2042;
+        let t2044: f32 = wz * t2043;
+        let t2045: f32 = wx * t2033;
+        let t2046: f32 = t2044 - t2045;
+        let t2047: f32 = t171 * t2046;
+        let t2048: f32 = wx * t2037;
+        let t2049: f32 = wy * t2043;
+        let t2050: f32 = t2048 - t2049;
+        let t2051: f32 = t207 * t2050;
+        let t2052: f32 = t2040 + t2047;
         let t2053: f32 = t2051 + t2052;
-        let t2054: f32 = t2050 - t2053;
-        let t2055: f32 = t285 * t2054;
-        let t2056: f32 = t340 * 0.3;
-        let t2057: f32 = t2055 + t2056;
-        let t2058: f32 = t278 - t2057;
-        let t2059: f32 = t278 * t2058;
-        let t2060: f32 = t404 * t424;
-        let t2061: f32 = t391 * 0.3;
-        let t2062: f32 = t424 * 0.295;
-        let t2063: f32 = t2060 * 0.003;
-        let t2064: f32 = t2062 + t2063;
-        let t2065: f32 = t2061 - t2064;
-        let t2066: f32 = t398 * t2065;
-        let t2067: f32 = t424 * 0.3;
-        let t2068: f32 = t2066 + t2067;
-        let t2069: f32 = t391 - t2068;
-        let t2070: f32 = t391 * t2069;
-        let t2071: f32 = t511 * t531;
-        let t2072: f32 = t498 * 0.3;
-        let t2073: f32 = t531 * 0.295;
-        let t2074: f32 = t2071 * 0.003;
-        let t2075: f32 = t2073 + t2074;
-        let t2076: f32 = t2072 - t2075;
-        let t2077: f32 = t505 * t2076;
-        let t2078: f32 = t531 * 0.3;
-        let t2079: f32 = t2077 + t2078;
-        let t2080: f32 = t498 - t2079;
-        let t2081: f32 = t498 * t2080;
-        let t2082: f32 = t617 * t666;
-        let t2083: f32 = t604 * 0.3;
-        let t2084: f32 = t666 * 0.295;
-        let t2085: f32 = t2082 * 0.003;
-        let t2086: f32 = t2084 + t2085;
-        let t2087: f32 = t2083 - t2086;
-        let t2088: f32 = t611 * t2087;
-        let t2089: f32 = t666 * 0.3;
-        let t2090: f32 = t2088 + t2089;
-        let t2091: f32 = t604 - t2090;
-        let t2092: f32 = t604 * t2091;
-        let t2093: f32 = t93 * 0.3;
-        let t2094: f32 = t108 * 0.295;
-        let t2095: f32 = t2093 - t2094;
-        let t2096: f32 = t59 * t2095;
-        let t2097: f32 = t108 * 0.3;
-        let t2098: f32 = t2096 + t2097;
-        let t2099: f32 = t93 - t2098;
-        let t2100: f32 = t93 * t2099;
-        let t2101: f32 = t203 * 0.3;
-        let t2102: f32 = t218 * 0.295;
-        let t2103: f32 = t2101 - t2102;
-        let t2104: f32 = t169 * t2103;
-        let t2105: f32 = t218 * 0.3;
-        let t2106: f32 = t2104 + t2105;
-        let t2107: f32 = t203 - t2106;
-        let t2108: f32 = t203 * t2107;
-        let t2109: f32 = t304 * 0.3;
-        let t2110: f32 = t330 * 0.295;
-        let t2111: f32 = t2109 - t2110;
-        let t2112: f32 = t285 * t2111;
-        let t2113: f32 = t330 * 0.3;
-        let t2114: f32 = t2112 + t2113;
-        let t2115: f32 = t304 - t2114;
-        let t2116: f32 = t304 * t2115;
-        let t2117: f32 = t431 * 0.3;
-        let t2118: f32 = t446 * 0.295;
-        let t2119: f32 = t2117 - t2118;
-        let t2120: f32 = t398 * t2119;
-        let t2121: f32 = t446 * 0.3;
-        let t2122: f32 = t2120 + t2121;
-        let t2123: f32 = t431 - t2122;
-        let t2124: f32 = t431 * t2123;
-        let t2125: f32 = t538 * 0.3;
-        let t2126: f32 = t553 * 0.295;
-        let t2127: f32 = t2125 - t2126;
-        let t2128: f32 = t505 * t2127;
-        let t2129: f32 = t553 * 0.3;
-        let t2130: f32 = t2128 + t2129;
-        let t2131: f32 = t538 - t2130;
-        let t2132: f32 = t538 * t2131;
-        let t2133: f32 = t630 * 0.3;
-        let t2134: f32 = t656 * 0.295;
-        let t2135: f32 = t2133 - t2134;
-        let t2136: f32 = t611 * t2135;
-        let t2137: f32 = t656 * 0.3;
-        let t2138: f32 = t2136 + t2137;
-        let t2139: f32 = t630 - t2138;
-        let t2140: f32 = t630 * t2139;
-        let t2141: f32 = t2013 + t2014;
-        let t2142: f32 = t2015 + t2016;
-        let t2143: f32 = t2017 + t2018;
-        let t2144: f32 = t2037 + t2048;
-        let t2145: f32 = t2059 + t2070;
-        let t2146: f32 = t2081 + t2092;
-        let t2147: f32 = t2100 + t2108;
-        let t2148: f32 = t2116 + t2124;
-        let t2149: f32 = t2132 + t2140;
-        let t2150: f32 = t2141 + t2142;
-        let t2151: f32 = t2143 + t2144;
-        let t2152: f32 = t2145 + t2146;
-        let t2153: f32 = t2147 + t2148;
-        let t2154: f32 = t2149 + 12.0;
-        let t2155: f32 = t2150 + t2151;
-        let t2156: f32 = t2152 + t2153;
-        let t2157: f32 = t2155 + t2156;
-        let t2158: f32 = t2154 + t2157;
-        let t2159: f32 = t2020 + t2022;
-        let t2160: f32 = t2024 + t2026;
-        let t2161: f32 = t2159 + t2160;
-        let t2162: f32 = t2158 - t2161;
-        let t2163: f32 = 1.0 / t2162;
-        let t2164: f32 = t74 * t76;
-        let t2165: f32 = t184 * t186;
-        let t2166: f32 = t301 * t307;
-        let t2167: f32 = t412 * t414;
-        let t2168: f32 = t519 * t521;
-        let t2169: f32 = t627 * t633;
-        let t2170: f32 = t125 + t235;
-        let t2171: f32 = t349 + t675;
-        let t2172: f32 = t2170 + t2171;
-        let t2173: f32 = t463 + t570;
-        let t2174: f32 = t2172 - t2173;
-        let t2175: f32 = t2174 * 0.003;
-        let t2176: f32 = t1758 + t2175;
-        let t2177: f32 = t136 + t246;
-        let t2178: f32 = t474 + t581;
-        let t2179: f32 = t2176 + t2177;
-        let t2180: f32 = t2178 + t2179;
-        let t2181: f32 = t360 + t686;
+        let t2054: f32 = t207 * 9.81;
+        let t2055: f32 = -t2054;
+        let t2056: f32 = vx + t2043;
+        let t2057: f32 = t208 * t2056;
+        let t2058: f32 = vy + t2037;
+        let t2059: f32 = t186 * t2058;
+        let t2060: f32 = vz + t2033;
+        let t2061: f32 = t204 * t2060;
+        let t2062: f32 = t2057 + t2059;
+        let t2063: f32 = t2061 + t2062;
+        let t2064: f32 = t170 * t2063;
+        let t2065: f32 = t2064 * t2064;
+        let t2066: f32 = t846 * t2056;
+        let t2067: f32 = t210 * t2058;
+        let t2068: f32 = t239 * t2060;
+        let t2069: f32 = t2066 + t2067;
+        let t2070: f32 = t2068 + t2069;
+        let t2071: f32 = t170 * t2070;
+        let t2072: f32 = t2071 * t2071;
+        let t2073: f32 = t2065 + t2072;
+        let t2074: f32 = t2073 * 0.3;
+        let t2075: f32 = t2053 + t2074;
+        let t2076: f32 = t2075 - t2055;
+        let t2077: f32 = t171 * t2076;
+        let t2078: f32 = t208 * t2039;
+        let t2079: f32 = t186 * t2046;
+        let t2080: f32 = t204 * t2050;
+        let t2081: f32 = t2078 + t2079;
+        let t2082: f32 = t2080 + t2081;
+        let t2083: f32 = t204 * 9.81;
+        let t2084: f32 = -t2083;
+        let t2085: f32 = t170 * t2082;
+        let t2086: f32 = t191 * t224;
+        let t2087: f32 = t2063 * t2086;
+        let t2088: f32 = t2070 * t2087;
+        let t2089: f32 = t205 * t2056;
+        let t2090: f32 = t171 * t2058;
+        let t2091: f32 = t207 * t2060;
+        let t2092: f32 = t2089 + t2090;
+        let t2093: f32 = t2091 + t2092;
+        let t2094: f32 = t170 * t2093;
+        let t2095: f32 = t2094 * 2.0;
+        let t2096: f32 = t2064 * t2095;
+        let t2097: f32 = t2088 - t2096;
+        let t2098: f32 = t2085 + t2097;
+        let t2099: f32 = t170 * t191;
+        let t2100: f32 = t2063 * t2099;
+        let t2101: f32 = t2071 * t2100;
+        let t2102: f32 = t191 * t2097;
+        let t2103: f32 = t185 * t185;
+        let t2104: f32 = t168 * t170;
+        let t2105: f32 = t2103 * t2104;
+        let t2106: f32 = t2063 * t2105;
+        let t2107: f32 = t2070 * t2106;
+        let t2108: f32 = t191 * t2082;
+        let t2109: f32 = t2107 + t2108;
+        let t2110: f32 = t170 * t2109;
+        let t2111: f32 = t2102 + t2110;
+        let t2112: f32 = t191 * t2111;
+        let t2113: f32 = t2082 * 0.3;
+        let t2114: f32 = t2084 * 0.2;
+        let t2115: f32 = t2098 * 0.295;
+        let t2116: f32 = t2101 * 0.292;
+        let t2117: f32 = t2112 * 0.003;
+        let t2118: f32 = t2113 + t2114;
+        let t2119: f32 = t2116 + t2118;
+        let t2120: f32 = t2115 + t2117;
+        let t2121: f32 = t2119 - t2120;
+        let t2122: f32 = t170 * t2121;
+        let t2123: f32 = t2082 - t2084;
+        let t2124: f32 = t2098 - t2101;
+        let t2125: f32 = t2124 * 0.3;
+        let t2126: f32 = t2122 + t2125;
+        let t2127: f32 = t2123 - t2126;
+        let t2128: f32 = t186 * t2127;
+        let t2129: f32 = t239 * t2050;
+        let t2130: f32 = t846 * t2039;
+        let t2131: f32 = t210 * t2046;
+        let t2132: f32 = t2130 + t2131;
+        let t2133: f32 = t2129 + t2132;
+        let t2134: f32 = t239 * 9.81;
+        let t2135: f32 = -t2134;
+        let t2136: f32 = t2063 * t2063;
+        let t2137: f32 = t2099 * t2136;
+        let t2138: f32 = t2070 * t2095;
+        let t2139: f32 = t2137 + t2138;
+        let t2140: f32 = t2133 - t2139;
+        let t2141: f32 = t170 * t2140;
+        let t2142: f32 = t2064 * t2100;
+        let t2143: f32 = t2133 * 0.3;
+        let t2144: f32 = t2135 * 0.2;
+        let t2145: f32 = t2141 * 0.295;
+        let t2146: f32 = t2142 * 0.292;
+        let t2147: f32 = t2143 + t2144;
+        let t2148: f32 = t2145 + t2146;
+        let t2149: f32 = t2147 - t2148;
+        let t2150: f32 = t170 * t2149;
+        let t2151: f32 = t2133 - t2135;
+        let t2152: f32 = t2141 + t2142;
+        let t2153: f32 = t2152 * 0.3;
+        let t2154: f32 = t2150 + t2153;
+        let t2155: f32 = t2151 - t2154;
+        let t2156: f32 = t210 * t2155;
+        let t2157: f32 = t2128 + t2156;
+        let t2158: f32 = t2077 + t2157;
+        let t2159: f32 = t156 * t2158;
+        let t2160: f32 = t239 * t2155;
+        let t2161: f32 = t207 * t2076;
+        let t2162: f32 = t204 * t2127;
+        let t2163: f32 = t2161 + t2162;
+        let t2164: f32 = t2160 + t2163;
+        let t2165: f32 = t157 * t2164;
+        let t2166: f32 = t2159 - t2165;
+        let t2167: f32 = wx * t286;
+        let t2168: f32 = wy * t291;
+        let t2169: f32 = t2167 - t2168;
+        let t2170: f32 = wy * t2169;
+        let t2171: f32 = wz * t291;
+        let t2172: f32 = wx * t283;
+        let t2173: f32 = t2171 - t2172;
+        let t2174: f32 = wz * t2173;
+        let t2175: f32 = t2170 - t2174;
+        let t2176: f32 = t336 * t2175;
+        let t2177: f32 = wy * t283;
+        let t2178: f32 = wz * t286;
+        let t2179: f32 = t2177 - t2178;
+        let t2180: f32 = wz * t2179;
+        let t2181: f32 = wx * t2169;
         let t2182: f32 = t2180 - t2181;
-        let t2183: f32 = t710 * t1906;
-        let t2184: f32 = t2182 * t2183;
-        let t2185: f32 = t1213 * t2182;
-        let t2186: f32 = t1063 + t1116;
-        let t2187: f32 = t904 + t958;
-        let t2188: f32 = t1010 + t1168;
+        let t2183: f32 = t302 * t2182;
+        let t2184: f32 = wx * t2173;
+        let t2185: f32 = wy * t2179;
+        let t2186: f32 = t2184 - t2185;
+        let t2187: f32 = t338 * t2186;
+        let t2188: f32 = t2176 + t2183;
         let t2189: f32 = t2187 + t2188;
-        let t2190: f32 = t2186 - t2189;
-        let t2191: f32 = t2190 * 0.003;
-        let t2192: f32 = t1927 + t2191;
-        let t2193: f32 = t913 + t967;
-        let t2194: f32 = t1019 + t1072;
-        let t2195: f32 = t1125 + t1177;
-        let t2196: f32 = t2192 + t2193;
-        let t2197: f32 = t2194 + t2195;
-        let t2198: f32 = t2196 + t2197;
-        let t2199: f32 = t2198 - t2185;
-        let t2200: f32 = t1199 * t1922;
-        let t2201: f32 = t2199 * t2200;
-        let t2202: f32 = t76 * t1310;
-        let t2203: f32 = t186 * t1362;
-        let t2204: f32 = t301 * t1393;
-        let t2205: f32 = t414 * t1467;
-        let t2206: f32 = t521 * t1519;
-        let t2207: f32 = t627 * t1550;
-        let t2208: f32 = t1754 * t2182;
-        let t2209: f32 = t1756 * t2199;
-        let t2210: f32 = t1285 * t1780;
-        let t2211: f32 = t2210 * 0.003;
-        let t2212: f32 = t1312 + t2211;
-        let t2213: f32 = t1313 + t2212;
-        let t2214: f32 = t59 * t2213;
-        let t2215: f32 = t1300 - t2214;
-        let t2216: f32 = t66 * t2215;
-        let t2217: f32 = t1337 * t1794;
-        let t2218: f32 = t2217 * 0.003;
-        let t2219: f32 = t1364 + t2218;
-        let t2220: f32 = t1365 + t2219;
-        let t2221: f32 = t169 * t2220;
-        let t2222: f32 = t1352 - t2221;
-        let t2223: f32 = t176 * t2222;
-        let t2224: f32 = t1389 * t1808;
-        let t2225: f32 = t2224 * 0.003;
-        let t2226: f32 = t1398 + t2225;
-        let t2227: f32 = t1399 + t2226;
-        let t2228: f32 = t285 * t2227;
-        let t2229: f32 = t1417 - t2228;
-        let t2230: f32 = t293 * t2229;
-        let t2231: f32 = t1442 * t1822;
-        let t2232: f32 = t2231 * 0.003;
-        let t2233: f32 = t1469 + t2232;
-        let t2234: f32 = t1470 + t2233;
-        let t2235: f32 = t398 * t2234;
-        let t2236: f32 = t1457 - t2235;
-        let t2237: f32 = t406 * t2236;
-        let t2238: f32 = t1494 * t1836;
-        let t2239: f32 = t2238 * 0.003;
-        let t2240: f32 = t1521 + t2239;
-        let t2241: f32 = t1522 + t2240;
-        let t2242: f32 = t505 * t2241;
-        let t2243: f32 = t1509 - t2242;
-        let t2244: f32 = t513 * t2243;
-        let t2245: f32 = t1546 * t1850;
-        let t2246: f32 = t2245 * 0.003;
-        let t2247: f32 = t1555 + t2246;
-        let t2248: f32 = t1556 + t2247;
-        let t2249: f32 = t611 * t2248;
-        let t2250: f32 = t1574 - t2249;
-        let t2251: f32 = t619 * t2250;
-        let t2252: f32 = t59 * t1305;
-        let t2253: f32 = t1294 - t2252;
-        let t2254: f32 = t98 * t2253;
-        let t2255: f32 = t169 * t1357;
-        let t2256: f32 = t1346 - t2255;
-        let t2257: f32 = t208 * t2256;
-        let t2258: f32 = t285 * t1411;
-        let t2259: f32 = t1408 + t2258;
-        let t2260: f32 = t1413 - t2259;
-        let t2261: f32 = t310 * t2260;
-        let t2262: f32 = t398 * t1462;
-        let t2263: f32 = t1449 + t2262;
-        let t2264: f32 = t1450 - t2263;
-        let t2265: f32 = t436 * t2264;
-        let t2266: f32 = t505 * t1514;
-        let t2267: f32 = t1501 + t2266;
-        let t2268: f32 = t1502 - t2267;
-        let t2269: f32 = t543 * t2268;
-        let t2270: f32 = t611 * t1568;
-        let t2271: f32 = t1565 + t2270;
-        let t2272: f32 = t1570 - t2271;
-        let t2273: f32 = t636 * t2272;
-        let t2274: f32 = t2204 + t2207;
-        let t2275: f32 = t2208 + t2209;
-        let t2276: f32 = t2216 + t2223;
-        let t2277: f32 = t2230 + t2251;
-        let t2278: f32 = t2254 + t2257;
-        let t2279: f32 = t2265 + t2269;
-        let t2280: f32 = t2274 + t2275;
-        let t2281: f32 = t2276 + t2277;
-        let t2282: f32 = t2278 + t2279;
-        let t2283: f32 = t2280 + t2281;
-        let t2284: f32 = t2282 + t2283;
-        let t2285: f32 = t2202 + t2203;
-        let t2286: f32 = t2205 + t2206;
-        let t2287: f32 = t2237 + t2244;
-        let t2288: f32 = t2261 + t2273;
-        let t2289: f32 = t2285 + t2286;
-        let t2290: f32 = t2287 + t2288;
-        let t2291: f32 = t2289 + t2290;
-        let t2292: f32 = t2284 - t2291;
-        let t2293: f32 = t1753 * t1942;
-        let t2294: f32 = t2292 * t2293;
-        let t2295: f32 = t76 * t89;
-        let t2296: f32 = t186 * t199;
-        let t2297: f32 = t299 * t301;
-        let t2298: f32 = t414 * t427;
-        let t2299: f32 = t521 * t534;
-        let t2300: f32 = t625 * t627;
-        let t2301: f32 = t1907 * t2182;
-        let t2302: f32 = t1923 * t2199;
-        let t2303: f32 = t1943 * t2292;
-        let t2304: f32 = t66 * t1947;
-        let t2305: f32 = t176 * t1951;
-        let t2306: f32 = t293 * t1955;
-        let t2307: f32 = t406 * t1959;
-        let t2308: f32 = t513 * t1963;
-        let t2309: f32 = t619 * t1967;
-        let t2310: f32 = t98 * t1971;
-        let t2311: f32 = t208 * t1975;
-        let t2312: f32 = t310 * t1979;
-        let t2313: f32 = t436 * t1983;
-        let t2314: f32 = t543 * t1987;
-        let t2315: f32 = t636 * t1991;
-        let t2316: f32 = t2295 + t2296;
-        let t2317: f32 = t2297 + t2298;
-        let t2318: f32 = t2299 + t2300;
-        let t2319: f32 = t2301 + t2302;
-        let t2320: f32 = t2304 + t2305;
-        let t2321: f32 = t2310 + t2311;
-        let t2322: f32 = t2312 + t2313;
-        let t2323: f32 = t2314 + t2315;
-        let t2324: f32 = t2316 + t2317;
-        let t2325: f32 = t2318 + t2319;
-        let t2326: f32 = t2320 + t2321;
-        let t2327: f32 = t2322 + t2323;
-        let t2328: f32 = t2324 + t2325;
-        let t2329: f32 = t2326 + t2327;
-        let t2330: f32 = t2328 + t2329;
-        let t2331: f32 = t2303 + t2306;
-        let t2332: f32 = t2307 + t2308;
-        let t2333: f32 = t2331 + t2332;
-        let t2334: f32 = t2309 + t2333;
-        let t2335: f32 = t2330 - t2334;
-        let t2336: f32 = t1887 * t2012;
-        let t2337: f32 = t2335 * t2336;
-        let t2338: f32 = t66 * t2036;
-        let t2339: f32 = t176 * t2047;
-        let t2340: f32 = t293 * t2058;
-        let t2341: f32 = t406 * t2069;
-        let t2342: f32 = t513 * t2080;
-        let t2343: f32 = t619 * t2091;
-        let t2344: f32 = t98 * t2099;
-        let t2345: f32 = t208 * t2107;
-        let t2346: f32 = t310 * t2115;
-        let t2347: f32 = t436 * t2123;
-        let t2348: f32 = t543 * t2131;
-        let t2349: f32 = t636 * t2139;
-        let t2350: f32 = t2164 + t2165;
-        let t2351: f32 = t2166 + t2167;
-        let t2352: f32 = t2168 + t2169;
-        let t2353: f32 = t2338 + t2339;
-        let t2354: f32 = t2344 + t2345;
-        let t2355: f32 = t2350 + t2351;
-        let t2356: f32 = t2352 + t2353;
-        let t2357: f32 = t2355 + t2356;
-        let t2358: f32 = t2354 + t2357;
-        let t2359: f32 = t2184 + t2201;
-        let t2360: f32 = t2294 + t2337;
-        let t2361: f32 = t2340 + t2341;
-        let t2362: f32 = t2342 + t2343;
-        let t2363: f32 = t2346 + t2347;
-        let t2364: f32 = t2348 + t2349;
-        let t2365: f32 = t2359 + t2360;
-        let t2366: f32 = t2361 + t2362;
-        let t2367: f32 = t2363 + t2364;
-        let t2368: f32 = t2365 + t2366;
-        let t2369: f32 = t2367 + t2368;
-        let t2370: f32 = t2358 - t2369;
-        let t2371: f32 = t76 * t76;
-        let t2372: f32 = t186 * t186;
-        let t2373: f32 = t301 * t301;
-        let t2374: f32 = t414 * t414;
-        let t2375: f32 = t521 * t521;
-        let t2376: f32 = t627 * t627;
-        let t2377: f32 = t2182 * t2182;
-        let t2378: f32 = t710 * t2377;
-        let t2379: f32 = t2199 * t2199;
-        let t2380: f32 = t1199 * t2379;
-        let t2381: f32 = t2292 * t2292;
-        let t2382: f32 = t1753 * t2381;
-        let t2383: f32 = t2335 * t2335;
-        let t2384: f32 = t1887 * t2383;
-        let t2385: f32 = t2370 * t2370;
-        let t2386: f32 = t2163 * t2385;
-        let t2387: f32 = t65 * t127;
-        let t2388: f32 = t66 * 0.3;
-        let t2389: f32 = t127 * 0.295;
-        let t2390: f32 = t2387 * 0.003;
-        let t2391: f32 = t2389 + t2390;
-        let t2392: f32 = t2388 - t2391;
-        let t2393: f32 = t59 * t2392;
-        let t2394: f32 = t127 * 0.3;
-        let t2395: f32 = t2393 + t2394;
-        let t2396: f32 = t66 - t2395;
-        let t2397: f32 = t66 * t2396;
-        let t2398: f32 = t175 * t237;
-        let t2399: f32 = t176 * 0.3;
-        let t2400: f32 = t237 * 0.295;
-        let t2401: f32 = t2398 * 0.003;
-        let t2402: f32 = t2400 + t2401;
-        let t2403: f32 = t2399 - t2402;
-        let t2404: f32 = t169 * t2403;
-        let t2405: f32 = t237 * 0.3;
-        let t2406: f32 = t2404 + t2405;
-        let t2407: f32 = t176 - t2406;
-        let t2408: f32 = t176 * t2407;
-        let t2409: f32 = t291 * t351;
-        let t2410: f32 = t293 * 0.3;
-        let t2411: f32 = t351 * 0.295;
-        let t2412: f32 = t2409 * 0.003;
-        let t2413: f32 = t2411 + t2412;
-        let t2414: f32 = t2410 - t2413;
-        let t2415: f32 = t285 * t2414;
-        let t2416: f32 = t351 * 0.3;
-        let t2417: f32 = t2415 + t2416;
-        let t2418: f32 = t293 - t2417;
-        let t2419: f32 = t293 * t2418;
-        let t2420: f32 = t404 * t465;
-        let t2421: f32 = t406 * 0.3;
-        let t2422: f32 = t465 * 0.295;
-        let t2423: f32 = t2420 * 0.003;
-        let t2424: f32 = t2422 + t2423;
-        let t2425: f32 = t2421 - t2424;
-        let t2426: f32 = t398 * t2425;
-        let t2427: f32 = t465 * 0.3;
-        let t2428: f32 = t2426 + t2427;
-        let t2429: f32 = t406 - t2428;
-        let t2430: f32 = t406 * t2429;
-        let t2431: f32 = t511 * t572;
-        let t2432: f32 = t513 * 0.3;
-        let t2433: f32 = t572 * 0.295;
-        let t2434: f32 = t2431 * 0.003;
-        let t2435: f32 = t2433 + t2434;
-        let t2436: f32 = t2432 - t2435;
-        let t2437: f32 = t505 * t2436;
-        let t2438: f32 = t572 * 0.3;
-        let t2439: f32 = t2437 + t2438;
-        let t2440: f32 = t513 - t2439;
-        let t2441: f32 = t513 * t2440;
-        let t2442: f32 = t617 * t677;
-        let t2443: f32 = t619 * 0.3;
-        let t2444: f32 = t677 * 0.295;
-        let t2445: f32 = t2442 * 0.003;
-        let t2446: f32 = t2444 + t2445;
-        let t2447: f32 = t2443 - t2446;
-        let t2448: f32 = t611 * t2447;
-        let t2449: f32 = t677 * 0.3;
-        let t2450: f32 = t2448 + t2449;
-        let t2451: f32 = t619 - t2450;
-        let t2452: f32 = t619 * t2451;
-        let t2453: f32 = t98 * 0.3;
-        let t2454: f32 = t130 * 0.295;
-        let t2455: f32 = t2453 - t2454;
-        let t2456: f32 = t59 * t2455;
-        let t2457: f32 = t130 * 0.3;
-        let t2458: f32 = t2456 + t2457;
-        let t2459: f32 = t98 - t2458;
-        let t2460: f32 = t98 * t2459;
-        let t2461: f32 = t208 * 0.3;
-        let t2462: f32 = t240 * 0.295;
-        let t2463: f32 = t2461 - t2462;
-        let t2464: f32 = t169 * t2463;
-        let t2465: f32 = t240 * 0.3;
-        let t2466: f32 = t2464 + t2465;
-        let t2467: f32 = t208 - t2466;
-        let t2468: f32 = t208 * t2467;
-        let t2469: f32 = t310 * 0.3;
-        let t2470: f32 = t354 * 0.295;
-        let t2471: f32 = t2469 - t2470;
-        let t2472: f32 = t285 * t2471;
-        let t2473: f32 = t354 * 0.3;
-        let t2474: f32 = t2472 + t2473;
-        let t2475: f32 = t310 - t2474;
-        let t2476: f32 = t310 * t2475;
-        let t2477: f32 = t436 * 0.3;
-        let t2478: f32 = t471 * 0.295;
-        let t2479: f32 = t2477 - t2478;
-        let t2480: f32 = t398 * t2479;
-        let t2481: f32 = t471 * 0.3;
-        let t2482: f32 = t2480 + t2481;
-        let t2483: f32 = t436 - t2482;
-        let t2484: f32 = t436 * t2483;
-        let t2485: f32 = t543 * 0.3;
-        let t2486: f32 = t578 * 0.295;
-        let t2487: f32 = t2485 - t2486;
-        let t2488: f32 = t505 * t2487;
-        let t2489: f32 = t578 * 0.3;
-        let t2490: f32 = t2488 + t2489;
-        let t2491: f32 = t543 - t2490;
-        let t2492: f32 = t543 * t2491;
-        let t2493: f32 = t636 * 0.3;
-        let t2494: f32 = t680 * 0.295;
-        let t2495: f32 = t2493 - t2494;
-        let t2496: f32 = t611 * t2495;
-        let t2497: f32 = t680 * 0.3;
-        let t2498: f32 = t2496 + t2497;
-        let t2499: f32 = t636 - t2498;
-        let t2500: f32 = t636 * t2499;
-        let t2501: f32 = t2371 + t2372;
-        let t2502: f32 = t2373 + t2374;
-        let t2503: f32 = t2375 + t2376;
-        let t2504: f32 = t2397 + t2408;
-        let t2505: f32 = t2419 + t2430;
-        let t2506: f32 = t2441 + t2452;
-        let t2507: f32 = t2460 + t2468;
-        let t2508: f32 = t2476 + t2484;
-        let t2509: f32 = t2492 + t2500;
-        let t2510: f32 = t2501 + t2502;
-        let t2511: f32 = t2503 + t2504;
-        let t2512: f32 = t2505 + t2506;
-        let t2513: f32 = t2507 + t2508;
-        let t2514: f32 = t2509 + 12.0;
-        let t2515: f32 = t2510 + t2511;
-        let t2516: f32 = t2512 + t2513;
-        let t2517: f32 = t2515 + t2516;
-        let t2518: f32 = t2514 + t2517;
-        let t2519: f32 = t2378 + t2380;
-        let t2520: f32 = t2382 + t2384;
-        let t2521: f32 = t2519 + t2520;
-        let t2522: f32 = t2386 + t2521;
-        let t2523: f32 = t2518 - t2522;
-        let t2524: f32 = 1.0 / t2523;
-        let t2525: f32 = wx * t593;
-        let t2526: f32 = wy * t591;
-        let t2527: f32 = t2525 - t2526;
-        let t2528: f32 = wy * t2527;
-        let t2529: f32 = wz * t591;
-        let t2530: f32 = wx * t585;
-        let t2531: f32 = t2529 - t2530;
-        let t2532: f32 = wz * t2531;
-        let t2533: f32 = t2528 - t2532;
-        let t2534: f32 = t625 * t2533;
-        let t2535: f32 = wy * t585;
-        let t2536: f32 = wz * t593;
-        let t2537: f32 = t2535 - t2536;
-        let t2538: f32 = wz * t2537;
-        let t2539: f32 = wx * t2527;
-        let t2540: f32 = t2538 - t2539;
-        let t2541: f32 = t633 * t2540;
-        let t2542: f32 = wx * t2531;
-        let t2543: f32 = wy * t2537;
-        let t2544: f32 = t2542 - t2543;
-        let t2545: f32 = t627 * t2544;
-        let t2546: f32 = t2534 + t2541;
-        let t2547: f32 = t2545 + t2546;
-        let t2548: f32 = t627 * 9.81;
-        let t2549: f32 = -t2548;
-        let t2550: f32 = vx - t2537;
-        let t2551: f32 = t628 * t2550;
-        let t2552: f32 = vy - t2531;
-        let t2553: f32 = t604 * t2552;
-        let t2554: f32 = vz - t2527;
-        let t2555: f32 = t619 * t2554;
-        let t2556: f32 = t2551 + t2553;
-        let t2557: f32 = t2556 - t2555;
-        let t2558: f32 = t611 * t2557;
-        let t2559: f32 = t2558 * t2558;
-        let t2560: f32 = t826 * t2550;
-        let t2561: f32 = t630 * t2552;
-        let t2562: f32 = t636 * t2554;
-        let t2563: f32 = t2560 + t2562;
-        let t2564: f32 = t2563 - t2561;
-        let t2565: f32 = t611 * t2564;
-        let t2566: f32 = t2565 * t2565;
-        let t2567: f32 = t2559 + t2566;
-        let t2568: f32 = t2567 * 0.3;
-        let t2569: f32 = t2547 + t2549;
-        let t2570: f32 = t2569 - t2568;
-        let t2571: f32 = t633 * t2570;
-        let t2572: f32 = t628 * t2533;
-        let t2573: f32 = t604 * t2540;
-        let t2574: f32 = t619 * t2544;
-        let t2575: f32 = t2572 + t2573;
-        let t2576: f32 = t2575 - t2574;
-        let t2577: f32 = t619 * 9.81;
-        let t2578: f32 = t611 * t2576;
-        let t2579: f32 = t612 * t616;
-        let t2580: f32 = t2557 * t2579;
-        let t2581: f32 = t2564 * t2580;
-        let t2582: f32 = t625 * t2550;
-        let t2583: f32 = t633 * t2552;
-        let t2584: f32 = t627 * t2554;
-        let t2585: f32 = t2582 + t2583;
-        let t2586: f32 = t2584 + t2585;
-        let t2587: f32 = t611 * t2586;
-        let t2588: f32 = t2587 * 2.0;
-        let t2589: f32 = t2558 * t2588;
-        let t2590: f32 = t2581 - t2589;
-        let t2591: f32 = t2590 - t2578;
-        let t2592: f32 = t611 * t616;
-        let t2593: f32 = t2557 * t2592;
-        let t2594: f32 = t2565 * t2593;
-        let t2595: f32 = t616 * t2590;
-        let t2596: f32 = t603 * t603;
-        let t2597: f32 = t609 * t611;
-        let t2598: f32 = t2596 * t2597;
-        let t2599: f32 = t2557 * t2598;
-        let t2600: f32 = t2564 * t2599;
-        let t2601: f32 = t616 * t2576;
-        let t2602: f32 = t2600 - t2601;
-        let t2603: f32 = t611 * t2602;
-        let t2604: f32 = t2595 + t2603;
-        let t2605: f32 = t616 * t2604;
-        let t2606: f32 = t2576 * 0.3;
-        let t2607: f32 = t2577 * 0.2;
-        let t2608: f32 = t2591 * 0.295;
-        let t2609: f32 = t2594 * 0.292;
-        let t2610: f32 = t2605 * 0.003;
-        let t2611: f32 = t2606 + t2608;
-        let t2612: f32 = t2610 + t2611;
-        let t2613: f32 = t2607 + t2609;
-        let t2614: f32 = t2612 - t2613;
-        let t2615: f32 = t611 * t2614;
-        let t2616: f32 = t2576 + t2577;
-        let t2617: f32 = t2591 - t2594;
-        let t2618: f32 = t2617 * 0.3;
-        let t2619: f32 = t2616 + t2618;
-        let t2620: f32 = t2619 - t2615;
-        let t2621: f32 = t604 * t2620;
-        let t2622: f32 = t636 * t2544;
-        let t2623: f32 = t826 * t2533;
-        let t2624: f32 = t630 * t2540;
-        let t2625: f32 = t2623 - t2624;
-        let t2626: f32 = t2622 + t2625;
-        let t2627: f32 = t636 * 9.81;
-        let t2628: f32 = -t2627;
-        let t2629: f32 = t2557 * t2557;
-        let t2630: f32 = t2592 * t2629;
-        let t2631: f32 = t2564 * t2588;
-        let t2632: f32 = t2630 + t2631;
-        let t2633: f32 = t2626 + t2632;
-        let t2634: f32 = t611 * t2633;
-        let t2635: f32 = t2558 * t2593;
-        let t2636: f32 = t2626 * 0.3;
-        let t2637: f32 = t2628 * 0.2;
-        let t2638: f32 = t2634 * 0.295;
-        let t2639: f32 = t2635 * 0.292;
-        let t2640: f32 = t2637 + t2638;
-        let t2641: f32 = t2636 + t2639;
-        let t2642: f32 = t2640 - t2641;
-        let t2643: f32 = t611 * t2642;
-        let t2644: f32 = t2626 + t2628;
-        let t2645: f32 = t2634 - t2635;
-        let t2646: f32 = t2645 * 0.3;
-        let t2647: f32 = t2643 + t2644;
-        let t2648: f32 = t2647 - t2646;
-        let t2649: f32 = t630 * t2648;
-        let t2650: f32 = t2621 - t2649;
-        let t2651: f32 = t2571 + t2650;
-        let t2652: f32 = t585 * t2651;
-        let t2653: f32 = t636 * t2648;
-        let t2654: f32 = t627 * t2570;
-        let t2655: f32 = t619 * t2620;
-        let t2656: f32 = t2654 - t2655;
-        let t2657: f32 = t2653 + t2656;
-        let t2658: f32 = -t2657;
-        let t2659: f32 = t593 * t2658;
-        let t2660: f32 = t2652 + t2659;
-        let t2661: f32 = wz * t10;
-        let t2662: f32 = wx * t1;
-        let t2663: f32 = t6 * t2662;
-        let t2664: f32 = wy * t35;
-        let t2665: f32 = t2663 + t2664;
-        let t2666: f32 = t2661 + t2665;
-        let t2667: f32 = wx * t5;
-        let t2668: f32 = t1 * t2667;
-        let t2669: f32 = wy * t38;
+        let t2190: f32 = t338 * 9.81;
+        let t2191: f32 = -t2190;
+        let t2192: f32 = vx - t2179;
+        let t2193: f32 = t339 * t2192;
+        let t2194: f32 = vy - t2173;
+        let t2195: f32 = t317 * t2194;
+        let t2196: f32 = vz - t2169;
+        let t2197: f32 = t335 * t2196;
+        let t2198: f32 = t2193 + t2195;
+        let t2199: f32 = t2198 - t2197;
+        let t2200: f32 = t301 * t2199;
+        let t2201: f32 = t2200 * t2200;
+        let t2202: f32 = t874 * t2192;
+        let t2203: f32 = t341 * t2194;
+        let t2204: f32 = t370 * t2196;
+        let t2205: f32 = t2202 + t2204;
+        let t2206: f32 = t2205 - t2203;
+        let t2207: f32 = t301 * t2206;
+        let t2208: f32 = t2207 * t2207;
+        let t2209: f32 = t2201 + t2208;
+        let t2210: f32 = t2209 * 0.3;
+        let t2211: f32 = t2189 + t2191;
+        let t2212: f32 = t2211 - t2210;
+        let t2213: f32 = t302 * t2212;
+        let t2214: f32 = t339 * t2175;
+        let t2215: f32 = t317 * t2182;
+        let t2216: f32 = t335 * t2186;
+        let t2217: f32 = t2214 + t2215;
+        let t2218: f32 = t2217 - t2216;
+        let t2219: f32 = t335 * 9.81;
+        let t2220: f32 = t301 * t2218;
+        let t2221: f32 = t322 * t355;
+        let t2222: f32 = t2199 * t2221;
+        let t2223: f32 = t2206 * t2222;
+        let t2224: f32 = t336 * t2192;
+        let t2225: f32 = t302 * t2194;
+        let t2226: f32 = t338 * t2196;
+        let t2227: f32 = t2224 + t2225;
+        let t2228: f32 = t2226 + t2227;
+        let t2229: f32 = t301 * t2228;
+        let t2230: f32 = t2229 * 2.0;
+        let t2231: f32 = t2200 * t2230;
+        let t2232: f32 = t2223 + t2231;
+        let t2233: f32 = t2220 + t2232;
+        let t2234: f32 = t301 * t322;
+        let t2235: f32 = t2199 * t2234;
+        let t2236: f32 = t2207 * t2235;
+        let t2237: f32 = t322 * t2232;
+        let t2238: f32 = t316 * t316;
+        let t2239: f32 = t299 * t301;
+        let t2240: f32 = t2238 * t2239;
+        let t2241: f32 = t2199 * t2240;
+        let t2242: f32 = t2206 * t2241;
+        let t2243: f32 = t322 * t2218;
+        let t2244: f32 = t2242 + t2243;
+        let t2245: f32 = t301 * t2244;
+        let t2246: f32 = t2237 + t2245;
+        let t2247: f32 = t322 * t2246;
+        let t2248: f32 = t2218 * 0.3;
+        let t2249: f32 = t2219 * 0.2;
+        let t2250: f32 = t2233 * 0.295;
+        let t2251: f32 = t2236 * 0.292;
+        let t2252: f32 = t2247 * 0.003;
+        let t2253: f32 = t2248 + t2251;
+        let t2254: f32 = t2249 + t2250;
+        let t2255: f32 = t2252 + t2254;
+        let t2256: f32 = t2253 - t2255;
+        let t2257: f32 = t301 * t2256;
+        let t2258: f32 = t2218 + t2219;
+        let t2259: f32 = t2233 - t2236;
+        let t2260: f32 = t2259 * 0.3;
+        let t2261: f32 = t2257 + t2260;
+        let t2262: f32 = t2258 - t2261;
+        let t2263: f32 = t317 * t2262;
+        let t2264: f32 = t370 * t2186;
+        let t2265: f32 = t874 * t2175;
+        let t2266: f32 = t341 * t2182;
+        let t2267: f32 = t2265 - t2266;
+        let t2268: f32 = t2264 + t2267;
+        let t2269: f32 = t370 * 9.81;
+        let t2270: f32 = -t2269;
+        let t2271: f32 = t2199 * t2199;
+        let t2272: f32 = t2234 * t2271;
+        let t2273: f32 = t2206 * t2230;
+        let t2274: f32 = t2268 + t2273;
+        let t2275: f32 = t2274 - t2272;
+        let t2276: f32 = t301 * t2275;
+        let t2277: f32 = t2200 * t2235;
+        let t2278: f32 = t2268 * 0.3;
+        let t2279: f32 = t2270 * 0.2;
+        let t2280: f32 = t2276 * 0.295;
+        let t2281: f32 = t2277 * 0.292;
+        let t2282: f32 = t2279 + t2280;
+        let t2283: f32 = t2281 + t2282;
+        let t2284: f32 = t2278 - t2283;
+        let t2285: f32 = t301 * t2284;
+        let t2286: f32 = t2268 + t2270;
+        let t2287: f32 = t2276 + t2277;
+        let t2288: f32 = t2287 * 0.3;
+        let t2289: f32 = t2285 + t2288;
+        let t2290: f32 = t2286 - t2289;
+        let t2291: f32 = t341 * t2290;
+        let t2292: f32 = t2263 - t2291;
+        let t2293: f32 = t2213 + t2292;
+        let t2294: f32 = -t2293;
+        let t2295: f32 = t283 * t2294;
+        let t2296: f32 = t370 * t2290;
+        let t2297: f32 = t338 * t2212;
+        let t2298: f32 = t335 * t2262;
+        let t2299: f32 = t2297 - t2298;
+        let t2300: f32 = t2296 + t2299;
+        let t2301: f32 = t286 * t2300;
+        let t2302: f32 = t2295 + t2301;
+        let t2303: f32 = t2166 - t2302;
+        let t2304: f32 = wx * t417;
+        let t2305: f32 = wy * t422;
+        let t2306: f32 = t2304 - t2305;
+        let t2307: f32 = wy * t2306;
+        let t2308: f32 = wz * t422;
+        let t2309: f32 = wx * t414;
+        let t2310: f32 = t2308 - t2309;
+        let t2311: f32 = wz * t2310;
+        let t2312: f32 = t2307 - t2311;
+        let t2313: f32 = t467 * t2312;
+        let t2314: f32 = wy * t414;
+        let t2315: f32 = wz * t417;
+        let t2316: f32 = t2314 - t2315;
+        let t2317: f32 = wz * t2316;
+        let t2318: f32 = wx * t2306;
+        let t2319: f32 = t2317 - t2318;
+        let t2320: f32 = t433 * t2319;
+        let t2321: f32 = wx * t2310;
+        let t2322: f32 = wy * t2316;
+        let t2323: f32 = t2321 - t2322;
+        let t2324: f32 = t469 * t2323;
+        let t2325: f32 = t2313 + t2320;
+        let t2326: f32 = t2324 + t2325;
+        let t2327: f32 = t469 * 9.81;
+        let t2328: f32 = -t2327;
+        let t2329: f32 = vx + t2316;
+        let t2330: f32 = t470 * t2329;
+        let t2331: f32 = vy + t2310;
+        let t2332: f32 = t448 * t2331;
+        let t2333: f32 = vz + t2306;
+        let t2334: f32 = t466 * t2333;
+        let t2335: f32 = t2330 + t2332;
+        let t2336: f32 = t2335 - t2334;
+        let t2337: f32 = t432 * t2336;
+        let t2338: f32 = t2337 * t2337;
+        let t2339: f32 = t902 * t2329;
+        let t2340: f32 = t472 * t2331;
+        let t2341: f32 = t501 * t2333;
+        let t2342: f32 = t2339 + t2341;
+        let t2343: f32 = t2342 - t2340;
+        let t2344: f32 = t432 * t2343;
+        let t2345: f32 = t2344 * t2344;
+        let t2346: f32 = t2338 + t2345;
+        let t2347: f32 = t2346 * 0.3;
+        let t2348: f32 = t2326 + t2347;
+        let t2349: f32 = t2348 - t2328;
+        let t2350: f32 = t433 * t2349;
+        let t2351: f32 = t501 * t2323;
+        let t2352: f32 = t902 * t2312;
+        let t2353: f32 = t472 * t2319;
+        let t2354: f32 = t2352 - t2353;
+        let t2355: f32 = t2351 + t2354;
+        let t2356: f32 = t501 * 9.81;
+        let t2357: f32 = -t2356;
+        let t2358: f32 = t2336 * t2336;
+        let t2359: f32 = t432 * t453;
+        let t2360: f32 = t2358 * t2359;
+        let t2361: f32 = t467 * t2329;
+        let t2362: f32 = t433 * t2331;
+        let t2363: f32 = t469 * t2333;
+        let t2364: f32 = t2361 + t2362;
+        let t2365: f32 = t2363 + t2364;
+        let t2366: f32 = t432 * t2365;
+        let t2367: f32 = t2366 * 2.0;
+        let t2368: f32 = t2343 * t2367;
+        let t2369: f32 = t2355 + t2360;
+        let t2370: f32 = t2369 - t2368;
+        let t2371: f32 = t432 * t2370;
+        let t2372: f32 = t2336 * t2359;
+        let t2373: f32 = t2337 * t2372;
+        let t2374: f32 = t2355 * 0.3;
+        let t2375: f32 = t2357 * 0.2;
+        let t2376: f32 = t2371 * 0.295;
+        let t2377: f32 = t2373 * 0.292;
+        let t2378: f32 = t2374 + t2375;
+        let t2379: f32 = t2377 + t2378;
+        let t2380: f32 = t2376 - t2379;
+        let t2381: f32 = t432 * t2380;
+        let t2382: f32 = t2355 - t2357;
+        let t2383: f32 = t2371 - t2373;
+        let t2384: f32 = t2383 * 0.3;
+        let t2385: f32 = t2381 + t2382;
+        let t2386: f32 = t2385 - t2384;
+        let t2387: f32 = t472 * t2386;
+        let t2388: f32 = t470 * t2312;
+        let t2389: f32 = t448 * t2319;
+        let t2390: f32 = t466 * t2323;
+        let t2391: f32 = t2388 + t2389;
+        let t2392: f32 = t2391 - t2390;
+        let t2393: f32 = t466 * 9.81;
+        let t2394: f32 = t432 * t2392;
+        let t2395: f32 = t453 * t486;
+        let t2396: f32 = t2336 * t2395;
+        let t2397: f32 = t2343 * t2396;
+        let t2398: f32 = t2337 * t2367;
+        let t2399: f32 = t2397 + t2398;
+        let t2400: f32 = t2399 - t2394;
+        let t2401: f32 = t2344 * t2372;
+        let t2402: f32 = t453 * t2399;
+        let t2403: f32 = t447 * t447;
+        let t2404: f32 = t430 * t432;
+        let t2405: f32 = t2403 * t2404;
+        let t2406: f32 = t2336 * t2405;
+        let t2407: f32 = t2343 * t2406;
+        let t2408: f32 = t453 * t2392;
+        let t2409: f32 = t2407 - t2408;
+        let t2410: f32 = t432 * t2409;
+        let t2411: f32 = t2402 + t2410;
+        let t2412: f32 = t453 * t2411;
+        let t2413: f32 = t2392 * 0.3;
+        let t2414: f32 = t2393 * 0.2;
+        let t2415: f32 = t2400 * 0.295;
+        let t2416: f32 = t2401 * 0.292;
+        let t2417: f32 = t2412 * 0.003;
+        let t2418: f32 = t2413 + t2414;
+        let t2419: f32 = t2415 + t2417;
+        let t2420: f32 = t2418 + t2419;
+        let t2421: f32 = t2420 - t2416;
+        let t2422: f32 = t432 * t2421;
+        let t2423: f32 = t2392 - t2393;
+        let t2424: f32 = t2400 - t2401;
+        let t2425: f32 = t2424 * 0.3;
+        let t2426: f32 = t2423 + t2425;
+        let t2427: f32 = t2426 - t2422;
+        let t2428: f32 = t448 * t2427;
+        let t2429: f32 = t2387 - t2428;
+        let t2430: f32 = t2350 - t2429;
+        let t2431: f32 = t414 * t2430;
+        let t2432: f32 = t466 * t2427;
+        let t2433: f32 = t469 * t2349;
+        let t2434: f32 = t2432 - t2433;
+        let t2435: f32 = t501 * t2386;
+        let t2436: f32 = t2434 - t2435;
+        let t2437: f32 = t417 * t2436;
+        let t2438: f32 = t2431 + t2437;
+        let t2439: f32 = wx * t544;
+        let t2440: f32 = wy * t547;
+        let t2441: f32 = t2439 - t2440;
+        let t2442: f32 = wy * t2441;
+        let t2443: f32 = wz * t547;
+        let t2444: f32 = wx * t543;
+        let t2445: f32 = t2443 - t2444;
+        let t2446: f32 = wz * t2445;
+        let t2447: f32 = t2442 - t2446;
+        let t2448: f32 = t591 * t2447;
+        let t2449: f32 = wy * t543;
+        let t2450: f32 = wz * t544;
+        let t2451: f32 = t2449 - t2450;
+        let t2452: f32 = wz * t2451;
+        let t2453: f32 = wx * t2441;
+        let t2454: f32 = t2452 - t2453;
+        let t2455: f32 = t558 * t2454;
+        let t2456: f32 = wx * t2445;
+        let t2457: f32 = wy * t2451;
+        let t2458: f32 = t2456 - t2457;
+        let t2459: f32 = t593 * t2458;
+        let t2460: f32 = t2448 + t2455;
+        let t2461: f32 = t2459 + t2460;
+        let t2462: f32 = t593 * 9.81;
+        let t2463: f32 = -t2462;
+        let t2464: f32 = vx + t2451;
+        let t2465: f32 = t594 * t2464;
+        let t2466: f32 = vy + t2445;
+        let t2467: f32 = t572 * t2466;
+        let t2468: f32 = vz + t2441;
+        let t2469: f32 = t590 * t2468;
+        let t2470: f32 = t2465 + t2467;
+        let t2471: f32 = t2470 - t2469;
+        let t2472: f32 = t557 * t2471;
+        let t2473: f32 = t2472 * t2472;
+        let t2474: f32 = t930 * t2464;
+        let t2475: f32 = t596 * t2466;
+        let t2476: f32 = t625 * t2468;
+        let t2477: f32 = t2474 + t2476;
+        let t2478: f32 = t2477 - t2475;
+        let t2479: f32 = t557 * t2478;
+        let t2480: f32 = t2479 * t2479;
+        let t2481: f32 = t2473 + t2480;
+        let t2482: f32 = t2481 * 0.3;
+        let t2483: f32 = t2461 + t2482;
+        let t2484: f32 = t2483 - t2463;
+        let t2485: f32 = t558 * t2484;
+        let t2486: f32 = t625 * t2458;
+        let t2487: f32 = t930 * t2447;
+        let t2488: f32 = t596 * t2454;
+        let t2489: f32 = t2487 - t2488;
+        let t2490: f32 = t2486 + t2489;
+        let t2491: f32 = t625 * 9.81;
+        let t2492: f32 = -t2491;
+        let t2493: f32 = t2471 * t2471;
+        let t2494: f32 = t557 * t577;
+        let t2495: f32 = t2493 * t2494;
+        let t2496: f32 = t591 * t2464;
+        let t2497: f32 = t558 * t2466;
+        let t2498: f32 = t593 * t2468;
+        let t2499: f32 = t2496 + t2497;
+        let t2500: f32 = t2498 + t2499;
+        let t2501: f32 = t557 * t2500;
+        let t2502: f32 = t2501 * 2.0;
+        let t2503: f32 = t2478 * t2502;
+        let t2504: f32 = t2495 + t2503;
+        let t2505: f32 = t2490 - t2504;
+        let t2506: f32 = t557 * t2505;
+        let t2507: f32 = t2471 * t2494;
+        let t2508: f32 = t2472 * t2507;
+        let t2509: f32 = t2490 * 0.3;
+        let t2510: f32 = t2492 * 0.2;
+        let t2511: f32 = t2506 * 0.295;
+        let t2512: f32 = t2508 * 0.292;
+        let t2513: f32 = t2509 + t2510;
+        let t2514: f32 = t2511 + t2512;
+        let t2515: f32 = t2513 - t2514;
+        let t2516: f32 = t557 * t2515;
+        let t2517: f32 = t2490 - t2492;
+        let t2518: f32 = t2506 + t2508;
+        let t2519: f32 = t2518 * 0.3;
+        let t2520: f32 = t2516 + t2519;
+        let t2521: f32 = t2517 - t2520;
+        let t2522: f32 = t596 * t2521;
+        let t2523: f32 = t594 * t2447;
+        let t2524: f32 = t572 * t2454;
+        let t2525: f32 = t590 * t2458;
+        let t2526: f32 = t2523 + t2524;
+        let t2527: f32 = t2526 - t2525;
+        let t2528: f32 = t590 * 9.81;
+        let t2529: f32 = t557 * t2527;
+        let t2530: f32 = t577 * t610;
+        let t2531: f32 = t2471 * t2530;
+        let t2532: f32 = t2478 * t2531;
+        let t2533: f32 = t2472 * t2502;
+        let t2534: f32 = t2532 - t2533;
+        let t2535: f32 = t2529 + t2534;
+        let t2536: f32 = t2479 * t2507;
+        let t2537: f32 = t577 * t2534;
+        let t2538: f32 = t571 * t571;
+        let t2539: f32 = t555 * t557;
+        let t2540: f32 = t2538 * t2539;
+        let t2541: f32 = t2471 * t2540;
+        let t2542: f32 = t2478 * t2541;
+        let t2543: f32 = t577 * t2527;
+        let t2544: f32 = t2542 + t2543;
+        let t2545: f32 = t557 * t2544;
+        let t2546: f32 = t2537 + t2545;
+        let t2547: f32 = t577 * t2546;
+        let t2548: f32 = t2527 * 0.3;
+        let t2549: f32 = t2528 * 0.2;
+        let t2550: f32 = t2535 * 0.295;
+        let t2551: f32 = t2536 * 0.292;
+        let t2552: f32 = t2547 * 0.003;
+        let t2553: f32 = t2548 + t2549;
+        let t2554: f32 = t2551 + t2553;
+        let t2555: f32 = t2550 + t2552;
+        let t2556: f32 = t2554 - t2555;
+        let t2557: f32 = t557 * t2556;
+        let t2558: f32 = t2527 - t2528;
+        let t2559: f32 = t2535 - t2536;
+        let t2560: f32 = t2559 * 0.3;
+        let t2561: f32 = t2557 + t2560;
+        let t2562: f32 = t2558 - t2561;
+        let t2563: f32 = t572 * t2562;
+        let t2564: f32 = t2522 - t2563;
+        let t2565: f32 = t2564 - t2485;
+        let t2566: f32 = t543 * t2565;
+        let t2567: f32 = t625 * t2521;
+        let t2568: f32 = t593 * t2484;
+        let t2569: f32 = t590 * t2562;
+        let t2570: f32 = t2568 - t2569;
+        let t2571: f32 = t2567 + t2570;
+        let t2572: f32 = t544 * t2571;
+        let t2573: f32 = t2566 + t2572;
+        let t2574: f32 = t2438 - t2573;
+        let t2575: f32 = t2303 + t2574;
+        let t2576: f32 = t2030 + t2575;
+        let t2577: f32 = t811 * 3.5316;
+        let t2578: f32 = t2576 + t2577;
+        let t2579: f32 = t810 * t1601;
+        let t2580: f32 = t2578 * t2579;
+        let t2581: f32 = t1313 * t2578;
+        let t2582: f32 = t17 * t36;
+        let t2583: f32 = t34 * t39;
+        let t2584: f32 = t2582 - t2583;
+        let t2585: f32 = t1839 * t2584;
+        let t2586: f32 = t811 * t1834;
+        let t2587: f32 = t2585 - t2586;
+        let t2588: f32 = t156 * t162;
+        let t2589: f32 = t160 * t165;
+        let t2590: f32 = t2588 - t2589;
+        let t2591: f32 = t1850 * t2590;
+        let t2592: f32 = t283 * t293;
+        let t2593: f32 = t291 * t296;
+        let t2594: f32 = t2592 - t2593;
+        let t2595: f32 = t1845 * t2594;
+        let t2596: f32 = t2591 - t2595;
+        let t2597: f32 = t2587 + t2596;
+        let t2598: f32 = t414 * t424;
+        let t2599: f32 = t422 * t427;
+        let t2600: f32 = t2598 - t2599;
+        let t2601: f32 = t1881 * t2600;
+        let t2602: f32 = t543 * t549;
+        let t2603: f32 = t547 * t552;
+        let t2604: f32 = t2602 - t2603;
+        let t2605: f32 = t1886 * t2604;
+        let t2606: f32 = t2601 + t2605;
+        let t2607: f32 = t21 * t1869;
+        let t2608: f32 = t24 * t1873;
+        let t2609: f32 = t2607 - t2608;
+        let t2610: f32 = t667 * t672;
+        let t2611: f32 = t671 * t675;
+        let t2612: f32 = t2610 - t2611;
+        let t2613: f32 = t1857 * t2612;
+        let t2614: f32 = t2609 - t2613;
+        let t2615: f32 = t2606 + t2614;
+        let t2616: f32 = t2597 + t2615;
+        let t2617: f32 = t2581 + t2616;
+        let t2618: f32 = t2013 - t2011;
+        let t2619: f32 = t818 * t2618;
+        let t2620: f32 = t83 * t1986;
+        let t2621: f32 = t2619 - t2620;
+        let t2622: f32 = t80 * t1936;
+        let t2623: f32 = t2621 - t2622;
+        let t2624: f32 = t818 * t2009;
+        let t2625: f32 = t83 * t1981;
+        let t2626: f32 = t2624 - t2625;
+        let t2627: f32 = t44 * t2626;
+        let t2628: f32 = t2623 - t2627;
+        let t2629: f32 = t17 * t2628;
+        let t2630: f32 = t34 * t2019;
+        let t2631: f32 = t2629 - t2630;
+        let t2632: f32 = t160 * t2164;
+        let t2633: f32 = t846 * t2149;
+        let t2634: f32 = t208 * t2121;
+        let t2635: f32 = t2633 + t2634;
+        let t2636: f32 = t170 * t2635;
+        let t2637: f32 = t2125 - t2123;
+        let t2638: f32 = t208 * t2637;
+        let t2639: f32 = t2151 - t2153;
+        let t2640: f32 = t846 * t2639;
+        let t2641: f32 = t2638 - t2640;
+        let t2642: f32 = t205 * t2076;
+        let t2643: f32 = t2641 - t2642;
+        let t2644: f32 = t2636 + t2643;
+        let t2645: f32 = -t2644;
+        let t2646: f32 = t156 * t2645;
+        let t2647: f32 = t2632 - t2646;
+        let t2648: f32 = t2631 + t2647;
+        let t2649: f32 = t2617 + t2648;
+        let t2650: f32 = t291 * t2300;
+        let t2651: f32 = t336 * t2212;
+        let t2652: f32 = t2286 - t2288;
+        let t2653: f32 = t874 * t2652;
+        let t2654: f32 = t2260 - t2258;
+        let t2655: f32 = t339 * t2654;
+        let t2656: f32 = t2653 - t2655;
+        let t2657: f32 = t2651 + t2656;
+        let t2658: f32 = t874 * t2284;
+        let t2659: f32 = t339 * t2256;
+        let t2660: f32 = t2658 + t2659;
+        let t2661: f32 = t301 * t2660;
+        let t2662: f32 = t2657 - t2661;
+        let t2663: f32 = t283 * t2662;
+        let t2664: f32 = t2650 - t2663;
+        let t2665: f32 = t2384 - t2382;
+        let t2666: f32 = t902 * t2665;
+        let t2667: f32 = t470 * t2426;
+        let t2668: f32 = t2666 - t2667;
+        let t2669: f32 = t467 * t2349;
         let t2670: f32 = t2668 - t2669;
-        let t2671: f32 = wz * t14;
-        let t2672: f32 = t2670 - t2671;
-        let t2673: f32 = t2672 * 0.4108;
-        let t2674: f32 = t2666 * t2673;
-        let t2675: f32 = t2666 * 0.4108;
-        let t2676: f32 = t2672 * t2675;
-        let t2677: f32 = t2674 - t2676;
-        let t2678: f32 = t0 * t2677;
-        let t2679: f32 = t17 * t43;
-        let t2680: f32 = t18 * t41;
-        let t2681: f32 = t2679 - t2680;
-        let t2682: f32 = g1 * t59;
-        let t2683: f32 = t2681 * t2682;
-        let t2684: f32 = t2678 - t2683;
-        let t2685: f32 = t253 * t269;
-        let t2686: f32 = t254 * t267;
-        let t2687: f32 = t2685 - t2686;
-        let t2688: f32 = g3 * t285;
-        let t2689: f32 = t2687 * t2688;
-        let t2690: f32 = t141 * t153;
-        let t2691: f32 = t142 * t151;
-        let t2692: f32 = t2690 - t2691;
-        let t2693: f32 = g2 * t169;
-        let t2694: f32 = t2692 * t2693;
-        let t2695: f32 = t2689 - t2694;
-        let t2696: f32 = t2684 + t2695;
-        let t2697: f32 = t585 * t595;
-        let t2698: f32 = t586 * t593;
-        let t2699: f32 = t2697 - t2698;
-        let t2700: f32 = g6 * t611;
-        let t2701: f32 = t2699 * t2700;
-        let t2702: f32 = wz * t4;
-        let t2703: f32 = t1 * t2702;
-        let t2704: f32 = wx * t0;
-        let t2705: f32 = wy * t3;
-        let t2706: f32 = t1 * t2705;
-        let t2707: f32 = t2704 - t2706;
-        let t2708: f32 = t2703 + t2707;
-        let t2709: f32 = t2708 * 0.7;
-        let t2710: f32 = t2672 * t2709;
-        let t2711: f32 = t2673 * t2708;
-        let t2712: f32 = t2710 - t2711;
-        let t2713: f32 = t6 * t2712;
-        let t2714: f32 = t2675 * t2708;
-        let t2715: f32 = t2666 * t2709;
-        let t2716: f32 = t2714 - t2715;
-        let t2717: f32 = t5 * t2716;
-        let t2718: f32 = t2713 + t2717;
-        let t2719: f32 = t1 * t2718;
-        let t2720: f32 = t2701 + t2719;
-        let t2721: f32 = t366 * t382;
-        let t2722: f32 = t367 * t380;
+        let t2671: f32 = t902 * t2380;
+        let t2672: f32 = t470 * t2421;
+        let t2673: f32 = t2671 - t2672;
+        let t2674: f32 = t432 * t2673;
+        let t2675: f32 = t2670 - t2674;
+        let t2676: f32 = t414 * t2675;
+        let t2677: f32 = t422 * t2436;
+        let t2678: f32 = t2676 - t2677;
+        let t2679: f32 = t2664 + t2678;
+        let t2680: f32 = t547 * t2571;
+        let t2681: f32 = t930 * t2515;
+        let t2682: f32 = t594 * t2556;
+        let t2683: f32 = t2681 + t2682;
+        let t2684: f32 = t557 * t2683;
+        let t2685: f32 = t2560 - t2558;
+        let t2686: f32 = t594 * t2685;
+        let t2687: f32 = t2517 - t2519;
+        let t2688: f32 = t930 * t2687;
+        let t2689: f32 = t2686 - t2688;
+        let t2690: f32 = t591 * t2484;
+        let t2691: f32 = t2689 - t2690;
+        let t2692: f32 = t2684 + t2691;
+        let t2693: f32 = -t2692;
+        let t2694: f32 = t543 * t2693;
+        let t2695: f32 = t2680 - t2694;
+        let t2696: f32 = t958 * t1799;
+        let t2697: f32 = t717 * t1771;
+        let t2698: f32 = t2696 - t2697;
+        let t2699: f32 = t680 * t2698;
+        let t2700: f32 = t714 * t1727;
+        let t2701: f32 = t717 * t1776;
+        let t2702: f32 = t1803 - t1801;
+        let t2703: f32 = t958 * t2702;
+        let t2704: f32 = t2701 - t2703;
+        let t2705: f32 = t2700 + t2704;
+        let t2706: f32 = t2699 + t2705;
+        let t2707: f32 = -t2706;
+        let t2708: f32 = t667 * t2707;
+        let t2709: f32 = t671 * t1815;
+        let t2710: f32 = t2708 - t2709;
+        let t2711: f32 = t2695 + t2710;
+        let t2712: f32 = t2679 + t2711;
+        let t2713: f32 = t2649 + t2712;
+        let t2714: f32 = t0 * 3.5316;
+        let t2715: f32 = t2713 + t2714;
+        let t2716: f32 = t1299 * t1611;
+        let t2717: f32 = t2715 * t2716;
+        let t2718: f32 = t27 * t36;
+        let t2719: f32 = t29 * t34;
+        let t2720: f32 = t2718 - t2719;
+        let t2721: f32 = t1839 * t2720;
+        let t2722: f32 = t1300 * t1834;
         let t2723: f32 = t2721 - t2722;
-        let t2724: f32 = g4 * t398;
-        let t2725: f32 = t2723 * t2724;
-        let t2726: f32 = t478 * t489;
-        let t2727: f32 = t479 * t487;
-        let t2728: f32 = t2726 - t2727;
-        let t2729: f32 = g5 * t505;
-        let t2730: f32 = t2728 * t2729;
-        let t2731: f32 = t2725 + t2730;
-        let t2732: f32 = t2720 - t2731;
-        let t2733: f32 = t2696 + t2732;
-        let t2734: f32 = wx * t41;
-        let t2735: f32 = wy * t29;
+        let t2724: f32 = t157 * t162;
+        let t2725: f32 = t159 * t160;
+        let t2726: f32 = t2724 - t2725;
+        let t2727: f32 = t1850 * t2726;
+        let t2728: f32 = t286 * t293;
+        let t2729: f32 = t288 * t291;
+        let t2730: f32 = t2728 - t2729;
+        let t2731: f32 = t1845 * t2730;
+        let t2732: f32 = t2727 - t2731;
+        let t2733: f32 = t2723 + t2732;
+        let t2734: f32 = t417 * t424;
+        let t2735: f32 = t419 * t422;
         let t2736: f32 = t2734 - t2735;
-        let t2737: f32 = wy * t2736;
-        let t2738: f32 = wz * t29;
-        let t2739: f32 = wx * t17;
+        let t2737: f32 = t1881 * t2736;
+        let t2738: f32 = t544 * t549;
+        let t2739: f32 = t546 * t547;
         let t2740: f32 = t2738 - t2739;
-        let t2741: f32 = wz * t2740;
-        let t2742: f32 = t2737 - t2741;
-        let t2743: f32 = t89 * t2742;
-        let t2744: f32 = wy * t17;
-        let t2745: f32 = wz * t41;
-        let t2746: f32 = t2744 - t2745;
-        let t2747: f32 = wz * t2746;
-        let t2748: f32 = wx * t2736;
-        let t2749: f32 = t2747 - t2748;
-        let t2750: f32 = t74 * t2749;
-        let t2751: f32 = wx * t2740;
-        let t2752: f32 = wy * t2746;
-        let t2753: f32 = t2751 - t2752;
-        let t2754: f32 = t76 * t2753;
-        let t2755: f32 = t2743 + t2750;
-        let t2756: f32 = t2754 + t2755;
-        let t2757: f32 = t76 * 9.81;
-        let t2758: f32 = -t2757;
-        let t2759: f32 = vx + t2746;
-        let t2760: f32 = t91 * t2759;
-        let t2761: f32 = vy + t2740;
-        let t2762: f32 = t52 * t2761;
-        let t2763: f32 = vz + t2736;
-        let t2764: f32 = t66 * t2763;
-        let t2765: f32 = t2760 + t2762;
-        let t2766: f32 = t2764 + t2765;
-        let t2767: f32 = t59 * t2766;
-        let t2768: f32 = t2767 * t2767;
-        let t2769: f32 = t717 * t2759;
-        let t2770: f32 = t93 * t2761;
-        let t2771: f32 = t98 * t2763;
-        let t2772: f32 = t2769 + t2770;
-        let t2773: f32 = t2771 + t2772;
-        let t2774: f32 = t59 * t2773;
-        let t2775: f32 = t2774 * t2774;
-        let t2776: f32 = t2768 + t2775;
-        let t2777: f32 = t2776 * 0.3;
-        let t2778: f32 = t2756 + t2777;
-        let t2779: f32 = t2778 - t2758;
-        let t2780: f32 = t76 * t2779;
-        let t2781: f32 = t91 * t2742;
-        let t2782: f32 = t52 * t2749;
-        let t2783: f32 = t66 * t2753;
-        let t2784: f32 = t2781 + t2782;
+        let t2741: f32 = t1886 * t2740;
+        let t2742: f32 = t2737 + t2741;
+        let t2743: f32 = t14 * t1873;
+        let t2744: f32 = t10 * t1869;
+        let t2745: f32 = t2743 - t2744;
+        let t2746: f32 = t668 * t672;
+        let t2747: f32 = t670 * t671;
+        let t2748: f32 = t2746 - t2747;
+        let t2749: f32 = t1857 * t2748;
+        let t2750: f32 = t2745 - t2749;
+        let t2751: f32 = t2742 + t2750;
+        let t2752: f32 = t2733 + t2751;
+        let t2753: f32 = t27 * t2628;
+        let t2754: f32 = t34 * t2026;
+        let t2755: f32 = t2753 - t2754;
+        let t2756: f32 = t2752 + t2755;
+        let t2757: f32 = t157 * t2645;
+        let t2758: f32 = t160 * t2158;
+        let t2759: f32 = t2757 - t2758;
+        let t2760: f32 = t286 * t2662;
+        let t2761: f32 = t291 * t2294;
+        let t2762: f32 = t2760 + t2761;
+        let t2763: f32 = t2759 + t2762;
+        let t2764: f32 = t2756 - t2763;
+        let t2765: f32 = t417 * t2675;
+        let t2766: f32 = t422 * t2430;
+        let t2767: f32 = t2765 + t2766;
+        let t2768: f32 = t544 * t2693;
+        let t2769: f32 = t547 * t2565;
+        let t2770: f32 = t2768 + t2769;
+        let t2771: f32 = t2767 - t2770;
+        let t2772: f32 = t668 * t2707;
+        let t2773: f32 = t671 * t1808;
+        let t2774: f32 = t2772 + t2773;
+        let t2775: f32 = t1522 * t2578;
+        let t2776: f32 = t1524 * t2715;
+        let t2777: f32 = t2775 - t2776;
+        let t2778: f32 = t2774 + t2777;
+        let t2779: f32 = t2771 + t2778;
+        let t2780: f32 = t2764 + t2779;
+        let t2781: f32 = t1514 * t1640;
+        let t2782: f32 = t2780 * t2781;
+        let t2783: f32 = t2644 + t2662;
+        let t2784: f32 = t2675 + t2692;
         let t2785: f32 = t2783 + t2784;
-        let t2786: f32 = t66 * 9.81;
-        let t2787: f32 = -t2786;
-        let t2788: f32 = t59 * t2785;
-        let t2789: f32 = t60 * t64;
-        let t2790: f32 = t2766 * t2789;
-        let t2791: f32 = t2773 * t2790;
-        let t2792: f32 = t89 * t2759;
-        let t2793: f32 = t74 * t2761;
-        let t2794: f32 = t76 * t2763;
-        let t2795: f32 = t2792 + t2793;
-        let t2796: f32 = t2794 + t2795;
-        let t2797: f32 = t59 * t2796;
-        let t2798: f32 = t2797 * 2.0;
-        let t2799: f32 = t2767 * t2798;
-        let t2800: f32 = t2791 + t2799;
-        let t2801: f32 = t2800 - t2788;
-        let t2802: f32 = t59 * t64;
-        let t2803: f32 = t2766 * t2802;
-        let t2804: f32 = t2774 * t2803;
-        let t2805: f32 = t64 * t2800;
-        let t2806: f32 = t51 * t51;
-        let t2807: f32 = t57 * t59;
-        let t2808: f32 = t2806 * t2807;
-        let t2809: f32 = t2766 * t2808;
-        let t2810: f32 = t2773 * t2809;
-        let t2811: f32 = t64 * t2785;
-        let t2812: f32 = t2810 - t2811;
-        let t2813: f32 = t59 * t2812;
-        let t2814: f32 = t2805 + t2813;
-        let t2815: f32 = t64 * t2814;
-        let t2816: f32 = t2785 * 0.3;
-        let t2817: f32 = t2787 * 0.2;
-        let t2818: f32 = t2801 * 0.295;
-        let t2819: f32 = t2804 * 0.292;
-        let t2820: f32 = t2815 * 0.003;
-        let t2821: f32 = t2816 + t2817;
-        let t2822: f32 = t2818 + t2820;
-        let t2823: f32 = t2821 + t2822;
-        let t2824: f32 = t2823 - t2819;
-        let t2825: f32 = t59 * t2824;
-        let t2826: f32 = t2785 - t2787;
-        let t2827: f32 = t2801 - t2804;
-        let t2828: f32 = t2827 * 0.3;
-        let t2829: f32 = t2826 + t2828;
-        let t2830: f32 = t2829 - t2825;
-        let t2831: f32 = t66 * t2830;
-        let t2832: f32 = t98 * t2753;
-        let t2833: f32 = t717 * t2742;
-        let t2834: f32 = t93 * t2749;
-        let t2835: f32 = t2833 + t2834;
-        let t2836: f32 = t2832 + t2835;
-        let t2837: f32 = t98 * 9.81;
-        let t2838: f32 = -t2837;
-        let t2839: f32 = t2766 * t2766;
-        let t2840: f32 = t2802 * t2839;
-        let t2841: f32 = t2773 * t2798;
-        let t2842: f32 = t2836 + t2840;
-        let t2843: f32 = t2842 - t2841;
-        let t2844: f32 = t59 * t2843;
-        let t2845: f32 = t2767 * t2803;
-        let t2846: f32 = t2836 * 0.3;
-        let t2847: f32 = t2838 * 0.2;
-        let t2848: f32 = t2844 * 0.295;
-        let t2849: f32 = t2845 * 0.292;
-        let t2850: f32 = t2846 + t2847;
-        let t2851: f32 = t2849 + t2850;
-        let t2852: f32 = t2848 - t2851;
-        let t2853: f32 = t59 * t2852;
-        let t2854: f32 = t2836 - t2838;
-        let t2855: f32 = t2844 - t2845;
-        let t2856: f32 = t2855 * 0.3;
-        let t2857: f32 = t2853 + t2854;
-        let t2858: f32 = t2857 - t2856;
-        let t2859: f32 = t98 * t2858;
-        let t2860: f32 = t2831 + t2859;
-        let t2861: f32 = t2780 + t2860;
-        let t2862: f32 = -t2861;
-        let t2863: f32 = t41 * t2862;
-        let t2864: f32 = t74 * t2779;
-        let t2865: f32 = t52 * t2830;
-        let t2866: f32 = t93 * t2858;
-        let t2867: f32 = t2865 + t2866;
-        let t2868: f32 = t2864 + t2867;
-        let t2869: f32 = -t2868;
-        let t2870: f32 = t17 * t2869;
-        let t2871: f32 = t2863 - t2870;
-        let t2872: f32 = t2733 + t2871;
-        let t2873: f32 = t2660 + t2872;
-        let t2874: f32 = wx * t151;
-        let t2875: f32 = wy * t148;
-        let t2876: f32 = t2874 - t2875;
-        let t2877: f32 = wy * t2876;
-        let t2878: f32 = wz * t148;
-        let t2879: f32 = wx * t141;
-        let t2880: f32 = t2878 - t2879;
-        let t2881: f32 = wz * t2880;
-        let t2882: f32 = t2877 - t2881;
-        let t2883: f32 = t199 * t2882;
-        let t2884: f32 = wy * t141;
-        let t2885: f32 = wz * t151;
-        let t2886: f32 = t2884 - t2885;
-        let t2887: f32 = wz * t2886;
-        let t2888: f32 = wx * t2876;
-        let t2889: f32 = t2887 - t2888;
-        let t2890: f32 = t184 * t2889;
-        let t2891: f32 = wx * t2880;
-        let t2892: f32 = wy * t2886;
-        let t2893: f32 = t2891 - t2892;
-        let t2894: f32 = t186 * t2893;
-        let t2895: f32 = t2883 + t2890;
-        let t2896: f32 = t2894 + t2895;
-        let t2897: f32 = t186 * 9.81;
-        let t2898: f32 = -t2897;
-        let t2899: f32 = vx + t2886;
-        let t2900: f32 = t201 * t2899;
-        let t2901: f32 = vy + t2880;
-        let t2902: f32 = t162 * t2901;
-        let t2903: f32 = vz + t2876;
-        let t2904: f32 = t176 * t2903;
-        let t2905: f32 = t2900 + t2902;
-        let t2906: f32 = t2904 + t2905;
-        let t2907: f32 = t169 * t2906;
-        let t2908: f32 = t2907 * t2907;
-        let t2909: f32 = t738 * t2899;
-        let t2910: f32 = t203 * t2901;
-        let t2911: f32 = t208 * t2903;
-        let t2912: f32 = t2909 + t2910;
-        let t2913: f32 = t2911 + t2912;
-        let t2914: f32 = t169 * t2913;
-        let t2915: f32 = t2914 * t2914;
-        let t2916: f32 = t2908 + t2915;
-        let t2917: f32 = t2916 * 0.3;
-        let t2918: f32 = t2896 + t2917;
-        let t2919: f32 = t2918 - t2898;
-        let t2920: f32 = t184 * t2919;
-        let t2921: f32 = t201 * t2882;
-        let t2922: f32 = t162 * t2889;
-        let t2923: f32 = t176 * t2893;
-        let t2924: f32 = t2921 + t2922;
-        let t2925: f32 = t2923 + t2924;
-        let t2926: f32 = t176 * 9.81;
-        let t2927: f32 = -t2926;
-        let t2928: f32 = t169 * t2925;
-        let t2929: f32 = t170 * t174;
-        let t2930: f32 = t2906 * t2929;
-        let t2931: f32 = t2913 * t2930;
-        let t2932: f32 = t199 * t2899;
-        let t2933: f32 = t184 * t2901;
-        let t2934: f32 = t186 * t2903;
-        let t2935: f32 = t2932 + t2933;
-        let t2936: f32 = t2934 + t2935;
-        let t2937: f32 = t169 * t2936;
-        let t2938: f32 = t2937 * 2.0;
-        let t2939: f32 = t2907 * t2938;
-        let t2940: f32 = t2931 - t2939;
-        let t2941: f32 = t2928 + t2940;
-        let t2942: f32 = t169 * t174;
-        let t2943: f32 = t2906 * t2942;
-        let t2944: f32 = t2914 * t2943;
-        let t2945: f32 = t174 * t2940;
-        let t2946: f32 = t161 * t161;
-        let t2947: f32 = t167 * t169;
-        let t2948: f32 = t2946 * t2947;
-        let t2949: f32 = t2906 * t2948;
-        let t2950: f32 = t2913 * t2949;
-        let t2951: f32 = t174 * t2925;
-        let t2952: f32 = t2950 + t2951;
-        let t2953: f32 = t169 * t2952;
-        let t2954: f32 = t2945 + t2953;
-        let t2955: f32 = t174 * t2954;
-        let t2956: f32 = t2925 * 0.3;
-        let t2957: f32 = t2927 * 0.2;
-        let t2958: f32 = t2941 * 0.295;
-        let t2959: f32 = t2944 * 0.292;
-        let t2960: f32 = t2955 * 0.003;
-        let t2961: f32 = t2956 + t2957;
-        let t2962: f32 = t2959 + t2961;
-        let t2963: f32 = t2958 + t2960;
-        let t2964: f32 = t2962 - t2963;
-        let t2965: f32 = t169 * t2964;
-        let t2966: f32 = t2925 - t2927;
-        let t2967: f32 = t2941 - t2944;
-        let t2968: f32 = t2967 * 0.3;
-        let t2969: f32 = t2965 + t2968;
-        let t2970: f32 = t2966 - t2969;
-        let t2971: f32 = t162 * t2970;
-        let t2972: f32 = t208 * t2893;
-        let t2973: f32 = t738 * t2882;
-        let t2974: f32 = t203 * t2889;
-        let t2975: f32 = t2973 + t2974;
-        let t2976: f32 = t2972 + t2975;
-        let t2977: f32 = t208 * 9.81;
-        let t2978: f32 = -t2977;
-        let t2979: f32 = t2906 * t2906;
-        let t2980: f32 = t2942 * t2979;
-        let t2981: f32 = t2913 * t2938;
-        let t2982: f32 = t2980 + t2981;
-        let t2983: f32 = t2976 - t2982;
-        let t2984: f32 = t169 * t2983;
-        let t2985: f32 = t2907 * t2943;
-        let t2986: f32 = t2976 * 0.3;
-        let t2987: f32 = t2978 * 0.2;
-        let t2988: f32 = t2984 * 0.295;
-        let t2989: f32 = t2985 * 0.292;
-        let t2990: f32 = t2986 + t2987;
-        let t2991: f32 = t2988 + t2989;
-        let t2992: f32 = t2990 - t2991;
-        let t2993: f32 = t169 * t2992;
-        let t2994: f32 = t2976 - t2978;
-        let t2995: f32 = t2984 + t2985;
-        let t2996: f32 = t2995 * 0.3;
-        let t2997: f32 = t2993 + t2996;
-        let t2998: f32 = t2994 - t2997;
-        let t2999: f32 = t203 * t2998;
-        let t3000: f32 = t2971 + t2999;
-        let t3001: f32 = t2920 + t3000;
-        let t3002: f32 = t141 * t3001;
+        let t2786: f32 = g1 * t36;
+        let t2787: f32 = t44 * t2786;
+        let t2788: f32 = g2 * t162;
+        let t2789: f32 = t170 * t2788;
+        let t2790: f32 = t2787 + t2789;
+        let t2791: f32 = g3 * t293;
+        let t2792: f32 = t301 * t2791;
+        let t2793: f32 = g4 * t424;
+        let t2794: f32 = t432 * t2793;
+        let t2795: f32 = t2792 + t2794;
+        let t2796: f32 = t2790 + t2795;
+        let t2797: f32 = g5 * t549;
+        let t2798: f32 = t557 * t2797;
+        let t2799: f32 = g6 * t672;
+        let t2800: f32 = t680 * t2799;
+        let t2801: f32 = t2798 + t2800;
+        let t2802: f32 = wx * t3;
+        let t2803: f32 = t1 * t2802;
+        let t2804: f32 = wy * t0;
+        let t2805: f32 = t2803 + t2804;
+        let t2806: f32 = t2805 * 0.36;
+        let t2807: f32 = wy * t2806;
+        let t2808: f32 = wz * t0;
+        let t2809: f32 = wx * t4;
+        let t2810: f32 = t1 * t2809;
+        let t2811: f32 = t2808 - t2810;
+        let t2812: f32 = t2811 * 0.36;
+        let t2813: f32 = wz * t2812;
+        let t2814: f32 = t2807 + t2813;
+        let t2815: f32 = t2801 + t2814;
+        let t2816: f32 = t2796 + t2815;
+        let t2817: f32 = t2706 + t2816;
+        let t2818: f32 = t1545 * t2578;
+        let t2819: f32 = t1554 * t2715;
+        let t2820: f32 = t2818 - t2819;
+        let t2821: f32 = t1567 * t2780;
+        let t2822: f32 = t2628 + t2821;
+        let t2823: f32 = t2820 + t2822;
+        let t2824: f32 = t2817 + t2823;
+        let t2825: f32 = t2785 + t2824;
+        let t2826: f32 = t1533 * t1653;
+        let t2827: f32 = t2825 * t2826;
+        let t2828: f32 = t2292 + t2429;
+        let t2829: f32 = t1807 + t2564;
+        let t2830: f32 = t2828 + t2829;
+        let t2831: f32 = wy * t4;
+        let t2832: f32 = wz * t3;
+        let t2833: f32 = t2831 + t2832;
+        let t2834: f32 = t2833 * 0.36;
+        let t2835: f32 = wz * t1;
+        let t2836: f32 = t2834 * t2835;
+        let t2837: f32 = t1728 - t2836;
+        let t2838: f32 = g1 * t29;
+        let t2839: f32 = t44 * t2838;
+        let t2840: f32 = g2 * t159;
+        let t2841: f32 = t170 * t2840;
+        let t2842: f32 = t2839 + t2841;
+        let t2843: f32 = g3 * t288;
+        let t2844: f32 = t301 * t2843;
+        let t2845: f32 = g4 * t419;
+        let t2846: f32 = t432 * t2845;
+        let t2847: f32 = t2844 + t2846;
+        let t2848: f32 = t2842 + t2847;
+        let t2849: f32 = t2837 + t2848;
+        let t2850: f32 = g5 * t546;
+        let t2851: f32 = t557 * t2850;
+        let t2852: f32 = g6 * t670;
+        let t2853: f32 = t680 * t2852;
+        let t2854: f32 = t2851 + t2853;
+        let t2855: f32 = wx * t2806;
+        let t2856: f32 = t2021 + t2855;
+        let t2857: f32 = t2854 - t2856;
+        let t2858: f32 = t2213 - t2077;
+        let t2859: f32 = t2350 + t2485;
+        let t2860: f32 = t2858 - t2859;
+        let t2861: f32 = t2857 + t2860;
+        let t2862: f32 = t2849 + t2861;
+        let t2863: f32 = t1602 * t2578;
+        let t2864: f32 = t1612 * t2715;
+        let t2865: f32 = t2863 - t2864;
+        let t2866: f32 = t2862 + t2865;
+        let t2867: f32 = t1641 * t2780;
+        let t2868: f32 = t1654 * t2825;
+        let t2869: f32 = t2867 - t2868;
+        let t2870: f32 = t2024 + t2157;
+        let t2871: f32 = t2869 - t2870;
+        let t2872: f32 = t2866 + t2871;
+        let t2873: f32 = t2830 + t2872;
+        let t2874: f32 = t1590 * t1659;
+        let t2875: f32 = t2873 * t2874;
+        let t2876: f32 = g3 * t296;
+        let t2877: f32 = t301 * t2876;
+        let t2878: f32 = g4 * t427;
+        let t2879: f32 = t432 * t2878;
+        let t2880: f32 = t2877 + t2879;
+        let t2881: f32 = g5 * t552;
+        let t2882: f32 = t557 * t2881;
+        let t2883: f32 = g6 * t675;
+        let t2884: f32 = t680 * t2883;
+        let t2885: f32 = t2882 + t2884;
+        let t2886: f32 = t2880 + t2885;
+        let t2887: f32 = wy * t1;
+        let t2888: f32 = t2834 * t2887;
+        let t2889: f32 = g1 * t39;
+        let t2890: f32 = t44 * t2889;
+        let t2891: f32 = g2 * t165;
+        let t2892: f32 = t170 * t2891;
+        let t2893: f32 = t2890 + t2892;
+        let t2894: f32 = t2888 + t2893;
+        let t2895: f32 = wx * t2812;
+        let t2896: f32 = t1937 + t2895;
+        let t2897: f32 = t2894 - t2896;
+        let t2898: f32 = t2886 + t2897;
+        let t2899: f32 = t2580 + t2717;
+        let t2900: f32 = t2300 + t2436;
+        let t2901: f32 = t1814 + t2898;
+        let t2902: f32 = t2899 + t2900;
+        let t2903: f32 = t2901 + t2902;
+        let t2904: f32 = t2782 + t2827;
+        let t2905: f32 = t2017 + t2875;
+        let t2906: f32 = t2164 + t2571;
+        let t2907: f32 = t2904 + t2905;
+        let t2908: f32 = t2906 + 117.72;
+        let t2909: f32 = t2907 + t2908;
+        let t2910: f32 = t2903 - t2909;
+        let t2911: f32 = t1659 * t1681;
+        let t2912: f32 = t2910 * t2911;
+        let t2913: f32 = t2873 - t2912;
+        let t2914: f32 = t1571 * t1590;
+        let t2915: f32 = t2913 * t2914;
+        let t2916: f32 = t1653 * t1681;
+        let t2917: f32 = t2910 * t2916;
+        let t2918: f32 = t2915 + t2917;
+        let t2919: f32 = t2825 - t2918;
+        let t2920: f32 = t1315 * t1533;
+        let t2921: f32 = t2919 * t2920;
+        let t2922: f32 = t1553 * t1590;
+        let t2923: f32 = t2913 * t2922;
+        let t2924: f32 = t1527 * t1533;
+        let t2925: f32 = t2919 * t2924;
+        let t2926: f32 = t1566 * t1590;
+        let t2927: f32 = t2913 * t2926;
+        let t2928: f32 = t1640 * t1681;
+        let t2929: f32 = t2910 * t2928;
+        let t2930: f32 = t2925 + t2927;
+        let t2931: f32 = t2780 + t2930;
+        let t2932: f32 = t2929 - t2931;
+        let t2933: f32 = t1514 * t2932;
+        let t2934: f32 = -t2933;
+        let t2935: f32 = t1509 * t2934;
+        let t2936: f32 = t1611 * t1681;
+        let t2937: f32 = t2910 * t2936;
+        let t2938: f32 = t2714 + t2937;
+        let t2939: f32 = t2713 + t2938;
+        let t2940: f32 = t2921 + t2923;
+        let t2941: f32 = t2935 + t2940;
+        let t2942: f32 = t2939 - t2941;
+        let t2943: f32 = t998 * t1299;
+        let t2944: f32 = t2942 * t2943;
+        let t2945: f32 = t1312 * t1533;
+        let t2946: f32 = t2919 * t2945;
+        let t2947: f32 = t1544 * t1590;
+        let t2948: f32 = t2913 * t2947;
+        let t2949: f32 = t1455 * t2934;
+        let t2950: f32 = t1601 * t1681;
+        let t2951: f32 = t2910 * t2950;
+        let t2952: f32 = t2577 + t2944;
+        let t2953: f32 = t2946 + t2948;
+        let t2954: f32 = t2949 + t2951;
+        let t2955: f32 = t2952 + t2953;
+        let t2956: f32 = t2576 + t2954;
+        let t2957: f32 = t2955 + t2956;
+        let t2958: f32 = t810 * t2957;
+        let t2959: f32 = t1299 * t2942;
+        let t2960: f32 = t83 * t1959;
+        let t2961: f32 = t1971 * t2960;
+        let t2962: f32 = t1975 + t1978;
+        let t2963: f32 = t2962 - t1976;
+        let t2964: f32 = t1009 * t2963;
+        let t2965: f32 = t1005 * t2009;
+        let t2966: f32 = t2964 - t2965;
+        let t2967: f32 = t2623 + t2966;
+        let t2968: f32 = t2961 * 0.003;
+        let t2969: f32 = t2967 + t2968;
+        let t2970: f32 = t27 * t2969;
+        let t2971: f32 = t62 * t66;
+        let t2972: f32 = t1971 * t2971;
+        let t2973: f32 = t85 * t2618;
+        let t2974: f32 = t61 * t1986;
+        let t2975: f32 = t2973 - t2974;
+        let t2976: f32 = t62 * t2963;
+        let t2977: f32 = t86 * t2009;
+        let t2978: f32 = t2976 - t2977;
+        let t2979: f32 = t2975 + t2978;
+        let t2980: f32 = t2972 * 0.003;
+        let t2981: f32 = t2979 + t2980;
+        let t2982: f32 = t2981 - t2021;
+        let t2983: f32 = t34 * t2982;
+        let t2984: f32 = t208 * t2099;
+        let t2985: f32 = t2111 * t2984;
+        let t2986: f32 = t2115 - t2119;
+        let t2987: f32 = t1055 * t2986;
+        let t2988: f32 = t1051 * t2149;
+        let t2989: f32 = t2987 - t2988;
+        let t2990: f32 = t2643 - t2989;
+        let t2991: f32 = t2985 * 0.003;
+        let t2992: f32 = t2991 - t2990;
+        let t2993: f32 = t157 * t2992;
+        let t2994: f32 = t187 * t191;
+        let t2995: f32 = t2111 * t2994;
+        let t2996: f32 = t210 * t2639;
+        let t2997: f32 = t186 * t2637;
+        let t2998: f32 = t2996 - t2997;
+        let t2999: f32 = t187 * t2986;
+        let t3000: f32 = t211 * t2149;
+        let t3001: f32 = t2999 - t3000;
+        let t3002: f32 = t2998 + t3001;
         (
-            t2012,
-            t2163,
-            t2182,
-            t2183,
-            t2199,
-            t2200,
-            t2292,
-            t2293,
-            t2335,
-            t2336,
-            t2370,
-            t2524,
-            t2570,
-            t2571,
-            t2592,
+            t2009,
+            t2077,
+            t2111,
+            t2149,
+            t2161,
+            t2213,
+            t2234,
+            t2246,
+            t2253,
+            t2254,
+            t2284,
+            t2297,
+            t2350,
+            t2359,
+            t2380,
+            t2411,
+            t2415,
+            t2416,
+            t2418,
+            t2426,
+            t2433,
+            t2485,
+            t2494,
+            t2515,
+            t2546,
+            t2550,
+            t2554,
+            t2568,
+            t2577,
+            t2584,
+            t2590,
+            t2594,
+            t2600,
             t2604,
-            t2611,
-            t2613,
-            t2614,
-            t2619,
-            t2642,
-            t2644,
-            t2646,
-            t2650,
-            t2651,
+            t2612,
+            t2616,
+            t2618,
+            t2637,
+            t2639,
+            t2652,
             t2654,
             t2657,
-            t2658,
-            t2677,
-            t2682,
-            t2688,
-            t2693,
-            t2700,
-            t2712,
-            t2716,
-            t2724,
-            t2729,
-            t2733,
-            t2779,
-            t2780,
-            t2802,
-            t2814,
-            t2818,
-            t2819,
-            t2821,
-            t2824,
-            t2829,
-            t2852,
-            t2854,
-            t2856,
-            t2860,
+            t2665,
+            t2670,
+            t2685,
+            t2687,
+            t2691,
+            t2702,
+            t2705,
+            t2714,
+            t2720,
+            t2726,
+            t2730,
+            t2736,
+            t2740,
+            t2748,
+            t2752,
+            t2781,
+            t2816,
             t2862,
-            t2864,
-            t2867,
-            t2869,
-            t2873,
+            t2898,
+            t2913,
             t2919,
-            t2920,
-            t2942,
-            t2954,
             t2958,
-            t2962,
-            t2964,
-            t2966,
-            t2968,
+            t2959,
+            t2961,
+            t2963,
+            t2967,
+            t2969,
             t2970,
+            t2972,
+            t2979,
+            t2982,
+            t2983,
+            t2985,
+            t2986,
+            t2990,
             t2992,
-            t2994,
-            t2996,
-            t2998,
-            t3000,
-            t3001,
+            t2993,
+            t2995,
             t3002,
         )
     };
     let (
-        t3358,
-        t3411,
-        t3420,
-        t3458,
-        t3528,
-        t3530,
-        t3545,
-        t3557,
-        t3595,
-        t3624,
-        t3659,
-        t3705,
-        t3741,
-        t3756,
-        t3762,
-        t3802,
-        t3803,
-        t3805,
-        t3811,
-        t3813,
-        t3814,
-        t3816,
-        t3823,
-        t3827,
-        t3829,
-        t3834,
-        t3836,
-        t3837,
-        t3839,
-        t3846,
-        t3850,
-        t3852,
-        t3857,
-        t3859,
-        t3860,
-        t3862,
-        t3869,
-        t3873,
-        t3875,
-        t3881,
-        t3883,
-        t3884,
-        t3886,
-        t3893,
-        t3897,
-        t3899,
-        t3900,
-        t3904,
-        t3906,
-        t3907,
-        t3909,
-        t3916,
-        t3920,
-        t3922,
-        t3923,
-        t3927,
-        t3929,
-        t3930,
-        t3932,
-        t3939,
-        t3942,
-        t3943,
-        t3944,
-        t3946,
-        t3953,
-        t3956,
-        t3957,
-        t3958,
-        t3960,
-        t3968,
-        t3970,
-        t3971,
-        t3972,
-        t3974,
-        t3982,
-        t3984,
-        t3985,
-        t3986,
-        t3988,
-        t3996,
-        t3998,
-        t3999,
-        t4000,
-        t4002,
+        t3318,
+        t3319,
+        t3320,
+        t3321,
+        t3322,
+        t3323,
+        t3324,
+        t3325,
+        t3326,
+        t3327,
+        t3335,
+        t3362,
+        t3408,
+        t3475,
+        t3565,
+        t3679,
     ) = {
-        let t3003: f32 = t208 * t2998;
-        let t3004: f32 = t186 * t2919;
-        let t3005: f32 = t176 * t2970;
-        let t3006: f32 = t3004 + t3005;
-        let t3007: f32 = t3003 + t3006;
-        let t3008: f32 = t151 * t3007;
-        let t3009: f32 = t3002 - t3008;
-        let t3010: f32 = wx * t267;
-        let t3011: f32 = wy * t262;
+        let t3003: f32 = t2995 * 0.003;
+        let t3004: f32 = t2077 + t3002;
+        let t3005: f32 = t3003 + t3004;
+        let t3006: f32 = t160 * t3005;
+        let t3007: f32 = t339 * t2234;
+        let t3008: f32 = t2246 * t3007;
+        let t3009: f32 = t2254 - t2253;
+        let t3010: f32 = t1101 * t3009;
+        let t3011: f32 = t1097 * t2284;
         let t3012: f32 = t3010 - t3011;
-        let t3013: f32 = wy * t3012;
-        let t3014: f32 = wz * t262;
-        let t3015: f32 = wx * t253;
-        let t3016: f32 = t3014 - t3015;
-        let t3017: f32 = wz * t3016;
-        let t3018: f32 = t3013 - t3017;
-        let t3019: f32 = t299 * t3018;
-        let t3020: f32 = wy * t253;
-        let t3021: f32 = wz * t267;
-        let t3022: f32 = t3020 - t3021;
-        let t3023: f32 = wz * t3022;
-        let t3024: f32 = wx * t3012;
-        let t3025: f32 = t3023 - t3024;
-        let t3026: f32 = t307 * t3025;
-        let t3027: f32 = wx * t3016;
-        let t3028: f32 = wy * t3022;
-        let t3029: f32 = t3027 - t3028;
-        let t3030: f32 = t301 * t3029;
-        let t3031: f32 = t3019 + t3026;
-        let t3032: f32 = t3030 + t3031;
-        let t3033: f32 = t301 * 9.81;
-        let t3034: f32 = -t3033;
-        let t3035: f32 = vx - t3022;
-        let t3036: f32 = t302 * t3035;
-        let t3037: f32 = vy - t3016;
-        let t3038: f32 = t278 * t3037;
-        let t3039: f32 = vz - t3012;
-        let t3040: f32 = t293 * t3039;
-        let t3041: f32 = t3036 + t3038;
-        let t3042: f32 = t3041 - t3040;
-        let t3043: f32 = t285 * t3042;
-        let t3044: f32 = t3043 * t3043;
-        let t3045: f32 = t763 * t3035;
-        let t3046: f32 = t304 * t3037;
-        let t3047: f32 = t310 * t3039;
-        let t3048: f32 = t3045 + t3047;
-        let t3049: f32 = t3048 - t3046;
-        let t3050: f32 = t285 * t3049;
-        let t3051: f32 = t3050 * t3050;
-        let t3052: f32 = t3044 + t3051;
-        let t3053: f32 = t3052 * 0.3;
-        let t3054: f32 = t3032 + t3034;
-        let t3055: f32 = t3054 - t3053;
-        let t3056: f32 = t307 * t3055;
-        let t3057: f32 = t302 * t3018;
-        let t3058: f32 = t278 * t3025;
-        let t3059: f32 = t293 * t3029;
-        let t3060: f32 = t3057 + t3058;
-        let t3061: f32 = t3060 - t3059;
-        let t3062: f32 = t293 * 9.81;
-        let t3063: f32 = t285 * t3061;
-        let t3064: f32 = t286 * t290;
-        let t3065: f32 = t3042 * t3064;
-        let t3066: f32 = t3049 * t3065;
-        let t3067: f32 = t299 * t3035;
-        let t3068: f32 = t307 * t3037;
-        let t3069: f32 = t301 * t3039;
-        let t3070: f32 = t3067 + t3068;
+        let t3013: f32 = t2657 + t3012;
+        let t3014: f32 = t3008 * 0.003;
+        let t3015: f32 = t3013 + t3014;
+        let t3016: f32 = t286 * t3015;
+        let t3017: f32 = t318 * t322;
+        let t3018: f32 = t2246 * t3017;
+        let t3019: f32 = t341 * t2652;
+        let t3020: f32 = t317 * t2654;
+        let t3021: f32 = t3019 + t3020;
+        let t3022: f32 = t318 * t3009;
+        let t3023: f32 = t342 * t2284;
+        let t3024: f32 = t3022 + t3023;
+        let t3025: f32 = t3021 - t3024;
+        let t3026: f32 = t3018 * 0.003;
+        let t3027: f32 = t2213 + t3026;
+        let t3028: f32 = t3025 - t3027;
+        let t3029: f32 = t291 * t3028;
+        let t3030: f32 = t470 * t2359;
+        let t3031: f32 = t2411 * t3030;
+        let t3032: f32 = t2415 + t2418;
+        let t3033: f32 = t3032 - t2416;
+        let t3034: f32 = t1147 * t3033;
+        let t3035: f32 = t1143 * t2380;
+        let t3036: f32 = t3034 - t3035;
+        let t3037: f32 = t2670 + t3036;
+        let t3038: f32 = t3031 * 0.003;
+        let t3039: f32 = t3037 + t3038;
+        let t3040: f32 = t417 * t3039;
+        let t3041: f32 = t449 * t453;
+        let t3042: f32 = t2411 * t3041;
+        let t3043: f32 = t472 * t2665;
+        let t3044: f32 = t448 * t2426;
+        let t3045: f32 = t3043 + t3044;
+        let t3046: f32 = t449 * t3033;
+        let t3047: f32 = t473 * t2380;
+        let t3048: f32 = t3046 + t3047;
+        let t3049: f32 = t3045 - t3048;
+        let t3050: f32 = t3042 * 0.003;
+        let t3051: f32 = t2350 + t3049;
+        let t3052: f32 = t3051 - t3050;
+        let t3053: f32 = t422 * t3052;
+        let t3054: f32 = t594 * t2494;
+        let t3055: f32 = t2546 * t3054;
+        let t3056: f32 = t2550 - t2554;
+        let t3057: f32 = t1193 * t3056;
+        let t3058: f32 = t1189 * t2515;
+        let t3059: f32 = t3057 - t3058;
+        let t3060: f32 = t2691 - t3059;
+        let t3061: f32 = t3055 * 0.003;
+        let t3062: f32 = t3061 - t3060;
+        let t3063: f32 = t544 * t3062;
+        let t3064: f32 = t573 * t577;
+        let t3065: f32 = t2546 * t3064;
+        let t3066: f32 = t596 * t2687;
+        let t3067: f32 = t572 * t2685;
+        let t3068: f32 = t3066 + t3067;
+        let t3069: f32 = t573 * t3056;
+        let t3070: f32 = t597 * t2515;
         let t3071: f32 = t3069 + t3070;
-        let t3072: f32 = t285 * t3071;
-        let t3073: f32 = t3072 * 2.0;
-        let t3074: f32 = t3043 * t3073;
-        let t3075: f32 = t3066 + t3074;
-        let t3076: f32 = t3063 + t3075;
-        let t3077: f32 = t285 * t290;
-        let t3078: f32 = t3042 * t3077;
-        let t3079: f32 = t3050 * t3078;
-        let t3080: f32 = t290 * t3075;
-        let t3081: f32 = t277 * t277;
-        let t3082: f32 = t283 * t285;
-        let t3083: f32 = t3081 * t3082;
-        let t3084: f32 = t3042 * t3083;
-        let t3085: f32 = t3049 * t3084;
-        let t3086: f32 = t290 * t3061;
-        let t3087: f32 = t3085 + t3086;
-        let t3088: f32 = t285 * t3087;
-        let t3089: f32 = t3080 + t3088;
-        let t3090: f32 = t290 * t3089;
-        let t3091: f32 = t3061 * 0.3;
-        let t3092: f32 = t3062 * 0.2;
-        let t3093: f32 = t3076 * 0.295;
-        let t3094: f32 = t3079 * 0.292;
-        let t3095: f32 = t3090 * 0.003;
-        let t3096: f32 = t3091 + t3094;
-        let t3097: f32 = t3092 + t3093;
-        let t3098: f32 = t3095 + t3097;
-        let t3099: f32 = t3096 - t3098;
-        let t3100: f32 = t285 * t3099;
-        let t3101: f32 = t3061 + t3062;
-        let t3102: f32 = t3076 - t3079;
-        let t3103: f32 = t3102 * 0.3;
-        let t3104: f32 = t3100 + t3103;
-        let t3105: f32 = t3101 - t3104;
-        let t3106: f32 = t278 * t3105;
-        let t3107: f32 = t310 * t3029;
-        let t3108: f32 = t763 * t3018;
-        let t3109: f32 = t304 * t3025;
-        let t3110: f32 = t3108 - t3109;
-        let t3111: f32 = t3107 + t3110;
-        let t3112: f32 = t310 * 9.81;
-        let t3113: f32 = -t3112;
-        let t3114: f32 = t3042 * t3042;
-        let t3115: f32 = t3077 * t3114;
-        let t3116: f32 = t3049 * t3073;
-        let t3117: f32 = t3111 + t3116;
-        let t3118: f32 = t3117 - t3115;
-        let t3119: f32 = t285 * t3118;
-        let t3120: f32 = t3043 * t3078;
-        let t3121: f32 = t3111 * 0.3;
-        let t3122: f32 = t3113 * 0.2;
-        let t3123: f32 = t3119 * 0.295;
-        let t3124: f32 = t3120 * 0.292;
-        let t3125: f32 = t3122 + t3123;
+        let t3072: f32 = t3068 - t3071;
+        let t3073: f32 = t3065 * 0.003;
+        let t3074: f32 = t2485 + t3073;
+        let t3075: f32 = t3072 - t3074;
+        let t3076: f32 = t547 * t3075;
+        let t3077: f32 = t717 * t1749;
+        let t3078: f32 = t1761 * t3077;
+        let t3079: f32 = t1768 - t1770;
+        let t3080: f32 = t1239 * t3079;
+        let t3081: f32 = t1235 * t1799;
+        let t3082: f32 = t3080 - t3081;
+        let t3083: f32 = t2705 - t3082;
+        let t3084: f32 = t3078 * 0.003;
+        let t3085: f32 = t3084 - t3083;
+        let t3086: f32 = t668 * t3085;
+        let t3087: f32 = t696 * t700;
+        let t3088: f32 = t1761 * t3087;
+        let t3089: f32 = t719 * t2702;
+        let t3090: f32 = t695 * t1776;
+        let t3091: f32 = t3089 + t3090;
+        let t3092: f32 = t696 * t3079;
+        let t3093: f32 = t720 * t1799;
+        let t3094: f32 = t3092 + t3093;
+        let t3095: f32 = t3091 - t3094;
+        let t3096: f32 = t3088 * 0.003;
+        let t3097: f32 = t1728 + t3095;
+        let t3098: f32 = t3097 - t3096;
+        let t3099: f32 = t671 * t3098;
+        let t3100: f32 = t17 * t2982;
+        let t3101: f32 = t66 * t103;
+        let t3102: f32 = t1971 * t3101;
+        let t3103: f32 = t114 * t2618;
+        let t3104: f32 = t79 * t1986;
+        let t3105: f32 = t3103 - t3104;
+        let t3106: f32 = t103 * t2963;
+        let t3107: f32 = t115 * t2009;
+        let t3108: f32 = t3106 - t3107;
+        let t3109: f32 = t3105 + t3108;
+        let t3110: f32 = t3102 * 0.003;
+        let t3111: f32 = t3109 + t3110;
+        let t3112: f32 = t3111 - t1937;
+        let t3113: f32 = t27 * t3112;
+        let t3114: f32 = t156 * t3005;
+        let t3115: f32 = t191 * t228;
+        let t3116: f32 = t2111 * t3115;
+        let t3117: f32 = t228 * t2986;
+        let t3118: f32 = t2161 + t3117;
+        let t3119: f32 = t240 * t2149;
+        let t3120: f32 = t239 * t2639;
+        let t3121: f32 = t204 * t2637;
+        let t3122: f32 = t3120 - t3121;
+        let t3123: f32 = t3119 - t3122;
+        let t3124: f32 = t3118 - t3123;
+        let t3125: f32 = t3116 * 0.003;
         let t3126: f32 = t3124 + t3125;
-        let t3127: f32 = t3121 - t3126;
-        let t3128: f32 = t285 * t3127;
-        let t3129: f32 = t3111 + t3113;
-        let t3130: f32 = t3119 + t3120;
-        let t3131: f32 = t3130 * 0.3;
-        let t3132: f32 = t3128 + t3131;
-        let t3133: f32 = t3129 - t3132;
-        let t3134: f32 = t304 * t3133;
-        let t3135: f32 = t3106 - t3134;
-        let t3136: f32 = t3056 + t3135;
-        let t3137: f32 = -t3136;
-        let t3138: f32 = t253 * t3137;
-        let t3139: f32 = t310 * t3133;
-        let t3140: f32 = t301 * t3055;
-        let t3141: f32 = t293 * t3105;
-        let t3142: f32 = t3140 - t3141;
-        let t3143: f32 = t3139 + t3142;
-        let t3144: f32 = t267 * t3143;
-        let t3145: f32 = t3138 + t3144;
-        let t3146: f32 = t3009 - t3145;
-        let t3147: f32 = wx * t380;
-        let t3148: f32 = wy * t375;
+        let t3127: f32 = t157 * t3126;
+        let t3128: f32 = t283 * t3028;
+        let t3129: f32 = t322 * t359;
+        let t3130: f32 = t2246 * t3129;
+        let t3131: f32 = t359 * t3009;
+        let t3132: f32 = t2297 - t3131;
+        let t3133: f32 = t370 * t2652;
+        let t3134: f32 = t335 * t2654;
+        let t3135: f32 = t3133 + t3134;
+        let t3136: f32 = t371 * t2284;
+        let t3137: f32 = t3135 - t3136;
+        let t3138: f32 = t3132 + t3137;
+        let t3139: f32 = t3130 * 0.003;
+        let t3140: f32 = t3138 - t3139;
+        let t3141: f32 = t286 * t3140;
+        let t3142: f32 = t414 * t3052;
+        let t3143: f32 = t453 * t490;
+        let t3144: f32 = t2411 * t3143;
+        let t3145: f32 = t501 * t2665;
+        let t3146: f32 = t466 * t2426;
+        let t3147: f32 = t3145 + t3146;
+        let t3148: f32 = t502 * t2380;
         let t3149: f32 = t3147 - t3148;
-        let t3150: f32 = wy * t3149;
-        let t3151: f32 = wz * t375;
-        let t3152: f32 = wx * t366;
-        let t3153: f32 = t3151 - t3152;
-        let t3154: f32 = wz * t3153;
-        let t3155: f32 = t3150 - t3154;
-        let t3156: f32 = t427 * t3155;
-        let t3157: f32 = wy * t366;
-        let t3158: f32 = wz * t380;
-        let t3159: f32 = t3157 - t3158;
-        let t3160: f32 = wz * t3159;
-        let t3161: f32 = wx * t3149;
-        let t3162: f32 = t3160 - t3161;
-        let t3163: f32 = t412 * t3162;
-        let t3164: f32 = wx * t3153;
-        let t3165: f32 = wy * t3159;
-        let t3166: f32 = t3164 - t3165;
-        let t3167: f32 = t414 * t3166;
-        let t3168: f32 = t3156 + t3163;
-        let t3169: f32 = t3167 + t3168;
-        let t3170: f32 = t414 * 9.81;
-        let t3171: f32 = -t3170;
-        let t3172: f32 = vx + t3159;
-        let t3173: f32 = t429 * t3172;
-        let t3174: f32 = vy + t3153;
-        let t3175: f32 = t391 * t3174;
-        let t3176: f32 = vz + t3149;
-        let t3177: f32 = t406 * t3176;
-        let t3178: f32 = t3173 + t3175;
-        let t3179: f32 = t3178 - t3177;
-        let t3180: f32 = t398 * t3179;
-        let t3181: f32 = t3180 * t3180;
-        let t3182: f32 = t784 * t3172;
-        let t3183: f32 = t431 * t3174;
-        let t3184: f32 = t436 * t3176;
-        let t3185: f32 = t3182 + t3184;
-        let t3186: f32 = t3185 - t3183;
-        let t3187: f32 = t398 * t3186;
-        let t3188: f32 = t3187 * t3187;
-        let t3189: f32 = t3181 + t3188;
-        let t3190: f32 = t3189 * 0.3;
-        let t3191: f32 = t3169 + t3190;
-        let t3192: f32 = t3191 - t3171;
-        let t3193: f32 = t412 * t3192;
-        let t3194: f32 = t436 * t3166;
-        let t3195: f32 = t784 * t3155;
-        let t3196: f32 = t431 * t3162;
-        let t3197: f32 = t3195 - t3196;
-        let t3198: f32 = t3194 + t3197;
-        let t3199: f32 = t436 * 9.81;
-        let t3200: f32 = -t3199;
-        let t3201: f32 = t3179 * t3179;
-        let t3202: f32 = t398 * t403;
-        let t3203: f32 = t3201 * t3202;
-        let t3204: f32 = t427 * t3172;
-        let t3205: f32 = t412 * t3174;
-        let t3206: f32 = t414 * t3176;
-        let t3207: f32 = t3204 + t3205;
-        let t3208: f32 = t3206 + t3207;
-        let t3209: f32 = t398 * t3208;
-        let t3210: f32 = t3209 * 2.0;
-        let t3211: f32 = t3186 * t3210;
-        let t3212: f32 = t3198 + t3203;
-        let t3213: f32 = t3212 - t3211;
-        let t3214: f32 = t398 * t3213;
-        let t3215: f32 = t3179 * t3202;
-        let t3216: f32 = t3180 * t3215;
-        let t3217: f32 = t3198 * 0.3;
-        let t3218: f32 = t3200 * 0.2;
-        let t3219: f32 = t3214 * 0.295;
-        let t3220: f32 = t3216 * 0.292;
-        let t3221: f32 = t3217 + t3218;
-        let t3222: f32 = t3220 + t3221;
-        let t3223: f32 = t3219 - t3222;
-        let t3224: f32 = t398 * t3223;
-        let t3225: f32 = t3198 - t3200;
-        let t3226: f32 = t3214 - t3216;
-        let t3227: f32 = t3226 * 0.3;
-        let t3228: f32 = t3224 + t3225;
-        let t3229: f32 = t3228 - t3227;
-        let t3230: f32 = t431 * t3229;
-        let t3231: f32 = t429 * t3155;
-        let t3232: f32 = t391 * t3162;
-        let t3233: f32 = t406 * t3166;
+        let t3150: f32 = t490 * t3033;
+        let t3151: f32 = t2433 + t3150;
+        let t3152: f32 = t3149 - t3151;
+        let t3153: f32 = t3144 * 0.003;
+        let t3154: f32 = t3152 - t3153;
+        let t3155: f32 = t417 * t3154;
+        let t3156: f32 = t543 * t3075;
+        let t3157: f32 = t577 * t614;
+        let t3158: f32 = t2546 * t3157;
+        let t3159: f32 = t614 * t3056;
+        let t3160: f32 = t2568 - t3159;
+        let t3161: f32 = t626 * t2515;
+        let t3162: f32 = t625 * t2687;
+        let t3163: f32 = t590 * t2685;
+        let t3164: f32 = t3162 + t3163;
+        let t3165: f32 = t3161 - t3164;
+        let t3166: f32 = t3160 - t3165;
+        let t3167: f32 = t3158 * 0.003;
+        let t3168: f32 = t3166 - t3167;
+        let t3169: f32 = t544 * t3168;
+        let t3170: f32 = t667 * t3098;
+        let t3171: f32 = t700 * t737;
+        let t3172: f32 = t1761 * t3171;
+        let t3173: f32 = t737 * t3079;
+        let t3174: f32 = t1811 + t3173;
+        let t3175: f32 = t749 * t1799;
+        let t3176: f32 = t748 * t2702;
+        let t3177: f32 = t713 * t1776;
+        let t3178: f32 = t3176 + t3177;
+        let t3179: f32 = t3175 - t3178;
+        let t3180: f32 = t3174 + t3179;
+        let t3181: f32 = t3172 * 0.003;
+        let t3182: f32 = t3180 + t3181;
+        let t3183: f32 = -t3182;
+        let t3184: f32 = t668 * t3183;
+        let t3185: f32 = t2577 + t3113;
+        let t3186: f32 = t3114 + t3142;
+        let t3187: f32 = t3155 + t3170;
+        let t3188: f32 = t1890 + t3184;
+        let t3189: f32 = t3185 + t3186;
+        let t3190: f32 = t3187 + t3188;
+        let t3191: f32 = t3189 + t3190;
+        let t3192: f32 = t3100 + t3127;
+        let t3193: f32 = t3128 + t3141;
+        let t3194: f32 = t3156 + t3169;
+        let t3195: f32 = t3192 + t3193;
+        let t3196: f32 = t3194 + t3195;
+        let t3197: f32 = t3191 - t3196;
+        let t3198: f32 = t810 * t3197;
+        let t3199: f32 = t1455 * t3198;
+        let t3200: f32 = t17 * t2969;
+        let t3201: f32 = t34 * t3112;
+        let t3202: f32 = t156 * t2992;
+        let t3203: f32 = t160 * t3126;
+        let t3204: f32 = t283 * t3015;
+        let t3205: f32 = t291 * t3140;
+        let t3206: f32 = t414 * t3039;
+        let t3207: f32 = t422 * t3154;
+        let t3208: f32 = t543 * t3062;
+        let t3209: f32 = t547 * t3168;
+        let t3210: f32 = t667 * t3085;
+        let t3211: f32 = t671 * t3183;
+        let t3212: f32 = t998 * t3198;
+        let t3213: f32 = t2714 + t3200;
+        let t3214: f32 = t3203 + t3205;
+        let t3215: f32 = t3206 + t3209;
+        let t3216: f32 = t3210 + t3212;
+        let t3217: f32 = t3213 + t3214;
+        let t3218: f32 = t3215 + t3216;
+        let t3219: f32 = t3217 + t3218;
+        let t3220: f32 = t2616 + t3219;
+        let t3221: f32 = t3201 + t3202;
+        let t3222: f32 = t3204 + t3207;
+        let t3223: f32 = t3208 + t3211;
+        let t3224: f32 = t3221 + t3222;
+        let t3225: f32 = t3223 + t3224;
+        let t3226: f32 = t3220 - t3225;
+        let t3227: f32 = t1299 * t3226;
+        let t3228: f32 = t1509 * t3227;
+        let t3229: f32 = t2970 + t3006;
+        let t3230: f32 = t3040 + t3053;
+        let t3231: f32 = t3086 + t3099;
+        let t3232: f32 = t2752 + t3199;
+        let t3233: f32 = t3229 + t3230;
         let t3234: f32 = t3231 + t3232;
-        let t3235: f32 = t3234 - t3233;
-        let t3236: f32 = t406 * 9.81;
-        let t3237: f32 = t398 * t3235;
-        let t3238: f32 = t399 * t403;
-        let t3239: f32 = t3179 * t3238;
-        let t3240: f32 = t3186 * t3239;
-        let t3241: f32 = t3180 * t3210;
-        let t3242: f32 = t3240 + t3241;
-        let t3243: f32 = t3242 - t3237;
-        let t3244: f32 = t3187 * t3215;
-        let t3245: f32 = t403 * t3242;
-        let t3246: f32 = t390 * t390;
-        let t3247: f32 = t396 * t398;
-        let t3248: f32 = t3246 * t3247;
-        let t3249: f32 = t3179 * t3248;
-        let t3250: f32 = t3186 * t3249;
-        let t3251: f32 = t403 * t3235;
-        let t3252: f32 = t3250 - t3251;
-        let t3253: f32 = t398 * t3252;
-        let t3254: f32 = t3245 + t3253;
-        let t3255: f32 = t403 * t3254;
-        let t3256: f32 = t3235 * 0.3;
-        let t3257: f32 = t3236 * 0.2;
-        let t3258: f32 = t3243 * 0.295;
-        let t3259: f32 = t3244 * 0.292;
-        let t3260: f32 = t3255 * 0.003;
-        let t3261: f32 = t3256 + t3257;
-        let t3262: f32 = t3258 + t3260;
-        let t3263: f32 = t3261 + t3262;
-        let t3264: f32 = t3263 - t3259;
-        let t3265: f32 = t398 * t3264;
-        let t3266: f32 = t3235 - t3236;
-        let t3267: f32 = t3243 - t3244;
-        let t3268: f32 = t3267 * 0.3;
-        let t3269: f32 = t3266 + t3268;
-        let t3270: f32 = t3269 - t3265;
-        let t3271: f32 = t391 * t3270;
-        let t3272: f32 = t3230 - t3271;
-        let t3273: f32 = t3193 - t3272;
-        let t3274: f32 = t366 * t3273;
-        let t3275: f32 = t406 * t3270;
-        let t3276: f32 = t414 * t3192;
-        let t3277: f32 = t3275 - t3276;
-        let t3278: f32 = t436 * t3229;
-        let t3279: f32 = t3277 - t3278;
-        let t3280: f32 = t380 * t3279;
-        let t3281: f32 = t3274 + t3280;
-        let t3282: f32 = wx * t487;
-        let t3283: f32 = wy * t484;
-        let t3284: f32 = t3282 - t3283;
-        let t3285: f32 = wy * t3284;
-        let t3286: f32 = wz * t484;
-        let t3287: f32 = wx * t478;
-        let t3288: f32 = t3286 - t3287;
-        let t3289: f32 = wz * t3288;
-        let t3290: f32 = t3285 - t3289;
-        let t3291: f32 = t534 * t3290;
-        let t3292: f32 = wy * t478;
-        let t3293: f32 = wz * t487;
-        let t3294: f32 = t3292 - t3293;
-        let t3295: f32 = wz * t3294;
-        let t3296: f32 = wx * t3284;
-        let t3297: f32 = t3295 - t3296;
-        let t3298: f32 = t519 * t3297;
-        let t3299: f32 = wx * t3288;
-        let t3300: f32 = wy * t3294;
-        let t3301: f32 = t3299 - t3300;
-        let t3302: f32 = t521 * t3301;
-        let t3303: f32 = t3291 + t3298;
-        let t3304: f32 = t3302 + t3303;
-        let t3305: f32 = t521 * 9.81;
-        let t3306: f32 = -t3305;
-        let t3307: f32 = vx + t3294;
-        let t3308: f32 = t536 * t3307;
-        let t3309: f32 = vy + t3288;
-        let t3310: f32 = t498 * t3309;
-        let t3311: f32 = vz + t3284;
-        let t3312: f32 = t513 * t3311;
-        let t3313: f32 = t3308 + t3310;
-        let t3314: f32 = t3313 - t3312;
-        let t3315: f32 = t505 * t3314;
-        let t3316: f32 = t3315 * t3315;
-        let t3317: f32 = t805 * t3307;
-        let t3318: f32 = t538 * t3309;
-        let t3319: f32 = t543 * t3311;
-        let t3320: f32 = t3317 + t3319;
-        let t3321: f32 = t3320 - t3318;
-        let t3322: f32 = t505 * t3321;
-        let t3323: f32 = t3322 * t3322;
-        let t3324: f32 = t3316 + t3323;
-        let t3325: f32 = t3324 * 0.3;
-        let t3326: f32 = t3304 + t3325;
-        let t3327: f32 = t3326 - t3306;
-        let t3328: f32 = t519 * t3327;
-        let t3329: f32 = t543 * t3301;
-        let t3330: f32 = t805 * t3290;
-        let t3331: f32 = t538 * t3297;
-        let t3332: f32 = t3330 - t3331;
-        let t3333: f32 = t3329 + t3332;
-        let t3334: f32 = t543 * 9.81;
-        let t3335: f32 = -t3334;
-        let t3336: f32 = t3314 * t3314;
-        let t3337: f32 = t505 * t510;
-        let t3338: f32 = t3336 * t3337;
-        let t3339: f32 = t534 * t3307;
-        let t3340: f32 = t519 * t3309;
-        let t3341: f32 = t521 * t3311;
-        let t3342: f32 = t3339 + t3340;
-        let t3343: f32 = t3341 + t3342;
-        let t3344: f32 = t505 * t3343;
-        let t3345: f32 = t3344 * 2.0;
-        let t3346: f32 = t3321 * t3345;
-        let t3347: f32 = t3338 + t3346;
-        let t3348: f32 = t3333 - t3347;
-        let t3349: f32 = t505 * t3348;
-        let t3350: f32 = t3314 * t3337;
-        let t3351: f32 = t3315 * t3350;
-        let t3352: f32 = t3333 * 0.3;
-        let t3353: f32 = t3335 * 0.2;
-        let t3354: f32 = t3349 * 0.295;
-        let t3355: f32 = t3351 * 0.292;
-        let t3356: f32 = t3352 + t3353;
-        let t3357: f32 = t3354 + t3355;
-        let t3358: f32 = t3356 - t3357;
-        let t3359: f32 = t505 * t3358;
-        let t3360: f32 = t3333 - t3335;
-        let t3361: f32 = t3349 + t3351;
-        let t3362: f32 = t3361 * 0.3;
-        let t3363: f32 = t3359 + t3362;
-        let t3364: f32 = t3360 - t3363;
-        let t3365: f32 = t538 * t3364;
-        let t3366: f32 = t536 * t3290;
-        let t3367: f32 = t498 * t3297;
-        let t3368: f32 = t513 * t3301;
-        let t3369: f32 = t3366 + t3367;
-        let t3370: f32 = t3369 - t3368;
-        let t3371: f32 = t513 * 9.81;
-        let t3372: f32 = t505 * t3370;
-        let t3373: f32 = t506 * t510;
-        let t3374: f32 = t3314 * t3373;
-        let t3375: f32 = t3321 * t3374;
-        let t3376: f32 = t3315 * t3345;
-        let t3377: f32 = t3375 - t3376;
-        let t3378: f32 = t3372 + t3377;
-        let t3379: f32 = t3322 * t3350;
-        let t3380: f32 = t510 * t3377;
-        let t3381: f32 = t497 * t497;
-        let t3382: f32 = t503 * t505;
-        let t3383: f32 = t3381 * t3382;
-        let t3384: f32 = t3314 * t3383;
-        let t3385: f32 = t3321 * t3384;
-        let t3386: f32 = t510 * t3370;
-        let t3387: f32 = t3385 + t3386;
-        let t3388: f32 = t505 * t3387;
-        let t3389: f32 = t3380 + t3388;
-        let t3390: f32 = t510 * t3389;
-        let t3391: f32 = t3370 * 0.3;
-        let t3392: f32 = t3371 * 0.2;
-        let t3393: f32 = t3378 * 0.295;
-        let t3394: f32 = t3379 * 0.292;
-        let t3395: f32 = t3390 * 0.003;
+        let t3235: f32 = t3233 + t3234;
+        let t3236: f32 = t2983 + t2993;
+        let t3237: f32 = t3016 + t3029;
+        let t3238: f32 = t3063 + t3076;
+        let t3239: f32 = t3236 + t3237;
+        let t3240: f32 = t3228 + t3238;
+        let t3241: f32 = t3239 + t3240;
+        let t3242: f32 = t3235 - t3241;
+        let t3243: f32 = t1514 * t3242;
+        let t3244: f32 = t1533 * t1567;
+        let t3245: f32 = t2919 * t3244;
+        let t3246: f32 = t1590 * t1641;
+        let t3247: f32 = t2913 * t3246;
+        let t3248: f32 = t1601 * t3198;
+        let t3249: f32 = t1611 * t3227;
+        let t3250: f32 = t1640 * t3243;
+        let t3251: f32 = t1312 * t3198;
+        let t3252: f32 = t1315 * t3227;
+        let t3253: f32 = t1527 * t3243;
+        let t3254: f32 = t2961 + t3008;
+        let t3255: f32 = t3031 + t3254;
+        let t3256: f32 = t2985 + t3055;
+        let t3257: f32 = t3078 + t3256;
+        let t3258: f32 = t3255 - t3257;
+        let t3259: f32 = t3258 * 0.003;
+        let t3260: f32 = t3251 + t3259;
+        let t3261: f32 = t2816 + t3253;
+        let t3262: f32 = t2967 + t2990;
+        let t3263: f32 = t3013 + t3037;
+        let t3264: f32 = t3060 + t3083;
+        let t3265: f32 = t3260 + t3261;
+        let t3266: f32 = t3262 + t3263;
+        let t3267: f32 = t3265 + t3266;
+        let t3268: f32 = t3264 + t3267;
+        let t3269: f32 = t3268 - t3252;
+        let t3270: f32 = t1533 * t3269;
+        let t3271: f32 = t1653 * t3270;
+        let t3272: f32 = t1544 * t3198;
+        let t3273: f32 = t1553 * t3227;
+        let t3274: f32 = t1566 * t3243;
+        let t3275: f32 = t1571 * t3270;
+        let t3276: f32 = t2972 + t3018;
+        let t3277: f32 = t3042 + t3276;
+        let t3278: f32 = t2995 + t3065;
+        let t3279: f32 = t3088 + t3278;
+        let t3280: f32 = t3277 - t3279;
+        let t3281: f32 = t3280 * 0.003;
+        let t3282: f32 = t3272 + t3281;
+        let t3283: f32 = t2862 + t3274;
+        let t3284: f32 = t2979 + t3072;
+        let t3285: f32 = t3282 + t3283;
+        let t3286: f32 = t3095 + t3284;
+        let t3287: f32 = t3285 + t3286;
+        let t3288: f32 = t3273 + t3275;
+        let t3289: f32 = t3002 + t3025;
+        let t3290: f32 = t3288 + t3289;
+        let t3291: f32 = t3049 + t3290;
+        let t3292: f32 = t3287 - t3291;
+        let t3293: f32 = t1590 * t3292;
+        let t3294: f32 = t1659 * t3293;
+        let t3295: f32 = t3102 + t3158;
+        let t3296: f32 = t3172 + t3295;
+        let t3297: f32 = t3116 + t3130;
+        let t3298: f32 = t3144 + t3297;
+        let t3299: f32 = t3296 - t3298;
+        let t3300: f32 = t3299 * 0.003;
+        let t3301: f32 = t3248 + t3300;
+        let t3302: f32 = t3109 + t3249;
+        let t3303: f32 = t3138 + t3152;
+        let t3304: f32 = t2898 + t3180;
+        let t3305: f32 = t3301 + t3302;
+        let t3306: f32 = t3303 + t3304;
+        let t3307: f32 = t3305 + t3306;
+        let t3308: f32 = t3250 + t3271;
+        let t3309: f32 = t3124 + t3294;
+        let t3310: f32 = t3166 + 117.72;
+        let t3311: f32 = t3308 + t3309;
+        let t3312: f32 = t3310 + t3311;
+        let t3313: f32 = t3307 - t3312;
+        let t3314: f32 = t1681 * t2781;
+        let t3315: f32 = t3313 * t3314;
+        let t3316: f32 = t3243 + t3245;
+        let t3317: f32 = t3247 + t3316;
+        let t3318: f32 = t3315 - t3317;
+        let t3319: f32 = t1533 * t2919;
+        let t3320: f32 = t1590 * t2913;
+        let t3321: f32 = t1681 * t3313;
+        let t3322: f32 = t44 * t59;
+        let t3323: f32 = t170 * t184;
+        let t3324: f32 = t301 * t315;
+        let t3325: f32 = t432 * t446;
+        let t3326: f32 = t557 * t570;
+        let t3327: f32 = t680 * t693;
+        let t3328: f32 = t1838 * t1838;
+        let t3329: f32 = t2584 * t2584;
+        let t3330: f32 = t2720 * t2720;
+        let t3331: f32 = t3328 + t3329;
+        let t3332: f32 = t3330 + t3331;
+        let t3333: f32 = t99 * t3332;
+        let t3334: f32 = t3333 + 1.0;
+        let t3335: f32 = t3334 / t3334;
+        let t3336: f32 = t2726 * t2726;
+        let t3337: f32 = t224 * t3336;
+        let t3338: f32 = t1849 * t1849;
+        let t3339: f32 = t224 * t3338;
+        let t3340: f32 = t2590 * t2590;
+        let t3341: f32 = t224 * t3340;
+        let t3342: f32 = t3339 + t3341;
+        let t3343: f32 = t3337 + t3342;
+        let t3344: f32 = t3343 + 1.0;
+        let t3345: f32 = t1838 * t1849;
+        let t3346: f32 = t2584 * t2590;
+        let t3347: f32 = t2720 * t2726;
+        let t3348: f32 = t36 * t162;
+        let t3349: f32 = t29 * t159;
+        let t3350: f32 = t39 * t165;
+        let t3351: f32 = t3345 + t3346;
+        let t3352: f32 = t3347 + t3348;
+        let t3353: f32 = t3349 + t3350;
+        let t3354: f32 = t3351 + t3352;
+        let t3355: f32 = t3353 + t3354;
+        let t3356: f32 = t44 * t170;
+        let t3357: f32 = t3355 * t3356;
+        let t3358: f32 = 1.0 / t3334;
+        let t3359: f32 = t3357 * t3358;
+        let t3360: f32 = t3357 * t3359;
+        let t3361: f32 = t3344 - t3360;
+        let t3362: f32 = t3361 / t3344;
+        let t3363: f32 = t2730 * t2730;
+        let t3364: f32 = t355 * t3363;
+        let t3365: f32 = t1844 * t1844;
+        let t3366: f32 = t355 * t3365;
+        let t3367: f32 = t2594 * t2594;
+        let t3368: f32 = t355 * t3367;
+        let t3369: f32 = t3366 + t3368;
+        let t3370: f32 = t3364 + t3369;
+        let t3371: f32 = t3370 + 1.0;
+        let t3372: f32 = t1838 * t1844;
+        let t3373: f32 = t2584 * t2594;
+        let t3374: f32 = t2720 * t2730;
+        let t3375: f32 = t36 * t293;
+        let t3376: f32 = t29 * t288;
+        let t3377: f32 = t39 * t296;
+        let t3378: f32 = t3372 + t3373;
+        let t3379: f32 = t3374 + t3378;
+        let t3380: f32 = t3375 + t3376;
+        let t3381: f32 = t3377 + t3380;
+        let t3382: f32 = t3379 - t3381;
+        let t3383: f32 = t44 * t301;
+        let t3384: f32 = t3382 * t3383;
+        let t3385: f32 = t3358 * t3384;
+        let t3386: f32 = t3384 * t3385;
+        let t3387: f32 = t3359 * t3384;
+        let t3388: f32 = t1844 * t1849;
+        let t3389: f32 = t2590 * t2594;
+        let t3390: f32 = t2726 * t2730;
+        let t3391: f32 = t162 * t293;
+        let t3392: f32 = t159 * t288;
+        let t3393: f32 = t165 * t296;
+        let t3394: f32 = t3388 + t3389;
+        let t3395: f32 = t3390 + t3394;
         let t3396: f32 = t3391 + t3392;
-        let t3397: f32 = t3394 + t3396;
-        let t3398: f32 = t3393 + t3395;
-        let t3399: f32 = t3397 - t3398;
-        let t3400: f32 = t505 * t3399;
-        let t3401: f32 = t3370 - t3371;
-        let t3402: f32 = t3378 - t3379;
-        let t3403: f32 = t3402 * 0.3;
-        let t3404: f32 = t3400 + t3403;
-        let t3405: f32 = t3401 - t3404;
-        let t3406: f32 = t498 * t3405;
-        let t3407: f32 = t3365 - t3406;
-        let t3408: f32 = t3407 - t3328;
-        let t3409: f32 = t478 * t3408;
-        let t3410: f32 = t543 * t3364;
-        let t3411: f32 = t521 * t3327;
-        let t3412: f32 = t513 * t3405;
-        let t3413: f32 = t3411 - t3412;
-        let t3414: f32 = t3410 + t3413;
-        let t3415: f32 = t487 * t3414;
-        let t3416: f32 = t3409 + t3415;
-        let t3417: f32 = t3281 - t3416;
-        let t3418: f32 = t3146 + t3417;
-        let t3419: f32 = t2873 + t3418;
-        let t3420: f32 = t711 * 3.5316;
-        let t3421: f32 = t3419 + t3420;
-        let t3422: f32 = t710 * t2182;
-        let t3423: f32 = t3421 * t3422;
-        let t3424: f32 = t17 * t31;
-        let t3425: f32 = t18 * t29;
-        let t3426: f32 = t3424 - t3425;
-        let t3427: f32 = t2682 * t3426;
-        let t3428: f32 = t711 * t2677;
-        let t3429: f32 = t3427 - t3428;
-        let t3430: f32 = t141 * t150;
-        let t3431: f32 = t142 * t148;
-        let t3432: f32 = t3430 - t3431;
-        let t3433: f32 = t2693 * t3432;
-        let t3434: f32 = t253 * t264;
-        let t3435: f32 = t254 * t262;
-        let t3436: f32 = t3434 - t3435;
-        let t3437: f32 = t2688 * t3436;
-        let t3438: f32 = t3433 - t3437;
-        let t3439: f32 = t3429 + t3438;
-        let t3440: f32 = t366 * t377;
-        let t3441: f32 = t367 * t375;
-        let t3442: f32 = t3440 - t3441;
-        let t3443: f32 = t2724 * t3442;
-        let t3444: f32 = t478 * t486;
-        let t3445: f32 = t479 * t484;
-        let t3446: f32 = t3444 - t3445;
-        let t3447: f32 = t2729 * t3446;
-        let t3448: f32 = t3443 + t3447;
-        let t3449: f32 = t35 * t2712;
-        let t3450: f32 = t38 * t2716;
-        let t3451: f32 = t3449 - t3450;
-        let t3452: f32 = t585 * t592;
-        let t3453: f32 = t586 * t591;
-        let t3454: f32 = t3452 - t3453;
-        let t3455: f32 = t2700 * t3454;
-        let t3456: f32 = t3451 - t3455;
-        let t3457: f32 = t3448 + t3456;
-        let t3458: f32 = t3439 + t3457;
-        let t3459: f32 = t1213 * t3421;
-        let t3460: f32 = t3458 - t3459;
-        let t3461: f32 = t2856 - t2854;
-        let t3462: f32 = t717 * t3461;
-        let t3463: f32 = t91 * t2829;
-        let t3464: f32 = t3462 - t3463;
-        let t3465: f32 = t89 * t2779;
-        let t3466: f32 = t3464 - t3465;
-        let t3467: f32 = t717 * t2852;
-        let t3468: f32 = t91 * t2824;
-        let t3469: f32 = t3467 - t3468;
-        let t3470: f32 = t59 * t3469;
-        let t3471: f32 = t3466 - t3470;
-        let t3472: f32 = t17 * t3471;
-        let t3473: f32 = t29 * t2862;
-        let t3474: f32 = t3472 - t3473;
-        let t3475: f32 = t148 * t3007;
-        let t3476: f32 = t738 * t2992;
-        let t3477: f32 = t201 * t2964;
-        let t3478: f32 = t3476 + t3477;
-        let t3479: f32 = t169 * t3478;
-        let t3480: f32 = t2968 - t2966;
-        let t3481: f32 = t201 * t3480;
-        let t3482: f32 = t2994 - t2996;
-        let t3483: f32 = t738 * t3482;
-        let t3484: f32 = t3481 - t3483;
-        let t3485: f32 = t199 * t2919;
-        let t3486: f32 = t3484 - t3485;
-        let t3487: f32 = t3479 + t3486;
-        let t3488: f32 = -t3487;
-        let t3489: f32 = t141 * t3488;
-        let t3490: f32 = t3475 - t3489;
-        let t3491: f32 = t3474 + t3490;
-        let t3492: f32 = t3460 + t3491;
-        let t3493: f32 = t262 * t3143;
-        let t3494: f32 = t299 * t3055;
-        let t3495: f32 = t3129 - t3131;
-        let t3496: f32 = t763 * t3495;
-        let t3497: f32 = t3103 - t3101;
-        let t3498: f32 = t302 * t3497;
-        let t3499: f32 = t3496 - t3498;
-        let t3500: f32 = t3494 + t3499;
-        let t3501: f32 = t763 * t3127;
-        let t3502: f32 = t302 * t3099;
-        let t3503: f32 = t3501 + t3502;
-        let t3504: f32 = t285 * t3503;
-        let t3505: f32 = t3500 - t3504;
-        let t3506: f32 = t253 * t3505;
-        let t3507: f32 = t3493 - t3506;
-        let t3508: f32 = t3227 - t3225;
-        let t3509: f32 = t784 * t3508;
-        let t3510: f32 = t429 * t3269;
-        let t3511: f32 = t3509 - t3510;
-        let t3512: f32 = t427 * t3192;
-        let t3513: f32 = t3511 - t3512;
-        let t3514: f32 = t784 * t3223;
-        let t3515: f32 = t429 * t3264;
-        let t3516: f32 = t3514 - t3515;
-        let t3517: f32 = t398 * t3516;
-        let t3518: f32 = t3513 - t3517;
-        let t3519: f32 = t366 * t3518;
-        let t3520: f32 = t375 * t3279;
-        let t3521: f32 = t3519 - t3520;
-        let t3522: f32 = t3507 + t3521;
-        let t3523: f32 = t484 * t3414;
-        let t3524: f32 = t805 * t3358;
-        let t3525: f32 = t536 * t3399;
-        let t3526: f32 = t3524 + t3525;
-        let t3527: f32 = t505 * t3526;
-        let t3528: f32 = t3403 - t3401;
-        let t3529: f32 = t536 * t3528;
-        let t3530: f32 = t3360 - t3362;
-        let t3531: f32 = t805 * t3530;
-        let t3532: f32 = t3529 - t3531;
-        let t3533: f32 = t534 * t3327;
-        let t3534: f32 = t3532 - t3533;
-        let t3535: f32 = t3527 + t3534;
-        let t3536: f32 = -t3535;
-        let t3537: f32 = t478 * t3536;
-        let t3538: f32 = t3523 - t3537;
-        let t3539: f32 = t826 * t2642;
-        let t3540: f32 = t628 * t2614;
-        let t3541: f32 = t3539 - t3540;
-        let t3542: f32 = t611 * t3541;
-        let t3543: f32 = t625 * t2570;
-        let t3544: f32 = t628 * t2619;
-        let t3545: f32 = t2646 - t2644;
-        let t3546: f32 = t826 * t3545;
-        let t3547: f32 = t3544 - t3546;
-        let t3548: f32 = t3543 + t3547;
-        let t3549: f32 = t3542 + t3548;
-        let t3550: f32 = -t3549;
-        let t3551: f32 = t585 * t3550;
-        let t3552: f32 = t591 * t2658;
-        let t3553: f32 = t3551 - t3552;
-        let t3554: f32 = t3538 + t3553;
-        let t3555: f32 = t3522 + t3554;
-        let t3556: f32 = t3492 + t3555;
-        let t3557: f32 = t0 * 3.5316;
-        let t3558: f32 = t3556 + t3557;
-        let t3559: f32 = t1199 * t2199;
-        let t3560: f32 = t3558 * t3559;
-        let t3561: f32 = t31 * t41;
-        let t3562: f32 = t29 * t43;
-        let t3563: f32 = t3561 - t3562;
-        let t3564: f32 = t2682 * t3563;
-        let t3565: f32 = t1200 * t2677;
-        let t3566: f32 = t3564 - t3565;
-        let t3567: f32 = t150 * t151;
-        let t3568: f32 = t148 * t153;
-        let t3569: f32 = t3567 - t3568;
-        let t3570: f32 = t2693 * t3569;
-        let t3571: f32 = t264 * t267;
-        let t3572: f32 = t262 * t269;
-        let t3573: f32 = t3571 - t3572;
-        let t3574: f32 = t2688 * t3573;
-        let t3575: f32 = t3570 - t3574;
-        let t3576: f32 = t3566 + t3575;
-        let t3577: f32 = t377 * t380;
-        let t3578: f32 = t375 * t382;
-        let t3579: f32 = t3577 - t3578;
-        let t3580: f32 = t2724 * t3579;
-        let t3581: f32 = t486 * t487;
-        let t3582: f32 = t484 * t489;
-        let t3583: f32 = t3581 - t3582;
-        let t3584: f32 = t2729 * t3583;
-        let t3585: f32 = t3580 + t3584;
-        let t3586: f32 = t14 * t2716;
-        let t3587: f32 = t10 * t2712;
-        let t3588: f32 = t3586 - t3587;
-        let t3589: f32 = t592 * t593;
-        let t3590: f32 = t591 * t595;
-        let t3591: f32 = t3589 - t3590;
-        let t3592: f32 = t2700 * t3591;
-        let t3593: f32 = t3588 - t3592;
-        let t3594: f32 = t3585 + t3593;
-        let t3595: f32 = t3576 + t3594;
-        let t3596: f32 = t41 * t3471;
-        let t3597: f32 = t29 * t2869;
-        let t3598: f32 = t3596 - t3597;
-        let t3599: f32 = t3595 + t3598;
-        let t3600: f32 = t151 * t3488;
-        let t3601: f32 = t148 * t3001;
-        let t3602: f32 = t3600 - t3601;
-        let t3603: f32 = t267 * t3505;
-        let t3604: f32 = t262 * t3137;
-        let t3605: f32 = t3603 + t3604;
-        let t3606: f32 = t3602 + t3605;
-        let t3607: f32 = t3599 - t3606;
-        let t3608: f32 = t380 * t3518;
-        let t3609: f32 = t375 * t3273;
-        let t3610: f32 = t3608 + t3609;
-        let t3611: f32 = t487 * t3536;
-        let t3612: f32 = t484 * t3408;
-        let t3613: f32 = t3611 + t3612;
-        let t3614: f32 = t3610 - t3613;
-        let t3615: f32 = t593 * t3550;
-        let t3616: f32 = t591 * t2651;
-        let t3617: f32 = t3615 + t3616;
-        let t3618: f32 = t1754 * t3421;
-        let t3619: f32 = t1756 * t3558;
+        let t3397: f32 = t3393 + t3396;
+        let t3398: f32 = t3395 - t3397;
+        let t3399: f32 = t170 * t301;
+        let t3400: f32 = t3398 * t3399;
+        let t3401: f32 = t3387 - t3400;
+        let t3402: f32 = -t3401;
+        let t3403: f32 = 1.0 / t3361;
+        let t3404: f32 = t3402 * t3403;
+        let t3405: f32 = t3402 * t3404;
+        let t3406: f32 = t3386 + t3405;
+        let t3407: f32 = t3371 - t3406;
+        let t3408: f32 = t3407 / t3371;
+        let t3409: f32 = t2736 * t2736;
+        let t3410: f32 = t486 * t3409;
+        let t3411: f32 = t1880 * t1880;
+        let t3412: f32 = t486 * t3411;
+        let t3413: f32 = t2600 * t2600;
+        let t3414: f32 = t486 * t3413;
+        let t3415: f32 = t3412 + t3414;
+        let t3416: f32 = t3410 + t3415;
+        let t3417: f32 = t3416 + 1.0;
+        let t3418: f32 = t1838 * t1880;
+        let t3419: f32 = t2584 * t2600;
+        let t3420: f32 = t2720 * t2736;
+        let t3421: f32 = t36 * t424;
+        let t3422: f32 = t29 * t419;
+        let t3423: f32 = t39 * t427;
+        let t3424: f32 = t3418 + t3419;
+        let t3425: f32 = t3420 + t3421;
+        let t3426: f32 = t3422 + t3423;
+        let t3427: f32 = t3424 + t3425;
+        let t3428: f32 = t3426 + t3427;
+        let t3429: f32 = t44 * t432;
+        let t3430: f32 = t3428 * t3429;
+        let t3431: f32 = t3358 * t3430;
+        let t3432: f32 = t3430 * t3431;
+        let t3433: f32 = t3359 * t3430;
+        let t3434: f32 = t1849 * t1880;
+        let t3435: f32 = t2590 * t2600;
+        let t3436: f32 = t2726 * t2736;
+        let t3437: f32 = t162 * t424;
+        let t3438: f32 = t159 * t419;
+        let t3439: f32 = t165 * t427;
+        let t3440: f32 = t3434 + t3435;
+        let t3441: f32 = t3436 + t3437;
+        let t3442: f32 = t3438 + t3439;
+        let t3443: f32 = t3440 + t3441;
+        let t3444: f32 = t3442 + t3443;
+        let t3445: f32 = t170 * t432;
+        let t3446: f32 = t3444 * t3445;
+        let t3447: f32 = t3433 - t3446;
+        let t3448: f32 = -t3447;
+        let t3449: f32 = t3403 * t3448;
+        let t3450: f32 = t3448 * t3449;
+        let t3451: f32 = t3385 * t3430;
+        let t3452: f32 = t3404 * t3448;
+        let t3453: f32 = t1844 * t1880;
+        let t3454: f32 = t2594 * t2600;
+        let t3455: f32 = t2730 * t2736;
+        let t3456: f32 = t293 * t424;
+        let t3457: f32 = t288 * t419;
+        let t3458: f32 = t296 * t427;
+        let t3459: f32 = t3453 + t3454;
+        let t3460: f32 = t3455 + t3459;
+        let t3461: f32 = t3456 + t3457;
+        let t3462: f32 = t3458 + t3461;
+        let t3463: f32 = t3460 - t3462;
+        let t3464: f32 = t301 * t432;
+        let t3465: f32 = t3463 * t3464;
+        let t3466: f32 = t3451 + t3452;
+        let t3467: f32 = t3466 - t3465;
+        let t3468: f32 = -t3467;
+        let t3469: f32 = 1.0 / t3407;
+        let t3470: f32 = t3468 * t3469;
+        let t3471: f32 = t3468 * t3470;
+        let t3472: f32 = t3432 + t3450;
+        let t3473: f32 = t3471 + t3472;
+        let t3474: f32 = t3417 - t3473;
+        let t3475: f32 = t3474 / t3417;
+        let t3476: f32 = t2740 * t2740;
+        let t3477: f32 = t610 * t3476;
+        let t3478: f32 = t1885 * t1885;
+        let t3479: f32 = t610 * t3478;
+        let t3480: f32 = t2604 * t2604;
+        let t3481: f32 = t610 * t3480;
+        let t3482: f32 = t3479 + t3481;
+        let t3483: f32 = t3477 + t3482;
+        let t3484: f32 = t3483 + 1.0;
+        let t3485: f32 = t1838 * t1885;
+        let t3486: f32 = t2584 * t2604;
+        let t3487: f32 = t2720 * t2740;
+        let t3488: f32 = t36 * t549;
+        let t3489: f32 = t29 * t546;
+        let t3490: f32 = t39 * t552;
+        let t3491: f32 = t3485 + t3486;
+        let t3492: f32 = t3487 + t3488;
+        let t3493: f32 = t3489 + t3490;
+        let t3494: f32 = t3491 + t3492;
+        let t3495: f32 = t3493 + t3494;
+        let t3496: f32 = t44 * t557;
+        let t3497: f32 = t3495 * t3496;
+        let t3498: f32 = t3358 * t3497;
+        let t3499: f32 = t3497 * t3498;
+        let t3500: f32 = t3359 * t3497;
+        let t3501: f32 = t1849 * t1885;
+        let t3502: f32 = t2590 * t2604;
+        let t3503: f32 = t2726 * t2740;
+        let t3504: f32 = t162 * t549;
+        let t3505: f32 = t159 * t546;
+        let t3506: f32 = t165 * t552;
+        let t3507: f32 = t3501 + t3502;
+        let t3508: f32 = t3503 + t3504;
+        let t3509: f32 = t3505 + t3506;
+        let t3510: f32 = t3507 + t3508;
+        let t3511: f32 = t3509 + t3510;
+        let t3512: f32 = t170 * t557;
+        let t3513: f32 = t3511 * t3512;
+        let t3514: f32 = t3500 - t3513;
+        let t3515: f32 = -t3514;
+        let t3516: f32 = t3403 * t3515;
+        let t3517: f32 = t3515 * t3516;
+        let t3518: f32 = t3385 * t3497;
+        let t3519: f32 = t3404 * t3515;
+        let t3520: f32 = t1844 * t1885;
+        let t3521: f32 = t2594 * t2604;
+        let t3522: f32 = t2730 * t2740;
+        let t3523: f32 = t293 * t549;
+        let t3524: f32 = t288 * t546;
+        let t3525: f32 = t296 * t552;
+        let t3526: f32 = t3520 + t3521;
+        let t3527: f32 = t3522 + t3526;
+        let t3528: f32 = t3523 + t3524;
+        let t3529: f32 = t3525 + t3528;
+        let t3530: f32 = t3527 - t3529;
+        let t3531: f32 = t301 * t557;
+        let t3532: f32 = t3530 * t3531;
+        let t3533: f32 = t3518 + t3519;
+        let t3534: f32 = t3533 - t3532;
+        let t3535: f32 = -t3534;
+        let t3536: f32 = t3469 * t3535;
+        let t3537: f32 = t3535 * t3536;
+        let t3538: f32 = t3431 * t3497;
+        let t3539: f32 = t3449 * t3515;
+        let t3540: f32 = t3470 * t3535;
+        let t3541: f32 = t1880 * t1885;
+        let t3542: f32 = t2600 * t2604;
+        let t3543: f32 = t2736 * t2740;
+        let t3544: f32 = t424 * t549;
+        let t3545: f32 = t419 * t546;
+        let t3546: f32 = t427 * t552;
+        let t3547: f32 = t3541 + t3542;
+        let t3548: f32 = t3543 + t3544;
+        let t3549: f32 = t3545 + t3546;
+        let t3550: f32 = t3547 + t3548;
+        let t3551: f32 = t3549 + t3550;
+        let t3552: f32 = t432 * t557;
+        let t3553: f32 = t3551 * t3552;
+        let t3554: f32 = t3538 + t3539;
+        let t3555: f32 = t3540 + t3554;
+        let t3556: f32 = t3555 - t3553;
+        let t3557: f32 = -t3556;
+        let t3558: f32 = 1.0 / t3474;
+        let t3559: f32 = t3557 * t3558;
+        let t3560: f32 = t3557 * t3559;
+        let t3561: f32 = t3499 + t3517;
+        let t3562: f32 = t3537 + t3560;
+        let t3563: f32 = t3561 + t3562;
+        let t3564: f32 = t3484 - t3563;
+        let t3565: f32 = t3564 / t3484;
+        let t3566: f32 = t2748 * t2748;
+        let t3567: f32 = t733 * t3566;
+        let t3568: f32 = t1856 * t1856;
+        let t3569: f32 = t733 * t3568;
+        let t3570: f32 = t2612 * t2612;
+        let t3571: f32 = t733 * t3570;
+        let t3572: f32 = t3569 + t3571;
+        let t3573: f32 = t3567 + t3572;
+        let t3574: f32 = t3573 + 1.0;
+        let t3575: f32 = t1838 * t1856;
+        let t3576: f32 = t2584 * t2612;
+        let t3577: f32 = t2720 * t2748;
+        let t3578: f32 = t36 * t672;
+        let t3579: f32 = t29 * t670;
+        let t3580: f32 = t39 * t675;
+        let t3581: f32 = t3575 + t3576;
+        let t3582: f32 = t3577 + t3581;
+        let t3583: f32 = t3578 + t3579;
+        let t3584: f32 = t3580 + t3583;
+        let t3585: f32 = t3582 - t3584;
+        let t3586: f32 = t44 * t680;
+        let t3587: f32 = t3585 * t3586;
+        let t3588: f32 = t3358 * t3587;
+        let t3589: f32 = t3587 * t3588;
+        let t3590: f32 = t3359 * t3587;
+        let t3591: f32 = t1849 * t1856;
+        let t3592: f32 = t2590 * t2612;
+        let t3593: f32 = t2726 * t2748;
+        let t3594: f32 = t162 * t672;
+        let t3595: f32 = t159 * t670;
+        let t3596: f32 = t165 * t675;
+        let t3597: f32 = t3591 + t3592;
+        let t3598: f32 = t3593 + t3597;
+        let t3599: f32 = t3594 + t3595;
+        let t3600: f32 = t3596 + t3599;
+        let t3601: f32 = t3598 - t3600;
+        let t3602: f32 = t170 * t680;
+        let t3603: f32 = t3601 * t3602;
+        let t3604: f32 = t3590 - t3603;
+        let t3605: f32 = -t3604;
+        let t3606: f32 = t3403 * t3605;
+        let t3607: f32 = t3605 * t3606;
+        let t3608: f32 = t3385 * t3587;
+        let t3609: f32 = t3404 * t3605;
+        let t3610: f32 = t1844 * t1856;
+        let t3611: f32 = t2594 * t2612;
+        let t3612: f32 = t2730 * t2748;
+        let t3613: f32 = t293 * t672;
+        let t3614: f32 = t288 * t670;
+        let t3615: f32 = t296 * t675;
+        let t3616: f32 = t3610 + t3611;
+        let t3617: f32 = t3612 + t3613;
+        let t3618: f32 = t3614 + t3615;
+        let t3619: f32 = t3616 + t3617;
         let t3620: f32 = t3618 + t3619;
-        let t3621: f32 = t3617 + t3620;
-        let t3622: f32 = t3614 + t3621;
-        let t3623: f32 = t3607 + t3622;
-        let t3624: f32 = t1753 * t2292;
-        let t3625: f32 = t3623 * t3624;
-        let t3626: f32 = t3487 + t3505;
-        let t3627: f32 = t3518 + t3535;
-        let t3628: f32 = t3626 + t3627;
-        let t3629: f32 = g1 * t31;
-        let t3630: f32 = t59 * t3629;
-        let t3631: f32 = g2 * t150;
-        let t3632: f32 = t169 * t3631;
-        let t3633: f32 = t3630 + t3632;
-        let t3634: f32 = g3 * t264;
-        let t3635: f32 = t285 * t3634;
-        let t3636: f32 = g4 * t377;
-        let t3637: f32 = t398 * t3636;
-        let t3638: f32 = t3635 + t3637;
-        let t3639: f32 = t3633 + t3638;
-        let t3640: f32 = g5 * t486;
-        let t3641: f32 = t505 * t3640;
-        let t3642: f32 = g6 * t592;
-        let t3643: f32 = t611 * t3642;
-        let t3644: f32 = t3641 + t3643;
-        let t3645: f32 = wx * t3;
-        let t3646: f32 = t1 * t3645;
-        let t3647: f32 = wy * t0;
-        let t3648: f32 = t3646 + t3647;
-        let t3649: f32 = t3648 * 0.36;
-        let t3650: f32 = wy * t3649;
-        let t3651: f32 = wz * t0;
-        let t3652: f32 = wx * t4;
-        let t3653: f32 = t1 * t3652;
-        let t3654: f32 = t3651 - t3653;
-        let t3655: f32 = t3654 * 0.36;
-        let t3656: f32 = wz * t3655;
-        let t3657: f32 = t3650 + t3656;
-        let t3658: f32 = t3644 + t3657;
-        let t3659: f32 = t3639 + t3658;
-        let t3660: f32 = t3549 + t3659;
-        let t3661: f32 = t1943 * t3623;
-        let t3662: f32 = t3471 + t3661;
-        let t3663: f32 = t1907 * t3421;
-        let t3664: f32 = t1923 * t3558;
-        let t3665: f32 = t3663 + t3664;
-        let t3666: f32 = t3662 - t3665;
-        let t3667: f32 = t3660 + t3666;
-        let t3668: f32 = t3628 + t3667;
-        let t3669: f32 = t1887 * t2335;
-        let t3670: f32 = t3668 * t3669;
-        let t3671: f32 = t3135 + t3272;
-        let t3672: f32 = t2650 + t3407;
-        let t3673: f32 = t3671 + t3672;
-        let t3674: f32 = wy * t4;
-        let t3675: f32 = wz * t3;
+        let t3621: f32 = t301 * t680;
+        let t3622: f32 = t3620 * t3621;
+        let t3623: f32 = t3608 + t3609;
+        let t3624: f32 = t3623 - t3622;
+        let t3625: f32 = -t3624;
+        let t3626: f32 = t3469 * t3625;
+        let t3627: f32 = t3625 * t3626;
+        let t3628: f32 = t3431 * t3587;
+        let t3629: f32 = t3449 * t3605;
+        let t3630: f32 = t3470 * t3625;
+        let t3631: f32 = t1856 * t1880;
+        let t3632: f32 = t2600 * t2612;
+        let t3633: f32 = t2736 * t2748;
+        let t3634: f32 = t424 * t672;
+        let t3635: f32 = t419 * t670;
+        let t3636: f32 = t427 * t675;
+        let t3637: f32 = t3631 + t3632;
+        let t3638: f32 = t3633 + t3637;
+        let t3639: f32 = t3634 + t3635;
+        let t3640: f32 = t3636 + t3639;
+        let t3641: f32 = t3638 - t3640;
+        let t3642: f32 = t432 * t680;
+        let t3643: f32 = t3641 * t3642;
+        let t3644: f32 = t3628 + t3629;
+        let t3645: f32 = t3630 + t3644;
+        let t3646: f32 = t3645 - t3643;
+        let t3647: f32 = -t3646;
+        let t3648: f32 = t3558 * t3647;
+        let t3649: f32 = t3647 * t3648;
+        let t3650: f32 = t3498 * t3587;
+        let t3651: f32 = t3516 * t3605;
+        let t3652: f32 = t3536 * t3625;
+        let t3653: f32 = t3559 * t3647;
+        let t3654: f32 = t1856 * t1885;
+        let t3655: f32 = t2604 * t2612;
+        let t3656: f32 = t2740 * t2748;
+        let t3657: f32 = t549 * t672;
+        let t3658: f32 = t546 * t670;
+        let t3659: f32 = t552 * t675;
+        let t3660: f32 = t3654 + t3655;
+        let t3661: f32 = t3656 + t3660;
+        let t3662: f32 = t3657 + t3658;
+        let t3663: f32 = t3659 + t3662;
+        let t3664: f32 = t3661 - t3663;
+        let t3665: f32 = t557 * t680;
+        let t3666: f32 = t3664 * t3665;
+        let t3667: f32 = t3650 + t3651;
+        let t3668: f32 = t3652 + t3653;
+        let t3669: f32 = t3667 + t3668;
+        let t3670: f32 = t3669 - t3666;
+        let t3671: f32 = -t3670;
+        let t3672: f32 = t3671 / t3564;
+        let t3673: f32 = t3671 * t3672;
+        let t3674: f32 = t3589 + t3607;
+        let t3675: f32 = t3627 + t3649;
         let t3676: f32 = t3674 + t3675;
-        let t3677: f32 = t3676 * 0.36;
-        let t3678: f32 = wz * t1;
-        let t3679: f32 = t3677 * t3678;
-        let t3680: f32 = t2571 - t3679;
-        let t3681: f32 = g1 * t43;
-        let t3682: f32 = t59 * t3681;
-        let t3683: f32 = g2 * t153;
-        let t3684: f32 = t169 * t3683;
-        let t3685: f32 = t3682 + t3684;
-        let t3686: f32 = g3 * t269;
-        let t3687: f32 = t285 * t3686;
-        let t3688: f32 = g4 * t382;
-        let t3689: f32 = t398 * t3688;
-        let t3690: f32 = t3687 + t3689;
-        let t3691: f32 = t3685 + t3690;
-        let t3692: f32 = t3680 + t3691;
-        let t3693: f32 = g5 * t489;
-        let t3694: f32 = t505 * t3693;
-        let t3695: f32 = g6 * t595;
-        let t3696: f32 = t611 * t3695;
-        let t3697: f32 = t3694 + t3696;
-        let t3698: f32 = wx * t3649;
-        let t3699: f32 = t2864 + t3698;
-        let t3700: f32 = t3697 - t3699;
-        let t3701: f32 = t3056 - t2920;
-        let t3702: f32 = t3193 + t3328;
-        let t3703: f32 = t3701 - t3702;
-        let t3704: f32 = t3700 + t3703;
-        let t3705: f32 = t3692 + t3704;
-        let t3706: f32 = t2183 * t3421;
-        let t3707: f32 = t2200 * t3558;
-        let t3708: f32 = t3706 + t3707;
-        let t3709: f32 = t3705 + t3708;
-        let t3710: f32 = t2293 * t3623;
-        let t3711: f32 = t2336 * t3668;
-        let t3712: f32 = t3710 - t3711;
-        let t3713: f32 = t2867 + t3000;
-        let t3714: f32 = t3712 - t3713;
-        let t3715: f32 = t3709 + t3714;
-        let t3716: f32 = t3673 + t3715;
-        let t3717: f32 = t2163 * t2370;
-        let t3718: f32 = t3716 * t3717;
-        let t3719: f32 = g3 * t254;
-        let t3720: f32 = t285 * t3719;
-        let t3721: f32 = g4 * t367;
-        let t3722: f32 = t398 * t3721;
-        let t3723: f32 = t3720 + t3722;
-        let t3724: f32 = g5 * t479;
-        let t3725: f32 = t505 * t3724;
-        let t3726: f32 = g6 * t586;
-        let t3727: f32 = t611 * t3726;
-        let t3728: f32 = t3725 + t3727;
-        let t3729: f32 = t3723 + t3728;
-        let t3730: f32 = wy * t1;
-        let t3731: f32 = t3677 * t3730;
-        let t3732: f32 = g1 * t18;
-        let t3733: f32 = t59 * t3732;
-        let t3734: f32 = g2 * t142;
-        let t3735: f32 = t169 * t3734;
-        let t3736: f32 = t3733 + t3735;
-        let t3737: f32 = t3731 + t3736;
-        let t3738: f32 = wx * t3655;
-        let t3739: f32 = t2780 + t3738;
-        let t3740: f32 = t3737 - t3739;
-        let t3741: f32 = t3729 + t3740;
-        let t3742: f32 = t3423 + t3560;
-        let t3743: f32 = t3143 + t3625;
-        let t3744: f32 = t2657 + t3279;
-        let t3745: f32 = t3742 + t3743;
-        let t3746: f32 = t3741 + t3744;
-        let t3747: f32 = t3745 + t3746;
-        let t3748: f32 = t3670 + t3718;
-        let t3749: f32 = t2860 + t3007;
-        let t3750: f32 = t3414 + 117.72;
-        let t3751: f32 = t3748 + t3749;
-        let t3752: f32 = t3750 + t3751;
-        let t3753: f32 = t3747 - t3752;
-        let t3754: f32 = t2370 * t2524;
-        let t3755: f32 = t3753 * t3754;
-        let t3756: f32 = t3716 - t3755;
-        let t3757: f32 = t2012 * t2163;
-        let t3758: f32 = t3756 * t3757;
-        let t3759: f32 = t2335 * t2524;
-        let t3760: f32 = t3753 * t3759;
-        let t3761: f32 = t3758 + t3760;
-        let t3762: f32 = t3668 - t3761;
-        let t3763: f32 = t1229 * t1887;
-        let t3764: f32 = t3762 * t3763;
-        let t3765: f32 = t1922 * t2163;
-        let t3766: f32 = t3756 * t3765;
-        let t3767: f32 = t1773 * t1887;
-        let t3768: f32 = t3762 * t3767;
-        let t3769: f32 = t1942 * t2163;
-        let t3770: f32 = t3756 * t3769;
-        let t3771: f32 = t2292 * t2524;
-        let t3772: f32 = t3753 * t3771;
-        let t3773: f32 = t3768 + t3770;
-        let t3774: f32 = t3623 + t3772;
-        let t3775: f32 = t3773 + t3774;
-        let t3776: f32 = -t3775;
-        let t3777: f32 = t1753 * t3776;
-        let t3778: f32 = -t3777;
-        let t3779: f32 = t1733 * t3778;
-        let t3780: f32 = t2199 * t2524;
-        let t3781: f32 = t3753 * t3780;
-        let t3782: f32 = t3557 + t3766;
-        let t3783: f32 = t3779 + t3781;
-        let t3784: f32 = t3782 + t3783;
-        let t3785: f32 = t3556 + t3784;
-        let t3786: f32 = t3785 - t3764;
-        let t3787: f32 = t856 * t1199;
-        let t3788: f32 = t3786 * t3787;
-        let t3789: f32 = t1212 * t1887;
-        let t3790: f32 = t3762 * t3789;
-        let t3791: f32 = t1906 * t2163;
-        let t3792: f32 = t3756 * t3791;
-        let t3793: f32 = t1626 * t3778;
-        let t3794: f32 = t2182 * t2524;
-        let t3795: f32 = t3753 * t3794;
-        let t3796: f32 = t3420 + t3792;
-        let t3797: f32 = t3793 + t3795;
-        let t3798: f32 = t3796 + t3797;
-        let t3799: f32 = t3419 + t3798;
-        let t3800: f32 = t3788 + t3790;
-        let t3801: f32 = t3799 - t3800;
-        let t3802: f32 = t710 * t3801;
-        let t3803: f32 = t1199 * t3786;
-        let t3804: f32 = t91 * t2802;
-        let t3805: f32 = t2814 * t3804;
-        let t3806: f32 = t2818 + t2821;
-        let t3807: f32 = t3806 - t2819;
-        let t3808: f32 = t725 * t3807;
-        let t3809: f32 = t721 * t2852;
-        let t3810: f32 = t3808 - t3809;
-        let t3811: f32 = t3466 + t3810;
-        let t3812: f32 = t3805 * 0.003;
-        let t3813: f32 = t3811 + t3812;
-        let t3814: f32 = t41 * t3813;
-        let t3815: f32 = t64 * t86;
-        let t3816: f32 = t2814 * t3815;
-        let t3817: f32 = t93 * t3461;
-        let t3818: f32 = t52 * t2829;
-        let t3819: f32 = t3817 - t3818;
-        let t3820: f32 = t86 * t3807;
-        let t3821: f32 = t108 * t2852;
-        let t3822: f32 = t3820 - t3821;
-        let t3823: f32 = t3819 + t3822;
-        let t3824: f32 = t3816 * 0.003;
-        let t3825: f32 = t3823 + t3824;
-        let t3826: f32 = t3825 - t2864;
-        let t3827: f32 = t29 * t3826;
-        let t3828: f32 = t201 * t2942;
-        let t3829: f32 = t2954 * t3828;
-        let t3830: f32 = t2958 - t2962;
-        let t3831: f32 = t746 * t3830;
-        let t3832: f32 = t742 * t2992;
-        let t3833: f32 = t3831 - t3832;
-        let t3834: f32 = t3486 - t3833;
-        let t3835: f32 = t3829 * 0.003;
-        let t3836: f32 = t3835 - t3834;
-        let t3837: f32 = t151 * t3836;
-        let t3838: f32 = t174 * t196;
-        let t3839: f32 = t2954 * t3838;
-        let t3840: f32 = t203 * t3482;
-        let t3841: f32 = t162 * t3480;
-        let t3842: f32 = t3840 - t3841;
-        let t3843: f32 = t196 * t3830;
-        let t3844: f32 = t218 * t2992;
-        let t3845: f32 = t3843 - t3844;
-        let t3846: f32 = t3842 + t3845;
-        let t3847: f32 = t3839 * 0.003;
-        let t3848: f32 = t2920 + t3846;
-        let t3849: f32 = t3847 + t3848;
-        let t3850: f32 = t148 * t3849;
-        let t3851: f32 = t302 * t3077;
-        let t3852: f32 = t3089 * t3851;
-        let t3853: f32 = t3097 - t3096;
-        let t3854: f32 = t758 * t3853;
-        let t3855: f32 = t767 * t3127;
-        let t3856: f32 = t3854 - t3855;
-        let t3857: f32 = t3500 + t3856;
-        let t3858: f32 = t3852 * 0.003;
-        let t3859: f32 = t3857 + t3858;
-        let t3860: f32 = t267 * t3859;
-        let t3861: f32 = t290 * t340;
-        let t3862: f32 = t3089 * t3861;
-        let t3863: f32 = t304 * t3495;
-        let t3864: f32 = t278 * t3497;
-        let t3865: f32 = t3863 + t3864;
-        let t3866: f32 = t340 * t3853;
-        let t3867: f32 = t330 * t3127;
-        let t3868: f32 = t3866 + t3867;
-        let t3869: f32 = t3865 - t3868;
-        let t3870: f32 = t3862 * 0.003;
-        let t3871: f32 = t3056 + t3870;
-        let t3872: f32 = t3869 - t3871;
-        let t3873: f32 = t262 * t3872;
-        let t3874: f32 = t429 * t3202;
-        let t3875: f32 = t3254 * t3874;
-        let t3876: f32 = t3258 + t3261;
-        let t3877: f32 = t3876 - t3259;
-        let t3878: f32 = t779 * t3877;
-        let t3879: f32 = t785 * t3223;
-        let t3880: f32 = t3878 - t3879;
-        let t3881: f32 = t3513 + t3880;
-        let t3882: f32 = t3875 * 0.003;
-        let t3883: f32 = t3881 + t3882;
-        let t3884: f32 = t380 * t3883;
-        let t3885: f32 = t403 * t424;
-        let t3886: f32 = t3254 * t3885;
-        let t3887: f32 = t431 * t3508;
-        let t3888: f32 = t391 * t3269;
-        let t3889: f32 = t3887 + t3888;
-        let t3890: f32 = t424 * t3877;
-        let t3891: f32 = t446 * t3223;
-        let t3892: f32 = t3890 + t3891;
-        let t3893: f32 = t3889 - t3892;
-        let t3894: f32 = t3886 * 0.003;
-        let t3895: f32 = t3193 + t3893;
-        let t3896: f32 = t3895 - t3894;
-        let t3897: f32 = t375 * t3896;
-        let t3898: f32 = t536 * t3337;
-        let t3899: f32 = t3389 * t3898;
-        let t3900: f32 = t3393 - t3397;
-        let t3901: f32 = t800 * t3900;
-        let t3902: f32 = t806 * t3358;
-        let t3903: f32 = t3901 - t3902;
-        let t3904: f32 = t3534 - t3903;
-        let t3905: f32 = t3899 * 0.003;
-        let t3906: f32 = t3905 - t3904;
-        let t3907: f32 = t487 * t3906;
-        let t3908: f32 = t510 * t531;
-        let t3909: f32 = t3389 * t3908;
-        let t3910: f32 = t538 * t3530;
-        let t3911: f32 = t498 * t3528;
-        let t3912: f32 = t3910 + t3911;
-        let t3913: f32 = t531 * t3900;
-        let t3914: f32 = t553 * t3358;
-        let t3915: f32 = t3913 + t3914;
-        let t3916: f32 = t3912 - t3915;
-        let t3917: f32 = t3909 * 0.003;
-        let t3918: f32 = t3328 + t3917;
-        let t3919: f32 = t3916 - t3918;
-        let t3920: f32 = t484 * t3919;
-        let t3921: f32 = t628 * t2592;
-        let t3922: f32 = t2604 * t3921;
-        let t3923: f32 = t2611 - t2613;
-        let t3924: f32 = t821 * t3923;
-        let t3925: f32 = t830 * t2642;
-        let t3926: f32 = t3924 - t3925;
-        let t3927: f32 = t3548 - t3926;
-        let t3928: f32 = t3922 * 0.003;
-        let t3929: f32 = t3928 - t3927;
-        let t3930: f32 = t593 * t3929;
-        let t3931: f32 = t616 * t666;
-        let t3932: f32 = t2604 * t3931;
-        let t3933: f32 = t630 * t3545;
-        let t3934: f32 = t604 * t2619;
-        let t3935: f32 = t3933 + t3934;
-        let t3936: f32 = t666 * t3923;
-        let t3937: f32 = t656 * t2642;
-        let t3938: f32 = t3936 + t3937;
-        let t3939: f32 = t3935 - t3938;
-        let t3940: f32 = t3932 * 0.003;
-        let t3941: f32 = t2571 + t3939;
-        let t3942: f32 = t3941 - t3940;
-        let t3943: f32 = t591 * t3942;
-        let t3944: f32 = t17 * t3826;
-        let t3945: f32 = t64 * t127;
-        let t3946: f32 = t2814 * t3945;
-        let t3947: f32 = t98 * t3461;
-        let t3948: f32 = t66 * t2829;
-        let t3949: f32 = t3947 - t3948;
-        let t3950: f32 = t127 * t3807;
-        let t3951: f32 = t130 * t2852;
-        let t3952: f32 = t3950 - t3951;
-        let t3953: f32 = t3949 + t3952;
-        let t3954: f32 = t3946 * 0.003;
-        let t3955: f32 = t3953 + t3954;
-        let t3956: f32 = t3955 - t2780;
-        let t3957: f32 = t41 * t3956;
-        let t3958: f32 = t141 * t3849;
-        let t3959: f32 = t174 * t237;
-        let t3960: f32 = t2954 * t3959;
-        let t3961: f32 = t237 * t3830;
-        let t3962: f32 = t3004 + t3961;
-        let t3963: f32 = t240 * t2992;
-        let t3964: f32 = t208 * t3482;
-        let t3965: f32 = t176 * t3480;
-        let t3966: f32 = t3964 - t3965;
-        let t3967: f32 = t3963 - t3966;
-        let t3968: f32 = t3962 - t3967;
-        let t3969: f32 = t3960 * 0.003;
-        let t3970: f32 = t3968 + t3969;
-        let t3971: f32 = t151 * t3970;
-        let t3972: f32 = t253 * t3872;
-        let t3973: f32 = t290 * t351;
-        let t3974: f32 = t3089 * t3973;
-        let t3975: f32 = t351 * t3853;
-        let t3976: f32 = t3140 - t3975;
-        let t3977: f32 = t310 * t3495;
-        let t3978: f32 = t293 * t3497;
-        let t3979: f32 = t3977 + t3978;
-        let t3980: f32 = t354 * t3127;
-        let t3981: f32 = t3979 - t3980;
-        let t3982: f32 = t3976 + t3981;
-        let t3983: f32 = t3974 * 0.003;
-        let t3984: f32 = t3982 - t3983;
-        let t3985: f32 = t267 * t3984;
-        let t3986: f32 = t366 * t3896;
-        let t3987: f32 = t403 * t465;
-        let t3988: f32 = t3254 * t3987;
-        let t3989: f32 = t436 * t3508;
-        let t3990: f32 = t406 * t3269;
-        let t3991: f32 = t3989 + t3990;
-        let t3992: f32 = t471 * t3223;
-        let t3993: f32 = t3991 - t3992;
-        let t3994: f32 = t465 * t3877;
-        let t3995: f32 = t3276 + t3994;
-        let t3996: f32 = t3993 - t3995;
-        let t3997: f32 = t3988 * 0.003;
-        let t3998: f32 = t3996 - t3997;
-        let t3999: f32 = t380 * t3998;
-        let t4000: f32 = t478 * t3919;
-        let t4001: f32 = t510 * t572;
-        let t4002: f32 = t3389 * t4001;
+        let t3677: f32 = t3673 + t3676;
+        let t3678: f32 = t3574 - t3677;
+        let t3679: f32 = t3678 / t3574;
         (
-            t3358,
-            t3411,
-            t3420,
-            t3458,
-            t3528,
-            t3530,
-            t3545,
-            t3557,
-            t3595,
-            t3624,
-            t3659,
-            t3705,
-            t3741,
-            t3756,
-            t3762,
-            t3802,
-            t3803,
-            t3805,
-            t3811,
-            t3813,
-            t3814,
-            t3816,
-            t3823,
-            t3827,
-            t3829,
-            t3834,
-            t3836,
-            t3837,
-            t3839,
-            t3846,
-            t3850,
-            t3852,
-            t3857,
-            t3859,
-            t3860,
-            t3862,
-            t3869,
-            t3873,
-            t3875,
-            t3881,
-            t3883,
-            t3884,
-            t3886,
-            t3893,
-            t3897,
-            t3899,
-            t3900,
-            t3904,
-            t3906,
-            t3907,
-            t3909,
-            t3916,
-            t3920,
-            t3922,
-            t3923,
-            t3927,
-            t3929,
-            t3930,
-            t3932,
-            t3939,
-            t3942,
-            t3943,
-            t3944,
-            t3946,
-            t3953,
-            t3956,
-            t3957,
-            t3958,
-            t3960,
-            t3968,
-            t3970,
-            t3971,
-            t3972,
-            t3974,
-            t3982,
-            t3984,
-            t3985,
-            t3986,
-            t3988,
-            t3996,
-            t3998,
-            t3999,
-            t4000,
-            t4002,
+            t3318,
+            t3319,
+            t3320,
+            t3321,
+            t3322,
+            t3323,
+            t3324,
+            t3325,
+            t3326,
+            t3327,
+            t3335,
+            t3362,
+            t3408,
+            t3475,
+            t3565,
+            t3679,
         )
     };
-    let (t4163, t4164, t4165, t4166, t4167, t4168, t4169, t4170, t4171, t4172) = {
-        let t4003: f32 = t572 * t3900;
-        let t4004: f32 = t3411 - t4003;
-        let t4005: f32 = t578 * t3358;
-        let t4006: f32 = t543 * t3530;
-        let t4007: f32 = t513 * t3528;
-        let t4008: f32 = t4006 + t4007;
-        let t4009: f32 = t4005 - t4008;
-        let t4010: f32 = t4004 - t4009;
-        let t4011: f32 = t4002 * 0.003;
-        let t4012: f32 = t4010 - t4011;
-        let t4013: f32 = t487 * t4012;
-        let t4014: f32 = t585 * t3942;
-        let t4015: f32 = t616 * t677;
-        let t4016: f32 = t2604 * t4015;
-        let t4017: f32 = t677 * t3923;
-        let t4018: f32 = t2654 + t4017;
-        let t4019: f32 = t680 * t2642;
-        let t4020: f32 = t636 * t3545;
-        let t4021: f32 = t619 * t2619;
-        let t4022: f32 = t4020 + t4021;
-        let t4023: f32 = t4019 - t4022;
-        let t4024: f32 = t4018 + t4023;
-        let t4025: f32 = t4016 * 0.003;
-        let t4026: f32 = t4024 + t4025;
-        let t4027: f32 = -t4026;
-        let t4028: f32 = t593 * t4027;
-        let t4029: f32 = t3420 + t3957;
-        let t4030: f32 = t3958 + t3986;
-        let t4031: f32 = t3999 + t4014;
-        let t4032: f32 = t2733 + t4028;
-        let t4033: f32 = t4029 + t4030;
-        let t4034: f32 = t4031 + t4032;
-        let t4035: f32 = t4033 + t4034;
-        let t4036: f32 = t3944 + t3971;
-        let t4037: f32 = t3972 + t3985;
-        let t4038: f32 = t4000 + t4013;
-        let t4039: f32 = t4036 + t4037;
-        let t4040: f32 = t4038 + t4039;
-        let t4041: f32 = t4035 - t4040;
-        let t4042: f32 = t710 * t4041;
-        let t4043: f32 = t1626 * t4042;
-        let t4044: f32 = t17 * t3813;
-        let t4045: f32 = t29 * t3956;
-        let t4046: f32 = t141 * t3836;
-        let t4047: f32 = t148 * t3970;
-        let t4048: f32 = t253 * t3859;
-        let t4049: f32 = t262 * t3984;
-        let t4050: f32 = t366 * t3883;
-        let t4051: f32 = t375 * t3998;
-        let t4052: f32 = t478 * t3906;
-        let t4053: f32 = t484 * t4012;
-        let t4054: f32 = t585 * t3929;
-        let t4055: f32 = t591 * t4027;
-        let t4056: f32 = t856 * t4042;
-        let t4057: f32 = t3557 + t4044;
-        let t4058: f32 = t4047 + t4049;
-        let t4059: f32 = t4050 + t4053;
-        let t4060: f32 = t3458 + t4054;
-        let t4061: f32 = t4057 + t4058;
-        let t4062: f32 = t4059 + t4060;
-        let t4063: f32 = t4061 + t4062;
-        let t4064: f32 = t4045 + t4046;
-        let t4065: f32 = t4048 + t4051;
-        let t4066: f32 = t4052 + t4055;
-        let t4067: f32 = t4064 + t4065;
-        let t4068: f32 = t4056 + t4066;
-        let t4069: f32 = t4067 + t4068;
-        let t4070: f32 = t4063 - t4069;
-        let t4071: f32 = t1199 * t4070;
-        let t4072: f32 = t1733 * t4071;
-        let t4073: f32 = t3814 + t3850;
-        let t4074: f32 = t3884 + t3897;
-        let t4075: f32 = t3930 + t3943;
-        let t4076: f32 = t4043 + t4072;
-        let t4077: f32 = t4073 + t4074;
-        let t4078: f32 = t4075 + t4076;
-        let t4079: f32 = t4077 + t4078;
-        let t4080: f32 = t3595 + t4079;
-        let t4081: f32 = t3827 + t3837;
-        let t4082: f32 = t3860 + t3873;
-        let t4083: f32 = t3907 + t3920;
-        let t4084: f32 = t4081 + t4082;
-        let t4085: f32 = t4083 + t4084;
-        let t4086: f32 = t4080 - t4085;
-        let t4087: f32 = t1753 * t4086;
-        let t4088: f32 = t1887 * t1943;
-        let t4089: f32 = t3762 * t4088;
-        let t4090: f32 = t2163 * t2293;
-        let t4091: f32 = t3756 * t4090;
-        let t4092: f32 = t2182 * t4042;
-        let t4093: f32 = t2199 * t4071;
-        let t4094: f32 = t2292 * t4087;
-        let t4095: f32 = t1212 * t4042;
-        let t4096: f32 = t1229 * t4071;
-        let t4097: f32 = t1773 * t4087;
-        let t4098: f32 = t3805 + t3852;
-        let t4099: f32 = t3875 + t4098;
-        let t4100: f32 = t3829 + t3899;
-        let t4101: f32 = t3922 + t4100;
-        let t4102: f32 = t4099 - t4101;
-        let t4103: f32 = t4102 * 0.003;
-        let t4104: f32 = t4097 + t4103;
-        let t4105: f32 = t3659 + t3811;
-        let t4106: f32 = t3834 + t3857;
-        let t4107: f32 = t3881 + t3904;
-        let t4108: f32 = t4104 + t4105;
-        let t4109: f32 = t4106 + t4107;
-        let t4110: f32 = t4108 + t4109;
-        let t4111: f32 = t3927 + t4110;
-        let t4112: f32 = t4095 + t4096;
-        let t4113: f32 = t4111 - t4112;
-        let t4114: f32 = t1887 * t4113;
-        let t4115: f32 = t2335 * t4114;
-        let t4116: f32 = t1906 * t4042;
-        let t4117: f32 = t1922 * t4071;
-        let t4118: f32 = t1942 * t4087;
-        let t4119: f32 = t2012 * t4114;
-        let t4120: f32 = t3816 + t3862;
-        let t4121: f32 = t3886 + t4120;
-        let t4122: f32 = t3839 + t3909;
-        let t4123: f32 = t3932 + t4122;
-        let t4124: f32 = t4121 - t4123;
-        let t4125: f32 = t4124 * 0.003;
-        let t4126: f32 = t4116 + t4125;
-        let t4127: f32 = t4117 + t4118;
-        let t4128: f32 = t3705 + t3823;
-        let t4129: f32 = t3916 + t3939;
-        let t4130: f32 = t4126 + t4127;
-        let t4131: f32 = t4128 + t4129;
-        let t4132: f32 = t4130 + t4131;
-        let t4133: f32 = t3846 + t4119;
-        let t4134: f32 = t3869 + t3893;
-        let t4135: f32 = t4133 + t4134;
-        let t4136: f32 = t4132 - t4135;
-        let t4137: f32 = t2163 * t4136;
-        let t4138: f32 = t2370 * t4137;
-        let t4139: f32 = t3946 + t4002;
-        let t4140: f32 = t4016 + t4139;
-        let t4141: f32 = t3960 + t3974;
-        let t4142: f32 = t3988 + t4141;
-        let t4143: f32 = t4140 - t4142;
-        let t4144: f32 = t4143 * 0.003;
-        let t4145: f32 = t4092 + t4144;
-        let t4146: f32 = t4093 + t4094;
-        let t4147: f32 = t3953 + t3982;
-        let t4148: f32 = t3996 + t4024;
-        let t4149: f32 = t4145 + t4146;
-        let t4150: f32 = t4147 + t4148;
-        let t4151: f32 = t4149 + t4150;
-        let t4152: f32 = t3741 + t4151;
-        let t4153: f32 = t4115 + t4138;
-        let t4154: f32 = t3968 + t4010;
-        let t4155: f32 = t4153 + t4154;
-        let t4156: f32 = t4155 + 117.72;
-        let t4157: f32 = t4152 - t4156;
-        let t4158: f32 = t2524 * t3624;
-        let t4159: f32 = t4157 * t4158;
-        let t4160: f32 = t4087 + t4089;
-        let t4161: f32 = t4091 + t4159;
-        let t4162: f32 = t4160 + t4161;
-        let t4163: f32 = -t4162;
-        let t4164: f32 = t1887 * t3762;
-        let t4165: f32 = t2163 * t3756;
-        let t4166: f32 = t2524 * t4157;
-        let t4167: f32 = t50 * t59;
-        let t4168: f32 = t160 * t169;
-        let t4169: f32 = t276 * t285;
-        let t4170: f32 = t389 * t398;
-        let t4171: f32 = t496 * t505;
-        let t4172: f32 = t602 * t611;
-        (t4163, t4164, t4165, t4166, t4167, t4168, t4169, t4170, t4171, t4172)
-    };
     (
-        [t3802, t3803, t4163, t4164, t4165, t4166],
-        [t4167, t4168, t4169, t4170, t4171, t4172],
+        [t2958, t2959, t3318, t3319, t3320, t3321],
+        [
+            t3322,
+            t3323,
+            t3324,
+            t3325,
+            t3326,
+            t3327,
+            t3335,
+            t3362,
+            t3408,
+            t3475,
+            t3565,
+            t3679,
+        ],
     )
 }
 /// Inverse dynamics end to end: actuator forces `Γ` from the platform state.

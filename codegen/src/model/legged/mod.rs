@@ -274,6 +274,9 @@ struct LegEquations<'g> {
     qdd: Expr<'g>,
     /// The generalized force on the coordinates that moves the leg's bodies against gravity.
     phi: Vec<Expr<'g>>,
+    /// `∂φ/∂s̈`, row-major `n × n`: the leg's mass matrix in its coordinates (`φ` is affine in
+    /// `s̈`).
+    mass: Vec<Expr<'g>>,
 }
 
 /// The leg's actuator and bodies differentiated on its coordinate symbols; the bodies'
@@ -382,7 +385,15 @@ fn leg_equations<'g>(
         .zip(&hidden)
         .map(|(&h, q)| (h, q.value))
         .collect();
-    let flat: Vec<Expr<'g>> = [q, qdd].into_iter().chain(grad).chain(phi).collect();
+    // Entry `(i, l)` of the mass matrix, `∂φ_i/∂s̈_l`, at `i n + l`.
+    let columns: Vec<Vec<Expr<'g>>> = sdd.iter().map(|&a| g.derivatives(&phi, a)).collect();
+    let mass: Vec<Expr<'g>> = (0..n * n).map(|k| columns[k % n][k / n]).collect();
+    let flat: Vec<Expr<'g>> = [q, qdd]
+        .into_iter()
+        .chain(grad)
+        .chain(phi)
+        .chain(mass)
+        .collect();
     let flat = if values.is_empty() {
         flat
     } else {
@@ -392,7 +403,8 @@ fn leg_equations<'g>(
         q: flat[0],
         qdd: flat[1],
         grad: flat[2..2 + n].to_vec(),
-        phi: flat[2 + n..].to_vec(),
+        phi: flat[2 + n..2 + 2 * n].to_vec(),
+        mass: flat[2 + 2 * n..].to_vec(),
     };
     (equations, [s.to_vec(), sd, sdd])
 }
@@ -407,6 +419,8 @@ pub struct LegState<'g> {
     pub wrench: Vec6<'g>,
     /// [`Leg::unit_translation`].
     pub unit_translation: bool,
+    /// `∂(Tᵀ φ)/∂V̇ = Tᵀ (∂φ/∂s̈) T`, lower triangle: the leg's part of `M_x`.
+    pub inertia: Mat6<'g>,
 }
 
 /// `leg` at the platform's placement (`R`, `C`) and motion, its bodies under `gravity`.
@@ -433,9 +447,10 @@ pub fn leg_state<'g>(
         .into_iter()
         .chain(equations.grad)
         .chain(equations.phi)
+        .chain(equations.mass)
         .collect();
     let all = g.substitute(&flat, &values);
-    let (grad, phi) = (&all[2..2 + n], &all[2 + n..]);
+    let (grad, phi, mass) = (&all[2..2 + n], &all[2 + n..2 + 2 * n], &all[2 + 2 * n..]);
     let along = |weights: &[Expr<'g>]| {
         (0..n).fold(Vec6::zeros(g), |sum, k| {
             sum + coordinates.t[k].scale(weights[k])
@@ -449,7 +464,29 @@ pub fn leg_state<'g>(
         jinv_row,
         wrench: along(phi),
         unit_translation: leg.unit_translation(),
+        inertia: projected_inertia(&coordinates.t, mass),
     }
+}
+
+/// `Tᵀ M T`, lower triangle (the rest zero): a leg's mass matrix `M` in its coordinates seen
+/// from the platform's acceleration, `T = ∂ṡ/∂V` (rows `t`). With `M T` formed once, each entry
+/// costs `n` products.
+fn projected_inertia<'g>(t: &[Vec6<'g>], mass: &[Expr<'g>]) -> Mat6<'g> {
+    let n = t.len();
+    let g = t[0][0].graph();
+    let mt: Vec<Vec6<'g>> = (0..n)
+        .map(|i| {
+            let row = (0..n).fold(Vec6::zeros(g), |sum, l| sum + t[l].scale(mass[i * n + l]));
+            Vector(row.0.map(Expr::keep))
+        })
+        .collect();
+    Mat::from_fn(|a, b| {
+        if b > a {
+            g.zero()
+        } else {
+            (0..n).fold(g.zero(), |sum, k| sum + t[k][a] * mt[k][b])
+        }
+    })
 }
 
 /// Every leg at the platform's state.
@@ -512,6 +549,14 @@ macro_rules! legged_mechanics {
                 motion,
                 Some(dynamics),
             ))
+        }
+
+        fn task_inertia<'g>(
+            &self,
+            dynamics: &$crate::model::bodies::Dynamics<'g>,
+            posed: &$crate::model::geometry::Posed<'g>,
+        ) -> $crate::linalg::Mat6<'g> {
+            $crate::model::legged::task_inertia(self, dynamics, posed)
         }
 
         fn inverse_dynamics<'g>(
@@ -588,6 +633,40 @@ pub fn rows_at<'g>(mechanism: &dyn Legs, posed: &Posed<'g>) -> Rows<'g> {
         translation_weight: mechanism.translation_weight(&posed.geometry),
         ..Rows::of(&states_at(mechanism, posed, &rest, None))
     }
+}
+
+/// `M_x = ∂W/∂(ω̇; a_C)` of `mechanism` at the pose: the platform's part, differentiated,
+/// plus each leg's `Tᵀ (∂φ/∂s̈) T` (a leg's mass matrix in its few coordinates, projected),
+/// instead of every leg body's Newton-Euler differentiated by each of the six accelerations.
+/// Symmetric, both triangles filled.
+pub fn task_inertia<'g>(
+    mechanism: &dyn Legs,
+    dynamics: &Dynamics<'g>,
+    posed: &Posed<'g>,
+) -> Mat6<'g> {
+    let g = posed.c[0].graph();
+    let rest = Motion::new(Vec6::zeros(g), Vec6::zeros(g));
+    let legs = states_at(mechanism, posed, &rest, Some(dynamics));
+    let unknown: Vec6<'g> = Vector::from_fn(|k| g.input(super::INTERNAL_INPUTS + k as u32));
+    let frame = super::bodies::Frame::new(posed.r, &Vec3::zeros(g), &unknown.top());
+    let platform =
+        super::bodies::platform_wrench(dynamics, &frame, &Vec6::zeros(g), &unknown).to_vec();
+    let columns: Vec<Vec<Expr<'g>>> = unknown
+        .0
+        .iter()
+        .map(|&u| g.derivatives(&platform, u))
+        .collect();
+    let lower: Mat6<'g> = Mat::from_fn(|a, b| {
+        if b > a {
+            g.zero()
+        } else {
+            let legs = legs
+                .iter()
+                .fold(g.zero(), |sum, leg| sum + leg.inertia.0[a][b]);
+            (columns[b][a] + legs).keep()
+        }
+    });
+    Mat::from_fn(|a, b| lower.0[a.max(b)][a.min(b)])
 }
 
 /// `J⁻¹` from the legs' rows.
