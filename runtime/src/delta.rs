@@ -25,8 +25,9 @@ pub const MECHANISM: &str = c5_robot::description::DELTA;
 pub const PARAMETERS: usize = c5_robot::delta::PARAMETERS;
 
 /// Smallest accepted hold of the arms on the platform, `det(J⁻¹)² / Π |row_i|²` (one where
-/// the arms' rows are orthogonal, zero where they cannot hold the platform): below it the
-/// torques and accelerations lose more digits than the `1e-9` the kernels are held to.
+/// the arms' rows are orthogonal, zero where they cannot hold the platform): near zero the
+/// solve `J⁻ᵀ Γ = W` divides by a vanishing determinant. Unlike the hexapods' bound, not yet
+/// calibrated against a high-precision reference.
 pub const HOLD_TOLERANCE: f64 = 1e-8;
 
 /// Smallest accepted term of the forward kinematics: how far inside the three spheres' reach
