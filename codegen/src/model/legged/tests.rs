@@ -261,3 +261,59 @@ impl<'g> NoClosedForms<'g> {
         out
     }
 }
+
+/// `M_x` from each leg's mass matrix in its coordinates, `Tᵀ (∂φ/∂s̈) T` plus the platform's
+/// ([`task_inertia`]), is the task wrench differentiated by the six accelerations, for both
+/// six-legged mechanisms at seeded poses about home (1e-12 of the largest entry).
+#[test]
+fn the_projected_task_inertia_is_the_differentiated_one() {
+    use crate::model::gough_stewart::GoughStewartMechanics;
+    use crate::model::rus_hexapod::RusHexapodMechanics;
+    use crate::model::{kernels::jacobian_wrt, Mechanics, Mechanism, INTERNAL_INPUTS};
+    fn check<M: Mechanics + Legs>(mechanics: &M, mechanism: &Mechanism) {
+        let g = Graph::new(Policy::FLAT);
+        let params: Vec<_> = mechanism
+            .parameters
+            .iter()
+            .map(|&v| g.constant(v))
+            .collect();
+        let structure = mechanism.structure();
+        let dynamics = structure.dynamics(&params);
+        let geometry = &params[..structure.geometry_parameters()];
+        let home = structure.home(&mechanism.parameters);
+        let mut rng = Lcg::new(23);
+        for _ in 0..5 {
+            let d = rng.vector(&[0.1, 0.1, 0.1, 0.01, 0.01, 0.01]);
+            let x: Vec<_> = (0..6).map(|k| g.constant(home[k] + d[k])).collect();
+            let posed = structure.pose(geometry, &x);
+            let projected = task_inertia(mechanics, &dynamics, &posed);
+            let unknown: Vec6<'_> = Vector::from_fn(|k| g.input(INTERNAL_INPUTS + k as u32));
+            let motion = Motion::new(Vec6::zeros(&g), unknown);
+            let w = mechanics.task_wrench(&dynamics, &posed, &motion).to_vec();
+            let differentiated = jacobian_wrt(&g, &w, &unknown.0);
+            let got: Vec<f64> = projected
+                .rows()
+                .iter()
+                .map(|e| e.as_const().unwrap())
+                .collect();
+            let want: Vec<f64> = differentiated
+                .rows()
+                .iter()
+                .map(|e| e.as_const().unwrap())
+                .collect();
+            assert!(
+                close(&got, &want, 1e-12),
+                "{}: {got:?} vs {want:?}",
+                mechanics.name()
+            );
+        }
+    }
+    check(
+        &GoughStewartMechanics,
+        &Mechanism::gough_stewart(&c5_robot::GoughStewart::example()),
+    );
+    check(
+        &RusHexapodMechanics,
+        &Mechanism::rus_hexapod(&c5_robot::RusHexapod::example()),
+    );
+}
