@@ -4,15 +4,17 @@
 Run in a virtual environment with `pip install pin mujoco numpy cmeel-eigen`, from the
 repository root, after `cargo build --release`:
 
-    taskset -c 0 python python/bench_pinocchio_cpp.py docs/delta.toml docs/rus-hexapod.toml
+    taskset -c 0 python python/bench_pinocchio_cpp.py docs/delta.toml lean:docs/hexapod.toml
 
-For each robot file: the export read by Pinocchio's MJCF parser (python/tests/exported.py), the
-loops closed at a state near home, the model written as text; benches/pinocchio/
+For each robot file: the export read by Pinocchio's MJCF parser (python/tests/exported.py), or
+for `lean:FILE` a Gough-Stewart file's lean model (a U joint and a slide per leg, one 3D contact
+each: the model the Python tests check against); the loops closed at a state near home, the
+model written as text; benches/pinocchio/
 constraint_dynamics.cpp builds the same model in code (header-only, with the `pin` wheel's
 headers: `g++ -std=c++17 -O3 -march=native -DNDEBUG`, about a minute, cached under
 target/pinocchio/), checks its accelerations against Pinocchio's Python ones (1e-9) and times
 the call: 11 runs of 20 000 calls with the data made once beforehand, as a controller would.
-One JSON line per robot: the median, min and max in microseconds.
+One JSON line per robot: the median, min and max in microseconds, and every run's time.
 """
 
 from __future__ import annotations
@@ -104,6 +106,44 @@ def model_text(engine) -> str:
     return "\n".join(lines) + "\n"
 
 
+class LeanHexapod:
+    """A Gough-Stewart file's lean model, the one the Python tests check against
+    (python/tests/test_gough_stewart_pinocchio.py: a free platform, per leg a U joint and a
+    slide, one 3D contact each), in the terms `model_text` reads."""
+
+    free = True
+
+    def __init__(self, robot: Path, home_height: float = 0.425):
+        import tomllib
+
+        from test_gough_stewart_pinocchio import PinocchioHexapod
+
+        self.hexapod = PinocchioHexapod(tomllib.loads(robot.read_text()),
+                                        [0.0, 0.0, 0.0, 0.0, 0.0, home_height])
+        self.model, self.constraints = self.hexapod.model, self.hexapod.constraints
+        self.home_centre = np.array([0.0, 0.0, home_height])
+        self.actuated = [self.model.joints[leg["prismatic"]].idx_v for leg in self.hexapod.legs]
+
+    def state(self, pose, twist):
+        """`q`, `v` at the pose and twist, and the largest gap of a leg's tip to its ball."""
+        q, v = self.hexapod.configuration(pose, twist)
+        data = self.model.createData()
+        pin.forwardKinematics(self.model, data, q)
+        platform = data.oMi[self.hexapod.platform]
+        loops = max(np.linalg.norm(data.oMi[leg["prismatic"]].translation
+                                   - platform.act(leg["joint"])) for leg in self.hexapod.legs)
+        return q, v, loops
+
+
+def engine(robot: str, program: str, tmp: str):
+    """The robot's model: `lean:FILE` a hexapod's lean model, otherwise the file's export."""
+    if robot.startswith("lean:"):
+        return LeanHexapod(ROOT / robot.removeprefix("lean:"))
+    mjcf = Path(tmp) / (Path(robot).stem + ".xml")
+    subprocess.run([program, "export", "--robot", robot, "--out", str(mjcf)], check=True)
+    return PinocchioExport(mjcf)
+
+
 def harness() -> Path:
     """The compiled harness, rebuilt when its source changes."""
     prefix = Path(pin.__file__).resolve().parents[4]
@@ -123,10 +163,8 @@ def main() -> None:
     binary = harness()
     with tempfile.TemporaryDirectory() as tmp:
         for robot in sys.argv[1:]:
-            mjcf = Path(tmp) / (Path(robot).stem + ".xml")
-            subprocess.run([program, "export", "--robot", robot, "--out", str(mjcf)], check=True)
             text = Path(tmp) / (Path(robot).stem + ".txt")
-            text.write_text(model_text(PinocchioExport(mjcf)))
+            text.write_text(model_text(engine(robot, program, tmp)))
             out = subprocess.run([str(binary), str(text)], check=True, capture_output=True,
                                  text=True).stdout.strip()
             print(out.replace(str(text), robot))

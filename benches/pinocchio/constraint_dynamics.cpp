@@ -142,7 +142,9 @@ int main(int argc, char** argv) {
   }
   std::sort(runs.begin(), runs.end());
   std::printf("{\"file\": \"%s\", \"median_us\": %.4f, \"min_us\": %.4f, \"max_us\": %.4f, "
-              "\"relative_difference_from_python\": %.3g, \"nq\": %d, \"nv\": %d}\n",
+              "\"relative_difference_from_python\": %.3g, \"nq\": %d, \"nv\": %d, \"runs_us\": [",
               argv[1], runs[5], runs[0], runs[10], error, (int)model.nq, (int)model.nv);
+  for (std::size_t r = 0; r < runs.size(); ++r) std::printf("%s%.4f", r ? ", " : "", runs[r]);
+  std::printf("]}\n");
   return error < 1e-9 ? 0 : 1;
 }

@@ -13,6 +13,7 @@ mod delta;
 mod derivatives;
 mod docs_examples;
 mod docs_figures;
+mod docs_speed;
 mod forward_dynamics;
 mod freshness;
 mod generated_kernels;
