@@ -113,15 +113,15 @@ class LeanHexapod:
 
     free = True
 
-    def __init__(self, robot: Path, home_height: float = 0.425):
+    def __init__(self, robot: Path, home_centre):
         import tomllib
 
         from test_gough_stewart_pinocchio import PinocchioHexapod
 
         self.hexapod = PinocchioHexapod(tomllib.loads(robot.read_text()),
-                                        [0.0, 0.0, 0.0, 0.0, 0.0, home_height])
+                                        [0.0, 0.0, 0.0, *home_centre])
         self.model, self.constraints = self.hexapod.model, self.hexapod.constraints
-        self.home_centre = np.array([0.0, 0.0, home_height])
+        self.home_centre = np.array(home_centre)
         self.actuated = [self.model.joints[leg["prismatic"]].idx_v for leg in self.hexapod.legs]
 
     def state(self, pose, twist):
@@ -136,12 +136,13 @@ class LeanHexapod:
 
 
 def engine(robot: str, program: str, tmp: str):
-    """The robot's model: `lean:FILE` a hexapod's lean model, otherwise the file's export."""
-    if robot.startswith("lean:"):
-        return LeanHexapod(ROOT / robot.removeprefix("lean:"))
-    mjcf = Path(tmp) / (Path(robot).stem + ".xml")
-    subprocess.run([program, "export", "--robot", robot, "--out", str(mjcf)], check=True)
-    return PinocchioExport(mjcf)
+    """The robot's model: `lean:FILE` a hexapod's lean model (about the export's home pose),
+    otherwise the file's export."""
+    file = robot.removeprefix("lean:")
+    mjcf = Path(tmp) / (Path(file).stem + ".xml")
+    subprocess.run([program, "export", "--robot", file, "--out", str(mjcf)], check=True)
+    export = PinocchioExport(mjcf)
+    return LeanHexapod(ROOT / file, export.home_centre) if robot != file else export
 
 
 def harness() -> Path:

@@ -1,5 +1,6 @@
 """benches/speed_table.py's rendering: the figures as docs/speed.md's test reads them."""
 
+import json
 import sys
 from pathlib import Path
 
@@ -35,3 +36,12 @@ def test_a_rendered_run_holds_every_row_ratio_and_target_between_the_markers():
     assert "| C5 inverse dynamics, batch of four against single (throughput) | 2.22× |" in table
     assert "| 40 | hexapod inverse dynamics (folded) ≤ 150 ns | 200 ns | **missed** |" in table
     assert "| 38 | Delta forward dynamics against Pinocchio C++ ≥ 30.0× | 10.0× | **missed** |" in table
+
+
+def test_the_page_holds_the_table_its_recorded_run_renders():
+    """docs/speed.md's table is docs/speed-run.json rendered, not edited by hand."""
+    run = json.loads(speed_table.RUN.read_text())
+    run["ratios"] = speed_table.ratios(run["rows"])
+    page = speed_table.PAGE.read_text()
+    start, end = speed_table.table_span(page)
+    assert page[start:end] == speed_table.render(run)
