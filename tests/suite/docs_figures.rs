@@ -11,12 +11,12 @@ use std::collections::HashSet;
 use std::fs;
 use std::path::{Path, PathBuf};
 
-fn root() -> &'static Path {
+pub(super) fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
 /// Every file under `dir` with extension `ext`, outside build output and generated code.
-fn files(dir: &Path, ext: &str, out: &mut Vec<PathBuf>) {
+pub(super) fn files(dir: &Path, ext: &str, out: &mut Vec<PathBuf>) {
     for entry in fs::read_dir(dir).unwrap().flatten() {
         let path = entry.path();
         let name = entry.file_name();

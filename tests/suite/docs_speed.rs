@@ -10,14 +10,12 @@
 
 use std::collections::BTreeSet;
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
+
+use super::docs_figures::{files, root};
 
 const BEGIN: &str = "<!-- speed-table: begin";
 const END: &str = "<!-- speed-table: end -->";
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
 
 /// The unit at `chars[k..]`, normalised, when a time's unit starts there and ends a word.
 fn unit_at(chars: &[char], k: usize) -> Option<(&'static str, usize)> {
@@ -80,18 +78,8 @@ fn times(line: &str) -> Vec<String> {
 
 /// Every Markdown page: the README, python/README.md and everything under `docs/`.
 fn pages() -> Vec<PathBuf> {
-    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
-        for entry in fs::read_dir(dir).unwrap().flatten() {
-            let path = entry.path();
-            if path.is_dir() {
-                walk(&path, out);
-            } else if path.extension().is_some_and(|e| e == "md") {
-                out.push(path);
-            }
-        }
-    }
     let mut out = vec![root().join("README.md"), root().join("python/README.md")];
-    walk(&root().join("docs"), &mut out);
+    files(&root().join("docs"), "md", &mut out);
     out
 }
 
