@@ -111,11 +111,13 @@ def test_pinocchio_constraint_dynamics_agrees_with_c5_forward(robot, c5_program,
     assert weld < 10 * STATED["weld"]
 
 
-def weld_errors(m, d, reference):
+def weld_errors(m, d, reference, to_world=False):
     """How far each welded body is from where the file welds it: position (m), rotation
-    (the rotation vector's length, rad)."""
+    (the rotation vector's length, rad); with `to_world`, the welds to the world alone."""
     position, angle = 0.0, 0.0
     for k in range(m.neq):
+        if to_world and not (m.eq_type[k] == mujoco.mjtEq.mjEQ_WELD and m.eq_obj2id[k] == 0):
+            continue
         body = m.eq_obj1id[k]
         position = max(position, np.max(np.abs(d.xpos[body] - reference[body][0])))
         q = np.zeros(4)
@@ -131,6 +133,18 @@ def any_robot(request, new_robot_files):
     path = {"c5": None, "hexapod": HEXAPOD, **new_robot_files}[request.param]
     actuators = 3 if "delta" in request.param else 6
     return (["--robot", str(path)] if path else []), actuators
+
+
+def connect_errors(m, d):
+    """How far apart the two points each ball constraint (`connect`) joins are (m)."""
+    worst = 0.0
+    for k in range(m.neq):
+        if m.eq_type[k] != mujoco.mjtEq.mjEQ_CONNECT:
+            continue
+        ends = [d.xpos[b] + d.xmat[b].reshape(3, 3) @ m.eq_data[k][3 * j:3 * j + 3]
+                for j, b in enumerate([m.eq_obj1id[k], m.eq_obj2id[k]])]
+        worst = max(worst, np.max(np.abs(ends[0] - ends[1])))
+    return worst
 
 
 def test_mujoco_loads_the_export_without_a_warning_and_its_keyframe_closes_the_loops(
@@ -441,6 +455,61 @@ def test_mujoco_keeps_the_export_still_under_the_torques_of_virtual_work(new_rob
     print(f"MuJoCo under the holding torques, 0.5 s: the platform moves {drift:.1e} m")
     assert all(w.number == 0 for w in d.warning)
     assert drift < 10 * STATED["still"]
+
+
+@pytest.mark.parametrize("name", ["rus-hexapod", "delta", "unseen-rus-hexapod", "unseen-delta"])
+def test_mujoco_follows_c5_simulate_of_the_new_mechanisms_under_held_torques(
+        name, new_robot_files, c5_program, tmp_path):
+    """`c5 simulate --torques` of a rotary hexapod or a Delta (its platform's coordinates,
+    three for the Delta) against MuJoCo on the export under the same `ctrl`: the holding
+    torques of virtual work (rus_geometry.py) and a little more, so that the platform moves
+    (for 0.3 s: the unseen rotary hexapod reaches its legs' singularity at 0.43 s)."""
+    file = new_robot_files[name]
+    args = ["--robot", str(file)]
+    path = export(c5_program, args, "mjcf", tmp_path)
+    geometry = RusRobot(tomllib.loads(file.read_text()))
+    m = mujoco.MjModel.from_xml_path(str(path))
+    d = mujoco.MjData(m)
+    mujoco.mj_resetDataKeyframe(m, d, 0)
+    mujoco.mj_forward(m, d)
+    reference = {m.eq_obj1id[k]: (d.xpos[m.eq_obj1id[k]].copy(), d.xquat[m.eq_obj1id[k]].copy())
+                 for k in range(m.neq)}
+    platform = 1
+    home = d.xpos[platform].copy() if geometry.delta else np.array([0, 0, 0, *d.xpos[platform]])
+    rng = np.random.default_rng(len(name))
+    hold = geometry.holding_torques(home)
+    gamma = hold + 0.03 * np.max(np.abs(hold)) * rng.uniform(-1, 1, len(hold))
+    subprocess.run([str(c5_program), "simulate", *args, "--torques",
+                    ",".join(repr(float(g)) for g in gamma), "--duration", "0.3",
+                    "--out", str(tmp_path)], check=True, capture_output=True)
+    ours = np.loadtxt(tmp_path / "held.csv", delimiter=",", skiprows=1)
+    header = (tmp_path / "held.csv").read_text().splitlines()[0].split(",")
+    at = header.index("xc")
+    assert header == ["t", *(["alpha", "beta", "gamma"] if at == 4 else []), "xc", "yc", "zc",
+                      *(["wx", "wy", "wz"] if at == 4 else []), "vx", "vy", "vz"]
+    assert (at == 1) == geometry.delta
+    d.ctrl[:] = gamma
+    per_row = round((ours[1, 0] - ours[0, 0]) / m.opt.timestep)
+    position = rotation_error = loops = 0.0
+    for k, row in enumerate(ours):
+        if k:
+            mujoco.mj_step(m, d, nstep=per_row)
+        mujoco.mj_kinematics(m, d)
+        position = max(position, np.max(np.abs(d.xpos[platform] - row[at:at + 3])))
+        theirs = d.xmat[platform].reshape(3, 3)
+        mine = np.eye(3) if geometry.delta else rotation(row[1:4])
+        rotation_error = max(rotation_error, np.max(np.abs(theirs - mine)))
+        loops = max(loops, weld_errors(m, d, reference, to_world=True)[0],
+                    connect_errors(m, d))
+    moved = np.max(np.abs(ours[-1, at:at + 3] - ours[0, at:at + 3]))
+    print(f"MuJoCo against c5 simulate over 0.3 s, the platform moving {moved * 1e3:.1f} mm: "
+          f"position {position:.1e} m, rotation {rotation_error:.1e}, loops {loops:.1e} m")
+    assert moved > 2e-3, "the platform moves: the comparison is not of two rests"
+    assert abs(d.time - ours[-1, 0]) < 1e-9
+    assert all(w.number == 0 for w in d.warning), [w.number for w in d.warning]
+    assert position < 10 * STATED["held_position"]
+    assert rotation_error < 10 * STATED["held_rotation"]
+    assert loops < 10 * STATED["held_loops"]
 
 
 def test_the_new_mechanisms_urdf_sums_to_their_files(new_robot, c5_program, tmp_path,

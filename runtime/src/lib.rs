@@ -55,6 +55,7 @@ mod math;
 pub mod mechanism;
 #[cfg(feature = "plan")]
 pub mod plan;
+pub mod platform;
 #[cfg(feature = "reference")]
 pub mod reference;
 pub mod rus_hexapod;
@@ -71,6 +72,7 @@ pub use error::Error;
 pub use gough_stewart::GoughStewart;
 pub use limits::{Limit, LimitMargins};
 pub use mechanism::ParallelRobot;
+pub use platform::Mechanism;
 pub use rus_hexapod::RusHexapod;
 pub use types::{Acceleration, Pose, State, Twist};
 

@@ -1,5 +1,7 @@
 //! The column names of the CSV files the commands read and write, in one place.
 
+pub use c5_runtime::platform::Freedom;
+
 /// Time (s).
 pub const TIME: &str = "t";
 /// The pose `[α β γ xc yc zc]`.

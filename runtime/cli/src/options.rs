@@ -31,16 +31,21 @@ impl RobotArgs {
     /// The robot of `--robot` (or the chapter's), of any mechanism whose platform has six
     /// freedoms, or a Delta; a C5 with the model of `--model`.
     pub fn load_freedoms(&self) -> crate::Result<Loaded> {
-        let description = match &self.robot {
-            Some(p) => Description::from_toml_file(p)?,
-            None => Description::default(),
-        };
-        Ok(match description {
+        Ok(match read_description(self.robot.as_ref())? {
             Description::Delta(robot) => {
                 Loaded::Translating(Box::new(c5_runtime::Delta::new(robot)?))
             }
             other => Loaded::Six(c5_runtime::mechanism::robot(other, self.model)?),
         })
+    }
+
+    /// The robot of `--robot` (or the chapter's), of any mechanism and freedom; a C5 with the
+    /// model of `--model`.
+    pub fn load_mechanism(&self) -> crate::Result<Box<dyn c5_runtime::Mechanism>> {
+        Ok(c5_runtime::platform::load(
+            read_description(self.robot.as_ref())?,
+            self.model,
+        )?)
     }
 
     /// The robot of `--robot` (or the chapter's), of any mechanism; a C5 with the model of
@@ -87,11 +92,18 @@ pub fn load(path: Option<&PathBuf>, model: Model) -> crate::Result<C5> {
 
 /// The robot of `path` (or the chapter's), of any mechanism; a C5 with `model`.
 pub fn load_any(path: Option<&PathBuf>, model: Model) -> crate::Result<Box<dyn ParallelRobot>> {
-    let description = match path {
+    Ok(c5_runtime::mechanism::robot(
+        read_description(path)?,
+        model,
+    )?)
+}
+
+/// The description of the robot file `path`, the chapter's C5 for `None`.
+fn read_description(path: Option<&PathBuf>) -> crate::Result<Description> {
+    Ok(match path {
         Some(p) => Description::from_toml_file(p)?,
         None => Description::default(),
-    };
-    Ok(c5_runtime::mechanism::robot(description, model)?)
+    })
 }
 
 /// Section 9's move (the chapter's default trajectory), from `home`: the C5's home is the

@@ -44,10 +44,11 @@ pub struct SimulateArgs {
     #[command(flatten)]
     view: view::PageArgs,
     /// Instead of the inverse dynamics along a trajectory, the forward dynamics: the robot let
-    /// go from home at rest with its actuators held at these forces `Γ1,…,Γ6` (N, or N·m for
-    /// a motor that turns), integrated by RK4 at `--rate` for `--duration`; writes
-    /// `held.csv` (t, the pose, the twist). MuJoCo simulating `c5 export`'s file under the
-    /// same `ctrl` follows it (docs/export.md).
+    /// go from home at rest with its actuators held at these forces, one per actuator (N, or
+    /// N·m for a motor that turns; three for the Delta), integrated by RK4 at `--rate` for
+    /// `--duration`; writes `held.csv` (t, the pose, the twist, in the platform's
+    /// coordinates). MuJoCo simulating `c5 export`'s file under the same `ctrl` follows it
+    /// (docs/export.md).
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true,
           conflicts_with_all = ["trajectory", "encoder_log"])]
     torques: Option<Vec<f64>>,
@@ -58,14 +59,17 @@ pub struct SimulateArgs {
 
 /// `--torques`: the forward dynamics under held forces.
 fn run_held(args: &SimulateArgs, torques: &[f64]) -> crate::Result<ExitCode> {
-    let robot = args.robot.load_any()?;
-    let gamma: [f64; 6] = torques.try_into().map_err(|_| {
-        format!(
-            "--torques takes one force per actuator, 6, got {}",
+    let robot = args.robot.load_mechanism()?;
+    let actuators = robot.freedom().dimension();
+    if torques.len() != actuators {
+        return Err(format!(
+            "--torques takes one force per actuator, {actuators} for this {}, got {}",
+            robot.mechanism(),
             torques.len()
         )
-    })?;
-    if !gamma.iter().all(|g| g.is_finite()) {
+        .into());
+    }
+    if !torques.iter().all(|g| g.is_finite()) {
         return Err("--torques must be finite numbers".into());
     }
     let (duration, rate) = (args.duration, args.rate);
@@ -79,11 +83,11 @@ fn run_held(args: &SimulateArgs, torques: &[f64]) -> crate::Result<ExitCode> {
         )
         .into());
     }
-    let samples = crate::held::run(robot.as_ref(), gamma, duration, rate)
+    let samples = crate::held::run(robot.as_ref(), torques, duration, rate)
         .map_err(|(t, e)| format!("step at t = {t} s: {e}"))?;
     std::fs::create_dir_all(&args.out)?;
     let csv = args.out.join("held.csv");
-    crate::held::write_csv(&csv, &samples)?;
+    crate::held::write_csv(&csv, robot.freedom(), &samples)?;
     let mut report = std::io::stdout().lock();
     writeln!(
         report,

@@ -50,6 +50,39 @@ pub enum Freedom {
     Translations,
 }
 
+impl Freedom {
+    /// The pose's coordinates, as robot files, JSON lines and CSV columns name them: as many
+    /// as the platform has freedoms, and as the mechanism has actuators.
+    pub const fn pose_names(self) -> &'static [&'static str] {
+        match self {
+            Freedom::Free => &["alpha", "beta", "gamma", "xc", "yc", "zc"],
+            Freedom::Translations => &["xc", "yc", "zc"],
+        }
+    }
+
+    /// The twist's coordinates: `(ω; v_C)`, or `v_C` alone.
+    pub const fn twist_names(self) -> &'static [&'static str] {
+        match self {
+            Freedom::Free => &["wx", "wy", "wz", "vx", "vy", "vz"],
+            Freedom::Translations => &["vx", "vy", "vz"],
+        }
+    }
+
+    /// The classical acceleration's coordinates: `(ω̇; a_C)`, or `a_C` alone.
+    pub const fn acceleration_names(self) -> &'static [&'static str] {
+        match self {
+            Freedom::Free => &["wdx", "wdy", "wdz", "ax", "ay", "az"],
+            Freedom::Translations => &["ax", "ay", "az"],
+        }
+    }
+
+    /// How many coordinates the pose, twist and acceleration have, and so how many actuators
+    /// drive the platform.
+    pub const fn dimension(self) -> usize {
+        self.pose_names().len()
+    }
+}
+
 /// One leg: its bodies from the platform outwards, and where its loops close.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Chain {

@@ -192,6 +192,64 @@ fn the_rotary_hexapod_and_the_delta_export_and_a_six_freedom_command_refuses_the
     assert!(err.contains("its platform only translates"), "{err}");
 }
 
+/// The Delta held by `simulate --torques`, in its three coordinates: from rest at home under
+/// the torques `eval` gives for rest there, it stays; a fourth torque is refused.
+#[test]
+fn simulate_holds_the_delta_with_three_torques_in_its_three_coordinates() {
+    let dir = scratch("held-delta");
+    let out = dir.to_str().unwrap();
+    let run = |torques: &str| {
+        c5_ok(
+            &[
+                "simulate",
+                "--robot",
+                DELTA,
+                "--torques",
+                torques,
+                "--duration",
+                "0.05",
+            ]
+            .into_iter()
+            .chain(["--out", out])
+            .collect::<Vec<_>>(),
+            "",
+        );
+        let text = std::fs::read_to_string(dir.join("held.csv")).unwrap();
+        assert_eq!(text.lines().next(), Some("t,xc,yc,zc,vx,vy,vz"));
+        read_csv(&dir.join("held.csv"))
+    };
+    let home = run("0,0,0")[0][1..4].to_vec();
+    let line = format!("{{\"pose\": {home:?}}}\n");
+    let eval: serde_json::Value =
+        serde_json::from_slice(&c5_ok(&["eval", "--robot", DELTA], &line).stdout).unwrap();
+    let gamma: Vec<f64> = serde_json::from_value(eval["gamma"].clone()).unwrap();
+    let held = gamma.iter().map(|g| format!("{g:e}")).collect::<Vec<_>>();
+    let rows = run(&held.join(","));
+    assert_eq!(rows.len(), 51);
+    let last = rows.last().unwrap();
+    for k in 0..3 {
+        assert!((last[1 + k] - home[k]).abs() < 1e-12, "{last:?}");
+        assert!(last[4 + k].abs() < 1e-9, "{last:?}");
+    }
+    let four = c5(
+        &[
+            "simulate",
+            "--robot",
+            DELTA,
+            "--torques",
+            "1,2,3,4",
+            "--out",
+            out,
+        ],
+        "",
+    );
+    let err = String::from_utf8_lossy(&four.stderr);
+    assert!(
+        !four.status.success() && err.contains("3 for this delta"),
+        "{err}"
+    );
+}
+
 #[test]
 fn the_rotary_hexapod_is_served_by_eval_and_forward() {
     let rest = "\"omega\": [0, 0, 0], \"velocity\": [0, 0, 0]";

@@ -1,0 +1,795 @@
+//! Any parallel robot, whatever its platform's freedom, behind one trait whose dimension comes
+//! from the model: what the program's and Python's calls that serve every mechanism go through.
+//!
+//! A [`Mechanism`] reads and writes the platform's coordinates as slices of
+//! [`Freedom::dimension`] numbers, in the order [`Freedom::pose_names`],
+//! [`Freedom::twist_names`] and [`Freedom::acceleration_names`] give (`[α β γ xc yc zc]`,
+//! `(ω; v_C)`, `(ω̇; a_C)` for a platform free in space; `[xc yc zc]`, `v_C`, `a_C` for one that
+//! only translates), and as many actuators. Its matrices are row-major. Outputs are written
+//! into the caller's slices, so a controller's loop allocates nothing; a slice of the wrong
+//! length is refused ([`Error::WrongLength`]) with nothing written.
+//!
+//! [`load`] makes one from a [`Description`]. Every mechanism whose platform is free in space
+//! serves it through its [`ParallelRobot`] (one implementation, below, for all of them), and
+//! [`Mechanism::spatial`] gives that robot back for what only six freedoms have (the task-space
+//! terms, the regressors, the derivatives).
+
+use crate::dynamics::{rk4_step, PlantState};
+use crate::mechanism::ParallelRobot;
+use crate::{Acceleration, Delta, Error, GoughStewart, Model, Pose, RusHexapod, Twist, C5};
+use alloc::boxed::Box;
+use alloc::vec::Vec;
+pub use c5_robot::tree::Freedom;
+use c5_robot::Description;
+
+/// A parallel robot of any freedom: its kinematics and dynamics in its platform's coordinates.
+pub trait Mechanism: core::fmt::Debug + Send + Sync {
+    /// The mechanism's name, as robot files spell it (`c5`, `gough-stewart`, `delta`).
+    fn mechanism(&self) -> &'static str;
+    /// The name of the model the results follow (`consistent`, `paper`, the mechanism's).
+    fn model_name(&self) -> &'static str;
+    /// How the platform moves, and so the length of every slice.
+    fn freedom(&self) -> Freedom;
+    /// The robot's description, as its file gives it.
+    fn description(&self) -> Description;
+    /// The robot's parameter vector, as its generated `*_params` kernels take it.
+    fn parameters(&self) -> &[f64];
+    /// The pose the robot rests at, where its forward kinematics starts.
+    fn home(&self) -> Vec<f64>;
+    /// The robot as a platform free in space, for what only six freedoms serve; `None` for a
+    /// platform that only translates.
+    fn spatial(&self) -> Option<&dyn ParallelRobot>;
+
+    /// The actuator values at `pose` into `q`.
+    ///
+    /// # Errors
+    /// Wrong lengths, non-finite inputs, a pose at a singularity or beyond reach.
+    fn actuator_positions(&self, pose: &[f64], q: &mut [f64]) -> Result<(), Error>;
+    /// `J⁻¹` at `pose`, row `i` for actuator `i`, columns the twist's, row-major into `jinv`.
+    ///
+    /// # Errors
+    /// As [`Mechanism::actuator_positions`].
+    fn inverse_jacobian(&self, pose: &[f64], jinv: &mut [f64]) -> Result<(), Error>;
+    /// `J` at `pose`, rows the twist's, column `i` for actuator `i`, row-major into `jac`.
+    ///
+    /// # Errors
+    /// As [`Mechanism::actuator_positions`], and the legs' hold on the platform.
+    fn jacobian(&self, pose: &[f64], jac: &mut [f64]) -> Result<(), Error>;
+    /// `q̇ = J⁻¹ V` into `qd`.
+    ///
+    /// # Errors
+    /// As [`Mechanism::actuator_positions`].
+    fn joint_velocities(&self, pose: &[f64], twist: &[f64], qd: &mut [f64]) -> Result<(), Error>;
+    /// `q̈` of the platform's motion into `qdd`.
+    ///
+    /// # Errors
+    /// As [`Mechanism::actuator_positions`].
+    fn joint_accelerations(
+        &self,
+        pose: &[f64],
+        twist: &[f64],
+        acceleration: &[f64],
+        qdd: &mut [f64],
+    ) -> Result<(), Error>;
+    /// The actuator forces `Γ` of the platform's motion into `gamma`: the inverse dynamics.
+    ///
+    /// # Errors
+    /// As [`Mechanism::jacobian`].
+    fn inverse_dynamics(
+        &self,
+        pose: &[f64],
+        twist: &[f64],
+        acceleration: &[f64],
+        gamma: &mut [f64],
+    ) -> Result<(), Error>;
+    /// The platform's classical acceleration under the actuator forces `gamma` into
+    /// `acceleration`: the forward dynamics.
+    ///
+    /// # Errors
+    /// As [`Mechanism::jacobian`], and where the forward dynamics cannot be served to its
+    /// accuracy bound.
+    fn forward_dynamics(
+        &self,
+        pose: &[f64],
+        twist: &[f64],
+        gamma: &[f64],
+        acceleration: &mut [f64],
+    ) -> Result<(), Error>;
+    /// The pose of the actuator values `q` into `pose`, from `near` where the mechanism
+    /// iterates (else from home).
+    ///
+    /// # Errors
+    /// Wrong lengths, non-finite inputs, no pose or a singular one.
+    fn forward_kinematics(
+        &self,
+        q: &[f64],
+        near: Option<&[f64]>,
+        pose: &mut [f64],
+    ) -> Result<(), Error>;
+    /// The platform's pose, twist and acceleration from the actuators' values, rates and
+    /// accelerations (`out`: pose, twist, acceleration).
+    ///
+    /// # Errors
+    /// As [`Mechanism::forward_kinematics`], and where `J` cannot be applied to its accuracy
+    /// bound.
+    fn joint_state(
+        &self,
+        joints: [&[f64]; 3],
+        near: Option<&[f64]>,
+        out: [&mut [f64]; 3],
+    ) -> Result<(), Error>;
+    /// One classical Runge-Kutta step of `dt` under the constant actuator forces `gamma`,
+    /// `pose` and `twist` advanced in place (unchanged on an error).
+    ///
+    /// # Errors
+    /// As [`Mechanism::forward_dynamics`] at any stage.
+    fn step_held(
+        &self,
+        pose: &mut [f64],
+        twist: &mut [f64],
+        gamma: &[f64],
+        dt: f64,
+    ) -> Result<(), Error>;
+
+    /// [`Mechanism::inverse_dynamics`] of every row of the row-major `pose`, `twist` and
+    /// `acceleration` into the rows of `gamma`; a refused row is handed to `refused` with its
+    /// index and left as it was. The C5 goes four rows at a time through its batch kernels.
+    ///
+    /// # Errors
+    /// Arrays of different numbers of rows, or not whole rows.
+    fn inverse_dynamics_rows(
+        &self,
+        motion: [&[f64]; 3],
+        gamma: &mut [f64],
+        refused: &mut dyn FnMut(usize, Error),
+    ) -> Result<(), Error> {
+        let n = self.freedom().dimension();
+        let rows = row_count(n, &motion, gamma)?;
+        for k in 0..rows {
+            let [x, v, a] = motion.map(|m| &m[k * n..(k + 1) * n]);
+            if let Err(e) = self.inverse_dynamics(x, v, a, &mut gamma[k * n..(k + 1) * n]) {
+                refused(k, e);
+            }
+        }
+        Ok(())
+    }
+    /// [`Mechanism::forward_dynamics`] of every row of `pose`, `twist` and `gamma` into the
+    /// rows of `acceleration`, as [`Mechanism::inverse_dynamics_rows`].
+    ///
+    /// # Errors
+    /// As [`Mechanism::inverse_dynamics_rows`].
+    fn forward_dynamics_rows(
+        &self,
+        input: [&[f64]; 3],
+        acceleration: &mut [f64],
+        refused: &mut dyn FnMut(usize, Error),
+    ) -> Result<(), Error> {
+        let n = self.freedom().dimension();
+        let rows = row_count(n, &input, acceleration)?;
+        for k in 0..rows {
+            let [x, v, g] = input.map(|m| &m[k * n..(k + 1) * n]);
+            if let Err(e) = self.forward_dynamics(x, v, g, &mut acceleration[k * n..(k + 1) * n]) {
+                refused(k, e);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The robot of `description`, the C5 with `model` (the other mechanisms have one model): the
+/// one place a description is mapped to its runtime type for [`Mechanism`].
+///
+/// # Errors
+/// [`Error::Robot`] if the description breaks a rule of its mechanism.
+pub fn load(description: Description, model: Model) -> Result<Box<dyn Mechanism>, Error> {
+    Ok(match description {
+        Description::C5(r) => Box::new(C5::with_model(r, model)?),
+        Description::GoughStewart(r) => Box::new(GoughStewart::new(r)?),
+        Description::RusHexapod(r) => Box::new(RusHexapod::new(r)?),
+        Description::Delta(r) => Box::new(Delta::new(r)?),
+    })
+}
+
+/// The number of rows of `inputs` and `output`, `n` numbers a row.
+fn row_count(n: usize, inputs: &[&[f64]; 3], output: &[f64]) -> Result<usize, Error> {
+    let rows = output.len() / n;
+    let names = ["first input", "second input", "third input"];
+    for (name, input) in names.into_iter().zip(inputs) {
+        if input.len() != rows * n {
+            return Err(Error::WrongLength {
+                input: name,
+                expected: rows * n,
+                got: input.len(),
+            });
+        }
+    }
+    if output.len() != rows * n {
+        return Err(Error::WrongLength {
+            input: "output",
+            expected: rows * n,
+            got: output.len(),
+        });
+    }
+    Ok(rows)
+}
+
+/// `values` as an array of `N`, refused by name when its length is not `N`.
+fn array<const N: usize>(input: &'static str, values: &[f64]) -> Result<[f64; N], Error> {
+    values.try_into().map_err(|_| Error::WrongLength {
+        input,
+        expected: N,
+        got: values.len(),
+    })
+}
+
+/// Checks that `out` takes `N` numbers, before anything is computed.
+fn room<const N: usize>(output: &'static str, out: &[f64]) -> Result<(), Error> {
+    array::<N>(output, out).map(drop)
+}
+
+/// Copies `values` into `out`, whose length [`room`] checked.
+fn put(out: &mut [f64], values: &[f64]) {
+    out.copy_from_slice(values);
+}
+
+/// Every mechanism whose platform is free in space, through its [`ParallelRobot`].
+impl<R: ParallelRobot + 'static> Mechanism for R {
+    fn mechanism(&self) -> &'static str {
+        ParallelRobot::mechanism(self)
+    }
+    fn model_name(&self) -> &'static str {
+        ParallelRobot::model_name(self)
+    }
+    fn freedom(&self) -> Freedom {
+        Freedom::Free
+    }
+    fn description(&self) -> Description {
+        ParallelRobot::description(self)
+    }
+    fn parameters(&self) -> &[f64] {
+        ParallelRobot::parameters(self)
+    }
+    fn home(&self) -> Vec<f64> {
+        ParallelRobot::home(self).to_array().to_vec()
+    }
+    fn spatial(&self) -> Option<&dyn ParallelRobot> {
+        Some(self)
+    }
+    fn actuator_positions(&self, pose: &[f64], q: &mut [f64]) -> Result<(), Error> {
+        room::<6>("q", q)?;
+        let pose = Pose::from_array(array("pose", pose)?);
+        put(q, &ParallelRobot::actuator_positions(self, &pose)?);
+        Ok(())
+    }
+    fn inverse_jacobian(&self, pose: &[f64], jinv: &mut [f64]) -> Result<(), Error> {
+        room::<36>("jinv", jinv)?;
+        let pose = Pose::from_array(array("pose", pose)?);
+        put(
+            jinv,
+            ParallelRobot::inverse_jacobian(self, &pose)?.as_flattened(),
+        );
+        Ok(())
+    }
+    fn jacobian(&self, pose: &[f64], jac: &mut [f64]) -> Result<(), Error> {
+        room::<36>("jacobian", jac)?;
+        let pose = Pose::from_array(array("pose", pose)?);
+        put(jac, ParallelRobot::jacobian(self, &pose)?.as_flattened());
+        Ok(())
+    }
+    fn joint_velocities(&self, pose: &[f64], twist: &[f64], qd: &mut [f64]) -> Result<(), Error> {
+        room::<6>("qd", qd)?;
+        let pose = Pose::from_array(array("pose", pose)?);
+        let twist = Twist::from_array(array("twist", twist)?);
+        put(qd, &ParallelRobot::joint_velocities(self, &pose, &twist)?);
+        Ok(())
+    }
+    fn joint_accelerations(
+        &self,
+        pose: &[f64],
+        twist: &[f64],
+        acceleration: &[f64],
+        qdd: &mut [f64],
+    ) -> Result<(), Error> {
+        room::<6>("qdd", qdd)?;
+        let state = spatial_state(pose, twist, acceleration)?;
+        put(qdd, &ParallelRobot::joint_accelerations(self, &state)?);
+        Ok(())
+    }
+    fn inverse_dynamics(
+        &self,
+        pose: &[f64],
+        twist: &[f64],
+        acceleration: &[f64],
+        gamma: &mut [f64],
+    ) -> Result<(), Error> {
+        room::<6>("gamma", gamma)?;
+        let state = spatial_state(pose, twist, acceleration)?;
+        put(gamma, &ParallelRobot::inverse_dynamics(self, &state)?);
+        Ok(())
+    }
+    fn forward_dynamics(
+        &self,
+        pose: &[f64],
+        twist: &[f64],
+        gamma: &[f64],
+        acceleration: &mut [f64],
+    ) -> Result<(), Error> {
+        room::<6>("acceleration", acceleration)?;
+        let pose = Pose::from_array(array("pose", pose)?);
+        let twist = Twist::from_array(array("twist", twist)?);
+        let a = ParallelRobot::forward_dynamics(self, &pose, &twist, &array("gamma", gamma)?)?;
+        put(acceleration, &a.to_array());
+        Ok(())
+    }
+    fn forward_kinematics(
+        &self,
+        q: &[f64],
+        near: Option<&[f64]>,
+        pose: &mut [f64],
+    ) -> Result<(), Error> {
+        room::<6>("pose", pose)?;
+        let near = near
+            .map(|x| array("near", x).map(Pose::from_array))
+            .transpose()?;
+        let found = ParallelRobot::forward_kinematics(self, &array("q", q)?, near.as_ref())?;
+        put(pose, &found.to_array());
+        Ok(())
+    }
+    fn joint_state(
+        &self,
+        joints: [&[f64]; 3],
+        near: Option<&[f64]>,
+        out: [&mut [f64]; 3],
+    ) -> Result<(), Error> {
+        let [pose, twist, acceleration] = out;
+        room::<6>("pose", pose)?;
+        room::<6>("twist", twist)?;
+        room::<6>("acceleration", acceleration)?;
+        let near = near
+            .map(|x| array("near", x).map(Pose::from_array))
+            .transpose()?;
+        let [q, qd, qdd] = joints;
+        let (q, qd, qdd) = (array("q", q)?, array("qd", qd)?, array("qdd", qdd)?);
+        let state = ParallelRobot::joint_state(self, &q, &qd, &qdd, near.as_ref())?;
+        put(pose, &state.pose.to_array());
+        put(twist, &state.twist.to_array());
+        put(acceleration, &state.accel.to_array());
+        Ok(())
+    }
+    fn step_held(
+        &self,
+        pose: &mut [f64],
+        twist: &mut [f64],
+        gamma: &[f64],
+        dt: f64,
+    ) -> Result<(), Error> {
+        let start = PlantState::new(
+            &Pose::from_array(array("pose", pose)?),
+            &Twist::from_array(array("twist", twist)?),
+        );
+        let gamma: [f64; 6] = array("gamma", gamma)?;
+        let next = rk4_step(self, &start, 0.0, dt, |_, _| Ok(gamma))?;
+        put(pose, &next.pose().to_array());
+        put(twist, &next.twist.to_array());
+        Ok(())
+    }
+    /// Four rows at a time through the C5's batch kernels (feature `batch`).
+    fn inverse_dynamics_rows(
+        &self,
+        motion: [&[f64]; 3],
+        gamma: &mut [f64],
+        refused: &mut dyn FnMut(usize, Error),
+    ) -> Result<(), Error> {
+        let rows = row_count(6, &motion, gamma)?;
+        let row = |m: &[f64], k: usize| array::<6>("row", &m[6 * k..6 * k + 6]).unwrap_or_default();
+        let state = |k: usize| crate::State {
+            pose: Pose::from_array(row(motion[0], k)),
+            twist: Twist::from_array(row(motion[1], k)),
+            accel: Acceleration::from_array(row(motion[2], k)),
+        };
+        self.inverse_dynamics_each(rows, &state, &mut |k, result| match result {
+            Ok(g) => gamma[6 * k..6 * k + 6].copy_from_slice(&g),
+            Err(e) => refused(k, e),
+        });
+        Ok(())
+    }
+    /// Four rows at a time through the C5's batch kernels (feature `batch`).
+    fn forward_dynamics_rows(
+        &self,
+        input: [&[f64]; 3],
+        acceleration: &mut [f64],
+        refused: &mut dyn FnMut(usize, Error),
+    ) -> Result<(), Error> {
+        let rows = row_count(6, &input, acceleration)?;
+        let row = |m: &[f64], k: usize| array::<6>("row", &m[6 * k..6 * k + 6]).unwrap_or_default();
+        let at = |k: usize| {
+            (
+                Pose::from_array(row(input[0], k)),
+                Twist::from_array(row(input[1], k)),
+                row(input[2], k),
+            )
+        };
+        self.forward_dynamics_each(rows, &at, &mut |k, result| match result {
+            Ok(a) => acceleration[6 * k..6 * k + 6].copy_from_slice(&a.to_array()),
+            Err(e) => refused(k, e),
+        });
+        Ok(())
+    }
+}
+
+/// A platform state free in space from its three slices.
+fn spatial_state(pose: &[f64], twist: &[f64], acceleration: &[f64]) -> Result<crate::State, Error> {
+    Ok(crate::State {
+        pose: Pose::from_array(array("pose", pose)?),
+        twist: Twist::from_array(array("twist", twist)?),
+        accel: Acceleration::from_array(array("acceleration", acceleration)?),
+    })
+}
+
+/// The Delta: its platform translates, so every slice holds three numbers.
+impl Mechanism for Delta {
+    fn mechanism(&self) -> &'static str {
+        crate::delta::MECHANISM
+    }
+    fn model_name(&self) -> &'static str {
+        crate::delta::MECHANISM
+    }
+    fn freedom(&self) -> Freedom {
+        Freedom::Translations
+    }
+    fn description(&self) -> Description {
+        Description::Delta(*self.robot())
+    }
+    fn parameters(&self) -> &[f64] {
+        Delta::parameters(self)
+    }
+    fn home(&self) -> Vec<f64> {
+        Delta::home(self).to_vec()
+    }
+    fn spatial(&self) -> Option<&dyn ParallelRobot> {
+        None
+    }
+    fn actuator_positions(&self, pose: &[f64], q: &mut [f64]) -> Result<(), Error> {
+        room::<3>("q", q)?;
+        put(q, &self.inverse_kinematics(&array("pose", pose)?)?);
+        Ok(())
+    }
+    fn inverse_jacobian(&self, pose: &[f64], jinv: &mut [f64]) -> Result<(), Error> {
+        room::<9>("jinv", jinv)?;
+        let m = Delta::inverse_jacobian(self, &array("pose", pose)?)?;
+        put(jinv, m.as_flattened());
+        Ok(())
+    }
+    fn jacobian(&self, pose: &[f64], jac: &mut [f64]) -> Result<(), Error> {
+        room::<9>("jacobian", jac)?;
+        put(
+            jac,
+            Delta::jacobian(self, &array("pose", pose)?)?.as_flattened(),
+        );
+        Ok(())
+    }
+    fn joint_velocities(&self, pose: &[f64], twist: &[f64], qd: &mut [f64]) -> Result<(), Error> {
+        room::<3>("qd", qd)?;
+        let rates = Delta::joint_velocities(self, &array("pose", pose)?, &array("twist", twist)?)?;
+        put(qd, &rates);
+        Ok(())
+    }
+    fn joint_accelerations(
+        &self,
+        pose: &[f64],
+        twist: &[f64],
+        acceleration: &[f64],
+        qdd: &mut [f64],
+    ) -> Result<(), Error> {
+        room::<3>("qdd", qdd)?;
+        let state = translation(pose, twist, acceleration)?;
+        put(qdd, &Delta::joint_accelerations(self, &state)?);
+        Ok(())
+    }
+    fn inverse_dynamics(
+        &self,
+        pose: &[f64],
+        twist: &[f64],
+        acceleration: &[f64],
+        gamma: &mut [f64],
+    ) -> Result<(), Error> {
+        room::<3>("gamma", gamma)?;
+        let state = translation(pose, twist, acceleration)?;
+        put(gamma, &Delta::inverse_dynamics(self, &state)?);
+        Ok(())
+    }
+    fn forward_dynamics(
+        &self,
+        pose: &[f64],
+        twist: &[f64],
+        gamma: &[f64],
+        acceleration: &mut [f64],
+    ) -> Result<(), Error> {
+        room::<3>("acceleration", acceleration)?;
+        let (x, v, g) = (
+            array("pose", pose)?,
+            array("twist", twist)?,
+            array("gamma", gamma)?,
+        );
+        put(acceleration, &Delta::forward_dynamics(self, &x, &v, &g)?);
+        Ok(())
+    }
+    /// In closed form: `near` is not needed, and only its length is checked.
+    fn forward_kinematics(
+        &self,
+        q: &[f64],
+        near: Option<&[f64]>,
+        pose: &mut [f64],
+    ) -> Result<(), Error> {
+        room::<3>("pose", pose)?;
+        near.map(|x| array::<3>("near", x)).transpose()?;
+        put(pose, &Delta::forward_kinematics(self, &array("q", q)?)?);
+        Ok(())
+    }
+    fn joint_state(
+        &self,
+        joints: [&[f64]; 3],
+        near: Option<&[f64]>,
+        out: [&mut [f64]; 3],
+    ) -> Result<(), Error> {
+        let [pose, twist, acceleration] = out;
+        room::<3>("pose", pose)?;
+        room::<3>("twist", twist)?;
+        room::<3>("acceleration", acceleration)?;
+        near.map(|x| array::<3>("near", x)).transpose()?;
+        let [q, qd, qdd] = joints;
+        let (q, qd, qdd) = (array("q", q)?, array("qd", qd)?, array("qdd", qdd)?);
+        let state = Delta::joint_state(self, &q, &qd, &qdd)?;
+        put(pose, &state.position);
+        put(twist, &state.velocity);
+        put(acceleration, &state.acceleration);
+        Ok(())
+    }
+    fn step_held(
+        &self,
+        pose: &mut [f64],
+        twist: &mut [f64],
+        gamma: &[f64],
+        dt: f64,
+    ) -> Result<(), Error> {
+        let (x, v): ([f64; 3], [f64; 3]) = (array("pose", pose)?, array("twist", twist)?);
+        let g = array("gamma", gamma)?;
+        let rate = |y: &[f64; 6]| -> Result<[f64; 6], Error> {
+            let (x, v) = ([y[0], y[1], y[2]], [y[3], y[4], y[5]]);
+            let a = Delta::forward_dynamics(self, &x, &v, &g)?;
+            Ok([v[0], v[1], v[2], a[0], a[1], a[2]])
+        };
+        let y0 = [x[0], x[1], x[2], v[0], v[1], v[2]];
+        let along = |k: &[f64; 6], h: f64| core::array::from_fn(|i| y0[i] + h * k[i]);
+        let k1 = rate(&y0)?;
+        let k2 = rate(&along(&k1, 0.5 * dt))?;
+        let k3 = rate(&along(&k2, 0.5 * dt))?;
+        let k4 = rate(&along(&k3, dt))?;
+        let y: [f64; 6] = core::array::from_fn(|i| {
+            y0[i] + dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+        });
+        put(pose, &y[..3]);
+        put(twist, &y[3..]);
+        Ok(())
+    }
+}
+
+/// A Delta's state from its three slices.
+fn translation(
+    pose: &[f64],
+    twist: &[f64],
+    acceleration: &[f64],
+) -> Result<crate::delta::Translation, Error> {
+    Ok(crate::delta::Translation {
+        position: array("pose", pose)?,
+        velocity: array("twist", twist)?,
+        acceleration: array("acceleration", acceleration)?,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every mechanism the catalogue has, from its example description.
+    fn every_mechanism() -> Vec<Box<dyn Mechanism>> {
+        [
+            Description::default(),
+            Description::GoughStewart(c5_robot::GoughStewart::example()),
+            Description::RusHexapod(c5_robot::RusHexapod::example()),
+            Description::Delta(c5_robot::Delta::example()),
+        ]
+        .into_iter()
+        .map(|d| load(d, Model::Consistent).unwrap())
+        .collect()
+    }
+
+    /// A pose near home, moved by `k` small steps of each coordinate, and a twist and an
+    /// acceleration of that dimension.
+    fn motion(robot: &dyn Mechanism, k: f64) -> [Vec<f64>; 3] {
+        let n = robot.freedom().dimension();
+        let mut pose = robot.home();
+        for (i, x) in pose.iter_mut().enumerate() {
+            *x += 0.004 * k * ((i as f64) * 1.7 + 0.3).sin();
+        }
+        let twist = (0..n).map(|i| 0.2 * (k + i as f64).cos()).collect();
+        let accel = (0..n).map(|i| 0.9 * (2.0 * k - i as f64).sin()).collect();
+        [pose, twist, accel]
+    }
+
+    fn product(a: &[f64], b: &[f64], n: usize) -> Vec<f64> {
+        (0..n * n)
+            .map(|ij| (0..n).map(|k| a[ij / n * n + k] * b[k * n + ij % n]).sum())
+            .collect()
+    }
+
+    #[test]
+    fn the_slices_have_the_freedoms_dimension_and_j_times_its_inverse_is_the_identity() {
+        for robot in every_mechanism() {
+            let n = robot.freedom().dimension();
+            assert_eq!(robot.home().len(), n, "{}", robot.mechanism());
+            let [pose, ..] = motion(&*robot, 1.0);
+            let (mut jinv, mut jac) = (vec![0.0; n * n], vec![0.0; n * n]);
+            robot.inverse_jacobian(&pose, &mut jinv).unwrap();
+            robot.jacobian(&pose, &mut jac).unwrap();
+            let identity = product(&jac, &jinv, n);
+            for (ij, x) in identity.iter().enumerate() {
+                let expected = if ij / n == ij % n { 1.0 } else { 0.0 };
+                assert!(
+                    (x - expected).abs() < 1e-12,
+                    "{}: {identity:?}",
+                    robot.mechanism()
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_forward_dynamics_undoes_the_inverse_and_the_forward_kinematics_the_inverse() {
+        for robot in every_mechanism() {
+            let n = robot.freedom().dimension();
+            for k in 0..4 {
+                let [pose, twist, accel] = motion(&*robot, k as f64);
+                let (mut gamma, mut back) = (vec![0.0; n], vec![0.0; n]);
+                robot
+                    .inverse_dynamics(&pose, &twist, &accel, &mut gamma)
+                    .unwrap();
+                robot
+                    .forward_dynamics(&pose, &twist, &gamma, &mut back)
+                    .unwrap();
+                for i in 0..n {
+                    assert!((back[i] - accel[i]).abs() < 1e-9, "{}", robot.mechanism());
+                }
+                let (mut q, mut found) = (vec![0.0; n], vec![0.0; n]);
+                robot.actuator_positions(&pose, &mut q).unwrap();
+                robot.forward_kinematics(&q, None, &mut found).unwrap();
+                for i in 0..n {
+                    assert!((found[i] - pose[i]).abs() < 1e-11, "{}", robot.mechanism());
+                }
+            }
+        }
+    }
+
+    /// `q̇ = J⁻¹ V` against the actuators' values differenced along a translation of the
+    /// platform (the pose's rate is then the twist's, for every freedom).
+    #[test]
+    fn the_actuators_rates_are_their_positions_differenced() {
+        for robot in every_mechanism() {
+            let n = robot.freedom().dimension();
+            let [pose, ..] = motion(&*robot, 2.0);
+            let mut twist = vec![0.0; n];
+            twist[n - 3..].copy_from_slice(&[0.05, -0.08, 0.11]);
+            let mut qd = vec![0.0; n];
+            robot.joint_velocities(&pose, &twist, &mut qd).unwrap();
+            let h = 1e-6;
+            let at = |s: f64| {
+                let moved: Vec<f64> = pose.iter().zip(&twist).map(|(x, v)| x + s * v).collect();
+                let mut q = vec![0.0; n];
+                robot.actuator_positions(&moved, &mut q).unwrap();
+                q
+            };
+            let (plus, minus) = (at(h), at(-h));
+            for i in 0..n {
+                let differenced = (plus[i] - minus[i]) / (2.0 * h);
+                assert!((differenced - qd[i]).abs() < 1e-8, "{}", robot.mechanism());
+            }
+        }
+    }
+
+    #[test]
+    fn the_platform_from_the_actuators_motion_is_the_one_that_gave_it() {
+        for robot in every_mechanism() {
+            let n = robot.freedom().dimension();
+            let [pose, twist, accel] = motion(&*robot, 3.0);
+            let [mut q, mut qd, mut qdd] = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+            robot.actuator_positions(&pose, &mut q).unwrap();
+            robot.joint_velocities(&pose, &twist, &mut qd).unwrap();
+            robot
+                .joint_accelerations(&pose, &twist, &accel, &mut qdd)
+                .unwrap();
+            let [mut x, mut v, mut a] = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+            robot
+                .joint_state([&q, &qd, &qdd], None, [&mut x, &mut v, &mut a])
+                .unwrap();
+            for i in 0..n {
+                assert!((x[i] - pose[i]).abs() < 1e-11, "{}", robot.mechanism());
+                assert!((v[i] - twist[i]).abs() < 1e-10, "{}", robot.mechanism());
+                assert!((a[i] - accel[i]).abs() < 1e-9, "{}", robot.mechanism());
+            }
+        }
+    }
+
+    #[test]
+    fn rows_give_each_states_result_and_name_the_refused_row() {
+        for robot in every_mechanism() {
+            let n = robot.freedom().dimension();
+            let states: Vec<[Vec<f64>; 3]> = (0..6).map(|k| motion(&*robot, k as f64)).collect();
+            let column = |j: usize| -> Vec<f64> {
+                states.iter().flat_map(|s| s[j].iter().copied()).collect()
+            };
+            let mut poses = column(0);
+            poses[3 * n + n - 1] = f64::NAN;
+            let (twists, accels) = (column(1), column(2));
+            let mut gamma = vec![0.0; 6 * n];
+            let mut refused = Vec::new();
+            robot
+                .inverse_dynamics_rows([&poses, &twists, &accels], &mut gamma, &mut |k, e| {
+                    refused.push((k, e))
+                })
+                .unwrap();
+            assert_eq!(refused.len(), 1, "{}", robot.mechanism());
+            assert_eq!(refused[0].0, 3);
+            assert!(matches!(refused[0].1, Error::NonFinite { .. }));
+            for (k, [x, v, a]) in states.iter().enumerate().filter(|&(k, _)| k != 3) {
+                let mut one = vec![0.0; n];
+                robot.inverse_dynamics(x, v, a, &mut one).unwrap();
+                assert_eq!(one, gamma[k * n..(k + 1) * n], "{}", robot.mechanism());
+            }
+        }
+    }
+
+    #[test]
+    fn a_slice_of_the_wrong_length_is_refused_and_nothing_is_written() {
+        for robot in every_mechanism() {
+            let n = robot.freedom().dimension();
+            let [pose, twist, accel] = motion(&*robot, 1.0);
+            let mut gamma = vec![7.0; n];
+            let short = &pose[..n - 1];
+            assert!(matches!(
+                robot.inverse_dynamics(short, &twist, &accel, &mut gamma),
+                Err(Error::WrongLength { input: "pose", .. })
+            ));
+            let mut long = vec![7.0; n + 1];
+            assert!(matches!(
+                robot.inverse_dynamics(&pose, &twist, &accel, &mut long),
+                Err(Error::WrongLength { input: "gamma", .. })
+            ));
+            assert!(gamma.iter().chain(&long).all(|&g| g == 7.0));
+            let mut output = vec![0.0; 2 * n];
+            assert!(robot
+                .forward_dynamics_rows([&pose, &twist, &gamma], &mut output, &mut |_, _| {})
+                .is_err());
+        }
+    }
+
+    /// Under the forces that hold the platform at rest, a held step leaves it there; under
+    /// more, it moves the way the forward dynamics points.
+    #[test]
+    fn a_held_step_rests_under_the_holding_forces() {
+        for robot in every_mechanism() {
+            let n = robot.freedom().dimension();
+            let mut pose = robot.home();
+            let (rest, mut twist) = (vec![0.0; n], vec![0.0; n]);
+            let mut hold = vec![0.0; n];
+            robot
+                .inverse_dynamics(&pose, &rest, &rest, &mut hold)
+                .unwrap();
+            let start = pose.clone();
+            robot.step_held(&mut pose, &mut twist, &hold, 1e-3).unwrap();
+            for i in 0..n {
+                assert!((pose[i] - start[i]).abs() < 1e-12, "{}", robot.mechanism());
+                assert!(twist[i].abs() < 1e-9, "{}", robot.mechanism());
+            }
+        }
+    }
+}
