@@ -75,7 +75,10 @@ class Limits(TypedDict):
 
 class Robot:
     """A parallel robot: the C5 joint parallel robot (the default, with a model of its legs'
-    mechanism) or the robot of a file's ``mechanism`` (``"gough-stewart"``)."""
+    mechanism) or the robot of a file's ``mechanism`` (``"gough-stewart"``, ``"rus-hexapod"``,
+    ``"delta"``). Its ``dimension`` is its platform's freedoms and its actuators' number: 6, or
+    3 for the Delta, whose pose is ``[xc yc zc]`` and whose calls take ``velocity`` and
+    ``acceleration`` alone; what needs six freedoms raises ``ValueError`` for it."""
 
     def __init__(
         self,
@@ -90,6 +93,13 @@ class Robot:
     def model(self) -> str: ...
     @property
     def mechanism(self) -> str: ...
+    @property
+    def dimension(self) -> int:
+        """The pose's coordinates and the actuators: 6, or 3 for a platform that only
+        translates."""
+    @property
+    def pose_names(self) -> list[str]:
+        """The pose's coordinates' names, in order."""
     def to_mjcf(self) -> str:
         """The robot as MJCF for MuJoCo and Pinocchio (docs/export.md); the paper model is
         refused (``ValueError``), it is not a mechanism."""
@@ -120,6 +130,18 @@ class Robot:
     ) -> Result:
         """Actuator rates ``qd = J^-1 V`` (m/s)."""
 
+    def joint_accelerations(
+        self,
+        pose: ArrayLike,
+        omega: Optional[ArrayLike] = None,
+        velocity: Optional[ArrayLike] = None,
+        omega_dot: Optional[ArrayLike] = None,
+        acceleration: Optional[ArrayLike] = None,
+        *,
+        errors: Errors = "raise",
+    ) -> Result:
+        """Actuator accelerations ``qdd`` of the platform's motion."""
+
     def inverse_dynamics(
         self,
         pose: ArrayLike,
@@ -141,9 +163,9 @@ class Robot:
         gamma: Optional[ArrayLike] = None,
         *,
         errors: Errors = "raise",
-    ) -> Union[Tuple[Array, Array], Tuple[Array, Array, Mask]]:
+    ) -> Union[Array, Tuple[Array, Mask], Tuple[Array, Array], Tuple[Array, Array, Mask]]:
         """The platform's classical acceleration ``(omega_dot, acceleration)`` under the actuator
-        forces ``gamma`` (N)."""
+        forces ``gamma`` (N); ``acceleration`` alone for the Delta."""
 
     def task_bias(
         self,
@@ -173,7 +195,7 @@ class Robot:
         errors: Errors = "raise",
     ) -> Union[Tuple[Array, Array, Array, Array, Array], Tuple[Array, Array, Array, Array, Array, Mask]]:
         """``(pose, omega, velocity, omega_dot, acceleration)`` from the actuators' positions,
-        rates and accelerations."""
+        rates and accelerations; ``(pose, velocity, acceleration)`` for the Delta."""
 
     def inverse_dynamics_joint(
         self,

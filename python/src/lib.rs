@@ -1,5 +1,5 @@
 //! `c5_kernels`: the generated kernels of the C5 robot and of any mechanism a robot file
-//! describes (the Gough–Stewart platform), for numpy.
+//! describes (the Gough–Stewart platform, the rotary hexapod, the Delta), for numpy.
 //!
 //! Every method takes one state (vectors of shape `(6,)` or `(3,)`) or a batch (`(N, 6)`,
 //! `(N, 3)`) and returns arrays of the matching shape. Inputs that are contiguous `float64`
@@ -9,9 +9,10 @@
 
 use c5_runtime::calibrate::{self, Measurement, Noise, Options};
 use c5_runtime::identify::{BaseParameters, Friction, Identifier};
+use c5_runtime::platform::Freedom;
 use c5_runtime::{
-    Acceleration, Description, Error, GoughStewart, Model, ParallelRobot, Pose, State, Twist,
-    C5 as Robot5,
+    Acceleration, Description, Error, GoughStewart, Mechanism, Model, ParallelRobot, Pose, State,
+    Twist, C5 as Robot5,
 };
 use numpy::ndarray::{ArrayD, IxDyn};
 use numpy::{
@@ -47,6 +48,25 @@ struct Rows<'a> {
 impl Rows<'_> {
     fn row<const W: usize>(&self, k: usize) -> [f64; W] {
         std::array::from_fn(|i| self.data[k * self.width + i])
+    }
+
+    /// Row `k`.
+    fn slice(&self, k: usize) -> &[f64] {
+        &self.data[k * self.width..(k + 1) * self.width]
+    }
+}
+
+/// Row `k` of each of `rows` in turn into `out`: a pose, a twist from its parts (`ω`, `v_C`), or
+/// an acceleration from its. Every coordinate group is three wide, and copying three at a time
+/// lets the compiler move them in registers where a copy of a length known only at run time
+/// would call `memcpy` (a quarter of a batch's time).
+fn gather(rows: &[Rows<'_>], k: usize, out: &mut [f64]) {
+    let mut at = 0;
+    for r in rows {
+        for part in r.slice(k).chunks_exact(3) {
+            out[at..at + 3].copy_from_slice(part);
+            at += 3;
+        }
     }
 }
 
@@ -255,8 +275,9 @@ where
     })
 }
 
-/// The platform state of row `k` of the five motion arguments (pose, ω, v_C, ω̇, a_C).
-fn motion(r: &[Rows<'_>], k: usize) -> State {
+/// The platform state of row `k` of the five motion arguments of a platform free in space
+/// (pose, ω, v_C, ω̇, a_C).
+fn motion6(r: &[Rows<'_>], k: usize) -> State {
     State {
         pose: Pose::from_array(r[0].row(k)),
         twist: Twist {
@@ -301,14 +322,15 @@ fn motion_args<'a, 'py>(
 
 /// The actuators' motion arguments (`q`, `qd`, `qdd`), as `C5::read` takes them.
 fn joint_args<'a, 'py>(
+    n: usize,
     q: &'a Array<'py>,
     qd: &'a Option<Array<'py>>,
     qdd: &'a Option<Array<'py>>,
 ) -> [(&'static str, usize, Option<&'a Array<'py>>); 3] {
     [
-        ("q", 6, Some(q)),
-        ("qd", 6, qd.as_ref()),
-        ("qdd", 6, qdd.as_ref()),
+        ("q", n, Some(q)),
+        ("qd", n, qd.as_ref()),
+        ("qdd", n, qdd.as_ref()),
     ]
 }
 
@@ -329,17 +351,22 @@ fn forward_args<'a, 'py>(
 
 /// A parallel robot from its description: the C5 joint parallel robot (the default, with a
 /// model of its legs' mechanism) or any mechanism a robot file names (`mechanism =
-/// "gough-stewart"`).
+/// "gough-stewart"`, `"rus-hexapod"`, `"delta"`).
 ///
 /// Conventions (as the Rust crates): SI units and radians; pose `[α β γ xc yc zc]` with
 /// `R = Rx(α) Ry(β) Rz(γ)`; twist `ω`, `v_C` at the platform centre, base frame; classical
-/// accelerations `ω̇`, `a_C = d v_C/dt`; actuators in order 1..6. The C5's `q` is the ball
+/// accelerations `ω̇`, `a_C = d v_C/dt`; actuators in order. The C5's `q` is the ball
 /// centre's position along the actuator axis, a positive force pushing the rod along `+n_i`;
-/// a hexapod's `q` is the leg's length (plus its encoder offset), a positive force extending
-/// the leg.
+/// a Gough–Stewart platform's `q` is the leg's length (plus its encoder offset), a positive
+/// force extending the leg; a rotary hexapod's or a Delta's is the motor's angle (plus its
+/// encoder offset), a positive torque turning it positive. A Delta's platform only translates:
+/// its `dimension` is 3, its pose `[xc yc zc]`, its calls take `velocity` and `acceleration`
+/// (no `omega`, `omega_dot`) and three actuators; what needs six freedoms (the task-space
+/// terms, the joint-space dynamics, regressors, identification, derivatives) raises a
+/// `ValueError` naming it.
 #[pyclass(module = "c5_kernels", name = "Robot", frozen)]
 struct C5 {
-    inner: Box<dyn ParallelRobot>,
+    inner: Box<dyn Mechanism>,
     /// Found on first use: a hexapod's groupings take a few hundred microseconds.
     base: OnceLock<Result<BaseParameters, String>>,
 }
@@ -354,20 +381,42 @@ fn read_description(robot: Option<std::path::PathBuf>) -> PyResult<Description> 
     }
 }
 
-fn load(model: &str, robot: Option<std::path::PathBuf>) -> PyResult<Box<dyn ParallelRobot>> {
+fn load(model: &str, robot: Option<std::path::PathBuf>) -> PyResult<Box<dyn Mechanism>> {
     let model: Model = model
         .parse()
         .map_err(|e: c5_robot::Error| PyValueError::new_err(e.to_string()))?;
-    c5_runtime::mechanism::robot(read_description(robot)?, model)
+    c5_runtime::platform::load(read_description(robot)?, model)
         .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
 /// What only the C5 serves, refused for another mechanism.
-fn unsupported(what: &'static str, robot: &dyn ParallelRobot) -> Error {
+fn unsupported(what: &'static str, mechanism: &'static str) -> Error {
     Error::Unsupported {
         what,
-        mechanism: robot.mechanism(),
+        mechanism,
         why: "it is the C5's alone",
+    }
+}
+
+/// The parts of a platform's twist (or acceleration) as arguments, for its freedom: `ω` and
+/// `v_C`, or `v_C` alone, `omega` refused when given to a platform that only translates.
+fn parts<'a, 'py>(
+    freedom: Freedom,
+    mechanism: &'static str,
+    [angular, linear]: [(&'static str, &'a Option<Array<'py>>); 2],
+) -> PyResult<Vec<(&'static str, usize, Option<&'a Array<'py>>)>> {
+    match freedom {
+        Freedom::Free => Ok(vec![
+            (angular.0, 3, angular.1.as_ref()),
+            (linear.0, 3, linear.1.as_ref()),
+        ]),
+        Freedom::Translations => match angular.1 {
+            Some(_) => Err(PyValueError::new_err(format!(
+                "this {mechanism}'s platform only translates: it takes no `{}`",
+                angular.0
+            ))),
+            None => Ok(vec![(linear.0, 3, linear.1.as_ref())]),
+        },
     }
 }
 
@@ -382,17 +431,92 @@ impl C5 {
             .map_err(|e| PyValueError::new_err(e.to_string()))
     }
 
+    /// The robot as a platform free in space, for what only six freedoms serve.
+    fn spatial(&self, what: &'static str) -> PyResult<&dyn ParallelRobot> {
+        self.inner.spatial().ok_or_else(|| {
+            PyValueError::new_err(
+                Error::Unsupported {
+                    what,
+                    mechanism: self.inner.mechanism(),
+                    why: "its platform only translates, and this is served for platforms free \
+                          in space",
+                }
+                .to_string(),
+            )
+        })
+    }
+
+    /// The platform's dimension: the pose's coordinates, and the actuators.
+    fn dimension(&self) -> usize {
+        self.inner.freedom().dimension()
+    }
+
+    /// The arguments of a platform's motion for this robot's freedom: the pose, the twist's
+    /// parts and the acceleration's (`ω`, `v_C`, `ω̇`, `a_C`; `v_C`, `a_C` for a platform
+    /// that only translates). The rows read hold them in that order.
+    fn motion_spec<'a, 'py>(
+        &self,
+        pose: &'a Array<'py>,
+        [omega, velocity, omega_dot, acceleration]: [&'a Option<Array<'py>>; 4],
+    ) -> PyResult<Vec<(&'static str, usize, Option<&'a Array<'py>>)>> {
+        let (freedom, name) = (self.inner.freedom(), self.inner.mechanism());
+        let mut spec = vec![("pose", self.dimension(), Some(pose))];
+        spec.extend(parts(
+            freedom,
+            name,
+            [("omega", omega), ("velocity", velocity)],
+        )?);
+        spec.extend(parts(
+            freedom,
+            name,
+            [("omega_dot", omega_dot), ("acceleration", acceleration)],
+        )?);
+        Ok(spec)
+    }
+
+    /// The twist's rows among those [`C5::motion_spec`] (or a spec that starts as it does)
+    /// reads: after the pose, one or two.
+    fn twist_rows(&self) -> std::ops::Range<usize> {
+        match self.inner.freedom() {
+            Freedom::Free => 1..3,
+            Freedom::Translations => 1..2,
+        }
+    }
+
+    /// The acceleration's rows among those [`C5::motion_spec`] reads.
+    fn acceleration_rows(&self) -> std::ops::Range<usize> {
+        let twist = self.twist_rows();
+        twist.end..twist.end + twist.len()
+    }
+
+    /// The shapes of a twist's (or an acceleration's) outputs: `ω` and `v_C`, or `v_C`.
+    fn part_shapes(&self) -> &'static [&'static [usize]] {
+        match self.inner.freedom() {
+            Freedom::Free => &[&[3], &[3]],
+            Freedom::Translations => &[&[3]],
+        }
+    }
+
+    /// `values`, a twist or an acceleration, into its parts' outputs from output `first`.
+    fn scatter(&self, out: &mut Outputs, first: usize, k: usize, values: &[f64]) {
+        for (j, part) in values.chunks(3).enumerate() {
+            out.put(first + j, k, part);
+        }
+    }
+
     /// The robot as a C5, for what only the C5 serves.
     fn c5(&self, what: &'static str) -> PyResult<&Robot5> {
-        self.inner
+        self.spatial(what)?
             .as_any()
             .downcast_ref::<Robot5>()
-            .ok_or_else(|| PyValueError::new_err(unsupported(what, &*self.inner).to_string()))
+            .ok_or_else(|| {
+                PyValueError::new_err(unsupported(what, self.inner.mechanism()).to_string())
+            })
     }
 
     /// The robot as a Gough-Stewart platform, for what only it serves.
     fn hexapod(&self, what: &'static str) -> PyResult<&GoughStewart> {
-        self.inner
+        self.spatial(what)?
             .as_any()
             .downcast_ref::<GoughStewart>()
             .ok_or_else(|| {
@@ -410,7 +534,14 @@ impl C5 {
     /// The robot's base parameters.
     fn base(&self) -> PyResult<&BaseParameters> {
         self.base
-            .get_or_init(|| self.inner.base_parameters().map_err(|e| e.to_string()))
+            .get_or_init(|| match self.inner.spatial() {
+                Some(robot) => robot.base_parameters().map_err(|e| e.to_string()),
+                None => Err(format!(
+                    "base parameters are not served for the {} yet: its platform only \
+                     translates",
+                    self.inner.mechanism()
+                )),
+            })
             .as_ref()
             .map_err(|e| PyValueError::new_err(e.clone()))
     }
@@ -435,11 +566,12 @@ impl C5 {
         Ok((rows, batch))
     }
 
-    /// A `6×6` matrix per row of `arg` (six numbers a row), from `f`.
+    /// A `6×6` matrix per row of `arg` (six numbers a row), from `f`, for a platform free in
+    /// space (`what` refused for another).
     fn matrices<'py, F>(
         &self,
         py: Python<'py>,
-        name: &str,
+        (what, name): (&'static str, &str),
         arg: &Array<'py>,
         errors: &str,
         f: F,
@@ -448,9 +580,10 @@ impl C5 {
         F: Fn(&dyn ParallelRobot, &[f64; 6]) -> Result<[[f64; 6]; 6], Error> + Sync,
     {
         let mode = on_error(errors)?;
+        let robot = self.spatial(what)?;
         let (r, batch) = Self::read(&[(name, 6, Some(arg))])?;
         each_row(py, batch, mode, &[&[6, 6]], |k, out| {
-            let m = f(&*self.inner, &r[0].row(k))?;
+            let m = f(robot, &r[0].row(k))?;
             out.put(0, k, m.as_flattened());
             Ok(())
         })
@@ -504,14 +637,29 @@ impl C5 {
 
     fn __repr__(&self) -> String {
         format!(
-            "Robot(mechanism={:?}, model={:?}, characteristic_length={} m)",
+            "Robot(mechanism={:?}, model={:?}, dimension={})",
             self.inner.mechanism(),
             self.inner.model_name(),
-            self.inner.characteristic_length()
+            self.dimension()
         )
     }
 
-    /// Actuator positions `q` (m), actuator order, of `pose`: `(6,)` or `(N, 6)`.
+    /// How many coordinates the platform's pose has, and how many actuators drive it: 6, or 3
+    /// for a platform that only translates (the Delta), whose pose is `[xc yc zc]`, twist
+    /// `v_C` and acceleration `a_C`, and whose calls take no `omega` or `omega_dot`.
+    #[getter(dimension)]
+    fn dimension_getter(&self) -> usize {
+        self.dimension()
+    }
+
+    /// The pose's coordinates' names, in order (`alpha` … `zc`, or `xc yc zc`).
+    #[getter]
+    fn pose_names(&self) -> Vec<&'static str> {
+        self.inner.freedom().pose_names().to_vec()
+    }
+
+    /// Actuator positions `q` (m, or rad for a motor that turns), actuator order, of `pose`:
+    /// `(n,)` or `(N, n)`, `n` the robot's `dimension`.
     #[pyo3(signature = (pose, *, errors = "raise"))]
     fn inverse_kinematics<'py>(
         &self,
@@ -519,18 +667,15 @@ impl C5 {
         pose: Array<'py>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mode = on_error(errors)?;
-        let (r, batch) = Self::read(&[("pose", 6, Some(&pose))])?;
-        let c5 = &self.inner;
-        each_row(py, batch, mode, &[&[6]], |k, out| {
-            let q = c5.actuator_positions(&Pose::from_array(r[0].row(k)))?;
-            out.put(0, k, &q);
-            Ok(())
+        let (mode, n) = (on_error(errors)?, self.dimension());
+        let (r, batch) = Self::read(&[("pose", n, Some(&pose))])?;
+        each_row(py, batch, mode, &[&[n]], |k, out| {
+            self.inner.actuator_positions(r[0].slice(k), out.slot(0, k))
         })
     }
 
-    /// `J⁻¹` at `pose`: `(6, 6)` or `(N, 6, 6)`, row `i` for segment `i+1`, columns
-    /// `[ωx ωy ωz vx vy vz]`.
+    /// `J⁻¹` at `pose`: `(n, n)` or `(N, n, n)`, row `i` for actuator `i+1`, columns the
+    /// twist's (`[ωx ωy ωz vx vy vz]`, or `[vx vy vz]`).
     #[pyo3(signature = (pose, *, errors = "raise"))]
     fn inverse_jacobian<'py>(
         &self,
@@ -538,13 +683,15 @@ impl C5 {
         pose: Array<'py>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        self.matrices(py, "pose", &pose, errors, |c5, x| {
-            c5.inverse_jacobian(&Pose::from_array(*x))
+        let (mode, n) = (on_error(errors)?, self.dimension());
+        let (r, batch) = Self::read(&[("pose", n, Some(&pose))])?;
+        each_row(py, batch, mode, &[&[n, n]], |k, out| {
+            self.inner.inverse_jacobian(r[0].slice(k), out.slot(0, k))
         })
     }
 
-    /// `J` at `pose`: `(6, 6)` or `(N, 6, 6)`, rows `[ωx ωy ωz vx vy vz]`, column `i` for
-    /// segment `i+1`.
+    /// `J` at `pose`: `(n, n)` or `(N, n, n)`, rows the twist's, column `i` for actuator
+    /// `i+1`.
     #[pyo3(signature = (pose, *, errors = "raise"))]
     fn jacobian<'py>(
         &self,
@@ -552,12 +699,14 @@ impl C5 {
         pose: Array<'py>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        self.matrices(py, "pose", &pose, errors, |c5, x| {
-            c5.jacobian(&Pose::from_array(*x))
+        let (mode, n) = (on_error(errors)?, self.dimension());
+        let (r, batch) = Self::read(&[("pose", n, Some(&pose))])?;
+        each_row(py, batch, mode, &[&[n, n]], |k, out| {
+            self.inner.jacobian(r[0].slice(k), out.slot(0, k))
         })
     }
 
-    /// Actuator rates `q̇ = J⁻¹ V` (m/s).
+    /// Actuator rates `q̇ = J⁻¹ V`.
     #[pyo3(signature = (pose, omega = None, velocity = None, *, errors = "raise"))]
     fn joint_velocities<'py>(
         &self,
@@ -567,26 +716,48 @@ impl C5 {
         velocity: Option<Array<'py>>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mode = on_error(errors)?;
-        let (r, batch) = Self::read(&[
-            ("pose", 6, Some(&pose)),
-            ("omega", 3, omega.as_ref()),
-            ("velocity", 3, velocity.as_ref()),
-        ])?;
-        let c5 = &self.inner;
-        each_row(py, batch, mode, &[&[6]], |k, out| {
-            let twist = Twist {
-                omega: r[1].row(k),
-                velocity: r[2].row(k),
-            };
-            let qd = c5.joint_velocities(&Pose::from_array(r[0].row(k)), &twist)?;
-            out.put(0, k, &qd);
-            Ok(())
+        let (mode, n) = (on_error(errors)?, self.dimension());
+        let mut spec = self.motion_spec(&pose, [&omega, &velocity, &None, &None])?;
+        spec.truncate(1 + self.twist_rows().len());
+        let (r, batch) = Self::read(&spec)?;
+        let twist_rows = self.twist_rows();
+        each_row(py, batch, mode, &[&[n]], |k, out| {
+            let mut twist = [0.0; 6];
+            gather(&r[twist_rows.clone()], k, &mut twist[..n]);
+            self.inner
+                .joint_velocities(r[0].slice(k), &twist[..n], out.slot(0, k))
         })
     }
 
-    /// Actuator forces `Γ` (N), segment order, for the platform state: the inverse dynamics.
-    /// Batches go four states at a time through the batch kernel.
+    /// Actuator accelerations `q̈` of the platform's motion.
+    #[pyo3(signature = (pose, omega = None, velocity = None, omega_dot = None, acceleration = None, *, errors = "raise"))]
+    #[allow(clippy::too_many_arguments)]
+    fn joint_accelerations<'py>(
+        &self,
+        py: Python<'py>,
+        pose: Array<'py>,
+        omega: Option<Array<'py>>,
+        velocity: Option<Array<'py>>,
+        omega_dot: Option<Array<'py>>,
+        acceleration: Option<Array<'py>>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (mode, n) = (on_error(errors)?, self.dimension());
+        let spec = self.motion_spec(&pose, [&omega, &velocity, &omega_dot, &acceleration])?;
+        let (r, batch) = Self::read(&spec)?;
+        let (twist, accel) = (self.twist_rows(), self.acceleration_rows());
+        each_row(py, batch, mode, &[&[n]], |k, out| {
+            let ([mut v, mut a], x) = ([[0.0; 6]; 2], r[0].slice(k));
+            gather(&r[twist.clone()], k, &mut v[..n]);
+            gather(&r[accel.clone()], k, &mut a[..n]);
+            self.inner
+                .joint_accelerations(x, &v[..n], &a[..n], out.slot(0, k))
+        })
+    }
+
+    /// Actuator forces `Γ` (N, or N·m for a motor that turns), actuator order, for the
+    /// platform state: the inverse dynamics. Batches go four states at a time through the
+    /// batch kernel where the robot has one.
     #[pyo3(signature = (pose, omega = None, velocity = None, omega_dot = None, acceleration = None, *, errors = "raise"))]
     #[allow(clippy::too_many_arguments)]
     fn inverse_dynamics<'py>(
@@ -599,23 +770,40 @@ impl C5 {
         acceleration: Option<Array<'py>>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mode = on_error(errors)?;
-        let (r, batch) = Self::read(&motion_args(
-            &pose,
-            [&omega, &velocity, &omega_dot, &acceleration],
-        ))?;
-        let c5 = &self.inner;
-        call(py, batch, mode, &[&[6]], |out| {
-            c5.inverse_dynamics_each(batch.n, &|k| motion(&r, k), &mut |k, gamma| match gamma {
-                Ok(gamma) => out.put(0, k, &gamma),
+        let (mode, n) = (on_error(errors)?, self.dimension());
+        let spec = self.motion_spec(&pose, [&omega, &velocity, &omega_dot, &acceleration])?;
+        let (r, batch) = Self::read(&spec)?;
+        let (twist, accel) = (self.twist_rows(), self.acceleration_rows());
+        let motion = |k: usize, [x, v, a]: [&mut [f64]; 3]| {
+            gather(&r[..1], k, x);
+            gather(&r[twist.clone()], k, v);
+            gather(&r[accel.clone()], k, a);
+        };
+        call(py, batch, mode, &[&[n]], |out| {
+            let mut each = |k, gamma: Result<&[f64], Error>| match gamma {
+                Ok(gamma) => out.put(0, k, gamma),
                 Err(e) => out.refuse(k, e),
-            })
+            };
+            // Six freedoms read their rows as fixed-size arrays, the same results as through
+            // `Mechanism` in 10-15 % less time (python/bench.py, a million C5 states).
+            match self.inner.spatial() {
+                Some(robot) => robot.inverse_dynamics_each(batch.n, &|k| motion6(&r, k), &mut {
+                    |k, gamma| match gamma {
+                        Ok(gamma) => each(k, Ok(&gamma)),
+                        Err(e) => each(k, Err(e)),
+                    }
+                }),
+                None => self
+                    .inner
+                    .inverse_dynamics_each(batch.n, &motion, &mut each),
+            }
         })
     }
 
     /// The forward dynamics: the platform's classical acceleration under the actuator forces
-    /// `gamma` (N), as `(omega_dot, acceleration)`. Batches go four states at a time through the
-    /// batch kernel.
+    /// `gamma`, as `(omega_dot, acceleration)` (the acceleration alone for a platform that only
+    /// translates). Batches go four states at a time through the batch kernel where the robot
+    /// has one.
     #[pyo3(signature = (pose, omega = None, velocity = None, gamma = None, *, errors = "raise"))]
     fn forward_dynamics<'py>(
         &self,
@@ -626,24 +814,39 @@ impl C5 {
         gamma: Option<Array<'py>>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mode = on_error(errors)?;
-        let (r, batch) = Self::read(&forward_args(&pose, &omega, &velocity, &gamma))?;
-        let c5 = &self.inner;
-        let input = |k: usize| {
-            let twist = Twist {
-                omega: r[1].row(k),
-                velocity: r[2].row(k),
-            };
-            (Pose::from_array(r[0].row(k)), twist, r[3].row(k))
+        let (mode, n) = (on_error(errors)?, self.dimension());
+        let mut spec = self.motion_spec(&pose, [&omega, &velocity, &None, &None])?;
+        let twist = self.twist_rows();
+        spec.truncate(twist.end);
+        spec.push(("gamma", n, gamma.as_ref()));
+        let (r, batch) = Self::read(&spec)?;
+        let input = |k: usize, [x, v, g]: [&mut [f64]; 3]| {
+            gather(&r[..1], k, x);
+            gather(&r[twist.clone()], k, v);
+            gather(&r[twist.end..], k, g);
         };
-        call(py, batch, mode, &[&[3], &[3]], |out| {
-            c5.forward_dynamics_each(batch.n, &input, &mut |k, a| match a {
-                Ok(a) => {
-                    out.put(0, k, &a.omega_dot);
-                    out.put(1, k, &a.linear);
-                }
+        call(py, batch, mode, self.part_shapes(), |out| {
+            let mut each = |k, accel: Result<&[f64], Error>| match accel {
+                Ok(accel) => self.scatter(out, 0, k, accel),
                 Err(e) => out.refuse(k, e),
-            })
+            };
+            // As `inverse_dynamics`: six freedoms read their rows as fixed-size arrays.
+            let input6 = |k: usize| {
+                let twist = Twist {
+                    omega: r[1].row(k),
+                    velocity: r[2].row(k),
+                };
+                (Pose::from_array(r[0].row(k)), twist, r[3].row(k))
+            };
+            match self.inner.spatial() {
+                Some(robot) => robot.forward_dynamics_each(batch.n, &input6, &mut {
+                    |k, accel| match accel {
+                        Ok(accel) => each(k, Ok(&accel.to_array())),
+                        Err(e) => each(k, Err(e)),
+                    }
+                }),
+                None => self.inner.forward_dynamics_each(batch.n, &input, &mut each),
+            }
         })
     }
 
@@ -659,12 +862,12 @@ impl C5 {
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = on_error(errors)?;
+        let c5 = self.spatial("task bias")?;
         let (r, batch) = Self::read(&[
             ("pose", 6, Some(&pose)),
             ("omega", 3, omega.as_ref()),
             ("velocity", 3, velocity.as_ref()),
         ])?;
-        let c5 = &self.inner;
         each_row(py, batch, mode, &[&[6]], |k, out| {
             let twist = Twist {
                 omega: r[1].row(k),
@@ -683,14 +886,14 @@ impl C5 {
         pose: Array<'py>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        self.matrices(py, "pose", &pose, errors, |c5, x| {
+        self.matrices(py, ("task inertia", "pose"), &pose, errors, |c5, x| {
             c5.task_inertia(&Pose::from_array(*x))
         })
     }
 
-    /// The forward kinematics: the pose `[α β γ xc yc zc]` of the actuator positions `q` (m):
-    /// `(6,)` or `(N, 6)`; the C5's in closed form (raises `SingularPoseError` at or beyond
-    /// the forward singularity, `1 + abc < 1e-9`), a hexapod's by Newton from its home pose.
+    /// The forward kinematics: the pose of the actuator positions `q`, `(n,)` or `(N, n)`:
+    /// the C5's and the Delta's in closed form (raising `SingularPoseError` at or beyond the
+    /// forward singularity), a hexapod's by Newton from its home pose.
     #[pyo3(signature = (q, *, errors = "raise"))]
     fn forward_kinematics<'py>(
         &self,
@@ -698,18 +901,17 @@ impl C5 {
         q: Array<'py>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mode = on_error(errors)?;
-        let (r, batch) = Self::read(&[("q", 6, Some(&q))])?;
-        let c5 = &self.inner;
-        each_row(py, batch, mode, &[&[6]], |k, out| {
-            let pose = c5.forward_kinematics(&r[0].row(k), None)?;
-            out.put(0, k, &pose.to_array());
-            Ok(())
+        let (mode, n) = (on_error(errors)?, self.dimension());
+        let (r, batch) = Self::read(&[("q", n, Some(&q))])?;
+        each_row(py, batch, mode, &[&[n]], |k, out| {
+            self.inner
+                .forward_kinematics(r[0].slice(k), None, out.slot(0, k))
         })
     }
 
     /// The platform state from the actuators' positions, rates and accelerations:
-    /// `(pose, omega, velocity, omega_dot, acceleration)`.
+    /// `(pose, omega, velocity, omega_dot, acceleration)`, or `(pose, velocity, acceleration)`
+    /// for a platform that only translates.
     #[pyo3(signature = (q, qd = None, qdd = None, *, errors = "raise"))]
     fn joint_state<'py>(
         &self,
@@ -719,24 +921,23 @@ impl C5 {
         qdd: Option<Array<'py>>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mode = on_error(errors)?;
-        let (r, batch) = Self::read(&joint_args(&q, &qd, &qdd))?;
-        let c5 = &self.inner;
-        each_row(
-            py,
-            batch,
-            mode,
-            &[&[6], &[3], &[3], &[3], &[3]],
-            |k, out| {
-                let s = c5.joint_state(&r[0].row(k), &r[1].row(k), &r[2].row(k), None)?;
-                out.put(0, k, &s.pose.to_array());
-                out.put(1, k, &s.twist.omega);
-                out.put(2, k, &s.twist.velocity);
-                out.put(3, k, &s.accel.omega_dot);
-                out.put(4, k, &s.accel.linear);
-                Ok(())
-            },
-        )
+        let (mode, n) = (on_error(errors)?, self.dimension());
+        let (r, batch) = Self::read(&joint_args(n, &q, &qd, &qdd))?;
+        let parts = self.part_shapes();
+        let pose = [n];
+        let shapes: Vec<&[usize]> = std::iter::once(&pose[..])
+            .chain(parts.iter().copied())
+            .chain(parts.iter().copied())
+            .collect();
+        each_row(py, batch, mode, &shapes, |k, out| {
+            let ([mut x, mut v, mut a], joints) = ([[0.0; 6]; 3], [0, 1, 2].map(|j| r[j].slice(k)));
+            let found = [&mut x[..n], &mut v[..n], &mut a[..n]];
+            self.inner.joint_state(joints, None, found)?;
+            out.put(0, k, &x[..n]);
+            self.scatter(out, 1, k, &v[..n]);
+            self.scatter(out, 1 + parts.len(), k, &a[..n]);
+            Ok(())
+        })
     }
 
     /// Actuator forces `Γ` (N) from the actuators' positions `q`, rates `qd` and accelerations
@@ -752,8 +953,8 @@ impl C5 {
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = on_error(errors)?;
-        let (r, batch) = Self::read(&joint_args(&q, &qd, &qdd))?;
-        let c5 = &self.inner;
+        let c5 = self.spatial("joint-space inverse dynamics")?;
+        let (r, batch) = Self::read(&joint_args(6, &q, &qd, &qdd))?;
         let sample = |k: usize| [r[0].row(k), r[1].row(k), r[2].row(k)];
         call(py, batch, mode, &[&[6]], |out| {
             c5.inverse_dynamics_joint_each(batch.n, &sample, &mut |k, gamma| match gamma {
@@ -772,7 +973,9 @@ impl C5 {
         q: Array<'py>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        self.matrices(py, "q", &q, errors, |c5, q| c5.joint_inertia(q, None))
+        self.matrices(py, ("joint inertia", "q"), &q, errors, |c5, q| {
+            c5.joint_inertia(q, None)
+        })
     }
 
     /// `c_q` of `Γ = M_q q̈ + c_q`: Coriolis, centrifugal and gravity forces (N) at the
@@ -786,8 +989,8 @@ impl C5 {
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = on_error(errors)?;
+        let c5 = self.spatial("joint-space bias")?;
         let (r, batch) = Self::read(&[("q", 6, Some(&q)), ("qd", 6, qd.as_ref())])?;
-        let c5 = &self.inner;
         each_row(py, batch, mode, &[&[6]], |k, out| {
             out.put(0, k, &c5.joint_bias(&r[0].row(k), &r[1].row(k), None)?);
             Ok(())
@@ -811,14 +1014,14 @@ impl C5 {
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = on_error(errors)?;
+        let c5 = self.spatial("inverse dynamics derivatives")?;
         let (r, batch) = Self::read(&motion_args(
             &pose,
             [&omega, &velocity, &omega_dot, &acceleration],
         ))?;
-        let c5 = &self.inner;
         let shapes: [&[usize]; 4] = [&[6], &[6, 6], &[6, 6], &[6, 6]];
         each_row(py, batch, mode, &shapes, |k, out| {
-            let d = c5.inverse_dynamics_derivatives(&motion(&r, k))?;
+            let d = c5.inverse_dynamics_derivatives(&motion6(&r, k))?;
             out.put(0, k, &d.gamma);
             out.put(1, k, d.d_pose.as_flattened());
             out.put(2, k, d.d_twist.as_flattened());
@@ -842,8 +1045,8 @@ impl C5 {
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = on_error(errors)?;
+        let c5 = self.spatial("forward dynamics derivatives")?;
         let (r, batch) = Self::read(&forward_args(&pose, &omega, &velocity, &gamma))?;
-        let c5 = &self.inner;
         let shapes: [&[usize]; 5] = [&[3], &[3], &[6, 6], &[6, 6], &[6, 6]];
         each_row(py, batch, mode, &shapes, |k, out| {
             let twist = Twist {
@@ -873,7 +1076,7 @@ impl C5 {
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = on_error(errors)?;
-        let (r, batch) = Self::read(&joint_args(&q, &qd, &qdd))?;
+        let (r, batch) = Self::read(&joint_args(6, &q, &qd, &qdd))?;
         let c5 = self.c5("joint-space derivatives")?;
         let shapes: [&[usize]; 4] = [&[6], &[6, 6], &[6, 6], &[6, 6]];
         each_row(py, batch, mode, &shapes, |k, out| {
@@ -940,14 +1143,14 @@ impl C5 {
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = on_error(errors)?;
+        let c5 = self.spatial("base regressor")?;
         let (r, batch) = Self::read(&motion_args(
             &pose,
             [&omega, &velocity, &omega_dot, &acceleration],
         ))?;
-        let c5 = &self.inner;
         let nb = self.base()?.len();
         each_row(py, batch, mode, &[&[6, nb]], |k, out| {
-            c5.base_regressor_into(&motion(&r, k), out.slot(0, k))
+            c5.base_regressor_into(&motion6(&r, k), out.slot(0, k))
         })
     }
 
@@ -966,14 +1169,14 @@ impl C5 {
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = on_error(errors)?;
+        let c5 = self.spatial("regressor")?;
         let (r, batch) = Self::read(&motion_args(
             &pose,
             [&omega, &velocity, &omega_dot, &acceleration],
         ))?;
-        let c5 = &self.inner;
         let n = self.base()?.standard_names().len();
         each_row(py, batch, mode, &[&[6, n]], |k, out| {
-            let y = c5.standard_regressor(&motion(&r, k))?;
+            let y = c5.standard_regressor(&motion6(&r, k))?;
             // nalgebra stores columns; the array is row-major.
             for (slot, value) in out.slot(0, k).iter_mut().zip(y.transpose().iter()) {
                 *slot = *value;
@@ -999,9 +1202,10 @@ impl C5 {
         py: Python<'py>,
         viscous: Option<[f64; 6]>,
         coulomb: Option<[f64; 6]>,
-    ) -> Bound<'py, PyArrayDyn<f64>> {
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let friction = friction(viscous, coulomb);
-        vector(py, self.inner.standard_parameters(&friction))
+        let robot = self.spatial("standard parameters")?;
+        Ok(vector(py, robot.standard_parameters(&friction)))
     }
 
     /// This robot's base parameters `β = B π`, in the order of `base_parameters`, with the
@@ -1016,7 +1220,7 @@ impl C5 {
         let friction = friction(viscous, coulomb);
         let beta = self
             .base()?
-            .of_robot(&*self.inner, &friction)
+            .of_robot(self.spatial("base values")?, &friction)
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
         Ok(vector(py, beta))
     }
@@ -1042,6 +1246,7 @@ impl C5 {
         acceleration: Array<'py>,
         gamma: Array<'py>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let c5 = self.spatial("identification")?;
         let (r, batch) = Self::read(&[
             ("pose", 6, Some(&pose)),
             ("omega", 3, Some(&omega)),
@@ -1050,11 +1255,10 @@ impl C5 {
             ("acceleration", 3, Some(&acceleration)),
             ("gamma", 6, Some(&gamma)),
         ])?;
-        let c5 = &*self.inner;
         let estimate = py.detach(|| -> Result<_, String> {
             let mut identifier = Identifier::new(c5).map_err(|e| e.to_string())?;
             for k in 0..batch.n {
-                let state = motion(&r, k);
+                let state = motion6(&r, k);
                 identifier
                     .add(&state, &r[5].row(k))
                     .map_err(|e| format!("{e} (row {k})"))?;
@@ -1186,8 +1390,7 @@ impl C5 {
 }
 
 /// The robot of the TOML file `robot` (any mechanism the project describes; the chapter's C5
-/// for `None`) as `"mjcf"` or `"urdf"` text, as `c5 export` writes it (docs/export.md): also
-/// for the Delta, which `Robot` does not serve yet.
+/// for `None`) as `"mjcf"` or `"urdf"` text, as `c5 export` writes it (docs/export.md).
 #[pyfunction]
 #[pyo3(signature = (robot = None, format = "mjcf"))]
 fn export(robot: Option<std::path::PathBuf>, format: &str) -> PyResult<String> {
@@ -1199,7 +1402,7 @@ fn export(robot: Option<std::path::PathBuf>, format: &str) -> PyResult<String> {
 }
 
 /// The generated kernels of the parallel robots the project describes (the C5 joint parallel
-/// robot, the Gough–Stewart platform), for numpy. See `Robot`.
+/// robot, the Gough–Stewart platform, the rotary hexapod, the Delta), for numpy. See `Robot`.
 #[pymodule]
 fn c5_kernels(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<C5>()?;

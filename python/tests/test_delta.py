@@ -168,3 +168,43 @@ def test_bad_lines_are_refused_naming_the_term(delta, c5_program):
     assert "3 numbers" in out[2]["error"], out[2]
     assert "error" in out[3]
     assert done.returncode != 0
+
+
+def test_the_python_robot_serves_the_delta_as_pinocchio_moves_it(delta):
+    """`c5_kernels.Robot` on a Delta file: batches of three columns through the one runtime
+    interface, held to Pinocchio and the issue's formula as `eval`'s lines are; the forward
+    dynamics and kinematics undoing the inverse ones; what needs six freedoms refused."""
+    c5_kernels = pytest.importorskip("c5_kernels")
+    file, geometry, engine, home = delta
+    robot = c5_kernels.Robot(robot=str(file))
+    assert (robot.mechanism, robot.dimension, robot.pose_names) == ("delta", 3, ["xc", "yc", "zc"])
+    samples = list(states(home, 8, 5))
+    x, v, a = (np.array([s[j] for s in samples]) for j in range(3))
+    gamma = robot.inverse_dynamics(x, velocity=v, acceleration=a)
+    assert gamma.shape == (8, 3)
+    lines = [dict(q=q, qd=qd, qdd=qdd, gamma=g, jinv=ji, jacobian=j) for q, qd, qdd, g, ji, j in zip(
+        robot.inverse_kinematics(x), robot.joint_velocities(x, velocity=v),
+        robot.joint_accelerations(x, velocity=v, acceleration=a), gamma,
+        robot.inverse_jacobian(x), robot.jacobian(x))]
+    worst = eval_differences(engine, geometry, samples, lines)
+    assert all(value < BOUND for value in worst.values()), worst
+    back = robot.forward_dynamics(x, velocity=v, gamma=gamma)
+    assert relative(back, a) < 1e-12
+    position, velocity, acceleration = robot.joint_state(
+        robot.inverse_kinematics(x), robot.joint_velocities(x, velocity=v),
+        robot.joint_accelerations(x, velocity=v, acceleration=a))
+    assert relative(position, x) < 1e-13
+    assert relative(velocity, v) < 1e-12
+    assert relative(acceleration, a) < 1e-10
+    assert relative(robot.forward_kinematics(robot.inverse_kinematics(home)), home) < 1e-14
+    with pytest.raises(ValueError, match="no `omega`"):
+        robot.inverse_dynamics(home, omega=np.zeros(3))
+    with pytest.raises(ValueError, match=r"shape \(3,\)"):
+        robot.inverse_dynamics(np.zeros(6))
+    for refused in (lambda: robot.task_bias(home), lambda: robot.regressor(home),
+                    lambda: robot.inverse_dynamics_joint(np.zeros(3))):
+        with pytest.raises(ValueError, match="only translates"):
+            refused()
+    far = home + [0.0, 0.0, -1.5]
+    values, bad = robot.inverse_dynamics(np.array([home, far]), errors="nan")
+    assert list(bad) == [False, True] and np.all(np.isnan(values[1]))

@@ -131,50 +131,42 @@ pub trait Mechanism: core::fmt::Debug + Send + Sync {
         dt: f64,
     ) -> Result<(), Error>;
 
-    /// [`Mechanism::inverse_dynamics`] of every row of the row-major `pose`, `twist` and
-    /// `acceleration` into the rows of `gamma`; a refused row is handed to `refused` with its
-    /// index and left as it was. The C5 goes four rows at a time through its batch kernels.
-    ///
-    /// # Errors
-    /// Arrays of different numbers of rows, or not whole rows.
-    fn inverse_dynamics_rows(
-        &self,
-        motion: [&[f64]; 3],
-        gamma: &mut [f64],
-        refused: &mut dyn FnMut(usize, Error),
-    ) -> Result<(), Error> {
-        let n = self.freedom().dimension();
-        let rows = row_count(n, &motion, gamma)?;
-        for k in 0..rows {
-            let [x, v, a] = motion.map(|m| &m[k * n..(k + 1) * n]);
-            if let Err(e) = self.inverse_dynamics(x, v, a, &mut gamma[k * n..(k + 1) * n]) {
-                refused(k, e);
-            }
+    /// [`Mechanism::inverse_dynamics`] of states `0..n`, `motion(k, [pose, twist,
+    /// acceleration])` filling the `k`-th state's slices, each result handed to `each` in
+    /// order: for callers that read states from their own storage (numpy arrays, a log). The
+    /// C5 goes four states at a time through its batch kernels (feature `batch`).
+    fn inverse_dynamics_each(&self, n: usize, motion: &Inputs<'_>, each: &mut Each<'_>) {
+        let d = self.freedom().dimension();
+        for k in 0..n {
+            let ([mut x, mut v, mut a], mut gamma) = ([[0.0; MOST]; 3], [0.0; MOST]);
+            motion(k, [&mut x[..d], &mut v[..d], &mut a[..d]]);
+            let result = self.inverse_dynamics(&x[..d], &v[..d], &a[..d], &mut gamma[..d]);
+            each(k, result.map(|()| &gamma[..d]));
         }
-        Ok(())
     }
-    /// [`Mechanism::forward_dynamics`] of every row of `pose`, `twist` and `gamma` into the
-    /// rows of `acceleration`, as [`Mechanism::inverse_dynamics_rows`].
-    ///
-    /// # Errors
-    /// As [`Mechanism::inverse_dynamics_rows`].
-    fn forward_dynamics_rows(
-        &self,
-        input: [&[f64]; 3],
-        acceleration: &mut [f64],
-        refused: &mut dyn FnMut(usize, Error),
-    ) -> Result<(), Error> {
-        let n = self.freedom().dimension();
-        let rows = row_count(n, &input, acceleration)?;
-        for k in 0..rows {
-            let [x, v, g] = input.map(|m| &m[k * n..(k + 1) * n]);
-            if let Err(e) = self.forward_dynamics(x, v, g, &mut acceleration[k * n..(k + 1) * n]) {
-                refused(k, e);
-            }
+    /// [`Mechanism::forward_dynamics`] of inputs `0..n`, `input(k, [pose, twist, gamma])`
+    /// filling the `k`-th, each result handed to `each` in order, as
+    /// [`Mechanism::inverse_dynamics_each`].
+    fn forward_dynamics_each(&self, n: usize, input: &Inputs<'_>, each: &mut Each<'_>) {
+        let d = self.freedom().dimension();
+        for k in 0..n {
+            let ([mut x, mut v, mut g], mut accel) = ([[0.0; MOST]; 3], [0.0; MOST]);
+            input(k, [&mut x[..d], &mut v[..d], &mut g[..d]]);
+            let result = self.forward_dynamics(&x[..d], &v[..d], &g[..d], &mut accel[..d]);
+            each(k, result.map(|()| &accel[..d]));
         }
-        Ok(())
     }
 }
+
+/// Fills the `k`-th input's three slices, each of the platform's dimension: what the `*_each`
+/// methods read states through.
+pub type Inputs<'a> = dyn Fn(usize, [&mut [f64]; 3]) + Sync + 'a;
+
+/// Takes the `k`-th result of a `*_each` method: its values, or why the state was refused.
+pub type Each<'a> = dyn FnMut(usize, Result<&[f64], Error>) + 'a;
+
+/// The most coordinates a platform has: the buffers' size.
+const MOST: usize = Freedom::Free.dimension();
 
 /// The robot of `description`, the C5 with `model` (the other mechanisms have one model): the
 /// one place a description is mapped to its runtime type for [`Mechanism`].
@@ -188,29 +180,6 @@ pub fn load(description: Description, model: Model) -> Result<Box<dyn Mechanism>
         Description::RusHexapod(r) => Box::new(RusHexapod::new(r)?),
         Description::Delta(r) => Box::new(Delta::new(r)?),
     })
-}
-
-/// The number of rows of `inputs` and `output`, `n` numbers a row.
-fn row_count(n: usize, inputs: &[&[f64]; 3], output: &[f64]) -> Result<usize, Error> {
-    let rows = output.len() / n;
-    let names = ["first input", "second input", "third input"];
-    for (name, input) in names.into_iter().zip(inputs) {
-        if input.len() != rows * n {
-            return Err(Error::WrongLength {
-                input: name,
-                expected: rows * n,
-                got: input.len(),
-            });
-        }
-    }
-    if output.len() != rows * n {
-        return Err(Error::WrongLength {
-            input: "output",
-            expected: rows * n,
-            got: output.len(),
-        });
-    }
-    Ok(rows)
 }
 
 /// `values` as an array of `N`, refused by name when its length is not `N`.
@@ -373,47 +342,33 @@ impl<R: ParallelRobot + 'static> Mechanism for R {
         put(twist, &next.twist.to_array());
         Ok(())
     }
-    /// Four rows at a time through the C5's batch kernels (feature `batch`).
-    fn inverse_dynamics_rows(
-        &self,
-        motion: [&[f64]; 3],
-        gamma: &mut [f64],
-        refused: &mut dyn FnMut(usize, Error),
-    ) -> Result<(), Error> {
-        let rows = row_count(6, &motion, gamma)?;
-        let row = |m: &[f64], k: usize| array::<6>("row", &m[6 * k..6 * k + 6]).unwrap_or_default();
-        let state = |k: usize| crate::State {
-            pose: Pose::from_array(row(motion[0], k)),
-            twist: Twist::from_array(row(motion[1], k)),
-            accel: Acceleration::from_array(row(motion[2], k)),
+    /// Four states at a time through the C5's batch kernels (feature `batch`).
+    fn inverse_dynamics_each(&self, n: usize, motion: &Inputs<'_>, each: &mut Each<'_>) {
+        let state = |k: usize| {
+            let [mut x, mut v, mut a] = [[0.0; 6]; 3];
+            motion(k, [&mut x, &mut v, &mut a]);
+            crate::State {
+                pose: Pose::from_array(x),
+                twist: Twist::from_array(v),
+                accel: Acceleration::from_array(a),
+            }
         };
-        self.inverse_dynamics_each(rows, &state, &mut |k, result| match result {
-            Ok(g) => gamma[6 * k..6 * k + 6].copy_from_slice(&g),
-            Err(e) => refused(k, e),
+        ParallelRobot::inverse_dynamics_each(self, n, &state, &mut |k, result| match result {
+            Ok(gamma) => each(k, Ok(&gamma)),
+            Err(e) => each(k, Err(e)),
         });
-        Ok(())
     }
-    /// Four rows at a time through the C5's batch kernels (feature `batch`).
-    fn forward_dynamics_rows(
-        &self,
-        input: [&[f64]; 3],
-        acceleration: &mut [f64],
-        refused: &mut dyn FnMut(usize, Error),
-    ) -> Result<(), Error> {
-        let rows = row_count(6, &input, acceleration)?;
-        let row = |m: &[f64], k: usize| array::<6>("row", &m[6 * k..6 * k + 6]).unwrap_or_default();
+    /// Four states at a time through the C5's batch kernels (feature `batch`).
+    fn forward_dynamics_each(&self, n: usize, input: &Inputs<'_>, each: &mut Each<'_>) {
         let at = |k: usize| {
-            (
-                Pose::from_array(row(input[0], k)),
-                Twist::from_array(row(input[1], k)),
-                row(input[2], k),
-            )
+            let [mut x, mut v, mut g] = [[0.0; 6]; 3];
+            input(k, [&mut x, &mut v, &mut g]);
+            (Pose::from_array(x), Twist::from_array(v), g)
         };
-        self.forward_dynamics_each(rows, &at, &mut |k, result| match result {
-            Ok(a) => acceleration[6 * k..6 * k + 6].copy_from_slice(&a.to_array()),
-            Err(e) => refused(k, e),
+        ParallelRobot::forward_dynamics_each(self, n, &at, &mut |k, result| match result {
+            Ok(accel) => each(k, Ok(&accel.to_array())),
+            Err(e) => each(k, Err(e)),
         });
-        Ok(())
     }
 }
 
@@ -720,30 +675,44 @@ mod tests {
     }
 
     #[test]
-    fn rows_give_each_states_result_and_name_the_refused_row() {
+    fn each_state_gets_its_own_result_and_a_refused_one_is_named() {
         for robot in every_mechanism() {
             let n = robot.freedom().dimension();
-            let states: Vec<[Vec<f64>; 3]> = (0..6).map(|k| motion(&*robot, k as f64)).collect();
-            let column = |j: usize| -> Vec<f64> {
-                states.iter().flat_map(|s| s[j].iter().copied()).collect()
+            let mut states: Vec<[Vec<f64>; 3]> =
+                (0..6).map(|k| motion(&*robot, k as f64)).collect();
+            states[3][0][n - 1] = f64::NAN;
+            let fill = |k: usize, out: [&mut [f64]; 3]| {
+                for (slot, values) in out.into_iter().zip(&states[k]) {
+                    slot.copy_from_slice(values);
+                }
             };
-            let mut poses = column(0);
-            poses[3 * n + n - 1] = f64::NAN;
-            let (twists, accels) = (column(1), column(2));
-            let mut gamma = vec![0.0; 6 * n];
-            let mut refused = Vec::new();
-            robot
-                .inverse_dynamics_rows([&poses, &twists, &accels], &mut gamma, &mut |k, e| {
-                    refused.push((k, e))
-                })
-                .unwrap();
+            let (mut gamma, mut refused) = (vec![vec![0.0; n]; 6], Vec::new());
+            robot.inverse_dynamics_each(6, &fill, &mut |k, result| match result {
+                Ok(g) => gamma[k] = g.to_vec(),
+                Err(e) => refused.push((k, e)),
+            });
             assert_eq!(refused.len(), 1, "{}", robot.mechanism());
             assert_eq!(refused[0].0, 3);
             assert!(matches!(refused[0].1, Error::NonFinite { .. }));
+            let mut accel = vec![vec![]; 6];
+            let given = |k: usize, out: [&mut [f64]; 3]| {
+                let [x, v, g] = out;
+                x.copy_from_slice(&states[k][0]);
+                v.copy_from_slice(&states[k][1]);
+                g.copy_from_slice(&gamma[k]);
+            };
+            robot.forward_dynamics_each(6, &given, &mut |k, result| {
+                if let Ok(a) = result {
+                    accel[k] = a.to_vec();
+                }
+            });
             for (k, [x, v, a]) in states.iter().enumerate().filter(|&(k, _)| k != 3) {
                 let mut one = vec![0.0; n];
                 robot.inverse_dynamics(x, v, a, &mut one).unwrap();
-                assert_eq!(one, gamma[k * n..(k + 1) * n], "{}", robot.mechanism());
+                assert_eq!(one, gamma[k], "{}", robot.mechanism());
+                for i in 0..n {
+                    assert!((accel[k][i] - a[i]).abs() < 1e-9, "{}", robot.mechanism());
+                }
             }
         }
     }
@@ -765,10 +734,6 @@ mod tests {
                 Err(Error::WrongLength { input: "gamma", .. })
             ));
             assert!(gamma.iter().chain(&long).all(|&g| g == 7.0));
-            let mut output = vec![0.0; 2 * n];
-            assert!(robot
-                .forward_dynamics_rows([&pose, &twist, &gamma], &mut output, &mut |_, _| {})
-                .is_err());
         }
     }
 
