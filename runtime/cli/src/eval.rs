@@ -1,10 +1,11 @@
 //! `c5 eval`: JSON Lines of platform states in, everything the model gives out, one line each.
 
 use crate::jsonl::{self, Key};
-use crate::options::{Loaded, RobotArgs};
-use c5_runtime::{Acceleration, Limit, ParallelRobot, Pose, State, Twist};
+use crate::options::RobotArgs;
+use c5_runtime::platform::Freedom;
+use c5_runtime::{Acceleration, Error, Limit, Mechanism, ParallelRobot, Pose, State, Twist};
 use clap::Args;
-use serde_json::json;
+use serde_json::{json, Value};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -31,39 +32,43 @@ pub struct EvalArgs {
     strict_limits: bool,
 }
 
-/// The keys of an `eval` line: the platform's state, or the actuators' (`q`, `qd`, `qdd`),
-/// never both.
-const KEYS: [Key; 8] = [
-    Key::required("pose", 6),
-    Key::optional("omega", 3),
-    Key::optional("velocity", 3),
-    Key::optional("omega_dot", 3),
-    Key::optional("acceleration", 3),
-    Key::required("q", 6),
-    Key::optional("qd", 6),
-    Key::optional("qdd", 6),
-];
-
-/// How many of [`KEYS`] describe the platform; the rest describe the actuators.
-const PLATFORM_KEYS: usize = 5;
-
-/// What an `eval` line gives.
-enum Line {
-    /// The platform's state.
-    Platform(State),
-    /// The actuators' positions, rates and accelerations (m, m/s, m/s², segment order).
-    Actuators([[f64; 6]; 3]),
+/// The keys of an `eval` line for a platform of `freedom`: its state (`pose`, the twist's and
+/// the acceleration's parts), or the actuators' (`q`, `qd`, `qdd`), never both; and how many
+/// of them describe the platform.
+fn keys(freedom: Freedom) -> (Vec<Key>, usize) {
+    let n = freedom.dimension();
+    let mut keys = vec![Key::required("pose", n)];
+    let parts = freedom
+        .twist_parts()
+        .iter()
+        .chain(freedom.acceleration_parts());
+    keys.extend(parts.map(|&part| Key::optional(part, 3)));
+    let platform = keys.len();
+    keys.extend([
+        Key::required("q", n),
+        Key::optional("qd", n),
+        Key::optional("qdd", n),
+    ]);
+    (keys, platform)
 }
 
-fn parse_line(line: &str) -> Result<Line, String> {
-    let values = jsonl::parse_present(line, &KEYS)?;
+/// What an `eval` line gives: the platform's pose, twist and acceleration, or the actuators'
+/// positions, rates and accelerations, each in the freedom's coordinates.
+enum Line {
+    Platform([Vec<f64>; 3]),
+    Actuators([Vec<f64>; 3]),
+}
+
+fn parse_line(line: &str, freedom: Freedom) -> Result<Line, String> {
+    let (keys, platform_keys) = keys(freedom);
+    let values = jsonl::parse_present(line, &keys)?;
     let given = |range: std::ops::Range<usize>| -> Vec<&str> {
         range
             .filter(|&k| values[k].is_some())
-            .map(|k| KEYS[k].name)
+            .map(|k| keys[k].name)
             .collect()
     };
-    let (platform, actuators) = (given(0..PLATFORM_KEYS), given(PLATFORM_KEYS..KEYS.len()));
+    let (platform, actuators) = (given(0..platform_keys), given(platform_keys..keys.len()));
     if !platform.is_empty() && !actuators.is_empty() {
         return Err(format!(
             "a line gives the platform's state or the actuators', not both: {} with {}",
@@ -73,59 +78,48 @@ fn parse_line(line: &str) -> Result<Line, String> {
     }
     // The keys of the kind given: absent optional ones are zero, an absent required one is an
     // error (`pose` when the line gives neither kind).
-    let (first, kind) = if actuators.is_empty() {
-        (0, PLATFORM_KEYS)
+    let kind = if actuators.is_empty() {
+        0..platform_keys
     } else {
-        (PLATFORM_KEYS, KEYS.len() - PLATFORM_KEYS)
+        platform_keys..keys.len()
     };
-    let v = (first..first + kind)
+    let v = kind
         .map(|k| match &values[k] {
             Some(v) => Ok(v.clone()),
-            None if KEYS[k].required => Err(format!("missing `{}`", KEYS[k].name)),
-            None => Ok(vec![0.0; KEYS[k].len]),
+            None if keys[k].required => Err(format!("missing `{}`", keys[k].name)),
+            None => Ok(vec![0.0; keys[k].len]),
         })
         .collect::<Result<Vec<_>, String>>()?;
-    if actuators.is_empty() {
-        let three = |k: usize| [v[k][0], v[k][1], v[k][2]];
-        Ok(Line::Platform(State {
-            pose: Pose::from_array(std::array::from_fn(|i| v[0][i])),
-            twist: Twist {
-                omega: three(1),
-                velocity: three(2),
-            },
-            accel: Acceleration {
-                omega_dot: three(3),
-                linear: three(4),
-            },
-        }))
-    } else {
-        Ok(Line::Actuators(std::array::from_fn(|k| {
-            std::array::from_fn(|i| v[k][i])
-        })))
+    if !actuators.is_empty() {
+        let [q, qd, qdd]: [Vec<f64>; 3] = v.try_into().map_err(|_| "three actuator keys")?;
+        return Ok(Line::Actuators([q, qd, qdd]));
     }
+    let twist = freedom.twist_parts().len();
+    Ok(Line::Platform([
+        v[0].clone(),
+        v[1..1 + twist].concat(),
+        v[1 + twist..].concat(),
+    ]))
 }
 
 pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
     if args.derivatives && !cfg!(feature = "derivatives") {
         return Err(crate::unbuilt::needs("`--derivatives`", "derivatives"));
     }
-    let robot = match args.robot.load_freedoms()? {
-        Loaded::Six(robot) => robot,
-        Loaded::Translating(delta) => {
-            if args.derivatives || args.base_parameters.is_some() || args.strict_limits {
-                return Err(
-                    "`--derivatives`, `--base-parameters` and `--strict-limits` are \
-                            not served for the Delta yet: `c5 eval` gives its kinematics and \
-                            torques"
-                        .into(),
-                );
-            }
-            return crate::translating::eval(&delta);
+    let robot = args.robot.load_mechanism()?;
+    let extras = args.derivatives || args.base_parameters.is_some() || args.strict_limits;
+    let estimate = match (robot.spatial(), &args.base_parameters) {
+        (None, _) if extras => {
+            return Err(format!(
+                "`--derivatives`, `--base-parameters` and `--strict-limits` are not served for \
+                 the {} yet: its platform only translates, and `c5 eval` gives its kinematics \
+                 and forces",
+                robot.mechanism()
+            )
+            .into())
         }
-    };
-    let estimate = match &args.base_parameters {
-        Some(p) => Some(identified::load(robot.as_ref(), p)?),
-        None => None,
+        (Some(spatial), Some(p)) => Some(identified::load(spatial, p)?),
+        _ => None,
     };
     eval(
         robot.as_ref(),
@@ -133,6 +127,49 @@ pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
         args.derivatives,
         args.strict_limits,
     )
+}
+
+/// A matrix of `n` columns, row-major, as rows.
+fn rows(values: &[f64], n: usize) -> Vec<&[f64]> {
+    values.chunks(n).collect()
+}
+
+/// `q`, `qd`, `qdd`, `gamma`, `jinv` and `jacobian` of the platform's `motion`.
+fn evaluate(robot: &dyn Mechanism, [x, v, a]: &[Vec<f64>; 3]) -> Result<Value, Error> {
+    let n = robot.freedom().dimension();
+    let [mut q, mut qd, mut qdd, mut gamma] = [0; 4].map(|_| vec![0.0; n]);
+    let (mut jinv, mut jacobian) = (vec![0.0; n * n], vec![0.0; n * n]);
+    robot.actuator_positions(x, &mut q)?;
+    robot.joint_velocities(x, v, &mut qd)?;
+    robot.joint_accelerations(x, v, a, &mut qdd)?;
+    robot.inverse_dynamics(x, v, a, &mut gamma)?;
+    robot.inverse_jacobian(x, &mut jinv)?;
+    robot.jacobian(x, &mut jacobian)?;
+    Ok(json!({
+        "q": q, "qd": qd, "qdd": qdd, "gamma": gamma,
+        "jinv": rows(&jinv, n), "jacobian": rows(&jacobian, n),
+    }))
+}
+
+/// `values` under the names of its three-number `parts`.
+fn put_parts(out: &mut Value, parts: &[&str], values: &[f64]) {
+    for (part, chunk) in parts.iter().zip(values.chunks(3)) {
+        out[*part] = json!(chunk);
+    }
+}
+
+/// A motion of six coordinates as the six-freedom types hold it.
+fn spatial_state([x, v, a]: &[Vec<f64>; 3]) -> Result<State, String> {
+    let six = |values: &[f64]| -> Result<[f64; 6], String> {
+        values
+            .try_into()
+            .map_err(|_| "a six-freedom state".to_string())
+    };
+    Ok(State {
+        pose: Pose::from_array(six(x)?),
+        twist: Twist::from_array(six(v)?),
+        accel: Acceleration::from_array(six(a)?),
+    })
 }
 
 /// The forces of identified parameters, where this build has identification.
@@ -242,73 +279,111 @@ fn smallest_margin(
     Ok(best)
 }
 
+/// What `eval` adds to a line of a platform free in space, as its options ask.
+struct Extras<'a> {
+    identified: Option<&'a identified::Estimate>,
+    derivatives: bool,
+    strict_limits: bool,
+}
+
 fn eval(
-    robot: &dyn ParallelRobot,
+    robot: &dyn Mechanism,
     identified: Option<&identified::Estimate>,
     derivatives: bool,
     strict_limits: bool,
 ) -> crate::Result<ExitCode> {
+    let freedom = robot.freedom();
+    let extras = Extras {
+        identified,
+        derivatives,
+        strict_limits,
+    };
     jsonl::answer_lines(|line| {
-        let (state, joints) = match parse_line(line)? {
-            Line::Platform(state) => (state, None),
+        let (motion, joints) = match parse_line(line, freedom)? {
+            Line::Platform(motion) => (motion, None),
             Line::Actuators(joints) => {
-                let [q, qd, qdd] = &joints;
-                let state = robot
-                    .joint_state(q, qd, qdd, None)
+                let n = freedom.dimension();
+                let mut motion = [0; 3].map(|_| vec![0.0; n]);
+                let [x, v, a] = &mut motion;
+                let given = [&joints[0][..], &joints[1], &joints[2]];
+                robot
+                    .joint_state(given, None, [x, v, a])
                     .map_err(|e| e.to_string())?;
-                (state, Some(joints))
+                (motion, Some(joints))
             }
         };
-        let e = robot.evaluate(&state).map_err(|e| e.to_string())?;
-        let mut out = serde_json::to_value(e).map_err(|e| e.to_string())?;
-        if let Some([q, qd, qdd]) = joints {
-            // The actuators' values as given, the forces of the joint-space kernel (what a
-            // controller calls), and the platform state they give, in the input keys'
-            // conventions.
-            let gamma = robot
-                .inverse_dynamics_joint(&q, &qd, &qdd, Some(&state.pose))
-                .map_err(|e| e.to_string())?;
+        let mut out = evaluate(robot, &motion).map_err(|e| e.to_string())?;
+        if let Some([q, qd, qdd]) = &joints {
+            // The actuators' values as given, and the platform state they give, in the input
+            // keys' conventions.
             out["q"] = json!(q);
             out["qd"] = json!(qd);
             out["qdd"] = json!(qdd);
-            out["gamma"] = json!(gamma);
-            out["pose"] = json!(state.pose.to_array());
-            out["omega"] = json!(state.twist.omega);
-            out["velocity"] = json!(state.twist.velocity);
-            out["omega_dot"] = json!(state.accel.omega_dot);
-            out["acceleration"] = json!(state.accel.linear);
+            out["pose"] = json!(motion[0]);
+            put_parts(&mut out, freedom.twist_parts(), &motion[1]);
+            put_parts(&mut out, freedom.acceleration_parts(), &motion[2]);
         }
-        if derivatives {
-            for (key, jacobian) in derivative_keys(robot, &state, joints)? {
-                out[key] = json!(jacobian);
-            }
-        }
-        if let Some(estimate) = identified {
-            out["gamma"] = json!(identified::forces(estimate, robot, &state)?);
-        }
-        if robot.has_limits() {
-            let gamma: [f64; 6] =
-                serde_json::from_value(out["gamma"].clone()).map_err(|e| e.to_string())?;
-            let smallest =
-                smallest_margin(robot, &state.pose, &e.qd, &gamma).map_err(|e| e.to_string())?;
-            if let Some((limit, actuator, margin, value)) = smallest {
-                if strict_limits && margin < 0.0 {
-                    let e = c5_runtime::Error::Limit {
-                        limit,
-                        actuator,
-                        value,
-                        margin,
-                    };
-                    return Err(e.to_string());
-                }
-                out["limits"] = json!({
-                    "limit": limit.name(),
-                    "actuator": actuator,
-                    "margin": margin,
-                    "value": value,
-                });
-            }
+        if let Some(spatial) = robot.spatial() {
+            let joints = joints
+                .map(|[q, qd, qdd]| -> Result<_, String> {
+                    let six = |v: Vec<f64>| <[f64; 6]>::try_from(v).map_err(|_| "six actuators");
+                    Ok([six(q)?, six(qd)?, six(qdd)?])
+                })
+                .transpose()?;
+            add_spatial(spatial, &spatial_state(&motion)?, joints, &extras, &mut out)?;
         }
         Ok(out)
     })
+}
+
+/// What only six freedoms add to a line: the forces of the joint-space kernel (what a
+/// controller calls) for a line of actuator values, the derivatives, the identified robot's
+/// forces and the smallest margin of the limits.
+fn add_spatial(
+    robot: &dyn ParallelRobot,
+    state: &State,
+    joints: Option<[[f64; 6]; 3]>,
+    extras: &Extras,
+    out: &mut Value,
+) -> Result<(), String> {
+    if let Some([q, qd, qdd]) = &joints {
+        let gamma = robot
+            .inverse_dynamics_joint(q, qd, qdd, Some(&state.pose))
+            .map_err(|e| e.to_string())?;
+        out["gamma"] = json!(gamma);
+    }
+    if extras.derivatives {
+        for (key, jacobian) in derivative_keys(robot, state, joints)? {
+            out[key] = json!(jacobian);
+        }
+    }
+    if let Some(estimate) = extras.identified {
+        out["gamma"] = json!(identified::forces(estimate, robot, state)?);
+    }
+    if !robot.has_limits() {
+        return Ok(());
+    }
+    let read = |key: &str| -> Result<[f64; 6], String> {
+        serde_json::from_value(out[key].clone()).map_err(|e| e.to_string())
+    };
+    let (qd, gamma) = (read("qd")?, read("gamma")?);
+    let smallest = smallest_margin(robot, &state.pose, &qd, &gamma).map_err(|e| e.to_string())?;
+    if let Some((limit, actuator, margin, value)) = smallest {
+        if extras.strict_limits && margin < 0.0 {
+            let e = Error::Limit {
+                limit,
+                actuator,
+                value,
+                margin,
+            };
+            return Err(e.to_string());
+        }
+        out["limits"] = json!({
+            "limit": limit.name(),
+            "actuator": actuator,
+            "margin": margin,
+            "value": value,
+        });
+    }
+    Ok(())
 }

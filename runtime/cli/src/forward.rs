@@ -2,10 +2,11 @@
 //! acceleration out.
 
 use crate::jsonl::{self, Key};
-use crate::options::{Loaded, RobotArgs};
-use c5_runtime::{Pose, Twist};
+use crate::options::RobotArgs;
+use c5_runtime::platform::Freedom;
+use c5_runtime::ParallelRobot;
 use clap::Args;
-use serde_json::json;
+use serde_json::{json, Value};
 use std::process::ExitCode;
 
 /// Reads JSON Lines of platform states and actuator forces on stdin (`pose`, `omega`,
@@ -21,49 +22,89 @@ pub struct ForwardArgs {
     derivatives: bool,
 }
 
-/// The keys of a `forward` line.
-const FORWARD_KEYS: [Key; 4] = [
-    Key::required("pose", 6),
-    Key::optional("omega", 3),
-    Key::optional("velocity", 3),
-    Key::required("gamma", 6),
-];
+/// The keys of a `forward` line for a platform of `freedom`: `pose`, the twist's parts,
+/// `gamma`.
+fn keys(freedom: Freedom) -> Vec<Key> {
+    let n = freedom.dimension();
+    let mut keys = vec![Key::required("pose", n)];
+    keys.extend(
+        freedom
+            .twist_parts()
+            .iter()
+            .map(|&part| Key::optional(part, 3)),
+    );
+    keys.push(Key::required("gamma", n));
+    keys
+}
 
 pub fn run(args: &ForwardArgs) -> crate::Result<ExitCode> {
     if args.derivatives && !cfg!(feature = "derivatives") {
         return Err(crate::unbuilt::needs("`--derivatives`", "derivatives"));
     }
-    let robot = match args.robot.load_freedoms()? {
-        Loaded::Six(robot) => robot,
-        Loaded::Translating(_) if args.derivatives => {
-            return Err("`--derivatives` is not served for the Delta yet".into())
+    let robot = args.robot.load_mechanism()?;
+    let freedom = robot.freedom();
+    let spatial = match (robot.spatial(), args.derivatives) {
+        (None, true) => {
+            return Err(format!(
+                "`--derivatives` is not served for the {} yet: its platform only translates",
+                robot.mechanism()
+            )
+            .into())
         }
-        Loaded::Translating(delta) => return crate::translating::forward(&delta),
+        (spatial, true) => spatial,
+        (_, false) => None,
     };
+    let keys = keys(freedom);
     jsonl::answer_lines(|line| {
-        let v = jsonl::parse(line, &FORWARD_KEYS)?;
-        let pose = Pose::from_array(std::array::from_fn(|i| v[0][i]));
-        let twist = Twist {
-            omega: [v[1][0], v[1][1], v[1][2]],
-            velocity: [v[2][0], v[2][1], v[2][2]],
-        };
-        let gamma: [f64; 6] = std::array::from_fn(|i| v[3][i]);
-        #[cfg(feature = "derivatives")]
-        if args.derivatives {
-            let d = robot
-                .forward_dynamics_derivatives(&pose, &twist, &gamma)
-                .map_err(|e| e.to_string())?;
-            return Ok(json!({
-                "omega_dot": d.accel.omega_dot,
-                "acceleration": d.accel.linear,
-                "d_acceleration_d_pose": d.d_pose,
-                "d_acceleration_d_twist": d.d_twist,
-                "d_acceleration_d_gamma": d.d_gamma,
-            }));
+        let v = jsonl::parse(line, &keys)?;
+        let (pose, gamma) = (&v[0], &v[v.len() - 1]);
+        let twist = v[1..v.len() - 1].concat();
+        if let Some(robot) = spatial {
+            return derivatives(robot, pose, &twist, gamma);
         }
-        let a = robot
-            .forward_dynamics(&pose, &twist, &gamma)
+        let mut accel = vec![0.0; freedom.dimension()];
+        robot
+            .forward_dynamics(pose, &twist, gamma, &mut accel)
             .map_err(|e| e.to_string())?;
-        Ok(json!({"omega_dot": a.omega_dot, "acceleration": a.linear}))
+        let parts = freedom.acceleration_parts().iter().zip(accel.chunks(3));
+        Ok(Value::Object(
+            parts
+                .map(|(part, a)| (part.to_string(), json!(a)))
+                .collect(),
+        ))
     })
+}
+
+/// The forward dynamics and its exact Jacobians, for a platform free in space.
+#[cfg(feature = "derivatives")]
+fn derivatives(
+    robot: &dyn ParallelRobot,
+    pose: &[f64],
+    twist: &[f64],
+    gamma: &[f64],
+) -> Result<Value, String> {
+    let six = |v: &[f64]| <[f64; 6]>::try_from(v).map_err(|_| "six freedoms".to_string());
+    let pose = c5_runtime::Pose::from_array(six(pose)?);
+    let twist = c5_runtime::Twist::from_array(six(twist)?);
+    let d = robot
+        .forward_dynamics_derivatives(&pose, &twist, &six(gamma)?)
+        .map_err(|e| e.to_string())?;
+    Ok(json!({
+        "omega_dot": d.accel.omega_dot,
+        "acceleration": d.accel.linear,
+        "d_acceleration_d_pose": d.d_pose,
+        "d_acceleration_d_twist": d.d_twist,
+        "d_acceleration_d_gamma": d.d_gamma,
+    }))
+}
+
+/// Without the derivative kernels `run` refuses `--derivatives` before any line.
+#[cfg(not(feature = "derivatives"))]
+fn derivatives(
+    _robot: &dyn ParallelRobot,
+    _pose: &[f64],
+    _twist: &[f64],
+    _gamma: &[f64],
+) -> Result<Value, String> {
+    Err(crate::unbuilt::needs("`--derivatives`", "derivatives").to_string())
 }

@@ -29,7 +29,6 @@ mod png_figure;
 mod simulate;
 mod track;
 mod trajectory_csv;
-mod translating;
 mod unbuilt;
 mod view;
 mod workspace;

@@ -28,17 +28,6 @@ impl RobotArgs {
         load(self.robot.as_ref(), self.model)
     }
 
-    /// The robot of `--robot` (or the chapter's), of any mechanism whose platform has six
-    /// freedoms, or a Delta; a C5 with the model of `--model`.
-    pub fn load_freedoms(&self) -> crate::Result<Loaded> {
-        Ok(match read_description(self.robot.as_ref())? {
-            Description::Delta(robot) => {
-                Loaded::Translating(Box::new(c5_runtime::Delta::new(robot)?))
-            }
-            other => Loaded::Six(c5_runtime::mechanism::robot(other, self.model)?),
-        })
-    }
-
     /// The robot of `--robot` (or the chapter's), of any mechanism and freedom; a C5 with the
     /// model of `--model`.
     pub fn load_mechanism(&self) -> crate::Result<Box<dyn c5_runtime::Mechanism>> {
@@ -53,14 +42,6 @@ impl RobotArgs {
     pub fn load_any(&self) -> crate::Result<Box<dyn ParallelRobot>> {
         load_any(self.robot.as_ref(), self.model)
     }
-}
-
-/// A robot file's robot, by its platform's freedoms: what `eval` and `forward` serve.
-pub enum Loaded {
-    /// Six: the C5, the hexapods.
-    Six(Box<dyn ParallelRobot>),
-    /// The three translations: the Delta.
-    Translating(Box<c5_runtime::Delta>),
 }
 
 /// Parses a model's name, listing the names in `--help`.

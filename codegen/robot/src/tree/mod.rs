@@ -76,6 +76,24 @@ impl Freedom {
         }
     }
 
+    /// The twist's parts as JSON lines and Python name them, three numbers each: `omega` and
+    /// `velocity`, or `velocity` alone.
+    pub const fn twist_parts(self) -> &'static [&'static str] {
+        match self {
+            Freedom::Free => &["omega", "velocity"],
+            Freedom::Translations => &["velocity"],
+        }
+    }
+
+    /// The acceleration's parts as JSON lines and Python name them: `omega_dot` and
+    /// `acceleration`, or `acceleration` alone.
+    pub const fn acceleration_parts(self) -> &'static [&'static str] {
+        match self {
+            Freedom::Free => &["omega_dot", "acceleration"],
+            Freedom::Translations => &["acceleration"],
+        }
+    }
+
     /// How many coordinates the pose, twist and acceleration have, and so how many actuators
     /// drive the platform.
     pub const fn dimension(self) -> usize {
