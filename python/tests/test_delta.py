@@ -18,7 +18,7 @@ import pytest
 from conftest import ROOT
 from rus_geometry import RusRobot
 from test_export import export, toml_text, unseen
-from test_rus_hexapod import BOUND, eval_differences, offsets, relative
+from test_rus_hexapod import BOUND, eval_differences, offsets, pinocchio_torques, relative
 
 pin = pytest.importorskip("pinocchio")
 from exported import PinocchioExport  # noqa: E402  (needs pinocchio)
@@ -208,3 +208,24 @@ def test_the_python_robot_serves_the_delta_as_pinocchio_moves_it(delta):
     far = home + [0.0, 0.0, -1.5]
     values, bad = robot.inverse_dynamics(np.array([home, far]), errors="nan")
     assert list(bad) == [False, True] and np.all(np.isnan(values[1]))
+
+
+def test_simulate_runs_section_9s_move_on_the_delta_with_pinocchios_torques(delta, c5_program,
+                                                                          tmp_path):
+    """`c5 simulate --robot delta.toml`: Section 9's move of the centre from home, in the
+    Delta's coordinates (`t,xc..az,q1..q3,...,gamma1..gamma3`), its torques those under which
+    Pinocchio's platform takes each sample's acceleration."""
+    file, _, engine, home = delta
+    subprocess.run([str(c5_program), "simulate", "--robot", str(file), "--rate", "50",
+                    "--out", str(tmp_path)], check=True, capture_output=True)
+    header = (tmp_path / "section9.csv").read_text().splitlines()[0].split(",")
+    assert header[:10] == ["t", "xc", "yc", "zc", "vx", "vy", "vz", "ax", "ay", "az"]
+    assert header[-3:] == ["gamma1", "gamma2", "gamma3"] and len(header) == 22
+    rows = np.loadtxt(tmp_path / "section9.csv", delimiter=",", skiprows=1)
+    assert len(rows) == 51
+    assert np.max(np.abs(rows[0, 1:4] - home)) < 1e-12
+    assert np.max(np.abs(rows[-1, 1:4] - home - [0.04, 0.03, 0.05])) < 1e-12
+    worst = max(relative(row[19:22], pinocchio_torques(engine, row[1:4], row[4:7], row[7:10]))
+                for row in rows[::5])
+    print(f"simulate's torques against Pinocchio: {worst:.1e} relative")
+    assert worst < BOUND

@@ -294,8 +294,9 @@ pub fn robot(description: Description, model: Model) -> Result<Box<dyn ParallelR
             return Err(Error::Unsupported {
                 what: "six-freedom platform",
                 mechanism: description.mechanism(),
-                why: "its platform only translates: `c5 eval`, `c5 forward` and \
-                      `c5_runtime::Delta` serve it, and this command takes six freedoms",
+                why: "its platform only translates: `c5 eval`, `c5 forward`, `c5 simulate`, \
+                      the Python `Robot` and `c5_runtime::Mechanism` serve it, and this command \
+                      takes six freedoms",
             })
         }
     })

@@ -18,6 +18,7 @@ use crate::dynamics::{rk4_step, PlantState};
 use crate::mechanism::ParallelRobot;
 use crate::{Acceleration, Delta, Error, GoughStewart, Model, Pose, RusHexapod, Twist, C5};
 use alloc::boxed::Box;
+use alloc::vec;
 use alloc::vec::Vec;
 pub use c5_robot::tree::Freedom;
 use c5_robot::Description;
@@ -131,6 +132,99 @@ pub trait Mechanism: core::fmt::Debug + Send + Sync {
         dt: f64,
     ) -> Result<(), Error>;
 
+    /// `q`, `q̇`, `q̈`, `Γ`, `J⁻¹` and `J` of one state.
+    ///
+    /// # Errors
+    /// As [`Mechanism::jacobian`].
+    fn evaluate(
+        &self,
+        pose: &[f64],
+        twist: &[f64],
+        acceleration: &[f64],
+    ) -> Result<Evaluated, Error> {
+        let n = self.freedom().dimension();
+        let mut e = Evaluated {
+            q: vec![0.0; n],
+            qd: vec![0.0; n],
+            qdd: vec![0.0; n],
+            gamma: vec![0.0; n],
+            jinv: vec![0.0; n * n],
+            jacobian: vec![0.0; n * n],
+        };
+        self.actuator_positions(pose, &mut e.q)?;
+        self.joint_velocities(pose, twist, &mut e.qd)?;
+        self.joint_accelerations(pose, twist, acceleration, &mut e.qdd)?;
+        self.inverse_dynamics(pose, twist, acceleration, &mut e.gamma)?;
+        self.inverse_jacobian(pose, &mut e.jinv)?;
+        self.jacobian(pose, &mut e.jacobian)?;
+        Ok(e)
+    }
+    /// A platform state of six coordinates in this platform's: all of it for a platform free
+    /// in space, the centre's motion for one that only translates.
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`] for a state that turns a platform that only translates.
+    fn coordinates_of(&self, state: &crate::State) -> Result<[Vec<f64>; 3], Error> {
+        let (pose, twist, accel) = (state.pose, state.twist, state.accel);
+        match self.freedom() {
+            Freedom::Free => Ok([
+                pose.to_array().to_vec(),
+                twist.to_array().to_vec(),
+                accel.to_array().to_vec(),
+            ]),
+            Freedom::Translations => {
+                let angular = [pose.alpha, pose.beta, pose.gamma]
+                    .into_iter()
+                    .chain(twist.omega)
+                    .chain(accel.omega_dot);
+                if angular.into_iter().any(|x| x != 0.0) {
+                    return Err(Error::Unsupported {
+                        what: "a motion that turns the platform",
+                        mechanism: self.mechanism(),
+                        why: "its platform only translates",
+                    });
+                }
+                Ok([
+                    pose.center.to_vec(),
+                    twist.velocity.to_vec(),
+                    accel.linear.to_vec(),
+                ])
+            }
+        }
+    }
+    /// The platform state of six coordinates of this platform's (the angles and angular
+    /// motion zero for one that only translates).
+    ///
+    /// # Errors
+    /// Slices of the wrong length.
+    fn state_of(&self, motion: [&[f64]; 3]) -> Result<crate::State, Error> {
+        let [pose, twist, acceleration] = motion;
+        match self.freedom() {
+            Freedom::Free => spatial_state(pose, twist, acceleration),
+            Freedom::Translations => {
+                let (x, v, a) = (
+                    array("pose", pose)?,
+                    array("twist", twist)?,
+                    array("acceleration", acceleration)?,
+                );
+                Ok(crate::State {
+                    pose: Pose {
+                        center: x,
+                        ..Pose::default()
+                    },
+                    twist: Twist {
+                        omega: [0.0; 3],
+                        velocity: v,
+                    },
+                    accel: Acceleration {
+                        omega_dot: [0.0; 3],
+                        linear: a,
+                    },
+                })
+            }
+        }
+    }
+
     /// [`Mechanism::inverse_dynamics`] of states `0..n`, `motion(k, [pose, twist,
     /// acceleration])` filling the `k`-th state's slices, each result handed to `each` in
     /// order: for callers that read states from their own storage (numpy arrays, a log). The
@@ -156,6 +250,24 @@ pub trait Mechanism: core::fmt::Debug + Send + Sync {
             each(k, result.map(|()| &accel[..d]));
         }
     }
+}
+
+/// What [`Mechanism::evaluate`] gives of one state, in the platform's dimension `n`.
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Evaluated {
+    /// The actuator values.
+    pub q: Vec<f64>,
+    /// Their rates, `J⁻¹ V`.
+    pub qd: Vec<f64>,
+    /// Their accelerations.
+    pub qdd: Vec<f64>,
+    /// The actuator forces `Γ`.
+    pub gamma: Vec<f64>,
+    /// `J⁻¹`, row-major `n × n`.
+    pub jinv: Vec<f64>,
+    /// `J`, row-major `n × n`.
+    pub jacobian: Vec<f64>,
 }
 
 /// Fills the `k`-th input's three slices, each of the platform's dimension: what the `*_each`
@@ -734,6 +846,26 @@ mod tests {
                 Err(Error::WrongLength { input: "gamma", .. })
             ));
             assert!(gamma.iter().chain(&long).all(|&g| g == 7.0));
+        }
+    }
+
+    #[test]
+    fn a_state_goes_to_the_platforms_coordinates_and_back_and_a_turn_is_refused_by_a_delta() {
+        for robot in every_mechanism() {
+            let [x, v, a] = motion(&*robot, 2.0);
+            let state = robot.state_of([&x, &v, &a]).unwrap();
+            assert_eq!(robot.coordinates_of(&state).unwrap(), [x, v, a]);
+            let e = robot.evaluate(&state.pose.to_array()[..0], &[], &[]);
+            assert!(matches!(e, Err(Error::WrongLength { .. })));
+            let mut turned = state;
+            turned.twist.omega[1] = 0.1;
+            let translating = robot.freedom() == Freedom::Translations;
+            assert_eq!(
+                robot.coordinates_of(&turned).is_err(),
+                translating,
+                "{}",
+                robot.mechanism()
+            );
         }
     }
 

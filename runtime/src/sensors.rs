@@ -29,10 +29,15 @@ impl Encoders {
     }
 
     /// The positions the encoders report for the actuator positions `q`.
-    pub fn read(&self, q: &[f64; 6]) -> [f64; 6] {
+    pub fn read<const N: usize>(&self, q: &[f64; N]) -> [f64; N] {
+        q.map(|x| self.reading(x))
+    }
+
+    /// The position one encoder reports for the actuator position `x`.
+    pub fn reading(&self, x: f64) -> f64 {
         match self.resolution {
-            Some(m) => q.map(|x| crate::math::round(x / m) * m),
-            None => *q,
+            Some(m) => crate::math::round(x / m) * m,
+            None => x,
         }
     }
 }

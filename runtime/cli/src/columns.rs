@@ -13,17 +13,18 @@ pub const ACCEL: [&str; 6] = ["wdx", "wdy", "wdz", "ax", "ay", "az"];
 /// The actuator forces `Γ`, segment order.
 pub const GAMMA: [&str; 6] = ["gamma1", "gamma2", "gamma3", "gamma4", "gamma5", "gamma6"];
 
-/// `{name}1` … `{name}6`: one column per actuator.
-pub fn per_actuator(name: &str) -> Vec<String> {
-    (1..=6).map(|i| format!("{name}{i}")).collect()
+/// `{name}1` … `{name}n`: one column per actuator.
+pub fn per_actuator(name: &str, n: usize) -> Vec<String> {
+    (1..=n).map(|i| format!("{name}{i}")).collect()
 }
 
-/// `t`, the pose, the twist and the acceleration: a whole trajectory row.
-pub fn state() -> Vec<String> {
+/// `t`, the pose, the twist and the acceleration in a platform's coordinates: a whole
+/// trajectory row.
+pub fn state(freedom: Freedom) -> Vec<String> {
     std::iter::once(TIME)
-        .chain(POSE)
-        .chain(TWIST)
-        .chain(ACCEL)
+        .chain(freedom.pose_names().iter().copied())
+        .chain(freedom.twist_names().iter().copied())
+        .chain(freedom.acceleration_names().iter().copied())
         .map(String::from)
         .collect()
 }

@@ -58,7 +58,7 @@ pub fn open(path: &Path) -> Result<Rows, TrajectoryError> {
         .map(str::to_string)
         .collect();
     let names: Vec<String> = std::iter::once(TIME.to_string())
-        .chain(per_actuator("q"))
+        .chain(per_actuator("q", 6))
         .chain(GAMMA.map(String::from))
         .collect();
     let missing: Vec<&str> = names

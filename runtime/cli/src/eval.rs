@@ -137,17 +137,10 @@ fn rows(values: &[f64], n: usize) -> Vec<&[f64]> {
 /// `q`, `qd`, `qdd`, `gamma`, `jinv` and `jacobian` of the platform's `motion`.
 fn evaluate(robot: &dyn Mechanism, [x, v, a]: &[Vec<f64>; 3]) -> Result<Value, Error> {
     let n = robot.freedom().dimension();
-    let [mut q, mut qd, mut qdd, mut gamma] = [0; 4].map(|_| vec![0.0; n]);
-    let (mut jinv, mut jacobian) = (vec![0.0; n * n], vec![0.0; n * n]);
-    robot.actuator_positions(x, &mut q)?;
-    robot.joint_velocities(x, v, &mut qd)?;
-    robot.joint_accelerations(x, v, a, &mut qdd)?;
-    robot.inverse_dynamics(x, v, a, &mut gamma)?;
-    robot.inverse_jacobian(x, &mut jinv)?;
-    robot.jacobian(x, &mut jacobian)?;
+    let e = robot.evaluate(x, v, a)?;
     Ok(json!({
-        "q": q, "qd": qd, "qdd": qdd, "gamma": gamma,
-        "jinv": rows(&jinv, n), "jacobian": rows(&jacobian, n),
+        "q": e.q, "qd": e.qd, "qdd": e.qdd, "gamma": e.gamma,
+        "jinv": rows(&e.jinv, n), "jacobian": rows(&e.jacobian, n),
     }))
 }
 

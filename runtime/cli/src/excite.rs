@@ -55,7 +55,7 @@ pub fn run(o: &ExciteArgs) -> Result<ExitCode> {
     let found = excite::design(robot, &Envelope::default(), &search)?;
     let n = (o.period * o.rate).round() as usize;
     let mut w = csv::Writer::from_path(out)?;
-    w.write_record(columns::state())?;
+    w.write_record(columns::state(columns::Freedom::Free))?;
     let mut states = Vec::with_capacity(n);
     for k in 0..n {
         let t = k as f64 / o.rate;

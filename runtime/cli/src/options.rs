@@ -87,6 +87,22 @@ fn read_description(path: Option<&PathBuf>) -> crate::Result<Description> {
     })
 }
 
+/// Section 9's move of the platform's centre from `robot`'s home, at Section 9's orientation
+/// where the platform turns: the chapter's default trajectory.
+pub fn section9_for(robot: &dyn c5_runtime::Mechanism) -> crate::Result<LinearMove> {
+    let rest = vec![0.0; robot.freedom().dimension()];
+    let home = robot.state_of([&robot.home(), &rest, &rest])?.pose;
+    let mut motion = section9_from(home);
+    if robot.freedom() == c5_runtime::platform::Freedom::Translations {
+        let level = Pose {
+            center: motion.start.center,
+            ..Pose::default()
+        };
+        motion.start = level;
+    }
+    Ok(motion)
+}
+
 /// Section 9's move (the chapter's default trajectory), from `home`: the C5's home is the
 /// origin, a hexapod's above its base.
 pub fn section9_from(home: Pose) -> LinearMove {
@@ -166,7 +182,12 @@ pub struct ForceNoise {
 impl ForceNoise {
     /// `gamma` with noise on each force.
     pub fn add(&mut self, gamma: &[f64; 6]) -> [f64; 6] {
+        gamma.map(|g| self.noisy(g))
+    }
+
+    /// One force measured.
+    pub fn noisy(&mut self, g: f64) -> f64 {
         use rand_distr::Distribution;
-        gamma.map(|g| g + self.normal.sample(&mut self.rng))
+        g + self.normal.sample(&mut self.rng)
     }
 }

@@ -5,7 +5,8 @@ use crate::columns;
 use crate::options::{self, RobotArgs};
 use crate::trajectory_csv;
 use crate::view;
-use c5_runtime::{Error, Evaluation, ParallelRobot, State};
+use c5_runtime::platform::{Evaluated, Freedom};
+use c5_runtime::{Error, Mechanism, State};
 use clap::Args;
 use plotters::prelude::*;
 use std::io::Write;
@@ -102,12 +103,12 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
     if let Some(torques) = &args.torques {
         return run_held(args, torques);
     }
-    let robot = args.robot.load_any()?;
+    let robot = args.robot.load_mechanism()?;
     let (out, rate) = (&args.out, args.rate);
     let states = match &args.trajectory {
         Some(path) => trajectory_csv::read(path)?,
         None => {
-            let motion = options::section9_from(robot.home());
+            let motion = options::section9_for(robot.as_ref())?;
             let times = options::sample_times(motion.duration, rate, "samples")?;
             times.into_iter().map(|t| (t, motion.state(t))).collect()
         }
@@ -119,26 +120,29 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
     // Everything is computed before anything is written: a refused sample writes nothing.
     let study =
         run(robot.as_ref(), &states).map_err(|(t, e)| format!("sample at t = {t} s: {e}"))?;
-    if !args.ignore_limits {
-        for s in &study.samples {
+    let spatial = robot.spatial();
+    if let (Some(robot), false) = (spatial, args.ignore_limits) {
+        for (s, &(_, state)) in study.samples.iter().zip(&states) {
+            let six = |v: &[f64]| <[f64; 6]>::try_from(v).unwrap_or_default();
             robot
-                .check_limits(&s.state.pose)
-                .and_then(|()| robot.check_speeds(&s.eval.qd))
-                .and_then(|()| robot.check_forces(&s.eval.gamma))
+                .check_limits(&state.pose)
+                .and_then(|()| robot.check_speeds(&six(&s.eval.qd)))
+                .and_then(|()| robot.check_forces(&six(&s.eval.gamma)))
                 .map_err(|e| format!("sample at t = {} s: {e} (--ignore-limits to go on)", s.t))?;
         }
     }
     std::fs::create_dir_all(out)?;
+    let n = study.freedom.dimension();
     if let Some(path) = &args.encoder_log {
         let mut w = csv::Writer::from_path(path)?;
         let mut header = vec![columns::TIME.to_string()];
-        header.extend(columns::per_actuator("q"));
-        header.extend(columns::GAMMA.map(String::from));
+        header.extend(columns::per_actuator("q", n));
+        header.extend(columns::per_actuator("gamma", n));
         w.write_record(&header)?;
         for s in &study.samples {
             let mut row = vec![s.t];
-            row.extend(encoders.read(&s.eval.q));
-            row.extend(noise.add(&s.eval.gamma));
+            row.extend(s.eval.q.iter().map(|&q| encoders.reading(q)));
+            row.extend(s.eval.gamma.iter().map(|&g| noise.noisy(g)));
             w.write_record(row.iter().map(|v| format!("{v:.17e}")))?;
         }
         w.flush()?;
@@ -152,16 +156,25 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
     let csv = out.join(format!("{stem}.csv"));
     write_csv(&csv, &study)?;
     let plots = write_plots(out, &study)?;
-    let drawn: Vec<view::Sample> = study
-        .samples
-        .iter()
-        .map(|s| view::Sample::of_state(s.t, &s.state, s.eval.gamma))
-        .collect();
     let title = match &args.trajectory {
         Some(p) => format!("{} ({} robot)", p.display(), robot.mechanism()),
         None => format!("Section 9 ({} robot)", robot.mechanism()),
     };
-    let page = args.view.write(robot.as_ref(), &drawn, &title, out)?;
+    let page = match spatial {
+        Some(spatial) => {
+            let drawn: Vec<view::Sample> = study
+                .samples
+                .iter()
+                .zip(&states)
+                .map(|(s, (t, state))| {
+                    let gamma = <[f64; 6]>::try_from(&s.eval.gamma[..]).unwrap_or_default();
+                    view::Sample::of_state(*t, state, gamma)
+                })
+                .collect();
+            args.view.write(spatial, &drawn, &title, out)?
+        }
+        None => None,
+    };
     let mut report = std::io::stdout().lock();
     match &args.trajectory {
         Some(p) => writeln!(report, "{}: {} samples", p.display(), study.samples.len())?,
@@ -178,12 +191,18 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
     for p in plots {
         writeln!(report, "wrote {}", out.join(p).display())?;
     }
-    if let Some(p) = page {
-        writeln!(
+    match page {
+        Some(p) => writeln!(
             report,
             "wrote {} (the 3D view: open it in a browser)",
             p.display()
-        )?;
+        )?,
+        None if spatial.is_none() => writeln!(
+            report,
+            "(the 3D view draws platforms free in space: not the {} yet)",
+            robot.mechanism()
+        )?,
+        None => {}
     }
     for (k, other) in study.others.iter().enumerate() {
         writeln!(
@@ -192,7 +211,7 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
              model:",
             study.model
         )?;
-        for i in 0..6 {
+        for i in 0..n {
             let peak = study
                 .samples
                 .iter()
@@ -214,61 +233,75 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// One sample of the study.
+/// One sample of the study, in the platform's coordinates.
 #[derive(Clone, Debug)]
 pub struct Sample {
     pub t: f64,
-    pub state: State,
+    /// The platform's pose, twist and acceleration.
+    pub motion: [Vec<f64>; 3],
     /// Everything the chosen model gives.
-    pub eval: Evaluation,
+    pub eval: Evaluated,
     /// The actuator forces of each of [`Study::others`].
-    pub others: Vec<[f64; 6]>,
+    pub others: Vec<Vec<f64>>,
 }
 
 /// The study's samples and how long the kernels took.
 #[derive(Clone, Debug)]
 pub struct Study {
+    /// How the platform moves: the samples' coordinates.
+    pub freedom: Freedom,
     /// The model of [`Sample::eval`]; the others gave [`Sample::others`].
     pub model: &'static str,
     pub others: Vec<&'static str>,
     pub samples: Vec<Sample>,
-    /// Mean wall time of [`ParallelRobot::evaluate`] per sample (s).
+    /// Mean wall time of [`Mechanism::evaluate`] per sample (s).
     pub time_per_sample: f64,
 }
 
 /// Evaluates every state of a trajectory with `robot`'s model, and the forces of the others.
 ///
 /// # Errors
-/// The first sample whose state is refused (non-finite or singular), with its time.
-pub fn run(robot: &dyn ParallelRobot, states: &[(f64, State)]) -> Result<Study, (f64, Error)> {
-    let only: Vec<State> = states.iter().map(|&(_, s)| s).collect();
-    let time_of = |k: usize| states[k].0;
+/// The first sample whose state is refused (non-finite, singular, or turning a platform that
+/// only translates), with its time.
+pub fn run(robot: &dyn Mechanism, states: &[(f64, State)]) -> Result<Study, (f64, Error)> {
+    let motions = states
+        .iter()
+        .map(|(t, s)| robot.coordinates_of(s).map_err(|e| (*t, e)))
+        .collect::<Result<Vec<_>, _>>()?;
     let start = Instant::now();
-    let evals = robot
-        .evaluate_many(&only)
-        .map_err(|(k, e)| (time_of(k), e))?;
+    let evals = motions
+        .iter()
+        .zip(states)
+        .map(|([x, v, a], (t, _))| robot.evaluate(x, v, a).map_err(|e| (*t, e)))
+        .collect::<Result<Vec<_>, _>>()?;
     let time_per_sample = start.elapsed().as_secs_f64() / evals.len().max(1) as f64;
-    let other_robots = robot.other_models();
+    let other_robots = robot
+        .spatial()
+        .map(|r| r.other_models())
+        .unwrap_or_default();
     let others: Vec<&'static str> = other_robots.iter().map(|r| r.model_name()).collect();
+    let only: Vec<State> = states.iter().map(|&(_, s)| s).collect();
     let forces = other_robots
         .iter()
         .map(|r| {
             r.inverse_dynamics_many(&only)
-                .map_err(|(k, e)| (time_of(k), e))
+                .map_err(|(k, e)| (states[k].0, e))
         })
         .collect::<Result<Vec<_>, _>>()?;
     let samples = states
         .iter()
+        .zip(motions)
         .zip(evals)
         .enumerate()
-        .map(|(k, (&(t, state), eval))| Sample {
+        .map(|(k, ((&(t, _), motion), eval))| Sample {
             t,
-            state,
+            motion,
             eval,
-            others: forces.iter().map(|f| f[k]).collect(),
+            others: forces.iter().map(|f| f[k].to_vec()).collect(),
         })
         .collect();
     Ok(Study {
+        freedom: robot.freedom(),
         model: robot.model_name(),
         others,
         samples,
@@ -276,15 +309,17 @@ pub fn run(robot: &dyn ParallelRobot, states: &[(f64, State)]) -> Result<Study, 
     })
 }
 
-/// Header of the CSV: time, pose, twist, acceleration, `Q_a`, `Q̇_a`, `Q̈_a`, `Γ` of the chosen
-/// model, and `Γ` of each other one (`gamma_paper1..6` or `gamma_consistent1..6`).
-pub fn csv_header(others: &[&str]) -> Vec<String> {
-    let mut h = columns::state();
+/// Header of the CSV: time, pose, twist, acceleration (in the platform's coordinates), `q`,
+/// `q̇`, `q̈`, `Γ` of the chosen model, and `Γ` of each other one (`gamma_paper1..6` or
+/// `gamma_consistent1..6`).
+pub fn csv_header(freedom: Freedom, others: &[&str]) -> Vec<String> {
+    let n = freedom.dimension();
+    let mut h = columns::state(freedom);
     for name in ["q", "qd", "qdd", "gamma"] {
-        h.extend(columns::per_actuator(name));
+        h.extend(columns::per_actuator(name, n));
     }
     for other in others {
-        h.extend(columns::per_actuator(&format!("gamma_{other}")));
+        h.extend(columns::per_actuator(&format!("gamma_{other}"), n));
     }
     h
 }
@@ -295,13 +330,11 @@ pub fn csv_header(others: &[&str]) -> Vec<String> {
 /// I/O errors.
 pub fn write_csv(path: &Path, study: &Study) -> Result<(), Box<dyn std::error::Error>> {
     let mut w = csv::Writer::from_path(path)?;
-    w.write_record(csv_header(&study.others))?;
+    w.write_record(csv_header(study.freedom, &study.others))?;
     for s in &study.samples {
         let mut row = vec![s.t];
-        row.extend(s.state.pose.to_array());
-        row.extend(s.state.twist.to_array());
-        row.extend(s.state.accel.to_array());
-        for v in [s.eval.q, s.eval.qd, s.eval.qdd, s.eval.gamma] {
+        row.extend(s.motion.iter().flatten());
+        for v in [&s.eval.q, &s.eval.qd, &s.eval.qdd, &s.eval.gamma] {
             row.extend(v);
         }
         for v in &s.others {
@@ -377,6 +410,13 @@ pub fn plot(
     })
 }
 
+/// The centre's part of a pose, twist or acceleration: its last three coordinates, whatever the
+/// platform's freedom.
+fn centre(values: &[f64]) -> [f64; 3] {
+    let n = values.len();
+    std::array::from_fn(|k| values[n - 3 + k])
+}
+
 /// The four figures of Section 9 (figs 7-10) as PNG files in `dir`.
 ///
 /// # Errors
@@ -400,19 +440,19 @@ pub fn write_plots(dir: &Path, study: &Study) -> Result<Vec<String>, Box<dyn std
             "fig7_trajectory.png",
             "Platform trajectory (fig. 7)",
             "centre position (m)",
-            xyz(&|s| s.state.pose.center),
+            xyz(&|s| centre(&s.motion[0])),
         ),
         (
             "fig8_velocity.png",
             "Platform linear velocity (fig. 8)",
             "velocity (m/s)",
-            xyz(&|s| s.state.twist.velocity),
+            xyz(&|s| centre(&s.motion[1])),
         ),
         (
             "fig9_acceleration.png",
             "Platform linear acceleration (fig. 9)",
             "acceleration (m/s²)",
-            xyz(&|s| s.state.accel.linear),
+            xyz(&|s| centre(&s.motion[2])),
         ),
     ];
     let mut written = Vec::new();
@@ -440,7 +480,8 @@ fn plot_forces(path: &Path, study: &Study, t: &[f64]) -> Result<(), Box<dyn std:
             None => format!("Actuator forces Γ ({})", study.model),
         };
         let root = root.titled(&title, ("sans-serif", 22))?;
-        for (i, panel) in root.split_evenly((2, 3)).iter().enumerate() {
+        let n = study.freedom.dimension();
+        for (i, panel) in root.split_evenly((n.div_ceil(3), 3)).iter().enumerate() {
             let series: Vec<(&str, Vec<f64>)> = std::iter::once((
                 study.model,
                 study.samples.iter().map(|s| s.eval.gamma[i]).collect(),
@@ -469,7 +510,7 @@ fn plot_forces(path: &Path, study: &Study, t: &[f64]) -> Result<(), Box<dyn std:
             chart
                 .configure_mesh()
                 .x_desc("t (s)")
-                .y_desc("force (N)")
+                .y_desc("force (N, or N·m)")
                 .label_style(("sans-serif", 13))
                 .draw()?;
             let color = Palette99::pick(i).to_rgba();

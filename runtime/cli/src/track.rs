@@ -492,7 +492,7 @@ pub fn write_csv(path: &Path, samples: &[Sample]) -> Result<(), Box<dyn std::err
         .map(String::from),
     );
     header.extend(
-        columns::per_actuator("eq")
+        columns::per_actuator("eq", 6)
             .iter()
             .map(|c| format!("{c}_mm")),
     );

@@ -186,9 +186,9 @@ fn the_rotary_hexapod_and_the_delta_export_and_a_six_freedom_command_refuses_the
         let urdf = c5_ok(&["export", "--robot", file, "--format", "urdf"], "");
         assert!(String::from_utf8_lossy(&urdf.stdout).contains("<constraint "));
     }
-    let simulate = c5(&["simulate", "--robot", DELTA], "");
-    let err = String::from_utf8_lossy(&simulate.stderr);
-    assert!(!simulate.status.success() && simulate.stdout.is_empty());
+    let track = c5(&["track", "--robot", DELTA], "");
+    let err = String::from_utf8_lossy(&track.stderr);
+    assert!(!track.status.success() && track.stdout.is_empty());
     assert!(err.contains("its platform only translates"), "{err}");
 }
 
