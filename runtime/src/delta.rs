@@ -13,8 +13,11 @@
 
 use crate::error::Error;
 use crate::gough_stewart::U_JOINT_TOLERANCE;
+use crate::mechanism::ParallelRobot;
+use crate::platform::{array, put, room, Freedom, Mechanism};
 use crate::rus_hexapod::REACH_TOLERANCE;
 use crate::{check_finite, finite, finite_matrix};
+use alloc::vec::Vec;
 use c5_generated::f64::delta as kernels;
 pub use c5_robot::Delta as Description;
 
@@ -349,6 +352,168 @@ impl Delta {
         check_finite("velocity", &state.velocity)?;
         check_finite("acceleration", &state.acceleration)
     }
+}
+
+/// The Delta through the interface of every mechanism: its platform translates, so every slice
+/// holds three numbers.
+impl Mechanism for Delta {
+    fn mechanism(&self) -> &'static str {
+        crate::delta::MECHANISM
+    }
+    fn model_name(&self) -> &'static str {
+        crate::delta::MECHANISM
+    }
+    fn freedom(&self) -> Freedom {
+        Freedom::Translations
+    }
+    fn description(&self) -> c5_robot::Description {
+        c5_robot::Description::Delta(*self.robot())
+    }
+    fn parameters(&self) -> &[f64] {
+        Delta::parameters(self)
+    }
+    fn home(&self) -> Vec<f64> {
+        Delta::home(self).to_vec()
+    }
+    fn spatial(&self) -> Option<&dyn ParallelRobot> {
+        None
+    }
+    fn actuator_positions(&self, pose: &[f64], q: &mut [f64]) -> Result<(), Error> {
+        room::<3>("q", q)?;
+        put(q, &self.inverse_kinematics(&array("pose", pose)?)?);
+        Ok(())
+    }
+    fn inverse_jacobian(&self, pose: &[f64], jinv: &mut [f64]) -> Result<(), Error> {
+        room::<9>("jinv", jinv)?;
+        let m = Delta::inverse_jacobian(self, &array("pose", pose)?)?;
+        put(jinv, m.as_flattened());
+        Ok(())
+    }
+    fn jacobian(&self, pose: &[f64], jac: &mut [f64]) -> Result<(), Error> {
+        room::<9>("jacobian", jac)?;
+        put(
+            jac,
+            Delta::jacobian(self, &array("pose", pose)?)?.as_flattened(),
+        );
+        Ok(())
+    }
+    fn joint_velocities(&self, pose: &[f64], twist: &[f64], qd: &mut [f64]) -> Result<(), Error> {
+        room::<3>("qd", qd)?;
+        let rates = Delta::joint_velocities(self, &array("pose", pose)?, &array("twist", twist)?)?;
+        put(qd, &rates);
+        Ok(())
+    }
+    fn joint_accelerations(
+        &self,
+        pose: &[f64],
+        twist: &[f64],
+        acceleration: &[f64],
+        qdd: &mut [f64],
+    ) -> Result<(), Error> {
+        room::<3>("qdd", qdd)?;
+        let state = translation(pose, twist, acceleration)?;
+        put(qdd, &Delta::joint_accelerations(self, &state)?);
+        Ok(())
+    }
+    fn inverse_dynamics(
+        &self,
+        pose: &[f64],
+        twist: &[f64],
+        acceleration: &[f64],
+        gamma: &mut [f64],
+    ) -> Result<(), Error> {
+        room::<3>("gamma", gamma)?;
+        let state = translation(pose, twist, acceleration)?;
+        put(gamma, &Delta::inverse_dynamics(self, &state)?);
+        Ok(())
+    }
+    fn forward_dynamics(
+        &self,
+        pose: &[f64],
+        twist: &[f64],
+        gamma: &[f64],
+        acceleration: &mut [f64],
+    ) -> Result<(), Error> {
+        room::<3>("acceleration", acceleration)?;
+        let (x, v, g) = (
+            array("pose", pose)?,
+            array("twist", twist)?,
+            array("gamma", gamma)?,
+        );
+        put(acceleration, &Delta::forward_dynamics(self, &x, &v, &g)?);
+        Ok(())
+    }
+    /// In closed form: `near` is not needed, and only its length is checked.
+    fn forward_kinematics(
+        &self,
+        q: &[f64],
+        near: Option<&[f64]>,
+        pose: &mut [f64],
+    ) -> Result<(), Error> {
+        room::<3>("pose", pose)?;
+        near.map(|x| array::<3>("near", x)).transpose()?;
+        put(pose, &Delta::forward_kinematics(self, &array("q", q)?)?);
+        Ok(())
+    }
+    fn joint_state(
+        &self,
+        joints: [&[f64]; 3],
+        near: Option<&[f64]>,
+        out: [&mut [f64]; 3],
+    ) -> Result<(), Error> {
+        let [pose, twist, acceleration] = out;
+        room::<3>("pose", pose)?;
+        room::<3>("twist", twist)?;
+        room::<3>("acceleration", acceleration)?;
+        near.map(|x| array::<3>("near", x)).transpose()?;
+        let [q, qd, qdd] = joints;
+        let (q, qd, qdd) = (array("q", q)?, array("qd", qd)?, array("qdd", qdd)?);
+        let state = Delta::joint_state(self, &q, &qd, &qdd)?;
+        put(pose, &state.position);
+        put(twist, &state.velocity);
+        put(acceleration, &state.acceleration);
+        Ok(())
+    }
+    fn step_held(
+        &self,
+        pose: &mut [f64],
+        twist: &mut [f64],
+        gamma: &[f64],
+        dt: f64,
+    ) -> Result<(), Error> {
+        let (x, v): ([f64; 3], [f64; 3]) = (array("pose", pose)?, array("twist", twist)?);
+        let g = array("gamma", gamma)?;
+        let rate = |y: &[f64; 6]| -> Result<[f64; 6], Error> {
+            let (x, v) = ([y[0], y[1], y[2]], [y[3], y[4], y[5]]);
+            let a = Delta::forward_dynamics(self, &x, &v, &g)?;
+            Ok([v[0], v[1], v[2], a[0], a[1], a[2]])
+        };
+        let y0 = [x[0], x[1], x[2], v[0], v[1], v[2]];
+        let along = |k: &[f64; 6], h: f64| core::array::from_fn(|i| y0[i] + h * k[i]);
+        let k1 = rate(&y0)?;
+        let k2 = rate(&along(&k1, 0.5 * dt))?;
+        let k3 = rate(&along(&k2, 0.5 * dt))?;
+        let k4 = rate(&along(&k3, dt))?;
+        let y: [f64; 6] = core::array::from_fn(|i| {
+            y0[i] + dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+        });
+        put(pose, &y[..3]);
+        put(twist, &y[3..]);
+        Ok(())
+    }
+}
+
+/// A Delta's state from its three slices.
+fn translation(
+    pose: &[f64],
+    twist: &[f64],
+    acceleration: &[f64],
+) -> Result<crate::delta::Translation, Error> {
+    Ok(crate::delta::Translation {
+        position: array("pose", pose)?,
+        velocity: array("twist", twist)?,
+        acceleration: array("acceleration", acceleration)?,
+    })
 }
 
 #[cfg(test)]
