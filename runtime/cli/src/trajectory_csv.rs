@@ -49,9 +49,10 @@ struct Rows {
     reader: csv::Reader<File>,
     header: Vec<String>,
     record: csv::StringRecord,
-    pose: Vec<usize>,
-    twist: Option<Vec<usize>>,
-    accel: Option<Vec<usize>>,
+    /// `t`, then the pose's six columns (`None` where the file leaves the angles out).
+    pose: Vec<Option<usize>>,
+    twist: Option<Vec<Option<usize>>>,
+    accel: Option<Vec<Option<usize>>>,
     extra: Vec<usize>,
     line: usize,
     last_t: Option<f64>,
@@ -85,14 +86,16 @@ impl Rows {
                 Err(self.err(Some(line), format!("`{}` is not finite", self.header[k])))
             }
         };
-        let six = |cols: &[usize]| -> Result<[f64; 6], TrajectoryError> {
+        let six = |cols: &[Option<usize>]| -> Result<[f64; 6], TrajectoryError> {
             let mut out = [0.0; 6];
-            for (o, &c) in out.iter_mut().zip(cols) {
-                *o = value(c)?;
+            for (o, c) in out.iter_mut().zip(cols) {
+                if let Some(c) = *c {
+                    *o = value(c)?;
+                }
             }
             Ok(out)
         };
-        let t = value(self.pose[0])?;
+        let t = value(self.pose[0].unwrap_or_default())?;
         let pose = Pose::from_array(six(&self.pose[1..])?);
         let twist = match &self.twist {
             Some(c) => Twist::from_array(six(c)?),
@@ -230,7 +233,9 @@ impl Trajectory {
 
 /// Opens a trajectory CSV: `t, alpha, beta, gamma, xc, yc, zc`, optionally the twist
 /// (`wx wy wz vx vy vz`) and classical acceleration (`wdx wdy wdz ax ay az`), and the
-/// `extra` columns, required. Missing derivatives come from finite differences of the
+/// `extra` columns, required. A file of a level platform (a Delta's) may leave the angles
+/// out, and then the angular rates and accelerations too: `t, xc, yc, zc`, optionally
+/// `vx vy vz` and `ax ay az`. Missing derivatives come from finite differences of the
 /// samples (the twist's angular part through the RPY rates).
 ///
 /// # Errors
@@ -279,10 +284,42 @@ pub fn open(path: &Path, extra: &[&str]) -> Result<Trajectory, TrajectoryError> 
             ),
         ))
     };
-    let time_and_pose: Vec<&str> = std::iter::once(TIME).chain(POSE).collect();
-    let pose = find(&time_and_pose, true)?.unwrap_or_default();
-    let twist = find(&TWIST, false)?;
-    let accel = find(&ACCEL, false)?;
+    let angles = find(&POSE[..3], false)?;
+    let time_and_centre: Vec<&str> = std::iter::once(TIME)
+        .chain(POSE[3..].iter().copied())
+        .collect();
+    let centre = find(&time_and_centre, true)?.unwrap_or_default();
+    let every = |columns: Vec<usize>| columns.into_iter().map(Some).collect::<Vec<_>>();
+    let pose: Vec<Option<usize>> = std::iter::once(Some(centre[0]))
+        .chain(match &angles {
+            Some(a) => every(a.clone()),
+            None => vec![None; 3],
+        })
+        .chain(every(centre[1..].to_vec()))
+        .collect();
+    let (twist, accel) = if angles.is_some() {
+        (
+            find(&TWIST, false)?.map(every),
+            find(&ACCEL, false)?.map(every),
+        )
+    } else {
+        for part in [&TWIST[..3], &ACCEL[..3]] {
+            if part.iter().any(|name| column(name).is_some()) {
+                return Err(err(
+                    Some(1),
+                    format!(
+                        "{} given without alpha, beta, gamma: a file without the angles is of \
+                         a level platform",
+                        part.join(", ")
+                    ),
+                ));
+            }
+        }
+        let linear = |names: &[&str]| -> Result<_, TrajectoryError> {
+            Ok(find(names, false)?.map(|c| [vec![None; 3], every(c)].concat()))
+        };
+        (linear(&TWIST[3..])?, linear(&ACCEL[3..])?)
+    };
     let extra = if extra.is_empty() {
         Vec::new()
     } else {

@@ -250,6 +250,90 @@ fn simulate_holds_the_delta_with_three_torques_in_its_three_coordinates() {
     );
 }
 
+/// `simulate` on the Delta: Section 9's move of the centre in its three coordinates, and a
+/// trajectory file of a level platform (`t,xc,yc,zc,...`) whose forces are `eval`'s at each
+/// row; angular rates without the angles refused.
+#[test]
+fn simulate_moves_the_delta_along_section_9_and_along_a_file_in_its_coordinates() {
+    let dir = scratch("simulate-delta");
+    let out = dir.to_str().unwrap();
+    c5_ok(
+        &["simulate", "--robot", DELTA, "--rate", "20", "--out", out],
+        "",
+    );
+    let text = std::fs::read_to_string(dir.join("section9.csv")).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    assert_eq!(header.len(), 22, "{header:?}");
+    assert_eq!(header[1..4], ["xc", "yc", "zc"]);
+    assert_eq!(header[19..], ["gamma1", "gamma2", "gamma3"]);
+    let rows = read_csv(&dir.join("section9.csv"));
+    assert_eq!(rows.len(), 21);
+    // Its first ten columns as a file of its own: the same move, so the same forces.
+    let file = dir.join("level.csv");
+    let level: String = text
+        .lines()
+        .map(|l| l.split(',').take(10).collect::<Vec<_>>().join(",") + "\n")
+        .collect();
+    std::fs::write(&file, level).unwrap();
+    let sub = dir.join("again");
+    let args = ["simulate", "--robot", DELTA, "--trajectory"];
+    c5_ok(
+        &[
+            &args[..],
+            &[file.to_str().unwrap(), "--out", sub.to_str().unwrap()],
+        ]
+        .concat(),
+        "",
+    );
+    let again = read_csv(&sub.join("level.csv"));
+    for (a, b) in rows.iter().zip(&again) {
+        for k in 0..22 {
+            assert!(
+                (a[k] - b[k]).abs() <= 1e-11 * (1.0 + a[k].abs()),
+                "{a:?} {b:?}"
+            );
+        }
+    }
+    let lines: String = rows
+        .iter()
+        .map(|r| {
+            let v = |k: usize| format!("[{}, {}, {}]", r[k], r[k + 1], r[k + 2]);
+            format!(
+                "{{\"pose\": {}, \"velocity\": {}, \"acceleration\": {}}}\n",
+                v(1),
+                v(4),
+                v(7)
+            )
+        })
+        .collect();
+    let eval = c5_ok(&["eval", "--robot", DELTA], &lines);
+    for (row, line) in rows
+        .iter()
+        .zip(String::from_utf8(eval.stdout).unwrap().lines())
+    {
+        let out: serde_json::Value = serde_json::from_str(line).unwrap();
+        let gamma: Vec<f64> = serde_json::from_value(out["gamma"].clone()).unwrap();
+        for k in 0..3 {
+            assert!((gamma[k] - row[19 + k]).abs() < 1e-10, "{gamma:?} {row:?}");
+        }
+    }
+    let turning = dir.join("turning.csv");
+    std::fs::write(
+        &turning,
+        "t,xc,yc,zc,wx,wy,wz,vx,vy,vz\n0,0,0,-0.45,0,0,0,0,0,0\n",
+    )
+    .unwrap();
+    let refused = c5(
+        &[&args[..], &[turning.to_str().unwrap(), "--out", out]].concat(),
+        "",
+    );
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        !refused.status.success() && err.contains("without alpha, beta, gamma"),
+        "{err}"
+    );
+}
+
 #[test]
 fn the_rotary_hexapod_is_served_by_eval_and_forward() {
     let rest = "\"omega\": [0, 0, 0], \"velocity\": [0, 0, 0]";
