@@ -5,9 +5,10 @@
 //! [`Freedom::dimension`] numbers, in the order [`Freedom::pose_names`],
 //! [`Freedom::twist_names`] and [`Freedom::acceleration_names`] give (`[α β γ xc yc zc]`,
 //! `(ω; v_C)`, `(ω̇; a_C)` for a platform free in space; `[xc yc zc]`, `v_C`, `a_C` for one that
-//! only translates), and as many actuators. Its matrices are row-major. Outputs are written
-//! into the caller's slices, so a controller's loop allocates nothing; a slice of the wrong
-//! length is refused ([`Error::WrongLength`]) with nothing written.
+//! only translates), and as many actuators. Its matrices are row-major. The per-state calls
+//! write into the caller's slices, so a controller's loop allocates nothing (the conveniences
+//! `home`, `evaluate`, `coordinates_of` and `state_of` return owned values); a slice of the
+//! wrong length is refused ([`Error::WrongLength`]) with nothing written.
 //!
 //! [`load`] makes one from a [`Description`]. Every mechanism whose platform is free in space
 //! serves it through its [`ParallelRobot`] (one implementation, below, for all of them), and
