@@ -57,16 +57,13 @@ impl Rows<'_> {
 }
 
 /// Row `k` of each of `rows` in turn into `out`: a pose, a twist from its parts (`ω`, `v_C`), or
-/// an acceleration from its. Every coordinate group is three wide, and copying three at a time
-/// lets the compiler move them in registers where a copy of a length known only at run time
-/// would call `memcpy` (a quarter of a batch's time).
+/// an acceleration from its.
 fn gather(rows: &[Rows<'_>], k: usize, out: &mut [f64]) {
     let mut at = 0;
     for r in rows {
-        for part in r.slice(k).chunks_exact(3) {
-            out[at..at + 3].copy_from_slice(part);
-            at += 3;
-        }
+        let part = r.slice(k);
+        out[at..at + part.len()].copy_from_slice(part);
+        at += part.len();
     }
 }
 
