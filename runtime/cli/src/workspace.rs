@@ -17,7 +17,8 @@ use std::time::Instant;
 /// Maps the workspace: which centres the robot reaches at an orientation (or, with `--at`,
 /// which orientations at a centre), within its `[limits]`; writes `workspace.csv` (the
 /// reachable points with the inverse condition number of `J⁻¹` and the largest actuator force
-/// per newton of load) and slices through the grid's middle coloured by each.
+/// per newton of load) and slices through the grid's middle coloured by each. A platform that
+/// only translates (the Delta) has its centres swept, level.
 #[derive(Args)]
 pub struct WorkspaceArgs {
     #[command(flatten)]
@@ -57,9 +58,22 @@ fn three(v: &Option<Vec<f64>>, flag: &str, default: [f64; 3]) -> crate::Result<[
 }
 
 pub fn run(args: &WorkspaceArgs) -> crate::Result<ExitCode> {
-    let robot = args.robot.load_any()?;
-    // About the robot's home: the C5's is the origin, a hexapod's above its base.
-    let home = robot.home().center;
+    let robot = args.robot.load_mechanism()?;
+    let freedom = robot.freedom();
+    if !freedom.turns() && (args.at.is_some() || args.orientation.is_some()) {
+        return Err(format!(
+            "--at and --orientation sweep or set the platform's orientation, and the {}'s \
+             platform only translates: its centres are swept, level",
+            robot.mechanism()
+        )
+        .into());
+    }
+    // About the robot's home: the C5's is the origin, a hexapod's and a Delta's below or
+    // above their base.
+    let home_pose = robot.home();
+    let home: [f64; 3] = home_pose[home_pose.len() - 3..]
+        .try_into()
+        .expect("a pose ends with its centre");
     let (sweep, range, names, unit, middle) = match &args.at {
         Some(_) => (
             Sweep::Orientations {
@@ -123,9 +137,9 @@ pub fn run(args: &WorkspaceArgs) -> crate::Result<ExitCode> {
             .collect();
         let values: Vec<f64> = m.reachable.iter().map(|c| c.inverse_condition).collect();
         // The robot among its reachable centres, at the swept orientation's grid middle.
-        let scene = match &args.at {
-            None => Some(robot.scene(&m.grid.pose([args.points / 2; 3]))?),
-            Some(_) => None,
+        let scene = match (&args.at, robot.spatial()) {
+            (None, Some(spatial)) => Some(spatial.scene(&m.grid.pose([args.points / 2; 3]))?),
+            _ => None,
         };
         let axes = names.map(|n| {
             if args.at.is_some() {
@@ -146,7 +160,7 @@ pub fn run(args: &WorkspaceArgs) -> crate::Result<ExitCode> {
         written.push(path);
     }
     let mut report = std::io::stdout().lock();
-    if !robot.has_limits() {
+    if !robot.spatial().is_some_and(|s| s.has_limits()) {
         writeln!(
             report,
             "note: the robot sets no [limits]; only singular poses are out of reach"

@@ -94,6 +94,11 @@ impl Freedom {
         }
     }
 
+    /// Whether the platform turns: its pose has the RPY angles `α β γ` first, its twist `ω`.
+    pub const fn turns(self) -> bool {
+        matches!(self, Freedom::Free)
+    }
+
     /// How many coordinates the pose, twist and acceleration have, and so how many actuators
     /// drive the platform.
     pub const fn dimension(self) -> usize {

@@ -488,3 +488,58 @@ fn the_delta_is_served_by_eval_and_forward_on_three_element_lines() {
     let text = String::from_utf8_lossy(&audit.stdout);
     assert!(text.contains("robsynth's 3010m + 1835a"), "{text}");
 }
+
+/// `workspace` maps a Delta's centres, level: its CSV in the Delta's coordinates, every
+/// reached centre one `eval` serves, the largest torque per newton of load the longest column of
+/// its `jacobian` (`Γ = Jᵀ f`), and the orientation flags refused.
+#[test]
+fn workspace_maps_the_deltas_centres_and_refuses_to_turn_its_platform() {
+    let dir = scratch("workspace-delta");
+    let out = dir.to_str().unwrap();
+    let args = [
+        "workspace",
+        "--robot",
+        DELTA,
+        "--points",
+        "9",
+        "--range",
+        "0.35",
+    ];
+    let mapped = c5_ok(&[&args[..], &["--out", out, "--no-view"]].concat(), "");
+    let report = String::from_utf8_lossy(&mapped.stdout);
+    let line = report
+        .lines()
+        .find(|l| l.contains("poses reachable"))
+        .unwrap();
+    let reached: usize = line.split(" of 729 ").next().unwrap().parse().unwrap();
+    assert!(reached > 100 && reached < 729, "{report}");
+    let text = std::fs::read_to_string(dir.join("workspace.csv")).unwrap();
+    assert_eq!(
+        text.lines().next().unwrap(),
+        "xc,yc,zc,inverse_condition,force_ratio"
+    );
+    let rows = read_csv(&dir.join("workspace.csv"));
+    assert_eq!(rows.len(), reached);
+    let lines: String = rows
+        .iter()
+        .step_by(17)
+        .map(|r| format!("{{\"pose\": [{}, {}, {}]}}\n", r[0], r[1], r[2]))
+        .collect();
+    let served = c5_ok(&["eval", "--robot", DELTA], &lines);
+    let served = String::from_utf8(served.stdout).unwrap();
+    assert_eq!(served.lines().count(), rows.len().div_ceil(17));
+    for (row, line) in rows.iter().step_by(17).zip(served.lines()) {
+        let out: serde_json::Value = serde_json::from_str(line).unwrap();
+        let jac: Vec<Vec<f64>> = serde_json::from_value(out["jacobian"].clone()).unwrap();
+        let longest = (0..3)
+            .map(|i| (0..3).map(|r| jac[r][i] * jac[r][i]).sum::<f64>().sqrt())
+            .fold(0.0, f64::max);
+        assert!((longest - row[4]).abs() < 1e-12 * longest, "{row:?} {line}");
+    }
+    for flag in [["--at", "0,0,-0.5"], ["--orientation", "0,0,0.1"]] {
+        let refused = c5(&[&args[..], &flag[..], &["--out", out]].concat(), "");
+        let err = String::from_utf8_lossy(&refused.stderr);
+        assert!(!refused.status.success() && refused.stdout.is_empty());
+        assert!(err.contains("platform only translates"), "{err}");
+    }
+}
