@@ -378,6 +378,9 @@ impl Mechanism for Delta {
     fn spatial(&self) -> Option<&dyn ParallelRobot> {
         None
     }
+    fn scene(&self, pose: &[f64]) -> Result<crate::scene::Scene, Error> {
+        Delta::scene(self, &array("pose", pose)?)
+    }
     fn actuator_positions(&self, pose: &[f64], q: &mut [f64]) -> Result<(), Error> {
         room::<3>("q", q)?;
         put(q, &self.inverse_kinematics(&array("pose", pose)?)?);

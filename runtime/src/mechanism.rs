@@ -10,6 +10,7 @@
 use crate::derivatives::{ForwardDynamicsDerivatives, InverseDynamicsDerivatives};
 #[cfg(feature = "identify")]
 use crate::identify::{BaseParameters, Friction};
+use crate::platform::Mechanism;
 use crate::scene::Scene;
 use crate::{
     Acceleration, Error, Evaluation, GoughStewart, Limit, Model, Pose, RusHexapod, State, Twist, C5,
@@ -18,8 +19,21 @@ use alloc::boxed::Box;
 use alloc::vec::Vec;
 use c5_robot::Description;
 
-/// A parallel robot: the kinematics and dynamics every mechanism has.
-pub trait ParallelRobot: core::fmt::Debug + Send + Sync {
+/// The robot as a [`Mechanism`], for the calls every mechanism serves: a `&dyn ParallelRobot`
+/// handed on as a `&dyn Mechanism`.
+pub trait AsMechanism {
+    fn as_mechanism(&self) -> &dyn Mechanism;
+}
+
+impl<M: Mechanism> AsMechanism for M {
+    fn as_mechanism(&self) -> &dyn Mechanism {
+        self
+    }
+}
+
+/// A parallel robot whose platform is free in space: the kinematics and dynamics of six
+/// freedoms, and as a [`Mechanism`] ([`AsMechanism`]) what every mechanism serves.
+pub trait ParallelRobot: AsMechanism + core::fmt::Debug + Send + Sync {
     /// The mechanism's name, as robot files spell it (`c5`, `gough-stewart`).
     fn mechanism(&self) -> &'static str;
     /// The name of the model the results follow (`consistent`, `paper`, `gough-stewart`).
@@ -688,11 +702,12 @@ impl ParallelRobot for GoughStewart {
 }
 
 /// What the rotary hexapod does not serve yet, and why.
+#[cfg(any(feature = "identify", feature = "derivatives"))]
 fn rus_hexapod_lacks(what: &'static str) -> Error {
     Error::Unsupported {
         what,
         mechanism: c5_robot::description::RUS_HEXAPOD,
-        why: "its identification, derivative and drawing kernels are not generated yet; its \
+        why: "its identification and derivative kernels are not generated yet; its \
               kinematics and dynamics are (docs/mechanisms.md)",
     }
 }
@@ -708,8 +723,8 @@ impl ParallelRobot for RusHexapod {
     fn description(&self) -> Description {
         Description::RusHexapod(*self.robot())
     }
-    fn scene(&self, _pose: &Pose) -> Result<Scene, Error> {
-        Err(rus_hexapod_lacks("drawing"))
+    fn scene(&self, pose: &Pose) -> Result<Scene, Error> {
+        Self::scene(self, pose)
     }
     /// Its description sets no limits.
     fn smallest_pose_margin(&self, pose: &Pose) -> Result<Option<(Limit, usize, f64, f64)>, Error> {

@@ -133,6 +133,13 @@ pub trait Mechanism: core::fmt::Debug + Send + Sync {
         dt: f64,
     ) -> Result<(), Error>;
 
+    /// The robot's parts at `pose`, for drawing it ([`crate::scene`]): a leg per actuator,
+    /// those past a limit of the robot file flagged.
+    ///
+    /// # Errors
+    /// As [`Mechanism::actuator_positions`].
+    fn scene(&self, pose: &[f64]) -> Result<crate::scene::Scene, Error>;
+
     /// `q`, `q̇`, `q̈`, `Γ`, `J⁻¹` and `J` of one state.
     ///
     /// # Errors
@@ -459,6 +466,10 @@ impl<R: ParallelRobot + 'static> Mechanism for R {
         Ok(())
     }
     /// Four states at a time through the C5's batch kernels (feature `batch`).
+    fn scene(&self, pose: &[f64]) -> Result<crate::scene::Scene, Error> {
+        ParallelRobot::scene(self, &Pose::from_array(array("pose", pose)?))
+    }
+
     fn inverse_dynamics_each(&self, n: usize, motion: &Inputs<'_>, each: &mut Each<'_>) {
         let state = |k: usize| {
             let [mut x, mut v, mut a] = [[0.0; 6]; 3];

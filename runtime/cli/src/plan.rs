@@ -102,7 +102,7 @@ pub fn run(args: &PlanArgs) -> crate::Result<ExitCode> {
         .zip(&planned.states)
         .enumerate()
         .map(|(k, (&t, s))| {
-            view::Sample::of_state(t, s, planned.forces[k.min(planned.forces.len() - 1)])
+            view::Sample::of_state(t, s, &planned.forces[k.min(planned.forces.len() - 1)])
         })
         .collect();
     let title = "Minimum-effort plan (iLQR)";

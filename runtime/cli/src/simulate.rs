@@ -160,21 +160,17 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
         Some(p) => format!("{} ({} robot)", p.display(), robot.mechanism()),
         None => format!("Section 9 ({} robot)", robot.mechanism()),
     };
-    let page = match spatial {
-        Some(spatial) => {
-            let drawn: Vec<view::Sample> = study
-                .samples
-                .iter()
-                .zip(&states)
-                .map(|(s, (t, state))| {
-                    let gamma = <[f64; 6]>::try_from(&s.eval.gamma[..]).unwrap_or_default();
-                    view::Sample::of_state(*t, state, gamma)
-                })
-                .collect();
-            args.view.write(spatial, &drawn, &title, out)?
-        }
-        None => None,
-    };
+    let drawn: Vec<view::Sample> = study
+        .samples
+        .iter()
+        .map(|s| view::Sample {
+            t: s.t,
+            pose: s.motion[0].clone(),
+            twist: Some(s.motion[1].clone()),
+            gamma: s.eval.gamma.clone(),
+        })
+        .collect();
+    let page = args.view.write(robot.as_ref(), &drawn, &title, out)?;
     let mut report = std::io::stdout().lock();
     match &args.trajectory {
         Some(p) => writeln!(report, "{}: {} samples", p.display(), study.samples.len())?,
@@ -191,18 +187,12 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
     for p in plots {
         writeln!(report, "wrote {}", out.join(p).display())?;
     }
-    match page {
-        Some(p) => writeln!(
+    if let Some(p) = page {
+        writeln!(
             report,
             "wrote {} (the 3D view: open it in a browser)",
             p.display()
-        )?,
-        None if spatial.is_none() => writeln!(
-            report,
-            "(the 3D view draws platforms free in space: not the {} yet)",
-            robot.mechanism()
-        )?,
-        None => {}
+        )?;
     }
     for (k, other) in study.others.iter().enumerate() {
         writeln!(

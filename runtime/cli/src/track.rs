@@ -197,13 +197,13 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
         .iter()
         .map(|s| view::Sample {
             t: s.t,
-            pose: s.actual,
+            pose: s.actual.to_array().to_vec(),
             twist: None,
-            gamma: s.gamma,
+            gamma: s.gamma.to_vec(),
         })
         .collect();
     let title = format!("Tracking ({} robot, the plant)", plant.mechanism());
-    let page = o.view.write(plant.as_ref(), &drawn, &title, &o.out)?;
+    let page = o.view.write(plant.as_mechanism(), &drawn, &title, &o.out)?;
     let [max_pos, max_ori, end_pos, end_ori] = summary(&samples);
     let [rms_pos, rms_ori] = rms(&samples);
     let mut report = std::io::stdout().lock();

@@ -137,9 +137,12 @@ pub fn run(args: &WorkspaceArgs) -> crate::Result<ExitCode> {
             .collect();
         let values: Vec<f64> = m.reachable.iter().map(|c| c.inverse_condition).collect();
         // The robot among its reachable centres, at the swept orientation's grid middle.
-        let scene = match (&args.at, robot.spatial()) {
-            (None, Some(spatial)) => Some(spatial.scene(&m.grid.pose([args.points / 2; 3]))?),
-            _ => None,
+        // Where the grid's middle is out of reach, the points alone.
+        let scene = match &args.at {
+            None => robot
+                .scene(&m.grid.platform_pose([args.points / 2; 3], freedom))
+                .ok(),
+            Some(_) => None,
         };
         let axes = names.map(|n| {
             if args.at.is_some() {

@@ -39,22 +39,22 @@ impl C5 {
         let l = self.robot().half_spacing;
         let (q, _) = self.inverse_kinematics(pose)?;
         let margins = self.limit_margins(pose)?;
-        let legs = core::array::from_fn(|i| {
-            let (a, n) = (anchor(l, i), axis(i));
-            Leg {
-                base: Joint {
+        let legs = (0..6)
+            .map(|i| {
+                let (a, n) = (anchor(l, i), axis(i));
+                let base = Joint {
                     kind: JointKind::Prismatic,
                     at: along(a, -ACTUATOR_SETBACK * l, n),
                     over_limit: false,
-                },
-                platform: Joint {
+                };
+                let ball = Joint {
                     kind: JointKind::BallOnPlates,
                     at: along(a, q[i], n),
                     over_limit: margins.tilt[i] < 0.0 || margins.plate[i].iter().any(|&m| m < 0.0),
-                },
-                over_stroke: margins.stroke[i] < 0.0,
-            }
-        });
+                };
+                Leg::straight(base, ball, margins.stroke[i] < 0.0)
+            })
+            .collect();
         let axes = platform_axes(pose);
         let travel = self
             .robot()
@@ -147,7 +147,7 @@ mod tests {
             let scene = robot.scene(&pose).unwrap();
             let (_, p) = robot.inverse_kinematics(&pose).unwrap();
             for (i, leg) in scene.legs.iter().enumerate() {
-                let b = leg.platform.at;
+                let b = leg.platform_joint().at;
                 let from_c: [f64; 3] = core::array::from_fn(|k| b[k] - pose.center[k]);
                 assert!(
                     dot(scene.axes[AXIS[i]], from_c).abs() < 1e-12,
@@ -160,8 +160,8 @@ mod tests {
                 for k in 0..3 {
                     assert!((b[k] - (pose.center[k] - p[i][k])).abs() < 1e-12);
                 }
-                assert_eq!(leg.platform.kind, JointKind::BallOnPlates);
-                let behind = dot(axis(i), leg.base.at) - dot(axis(i), a);
+                assert_eq!(leg.platform_joint().kind, JointKind::BallOnPlates);
+                let behind = dot(axis(i), leg.joints[0].at) - dot(axis(i), a);
                 assert!((behind + ACTUATOR_SETBACK * l).abs() < 1e-15);
             }
         }

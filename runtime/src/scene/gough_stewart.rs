@@ -1,7 +1,7 @@
 //! A Gough-Stewart platform as drawn: each leg from its U joint `A_i` on the base to its S
 //! joint `B_i` on the platform, the base and the platform as plates through their joints.
 
-use super::{platform_axes, Joint, JointKind, Leg, Scene, Solid};
+use super::{plate, platform_axes, Joint, JointKind, Leg, Scene, BASE_AXES};
 use crate::{Error, GoughStewart, Pose};
 use alloc::vec::Vec;
 
@@ -16,25 +16,27 @@ impl GoughStewart {
         let (_, p) = self.inverse_kinematics(pose)?;
         let margins = self.limit_margins(pose)?;
         let c = pose.center;
-        let legs = core::array::from_fn(|i| Leg {
-            base: Joint {
-                kind: JointKind::Universal,
-                at: self.robot().legs[i].base,
-                over_limit: margins.u_joint[i].0 < 0.0,
-            },
-            platform: Joint {
-                kind: JointKind::Spherical,
-                at: core::array::from_fn(|k| c[k] - p[i][k]),
-                over_limit: margins.s_joint[i].0 < 0.0,
-            },
-            over_stroke: margins.stroke[i].0 < 0.0,
-        });
+        let legs: Vec<Leg> = (0..6)
+            .map(|i| {
+                let base = Joint {
+                    kind: JointKind::Universal,
+                    at: self.robot().legs[i].base,
+                    over_limit: margins.u_joint[i].0 < 0.0,
+                };
+                let platform = Joint {
+                    kind: JointKind::Spherical,
+                    at: core::array::from_fn(|k| c[k] - p[i][k]),
+                    over_limit: margins.s_joint[i].0 < 0.0,
+                };
+                Leg::straight(base, platform, margins.stroke[i].0 < 0.0)
+            })
+            .collect();
         let axes = platform_axes(pose);
         let size = self.platform_radius();
-        let base_axes = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        let points = |k: usize| -> Vec<[f64; 3]> { legs.iter().map(|l| l.joints[k].at).collect() };
         Ok(Scene {
-            platform: plate(&legs.map(|l| l.platform.at), axes, 0.04 * size),
-            base: plate(&legs.map(|l| l.base.at), base_axes, 0.04 * size),
+            platform: plate(&points(1), axes, 0.04 * size),
+            base: plate(&points(0), BASE_AXES, 0.04 * size),
             legs,
             centre: c,
             axes,
@@ -50,42 +52,6 @@ impl GoughStewart {
             .map(|l| crate::math::sqrt(l.platform.iter().map(|x| x * x).sum()))
             .fold(0.0, f64::max)
     }
-}
-
-/// A plate of thickness `thickness` along `axes[2]` whose rim runs through `points`, taken in
-/// order of their angle about the plate's centre.
-fn plate(points: &[[f64; 3]; 6], axes: [[f64; 3]; 3], thickness: f64) -> Solid {
-    let centre: [f64; 3] = core::array::from_fn(|k| points.iter().map(|p| p[k]).sum::<f64>() / 6.0);
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let mut rim: Vec<([f64; 3], f64)> = points
-        .iter()
-        .map(|&p| {
-            let d: [f64; 3] = core::array::from_fn(|k| p[k] - centre[k]);
-            (p, crate::math::atan2(dot(d, axes[1]), dot(d, axes[0])))
-        })
-        .collect();
-    rim.sort_by(|a, b| a.1.total_cmp(&b.1));
-    let offset =
-        |p: [f64; 3], s: f64| -> [f64; 3] { core::array::from_fn(|k| p[k] + s * axes[2][k]) };
-    let mut solid = Solid::default();
-    let h = 0.5 * thickness;
-    for s in [-h, h] {
-        let hub = solid.vertices.len();
-        solid.vertices.push(offset(centre, s));
-        for &(p, _) in &rim {
-            solid.vertices.push(offset(p, s));
-        }
-        for k in 0..6 {
-            solid
-                .triangles
-                .push([hub, hub + 1 + k, hub + 1 + (k + 1) % 6]);
-        }
-    }
-    for k in 0..6 {
-        let (p, q) = (rim[k].0, rim[(k + 1) % 6].0);
-        solid.quad([offset(p, -h), offset(q, -h), offset(q, h), offset(p, h)]);
-    }
-    solid
 }
 
 #[cfg(test)]
@@ -114,13 +80,15 @@ mod tests {
                 let b_i = description.legs[i].platform;
                 for c in 0..3 {
                     let expected = x[3 + c] + (0..3).map(|j| r[c][j] * b_i[j]).sum::<f64>();
-                    assert!((leg.platform.at[c] - expected).abs() < 1e-12);
+                    assert!((leg.platform_joint().at[c] - expected).abs() < 1e-12);
                 }
-                let d: [f64; 3] = core::array::from_fn(|c| leg.platform.at[c] - leg.base.at[c]);
+                let d: [f64; 3] =
+                    core::array::from_fn(|c| leg.joints[1].at[c] - leg.joints[0].at[c]);
                 let length = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
                 let offset = description.legs[i].encoder_offset;
                 assert!((length + offset - q[i]).abs() < 1e-12, "leg {i}");
-                assert_eq!(leg.base.at, description.legs[i].base);
+                assert_eq!(leg.joints[0].at, description.legs[i].base);
+                assert_eq!(leg.path, [leg.joints[0].at, leg.joints[1].at]);
             }
         }
     }

@@ -1,12 +1,16 @@
 //! Where a mechanism's parts are at a pose, for drawing it (`c5 view`): its legs, their joints
-//! and the platform, as points and triangles in the base frame.
+//! and the platform, as points and triangles in the base frame, as many legs as it has
+//! actuators.
 //!
 //! The mechanisms say where their parts are; a viewer decides how they look. Every point comes
 //! from the same kinematics the kernels compute (the C5's `Q_i1` of eq 16, a hexapod's leg
-//! vectors), so a drawn ball sits where the model puts it, and a leg or joint past one of the
-//! robot file's `[limits]` is flagged here, from the same margins `check_limits` reads.
+//! vectors, a crank's angle), so a drawn ball sits where the model puts it, and a leg or joint
+//! past one of the robot file's `[limits]` is flagged here, from the same margins
+//! `check_limits` reads. A leg type draws its legs once ([`cranked`] for a motor turning a
+//! crank, the rotary hexapod's legs and the Delta's arms).
 
 mod c5;
+pub(crate) mod cranked;
 mod gough_stewart;
 
 use crate::Pose;
@@ -17,6 +21,8 @@ use alloc::vec::Vec;
 pub enum JointKind {
     /// An actuated prismatic joint: where the actuator's body is fixed to the base.
     Prismatic,
+    /// A motor's revolute joint on the base, turning a crank.
+    Revolute,
     /// A universal (Hooke's) joint.
     Universal,
     /// A ball-and-socket joint.
@@ -30,6 +36,7 @@ impl JointKind {
     pub const fn name(self) -> &'static str {
         match self {
             JointKind::Prismatic => "P (actuator)",
+            JointKind::Revolute => "R (motor)",
             JointKind::Universal => "U joint",
             JointKind::Spherical => "S joint",
             JointKind::BallOnPlates => "C5 joint (ball on plates)",
@@ -46,13 +53,32 @@ pub struct Joint {
     pub over_limit: bool,
 }
 
-/// A leg as a segment from its base joint to its platform joint, whether its actuator is past
-/// its stroke, and its joints (base side first).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A leg: its bodies drawn as one line, its joints (base side first), and whether its
+/// actuator is past its stroke.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Leg {
-    pub base: Joint,
-    pub platform: Joint,
+    /// The line through the leg's bodies, from the base: a hexapod's leg from its base joint to
+    /// its platform joint, a crank to its elbow and its rod on, a Delta's arm round its
+    /// parallelogram.
+    pub path: Vec<[f64; 3]>,
+    pub joints: Vec<Joint>,
     pub over_stroke: bool,
+}
+
+impl Leg {
+    /// A leg drawn straight from its base joint to its platform joint.
+    pub(crate) fn straight(base: Joint, platform: Joint, over_stroke: bool) -> Self {
+        Leg {
+            path: alloc::vec![base.at, platform.at],
+            joints: alloc::vec![base, platform],
+            over_stroke,
+        }
+    }
+
+    /// Its joint nearest the platform.
+    pub fn platform_joint(&self) -> &Joint {
+        self.joints.last().expect("a leg has joints")
+    }
 }
 
 /// A solid as triangles: vertices (m, base frame) and the vertex indices of each triangle.
@@ -102,7 +128,7 @@ impl Solid {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
     /// The legs in actuator order.
-    pub legs: [Leg; 6],
+    pub legs: Vec<Leg>,
     /// The platform as a solid in its pose.
     pub platform: Solid,
     /// What does not move: the base plate, the actuators' rails.
@@ -124,3 +150,44 @@ pub(crate) fn platform_axes(pose: &Pose) -> [[f64; 3]; 3] {
 pub(crate) fn along(c: [f64; 3], s: f64, v: [f64; 3]) -> [f64; 3] {
     core::array::from_fn(|k| c[k] + s * v[k])
 }
+
+/// A plate of thickness `thickness` along `axes[2]` whose rim runs through `points`, taken in
+/// order of their angle about the plate's centre.
+pub(crate) fn plate(points: &[[f64; 3]], axes: [[f64; 3]; 3], thickness: f64) -> Solid {
+    let n = points.len();
+    let centre: [f64; 3] =
+        core::array::from_fn(|k| points.iter().map(|p| p[k]).sum::<f64>() / n as f64);
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let mut rim: Vec<([f64; 3], f64)> = points
+        .iter()
+        .map(|&p| {
+            let d: [f64; 3] = core::array::from_fn(|k| p[k] - centre[k]);
+            (p, crate::math::atan2(dot(d, axes[1]), dot(d, axes[0])))
+        })
+        .collect();
+    rim.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let offset =
+        |p: [f64; 3], s: f64| -> [f64; 3] { core::array::from_fn(|k| p[k] + s * axes[2][k]) };
+    let mut solid = Solid::default();
+    let h = 0.5 * thickness;
+    for s in [-h, h] {
+        let hub = solid.vertices.len();
+        solid.vertices.push(offset(centre, s));
+        for &(p, _) in &rim {
+            solid.vertices.push(offset(p, s));
+        }
+        for k in 0..n {
+            solid
+                .triangles
+                .push([hub, hub + 1 + k, hub + 1 + (k + 1) % n]);
+        }
+    }
+    for k in 0..n {
+        let (p, q) = (rim[k].0, rim[(k + 1) % n].0);
+        solid.quad([offset(p, -h), offset(q, -h), offset(q, h), offset(p, h)]);
+    }
+    solid
+}
+
+/// The base frame's axes, for a plate lying in the base.
+pub(crate) const BASE_AXES: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];

@@ -209,6 +209,17 @@ pub enum Shape {
 }
 
 impl BodyTree {
+    /// The unit of the actuators' forces `Γ_i`, from the joint the first leg's motor drives:
+    /// `N` for a slide, `N·m` for a hinge.
+    pub fn actuator_unit(&self) -> &'static str {
+        let leg = &self.legs[0];
+        let (body, joint) = leg.actuated;
+        match leg.bodies[body].joints[joint].kind {
+            JointKind::Hinge { .. } => "N·m",
+            JointKind::Slide { .. } | JointKind::Ball => "N",
+        }
+    }
+
     /// The total mass of the moving bodies (kg).
     pub fn mass(&self) -> f64 {
         self.platform.mass
@@ -409,6 +420,19 @@ mod tests {
                 1.0 - 2.0 * (x * x + y * y),
             ],
         ]
+    }
+
+    /// Forces where a leg slides, torques where a motor turns.
+    #[test]
+    fn the_actuators_unit_follows_the_joint_the_motor_drives() {
+        assert_eq!(crate::Robot::default().body_tree().actuator_unit(), "N");
+        let hexapod = crate::GoughStewart::example().body_tree();
+        assert_eq!(hexapod.actuator_unit(), "N");
+        assert_eq!(
+            crate::RusHexapod::example().body_tree().actuator_unit(),
+            "N·m"
+        );
+        assert_eq!(crate::Delta::example().body_tree().actuator_unit(), "N·m");
     }
 
     #[test]

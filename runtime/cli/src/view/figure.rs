@@ -1,10 +1,10 @@
-//! The robot along a trajectory as a plotly.js figure: a trace per leg, the joints, the platform,
-//! its frame, then what does not move (the base, the path of `C`, the colour bar); one
-//! animation frame per drawn instant.
+//! The robot along a trajectory as a plotly.js figure: a trace per leg, a trace per kind of
+//! joint, the platform, its frame, then what does not move (the base, the path of `C`, the
+//! colour bar); one animation frame per drawn instant.
 
 use super::colors::{self, force_colour, WARNING};
 use super::plotly::{self, title, Figure};
-use c5_runtime::scene::{Joint, Scene, Solid};
+use c5_runtime::scene::{Joint, JointKind, Scene, Solid};
 use serde::Serialize;
 use serde_json::{json, Value};
 
@@ -13,25 +13,33 @@ use serde_json::{json, Value};
 pub struct Shot {
     pub t: f64,
     pub scene: Scene,
-    /// The actuator forces (N).
-    pub gamma: [f64; 6],
+    /// The actuator forces (N or N·m), one per leg.
+    pub gamma: Vec<f64>,
     /// Legs whose force or speed is past the robot file's `[limits]`.
-    pub over_force: [bool; 6],
-    pub over_speed: [bool; 6],
+    pub over_force: Vec<bool>,
+    pub over_speed: Vec<bool>,
 }
 
 impl Shot {
     /// What leg `i` crosses, in words, empty within its limits.
     pub fn warnings(&self, i: usize) -> Vec<&'static str> {
         let leg = &self.scene.legs[i];
+        let last = leg.joints.len() - 1;
+        let joints = leg.joints.iter().enumerate().map(|(k, j)| {
+            let side = match k {
+                0 => "base joint",
+                k if k == last => "platform joint",
+                _ => "elbow joint",
+            };
+            (j.over_limit, side)
+        });
         [
             (leg.over_stroke, "stroke"),
             (self.over_force[i], "force"),
             (self.over_speed[i], "speed"),
-            (leg.base.over_limit, "base joint"),
-            (leg.platform.over_limit, "platform joint"),
         ]
         .into_iter()
+        .chain(joints)
         .filter_map(|(over, what)| over.then_some(what))
         .collect()
     }
@@ -51,13 +59,10 @@ impl Shot {
 #[derive(Serialize)]
 pub struct Readout {
     pub t: f64,
-    pub gamma: [f64; 6],
-    pub colours: [String; 6],
+    pub gamma: Vec<f64>,
+    pub colours: Vec<String>,
     pub warnings: Vec<String>,
 }
-
-/// How many traces each frame redraws: six legs, two joint sets, the platform, three axes.
-pub const MOVING_TRACES: usize = 12;
 
 /// The page draws to a tenth of a micrometre, which keeps its numbers short (a third of the
 /// digits of a full `f64`) and is far below a pixel: this many steps per metre (dividing by
@@ -86,14 +91,41 @@ fn unlisted(mut trace: Value) -> Value {
     trace
 }
 
-fn joints(joints: &[Joint; 6], symbol: &str, size: usize) -> Value {
+/// The marker a kind of joint is drawn with: its symbol and size. Base-side joints are squares,
+/// the elbows' U joints diamonds, the platform's joints circles.
+fn marker(kind: JointKind) -> (&'static str, usize) {
+    match kind {
+        JointKind::Prismatic | JointKind::Revolute => ("square", 5),
+        JointKind::Universal => ("diamond", 5),
+        JointKind::Spherical | JointKind::BallOnPlates => ("circle", 6),
+    }
+}
+
+/// The joints of one kind, over every leg.
+fn joints(joints: &[&Joint]) -> Value {
     let colours: Vec<&str> = joints
         .iter()
         .map(|j| if j.over_limit { WARNING } else { colors::JOINT })
         .collect();
-    let mut trace = plotly::scatter3d(joints[0].kind.name(), "markers", xyz(&joints.map(|j| j.at)));
+    let points: Vec<[f64; 3]> = joints.iter().map(|j| j.at).collect();
+    let kind = joints[0].kind;
+    let (symbol, size) = marker(kind);
+    let mut trace = plotly::scatter3d(kind.name(), "markers", xyz(&points));
     trace["marker"] = json!({"symbol": symbol, "size": size, "color": colours});
     trace
+}
+
+/// The scene's joints grouped by kind, the kinds in the order the first leg meets them (a
+/// base joint first): the same groups in every frame of one robot.
+fn joint_groups(scene: &Scene) -> Vec<Vec<&Joint>> {
+    let mut groups: Vec<Vec<&Joint>> = Vec::new();
+    for joint in scene.legs.iter().flat_map(|l| &l.joints) {
+        match groups.iter_mut().find(|g| g[0].kind == joint.kind) {
+            Some(group) => group.push(joint),
+            None => groups.push(vec![joint]),
+        }
+    }
+    groups
 }
 
 /// A solid's trace; `with_triangles` false for an animation frame, where the triangles of the
@@ -107,21 +139,20 @@ fn solid(solid: &Solid, colour: &str, name: &str, with_triangles: bool) -> Value
     mesh
 }
 
-/// The traces that move, in the order of [`MOVING_TRACES`]; `first` for the figure's own
-/// traces, which carry what frames leave out.
+/// The traces that move: a leg each, a kind of joint each, the platform and its three axes;
+/// `first` for the figure's own traces, which carry what frames leave out.
 fn moving(shot: &Shot, scale: f64, first: bool) -> Vec<Value> {
     let s = &shot.scene;
-    let mut traces = Vec::with_capacity(MOVING_TRACES);
+    let mut traces = Vec::new();
     for (i, leg) in s.legs.iter().enumerate() {
         traces.push(unlisted(line(
-            &[leg.base.at, leg.platform.at],
+            &leg.path,
             &shot.leg_colour(i, scale),
             10.0,
             &format!("leg {}", i + 1),
         )));
     }
-    traces.push(joints(&s.legs.map(|l| l.base), "square", 5));
-    traces.push(joints(&s.legs.map(|l| l.platform), "circle", 6));
+    traces.extend(joint_groups(s).iter().map(|group| joints(group)));
     traces.push(solid(&s.platform, colors::PLATFORM, "platform", first));
     for (k, name) in ["x", "y", "z"].iter().enumerate() {
         let tip: [f64; 3] = core::array::from_fn(|c| s.centre[c] + 1.3 * s.size * s.axes[k][c]);
@@ -135,8 +166,8 @@ fn moving(shot: &Shot, scale: f64, first: bool) -> Vec<Value> {
     traces
 }
 
-/// The figure of `shots`, forces coloured on `±scale` (N).
-pub fn figure(shots: &[Shot], scale: f64) -> Figure {
+/// The figure of `shots`, forces coloured on `±scale` (in `unit`).
+pub fn figure(shots: &[Shot], scale: f64, unit: &str) -> Figure {
     let first = &shots[0];
     let mut data = moving(first, scale, true);
     data.push(solid(&first.scene.base, colors::BASE, "base", true));
@@ -144,14 +175,16 @@ pub fn figure(shots: &[Shot], scale: f64) -> Figure {
     let mut path = line(&path, "#9a9a9a", 2.0, "path of C");
     path["opacity"] = json!(0.6);
     data.push(path);
-    data.push(colour_bar(first.scene.centre, scale));
+    data.push(colour_bar(first.scene.centre, scale, unit));
     // A legend entry only: its point is not a number (`null`), so nothing is drawn.
     data.push(line(&[[f64::NAN; 3]], WARNING, 10.0, "past a limit"));
     let frames = shots
         .iter()
         .enumerate()
         .map(|(k, shot)| {
-            plotly::frame(&k.to_string(), moving(shot, scale, false), 0..MOVING_TRACES)
+            let traces = moving(shot, scale, false);
+            let count = traces.len();
+            plotly::frame(&k.to_string(), traces, 0..count)
         })
         .collect();
     Figure {
@@ -162,7 +195,7 @@ pub fn figure(shots: &[Shot], scale: f64) -> Figure {
 }
 
 /// An invisible point that carries the force scale's colour bar.
-fn colour_bar(at: [f64; 3], scale: f64) -> Value {
+fn colour_bar(at: [f64; 3], scale: f64, unit: &str) -> Value {
     let mut trace = plotly::scatter3d("actuator force", "markers", at.map(|c| vec![c]));
     trace["marker"] = json!({
         "size": 1,
@@ -172,7 +205,7 @@ fn colour_bar(at: [f64; 3], scale: f64) -> Value {
         "cmax": scale,
         "colorscale": colors::force_scale(),
         "showscale": true,
-        "colorbar": {"title": title("Γ (N)"), "lenmode": "pixels", "len": 260},
+        "colorbar": {"title": title(&format!("Γ ({unit})")), "lenmode": "pixels", "len": 260},
     });
     trace["hoverinfo"] = json!("skip");
     unlisted(trace)
@@ -184,7 +217,7 @@ fn extent(shots: &[Shot]) -> impl Iterator<Item = [f64; 3]> + '_ {
         let s = &shot.scene;
         s.legs
             .iter()
-            .flat_map(|l| [l.base.at, l.platform.at])
+            .flat_map(|l| l.path.iter().copied().chain(l.joints.iter().map(|j| j.at)))
             .chain(s.platform.vertices.iter().copied())
             .chain(s.base.vertices.iter().copied())
     })
@@ -247,12 +280,13 @@ pub fn cloud(
     let mut data = vec![reachable];
     let mut extent: Vec<[f64; 3]> = points.to_vec();
     if let Some(scene) = robot {
+        let legs = scene.legs.len();
         let shot = Shot {
             t: 0.0,
             scene: scene.clone(),
-            gamma: [0.0; 6],
-            over_force: [false; 6],
-            over_speed: [false; 6],
+            gamma: vec![0.0; legs],
+            over_force: vec![false; legs],
+            over_speed: vec![false; legs],
         };
         data.extend(moving(&shot, 1.0, true));
         data.push(solid(&scene.base, colors::BASE, "base", true));

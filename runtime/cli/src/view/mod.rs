@@ -8,10 +8,10 @@ mod figure;
 mod page;
 mod plotly;
 
-use crate::columns::GAMMA;
+use crate::columns;
 use crate::options::RobotArgs;
 use crate::trajectory_csv;
-use c5_runtime::{ParallelRobot, Pose, State, Twist};
+use c5_runtime::Mechanism;
 use clap::Args;
 use figure::{Readout, Shot};
 use std::path::{Path, PathBuf};
@@ -24,9 +24,9 @@ pub const FRAME_BUDGET: u32 = 300;
 /// An animated 3D view of the robot along a trajectory CSV, as one self-contained HTML page.
 #[derive(Args)]
 pub struct ViewArgs {
-    /// The trajectory (t, alpha, beta, gamma, xc, yc, zc; optionally the twist, the
-    /// acceleration and the forces gamma1..gamma6, which colour the legs; without them the
-    /// model's inverse dynamics gives the forces).
+    /// The trajectory (t, alpha, beta, gamma, xc, yc, zc, or t, xc, yc, zc for a platform that
+    /// only translates; optionally the twist, the acceleration and the forces gamma1..gammaN,
+    /// which colour the legs; without them the model's inverse dynamics gives the forces).
     trajectory: PathBuf,
     #[command(flatten)]
     robot: RobotArgs,
@@ -39,24 +39,25 @@ pub struct ViewArgs {
     frames: u32,
 }
 
-/// One sample to draw: its time, pose, twist where known (for the speed limit) and actuator
-/// forces (N).
-#[derive(Clone, Copy, Debug)]
+/// One sample to draw, in the platform's coordinates ([`Mechanism::freedom`]): its time, pose,
+/// twist where known (for the speed limit) and actuator forces (N or N·m).
+#[derive(Clone, Debug)]
 pub struct Sample {
     pub t: f64,
-    pub pose: Pose,
-    pub twist: Option<Twist>,
-    pub gamma: [f64; 6],
+    pub pose: Vec<f64>,
+    pub twist: Option<Vec<f64>>,
+    pub gamma: Vec<f64>,
 }
 
 impl Sample {
-    /// A sample of a whole state.
-    pub fn of_state(t: f64, state: &State, gamma: [f64; 6]) -> Self {
+    /// A sample of a whole state of a platform free in space.
+    #[cfg(feature = "derivatives")]
+    pub fn of_state(t: f64, state: &c5_runtime::State, gamma: &[f64]) -> Self {
         Sample {
             t,
-            pose: state.pose,
-            twist: Some(state.twist),
-            gamma,
+            pose: state.pose.to_array().to_vec(),
+            twist: Some(state.twist.to_array().to_vec()),
+            gamma: gamma.to_vec(),
         }
     }
 }
@@ -79,7 +80,7 @@ impl PageArgs {
     /// As [`write`].
     pub fn write(
         &self,
-        robot: &dyn ParallelRobot,
+        robot: &dyn Mechanism,
         samples: &[Sample],
         title: &str,
         dir: &Path,
@@ -94,7 +95,7 @@ impl PageArgs {
 }
 
 pub fn run(args: &ViewArgs) -> crate::Result<ExitCode> {
-    let robot = args.robot.load_any()?;
+    let robot = args.robot.load_mechanism()?;
     let samples = read(&args.trajectory, robot.as_ref())?;
     let title = format!("{} — {}", args.trajectory.display(), robot.mechanism());
     let frames = write(
@@ -112,26 +113,42 @@ pub fn run(args: &ViewArgs) -> crate::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// The samples of a trajectory file, the forces from its `gamma1..6` columns where it has
-/// them, from `robot`'s inverse dynamics where it does not.
-fn read(path: &Path, robot: &dyn ParallelRobot) -> crate::Result<Vec<Sample>> {
+/// The samples of a trajectory file in the platform's coordinates, the forces from its
+/// `gamma1..N` columns where it has them, from `robot`'s inverse dynamics where it does not.
+fn read(path: &Path, robot: &dyn Mechanism) -> crate::Result<Vec<Sample>> {
+    let n = robot.freedom().dimension();
+    let names = columns::per_actuator("gamma", n);
     let has_forces = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .from_path(path)
         .and_then(|mut r| r.headers().cloned())
-        .map(|h| GAMMA.iter().any(|g| h.iter().any(|c| c == *g)))
+        .map(|h| names.iter().any(|g| h.iter().any(|c| c == g)))
         .map_err(|e| format!("{}: {e}", path.display()))?;
-    let extra: &[&str] = if has_forces { &GAMMA } else { &[] };
+    let extra: Vec<&str> = match has_forces {
+        true => names.iter().map(String::as_str).collect(),
+        false => Vec::new(),
+    };
     let mut samples = Vec::new();
-    for sample in trajectory_csv::open(path, extra)? {
+    for sample in trajectory_csv::open(path, &extra)? {
         let s = sample?;
-        let gamma = match s.extra.as_slice() {
-            [g1, g2, g3, g4, g5, g6] => [*g1, *g2, *g3, *g4, *g5, *g6],
-            _ => robot
-                .inverse_dynamics(&s.state)
-                .map_err(|e| format!("{}:{}: {e}", path.display(), s.line))?,
+        let at = |e: c5_runtime::Error| format!("{}:{}: {e}", path.display(), s.line);
+        let [pose, twist, accel] = robot.coordinates_of(&s.state).map_err(at)?;
+        let gamma = match has_forces {
+            true => s.extra.clone(),
+            false => {
+                let mut gamma = vec![0.0; n];
+                robot
+                    .inverse_dynamics(&pose, &twist, &accel, &mut gamma)
+                    .map_err(at)?;
+                gamma
+            }
         };
-        samples.push(Sample::of_state(s.t, &s.state, gamma));
+        samples.push(Sample {
+            t: s.t,
+            pose,
+            twist: Some(twist),
+            gamma,
+        });
     }
     if samples.is_empty() {
         return Err(format!("{}: no samples", path.display()).into());
@@ -155,19 +172,27 @@ pub fn decimate(n: usize, budget: usize) -> Vec<usize> {
 /// # Errors
 /// A sample the robot refuses (its time and why), or the file not written.
 pub fn write(
-    robot: &dyn ParallelRobot,
+    robot: &dyn Mechanism,
     samples: &[Sample],
     budget: usize,
     title: &str,
     path: &Path,
 ) -> crate::Result<usize> {
-    let (speed_limit, force_limit) = robot.speed_and_force_limits();
+    let (speed_limit, force_limit) = robot
+        .spatial()
+        .map_or((None, None), |r| r.speed_and_force_limits());
     let largest = samples
         .iter()
-        .flat_map(|s| s.gamma)
+        .flat_map(|s| &s.gamma)
         .fold(0.0, |m: f64, g| m.max(g.abs()));
     let scale = force_limit.unwrap_or(largest).max(f64::MIN_POSITIVE);
-    let over = |limit: Option<f64>, v: &[f64; 6]| v.map(|x| limit.is_some_and(|l| x.abs() > l));
+    let over = |limit: Option<f64>, v: &[f64]| -> Vec<bool> {
+        v.iter()
+            .map(|x| limit.is_some_and(|l| x.abs() > l))
+            .collect()
+    };
+    let legs = robot.freedom().dimension();
+    let unit = robot.description().body_tree().actuator_unit();
     let picked = decimate(samples.len(), budget);
     let shots = picked
         .iter()
@@ -176,16 +201,19 @@ pub fn write(
             let at = |e: c5_runtime::Error| format!("sample at t = {} s: {e}", s.t);
             let scene = robot.scene(&s.pose).map_err(at)?;
             let over_speed = match &s.twist {
-                Some(twist) => over(
-                    speed_limit,
-                    &robot.joint_velocities(&s.pose, twist).map_err(at)?,
-                ),
-                None => [false; 6],
+                Some(twist) => {
+                    let mut qd = vec![0.0; legs];
+                    robot
+                        .joint_velocities(&s.pose, twist, &mut qd)
+                        .map_err(at)?;
+                    over(speed_limit, &qd)
+                }
+                None => vec![false; legs],
             };
             Ok(Shot {
                 t: s.t,
                 scene,
-                gamma: s.gamma,
+                gamma: s.gamma.clone(),
                 over_force: over(force_limit, &s.gamma),
                 over_speed,
             })
@@ -195,9 +223,9 @@ pub fn write(
         .iter()
         .map(|shot| Readout {
             t: shot.t,
-            gamma: shot.gamma,
-            colours: core::array::from_fn(|i| shot.leg_colour(i, scale)),
-            warnings: (0..6)
+            gamma: shot.gamma.clone(),
+            colours: (0..legs).map(|i| shot.leg_colour(i, scale)).collect(),
+            warnings: (0..legs)
                 .filter_map(|i| {
                     let w = shot.warnings(i);
                     (!w.is_empty()).then(|| format!("leg {}: {}", i + 1, w.join(", ")))
@@ -220,12 +248,13 @@ pub fn write(
         format!("all {} samples", samples.len())
     };
     let note = format!(
-        "{} robot, {} model; {every}. Legs coloured by their force on ±{scale:.1} N ({scale_origin}): \
+        "{} robot, {} model; {every}. Legs coloured by their force on ±{scale:.1} {unit} ({scale_origin}): \
          blue pulls, red pushes; magenta: past a [limits] bound.",
         robot.mechanism(),
         robot.model_name(),
     );
-    let html = page::page(title, &note, &figure::figure(&shots, scale), &readout)?;
+    let plot = figure::figure(&shots, scale, unit);
+    let html = page::page(title, &note, &plot, &readout, unit)?;
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)?;
     }
@@ -263,7 +292,7 @@ pub fn write_cloud(
         format!("{} reachable points; {measure}.", points.len())
     };
     let plot = figure::cloud(&kept, &shades, measure, names, robot);
-    std::fs::write(path, page::page(title, &note, &plot, &[])?)
+    std::fs::write(path, page::page(title, &note, &plot, &[], "")?)
         .map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(())
 }

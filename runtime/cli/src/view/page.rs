@@ -9,17 +9,19 @@ fn embeddable(json: String) -> String {
     json.replace("</", "<\\/")
 }
 
-/// The whole page.
+/// The whole page; `unit` is the actuator forces' (`N`, `N·m`).
 pub fn page(
     title: &str,
     note: &str,
     plot: &Figure,
     readout: &[Readout],
+    unit: &str,
 ) -> Result<String, serde_json::Error> {
     let figure = embeddable(plot.to_json());
     let readout = embeddable(serde_json::to_string(readout)?);
     let title = html_escape(title);
     let note = html_escape(note);
+    let unit = html_escape(unit);
     Ok(format!(
         r#"<!doctype html>
 <html lang="en">
@@ -49,7 +51,7 @@ h1 {{ font-size: 17px; margin: 0 0 2px; }}
 <input id="slider" type="range" min="0" value="0" step="1" aria-label="time">
 <span id="time"></span>
 </div>
-<table id="forces"><tr id="force-cells"></tr></table>
+<table id="forces" data-unit="{unit}"><tr id="force-cells"></tr></table>
 <div id="warnings"></div>
 <div id="figure"></div>
 <script id="c5-figure" type="application/json">{figure}</script>
@@ -78,6 +80,7 @@ const SCRIPT: &str = r#"(function () {
   const slider = document.getElementById("slider");
   const play = document.getElementById("play");
   const cells = document.getElementById("force-cells");
+  const unit = document.getElementById("forces").dataset.unit;
   const n = readout.length;
   slider.max = String(n - 1);
   const view = { frames: n, readout: readout, ready: false, shown: -1, show: show };
@@ -98,7 +101,7 @@ const SCRIPT: &str = r#"(function () {
     r.gamma.forEach(function (g, i) {
       const td = document.createElement("td");
       td.innerHTML = '<span class="swatch" style="background:' + r.colours[i] + '"></span>' +
-        "Γ" + (i + 1) + " = " + g.toFixed(2) + " N";
+        "Γ" + (i + 1) + " = " + g.toFixed(2) + " " + unit;
       cells.appendChild(td);
     });
     document.getElementById("warnings").textContent =

@@ -250,3 +250,57 @@ fn bad_input_is_refused_and_writes_nothing() {
     let out = c5(&["view", s(&missing), "--frames", "1"], "");
     assert!(!out.status.success());
 }
+
+/// The Delta's page, from its robot file and the CSV alone: each upper arm from its motor `A_i`
+/// at the CSV's angle `θ_i = q_i - o_i` (`E_i = A_i + c_i (cos θ_i h_i + sin θ_i k_i)`), each
+/// parallelogram's rods `L_i` long from `E_i ± (w_i/2) r_i` to `C + p_i ± (w_i/2) r_i`; its
+/// torques in N·m, three to a frame.
+#[test]
+fn the_delta_page_draws_each_arm_at_the_csvs_angle_and_its_rods_at_their_length() {
+    const DELTA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/delta.toml");
+    let (csv, figure, readout) = simulated("delta", Some(DELTA), "15");
+    let csv = rows(&csv);
+    let robot =
+        c5_robot::Delta::from_toml(&std::fs::read_to_string(DELTA).unwrap(), DELTA).unwrap();
+    let frames = figure["frames"].as_array().unwrap();
+    let near = |a: [f64; 3], b: [f64; 3]| (0..3).all(|k| (a[k] - b[k]).abs() <= 4.0 * RESOLUTION);
+    let along = |p: [f64; 3], s: f64, v: [f64; 3]| -> [f64; 3] {
+        core::array::from_fn(|k| p[k] + s * v[k])
+    };
+    for (k, row) in drawn_rows(&csv, &readout).into_iter().enumerate() {
+        let data = frames[k]["data"].as_array().unwrap();
+        assert_eq!(readout[k]["gamma"].as_array().unwrap().len(), 3);
+        let centre = ["xc", "yc", "zc"].map(|c| row[c]);
+        for (i, arm) in robot.arms.iter().enumerate() {
+            let path: Vec<[f64; 3]> = (0..7).map(|j| point(&data[i], j)).collect();
+            let (r, h, kk) = arm.axes();
+            let theta = row[&format!("q{}", i + 1)] - arm.encoder_offset;
+            let dir: [f64; 3] = core::array::from_fn(|c| theta.cos() * h[c] + theta.sin() * kk[c]);
+            let elbow = along(arm.base, arm.crank.length, dir);
+            let ball: [f64; 3] = core::array::from_fn(|c| centre[c] + arm.platform[c]);
+            let w = arm.rod.separation.unwrap();
+            let expected = [
+                arm.base,
+                elbow,
+                along(elbow, -0.5 * w, r),
+                along(ball, -0.5 * w, r),
+                along(ball, 0.5 * w, r),
+                along(elbow, 0.5 * w, r),
+                elbow,
+            ];
+            for (j, (drawn, want)) in path.iter().zip(expected).enumerate() {
+                assert!(
+                    near(*drawn, want),
+                    "frame {k} arm {i} point {j}: {drawn:?} {want:?}"
+                );
+            }
+            let rod = (0..3)
+                .map(|c| (path[3][c] - path[2][c]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            assert!((rod - arm.rod.length).abs() <= 4.0 * RESOLUTION, "{rod}");
+        }
+    }
+    let page = std::fs::read_to_string(scratch("delta").join("page.html")).unwrap();
+    assert!(page.contains("N·m ("), "the torques' unit");
+}
