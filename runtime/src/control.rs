@@ -3,7 +3,9 @@
 use crate::dynamics::{rotation, Matrix3, PlantState};
 use crate::math::sqrt;
 use crate::types::{Acceleration, State};
-use crate::{Error, ParallelRobot};
+use crate::{Error, Mechanism};
+use alloc::vec;
+use alloc::vec::Vec;
 
 /// `log(R_d Rᵀ)`: the rotation (axis × angle, base frame) that takes `r` to `r_d`.
 pub fn orientation_error(r_d: &Matrix3, r: &Matrix3) -> [f64; 3] {
@@ -70,49 +72,51 @@ impl ComputedTorque {
     /// limit. With an exact model each actuator's error obeys `ë + Kd ė + Kp e = 0`.
     ///
     /// # Errors
-    /// As [`ParallelRobot::inverse_dynamics_joint`] of the controller's robot.
+    /// As [`Mechanism::inverse_dynamics_joint`] of the controller's robot.
     pub fn joint_forces(
         &self,
-        controller: &dyn ParallelRobot,
-        desired: &[[f64; 6]; 3],
-        q: &[f64; 6],
-        qd: &[f64; 6],
-    ) -> Result<[f64; 6], Error> {
+        controller: &dyn Mechanism,
+        desired: [&[f64]; 3],
+        q: &[f64],
+        qd: &[f64],
+    ) -> Result<Vec<f64>, Error> {
         let qdd = self.joint_acceleration(desired, q, qd);
-        let gamma = controller.inverse_dynamics_joint(q, qd, &qdd, None)?;
+        let mut gamma = vec![0.0; q.len()];
+        controller.inverse_dynamics_joint([q, qd, &qdd], None, &mut gamma)?;
         Ok(self.limited(gamma))
     }
 
     /// The actuator accelerations the joint-space law asks for: `q̈_d + Kp e_q + Kd ė_q`.
-    pub fn joint_acceleration(
-        &self,
-        desired: &[[f64; 6]; 3],
-        q: &[f64; 6],
-        qd: &[f64; 6],
-    ) -> [f64; 6] {
+    pub fn joint_acceleration(&self, desired: [&[f64]; 3], q: &[f64], qd: &[f64]) -> Vec<f64> {
         let [q_d, qd_d, qdd_d] = desired;
-        core::array::from_fn(|i| qdd_d[i] + self.kp * (q_d[i] - q[i]) + self.kd * (qd_d[i] - qd[i]))
+        (0..q.len())
+            .map(|i| qdd_d[i] + self.kp * (q_d[i] - q[i]) + self.kd * (qd_d[i] - qd[i]))
+            .collect()
     }
 
-    fn limited(&self, gamma: [f64; 6]) -> [f64; 6] {
+    fn limited(&self, gamma: Vec<f64>) -> Vec<f64> {
         match self.force_limit {
-            Some(limit) => gamma.map(|g| g.clamp(-limit, limit)),
+            Some(limit) => gamma.into_iter().map(|g| g.clamp(-limit, limit)).collect(),
             None => gamma,
         }
     }
 
-    /// The actuator forces (N, segment order), within the force limit.
+    /// The actuator forces (N or N·m, one per actuator), within the force limit: the inverse
+    /// dynamics in the controller's platform coordinates (a platform that only translates
+    /// asks for no turn: its orientation error and angular rates are zero).
     ///
     /// # Errors
-    /// As [`ParallelRobot::inverse_dynamics`] of the controller's robot.
+    /// As [`Mechanism::inverse_dynamics`] of the controller's robot.
     pub fn forces(
         &self,
-        controller: &dyn ParallelRobot,
+        controller: &dyn Mechanism,
         desired: &State,
         actual: &PlantState,
-    ) -> Result<[f64; 6], Error> {
+    ) -> Result<Vec<f64>, Error> {
         let accel = self.commanded_acceleration(desired, actual);
-        let gamma = controller.inverse_dynamics(&actual.with_acceleration(accel))?;
+        let [x, v, a] = controller.coordinates_of(&actual.with_acceleration(accel))?;
+        let mut gamma = vec![0.0; x.len()];
+        controller.inverse_dynamics(&x, &v, &a, &mut gamma)?;
         Ok(self.limited(gamma))
     }
 }

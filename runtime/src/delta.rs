@@ -477,33 +477,6 @@ impl Mechanism for Delta {
         put(acceleration, &state.acceleration);
         Ok(())
     }
-    fn step_held(
-        &self,
-        pose: &mut [f64],
-        twist: &mut [f64],
-        gamma: &[f64],
-        dt: f64,
-    ) -> Result<(), Error> {
-        let (x, v): ([f64; 3], [f64; 3]) = (array("pose", pose)?, array("twist", twist)?);
-        let g = array("gamma", gamma)?;
-        let rate = |y: &[f64; 6]| -> Result<[f64; 6], Error> {
-            let (x, v) = ([y[0], y[1], y[2]], [y[3], y[4], y[5]]);
-            let a = Delta::forward_dynamics(self, &x, &v, &g)?;
-            Ok([v[0], v[1], v[2], a[0], a[1], a[2]])
-        };
-        let y0 = [x[0], x[1], x[2], v[0], v[1], v[2]];
-        let along = |k: &[f64; 6], h: f64| core::array::from_fn(|i| y0[i] + h * k[i]);
-        let k1 = rate(&y0)?;
-        let k2 = rate(&along(&k1, 0.5 * dt))?;
-        let k3 = rate(&along(&k2, 0.5 * dt))?;
-        let k4 = rate(&along(&k3, dt))?;
-        let y: [f64; 6] = core::array::from_fn(|i| {
-            y0[i] + dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-        });
-        put(pose, &y[..3]);
-        put(twist, &y[3..]);
-        Ok(())
-    }
 }
 
 /// A Delta's state from its three slices.

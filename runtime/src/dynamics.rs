@@ -5,7 +5,9 @@
 
 use crate::math::{asin, atan2, sqrt};
 use crate::types::{Acceleration, Pose, State, Twist};
-use crate::{Error, ParallelRobot};
+use crate::{Error, Mechanism, ParallelRobot};
+use alloc::vec;
+use alloc::vec::Vec;
 
 /// A 3×3 matrix, rows first.
 pub type Matrix3 = [[f64; 3]; 3];
@@ -233,11 +235,55 @@ pub fn rk4_step(
     dt: f64,
     mut forces: impl FnMut(f64, &PlantState) -> Result<[f64; 6], Error>,
 ) -> Result<PlantState, Error> {
-    let mut rate = |time: f64, s: &PlantState| -> Result<[f64; 13], Error> {
+    rk4_step_by(state, t, dt, |time, s| {
         let gamma = forces(time, s)?;
-        let accel = plant.forward_dynamics(&s.pose(), &s.twist, &gamma)?;
-        Ok(s.rate(&accel))
-    };
+        plant.forward_dynamics(&s.pose(), &s.twist, &gamma)
+    })
+}
+
+/// [`rk4_step`] for a robot of any freedom: the forces, one per actuator, and the forward
+/// dynamics in the platform's coordinates ([`Mechanism::coordinates_of`]). A platform that only
+/// translates keeps its orientation: its state's quaternion stays the identity.
+///
+/// # Errors
+/// The first error of `forces`, or of [`Mechanism::forward_dynamics`].
+pub fn rk4_step_of<M: Mechanism + ?Sized>(
+    plant: &M,
+    state: &PlantState,
+    t: f64,
+    dt: f64,
+    mut forces: impl FnMut(f64, &PlantState) -> Result<Vec<f64>, Error>,
+) -> Result<PlantState, Error> {
+    rk4_step_by(state, t, dt, |time, s| {
+        let gamma = forces(time, s)?;
+        acceleration_of(plant, s, &gamma)
+    })
+}
+
+/// `plant`'s forward dynamics at `state` under the actuator forces `gamma`.
+///
+/// # Errors
+/// As [`Mechanism::forward_dynamics`]; a state that turns a platform that only translates.
+pub fn acceleration_of<M: Mechanism + ?Sized>(
+    plant: &M,
+    state: &PlantState,
+    gamma: &[f64],
+) -> Result<Acceleration, Error> {
+    let [x, v, _] = plant.coordinates_of(&state.with_acceleration(Acceleration::default()))?;
+    let mut a = vec![0.0; x.len()];
+    plant.forward_dynamics(&x, &v, gamma, &mut a)?;
+    Ok(plant.state_of([&x, &v, &a])?.accel)
+}
+
+/// One classical Runge-Kutta step under the platform's acceleration `accel(t, state)`.
+fn rk4_step_by(
+    state: &PlantState,
+    t: f64,
+    dt: f64,
+    mut accel: impl FnMut(f64, &PlantState) -> Result<Acceleration, Error>,
+) -> Result<PlantState, Error> {
+    let mut rate =
+        |time: f64, s: &PlantState| -> Result<[f64; 13], Error> { Ok(s.rate(&accel(time, s)?)) };
     let y0 = state.to_array();
     let along = |k: &[f64; 13], h: f64| {
         let y: [f64; 13] = core::array::from_fn(|i| y0[i] + h * k[i]);

@@ -15,7 +15,7 @@
 //! [`Mechanism::spatial`] gives that robot back for what only six freedoms have (the task-space
 //! terms, the regressors, the derivatives).
 
-use crate::dynamics::{rk4_step, PlantState};
+use crate::dynamics::{rk4_step_of, PlantState};
 use crate::mechanism::ParallelRobot;
 use crate::{Acceleration, Error, GoughStewart, Model, Pose, RusHexapod, Twist, C5};
 use alloc::boxed::Box;
@@ -131,7 +131,34 @@ pub trait Mechanism: core::fmt::Debug + Send + Sync {
         twist: &mut [f64],
         gamma: &[f64],
         dt: f64,
-    ) -> Result<(), Error>;
+    ) -> Result<(), Error> {
+        let n = self.freedom().dimension();
+        let zero = vec![0.0; n];
+        let start = self.state_of([pose, twist, &zero])?;
+        let plant = PlantState::new(&start.pose, &start.twist);
+        let next = rk4_step_of(self, &plant, 0.0, dt, |_, _| Ok(gamma.to_vec()))?;
+        let [x, v, _] = self.coordinates_of(&next.with_acceleration(Acceleration::default()))?;
+        put(pose, &x);
+        put(twist, &v);
+        Ok(())
+    }
+    /// The actuator forces `Γ` of the actuators' motion `[q, q̇, q̈]` into `gamma`: the
+    /// joint-space inverse dynamics `Γ = M_q q̈ + c_q`, the pose found from `near` (else the
+    /// robot's start).
+    ///
+    /// # Errors
+    /// As [`Mechanism::joint_state`] and [`Mechanism::inverse_dynamics`].
+    fn inverse_dynamics_joint(
+        &self,
+        joints: [&[f64]; 3],
+        near: Option<&[f64]>,
+        gamma: &mut [f64],
+    ) -> Result<(), Error> {
+        let n = self.freedom().dimension();
+        let (mut x, mut v, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        self.joint_state(joints, near, [&mut x, &mut v, &mut a])?;
+        self.inverse_dynamics(&x, &v, &a, gamma)
+    }
 
     /// The robot's parts at `pose`, for drawing it ([`crate::scene`]): a leg per actuator,
     /// those past a limit of the robot file flagged.
@@ -448,21 +475,20 @@ impl<R: ParallelRobot + 'static> Mechanism for R {
         put(acceleration, &state.accel.to_array());
         Ok(())
     }
-    fn step_held(
+    fn inverse_dynamics_joint(
         &self,
-        pose: &mut [f64],
-        twist: &mut [f64],
-        gamma: &[f64],
-        dt: f64,
+        joints: [&[f64]; 3],
+        near: Option<&[f64]>,
+        gamma: &mut [f64],
     ) -> Result<(), Error> {
-        let start = PlantState::new(
-            &Pose::from_array(array("pose", pose)?),
-            &Twist::from_array(array("twist", twist)?),
-        );
-        let gamma: [f64; 6] = array("gamma", gamma)?;
-        let next = rk4_step(self, &start, 0.0, dt, |_, _| Ok(gamma))?;
-        put(pose, &next.pose().to_array());
-        put(twist, &next.twist.to_array());
+        room::<6>("gamma", gamma)?;
+        let near = near
+            .map(|x| array("near", x).map(Pose::from_array))
+            .transpose()?;
+        let [q, qd, qdd] = joints;
+        let (q, qd, qdd) = (array("q", q)?, array("qd", qd)?, array("qdd", qdd)?);
+        let forces = ParallelRobot::inverse_dynamics_joint(self, &q, &qd, &qdd, near.as_ref())?;
+        put(gamma, &forces);
         Ok(())
     }
     /// Four states at a time through the C5's batch kernels (feature `batch`).

@@ -2,6 +2,7 @@
 //! actuator positions, and an estimator of the actuators' rates from those counts.
 
 use crate::{check_finite, Error};
+use alloc::vec::Vec;
 
 /// Incremental encoders on the ball screws: each actuator position is read as a whole number
 /// of counts of `resolution` metres (rounded to the nearest), or exactly when `None`.
@@ -55,13 +56,14 @@ impl Encoders {
 /// `a T (α - β/2) / β` (1.8 mm/s at 0.3 m/s², 50 Hz, 1 kHz), which a controller's damping
 /// turns into a tracking error of `Kd · lag / Kp` (0.2 mm here); fed the acceleration the
 /// controller commands, it lags only by what the plant does differently from the command.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct RateEstimator {
     alpha: f64,
     beta: f64,
     period: f64,
-    position: [f64; 6],
-    rate: [f64; 6],
+    /// One per actuator, as many as the first measurement or [`RateEstimator::reset`] gives.
+    position: Vec<f64>,
+    rate: Vec<f64>,
     started: bool,
 }
 
@@ -82,16 +84,17 @@ impl RateEstimator {
             alpha: 1.0 - p * p,
             beta: (1.0 - p) * (1.0 - p),
             period,
-            position: [0.0; 6],
-            rate: [0.0; 6],
+            position: Vec::new(),
+            rate: Vec::new(),
             started: false,
         })
     }
 
-    /// Starts from a known state (else the first measurement, at rest).
-    pub fn reset(&mut self, position: &[f64; 6], rate: &[f64; 6]) {
-        self.position = *position;
-        self.rate = *rate;
+    /// Starts from a known state (else the first measurement, at rest): the positions and
+    /// rates of as many actuators as every later measurement has.
+    pub fn reset(&mut self, position: &[f64], rate: &[f64]) {
+        self.position = position.to_vec();
+        self.rate = rate.to_vec();
         self.started = true;
     }
 
@@ -100,28 +103,42 @@ impl RateEstimator {
     /// and rates.
     ///
     /// # Errors
-    /// [`Error::NonFinite`] for a non-finite measurement or acceleration; the estimator keeps
-    /// its state.
+    /// [`Error::NonFinite`] for a non-finite measurement or acceleration,
+    /// [`Error::WrongLength`] for another number of actuators than the estimator's; the
+    /// estimator keeps its state.
     pub fn update(
         &mut self,
-        measured: &[f64; 6],
-        acceleration: &[f64; 6],
-    ) -> Result<([f64; 6], [f64; 6]), Error> {
+        measured: &[f64],
+        acceleration: &[f64],
+    ) -> Result<(&[f64], &[f64]), Error> {
         check_finite("measured positions", measured)?;
         check_finite("acceleration", acceleration)?;
         if !self.started {
-            self.reset(measured, &[0.0; 6]);
-            return Ok((self.position, self.rate));
+            self.reset(measured, &alloc::vec![0.0; measured.len()]);
+            return Ok((&self.position, &self.rate));
+        }
+        let n = self.position.len();
+        for (input, got) in [
+            ("measured positions", measured),
+            ("acceleration", acceleration),
+        ] {
+            if got.len() != n {
+                return Err(Error::WrongLength {
+                    input,
+                    expected: n,
+                    got: got.len(),
+                });
+            }
         }
         let t = self.period;
-        for i in 0..6 {
+        for i in 0..n {
             let a = acceleration[i];
             let predicted = self.position[i] + t * self.rate[i] + 0.5 * t * t * a;
             let residual = measured[i] - predicted;
             self.position[i] = predicted + self.alpha * residual;
             self.rate[i] += t * a + self.beta / t * residual;
         }
-        Ok((self.position, self.rate))
+        Ok((&self.position, &self.rate))
     }
 }
 
@@ -175,8 +192,9 @@ mod tests {
         assert!(told < 1e-5, "{told}");
         let mut est = RateEstimator::new(50.0, 1e-3).unwrap();
         est.reset(&[0.0; 6], &[0.0; 6]);
-        let before = est;
+        let before = est.clone();
         assert!(est.update(&[f64::NAN; 6], &[0.0; 6]).is_err());
+        assert!(est.update(&[0.0; 3], &[0.0; 3]).is_err());
         assert_eq!(est, before, "a refused measurement changes nothing");
     }
 }

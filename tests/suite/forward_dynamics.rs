@@ -5,7 +5,7 @@
 use crate::support;
 
 use c5_runtime::control::ComputedTorque;
-use c5_runtime::dynamics::{rk4_step, PlantState};
+use c5_runtime::dynamics::{rk4_step, rk4_step_of, PlantState};
 use c5_runtime::reference as r;
 use c5_runtime::trajectory::{Fourier, LinearMove};
 use c5_runtime::Kernels;
@@ -260,7 +260,7 @@ fn track(
     let mut errors = Vec::new();
     for k in 0..1000 {
         let t = k as f64 * dt;
-        state = rk4_step(plant, &state, t, dt, |time, s| {
+        state = rk4_step_of(plant, &state, t, dt, |time, s| {
             law.forces(controller, &desired(time), s)
         })
         .unwrap();

@@ -31,10 +31,7 @@ impl RobotArgs {
     /// The robot of `--robot` (or the chapter's), of any mechanism and freedom; a C5 with the
     /// model of `--model`.
     pub fn load_mechanism(&self) -> crate::Result<Box<dyn c5_runtime::Mechanism>> {
-        Ok(c5_runtime::platform::load(
-            read_description(self.robot.as_ref())?,
-            self.model,
-        )?)
+        load_mechanism(self.robot.as_ref(), self.model)
     }
 
     /// The robot of `--robot` (or the chapter's), of any mechanism; a C5 with the model of
@@ -79,6 +76,14 @@ pub fn load_any(path: Option<&PathBuf>, model: Model) -> crate::Result<Box<dyn P
     )?)
 }
 
+/// The robot of `path` (or the chapter's), of any mechanism and freedom; a C5 with `model`.
+pub fn load_mechanism(
+    path: Option<&PathBuf>,
+    model: Model,
+) -> crate::Result<Box<dyn c5_runtime::Mechanism>> {
+    Ok(c5_runtime::platform::load(read_description(path)?, model)?)
+}
+
 /// The description of the robot file `path`, the chapter's C5 for `None`.
 fn read_description(path: Option<&PathBuf>) -> crate::Result<Description> {
     Ok(match path {
@@ -93,7 +98,7 @@ pub fn section9_for(robot: &dyn c5_runtime::Mechanism) -> crate::Result<LinearMo
     let rest = vec![0.0; robot.freedom().dimension()];
     let home = robot.state_of([&robot.home(), &rest, &rest])?.pose;
     let mut motion = section9_from(home);
-    if robot.freedom() == c5_runtime::platform::Freedom::Translations {
+    if !robot.freedom().turns() {
         let level = Pose {
             center: motion.start.center,
             ..Pose::default()
@@ -180,11 +185,6 @@ pub struct ForceNoise {
 }
 
 impl ForceNoise {
-    /// `gamma` with noise on each force.
-    pub fn add(&mut self, gamma: &[f64; 6]) -> [f64; 6] {
-        gamma.map(|g| self.noisy(g))
-    }
-
     /// One force measured.
     pub fn noisy(&mut self, g: f64) -> f64 {
         use rand_distr::Distribution;

@@ -6,16 +6,18 @@ use crate::simulate::plot;
 use crate::trajectory_csv;
 use crate::view;
 use c5_runtime::control::{orientation_error, ComputedTorque};
-use c5_runtime::dynamics::{compose, exp_rotation, rk4_step, rotation, rpy, PlantState};
+use c5_runtime::dynamics::{compose, exp_rotation, rk4_step_of, rotation, rpy, PlantState};
+use c5_runtime::platform::Freedom;
 use c5_runtime::sensors::{Encoders, RateEstimator};
-use c5_runtime::{Acceleration, Error, Model, ParallelRobot, Pose, State, Twist};
+use c5_runtime::{Acceleration, Error, Mechanism, Model, Pose, State, Twist};
 use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// A computed-torque controller tracking the Section 9 trajectory (or a file) on a simulated
-/// robot, integrated through the forward dynamics; writes a CSV and plots.
+/// robot of any mechanism, in its platform's coordinates, integrated through the forward
+/// dynamics; writes a CSV and plots.
 #[derive(Args)]
 pub struct TrackArgs {
     /// Output directory.
@@ -86,12 +88,21 @@ pub enum Space {
 }
 
 pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
-    let controller = o.controller.load_any()?;
+    let controller = o.controller.load_mechanism()?;
     // The plant is the controller's robot (or its own file) under the plant's model.
-    let plant = options::load_any(
+    let plant = options::load_mechanism(
         o.plant_robot.as_ref().or(o.controller.robot.as_ref()),
         o.plant_model,
     )?;
+    if controller.freedom() != plant.freedom() || controller.mechanism() != plant.mechanism() {
+        return Err(format!(
+            "the plant ({}) and the controller ({}) must be the same mechanism",
+            plant.mechanism(),
+            controller.mechanism()
+        )
+        .into());
+    }
+    let freedom = plant.freedom();
     let offset: [f64; 6] = match &o.initial_offset {
         None => [0.0; 6],
         Some(v) => <[f64; 6]>::try_from(v.as_slice()).map_err(|_| {
@@ -112,6 +123,13 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
     if offset.iter().any(|x| !x.is_finite()) {
         return Err("--initial-offset must hold six finite numbers".into());
     }
+    if !freedom.turns() && offset[3..] != [0.0; 3] {
+        return Err(format!(
+            "--initial-offset turns the platform, and the {}'s only translates: give rx,ry,rz = 0",
+            plant.mechanism()
+        )
+        .into());
+    }
     let (desired, times) = match &o.trajectory {
         Some(path) => {
             let samples = trajectory_csv::read(path)?;
@@ -119,7 +137,7 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
             (Desired::Samples(samples), times)
         }
         None => {
-            let motion = options::section9_from(controller.home());
+            let motion = options::section9_for(controller.as_ref())?;
             let times = options::sample_times(motion.duration, o.rate, "steps")?;
             (Desired::Motion(Box::new(move |t| motion.state(t))), times)
         }
@@ -139,7 +157,8 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
     };
     let mut law = ComputedTorque::critically_damped(o.bandwidth);
     // The actuators saturate at the robot's force limit unless told otherwise.
-    law.force_limit = o.force_limit.or(plant.speed_and_force_limits().1);
+    let plant_limits = plant.spatial().map(|p| p.speed_and_force_limits());
+    law.force_limit = o.force_limit.or(plant_limits.and_then(|l| l.1));
     let setup = Setup {
         controller: controller.as_ref(),
         plant: plant.as_ref(),
@@ -191,19 +210,21 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
     let elapsed = clock.elapsed();
     std::fs::create_dir_all(&o.out)?;
     let csv = o.out.join("track.csv");
-    write_csv(&csv, &samples)?;
-    let plots = write_plots(&o.out, &samples)?;
+    let tree = plant.description().body_tree();
+    write_csv(&csv, &samples, freedom, tree.actuators_turn())?;
+    let unit = tree.actuator_unit();
+    let plots = write_plots(&o.out, &samples, freedom, unit)?;
     let drawn: Vec<view::Sample> = samples
         .iter()
         .map(|s| view::Sample {
             t: s.t,
-            pose: s.actual.to_array().to_vec(),
+            pose: s.actual.clone(),
             twist: None,
-            gamma: s.gamma.to_vec(),
+            gamma: s.gamma.clone(),
         })
         .collect();
     let title = format!("Tracking ({} robot, the plant)", plant.mechanism());
-    let page = o.view.write(plant.as_mechanism(), &drawn, &title, &o.out)?;
+    let page = o.view.write(plant.as_ref(), &drawn, &title, &o.out)?;
     let [max_pos, max_ori, end_pos, end_ori] = summary(&samples);
     let [rms_pos, rms_ori] = rms(&samples);
     let mut report = std::io::stdout().lock();
@@ -231,12 +252,20 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
     if let Some(p) = page {
         writeln!(report, "wrote {} (the 3D view)", p.display())?;
     }
-    writeln!(
-        report,
-        "largest error: {max_pos:.6} mm, {max_ori:.6} mrad; at the end: {end_pos:.6} mm, \
-         {end_ori:.6} mrad"
-    )?;
-    writeln!(report, "RMS error: {rms_pos:.6} mm, {rms_ori:.6} mrad")?;
+    if freedom.turns() {
+        writeln!(
+            report,
+            "largest error: {max_pos:.6} mm, {max_ori:.6} mrad; at the end: {end_pos:.6} mm, \
+             {end_ori:.6} mrad"
+        )?;
+        writeln!(report, "RMS error: {rms_pos:.6} mm, {rms_ori:.6} mrad")?;
+    } else {
+        writeln!(
+            report,
+            "largest error: {max_pos:.6} mm; at the end: {end_pos:.6} mm"
+        )?;
+        writeln!(report, "RMS error: {rms_pos:.6} mm")?;
+    }
     Ok(ExitCode::SUCCESS)
 }
 
@@ -273,26 +302,26 @@ impl Desired {
     }
 }
 
-/// One sample of a tracking run.
+/// One sample of a tracking run, poses in the platform's coordinates.
 #[derive(Clone, Debug)]
 pub struct Sample {
     pub t: f64,
-    pub desired: Pose,
-    pub actual: Pose,
+    pub desired: Vec<f64>,
+    pub actual: Vec<f64>,
     /// `C_d - C` (m).
     pub position_error: [f64; 3],
-    /// `log(R_d Rᵀ)` (rad).
+    /// `log(R_d Rᵀ)` (rad); zero for a platform that only translates.
     pub orientation_error: [f64; 3],
-    /// `q_d - q`, the actuators' error (m).
-    pub actuator_error: [f64; 6],
-    /// The forces applied from `t` on (N).
-    pub gamma: [f64; 6],
+    /// `q_d - q`, the actuators' error (m, or rad where they turn).
+    pub actuator_error: Vec<f64>,
+    /// The forces applied from `t` on (N or N·m).
+    pub gamma: Vec<f64>,
 }
 
 /// What `track` needs: the controller's and the plant's robots, the law, how to hold the forces.
 pub struct Setup<'a> {
-    pub controller: &'a dyn ParallelRobot,
-    pub plant: &'a dyn ParallelRobot,
+    pub controller: &'a dyn Mechanism,
+    pub plant: &'a dyn Mechanism,
     pub law: ComputedTorque,
     /// A sampled controller: the forces held over each step (else the law runs at every stage).
     pub hold: bool,
@@ -302,31 +331,44 @@ pub struct Setup<'a> {
     pub limits: bool,
 }
 
+/// The platform's pose and twist of `state` in `robot`'s coordinates.
+fn coordinates(robot: &dyn Mechanism, state: &PlantState) -> Result<[Vec<f64>; 2], Error> {
+    let [x, v, _] = robot.coordinates_of(&state.with_acceleration(Acceleration::default()))?;
+    Ok([x, v])
+}
+
+/// `robot`'s actuator positions at `pose` (its coordinates).
+fn actuators(robot: &dyn Mechanism, pose: &[f64]) -> Result<Vec<f64>, Error> {
+    let mut q = vec![0.0; pose.len()];
+    robot.actuator_positions(pose, &mut q)?;
+    Ok(q)
+}
+
 impl Setup<'_> {
     /// The law's forces at the plant's exact state.
-    fn forces(&self, desired: &State, actual: &PlantState) -> Result<[f64; 6], Error> {
+    fn forces(&self, desired: &State, actual: &PlantState) -> Result<Vec<f64>, Error> {
         match self.space {
             Space::Task => self.law.forces(self.controller, desired, actual),
             Space::Joint => {
-                let state = actual.with_acceleration(Acceleration::default());
-                let q = self.controller.actuator_positions(&state.pose)?;
-                let qd = self
-                    .controller
-                    .joint_velocities(&state.pose, &state.twist)?;
-                self.law
-                    .joint_forces(self.controller, &self.joints(desired)?, &q, &qd)
+                let c = self.controller;
+                let [x, v] = coordinates(c, actual)?;
+                let q = actuators(c, &x)?;
+                let mut qd = vec![0.0; x.len()];
+                c.joint_velocities(&x, &v, &mut qd)?;
+                let [q_d, qd_d, qdd_d] = self.joints(desired)?;
+                self.law.joint_forces(c, [&q_d, &qd_d, &qdd_d], &q, &qd)
             }
         }
     }
 
     /// The desired actuator motion `[q_d, q̇_d, q̈_d]` of the controller's model.
-    fn joints(&self, desired: &State) -> Result<[[f64; 6]; 3], Error> {
+    fn joints(&self, desired: &State) -> Result<[Vec<f64>; 3], Error> {
         let c = self.controller;
-        Ok([
-            c.actuator_positions(&desired.pose)?,
-            c.joint_velocities(&desired.pose, &desired.twist)?,
-            c.joint_accelerations(desired)?,
-        ])
+        let [x, v, a] = c.coordinates_of(desired)?;
+        let (mut qd, mut qdd) = (vec![0.0; x.len()], vec![0.0; x.len()]);
+        c.joint_velocities(&x, &v, &mut qd)?;
+        c.joint_accelerations(&x, &v, &a, &mut qdd)?;
+        Ok([actuators(c, &x)?, qd, qdd])
     }
 }
 
@@ -345,24 +387,26 @@ fn sample(
     t: f64,
     desired: &State,
     actual: &PlantState,
-    gamma: [f64; 6],
+    gamma: Vec<f64>,
 ) -> Result<Sample, Error> {
-    let q_d = setup.controller.actuator_positions(&desired.pose)?;
-    let q = setup.plant.actuator_positions(&actual.pose())?;
-    if setup.limits {
-        let plant = setup.plant;
+    let [wanted, _, _] = setup.controller.coordinates_of(desired)?;
+    let [pose, _] = coordinates(setup.plant, actual)?;
+    let q_d = actuators(setup.controller, &wanted)?;
+    let q = actuators(setup.plant, &pose)?;
+    if let (true, Some(plant)) = (setup.limits, setup.plant.spatial()) {
         let state = actual.with_acceleration(Acceleration::default());
+        let six = |v: &[f64]| <[f64; 6]>::try_from(v).unwrap_or_default();
         plant.check_limits(&state.pose)?;
         plant.check_speeds(&plant.joint_velocities(&state.pose, &state.twist)?)?;
-        plant.check_forces(&gamma)?;
+        plant.check_forces(&six(&gamma))?;
     }
     Ok(Sample {
         t,
-        desired: desired.pose,
-        actual: actual.pose(),
+        desired: wanted,
+        actual: pose,
         position_error: std::array::from_fn(|i| desired.pose.center[i] - actual.center[i]),
         orientation_error: orientation_error(&rotation(&desired.pose), &actual.rotation()),
-        actuator_error: std::array::from_fn(|i| q_d[i] - q[i]),
+        actuator_error: q_d.iter().zip(&q).map(|(d, a)| d - a).collect(),
         gamma,
     })
 }
@@ -384,10 +428,11 @@ pub fn run(
         let (t, dt) = (w[0], w[1] - w[0]);
         let now = desired.at(t);
         let gamma = setup.forces(&now, &state).map_err(|e| (t, e))?;
+        let held = gamma.clone();
         samples.push(sample(setup, t, &now, &state, gamma).map_err(|e| (t, e))?);
-        state = rk4_step(setup.plant, &state, t, dt, |time, s| {
+        state = rk4_step_of(setup.plant, &state, t, dt, |time, s| {
             if setup.hold {
-                Ok(gamma)
+                Ok(held.clone())
             } else {
                 setup.forces(&desired.at(time), s)
             }
@@ -420,98 +465,112 @@ pub fn run_measured(
     mut sensors: Measured,
 ) -> Result<Vec<Sample>, (f64, Error)> {
     let c = setup.controller;
+    let n = c.freedom().dimension();
     let mut state = start;
     let mut samples = Vec::with_capacity(times.len());
-    let mut gamma = [0.0; 6];
+    let mut gamma = vec![0.0; n];
     // The actuators' acceleration the last command asked for: the estimator's input.
-    let mut commanded = [0.0; 6];
-    let mut seen: Option<Pose> = None;
+    let mut commanded = vec![0.0; n];
+    let mut seen: Option<Vec<f64>> = None;
     for (k, &t) in times.iter().enumerate() {
         let now = desired.at(t);
         if k % sensors.every == 0 {
-            let truth = setup
-                .plant
-                .actuator_positions(&state.pose())
-                .map_err(|e| (t, e))?;
-            let counts = sensors.encoders.read(&truth);
-            let joints = setup.joints(&now).map_err(|e| (t, e))?;
-            // The estimator starts at the first counts with the planned rates.
-            let (q, qd) = if k == 0 {
-                sensors.estimator.reset(&counts, &joints[1]);
-                (counts, joints[1])
-            } else {
-                sensors
-                    .estimator
-                    .update(&counts, &commanded)
-                    .map_err(|e| (t, e))?
+            let mut measure = || -> Result<Vec<f64>, Error> {
+                let [pose, _] = coordinates(setup.plant, &state)?;
+                let truth = actuators(setup.plant, &pose)?;
+                let counts: Vec<f64> = truth.iter().map(|&q| sensors.encoders.reading(q)).collect();
+                let joints = setup.joints(&now)?;
+                // The estimator starts at the first counts with the planned rates.
+                let (q, qd) = if k == 0 {
+                    sensors.estimator.reset(&counts, &joints[1]);
+                    (counts, joints[1].clone())
+                } else {
+                    let (q, qd) = sensors.estimator.update(&counts, &commanded)?;
+                    (q.to_vec(), qd.to_vec())
+                };
+                let [q_d, qd_d, qdd_d] = &joints;
+                let desired_joints = [q_d.as_slice(), qd_d, qdd_d];
+                match setup.space {
+                    Space::Joint => {
+                        commanded = setup.law.joint_acceleration(desired_joints, &q, &qd);
+                        setup.law.joint_forces(c, desired_joints, &q, &qd)
+                    }
+                    // From the last pose seen: a warm start where the forward kinematics
+                    // iterates.
+                    Space::Task => {
+                        let (mut x, mut v, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+                        c.joint_state(
+                            [&q, &qd, &vec![0.0; n]],
+                            seen.as_deref(),
+                            [&mut x, &mut v, &mut a],
+                        )?;
+                        let now_seen = c.state_of([&x, &v, &a])?;
+                        seen = Some(x);
+                        let actual = PlantState::new(&now_seen.pose, &now_seen.twist);
+                        let accel = setup.law.commanded_acceleration(&now, &actual);
+                        let [x, v, a] = c.coordinates_of(&actual.with_acceleration(accel))?;
+                        c.joint_accelerations(&x, &v, &a, &mut commanded)?;
+                        setup.law.forces(c, &now, &actual)
+                    }
+                }
             };
-            let command = match setup.space {
-                Space::Joint => {
-                    commanded = setup.law.joint_acceleration(&joints, &q, &qd);
-                    setup.law.joint_forces(c, &joints, &q, &qd)
-                }
-                // From the last pose seen: a warm start where the forward kinematics iterates.
-                Space::Task => {
-                    c.joint_state(&q, &qd, &[0.0; 6], seen.as_ref())
-                        .and_then(|now_seen| {
-                            seen = Some(now_seen.pose);
-                            let seen = now_seen;
-                            let actual = PlantState::new(&seen.pose, &seen.twist);
-                            let accel = setup.law.commanded_acceleration(&now, &actual);
-                            commanded = c.joint_accelerations(&actual.with_acceleration(accel))?;
-                            setup.law.forces(c, &now, &actual)
-                        })
-                }
-            }
-            .map_err(|e| (t, e))?;
-            gamma = sensors.noise.add(&command);
+            let command = measure().map_err(|e| (t, e))?;
+            gamma = command.iter().map(|&g| sensors.noise.noisy(g)).collect();
         }
-        samples.push(sample(setup, t, &now, &state, gamma).map_err(|e| (t, e))?);
+        samples.push(sample(setup, t, &now, &state, gamma.clone()).map_err(|e| (t, e))?);
         if let Some(&next) = times.get(k + 1) {
-            state =
-                rk4_step(setup.plant, &state, t, next - t, |_, _| Ok(gamma)).map_err(|e| (t, e))?;
+            state = rk4_step_of(setup.plant, &state, t, next - t, |_, _| Ok(gamma.clone()))
+                .map_err(|e| (t, e))?;
         }
     }
     Ok(samples)
 }
 
-/// Writes the run as CSV: time, desired and actual pose, errors (mm, mrad), forces (N).
+/// Writes the run as CSV: time, desired and actual pose in the platform's coordinates, errors
+/// (mm, and mrad where the platform turns; the actuators' in mm, or mrad where they turn),
+/// forces.
 ///
 /// # Errors
 /// I/O errors.
-pub fn write_csv(path: &Path, samples: &[Sample]) -> Result<(), Box<dyn std::error::Error>> {
+pub fn write_csv(
+    path: &Path,
+    samples: &[Sample],
+    freedom: Freedom,
+    actuators_turn: bool,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let n = freedom.dimension();
+    let actuator_unit = if actuators_turn { "mrad" } else { "mm" };
     let mut w = csv::Writer::from_path(path)?;
     let mut header = vec![columns::TIME.to_string()];
     for prefix in ["desired_", "actual_"] {
-        header.extend(columns::POSE.map(|c| format!("{prefix}{c}")));
+        header.extend(freedom.pose_names().iter().map(|c| format!("{prefix}{c}")));
+    }
+    header.extend(["ex_mm", "ey_mm", "ez_mm"].map(String::from));
+    if freedom.turns() {
+        header.extend(["erx_mrad", "ery_mrad", "erz_mrad"].map(String::from));
     }
     header.extend(
-        [
-            "ex_mm", "ey_mm", "ez_mm", "erx_mrad", "ery_mrad", "erz_mrad",
-        ]
-        .map(String::from),
-    );
-    header.extend(
-        columns::per_actuator("eq", 6)
+        columns::per_actuator("eq", n)
             .iter()
-            .map(|c| format!("{c}_mm")),
+            .map(|c| format!("{c}_{actuator_unit}")),
     );
-    header.extend(columns::GAMMA.map(String::from));
+    header.extend(columns::per_actuator("gamma", n));
     w.write_record(&header)?;
     for s in samples {
         let mut row = vec![s.t];
-        row.extend(s.desired.to_array());
-        row.extend(s.actual.to_array());
+        row.extend(&s.desired);
+        row.extend(&s.actual);
         row.extend(s.position_error.map(|e| e * 1e3));
-        row.extend(s.orientation_error.map(|e| e * 1e3));
-        row.extend(s.actuator_error.map(|e| e * 1e3));
-        row.extend(s.gamma);
+        if freedom.turns() {
+            row.extend(s.orientation_error.map(|e| e * 1e3));
+        }
+        row.extend(s.actuator_error.iter().map(|e| e * 1e3));
+        row.extend(&s.gamma);
         w.write_record(row.iter().map(|v| format!("{v:.12e}")))?;
     }
     w.flush()?;
     Ok(())
 }
-
 fn norm(v: &[f64; 3]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
@@ -546,13 +605,16 @@ pub fn rms(samples: &[Sample]) -> [f64; 2] {
     ]
 }
 
-/// The plots: tracking error (position mm, orientation mrad) and forces against time.
+/// The plots: tracking error (position mm, orientation mrad where the platform turns) and
+/// forces against time.
 ///
 /// # Errors
 /// I/O or drawing errors.
 pub fn write_plots(
     dir: &Path,
     samples: &[Sample],
+    freedom: Freedom,
+    unit: &str,
 ) -> Result<Vec<String>, Box<dyn std::error::Error>> {
     let t: Vec<f64> = samples.iter().map(|s| s.t).collect();
     let series = |names: [&str; 3], f: &dyn Fn(&Sample) -> [f64; 3], scale: f64| {
@@ -567,6 +629,8 @@ pub fn write_plots(
             })
             .collect::<Vec<(String, Vec<f64>)>>()
     };
+    let n = freedom.dimension();
+    let force_axis = format!("force ({unit})");
     let files = [
         (
             "track_position_error.png",
@@ -587,8 +651,8 @@ pub fn write_plots(
         (
             "track_forces.png",
             "Actuator forces",
-            "force (N)",
-            (0..6)
+            force_axis.as_str(),
+            (0..n)
                 .map(|i| {
                     (
                         format!("Γ{}", i + 1),
@@ -599,7 +663,12 @@ pub fn write_plots(
         ),
     ];
     let mut written = Vec::new();
-    for (name, title, y, series) in files {
+    // A platform that only translates has no orientation error to plot.
+    let turns = freedom.turns();
+    for (name, title, y, series) in files
+        .into_iter()
+        .filter(|f| turns || f.0 != "track_orientation_error.png")
+    {
         plot(&dir.join(name), title, y, &t, &series)?;
         written.push(name.to_string());
     }

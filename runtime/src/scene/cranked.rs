@@ -75,7 +75,10 @@ fn scene(
     let motors: Vec<[f64; 3]> = legs.iter().map(|l| l.joints[0].at).collect();
     let size = spheres
         .iter()
-        .map(|b| crate::math::sqrt((0..3).map(|k| (b[k] - centre[k]).powi(2)).sum()))
+        .map(|b| {
+            let d: [f64; 3] = core::array::from_fn(|k| b[k] - centre[k]);
+            crate::math::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+        })
         .fold(0.0, f64::max);
     Scene {
         platform: plate(&spheres, axes, PLATE_THICKNESS * size),
@@ -132,7 +135,8 @@ mod tests {
     use super::*;
 
     fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
-        crate::math::sqrt((0..3).map(|k| (a[k] - b[k]).powi(2)).sum())
+        let d: [f64; 3] = core::array::from_fn(|k| a[k] - b[k]);
+        crate::math::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
     }
 
     /// Every drawn body has its length: each crank `c_i` from its motor, each rod `L_i` from its

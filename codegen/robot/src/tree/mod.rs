@@ -209,14 +209,20 @@ pub enum Shape {
 }
 
 impl BodyTree {
-    /// The unit of the actuators' forces `Γ_i`, from the joint the first leg's motor drives:
-    /// `N` for a slide, `N·m` for a hinge.
-    pub fn actuator_unit(&self) -> &'static str {
+    /// Whether the motors turn (a hinge: angles in rad, torques in N·m) rather than slide (m,
+    /// N), from the joint the first leg's motor drives.
+    pub fn actuators_turn(&self) -> bool {
         let leg = &self.legs[0];
         let (body, joint) = leg.actuated;
-        match leg.bodies[body].joints[joint].kind {
-            JointKind::Hinge { .. } => "N·m",
-            JointKind::Slide { .. } | JointKind::Ball => "N",
+        matches!(leg.bodies[body].joints[joint].kind, JointKind::Hinge { .. })
+    }
+
+    /// The unit of the actuators' forces `Γ_i`: `N·m` where the motors turn, else `N`.
+    pub fn actuator_unit(&self) -> &'static str {
+        if self.actuators_turn() {
+            "N·m"
+        } else {
+            "N"
         }
     }
 

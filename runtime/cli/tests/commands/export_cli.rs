@@ -186,10 +186,79 @@ fn the_rotary_hexapod_and_the_delta_export_and_a_six_freedom_command_refuses_the
         let urdf = c5_ok(&["export", "--robot", file, "--format", "urdf"], "");
         assert!(String::from_utf8_lossy(&urdf.stdout).contains("<constraint "));
     }
-    let track = c5(&["track", "--robot", DELTA], "");
-    let err = String::from_utf8_lossy(&track.stderr);
-    assert!(!track.status.success() && track.stdout.is_empty());
+    let excite = c5(&["excite", "--robot", DELTA], "");
+    let err = String::from_utf8_lossy(&excite.stderr);
+    assert!(!excite.status.success() && excite.stdout.is_empty());
     assert!(err.contains("its platform only translates"), "{err}");
+}
+
+/// `track` on a Delta, the controller's model the plant's: from an offset `e₀` the error
+/// decays as critically damped computed torque says, `e(t) = e₀ (1 + λt) e^(-λt)` (λ = 20/s),
+/// the centre's in task space and each motor's in joint space; its CSV in the Delta's coordinates (the motors' errors in mrad); a turning
+/// offset refused.
+#[test]
+fn track_brings_a_delta_back_onto_its_path_as_the_gains_say() {
+    for space in ["task", "joint"] {
+        let dir = scratch(&format!("track-delta-{space}"));
+        let args = ["track", "--robot", DELTA, "--space", space, "--no-view"];
+        let offset = ["--initial-offset", "0.003,-0.002,0.004,0,0,0"];
+        c5_ok(
+            &[&args[..], &offset[..], &["--out", dir.to_str().unwrap()]].concat(),
+            "",
+        );
+        let text = std::fs::read_to_string(dir.join("track.csv")).unwrap();
+        let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+        assert_eq!(
+            header[1..7],
+            [
+                "desired_xc",
+                "desired_yc",
+                "desired_zc",
+                "actual_xc",
+                "actual_yc",
+                "actual_zc"
+            ]
+        );
+        assert_eq!(
+            header[7..13],
+            ["ex_mm", "ey_mm", "ez_mm", "eq1_mrad", "eq2_mrad", "eq3_mrad"]
+        );
+        let e0 = (3.0f64.powi(2) + 2.0f64.powi(2) + 4.0f64.powi(2)).sqrt();
+        let rows = read_csv(&dir.join("track.csv"));
+        assert_eq!(rows.len(), 1001);
+        let norm = |e: &[f64]| e.iter().map(|x| x * x).sum::<f64>().sqrt();
+        for row in &rows {
+            let t = row[0];
+            let decay = (1.0 + 20.0 * t) * (-20.0 * t).exp();
+            // The law closes the loop in its space, where each error decays on its own: the
+            // centre's in task space, each motor's in joint space.
+            let (got, want): (Vec<f64>, Vec<f64>) = match space {
+                "task" => (vec![norm(&row[7..10])], vec![e0 * decay]),
+                _ => (
+                    row[10..13].to_vec(),
+                    rows[0][10..13].iter().map(|e| e * decay).collect(),
+                ),
+            };
+            for (got, want) in got.iter().zip(want) {
+                assert!(
+                    (got - want).abs() < 1e-5 + 1e-6 * want.abs(),
+                    "{space}, t = {t}: {got} against {want}"
+                );
+            }
+        }
+    }
+    let turned = c5(
+        &[
+            "track",
+            "--robot",
+            DELTA,
+            "--initial-offset",
+            "0,0,0,0.1,0,0",
+        ],
+        "",
+    );
+    assert!(!turned.status.success() && turned.stdout.is_empty());
+    assert!(String::from_utf8_lossy(&turned.stderr).contains("only translates"));
 }
 
 /// The Delta held by `simulate --torques`, in its three coordinates: from rest at home under
