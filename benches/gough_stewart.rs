@@ -124,6 +124,28 @@ fn bench(c: &mut Criterion) {
             hexapod.forward_kinematics(q, Some(near))
         })
     });
+    // The forward kinematics' parts, for its floor: the Newton step's kernel (the residual
+    // and its Jacobian), the residual's alone (the inverse kinematics), and the guard at the
+    // pose found (the legs' hold).
+    let poses: Vec<[f64; 6]> = readings.iter().map(|(_, p)| p.to_array()).collect();
+    g.bench_function("forward_kinematics_step_kernel", |b| {
+        b.iter(|| {
+            i = (i + 1) % readings.len();
+            k::forward_kinematics_step_params(black_box(&poses[i]), &readings[i].0, params)
+        })
+    });
+    g.bench_function("inverse_kinematics_kernel", |b| {
+        b.iter(|| {
+            i = (i + 1) % readings.len();
+            k::inverse_kinematics_params(black_box(&poses[i]), params)
+        })
+    });
+    g.bench_function("singularity_terms_kernel", |b| {
+        b.iter(|| {
+            i = (i + 1) % readings.len();
+            k::singularity_terms_params(black_box(&poses[i]), params)
+        })
+    });
     g.bench_function("forward_kinematics_level_start", |b| {
         b.iter(|| {
             i = (i + 1) % readings.len();
