@@ -464,11 +464,7 @@ impl<R: ParallelRobot + 'static> Mechanism for R {
         room::<6>("pose", pose)?;
         room::<6>("twist", twist)?;
         room::<6>("acceleration", acceleration)?;
-        let near = near
-            .map(|x| array("near", x).map(Pose::from_array))
-            .transpose()?;
-        let [q, qd, qdd] = joints;
-        let (q, qd, qdd) = (array("q", q)?, array("qd", qd)?, array("qdd", qdd)?);
+        let ([q, qd, qdd], near) = joint_arrays(joints, near)?;
         let state = ParallelRobot::joint_state(self, &q, &qd, &qdd, near.as_ref())?;
         put(pose, &state.pose.to_array());
         put(twist, &state.twist.to_array());
@@ -482,11 +478,7 @@ impl<R: ParallelRobot + 'static> Mechanism for R {
         gamma: &mut [f64],
     ) -> Result<(), Error> {
         room::<6>("gamma", gamma)?;
-        let near = near
-            .map(|x| array("near", x).map(Pose::from_array))
-            .transpose()?;
-        let [q, qd, qdd] = joints;
-        let (q, qd, qdd) = (array("q", q)?, array("qd", qd)?, array("qdd", qdd)?);
+        let ([q, qd, qdd], near) = joint_arrays(joints, near)?;
         let forces = ParallelRobot::inverse_dynamics_joint(self, &q, &qd, &qdd, near.as_ref())?;
         put(gamma, &forces);
         Ok(())
@@ -526,6 +518,19 @@ impl<R: ParallelRobot + 'static> Mechanism for R {
 }
 
 /// A platform state free in space from its three slices.
+/// The actuators' motion `[q, q̇, q̈]` and the pose to start from, as a platform free in space
+/// takes them.
+fn joint_arrays(
+    joints: [&[f64]; 3],
+    near: Option<&[f64]>,
+) -> Result<([[f64; 6]; 3], Option<Pose>), Error> {
+    let near = near
+        .map(|x| array("near", x).map(Pose::from_array))
+        .transpose()?;
+    let [q, qd, qdd] = joints;
+    Ok(([array("q", q)?, array("qd", qd)?, array("qdd", qdd)?], near))
+}
+
 fn spatial_state(pose: &[f64], twist: &[f64], acceleration: &[f64]) -> Result<crate::State, Error> {
     Ok(crate::State {
         pose: Pose::from_array(array("pose", pose)?),
@@ -746,6 +751,36 @@ mod tests {
                 "{}",
                 robot.mechanism()
             );
+        }
+    }
+
+    /// The joint-space inverse dynamics of the actuators' motion is the inverse dynamics of
+    /// the platform's motion that gave it, for every mechanism (the Delta through the provided
+    /// method, the others through their own).
+    #[test]
+    fn the_forces_of_the_actuators_motion_are_those_of_the_platforms() {
+        for robot in every_mechanism() {
+            let n = robot.freedom().dimension();
+            for k in 0..4 {
+                let [x, v, a] = motion(robot.as_ref(), f64::from(k));
+                let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+                robot.actuator_positions(&x, &mut q).unwrap();
+                robot.joint_velocities(&x, &v, &mut qd).unwrap();
+                robot.joint_accelerations(&x, &v, &a, &mut qdd).unwrap();
+                let (mut want, mut got) = (vec![0.0; n], vec![0.0; n]);
+                robot.inverse_dynamics(&x, &v, &a, &mut want).unwrap();
+                robot
+                    .inverse_dynamics_joint([&q, &qd, &qdd], Some(&x), &mut got)
+                    .unwrap();
+                let scale = want.iter().fold(1.0_f64, |m, g| m.max(g.abs()));
+                for (g, w) in got.iter().zip(&want) {
+                    assert!(
+                        (g - w).abs() < 1e-9 * scale,
+                        "{}: {got:?} {want:?}",
+                        robot.mechanism()
+                    );
+                }
+            }
         }
     }
 
