@@ -483,11 +483,10 @@ impl<R: ParallelRobot + 'static> Mechanism for R {
         put(gamma, &forces);
         Ok(())
     }
-    /// Four states at a time through the C5's batch kernels (feature `batch`).
     fn scene(&self, pose: &[f64]) -> Result<crate::scene::Scene, Error> {
         ParallelRobot::scene(self, &Pose::from_array(array("pose", pose)?))
     }
-
+    /// Four states at a time through the C5's batch kernels (feature `batch`).
     fn inverse_dynamics_each(&self, n: usize, motion: &Inputs<'_>, each: &mut Each<'_>) {
         let state = |k: usize| {
             let [mut x, mut v, mut a] = [[0.0; 6]; 3];
@@ -517,7 +516,6 @@ impl<R: ParallelRobot + 'static> Mechanism for R {
     }
 }
 
-/// A platform state free in space from its three slices.
 /// The actuators' motion `[q, q̇, q̈]` and the pose to start from, as a platform free in space
 /// takes them.
 fn joint_arrays(
@@ -531,6 +529,7 @@ fn joint_arrays(
     Ok(([array("q", q)?, array("qd", qd)?, array("qdd", qdd)?], near))
 }
 
+/// A platform state free in space from its three slices.
 fn spatial_state(pose: &[f64], twist: &[f64], acceleration: &[f64]) -> Result<crate::State, Error> {
     Ok(crate::State {
         pose: Pose::from_array(array("pose", pose)?),

@@ -6,7 +6,7 @@
 //! from the same kinematics the kernels compute (the C5's `Q_i1` of eq 16, a hexapod's leg
 //! vectors, a crank's angle), so a drawn ball sits where the model puts it, and a leg or joint
 //! past one of the robot file's `[limits]` is flagged here, from the same margins
-//! `check_limits` reads. A leg type draws its legs once ([`cranked`] for a motor turning a
+//! `check_limits` reads. A leg type draws its legs once (`scene/cranked.rs` for a motor turning a
 //! crank, the rotary hexapod's legs and the Delta's arms).
 
 mod c5;
