@@ -8,6 +8,7 @@ mod calibrate_cli;
 mod cli_files;
 mod conventions;
 mod derivatives_cli;
+mod doc_commands;
 mod eval_cli;
 mod export_cli;
 mod forward_track;
