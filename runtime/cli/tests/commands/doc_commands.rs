@@ -156,6 +156,9 @@ fn program_line(at: String, command: &str) -> Option<Line> {
     };
     let command = command.trim();
     let mut all = words(command);
+    if all.iter().any(|w| w == "..." || w == "…") {
+        return None;
+    }
     let args = if let Some(rest) = command.strip_prefix("c5 ") {
         words(rest)
     } else if command.starts_with("cargo run")
@@ -174,9 +177,6 @@ fn program_line(at: String, command: &str) -> Option<Line> {
         );
         return None;
     };
-    if args.iter().any(|w| w == "..." || w == "…") {
-        return None;
-    }
     let (mut args, mut stdin) = (args, echo.map(|text| Input::Text(text + "\n")));
     if let Some(k) = args.iter().position(|w| w == "<") {
         stdin = Some(Input::File(args[k + 1].clone()));
@@ -321,4 +321,5 @@ fn lines_are_read_as_a_shell_reads_them() {
     let piped = program_line("z".into(), "cargo run --release -- eval < states.jsonl").unwrap();
     assert!(matches!(piped.stdin, Some(Input::File(ref f)) if f == "states.jsonl"));
     assert!(program_line("w".into(), "cargo run -p c5-codegen-cli -- generate").is_none());
+    assert!(program_line("v".into(), "cargo run --release …").is_none());
 }
