@@ -11,7 +11,7 @@ use std::process::ExitCode;
 
 /// Writes an exciting trajectory for identification (a Fourier series about the robot's home
 /// pose, inside its limits, away from singular poses, of low condition number) as a
-/// trajectory CSV; for any mechanism.
+/// trajectory CSV; for the mechanisms `identify` serves.
 #[derive(Args)]
 pub struct ExciteArgs {
     /// Output CSV.

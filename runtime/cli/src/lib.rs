@@ -48,7 +48,7 @@ type Result<T> = std::result::Result<T, Box<dyn std::error::Error>>;
     about = "Kinematics and dynamics of parallel robots: the C5 joint parallel robot (the \
              chapter's, the default), and from a robot file (`--robot`) the Gough-Stewart \
              platform, the rotary hexapod (6-RUS) and the Delta (`eval`, `forward`, \
-             `simulate`, `audit`, `export`)"
+             `simulate`, `track`, `workspace`, `view`, `audit`, `export`)"
 )]
 struct Cli {
     #[command(subcommand)]
