@@ -12,7 +12,7 @@
 
 use crate::platform::{Freedom, Mechanism};
 use crate::{Error, Pose};
-use nalgebra::{DMatrix, SymmetricEigen};
+use nalgebra::{DMatrix, Matrix3, Matrix6, SymmetricEigen};
 
 /// What a grid sweeps: the centre at a fixed orientation, or the orientation at a fixed centre.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -122,14 +122,14 @@ pub fn dexterity(robot: &dyn Mechanism, pose: &[f64]) -> Option<(f64, f64)> {
     robot.jacobian(pose, &mut jac).ok()?;
     // The twist's angular part, where it has one, comes first.
     let angular = n - 3;
-    let scaled = DMatrix::from_fn(n, n, |i, j| match length {
-        Some(l) if j < angular => jinv[i * n + j] / l,
-        _ => jinv[i * n + j],
-    });
-    let eigen = SymmetricEigen::new(scaled.transpose() * scaled).eigenvalues;
-    let (lo, hi) = eigen
-        .iter()
-        .fold((f64::INFINITY, 0.0_f64), |(a, b), &e| (a.min(e), b.max(e)));
+    if let Some(l) = length {
+        for (k, x) in jinv.iter_mut().enumerate() {
+            if k % n < angular {
+                *x /= l;
+            }
+        }
+    }
+    let (lo, hi) = extreme_eigenvalues(&jinv, n);
     let inverse_condition = (lo.max(0.0) / hi).sqrt();
     let column = |i: usize| {
         (angular..n)
@@ -139,6 +139,28 @@ pub fn dexterity(robot: &dyn Mechanism, pose: &[f64]) -> Option<(f64, f64)> {
     let force_ratio = (0..n).map(|i| column(i).sqrt()).fold(0.0, f64::max);
     (inverse_condition.is_finite() && force_ratio.is_finite())
         .then_some((inverse_condition, force_ratio))
+}
+
+/// The smallest and the largest eigenvalue of `NᵀN`, `N` the `n×n` row-major `m`: on the stack
+/// for the freedoms' dimensions (a map solves a million), on the heap for any other.
+fn extreme_eigenvalues(m: &[f64], n: usize) -> (f64, f64) {
+    let extremes = |e: &mut dyn Iterator<Item = &f64>| {
+        e.fold((f64::INFINITY, 0.0_f64), |(a, b), &e| (a.min(e), b.max(e)))
+    };
+    match n {
+        3 => {
+            let m = Matrix3::from_row_slice(m);
+            extremes(&mut SymmetricEigen::new(m.transpose() * m).eigenvalues.iter())
+        }
+        6 => {
+            let m = Matrix6::from_row_slice(m);
+            extremes(&mut SymmetricEigen::new(m.transpose() * m).eigenvalues.iter())
+        }
+        _ => {
+            let m = DMatrix::from_row_slice(n, n, m);
+            extremes(&mut SymmetricEigen::new(m.transpose() * &m).eigenvalues.iter())
+        }
+    }
 }
 
 /// Maps the grid on every core; `progress` is called with the number of points done so far
