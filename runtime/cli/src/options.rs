@@ -1,8 +1,8 @@
 //! The options several commands share, declared once: the robot and its model.
 
 use c5_runtime::trajectory::LinearMove;
-use c5_runtime::{Description, Model, ParallelRobot, Pose};
-#[cfg(any(feature = "identify", feature = "derivatives"))]
+use c5_runtime::{Description, Model, Pose};
+#[cfg(feature = "derivatives")]
 use c5_runtime::{Robot, C5};
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::Args;
@@ -23,7 +23,7 @@ pub struct RobotArgs {
 impl RobotArgs {
     /// The C5 robot of `--robot` (or the chapter's) with the model of `--model`, for what only
     /// the C5 has (`what` names it); a file of another mechanism is refused.
-    #[cfg(any(feature = "identify", feature = "derivatives"))]
+    #[cfg(feature = "derivatives")]
     pub fn load(&self) -> crate::Result<C5> {
         load(self.robot.as_ref(), self.model)
     }
@@ -34,9 +34,10 @@ impl RobotArgs {
         load_mechanism(self.robot.as_ref(), self.model)
     }
 
-    /// The robot of `--robot` (or the chapter's), of any mechanism; a C5 with the model of
-    /// `--model`.
-    pub fn load_any(&self) -> crate::Result<Box<dyn ParallelRobot>> {
+    /// The robot of `--robot` (or the chapter's) as a platform free in space; a C5 with the
+    /// model of `--model`.
+    #[cfg(feature = "identify")]
+    pub fn load_any(&self) -> crate::Result<Box<dyn c5_runtime::ParallelRobot>> {
         load_any(self.robot.as_ref(), self.model)
     }
 }
@@ -49,7 +50,7 @@ pub fn model_parser() -> impl TypedValueParser<Value = Model> {
 
 /// The C5 robot of `path` (or the chapter's) with `model`; a file of another mechanism is
 /// refused, naming it.
-#[cfg(any(feature = "identify", feature = "derivatives"))]
+#[cfg(feature = "derivatives")]
 pub fn load(path: Option<&PathBuf>, model: Model) -> crate::Result<C5> {
     let robot = match path {
         Some(p) => match Description::from_toml_file(p)? {
@@ -68,8 +69,13 @@ pub fn load(path: Option<&PathBuf>, model: Model) -> crate::Result<C5> {
     Ok(C5::with_model(robot, model)?)
 }
 
-/// The robot of `path` (or the chapter's), of any mechanism; a C5 with `model`.
-pub fn load_any(path: Option<&PathBuf>, model: Model) -> crate::Result<Box<dyn ParallelRobot>> {
+/// The robot of `path` (or the chapter's) as a platform free in space (a Delta refused by
+/// name); a C5 with `model`.
+#[cfg(feature = "identify")]
+pub fn load_any(
+    path: Option<&PathBuf>,
+    model: Model,
+) -> crate::Result<Box<dyn c5_runtime::ParallelRobot>> {
     Ok(c5_runtime::mechanism::robot(
         read_description(path)?,
         model,
