@@ -427,9 +427,11 @@ struct CheckedIn {
     /// left out: its batch forms, kernels of 4 000 to 5 000 operations instantiated for three
     /// instruction sets, took LLVM six minutes to build, twelve times the rest of the crate.
     complete: bool,
-    /// With the folded kernels, the derivative and the identification kernels: a mechanism
-    /// new to the crate has its `*_params` kernels alone until the runtime serves the others.
+    /// With the folded kernels, the derivative kernels and the `f32` forms: a mechanism new
+    /// to the crate has its `*_params` kernels alone until the runtime serves the others.
     extended: bool,
+    /// With the identification kernels (the regressors and the base parameters).
+    identification: bool,
 }
 
 /// The mechanisms of the checked-in crate: the C5's two models with the chapter's robot, the
@@ -442,6 +444,7 @@ fn checked_in_mechanisms() -> Vec<CheckedIn> {
         c5: true,
         complete: true,
         extended: true,
+        identification: true,
     });
     c5.chain([
         CheckedIn {
@@ -449,18 +452,21 @@ fn checked_in_mechanisms() -> Vec<CheckedIn> {
             c5: false,
             complete: false,
             extended: true,
+            identification: true,
         },
         CheckedIn {
             mechanism: Mechanism::rus_hexapod(&c5_robot::RusHexapod::example()),
             c5: false,
             complete: false,
             extended: false,
+            identification: true,
         },
         CheckedIn {
             mechanism: Mechanism::delta(&c5_robot::Delta::example()),
             c5: false,
             complete: false,
             extended: false,
+            identification: false,
         },
     ])
     .collect()
@@ -531,6 +537,8 @@ struct MechanismKernels<'a> {
     kernels: Vec<(&'a Entry, &'a Compiled)>,
     derivatives: Vec<(&'a Entry, &'a Compiled)>,
     identification: Option<&'a model::regressor::Identification>,
+    /// [`CheckedIn::extended`].
+    extended: bool,
 }
 
 /// The files of the checked-in `generated/` crate, relative to it, with their contents: one
@@ -544,7 +552,6 @@ struct MechanismKernels<'a> {
 /// signatures differ from another's (a bug).
 pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
     let checked_in = checked_in_mechanisms();
-    let mechanisms: Vec<&Mechanism> = checked_in.iter().map(|c| &c.mechanism).collect();
     let per_mechanism = checked_in
         .iter()
         .map(|c| {
@@ -567,7 +574,7 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
             .iter()
             .map(|c| {
                 let m = &c.mechanism;
-                c.extended
+                c.identification
                     .then(|| scope.spawn(move || model::regressor::Identification::compile(m)))
             })
             .collect();
@@ -595,10 +602,11 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
     };
     let how = format!("by c5-codegen; regenerate with `{REGENERATE}`");
     let mut files = Vec::new();
-    let groups: Vec<MechanismKernels> = mechanisms
+    let groups: Vec<MechanismKernels> = checked_in
         .iter()
         .zip(&identification)
-        .map(|(&mechanism, identification)| {
+        .map(|(checked_in, identification)| {
+            let mechanism = &checked_in.mechanism;
             let identification = identification.as_ref();
             let (derivatives, kernels) = kernels
                 .iter()
@@ -610,6 +618,7 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
                 kernels,
                 derivatives,
                 identification,
+                extended: checked_in.extended,
             }
         })
         .collect();
@@ -652,11 +661,10 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
             .iter()
             .any(|c| c.c5 && std::ptr::eq(&c.mechanism, g.mechanism))
     });
-    let extended = |g: &MechanismKernels| g.identification.is_some();
     let sets: Vec<_> = sets.into_iter().map(set).collect();
     let standalone_f32: Vec<_> = standalone
         .iter()
-        .filter(|g| extended(g))
+        .filter(|g| g.extended)
         .map(|g| set(g))
         .collect();
     let standalone: Vec<_> = standalone.into_iter().map(set).collect();
@@ -743,7 +751,7 @@ fn mechanism_files(group: &MechanismKernels<'_>) -> Result<Vec<(PathBuf, String)
             .map(|(e, c)| (&e.spec, *c))
             .collect();
         // A mechanism new to the crate comes in `f64` alone.
-        let scalars: &[Scalar] = if group.identification.is_some() {
+        let scalars: &[Scalar] = if group.extended {
             &[Scalar::F64, Scalar::F32]
         } else {
             &[Scalar::F64]

@@ -13,7 +13,9 @@ What each side gives:
 - `q̈`: the motors' accelerations of Pinocchio's forward solve under our `Γ`;
 - the forward dynamics: Pinocchio's platform acceleration under the same torques;
 - the power balance: `Γ·q̇ = d/dt (T + U)` with `T` and `U` Pinocchio's energies of the
-  whole tree, along a moving trajectory.
+  whole tree, along a moving trajectory;
+- identification: the regressor times the standard parameters is Pinocchio's torques plus
+  friction on its motor rates.
 """
 
 from __future__ import annotations
@@ -266,3 +268,32 @@ def test_python_serves_the_rotary_hexapod_as_the_program_does(hexapod, run_c5):
     q = geometry.angles(pose) + offsets(geometry)
     found = robot.forward_kinematics(q)
     assert np.max(np.abs(found - pose)) < 1e-10
+
+
+def test_the_regressor_carries_pinocchios_torques_and_identify_finds_them(hexapod):
+    """`Y π` (Python's `Robot`, the file's masses and a friction) is Pinocchio's torques with
+    that friction on its motor rates; `identify` on forces of the base regressor gives back
+    the base parameters."""
+    c5_kernels = pytest.importorskip("c5_kernels")
+    file, _, engine, home = hexapod
+    robot = c5_kernels.Robot(robot=str(file))
+    viscous = np.array([0.02, 0.03, 0.025, 0.018, 0.04, 0.022])
+    coulomb = np.array([0.1, 0.12, 0.08, 0.11, 0.09, 0.1])
+    pi = robot.standard_values(viscous, coulomb)
+    assert len(pi) == len(robot.standard_parameters) == 76
+    worst = 0.0
+    for pose, twist, accel in states(home, 12, 31):
+        y = robot.regressor(pose, twist[:3], twist[3:], accel[:3], accel[3:])
+        qd = pinocchio_motor_rates(engine, pose, twist)
+        want = pinocchio_torques(engine, pose, twist, accel) + viscous * qd + coulomb * np.sign(qd)
+        worst = max(worst, relative(y @ pi, want))
+    assert worst < BOUND, worst
+    samples = [np.array(column) for column in zip(*states(home, 300, 32))]
+    pose, twist, accel = samples
+    motion = (pose, twist[:, :3], twist[:, 3:], accel[:, :3], accel[:, 3:])
+    beta = robot.base_values(viscous, coulomb)
+    gamma = robot.base_regressor(*motion) @ beta
+    assert np.allclose(robot.regressor(*motion) @ pi, gamma, rtol=1e-10, atol=1e-9)
+    estimate = robot.identify(*motion, gamma)
+    assert estimate["model"] == "rus-hexapod" and estimate["names"] == robot.base_parameters
+    assert np.allclose(estimate["values"], beta, rtol=1e-7, atol=1e-8)

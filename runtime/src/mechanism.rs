@@ -702,13 +702,13 @@ impl ParallelRobot for GoughStewart {
 }
 
 /// What the rotary hexapod does not serve yet, and why.
-#[cfg(any(feature = "identify", feature = "derivatives"))]
+#[cfg(feature = "derivatives")]
 fn rus_hexapod_lacks(what: &'static str) -> Error {
     Error::Unsupported {
         what,
         mechanism: c5_robot::description::RUS_HEXAPOD,
-        why: "its identification and derivative kernels are not generated yet; its \
-              kinematics and dynamics are (docs/mechanisms.md)",
+        why: "its derivative kernels are not generated yet; its kinematics, dynamics and \
+              regressors are (docs/mechanisms.md)",
     }
 }
 
@@ -737,23 +737,21 @@ impl ParallelRobot for RusHexapod {
         false
     }
     #[cfg(feature = "identify")]
+    fn standard_regressor(&self, state: &State) -> Result<nalgebra::DMatrix<f64>, Error> {
+        let y = RusHexapod::regressor(self, state)?;
+        Ok(nalgebra::DMatrix::from_fn(6, y[0].len(), |i, j| y[i][j]))
+    }
+    #[cfg(feature = "identify")]
     fn standard_parameters(&self, friction: &[Friction; 6]) -> Vec<f64> {
-        let mut out = self.robot().standard_inertial_parameters();
-        out.extend(friction.iter().map(|f| f.viscous));
-        out.extend(friction.iter().map(|f| f.coulomb));
-        out
+        self.robot().standard_parameters(friction)
     }
     #[cfg(feature = "identify")]
     fn base_parameters(&self) -> Result<BaseParameters, Error> {
-        Err(rus_hexapod_lacks("base parameters"))
+        RusHexapod::base_parameters(self)
     }
     #[cfg(feature = "identify")]
-    fn standard_regressor(&self, _state: &State) -> Result<nalgebra::DMatrix<f64>, Error> {
-        Err(rus_hexapod_lacks("regressor"))
-    }
-    #[cfg(feature = "identify")]
-    fn base_regressor_into(&self, _state: &State, _out: &mut [f64]) -> Result<(), Error> {
-        Err(rus_hexapod_lacks("regressor"))
+    fn base_regressor_into(&self, state: &State, out: &mut [f64]) -> Result<(), Error> {
+        RusHexapod::base_regressor_into(self, state, out)
     }
     #[cfg(feature = "derivatives")]
     fn inverse_dynamics_derivatives(

@@ -63,7 +63,7 @@ const BEYOND_REACH: [&str; 6] = [
 
 /// Refuses the singularity terms below their tolerance (or NaN): the U joints' sines, the
 /// cranks' reach, then (when given) the pivots of the solve.
-fn check_terms(terms: &[f64]) -> Result<(), Error> {
+pub(crate) fn check_terms(terms: &[f64]) -> Result<(), Error> {
     // The reach first: beyond it every other term is NaN.
     for k in (6..12).chain(0..6).chain(12..terms.len()) {
         let value = terms[k];

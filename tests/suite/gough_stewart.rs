@@ -2,16 +2,13 @@
 //! against the reference written another way (Newton-Euler leg by leg through the U joints'
 //! angles, `c5_runtime::reference::gough_stewart`), and against mechanics: the power balance
 //! along a turning motion, `J⁻¹ J = I`, the forward kinematics undoing the inverse, the
-//! regressor times the parameters, the derivatives against central differences; and
-//! identification: the base parameters of unseen hexapods, a hexapod recovered from its
-//! motion and forces.
+//! derivatives against central differences. Its identification is checked with the rotary
+//! hexapod's (`legged_identification`).
 
 use crate::support;
 
 use c5_generated::f64::gough_stewart as kernels;
 use c5_robot::{GoughStewart as Description, LegBody};
-use c5_runtime::identify::excite::{self, Envelope, Search};
-use c5_runtime::identify::{Friction, Identifier};
 use c5_runtime::reference::gough_stewart as reference;
 use c5_runtime::{Acceleration, GoughStewart, Pose, State, Twist};
 use rand::Rng;
@@ -21,7 +18,7 @@ use support::{flat, rel_err, rng};
 /// A hexapod unlike the example: every joint moved by centimetres, other masses and
 /// inertias, the platform's centre of mass off its origin and a full inertia, encoder offsets,
 /// tilted gravity.
-fn random_hexapod(r: &mut ChaCha8Rng) -> Description {
+pub(crate) fn random_hexapod(r: &mut ChaCha8Rng) -> Description {
     let mut robot = Description::example();
     let mut jitter = |v: &mut [f64; 3], by: f64| {
         for x in v.iter_mut() {
@@ -57,7 +54,7 @@ fn random_hexapod(r: &mut ChaCha8Rng) -> Description {
 
 /// A state about the robot's home: |α|,|β|,|γ| ≤ 0.25 rad, ±0.05 m, the motion as in
 /// `support::random_state`.
-fn random_state(r: &mut ChaCha8Rng, home: &Pose) -> State {
+pub(crate) fn random_state(r: &mut ChaCha8Rng, home: &Pose) -> State {
     let mut s = support::random_state(r);
     s.pose.alpha *= 0.5;
     s.pose.beta *= 0.5;
@@ -343,36 +340,6 @@ fn near_a_u_joint_the_forward_dynamics_is_refused_the_inverse_served() {
     }
 }
 
-/// `Y π = Γ` with `π` the description's standard parameters and friction.
-#[test]
-fn the_regressor_times_the_parameters_is_the_inverse_dynamics() {
-    let robot = random_hexapod(&mut rng(12));
-    let hexapod = GoughStewart::new(robot).unwrap();
-    let mut pi = robot.standard_inertial_parameters();
-    let friction: [(f64, f64); 6] = std::array::from_fn(|i| (2.0 + i as f64, 1.5 - 0.2 * i as f64));
-    pi.extend(friction.iter().map(|f| f.0));
-    pi.extend(friction.iter().map(|f| f.1));
-    assert_eq!(pi.len(), kernels::STANDARD_PARAMETERS.len());
-    let geometry: [f64; kernels::GEOMETRY_PARAMETERS] =
-        std::array::from_fn(|k| hexapod.parameters()[k]);
-    let mut r = rng(13);
-    for _ in 0..50 {
-        let s = random_state(&mut r, &hexapod.home());
-        let (x, v, a) = (s.pose.to_array(), s.twist.to_array(), s.accel.to_array());
-        let (y, _) = kernels::regressor(&x, &v, &a, &geometry);
-        let gamma = hexapod.inverse_dynamics(&s).unwrap();
-        let qd = hexapod.joint_velocities(&s.pose, &s.twist).unwrap();
-        for i in 0..6 {
-            let predicted: f64 = y[i].iter().zip(&pi).map(|(y, p)| y * p).sum();
-            let want = gamma[i] + friction[i].0 * qd[i] + friction[i].1 * qd[i].signum();
-            assert!(
-                (predicted - want).abs() < 1e-10 * want.abs().max(1.0),
-                "actuator {i}: {predicted} vs {want}"
-            );
-        }
-    }
-}
-
 /// The inverse dynamics' exact Jacobians against central differences of the forces.
 #[test]
 fn the_inverse_dynamics_derivatives_are_the_forces_derivatives() {
@@ -434,114 +401,6 @@ fn bad_states_are_refused() {
         e.contains("did not converge") || e.contains("singular"),
         "{e}"
     );
-}
-
-fn random_friction(r: &mut ChaCha8Rng) -> [Friction; 6] {
-    std::array::from_fn(|_| Friction {
-        viscous: r.gen_range(1.0..20.0),
-        coulomb: r.gen_range(0.5..5.0),
-    })
-}
-
-/// What the actuators of `robot` with `friction` apply at `state`: the inverse dynamics plus
-/// friction on the leg rates.
-fn measured(robot: &GoughStewart, friction: &[Friction; 6], state: &State) -> [f64; 6] {
-    let gamma = robot.inverse_dynamics(state).unwrap();
-    let qd = robot.joint_velocities(&state.pose, &state.twist).unwrap();
-    std::array::from_fn(|i| {
-        gamma[i] + friction[i].viscous * qd[i] + friction[i].coulomb * qd[i].signum()
-    })
-}
-
-/// The generated base regressor's columns were found on the example hexapod; the groupings
-/// the runtime finds for another geometry make `Y_b β = Γ` hold on hexapods it has not seen.
-#[test]
-fn the_base_parameters_of_unseen_hexapods_carry_their_forces() {
-    let mut r = rng(15);
-    for _ in 0..3 {
-        let hexapod = GoughStewart::new(random_hexapod(&mut r)).unwrap();
-        let friction = random_friction(&mut r);
-        let base = hexapod.base_parameters().unwrap();
-        assert_eq!((base.len(), base.standard_names().len()), (46, 70));
-        let beta = base.of_robot(&hexapod, &friction).unwrap();
-        for _ in 0..30 {
-            let s = random_state(&mut r, &hexapod.home());
-            let want = measured(&hexapod, &friction, &s);
-            let yb = hexapod.base_regressor(&s).unwrap();
-            for i in 0..6 {
-                let got: f64 = (0..beta.len()).map(|j| yb[(i, j)] * beta[j]).sum();
-                assert!(
-                    (got - want[i]).abs() < 1e-10 * want[i].abs().max(1.0),
-                    "actuator {i}: {got} vs {}",
-                    want[i]
-                );
-            }
-        }
-    }
-}
-
-/// A hexapod's masses, friction and inertias come back from noise-free motion and forces
-/// along an exciting trajectory designed on its geometry alone, and predict its forces on
-/// unseen states.
-#[test]
-fn identification_recovers_an_unseen_hexapod() {
-    let mut r = rng(16);
-    let robot = random_hexapod(&mut r);
-    let friction = random_friction(&mut r);
-    let truth = GoughStewart::new(robot).unwrap();
-    // The identifier knows only the geometry: the example's masses on the truth's joints.
-    let example = Description::example();
-    let mut geometry_only = robot;
-    geometry_only.platform = example.platform;
-    for (leg, nominal) in geometry_only.legs.iter_mut().zip(&example.legs) {
-        leg.cylinder = nominal.cylinder;
-        leg.rod = nominal.rod;
-    }
-    let blank = GoughStewart::new(geometry_only).unwrap();
-    let search = Search {
-        candidates: 60,
-        samples: 200,
-        ..Search::default()
-    };
-    let trajectory = excite::design(&blank, &Envelope::default(), &search)
-        .unwrap()
-        .trajectory;
-    let mut identifier = Identifier::new(&blank).unwrap();
-    let n = 2000;
-    for k in 0..n {
-        let state = trajectory.state(trajectory.period * (k as f64 + 0.5) / n as f64);
-        identifier
-            .add(&state, &measured(&truth, &friction, &state))
-            .unwrap();
-    }
-    let estimate = identifier.estimate().unwrap();
-    assert_eq!(estimate.model, "gough-stewart");
-    assert!(
-        estimate.condition_number < 1e5,
-        "{}",
-        estimate.condition_number
-    );
-    let beta = blank
-        .base_parameters()
-        .unwrap()
-        .of_robot(&truth, &friction)
-        .unwrap();
-    let largest = beta.iter().fold(0.0f64, |m, b| m.max(b.abs()));
-    for (j, (got, want)) in estimate.values.iter().zip(&beta).enumerate() {
-        assert!(
-            (got - want).abs() < 1e-7 * largest,
-            "{}: {got} vs {want}",
-            estimate.names[j]
-        );
-    }
-    for _ in 0..50 {
-        let state = random_state(&mut r, &truth.home());
-        let want = measured(&truth, &friction, &state);
-        let got = estimate.forces(&blank, &state).unwrap();
-        for i in 0..6 {
-            assert!((got[i] - want[i]).abs() < 1e-8 * want[i].abs().max(1.0));
-        }
-    }
 }
 
 /// The forward dynamics' exact Jacobians through the runtime and the mechanism-generic trait,

@@ -21,6 +21,7 @@ mod gough_stewart;
 mod identification;
 mod identification_from_encoders;
 mod joint_space;
+mod legged_identification;
 mod limits;
 mod ops_budget;
 mod plan;

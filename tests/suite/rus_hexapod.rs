@@ -15,7 +15,7 @@ use support::{rel_err, rng};
 
 /// The example with every joint moved by millimetres, other masses, tilted gravity, encoder
 /// offsets: a robot no generated file folds in.
-fn jittered(r: &mut ChaCha8Rng) -> Description {
+pub(crate) fn jittered(r: &mut ChaCha8Rng) -> Description {
     let mut robot = Description::example();
     robot.gravity = [0.3, -0.2, -9.8];
     robot.platform.centre_of_mass = [0.004, -0.006, 0.03];
@@ -43,7 +43,7 @@ fn robots() -> Vec<RusHexapod> {
 
 /// A state near home: turns up to 0.1 rad, 15 mm, rates and accelerations as
 /// `support::random_state`'s.
-fn near_home(r: &mut ChaCha8Rng, home: &Pose) -> State {
+pub(crate) fn near_home(r: &mut ChaCha8Rng, home: &Pose) -> State {
     let mut s = support::random_state(r);
     s.pose.alpha *= 0.2;
     s.pose.beta *= 0.2;

@@ -397,10 +397,7 @@ impl GoughStewart {
     /// ones ([`GoughStewart::standard_inertial_parameters`]), then the viscous and the Coulomb
     /// coefficients, six each.
     pub fn standard_parameters(&self, friction: &[crate::Friction; 6]) -> Vec<f64> {
-        let mut out = self.standard_inertial_parameters();
-        out.extend(friction.iter().map(|f| f.viscous));
-        out.extend(friction.iter().map(|f| f.coulomb));
-        out
+        crate::standard::with_friction(self.standard_inertial_parameters(), friction)
     }
 
     /// The parameter vector of the `*_params` kernels: gravity; per leg `A_i`, `a_i`

@@ -121,6 +121,13 @@ impl RusHexapod {
         out
     }
 
+    /// The standard parameters `π` of `Γ = Y π` with the motors' `friction`: the inertial
+    /// ones ([`RusHexapod::standard_inertial_parameters`]), then the viscous (N·m·s/rad) and
+    /// the Coulomb (N·m) coefficients, six each.
+    pub fn standard_parameters(&self, friction: &[crate::Friction; 6]) -> Vec<f64> {
+        crate::standard::with_friction(self.standard_inertial_parameters(), friction)
+    }
+
     /// The parameter vector of the `*_params` kernels: gravity, each leg's geometry
     /// ([`RusLeg::kernel_geometry`]), then the standard inertial parameters.
     pub fn kernel_parameters(&self) -> Vec<f64> {

@@ -49,6 +49,14 @@ pub fn standard_parameter_names() -> Vec<String> {
     out
 }
 
+/// `inertial` (a mechanism's standard inertial parameters) followed by the actuators'
+/// viscous, then Coulomb, friction coefficients: the standard parameters of identification.
+pub fn with_friction(mut inertial: Vec<f64>, friction: &[Friction]) -> Vec<f64> {
+    inertial.extend(friction.iter().map(|f| f.viscous));
+    inertial.extend(friction.iter().map(|f| f.coulomb));
+    inertial
+}
+
 impl Robot<f64> {
     /// The robot's standard parameters with the actuators' `friction`. A rod's first moment is
     /// given as zero and its inertia as its constant part: neither enters the forces.

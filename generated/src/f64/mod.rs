@@ -62,6 +62,8 @@ pub mod gough_stewart {
 pub mod rus_hexapod {
     use crate::trig::{atan, cos, sin, sin_cos, sqrt};
     include!("rus_hexapod.rs");
+    #[cfg(feature = "regressor")]
+    include!("rus_hexapod_regressor.rs");
 }
 /// The delta kernels, `f64`: The Delta: three motors on the base turn upper arms; a parallelogram of two rods from each arm's tip keeps the platform parallel to the base, so it only translates; every quantity derived from the arm's closed forms by exact differentiation.
 #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]

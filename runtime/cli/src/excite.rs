@@ -1,7 +1,7 @@
 //! `c5 excite`: an exciting trajectory for identification.
 
 use crate::columns;
-use crate::options::{section9_from, RobotArgs};
+use crate::options::{scaled_note, section9_for, RobotArgs};
 use crate::Result;
 use c5_runtime::identify::excite::{self, Envelope, Search};
 use clap::Args;
@@ -69,7 +69,7 @@ pub fn run(o: &ExciteArgs) -> Result<ExitCode> {
     }
     w.flush()?;
     let written = excite::condition_number(robot, states)?;
-    let motion = section9_from(robot.home());
+    let (motion, scaled) = section9_for(robot.as_mechanism())?;
     let section9 =
         excite::condition_number(robot, (0..=1000).map(|k| motion.state(k as f64 / 1000.0)))?;
     let mut stdout = std::io::stdout().lock();
@@ -88,7 +88,8 @@ pub fn run(o: &ExciteArgs) -> Result<ExitCode> {
     )?;
     writeln!(
         stdout,
-        "Section 9's straight move: {}",
+        "Section 9's straight move{}: {}",
+        scaled_note(scaled),
         if section9.is_finite() {
             format!("{section9:.3e}")
         } else {

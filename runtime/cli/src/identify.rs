@@ -16,9 +16,9 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// Identifies the base parameters (inertial and friction) from measured motion and forces:
-/// weighted least squares, streaming, for the C5 and the Gough-Stewart platform (the rotary
-/// hexapod's and the Delta's regressors are not generated yet). The robot file gives the geometry
-/// and gravity; its masses play no part.
+/// weighted least squares, streaming, for the C5 and the six-legged mechanisms (the Delta's
+/// regressors are not generated yet). The robot file gives the geometry and gravity; its
+/// masses play no part.
 #[derive(Args)]
 pub struct IdentifyArgs {
     /// Samples: a trajectory CSV (t, alpha, beta, gamma, xc, yc, zc, optionally the twist

@@ -98,20 +98,62 @@ fn read_description(path: Option<&PathBuf>) -> crate::Result<Description> {
     })
 }
 
-/// Section 9's move of the platform's centre from `robot`'s home, at Section 9's orientation
-/// where the platform turns: the chapter's default trajectory.
-pub fn section9_for(robot: &dyn c5_runtime::Mechanism) -> crate::Result<LinearMove> {
+/// The chapter's default trajectory on `robot`: Section 9's move of the platform's centre from
+/// its home, at Section 9's orientation where the platform turns. Where the robot cannot take
+/// all of that orientation along the move (the rotary hexapod loses its hold on the platform
+/// at 20° of yaw), the three angles are scaled down by tenths until every state of the move
+/// is served; the scale is returned with the move where it is below 1.
+///
+/// # Errors
+/// A state of the move the robot refuses even level.
+pub fn section9_for(robot: &dyn c5_runtime::Mechanism) -> crate::Result<(LinearMove, Option<f64>)> {
     let rest = vec![0.0; robot.freedom().dimension()];
     let home = robot.state_of([&robot.home(), &rest, &rest])?.pose;
-    let mut motion = section9_from(home);
-    if !robot.freedom().turns() {
-        let level = Pose {
-            center: motion.start.center,
-            ..Pose::default()
-        };
-        motion.start = level;
+    let full = section9_from(home);
+    let scales = if robot.freedom().turns() {
+        (0..=10).rev().map(|k| k as f64 / 10.0).collect()
+    } else {
+        vec![0.0]
+    };
+    let mut refused = None;
+    for scale in scales {
+        let mut motion = full;
+        motion.start.alpha *= scale;
+        motion.start.beta *= scale;
+        motion.start.gamma *= scale;
+        match served(robot, &motion) {
+            Ok(()) if scale < 1.0 && robot.freedom().turns() => return Ok((motion, Some(scale))),
+            Ok(()) => return Ok((motion, None)),
+            Err(e) => refused = Some(e),
+        }
     }
-    Ok(motion)
+    Err(format!(
+        "Section 9's move from this robot's home is out of its reach: {}",
+        refused.map_or_else(String::new, |e| e.to_string())
+    )
+    .into())
+}
+
+/// What the reports add after the default move's name when [`section9_for`] scaled its
+/// orientation by `scale`.
+pub fn scaled_note(scale: Option<f64>) -> String {
+    scale.map_or_else(String::new, |s| {
+        format!(
+            ", its orientation scaled to {:.0} % (this robot cannot take all of it)",
+            100.0 * s
+        )
+    })
+}
+
+/// Whether `robot` serves every state of `motion`, sampled every millisecond.
+fn served(robot: &dyn c5_runtime::Mechanism, motion: &LinearMove) -> crate::Result<()> {
+    let samples = (motion.duration * 1000.0).round().max(1.0) as usize;
+    for k in 0..=samples {
+        let state = motion.state(motion.duration * k as f64 / samples as f64);
+        let [pose, twist, accel] = robot.coordinates_of(&state)?;
+        robot.evaluate(&pose, &twist, &accel)?;
+    }
+    Ok(())
 }
 
 /// Section 9's move (the chapter's default trajectory), from `home`: the C5's home is the

@@ -105,10 +105,12 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
     }
     let robot = args.robot.load_mechanism()?;
     let (out, rate) = (&args.out, args.rate);
+    let mut scaled = None;
     let states = match &args.trajectory {
         Some(path) => trajectory_csv::read(path)?,
         None => {
-            let motion = options::section9_for(robot.as_ref())?;
+            let motion;
+            (motion, scaled) = options::section9_for(robot.as_ref())?;
             let times = options::sample_times(motion.duration, rate, "samples")?;
             times.into_iter().map(|t| (t, motion.state(t))).collect()
         }
@@ -176,8 +178,9 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
         Some(p) => writeln!(report, "{}: {} samples", p.display(), study.samples.len())?,
         None => writeln!(
             report,
-            "Section 9: {} samples at {rate} Hz",
-            study.samples.len()
+            "Section 9: {} samples at {rate} Hz{}",
+            study.samples.len(),
+            options::scaled_note(scaled)
         )?,
     }
     writeln!(report, "wrote {}", csv.display())?;

@@ -130,6 +130,7 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
         )
         .into());
     }
+    let mut scaled = None;
     let (desired, times) = match &o.trajectory {
         Some(path) => {
             let samples = trajectory_csv::read(path)?;
@@ -137,7 +138,8 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
             (Desired::Samples(samples), times)
         }
         None => {
-            let motion = options::section9_for(controller.as_ref())?;
+            let motion;
+            (motion, scaled) = options::section9_for(controller.as_ref())?;
             let times = options::sample_times(motion.duration, o.rate, "steps")?;
             (Desired::Motion(Box::new(move |t| motion.state(t))), times)
         }
@@ -245,6 +247,13 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
             ", ideal (the exact state)"
         }
     )?;
+    if scaled.is_some() {
+        writeln!(
+            report,
+            "the desired motion: Section 9's{}",
+            options::scaled_note(scaled)
+        )?;
+    }
     writeln!(report, "wrote {}", csv.display())?;
     for p in plots {
         writeln!(report, "wrote {}", o.out.join(p).display())?;

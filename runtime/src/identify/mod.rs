@@ -14,8 +14,8 @@ pub mod encoder_log;
 mod estimator;
 pub mod excite;
 pub mod filter;
-mod gough_stewart;
 mod grouping;
+mod legged;
 
 pub use estimator::{Estimate, Identifier, IdentifyError};
 

@@ -230,3 +230,33 @@ fn bad_trajectory_files_name_the_line() {
         assert!(!out_dir.exists());
     }
 }
+
+/// The default move on a robot that cannot take all of Section 9's turn (the rotary hexapod's
+/// example loses its hold at 0.65 s): its angles scaled down by tenths until every state is
+/// served, said so; the C5 takes the whole turn.
+#[test]
+fn the_default_move_fits_the_robots_reach_and_says_so() {
+    let dir = scratch("default-move");
+    let rus = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/rus-hexapod.toml");
+    let deg = std::f64::consts::PI / 180.0;
+    for (robot, scale) in [(Some(rus), 0.8), (None, 1.0)] {
+        let out = dir.join(format!("{scale}"));
+        let mut args = vec!["simulate", "--out", out.to_str().unwrap(), "--rate", "200"];
+        args.extend(robot.map(|r| ["--robot", r]).into_iter().flatten());
+        let report = String::from_utf8_lossy(&c5_ok(&args, "").stdout).to_string();
+        assert_eq!(
+            report.contains("its orientation scaled to 80 % (this robot cannot take all of it)"),
+            scale < 1.0,
+            "{report}"
+        );
+        let mut rows = csv::Reader::from_path(out.join("section9.csv")).unwrap();
+        let first = rows.records().next().unwrap().unwrap();
+        let angles: Vec<f64> = (1..4).map(|k| first[k].parse().unwrap()).collect();
+        for (got, full) in angles.iter().zip([10.0, 15.0, 20.0]) {
+            assert!(
+                (got - scale * full * deg).abs() < 1e-12,
+                "{got} vs {scale} × {full}°"
+            );
+        }
+    }
+}

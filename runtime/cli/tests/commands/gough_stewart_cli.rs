@@ -282,89 +282,18 @@ fn simulate_track_workspace_and_audit_serve_the_hexapod() {
 /// `eval --derivatives` and `forward --derivatives` serve its exact Jacobians.
 #[test]
 fn excite_identify_and_derivatives_serve_the_hexapod() {
-    let trajectory = scratch("excite.csv");
-    let excited = support::c5_ok(
-        &[
-            "excite",
-            "--robot",
-            EXAMPLE,
-            "--out",
-            trajectory.to_str().unwrap(),
-            "--candidates",
-            "40",
-            "--rate",
-            "100",
-        ],
-        "",
-    );
-    assert!(String::from_utf8_lossy(&excited.stdout).contains("gough-stewart model"));
     let robot = hexapod();
-    let friction: [(f64, f64); 6] = std::array::from_fn(|i| (4.0 + i as f64, 1.0 + 0.2 * i as f64));
-    let measured = |s: &State| -> [f64; 6] {
-        let gamma = robot.inverse_dynamics(s).unwrap();
-        let qd = robot.joint_velocities(&s.pose, &s.twist).unwrap();
-        std::array::from_fn(|i| gamma[i] + friction[i].0 * qd[i] + friction[i].1 * qd[i].signum())
-    };
-    let data = scratch("measured.csv");
-    let mut reader = csv::Reader::from_path(&trajectory).unwrap();
-    let mut writer = csv::Writer::from_path(&data).unwrap();
-    let mut header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
-    header.extend((1..=6).map(|i| format!("gamma{i}")));
-    writer.write_record(&header).unwrap();
-    for record in reader.records() {
-        let v: Vec<f64> = record.unwrap().iter().map(|f| f.parse().unwrap()).collect();
-        let state = State {
-            pose: Pose::from_array(std::array::from_fn(|k| v[1 + k])),
-            twist: c5_runtime::Twist::from_array(std::array::from_fn(|k| v[7 + k])),
-            accel: c5_runtime::Acceleration::from_array(std::array::from_fn(|k| v[13 + k])),
-        };
-        let mut row: Vec<String> = v.iter().map(|x| format!("{x:e}")).collect();
-        row.extend(measured(&state).iter().map(|x| format!("{x:e}")));
-        writer.write_record(&row).unwrap();
-    }
-    writer.flush().unwrap();
-    let params = scratch("identified.json");
-    let identified = support::c5_ok(
-        &[
-            "identify",
-            "--robot",
-            EXAMPLE,
-            "--data",
-            data.to_str().unwrap(),
-            "--out",
-            params.to_str().unwrap(),
-        ],
-        "",
-    );
-    assert!(String::from_utf8_lossy(&identified.stdout).contains("46 base parameters"));
-    let input: String = (0..5)
-        .map(|k| {
-            let s = state(k);
+    let states: Vec<State> = (0..5).map(state).collect();
+    super::identify_cli::identification_round_trip(EXAMPLE, &robot, &states, 46);
+    let input: String = states
+        .iter()
+        .map(|s| {
             json!({"pose": s.pose.to_array(), "omega": s.twist.omega, "velocity": s.twist.velocity,
                    "omega_dot": s.accel.omega_dot, "acceleration": s.accel.linear})
             .to_string()
                 + "\n"
         })
         .collect();
-    let predicted = lines(&support::c5_ok(
-        &[
-            "eval",
-            "--robot",
-            EXAMPLE,
-            "--base-parameters",
-            params.to_str().unwrap(),
-        ],
-        &input,
-    ));
-    for (k, line) in predicted.iter().enumerate() {
-        let want = measured(&state(k));
-        for (got, want) in array(&line["gamma"]).iter().zip(want) {
-            assert!(
-                (got - want).abs() < 1e-6 * want.abs().max(1.0),
-                "{got} vs {want}"
-            );
-        }
-    }
     let with_jacobians = lines(&support::c5_ok(
         &["eval", "--robot", EXAMPLE, "--derivatives"],
         &input,

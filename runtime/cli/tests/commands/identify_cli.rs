@@ -4,7 +4,7 @@
 use crate::support;
 
 use c5_runtime::identify::Friction;
-use c5_runtime::{Robot, State, C5};
+use c5_runtime::{Acceleration, ParallelRobot, Pose, Robot, RusHexapod, State, Twist, C5};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use support::{c5, c5_ok};
@@ -412,4 +412,156 @@ fn an_encoder_log_of_an_unseen_robot_identifies_it_through_the_command_line() {
     println!("forces RMS {force_rms:.1} N: error RMS {rms:.3} N, largest {worst:.3} N");
     assert!(rms < 0.15 && worst < 0.5, "RMS {rms}, largest {worst}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `excite` on the robot file `file`, the forces of `robot` (its description) with friction
+/// "measured" along that trajectory, `identify` from them, then `eval --base-parameters` on
+/// `states`: the identified parameters (`base` of them) predict the measured forces.
+pub(crate) fn identification_round_trip(
+    file: &str,
+    robot: &dyn ParallelRobot,
+    states: &[State],
+    base: usize,
+) {
+    let dir = scratch(&format!("round-trip-{}", robot.mechanism()));
+    let trajectory = dir.join("excite.csv");
+    let excited = c5_ok(
+        &[
+            "excite",
+            "--robot",
+            file,
+            "--out",
+            trajectory.to_str().unwrap(),
+            "--candidates",
+            "40",
+            "--rate",
+            "100",
+        ],
+        "",
+    );
+    let report = String::from_utf8_lossy(&excited.stdout);
+    assert!(
+        report.contains(&format!("{} model", robot.mechanism())),
+        "{report}"
+    );
+    let friction: [Friction; 6] = std::array::from_fn(|i| Friction {
+        viscous: 4.0 + i as f64,
+        coulomb: 1.0 + 0.2 * i as f64,
+    });
+    let measured = |s: &State| -> [f64; 6] {
+        let gamma = robot.inverse_dynamics(s).unwrap();
+        let qd = robot.joint_velocities(&s.pose, &s.twist).unwrap();
+        std::array::from_fn(|i| {
+            gamma[i] + friction[i].viscous * qd[i] + friction[i].coulomb * qd[i].signum()
+        })
+    };
+    let data = dir.join("measured.csv");
+    let mut reader = csv::Reader::from_path(&trajectory).unwrap();
+    let mut writer = csv::Writer::from_path(&data).unwrap();
+    let mut header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
+    header.extend((1..=6).map(|i| format!("gamma{i}")));
+    writer.write_record(&header).unwrap();
+    for record in reader.records() {
+        let v: Vec<f64> = record.unwrap().iter().map(|f| f.parse().unwrap()).collect();
+        let state = State {
+            pose: Pose::from_array(std::array::from_fn(|k| v[1 + k])),
+            twist: Twist::from_array(std::array::from_fn(|k| v[7 + k])),
+            accel: Acceleration::from_array(std::array::from_fn(|k| v[13 + k])),
+        };
+        let mut row: Vec<String> = v.iter().map(|x| format!("{x:e}")).collect();
+        row.extend(measured(&state).iter().map(|x| format!("{x:e}")));
+        writer.write_record(&row).unwrap();
+    }
+    writer.flush().unwrap();
+    let params = dir.join("identified.json");
+    let identified = c5_ok(
+        &[
+            "identify",
+            "--robot",
+            file,
+            "--data",
+            data.to_str().unwrap(),
+            "--out",
+            params.to_str().unwrap(),
+        ],
+        "",
+    );
+    let report = String::from_utf8_lossy(&identified.stdout);
+    assert!(
+        report.contains(&format!("{base} base parameters")),
+        "{report}"
+    );
+    let input: String = states
+        .iter()
+        .map(|s| {
+            serde_json::json!({"pose": s.pose.to_array(), "omega": s.twist.omega,
+                "velocity": s.twist.velocity, "omega_dot": s.accel.omega_dot,
+                "acceleration": s.accel.linear})
+            .to_string()
+                + "\n"
+        })
+        .collect();
+    let predicted = c5_ok(
+        &[
+            "eval",
+            "--robot",
+            file,
+            "--base-parameters",
+            params.to_str().unwrap(),
+        ],
+        &input,
+    );
+    let lines = String::from_utf8_lossy(&predicted.stdout);
+    assert_eq!(lines.lines().count(), states.len(), "{lines}");
+    for (line, state) in lines.lines().zip(states) {
+        let line: Value = serde_json::from_str(line).unwrap();
+        let gamma: Vec<f64> = line["gamma"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|g| g.as_f64().unwrap())
+            .collect();
+        for (got, want) in gamma.iter().zip(measured(state)) {
+            assert!(
+                (got - want).abs() < 1e-6 * want.abs().max(1.0),
+                "{}: {got} vs {want}",
+                robot.mechanism()
+            );
+        }
+    }
+}
+
+/// The rotary hexapod's file through `excite`, `identify` and `eval --base-parameters`.
+#[test]
+fn excite_and_identify_serve_the_rotary_hexapod() {
+    let file = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/rus-hexapod.toml");
+    let text = std::fs::read_to_string(file).unwrap();
+    let robot = RusHexapod::new(c5_robot::RusHexapod::from_toml(&text, file).unwrap()).unwrap();
+    let home = robot.home().to_array();
+    let states: Vec<State> = (0..5)
+        .map(|k| {
+            let s = |a: f64| (a * (k as f64 + 1.0)).sin();
+            let offset = [
+                0.08 * s(1.1),
+                -0.06 * s(0.7),
+                0.08 * s(1.9),
+                0.02 * s(2.3),
+                -0.02 * s(0.3),
+                0.02 * s(1.3),
+            ];
+            State {
+                pose: Pose::from_array(std::array::from_fn(|j| home[j] + offset[j])),
+                twist: Twist::from_array([
+                    0.3 * s(0.5),
+                    -0.2,
+                    0.1 * s(1.7),
+                    0.05,
+                    0.02 * s(0.9),
+                    -0.04,
+                ]),
+                accel: Acceleration::from_array([1.0 * s(0.4), 0.5, -0.8, 0.3 * s(1.2), -0.2, 0.4]),
+            }
+        })
+        .collect();
+    identification_round_trip(file, &robot, &states, 46);
 }
