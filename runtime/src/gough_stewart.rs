@@ -12,7 +12,7 @@
 
 use crate::dense;
 use crate::error::Error;
-use crate::legged::{self, check_conditioned, newton};
+use crate::legged::{self, check_conditioned, newton, Linearised};
 use crate::limits::Limit;
 use crate::{check_finite, finite, finite_matrix, Acceleration, Evaluation, Pose, State, Twist};
 use c5_generated::f64::gough_stewart as kernels;
@@ -328,10 +328,14 @@ impl GoughStewart {
     /// Newton's method on `q(X) = q` from `x` ([`newton`]).
     fn newton(&self, q: &[f64; 6], x: [f64; 6]) -> Result<[f64; 6], Error> {
         newton(
-            |x| {
+            |x, out| {
                 let (r, jac, guard) = kernels::forward_kinematics_step_params(x, q, &self.params);
                 check_terms(&guard)?;
-                Ok((finite("residual", r)?, jac))
+                *out = Linearised {
+                    residual: finite("residual", r)?,
+                    jacobian: jac,
+                };
+                Ok(())
             },
             x,
         )

@@ -40,34 +40,48 @@ pub(crate) trait Legged {
     fn inertia_at(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error>;
 }
 
-/// Newton's method from `x` on the residual and Jacobian `step` gives at a pose (a generated
+/// What a step of the forward kinematics gives at a pose: the actuators' residual and its
+/// Jacobian.
+#[derive(Clone, Copy, Default)]
+pub(crate) struct Linearised {
+    pub residual: [f64; 6],
+    pub jacobian: [[f64; 6]; 6],
+}
+
+/// Newton's method from `x` on the residual and Jacobian `step` writes at a pose (a generated
 /// forward-kinematics step), each step halved until it reduces the largest residual, to
-/// [`FORWARD_TOLERANCE`] within [`FORWARD_ITERATIONS`] steps.
+/// [`FORWARD_TOLERANCE`] within [`FORWARD_ITERATIONS`] steps. The step writes into one of two
+/// buffers, the current pose's or the trial's, so nothing of its 42 numbers is copied.
 ///
 /// # Errors
 /// The step's errors; [`Error::NotConverged`] when the steps stop reducing the residual;
 /// [`Error::Singularity`] when the Jacobian is singular.
 pub(crate) fn newton(
-    step: impl Fn(&[f64; 6]) -> Result<([f64; 6], [[f64; 6]; 6]), Error>,
+    step: impl Fn(&[f64; 6], &mut Linearised) -> Result<(), Error>,
     mut x: [f64; 6],
 ) -> Result<[f64; 6], Error> {
-    let (mut residual, mut jac) = step(&x)?;
+    let mut buffers = [Linearised::default(); 2];
+    let mut current = 0;
+    step(&x, &mut buffers[current])?;
     for _ in 0..FORWARD_ITERATIONS {
-        let size = dense::max_abs(&residual);
+        let at = &buffers[current];
+        let size = dense::max_abs(&at.residual);
         if size <= FORWARD_TOLERANCE {
             return Ok(x);
         }
-        let delta = dense::solve(&jac, &residual, 1e-13).ok_or(Error::Singularity {
-            term: "forward kinematics' Jacobian",
-            value: 0.0,
-            bound: 1e-13,
-        })?;
+        let delta =
+            dense::solve_normal(&at.jacobian, &at.residual, 1e-13).ok_or(Error::Singularity {
+                term: "forward kinematics' Jacobian",
+                value: 0.0,
+                bound: 1e-13,
+            })?;
         let mut scale = 1.0;
         loop {
             let trial: [f64; 6] = core::array::from_fn(|k| x[k] + scale * delta[k]);
-            match step(&trial) {
-                Ok((r, j)) if dense::max_abs(&r) < size => {
-                    (x, residual, jac) = (trial, r, j);
+            let next = &mut buffers[1 - current];
+            match step(&trial, next) {
+                Ok(()) if dense::max_abs(&next.residual) < size => {
+                    (x, current) = (trial, 1 - current);
                     break;
                 }
                 _ if scale > 1e-3 => scale *= 0.5,
@@ -82,7 +96,7 @@ pub(crate) fn newton(
     }
     Err(Error::NotConverged {
         what: "forward kinematics",
-        residual: dense::max_abs(&residual),
+        residual: dense::max_abs(&buffers[current].residual),
     })
 }
 

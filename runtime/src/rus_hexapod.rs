@@ -13,7 +13,7 @@
 
 use crate::error::Error;
 use crate::gough_stewart::{FORWARD_U_JOINT_TOLERANCE, HOLD_TOLERANCE, U_JOINT_TOLERANCE};
-use crate::legged::{self, check_conditioned, newton};
+use crate::legged::{self, check_conditioned, newton, Linearised};
 use crate::{check_finite, finite, finite_matrix, Acceleration, Evaluation, Pose, State, Twist};
 use c5_generated::f64::rus_hexapod as kernels;
 pub use c5_robot::RusHexapod as Description;
@@ -180,10 +180,14 @@ impl RusHexapod {
             None => self.home,
         };
         let x = newton(
-            |x| {
+            |x, out| {
                 let (r, jac, guard) = kernels::forward_kinematics_step_params(x, q, &self.params);
                 check_terms(&guard)?;
-                Ok((finite("residual", r)?, jac))
+                *out = Linearised {
+                    residual: finite("residual", r)?,
+                    jacobian: jac,
+                };
+                Ok(())
             },
             start,
         )?;
