@@ -51,7 +51,7 @@ pub(crate) struct Linearised {
 /// Newton's method from `x` on the residual and Jacobian `step` writes at a pose (a generated
 /// forward-kinematics step), each step halved until it reduces the largest residual, to
 /// [`FORWARD_TOLERANCE`] within [`FORWARD_ITERATIONS`] steps. The step writes into one of two
-/// buffers, the current pose's or the trial's, so nothing of its 42 numbers is copied.
+/// buffers, the current pose's or the trial's, so the loop moves none of its 42 numbers.
 ///
 /// # Errors
 /// The step's errors; [`Error::NotConverged`] when the steps stop reducing the residual;
