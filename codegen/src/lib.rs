@@ -466,7 +466,7 @@ fn checked_in_mechanisms() -> Vec<CheckedIn> {
             c5: false,
             complete: false,
             extended: false,
-            identification: false,
+            identification: true,
         },
     ])
     .collect()

@@ -288,15 +288,6 @@ fn motion6(r: &[Rows<'_>], k: usize) -> State {
     }
 }
 
-/// The actuators' friction from optional viscous and Coulomb coefficients.
-fn friction(viscous: Option<[f64; 6]>, coulomb: Option<[f64; 6]>) -> [Friction; 6] {
-    let (viscous, coulomb) = (viscous.unwrap_or_default(), coulomb.unwrap_or_default());
-    std::array::from_fn(|i| Friction {
-        viscous: viscous[i],
-        coulomb: coulomb[i],
-    })
-}
-
 /// A numpy vector.
 fn vector(py: Python<'_>, values: Vec<f64>) -> Bound<'_, PyArrayDyn<f64>> {
     PyArray1::from_vec(py, values).to_dyn().clone()
@@ -531,16 +522,49 @@ impl C5 {
     /// The robot's base parameters.
     fn base(&self) -> PyResult<&BaseParameters> {
         self.base
-            .get_or_init(|| match self.inner.spatial() {
-                Some(robot) => robot.base_parameters().map_err(|e| e.to_string()),
-                None => Err(format!(
-                    "base parameters are not served for the {} yet: its platform only \
-                     translates",
-                    self.inner.mechanism()
-                )),
-            })
+            .get_or_init(|| self.inner.base_parameters().map_err(|e| e.to_string()))
             .as_ref()
             .map_err(|e| PyValueError::new_err(e.clone()))
+    }
+
+    /// Row `k`'s motion in the platform's coordinates `[pose, twist, acceleration]`, from the
+    /// rows [`C5::motion_spec`] read, handed to `f`.
+    fn with_motion<T>(&self, r: &[Rows<'_>], k: usize, f: impl FnOnce([&[f64]; 3]) -> T) -> T {
+        let n = self.dimension();
+        let [mut x, mut v, mut a] = [[0.0; 6]; 3];
+        gather(&r[..1], k, &mut x[..n]);
+        gather(&r[self.twist_rows()], k, &mut v[..n]);
+        gather(&r[self.acceleration_rows()], k, &mut a[..n]);
+        f([&x[..n], &v[..n], &a[..n]])
+    }
+
+    /// The standard parameters with the actuators' friction, one coefficient of each kind per
+    /// actuator (zero where omitted).
+    fn standard_values_of(
+        &self,
+        viscous: Option<Vec<f64>>,
+        coulomb: Option<Vec<f64>>,
+    ) -> PyResult<Vec<f64>> {
+        let n = self.dimension();
+        let [viscous, coulomb] = [("viscous", viscous), ("coulomb", coulomb)].map(|(name, v)| {
+            let v = v.unwrap_or_else(|| vec![0.0; n]);
+            match v.len() == n {
+                true => Ok(v),
+                false => Err(PyValueError::new_err(format!(
+                    "`{name}` takes one coefficient per actuator ({n}), got {}",
+                    v.len()
+                ))),
+            }
+        });
+        let (viscous, coulomb) = (viscous?, coulomb?);
+        let friction: Vec<Friction> = viscous
+            .iter()
+            .zip(&coulomb)
+            .map(|(&viscous, &coulomb)| Friction { viscous, coulomb })
+            .collect();
+        self.inner
+            .standard_parameters(&friction)
+            .map_err(|e| PyValueError::new_err(e.to_string()))
     }
 
     /// Inputs to rows: each given argument checked against the call's shape, each omitted one
@@ -1125,8 +1149,8 @@ impl C5 {
         Ok(d)
     }
 
-    /// The base regressor `Y_b` of `Γ = Y_b β` (with friction): `(6, n_b)` or `(N, 6, n_b)`,
-    /// the columns those of `base_parameters`.
+    /// The base regressor `Y_b` of `Γ = Y_b β` (with friction): `(n, n_b)` or `(N, n, n_b)`
+    /// for `n` actuators, the columns those of `base_parameters`.
     #[pyo3(signature = (pose, omega = None, velocity = None, omega_dot = None, acceleration = None, *, errors = "raise"))]
     #[allow(clippy::too_many_arguments)]
     fn base_regressor<'py>(
@@ -1139,20 +1163,20 @@ impl C5 {
         acceleration: Option<Array<'py>>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mode = on_error(errors)?;
-        let c5 = self.spatial("base regressor")?;
-        let (r, batch) = Self::read(&motion_args(
-            &pose,
-            [&omega, &velocity, &omega_dot, &acceleration],
-        ))?;
+        let (mode, n) = (on_error(errors)?, self.dimension());
+        let spec = self.motion_spec(&pose, [&omega, &velocity, &omega_dot, &acceleration])?;
+        let (r, batch) = Self::read(&spec)?;
         let nb = self.base()?.len();
-        each_row(py, batch, mode, &[&[6, nb]], |k, out| {
-            c5.base_regressor_into(&motion6(&r, k), out.slot(0, k))
+        each_row(py, batch, mode, &[&[n, nb]], |k, out| {
+            self.with_motion(&r, k, |motion| {
+                self.inner.base_regressor_into(motion, out.slot(0, k))
+            })
         })
     }
 
-    /// The regressor `Y` of `Γ = Y π` (with friction): `(6, n)` or `(N, 6, n)`, the columns
-    /// the standard parameters of `standard_parameters` (142 for the C5, 70 for a hexapod).
+    /// The regressor `Y` of `Γ = Y π` (with friction): `(n, p)` or `(N, n, p)` for `n`
+    /// actuators, the columns the standard parameters of `standard_parameters` (142 for the
+    /// C5, 70 for a hexapod, 76 for a rotary hexapod, 34 for a Delta).
     #[pyo3(signature = (pose, omega = None, velocity = None, omega_dot = None, acceleration = None, *, errors = "raise"))]
     #[allow(clippy::too_many_arguments)]
     fn regressor<'py>(
@@ -1165,15 +1189,12 @@ impl C5 {
         acceleration: Option<Array<'py>>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mode = on_error(errors)?;
-        let c5 = self.spatial("regressor")?;
-        let (r, batch) = Self::read(&motion_args(
-            &pose,
-            [&omega, &velocity, &omega_dot, &acceleration],
-        ))?;
-        let n = self.base()?.standard_names().len();
-        each_row(py, batch, mode, &[&[6, n]], |k, out| {
-            let y = c5.standard_regressor(&motion6(&r, k))?;
+        let (mode, n) = (on_error(errors)?, self.dimension());
+        let spec = self.motion_spec(&pose, [&omega, &velocity, &omega_dot, &acceleration])?;
+        let (r, batch) = Self::read(&spec)?;
+        let p = self.base()?.standard_names().len();
+        each_row(py, batch, mode, &[&[n, p]], |k, out| {
+            let y = self.with_motion(&r, k, |motion| self.inner.standard_regressor(motion))?;
             // nalgebra stores columns; the array is row-major.
             for (slot, value) in out.slot(0, k).iter_mut().zip(y.transpose().iter()) {
                 *slot = *value;
@@ -1185,24 +1206,23 @@ impl C5 {
     /// The standard parameters' names, the columns of `regressor`: per body (the C5's
     /// `platform`, `rod1`, `joint1`, …; a hexapod's `platform`, `cylinder1`, `rod1`, …) mass,
     /// first moment `m c` and inertia (`platform_mass`, `platform_mx`, …, `platform_izz`),
-    /// then the actuators' friction `fv1`…`fv6`, `fc1`…`fc6`.
+    /// then the actuators' friction `fv1`…, `fc1`….
     #[getter]
     fn standard_parameters(&self) -> PyResult<Vec<String>> {
         Ok(self.base()?.standard_names().to_vec())
     }
 
     /// This robot's standard parameters `π`, in the order of `standard_parameters`, with the
-    /// actuators' viscous (N·s/m) and Coulomb (N) friction, six each, zero if omitted.
+    /// actuators' viscous (N·s/m, or N·m·s/rad for a motor that turns) and Coulomb (N, or N·m)
+    /// friction, one per actuator each, zero if omitted.
     #[pyo3(signature = (viscous = None, coulomb = None))]
     fn standard_values<'py>(
         &self,
         py: Python<'py>,
-        viscous: Option<[f64; 6]>,
-        coulomb: Option<[f64; 6]>,
+        viscous: Option<Vec<f64>>,
+        coulomb: Option<Vec<f64>>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-        let friction = friction(viscous, coulomb);
-        let robot = self.spatial("standard parameters")?;
-        Ok(vector(py, robot.standard_parameters(&friction)))
+        Ok(vector(py, self.standard_values_of(viscous, coulomb)?))
     }
 
     /// This robot's base parameters `β = B π`, in the order of `base_parameters`, with the
@@ -1211,13 +1231,13 @@ impl C5 {
     fn base_values<'py>(
         &self,
         py: Python<'py>,
-        viscous: Option<[f64; 6]>,
-        coulomb: Option<[f64; 6]>,
+        viscous: Option<Vec<f64>>,
+        coulomb: Option<Vec<f64>>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-        let friction = friction(viscous, coulomb);
+        let standard = self.standard_values_of(viscous, coulomb)?;
         let beta = self
             .base()?
-            .of_robot(self.spatial("base values")?, &friction)
+            .from_standard(&standard)
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
         Ok(vector(py, beta))
     }
@@ -1228,37 +1248,35 @@ impl C5 {
         Ok(self.base()?.names().to_vec())
     }
 
-    /// Identifies the base parameters (inertial and friction) from measured states and forces
-    /// by weighted least squares: a dict with `names`, `values`, `std_dev`,
-    /// `condition_number`, `residual_rms`, `samples`.
-    #[pyo3(signature = (pose, omega, velocity, omega_dot, acceleration, gamma))]
+    /// Identifies the base parameters (inertial and friction) from measured states (the
+    /// platform's motion, as `inverse_dynamics` takes it) and forces `gamma` (`(N, n)`) by
+    /// weighted least squares: a dict with `names`, `values`, `std_dev`, `condition_number`,
+    /// `residual_rms`, `samples`.
+    #[pyo3(signature = (pose, omega = None, velocity = None, omega_dot = None, acceleration = None, gamma = None))]
     #[allow(clippy::too_many_arguments)]
     fn identify<'py>(
         &self,
         py: Python<'py>,
         pose: Array<'py>,
-        omega: Array<'py>,
-        velocity: Array<'py>,
-        omega_dot: Array<'py>,
-        acceleration: Array<'py>,
-        gamma: Array<'py>,
+        omega: Option<Array<'py>>,
+        velocity: Option<Array<'py>>,
+        omega_dot: Option<Array<'py>>,
+        acceleration: Option<Array<'py>>,
+        gamma: Option<Array<'py>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let c5 = self.spatial("identification")?;
-        let (r, batch) = Self::read(&[
-            ("pose", 6, Some(&pose)),
-            ("omega", 3, Some(&omega)),
-            ("velocity", 3, Some(&velocity)),
-            ("omega_dot", 3, Some(&omega_dot)),
-            ("acceleration", 3, Some(&acceleration)),
-            ("gamma", 6, Some(&gamma)),
-        ])?;
+        let gamma =
+            gamma.ok_or_else(|| PyValueError::new_err("identify needs the forces `gamma`"))?;
+        let mut spec = self.motion_spec(&pose, [&omega, &velocity, &omega_dot, &acceleration])?;
+        spec.push(("gamma", self.dimension(), Some(&gamma)));
+        let (r, batch) = Self::read(&spec)?;
+        let forces = spec.len() - 1;
         let estimate = py.detach(|| -> Result<_, String> {
-            let mut identifier = Identifier::new(c5).map_err(|e| e.to_string())?;
+            let mut identifier = Identifier::new(self.inner.as_ref()).map_err(|e| e.to_string())?;
             for k in 0..batch.n {
-                let state = motion6(&r, k);
-                identifier
-                    .add(&state, &r[5].row(k))
-                    .map_err(|e| format!("{e} (row {k})"))?;
+                self.with_motion(&r, k, |motion| {
+                    identifier.add_motion(motion, r[forces].slice(k))
+                })
+                .map_err(|e| format!("{e} (row {k})"))?;
             }
             identifier.estimate().map_err(|e| e.to_string())
         });

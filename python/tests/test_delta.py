@@ -18,7 +18,8 @@ import pytest
 from conftest import ROOT
 from rus_geometry import RusRobot
 from test_export import export, toml_text, unseen
-from test_rus_hexapod import BOUND, eval_differences, offsets, pinocchio_torques, relative
+from test_rus_hexapod import (BOUND, eval_differences, offsets, pinocchio_motor_rates,
+                              pinocchio_torques, relative)
 
 pin = pytest.importorskip("pinocchio")
 from exported import PinocchioExport  # noqa: E402  (needs pinocchio)
@@ -201,13 +202,46 @@ def test_the_python_robot_serves_the_delta_as_pinocchio_moves_it(delta):
         robot.inverse_dynamics(home, omega=np.zeros(3))
     with pytest.raises(ValueError, match=r"shape \(3,\)"):
         robot.inverse_dynamics(np.zeros(6))
-    for refused in (lambda: robot.task_bias(home), lambda: robot.regressor(home),
+    for refused in (lambda: robot.task_bias(home),
                     lambda: robot.inverse_dynamics_joint(np.zeros(3))):
         with pytest.raises(ValueError, match="only translates"):
             refused()
     far = home + [0.0, 0.0, -1.5]
     values, bad = robot.inverse_dynamics(np.array([home, far]), errors="nan")
     assert list(bad) == [False, True] and np.all(np.isnan(values[1]))
+
+
+def test_the_regressor_carries_pinocchios_torques_and_identify_finds_them(delta):
+    """`Y π` (Python's `Robot`, the file's masses and a friction) is Pinocchio's torques with
+    that friction on its motor rates, in the Delta's three coordinates; `identify` on forces
+    of the base regressor gives back the base parameters."""
+    c5_kernels = pytest.importorskip("c5_kernels")
+    file, _, engine, home = delta
+    robot = c5_kernels.Robot(robot=str(file))
+    viscous, coulomb = np.array([0.02, 0.03, 0.025]), np.array([0.1, 0.12, 0.08])
+    pi = robot.standard_values(viscous, coulomb)
+    assert len(pi) == len(robot.standard_parameters) == 34
+    worst = 0.0
+    for position, velocity, accel in states(home, 12, 33):
+        y = robot.regressor(position, velocity=velocity, acceleration=accel)
+        assert y.shape == (3, 34)
+        qd = pinocchio_motor_rates(engine, position, velocity)
+        want = (pinocchio_torques(engine, position, velocity, accel) + viscous * qd
+                + coulomb * np.sign(qd))
+        worst = max(worst, relative(y @ pi, want))
+    print(f"Y π against Pinocchio: {worst:.1e} relative")
+    assert worst < BOUND, worst
+    position, velocity, accel = (np.array(c) for c in zip(*states(home, 300, 34)))
+    beta = robot.base_values(viscous, coulomb)
+    gamma = robot.base_regressor(position, velocity=velocity, acceleration=accel) @ beta
+    assert np.allclose(robot.regressor(position, velocity=velocity, acceleration=accel) @ pi,
+                       gamma, rtol=1e-10, atol=1e-9)
+    estimate = robot.identify(position, velocity=velocity, acceleration=accel, gamma=gamma)
+    assert estimate["model"] == "delta" and estimate["names"] == robot.base_parameters
+    assert len(estimate["residual_rms"]) == 3
+    assert np.allclose(estimate["values"], beta, rtol=1e-7, atol=1e-8)
+    with pytest.raises(ValueError, match="one coefficient per actuator"):
+        robot.standard_values(np.zeros(6))
 
 
 def test_simulate_runs_section_9s_move_on_the_delta_with_pinocchios_torques(delta, c5_program,

@@ -64,7 +64,7 @@ const FORWARD_TERMS: [&str; 2] = [
 
 /// Refuses the singularity terms below their tolerance (or NaN): the reach first (beyond it
 /// every other term is NaN), then the U joints, then (when given) the hold.
-fn check_terms(terms: &[f64]) -> Result<(), Error> {
+pub(crate) fn check_terms(terms: &[f64]) -> Result<(), Error> {
     for k in (3..6).chain(0..3).chain(6..terms.len()) {
         let value = terms[k];
         let bound = match k {
@@ -98,6 +98,14 @@ pub struct Translation {
     pub velocity: [f64; 3],
     /// `a_C` (m/s²).
     pub acceleration: [f64; 3],
+}
+
+/// `state`'s position, velocity and acceleration, each checked finite.
+pub(crate) fn checked_motion(state: &Translation) -> Result<[[f64; 3]; 3], Error> {
+    check_finite("position", &state.position)?;
+    check_finite("velocity", &state.velocity)?;
+    check_finite("acceleration", &state.acceleration)?;
+    Ok([state.position, state.velocity, state.acceleration])
 }
 
 /// The kinematic and dynamic quantities of one state, arm order.
@@ -348,9 +356,7 @@ impl Delta {
     }
 
     fn check_state(&self, state: &Translation) -> Result<(), Error> {
-        check_finite("position", &state.position)?;
-        check_finite("velocity", &state.velocity)?;
-        check_finite("acceleration", &state.acceleration)
+        checked_motion(state).map(drop)
     }
 }
 
@@ -377,6 +383,36 @@ impl Mechanism for Delta {
     }
     fn spatial(&self) -> Option<&dyn ParallelRobot> {
         None
+    }
+    fn clone_mechanism(&self) -> alloc::boxed::Box<dyn Mechanism> {
+        alloc::boxed::Box::new(self.clone())
+    }
+    fn singularity_clearance(&self, pose: &[f64]) -> Result<f64, Error> {
+        let terms = self.singularity_terms(&array("pose", pose)?)?;
+        Ok(terms.into_iter().fold(f64::INFINITY, f64::min))
+    }
+    #[cfg(feature = "identify")]
+    fn standard_parameters(
+        &self,
+        friction: &[crate::identify::Friction],
+    ) -> Result<Vec<f64>, Error> {
+        let friction = crate::platform::exactly("friction", friction)?;
+        Ok(Delta::standard_parameters(self, &friction))
+    }
+    #[cfg(feature = "identify")]
+    fn base_parameters(&self) -> Result<crate::identify::BaseParameters, Error> {
+        Delta::base_parameters(self)
+    }
+    #[cfg(feature = "identify")]
+    fn standard_regressor(&self, motion: [&[f64]; 3]) -> Result<nalgebra::DMatrix<f64>, Error> {
+        let [x, v, a] = motion;
+        let y = Delta::regressor(self, &translation(x, v, a)?)?;
+        Ok(nalgebra::DMatrix::from_fn(3, y[0].len(), |i, j| y[i][j]))
+    }
+    #[cfg(feature = "identify")]
+    fn base_regressor_into(&self, motion: [&[f64]; 3], out: &mut [f64]) -> Result<(), Error> {
+        let [x, v, a] = motion;
+        Delta::base_regressor_into(self, &translation(x, v, a)?, out)
     }
     fn scene(&self, pose: &[f64]) -> Result<crate::scene::Scene, Error> {
         Delta::scene(self, &array("pose", pose)?)

@@ -16,6 +16,8 @@
 //! terms, the regressors, the derivatives).
 
 use crate::dynamics::{rk4_step_of, PlantState};
+#[cfg(feature = "identify")]
+use crate::identify::{BaseParameters, Friction};
 use crate::mechanism::ParallelRobot;
 use crate::{Acceleration, Error, GoughStewart, Model, Pose, RusHexapod, Twist, C5};
 use alloc::boxed::Box;
@@ -166,6 +168,43 @@ pub trait Mechanism: core::fmt::Debug + Send + Sync {
     /// # Errors
     /// As [`Mechanism::actuator_positions`].
     fn scene(&self, pose: &[f64]) -> Result<crate::scene::Scene, Error>;
+    /// A boxed copy.
+    fn clone_mechanism(&self) -> Box<dyn Mechanism>;
+    /// The smallest of the singularity terms at `pose`, each about 1 far from its singularity
+    /// and 0 at it (negative beyond reach).
+    ///
+    /// # Errors
+    /// A pose of the wrong length or not finite.
+    fn singularity_clearance(&self, pose: &[f64]) -> Result<f64, Error>;
+
+    /// The standard parameters `π` of this robot with `friction`, one per actuator: the
+    /// inertial ones, then viscous and Coulomb friction per actuator.
+    ///
+    /// # Errors
+    /// [`Error::WrongLength`] if `friction` is not one per actuator.
+    #[cfg(feature = "identify")]
+    fn standard_parameters(&self, friction: &[Friction]) -> Result<Vec<f64>, Error>;
+    /// The base parameters of this robot's base regressor.
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`] where this geometry has base parameters the generated
+    /// regressor lacks.
+    #[cfg(feature = "identify")]
+    fn base_parameters(&self) -> Result<BaseParameters, Error>;
+    /// `Y` at the state `[pose, twist, acceleration]` (`n × p`, a row per actuator, a column
+    /// per standard parameter): `Γ = Y π` with friction.
+    ///
+    /// # Errors
+    /// Wrong lengths, non-finite inputs, a singular pose or a non-finite result.
+    #[cfg(feature = "identify")]
+    fn standard_regressor(&self, motion: [&[f64]; 3]) -> Result<nalgebra::DMatrix<f64>, Error>;
+    /// `Y_b` at the state `[pose, twist, acceleration]` into `out`, row-major (`n × n_b`):
+    /// `Γ = Y_b β` with friction. For streaming without allocation.
+    ///
+    /// # Errors
+    /// Wrong lengths, non-finite inputs, a singular pose, a non-finite result.
+    #[cfg(feature = "identify")]
+    fn base_regressor_into(&self, motion: [&[f64]; 3], out: &mut [f64]) -> Result<(), Error>;
 
     /// `q`, `q̇`, `q̈`, `Γ`, `J⁻¹` and `J` of one state.
     ///
@@ -287,6 +326,12 @@ pub trait Mechanism: core::fmt::Debug + Send + Sync {
     }
 }
 
+impl Clone for Box<dyn Mechanism> {
+    fn clone(&self) -> Self {
+        self.clone_mechanism()
+    }
+}
+
 /// What [`Mechanism::evaluate`] gives of one state, in the platform's dimension `n`.
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -334,6 +379,14 @@ pub(crate) fn array<const N: usize>(
     input: &'static str,
     values: &[f64],
 ) -> Result<[f64; N], Error> {
+    exactly(input, values)
+}
+
+/// `values` as an array of `N` of any kind, refused by name when its length is not `N`.
+pub(crate) fn exactly<T: Copy, const N: usize>(
+    input: &'static str,
+    values: &[T],
+) -> Result<[T; N], Error> {
     values.try_into().map_err(|_| Error::WrongLength {
         input,
         expected: N,
@@ -352,7 +405,7 @@ pub(crate) fn put(out: &mut [f64], values: &[f64]) {
 }
 
 /// Every mechanism whose platform is free in space, through its [`ParallelRobot`].
-impl<R: ParallelRobot + 'static> Mechanism for R {
+impl<R: ParallelRobot + Clone + 'static> Mechanism for R {
     fn mechanism(&self) -> &'static str {
         ParallelRobot::mechanism(self)
     }
@@ -373,6 +426,33 @@ impl<R: ParallelRobot + 'static> Mechanism for R {
     }
     fn spatial(&self) -> Option<&dyn ParallelRobot> {
         Some(self)
+    }
+    fn clone_mechanism(&self) -> Box<dyn Mechanism> {
+        Box::new(self.clone())
+    }
+    fn singularity_clearance(&self, pose: &[f64]) -> Result<f64, Error> {
+        ParallelRobot::singularity_clearance(self, &Pose::from_array(array("pose", pose)?))
+    }
+    #[cfg(feature = "identify")]
+    fn standard_parameters(&self, friction: &[Friction]) -> Result<Vec<f64>, Error> {
+        Ok(ParallelRobot::standard_parameters(
+            self,
+            &exactly("friction", friction)?,
+        ))
+    }
+    #[cfg(feature = "identify")]
+    fn base_parameters(&self) -> Result<BaseParameters, Error> {
+        ParallelRobot::base_parameters(self)
+    }
+    #[cfg(feature = "identify")]
+    fn standard_regressor(&self, motion: [&[f64]; 3]) -> Result<nalgebra::DMatrix<f64>, Error> {
+        let [x, v, a] = motion;
+        ParallelRobot::standard_regressor(self, &spatial_state(x, v, a)?)
+    }
+    #[cfg(feature = "identify")]
+    fn base_regressor_into(&self, motion: [&[f64]; 3], out: &mut [f64]) -> Result<(), Error> {
+        let [x, v, a] = motion;
+        ParallelRobot::base_regressor_into(self, &spatial_state(x, v, a)?, out)
     }
     fn actuator_positions(&self, pose: &[f64], q: &mut [f64]) -> Result<(), Error> {
         room::<6>("q", q)?;

@@ -17,7 +17,7 @@ use support::{rel_err, rng};
 
 /// The example with every joint moved by millimetres, other masses, tilted gravity, encoder
 /// offsets: a robot no generated file folds in.
-fn jittered(r: &mut ChaCha8Rng) -> Description {
+pub(crate) fn jittered(r: &mut ChaCha8Rng) -> Description {
     let mut robot = Description::example();
     robot.gravity = [0.3, -0.2, -9.8];
     robot.platform.mass = 0.9;

@@ -187,7 +187,7 @@ fn the_reported_standard_deviations_match_the_spread_over_noisy_draws() {
     for _ in 0..draws {
         let mut identifier = Identifier::new(&c5).unwrap();
         for (state, gamma) in states.iter().zip(&clean) {
-            let noisy = std::array::from_fn(|i| gamma[i] + sigma[i] * gaussian(&mut r));
+            let noisy: [f64; 6] = std::array::from_fn(|i| gamma[i] + sigma[i] * gaussian(&mut r));
             identifier.add(state, &noisy).unwrap();
         }
         let e = identifier.estimate().unwrap();

@@ -178,6 +178,13 @@ impl Delta {
         out
     }
 
+    /// The standard parameters `π` of `Γ = Y π` with the motors' `friction`: the inertial
+    /// ones ([`Delta::standard_inertial_parameters`]), then the viscous (N·m·s/rad) and the
+    /// Coulomb (N·m) coefficients, three each.
+    pub fn standard_parameters(&self, friction: &[crate::Friction; 3]) -> Vec<f64> {
+        crate::standard::with_friction(self.standard_inertial_parameters(), friction)
+    }
+
     /// The parameter vector of the `*_params` kernels: gravity, each arm's geometry
     /// ([`RusLeg::kernel_geometry`] and the separation), then the standard inertial
     /// parameters.

@@ -26,7 +26,7 @@ use super::geometry::{Motion, Posed};
 use super::kernels::{Build, Cite, Context, Decl, Guard, Input, Kernel, Output, Reads};
 use super::legged::{self, rus::Rus, Leg, LegState};
 use super::rus_hexapod::{crank_body, rod_body};
-use super::{Mechanics, Quantity, Structure, INTERNAL_INPUTS};
+use super::{Freedom, Mechanics, Quantity, Structure, INTERNAL_INPUTS};
 use crate::dag::{Expr, Graph};
 use crate::kernel::Shape;
 use crate::linalg::{Mat, Mat3, Mat6, Vec3, Vec6, Vector};
@@ -163,11 +163,16 @@ fn task_force<'g>(
         .fold(platform, |sum, arm| sum + arm.wrench.bottom())
 }
 
-/// `Γ` from `J⁻ᵀ Γ = W`.
-fn inverse_dynamics<'g>(cx: &Context<'_, 'g>, at: &Translation<'g>) -> Vec3<'g> {
-    let states = arm_states(cx.geometry, Some(cx.dynamics), at);
-    let w = task_force(cx.dynamics, at, &states);
-    inverse_jacobian(&states).transpose().solve(&w)
+/// `Γ` from `J⁻ᵀ Γ = W` for the bodies' `dynamics`, with `J⁻¹`.
+fn inverse_dynamics<'g>(
+    geometry: &[Expr<'g>],
+    dynamics: &Dynamics<'g>,
+    at: &Translation<'g>,
+) -> (Vec3<'g>, Mat3<'g>) {
+    let states = arm_states(geometry, Some(dynamics), at);
+    let w = task_force(dynamics, at, &states);
+    let jinv = inverse_jacobian(&states);
+    (jinv.transpose().solve(&w), jinv)
 }
 
 /// `a_C = M_x⁻¹ (J⁻ᵀ Γ − h)`: `W` is affine in `a_C`, so `M_x` is its exact derivative and
@@ -450,7 +455,7 @@ const KERNELS: &[Decl] = &[
         |cx| {
             let at = Translation::of(cx);
             vec![
-                inverse_dynamics(cx, &at).to_vec(),
+                inverse_dynamics(cx.geometry, cx.dynamics, &at).0.to_vec(),
                 solve_terms(cx.geometry, &at.position),
             ]
         },
@@ -505,8 +510,8 @@ impl Structure for DeltaMechanics {
         GEOMETRY_PARAMETERS
     }
 
-    fn actuators(&self) -> usize {
-        3
+    fn freedom(&self) -> Freedom {
+        Freedom::Translations
     }
 
     /// The Delta has no six-freedom pose: its kernels read [`Input::Position`].
@@ -551,6 +556,11 @@ impl Structure for DeltaMechanics {
     fn guard<'g>(&self, _guard: Guard, posed: &Posed<'g>) -> Vec<Expr<'g>> {
         no_six_freedoms(posed.c[0].graph(), "a guard of the shared table");
         Vec::new()
+    }
+
+    /// The singularity terms at the kernel's position, and the arms' hold.
+    fn guard_at<'g>(&self, _guard: Guard, cx: &Context<'_, 'g>) -> Vec<Expr<'g>> {
+        solve_terms(cx.geometry, &Translation::of(cx).position)
     }
 
     fn guard_output(&self, _guard: Guard) -> (Output, &'static str) {
@@ -669,6 +679,17 @@ impl Mechanics for DeltaMechanics {
         joint_accelerations(posed: &Posed<'g>, _motion: &Motion<'g>) -> Vec6 from posed;
         leg_wrench(_dynamics: &Dynamics<'g>, posed: &Posed<'g>, _motion: &Motion<'g>) -> Vec6 from posed;
         inverse_dynamics(_dynamics: &Dynamics<'g>, posed: &Posed<'g>, _motion: &Motion<'g>) -> Vec6 from posed;
+    }
+
+    /// `Γ` from `J⁻ᵀ Γ = W` and the motors' rates `J⁻¹ v_C`, at the kernel's translation.
+    fn regressor_terms<'g>(
+        &self,
+        cx: &Context<'_, 'g>,
+        dynamics: &Dynamics<'g>,
+    ) -> (Vec<Expr<'g>>, Vec<Expr<'g>>) {
+        let at = Translation::of(cx);
+        let (gamma, jinv) = inverse_dynamics(cx.geometry, dynamics, &at);
+        (gamma.to_vec(), (jinv * at.velocity).to_vec())
     }
 
     fn extra_kernels(&self) -> &'static [Decl] {

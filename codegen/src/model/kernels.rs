@@ -508,7 +508,7 @@ impl<'c, 'g> Context<'c, 'g> {
 
     /// The singularity terms of `guard`.
     fn guard(&self, guard: Guard) -> Option<Vec<Expr<'g>>> {
-        (guard != Guard::Never).then(|| self.mech.structure().guard(guard, &self.posed()))
+        (guard != Guard::Never).then(|| self.mech.structure().guard_at(guard, self))
     }
 }
 

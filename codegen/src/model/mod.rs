@@ -30,6 +30,7 @@ pub mod regressor;
 pub mod rus_hexapod;
 mod selfcheck;
 
+pub use c5_robot::tree::Freedom;
 pub use c5_robot::Model;
 pub use kernels::{Decl, Entry, Guard, Kernel, KernelId, Output, ParameterSet};
 pub use selfcheck::self_check;
@@ -109,6 +110,22 @@ pub trait Mechanics: Sync {
         motion: &Motion<'g>,
     ) -> Vec6<'g> {
         self.inverse_dynamics(dynamics, posed, motion)
+    }
+    /// What the regressor differentiates at the kernel's state, for the bodies' `dynamics`:
+    /// the actuator forces `Γ` ([`Mechanics::inverse_dynamics_by_body`]) and the actuators'
+    /// rates, the friction's columns. A mechanism whose platform does not take the six-freedom
+    /// pose reads its own inputs.
+    fn regressor_terms<'g>(
+        &self,
+        cx: &kernels::Context<'_, 'g>,
+        dynamics: &Dynamics<'g>,
+    ) -> (Vec<Expr<'g>>, Vec<Expr<'g>>) {
+        let (posed, motion) = (cx.posed(), cx.motion());
+        (
+            self.inverse_dynamics_by_body(dynamics, &posed, &motion)
+                .to_vec(),
+            self.joint_velocities(&posed, &motion.twist).to_vec(),
+        )
     }
     /// `W = J⁻ᵀ Γ = F_{N+1} + Φ`, the wrench at `C` (base frame) the actuators put on the
     /// platform.
@@ -233,6 +250,11 @@ pub trait Structure: Sync {
     ) -> Dynamics<'g>;
     /// The singularity terms a kernel of `guard` returns as its last result.
     fn guard<'g>(&self, guard: Guard, posed: &Posed<'g>) -> Vec<Expr<'g>>;
+    /// [`Structure::guard`] at the kernel's state: at its pose, unless the mechanism's
+    /// platform takes another.
+    fn guard_at<'g>(&self, guard: Guard, cx: &kernels::Context<'_, 'g>) -> Vec<Expr<'g>> {
+        self.guard(guard, &cx.posed())
+    }
     /// That result's declaration, and the sentence the kernel's documentation adds about it.
     fn guard_output(&self, guard: Guard) -> (Output, &'static str);
     /// What the documentation of every kernel says of the conventions (the actuators' order).
@@ -247,10 +269,14 @@ pub trait Structure: Sync {
     fn home(&self, parameters: &[f64]) -> [f64; 6];
     /// A length of the workspace: seeded states stay within a fraction of it of [`Structure::home`].
     fn reach(&self, parameters: &[f64]) -> f64;
+    /// How the platform moves: free in space, or translating only.
+    fn freedom(&self) -> Freedom {
+        Freedom::Free
+    }
     /// How many actuators (and platform freedoms) the mechanism has: the length of its
     /// actuator inputs.
     fn actuators(&self) -> usize {
-        6
+        self.freedom().dimension()
     }
     /// The largest turn (rad) about each axis from [`Structure::home`] of seeded states.
     fn turn_reach(&self) -> f64 {

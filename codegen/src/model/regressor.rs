@@ -8,68 +8,68 @@
 //! stacked over seeded states, QR with column pivoting, the columns of `R` past its numerical
 //! rank rebuilt from the others; the base regressor keeps only the independent columns.
 
-use super::geometry::{Motion, Posed};
 use super::kernels::{
     self, Build, Cite, Columns, Context, Decl, Entry, Guard, Input, Kernel, Output, Reads,
 };
-use super::{Mechanics, Mechanism, Quantity, INTERNAL_INPUTS};
+use super::{Freedom, Mechanics, Mechanism, Quantity, Structure, INTERNAL_INPUTS};
 use crate::dag::Expr;
 use crate::error::Error;
 use crate::kernel::{Compiled, Shape};
-use crate::linalg::Vec3;
 use crate::numeric::{pivoted_qr, Lcg};
 
 /// The names of a mechanism's standard parameters, the columns of its regressor: the inertial
 /// ones of its structure, then viscous (`fv1`..) and Coulomb (`fc1`..) friction per actuator.
 pub fn standard_parameter_names(mech: &dyn Mechanics) -> Vec<String> {
-    let mut names = mech.structure().standard_inertial_names();
-    names.extend((1..=6).map(|i| format!("fv{i}")));
-    names.extend((1..=6).map(|i| format!("fc{i}")));
+    let structure = mech.structure();
+    let mut names = structure.standard_inertial_names();
+    let n = structure.actuators();
+    names.extend((1..=n).map(|i| format!("fv{i}")));
+    names.extend((1..=n).map(|i| format!("fc{i}")));
     names
 }
 
-/// The columns of `Y` (each the six actuators' entries) for the model's inverse dynamics, with
-/// the bodies' standard parameters as unknowns and gravity as given.
-pub fn regressor<'g>(
-    mech: &dyn Mechanics,
-    gravity: Vec3<'g>,
-    posed: &Posed<'g>,
-    motion: &Motion<'g>,
-) -> Vec<[Expr<'g>; 6]> {
-    let g = posed.c[0].graph();
+/// The columns of `Y` (each the actuators' entries) for the model's inverse dynamics at the
+/// kernel's state, with the bodies' standard parameters as unknowns and gravity as given.
+pub fn regressor<'g>(cx: &Context<'_, 'g>) -> Vec<Vec<Expr<'g>>> {
+    let (mech, g) = (cx.mech, cx.graph());
     let structure = mech.structure();
     let unknown: Vec<Expr<'g>> = (0..structure.standard_inertial_names().len())
         .map(|j| g.input(INTERNAL_INPUTS + j as u32))
         .collect();
-    let dynamics = structure.dynamics_from_standard(g, gravity, &unknown);
-    let gamma = mech
-        .inverse_dynamics_by_body(&dynamics, posed, motion)
-        .to_vec();
-    let mut columns: Vec<[Expr<'g>; 6]> = unknown
-        .iter()
-        .map(|&p| {
-            let d = g.derivatives(&gamma, p);
-            std::array::from_fn(|i| d[i])
-        })
-        .collect();
+    let dynamics = structure.dynamics_from_standard(g, cx.dynamics.gravity, &unknown);
+    let (gamma, qd) = mech.regressor_terms(cx, &dynamics);
+    let mut columns: Vec<Vec<Expr<'g>>> =
+        unknown.iter().map(|&p| g.derivatives(&gamma, p)).collect();
     // Friction: Γ_f,i = Fv_i Q̇_i1 + Fc_i sign(Q̇_i1).
-    let qd = mech.joint_velocities(posed, &motion.twist);
     let zero = g.zero();
-    columns.extend((0..6).map(|k| std::array::from_fn(|i| if i == k { qd[k] } else { zero })));
-    columns
-        .extend((0..6).map(|k| std::array::from_fn(|i| if i == k { qd[k].sign() } else { zero })));
+    let only = |k: usize, value: Expr<'g>| {
+        (0..qd.len())
+            .map(|i| if i == k { value } else { zero })
+            .collect::<Vec<_>>()
+    };
+    columns.extend((0..qd.len()).map(|k| only(k, qd[k])));
+    columns.extend((0..qd.len()).map(|k| only(k, qd[k].sign())));
     columns
 }
 
 /// Rows of the regressor at the kernel's state, all the columns or those of `columns`, for
 /// [`Build::Regressor`](super::kernels::Build::Regressor).
 pub(crate) fn rows<'g>(cx: &Context<'_, 'g>, columns: Option<&[usize]>) -> Vec<Expr<'g>> {
-    let posed = cx.posed();
-    let all = regressor(cx.mech, cx.dynamics.gravity, &posed, &cx.motion());
+    let all = regressor(cx);
     let chosen: Vec<usize> = columns.map_or_else(|| (0..all.len()).collect(), <[usize]>::to_vec);
-    (0..6)
+    let actuators = cx.mech.structure().actuators();
+    (0..actuators)
         .flat_map(|r| chosen.iter().map(|&c| all[c][r]).collect::<Vec<_>>())
         .collect()
+}
+
+/// The inputs of a platform state of `freedom`: the pose, twist and acceleration of one free
+/// in space; the position, velocity and acceleration of one that only translates.
+fn state_inputs(freedom: Freedom) -> &'static [Input] {
+    match freedom {
+        Freedom::Free => &[Input::Pose, Input::Twist, Input::Accel],
+        Freedom::Translations => &[Input::Position, Input::Velocity, Input::LinearAccel],
+    }
 }
 
 /// The regressor's output; its width is the mechanism's number of standard (or base)
@@ -119,9 +119,24 @@ pub const KERNELS: [Decl; 2] = [
 
 /// The full regressor kernel of `mechanism`: `Γ = Y π` with `π` the standard parameters.
 pub fn regressor_spec(mechanism: &Mechanism) -> Entry {
-    let mut entry = kernels::spec(&KERNELS[0], mechanism, &[], "", None);
     let width = standard_parameter_names(mechanism.mechanics).len();
-    entry.spec.outputs[0].shape = Shape::Matrix(6, width);
+    identification_spec(&KERNELS[0], mechanism, None, width)
+}
+
+/// `decl`, one of [`KERNELS`], for `mechanism`: its state's inputs, `Y` of `width` columns.
+fn identification_spec(
+    decl: &Decl,
+    mechanism: &Mechanism,
+    base: Option<Vec<usize>>,
+    width: usize,
+) -> Entry {
+    let structure = mechanism.structure();
+    let decl = Decl {
+        inputs: state_inputs(structure.freedom()),
+        ..*decl
+    };
+    let mut entry = kernels::spec(&decl, mechanism, &[], "", base);
+    entry.spec.outputs[0].shape = Shape::Matrix(structure.actuators(), width);
     entry
 }
 
@@ -177,21 +192,17 @@ const STATES: usize = 120;
 pub fn base_parameters(regressor: &Compiled, mechanism: &Mechanism) -> BaseParameters {
     let names = standard_parameter_names(mechanism.mechanics);
     let width = names.len();
+    let structure = mechanism.structure();
+    let actuators = structure.actuators();
     let geometry = mechanism.geometry();
-    let home = mechanism.structure().home(&mechanism.parameters);
+    let home = structure.home(&mechanism.parameters);
     let mut rng = Lcg::new(0x5eed_c5c5);
-    let mut rows: Vec<Vec<f64>> = Vec::with_capacity(6 * STATES);
+    let mut rows: Vec<Vec<f64>> = Vec::with_capacity(actuators * STATES);
     for _ in 0..STATES {
-        let t = mechanism.structure().turn_reach();
-        let offset = rng.vector(&[t, t, t, 0.05, 0.05, 0.05]);
-        let mut input: Vec<f64> = offset.iter().zip(&home).map(|(d, h)| h + d).collect();
-        input.extend(rng.vector(&[1.0, 1.0, 1.0, 0.5, 0.5, 0.5]));
-        input.extend(rng.vector(&[5.0, 5.0, 5.0, 2.0, 2.0, 2.0]));
+        let mut input = seeded_state(structure, &home, &mut rng);
         input.extend(geometry);
         let y = regressor.program.eval(&input);
-        for i in 0..6 {
-            rows.push(y[i * width..(i + 1) * width].to_vec());
-        }
+        rows.extend(y[..actuators * width].chunks(width).map(<[f64]>::to_vec));
     }
     let qr = pivoted_qr(&rows);
     let rank = qr.rank(1e-9);
@@ -219,11 +230,35 @@ pub fn base_parameters(regressor: &Compiled, mechanism: &Mechanism) -> BaseParam
     BaseParameters { names, groups }
 }
 
+/// A state drawn about `home` (the six-freedom pose; a translating platform's is its last
+/// three), its pose, rates and accelerations in the platform's coordinates.
+fn seeded_state(structure: &dyn Structure, home: &[f64; 6], rng: &mut Lcg) -> Vec<f64> {
+    let t = structure.turn_reach();
+    let (reach, rates, accels) = (
+        [t, t, t, 0.05, 0.05, 0.05],
+        [1.0, 1.0, 1.0, 0.5, 0.5, 0.5],
+        [5.0, 5.0, 5.0, 2.0, 2.0, 2.0],
+    );
+    let from = 6 - structure.freedom().dimension();
+    let offset = rng.vector(&reach[from..]);
+    let mut state: Vec<f64> = offset
+        .iter()
+        .zip(&home[from..])
+        .map(|(d, h)| h + d)
+        .collect();
+    state.extend(rng.vector(&rates[from..]));
+    state.extend(rng.vector(&accels[from..]));
+    state
+}
+
 /// The base regressor kernel: the columns of the base parameters' leads, `Γ = Y_b β`.
 pub fn base_regressor_spec(mechanism: &Mechanism, base: &BaseParameters) -> Entry {
-    let mut entry = kernels::spec(&KERNELS[1], mechanism, &[], "", Some(base.leads()));
-    entry.spec.outputs[0].shape = Shape::Matrix(6, base.groups.len());
-    entry
+    identification_spec(
+        &KERNELS[1],
+        mechanism,
+        Some(base.leads()),
+        base.groups.len(),
+    )
 }
 
 /// The identification data of a mechanism as Rust constants: the standard and base parameters'

@@ -70,6 +70,8 @@ pub mod rus_hexapod {
 pub mod delta {
     use crate::trig::{atan, cos, sin, sin_cos, sqrt};
     include!("delta.rs");
+    #[cfg(feature = "regressor")]
+    include!("delta_regressor.rs");
 }
 /// The kernels every model has, with one signature for all (`f64`): pick a model once ([`Consistent`], [`Paper`]) and call every kernel through it, statically (`K: Kernels`) or dynamically (`&dyn Kernels`).
 pub trait Kernels: core::fmt::Debug + Sync {

@@ -1,7 +1,7 @@
 //! Encoder logs, `t,q1..q6,gamma1..gamma6`: what a real experiment records (`simulate
 //! --encoder-log` writes them, `identify --data` reads them), read row by row.
 
-use crate::columns::{per_actuator, GAMMA, TIME};
+use crate::columns::{per_actuator, GAMMA, POSE, TIME};
 use crate::trajectory_csv::TrajectoryError;
 use std::fs::File;
 use std::path::Path;
@@ -27,13 +27,14 @@ pub struct Rows {
     pub len: u64,
 }
 
-/// Whether the CSV at `path` is an encoder log: it has the columns `q1..q6` and no pose.
+/// Whether the CSV at `path` is an encoder log: it has the columns `q1..q6` and no pose (every
+/// pose has the centre's `xc`; a level platform's has no angles).
 pub fn is_encoder_log(path: &Path) -> bool {
     csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .from_path(path)
         .and_then(|mut r| r.headers().cloned())
-        .is_ok_and(|h| h.iter().any(|c| c == "q1") && !h.iter().any(|c| c == "alpha"))
+        .is_ok_and(|h| h.iter().any(|c| c == "q1") && !h.iter().any(|c| c == POSE[3]))
 }
 
 /// Opens an encoder log.

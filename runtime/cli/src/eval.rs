@@ -107,20 +107,19 @@ pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
         return Err(crate::unbuilt::needs("`--derivatives`", "derivatives"));
     }
     let robot = args.robot.load_mechanism()?;
-    let extras = args.derivatives || args.base_parameters.is_some() || args.strict_limits;
-    let estimate = match (robot.spatial(), &args.base_parameters) {
-        (None, _) if extras => {
-            return Err(format!(
-                "`--derivatives`, `--base-parameters` and `--strict-limits` are not served for \
-                 the {} yet: its platform only translates, and `c5 eval` gives its kinematics \
-                 and forces",
-                robot.mechanism()
-            )
-            .into())
-        }
-        (Some(spatial), Some(p)) => Some(identified::load(spatial, p)?),
-        _ => None,
-    };
+    if robot.spatial().is_none() && (args.derivatives || args.strict_limits) {
+        return Err(format!(
+            "`--derivatives` and `--strict-limits` are not served for the {} yet: its platform \
+             only translates, and `c5 eval` gives its kinematics, forces and identified forces",
+            robot.mechanism()
+        )
+        .into());
+    }
+    let estimate = args
+        .base_parameters
+        .as_ref()
+        .map(|p| identified::load(robot.as_ref(), p))
+        .transpose()?;
     eval(
         robot.as_ref(),
         estimate.as_ref(),
@@ -171,7 +170,7 @@ mod identified {
     pub use c5_runtime::identify::Estimate;
 
     pub fn load(
-        robot: &dyn c5_runtime::ParallelRobot,
+        robot: &dyn c5_runtime::Mechanism,
         path: &std::path::Path,
     ) -> crate::Result<Estimate> {
         crate::identify::load_estimate(robot, path)
@@ -179,9 +178,9 @@ mod identified {
 
     pub fn forces(
         estimate: &Estimate,
-        robot: &dyn c5_runtime::ParallelRobot,
+        robot: &dyn c5_runtime::Mechanism,
         state: &c5_runtime::State,
-    ) -> Result<[f64; 6], String> {
+    ) -> Result<Vec<f64>, String> {
         estimate.forces(robot, state).map_err(|e| e.to_string())
     }
 }
@@ -192,7 +191,7 @@ mod identified {
     pub enum Estimate {}
 
     pub fn load(
-        _robot: &dyn c5_runtime::ParallelRobot,
+        _robot: &dyn c5_runtime::Mechanism,
         _path: &std::path::Path,
     ) -> crate::Result<Estimate> {
         Err(crate::unbuilt::needs("`--base-parameters`", "identify"))
@@ -200,9 +199,9 @@ mod identified {
 
     pub fn forces(
         estimate: &Estimate,
-        _robot: &dyn c5_runtime::ParallelRobot,
+        _robot: &dyn c5_runtime::Mechanism,
         _state: &c5_runtime::State,
-    ) -> Result<[f64; 6], String> {
+    ) -> Result<Vec<f64>, String> {
         match *estimate {}
     }
 }
@@ -316,7 +315,16 @@ fn eval(
             put_parts(&mut out, freedom.twist_parts(), &motion[1]);
             put_parts(&mut out, freedom.acceleration_parts(), &motion[2]);
         }
-        if let Some(spatial) = robot.spatial() {
+        let Some(spatial) = robot.spatial() else {
+            if let Some(estimate) = extras.identified {
+                let state = robot
+                    .state_of([&motion[0], &motion[1], &motion[2]])
+                    .map_err(|e| e.to_string())?;
+                out["gamma"] = json!(identified::forces(estimate, robot, &state)?);
+            }
+            return Ok(out);
+        };
+        {
             let joints = joints
                 .map(|[q, qd, qdd]| -> Result<_, String> {
                     let six = |v: Vec<f64>| <[f64; 6]>::try_from(v).map_err(|_| "six actuators");
@@ -351,7 +359,7 @@ fn add_spatial(
         }
     }
     if let Some(estimate) = extras.identified {
-        out["gamma"] = json!(identified::forces(estimate, robot, state)?);
+        out["gamma"] = json!(identified::forces(estimate, robot.as_mechanism(), state)?);
     }
     if !robot.has_limits() {
         return Ok(());

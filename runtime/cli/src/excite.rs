@@ -11,7 +11,7 @@ use std::process::ExitCode;
 
 /// Writes an exciting trajectory for identification (a Fourier series about the robot's home
 /// pose, inside its limits, away from singular poses, of low condition number) as a
-/// trajectory CSV; for the mechanisms `identify` serves.
+/// trajectory CSV, in the platform's coordinates.
 #[derive(Args)]
 pub struct ExciteArgs {
     /// Output CSV.
@@ -40,7 +40,7 @@ pub struct ExciteArgs {
 /// Writes an exciting trajectory (one period at `rate`) and reports its condition number
 /// against Section 9's.
 pub fn run(o: &ExciteArgs) -> Result<ExitCode> {
-    let robot = &*o.robot.load_any()?;
+    let robot = &*o.robot.load_mechanism()?;
     let out = &o.out;
     if !(o.rate.is_finite() && o.rate > 0.0) {
         return Err(format!("--rate must be a positive number, got {}", o.rate).into());
@@ -55,21 +55,19 @@ pub fn run(o: &ExciteArgs) -> Result<ExitCode> {
     let found = excite::design(robot, &Envelope::default(), &search)?;
     let n = (o.period * o.rate).round() as usize;
     let mut w = csv::Writer::from_path(out)?;
-    w.write_record(columns::state(columns::Freedom::Free))?;
+    w.write_record(columns::state(robot.freedom()))?;
     let mut states = Vec::with_capacity(n);
     for k in 0..n {
         let t = k as f64 / o.rate;
         let s = found.trajectory.state(t);
         let mut row = vec![t];
-        row.extend(s.pose.to_array());
-        row.extend(s.twist.to_array());
-        row.extend(s.accel.to_array());
+        row.extend(robot.coordinates_of(&s)?.concat());
         w.write_record(row.iter().map(|v| format!("{v:.17e}")))?;
         states.push(s);
     }
     w.flush()?;
     let written = excite::condition_number(robot, states)?;
-    let (motion, scaled) = section9_for(robot.as_mechanism())?;
+    let (motion, scaled) = section9_for(robot)?;
     let section9 =
         excite::condition_number(robot, (0..=1000).map(|k| motion.state(k as f64 / 1000.0)))?;
     let mut stdout = std::io::stdout().lock();

@@ -1,13 +1,13 @@
 //! `c5 identify`, `c5 excite` and the identified parameters `c5 eval --base-parameters` reads.
 
-use crate::columns::GAMMA;
+use crate::columns::per_actuator;
 use crate::encoder_log;
 use crate::options::RobotArgs;
 use crate::trajectory_csv;
 use crate::Result;
 use c5_runtime::identify::encoder_log::{Filtered, LogFilter, LogProcessor};
 use c5_runtime::identify::{Estimate, Identifier};
-use c5_runtime::{ParallelRobot, Pose};
+use c5_runtime::{Mechanism, ParallelRobot, Pose};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
@@ -16,14 +16,14 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// Identifies the base parameters (inertial and friction) from measured motion and forces:
-/// weighted least squares, streaming, for the C5 and the six-legged mechanisms (the Delta's
-/// regressors are not generated yet). The robot file gives the geometry and gravity; its
-/// masses play no part.
+/// weighted least squares, streaming, for every mechanism. The robot file gives the geometry
+/// and gravity; its masses play no part.
 #[derive(Args)]
 pub struct IdentifyArgs {
     /// Samples: a trajectory CSV (t, alpha, beta, gamma, xc, yc, zc, optionally the twist
-    /// wx..vz and acceleration wdx..az) with the measured forces gamma1..gamma6; or an encoder
-    /// log (t, q1..q6, gamma1..gamma6), filtered, differenced and decimated first.
+    /// wx..vz and acceleration wdx..az; a Delta's t, xc, yc, zc, optionally vx..vz and
+    /// ax..az) with the measured forces gamma1..gamma6 (a Delta's gamma1..gamma3); or an
+    /// encoder log (t, q1..q6, gamma1..gamma6), filtered, differenced and decimated first.
     #[arg(long)]
     data: PathBuf,
     #[command(flatten)]
@@ -42,10 +42,20 @@ pub struct IdentifyArgs {
 }
 
 pub fn run(args: &IdentifyArgs) -> Result<ExitCode> {
-    let robot = args.robot.load_any()?;
+    let robot = args.robot.load_mechanism()?;
     let robot = &*robot;
     if encoder_log::is_encoder_log(&args.data) {
-        let (estimate, report) = from_encoders(robot, args)?;
+        let Some(spatial) = robot.spatial() else {
+            return Err(format!(
+                "{}: encoder logs of the {} are not read yet (their filter takes six \
+                 actuators); give the platform's states and the forces (t, xc, yc, zc, \
+                 gamma1..gamma3)",
+                args.data.display(),
+                robot.mechanism()
+            )
+            .into());
+        };
+        let (estimate, report) = from_encoders(spatial, args)?;
         write(
             robot.base_parameters()?.relations().to_vec(),
             &args.data,
@@ -125,7 +135,7 @@ fn from_encoders(
     }
     let mut pipeline =
         LogProcessor::new(settings, rate).map_err(|e| format!("{}: {e}", data.display()))?;
-    let mut identifier = Identifier::new(robot)?;
+    let mut identifier = Identifier::new(robot.as_mechanism())?;
     let mut kept: Vec<Filtered> = Vec::new();
     // Where the forward kinematics iterates, it starts from the previous sample's pose.
     let mut near: Option<Pose> = None;
@@ -214,17 +224,19 @@ fn progress_bar(len: u64) -> ProgressBar {
 const PROGRESS_FROM_BYTES: u64 = 10 << 20;
 
 /// Fits the base parameters of `robot`'s model and geometry to the samples of `data`.
-fn identify_cmd(robot: &dyn ParallelRobot, data: &Path, out: Option<&Path>) -> Result<()> {
-    let samples = trajectory_csv::open(data, &GAMMA)?;
+fn identify_cmd(robot: &dyn Mechanism, data: &Path, out: Option<&Path>) -> Result<()> {
+    let n = robot.freedom().dimension();
+    let gamma_columns = per_actuator("gamma", n);
+    let gamma_columns: Vec<&str> = gamma_columns.iter().map(String::as_str).collect();
+    let samples = trajectory_csv::open(data, &gamma_columns)?;
     let progress = progress_bar(samples.len);
     let derived = samples.derived;
     let mut identifier = Identifier::new(robot)?;
     let mut samples = samples;
     while let Some(sample) = samples.next() {
         let sample = sample?;
-        let gamma: [f64; 6] = std::array::from_fn(|i| sample.extra[i]);
         identifier
-            .add(&sample.state, &gamma)
+            .add(&sample.state, &sample.extra[..n])
             .map_err(|e| format!("{}:{}: {e}", data.display(), sample.line))?;
         if identifier.samples().is_multiple_of(4096) {
             progress.set_position(samples.position());
@@ -291,8 +303,12 @@ fn write(
             )?;
             writeln!(
                 stdout,
-                "residual RMS per actuator (N): {}",
-                e.residual_rms.map(|r| format!("{r:.3e}")).join(" ")
+                "residual RMS per actuator (N, or N·m for a motor): {}",
+                e.residual_rms
+                    .iter()
+                    .map(|r| format!("{r:.3e}"))
+                    .collect::<Vec<_>>()
+                    .join(" ")
             )?;
             writeln!(
                 stdout,
@@ -313,7 +329,7 @@ fn write(
 }
 
 /// Reads identified parameters for `robot`'s model.
-pub fn load_estimate(robot: &dyn ParallelRobot, path: &Path) -> Result<Estimate> {
+pub fn load_estimate(robot: &dyn Mechanism, path: &Path) -> Result<Estimate> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let identified: Identified =
         serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;

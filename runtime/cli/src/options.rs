@@ -33,13 +33,6 @@ impl RobotArgs {
     pub fn load_mechanism(&self) -> crate::Result<Box<dyn c5_runtime::Mechanism>> {
         load_mechanism(self.robot.as_ref(), self.model)
     }
-
-    /// The robot of `--robot` (or the chapter's) as a platform free in space; a C5 with the
-    /// model of `--model`.
-    #[cfg(feature = "identify")]
-    pub fn load_any(&self) -> crate::Result<Box<dyn c5_runtime::ParallelRobot>> {
-        load_any(self.robot.as_ref(), self.model)
-    }
 }
 
 /// Parses a model's name, listing the names in `--help`.
@@ -67,19 +60,6 @@ pub fn load(path: Option<&PathBuf>, model: Model) -> crate::Result<C5> {
         None => Robot::default(),
     };
     Ok(C5::with_model(robot, model)?)
-}
-
-/// The robot of `path` (or the chapter's) as a platform free in space (a Delta refused by
-/// name); a C5 with `model`.
-#[cfg(feature = "identify")]
-pub fn load_any(
-    path: Option<&PathBuf>,
-    model: Model,
-) -> crate::Result<Box<dyn c5_runtime::ParallelRobot>> {
-    Ok(c5_runtime::mechanism::robot(
-        read_description(path)?,
-        model,
-    )?)
 }
 
 /// The robot of `path` (or the chapter's), of any mechanism and freedom; a C5 with `model`.

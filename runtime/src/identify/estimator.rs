@@ -8,7 +8,8 @@
 //! normal matrices are equilibrated (unit diagonal) before they are factored.
 
 use super::BaseParameters;
-use crate::{check_finite, Error, ParallelRobot, State};
+use crate::platform::Mechanism;
+use crate::{check_finite, Error, State};
 use nalgebra::{Cholesky, DMatrix, DVector, SymmetricEigen};
 use std::fmt;
 
@@ -24,8 +25,8 @@ const RANK_TOLERANCE: f64 = 1e-13;
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum IdentifyError {
-    /// Fewer samples than the base parameters need (six equations per sample, and some to
-    /// spare for the residual variance).
+    /// Fewer samples than the base parameters need (an equation per actuator per sample, and
+    /// some to spare for the residual variance).
     TooFewSamples { samples: usize, needed: usize },
     /// The data leave these base parameters (or combinations of them) undetermined: the
     /// motion does not excite them. `condition_number` is that of the observation matrix.
@@ -75,8 +76,8 @@ pub struct Estimate {
     /// Condition number of the weighted observation matrix with its columns scaled to unit
     /// norm: how well the motion excites the parameters (1 is perfect).
     pub condition_number: f64,
-    /// Root mean square of each actuator's residual (N).
-    pub residual_rms: [f64; 6],
+    /// Root mean square of each actuator's residual (N, or N·m for a motor's torque).
+    pub residual_rms: Vec<f64>,
     /// Samples used.
     pub samples: usize,
 }
@@ -86,9 +87,10 @@ impl Estimate {
     /// `Y_b β`.
     ///
     /// # Errors
-    /// [`Error::Unsupported`] if `robot` is of another model than the estimate,
-    /// [`Error::WrongLength`] if its values are not as many as its names, and [`ParallelRobot::base_regressor_into`]'s errors.
-    pub fn forces(&self, robot: &dyn ParallelRobot, state: &State) -> Result<[f64; 6], Error> {
+    /// [`Error::Unsupported`] if `robot` is of another model than the estimate (or `state`
+    /// turns a platform that only translates), [`Error::WrongLength`] if its values are not
+    /// as many as its names, and [`Mechanism::base_regressor_into`]'s errors.
+    pub fn forces(&self, robot: &dyn Mechanism, state: &State) -> Result<Vec<f64>, Error> {
         if robot.model_name() != self.model {
             return Err(Error::Unsupported {
                 what: "forces from these base parameters",
@@ -104,15 +106,13 @@ impl Estimate {
                 got: self.values.len(),
             });
         }
-        let mut y = vec![0.0; 6 * nb];
-        robot.base_regressor_into(state, &mut y)?;
-        Ok(std::array::from_fn(|i| {
-            y[i * nb..(i + 1) * nb]
-                .iter()
-                .zip(&self.values)
-                .map(|(a, b)| a * b)
-                .sum()
-        }))
+        let n = robot.freedom().dimension();
+        let [x, v, a] = robot.coordinates_of(state)?;
+        let mut y = vec![0.0; n * nb];
+        robot.base_regressor_into([&x, &v, &a], &mut y)?;
+        Ok(y.chunks(nb)
+            .map(|row| row.iter().zip(&self.values).map(|(a, b)| a * b).sum())
+            .collect())
     }
 }
 
@@ -120,12 +120,14 @@ impl Estimate {
 /// parameters to them. Memory: a few `n_b × n_b` matrices, whatever the number of samples.
 #[derive(Clone, Debug)]
 pub struct Identifier {
-    robot: Box<dyn ParallelRobot>,
+    robot: Box<dyn Mechanism>,
     base: BaseParameters,
+    /// How many actuators, each an equation per sample.
+    actuators: usize,
     /// `A_i`, `b_i`, `Σ Γ_i²` per actuator.
     normal: Vec<DMatrix<f64>>,
     rhs: Vec<DVector<f64>>,
-    squares: [f64; 6],
+    squares: Vec<f64>,
     samples: usize,
     /// Per actuator, the regressor rows not yet added, one column per sample, and the forces.
     block: Vec<DMatrix<f64>>,
@@ -138,21 +140,22 @@ impl Identifier {
     /// An identifier for `robot`'s model and geometry (its inertial parameters play no part).
     ///
     /// # Errors
-    /// [`ParallelRobot::base_parameters`]' errors.
-    pub fn new(robot: &dyn ParallelRobot) -> Result<Self, Error> {
+    /// [`Mechanism::base_parameters`]' errors.
+    pub fn new(robot: &dyn Mechanism) -> Result<Self, Error> {
         let base = robot.base_parameters()?;
-        let nb = base.len();
+        let (nb, n) = (base.len(), robot.freedom().dimension());
         Ok(Identifier {
-            robot: robot.clone_box(),
+            robot: robot.clone_mechanism(),
             base,
-            normal: vec![DMatrix::zeros(nb, nb); 6],
-            rhs: vec![DVector::zeros(nb); 6],
-            squares: [0.0; 6],
+            actuators: n,
+            normal: vec![DMatrix::zeros(nb, nb); n],
+            rhs: vec![DVector::zeros(nb); n],
+            squares: vec![0.0; n],
             samples: 0,
-            block: vec![DMatrix::zeros(nb, BLOCK); 6],
-            block_gamma: vec![DVector::zeros(BLOCK); 6],
+            block: vec![DMatrix::zeros(nb, BLOCK); n],
+            block_gamma: vec![DVector::zeros(BLOCK); n],
             filled: 0,
-            row: vec![0.0; 6 * nb],
+            row: vec![0.0; n * nb],
         })
     }
 
@@ -161,18 +164,51 @@ impl Identifier {
         &self.base
     }
 
+    /// How many actuators, and so forces per sample.
+    pub fn actuators(&self) -> usize {
+        self.actuators
+    }
+
     /// Samples added so far.
     pub fn samples(&self) -> usize {
         self.samples
     }
 
-    /// Adds a sample: the platform's state and the measured actuator forces (N).
+    /// Adds a sample: the platform's state and the measured actuator forces (N, or N·m for a
+    /// motor's torque), one per actuator.
     ///
     /// # Errors
-    /// Non-finite inputs or a singular pose; the sample is then not added.
-    pub fn add(&mut self, state: &State, gamma: &[f64; 6]) -> Result<(), Error> {
+    /// Non-finite inputs, forces not one per actuator, a state that turns a platform that
+    /// only translates, or a singular pose; the sample is then not added.
+    pub fn add(&mut self, state: &State, gamma: &[f64]) -> Result<(), Error> {
+        if self.robot.freedom().turns() {
+            // Six coordinates are the state as it is: no allocation in the sample loop.
+            let (x, v, a) = (
+                state.pose.to_array(),
+                state.twist.to_array(),
+                state.accel.to_array(),
+            );
+            return self.add_motion([&x, &v, &a], gamma);
+        }
+        let [x, v, a] = self.robot.coordinates_of(state)?;
+        self.add_motion([&x, &v, &a], gamma)
+    }
+
+    /// [`Identifier::add`] with the state in the platform's coordinates `[pose, twist,
+    /// acceleration]` (as [`Mechanism`] takes them), allocating nothing.
+    ///
+    /// # Errors
+    /// As [`Identifier::add`], and slices of the wrong length.
+    pub fn add_motion(&mut self, motion: [&[f64]; 3], gamma: &[f64]) -> Result<(), Error> {
+        if gamma.len() != self.actuators {
+            return Err(Error::WrongLength {
+                input: "gamma",
+                expected: self.actuators,
+                got: gamma.len(),
+            });
+        }
         check_finite("gamma", gamma)?;
-        self.robot.base_regressor_into(state, &mut self.row)?;
+        self.robot.base_regressor_into(motion, &mut self.row)?;
         let nb = self.base.len();
         for (i, &force) in gamma.iter().enumerate() {
             self.block[i]
@@ -197,9 +233,9 @@ impl Identifier {
     /// [`IdentifyError::TooFewSamples`], or [`IdentifyError::Unidentifiable`] naming the base
     /// parameters the data leave undetermined.
     pub fn estimate(&self) -> Result<Estimate, IdentifyError> {
-        let nb = self.base.len();
+        let (nb, actuators) = (self.base.len(), self.actuators);
         let n = self.samples;
-        let needed = (nb + 1).div_ceil(6) + 1;
+        let needed = (nb + 1).div_ceil(actuators) + 1;
         if n < needed {
             return Err(IdentifyError::TooFewSamples { samples: n, needed });
         }
@@ -211,18 +247,23 @@ impl Identifier {
             &mut normal,
             &mut rhs,
         );
-        let dof = n as f64 - nb as f64 / 6.0;
-        let ordinary = self.solve(&normal, &rhs, &[1.0; 6])?;
-        let variances: [f64; 6] = std::array::from_fn(|i| {
-            let residual = self.residual_squares(&normal[i], &rhs[i], i, &ordinary.values);
-            // Noise-free data leave only rounding: floor the variance relative to the forces.
-            (residual / dof).max(1e-24 * self.squares[i] / n as f64 + f64::MIN_POSITIVE)
-        });
-        let weights = variances.map(|v| 1.0 / v);
+        let dof = n as f64 - nb as f64 / actuators as f64;
+        let ordinary = self.solve(&normal, &rhs, &vec![1.0; actuators])?;
+        let weights: Vec<f64> = (0..actuators)
+            .map(|i| {
+                let residual = self.residual_squares(&normal[i], &rhs[i], i, &ordinary.values);
+                // Noise-free data leave only rounding: floor the variance relative to the
+                // forces.
+                1.0 / (residual / dof).max(1e-24 * self.squares[i] / n as f64 + f64::MIN_POSITIVE)
+            })
+            .collect();
         let weighted = self.solve(&normal, &rhs, &weights)?;
-        let residual_rms = std::array::from_fn(|i| {
-            (self.residual_squares(&normal[i], &rhs[i], i, &weighted.values) / n as f64).sqrt()
-        });
+        let residual_rms = (0..actuators)
+            .map(|i| {
+                let squares = self.residual_squares(&normal[i], &rhs[i], i, &weighted.values);
+                (squares / n as f64).sqrt()
+            })
+            .collect();
         let relative_std_dev_percent = weighted
             .values
             .iter()
@@ -257,12 +298,12 @@ impl Identifier {
         &self,
         normal: &[DMatrix<f64>],
         rhs: &[DVector<f64>],
-        weights: &[f64; 6],
+        weights: &[f64],
     ) -> Result<Fit, IdentifyError> {
         let nb = self.base.len();
         let mut a = DMatrix::zeros(nb, nb);
         let mut b = DVector::zeros(nb);
-        for i in 0..6 {
+        for i in 0..self.actuators {
             a += &normal[i] * weights[i];
             b += &rhs[i] * weights[i];
         }
@@ -389,7 +430,7 @@ fn add_block(
     if filled == 0 {
         return;
     }
-    for i in 0..6 {
+    for i in 0..block.len() {
         let rows = block[i].columns(0, filled);
         let forces = gamma[i].rows(0, filled);
         normal[i].gemm(1.0, &rows, &rows.transpose(), 1.0);

@@ -4,8 +4,9 @@
 //! singular poses (eq 16's for the C5), about the robot's home pose, for any mechanism.
 
 use super::Identifier;
+use crate::platform::Mechanism;
 use crate::trajectory::Fourier;
-use crate::{Error, ParallelRobot, Pose, State};
+use crate::{Error, ParallelRobot, State};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -22,7 +23,7 @@ pub struct Envelope {
     /// Largest `|ω̇|` component (rad/s²) and `|a_C|` component (m/s²).
     pub omega_dot: f64,
     pub acceleration: f64,
-    /// Smallest [`ParallelRobot::singularity_clearance`] as a fraction of the home pose's
+    /// Smallest [`Mechanism::singularity_clearance`] as a fraction of the home pose's
     /// (for the C5, whose home clearance is 1, its smallest `|r11|`, `|r22|`, `|r33|` of eq
     /// 16): the distance kept from singular poses.
     pub divisor: f64,
@@ -89,7 +90,7 @@ fn times(search: &Search) -> impl Iterator<Item = f64> + '_ {
 /// # Errors
 /// A state the robot refuses (non-finite or singular).
 pub fn condition_number(
-    robot: &dyn ParallelRobot,
+    robot: &dyn Mechanism,
     states: impl IntoIterator<Item = State>,
 ) -> Result<f64, Error> {
     stacked_condition(Identifier::new(robot)?, states)
@@ -100,8 +101,10 @@ fn stacked_condition(
     mut identifier: Identifier,
     states: impl IntoIterator<Item = State>,
 ) -> Result<f64, Error> {
+    let rest = [0.0; 6];
+    let rest = &rest[..identifier.actuators()];
     for state in states {
-        identifier.add(&state, &[0.0; 6])?;
+        identifier.add(&state, rest)?;
     }
     Ok(identifier.condition_number())
 }
@@ -131,7 +134,7 @@ fn peak_ratio(trajectory: &Fourier, envelope: &Envelope, search: &Search) -> f64
 /// `trajectory` scaled down (about its offset) to fit `envelope`'s box and rates; `None` if it
 /// then comes closer to a singular pose than `clearance`.
 fn fit(
-    robot: &dyn ParallelRobot,
+    robot: &dyn Mechanism,
     clearance: f64,
     mut trajectory: Fourier,
     envelope: &Envelope,
@@ -143,10 +146,12 @@ fn fit(
         let ratio = peak_ratio(&trajectory, envelope, search);
         if ratio <= 1.0 {
             let clear = times(search).all(|t| {
-                let (x, _, _) = trajectory.pose_derivatives(t);
-                robot
-                    .singularity_clearance(&Pose::from_array(x))
-                    .is_ok_and(|c| c >= clearance)
+                let state = trajectory.state(t);
+                robot.coordinates_of(&state).is_ok_and(|[x, ..]| {
+                    robot
+                        .singularity_clearance(&x)
+                        .is_ok_and(|c| c >= clearance)
+                })
             });
             return clear.then_some(trajectory);
         }
@@ -177,36 +182,37 @@ fn within_limits(robot: &dyn ParallelRobot, state: &State) -> bool {
 }
 
 /// The condition number of a candidate; infinite for one that leaves the robot's limits.
-fn score(
-    robot: &dyn ParallelRobot,
-    empty: &Identifier,
-    trajectory: &Fourier,
-    search: &Search,
-) -> f64 {
-    if robot.has_limits() && !times(search).all(|t| within_limits(robot, &trajectory.state(t))) {
+fn score(robot: &dyn Mechanism, empty: &Identifier, trajectory: &Fourier, search: &Search) -> f64 {
+    // Robot files set limits for platforms free in space.
+    let limited = robot.spatial().filter(|r| r.has_limits());
+    if limited.is_some_and(|r| !times(search).all(|t| within_limits(r, &trajectory.state(t)))) {
         return f64::INFINITY;
     }
     stacked_condition(empty.clone(), times(search).map(|t| trajectory.state(t)))
         .unwrap_or(f64::INFINITY)
 }
 
-/// A random series, harmonic `l` with amplitude falling as `1/l` (smooth motion).
-fn random(rng: &mut ChaCha8Rng, home: &Pose, envelope: &Envelope, search: &Search) -> Fourier {
-    let bounds = [
-        envelope.angle,
-        envelope.angle,
-        envelope.angle,
-        envelope.center,
-        envelope.center,
-        envelope.center,
-    ];
+/// The largest amplitude of each of the series' six coordinates: the envelope's angle and
+/// centre, no turn for a platform that only translates.
+fn bounds(robot: &dyn Mechanism, envelope: &Envelope) -> [f64; 6] {
+    let angle = if robot.freedom().turns() {
+        envelope.angle
+    } else {
+        0.0
+    };
+    let centre = envelope.center;
+    [angle, angle, angle, centre, centre, centre]
+}
+
+/// A random series about `home`, harmonic `l` with amplitude falling as `1/l` (smooth motion).
+fn random(rng: &mut ChaCha8Rng, home: [f64; 6], bounds: &[f64; 6], search: &Search) -> Fourier {
     let mut harmonic = |l: usize| -> [f64; 6] {
         core::array::from_fn(|k| bounds[k] * rng.gen_range(-1.0..1.0) / (l + 1) as f64)
     };
     let sine = (0..search.harmonics).map(&mut harmonic).collect();
     let cosine = (0..search.harmonics).map(&mut harmonic).collect();
     Fourier {
-        offset: home.to_array(),
+        offset: home,
         period: search.period,
         sine,
         cosine,
@@ -221,7 +227,7 @@ fn random(rng: &mut ChaCha8Rng, home: &Pose, envelope: &Envelope, search: &Searc
 /// period that is not positive; [`DesignError::NothingFits`] if no candidate keeps clear of
 /// the singular poses; [`DesignError::Robot`] if the robot has no base regressor.
 pub fn design(
-    robot: &dyn ParallelRobot,
+    robot: &dyn Mechanism,
     envelope: &Envelope,
     search: &Search,
 ) -> Result<Excitation, DesignError> {
@@ -238,6 +244,13 @@ pub fn design(
         * robot
             .singularity_clearance(&home)
             .map_err(DesignError::Robot)?;
+    let rest = vec![0.0; home.len()];
+    let home = robot
+        .state_of([&home, &rest, &rest])
+        .map_err(DesignError::Robot)?
+        .pose
+        .to_array();
+    let bounds = bounds(robot, envelope);
     let mut rng = ChaCha8Rng::seed_from_u64(search.seed);
     let mut best: Option<(Fourier, f64)> = None;
     let mut step = 0.5;
@@ -246,19 +259,14 @@ pub fn design(
             Some((b, _)) if k >= search.candidates / 2 => {
                 let mut c = b.clone();
                 for h in c.sine.iter_mut().chain(c.cosine.iter_mut()) {
-                    for (j, v) in h.iter_mut().enumerate() {
-                        let bound = if j < 3 {
-                            envelope.angle
-                        } else {
-                            envelope.center
-                        };
+                    for (v, bound) in h.iter_mut().zip(bounds) {
                         *v += step * bound * rng.gen_range(-1.0..1.0) / search.harmonics as f64;
                     }
                 }
                 step = (step * 0.995).max(0.02);
                 c
             }
-            _ => random(&mut rng, &home, envelope, search),
+            _ => random(&mut rng, home, &bounds, search),
         };
         let Some(candidate) = fit(robot, clearance, candidate, envelope, search) else {
             continue;

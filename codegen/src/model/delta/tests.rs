@@ -97,3 +97,54 @@ fn the_reach_terms_go_negative_beyond_reach() {
     let out = terms.eval(&[home[0], home[1], home[2] - 1.5]);
     assert!(out[3..6].iter().all(|&t| t < 0.0), "{out:?}");
 }
+
+/// `Y π` is the inverse dynamics with the motors' friction, and the base regressor carries the
+/// same forces with the base parameters `β = B π`, at states about home.
+#[test]
+fn the_regressors_carry_the_inverse_dynamics_and_friction() {
+    use crate::model::regressor::Identification;
+    use crate::numeric::Lcg;
+    let robot = Delta::example();
+    let mechanism = Mechanism::delta(&robot);
+    let identification = Identification::compile(&mechanism).unwrap();
+    let [(_, full), (_, reduced)] = identification.pairs()[..] else {
+        unreachable!("two kernels")
+    };
+    let id = compiled(Kernel::InverseDynamics);
+    let base = &identification.base;
+    let friction = [(3.0, 0.4), (2.5, -0.2), (1.5, 0.3)];
+    let mut pi = robot.standard_inertial_parameters();
+    pi.extend(friction.map(|f| f.0));
+    pi.extend(friction.map(|f| f.1));
+    let width = pi.len();
+    assert_eq!(width, base.names.len());
+    let beta: Vec<f64> = base
+        .groups
+        .iter()
+        .map(|g| g.iter().map(|&(k, c)| c * pi[k]).sum())
+        .collect();
+    let nb = beta.len();
+    assert!(nb < width, "{nb} base parameters of {width}");
+    let geometry = &robot.kernel_parameters()[..GEOMETRY_PARAMETERS];
+    let mut rng = Lcg::new(5);
+    for offsets in OFFSETS {
+        let mut state = near_home(offsets);
+        state.extend(rng.vector(&[0.5; 3]));
+        state.extend(rng.vector(&[3.0; 3]));
+        let gamma = id.eval(&state);
+        let qd = compiled(Kernel::JointVelocities).eval(&state[..6]);
+        state.extend(geometry);
+        let (y, yb) = (full.program.eval(&state), reduced.program.eval(&state));
+        for i in 0..3 {
+            let want = gamma[i] + friction[i].0 * qd[i] + friction[i].1 * qd[i].signum();
+            let by_standard: f64 = (0..width).map(|j| y[i * width + j] * pi[j]).sum();
+            let by_base: f64 = (0..nb).map(|j| yb[i * nb + j] * beta[j]).sum();
+            for got in [by_standard, by_base] {
+                assert!(
+                    (got - want).abs() < 1e-10 * want.abs().max(1.0),
+                    "arm {i}: {got} vs {want}"
+                );
+            }
+        }
+    }
+}

@@ -179,16 +179,16 @@ const RUS_HEXAPOD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/rus-h
 const DELTA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/delta.toml");
 
 #[test]
-fn the_rotary_hexapod_and_the_delta_export_and_a_six_freedom_command_refuses_the_delta() {
+fn the_rotary_hexapod_and_the_delta_export_and_a_six_freedom_option_refuses_the_delta() {
     for (file, actuators) in [(RUS_HEXAPOD, 6), (DELTA, 3)] {
         let text = String::from_utf8(c5_ok(&["export", "--robot", file], "").stdout).unwrap();
         assert_eq!(text.matches("<motor ").count(), actuators, "{file}");
         let urdf = c5_ok(&["export", "--robot", file, "--format", "urdf"], "");
         assert!(String::from_utf8_lossy(&urdf.stdout).contains("<constraint "));
     }
-    let excite = c5(&["excite", "--robot", DELTA], "");
-    let err = String::from_utf8_lossy(&excite.stderr);
-    assert!(!excite.status.success() && excite.stdout.is_empty());
+    let strict = c5(&["eval", "--robot", DELTA, "--strict-limits"], "");
+    let err = String::from_utf8_lossy(&strict.stderr);
+    assert!(!strict.status.success() && strict.stdout.is_empty());
     assert!(err.contains("its platform only translates"), "{err}");
 }
 

@@ -4,7 +4,7 @@
 use crate::support;
 
 use c5_runtime::identify::Friction;
-use c5_runtime::{Acceleration, ParallelRobot, Pose, Robot, RusHexapod, State, Twist, C5};
+use c5_runtime::{Acceleration, Delta, Mechanism, Pose, Robot, RusHexapod, State, Twist, C5};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use support::{c5, c5_ok};
@@ -255,7 +255,7 @@ fn an_infinite_relative_deviation_survives_json() {
         std_dev: vec![0.1, 0.2],
         relative_std_dev_percent: vec![f64::INFINITY, 10.0],
         condition_number: 3.0,
-        residual_rms: [0.5; 6],
+        residual_rms: vec![0.5; 6],
         samples: 100,
     };
     let text = serde_json::to_string(&e).unwrap();
@@ -416,10 +416,11 @@ fn an_encoder_log_of_an_unseen_robot_identifies_it_through_the_command_line() {
 
 /// `excite` on the robot file `file`, the forces of `robot` (its description) with friction
 /// "measured" along that trajectory, `identify` from them, then `eval --base-parameters` on
-/// `states`: the identified parameters (`base` of them) predict the measured forces.
+/// `states`: the identified parameters (`base` of them) predict the measured forces. The
+/// files and lines are in the platform's coordinates.
 pub(crate) fn identification_round_trip(
     file: &str,
-    robot: &dyn ParallelRobot,
+    robot: &dyn Mechanism,
     states: &[State],
     base: usize,
 ) {
@@ -444,32 +445,31 @@ pub(crate) fn identification_round_trip(
         report.contains(&format!("{} model", robot.mechanism())),
         "{report}"
     );
-    let friction: [Friction; 6] = std::array::from_fn(|i| Friction {
-        viscous: 4.0 + i as f64,
-        coulomb: 1.0 + 0.2 * i as f64,
-    });
-    let measured = |s: &State| -> [f64; 6] {
-        let gamma = robot.inverse_dynamics(s).unwrap();
-        let qd = robot.joint_velocities(&s.pose, &s.twist).unwrap();
-        std::array::from_fn(|i| {
-            gamma[i] + friction[i].viscous * qd[i] + friction[i].coulomb * qd[i].signum()
-        })
+    let freedom = robot.freedom();
+    let n = freedom.dimension();
+    let friction: Vec<(f64, f64)> = (0..n)
+        .map(|i| (4.0 + i as f64, 1.0 + 0.2 * i as f64))
+        .collect();
+    let measured = |[x, v, a]: &[Vec<f64>; 3]| -> Vec<f64> {
+        let (mut gamma, mut qd) = (vec![0.0; n], vec![0.0; n]);
+        robot.inverse_dynamics(x, v, a, &mut gamma).unwrap();
+        robot.joint_velocities(x, v, &mut qd).unwrap();
+        (0..n)
+            .map(|i| gamma[i] + friction[i].0 * qd[i] + friction[i].1 * qd[i].signum())
+            .collect()
     };
     let data = dir.join("measured.csv");
     let mut reader = csv::Reader::from_path(&trajectory).unwrap();
     let mut writer = csv::Writer::from_path(&data).unwrap();
     let mut header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
-    header.extend((1..=6).map(|i| format!("gamma{i}")));
+    assert_eq!(header.len(), 1 + 3 * n, "{header:?}");
+    header.extend((1..=n).map(|i| format!("gamma{i}")));
     writer.write_record(&header).unwrap();
     for record in reader.records() {
         let v: Vec<f64> = record.unwrap().iter().map(|f| f.parse().unwrap()).collect();
-        let state = State {
-            pose: Pose::from_array(std::array::from_fn(|k| v[1 + k])),
-            twist: Twist::from_array(std::array::from_fn(|k| v[7 + k])),
-            accel: Acceleration::from_array(std::array::from_fn(|k| v[13 + k])),
-        };
+        let motion = [0, 1, 2].map(|p| v[1 + p * n..1 + (p + 1) * n].to_vec());
         let mut row: Vec<String> = v.iter().map(|x| format!("{x:e}")).collect();
-        row.extend(measured(&state).iter().map(|x| format!("{x:e}")));
+        row.extend(measured(&motion).iter().map(|x| format!("{x:e}")));
         writer.write_record(&row).unwrap();
     }
     writer.flush().unwrap();
@@ -491,14 +491,21 @@ pub(crate) fn identification_round_trip(
         report.contains(&format!("{base} base parameters")),
         "{report}"
     );
-    let input: String = states
+    let motions: Vec<[Vec<f64>; 3]> = states
         .iter()
-        .map(|s| {
-            serde_json::json!({"pose": s.pose.to_array(), "omega": s.twist.omega,
-                "velocity": s.twist.velocity, "omega_dot": s.accel.omega_dot,
-                "acceleration": s.accel.linear})
-            .to_string()
-                + "\n"
+        .map(|s| robot.coordinates_of(s).unwrap())
+        .collect();
+    let input: String = motions
+        .iter()
+        .map(|[x, v, a]| {
+            let mut line = serde_json::json!({ "pose": x });
+            for (part, values) in freedom.twist_parts().iter().zip(v.chunks(3)) {
+                line[*part] = serde_json::json!(values);
+            }
+            for (part, values) in freedom.acceleration_parts().iter().zip(a.chunks(3)) {
+                line[*part] = serde_json::json!(values);
+            }
+            line.to_string() + "\n"
         })
         .collect();
     let predicted = c5_ok(
@@ -513,7 +520,7 @@ pub(crate) fn identification_round_trip(
     );
     let lines = String::from_utf8_lossy(&predicted.stdout);
     assert_eq!(lines.lines().count(), states.len(), "{lines}");
-    for (line, state) in lines.lines().zip(states) {
+    for (line, motion) in lines.lines().zip(&motions) {
         let line: Value = serde_json::from_str(line).unwrap();
         let gamma: Vec<f64> = line["gamma"]
             .as_array()
@@ -521,7 +528,9 @@ pub(crate) fn identification_round_trip(
             .iter()
             .map(|g| g.as_f64().unwrap())
             .collect();
-        for (got, want) in gamma.iter().zip(measured(state)) {
+        let want = measured(motion);
+        assert_eq!(gamma.len(), n, "{line}");
+        for (got, want) in gamma.iter().zip(want) {
             assert!(
                 (got - want).abs() < 1e-6 * want.abs().max(1.0),
                 "{}: {got} vs {want}",
@@ -564,4 +573,31 @@ fn excite_and_identify_serve_the_rotary_hexapod() {
         })
         .collect();
     identification_round_trip(file, &robot, &states, 46);
+}
+
+/// The Delta's file through `excite`, `identify` and `eval --base-parameters`, in its three
+/// coordinates: the CSV columns `t, xc, yc, zc, vx.., ax..` and the forces `gamma1..gamma3`.
+#[test]
+fn excite_and_identify_serve_the_delta() {
+    let file = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/delta.toml");
+    let text = std::fs::read_to_string(file).unwrap();
+    let robot = Delta::new(c5_robot::Delta::from_toml(&text, file).unwrap()).unwrap();
+    let home = robot.home();
+    let states: Vec<State> = (0..5)
+        .map(|k| {
+            let s = |a: f64| (a * (k as f64 + 1.0)).sin();
+            let mut state = State::default();
+            state.pose.center = [
+                home[0] + 0.03 * s(1.1),
+                home[1] - 0.02 * s(0.7),
+                home[2] + 0.03 * s(1.9),
+            ];
+            state.twist.velocity = [0.3 * s(0.5), -0.2, 0.1 * s(1.7)];
+            state.accel.linear = [1.0 * s(0.4), 0.5, -0.8];
+            state
+        })
+        .collect();
+    let base = Mechanism::base_parameters(&robot).unwrap().len();
+    assert!((10..34).contains(&base), "{base} base parameters");
+    identification_round_trip(file, &robot, &states, base);
 }
