@@ -39,7 +39,7 @@ fn identify(truth: &C5, friction: &[Friction; 6], filter: LogFilter, seed: u64) 
     let design = excite::design(truth, &Envelope::default(), &Search::default()).unwrap();
     let encoders = Encoders::new(RESOLUTION).unwrap();
     let mut noise = rng(seed);
-    let mut pipeline = LogProcessor::new(filter, RATE).unwrap();
+    let mut pipeline = LogProcessor::new(filter, RATE, 6).unwrap();
     let mut kept = Vec::new();
     let n = (design.trajectory.period * RATE) as usize;
     for k in 0..n {
@@ -62,7 +62,10 @@ fn identify(truth: &C5, friction: &[Friction; 6], filter: LogFilter, seed: u64) 
     .unwrap();
     let mut identifier = Identifier::new(&geometry).unwrap();
     for s in &kept {
-        let state = geometry.joint_state(&s.q, &s.qd, &s.qdd).unwrap();
+        let six = |v: &[f64]| <[f64; 6]>::try_from(v).unwrap();
+        let state = geometry
+            .joint_state(&six(&s.q), &six(&s.qd), &six(&s.qdd))
+            .unwrap();
         identifier.add(&state, &s.gamma).unwrap();
     }
     identifier.estimate().unwrap()

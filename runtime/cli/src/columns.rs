@@ -10,11 +10,6 @@ pub const POSE: [&str; 6] = ["alpha", "beta", "gamma", "xc", "yc", "zc"];
 pub const TWIST: [&str; 6] = ["wx", "wy", "wz", "vx", "vy", "vz"];
 /// The classical acceleration `(ω̇; a_C)`.
 pub const ACCEL: [&str; 6] = ["wdx", "wdy", "wdz", "ax", "ay", "az"];
-/// The actuator forces `Γ`, segment order, of a platform free in space (identification and
-/// plans).
-#[cfg(any(feature = "identify", feature = "derivatives"))]
-pub const GAMMA: [&str; 6] = ["gamma1", "gamma2", "gamma3", "gamma4", "gamma5", "gamma6"];
-
 /// `{name}1` … `{name}n`: one column per actuator.
 pub fn per_actuator(name: &str, n: usize) -> Vec<String> {
     (1..=n).map(|i| format!("{name}{i}")).collect()

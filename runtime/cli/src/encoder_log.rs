@@ -1,18 +1,34 @@
-//! Encoder logs, `t,q1..q6,gamma1..gamma6`: what a real experiment records (`simulate
-//! --encoder-log` writes them, `identify --data` reads them), read row by row.
+//! Encoder logs, `t,q1..qn,gamma1..gamman` for `n` actuators: what a real experiment records
+//! (`simulate --encoder-log` writes them, `identify --data` reads them), read row by row.
 
-use crate::columns::{per_actuator, GAMMA, POSE, TIME};
+use crate::columns::{per_actuator, POSE, TIME};
 use crate::trajectory_csv::TrajectoryError;
 use std::fs::File;
 use std::path::Path;
 
-/// One row: its line, time, encoder positions and forces.
+/// The most actuators a robot has: a row's room, so that reading one allocates nothing.
+const MOST: usize = crate::columns::Freedom::Free.dimension();
+
+/// One row: its line, time, encoder positions and forces (one per actuator each).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Row {
     pub line: usize,
     pub t: f64,
-    pub q: [f64; 6],
-    pub gamma: [f64; 6],
+    /// The positions, then the forces.
+    values: [f64; 2 * MOST],
+    actuators: usize,
+}
+
+impl Row {
+    /// The encoders' positions.
+    pub fn q(&self) -> &[f64] {
+        &self.values[..self.actuators]
+    }
+
+    /// The forces.
+    pub fn gamma(&self) -> &[f64] {
+        &self.values[self.actuators..2 * self.actuators]
+    }
 }
 
 /// The rows of an encoder log, in order.
@@ -21,14 +37,16 @@ pub struct Rows {
     reader: csv::Reader<File>,
     record: csv::StringRecord,
     header: Vec<String>,
-    columns: [usize; 13],
+    /// The columns of `t`, the positions and the forces.
+    columns: Vec<usize>,
+    actuators: usize,
     line: usize,
     /// The file's length and how far the reader is (for a progress bar).
     pub len: u64,
 }
 
-/// Whether the CSV at `path` is an encoder log: it has the columns `q1..q6` and no pose (every
-/// pose has the centre's `xc`; a level platform's has no angles).
+/// Whether the CSV at `path` is an encoder log: it has the column `q1` and no pose (every pose
+/// has the centre's `xc`; a level platform's has no angles).
 pub fn is_encoder_log(path: &Path) -> bool {
     csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
@@ -37,11 +55,11 @@ pub fn is_encoder_log(path: &Path) -> bool {
         .is_ok_and(|h| h.iter().any(|c| c == "q1") && !h.iter().any(|c| c == POSE[3]))
 }
 
-/// Opens an encoder log.
+/// Opens an encoder log of a robot of `actuators` actuators.
 ///
 /// # Errors
 /// A missing file or column, with the file and line.
-pub fn open(path: &Path) -> Result<Rows, TrajectoryError> {
+pub fn open(path: &Path, actuators: usize) -> Result<Rows, TrajectoryError> {
     let file = path.display().to_string();
     let err = |line: Option<usize>, message: String| TrajectoryError {
         file: file.clone(),
@@ -59,8 +77,8 @@ pub fn open(path: &Path) -> Result<Rows, TrajectoryError> {
         .map(str::to_string)
         .collect();
     let names: Vec<String> = std::iter::once(TIME.to_string())
-        .chain(per_actuator("q", 6))
-        .chain(GAMMA.map(String::from))
+        .chain(per_actuator("q", actuators))
+        .chain(per_actuator("gamma", actuators))
         .collect();
     let missing: Vec<&str> = names
         .iter()
@@ -71,17 +89,21 @@ pub fn open(path: &Path) -> Result<Rows, TrajectoryError> {
         return Err(err(
             Some(1),
             format!(
-                "missing column(s) {} (an encoder log has t, q1..q6, gamma1..gamma6)",
+                "missing column(s) {} (this robot's encoder log has t, q1..q{actuators}, \
+                 gamma1..gamma{actuators})",
                 missing.join(", ")
             ),
         ));
     }
-    let columns = std::array::from_fn(|k| {
-        header
-            .iter()
-            .position(|h| *h == names[k])
-            .expect("checked above")
-    });
+    let columns = names
+        .iter()
+        .map(|name| {
+            header
+                .iter()
+                .position(|h| h == name)
+                .expect("checked above")
+        })
+        .collect();
     Ok(Rows {
         len: std::fs::metadata(path).map(|m| m.len()).unwrap_or(0),
         file,
@@ -89,6 +111,7 @@ pub fn open(path: &Path) -> Result<Rows, TrajectoryError> {
         record: csv::StringRecord::new(),
         header,
         columns,
+        actuators,
         line: 1,
     })
 }
@@ -125,15 +148,15 @@ impl Rows {
                 Err(self.error(self.line, format!("`{name}` is not finite")))
             }
         };
-        let mut v = [0.0; 13];
-        for (k, slot) in v.iter_mut().enumerate() {
-            *slot = value(k)?;
+        let mut values = [0.0; 2 * MOST];
+        for (k, slot) in values[..2 * self.actuators].iter_mut().enumerate() {
+            *slot = value(1 + k)?;
         }
         Ok(Row {
             line: self.line,
-            t: v[0],
-            q: std::array::from_fn(|i| v[1 + i]),
-            gamma: std::array::from_fn(|i| v[7 + i]),
+            t: value(0)?,
+            values,
+            actuators: self.actuators,
         })
     }
 }

@@ -7,7 +7,7 @@ use crate::trajectory_csv;
 use crate::Result;
 use c5_runtime::identify::encoder_log::{Filtered, LogFilter, LogProcessor};
 use c5_runtime::identify::{Estimate, Identifier};
-use c5_runtime::{Mechanism, ParallelRobot, Pose};
+use c5_runtime::Mechanism;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
@@ -23,7 +23,8 @@ pub struct IdentifyArgs {
     /// Samples: a trajectory CSV (t, alpha, beta, gamma, xc, yc, zc, optionally the twist
     /// wx..vz and acceleration wdx..az; a Delta's t, xc, yc, zc, optionally vx..vz and
     /// ax..az) with the measured forces gamma1..gamma6 (a Delta's gamma1..gamma3); or an
-    /// encoder log (t, q1..q6, gamma1..gamma6), filtered, differenced and decimated first.
+    /// encoder log (t, q1..q6, gamma1..gamma6; a Delta's q1..q3, gamma1..gamma3), filtered,
+    /// differenced and decimated first.
     #[arg(long)]
     data: PathBuf,
     #[command(flatten)]
@@ -45,17 +46,7 @@ pub fn run(args: &IdentifyArgs) -> Result<ExitCode> {
     let robot = args.robot.load_mechanism()?;
     let robot = &*robot;
     if encoder_log::is_encoder_log(&args.data) {
-        let Some(spatial) = robot.spatial() else {
-            return Err(format!(
-                "{}: encoder logs of the {} are not read yet (their filter takes six \
-                 actuators); give the platform's states and the forces (t, xc, yc, zc, \
-                 gamma1..gamma3)",
-                args.data.display(),
-                robot.mechanism()
-            )
-            .into());
-        };
-        let (estimate, report) = from_encoders(spatial, args)?;
+        let (estimate, report) = from_encoders(robot, args)?;
         write(
             robot.base_parameters()?.relations().to_vec(),
             &args.data,
@@ -67,7 +58,7 @@ pub fn run(args: &IdentifyArgs) -> Result<ExitCode> {
     } else {
         if args.cutoff.is_some() || args.decimate.is_some() {
             return Err(format!(
-                "{}: --cutoff and --decimate filter encoder logs (t, q1..q6, gamma1..gamma6); \
+                "{}: --cutoff and --decimate filter encoder logs (t, q1.., gamma1..); \
                  this file has the platform's state",
                 args.data.display()
             )
@@ -108,12 +99,10 @@ pub struct FilterReport {
 /// Identifies from an encoder log: the samples through [`LogProcessor`] (filter, central
 /// differences, decimation, edges dropped), then the forward kinematics and the actuators'
 /// motion to the platform's state, into the streaming estimator.
-fn from_encoders(
-    robot: &dyn ParallelRobot,
-    args: &IdentifyArgs,
-) -> Result<(Estimate, FilterReport)> {
+fn from_encoders(robot: &dyn Mechanism, args: &IdentifyArgs) -> Result<(Estimate, FilterReport)> {
     let data = &args.data;
-    let mut rows = encoder_log::open(data)?;
+    let n = robot.freedom().dimension();
+    let mut rows = encoder_log::open(data, n)?;
     let progress = progress_bar(rows.len);
     // The sampling rate, from the first two samples, designs the filter.
     let first: Vec<encoder_log::Row> = rows
@@ -134,11 +123,12 @@ fn from_encoders(
         settings.decimate = decimate;
     }
     let mut pipeline =
-        LogProcessor::new(settings, rate).map_err(|e| format!("{}: {e}", data.display()))?;
-    let mut identifier = Identifier::new(robot.as_mechanism())?;
+        LogProcessor::new(settings, rate, n).map_err(|e| format!("{}: {e}", data.display()))?;
+    let mut identifier = Identifier::new(robot)?;
     let mut kept: Vec<Filtered> = Vec::new();
     // Where the forward kinematics iterates, it starts from the previous sample's pose.
-    let mut near: Option<Pose> = None;
+    let (mut near, mut started) = (vec![0.0; n], false);
+    let mut motion = [0; 3].map(|_| vec![0.0; n]);
     // The lines of the samples not yet kept or passed over: sample `index` is
     // `lines[index - passed]`.
     let mut lines: std::collections::VecDeque<usize> = std::collections::VecDeque::new();
@@ -150,12 +140,18 @@ fn from_encoders(
      -> Result<()> {
         for s in kept.drain(..) {
             let line = lines[s.index - *passed];
-            let state = robot
-                .joint_state(&s.q, &s.qd, &s.qdd, near.as_ref())
+            let [x, v, a] = &mut motion;
+            robot
+                .joint_state(
+                    [&s.q, &s.qd, &s.qdd],
+                    started.then_some(&near[..]),
+                    [x, v, a],
+                )
                 .map_err(|e| format!("{}:{line}: {e}", data.display()))?;
-            near = Some(state.pose);
+            near.copy_from_slice(x);
+            started = true;
             identifier
-                .add(&state, &s.gamma)
+                .add_motion([x, v, a], &s.gamma)
                 .map_err(|e| format!("{}:{line}: {e}", data.display()))?;
             consumed += 1;
             // Kept samples come in order: the lines before this one are done with.
@@ -172,7 +168,7 @@ fn from_encoders(
      -> Result<()> {
         lines.push_back(row.line);
         pipeline
-            .push(row.t, &row.q, &row.gamma, kept)
+            .push(row.t, row.q(), row.gamma(), kept)
             .map_err(|e| format!("{}:{}: {e}", data.display(), row.line).into())
     };
     for row in first {

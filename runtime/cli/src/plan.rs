@@ -133,7 +133,7 @@ fn quintic_forces(robot: &C5, problem: &Problem, times: &[f64]) -> crate::Result
 fn write_csv(path: &Path, p: &c5_runtime::plan::Plan) -> crate::Result<()> {
     let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
     let mut header = columns::state(columns::Freedom::Free);
-    header.extend(columns::GAMMA.map(String::from));
+    header.extend(columns::per_actuator("gamma", 6));
     writeln!(w, "{}", header.join(","))?;
     for (k, (t, s)) in p.times.iter().zip(&p.states).enumerate() {
         // The last sample has no step after it: the forces that hold the goal are the last

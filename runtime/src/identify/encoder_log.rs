@@ -47,15 +47,16 @@ impl LogFilter {
 }
 
 /// One kept sample: its index in the log, time, the actuators' filtered positions, rates and
-/// accelerations (central differences of the filtered positions), and the filtered forces.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// accelerations (central differences of the filtered positions), and the filtered forces,
+/// one per actuator each.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Filtered {
     pub index: usize,
     pub t: f64,
-    pub q: [f64; 6],
-    pub qd: [f64; 6],
-    pub qdd: [f64; 6],
-    pub gamma: [f64; 6],
+    pub q: Vec<f64>,
+    pub qd: Vec<f64>,
+    pub qdd: Vec<f64>,
+    pub gamma: Vec<f64>,
 }
 
 /// Why a log was refused, with the index of the sample at fault.
@@ -75,6 +76,12 @@ pub enum LogError {
     },
     /// Too few samples for the filter's two settling times and one kept sample.
     TooShort { samples: usize, needed: usize },
+    /// Positions or forces not one per actuator.
+    WrongWidth {
+        index: usize,
+        expected: usize,
+        got: usize,
+    },
 }
 
 impl LogError {
@@ -83,7 +90,8 @@ impl LogError {
         match self {
             LogError::NonFinite { index }
             | LogError::NotIncreasing { index, .. }
-            | LogError::Irregular { index, .. } => Some(*index),
+            | LogError::Irregular { index, .. }
+            | LogError::WrongWidth { index, .. } => Some(*index),
             _ => None,
         }
     }
@@ -116,26 +124,30 @@ impl fmt::Display for LogError {
                 "{samples} samples: too short for the filter, which needs at least {needed} \
                  (its settling time at each end, dropped, and one sample between)"
             ),
+            LogError::WrongWidth { expected, got, .. } => write!(
+                f,
+                "{got} positions or forces where the robot has {expected} actuators"
+            ),
         }
     }
 }
 
 impl std::error::Error for LogError {}
 
-/// One raw sample: time, then the six positions and the six forces.
-type Raw = [f64; 13];
-
 /// The streaming pipeline of an encoder log: push the samples in order, collect the kept ones.
 pub struct LogProcessor {
     settings: LogFilter,
+    /// How many actuators: each sample holds as many positions and forces.
+    actuators: usize,
     filter: Option<Butterworth>,
     /// Samples dropped at each end: the filter's settling time (one without a filter, for the
     /// central differences).
     margin: usize,
     /// Samples a block keeps.
     block: usize,
-    /// Raw samples not yet passed, the first at index `start`.
-    buffer: Vec<Raw>,
+    /// Raw samples not yet passed, the first at index `start`: each its time, positions and
+    /// forces, `1 + 2 actuators` numbers.
+    buffer: Vec<f64>,
     start: usize,
     count: usize,
     period: Option<f64>,
@@ -143,12 +155,12 @@ pub struct LogProcessor {
 }
 
 impl LogProcessor {
-    /// A pipeline for a log sampled at `rate` (Hz).
+    /// A pipeline for a log of `actuators` positions and forces sampled at `rate` (Hz).
     ///
     /// # Errors
     /// [`LogError::Settings`] for an odd order, a cutoff not below half the rate, or no
     /// decimation.
-    pub fn new(settings: LogFilter, rate: f64) -> Result<Self, LogError> {
+    pub fn new(settings: LogFilter, rate: f64, actuators: usize) -> Result<Self, LogError> {
         if !(rate.is_finite() && rate > 0.0) || settings.decimate == 0 {
             return Err(LogError::Settings(format!(
                 "the sampling rate ({rate} Hz) and the decimation ({}) must be positive",
@@ -177,6 +189,7 @@ impl LogProcessor {
         let margin = filter.as_ref().map_or(1, |f| f.settling(rate).max(1));
         Ok(LogProcessor {
             settings,
+            actuators,
             margin,
             block: (8 * margin).max(4096),
             filter,
@@ -201,16 +214,26 @@ impl LogProcessor {
     /// Takes the next sample; appends to `out` the kept samples it completes.
     ///
     /// # Errors
-    /// A non-finite value, a time that does not increase, or an interval more than 1 % off the
-    /// first; the pipeline is then unusable.
+    /// Positions or forces not one per actuator, a non-finite value, a time that does not
+    /// increase, or an interval more than 1 % off the first; the pipeline is then unusable.
     pub fn push(
         &mut self,
         t: f64,
-        q: &[f64; 6],
-        gamma: &[f64; 6],
+        q: &[f64],
+        gamma: &[f64],
         out: &mut Vec<Filtered>,
     ) -> Result<(), LogError> {
         let index = self.count;
+        if let Some(got) = [q.len(), gamma.len()]
+            .into_iter()
+            .find(|&n| n != self.actuators)
+        {
+            return Err(LogError::WrongWidth {
+                index,
+                expected: self.actuators,
+                got,
+            });
+        }
         if !t.is_finite() || q.iter().chain(gamma).any(|x| !x.is_finite()) {
             return Err(LogError::NonFinite { index });
         }
@@ -232,18 +255,26 @@ impl LogProcessor {
             }
         }
         self.last_t = Some(t);
-        let mut raw = [0.0; 13];
-        raw[0] = t;
-        raw[1..7].copy_from_slice(q);
-        raw[7..].copy_from_slice(gamma);
-        self.buffer.push(raw);
+        self.buffer.push(t);
+        self.buffer.extend_from_slice(q);
+        self.buffer.extend_from_slice(gamma);
         self.count += 1;
-        if self.buffer.len() >= self.block + 2 * self.margin {
+        if self.buffered() >= self.block + 2 * self.margin {
             self.emit(self.margin..self.margin + self.block, out);
-            self.buffer.drain(..self.block);
+            self.buffer.drain(..self.block * self.stride());
             self.start += self.block;
         }
         Ok(())
+    }
+
+    /// The numbers of one raw sample: its time, positions and forces.
+    fn stride(&self) -> usize {
+        1 + 2 * self.actuators
+    }
+
+    /// The raw samples not yet passed.
+    fn buffered(&self) -> usize {
+        self.buffer.len() / self.stride()
     }
 
     /// Passes the rest of the log.
@@ -259,16 +290,17 @@ impl LogProcessor {
                 needed,
             });
         }
-        let len = self.buffer.len();
+        let len = self.buffered();
         self.emit(self.margin..len - self.margin, out);
         Ok(())
     }
 
     /// Filters the buffer and appends the kept samples among its indices `keep`.
     fn emit(&mut self, keep: std::ops::Range<usize>, out: &mut Vec<Filtered>) {
-        let period = self.period.unwrap_or(1.0);
-        let mut channels: [Vec<f64>; 12] =
-            std::array::from_fn(|c| self.buffer.iter().map(|s| s[1 + c]).collect());
+        let (period, n, stride) = (self.period.unwrap_or(1.0), self.actuators, self.stride());
+        let mut channels: Vec<Vec<f64>> = (0..2 * n)
+            .map(|c| self.buffer.chunks(stride).map(|s| s[1 + c]).collect())
+            .collect();
         if let Some(filter) = &self.filter {
             for channel in &mut channels {
                 filter.zero_phase(channel);
@@ -282,13 +314,15 @@ impl LogProcessor {
             let at = |c: usize, k: usize| channels[c][k];
             out.push(Filtered {
                 index,
-                t: self.buffer[i][0],
-                q: std::array::from_fn(|c| at(c, i)),
-                qd: std::array::from_fn(|c| (at(c, i + 1) - at(c, i - 1)) / (2.0 * period)),
-                qdd: std::array::from_fn(|c| {
-                    (at(c, i + 1) - 2.0 * at(c, i) + at(c, i - 1)) / (period * period)
-                }),
-                gamma: std::array::from_fn(|c| at(6 + c, i)),
+                t: self.buffer[i * stride],
+                q: (0..n).map(|c| at(c, i)).collect(),
+                qd: (0..n)
+                    .map(|c| (at(c, i + 1) - at(c, i - 1)) / (2.0 * period))
+                    .collect(),
+                qdd: (0..n)
+                    .map(|c| (at(c, i + 1) - 2.0 * at(c, i) + at(c, i - 1)) / (period * period))
+                    .collect(),
+                gamma: (n..2 * n).map(|c| at(c, i)).collect(),
             });
         }
     }
@@ -309,7 +343,7 @@ mod tests {
     #[test]
     fn streaming_blocks_equal_the_whole_log_filtered_at_once() {
         let settings = LogFilter::default_for(1000.0);
-        let mut p = LogProcessor::new(settings, 1000.0).unwrap();
+        let mut p = LogProcessor::new(settings, 1000.0, 6).unwrap();
         let n = 30_000;
         let mut out = Vec::new();
         for k in 0..n {
@@ -338,9 +372,22 @@ mod tests {
     #[test]
     fn bad_timing_and_short_logs_are_refused_with_the_sample() {
         let settings = LogFilter::default_for(1000.0);
-        let mut p = LogProcessor::new(settings, 1000.0).unwrap();
+        let mut p = LogProcessor::new(settings, 1000.0, 6).unwrap();
         let (q, g) = signal(0);
         let mut out = Vec::new();
+        let e = p.push(0.0, &q[..3], &g, &mut out).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                LogError::WrongWidth {
+                    expected: 6,
+                    got: 3,
+                    index: 0
+                }
+            ),
+            "{e}"
+        );
+        assert_eq!(p.samples(), 0);
         for (k, t) in [0.0, 0.001, 0.002, 0.003].iter().enumerate() {
             p.push(*t, &q, &g, &mut out).unwrap();
             assert_eq!(p.samples(), k + 1);
@@ -362,7 +409,8 @@ mod tests {
                 cutoff: Some(600.0),
                 ..settings
             },
-            1000.0
+            1000.0,
+            6
         )
         .is_err());
     }
