@@ -294,44 +294,38 @@ impl Clone for Box<dyn ParallelRobot> {
     }
 }
 
-/// The robot of `description`, the C5 with `model` (the other mechanisms have one model).
+/// The robot of `description` as a platform free in space, the C5 with `model` (the other
+/// mechanisms have one model): [`crate::platform::load`]'s robot, for what only six freedoms
+/// serve.
 ///
 /// # Errors
 /// [`Error::Robot`] if the description breaks a rule of its mechanism; [`Error::Unsupported`]
 /// for the Delta, whose platform has three freedoms: [`crate::Delta`] serves it.
 pub fn robot(description: Description, model: Model) -> Result<Box<dyn ParallelRobot>, Error> {
-    Ok(match description {
-        Description::C5(r) => Box::new(C5::with_model(r, model)?),
-        Description::GoughStewart(r) => Box::new(GoughStewart::new(r)?),
-        Description::RusHexapod(r) => Box::new(RusHexapod::new(r)?),
-        Description::Delta(_) => {
-            return Err(Error::Unsupported {
-                what: "six-freedom platform",
-                mechanism: description.mechanism(),
-                why: "its platform only translates: `c5 eval`, `c5 forward`, `c5 simulate`, \
-                      the Python `Robot` and `c5_runtime::Mechanism` serve it, and this command \
-                      takes six freedoms",
-            })
-        }
-    })
+    let mechanism = crate::platform::load(description, model)?;
+    mechanism
+        .spatial()
+        .map(ParallelRobot::clone_box)
+        .ok_or(Error::Unsupported {
+            what: "six-freedom platform",
+            mechanism: mechanism.mechanism(),
+            why: "its platform only translates: `c5_runtime::Mechanism` serves it, and this \
+                  takes six freedoms",
+        })
 }
 
 /// The robot of `description` in `format` for other tools (docs/export.md), after the checks
-/// [`robot`] makes, so that a file the commands refuse is refused here with the same message;
-/// the Delta, which [`robot`] does not serve, is exported on its description's checks.
+/// [`crate::platform::load`] makes, so that a file the commands refuse is refused here with
+/// the same message.
 ///
 /// # Errors
-/// As [`robot`] (but [`Error::Unsupported`] for a mechanism without kernels); the C5's paper
-/// model, which is not a mechanism, is refused.
+/// As [`crate::platform::load`]; the C5's paper model, which is not a mechanism, is refused.
 pub fn export(
     description: &Description,
     model: Model,
     format: c5_robot::Format,
 ) -> Result<alloc::string::String, Error> {
-    match robot(description.clone(), model) {
-        Ok(_) | Err(Error::Unsupported { .. }) => {}
-        Err(e) => return Err(e),
-    }
+    crate::platform::load(description.clone(), model)?;
     if matches!(description, Description::C5(_)) && model == Model::Paper {
         return Err(Error::Unsupported {
             what: "export",
