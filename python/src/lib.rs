@@ -349,8 +349,8 @@ fn forward_args<'a, 'py>(
 /// force extending the leg; a rotary hexapod's or a Delta's is the motor's angle (plus its
 /// encoder offset), a positive torque turning it positive. A Delta's platform only translates:
 /// its `dimension` is 3, its pose `[xc yc zc]`, its calls take `velocity` and `acceleration`
-/// (no `omega`, `omega_dot`) and three actuators; what needs six freedoms (the task-space
-/// terms, the joint-space dynamics, regressors, identification, derivatives) raises a
+/// (no `omega`, `omega_dot`) and three actuators (identification too); what needs six
+/// freedoms (the task-space terms, the joint-space dynamics, derivatives) raises a
 /// `ValueError` naming it.
 #[pyclass(module = "c5_kernels", name = "Robot", frozen)]
 struct C5 {

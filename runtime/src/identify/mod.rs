@@ -4,8 +4,10 @@
 //! Not every standard parameter shows in the forces: the generator finds the base parameters,
 //! the combinations that do (`c5-codegen`'s QR with column pivoting of `Y` stacked over
 //! states), and generates the base regressor `Y_b` with `Γ = Y_b β`. [`BaseParameters`] names
-//! them and says what each groups; [`C5::base_regressor`] evaluates `Y_b`; [`Identifier`]
-//! accumulates samples and estimates `β` with its standard deviations.
+//! them and says what each groups; [`C5::base_regressor`] evaluates `Y_b` (every mechanism's
+//! through [`Mechanism::base_regressor_into`](crate::Mechanism::base_regressor_into), in its
+//! platform's coordinates); [`Identifier`] accumulates samples of any mechanism and estimates
+//! `β` with its standard deviations.
 //!
 //! Friction is the usual `Γ_f,i = Fv_i Q̇_i1 + Fc_i sign(Q̇_i1)`: the forces the actuators
 //! apply are `Y_b β`, inertial and gravity loads plus friction.
