@@ -297,15 +297,7 @@ fn an_encoder_log_of_an_unseen_robot_identifies_it_through_the_command_line() {
     let file = dir.join("unseen.toml");
     std::fs::write(&file, robot.to_toml()).unwrap();
     let path = |name: &str| dir.join(name).display().to_string();
-    let run = |args: &[&str]| {
-        let out = c5(args, "");
-        assert!(
-            out.status.success(),
-            "{args:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        out
-    };
+    let run = |args: &[&str]| c5_ok(args, "");
     // What an experiment records: an exciting trajectory at 1 kHz, the encoders at 1e-7 m a
     // count, the forces with 0.5 N of noise.
     run(&[
@@ -604,15 +596,7 @@ fn an_encoder_log_of_a_delta_identifies_it() {
     let dir = scratch("delta-encoder-log");
     let file = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/delta.toml");
     let path = |name: &str| dir.join(name).display().to_string();
-    let run = |args: &[&str]| {
-        let out = c5(args, "");
-        assert!(
-            out.status.success(),
-            "{args:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        out
-    };
+    let run = |args: &[&str]| c5_ok(args, "");
     let excite = path("excite.csv");
     run(&[
         "excite", "--rate", "1000", "--robot", file, "--out", &excite,
