@@ -55,6 +55,7 @@ class Unobservable(TypedDict):
 
 class Calibration(TypedDict):
     names: list[str]
+    units: list[str]
     nominal: Array
     values: Array
     std_dev: Array
@@ -331,12 +332,14 @@ class Robot:
         observable: float = 5e-3,
         strict: bool = False,
     ) -> Calibration:
-        """Kinematic calibration of a Gough-Stewart platform: each leg's ``A_i``, ``p_i`` and
-        encoder offset fitted to measured poses ``(N, 6)`` and readings ``(N, 6)``
-        (docs/calibration.md). ``std_dev`` is NaN for a parameter fixed as unobservable."""
+        """Kinematic calibration of a Gough-Stewart platform, a rotary hexapod or a Delta: each
+        leg's fitted geometry (joint centres, a rotary leg's crank and rod lengths, the encoder
+        offset) fitted to measured poses ``(N, d)`` and readings ``(N, n)``
+        (docs/calibration.md); ``units`` says ``m`` or ``rad`` per parameter. ``std_dev`` is
+        NaN for a parameter fixed as unobservable."""
 
     def calibration_plan(self, n: int, *, seed: int = 1) -> Array:
-        """``n`` poses ``(n, 6)`` inside the limits that make the geometry best observable."""
+        """``n`` poses ``(n, d)`` inside the limits that make the geometry best observable."""
 
 C5 = Robot
 

@@ -502,6 +502,7 @@ fn crate_kernels(checked_in: &CheckedIn) -> Result<Vec<Entry>, Error> {
             &ParameterSet::All,
             "_params",
         )?);
+        entries.extend(model::kernels::geometry_specs(mechanism));
     }
     Ok(entries)
 }
@@ -718,8 +719,8 @@ fn mechanism_files(group: &MechanismKernels<'_>) -> Result<Vec<(PathBuf, String)
                         || e.spec.inputs.iter().all(|a| a.name != "params"))
             })
             .collect();
-        if checked.is_empty() {
-            continue; // no folded kernels
+        if checked.is_empty() || (!parameters && !group.extended) {
+            continue; // no folded kernels (calibration's read the geometry alone)
         }
         model::self_check(mechanism, &checked)?;
     }

@@ -11,8 +11,8 @@ use c5_runtime::calibrate::{self, Measurement, Noise, Options};
 use c5_runtime::identify::{BaseParameters, Friction, Identifier};
 use c5_runtime::platform::Freedom;
 use c5_runtime::{
-    Acceleration, Description, Error, GoughStewart, Mechanism, Model, ParallelRobot, Pose, State,
-    Twist, C5 as Robot5,
+    Acceleration, Description, Error, Mechanism, Model, ParallelRobot, Pose, State, Twist,
+    C5 as Robot5,
 };
 use numpy::ndarray::{ArrayD, IxDyn};
 use numpy::{
@@ -503,20 +503,10 @@ impl C5 {
     }
 
     /// The robot as a Gough-Stewart platform, for what only it serves.
-    fn hexapod(&self, what: &'static str) -> PyResult<&GoughStewart> {
-        self.spatial(what)?
-            .as_any()
-            .downcast_ref::<GoughStewart>()
-            .ok_or_else(|| {
-                PyValueError::new_err(
-                    Error::Unsupported {
-                        what,
-                        mechanism: self.inner.mechanism(),
-                        why: "calibration fits the legs' geometry of a Gough-Stewart platform",
-                    }
-                    .to_string(),
-                )
-            })
+    /// The robot to calibrate, refused for a mechanism without legs' geometry to fit.
+    fn nominal(&self) -> PyResult<calibrate::Nominal> {
+        calibrate::Nominal::new(self.inner.description())
+            .map_err(|e| PyValueError::new_err(e.to_string()))
     }
 
     /// The robot's base parameters.
@@ -1292,12 +1282,13 @@ impl C5 {
         Ok(d)
     }
 
-    /// Kinematic calibration (a Gough-Stewart platform): each leg's base joint centre `A_i`,
-    /// platform joint centre `p_i` and encoder offset `o_i` fitted to measured poses `(N, 6)`
-    /// and encoder readings `(N, 6)`. Returns a dict: `names`, `nominal`, `values`, `std_dev`
-    /// (NaN where fixed), `residuals_before`, `residuals_after` (`(N, 6)`, m),
-    /// `singular_values` (`(6, 7)`), `unobservable` (a list of dicts), `variance_factor`,
-    /// `iterations` and `robot_toml`, the calibrated robot file.
+    /// Kinematic calibration (a Gough-Stewart platform, a rotary hexapod, a Delta): each leg's
+    /// fitted geometry (docs/calibration.md: joint centres, a rotary leg's crank and rod
+    /// lengths, the encoder offset) fitted to measured poses `(N, d)` and encoder readings
+    /// `(N, n)`. Returns a dict: `names`, `units` (`m` or `rad` each), `nominal`, `values`,
+    /// `std_dev` (NaN where fixed), `residuals_before`, `residuals_after` (`(N, n)`, m or rad),
+    /// `singular_values` (`(n, fitted per leg)`), `unobservable` (a list of dicts),
+    /// `variance_factor`, `iterations` and `robot_toml`, the calibrated robot file.
     #[pyo3(signature = (pose, q, *, noise_position = 10e-6, noise_angle = 20e-6,
         noise_encoder = 1e-6, scale = 1e-3, observable = 5e-3, strict = false))]
     #[allow(clippy::too_many_arguments)]
@@ -1313,12 +1304,13 @@ impl C5 {
         observable: f64,
         strict: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let robot = self.hexapod("calibration")?;
-        let (r, batch) = Self::read(&[("pose", 6, Some(&pose)), ("q", 6, Some(&q))])?;
+        let robot = &self.nominal()?;
+        let n = robot.actuators();
+        let (r, batch) = Self::read(&[("pose", n, Some(&pose)), ("q", n, Some(&q))])?;
         let data: Vec<Measurement> = (0..batch.n)
             .map(|k| Measurement {
-                pose: Pose::from_array(r[0].row(k)),
-                q: r[1].row(k),
+                pose: r[0].slice(k).to_vec(),
+                q: r[1].slice(k).to_vec(),
             })
             .collect();
         let options = Options {
@@ -1341,29 +1333,31 @@ impl C5 {
             "names",
             p.iter().map(|x| x.name.clone()).collect::<Vec<_>>(),
         )?;
+        let units: Vec<&str> = p
+            .iter()
+            .map(|x| if x.angle { "rad" } else { "m" })
+            .collect();
+        d.set_item("units", units)?;
         d.set_item("nominal", vector(py, p.iter().map(|x| x.nominal).collect()))?;
         d.set_item("values", vector(py, p.iter().map(|x| x.estimate).collect()))?;
         let sigma = p.iter().map(|x| x.std_dev.unwrap_or(f64::NAN)).collect();
         d.set_item("std_dev", vector(py, sigma))?;
-        let table = |rows: &[[f64; 6]]| {
-            ArrayD::from_shape_vec(IxDyn(&[rows.len(), 6]), rows.as_flattened().to_vec())
+        let table = |rows: &[Vec<f64>], width: usize| {
+            ArrayD::from_shape_vec(IxDyn(&[rows.len(), width]), rows.concat())
                 .map(|a| a.into_pyarray(py))
         };
         let to_py = |e: numpy::ndarray::ShapeError| PyValueError::new_err(e.to_string());
         d.set_item(
             "residuals_before",
-            table(&report.residuals_before).map_err(to_py)?,
+            table(&report.residuals_before, n).map_err(to_py)?,
         )?;
         d.set_item(
             "residuals_after",
-            table(&report.residuals_after).map_err(to_py)?,
+            table(&report.residuals_after, n).map_err(to_py)?,
         )?;
-        let singular = ArrayD::from_shape_vec(
-            IxDyn(&[6, calibrate::PER_LEG]),
-            report.singular_values.as_flattened().to_vec(),
-        )
-        .map_err(to_py)?;
-        d.set_item("singular_values", singular.into_pyarray(py))?;
+        let fitted = robot.fitted().len();
+        let singular = table(&report.singular_values, fitted).map_err(to_py)?;
+        d.set_item("singular_values", singular)?;
         let unobservable = PyList::empty(py);
         for u in &report.unobservable {
             let entry = PyDict::new(py);
@@ -1377,15 +1371,12 @@ impl C5 {
         d.set_item("unobservable", unobservable)?;
         d.set_item("variance_factor", report.variance_factor)?;
         d.set_item("iterations", report.iterations)?;
-        d.set_item(
-            "robot_toml",
-            Description::GoughStewart(report.robot).to_toml(),
-        )?;
+        d.set_item("robot_toml", report.robot.to_toml())?;
         Ok(d)
     }
 
-    /// `n` poses `(n, 6)` inside the robot's limits that make its geometry best observable for
-    /// calibration (a Gough-Stewart platform), drawn with `seed`.
+    /// `n` poses `(n, d)` inside the robot's limits that make its geometry best observable for
+    /// calibration (a Gough-Stewart platform, a rotary hexapod, a Delta), drawn with `seed`.
     #[pyo3(signature = (n, *, seed = 1))]
     fn calibration_plan<'py>(
         &self,
@@ -1393,12 +1384,11 @@ impl C5 {
         n: usize,
         seed: u64,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-        let robot = self.hexapod("calibration plan")?;
+        let robot = &self.nominal()?;
         let poses = py
             .detach(|| calibrate::plan(robot, n, &Options::default(), seed))
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
-        let flat: Vec<f64> = poses.iter().flat_map(|p| p.to_array()).collect();
-        ArrayD::from_shape_vec(IxDyn(&[poses.len(), 6]), flat)
+        ArrayD::from_shape_vec(IxDyn(&[poses.len(), robot.actuators()]), poses.concat())
             .map(|a| a.into_pyarray(py))
             .map_err(|e| PyValueError::new_err(e.to_string()))
     }

@@ -130,6 +130,23 @@ fn is_zero(x: &f64) -> bool {
     *x == 0.0
 }
 
+/// The entries of one leg in the kernels' geometry ([`UpsLeg::kernel_geometry`]).
+pub const LEG_GEOMETRY: usize = 10;
+
+impl UpsLeg {
+    /// The leg's entries in the kernels' parameter vector: `A_i`, `a_i` normalised, `p_i` and
+    /// the encoder's offset.
+    pub fn kernel_geometry(&self) -> [f64; LEG_GEOMETRY] {
+        let n = norm(self.u_axis);
+        let mut out = [0.0; LEG_GEOMETRY];
+        out[0..3].copy_from_slice(&self.base);
+        out[3..6].copy_from_slice(&self.u_axis.map(|x| x / n));
+        out[6..9].copy_from_slice(&self.platform);
+        out[9] = self.encoder_offset;
+        out
+    }
+}
+
 /// The physical limits of a Gough-Stewart platform; `None` is unlimited (the default).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(
@@ -334,7 +351,7 @@ pub const PLATFORM_STANDARD: [&str; 10] = [
 
 /// How many entries open the parameter vector before the inertial ones: gravity, then per leg
 /// `A_i`, the unit `a_i`, `p_i` and the encoder's offset.
-pub const GEOMETRY_PARAMETERS: usize = 3 + 6 * 10;
+pub const GEOMETRY_PARAMETERS: usize = 3 + 6 * LEG_GEOMETRY;
 
 /// Length of the parameter vector of the `*_params` kernels.
 pub const PARAMETERS: usize = GEOMETRY_PARAMETERS + 10 + 6 * 2 * 4;
@@ -406,11 +423,7 @@ impl GoughStewart {
         let mut out = Vec::with_capacity(PARAMETERS);
         out.extend(self.gravity);
         for leg in &self.legs {
-            let n = norm(leg.u_axis);
-            out.extend(leg.base);
-            out.extend(leg.u_axis.map(|x| x / n));
-            out.extend(leg.platform);
-            out.push(leg.encoder_offset);
+            out.extend(leg.kernel_geometry());
         }
         out.extend(self.standard_inertial_parameters());
         out

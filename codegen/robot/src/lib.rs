@@ -36,6 +36,7 @@
 
 extern crate alloc;
 
+pub mod calibration;
 pub mod delta;
 pub mod description;
 mod error;

@@ -22,6 +22,7 @@
 //! those of a platform with six freedoms, which the Delta's [`Structure::has_kernel`] declines.
 
 use super::bodies::{Dynamics, Inertial};
+use super::calibration;
 use super::geometry::{Motion, Posed};
 use super::kernels::{Build, Cite, Context, Decl, Guard, Input, Kernel, Output, Reads};
 use super::legged::{self, rus::Rus, Leg, LegState};
@@ -499,7 +500,45 @@ const KERNELS: &[Decl] = &[
         ],
         |cx| meeting_points(cx.geometry, &cx.input(Input::Actuators)),
     ),
+    calibration::decl(
+        "`r_i = q_i(C; θ) - q̂_i` with `q_i = θ_i(C) + o_i`, the motor angle the geometry `θ` \
+         (the `params`) gives at the measured position `C` (the inverse kinematics, with its \
+         branch), less the encoder's reading `q̂_i` (rad). Arm `i`'s residual depends on its \
+         own six parameters only (`A_i`, `c_i`, `L_i`, `o_i`; its `p_i` moves it as `-A_i` \
+         does): row `i` of `geometry_jacobian` holds those six derivatives; `pose_jacobian` is \
+         `∂q/∂C`, which carries the position's measurement noise into the residuals.",
+        POSITION_AND_ANGLES,
+        &CALIBRATION_OUTPUTS,
+        |cx| {
+            let c = Translation::of(cx).position;
+            let geometry =
+                |i: usize| cx.geometry[3 + ARM_GEOMETRY * i..3 + ARM_GEOMETRY * (i + 1)].to_vec();
+            let legs = calibration::Legs {
+                balls: (0..3).map(|i| c + arm(cx.geometry, i).platform).collect(),
+                actuator: &|i, b| arm(cx.geometry, i).actuator_at(b),
+                geometry: &geometry,
+            };
+            calibration::residuals(
+                cx.graph(),
+                &legs,
+                &cx.input(Input::Actuators),
+                &c.to_vec(),
+                &c5_robot::calibration::DELTA_ARM,
+            )
+        },
+    ),
 ];
+
+const POSITION_AND_ANGLES: &[Input] = &[Input::Position, Input::Actuators];
+
+const CALIBRATION_OUTPUTS: [Output; 3] = super::calibration::outputs(
+    3,
+    c5_robot::calibration::DELTA_ARM.len(),
+    3,
+    "`∂q_i/∂(A_i, c_i, L_i, o_i)`, row `i` for arm `i+1`, columns `A_x A_y A_z c L o` (base \
+     frame)",
+    "`∂q/∂C`, row `i` for arm `i+1`, columns `xc yc zc`",
+);
 
 impl Structure for DeltaMechanics {
     fn parameter_names(&self) -> Vec<String> {

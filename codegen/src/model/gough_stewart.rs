@@ -8,6 +8,7 @@
 //! conventions are `c5_robot::GoughStewart`'s.
 
 use super::bodies::{Dynamics, Inertial};
+use super::calibration;
 use super::geometry::{rotation_of_pose, Posed};
 use super::kernels::{jacobian_wrt, Build, Cite, Decl, Guard, Input, Kernel, Output, Reads};
 use super::legged::{self, ups::Ups, Leg};
@@ -317,64 +318,47 @@ const EXTRA_KERNELS: &[Decl] = &[
             vec![residual, jacobian_wrt(cx.graph(), &posed.q, &x).rows()]
         }),
     },
-    Decl {
-        kernel: Kernel::CalibrationResiduals,
-        title: "Kinematic calibration: the legs' residuals at a measured pose, and their exact \
-                Jacobians with respect to each leg's geometry and to the pose.",
-        doc:
-            "`r_i = ρ_i(X; θ) - q_i` with `ρ_i = |C + R p_i - A_i| + o_i`, the actuator value the \
-              geometry `θ` (the `params`) predicts at the measured pose `X`, less the encoder's \
-              reading `q_i`. Leg `i`'s residual depends on its own seven parameters only \
-              (`A_i`, `p_i`, `o_i`): row `i` of `geometry_jacobian` holds those seven \
-              derivatives; `pose_jacobian` is `∂ρ/∂X`, which carries the pose's measurement \
-              noise into the residuals.",
-        equations: Cite::Fixed(&["q = |C + R p - A| + o", "∂q/∂(A, p, o)", "∂q/∂X"]),
-        inputs: &[Input::Pose, Input::Actuators],
-        outputs: &[
-            Output {
-                name: "residual",
-                shape: Shape::Vector(6),
-                doc: "`ρ(X; θ) - q` (m): the actuator values the geometry predicts at the pose \
-                      less the readings",
-            },
-            Output {
-                name: "geometry_jacobian",
-                shape: Shape::Matrix(6, CALIBRATION_PARAMETERS_PER_LEG),
-                doc: "`∂ρ_i/∂(A_i, p_i, o_i)`, row `i` for leg `i+1`, columns \
-                      `A_x A_y A_z p_x p_y p_z o` (base frame for `A`, platform frame for `p`)",
-            },
-            Output {
-                name: "pose_jacobian",
-                shape: Shape::Matrix(6, 6),
-                doc: "`∂ρ/∂X`, row `i` for leg `i+1`, columns `α β γ xc yc zc`",
-            },
-        ],
-        guard: Guard::Never,
-        reads: Reads::Geometry,
-        batch: false,
-        chapter: None,
-        build: Build::Robot(|cx| {
-            let (g, posed) = (cx.graph(), cx.posed());
-            let (q, x) = (cx.input(Input::Actuators), cx.input(Input::Pose));
-            let residual: Vec<Expr<'_>> = (0..6).map(|i| posed.q[i] - q[i]).collect();
-            let geometry = (0..6)
-                .flat_map(|i| {
-                    let at = &cx.geometry[3 + LEG_GEOMETRY * i..3 + LEG_GEOMETRY * (i + 1)];
-                    CALIBRATED_ENTRIES.map(|k| g.derivatives(&[posed.q[i]], at[k])[0])
-                })
-                .collect();
-            let pose = jacobian_wrt(g, &posed.q, &x).rows();
-            vec![residual, geometry, pose]
-        }),
-    },
+    calibration::decl(
+        "`r_i = q_i(X; θ) - q̂_i` with `q_i = |C + R p_i - A_i| + o_i`, the actuator value the \
+         geometry `θ` (the `params`) predicts at the measured pose `X`, less the encoder's \
+         reading `q̂_i` (m). Leg `i`'s residual depends on its own seven parameters only \
+         (`A_i`, `p_i`, `o_i`): row `i` of `geometry_jacobian` holds those seven derivatives; \
+         `pose_jacobian` is `∂q/∂X`, which carries the pose's measurement noise into the \
+         residuals.",
+        &[Input::Pose, Input::Actuators],
+        &CALIBRATION_OUTPUTS,
+        |cx| {
+            let posed = cx.posed();
+            let geometry =
+                |i: usize| cx.geometry[3 + LEG_GEOMETRY * i..3 + LEG_GEOMETRY * (i + 1)].to_vec();
+            let legs = calibration::Legs {
+                balls: (0..6).map(|i| posed.c - posed.p[i]).collect(),
+                actuator: &|i, b| {
+                    let leg = leg_geometry(cx.geometry, i);
+                    let d = *b - leg.base;
+                    d.dot(&d).sqrt() + leg.offset
+                },
+                geometry: &geometry,
+            };
+            calibration::residuals(
+                cx.graph(),
+                &legs,
+                &cx.input(Input::Actuators),
+                &cx.input(Input::Pose),
+                &c5_robot::calibration::UPS,
+            )
+        },
+    ),
 ];
 
-/// The geometric parameters kinematic calibration fits per leg: `A_i`, `p_i` and `o_i` (the U
-/// joint's axis does not move the actuator).
-pub const CALIBRATION_PARAMETERS_PER_LEG: usize = 7;
-
-/// Where the calibrated parameters sit in a leg's geometry `[A a p o]`.
-const CALIBRATED_ENTRIES: [usize; CALIBRATION_PARAMETERS_PER_LEG] = [0, 1, 2, 6, 7, 8, 9];
+const CALIBRATION_OUTPUTS: [Output; 3] = calibration::outputs(
+    6,
+    c5_robot::calibration::UPS.len(),
+    6,
+    "`∂q_i/∂(A_i, p_i, o_i)`, row `i` for leg `i+1`, columns `A_x A_y A_z p_x p_y p_z o` \
+     (base frame for `A`, platform frame for `p`)",
+    "`∂q/∂X`, row `i` for leg `i+1`, columns `α β γ xc yc zc`",
+);
 
 impl Mechanics for GoughStewartMechanics {
     fn name(&self) -> &'static str {

@@ -1128,6 +1128,19 @@ pub fn specs(
         .collect())
 }
 
+/// The kernels of `mechanism` that read its geometry alone (kinematic calibration's), whose
+/// geometry is their `params` input whatever else is folded: what a mechanism generated with
+/// its `*_params` kernels alone adds to them.
+pub fn geometry_specs(mechanism: &Mechanism) -> Vec<Entry> {
+    mechanism
+        .mechanics
+        .extra_kernels()
+        .iter()
+        .filter(|d| matches!((d.build, d.reads), (Build::Robot(_), Reads::Geometry)))
+        .map(|d| spec(d, mechanism, &[], "", None))
+        .collect()
+}
+
 /// The derivative kernels of `mechanism` ([`super::derivatives::KERNELS`], those its structure
 /// has), its parameters as `parameters` says, named with `suffix` when some are inputs.
 ///

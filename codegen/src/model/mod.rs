@@ -18,6 +18,7 @@
 
 pub mod bodies;
 pub mod c5;
+pub mod calibration;
 pub mod consistent;
 pub mod delta;
 pub mod derivatives;

@@ -8,6 +8,7 @@
 //! parameter vector and the descriptions' conventions are `c5_robot::RusHexapod`'s.
 
 use super::bodies::{Dynamics, Inertial};
+use super::calibration;
 use super::geometry::{rotation_of_pose, Posed};
 use super::kernels::{jacobian_wrt, Build, Cite, Decl, Guard, Input, Kernel, Output, Reads};
 use super::legged::{self, rus::Rus, Leg};
@@ -338,7 +339,45 @@ const EXTRA_KERNELS: &[Decl] = &[
             vec![residual, jacobian_wrt(cx.graph(), &posed.q, &x).rows()]
         }),
     },
+    calibration::decl(
+        "`r_i = q_i(X; θ) - q̂_i` with `q_i = θ_i(X) + o_i`, the crank angle the geometry `θ` \
+         (the `params`) gives at the measured pose `X` (the inverse kinematics, with its \
+         branch), less the encoder's reading `q̂_i` (rad). Leg `i`'s residual depends on its own \
+         nine parameters only (`A_i`, `p_i`, `c_i`, `L_i`, `o_i`): row `i` of \
+         `geometry_jacobian` holds those nine derivatives; `pose_jacobian` is `∂q/∂X`, which \
+         carries the pose's measurement noise into the residuals.",
+        &[Input::Pose, Input::Actuators],
+        &CALIBRATION_OUTPUTS,
+        |cx| {
+            let posed = cx.posed();
+            let geometry =
+                |i: usize| cx.geometry[3 + LEG_GEOMETRY * i..3 + LEG_GEOMETRY * (i + 1)].to_vec();
+            let legs = calibration::Legs {
+                balls: (0..6)
+                    .map(|i| ball(cx.geometry, &posed.r, &posed.c, i))
+                    .collect(),
+                actuator: &|i, b| leg(cx.geometry, i).actuator_at(b),
+                geometry: &geometry,
+            };
+            calibration::residuals(
+                cx.graph(),
+                &legs,
+                &cx.input(Input::Actuators),
+                &cx.input(Input::Pose),
+                &c5_robot::calibration::RUS,
+            )
+        },
+    ),
 ];
+
+const CALIBRATION_OUTPUTS: [Output; 3] = calibration::outputs(
+    6,
+    c5_robot::calibration::RUS.len(),
+    6,
+    "`∂q_i/∂(A_i, p_i, c_i, L_i, o_i)`, row `i` for leg `i+1`, columns \
+     `A_x A_y A_z p_x p_y p_z c L o` (base frame for `A`, platform frame for `p`)",
+    "`∂q/∂X`, row `i` for leg `i+1`, columns `α β γ xc yc zc`",
+);
 
 impl Mechanics for RusHexapodMechanics {
     fn name(&self) -> &'static str {

@@ -15,6 +15,7 @@
 //   inverse_dynamics_params           2851   42  1715   77  3 sin_cos, 12 sqrt
 //   singularity_terms_params           712   35   455    0  3 sin_cos, 12 sqrt
 //   forward_kinematics_step_params    1541   36   784   24  6 atan, 3 sin_cos, 12 sqrt
+//   calibration_residuals             1027   30   496   30  6 atan, 3 sin_cos, 6 sqrt
 //
 // Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
 // handing on what is read after it: one scope that long overflows rustc's stack in a
@@ -66683,6 +66684,3647 @@ pub unsafe fn forward_kinematics_step_params_fused(
             t2406,
             t2407,
             t2408,
+        ],
+    )
+}
+/// Kinematic calibration: the legs' residuals at a measured pose, and their exact Jacobians with respect to each leg's geometry and to the pose.
+///
+/// Equations: r = q(X; θ) - q̂, ∂q/∂θ, ∂q/∂X. Setting: pose.
+///
+/// Model: rus-hexapod. The rotary hexapod (6-RUS): each leg a motor on the base turning a crank, a rod from a universal joint at the crank's tip to a spherical joint on the platform; every quantity derived from the leg's closed forms by exact differentiation.
+/// Actuators in leg order 1..6; `q_i = θ_i + o_i`, the encoder's reading of the crank angle `θ_i` (rad, right-handed about the motor's axis `r_i`, zero along `h_i`), `θ_i = atan2(e2, e1) + b_i acos(K/ρ)` reaching `B_i = C + R p_i`; `Γ_i` is the motor's torque about `r_i` (N·m).
+/// `r_i = q_i(X; θ) - q̂_i` with `q_i = θ_i(X) + o_i`, the crank angle the geometry `θ` (the `params`) gives at the measured pose `X` (the inverse kinematics, with its branch), less the encoder's reading `q̂_i` (rad). Leg `i`'s residual depends on its own nine parameters only (`A_i`, `p_i`, `c_i`, `L_i`, `o_i`): row `i` of `geometry_jacobian` holds those nine derivatives; `pose_jacobian` is `∂q/∂X`, which carries the pose's measurement noise into the residuals.
+/// The geometry and gravity are `params`.
+///
+/// # Arguments
+///
+/// - `pose`: platform pose `[α β γ xc yc zc]` (rad, m), RPY as eq 15
+/// - `q`: actuator positions (m) in actuator order, as the conventions above define them (the C5's `Q_i1`: `B_i = A_i + Q_i1 n_i`)
+/// - `params`: gravity, then per leg `A_i`, the unit `r_i` and `h_i`, `p_i`, the crank's and the rod's lengths, the branch and the encoder's offset (the first entries of `RusHexapod::kernel_parameters`)
+///
+/// # Returns
+///
+/// - `residual`: `q(X; θ) - q̂`: the actuator values the geometry predicts at the pose less the readings
+/// - `geometry_jacobian`: `∂q_i/∂(A_i, p_i, c_i, L_i, o_i)`, row `i` for leg `i+1`, columns `A_x A_y A_z p_x p_y p_z c L o` (base frame for `A`, platform frame for `p`)
+/// - `pose_jacobian`: `∂q/∂X`, row `i` for leg `i+1`, columns `α β γ xc yc zc`
+///
+/// Operations: 1027 mul, 30 div, 496 add, 30 neg, 6 atan, 3 sin_cos, 6 sqrt (chapter convention: 1057m + 496a).
+#[inline]
+pub fn calibration_residuals(
+    pose: &[f64; 6],
+    q: &[f64; 6],
+    params: &[f64; 99],
+) -> ([f64; 6], [[f64; 9]; 6], [[f64; 6]; 6]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { calibration_residuals_fused(pose, q, params) };
+    }
+    calibration_residuals_separate(pose, q, params)
+}
+/// [`calibration_residuals`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn calibration_residuals_separate(
+    pose: &[f64; 6],
+    q: &[f64; 6],
+    params: &[f64; 99],
+) -> ([f64; 6], [[f64; 9]; 6], [[f64; 6]; 6]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [_, _, _, leg1_base_x, leg1_base_y, leg1_base_z, leg1_axis_x, leg1_axis_y,
+    leg1_axis_z, leg1_zero_x, leg1_zero_y, leg1_zero_z, leg1_platform_x, leg1_platform_y,
+    leg1_platform_z, leg1_crank_length, leg1_rod_length, leg1_branch, leg1_offset,
+    leg2_base_x, leg2_base_y, leg2_base_z, leg2_axis_x, leg2_axis_y, leg2_axis_z,
+    leg2_zero_x, leg2_zero_y, leg2_zero_z, leg2_platform_x, leg2_platform_y,
+    leg2_platform_z, leg2_crank_length, leg2_rod_length, leg2_branch, leg2_offset,
+    leg3_base_x, leg3_base_y, leg3_base_z, leg3_axis_x, leg3_axis_y, leg3_axis_z,
+    leg3_zero_x, leg3_zero_y, leg3_zero_z, leg3_platform_x, leg3_platform_y,
+    leg3_platform_z, leg3_crank_length, leg3_rod_length, leg3_branch, leg3_offset,
+    leg4_base_x, leg4_base_y, leg4_base_z, leg4_axis_x, leg4_axis_y, leg4_axis_z,
+    leg4_zero_x, leg4_zero_y, leg4_zero_z, leg4_platform_x, leg4_platform_y,
+    leg4_platform_z, leg4_crank_length, leg4_rod_length, leg4_branch, leg4_offset,
+    leg5_base_x, leg5_base_y, leg5_base_z, leg5_axis_x, leg5_axis_y, leg5_axis_z,
+    leg5_zero_x, leg5_zero_y, leg5_zero_z, leg5_platform_x, leg5_platform_y,
+    leg5_platform_z, leg5_crank_length, leg5_rod_length, leg5_branch, leg5_offset,
+    leg6_base_x, leg6_base_y, leg6_base_z, leg6_axis_x, leg6_axis_y, leg6_axis_z,
+    leg6_zero_x, leg6_zero_y, leg6_zero_z, leg6_platform_x, leg6_platform_y,
+    leg6_platform_z, leg6_crank_length, leg6_rod_length, leg6_branch, leg6_offset] = *params;
+    let (
+        t0,
+        t1,
+        t2,
+        t3,
+        t5,
+        t6,
+        t9,
+        t13,
+        t18,
+        t25,
+        t30,
+        t35,
+        t42,
+        t44,
+        t98,
+        t104,
+        t113,
+        t120,
+        t122,
+        t176,
+        t182,
+        t191,
+        t198,
+        t200,
+        t254,
+        t260,
+        t262,
+        t269,
+        t271,
+        t276,
+        t278,
+        t283,
+        t287,
+        t291,
+        t298,
+        t301,
+        t302,
+        t311,
+        t313,
+        t318,
+        t321,
+        t327,
+        t328,
+        t332,
+        t338,
+        t340,
+        t347,
+        t349,
+        t354,
+        t356,
+        t358,
+        t361,
+        t365,
+        t369,
+        t373,
+        t376,
+        t379,
+        t380,
+        t389,
+        t391,
+        t395,
+        t396,
+        t398,
+        t399,
+        t402,
+        t405,
+        t406,
+        t410,
+        t416,
+        t418,
+        t425,
+        t427,
+        t432,
+        t434,
+        t436,
+        t439,
+        t443,
+        t447,
+        t451,
+        t454,
+        t457,
+        t458,
+        t467,
+        t469,
+        t473,
+        t474,
+        t476,
+        t477,
+        t480,
+        t483,
+        t484,
+        t488,
+        t536,
+        t571,
+        t605,
+        t606,
+        t607,
+        t609,
+        t611,
+        t614,
+        t615,
+        t620,
+        t624,
+        t626,
+        t644,
+        t651,
+        t699,
+        t734,
+        t768,
+        t769,
+        t771,
+        t773,
+        t776,
+        t781,
+        t785,
+        t787,
+        t805,
+        t812,
+        t860,
+        t895,
+        t929,
+        t930,
+        t932,
+        t934,
+        t937,
+        t942,
+        t946,
+        t948,
+        t966,
+        t973,
+        t979,
+        t980,
+        t985,
+        t988,
+        t989,
+        t990,
+        t996,
+        t997,
+        t998,
+        t999,
+        t1000,
+        t1001,
+        t1002,
+    ) = {
+        let (t0, t1): (f64, f64) = sin_cos(gamma);
+        let (t2, t3): (f64, f64) = sin_cos(alpha);
+        let t4: f64 = t0 * t3;
+        let (t5, t6): (f64, f64) = sin_cos(beta);
+        let t7: f64 = t2 * t5;
+        let t8: f64 = t1 * t7;
+        let t9: f64 = t4 + t8;
+        let t10: f64 = leg1_platform_x * t9;
+        let t11: f64 = t1 * t3;
+        let t12: f64 = t0 * t7;
+        let t13: f64 = t11 - t12;
+        let t14: f64 = leg1_platform_y * t13;
+        let t15: f64 = leg1_platform_z * t2;
+        let t16: f64 = t6 * t15;
+        let t17: f64 = t10 + t14;
+        let t18: f64 = t17 - t16;
+        let t19: f64 = yc + t18;
+        let t20: f64 = t19 - leg1_base_y;
+        let t21: f64 = leg1_zero_y * t20;
+        let t22: f64 = t0 * t2;
+        let t23: f64 = t3 * t5;
+        let t24: f64 = t1 * t23;
+        let t25: f64 = t22 - t24;
+        let t26: f64 = leg1_platform_x * t25;
+        let t27: f64 = t1 * t2;
+        let t28: f64 = t0 * t5;
+        let t29: f64 = t3 * t28;
+        let t30: f64 = t27 + t29;
+        let t31: f64 = leg1_platform_y * t30;
+        let t32: f64 = leg1_platform_z * t3;
+        let t33: f64 = t6 * t32;
+        let t34: f64 = t26 + t31;
+        let t35: f64 = t33 + t34;
+        let t36: f64 = zc + t35;
+        let t37: f64 = t36 - leg1_base_z;
+        let t38: f64 = leg1_zero_z * t37;
+        let t39: f64 = leg1_platform_z * t5;
+        let t40: f64 = leg1_platform_x * t1;
+        let t41: f64 = leg1_platform_y * t0;
+        let t42: f64 = t40 - t41;
+        let t43: f64 = t6 * t42;
+        let t44: f64 = t39 + t43;
+        let t45: f64 = xc + t44;
+        let t46: f64 = t45 - leg1_base_x;
+        let t47: f64 = leg1_zero_x * t46;
+        let t48: f64 = t21 + t38;
+        let t49: f64 = t47 + t48;
+        let t50: f64 = t49 * t49;
+        let t51: f64 = leg1_axis_z * leg1_zero_x;
+        let t52: f64 = leg1_axis_x * leg1_zero_z;
+        let t53: f64 = t51 - t52;
+        let t54: f64 = t20 * t53;
+        let t55: f64 = leg1_axis_x * leg1_zero_y;
+        let t56: f64 = leg1_axis_y * leg1_zero_x;
+        let t57: f64 = t55 - t56;
+        let t58: f64 = t37 * t57;
+        let t59: f64 = leg1_axis_y * leg1_zero_z;
+        let t60: f64 = leg1_axis_z * leg1_zero_y;
+        let t61: f64 = t59 - t60;
+        let t62: f64 = t46 * t61;
+        let t63: f64 = t54 + t58;
+        let t64: f64 = t62 + t63;
+        let t65: f64 = t64 * t64;
+        let t66: f64 = t50 + t65;
+        let t67: f64 = 1.0 / t66;
+        let t68: f64 = 1.0 / leg1_crank_length;
+        let t69: f64 = t20 * t20;
+        let t70: f64 = t37 * t37;
+        let t71: f64 = leg1_crank_length * leg1_crank_length;
+        let t72: f64 = leg1_rod_length * leg1_rod_length;
+        let t73: f64 = t46 * t46;
+        let t74: f64 = t69 + t70;
+        let t75: f64 = t71 + t73;
+        let t76: f64 = t74 + t75;
+        let t77: f64 = t76 - t72;
+        let t78: f64 = t68 * t77;
+        let t79: f64 = t78 * 0.5;
+        let t80: f64 = t64 * t79;
+        let t81: f64 = t79 * t79;
+        let t82: f64 = t66 - t81;
+        let t83: f64 = sqrt(t82);
+        let t84: f64 = leg1_branch * t83;
+        let t85: f64 = t49 * t84;
+        let t86: f64 = t80 + t85;
+        let t87: f64 = t67 * t86;
+        let t88: f64 = t49 * t79;
+        let t89: f64 = t64 * t84;
+        let t90: f64 = t88 - t89;
+        let t91: f64 = t67 * t90;
+        let t92: f64 = t91 + 1.0;
+        let t93: f64 = 1.0 / t92;
+        let t94: f64 = t87 * t93;
+        let t95: f64 = atan(t94);
+        let t96: f64 = t95 * 2.0;
+        let t97: f64 = leg1_offset + t96;
+        let t98: f64 = t97 - q1;
+        let t99: f64 = leg2_platform_x * t9;
+        let t100: f64 = leg2_platform_y * t13;
+        let t101: f64 = leg2_platform_z * t2;
+        let t102: f64 = t6 * t101;
+        let t103: f64 = t99 + t100;
+        let t104: f64 = t103 - t102;
+        let t105: f64 = yc + t104;
+        let t106: f64 = t105 - leg2_base_y;
+        let t107: f64 = leg2_zero_y * t106;
+        let t108: f64 = leg2_platform_x * t25;
+        let t109: f64 = leg2_platform_y * t30;
+        let t110: f64 = leg2_platform_z * t3;
+        let t111: f64 = t6 * t110;
+        let t112: f64 = t108 + t109;
+        let t113: f64 = t111 + t112;
+        let t114: f64 = zc + t113;
+        let t115: f64 = t114 - leg2_base_z;
+        let t116: f64 = leg2_zero_z * t115;
+        let t117: f64 = leg2_platform_z * t5;
+        let t118: f64 = leg2_platform_x * t1;
+        let t119: f64 = leg2_platform_y * t0;
+        let t120: f64 = t118 - t119;
+        let t121: f64 = t6 * t120;
+        let t122: f64 = t117 + t121;
+        let t123: f64 = xc + t122;
+        let t124: f64 = t123 - leg2_base_x;
+        let t125: f64 = leg2_zero_x * t124;
+        let t126: f64 = t107 + t116;
+        let t127: f64 = t125 + t126;
+        let t128: f64 = t127 * t127;
+        let t129: f64 = leg2_axis_z * leg2_zero_x;
+        let t130: f64 = leg2_axis_x * leg2_zero_z;
+        let t131: f64 = t129 - t130;
+        let t132: f64 = t106 * t131;
+        let t133: f64 = leg2_axis_x * leg2_zero_y;
+        let t134: f64 = leg2_axis_y * leg2_zero_x;
+        let t135: f64 = t133 - t134;
+        let t136: f64 = t115 * t135;
+        let t137: f64 = leg2_axis_y * leg2_zero_z;
+        let t138: f64 = leg2_axis_z * leg2_zero_y;
+        let t139: f64 = t137 - t138;
+        let t140: f64 = t124 * t139;
+        let t141: f64 = t132 + t136;
+        let t142: f64 = t140 + t141;
+        let t143: f64 = t142 * t142;
+        let t144: f64 = t128 + t143;
+        let t145: f64 = 1.0 / t144;
+        let t146: f64 = 1.0 / leg2_crank_length;
+        let t147: f64 = t106 * t106;
+        let t148: f64 = t115 * t115;
+        let t149: f64 = leg2_crank_length * leg2_crank_length;
+        let t150: f64 = leg2_rod_length * leg2_rod_length;
+        let t151: f64 = t124 * t124;
+        let t152: f64 = t147 + t148;
+        let t153: f64 = t149 + t151;
+        let t154: f64 = t152 + t153;
+        let t155: f64 = t154 - t150;
+        let t156: f64 = t146 * t155;
+        let t157: f64 = t156 * 0.5;
+        let t158: f64 = t142 * t157;
+        let t159: f64 = t157 * t157;
+        let t160: f64 = t144 - t159;
+        let t161: f64 = sqrt(t160);
+        let t162: f64 = leg2_branch * t161;
+        let t163: f64 = t127 * t162;
+        let t164: f64 = t158 + t163;
+        let t165: f64 = t145 * t164;
+        let t166: f64 = t127 * t157;
+        let t167: f64 = t142 * t162;
+        let t168: f64 = t166 - t167;
+        let t169: f64 = t145 * t168;
+        let t170: f64 = t169 + 1.0;
+        let t171: f64 = 1.0 / t170;
+        let t172: f64 = t165 * t171;
+        let t173: f64 = atan(t172);
+        let t174: f64 = t173 * 2.0;
+        let t175: f64 = leg2_offset + t174;
+        let t176: f64 = t175 - q2;
+        let t177: f64 = leg3_platform_x * t9;
+        let t178: f64 = leg3_platform_y * t13;
+        let t179: f64 = leg3_platform_z * t2;
+        let t180: f64 = t6 * t179;
+        let t181: f64 = t177 + t178;
+        let t182: f64 = t181 - t180;
+        let t183: f64 = yc + t182;
+        let t184: f64 = t183 - leg3_base_y;
+        let t185: f64 = leg3_zero_y * t184;
+        let t186: f64 = leg3_platform_x * t25;
+        let t187: f64 = leg3_platform_y * t30;
+        let t188: f64 = leg3_platform_z * t3;
+        let t189: f64 = t6 * t188;
+        let t190: f64 = t186 + t187;
+        let t191: f64 = t189 + t190;
+        let t192: f64 = zc + t191;
+        let t193: f64 = t192 - leg3_base_z;
+        let t194: f64 = leg3_zero_z * t193;
+        let t195: f64 = leg3_platform_z * t5;
+        let t196: f64 = leg3_platform_x * t1;
+        let t197: f64 = leg3_platform_y * t0;
+        let t198: f64 = t196 - t197;
+        let t199: f64 = t6 * t198;
+        let t200: f64 = t195 + t199;
+        let t201: f64 = xc + t200;
+        let t202: f64 = t201 - leg3_base_x;
+        let t203: f64 = leg3_zero_x * t202;
+        let t204: f64 = t185 + t194;
+        let t205: f64 = t203 + t204;
+        let t206: f64 = t205 * t205;
+        let t207: f64 = leg3_axis_z * leg3_zero_x;
+        let t208: f64 = leg3_axis_x * leg3_zero_z;
+        let t209: f64 = t207 - t208;
+        let t210: f64 = t184 * t209;
+        let t211: f64 = leg3_axis_x * leg3_zero_y;
+        let t212: f64 = leg3_axis_y * leg3_zero_x;
+        let t213: f64 = t211 - t212;
+        let t214: f64 = t193 * t213;
+        let t215: f64 = leg3_axis_y * leg3_zero_z;
+        let t216: f64 = leg3_axis_z * leg3_zero_y;
+        let t217: f64 = t215 - t216;
+        let t218: f64 = t202 * t217;
+        let t219: f64 = t210 + t214;
+        let t220: f64 = t218 + t219;
+        let t221: f64 = t220 * t220;
+        let t222: f64 = t206 + t221;
+        let t223: f64 = 1.0 / t222;
+        let t224: f64 = 1.0 / leg3_crank_length;
+        let t225: f64 = t184 * t184;
+        let t226: f64 = t193 * t193;
+        let t227: f64 = leg3_crank_length * leg3_crank_length;
+        let t228: f64 = leg3_rod_length * leg3_rod_length;
+        let t229: f64 = t202 * t202;
+        let t230: f64 = t225 + t226;
+        let t231: f64 = t227 + t229;
+        let t232: f64 = t230 + t231;
+        let t233: f64 = t232 - t228;
+        let t234: f64 = t224 * t233;
+        let t235: f64 = t234 * 0.5;
+        let t236: f64 = t220 * t235;
+        let t237: f64 = t235 * t235;
+        let t238: f64 = t222 - t237;
+        let t239: f64 = sqrt(t238);
+        let t240: f64 = leg3_branch * t239;
+        let t241: f64 = t205 * t240;
+        let t242: f64 = t236 + t241;
+        let t243: f64 = t223 * t242;
+        let t244: f64 = t205 * t235;
+        let t245: f64 = t220 * t240;
+        let t246: f64 = t244 - t245;
+        let t247: f64 = t223 * t246;
+        let t248: f64 = t247 + 1.0;
+        let t249: f64 = 1.0 / t248;
+        let t250: f64 = t243 * t249;
+        let t251: f64 = atan(t250);
+        let t252: f64 = t251 * 2.0;
+        let t253: f64 = leg3_offset + t252;
+        let t254: f64 = t253 - q3;
+        let t255: f64 = leg4_platform_x * t9;
+        let t256: f64 = leg4_platform_y * t13;
+        let t257: f64 = leg4_platform_z * t2;
+        let t258: f64 = t6 * t257;
+        let t259: f64 = t255 + t256;
+        let t260: f64 = t259 - t258;
+        let t261: f64 = yc + t260;
+        let t262: f64 = t261 - leg4_base_y;
+        let t263: f64 = leg4_zero_y * t262;
+        let t264: f64 = leg4_platform_x * t25;
+        let t265: f64 = leg4_platform_y * t30;
+        let t266: f64 = leg4_platform_z * t3;
+        let t267: f64 = t6 * t266;
+        let t268: f64 = t264 + t265;
+        let t269: f64 = t267 + t268;
+        let t270: f64 = zc + t269;
+        let t271: f64 = t270 - leg4_base_z;
+        let t272: f64 = leg4_zero_z * t271;
+        let t273: f64 = leg4_platform_z * t5;
+        let t274: f64 = leg4_platform_x * t1;
+        let t275: f64 = leg4_platform_y * t0;
+        let t276: f64 = t274 - t275;
+        let t277: f64 = t6 * t276;
+        let t278: f64 = t273 + t277;
+        let t279: f64 = xc + t278;
+        let t280: f64 = t279 - leg4_base_x;
+        let t281: f64 = leg4_zero_x * t280;
+        let t282: f64 = t263 + t272;
+        let t283: f64 = t281 + t282;
+        let t284: f64 = t283 * t283;
+        let t285: f64 = leg4_axis_z * leg4_zero_x;
+        let t286: f64 = leg4_axis_x * leg4_zero_z;
+        let t287: f64 = t285 - t286;
+        let t288: f64 = t262 * t287;
+        let t289: f64 = leg4_axis_x * leg4_zero_y;
+        let t290: f64 = leg4_axis_y * leg4_zero_x;
+        let t291: f64 = t289 - t290;
+        let t292: f64 = t271 * t291;
+        let t293: f64 = leg4_axis_y * leg4_zero_z;
+        let t294: f64 = leg4_axis_z * leg4_zero_y;
+        let t295: f64 = t293 - t294;
+        let t296: f64 = t280 * t295;
+        let t297: f64 = t288 + t292;
+        let t298: f64 = t296 + t297;
+        let t299: f64 = t298 * t298;
+        let t300: f64 = t284 + t299;
+        let t301: f64 = 1.0 / t300;
+        let t302: f64 = 1.0 / leg4_crank_length;
+        let t303: f64 = t262 * t262;
+        let t304: f64 = t271 * t271;
+        let t305: f64 = leg4_crank_length * leg4_crank_length;
+        let t306: f64 = leg4_rod_length * leg4_rod_length;
+        let t307: f64 = t280 * t280;
+        let t308: f64 = t303 + t304;
+        let t309: f64 = t305 + t307;
+        let t310: f64 = t308 + t309;
+        let t311: f64 = t310 - t306;
+        let t312: f64 = t302 * t311;
+        let t313: f64 = t312 * 0.5;
+        let t314: f64 = t298 * t313;
+        let t315: f64 = t313 * t313;
+        let t316: f64 = t300 - t315;
+        let t317: f64 = sqrt(t316);
+        let t318: f64 = leg4_branch * t317;
+        let t319: f64 = t283 * t318;
+        let t320: f64 = t314 + t319;
+        let t321: f64 = t301 * t320;
+        let t322: f64 = t283 * t313;
+        let t323: f64 = t298 * t318;
+        let t324: f64 = t322 - t323;
+        let t325: f64 = t301 * t324;
+        let t326: f64 = t325 + 1.0;
+        let t327: f64 = 1.0 / t326;
+        let t328: f64 = t321 * t327;
+        let t329: f64 = atan(t328);
+        let t330: f64 = t329 * 2.0;
+        let t331: f64 = leg4_offset + t330;
+        let t332: f64 = t331 - q4;
+        let t333: f64 = leg5_platform_x * t9;
+        let t334: f64 = leg5_platform_y * t13;
+        let t335: f64 = leg5_platform_z * t2;
+        let t336: f64 = t6 * t335;
+        let t337: f64 = t333 + t334;
+        let t338: f64 = t337 - t336;
+        let t339: f64 = yc + t338;
+        let t340: f64 = t339 - leg5_base_y;
+        let t341: f64 = leg5_zero_y * t340;
+        let t342: f64 = leg5_platform_x * t25;
+        let t343: f64 = leg5_platform_y * t30;
+        let t344: f64 = leg5_platform_z * t3;
+        let t345: f64 = t6 * t344;
+        let t346: f64 = t342 + t343;
+        let t347: f64 = t345 + t346;
+        let t348: f64 = zc + t347;
+        let t349: f64 = t348 - leg5_base_z;
+        let t350: f64 = leg5_zero_z * t349;
+        let t351: f64 = leg5_platform_z * t5;
+        let t352: f64 = leg5_platform_x * t1;
+        let t353: f64 = leg5_platform_y * t0;
+        let t354: f64 = t352 - t353;
+        let t355: f64 = t6 * t354;
+        let t356: f64 = t351 + t355;
+        let t357: f64 = xc + t356;
+        let t358: f64 = t357 - leg5_base_x;
+        let t359: f64 = leg5_zero_x * t358;
+        let t360: f64 = t341 + t350;
+        let t361: f64 = t359 + t360;
+        let t362: f64 = t361 * t361;
+        let t363: f64 = leg5_axis_z * leg5_zero_x;
+        let t364: f64 = leg5_axis_x * leg5_zero_z;
+        let t365: f64 = t363 - t364;
+        let t366: f64 = t340 * t365;
+        let t367: f64 = leg5_axis_x * leg5_zero_y;
+        let t368: f64 = leg5_axis_y * leg5_zero_x;
+        let t369: f64 = t367 - t368;
+        let t370: f64 = t349 * t369;
+        let t371: f64 = leg5_axis_y * leg5_zero_z;
+        let t372: f64 = leg5_axis_z * leg5_zero_y;
+        let t373: f64 = t371 - t372;
+        let t374: f64 = t358 * t373;
+        let t375: f64 = t366 + t370;
+        let t376: f64 = t374 + t375;
+        let t377: f64 = t376 * t376;
+        let t378: f64 = t362 + t377;
+        let t379: f64 = 1.0 / t378;
+        let t380: f64 = 1.0 / leg5_crank_length;
+        let t381: f64 = t340 * t340;
+        let t382: f64 = t349 * t349;
+        let t383: f64 = leg5_crank_length * leg5_crank_length;
+        let t384: f64 = leg5_rod_length * leg5_rod_length;
+        let t385: f64 = t358 * t358;
+        let t386: f64 = t381 + t382;
+        let t387: f64 = t383 + t385;
+        let t388: f64 = t386 + t387;
+        let t389: f64 = t388 - t384;
+        let t390: f64 = t380 * t389;
+        let t391: f64 = t390 * 0.5;
+        let t392: f64 = t376 * t391;
+        let t393: f64 = t391 * t391;
+        let t394: f64 = t378 - t393;
+        let t395: f64 = sqrt(t394);
+        let t396: f64 = leg5_branch * t395;
+        let t397: f64 = t361 * t396;
+        let t398: f64 = t392 + t397;
+        let t399: f64 = t379 * t398;
+        let t400: f64 = t361 * t391;
+        let t401: f64 = t376 * t396;
+        let t402: f64 = t400 - t401;
+        let t403: f64 = t379 * t402;
+        let t404: f64 = t403 + 1.0;
+        let t405: f64 = 1.0 / t404;
+        let t406: f64 = t399 * t405;
+        let t407: f64 = atan(t406);
+        let t408: f64 = t407 * 2.0;
+        let t409: f64 = leg5_offset + t408;
+        let t410: f64 = t409 - q5;
+        let t411: f64 = leg6_platform_x * t9;
+        let t412: f64 = leg6_platform_y * t13;
+        let t413: f64 = leg6_platform_z * t2;
+        let t414: f64 = t6 * t413;
+        let t415: f64 = t411 + t412;
+        let t416: f64 = t415 - t414;
+        let t417: f64 = yc + t416;
+        let t418: f64 = t417 - leg6_base_y;
+        let t419: f64 = leg6_zero_y * t418;
+        let t420: f64 = leg6_platform_x * t25;
+        let t421: f64 = leg6_platform_y * t30;
+        let t422: f64 = leg6_platform_z * t3;
+        let t423: f64 = t6 * t422;
+        let t424: f64 = t420 + t421;
+        let t425: f64 = t423 + t424;
+        let t426: f64 = zc + t425;
+        let t427: f64 = t426 - leg6_base_z;
+        let t428: f64 = leg6_zero_z * t427;
+        let t429: f64 = leg6_platform_z * t5;
+        let t430: f64 = leg6_platform_x * t1;
+        let t431: f64 = leg6_platform_y * t0;
+        let t432: f64 = t430 - t431;
+        let t433: f64 = t6 * t432;
+        let t434: f64 = t429 + t433;
+        let t435: f64 = xc + t434;
+        let t436: f64 = t435 - leg6_base_x;
+        let t437: f64 = leg6_zero_x * t436;
+        let t438: f64 = t419 + t428;
+        let t439: f64 = t437 + t438;
+        let t440: f64 = t439 * t439;
+        let t441: f64 = leg6_axis_z * leg6_zero_x;
+        let t442: f64 = leg6_axis_x * leg6_zero_z;
+        let t443: f64 = t441 - t442;
+        let t444: f64 = t418 * t443;
+        let t445: f64 = leg6_axis_x * leg6_zero_y;
+        let t446: f64 = leg6_axis_y * leg6_zero_x;
+        let t447: f64 = t445 - t446;
+        let t448: f64 = t427 * t447;
+        let t449: f64 = leg6_axis_y * leg6_zero_z;
+        let t450: f64 = leg6_axis_z * leg6_zero_y;
+        let t451: f64 = t449 - t450;
+        let t452: f64 = t436 * t451;
+        let t453: f64 = t444 + t448;
+        let t454: f64 = t452 + t453;
+        let t455: f64 = t454 * t454;
+        let t456: f64 = t440 + t455;
+        let t457: f64 = 1.0 / t456;
+        let t458: f64 = 1.0 / leg6_crank_length;
+        let t459: f64 = t418 * t418;
+        let t460: f64 = t427 * t427;
+        let t461: f64 = leg6_crank_length * leg6_crank_length;
+        let t462: f64 = leg6_rod_length * leg6_rod_length;
+        let t463: f64 = t436 * t436;
+        let t464: f64 = t459 + t460;
+        let t465: f64 = t461 + t463;
+        let t466: f64 = t464 + t465;
+        let t467: f64 = t466 - t462;
+        let t468: f64 = t458 * t467;
+        let t469: f64 = t468 * 0.5;
+        let t470: f64 = t454 * t469;
+        let t471: f64 = t469 * t469;
+        let t472: f64 = t456 - t471;
+        let t473: f64 = sqrt(t472);
+        let t474: f64 = leg6_branch * t473;
+        let t475: f64 = t439 * t474;
+        let t476: f64 = t470 + t475;
+        let t477: f64 = t457 * t476;
+        let t478: f64 = t439 * t469;
+        let t479: f64 = t454 * t474;
+        let t480: f64 = t478 - t479;
+        let t481: f64 = t457 * t480;
+        let t482: f64 = t481 + 1.0;
+        let t483: f64 = 1.0 / t482;
+        let t484: f64 = t477 * t483;
+        let t485: f64 = atan(t484);
+        let t486: f64 = t485 * 2.0;
+        let t487: f64 = leg6_offset + t486;
+        let t488: f64 = t487 - q6;
+        let t489: f64 = t67 * t67;
+        let t490: f64 = leg1_zero_x * t49;
+        let t491: f64 = t61 * t64;
+        let t492: f64 = t490 + t491;
+        let t493: f64 = t492 * 2.0;
+        let t494: f64 = t86 * t489;
+        let t495: f64 = t493 * t494;
+        let t496: f64 = t61 * t79;
+        let t497: f64 = t46 * t68;
+        let t498: f64 = t64 * t497;
+        let t499: f64 = leg1_zero_x * t84;
+        let t500: f64 = 1.0 / t83;
+        let t501: f64 = t79 * t497;
+        let t502: f64 = t492 - t501;
+        let t503: f64 = t502 * 2.0;
+        let t504: f64 = leg1_branch * t49;
+        let t505: f64 = t500 * t504;
+        let t506: f64 = t503 * t505;
+        let t507: f64 = t506 * 0.5;
+        let t508: f64 = t496 + t498;
+        let t509: f64 = t499 + t507;
+        let t510: f64 = t508 + t509;
+        let t511: f64 = t67 * t510;
+        let t512: f64 = t90 * t489;
+        let t513: f64 = t493 * t512;
+        let t514: f64 = leg1_zero_x * t79;
+        let t515: f64 = t49 * t497;
+        let t516: f64 = t61 * t84;
+        let t517: f64 = leg1_branch * t64;
+        let t518: f64 = t500 * t517;
+        let t519: f64 = t503 * t518;
+        let t520: f64 = t519 * 0.5;
+        let t521: f64 = t514 + t515;
+        let t522: f64 = t516 + t520;
+        let t523: f64 = t521 - t522;
+        let t524: f64 = t67 * t523;
+        let t525: f64 = t513 - t524;
+        let t526: f64 = t94 * t525;
+        let t527: f64 = t511 + t526;
+        let t528: f64 = t495 - t527;
+        let t529: f64 = t87 * t87;
+        let t530: f64 = t93 * t93;
+        let t531: f64 = t529 * t530;
+        let t532: f64 = t531 + 1.0;
+        let t533: f64 = 1.0 / t532;
+        let t534: f64 = t93 * t528;
+        let t535: f64 = t533 * t534;
+        let t536: f64 = t535 * 2.0;
+        let t537: f64 = leg1_zero_y * t49;
+        let t538: f64 = t53 * t64;
+        let t539: f64 = t537 + t538;
+        let t540: f64 = t539 * 2.0;
+        let t541: f64 = t494 * t540;
+        let t542: f64 = t53 * t79;
+        let t543: f64 = t20 * t68;
+        let t544: f64 = t64 * t543;
+        let t545: f64 = leg1_zero_y * t84;
+        let t546: f64 = t79 * t543;
+        let t547: f64 = t539 - t546;
+        let t548: f64 = t547 * 2.0;
+        let t549: f64 = t505 * t548;
+        let t550: f64 = t549 * 0.5;
+        let t551: f64 = t542 + t544;
+        let t552: f64 = t545 + t550;
+        let t553: f64 = t551 + t552;
+        let t554: f64 = t67 * t553;
+        let t555: f64 = t512 * t540;
+        let t556: f64 = leg1_zero_y * t79;
+        let t557: f64 = t49 * t543;
+        let t558: f64 = t53 * t84;
+        let t559: f64 = t518 * t548;
+        let t560: f64 = t559 * 0.5;
+        let t561: f64 = t556 + t557;
+        let t562: f64 = t558 + t560;
+        let t563: f64 = t561 - t562;
+        let t564: f64 = t67 * t563;
+        let t565: f64 = t555 - t564;
+        let t566: f64 = t94 * t565;
+        let t567: f64 = t554 + t566;
+        let t568: f64 = t541 - t567;
+        let t569: f64 = t93 * t533;
+        let t570: f64 = t568 * t569;
+        let t571: f64 = t570 * 2.0;
+        let t572: f64 = leg1_zero_z * t49;
+        let t573: f64 = t57 * t64;
+        let t574: f64 = t572 + t573;
+        let t575: f64 = t574 * 2.0;
+        let t576: f64 = t494 * t575;
+        let t577: f64 = t57 * t79;
+        let t578: f64 = t37 * t68;
+        let t579: f64 = t64 * t578;
+        let t580: f64 = leg1_zero_z * t84;
+        let t581: f64 = t79 * t578;
+        let t582: f64 = t574 - t581;
+        let t583: f64 = t582 * 2.0;
+        let t584: f64 = t505 * t583;
+        let t585: f64 = t584 * 0.5;
+        let t586: f64 = t577 + t579;
+        let t587: f64 = t580 + t585;
+        let t588: f64 = t586 + t587;
+        let t589: f64 = t67 * t588;
+        let t590: f64 = t512 * t575;
+        let t591: f64 = leg1_zero_z * t79;
+        let t592: f64 = t49 * t578;
+        let t593: f64 = t57 * t84;
+        let t594: f64 = t518 * t583;
+        let t595: f64 = t594 * 0.5;
+        let t596: f64 = t591 + t592;
+        let t597: f64 = t593 + t595;
+        let t598: f64 = t596 - t597;
+        let t599: f64 = t67 * t598;
+        let t600: f64 = t590 - t599;
+        let t601: f64 = t94 * t600;
+        let t602: f64 = t589 + t601;
+        let t603: f64 = t576 - t602;
+        let t604: f64 = t569 * t603;
+        let t605: f64 = t604 * 2.0;
+        let t606: f64 = -t536;
+        let t607: f64 = t1 * t6;
+        let t608: f64 = t606 * t607;
+        let t609: f64 = -t571;
+        let t610: f64 = t9 * t609;
+        let t611: f64 = -t605;
+        let t612: f64 = t25 * t611;
+        let t613: f64 = t608 + t610;
+        let t614: f64 = t612 + t613;
+        let t615: f64 = t0 * t6;
+        let t616: f64 = t606 * t615;
+        let t617: f64 = t13 * t609;
+        let t618: f64 = t30 * t611;
+        let t619: f64 = t617 + t618;
+        let t620: f64 = t619 - t616;
+        let t621: f64 = t5 * t606;
+        let t622: f64 = t2 * t609;
+        let t623: f64 = t3 * t611;
+        let t624: f64 = t622 - t623;
+        let t625: f64 = t6 * t624;
+        let t626: f64 = t621 - t625;
+        let t627: f64 = t68 * t68;
+        let t628: f64 = t77 * t627;
+        let t629: f64 = t628 * 0.5;
+        let t630: f64 = t629 - 1.0;
+        let t631: f64 = t79 * t504;
+        let t632: f64 = t500 * t631;
+        let t633: f64 = t79 * t517;
+        let t634: f64 = t500 * t633;
+        let t635: f64 = t49 + t634;
+        let t636: f64 = t94 * t635;
+        let t637: f64 = t632 + t636;
+        let t638: f64 = t64 - t637;
+        let t639: f64 = t67 * t93;
+        let t640: f64 = t533 * t639;
+        let t641: f64 = t630 * t640;
+        let t642: f64 = t638 * t641;
+        let t643: f64 = t642 * 2.0;
+        let t644: f64 = -t643;
+        let t645: f64 = leg1_rod_length * t68;
+        let t646: f64 = t67 * t645;
+        let t647: f64 = t93 * t646;
+        let t648: f64 = t533 * t647;
+        let t649: f64 = t638 * t648;
+        let t650: f64 = t649 * 2.0;
+        let t651: f64 = -t650;
+        let t652: f64 = t145 * t145;
+        let t653: f64 = leg2_zero_x * t127;
+        let t654: f64 = t139 * t142;
+        let t655: f64 = t653 + t654;
+        let t656: f64 = t655 * 2.0;
+        let t657: f64 = t164 * t652;
+        let t658: f64 = t656 * t657;
+        let t659: f64 = t139 * t157;
+        let t660: f64 = t124 * t146;
+        let t661: f64 = t142 * t660;
+        let t662: f64 = leg2_zero_x * t162;
+        let t663: f64 = 1.0 / t161;
+        let t664: f64 = t157 * t660;
+        let t665: f64 = t655 - t664;
+        let t666: f64 = t665 * 2.0;
+        let t667: f64 = leg2_branch * t127;
+        let t668: f64 = t663 * t667;
+        let t669: f64 = t666 * t668;
+        let t670: f64 = t669 * 0.5;
+        let t671: f64 = t659 + t661;
+        let t672: f64 = t662 + t670;
+        let t673: f64 = t671 + t672;
+        let t674: f64 = t145 * t673;
+        let t675: f64 = t168 * t652;
+        let t676: f64 = t656 * t675;
+        let t677: f64 = leg2_zero_x * t157;
+        let t678: f64 = t127 * t660;
+        let t679: f64 = t139 * t162;
+        let t680: f64 = leg2_branch * t142;
+        let t681: f64 = t663 * t680;
+        let t682: f64 = t666 * t681;
+        let t683: f64 = t682 * 0.5;
+        let t684: f64 = t677 + t678;
+        let t685: f64 = t679 + t683;
+        let t686: f64 = t684 - t685;
+        let t687: f64 = t145 * t686;
+        let t688: f64 = t676 - t687;
+        let t689: f64 = t172 * t688;
+        let t690: f64 = t674 + t689;
+        let t691: f64 = t658 - t690;
+        let t692: f64 = t165 * t165;
+        let t693: f64 = t171 * t171;
+        let t694: f64 = t692 * t693;
+        let t695: f64 = t694 + 1.0;
+        let t696: f64 = 1.0 / t695;
+        let t697: f64 = t171 * t691;
+        let t698: f64 = t696 * t697;
+        let t699: f64 = t698 * 2.0;
+        let t700: f64 = leg2_zero_y * t127;
+        let t701: f64 = t131 * t142;
+        let t702: f64 = t700 + t701;
+        let t703: f64 = t702 * 2.0;
+        let t704: f64 = t657 * t703;
+        let t705: f64 = t131 * t157;
+        let t706: f64 = t106 * t146;
+        let t707: f64 = t142 * t706;
+        let t708: f64 = leg2_zero_y * t162;
+        let t709: f64 = t157 * t706;
+        let t710: f64 = t702 - t709;
+        let t711: f64 = t710 * 2.0;
+        let t712: f64 = t668 * t711;
+        let t713: f64 = t712 * 0.5;
+        let t714: f64 = t705 + t707;
+        let t715: f64 = t708 + t713;
+        let t716: f64 = t714 + t715;
+        let t717: f64 = t145 * t716;
+        let t718: f64 = t675 * t703;
+        let t719: f64 = leg2_zero_y * t157;
+        let t720: f64 = t127 * t706;
+        let t721: f64 = t131 * t162;
+        let t722: f64 = t681 * t711;
+        let t723: f64 = t722 * 0.5;
+        let t724: f64 = t719 + t720;
+        let t725: f64 = t721 + t723;
+        let t726: f64 = t724 - t725;
+        let t727: f64 = t145 * t726;
+        let t728: f64 = t718 - t727;
+        let t729: f64 = t172 * t728;
+        let t730: f64 = t717 + t729;
+        let t731: f64 = t704 - t730;
+        let t732: f64 = t171 * t696;
+        let t733: f64 = t731 * t732;
+        let t734: f64 = t733 * 2.0;
+        let t735: f64 = leg2_zero_z * t127;
+        let t736: f64 = t135 * t142;
+        let t737: f64 = t735 + t736;
+        let t738: f64 = t737 * 2.0;
+        let t739: f64 = t657 * t738;
+        let t740: f64 = t135 * t157;
+        let t741: f64 = t115 * t146;
+        let t742: f64 = t142 * t741;
+        let t743: f64 = leg2_zero_z * t162;
+        let t744: f64 = t157 * t741;
+        let t745: f64 = t737 - t744;
+        let t746: f64 = t745 * 2.0;
+        let t747: f64 = t668 * t746;
+        let t748: f64 = t747 * 0.5;
+        let t749: f64 = t740 + t742;
+        let t750: f64 = t743 + t748;
+        let t751: f64 = t749 + t750;
+        let t752: f64 = t145 * t751;
+        let t753: f64 = t675 * t738;
+        let t754: f64 = leg2_zero_z * t157;
+        let t755: f64 = t127 * t741;
+        let t756: f64 = t135 * t162;
+        let t757: f64 = t681 * t746;
+        let t758: f64 = t757 * 0.5;
+        let t759: f64 = t754 + t755;
+        let t760: f64 = t756 + t758;
+        let t761: f64 = t759 - t760;
+        let t762: f64 = t145 * t761;
+        let t763: f64 = t753 - t762;
+        let t764: f64 = t172 * t763;
+        let t765: f64 = t752 + t764;
+        let t766: f64 = t739 - t765;
+        let t767: f64 = t732 * t766;
+        let t768: f64 = t767 * 2.0;
+        let t769: f64 = -t699;
+        let t770: f64 = t607 * t769;
+        let t771: f64 = -t734;
+        let t772: f64 = t9 * t771;
+        let t773: f64 = -t768;
+        let t774: f64 = t25 * t773;
+        let t775: f64 = t770 + t772;
+        let t776: f64 = t774 + t775;
+        let t777: f64 = t615 * t769;
+        let t778: f64 = t13 * t771;
+        let t779: f64 = t30 * t773;
+        let t780: f64 = t778 + t779;
+        let t781: f64 = t780 - t777;
+        let t782: f64 = t5 * t769;
+        let t783: f64 = t2 * t771;
+        let t784: f64 = t3 * t773;
+        let t785: f64 = t783 - t784;
+        let t786: f64 = t6 * t785;
+        let t787: f64 = t782 - t786;
+        let t788: f64 = t146 * t146;
+        let t789: f64 = t155 * t788;
+        let t790: f64 = t789 * 0.5;
+        let t791: f64 = t790 - 1.0;
+        let t792: f64 = t157 * t667;
+        let t793: f64 = t663 * t792;
+        let t794: f64 = t157 * t680;
+        let t795: f64 = t663 * t794;
+        let t796: f64 = t127 + t795;
+        let t797: f64 = t172 * t796;
+        let t798: f64 = t793 + t797;
+        let t799: f64 = t142 - t798;
+        let t800: f64 = t145 * t171;
+        let t801: f64 = t696 * t800;
+        let t802: f64 = t791 * t801;
+        let t803: f64 = t799 * t802;
+        let t804: f64 = t803 * 2.0;
+        let t805: f64 = -t804;
+        let t806: f64 = leg2_rod_length * t146;
+        let t807: f64 = t145 * t806;
+        let t808: f64 = t171 * t807;
+        let t809: f64 = t696 * t808;
+        let t810: f64 = t799 * t809;
+        let t811: f64 = t810 * 2.0;
+        let t812: f64 = -t811;
+        let t813: f64 = t223 * t223;
+        let t814: f64 = leg3_zero_x * t205;
+        let t815: f64 = t217 * t220;
+        let t816: f64 = t814 + t815;
+        let t817: f64 = t816 * 2.0;
+        let t818: f64 = t242 * t813;
+        let t819: f64 = t817 * t818;
+        let t820: f64 = t217 * t235;
+        let t821: f64 = t202 * t224;
+        let t822: f64 = t220 * t821;
+        let t823: f64 = leg3_zero_x * t240;
+        let t824: f64 = 1.0 / t239;
+        let t825: f64 = t235 * t821;
+        let t826: f64 = t816 - t825;
+        let t827: f64 = t826 * 2.0;
+        let t828: f64 = leg3_branch * t205;
+        let t829: f64 = t824 * t828;
+        let t830: f64 = t827 * t829;
+        let t831: f64 = t830 * 0.5;
+        let t832: f64 = t820 + t822;
+        let t833: f64 = t823 + t831;
+        let t834: f64 = t832 + t833;
+        let t835: f64 = t223 * t834;
+        let t836: f64 = t246 * t813;
+        let t837: f64 = t817 * t836;
+        let t838: f64 = leg3_zero_x * t235;
+        let t839: f64 = t205 * t821;
+        let t840: f64 = t217 * t240;
+        let t841: f64 = leg3_branch * t220;
+        let t842: f64 = t824 * t841;
+        let t843: f64 = t827 * t842;
+        let t844: f64 = t843 * 0.5;
+        let t845: f64 = t838 + t839;
+        let t846: f64 = t840 + t844;
+        let t847: f64 = t845 - t846;
+        let t848: f64 = t223 * t847;
+        let t849: f64 = t837 - t848;
+        let t850: f64 = t250 * t849;
+        let t851: f64 = t835 + t850;
+        let t852: f64 = t819 - t851;
+        let t853: f64 = t243 * t243;
+        let t854: f64 = t249 * t249;
+        let t855: f64 = t853 * t854;
+        let t856: f64 = t855 + 1.0;
+        let t857: f64 = 1.0 / t856;
+        let t858: f64 = t249 * t852;
+        let t859: f64 = t857 * t858;
+        let t860: f64 = t859 * 2.0;
+        let t861: f64 = leg3_zero_y * t205;
+        let t862: f64 = t209 * t220;
+        let t863: f64 = t861 + t862;
+        let t864: f64 = t863 * 2.0;
+        let t865: f64 = t818 * t864;
+        let t866: f64 = t209 * t235;
+        let t867: f64 = t184 * t224;
+        let t868: f64 = t220 * t867;
+        let t869: f64 = leg3_zero_y * t240;
+        let t870: f64 = t235 * t867;
+        let t871: f64 = t863 - t870;
+        let t872: f64 = t871 * 2.0;
+        let t873: f64 = t829 * t872;
+        let t874: f64 = t873 * 0.5;
+        let t875: f64 = t866 + t868;
+        let t876: f64 = t869 + t874;
+        let t877: f64 = t875 + t876;
+        let t878: f64 = t223 * t877;
+        let t879: f64 = t836 * t864;
+        let t880: f64 = leg3_zero_y * t235;
+        let t881: f64 = t205 * t867;
+        let t882: f64 = t209 * t240;
+        let t883: f64 = t842 * t872;
+        let t884: f64 = t883 * 0.5;
+        let t885: f64 = t880 + t881;
+        let t886: f64 = t882 + t884;
+        let t887: f64 = t885 - t886;
+        let t888: f64 = t223 * t887;
+        let t889: f64 = t879 - t888;
+        let t890: f64 = t250 * t889;
+        let t891: f64 = t878 + t890;
+        let t892: f64 = t865 - t891;
+        let t893: f64 = t249 * t857;
+        let t894: f64 = t892 * t893;
+        let t895: f64 = t894 * 2.0;
+        let t896: f64 = leg3_zero_z * t205;
+        let t897: f64 = t213 * t220;
+        let t898: f64 = t896 + t897;
+        let t899: f64 = t898 * 2.0;
+        let t900: f64 = t818 * t899;
+        let t901: f64 = t213 * t235;
+        let t902: f64 = t193 * t224;
+        let t903: f64 = t220 * t902;
+        let t904: f64 = leg3_zero_z * t240;
+        let t905: f64 = t235 * t902;
+        let t906: f64 = t898 - t905;
+        let t907: f64 = t906 * 2.0;
+        let t908: f64 = t829 * t907;
+        let t909: f64 = t908 * 0.5;
+        let t910: f64 = t901 + t903;
+        let t911: f64 = t904 + t909;
+        let t912: f64 = t910 + t911;
+        let t913: f64 = t223 * t912;
+        let t914: f64 = t836 * t899;
+        let t915: f64 = leg3_zero_z * t235;
+        let t916: f64 = t205 * t902;
+        let t917: f64 = t213 * t240;
+        let t918: f64 = t842 * t907;
+        let t919: f64 = t918 * 0.5;
+        let t920: f64 = t915 + t916;
+        let t921: f64 = t917 + t919;
+        let t922: f64 = t920 - t921;
+        let t923: f64 = t223 * t922;
+        let t924: f64 = t914 - t923;
+        let t925: f64 = t250 * t924;
+        let t926: f64 = t913 + t925;
+        let t927: f64 = t900 - t926;
+        let t928: f64 = t893 * t927;
+        let t929: f64 = t928 * 2.0;
+        let t930: f64 = -t860;
+        let t931: f64 = t607 * t930;
+        let t932: f64 = -t895;
+        let t933: f64 = t9 * t932;
+        let t934: f64 = -t929;
+        let t935: f64 = t25 * t934;
+        let t936: f64 = t931 + t933;
+        let t937: f64 = t935 + t936;
+        let t938: f64 = t615 * t930;
+        let t939: f64 = t13 * t932;
+        let t940: f64 = t30 * t934;
+        let t941: f64 = t939 + t940;
+        let t942: f64 = t941 - t938;
+        let t943: f64 = t5 * t930;
+        let t944: f64 = t2 * t932;
+        let t945: f64 = t3 * t934;
+        let t946: f64 = t944 - t945;
+        let t947: f64 = t6 * t946;
+        let t948: f64 = t943 - t947;
+        let t949: f64 = t224 * t224;
+        let t950: f64 = t233 * t949;
+        let t951: f64 = t950 * 0.5;
+        let t952: f64 = t951 - 1.0;
+        let t953: f64 = t235 * t828;
+        let t954: f64 = t824 * t953;
+        let t955: f64 = t235 * t841;
+        let t956: f64 = t824 * t955;
+        let t957: f64 = t205 + t956;
+        let t958: f64 = t250 * t957;
+        let t959: f64 = t954 + t958;
+        let t960: f64 = t220 - t959;
+        let t961: f64 = t223 * t249;
+        let t962: f64 = t857 * t961;
+        let t963: f64 = t952 * t962;
+        let t964: f64 = t960 * t963;
+        let t965: f64 = t964 * 2.0;
+        let t966: f64 = -t965;
+        let t967: f64 = leg3_rod_length * t224;
+        let t968: f64 = t223 * t967;
+        let t969: f64 = t249 * t968;
+        let t970: f64 = t857 * t969;
+        let t971: f64 = t960 * t970;
+        let t972: f64 = t971 * 2.0;
+        let t973: f64 = -t972;
+        let t974: f64 = t301 * t301;
+        let t975: f64 = leg4_zero_x * t283;
+        let t976: f64 = t295 * t298;
+        let t977: f64 = t975 + t976;
+        let t978: f64 = t977 * 2.0;
+        let t979: f64 = t320 * t974;
+        let t980: f64 = t978 * t979;
+        let t981: f64 = t295 * t313;
+        let t982: f64 = t280 * t302;
+        let t983: f64 = t298 * t982;
+        let t984: f64 = leg4_zero_x * t318;
+        let t985: f64 = 1.0 / t317;
+        let t986: f64 = t313 * t982;
+        let t987: f64 = t977 - t986;
+        let t988: f64 = t987 * 2.0;
+        let t989: f64 = leg4_branch * t283;
+        let t990: f64 = t985 * t989;
+        let t991: f64 = t988 * t990;
+        let t992: f64 = t991 * 0.5;
+        let t993: f64 = t981 + t983;
+        let t994: f64 = t984 + t992;
+        let t995: f64 = t993 + t994;
+        let t996: f64 = t301 * t995;
+        let t997: f64 = t324 * t974;
+        let t998: f64 = t978 * t997;
+        let t999: f64 = leg4_zero_x * t313;
+        let t1000: f64 = t283 * t982;
+        let t1001: f64 = t295 * t318;
+        let t1002: f64 = leg4_branch * t298;
+        (
+            t0,
+            t1,
+            t2,
+            t3,
+            t5,
+            t6,
+            t9,
+            t13,
+            t18,
+            t25,
+            t30,
+            t35,
+            t42,
+            t44,
+            t98,
+            t104,
+            t113,
+            t120,
+            t122,
+            t176,
+            t182,
+            t191,
+            t198,
+            t200,
+            t254,
+            t260,
+            t262,
+            t269,
+            t271,
+            t276,
+            t278,
+            t283,
+            t287,
+            t291,
+            t298,
+            t301,
+            t302,
+            t311,
+            t313,
+            t318,
+            t321,
+            t327,
+            t328,
+            t332,
+            t338,
+            t340,
+            t347,
+            t349,
+            t354,
+            t356,
+            t358,
+            t361,
+            t365,
+            t369,
+            t373,
+            t376,
+            t379,
+            t380,
+            t389,
+            t391,
+            t395,
+            t396,
+            t398,
+            t399,
+            t402,
+            t405,
+            t406,
+            t410,
+            t416,
+            t418,
+            t425,
+            t427,
+            t432,
+            t434,
+            t436,
+            t439,
+            t443,
+            t447,
+            t451,
+            t454,
+            t457,
+            t458,
+            t467,
+            t469,
+            t473,
+            t474,
+            t476,
+            t477,
+            t480,
+            t483,
+            t484,
+            t488,
+            t536,
+            t571,
+            t605,
+            t606,
+            t607,
+            t609,
+            t611,
+            t614,
+            t615,
+            t620,
+            t624,
+            t626,
+            t644,
+            t651,
+            t699,
+            t734,
+            t768,
+            t769,
+            t771,
+            t773,
+            t776,
+            t781,
+            t785,
+            t787,
+            t805,
+            t812,
+            t860,
+            t895,
+            t929,
+            t930,
+            t932,
+            t934,
+            t937,
+            t942,
+            t946,
+            t948,
+            t966,
+            t973,
+            t979,
+            t980,
+            t985,
+            t988,
+            t989,
+            t990,
+            t996,
+            t997,
+            t998,
+            t999,
+            t1000,
+            t1001,
+            t1002,
+        )
+    };
+    let (
+        t1021,
+        t1056,
+        t1090,
+        t1091,
+        t1093,
+        t1095,
+        t1098,
+        t1103,
+        t1109,
+        t1127,
+        t1134,
+        t1182,
+        t1217,
+        t1251,
+        t1252,
+        t1254,
+        t1256,
+        t1259,
+        t1264,
+        t1270,
+        t1288,
+        t1295,
+        t1343,
+        t1378,
+        t1412,
+        t1413,
+        t1415,
+        t1417,
+        t1420,
+        t1425,
+        t1431,
+        t1449,
+        t1456,
+        t1459,
+        t1465,
+        t1480,
+        t1483,
+        t1489,
+        t1504,
+        t1507,
+        t1513,
+        t1528,
+        t1531,
+        t1537,
+        t1552,
+        t1555,
+        t1561,
+        t1576,
+        t1579,
+        t1585,
+        t1600,
+    ) = {
+        let t1003: f64 = t985 * t1002;
+        let t1004: f64 = t988 * t1003;
+        let t1005: f64 = t1004 * 0.5;
+        let t1006: f64 = t999 + t1000;
+        let t1007: f64 = t1001 + t1005;
+        let t1008: f64 = t1006 - t1007;
+        let t1009: f64 = t301 * t1008;
+        let t1010: f64 = t998 - t1009;
+        let t1011: f64 = t328 * t1010;
+        let t1012: f64 = t996 + t1011;
+        let t1013: f64 = t980 - t1012;
+        let t1014: f64 = t321 * t321;
+        let t1015: f64 = t327 * t327;
+        let t1016: f64 = t1014 * t1015;
+        let t1017: f64 = t1016 + 1.0;
+        let t1018: f64 = 1.0 / t1017;
+        let t1019: f64 = t327 * t1013;
+        let t1020: f64 = t1018 * t1019;
+        let t1021: f64 = t1020 * 2.0;
+        let t1022: f64 = leg4_zero_y * t283;
+        let t1023: f64 = t287 * t298;
+        let t1024: f64 = t1022 + t1023;
+        let t1025: f64 = t1024 * 2.0;
+        let t1026: f64 = t979 * t1025;
+        let t1027: f64 = t287 * t313;
+        let t1028: f64 = t262 * t302;
+        let t1029: f64 = t298 * t1028;
+        let t1030: f64 = leg4_zero_y * t318;
+        let t1031: f64 = t313 * t1028;
+        let t1032: f64 = t1024 - t1031;
+        let t1033: f64 = t1032 * 2.0;
+        let t1034: f64 = t990 * t1033;
+        let t1035: f64 = t1034 * 0.5;
+        let t1036: f64 = t1027 + t1029;
+        let t1037: f64 = t1030 + t1035;
+        let t1038: f64 = t1036 + t1037;
+        let t1039: f64 = t301 * t1038;
+        let t1040: f64 = t997 * t1025;
+        let t1041: f64 = leg4_zero_y * t313;
+        let t1042: f64 = t283 * t1028;
+        let t1043: f64 = t287 * t318;
+        let t1044: f64 = t1003 * t1033;
+        let t1045: f64 = t1044 * 0.5;
+        let t1046: f64 = t1041 + t1042;
+        let t1047: f64 = t1043 + t1045;
+        let t1048: f64 = t1046 - t1047;
+        let t1049: f64 = t301 * t1048;
+        let t1050: f64 = t1040 - t1049;
+        let t1051: f64 = t328 * t1050;
+        let t1052: f64 = t1039 + t1051;
+        let t1053: f64 = t1026 - t1052;
+        let t1054: f64 = t327 * t1018;
+        let t1055: f64 = t1053 * t1054;
+        let t1056: f64 = t1055 * 2.0;
+        let t1057: f64 = leg4_zero_z * t283;
+        let t1058: f64 = t291 * t298;
+        let t1059: f64 = t1057 + t1058;
+        let t1060: f64 = t1059 * 2.0;
+        let t1061: f64 = t979 * t1060;
+        let t1062: f64 = t291 * t313;
+        let t1063: f64 = t271 * t302;
+        let t1064: f64 = t298 * t1063;
+        let t1065: f64 = leg4_zero_z * t318;
+        let t1066: f64 = t313 * t1063;
+        let t1067: f64 = t1059 - t1066;
+        let t1068: f64 = t1067 * 2.0;
+        let t1069: f64 = t990 * t1068;
+        let t1070: f64 = t1069 * 0.5;
+        let t1071: f64 = t1062 + t1064;
+        let t1072: f64 = t1065 + t1070;
+        let t1073: f64 = t1071 + t1072;
+        let t1074: f64 = t301 * t1073;
+        let t1075: f64 = t997 * t1060;
+        let t1076: f64 = leg4_zero_z * t313;
+        let t1077: f64 = t283 * t1063;
+        let t1078: f64 = t291 * t318;
+        let t1079: f64 = t1003 * t1068;
+        let t1080: f64 = t1079 * 0.5;
+        let t1081: f64 = t1076 + t1077;
+        let t1082: f64 = t1078 + t1080;
+        let t1083: f64 = t1081 - t1082;
+        let t1084: f64 = t301 * t1083;
+        let t1085: f64 = t1075 - t1084;
+        let t1086: f64 = t328 * t1085;
+        let t1087: f64 = t1074 + t1086;
+        let t1088: f64 = t1061 - t1087;
+        let t1089: f64 = t1054 * t1088;
+        let t1090: f64 = t1089 * 2.0;
+        let t1091: f64 = -t1021;
+        let t1092: f64 = t607 * t1091;
+        let t1093: f64 = -t1056;
+        let t1094: f64 = t9 * t1093;
+        let t1095: f64 = -t1090;
+        let t1096: f64 = t25 * t1095;
+        let t1097: f64 = t1092 + t1094;
+        let t1098: f64 = t1096 + t1097;
+        let t1099: f64 = t615 * t1091;
+        let t1100: f64 = t13 * t1093;
+        let t1101: f64 = t30 * t1095;
+        let t1102: f64 = t1100 + t1101;
+        let t1103: f64 = t1102 - t1099;
+        let t1104: f64 = t5 * t1091;
+        let t1105: f64 = t2 * t1093;
+        let t1106: f64 = t3 * t1095;
+        let t1107: f64 = t1105 - t1106;
+        let t1108: f64 = t6 * t1107;
+        let t1109: f64 = t1104 - t1108;
+        let t1110: f64 = t302 * t302;
+        let t1111: f64 = t311 * t1110;
+        let t1112: f64 = t1111 * 0.5;
+        let t1113: f64 = t1112 - 1.0;
+        let t1114: f64 = t313 * t989;
+        let t1115: f64 = t985 * t1114;
+        let t1116: f64 = t313 * t1002;
+        let t1117: f64 = t985 * t1116;
+        let t1118: f64 = t283 + t1117;
+        let t1119: f64 = t328 * t1118;
+        let t1120: f64 = t1115 + t1119;
+        let t1121: f64 = t298 - t1120;
+        let t1122: f64 = t301 * t327;
+        let t1123: f64 = t1018 * t1122;
+        let t1124: f64 = t1113 * t1123;
+        let t1125: f64 = t1121 * t1124;
+        let t1126: f64 = t1125 * 2.0;
+        let t1127: f64 = -t1126;
+        let t1128: f64 = leg4_rod_length * t302;
+        let t1129: f64 = t301 * t1128;
+        let t1130: f64 = t327 * t1129;
+        let t1131: f64 = t1018 * t1130;
+        let t1132: f64 = t1121 * t1131;
+        let t1133: f64 = t1132 * 2.0;
+        let t1134: f64 = -t1133;
+        let t1135: f64 = t379 * t379;
+        let t1136: f64 = leg5_zero_x * t361;
+        let t1137: f64 = t373 * t376;
+        let t1138: f64 = t1136 + t1137;
+        let t1139: f64 = t1138 * 2.0;
+        let t1140: f64 = t398 * t1135;
+        let t1141: f64 = t1139 * t1140;
+        let t1142: f64 = t373 * t391;
+        let t1143: f64 = t358 * t380;
+        let t1144: f64 = t376 * t1143;
+        let t1145: f64 = leg5_zero_x * t396;
+        let t1146: f64 = 1.0 / t395;
+        let t1147: f64 = t391 * t1143;
+        let t1148: f64 = t1138 - t1147;
+        let t1149: f64 = t1148 * 2.0;
+        let t1150: f64 = leg5_branch * t361;
+        let t1151: f64 = t1146 * t1150;
+        let t1152: f64 = t1149 * t1151;
+        let t1153: f64 = t1152 * 0.5;
+        let t1154: f64 = t1142 + t1144;
+        let t1155: f64 = t1145 + t1153;
+        let t1156: f64 = t1154 + t1155;
+        let t1157: f64 = t379 * t1156;
+        let t1158: f64 = t402 * t1135;
+        let t1159: f64 = t1139 * t1158;
+        let t1160: f64 = leg5_zero_x * t391;
+        let t1161: f64 = t361 * t1143;
+        let t1162: f64 = t373 * t396;
+        let t1163: f64 = leg5_branch * t376;
+        let t1164: f64 = t1146 * t1163;
+        let t1165: f64 = t1149 * t1164;
+        let t1166: f64 = t1165 * 0.5;
+        let t1167: f64 = t1160 + t1161;
+        let t1168: f64 = t1162 + t1166;
+        let t1169: f64 = t1167 - t1168;
+        let t1170: f64 = t379 * t1169;
+        let t1171: f64 = t1159 - t1170;
+        let t1172: f64 = t406 * t1171;
+        let t1173: f64 = t1157 + t1172;
+        let t1174: f64 = t1141 - t1173;
+        let t1175: f64 = t399 * t399;
+        let t1176: f64 = t405 * t405;
+        let t1177: f64 = t1175 * t1176;
+        let t1178: f64 = t1177 + 1.0;
+        let t1179: f64 = 1.0 / t1178;
+        let t1180: f64 = t405 * t1174;
+        let t1181: f64 = t1179 * t1180;
+        let t1182: f64 = t1181 * 2.0;
+        let t1183: f64 = leg5_zero_y * t361;
+        let t1184: f64 = t365 * t376;
+        let t1185: f64 = t1183 + t1184;
+        let t1186: f64 = t1185 * 2.0;
+        let t1187: f64 = t1140 * t1186;
+        let t1188: f64 = t365 * t391;
+        let t1189: f64 = t340 * t380;
+        let t1190: f64 = t376 * t1189;
+        let t1191: f64 = leg5_zero_y * t396;
+        let t1192: f64 = t391 * t1189;
+        let t1193: f64 = t1185 - t1192;
+        let t1194: f64 = t1193 * 2.0;
+        let t1195: f64 = t1151 * t1194;
+        let t1196: f64 = t1195 * 0.5;
+        let t1197: f64 = t1188 + t1190;
+        let t1198: f64 = t1191 + t1196;
+        let t1199: f64 = t1197 + t1198;
+        let t1200: f64 = t379 * t1199;
+        let t1201: f64 = t1158 * t1186;
+        let t1202: f64 = leg5_zero_y * t391;
+        let t1203: f64 = t361 * t1189;
+        let t1204: f64 = t365 * t396;
+        let t1205: f64 = t1164 * t1194;
+        let t1206: f64 = t1205 * 0.5;
+        let t1207: f64 = t1202 + t1203;
+        let t1208: f64 = t1204 + t1206;
+        let t1209: f64 = t1207 - t1208;
+        let t1210: f64 = t379 * t1209;
+        let t1211: f64 = t1201 - t1210;
+        let t1212: f64 = t406 * t1211;
+        let t1213: f64 = t1200 + t1212;
+        let t1214: f64 = t1187 - t1213;
+        let t1215: f64 = t405 * t1179;
+        let t1216: f64 = t1214 * t1215;
+        let t1217: f64 = t1216 * 2.0;
+        let t1218: f64 = leg5_zero_z * t361;
+        let t1219: f64 = t369 * t376;
+        let t1220: f64 = t1218 + t1219;
+        let t1221: f64 = t1220 * 2.0;
+        let t1222: f64 = t1140 * t1221;
+        let t1223: f64 = t369 * t391;
+        let t1224: f64 = t349 * t380;
+        let t1225: f64 = t376 * t1224;
+        let t1226: f64 = leg5_zero_z * t396;
+        let t1227: f64 = t391 * t1224;
+        let t1228: f64 = t1220 - t1227;
+        let t1229: f64 = t1228 * 2.0;
+        let t1230: f64 = t1151 * t1229;
+        let t1231: f64 = t1230 * 0.5;
+        let t1232: f64 = t1223 + t1225;
+        let t1233: f64 = t1226 + t1231;
+        let t1234: f64 = t1232 + t1233;
+        let t1235: f64 = t379 * t1234;
+        let t1236: f64 = t1158 * t1221;
+        let t1237: f64 = leg5_zero_z * t391;
+        let t1238: f64 = t361 * t1224;
+        let t1239: f64 = t369 * t396;
+        let t1240: f64 = t1164 * t1229;
+        let t1241: f64 = t1240 * 0.5;
+        let t1242: f64 = t1237 + t1238;
+        let t1243: f64 = t1239 + t1241;
+        let t1244: f64 = t1242 - t1243;
+        let t1245: f64 = t379 * t1244;
+        let t1246: f64 = t1236 - t1245;
+        let t1247: f64 = t406 * t1246;
+        let t1248: f64 = t1235 + t1247;
+        let t1249: f64 = t1222 - t1248;
+        let t1250: f64 = t1215 * t1249;
+        let t1251: f64 = t1250 * 2.0;
+        let t1252: f64 = -t1182;
+        let t1253: f64 = t607 * t1252;
+        let t1254: f64 = -t1217;
+        let t1255: f64 = t9 * t1254;
+        let t1256: f64 = -t1251;
+        let t1257: f64 = t25 * t1256;
+        let t1258: f64 = t1253 + t1255;
+        let t1259: f64 = t1257 + t1258;
+        let t1260: f64 = t615 * t1252;
+        let t1261: f64 = t13 * t1254;
+        let t1262: f64 = t30 * t1256;
+        let t1263: f64 = t1261 + t1262;
+        let t1264: f64 = t1263 - t1260;
+        let t1265: f64 = t5 * t1252;
+        let t1266: f64 = t2 * t1254;
+        let t1267: f64 = t3 * t1256;
+        let t1268: f64 = t1266 - t1267;
+        let t1269: f64 = t6 * t1268;
+        let t1270: f64 = t1265 - t1269;
+        let t1271: f64 = t380 * t380;
+        let t1272: f64 = t389 * t1271;
+        let t1273: f64 = t1272 * 0.5;
+        let t1274: f64 = t1273 - 1.0;
+        let t1275: f64 = t391 * t1150;
+        let t1276: f64 = t1146 * t1275;
+        let t1277: f64 = t391 * t1163;
+        let t1278: f64 = t1146 * t1277;
+        let t1279: f64 = t361 + t1278;
+        let t1280: f64 = t406 * t1279;
+        let t1281: f64 = t1276 + t1280;
+        let t1282: f64 = t376 - t1281;
+        let t1283: f64 = t379 * t405;
+        let t1284: f64 = t1179 * t1283;
+        let t1285: f64 = t1274 * t1284;
+        let t1286: f64 = t1282 * t1285;
+        let t1287: f64 = t1286 * 2.0;
+        let t1288: f64 = -t1287;
+        let t1289: f64 = leg5_rod_length * t380;
+        let t1290: f64 = t379 * t1289;
+        let t1291: f64 = t405 * t1290;
+        let t1292: f64 = t1179 * t1291;
+        let t1293: f64 = t1282 * t1292;
+        let t1294: f64 = t1293 * 2.0;
+        let t1295: f64 = -t1294;
+        let t1296: f64 = t457 * t457;
+        let t1297: f64 = leg6_zero_x * t439;
+        let t1298: f64 = t451 * t454;
+        let t1299: f64 = t1297 + t1298;
+        let t1300: f64 = t1299 * 2.0;
+        let t1301: f64 = t476 * t1296;
+        let t1302: f64 = t1300 * t1301;
+        let t1303: f64 = t451 * t469;
+        let t1304: f64 = t436 * t458;
+        let t1305: f64 = t454 * t1304;
+        let t1306: f64 = leg6_zero_x * t474;
+        let t1307: f64 = 1.0 / t473;
+        let t1308: f64 = t469 * t1304;
+        let t1309: f64 = t1299 - t1308;
+        let t1310: f64 = t1309 * 2.0;
+        let t1311: f64 = leg6_branch * t439;
+        let t1312: f64 = t1307 * t1311;
+        let t1313: f64 = t1310 * t1312;
+        let t1314: f64 = t1313 * 0.5;
+        let t1315: f64 = t1303 + t1305;
+        let t1316: f64 = t1306 + t1314;
+        let t1317: f64 = t1315 + t1316;
+        let t1318: f64 = t457 * t1317;
+        let t1319: f64 = t480 * t1296;
+        let t1320: f64 = t1300 * t1319;
+        let t1321: f64 = leg6_zero_x * t469;
+        let t1322: f64 = t439 * t1304;
+        let t1323: f64 = t451 * t474;
+        let t1324: f64 = leg6_branch * t454;
+        let t1325: f64 = t1307 * t1324;
+        let t1326: f64 = t1310 * t1325;
+        let t1327: f64 = t1326 * 0.5;
+        let t1328: f64 = t1321 + t1322;
+        let t1329: f64 = t1323 + t1327;
+        let t1330: f64 = t1328 - t1329;
+        let t1331: f64 = t457 * t1330;
+        let t1332: f64 = t1320 - t1331;
+        let t1333: f64 = t484 * t1332;
+        let t1334: f64 = t1318 + t1333;
+        let t1335: f64 = t1302 - t1334;
+        let t1336: f64 = t477 * t477;
+        let t1337: f64 = t483 * t483;
+        let t1338: f64 = t1336 * t1337;
+        let t1339: f64 = t1338 + 1.0;
+        let t1340: f64 = 1.0 / t1339;
+        let t1341: f64 = t483 * t1335;
+        let t1342: f64 = t1340 * t1341;
+        let t1343: f64 = t1342 * 2.0;
+        let t1344: f64 = leg6_zero_y * t439;
+        let t1345: f64 = t443 * t454;
+        let t1346: f64 = t1344 + t1345;
+        let t1347: f64 = t1346 * 2.0;
+        let t1348: f64 = t1301 * t1347;
+        let t1349: f64 = t443 * t469;
+        let t1350: f64 = t418 * t458;
+        let t1351: f64 = t454 * t1350;
+        let t1352: f64 = leg6_zero_y * t474;
+        let t1353: f64 = t469 * t1350;
+        let t1354: f64 = t1346 - t1353;
+        let t1355: f64 = t1354 * 2.0;
+        let t1356: f64 = t1312 * t1355;
+        let t1357: f64 = t1356 * 0.5;
+        let t1358: f64 = t1349 + t1351;
+        let t1359: f64 = t1352 + t1357;
+        let t1360: f64 = t1358 + t1359;
+        let t1361: f64 = t457 * t1360;
+        let t1362: f64 = t1319 * t1347;
+        let t1363: f64 = leg6_zero_y * t469;
+        let t1364: f64 = t439 * t1350;
+        let t1365: f64 = t443 * t474;
+        let t1366: f64 = t1325 * t1355;
+        let t1367: f64 = t1366 * 0.5;
+        let t1368: f64 = t1363 + t1364;
+        let t1369: f64 = t1365 + t1367;
+        let t1370: f64 = t1368 - t1369;
+        let t1371: f64 = t457 * t1370;
+        let t1372: f64 = t1362 - t1371;
+        let t1373: f64 = t484 * t1372;
+        let t1374: f64 = t1361 + t1373;
+        let t1375: f64 = t1348 - t1374;
+        let t1376: f64 = t483 * t1340;
+        let t1377: f64 = t1375 * t1376;
+        let t1378: f64 = t1377 * 2.0;
+        let t1379: f64 = leg6_zero_z * t439;
+        let t1380: f64 = t447 * t454;
+        let t1381: f64 = t1379 + t1380;
+        let t1382: f64 = t1381 * 2.0;
+        let t1383: f64 = t1301 * t1382;
+        let t1384: f64 = t447 * t469;
+        let t1385: f64 = t427 * t458;
+        let t1386: f64 = t454 * t1385;
+        let t1387: f64 = leg6_zero_z * t474;
+        let t1388: f64 = t469 * t1385;
+        let t1389: f64 = t1381 - t1388;
+        let t1390: f64 = t1389 * 2.0;
+        let t1391: f64 = t1312 * t1390;
+        let t1392: f64 = t1391 * 0.5;
+        let t1393: f64 = t1384 + t1386;
+        let t1394: f64 = t1387 + t1392;
+        let t1395: f64 = t1393 + t1394;
+        let t1396: f64 = t457 * t1395;
+        let t1397: f64 = t1319 * t1382;
+        let t1398: f64 = leg6_zero_z * t469;
+        let t1399: f64 = t439 * t1385;
+        let t1400: f64 = t447 * t474;
+        let t1401: f64 = t1325 * t1390;
+        let t1402: f64 = t1401 * 0.5;
+        let t1403: f64 = t1398 + t1399;
+        let t1404: f64 = t1400 + t1402;
+        let t1405: f64 = t1403 - t1404;
+        let t1406: f64 = t457 * t1405;
+        let t1407: f64 = t1397 - t1406;
+        let t1408: f64 = t484 * t1407;
+        let t1409: f64 = t1396 + t1408;
+        let t1410: f64 = t1383 - t1409;
+        let t1411: f64 = t1376 * t1410;
+        let t1412: f64 = t1411 * 2.0;
+        let t1413: f64 = -t1343;
+        let t1414: f64 = t607 * t1413;
+        let t1415: f64 = -t1378;
+        let t1416: f64 = t9 * t1415;
+        let t1417: f64 = -t1412;
+        let t1418: f64 = t25 * t1417;
+        let t1419: f64 = t1414 + t1416;
+        let t1420: f64 = t1418 + t1419;
+        let t1421: f64 = t615 * t1413;
+        let t1422: f64 = t13 * t1415;
+        let t1423: f64 = t30 * t1417;
+        let t1424: f64 = t1422 + t1423;
+        let t1425: f64 = t1424 - t1421;
+        let t1426: f64 = t5 * t1413;
+        let t1427: f64 = t2 * t1415;
+        let t1428: f64 = t3 * t1417;
+        let t1429: f64 = t1427 - t1428;
+        let t1430: f64 = t6 * t1429;
+        let t1431: f64 = t1426 - t1430;
+        let t1432: f64 = t458 * t458;
+        let t1433: f64 = t467 * t1432;
+        let t1434: f64 = t1433 * 0.5;
+        let t1435: f64 = t1434 - 1.0;
+        let t1436: f64 = t469 * t1311;
+        let t1437: f64 = t1307 * t1436;
+        let t1438: f64 = t469 * t1324;
+        let t1439: f64 = t1307 * t1438;
+        let t1440: f64 = t439 + t1439;
+        let t1441: f64 = t484 * t1440;
+        let t1442: f64 = t1437 + t1441;
+        let t1443: f64 = t454 - t1442;
+        let t1444: f64 = t457 * t483;
+        let t1445: f64 = t1340 * t1444;
+        let t1446: f64 = t1435 * t1445;
+        let t1447: f64 = t1443 * t1446;
+        let t1448: f64 = t1447 * 2.0;
+        let t1449: f64 = -t1448;
+        let t1450: f64 = leg6_rod_length * t458;
+        let t1451: f64 = t457 * t1450;
+        let t1452: f64 = t483 * t1451;
+        let t1453: f64 = t1340 * t1452;
+        let t1454: f64 = t1443 * t1453;
+        let t1455: f64 = t1454 * 2.0;
+        let t1456: f64 = -t1455;
+        let t1457: f64 = t35 * t609;
+        let t1458: f64 = t18 * t611;
+        let t1459: f64 = t1458 - t1457;
+        let t1460: f64 = leg1_platform_z * t6;
+        let t1461: f64 = t5 * t42;
+        let t1462: f64 = t1460 - t1461;
+        let t1463: f64 = t606 * t1462;
+        let t1464: f64 = t44 * t624;
+        let t1465: f64 = t1463 + t1464;
+        let t1466: f64 = leg1_platform_x * t0;
+        let t1467: f64 = leg1_platform_y * t1;
+        let t1468: f64 = t1466 + t1467;
+        let t1469: f64 = t6 * t606;
+        let t1470: f64 = t1468 * t1469;
+        let t1471: f64 = leg1_platform_x * t13;
+        let t1472: f64 = leg1_platform_y * t9;
+        let t1473: f64 = t1471 - t1472;
+        let t1474: f64 = t609 * t1473;
+        let t1475: f64 = leg1_platform_x * t30;
+        let t1476: f64 = leg1_platform_y * t25;
+        let t1477: f64 = t1475 - t1476;
+        let t1478: f64 = t611 * t1477;
+        let t1479: f64 = t1474 + t1478;
+        let t1480: f64 = t1479 - t1470;
+        let t1481: f64 = t113 * t771;
+        let t1482: f64 = t104 * t773;
+        let t1483: f64 = t1482 - t1481;
+        let t1484: f64 = leg2_platform_z * t6;
+        let t1485: f64 = t5 * t120;
+        let t1486: f64 = t1484 - t1485;
+        let t1487: f64 = t769 * t1486;
+        let t1488: f64 = t122 * t785;
+        let t1489: f64 = t1487 + t1488;
+        let t1490: f64 = leg2_platform_x * t0;
+        let t1491: f64 = leg2_platform_y * t1;
+        let t1492: f64 = t1490 + t1491;
+        let t1493: f64 = t6 * t769;
+        let t1494: f64 = t1492 * t1493;
+        let t1495: f64 = leg2_platform_x * t13;
+        let t1496: f64 = leg2_platform_y * t9;
+        let t1497: f64 = t1495 - t1496;
+        let t1498: f64 = t771 * t1497;
+        let t1499: f64 = leg2_platform_x * t30;
+        let t1500: f64 = leg2_platform_y * t25;
+        let t1501: f64 = t1499 - t1500;
+        let t1502: f64 = t773 * t1501;
+        let t1503: f64 = t1498 + t1502;
+        let t1504: f64 = t1503 - t1494;
+        let t1505: f64 = t191 * t932;
+        let t1506: f64 = t182 * t934;
+        let t1507: f64 = t1506 - t1505;
+        let t1508: f64 = leg3_platform_z * t6;
+        let t1509: f64 = t5 * t198;
+        let t1510: f64 = t1508 - t1509;
+        let t1511: f64 = t930 * t1510;
+        let t1512: f64 = t200 * t946;
+        let t1513: f64 = t1511 + t1512;
+        let t1514: f64 = leg3_platform_x * t0;
+        let t1515: f64 = leg3_platform_y * t1;
+        let t1516: f64 = t1514 + t1515;
+        let t1517: f64 = t6 * t930;
+        let t1518: f64 = t1516 * t1517;
+        let t1519: f64 = leg3_platform_x * t13;
+        let t1520: f64 = leg3_platform_y * t9;
+        let t1521: f64 = t1519 - t1520;
+        let t1522: f64 = t932 * t1521;
+        let t1523: f64 = leg3_platform_x * t30;
+        let t1524: f64 = leg3_platform_y * t25;
+        let t1525: f64 = t1523 - t1524;
+        let t1526: f64 = t934 * t1525;
+        let t1527: f64 = t1522 + t1526;
+        let t1528: f64 = t1527 - t1518;
+        let t1529: f64 = t269 * t1093;
+        let t1530: f64 = t260 * t1095;
+        let t1531: f64 = t1530 - t1529;
+        let t1532: f64 = leg4_platform_z * t6;
+        let t1533: f64 = t5 * t276;
+        let t1534: f64 = t1532 - t1533;
+        let t1535: f64 = t1091 * t1534;
+        let t1536: f64 = t278 * t1107;
+        let t1537: f64 = t1535 + t1536;
+        let t1538: f64 = leg4_platform_x * t0;
+        let t1539: f64 = leg4_platform_y * t1;
+        let t1540: f64 = t1538 + t1539;
+        let t1541: f64 = t6 * t1091;
+        let t1542: f64 = t1540 * t1541;
+        let t1543: f64 = leg4_platform_x * t13;
+        let t1544: f64 = leg4_platform_y * t9;
+        let t1545: f64 = t1543 - t1544;
+        let t1546: f64 = t1093 * t1545;
+        let t1547: f64 = leg4_platform_x * t30;
+        let t1548: f64 = leg4_platform_y * t25;
+        let t1549: f64 = t1547 - t1548;
+        let t1550: f64 = t1095 * t1549;
+        let t1551: f64 = t1546 + t1550;
+        let t1552: f64 = t1551 - t1542;
+        let t1553: f64 = t347 * t1254;
+        let t1554: f64 = t338 * t1256;
+        let t1555: f64 = t1554 - t1553;
+        let t1556: f64 = leg5_platform_z * t6;
+        let t1557: f64 = t5 * t354;
+        let t1558: f64 = t1556 - t1557;
+        let t1559: f64 = t1252 * t1558;
+        let t1560: f64 = t356 * t1268;
+        let t1561: f64 = t1559 + t1560;
+        let t1562: f64 = leg5_platform_x * t0;
+        let t1563: f64 = leg5_platform_y * t1;
+        let t1564: f64 = t1562 + t1563;
+        let t1565: f64 = t6 * t1252;
+        let t1566: f64 = t1564 * t1565;
+        let t1567: f64 = leg5_platform_x * t13;
+        let t1568: f64 = leg5_platform_y * t9;
+        let t1569: f64 = t1567 - t1568;
+        let t1570: f64 = t1254 * t1569;
+        let t1571: f64 = leg5_platform_x * t30;
+        let t1572: f64 = leg5_platform_y * t25;
+        let t1573: f64 = t1571 - t1572;
+        let t1574: f64 = t1256 * t1573;
+        let t1575: f64 = t1570 + t1574;
+        let t1576: f64 = t1575 - t1566;
+        let t1577: f64 = t425 * t1415;
+        let t1578: f64 = t416 * t1417;
+        let t1579: f64 = t1578 - t1577;
+        let t1580: f64 = leg6_platform_z * t6;
+        let t1581: f64 = t5 * t432;
+        let t1582: f64 = t1580 - t1581;
+        let t1583: f64 = t1413 * t1582;
+        let t1584: f64 = t434 * t1429;
+        let t1585: f64 = t1583 + t1584;
+        let t1586: f64 = leg6_platform_x * t0;
+        let t1587: f64 = leg6_platform_y * t1;
+        let t1588: f64 = t1586 + t1587;
+        let t1589: f64 = t6 * t1413;
+        let t1590: f64 = t1588 * t1589;
+        let t1591: f64 = leg6_platform_x * t13;
+        let t1592: f64 = leg6_platform_y * t9;
+        let t1593: f64 = t1591 - t1592;
+        let t1594: f64 = t1415 * t1593;
+        let t1595: f64 = leg6_platform_x * t30;
+        let t1596: f64 = leg6_platform_y * t25;
+        let t1597: f64 = t1595 - t1596;
+        let t1598: f64 = t1417 * t1597;
+        let t1599: f64 = t1594 + t1598;
+        let t1600: f64 = t1599 - t1590;
+        (
+            t1021,
+            t1056,
+            t1090,
+            t1091,
+            t1093,
+            t1095,
+            t1098,
+            t1103,
+            t1109,
+            t1127,
+            t1134,
+            t1182,
+            t1217,
+            t1251,
+            t1252,
+            t1254,
+            t1256,
+            t1259,
+            t1264,
+            t1270,
+            t1288,
+            t1295,
+            t1343,
+            t1378,
+            t1412,
+            t1413,
+            t1415,
+            t1417,
+            t1420,
+            t1425,
+            t1431,
+            t1449,
+            t1456,
+            t1459,
+            t1465,
+            t1480,
+            t1483,
+            t1489,
+            t1504,
+            t1507,
+            t1513,
+            t1528,
+            t1531,
+            t1537,
+            t1552,
+            t1555,
+            t1561,
+            t1576,
+            t1579,
+            t1585,
+            t1600,
+        )
+    };
+    (
+        [t98, t176, t254, t332, t410, t488],
+        [
+            [t536, t571, t605, t614, t620, t626, t644, t651, 1.0],
+            [t699, t734, t768, t776, t781, t787, t805, t812, 1.0],
+            [t860, t895, t929, t937, t942, t948, t966, t973, 1.0],
+            [t1021, t1056, t1090, t1098, t1103, t1109, t1127, t1134, 1.0],
+            [t1182, t1217, t1251, t1259, t1264, t1270, t1288, t1295, 1.0],
+            [t1343, t1378, t1412, t1420, t1425, t1431, t1449, t1456, 1.0],
+        ],
+        [
+            [t1459, t1465, t1480, t606, t609, t611],
+            [t1483, t1489, t1504, t769, t771, t773],
+            [t1507, t1513, t1528, t930, t932, t934],
+            [t1531, t1537, t1552, t1091, t1093, t1095],
+            [t1555, t1561, t1576, t1252, t1254, t1256],
+            [t1579, t1585, t1600, t1413, t1415, t1417],
+        ],
+    )
+}
+/// [`calibration_residuals`] with 406 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`calibration_residuals`] takes where the CPU has FMA.
+///
+/// # Safety
+/// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
+#[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+#[inline]
+#[target_feature(enable = "fma")]
+pub unsafe fn calibration_residuals_fused(
+    pose: &[f64; 6],
+    q: &[f64; 6],
+    params: &[f64; 99],
+) -> ([f64; 6], [[f64; 9]; 6], [[f64; 6]; 6]) {
+    let [alpha, beta, gamma, xc, yc, zc] = *pose;
+    let [q1, q2, q3, q4, q5, q6] = *q;
+    let [_, _, _, leg1_base_x, leg1_base_y, leg1_base_z, leg1_axis_x, leg1_axis_y,
+    leg1_axis_z, leg1_zero_x, leg1_zero_y, leg1_zero_z, leg1_platform_x, leg1_platform_y,
+    leg1_platform_z, leg1_crank_length, leg1_rod_length, leg1_branch, leg1_offset,
+    leg2_base_x, leg2_base_y, leg2_base_z, leg2_axis_x, leg2_axis_y, leg2_axis_z,
+    leg2_zero_x, leg2_zero_y, leg2_zero_z, leg2_platform_x, leg2_platform_y,
+    leg2_platform_z, leg2_crank_length, leg2_rod_length, leg2_branch, leg2_offset,
+    leg3_base_x, leg3_base_y, leg3_base_z, leg3_axis_x, leg3_axis_y, leg3_axis_z,
+    leg3_zero_x, leg3_zero_y, leg3_zero_z, leg3_platform_x, leg3_platform_y,
+    leg3_platform_z, leg3_crank_length, leg3_rod_length, leg3_branch, leg3_offset,
+    leg4_base_x, leg4_base_y, leg4_base_z, leg4_axis_x, leg4_axis_y, leg4_axis_z,
+    leg4_zero_x, leg4_zero_y, leg4_zero_z, leg4_platform_x, leg4_platform_y,
+    leg4_platform_z, leg4_crank_length, leg4_rod_length, leg4_branch, leg4_offset,
+    leg5_base_x, leg5_base_y, leg5_base_z, leg5_axis_x, leg5_axis_y, leg5_axis_z,
+    leg5_zero_x, leg5_zero_y, leg5_zero_z, leg5_platform_x, leg5_platform_y,
+    leg5_platform_z, leg5_crank_length, leg5_rod_length, leg5_branch, leg5_offset,
+    leg6_base_x, leg6_base_y, leg6_base_z, leg6_axis_x, leg6_axis_y, leg6_axis_z,
+    leg6_zero_x, leg6_zero_y, leg6_zero_z, leg6_platform_x, leg6_platform_y,
+    leg6_platform_z, leg6_crank_length, leg6_rod_length, leg6_branch, leg6_offset] = *params;
+    let (
+        t0,
+        t1,
+        t2,
+        t3,
+        t5,
+        t6,
+        t9,
+        t13,
+        t18,
+        t25,
+        t30,
+        t35,
+        t42,
+        t44,
+        t98,
+        t104,
+        t113,
+        t120,
+        t122,
+        t176,
+        t182,
+        t191,
+        t198,
+        t200,
+        t254,
+        t260,
+        t269,
+        t276,
+        t278,
+        t332,
+        t338,
+        t347,
+        t354,
+        t356,
+        t410,
+        t416,
+        t418,
+        t425,
+        t427,
+        t432,
+        t434,
+        t439,
+        t443,
+        t447,
+        t454,
+        t457,
+        t458,
+        t467,
+        t469,
+        t474,
+        t477,
+        t483,
+        t484,
+        t488,
+        t536,
+        t571,
+        t605,
+        t606,
+        t607,
+        t609,
+        t611,
+        t614,
+        t615,
+        t620,
+        t624,
+        t626,
+        t644,
+        t651,
+        t699,
+        t734,
+        t768,
+        t769,
+        t771,
+        t773,
+        t776,
+        t781,
+        t785,
+        t787,
+        t805,
+        t812,
+        t860,
+        t895,
+        t929,
+        t930,
+        t932,
+        t934,
+        t937,
+        t942,
+        t946,
+        t948,
+        t966,
+        t973,
+        t1021,
+        t1056,
+        t1090,
+        t1091,
+        t1093,
+        t1095,
+        t1098,
+        t1103,
+        t1107,
+        t1109,
+        t1127,
+        t1134,
+        t1182,
+        t1217,
+        t1251,
+        t1252,
+        t1254,
+        t1256,
+        t1259,
+        t1264,
+        t1268,
+        t1270,
+        t1288,
+        t1295,
+        t1300,
+        t1301,
+        t1307,
+        t1311,
+        t1312,
+        t1317,
+        t1319,
+        t1324,
+        t1325,
+        t1332,
+    ) = {
+        let (t0, t1): (f64, f64) = sin_cos(gamma);
+        let (t2, t3): (f64, f64) = sin_cos(alpha);
+        let (t5, t6): (f64, f64) = sin_cos(beta);
+        let t7: f64 = t2 * t5;
+        let t8: f64 = t1 * t7;
+        let t9: f64 = f64::mul_add(t0, t3, t8);
+        let t12: f64 = t0 * t7;
+        let t13: f64 = f64::mul_add(t1, t3, -t12);
+        let t14: f64 = leg1_platform_y * t13;
+        let t15: f64 = leg1_platform_z * t2;
+        let t17: f64 = f64::mul_add(leg1_platform_x, t9, t14);
+        let t18: f64 = f64::mul_add(-t6, t15, t17);
+        let t19: f64 = yc + t18;
+        let t20: f64 = t19 - leg1_base_y;
+        let t23: f64 = t3 * t5;
+        let t24: f64 = t1 * t23;
+        let t25: f64 = f64::mul_add(t0, t2, -t24);
+        let t28: f64 = t0 * t5;
+        let t29: f64 = t3 * t28;
+        let t30: f64 = f64::mul_add(t1, t2, t29);
+        let t31: f64 = leg1_platform_y * t30;
+        let t32: f64 = leg1_platform_z * t3;
+        let t34: f64 = f64::mul_add(leg1_platform_x, t25, t31);
+        let t35: f64 = f64::mul_add(t6, t32, t34);
+        let t36: f64 = zc + t35;
+        let t37: f64 = t36 - leg1_base_z;
+        let t38: f64 = leg1_zero_z * t37;
+        let t41: f64 = leg1_platform_y * t0;
+        let t42: f64 = f64::mul_add(leg1_platform_x, t1, -t41);
+        let t43: f64 = t6 * t42;
+        let t44: f64 = f64::mul_add(leg1_platform_z, t5, t43);
+        let t45: f64 = xc + t44;
+        let t46: f64 = t45 - leg1_base_x;
+        let t48: f64 = f64::mul_add(leg1_zero_y, t20, t38);
+        let t49: f64 = f64::mul_add(leg1_zero_x, t46, t48);
+        let t52: f64 = leg1_axis_x * leg1_zero_z;
+        let t53: f64 = f64::mul_add(leg1_axis_z, leg1_zero_x, -t52);
+        let t56: f64 = leg1_axis_y * leg1_zero_x;
+        let t57: f64 = f64::mul_add(leg1_axis_x, leg1_zero_y, -t56);
+        let t58: f64 = t37 * t57;
+        let t60: f64 = leg1_axis_z * leg1_zero_y;
+        let t61: f64 = f64::mul_add(leg1_axis_y, leg1_zero_z, -t60);
+        let t63: f64 = f64::mul_add(t20, t53, t58);
+        let t64: f64 = f64::mul_add(t46, t61, t63);
+        let t65: f64 = t64 * t64;
+        let t66: f64 = f64::mul_add(t49, t49, t65);
+        let t67: f64 = 1.0 / t66;
+        let t68: f64 = 1.0 / leg1_crank_length;
+        let t70: f64 = t37 * t37;
+        let t73: f64 = t46 * t46;
+        let t74: f64 = f64::mul_add(t20, t20, t70);
+        let t75: f64 = f64::mul_add(leg1_crank_length, leg1_crank_length, t73);
+        let t76: f64 = t74 + t75;
+        let t77: f64 = f64::mul_add(-leg1_rod_length, leg1_rod_length, t76);
+        let t78: f64 = t68 * t77;
+        let t79: f64 = t78 * 0.5;
+        let t82: f64 = f64::mul_add(-t79, t79, t66);
+        let t83: f64 = sqrt(t82);
+        let t84: f64 = leg1_branch * t83;
+        let t85: f64 = t49 * t84;
+        let t86: f64 = f64::mul_add(t64, t79, t85);
+        let t87: f64 = t67 * t86;
+        let t89: f64 = t64 * t84;
+        let t90: f64 = f64::mul_add(t49, t79, -t89);
+        let t92: f64 = f64::mul_add(t67, t90, 1.0);
+        let t93: f64 = 1.0 / t92;
+        let t94: f64 = t87 * t93;
+        let t95: f64 = atan(t94);
+        let t97: f64 = f64::mul_add(t95, 2.0, leg1_offset);
+        let t98: f64 = t97 - q1;
+        let t100: f64 = leg2_platform_y * t13;
+        let t101: f64 = leg2_platform_z * t2;
+        let t103: f64 = f64::mul_add(leg2_platform_x, t9, t100);
+        let t104: f64 = f64::mul_add(-t6, t101, t103);
+        let t105: f64 = yc + t104;
+        let t106: f64 = t105 - leg2_base_y;
+        let t109: f64 = leg2_platform_y * t30;
+        let t110: f64 = leg2_platform_z * t3;
+        let t112: f64 = f64::mul_add(leg2_platform_x, t25, t109);
+        let t113: f64 = f64::mul_add(t6, t110, t112);
+        let t114: f64 = zc + t113;
+        let t115: f64 = t114 - leg2_base_z;
+        let t116: f64 = leg2_zero_z * t115;
+        let t119: f64 = leg2_platform_y * t0;
+        let t120: f64 = f64::mul_add(leg2_platform_x, t1, -t119);
+        let t121: f64 = t6 * t120;
+        let t122: f64 = f64::mul_add(leg2_platform_z, t5, t121);
+        let t123: f64 = xc + t122;
+        let t124: f64 = t123 - leg2_base_x;
+        let t126: f64 = f64::mul_add(leg2_zero_y, t106, t116);
+        let t127: f64 = f64::mul_add(leg2_zero_x, t124, t126);
+        let t130: f64 = leg2_axis_x * leg2_zero_z;
+        let t131: f64 = f64::mul_add(leg2_axis_z, leg2_zero_x, -t130);
+        let t134: f64 = leg2_axis_y * leg2_zero_x;
+        let t135: f64 = f64::mul_add(leg2_axis_x, leg2_zero_y, -t134);
+        let t136: f64 = t115 * t135;
+        let t138: f64 = leg2_axis_z * leg2_zero_y;
+        let t139: f64 = f64::mul_add(leg2_axis_y, leg2_zero_z, -t138);
+        let t141: f64 = f64::mul_add(t106, t131, t136);
+        let t142: f64 = f64::mul_add(t124, t139, t141);
+        let t143: f64 = t142 * t142;
+        let t144: f64 = f64::mul_add(t127, t127, t143);
+        let t145: f64 = 1.0 / t144;
+        let t146: f64 = 1.0 / leg2_crank_length;
+        let t148: f64 = t115 * t115;
+        let t151: f64 = t124 * t124;
+        let t152: f64 = f64::mul_add(t106, t106, t148);
+        let t153: f64 = f64::mul_add(leg2_crank_length, leg2_crank_length, t151);
+        let t154: f64 = t152 + t153;
+        let t155: f64 = f64::mul_add(-leg2_rod_length, leg2_rod_length, t154);
+        let t156: f64 = t146 * t155;
+        let t157: f64 = t156 * 0.5;
+        let t160: f64 = f64::mul_add(-t157, t157, t144);
+        let t161: f64 = sqrt(t160);
+        let t162: f64 = leg2_branch * t161;
+        let t163: f64 = t127 * t162;
+        let t164: f64 = f64::mul_add(t142, t157, t163);
+        let t165: f64 = t145 * t164;
+        let t167: f64 = t142 * t162;
+        let t168: f64 = f64::mul_add(t127, t157, -t167);
+        let t170: f64 = f64::mul_add(t145, t168, 1.0);
+        let t171: f64 = 1.0 / t170;
+        let t172: f64 = t165 * t171;
+        let t173: f64 = atan(t172);
+        let t175: f64 = f64::mul_add(t173, 2.0, leg2_offset);
+        let t176: f64 = t175 - q2;
+        let t178: f64 = leg3_platform_y * t13;
+        let t179: f64 = leg3_platform_z * t2;
+        let t181: f64 = f64::mul_add(leg3_platform_x, t9, t178);
+        let t182: f64 = f64::mul_add(-t6, t179, t181);
+        let t183: f64 = yc + t182;
+        let t184: f64 = t183 - leg3_base_y;
+        let t187: f64 = leg3_platform_y * t30;
+        let t188: f64 = leg3_platform_z * t3;
+        let t190: f64 = f64::mul_add(leg3_platform_x, t25, t187);
+        let t191: f64 = f64::mul_add(t6, t188, t190);
+        let t192: f64 = zc + t191;
+        let t193: f64 = t192 - leg3_base_z;
+        let t194: f64 = leg3_zero_z * t193;
+        let t197: f64 = leg3_platform_y * t0;
+        let t198: f64 = f64::mul_add(leg3_platform_x, t1, -t197);
+        let t199: f64 = t6 * t198;
+        let t200: f64 = f64::mul_add(leg3_platform_z, t5, t199);
+        let t201: f64 = xc + t200;
+        let t202: f64 = t201 - leg3_base_x;
+        let t204: f64 = f64::mul_add(leg3_zero_y, t184, t194);
+        let t205: f64 = f64::mul_add(leg3_zero_x, t202, t204);
+        let t208: f64 = leg3_axis_x * leg3_zero_z;
+        let t209: f64 = f64::mul_add(leg3_axis_z, leg3_zero_x, -t208);
+        let t212: f64 = leg3_axis_y * leg3_zero_x;
+        let t213: f64 = f64::mul_add(leg3_axis_x, leg3_zero_y, -t212);
+        let t214: f64 = t193 * t213;
+        let t216: f64 = leg3_axis_z * leg3_zero_y;
+        let t217: f64 = f64::mul_add(leg3_axis_y, leg3_zero_z, -t216);
+        let t219: f64 = f64::mul_add(t184, t209, t214);
+        let t220: f64 = f64::mul_add(t202, t217, t219);
+        let t221: f64 = t220 * t220;
+        let t222: f64 = f64::mul_add(t205, t205, t221);
+        let t223: f64 = 1.0 / t222;
+        let t224: f64 = 1.0 / leg3_crank_length;
+        let t226: f64 = t193 * t193;
+        let t229: f64 = t202 * t202;
+        let t230: f64 = f64::mul_add(t184, t184, t226);
+        let t231: f64 = f64::mul_add(leg3_crank_length, leg3_crank_length, t229);
+        let t232: f64 = t230 + t231;
+        let t233: f64 = f64::mul_add(-leg3_rod_length, leg3_rod_length, t232);
+        let t234: f64 = t224 * t233;
+        let t235: f64 = t234 * 0.5;
+        let t238: f64 = f64::mul_add(-t235, t235, t222);
+        let t239: f64 = sqrt(t238);
+        let t240: f64 = leg3_branch * t239;
+        let t241: f64 = t205 * t240;
+        let t242: f64 = f64::mul_add(t220, t235, t241);
+        let t243: f64 = t223 * t242;
+        let t245: f64 = t220 * t240;
+        let t246: f64 = f64::mul_add(t205, t235, -t245);
+        let t248: f64 = f64::mul_add(t223, t246, 1.0);
+        let t249: f64 = 1.0 / t248;
+        let t250: f64 = t243 * t249;
+        let t251: f64 = atan(t250);
+        let t253: f64 = f64::mul_add(t251, 2.0, leg3_offset);
+        let t254: f64 = t253 - q3;
+        let t256: f64 = leg4_platform_y * t13;
+        let t257: f64 = leg4_platform_z * t2;
+        let t259: f64 = f64::mul_add(leg4_platform_x, t9, t256);
+        let t260: f64 = f64::mul_add(-t6, t257, t259);
+        let t261: f64 = yc + t260;
+        let t262: f64 = t261 - leg4_base_y;
+        let t265: f64 = leg4_platform_y * t30;
+        let t266: f64 = leg4_platform_z * t3;
+        let t268: f64 = f64::mul_add(leg4_platform_x, t25, t265);
+        let t269: f64 = f64::mul_add(t6, t266, t268);
+        let t270: f64 = zc + t269;
+        let t271: f64 = t270 - leg4_base_z;
+        let t272: f64 = leg4_zero_z * t271;
+        let t275: f64 = leg4_platform_y * t0;
+        let t276: f64 = f64::mul_add(leg4_platform_x, t1, -t275);
+        let t277: f64 = t6 * t276;
+        let t278: f64 = f64::mul_add(leg4_platform_z, t5, t277);
+        let t279: f64 = xc + t278;
+        let t280: f64 = t279 - leg4_base_x;
+        let t282: f64 = f64::mul_add(leg4_zero_y, t262, t272);
+        let t283: f64 = f64::mul_add(leg4_zero_x, t280, t282);
+        let t286: f64 = leg4_axis_x * leg4_zero_z;
+        let t287: f64 = f64::mul_add(leg4_axis_z, leg4_zero_x, -t286);
+        let t290: f64 = leg4_axis_y * leg4_zero_x;
+        let t291: f64 = f64::mul_add(leg4_axis_x, leg4_zero_y, -t290);
+        let t292: f64 = t271 * t291;
+        let t294: f64 = leg4_axis_z * leg4_zero_y;
+        let t295: f64 = f64::mul_add(leg4_axis_y, leg4_zero_z, -t294);
+        let t297: f64 = f64::mul_add(t262, t287, t292);
+        let t298: f64 = f64::mul_add(t280, t295, t297);
+        let t299: f64 = t298 * t298;
+        let t300: f64 = f64::mul_add(t283, t283, t299);
+        let t301: f64 = 1.0 / t300;
+        let t302: f64 = 1.0 / leg4_crank_length;
+        let t304: f64 = t271 * t271;
+        let t307: f64 = t280 * t280;
+        let t308: f64 = f64::mul_add(t262, t262, t304);
+        let t309: f64 = f64::mul_add(leg4_crank_length, leg4_crank_length, t307);
+        let t310: f64 = t308 + t309;
+        let t311: f64 = f64::mul_add(-leg4_rod_length, leg4_rod_length, t310);
+        let t312: f64 = t302 * t311;
+        let t313: f64 = t312 * 0.5;
+        let t316: f64 = f64::mul_add(-t313, t313, t300);
+        let t317: f64 = sqrt(t316);
+        let t318: f64 = leg4_branch * t317;
+        let t319: f64 = t283 * t318;
+        let t320: f64 = f64::mul_add(t298, t313, t319);
+        let t321: f64 = t301 * t320;
+        let t323: f64 = t298 * t318;
+        let t324: f64 = f64::mul_add(t283, t313, -t323);
+        let t326: f64 = f64::mul_add(t301, t324, 1.0);
+        let t327: f64 = 1.0 / t326;
+        let t328: f64 = t321 * t327;
+        let t329: f64 = atan(t328);
+        let t331: f64 = f64::mul_add(t329, 2.0, leg4_offset);
+        let t332: f64 = t331 - q4;
+        let t334: f64 = leg5_platform_y * t13;
+        let t335: f64 = leg5_platform_z * t2;
+        let t337: f64 = f64::mul_add(leg5_platform_x, t9, t334);
+        let t338: f64 = f64::mul_add(-t6, t335, t337);
+        let t339: f64 = yc + t338;
+        let t340: f64 = t339 - leg5_base_y;
+        let t343: f64 = leg5_platform_y * t30;
+        let t344: f64 = leg5_platform_z * t3;
+        let t346: f64 = f64::mul_add(leg5_platform_x, t25, t343);
+        let t347: f64 = f64::mul_add(t6, t344, t346);
+        let t348: f64 = zc + t347;
+        let t349: f64 = t348 - leg5_base_z;
+        let t350: f64 = leg5_zero_z * t349;
+        let t353: f64 = leg5_platform_y * t0;
+        let t354: f64 = f64::mul_add(leg5_platform_x, t1, -t353);
+        let t355: f64 = t6 * t354;
+        let t356: f64 = f64::mul_add(leg5_platform_z, t5, t355);
+        let t357: f64 = xc + t356;
+        let t358: f64 = t357 - leg5_base_x;
+        let t360: f64 = f64::mul_add(leg5_zero_y, t340, t350);
+        let t361: f64 = f64::mul_add(leg5_zero_x, t358, t360);
+        let t364: f64 = leg5_axis_x * leg5_zero_z;
+        let t365: f64 = f64::mul_add(leg5_axis_z, leg5_zero_x, -t364);
+        let t368: f64 = leg5_axis_y * leg5_zero_x;
+        let t369: f64 = f64::mul_add(leg5_axis_x, leg5_zero_y, -t368);
+        let t370: f64 = t349 * t369;
+        let t372: f64 = leg5_axis_z * leg5_zero_y;
+        let t373: f64 = f64::mul_add(leg5_axis_y, leg5_zero_z, -t372);
+        let t375: f64 = f64::mul_add(t340, t365, t370);
+        let t376: f64 = f64::mul_add(t358, t373, t375);
+        let t377: f64 = t376 * t376;
+        let t378: f64 = f64::mul_add(t361, t361, t377);
+        let t379: f64 = 1.0 / t378;
+        let t380: f64 = 1.0 / leg5_crank_length;
+        let t382: f64 = t349 * t349;
+        let t385: f64 = t358 * t358;
+        let t386: f64 = f64::mul_add(t340, t340, t382);
+        let t387: f64 = f64::mul_add(leg5_crank_length, leg5_crank_length, t385);
+        let t388: f64 = t386 + t387;
+        let t389: f64 = f64::mul_add(-leg5_rod_length, leg5_rod_length, t388);
+        let t390: f64 = t380 * t389;
+        let t391: f64 = t390 * 0.5;
+        let t394: f64 = f64::mul_add(-t391, t391, t378);
+        let t395: f64 = sqrt(t394);
+        let t396: f64 = leg5_branch * t395;
+        let t397: f64 = t361 * t396;
+        let t398: f64 = f64::mul_add(t376, t391, t397);
+        let t399: f64 = t379 * t398;
+        let t401: f64 = t376 * t396;
+        let t402: f64 = f64::mul_add(t361, t391, -t401);
+        let t404: f64 = f64::mul_add(t379, t402, 1.0);
+        let t405: f64 = 1.0 / t404;
+        let t406: f64 = t399 * t405;
+        let t407: f64 = atan(t406);
+        let t409: f64 = f64::mul_add(t407, 2.0, leg5_offset);
+        let t410: f64 = t409 - q5;
+        let t412: f64 = leg6_platform_y * t13;
+        let t413: f64 = leg6_platform_z * t2;
+        let t415: f64 = f64::mul_add(leg6_platform_x, t9, t412);
+        let t416: f64 = f64::mul_add(-t6, t413, t415);
+        let t417: f64 = yc + t416;
+        let t418: f64 = t417 - leg6_base_y;
+        let t421: f64 = leg6_platform_y * t30;
+        let t422: f64 = leg6_platform_z * t3;
+        let t424: f64 = f64::mul_add(leg6_platform_x, t25, t421);
+        let t425: f64 = f64::mul_add(t6, t422, t424);
+        let t426: f64 = zc + t425;
+        let t427: f64 = t426 - leg6_base_z;
+        let t428: f64 = leg6_zero_z * t427;
+        let t431: f64 = leg6_platform_y * t0;
+        let t432: f64 = f64::mul_add(leg6_platform_x, t1, -t431);
+        let t433: f64 = t6 * t432;
+        let t434: f64 = f64::mul_add(leg6_platform_z, t5, t433);
+        let t435: f64 = xc + t434;
+        let t436: f64 = t435 - leg6_base_x;
+        let t438: f64 = f64::mul_add(leg6_zero_y, t418, t428);
+        let t439: f64 = f64::mul_add(leg6_zero_x, t436, t438);
+        let t442: f64 = leg6_axis_x * leg6_zero_z;
+        let t443: f64 = f64::mul_add(leg6_axis_z, leg6_zero_x, -t442);
+        let t446: f64 = leg6_axis_y * leg6_zero_x;
+        let t447: f64 = f64::mul_add(leg6_axis_x, leg6_zero_y, -t446);
+        let t448: f64 = t427 * t447;
+        let t450: f64 = leg6_axis_z * leg6_zero_y;
+        let t451: f64 = f64::mul_add(leg6_axis_y, leg6_zero_z, -t450);
+        let t453: f64 = f64::mul_add(t418, t443, t448);
+        let t454: f64 = f64::mul_add(t436, t451, t453);
+        let t455: f64 = t454 * t454;
+        let t456: f64 = f64::mul_add(t439, t439, t455);
+        let t457: f64 = 1.0 / t456;
+        let t458: f64 = 1.0 / leg6_crank_length;
+        let t460: f64 = t427 * t427;
+        let t463: f64 = t436 * t436;
+        let t464: f64 = f64::mul_add(t418, t418, t460);
+        let t465: f64 = f64::mul_add(leg6_crank_length, leg6_crank_length, t463);
+        let t466: f64 = t464 + t465;
+        let t467: f64 = f64::mul_add(-leg6_rod_length, leg6_rod_length, t466);
+        let t468: f64 = t458 * t467;
+        let t469: f64 = t468 * 0.5;
+        let t472: f64 = f64::mul_add(-t469, t469, t456);
+        let t473: f64 = sqrt(t472);
+        let t474: f64 = leg6_branch * t473;
+        let t475: f64 = t439 * t474;
+        let t476: f64 = f64::mul_add(t454, t469, t475);
+        let t477: f64 = t457 * t476;
+        let t479: f64 = t454 * t474;
+        let t480: f64 = f64::mul_add(t439, t469, -t479);
+        let t482: f64 = f64::mul_add(t457, t480, 1.0);
+        let t483: f64 = 1.0 / t482;
+        let t484: f64 = t477 * t483;
+        let t485: f64 = atan(t484);
+        let t487: f64 = f64::mul_add(t485, 2.0, leg6_offset);
+        let t488: f64 = t487 - q6;
+        let t489: f64 = t67 * t67;
+        let t491: f64 = t61 * t64;
+        let t492: f64 = f64::mul_add(leg1_zero_x, t49, t491);
+        let t493: f64 = t492 * 2.0;
+        let t494: f64 = t86 * t489;
+        let t497: f64 = t46 * t68;
+        let t498: f64 = t64 * t497;
+        let t500: f64 = 1.0 / t83;
+        let t502: f64 = f64::mul_add(-t79, t497, t492);
+        let t503: f64 = t502 * 2.0;
+        let t504: f64 = leg1_branch * t49;
+        let t505: f64 = t500 * t504;
+        let t506: f64 = t503 * t505;
+        let t507: f64 = t506 * 0.5;
+        let t508: f64 = f64::mul_add(t61, t79, t498);
+        let t509: f64 = f64::mul_add(leg1_zero_x, t84, t507);
+        let t510: f64 = t508 + t509;
+        let t512: f64 = t90 * t489;
+        let t515: f64 = t49 * t497;
+        let t517: f64 = leg1_branch * t64;
+        let t518: f64 = t500 * t517;
+        let t519: f64 = t503 * t518;
+        let t520: f64 = t519 * 0.5;
+        let t521: f64 = f64::mul_add(leg1_zero_x, t79, t515);
+        let t522: f64 = f64::mul_add(t61, t84, t520);
+        let t523: f64 = t521 - t522;
+        let t524: f64 = t67 * t523;
+        let t525: f64 = f64::mul_add(t493, t512, -t524);
+        let t526: f64 = t94 * t525;
+        let t527: f64 = f64::mul_add(t67, t510, t526);
+        let t528: f64 = f64::mul_add(t493, t494, -t527);
+        let t529: f64 = t87 * t87;
+        let t530: f64 = t93 * t93;
+        let t532: f64 = f64::mul_add(t529, t530, 1.0);
+        let t533: f64 = 1.0 / t532;
+        let t534: f64 = t93 * t528;
+        let t535: f64 = t533 * t534;
+        let t536: f64 = t535 * 2.0;
+        let t538: f64 = t53 * t64;
+        let t539: f64 = f64::mul_add(leg1_zero_y, t49, t538);
+        let t540: f64 = t539 * 2.0;
+        let t543: f64 = t20 * t68;
+        let t544: f64 = t64 * t543;
+        let t547: f64 = f64::mul_add(-t79, t543, t539);
+        let t548: f64 = t547 * 2.0;
+        let t549: f64 = t505 * t548;
+        let t550: f64 = t549 * 0.5;
+        let t551: f64 = f64::mul_add(t53, t79, t544);
+        let t552: f64 = f64::mul_add(leg1_zero_y, t84, t550);
+        let t553: f64 = t551 + t552;
+        let t557: f64 = t49 * t543;
+        let t559: f64 = t518 * t548;
+        let t560: f64 = t559 * 0.5;
+        let t561: f64 = f64::mul_add(leg1_zero_y, t79, t557);
+        let t562: f64 = f64::mul_add(t53, t84, t560);
+        let t563: f64 = t561 - t562;
+        let t564: f64 = t67 * t563;
+        let t565: f64 = f64::mul_add(t512, t540, -t564);
+        let t566: f64 = t94 * t565;
+        let t567: f64 = f64::mul_add(t67, t553, t566);
+        let t568: f64 = f64::mul_add(t494, t540, -t567);
+        let t569: f64 = t93 * t533;
+        let t570: f64 = t568 * t569;
+        let t571: f64 = t570 * 2.0;
+        let t573: f64 = t57 * t64;
+        let t574: f64 = f64::mul_add(leg1_zero_z, t49, t573);
+        let t575: f64 = t574 * 2.0;
+        let t578: f64 = t37 * t68;
+        let t579: f64 = t64 * t578;
+        let t582: f64 = f64::mul_add(-t79, t578, t574);
+        let t583: f64 = t582 * 2.0;
+        let t584: f64 = t505 * t583;
+        let t585: f64 = t584 * 0.5;
+        let t586: f64 = f64::mul_add(t57, t79, t579);
+        let t587: f64 = f64::mul_add(leg1_zero_z, t84, t585);
+        let t588: f64 = t586 + t587;
+        let t592: f64 = t49 * t578;
+        let t594: f64 = t518 * t583;
+        let t595: f64 = t594 * 0.5;
+        let t596: f64 = f64::mul_add(leg1_zero_z, t79, t592);
+        let t597: f64 = f64::mul_add(t57, t84, t595);
+        let t598: f64 = t596 - t597;
+        let t599: f64 = t67 * t598;
+        let t600: f64 = f64::mul_add(t512, t575, -t599);
+        let t601: f64 = t94 * t600;
+        let t602: f64 = f64::mul_add(t67, t588, t601);
+        let t603: f64 = f64::mul_add(t494, t575, -t602);
+        let t604: f64 = t569 * t603;
+        let t605: f64 = t604 * 2.0;
+        let t606: f64 = -t536;
+        let t607: f64 = t1 * t6;
+        let t609: f64 = -t571;
+        let t610: f64 = t9 * t609;
+        let t611: f64 = -t605;
+        let t613: f64 = f64::mul_add(t606, t607, t610);
+        let t614: f64 = f64::mul_add(t25, t611, t613);
+        let t615: f64 = t0 * t6;
+        let t618: f64 = t30 * t611;
+        let t619: f64 = f64::mul_add(t13, t609, t618);
+        let t620: f64 = f64::mul_add(-t606, t615, t619);
+        let t623: f64 = t3 * t611;
+        let t624: f64 = f64::mul_add(t2, t609, -t623);
+        let t625: f64 = t6 * t624;
+        let t626: f64 = f64::mul_add(t5, t606, -t625);
+        let t627: f64 = t68 * t68;
+        let t628: f64 = t77 * t627;
+        let t630: f64 = f64::mul_add(t628, 0.5, -1.0);
+        let t631: f64 = t79 * t504;
+        let t633: f64 = t79 * t517;
+        let t635: f64 = f64::mul_add(t500, t633, t49);
+        let t636: f64 = t94 * t635;
+        let t637: f64 = f64::mul_add(t500, t631, t636);
+        let t638: f64 = t64 - t637;
+        let t639: f64 = t67 * t93;
+        let t640: f64 = t533 * t639;
+        let t641: f64 = t630 * t640;
+        let t642: f64 = t638 * t641;
+        let t643: f64 = t642 * 2.0;
+        let t644: f64 = -t643;
+        let t645: f64 = leg1_rod_length * t68;
+        let t646: f64 = t67 * t645;
+        let t647: f64 = t93 * t646;
+        let t648: f64 = t533 * t647;
+        let t649: f64 = t638 * t648;
+        let t650: f64 = t649 * 2.0;
+        let t651: f64 = -t650;
+        let t652: f64 = t145 * t145;
+        let t654: f64 = t139 * t142;
+        let t655: f64 = f64::mul_add(leg2_zero_x, t127, t654);
+        let t656: f64 = t655 * 2.0;
+        let t657: f64 = t164 * t652;
+        let t660: f64 = t124 * t146;
+        let t661: f64 = t142 * t660;
+        let t663: f64 = 1.0 / t161;
+        let t665: f64 = f64::mul_add(-t157, t660, t655);
+        let t666: f64 = t665 * 2.0;
+        let t667: f64 = leg2_branch * t127;
+        let t668: f64 = t663 * t667;
+        let t669: f64 = t666 * t668;
+        let t670: f64 = t669 * 0.5;
+        let t671: f64 = f64::mul_add(t139, t157, t661);
+        let t672: f64 = f64::mul_add(leg2_zero_x, t162, t670);
+        let t673: f64 = t671 + t672;
+        let t675: f64 = t168 * t652;
+        let t678: f64 = t127 * t660;
+        let t680: f64 = leg2_branch * t142;
+        let t681: f64 = t663 * t680;
+        let t682: f64 = t666 * t681;
+        let t683: f64 = t682 * 0.5;
+        let t684: f64 = f64::mul_add(leg2_zero_x, t157, t678);
+        let t685: f64 = f64::mul_add(t139, t162, t683);
+        let t686: f64 = t684 - t685;
+        let t687: f64 = t145 * t686;
+        let t688: f64 = f64::mul_add(t656, t675, -t687);
+        let t689: f64 = t172 * t688;
+        let t690: f64 = f64::mul_add(t145, t673, t689);
+        let t691: f64 = f64::mul_add(t656, t657, -t690);
+        let t692: f64 = t165 * t165;
+        let t693: f64 = t171 * t171;
+        let t695: f64 = f64::mul_add(t692, t693, 1.0);
+        let t696: f64 = 1.0 / t695;
+        let t697: f64 = t171 * t691;
+        let t698: f64 = t696 * t697;
+        let t699: f64 = t698 * 2.0;
+        let t701: f64 = t131 * t142;
+        let t702: f64 = f64::mul_add(leg2_zero_y, t127, t701);
+        let t703: f64 = t702 * 2.0;
+        let t706: f64 = t106 * t146;
+        let t707: f64 = t142 * t706;
+        let t710: f64 = f64::mul_add(-t157, t706, t702);
+        let t711: f64 = t710 * 2.0;
+        let t712: f64 = t668 * t711;
+        let t713: f64 = t712 * 0.5;
+        let t714: f64 = f64::mul_add(t131, t157, t707);
+        let t715: f64 = f64::mul_add(leg2_zero_y, t162, t713);
+        let t716: f64 = t714 + t715;
+        let t720: f64 = t127 * t706;
+        let t722: f64 = t681 * t711;
+        let t723: f64 = t722 * 0.5;
+        let t724: f64 = f64::mul_add(leg2_zero_y, t157, t720);
+        let t725: f64 = f64::mul_add(t131, t162, t723);
+        let t726: f64 = t724 - t725;
+        let t727: f64 = t145 * t726;
+        let t728: f64 = f64::mul_add(t675, t703, -t727);
+        let t729: f64 = t172 * t728;
+        let t730: f64 = f64::mul_add(t145, t716, t729);
+        let t731: f64 = f64::mul_add(t657, t703, -t730);
+        let t732: f64 = t171 * t696;
+        let t733: f64 = t731 * t732;
+        let t734: f64 = t733 * 2.0;
+        let t736: f64 = t135 * t142;
+        let t737: f64 = f64::mul_add(leg2_zero_z, t127, t736);
+        let t738: f64 = t737 * 2.0;
+        let t741: f64 = t115 * t146;
+        let t742: f64 = t142 * t741;
+        let t745: f64 = f64::mul_add(-t157, t741, t737);
+        let t746: f64 = t745 * 2.0;
+        let t747: f64 = t668 * t746;
+        let t748: f64 = t747 * 0.5;
+        let t749: f64 = f64::mul_add(t135, t157, t742);
+        let t750: f64 = f64::mul_add(leg2_zero_z, t162, t748);
+        let t751: f64 = t749 + t750;
+        let t755: f64 = t127 * t741;
+        let t757: f64 = t681 * t746;
+        let t758: f64 = t757 * 0.5;
+        let t759: f64 = f64::mul_add(leg2_zero_z, t157, t755);
+        let t760: f64 = f64::mul_add(t135, t162, t758);
+        let t761: f64 = t759 - t760;
+        let t762: f64 = t145 * t761;
+        let t763: f64 = f64::mul_add(t675, t738, -t762);
+        let t764: f64 = t172 * t763;
+        let t765: f64 = f64::mul_add(t145, t751, t764);
+        let t766: f64 = f64::mul_add(t657, t738, -t765);
+        let t767: f64 = t732 * t766;
+        let t768: f64 = t767 * 2.0;
+        let t769: f64 = -t699;
+        let t771: f64 = -t734;
+        let t772: f64 = t9 * t771;
+        let t773: f64 = -t768;
+        let t775: f64 = f64::mul_add(t607, t769, t772);
+        let t776: f64 = f64::mul_add(t25, t773, t775);
+        let t779: f64 = t30 * t773;
+        let t780: f64 = f64::mul_add(t13, t771, t779);
+        let t781: f64 = f64::mul_add(-t615, t769, t780);
+        let t784: f64 = t3 * t773;
+        let t785: f64 = f64::mul_add(t2, t771, -t784);
+        let t786: f64 = t6 * t785;
+        let t787: f64 = f64::mul_add(t5, t769, -t786);
+        let t788: f64 = t146 * t146;
+        let t789: f64 = t155 * t788;
+        let t791: f64 = f64::mul_add(t789, 0.5, -1.0);
+        let t792: f64 = t157 * t667;
+        let t794: f64 = t157 * t680;
+        let t796: f64 = f64::mul_add(t663, t794, t127);
+        let t797: f64 = t172 * t796;
+        let t798: f64 = f64::mul_add(t663, t792, t797);
+        let t799: f64 = t142 - t798;
+        let t800: f64 = t145 * t171;
+        let t801: f64 = t696 * t800;
+        let t802: f64 = t791 * t801;
+        let t803: f64 = t799 * t802;
+        let t804: f64 = t803 * 2.0;
+        let t805: f64 = -t804;
+        let t806: f64 = leg2_rod_length * t146;
+        let t807: f64 = t145 * t806;
+        let t808: f64 = t171 * t807;
+        let t809: f64 = t696 * t808;
+        let t810: f64 = t799 * t809;
+        let t811: f64 = t810 * 2.0;
+        let t812: f64 = -t811;
+        let t813: f64 = t223 * t223;
+        let t815: f64 = t217 * t220;
+        let t816: f64 = f64::mul_add(leg3_zero_x, t205, t815);
+        let t817: f64 = t816 * 2.0;
+        let t818: f64 = t242 * t813;
+        let t821: f64 = t202 * t224;
+        let t822: f64 = t220 * t821;
+        let t824: f64 = 1.0 / t239;
+        let t826: f64 = f64::mul_add(-t235, t821, t816);
+        let t827: f64 = t826 * 2.0;
+        let t828: f64 = leg3_branch * t205;
+        let t829: f64 = t824 * t828;
+        let t830: f64 = t827 * t829;
+        let t831: f64 = t830 * 0.5;
+        let t832: f64 = f64::mul_add(t217, t235, t822);
+        let t833: f64 = f64::mul_add(leg3_zero_x, t240, t831);
+        let t834: f64 = t832 + t833;
+        let t836: f64 = t246 * t813;
+        let t839: f64 = t205 * t821;
+        let t841: f64 = leg3_branch * t220;
+        let t842: f64 = t824 * t841;
+        let t843: f64 = t827 * t842;
+        let t844: f64 = t843 * 0.5;
+        let t845: f64 = f64::mul_add(leg3_zero_x, t235, t839);
+        let t846: f64 = f64::mul_add(t217, t240, t844);
+        let t847: f64 = t845 - t846;
+        let t848: f64 = t223 * t847;
+        let t849: f64 = f64::mul_add(t817, t836, -t848);
+        let t850: f64 = t250 * t849;
+        let t851: f64 = f64::mul_add(t223, t834, t850);
+        let t852: f64 = f64::mul_add(t817, t818, -t851);
+        let t853: f64 = t243 * t243;
+        let t854: f64 = t249 * t249;
+        let t856: f64 = f64::mul_add(t853, t854, 1.0);
+        let t857: f64 = 1.0 / t856;
+        let t858: f64 = t249 * t852;
+        let t859: f64 = t857 * t858;
+        let t860: f64 = t859 * 2.0;
+        let t862: f64 = t209 * t220;
+        let t863: f64 = f64::mul_add(leg3_zero_y, t205, t862);
+        let t864: f64 = t863 * 2.0;
+        let t867: f64 = t184 * t224;
+        let t868: f64 = t220 * t867;
+        let t871: f64 = f64::mul_add(-t235, t867, t863);
+        let t872: f64 = t871 * 2.0;
+        let t873: f64 = t829 * t872;
+        let t874: f64 = t873 * 0.5;
+        let t875: f64 = f64::mul_add(t209, t235, t868);
+        let t876: f64 = f64::mul_add(leg3_zero_y, t240, t874);
+        let t877: f64 = t875 + t876;
+        let t881: f64 = t205 * t867;
+        let t883: f64 = t842 * t872;
+        let t884: f64 = t883 * 0.5;
+        let t885: f64 = f64::mul_add(leg3_zero_y, t235, t881);
+        let t886: f64 = f64::mul_add(t209, t240, t884);
+        let t887: f64 = t885 - t886;
+        let t888: f64 = t223 * t887;
+        let t889: f64 = f64::mul_add(t836, t864, -t888);
+        let t890: f64 = t250 * t889;
+        let t891: f64 = f64::mul_add(t223, t877, t890);
+        let t892: f64 = f64::mul_add(t818, t864, -t891);
+        let t893: f64 = t249 * t857;
+        let t894: f64 = t892 * t893;
+        let t895: f64 = t894 * 2.0;
+        let t897: f64 = t213 * t220;
+        let t898: f64 = f64::mul_add(leg3_zero_z, t205, t897);
+        let t899: f64 = t898 * 2.0;
+        let t902: f64 = t193 * t224;
+        let t903: f64 = t220 * t902;
+        let t906: f64 = f64::mul_add(-t235, t902, t898);
+        let t907: f64 = t906 * 2.0;
+        let t908: f64 = t829 * t907;
+        let t909: f64 = t908 * 0.5;
+        let t910: f64 = f64::mul_add(t213, t235, t903);
+        let t911: f64 = f64::mul_add(leg3_zero_z, t240, t909);
+        let t912: f64 = t910 + t911;
+        let t916: f64 = t205 * t902;
+        let t918: f64 = t842 * t907;
+        let t919: f64 = t918 * 0.5;
+        let t920: f64 = f64::mul_add(leg3_zero_z, t235, t916);
+        let t921: f64 = f64::mul_add(t213, t240, t919);
+        let t922: f64 = t920 - t921;
+        let t923: f64 = t223 * t922;
+        let t924: f64 = f64::mul_add(t836, t899, -t923);
+        let t925: f64 = t250 * t924;
+        let t926: f64 = f64::mul_add(t223, t912, t925);
+        let t927: f64 = f64::mul_add(t818, t899, -t926);
+        let t928: f64 = t893 * t927;
+        let t929: f64 = t928 * 2.0;
+        let t930: f64 = -t860;
+        let t932: f64 = -t895;
+        let t933: f64 = t9 * t932;
+        let t934: f64 = -t929;
+        let t936: f64 = f64::mul_add(t607, t930, t933);
+        let t937: f64 = f64::mul_add(t25, t934, t936);
+        let t940: f64 = t30 * t934;
+        let t941: f64 = f64::mul_add(t13, t932, t940);
+        let t942: f64 = f64::mul_add(-t615, t930, t941);
+        let t945: f64 = t3 * t934;
+        let t946: f64 = f64::mul_add(t2, t932, -t945);
+        let t947: f64 = t6 * t946;
+        let t948: f64 = f64::mul_add(t5, t930, -t947);
+        let t949: f64 = t224 * t224;
+        let t950: f64 = t233 * t949;
+        let t952: f64 = f64::mul_add(t950, 0.5, -1.0);
+        let t953: f64 = t235 * t828;
+        let t955: f64 = t235 * t841;
+        let t957: f64 = f64::mul_add(t824, t955, t205);
+        let t958: f64 = t250 * t957;
+        let t959: f64 = f64::mul_add(t824, t953, t958);
+        let t960: f64 = t220 - t959;
+        let t961: f64 = t223 * t249;
+        let t962: f64 = t857 * t961;
+        let t963: f64 = t952 * t962;
+        let t964: f64 = t960 * t963;
+        let t965: f64 = t964 * 2.0;
+        let t966: f64 = -t965;
+        let t967: f64 = leg3_rod_length * t224;
+        let t968: f64 = t223 * t967;
+        let t969: f64 = t249 * t968;
+        let t970: f64 = t857 * t969;
+        let t971: f64 = t960 * t970;
+        let t972: f64 = t971 * 2.0;
+        let t973: f64 = -t972;
+        let t974: f64 = t301 * t301;
+        let t976: f64 = t295 * t298;
+        let t977: f64 = f64::mul_add(leg4_zero_x, t283, t976);
+        let t978: f64 = t977 * 2.0;
+        let t979: f64 = t320 * t974;
+        let t982: f64 = t280 * t302;
+        let t983: f64 = t298 * t982;
+        let t985: f64 = 1.0 / t317;
+        let t987: f64 = f64::mul_add(-t313, t982, t977);
+        let t988: f64 = t987 * 2.0;
+        let t989: f64 = leg4_branch * t283;
+        let t990: f64 = t985 * t989;
+        let t991: f64 = t988 * t990;
+        let t992: f64 = t991 * 0.5;
+        let t993: f64 = f64::mul_add(t295, t313, t983);
+        let t994: f64 = f64::mul_add(leg4_zero_x, t318, t992);
+        let t995: f64 = t993 + t994;
+        let t997: f64 = t324 * t974;
+        let t1000: f64 = t283 * t982;
+        let t1002: f64 = leg4_branch * t298;
+        let t1003: f64 = t985 * t1002;
+        let t1004: f64 = t988 * t1003;
+        let t1005: f64 = t1004 * 0.5;
+        let t1006: f64 = f64::mul_add(leg4_zero_x, t313, t1000);
+        let t1007: f64 = f64::mul_add(t295, t318, t1005);
+        let t1008: f64 = t1006 - t1007;
+        let t1009: f64 = t301 * t1008;
+        let t1010: f64 = f64::mul_add(t978, t997, -t1009);
+        let t1011: f64 = t328 * t1010;
+        let t1012: f64 = f64::mul_add(t301, t995, t1011);
+        let t1013: f64 = f64::mul_add(t978, t979, -t1012);
+        let t1014: f64 = t321 * t321;
+        let t1015: f64 = t327 * t327;
+        let t1017: f64 = f64::mul_add(t1014, t1015, 1.0);
+        let t1018: f64 = 1.0 / t1017;
+        let t1019: f64 = t327 * t1013;
+        let t1020: f64 = t1018 * t1019;
+        let t1021: f64 = t1020 * 2.0;
+        let t1023: f64 = t287 * t298;
+        let t1024: f64 = f64::mul_add(leg4_zero_y, t283, t1023);
+        let t1025: f64 = t1024 * 2.0;
+        let t1028: f64 = t262 * t302;
+        let t1029: f64 = t298 * t1028;
+        let t1032: f64 = f64::mul_add(-t313, t1028, t1024);
+        let t1033: f64 = t1032 * 2.0;
+        let t1034: f64 = t990 * t1033;
+        let t1035: f64 = t1034 * 0.5;
+        let t1036: f64 = f64::mul_add(t287, t313, t1029);
+        let t1037: f64 = f64::mul_add(leg4_zero_y, t318, t1035);
+        let t1038: f64 = t1036 + t1037;
+        let t1042: f64 = t283 * t1028;
+        let t1044: f64 = t1003 * t1033;
+        let t1045: f64 = t1044 * 0.5;
+        let t1046: f64 = f64::mul_add(leg4_zero_y, t313, t1042);
+        let t1047: f64 = f64::mul_add(t287, t318, t1045);
+        let t1048: f64 = t1046 - t1047;
+        let t1049: f64 = t301 * t1048;
+        let t1050: f64 = f64::mul_add(t997, t1025, -t1049);
+        let t1051: f64 = t328 * t1050;
+        let t1052: f64 = f64::mul_add(t301, t1038, t1051);
+        let t1053: f64 = f64::mul_add(t979, t1025, -t1052);
+        let t1054: f64 = t327 * t1018;
+        let t1055: f64 = t1053 * t1054;
+        let t1056: f64 = t1055 * 2.0;
+        let t1058: f64 = t291 * t298;
+        let t1059: f64 = f64::mul_add(leg4_zero_z, t283, t1058);
+        let t1060: f64 = t1059 * 2.0;
+        let t1063: f64 = t271 * t302;
+        let t1064: f64 = t298 * t1063;
+        let t1067: f64 = f64::mul_add(-t313, t1063, t1059);
+        let t1068: f64 = t1067 * 2.0;
+        let t1069: f64 = t990 * t1068;
+        let t1070: f64 = t1069 * 0.5;
+        let t1071: f64 = f64::mul_add(t291, t313, t1064);
+        let t1072: f64 = f64::mul_add(leg4_zero_z, t318, t1070);
+        let t1073: f64 = t1071 + t1072;
+        let t1077: f64 = t283 * t1063;
+        let t1079: f64 = t1003 * t1068;
+        let t1080: f64 = t1079 * 0.5;
+        let t1081: f64 = f64::mul_add(leg4_zero_z, t313, t1077);
+        let t1082: f64 = f64::mul_add(t291, t318, t1080);
+        let t1083: f64 = t1081 - t1082;
+        let t1084: f64 = t301 * t1083;
+        let t1085: f64 = f64::mul_add(t997, t1060, -t1084);
+        let t1086: f64 = t328 * t1085;
+        let t1087: f64 = f64::mul_add(t301, t1073, t1086);
+        let t1088: f64 = f64::mul_add(t979, t1060, -t1087);
+        let t1089: f64 = t1054 * t1088;
+        let t1090: f64 = t1089 * 2.0;
+        let t1091: f64 = -t1021;
+        let t1093: f64 = -t1056;
+        let t1094: f64 = t9 * t1093;
+        let t1095: f64 = -t1090;
+        let t1097: f64 = f64::mul_add(t607, t1091, t1094);
+        let t1098: f64 = f64::mul_add(t25, t1095, t1097);
+        let t1101: f64 = t30 * t1095;
+        let t1102: f64 = f64::mul_add(t13, t1093, t1101);
+        let t1103: f64 = f64::mul_add(-t615, t1091, t1102);
+        let t1106: f64 = t3 * t1095;
+        let t1107: f64 = f64::mul_add(t2, t1093, -t1106);
+        let t1108: f64 = t6 * t1107;
+        let t1109: f64 = f64::mul_add(t5, t1091, -t1108);
+        let t1110: f64 = t302 * t302;
+        let t1111: f64 = t311 * t1110;
+        let t1113: f64 = f64::mul_add(t1111, 0.5, -1.0);
+        let t1114: f64 = t313 * t989;
+        let t1116: f64 = t313 * t1002;
+        let t1118: f64 = f64::mul_add(t985, t1116, t283);
+        let t1119: f64 = t328 * t1118;
+        let t1120: f64 = f64::mul_add(t985, t1114, t1119);
+        let t1121: f64 = t298 - t1120;
+        let t1122: f64 = t301 * t327;
+        let t1123: f64 = t1018 * t1122;
+        let t1124: f64 = t1113 * t1123;
+        let t1125: f64 = t1121 * t1124;
+        let t1126: f64 = t1125 * 2.0;
+        let t1127: f64 = -t1126;
+        let t1128: f64 = leg4_rod_length * t302;
+        let t1129: f64 = t301 * t1128;
+        let t1130: f64 = t327 * t1129;
+        let t1131: f64 = t1018 * t1130;
+        let t1132: f64 = t1121 * t1131;
+        let t1133: f64 = t1132 * 2.0;
+        let t1134: f64 = -t1133;
+        let t1135: f64 = t379 * t379;
+        let t1137: f64 = t373 * t376;
+        let t1138: f64 = f64::mul_add(leg5_zero_x, t361, t1137);
+        let t1139: f64 = t1138 * 2.0;
+        let t1140: f64 = t398 * t1135;
+        let t1143: f64 = t358 * t380;
+        let t1144: f64 = t376 * t1143;
+        let t1146: f64 = 1.0 / t395;
+        let t1148: f64 = f64::mul_add(-t391, t1143, t1138);
+        let t1149: f64 = t1148 * 2.0;
+        let t1150: f64 = leg5_branch * t361;
+        let t1151: f64 = t1146 * t1150;
+        let t1152: f64 = t1149 * t1151;
+        let t1153: f64 = t1152 * 0.5;
+        let t1154: f64 = f64::mul_add(t373, t391, t1144);
+        let t1155: f64 = f64::mul_add(leg5_zero_x, t396, t1153);
+        let t1156: f64 = t1154 + t1155;
+        let t1158: f64 = t402 * t1135;
+        let t1161: f64 = t361 * t1143;
+        let t1163: f64 = leg5_branch * t376;
+        let t1164: f64 = t1146 * t1163;
+        let t1165: f64 = t1149 * t1164;
+        let t1166: f64 = t1165 * 0.5;
+        let t1167: f64 = f64::mul_add(leg5_zero_x, t391, t1161);
+        let t1168: f64 = f64::mul_add(t373, t396, t1166);
+        let t1169: f64 = t1167 - t1168;
+        let t1170: f64 = t379 * t1169;
+        let t1171: f64 = f64::mul_add(t1139, t1158, -t1170);
+        let t1172: f64 = t406 * t1171;
+        let t1173: f64 = f64::mul_add(t379, t1156, t1172);
+        let t1174: f64 = f64::mul_add(t1139, t1140, -t1173);
+        let t1175: f64 = t399 * t399;
+        let t1176: f64 = t405 * t405;
+        let t1178: f64 = f64::mul_add(t1175, t1176, 1.0);
+        let t1179: f64 = 1.0 / t1178;
+        let t1180: f64 = t405 * t1174;
+        let t1181: f64 = t1179 * t1180;
+        let t1182: f64 = t1181 * 2.0;
+        let t1184: f64 = t365 * t376;
+        let t1185: f64 = f64::mul_add(leg5_zero_y, t361, t1184);
+        let t1186: f64 = t1185 * 2.0;
+        let t1189: f64 = t340 * t380;
+        let t1190: f64 = t376 * t1189;
+        let t1193: f64 = f64::mul_add(-t391, t1189, t1185);
+        let t1194: f64 = t1193 * 2.0;
+        let t1195: f64 = t1151 * t1194;
+        let t1196: f64 = t1195 * 0.5;
+        let t1197: f64 = f64::mul_add(t365, t391, t1190);
+        let t1198: f64 = f64::mul_add(leg5_zero_y, t396, t1196);
+        let t1199: f64 = t1197 + t1198;
+        let t1203: f64 = t361 * t1189;
+        let t1205: f64 = t1164 * t1194;
+        let t1206: f64 = t1205 * 0.5;
+        let t1207: f64 = f64::mul_add(leg5_zero_y, t391, t1203);
+        let t1208: f64 = f64::mul_add(t365, t396, t1206);
+        let t1209: f64 = t1207 - t1208;
+        let t1210: f64 = t379 * t1209;
+        let t1211: f64 = f64::mul_add(t1158, t1186, -t1210);
+        let t1212: f64 = t406 * t1211;
+        let t1213: f64 = f64::mul_add(t379, t1199, t1212);
+        let t1214: f64 = f64::mul_add(t1140, t1186, -t1213);
+        let t1215: f64 = t405 * t1179;
+        let t1216: f64 = t1214 * t1215;
+        let t1217: f64 = t1216 * 2.0;
+        let t1219: f64 = t369 * t376;
+        let t1220: f64 = f64::mul_add(leg5_zero_z, t361, t1219);
+        let t1221: f64 = t1220 * 2.0;
+        let t1224: f64 = t349 * t380;
+        let t1225: f64 = t376 * t1224;
+        let t1228: f64 = f64::mul_add(-t391, t1224, t1220);
+        let t1229: f64 = t1228 * 2.0;
+        let t1230: f64 = t1151 * t1229;
+        let t1231: f64 = t1230 * 0.5;
+        let t1232: f64 = f64::mul_add(t369, t391, t1225);
+        let t1233: f64 = f64::mul_add(leg5_zero_z, t396, t1231);
+        let t1234: f64 = t1232 + t1233;
+        let t1238: f64 = t361 * t1224;
+        let t1240: f64 = t1164 * t1229;
+        let t1241: f64 = t1240 * 0.5;
+        let t1242: f64 = f64::mul_add(leg5_zero_z, t391, t1238);
+        let t1243: f64 = f64::mul_add(t369, t396, t1241);
+        let t1244: f64 = t1242 - t1243;
+        let t1245: f64 = t379 * t1244;
+        let t1246: f64 = f64::mul_add(t1158, t1221, -t1245);
+        let t1247: f64 = t406 * t1246;
+        let t1248: f64 = f64::mul_add(t379, t1234, t1247);
+        let t1249: f64 = f64::mul_add(t1140, t1221, -t1248);
+        let t1250: f64 = t1215 * t1249;
+        let t1251: f64 = t1250 * 2.0;
+        let t1252: f64 = -t1182;
+        let t1254: f64 = -t1217;
+        let t1255: f64 = t9 * t1254;
+        let t1256: f64 = -t1251;
+        let t1258: f64 = f64::mul_add(t607, t1252, t1255);
+        let t1259: f64 = f64::mul_add(t25, t1256, t1258);
+        let t1262: f64 = t30 * t1256;
+        let t1263: f64 = f64::mul_add(t13, t1254, t1262);
+        let t1264: f64 = f64::mul_add(-t615, t1252, t1263);
+        let t1267: f64 = t3 * t1256;
+        let t1268: f64 = f64::mul_add(t2, t1254, -t1267);
+        let t1269: f64 = t6 * t1268;
+        let t1270: f64 = f64::mul_add(t5, t1252, -t1269);
+        let t1271: f64 = t380 * t380;
+        let t1272: f64 = t389 * t1271;
+        let t1274: f64 = f64::mul_add(t1272, 0.5, -1.0);
+        let t1275: f64 = t391 * t1150;
+        let t1277: f64 = t391 * t1163;
+        let t1279: f64 = f64::mul_add(t1146, t1277, t361);
+        let t1280: f64 = t406 * t1279;
+        let t1281: f64 = f64::mul_add(t1146, t1275, t1280);
+        let t1282: f64 = t376 - t1281;
+        let t1283: f64 = t379 * t405;
+        let t1284: f64 = t1179 * t1283;
+        let t1285: f64 = t1274 * t1284;
+        let t1286: f64 = t1282 * t1285;
+        let t1287: f64 = t1286 * 2.0;
+        let t1288: f64 = -t1287;
+        let t1289: f64 = leg5_rod_length * t380;
+        let t1290: f64 = t379 * t1289;
+        let t1291: f64 = t405 * t1290;
+        let t1292: f64 = t1179 * t1291;
+        let t1293: f64 = t1282 * t1292;
+        let t1294: f64 = t1293 * 2.0;
+        let t1295: f64 = -t1294;
+        let t1296: f64 = t457 * t457;
+        let t1298: f64 = t451 * t454;
+        let t1299: f64 = f64::mul_add(leg6_zero_x, t439, t1298);
+        let t1300: f64 = t1299 * 2.0;
+        let t1301: f64 = t476 * t1296;
+        let t1304: f64 = t436 * t458;
+        let t1305: f64 = t454 * t1304;
+        let t1307: f64 = 1.0 / t473;
+        let t1309: f64 = f64::mul_add(-t469, t1304, t1299);
+        let t1310: f64 = t1309 * 2.0;
+        let t1311: f64 = leg6_branch * t439;
+        let t1312: f64 = t1307 * t1311;
+        let t1313: f64 = t1310 * t1312;
+        let t1314: f64 = t1313 * 0.5;
+        let t1315: f64 = f64::mul_add(t451, t469, t1305);
+        let t1316: f64 = f64::mul_add(leg6_zero_x, t474, t1314);
+        let t1317: f64 = t1315 + t1316;
+        let t1319: f64 = t480 * t1296;
+        let t1322: f64 = t439 * t1304;
+        let t1324: f64 = leg6_branch * t454;
+        let t1325: f64 = t1307 * t1324;
+        let t1326: f64 = t1310 * t1325;
+        let t1327: f64 = t1326 * 0.5;
+        let t1328: f64 = f64::mul_add(leg6_zero_x, t469, t1322);
+        let t1329: f64 = f64::mul_add(t451, t474, t1327);
+        let t1330: f64 = t1328 - t1329;
+        let t1331: f64 = t457 * t1330;
+        let t1332: f64 = f64::mul_add(t1300, t1319, -t1331);
+        (
+            t0,
+            t1,
+            t2,
+            t3,
+            t5,
+            t6,
+            t9,
+            t13,
+            t18,
+            t25,
+            t30,
+            t35,
+            t42,
+            t44,
+            t98,
+            t104,
+            t113,
+            t120,
+            t122,
+            t176,
+            t182,
+            t191,
+            t198,
+            t200,
+            t254,
+            t260,
+            t269,
+            t276,
+            t278,
+            t332,
+            t338,
+            t347,
+            t354,
+            t356,
+            t410,
+            t416,
+            t418,
+            t425,
+            t427,
+            t432,
+            t434,
+            t439,
+            t443,
+            t447,
+            t454,
+            t457,
+            t458,
+            t467,
+            t469,
+            t474,
+            t477,
+            t483,
+            t484,
+            t488,
+            t536,
+            t571,
+            t605,
+            t606,
+            t607,
+            t609,
+            t611,
+            t614,
+            t615,
+            t620,
+            t624,
+            t626,
+            t644,
+            t651,
+            t699,
+            t734,
+            t768,
+            t769,
+            t771,
+            t773,
+            t776,
+            t781,
+            t785,
+            t787,
+            t805,
+            t812,
+            t860,
+            t895,
+            t929,
+            t930,
+            t932,
+            t934,
+            t937,
+            t942,
+            t946,
+            t948,
+            t966,
+            t973,
+            t1021,
+            t1056,
+            t1090,
+            t1091,
+            t1093,
+            t1095,
+            t1098,
+            t1103,
+            t1107,
+            t1109,
+            t1127,
+            t1134,
+            t1182,
+            t1217,
+            t1251,
+            t1252,
+            t1254,
+            t1256,
+            t1259,
+            t1264,
+            t1268,
+            t1270,
+            t1288,
+            t1295,
+            t1300,
+            t1301,
+            t1307,
+            t1311,
+            t1312,
+            t1317,
+            t1319,
+            t1324,
+            t1325,
+            t1332,
+        )
+    };
+    let (
+        t1343,
+        t1378,
+        t1412,
+        t1413,
+        t1415,
+        t1417,
+        t1420,
+        t1425,
+        t1431,
+        t1449,
+        t1456,
+        t1459,
+        t1465,
+        t1480,
+        t1483,
+        t1489,
+        t1504,
+        t1507,
+        t1513,
+        t1528,
+        t1531,
+        t1537,
+        t1552,
+        t1555,
+        t1561,
+        t1576,
+        t1579,
+        t1585,
+        t1600,
+    ) = {
+        let t1333: f64 = t484 * t1332;
+        let t1334: f64 = f64::mul_add(t457, t1317, t1333);
+        let t1335: f64 = f64::mul_add(t1300, t1301, -t1334);
+        let t1336: f64 = t477 * t477;
+        let t1337: f64 = t483 * t483;
+        let t1339: f64 = f64::mul_add(t1336, t1337, 1.0);
+        let t1340: f64 = 1.0 / t1339;
+        let t1341: f64 = t483 * t1335;
+        let t1342: f64 = t1340 * t1341;
+        let t1343: f64 = t1342 * 2.0;
+        let t1345: f64 = t443 * t454;
+        let t1346: f64 = f64::mul_add(leg6_zero_y, t439, t1345);
+        let t1347: f64 = t1346 * 2.0;
+        let t1350: f64 = t418 * t458;
+        let t1351: f64 = t454 * t1350;
+        let t1354: f64 = f64::mul_add(-t469, t1350, t1346);
+        let t1355: f64 = t1354 * 2.0;
+        let t1356: f64 = t1312 * t1355;
+        let t1357: f64 = t1356 * 0.5;
+        let t1358: f64 = f64::mul_add(t443, t469, t1351);
+        let t1359: f64 = f64::mul_add(leg6_zero_y, t474, t1357);
+        let t1360: f64 = t1358 + t1359;
+        let t1364: f64 = t439 * t1350;
+        let t1366: f64 = t1325 * t1355;
+        let t1367: f64 = t1366 * 0.5;
+        let t1368: f64 = f64::mul_add(leg6_zero_y, t469, t1364);
+        let t1369: f64 = f64::mul_add(t443, t474, t1367);
+        let t1370: f64 = t1368 - t1369;
+        let t1371: f64 = t457 * t1370;
+        let t1372: f64 = f64::mul_add(t1319, t1347, -t1371);
+        let t1373: f64 = t484 * t1372;
+        let t1374: f64 = f64::mul_add(t457, t1360, t1373);
+        let t1375: f64 = f64::mul_add(t1301, t1347, -t1374);
+        let t1376: f64 = t483 * t1340;
+        let t1377: f64 = t1375 * t1376;
+        let t1378: f64 = t1377 * 2.0;
+        let t1380: f64 = t447 * t454;
+        let t1381: f64 = f64::mul_add(leg6_zero_z, t439, t1380);
+        let t1382: f64 = t1381 * 2.0;
+        let t1385: f64 = t427 * t458;
+        let t1386: f64 = t454 * t1385;
+        let t1389: f64 = f64::mul_add(-t469, t1385, t1381);
+        let t1390: f64 = t1389 * 2.0;
+        let t1391: f64 = t1312 * t1390;
+        let t1392: f64 = t1391 * 0.5;
+        let t1393: f64 = f64::mul_add(t447, t469, t1386);
+        let t1394: f64 = f64::mul_add(leg6_zero_z, t474, t1392);
+        let t1395: f64 = t1393 + t1394;
+        let t1399: f64 = t439 * t1385;
+        let t1401: f64 = t1325 * t1390;
+        let t1402: f64 = t1401 * 0.5;
+        let t1403: f64 = f64::mul_add(leg6_zero_z, t469, t1399);
+        let t1404: f64 = f64::mul_add(t447, t474, t1402);
+        let t1405: f64 = t1403 - t1404;
+        let t1406: f64 = t457 * t1405;
+        let t1407: f64 = f64::mul_add(t1319, t1382, -t1406);
+        let t1408: f64 = t484 * t1407;
+        let t1409: f64 = f64::mul_add(t457, t1395, t1408);
+        let t1410: f64 = f64::mul_add(t1301, t1382, -t1409);
+        let t1411: f64 = t1376 * t1410;
+        let t1412: f64 = t1411 * 2.0;
+        let t1413: f64 = -t1343;
+        let t1415: f64 = -t1378;
+        let t1416: f64 = t9 * t1415;
+        let t1417: f64 = -t1412;
+        let t1419: f64 = f64::mul_add(t607, t1413, t1416);
+        let t1420: f64 = f64::mul_add(t25, t1417, t1419);
+        let t1423: f64 = t30 * t1417;
+        let t1424: f64 = f64::mul_add(t13, t1415, t1423);
+        let t1425: f64 = f64::mul_add(-t615, t1413, t1424);
+        let t1428: f64 = t3 * t1417;
+        let t1429: f64 = f64::mul_add(t2, t1415, -t1428);
+        let t1430: f64 = t6 * t1429;
+        let t1431: f64 = f64::mul_add(t5, t1413, -t1430);
+        let t1432: f64 = t458 * t458;
+        let t1433: f64 = t467 * t1432;
+        let t1435: f64 = f64::mul_add(t1433, 0.5, -1.0);
+        let t1436: f64 = t469 * t1311;
+        let t1438: f64 = t469 * t1324;
+        let t1440: f64 = f64::mul_add(t1307, t1438, t439);
+        let t1441: f64 = t484 * t1440;
+        let t1442: f64 = f64::mul_add(t1307, t1436, t1441);
+        let t1443: f64 = t454 - t1442;
+        let t1444: f64 = t457 * t483;
+        let t1445: f64 = t1340 * t1444;
+        let t1446: f64 = t1435 * t1445;
+        let t1447: f64 = t1443 * t1446;
+        let t1448: f64 = t1447 * 2.0;
+        let t1449: f64 = -t1448;
+        let t1450: f64 = leg6_rod_length * t458;
+        let t1451: f64 = t457 * t1450;
+        let t1452: f64 = t483 * t1451;
+        let t1453: f64 = t1340 * t1452;
+        let t1454: f64 = t1443 * t1453;
+        let t1455: f64 = t1454 * 2.0;
+        let t1456: f64 = -t1455;
+        let t1458: f64 = t18 * t611;
+        let t1459: f64 = f64::mul_add(-t35, t609, t1458);
+        let t1461: f64 = t5 * t42;
+        let t1462: f64 = f64::mul_add(leg1_platform_z, t6, -t1461);
+        let t1464: f64 = t44 * t624;
+        let t1465: f64 = f64::mul_add(t606, t1462, t1464);
+        let t1467: f64 = leg1_platform_y * t1;
+        let t1468: f64 = f64::mul_add(leg1_platform_x, t0, t1467);
+        let t1469: f64 = t6 * t606;
+        let t1472: f64 = leg1_platform_y * t9;
+        let t1473: f64 = f64::mul_add(leg1_platform_x, t13, -t1472);
+        let t1476: f64 = leg1_platform_y * t25;
+        let t1477: f64 = f64::mul_add(leg1_platform_x, t30, -t1476);
+        let t1478: f64 = t611 * t1477;
+        let t1479: f64 = f64::mul_add(t609, t1473, t1478);
+        let t1480: f64 = f64::mul_add(-t1468, t1469, t1479);
+        let t1482: f64 = t104 * t773;
+        let t1483: f64 = f64::mul_add(-t113, t771, t1482);
+        let t1485: f64 = t5 * t120;
+        let t1486: f64 = f64::mul_add(leg2_platform_z, t6, -t1485);
+        let t1488: f64 = t122 * t785;
+        let t1489: f64 = f64::mul_add(t769, t1486, t1488);
+        let t1491: f64 = leg2_platform_y * t1;
+        let t1492: f64 = f64::mul_add(leg2_platform_x, t0, t1491);
+        let t1493: f64 = t6 * t769;
+        let t1496: f64 = leg2_platform_y * t9;
+        let t1497: f64 = f64::mul_add(leg2_platform_x, t13, -t1496);
+        let t1500: f64 = leg2_platform_y * t25;
+        let t1501: f64 = f64::mul_add(leg2_platform_x, t30, -t1500);
+        let t1502: f64 = t773 * t1501;
+        let t1503: f64 = f64::mul_add(t771, t1497, t1502);
+        let t1504: f64 = f64::mul_add(-t1492, t1493, t1503);
+        let t1506: f64 = t182 * t934;
+        let t1507: f64 = f64::mul_add(-t191, t932, t1506);
+        let t1509: f64 = t5 * t198;
+        let t1510: f64 = f64::mul_add(leg3_platform_z, t6, -t1509);
+        let t1512: f64 = t200 * t946;
+        let t1513: f64 = f64::mul_add(t930, t1510, t1512);
+        let t1515: f64 = leg3_platform_y * t1;
+        let t1516: f64 = f64::mul_add(leg3_platform_x, t0, t1515);
+        let t1517: f64 = t6 * t930;
+        let t1520: f64 = leg3_platform_y * t9;
+        let t1521: f64 = f64::mul_add(leg3_platform_x, t13, -t1520);
+        let t1524: f64 = leg3_platform_y * t25;
+        let t1525: f64 = f64::mul_add(leg3_platform_x, t30, -t1524);
+        let t1526: f64 = t934 * t1525;
+        let t1527: f64 = f64::mul_add(t932, t1521, t1526);
+        let t1528: f64 = f64::mul_add(-t1516, t1517, t1527);
+        let t1530: f64 = t260 * t1095;
+        let t1531: f64 = f64::mul_add(-t269, t1093, t1530);
+        let t1533: f64 = t5 * t276;
+        let t1534: f64 = f64::mul_add(leg4_platform_z, t6, -t1533);
+        let t1536: f64 = t278 * t1107;
+        let t1537: f64 = f64::mul_add(t1091, t1534, t1536);
+        let t1539: f64 = leg4_platform_y * t1;
+        let t1540: f64 = f64::mul_add(leg4_platform_x, t0, t1539);
+        let t1541: f64 = t6 * t1091;
+        let t1544: f64 = leg4_platform_y * t9;
+        let t1545: f64 = f64::mul_add(leg4_platform_x, t13, -t1544);
+        let t1548: f64 = leg4_platform_y * t25;
+        let t1549: f64 = f64::mul_add(leg4_platform_x, t30, -t1548);
+        let t1550: f64 = t1095 * t1549;
+        let t1551: f64 = f64::mul_add(t1093, t1545, t1550);
+        let t1552: f64 = f64::mul_add(-t1540, t1541, t1551);
+        let t1554: f64 = t338 * t1256;
+        let t1555: f64 = f64::mul_add(-t347, t1254, t1554);
+        let t1557: f64 = t5 * t354;
+        let t1558: f64 = f64::mul_add(leg5_platform_z, t6, -t1557);
+        let t1560: f64 = t356 * t1268;
+        let t1561: f64 = f64::mul_add(t1252, t1558, t1560);
+        let t1563: f64 = leg5_platform_y * t1;
+        let t1564: f64 = f64::mul_add(leg5_platform_x, t0, t1563);
+        let t1565: f64 = t6 * t1252;
+        let t1568: f64 = leg5_platform_y * t9;
+        let t1569: f64 = f64::mul_add(leg5_platform_x, t13, -t1568);
+        let t1572: f64 = leg5_platform_y * t25;
+        let t1573: f64 = f64::mul_add(leg5_platform_x, t30, -t1572);
+        let t1574: f64 = t1256 * t1573;
+        let t1575: f64 = f64::mul_add(t1254, t1569, t1574);
+        let t1576: f64 = f64::mul_add(-t1564, t1565, t1575);
+        let t1578: f64 = t416 * t1417;
+        let t1579: f64 = f64::mul_add(-t425, t1415, t1578);
+        let t1581: f64 = t5 * t432;
+        let t1582: f64 = f64::mul_add(leg6_platform_z, t6, -t1581);
+        let t1584: f64 = t434 * t1429;
+        let t1585: f64 = f64::mul_add(t1413, t1582, t1584);
+        let t1587: f64 = leg6_platform_y * t1;
+        let t1588: f64 = f64::mul_add(leg6_platform_x, t0, t1587);
+        let t1589: f64 = t6 * t1413;
+        let t1592: f64 = leg6_platform_y * t9;
+        let t1593: f64 = f64::mul_add(leg6_platform_x, t13, -t1592);
+        let t1596: f64 = leg6_platform_y * t25;
+        let t1597: f64 = f64::mul_add(leg6_platform_x, t30, -t1596);
+        let t1598: f64 = t1417 * t1597;
+        let t1599: f64 = f64::mul_add(t1415, t1593, t1598);
+        let t1600: f64 = f64::mul_add(-t1588, t1589, t1599);
+        (
+            t1343,
+            t1378,
+            t1412,
+            t1413,
+            t1415,
+            t1417,
+            t1420,
+            t1425,
+            t1431,
+            t1449,
+            t1456,
+            t1459,
+            t1465,
+            t1480,
+            t1483,
+            t1489,
+            t1504,
+            t1507,
+            t1513,
+            t1528,
+            t1531,
+            t1537,
+            t1552,
+            t1555,
+            t1561,
+            t1576,
+            t1579,
+            t1585,
+            t1600,
+        )
+    };
+    (
+        [t98, t176, t254, t332, t410, t488],
+        [
+            [t536, t571, t605, t614, t620, t626, t644, t651, 1.0],
+            [t699, t734, t768, t776, t781, t787, t805, t812, 1.0],
+            [t860, t895, t929, t937, t942, t948, t966, t973, 1.0],
+            [t1021, t1056, t1090, t1098, t1103, t1109, t1127, t1134, 1.0],
+            [t1182, t1217, t1251, t1259, t1264, t1270, t1288, t1295, 1.0],
+            [t1343, t1378, t1412, t1420, t1425, t1431, t1449, t1456, 1.0],
+        ],
+        [
+            [t1459, t1465, t1480, t606, t609, t611],
+            [t1483, t1489, t1504, t769, t771, t773],
+            [t1507, t1513, t1528, t930, t932, t934],
+            [t1531, t1537, t1552, t1091, t1093, t1095],
+            [t1555, t1561, t1576, t1252, t1254, t1256],
+            [t1579, t1585, t1600, t1413, t1415, t1417],
         ],
     )
 }

@@ -1,19 +1,23 @@
-//! Kinematic calibration of a Gough-Stewart platform: its true geometry from measured poses.
+//! Kinematic calibration of a legged mechanism (the Gough-Stewart platform, the rotary
+//! hexapod, the Delta): its true geometry from measured poses.
 //!
-//! A built hexapod is never its drawing: each leg's base joint centre `A_i`, platform joint
-//! centre `p_i` and encoder offset `o_i` (42 parameters) sit off their nominal values by
-//! millimetres. Given poses measured by an external instrument (laser tracker, CMM, camera)
-//! beside the encoders' readings, [`calibrate`] fits them by weighted least squares on the
-//! legs' residuals `r_i = ρ_i(X; θ) - q_i`, `ρ_i = |C + R p_i - A_i| + o_i`, with the exact
-//! Jacobians of the generated kernel `calibration_residuals`.
+//! A built robot is never its drawing: each leg's joint centres, lengths and encoder offset sit
+//! off their nominal values by millimetres. Given poses measured by an external instrument
+//! (laser tracker, CMM, camera) beside the encoders' readings, [`calibrate`] fits them by
+//! weighted least squares on the legs' residuals `r_i = q_i(X; θ) - q̂_i`, with the exact
+//! Jacobians of the mechanism's generated kernel `calibration_residuals`. What is fitted per
+//! leg is the mechanism's ([`c5_robot::calibration`]): a Gough-Stewart leg's `A_i`, `p_i`,
+//! `o_i` (7); a rotary hexapod leg's `A_i`, `p_i`, crank and rod lengths `c_i`, `L_i` and `o_i`
+//! (9); a Delta arm's `A_i`, `c_i`, `L_i`, `o_i` (6: a platform that only translates sees
+//! `p_i - A_i` alone).
 //!
 //! The measurement model: the readings carry the encoders' noise, the measured pose the
 //! instrument's (per position component and per RPY angle, [`Noise`]); each residual's
-//! variance is `σ_q² + Σ_k (∂ρ_i/∂X_k)² σ_k²`, so a pose's noise counts as much as it moves
-//! the leg. Leg `i`'s residuals depend on its own seven parameters only, so the fit is six
-//! independent problems of seven unknowns; the parameters are scaled ([`Options::scale`]) so
-//! that the observability (the singular values of the whitened, scaled Jacobian) reads in
-//! one unit for positions and offsets.
+//! variance is `σ_q² + Σ_k (∂q_i/∂X_k)² σ_k²`, so a pose's noise counts as much as it moves
+//! the leg. Leg `i`'s residuals depend on its own parameters only, so the fit is one
+//! independent problem per leg; the parameters are scaled ([`Options::scale`]) so that the
+//! observability (the singular values of the whitened, scaled Jacobian) reads in one unit for
+//! lengths (m) and angles (rad): a millimetre and a milliradian alike.
 //!
 //! A combination of a leg's parameters that the data cannot separate (its standard deviation
 //! would exceed [`Options::observable`]) is not smeared over its members: one of them is fixed
@@ -21,31 +25,32 @@
 //! [`Options::strict`], such data are refused instead.
 
 mod fit;
+mod nominal;
 mod observability;
 mod plan;
 
+pub use nominal::Nominal;
 pub use plan::{plan, simulate};
 
-use crate::gough_stewart::{Description, GoughStewart};
-use crate::{Error, Pose};
+use crate::{Description, Error};
 use alloc::string::String;
 use alloc::vec::Vec;
 use core::fmt;
 
-/// The geometric parameters fitted per leg: `A_i` (base frame), `p_i` (platform frame), `o_i`.
-pub const PER_LEG: usize = 7;
+/// The fewest measured poses [`calibrate`] accepts for a mechanism fitting `fitted`
+/// parameters per leg: a leg's unknowns and one degree of freedom for the noise's estimate.
+pub fn min_measurements(fitted: usize) -> usize {
+    fitted + 1
+}
 
-/// The fewest measured poses [`calibrate`] accepts: a leg's seven unknowns and one degree of
-/// freedom for the noise's estimate.
-pub const MIN_MEASUREMENTS: usize = PER_LEG + 1;
-
-/// One measured pose and the six encoder readings taken with it.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// One measured pose and the encoder readings taken with it.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Measurement {
-    /// The platform pose the instrument measured, `[α β γ xc yc zc]` (rad, m).
-    pub pose: Pose,
-    /// The encoders' readings `q_i` (m), leg order.
-    pub q: [f64; 6],
+    /// The platform pose the instrument measured, in the mechanism's coordinates:
+    /// `[α β γ xc yc zc]` (rad, m), a Delta's `[xc yc zc]`.
+    pub pose: Vec<f64>,
+    /// The encoders' readings `q̂_i`, leg order (m, or rad for motors' angles).
+    pub q: Vec<f64>,
 }
 
 /// The measurements' noise, standard deviations: what weighs each residual.
@@ -55,12 +60,12 @@ pub struct Noise {
     pub position: f64,
     /// Each measured RPY angle (rad).
     pub angle: f64,
-    /// Each encoder reading (m).
+    /// Each encoder reading (m, or rad for motors' angles).
     pub encoder: f64,
 }
 
 impl Default for Noise {
-    /// A laser tracker's 10 µm and 20 µrad, and 1 µm encoders.
+    /// A laser tracker's 10 µm and 20 µrad, and encoders of 1 µm (1 µrad for a motor's).
     fn default() -> Self {
         Noise {
             position: 10e-6,
@@ -75,9 +80,9 @@ impl Default for Noise {
 pub struct Options {
     /// The measurements' noise.
     pub noise: Noise,
-    /// The unit in which every parameter (positions and offsets, all in m) is scaled, about
-    /// the size of the geometric errors expected: the singular values and the observability
-    /// bound read in it. Default 1 mm.
+    /// The unit in which every parameter is scaled, about the size of the geometric errors
+    /// expected: the singular values and the observability bound read in it, in metres for
+    /// lengths and radians for angles. Default 1e-3 (1 mm, 1 mrad).
     pub scale: f64,
     /// The largest standard deviation (m) a fitted combination of parameters may have; a
     /// combination the data know worse is fixed at its nominal value. Default 5 mm (five times
@@ -85,9 +90,13 @@ pub struct Options {
     pub observable: f64,
     /// Refuse data that leave a combination unobservable, instead of fixing it.
     pub strict: bool,
-    /// The largest residual (m) the nominal geometry may leave at a measurement: beyond it the
-    /// readings do not belong to the pose (columns swapped, wrong units). Default 20 mm.
+    /// The largest residual (m) of a length actuator the nominal geometry may leave at a
+    /// measurement: beyond it the readings do not belong to the pose (columns swapped, wrong
+    /// units). Default 20 mm.
     pub gross: f64,
+    /// The same for a motor's angle (rad): a millimetre of a crank's geometry turns it by
+    /// tens of milliradians. Default 0.35 rad (20°).
+    pub gross_angle: f64,
     /// The most Levenberg-Marquardt iterations.
     pub iterations: usize,
 }
@@ -100,6 +109,7 @@ impl Default for Options {
             observable: 5e-3,
             strict: false,
             gross: 20e-3,
+            gross_angle: 0.35,
             iterations: 50,
         }
     }
@@ -108,28 +118,31 @@ impl Default for Options {
 /// One fitted parameter.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Parameter {
-    /// `A1.x`, `p3.z`, `o6`: the base joint centre `A_i` (the file's `base`), the platform
-    /// joint centre `p_i` (`platform`), the encoder's offset `o_i` (`encoder_offset`).
+    /// `A1.x`, `p3.z`, `L2`, `o6`: the base joint's or motor's centre `A_i` (the file's
+    /// `base`), the platform joint centre `p_i` (`platform`), the crank's and the rod's
+    /// lengths `c_i` and `L_i`, the encoder's offset `o_i` (`encoder_offset`).
     pub name: String,
-    /// The leg, 1..6.
+    /// The leg, from 1.
     pub leg: usize,
-    /// The nominal value (m).
+    /// Whether it is an angle (rad); else a length (m).
+    pub angle: bool,
+    /// The nominal value.
     pub nominal: f64,
-    /// The estimate (m); the nominal value when fixed.
+    /// The estimate; the nominal value when fixed.
     pub estimate: f64,
-    /// The estimate's standard deviation (m); `None` when fixed.
+    /// The estimate's standard deviation; `None` when fixed.
     pub std_dev: Option<f64>,
 }
 
 /// A combination of one leg's parameters that the data cannot separate.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Unobservable {
-    /// The leg, 1..6.
+    /// The leg, from 1.
     pub leg: usize,
     /// The combination: parameter names with their weights (the largest 1), on the scaled
     /// parameters; moving the parameters along it barely changes any residual.
     pub combination: Vec<(String, f64)>,
-    /// How well the data know it: its standard deviation (m).
+    /// How well the data know it: its standard deviation (in the unit of its largest member).
     pub std_dev: f64,
     /// The parameter fixed at its nominal value in its stead.
     pub fixed: String,
@@ -149,13 +162,13 @@ impl fmt::Display for Unobservable {
         }
         write!(
             f,
-            " (σ {:.3e} m; {} fixed at nominal)",
+            " (σ {:.3e}; {} fixed at nominal)",
             self.std_dev, self.fixed
         )
     }
 }
 
-/// The residuals of one leg over the measurements (m).
+/// The residuals of one leg over the measurements (m, or rad for motors' angles).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Spread {
     pub rms: f64,
@@ -165,19 +178,21 @@ pub struct Spread {
 /// What [`calibrate`] found.
 #[derive(Clone, Debug)]
 pub struct Report {
-    /// The calibrated description: the nominal one with the fitted `base`, `platform` and
-    /// `encoder_offset` of each leg.
+    /// The calibrated description: the nominal one with each leg's fitted parameters.
     pub robot: Description,
-    /// The 42 parameters, leg by leg in the order `A_x A_y A_z p_x p_y p_z o`.
+    /// The fitted parameters, leg by leg in the mechanism's order ([`Description::fitted`]).
     pub parameters: Vec<Parameter>,
-    /// The residuals `ρ_i(X) - q_i` of the nominal geometry at each measurement (m).
-    pub residuals_before: Vec<[f64; 6]>,
-    /// The residuals of the calibrated geometry (m).
-    pub residuals_after: Vec<[f64; 6]>,
+    /// Whether the actuators are motors' angles: the residuals and the encoder's noise are
+    /// then in rad, else in m.
+    pub angular: bool,
+    /// The residuals `q(X) - q̂` of the nominal geometry at each measurement, one per leg.
+    pub residuals_before: Vec<Vec<f64>>,
+    /// The residuals of the calibrated geometry.
+    pub residuals_after: Vec<Vec<f64>>,
     /// Per leg, the singular values of the whitened Jacobian of its parameters scaled by
     /// [`Options::scale`], largest first: `1/σ` is the standard deviation (in scales) of the
-    /// best and worst known combinations. All seven, fixed ones included.
-    pub singular_values: [[f64; PER_LEG]; 6],
+    /// best and worst known combinations. All of them, fixed ones included.
+    pub singular_values: Vec<Vec<f64>>,
     /// The combinations fixed at their nominal values.
     pub unobservable: Vec<Unobservable>,
     /// The a posteriori variance factor: the weighted residuals' sum of squares per degree of
@@ -189,35 +204,51 @@ pub struct Report {
 
 impl Report {
     /// Per leg, the residuals of the nominal geometry.
-    pub fn before(&self) -> [Spread; 6] {
+    pub fn before(&self) -> Vec<Spread> {
         spread(&self.residuals_before)
     }
 
     /// Per leg, the residuals of the calibrated geometry.
-    pub fn after(&self) -> [Spread; 6] {
+    pub fn after(&self) -> Vec<Spread> {
         spread(&self.residuals_after)
+    }
+
+    /// How many legs.
+    pub fn legs(&self) -> usize {
+        self.singular_values.len()
     }
 }
 
-fn spread(residuals: &[[f64; 6]]) -> [Spread; 6] {
-    core::array::from_fn(|i| {
-        let n = residuals.len().max(1) as f64;
-        let squares: f64 = residuals.iter().map(|r| r[i] * r[i]).sum();
-        Spread {
-            rms: crate::math::sqrt(squares / n),
-            max: residuals.iter().map(|r| r[i].abs()).fold(0.0, f64::max),
-        }
-    })
+fn spread(residuals: &[Vec<f64>]) -> Vec<Spread> {
+    let legs = residuals.first().map_or(0, Vec::len);
+    (0..legs)
+        .map(|i| {
+            let n = residuals.len().max(1) as f64;
+            let squares: f64 = residuals.iter().map(|r| r[i] * r[i]).sum();
+            Spread {
+                rms: crate::math::sqrt(squares / n),
+                max: residuals.iter().map(|r| r[i].abs()).fold(0.0, f64::max),
+            }
+        })
+        .collect()
 }
 
 /// Why [`calibrate`] refused; rows count the measurements from 1.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum CalibrationError {
-    /// Fewer measurements than [`MIN_MEASUREMENTS`].
+    /// Fewer measurements than [`min_measurements`].
     TooFewMeasurements { got: usize, least: usize },
     /// A measurement holds NaN or an infinity.
     NonFinite { row: usize },
+    /// A measurement's pose or readings are not as many as the mechanism's coordinates and
+    /// actuators.
+    WrongWidth {
+        row: usize,
+        what: &'static str,
+        expected: usize,
+        got: usize,
+    },
     /// A measured pose the nominal robot cannot reach (beyond its limits, or singular).
     Unreachable { row: usize, why: Error },
     /// The readings of a measurement are further than [`Options::gross`] from what the
@@ -249,6 +280,15 @@ impl fmt::Display for CalibrationError {
                     "measurement {row} holds a value that is not a finite number"
                 )
             }
+            CalibrationError::WrongWidth {
+                row,
+                what,
+                expected,
+                got,
+            } => write!(
+                f,
+                "measurement {row}: {got} values of the {what}, and the robot has {expected}"
+            ),
             CalibrationError::Unreachable { row, why } => {
                 write!(
                     f,
@@ -257,8 +297,9 @@ impl fmt::Display for CalibrationError {
             }
             CalibrationError::Mismatch { row, leg, residual } => write!(
                 f,
-                "measurement {row}: reading {leg} is {:.3} mm from what the nominal geometry \
-                 predicts at the pose (columns swapped, or not in metres and radians?)",
+                "measurement {row}: reading {leg} is {:.3}e-3 from what the nominal geometry \
+                 predicts at the pose (mm, or mrad for a motor's angle: columns swapped, or not \
+                 in metres and radians?)",
                 residual * 1e3
             ),
             CalibrationError::Unobservable { combinations } => {
@@ -281,10 +322,12 @@ impl fmt::Display for CalibrationError {
 impl std::error::Error for CalibrationError {}
 
 /// The standard deviation of a leg's residual: the encoder's noise and the measured pose's,
-/// carried by the leg's row `∂ρ_i/∂X` of the pose Jacobian (angles, then positions).
-pub(crate) fn residual_sigma(pose_row: &[f64; 6], noise: &Noise) -> f64 {
-    let angles: f64 = pose_row[..3].iter().map(|d| d * d).sum();
-    let positions: f64 = pose_row[3..].iter().map(|d| d * d).sum();
+/// carried by the leg's row `∂q_i/∂X` of the pose Jacobian (angles, then positions; positions
+/// alone for a platform that only translates).
+pub(crate) fn residual_sigma(pose_row: &[f64], noise: &Noise) -> f64 {
+    let turns = pose_row.len().saturating_sub(3);
+    let angles: f64 = pose_row[..turns].iter().map(|d| d * d).sum();
+    let positions: f64 = pose_row[turns..].iter().map(|d| d * d).sum();
     crate::math::sqrt(
         noise.encoder * noise.encoder
             + angles * noise.angle * noise.angle
@@ -292,47 +335,22 @@ pub(crate) fn residual_sigma(pose_row: &[f64; 6], noise: &Noise) -> f64 {
     )
 }
 
-/// The name of parameter `k` (`0..7`) of leg `leg` (`0..6`).
-pub fn parameter_name(leg: usize, k: usize) -> String {
-    let i = leg + 1;
-    match k {
-        0..=2 => alloc::format!("A{i}.{}", ["x", "y", "z"][k]),
-        3..=5 => alloc::format!("p{i}.{}", ["x", "y", "z"][k - 3]),
-        _ => alloc::format!("o{i}"),
-    }
-}
-
-/// Leg `leg`'s parameters `[A p o]` in `robot`.
-fn leg_parameters(robot: &Description, leg: usize) -> [f64; PER_LEG] {
-    let l = &robot.legs[leg];
-    let [ax, ay, az] = l.base;
-    let [px, py, pz] = l.platform;
-    [ax, ay, az, px, py, pz, l.encoder_offset]
-}
-
-/// `robot` with leg `leg`'s parameters `[A p o]` set to `theta`.
-fn with_leg_parameters(robot: &mut Description, leg: usize, theta: &[f64; PER_LEG]) {
-    let l = &mut robot.legs[leg];
-    l.base = [theta[0], theta[1], theta[2]];
-    l.platform = [theta[3], theta[4], theta[5]];
-    l.encoder_offset = theta[6];
-}
-
-/// Fits the geometry of `nominal` (each leg's `A_i`, `p_i`, `o_i`) to `data` by
+/// Fits the geometry of `nominal` (each leg's [`Nominal::fitted`] parameters) to `data` by
 /// Levenberg-Marquardt from the nominal values.
 ///
 /// # Errors
-/// [`CalibrationError`]: too few measurements, a non-finite value, a pose the nominal robot
-/// cannot reach, readings that do not belong to their pose, bad options, or (with
-/// [`Options::strict`]) unobservable combinations. Nothing is returned but the error.
+/// [`CalibrationError`]: too few measurements, a non-finite value or a row of the wrong
+/// width, a pose the nominal robot cannot reach, readings that do not belong to their pose,
+/// bad options, or (with [`Options::strict`]) unobservable combinations. Nothing is returned
+/// but the error.
 pub fn calibrate(
-    nominal: &GoughStewart,
+    nominal: &Nominal,
     data: &[Measurement],
     options: &Options,
 ) -> Result<Report, CalibrationError> {
     check_options(options)?;
     check_data(nominal, data, options)?;
-    fit::run(nominal.robot(), data, options)
+    fit::run(nominal, data, options)
 }
 
 fn check_options(options: &Options) -> Result<(), CalibrationError> {
@@ -343,7 +361,13 @@ fn check_options(options: &Options) -> Result<(), CalibrationError> {
             rule: "every noise level must be positive and finite",
         });
     }
-    if !(positive(options.scale) && positive(options.observable) && positive(options.gross)) {
+    let bounds = [
+        options.scale,
+        options.observable,
+        options.gross,
+        options.gross_angle,
+    ];
+    if !bounds.into_iter().all(positive) {
         return Err(CalibrationError::Options {
             rule: "the scale, the observability bound and the gross-error bound must be \
                    positive and finite",
@@ -353,31 +377,44 @@ fn check_options(options: &Options) -> Result<(), CalibrationError> {
 }
 
 fn check_data(
-    nominal: &GoughStewart,
+    nominal: &Nominal,
     data: &[Measurement],
     options: &Options,
 ) -> Result<(), CalibrationError> {
-    if data.len() < MIN_MEASUREMENTS {
+    let least = min_measurements(nominal.fitted().len());
+    if data.len() < least {
         return Err(CalibrationError::TooFewMeasurements {
             got: data.len(),
-            least: MIN_MEASUREMENTS,
+            least,
         });
     }
+    let n = nominal.actuators();
+    let gross = if nominal.angular() {
+        options.gross_angle
+    } else {
+        options.gross
+    };
     for (k, m) in data.iter().enumerate() {
         let row = k + 1;
-        if !(m.pose.to_array().iter().chain(&m.q)).all(|x| x.is_finite()) {
+        for (what, values) in [("pose", &m.pose), ("readings", &m.q)] {
+            if values.len() != n {
+                return Err(CalibrationError::WrongWidth {
+                    row,
+                    what,
+                    expected: n,
+                    got: values.len(),
+                });
+            }
+        }
+        if !(m.pose.iter().chain(&m.q)).all(|x| x.is_finite()) {
             return Err(CalibrationError::NonFinite { row });
         }
-        nominal
-            .check_limits(&m.pose)
-            .and_then(|()| nominal.singularity_terms(&m.pose).map(|_| ()))
+        let predicted = nominal
+            .reach(&m.pose)
             .map_err(|why| CalibrationError::Unreachable { row, why })?;
-        let (rho, _) = nominal
-            .inverse_kinematics(&m.pose)
-            .map_err(|why| CalibrationError::Unreachable { row, why })?;
-        for (leg, (rho, q)) in rho.iter().zip(&m.q).enumerate() {
-            let residual = rho - q;
-            if residual.abs() > options.gross {
+        for (leg, (q, reading)) in predicted.iter().zip(&m.q).enumerate() {
+            let residual = q - reading;
+            if residual.abs() > gross {
                 return Err(CalibrationError::Mismatch {
                     row,
                     leg: leg + 1,

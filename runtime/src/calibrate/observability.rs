@@ -2,14 +2,15 @@
 //! combinations too poorly known to fit (each fixed through one of its members), and the
 //! estimates' standard deviations.
 
-use super::{parameter_name, Options, Unobservable, PER_LEG};
+use super::{Options, Unobservable};
 use alloc::vec::Vec;
+use c5_robot::calibration::Fitted;
 use nalgebra::DMatrix;
 
 /// A leg's design: its singular values, the parameters fitted, the combinations fixed.
 pub(super) struct LegDesign {
-    /// All seven, largest first.
-    pub singular_values: [f64; PER_LEG],
+    /// All of them, largest first.
+    pub singular_values: Vec<f64>,
     /// The columns fitted.
     pub free: Vec<usize>,
     pub unobservable: Vec<Unobservable>,
@@ -33,11 +34,16 @@ fn weakest(j: &DMatrix<f64>, free: &[usize]) -> (f64, Vec<f64>) {
 /// Leg `leg`'s design from its whitened Jacobian `j` scaled by `options.scale`: while the
 /// weakest combination of the free parameters has a standard deviation (`scale/σ_min`) above
 /// `options.observable`, its largest member is fixed.
-pub(super) fn analyse(leg: usize, j: &DMatrix<f64>, options: &Options) -> LegDesign {
+pub(super) fn analyse(
+    leg: usize,
+    j: &DMatrix<f64>,
+    fitted: &[Fitted],
+    options: &Options,
+) -> LegDesign {
     let mut all: Vec<f64> = j.singular_values().iter().copied().collect();
     all.sort_by(|a, b| b.total_cmp(a));
     let bound = options.observable / options.scale;
-    let mut free: Vec<usize> = (0..PER_LEG).collect();
+    let mut free: Vec<usize> = (0..fitted.len()).collect();
     let mut unobservable = Vec::new();
     while !free.is_empty() {
         let (s, v) = weakest(j, &free);
@@ -51,18 +57,18 @@ pub(super) fn analyse(leg: usize, j: &DMatrix<f64>, options: &Options) -> LegDes
             .iter()
             .zip(&v)
             .filter(|(_, x)| x.abs() >= 1e-2 * largest)
-            .map(|(&c, x)| (parameter_name(leg, c), sign * x / largest))
+            .map(|(&c, x)| (fitted[c].name(leg + 1), sign * x / largest))
             .collect();
         unobservable.push(Unobservable {
             leg: leg + 1,
             combination,
             std_dev: options.scale / s,
-            fixed: parameter_name(leg, free[lead]),
+            fixed: fitted[free[lead]].name(leg + 1),
         });
         free.remove(lead);
     }
     LegDesign {
-        singular_values: core::array::from_fn(|k| all.get(k).copied().unwrap_or(0.0)),
+        singular_values: all,
         free,
         unobservable,
     }
@@ -70,14 +76,10 @@ pub(super) fn analyse(leg: usize, j: &DMatrix<f64>, options: &Options) -> LegDes
 
 /// The standard deviations (in scales) of the free parameters' estimates,
 /// `√(s² (JᵀJ)⁻¹)ₖₖ`; `None` for the fixed.
-pub(super) fn std_devs(
-    j: &DMatrix<f64>,
-    free: &[usize],
-    variance_factor: f64,
-) -> [Option<f64>; PER_LEG] {
+pub(super) fn std_devs(j: &DMatrix<f64>, free: &[usize], variance_factor: f64) -> Vec<Option<f64>> {
     let jf = j.select_columns(free);
     let inverse = (jf.transpose() * &jf).try_inverse();
-    let mut out = [None; PER_LEG];
+    let mut out = alloc::vec![None; j.ncols()];
     if let Some(c) = inverse {
         for (k, &column) in free.iter().enumerate() {
             out[column] = Some((variance_factor * c[(k, k)]).sqrt());

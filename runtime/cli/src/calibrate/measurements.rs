@@ -1,17 +1,36 @@
-//! The measurement and pose files of `c5 calibrate`: CSV with named columns, in any order.
+//! The measurement and pose files of `c5 calibrate`: CSV with named columns, in any order: the
+//! pose's (`alpha,beta,gamma,xc,yc,zc`, a Delta's `xc,yc,zc`) and the readings' `q1..qn`.
 
 use crate::Result;
 use c5_runtime::calibrate::Measurement;
-use c5_runtime::Pose;
 use std::path::Path;
 
-/// The pose's columns: RPY angles (rad), then the platform origin (m).
-pub const POSE: [&str; 6] = ["alpha", "beta", "gamma", "xc", "yc", "zc"];
-/// The encoders' columns (m).
-pub const READINGS: [&str; 6] = ["q1", "q2", "q3", "q4", "q5", "q6"];
+/// The columns of a robot's measurements: its pose's coordinates, and `q1..qn`.
+pub struct Columns {
+    pub pose: &'static [&'static str],
+    pub readings: Vec<String>,
+}
+
+impl Columns {
+    /// The columns of a robot whose pose has the coordinates `pose` and `n` actuators.
+    pub fn new(pose: &'static [&'static str], n: usize) -> Self {
+        Columns {
+            pose,
+            readings: (1..=n).map(|i| format!("q{i}")).collect(),
+        }
+    }
+
+    fn all(&self) -> Vec<&str> {
+        self.pose
+            .iter()
+            .copied()
+            .chain(self.readings.iter().map(String::as_str))
+            .collect()
+    }
+}
 
 /// The rows of `path` as the values of `columns`, found by name in its header.
-fn read_columns<const N: usize>(path: &Path, columns: [&str; N]) -> Result<Vec<[f64; N]>> {
+fn read_columns(path: &Path, columns: &[&str]) -> Result<Vec<Vec<f64>>> {
     let mut reader = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .from_path(path)
@@ -33,7 +52,7 @@ fn read_columns<const N: usize>(path: &Path, columns: [&str; N]) -> Result<Vec<[
     for (k, record) in reader.records().enumerate() {
         let row = k + 1;
         let record = record.map_err(|e| format!("{}: row {row}: {e}", path.display()))?;
-        let mut values = [0.0; N];
+        let mut values = vec![0.0; columns.len()];
         for (value, (&column, name)) in values.iter_mut().zip(at.iter().zip(columns)) {
             let text = record.get(column).unwrap_or("");
             *value = text
@@ -52,25 +71,21 @@ fn read_columns<const N: usize>(path: &Path, columns: [&str; N]) -> Result<Vec<[
     Ok(rows)
 }
 
-/// The measured poses and readings of `path` (`alpha,beta,gamma,xc,yc,zc,q1..q6`).
-pub fn read(path: &Path) -> Result<Vec<Measurement>> {
-    let columns: [&str; 12] =
-        std::array::from_fn(|k| if k < 6 { POSE[k] } else { READINGS[k - 6] });
-    Ok(read_columns(path, columns)?
+/// The measured poses and readings of `path`.
+pub fn read(path: &Path, columns: &Columns) -> Result<Vec<Measurement>> {
+    let width = columns.pose.len();
+    Ok(read_columns(path, &columns.all())?
         .into_iter()
-        .map(|row| Measurement {
-            pose: Pose::from_array(std::array::from_fn(|k| row[k])),
-            q: std::array::from_fn(|k| row[6 + k]),
+        .map(|mut row| {
+            let q = row.split_off(width);
+            Measurement { pose: row, q }
         })
         .collect())
 }
 
-/// The poses of `path` (`alpha,beta,gamma,xc,yc,zc`).
-pub fn read_poses(path: &Path) -> Result<Vec<Pose>> {
-    Ok(read_columns(path, POSE)?
-        .into_iter()
-        .map(Pose::from_array)
-        .collect())
+/// The poses of `path`.
+pub fn read_poses(path: &Path, columns: &Columns) -> Result<Vec<Vec<f64>>> {
+    read_columns(path, columns.pose)
 }
 
 fn write_rows(path: &Path, header: &[&str], rows: impl Iterator<Item = Vec<f64>>) -> Result<()> {
@@ -84,16 +99,15 @@ fn write_rows(path: &Path, header: &[&str], rows: impl Iterator<Item = Vec<f64>>
 }
 
 /// Writes `poses` as a pose CSV.
-pub fn write_poses(path: &Path, poses: &[Pose]) -> Result<()> {
-    write_rows(path, &POSE, poses.iter().map(|p| p.to_array().to_vec()))
+pub fn write_poses(path: &Path, poses: &[Vec<f64>], columns: &Columns) -> Result<()> {
+    write_rows(path, columns.pose, poses.iter().cloned())
 }
 
 /// Writes `data` as a measurement CSV.
-pub fn write(path: &Path, data: &[Measurement]) -> Result<()> {
-    let header: Vec<&str> = POSE.iter().chain(&READINGS).copied().collect();
+pub fn write(path: &Path, data: &[Measurement], columns: &Columns) -> Result<()> {
     write_rows(
         path,
-        &header,
-        data.iter().map(|m| [m.pose.to_array(), m.q].concat()),
+        &columns.all(),
+        data.iter().map(|m| [m.pose.as_slice(), &m.q].concat()),
     )
 }

@@ -11,6 +11,20 @@ fn um(x: f64) -> f64 {
     x * 1e6
 }
 
+/// The residuals' small unit: µm for lengths, µrad for motors' angles.
+fn micro(report: &Report) -> &'static str {
+    if report.angular {
+        "µrad"
+    } else {
+        "µm"
+    }
+}
+
+/// The root mean square over the legs of each leg's rms.
+fn all(x: &[Spread]) -> f64 {
+    (x.iter().map(|s| s.rms * s.rms).sum::<f64>() / x.len().max(1) as f64).sqrt()
+}
+
 /// The report as text: residuals per leg before and after, each parameter with its change
 /// and standard deviation, the observability and what the data cannot separate.
 pub fn text(report: &Report, options: &Options) -> Result<String> {
@@ -19,16 +33,18 @@ pub fn text(report: &Report, options: &Options) -> Result<String> {
     writeln!(
         s,
         "{n} measured poses; {} iterations; variance factor {:.3} (about 1 when the stated noise \
-         is right: {:.1} µm, {:.1} µrad, encoders {:.2} µm)",
+         is right: {:.1} µm, {:.1} µrad, encoders {:.2} {unit})",
         report.iterations,
         report.variance_factor,
         um(options.noise.position),
         um(options.noise.angle),
-        um(options.noise.encoder)
+        um(options.noise.encoder),
+        unit = micro(report),
     )?;
     writeln!(
         s,
-        "\nresiduals ρ(X) - q per leg (µm)   nominal rms / max    calibrated rms / max"
+        "\nresiduals q(X) - q̂ per leg ({:<4})  nominal rms / max    calibrated rms / max",
+        micro(report)
     )?;
     let (before, after) = (report.before(), report.after());
     for (leg, (b, a)) in before.iter().zip(&after).enumerate() {
@@ -42,7 +58,6 @@ pub fn text(report: &Report, options: &Options) -> Result<String> {
             um(a.max)
         )?;
     }
-    let all = |x: &[Spread; 6]| (x.iter().map(|s| s.rms * s.rms).sum::<f64>() / 6.0).sqrt();
     writeln!(
         s,
         "  all legs                        {:>9.1}               {:>8.2}",
@@ -51,8 +66,9 @@ pub fn text(report: &Report, options: &Options) -> Result<String> {
     )?;
     writeln!(
         s,
-        "\nparameters (mm): A_i base joint centre (base frame), p_i platform joint centre \
-         (platform frame), o_i encoder offset"
+        "\nparameters (mm, or mrad for an angle): A_i base joint or motor centre (base frame), \
+         p_i platform joint centre (platform frame), c_i crank and L_i rod length, o_i encoder \
+         offset"
     )?;
     writeln!(s, "  name        nominal     estimate    change      σ")?;
     for p in &report.parameters {
@@ -76,13 +92,14 @@ pub fn text(report: &Report, options: &Options) -> Result<String> {
         options.scale * 1e3
     )?;
     for (leg, sv) in report.singular_values.iter().enumerate() {
+        let condition = sv.first().unwrap_or(&0.0) / sv.last().unwrap_or(&0.0);
         let values: Vec<String> = sv.iter().map(|v| format!("{v:.3e}")).collect();
         writeln!(
             s,
             "  leg {}: {}  (condition {:.1})",
             leg + 1,
             values.join(" "),
-            sv[0] / sv[6]
+            condition
         )?;
     }
     if report.unobservable.is_empty() {
@@ -90,7 +107,7 @@ pub fn text(report: &Report, options: &Options) -> Result<String> {
     } else {
         writeln!(
             s,
-            "not observable (σ above {} mm), fixed at nominal instead of smeared:",
+            "not observable (σ above {} mm or mrad), fixed at nominal instead of smeared:",
             options.observable * 1e3
         )?;
         for u in &report.unobservable {
@@ -102,7 +119,7 @@ pub fn text(report: &Report, options: &Options) -> Result<String> {
 
 /// The report as JSON.
 pub fn json(report: &Report) -> serde_json::Value {
-    let spread = |x: [Spread; 6]| {
+    let spread = |x: Vec<Spread>| {
         x.iter()
             .map(|s| serde_json::json!({"rms": s.rms, "max": s.max}))
             .collect::<Vec<_>>()
@@ -111,10 +128,12 @@ pub fn json(report: &Report) -> serde_json::Value {
         "measurements": report.residuals_before.len(),
         "iterations": report.iterations,
         "variance_factor": report.variance_factor,
+        "unit": if report.angular { "rad" } else { "m" },
         "before": spread(report.before()),
         "after": spread(report.after()),
         "parameters": report.parameters.iter().map(|p| serde_json::json!({
-            "name": p.name, "leg": p.leg, "nominal": p.nominal,
+            "name": p.name, "leg": p.leg, "unit": if p.angle { "rad" } else { "m" },
+            "nominal": p.nominal,
             "estimate": p.estimate, "std_dev": p.std_dev,
         })).collect::<Vec<_>>(),
         "singular_values": report.singular_values,
@@ -124,24 +143,30 @@ pub fn json(report: &Report) -> serde_json::Value {
     })
 }
 
-/// Each leg's residual at each measurement, nominal (mm, top) and calibrated (µm, bottom).
+/// Each leg's residual at each measurement, nominal (mm or mrad, top) and calibrated (µm or
+/// µrad, bottom).
 pub fn plot(path: &Path, report: &Report) -> Result<()> {
     register_font();
     crate::png_figure::write(path, (1000, 760), |root| {
         root.fill(&WHITE)?;
         let panels = root.split_evenly((2, 1));
         let n = report.residuals_before.len();
+        let (milli, micro) = if report.angular {
+            ("residual (mrad)", "residual (µrad)")
+        } else {
+            ("residual (mm)", "residual (µm)")
+        };
         for (panel, (rows, title, unit, factor)) in panels.iter().zip([
             (
                 &report.residuals_before,
-                "Nominal geometry: residuals ρ(X) - q",
-                "residual (mm)",
+                "Nominal geometry: residuals q(X) - q̂",
+                milli,
                 1e3,
             ),
             (
                 &report.residuals_after,
-                "Calibrated geometry: residuals ρ(X) - q",
-                "residual (µm)",
+                "Calibrated geometry: residuals q(X) - q̂",
+                micro,
                 1e6,
             ),
         ]) {
@@ -164,7 +189,7 @@ pub fn plot(path: &Path, report: &Report) -> Result<()> {
                 .y_desc(unit)
                 .label_style(("sans-serif", 14))
                 .draw()?;
-            for leg in 0..6 {
+            for leg in 0..report.legs() {
                 let color = Palette99::pick(leg).to_rgba();
                 let points = rows
                     .iter()

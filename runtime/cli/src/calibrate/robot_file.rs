@@ -1,47 +1,72 @@
-//! The calibrated robot file: the nominal file's text with each leg's `base`, `platform` and
-//! `encoder_offset` replaced, every other field, comment and layout kept (`toml_edit`), and a
-//! comment on each value changed giving the nominal one.
+//! The calibrated robot file: the nominal file's text with each leg's fitted values replaced
+//! (`base`, `platform`, `crank.length`, ...), every other field, comment and layout kept
+//! (`toml_edit`), and a comment on each value changed giving the nominal one.
 
 use crate::Result;
+use c5_robot::calibration::Fitted;
 use c5_robot::Description;
 use c5_runtime::calibrate::Report;
-use toml_edit::{Array, DocumentMut, Item, Table, Value};
+use toml_edit::{DocumentMut, Item, TableLike, Value};
 
-/// Rounds to the nanometre: far below any measurement, and short in the file.
+/// Rounds to the nanometre (nanoradian): far below any measurement, and short in the file.
 fn nm(x: f64) -> f64 {
     (x * 1e9).round() / 1e9
 }
 
-fn format_vector(v: &[f64]) -> String {
-    let items: Vec<String> = v.iter().map(|x| format!("{}", nm(*x))).collect();
-    format!("[{}]", items.join(", "))
-}
-
-/// Sets `table[key]` to `value`, its comment saying what it was; an existing comment is kept.
-fn set(table: &mut Table, key: &str, mut value: Value, was: String, note: &str) {
-    let old = table
-        .get(key)
-        .and_then(Item::as_value)
-        .and_then(|v| v.decor().suffix())
-        .and_then(|s| s.as_str())
-        .map(|s| s.trim().trim_start_matches('#').trim().to_string())
-        .filter(|s| !s.is_empty() && !s.starts_with("calibrated"));
-    let mut comment = format!("calibrated; nominal {was}{note}");
-    if let Some(old) = old {
-        comment = format!("{old}; {comment}");
+/// Rounds every number of `value` with [`nm`].
+fn rounded(value: &Value) -> Value {
+    match value {
+        Value::Float(f) => Value::from(nm(*f.value())),
+        Value::Array(a) => Value::Array(a.iter().map(rounded).collect()),
+        other => other.clone(),
     }
-    value.decor_mut().set_prefix(" ");
-    value.decor_mut().set_suffix(format!("   # {comment}"));
-    table.insert(key, Item::Value(value));
 }
 
-/// The names of the parameters of leg `leg` (1..6) kept at nominal, as a note.
-fn kept(report: &Report, leg: usize, prefix: char) -> String {
-    let names: Vec<&str> = report
-        .unobservable
+/// The text of `value` without its decoration.
+fn bare(value: &Value) -> String {
+    let mut v = value.clone();
+    v.decor_mut().clear();
+    v.to_string().trim().to_string()
+}
+
+/// The distinct keys of `fitted`, in order.
+fn keys(fitted: &[Fitted]) -> Vec<&'static [&'static str]> {
+    let mut out: Vec<&'static [&'static str]> = Vec::new();
+    for f in fitted {
+        if !out.contains(&f.key) {
+            out.push(f.key);
+        }
+    }
+    out
+}
+
+/// The legs' tables of `doc` under `key`, if it holds `n` of them.
+fn leg_tables<'d>(
+    doc: &'d mut DocumentMut,
+    key: &str,
+    n: usize,
+) -> Option<&'d mut toml_edit::ArrayOfTables> {
+    doc.get_mut(key)
+        .and_then(Item::as_array_of_tables_mut)
+        .filter(|legs| legs.len() == n)
+}
+
+/// The value at `path` in `table`.
+fn value_at<'t>(table: &'t dyn TableLike, path: &[&str]) -> Option<&'t Value> {
+    match path {
+        [last] => table.get(last)?.as_value(),
+        [first, rest @ ..] => value_at(table.get(first)?.as_table_like()?, rest),
+        [] => None,
+    }
+}
+
+/// The names of leg `leg`'s parameters under `key` that the data could not separate.
+fn kept(report: &Report, fitted: &[Fitted], leg: usize, key: &[&str]) -> String {
+    let names: Vec<String> = fitted
         .iter()
-        .filter(|u| u.leg == leg && u.fixed.starts_with(prefix))
-        .map(|u| u.fixed.as_str())
+        .filter(|f| f.key == key)
+        .map(|f| f.name(leg))
+        .filter(|name| report.unobservable.iter().any(|u| &u.fixed == name))
         .collect();
     if names.is_empty() {
         String::new()
@@ -50,85 +75,101 @@ fn kept(report: &Report, leg: usize, prefix: char) -> String {
     }
 }
 
+/// Sets `path` in the leg's `table` to `value`. A top-level key's comment says the nominal
+/// value (an existing comment kept); a key inside an inline table (`crank.length`) cannot carry
+/// one, so the inline table's line does.
+fn set(table: &mut dyn TableLike, path: &[&str], value: Value, note: String) {
+    let comment_on = |v: &mut Value, note: &str| {
+        let old = v
+            .decor()
+            .suffix()
+            .and_then(|s| s.as_str())
+            .map(|s| s.trim().trim_start_matches('#').trim().to_string())
+            .filter(|s| !s.is_empty() && !s.starts_with("calibrated"));
+        let comment = match old {
+            Some(old) => format!("{old}; {note}"),
+            None => note.to_string(),
+        };
+        v.decor_mut().set_suffix(format!("   # {comment}"));
+    };
+    match path {
+        [key] => {
+            let mut value = value;
+            value.decor_mut().set_prefix(" ");
+            comment_on(&mut value, &note);
+            table.insert(key, Item::Value(value));
+        }
+        [parent, key] => {
+            let Some(item) = table.get_mut(parent) else {
+                return;
+            };
+            if let Some(inline) = item.as_inline_table_mut() {
+                let mut value = value;
+                value.decor_mut().set_prefix(" ");
+                value.decor_mut().set_suffix(" ");
+                inline.insert(*key, value);
+            } else if let Some(inner) = item.as_table_like_mut() {
+                set(inner, &[key], value, note);
+                return;
+            }
+            if let Some(v) = item.as_value_mut() {
+                comment_on(v, &format!("{key} {note}"));
+            }
+        }
+        _ => {}
+    }
+}
+
 /// The text of the calibrated file from the nominal file's `original` text.
 ///
 /// # Errors
-/// A nominal file whose legs are not six `[[legs]]` tables (the text is then written from the
-/// description, without the original's comments), or a result that does not read back as the
-/// calibrated robot.
+/// A result that does not read back as the calibrated robot. A nominal file whose legs are not
+/// tables under the mechanism's key is written from the description, without its comments.
 pub fn calibrated_text(original: &str, report: &Report, header: &str) -> Result<String> {
+    let robot = &report.robot;
+    let fitted = robot.fitted().ok_or("this mechanism has no calibration")?;
+    let (key, n) = (robot.legs_key(), report.legs());
+    let mut calibrated: DocumentMut = robot.to_toml().parse()?;
     let mut doc: DocumentMut = original.parse()?;
-    let legs = doc
-        .get_mut("legs")
-        .and_then(Item::as_array_of_tables_mut)
-        .filter(|legs| legs.len() == 6);
-    let body = match legs {
-        Some(legs) => {
-            for (i, table) in legs.iter_mut().enumerate() {
-                let (leg, was) = (&report.robot.legs[i], &nominal_leg(report, i));
-                let vector =
-                    |v: [f64; 3]| Value::Array(v.iter().map(|x| nm(*x)).collect::<Array>());
-                set(
-                    table,
-                    "base",
-                    vector(leg.base),
-                    format_vector(&was.0),
-                    &kept(report, i + 1, 'A'),
-                );
-                set(
-                    table,
-                    "platform",
-                    vector(leg.platform),
-                    format_vector(&was.1),
-                    &kept(report, i + 1, 'p'),
-                );
-                set(
-                    table,
-                    "encoder_offset",
-                    Value::from(nm(leg.encoder_offset)),
-                    format!("{}", was.2),
-                    &kept(report, i + 1, 'o'),
-                );
+    let body = match (
+        leg_tables(&mut doc, key, n),
+        leg_tables(&mut calibrated, key, n),
+    ) {
+        (Some(legs), Some(found)) => {
+            for (i, (table, new)) in legs.iter_mut().zip(found.iter()).enumerate() {
+                for path in keys(fitted) {
+                    let Some(value) = value_at(new, path) else {
+                        continue;
+                    };
+                    // An absent `encoder_offset` is zero.
+                    let was = value_at(table, path).map_or_else(|| "0 (absent)".into(), bare);
+                    let note = format!(
+                        "calibrated; nominal {was}{}",
+                        kept(report, fitted, i + 1, path)
+                    );
+                    set(table, path, rounded(value), note);
+                }
             }
             doc.to_string()
         }
-        None => Description::GoughStewart(report.robot).to_toml(),
+        _ => robot.to_toml(),
     };
     let text = format!("{header}{body}");
     check_reads_back(&text, report)?;
     Ok(text)
 }
 
-/// Leg `i`'s nominal `A`, `p` and `o`, from the report's parameters.
-fn nominal_leg(report: &Report, i: usize) -> ([f64; 3], [f64; 3], f64) {
-    let p = &report.parameters[7 * i..7 * (i + 1)];
-    (
-        [p[0].nominal, p[1].nominal, p[2].nominal],
-        [p[3].nominal, p[4].nominal, p[5].nominal],
-        p[6].nominal,
-    )
-}
-
 /// The written text must describe the calibrated robot (to the nanometre of its rounding).
 fn check_reads_back(text: &str, report: &Report) -> Result<()> {
-    let Description::GoughStewart(back) = Description::from_toml(text, "calibrated file")? else {
-        return Err("the calibrated file does not describe a Gough-Stewart platform".into());
-    };
-    for (a, b) in back.legs.iter().zip(&report.robot.legs) {
-        let values = |l: &c5_robot::gough_stewart::UpsLeg| {
-            [
-                l.base.as_slice(),
-                l.platform.as_slice(),
-                &[l.encoder_offset],
-            ]
-            .concat()
-        };
-        let off = values(a)
+    let back = Description::from_toml(text, "calibrated file")?;
+    for leg in 0..report.legs() {
+        let (a, b) = (back.fitted_values(leg), report.robot.fitted_values(leg));
+        let off = a
             .iter()
-            .zip(values(b))
+            .zip(&b)
             .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-        if off > 1e-9 {
-            return Err(format!("the calibrated file reads back {off:e} m off").into());
+        if a.len() != b.len() || off > 1e-9 {
+            return Err(format!("the calibrated file reads back {off:e} off").into());
         }
     }
     Ok(())

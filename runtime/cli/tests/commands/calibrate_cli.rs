@@ -138,7 +138,9 @@ fn calibrate_recovers_an_unseen_hexapod() {
 
     // The calibrated file keeps the nominal one's comments and fields, and says what changed.
     let written = std::fs::read_to_string(&out).unwrap();
-    assert!(written.contains("# leg 1") && written.contains("calibrated; nominal [0.45, 0.08, 0]"));
+    assert!(
+        written.contains("# leg 1") && written.contains("calibrated; nominal [0.45, 0.08, 0.0]")
+    );
     let fitted = load(&out);
     assert_eq!(fitted.robot().limits, truth.robot().limits);
 
@@ -260,7 +262,11 @@ fn calibrate_refuses_bad_input() {
     // A C5 file is refused by name.
     let c5_file = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/default-robot.toml");
     let run = c5(&["calibrate", "--plan", "20", "--robot", c5_file], "");
-    assert!(String::from_utf8_lossy(&run.stderr).contains("describes a c5 robot"));
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        err.contains("kinematic calibration") && err.contains("c5"),
+        "{err}"
+    );
 
     // One orientation cannot separate the joint centres: named, and refused with --strict.
     let level = scratch("level.csv");
@@ -325,4 +331,103 @@ fn calibrate_refuses_bad_input() {
     assert!(std::fs::read_to_string(&out)
         .unwrap()
         .contains("not observable: kept"));
+}
+
+/// The rotary hexapod and the Delta through the program: poses planned in their coordinates,
+/// measurements simulated from a robot built 1.5 mm off its file, and a calibrated file that
+/// keeps the original's comments, says each nominal value (a crank's length on its inline
+/// table's line) and carries the fitted geometry.
+#[test]
+fn calibrate_serves_the_rotary_hexapod_and_the_delta() {
+    for (file, pose_header) in [
+        ("rus-hexapod.toml", "alpha,beta,gamma,xc,yc,zc"),
+        ("delta.toml", "xc,yc,zc"),
+    ] {
+        let nominal_path = format!("{}/../../docs/{file}", env!("CARGO_MANIFEST_DIR"));
+        let nominal_text = std::fs::read_to_string(&nominal_path).unwrap();
+        let nominal = c5_robot::Description::from_toml(&nominal_text, file).unwrap();
+        let mut truth = nominal.clone();
+        let legs = if file == "delta.toml" { 3 } else { 6 };
+        for leg in 0..legs {
+            let values: Vec<f64> = truth
+                .fitted_values(leg)
+                .iter()
+                .enumerate()
+                .map(|(k, v)| v + 1.5e-3 * if (k + leg) % 2 == 0 { 1.0 } else { -1.0 })
+                .collect();
+            assert!(truth.set_fitted_values(leg, &values));
+        }
+        let truth_path = scratch(&format!("truth-{file}"));
+        std::fs::write(&truth_path, truth.to_toml()).unwrap();
+        let (poses, data, out) = (
+            scratch(&format!("poses-{file}.csv")),
+            scratch(&format!("measurements-{file}.csv")),
+            scratch(&format!("calibrated-{file}")),
+        );
+        c5_ok(
+            &[
+                "calibrate",
+                "--robot",
+                &nominal_path,
+                "--plan",
+                "60",
+                "--out",
+                s(&poses),
+            ],
+            "",
+        );
+        let header = std::fs::read_to_string(&poses).unwrap();
+        assert!(header.starts_with(pose_header), "{file}: {header:.60}");
+        c5_ok(
+            &[
+                "calibrate",
+                "--simulate",
+                s(&truth_path),
+                "--poses",
+                s(&poses),
+                "--out",
+                s(&data),
+            ],
+            "",
+        );
+        let report = scratch(&format!("report-{file}.json"));
+        let printed = c5_ok(
+            &[
+                "calibrate",
+                "--robot",
+                &nominal_path,
+                "--data",
+                s(&data),
+                "--out",
+                s(&out),
+                "--report",
+                s(&report),
+            ],
+            "",
+        );
+        let text = String::from_utf8_lossy(&printed.stdout);
+        assert!(text.contains("µrad"), "{file}: {text}");
+        let json: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+        let sigma: Vec<f64> = json["parameters"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| p["std_dev"].as_f64().unwrap())
+            .collect();
+        let written = std::fs::read_to_string(&out).unwrap();
+        assert!(
+            written.contains("length calibrated; nominal 0.") && written.contains("# "),
+            "{file}: {written}"
+        );
+        let fitted = c5_robot::Description::from_toml(&written, file).unwrap();
+        let fitted_values = (0..legs).flat_map(|leg| fitted.fitted_values(leg));
+        let true_values = (0..legs).flat_map(|leg| truth.fitted_values(leg));
+        for (k, (f, t)) in fitted_values.zip(true_values).enumerate() {
+            assert!(
+                (f - t).abs() < 4.0 * sigma[k] + 2e-9,
+                "{file} parameter {k}: fitted {f}, truth {t}, σ {}",
+                sigma[k]
+            );
+        }
+    }
 }
