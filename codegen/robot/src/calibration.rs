@@ -4,15 +4,32 @@
 //! kernel with respect to them; the runtime reads and writes them through
 //! [`Description::fitted_values`] and [`Description::set_fitted_values`].
 //!
+//! The R-U-S leg's motor axis `r_i` is fitted by its direction's azimuth and elevation in the
+//! base frame ([`Coordinate::Azimuth`], [`Coordinate::Elevation`]): a motor mounted askew
+//! tilts its crank's plane. The crank's zero `h_i` turns with the axis (it is kept orthogonal
+//! to it); its turn about the axis is the encoder's offset, fitted on its own.
+//!
 //! What is left out, and why:
 //! - the U-P-S leg's U-joint axis and the R-U-S leg's branch do not move the actuator;
-//! - the R-U-S leg's motor axis and crank zero: a turn of the zero about the axis is the
-//!   encoder's offset, already fitted; a tilt of the axis is not fitted yet;
 //! - the Delta's platform points `p_i`: a platform that only translates sees `p_i - A_i`
 //!   alone, so `A_i` carries the pair.
 
+use crate::math::{atan2, sin_cos, sqrt};
+use crate::tree::{dot, scale, sub, unit};
 use crate::{Description, RusLeg, UpsLeg};
 use alloc::vec::Vec;
+
+/// Where a fitted parameter sits in a leg's kernel geometry.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Coordinate {
+    /// An entry of its own.
+    Entry(usize),
+    /// The azimuth `atan2(r_y, r_x)` of the R-U-S leg's motor axis `r` (entries 3..6), its
+    /// crank's zero `h` (entries 6..9) turning with it.
+    Azimuth,
+    /// The elevation `asin r_z` of the motor axis, `h` turning with it.
+    Elevation,
+}
 
 /// One geometric parameter fitted per leg.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -22,8 +39,8 @@ pub struct Fitted {
     pub symbol: &'static str,
     /// The component, `x`, `y`, `z`, or empty for a scalar.
     pub component: &'static str,
-    /// Where the leg's kernel geometry holds it.
-    pub entry: usize,
+    /// What it is in the leg's kernel geometry.
+    pub coordinate: Coordinate,
     /// Its key in the leg's table of the robot file (`crank.length` a key of a sub-table).
     pub key: &'static [&'static str],
     /// Whether it is an angle (rad); else a length (m).
@@ -57,7 +74,7 @@ const fn component(
     Fitted {
         symbol,
         component,
-        entry,
+        coordinate: Coordinate::Entry(entry),
         key,
         angle: false,
     }
@@ -72,7 +89,7 @@ const fn scalar(
     Fitted {
         symbol,
         component: "",
-        entry,
+        coordinate: Coordinate::Entry(entry),
         key,
         angle,
     }
@@ -83,6 +100,17 @@ const PLATFORM: &[&str] = &["platform"];
 const OFFSET: &[&str] = &["encoder_offset"];
 const CRANK: &[&str] = &["crank", "length"];
 const ROD: &[&str] = &["rod", "length"];
+const AXIS: &[&str] = &["axis"];
+
+const fn turn(component: &'static str, coordinate: Coordinate) -> Fitted {
+    Fitted {
+        symbol: "r",
+        component,
+        coordinate,
+        key: AXIS,
+        angle: true,
+    }
+}
 
 /// A U-P-S leg's (the Gough-Stewart platform's): `A_i`, `p_i`, `o_i`, entries of
 /// [`UpsLeg::kernel_geometry`].
@@ -92,15 +120,18 @@ pub const UPS: [Fitted; 7] = {
     [ax, ay, az, px, py, pz, scalar("o", 9, OFFSET, false)]
 };
 
-/// A rotary hexapod's R-U-S leg: `A_i`, `p_i`, the crank's length `c_i`, the rod's `L_i` and the
-/// encoder's offset `o_i` (rad), entries of [`RusLeg::kernel_geometry`].
-pub const RUS: [Fitted; 9] = {
+/// A rotary hexapod's R-U-S leg: `A_i`, the motor axis's azimuth and elevation (rad), `p_i`,
+/// the crank's length `c_i`, the rod's `L_i` and the encoder's offset `o_i` (rad), of
+/// [`RusLeg::kernel_geometry`].
+pub const RUS: [Fitted; 11] = {
     let [ax, ay, az] = point("A", 0, BASE);
     let [px, py, pz] = point("p", 9, PLATFORM);
     [
         ax,
         ay,
         az,
+        turn("az", Coordinate::Azimuth),
+        turn("el", Coordinate::Elevation),
         px,
         py,
         pz,
@@ -111,12 +142,14 @@ pub const RUS: [Fitted; 9] = {
 };
 
 /// A Delta's arm: [`RUS`] without `p_i`, which only `p_i - A_i` reaches.
-pub const DELTA_ARM: [Fitted; 6] = {
+pub const DELTA_ARM: [Fitted; 8] = {
     let [ax, ay, az] = point("A", 0, BASE);
     [
         ax,
         ay,
         az,
+        turn("az", Coordinate::Azimuth),
+        turn("el", Coordinate::Elevation),
         scalar("c", 12, CRANK, false),
         scalar("L", 13, ROD, false),
         scalar("o", 15, OFFSET, true),
@@ -124,13 +157,22 @@ pub const DELTA_ARM: [Fitted; 6] = {
 };
 
 impl UpsLeg {
-    /// Sets entry `entry` of [`UpsLeg::kernel_geometry`] where it is a field of its own
-    /// (`A_i`, `p_i`, `o_i`); returns whether it was.
-    pub fn set_geometry(&mut self, entry: usize, value: f64) -> bool {
-        match entry {
-            0..=2 => self.base[entry] = value,
-            6..=8 => self.platform[entry - 6] = value,
-            9 => self.encoder_offset = value,
+    /// The value of `coordinate` of [`UpsLeg::kernel_geometry`]; `None` for a turn, which a
+    /// U-P-S leg does not fit.
+    pub fn fitted_value(&self, coordinate: Coordinate) -> Option<f64> {
+        match coordinate {
+            Coordinate::Entry(entry) => self.kernel_geometry().get(entry).copied(),
+            Coordinate::Azimuth | Coordinate::Elevation => None,
+        }
+    }
+
+    /// Sets `coordinate` of [`UpsLeg::kernel_geometry`] where it is a field of its own (`A_i`,
+    /// `p_i`, `o_i`); returns whether it was.
+    pub fn set_fitted_value(&mut self, coordinate: Coordinate, value: f64) -> bool {
+        match coordinate {
+            Coordinate::Entry(entry @ 0..=2) => self.base[entry] = value,
+            Coordinate::Entry(entry @ 6..=8) => self.platform[entry - 6] = value,
+            Coordinate::Entry(9) => self.encoder_offset = value,
             _ => return false,
         }
         true
@@ -138,17 +180,42 @@ impl UpsLeg {
 }
 
 impl RusLeg {
-    /// Sets entry `entry` of [`RusLeg::kernel_geometry`] where it is a field of its own (`A_i`,
-    /// `p_i`, the lengths, the offset; not the normalised axes nor the branch); returns whether
-    /// it was.
-    pub fn set_geometry(&mut self, entry: usize, value: f64) -> bool {
-        match entry {
-            0..=2 => self.base[entry] = value,
-            9..=11 => self.platform[entry - 9] = value,
-            12 => self.crank.length = value,
-            13 => self.rod.length = value,
-            15 => self.encoder_offset = value,
-            _ => return false,
+    /// The value of `coordinate` of [`RusLeg::kernel_geometry`].
+    pub fn fitted_value(&self, coordinate: Coordinate) -> Option<f64> {
+        let (r, _, _) = self.axes();
+        match coordinate {
+            Coordinate::Entry(entry) => self.kernel_geometry().get(entry).copied(),
+            Coordinate::Azimuth => Some(atan2(r[1], r[0])),
+            Coordinate::Elevation => Some(atan2(r[2], sqrt(r[0] * r[0] + r[1] * r[1]))),
+        }
+    }
+
+    /// Sets `coordinate` of [`RusLeg::kernel_geometry`] where it is a field of its own (`A_i`,
+    /// `p_i`, the lengths, the offset; not the branch) or the axis's direction (the zero then
+    /// set to the crank's direction at `θ = 0`, orthogonal to the new axis); returns whether it
+    /// was.
+    pub fn set_fitted_value(&mut self, coordinate: Coordinate, value: f64) -> bool {
+        let (r, h, _) = self.axes();
+        let (azimuth, elevation) = (
+            atan2(r[1], r[0]),
+            atan2(r[2], sqrt(r[0] * r[0] + r[1] * r[1])),
+        );
+        let mut turn = |azimuth: f64, elevation: f64| {
+            let (sa, ca) = sin_cos(azimuth);
+            let (se, ce) = sin_cos(elevation);
+            let axis = [ce * ca, ce * sa, se];
+            self.axis = axis;
+            self.zero = unit(sub(h, scale(axis, dot(h, axis))));
+        };
+        match coordinate {
+            Coordinate::Entry(entry @ 0..=2) => self.base[entry] = value,
+            Coordinate::Entry(entry @ 9..=11) => self.platform[entry - 9] = value,
+            Coordinate::Entry(12) => self.crank.length = value,
+            Coordinate::Entry(13) => self.rod.length = value,
+            Coordinate::Entry(15) => self.encoder_offset = value,
+            Coordinate::Azimuth => turn(value, elevation),
+            Coordinate::Elevation => turn(azimuth, value),
+            Coordinate::Entry(_) => return false,
         }
         true
     }
@@ -178,13 +245,17 @@ impl Description {
     /// mechanism without them or a leg it does not have.
     pub fn fitted_values(&self, leg: usize) -> Vec<f64> {
         let fitted = self.fitted().unwrap_or(&[]);
-        let geometry: Option<Vec<f64>> = match self {
-            Description::C5(_) => None,
-            Description::GoughStewart(r) => r.legs.get(leg).map(|l| l.kernel_geometry().to_vec()),
-            Description::RusHexapod(r) => r.legs.get(leg).map(|l| l.kernel_geometry().to_vec()),
-            Description::Delta(r) => r.arms.get(leg).map(|l| l.kernel_geometry().to_vec()),
+        let value: &dyn Fn(Coordinate) -> Option<f64> = match self {
+            Description::C5(_) => &|_| None,
+            Description::GoughStewart(r) => &|c| r.legs.get(leg)?.fitted_value(c),
+            Description::RusHexapod(r) => &|c| r.legs.get(leg)?.fitted_value(c),
+            Description::Delta(r) => &|c| r.arms.get(leg)?.fitted_value(c),
         };
-        geometry.map_or_else(Vec::new, |g| fitted.iter().map(|f| g[f.entry]).collect())
+        fitted
+            .iter()
+            .map(|f| value(f.coordinate))
+            .collect::<Option<Vec<f64>>>()
+            .unwrap_or_default()
     }
 
     /// Sets leg `leg`'s (from 0) [`Description::fitted`] parameters to `values`, in their
@@ -196,26 +267,26 @@ impl Description {
         if values.len() != fitted.len() {
             return false;
         }
-        let set = |apply: &mut dyn FnMut(usize, f64) -> bool| {
+        let set = |apply: &mut dyn FnMut(Coordinate, f64) -> bool| {
             fitted
                 .iter()
                 .zip(values)
-                .all(|(f, &value)| apply(f.entry, value))
+                .all(|(f, &value)| apply(f.coordinate, value))
         };
         match self {
             Description::C5(_) => false,
             Description::GoughStewart(r) => r
                 .legs
                 .get_mut(leg)
-                .is_some_and(|l| set(&mut |e, v| l.set_geometry(e, v))),
+                .is_some_and(|l| set(&mut |c, v| l.set_fitted_value(c, v))),
             Description::RusHexapod(r) => r
                 .legs
                 .get_mut(leg)
-                .is_some_and(|l| set(&mut |e, v| l.set_geometry(e, v))),
+                .is_some_and(|l| set(&mut |c, v| l.set_fitted_value(c, v))),
             Description::Delta(r) => r
                 .arms
                 .get_mut(leg)
-                .is_some_and(|l| set(&mut |e, v| l.set_geometry(e, v))),
+                .is_some_and(|l| set(&mut |c, v| l.set_fitted_value(c, v))),
         }
     }
 }
@@ -246,7 +317,9 @@ mod tests {
                     .map(|(k, v)| v + 1e-3 * (k + 1) as f64)
                     .collect();
                 assert!(robot.set_fitted_values(leg, &values));
-                assert_eq!(robot.fitted_values(leg), values);
+                let back = robot.fitted_values(leg);
+                let off = back.iter().zip(&values).map(|(a, b)| (a - b).abs());
+                assert!(off.fold(0.0, f64::max) < 1e-14, "{back:?} vs {values:?}");
             }
             assert_eq!(fitted.len(), robot.fitted_values(0).len());
             assert!(!robot.set_fitted_values(legs, &robot.fitted_values(0)));
@@ -258,7 +331,8 @@ mod tests {
     #[test]
     fn the_names_carry_the_leg() {
         assert_eq!(UPS[2].name(3), "A3.z");
-        assert_eq!(RUS[7].name(2), "L2");
-        assert!(RUS[8].angle && !UPS[6].angle);
+        assert_eq!(RUS[9].name(2), "L2");
+        assert_eq!(RUS[3].name(1), "r1.az");
+        assert!(RUS[10].angle && RUS[4].angle && !UPS[6].angle);
     }
 }

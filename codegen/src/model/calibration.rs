@@ -6,24 +6,35 @@
 //! module differentiates them. Leg `i`'s actuator reads its own geometry alone, so row `i` of
 //! the geometry Jacobian holds the derivatives with respect to leg `i`'s fitted entries.
 
-use super::kernels::Kernel;
-use super::kernels::{Build, Cite, Decl, Guard, Input, Output, Reads, RobotBuild};
+use super::kernels::{Build, Cite, Context, Decl, Guard, Input, Kernel, Output, Reads, RobotBuild};
 use crate::dag::{Expr, Graph};
 use crate::kernel::Shape;
 use crate::linalg::{Vec3, Vector};
-use c5_robot::calibration::Fitted;
+use c5_robot::calibration::{Coordinate, Fitted};
 
 /// The first index of the balls' symbols the derivation builds on; none survives in a kernel.
 const BALL_SYMBOLS: u32 = 1 << 28;
 
 /// What the residuals are built from: per leg, the point `B_i` through which the pose
 /// reaches its actuator (its platform joint's centre) as an expression of the kernel's inputs,
-/// and the actuator's closed form at any such point.
+/// the actuator's closed form at any such point, and where the geometry holds the leg's
+/// entries (`3 + leg_size·i`, after gravity).
 pub struct Legs<'a, 'g> {
     pub balls: Vec<Vec3<'g>>,
     pub actuator: &'a dyn Fn(usize, &Vec3<'g>) -> Expr<'g>,
-    /// Leg `i`'s entries of the geometry.
-    pub geometry: &'a dyn Fn(usize) -> Vec<Expr<'g>>,
+    pub leg_size: usize,
+}
+
+/// [`residuals`] on the kernel's inputs: the readings its actuators, `pose` its pose's
+/// coordinates.
+pub fn build<'g>(
+    cx: &Context<'_, 'g>,
+    legs: &Legs<'_, 'g>,
+    pose: &[Expr<'g>],
+    fitted: &[Fitted],
+) -> Vec<Vec<Expr<'g>>> {
+    let readings = cx.input(Input::Actuators);
+    residuals(cx.graph(), cx.geometry, legs, &readings, pose, fitted)
 }
 
 /// The kernel's three results: the residuals, the geometry Jacobian (row `i`: `∂q_i/∂θ_i`,
@@ -34,6 +45,7 @@ pub struct Legs<'a, 'g> {
 /// the pose's derivatives do not run through the legs' closed forms again.
 pub fn residuals<'g>(
     g: &'g Graph,
+    geometry_of: &[Expr<'g>],
     legs: &Legs<'_, 'g>,
     readings: &[Expr<'g>],
     pose: &[Expr<'g>],
@@ -56,11 +68,24 @@ pub fn residuals<'g>(
                 sum + gradient[k] * g.derivatives(&[ball[k]], x)[0]
             })
         };
-        let at = (legs.geometry)(i);
+        let at = &geometry_of[3 + legs.leg_size * i..3 + legs.leg_size * (i + 1)];
         residual.push(q - readings[i]);
-        geometry.extend(fitted.iter().map(|f| {
-            let x = at[f.entry];
-            g.derivatives(&[q], x)[0] + through_ball(x)
+        let along = |x: Expr<'g>| g.derivatives(&[q], x)[0] + through_ball(x);
+        geometry.extend(fitted.iter().map(|f| match f.coordinate {
+            Coordinate::Entry(entry) => along(at[entry]),
+            turn => {
+                // The platform's ball does not move with the motor's axis: one tangent of the
+                // leg's closed form along the turn. The zero turns with the axis,
+                // `dh = -(h·dr) r`, which keeps it orthogonal.
+                let (r, h) = (&at[3..6], &at[6..9]);
+                let dr = axis_rate(turn, r);
+                let h_dr = (0..3).fold(g.zero(), |sum, k| sum + h[k] * dr[k]).keep();
+                let rates: Vec<(Expr<'g>, Expr<'g>)> = (0..3)
+                    .map(|k| (r[k], dr[k]))
+                    .chain((0..3).map(|k| (h[k], -(h_dr * r[k]))))
+                    .collect();
+                g.tangents(&[q], &rates)[0]
+            }
         }));
         by_pose.extend(pose.iter().map(|&x| through_ball(x)));
     }
@@ -70,9 +95,23 @@ pub fn residuals<'g>(
         .collect()
 }
 
+/// The motor axis's rate `dr` per radian of its azimuth (`(-r_y, r_x, 0)`) or elevation
+/// (`(-r_z r_x/ρ, -r_z r_y/ρ, ρ)`, `ρ = √(r_x² + r_y²)`), `r` a unit vector.
+fn axis_rate<'g>(turn: Coordinate, r: &[Expr<'g>]) -> [Expr<'g>; 3] {
+    let g = r[0].graph();
+    match turn {
+        Coordinate::Azimuth => [-r[1], r[0], g.zero()],
+        _ => {
+            let rho = (r[0] * r[0] + r[1] * r[1]).sqrt().keep();
+            let over = (r[2] * rho.recip()).keep();
+            [-(over * r[0]), -(over * r[1]), rho]
+        }
+    }
+}
+
 /// The residual kernel of a mechanism: `inputs` its pose's kind then the actuators,
-/// `outputs` made by [`outputs`], and `build` calling [`residuals`] with the mechanism's
-/// closed forms.
+/// `outputs` made by [`outputs`], and `build` calling [`build`] with the mechanism's closed
+/// forms.
 pub const fn decl(
     doc: &'static str,
     inputs: &'static [Input],
@@ -126,27 +165,15 @@ pub const fn outputs(
 
 #[cfg(test)]
 mod tests {
-    use crate::model::kernels::specs;
+    use crate::model::kernels::compiled;
     use crate::model::kernels::Kernel;
     use crate::model::Mechanism;
-    use crate::ParameterSet;
     use c5_robot::Description;
-
-    fn compiled(mechanism: &Mechanism, kernel: Kernel) -> crate::Program {
-        specs(mechanism, &ParameterSet::None, "")
-            .unwrap()
-            .into_iter()
-            .find(|e| e.id.kernel == kernel)
-            .unwrap()
-            .spec
-            .compile()
-            .unwrap()
-            .program
-    }
 
     /// Each legged mechanism's residual vanishes at the readings of its own geometry, and its
     /// Jacobians are the residual's derivatives with respect to each leg's fitted parameters
-    /// and to the pose (central differences).
+    /// (central differences of the description's values, the motor axis's turns included) and
+    /// to the pose.
     #[test]
     fn the_calibration_jacobians_are_the_residuals_derivatives() {
         let cases = [
@@ -197,11 +224,15 @@ mod tests {
             let h = 1e-6;
             for leg in 0..legs {
                 for (column, f) in fitted.iter().enumerate() {
-                    let entry = 3 + leg_size * leg + f.entry;
-                    let (mut up, mut down) = (geometry.clone(), geometry.clone());
-                    up[entry] += h;
-                    down[entry] -= h;
-                    let fd = (at(&pose, &up)[leg] - at(&pose, &down)[leg]) / (2.0 * h);
+                    // Through the description: a turn of the axis moves its zero too.
+                    let moved = |by: f64| {
+                        let mut built = robot.clone();
+                        let mut values = built.fitted_values(leg);
+                        values[column] += by;
+                        assert!(built.set_fitted_values(leg, &values));
+                        built.kernel_parameters()[..geometry.len()].to_vec()
+                    };
+                    let fd = (at(&pose, &moved(h))[leg] - at(&pose, &moved(-h))[leg]) / (2.0 * h);
                     let exact = out[legs + n * leg + column];
                     assert!(
                         (fd - exact).abs() < 1e-7 * (1.0 + fd.abs()),

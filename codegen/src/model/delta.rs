@@ -504,27 +504,20 @@ const KERNELS: &[Decl] = &[
         "`r_i = q_i(C; θ) - q̂_i` with `q_i = θ_i(C) + o_i`, the motor angle the geometry `θ` \
          (the `params`) gives at the measured position `C` (the inverse kinematics, with its \
          branch), less the encoder's reading `q̂_i` (rad). Arm `i`'s residual depends on its \
-         own six parameters only (`A_i`, `c_i`, `L_i`, `o_i`; its `p_i` moves it as `-A_i` \
-         does): row `i` of `geometry_jacobian` holds those six derivatives; `pose_jacobian` is \
+         own eight parameters only (`A_i`, the motor axis's azimuth and elevation, `c_i`, `L_i`, \
+         `o_i`; its `p_i` moves it as `-A_i` does): row `i` of `geometry_jacobian` holds those \
+         eight derivatives; `pose_jacobian` is \
          `∂q/∂C`, which carries the position's measurement noise into the residuals.",
         POSITION_AND_ANGLES,
         &CALIBRATION_OUTPUTS,
         |cx| {
             let c = Translation::of(cx).position;
-            let geometry =
-                |i: usize| cx.geometry[3 + ARM_GEOMETRY * i..3 + ARM_GEOMETRY * (i + 1)].to_vec();
             let legs = calibration::Legs {
                 balls: (0..3).map(|i| c + arm(cx.geometry, i).platform).collect(),
                 actuator: &|i, b| arm(cx.geometry, i).actuator_at(b),
-                geometry: &geometry,
+                leg_size: ARM_GEOMETRY,
             };
-            calibration::residuals(
-                cx.graph(),
-                &legs,
-                &cx.input(Input::Actuators),
-                &c.to_vec(),
-                &c5_robot::calibration::DELTA_ARM,
-            )
+            calibration::build(cx, &legs, &c.to_vec(), &c5_robot::calibration::DELTA_ARM)
         },
     ),
 ];
@@ -535,8 +528,8 @@ const CALIBRATION_OUTPUTS: [Output; 3] = super::calibration::outputs(
     3,
     c5_robot::calibration::DELTA_ARM.len(),
     3,
-    "`∂q_i/∂(A_i, c_i, L_i, o_i)`, row `i` for arm `i+1`, columns `A_x A_y A_z c L o` (base \
-     frame)",
+    "`∂q_i/∂(A_i, r_i, c_i, L_i, o_i)`, row `i` for arm `i+1`, columns \
+     `A_x A_y A_z r_az r_el c L o` (base frame; the crank's zero turns with the axis)",
     "`∂q/∂C`, row `i` for arm `i+1`, columns `xc yc zc`",
 );
 

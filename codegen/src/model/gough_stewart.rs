@@ -329,8 +329,6 @@ const EXTRA_KERNELS: &[Decl] = &[
         &CALIBRATION_OUTPUTS,
         |cx| {
             let posed = cx.posed();
-            let geometry =
-                |i: usize| cx.geometry[3 + LEG_GEOMETRY * i..3 + LEG_GEOMETRY * (i + 1)].to_vec();
             let legs = calibration::Legs {
                 balls: (0..6).map(|i| posed.c - posed.p[i]).collect(),
                 actuator: &|i, b| {
@@ -338,15 +336,10 @@ const EXTRA_KERNELS: &[Decl] = &[
                     let d = *b - leg.base;
                     d.dot(&d).sqrt() + leg.offset
                 },
-                geometry: &geometry,
+                leg_size: LEG_GEOMETRY,
             };
-            calibration::residuals(
-                cx.graph(),
-                &legs,
-                &cx.input(Input::Actuators),
-                &cx.input(Input::Pose),
-                &c5_robot::calibration::UPS,
-            )
+            let pose = cx.input(Input::Pose);
+            calibration::build(cx, &legs, &pose, &c5_robot::calibration::UPS)
         },
     ),
 ];

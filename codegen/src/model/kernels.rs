@@ -1309,6 +1309,21 @@ pub fn jacobian_wrt<'g>(g: &'g Graph, w: &[Expr<'g>], x: &[Expr<'g>]) -> crate::
     Mat::from_fn(|r, c| columns[c][r])
 }
 
+/// `kernel` of `mechanism`, its description folded in, compiled: what the models' tests
+/// evaluate.
+#[cfg(test)]
+pub(crate) fn compiled(mechanism: &Mechanism, kernel: Kernel) -> crate::Program {
+    specs(mechanism, &ParameterSet::None, "")
+        .unwrap()
+        .into_iter()
+        .find(|e| e.id.kernel == kernel)
+        .unwrap()
+        .spec
+        .compile()
+        .unwrap()
+        .program
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -343,29 +343,22 @@ const EXTRA_KERNELS: &[Decl] = &[
         "`r_i = q_i(X; θ) - q̂_i` with `q_i = θ_i(X) + o_i`, the crank angle the geometry `θ` \
          (the `params`) gives at the measured pose `X` (the inverse kinematics, with its \
          branch), less the encoder's reading `q̂_i` (rad). Leg `i`'s residual depends on its own \
-         nine parameters only (`A_i`, `p_i`, `c_i`, `L_i`, `o_i`): row `i` of \
-         `geometry_jacobian` holds those nine derivatives; `pose_jacobian` is `∂q/∂X`, which \
+         eleven parameters only (`A_i`, the motor axis's azimuth and elevation, `p_i`, `c_i`, \
+         `L_i`, `o_i`): row `i` of `geometry_jacobian` holds those eleven derivatives; `pose_jacobian` is `∂q/∂X`, which \
          carries the pose's measurement noise into the residuals.",
         &[Input::Pose, Input::Actuators],
         &CALIBRATION_OUTPUTS,
         |cx| {
             let posed = cx.posed();
-            let geometry =
-                |i: usize| cx.geometry[3 + LEG_GEOMETRY * i..3 + LEG_GEOMETRY * (i + 1)].to_vec();
             let legs = calibration::Legs {
                 balls: (0..6)
                     .map(|i| ball(cx.geometry, &posed.r, &posed.c, i))
                     .collect(),
                 actuator: &|i, b| leg(cx.geometry, i).actuator_at(b),
-                geometry: &geometry,
+                leg_size: LEG_GEOMETRY,
             };
-            calibration::residuals(
-                cx.graph(),
-                &legs,
-                &cx.input(Input::Actuators),
-                &cx.input(Input::Pose),
-                &c5_robot::calibration::RUS,
-            )
+            let pose = cx.input(Input::Pose);
+            calibration::build(cx, &legs, &pose, &c5_robot::calibration::RUS)
         },
     ),
 ];
@@ -374,8 +367,9 @@ const CALIBRATION_OUTPUTS: [Output; 3] = calibration::outputs(
     6,
     c5_robot::calibration::RUS.len(),
     6,
-    "`∂q_i/∂(A_i, p_i, c_i, L_i, o_i)`, row `i` for leg `i+1`, columns \
-     `A_x A_y A_z p_x p_y p_z c L o` (base frame for `A`, platform frame for `p`)",
+    "`∂q_i/∂(A_i, r_i, p_i, c_i, L_i, o_i)`, row `i` for leg `i+1`, columns \
+     `A_x A_y A_z r_az r_el p_x p_y p_z c L o` (base frame for `A` and the motor axis's azimuth \
+     and elevation, platform frame for `p`; the crank's zero turns with the axis)",
     "`∂q/∂X`, row `i` for leg `i+1`, columns `α β γ xc yc zc`",
 );
 

@@ -15,7 +15,7 @@
 //   inverse_dynamics_params           2851   42  1715   77  3 sin_cos, 12 sqrt
 //   singularity_terms_params           712   35   455    0  3 sin_cos, 12 sqrt
 //   forward_kinematics_step_params    1541   36   784   24  6 atan, 3 sin_cos, 12 sqrt
-//   calibration_residuals             1027   30   496   30  6 atan, 3 sin_cos, 6 sqrt
+//   calibration_residuals             1375   36   652   42  6 atan, 3 sin_cos, 12 sqrt
 //
 // Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
 // handing on what is read after it: one scope that long overflows rustc's stack in a
@@ -66693,7 +66693,7 @@ pub unsafe fn forward_kinematics_step_params_fused(
 ///
 /// Model: rus-hexapod. The rotary hexapod (6-RUS): each leg a motor on the base turning a crank, a rod from a universal joint at the crank's tip to a spherical joint on the platform; every quantity derived from the leg's closed forms by exact differentiation.
 /// Actuators in leg order 1..6; `q_i = θ_i + o_i`, the encoder's reading of the crank angle `θ_i` (rad, right-handed about the motor's axis `r_i`, zero along `h_i`), `θ_i = atan2(e2, e1) + b_i acos(K/ρ)` reaching `B_i = C + R p_i`; `Γ_i` is the motor's torque about `r_i` (N·m).
-/// `r_i = q_i(X; θ) - q̂_i` with `q_i = θ_i(X) + o_i`, the crank angle the geometry `θ` (the `params`) gives at the measured pose `X` (the inverse kinematics, with its branch), less the encoder's reading `q̂_i` (rad). Leg `i`'s residual depends on its own nine parameters only (`A_i`, `p_i`, `c_i`, `L_i`, `o_i`): row `i` of `geometry_jacobian` holds those nine derivatives; `pose_jacobian` is `∂q/∂X`, which carries the pose's measurement noise into the residuals.
+/// `r_i = q_i(X; θ) - q̂_i` with `q_i = θ_i(X) + o_i`, the crank angle the geometry `θ` (the `params`) gives at the measured pose `X` (the inverse kinematics, with its branch), less the encoder's reading `q̂_i` (rad). Leg `i`'s residual depends on its own eleven parameters only (`A_i`, the motor axis's azimuth and elevation, `p_i`, `c_i`, `L_i`, `o_i`): row `i` of `geometry_jacobian` holds those eleven derivatives; `pose_jacobian` is `∂q/∂X`, which carries the pose's measurement noise into the residuals.
 /// The geometry and gravity are `params`.
 ///
 /// # Arguments
@@ -66705,16 +66705,16 @@ pub unsafe fn forward_kinematics_step_params_fused(
 /// # Returns
 ///
 /// - `residual`: `q(X; θ) - q̂`: the actuator values the geometry predicts at the pose less the readings
-/// - `geometry_jacobian`: `∂q_i/∂(A_i, p_i, c_i, L_i, o_i)`, row `i` for leg `i+1`, columns `A_x A_y A_z p_x p_y p_z c L o` (base frame for `A`, platform frame for `p`)
+/// - `geometry_jacobian`: `∂q_i/∂(A_i, r_i, p_i, c_i, L_i, o_i)`, row `i` for leg `i+1`, columns `A_x A_y A_z r_az r_el p_x p_y p_z c L o` (base frame for `A` and the motor axis's azimuth and elevation, platform frame for `p`; the crank's zero turns with the axis)
 /// - `pose_jacobian`: `∂q/∂X`, row `i` for leg `i+1`, columns `α β γ xc yc zc`
 ///
-/// Operations: 1027 mul, 30 div, 496 add, 30 neg, 6 atan, 3 sin_cos, 6 sqrt (chapter convention: 1057m + 496a).
+/// Operations: 1375 mul, 36 div, 652 add, 42 neg, 6 atan, 3 sin_cos, 12 sqrt (chapter convention: 1411m + 652a).
 #[inline]
 pub fn calibration_residuals(
     pose: &[f64; 6],
     q: &[f64; 6],
     params: &[f64; 99],
-) -> ([f64; 6], [[f64; 9]; 6], [[f64; 6]; 6]) {
+) -> ([f64; 6], [[f64; 11]; 6], [[f64; 6]; 6]) {
     #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
     if crate::fma::enabled() {
         return unsafe { calibration_residuals_fused(pose, q, params) };
@@ -66727,7 +66727,7 @@ pub fn calibration_residuals_separate(
     pose: &[f64; 6],
     q: &[f64; 6],
     params: &[f64; 99],
-) -> ([f64; 6], [[f64; 9]; 6], [[f64; 6]; 6]) {
+) -> ([f64; 6], [[f64; 11]; 6], [[f64; 6]; 6]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [q1, q2, q3, q4, q5, q6] = *q;
     let [_, _, _, leg1_base_x, leg1_base_y, leg1_base_z, leg1_axis_x, leg1_axis_y,
@@ -66770,9 +66770,29 @@ pub fn calibration_residuals_separate(
         t122,
         t176,
         t182,
+        t184,
         t191,
+        t193,
         t198,
         t200,
+        t202,
+        t205,
+        t208,
+        t209,
+        t213,
+        t214,
+        t215,
+        t217,
+        t220,
+        t223,
+        t224,
+        t233,
+        t235,
+        t240,
+        t243,
+        t246,
+        t249,
+        t250,
         t254,
         t260,
         t262,
@@ -66780,16 +66800,24 @@ pub fn calibration_residuals_separate(
         t271,
         t276,
         t278,
+        t280,
         t283,
+        t286,
         t287,
         t291,
+        t292,
+        t293,
+        t295,
         t298,
         t301,
         t302,
         t311,
         t313,
+        t317,
         t318,
+        t320,
         t321,
+        t324,
         t327,
         t328,
         t332,
@@ -66801,8 +66829,11 @@ pub fn calibration_residuals_separate(
         t356,
         t358,
         t361,
+        t364,
         t365,
         t369,
+        t370,
+        t371,
         t373,
         t376,
         t379,
@@ -66825,8 +66856,11 @@ pub fn calibration_residuals_separate(
         t434,
         t436,
         t439,
+        t442,
         t443,
         t447,
+        t448,
+        t449,
         t451,
         t454,
         t457,
@@ -66844,53 +66878,42 @@ pub fn calibration_residuals_separate(
         t536,
         t571,
         t605,
-        t606,
-        t607,
-        t609,
-        t611,
-        t614,
-        t615,
-        t620,
-        t624,
-        t626,
-        t644,
-        t651,
+        t643,
+        t693,
+        t694,
+        t695,
+        t697,
         t699,
-        t734,
-        t768,
-        t769,
-        t771,
-        t773,
-        t776,
-        t781,
-        t785,
+        t702,
+        t703,
+        t708,
+        t712,
+        t714,
+        t732,
+        t739,
         t787,
-        t805,
-        t812,
-        t860,
-        t895,
-        t929,
-        t930,
-        t932,
-        t934,
-        t937,
-        t942,
-        t946,
-        t948,
-        t966,
-        t973,
-        t979,
-        t980,
-        t985,
+        t822,
+        t856,
+        t894,
+        t944,
+        t945,
+        t947,
+        t949,
+        t952,
+        t957,
+        t961,
+        t963,
+        t981,
         t988,
         t989,
-        t990,
+        t993,
+        t994,
+        t995,
         t996,
         t997,
         t998,
         t999,
         t1000,
-        t1001,
         t1002,
     ) = {
         let (t0, t1): (f64, f64) = sin_cos(gamma);
@@ -67496,403 +67519,403 @@ pub fn calibration_residuals_separate(
         let t603: f64 = t576 - t602;
         let t604: f64 = t569 * t603;
         let t605: f64 = t604 * 2.0;
-        let t606: f64 = -t536;
-        let t607: f64 = t1 * t6;
-        let t608: f64 = t606 * t607;
-        let t609: f64 = -t571;
-        let t610: f64 = t9 * t609;
-        let t611: f64 = -t605;
-        let t612: f64 = t25 * t611;
-        let t613: f64 = t608 + t610;
-        let t614: f64 = t612 + t613;
-        let t615: f64 = t0 * t6;
-        let t616: f64 = t606 * t615;
-        let t617: f64 = t13 * t609;
-        let t618: f64 = t30 * t611;
-        let t619: f64 = t617 + t618;
-        let t620: f64 = t619 - t616;
-        let t621: f64 = t5 * t606;
-        let t622: f64 = t2 * t609;
-        let t623: f64 = t3 * t611;
-        let t624: f64 = t622 - t623;
-        let t625: f64 = t6 * t624;
-        let t626: f64 = t621 - t625;
-        let t627: f64 = t68 * t68;
-        let t628: f64 = t77 * t627;
-        let t629: f64 = t628 * 0.5;
-        let t630: f64 = t629 - 1.0;
-        let t631: f64 = t79 * t504;
-        let t632: f64 = t500 * t631;
-        let t633: f64 = t79 * t517;
-        let t634: f64 = t500 * t633;
-        let t635: f64 = t49 + t634;
-        let t636: f64 = t94 * t635;
-        let t637: f64 = t632 + t636;
-        let t638: f64 = t64 - t637;
-        let t639: f64 = t67 * t93;
-        let t640: f64 = t533 * t639;
-        let t641: f64 = t630 * t640;
-        let t642: f64 = t638 * t641;
+        let t606: f64 = leg1_axis_z * t37;
+        let t607: f64 = leg1_axis_y * t20;
+        let t608: f64 = leg1_axis_x * t46;
+        let t609: f64 = t607 + t608;
+        let t610: f64 = t606 + t609;
+        let t611: f64 = t49 * t57;
+        let t612: f64 = t610 * t611;
+        let t613: f64 = leg1_axis_y * leg1_zero_y;
+        let t614: f64 = leg1_axis_x * leg1_zero_x;
+        let t615: f64 = t613 + t614;
+        let t616: f64 = t37 * t615;
+        let t617: f64 = leg1_zero_z * t609;
+        let t618: f64 = t617 - t616;
+        let t619: f64 = t64 * t618;
+        let t620: f64 = t612 - t619;
+        let t621: f64 = t620 * 2.0;
+        let t622: f64 = t494 * t621;
+        let t623: f64 = t79 * t618;
+        let t624: f64 = t593 * t610;
+        let t625: f64 = t505 * t621;
+        let t626: f64 = t625 * 0.5;
+        let t627: f64 = t624 + t626;
+        let t628: f64 = t623 - t627;
+        let t629: f64 = t67 * t628;
+        let t630: f64 = t512 * t621;
+        let t631: f64 = t577 * t610;
+        let t632: f64 = t84 * t618;
+        let t633: f64 = t518 * t621;
+        let t634: f64 = t633 * 0.5;
+        let t635: f64 = t631 + t632;
+        let t636: f64 = t635 - t634;
+        let t637: f64 = t67 * t636;
+        let t638: f64 = t630 - t637;
+        let t639: f64 = t94 * t638;
+        let t640: f64 = t622 + t629;
+        let t641: f64 = t640 - t639;
+        let t642: f64 = t569 * t641;
         let t643: f64 = t642 * 2.0;
-        let t644: f64 = -t643;
-        let t645: f64 = leg1_rod_length * t68;
-        let t646: f64 = t67 * t645;
-        let t647: f64 = t93 * t646;
-        let t648: f64 = t533 * t647;
-        let t649: f64 = t638 * t648;
-        let t650: f64 = t649 * 2.0;
-        let t651: f64 = -t650;
-        let t652: f64 = t145 * t145;
-        let t653: f64 = leg2_zero_x * t127;
-        let t654: f64 = t139 * t142;
-        let t655: f64 = t653 + t654;
-        let t656: f64 = t655 * 2.0;
-        let t657: f64 = t164 * t652;
-        let t658: f64 = t656 * t657;
-        let t659: f64 = t139 * t157;
-        let t660: f64 = t124 * t146;
-        let t661: f64 = t142 * t660;
-        let t662: f64 = leg2_zero_x * t162;
-        let t663: f64 = 1.0 / t161;
-        let t664: f64 = t157 * t660;
-        let t665: f64 = t655 - t664;
-        let t666: f64 = t665 * 2.0;
-        let t667: f64 = leg2_branch * t127;
-        let t668: f64 = t663 * t667;
-        let t669: f64 = t666 * t668;
-        let t670: f64 = t669 * 0.5;
-        let t671: f64 = t659 + t661;
-        let t672: f64 = t662 + t670;
-        let t673: f64 = t671 + t672;
-        let t674: f64 = t145 * t673;
-        let t675: f64 = t168 * t652;
-        let t676: f64 = t656 * t675;
-        let t677: f64 = leg2_zero_x * t157;
-        let t678: f64 = t127 * t660;
-        let t679: f64 = t139 * t162;
-        let t680: f64 = leg2_branch * t142;
-        let t681: f64 = t663 * t680;
-        let t682: f64 = t666 * t681;
+        let t644: f64 = leg1_axis_x * leg1_axis_x;
+        let t645: f64 = leg1_axis_y * leg1_axis_y;
+        let t646: f64 = t644 + t645;
+        let t647: f64 = sqrt(t646);
+        let t648: f64 = leg1_zero_z * t647;
+        let t649: f64 = leg1_axis_z / t647;
+        let t650: f64 = t615 * t649;
+        let t651: f64 = t648 - t650;
+        let t652: f64 = -t651;
+        let t653: f64 = t49 * t610;
+        let t654: f64 = t652 * t653;
+        let t655: f64 = leg1_zero_x * t647;
+        let t656: f64 = t52 * t649;
+        let t657: f64 = t655 + t656;
+        let t658: f64 = t20 * t657;
+        let t659: f64 = t59 * t649;
+        let t660: f64 = leg1_zero_y * t647;
+        let t661: f64 = t659 + t660;
+        let t662: f64 = t46 * t661;
+        let t663: f64 = t58 * t649;
+        let t664: f64 = t662 + t663;
+        let t665: f64 = t664 - t658;
+        let t666: f64 = t64 * t665;
+        let t667: f64 = t654 - t666;
+        let t668: f64 = t667 * 2.0;
+        let t669: f64 = t494 * t668;
+        let t670: f64 = t79 * t665;
+        let t671: f64 = t84 * t610;
+        let t672: f64 = t652 * t671;
+        let t673: f64 = t505 * t668;
+        let t674: f64 = t673 * 0.5;
+        let t675: f64 = t672 + t674;
+        let t676: f64 = t670 - t675;
+        let t677: f64 = t67 * t676;
+        let t678: f64 = t512 * t668;
+        let t679: f64 = t79 * t610;
+        let t680: f64 = t652 * t679;
+        let t681: f64 = t84 * t665;
+        let t682: f64 = t518 * t668;
         let t683: f64 = t682 * 0.5;
-        let t684: f64 = t677 + t678;
-        let t685: f64 = t679 + t683;
-        let t686: f64 = t684 - t685;
-        let t687: f64 = t145 * t686;
-        let t688: f64 = t676 - t687;
-        let t689: f64 = t172 * t688;
-        let t690: f64 = t674 + t689;
-        let t691: f64 = t658 - t690;
-        let t692: f64 = t165 * t165;
-        let t693: f64 = t171 * t171;
-        let t694: f64 = t692 * t693;
-        let t695: f64 = t694 + 1.0;
-        let t696: f64 = 1.0 / t695;
-        let t697: f64 = t171 * t691;
-        let t698: f64 = t696 * t697;
-        let t699: f64 = t698 * 2.0;
-        let t700: f64 = leg2_zero_y * t127;
-        let t701: f64 = t131 * t142;
+        let t684: f64 = t680 + t681;
+        let t685: f64 = t684 - t683;
+        let t686: f64 = t67 * t685;
+        let t687: f64 = t678 - t686;
+        let t688: f64 = t94 * t687;
+        let t689: f64 = t669 + t677;
+        let t690: f64 = t689 - t688;
+        let t691: f64 = t569 * t690;
+        let t692: f64 = t691 * 2.0;
+        let t693: f64 = -t692;
+        let t694: f64 = -t536;
+        let t695: f64 = t1 * t6;
+        let t696: f64 = t694 * t695;
+        let t697: f64 = -t571;
+        let t698: f64 = t9 * t697;
+        let t699: f64 = -t605;
+        let t700: f64 = t25 * t699;
+        let t701: f64 = t696 + t698;
         let t702: f64 = t700 + t701;
-        let t703: f64 = t702 * 2.0;
-        let t704: f64 = t657 * t703;
-        let t705: f64 = t131 * t157;
-        let t706: f64 = t106 * t146;
-        let t707: f64 = t142 * t706;
-        let t708: f64 = leg2_zero_y * t162;
-        let t709: f64 = t157 * t706;
-        let t710: f64 = t702 - t709;
-        let t711: f64 = t710 * 2.0;
-        let t712: f64 = t668 * t711;
-        let t713: f64 = t712 * 0.5;
-        let t714: f64 = t705 + t707;
-        let t715: f64 = t708 + t713;
-        let t716: f64 = t714 + t715;
-        let t717: f64 = t145 * t716;
-        let t718: f64 = t675 * t703;
-        let t719: f64 = leg2_zero_y * t157;
-        let t720: f64 = t127 * t706;
-        let t721: f64 = t131 * t162;
-        let t722: f64 = t681 * t711;
-        let t723: f64 = t722 * 0.5;
-        let t724: f64 = t719 + t720;
-        let t725: f64 = t721 + t723;
-        let t726: f64 = t724 - t725;
-        let t727: f64 = t145 * t726;
-        let t728: f64 = t718 - t727;
-        let t729: f64 = t172 * t728;
-        let t730: f64 = t717 + t729;
-        let t731: f64 = t704 - t730;
-        let t732: f64 = t171 * t696;
-        let t733: f64 = t731 * t732;
-        let t734: f64 = t733 * 2.0;
-        let t735: f64 = leg2_zero_z * t127;
-        let t736: f64 = t135 * t142;
-        let t737: f64 = t735 + t736;
+        let t703: f64 = t0 * t6;
+        let t704: f64 = t694 * t703;
+        let t705: f64 = t13 * t697;
+        let t706: f64 = t30 * t699;
+        let t707: f64 = t705 + t706;
+        let t708: f64 = t707 - t704;
+        let t709: f64 = t5 * t694;
+        let t710: f64 = t2 * t697;
+        let t711: f64 = t3 * t699;
+        let t712: f64 = t710 - t711;
+        let t713: f64 = t6 * t712;
+        let t714: f64 = t709 - t713;
+        let t715: f64 = t68 * t68;
+        let t716: f64 = t77 * t715;
+        let t717: f64 = t716 * 0.5;
+        let t718: f64 = t717 - 1.0;
+        let t719: f64 = t79 * t504;
+        let t720: f64 = t500 * t719;
+        let t721: f64 = t79 * t517;
+        let t722: f64 = t500 * t721;
+        let t723: f64 = t49 + t722;
+        let t724: f64 = t94 * t723;
+        let t725: f64 = t720 + t724;
+        let t726: f64 = t64 - t725;
+        let t727: f64 = t67 * t93;
+        let t728: f64 = t533 * t727;
+        let t729: f64 = t718 * t728;
+        let t730: f64 = t726 * t729;
+        let t731: f64 = t730 * 2.0;
+        let t732: f64 = -t731;
+        let t733: f64 = leg1_rod_length * t68;
+        let t734: f64 = t67 * t733;
+        let t735: f64 = t93 * t734;
+        let t736: f64 = t533 * t735;
+        let t737: f64 = t726 * t736;
         let t738: f64 = t737 * 2.0;
-        let t739: f64 = t657 * t738;
-        let t740: f64 = t135 * t157;
-        let t741: f64 = t115 * t146;
-        let t742: f64 = t142 * t741;
-        let t743: f64 = leg2_zero_z * t162;
-        let t744: f64 = t157 * t741;
-        let t745: f64 = t737 - t744;
-        let t746: f64 = t745 * 2.0;
-        let t747: f64 = t668 * t746;
-        let t748: f64 = t747 * 0.5;
-        let t749: f64 = t740 + t742;
-        let t750: f64 = t743 + t748;
-        let t751: f64 = t749 + t750;
-        let t752: f64 = t145 * t751;
-        let t753: f64 = t675 * t738;
-        let t754: f64 = leg2_zero_z * t157;
-        let t755: f64 = t127 * t741;
-        let t756: f64 = t135 * t162;
-        let t757: f64 = t681 * t746;
+        let t739: f64 = -t738;
+        let t740: f64 = t145 * t145;
+        let t741: f64 = leg2_zero_x * t127;
+        let t742: f64 = t139 * t142;
+        let t743: f64 = t741 + t742;
+        let t744: f64 = t743 * 2.0;
+        let t745: f64 = t164 * t740;
+        let t746: f64 = t744 * t745;
+        let t747: f64 = t139 * t157;
+        let t748: f64 = t124 * t146;
+        let t749: f64 = t142 * t748;
+        let t750: f64 = leg2_zero_x * t162;
+        let t751: f64 = 1.0 / t161;
+        let t752: f64 = t157 * t748;
+        let t753: f64 = t743 - t752;
+        let t754: f64 = t753 * 2.0;
+        let t755: f64 = leg2_branch * t127;
+        let t756: f64 = t751 * t755;
+        let t757: f64 = t754 * t756;
         let t758: f64 = t757 * 0.5;
-        let t759: f64 = t754 + t755;
-        let t760: f64 = t756 + t758;
-        let t761: f64 = t759 - t760;
+        let t759: f64 = t747 + t749;
+        let t760: f64 = t750 + t758;
+        let t761: f64 = t759 + t760;
         let t762: f64 = t145 * t761;
-        let t763: f64 = t753 - t762;
-        let t764: f64 = t172 * t763;
-        let t765: f64 = t752 + t764;
-        let t766: f64 = t739 - t765;
-        let t767: f64 = t732 * t766;
-        let t768: f64 = t767 * 2.0;
-        let t769: f64 = -t699;
-        let t770: f64 = t607 * t769;
-        let t771: f64 = -t734;
-        let t772: f64 = t9 * t771;
-        let t773: f64 = -t768;
-        let t774: f64 = t25 * t773;
-        let t775: f64 = t770 + t772;
-        let t776: f64 = t774 + t775;
-        let t777: f64 = t615 * t769;
-        let t778: f64 = t13 * t771;
-        let t779: f64 = t30 * t773;
-        let t780: f64 = t778 + t779;
-        let t781: f64 = t780 - t777;
-        let t782: f64 = t5 * t769;
-        let t783: f64 = t2 * t771;
-        let t784: f64 = t3 * t773;
-        let t785: f64 = t783 - t784;
-        let t786: f64 = t6 * t785;
-        let t787: f64 = t782 - t786;
-        let t788: f64 = t146 * t146;
-        let t789: f64 = t155 * t788;
-        let t790: f64 = t789 * 0.5;
-        let t791: f64 = t790 - 1.0;
-        let t792: f64 = t157 * t667;
-        let t793: f64 = t663 * t792;
-        let t794: f64 = t157 * t680;
-        let t795: f64 = t663 * t794;
-        let t796: f64 = t127 + t795;
-        let t797: f64 = t172 * t796;
-        let t798: f64 = t793 + t797;
-        let t799: f64 = t142 - t798;
-        let t800: f64 = t145 * t171;
-        let t801: f64 = t696 * t800;
-        let t802: f64 = t791 * t801;
-        let t803: f64 = t799 * t802;
-        let t804: f64 = t803 * 2.0;
-        let t805: f64 = -t804;
-        let t806: f64 = leg2_rod_length * t146;
-        let t807: f64 = t145 * t806;
-        let t808: f64 = t171 * t807;
-        let t809: f64 = t696 * t808;
-        let t810: f64 = t799 * t809;
-        let t811: f64 = t810 * 2.0;
-        let t812: f64 = -t811;
-        let t813: f64 = t223 * t223;
-        let t814: f64 = leg3_zero_x * t205;
-        let t815: f64 = t217 * t220;
-        let t816: f64 = t814 + t815;
-        let t817: f64 = t816 * 2.0;
-        let t818: f64 = t242 * t813;
-        let t819: f64 = t817 * t818;
-        let t820: f64 = t217 * t235;
-        let t821: f64 = t202 * t224;
-        let t822: f64 = t220 * t821;
-        let t823: f64 = leg3_zero_x * t240;
-        let t824: f64 = 1.0 / t239;
-        let t825: f64 = t235 * t821;
-        let t826: f64 = t816 - t825;
-        let t827: f64 = t826 * 2.0;
-        let t828: f64 = leg3_branch * t205;
-        let t829: f64 = t824 * t828;
-        let t830: f64 = t827 * t829;
-        let t831: f64 = t830 * 0.5;
-        let t832: f64 = t820 + t822;
-        let t833: f64 = t823 + t831;
-        let t834: f64 = t832 + t833;
-        let t835: f64 = t223 * t834;
-        let t836: f64 = t246 * t813;
-        let t837: f64 = t817 * t836;
-        let t838: f64 = leg3_zero_x * t235;
-        let t839: f64 = t205 * t821;
-        let t840: f64 = t217 * t240;
-        let t841: f64 = leg3_branch * t220;
-        let t842: f64 = t824 * t841;
-        let t843: f64 = t827 * t842;
-        let t844: f64 = t843 * 0.5;
-        let t845: f64 = t838 + t839;
-        let t846: f64 = t840 + t844;
-        let t847: f64 = t845 - t846;
-        let t848: f64 = t223 * t847;
-        let t849: f64 = t837 - t848;
-        let t850: f64 = t250 * t849;
-        let t851: f64 = t835 + t850;
-        let t852: f64 = t819 - t851;
-        let t853: f64 = t243 * t243;
-        let t854: f64 = t249 * t249;
-        let t855: f64 = t853 * t854;
-        let t856: f64 = t855 + 1.0;
-        let t857: f64 = 1.0 / t856;
-        let t858: f64 = t249 * t852;
-        let t859: f64 = t857 * t858;
-        let t860: f64 = t859 * 2.0;
-        let t861: f64 = leg3_zero_y * t205;
-        let t862: f64 = t209 * t220;
-        let t863: f64 = t861 + t862;
-        let t864: f64 = t863 * 2.0;
-        let t865: f64 = t818 * t864;
-        let t866: f64 = t209 * t235;
-        let t867: f64 = t184 * t224;
-        let t868: f64 = t220 * t867;
-        let t869: f64 = leg3_zero_y * t240;
-        let t870: f64 = t235 * t867;
+        let t763: f64 = t168 * t740;
+        let t764: f64 = t744 * t763;
+        let t765: f64 = leg2_zero_x * t157;
+        let t766: f64 = t127 * t748;
+        let t767: f64 = t139 * t162;
+        let t768: f64 = leg2_branch * t142;
+        let t769: f64 = t751 * t768;
+        let t770: f64 = t754 * t769;
+        let t771: f64 = t770 * 0.5;
+        let t772: f64 = t765 + t766;
+        let t773: f64 = t767 + t771;
+        let t774: f64 = t772 - t773;
+        let t775: f64 = t145 * t774;
+        let t776: f64 = t764 - t775;
+        let t777: f64 = t172 * t776;
+        let t778: f64 = t762 + t777;
+        let t779: f64 = t746 - t778;
+        let t780: f64 = t165 * t165;
+        let t781: f64 = t171 * t171;
+        let t782: f64 = t780 * t781;
+        let t783: f64 = t782 + 1.0;
+        let t784: f64 = 1.0 / t783;
+        let t785: f64 = t171 * t779;
+        let t786: f64 = t784 * t785;
+        let t787: f64 = t786 * 2.0;
+        let t788: f64 = leg2_zero_y * t127;
+        let t789: f64 = t131 * t142;
+        let t790: f64 = t788 + t789;
+        let t791: f64 = t790 * 2.0;
+        let t792: f64 = t745 * t791;
+        let t793: f64 = t131 * t157;
+        let t794: f64 = t106 * t146;
+        let t795: f64 = t142 * t794;
+        let t796: f64 = leg2_zero_y * t162;
+        let t797: f64 = t157 * t794;
+        let t798: f64 = t790 - t797;
+        let t799: f64 = t798 * 2.0;
+        let t800: f64 = t756 * t799;
+        let t801: f64 = t800 * 0.5;
+        let t802: f64 = t793 + t795;
+        let t803: f64 = t796 + t801;
+        let t804: f64 = t802 + t803;
+        let t805: f64 = t145 * t804;
+        let t806: f64 = t763 * t791;
+        let t807: f64 = leg2_zero_y * t157;
+        let t808: f64 = t127 * t794;
+        let t809: f64 = t131 * t162;
+        let t810: f64 = t769 * t799;
+        let t811: f64 = t810 * 0.5;
+        let t812: f64 = t807 + t808;
+        let t813: f64 = t809 + t811;
+        let t814: f64 = t812 - t813;
+        let t815: f64 = t145 * t814;
+        let t816: f64 = t806 - t815;
+        let t817: f64 = t172 * t816;
+        let t818: f64 = t805 + t817;
+        let t819: f64 = t792 - t818;
+        let t820: f64 = t171 * t784;
+        let t821: f64 = t819 * t820;
+        let t822: f64 = t821 * 2.0;
+        let t823: f64 = leg2_zero_z * t127;
+        let t824: f64 = t135 * t142;
+        let t825: f64 = t823 + t824;
+        let t826: f64 = t825 * 2.0;
+        let t827: f64 = t745 * t826;
+        let t828: f64 = t135 * t157;
+        let t829: f64 = t115 * t146;
+        let t830: f64 = t142 * t829;
+        let t831: f64 = leg2_zero_z * t162;
+        let t832: f64 = t157 * t829;
+        let t833: f64 = t825 - t832;
+        let t834: f64 = t833 * 2.0;
+        let t835: f64 = t756 * t834;
+        let t836: f64 = t835 * 0.5;
+        let t837: f64 = t828 + t830;
+        let t838: f64 = t831 + t836;
+        let t839: f64 = t837 + t838;
+        let t840: f64 = t145 * t839;
+        let t841: f64 = t763 * t826;
+        let t842: f64 = leg2_zero_z * t157;
+        let t843: f64 = t127 * t829;
+        let t844: f64 = t135 * t162;
+        let t845: f64 = t769 * t834;
+        let t846: f64 = t845 * 0.5;
+        let t847: f64 = t842 + t843;
+        let t848: f64 = t844 + t846;
+        let t849: f64 = t847 - t848;
+        let t850: f64 = t145 * t849;
+        let t851: f64 = t841 - t850;
+        let t852: f64 = t172 * t851;
+        let t853: f64 = t840 + t852;
+        let t854: f64 = t827 - t853;
+        let t855: f64 = t820 * t854;
+        let t856: f64 = t855 * 2.0;
+        let t857: f64 = leg2_axis_z * t115;
+        let t858: f64 = leg2_axis_y * t106;
+        let t859: f64 = leg2_axis_x * t124;
+        let t860: f64 = t858 + t859;
+        let t861: f64 = t857 + t860;
+        let t862: f64 = t127 * t135;
+        let t863: f64 = t861 * t862;
+        let t864: f64 = leg2_axis_y * leg2_zero_y;
+        let t865: f64 = leg2_axis_x * leg2_zero_x;
+        let t866: f64 = t864 + t865;
+        let t867: f64 = t115 * t866;
+        let t868: f64 = leg2_zero_z * t860;
+        let t869: f64 = t868 - t867;
+        let t870: f64 = t142 * t869;
         let t871: f64 = t863 - t870;
         let t872: f64 = t871 * 2.0;
-        let t873: f64 = t829 * t872;
-        let t874: f64 = t873 * 0.5;
-        let t875: f64 = t866 + t868;
-        let t876: f64 = t869 + t874;
-        let t877: f64 = t875 + t876;
-        let t878: f64 = t223 * t877;
-        let t879: f64 = t836 * t864;
-        let t880: f64 = leg3_zero_y * t235;
-        let t881: f64 = t205 * t867;
-        let t882: f64 = t209 * t240;
-        let t883: f64 = t842 * t872;
-        let t884: f64 = t883 * 0.5;
-        let t885: f64 = t880 + t881;
-        let t886: f64 = t882 + t884;
-        let t887: f64 = t885 - t886;
-        let t888: f64 = t223 * t887;
-        let t889: f64 = t879 - t888;
-        let t890: f64 = t250 * t889;
-        let t891: f64 = t878 + t890;
-        let t892: f64 = t865 - t891;
-        let t893: f64 = t249 * t857;
-        let t894: f64 = t892 * t893;
-        let t895: f64 = t894 * 2.0;
-        let t896: f64 = leg3_zero_z * t205;
-        let t897: f64 = t213 * t220;
-        let t898: f64 = t896 + t897;
-        let t899: f64 = t898 * 2.0;
-        let t900: f64 = t818 * t899;
-        let t901: f64 = t213 * t235;
-        let t902: f64 = t193 * t224;
-        let t903: f64 = t220 * t902;
-        let t904: f64 = leg3_zero_z * t240;
-        let t905: f64 = t235 * t902;
-        let t906: f64 = t898 - t905;
-        let t907: f64 = t906 * 2.0;
-        let t908: f64 = t829 * t907;
-        let t909: f64 = t908 * 0.5;
-        let t910: f64 = t901 + t903;
-        let t911: f64 = t904 + t909;
+        let t873: f64 = t745 * t872;
+        let t874: f64 = t157 * t869;
+        let t875: f64 = t844 * t861;
+        let t876: f64 = t756 * t872;
+        let t877: f64 = t876 * 0.5;
+        let t878: f64 = t875 + t877;
+        let t879: f64 = t874 - t878;
+        let t880: f64 = t145 * t879;
+        let t881: f64 = t763 * t872;
+        let t882: f64 = t828 * t861;
+        let t883: f64 = t162 * t869;
+        let t884: f64 = t769 * t872;
+        let t885: f64 = t884 * 0.5;
+        let t886: f64 = t882 + t883;
+        let t887: f64 = t886 - t885;
+        let t888: f64 = t145 * t887;
+        let t889: f64 = t881 - t888;
+        let t890: f64 = t172 * t889;
+        let t891: f64 = t873 + t880;
+        let t892: f64 = t891 - t890;
+        let t893: f64 = t820 * t892;
+        let t894: f64 = t893 * 2.0;
+        let t895: f64 = leg2_axis_x * leg2_axis_x;
+        let t896: f64 = leg2_axis_y * leg2_axis_y;
+        let t897: f64 = t895 + t896;
+        let t898: f64 = sqrt(t897);
+        let t899: f64 = leg2_zero_z * t898;
+        let t900: f64 = leg2_axis_z / t898;
+        let t901: f64 = t866 * t900;
+        let t902: f64 = t899 - t901;
+        let t903: f64 = -t902;
+        let t904: f64 = t127 * t861;
+        let t905: f64 = t903 * t904;
+        let t906: f64 = leg2_zero_x * t898;
+        let t907: f64 = t130 * t900;
+        let t908: f64 = t906 + t907;
+        let t909: f64 = t106 * t908;
+        let t910: f64 = t137 * t900;
+        let t911: f64 = leg2_zero_y * t898;
         let t912: f64 = t910 + t911;
-        let t913: f64 = t223 * t912;
-        let t914: f64 = t836 * t899;
-        let t915: f64 = leg3_zero_z * t235;
-        let t916: f64 = t205 * t902;
-        let t917: f64 = t213 * t240;
-        let t918: f64 = t842 * t907;
-        let t919: f64 = t918 * 0.5;
-        let t920: f64 = t915 + t916;
-        let t921: f64 = t917 + t919;
-        let t922: f64 = t920 - t921;
-        let t923: f64 = t223 * t922;
-        let t924: f64 = t914 - t923;
-        let t925: f64 = t250 * t924;
-        let t926: f64 = t913 + t925;
-        let t927: f64 = t900 - t926;
-        let t928: f64 = t893 * t927;
-        let t929: f64 = t928 * 2.0;
-        let t930: f64 = -t860;
-        let t931: f64 = t607 * t930;
-        let t932: f64 = -t895;
-        let t933: f64 = t9 * t932;
-        let t934: f64 = -t929;
-        let t935: f64 = t25 * t934;
-        let t936: f64 = t931 + t933;
-        let t937: f64 = t935 + t936;
-        let t938: f64 = t615 * t930;
-        let t939: f64 = t13 * t932;
-        let t940: f64 = t30 * t934;
-        let t941: f64 = t939 + t940;
-        let t942: f64 = t941 - t938;
-        let t943: f64 = t5 * t930;
-        let t944: f64 = t2 * t932;
-        let t945: f64 = t3 * t934;
-        let t946: f64 = t944 - t945;
-        let t947: f64 = t6 * t946;
-        let t948: f64 = t943 - t947;
-        let t949: f64 = t224 * t224;
-        let t950: f64 = t233 * t949;
-        let t951: f64 = t950 * 0.5;
-        let t952: f64 = t951 - 1.0;
-        let t953: f64 = t235 * t828;
-        let t954: f64 = t824 * t953;
-        let t955: f64 = t235 * t841;
-        let t956: f64 = t824 * t955;
-        let t957: f64 = t205 + t956;
-        let t958: f64 = t250 * t957;
-        let t959: f64 = t954 + t958;
-        let t960: f64 = t220 - t959;
-        let t961: f64 = t223 * t249;
-        let t962: f64 = t857 * t961;
-        let t963: f64 = t952 * t962;
-        let t964: f64 = t960 * t963;
-        let t965: f64 = t964 * 2.0;
-        let t966: f64 = -t965;
-        let t967: f64 = leg3_rod_length * t224;
-        let t968: f64 = t223 * t967;
-        let t969: f64 = t249 * t968;
-        let t970: f64 = t857 * t969;
-        let t971: f64 = t960 * t970;
-        let t972: f64 = t971 * 2.0;
-        let t973: f64 = -t972;
-        let t974: f64 = t301 * t301;
-        let t975: f64 = leg4_zero_x * t283;
-        let t976: f64 = t295 * t298;
-        let t977: f64 = t975 + t976;
-        let t978: f64 = t977 * 2.0;
-        let t979: f64 = t320 * t974;
-        let t980: f64 = t978 * t979;
-        let t981: f64 = t295 * t313;
-        let t982: f64 = t280 * t302;
-        let t983: f64 = t298 * t982;
-        let t984: f64 = leg4_zero_x * t318;
-        let t985: f64 = 1.0 / t317;
-        let t986: f64 = t313 * t982;
-        let t987: f64 = t977 - t986;
-        let t988: f64 = t987 * 2.0;
-        let t989: f64 = leg4_branch * t283;
-        let t990: f64 = t985 * t989;
-        let t991: f64 = t988 * t990;
-        let t992: f64 = t991 * 0.5;
-        let t993: f64 = t981 + t983;
-        let t994: f64 = t984 + t992;
-        let t995: f64 = t993 + t994;
-        let t996: f64 = t301 * t995;
-        let t997: f64 = t324 * t974;
-        let t998: f64 = t978 * t997;
-        let t999: f64 = leg4_zero_x * t313;
-        let t1000: f64 = t283 * t982;
-        let t1001: f64 = t295 * t318;
-        let t1002: f64 = leg4_branch * t298;
+        let t913: f64 = t124 * t912;
+        let t914: f64 = t136 * t900;
+        let t915: f64 = t913 + t914;
+        let t916: f64 = t915 - t909;
+        let t917: f64 = t142 * t916;
+        let t918: f64 = t905 - t917;
+        let t919: f64 = t918 * 2.0;
+        let t920: f64 = t745 * t919;
+        let t921: f64 = t157 * t916;
+        let t922: f64 = t162 * t861;
+        let t923: f64 = t903 * t922;
+        let t924: f64 = t756 * t919;
+        let t925: f64 = t924 * 0.5;
+        let t926: f64 = t923 + t925;
+        let t927: f64 = t921 - t926;
+        let t928: f64 = t145 * t927;
+        let t929: f64 = t763 * t919;
+        let t930: f64 = t157 * t861;
+        let t931: f64 = t903 * t930;
+        let t932: f64 = t162 * t916;
+        let t933: f64 = t769 * t919;
+        let t934: f64 = t933 * 0.5;
+        let t935: f64 = t931 + t932;
+        let t936: f64 = t935 - t934;
+        let t937: f64 = t145 * t936;
+        let t938: f64 = t929 - t937;
+        let t939: f64 = t172 * t938;
+        let t940: f64 = t920 + t928;
+        let t941: f64 = t940 - t939;
+        let t942: f64 = t820 * t941;
+        let t943: f64 = t942 * 2.0;
+        let t944: f64 = -t943;
+        let t945: f64 = -t787;
+        let t946: f64 = t695 * t945;
+        let t947: f64 = -t822;
+        let t948: f64 = t9 * t947;
+        let t949: f64 = -t856;
+        let t950: f64 = t25 * t949;
+        let t951: f64 = t946 + t948;
+        let t952: f64 = t950 + t951;
+        let t953: f64 = t703 * t945;
+        let t954: f64 = t13 * t947;
+        let t955: f64 = t30 * t949;
+        let t956: f64 = t954 + t955;
+        let t957: f64 = t956 - t953;
+        let t958: f64 = t5 * t945;
+        let t959: f64 = t2 * t947;
+        let t960: f64 = t3 * t949;
+        let t961: f64 = t959 - t960;
+        let t962: f64 = t6 * t961;
+        let t963: f64 = t958 - t962;
+        let t964: f64 = t146 * t146;
+        let t965: f64 = t155 * t964;
+        let t966: f64 = t965 * 0.5;
+        let t967: f64 = t966 - 1.0;
+        let t968: f64 = t157 * t755;
+        let t969: f64 = t751 * t968;
+        let t970: f64 = t157 * t768;
+        let t971: f64 = t751 * t970;
+        let t972: f64 = t127 + t971;
+        let t973: f64 = t172 * t972;
+        let t974: f64 = t969 + t973;
+        let t975: f64 = t142 - t974;
+        let t976: f64 = t145 * t171;
+        let t977: f64 = t784 * t976;
+        let t978: f64 = t967 * t977;
+        let t979: f64 = t975 * t978;
+        let t980: f64 = t979 * 2.0;
+        let t981: f64 = -t980;
+        let t982: f64 = leg2_rod_length * t146;
+        let t983: f64 = t145 * t982;
+        let t984: f64 = t171 * t983;
+        let t985: f64 = t784 * t984;
+        let t986: f64 = t975 * t985;
+        let t987: f64 = t986 * 2.0;
+        let t988: f64 = -t987;
+        let t989: f64 = t223 * t223;
+        let t990: f64 = leg3_zero_x * t205;
+        let t991: f64 = t217 * t220;
+        let t992: f64 = t990 + t991;
+        let t993: f64 = t992 * 2.0;
+        let t994: f64 = t242 * t989;
+        let t995: f64 = t993 * t994;
+        let t996: f64 = t217 * t235;
+        let t997: f64 = t202 * t224;
+        let t998: f64 = t220 * t997;
+        let t999: f64 = leg3_zero_x * t240;
+        let t1000: f64 = 1.0 / t239;
+        let t1001: f64 = t235 * t997;
+        let t1002: f64 = t992 - t1001;
         (
             t0,
             t1,
@@ -67915,9 +67938,29 @@ pub fn calibration_residuals_separate(
             t122,
             t176,
             t182,
+            t184,
             t191,
+            t193,
             t198,
             t200,
+            t202,
+            t205,
+            t208,
+            t209,
+            t213,
+            t214,
+            t215,
+            t217,
+            t220,
+            t223,
+            t224,
+            t233,
+            t235,
+            t240,
+            t243,
+            t246,
+            t249,
+            t250,
             t254,
             t260,
             t262,
@@ -67925,16 +67968,24 @@ pub fn calibration_residuals_separate(
             t271,
             t276,
             t278,
+            t280,
             t283,
+            t286,
             t287,
             t291,
+            t292,
+            t293,
+            t295,
             t298,
             t301,
             t302,
             t311,
             t313,
+            t317,
             t318,
+            t320,
             t321,
+            t324,
             t327,
             t328,
             t332,
@@ -67946,8 +67997,11 @@ pub fn calibration_residuals_separate(
             t356,
             t358,
             t361,
+            t364,
             t365,
             t369,
+            t370,
+            t371,
             t373,
             t376,
             t379,
@@ -67970,8 +68024,11 @@ pub fn calibration_residuals_separate(
             t434,
             t436,
             t439,
+            t442,
             t443,
             t447,
+            t448,
+            t449,
             t451,
             t454,
             t457,
@@ -67989,782 +68046,1354 @@ pub fn calibration_residuals_separate(
             t536,
             t571,
             t605,
-            t606,
-            t607,
-            t609,
-            t611,
-            t614,
-            t615,
-            t620,
-            t624,
-            t626,
-            t644,
-            t651,
+            t643,
+            t693,
+            t694,
+            t695,
+            t697,
             t699,
-            t734,
-            t768,
-            t769,
-            t771,
-            t773,
-            t776,
-            t781,
-            t785,
+            t702,
+            t703,
+            t708,
+            t712,
+            t714,
+            t732,
+            t739,
             t787,
-            t805,
-            t812,
-            t860,
-            t895,
-            t929,
-            t930,
-            t932,
-            t934,
-            t937,
-            t942,
-            t946,
-            t948,
-            t966,
-            t973,
-            t979,
-            t980,
-            t985,
+            t822,
+            t856,
+            t894,
+            t944,
+            t945,
+            t947,
+            t949,
+            t952,
+            t957,
+            t961,
+            t963,
+            t981,
             t988,
             t989,
-            t990,
+            t993,
+            t994,
+            t995,
             t996,
             t997,
             t998,
             t999,
             t1000,
-            t1001,
             t1002,
         )
     };
     let (
-        t1021,
-        t1056,
-        t1090,
-        t1091,
-        t1093,
-        t1095,
-        t1098,
-        t1103,
-        t1109,
-        t1127,
-        t1134,
-        t1182,
-        t1217,
-        t1251,
-        t1252,
-        t1254,
-        t1256,
-        t1259,
-        t1264,
-        t1270,
-        t1288,
-        t1295,
-        t1343,
-        t1378,
-        t1412,
-        t1413,
-        t1415,
-        t1417,
-        t1420,
-        t1425,
-        t1431,
-        t1449,
-        t1456,
+        t1036,
+        t1071,
+        t1105,
+        t1143,
+        t1193,
+        t1194,
+        t1196,
+        t1198,
+        t1201,
+        t1206,
+        t1210,
+        t1212,
+        t1230,
+        t1237,
+        t1285,
+        t1320,
+        t1354,
+        t1392,
+        t1442,
+        t1443,
+        t1445,
+        t1447,
+        t1450,
+        t1455,
         t1459,
-        t1465,
-        t1480,
-        t1483,
-        t1489,
-        t1504,
-        t1507,
-        t1513,
-        t1528,
-        t1531,
-        t1537,
-        t1552,
-        t1555,
-        t1561,
-        t1576,
-        t1579,
-        t1585,
-        t1600,
+        t1461,
+        t1479,
+        t1486,
+        t1534,
+        t1569,
+        t1603,
+        t1641,
+        t1691,
+        t1692,
+        t1694,
+        t1696,
+        t1699,
+        t1704,
+        t1708,
+        t1710,
+        t1728,
+        t1735,
+        t1783,
+        t1818,
+        t1852,
+        t1890,
+        t1940,
+        t1941,
+        t1943,
+        t1945,
+        t1948,
+        t1953,
+        t1957,
+        t1959,
+        t1977,
+        t1984,
+        t1987,
+        t1993,
+        t1998,
+        t2002,
     ) = {
-        let t1003: f64 = t985 * t1002;
-        let t1004: f64 = t988 * t1003;
-        let t1005: f64 = t1004 * 0.5;
-        let t1006: f64 = t999 + t1000;
-        let t1007: f64 = t1001 + t1005;
-        let t1008: f64 = t1006 - t1007;
-        let t1009: f64 = t301 * t1008;
-        let t1010: f64 = t998 - t1009;
-        let t1011: f64 = t328 * t1010;
-        let t1012: f64 = t996 + t1011;
-        let t1013: f64 = t980 - t1012;
-        let t1014: f64 = t321 * t321;
-        let t1015: f64 = t327 * t327;
-        let t1016: f64 = t1014 * t1015;
-        let t1017: f64 = t1016 + 1.0;
-        let t1018: f64 = 1.0 / t1017;
-        let t1019: f64 = t327 * t1013;
-        let t1020: f64 = t1018 * t1019;
-        let t1021: f64 = t1020 * 2.0;
-        let t1022: f64 = leg4_zero_y * t283;
-        let t1023: f64 = t287 * t298;
-        let t1024: f64 = t1022 + t1023;
-        let t1025: f64 = t1024 * 2.0;
-        let t1026: f64 = t979 * t1025;
-        let t1027: f64 = t287 * t313;
-        let t1028: f64 = t262 * t302;
-        let t1029: f64 = t298 * t1028;
-        let t1030: f64 = leg4_zero_y * t318;
-        let t1031: f64 = t313 * t1028;
-        let t1032: f64 = t1024 - t1031;
-        let t1033: f64 = t1032 * 2.0;
-        let t1034: f64 = t990 * t1033;
-        let t1035: f64 = t1034 * 0.5;
-        let t1036: f64 = t1027 + t1029;
-        let t1037: f64 = t1030 + t1035;
-        let t1038: f64 = t1036 + t1037;
-        let t1039: f64 = t301 * t1038;
-        let t1040: f64 = t997 * t1025;
-        let t1041: f64 = leg4_zero_y * t313;
-        let t1042: f64 = t283 * t1028;
-        let t1043: f64 = t287 * t318;
-        let t1044: f64 = t1003 * t1033;
-        let t1045: f64 = t1044 * 0.5;
-        let t1046: f64 = t1041 + t1042;
-        let t1047: f64 = t1043 + t1045;
-        let t1048: f64 = t1046 - t1047;
-        let t1049: f64 = t301 * t1048;
-        let t1050: f64 = t1040 - t1049;
-        let t1051: f64 = t328 * t1050;
-        let t1052: f64 = t1039 + t1051;
-        let t1053: f64 = t1026 - t1052;
-        let t1054: f64 = t327 * t1018;
-        let t1055: f64 = t1053 * t1054;
-        let t1056: f64 = t1055 * 2.0;
-        let t1057: f64 = leg4_zero_z * t283;
-        let t1058: f64 = t291 * t298;
-        let t1059: f64 = t1057 + t1058;
-        let t1060: f64 = t1059 * 2.0;
-        let t1061: f64 = t979 * t1060;
-        let t1062: f64 = t291 * t313;
-        let t1063: f64 = t271 * t302;
-        let t1064: f64 = t298 * t1063;
-        let t1065: f64 = leg4_zero_z * t318;
-        let t1066: f64 = t313 * t1063;
-        let t1067: f64 = t1059 - t1066;
-        let t1068: f64 = t1067 * 2.0;
-        let t1069: f64 = t990 * t1068;
-        let t1070: f64 = t1069 * 0.5;
-        let t1071: f64 = t1062 + t1064;
-        let t1072: f64 = t1065 + t1070;
-        let t1073: f64 = t1071 + t1072;
-        let t1074: f64 = t301 * t1073;
-        let t1075: f64 = t997 * t1060;
-        let t1076: f64 = leg4_zero_z * t313;
-        let t1077: f64 = t283 * t1063;
-        let t1078: f64 = t291 * t318;
-        let t1079: f64 = t1003 * t1068;
-        let t1080: f64 = t1079 * 0.5;
-        let t1081: f64 = t1076 + t1077;
-        let t1082: f64 = t1078 + t1080;
-        let t1083: f64 = t1081 - t1082;
-        let t1084: f64 = t301 * t1083;
-        let t1085: f64 = t1075 - t1084;
-        let t1086: f64 = t328 * t1085;
-        let t1087: f64 = t1074 + t1086;
-        let t1088: f64 = t1061 - t1087;
-        let t1089: f64 = t1054 * t1088;
-        let t1090: f64 = t1089 * 2.0;
-        let t1091: f64 = -t1021;
-        let t1092: f64 = t607 * t1091;
-        let t1093: f64 = -t1056;
-        let t1094: f64 = t9 * t1093;
-        let t1095: f64 = -t1090;
-        let t1096: f64 = t25 * t1095;
-        let t1097: f64 = t1092 + t1094;
-        let t1098: f64 = t1096 + t1097;
-        let t1099: f64 = t615 * t1091;
-        let t1100: f64 = t13 * t1093;
-        let t1101: f64 = t30 * t1095;
-        let t1102: f64 = t1100 + t1101;
-        let t1103: f64 = t1102 - t1099;
-        let t1104: f64 = t5 * t1091;
-        let t1105: f64 = t2 * t1093;
-        let t1106: f64 = t3 * t1095;
-        let t1107: f64 = t1105 - t1106;
-        let t1108: f64 = t6 * t1107;
-        let t1109: f64 = t1104 - t1108;
-        let t1110: f64 = t302 * t302;
-        let t1111: f64 = t311 * t1110;
-        let t1112: f64 = t1111 * 0.5;
-        let t1113: f64 = t1112 - 1.0;
-        let t1114: f64 = t313 * t989;
-        let t1115: f64 = t985 * t1114;
-        let t1116: f64 = t313 * t1002;
-        let t1117: f64 = t985 * t1116;
-        let t1118: f64 = t283 + t1117;
-        let t1119: f64 = t328 * t1118;
-        let t1120: f64 = t1115 + t1119;
-        let t1121: f64 = t298 - t1120;
-        let t1122: f64 = t301 * t327;
-        let t1123: f64 = t1018 * t1122;
-        let t1124: f64 = t1113 * t1123;
-        let t1125: f64 = t1121 * t1124;
-        let t1126: f64 = t1125 * 2.0;
-        let t1127: f64 = -t1126;
-        let t1128: f64 = leg4_rod_length * t302;
-        let t1129: f64 = t301 * t1128;
-        let t1130: f64 = t327 * t1129;
-        let t1131: f64 = t1018 * t1130;
-        let t1132: f64 = t1121 * t1131;
-        let t1133: f64 = t1132 * 2.0;
-        let t1134: f64 = -t1133;
-        let t1135: f64 = t379 * t379;
-        let t1136: f64 = leg5_zero_x * t361;
-        let t1137: f64 = t373 * t376;
-        let t1138: f64 = t1136 + t1137;
-        let t1139: f64 = t1138 * 2.0;
-        let t1140: f64 = t398 * t1135;
-        let t1141: f64 = t1139 * t1140;
-        let t1142: f64 = t373 * t391;
-        let t1143: f64 = t358 * t380;
-        let t1144: f64 = t376 * t1143;
-        let t1145: f64 = leg5_zero_x * t396;
-        let t1146: f64 = 1.0 / t395;
-        let t1147: f64 = t391 * t1143;
-        let t1148: f64 = t1138 - t1147;
-        let t1149: f64 = t1148 * 2.0;
-        let t1150: f64 = leg5_branch * t361;
-        let t1151: f64 = t1146 * t1150;
-        let t1152: f64 = t1149 * t1151;
-        let t1153: f64 = t1152 * 0.5;
-        let t1154: f64 = t1142 + t1144;
-        let t1155: f64 = t1145 + t1153;
-        let t1156: f64 = t1154 + t1155;
-        let t1157: f64 = t379 * t1156;
-        let t1158: f64 = t402 * t1135;
-        let t1159: f64 = t1139 * t1158;
-        let t1160: f64 = leg5_zero_x * t391;
-        let t1161: f64 = t361 * t1143;
-        let t1162: f64 = t373 * t396;
-        let t1163: f64 = leg5_branch * t376;
-        let t1164: f64 = t1146 * t1163;
-        let t1165: f64 = t1149 * t1164;
-        let t1166: f64 = t1165 * 0.5;
-        let t1167: f64 = t1160 + t1161;
-        let t1168: f64 = t1162 + t1166;
-        let t1169: f64 = t1167 - t1168;
-        let t1170: f64 = t379 * t1169;
-        let t1171: f64 = t1159 - t1170;
-        let t1172: f64 = t406 * t1171;
-        let t1173: f64 = t1157 + t1172;
-        let t1174: f64 = t1141 - t1173;
-        let t1175: f64 = t399 * t399;
-        let t1176: f64 = t405 * t405;
-        let t1177: f64 = t1175 * t1176;
-        let t1178: f64 = t1177 + 1.0;
-        let t1179: f64 = 1.0 / t1178;
-        let t1180: f64 = t405 * t1174;
-        let t1181: f64 = t1179 * t1180;
-        let t1182: f64 = t1181 * 2.0;
-        let t1183: f64 = leg5_zero_y * t361;
-        let t1184: f64 = t365 * t376;
-        let t1185: f64 = t1183 + t1184;
-        let t1186: f64 = t1185 * 2.0;
-        let t1187: f64 = t1140 * t1186;
-        let t1188: f64 = t365 * t391;
-        let t1189: f64 = t340 * t380;
-        let t1190: f64 = t376 * t1189;
-        let t1191: f64 = leg5_zero_y * t396;
-        let t1192: f64 = t391 * t1189;
-        let t1193: f64 = t1185 - t1192;
-        let t1194: f64 = t1193 * 2.0;
-        let t1195: f64 = t1151 * t1194;
-        let t1196: f64 = t1195 * 0.5;
-        let t1197: f64 = t1188 + t1190;
-        let t1198: f64 = t1191 + t1196;
-        let t1199: f64 = t1197 + t1198;
-        let t1200: f64 = t379 * t1199;
-        let t1201: f64 = t1158 * t1186;
-        let t1202: f64 = leg5_zero_y * t391;
-        let t1203: f64 = t361 * t1189;
-        let t1204: f64 = t365 * t396;
-        let t1205: f64 = t1164 * t1194;
-        let t1206: f64 = t1205 * 0.5;
-        let t1207: f64 = t1202 + t1203;
-        let t1208: f64 = t1204 + t1206;
-        let t1209: f64 = t1207 - t1208;
-        let t1210: f64 = t379 * t1209;
-        let t1211: f64 = t1201 - t1210;
-        let t1212: f64 = t406 * t1211;
-        let t1213: f64 = t1200 + t1212;
-        let t1214: f64 = t1187 - t1213;
-        let t1215: f64 = t405 * t1179;
-        let t1216: f64 = t1214 * t1215;
-        let t1217: f64 = t1216 * 2.0;
-        let t1218: f64 = leg5_zero_z * t361;
-        let t1219: f64 = t369 * t376;
-        let t1220: f64 = t1218 + t1219;
-        let t1221: f64 = t1220 * 2.0;
-        let t1222: f64 = t1140 * t1221;
-        let t1223: f64 = t369 * t391;
-        let t1224: f64 = t349 * t380;
-        let t1225: f64 = t376 * t1224;
-        let t1226: f64 = leg5_zero_z * t396;
-        let t1227: f64 = t391 * t1224;
-        let t1228: f64 = t1220 - t1227;
+        let t1003: f64 = t1002 * 2.0;
+        let t1004: f64 = leg3_branch * t205;
+        let t1005: f64 = t1000 * t1004;
+        let t1006: f64 = t1003 * t1005;
+        let t1007: f64 = t1006 * 0.5;
+        let t1008: f64 = t996 + t998;
+        let t1009: f64 = t999 + t1007;
+        let t1010: f64 = t1008 + t1009;
+        let t1011: f64 = t223 * t1010;
+        let t1012: f64 = t246 * t989;
+        let t1013: f64 = t993 * t1012;
+        let t1014: f64 = leg3_zero_x * t235;
+        let t1015: f64 = t205 * t997;
+        let t1016: f64 = t217 * t240;
+        let t1017: f64 = leg3_branch * t220;
+        let t1018: f64 = t1000 * t1017;
+        let t1019: f64 = t1003 * t1018;
+        let t1020: f64 = t1019 * 0.5;
+        let t1021: f64 = t1014 + t1015;
+        let t1022: f64 = t1016 + t1020;
+        let t1023: f64 = t1021 - t1022;
+        let t1024: f64 = t223 * t1023;
+        let t1025: f64 = t1013 - t1024;
+        let t1026: f64 = t250 * t1025;
+        let t1027: f64 = t1011 + t1026;
+        let t1028: f64 = t995 - t1027;
+        let t1029: f64 = t243 * t243;
+        let t1030: f64 = t249 * t249;
+        let t1031: f64 = t1029 * t1030;
+        let t1032: f64 = t1031 + 1.0;
+        let t1033: f64 = 1.0 / t1032;
+        let t1034: f64 = t249 * t1028;
+        let t1035: f64 = t1033 * t1034;
+        let t1036: f64 = t1035 * 2.0;
+        let t1037: f64 = leg3_zero_y * t205;
+        let t1038: f64 = t209 * t220;
+        let t1039: f64 = t1037 + t1038;
+        let t1040: f64 = t1039 * 2.0;
+        let t1041: f64 = t994 * t1040;
+        let t1042: f64 = t209 * t235;
+        let t1043: f64 = t184 * t224;
+        let t1044: f64 = t220 * t1043;
+        let t1045: f64 = leg3_zero_y * t240;
+        let t1046: f64 = t235 * t1043;
+        let t1047: f64 = t1039 - t1046;
+        let t1048: f64 = t1047 * 2.0;
+        let t1049: f64 = t1005 * t1048;
+        let t1050: f64 = t1049 * 0.5;
+        let t1051: f64 = t1042 + t1044;
+        let t1052: f64 = t1045 + t1050;
+        let t1053: f64 = t1051 + t1052;
+        let t1054: f64 = t223 * t1053;
+        let t1055: f64 = t1012 * t1040;
+        let t1056: f64 = leg3_zero_y * t235;
+        let t1057: f64 = t205 * t1043;
+        let t1058: f64 = t209 * t240;
+        let t1059: f64 = t1018 * t1048;
+        let t1060: f64 = t1059 * 0.5;
+        let t1061: f64 = t1056 + t1057;
+        let t1062: f64 = t1058 + t1060;
+        let t1063: f64 = t1061 - t1062;
+        let t1064: f64 = t223 * t1063;
+        let t1065: f64 = t1055 - t1064;
+        let t1066: f64 = t250 * t1065;
+        let t1067: f64 = t1054 + t1066;
+        let t1068: f64 = t1041 - t1067;
+        let t1069: f64 = t249 * t1033;
+        let t1070: f64 = t1068 * t1069;
+        let t1071: f64 = t1070 * 2.0;
+        let t1072: f64 = leg3_zero_z * t205;
+        let t1073: f64 = t213 * t220;
+        let t1074: f64 = t1072 + t1073;
+        let t1075: f64 = t1074 * 2.0;
+        let t1076: f64 = t994 * t1075;
+        let t1077: f64 = t213 * t235;
+        let t1078: f64 = t193 * t224;
+        let t1079: f64 = t220 * t1078;
+        let t1080: f64 = leg3_zero_z * t240;
+        let t1081: f64 = t235 * t1078;
+        let t1082: f64 = t1074 - t1081;
+        let t1083: f64 = t1082 * 2.0;
+        let t1084: f64 = t1005 * t1083;
+        let t1085: f64 = t1084 * 0.5;
+        let t1086: f64 = t1077 + t1079;
+        let t1087: f64 = t1080 + t1085;
+        let t1088: f64 = t1086 + t1087;
+        let t1089: f64 = t223 * t1088;
+        let t1090: f64 = t1012 * t1075;
+        let t1091: f64 = leg3_zero_z * t235;
+        let t1092: f64 = t205 * t1078;
+        let t1093: f64 = t213 * t240;
+        let t1094: f64 = t1018 * t1083;
+        let t1095: f64 = t1094 * 0.5;
+        let t1096: f64 = t1091 + t1092;
+        let t1097: f64 = t1093 + t1095;
+        let t1098: f64 = t1096 - t1097;
+        let t1099: f64 = t223 * t1098;
+        let t1100: f64 = t1090 - t1099;
+        let t1101: f64 = t250 * t1100;
+        let t1102: f64 = t1089 + t1101;
+        let t1103: f64 = t1076 - t1102;
+        let t1104: f64 = t1069 * t1103;
+        let t1105: f64 = t1104 * 2.0;
+        let t1106: f64 = leg3_axis_z * t193;
+        let t1107: f64 = leg3_axis_y * t184;
+        let t1108: f64 = leg3_axis_x * t202;
+        let t1109: f64 = t1107 + t1108;
+        let t1110: f64 = t1106 + t1109;
+        let t1111: f64 = t205 * t213;
+        let t1112: f64 = t1110 * t1111;
+        let t1113: f64 = leg3_axis_y * leg3_zero_y;
+        let t1114: f64 = leg3_axis_x * leg3_zero_x;
+        let t1115: f64 = t1113 + t1114;
+        let t1116: f64 = t193 * t1115;
+        let t1117: f64 = leg3_zero_z * t1109;
+        let t1118: f64 = t1117 - t1116;
+        let t1119: f64 = t220 * t1118;
+        let t1120: f64 = t1112 - t1119;
+        let t1121: f64 = t1120 * 2.0;
+        let t1122: f64 = t994 * t1121;
+        let t1123: f64 = t235 * t1118;
+        let t1124: f64 = t1093 * t1110;
+        let t1125: f64 = t1005 * t1121;
+        let t1126: f64 = t1125 * 0.5;
+        let t1127: f64 = t1124 + t1126;
+        let t1128: f64 = t1123 - t1127;
+        let t1129: f64 = t223 * t1128;
+        let t1130: f64 = t1012 * t1121;
+        let t1131: f64 = t1077 * t1110;
+        let t1132: f64 = t240 * t1118;
+        let t1133: f64 = t1018 * t1121;
+        let t1134: f64 = t1133 * 0.5;
+        let t1135: f64 = t1131 + t1132;
+        let t1136: f64 = t1135 - t1134;
+        let t1137: f64 = t223 * t1136;
+        let t1138: f64 = t1130 - t1137;
+        let t1139: f64 = t250 * t1138;
+        let t1140: f64 = t1122 + t1129;
+        let t1141: f64 = t1140 - t1139;
+        let t1142: f64 = t1069 * t1141;
+        let t1143: f64 = t1142 * 2.0;
+        let t1144: f64 = leg3_axis_x * leg3_axis_x;
+        let t1145: f64 = leg3_axis_y * leg3_axis_y;
+        let t1146: f64 = t1144 + t1145;
+        let t1147: f64 = sqrt(t1146);
+        let t1148: f64 = leg3_zero_z * t1147;
+        let t1149: f64 = leg3_axis_z / t1147;
+        let t1150: f64 = t1115 * t1149;
+        let t1151: f64 = t1148 - t1150;
+        let t1152: f64 = -t1151;
+        let t1153: f64 = t205 * t1110;
+        let t1154: f64 = t1152 * t1153;
+        let t1155: f64 = leg3_zero_x * t1147;
+        let t1156: f64 = t208 * t1149;
+        let t1157: f64 = t1155 + t1156;
+        let t1158: f64 = t184 * t1157;
+        let t1159: f64 = t215 * t1149;
+        let t1160: f64 = leg3_zero_y * t1147;
+        let t1161: f64 = t1159 + t1160;
+        let t1162: f64 = t202 * t1161;
+        let t1163: f64 = t214 * t1149;
+        let t1164: f64 = t1162 + t1163;
+        let t1165: f64 = t1164 - t1158;
+        let t1166: f64 = t220 * t1165;
+        let t1167: f64 = t1154 - t1166;
+        let t1168: f64 = t1167 * 2.0;
+        let t1169: f64 = t994 * t1168;
+        let t1170: f64 = t235 * t1165;
+        let t1171: f64 = t240 * t1110;
+        let t1172: f64 = t1152 * t1171;
+        let t1173: f64 = t1005 * t1168;
+        let t1174: f64 = t1173 * 0.5;
+        let t1175: f64 = t1172 + t1174;
+        let t1176: f64 = t1170 - t1175;
+        let t1177: f64 = t223 * t1176;
+        let t1178: f64 = t1012 * t1168;
+        let t1179: f64 = t235 * t1110;
+        let t1180: f64 = t1152 * t1179;
+        let t1181: f64 = t240 * t1165;
+        let t1182: f64 = t1018 * t1168;
+        let t1183: f64 = t1182 * 0.5;
+        let t1184: f64 = t1180 + t1181;
+        let t1185: f64 = t1184 - t1183;
+        let t1186: f64 = t223 * t1185;
+        let t1187: f64 = t1178 - t1186;
+        let t1188: f64 = t250 * t1187;
+        let t1189: f64 = t1169 + t1177;
+        let t1190: f64 = t1189 - t1188;
+        let t1191: f64 = t1069 * t1190;
+        let t1192: f64 = t1191 * 2.0;
+        let t1193: f64 = -t1192;
+        let t1194: f64 = -t1036;
+        let t1195: f64 = t695 * t1194;
+        let t1196: f64 = -t1071;
+        let t1197: f64 = t9 * t1196;
+        let t1198: f64 = -t1105;
+        let t1199: f64 = t25 * t1198;
+        let t1200: f64 = t1195 + t1197;
+        let t1201: f64 = t1199 + t1200;
+        let t1202: f64 = t703 * t1194;
+        let t1203: f64 = t13 * t1196;
+        let t1204: f64 = t30 * t1198;
+        let t1205: f64 = t1203 + t1204;
+        let t1206: f64 = t1205 - t1202;
+        let t1207: f64 = t5 * t1194;
+        let t1208: f64 = t2 * t1196;
+        let t1209: f64 = t3 * t1198;
+        let t1210: f64 = t1208 - t1209;
+        let t1211: f64 = t6 * t1210;
+        let t1212: f64 = t1207 - t1211;
+        let t1213: f64 = t224 * t224;
+        let t1214: f64 = t233 * t1213;
+        let t1215: f64 = t1214 * 0.5;
+        let t1216: f64 = t1215 - 1.0;
+        let t1217: f64 = t235 * t1004;
+        let t1218: f64 = t1000 * t1217;
+        let t1219: f64 = t235 * t1017;
+        let t1220: f64 = t1000 * t1219;
+        let t1221: f64 = t205 + t1220;
+        let t1222: f64 = t250 * t1221;
+        let t1223: f64 = t1218 + t1222;
+        let t1224: f64 = t220 - t1223;
+        let t1225: f64 = t223 * t249;
+        let t1226: f64 = t1033 * t1225;
+        let t1227: f64 = t1216 * t1226;
+        let t1228: f64 = t1224 * t1227;
         let t1229: f64 = t1228 * 2.0;
-        let t1230: f64 = t1151 * t1229;
-        let t1231: f64 = t1230 * 0.5;
-        let t1232: f64 = t1223 + t1225;
-        let t1233: f64 = t1226 + t1231;
-        let t1234: f64 = t1232 + t1233;
-        let t1235: f64 = t379 * t1234;
-        let t1236: f64 = t1158 * t1221;
-        let t1237: f64 = leg5_zero_z * t391;
-        let t1238: f64 = t361 * t1224;
-        let t1239: f64 = t369 * t396;
-        let t1240: f64 = t1164 * t1229;
-        let t1241: f64 = t1240 * 0.5;
-        let t1242: f64 = t1237 + t1238;
-        let t1243: f64 = t1239 + t1241;
-        let t1244: f64 = t1242 - t1243;
-        let t1245: f64 = t379 * t1244;
-        let t1246: f64 = t1236 - t1245;
-        let t1247: f64 = t406 * t1246;
-        let t1248: f64 = t1235 + t1247;
-        let t1249: f64 = t1222 - t1248;
-        let t1250: f64 = t1215 * t1249;
-        let t1251: f64 = t1250 * 2.0;
-        let t1252: f64 = -t1182;
-        let t1253: f64 = t607 * t1252;
-        let t1254: f64 = -t1217;
-        let t1255: f64 = t9 * t1254;
-        let t1256: f64 = -t1251;
-        let t1257: f64 = t25 * t1256;
-        let t1258: f64 = t1253 + t1255;
+        let t1230: f64 = -t1229;
+        let t1231: f64 = leg3_rod_length * t224;
+        let t1232: f64 = t223 * t1231;
+        let t1233: f64 = t249 * t1232;
+        let t1234: f64 = t1033 * t1233;
+        let t1235: f64 = t1224 * t1234;
+        let t1236: f64 = t1235 * 2.0;
+        let t1237: f64 = -t1236;
+        let t1238: f64 = t301 * t301;
+        let t1239: f64 = leg4_zero_x * t283;
+        let t1240: f64 = t295 * t298;
+        let t1241: f64 = t1239 + t1240;
+        let t1242: f64 = t1241 * 2.0;
+        let t1243: f64 = t320 * t1238;
+        let t1244: f64 = t1242 * t1243;
+        let t1245: f64 = t295 * t313;
+        let t1246: f64 = t280 * t302;
+        let t1247: f64 = t298 * t1246;
+        let t1248: f64 = leg4_zero_x * t318;
+        let t1249: f64 = 1.0 / t317;
+        let t1250: f64 = t313 * t1246;
+        let t1251: f64 = t1241 - t1250;
+        let t1252: f64 = t1251 * 2.0;
+        let t1253: f64 = leg4_branch * t283;
+        let t1254: f64 = t1249 * t1253;
+        let t1255: f64 = t1252 * t1254;
+        let t1256: f64 = t1255 * 0.5;
+        let t1257: f64 = t1245 + t1247;
+        let t1258: f64 = t1248 + t1256;
         let t1259: f64 = t1257 + t1258;
-        let t1260: f64 = t615 * t1252;
-        let t1261: f64 = t13 * t1254;
-        let t1262: f64 = t30 * t1256;
-        let t1263: f64 = t1261 + t1262;
-        let t1264: f64 = t1263 - t1260;
-        let t1265: f64 = t5 * t1252;
-        let t1266: f64 = t2 * t1254;
-        let t1267: f64 = t3 * t1256;
-        let t1268: f64 = t1266 - t1267;
-        let t1269: f64 = t6 * t1268;
-        let t1270: f64 = t1265 - t1269;
-        let t1271: f64 = t380 * t380;
-        let t1272: f64 = t389 * t1271;
-        let t1273: f64 = t1272 * 0.5;
-        let t1274: f64 = t1273 - 1.0;
-        let t1275: f64 = t391 * t1150;
-        let t1276: f64 = t1146 * t1275;
-        let t1277: f64 = t391 * t1163;
-        let t1278: f64 = t1146 * t1277;
-        let t1279: f64 = t361 + t1278;
-        let t1280: f64 = t406 * t1279;
-        let t1281: f64 = t1276 + t1280;
-        let t1282: f64 = t376 - t1281;
-        let t1283: f64 = t379 * t405;
-        let t1284: f64 = t1179 * t1283;
-        let t1285: f64 = t1274 * t1284;
-        let t1286: f64 = t1282 * t1285;
-        let t1287: f64 = t1286 * 2.0;
-        let t1288: f64 = -t1287;
-        let t1289: f64 = leg5_rod_length * t380;
-        let t1290: f64 = t379 * t1289;
-        let t1291: f64 = t405 * t1290;
-        let t1292: f64 = t1179 * t1291;
-        let t1293: f64 = t1282 * t1292;
-        let t1294: f64 = t1293 * 2.0;
-        let t1295: f64 = -t1294;
-        let t1296: f64 = t457 * t457;
-        let t1297: f64 = leg6_zero_x * t439;
-        let t1298: f64 = t451 * t454;
-        let t1299: f64 = t1297 + t1298;
-        let t1300: f64 = t1299 * 2.0;
-        let t1301: f64 = t476 * t1296;
-        let t1302: f64 = t1300 * t1301;
-        let t1303: f64 = t451 * t469;
-        let t1304: f64 = t436 * t458;
-        let t1305: f64 = t454 * t1304;
-        let t1306: f64 = leg6_zero_x * t474;
-        let t1307: f64 = 1.0 / t473;
-        let t1308: f64 = t469 * t1304;
-        let t1309: f64 = t1299 - t1308;
-        let t1310: f64 = t1309 * 2.0;
-        let t1311: f64 = leg6_branch * t439;
-        let t1312: f64 = t1307 * t1311;
-        let t1313: f64 = t1310 * t1312;
-        let t1314: f64 = t1313 * 0.5;
-        let t1315: f64 = t1303 + t1305;
-        let t1316: f64 = t1306 + t1314;
-        let t1317: f64 = t1315 + t1316;
-        let t1318: f64 = t457 * t1317;
-        let t1319: f64 = t480 * t1296;
-        let t1320: f64 = t1300 * t1319;
-        let t1321: f64 = leg6_zero_x * t469;
-        let t1322: f64 = t439 * t1304;
-        let t1323: f64 = t451 * t474;
-        let t1324: f64 = leg6_branch * t454;
-        let t1325: f64 = t1307 * t1324;
-        let t1326: f64 = t1310 * t1325;
-        let t1327: f64 = t1326 * 0.5;
-        let t1328: f64 = t1321 + t1322;
-        let t1329: f64 = t1323 + t1327;
-        let t1330: f64 = t1328 - t1329;
-        let t1331: f64 = t457 * t1330;
-        let t1332: f64 = t1320 - t1331;
-        let t1333: f64 = t484 * t1332;
-        let t1334: f64 = t1318 + t1333;
-        let t1335: f64 = t1302 - t1334;
-        let t1336: f64 = t477 * t477;
-        let t1337: f64 = t483 * t483;
-        let t1338: f64 = t1336 * t1337;
-        let t1339: f64 = t1338 + 1.0;
-        let t1340: f64 = 1.0 / t1339;
-        let t1341: f64 = t483 * t1335;
-        let t1342: f64 = t1340 * t1341;
-        let t1343: f64 = t1342 * 2.0;
-        let t1344: f64 = leg6_zero_y * t439;
-        let t1345: f64 = t443 * t454;
-        let t1346: f64 = t1344 + t1345;
-        let t1347: f64 = t1346 * 2.0;
-        let t1348: f64 = t1301 * t1347;
-        let t1349: f64 = t443 * t469;
-        let t1350: f64 = t418 * t458;
-        let t1351: f64 = t454 * t1350;
-        let t1352: f64 = leg6_zero_y * t474;
-        let t1353: f64 = t469 * t1350;
-        let t1354: f64 = t1346 - t1353;
-        let t1355: f64 = t1354 * 2.0;
-        let t1356: f64 = t1312 * t1355;
-        let t1357: f64 = t1356 * 0.5;
-        let t1358: f64 = t1349 + t1351;
-        let t1359: f64 = t1352 + t1357;
-        let t1360: f64 = t1358 + t1359;
-        let t1361: f64 = t457 * t1360;
-        let t1362: f64 = t1319 * t1347;
-        let t1363: f64 = leg6_zero_y * t469;
-        let t1364: f64 = t439 * t1350;
-        let t1365: f64 = t443 * t474;
-        let t1366: f64 = t1325 * t1355;
-        let t1367: f64 = t1366 * 0.5;
-        let t1368: f64 = t1363 + t1364;
-        let t1369: f64 = t1365 + t1367;
-        let t1370: f64 = t1368 - t1369;
-        let t1371: f64 = t457 * t1370;
-        let t1372: f64 = t1362 - t1371;
-        let t1373: f64 = t484 * t1372;
-        let t1374: f64 = t1361 + t1373;
-        let t1375: f64 = t1348 - t1374;
-        let t1376: f64 = t483 * t1340;
-        let t1377: f64 = t1375 * t1376;
-        let t1378: f64 = t1377 * 2.0;
-        let t1379: f64 = leg6_zero_z * t439;
-        let t1380: f64 = t447 * t454;
-        let t1381: f64 = t1379 + t1380;
-        let t1382: f64 = t1381 * 2.0;
-        let t1383: f64 = t1301 * t1382;
-        let t1384: f64 = t447 * t469;
-        let t1385: f64 = t427 * t458;
-        let t1386: f64 = t454 * t1385;
-        let t1387: f64 = leg6_zero_z * t474;
-        let t1388: f64 = t469 * t1385;
-        let t1389: f64 = t1381 - t1388;
-        let t1390: f64 = t1389 * 2.0;
-        let t1391: f64 = t1312 * t1390;
-        let t1392: f64 = t1391 * 0.5;
-        let t1393: f64 = t1384 + t1386;
-        let t1394: f64 = t1387 + t1392;
+        let t1260: f64 = t301 * t1259;
+        let t1261: f64 = t324 * t1238;
+        let t1262: f64 = t1242 * t1261;
+        let t1263: f64 = leg4_zero_x * t313;
+        let t1264: f64 = t283 * t1246;
+        let t1265: f64 = t295 * t318;
+        let t1266: f64 = leg4_branch * t298;
+        let t1267: f64 = t1249 * t1266;
+        let t1268: f64 = t1252 * t1267;
+        let t1269: f64 = t1268 * 0.5;
+        let t1270: f64 = t1263 + t1264;
+        let t1271: f64 = t1265 + t1269;
+        let t1272: f64 = t1270 - t1271;
+        let t1273: f64 = t301 * t1272;
+        let t1274: f64 = t1262 - t1273;
+        let t1275: f64 = t328 * t1274;
+        let t1276: f64 = t1260 + t1275;
+        let t1277: f64 = t1244 - t1276;
+        let t1278: f64 = t321 * t321;
+        let t1279: f64 = t327 * t327;
+        let t1280: f64 = t1278 * t1279;
+        let t1281: f64 = t1280 + 1.0;
+        let t1282: f64 = 1.0 / t1281;
+        let t1283: f64 = t327 * t1277;
+        let t1284: f64 = t1282 * t1283;
+        let t1285: f64 = t1284 * 2.0;
+        let t1286: f64 = leg4_zero_y * t283;
+        let t1287: f64 = t287 * t298;
+        let t1288: f64 = t1286 + t1287;
+        let t1289: f64 = t1288 * 2.0;
+        let t1290: f64 = t1243 * t1289;
+        let t1291: f64 = t287 * t313;
+        let t1292: f64 = t262 * t302;
+        let t1293: f64 = t298 * t1292;
+        let t1294: f64 = leg4_zero_y * t318;
+        let t1295: f64 = t313 * t1292;
+        let t1296: f64 = t1288 - t1295;
+        let t1297: f64 = t1296 * 2.0;
+        let t1298: f64 = t1254 * t1297;
+        let t1299: f64 = t1298 * 0.5;
+        let t1300: f64 = t1291 + t1293;
+        let t1301: f64 = t1294 + t1299;
+        let t1302: f64 = t1300 + t1301;
+        let t1303: f64 = t301 * t1302;
+        let t1304: f64 = t1261 * t1289;
+        let t1305: f64 = leg4_zero_y * t313;
+        let t1306: f64 = t283 * t1292;
+        let t1307: f64 = t287 * t318;
+        let t1308: f64 = t1267 * t1297;
+        let t1309: f64 = t1308 * 0.5;
+        let t1310: f64 = t1305 + t1306;
+        let t1311: f64 = t1307 + t1309;
+        let t1312: f64 = t1310 - t1311;
+        let t1313: f64 = t301 * t1312;
+        let t1314: f64 = t1304 - t1313;
+        let t1315: f64 = t328 * t1314;
+        let t1316: f64 = t1303 + t1315;
+        let t1317: f64 = t1290 - t1316;
+        let t1318: f64 = t327 * t1282;
+        let t1319: f64 = t1317 * t1318;
+        let t1320: f64 = t1319 * 2.0;
+        let t1321: f64 = leg4_zero_z * t283;
+        let t1322: f64 = t291 * t298;
+        let t1323: f64 = t1321 + t1322;
+        let t1324: f64 = t1323 * 2.0;
+        let t1325: f64 = t1243 * t1324;
+        let t1326: f64 = t291 * t313;
+        let t1327: f64 = t271 * t302;
+        let t1328: f64 = t298 * t1327;
+        let t1329: f64 = leg4_zero_z * t318;
+        let t1330: f64 = t313 * t1327;
+        let t1331: f64 = t1323 - t1330;
+        let t1332: f64 = t1331 * 2.0;
+        let t1333: f64 = t1254 * t1332;
+        let t1334: f64 = t1333 * 0.5;
+        let t1335: f64 = t1326 + t1328;
+        let t1336: f64 = t1329 + t1334;
+        let t1337: f64 = t1335 + t1336;
+        let t1338: f64 = t301 * t1337;
+        let t1339: f64 = t1261 * t1324;
+        let t1340: f64 = leg4_zero_z * t313;
+        let t1341: f64 = t283 * t1327;
+        let t1342: f64 = t291 * t318;
+        let t1343: f64 = t1267 * t1332;
+        let t1344: f64 = t1343 * 0.5;
+        let t1345: f64 = t1340 + t1341;
+        let t1346: f64 = t1342 + t1344;
+        let t1347: f64 = t1345 - t1346;
+        let t1348: f64 = t301 * t1347;
+        let t1349: f64 = t1339 - t1348;
+        let t1350: f64 = t328 * t1349;
+        let t1351: f64 = t1338 + t1350;
+        let t1352: f64 = t1325 - t1351;
+        let t1353: f64 = t1318 * t1352;
+        let t1354: f64 = t1353 * 2.0;
+        let t1355: f64 = leg4_axis_z * t271;
+        let t1356: f64 = leg4_axis_y * t262;
+        let t1357: f64 = leg4_axis_x * t280;
+        let t1358: f64 = t1356 + t1357;
+        let t1359: f64 = t1355 + t1358;
+        let t1360: f64 = t283 * t291;
+        let t1361: f64 = t1359 * t1360;
+        let t1362: f64 = leg4_axis_y * leg4_zero_y;
+        let t1363: f64 = leg4_axis_x * leg4_zero_x;
+        let t1364: f64 = t1362 + t1363;
+        let t1365: f64 = t271 * t1364;
+        let t1366: f64 = leg4_zero_z * t1358;
+        let t1367: f64 = t1366 - t1365;
+        let t1368: f64 = t298 * t1367;
+        let t1369: f64 = t1361 - t1368;
+        let t1370: f64 = t1369 * 2.0;
+        let t1371: f64 = t1243 * t1370;
+        let t1372: f64 = t313 * t1367;
+        let t1373: f64 = t1342 * t1359;
+        let t1374: f64 = t1254 * t1370;
+        let t1375: f64 = t1374 * 0.5;
+        let t1376: f64 = t1373 + t1375;
+        let t1377: f64 = t1372 - t1376;
+        let t1378: f64 = t301 * t1377;
+        let t1379: f64 = t1261 * t1370;
+        let t1380: f64 = t1326 * t1359;
+        let t1381: f64 = t318 * t1367;
+        let t1382: f64 = t1267 * t1370;
+        let t1383: f64 = t1382 * 0.5;
+        let t1384: f64 = t1380 + t1381;
+        let t1385: f64 = t1384 - t1383;
+        let t1386: f64 = t301 * t1385;
+        let t1387: f64 = t1379 - t1386;
+        let t1388: f64 = t328 * t1387;
+        let t1389: f64 = t1371 + t1378;
+        let t1390: f64 = t1389 - t1388;
+        let t1391: f64 = t1318 * t1390;
+        let t1392: f64 = t1391 * 2.0;
+        let t1393: f64 = leg4_axis_x * leg4_axis_x;
+        let t1394: f64 = leg4_axis_y * leg4_axis_y;
         let t1395: f64 = t1393 + t1394;
-        let t1396: f64 = t457 * t1395;
-        let t1397: f64 = t1319 * t1382;
-        let t1398: f64 = leg6_zero_z * t469;
-        let t1399: f64 = t439 * t1385;
-        let t1400: f64 = t447 * t474;
-        let t1401: f64 = t1325 * t1390;
-        let t1402: f64 = t1401 * 0.5;
-        let t1403: f64 = t1398 + t1399;
-        let t1404: f64 = t1400 + t1402;
-        let t1405: f64 = t1403 - t1404;
-        let t1406: f64 = t457 * t1405;
-        let t1407: f64 = t1397 - t1406;
-        let t1408: f64 = t484 * t1407;
-        let t1409: f64 = t1396 + t1408;
-        let t1410: f64 = t1383 - t1409;
-        let t1411: f64 = t1376 * t1410;
-        let t1412: f64 = t1411 * 2.0;
-        let t1413: f64 = -t1343;
-        let t1414: f64 = t607 * t1413;
-        let t1415: f64 = -t1378;
-        let t1416: f64 = t9 * t1415;
-        let t1417: f64 = -t1412;
-        let t1418: f64 = t25 * t1417;
-        let t1419: f64 = t1414 + t1416;
-        let t1420: f64 = t1418 + t1419;
-        let t1421: f64 = t615 * t1413;
-        let t1422: f64 = t13 * t1415;
-        let t1423: f64 = t30 * t1417;
-        let t1424: f64 = t1422 + t1423;
-        let t1425: f64 = t1424 - t1421;
-        let t1426: f64 = t5 * t1413;
-        let t1427: f64 = t2 * t1415;
-        let t1428: f64 = t3 * t1417;
-        let t1429: f64 = t1427 - t1428;
-        let t1430: f64 = t6 * t1429;
-        let t1431: f64 = t1426 - t1430;
-        let t1432: f64 = t458 * t458;
-        let t1433: f64 = t467 * t1432;
-        let t1434: f64 = t1433 * 0.5;
-        let t1435: f64 = t1434 - 1.0;
-        let t1436: f64 = t469 * t1311;
-        let t1437: f64 = t1307 * t1436;
-        let t1438: f64 = t469 * t1324;
-        let t1439: f64 = t1307 * t1438;
-        let t1440: f64 = t439 + t1439;
-        let t1441: f64 = t484 * t1440;
-        let t1442: f64 = t1437 + t1441;
-        let t1443: f64 = t454 - t1442;
-        let t1444: f64 = t457 * t483;
-        let t1445: f64 = t1340 * t1444;
-        let t1446: f64 = t1435 * t1445;
-        let t1447: f64 = t1443 * t1446;
-        let t1448: f64 = t1447 * 2.0;
-        let t1449: f64 = -t1448;
-        let t1450: f64 = leg6_rod_length * t458;
-        let t1451: f64 = t457 * t1450;
-        let t1452: f64 = t483 * t1451;
-        let t1453: f64 = t1340 * t1452;
-        let t1454: f64 = t1443 * t1453;
-        let t1455: f64 = t1454 * 2.0;
-        let t1456: f64 = -t1455;
-        let t1457: f64 = t35 * t609;
-        let t1458: f64 = t18 * t611;
-        let t1459: f64 = t1458 - t1457;
-        let t1460: f64 = leg1_platform_z * t6;
-        let t1461: f64 = t5 * t42;
-        let t1462: f64 = t1460 - t1461;
-        let t1463: f64 = t606 * t1462;
-        let t1464: f64 = t44 * t624;
-        let t1465: f64 = t1463 + t1464;
-        let t1466: f64 = leg1_platform_x * t0;
-        let t1467: f64 = leg1_platform_y * t1;
-        let t1468: f64 = t1466 + t1467;
-        let t1469: f64 = t6 * t606;
-        let t1470: f64 = t1468 * t1469;
-        let t1471: f64 = leg1_platform_x * t13;
-        let t1472: f64 = leg1_platform_y * t9;
-        let t1473: f64 = t1471 - t1472;
-        let t1474: f64 = t609 * t1473;
-        let t1475: f64 = leg1_platform_x * t30;
-        let t1476: f64 = leg1_platform_y * t25;
-        let t1477: f64 = t1475 - t1476;
-        let t1478: f64 = t611 * t1477;
-        let t1479: f64 = t1474 + t1478;
-        let t1480: f64 = t1479 - t1470;
-        let t1481: f64 = t113 * t771;
-        let t1482: f64 = t104 * t773;
-        let t1483: f64 = t1482 - t1481;
-        let t1484: f64 = leg2_platform_z * t6;
-        let t1485: f64 = t5 * t120;
-        let t1486: f64 = t1484 - t1485;
-        let t1487: f64 = t769 * t1486;
-        let t1488: f64 = t122 * t785;
-        let t1489: f64 = t1487 + t1488;
-        let t1490: f64 = leg2_platform_x * t0;
-        let t1491: f64 = leg2_platform_y * t1;
-        let t1492: f64 = t1490 + t1491;
-        let t1493: f64 = t6 * t769;
-        let t1494: f64 = t1492 * t1493;
-        let t1495: f64 = leg2_platform_x * t13;
-        let t1496: f64 = leg2_platform_y * t9;
-        let t1497: f64 = t1495 - t1496;
-        let t1498: f64 = t771 * t1497;
-        let t1499: f64 = leg2_platform_x * t30;
-        let t1500: f64 = leg2_platform_y * t25;
-        let t1501: f64 = t1499 - t1500;
-        let t1502: f64 = t773 * t1501;
-        let t1503: f64 = t1498 + t1502;
-        let t1504: f64 = t1503 - t1494;
-        let t1505: f64 = t191 * t932;
-        let t1506: f64 = t182 * t934;
-        let t1507: f64 = t1506 - t1505;
-        let t1508: f64 = leg3_platform_z * t6;
-        let t1509: f64 = t5 * t198;
-        let t1510: f64 = t1508 - t1509;
-        let t1511: f64 = t930 * t1510;
-        let t1512: f64 = t200 * t946;
-        let t1513: f64 = t1511 + t1512;
-        let t1514: f64 = leg3_platform_x * t0;
-        let t1515: f64 = leg3_platform_y * t1;
-        let t1516: f64 = t1514 + t1515;
-        let t1517: f64 = t6 * t930;
-        let t1518: f64 = t1516 * t1517;
-        let t1519: f64 = leg3_platform_x * t13;
-        let t1520: f64 = leg3_platform_y * t9;
+        let t1396: f64 = sqrt(t1395);
+        let t1397: f64 = leg4_zero_z * t1396;
+        let t1398: f64 = leg4_axis_z / t1396;
+        let t1399: f64 = t1364 * t1398;
+        let t1400: f64 = t1397 - t1399;
+        let t1401: f64 = -t1400;
+        let t1402: f64 = t283 * t1359;
+        let t1403: f64 = t1401 * t1402;
+        let t1404: f64 = leg4_zero_x * t1396;
+        let t1405: f64 = t286 * t1398;
+        let t1406: f64 = t1404 + t1405;
+        let t1407: f64 = t262 * t1406;
+        let t1408: f64 = t293 * t1398;
+        let t1409: f64 = leg4_zero_y * t1396;
+        let t1410: f64 = t1408 + t1409;
+        let t1411: f64 = t280 * t1410;
+        let t1412: f64 = t292 * t1398;
+        let t1413: f64 = t1411 + t1412;
+        let t1414: f64 = t1413 - t1407;
+        let t1415: f64 = t298 * t1414;
+        let t1416: f64 = t1403 - t1415;
+        let t1417: f64 = t1416 * 2.0;
+        let t1418: f64 = t1243 * t1417;
+        let t1419: f64 = t313 * t1414;
+        let t1420: f64 = t318 * t1359;
+        let t1421: f64 = t1401 * t1420;
+        let t1422: f64 = t1254 * t1417;
+        let t1423: f64 = t1422 * 0.5;
+        let t1424: f64 = t1421 + t1423;
+        let t1425: f64 = t1419 - t1424;
+        let t1426: f64 = t301 * t1425;
+        let t1427: f64 = t1261 * t1417;
+        let t1428: f64 = t313 * t1359;
+        let t1429: f64 = t1401 * t1428;
+        let t1430: f64 = t318 * t1414;
+        let t1431: f64 = t1267 * t1417;
+        let t1432: f64 = t1431 * 0.5;
+        let t1433: f64 = t1429 + t1430;
+        let t1434: f64 = t1433 - t1432;
+        let t1435: f64 = t301 * t1434;
+        let t1436: f64 = t1427 - t1435;
+        let t1437: f64 = t328 * t1436;
+        let t1438: f64 = t1418 + t1426;
+        let t1439: f64 = t1438 - t1437;
+        let t1440: f64 = t1318 * t1439;
+        let t1441: f64 = t1440 * 2.0;
+        let t1442: f64 = -t1441;
+        let t1443: f64 = -t1285;
+        let t1444: f64 = t695 * t1443;
+        let t1445: f64 = -t1320;
+        let t1446: f64 = t9 * t1445;
+        let t1447: f64 = -t1354;
+        let t1448: f64 = t25 * t1447;
+        let t1449: f64 = t1444 + t1446;
+        let t1450: f64 = t1448 + t1449;
+        let t1451: f64 = t703 * t1443;
+        let t1452: f64 = t13 * t1445;
+        let t1453: f64 = t30 * t1447;
+        let t1454: f64 = t1452 + t1453;
+        let t1455: f64 = t1454 - t1451;
+        let t1456: f64 = t5 * t1443;
+        let t1457: f64 = t2 * t1445;
+        let t1458: f64 = t3 * t1447;
+        let t1459: f64 = t1457 - t1458;
+        let t1460: f64 = t6 * t1459;
+        let t1461: f64 = t1456 - t1460;
+        let t1462: f64 = t302 * t302;
+        let t1463: f64 = t311 * t1462;
+        let t1464: f64 = t1463 * 0.5;
+        let t1465: f64 = t1464 - 1.0;
+        let t1466: f64 = t313 * t1253;
+        let t1467: f64 = t1249 * t1466;
+        let t1468: f64 = t313 * t1266;
+        let t1469: f64 = t1249 * t1468;
+        let t1470: f64 = t283 + t1469;
+        let t1471: f64 = t328 * t1470;
+        let t1472: f64 = t1467 + t1471;
+        let t1473: f64 = t298 - t1472;
+        let t1474: f64 = t301 * t327;
+        let t1475: f64 = t1282 * t1474;
+        let t1476: f64 = t1465 * t1475;
+        let t1477: f64 = t1473 * t1476;
+        let t1478: f64 = t1477 * 2.0;
+        let t1479: f64 = -t1478;
+        let t1480: f64 = leg4_rod_length * t302;
+        let t1481: f64 = t301 * t1480;
+        let t1482: f64 = t327 * t1481;
+        let t1483: f64 = t1282 * t1482;
+        let t1484: f64 = t1473 * t1483;
+        let t1485: f64 = t1484 * 2.0;
+        let t1486: f64 = -t1485;
+        let t1487: f64 = t379 * t379;
+        let t1488: f64 = leg5_zero_x * t361;
+        let t1489: f64 = t373 * t376;
+        let t1490: f64 = t1488 + t1489;
+        let t1491: f64 = t1490 * 2.0;
+        let t1492: f64 = t398 * t1487;
+        let t1493: f64 = t1491 * t1492;
+        let t1494: f64 = t373 * t391;
+        let t1495: f64 = t358 * t380;
+        let t1496: f64 = t376 * t1495;
+        let t1497: f64 = leg5_zero_x * t396;
+        let t1498: f64 = 1.0 / t395;
+        let t1499: f64 = t391 * t1495;
+        let t1500: f64 = t1490 - t1499;
+        let t1501: f64 = t1500 * 2.0;
+        let t1502: f64 = leg5_branch * t361;
+        let t1503: f64 = t1498 * t1502;
+        let t1504: f64 = t1501 * t1503;
+        let t1505: f64 = t1504 * 0.5;
+        let t1506: f64 = t1494 + t1496;
+        let t1507: f64 = t1497 + t1505;
+        let t1508: f64 = t1506 + t1507;
+        let t1509: f64 = t379 * t1508;
+        let t1510: f64 = t402 * t1487;
+        let t1511: f64 = t1491 * t1510;
+        let t1512: f64 = leg5_zero_x * t391;
+        let t1513: f64 = t361 * t1495;
+        let t1514: f64 = t373 * t396;
+        let t1515: f64 = leg5_branch * t376;
+        let t1516: f64 = t1498 * t1515;
+        let t1517: f64 = t1501 * t1516;
+        let t1518: f64 = t1517 * 0.5;
+        let t1519: f64 = t1512 + t1513;
+        let t1520: f64 = t1514 + t1518;
         let t1521: f64 = t1519 - t1520;
-        let t1522: f64 = t932 * t1521;
-        let t1523: f64 = leg3_platform_x * t30;
-        let t1524: f64 = leg3_platform_y * t25;
-        let t1525: f64 = t1523 - t1524;
-        let t1526: f64 = t934 * t1525;
-        let t1527: f64 = t1522 + t1526;
-        let t1528: f64 = t1527 - t1518;
-        let t1529: f64 = t269 * t1093;
-        let t1530: f64 = t260 * t1095;
-        let t1531: f64 = t1530 - t1529;
-        let t1532: f64 = leg4_platform_z * t6;
-        let t1533: f64 = t5 * t276;
-        let t1534: f64 = t1532 - t1533;
-        let t1535: f64 = t1091 * t1534;
-        let t1536: f64 = t278 * t1107;
+        let t1522: f64 = t379 * t1521;
+        let t1523: f64 = t1511 - t1522;
+        let t1524: f64 = t406 * t1523;
+        let t1525: f64 = t1509 + t1524;
+        let t1526: f64 = t1493 - t1525;
+        let t1527: f64 = t399 * t399;
+        let t1528: f64 = t405 * t405;
+        let t1529: f64 = t1527 * t1528;
+        let t1530: f64 = t1529 + 1.0;
+        let t1531: f64 = 1.0 / t1530;
+        let t1532: f64 = t405 * t1526;
+        let t1533: f64 = t1531 * t1532;
+        let t1534: f64 = t1533 * 2.0;
+        let t1535: f64 = leg5_zero_y * t361;
+        let t1536: f64 = t365 * t376;
         let t1537: f64 = t1535 + t1536;
-        let t1538: f64 = leg4_platform_x * t0;
-        let t1539: f64 = leg4_platform_y * t1;
-        let t1540: f64 = t1538 + t1539;
-        let t1541: f64 = t6 * t1091;
-        let t1542: f64 = t1540 * t1541;
-        let t1543: f64 = leg4_platform_x * t13;
-        let t1544: f64 = leg4_platform_y * t9;
-        let t1545: f64 = t1543 - t1544;
-        let t1546: f64 = t1093 * t1545;
-        let t1547: f64 = leg4_platform_x * t30;
-        let t1548: f64 = leg4_platform_y * t25;
-        let t1549: f64 = t1547 - t1548;
-        let t1550: f64 = t1095 * t1549;
-        let t1551: f64 = t1546 + t1550;
-        let t1552: f64 = t1551 - t1542;
-        let t1553: f64 = t347 * t1254;
-        let t1554: f64 = t338 * t1256;
-        let t1555: f64 = t1554 - t1553;
-        let t1556: f64 = leg5_platform_z * t6;
-        let t1557: f64 = t5 * t354;
-        let t1558: f64 = t1556 - t1557;
-        let t1559: f64 = t1252 * t1558;
-        let t1560: f64 = t356 * t1268;
-        let t1561: f64 = t1559 + t1560;
-        let t1562: f64 = leg5_platform_x * t0;
-        let t1563: f64 = leg5_platform_y * t1;
-        let t1564: f64 = t1562 + t1563;
-        let t1565: f64 = t6 * t1252;
-        let t1566: f64 = t1564 * t1565;
-        let t1567: f64 = leg5_platform_x * t13;
-        let t1568: f64 = leg5_platform_y * t9;
-        let t1569: f64 = t1567 - t1568;
-        let t1570: f64 = t1254 * t1569;
-        let t1571: f64 = leg5_platform_x * t30;
-        let t1572: f64 = leg5_platform_y * t25;
-        let t1573: f64 = t1571 - t1572;
-        let t1574: f64 = t1256 * t1573;
-        let t1575: f64 = t1570 + t1574;
-        let t1576: f64 = t1575 - t1566;
-        let t1577: f64 = t425 * t1415;
-        let t1578: f64 = t416 * t1417;
-        let t1579: f64 = t1578 - t1577;
-        let t1580: f64 = leg6_platform_z * t6;
-        let t1581: f64 = t5 * t432;
-        let t1582: f64 = t1580 - t1581;
-        let t1583: f64 = t1413 * t1582;
-        let t1584: f64 = t434 * t1429;
-        let t1585: f64 = t1583 + t1584;
-        let t1586: f64 = leg6_platform_x * t0;
-        let t1587: f64 = leg6_platform_y * t1;
-        let t1588: f64 = t1586 + t1587;
-        let t1589: f64 = t6 * t1413;
-        let t1590: f64 = t1588 * t1589;
-        let t1591: f64 = leg6_platform_x * t13;
-        let t1592: f64 = leg6_platform_y * t9;
-        let t1593: f64 = t1591 - t1592;
-        let t1594: f64 = t1415 * t1593;
-        let t1595: f64 = leg6_platform_x * t30;
-        let t1596: f64 = leg6_platform_y * t25;
-        let t1597: f64 = t1595 - t1596;
-        let t1598: f64 = t1417 * t1597;
-        let t1599: f64 = t1594 + t1598;
-        let t1600: f64 = t1599 - t1590;
+        let t1538: f64 = t1537 * 2.0;
+        let t1539: f64 = t1492 * t1538;
+        let t1540: f64 = t365 * t391;
+        let t1541: f64 = t340 * t380;
+        let t1542: f64 = t376 * t1541;
+        let t1543: f64 = leg5_zero_y * t396;
+        let t1544: f64 = t391 * t1541;
+        let t1545: f64 = t1537 - t1544;
+        let t1546: f64 = t1545 * 2.0;
+        let t1547: f64 = t1503 * t1546;
+        let t1548: f64 = t1547 * 0.5;
+        let t1549: f64 = t1540 + t1542;
+        let t1550: f64 = t1543 + t1548;
+        let t1551: f64 = t1549 + t1550;
+        let t1552: f64 = t379 * t1551;
+        let t1553: f64 = t1510 * t1538;
+        let t1554: f64 = leg5_zero_y * t391;
+        let t1555: f64 = t361 * t1541;
+        let t1556: f64 = t365 * t396;
+        let t1557: f64 = t1516 * t1546;
+        let t1558: f64 = t1557 * 0.5;
+        let t1559: f64 = t1554 + t1555;
+        let t1560: f64 = t1556 + t1558;
+        let t1561: f64 = t1559 - t1560;
+        let t1562: f64 = t379 * t1561;
+        let t1563: f64 = t1553 - t1562;
+        let t1564: f64 = t406 * t1563;
+        let t1565: f64 = t1552 + t1564;
+        let t1566: f64 = t1539 - t1565;
+        let t1567: f64 = t405 * t1531;
+        let t1568: f64 = t1566 * t1567;
+        let t1569: f64 = t1568 * 2.0;
+        let t1570: f64 = leg5_zero_z * t361;
+        let t1571: f64 = t369 * t376;
+        let t1572: f64 = t1570 + t1571;
+        let t1573: f64 = t1572 * 2.0;
+        let t1574: f64 = t1492 * t1573;
+        let t1575: f64 = t369 * t391;
+        let t1576: f64 = t349 * t380;
+        let t1577: f64 = t376 * t1576;
+        let t1578: f64 = leg5_zero_z * t396;
+        let t1579: f64 = t391 * t1576;
+        let t1580: f64 = t1572 - t1579;
+        let t1581: f64 = t1580 * 2.0;
+        let t1582: f64 = t1503 * t1581;
+        let t1583: f64 = t1582 * 0.5;
+        let t1584: f64 = t1575 + t1577;
+        let t1585: f64 = t1578 + t1583;
+        let t1586: f64 = t1584 + t1585;
+        let t1587: f64 = t379 * t1586;
+        let t1588: f64 = t1510 * t1573;
+        let t1589: f64 = leg5_zero_z * t391;
+        let t1590: f64 = t361 * t1576;
+        let t1591: f64 = t369 * t396;
+        let t1592: f64 = t1516 * t1581;
+        let t1593: f64 = t1592 * 0.5;
+        let t1594: f64 = t1589 + t1590;
+        let t1595: f64 = t1591 + t1593;
+        let t1596: f64 = t1594 - t1595;
+        let t1597: f64 = t379 * t1596;
+        let t1598: f64 = t1588 - t1597;
+        let t1599: f64 = t406 * t1598;
+        let t1600: f64 = t1587 + t1599;
+        let t1601: f64 = t1574 - t1600;
+        let t1602: f64 = t1567 * t1601;
+        let t1603: f64 = t1602 * 2.0;
+        let t1604: f64 = leg5_axis_z * t349;
+        let t1605: f64 = leg5_axis_y * t340;
+        let t1606: f64 = leg5_axis_x * t358;
+        let t1607: f64 = t1605 + t1606;
+        let t1608: f64 = t1604 + t1607;
+        let t1609: f64 = t361 * t369;
+        let t1610: f64 = t1608 * t1609;
+        let t1611: f64 = leg5_axis_y * leg5_zero_y;
+        let t1612: f64 = leg5_axis_x * leg5_zero_x;
+        let t1613: f64 = t1611 + t1612;
+        let t1614: f64 = t349 * t1613;
+        let t1615: f64 = leg5_zero_z * t1607;
+        let t1616: f64 = t1615 - t1614;
+        let t1617: f64 = t376 * t1616;
+        let t1618: f64 = t1610 - t1617;
+        let t1619: f64 = t1618 * 2.0;
+        let t1620: f64 = t1492 * t1619;
+        let t1621: f64 = t391 * t1616;
+        let t1622: f64 = t1591 * t1608;
+        let t1623: f64 = t1503 * t1619;
+        let t1624: f64 = t1623 * 0.5;
+        let t1625: f64 = t1622 + t1624;
+        let t1626: f64 = t1621 - t1625;
+        let t1627: f64 = t379 * t1626;
+        let t1628: f64 = t1510 * t1619;
+        let t1629: f64 = t1575 * t1608;
+        let t1630: f64 = t396 * t1616;
+        let t1631: f64 = t1516 * t1619;
+        let t1632: f64 = t1631 * 0.5;
+        let t1633: f64 = t1629 + t1630;
+        let t1634: f64 = t1633 - t1632;
+        let t1635: f64 = t379 * t1634;
+        let t1636: f64 = t1628 - t1635;
+        let t1637: f64 = t406 * t1636;
+        let t1638: f64 = t1620 + t1627;
+        let t1639: f64 = t1638 - t1637;
+        let t1640: f64 = t1567 * t1639;
+        let t1641: f64 = t1640 * 2.0;
+        let t1642: f64 = leg5_axis_x * leg5_axis_x;
+        let t1643: f64 = leg5_axis_y * leg5_axis_y;
+        let t1644: f64 = t1642 + t1643;
+        let t1645: f64 = sqrt(t1644);
+        let t1646: f64 = leg5_zero_z * t1645;
+        let t1647: f64 = leg5_axis_z / t1645;
+        let t1648: f64 = t1613 * t1647;
+        let t1649: f64 = t1646 - t1648;
+        let t1650: f64 = -t1649;
+        let t1651: f64 = t361 * t1608;
+        let t1652: f64 = t1650 * t1651;
+        let t1653: f64 = leg5_zero_x * t1645;
+        let t1654: f64 = t364 * t1647;
+        let t1655: f64 = t1653 + t1654;
+        let t1656: f64 = t340 * t1655;
+        let t1657: f64 = t371 * t1647;
+        let t1658: f64 = leg5_zero_y * t1645;
+        let t1659: f64 = t1657 + t1658;
+        let t1660: f64 = t358 * t1659;
+        let t1661: f64 = t370 * t1647;
+        let t1662: f64 = t1660 + t1661;
+        let t1663: f64 = t1662 - t1656;
+        let t1664: f64 = t376 * t1663;
+        let t1665: f64 = t1652 - t1664;
+        let t1666: f64 = t1665 * 2.0;
+        let t1667: f64 = t1492 * t1666;
+        let t1668: f64 = t391 * t1663;
+        let t1669: f64 = t396 * t1608;
+        let t1670: f64 = t1650 * t1669;
+        let t1671: f64 = t1503 * t1666;
+        let t1672: f64 = t1671 * 0.5;
+        let t1673: f64 = t1670 + t1672;
+        let t1674: f64 = t1668 - t1673;
+        let t1675: f64 = t379 * t1674;
+        let t1676: f64 = t1510 * t1666;
+        let t1677: f64 = t391 * t1608;
+        let t1678: f64 = t1650 * t1677;
+        let t1679: f64 = t396 * t1663;
+        let t1680: f64 = t1516 * t1666;
+        let t1681: f64 = t1680 * 0.5;
+        let t1682: f64 = t1678 + t1679;
+        let t1683: f64 = t1682 - t1681;
+        let t1684: f64 = t379 * t1683;
+        let t1685: f64 = t1676 - t1684;
+        let t1686: f64 = t406 * t1685;
+        let t1687: f64 = t1667 + t1675;
+        let t1688: f64 = t1687 - t1686;
+        let t1689: f64 = t1567 * t1688;
+        let t1690: f64 = t1689 * 2.0;
+        let t1691: f64 = -t1690;
+        let t1692: f64 = -t1534;
+        let t1693: f64 = t695 * t1692;
+        let t1694: f64 = -t1569;
+        let t1695: f64 = t9 * t1694;
+        let t1696: f64 = -t1603;
+        let t1697: f64 = t25 * t1696;
+        let t1698: f64 = t1693 + t1695;
+        let t1699: f64 = t1697 + t1698;
+        let t1700: f64 = t703 * t1692;
+        let t1701: f64 = t13 * t1694;
+        let t1702: f64 = t30 * t1696;
+        let t1703: f64 = t1701 + t1702;
+        let t1704: f64 = t1703 - t1700;
+        let t1705: f64 = t5 * t1692;
+        let t1706: f64 = t2 * t1694;
+        let t1707: f64 = t3 * t1696;
+        let t1708: f64 = t1706 - t1707;
+        let t1709: f64 = t6 * t1708;
+        let t1710: f64 = t1705 - t1709;
+        let t1711: f64 = t380 * t380;
+        let t1712: f64 = t389 * t1711;
+        let t1713: f64 = t1712 * 0.5;
+        let t1714: f64 = t1713 - 1.0;
+        let t1715: f64 = t391 * t1502;
+        let t1716: f64 = t1498 * t1715;
+        let t1717: f64 = t391 * t1515;
+        let t1718: f64 = t1498 * t1717;
+        let t1719: f64 = t361 + t1718;
+        let t1720: f64 = t406 * t1719;
+        let t1721: f64 = t1716 + t1720;
+        let t1722: f64 = t376 - t1721;
+        let t1723: f64 = t379 * t405;
+        let t1724: f64 = t1531 * t1723;
+        let t1725: f64 = t1714 * t1724;
+        let t1726: f64 = t1722 * t1725;
+        let t1727: f64 = t1726 * 2.0;
+        let t1728: f64 = -t1727;
+        let t1729: f64 = leg5_rod_length * t380;
+        let t1730: f64 = t379 * t1729;
+        let t1731: f64 = t405 * t1730;
+        let t1732: f64 = t1531 * t1731;
+        let t1733: f64 = t1722 * t1732;
+        let t1734: f64 = t1733 * 2.0;
+        let t1735: f64 = -t1734;
+        let t1736: f64 = t457 * t457;
+        let t1737: f64 = leg6_zero_x * t439;
+        let t1738: f64 = t451 * t454;
+        let t1739: f64 = t1737 + t1738;
+        let t1740: f64 = t1739 * 2.0;
+        let t1741: f64 = t476 * t1736;
+        let t1742: f64 = t1740 * t1741;
+        let t1743: f64 = t451 * t469;
+        let t1744: f64 = t436 * t458;
+        let t1745: f64 = t454 * t1744;
+        let t1746: f64 = leg6_zero_x * t474;
+        let t1747: f64 = 1.0 / t473;
+        let t1748: f64 = t469 * t1744;
+        let t1749: f64 = t1739 - t1748;
+        let t1750: f64 = t1749 * 2.0;
+        let t1751: f64 = leg6_branch * t439;
+        let t1752: f64 = t1747 * t1751;
+        let t1753: f64 = t1750 * t1752;
+        let t1754: f64 = t1753 * 0.5;
+        let t1755: f64 = t1743 + t1745;
+        let t1756: f64 = t1746 + t1754;
+        let t1757: f64 = t1755 + t1756;
+        let t1758: f64 = t457 * t1757;
+        let t1759: f64 = t480 * t1736;
+        let t1760: f64 = t1740 * t1759;
+        let t1761: f64 = leg6_zero_x * t469;
+        let t1762: f64 = t439 * t1744;
+        let t1763: f64 = t451 * t474;
+        let t1764: f64 = leg6_branch * t454;
+        let t1765: f64 = t1747 * t1764;
+        let t1766: f64 = t1750 * t1765;
+        let t1767: f64 = t1766 * 0.5;
+        let t1768: f64 = t1761 + t1762;
+        let t1769: f64 = t1763 + t1767;
+        let t1770: f64 = t1768 - t1769;
+        let t1771: f64 = t457 * t1770;
+        let t1772: f64 = t1760 - t1771;
+        let t1773: f64 = t484 * t1772;
+        let t1774: f64 = t1758 + t1773;
+        let t1775: f64 = t1742 - t1774;
+        let t1776: f64 = t477 * t477;
+        let t1777: f64 = t483 * t483;
+        let t1778: f64 = t1776 * t1777;
+        let t1779: f64 = t1778 + 1.0;
+        let t1780: f64 = 1.0 / t1779;
+        let t1781: f64 = t483 * t1775;
+        let t1782: f64 = t1780 * t1781;
+        let t1783: f64 = t1782 * 2.0;
+        let t1784: f64 = leg6_zero_y * t439;
+        let t1785: f64 = t443 * t454;
+        let t1786: f64 = t1784 + t1785;
+        let t1787: f64 = t1786 * 2.0;
+        let t1788: f64 = t1741 * t1787;
+        let t1789: f64 = t443 * t469;
+        let t1790: f64 = t418 * t458;
+        let t1791: f64 = t454 * t1790;
+        let t1792: f64 = leg6_zero_y * t474;
+        let t1793: f64 = t469 * t1790;
+        let t1794: f64 = t1786 - t1793;
+        let t1795: f64 = t1794 * 2.0;
+        let t1796: f64 = t1752 * t1795;
+        let t1797: f64 = t1796 * 0.5;
+        let t1798: f64 = t1789 + t1791;
+        let t1799: f64 = t1792 + t1797;
+        let t1800: f64 = t1798 + t1799;
+        let t1801: f64 = t457 * t1800;
+        let t1802: f64 = t1759 * t1787;
+        let t1803: f64 = leg6_zero_y * t469;
+        let t1804: f64 = t439 * t1790;
+        let t1805: f64 = t443 * t474;
+        let t1806: f64 = t1765 * t1795;
+        let t1807: f64 = t1806 * 0.5;
+        let t1808: f64 = t1803 + t1804;
+        let t1809: f64 = t1805 + t1807;
+        let t1810: f64 = t1808 - t1809;
+        let t1811: f64 = t457 * t1810;
+        let t1812: f64 = t1802 - t1811;
+        let t1813: f64 = t484 * t1812;
+        let t1814: f64 = t1801 + t1813;
+        let t1815: f64 = t1788 - t1814;
+        let t1816: f64 = t483 * t1780;
+        let t1817: f64 = t1815 * t1816;
+        let t1818: f64 = t1817 * 2.0;
+        let t1819: f64 = leg6_zero_z * t439;
+        let t1820: f64 = t447 * t454;
+        let t1821: f64 = t1819 + t1820;
+        let t1822: f64 = t1821 * 2.0;
+        let t1823: f64 = t1741 * t1822;
+        let t1824: f64 = t447 * t469;
+        let t1825: f64 = t427 * t458;
+        let t1826: f64 = t454 * t1825;
+        let t1827: f64 = leg6_zero_z * t474;
+        let t1828: f64 = t469 * t1825;
+        let t1829: f64 = t1821 - t1828;
+        let t1830: f64 = t1829 * 2.0;
+        let t1831: f64 = t1752 * t1830;
+        let t1832: f64 = t1831 * 0.5;
+        let t1833: f64 = t1824 + t1826;
+        let t1834: f64 = t1827 + t1832;
+        let t1835: f64 = t1833 + t1834;
+        let t1836: f64 = t457 * t1835;
+        let t1837: f64 = t1759 * t1822;
+        let t1838: f64 = leg6_zero_z * t469;
+        let t1839: f64 = t439 * t1825;
+        let t1840: f64 = t447 * t474;
+        let t1841: f64 = t1765 * t1830;
+        let t1842: f64 = t1841 * 0.5;
+        let t1843: f64 = t1838 + t1839;
+        let t1844: f64 = t1840 + t1842;
+        let t1845: f64 = t1843 - t1844;
+        let t1846: f64 = t457 * t1845;
+        let t1847: f64 = t1837 - t1846;
+        let t1848: f64 = t484 * t1847;
+        let t1849: f64 = t1836 + t1848;
+        let t1850: f64 = t1823 - t1849;
+        let t1851: f64 = t1816 * t1850;
+        let t1852: f64 = t1851 * 2.0;
+        let t1853: f64 = leg6_axis_z * t427;
+        let t1854: f64 = leg6_axis_y * t418;
+        let t1855: f64 = leg6_axis_x * t436;
+        let t1856: f64 = t1854 + t1855;
+        let t1857: f64 = t1853 + t1856;
+        let t1858: f64 = t439 * t447;
+        let t1859: f64 = t1857 * t1858;
+        let t1860: f64 = leg6_axis_y * leg6_zero_y;
+        let t1861: f64 = leg6_axis_x * leg6_zero_x;
+        let t1862: f64 = t1860 + t1861;
+        let t1863: f64 = t427 * t1862;
+        let t1864: f64 = leg6_zero_z * t1856;
+        let t1865: f64 = t1864 - t1863;
+        let t1866: f64 = t454 * t1865;
+        let t1867: f64 = t1859 - t1866;
+        let t1868: f64 = t1867 * 2.0;
+        let t1869: f64 = t1741 * t1868;
+        let t1870: f64 = t469 * t1865;
+        let t1871: f64 = t1840 * t1857;
+        let t1872: f64 = t1752 * t1868;
+        let t1873: f64 = t1872 * 0.5;
+        let t1874: f64 = t1871 + t1873;
+        let t1875: f64 = t1870 - t1874;
+        let t1876: f64 = t457 * t1875;
+        let t1877: f64 = t1759 * t1868;
+        let t1878: f64 = t1824 * t1857;
+        let t1879: f64 = t474 * t1865;
+        let t1880: f64 = t1765 * t1868;
+        let t1881: f64 = t1880 * 0.5;
+        let t1882: f64 = t1878 + t1879;
+        let t1883: f64 = t1882 - t1881;
+        let t1884: f64 = t457 * t1883;
+        let t1885: f64 = t1877 - t1884;
+        let t1886: f64 = t484 * t1885;
+        let t1887: f64 = t1869 + t1876;
+        let t1888: f64 = t1887 - t1886;
+        let t1889: f64 = t1816 * t1888;
+        let t1890: f64 = t1889 * 2.0;
+        let t1891: f64 = leg6_axis_x * leg6_axis_x;
+        let t1892: f64 = leg6_axis_y * leg6_axis_y;
+        let t1893: f64 = t1891 + t1892;
+        let t1894: f64 = sqrt(t1893);
+        let t1895: f64 = leg6_zero_z * t1894;
+        let t1896: f64 = leg6_axis_z / t1894;
+        let t1897: f64 = t1862 * t1896;
+        let t1898: f64 = t1895 - t1897;
+        let t1899: f64 = -t1898;
+        let t1900: f64 = t439 * t1857;
+        let t1901: f64 = t1899 * t1900;
+        let t1902: f64 = leg6_zero_x * t1894;
+        let t1903: f64 = t442 * t1896;
+        let t1904: f64 = t1902 + t1903;
+        let t1905: f64 = t418 * t1904;
+        let t1906: f64 = t449 * t1896;
+        let t1907: f64 = leg6_zero_y * t1894;
+        let t1908: f64 = t1906 + t1907;
+        let t1909: f64 = t436 * t1908;
+        let t1910: f64 = t448 * t1896;
+        let t1911: f64 = t1909 + t1910;
+        let t1912: f64 = t1911 - t1905;
+        let t1913: f64 = t454 * t1912;
+        let t1914: f64 = t1901 - t1913;
+        let t1915: f64 = t1914 * 2.0;
+        let t1916: f64 = t1741 * t1915;
+        let t1917: f64 = t469 * t1912;
+        let t1918: f64 = t474 * t1857;
+        let t1919: f64 = t1899 * t1918;
+        let t1920: f64 = t1752 * t1915;
+        let t1921: f64 = t1920 * 0.5;
+        let t1922: f64 = t1919 + t1921;
+        let t1923: f64 = t1917 - t1922;
+        let t1924: f64 = t457 * t1923;
+        let t1925: f64 = t1759 * t1915;
+        let t1926: f64 = t469 * t1857;
+        let t1927: f64 = t1899 * t1926;
+        let t1928: f64 = t474 * t1912;
+        let t1929: f64 = t1765 * t1915;
+        let t1930: f64 = t1929 * 0.5;
+        let t1931: f64 = t1927 + t1928;
+        let t1932: f64 = t1931 - t1930;
+        let t1933: f64 = t457 * t1932;
+        let t1934: f64 = t1925 - t1933;
+        let t1935: f64 = t484 * t1934;
+        let t1936: f64 = t1916 + t1924;
+        let t1937: f64 = t1936 - t1935;
+        let t1938: f64 = t1816 * t1937;
+        let t1939: f64 = t1938 * 2.0;
+        let t1940: f64 = -t1939;
+        let t1941: f64 = -t1783;
+        let t1942: f64 = t695 * t1941;
+        let t1943: f64 = -t1818;
+        let t1944: f64 = t9 * t1943;
+        let t1945: f64 = -t1852;
+        let t1946: f64 = t25 * t1945;
+        let t1947: f64 = t1942 + t1944;
+        let t1948: f64 = t1946 + t1947;
+        let t1949: f64 = t703 * t1941;
+        let t1950: f64 = t13 * t1943;
+        let t1951: f64 = t30 * t1945;
+        let t1952: f64 = t1950 + t1951;
+        let t1953: f64 = t1952 - t1949;
+        let t1954: f64 = t5 * t1941;
+        let t1955: f64 = t2 * t1943;
+        let t1956: f64 = t3 * t1945;
+        let t1957: f64 = t1955 - t1956;
+        let t1958: f64 = t6 * t1957;
+        let t1959: f64 = t1954 - t1958;
+        let t1960: f64 = t458 * t458;
+        let t1961: f64 = t467 * t1960;
+        let t1962: f64 = t1961 * 0.5;
+        let t1963: f64 = t1962 - 1.0;
+        let t1964: f64 = t469 * t1751;
+        let t1965: f64 = t1747 * t1964;
+        let t1966: f64 = t469 * t1764;
+        let t1967: f64 = t1747 * t1966;
+        let t1968: f64 = t439 + t1967;
+        let t1969: f64 = t484 * t1968;
+        let t1970: f64 = t1965 + t1969;
+        let t1971: f64 = t454 - t1970;
+        let t1972: f64 = t457 * t483;
+        let t1973: f64 = t1780 * t1972;
+        let t1974: f64 = t1963 * t1973;
+        let t1975: f64 = t1971 * t1974;
+        let t1976: f64 = t1975 * 2.0;
+        let t1977: f64 = -t1976;
+        let t1978: f64 = leg6_rod_length * t458;
+        let t1979: f64 = t457 * t1978;
+        let t1980: f64 = t483 * t1979;
+        let t1981: f64 = t1780 * t1980;
+        let t1982: f64 = t1971 * t1981;
+        let t1983: f64 = t1982 * 2.0;
+        let t1984: f64 = -t1983;
+        let t1985: f64 = t35 * t697;
+        let t1986: f64 = t18 * t699;
+        let t1987: f64 = t1986 - t1985;
+        let t1988: f64 = leg1_platform_z * t6;
+        let t1989: f64 = t5 * t42;
+        let t1990: f64 = t1988 - t1989;
+        let t1991: f64 = t694 * t1990;
+        let t1992: f64 = t44 * t712;
+        let t1993: f64 = t1991 + t1992;
+        let t1994: f64 = leg1_platform_x * t0;
+        let t1995: f64 = leg1_platform_y * t1;
+        let t1996: f64 = t1994 + t1995;
+        let t1997: f64 = t6 * t694;
+        let t1998: f64 = t1996 * t1997;
+        let t1999: f64 = leg1_platform_x * t13;
+        let t2000: f64 = leg1_platform_y * t9;
+        let t2001: f64 = t1999 - t2000;
+        let t2002: f64 = t697 * t2001;
         (
-            t1021,
-            t1056,
-            t1090,
-            t1091,
-            t1093,
-            t1095,
-            t1098,
-            t1103,
-            t1109,
-            t1127,
-            t1134,
-            t1182,
-            t1217,
-            t1251,
-            t1252,
-            t1254,
-            t1256,
-            t1259,
-            t1264,
-            t1270,
-            t1288,
-            t1295,
-            t1343,
-            t1378,
-            t1412,
-            t1413,
-            t1415,
-            t1417,
-            t1420,
-            t1425,
-            t1431,
-            t1449,
-            t1456,
+            t1036,
+            t1071,
+            t1105,
+            t1143,
+            t1193,
+            t1194,
+            t1196,
+            t1198,
+            t1201,
+            t1206,
+            t1210,
+            t1212,
+            t1230,
+            t1237,
+            t1285,
+            t1320,
+            t1354,
+            t1392,
+            t1442,
+            t1443,
+            t1445,
+            t1447,
+            t1450,
+            t1455,
             t1459,
-            t1465,
-            t1480,
-            t1483,
-            t1489,
-            t1504,
-            t1507,
-            t1513,
-            t1528,
-            t1531,
-            t1537,
-            t1552,
-            t1555,
-            t1561,
-            t1576,
-            t1579,
-            t1585,
-            t1600,
+            t1461,
+            t1479,
+            t1486,
+            t1534,
+            t1569,
+            t1603,
+            t1641,
+            t1691,
+            t1692,
+            t1694,
+            t1696,
+            t1699,
+            t1704,
+            t1708,
+            t1710,
+            t1728,
+            t1735,
+            t1783,
+            t1818,
+            t1852,
+            t1890,
+            t1940,
+            t1941,
+            t1943,
+            t1945,
+            t1948,
+            t1953,
+            t1957,
+            t1959,
+            t1977,
+            t1984,
+            t1987,
+            t1993,
+            t1998,
+            t2002,
+        )
+    };
+    let (
+        t2008,
+        t2011,
+        t2017,
+        t2032,
+        t2035,
+        t2041,
+        t2056,
+        t2059,
+        t2065,
+        t2080,
+        t2083,
+        t2089,
+        t2104,
+        t2107,
+        t2113,
+        t2128,
+    ) = {
+        let t2003: f64 = leg1_platform_x * t30;
+        let t2004: f64 = leg1_platform_y * t25;
+        let t2005: f64 = t2003 - t2004;
+        let t2006: f64 = t699 * t2005;
+        let t2007: f64 = t2002 + t2006;
+        let t2008: f64 = t2007 - t1998;
+        let t2009: f64 = t113 * t947;
+        let t2010: f64 = t104 * t949;
+        let t2011: f64 = t2010 - t2009;
+        let t2012: f64 = leg2_platform_z * t6;
+        let t2013: f64 = t5 * t120;
+        let t2014: f64 = t2012 - t2013;
+        let t2015: f64 = t945 * t2014;
+        let t2016: f64 = t122 * t961;
+        let t2017: f64 = t2015 + t2016;
+        let t2018: f64 = leg2_platform_x * t0;
+        let t2019: f64 = leg2_platform_y * t1;
+        let t2020: f64 = t2018 + t2019;
+        let t2021: f64 = t6 * t945;
+        let t2022: f64 = t2020 * t2021;
+        let t2023: f64 = leg2_platform_x * t13;
+        let t2024: f64 = leg2_platform_y * t9;
+        let t2025: f64 = t2023 - t2024;
+        let t2026: f64 = t947 * t2025;
+        let t2027: f64 = leg2_platform_x * t30;
+        let t2028: f64 = leg2_platform_y * t25;
+        let t2029: f64 = t2027 - t2028;
+        let t2030: f64 = t949 * t2029;
+        let t2031: f64 = t2026 + t2030;
+        let t2032: f64 = t2031 - t2022;
+        let t2033: f64 = t191 * t1196;
+        let t2034: f64 = t182 * t1198;
+        let t2035: f64 = t2034 - t2033;
+        let t2036: f64 = leg3_platform_z * t6;
+        let t2037: f64 = t5 * t198;
+        let t2038: f64 = t2036 - t2037;
+        let t2039: f64 = t1194 * t2038;
+        let t2040: f64 = t200 * t1210;
+        let t2041: f64 = t2039 + t2040;
+        let t2042: f64 = leg3_platform_x * t0;
+        let t2043: f64 = leg3_platform_y * t1;
+        let t2044: f64 = t2042 + t2043;
+        let t2045: f64 = t6 * t1194;
+        let t2046: f64 = t2044 * t2045;
+        let t2047: f64 = leg3_platform_x * t13;
+        let t2048: f64 = leg3_platform_y * t9;
+        let t2049: f64 = t2047 - t2048;
+        let t2050: f64 = t1196 * t2049;
+        let t2051: f64 = leg3_platform_x * t30;
+        let t2052: f64 = leg3_platform_y * t25;
+        let t2053: f64 = t2051 - t2052;
+        let t2054: f64 = t1198 * t2053;
+        let t2055: f64 = t2050 + t2054;
+        let t2056: f64 = t2055 - t2046;
+        let t2057: f64 = t269 * t1445;
+        let t2058: f64 = t260 * t1447;
+        let t2059: f64 = t2058 - t2057;
+        let t2060: f64 = leg4_platform_z * t6;
+        let t2061: f64 = t5 * t276;
+        let t2062: f64 = t2060 - t2061;
+        let t2063: f64 = t1443 * t2062;
+        let t2064: f64 = t278 * t1459;
+        let t2065: f64 = t2063 + t2064;
+        let t2066: f64 = leg4_platform_x * t0;
+        let t2067: f64 = leg4_platform_y * t1;
+        let t2068: f64 = t2066 + t2067;
+        let t2069: f64 = t6 * t1443;
+        let t2070: f64 = t2068 * t2069;
+        let t2071: f64 = leg4_platform_x * t13;
+        let t2072: f64 = leg4_platform_y * t9;
+        let t2073: f64 = t2071 - t2072;
+        let t2074: f64 = t1445 * t2073;
+        let t2075: f64 = leg4_platform_x * t30;
+        let t2076: f64 = leg4_platform_y * t25;
+        let t2077: f64 = t2075 - t2076;
+        let t2078: f64 = t1447 * t2077;
+        let t2079: f64 = t2074 + t2078;
+        let t2080: f64 = t2079 - t2070;
+        let t2081: f64 = t347 * t1694;
+        let t2082: f64 = t338 * t1696;
+        let t2083: f64 = t2082 - t2081;
+        let t2084: f64 = leg5_platform_z * t6;
+        let t2085: f64 = t5 * t354;
+        let t2086: f64 = t2084 - t2085;
+        let t2087: f64 = t1692 * t2086;
+        let t2088: f64 = t356 * t1708;
+        let t2089: f64 = t2087 + t2088;
+        let t2090: f64 = leg5_platform_x * t0;
+        let t2091: f64 = leg5_platform_y * t1;
+        let t2092: f64 = t2090 + t2091;
+        let t2093: f64 = t6 * t1692;
+        let t2094: f64 = t2092 * t2093;
+        let t2095: f64 = leg5_platform_x * t13;
+        let t2096: f64 = leg5_platform_y * t9;
+        let t2097: f64 = t2095 - t2096;
+        let t2098: f64 = t1694 * t2097;
+        let t2099: f64 = leg5_platform_x * t30;
+        let t2100: f64 = leg5_platform_y * t25;
+        let t2101: f64 = t2099 - t2100;
+        let t2102: f64 = t1696 * t2101;
+        let t2103: f64 = t2098 + t2102;
+        let t2104: f64 = t2103 - t2094;
+        let t2105: f64 = t425 * t1943;
+        let t2106: f64 = t416 * t1945;
+        let t2107: f64 = t2106 - t2105;
+        let t2108: f64 = leg6_platform_z * t6;
+        let t2109: f64 = t5 * t432;
+        let t2110: f64 = t2108 - t2109;
+        let t2111: f64 = t1941 * t2110;
+        let t2112: f64 = t434 * t1957;
+        let t2113: f64 = t2111 + t2112;
+        let t2114: f64 = leg6_platform_x * t0;
+        let t2115: f64 = leg6_platform_y * t1;
+        let t2116: f64 = t2114 + t2115;
+        let t2117: f64 = t6 * t1941;
+        let t2118: f64 = t2116 * t2117;
+        let t2119: f64 = leg6_platform_x * t13;
+        let t2120: f64 = leg6_platform_y * t9;
+        let t2121: f64 = t2119 - t2120;
+        let t2122: f64 = t1943 * t2121;
+        let t2123: f64 = leg6_platform_x * t30;
+        let t2124: f64 = leg6_platform_y * t25;
+        let t2125: f64 = t2123 - t2124;
+        let t2126: f64 = t1945 * t2125;
+        let t2127: f64 = t2122 + t2126;
+        let t2128: f64 = t2127 - t2118;
+        (
+            t2008,
+            t2011,
+            t2017,
+            t2032,
+            t2035,
+            t2041,
+            t2056,
+            t2059,
+            t2065,
+            t2080,
+            t2083,
+            t2089,
+            t2104,
+            t2107,
+            t2113,
+            t2128,
         )
     };
     (
         [t98, t176, t254, t332, t410, t488],
         [
-            [t536, t571, t605, t614, t620, t626, t644, t651, 1.0],
-            [t699, t734, t768, t776, t781, t787, t805, t812, 1.0],
-            [t860, t895, t929, t937, t942, t948, t966, t973, 1.0],
-            [t1021, t1056, t1090, t1098, t1103, t1109, t1127, t1134, 1.0],
-            [t1182, t1217, t1251, t1259, t1264, t1270, t1288, t1295, 1.0],
-            [t1343, t1378, t1412, t1420, t1425, t1431, t1449, t1456, 1.0],
+            [t536, t571, t605, t643, t693, t702, t708, t714, t732, t739, 1.0],
+            [t787, t822, t856, t894, t944, t952, t957, t963, t981, t988, 1.0],
+            [t1036, t1071, t1105, t1143, t1193, t1201, t1206, t1212, t1230, t1237, 1.0],
+            [t1285, t1320, t1354, t1392, t1442, t1450, t1455, t1461, t1479, t1486, 1.0],
+            [t1534, t1569, t1603, t1641, t1691, t1699, t1704, t1710, t1728, t1735, 1.0],
+            [t1783, t1818, t1852, t1890, t1940, t1948, t1953, t1959, t1977, t1984, 1.0],
         ],
         [
-            [t1459, t1465, t1480, t606, t609, t611],
-            [t1483, t1489, t1504, t769, t771, t773],
-            [t1507, t1513, t1528, t930, t932, t934],
-            [t1531, t1537, t1552, t1091, t1093, t1095],
-            [t1555, t1561, t1576, t1252, t1254, t1256],
-            [t1579, t1585, t1600, t1413, t1415, t1417],
+            [t1987, t1993, t2008, t694, t697, t699],
+            [t2011, t2017, t2032, t945, t947, t949],
+            [t2035, t2041, t2056, t1194, t1196, t1198],
+            [t2059, t2065, t2080, t1443, t1445, t1447],
+            [t2083, t2089, t2104, t1692, t1694, t1696],
+            [t2107, t2113, t2128, t1941, t1943, t1945],
         ],
     )
 }
-/// [`calibration_residuals`] with 406 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`calibration_residuals`] takes where the CPU has FMA.
+/// [`calibration_residuals`] with 562 of its products fused into the sums that read them (`mul_add`, one rounding each): the path [`calibration_residuals`] takes where the CPU has FMA.
 ///
 /// # Safety
 /// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
@@ -68775,7 +69404,7 @@ pub unsafe fn calibration_residuals_fused(
     pose: &[f64; 6],
     q: &[f64; 6],
     params: &[f64; 99],
-) -> ([f64; 6], [[f64; 9]; 6], [[f64; 6]; 6]) {
+) -> ([f64; 6], [[f64; 11]; 6], [[f64; 6]; 6]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [q1, q2, q3, q4, q5, q6] = *q;
     let [_, _, _, leg1_base_x, leg1_base_y, leg1_base_z, leg1_axis_x, leg1_axis_y,
@@ -68823,14 +69452,52 @@ pub unsafe fn calibration_residuals_fused(
         t200,
         t254,
         t260,
+        t262,
         t269,
+        t271,
         t276,
         t278,
+        t280,
+        t283,
+        t286,
+        t291,
+        t292,
+        t293,
+        t298,
+        t301,
+        t302,
+        t311,
+        t313,
+        t318,
+        t327,
+        t328,
         t332,
         t338,
+        t340,
         t347,
+        t349,
         t354,
         t356,
+        t358,
+        t361,
+        t364,
+        t365,
+        t369,
+        t370,
+        t371,
+        t373,
+        t376,
+        t379,
+        t380,
+        t389,
+        t391,
+        t395,
+        t396,
+        t398,
+        t399,
+        t402,
+        t405,
+        t406,
         t410,
         t416,
         t418,
@@ -68838,91 +69505,86 @@ pub unsafe fn calibration_residuals_fused(
         t427,
         t432,
         t434,
+        t436,
         t439,
+        t442,
         t443,
         t447,
+        t448,
+        t449,
+        t451,
         t454,
         t457,
         t458,
         t467,
         t469,
+        t473,
         t474,
+        t476,
         t477,
+        t480,
         t483,
         t484,
         t488,
         t536,
         t571,
         t605,
-        t606,
-        t607,
-        t609,
-        t611,
-        t614,
-        t615,
-        t620,
-        t624,
-        t626,
-        t644,
-        t651,
+        t643,
+        t693,
+        t694,
+        t695,
+        t697,
         t699,
-        t734,
-        t768,
-        t769,
-        t771,
-        t773,
-        t776,
-        t781,
-        t785,
+        t702,
+        t703,
+        t708,
+        t712,
+        t714,
+        t732,
+        t739,
         t787,
-        t805,
-        t812,
-        t860,
-        t895,
-        t929,
-        t930,
-        t932,
-        t934,
-        t937,
-        t942,
-        t946,
-        t948,
-        t966,
-        t973,
-        t1021,
-        t1056,
-        t1090,
-        t1091,
-        t1093,
-        t1095,
-        t1098,
-        t1103,
-        t1107,
-        t1109,
-        t1127,
-        t1134,
-        t1182,
-        t1217,
-        t1251,
-        t1252,
+        t822,
+        t856,
+        t894,
+        t944,
+        t945,
+        t947,
+        t949,
+        t952,
+        t957,
+        t961,
+        t963,
+        t981,
+        t988,
+        t1036,
+        t1071,
+        t1105,
+        t1143,
+        t1193,
+        t1194,
+        t1196,
+        t1198,
+        t1201,
+        t1206,
+        t1210,
+        t1212,
+        t1230,
+        t1237,
+        t1243,
+        t1249,
+        t1253,
         t1254,
-        t1256,
-        t1259,
-        t1264,
-        t1268,
-        t1270,
-        t1288,
-        t1295,
-        t1300,
-        t1301,
-        t1307,
-        t1311,
-        t1312,
-        t1317,
-        t1319,
-        t1324,
-        t1325,
-        t1332,
+        t1261,
+        t1266,
+        t1267,
+        t1282,
+        t1285,
+        t1318,
+        t1320,
+        t1326,
+        t1342,
+        t1354,
+        t1357,
     ) = {
         let (t0, t1): (f64, f64) = sin_cos(gamma);
         let (t2, t3): (f64, f64) = sin_cos(alpha);
@@ -68964,8 +69626,8 @@ pub unsafe fn calibration_residuals_fused(
         let t56: f64 = leg1_axis_y * leg1_zero_x;
         let t57: f64 = f64::mul_add(leg1_axis_x, leg1_zero_y, -t56);
         let t58: f64 = t37 * t57;
-        let t60: f64 = leg1_axis_z * leg1_zero_y;
-        let t61: f64 = f64::mul_add(leg1_axis_y, leg1_zero_z, -t60);
+        let t59: f64 = leg1_axis_y * leg1_zero_z;
+        let t61: f64 = f64::mul_add(-leg1_axis_z, leg1_zero_y, t59);
         let t63: f64 = f64::mul_add(t20, t53, t58);
         let t64: f64 = f64::mul_add(t46, t61, t63);
         let t65: f64 = t64 * t64;
@@ -69020,8 +69682,8 @@ pub unsafe fn calibration_residuals_fused(
         let t134: f64 = leg2_axis_y * leg2_zero_x;
         let t135: f64 = f64::mul_add(leg2_axis_x, leg2_zero_y, -t134);
         let t136: f64 = t115 * t135;
-        let t138: f64 = leg2_axis_z * leg2_zero_y;
-        let t139: f64 = f64::mul_add(leg2_axis_y, leg2_zero_z, -t138);
+        let t137: f64 = leg2_axis_y * leg2_zero_z;
+        let t139: f64 = f64::mul_add(-leg2_axis_z, leg2_zero_y, t137);
         let t141: f64 = f64::mul_add(t106, t131, t136);
         let t142: f64 = f64::mul_add(t124, t139, t141);
         let t143: f64 = t142 * t142;
@@ -69076,8 +69738,8 @@ pub unsafe fn calibration_residuals_fused(
         let t212: f64 = leg3_axis_y * leg3_zero_x;
         let t213: f64 = f64::mul_add(leg3_axis_x, leg3_zero_y, -t212);
         let t214: f64 = t193 * t213;
-        let t216: f64 = leg3_axis_z * leg3_zero_y;
-        let t217: f64 = f64::mul_add(leg3_axis_y, leg3_zero_z, -t216);
+        let t215: f64 = leg3_axis_y * leg3_zero_z;
+        let t217: f64 = f64::mul_add(-leg3_axis_z, leg3_zero_y, t215);
         let t219: f64 = f64::mul_add(t184, t209, t214);
         let t220: f64 = f64::mul_add(t202, t217, t219);
         let t221: f64 = t220 * t220;
@@ -69132,8 +69794,8 @@ pub unsafe fn calibration_residuals_fused(
         let t290: f64 = leg4_axis_y * leg4_zero_x;
         let t291: f64 = f64::mul_add(leg4_axis_x, leg4_zero_y, -t290);
         let t292: f64 = t271 * t291;
-        let t294: f64 = leg4_axis_z * leg4_zero_y;
-        let t295: f64 = f64::mul_add(leg4_axis_y, leg4_zero_z, -t294);
+        let t293: f64 = leg4_axis_y * leg4_zero_z;
+        let t295: f64 = f64::mul_add(-leg4_axis_z, leg4_zero_y, t293);
         let t297: f64 = f64::mul_add(t262, t287, t292);
         let t298: f64 = f64::mul_add(t280, t295, t297);
         let t299: f64 = t298 * t298;
@@ -69188,8 +69850,8 @@ pub unsafe fn calibration_residuals_fused(
         let t368: f64 = leg5_axis_y * leg5_zero_x;
         let t369: f64 = f64::mul_add(leg5_axis_x, leg5_zero_y, -t368);
         let t370: f64 = t349 * t369;
-        let t372: f64 = leg5_axis_z * leg5_zero_y;
-        let t373: f64 = f64::mul_add(leg5_axis_y, leg5_zero_z, -t372);
+        let t371: f64 = leg5_axis_y * leg5_zero_z;
+        let t373: f64 = f64::mul_add(-leg5_axis_z, leg5_zero_y, t371);
         let t375: f64 = f64::mul_add(t340, t365, t370);
         let t376: f64 = f64::mul_add(t358, t373, t375);
         let t377: f64 = t376 * t376;
@@ -69244,8 +69906,8 @@ pub unsafe fn calibration_residuals_fused(
         let t446: f64 = leg6_axis_y * leg6_zero_x;
         let t447: f64 = f64::mul_add(leg6_axis_x, leg6_zero_y, -t446);
         let t448: f64 = t427 * t447;
-        let t450: f64 = leg6_axis_z * leg6_zero_y;
-        let t451: f64 = f64::mul_add(leg6_axis_y, leg6_zero_z, -t450);
+        let t449: f64 = leg6_axis_y * leg6_zero_z;
+        let t451: f64 = f64::mul_add(-leg6_axis_z, leg6_zero_y, t449);
         let t453: f64 = f64::mul_add(t418, t443, t448);
         let t454: f64 = f64::mul_add(t436, t451, t453);
         let t455: f64 = t454 * t454;
@@ -69341,20 +70003,20 @@ pub unsafe fn calibration_residuals_fused(
         let t573: f64 = t57 * t64;
         let t574: f64 = f64::mul_add(leg1_zero_z, t49, t573);
         let t575: f64 = t574 * 2.0;
+        let t577: f64 = t57 * t79;
         let t578: f64 = t37 * t68;
-        let t579: f64 = t64 * t578;
         let t582: f64 = f64::mul_add(-t79, t578, t574);
         let t583: f64 = t582 * 2.0;
         let t584: f64 = t505 * t583;
         let t585: f64 = t584 * 0.5;
-        let t586: f64 = f64::mul_add(t57, t79, t579);
+        let t586: f64 = f64::mul_add(t64, t578, t577);
         let t587: f64 = f64::mul_add(leg1_zero_z, t84, t585);
         let t588: f64 = t586 + t587;
         let t592: f64 = t49 * t578;
+        let t593: f64 = t57 * t84;
         let t594: f64 = t518 * t583;
-        let t595: f64 = t594 * 0.5;
         let t596: f64 = f64::mul_add(leg1_zero_z, t79, t592);
-        let t597: f64 = f64::mul_add(t57, t84, t595);
+        let t597: f64 = f64::mul_add(t594, 0.5, t593);
         let t598: f64 = t596 - t597;
         let t599: f64 = t67 * t598;
         let t600: f64 = f64::mul_add(t512, t575, -t599);
@@ -69363,567 +70025,567 @@ pub unsafe fn calibration_residuals_fused(
         let t603: f64 = f64::mul_add(t494, t575, -t602);
         let t604: f64 = t569 * t603;
         let t605: f64 = t604 * 2.0;
-        let t606: f64 = -t536;
-        let t607: f64 = t1 * t6;
-        let t609: f64 = -t571;
-        let t610: f64 = t9 * t609;
-        let t611: f64 = -t605;
-        let t613: f64 = f64::mul_add(t606, t607, t610);
-        let t614: f64 = f64::mul_add(t25, t611, t613);
-        let t615: f64 = t0 * t6;
-        let t618: f64 = t30 * t611;
-        let t619: f64 = f64::mul_add(t13, t609, t618);
-        let t620: f64 = f64::mul_add(-t606, t615, t619);
-        let t623: f64 = t3 * t611;
-        let t624: f64 = f64::mul_add(t2, t609, -t623);
-        let t625: f64 = t6 * t624;
-        let t626: f64 = f64::mul_add(t5, t606, -t625);
-        let t627: f64 = t68 * t68;
-        let t628: f64 = t77 * t627;
-        let t630: f64 = f64::mul_add(t628, 0.5, -1.0);
-        let t631: f64 = t79 * t504;
-        let t633: f64 = t79 * t517;
-        let t635: f64 = f64::mul_add(t500, t633, t49);
-        let t636: f64 = t94 * t635;
-        let t637: f64 = f64::mul_add(t500, t631, t636);
-        let t638: f64 = t64 - t637;
-        let t639: f64 = t67 * t93;
-        let t640: f64 = t533 * t639;
-        let t641: f64 = t630 * t640;
-        let t642: f64 = t638 * t641;
+        let t608: f64 = leg1_axis_x * t46;
+        let t609: f64 = f64::mul_add(leg1_axis_y, t20, t608);
+        let t610: f64 = f64::mul_add(leg1_axis_z, t37, t609);
+        let t611: f64 = t49 * t57;
+        let t614: f64 = leg1_axis_x * leg1_zero_x;
+        let t615: f64 = f64::mul_add(leg1_axis_y, leg1_zero_y, t614);
+        let t617: f64 = leg1_zero_z * t609;
+        let t618: f64 = f64::mul_add(-t37, t615, t617);
+        let t619: f64 = t64 * t618;
+        let t620: f64 = f64::mul_add(t610, t611, -t619);
+        let t621: f64 = t620 * 2.0;
+        let t625: f64 = t505 * t621;
+        let t626: f64 = t625 * 0.5;
+        let t627: f64 = f64::mul_add(t593, t610, t626);
+        let t628: f64 = f64::mul_add(t79, t618, -t627);
+        let t629: f64 = t67 * t628;
+        let t632: f64 = t84 * t618;
+        let t633: f64 = t518 * t621;
+        let t635: f64 = f64::mul_add(t577, t610, t632);
+        let t636: f64 = f64::mul_add(-t633, 0.5, t635);
+        let t637: f64 = t67 * t636;
+        let t638: f64 = f64::mul_add(t512, t621, -t637);
+        let t640: f64 = f64::mul_add(t494, t621, t629);
+        let t641: f64 = f64::mul_add(-t94, t638, t640);
+        let t642: f64 = t569 * t641;
         let t643: f64 = t642 * 2.0;
-        let t644: f64 = -t643;
-        let t645: f64 = leg1_rod_length * t68;
-        let t646: f64 = t67 * t645;
-        let t647: f64 = t93 * t646;
-        let t648: f64 = t533 * t647;
-        let t649: f64 = t638 * t648;
-        let t650: f64 = t649 * 2.0;
-        let t651: f64 = -t650;
-        let t652: f64 = t145 * t145;
-        let t654: f64 = t139 * t142;
-        let t655: f64 = f64::mul_add(leg2_zero_x, t127, t654);
-        let t656: f64 = t655 * 2.0;
-        let t657: f64 = t164 * t652;
-        let t660: f64 = t124 * t146;
-        let t661: f64 = t142 * t660;
-        let t663: f64 = 1.0 / t161;
-        let t665: f64 = f64::mul_add(-t157, t660, t655);
-        let t666: f64 = t665 * 2.0;
-        let t667: f64 = leg2_branch * t127;
-        let t668: f64 = t663 * t667;
-        let t669: f64 = t666 * t668;
-        let t670: f64 = t669 * 0.5;
-        let t671: f64 = f64::mul_add(t139, t157, t661);
-        let t672: f64 = f64::mul_add(leg2_zero_x, t162, t670);
-        let t673: f64 = t671 + t672;
-        let t675: f64 = t168 * t652;
-        let t678: f64 = t127 * t660;
-        let t680: f64 = leg2_branch * t142;
-        let t681: f64 = t663 * t680;
-        let t682: f64 = t666 * t681;
-        let t683: f64 = t682 * 0.5;
-        let t684: f64 = f64::mul_add(leg2_zero_x, t157, t678);
-        let t685: f64 = f64::mul_add(t139, t162, t683);
-        let t686: f64 = t684 - t685;
-        let t687: f64 = t145 * t686;
-        let t688: f64 = f64::mul_add(t656, t675, -t687);
-        let t689: f64 = t172 * t688;
-        let t690: f64 = f64::mul_add(t145, t673, t689);
-        let t691: f64 = f64::mul_add(t656, t657, -t690);
-        let t692: f64 = t165 * t165;
-        let t693: f64 = t171 * t171;
-        let t695: f64 = f64::mul_add(t692, t693, 1.0);
-        let t696: f64 = 1.0 / t695;
-        let t697: f64 = t171 * t691;
-        let t698: f64 = t696 * t697;
-        let t699: f64 = t698 * 2.0;
-        let t701: f64 = t131 * t142;
-        let t702: f64 = f64::mul_add(leg2_zero_y, t127, t701);
-        let t703: f64 = t702 * 2.0;
-        let t706: f64 = t106 * t146;
-        let t707: f64 = t142 * t706;
-        let t710: f64 = f64::mul_add(-t157, t706, t702);
-        let t711: f64 = t710 * 2.0;
-        let t712: f64 = t668 * t711;
-        let t713: f64 = t712 * 0.5;
-        let t714: f64 = f64::mul_add(t131, t157, t707);
-        let t715: f64 = f64::mul_add(leg2_zero_y, t162, t713);
-        let t716: f64 = t714 + t715;
-        let t720: f64 = t127 * t706;
-        let t722: f64 = t681 * t711;
-        let t723: f64 = t722 * 0.5;
-        let t724: f64 = f64::mul_add(leg2_zero_y, t157, t720);
-        let t725: f64 = f64::mul_add(t131, t162, t723);
-        let t726: f64 = t724 - t725;
-        let t727: f64 = t145 * t726;
-        let t728: f64 = f64::mul_add(t675, t703, -t727);
-        let t729: f64 = t172 * t728;
-        let t730: f64 = f64::mul_add(t145, t716, t729);
-        let t731: f64 = f64::mul_add(t657, t703, -t730);
-        let t732: f64 = t171 * t696;
-        let t733: f64 = t731 * t732;
-        let t734: f64 = t733 * 2.0;
-        let t736: f64 = t135 * t142;
-        let t737: f64 = f64::mul_add(leg2_zero_z, t127, t736);
+        let t645: f64 = leg1_axis_y * leg1_axis_y;
+        let t646: f64 = f64::mul_add(leg1_axis_x, leg1_axis_x, t645);
+        let t647: f64 = sqrt(t646);
+        let t649: f64 = leg1_axis_z / t647;
+        let t650: f64 = t615 * t649;
+        let t651: f64 = f64::mul_add(leg1_zero_z, t647, -t650);
+        let t652: f64 = -t651;
+        let t653: f64 = t49 * t610;
+        let t656: f64 = t52 * t649;
+        let t657: f64 = f64::mul_add(leg1_zero_x, t647, t656);
+        let t660: f64 = leg1_zero_y * t647;
+        let t661: f64 = f64::mul_add(t59, t649, t660);
+        let t663: f64 = t58 * t649;
+        let t664: f64 = f64::mul_add(t46, t661, t663);
+        let t665: f64 = f64::mul_add(-t20, t657, t664);
+        let t666: f64 = t64 * t665;
+        let t667: f64 = f64::mul_add(t652, t653, -t666);
+        let t668: f64 = t667 * 2.0;
+        let t671: f64 = t84 * t610;
+        let t673: f64 = t505 * t668;
+        let t674: f64 = t673 * 0.5;
+        let t675: f64 = f64::mul_add(t652, t671, t674);
+        let t676: f64 = f64::mul_add(t79, t665, -t675);
+        let t677: f64 = t67 * t676;
+        let t679: f64 = t79 * t610;
+        let t681: f64 = t84 * t665;
+        let t682: f64 = t518 * t668;
+        let t684: f64 = f64::mul_add(t652, t679, t681);
+        let t685: f64 = f64::mul_add(-t682, 0.5, t684);
+        let t686: f64 = t67 * t685;
+        let t687: f64 = f64::mul_add(t512, t668, -t686);
+        let t689: f64 = f64::mul_add(t494, t668, t677);
+        let t690: f64 = f64::mul_add(-t94, t687, t689);
+        let t691: f64 = t569 * t690;
+        let t692: f64 = t691 * 2.0;
+        let t693: f64 = -t692;
+        let t694: f64 = -t536;
+        let t695: f64 = t1 * t6;
+        let t697: f64 = -t571;
+        let t698: f64 = t9 * t697;
+        let t699: f64 = -t605;
+        let t701: f64 = f64::mul_add(t694, t695, t698);
+        let t702: f64 = f64::mul_add(t25, t699, t701);
+        let t703: f64 = t0 * t6;
+        let t706: f64 = t30 * t699;
+        let t707: f64 = f64::mul_add(t13, t697, t706);
+        let t708: f64 = f64::mul_add(-t694, t703, t707);
+        let t711: f64 = t3 * t699;
+        let t712: f64 = f64::mul_add(t2, t697, -t711);
+        let t713: f64 = t6 * t712;
+        let t714: f64 = f64::mul_add(t5, t694, -t713);
+        let t715: f64 = t68 * t68;
+        let t716: f64 = t77 * t715;
+        let t718: f64 = f64::mul_add(t716, 0.5, -1.0);
+        let t719: f64 = t79 * t504;
+        let t721: f64 = t79 * t517;
+        let t723: f64 = f64::mul_add(t500, t721, t49);
+        let t724: f64 = t94 * t723;
+        let t725: f64 = f64::mul_add(t500, t719, t724);
+        let t726: f64 = t64 - t725;
+        let t727: f64 = t67 * t93;
+        let t728: f64 = t533 * t727;
+        let t729: f64 = t718 * t728;
+        let t730: f64 = t726 * t729;
+        let t731: f64 = t730 * 2.0;
+        let t732: f64 = -t731;
+        let t733: f64 = leg1_rod_length * t68;
+        let t734: f64 = t67 * t733;
+        let t735: f64 = t93 * t734;
+        let t736: f64 = t533 * t735;
+        let t737: f64 = t726 * t736;
         let t738: f64 = t737 * 2.0;
-        let t741: f64 = t115 * t146;
-        let t742: f64 = t142 * t741;
-        let t745: f64 = f64::mul_add(-t157, t741, t737);
-        let t746: f64 = t745 * 2.0;
-        let t747: f64 = t668 * t746;
-        let t748: f64 = t747 * 0.5;
-        let t749: f64 = f64::mul_add(t135, t157, t742);
-        let t750: f64 = f64::mul_add(leg2_zero_z, t162, t748);
-        let t751: f64 = t749 + t750;
-        let t755: f64 = t127 * t741;
-        let t757: f64 = t681 * t746;
+        let t739: f64 = -t738;
+        let t740: f64 = t145 * t145;
+        let t742: f64 = t139 * t142;
+        let t743: f64 = f64::mul_add(leg2_zero_x, t127, t742);
+        let t744: f64 = t743 * 2.0;
+        let t745: f64 = t164 * t740;
+        let t748: f64 = t124 * t146;
+        let t749: f64 = t142 * t748;
+        let t751: f64 = 1.0 / t161;
+        let t753: f64 = f64::mul_add(-t157, t748, t743);
+        let t754: f64 = t753 * 2.0;
+        let t755: f64 = leg2_branch * t127;
+        let t756: f64 = t751 * t755;
+        let t757: f64 = t754 * t756;
         let t758: f64 = t757 * 0.5;
-        let t759: f64 = f64::mul_add(leg2_zero_z, t157, t755);
-        let t760: f64 = f64::mul_add(t135, t162, t758);
-        let t761: f64 = t759 - t760;
-        let t762: f64 = t145 * t761;
-        let t763: f64 = f64::mul_add(t675, t738, -t762);
-        let t764: f64 = t172 * t763;
-        let t765: f64 = f64::mul_add(t145, t751, t764);
-        let t766: f64 = f64::mul_add(t657, t738, -t765);
-        let t767: f64 = t732 * t766;
-        let t768: f64 = t767 * 2.0;
-        let t769: f64 = -t699;
-        let t771: f64 = -t734;
-        let t772: f64 = t9 * t771;
-        let t773: f64 = -t768;
-        let t775: f64 = f64::mul_add(t607, t769, t772);
-        let t776: f64 = f64::mul_add(t25, t773, t775);
-        let t779: f64 = t30 * t773;
-        let t780: f64 = f64::mul_add(t13, t771, t779);
-        let t781: f64 = f64::mul_add(-t615, t769, t780);
-        let t784: f64 = t3 * t773;
-        let t785: f64 = f64::mul_add(t2, t771, -t784);
-        let t786: f64 = t6 * t785;
-        let t787: f64 = f64::mul_add(t5, t769, -t786);
-        let t788: f64 = t146 * t146;
-        let t789: f64 = t155 * t788;
-        let t791: f64 = f64::mul_add(t789, 0.5, -1.0);
-        let t792: f64 = t157 * t667;
-        let t794: f64 = t157 * t680;
-        let t796: f64 = f64::mul_add(t663, t794, t127);
-        let t797: f64 = t172 * t796;
-        let t798: f64 = f64::mul_add(t663, t792, t797);
-        let t799: f64 = t142 - t798;
-        let t800: f64 = t145 * t171;
-        let t801: f64 = t696 * t800;
-        let t802: f64 = t791 * t801;
-        let t803: f64 = t799 * t802;
-        let t804: f64 = t803 * 2.0;
-        let t805: f64 = -t804;
-        let t806: f64 = leg2_rod_length * t146;
-        let t807: f64 = t145 * t806;
-        let t808: f64 = t171 * t807;
-        let t809: f64 = t696 * t808;
-        let t810: f64 = t799 * t809;
-        let t811: f64 = t810 * 2.0;
-        let t812: f64 = -t811;
-        let t813: f64 = t223 * t223;
-        let t815: f64 = t217 * t220;
-        let t816: f64 = f64::mul_add(leg3_zero_x, t205, t815);
-        let t817: f64 = t816 * 2.0;
-        let t818: f64 = t242 * t813;
-        let t821: f64 = t202 * t224;
-        let t822: f64 = t220 * t821;
-        let t824: f64 = 1.0 / t239;
-        let t826: f64 = f64::mul_add(-t235, t821, t816);
-        let t827: f64 = t826 * 2.0;
-        let t828: f64 = leg3_branch * t205;
-        let t829: f64 = t824 * t828;
-        let t830: f64 = t827 * t829;
-        let t831: f64 = t830 * 0.5;
-        let t832: f64 = f64::mul_add(t217, t235, t822);
-        let t833: f64 = f64::mul_add(leg3_zero_x, t240, t831);
-        let t834: f64 = t832 + t833;
-        let t836: f64 = t246 * t813;
-        let t839: f64 = t205 * t821;
-        let t841: f64 = leg3_branch * t220;
-        let t842: f64 = t824 * t841;
-        let t843: f64 = t827 * t842;
-        let t844: f64 = t843 * 0.5;
-        let t845: f64 = f64::mul_add(leg3_zero_x, t235, t839);
-        let t846: f64 = f64::mul_add(t217, t240, t844);
-        let t847: f64 = t845 - t846;
-        let t848: f64 = t223 * t847;
-        let t849: f64 = f64::mul_add(t817, t836, -t848);
-        let t850: f64 = t250 * t849;
-        let t851: f64 = f64::mul_add(t223, t834, t850);
-        let t852: f64 = f64::mul_add(t817, t818, -t851);
-        let t853: f64 = t243 * t243;
-        let t854: f64 = t249 * t249;
-        let t856: f64 = f64::mul_add(t853, t854, 1.0);
-        let t857: f64 = 1.0 / t856;
-        let t858: f64 = t249 * t852;
-        let t859: f64 = t857 * t858;
-        let t860: f64 = t859 * 2.0;
-        let t862: f64 = t209 * t220;
-        let t863: f64 = f64::mul_add(leg3_zero_y, t205, t862);
-        let t864: f64 = t863 * 2.0;
-        let t867: f64 = t184 * t224;
-        let t868: f64 = t220 * t867;
-        let t871: f64 = f64::mul_add(-t235, t867, t863);
+        let t759: f64 = f64::mul_add(t139, t157, t749);
+        let t760: f64 = f64::mul_add(leg2_zero_x, t162, t758);
+        let t761: f64 = t759 + t760;
+        let t763: f64 = t168 * t740;
+        let t766: f64 = t127 * t748;
+        let t768: f64 = leg2_branch * t142;
+        let t769: f64 = t751 * t768;
+        let t770: f64 = t754 * t769;
+        let t771: f64 = t770 * 0.5;
+        let t772: f64 = f64::mul_add(leg2_zero_x, t157, t766);
+        let t773: f64 = f64::mul_add(t139, t162, t771);
+        let t774: f64 = t772 - t773;
+        let t775: f64 = t145 * t774;
+        let t776: f64 = f64::mul_add(t744, t763, -t775);
+        let t777: f64 = t172 * t776;
+        let t778: f64 = f64::mul_add(t145, t761, t777);
+        let t779: f64 = f64::mul_add(t744, t745, -t778);
+        let t780: f64 = t165 * t165;
+        let t781: f64 = t171 * t171;
+        let t783: f64 = f64::mul_add(t780, t781, 1.0);
+        let t784: f64 = 1.0 / t783;
+        let t785: f64 = t171 * t779;
+        let t786: f64 = t784 * t785;
+        let t787: f64 = t786 * 2.0;
+        let t789: f64 = t131 * t142;
+        let t790: f64 = f64::mul_add(leg2_zero_y, t127, t789);
+        let t791: f64 = t790 * 2.0;
+        let t794: f64 = t106 * t146;
+        let t795: f64 = t142 * t794;
+        let t798: f64 = f64::mul_add(-t157, t794, t790);
+        let t799: f64 = t798 * 2.0;
+        let t800: f64 = t756 * t799;
+        let t801: f64 = t800 * 0.5;
+        let t802: f64 = f64::mul_add(t131, t157, t795);
+        let t803: f64 = f64::mul_add(leg2_zero_y, t162, t801);
+        let t804: f64 = t802 + t803;
+        let t808: f64 = t127 * t794;
+        let t810: f64 = t769 * t799;
+        let t811: f64 = t810 * 0.5;
+        let t812: f64 = f64::mul_add(leg2_zero_y, t157, t808);
+        let t813: f64 = f64::mul_add(t131, t162, t811);
+        let t814: f64 = t812 - t813;
+        let t815: f64 = t145 * t814;
+        let t816: f64 = f64::mul_add(t763, t791, -t815);
+        let t817: f64 = t172 * t816;
+        let t818: f64 = f64::mul_add(t145, t804, t817);
+        let t819: f64 = f64::mul_add(t745, t791, -t818);
+        let t820: f64 = t171 * t784;
+        let t821: f64 = t819 * t820;
+        let t822: f64 = t821 * 2.0;
+        let t824: f64 = t135 * t142;
+        let t825: f64 = f64::mul_add(leg2_zero_z, t127, t824);
+        let t826: f64 = t825 * 2.0;
+        let t828: f64 = t135 * t157;
+        let t829: f64 = t115 * t146;
+        let t833: f64 = f64::mul_add(-t157, t829, t825);
+        let t834: f64 = t833 * 2.0;
+        let t835: f64 = t756 * t834;
+        let t836: f64 = t835 * 0.5;
+        let t837: f64 = f64::mul_add(t142, t829, t828);
+        let t838: f64 = f64::mul_add(leg2_zero_z, t162, t836);
+        let t839: f64 = t837 + t838;
+        let t843: f64 = t127 * t829;
+        let t844: f64 = t135 * t162;
+        let t845: f64 = t769 * t834;
+        let t847: f64 = f64::mul_add(leg2_zero_z, t157, t843);
+        let t848: f64 = f64::mul_add(t845, 0.5, t844);
+        let t849: f64 = t847 - t848;
+        let t850: f64 = t145 * t849;
+        let t851: f64 = f64::mul_add(t763, t826, -t850);
+        let t852: f64 = t172 * t851;
+        let t853: f64 = f64::mul_add(t145, t839, t852);
+        let t854: f64 = f64::mul_add(t745, t826, -t853);
+        let t855: f64 = t820 * t854;
+        let t856: f64 = t855 * 2.0;
+        let t859: f64 = leg2_axis_x * t124;
+        let t860: f64 = f64::mul_add(leg2_axis_y, t106, t859);
+        let t861: f64 = f64::mul_add(leg2_axis_z, t115, t860);
+        let t862: f64 = t127 * t135;
+        let t865: f64 = leg2_axis_x * leg2_zero_x;
+        let t866: f64 = f64::mul_add(leg2_axis_y, leg2_zero_y, t865);
+        let t868: f64 = leg2_zero_z * t860;
+        let t869: f64 = f64::mul_add(-t115, t866, t868);
+        let t870: f64 = t142 * t869;
+        let t871: f64 = f64::mul_add(t861, t862, -t870);
         let t872: f64 = t871 * 2.0;
-        let t873: f64 = t829 * t872;
-        let t874: f64 = t873 * 0.5;
-        let t875: f64 = f64::mul_add(t209, t235, t868);
-        let t876: f64 = f64::mul_add(leg3_zero_y, t240, t874);
-        let t877: f64 = t875 + t876;
-        let t881: f64 = t205 * t867;
-        let t883: f64 = t842 * t872;
-        let t884: f64 = t883 * 0.5;
-        let t885: f64 = f64::mul_add(leg3_zero_y, t235, t881);
-        let t886: f64 = f64::mul_add(t209, t240, t884);
-        let t887: f64 = t885 - t886;
-        let t888: f64 = t223 * t887;
-        let t889: f64 = f64::mul_add(t836, t864, -t888);
-        let t890: f64 = t250 * t889;
-        let t891: f64 = f64::mul_add(t223, t877, t890);
-        let t892: f64 = f64::mul_add(t818, t864, -t891);
-        let t893: f64 = t249 * t857;
-        let t894: f64 = t892 * t893;
-        let t895: f64 = t894 * 2.0;
-        let t897: f64 = t213 * t220;
-        let t898: f64 = f64::mul_add(leg3_zero_z, t205, t897);
-        let t899: f64 = t898 * 2.0;
-        let t902: f64 = t193 * t224;
-        let t903: f64 = t220 * t902;
-        let t906: f64 = f64::mul_add(-t235, t902, t898);
-        let t907: f64 = t906 * 2.0;
-        let t908: f64 = t829 * t907;
-        let t909: f64 = t908 * 0.5;
-        let t910: f64 = f64::mul_add(t213, t235, t903);
-        let t911: f64 = f64::mul_add(leg3_zero_z, t240, t909);
-        let t912: f64 = t910 + t911;
-        let t916: f64 = t205 * t902;
-        let t918: f64 = t842 * t907;
-        let t919: f64 = t918 * 0.5;
-        let t920: f64 = f64::mul_add(leg3_zero_z, t235, t916);
-        let t921: f64 = f64::mul_add(t213, t240, t919);
-        let t922: f64 = t920 - t921;
-        let t923: f64 = t223 * t922;
-        let t924: f64 = f64::mul_add(t836, t899, -t923);
-        let t925: f64 = t250 * t924;
-        let t926: f64 = f64::mul_add(t223, t912, t925);
-        let t927: f64 = f64::mul_add(t818, t899, -t926);
-        let t928: f64 = t893 * t927;
-        let t929: f64 = t928 * 2.0;
-        let t930: f64 = -t860;
-        let t932: f64 = -t895;
-        let t933: f64 = t9 * t932;
-        let t934: f64 = -t929;
-        let t936: f64 = f64::mul_add(t607, t930, t933);
-        let t937: f64 = f64::mul_add(t25, t934, t936);
-        let t940: f64 = t30 * t934;
-        let t941: f64 = f64::mul_add(t13, t932, t940);
-        let t942: f64 = f64::mul_add(-t615, t930, t941);
-        let t945: f64 = t3 * t934;
-        let t946: f64 = f64::mul_add(t2, t932, -t945);
-        let t947: f64 = t6 * t946;
-        let t948: f64 = f64::mul_add(t5, t930, -t947);
-        let t949: f64 = t224 * t224;
-        let t950: f64 = t233 * t949;
-        let t952: f64 = f64::mul_add(t950, 0.5, -1.0);
-        let t953: f64 = t235 * t828;
-        let t955: f64 = t235 * t841;
-        let t957: f64 = f64::mul_add(t824, t955, t205);
-        let t958: f64 = t250 * t957;
-        let t959: f64 = f64::mul_add(t824, t953, t958);
-        let t960: f64 = t220 - t959;
-        let t961: f64 = t223 * t249;
-        let t962: f64 = t857 * t961;
-        let t963: f64 = t952 * t962;
-        let t964: f64 = t960 * t963;
-        let t965: f64 = t964 * 2.0;
-        let t966: f64 = -t965;
-        let t967: f64 = leg3_rod_length * t224;
-        let t968: f64 = t223 * t967;
-        let t969: f64 = t249 * t968;
-        let t970: f64 = t857 * t969;
-        let t971: f64 = t960 * t970;
-        let t972: f64 = t971 * 2.0;
-        let t973: f64 = -t972;
-        let t974: f64 = t301 * t301;
-        let t976: f64 = t295 * t298;
-        let t977: f64 = f64::mul_add(leg4_zero_x, t283, t976);
-        let t978: f64 = t977 * 2.0;
-        let t979: f64 = t320 * t974;
-        let t982: f64 = t280 * t302;
-        let t983: f64 = t298 * t982;
-        let t985: f64 = 1.0 / t317;
-        let t987: f64 = f64::mul_add(-t313, t982, t977);
-        let t988: f64 = t987 * 2.0;
-        let t989: f64 = leg4_branch * t283;
-        let t990: f64 = t985 * t989;
-        let t991: f64 = t988 * t990;
-        let t992: f64 = t991 * 0.5;
-        let t993: f64 = f64::mul_add(t295, t313, t983);
-        let t994: f64 = f64::mul_add(leg4_zero_x, t318, t992);
-        let t995: f64 = t993 + t994;
-        let t997: f64 = t324 * t974;
-        let t1000: f64 = t283 * t982;
-        let t1002: f64 = leg4_branch * t298;
-        let t1003: f64 = t985 * t1002;
-        let t1004: f64 = t988 * t1003;
-        let t1005: f64 = t1004 * 0.5;
-        let t1006: f64 = f64::mul_add(leg4_zero_x, t313, t1000);
-        let t1007: f64 = f64::mul_add(t295, t318, t1005);
-        let t1008: f64 = t1006 - t1007;
-        let t1009: f64 = t301 * t1008;
-        let t1010: f64 = f64::mul_add(t978, t997, -t1009);
-        let t1011: f64 = t328 * t1010;
-        let t1012: f64 = f64::mul_add(t301, t995, t1011);
-        let t1013: f64 = f64::mul_add(t978, t979, -t1012);
-        let t1014: f64 = t321 * t321;
-        let t1015: f64 = t327 * t327;
-        let t1017: f64 = f64::mul_add(t1014, t1015, 1.0);
-        let t1018: f64 = 1.0 / t1017;
-        let t1019: f64 = t327 * t1013;
-        let t1020: f64 = t1018 * t1019;
-        let t1021: f64 = t1020 * 2.0;
-        let t1023: f64 = t287 * t298;
-        let t1024: f64 = f64::mul_add(leg4_zero_y, t283, t1023);
-        let t1025: f64 = t1024 * 2.0;
-        let t1028: f64 = t262 * t302;
-        let t1029: f64 = t298 * t1028;
-        let t1032: f64 = f64::mul_add(-t313, t1028, t1024);
-        let t1033: f64 = t1032 * 2.0;
-        let t1034: f64 = t990 * t1033;
-        let t1035: f64 = t1034 * 0.5;
-        let t1036: f64 = f64::mul_add(t287, t313, t1029);
-        let t1037: f64 = f64::mul_add(leg4_zero_y, t318, t1035);
-        let t1038: f64 = t1036 + t1037;
-        let t1042: f64 = t283 * t1028;
-        let t1044: f64 = t1003 * t1033;
-        let t1045: f64 = t1044 * 0.5;
-        let t1046: f64 = f64::mul_add(leg4_zero_y, t313, t1042);
-        let t1047: f64 = f64::mul_add(t287, t318, t1045);
-        let t1048: f64 = t1046 - t1047;
-        let t1049: f64 = t301 * t1048;
-        let t1050: f64 = f64::mul_add(t997, t1025, -t1049);
-        let t1051: f64 = t328 * t1050;
-        let t1052: f64 = f64::mul_add(t301, t1038, t1051);
-        let t1053: f64 = f64::mul_add(t979, t1025, -t1052);
-        let t1054: f64 = t327 * t1018;
-        let t1055: f64 = t1053 * t1054;
-        let t1056: f64 = t1055 * 2.0;
-        let t1058: f64 = t291 * t298;
-        let t1059: f64 = f64::mul_add(leg4_zero_z, t283, t1058);
-        let t1060: f64 = t1059 * 2.0;
-        let t1063: f64 = t271 * t302;
-        let t1064: f64 = t298 * t1063;
-        let t1067: f64 = f64::mul_add(-t313, t1063, t1059);
-        let t1068: f64 = t1067 * 2.0;
-        let t1069: f64 = t990 * t1068;
-        let t1070: f64 = t1069 * 0.5;
-        let t1071: f64 = f64::mul_add(t291, t313, t1064);
-        let t1072: f64 = f64::mul_add(leg4_zero_z, t318, t1070);
-        let t1073: f64 = t1071 + t1072;
-        let t1077: f64 = t283 * t1063;
-        let t1079: f64 = t1003 * t1068;
-        let t1080: f64 = t1079 * 0.5;
-        let t1081: f64 = f64::mul_add(leg4_zero_z, t313, t1077);
-        let t1082: f64 = f64::mul_add(t291, t318, t1080);
-        let t1083: f64 = t1081 - t1082;
-        let t1084: f64 = t301 * t1083;
-        let t1085: f64 = f64::mul_add(t997, t1060, -t1084);
-        let t1086: f64 = t328 * t1085;
-        let t1087: f64 = f64::mul_add(t301, t1073, t1086);
-        let t1088: f64 = f64::mul_add(t979, t1060, -t1087);
-        let t1089: f64 = t1054 * t1088;
-        let t1090: f64 = t1089 * 2.0;
-        let t1091: f64 = -t1021;
-        let t1093: f64 = -t1056;
-        let t1094: f64 = t9 * t1093;
-        let t1095: f64 = -t1090;
-        let t1097: f64 = f64::mul_add(t607, t1091, t1094);
-        let t1098: f64 = f64::mul_add(t25, t1095, t1097);
-        let t1101: f64 = t30 * t1095;
-        let t1102: f64 = f64::mul_add(t13, t1093, t1101);
-        let t1103: f64 = f64::mul_add(-t615, t1091, t1102);
-        let t1106: f64 = t3 * t1095;
-        let t1107: f64 = f64::mul_add(t2, t1093, -t1106);
-        let t1108: f64 = t6 * t1107;
-        let t1109: f64 = f64::mul_add(t5, t1091, -t1108);
-        let t1110: f64 = t302 * t302;
-        let t1111: f64 = t311 * t1110;
-        let t1113: f64 = f64::mul_add(t1111, 0.5, -1.0);
-        let t1114: f64 = t313 * t989;
-        let t1116: f64 = t313 * t1002;
-        let t1118: f64 = f64::mul_add(t985, t1116, t283);
-        let t1119: f64 = t328 * t1118;
-        let t1120: f64 = f64::mul_add(t985, t1114, t1119);
-        let t1121: f64 = t298 - t1120;
-        let t1122: f64 = t301 * t327;
-        let t1123: f64 = t1018 * t1122;
-        let t1124: f64 = t1113 * t1123;
-        let t1125: f64 = t1121 * t1124;
-        let t1126: f64 = t1125 * 2.0;
-        let t1127: f64 = -t1126;
-        let t1128: f64 = leg4_rod_length * t302;
-        let t1129: f64 = t301 * t1128;
-        let t1130: f64 = t327 * t1129;
-        let t1131: f64 = t1018 * t1130;
-        let t1132: f64 = t1121 * t1131;
-        let t1133: f64 = t1132 * 2.0;
-        let t1134: f64 = -t1133;
-        let t1135: f64 = t379 * t379;
-        let t1137: f64 = t373 * t376;
-        let t1138: f64 = f64::mul_add(leg5_zero_x, t361, t1137);
-        let t1139: f64 = t1138 * 2.0;
-        let t1140: f64 = t398 * t1135;
-        let t1143: f64 = t358 * t380;
-        let t1144: f64 = t376 * t1143;
-        let t1146: f64 = 1.0 / t395;
-        let t1148: f64 = f64::mul_add(-t391, t1143, t1138);
-        let t1149: f64 = t1148 * 2.0;
-        let t1150: f64 = leg5_branch * t361;
-        let t1151: f64 = t1146 * t1150;
-        let t1152: f64 = t1149 * t1151;
-        let t1153: f64 = t1152 * 0.5;
-        let t1154: f64 = f64::mul_add(t373, t391, t1144);
-        let t1155: f64 = f64::mul_add(leg5_zero_x, t396, t1153);
-        let t1156: f64 = t1154 + t1155;
-        let t1158: f64 = t402 * t1135;
-        let t1161: f64 = t361 * t1143;
-        let t1163: f64 = leg5_branch * t376;
-        let t1164: f64 = t1146 * t1163;
-        let t1165: f64 = t1149 * t1164;
-        let t1166: f64 = t1165 * 0.5;
-        let t1167: f64 = f64::mul_add(leg5_zero_x, t391, t1161);
-        let t1168: f64 = f64::mul_add(t373, t396, t1166);
-        let t1169: f64 = t1167 - t1168;
-        let t1170: f64 = t379 * t1169;
-        let t1171: f64 = f64::mul_add(t1139, t1158, -t1170);
-        let t1172: f64 = t406 * t1171;
-        let t1173: f64 = f64::mul_add(t379, t1156, t1172);
-        let t1174: f64 = f64::mul_add(t1139, t1140, -t1173);
-        let t1175: f64 = t399 * t399;
-        let t1176: f64 = t405 * t405;
-        let t1178: f64 = f64::mul_add(t1175, t1176, 1.0);
-        let t1179: f64 = 1.0 / t1178;
-        let t1180: f64 = t405 * t1174;
-        let t1181: f64 = t1179 * t1180;
-        let t1182: f64 = t1181 * 2.0;
-        let t1184: f64 = t365 * t376;
-        let t1185: f64 = f64::mul_add(leg5_zero_y, t361, t1184);
-        let t1186: f64 = t1185 * 2.0;
-        let t1189: f64 = t340 * t380;
-        let t1190: f64 = t376 * t1189;
-        let t1193: f64 = f64::mul_add(-t391, t1189, t1185);
-        let t1194: f64 = t1193 * 2.0;
-        let t1195: f64 = t1151 * t1194;
-        let t1196: f64 = t1195 * 0.5;
-        let t1197: f64 = f64::mul_add(t365, t391, t1190);
-        let t1198: f64 = f64::mul_add(leg5_zero_y, t396, t1196);
-        let t1199: f64 = t1197 + t1198;
-        let t1203: f64 = t361 * t1189;
-        let t1205: f64 = t1164 * t1194;
-        let t1206: f64 = t1205 * 0.5;
-        let t1207: f64 = f64::mul_add(leg5_zero_y, t391, t1203);
-        let t1208: f64 = f64::mul_add(t365, t396, t1206);
-        let t1209: f64 = t1207 - t1208;
-        let t1210: f64 = t379 * t1209;
-        let t1211: f64 = f64::mul_add(t1158, t1186, -t1210);
-        let t1212: f64 = t406 * t1211;
-        let t1213: f64 = f64::mul_add(t379, t1199, t1212);
-        let t1214: f64 = f64::mul_add(t1140, t1186, -t1213);
-        let t1215: f64 = t405 * t1179;
-        let t1216: f64 = t1214 * t1215;
-        let t1217: f64 = t1216 * 2.0;
-        let t1219: f64 = t369 * t376;
-        let t1220: f64 = f64::mul_add(leg5_zero_z, t361, t1219);
-        let t1221: f64 = t1220 * 2.0;
-        let t1224: f64 = t349 * t380;
-        let t1225: f64 = t376 * t1224;
-        let t1228: f64 = f64::mul_add(-t391, t1224, t1220);
+        let t876: f64 = t756 * t872;
+        let t877: f64 = t876 * 0.5;
+        let t878: f64 = f64::mul_add(t844, t861, t877);
+        let t879: f64 = f64::mul_add(t157, t869, -t878);
+        let t880: f64 = t145 * t879;
+        let t883: f64 = t162 * t869;
+        let t884: f64 = t769 * t872;
+        let t886: f64 = f64::mul_add(t828, t861, t883);
+        let t887: f64 = f64::mul_add(-t884, 0.5, t886);
+        let t888: f64 = t145 * t887;
+        let t889: f64 = f64::mul_add(t763, t872, -t888);
+        let t891: f64 = f64::mul_add(t745, t872, t880);
+        let t892: f64 = f64::mul_add(-t172, t889, t891);
+        let t893: f64 = t820 * t892;
+        let t894: f64 = t893 * 2.0;
+        let t896: f64 = leg2_axis_y * leg2_axis_y;
+        let t897: f64 = f64::mul_add(leg2_axis_x, leg2_axis_x, t896);
+        let t898: f64 = sqrt(t897);
+        let t900: f64 = leg2_axis_z / t898;
+        let t901: f64 = t866 * t900;
+        let t902: f64 = f64::mul_add(leg2_zero_z, t898, -t901);
+        let t903: f64 = -t902;
+        let t904: f64 = t127 * t861;
+        let t907: f64 = t130 * t900;
+        let t908: f64 = f64::mul_add(leg2_zero_x, t898, t907);
+        let t911: f64 = leg2_zero_y * t898;
+        let t912: f64 = f64::mul_add(t137, t900, t911);
+        let t914: f64 = t136 * t900;
+        let t915: f64 = f64::mul_add(t124, t912, t914);
+        let t916: f64 = f64::mul_add(-t106, t908, t915);
+        let t917: f64 = t142 * t916;
+        let t918: f64 = f64::mul_add(t903, t904, -t917);
+        let t919: f64 = t918 * 2.0;
+        let t922: f64 = t162 * t861;
+        let t924: f64 = t756 * t919;
+        let t925: f64 = t924 * 0.5;
+        let t926: f64 = f64::mul_add(t903, t922, t925);
+        let t927: f64 = f64::mul_add(t157, t916, -t926);
+        let t928: f64 = t145 * t927;
+        let t930: f64 = t157 * t861;
+        let t932: f64 = t162 * t916;
+        let t933: f64 = t769 * t919;
+        let t935: f64 = f64::mul_add(t903, t930, t932);
+        let t936: f64 = f64::mul_add(-t933, 0.5, t935);
+        let t937: f64 = t145 * t936;
+        let t938: f64 = f64::mul_add(t763, t919, -t937);
+        let t940: f64 = f64::mul_add(t745, t919, t928);
+        let t941: f64 = f64::mul_add(-t172, t938, t940);
+        let t942: f64 = t820 * t941;
+        let t943: f64 = t942 * 2.0;
+        let t944: f64 = -t943;
+        let t945: f64 = -t787;
+        let t947: f64 = -t822;
+        let t948: f64 = t9 * t947;
+        let t949: f64 = -t856;
+        let t951: f64 = f64::mul_add(t695, t945, t948);
+        let t952: f64 = f64::mul_add(t25, t949, t951);
+        let t955: f64 = t30 * t949;
+        let t956: f64 = f64::mul_add(t13, t947, t955);
+        let t957: f64 = f64::mul_add(-t703, t945, t956);
+        let t960: f64 = t3 * t949;
+        let t961: f64 = f64::mul_add(t2, t947, -t960);
+        let t962: f64 = t6 * t961;
+        let t963: f64 = f64::mul_add(t5, t945, -t962);
+        let t964: f64 = t146 * t146;
+        let t965: f64 = t155 * t964;
+        let t967: f64 = f64::mul_add(t965, 0.5, -1.0);
+        let t968: f64 = t157 * t755;
+        let t970: f64 = t157 * t768;
+        let t972: f64 = f64::mul_add(t751, t970, t127);
+        let t973: f64 = t172 * t972;
+        let t974: f64 = f64::mul_add(t751, t968, t973);
+        let t975: f64 = t142 - t974;
+        let t976: f64 = t145 * t171;
+        let t977: f64 = t784 * t976;
+        let t978: f64 = t967 * t977;
+        let t979: f64 = t975 * t978;
+        let t980: f64 = t979 * 2.0;
+        let t981: f64 = -t980;
+        let t982: f64 = leg2_rod_length * t146;
+        let t983: f64 = t145 * t982;
+        let t984: f64 = t171 * t983;
+        let t985: f64 = t784 * t984;
+        let t986: f64 = t975 * t985;
+        let t987: f64 = t986 * 2.0;
+        let t988: f64 = -t987;
+        let t989: f64 = t223 * t223;
+        let t991: f64 = t217 * t220;
+        let t992: f64 = f64::mul_add(leg3_zero_x, t205, t991);
+        let t993: f64 = t992 * 2.0;
+        let t994: f64 = t242 * t989;
+        let t997: f64 = t202 * t224;
+        let t998: f64 = t220 * t997;
+        let t1000: f64 = 1.0 / t239;
+        let t1002: f64 = f64::mul_add(-t235, t997, t992);
+        let t1003: f64 = t1002 * 2.0;
+        let t1004: f64 = leg3_branch * t205;
+        let t1005: f64 = t1000 * t1004;
+        let t1006: f64 = t1003 * t1005;
+        let t1007: f64 = t1006 * 0.5;
+        let t1008: f64 = f64::mul_add(t217, t235, t998);
+        let t1009: f64 = f64::mul_add(leg3_zero_x, t240, t1007);
+        let t1010: f64 = t1008 + t1009;
+        let t1012: f64 = t246 * t989;
+        let t1015: f64 = t205 * t997;
+        let t1017: f64 = leg3_branch * t220;
+        let t1018: f64 = t1000 * t1017;
+        let t1019: f64 = t1003 * t1018;
+        let t1020: f64 = t1019 * 0.5;
+        let t1021: f64 = f64::mul_add(leg3_zero_x, t235, t1015);
+        let t1022: f64 = f64::mul_add(t217, t240, t1020);
+        let t1023: f64 = t1021 - t1022;
+        let t1024: f64 = t223 * t1023;
+        let t1025: f64 = f64::mul_add(t993, t1012, -t1024);
+        let t1026: f64 = t250 * t1025;
+        let t1027: f64 = f64::mul_add(t223, t1010, t1026);
+        let t1028: f64 = f64::mul_add(t993, t994, -t1027);
+        let t1029: f64 = t243 * t243;
+        let t1030: f64 = t249 * t249;
+        let t1032: f64 = f64::mul_add(t1029, t1030, 1.0);
+        let t1033: f64 = 1.0 / t1032;
+        let t1034: f64 = t249 * t1028;
+        let t1035: f64 = t1033 * t1034;
+        let t1036: f64 = t1035 * 2.0;
+        let t1038: f64 = t209 * t220;
+        let t1039: f64 = f64::mul_add(leg3_zero_y, t205, t1038);
+        let t1040: f64 = t1039 * 2.0;
+        let t1043: f64 = t184 * t224;
+        let t1044: f64 = t220 * t1043;
+        let t1047: f64 = f64::mul_add(-t235, t1043, t1039);
+        let t1048: f64 = t1047 * 2.0;
+        let t1049: f64 = t1005 * t1048;
+        let t1050: f64 = t1049 * 0.5;
+        let t1051: f64 = f64::mul_add(t209, t235, t1044);
+        let t1052: f64 = f64::mul_add(leg3_zero_y, t240, t1050);
+        let t1053: f64 = t1051 + t1052;
+        let t1057: f64 = t205 * t1043;
+        let t1059: f64 = t1018 * t1048;
+        let t1060: f64 = t1059 * 0.5;
+        let t1061: f64 = f64::mul_add(leg3_zero_y, t235, t1057);
+        let t1062: f64 = f64::mul_add(t209, t240, t1060);
+        let t1063: f64 = t1061 - t1062;
+        let t1064: f64 = t223 * t1063;
+        let t1065: f64 = f64::mul_add(t1012, t1040, -t1064);
+        let t1066: f64 = t250 * t1065;
+        let t1067: f64 = f64::mul_add(t223, t1053, t1066);
+        let t1068: f64 = f64::mul_add(t994, t1040, -t1067);
+        let t1069: f64 = t249 * t1033;
+        let t1070: f64 = t1068 * t1069;
+        let t1071: f64 = t1070 * 2.0;
+        let t1073: f64 = t213 * t220;
+        let t1074: f64 = f64::mul_add(leg3_zero_z, t205, t1073);
+        let t1075: f64 = t1074 * 2.0;
+        let t1077: f64 = t213 * t235;
+        let t1078: f64 = t193 * t224;
+        let t1082: f64 = f64::mul_add(-t235, t1078, t1074);
+        let t1083: f64 = t1082 * 2.0;
+        let t1084: f64 = t1005 * t1083;
+        let t1085: f64 = t1084 * 0.5;
+        let t1086: f64 = f64::mul_add(t220, t1078, t1077);
+        let t1087: f64 = f64::mul_add(leg3_zero_z, t240, t1085);
+        let t1088: f64 = t1086 + t1087;
+        let t1092: f64 = t205 * t1078;
+        let t1093: f64 = t213 * t240;
+        let t1094: f64 = t1018 * t1083;
+        let t1096: f64 = f64::mul_add(leg3_zero_z, t235, t1092);
+        let t1097: f64 = f64::mul_add(t1094, 0.5, t1093);
+        let t1098: f64 = t1096 - t1097;
+        let t1099: f64 = t223 * t1098;
+        let t1100: f64 = f64::mul_add(t1012, t1075, -t1099);
+        let t1101: f64 = t250 * t1100;
+        let t1102: f64 = f64::mul_add(t223, t1088, t1101);
+        let t1103: f64 = f64::mul_add(t994, t1075, -t1102);
+        let t1104: f64 = t1069 * t1103;
+        let t1105: f64 = t1104 * 2.0;
+        let t1108: f64 = leg3_axis_x * t202;
+        let t1109: f64 = f64::mul_add(leg3_axis_y, t184, t1108);
+        let t1110: f64 = f64::mul_add(leg3_axis_z, t193, t1109);
+        let t1111: f64 = t205 * t213;
+        let t1114: f64 = leg3_axis_x * leg3_zero_x;
+        let t1115: f64 = f64::mul_add(leg3_axis_y, leg3_zero_y, t1114);
+        let t1117: f64 = leg3_zero_z * t1109;
+        let t1118: f64 = f64::mul_add(-t193, t1115, t1117);
+        let t1119: f64 = t220 * t1118;
+        let t1120: f64 = f64::mul_add(t1110, t1111, -t1119);
+        let t1121: f64 = t1120 * 2.0;
+        let t1125: f64 = t1005 * t1121;
+        let t1126: f64 = t1125 * 0.5;
+        let t1127: f64 = f64::mul_add(t1093, t1110, t1126);
+        let t1128: f64 = f64::mul_add(t235, t1118, -t1127);
+        let t1129: f64 = t223 * t1128;
+        let t1132: f64 = t240 * t1118;
+        let t1133: f64 = t1018 * t1121;
+        let t1135: f64 = f64::mul_add(t1077, t1110, t1132);
+        let t1136: f64 = f64::mul_add(-t1133, 0.5, t1135);
+        let t1137: f64 = t223 * t1136;
+        let t1138: f64 = f64::mul_add(t1012, t1121, -t1137);
+        let t1140: f64 = f64::mul_add(t994, t1121, t1129);
+        let t1141: f64 = f64::mul_add(-t250, t1138, t1140);
+        let t1142: f64 = t1069 * t1141;
+        let t1143: f64 = t1142 * 2.0;
+        let t1145: f64 = leg3_axis_y * leg3_axis_y;
+        let t1146: f64 = f64::mul_add(leg3_axis_x, leg3_axis_x, t1145);
+        let t1147: f64 = sqrt(t1146);
+        let t1149: f64 = leg3_axis_z / t1147;
+        let t1150: f64 = t1115 * t1149;
+        let t1151: f64 = f64::mul_add(leg3_zero_z, t1147, -t1150);
+        let t1152: f64 = -t1151;
+        let t1153: f64 = t205 * t1110;
+        let t1156: f64 = t208 * t1149;
+        let t1157: f64 = f64::mul_add(leg3_zero_x, t1147, t1156);
+        let t1160: f64 = leg3_zero_y * t1147;
+        let t1161: f64 = f64::mul_add(t215, t1149, t1160);
+        let t1163: f64 = t214 * t1149;
+        let t1164: f64 = f64::mul_add(t202, t1161, t1163);
+        let t1165: f64 = f64::mul_add(-t184, t1157, t1164);
+        let t1166: f64 = t220 * t1165;
+        let t1167: f64 = f64::mul_add(t1152, t1153, -t1166);
+        let t1168: f64 = t1167 * 2.0;
+        let t1171: f64 = t240 * t1110;
+        let t1173: f64 = t1005 * t1168;
+        let t1174: f64 = t1173 * 0.5;
+        let t1175: f64 = f64::mul_add(t1152, t1171, t1174);
+        let t1176: f64 = f64::mul_add(t235, t1165, -t1175);
+        let t1177: f64 = t223 * t1176;
+        let t1179: f64 = t235 * t1110;
+        let t1181: f64 = t240 * t1165;
+        let t1182: f64 = t1018 * t1168;
+        let t1184: f64 = f64::mul_add(t1152, t1179, t1181);
+        let t1185: f64 = f64::mul_add(-t1182, 0.5, t1184);
+        let t1186: f64 = t223 * t1185;
+        let t1187: f64 = f64::mul_add(t1012, t1168, -t1186);
+        let t1189: f64 = f64::mul_add(t994, t1168, t1177);
+        let t1190: f64 = f64::mul_add(-t250, t1187, t1189);
+        let t1191: f64 = t1069 * t1190;
+        let t1192: f64 = t1191 * 2.0;
+        let t1193: f64 = -t1192;
+        let t1194: f64 = -t1036;
+        let t1196: f64 = -t1071;
+        let t1197: f64 = t9 * t1196;
+        let t1198: f64 = -t1105;
+        let t1200: f64 = f64::mul_add(t695, t1194, t1197);
+        let t1201: f64 = f64::mul_add(t25, t1198, t1200);
+        let t1204: f64 = t30 * t1198;
+        let t1205: f64 = f64::mul_add(t13, t1196, t1204);
+        let t1206: f64 = f64::mul_add(-t703, t1194, t1205);
+        let t1209: f64 = t3 * t1198;
+        let t1210: f64 = f64::mul_add(t2, t1196, -t1209);
+        let t1211: f64 = t6 * t1210;
+        let t1212: f64 = f64::mul_add(t5, t1194, -t1211);
+        let t1213: f64 = t224 * t224;
+        let t1214: f64 = t233 * t1213;
+        let t1216: f64 = f64::mul_add(t1214, 0.5, -1.0);
+        let t1217: f64 = t235 * t1004;
+        let t1219: f64 = t235 * t1017;
+        let t1221: f64 = f64::mul_add(t1000, t1219, t205);
+        let t1222: f64 = t250 * t1221;
+        let t1223: f64 = f64::mul_add(t1000, t1217, t1222);
+        let t1224: f64 = t220 - t1223;
+        let t1225: f64 = t223 * t249;
+        let t1226: f64 = t1033 * t1225;
+        let t1227: f64 = t1216 * t1226;
+        let t1228: f64 = t1224 * t1227;
         let t1229: f64 = t1228 * 2.0;
-        let t1230: f64 = t1151 * t1229;
-        let t1231: f64 = t1230 * 0.5;
-        let t1232: f64 = f64::mul_add(t369, t391, t1225);
-        let t1233: f64 = f64::mul_add(leg5_zero_z, t396, t1231);
-        let t1234: f64 = t1232 + t1233;
-        let t1238: f64 = t361 * t1224;
-        let t1240: f64 = t1164 * t1229;
-        let t1241: f64 = t1240 * 0.5;
-        let t1242: f64 = f64::mul_add(leg5_zero_z, t391, t1238);
-        let t1243: f64 = f64::mul_add(t369, t396, t1241);
-        let t1244: f64 = t1242 - t1243;
-        let t1245: f64 = t379 * t1244;
-        let t1246: f64 = f64::mul_add(t1158, t1221, -t1245);
-        let t1247: f64 = t406 * t1246;
-        let t1248: f64 = f64::mul_add(t379, t1234, t1247);
-        let t1249: f64 = f64::mul_add(t1140, t1221, -t1248);
-        let t1250: f64 = t1215 * t1249;
-        let t1251: f64 = t1250 * 2.0;
-        let t1252: f64 = -t1182;
-        let t1254: f64 = -t1217;
-        let t1255: f64 = t9 * t1254;
-        let t1256: f64 = -t1251;
-        let t1258: f64 = f64::mul_add(t607, t1252, t1255);
-        let t1259: f64 = f64::mul_add(t25, t1256, t1258);
-        let t1262: f64 = t30 * t1256;
-        let t1263: f64 = f64::mul_add(t13, t1254, t1262);
-        let t1264: f64 = f64::mul_add(-t615, t1252, t1263);
-        let t1267: f64 = t3 * t1256;
-        let t1268: f64 = f64::mul_add(t2, t1254, -t1267);
-        let t1269: f64 = t6 * t1268;
-        let t1270: f64 = f64::mul_add(t5, t1252, -t1269);
-        let t1271: f64 = t380 * t380;
-        let t1272: f64 = t389 * t1271;
-        let t1274: f64 = f64::mul_add(t1272, 0.5, -1.0);
-        let t1275: f64 = t391 * t1150;
-        let t1277: f64 = t391 * t1163;
-        let t1279: f64 = f64::mul_add(t1146, t1277, t361);
-        let t1280: f64 = t406 * t1279;
-        let t1281: f64 = f64::mul_add(t1146, t1275, t1280);
-        let t1282: f64 = t376 - t1281;
-        let t1283: f64 = t379 * t405;
-        let t1284: f64 = t1179 * t1283;
-        let t1285: f64 = t1274 * t1284;
-        let t1286: f64 = t1282 * t1285;
-        let t1287: f64 = t1286 * 2.0;
-        let t1288: f64 = -t1287;
-        let t1289: f64 = leg5_rod_length * t380;
-        let t1290: f64 = t379 * t1289;
-        let t1291: f64 = t405 * t1290;
-        let t1292: f64 = t1179 * t1291;
-        let t1293: f64 = t1282 * t1292;
-        let t1294: f64 = t1293 * 2.0;
-        let t1295: f64 = -t1294;
-        let t1296: f64 = t457 * t457;
-        let t1298: f64 = t451 * t454;
-        let t1299: f64 = f64::mul_add(leg6_zero_x, t439, t1298);
-        let t1300: f64 = t1299 * 2.0;
-        let t1301: f64 = t476 * t1296;
-        let t1304: f64 = t436 * t458;
-        let t1305: f64 = t454 * t1304;
-        let t1307: f64 = 1.0 / t473;
-        let t1309: f64 = f64::mul_add(-t469, t1304, t1299);
-        let t1310: f64 = t1309 * 2.0;
-        let t1311: f64 = leg6_branch * t439;
-        let t1312: f64 = t1307 * t1311;
-        let t1313: f64 = t1310 * t1312;
-        let t1314: f64 = t1313 * 0.5;
-        let t1315: f64 = f64::mul_add(t451, t469, t1305);
-        let t1316: f64 = f64::mul_add(leg6_zero_x, t474, t1314);
-        let t1317: f64 = t1315 + t1316;
-        let t1319: f64 = t480 * t1296;
-        let t1322: f64 = t439 * t1304;
-        let t1324: f64 = leg6_branch * t454;
-        let t1325: f64 = t1307 * t1324;
-        let t1326: f64 = t1310 * t1325;
-        let t1327: f64 = t1326 * 0.5;
-        let t1328: f64 = f64::mul_add(leg6_zero_x, t469, t1322);
-        let t1329: f64 = f64::mul_add(t451, t474, t1327);
-        let t1330: f64 = t1328 - t1329;
-        let t1331: f64 = t457 * t1330;
-        let t1332: f64 = f64::mul_add(t1300, t1319, -t1331);
+        let t1230: f64 = -t1229;
+        let t1231: f64 = leg3_rod_length * t224;
+        let t1232: f64 = t223 * t1231;
+        let t1233: f64 = t249 * t1232;
+        let t1234: f64 = t1033 * t1233;
+        let t1235: f64 = t1224 * t1234;
+        let t1236: f64 = t1235 * 2.0;
+        let t1237: f64 = -t1236;
+        let t1238: f64 = t301 * t301;
+        let t1240: f64 = t295 * t298;
+        let t1241: f64 = f64::mul_add(leg4_zero_x, t283, t1240);
+        let t1242: f64 = t1241 * 2.0;
+        let t1243: f64 = t320 * t1238;
+        let t1246: f64 = t280 * t302;
+        let t1247: f64 = t298 * t1246;
+        let t1249: f64 = 1.0 / t317;
+        let t1251: f64 = f64::mul_add(-t313, t1246, t1241);
+        let t1252: f64 = t1251 * 2.0;
+        let t1253: f64 = leg4_branch * t283;
+        let t1254: f64 = t1249 * t1253;
+        let t1255: f64 = t1252 * t1254;
+        let t1256: f64 = t1255 * 0.5;
+        let t1257: f64 = f64::mul_add(t295, t313, t1247);
+        let t1258: f64 = f64::mul_add(leg4_zero_x, t318, t1256);
+        let t1259: f64 = t1257 + t1258;
+        let t1261: f64 = t324 * t1238;
+        let t1264: f64 = t283 * t1246;
+        let t1266: f64 = leg4_branch * t298;
+        let t1267: f64 = t1249 * t1266;
+        let t1268: f64 = t1252 * t1267;
+        let t1269: f64 = t1268 * 0.5;
+        let t1270: f64 = f64::mul_add(leg4_zero_x, t313, t1264);
+        let t1271: f64 = f64::mul_add(t295, t318, t1269);
+        let t1272: f64 = t1270 - t1271;
+        let t1273: f64 = t301 * t1272;
+        let t1274: f64 = f64::mul_add(t1242, t1261, -t1273);
+        let t1275: f64 = t328 * t1274;
+        let t1276: f64 = f64::mul_add(t301, t1259, t1275);
+        let t1277: f64 = f64::mul_add(t1242, t1243, -t1276);
+        let t1278: f64 = t321 * t321;
+        let t1279: f64 = t327 * t327;
+        let t1281: f64 = f64::mul_add(t1278, t1279, 1.0);
+        let t1282: f64 = 1.0 / t1281;
+        let t1283: f64 = t327 * t1277;
+        let t1284: f64 = t1282 * t1283;
+        let t1285: f64 = t1284 * 2.0;
+        let t1287: f64 = t287 * t298;
+        let t1288: f64 = f64::mul_add(leg4_zero_y, t283, t1287);
+        let t1289: f64 = t1288 * 2.0;
+        let t1292: f64 = t262 * t302;
+        let t1293: f64 = t298 * t1292;
+        let t1296: f64 = f64::mul_add(-t313, t1292, t1288);
+        let t1297: f64 = t1296 * 2.0;
+        let t1298: f64 = t1254 * t1297;
+        let t1299: f64 = t1298 * 0.5;
+        let t1300: f64 = f64::mul_add(t287, t313, t1293);
+        let t1301: f64 = f64::mul_add(leg4_zero_y, t318, t1299);
+        let t1302: f64 = t1300 + t1301;
+        let t1306: f64 = t283 * t1292;
+        let t1308: f64 = t1267 * t1297;
+        let t1309: f64 = t1308 * 0.5;
+        let t1310: f64 = f64::mul_add(leg4_zero_y, t313, t1306);
+        let t1311: f64 = f64::mul_add(t287, t318, t1309);
+        let t1312: f64 = t1310 - t1311;
+        let t1313: f64 = t301 * t1312;
+        let t1314: f64 = f64::mul_add(t1261, t1289, -t1313);
+        let t1315: f64 = t328 * t1314;
+        let t1316: f64 = f64::mul_add(t301, t1302, t1315);
+        let t1317: f64 = f64::mul_add(t1243, t1289, -t1316);
+        let t1318: f64 = t327 * t1282;
+        let t1319: f64 = t1317 * t1318;
+        let t1320: f64 = t1319 * 2.0;
+        let t1322: f64 = t291 * t298;
+        let t1323: f64 = f64::mul_add(leg4_zero_z, t283, t1322);
+        let t1324: f64 = t1323 * 2.0;
+        let t1326: f64 = t291 * t313;
+        let t1327: f64 = t271 * t302;
+        let t1331: f64 = f64::mul_add(-t313, t1327, t1323);
+        let t1332: f64 = t1331 * 2.0;
+        let t1333: f64 = t1254 * t1332;
+        let t1334: f64 = t1333 * 0.5;
+        let t1335: f64 = f64::mul_add(t298, t1327, t1326);
+        let t1336: f64 = f64::mul_add(leg4_zero_z, t318, t1334);
+        let t1337: f64 = t1335 + t1336;
+        let t1341: f64 = t283 * t1327;
+        let t1342: f64 = t291 * t318;
+        let t1343: f64 = t1267 * t1332;
+        let t1345: f64 = f64::mul_add(leg4_zero_z, t313, t1341);
+        let t1346: f64 = f64::mul_add(t1343, 0.5, t1342);
+        let t1347: f64 = t1345 - t1346;
+        let t1348: f64 = t301 * t1347;
+        let t1349: f64 = f64::mul_add(t1261, t1324, -t1348);
+        let t1350: f64 = t328 * t1349;
+        let t1351: f64 = f64::mul_add(t301, t1337, t1350);
+        let t1352: f64 = f64::mul_add(t1243, t1324, -t1351);
+        let t1353: f64 = t1318 * t1352;
+        let t1354: f64 = t1353 * 2.0;
+        let t1357: f64 = leg4_axis_x * t280;
         (
             t0,
             t1,
@@ -69951,14 +70613,52 @@ pub unsafe fn calibration_residuals_fused(
             t200,
             t254,
             t260,
+            t262,
             t269,
+            t271,
             t276,
             t278,
+            t280,
+            t283,
+            t286,
+            t291,
+            t292,
+            t293,
+            t298,
+            t301,
+            t302,
+            t311,
+            t313,
+            t318,
+            t327,
+            t328,
             t332,
             t338,
+            t340,
             t347,
+            t349,
             t354,
             t356,
+            t358,
+            t361,
+            t364,
+            t365,
+            t369,
+            t370,
+            t371,
+            t373,
+            t376,
+            t379,
+            t380,
+            t389,
+            t391,
+            t395,
+            t396,
+            t398,
+            t399,
+            t402,
+            t405,
+            t406,
             t410,
             t416,
             t418,
@@ -69966,365 +70666,782 @@ pub unsafe fn calibration_residuals_fused(
             t427,
             t432,
             t434,
+            t436,
             t439,
+            t442,
             t443,
             t447,
+            t448,
+            t449,
+            t451,
             t454,
             t457,
             t458,
             t467,
             t469,
+            t473,
             t474,
+            t476,
             t477,
+            t480,
             t483,
             t484,
             t488,
             t536,
             t571,
             t605,
-            t606,
-            t607,
-            t609,
-            t611,
-            t614,
-            t615,
-            t620,
-            t624,
-            t626,
-            t644,
-            t651,
+            t643,
+            t693,
+            t694,
+            t695,
+            t697,
             t699,
-            t734,
-            t768,
-            t769,
-            t771,
-            t773,
-            t776,
-            t781,
-            t785,
+            t702,
+            t703,
+            t708,
+            t712,
+            t714,
+            t732,
+            t739,
             t787,
-            t805,
-            t812,
-            t860,
-            t895,
-            t929,
-            t930,
-            t932,
-            t934,
-            t937,
-            t942,
-            t946,
-            t948,
-            t966,
-            t973,
-            t1021,
-            t1056,
-            t1090,
-            t1091,
-            t1093,
-            t1095,
-            t1098,
-            t1103,
-            t1107,
-            t1109,
-            t1127,
-            t1134,
-            t1182,
-            t1217,
-            t1251,
-            t1252,
+            t822,
+            t856,
+            t894,
+            t944,
+            t945,
+            t947,
+            t949,
+            t952,
+            t957,
+            t961,
+            t963,
+            t981,
+            t988,
+            t1036,
+            t1071,
+            t1105,
+            t1143,
+            t1193,
+            t1194,
+            t1196,
+            t1198,
+            t1201,
+            t1206,
+            t1210,
+            t1212,
+            t1230,
+            t1237,
+            t1243,
+            t1249,
+            t1253,
             t1254,
-            t1256,
-            t1259,
-            t1264,
-            t1268,
-            t1270,
-            t1288,
-            t1295,
-            t1300,
-            t1301,
-            t1307,
-            t1311,
-            t1312,
-            t1317,
-            t1319,
-            t1324,
-            t1325,
-            t1332,
+            t1261,
+            t1266,
+            t1267,
+            t1282,
+            t1285,
+            t1318,
+            t1320,
+            t1326,
+            t1342,
+            t1354,
+            t1357,
         )
     };
     let (
-        t1343,
-        t1378,
-        t1412,
-        t1413,
-        t1415,
-        t1417,
-        t1420,
-        t1425,
-        t1431,
-        t1449,
-        t1456,
-        t1459,
-        t1465,
-        t1480,
-        t1483,
-        t1489,
-        t1504,
-        t1507,
-        t1513,
-        t1528,
-        t1531,
-        t1537,
-        t1552,
-        t1555,
-        t1561,
-        t1576,
-        t1579,
-        t1585,
-        t1600,
+        t1392,
+        t1442,
+        t1443,
+        t1445,
+        t1447,
+        t1450,
+        t1455,
+        t1461,
+        t1479,
+        t1486,
+        t1534,
+        t1569,
+        t1603,
+        t1641,
+        t1691,
+        t1692,
+        t1694,
+        t1696,
+        t1699,
+        t1704,
+        t1710,
+        t1728,
+        t1735,
+        t1783,
+        t1818,
+        t1852,
+        t1890,
+        t1940,
+        t1941,
+        t1943,
+        t1945,
+        t1948,
+        t1953,
+        t1959,
+        t1977,
+        t1984,
+        t1987,
+        t1993,
+        t2008,
+        t2011,
+        t2017,
+        t2032,
+        t2035,
+        t2041,
+        t2056,
+        t2059,
+        t2065,
+        t2080,
+        t2083,
+        t2089,
+        t2104,
+        t2107,
+        t2113,
+        t2128,
     ) = {
-        let t1333: f64 = t484 * t1332;
-        let t1334: f64 = f64::mul_add(t457, t1317, t1333);
-        let t1335: f64 = f64::mul_add(t1300, t1301, -t1334);
-        let t1336: f64 = t477 * t477;
-        let t1337: f64 = t483 * t483;
-        let t1339: f64 = f64::mul_add(t1336, t1337, 1.0);
-        let t1340: f64 = 1.0 / t1339;
-        let t1341: f64 = t483 * t1335;
-        let t1342: f64 = t1340 * t1341;
-        let t1343: f64 = t1342 * 2.0;
-        let t1345: f64 = t443 * t454;
-        let t1346: f64 = f64::mul_add(leg6_zero_y, t439, t1345);
-        let t1347: f64 = t1346 * 2.0;
-        let t1350: f64 = t418 * t458;
-        let t1351: f64 = t454 * t1350;
-        let t1354: f64 = f64::mul_add(-t469, t1350, t1346);
-        let t1355: f64 = t1354 * 2.0;
-        let t1356: f64 = t1312 * t1355;
-        let t1357: f64 = t1356 * 0.5;
-        let t1358: f64 = f64::mul_add(t443, t469, t1351);
-        let t1359: f64 = f64::mul_add(leg6_zero_y, t474, t1357);
-        let t1360: f64 = t1358 + t1359;
-        let t1364: f64 = t439 * t1350;
-        let t1366: f64 = t1325 * t1355;
-        let t1367: f64 = t1366 * 0.5;
-        let t1368: f64 = f64::mul_add(leg6_zero_y, t469, t1364);
-        let t1369: f64 = f64::mul_add(t443, t474, t1367);
-        let t1370: f64 = t1368 - t1369;
-        let t1371: f64 = t457 * t1370;
-        let t1372: f64 = f64::mul_add(t1319, t1347, -t1371);
-        let t1373: f64 = t484 * t1372;
-        let t1374: f64 = f64::mul_add(t457, t1360, t1373);
-        let t1375: f64 = f64::mul_add(t1301, t1347, -t1374);
-        let t1376: f64 = t483 * t1340;
-        let t1377: f64 = t1375 * t1376;
-        let t1378: f64 = t1377 * 2.0;
-        let t1380: f64 = t447 * t454;
-        let t1381: f64 = f64::mul_add(leg6_zero_z, t439, t1380);
-        let t1382: f64 = t1381 * 2.0;
-        let t1385: f64 = t427 * t458;
-        let t1386: f64 = t454 * t1385;
-        let t1389: f64 = f64::mul_add(-t469, t1385, t1381);
-        let t1390: f64 = t1389 * 2.0;
-        let t1391: f64 = t1312 * t1390;
-        let t1392: f64 = t1391 * 0.5;
-        let t1393: f64 = f64::mul_add(t447, t469, t1386);
-        let t1394: f64 = f64::mul_add(leg6_zero_z, t474, t1392);
-        let t1395: f64 = t1393 + t1394;
-        let t1399: f64 = t439 * t1385;
-        let t1401: f64 = t1325 * t1390;
-        let t1402: f64 = t1401 * 0.5;
-        let t1403: f64 = f64::mul_add(leg6_zero_z, t469, t1399);
-        let t1404: f64 = f64::mul_add(t447, t474, t1402);
-        let t1405: f64 = t1403 - t1404;
-        let t1406: f64 = t457 * t1405;
-        let t1407: f64 = f64::mul_add(t1319, t1382, -t1406);
-        let t1408: f64 = t484 * t1407;
-        let t1409: f64 = f64::mul_add(t457, t1395, t1408);
-        let t1410: f64 = f64::mul_add(t1301, t1382, -t1409);
-        let t1411: f64 = t1376 * t1410;
-        let t1412: f64 = t1411 * 2.0;
-        let t1413: f64 = -t1343;
-        let t1415: f64 = -t1378;
-        let t1416: f64 = t9 * t1415;
-        let t1417: f64 = -t1412;
-        let t1419: f64 = f64::mul_add(t607, t1413, t1416);
-        let t1420: f64 = f64::mul_add(t25, t1417, t1419);
-        let t1423: f64 = t30 * t1417;
-        let t1424: f64 = f64::mul_add(t13, t1415, t1423);
-        let t1425: f64 = f64::mul_add(-t615, t1413, t1424);
-        let t1428: f64 = t3 * t1417;
-        let t1429: f64 = f64::mul_add(t2, t1415, -t1428);
-        let t1430: f64 = t6 * t1429;
-        let t1431: f64 = f64::mul_add(t5, t1413, -t1430);
-        let t1432: f64 = t458 * t458;
-        let t1433: f64 = t467 * t1432;
-        let t1435: f64 = f64::mul_add(t1433, 0.5, -1.0);
-        let t1436: f64 = t469 * t1311;
-        let t1438: f64 = t469 * t1324;
-        let t1440: f64 = f64::mul_add(t1307, t1438, t439);
-        let t1441: f64 = t484 * t1440;
-        let t1442: f64 = f64::mul_add(t1307, t1436, t1441);
-        let t1443: f64 = t454 - t1442;
-        let t1444: f64 = t457 * t483;
-        let t1445: f64 = t1340 * t1444;
-        let t1446: f64 = t1435 * t1445;
-        let t1447: f64 = t1443 * t1446;
-        let t1448: f64 = t1447 * 2.0;
-        let t1449: f64 = -t1448;
-        let t1450: f64 = leg6_rod_length * t458;
-        let t1451: f64 = t457 * t1450;
-        let t1452: f64 = t483 * t1451;
-        let t1453: f64 = t1340 * t1452;
-        let t1454: f64 = t1443 * t1453;
-        let t1455: f64 = t1454 * 2.0;
-        let t1456: f64 = -t1455;
-        let t1458: f64 = t18 * t611;
-        let t1459: f64 = f64::mul_add(-t35, t609, t1458);
-        let t1461: f64 = t5 * t42;
-        let t1462: f64 = f64::mul_add(leg1_platform_z, t6, -t1461);
-        let t1464: f64 = t44 * t624;
-        let t1465: f64 = f64::mul_add(t606, t1462, t1464);
-        let t1467: f64 = leg1_platform_y * t1;
-        let t1468: f64 = f64::mul_add(leg1_platform_x, t0, t1467);
-        let t1469: f64 = t6 * t606;
-        let t1472: f64 = leg1_platform_y * t9;
-        let t1473: f64 = f64::mul_add(leg1_platform_x, t13, -t1472);
-        let t1476: f64 = leg1_platform_y * t25;
-        let t1477: f64 = f64::mul_add(leg1_platform_x, t30, -t1476);
-        let t1478: f64 = t611 * t1477;
-        let t1479: f64 = f64::mul_add(t609, t1473, t1478);
-        let t1480: f64 = f64::mul_add(-t1468, t1469, t1479);
-        let t1482: f64 = t104 * t773;
-        let t1483: f64 = f64::mul_add(-t113, t771, t1482);
-        let t1485: f64 = t5 * t120;
-        let t1486: f64 = f64::mul_add(leg2_platform_z, t6, -t1485);
-        let t1488: f64 = t122 * t785;
-        let t1489: f64 = f64::mul_add(t769, t1486, t1488);
-        let t1491: f64 = leg2_platform_y * t1;
-        let t1492: f64 = f64::mul_add(leg2_platform_x, t0, t1491);
-        let t1493: f64 = t6 * t769;
-        let t1496: f64 = leg2_platform_y * t9;
-        let t1497: f64 = f64::mul_add(leg2_platform_x, t13, -t1496);
-        let t1500: f64 = leg2_platform_y * t25;
-        let t1501: f64 = f64::mul_add(leg2_platform_x, t30, -t1500);
-        let t1502: f64 = t773 * t1501;
-        let t1503: f64 = f64::mul_add(t771, t1497, t1502);
-        let t1504: f64 = f64::mul_add(-t1492, t1493, t1503);
-        let t1506: f64 = t182 * t934;
-        let t1507: f64 = f64::mul_add(-t191, t932, t1506);
-        let t1509: f64 = t5 * t198;
-        let t1510: f64 = f64::mul_add(leg3_platform_z, t6, -t1509);
-        let t1512: f64 = t200 * t946;
-        let t1513: f64 = f64::mul_add(t930, t1510, t1512);
-        let t1515: f64 = leg3_platform_y * t1;
-        let t1516: f64 = f64::mul_add(leg3_platform_x, t0, t1515);
-        let t1517: f64 = t6 * t930;
-        let t1520: f64 = leg3_platform_y * t9;
-        let t1521: f64 = f64::mul_add(leg3_platform_x, t13, -t1520);
-        let t1524: f64 = leg3_platform_y * t25;
-        let t1525: f64 = f64::mul_add(leg3_platform_x, t30, -t1524);
-        let t1526: f64 = t934 * t1525;
-        let t1527: f64 = f64::mul_add(t932, t1521, t1526);
-        let t1528: f64 = f64::mul_add(-t1516, t1517, t1527);
-        let t1530: f64 = t260 * t1095;
-        let t1531: f64 = f64::mul_add(-t269, t1093, t1530);
-        let t1533: f64 = t5 * t276;
-        let t1534: f64 = f64::mul_add(leg4_platform_z, t6, -t1533);
-        let t1536: f64 = t278 * t1107;
-        let t1537: f64 = f64::mul_add(t1091, t1534, t1536);
-        let t1539: f64 = leg4_platform_y * t1;
-        let t1540: f64 = f64::mul_add(leg4_platform_x, t0, t1539);
-        let t1541: f64 = t6 * t1091;
-        let t1544: f64 = leg4_platform_y * t9;
-        let t1545: f64 = f64::mul_add(leg4_platform_x, t13, -t1544);
-        let t1548: f64 = leg4_platform_y * t25;
-        let t1549: f64 = f64::mul_add(leg4_platform_x, t30, -t1548);
-        let t1550: f64 = t1095 * t1549;
-        let t1551: f64 = f64::mul_add(t1093, t1545, t1550);
-        let t1552: f64 = f64::mul_add(-t1540, t1541, t1551);
-        let t1554: f64 = t338 * t1256;
-        let t1555: f64 = f64::mul_add(-t347, t1254, t1554);
-        let t1557: f64 = t5 * t354;
-        let t1558: f64 = f64::mul_add(leg5_platform_z, t6, -t1557);
-        let t1560: f64 = t356 * t1268;
-        let t1561: f64 = f64::mul_add(t1252, t1558, t1560);
-        let t1563: f64 = leg5_platform_y * t1;
-        let t1564: f64 = f64::mul_add(leg5_platform_x, t0, t1563);
-        let t1565: f64 = t6 * t1252;
-        let t1568: f64 = leg5_platform_y * t9;
-        let t1569: f64 = f64::mul_add(leg5_platform_x, t13, -t1568);
-        let t1572: f64 = leg5_platform_y * t25;
-        let t1573: f64 = f64::mul_add(leg5_platform_x, t30, -t1572);
-        let t1574: f64 = t1256 * t1573;
-        let t1575: f64 = f64::mul_add(t1254, t1569, t1574);
-        let t1576: f64 = f64::mul_add(-t1564, t1565, t1575);
-        let t1578: f64 = t416 * t1417;
-        let t1579: f64 = f64::mul_add(-t425, t1415, t1578);
-        let t1581: f64 = t5 * t432;
-        let t1582: f64 = f64::mul_add(leg6_platform_z, t6, -t1581);
-        let t1584: f64 = t434 * t1429;
-        let t1585: f64 = f64::mul_add(t1413, t1582, t1584);
-        let t1587: f64 = leg6_platform_y * t1;
-        let t1588: f64 = f64::mul_add(leg6_platform_x, t0, t1587);
-        let t1589: f64 = t6 * t1413;
-        let t1592: f64 = leg6_platform_y * t9;
-        let t1593: f64 = f64::mul_add(leg6_platform_x, t13, -t1592);
-        let t1596: f64 = leg6_platform_y * t25;
-        let t1597: f64 = f64::mul_add(leg6_platform_x, t30, -t1596);
-        let t1598: f64 = t1417 * t1597;
-        let t1599: f64 = f64::mul_add(t1415, t1593, t1598);
-        let t1600: f64 = f64::mul_add(-t1588, t1589, t1599);
+        let t1358: f64 = f64::mul_add(leg4_axis_y, t262, t1357);
+        let t1359: f64 = f64::mul_add(leg4_axis_z, t271, t1358);
+        let t1360: f64 = t283 * t291;
+        let t1363: f64 = leg4_axis_x * leg4_zero_x;
+        let t1364: f64 = f64::mul_add(leg4_axis_y, leg4_zero_y, t1363);
+        let t1366: f64 = leg4_zero_z * t1358;
+        let t1367: f64 = f64::mul_add(-t271, t1364, t1366);
+        let t1368: f64 = t298 * t1367;
+        let t1369: f64 = f64::mul_add(t1359, t1360, -t1368);
+        let t1370: f64 = t1369 * 2.0;
+        let t1374: f64 = t1254 * t1370;
+        let t1375: f64 = t1374 * 0.5;
+        let t1376: f64 = f64::mul_add(t1342, t1359, t1375);
+        let t1377: f64 = f64::mul_add(t313, t1367, -t1376);
+        let t1378: f64 = t301 * t1377;
+        let t1381: f64 = t318 * t1367;
+        let t1382: f64 = t1267 * t1370;
+        let t1384: f64 = f64::mul_add(t1326, t1359, t1381);
+        let t1385: f64 = f64::mul_add(-t1382, 0.5, t1384);
+        let t1386: f64 = t301 * t1385;
+        let t1387: f64 = f64::mul_add(t1261, t1370, -t1386);
+        let t1389: f64 = f64::mul_add(t1243, t1370, t1378);
+        let t1390: f64 = f64::mul_add(-t328, t1387, t1389);
+        let t1391: f64 = t1318 * t1390;
+        let t1392: f64 = t1391 * 2.0;
+        let t1394: f64 = leg4_axis_y * leg4_axis_y;
+        let t1395: f64 = f64::mul_add(leg4_axis_x, leg4_axis_x, t1394);
+        let t1396: f64 = sqrt(t1395);
+        let t1398: f64 = leg4_axis_z / t1396;
+        let t1399: f64 = t1364 * t1398;
+        let t1400: f64 = f64::mul_add(leg4_zero_z, t1396, -t1399);
+        let t1401: f64 = -t1400;
+        let t1402: f64 = t283 * t1359;
+        let t1405: f64 = t286 * t1398;
+        let t1406: f64 = f64::mul_add(leg4_zero_x, t1396, t1405);
+        let t1409: f64 = leg4_zero_y * t1396;
+        let t1410: f64 = f64::mul_add(t293, t1398, t1409);
+        let t1412: f64 = t292 * t1398;
+        let t1413: f64 = f64::mul_add(t280, t1410, t1412);
+        let t1414: f64 = f64::mul_add(-t262, t1406, t1413);
+        let t1415: f64 = t298 * t1414;
+        let t1416: f64 = f64::mul_add(t1401, t1402, -t1415);
+        let t1417: f64 = t1416 * 2.0;
+        let t1420: f64 = t318 * t1359;
+        let t1422: f64 = t1254 * t1417;
+        let t1423: f64 = t1422 * 0.5;
+        let t1424: f64 = f64::mul_add(t1401, t1420, t1423);
+        let t1425: f64 = f64::mul_add(t313, t1414, -t1424);
+        let t1426: f64 = t301 * t1425;
+        let t1428: f64 = t313 * t1359;
+        let t1430: f64 = t318 * t1414;
+        let t1431: f64 = t1267 * t1417;
+        let t1433: f64 = f64::mul_add(t1401, t1428, t1430);
+        let t1434: f64 = f64::mul_add(-t1431, 0.5, t1433);
+        let t1435: f64 = t301 * t1434;
+        let t1436: f64 = f64::mul_add(t1261, t1417, -t1435);
+        let t1438: f64 = f64::mul_add(t1243, t1417, t1426);
+        let t1439: f64 = f64::mul_add(-t328, t1436, t1438);
+        let t1440: f64 = t1318 * t1439;
+        let t1441: f64 = t1440 * 2.0;
+        let t1442: f64 = -t1441;
+        let t1443: f64 = -t1285;
+        let t1445: f64 = -t1320;
+        let t1446: f64 = t9 * t1445;
+        let t1447: f64 = -t1354;
+        let t1449: f64 = f64::mul_add(t695, t1443, t1446);
+        let t1450: f64 = f64::mul_add(t25, t1447, t1449);
+        let t1453: f64 = t30 * t1447;
+        let t1454: f64 = f64::mul_add(t13, t1445, t1453);
+        let t1455: f64 = f64::mul_add(-t703, t1443, t1454);
+        let t1458: f64 = t3 * t1447;
+        let t1459: f64 = f64::mul_add(t2, t1445, -t1458);
+        let t1460: f64 = t6 * t1459;
+        let t1461: f64 = f64::mul_add(t5, t1443, -t1460);
+        let t1462: f64 = t302 * t302;
+        let t1463: f64 = t311 * t1462;
+        let t1465: f64 = f64::mul_add(t1463, 0.5, -1.0);
+        let t1466: f64 = t313 * t1253;
+        let t1468: f64 = t313 * t1266;
+        let t1470: f64 = f64::mul_add(t1249, t1468, t283);
+        let t1471: f64 = t328 * t1470;
+        let t1472: f64 = f64::mul_add(t1249, t1466, t1471);
+        let t1473: f64 = t298 - t1472;
+        let t1474: f64 = t301 * t327;
+        let t1475: f64 = t1282 * t1474;
+        let t1476: f64 = t1465 * t1475;
+        let t1477: f64 = t1473 * t1476;
+        let t1478: f64 = t1477 * 2.0;
+        let t1479: f64 = -t1478;
+        let t1480: f64 = leg4_rod_length * t302;
+        let t1481: f64 = t301 * t1480;
+        let t1482: f64 = t327 * t1481;
+        let t1483: f64 = t1282 * t1482;
+        let t1484: f64 = t1473 * t1483;
+        let t1485: f64 = t1484 * 2.0;
+        let t1486: f64 = -t1485;
+        let t1487: f64 = t379 * t379;
+        let t1489: f64 = t373 * t376;
+        let t1490: f64 = f64::mul_add(leg5_zero_x, t361, t1489);
+        let t1491: f64 = t1490 * 2.0;
+        let t1492: f64 = t398 * t1487;
+        let t1495: f64 = t358 * t380;
+        let t1496: f64 = t376 * t1495;
+        let t1498: f64 = 1.0 / t395;
+        let t1500: f64 = f64::mul_add(-t391, t1495, t1490);
+        let t1501: f64 = t1500 * 2.0;
+        let t1502: f64 = leg5_branch * t361;
+        let t1503: f64 = t1498 * t1502;
+        let t1504: f64 = t1501 * t1503;
+        let t1505: f64 = t1504 * 0.5;
+        let t1506: f64 = f64::mul_add(t373, t391, t1496);
+        let t1507: f64 = f64::mul_add(leg5_zero_x, t396, t1505);
+        let t1508: f64 = t1506 + t1507;
+        let t1510: f64 = t402 * t1487;
+        let t1513: f64 = t361 * t1495;
+        let t1515: f64 = leg5_branch * t376;
+        let t1516: f64 = t1498 * t1515;
+        let t1517: f64 = t1501 * t1516;
+        let t1518: f64 = t1517 * 0.5;
+        let t1519: f64 = f64::mul_add(leg5_zero_x, t391, t1513);
+        let t1520: f64 = f64::mul_add(t373, t396, t1518);
+        let t1521: f64 = t1519 - t1520;
+        let t1522: f64 = t379 * t1521;
+        let t1523: f64 = f64::mul_add(t1491, t1510, -t1522);
+        let t1524: f64 = t406 * t1523;
+        let t1525: f64 = f64::mul_add(t379, t1508, t1524);
+        let t1526: f64 = f64::mul_add(t1491, t1492, -t1525);
+        let t1527: f64 = t399 * t399;
+        let t1528: f64 = t405 * t405;
+        let t1530: f64 = f64::mul_add(t1527, t1528, 1.0);
+        let t1531: f64 = 1.0 / t1530;
+        let t1532: f64 = t405 * t1526;
+        let t1533: f64 = t1531 * t1532;
+        let t1534: f64 = t1533 * 2.0;
+        let t1536: f64 = t365 * t376;
+        let t1537: f64 = f64::mul_add(leg5_zero_y, t361, t1536);
+        let t1538: f64 = t1537 * 2.0;
+        let t1541: f64 = t340 * t380;
+        let t1542: f64 = t376 * t1541;
+        let t1545: f64 = f64::mul_add(-t391, t1541, t1537);
+        let t1546: f64 = t1545 * 2.0;
+        let t1547: f64 = t1503 * t1546;
+        let t1548: f64 = t1547 * 0.5;
+        let t1549: f64 = f64::mul_add(t365, t391, t1542);
+        let t1550: f64 = f64::mul_add(leg5_zero_y, t396, t1548);
+        let t1551: f64 = t1549 + t1550;
+        let t1555: f64 = t361 * t1541;
+        let t1557: f64 = t1516 * t1546;
+        let t1558: f64 = t1557 * 0.5;
+        let t1559: f64 = f64::mul_add(leg5_zero_y, t391, t1555);
+        let t1560: f64 = f64::mul_add(t365, t396, t1558);
+        let t1561: f64 = t1559 - t1560;
+        let t1562: f64 = t379 * t1561;
+        let t1563: f64 = f64::mul_add(t1510, t1538, -t1562);
+        let t1564: f64 = t406 * t1563;
+        let t1565: f64 = f64::mul_add(t379, t1551, t1564);
+        let t1566: f64 = f64::mul_add(t1492, t1538, -t1565);
+        let t1567: f64 = t405 * t1531;
+        let t1568: f64 = t1566 * t1567;
+        let t1569: f64 = t1568 * 2.0;
+        let t1571: f64 = t369 * t376;
+        let t1572: f64 = f64::mul_add(leg5_zero_z, t361, t1571);
+        let t1573: f64 = t1572 * 2.0;
+        let t1575: f64 = t369 * t391;
+        let t1576: f64 = t349 * t380;
+        let t1580: f64 = f64::mul_add(-t391, t1576, t1572);
+        let t1581: f64 = t1580 * 2.0;
+        let t1582: f64 = t1503 * t1581;
+        let t1583: f64 = t1582 * 0.5;
+        let t1584: f64 = f64::mul_add(t376, t1576, t1575);
+        let t1585: f64 = f64::mul_add(leg5_zero_z, t396, t1583);
+        let t1586: f64 = t1584 + t1585;
+        let t1590: f64 = t361 * t1576;
+        let t1591: f64 = t369 * t396;
+        let t1592: f64 = t1516 * t1581;
+        let t1594: f64 = f64::mul_add(leg5_zero_z, t391, t1590);
+        let t1595: f64 = f64::mul_add(t1592, 0.5, t1591);
+        let t1596: f64 = t1594 - t1595;
+        let t1597: f64 = t379 * t1596;
+        let t1598: f64 = f64::mul_add(t1510, t1573, -t1597);
+        let t1599: f64 = t406 * t1598;
+        let t1600: f64 = f64::mul_add(t379, t1586, t1599);
+        let t1601: f64 = f64::mul_add(t1492, t1573, -t1600);
+        let t1602: f64 = t1567 * t1601;
+        let t1603: f64 = t1602 * 2.0;
+        let t1606: f64 = leg5_axis_x * t358;
+        let t1607: f64 = f64::mul_add(leg5_axis_y, t340, t1606);
+        let t1608: f64 = f64::mul_add(leg5_axis_z, t349, t1607);
+        let t1609: f64 = t361 * t369;
+        let t1612: f64 = leg5_axis_x * leg5_zero_x;
+        let t1613: f64 = f64::mul_add(leg5_axis_y, leg5_zero_y, t1612);
+        let t1615: f64 = leg5_zero_z * t1607;
+        let t1616: f64 = f64::mul_add(-t349, t1613, t1615);
+        let t1617: f64 = t376 * t1616;
+        let t1618: f64 = f64::mul_add(t1608, t1609, -t1617);
+        let t1619: f64 = t1618 * 2.0;
+        let t1623: f64 = t1503 * t1619;
+        let t1624: f64 = t1623 * 0.5;
+        let t1625: f64 = f64::mul_add(t1591, t1608, t1624);
+        let t1626: f64 = f64::mul_add(t391, t1616, -t1625);
+        let t1627: f64 = t379 * t1626;
+        let t1630: f64 = t396 * t1616;
+        let t1631: f64 = t1516 * t1619;
+        let t1633: f64 = f64::mul_add(t1575, t1608, t1630);
+        let t1634: f64 = f64::mul_add(-t1631, 0.5, t1633);
+        let t1635: f64 = t379 * t1634;
+        let t1636: f64 = f64::mul_add(t1510, t1619, -t1635);
+        let t1638: f64 = f64::mul_add(t1492, t1619, t1627);
+        let t1639: f64 = f64::mul_add(-t406, t1636, t1638);
+        let t1640: f64 = t1567 * t1639;
+        let t1641: f64 = t1640 * 2.0;
+        let t1643: f64 = leg5_axis_y * leg5_axis_y;
+        let t1644: f64 = f64::mul_add(leg5_axis_x, leg5_axis_x, t1643);
+        let t1645: f64 = sqrt(t1644);
+        let t1647: f64 = leg5_axis_z / t1645;
+        let t1648: f64 = t1613 * t1647;
+        let t1649: f64 = f64::mul_add(leg5_zero_z, t1645, -t1648);
+        let t1650: f64 = -t1649;
+        let t1651: f64 = t361 * t1608;
+        let t1654: f64 = t364 * t1647;
+        let t1655: f64 = f64::mul_add(leg5_zero_x, t1645, t1654);
+        let t1658: f64 = leg5_zero_y * t1645;
+        let t1659: f64 = f64::mul_add(t371, t1647, t1658);
+        let t1661: f64 = t370 * t1647;
+        let t1662: f64 = f64::mul_add(t358, t1659, t1661);
+        let t1663: f64 = f64::mul_add(-t340, t1655, t1662);
+        let t1664: f64 = t376 * t1663;
+        let t1665: f64 = f64::mul_add(t1650, t1651, -t1664);
+        let t1666: f64 = t1665 * 2.0;
+        let t1669: f64 = t396 * t1608;
+        let t1671: f64 = t1503 * t1666;
+        let t1672: f64 = t1671 * 0.5;
+        let t1673: f64 = f64::mul_add(t1650, t1669, t1672);
+        let t1674: f64 = f64::mul_add(t391, t1663, -t1673);
+        let t1675: f64 = t379 * t1674;
+        let t1677: f64 = t391 * t1608;
+        let t1679: f64 = t396 * t1663;
+        let t1680: f64 = t1516 * t1666;
+        let t1682: f64 = f64::mul_add(t1650, t1677, t1679);
+        let t1683: f64 = f64::mul_add(-t1680, 0.5, t1682);
+        let t1684: f64 = t379 * t1683;
+        let t1685: f64 = f64::mul_add(t1510, t1666, -t1684);
+        let t1687: f64 = f64::mul_add(t1492, t1666, t1675);
+        let t1688: f64 = f64::mul_add(-t406, t1685, t1687);
+        let t1689: f64 = t1567 * t1688;
+        let t1690: f64 = t1689 * 2.0;
+        let t1691: f64 = -t1690;
+        let t1692: f64 = -t1534;
+        let t1694: f64 = -t1569;
+        let t1695: f64 = t9 * t1694;
+        let t1696: f64 = -t1603;
+        let t1698: f64 = f64::mul_add(t695, t1692, t1695);
+        let t1699: f64 = f64::mul_add(t25, t1696, t1698);
+        let t1702: f64 = t30 * t1696;
+        let t1703: f64 = f64::mul_add(t13, t1694, t1702);
+        let t1704: f64 = f64::mul_add(-t703, t1692, t1703);
+        let t1707: f64 = t3 * t1696;
+        let t1708: f64 = f64::mul_add(t2, t1694, -t1707);
+        let t1709: f64 = t6 * t1708;
+        let t1710: f64 = f64::mul_add(t5, t1692, -t1709);
+        let t1711: f64 = t380 * t380;
+        let t1712: f64 = t389 * t1711;
+        let t1714: f64 = f64::mul_add(t1712, 0.5, -1.0);
+        let t1715: f64 = t391 * t1502;
+        let t1717: f64 = t391 * t1515;
+        let t1719: f64 = f64::mul_add(t1498, t1717, t361);
+        let t1720: f64 = t406 * t1719;
+        let t1721: f64 = f64::mul_add(t1498, t1715, t1720);
+        let t1722: f64 = t376 - t1721;
+        let t1723: f64 = t379 * t405;
+        let t1724: f64 = t1531 * t1723;
+        let t1725: f64 = t1714 * t1724;
+        let t1726: f64 = t1722 * t1725;
+        let t1727: f64 = t1726 * 2.0;
+        let t1728: f64 = -t1727;
+        let t1729: f64 = leg5_rod_length * t380;
+        let t1730: f64 = t379 * t1729;
+        let t1731: f64 = t405 * t1730;
+        let t1732: f64 = t1531 * t1731;
+        let t1733: f64 = t1722 * t1732;
+        let t1734: f64 = t1733 * 2.0;
+        let t1735: f64 = -t1734;
+        let t1736: f64 = t457 * t457;
+        let t1738: f64 = t451 * t454;
+        let t1739: f64 = f64::mul_add(leg6_zero_x, t439, t1738);
+        let t1740: f64 = t1739 * 2.0;
+        let t1741: f64 = t476 * t1736;
+        let t1744: f64 = t436 * t458;
+        let t1745: f64 = t454 * t1744;
+        let t1747: f64 = 1.0 / t473;
+        let t1749: f64 = f64::mul_add(-t469, t1744, t1739);
+        let t1750: f64 = t1749 * 2.0;
+        let t1751: f64 = leg6_branch * t439;
+        let t1752: f64 = t1747 * t1751;
+        let t1753: f64 = t1750 * t1752;
+        let t1754: f64 = t1753 * 0.5;
+        let t1755: f64 = f64::mul_add(t451, t469, t1745);
+        let t1756: f64 = f64::mul_add(leg6_zero_x, t474, t1754);
+        let t1757: f64 = t1755 + t1756;
+        let t1759: f64 = t480 * t1736;
+        let t1762: f64 = t439 * t1744;
+        let t1764: f64 = leg6_branch * t454;
+        let t1765: f64 = t1747 * t1764;
+        let t1766: f64 = t1750 * t1765;
+        let t1767: f64 = t1766 * 0.5;
+        let t1768: f64 = f64::mul_add(leg6_zero_x, t469, t1762);
+        let t1769: f64 = f64::mul_add(t451, t474, t1767);
+        let t1770: f64 = t1768 - t1769;
+        let t1771: f64 = t457 * t1770;
+        let t1772: f64 = f64::mul_add(t1740, t1759, -t1771);
+        let t1773: f64 = t484 * t1772;
+        let t1774: f64 = f64::mul_add(t457, t1757, t1773);
+        let t1775: f64 = f64::mul_add(t1740, t1741, -t1774);
+        let t1776: f64 = t477 * t477;
+        let t1777: f64 = t483 * t483;
+        let t1779: f64 = f64::mul_add(t1776, t1777, 1.0);
+        let t1780: f64 = 1.0 / t1779;
+        let t1781: f64 = t483 * t1775;
+        let t1782: f64 = t1780 * t1781;
+        let t1783: f64 = t1782 * 2.0;
+        let t1785: f64 = t443 * t454;
+        let t1786: f64 = f64::mul_add(leg6_zero_y, t439, t1785);
+        let t1787: f64 = t1786 * 2.0;
+        let t1790: f64 = t418 * t458;
+        let t1791: f64 = t454 * t1790;
+        let t1794: f64 = f64::mul_add(-t469, t1790, t1786);
+        let t1795: f64 = t1794 * 2.0;
+        let t1796: f64 = t1752 * t1795;
+        let t1797: f64 = t1796 * 0.5;
+        let t1798: f64 = f64::mul_add(t443, t469, t1791);
+        let t1799: f64 = f64::mul_add(leg6_zero_y, t474, t1797);
+        let t1800: f64 = t1798 + t1799;
+        let t1804: f64 = t439 * t1790;
+        let t1806: f64 = t1765 * t1795;
+        let t1807: f64 = t1806 * 0.5;
+        let t1808: f64 = f64::mul_add(leg6_zero_y, t469, t1804);
+        let t1809: f64 = f64::mul_add(t443, t474, t1807);
+        let t1810: f64 = t1808 - t1809;
+        let t1811: f64 = t457 * t1810;
+        let t1812: f64 = f64::mul_add(t1759, t1787, -t1811);
+        let t1813: f64 = t484 * t1812;
+        let t1814: f64 = f64::mul_add(t457, t1800, t1813);
+        let t1815: f64 = f64::mul_add(t1741, t1787, -t1814);
+        let t1816: f64 = t483 * t1780;
+        let t1817: f64 = t1815 * t1816;
+        let t1818: f64 = t1817 * 2.0;
+        let t1820: f64 = t447 * t454;
+        let t1821: f64 = f64::mul_add(leg6_zero_z, t439, t1820);
+        let t1822: f64 = t1821 * 2.0;
+        let t1824: f64 = t447 * t469;
+        let t1825: f64 = t427 * t458;
+        let t1829: f64 = f64::mul_add(-t469, t1825, t1821);
+        let t1830: f64 = t1829 * 2.0;
+        let t1831: f64 = t1752 * t1830;
+        let t1832: f64 = t1831 * 0.5;
+        let t1833: f64 = f64::mul_add(t454, t1825, t1824);
+        let t1834: f64 = f64::mul_add(leg6_zero_z, t474, t1832);
+        let t1835: f64 = t1833 + t1834;
+        let t1839: f64 = t439 * t1825;
+        let t1840: f64 = t447 * t474;
+        let t1841: f64 = t1765 * t1830;
+        let t1843: f64 = f64::mul_add(leg6_zero_z, t469, t1839);
+        let t1844: f64 = f64::mul_add(t1841, 0.5, t1840);
+        let t1845: f64 = t1843 - t1844;
+        let t1846: f64 = t457 * t1845;
+        let t1847: f64 = f64::mul_add(t1759, t1822, -t1846);
+        let t1848: f64 = t484 * t1847;
+        let t1849: f64 = f64::mul_add(t457, t1835, t1848);
+        let t1850: f64 = f64::mul_add(t1741, t1822, -t1849);
+        let t1851: f64 = t1816 * t1850;
+        let t1852: f64 = t1851 * 2.0;
+        let t1855: f64 = leg6_axis_x * t436;
+        let t1856: f64 = f64::mul_add(leg6_axis_y, t418, t1855);
+        let t1857: f64 = f64::mul_add(leg6_axis_z, t427, t1856);
+        let t1858: f64 = t439 * t447;
+        let t1861: f64 = leg6_axis_x * leg6_zero_x;
+        let t1862: f64 = f64::mul_add(leg6_axis_y, leg6_zero_y, t1861);
+        let t1864: f64 = leg6_zero_z * t1856;
+        let t1865: f64 = f64::mul_add(-t427, t1862, t1864);
+        let t1866: f64 = t454 * t1865;
+        let t1867: f64 = f64::mul_add(t1857, t1858, -t1866);
+        let t1868: f64 = t1867 * 2.0;
+        let t1872: f64 = t1752 * t1868;
+        let t1873: f64 = t1872 * 0.5;
+        let t1874: f64 = f64::mul_add(t1840, t1857, t1873);
+        let t1875: f64 = f64::mul_add(t469, t1865, -t1874);
+        let t1876: f64 = t457 * t1875;
+        let t1879: f64 = t474 * t1865;
+        let t1880: f64 = t1765 * t1868;
+        let t1882: f64 = f64::mul_add(t1824, t1857, t1879);
+        let t1883: f64 = f64::mul_add(-t1880, 0.5, t1882);
+        let t1884: f64 = t457 * t1883;
+        let t1885: f64 = f64::mul_add(t1759, t1868, -t1884);
+        let t1887: f64 = f64::mul_add(t1741, t1868, t1876);
+        let t1888: f64 = f64::mul_add(-t484, t1885, t1887);
+        let t1889: f64 = t1816 * t1888;
+        let t1890: f64 = t1889 * 2.0;
+        let t1892: f64 = leg6_axis_y * leg6_axis_y;
+        let t1893: f64 = f64::mul_add(leg6_axis_x, leg6_axis_x, t1892);
+        let t1894: f64 = sqrt(t1893);
+        let t1896: f64 = leg6_axis_z / t1894;
+        let t1897: f64 = t1862 * t1896;
+        let t1898: f64 = f64::mul_add(leg6_zero_z, t1894, -t1897);
+        let t1899: f64 = -t1898;
+        let t1900: f64 = t439 * t1857;
+        let t1903: f64 = t442 * t1896;
+        let t1904: f64 = f64::mul_add(leg6_zero_x, t1894, t1903);
+        let t1907: f64 = leg6_zero_y * t1894;
+        let t1908: f64 = f64::mul_add(t449, t1896, t1907);
+        let t1910: f64 = t448 * t1896;
+        let t1911: f64 = f64::mul_add(t436, t1908, t1910);
+        let t1912: f64 = f64::mul_add(-t418, t1904, t1911);
+        let t1913: f64 = t454 * t1912;
+        let t1914: f64 = f64::mul_add(t1899, t1900, -t1913);
+        let t1915: f64 = t1914 * 2.0;
+        let t1918: f64 = t474 * t1857;
+        let t1920: f64 = t1752 * t1915;
+        let t1921: f64 = t1920 * 0.5;
+        let t1922: f64 = f64::mul_add(t1899, t1918, t1921);
+        let t1923: f64 = f64::mul_add(t469, t1912, -t1922);
+        let t1924: f64 = t457 * t1923;
+        let t1926: f64 = t469 * t1857;
+        let t1928: f64 = t474 * t1912;
+        let t1929: f64 = t1765 * t1915;
+        let t1931: f64 = f64::mul_add(t1899, t1926, t1928);
+        let t1932: f64 = f64::mul_add(-t1929, 0.5, t1931);
+        let t1933: f64 = t457 * t1932;
+        let t1934: f64 = f64::mul_add(t1759, t1915, -t1933);
+        let t1936: f64 = f64::mul_add(t1741, t1915, t1924);
+        let t1937: f64 = f64::mul_add(-t484, t1934, t1936);
+        let t1938: f64 = t1816 * t1937;
+        let t1939: f64 = t1938 * 2.0;
+        let t1940: f64 = -t1939;
+        let t1941: f64 = -t1783;
+        let t1943: f64 = -t1818;
+        let t1944: f64 = t9 * t1943;
+        let t1945: f64 = -t1852;
+        let t1947: f64 = f64::mul_add(t695, t1941, t1944);
+        let t1948: f64 = f64::mul_add(t25, t1945, t1947);
+        let t1951: f64 = t30 * t1945;
+        let t1952: f64 = f64::mul_add(t13, t1943, t1951);
+        let t1953: f64 = f64::mul_add(-t703, t1941, t1952);
+        let t1956: f64 = t3 * t1945;
+        let t1957: f64 = f64::mul_add(t2, t1943, -t1956);
+        let t1958: f64 = t6 * t1957;
+        let t1959: f64 = f64::mul_add(t5, t1941, -t1958);
+        let t1960: f64 = t458 * t458;
+        let t1961: f64 = t467 * t1960;
+        let t1963: f64 = f64::mul_add(t1961, 0.5, -1.0);
+        let t1964: f64 = t469 * t1751;
+        let t1966: f64 = t469 * t1764;
+        let t1968: f64 = f64::mul_add(t1747, t1966, t439);
+        let t1969: f64 = t484 * t1968;
+        let t1970: f64 = f64::mul_add(t1747, t1964, t1969);
+        let t1971: f64 = t454 - t1970;
+        let t1972: f64 = t457 * t483;
+        let t1973: f64 = t1780 * t1972;
+        let t1974: f64 = t1963 * t1973;
+        let t1975: f64 = t1971 * t1974;
+        let t1976: f64 = t1975 * 2.0;
+        let t1977: f64 = -t1976;
+        let t1978: f64 = leg6_rod_length * t458;
+        let t1979: f64 = t457 * t1978;
+        let t1980: f64 = t483 * t1979;
+        let t1981: f64 = t1780 * t1980;
+        let t1982: f64 = t1971 * t1981;
+        let t1983: f64 = t1982 * 2.0;
+        let t1984: f64 = -t1983;
+        let t1986: f64 = t18 * t699;
+        let t1987: f64 = f64::mul_add(-t35, t697, t1986);
+        let t1989: f64 = t5 * t42;
+        let t1990: f64 = f64::mul_add(leg1_platform_z, t6, -t1989);
+        let t1992: f64 = t44 * t712;
+        let t1993: f64 = f64::mul_add(t694, t1990, t1992);
+        let t1995: f64 = leg1_platform_y * t1;
+        let t1996: f64 = f64::mul_add(leg1_platform_x, t0, t1995);
+        let t1997: f64 = t6 * t694;
+        let t2000: f64 = leg1_platform_y * t9;
+        let t2001: f64 = f64::mul_add(leg1_platform_x, t13, -t2000);
+        let t2004: f64 = leg1_platform_y * t25;
+        let t2005: f64 = f64::mul_add(leg1_platform_x, t30, -t2004);
+        let t2006: f64 = t699 * t2005;
+        let t2007: f64 = f64::mul_add(t697, t2001, t2006);
+        let t2008: f64 = f64::mul_add(-t1996, t1997, t2007);
+        let t2010: f64 = t104 * t949;
+        let t2011: f64 = f64::mul_add(-t113, t947, t2010);
+        let t2013: f64 = t5 * t120;
+        let t2014: f64 = f64::mul_add(leg2_platform_z, t6, -t2013);
+        let t2016: f64 = t122 * t961;
+        let t2017: f64 = f64::mul_add(t945, t2014, t2016);
+        let t2019: f64 = leg2_platform_y * t1;
+        let t2020: f64 = f64::mul_add(leg2_platform_x, t0, t2019);
+        let t2021: f64 = t6 * t945;
+        let t2024: f64 = leg2_platform_y * t9;
+        let t2025: f64 = f64::mul_add(leg2_platform_x, t13, -t2024);
+        let t2028: f64 = leg2_platform_y * t25;
+        let t2029: f64 = f64::mul_add(leg2_platform_x, t30, -t2028);
+        let t2030: f64 = t949 * t2029;
+        let t2031: f64 = f64::mul_add(t947, t2025, t2030);
+        let t2032: f64 = f64::mul_add(-t2020, t2021, t2031);
+        let t2034: f64 = t182 * t1198;
+        let t2035: f64 = f64::mul_add(-t191, t1196, t2034);
+        let t2037: f64 = t5 * t198;
+        let t2038: f64 = f64::mul_add(leg3_platform_z, t6, -t2037);
+        let t2040: f64 = t200 * t1210;
+        let t2041: f64 = f64::mul_add(t1194, t2038, t2040);
+        let t2043: f64 = leg3_platform_y * t1;
+        let t2044: f64 = f64::mul_add(leg3_platform_x, t0, t2043);
+        let t2045: f64 = t6 * t1194;
+        let t2048: f64 = leg3_platform_y * t9;
+        let t2049: f64 = f64::mul_add(leg3_platform_x, t13, -t2048);
+        let t2052: f64 = leg3_platform_y * t25;
+        let t2053: f64 = f64::mul_add(leg3_platform_x, t30, -t2052);
+        let t2054: f64 = t1198 * t2053;
+        let t2055: f64 = f64::mul_add(t1196, t2049, t2054);
+        let t2056: f64 = f64::mul_add(-t2044, t2045, t2055);
+        let t2058: f64 = t260 * t1447;
+        let t2059: f64 = f64::mul_add(-t269, t1445, t2058);
+        let t2061: f64 = t5 * t276;
+        let t2062: f64 = f64::mul_add(leg4_platform_z, t6, -t2061);
+        let t2064: f64 = t278 * t1459;
+        let t2065: f64 = f64::mul_add(t1443, t2062, t2064);
+        let t2067: f64 = leg4_platform_y * t1;
+        let t2068: f64 = f64::mul_add(leg4_platform_x, t0, t2067);
+        let t2069: f64 = t6 * t1443;
+        let t2072: f64 = leg4_platform_y * t9;
+        let t2073: f64 = f64::mul_add(leg4_platform_x, t13, -t2072);
+        let t2076: f64 = leg4_platform_y * t25;
+        let t2077: f64 = f64::mul_add(leg4_platform_x, t30, -t2076);
+        let t2078: f64 = t1447 * t2077;
+        let t2079: f64 = f64::mul_add(t1445, t2073, t2078);
+        let t2080: f64 = f64::mul_add(-t2068, t2069, t2079);
+        let t2082: f64 = t338 * t1696;
+        let t2083: f64 = f64::mul_add(-t347, t1694, t2082);
+        let t2085: f64 = t5 * t354;
+        let t2086: f64 = f64::mul_add(leg5_platform_z, t6, -t2085);
+        let t2088: f64 = t356 * t1708;
+        let t2089: f64 = f64::mul_add(t1692, t2086, t2088);
+        let t2091: f64 = leg5_platform_y * t1;
+        let t2092: f64 = f64::mul_add(leg5_platform_x, t0, t2091);
+        let t2093: f64 = t6 * t1692;
+        let t2096: f64 = leg5_platform_y * t9;
+        let t2097: f64 = f64::mul_add(leg5_platform_x, t13, -t2096);
+        let t2100: f64 = leg5_platform_y * t25;
+        let t2101: f64 = f64::mul_add(leg5_platform_x, t30, -t2100);
+        let t2102: f64 = t1696 * t2101;
+        let t2103: f64 = f64::mul_add(t1694, t2097, t2102);
+        let t2104: f64 = f64::mul_add(-t2092, t2093, t2103);
+        let t2106: f64 = t416 * t1945;
+        let t2107: f64 = f64::mul_add(-t425, t1943, t2106);
+        let t2109: f64 = t5 * t432;
+        let t2110: f64 = f64::mul_add(leg6_platform_z, t6, -t2109);
+        let t2112: f64 = t434 * t1957;
+        let t2113: f64 = f64::mul_add(t1941, t2110, t2112);
+        let t2115: f64 = leg6_platform_y * t1;
+        let t2116: f64 = f64::mul_add(leg6_platform_x, t0, t2115);
+        let t2117: f64 = t6 * t1941;
+        let t2120: f64 = leg6_platform_y * t9;
+        let t2121: f64 = f64::mul_add(leg6_platform_x, t13, -t2120);
+        let t2124: f64 = leg6_platform_y * t25;
+        let t2125: f64 = f64::mul_add(leg6_platform_x, t30, -t2124);
+        let t2126: f64 = t1945 * t2125;
+        let t2127: f64 = f64::mul_add(t1943, t2121, t2126);
+        let t2128: f64 = f64::mul_add(-t2116, t2117, t2127);
         (
-            t1343,
-            t1378,
-            t1412,
-            t1413,
-            t1415,
-            t1417,
-            t1420,
-            t1425,
-            t1431,
-            t1449,
-            t1456,
-            t1459,
-            t1465,
-            t1480,
-            t1483,
-            t1489,
-            t1504,
-            t1507,
-            t1513,
-            t1528,
-            t1531,
-            t1537,
-            t1552,
-            t1555,
-            t1561,
-            t1576,
-            t1579,
-            t1585,
-            t1600,
+            t1392,
+            t1442,
+            t1443,
+            t1445,
+            t1447,
+            t1450,
+            t1455,
+            t1461,
+            t1479,
+            t1486,
+            t1534,
+            t1569,
+            t1603,
+            t1641,
+            t1691,
+            t1692,
+            t1694,
+            t1696,
+            t1699,
+            t1704,
+            t1710,
+            t1728,
+            t1735,
+            t1783,
+            t1818,
+            t1852,
+            t1890,
+            t1940,
+            t1941,
+            t1943,
+            t1945,
+            t1948,
+            t1953,
+            t1959,
+            t1977,
+            t1984,
+            t1987,
+            t1993,
+            t2008,
+            t2011,
+            t2017,
+            t2032,
+            t2035,
+            t2041,
+            t2056,
+            t2059,
+            t2065,
+            t2080,
+            t2083,
+            t2089,
+            t2104,
+            t2107,
+            t2113,
+            t2128,
         )
     };
     (
         [t98, t176, t254, t332, t410, t488],
         [
-            [t536, t571, t605, t614, t620, t626, t644, t651, 1.0],
-            [t699, t734, t768, t776, t781, t787, t805, t812, 1.0],
-            [t860, t895, t929, t937, t942, t948, t966, t973, 1.0],
-            [t1021, t1056, t1090, t1098, t1103, t1109, t1127, t1134, 1.0],
-            [t1182, t1217, t1251, t1259, t1264, t1270, t1288, t1295, 1.0],
-            [t1343, t1378, t1412, t1420, t1425, t1431, t1449, t1456, 1.0],
+            [t536, t571, t605, t643, t693, t702, t708, t714, t732, t739, 1.0],
+            [t787, t822, t856, t894, t944, t952, t957, t963, t981, t988, 1.0],
+            [t1036, t1071, t1105, t1143, t1193, t1201, t1206, t1212, t1230, t1237, 1.0],
+            [t1285, t1320, t1354, t1392, t1442, t1450, t1455, t1461, t1479, t1486, 1.0],
+            [t1534, t1569, t1603, t1641, t1691, t1699, t1704, t1710, t1728, t1735, 1.0],
+            [t1783, t1818, t1852, t1890, t1940, t1948, t1953, t1959, t1977, t1984, 1.0],
         ],
         [
-            [t1459, t1465, t1480, t606, t609, t611],
-            [t1483, t1489, t1504, t769, t771, t773],
-            [t1507, t1513, t1528, t930, t932, t934],
-            [t1531, t1537, t1552, t1091, t1093, t1095],
-            [t1555, t1561, t1576, t1252, t1254, t1256],
-            [t1579, t1585, t1600, t1413, t1415, t1417],
+            [t1987, t1993, t2008, t694, t697, t699],
+            [t2011, t2017, t2032, t945, t947, t949],
+            [t2035, t2041, t2056, t1194, t1196, t1198],
+            [t2059, t2065, t2080, t1443, t1445, t1447],
+            [t2083, t2089, t2104, t1692, t1694, t1696],
+            [t2107, t2113, t2128, t1941, t1943, t1945],
         ],
     )
 }

@@ -7,9 +7,9 @@
 //! weighted least squares on the legs' residuals `r_i = q_i(X; θ) - q̂_i`, with the exact
 //! Jacobians of the mechanism's generated kernel `calibration_residuals`. What is fitted per
 //! leg is the mechanism's ([`c5_robot::calibration`]): a Gough-Stewart leg's `A_i`, `p_i`,
-//! `o_i` (7); a rotary hexapod leg's `A_i`, `p_i`, crank and rod lengths `c_i`, `L_i` and `o_i`
-//! (9); a Delta arm's `A_i`, `c_i`, `L_i`, `o_i` (6: a platform that only translates sees
-//! `p_i - A_i` alone).
+//! `o_i` (7); a rotary hexapod leg's `A_i`, its motor axis's azimuth and elevation, `p_i`,
+//! crank and rod lengths `c_i`, `L_i` and `o_i` (11); a Delta arm's the same but `p_i` (8: a
+//! platform that only translates sees `p_i - A_i` alone).
 //!
 //! The measurement model: the readings carry the encoders' noise, the measured pose the
 //! instrument's (per position component and per RPY angle, [`Noise`]); each residual's

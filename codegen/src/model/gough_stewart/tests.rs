@@ -1,19 +1,8 @@
 use super::*;
-use crate::model::kernels::specs;
 use crate::model::Mechanism;
-use crate::ParameterSet;
 
 fn compiled(kernel: Kernel) -> crate::Program {
-    let mechanism = Mechanism::gough_stewart(&GoughStewart::example());
-    specs(&mechanism, &ParameterSet::None, "")
-        .unwrap()
-        .into_iter()
-        .find(|e| e.id.kernel == kernel)
-        .unwrap()
-        .spec
-        .compile()
-        .unwrap()
-        .program
+    crate::model::kernels::compiled(&Mechanism::gough_stewart(&GoughStewart::example()), kernel)
 }
 
 /// The Newton step's Jacobian is the derivative of its residual, and its residual is zero at

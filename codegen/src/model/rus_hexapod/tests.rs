@@ -1,19 +1,8 @@
 use super::*;
-use crate::model::kernels::specs;
 use crate::model::Mechanism;
-use crate::ParameterSet;
 
 fn compiled(kernel: Kernel) -> crate::Program {
-    let mechanism = Mechanism::rus_hexapod(&RusHexapod::example());
-    specs(&mechanism, &ParameterSet::None, "")
-        .unwrap()
-        .into_iter()
-        .find(|e| e.id.kernel == kernel)
-        .unwrap()
-        .spec
-        .compile()
-        .unwrap()
-        .program
+    crate::model::kernels::compiled(&Mechanism::rus_hexapod(&RusHexapod::example()), kernel)
 }
 
 fn near_home(offsets: [f64; 6]) -> Vec<f64> {

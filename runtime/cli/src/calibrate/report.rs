@@ -67,8 +67,8 @@ pub fn text(report: &Report, options: &Options) -> Result<String> {
     writeln!(
         s,
         "\nparameters (mm, or mrad for an angle): A_i base joint or motor centre (base frame), \
-         p_i platform joint centre (platform frame), c_i crank and L_i rod length, o_i encoder \
-         offset"
+         r_i.az and r_i.el the motor axis's azimuth and elevation, p_i platform joint centre \
+         (platform frame), c_i crank and L_i rod length, o_i encoder offset"
     )?;
     writeln!(s, "  name        nominal     estimate    change      σ")?;
     for p in &report.parameters {

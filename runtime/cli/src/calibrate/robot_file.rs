@@ -1,6 +1,7 @@
-//! The calibrated robot file: the nominal file's text with each leg's fitted values replaced
-//! (`base`, `platform`, `crank.length`, ...), every other field, comment and layout kept
-//! (`toml_edit`), and a comment on each value changed giving the nominal one.
+//! The calibrated robot file: the nominal file's text with each leg's values the calibration
+//! changed replaced (`base`, `platform`, `crank.length`, a motor's `axis` and `zero`, ...),
+//! every other field, comment and layout kept (`toml_edit`), and a comment on each value
+//! changed giving the nominal one.
 
 use crate::Result;
 use c5_robot::calibration::Fitted;
@@ -29,14 +30,43 @@ fn bare(value: &Value) -> String {
     v.to_string().trim().to_string()
 }
 
-/// The distinct keys of `fitted`, in order.
-fn keys(fitted: &[Fitted]) -> Vec<&'static [&'static str]> {
-    let mut out: Vec<&'static [&'static str]> = Vec::new();
-    for f in fitted {
-        if !out.contains(&f.key) {
-            out.push(f.key);
+/// The numbers of `value` (a number or an array of them).
+fn numbers(value: &Value) -> Option<Vec<f64>> {
+    match value {
+        Value::Float(f) => Some(vec![*f.value()]),
+        Value::Integer(i) => Some(vec![*i.value() as f64]),
+        Value::Array(a) => a.iter().map(|v| numbers(v).map(|n| n[0])).collect(),
+        _ => None,
+    }
+}
+
+/// The paths of the numbers of the calibrated leg `new` (its keys, and one level of its
+/// sub-tables' keys) that differ from the nominal leg `was`.
+fn changed(was: &dyn TableLike, new: &dyn TableLike) -> Vec<Vec<String>> {
+    let mut out = Vec::new();
+    for (key, item) in new.iter() {
+        if let Some(inner) = item.as_table_like() {
+            for (sub, _) in inner.iter() {
+                out.push(vec![key.to_string(), sub.to_string()]);
+            }
+        } else {
+            out.push(vec![key.to_string()]);
         }
     }
+    out.retain(|path| {
+        let path: Vec<&str> = path.iter().map(String::as_str).collect();
+        let now = value_at(new, &path).and_then(numbers);
+        let before = value_at(was, &path).and_then(numbers);
+        match (now, before) {
+            (Some(now), Some(before)) => {
+                now.len() != before.len()
+                    || now.iter().zip(&before).any(|(a, b)| (a - b).abs() > 1e-12)
+            }
+            // An absent `encoder_offset` is zero.
+            (Some(now), None) => now.iter().any(|x| *x != 0.0),
+            _ => false,
+        }
+    });
     out
 }
 
@@ -106,7 +136,7 @@ fn set(table: &mut dyn TableLike, path: &[&str], value: Value, note: String) {
             if let Some(inline) = item.as_inline_table_mut() {
                 let mut value = value;
                 value.decor_mut().set_prefix(" ");
-                value.decor_mut().set_suffix(" ");
+                value.decor_mut().set_suffix("");
                 inline.insert(*key, value);
             } else if let Some(inner) = item.as_table_like_mut() {
                 set(inner, &[key], value, note);
@@ -137,17 +167,17 @@ pub fn calibrated_text(original: &str, report: &Report, header: &str) -> Result<
     ) {
         (Some(legs), Some(found)) => {
             for (i, (table, new)) in legs.iter_mut().zip(found.iter()).enumerate() {
-                for path in keys(fitted) {
-                    let Some(value) = value_at(new, path) else {
+                for path in changed(table, new) {
+                    let path: Vec<&str> = path.iter().map(String::as_str).collect();
+                    let Some(value) = value_at(new, &path) else {
                         continue;
                     };
-                    // An absent `encoder_offset` is zero.
-                    let was = value_at(table, path).map_or_else(|| "0 (absent)".into(), bare);
+                    let was = value_at(table, &path).map_or_else(|| "0 (absent)".into(), bare);
                     let note = format!(
                         "calibrated; nominal {was}{}",
-                        kept(report, fitted, i + 1, path)
+                        kept(report, fitted, i + 1, &path)
                     );
-                    set(table, path, rounded(value), note);
+                    set(table, &path, rounded(value), note);
                 }
             }
             doc.to_string()
