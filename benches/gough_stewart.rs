@@ -6,6 +6,8 @@
 //! `cargo bench --bench gough_stewart` (pin it: `taskset -c 0`). Inputs cycle through seeded
 //! states about the home pose behind `black_box`.
 
+mod calibration_group;
+
 use c5_generated::f64::gough_stewart as k;
 use c5_generated::manifest::Kernel;
 use c5_runtime::reference::gough_stewart as reference;
@@ -165,7 +167,7 @@ fn bench(c: &mut Criterion) {
 /// Kinematic calibration: the residual kernel once, and a whole fit of the 42 parameters to
 /// 60 planned poses measured with a tracker's noise (the target: under 50 ms).
 fn calibration(c: &mut Criterion) {
-    use c5_runtime::calibrate::{calibrate, plan, simulate, Noise, Nominal, Options};
+    use c5_runtime::calibrate::{simulate, Noise, Nominal};
     use c5_runtime::Description;
     let robot = c5_robot::GoughStewart::example();
     let hexapod = Nominal::new(Description::GoughStewart(robot)).unwrap();
@@ -176,36 +178,19 @@ fn calibration(c: &mut Criterion) {
         leg.encoder_offset = 2e-3;
     }
     let truth = Nominal::new(Description::GoughStewart(truth)).unwrap();
-    let options = Options::default();
-    let poses = plan(&hexapod, 60, &options, 1).unwrap();
-    let data = simulate(&truth, &poses, &Noise::default(), 2).unwrap();
+    let home = vec![hexapod.mechanism().home()];
+    let data = simulate(&truth, &home, &Noise::default(), 2).unwrap();
     let parameters = hexapod.description().kernel_parameters();
     let geometry: [f64; k::GEOMETRY_PARAMETERS] = std::array::from_fn(|j| parameters[j]);
-    let measured: Vec<([f64; 6], [f64; 6])> = data
-        .iter()
-        .map(|m| {
-            (
-                std::array::from_fn(|j| m.pose[j]),
-                std::array::from_fn(|j| m.q[j]),
-            )
-        })
-        .collect();
+    let (pose, q): ([f64; 6], [f64; 6]) = (
+        std::array::from_fn(|j| data[0].pose[j]),
+        std::array::from_fn(|j| data[0].q[j]),
+    );
     let mut g = c.benchmark_group("gough_stewart_calibration");
-    let mut i = 0;
     g.bench_function("calibration_residuals", |b| {
-        b.iter(|| {
-            i = (i + 1) % measured.len();
-            let (pose, q) = black_box(&measured[i]);
-            k::calibration_residuals(pose, q, &geometry)
-        })
+        b.iter(|| k::calibration_residuals(black_box(&pose), black_box(&q), &geometry))
     });
-    g.sample_size(20);
-    g.bench_function("calibrate_60_poses", |b| {
-        b.iter(|| calibrate(&hexapod, black_box(&data), &options).unwrap())
-    });
-    g.bench_function("plan_60_poses", |b| {
-        b.iter(|| plan(&hexapod, 60, &options, black_box(1)).unwrap())
-    });
+    calibration_group::fit_and_plan(&mut g, &hexapod, &truth);
     g.finish();
 }
 

@@ -5,6 +5,8 @@
 //! `cargo bench -p c5-benches --bench rus_hexapod` (pin it: `taskset -c 0`). Inputs cycle
 //! through seeded states about the home pose behind `black_box`.
 
+mod calibration_group;
+
 use c5_generated::f64::rus_hexapod as k;
 use c5_generated::manifest::Kernel;
 use c5_runtime::{Acceleration, Pose, RusHexapod, State, Twist};
@@ -106,5 +108,18 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+/// Kinematic calibration: a whole fit of the geometry to 60 planned poses of a robot built
+/// 1.5 mm (1.5 mrad) off its file, measured with a tracker's noise, and the plan.
+fn calibration(c: &mut Criterion) {
+    use c5_runtime::calibrate::Nominal;
+    use c5_runtime::Description;
+    let robot = Description::RusHexapod(c5_robot::RusHexapod::example());
+    let truth = Nominal::new(calibration_group::as_built(&robot)).unwrap();
+    let nominal = Nominal::new(robot).unwrap();
+    let mut g = c.benchmark_group("rus_hexapod_calibration");
+    calibration_group::fit_and_plan(&mut g, &nominal, &truth);
+    g.finish();
+}
+
+criterion_group!(benches, bench, calibration);
 criterion_main!(benches);

@@ -19,10 +19,11 @@ struct Evaluation {
 
 impl Evaluation {
     fn of(nominal: &Nominal, robot: &Description, data: &[Measurement]) -> Self {
+        let parameters = robot.kernel_parameters();
         Evaluation {
             at: data
                 .iter()
-                .map(|m| nominal.residuals(robot, &m.pose, &m.q))
+                .map(|m| nominal.residuals(&parameters, &m.pose, &m.q))
                 .collect(),
         }
     }

@@ -127,10 +127,10 @@ impl Nominal {
         self.fitted.iter().any(|f| f.symbol == "o" && f.angle)
     }
 
-    /// The residuals at `pose` and readings `q` of the geometry of `robot` (a description of
-    /// this mechanism).
-    pub(super) fn residuals(&self, robot: &Description, pose: &[f64], q: &[f64]) -> Residuals {
-        (self.kernel)(&robot.kernel_parameters(), pose, q)
+    /// The residuals at `pose` and readings `q` of the geometry in `parameters` (the kernel
+    /// parameters of a description of this mechanism).
+    pub(super) fn residuals(&self, parameters: &[f64], pose: &[f64], q: &[f64]) -> Residuals {
+        (self.kernel)(parameters, pose, q)
     }
 
     /// Refuses a pose the robot cannot reach: beyond its limits, singular, or out of its legs'

@@ -53,9 +53,10 @@ pub fn plan(
             least: n,
         });
     }
+    let parameters = robot.description().kernel_parameters();
     let rows: Vec<Vec<DVector<f64>>> = candidates
         .iter()
-        .map(|(pose, q)| rows(robot, pose, q, options))
+        .map(|(pose, q)| rows(robot, &parameters, pose, q, options))
         .collect();
     let (legs, fitted) = (robot.actuators(), robot.fitted().len());
     // A small prior keeps the information invertible before enough poses are in.
@@ -65,10 +66,7 @@ pub fn plan(
     for _ in 0..n {
         let gain = |c: usize| -> f64 {
             (0..legs)
-                .map(|leg| {
-                    let j = &rows[c][leg];
-                    (1.0 + j.dot(&(&inverse[leg] * j))).ln()
-                })
+                .map(|leg| (1.0 + quadratic(&inverse[leg], &rows[c][leg])).ln())
                 .sum()
         };
         let best = (0..candidates.len())
@@ -87,6 +85,18 @@ pub fn plan(
         }
     }
     Ok(chosen)
+}
+
+/// `jᵀ M j`, without the product `M j` allocated: the selection evaluates it for every
+/// candidate and leg at each pick.
+fn quadratic(m: &DMatrix<f64>, j: &DVector<f64>) -> f64 {
+    let n = j.len();
+    (0..n)
+        .map(|a| {
+            let row: f64 = (0..n).map(|b| m[(a, b)] * j[b]).sum();
+            j[a] * row
+        })
+        .sum()
 }
 
 /// Poses drawn uniformly in a box around home (its turns, where the platform turns, and its
@@ -134,13 +144,13 @@ fn candidates(robot: &Nominal, options: &Options, seed: u64) -> Vec<(Vec<f64>, V
                 .collect();
             let clear =
                 |m: &dyn crate::Mechanism| m.singularity_clearance(&pose).is_ok_and(|c| c > HOLD);
-            let robust = built
-                .iter()
-                .all(|b| clear(b.mechanism()) && b.reach(&pose).is_ok());
-            if !(clear(mechanism) && robust) {
+            let Some(q) = clear(mechanism).then(|| robot.reach(&pose).ok()).flatten() else {
                 continue;
-            }
-            if let Ok(q) = robot.reach(&pose) {
+            };
+            if built
+                .iter()
+                .all(|b| clear(b.mechanism()) && b.reach(&pose).is_ok())
+            {
                 out.push((pose, q));
             }
         }
@@ -180,8 +190,14 @@ fn variants(robot: &Nominal, by: f64, seed: u64) -> Vec<Nominal> {
 }
 
 /// Each leg's whitened, scaled row of the geometry Jacobian at `pose`.
-fn rows(robot: &Nominal, pose: &[f64], q: &[f64], options: &Options) -> Vec<DVector<f64>> {
-    let at = robot.residuals(&robot.description(), pose, q);
+fn rows(
+    robot: &Nominal,
+    parameters: &[f64],
+    pose: &[f64],
+    q: &[f64],
+    options: &Options,
+) -> Vec<DVector<f64>> {
+    let at = robot.residuals(parameters, pose, q);
     let (legs, fitted) = (q.len(), robot.fitted().len());
     let width = at.pose.len() / legs;
     (0..legs)
