@@ -180,12 +180,34 @@ pub fn mechanism_parameter_constants(mechanism: &crate::Mechanism) -> Result<Str
         names.len(),
         quoted.join(", "),
         structure.geometry_parameters()
+    ) + &term_constants(
+        "SINGULARITY_TERMS",
+        "What each singularity term the kernels return measures, in order (a kernel's terms are \
+         the first of these): what the runtime bounds and names them by.",
+        &structure.singularity_terms(),
+    ) + &term_constants(
+        "FORWARD_KINEMATICS_TERMS",
+        "What each singularity term of `forward_kinematics_params` measures, in order.",
+        &structure.forward_kinematics_terms(),
     );
     let file: syn::File = syn::parse_str(&code).map_err(|e| Error::Emit {
         kernel: "parameter constants".to_string(),
         message: e.to_string(),
     })?;
     Ok(format!("\n{}", prettyplease::unparse(&file)))
+}
+
+/// `terms` as the constant `name` documented by `doc`; nothing where there are none.
+fn term_constants(name: &str, doc: &str, terms: &[crate::model::terms::SingularityTerm]) -> String {
+    if terms.is_empty() {
+        return String::new();
+    }
+    let values: Vec<String> = terms.iter().map(|t| t.to_rust()).collect();
+    format!(
+        "/// {doc}\npub const {name}: [crate::guard::SingularityTerm; {}] = [{}];\n",
+        terms.len(),
+        values.join(", ")
+    )
 }
 
 /// The manifest as Rust constants (`c5_generated::manifest::KERNELS`), for the audit and the

@@ -60,6 +60,7 @@
 
 pub mod eighth_turn;
 pub mod fma;
+pub mod guard;
 #[cfg(feature = "batch")]
 mod sincos;
 

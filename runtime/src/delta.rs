@@ -12,10 +12,8 @@
 //! two points where the arms' spheres meet, the one on the home position's side.
 
 use crate::error::Error;
-use crate::gough_stewart::U_JOINT_TOLERANCE;
 use crate::mechanism::ParallelRobot;
 use crate::platform::{array, put, room, Freedom, Mechanism};
-use crate::rus_hexapod::REACH_TOLERANCE;
 use crate::{check_finite, finite, finite_matrix};
 use alloc::vec::Vec;
 use c5_generated::f64::delta as kernels;
@@ -27,65 +25,12 @@ pub const MECHANISM: &str = c5_robot::description::DELTA;
 /// The length of the parameter vector of the Delta's `*_params` kernels.
 pub const PARAMETERS: usize = c5_robot::delta::PARAMETERS;
 
-/// Smallest accepted hold of the arms on the platform, `det(J⁻¹)² / Π |row_i|²` (one where
-/// the arms' rows are orthogonal, zero where they cannot hold the platform): near zero the
-/// solve `J⁻ᵀ Γ = W` divides by a vanishing determinant. Unlike the hexapods' bound, not yet
-/// calibrated against a high-precision reference.
-pub const HOLD_TOLERANCE: f64 = 1e-8;
+pub use crate::singularity::{FORWARD_KINEMATICS_TOLERANCE, HOLD_RATIO_TOLERANCE};
 
-/// Smallest accepted term of the forward kinematics: how far inside the three spheres' reach
-/// the platform is, `(L_1² − |y_0|²)/L_1²` (zero where the two meeting points merge), and how
-/// far from a line their centres are, `|n|²/(|a|² |b|²)`.
-pub const FORWARD_TOLERANCE: f64 = 1e-10;
-
-/// The names of the singularity terms, as errors report them.
-const TERMS: [&str; 7] = [
-    "U joints of arm 1",
-    "U joints of arm 2",
-    "U joints of arm 3",
-    "crank and rods of arm 1 aligned (1 - (K/ρ)²)",
-    "crank and rods of arm 2 aligned (1 - (K/ρ)²)",
-    "crank and rods of arm 3 aligned (1 - (K/ρ)²)",
-    "arms' hold (det(J⁻¹)² / Π |row|²)",
-];
-
-/// The reach terms' names where they are negative.
-const BEYOND_REACH: [&str; 3] = [
-    "platform beyond the reach of arm 1 (1 - (K/ρ)²)",
-    "platform beyond the reach of arm 2 (1 - (K/ρ)²)",
-    "platform beyond the reach of arm 3 (1 - (K/ρ)²)",
-];
-
-/// The forward kinematics' terms' names.
-const FORWARD_TERMS: [&str; 2] = [
-    "the arms' spheres do not meet, or touch at one point ((L² - |y0|²)/L²)",
-    "the arms' sphere centres in a line (|n|²/(|a|² |b|²))",
-];
-
-/// Refuses the singularity terms below their tolerance (or NaN): the reach first (beyond it
-/// every other term is NaN), then the U joints, then (when given) the hold.
-pub(crate) fn check_terms(terms: &[f64]) -> Result<(), Error> {
-    for k in (3..6).chain(0..3).chain(6..terms.len()) {
-        let value = terms[k];
-        let bound = match k {
-            0..3 => U_JOINT_TOLERANCE,
-            3..6 => REACH_TOLERANCE,
-            _ => HOLD_TOLERANCE,
-        };
-        if value.is_nan() || value < bound {
-            let beyond = (3..6).contains(&k) && value < 0.0;
-            return Err(Error::Singularity {
-                term: if beyond {
-                    BEYOND_REACH[k - 3]
-                } else {
-                    TERMS[k]
-                },
-                value,
-                bound,
-            });
-        }
-    }
-    Ok(())
+/// Refuses the singularity terms below their tolerance (or NaN), as the kernels' terms say
+/// what each measures.
+fn check_terms(terms: &[f64]) -> Result<(), Error> {
+    crate::singularity::check(terms, &kernels::SINGULARITY_TERMS)
 }
 
 /// The platform's state: position, velocity and acceleration of `C` (base frame).
@@ -290,15 +235,7 @@ impl Delta {
     pub fn forward_kinematics(&self, q: &[f64; 3]) -> Result<[f64; 3], Error> {
         check_finite("q", q)?;
         let (points, terms) = kernels::forward_kinematics_params(q, &self.params);
-        for (k, &value) in terms.iter().enumerate() {
-            if value.is_nan() || value < FORWARD_TOLERANCE {
-                return Err(Error::Singularity {
-                    term: FORWARD_TERMS[k],
-                    value,
-                    bound: FORWARD_TOLERANCE,
-                });
-            }
-        }
+        crate::singularity::check(&terms, &kernels::FORWARD_KINEMATICS_TERMS)?;
         let [plus, minus] = points;
         let side: f64 = (0..3)
             .map(|k| (plus[k] - minus[k]) * (self.home[k] - 0.5 * (plus[k] + minus[k])))

@@ -7,7 +7,7 @@
 //! its key's own order: the pose `α β γ xc yc zc`, the twist `ωx ωy ωz vx vy vz`, the
 //! acceleration `ω̇x ω̇y ω̇z ax ay az`, forces and actuator values in segment order.
 
-use crate::gough_stewart::{check_terms, GoughStewart};
+use crate::gough_stewart::GoughStewart;
 use crate::{
     check_divisors, check_finite, check_forward, check_forward_dynamics, check_joint_derivatives,
     finite, finite_matrix,
@@ -149,7 +149,7 @@ impl GoughStewart {
         let [x, v, a] = C5::checked_motion(state)?;
         let (gamma, d_pose, d_twist, d_accel, guard) =
             hexapod::inverse_dynamics_derivatives_params(&x, &v, &a, self.parameters());
-        check_terms(&guard)?;
+        crate::singularity::check(&guard, &hexapod::SINGULARITY_TERMS)?;
         Ok(InverseDynamicsDerivatives {
             gamma: finite("gamma", gamma)?,
             d_pose: finite_matrix("d_gamma_d_pose", d_pose)?,
@@ -175,7 +175,7 @@ impl GoughStewart {
         check_finite("gamma", gamma)?;
         let (a, d_pose, d_twist, d_gamma, guard) =
             hexapod::forward_dynamics_derivatives_params(&x, &v, gamma, self.parameters());
-        check_terms(&guard)?;
+        crate::singularity::check(&guard, &hexapod::SINGULARITY_TERMS)?;
         self.check_acceleration_solve(&x, &guard)?;
         Ok(ForwardDynamicsDerivatives {
             accel: Acceleration::from_array(finite("acceleration", a)?),

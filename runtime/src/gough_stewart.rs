@@ -12,8 +12,9 @@
 
 use crate::dense;
 use crate::error::Error;
-use crate::legged::{self, check_conditioned, newton, Linearised};
+use crate::legged;
 use crate::limits::Limit;
+use crate::singularity::{self, TermKind};
 use crate::{check_finite, finite, finite_matrix, Acceleration, Evaluation, Pose, State, Twist};
 use c5_generated::f64::gough_stewart as kernels;
 pub use c5_robot::GoughStewart as Description;
@@ -24,66 +25,9 @@ pub const MECHANISM: &str = c5_robot::description::GOUGH_STEWART;
 /// The length of the parameter vector of the hexapod's `*_params` kernels.
 pub const PARAMETERS: usize = kernels::PARAMETERS;
 
-/// Smallest accepted sine of a leg's angle with its U joint's first axis: below it the leg's
-/// frame (its spin about its own axis) is lost.
-pub const U_JOINT_TOLERANCE: f64 = 1e-6;
-
-/// Smallest accepted pivot ratio `ρ` of the solve with `J⁻ᵀ` (the `LDLᵀ` of `J⁻¹ J⁻ᵀ`, each
-/// pivot over its diagonal entry): near zero the legs lose their hold on the platform (a
-/// parallel singularity) and the forces grow without bound. Against a 50-digit reference
-/// (`python/tests/exact_hexapod.py`), the inverse dynamics and `J` err by about `1.5e-15/ρ`
-/// relative and the forward dynamics by up to `3e-18/ρ^1.5`, so at `1e-7` they were already
-/// past `1e-8`; at this bound the worst measured is `2.2e-11` (docs/embedding.md). The forward
-/// dynamics, which solves `M_x`, checks it too.
-pub const HOLD_TOLERANCE: f64 = 1e-5;
-
-/// Smallest sine of a leg's angle with its U joint's first axis at which the forward dynamics
-/// (and its derivatives) are served. Near that singularity the leg's spin about its own axis
-/// grows as `1/sine` for a given platform twist, and with it `M_x` and `h`: each stays within
-/// `1e-10` of a 50-digit reference, but the acceleration solved from them errs by 1.1e-8 at a
-/// sine of `1e-3`, 6e-5 at `1e-4` and by a factor of 20 at `1e-5` (legs that hold the platform
-/// well, `ρ = 0.14`). At this bound the worst measured is 1e-11; below it the call is refused
-/// ([`Error::IllConditioned`]). The inverse dynamics, `J`, `M_x` and `h` are served down to
-/// [`U_JOINT_TOLERANCE`].
-pub const FORWARD_U_JOINT_TOLERANCE: f64 = 1e-2;
+pub use crate::singularity::{FORWARD_U_JOINT_TOLERANCE, HOLD_TOLERANCE, U_JOINT_TOLERANCE};
 
 pub use crate::legged::{FORWARD_ITERATIONS, FORWARD_TOLERANCE, JOINT_STATE_HOLD_TOLERANCE};
-
-/// The names of the singularity terms, as errors report them: the U joints, then the pivots.
-const TERMS: [&str; 12] = [
-    "U joint of leg 1",
-    "U joint of leg 2",
-    "U joint of leg 3",
-    "U joint of leg 4",
-    "U joint of leg 5",
-    "U joint of leg 6",
-    "legs' hold (pivot 1)",
-    "legs' hold (pivot 2)",
-    "legs' hold (pivot 3)",
-    "legs' hold (pivot 4)",
-    "legs' hold (pivot 5)",
-    "legs' hold (pivot 6)",
-];
-
-/// Refuses the singularity terms below their tolerance (or NaN): the U joints' sines, then
-/// (when given) the pivots of the solve.
-pub(crate) fn check_terms(terms: &[f64]) -> Result<(), Error> {
-    for (k, &value) in terms.iter().enumerate() {
-        let bound = if k < 6 {
-            U_JOINT_TOLERANCE
-        } else {
-            HOLD_TOLERANCE
-        };
-        if value.is_nan() || value < bound {
-            return Err(Error::Singularity {
-                term: TERMS[k],
-                value,
-                bound,
-            });
-        }
-    }
-    Ok(())
-}
 
 /// A validated Gough-Stewart platform and its parameter vector.
 #[derive(Clone, Debug)]
@@ -235,76 +179,14 @@ impl GoughStewart {
 
     legged::kernel_calls!(12);
 
-    /// The forward dynamics: the platform's classical acceleration `(ω̇; a_C)` under the
-    /// actuator forces `gamma` (N).
-    ///
-    /// # Errors
-    /// Non-finite inputs, a U joint at its singularity, a pose too near a singularity for the
-    /// acceleration's bound ([`Error::IllConditioned`], [`FORWARD_U_JOINT_TOLERANCE`]), or a
-    /// non-finite result.
-    pub fn forward_dynamics(
-        &self,
-        pose: &Pose,
-        twist: &Twist,
-        gamma: &[f64; 6],
-    ) -> Result<Acceleration, Error> {
-        let (x, v) = (pose.to_array(), twist.to_array());
-        check_finite("pose", &x)?;
-        check_finite("twist", &v)?;
-        check_finite("gamma", gamma)?;
-        let (a, guard) = kernels::forward_dynamics_params(&x, &v, gamma, &self.params);
-        // The U joints' sines and the legs' hold.
-        check_terms(&guard)?;
-        check_conditioned(
-            "forward dynamics",
-            &guard[..6],
-            &TERMS[..6],
-            FORWARD_U_JOINT_TOLERANCE,
-        )?;
-        Ok(Acceleration::from_array(finite("acceleration", a)?))
-    }
-
-    /// The pose whose actuator positions are `q` (m), found by Newton's method from `near` (a
-    /// previous solution: two or three steps at a controller's rate) or, without it, from the
-    /// level pose that fits `q` best; to [`FORWARD_TOLERANCE`] on every actuator. A hexapod
-    /// has up to 40 poses for one `q`: this is the one Newton reaches from the start, the
-    /// workspace's from a start within it.
-    ///
-    /// The pose is refused where the legs' hold is below [`HOLD_TOLERANCE`], as every kernel
-    /// of the hexapod refuses it: against a 50-digit reference its error grows as about
-    /// `6.5e-19/ρ` relative (2.3e-8 at `ρ = 1.8e-11`), and within the bound it is at most
-    /// `3e-13`.
-    ///
-    /// # Errors
-    /// [`Error::NonFinite`]; [`Error::NotConverged`] when the steps stop reducing the residual
-    /// (positions no pose near the start has); [`Error::Singularity`] when a step meets a
-    /// singular pose, or the pose found is one.
-    pub fn forward_kinematics(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<Pose, Error> {
-        self.located(q, near).map(|(pose, _)| pose)
-    }
-
-    /// [`GoughStewart::forward_kinematics`], with the singularity terms at the pose found (all
-    /// within their tolerances), for the callers that hold it to a nearer bound.
-    fn located(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<(Pose, [f64; 12]), Error> {
-        check_finite("q", q)?;
-        let start = match near {
-            Some(p) => {
-                check_finite("near", &p.to_array())?;
-                p.to_array()
-            }
-            None => self.level_start(q),
-        };
-        let x = self.newton(q, start)?;
-        let terms = kernels::singularity_terms_params(&x, &self.params);
-        check_terms(&terms)?;
-        Ok((Pose::from_array(x), terms))
-    }
-
     /// Refuses a pose where the legs' hold is below [`HOLD_TOLERANCE`]: for the kernels that
     /// solve with `M_x` rather than `J⁻ᵀ`, whose own singularity terms are the U joints' alone.
     #[cfg(feature = "derivatives")]
     pub(crate) fn check_hold(&self, x: &[f64; 6]) -> Result<(), Error> {
-        check_terms(&kernels::singularity_terms_params(x, &self.params))
+        singularity::check(
+            &kernels::singularity_terms_params(x, &self.params),
+            &kernels::SINGULARITY_TERMS,
+        )
     }
 
     /// Refuses, for the kernels that solve `M_x` for the acceleration, a pose where the legs'
@@ -317,33 +199,22 @@ impl GoughStewart {
         sines: &[f64],
     ) -> Result<(), Error> {
         self.check_hold(x)?;
-        check_conditioned(
+        singularity::check_conditioned(
             "forward dynamics",
             sines,
-            &TERMS[..6],
+            &kernels::SINGULARITY_TERMS,
+            TermKind::UJoint,
             FORWARD_U_JOINT_TOLERANCE,
         )
     }
 
-    /// Newton's method on `q(X) = q` from `x` ([`newton`]).
-    fn newton(&self, q: &[f64; 6], x: [f64; 6]) -> Result<[f64; 6], Error> {
-        newton(
-            |x, out| {
-                let (r, jac, guard) = kernels::forward_kinematics_step_params(x, q, &self.params);
-                check_terms(&guard)?;
-                *out = Linearised {
-                    residual: finite("residual", r)?,
-                    jacobian: jac,
-                };
-                Ok(())
-            },
-            x,
-        )
-    }
-
-    /// The level pose (`R = I`) whose leg lengths fit `q` best: Gauss-Newton on the centre, from
-    /// above the home pose's.
-    fn level_start(&self, q: &[f64; 6]) -> [f64; 6] {
+    /// Where the forward kinematics starts without a previous solution: the level pose
+    /// (`R = I`) whose leg lengths fit `q` best, by Gauss-Newton on the centre from above the
+    /// home pose's. A hexapod has up to 40 poses for one `q`; Newton reaches the workspace's
+    /// from a start within it. Against a 50-digit reference the pose found errs by about
+    /// `6.5e-19/ρ` relative (2.3e-8 at `ρ = 1.8e-11`), and within [`HOLD_TOLERANCE`] by at most
+    /// `3e-13`.
+    fn start(&self, q: &[f64; 6]) -> [f64; 6] {
         let home = self.robot.home();
         let mut c = [0.0, 0.0, home[5]];
         for _ in 0..20 {

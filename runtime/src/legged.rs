@@ -26,8 +26,8 @@ pub const JOINT_STATE_HOLD_TOLERANCE: f64 = 1e-3;
 /// A mechanism whose platform rides on legs, through its kernels: what the shared methods
 /// below are written over.
 pub(crate) trait Legged {
-    /// The names of the legs' hold's six pivot ratios, as errors report them.
-    const PIVOTS: [&'static str; 6];
+    /// What the legs' hold's six pivot ratios are, as errors name them.
+    const PIVOTS: &'static [crate::singularity::SingularityTerm];
     /// The pose of the actuator positions `q` (found from `near`, or the mechanism's start)
     /// and the six pivot ratios of the legs' hold there, the pose refused where singular.
     fn located(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<(Pose, [f64; 6]), Error>;
@@ -100,25 +100,6 @@ pub(crate) fn newton(
     })
 }
 
-/// Refuses the first of `terms` (named by `names`) below `bound`, where `what` cannot be
-/// served to its accuracy bound though the pose is not singular.
-pub(crate) fn check_conditioned(
-    what: &'static str,
-    terms: &[f64],
-    names: &[&'static str],
-    bound: f64,
-) -> Result<(), Error> {
-    match terms.iter().position(|&value| value < bound) {
-        Some(k) => Err(Error::IllConditioned {
-            what,
-            term: names[k],
-            value: terms[k],
-            bound,
-        }),
-        None => Ok(()),
-    }
-}
-
 /// The platform state from the actuators' positions, rates and accelerations, refused with
 /// nonzero rates or accelerations where the legs' hold is below [`JOINT_STATE_HOLD_TOLERANCE`].
 pub(crate) fn joint_state<R: Legged>(
@@ -131,10 +112,11 @@ pub(crate) fn joint_state<R: Legged>(
     let (state, pivots) = platform_state(robot, q, qd, qdd, near)?;
     // At rest the twist and acceleration are zero, exactly, wherever the pose is served.
     if qd.iter().chain(qdd).any(|&x| x != 0.0) {
-        check_conditioned(
+        crate::singularity::check_conditioned(
             "platform motion from the actuators",
             &pivots,
-            &R::PIVOTS,
+            R::PIVOTS,
+            crate::singularity::TermKind::Pivot,
             JOINT_STATE_HOLD_TOLERANCE,
         )?;
     }
@@ -240,7 +222,7 @@ macro_rules! kernel_calls {
             let x = pose.to_array();
             check_finite("pose", &x)?;
             let (q, p, guard) = kernels::inverse_kinematics_params(&x, &self.params);
-            check_terms(&guard)?;
+            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
             Ok((finite("q", q)?, finite_matrix("p", p)?))
         }
 
@@ -252,7 +234,7 @@ macro_rules! kernel_calls {
             let x = pose.to_array();
             check_finite("pose", &x)?;
             let (jinv, guard) = kernels::inverse_jacobian_pose_params(&x, &self.params);
-            check_terms(&guard)?;
+            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
             finite_matrix("jinv", jinv)
         }
 
@@ -264,7 +246,7 @@ macro_rules! kernel_calls {
             let x = pose.to_array();
             check_finite("pose", &x)?;
             let (jac, guard) = kernels::jacobian_pose_params(&x, &self.params);
-            check_terms(&guard)?;
+            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
             finite_matrix("jacobian", jac)
         }
 
@@ -277,7 +259,7 @@ macro_rules! kernel_calls {
             check_finite("pose", &x)?;
             check_finite("twist", &v)?;
             let (qd, guard) = kernels::joint_velocities_params(&x, &v, &self.params);
-            check_terms(&guard)?;
+            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
             finite("qd", qd)
         }
 
@@ -288,7 +270,7 @@ macro_rules! kernel_calls {
         pub fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
             let [x, v, a] = crate::C5::checked_motion(state)?;
             let (qdd, guard) = kernels::joint_accelerations_params(&x, &v, &a, &self.params);
-            check_terms(&guard)?;
+            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
             finite("qdd", qdd)
         }
 
@@ -300,7 +282,7 @@ macro_rules! kernel_calls {
         pub fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
             let [x, v, a] = crate::C5::checked_motion(state)?;
             let (gamma, guard) = kernels::inverse_dynamics_params(&x, &v, &a, &self.params);
-            check_terms(&guard)?;
+            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
             finite("gamma", gamma)
         }
 
@@ -312,7 +294,7 @@ macro_rules! kernel_calls {
             let x = pose.to_array();
             check_finite("pose", &x)?;
             let (m, guard) = kernels::task_inertia_params(&x, &self.params);
-            check_terms(&guard)?;
+            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
             finite_matrix("task inertia", m)
         }
 
@@ -326,8 +308,83 @@ macro_rules! kernel_calls {
             check_finite("pose", &x)?;
             check_finite("twist", &v)?;
             let (h, guard) = kernels::task_bias_params(&x, &v, &self.params);
-            check_terms(&guard)?;
+            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
             finite("task bias", h)
+        }
+
+        /// The pose whose actuator positions are `q`, by Newton's method from `near` (a
+        /// previous solution: two or three steps at a controller's rate) or, without it, from
+        /// the mechanism's start; to `FORWARD_TOLERANCE` (1e-12, m or rad) on every actuator. The pose found is refused where it is singular, as every kernel refuses
+        /// it.
+        ///
+        /// # Errors
+        /// [`Error::NonFinite`]; [`Error::NotConverged`] when the steps stop reducing the
+        /// residual (positions no pose near the start has); [`Error::Singularity`] when a step
+        /// meets a singular pose, or the pose found is one.
+        pub fn forward_kinematics(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<Pose, Error> {
+            self.located(q, near).map(|(pose, _)| pose)
+        }
+
+        /// The forward kinematics, with the singularity terms at the pose found (all within
+        /// their tolerances), for the callers that hold it to a nearer bound.
+        fn located(
+            &self,
+            q: &[f64; 6],
+            near: Option<&Pose>,
+        ) -> Result<(Pose, [f64; $terms]), Error> {
+            check_finite("q", q)?;
+            let start = match near {
+                Some(p) => {
+                    check_finite("near", &p.to_array())?;
+                    p.to_array()
+                }
+                None => self.start(q),
+            };
+            let x = legged::newton(
+                |x, out| {
+                    let (r, jac, guard) =
+                        kernels::forward_kinematics_step_params(x, q, &self.params);
+                    crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
+                    *out = legged::Linearised {
+                        residual: finite("residual", r)?,
+                        jacobian: jac,
+                    };
+                    Ok(())
+                },
+                start,
+            )?;
+            let terms = kernels::singularity_terms_params(&x, &self.params);
+            crate::singularity::check(&terms, &kernels::SINGULARITY_TERMS)?;
+            Ok((Pose::from_array(x), terms))
+        }
+
+        /// The forward dynamics: the platform's classical acceleration `(ω̇; a_C)` under the
+        /// actuator forces `gamma`.
+        ///
+        /// # Errors
+        /// Non-finite inputs, a singular pose, a U joint too near its singularity for the
+        /// acceleration's bound ([`Error::IllConditioned`],
+        /// [`crate::singularity::FORWARD_U_JOINT_TOLERANCE`]), or a non-finite result.
+        pub fn forward_dynamics(
+            &self,
+            pose: &Pose,
+            twist: &Twist,
+            gamma: &[f64; 6],
+        ) -> Result<Acceleration, Error> {
+            let (x, v) = (pose.to_array(), twist.to_array());
+            check_finite("pose", &x)?;
+            check_finite("twist", &v)?;
+            check_finite("gamma", gamma)?;
+            let (a, guard) = kernels::forward_dynamics_params(&x, &v, gamma, &self.params);
+            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
+            crate::singularity::check_conditioned(
+                "forward dynamics",
+                &guard,
+                &kernels::SINGULARITY_TERMS,
+                crate::singularity::TermKind::UJoint,
+                crate::singularity::FORWARD_U_JOINT_TOLERANCE,
+            )?;
+            Ok(Acceleration::from_array(finite("acceleration", a)?))
         }
     };
 }
@@ -338,14 +395,8 @@ pub(crate) use kernel_calls;
 macro_rules! legged_impl {
     ($robot:ty, $pivots:literal) => {
         impl $crate::legged::Legged for $robot {
-            const PIVOTS: [&'static str; 6] = [
-                TERMS[$pivots],
-                TERMS[$pivots + 1],
-                TERMS[$pivots + 2],
-                TERMS[$pivots + 3],
-                TERMS[$pivots + 4],
-                TERMS[$pivots + 5],
-            ];
+            const PIVOTS: &'static [$crate::singularity::SingularityTerm] =
+                kernels::SINGULARITY_TERMS.split_at($pivots).1;
             fn located(
                 &self,
                 q: &[f64; 6],

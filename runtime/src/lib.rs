@@ -61,6 +61,7 @@ pub mod reference;
 pub mod rus_hexapod;
 pub mod scene;
 pub mod sensors;
+pub mod singularity;
 pub mod trajectory;
 pub mod types;
 #[cfg(feature = "workspace")]

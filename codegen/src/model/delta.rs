@@ -27,6 +27,7 @@ use super::geometry::{Motion, Posed};
 use super::kernels::{Build, Cite, Context, Decl, Guard, Input, Kernel, Output, Reads};
 use super::legged::{self, rus::Rus, Leg, LegState};
 use super::rus_hexapod::{crank_body, rod_body};
+use super::terms::{self, SingularityTerm, TermKind};
 use super::{Freedom, Mechanics, Quantity, Structure, INTERNAL_INPUTS};
 use crate::dag::{Expr, Graph};
 use crate::kernel::Shape;
@@ -597,6 +598,33 @@ impl Structure for DeltaMechanics {
 
     fn guard_output(&self, _guard: Guard) -> (Output, &'static str) {
         (SOLVE_TERMS, "")
+    }
+
+    fn singularity_terms(&self) -> Vec<SingularityTerm> {
+        let mut all = terms::u_joints(3, |i| format!("U joints of arm {i}"));
+        all.extend(terms::reaches(
+            3,
+            |i| format!("crank and rods of arm {i} aligned (1 - (K/ρ)²)"),
+            |i| format!("platform beyond the reach of arm {i} (1 - (K/ρ)²)"),
+        ));
+        all.push(terms::single(
+            TermKind::Hold,
+            "arms' hold (det(J⁻¹)² / Π |row|²)",
+        ));
+        all
+    }
+
+    fn forward_kinematics_terms(&self) -> Vec<SingularityTerm> {
+        vec![
+            terms::single(
+                TermKind::ForwardKinematics,
+                "the arms' spheres do not meet, or touch at one point ((L² - |y0|²)/L²)",
+            ),
+            terms::single(
+                TermKind::ForwardKinematics,
+                "the arms' sphere centres in a line (|n|²/(|a|² |b|²))",
+            ),
+        ]
     }
 
     fn conventions(&self) -> &'static str {

@@ -12,6 +12,7 @@ use super::calibration;
 use super::geometry::{rotation_of_pose, Posed};
 use super::kernels::{jacobian_wrt, Build, Cite, Decl, Guard, Input, Kernel, Output, Reads};
 use super::legged::{self, ups::Ups, Leg};
+use super::terms::{self, SingularityTerm};
 use super::{Mechanics, Quantity, Structure};
 use crate::dag::{Expr, Graph};
 use crate::kernel::Shape;
@@ -224,6 +225,12 @@ impl Structure for GoughStewartStructure {
                 "\nThe last result holds the U joints' sines for a singularity check.",
             ),
         }
+    }
+
+    fn singularity_terms(&self) -> Vec<SingularityTerm> {
+        let mut all = terms::u_joints(6, |i| format!("U joint of leg {i}"));
+        all.extend(terms::pivots());
+        all
     }
 
     fn conventions(&self) -> &'static str {

@@ -30,6 +30,7 @@ pub mod paper;
 pub mod regressor;
 pub mod rus_hexapod;
 mod selfcheck;
+pub mod terms;
 
 pub use c5_robot::tree::Freedom;
 pub use c5_robot::Model;
@@ -258,6 +259,16 @@ pub trait Structure: Sync {
     }
     /// That result's declaration, and the sentence the kernel's documentation adds about it.
     fn guard_output(&self, guard: Guard) -> (Output, &'static str);
+    /// What each term of the longest guard measures, in order (a shorter guard is its
+    /// beginning), for the runtime's one check; none where the mechanism's kernels are checked
+    /// by hand (the C5's divisors).
+    fn singularity_terms(&self) -> Vec<terms::SingularityTerm> {
+        Vec::new()
+    }
+    /// What each term of the closed-form forward kinematics' guard measures, where it has one.
+    fn forward_kinematics_terms(&self) -> Vec<terms::SingularityTerm> {
+        Vec::new()
+    }
     /// What the documentation of every kernel says of the conventions (the actuators' order).
     fn conventions(&self) -> &'static str;
     /// The documentation of the `params` argument of the kernels that read `reads`.

@@ -12,6 +12,7 @@ use super::calibration;
 use super::geometry::{rotation_of_pose, Posed};
 use super::kernels::{jacobian_wrt, Build, Cite, Decl, Guard, Input, Kernel, Output, Reads};
 use super::legged::{self, rus::Rus, Leg};
+use super::terms::{self, SingularityTerm};
 use super::{Mechanics, Quantity, Structure};
 use crate::dag::{Expr, Graph};
 use crate::kernel::Shape;
@@ -227,6 +228,17 @@ impl Structure for RusHexapodMechanics {
                  singularity check.",
             ),
         }
+    }
+
+    fn singularity_terms(&self) -> Vec<SingularityTerm> {
+        let mut all = terms::u_joints(6, |i| format!("U joint of leg {i}"));
+        all.extend(terms::reaches(
+            6,
+            |i| format!("crank and rod of leg {i} aligned (1 - (K/ρ)²)"),
+            |i| format!("ball of leg {i} beyond its crank's reach (1 - (K/ρ)²)"),
+        ));
+        all.extend(terms::pivots());
+        all
     }
 
     fn conventions(&self) -> &'static str {

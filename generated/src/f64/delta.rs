@@ -15413,3 +15413,54 @@ pub const PARAMETER_NAMES: [&str; 82] = [
 ];
 /// How many of the first parameters are the geometry and gravity (the identification kernels' `params`).
 pub const GEOMETRY_PARAMETERS: usize = 54;
+/// What each singularity term the kernels return measures, in order (a kernel's terms are the first of these): what the runtime bounds and names them by.
+pub const SINGULARITY_TERMS: [crate::guard::SingularityTerm; 7] = [
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::UJoint,
+        name: "U joints of arm 1",
+        negative: "U joints of arm 1",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::UJoint,
+        name: "U joints of arm 2",
+        negative: "U joints of arm 2",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::UJoint,
+        name: "U joints of arm 3",
+        negative: "U joints of arm 3",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::Reach,
+        name: "crank and rods of arm 1 aligned (1 - (K/ρ)²)",
+        negative: "platform beyond the reach of arm 1 (1 - (K/ρ)²)",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::Reach,
+        name: "crank and rods of arm 2 aligned (1 - (K/ρ)²)",
+        negative: "platform beyond the reach of arm 2 (1 - (K/ρ)²)",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::Reach,
+        name: "crank and rods of arm 3 aligned (1 - (K/ρ)²)",
+        negative: "platform beyond the reach of arm 3 (1 - (K/ρ)²)",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::Hold,
+        name: "arms' hold (det(J⁻¹)² / Π |row|²)",
+        negative: "arms' hold (det(J⁻¹)² / Π |row|²)",
+    },
+];
+/// What each singularity term of `forward_kinematics_params` measures, in order.
+pub const FORWARD_KINEMATICS_TERMS: [crate::guard::SingularityTerm; 2] = [
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::ForwardKinematics,
+        name: "the arms' spheres do not meet, or touch at one point ((L² - |y0|²)/L²)",
+        negative: "the arms' spheres do not meet, or touch at one point ((L² - |y0|²)/L²)",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::ForwardKinematics,
+        name: "the arms' sphere centres in a line (|n|²/(|a|² |b|²))",
+        negative: "the arms' sphere centres in a line (|n|²/(|a|² |b|²))",
+    },
+];

@@ -33406,3 +33406,66 @@ pub const PARAMETER_NAMES: [&str; 121] = [
 ];
 /// How many of the first parameters are the geometry and gravity (the identification kernels' `params`).
 pub const GEOMETRY_PARAMETERS: usize = 63;
+/// What each singularity term the kernels return measures, in order (a kernel's terms are the first of these): what the runtime bounds and names them by.
+pub const SINGULARITY_TERMS: [crate::guard::SingularityTerm; 12] = [
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::UJoint,
+        name: "U joint of leg 1",
+        negative: "U joint of leg 1",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::UJoint,
+        name: "U joint of leg 2",
+        negative: "U joint of leg 2",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::UJoint,
+        name: "U joint of leg 3",
+        negative: "U joint of leg 3",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::UJoint,
+        name: "U joint of leg 4",
+        negative: "U joint of leg 4",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::UJoint,
+        name: "U joint of leg 5",
+        negative: "U joint of leg 5",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::UJoint,
+        name: "U joint of leg 6",
+        negative: "U joint of leg 6",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::Pivot,
+        name: "legs' hold (pivot 1)",
+        negative: "legs' hold (pivot 1)",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::Pivot,
+        name: "legs' hold (pivot 2)",
+        negative: "legs' hold (pivot 2)",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::Pivot,
+        name: "legs' hold (pivot 3)",
+        negative: "legs' hold (pivot 3)",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::Pivot,
+        name: "legs' hold (pivot 4)",
+        negative: "legs' hold (pivot 4)",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::Pivot,
+        name: "legs' hold (pivot 5)",
+        negative: "legs' hold (pivot 5)",
+    },
+    crate::guard::SingularityTerm {
+        kind: crate::guard::TermKind::Pivot,
+        name: "legs' hold (pivot 6)",
+        negative: "legs' hold (pivot 6)",
+    },
+];

@@ -18,12 +18,12 @@ const GROUPING_STATES: usize = 40;
 
 /// The identification methods of a legged mechanism: `$robot` with its generated kernels
 /// `$kernels` (`regressor`, `base_regressor`, their parameter names and groupings) on `$n`
-/// actuators, its singularity check `$check`, its state type `$state` with `$motion` giving its
+/// actuators, its state type `$state` with `$motion` giving its
 /// coordinates checked finite, `$home`, the coordinates it rests at, and `$reach`, how far from
 /// there (rad, m) the seeded states of the groupings are drawn.
 macro_rules! legged_identification {
     (
-        $robot:ty, $kernels:ident, $n:literal, $check:path,
+        $robot:ty, $kernels:ident, $n:literal,
         $state:ty, $motion:path, $home:expr, $reach:expr
     ) => {
         impl $robot {
@@ -63,7 +63,7 @@ macro_rules! legged_identification {
                     a,
                     &self.identification_geometry(),
                 );
-                $check(&guard)?;
+                crate::singularity::check(&guard, &c5_generated::f64::$kernels::SINGULARITY_TERMS)?;
                 crate::identify::legged::finite_rows("regressor", y)
             }
 
@@ -93,7 +93,7 @@ macro_rules! legged_identification {
                     &a,
                     &self.identification_geometry(),
                 );
-                $check(&guard)?;
+                crate::singularity::check(&guard, &c5_generated::f64::$kernels::SINGULARITY_TERMS)?;
                 out.copy_from_slice(
                     crate::identify::legged::finite_rows("base regressor", y)?.as_flattened(),
                 );
@@ -158,7 +158,6 @@ legged_identification!(
     crate::GoughStewart,
     gough_stewart,
     6,
-    crate::gough_stewart::check_terms,
     State,
     crate::C5::checked_motion,
     |robot: &crate::GoughStewart| robot.home().to_array(),
@@ -168,7 +167,6 @@ legged_identification!(
     crate::RusHexapod,
     rus_hexapod,
     6,
-    crate::rus_hexapod::check_terms,
     State,
     crate::C5::checked_motion,
     |robot: &crate::RusHexapod| robot.home().to_array(),
@@ -178,7 +176,6 @@ legged_identification!(
     crate::Delta,
     delta,
     3,
-    crate::delta::check_terms,
     crate::delta::Translation,
     crate::delta::checked_motion,
     crate::Delta::home,
