@@ -53,23 +53,9 @@ pub(crate) fn checked_motion(state: &Translation) -> Result<[[f64; 3]; 3], Error
     Ok([state.position, state.velocity, state.acceleration])
 }
 
-/// The kinematic and dynamic quantities of one state, arm order.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct DeltaEvaluation {
-    /// The motors' angles `q_i` (rad).
-    pub q: [f64; 3],
-    /// Their rates, `J⁻¹ v_C` (rad/s).
-    pub qd: [f64; 3],
-    /// Their accelerations (rad/s²).
-    pub qdd: [f64; 3],
-    /// The motors' torques `Γ_i` (N·m).
-    pub gamma: [f64; 3],
-    /// `J⁻¹`, row `i` = arm `i+1`, columns `[vx vy vz]`.
-    pub jinv: [[f64; 3]; 3],
-    /// `J`, column `i` = arm `i+1`.
-    pub jacobian: [[f64; 3]; 3],
-}
+/// The kinematic and dynamic quantities of one state, arm order: `q` the motors' angles (rad),
+/// `Γ` their torques (N·m), `J⁻¹` with columns `[vx vy vz]`.
+pub type DeltaEvaluation = crate::Evaluation<3>;
 
 /// A validated Delta and its parameter vector.
 #[derive(Clone, Debug)]
@@ -233,6 +219,11 @@ impl Delta {
     /// # Errors
     /// [`Error::NonFinite`]; [`Error::Singularity`] naming the term.
     pub fn forward_kinematics(&self, q: &[f64; 3]) -> Result<[f64; 3], Error> {
+        self.located(q).map(|(position, _)| position)
+    }
+
+    /// [`Delta::forward_kinematics`] and the singularity terms at the position found.
+    fn located(&self, q: &[f64; 3]) -> Result<([f64; 3], [f64; 7]), Error> {
         check_finite("q", q)?;
         let (points, terms) = kernels::forward_kinematics_params(q, &self.params);
         crate::singularity::check(&terms, &kernels::FORWARD_KINEMATICS_TERMS)?;
@@ -241,13 +232,16 @@ impl Delta {
             .map(|k| (plus[k] - minus[k]) * (self.home[k] - 0.5 * (plus[k] + minus[k])))
             .sum();
         let position = finite("position", if side >= 0.0 { plus } else { minus })?;
-        check_terms(&self.singularity_terms(&position)?)?;
-        Ok(position)
+        let terms = self.singularity_terms(&position)?;
+        check_terms(&terms)?;
+        Ok((position, terms))
     }
 
     /// The platform's state from the motors' angles, rates and accelerations:
     /// `C` by [`Delta::forward_kinematics`], `v_C = J q̇`, `a_C = J (q̈ − b)` with `b` the motors'
-    /// accelerations at the velocity and no platform acceleration.
+    /// accelerations at the velocity and no platform acceleration. Unlike the hexapods', the
+    /// arms' hold (one ratio, not calibrated against a high-precision reference) bounds only
+    /// the position, not the motion applied through `J`.
     ///
     /// # Errors
     /// As [`Delta::forward_kinematics`].
@@ -257,24 +251,27 @@ impl Delta {
         qd: &[f64; 3],
         qdd: &[f64; 3],
     ) -> Result<Translation, Error> {
-        check_finite("qd", qd)?;
-        check_finite("qdd", qdd)?;
-        let position = self.forward_kinematics(q)?;
-        let jac = self.jacobian(&position)?;
-        let apply = |v: [f64; 3]| -> [f64; 3] {
-            core::array::from_fn(|i| (0..3).map(|k| jac[i][k] * v[k]).sum())
-        };
-        let velocity = apply(*qd);
-        let bias = self.joint_accelerations(&Translation {
-            position,
-            velocity,
-            acceleration: [0.0; 3],
-        })?;
+        let [position, velocity, acceleration] =
+            crate::legged::joint_state(self, &[*q, *qd, *qdd], None)?;
         Ok(Translation {
             position,
             velocity,
-            acceleration: apply(core::array::from_fn(|k| qdd[k] - bias[k])),
+            acceleration,
         })
+    }
+
+    /// The motors' torques from their angles, rates and accelerations: the inverse dynamics
+    /// at the platform's state of [`Delta::joint_state`].
+    ///
+    /// # Errors
+    /// As [`Delta::joint_state`].
+    pub fn inverse_dynamics_joint(
+        &self,
+        q: &[f64; 3],
+        qd: &[f64; 3],
+        qdd: &[f64; 3],
+    ) -> Result<[f64; 3], Error> {
+        crate::legged::inverse_dynamics_joint(self, &[*q, *qd, *qdd], None)
     }
 
     /// Everything `c5 eval` writes for one state.
@@ -282,18 +279,56 @@ impl Delta {
     /// # Errors
     /// As [`Delta::inverse_dynamics`].
     pub fn evaluate(&self, state: &Translation) -> Result<DeltaEvaluation, Error> {
-        Ok(DeltaEvaluation {
-            q: self.inverse_kinematics(&state.position)?,
-            qd: self.joint_velocities(&state.position, &state.velocity)?,
-            qdd: self.joint_accelerations(state)?,
-            gamma: self.inverse_dynamics(state)?,
-            jinv: self.inverse_jacobian(&state.position)?,
-            jacobian: self.jacobian(&state.position)?,
-        })
+        crate::legged::evaluate(self, &checked_motion(state)?)
     }
 
     fn check_state(&self, state: &Translation) -> Result<(), Error> {
         checked_motion(state).map(drop)
+    }
+}
+
+/// The Delta's kernels for what every legged mechanism shares: its platform's motion from the
+/// motors' and its evaluation. Its hold is one ratio, not pivots, and bounds no motion.
+impl crate::legged::Legged<3> for Delta {
+    fn located(
+        &self,
+        q: &[f64; 3],
+        _near: Option<&[f64; 3]>,
+    ) -> Result<([f64; 3], crate::legged::Hold), Error> {
+        let (position, terms) = Delta::located(self, q)?;
+        let hold = crate::singularity::weakest(
+            &terms,
+            &kernels::SINGULARITY_TERMS,
+            crate::singularity::TermKind::Pivot,
+        );
+        Ok((position, hold))
+    }
+    fn actuators(&self, x: &[f64; 3]) -> Result<[f64; 3], Error> {
+        self.inverse_kinematics(x)
+    }
+    fn rates(&self, x: &[f64; 3], v: &[f64; 3]) -> Result<[f64; 3], Error> {
+        self.joint_velocities(x, v)
+    }
+    fn accelerations(&self, [x, v, a]: &crate::legged::Motion<3>) -> Result<[f64; 3], Error> {
+        self.joint_accelerations(&translation_of(x, v, a))
+    }
+    fn forces(&self, [x, v, a]: &crate::legged::Motion<3>) -> Result<[f64; 3], Error> {
+        self.inverse_dynamics(&translation_of(x, v, a))
+    }
+    fn inverse(&self, x: &[f64; 3]) -> Result<[[f64; 3]; 3], Error> {
+        self.inverse_jacobian(x)
+    }
+    fn jacobian_at(&self, x: &[f64; 3]) -> Result<[[f64; 3]; 3], Error> {
+        self.jacobian(x)
+    }
+}
+
+/// The state of a position, velocity and acceleration.
+fn translation_of(x: &[f64; 3], v: &[f64; 3], a: &[f64; 3]) -> Translation {
+    Translation {
+        position: *x,
+        velocity: *v,
+        acceleration: *a,
     }
 }
 

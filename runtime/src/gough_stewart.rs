@@ -14,7 +14,6 @@ use crate::dense;
 use crate::error::Error;
 use crate::legged;
 use crate::limits::Limit;
-use crate::singularity::{self, TermKind};
 use crate::{check_finite, finite, finite_matrix, Acceleration, Evaluation, Pose, State, Twist};
 use c5_generated::f64::gough_stewart as kernels;
 pub use c5_robot::GoughStewart as Description;
@@ -183,7 +182,7 @@ impl GoughStewart {
     /// solve with `M_x` rather than `J⁻ᵀ`, whose own singularity terms are the U joints' alone.
     #[cfg(feature = "derivatives")]
     pub(crate) fn check_hold(&self, x: &[f64; 6]) -> Result<(), Error> {
-        singularity::check(
+        crate::singularity::check(
             &kernels::singularity_terms_params(x, &self.params),
             &kernels::SINGULARITY_TERMS,
         )
@@ -199,11 +198,11 @@ impl GoughStewart {
         sines: &[f64],
     ) -> Result<(), Error> {
         self.check_hold(x)?;
-        singularity::check_conditioned(
+        crate::singularity::check_conditioned(
             "forward dynamics",
             sines,
             &kernels::SINGULARITY_TERMS,
-            TermKind::UJoint,
+            crate::singularity::TermKind::UJoint,
             FORWARD_U_JOINT_TOLERANCE,
         )
     }
@@ -252,4 +251,4 @@ impl GoughStewart {
     legged::joint_space_methods!();
 }
 
-legged::legged_impl!(GoughStewart, 6);
+legged::legged_impl!(GoughStewart);

@@ -5,6 +5,7 @@
 //! its own kernels.
 
 use crate::error::Error;
+use crate::singularity::SingularityTerm;
 use crate::{dense, finite, finite_matrix, Acceleration, Evaluation, Pose, State, Twist};
 
 /// The forward kinematics' tolerance: the largest residual of an actuator position (m or rad).
@@ -23,21 +24,30 @@ pub const FORWARD_ITERATIONS: usize = 50;
 /// the inertia stay accurate and are served down to the mechanism's hold tolerance.
 pub const JOINT_STATE_HOLD_TOLERANCE: f64 = 1e-3;
 
-/// A mechanism whose platform rides on legs, through its kernels: what the shared methods
-/// below are written over.
-pub(crate) trait Legged {
-    /// What the legs' hold's six pivot ratios are, as errors name them.
-    const PIVOTS: &'static [crate::singularity::SingularityTerm];
+/// A platform's motion in its `N` coordinates: pose, twist and acceleration.
+pub(crate) type Motion<const N: usize> = [[f64; N]; 3];
+
+/// The weakest of the legs' hold's pivot ratios at a pose, and what it is; `None` where the
+/// mechanism's hold is not measured by pivots.
+pub(crate) type Hold = Option<(f64, &'static SingularityTerm)>;
+
+/// A mechanism whose platform rides on legs, in its platform's `N` coordinates, through its
+/// kernels: what the shared functions below are written over.
+pub(crate) trait Legged<const N: usize> {
     /// The pose of the actuator positions `q` (found from `near`, or the mechanism's start)
-    /// and the six pivot ratios of the legs' hold there, the pose refused where singular.
-    fn located(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<(Pose, [f64; 6]), Error>;
-    fn actuators(&self, pose: &Pose) -> Result<[f64; 6], Error>;
-    fn rates(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error>;
-    fn accelerations(&self, state: &State) -> Result<[f64; 6], Error>;
-    fn forces(&self, state: &State) -> Result<[f64; 6], Error>;
-    fn inverse(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error>;
-    fn jacobian_at(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error>;
-    fn inertia_at(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error>;
+    /// and the legs' hold there, the pose refused where singular.
+    fn located(&self, q: &[f64; N], near: Option<&[f64; N]>) -> Result<([f64; N], Hold), Error>;
+    fn actuators(&self, x: &[f64; N]) -> Result<[f64; N], Error>;
+    fn rates(&self, x: &[f64; N], v: &[f64; N]) -> Result<[f64; N], Error>;
+    fn accelerations(&self, motion: &Motion<N>) -> Result<[f64; N], Error>;
+    fn forces(&self, motion: &Motion<N>) -> Result<[f64; N], Error>;
+    fn inverse(&self, x: &[f64; N]) -> Result<[[f64; N]; N], Error>;
+    fn jacobian_at(&self, x: &[f64; N]) -> Result<[[f64; N]; N], Error>;
+}
+
+/// A legged mechanism with its task-space inertia `M_x` generated.
+pub(crate) trait TaskInertia<const N: usize>: Legged<N> {
+    fn inertia_at(&self, x: &[f64; N]) -> Result<[[f64; N]; N], Error>;
 }
 
 /// What a step of the forward kinematics gives at a pose: the actuators' residual and its
@@ -100,81 +110,67 @@ pub(crate) fn newton(
     })
 }
 
-/// The platform state from the actuators' positions, rates and accelerations, refused with
+/// The platform's motion from the actuators' positions, rates and accelerations, refused with
 /// nonzero rates or accelerations where the legs' hold is below [`JOINT_STATE_HOLD_TOLERANCE`].
-pub(crate) fn joint_state<R: Legged>(
+pub(crate) fn joint_state<const N: usize, R: Legged<N>>(
     robot: &R,
-    q: &[f64; 6],
-    qd: &[f64; 6],
-    qdd: &[f64; 6],
-    near: Option<&Pose>,
-) -> Result<State, Error> {
-    let (state, pivots) = platform_state(robot, q, qd, qdd, near)?;
+    joints: &Motion<N>,
+    near: Option<&[f64; N]>,
+) -> Result<Motion<N>, Error> {
+    let (motion, hold) = platform_motion(robot, joints, near)?;
+    let [_, qd, qdd] = joints;
     // At rest the twist and acceleration are zero, exactly, wherever the pose is served.
-    if qd.iter().chain(qdd).any(|&x| x != 0.0) {
-        crate::singularity::check_conditioned(
-            "platform motion from the actuators",
-            &pivots,
-            R::PIVOTS,
-            crate::singularity::TermKind::Pivot,
-            JOINT_STATE_HOLD_TOLERANCE,
-        )?;
+    if let Some((value, term)) = hold {
+        if value < JOINT_STATE_HOLD_TOLERANCE && qd.iter().chain(qdd).any(|&x| x != 0.0) {
+            return Err(Error::IllConditioned {
+                what: "platform motion from the actuators",
+                term: term.name,
+                value,
+                bound: JOINT_STATE_HOLD_TOLERANCE,
+            });
+        }
     }
-    Ok(state)
+    Ok(motion)
 }
 
 /// [`joint_state`] without its bound on the motion (for the joint-space forces, which stay
-/// accurate down to the hold tolerance), and the pivots at its pose: the forward kinematics,
+/// accurate down to the hold tolerance), and the hold at its pose: the forward kinematics,
 /// `V = J q̇`, and `(ω̇; a_C) = J (q̈ - b)` with `b` the actuators' accelerations at zero
 /// platform acceleration.
-fn platform_state<R: Legged>(
+fn platform_motion<const N: usize, R: Legged<N>>(
     robot: &R,
-    q: &[f64; 6],
-    qd: &[f64; 6],
-    qdd: &[f64; 6],
-    near: Option<&Pose>,
-) -> Result<(State, [f64; 6]), Error> {
+    [q, qd, qdd]: &Motion<N>,
+    near: Option<&[f64; N]>,
+) -> Result<(Motion<N>, Hold), Error> {
     crate::check_finite("qd", qd)?;
     crate::check_finite("qdd", qdd)?;
-    let (pose, pivots) = robot.located(q, near)?;
-    let jac = robot.jacobian_at(&pose)?;
-    let twist = Twist::from_array(dense::mul_vec(&jac, qd));
-    let at_rest = State {
-        pose,
-        twist,
-        accel: Acceleration::default(),
-    };
-    let bias = robot.accelerations(&at_rest)?;
-    let relative: [f64; 6] = core::array::from_fn(|i| qdd[i] - bias[i]);
-    let accel = dense::mul_vec(&jac, &relative);
-    let state = State {
-        pose,
-        twist,
-        accel: Acceleration::from_array(finite("acceleration", accel)?),
-    };
-    Ok((state, pivots))
+    let (x, hold) = robot.located(q, near)?;
+    let jac = robot.jacobian_at(&x)?;
+    let v = finite("twist", dense::mul_vec(&jac, qd))?;
+    let bias = robot.accelerations(&[x, v, [0.0; N]])?;
+    let relative: [f64; N] = core::array::from_fn(|i| qdd[i] - bias[i]);
+    let a = finite("acceleration", dense::mul_vec(&jac, &relative))?;
+    Ok(([x, v, a], hold))
 }
 
 /// The actuator forces from the actuators' motion: the inverse dynamics at the platform state
 /// of [`joint_state`], served down to the hold tolerance.
-pub(crate) fn inverse_dynamics_joint<R: Legged>(
+pub(crate) fn inverse_dynamics_joint<const N: usize, R: Legged<N>>(
     robot: &R,
-    q: &[f64; 6],
-    qd: &[f64; 6],
-    qdd: &[f64; 6],
-    near: Option<&Pose>,
-) -> Result<[f64; 6], Error> {
-    robot.forces(&platform_state(robot, q, qd, qdd, near)?.0)
+    joints: &Motion<N>,
+    near: Option<&[f64; N]>,
+) -> Result<[f64; N], Error> {
+    robot.forces(&platform_motion(robot, joints, near)?.0)
 }
 
 /// `M_q = Jᵀ M_x J` at the pose of the actuator positions `q`.
-pub(crate) fn joint_inertia<R: Legged>(
+pub(crate) fn joint_inertia<const N: usize, R: TaskInertia<N>>(
     robot: &R,
-    q: &[f64; 6],
-    near: Option<&Pose>,
-) -> Result<[[f64; 6]; 6], Error> {
-    let (pose, _) = robot.located(q, near)?;
-    let (jac, m) = (robot.jacobian_at(&pose)?, robot.inertia_at(&pose)?);
+    q: &[f64; N],
+    near: Option<&[f64; N]>,
+) -> Result<[[f64; N]; N], Error> {
+    let (x, _) = robot.located(q, near)?;
+    let (jac, m) = (robot.jacobian_at(&x)?, robot.inertia_at(&x)?);
     finite_matrix(
         "joint inertia",
         dense::mul(&dense::transpose(&jac), &dense::mul(&m, &jac)),
@@ -182,14 +178,18 @@ pub(crate) fn joint_inertia<R: Legged>(
 }
 
 /// Everything `eval` reports for one state.
-pub(crate) fn evaluate<R: Legged>(robot: &R, state: &State) -> Result<Evaluation, Error> {
+pub(crate) fn evaluate<const N: usize, R: Legged<N>>(
+    robot: &R,
+    motion: &Motion<N>,
+) -> Result<Evaluation<N>, Error> {
+    let [x, v, _] = motion;
     Ok(Evaluation {
-        q: robot.actuators(&state.pose)?,
-        qd: robot.rates(&state.pose, &state.twist)?,
-        qdd: robot.accelerations(state)?,
-        gamma: robot.forces(state)?,
-        jinv: robot.inverse(&state.pose)?,
-        jacobian: robot.jacobian_at(&state.pose)?,
+        q: robot.actuators(x)?,
+        qd: robot.rates(x, v)?,
+        qdd: robot.accelerations(motion)?,
+        gamma: robot.forces(motion)?,
+        jinv: robot.inverse(x)?,
+        jacobian: robot.jacobian_at(x)?,
     })
 }
 
@@ -390,49 +390,65 @@ macro_rules! kernel_calls {
 }
 pub(crate) use kernel_calls;
 
-/// The [`Legged`] implementation of a legged mechanism's runtime type through its inherent
-/// methods; the six pivot ratios are its singularity terms from `$pivots` on.
+/// A platform state free in space from its coordinates.
+pub(crate) fn spatial_state([x, v, a]: Motion<6>) -> State {
+    State {
+        pose: Pose::from_array(x),
+        twist: Twist::from_array(v),
+        accel: Acceleration::from_array(a),
+    }
+}
+
+/// The [`Legged`] and [`TaskInertia`] implementations of a legged mechanism's runtime type whose
+/// platform is free in space, through its inherent methods.
 macro_rules! legged_impl {
-    ($robot:ty, $pivots:literal) => {
-        impl $crate::legged::Legged for $robot {
-            const PIVOTS: &'static [$crate::singularity::SingularityTerm] =
-                kernels::SINGULARITY_TERMS.split_at($pivots).1;
+    ($robot:ty) => {
+        impl $crate::legged::Legged<6> for $robot {
             fn located(
                 &self,
                 q: &[f64; 6],
-                near: Option<&Pose>,
-            ) -> Result<(Pose, [f64; 6]), Error> {
-                let (pose, terms) = <$robot>::located(self, q, near)?;
-                Ok((pose, core::array::from_fn(|k| terms[$pivots + k])))
+                near: Option<&[f64; 6]>,
+            ) -> Result<([f64; 6], $crate::legged::Hold), Error> {
+                let near = near.map(|x| Pose::from_array(*x));
+                let (pose, terms) = <$robot>::located(self, q, near.as_ref())?;
+                let hold = $crate::singularity::weakest(
+                    &terms,
+                    &kernels::SINGULARITY_TERMS,
+                    $crate::singularity::TermKind::Pivot,
+                );
+                Ok((pose.to_array(), hold))
             }
-            fn actuators(&self, pose: &Pose) -> Result<[f64; 6], Error> {
-                Ok(self.inverse_kinematics(pose)?.0)
+            fn actuators(&self, x: &[f64; 6]) -> Result<[f64; 6], Error> {
+                Ok(self.inverse_kinematics(&Pose::from_array(*x))?.0)
             }
-            fn rates(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-                self.joint_velocities(pose, twist)
+            fn rates(&self, x: &[f64; 6], v: &[f64; 6]) -> Result<[f64; 6], Error> {
+                self.joint_velocities(&Pose::from_array(*x), &Twist::from_array(*v))
             }
-            fn accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
-                self.joint_accelerations(state)
+            fn accelerations(&self, motion: &$crate::legged::Motion<6>) -> Result<[f64; 6], Error> {
+                self.joint_accelerations(&$crate::legged::spatial_state(*motion))
             }
-            fn forces(&self, state: &State) -> Result<[f64; 6], Error> {
-                self.inverse_dynamics(state)
+            fn forces(&self, motion: &$crate::legged::Motion<6>) -> Result<[f64; 6], Error> {
+                self.inverse_dynamics(&$crate::legged::spatial_state(*motion))
             }
-            fn inverse(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-                self.inverse_jacobian(pose)
+            fn inverse(&self, x: &[f64; 6]) -> Result<[[f64; 6]; 6], Error> {
+                self.inverse_jacobian(&Pose::from_array(*x))
             }
-            fn jacobian_at(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-                self.jacobian(pose)
+            fn jacobian_at(&self, x: &[f64; 6]) -> Result<[[f64; 6]; 6], Error> {
+                self.jacobian(&Pose::from_array(*x))
             }
-            fn inertia_at(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-                self.task_inertia(pose)
+        }
+
+        impl $crate::legged::TaskInertia<6> for $robot {
+            fn inertia_at(&self, x: &[f64; 6]) -> Result<[[f64; 6]; 6], Error> {
+                self.task_inertia(&Pose::from_array(*x))
             }
         }
     };
 }
 pub(crate) use legged_impl;
 
-/// The joint-space methods and `evaluate` of a legged mechanism's runtime type (through the
-/// functions above), in its impl block.
+/// The joint-space methods and `evaluate` of a legged mechanism's runtime type whose platform
+/// is free in space (through the functions above), in its impl block.
 macro_rules! joint_space_methods {
     () => {
         /// The platform state from the actuators' positions, rates and accelerations: the
@@ -450,7 +466,8 @@ macro_rules! joint_space_methods {
             qdd: &[f64; 6],
             near: Option<&Pose>,
         ) -> Result<State, Error> {
-            legged::joint_state(self, q, qd, qdd, near)
+            let near = near.map(Pose::to_array);
+            legged::joint_state(self, &[*q, *qd, *qdd], near.as_ref()).map(legged::spatial_state)
         }
 
         /// The actuator forces from the actuators' motion: the inverse dynamics at the
@@ -466,7 +483,8 @@ macro_rules! joint_space_methods {
             qdd: &[f64; 6],
             near: Option<&Pose>,
         ) -> Result<[f64; 6], Error> {
-            legged::inverse_dynamics_joint(self, q, qd, qdd, near)
+            let near = near.map(Pose::to_array);
+            legged::inverse_dynamics_joint(self, &[*q, *qd, *qdd], near.as_ref())
         }
 
         /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia `Jᵀ M_x J`, at the pose of the
@@ -479,7 +497,7 @@ macro_rules! joint_space_methods {
             q: &[f64; 6],
             near: Option<&Pose>,
         ) -> Result<[[f64; 6]; 6], Error> {
-            legged::joint_inertia(self, q, near)
+            legged::joint_inertia(self, q, near.map(Pose::to_array).as_ref())
         }
 
         /// `c_q` of `Γ = M_q q̈ + c_q`: the forces at zero actuator acceleration.
@@ -500,7 +518,12 @@ macro_rules! joint_space_methods {
         /// # Errors
         /// Non-finite inputs or a singular pose.
         pub fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
-            legged::evaluate(self, state)
+            let motion = [
+                state.pose.to_array(),
+                state.twist.to_array(),
+                state.accel.to_array(),
+            ];
+            legged::evaluate(self, &motion)
         }
     };
 }

@@ -646,20 +646,27 @@ impl C5 {
     }
 }
 
-/// The kinematic and dynamic quantities of one platform state, segment order.
+/// The kinematic and dynamic quantities of one platform state, actuator order, in the
+/// platform's `N` coordinates (six for a platform free in space, three for the Delta's) and the
+/// actuators' units (m and N for the C5's and the Gough-Stewart platform's, rad and N·m for
+/// motors that turn).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Evaluation {
-    /// `Q_i1` (m), eq 16.
-    pub q: [f64; 6],
-    /// `Q̇_i1` (m/s), `J⁻¹ V`.
-    pub qd: [f64; 6],
-    /// `Q̈_i1` (m/s²).
-    pub qdd: [f64; 6],
-    /// `Γ_i` (N).
-    pub gamma: [f64; 6],
-    /// `J⁻¹`, row `i` = segment `i+1`.
-    pub jinv: [[f64; 6]; 6],
-    /// `J`, column `i` = segment `i+1`.
-    pub jacobian: [[f64; 6]; 6],
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(serialize = "[f64; N]: serde::Serialize, [[f64; N]; N]: serde::Serialize"))
+)]
+pub struct Evaluation<const N: usize = 6> {
+    /// The actuator values `q` (the C5's `Q_i1`, eq 16).
+    pub q: [f64; N],
+    /// Their rates, `J⁻¹ V`.
+    pub qd: [f64; N],
+    /// Their accelerations.
+    pub qdd: [f64; N],
+    /// The actuator forces `Γ_i`.
+    pub gamma: [f64; N],
+    /// `J⁻¹`, row `i` for actuator `i+1`, columns the twist's.
+    pub jinv: [[f64; N]; N],
+    /// `J`, column `i` for actuator `i+1`.
+    pub jacobian: [[f64; N]; N],
 }

@@ -77,4 +77,4 @@ impl RusHexapod {
     legged::joint_space_methods!();
 }
 
-legged::legged_impl!(RusHexapod, 12);
+legged::legged_impl!(RusHexapod);

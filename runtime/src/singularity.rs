@@ -104,6 +104,20 @@ pub fn check_conditioned(
     }
 }
 
+/// The smallest of `values` whose term (of `terms`) is of `kind`, and that term.
+pub fn weakest(
+    values: &[f64],
+    terms: &'static [SingularityTerm],
+    kind: TermKind,
+) -> Option<(f64, &'static SingularityTerm)> {
+    values
+        .iter()
+        .zip(terms)
+        .filter(|(_, t)| t.kind == kind)
+        .map(|(&value, term)| (value, term))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
