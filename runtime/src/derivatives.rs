@@ -9,8 +9,8 @@
 
 use crate::gough_stewart::GoughStewart;
 use crate::{
-    check_divisors, check_finite, check_forward, check_forward_dynamics, check_joint_derivatives,
-    finite, finite_matrix,
+    check_divisors, check_forward, check_forward_dynamics, check_joint_derivatives, finite,
+    finite_matrix,
 };
 use crate::{Acceleration, Error, Kernels, Pose, State, Twist, C5};
 use c5_generated::f64::gough_stewart as hexapod;
@@ -92,10 +92,7 @@ impl C5 {
         twist: &Twist,
         gamma: &[f64; 6],
     ) -> Result<ForwardDynamicsDerivatives, Error> {
-        let (x, v) = (pose.to_array(), twist.to_array());
-        check_finite("pose", &x)?;
-        check_finite("twist", &v)?;
-        check_finite("gamma", gamma)?;
+        let [x, v] = C5::checked_forward(pose, twist, gamma)?;
         let (a, d_pose, d_twist, d_gamma, r) =
             self.kernels
                 .forward_dynamics_derivatives_params(&x, &v, gamma, &self.params);
@@ -169,10 +166,7 @@ impl GoughStewart {
         twist: &Twist,
         gamma: &[f64; 6],
     ) -> Result<ForwardDynamicsDerivatives, Error> {
-        let (x, v) = (pose.to_array(), twist.to_array());
-        check_finite("pose", &x)?;
-        check_finite("twist", &v)?;
-        check_finite("gamma", gamma)?;
+        let [x, v] = C5::checked_forward(pose, twist, gamma)?;
         let (a, d_pose, d_twist, d_gamma, guard) =
             hexapod::forward_dynamics_derivatives_params(&x, &v, gamma, self.parameters());
         crate::singularity::check(&guard, &hexapod::SINGULARITY_TERMS)?;

@@ -371,10 +371,7 @@ macro_rules! kernel_calls {
             twist: &Twist,
             gamma: &[f64; 6],
         ) -> Result<Acceleration, Error> {
-            let (x, v) = (pose.to_array(), twist.to_array());
-            check_finite("pose", &x)?;
-            check_finite("twist", &v)?;
-            check_finite("gamma", gamma)?;
+            let [x, v] = crate::C5::checked_forward(pose, twist, gamma)?;
             let (a, guard) = kernels::forward_dynamics_params(&x, &v, gamma, &self.params);
             crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
             crate::singularity::check_conditioned(

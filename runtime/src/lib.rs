@@ -367,6 +367,19 @@ impl C5 {
         Ok(paper::singularity_terms(&x))
     }
 
+    /// A forward dynamics' pose and twist as arrays, with `gamma`, each checked finite.
+    pub(crate) fn checked_forward(
+        pose: &Pose,
+        twist: &Twist,
+        gamma: &[f64; 6],
+    ) -> Result<[[f64; 6]; 2], Error> {
+        let (x, v) = (pose.to_array(), twist.to_array());
+        check_finite("pose", &x)?;
+        check_finite("twist", &v)?;
+        check_finite("gamma", gamma)?;
+        Ok([x, v])
+    }
+
     /// Finite inputs; the singularity check is left to the divisors the kernel returns.
     pub(crate) fn checked_motion(state: &State) -> Result<[[f64; 6]; 3], Error> {
         let x = state.pose.to_array();
@@ -494,10 +507,7 @@ impl C5 {
         twist: &Twist,
         gamma: &[f64; 6],
     ) -> Result<Acceleration, Error> {
-        let (x, v) = (pose.to_array(), twist.to_array());
-        check_finite("pose", &x)?;
-        check_finite("twist", &v)?;
-        check_finite("gamma", gamma)?;
+        let [x, v] = C5::checked_forward(pose, twist, gamma)?;
         let (a, r) = self
             .kernels
             .forward_dynamics_params(&x, &v, gamma, &self.params);
