@@ -13,7 +13,7 @@
 
 use crate::error::Error;
 use crate::mechanism::ParallelRobot;
-use crate::platform::{array, put, room, Freedom, Mechanism};
+use crate::platform::{array, Freedom, Mechanism};
 use crate::{check_finite, finite, finite_matrix};
 use alloc::vec::Vec;
 use c5_generated::f64::delta as kernels;
@@ -26,12 +26,6 @@ pub const MECHANISM: &str = c5_robot::description::DELTA;
 pub const PARAMETERS: usize = c5_robot::delta::PARAMETERS;
 
 pub use crate::singularity::{FORWARD_KINEMATICS_TOLERANCE, HOLD_RATIO_TOLERANCE};
-
-/// Refuses the singularity terms below their tolerance (or NaN), as the kernels' terms say
-/// what each measures.
-fn check_terms(terms: &[f64]) -> Result<(), Error> {
-    crate::singularity::check(terms, &kernels::SINGULARITY_TERMS)
-}
 
 /// The platform's state: position, velocity and acceleration of `C` (base frame).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -51,6 +45,14 @@ pub(crate) fn checked_motion(state: &Translation) -> Result<[[f64; 3]; 3], Error
     check_finite("velocity", &state.velocity)?;
     check_finite("acceleration", &state.acceleration)?;
     Ok([state.position, state.velocity, state.acceleration])
+}
+
+/// A state's position, velocity and acceleration, each checked finite by its own name.
+impl crate::legged::Coordinates for Translation {
+    type Array = crate::legged::Motion<3>;
+    fn checked(&self, _name: &'static str) -> Result<crate::legged::Motion<3>, Error> {
+        checked_motion(self)
+    }
 }
 
 /// The kinematic and dynamic quantities of one state, arm order: `q` the motors' angles (rad),
@@ -100,16 +102,13 @@ impl Delta {
         self.home
     }
 
-    /// The singularity terms at `position`, unchecked: each arm's U joints' sine, each arm's
-    /// reach `1 - (K/ρ)²`, and the arms' hold `det(J⁻¹)² / Π |row_i|²`; for monitoring how
-    /// near a singularity the platform is.
-    ///
-    /// # Errors
-    /// [`Error::NonFinite`] for a non-finite input.
-    pub fn singularity_terms(&self, position: &[f64; 3]) -> Result<[f64; 7], Error> {
-        check_finite("position", position)?;
-        Ok(kernels::singularity_terms_params(position, &self.params))
-    }
+    crate::legged::kernel_calls!(
+        terms: 7,
+        coordinates: 3,
+        pose: [f64; 3],
+        twist: [f64; 3],
+        state: Translation
+    );
 
     /// The motors' angles at `position`.
     ///
@@ -118,78 +117,8 @@ impl Delta {
     pub fn inverse_kinematics(&self, position: &[f64; 3]) -> Result<[f64; 3], Error> {
         check_finite("position", position)?;
         let (q, terms) = kernels::inverse_kinematics_params(position, &self.params);
-        check_terms(&terms)?;
+        crate::singularity::check(&terms, &kernels::SINGULARITY_TERMS)?;
         finite("q", q)
-    }
-
-    /// `J⁻¹` at `position`: `q̇ = J⁻¹ v_C`.
-    ///
-    /// # Errors
-    /// As [`Delta::inverse_kinematics`].
-    pub fn inverse_jacobian(&self, position: &[f64; 3]) -> Result<[[f64; 3]; 3], Error> {
-        check_finite("position", position)?;
-        let (jinv, terms) = kernels::inverse_jacobian_pose_params(position, &self.params);
-        check_terms(&terms)?;
-        finite_matrix("jinv", jinv)
-    }
-
-    /// `J = (J⁻¹)⁻¹` at `position`: `v_C = J q̇`.
-    ///
-    /// # Errors
-    /// As [`Delta::inverse_kinematics`], and the arms' hold.
-    pub fn jacobian(&self, position: &[f64; 3]) -> Result<[[f64; 3]; 3], Error> {
-        check_finite("position", position)?;
-        let (jac, terms) = kernels::jacobian_pose_params(position, &self.params);
-        check_terms(&terms)?;
-        finite_matrix("jacobian", jac)
-    }
-
-    /// The motors' rates `J⁻¹ v_C`.
-    ///
-    /// # Errors
-    /// As [`Delta::inverse_kinematics`].
-    pub fn joint_velocities(
-        &self,
-        position: &[f64; 3],
-        velocity: &[f64; 3],
-    ) -> Result<[f64; 3], Error> {
-        check_finite("position", position)?;
-        check_finite("velocity", velocity)?;
-        let (qd, terms) = kernels::joint_velocities_params(position, velocity, &self.params);
-        check_terms(&terms)?;
-        finite("qd", qd)
-    }
-
-    /// The motors' accelerations.
-    ///
-    /// # Errors
-    /// As [`Delta::inverse_kinematics`].
-    pub fn joint_accelerations(&self, state: &Translation) -> Result<[f64; 3], Error> {
-        self.check_state(state)?;
-        let (qdd, terms) = kernels::joint_accelerations_params(
-            &state.position,
-            &state.velocity,
-            &state.acceleration,
-            &self.params,
-        );
-        check_terms(&terms)?;
-        finite("qdd", qdd)
-    }
-
-    /// The motors' torques that give the platform `state`'s motion.
-    ///
-    /// # Errors
-    /// As [`Delta::jacobian`].
-    pub fn inverse_dynamics(&self, state: &Translation) -> Result<[f64; 3], Error> {
-        self.check_state(state)?;
-        let (gamma, terms) = kernels::inverse_dynamics_params(
-            &state.position,
-            &state.velocity,
-            &state.acceleration,
-            &self.params,
-        );
-        check_terms(&terms)?;
-        finite("gamma", gamma)
     }
 
     /// The platform's acceleration under the motors' torques `gamma`.
@@ -207,7 +136,7 @@ impl Delta {
         check_finite("gamma", gamma)?;
         let (accel, terms) =
             kernels::forward_dynamics_params(position, velocity, gamma, &self.params);
-        check_terms(&terms)?;
+        crate::singularity::check(&terms, &kernels::SINGULARITY_TERMS)?;
         finite("acceleration", accel)
     }
 
@@ -233,7 +162,7 @@ impl Delta {
             .sum();
         let position = finite("position", if side >= 0.0 { plus } else { minus })?;
         let terms = self.singularity_terms(&position)?;
-        check_terms(&terms)?;
+        crate::singularity::check(&terms, &kernels::SINGULARITY_TERMS)?;
         Ok((position, terms))
     }
 
@@ -281,10 +210,6 @@ impl Delta {
     pub fn evaluate(&self, state: &Translation) -> Result<DeltaEvaluation, Error> {
         crate::legged::evaluate(self, &checked_motion(state)?)
     }
-
-    fn check_state(&self, state: &Translation) -> Result<(), Error> {
-        checked_motion(state).map(drop)
-    }
 }
 
 /// The Delta's kernels for what every legged mechanism shares: its platform's motion from the
@@ -309,11 +234,11 @@ impl crate::legged::Legged<3> for Delta {
     fn rates(&self, x: &[f64; 3], v: &[f64; 3]) -> Result<[f64; 3], Error> {
         self.joint_velocities(x, v)
     }
-    fn accelerations(&self, [x, v, a]: &crate::legged::Motion<3>) -> Result<[f64; 3], Error> {
-        self.joint_accelerations(&translation_of(x, v, a))
+    fn accelerations(&self, motion: &crate::legged::Motion<3>) -> Result<[f64; 3], Error> {
+        self.joint_accelerations(&translation_of(motion))
     }
-    fn forces(&self, [x, v, a]: &crate::legged::Motion<3>) -> Result<[f64; 3], Error> {
-        self.inverse_dynamics(&translation_of(x, v, a))
+    fn forces(&self, motion: &crate::legged::Motion<3>) -> Result<[f64; 3], Error> {
+        self.inverse_dynamics(&translation_of(motion))
     }
     fn inverse(&self, x: &[f64; 3]) -> Result<[[f64; 3]; 3], Error> {
         self.inverse_jacobian(x)
@@ -321,14 +246,17 @@ impl crate::legged::Legged<3> for Delta {
     fn jacobian_at(&self, x: &[f64; 3]) -> Result<[[f64; 3]; 3], Error> {
         self.jacobian(x)
     }
+    fn accelerated(&self, x: &[f64; 3], v: &[f64; 3], gamma: &[f64; 3]) -> Result<[f64; 3], Error> {
+        self.forward_dynamics(x, v, gamma)
+    }
 }
 
 /// The state of a position, velocity and acceleration.
-fn translation_of(x: &[f64; 3], v: &[f64; 3], a: &[f64; 3]) -> Translation {
+fn translation_of([position, velocity, acceleration]: &crate::legged::Motion<3>) -> Translation {
     Translation {
-        position: *x,
-        velocity: *v,
-        acceleration: *a,
+        position: *position,
+        velocity: *velocity,
+        acceleration: *acceleration,
     }
 }
 
@@ -377,127 +305,19 @@ impl Mechanism for Delta {
     }
     #[cfg(feature = "identify")]
     fn standard_regressor(&self, motion: [&[f64]; 3]) -> Result<nalgebra::DMatrix<f64>, Error> {
-        let [x, v, a] = motion;
-        let y = Delta::regressor(self, &translation(x, v, a)?)?;
+        let motion = crate::legged::motion_of(motion, crate::legged::MOTION)?;
+        let y = Delta::regressor(self, &translation_of(&motion))?;
         Ok(nalgebra::DMatrix::from_fn(3, y[0].len(), |i, j| y[i][j]))
     }
     #[cfg(feature = "identify")]
     fn base_regressor_into(&self, motion: [&[f64]; 3], out: &mut [f64]) -> Result<(), Error> {
-        let [x, v, a] = motion;
-        Delta::base_regressor_into(self, &translation(x, v, a)?, out)
+        let motion = crate::legged::motion_of(motion, crate::legged::MOTION)?;
+        Delta::base_regressor_into(self, &translation_of(&motion), out)
     }
     fn scene(&self, pose: &[f64]) -> Result<crate::scene::Scene, Error> {
         Delta::scene(self, &array("pose", pose)?)
     }
-    fn actuator_positions(&self, pose: &[f64], q: &mut [f64]) -> Result<(), Error> {
-        room::<3>("q", q)?;
-        put(q, &self.inverse_kinematics(&array("pose", pose)?)?);
-        Ok(())
-    }
-    fn inverse_jacobian(&self, pose: &[f64], jinv: &mut [f64]) -> Result<(), Error> {
-        room::<9>("jinv", jinv)?;
-        let m = Delta::inverse_jacobian(self, &array("pose", pose)?)?;
-        put(jinv, m.as_flattened());
-        Ok(())
-    }
-    fn jacobian(&self, pose: &[f64], jac: &mut [f64]) -> Result<(), Error> {
-        room::<9>("jacobian", jac)?;
-        put(
-            jac,
-            Delta::jacobian(self, &array("pose", pose)?)?.as_flattened(),
-        );
-        Ok(())
-    }
-    fn joint_velocities(&self, pose: &[f64], twist: &[f64], qd: &mut [f64]) -> Result<(), Error> {
-        room::<3>("qd", qd)?;
-        let rates = Delta::joint_velocities(self, &array("pose", pose)?, &array("twist", twist)?)?;
-        put(qd, &rates);
-        Ok(())
-    }
-    fn joint_accelerations(
-        &self,
-        pose: &[f64],
-        twist: &[f64],
-        acceleration: &[f64],
-        qdd: &mut [f64],
-    ) -> Result<(), Error> {
-        room::<3>("qdd", qdd)?;
-        let state = translation(pose, twist, acceleration)?;
-        put(qdd, &Delta::joint_accelerations(self, &state)?);
-        Ok(())
-    }
-    fn inverse_dynamics(
-        &self,
-        pose: &[f64],
-        twist: &[f64],
-        acceleration: &[f64],
-        gamma: &mut [f64],
-    ) -> Result<(), Error> {
-        room::<3>("gamma", gamma)?;
-        let state = translation(pose, twist, acceleration)?;
-        put(gamma, &Delta::inverse_dynamics(self, &state)?);
-        Ok(())
-    }
-    fn forward_dynamics(
-        &self,
-        pose: &[f64],
-        twist: &[f64],
-        gamma: &[f64],
-        acceleration: &mut [f64],
-    ) -> Result<(), Error> {
-        room::<3>("acceleration", acceleration)?;
-        let (x, v, g) = (
-            array("pose", pose)?,
-            array("twist", twist)?,
-            array("gamma", gamma)?,
-        );
-        put(acceleration, &Delta::forward_dynamics(self, &x, &v, &g)?);
-        Ok(())
-    }
-    /// In closed form: `near` is not needed, and only its length is checked.
-    fn forward_kinematics(
-        &self,
-        q: &[f64],
-        near: Option<&[f64]>,
-        pose: &mut [f64],
-    ) -> Result<(), Error> {
-        room::<3>("pose", pose)?;
-        near.map(|x| array::<3>("near", x)).transpose()?;
-        put(pose, &Delta::forward_kinematics(self, &array("q", q)?)?);
-        Ok(())
-    }
-    fn joint_state(
-        &self,
-        joints: [&[f64]; 3],
-        near: Option<&[f64]>,
-        out: [&mut [f64]; 3],
-    ) -> Result<(), Error> {
-        let [pose, twist, acceleration] = out;
-        room::<3>("pose", pose)?;
-        room::<3>("twist", twist)?;
-        room::<3>("acceleration", acceleration)?;
-        near.map(|x| array::<3>("near", x)).transpose()?;
-        let [q, qd, qdd] = joints;
-        let (q, qd, qdd) = (array("q", q)?, array("qd", qd)?, array("qdd", qdd)?);
-        let state = Delta::joint_state(self, &q, &qd, &qdd)?;
-        put(pose, &state.position);
-        put(twist, &state.velocity);
-        put(acceleration, &state.acceleration);
-        Ok(())
-    }
-}
-
-/// A Delta's state from its three slices.
-fn translation(
-    pose: &[f64],
-    twist: &[f64],
-    acceleration: &[f64],
-) -> Result<crate::delta::Translation, Error> {
-    Ok(crate::delta::Translation {
-        position: array("pose", pose)?,
-        velocity: array("twist", twist)?,
-        acceleration: array("acceleration", acceleration)?,
-    })
+    crate::legged::slice_calls!(3);
 }
 
 #[cfg(test)]

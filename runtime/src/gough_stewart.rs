@@ -176,7 +176,7 @@ impl GoughStewart {
         Pose::from_array(self.robot.home())
     }
 
-    legged::kernel_calls!(12);
+    legged::spatial_kernel_calls!(12);
 
     /// Refuses a pose where the legs' hold is below [`HOLD_TOLERANCE`]: for the kernels that
     /// solve with `M_x` rather than `J⁻ᵀ`, whose own singularity terms are the U joints' alone.

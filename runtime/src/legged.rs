@@ -27,6 +27,52 @@ pub const JOINT_STATE_HOLD_TOLERANCE: f64 = 1e-3;
 /// A platform's motion in its `N` coordinates: pose, twist and acceleration.
 pub(crate) type Motion<const N: usize> = [[f64; N]; 3];
 
+/// A platform's coordinates (a pose, a twist, a state), as the kernels take them, checked
+/// finite: what lets one set of checked kernel calls serve every platform.
+pub(crate) trait Coordinates {
+    type Array;
+    /// The coordinates, refused by `name` where one is not finite.
+    fn checked(&self, name: &'static str) -> Result<Self::Array, Error>;
+}
+
+impl Coordinates for [f64; 3] {
+    type Array = [f64; 3];
+    fn checked(&self, name: &'static str) -> Result<[f64; 3], Error> {
+        crate::check_finite(name, self)?;
+        Ok(*self)
+    }
+}
+
+impl Coordinates for Pose {
+    type Array = [f64; 6];
+    fn checked(&self, name: &'static str) -> Result<[f64; 6], Error> {
+        self.to_array().checked(name)
+    }
+}
+
+impl Coordinates for Twist {
+    type Array = [f64; 6];
+    fn checked(&self, name: &'static str) -> Result<[f64; 6], Error> {
+        self.to_array().checked(name)
+    }
+}
+
+impl Coordinates for [f64; 6] {
+    type Array = [f64; 6];
+    fn checked(&self, name: &'static str) -> Result<[f64; 6], Error> {
+        crate::check_finite(name, self)?;
+        Ok(*self)
+    }
+}
+
+/// A state's pose, twist and acceleration, each checked finite by its own name.
+impl Coordinates for State {
+    type Array = Motion<6>;
+    fn checked(&self, _name: &'static str) -> Result<Motion<6>, Error> {
+        crate::C5::checked_motion(self)
+    }
+}
+
 /// The weakest of the legs' hold's pivot ratios at a pose, and what it is; `None` where the
 /// mechanism's hold is not measured by pivots.
 pub(crate) type Hold = Option<(f64, &'static SingularityTerm)>;
@@ -43,6 +89,8 @@ pub(crate) trait Legged<const N: usize> {
     fn forces(&self, motion: &Motion<N>) -> Result<[f64; N], Error>;
     fn inverse(&self, x: &[f64; N]) -> Result<[[f64; N]; N], Error>;
     fn jacobian_at(&self, x: &[f64; N]) -> Result<[[f64; N]; N], Error>;
+    /// The forward dynamics: the platform's acceleration under the actuator forces `gamma`.
+    fn accelerated(&self, x: &[f64; N], v: &[f64; N], gamma: &[f64; N]) -> Result<[f64; N], Error>;
 }
 
 /// A legged mechanism with its task-space inertia `M_x` generated.
@@ -200,18 +248,90 @@ pub(crate) fn evaluate<const N: usize, R: Legged<N>>(
 /// actuators' positions in m or rad, their forces in N or N·m. `$terms` is the length of the
 /// singularity terms.
 macro_rules! kernel_calls {
-    ($terms:literal) => {
-        /// The singularity terms at `pose` (the kernel `singularity_terms`): the joints' terms,
-        /// then the six pivot ratios of the solve with `J⁻ᵀ` (in `(0, 1]`, zero at a parallel
-        /// singularity).
+    (terms: $terms:literal, coordinates: $n:literal, pose: $pose:ty, twist: $twist:ty, state: $state:ty) => {
+        /// The singularity terms at `pose` (the kernel `singularity_terms`; what each is,
+        /// `kernels::SINGULARITY_TERMS` says): the joints' terms, then the legs' hold (zero at
+        /// a parallel singularity).
         ///
         /// # Errors
         /// A non-finite pose.
-        pub fn singularity_terms(&self, pose: &Pose) -> Result<[f64; $terms], Error> {
-            let x = pose.to_array();
-            check_finite("pose", &x)?;
+        pub fn singularity_terms(&self, pose: &$pose) -> Result<[f64; $terms], Error> {
+            let x = $crate::legged::Coordinates::checked(pose, "pose")?;
             Ok(kernels::singularity_terms_params(&x, &self.params))
         }
+
+        /// `J⁻¹` (`q̇ = J⁻¹ V`), row `i` for actuator `i+1`, columns the twist's.
+        ///
+        /// # Errors
+        /// A non-finite or singular pose.
+        pub fn inverse_jacobian(&self, pose: &$pose) -> Result<[[f64; $n]; $n], Error> {
+            let x = $crate::legged::Coordinates::checked(pose, "pose")?;
+            let (jinv, guard) = kernels::inverse_jacobian_pose_params(&x, &self.params);
+            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
+            finite_matrix("jinv", jinv)
+        }
+
+        /// `J = (J⁻¹)⁻¹`, rows the twist's, column `i` for actuator `i+1`.
+        ///
+        /// # Errors
+        /// A non-finite or singular pose, or the legs' hold.
+        pub fn jacobian(&self, pose: &$pose) -> Result<[[f64; $n]; $n], Error> {
+            let x = $crate::legged::Coordinates::checked(pose, "pose")?;
+            let (jac, guard) = kernels::jacobian_pose_params(&x, &self.params);
+            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
+            finite_matrix("jacobian", jac)
+        }
+
+        /// `q̇ = J⁻¹ V`.
+        ///
+        /// # Errors
+        /// Non-finite inputs, or a singular pose.
+        pub fn joint_velocities(&self, pose: &$pose, twist: &$twist) -> Result<[f64; $n], Error> {
+            let x = $crate::legged::Coordinates::checked(pose, "pose")?;
+            let v = $crate::legged::Coordinates::checked(twist, "twist")?;
+            let (qd, guard) = kernels::joint_velocities_params(&x, &v, &self.params);
+            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
+            finite("qd", qd)
+        }
+
+        /// `q̈`, the actuator positions' second derivatives along the platform's motion.
+        ///
+        /// # Errors
+        /// Non-finite inputs, or a singular pose.
+        pub fn joint_accelerations(&self, state: &$state) -> Result<[f64; $n], Error> {
+            let [x, v, a] = $crate::legged::Coordinates::checked(state, "state")?;
+            let (qdd, guard) = kernels::joint_accelerations_params(&x, &v, &a, &self.params);
+            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
+            finite("qdd", qdd)
+        }
+
+        /// The actuator forces `Γ` for the platform to follow `state`: the platform's and the
+        /// legs' bodies' Newton-Euler equations, by virtual work.
+        ///
+        /// # Errors
+        /// Non-finite inputs, or a singular pose or hold.
+        pub fn inverse_dynamics(&self, state: &$state) -> Result<[f64; $n], Error> {
+            let [x, v, a] = $crate::legged::Coordinates::checked(state, "state")?;
+            let (gamma, guard) = kernels::inverse_dynamics_params(&x, &v, &a, &self.params);
+            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
+            finite("gamma", gamma)
+        }
+    };
+}
+pub(crate) use kernel_calls;
+
+/// The checked calls of a legged mechanism's kernels whose platform is free in space: those of
+/// [`kernel_calls`], the inverse kinematics with the vectors `B_i C`, the task-space terms, the
+/// forward kinematics (Newton's method from the type's `start`) and the forward dynamics.
+macro_rules! spatial_kernel_calls {
+    ($terms:literal) => {
+        $crate::legged::kernel_calls!(
+            terms: $terms,
+            coordinates: 6,
+            pose: Pose,
+            twist: Twist,
+            state: State
+        );
 
         /// The actuator positions `q` and the vectors from each leg's platform joint `B_i` to
         /// `C` (m, base frame).
@@ -224,66 +344,6 @@ macro_rules! kernel_calls {
             let (q, p, guard) = kernels::inverse_kinematics_params(&x, &self.params);
             crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
             Ok((finite("q", q)?, finite_matrix("p", p)?))
-        }
-
-        /// `J⁻¹` (`q̇ = J⁻¹ V`), row `i` for actuator `i`, columns `ωx ωy ωz vx vy vz`.
-        ///
-        /// # Errors
-        /// A non-finite or singular pose.
-        pub fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-            let x = pose.to_array();
-            check_finite("pose", &x)?;
-            let (jinv, guard) = kernels::inverse_jacobian_pose_params(&x, &self.params);
-            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
-            finite_matrix("jinv", jinv)
-        }
-
-        /// `J = (J⁻¹)⁻¹`, rows `ωx … vz`, column `i` for actuator `i`.
-        ///
-        /// # Errors
-        /// A non-finite or singular pose.
-        pub fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-            let x = pose.to_array();
-            check_finite("pose", &x)?;
-            let (jac, guard) = kernels::jacobian_pose_params(&x, &self.params);
-            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
-            finite_matrix("jacobian", jac)
-        }
-
-        /// `q̇ = J⁻¹ V`.
-        ///
-        /// # Errors
-        /// Non-finite inputs, or a singular pose.
-        pub fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-            let (x, v) = (pose.to_array(), twist.to_array());
-            check_finite("pose", &x)?;
-            check_finite("twist", &v)?;
-            let (qd, guard) = kernels::joint_velocities_params(&x, &v, &self.params);
-            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
-            finite("qd", qd)
-        }
-
-        /// `q̈`, the actuator positions' second derivatives along the platform's motion.
-        ///
-        /// # Errors
-        /// Non-finite inputs, or a singular pose.
-        pub fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
-            let [x, v, a] = crate::C5::checked_motion(state)?;
-            let (qdd, guard) = kernels::joint_accelerations_params(&x, &v, &a, &self.params);
-            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
-            finite("qdd", qdd)
-        }
-
-        /// The actuator forces `Γ` for the platform to follow `state`: the platform's and the
-        /// legs' bodies' Newton-Euler equations, by virtual work.
-        ///
-        /// # Errors
-        /// Non-finite inputs, or a singular pose.
-        pub fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
-            let [x, v, a] = crate::C5::checked_motion(state)?;
-            let (gamma, guard) = kernels::inverse_dynamics_params(&x, &v, &a, &self.params);
-            crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
-            finite("gamma", gamma)
         }
 
         /// `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`, symmetric positive definite.
@@ -385,7 +445,7 @@ macro_rules! kernel_calls {
         }
     };
 }
-pub(crate) use kernel_calls;
+pub(crate) use spatial_kernel_calls;
 
 /// A platform state free in space from its coordinates.
 pub(crate) fn spatial_state([x, v, a]: Motion<6>) -> State {
@@ -432,6 +492,15 @@ macro_rules! legged_impl {
             }
             fn jacobian_at(&self, x: &[f64; 6]) -> Result<[[f64; 6]; 6], Error> {
                 self.jacobian(&Pose::from_array(*x))
+            }
+            fn accelerated(
+                &self,
+                x: &[f64; 6],
+                v: &[f64; 6],
+                gamma: &[f64; 6],
+            ) -> Result<[f64; 6], Error> {
+                let (pose, twist) = (Pose::from_array(*x), Twist::from_array(*v));
+                Ok(self.forward_dynamics(&pose, &twist, gamma)?.to_array())
             }
         }
 
@@ -525,3 +594,141 @@ macro_rules! joint_space_methods {
     };
 }
 pub(crate) use joint_space_methods;
+
+/// The per-state calls of [`crate::platform::Mechanism`] over slices, in the impl block of a
+/// legged mechanism whose `Legged<$n>` serves them: each checks every slice's length before it
+/// computes (nothing written on an error), then writes its result.
+macro_rules! slice_calls {
+    ($n:literal) => {
+        fn actuator_positions(&self, pose: &[f64], q: &mut [f64]) -> Result<(), Error> {
+            $crate::platform::room::<$n>("q", q)?;
+            let x = $crate::platform::array("pose", pose)?;
+            $crate::platform::put(q, &$crate::legged::Legged::<$n>::actuators(self, &x)?);
+            Ok(())
+        }
+        fn inverse_jacobian(&self, pose: &[f64], jinv: &mut [f64]) -> Result<(), Error> {
+            $crate::platform::room::<{ $n * $n }>("jinv", jinv)?;
+            let x = $crate::platform::array("pose", pose)?;
+            let m = $crate::legged::Legged::<$n>::inverse(self, &x)?;
+            $crate::platform::put(jinv, m.as_flattened());
+            Ok(())
+        }
+        fn jacobian(&self, pose: &[f64], jac: &mut [f64]) -> Result<(), Error> {
+            $crate::platform::room::<{ $n * $n }>("jacobian", jac)?;
+            let x = $crate::platform::array("pose", pose)?;
+            let m = $crate::legged::Legged::<$n>::jacobian_at(self, &x)?;
+            $crate::platform::put(jac, m.as_flattened());
+            Ok(())
+        }
+        fn joint_velocities(
+            &self,
+            pose: &[f64],
+            twist: &[f64],
+            qd: &mut [f64],
+        ) -> Result<(), Error> {
+            $crate::platform::room::<$n>("qd", qd)?;
+            let x = $crate::platform::array("pose", pose)?;
+            let v = $crate::platform::array("twist", twist)?;
+            $crate::platform::put(qd, &$crate::legged::Legged::<$n>::rates(self, &x, &v)?);
+            Ok(())
+        }
+        fn joint_accelerations(
+            &self,
+            pose: &[f64],
+            twist: &[f64],
+            acceleration: &[f64],
+            qdd: &mut [f64],
+        ) -> Result<(), Error> {
+            $crate::platform::room::<$n>("qdd", qdd)?;
+            let motion = $crate::legged::motion_of::<$n>(
+                [pose, twist, acceleration],
+                $crate::legged::MOTION,
+            )?;
+            let values = $crate::legged::Legged::<$n>::accelerations(self, &motion)?;
+            $crate::platform::put(qdd, &values);
+            Ok(())
+        }
+        fn inverse_dynamics(
+            &self,
+            pose: &[f64],
+            twist: &[f64],
+            acceleration: &[f64],
+            gamma: &mut [f64],
+        ) -> Result<(), Error> {
+            $crate::platform::room::<$n>("gamma", gamma)?;
+            let motion = $crate::legged::motion_of::<$n>(
+                [pose, twist, acceleration],
+                $crate::legged::MOTION,
+            )?;
+            let values = $crate::legged::Legged::<$n>::forces(self, &motion)?;
+            $crate::platform::put(gamma, &values);
+            Ok(())
+        }
+        fn forward_dynamics(
+            &self,
+            pose: &[f64],
+            twist: &[f64],
+            gamma: &[f64],
+            acceleration: &mut [f64],
+        ) -> Result<(), Error> {
+            $crate::platform::room::<$n>("acceleration", acceleration)?;
+            let [x, v, g] =
+                $crate::legged::motion_of::<$n>([pose, twist, gamma], ["pose", "twist", "gamma"])?;
+            let a = $crate::legged::Legged::<$n>::accelerated(self, &x, &v, &g)?;
+            $crate::platform::put(acceleration, &a);
+            Ok(())
+        }
+        fn forward_kinematics(
+            &self,
+            q: &[f64],
+            near: Option<&[f64]>,
+            pose: &mut [f64],
+        ) -> Result<(), Error> {
+            $crate::platform::room::<$n>("pose", pose)?;
+            let near = near
+                .map(|x| $crate::platform::array::<$n>("near", x))
+                .transpose()?;
+            let q = $crate::platform::array("q", q)?;
+            let (x, _) = $crate::legged::Legged::<$n>::located(self, &q, near.as_ref())?;
+            $crate::platform::put(pose, &x);
+            Ok(())
+        }
+        fn joint_state(
+            &self,
+            joints: [&[f64]; 3],
+            near: Option<&[f64]>,
+            out: [&mut [f64]; 3],
+        ) -> Result<(), Error> {
+            for (name, slice) in $crate::legged::MOTION.into_iter().zip(&out) {
+                $crate::platform::room::<$n>(name, slice)?;
+            }
+            let near = near
+                .map(|x| $crate::platform::array::<$n>("near", x))
+                .transpose()?;
+            let joints = $crate::legged::motion_of::<$n>(joints, ["q", "qd", "qdd"])?;
+            let motion = $crate::legged::joint_state(self, &joints, near.as_ref())?;
+            for (slice, values) in out.into_iter().zip(&motion) {
+                $crate::platform::put(slice, values);
+            }
+            Ok(())
+        }
+    };
+}
+pub(crate) use slice_calls;
+
+/// The platform's motion: its pose, twist and acceleration.
+pub(crate) const MOTION: [&str; 3] = ["pose", "twist", "acceleration"];
+
+/// Three slices of `N` numbers as arrays, refused by their `names` where one has another
+/// length.
+pub(crate) fn motion_of<const N: usize>(
+    slices: [&[f64]; 3],
+    names: [&'static str; 3],
+) -> Result<Motion<N>, Error> {
+    let [x, v, a] = slices;
+    Ok([
+        crate::platform::array(names[0], x)?,
+        crate::platform::array(names[1], v)?,
+        crate::platform::array(names[2], a)?,
+    ])
+}

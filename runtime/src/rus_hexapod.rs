@@ -67,7 +67,7 @@ impl RusHexapod {
         Pose::from_array(self.home)
     }
 
-    legged::kernel_calls!(18);
+    legged::spatial_kernel_calls!(18);
 
     /// Where the forward kinematics starts without a previous solution: home.
     fn start(&self, _q: &[f64; 6]) -> [f64; 6] {
