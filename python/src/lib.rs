@@ -502,7 +502,12 @@ impl C5 {
             })
     }
 
-    /// The robot as a Gough-Stewart platform, for what only it serves.
+    /// The robot's exact derivatives, refused for a mechanism without them generated.
+    fn derivatives(&self, what: &'static str) -> PyResult<&dyn c5_runtime::mechanism::Derivatives> {
+        c5_runtime::mechanism::derivatives_of(self.spatial(what)?)
+            .map_err(|e| PyValueError::new_err(e.to_string()))
+    }
+
     /// The robot to calibrate, refused for a mechanism without legs' geometry to fit.
     fn nominal(&self) -> PyResult<calibrate::Nominal> {
         calibrate::Nominal::new(self.inner.description())
@@ -1025,7 +1030,7 @@ impl C5 {
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = on_error(errors)?;
-        let c5 = self.spatial("inverse dynamics derivatives")?;
+        let c5 = self.derivatives("inverse dynamics derivatives")?;
         let (r, batch) = Self::read(&motion_args(
             &pose,
             [&omega, &velocity, &omega_dot, &acceleration],
@@ -1056,7 +1061,7 @@ impl C5 {
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = on_error(errors)?;
-        let c5 = self.spatial("forward dynamics derivatives")?;
+        let c5 = self.derivatives("forward dynamics derivatives")?;
         let (r, batch) = Self::read(&forward_args(&pose, &omega, &velocity, &gamma))?;
         let shapes: [&[usize]; 5] = [&[3], &[3], &[6, 6], &[6, 6], &[6, 6]];
         each_row(py, batch, mode, &shapes, |k, out| {

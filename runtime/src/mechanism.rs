@@ -158,49 +158,12 @@ pub trait ParallelRobot: AsMechanism + core::fmt::Debug + Send + Sync {
     #[cfg(feature = "identify")]
     fn base_regressor_into(&self, state: &State, out: &mut [f64]) -> Result<(), Error>;
 
-    /// `Γ` and its exact Jacobians with respect to the pose, twist and acceleration.
-    ///
-    /// # Errors
-    /// Non-finite inputs, a singular pose or a non-finite result.
+    /// The robot's exact derivatives, where its mechanism has them generated; `None` where not
+    /// (the rotary hexapod's).
     #[cfg(feature = "derivatives")]
-    fn inverse_dynamics_derivatives(
-        &self,
-        state: &State,
-    ) -> Result<InverseDynamicsDerivatives, Error>;
-    /// The forward dynamics and its exact Jacobians with respect to the pose, twist and
-    /// forces.
-    ///
-    /// # Errors
-    /// Non-finite inputs, a singular pose or a non-finite result.
-    #[cfg(feature = "derivatives")]
-    fn forward_dynamics_derivatives(
-        &self,
-        pose: &Pose,
-        twist: &Twist,
-        gamma: &[f64; 6],
-    ) -> Result<ForwardDynamicsDerivatives, Error>;
-    /// The joint-space inverse dynamics and its exact Jacobians with respect to `q`, `q̇`,
-    /// `q̈`.
-    ///
-    /// # Errors
-    /// [`Error::Unsupported`] for a mechanism without the joint-space kernels' derivatives
-    /// (all but the C5, whose forward kinematics has a closed form); else non-finite inputs,
-    /// a singular pose or a non-finite result.
-    #[cfg(feature = "derivatives")]
-    fn inverse_dynamics_joint_derivatives(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        qdd: &[f64; 6],
-    ) -> Result<crate::derivatives::JointDynamicsDerivatives, Error> {
-        let _ = (q, qd, qdd);
-        Err(Error::Unsupported {
-            what: "joint-space derivatives",
-            mechanism: self.mechanism(),
-            why: "its forward kinematics iterates; use the task-space derivatives with J⁻¹",
-        })
+    fn derivatives(&self) -> Option<&dyn Derivatives> {
+        None
     }
-
     /// [`ParallelRobot::evaluate`] of every state, or the first refused with its index.
     fn evaluate_many(&self, states: &[State]) -> Result<Vec<Evaluation>, (usize, Error)> {
         states
@@ -354,15 +317,6 @@ impl ParallelRobot for C5 {
     /// Four states at a time through the batch kernels (feature `batch`).
     fn evaluate_many(&self, states: &[State]) -> Result<Vec<Evaluation>, (usize, Error)> {
         C5::evaluate_many(self, states)
-    }
-    #[cfg(feature = "derivatives")]
-    fn inverse_dynamics_joint_derivatives(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        qdd: &[f64; 6],
-    ) -> Result<crate::derivatives::JointDynamicsDerivatives, Error> {
-        C5::inverse_dynamics_joint_derivatives(self, q, qd, qdd)
     }
     fn inverse_dynamics_each(
         &self,
@@ -519,20 +473,8 @@ impl ParallelRobot for C5 {
         C5::base_regressor_into(self, state, out)
     }
     #[cfg(feature = "derivatives")]
-    fn inverse_dynamics_derivatives(
-        &self,
-        state: &State,
-    ) -> Result<InverseDynamicsDerivatives, Error> {
-        C5::inverse_dynamics_derivatives(self, state)
-    }
-    #[cfg(feature = "derivatives")]
-    fn forward_dynamics_derivatives(
-        &self,
-        pose: &Pose,
-        twist: &Twist,
-        gamma: &[f64; 6],
-    ) -> Result<ForwardDynamicsDerivatives, Error> {
-        C5::forward_dynamics_derivatives(self, pose, twist, gamma)
+    fn derivatives(&self) -> Option<&dyn Derivatives> {
+        Some(self)
     }
 }
 
@@ -678,31 +620,8 @@ impl ParallelRobot for GoughStewart {
         GoughStewart::base_regressor_into(self, state, out)
     }
     #[cfg(feature = "derivatives")]
-    fn inverse_dynamics_derivatives(
-        &self,
-        state: &State,
-    ) -> Result<InverseDynamicsDerivatives, Error> {
-        GoughStewart::inverse_dynamics_derivatives(self, state)
-    }
-    #[cfg(feature = "derivatives")]
-    fn forward_dynamics_derivatives(
-        &self,
-        pose: &Pose,
-        twist: &Twist,
-        gamma: &[f64; 6],
-    ) -> Result<ForwardDynamicsDerivatives, Error> {
-        GoughStewart::forward_dynamics_derivatives(self, pose, twist, gamma)
-    }
-}
-
-/// What the rotary hexapod does not serve yet, and why.
-#[cfg(feature = "derivatives")]
-fn rus_hexapod_lacks(what: &'static str) -> Error {
-    Error::Unsupported {
-        what,
-        mechanism: c5_robot::description::RUS_HEXAPOD,
-        why: "its derivative kernels are not generated yet; its kinematics, dynamics and \
-              regressors are (docs/mechanisms.md)",
+    fn derivatives(&self) -> Option<&dyn Derivatives> {
+        Some(self)
     }
 }
 
@@ -747,20 +666,68 @@ impl ParallelRobot for RusHexapod {
     fn base_regressor_into(&self, state: &State, out: &mut [f64]) -> Result<(), Error> {
         RusHexapod::base_regressor_into(self, state, out)
     }
-    #[cfg(feature = "derivatives")]
+}
+
+/// The dynamics' exact derivatives of a robot whose platform is free in space
+/// ([`crate::derivatives`]): a capability of the mechanisms whose derivative kernels are
+/// generated, reached through [`ParallelRobot::derivatives`].
+#[cfg(feature = "derivatives")]
+pub trait Derivatives: Send + Sync {
+    /// `Γ` and its exact Jacobians with respect to the pose, twist and acceleration.
+    ///
+    /// # Errors
+    /// Non-finite inputs, a singular pose or a non-finite result.
     fn inverse_dynamics_derivatives(
         &self,
-        _state: &State,
-    ) -> Result<InverseDynamicsDerivatives, Error> {
-        Err(rus_hexapod_lacks("derivatives"))
-    }
-    #[cfg(feature = "derivatives")]
+        state: &State,
+    ) -> Result<InverseDynamicsDerivatives, Error>;
+    /// The forward dynamics and its exact Jacobians with respect to the pose, twist and
+    /// forces.
+    ///
+    /// # Errors
+    /// Non-finite inputs, a singular pose or a non-finite result.
     fn forward_dynamics_derivatives(
         &self,
-        _pose: &Pose,
-        _twist: &Twist,
-        _gamma: &[f64; 6],
-    ) -> Result<ForwardDynamicsDerivatives, Error> {
-        Err(rus_hexapod_lacks("derivatives"))
-    }
+        pose: &Pose,
+        twist: &Twist,
+        gamma: &[f64; 6],
+    ) -> Result<ForwardDynamicsDerivatives, Error>;
+}
+
+/// The derivatives of the mechanisms that have them, through their inherent methods.
+macro_rules! derivatives_impl {
+    ($($robot:ty),*) => {$(
+        #[cfg(feature = "derivatives")]
+        impl Derivatives for $robot {
+            fn inverse_dynamics_derivatives(
+                &self,
+                state: &State,
+            ) -> Result<InverseDynamicsDerivatives, Error> {
+                <$robot>::inverse_dynamics_derivatives(self, state)
+            }
+            fn forward_dynamics_derivatives(
+                &self,
+                pose: &Pose,
+                twist: &Twist,
+                gamma: &[f64; 6],
+            ) -> Result<ForwardDynamicsDerivatives, Error> {
+                <$robot>::forward_dynamics_derivatives(self, pose, twist, gamma)
+            }
+        }
+    )*};
+}
+derivatives_impl!(C5, GoughStewart);
+
+/// `robot`'s derivatives, refused by name where its mechanism has none generated.
+///
+/// # Errors
+/// [`Error::Unsupported`] naming the mechanism.
+#[cfg(feature = "derivatives")]
+pub fn derivatives_of(robot: &dyn ParallelRobot) -> Result<&dyn Derivatives, Error> {
+    robot.derivatives().ok_or(Error::Unsupported {
+        what: "derivatives",
+        mechanism: robot.mechanism(),
+        why: "its derivative kernels are not generated yet; its kinematics, dynamics and \
+              regressors are (docs/mechanisms.md)",
+    })
 }

@@ -415,6 +415,8 @@ fn the_forward_dynamics_derivatives_are_the_accelerations_derivatives() {
         let s = random_state(&mut r, &hexapod.home());
         let gamma: [f64; 6] = std::array::from_fn(|_| r.gen_range(-200.0..200.0));
         let d = robot
+            .derivatives()
+            .expect("the hexapod's derivatives are generated")
             .forward_dynamics_derivatives(&s.pose, &s.twist, &gamma)
             .unwrap();
         let base = [s.pose.to_array(), s.twist.to_array(), gamma];

@@ -206,3 +206,25 @@ fn the_examples_legs_hold_the_platform_near_home() {
     eprintln!("weakest pivot: {weakest:.3} with 0.12 m cranks, {weaker:.1e} with 0.085 m");
     assert!(weakest > 30.0 * weaker, "{weaker:e}");
 }
+
+/// The rotary hexapod's derivative kernels are not generated: the capability is absent from
+/// its interface (`derivatives()` is `None`), and asked for by name it is refused, naming the
+/// mechanism, while the Gough-Stewart platform has it.
+#[test]
+fn a_capability_not_generated_is_absent() {
+    use c5_runtime::mechanism::derivatives_of;
+    use c5_runtime::ParallelRobot;
+    let robot = RusHexapod::new(Description::example()).unwrap();
+    assert!(ParallelRobot::derivatives(&robot).is_none());
+    match derivatives_of(&robot) {
+        Err(Error::Unsupported {
+            what: "derivatives",
+            mechanism,
+            ..
+        }) => assert_eq!(mechanism, "rus-hexapod"),
+        Err(other) => panic!("{other:?}"),
+        Ok(_) => panic!("the rotary hexapod has no derivatives"),
+    }
+    let hexapod = c5_runtime::GoughStewart::new(c5_robot::GoughStewart::example()).unwrap();
+    assert!(derivatives_of(&hexapod).is_ok());
+}

@@ -218,7 +218,20 @@ fn derivative_keys(
 ) -> Result<KeyedJacobians, String> {
     Ok(match joints {
         Some([q, qd, qdd]) => {
-            let d = robot
+            // Only the C5's forward kinematics has the closed form these kernels derive.
+            let c5 = robot
+                .as_any()
+                .downcast_ref::<c5_runtime::C5>()
+                .ok_or_else(|| {
+                    c5_runtime::Error::Unsupported {
+                        what: "joint-space derivatives",
+                        mechanism: robot.mechanism(),
+                        why: "its forward kinematics iterates; use the task-space derivatives \
+                          with J⁻¹",
+                    }
+                    .to_string()
+                })?;
+            let d = c5
                 .inverse_dynamics_joint_derivatives(&q, &qd, &qdd)
                 .map_err(|e| e.to_string())?;
             [
@@ -228,8 +241,8 @@ fn derivative_keys(
             ]
         }
         None => {
-            let d = robot
-                .inverse_dynamics_derivatives(state)
+            let d = c5_runtime::mechanism::derivatives_of(robot)
+                .and_then(|d| d.inverse_dynamics_derivatives(state))
                 .map_err(|e| e.to_string())?;
             [
                 ("d_gamma_d_pose", d.d_pose),

@@ -86,8 +86,9 @@ fn derivatives(
     let six = |v: &[f64]| <[f64; 6]>::try_from(v).map_err(|_| "six freedoms".to_string());
     let pose = c5_runtime::Pose::from_array(six(pose)?);
     let twist = c5_runtime::Twist::from_array(six(twist)?);
-    let d = robot
-        .forward_dynamics_derivatives(&pose, &twist, &six(gamma)?)
+    let gamma = six(gamma)?;
+    let d = c5_runtime::mechanism::derivatives_of(robot)
+        .and_then(|d| d.forward_dynamics_derivatives(&pose, &twist, &gamma))
         .map_err(|e| e.to_string())?;
     Ok(json!({
         "omega_dot": d.accel.omega_dot,
