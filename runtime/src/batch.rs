@@ -11,7 +11,9 @@
 //! that the single-state method gives it.
 
 #[cfg(feature = "batch")]
-use crate::{check_divisors, check_forward_dynamics, check_joint_dynamics, Kernels};
+use crate::c5::{check_forward_dynamics, check_joint_dynamics};
+#[cfg(feature = "batch")]
+use crate::{check_divisors, Kernels};
 use crate::{Acceleration, Error, Pose, State, Twist, C5};
 use alloc::vec::Vec;
 

@@ -7,11 +7,9 @@
 //! its key's own order: the pose `α β γ xc yc zc`, the twist `ωx ωy ωz vx vy vz`, the
 //! acceleration `ω̇x ω̇y ω̇z ax ay az`, forces and actuator values in segment order.
 
+use crate::c5::{check_forward, check_forward_dynamics, check_joint_derivatives};
 use crate::gough_stewart::GoughStewart;
-use crate::{
-    check_divisors, check_forward, check_forward_dynamics, check_joint_derivatives, finite,
-    finite_matrix,
-};
+use crate::{check_divisors, finite, finite_matrix};
 use crate::{Acceleration, Error, Kernels, Pose, State, Twist, C5};
 use c5_generated::f64::gough_stewart as hexapod;
 
