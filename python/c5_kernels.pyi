@@ -206,7 +206,9 @@ class Robot:
         *,
         errors: Errors = "raise",
     ) -> Result:
-        """Actuator forces (N) from the actuators' positions, rates and accelerations."""
+        """Actuator forces (N, or N·m for motors that turn) from the actuators' positions, rates
+        and accelerations: ``(n,)`` or ``(N, n)`` for the robot's ``n`` actuators, every
+        mechanism (the Delta's one row at a time, the others' through their kernels)."""
 
     def joint_inertia(self, q: ArrayLike, *, errors: Errors = "raise") -> Result:
         """``M_q`` of ``gamma = M_q qdd + c_q`` (kg, ``J^T M_x J``): ``(6, 6)`` or ``(N, 6, 6)``."""
@@ -214,8 +216,8 @@ class Robot:
     def joint_bias(
         self, q: ArrayLike, qd: Optional[ArrayLike] = None, *, errors: Errors = "raise"
     ) -> Result:
-        """``c_q`` of ``gamma = M_q qdd + c_q`` (N): Coriolis, centrifugal and gravity forces
-        at the actuators' positions and rates, ``(6,)`` or ``(N, 6)``."""
+        """``c_q`` of ``gamma = M_q qdd + c_q`` (N, or N·m): Coriolis, centrifugal and gravity
+        forces at the actuators' positions and rates, ``(n,)`` or ``(N, n)``, every mechanism."""
 
     def inverse_dynamics_derivatives(
         self,

@@ -508,6 +508,27 @@ impl C5 {
             .map_err(|e| PyValueError::new_err(e.to_string()))
     }
 
+    /// `Γ` from the actuators' positions, rates and accelerations (`joints`' rows), one row at a
+    /// time through [`Mechanism::inverse_dynamics_joint`]: for a platform with fewer freedoms,
+    /// which has no batch kernels.
+    fn joint_forces<'py>(
+        &self,
+        py: Python<'py>,
+        batch: Batch,
+        mode: OnError,
+        joints: [&Rows<'_>; 3],
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let n = self.dimension();
+        each_row(py, batch, mode, &[&[n]], |k, out| {
+            let mut gamma = [0.0; 6];
+            let rows = joints.map(|r| r.slice(k));
+            self.inner
+                .inverse_dynamics_joint(rows, None, &mut gamma[..n])?;
+            out.put(0, k, &gamma[..n]);
+            Ok(())
+        })
+    }
+
     /// The robot to calibrate, refused for a mechanism without legs' geometry to fit.
     fn nominal(&self) -> PyResult<calibrate::Nominal> {
         calibrate::Nominal::new(self.inner.description())
@@ -956,9 +977,9 @@ impl C5 {
         })
     }
 
-    /// Actuator forces `Γ` (N) from the actuators' positions `q`, rates `qd` and accelerations
-    /// `qdd` (m, m/s, m/s²): the inverse dynamics in joint space, without trigonometry. Batches
-    /// go four at a time through the batch kernel.
+    /// Actuator forces `Γ` (N or N·m) from the actuators' positions `q`, rates `qd` and
+    /// accelerations `qdd`: the inverse dynamics in joint space, every mechanism. The C5's
+    /// batches go four at a time through its batch kernel; the Delta's rows one at a time.
     #[pyo3(signature = (q, qd = None, qdd = None, *, errors = "raise"))]
     fn inverse_dynamics_joint<'py>(
         &self,
@@ -968,12 +989,14 @@ impl C5 {
         qdd: Option<Array<'py>>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mode = on_error(errors)?;
-        let c5 = self.spatial("joint-space inverse dynamics")?;
-        let (r, batch) = Self::read(&joint_args(6, &q, &qd, &qdd))?;
+        let (mode, n) = (on_error(errors)?, self.dimension());
+        let (r, batch) = Self::read(&joint_args(n, &q, &qd, &qdd))?;
+        let Some(robot) = self.inner.spatial() else {
+            return self.joint_forces(py, batch, mode, [0, 1, 2].map(|j| &r[j]));
+        };
         let sample = |k: usize| [r[0].row(k), r[1].row(k), r[2].row(k)];
         call(py, batch, mode, &[&[6]], |out| {
-            c5.inverse_dynamics_joint_each(batch.n, &sample, &mut |k, gamma| match gamma {
+            robot.inverse_dynamics_joint_each(batch.n, &sample, &mut |k, gamma| match gamma {
                 Ok(gamma) => out.put(0, k, &gamma),
                 Err(e) => out.refuse(k, e),
             })
@@ -994,8 +1017,8 @@ impl C5 {
         })
     }
 
-    /// `c_q` of `Γ = M_q q̈ + c_q`: Coriolis, centrifugal and gravity forces (N) at the
-    /// actuator positions `q` and rates `qd` (m, m/s): `(6,)` or `(N, 6)`.
+    /// `c_q` of `Γ = M_q q̈ + c_q`: Coriolis, centrifugal and gravity forces (N or N·m) at the
+    /// actuator positions `q` and rates `qd`: `(n,)` or `(N, n)`, every mechanism.
     #[pyo3(signature = (q, qd = None, *, errors = "raise"))]
     fn joint_bias<'py>(
         &self,
@@ -1004,11 +1027,13 @@ impl C5 {
         qd: Option<Array<'py>>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mode = on_error(errors)?;
-        let c5 = self.spatial("joint-space bias")?;
-        let (r, batch) = Self::read(&[("q", 6, Some(&q)), ("qd", 6, qd.as_ref())])?;
+        let (mode, n) = (on_error(errors)?, self.dimension());
+        let (r, batch) = Self::read(&joint_args(n, &q, &qd, &None))?;
+        let Some(robot) = self.inner.spatial() else {
+            return self.joint_forces(py, batch, mode, [0, 1, 2].map(|j| &r[j]));
+        };
         each_row(py, batch, mode, &[&[6]], |k, out| {
-            out.put(0, k, &c5.joint_bias(&r[0].row(k), &r[1].row(k), None)?);
+            out.put(0, k, &robot.joint_bias(&r[0].row(k), &r[1].row(k), None)?);
             Ok(())
         })
     }

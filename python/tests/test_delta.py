@@ -174,7 +174,8 @@ def test_bad_lines_are_refused_naming_the_term(delta, c5_program):
 def test_the_python_robot_serves_the_delta_as_pinocchio_moves_it(delta):
     """`c5_kernels.Robot` on a Delta file: batches of three columns through the one runtime
     interface, held to Pinocchio and the issue's formula as `eval`'s lines are; the forward
-    dynamics and kinematics undoing the inverse ones; what needs six freedoms refused."""
+    dynamics and kinematics undoing the inverse ones; the joint-space forces the task-space
+    ones; what needs six freedoms refused."""
     c5_kernels = pytest.importorskip("c5_kernels")
     file, geometry, engine, home = delta
     robot = c5_kernels.Robot(robot=str(file))
@@ -202,10 +203,17 @@ def test_the_python_robot_serves_the_delta_as_pinocchio_moves_it(delta):
         robot.inverse_dynamics(home, omega=np.zeros(3))
     with pytest.raises(ValueError, match=r"shape \(3,\)"):
         robot.inverse_dynamics(np.zeros(6))
-    for refused in (lambda: robot.task_bias(home),
-                    lambda: robot.inverse_dynamics_joint(np.zeros(3))):
-        with pytest.raises(ValueError, match="only translates"):
-            refused()
+    # The joint-space forces from the motors' motion are the task-space ones, and at rest the
+    # bias is the holding torque.
+    q, qd, qdd = (robot.inverse_kinematics(x), robot.joint_velocities(x, velocity=v),
+                  robot.joint_accelerations(x, velocity=v, acceleration=a))
+    assert robot.inverse_dynamics_joint(q, qd, qdd).shape == (8, 3)
+    assert relative(robot.inverse_dynamics_joint(q, qd, qdd), gamma) < 1e-10
+    rest = np.zeros(3)
+    holding = robot.inverse_dynamics(home, velocity=rest, acceleration=rest)
+    assert relative(robot.joint_bias(robot.inverse_kinematics(home)), holding) < 1e-12
+    with pytest.raises(ValueError, match="only translates"):
+        robot.task_bias(home)
     far = home + [0.0, 0.0, -1.5]
     values, bad = robot.inverse_dynamics(np.array([home, far]), errors="nan")
     assert list(bad) == [False, True] and np.all(np.isnan(values[1]))

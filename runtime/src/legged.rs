@@ -693,6 +693,21 @@ macro_rules! slice_calls {
             $crate::platform::put(pose, &x);
             Ok(())
         }
+        fn inverse_dynamics_joint(
+            &self,
+            joints: [&[f64]; 3],
+            near: Option<&[f64]>,
+            gamma: &mut [f64],
+        ) -> Result<(), Error> {
+            $crate::platform::room::<$n>("gamma", gamma)?;
+            let near = near
+                .map(|x| $crate::platform::array::<$n>("near", x))
+                .transpose()?;
+            let joints = $crate::legged::motion_of::<$n>(joints, ["q", "qd", "qdd"])?;
+            let values = $crate::legged::inverse_dynamics_joint(self, &joints, near.as_ref())?;
+            $crate::platform::put(gamma, &values);
+            Ok(())
+        }
         fn joint_state(
             &self,
             joints: [&[f64]; 3],
