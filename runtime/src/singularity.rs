@@ -59,7 +59,20 @@ pub const fn bound(kind: TermKind) -> f64 {
 /// Refuses the first of `values` below its bound, or NaN ([`Error::Singularity`] naming it),
 /// `terms` saying what each measures (a kernel's terms are the first of its mechanism's). The
 /// cranks' reach goes first: beyond it every other term is NaN, and the reach names the cause.
+#[inline]
 pub fn check(values: &[f64], terms: &[SingularityTerm]) -> Result<(), Error> {
+    // One pass where every term holds (NaN fails `>=`); the ordered search only for the error.
+    let holds = |(&value, term): (&f64, &SingularityTerm)| value >= bound(term.kind);
+    if values.iter().zip(terms).all(holds) {
+        return Ok(());
+    }
+    refusal(values, terms)
+}
+
+/// The error of [`check`] where a term fails: the reach first, then the others in order.
+#[cold]
+#[inline(never)]
+fn refusal(values: &[f64], terms: &[SingularityTerm]) -> Result<(), Error> {
     let pairs = || values.iter().zip(terms);
     let reach = pairs().filter(|(_, t)| t.kind == TermKind::Reach);
     let rest = pairs().filter(|(_, t)| t.kind != TermKind::Reach);
