@@ -35,9 +35,9 @@ pub(crate) trait Coordinates {
     fn checked(&self, name: &'static str) -> Result<Self::Array, Error>;
 }
 
-impl Coordinates for [f64; 3] {
-    type Array = [f64; 3];
-    fn checked(&self, name: &'static str) -> Result<[f64; 3], Error> {
+impl<const N: usize> Coordinates for [f64; N] {
+    type Array = [f64; N];
+    fn checked(&self, name: &'static str) -> Result<[f64; N], Error> {
         crate::check_finite(name, self)?;
         Ok(*self)
     }
@@ -54,14 +54,6 @@ impl Coordinates for Twist {
     type Array = [f64; 6];
     fn checked(&self, name: &'static str) -> Result<[f64; 6], Error> {
         self.to_array().checked(name)
-    }
-}
-
-impl Coordinates for [f64; 6] {
-    type Array = [f64; 6];
-    fn checked(&self, name: &'static str) -> Result<[f64; 6], Error> {
-        crate::check_finite(name, self)?;
-        Ok(*self)
     }
 }
 
