@@ -766,7 +766,12 @@ fn mechanism_files(group: &MechanismKernels<'_>) -> Result<Vec<(PathBuf, String)
                 Some(&emit::FmaDispatch::crate_switch()),
             )?;
             if !folded {
-                kernels.push_str(&manifest::mechanism_parameter_constants(mechanism)?);
+                // The kernel set is the `f64` kernels'.
+                let names: Vec<&str> = match scalar {
+                    Scalar::F64 => specs.iter().map(|(s, _)| s.name.as_str()).collect(),
+                    _ => Vec::new(),
+                };
+                kernels.push_str(&manifest::mechanism_parameter_constants(mechanism, &names)?);
             }
             files.push((
                 PathBuf::from(format!("src/{}/{module}{part}.rs", scalar.name())),
@@ -817,7 +822,8 @@ fn mechanism_files(group: &MechanismKernels<'_>) -> Result<Vec<(PathBuf, String)
             Scalar::F64,
             TrigCalls::Functions,
             None,
-        )? + &model::regressor::constants(&id.base, mechanism.structure().standard_inertial_doc())?,
+        )? + &model::regressor::constants(&id.base, mechanism.structure().standard_inertial_doc())?
+            + &manifest::regressor_set(mechanism)?,
     ));
     Ok(files)
 }

@@ -160,11 +160,15 @@ pub fn parameter_constants(how: &str) -> Result<String, Error> {
 }
 
 /// A mechanism's parameter vector as Rust constants in its module: its length, the names, and
-/// how many open it as the geometry (the identification kernels' `params`).
+/// how many open it as the geometry (the identification kernels' `params`); and its kernel set
+/// ([`kernel_set`]) over `kernels`, the names of the module's kernels.
 ///
 /// # Errors
 /// Emitted code that does not parse (a bug).
-pub fn mechanism_parameter_constants(mechanism: &crate::Mechanism) -> Result<String, Error> {
+pub fn mechanism_parameter_constants(
+    mechanism: &crate::Mechanism,
+    kernels: &[&str],
+) -> Result<String, Error> {
     let structure = mechanism.structure();
     let names = structure.parameter_names();
     let quoted: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
@@ -189,9 +193,119 @@ pub fn mechanism_parameter_constants(mechanism: &crate::Mechanism) -> Result<Str
         "FORWARD_KINEMATICS_TERMS",
         "What each singularity term of `forward_kinematics_params` measures, in order.",
         &structure.forward_kinematics_terms(),
-    );
+    ) + &kernel_set(mechanism, kernels);
     let file: syn::File = syn::parse_str(&code).map_err(|e| Error::Emit {
         kernel: "parameter constants".to_string(),
+        message: e.to_string(),
+    })?;
+    Ok(format!("\n{}", prettyplease::unparse(&file)))
+}
+
+/// The kernel set of a legged mechanism (`c5_generated::legged`): a unit type `Kernels` whose
+/// trait implementations call the module's `*_params` kernels, for those of `kernels` (the
+/// names the module holds) each trait needs; nothing for a mechanism without singularity
+/// terms (the C5's kernels, checked by hand), nor without kernels (the set is `f64`'s).
+pub fn kernel_set(mechanism: &crate::Mechanism, kernels: &[&str]) -> String {
+    let structure = mechanism.structure();
+    if structure.singularity_terms().is_empty() || kernels.is_empty() {
+        return String::new();
+    }
+    let n = structure.freedom().dimension();
+    let has = |names: &[&str]| {
+        names
+            .iter()
+            .all(|name| kernels.contains(&format!("{name}_params").as_str()))
+    };
+    let guard = "impl AsRef<[f64]>";
+    let call = |name: &str, args: &str| format!("{name}_params({args}, p)");
+    let mut out = format!(
+        "/// This mechanism's `*_params` kernels as one set (`crate::legged`), for callers \
+         generic over the mechanism.\n\
+         #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]\n\
+         pub struct Kernels;\n\
+         impl crate::legged::Legs<{n}> for Kernels {{\n\
+         const MECHANISM: &'static str = {name:?};\n\
+         const SINGULARITY_TERMS: &'static [crate::guard::SingularityTerm] = &SINGULARITY_TERMS;\n\
+         type Parameters = [f64; PARAMETERS];\n\
+         type Terms = [f64; {terms}];\n\
+         fn parameters(values: &[f64]) -> Option<[f64; PARAMETERS]> {{ values.try_into().ok() }}\n\
+         fn singularity_terms(x: &[f64; {n}], p: &[f64; PARAMETERS]) -> [f64; {terms}] {{ {singular} }}\n\
+         fn actuators(x: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {actuators} }}\n\
+         fn inverse_jacobian(x: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([[f64; {n}]; {n}], {guard}) {{ {inverse_jacobian} }}\n\
+         fn jacobian(x: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([[f64; {n}]; {n}], {guard}) {{ {jacobian} }}\n\
+         fn joint_velocities(x: &[f64; {n}], v: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {velocities} }}\n\
+         fn joint_accelerations(x: &[f64; {n}], v: &[f64; {n}], a: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {accelerations} }}\n\
+         fn inverse_dynamics(x: &[f64; {n}], v: &[f64; {n}], a: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {inverse_dynamics} }}\n\
+         fn forward_dynamics(x: &[f64; {n}], v: &[f64; {n}], gamma: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {forward_dynamics} }}\n\
+         }}\n",
+        name = mechanism.name(),
+        terms = structure.singularity_terms().len(),
+        singular = call("singularity_terms", "x"),
+        actuators = if matches!(structure.freedom(), crate::model::Freedom::Free) {
+            format!("let (q, _, guard) = {}; (q, guard)", call("inverse_kinematics", "x"))
+        } else {
+            call("inverse_kinematics", "x")
+        },
+        inverse_jacobian = call("inverse_jacobian_pose", "x"),
+        jacobian = call("jacobian_pose", "x"),
+        velocities = call("joint_velocities", "x, v"),
+        accelerations = call("joint_accelerations", "x, v, a"),
+        inverse_dynamics = call("inverse_dynamics", "x, v, a"),
+        forward_dynamics = call("forward_dynamics", "x, v, gamma"),
+    );
+    if n == 6 && has(&["task_inertia", "task_bias", "forward_kinematics_step"]) {
+        out += &format!(
+            "impl crate::legged::Spatial for Kernels {{\n\
+             fn inverse_kinematics(x: &[f64; 6], p: &[f64; PARAMETERS]) -> ([f64; 6], [[f64; 3]; 6], {guard}) {{ {} }}\n\
+             fn task_inertia(x: &[f64; 6], p: &[f64; PARAMETERS]) -> ([[f64; 6]; 6], {guard}) {{ {} }}\n\
+             fn task_bias(x: &[f64; 6], v: &[f64; 6], p: &[f64; PARAMETERS]) -> ([f64; 6], {guard}) {{ {} }}\n\
+             fn forward_kinematics_step(x: &[f64; 6], q: &[f64; 6], p: &[f64; PARAMETERS]) -> ([f64; 6], [[f64; 6]; 6], {guard}) {{ {} }}\n\
+             }}\n",
+            call("inverse_kinematics", "x"),
+            call("task_inertia", "x"),
+            call("task_bias", "x, v"),
+            call("forward_kinematics_step", "x, q"),
+        );
+    }
+    if !structure.forward_kinematics_terms().is_empty() && has(&["forward_kinematics"]) {
+        out += &format!(
+            "impl crate::legged::ClosedForm<{n}> for Kernels {{\n\
+             const FORWARD_KINEMATICS_TERMS: &'static [crate::guard::SingularityTerm] = &FORWARD_KINEMATICS_TERMS;\n\
+             fn forward_kinematics(q: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([[f64; {n}]; 2], {guard}) {{ {} }}\n\
+             }}\n",
+            call("forward_kinematics", "q"),
+        );
+    }
+    out
+}
+
+/// The identification kernels of a legged mechanism as the kernel set's `Regressors`
+/// (`c5_generated::legged`), beside the regressors; nothing for a mechanism without
+/// singularity terms (the C5's models).
+///
+/// # Errors
+/// Emitted code that does not parse (a bug).
+pub fn regressor_set(mechanism: &crate::Mechanism) -> Result<String, Error> {
+    let structure = mechanism.structure();
+    if structure.singularity_terms().is_empty() {
+        return Ok(String::new());
+    }
+    let n = structure.freedom().dimension();
+    let guard = "impl AsRef<[f64]>";
+    let state = format!("x: &[f64; {n}], v: &[f64; {n}], a: &[f64; {n}], p: &[f64; PARAMETERS]");
+    let code = format!(
+        "\nimpl crate::legged::Regressors<{n}> for Kernels {{\n\
+         type StandardRow = [f64; STANDARD_PARAMETERS.len()];\n\
+         type BaseRow = [f64; BASE_PARAMETERS.len()];\n\
+         const STANDARD_PARAMETERS: &'static [&'static str] = &STANDARD_PARAMETERS;\n\
+         const BASE_PARAMETERS: &'static [&'static str] = &BASE_PARAMETERS;\n\
+         const BASE_OF_STANDARD: &'static [&'static [(usize, f64)]] = &BASE_OF_STANDARD;\n\
+         fn regressor({state}) -> ([[f64; STANDARD_PARAMETERS.len()]; {n}], {guard}) {{ regressor(x, v, a, &crate::legged::geometry(p)) }}\n\
+         fn base_regressor({state}) -> ([[f64; BASE_PARAMETERS.len()]; {n}], {guard}) {{ base_regressor(x, v, a, &crate::legged::geometry(p)) }}\n\
+         }}\n"
+    );
+    let file: syn::File = syn::parse_str(&code).map_err(|e| Error::Emit {
+        kernel: "regressor set".to_string(),
         message: e.to_string(),
     })?;
     Ok(format!("\n{}", prettyplease::unparse(&file)))

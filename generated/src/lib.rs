@@ -61,6 +61,7 @@
 pub mod eighth_turn;
 pub mod fma;
 pub mod guard;
+pub mod legged;
 #[cfg(feature = "batch")]
 mod sincos;
 

@@ -15464,3 +15464,73 @@ pub const FORWARD_KINEMATICS_TERMS: [crate::guard::SingularityTerm; 2] = [
         negative: "the arms' sphere centres in a line (|n|²/(|a|² |b|²))",
     },
 ];
+/// This mechanism's `*_params` kernels as one set (`crate::legged`), for callers generic over the mechanism.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Kernels;
+impl crate::legged::Legs<3> for Kernels {
+    const MECHANISM: &'static str = "delta";
+    const SINGULARITY_TERMS: &'static [crate::guard::SingularityTerm] = &SINGULARITY_TERMS;
+    type Parameters = [f64; PARAMETERS];
+    type Terms = [f64; 7];
+    fn parameters(values: &[f64]) -> Option<[f64; PARAMETERS]> {
+        values.try_into().ok()
+    }
+    fn singularity_terms(x: &[f64; 3], p: &[f64; PARAMETERS]) -> [f64; 7] {
+        singularity_terms_params(x, p)
+    }
+    fn actuators(x: &[f64; 3], p: &[f64; PARAMETERS]) -> ([f64; 3], impl AsRef<[f64]>) {
+        inverse_kinematics_params(x, p)
+    }
+    fn inverse_jacobian(
+        x: &[f64; 3],
+        p: &[f64; PARAMETERS],
+    ) -> ([[f64; 3]; 3], impl AsRef<[f64]>) {
+        inverse_jacobian_pose_params(x, p)
+    }
+    fn jacobian(
+        x: &[f64; 3],
+        p: &[f64; PARAMETERS],
+    ) -> ([[f64; 3]; 3], impl AsRef<[f64]>) {
+        jacobian_pose_params(x, p)
+    }
+    fn joint_velocities(
+        x: &[f64; 3],
+        v: &[f64; 3],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 3], impl AsRef<[f64]>) {
+        joint_velocities_params(x, v, p)
+    }
+    fn joint_accelerations(
+        x: &[f64; 3],
+        v: &[f64; 3],
+        a: &[f64; 3],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 3], impl AsRef<[f64]>) {
+        joint_accelerations_params(x, v, a, p)
+    }
+    fn inverse_dynamics(
+        x: &[f64; 3],
+        v: &[f64; 3],
+        a: &[f64; 3],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 3], impl AsRef<[f64]>) {
+        inverse_dynamics_params(x, v, a, p)
+    }
+    fn forward_dynamics(
+        x: &[f64; 3],
+        v: &[f64; 3],
+        gamma: &[f64; 3],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 3], impl AsRef<[f64]>) {
+        forward_dynamics_params(x, v, gamma, p)
+    }
+}
+impl crate::legged::ClosedForm<3> for Kernels {
+    const FORWARD_KINEMATICS_TERMS: &'static [crate::guard::SingularityTerm] = &FORWARD_KINEMATICS_TERMS;
+    fn forward_kinematics(
+        q: &[f64; 3],
+        p: &[f64; PARAMETERS],
+    ) -> ([[f64; 3]; 2], impl AsRef<[f64]>) {
+        forward_kinematics_params(q, p)
+    }
+}

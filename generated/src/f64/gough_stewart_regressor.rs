@@ -18634,3 +18634,27 @@ pub const BASE_OF_STANDARD: [&[(usize, f64)]; 46] = [
     &[(68, 1.0)],
     &[(69, 1.0)],
 ];
+
+impl crate::legged::Regressors<6> for Kernels {
+    type StandardRow = [f64; STANDARD_PARAMETERS.len()];
+    type BaseRow = [f64; BASE_PARAMETERS.len()];
+    const STANDARD_PARAMETERS: &'static [&'static str] = &STANDARD_PARAMETERS;
+    const BASE_PARAMETERS: &'static [&'static str] = &BASE_PARAMETERS;
+    const BASE_OF_STANDARD: &'static [&'static [(usize, f64)]] = &BASE_OF_STANDARD;
+    fn regressor(
+        x: &[f64; 6],
+        v: &[f64; 6],
+        a: &[f64; 6],
+        p: &[f64; PARAMETERS],
+    ) -> ([[f64; STANDARD_PARAMETERS.len()]; 6], impl AsRef<[f64]>) {
+        regressor(x, v, a, &crate::legged::geometry(p))
+    }
+    fn base_regressor(
+        x: &[f64; 6],
+        v: &[f64; 6],
+        a: &[f64; 6],
+        p: &[f64; PARAMETERS],
+    ) -> ([[f64; BASE_PARAMETERS.len()]; 6], impl AsRef<[f64]>) {
+        base_regressor(x, v, a, &crate::legged::geometry(p))
+    }
+}

@@ -71709,3 +71709,93 @@ pub const SINGULARITY_TERMS: [crate::guard::SingularityTerm; 18] = [
         negative: "legs' hold (pivot 6)",
     },
 ];
+/// This mechanism's `*_params` kernels as one set (`crate::legged`), for callers generic over the mechanism.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Kernels;
+impl crate::legged::Legs<6> for Kernels {
+    const MECHANISM: &'static str = "rus-hexapod";
+    const SINGULARITY_TERMS: &'static [crate::guard::SingularityTerm] = &SINGULARITY_TERMS;
+    type Parameters = [f64; PARAMETERS];
+    type Terms = [f64; 18];
+    fn parameters(values: &[f64]) -> Option<[f64; PARAMETERS]> {
+        values.try_into().ok()
+    }
+    fn singularity_terms(x: &[f64; 6], p: &[f64; PARAMETERS]) -> [f64; 18] {
+        singularity_terms_params(x, p)
+    }
+    fn actuators(x: &[f64; 6], p: &[f64; PARAMETERS]) -> ([f64; 6], impl AsRef<[f64]>) {
+        let (q, _, guard) = inverse_kinematics_params(x, p);
+        (q, guard)
+    }
+    fn inverse_jacobian(
+        x: &[f64; 6],
+        p: &[f64; PARAMETERS],
+    ) -> ([[f64; 6]; 6], impl AsRef<[f64]>) {
+        inverse_jacobian_pose_params(x, p)
+    }
+    fn jacobian(
+        x: &[f64; 6],
+        p: &[f64; PARAMETERS],
+    ) -> ([[f64; 6]; 6], impl AsRef<[f64]>) {
+        jacobian_pose_params(x, p)
+    }
+    fn joint_velocities(
+        x: &[f64; 6],
+        v: &[f64; 6],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 6], impl AsRef<[f64]>) {
+        joint_velocities_params(x, v, p)
+    }
+    fn joint_accelerations(
+        x: &[f64; 6],
+        v: &[f64; 6],
+        a: &[f64; 6],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 6], impl AsRef<[f64]>) {
+        joint_accelerations_params(x, v, a, p)
+    }
+    fn inverse_dynamics(
+        x: &[f64; 6],
+        v: &[f64; 6],
+        a: &[f64; 6],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 6], impl AsRef<[f64]>) {
+        inverse_dynamics_params(x, v, a, p)
+    }
+    fn forward_dynamics(
+        x: &[f64; 6],
+        v: &[f64; 6],
+        gamma: &[f64; 6],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 6], impl AsRef<[f64]>) {
+        forward_dynamics_params(x, v, gamma, p)
+    }
+}
+impl crate::legged::Spatial for Kernels {
+    fn inverse_kinematics(
+        x: &[f64; 6],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 6], [[f64; 3]; 6], impl AsRef<[f64]>) {
+        inverse_kinematics_params(x, p)
+    }
+    fn task_inertia(
+        x: &[f64; 6],
+        p: &[f64; PARAMETERS],
+    ) -> ([[f64; 6]; 6], impl AsRef<[f64]>) {
+        task_inertia_params(x, p)
+    }
+    fn task_bias(
+        x: &[f64; 6],
+        v: &[f64; 6],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 6], impl AsRef<[f64]>) {
+        task_bias_params(x, v, p)
+    }
+    fn forward_kinematics_step(
+        x: &[f64; 6],
+        q: &[f64; 6],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 6], [[f64; 6]; 6], impl AsRef<[f64]>) {
+        forward_kinematics_step_params(x, q, p)
+    }
+}

@@ -1,0 +1,128 @@
+//! A legged mechanism's `*_params` kernels as one set: the generator writes, beside each legged
+//! mechanism's kernels, a unit type `Kernels` implementing these traits, so a caller serves
+//! every such mechanism with one generic type, reaching its kernels through the set rather
+//! than its module's path. Each kernel's last result is its singularity terms, the first of
+//! the module's `SINGULARITY_TERMS`.
+
+use crate::guard::SingularityTerm;
+
+/// The kernels every legged mechanism has, its platform in `N` coordinates (a pose, a twist,
+/// an acceleration) and `N` actuators.
+pub trait Legs<const N: usize>: 'static {
+    /// The mechanism's name, as robot files spell it.
+    const MECHANISM: &'static str;
+    /// What each singularity term measures, in order (the module's `SINGULARITY_TERMS`).
+    const SINGULARITY_TERMS: &'static [SingularityTerm];
+    /// The parameter vector the kernels take (`[f64; PARAMETERS]`).
+    type Parameters: Copy + core::fmt::Debug + Send + Sync + AsRef<[f64]> + 'static;
+    /// Every singularity term (`[f64; SINGULARITY_TERMS.len()]`).
+    type Terms: Copy + core::fmt::Debug + Send + Sync + AsRef<[f64]> + 'static;
+
+    /// The parameter vector of `values`; `None` where it has another length.
+    fn parameters(values: &[f64]) -> Option<Self::Parameters>;
+    /// `singularity_terms_params`.
+    fn singularity_terms(x: &[f64; N], p: &Self::Parameters) -> Self::Terms;
+    /// The actuator positions of `inverse_kinematics_params`.
+    fn actuators(x: &[f64; N], p: &Self::Parameters) -> ([f64; N], impl AsRef<[f64]>);
+    /// `inverse_jacobian_pose_params`.
+    fn inverse_jacobian(x: &[f64; N], p: &Self::Parameters) -> ([[f64; N]; N], impl AsRef<[f64]>);
+    /// `jacobian_pose_params`.
+    fn jacobian(x: &[f64; N], p: &Self::Parameters) -> ([[f64; N]; N], impl AsRef<[f64]>);
+    /// `joint_velocities_params`.
+    fn joint_velocities(
+        x: &[f64; N],
+        v: &[f64; N],
+        p: &Self::Parameters,
+    ) -> ([f64; N], impl AsRef<[f64]>);
+    /// `joint_accelerations_params`.
+    fn joint_accelerations(
+        x: &[f64; N],
+        v: &[f64; N],
+        a: &[f64; N],
+        p: &Self::Parameters,
+    ) -> ([f64; N], impl AsRef<[f64]>);
+    /// `inverse_dynamics_params`.
+    fn inverse_dynamics(
+        x: &[f64; N],
+        v: &[f64; N],
+        a: &[f64; N],
+        p: &Self::Parameters,
+    ) -> ([f64; N], impl AsRef<[f64]>);
+    /// `forward_dynamics_params`.
+    fn forward_dynamics(
+        x: &[f64; N],
+        v: &[f64; N],
+        gamma: &[f64; N],
+        p: &Self::Parameters,
+    ) -> ([f64; N], impl AsRef<[f64]>);
+}
+
+/// The kernels of a legged mechanism whose platform is free in space: the task-space terms and
+/// a step of the forward kinematics' Newton iteration.
+pub trait Spatial: Legs<6> {
+    /// `inverse_kinematics_params`: the actuator positions and the vectors `B_i C`.
+    fn inverse_kinematics(
+        x: &[f64; 6],
+        p: &Self::Parameters,
+    ) -> ([f64; 6], [[f64; 3]; 6], impl AsRef<[f64]>);
+    /// `task_inertia_params`.
+    fn task_inertia(x: &[f64; 6], p: &Self::Parameters) -> ([[f64; 6]; 6], impl AsRef<[f64]>);
+    /// `task_bias_params`.
+    fn task_bias(x: &[f64; 6], v: &[f64; 6], p: &Self::Parameters)
+        -> ([f64; 6], impl AsRef<[f64]>);
+    /// `forward_kinematics_step_params`: the residual of `q` at `x` and its Jacobian.
+    fn forward_kinematics_step(
+        x: &[f64; 6],
+        q: &[f64; 6],
+        p: &Self::Parameters,
+    ) -> ([f64; 6], [[f64; 6]; 6], impl AsRef<[f64]>);
+}
+
+/// The kernels of a legged mechanism whose forward kinematics is in closed form: the two
+/// candidate poses of the actuator positions.
+pub trait ClosedForm<const N: usize>: Legs<N> {
+    /// What each term of `forward_kinematics_params`' guard measures.
+    const FORWARD_KINEMATICS_TERMS: &'static [SingularityTerm];
+    /// `forward_kinematics_params`: the two poses, and where they merge.
+    fn forward_kinematics(q: &[f64; N], p: &Self::Parameters)
+        -> ([[f64; N]; 2], impl AsRef<[f64]>);
+}
+
+/// The identification kernels of a legged mechanism (feature `regressor`): its regressors over
+/// the standard and the base parameters, which read the geometry and gravity of the parameter
+/// vector, and what each base parameter groups.
+pub trait Regressors<const N: usize>: Legs<N> {
+    /// A row of the standard regressor (`[f64; STANDARD_PARAMETERS.len()]`).
+    type StandardRow: Copy + core::fmt::Debug + AsRef<[f64]> + 'static;
+    /// A row of the base regressor (`[f64; BASE_PARAMETERS.len()]`).
+    type BaseRow: Copy + core::fmt::Debug + AsRef<[f64]> + 'static;
+    /// The standard parameters, the columns of `regressor`.
+    const STANDARD_PARAMETERS: &'static [&'static str];
+    /// The base parameters, the columns of `base_regressor`.
+    const BASE_PARAMETERS: &'static [&'static str];
+    /// `β = B π`: each base parameter's terms `(standard index, coefficient)`.
+    const BASE_OF_STANDARD: &'static [&'static [(usize, f64)]];
+    /// `regressor`: `Γ = Y π`, row `i` for actuator `i+1`.
+    fn regressor(
+        x: &[f64; N],
+        v: &[f64; N],
+        a: &[f64; N],
+        p: &Self::Parameters,
+    ) -> ([Self::StandardRow; N], impl AsRef<[f64]>);
+    /// `base_regressor`: `Γ = Y_b β`, row `i` for actuator `i+1`.
+    fn base_regressor(
+        x: &[f64; N],
+        v: &[f64; N],
+        a: &[f64; N],
+        p: &Self::Parameters,
+    ) -> ([Self::BaseRow; N], impl AsRef<[f64]>);
+}
+
+/// The first `G` numbers of the parameter vector `p`: the geometry and gravity, what the
+/// regressors read of it.
+#[cfg(feature = "regressor")]
+#[inline]
+pub(crate) fn geometry<const G: usize, const P: usize>(p: &[f64; P]) -> [f64; G] {
+    const { assert!(G <= P, "the geometry opens the parameter vector") };
+    core::array::from_fn(|k| p[k])
+}
