@@ -9,8 +9,8 @@ mod calibration_group;
 
 use c5_generated::f64::delta as k;
 use c5_generated::manifest::Kernel;
-use c5_runtime::delta::Translation;
 use c5_runtime::Delta;
+use c5_runtime::Translation;
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use rand::{Rng, SeedableRng};
 

@@ -1,6 +1,7 @@
-//! The Gough-Stewart platform (6-UPS) for controllers: a safe, typed API over its generated
-//! kernels (`c5_generated::f64::gough_stewart`, the variants that take the robot's parameters,
-//! so any valid description works).
+//! The Gough-Stewart platform (6-UPS) for controllers: [`GoughStewart`], the legged runtime
+//! type over its generated kernels (`c5_generated::f64::gough_stewart`, the variants that take
+//! the robot's parameters, so any valid description works), and what only it has: the stroke
+//! and joint-cone limits of its description.
 //!
 //! Its conventions are the C5's: pose `[α β γ xc yc zc]` with `R = Rx(α) Ry(β) Rz(γ)`, twist
 //! `(ω; v_C)` and classical acceleration `(ω̇; a_C)` at the platform origin `C`, base frame.
@@ -12,9 +13,9 @@
 
 use crate::dense;
 use crate::error::Error;
-use crate::legged;
 use crate::limits::Limit;
-use crate::{check_finite, finite, finite_matrix, Acceleration, Evaluation, Pose, State, Twist};
+use crate::Pose;
+#[cfg(feature = "derivatives")]
 use c5_generated::f64::gough_stewart as kernels;
 pub use c5_robot::GoughStewart as Description;
 
@@ -22,21 +23,13 @@ pub use c5_robot::GoughStewart as Description;
 pub const MECHANISM: &str = c5_robot::description::GOUGH_STEWART;
 
 /// The length of the parameter vector of the hexapod's `*_params` kernels.
-pub const PARAMETERS: usize = kernels::PARAMETERS;
+pub const PARAMETERS: usize = c5_generated::f64::gough_stewart::PARAMETERS;
 
 pub use crate::singularity::{FORWARD_U_JOINT_TOLERANCE, HOLD_TOLERANCE, U_JOINT_TOLERANCE};
 
 pub use crate::legged::{FORWARD_ITERATIONS, FORWARD_TOLERANCE, JOINT_STATE_HOLD_TOLERANCE};
 
-/// A validated Gough-Stewart platform and its parameter vector.
-#[derive(Clone, Debug)]
-pub struct GoughStewart {
-    robot: Description,
-    params: [f64; PARAMETERS],
-    /// Each leg's direction at home, base frame and platform frame: what the joints' cone
-    /// angles are measured from.
-    home_directions: [([f64; 3], [f64; 3]); 6],
-}
+pub use crate::legged::catalogue::GoughStewart;
 
 /// The margins of the pose-bound limits of a Gough-Stewart platform, per leg: positive
 /// inside, negative outside, `+∞` where the description sets no such limit; with the values
@@ -96,25 +89,6 @@ fn directions(robot: &Description, centre: [f64; 3], p: &[[f64; 3]; 6]) -> [[f64
 }
 
 impl GoughStewart {
-    /// The platform of `robot`.
-    ///
-    /// # Errors
-    /// [`Error::Robot`] if the description breaks a rule of `GoughStewart::validate`.
-    pub fn new(robot: Description) -> Result<Self, Error> {
-        robot.validate().map_err(Error::from_robot)?;
-        let mut params = [0.0; PARAMETERS];
-        params.copy_from_slice(&robot.kernel_parameters());
-        let home = robot.home();
-        let (_, p, _) = kernels::inverse_kinematics_params(&home, &params);
-        let base = directions(&robot, [home[3], home[4], home[5]], &p);
-        let home_directions = core::array::from_fn(|i| (base[i], to_platform(&home, base[i])));
-        Ok(GoughStewart {
-            robot,
-            params,
-            home_directions,
-        })
-    }
-
     /// Every margin of the description's stroke and joint-cone limits at `pose`.
     ///
     /// # Errors
@@ -122,8 +96,14 @@ impl GoughStewart {
     pub fn limit_margins(&self, pose: &Pose) -> Result<LegMargins, Error> {
         let (q, p) = self.inverse_kinematics(pose)?;
         let x = pose.to_array();
-        let u = directions(&self.robot, pose.center, &p);
-        let limits = &self.robot.limits;
+        let robot = self.robot();
+        let u = directions(robot, pose.center, &p);
+        let home = self.home();
+        let (_, at_home) = self.inverse_kinematics(&home)?;
+        let base = directions(robot, home.center, &at_home);
+        let home_directions: [_; 6] =
+            core::array::from_fn(|i| (base[i], to_platform(&home.to_array(), base[i])));
+        let limits = &robot.limits;
         let angle = |a: [f64; 3], b: [f64; 3]| crate::math::acos(dot(a, b).clamp(-1.0, 1.0));
         let margin =
             |bound: Option<f64>, value: f64| (bound.map_or(f64::INFINITY, |b| b - value), value);
@@ -133,12 +113,12 @@ impl GoughStewart {
                 None => (f64::INFINITY, q[i]),
             }),
             u_joint: core::array::from_fn(|i| {
-                margin(limits.u_joint, angle(u[i], self.home_directions[i].0))
+                margin(limits.u_joint, angle(u[i], home_directions[i].0))
             }),
             s_joint: core::array::from_fn(|i| {
                 margin(
                     limits.s_joint,
-                    angle(to_platform(&x, u[i]), self.home_directions[i].1),
+                    angle(to_platform(&x, u[i]), home_directions[i].1),
                 )
             }),
         })
@@ -160,23 +140,6 @@ impl GoughStewart {
             _ => Ok(()),
         }
     }
-
-    pub fn robot(&self) -> &Description {
-        &self.robot
-    }
-
-    /// The parameter vector, as the `*_params` kernels take it.
-    pub fn parameters(&self) -> &[f64; PARAMETERS] {
-        &self.params
-    }
-
-    /// The home pose: where the forward kinematics starts without a previous solution when
-    /// the level start fails, and the joints' cone angles are measured from.
-    pub fn home(&self) -> Pose {
-        Pose::from_array(self.robot.home())
-    }
-
-    legged::spatial_kernel_calls!(12);
 
     /// Refuses a pose where the legs' hold is below [`HOLD_TOLERANCE`]: for the kernels that
     /// solve with `M_x` rather than `J⁻ᵀ`, whose own singularity terms are the U joints' alone.
@@ -206,49 +169,45 @@ impl GoughStewart {
             FORWARD_U_JOINT_TOLERANCE,
         )
     }
-
-    /// Where the forward kinematics starts without a previous solution: the level pose
-    /// (`R = I`) whose leg lengths fit `q` best, by Gauss-Newton on the centre from above the
-    /// home pose's. A hexapod has up to 40 poses for one `q`; Newton reaches the workspace's
-    /// from a start within it. Against a 50-digit reference the pose found errs by about
-    /// `6.5e-19/ρ` relative (2.3e-8 at `ρ = 1.8e-11`), and within [`HOLD_TOLERANCE`] by at most
-    /// `3e-13`.
-    fn start(&self, q: &[f64; 6]) -> [f64; 6] {
-        let home = self.robot.home();
-        let mut c = [0.0, 0.0, home[5]];
-        for _ in 0..20 {
-            let mut normal = [[0.0; 3]; 3];
-            let mut rhs = [0.0; 3];
-            for (leg, qi) in self.robot.legs.iter().zip(q) {
-                let d: [f64; 3] = core::array::from_fn(|k| c[k] + leg.platform[k] - leg.base[k]);
-                let length = crate::math::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-                let u = d.map(|x| x / length);
-                let error = qi - leg.encoder_offset - length;
-                for i in 0..3 {
-                    rhs[i] += u[i] * error;
-                    for j in 0..3 {
-                        normal[i][j] += u[i] * u[j];
-                    }
-                }
-            }
-            let Some(step) = dense::solve(&normal, &rhs, 1e-12) else {
-                break;
-            };
-            for k in 0..3 {
-                c[k] += step[k];
-            }
-            if dense::max_abs(&step) < 1e-13 {
-                break;
-            }
-        }
-        if c.iter().all(|x| x.is_finite()) {
-            [0.0, 0.0, 0.0, c[0], c[1], c[2]]
-        } else {
-            home
-        }
-    }
-
-    legged::joint_space_methods!();
 }
 
-legged::legged_impl!(GoughStewart);
+/// Where the forward kinematics starts without a previous solution: the level pose
+/// (`R = I`) whose leg lengths fit `q` best, by Gauss-Newton on the centre from above the
+/// home pose's. A hexapod has up to 40 poses for one `q`; Newton reaches the workspace's
+/// from a start within it. Against a 50-digit reference the pose found errs by about
+/// `6.5e-19/ρ` relative (2.3e-8 at `ρ = 1.8e-11`), and within [`HOLD_TOLERANCE`] by at most
+/// `3e-13`.
+pub(crate) fn level_start(robot: &Description, q: &[f64; 6]) -> [f64; 6] {
+    let home = robot.home();
+    let mut c = [0.0, 0.0, home[5]];
+    for _ in 0..20 {
+        let mut normal = [[0.0; 3]; 3];
+        let mut rhs = [0.0; 3];
+        for (leg, qi) in robot.legs.iter().zip(q) {
+            let d: [f64; 3] = core::array::from_fn(|k| c[k] + leg.platform[k] - leg.base[k]);
+            let length = crate::math::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            let u = d.map(|x| x / length);
+            let error = qi - leg.encoder_offset - length;
+            for i in 0..3 {
+                rhs[i] += u[i] * error;
+                for j in 0..3 {
+                    normal[i][j] += u[i] * u[j];
+                }
+            }
+        }
+        let Some(step) = dense::solve(&normal, &rhs, 1e-12) else {
+            break;
+        };
+        for k in 0..3 {
+            c[k] += step[k];
+        }
+        if dense::max_abs(&step) < 1e-13 {
+            break;
+        }
+    }
+    if c.iter().all(|x| x.is_finite()) {
+        [0.0, 0.0, 0.0, c[0], c[1], c[2]]
+    } else {
+        home
+    }
+}

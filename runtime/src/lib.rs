@@ -45,7 +45,6 @@ mod c5;
 #[cfg(feature = "calibrate")]
 pub mod calibrate;
 pub mod control;
-pub mod delta;
 mod dense;
 #[cfg(feature = "derivatives")]
 pub mod derivatives;
@@ -54,7 +53,7 @@ pub mod error;
 pub mod gough_stewart;
 #[cfg(feature = "identify")]
 pub mod identify;
-mod legged;
+pub mod legged;
 pub mod limits;
 mod math;
 pub mod mechanism;
@@ -63,7 +62,6 @@ pub mod plan;
 pub mod platform;
 #[cfg(feature = "reference")]
 pub mod reference;
-pub mod rus_hexapod;
 pub mod scene;
 pub mod sensors;
 pub mod singularity;
@@ -73,14 +71,14 @@ pub mod types;
 pub mod workspace;
 
 pub use c5_robot::{Description, Limits, Model, Robot};
-pub use delta::Delta;
 pub use error::Error;
 pub use gough_stewart::GoughStewart;
+pub use legged::catalogue::{Delta, RusHexapod};
+pub use legged::LeggedRobot;
 pub use limits::{Limit, LimitMargins};
 pub use mechanism::ParallelRobot;
 pub use platform::Mechanism;
-pub use rus_hexapod::RusHexapod;
-pub use types::{Acceleration, Pose, State, Twist};
+pub use types::{Acceleration, Pose, State, Translation, Twist};
 
 pub(crate) use c5::check_divisors;
 pub use c5::{

@@ -12,9 +12,7 @@ use crate::derivatives::{ForwardDynamicsDerivatives, InverseDynamicsDerivatives}
 use crate::identify::{BaseParameters, Friction};
 use crate::platform::Mechanism;
 use crate::scene::Scene;
-use crate::{
-    Acceleration, Error, Evaluation, GoughStewart, Limit, Model, Pose, RusHexapod, State, Twist, C5,
-};
+use crate::{Acceleration, Error, Evaluation, Limit, Model, Pose, State, Twist, C5};
 use alloc::boxed::Box;
 use alloc::vec::Vec;
 use c5_robot::Description;
@@ -478,196 +476,6 @@ impl ParallelRobot for C5 {
     }
 }
 
-/// The [`ParallelRobot`] methods a legged mechanism's runtime type (the Gough-Stewart
-/// platform, the rotary hexapod) serves with its inherent methods of the same names, in its
-/// impl block.
-macro_rules! legged_robot {
-    () => {
-        fn home(&self) -> Pose {
-            Self::home(self)
-        }
-        fn actuator_positions(&self, pose: &Pose) -> Result<[f64; 6], Error> {
-            Ok(self.inverse_kinematics(pose)?.0)
-        }
-        fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-            Self::inverse_jacobian(self, pose)
-        }
-        fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-            Self::jacobian(self, pose)
-        }
-        fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-            Self::joint_velocities(self, pose, twist)
-        }
-        fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
-            Self::joint_accelerations(self, state)
-        }
-        fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
-            Self::inverse_dynamics(self, state)
-        }
-        fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-            Self::task_inertia(self, pose)
-        }
-        fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-            Self::task_bias(self, pose, twist)
-        }
-        fn forward_dynamics(
-            &self,
-            pose: &Pose,
-            twist: &Twist,
-            gamma: &[f64; 6],
-        ) -> Result<Acceleration, Error> {
-            Self::forward_dynamics(self, pose, twist, gamma)
-        }
-        fn forward_kinematics(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<Pose, Error> {
-            Self::forward_kinematics(self, q, near)
-        }
-        fn joint_state(
-            &self,
-            q: &[f64; 6],
-            qd: &[f64; 6],
-            qdd: &[f64; 6],
-            near: Option<&Pose>,
-        ) -> Result<State, Error> {
-            Self::joint_state(self, q, qd, qdd, near)
-        }
-        fn inverse_dynamics_joint(
-            &self,
-            q: &[f64; 6],
-            qd: &[f64; 6],
-            qdd: &[f64; 6],
-            near: Option<&Pose>,
-        ) -> Result<[f64; 6], Error> {
-            Self::inverse_dynamics_joint(self, q, qd, qdd, near)
-        }
-        fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
-            Self::evaluate(self, state)
-        }
-        /// The mean distance of the platform joints from `C`.
-        fn characteristic_length(&self) -> f64 {
-            let legs = &self.robot().legs;
-            legs.iter()
-                .map(|l| crate::math::sqrt(l.platform.iter().map(|x| x * x).sum()))
-                .sum::<f64>()
-                / legs.len() as f64
-        }
-        fn singularity_clearance(&self, pose: &Pose) -> Result<f64, Error> {
-            Ok(self
-                .singularity_terms(pose)?
-                .iter()
-                .fold(f64::INFINITY, |m, &r| m.min(r)))
-        }
-        fn parameters(&self) -> &[f64] {
-            Self::parameters(self)
-        }
-        fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
-            Self::joint_inertia(self, q, near)
-        }
-        fn joint_bias(
-            &self,
-            q: &[f64; 6],
-            qd: &[f64; 6],
-            near: Option<&Pose>,
-        ) -> Result<[f64; 6], Error> {
-            Self::joint_bias(self, q, qd, near)
-        }
-        fn as_any(&self) -> &dyn core::any::Any {
-            self
-        }
-        fn clone_box(&self) -> Box<dyn ParallelRobot> {
-            Box::new(self.clone())
-        }
-    };
-}
-
-impl ParallelRobot for GoughStewart {
-    legged_robot!();
-    fn mechanism(&self) -> &'static str {
-        c5_robot::description::GOUGH_STEWART
-    }
-    fn model_name(&self) -> &'static str {
-        c5_robot::description::GOUGH_STEWART
-    }
-    fn description(&self) -> Description {
-        Description::GoughStewart(*self.robot())
-    }
-    fn scene(&self, pose: &Pose) -> Result<Scene, Error> {
-        Self::scene(self, pose)
-    }
-    fn smallest_pose_margin(&self, pose: &Pose) -> Result<Option<(Limit, usize, f64, f64)>, Error> {
-        Ok(self.limit_margins(pose)?.smallest())
-    }
-    fn speed_and_force_limits(&self) -> (Option<f64>, Option<f64>) {
-        (self.robot().limits.speed, self.robot().limits.force)
-    }
-    fn has_limits(&self) -> bool {
-        self.robot().limits.any()
-    }
-    #[cfg(feature = "identify")]
-    fn standard_regressor(&self, state: &State) -> Result<nalgebra::DMatrix<f64>, Error> {
-        let y = GoughStewart::regressor(self, state)?;
-        Ok(nalgebra::DMatrix::from_fn(6, y[0].len(), |i, j| y[i][j]))
-    }
-    #[cfg(feature = "identify")]
-    fn standard_parameters(&self, friction: &[Friction; 6]) -> Vec<f64> {
-        self.robot().standard_parameters(friction)
-    }
-    #[cfg(feature = "identify")]
-    fn base_parameters(&self) -> Result<BaseParameters, Error> {
-        GoughStewart::base_parameters(self)
-    }
-    #[cfg(feature = "identify")]
-    fn base_regressor_into(&self, state: &State, out: &mut [f64]) -> Result<(), Error> {
-        GoughStewart::base_regressor_into(self, state, out)
-    }
-    #[cfg(feature = "derivatives")]
-    fn derivatives(&self) -> Option<&dyn Derivatives> {
-        Some(self)
-    }
-}
-
-impl ParallelRobot for RusHexapod {
-    legged_robot!();
-    fn mechanism(&self) -> &'static str {
-        c5_robot::description::RUS_HEXAPOD
-    }
-    fn model_name(&self) -> &'static str {
-        c5_robot::description::RUS_HEXAPOD
-    }
-    fn description(&self) -> Description {
-        Description::RusHexapod(*self.robot())
-    }
-    fn scene(&self, pose: &Pose) -> Result<Scene, Error> {
-        Self::scene(self, pose)
-    }
-    /// Its description sets no limits.
-    fn smallest_pose_margin(&self, pose: &Pose) -> Result<Option<(Limit, usize, f64, f64)>, Error> {
-        self.inverse_kinematics(pose).map(|_| None)
-    }
-    fn speed_and_force_limits(&self) -> (Option<f64>, Option<f64>) {
-        (None, None)
-    }
-    fn has_limits(&self) -> bool {
-        false
-    }
-    #[cfg(feature = "identify")]
-    fn standard_regressor(&self, state: &State) -> Result<nalgebra::DMatrix<f64>, Error> {
-        let y = RusHexapod::regressor(self, state)?;
-        Ok(nalgebra::DMatrix::from_fn(6, y[0].len(), |i, j| y[i][j]))
-    }
-    #[cfg(feature = "identify")]
-    fn standard_parameters(&self, friction: &[Friction; 6]) -> Vec<f64> {
-        self.robot().standard_parameters(friction)
-    }
-    #[cfg(feature = "identify")]
-    fn base_parameters(&self) -> Result<BaseParameters, Error> {
-        RusHexapod::base_parameters(self)
-    }
-    #[cfg(feature = "identify")]
-    fn base_regressor_into(&self, state: &State, out: &mut [f64]) -> Result<(), Error> {
-        RusHexapod::base_regressor_into(self, state, out)
-    }
-}
-
 /// The dynamics' exact derivatives of a robot whose platform is free in space
 /// ([`crate::derivatives`]): a capability of the mechanisms whose derivative kernels are
 /// generated, reached through [`ParallelRobot::derivatives`].
@@ -716,7 +524,7 @@ macro_rules! derivatives_impl {
         }
     )*};
 }
-derivatives_impl!(C5, GoughStewart);
+derivatives_impl!(C5, crate::GoughStewart);
 
 /// `robot`'s derivatives, refused by name where its mechanism has none generated.
 ///

@@ -85,3 +85,16 @@ pub struct State {
     pub twist: Twist,
     pub accel: Acceleration,
 }
+
+/// The state of a platform that only translates (the Delta's): the position, velocity and
+/// acceleration of `C` (base frame).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Translation {
+    /// `C` (m).
+    pub position: [f64; 3],
+    /// `v_C` (m/s).
+    pub velocity: [f64; 3],
+    /// `a_C` (m/s²).
+    pub acceleration: [f64; 3],
+}

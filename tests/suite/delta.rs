@@ -8,7 +8,7 @@
 use crate::support;
 
 use c5_robot::Delta as Description;
-use c5_runtime::delta::Translation;
+use c5_runtime::Translation;
 use c5_runtime::{Delta, Error};
 use nalgebra::{Matrix3, Vector3};
 use rand::Rng;
@@ -123,7 +123,7 @@ fn the_forward_models_undo_the_inverse_ones() {
             assert!(rel_err(&accel, &s.acceleration, 1.0) < 1e-11, "{accel:?}");
             let qd = robot.joint_velocities(&s.position, &s.velocity).unwrap();
             let qdd = robot.joint_accelerations(&s).unwrap();
-            let joint = robot.joint_state(&q, &qd, &qdd).unwrap();
+            let joint = robot.joint_state(&q, &qd, &qdd, None).unwrap();
             assert!(rel_err(&joint.velocity, &s.velocity, 1.0) < 1e-12);
             assert!(rel_err(&joint.acceleration, &s.acceleration, 1.0) < 1e-10);
         }

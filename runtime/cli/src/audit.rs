@@ -38,21 +38,21 @@ struct Peer {
 /// 42 calls) and the 6-RUS's, their published counts (the mechanisms issue).
 const ROBSYNTH: [Peer; 3] = [
     Peer {
-        mechanism: c5_runtime::gough_stewart::MECHANISM,
+        mechanism: c5_robot::description::GOUGH_STEWART,
         what: "The 6-UPS inverse dynamics with every parameter an input (inverse kinematics \
                included; robsynth's with the joint angles given)",
         mul: 2660,
         add: 1664,
     },
     Peer {
-        mechanism: c5_runtime::rus_hexapod::MECHANISM,
+        mechanism: c5_robot::description::RUS_HEXAPOD,
         what: "The 6-RUS inverse dynamics with every parameter an input (inverse kinematics \
                included)",
         mul: 43548,
         add: 26665,
     },
     Peer {
-        mechanism: c5_runtime::delta::MECHANISM,
+        mechanism: c5_robot::description::DELTA,
         what: "The Delta's inverse dynamics with every parameter an input (inverse kinematics \
                included)",
         mul: 3010,

@@ -1,14 +1,18 @@
 //! The legged mechanisms' regressors and base parameters (the Gough-Stewart platform, the
-//! rotary hexapod, the Delta), written once and instantiated for each over its generated
-//! kernels and in its platform's coordinates.
+//! rotary hexapod, the Delta), written once over each mechanism's generated regressors
+//! (`c5_generated::legged::Regressors`) and in its platform's coordinates.
 //!
 //! Their base regressors' columns are those the generator found for the checked-in example of
 //! each; which standard parameters fold into each, and with what coefficients, depends on the
 //! geometry (a rod's mass joins the platform's at its ball joint `p_i`), so `base_parameters`
 //! finds them for the robot at hand from its own regressor.
 
-use crate::{Error, State};
+use crate::legged::{
+    Coordinates, Freedoms, LeggedDescription, LeggedRobot, Motion, Platform, StateOf,
+};
+use crate::Error;
 use alloc::vec::Vec;
+use c5_generated::legged::{Legs, Regressors};
 use nalgebra::DMatrix;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -16,171 +20,104 @@ use rand_chacha::ChaCha8Rng;
 /// How many seeded states the groupings are found from (six equations each).
 const GROUPING_STATES: usize = 40;
 
-/// The identification methods of a legged mechanism: `$robot` with its generated kernels
-/// `$kernels` (`regressor`, `base_regressor`, their parameter names and groupings) on `$n`
-/// actuators, its state type `$state` with `$motion` giving its
-/// coordinates checked finite, `$home`, the coordinates it rests at, and `$reach`, how far from
-/// there (rad, m) the seeded states of the groupings are drawn.
-macro_rules! legged_identification {
-    (
-        $robot:ty, $kernels:ident, $n:literal,
-        $state:ty, $motion:path, $home:expr, $reach:expr
-    ) => {
-        impl $robot {
-            /// The geometry and gravity, what the regressors read of the parameter vector.
-            fn identification_geometry(
-                &self,
-            ) -> [f64; c5_generated::f64::$kernels::GEOMETRY_PARAMETERS] {
-                core::array::from_fn(|k| self.parameters()[k])
-            }
+impl<D: LeggedDescription<N>, const N: usize> LeggedRobot<D, N>
+where
+    Platform<N>: Freedoms<N>,
+{
+    /// `Y` at `state` (row `i` for actuator `i+1`, columns in the order of
+    /// `BaseParameters::standard_names`): `Γ = Y π` with friction.
+    ///
+    /// # Errors
+    /// Non-finite inputs, a singular pose or a non-finite result.
+    pub fn regressor(&self, state: &StateOf<N>) -> Result<[StandardRow<D, N>; N], Error> {
+        self.regressor_at(&state.checked("state")?)
+    }
 
-            /// `Y` at `state` (row `i` for actuator `i+1`, columns in the order of
-            /// `BaseParameters::standard_names`): `Γ = Y π` with friction.
-            ///
-            /// # Errors
-            /// Non-finite inputs, a singular pose or a non-finite result.
-            pub fn regressor(
-                &self,
-                state: &$state,
-            ) -> Result<
-                [[f64; c5_generated::f64::$kernels::STANDARD_PARAMETERS.len()]; $n],
-                crate::Error,
-            > {
-                self.regressor_at(&$motion(state)?)
-            }
+    /// `Y` at the platform's coordinates `[pose, twist, acceleration]`, checked finite.
+    pub(crate) fn regressor_at(
+        &self,
+        [x, v, a]: &Motion<N>,
+    ) -> Result<[StandardRow<D, N>; N], Error> {
+        let y = self.checked(D::Kernels::regressor(x, v, a, &self.params))?;
+        finite_rows("regressor", y)
+    }
 
-            /// `Y` at the platform's coordinates `[pose, twist, acceleration]`, checked finite.
-            fn regressor_at(
-                &self,
-                [x, v, a]: &[[f64; $n]; 3],
-            ) -> Result<
-                [[f64; c5_generated::f64::$kernels::STANDARD_PARAMETERS.len()]; $n],
-                crate::Error,
-            > {
-                let (y, guard) = c5_generated::f64::$kernels::regressor(
-                    x,
-                    v,
-                    a,
-                    &self.identification_geometry(),
-                );
-                crate::singularity::check(&guard, &c5_generated::f64::$kernels::SINGULARITY_TERMS)?;
-                crate::identify::legged::finite_rows("regressor", y)
-            }
-
-            /// `Y_b` at `state` into `out`, row-major (`n × n_b` for `n` actuators):
-            /// `Γ = Y_b β` with friction.
-            ///
-            /// # Errors
-            /// Non-finite inputs, a singular pose, a non-finite result, or `out` not `n n_b`
-            /// long.
-            pub fn base_regressor_into(
-                &self,
-                state: &$state,
-                out: &mut [f64],
-            ) -> Result<(), crate::Error> {
-                const WIDTH: usize = c5_generated::f64::$kernels::BASE_PARAMETERS.len();
-                if out.len() != $n * WIDTH {
-                    return Err(crate::Error::WrongLength {
-                        input: "out",
-                        expected: $n * WIDTH,
-                        got: out.len(),
-                    });
-                }
-                let [x, v, a] = $motion(state)?;
-                let (y, guard) = c5_generated::f64::$kernels::base_regressor(
-                    &x,
-                    &v,
-                    &a,
-                    &self.identification_geometry(),
-                );
-                crate::singularity::check(&guard, &c5_generated::f64::$kernels::SINGULARITY_TERMS)?;
-                out.copy_from_slice(
-                    crate::identify::legged::finite_rows("base regressor", y)?.as_flattened(),
-                );
-                Ok(())
-            }
-
-            /// `Y_b` at `state` (`n × n_b`).
-            ///
-            /// # Errors
-            /// Non-finite inputs, a singular pose or a non-finite result.
-            pub fn base_regressor(
-                &self,
-                state: &$state,
-            ) -> Result<nalgebra::DMatrix<f64>, crate::Error> {
-                const WIDTH: usize = c5_generated::f64::$kernels::BASE_PARAMETERS.len();
-                let mut rows = alloc::vec![0.0; $n * WIDTH];
-                self.base_regressor_into(state, &mut rows)?;
-                Ok(nalgebra::DMatrix::from_row_slice($n, WIDTH, &rows))
-            }
-
-            /// The standard parameters `π` of this robot with the actuators' `friction`.
-            pub fn standard_parameters(
-                &self,
-                friction: &[crate::identify::Friction; $n],
-            ) -> alloc::vec::Vec<f64> {
-                self.robot().standard_parameters(friction)
-            }
-
-            /// This robot's base parameters: the generated base regressor's columns, each
-            /// with the standard parameters this geometry folds into it (found from the
-            /// regressor on seeded states about home; a few hundred microseconds).
-            ///
-            /// # Errors
-            /// [`Error::Unsupported`](crate::Error::Unsupported) if this geometry has base
-            /// parameters the generated regressor lacks.
-            pub fn base_parameters(&self) -> Result<crate::identify::BaseParameters, crate::Error> {
-                use c5_generated::f64::$kernels as kernels;
-                let standard = kernels::STANDARD_PARAMETERS
-                    .iter()
-                    .map(|s| alloc::string::ToString::to_string(s))
-                    .collect();
-                let leads: alloc::vec::Vec<usize> =
-                    kernels::BASE_OF_STANDARD.iter().map(|t| t[0].0).collect();
-                let y = crate::identify::legged::stacked_regressor(
-                    &$home(self),
-                    &$reach,
-                    kernels::STANDARD_PARAMETERS.len(),
-                    |motion| self.regressor_at(motion).map(|y| y.concat()),
-                );
-                crate::identify::BaseParameters::from_regressor(
-                    crate::platform::Mechanism::mechanism(self),
-                    standard,
-                    &leads,
-                    &y,
-                )
-            }
+    /// `Y_b` at `state` into `out`, row-major (`n × n_b` for `n` actuators): `Γ = Y_b β` with
+    /// friction.
+    ///
+    /// # Errors
+    /// Non-finite inputs, a singular pose, a non-finite result, or `out` not `n n_b` long.
+    pub fn base_regressor_into(&self, state: &StateOf<N>, out: &mut [f64]) -> Result<(), Error> {
+        let width = D::Kernels::BASE_PARAMETERS.len();
+        if out.len() != N * width {
+            return Err(Error::WrongLength {
+                input: "out",
+                expected: N * width,
+                got: out.len(),
+            });
         }
-    };
+        let [x, v, a] = state.checked("state")?;
+        let y = self.checked(D::Kernels::base_regressor(&x, &v, &a, &self.params))?;
+        for (row, slot) in finite_rows("base regressor", y)?
+            .iter()
+            .zip(out.chunks_exact_mut(width))
+        {
+            slot.copy_from_slice(row.as_ref());
+        }
+        Ok(())
+    }
+
+    /// `Y_b` at `state` (`n × n_b`).
+    ///
+    /// # Errors
+    /// Non-finite inputs, a singular pose or a non-finite result.
+    pub fn base_regressor(&self, state: &StateOf<N>) -> Result<DMatrix<f64>, Error> {
+        let width = D::Kernels::BASE_PARAMETERS.len();
+        let mut rows = alloc::vec![0.0; N * width];
+        self.base_regressor_into(state, &mut rows)?;
+        Ok(DMatrix::from_row_slice(N, width, &rows))
+    }
+
+    /// The standard parameters `π` of this robot with the actuators' `friction`.
+    pub fn standard_parameters(&self, friction: &[crate::identify::Friction; N]) -> Vec<f64> {
+        self.robot().standard_parameters(friction)
+    }
+
+    /// This robot's base parameters: the generated base regressor's columns, each with the
+    /// standard parameters this geometry folds into it (found from the regressor on seeded
+    /// states about home; a few hundred microseconds).
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`] if this geometry has base parameters the generated regressor
+    /// lacks.
+    pub fn base_parameters(&self) -> Result<crate::identify::BaseParameters, Error> {
+        let standard = D::Kernels::STANDARD_PARAMETERS
+            .iter()
+            .map(alloc::string::ToString::to_string)
+            .collect();
+        let leads: Vec<usize> = D::Kernels::BASE_OF_STANDARD
+            .iter()
+            .map(|t| t[0].0)
+            .collect();
+        let y = stacked_regressor(
+            self.home_array(),
+            &D::IDENTIFICATION_REACH,
+            D::Kernels::STANDARD_PARAMETERS.len(),
+            |motion| {
+                self.regressor_at(motion).map(|y| {
+                    y.iter()
+                        .flat_map(|row| row.as_ref().iter().copied())
+                        .collect()
+                })
+            },
+        );
+        crate::identify::BaseParameters::from_regressor(D::Kernels::MECHANISM, standard, &leads, &y)
+    }
 }
 
-legged_identification!(
-    crate::GoughStewart,
-    gough_stewart,
-    6,
-    State,
-    crate::C5::checked_motion,
-    |robot: &crate::GoughStewart| robot.home().to_array(),
-    [0.2, 0.2, 0.2, 0.03, 0.03, 0.03]
-);
-legged_identification!(
-    crate::RusHexapod,
-    rus_hexapod,
-    6,
-    State,
-    crate::C5::checked_motion,
-    |robot: &crate::RusHexapod| robot.home().to_array(),
-    [0.1, 0.1, 0.1, 0.02, 0.02, 0.02]
-);
-legged_identification!(
-    crate::Delta,
-    delta,
-    3,
-    crate::delta::Translation,
-    crate::delta::checked_motion,
-    crate::Delta::home,
-    [0.05, 0.05, 0.05]
-);
+/// A row of the standard regressor of the description `D`'s kernels.
+pub type StandardRow<D, const N: usize> =
+    <<D as LeggedDescription<N>>::Kernels as Regressors<N>>::StandardRow;
 
 /// `Y` (`width` columns) stacked over [`GROUPING_STATES`] seeded states within `reach` of
 /// `home`, in the platform's `N` coordinates, singular ones passed over.
@@ -210,11 +147,14 @@ pub(crate) fn stacked_regressor<const N: usize>(
 }
 
 /// `y` if every entry is finite.
-pub(crate) fn finite_rows<const W: usize, const N: usize>(
+pub(crate) fn finite_rows<R: AsRef<[f64]>, const N: usize>(
     output: &'static str,
-    y: [[f64; W]; N],
-) -> Result<[[f64; W]; N], Error> {
-    match y.iter().flatten().all(|v| v.is_finite()) {
+    y: [R; N],
+) -> Result<[R; N], Error> {
+    match y
+        .iter()
+        .all(|row| row.as_ref().iter().all(|v| v.is_finite()))
+    {
         true => Ok(y),
         false => Err(Error::NonFiniteResult { output }),
     }

@@ -90,44 +90,40 @@ fn scene(
     }
 }
 
-impl RusHexapod {
-    /// The robot's parts at `pose`: each crank at the angle the generated inverse kinematics
-    /// gives, its rod to `B_i = C + R p_i`.
-    ///
-    /// # Errors
-    /// As [`RusHexapod::inverse_kinematics`]: a non-finite or singular pose, one out of reach.
-    pub fn scene(&self, pose: &Pose) -> Result<Scene, Error> {
-        let (q, p) = self.inverse_kinematics(pose)?;
-        let c = pose.center;
-        let balls: Vec<[f64; 3]> = p
-            .iter()
-            .map(|p| core::array::from_fn(|k| c[k] - p[k]))
-            .collect();
-        Ok(scene(
-            &self.robot().legs,
-            &q,
-            &balls,
-            c,
-            platform_axes(pose),
-        ))
-    }
+/// The rotary hexapod's parts at `pose`: each crank at the angle the generated inverse
+/// kinematics gives, its rod to `B_i = C + R p_i`.
+///
+/// # Errors
+/// As [`RusHexapod::inverse_kinematics`]: a non-finite or singular pose, one out of reach.
+pub(crate) fn rus_hexapod(robot: &RusHexapod, pose: &Pose) -> Result<Scene, Error> {
+    let (q, p) = robot.inverse_kinematics(pose)?;
+    let c = pose.center;
+    let balls: Vec<[f64; 3]> = p
+        .iter()
+        .map(|p| core::array::from_fn(|k| c[k] - p[k]))
+        .collect();
+    Ok(scene(
+        &robot.robot().legs,
+        &q,
+        &balls,
+        c,
+        platform_axes(pose),
+    ))
 }
 
-impl Delta {
-    /// The robot's parts at `position`: each upper arm at the angle the generated inverse
-    /// kinematics gives, its parallelogram to `C + p_i ± (w_i/2) r_i`; the platform level.
-    ///
-    /// # Errors
-    /// As [`Delta::inverse_kinematics`].
-    pub fn scene(&self, position: &[f64; 3]) -> Result<Scene, Error> {
-        let q = self.inverse_kinematics(position)?;
-        let arms = &self.robot().arms;
-        let balls: Vec<[f64; 3]> = arms
-            .iter()
-            .map(|a| core::array::from_fn(|k| position[k] + a.platform[k]))
-            .collect();
-        Ok(scene(arms, &q, &balls, *position, BASE_AXES))
-    }
+/// The Delta's parts at `position`: each upper arm at the angle the generated inverse
+/// kinematics gives, its parallelogram to `C + p_i ± (w_i/2) r_i`; the platform level.
+///
+/// # Errors
+/// As [`Delta::inverse_kinematics`].
+pub(crate) fn delta(robot: &Delta, position: &[f64; 3]) -> Result<Scene, Error> {
+    let q = robot.inverse_kinematics(position)?;
+    let arms = &robot.robot().arms;
+    let balls: Vec<[f64; 3]> = arms
+        .iter()
+        .map(|a| core::array::from_fn(|k| position[k] + a.platform[k]))
+        .collect();
+    Ok(scene(arms, &q, &balls, *position, BASE_AXES))
 }
 
 #[cfg(test)]

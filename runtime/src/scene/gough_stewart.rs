@@ -5,53 +5,51 @@ use super::{plate, platform_axes, Joint, JointKind, Leg, Scene, BASE_AXES};
 use crate::{Error, GoughStewart, Pose};
 use alloc::vec::Vec;
 
-impl GoughStewart {
-    /// The robot's parts at `pose` (`B_i = C - p_i` from the generated inverse kinematics),
-    /// each leg and joint flagged where the robot file's stroke or joint-cone limit is
-    /// crossed.
-    ///
-    /// # Errors
-    /// A non-finite pose, or a U joint at its singularity.
-    pub fn scene(&self, pose: &Pose) -> Result<Scene, Error> {
-        let (_, p) = self.inverse_kinematics(pose)?;
-        let margins = self.limit_margins(pose)?;
-        let c = pose.center;
-        let legs: Vec<Leg> = (0..6)
-            .map(|i| {
-                let base = Joint {
-                    kind: JointKind::Universal,
-                    at: self.robot().legs[i].base,
-                    over_limit: margins.u_joint[i].0 < 0.0,
-                };
-                let platform = Joint {
-                    kind: JointKind::Spherical,
-                    at: core::array::from_fn(|k| c[k] - p[i][k]),
-                    over_limit: margins.s_joint[i].0 < 0.0,
-                };
-                Leg::straight(base, platform, margins.stroke[i].0 < 0.0)
-            })
-            .collect();
-        let axes = platform_axes(pose);
-        let size = self.platform_radius();
-        let points = |k: usize| -> Vec<[f64; 3]> { legs.iter().map(|l| l.joints[k].at).collect() };
-        Ok(Scene {
-            platform: plate(&points(1), axes, 0.04 * size),
-            base: plate(&points(0), BASE_AXES, 0.04 * size),
-            legs,
-            centre: c,
-            axes,
-            size,
+/// The robot's parts at `pose` (`B_i = C - p_i` from the generated inverse kinematics), each
+/// leg and joint flagged where the robot file's stroke or joint-cone limit is crossed.
+///
+/// # Errors
+/// A non-finite pose, or a U joint at its singularity.
+pub(crate) fn scene(robot: &GoughStewart, pose: &Pose) -> Result<Scene, Error> {
+    let (_, p) = robot.inverse_kinematics(pose)?;
+    let margins = robot.limit_margins(pose)?;
+    let c = pose.center;
+    let legs: Vec<Leg> = (0..6)
+        .map(|i| {
+            let base = Joint {
+                kind: JointKind::Universal,
+                at: robot.robot().legs[i].base,
+                over_limit: margins.u_joint[i].0 < 0.0,
+            };
+            let platform = Joint {
+                kind: JointKind::Spherical,
+                at: core::array::from_fn(|k| c[k] - p[i][k]),
+                over_limit: margins.s_joint[i].0 < 0.0,
+            };
+            Leg::straight(base, platform, margins.stroke[i].0 < 0.0)
         })
-    }
+        .collect();
+    let axes = platform_axes(pose);
+    let size = platform_radius(robot);
+    let points = |k: usize| -> Vec<[f64; 3]> { legs.iter().map(|l| l.joints[k].at).collect() };
+    Ok(Scene {
+        platform: plate(&points(1), axes, 0.04 * size),
+        base: plate(&points(0), BASE_AXES, 0.04 * size),
+        legs,
+        centre: c,
+        axes,
+        size,
+    })
+}
 
-    /// The largest distance of an S joint from the platform's origin (m).
-    fn platform_radius(&self) -> f64 {
-        self.robot()
-            .legs
-            .iter()
-            .map(|l| crate::math::sqrt(l.platform.iter().map(|x| x * x).sum()))
-            .fold(0.0, f64::max)
-    }
+/// The largest distance of an S joint from the platform's origin (m).
+fn platform_radius(robot: &GoughStewart) -> f64 {
+    robot
+        .robot()
+        .legs
+        .iter()
+        .map(|l| crate::math::sqrt(l.platform.iter().map(|x| x * x).sum()))
+        .fold(0.0, f64::max)
 }
 
 #[cfg(test)]

@@ -11,7 +11,7 @@
 
 mod c5;
 pub(crate) mod cranked;
-mod gough_stewart;
+pub(crate) mod gough_stewart;
 
 use crate::Pose;
 use alloc::vec::Vec;

@@ -1,0 +1,271 @@
+//! What a legged mechanism whose platform is free in space adds (the Gough-Stewart platform,
+//! the rotary hexapod): the inverse kinematics with the vectors `B_i C`, the task-space terms
+//! `M_x` and `h`, the joint-space inertia, and the forward kinematics, a generated Newton step
+//! iterated from a previous solution or from the mechanism's start.
+//!
+//! Its conventions are the C5's: pose `[α β γ xc yc zc]` with `R = Rx(α) Ry(β) Rz(γ)`, twist
+//! `(ω; v_C)` and classical acceleration `(ω̇; a_C)` at the platform origin `C`, base frame.
+
+use super::robot::{hold_of, KernelsOf, TermsOf};
+use super::{Coordinates, Hold, LeggedDescription, LeggedRobot, Linearised};
+use crate::error::Error;
+#[cfg(feature = "identify")]
+use crate::identify::{BaseParameters, Friction};
+use crate::mechanism::ParallelRobot;
+use crate::scene::Scene;
+use crate::{finite, finite_matrix, Acceleration, Evaluation, Limit, Pose, State, Twist};
+use alloc::boxed::Box;
+#[cfg(feature = "identify")]
+use alloc::vec::Vec;
+use c5_generated::legged::{Legs, Spatial};
+
+impl<D: LeggedDescription<6>> LeggedRobot<D, 6>
+where
+    D::Kernels: Spatial,
+{
+    /// The actuator positions `q` and the vectors from each leg's platform joint `B_i` to `C`
+    /// (m, base frame).
+    ///
+    /// # Errors
+    /// A non-finite or singular pose.
+    pub fn inverse_kinematics(&self, pose: &Pose) -> Result<([f64; 6], [[f64; 3]; 6]), Error> {
+        let x = pose.checked("pose")?;
+        let (q, p, guard) = KernelsOf::<D, 6>::inverse_kinematics(&x, &self.params);
+        let (q, p) = self.checked(((q, p), guard))?;
+        Ok((finite("q", q)?, finite_matrix("p", p)?))
+    }
+
+    /// `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`, symmetric positive definite.
+    ///
+    /// # Errors
+    /// A non-finite or singular pose.
+    pub fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        let x = pose.checked("pose")?;
+        let m = self.checked(KernelsOf::<D, 6>::task_inertia(&x, &self.params))?;
+        finite_matrix("task inertia", m)
+    }
+
+    /// `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal and gravity terms at `C`.
+    ///
+    /// # Errors
+    /// Non-finite inputs, or a singular pose.
+    pub fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        let (x, v) = (pose.checked("pose")?, twist.checked("twist")?);
+        let h = self.checked(KernelsOf::<D, 6>::task_bias(&x, &v, &self.params))?;
+        finite("task bias", h)
+    }
+
+    /// The pose whose actuator positions are `q`, by Newton's method from `near` (a previous
+    /// solution: two or three steps at a controller's rate) or, without it, from the
+    /// mechanism's start; to [`super::FORWARD_TOLERANCE`] (1e-12, m or rad) on every actuator.
+    /// The pose found is refused where it is singular, as every kernel refuses it.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`]; [`Error::NotConverged`] when the steps stop reducing the residual
+    /// (positions no pose near the start has); [`Error::Singularity`] when a step meets a
+    /// singular pose, or the pose found is one.
+    pub fn forward_kinematics(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<Pose, Error> {
+        let near = near.map(|p| p.checked("near")).transpose()?;
+        let (x, _) = self.located_with_terms(q, near.as_ref())?;
+        Ok(Pose::from_array(x))
+    }
+
+    /// The forward kinematics, with the singularity terms at the pose found (all within their
+    /// tolerances), for the callers that hold it to a nearer bound.
+    fn located_with_terms(
+        &self,
+        q: &[f64; 6],
+        near: Option<&[f64; 6]>,
+    ) -> Result<([f64; 6], TermsOf<D, 6>), Error> {
+        crate::check_finite("q", q)?;
+        let start = match near {
+            Some(x) => *x,
+            None => self.robot().start(q, self.home_array()),
+        };
+        let x = super::newton(
+            |x, out| {
+                let (r, jac, guard) =
+                    KernelsOf::<D, 6>::forward_kinematics_step(x, q, &self.params);
+                let (r, jac) = self.checked(((r, jac), guard))?;
+                *out = Linearised {
+                    residual: finite("residual", r)?,
+                    jacobian: jac,
+                };
+                Ok(())
+            },
+            start,
+        )?;
+        let terms = KernelsOf::<D, 6>::singularity_terms(&x, &self.params);
+        crate::singularity::check(terms.as_ref(), KernelsOf::<D, 6>::SINGULARITY_TERMS)?;
+        Ok((x, terms))
+    }
+
+    /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia `Jᵀ M_x J`, at the pose of the
+    /// actuator positions `q` (found from `near`).
+    ///
+    /// # Errors
+    /// As the forward kinematics, or a singular pose.
+    pub fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
+        let near = near.map(|p| p.checked("near")).transpose()?;
+        super::joint_inertia(self, q, near.as_ref())
+    }
+}
+
+/// The forward kinematics by Newton's method, the hold its weakest pivot.
+impl<D: LeggedDescription<6>> super::Locate<6> for LeggedRobot<D, 6>
+where
+    D::Kernels: Spatial,
+{
+    fn located(&self, q: &[f64; 6], near: Option<&[f64; 6]>) -> Result<([f64; 6], Hold), Error> {
+        let (x, terms) = self.located_with_terms(q, near)?;
+        Ok((x, hold_of::<D, 6>(&terms)))
+    }
+}
+
+impl<D: LeggedDescription<6>> super::TaskInertia<6> for LeggedRobot<D, 6>
+where
+    D::Kernels: Spatial,
+{
+    fn inertia_at(&self, x: &[f64; 6]) -> Result<[[f64; 6]; 6], Error> {
+        self.task_inertia(&Pose::from_array(*x))
+    }
+}
+
+/// Every legged mechanism whose platform is free in space, through the interface of the
+/// six-freedom robots (and so [`crate::Mechanism`]).
+impl<D: LeggedDescription<6>> ParallelRobot for LeggedRobot<D, 6>
+where
+    D::Kernels: Spatial,
+{
+    fn mechanism(&self) -> &'static str {
+        D::Kernels::MECHANISM
+    }
+    fn model_name(&self) -> &'static str {
+        D::Kernels::MECHANISM
+    }
+    fn home(&self) -> Pose {
+        Self::home(self)
+    }
+    fn description(&self) -> c5_robot::Description {
+        self.robot().description()
+    }
+    fn actuator_positions(&self, pose: &Pose) -> Result<[f64; 6], Error> {
+        Ok(self.inverse_kinematics(pose)?.0)
+    }
+    fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        Self::inverse_jacobian(self, pose)
+    }
+    fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        Self::jacobian(self, pose)
+    }
+    fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        Self::joint_velocities(self, pose, twist)
+    }
+    fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
+        Self::joint_accelerations(self, state)
+    }
+    fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
+        Self::inverse_dynamics(self, state)
+    }
+    fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        Self::task_inertia(self, pose)
+    }
+    fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        Self::task_bias(self, pose, twist)
+    }
+    fn forward_dynamics(
+        &self,
+        pose: &Pose,
+        twist: &Twist,
+        gamma: &[f64; 6],
+    ) -> Result<Acceleration, Error> {
+        Self::forward_dynamics(self, pose, twist, gamma)
+    }
+    fn forward_kinematics(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<Pose, Error> {
+        Self::forward_kinematics(self, q, near)
+    }
+    fn joint_state(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<State, Error> {
+        Self::joint_state(self, q, qd, qdd, near)
+    }
+    fn inverse_dynamics_joint(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        qdd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<[f64; 6], Error> {
+        Self::inverse_dynamics_joint(self, q, qd, qdd, near)
+    }
+    fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
+        Self::evaluate(self, state)
+    }
+    fn smallest_pose_margin(&self, pose: &Pose) -> Result<Option<(Limit, usize, f64, f64)>, Error> {
+        D::smallest_pose_margin(self, &pose.checked("pose")?)
+    }
+    fn speed_and_force_limits(&self) -> (Option<f64>, Option<f64>) {
+        self.robot().speed_and_force_limits()
+    }
+    fn has_limits(&self) -> bool {
+        self.robot().has_limits()
+    }
+    fn characteristic_length(&self) -> f64 {
+        self.robot().characteristic_length()
+    }
+    fn parameters(&self) -> &[f64] {
+        self.params.as_ref()
+    }
+    fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
+        Self::joint_inertia(self, q, near)
+    }
+    fn joint_bias(
+        &self,
+        q: &[f64; 6],
+        qd: &[f64; 6],
+        near: Option<&Pose>,
+    ) -> Result<[f64; 6], Error> {
+        Self::joint_bias(self, q, qd, near)
+    }
+    fn singularity_clearance(&self, pose: &Pose) -> Result<f64, Error> {
+        let terms = self.singularity_terms(pose)?;
+        Ok(terms.as_ref().iter().copied().fold(f64::INFINITY, f64::min))
+    }
+    fn as_any(&self) -> &dyn core::any::Any {
+        self
+    }
+    fn clone_box(&self) -> Box<dyn ParallelRobot> {
+        Box::new(self.clone())
+    }
+    fn scene(&self, pose: &Pose) -> Result<Scene, Error> {
+        Self::scene(self, pose)
+    }
+    #[cfg(feature = "identify")]
+    fn standard_parameters(&self, friction: &[Friction; 6]) -> Vec<f64> {
+        Self::standard_parameters(self, friction)
+    }
+    #[cfg(feature = "identify")]
+    fn base_parameters(&self) -> Result<BaseParameters, Error> {
+        Self::base_parameters(self)
+    }
+    #[cfg(feature = "identify")]
+    fn standard_regressor(&self, state: &State) -> Result<nalgebra::DMatrix<f64>, Error> {
+        let y = self.regressor(state)?;
+        let width = y[0].as_ref().len();
+        Ok(nalgebra::DMatrix::from_fn(6, width, |i, j| {
+            y[i].as_ref()[j]
+        }))
+    }
+    #[cfg(feature = "identify")]
+    fn base_regressor_into(&self, state: &State, out: &mut [f64]) -> Result<(), Error> {
+        Self::base_regressor_into(self, state, out)
+    }
+    #[cfg(feature = "derivatives")]
+    fn derivatives(&self) -> Option<&dyn crate::mechanism::Derivatives> {
+        D::derivatives(self)
+    }
+}
