@@ -228,15 +228,15 @@ pub fn kernel_set(mechanism: &crate::Mechanism, kernels: &[&str]) -> String {
          const SINGULARITY_TERMS: &'static [crate::guard::SingularityTerm] = &SINGULARITY_TERMS;\n\
          type Parameters = [f64; PARAMETERS];\n\
          type Terms = [f64; {terms}];\n\
-         fn parameters(values: &[f64]) -> Option<[f64; PARAMETERS]> {{ values.try_into().ok() }}\n\
-         fn singularity_terms(x: &[f64; {n}], p: &[f64; PARAMETERS]) -> [f64; {terms}] {{ {singular} }}\n\
-         fn actuators(x: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {actuators} }}\n\
-         fn inverse_jacobian(x: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([[f64; {n}]; {n}], {guard}) {{ {inverse_jacobian} }}\n\
-         fn jacobian(x: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([[f64; {n}]; {n}], {guard}) {{ {jacobian} }}\n\
-         fn joint_velocities(x: &[f64; {n}], v: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {velocities} }}\n\
-         fn joint_accelerations(x: &[f64; {n}], v: &[f64; {n}], a: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {accelerations} }}\n\
-         fn inverse_dynamics(x: &[f64; {n}], v: &[f64; {n}], a: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {inverse_dynamics} }}\n\
-         fn forward_dynamics(x: &[f64; {n}], v: &[f64; {n}], gamma: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {forward_dynamics} }}\n\
+         #[inline] fn parameters(values: &[f64]) -> Option<[f64; PARAMETERS]> {{ values.try_into().ok() }}\n\
+         #[inline] fn singularity_terms(x: &[f64; {n}], p: &[f64; PARAMETERS]) -> [f64; {terms}] {{ {singular} }}\n\
+         #[inline] fn actuators(x: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {actuators} }}\n\
+         #[inline] fn inverse_jacobian(x: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([[f64; {n}]; {n}], {guard}) {{ {inverse_jacobian} }}\n\
+         #[inline] fn jacobian(x: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([[f64; {n}]; {n}], {guard}) {{ {jacobian} }}\n\
+         #[inline] fn joint_velocities(x: &[f64; {n}], v: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {velocities} }}\n\
+         #[inline] fn joint_accelerations(x: &[f64; {n}], v: &[f64; {n}], a: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {accelerations} }}\n\
+         #[inline] fn inverse_dynamics(x: &[f64; {n}], v: &[f64; {n}], a: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {inverse_dynamics} }}\n\
+         #[inline] fn forward_dynamics(x: &[f64; {n}], v: &[f64; {n}], gamma: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {forward_dynamics} }}\n\
          }}\n",
         name = mechanism.name(),
         terms = structure.singularity_terms().len(),
@@ -256,10 +256,10 @@ pub fn kernel_set(mechanism: &crate::Mechanism, kernels: &[&str]) -> String {
     if n == 6 && has(&["task_inertia", "task_bias", "forward_kinematics_step"]) {
         out += &format!(
             "impl crate::legged::Spatial for Kernels {{\n\
-             fn inverse_kinematics(x: &[f64; 6], p: &[f64; PARAMETERS]) -> ([f64; 6], [[f64; 3]; 6], {guard}) {{ {} }}\n\
-             fn task_inertia(x: &[f64; 6], p: &[f64; PARAMETERS]) -> ([[f64; 6]; 6], {guard}) {{ {} }}\n\
-             fn task_bias(x: &[f64; 6], v: &[f64; 6], p: &[f64; PARAMETERS]) -> ([f64; 6], {guard}) {{ {} }}\n\
-             fn forward_kinematics_step(x: &[f64; 6], q: &[f64; 6], p: &[f64; PARAMETERS]) -> ([f64; 6], [[f64; 6]; 6], {guard}) {{ {} }}\n\
+             #[inline] fn inverse_kinematics(x: &[f64; 6], p: &[f64; PARAMETERS]) -> ([f64; 6], [[f64; 3]; 6], {guard}) {{ {} }}\n\
+             #[inline] fn task_inertia(x: &[f64; 6], p: &[f64; PARAMETERS]) -> ([[f64; 6]; 6], {guard}) {{ {} }}\n\
+             #[inline] fn task_bias(x: &[f64; 6], v: &[f64; 6], p: &[f64; PARAMETERS]) -> ([f64; 6], {guard}) {{ {} }}\n\
+             #[inline] fn forward_kinematics_step(x: &[f64; 6], q: &[f64; 6], p: &[f64; PARAMETERS]) -> ([f64; 6], [[f64; 6]; 6], {guard}) {{ {} }}\n\
              }}\n",
             call("inverse_kinematics", "x"),
             call("task_inertia", "x"),
@@ -271,7 +271,7 @@ pub fn kernel_set(mechanism: &crate::Mechanism, kernels: &[&str]) -> String {
         out += &format!(
             "impl crate::legged::ClosedForm<{n}> for Kernels {{\n\
              const FORWARD_KINEMATICS_TERMS: &'static [crate::guard::SingularityTerm] = &FORWARD_KINEMATICS_TERMS;\n\
-             fn forward_kinematics(q: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([[f64; {n}]; 2], {guard}) {{ {} }}\n\
+             #[inline] fn forward_kinematics(q: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([[f64; {n}]; 2], {guard}) {{ {} }}\n\
              }}\n",
             call("forward_kinematics", "q"),
         );
@@ -300,8 +300,8 @@ pub fn regressor_set(mechanism: &crate::Mechanism) -> Result<String, Error> {
          const STANDARD_PARAMETERS: &'static [&'static str] = &STANDARD_PARAMETERS;\n\
          const BASE_PARAMETERS: &'static [&'static str] = &BASE_PARAMETERS;\n\
          const BASE_OF_STANDARD: &'static [&'static [(usize, f64)]] = &BASE_OF_STANDARD;\n\
-         fn regressor({state}) -> ([[f64; STANDARD_PARAMETERS.len()]; {n}], {guard}) {{ regressor(x, v, a, &crate::legged::geometry(p)) }}\n\
-         fn base_regressor({state}) -> ([[f64; BASE_PARAMETERS.len()]; {n}], {guard}) {{ base_regressor(x, v, a, &crate::legged::geometry(p)) }}\n\
+         #[inline] fn regressor({state}) -> ([[f64; STANDARD_PARAMETERS.len()]; {n}], {guard}) {{ regressor(x, v, a, &crate::legged::geometry(p)) }}\n\
+         #[inline] fn base_regressor({state}) -> ([[f64; BASE_PARAMETERS.len()]; {n}], {guard}) {{ base_regressor(x, v, a, &crate::legged::geometry(p)) }}\n\
          }}\n"
     );
     let file: syn::File = syn::parse_str(&code).map_err(|e| Error::Emit {

@@ -15472,27 +15472,33 @@ impl crate::legged::Legs<3> for Kernels {
     const SINGULARITY_TERMS: &'static [crate::guard::SingularityTerm] = &SINGULARITY_TERMS;
     type Parameters = [f64; PARAMETERS];
     type Terms = [f64; 7];
+    #[inline]
     fn parameters(values: &[f64]) -> Option<[f64; PARAMETERS]> {
         values.try_into().ok()
     }
+    #[inline]
     fn singularity_terms(x: &[f64; 3], p: &[f64; PARAMETERS]) -> [f64; 7] {
         singularity_terms_params(x, p)
     }
+    #[inline]
     fn actuators(x: &[f64; 3], p: &[f64; PARAMETERS]) -> ([f64; 3], impl AsRef<[f64]>) {
         inverse_kinematics_params(x, p)
     }
+    #[inline]
     fn inverse_jacobian(
         x: &[f64; 3],
         p: &[f64; PARAMETERS],
     ) -> ([[f64; 3]; 3], impl AsRef<[f64]>) {
         inverse_jacobian_pose_params(x, p)
     }
+    #[inline]
     fn jacobian(
         x: &[f64; 3],
         p: &[f64; PARAMETERS],
     ) -> ([[f64; 3]; 3], impl AsRef<[f64]>) {
         jacobian_pose_params(x, p)
     }
+    #[inline]
     fn joint_velocities(
         x: &[f64; 3],
         v: &[f64; 3],
@@ -15500,6 +15506,7 @@ impl crate::legged::Legs<3> for Kernels {
     ) -> ([f64; 3], impl AsRef<[f64]>) {
         joint_velocities_params(x, v, p)
     }
+    #[inline]
     fn joint_accelerations(
         x: &[f64; 3],
         v: &[f64; 3],
@@ -15508,6 +15515,7 @@ impl crate::legged::Legs<3> for Kernels {
     ) -> ([f64; 3], impl AsRef<[f64]>) {
         joint_accelerations_params(x, v, a, p)
     }
+    #[inline]
     fn inverse_dynamics(
         x: &[f64; 3],
         v: &[f64; 3],
@@ -15516,6 +15524,7 @@ impl crate::legged::Legs<3> for Kernels {
     ) -> ([f64; 3], impl AsRef<[f64]>) {
         inverse_dynamics_params(x, v, a, p)
     }
+    #[inline]
     fn forward_dynamics(
         x: &[f64; 3],
         v: &[f64; 3],
@@ -15527,6 +15536,7 @@ impl crate::legged::Legs<3> for Kernels {
 }
 impl crate::legged::ClosedForm<3> for Kernels {
     const FORWARD_KINEMATICS_TERMS: &'static [crate::guard::SingularityTerm] = &FORWARD_KINEMATICS_TERMS;
+    #[inline]
     fn forward_kinematics(
         q: &[f64; 3],
         p: &[f64; PARAMETERS],

@@ -4827,6 +4827,7 @@ impl crate::legged::Regressors<3> for Kernels {
     const STANDARD_PARAMETERS: &'static [&'static str] = &STANDARD_PARAMETERS;
     const BASE_PARAMETERS: &'static [&'static str] = &BASE_PARAMETERS;
     const BASE_OF_STANDARD: &'static [&'static [(usize, f64)]] = &BASE_OF_STANDARD;
+    #[inline]
     fn regressor(
         x: &[f64; 3],
         v: &[f64; 3],
@@ -4835,6 +4836,7 @@ impl crate::legged::Regressors<3> for Kernels {
     ) -> ([[f64; STANDARD_PARAMETERS.len()]; 3], impl AsRef<[f64]>) {
         regressor(x, v, a, &crate::legged::geometry(p))
     }
+    #[inline]
     fn base_regressor(
         x: &[f64; 3],
         v: &[f64; 3],

@@ -71717,28 +71717,34 @@ impl crate::legged::Legs<6> for Kernels {
     const SINGULARITY_TERMS: &'static [crate::guard::SingularityTerm] = &SINGULARITY_TERMS;
     type Parameters = [f64; PARAMETERS];
     type Terms = [f64; 18];
+    #[inline]
     fn parameters(values: &[f64]) -> Option<[f64; PARAMETERS]> {
         values.try_into().ok()
     }
+    #[inline]
     fn singularity_terms(x: &[f64; 6], p: &[f64; PARAMETERS]) -> [f64; 18] {
         singularity_terms_params(x, p)
     }
+    #[inline]
     fn actuators(x: &[f64; 6], p: &[f64; PARAMETERS]) -> ([f64; 6], impl AsRef<[f64]>) {
         let (q, _, guard) = inverse_kinematics_params(x, p);
         (q, guard)
     }
+    #[inline]
     fn inverse_jacobian(
         x: &[f64; 6],
         p: &[f64; PARAMETERS],
     ) -> ([[f64; 6]; 6], impl AsRef<[f64]>) {
         inverse_jacobian_pose_params(x, p)
     }
+    #[inline]
     fn jacobian(
         x: &[f64; 6],
         p: &[f64; PARAMETERS],
     ) -> ([[f64; 6]; 6], impl AsRef<[f64]>) {
         jacobian_pose_params(x, p)
     }
+    #[inline]
     fn joint_velocities(
         x: &[f64; 6],
         v: &[f64; 6],
@@ -71746,6 +71752,7 @@ impl crate::legged::Legs<6> for Kernels {
     ) -> ([f64; 6], impl AsRef<[f64]>) {
         joint_velocities_params(x, v, p)
     }
+    #[inline]
     fn joint_accelerations(
         x: &[f64; 6],
         v: &[f64; 6],
@@ -71754,6 +71761,7 @@ impl crate::legged::Legs<6> for Kernels {
     ) -> ([f64; 6], impl AsRef<[f64]>) {
         joint_accelerations_params(x, v, a, p)
     }
+    #[inline]
     fn inverse_dynamics(
         x: &[f64; 6],
         v: &[f64; 6],
@@ -71762,6 +71770,7 @@ impl crate::legged::Legs<6> for Kernels {
     ) -> ([f64; 6], impl AsRef<[f64]>) {
         inverse_dynamics_params(x, v, a, p)
     }
+    #[inline]
     fn forward_dynamics(
         x: &[f64; 6],
         v: &[f64; 6],
@@ -71772,18 +71781,21 @@ impl crate::legged::Legs<6> for Kernels {
     }
 }
 impl crate::legged::Spatial for Kernels {
+    #[inline]
     fn inverse_kinematics(
         x: &[f64; 6],
         p: &[f64; PARAMETERS],
     ) -> ([f64; 6], [[f64; 3]; 6], impl AsRef<[f64]>) {
         inverse_kinematics_params(x, p)
     }
+    #[inline]
     fn task_inertia(
         x: &[f64; 6],
         p: &[f64; PARAMETERS],
     ) -> ([[f64; 6]; 6], impl AsRef<[f64]>) {
         task_inertia_params(x, p)
     }
+    #[inline]
     fn task_bias(
         x: &[f64; 6],
         v: &[f64; 6],
@@ -71791,6 +71803,7 @@ impl crate::legged::Spatial for Kernels {
     ) -> ([f64; 6], impl AsRef<[f64]>) {
         task_bias_params(x, v, p)
     }
+    #[inline]
     fn forward_kinematics_step(
         x: &[f64; 6],
         q: &[f64; 6],

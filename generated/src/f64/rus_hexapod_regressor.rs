@@ -21549,6 +21549,7 @@ impl crate::legged::Regressors<6> for Kernels {
     const STANDARD_PARAMETERS: &'static [&'static str] = &STANDARD_PARAMETERS;
     const BASE_PARAMETERS: &'static [&'static str] = &BASE_PARAMETERS;
     const BASE_OF_STANDARD: &'static [&'static [(usize, f64)]] = &BASE_OF_STANDARD;
+    #[inline]
     fn regressor(
         x: &[f64; 6],
         v: &[f64; 6],
@@ -21557,6 +21558,7 @@ impl crate::legged::Regressors<6> for Kernels {
     ) -> ([[f64; STANDARD_PARAMETERS.len()]; 6], impl AsRef<[f64]>) {
         regressor(x, v, a, &crate::legged::geometry(p))
     }
+    #[inline]
     fn base_regressor(
         x: &[f64; 6],
         v: &[f64; 6],
