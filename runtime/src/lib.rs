@@ -94,6 +94,7 @@ pub use c5_generated::fma;
 ///
 /// # Errors
 /// [`Error::NonFinite`] naming the input and the index.
+#[inline]
 pub(crate) fn check_finite(input: &'static str, v: &[f64]) -> Result<(), Error> {
     match v.iter().position(|x| !x.is_finite()) {
         Some(index) => Err(Error::NonFinite { input, index }),

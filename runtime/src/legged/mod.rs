@@ -50,6 +50,7 @@ pub trait Coordinates {
 
 impl<const N: usize> Coordinates for [f64; N] {
     type Array = [f64; N];
+    #[inline]
     fn checked(&self, name: &'static str) -> Result<[f64; N], Error> {
         crate::check_finite(name, self)?;
         Ok(*self)
@@ -58,6 +59,7 @@ impl<const N: usize> Coordinates for [f64; N] {
 
 impl Coordinates for Pose {
     type Array = [f64; 6];
+    #[inline]
     fn checked(&self, name: &'static str) -> Result<[f64; 6], Error> {
         self.to_array().checked(name)
     }
@@ -65,6 +67,7 @@ impl Coordinates for Pose {
 
 impl Coordinates for Twist {
     type Array = [f64; 6];
+    #[inline]
     fn checked(&self, name: &'static str) -> Result<[f64; 6], Error> {
         self.to_array().checked(name)
     }
@@ -73,6 +76,7 @@ impl Coordinates for Twist {
 /// A state's pose, twist and acceleration, each checked finite by its own name.
 impl Coordinates for State {
     type Array = Motion<6>;
+    #[inline]
     fn checked(&self, _name: &'static str) -> Result<Motion<6>, Error> {
         crate::C5::checked_motion(self)
     }
@@ -81,6 +85,7 @@ impl Coordinates for State {
 /// A translation's position, velocity and acceleration, each checked finite by its own name.
 impl Coordinates for crate::Translation {
     type Array = Motion<3>;
+    #[inline]
     fn checked(&self, _name: &'static str) -> Result<Motion<3>, Error> {
         crate::check_finite("position", &self.position)?;
         crate::check_finite("velocity", &self.velocity)?;
