@@ -122,26 +122,35 @@ pub(crate) trait TaskInertia<const N: usize>: Legged<N> {
     fn inertia_at(&self, x: &[f64; N]) -> Result<[[f64; N]; N], Error>;
 }
 
-/// What a step of the forward kinematics gives at a pose: the actuators' residual and its
-/// Jacobian.
-#[derive(Clone, Copy, Default)]
-pub(crate) struct Linearised {
-    pub residual: [f64; 6],
-    pub jacobian: [[f64; 6]; 6],
+/// What a step of the forward kinematics gives at a pose of `N` coordinates: the actuators'
+/// residual and its Jacobian.
+#[derive(Clone, Copy)]
+pub(crate) struct Linearised<const N: usize> {
+    pub residual: [f64; N],
+    pub jacobian: [[f64; N]; N],
+}
+
+impl<const N: usize> Default for Linearised<N> {
+    fn default() -> Self {
+        Linearised {
+            residual: [0.0; N],
+            jacobian: [[0.0; N]; N],
+        }
+    }
 }
 
 /// Newton's method from `x` on the residual and Jacobian `step` writes at a pose (a generated
 /// forward-kinematics step), each step halved until it reduces the largest residual, to
 /// [`FORWARD_TOLERANCE`] within [`FORWARD_ITERATIONS`] steps. The step writes into one of two
-/// buffers, the current pose's or the trial's, so the loop moves none of its 42 numbers.
+/// buffers, the current pose's or the trial's, so the loop moves none of their numbers.
 ///
 /// # Errors
 /// The step's errors; [`Error::NotConverged`] when the steps stop reducing the residual;
 /// [`Error::Singularity`] when the Jacobian is singular.
-pub(crate) fn newton(
-    step: impl Fn(&[f64; 6], &mut Linearised) -> Result<(), Error>,
-    mut x: [f64; 6],
-) -> Result<[f64; 6], Error> {
+pub(crate) fn newton<const N: usize>(
+    step: impl Fn(&[f64; N], &mut Linearised<N>) -> Result<(), Error>,
+    mut x: [f64; N],
+) -> Result<[f64; N], Error> {
     let mut buffers = [Linearised::default(); 2];
     let mut current = 0;
     step(&x, &mut buffers[current])?;
@@ -159,7 +168,7 @@ pub(crate) fn newton(
             })?;
         let mut scale = 1.0;
         loop {
-            let trial: [f64; 6] = core::array::from_fn(|k| x[k] + scale * delta[k]);
+            let trial: [f64; N] = core::array::from_fn(|k| x[k] + scale * delta[k]);
             let next = &mut buffers[1 - current];
             match step(&trial, next) {
                 Ok(()) if dense::max_abs(&next.residual) < size => {
