@@ -392,3 +392,57 @@ pub fn rust_constants(
     );
     rust_file(how, "The operation-count manifest as constants.", &code)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Mechanism;
+    use c5_robot::{Delta, GoughStewart, Model, Robot};
+
+    const SPATIAL: &[&str] = &[
+        "singularity_terms_params",
+        "inverse_kinematics_params",
+        "inverse_jacobian_pose_params",
+        "jacobian_pose_params",
+        "joint_velocities_params",
+        "joint_accelerations_params",
+        "inverse_dynamics_params",
+        "forward_dynamics_params",
+        "task_inertia_params",
+        "task_bias_params",
+        "forward_kinematics_step_params",
+    ];
+
+    /// A platform free in space gets the shared set and the spatial one; a translating platform
+    /// with a closed-form forward kinematics the shared set and the closed form; the C5, whose
+    /// kernels are checked by hand, none; and the sets parse as Rust.
+    #[test]
+    fn each_mechanism_gets_the_kernel_sets_its_kernels_make() {
+        let hexapod = kernel_set(&Mechanism::gough_stewart(&GoughStewart::example()), SPATIAL);
+        assert!(hexapod.contains("crate::legged::Legs<6> for Kernels"));
+        assert!(hexapod.contains("crate::legged::Spatial for Kernels"));
+        assert!(!hexapod.contains("ClosedForm"));
+        let mut translating: Vec<&str> = SPATIAL[..8].to_vec();
+        translating.push("forward_kinematics_params");
+        let delta = kernel_set(&Mechanism::delta(&Delta::example()), &translating);
+        assert!(delta.contains("crate::legged::Legs<3> for Kernels"));
+        assert!(delta.contains("crate::legged::ClosedForm<3> for Kernels"));
+        assert!(!delta.contains("Spatial"));
+        let c5 = Mechanism::c5(&Robot::default(), Model::Consistent);
+        assert_eq!(kernel_set(&c5, SPATIAL), "");
+        for code in [hexapod, delta] {
+            syn::parse_str::<syn::File>(&code).expect("the kernel set parses");
+        }
+    }
+
+    /// Without the kernels a trait needs (here the Newton step), its implementation is left
+    /// out rather than written against a function that is not there.
+    #[test]
+    fn a_trait_whose_kernels_are_missing_is_not_implemented() {
+        let hexapod = kernel_set(
+            &Mechanism::gough_stewart(&GoughStewart::example()),
+            &SPATIAL[..10],
+        );
+        assert!(hexapod.contains("Legs<6>") && !hexapod.contains("Spatial"));
+    }
+}
