@@ -9,9 +9,11 @@
 //! mechanism of eq 16, whose forces close the power balance) and [`Model::Paper`] (the
 //! chapter as published, right only at zero orientation).
 //!
-//! The other mechanisms of the catalogue have their types too: [`GoughStewart`] (6-UPS),
-//! [`RusHexapod`] (6-RUS) and [`Delta`] (three translations); [`platform::load`] makes any of
-//! them from a robot file behind one [`Mechanism`], its dimension from the platform's freedom.
+//! The legged mechanisms of the catalogue are one type, [`LeggedRobot`], over each one's
+//! generated kernel set ([`legged`]): [`GoughStewart`] (6-UPS), [`RusHexapod`] (6-RUS) and
+//! [`Delta`] (three translations) name it for their descriptions. [`platform::load`] makes any
+//! mechanism from a robot file behind one [`Mechanism`], its dimension from the platform's
+//! freedom.
 //!
 //! The crate is `no_std` (with `alloc`, for the robot description's error messages) without
 //! its default `std` feature; `libm` then provides the trigonometry. With the `identify`
