@@ -771,7 +771,15 @@ fn mechanism_files(group: &MechanismKernels<'_>) -> Result<Vec<(PathBuf, String)
                     Scalar::F64 => specs.iter().map(|(s, _)| s.name.as_str()).collect(),
                     _ => Vec::new(),
                 };
-                kernels.push_str(&manifest::mechanism_parameter_constants(mechanism, &names)?);
+                let fitted = specs.iter().find_map(|(s, _)| {
+                    match (s.name.as_str(), s.outputs.get(1).map(|o| o.shape)) {
+                        ("calibration_residuals", Some(Shape::Matrix(_, f))) => Some(f),
+                        _ => None,
+                    }
+                });
+                kernels.push_str(&manifest::mechanism_parameter_constants(
+                    mechanism, &names, fitted,
+                )?);
             }
             files.push((
                 PathBuf::from(format!("src/{}/{module}{part}.rs", scalar.name())),

@@ -168,6 +168,7 @@ pub fn parameter_constants(how: &str) -> Result<String, Error> {
 pub fn mechanism_parameter_constants(
     mechanism: &crate::Mechanism,
     kernels: &[&str],
+    fitted: Option<usize>,
 ) -> Result<String, Error> {
     let structure = mechanism.structure();
     let names = structure.parameter_names();
@@ -193,7 +194,7 @@ pub fn mechanism_parameter_constants(
         "FORWARD_KINEMATICS_TERMS",
         "What each singularity term of `forward_kinematics_params` measures, in order.",
         &structure.forward_kinematics_terms(),
-    ) + &kernel_set(mechanism, kernels);
+    ) + &kernel_set(mechanism, kernels, fitted);
     let file: syn::File = syn::parse_str(&code).map_err(|e| Error::Emit {
         kernel: "parameter constants".to_string(),
         message: e.to_string(),
@@ -205,7 +206,9 @@ pub fn mechanism_parameter_constants(
 /// trait implementations call the module's `*_params` kernels, for those of `kernels` (the
 /// names the module holds) each trait needs; nothing for a mechanism without singularity
 /// terms (the C5's kernels, checked by hand), nor without kernels (the set is `f64`'s).
-pub fn kernel_set(mechanism: &crate::Mechanism, kernels: &[&str]) -> String {
+/// `fitted` is the number of geometry entries the calibration kernel fits per leg, where the
+/// module has one.
+pub fn kernel_set(mechanism: &crate::Mechanism, kernels: &[&str], fitted: Option<usize>) -> String {
     let structure = mechanism.structure();
     if structure.singularity_terms().is_empty() || kernels.is_empty() {
         return String::new();
@@ -265,6 +268,14 @@ pub fn kernel_set(mechanism: &crate::Mechanism, kernels: &[&str]) -> String {
             call("task_inertia", "x"),
             call("task_bias", "x, v"),
             call("forward_kinematics_step", "x, q"),
+        );
+    }
+    if let Some(fitted) = fitted {
+        out += &format!(
+            "impl crate::legged::Calibrated<{n}> for Kernels {{\n\
+             type FittedRow = [f64; {fitted}];\n\
+             #[inline] fn calibration_residuals(x: &[f64; {n}], q: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], [[f64; {fitted}]; {n}], [[f64; {n}]; {n}]) {{ calibration_residuals(x, q, &crate::legged::geometry(p)) }}\n\
+             }}\n",
         );
     }
     if !structure.forward_kinematics_terms().is_empty() && has(&["forward_kinematics"]) {
@@ -418,18 +429,24 @@ mod tests {
     /// kernels are checked by hand, none; and the sets parse as Rust.
     #[test]
     fn each_mechanism_gets_the_kernel_sets_its_kernels_make() {
-        let hexapod = kernel_set(&Mechanism::gough_stewart(&GoughStewart::example()), SPATIAL);
+        let hexapod = kernel_set(
+            &Mechanism::gough_stewart(&GoughStewart::example()),
+            SPATIAL,
+            Some(7),
+        );
         assert!(hexapod.contains("crate::legged::Legs<6> for Kernels"));
         assert!(hexapod.contains("crate::legged::Spatial for Kernels"));
         assert!(!hexapod.contains("ClosedForm"));
+        assert!(hexapod.contains("crate::legged::Calibrated<6> for Kernels"));
+        assert!(hexapod.contains("type FittedRow = [f64; 7];"));
         let mut translating: Vec<&str> = SPATIAL[..8].to_vec();
         translating.push("forward_kinematics_params");
-        let delta = kernel_set(&Mechanism::delta(&Delta::example()), &translating);
+        let delta = kernel_set(&Mechanism::delta(&Delta::example()), &translating, None);
         assert!(delta.contains("crate::legged::Legs<3> for Kernels"));
         assert!(delta.contains("crate::legged::ClosedForm<3> for Kernels"));
         assert!(!delta.contains("Spatial"));
         let c5 = Mechanism::c5(&Robot::default(), Model::Consistent);
-        assert_eq!(kernel_set(&c5, SPATIAL), "");
+        assert_eq!(kernel_set(&c5, SPATIAL, None), "");
         for code in [hexapod, delta] {
             syn::parse_str::<syn::File>(&code).expect("the kernel set parses");
         }
@@ -442,6 +459,7 @@ mod tests {
         let hexapod = kernel_set(
             &Mechanism::gough_stewart(&GoughStewart::example()),
             &SPATIAL[..10],
+            None,
         );
         assert!(hexapod.contains("Legs<6>") && !hexapod.contains("Spatial"));
     }

@@ -88,6 +88,20 @@ pub trait ClosedForm<const N: usize>: Legs<N> {
         -> ([[f64; N]; 2], impl AsRef<[f64]>);
 }
 
+/// The kinematic calibration's kernel of a legged mechanism: each leg's residual, and its
+/// exact Jacobians in the leg's fitted geometry and in the pose.
+pub trait Calibrated<const N: usize>: Legs<N> {
+    /// A row of the Jacobian in the fitted geometry (`[f64; fitted per leg]`).
+    type FittedRow: Copy + Default + core::fmt::Debug + AsRef<[f64]> + 'static;
+    /// `calibration_residuals`: `ρ_i(X; θ) - q_i` of the readings `q` at the pose `x`, with
+    /// the geometry and gravity of `p`; `∂/∂θ_i`, row `i` for leg `i`; `∂/∂X`.
+    fn calibration_residuals(
+        x: &[f64; N],
+        q: &[f64; N],
+        p: &Self::Parameters,
+    ) -> ([f64; N], [Self::FittedRow; N], [[f64; N]; N]);
+}
+
 /// The identification kernels of a legged mechanism (feature `regressor`): its regressors over
 /// the standard and the base parameters, which read the geometry and gravity of the parameter
 /// vector, and what each base parameter groups.
@@ -119,8 +133,7 @@ pub trait Regressors<const N: usize>: Legs<N> {
 }
 
 /// The first `G` numbers of the parameter vector `p`: the geometry and gravity, what the
-/// regressors read of it.
-#[cfg(feature = "regressor")]
+/// regressors and the calibration read of it.
 #[inline]
 pub(crate) fn geometry<const G: usize, const P: usize>(p: &[f64; P]) -> [f64; G] {
     const { assert!(G <= P, "the geometry opens the parameter vector") };

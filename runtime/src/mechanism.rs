@@ -162,6 +162,12 @@ pub trait ParallelRobot: AsMechanism + core::fmt::Debug + Send + Sync {
     fn derivatives(&self) -> Option<&dyn Derivatives> {
         None
     }
+    /// Its mechanism's kinematic calibration kernel, where one is generated; `None` where not
+    /// (the C5's legs are not a list of joint centres).
+    #[cfg(feature = "calibrate")]
+    fn calibration(&self) -> Option<crate::calibrate::ResidualKernel> {
+        None
+    }
     /// [`ParallelRobot::evaluate`] of every state, or the first refused with its index.
     fn evaluate_many(&self, states: &[State]) -> Result<Vec<Evaluation>, (usize, Error)> {
         states

@@ -43,6 +43,9 @@ pub trait Mechanism: core::fmt::Debug + Send + Sync {
     /// The robot as a platform free in space, for what only six freedoms serve; `None` for a
     /// platform that only translates.
     fn spatial(&self) -> Option<&dyn ParallelRobot>;
+    /// Its mechanism's kinematic calibration kernel, where one is generated.
+    #[cfg(feature = "calibrate")]
+    fn calibration(&self) -> Option<crate::calibrate::ResidualKernel>;
 
     /// The actuator values at `pose` into `q`.
     ///
@@ -426,6 +429,10 @@ impl<R: ParallelRobot + Clone + 'static> Mechanism for R {
     }
     fn spatial(&self) -> Option<&dyn ParallelRobot> {
         Some(self)
+    }
+    #[cfg(feature = "calibrate")]
+    fn calibration(&self) -> Option<crate::calibrate::ResidualKernel> {
+        ParallelRobot::calibration(self)
     }
     fn clone_mechanism(&self) -> Box<dyn Mechanism> {
         Box::new(self.clone())

@@ -15534,6 +15534,17 @@ impl crate::legged::Legs<3> for Kernels {
         forward_dynamics_params(x, v, gamma, p)
     }
 }
+impl crate::legged::Calibrated<3> for Kernels {
+    type FittedRow = [f64; 8];
+    #[inline]
+    fn calibration_residuals(
+        x: &[f64; 3],
+        q: &[f64; 3],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 3], [[f64; 8]; 3], [[f64; 3]; 3]) {
+        calibration_residuals(x, q, &crate::legged::geometry(p))
+    }
+}
 impl crate::legged::ClosedForm<3> for Kernels {
     const FORWARD_KINEMATICS_TERMS: &'static [crate::guard::SingularityTerm] = &FORWARD_KINEMATICS_TERMS;
     #[inline]

@@ -33572,3 +33572,14 @@ impl crate::legged::Spatial for Kernels {
         forward_kinematics_step_params(x, q, p)
     }
 }
+impl crate::legged::Calibrated<6> for Kernels {
+    type FittedRow = [f64; 7];
+    #[inline]
+    fn calibration_residuals(
+        x: &[f64; 6],
+        q: &[f64; 6],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 6], [[f64; 7]; 6], [[f64; 6]; 6]) {
+        calibration_residuals(x, q, &crate::legged::geometry(p))
+    }
+}

@@ -29,7 +29,8 @@ mod nominal;
 mod observability;
 mod plan;
 
-pub use nominal::Nominal;
+pub(crate) use nominal::residuals_of;
+pub use nominal::{Nominal, ResidualKernel, Residuals};
 pub use plan::{plan, simulate};
 
 use crate::{Description, Error};

@@ -6,12 +6,12 @@ use crate::platform::{self, Mechanism};
 use crate::{Description, Error, Model};
 use alloc::boxed::Box;
 use alloc::vec::Vec;
-use c5_generated::f64::{delta, gough_stewart, rus_hexapod};
+use c5_generated::legged::Calibrated;
 use c5_robot::calibration::Fitted;
 
 /// The residuals of one measurement and their Jacobians, row-major.
 #[derive(Clone, Debug, Default)]
-pub(super) struct Residuals {
+pub struct Residuals {
     /// `q(X; θ) - q̂`, one per actuator.
     pub residual: Vec<f64>,
     /// `∂q_i/∂θ_i`: actuators × fitted parameters per leg.
@@ -20,35 +20,40 @@ pub(super) struct Residuals {
     pub pose: Vec<f64>,
 }
 
-/// A mechanism's generated `calibration_residuals` on slices: the geometry (the kernel
-/// parameters' leading entries), the pose and the readings, all of checked lengths.
-type Kernel = fn(&[f64], &[f64], &[f64]) -> Residuals;
+/// A mechanism's generated `calibration_residuals` on slices: the kernel parameters (whose
+/// geometry it reads), the pose and the readings, their lengths checked by the caller.
+pub type ResidualKernel = fn(&[f64], &[f64], &[f64]) -> Residuals;
 
-fn flat<const R: usize, const C: usize>(m: [[f64; C]; R]) -> Vec<f64> {
-    m.iter().flatten().copied().collect()
-}
-
-/// A generated `calibration_residuals` of `N` actuators, `F` fitted parameters per leg, `D`
-/// pose coordinates and `G` geometry entries.
-type Generated<const N: usize, const F: usize, const D: usize, const G: usize> =
-    fn(&[f64; D], &[f64; N], &[f64; G]) -> ([f64; N], [[f64; F]; N], [[f64; D]; N]);
-
-/// Calls a [`Generated`] kernel on slices.
-fn call<const N: usize, const F: usize, const D: usize, const G: usize>(
-    kernel: Generated<N, F, D, G>,
-    geometry: &[f64],
+/// The kernel set `K`'s `calibration_residuals` on slices, a [`ResidualKernel`]. A slice of
+/// another length than the mechanism's (a bug of the caller's) gives NaN, not a panic.
+pub(crate) fn residuals_of<K: Calibrated<N>, const N: usize>(
+    parameters: &[f64],
     pose: &[f64],
     q: &[f64],
 ) -> Residuals {
-    let (mut g, mut x, mut r) = ([0.0; G], [0.0; D], [0.0; N]);
-    g.copy_from_slice(&geometry[..G]);
-    x.copy_from_slice(pose);
-    r.copy_from_slice(q);
-    let (residual, geometry, pose) = kernel(&x, &r, &g);
+    let padded = |v: &[f64]| -> [f64; N] {
+        core::array::from_fn(|k| match v.len() == N {
+            true => v[k],
+            false => f64::NAN,
+        })
+    };
+    let (x, q) = (padded(pose), padded(q));
+    let width = K::FittedRow::default().as_ref().len();
+    let Some(p) = K::parameters(parameters) else {
+        return Residuals {
+            residual: alloc::vec![f64::NAN; N],
+            geometry: alloc::vec![f64::NAN; N * width],
+            pose: alloc::vec![f64::NAN; N * N],
+        };
+    };
+    let (residual, geometry, pose) = K::calibration_residuals(&x, &q, &p);
     Residuals {
         residual: residual.to_vec(),
-        geometry: flat(geometry),
-        pose: flat(pose),
+        geometry: geometry
+            .iter()
+            .flat_map(|row| row.as_ref().iter().copied())
+            .collect(),
+        pose: pose.as_flattened().to_vec(),
     }
 }
 
@@ -56,7 +61,7 @@ fn call<const N: usize, const F: usize, const D: usize, const G: usize>(
 pub struct Nominal {
     mechanism: Box<dyn Mechanism>,
     fitted: &'static [Fitted],
-    kernel: Kernel,
+    kernel: ResidualKernel,
 }
 
 impl core::fmt::Debug for Nominal {
@@ -74,26 +79,17 @@ impl Nominal {
     /// [`CalibrationError::Robot`] for a description that breaks a rule of its mechanism, or
     /// of a mechanism without legs' geometry to fit (the C5).
     pub fn new(description: Description) -> Result<Self, CalibrationError> {
-        let kernel: Kernel = match description {
-            Description::GoughStewart(_) => {
-                |g, x, q| call(gough_stewart::calibration_residuals, g, x, q)
-            }
-            Description::RusHexapod(_) => {
-                |g, x, q| call(rus_hexapod::calibration_residuals, g, x, q)
-            }
-            Description::Delta(_) => |g, x, q| call(delta::calibration_residuals, g, x, q),
-            Description::C5(_) => {
-                return Err(CalibrationError::Robot(Error::Unsupported {
-                    what: "kinematic calibration",
-                    mechanism: description.mechanism(),
-                    why: "calibration fits the joint centres, lengths and encoder offsets of a \
-                          mechanism's legs; the C5's legs are fixed to its platform",
-                }))
-            }
-        };
         let fitted = description.fitted().unwrap_or(&[]);
         let mechanism =
             platform::load(description, Model::Consistent).map_err(CalibrationError::Robot)?;
+        let kernel = mechanism.calibration().ok_or_else(|| {
+            CalibrationError::Robot(Error::Unsupported {
+                what: "kinematic calibration",
+                mechanism: mechanism.mechanism(),
+                why: "calibration fits the joint centres, lengths and encoder offsets of a \
+                      mechanism's legs, and this mechanism has no calibration kernel generated",
+            })
+        })?;
         Ok(Nominal {
             mechanism,
             fitted,

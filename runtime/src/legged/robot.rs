@@ -8,7 +8,7 @@ use crate::error::Error;
 use crate::scene::Scene;
 use crate::{finite, finite_matrix, Acceleration, Evaluation, Pose, State, Twist};
 use alloc::vec::Vec;
-use c5_generated::legged::Legs;
+use c5_generated::legged::{Calibrated, Legs};
 
 /// A legged mechanism's description as the runtime serves it: which generated kernel set
 /// computes it, and what the kernels and the shared code need of it. Each mechanism's entry is
@@ -18,10 +18,10 @@ pub trait LeggedDescription<const N: usize>:
 {
     /// The mechanism's generated kernels (with their regressors, for identification).
     #[cfg(not(feature = "identify"))]
-    type Kernels: Legs<N>;
+    type Kernels: Legs<N> + Calibrated<N>;
     /// The mechanism's generated kernels (with their regressors, for identification).
     #[cfg(feature = "identify")]
-    type Kernels: Legs<N> + c5_generated::legged::Regressors<N>;
+    type Kernels: Legs<N> + Calibrated<N> + c5_generated::legged::Regressors<N>;
     /// Refuses a description that breaks a rule of its mechanism.
     ///
     /// # Errors

@@ -268,4 +268,8 @@ where
     fn derivatives(&self) -> Option<&dyn crate::mechanism::Derivatives> {
         D::derivatives(self)
     }
+    #[cfg(feature = "calibrate")]
+    fn calibration(&self) -> Option<crate::calibrate::ResidualKernel> {
+        Some(crate::calibrate::residuals_of::<D::Kernels, 6>)
+    }
 }

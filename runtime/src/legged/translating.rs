@@ -98,6 +98,10 @@ where
     fn spatial(&self) -> Option<&dyn ParallelRobot> {
         None
     }
+    #[cfg(feature = "calibrate")]
+    fn calibration(&self) -> Option<crate::calibrate::ResidualKernel> {
+        Some(crate::calibrate::residuals_of::<D::Kernels, 3>)
+    }
     fn clone_mechanism(&self) -> Box<dyn Mechanism> {
         Box::new(self.clone())
     }
