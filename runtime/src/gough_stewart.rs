@@ -98,11 +98,17 @@ impl GoughStewart {
         let x = pose.to_array();
         let robot = self.robot();
         let u = directions(robot, pose.center, &p);
-        let home = self.home();
-        let (_, at_home) = self.inverse_kinematics(&home)?;
-        let base = directions(robot, home.center, &at_home);
+        // The legs' directions at home from the description's closed form (`B_i = C + R b_i`),
+        // not a second inverse kinematics on every call.
+        let home = self.home().to_array();
+        let r = c5_robot::gough_stewart::rotation(&home);
+        let to_centre: [[f64; 3]; 6] = core::array::from_fn(|i| {
+            let b = robot.legs[i].platform;
+            core::array::from_fn(|k| -(r[k][0] * b[0] + r[k][1] * b[1] + r[k][2] * b[2]))
+        });
+        let base = directions(robot, [home[3], home[4], home[5]], &to_centre);
         let home_directions: [_; 6] =
-            core::array::from_fn(|i| (base[i], to_platform(&home.to_array(), base[i])));
+            core::array::from_fn(|i| (base[i], to_platform(&home, base[i])));
         let limits = &robot.limits;
         let angle = |a: [f64; 3], b: [f64; 3]| crate::math::acos(dot(a, b).clamp(-1.0, 1.0));
         let margin =
