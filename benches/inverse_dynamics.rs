@@ -384,7 +384,8 @@ fn identification(c: &mut Criterion) {
     }
     g.throughput(Throughput::Elements(1));
     let c5 = c5_runtime::C5::new(robot).unwrap();
-    let mut identifier = c5_runtime::identify::Identifier::new(&c5).unwrap();
+    let mechanism = c5_runtime::ParallelRobot::as_mechanism(&c5);
+    let mut identifier = c5_runtime::identify::Identifier::new(mechanism).unwrap();
     let gamma: Vec<[f64; 6]> = s
         .iter()
         .map(|st| c5.inverse_dynamics(st).unwrap())

@@ -11,7 +11,7 @@ use c5_runtime::calibrate::{self, Measurement, Noise, Options};
 use c5_runtime::identify::{BaseParameters, Friction, Identifier};
 use c5_runtime::platform::Freedom;
 use c5_runtime::{
-    Acceleration, Description, Error, Mechanism, Model, ParallelRobot, Pose, State, Twist,
+    Acceleration, Description, Error, Mechanism, Model, Pose, SpatialRobot, State, Twist,
     C5 as Robot5,
 };
 use numpy::ndarray::{ArrayD, IxDyn};
@@ -420,7 +420,7 @@ impl C5 {
     }
 
     /// The robot as a platform free in space, for what only six freedoms serve.
-    fn spatial(&self, what: &'static str) -> PyResult<&dyn ParallelRobot> {
+    fn spatial(&self, what: &'static str) -> PyResult<&dyn SpatialRobot> {
         self.inner.spatial().ok_or_else(|| {
             PyValueError::new_err(
                 Error::Unsupported {
@@ -614,7 +614,7 @@ impl C5 {
         f: F,
     ) -> PyResult<Bound<'py, PyAny>>
     where
-        F: Fn(&dyn ParallelRobot, &[f64; 6]) -> Result<[[f64; 6]; 6], Error> + Sync,
+        F: Fn(&dyn SpatialRobot, &[f64; 6]) -> Result<[[f64; 6]; 6], Error> + Sync,
     {
         let mode = on_error(errors)?;
         let robot = self.spatial(what)?;

@@ -2,6 +2,8 @@
 //! (both models, the variants that take the robot's parameters), the bounds of its accuracy
 //! contract near eq 16's singularities, and the checks of the divisors its kernels return.
 
+mod parallel_robot;
+
 use crate::{
     check_finite, finite, finite_matrix, Acceleration, Error, Evaluation, Pose, State, Twist,
 };

@@ -78,7 +78,7 @@ pub use gough_stewart::GoughStewart;
 pub use legged::catalogue::{Delta, RusHexapod};
 pub use legged::LeggedRobot;
 pub use limits::{Limit, LimitMargins};
-pub use mechanism::ParallelRobot;
+pub use mechanism::{ParallelRobot, SpatialRobot};
 pub use platform::Mechanism;
 pub use types::{Acceleration, Pose, State, Translation, Twist};
 

@@ -193,7 +193,7 @@ impl C5 {
 }
 
 /// The value of `values` furthest over `bound` in magnitude, as an error.
-pub(crate) fn over(limit: Limit, bound: Option<f64>, values: &[f64; 6]) -> Result<(), Error> {
+pub(crate) fn over(limit: Limit, bound: Option<f64>, values: &[f64]) -> Result<(), Error> {
     let Some(bound) = bound else { return Ok(()) };
     let (i, margin) = values.iter().map(|v| bound - v.abs()).enumerate().fold(
         (0, f64::INFINITY),

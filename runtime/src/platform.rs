@@ -10,15 +10,17 @@
 //! `home`, `evaluate`, `coordinates_of` and `state_of` return owned values); a slice of the
 //! wrong length is refused ([`Error::WrongLength`]) with nothing written.
 //!
-//! [`load`] makes one from a [`Description`]. Every mechanism whose platform is free in space
-//! serves it through its [`ParallelRobot`] (one implementation, below, for all of them), and
-//! [`Mechanism::spatial`] gives that robot back for what only six freedoms have (the task-space
-//! terms, the regressors, the derivatives).
+//! [`load`] makes one from a [`Description`]. Every robot serves it through its typed
+//! [`ParallelRobot<N>`] and one adapter, [`Sliced`] (`robot.as_mechanism()`,
+//! `robot.into_mechanism()`), and [`Mechanism::spatial`] gives a [`SpatialRobot`] back for
+//! what only six freedoms have (the task-space terms, the joint-space inertia, the
+//! derivatives).
 
 use crate::dynamics::{rk4_step_of, PlantState};
 #[cfg(feature = "identify")]
 use crate::identify::{BaseParameters, Friction};
-use crate::mechanism::ParallelRobot;
+use crate::legged::{Freedoms, Platform, PoseOf, StateOf};
+use crate::mechanism::{ParallelRobot, SpatialRobot};
 use crate::{Acceleration, Error, GoughStewart, Model, Pose, RusHexapod, Twist, C5};
 use alloc::boxed::Box;
 use alloc::vec;
@@ -42,7 +44,7 @@ pub trait Mechanism: core::fmt::Debug + Send + Sync {
     fn home(&self) -> Vec<f64>;
     /// The robot as a platform free in space, for what only six freedoms serve; `None` for a
     /// platform that only translates.
-    fn spatial(&self) -> Option<&dyn ParallelRobot>;
+    fn spatial(&self) -> Option<&dyn SpatialRobot>;
     /// Its mechanism's kinematic calibration kernel, where one is generated.
     #[cfg(feature = "calibrate")]
     fn calibration(&self) -> Option<crate::calibrate::ResidualKernel>;
@@ -370,10 +372,10 @@ const MOST: usize = Freedom::Free.dimension();
 /// [`Error::Robot`] if the description breaks a rule of its mechanism.
 pub fn load(description: Description, model: Model) -> Result<Box<dyn Mechanism>, Error> {
     Ok(match description {
-        Description::C5(r) => Box::new(C5::with_model(r, model)?),
-        Description::GoughStewart(r) => Box::new(GoughStewart::new(r)?),
-        Description::RusHexapod(r) => Box::new(RusHexapod::new(r)?),
-        Description::Delta(r) => Box::new(crate::Delta::new(r)?),
+        Description::C5(r) => C5::with_model(r, model)?.into_mechanism(),
+        Description::GoughStewart(r) => GoughStewart::new(r)?.into_mechanism(),
+        Description::RusHexapod(r) => RusHexapod::new(r)?.into_mechanism(),
+        Description::Delta(r) => crate::Delta::new(r)?.into_mechanism(),
     })
 }
 
@@ -407,86 +409,139 @@ pub(crate) fn put(out: &mut [f64], values: &[f64]) {
     out.copy_from_slice(values);
 }
 
-/// Every mechanism whose platform is free in space, through its [`ParallelRobot`].
-impl<R: ParallelRobot + Clone + 'static> Mechanism for R {
+/// A typed robot of `N` freedoms served through slices: the one implementation of
+/// [`Mechanism`], for every [`ParallelRobot`] whatever its freedom. Each per-state call checks
+/// every slice's length before it computes (nothing written on an error), then writes its
+/// result.
+#[derive(Clone, Debug)]
+#[repr(transparent)]
+pub struct Sliced<R, const N: usize>(pub R);
+
+impl<R, const N: usize> Sliced<R, N> {
+    /// `robot` served through slices, borrowed: what [`ParallelRobot::as_mechanism`] gives.
+    pub fn of(robot: &R) -> &Self {
+        // SAFETY: `Sliced` is `repr(transparent)` over `R`, so a `&R` is a valid `&Sliced<R,
+        // N>` for the same lifetime (what the `ref-cast` crate derives).
+        unsafe { &*(robot as *const R).cast::<Self>() }
+    }
+}
+
+/// The pose in `pose`, as the platform of `N` freedoms types it.
+fn pose_of<const N: usize>(name: &'static str, pose: &[f64]) -> Result<PoseOf<N>, Error>
+where
+    Platform<N>: Freedoms<N>,
+{
+    array(name, pose).map(Platform::<N>::pose)
+}
+
+/// The platform's state from its three slices.
+fn state_from<const N: usize>(motion: [&[f64]; 3]) -> Result<StateOf<N>, Error>
+where
+    Platform<N>: Freedoms<N>,
+{
+    crate::legged::motion_of(motion, crate::legged::MOTION).map(Platform::<N>::state)
+}
+
+/// The actuators' motion `[q, q̇, q̈]` and the pose to start from.
+type Joints<const N: usize> = ([[f64; N]; 3], Option<PoseOf<N>>);
+
+fn joints_from<const N: usize>(
+    joints: [&[f64]; 3],
+    near: Option<&[f64]>,
+) -> Result<Joints<N>, Error>
+where
+    Platform<N>: Freedoms<N>,
+{
+    let near = near.map(|x| pose_of::<N>("near", x)).transpose()?;
+    Ok((crate::legged::motion_of(joints, ["q", "qd", "qdd"])?, near))
+}
+
+/// Checks that `out` takes an `N × N` matrix, before anything is computed.
+fn room_for_matrix<const N: usize>(output: &'static str, out: &[f64]) -> Result<(), Error> {
+    if out.len() == N * N {
+        Ok(())
+    } else {
+        Err(Error::WrongLength {
+            input: output,
+            expected: N * N,
+            got: out.len(),
+        })
+    }
+}
+
+impl<R: ParallelRobot<N> + Clone + 'static, const N: usize> Mechanism for Sliced<R, N>
+where
+    Platform<N>: Freedoms<N>,
+{
     fn mechanism(&self) -> &'static str {
-        ParallelRobot::mechanism(self)
+        self.0.mechanism()
     }
     fn model_name(&self) -> &'static str {
-        ParallelRobot::model_name(self)
+        self.0.model_name()
     }
     fn freedom(&self) -> Freedom {
-        Freedom::Free
+        Platform::<N>::FREEDOM
     }
     fn description(&self) -> Description {
-        ParallelRobot::description(self)
+        self.0.description()
     }
     fn parameters(&self) -> &[f64] {
-        ParallelRobot::parameters(self)
+        self.0.parameters()
     }
     fn home(&self) -> Vec<f64> {
-        ParallelRobot::home(self).to_array().to_vec()
+        Platform::<N>::pose_array(&self.0.home()).to_vec()
     }
-    fn spatial(&self) -> Option<&dyn ParallelRobot> {
-        Some(self)
+    fn spatial(&self) -> Option<&dyn SpatialRobot> {
+        self.0.spatial()
     }
     #[cfg(feature = "calibrate")]
     fn calibration(&self) -> Option<crate::calibrate::ResidualKernel> {
-        ParallelRobot::calibration(self)
+        self.0.calibration()
     }
     fn clone_mechanism(&self) -> Box<dyn Mechanism> {
         Box::new(self.clone())
     }
     fn singularity_clearance(&self, pose: &[f64]) -> Result<f64, Error> {
-        ParallelRobot::singularity_clearance(self, &Pose::from_array(array("pose", pose)?))
+        self.0.singularity_clearance(&pose_of::<N>("pose", pose)?)
     }
     #[cfg(feature = "identify")]
     fn standard_parameters(&self, friction: &[Friction]) -> Result<Vec<f64>, Error> {
-        Ok(ParallelRobot::standard_parameters(
-            self,
-            &exactly("friction", friction)?,
-        ))
+        Ok(self.0.standard_parameters(&exactly("friction", friction)?))
     }
     #[cfg(feature = "identify")]
     fn base_parameters(&self) -> Result<BaseParameters, Error> {
-        ParallelRobot::base_parameters(self)
+        self.0.base_parameters()
     }
     #[cfg(feature = "identify")]
     fn standard_regressor(&self, motion: [&[f64]; 3]) -> Result<nalgebra::DMatrix<f64>, Error> {
-        let [x, v, a] = motion;
-        ParallelRobot::standard_regressor(self, &spatial_state(x, v, a)?)
+        self.0.standard_regressor(&state_from::<N>(motion)?)
     }
     #[cfg(feature = "identify")]
     fn base_regressor_into(&self, motion: [&[f64]; 3], out: &mut [f64]) -> Result<(), Error> {
-        let [x, v, a] = motion;
-        ParallelRobot::base_regressor_into(self, &spatial_state(x, v, a)?, out)
+        self.0.base_regressor_into(&state_from::<N>(motion)?, out)
     }
     fn actuator_positions(&self, pose: &[f64], q: &mut [f64]) -> Result<(), Error> {
-        room::<6>("q", q)?;
-        let pose = Pose::from_array(array("pose", pose)?);
-        put(q, &ParallelRobot::actuator_positions(self, &pose)?);
+        room::<N>("q", q)?;
+        put(q, &self.0.actuator_positions(&pose_of::<N>("pose", pose)?)?);
         Ok(())
     }
     fn inverse_jacobian(&self, pose: &[f64], jinv: &mut [f64]) -> Result<(), Error> {
-        room::<36>("jinv", jinv)?;
-        let pose = Pose::from_array(array("pose", pose)?);
-        put(
-            jinv,
-            ParallelRobot::inverse_jacobian(self, &pose)?.as_flattened(),
-        );
+        room_for_matrix::<N>("jinv", jinv)?;
+        let pose = pose_of::<N>("pose", pose)?;
+        put(jinv, self.0.inverse_jacobian(&pose)?.as_flattened());
         Ok(())
     }
     fn jacobian(&self, pose: &[f64], jac: &mut [f64]) -> Result<(), Error> {
-        room::<36>("jacobian", jac)?;
-        let pose = Pose::from_array(array("pose", pose)?);
-        put(jac, ParallelRobot::jacobian(self, &pose)?.as_flattened());
+        room_for_matrix::<N>("jacobian", jac)?;
+        let pose = pose_of::<N>("pose", pose)?;
+        put(jac, self.0.jacobian(&pose)?.as_flattened());
         Ok(())
     }
     fn joint_velocities(&self, pose: &[f64], twist: &[f64], qd: &mut [f64]) -> Result<(), Error> {
-        room::<6>("qd", qd)?;
-        let pose = Pose::from_array(array("pose", pose)?);
-        let twist = Twist::from_array(array("twist", twist)?);
-        put(qd, &ParallelRobot::joint_velocities(self, &pose, &twist)?);
+        room::<N>("qd", qd)?;
+        let pose = pose_of::<N>("pose", pose)?;
+        let twist = Platform::<N>::twist(array("twist", twist)?);
+        put(qd, &self.0.joint_velocities(&pose, &twist)?);
         Ok(())
     }
     fn joint_accelerations(
@@ -496,9 +551,9 @@ impl<R: ParallelRobot + Clone + 'static> Mechanism for R {
         acceleration: &[f64],
         qdd: &mut [f64],
     ) -> Result<(), Error> {
-        room::<6>("qdd", qdd)?;
-        let state = spatial_state(pose, twist, acceleration)?;
-        put(qdd, &ParallelRobot::joint_accelerations(self, &state)?);
+        room::<N>("qdd", qdd)?;
+        let state = state_from::<N>([pose, twist, acceleration])?;
+        put(qdd, &self.0.joint_accelerations(&state)?);
         Ok(())
     }
     fn inverse_dynamics(
@@ -508,9 +563,9 @@ impl<R: ParallelRobot + Clone + 'static> Mechanism for R {
         acceleration: &[f64],
         gamma: &mut [f64],
     ) -> Result<(), Error> {
-        room::<6>("gamma", gamma)?;
-        let state = spatial_state(pose, twist, acceleration)?;
-        put(gamma, &ParallelRobot::inverse_dynamics(self, &state)?);
+        room::<N>("gamma", gamma)?;
+        let state = state_from::<N>([pose, twist, acceleration])?;
+        put(gamma, &self.0.inverse_dynamics(&state)?);
         Ok(())
     }
     fn forward_dynamics(
@@ -520,11 +575,13 @@ impl<R: ParallelRobot + Clone + 'static> Mechanism for R {
         gamma: &[f64],
         acceleration: &mut [f64],
     ) -> Result<(), Error> {
-        room::<6>("acceleration", acceleration)?;
-        let pose = Pose::from_array(array("pose", pose)?);
-        let twist = Twist::from_array(array("twist", twist)?);
-        let a = ParallelRobot::forward_dynamics(self, &pose, &twist, &array("gamma", gamma)?)?;
-        put(acceleration, &a.to_array());
+        room::<N>("acceleration", acceleration)?;
+        let pose = pose_of::<N>("pose", pose)?;
+        let twist = Platform::<N>::twist(array("twist", twist)?);
+        let a = self
+            .0
+            .forward_dynamics(&pose, &twist, &array("gamma", gamma)?)?;
+        put(acceleration, &Platform::<N>::acceleration_array(&a));
         Ok(())
     }
     fn forward_kinematics(
@@ -533,12 +590,10 @@ impl<R: ParallelRobot + Clone + 'static> Mechanism for R {
         near: Option<&[f64]>,
         pose: &mut [f64],
     ) -> Result<(), Error> {
-        room::<6>("pose", pose)?;
-        let near = near
-            .map(|x| array("near", x).map(Pose::from_array))
-            .transpose()?;
-        let found = ParallelRobot::forward_kinematics(self, &array("q", q)?, near.as_ref())?;
-        put(pose, &found.to_array());
+        room::<N>("pose", pose)?;
+        let near = near.map(|x| pose_of::<N>("near", x)).transpose()?;
+        let found = self.0.forward_kinematics(&array("q", q)?, near.as_ref())?;
+        put(pose, &Platform::<N>::pose_array(&found));
         Ok(())
     }
     fn joint_state(
@@ -548,14 +603,15 @@ impl<R: ParallelRobot + Clone + 'static> Mechanism for R {
         out: [&mut [f64]; 3],
     ) -> Result<(), Error> {
         let [pose, twist, acceleration] = out;
-        room::<6>("pose", pose)?;
-        room::<6>("twist", twist)?;
-        room::<6>("acceleration", acceleration)?;
-        let ([q, qd, qdd], near) = joint_arrays(joints, near)?;
-        let state = ParallelRobot::joint_state(self, &q, &qd, &qdd, near.as_ref())?;
-        put(pose, &state.pose.to_array());
-        put(twist, &state.twist.to_array());
-        put(acceleration, &state.accel.to_array());
+        room::<N>("pose", pose)?;
+        room::<N>("twist", twist)?;
+        room::<N>("acceleration", acceleration)?;
+        let ([q, qd, qdd], near) = joints_from::<N>(joints, near)?;
+        let state = self.0.joint_state(&q, &qd, &qdd, near.as_ref())?;
+        let [x, v, a] = Platform::<N>::state_arrays(&state);
+        put(pose, &x);
+        put(twist, &v);
+        put(acceleration, &a);
         Ok(())
     }
     fn inverse_dynamics_joint(
@@ -564,56 +620,47 @@ impl<R: ParallelRobot + Clone + 'static> Mechanism for R {
         near: Option<&[f64]>,
         gamma: &mut [f64],
     ) -> Result<(), Error> {
-        room::<6>("gamma", gamma)?;
-        let ([q, qd, qdd], near) = joint_arrays(joints, near)?;
-        let forces = ParallelRobot::inverse_dynamics_joint(self, &q, &qd, &qdd, near.as_ref())?;
-        put(gamma, &forces);
+        room::<N>("gamma", gamma)?;
+        let ([q, qd, qdd], near) = joints_from::<N>(joints, near)?;
+        put(
+            gamma,
+            &self
+                .0
+                .inverse_dynamics_joint(&q, &qd, &qdd, near.as_ref())?,
+        );
         Ok(())
     }
     fn scene(&self, pose: &[f64]) -> Result<crate::scene::Scene, Error> {
-        ParallelRobot::scene(self, &Pose::from_array(array("pose", pose)?))
+        self.0.scene(&pose_of::<N>("pose", pose)?)
     }
-    /// Four states at a time through the C5's batch kernels (feature `batch`).
+    /// Through the robot's own calls over many states (the C5's batch kernels, feature
+    /// `batch`).
     fn inverse_dynamics_each(&self, n: usize, motion: &Inputs<'_>, each: &mut Each<'_>) {
         let state = |k: usize| {
-            let [mut x, mut v, mut a] = [[0.0; 6]; 3];
+            let [mut x, mut v, mut a] = [[0.0; N]; 3];
             motion(k, [&mut x, &mut v, &mut a]);
-            crate::State {
-                pose: Pose::from_array(x),
-                twist: Twist::from_array(v),
-                accel: Acceleration::from_array(a),
-            }
+            Platform::<N>::state([x, v, a])
         };
-        ParallelRobot::inverse_dynamics_each(self, n, &state, &mut |k, result| match result {
-            Ok(gamma) => each(k, Ok(&gamma)),
-            Err(e) => each(k, Err(e)),
-        });
+        self.0
+            .inverse_dynamics_each(n, &state, &mut |k, result| match result {
+                Ok(gamma) => each(k, Ok(&gamma)),
+                Err(e) => each(k, Err(e)),
+            });
     }
-    /// Four states at a time through the C5's batch kernels (feature `batch`).
+    /// Through the robot's own calls over many states (the C5's batch kernels, feature
+    /// `batch`).
     fn forward_dynamics_each(&self, n: usize, input: &Inputs<'_>, each: &mut Each<'_>) {
         let at = |k: usize| {
-            let [mut x, mut v, mut g] = [[0.0; 6]; 3];
+            let [mut x, mut v, mut g] = [[0.0; N]; 3];
             input(k, [&mut x, &mut v, &mut g]);
-            (Pose::from_array(x), Twist::from_array(v), g)
+            (Platform::<N>::pose(x), Platform::<N>::twist(v), g)
         };
-        ParallelRobot::forward_dynamics_each(self, n, &at, &mut |k, result| match result {
-            Ok(accel) => each(k, Ok(&accel.to_array())),
-            Err(e) => each(k, Err(e)),
-        });
+        self.0
+            .forward_dynamics_each(n, &at, &mut |k, result| match result {
+                Ok(accel) => each(k, Ok(&Platform::<N>::acceleration_array(&accel))),
+                Err(e) => each(k, Err(e)),
+            });
     }
-}
-
-/// The actuators' motion `[q, q̇, q̈]` and the pose to start from, as a platform free in space
-/// takes them.
-fn joint_arrays(
-    joints: [&[f64]; 3],
-    near: Option<&[f64]>,
-) -> Result<([[f64; 6]; 3], Option<Pose>), Error> {
-    let near = near
-        .map(|x| array("near", x).map(Pose::from_array))
-        .transpose()?;
-    let [q, qd, qdd] = joints;
-    Ok(([array("q", q)?, array("qd", qd)?, array("qdd", qdd)?], near))
 }
 
 /// A platform state free in space from its three slices.

@@ -9,6 +9,7 @@ use c5_runtime::dynamics::{rk4_step, rk4_step_of, PlantState};
 use c5_runtime::reference as r;
 use c5_runtime::trajectory::{Fourier, LinearMove};
 use c5_runtime::Kernels;
+use c5_runtime::ParallelRobot;
 use c5_runtime::{Acceleration, Model, Pose, Robot, State, Twist, C5};
 use nalgebra::{Matrix6, Vector6};
 use support::*;
@@ -260,8 +261,8 @@ fn track(
     let mut errors = Vec::new();
     for k in 0..1000 {
         let t = k as f64 * dt;
-        state = rk4_step_of(plant, &state, t, dt, |time, s| {
-            law.forces(controller, &desired(time), s)
+        state = rk4_step_of(plant.as_mechanism(), &state, t, dt, |time, s| {
+            law.forces(controller.as_mechanism(), &desired(time), s)
         })
         .unwrap();
         let d = desired(t + dt);

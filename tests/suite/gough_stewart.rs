@@ -407,9 +407,9 @@ fn bad_states_are_refused() {
 /// against central differences of the forward dynamics.
 #[test]
 fn the_forward_dynamics_derivatives_are_the_accelerations_derivatives() {
-    use c5_runtime::ParallelRobot;
+    use c5_runtime::SpatialRobot;
     let hexapod = GoughStewart::new(random_hexapod(&mut rng(17))).unwrap();
-    let robot: &dyn ParallelRobot = &hexapod;
+    let robot: &dyn SpatialRobot = &hexapod;
     let mut r = rng(18);
     for _ in 0..10 {
         let s = random_state(&mut r, &hexapod.home());

@@ -8,6 +8,7 @@ use c5_runtime::identify::{
     BaseParameters, Friction, Identifier, IdentifyError, STANDARD_PARAMETERS,
 };
 use c5_runtime::trajectory::{Fourier, LinearMove};
+use c5_runtime::ParallelRobot;
 use c5_runtime::{Model, Robot, State, C5};
 use rand::Rng;
 use rand_distr_free::gaussian;
@@ -99,7 +100,7 @@ fn excitation(c5: &C5) -> Fourier {
         samples: 200,
         ..Search::default()
     };
-    excite::design(c5, &Envelope::default(), &search)
+    excite::design(c5.as_mechanism(), &Envelope::default(), &search)
         .unwrap()
         .trajectory
 }
@@ -123,7 +124,7 @@ fn noise_free_data_identify_a_robot_that_predicts_unseen_forces() {
         };
         let blank = C5::with_model(geometry_only, model).unwrap();
         let trajectory = excitation(&blank);
-        let mut identifier = Identifier::new(&blank).unwrap();
+        let mut identifier = Identifier::new(blank.as_mechanism()).unwrap();
         for state in samples(&trajectory, 2000) {
             identifier
                 .add(&state, &measured(&truth, &friction, &state))
@@ -155,7 +156,7 @@ fn noise_free_data_identify_a_robot_that_predicts_unseen_forces() {
         for _ in 0..50 {
             let state = random_state(&mut r);
             let want = measured(&truth, &friction, &state);
-            let got = estimate.forces(&blank, &state).unwrap();
+            let got = estimate.forces(blank.as_mechanism(), &state).unwrap();
             let rel = (0..6).map(|i| (got[i] - want[i]).abs()).fold(0.0, f64::max)
                 / largest(&want).max(1.0);
             worst = worst.max(rel);
@@ -185,7 +186,7 @@ fn the_reported_standard_deviations_match_the_spread_over_noisy_draws() {
     let mut values = vec![Vec::with_capacity(draws); nb];
     let mut reported = vec![0.0; nb];
     for _ in 0..draws {
-        let mut identifier = Identifier::new(&c5).unwrap();
+        let mut identifier = Identifier::new(c5.as_mechanism()).unwrap();
         for (state, gamma) in states.iter().zip(&clean) {
             let noisy: [f64; 6] = std::array::from_fn(|i| gamma[i] + sigma[i] * gaussian(&mut r));
             identifier.add(state, &noisy).unwrap();
@@ -216,7 +217,7 @@ fn the_reported_standard_deviations_match_the_spread_over_noisy_draws() {
 #[test]
 fn too_few_samples_are_refused() {
     let c5 = C5::new(Robot::default()).unwrap();
-    let mut identifier = Identifier::new(&c5).unwrap();
+    let mut identifier = Identifier::new(c5.as_mechanism()).unwrap();
     let mut r = rng(93);
     for _ in 0..5 {
         let state = random_state(&mut r);
@@ -231,7 +232,7 @@ fn too_few_samples_are_refused() {
 #[test]
 fn section_9_cannot_identify_the_rotational_parameters_and_says_which() {
     let c5 = C5::new(Robot::default()).unwrap();
-    let mut identifier = Identifier::new(&c5).unwrap();
+    let mut identifier = Identifier::new(c5.as_mechanism()).unwrap();
     let motion = LinearMove::section9();
     for k in 0..=1000 {
         let state = motion.state(k as f64 / 1000.0);
@@ -269,7 +270,7 @@ fn section_9_cannot_identify_the_rotational_parameters_and_says_which() {
 #[test]
 fn bad_samples_are_refused_and_lose_nothing() {
     let c5 = C5::new(Robot::default()).unwrap();
-    let mut identifier = Identifier::new(&c5).unwrap();
+    let mut identifier = Identifier::new(c5.as_mechanism()).unwrap();
     let mut state = State::default();
     assert!(identifier.add(&state, &[f64::NAN; 6]).is_err());
     state.pose.beta = std::f64::consts::FRAC_PI_2;

@@ -9,6 +9,7 @@ use c5_runtime::identify::encoder_log::{LogFilter, LogProcessor};
 use c5_runtime::identify::excite::{self, Envelope, Search};
 use c5_runtime::identify::{Estimate, Friction, Identifier};
 use c5_runtime::sensors::Encoders;
+use c5_runtime::ParallelRobot;
 use c5_runtime::{Robot, State, C5};
 use rand::Rng;
 use support::{random_robot, rng};
@@ -36,7 +37,12 @@ const FORCE_NOISE: f64 = 0.5;
 /// One experiment: the exciting trajectory's one period at 1 kHz, the encoders' counts and the
 /// forces with noise, through `filter` into the estimator.
 fn identify(truth: &C5, friction: &[Friction; 6], filter: LogFilter, seed: u64) -> Estimate {
-    let design = excite::design(truth, &Envelope::default(), &Search::default()).unwrap();
+    let design = excite::design(
+        truth.as_mechanism(),
+        &Envelope::default(),
+        &Search::default(),
+    )
+    .unwrap();
     let encoders = Encoders::new(RESOLUTION).unwrap();
     let mut noise = rng(seed);
     let mut pipeline = LogProcessor::new(filter, RATE, 6).unwrap();
@@ -60,7 +66,7 @@ fn identify(truth: &C5, friction: &[Friction; 6], filter: LogFilter, seed: u64) 
         ..Robot::default()
     })
     .unwrap();
-    let mut identifier = Identifier::new(&geometry).unwrap();
+    let mut identifier = Identifier::new(geometry.as_mechanism()).unwrap();
     for s in &kept {
         let six = |v: &[f64]| <[f64; 6]>::try_from(v).unwrap();
         let state = geometry
@@ -79,14 +85,14 @@ fn prediction_errors(estimate: &Estimate, truth: &C5, friction: &[Friction; 6]) 
         candidates: 50,
         ..Search::default()
     };
-    let unseen = excite::design(truth, &Envelope::default(), &search).unwrap();
+    let unseen = excite::design(truth.as_mechanism(), &Envelope::default(), &search).unwrap();
     let (mut sq, mut worst, mut force_sq, mut n) = (0.0, 0.0_f64, 0.0, 0);
     for k in 0..2000 {
         let state = unseen
             .trajectory
             .state(k as f64 * unseen.trajectory.period / 2000.0);
         let want = applied(truth, friction, &state);
-        let got = estimate.forces(truth, &state).unwrap();
+        let got = estimate.forces(truth.as_mechanism(), &state).unwrap();
         for i in 0..6 {
             let e = got[i] - want[i];
             sq += e * e;

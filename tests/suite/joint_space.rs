@@ -408,7 +408,7 @@ fn at_and_beyond_the_forward_singularity_the_error_is_typed_never_a_wrong_pose()
 /// the C5 in the consistent model (the paper model is not a mechanism: no inertia has its bias).
 #[test]
 fn the_bias_is_the_christoffel_form_of_the_inertia() {
-    use c5_runtime::mechanism::{robot, ParallelRobot};
+    use c5_runtime::mechanism::{robot, SpatialRobot};
     use c5_runtime::{Description, Model};
     let c5 = c5_runtime::Robot {
         gravity: [0.0; 3],
@@ -419,7 +419,7 @@ fn the_bias_is_the_christoffel_form_of_the_inertia() {
     // The paper model, whose bias is not its inertia's, must fail the same check: the check
     // can tell.
     // The robot, a pose, the actuators' rates, and whether it is a mechanism.
-    type Case = (Box<dyn ParallelRobot>, [f64; 6], [f64; 6], bool);
+    type Case = (Box<dyn SpatialRobot>, [f64; 6], [f64; 6], bool);
     let cases: [Case; 3] = [
         (
             robot(Description::C5(c5), Model::Paper).unwrap(),

@@ -8,7 +8,7 @@
 use crate::support::rng;
 use c5_runtime::identify::excite::{self, Envelope, Search};
 use c5_runtime::identify::{Friction, Identifier};
-use c5_runtime::{Delta, GoughStewart, Mechanism, Pose, RusHexapod, State};
+use c5_runtime::{Delta, GoughStewart, Mechanism, ParallelRobot, Pose, RusHexapod, State};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
@@ -32,8 +32,8 @@ fn hexapod(r: &mut ChaCha8Rng) -> Case {
         leg.rod = nominal.rod;
     }
     Case {
-        truth: Box::new(GoughStewart::new(robot).unwrap()),
-        blank: Box::new(GoughStewart::new(blank).unwrap()),
+        truth: GoughStewart::new(robot).unwrap().into_mechanism(),
+        blank: GoughStewart::new(blank).unwrap().into_mechanism(),
         state: super::gough_stewart::random_state,
     }
 }
@@ -48,8 +48,8 @@ fn rotary_hexapod(r: &mut ChaCha8Rng) -> Case {
         leg.rod = nominal.rod;
     }
     Case {
-        truth: Box::new(RusHexapod::new(robot).unwrap()),
-        blank: Box::new(RusHexapod::new(blank).unwrap()),
+        truth: RusHexapod::new(robot).unwrap().into_mechanism(),
+        blank: RusHexapod::new(blank).unwrap().into_mechanism(),
         state: super::rus_hexapod::near_home,
     }
 }
@@ -64,8 +64,8 @@ fn delta(r: &mut ChaCha8Rng) -> Case {
         arm.rod = nominal.rod;
     }
     Case {
-        truth: Box::new(Delta::new(robot).unwrap()),
-        blank: Box::new(Delta::new(blank).unwrap()),
+        truth: Delta::new(robot).unwrap().into_mechanism(),
+        blank: Delta::new(blank).unwrap().into_mechanism(),
         state: level_near_home,
     }
 }
@@ -244,9 +244,9 @@ fn identification_recovers_an_unseen_robot() {
 #[test]
 fn samples_of_the_wrong_size_or_freedom_are_refused() {
     let delta = Delta::new(c5_robot::Delta::example()).unwrap();
-    let mut identifier = Identifier::new(&delta).unwrap();
+    let mut identifier = Identifier::new(delta.as_mechanism()).unwrap();
     assert_eq!(identifier.actuators(), 3);
-    let state = level_near_home(&mut rng(3), &home(&delta));
+    let state = level_near_home(&mut rng(3), &home(delta.as_mechanism()));
     let err = identifier.add(&state, &[0.0; 6]).unwrap_err();
     assert!(err.to_string().contains("gamma"), "{err}");
     let mut turned = state;
@@ -256,6 +256,9 @@ fn samples_of_the_wrong_size_or_freedom_are_refused() {
     assert_eq!(identifier.samples(), 0);
     identifier.add(&state, &[0.1, 0.2, 0.3]).unwrap();
     assert_eq!(identifier.samples(), 1);
-    let err = Mechanism::standard_parameters(&delta, &[Friction::default(); 6]).unwrap_err();
+    let err = delta
+        .as_mechanism()
+        .standard_parameters(&[Friction::default(); 6])
+        .unwrap_err();
     assert!(err.to_string().contains("friction"), "{err}");
 }

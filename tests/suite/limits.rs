@@ -6,6 +6,7 @@
 use crate::support;
 
 use c5_runtime::reference::{self as r, consistent as rc};
+use c5_runtime::ParallelRobot;
 use c5_runtime::{Error, Limit, Limits, Pose, Robot, C5};
 use nalgebra::Vector3;
 use support::*;
@@ -277,7 +278,7 @@ fn the_stroke_only_workspace_at_zero_orientation_is_a_box() {
         upper: [0.15; 3],
         points: 61,
     };
-    let m = map(&c5, &grid, &|_| {}).unwrap();
+    let m = map(c5.as_mechanism(), &grid, &|_| {}).unwrap();
     for cell in &m.reachable {
         let x = grid.coordinates(cell.index);
         assert!(x.iter().all(|&v| v >= a - 1e-12 && v <= b + 1e-12), "{x:?}");

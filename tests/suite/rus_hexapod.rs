@@ -213,9 +213,9 @@ fn the_examples_legs_hold_the_platform_near_home() {
 #[test]
 fn a_capability_not_generated_is_absent() {
     use c5_runtime::mechanism::derivatives_of;
-    use c5_runtime::ParallelRobot;
+    use c5_runtime::SpatialRobot;
     let robot = RusHexapod::new(Description::example()).unwrap();
-    assert!(ParallelRobot::derivatives(&robot).is_none());
+    assert!(SpatialRobot::derivatives(&robot).is_none());
     match derivatives_of(&robot) {
         Err(Error::Unsupported {
             what: "derivatives",

@@ -3,7 +3,9 @@
 use crate::jsonl::{self, Key};
 use crate::options::RobotArgs;
 use c5_runtime::platform::Freedom;
-use c5_runtime::{Acceleration, Error, Limit, Mechanism, ParallelRobot, Pose, State, Twist};
+use c5_runtime::{
+    Acceleration, Error, Limit, Mechanism, ParallelRobot, Pose, SpatialRobot, State, Twist,
+};
 use clap::Args;
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -212,7 +214,7 @@ type KeyedJacobians = [(&'static str, [[f64; 6]; 6]); 3];
 /// The inverse dynamics' Jacobians of a line, under their keys.
 #[cfg(feature = "derivatives")]
 fn derivative_keys(
-    robot: &dyn ParallelRobot,
+    robot: &dyn SpatialRobot,
     state: &State,
     joints: Option<[[f64; 6]; 3]>,
 ) -> Result<KeyedJacobians, String> {
@@ -255,7 +257,7 @@ fn derivative_keys(
 
 #[cfg(not(feature = "derivatives"))]
 fn derivative_keys(
-    _robot: &dyn ParallelRobot,
+    _robot: &dyn SpatialRobot,
     _state: &State,
     _joints: Option<[[f64; 6]; 3]>,
 ) -> Result<KeyedJacobians, String> {
@@ -344,7 +346,8 @@ fn eval(
                     Ok([six(q)?, six(qd)?, six(qdd)?])
                 })
                 .transpose()?;
-            add_spatial(spatial, &spatial_state(&motion)?, joints, &extras, &mut out)?;
+            let state = spatial_state(&motion)?;
+            add_spatial(robot, spatial, &state, joints, &extras, &mut out)?;
         }
         Ok(out)
     })
@@ -354,7 +357,8 @@ fn eval(
 /// controller calls) for a line of actuator values, the derivatives, the identified robot's
 /// forces and the smallest margin of the limits.
 fn add_spatial(
-    robot: &dyn ParallelRobot,
+    mechanism: &dyn Mechanism,
+    robot: &dyn SpatialRobot,
     state: &State,
     joints: Option<[[f64; 6]; 3]>,
     extras: &Extras,
@@ -372,7 +376,7 @@ fn add_spatial(
         }
     }
     if let Some(estimate) = extras.identified {
-        out["gamma"] = json!(identified::forces(estimate, robot.as_mechanism(), state)?);
+        out["gamma"] = json!(identified::forces(estimate, mechanism, state)?);
     }
     if !robot.has_limits() {
         return Ok(());

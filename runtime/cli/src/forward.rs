@@ -4,7 +4,7 @@
 use crate::jsonl::{self, Key};
 use crate::options::RobotArgs;
 use c5_runtime::platform::Freedom;
-use c5_runtime::ParallelRobot;
+use c5_runtime::SpatialRobot;
 use clap::Args;
 use serde_json::{json, Value};
 use std::process::ExitCode;
@@ -78,7 +78,7 @@ pub fn run(args: &ForwardArgs) -> crate::Result<ExitCode> {
 /// The forward dynamics and its exact Jacobians, for a platform free in space.
 #[cfg(feature = "derivatives")]
 fn derivatives(
-    robot: &dyn ParallelRobot,
+    robot: &dyn SpatialRobot,
     pose: &[f64],
     twist: &[f64],
     gamma: &[f64],
@@ -102,7 +102,7 @@ fn derivatives(
 /// Without the derivative kernels `run` refuses `--derivatives` before any line.
 #[cfg(not(feature = "derivatives"))]
 fn derivatives(
-    _robot: &dyn ParallelRobot,
+    _robot: &dyn SpatialRobot,
     _pose: &[f64],
     _twist: &[f64],
     _gamma: &[f64],

@@ -106,7 +106,8 @@ pub fn run(args: &PlanArgs) -> crate::Result<ExitCode> {
         })
         .collect();
     let title = "Minimum-effort plan (iLQR)";
-    if let Some(p) = args.view.write(&robot, &drawn, title, &args.out)? {
+    let drawn_robot = c5_runtime::ParallelRobot::as_mechanism(&robot);
+    if let Some(p) = args.view.write(drawn_robot, &drawn, title, &args.out)? {
         println!("wrote {} (the 3D view)", p.display());
     }
     Ok(ExitCode::SUCCESS)

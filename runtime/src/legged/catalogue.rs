@@ -4,6 +4,7 @@
 
 use super::{LeggedDescription, LeggedRobot};
 use crate::error::Error;
+use crate::mechanism::SpatialRobot;
 use crate::scene::Scene;
 use crate::Pose;
 use alloc::vec::Vec;
@@ -63,6 +64,9 @@ impl LeggedDescription<6> for c5_robot::GoughStewart {
     fn standard_parameters(&self, friction: &[crate::identify::Friction; 6]) -> Vec<f64> {
         c5_robot::GoughStewart::standard_parameters(self, friction)
     }
+    fn spatial(robot: &GoughStewart) -> Option<&dyn SpatialRobot> {
+        Some(robot)
+    }
     fn scene(robot: &GoughStewart, x: &[f64; 6]) -> Result<Scene, Error> {
         crate::scene::gough_stewart::scene(robot, &Pose::from_array(*x))
     }
@@ -90,6 +94,9 @@ impl LeggedDescription<6> for c5_robot::RusHexapod {
     #[cfg(feature = "identify")]
     fn standard_parameters(&self, friction: &[crate::identify::Friction; 6]) -> Vec<f64> {
         c5_robot::RusHexapod::standard_parameters(self, friction)
+    }
+    fn spatial(robot: &RusHexapod) -> Option<&dyn SpatialRobot> {
+        Some(robot)
     }
     fn scene(robot: &RusHexapod, x: &[f64; 6]) -> Result<Scene, Error> {
         crate::scene::cranked::rus_hexapod(robot, &Pose::from_array(*x))

@@ -9,6 +9,7 @@
 
 pub mod catalogue;
 pub mod robot;
+mod served;
 pub mod spatial;
 pub mod translating;
 

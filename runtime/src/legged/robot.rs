@@ -77,6 +77,10 @@ pub trait LeggedDescription<const N: usize>:
     /// # Errors
     /// A non-finite or singular pose.
     fn scene(robot: &LeggedRobot<Self, N>, x: &[f64; N]) -> Result<Scene, Error>;
+    /// What a platform free in space adds, where the mechanism's platform is one.
+    fn spatial(_robot: &LeggedRobot<Self, N>) -> Option<&dyn crate::mechanism::SpatialRobot> {
+        None
+    }
 }
 
 /// The typed coordinates of a platform with `N` freedoms: its pose, twist, acceleration and
@@ -88,9 +92,15 @@ pub trait Freedoms<const N: usize> {
     type Twist: Coordinates<Array = [f64; N]>;
     type Acceleration;
     type State: Coordinates<Array = Motion<N>>;
+    /// Which freedom the platform has: what names its slices' coordinates.
+    const FREEDOM: crate::platform::Freedom;
     fn pose(x: [f64; N]) -> Self::Pose;
+    fn twist(v: [f64; N]) -> Self::Twist;
     fn acceleration(a: [f64; N]) -> Self::Acceleration;
     fn state(motion: Motion<N>) -> Self::State;
+    fn pose_array(pose: &Self::Pose) -> [f64; N];
+    fn acceleration_array(a: &Self::Acceleration) -> [f64; N];
+    fn state_arrays(state: &Self::State) -> Motion<N>;
 }
 
 /// The platform with `N` freedoms, whose [`Freedoms`] name its coordinates.
@@ -102,8 +112,12 @@ impl Freedoms<6> for Platform<6> {
     type Twist = Twist;
     type Acceleration = Acceleration;
     type State = State;
+    const FREEDOM: crate::platform::Freedom = crate::platform::Freedom::Free;
     fn pose(x: [f64; 6]) -> Pose {
         Pose::from_array(x)
+    }
+    fn twist(v: [f64; 6]) -> Twist {
+        Twist::from_array(v)
     }
     fn acceleration(a: [f64; 6]) -> Acceleration {
         Acceleration::from_array(a)
@@ -115,6 +129,19 @@ impl Freedoms<6> for Platform<6> {
             accel: Acceleration::from_array(a),
         }
     }
+    fn pose_array(pose: &Pose) -> [f64; 6] {
+        pose.to_array()
+    }
+    fn acceleration_array(a: &Acceleration) -> [f64; 6] {
+        a.to_array()
+    }
+    fn state_arrays(state: &State) -> Motion<6> {
+        [
+            state.pose.to_array(),
+            state.twist.to_array(),
+            state.accel.to_array(),
+        ]
+    }
 }
 
 impl Freedoms<3> for Platform<3> {
@@ -122,8 +149,12 @@ impl Freedoms<3> for Platform<3> {
     type Twist = [f64; 3];
     type Acceleration = [f64; 3];
     type State = crate::Translation;
+    const FREEDOM: crate::platform::Freedom = crate::platform::Freedom::Translations;
     fn pose(x: [f64; 3]) -> [f64; 3] {
         x
+    }
+    fn twist(v: [f64; 3]) -> [f64; 3] {
+        v
     }
     fn acceleration(a: [f64; 3]) -> [f64; 3] {
         a
@@ -134,6 +165,15 @@ impl Freedoms<3> for Platform<3> {
             velocity,
             acceleration,
         }
+    }
+    fn pose_array(pose: &[f64; 3]) -> [f64; 3] {
+        *pose
+    }
+    fn acceleration_array(a: &[f64; 3]) -> [f64; 3] {
+        *a
+    }
+    fn state_arrays(state: &crate::Translation) -> Motion<3> {
+        [state.position, state.velocity, state.acceleration]
     }
 }
 

@@ -9,14 +9,9 @@
 use super::robot::{hold_of, KernelsOf, TermsOf};
 use super::{Coordinates, Hold, LeggedDescription, LeggedRobot, Linearised};
 use crate::error::Error;
-#[cfg(feature = "identify")]
-use crate::identify::{BaseParameters, Friction};
-use crate::mechanism::ParallelRobot;
-use crate::scene::Scene;
-use crate::{finite, finite_matrix, Acceleration, Evaluation, Limit, Pose, State, Twist};
+use crate::mechanism::SpatialRobot;
+use crate::{finite, finite_matrix, Pose, Twist};
 use alloc::boxed::Box;
-#[cfg(feature = "identify")]
-use alloc::vec::Vec;
 use c5_generated::legged::{Legs, Spatial};
 
 impl<D: LeggedDescription<6>> LeggedRobot<D, 6>
@@ -131,145 +126,25 @@ where
     }
 }
 
-/// Every legged mechanism whose platform is free in space, through the interface of the
-/// six-freedom robots (and so [`crate::Mechanism`]).
-impl<D: LeggedDescription<6>> ParallelRobot for LeggedRobot<D, 6>
+/// What a platform free in space adds to every legged mechanism's [`crate::ParallelRobot`].
+impl<D: LeggedDescription<6>> SpatialRobot for LeggedRobot<D, 6>
 where
     D::Kernels: Spatial,
 {
-    fn mechanism(&self) -> &'static str {
-        D::Kernels::MECHANISM
-    }
-    fn model_name(&self) -> &'static str {
-        D::Kernels::MECHANISM
-    }
-    fn home(&self) -> Pose {
-        Self::home(self)
-    }
-    fn description(&self) -> c5_robot::Description {
-        self.robot().description()
-    }
-    fn actuator_positions(&self, pose: &Pose) -> Result<[f64; 6], Error> {
-        Ok(self.inverse_kinematics(pose)?.0)
-    }
-    fn inverse_jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        Self::inverse_jacobian(self, pose)
-    }
-    fn jacobian(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        Self::jacobian(self, pose)
-    }
-    fn joint_velocities(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-        Self::joint_velocities(self, pose, twist)
-    }
-    fn joint_accelerations(&self, state: &State) -> Result<[f64; 6], Error> {
-        Self::joint_accelerations(self, state)
-    }
-    fn inverse_dynamics(&self, state: &State) -> Result<[f64; 6], Error> {
-        Self::inverse_dynamics(self, state)
-    }
     fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
         Self::task_inertia(self, pose)
     }
     fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
         Self::task_bias(self, pose, twist)
     }
-    fn forward_dynamics(
-        &self,
-        pose: &Pose,
-        twist: &Twist,
-        gamma: &[f64; 6],
-    ) -> Result<Acceleration, Error> {
-        Self::forward_dynamics(self, pose, twist, gamma)
-    }
-    fn forward_kinematics(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<Pose, Error> {
-        Self::forward_kinematics(self, q, near)
-    }
-    fn joint_state(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        qdd: &[f64; 6],
-        near: Option<&Pose>,
-    ) -> Result<State, Error> {
-        Self::joint_state(self, q, qd, qdd, near)
-    }
-    fn inverse_dynamics_joint(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        qdd: &[f64; 6],
-        near: Option<&Pose>,
-    ) -> Result<[f64; 6], Error> {
-        Self::inverse_dynamics_joint(self, q, qd, qdd, near)
-    }
-    fn evaluate(&self, state: &State) -> Result<Evaluation, Error> {
-        Self::evaluate(self, state)
-    }
-    fn smallest_pose_margin(&self, pose: &Pose) -> Result<Option<(Limit, usize, f64, f64)>, Error> {
-        D::smallest_pose_margin(self, &pose.checked("pose")?)
-    }
-    fn speed_and_force_limits(&self) -> (Option<f64>, Option<f64>) {
-        self.robot().speed_and_force_limits()
-    }
-    fn has_limits(&self) -> bool {
-        self.robot().has_limits()
-    }
-    fn characteristic_length(&self) -> f64 {
-        self.robot().characteristic_length()
-    }
-    fn parameters(&self) -> &[f64] {
-        self.params.as_ref()
-    }
     fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
         Self::joint_inertia(self, q, near)
     }
-    fn joint_bias(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        near: Option<&Pose>,
-    ) -> Result<[f64; 6], Error> {
-        Self::joint_bias(self, q, qd, near)
-    }
-    fn singularity_clearance(&self, pose: &Pose) -> Result<f64, Error> {
-        let terms = self.singularity_terms(pose)?;
-        Ok(terms.as_ref().iter().copied().fold(f64::INFINITY, f64::min))
-    }
-    fn as_any(&self) -> &dyn core::any::Any {
-        self
-    }
-    fn clone_box(&self) -> Box<dyn ParallelRobot> {
+    fn clone_spatial(&self) -> Box<dyn SpatialRobot> {
         Box::new(self.clone())
-    }
-    fn scene(&self, pose: &Pose) -> Result<Scene, Error> {
-        Self::scene(self, pose)
-    }
-    #[cfg(feature = "identify")]
-    fn standard_parameters(&self, friction: &[Friction; 6]) -> Vec<f64> {
-        Self::standard_parameters(self, friction)
-    }
-    #[cfg(feature = "identify")]
-    fn base_parameters(&self) -> Result<BaseParameters, Error> {
-        Self::base_parameters(self)
-    }
-    #[cfg(feature = "identify")]
-    fn standard_regressor(&self, state: &State) -> Result<nalgebra::DMatrix<f64>, Error> {
-        let y = self.regressor(state)?;
-        let width = y[0].as_ref().len();
-        Ok(nalgebra::DMatrix::from_fn(6, width, |i, j| {
-            y[i].as_ref()[j]
-        }))
-    }
-    #[cfg(feature = "identify")]
-    fn base_regressor_into(&self, state: &State, out: &mut [f64]) -> Result<(), Error> {
-        Self::base_regressor_into(self, state, out)
     }
     #[cfg(feature = "derivatives")]
     fn derivatives(&self) -> Option<&dyn crate::mechanism::Derivatives> {
         D::derivatives(self)
-    }
-    #[cfg(feature = "calibrate")]
-    fn calibration(&self) -> Option<crate::calibrate::ResidualKernel> {
-        Some(crate::calibrate::residuals_of::<D::Kernels, 6>)
     }
 }

@@ -5,7 +5,7 @@
 
 use crate::support;
 
-use c5_runtime::{GoughStewart, Pose, State};
+use c5_runtime::{GoughStewart, ParallelRobot, Pose, State};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
@@ -284,7 +284,12 @@ fn simulate_track_workspace_and_audit_serve_the_hexapod() {
 fn excite_identify_and_derivatives_serve_the_hexapod() {
     let robot = hexapod();
     let states: Vec<State> = (0..5).map(state).collect();
-    super::identify_cli::identification_round_trip(EXAMPLE, &robot, &states, 46);
+    super::identify_cli::identification_round_trip(
+        EXAMPLE,
+        &*robot.clone().into_mechanism(),
+        &states,
+        46,
+    );
     let input: String = states
         .iter()
         .map(|s| {

@@ -4,7 +4,9 @@
 use crate::support;
 
 use c5_runtime::identify::Friction;
-use c5_runtime::{Acceleration, Delta, Mechanism, Pose, Robot, RusHexapod, State, Twist, C5};
+use c5_runtime::{
+    Acceleration, Delta, Mechanism, ParallelRobot, Pose, Robot, RusHexapod, State, Twist, C5,
+};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use support::{c5, c5_ok};
@@ -557,7 +559,7 @@ fn excite_and_identify_serve_the_rotary_hexapod() {
             }
         })
         .collect();
-    identification_round_trip(file, &robot, &states, 46);
+    identification_round_trip(file, &*robot.into_mechanism(), &states, 46);
 }
 
 /// The Delta's file through `excite`, `identify` and `eval --base-parameters`, in its three
@@ -582,9 +584,10 @@ fn excite_and_identify_serve_the_delta() {
             state
         })
         .collect();
-    let base = Mechanism::base_parameters(&robot).unwrap().len();
+    let robot = robot.into_mechanism();
+    let base = robot.base_parameters().unwrap().len();
     assert!((10..34).contains(&base), "{base} base parameters");
-    identification_round_trip(file, &robot, &states, base);
+    identification_round_trip(file, &*robot, &states, base);
 }
 
 /// What an experiment on a Delta records (`simulate --encoder-log`: `t, q1..q3,
@@ -634,6 +637,7 @@ fn an_encoder_log_of_a_delta_identifies_it() {
     let text = std::fs::read_to_string(file).unwrap();
     let truth = Delta::new(c5_robot::Delta::from_toml(&text, file).unwrap()).unwrap();
     let home = truth.home();
+    let truth = truth.into_mechanism();
     let mut rng = <rand_chacha::ChaCha8Rng as rand::SeedableRng>::seed_from_u64(19);
     let mut u = |b: f64| rand::Rng::gen_range(&mut rng, -b..=b);
     let states: Vec<[[f64; 3]; 3]> = (0..500)
@@ -659,7 +663,7 @@ fn an_encoder_log_of_a_delta_identifies_it() {
         &out.stdout,
         states.iter().map(|[x, v, a]| {
             let mut want = vec![0.0; 3];
-            Mechanism::inverse_dynamics(&truth, x, v, a, &mut want).unwrap();
+            truth.inverse_dynamics(x, v, a, &mut want).unwrap();
             want
         }),
     );
