@@ -164,15 +164,7 @@ impl C5 {
     /// [`Error::Limit`] naming the limit with the smallest (negative) margin, its actuator and
     /// value; or a non-finite or singular pose.
     pub fn check_limits(&self, pose: &Pose) -> Result<(), Error> {
-        match self.limit_margins(pose)?.smallest() {
-            Some((limit, actuator, margin, value)) if margin < 0.0 => Err(Error::Limit {
-                limit,
-                actuator,
-                value,
-                margin,
-            }),
-            _ => Ok(()),
-        }
+        refuse_beyond(self.limit_margins(pose)?.smallest())
     }
 
     /// Refuses actuator speeds `qd` (m/s, segment order) beyond the robot's speed limit.
@@ -189,6 +181,19 @@ impl C5 {
     /// [`Error::Limit`] for the largest force over the limit.
     pub fn check_forces(&self, gamma: &[f64; 6]) -> Result<(), Error> {
         over(Limit::Force, self.robot().limits.force, gamma)
+    }
+}
+
+/// The smallest margin of a pose's limits, as an error where it is negative.
+pub(crate) fn refuse_beyond(smallest: Option<(Limit, usize, f64, f64)>) -> Result<(), Error> {
+    match smallest {
+        Some((limit, actuator, margin, value)) if margin < 0.0 => Err(Error::Limit {
+            limit,
+            actuator,
+            value,
+            margin,
+        }),
+        _ => Ok(()),
     }
 }
 

@@ -245,15 +245,7 @@ where
     /// # Errors
     /// [`Error::Limit`] naming the limit with the smallest (negative) margin.
     fn check_limits(&self, pose: &PoseOf<N>) -> Result<(), Error> {
-        match self.smallest_pose_margin(pose)? {
-            Some((limit, actuator, margin, value)) if margin < 0.0 => Err(Error::Limit {
-                limit,
-                actuator,
-                value,
-                margin,
-            }),
-            _ => Ok(()),
-        }
+        crate::limits::refuse_beyond(self.smallest_pose_margin(pose)?)
     }
     /// Refuses actuator speeds beyond the description's limit.
     ///

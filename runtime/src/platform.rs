@@ -21,7 +21,7 @@ use crate::dynamics::{rk4_step_of, PlantState};
 use crate::identify::{BaseParameters, Friction};
 use crate::legged::{Freedoms, Platform, PoseOf, StateOf};
 use crate::mechanism::{ParallelRobot, SpatialRobot};
-use crate::{Acceleration, Error, GoughStewart, Model, Pose, RusHexapod, Twist, C5};
+use crate::{Acceleration, Error, GoughStewart, Limit, Model, Pose, RusHexapod, Twist, C5};
 use alloc::boxed::Box;
 use alloc::vec;
 use alloc::vec::Vec;
@@ -165,6 +165,44 @@ pub trait Mechanism: core::fmt::Debug + Send + Sync {
         let (mut x, mut v, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         self.joint_state(joints, near, [&mut x, &mut v, &mut a])?;
         self.inverse_dynamics(&x, &v, &a, gamma)
+    }
+
+    /// Whether the robot file sets any limit.
+    fn has_limits(&self) -> bool;
+    /// The actuators' speed and force bounds (m/s or rad/s, N or N·m), where the robot file
+    /// sets them.
+    fn speed_and_force_limits(&self) -> (Option<f64>, Option<f64>);
+    /// The smallest margin of the robot file's pose-bound limits at `pose` (the limit, the
+    /// actuator from 1, the margin and the value), `None` where it sets none.
+    ///
+    /// # Errors
+    /// As [`Mechanism::actuator_positions`].
+    fn smallest_pose_margin(&self, pose: &[f64]) -> Result<Option<Margin>, Error>;
+    /// Refuses a pose beyond the robot file's pose-bound limits.
+    ///
+    /// # Errors
+    /// [`Error::Limit`] naming the limit with the smallest (negative) margin; as
+    /// [`Mechanism::actuator_positions`].
+    fn check_limits(&self, pose: &[f64]) -> Result<(), Error> {
+        crate::limits::refuse_beyond(self.smallest_pose_margin(pose)?)
+    }
+    /// Refuses actuator speeds `qd` beyond the robot file's bound.
+    ///
+    /// # Errors
+    /// [`Error::WrongLength`] if `qd` is not one per actuator; [`Error::Limit`] for the
+    /// fastest actuator over the bound.
+    fn check_speeds(&self, qd: &[f64]) -> Result<(), Error> {
+        one_per_actuator(self, "qd", qd)?;
+        crate::limits::over(Limit::Speed, self.speed_and_force_limits().0, qd)
+    }
+    /// Refuses actuator forces `gamma` beyond the robot file's bound.
+    ///
+    /// # Errors
+    /// [`Error::WrongLength`] if `gamma` is not one per actuator; [`Error::Limit`] for the
+    /// largest force over the bound.
+    fn check_forces(&self, gamma: &[f64]) -> Result<(), Error> {
+        one_per_actuator(self, "gamma", gamma)?;
+        crate::limits::over(Limit::Force, self.speed_and_force_limits().1, gamma)
     }
 
     /// The robot's parts at `pose`, for drawing it ([`crate::scene`]): a leg per actuator,
@@ -361,6 +399,28 @@ pub type Inputs<'a> = dyn Fn(usize, [&mut [f64]; 3]) + Sync + 'a;
 
 /// Takes the `k`-th result of a `*_each` method: its values, or why the state was refused.
 pub type Each<'a> = dyn FnMut(usize, Result<&[f64], Error>) + 'a;
+
+/// A limit's margin: the limit, the actuator from 1, the margin (negative beyond it) and the
+/// value.
+pub type Margin = (Limit, usize, f64, f64);
+
+/// Refuses `values` unless it has one number per actuator of `robot`.
+fn one_per_actuator<M: Mechanism + ?Sized>(
+    robot: &M,
+    input: &'static str,
+    values: &[f64],
+) -> Result<(), Error> {
+    let expected = robot.freedom().dimension();
+    if values.len() == expected {
+        Ok(())
+    } else {
+        Err(Error::WrongLength {
+            input,
+            expected,
+            got: values.len(),
+        })
+    }
+}
 
 /// The most coordinates a platform has: the buffers' size.
 const MOST: usize = Freedom::Free.dimension();
@@ -633,6 +693,15 @@ where
     fn scene(&self, pose: &[f64]) -> Result<crate::scene::Scene, Error> {
         self.0.scene(&pose_of::<N>("pose", pose)?)
     }
+    fn has_limits(&self) -> bool {
+        self.0.has_limits()
+    }
+    fn speed_and_force_limits(&self) -> (Option<f64>, Option<f64>) {
+        self.0.speed_and_force_limits()
+    }
+    fn smallest_pose_margin(&self, pose: &[f64]) -> Result<Option<Margin>, Error> {
+        self.0.smallest_pose_margin(&pose_of::<N>("pose", pose)?)
+    }
     /// Through the robot's own calls over many states (the C5's batch kernels, feature
     /// `batch`).
     fn inverse_dynamics_each(&self, n: usize, motion: &Inputs<'_>, each: &mut Each<'_>) {
@@ -845,6 +914,54 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn limits_are_checked_in_any_freedoms_slices_and_a_file_without_them_bounds_nothing() {
+        let limited = c5_robot::Robot {
+            limits: c5_robot::Limits {
+                stroke: Some([[-0.01, 0.01]; 6]),
+                speed: Some(0.5),
+                force: Some(300.0),
+                ..c5_robot::Limits::default()
+            },
+            ..c5_robot::Robot::default()
+        };
+        let c5 = load(Description::C5(limited), Model::Consistent).unwrap();
+        assert!(c5.has_limits());
+        assert_eq!(c5.speed_and_force_limits(), (Some(0.5), Some(300.0)));
+        c5.check_limits(&c5.home()).unwrap();
+        let mut far = c5.home();
+        far[3] += 0.05;
+        assert!(matches!(c5.check_limits(&far), Err(Error::Limit { .. })));
+        assert!(matches!(
+            c5.check_speeds(&[0.1, 0.2, -0.6, 0.0, 0.0, 0.0]),
+            Err(Error::Limit { actuator: 3, .. })
+        ));
+        assert!(matches!(
+            c5.check_forces(&[0.0; 3]),
+            Err(Error::WrongLength {
+                input: "gamma",
+                expected: 6,
+                got: 3
+            })
+        ));
+        let delta = load(
+            Description::Delta(c5_robot::Delta::example()),
+            Model::Consistent,
+        )
+        .unwrap();
+        assert!(!delta.has_limits());
+        delta.check_limits(&delta.home()).unwrap();
+        delta.check_forces(&[1e9; 3]).unwrap();
+        assert!(matches!(
+            delta.check_speeds(&[0.0; 6]),
+            Err(Error::WrongLength {
+                input: "qd",
+                expected: 3,
+                got: 6
+            })
+        ));
     }
 
     #[test]

@@ -110,13 +110,8 @@ impl Map {
 /// columns scaled by its characteristic length; one that only translates has none.
 pub fn dexterity(robot: &dyn Mechanism, pose: &[f64]) -> Option<(f64, f64)> {
     let n = robot.freedom().dimension();
-    let mut length = None;
-    if let Some(spatial) = robot.spatial() {
-        spatial
-            .check_limits(&Pose::from_array(pose.try_into().ok()?))
-            .ok()?;
-        length = Some(spatial.characteristic_length());
-    }
+    robot.check_limits(pose).ok()?;
+    let length = robot.spatial().map(|s| s.characteristic_length());
     let (mut jinv, mut jac) = (alloc::vec![0.0; n * n], alloc::vec![0.0; n * n]);
     robot.inverse_jacobian(pose, &mut jinv).ok()?;
     robot.jacobian(pose, &mut jac).ok()?;

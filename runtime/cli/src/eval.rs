@@ -4,7 +4,7 @@ use crate::jsonl::{self, Key};
 use crate::options::RobotArgs;
 use c5_runtime::platform::Freedom;
 use c5_runtime::{
-    Acceleration, Error, Limit, Mechanism, ParallelRobot, Pose, SpatialRobot, State, Twist,
+    platform::Margin, Acceleration, Error, Limit, Mechanism, Pose, SpatialRobot, State, Twist,
 };
 use clap::Args;
 use serde_json::{json, Value};
@@ -109,10 +109,10 @@ pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
         return Err(crate::unbuilt::needs("`--derivatives`", "derivatives"));
     }
     let robot = args.robot.load_mechanism()?;
-    if robot.spatial().is_none() && (args.derivatives || args.strict_limits) {
+    if robot.spatial().is_none() && args.derivatives {
         return Err(format!(
-            "`--derivatives` and `--strict-limits` are not served for the {} yet: its platform \
-             only translates, and `c5 eval` gives its kinematics, forces and identified forces",
+            "`--derivatives` is not served for the {} yet: its platform only translates, and \
+             its derivative kernels are not generated",
             robot.mechanism()
         )
         .into());
@@ -265,13 +265,13 @@ fn derivative_keys(
 }
 
 /// The smallest margin of every limit the robot sets, at the pose and with the actuators'
-/// speeds and forces: the limit, the actuator (1..6), the margin and the value.
+/// speeds and forces: the limit, the actuator from 1, the margin and the value.
 fn smallest_margin(
-    robot: &dyn ParallelRobot,
-    pose: &c5_runtime::Pose,
-    qd: &[f64; 6],
-    gamma: &[f64; 6],
-) -> Result<Option<(Limit, usize, f64, f64)>, c5_runtime::Error> {
+    robot: &dyn Mechanism,
+    pose: &[f64],
+    qd: &[f64],
+    gamma: &[f64],
+) -> Result<Option<Margin>, c5_runtime::Error> {
     let mut best = robot.smallest_pose_margin(pose)?;
     let (speed, force) = robot.speed_and_force_limits();
     for (limit, bound, values) in [(Limit::Speed, speed, qd), (Limit::Force, force, gamma)] {
@@ -286,7 +286,7 @@ fn smallest_margin(
     Ok(best)
 }
 
-/// What `eval` adds to a line of a platform free in space, as its options ask.
+/// What `eval` adds to a line, as its options ask.
 struct Extras<'a> {
     identified: Option<&'a identified::Estimate>,
     derivatives: bool,
@@ -330,64 +330,55 @@ fn eval(
             put_parts(&mut out, freedom.twist_parts(), &motion[1]);
             put_parts(&mut out, freedom.acceleration_parts(), &motion[2]);
         }
-        let Some(spatial) = robot.spatial() else {
-            if let Some(estimate) = extras.identified {
-                let state = robot
-                    .state_of([&motion[0], &motion[1], &motion[2]])
-                    .map_err(|e| e.to_string())?;
-                out["gamma"] = json!(identified::forces(estimate, robot, &state)?);
-            }
-            return Ok(out);
-        };
-        {
+        if let Some([q, qd, qdd]) = &joints {
+            // The forces of the joint-space call, what a controller calls, from the pose found.
+            let mut gamma = vec![0.0; q.len()];
+            robot
+                .inverse_dynamics_joint([q, qd, qdd], Some(&motion[0]), &mut gamma)
+                .map_err(|e| e.to_string())?;
+            out["gamma"] = json!(gamma);
+        }
+        if extras.derivatives {
+            let spatial = robot
+                .spatial()
+                .ok_or("`--derivatives` takes six freedoms")?;
+            let six = |v: &[f64]| <[f64; 6]>::try_from(v).map_err(|_| "six actuators");
             let joints = joints
-                .map(|[q, qd, qdd]| -> Result<_, String> {
-                    let six = |v: Vec<f64>| <[f64; 6]>::try_from(v).map_err(|_| "six actuators");
-                    Ok([six(q)?, six(qd)?, six(qdd)?])
-                })
+                .as_ref()
+                .map(|[q, qd, qdd]| -> Result<_, String> { Ok([six(q)?, six(qd)?, six(qdd)?]) })
                 .transpose()?;
-            let state = spatial_state(&motion)?;
-            add_spatial(robot, spatial, &state, joints, &extras, &mut out)?;
+            for (key, jacobian) in derivative_keys(spatial, &spatial_state(&motion)?, joints)? {
+                out[key] = json!(jacobian);
+            }
+        }
+        if let Some(estimate) = extras.identified {
+            let state = robot
+                .state_of([&motion[0], &motion[1], &motion[2]])
+                .map_err(|e| e.to_string())?;
+            out["gamma"] = json!(identified::forces(estimate, robot, &state)?);
+        }
+        if robot.has_limits() {
+            add_limits(robot, &motion[0], extras.strict_limits, &mut out)?;
         }
         Ok(out)
     })
 }
 
-/// What only six freedoms add to a line: the forces of the joint-space kernel (what a
-/// controller calls) for a line of actuator values, the derivatives, the identified robot's
-/// forces and the smallest margin of the limits.
-fn add_spatial(
-    mechanism: &dyn Mechanism,
-    robot: &dyn SpatialRobot,
-    state: &State,
-    joints: Option<[[f64; 6]; 3]>,
-    extras: &Extras,
+/// The smallest margin of the robot's limits at the line's pose, speeds and forces, as the
+/// line's `limits` key; refused where negative with `--strict-limits`.
+fn add_limits(
+    robot: &dyn Mechanism,
+    pose: &[f64],
+    strict_limits: bool,
     out: &mut Value,
 ) -> Result<(), String> {
-    if let Some([q, qd, qdd]) = &joints {
-        let gamma = robot
-            .inverse_dynamics_joint(q, qd, qdd, Some(&state.pose))
-            .map_err(|e| e.to_string())?;
-        out["gamma"] = json!(gamma);
-    }
-    if extras.derivatives {
-        for (key, jacobian) in derivative_keys(robot, state, joints)? {
-            out[key] = json!(jacobian);
-        }
-    }
-    if let Some(estimate) = extras.identified {
-        out["gamma"] = json!(identified::forces(estimate, mechanism, state)?);
-    }
-    if !robot.has_limits() {
-        return Ok(());
-    }
-    let read = |key: &str| -> Result<[f64; 6], String> {
+    let read = |key: &str| -> Result<Vec<f64>, String> {
         serde_json::from_value(out[key].clone()).map_err(|e| e.to_string())
     };
     let (qd, gamma) = (read("qd")?, read("gamma")?);
-    let smallest = smallest_margin(robot, &state.pose, &qd, &gamma).map_err(|e| e.to_string())?;
+    let smallest = smallest_margin(robot, pose, &qd, &gamma).map_err(|e| e.to_string())?;
     if let Some((limit, actuator, margin, value)) = smallest {
-        if extras.strict_limits && margin < 0.0 {
+        if strict_limits && margin < 0.0 {
             let e = Error::Limit {
                 limit,
                 actuator,

@@ -122,14 +122,12 @@ pub fn run_cmd(args: &SimulateArgs) -> crate::Result<ExitCode> {
     // Everything is computed before anything is written: a refused sample writes nothing.
     let study =
         run(robot.as_ref(), &states).map_err(|(t, e)| format!("sample at t = {t} s: {e}"))?;
-    let spatial = robot.spatial();
-    if let (Some(robot), false) = (spatial, args.ignore_limits) {
-        for (s, &(_, state)) in study.samples.iter().zip(&states) {
-            let six = |v: &[f64]| <[f64; 6]>::try_from(v).unwrap_or_default();
+    if !args.ignore_limits && robot.has_limits() {
+        for s in &study.samples {
             robot
-                .check_limits(&state.pose)
-                .and_then(|()| robot.check_speeds(&six(&s.eval.qd)))
-                .and_then(|()| robot.check_forces(&six(&s.eval.gamma)))
+                .check_limits(&s.motion[0])
+                .and_then(|()| robot.check_speeds(&s.eval.qd))
+                .and_then(|()| robot.check_forces(&s.eval.gamma))
                 .map_err(|e| format!("sample at t = {} s: {e} (--ignore-limits to go on)", s.t))?;
         }
     }

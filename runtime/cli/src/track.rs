@@ -159,8 +159,7 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
     };
     let mut law = ComputedTorque::critically_damped(o.bandwidth);
     // The actuators saturate at the robot's force limit unless told otherwise.
-    let plant_limits = plant.spatial().map(|p| p.speed_and_force_limits());
-    law.force_limit = o.force_limit.or(plant_limits.and_then(|l| l.1));
+    law.force_limit = o.force_limit.or(plant.speed_and_force_limits().1);
     let setup = Setup {
         controller: controller.as_ref(),
         plant: plant.as_ref(),
@@ -399,15 +398,15 @@ fn sample(
     gamma: Vec<f64>,
 ) -> Result<Sample, Error> {
     let [wanted, _, _] = setup.controller.coordinates_of(desired)?;
-    let [pose, _] = coordinates(setup.plant, actual)?;
+    let [pose, twist] = coordinates(setup.plant, actual)?;
     let q_d = actuators(setup.controller, &wanted)?;
     let q = actuators(setup.plant, &pose)?;
-    if let (true, Some(plant)) = (setup.limits, setup.plant.spatial()) {
-        let state = actual.with_acceleration(Acceleration::default());
-        let six = |v: &[f64]| <[f64; 6]>::try_from(v).unwrap_or_default();
-        plant.check_limits(&state.pose)?;
-        plant.check_speeds(&plant.joint_velocities(&state.pose, &state.twist)?)?;
-        plant.check_forces(&six(&gamma))?;
+    if setup.limits && setup.plant.has_limits() {
+        let mut qd = vec![0.0; q.len()];
+        setup.plant.joint_velocities(&pose, &twist, &mut qd)?;
+        setup.plant.check_limits(&pose)?;
+        setup.plant.check_speeds(&qd)?;
+        setup.plant.check_forces(&gamma)?;
     }
     Ok(Sample {
         t,

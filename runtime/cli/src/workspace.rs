@@ -163,7 +163,7 @@ pub fn run(args: &WorkspaceArgs) -> crate::Result<ExitCode> {
         written.push(path);
     }
     let mut report = std::io::stdout().lock();
-    if !robot.spatial().is_some_and(|s| s.has_limits()) {
+    if !robot.has_limits() {
         writeln!(
             report,
             "note: the robot sets no [limits]; only singular poses are out of reach"

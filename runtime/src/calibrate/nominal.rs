@@ -132,9 +132,7 @@ impl Nominal {
     /// Refuses a pose the robot cannot reach: beyond its limits, singular, or out of its legs'
     /// reach; else its actuators' values there.
     pub(super) fn reach(&self, pose: &[f64]) -> Result<Vec<f64>, Error> {
-        if let Some(spatial) = self.mechanism.spatial() {
-            spatial.check_limits(&crate::Pose::from_array(platform::array("pose", pose)?))?;
-        }
+        self.mechanism.check_limits(pose)?;
         let n = self.actuators();
         let mut jinv = alloc::vec![0.0; n * n];
         self.mechanism.inverse_jacobian(pose, &mut jinv)?;

@@ -6,7 +6,7 @@
 use super::Identifier;
 use crate::platform::Mechanism;
 use crate::trajectory::Fourier;
-use crate::{Error, ParallelRobot, State};
+use crate::{Error, State};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -169,23 +169,21 @@ fn fit(
 
 /// Whether `state` keeps every limit of the robot: its pose, the actuators' speeds and the
 /// forces the motion needs.
-fn within_limits(robot: &dyn ParallelRobot, state: &State) -> bool {
-    robot.check_limits(&state.pose).is_ok()
-        && robot
-            .joint_velocities(&state.pose, &state.twist)
-            .and_then(|qd| robot.check_speeds(&qd))
-            .is_ok()
-        && robot
-            .inverse_dynamics(state)
-            .and_then(|gamma| robot.check_forces(&gamma))
-            .is_ok()
+fn within_limits(robot: &dyn Mechanism, state: &State) -> bool {
+    let Ok([x, v, a]) = robot.coordinates_of(state) else {
+        return false;
+    };
+    let (mut qd, mut gamma) = (vec![0.0; x.len()], vec![0.0; x.len()]);
+    robot.check_limits(&x).is_ok()
+        && robot.joint_velocities(&x, &v, &mut qd).is_ok()
+        && robot.check_speeds(&qd).is_ok()
+        && robot.inverse_dynamics(&x, &v, &a, &mut gamma).is_ok()
+        && robot.check_forces(&gamma).is_ok()
 }
 
 /// The condition number of a candidate; infinite for one that leaves the robot's limits.
 fn score(robot: &dyn Mechanism, empty: &Identifier, trajectory: &Fourier, search: &Search) -> f64 {
-    // Robot files set limits for platforms free in space.
-    let limited = robot.spatial().filter(|r| r.has_limits());
-    if limited.is_some_and(|r| !times(search).all(|t| within_limits(r, &trajectory.state(t)))) {
+    if robot.has_limits() && !times(search).all(|t| within_limits(robot, &trajectory.state(t))) {
         return f64::INFINITY;
     }
     stacked_condition(empty.clone(), times(search).map(|t| trajectory.state(t)))

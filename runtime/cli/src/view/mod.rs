@@ -178,9 +178,7 @@ pub fn write(
     title: &str,
     path: &Path,
 ) -> crate::Result<usize> {
-    let (speed_limit, force_limit) = robot
-        .spatial()
-        .map_or((None, None), |r| r.speed_and_force_limits());
+    let (speed_limit, force_limit) = robot.speed_and_force_limits();
     let largest = samples
         .iter()
         .flat_map(|s| &s.gamma)

@@ -179,17 +179,27 @@ const RUS_HEXAPOD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/rus-h
 const DELTA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/delta.toml");
 
 #[test]
-fn the_rotary_hexapod_and_the_delta_export_and_a_six_freedom_option_refuses_the_delta() {
+fn the_rotary_hexapod_and_the_delta_export_and_the_derivatives_refuse_the_delta() {
     for (file, actuators) in [(RUS_HEXAPOD, 6), (DELTA, 3)] {
         let text = String::from_utf8(c5_ok(&["export", "--robot", file], "").stdout).unwrap();
         assert_eq!(text.matches("<motor ").count(), actuators, "{file}");
         let urdf = c5_ok(&["export", "--robot", file, "--format", "urdf"], "");
         assert!(String::from_utf8_lossy(&urdf.stdout).contains("<constraint "));
     }
-    let strict = c5(&["eval", "--robot", DELTA, "--strict-limits"], "");
-    let err = String::from_utf8_lossy(&strict.stderr);
-    assert!(!strict.status.success() && strict.stdout.is_empty());
+    let derivatives = c5(&["eval", "--robot", DELTA, "--derivatives"], "");
+    let err = String::from_utf8_lossy(&derivatives.stderr);
+    assert!(!derivatives.status.success() && derivatives.stdout.is_empty());
     assert!(err.contains("its platform only translates"), "{err}");
+    // Limits are every mechanism's: a Delta's file sets none, so every line is within them.
+    let line = r#"{"pose": [0.0, 0.0, -0.75], "velocity": [0.1, 0, 0], "acceleration": [0, 0, 1]}"#;
+    let strict = c5_ok(&["eval", "--robot", DELTA, "--strict-limits"], line);
+    let answer: serde_json::Value = serde_json::from_slice(&strict.stdout).unwrap();
+    assert_eq!(
+        answer["gamma"].as_array().map(Vec::len),
+        Some(3),
+        "{answer}"
+    );
+    assert!(answer.get("limits").is_none(), "{answer}");
 }
 
 /// `track` on a Delta, the controller's model the plant's: from an offset `e₀` the error
