@@ -6,6 +6,7 @@
 use super::{Coordinates, Hold, Motion};
 use crate::error::Error;
 use crate::scene::Scene;
+use crate::singularity::SingularityTerm;
 use crate::{finite, finite_matrix, Acceleration, Evaluation, Pose, State, Twist};
 use alloc::vec::Vec;
 use c5_generated::legged::{Calibrated, Legs};
@@ -493,11 +494,17 @@ where
     }
 }
 
-/// The weakest of the legs' hold's pivot ratios among `terms`.
+/// The weakest of the legs' hold terms among `terms` (the pivot ratios of the legs' solve, or
+/// the arms' determinant ratio), each against its bound on the platform's motion.
 pub(crate) fn hold_of<D: LeggedDescription<N>, const N: usize>(terms: &TermsOf<D, N>) -> Hold {
-    crate::singularity::weakest(
-        terms.as_ref(),
-        KernelsOf::<D, N>::SINGULARITY_TERMS,
-        crate::singularity::TermKind::Pivot,
-    )
+    use crate::singularity::TermKind;
+    let against_bound =
+        |(value, term): &(f64, &SingularityTerm)| value / super::joint_state_bound(term.kind);
+    terms
+        .as_ref()
+        .iter()
+        .zip(KernelsOf::<D, N>::SINGULARITY_TERMS)
+        .filter(|(_, term)| matches!(term.kind, TermKind::Pivot | TermKind::Hold))
+        .map(|(&value, term)| (value, term))
+        .min_by(|a, b| against_bound(a).total_cmp(&against_bound(b)))
 }

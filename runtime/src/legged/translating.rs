@@ -52,10 +52,9 @@ where
     }
 }
 
-/// The closed-form forward kinematics (no start needed: `near` is not read), the hold its
-/// weakest pivot where the mechanism's terms have pivots. The Delta's hold is one ratio, not
-/// calibrated against a high-precision reference: it bounds the position, not the motion
-/// applied through `J`.
+/// The closed-form forward kinematics (no start needed: `near` is not read), the hold the
+/// arms' determinant ratio, which bounds the platform's motion from the actuators'
+/// ([`super::JOINT_STATE_HOLD_RATIO_TOLERANCE`]).
 impl<D: LeggedDescription<3>> super::Locate<3> for LeggedRobot<D, 3>
 where
     D::Kernels: ClosedForm<3>,
