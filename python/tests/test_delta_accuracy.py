@@ -1,7 +1,7 @@
 """The Delta's accuracy contract near its parallel singularity (docs/embedding.md): what
-`c5 eval` serves, from the centre's motion or from the motors' readings, is within its stated
-bound of a 50-digit reference (exact_delta.py), or refused naming the arms' hold, its value and
-the bound it misses.
+`c5 eval` serves, from the centre's motion or from the motors' readings, and what `c5 forward`
+serves, is within its stated bound of a 50-digit reference (exact_delta.py), or refused naming
+the arms' hold, its value and the bound it misses.
 
 States on rays from a point below home to where the arms lose their hold (`det J⁻¹` changes
 sign, found by bisection in 50 digits), at relative distances 3e-2 to 1e-7 before it, the
@@ -17,7 +17,7 @@ import numpy as np
 from mpmath import mp, mpf
 
 from conftest import ROOT
-from exact_delta import ExactDelta, joint_state
+from exact_delta import ExactDelta, ExactDeltaDynamics, joint_state
 from rus_geometry import axes
 
 DELTA = ROOT / "docs" / "delta.toml"
@@ -26,14 +26,14 @@ DELTA = ROOT / "docs" / "delta.toml"
 HOLD_RATIO_TOLERANCE = 1e-8
 JOINT_STATE_HOLD_RATIO_TOLERANCE = 1e-4
 # The worst relative errors docs/embedding.md states where served.
-STATED = {"q": 5e-16, "jinv": 5e-15, "J": 2e-12, "position from q": 3e-15,
-          "velocity from q̇": 4e-13, "acceleration from q̈": 2e-11}
+STATED = {"q": 5e-16, "jinv": 5e-15, "J": 2e-12, "Γ": 5e-12, "forward": 3e-12,
+          "position from q": 3e-15, "velocity from q̇": 4e-13, "acceleration from q̈": 2e-11}
 
 
-def eval_lines(c5_program, lines: list[dict]) -> list[dict]:
-    """`c5 eval` of the Delta on `lines`: an answer or an `error` each (a refused line makes
-    the exit status nonzero)."""
-    done = subprocess.run([str(c5_program), "eval", "--robot", str(DELTA)], text=True,
+def eval_lines(c5_program, lines: list[dict], command: str = "eval") -> list[dict]:
+    """`c5 eval` (or `command`) of the Delta on `lines`: an answer or an `error` each (a
+    refused line makes the exit status nonzero)."""
+    done = subprocess.run([str(c5_program), command, "--robot", str(DELTA)], text=True,
                           input="".join(json.dumps(line) + "\n" for line in lines),
                           capture_output=True)
     return [json.loads(line) for line in done.stdout.splitlines()]
@@ -97,18 +97,25 @@ def test_the_delta_serves_within_the_bound_or_refuses(c5_program):
     doc = tomllib.loads(DELTA.read_text())
     states = list(near_singular_states(doc, 11, 3))
     exact = [ExactDelta(doc, x) for x, _, _ in states]
+    dynamics = ExactDeltaDynamics(doc)
+    exact_torques = [dynamics.gamma(*state) for state in states]
+    torques = [[float(t) for t in gamma] for gamma in exact_torques]
     joints = [e.actuators(v, a) for e, (_, v, a) in zip(exact, states)]
     posed = eval_lines(c5_program, [{"pose": list(x), "velocity": list(v),
                                      "acceleration": list(a)} for x, v, a in states])
     read = eval_lines(c5_program, [{"q": [float(t) for t in q], "qd": [float(t) for t in qd],
                                     "qdd": [float(t) for t in qdd]} for q, qd, qdd in joints])
+    forward = eval_lines(c5_program, [{"pose": list(x), "velocity": list(v), "gamma": g}
+                                      for (x, v, _), g in zip(states, torques)], "forward")
     worst = dict.fromkeys(STATED, 0.0)
     refused = motion_refused = 0
-    for e, (q, qd, qdd), pose_line, joint_line in zip(exact, joints, posed, read):
+    for state, e, exact_gamma, gamma, (q, qd, qdd), pose_line, joint_line, forward_line in zip(
+            states, exact, exact_torques, torques, joints, posed, read, forward):
         hold = float(e.hold())
         if "error" in pose_line:
             assert "arms' hold" in pose_line["error"], pose_line["error"]
             assert hold < 1.01 * HOLD_RATIO_TOLERANCE, (hold, pose_line["error"])
+            assert "arms' hold" in forward_line.get("error", ""), forward_line
             refused += 1
             continue
         assert hold > 0.99 * HOLD_RATIO_TOLERANCE, hold
@@ -116,6 +123,9 @@ def test_the_delta_serves_within_the_bound_or_refuses(c5_program):
         worst["q"] = max(worst["q"], relative(pose_line["q"], e.angles()))
         worst["jinv"] = max(worst["jinv"], relative(pose_line["jinv"], e.jinv))
         worst["J"] = max(worst["J"], relative(pose_line["jacobian"], (jinv ** -1).tolist()))
+        worst["Γ"] = max(worst["Γ"], relative(pose_line["gamma"], exact_gamma))
+        worst["forward"] = max(worst["forward"], relative(
+            forward_line["acceleration"], dynamics.forward(state[0], state[1], gamma)))
         if "error" in joint_line:
             assert "platform motion from the actuators" in joint_line["error"], joint_line
             assert "arms' hold" in joint_line["error"], joint_line["error"]

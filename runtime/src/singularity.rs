@@ -27,10 +27,10 @@ pub const HOLD_TOLERANCE: f64 = 1e-5;
 /// Smallest accepted hold of three arms on a platform that translates, `det(J⁻¹)² / Π
 /// |row_i|²` (one where the arms' rows are orthogonal, zero where they cannot hold the
 /// platform): near zero the solve `J⁻ᵀ Γ = W` divides by a vanishing determinant. Against a
-/// 50-digit reference of the Delta's kinematics (`python/tests/exact_delta.py`), `J` errs by
-/// up to 1.2e-12 relative down to this bound (7.5e-15 at holds of 1e-3, 8.3e-14 at 1e-5);
-/// the forces, which solve with `J⁻ᵀ`, are not yet held to a high-precision reference. The
-/// platform's motion from the actuators' has its own, higher bound
+/// 50-digit reference of the Delta (`python/tests/exact_delta.py`: its kinematics, and its
+/// torques by virtual power), down to this bound `J` errs by up to 1.2e-12 relative, the
+/// torques by 4.6e-12 and the forward dynamics by 2.4e-12 (6.5e-15, 6.5e-15 and 8.9e-15 at
+/// holds of 1e-3). The platform's motion from the actuators' has its own, higher bound
 /// ([`crate::legged::JOINT_STATE_HOLD_RATIO_TOLERANCE`]).
 pub const HOLD_RATIO_TOLERANCE: f64 = 1e-8;
 
