@@ -2,6 +2,7 @@
 //! (both models, the variants that take the robot's parameters), the bounds of its accuracy
 //! contract near eq 16's singularities, and the checks of the divisors its kernels return.
 
+mod batch;
 mod parallel_robot;
 
 use crate::{
@@ -146,7 +147,7 @@ pub(crate) fn check_forward_dynamics(bound: f64, r: [f64; 3]) -> Result<(), Erro
 pub struct C5 {
     robot: Robot,
     model: Model,
-    // The batch kernels (batch.rs) and the derivatives (derivatives.rs) call them too.
+    // The batch kernels (c5/batch.rs) and the derivatives (derivatives.rs) call them too.
     pub(crate) kernels: AnyModel,
     forward_dynamics_tolerance: f64,
     pub(crate) params: [f64; c5_generated::PARAMETERS],

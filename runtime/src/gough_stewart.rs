@@ -136,15 +136,7 @@ impl GoughStewart {
     /// [`Error::Limit`] naming the limit with the smallest (negative) margin, its leg and value;
     /// or a non-finite or singular pose.
     pub fn check_limits(&self, pose: &Pose) -> Result<(), Error> {
-        match self.limit_margins(pose)?.smallest() {
-            Some((limit, actuator, margin, value)) if margin < 0.0 => Err(Error::Limit {
-                limit,
-                actuator,
-                value,
-                margin,
-            }),
-            _ => Ok(()),
-        }
+        crate::limits::refuse_beyond(self.limit_margins(pose)?.smallest())
     }
 
     /// Refuses a pose where the legs' hold is below [`HOLD_TOLERANCE`]: for the kernels that

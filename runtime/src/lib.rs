@@ -42,7 +42,6 @@
 
 extern crate alloc;
 
-mod batch;
 mod c5;
 #[cfg(feature = "calibrate")]
 pub mod calibrate;
