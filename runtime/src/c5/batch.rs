@@ -1,5 +1,5 @@
-//! Many states at once: the batch kernels four states at a time, each state's result or why it
-//! was refused, so one bad state costs only itself.
+//! The C5's many states at once: its batch kernels four states at a time, each state's result
+//! or why it was refused, so one bad state costs only itself.
 //!
 //! Without the `batch` feature the same methods go one state at a time, with the same results
 //! to the bit: a program that calls them for convenience (the `c5` program's `simulate`) then
