@@ -4,14 +4,15 @@
 //! leg by leg in nalgebra); and kinematic calibration (the residual kernel, a whole fit, a plan).
 //!
 //! `cargo bench --bench gough_stewart` (pin it: `taskset -c 0`). Inputs cycle through seeded
-//! states about the home pose behind `black_box`.
+//! states about the home pose behind `black_box`. The inverse dynamics also four states a call
+//! (`_batch_x4`, the kernel) and for 256 states through the runtime, one at a time and batched.
 
 mod calibration_group;
 
 use c5_generated::f64::gough_stewart as k;
 use c5_generated::manifest::Kernel;
 use c5_runtime::reference::gough_stewart as reference;
-use c5_runtime::{Acceleration, GoughStewart, Pose, State, Twist};
+use c5_runtime::{Acceleration, GoughStewart, ParallelRobot, Pose, State, Twist};
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use rand::{Rng, SeedableRng};
 
@@ -76,6 +77,48 @@ fn bench(c: &mut Criterion) {
             i = (i + 1) % arrays.len();
             let (x, v, a) = black_box(&arrays[i]);
             k::inverse_dynamics_params(x, v, a, params).0
+        })
+    });
+    // Four states a call, lane `l` the `l`-th state's: the throughput against the line above.
+    let batches: Vec<[[[f64; 4]; 6]; 3]> = arrays
+        .chunks_exact(4)
+        .map(|four| {
+            let part = |l: usize, j: usize| [four[l].0, four[l].1, four[l].2][j];
+            std::array::from_fn(|j| std::array::from_fn(|e| std::array::from_fn(|l| part(l, j)[e])))
+        })
+        .collect();
+    g.throughput(match ops(Kernel::InverseDynamics, true) {
+        Throughput::Elements(n) => Throughput::Elements(4 * n),
+        other => other,
+    });
+    g.bench_function("inverse_dynamics_params_batch_x4", |b| {
+        b.iter(|| {
+            i = (i + 1) % batches.len();
+            let [x, v, a] = black_box(&batches[i]);
+            k::inverse_dynamics_params_x4(x, v, a, params).0
+        })
+    });
+    // What a caller of the runtime pays for many states, every state checked: 256 states one
+    // at a time, and through the batch kernel four at a time.
+    g.throughput(Throughput::Elements(cases.len() as u64));
+    g.bench_function("inverse_dynamics_runtime_256_states", |b| {
+        b.iter(|| {
+            black_box(&cases)
+                .iter()
+                .map(|s| hexapod.inverse_dynamics(s).map(|g| g[0]).unwrap_or(0.0))
+                .sum::<f64>()
+        })
+    });
+    g.bench_function("inverse_dynamics_runtime_256_states_batched", |b| {
+        b.iter(|| {
+            let mut sum = 0.0;
+            ParallelRobot::inverse_dynamics_each(
+                &hexapod,
+                cases.len(),
+                &|k| black_box(&cases)[k],
+                &mut |_, g| sum += g.map(|g| g[0]).unwrap_or(0.0),
+            );
+            sum
         })
     });
     g.throughput(ops(Kernel::ForwardDynamics, false));

@@ -423,10 +423,15 @@ struct CheckedIn {
     mechanism: Mechanism,
     /// One of the C5's models: they share the kernel-set trait.
     c5: bool,
-    /// With batch forms and folded derivative kernels. The Gough-Stewart platform's are
-    /// left out: its batch forms, kernels of 4 000 to 5 000 operations instantiated for three
-    /// instruction sets, took LLVM six minutes to build, twelve times the rest of the crate.
+    /// With batch forms (`f64` and `f32`) and folded derivative kernels. The Gough-Stewart
+    /// platform's are left out: all its batch forms, kernels of 4 000 to 5 000 operations
+    /// instantiated for three instruction sets, took LLVM six minutes to build, twelve times
+    /// the rest of the crate; its `inverse_dynamics_params_x4` alone
+    /// ([`CheckedIn::batched`], `f64`) takes about 7 s.
     complete: bool,
+    /// The kernels whose `*_params` form comes in batch form too, where the mechanism is not
+    /// [`CheckedIn::complete`]: the ones a many-state caller needs, built in seconds.
+    batched: &'static [Kernel],
     /// With the folded kernels, the derivative kernels and the `f32` forms: a mechanism new
     /// to the crate has its `*_params` kernels alone until the runtime serves the others.
     extended: bool,
@@ -443,6 +448,7 @@ fn checked_in_mechanisms() -> Vec<CheckedIn> {
         mechanism: Mechanism::c5(&Robot::default(), m),
         c5: true,
         complete: true,
+        batched: &[],
         extended: true,
         identification: true,
     });
@@ -451,6 +457,7 @@ fn checked_in_mechanisms() -> Vec<CheckedIn> {
             mechanism: Mechanism::gough_stewart(&c5_robot::GoughStewart::example()),
             c5: false,
             complete: false,
+            batched: &[Kernel::InverseDynamics],
             extended: true,
             identification: true,
         },
@@ -458,6 +465,7 @@ fn checked_in_mechanisms() -> Vec<CheckedIn> {
             mechanism: Mechanism::rus_hexapod(&c5_robot::RusHexapod::example()),
             c5: false,
             complete: false,
+            batched: &[],
             extended: false,
             identification: true,
         },
@@ -465,6 +473,7 @@ fn checked_in_mechanisms() -> Vec<CheckedIn> {
             mechanism: Mechanism::delta(&c5_robot::Delta::example()),
             c5: false,
             complete: false,
+            batched: &[],
             extended: false,
             identification: true,
         },
@@ -540,6 +549,8 @@ struct MechanismKernels<'a> {
     identification: Option<&'a model::regressor::Identification>,
     /// [`CheckedIn::extended`].
     extended: bool,
+    /// [`CheckedIn::complete`]: the `f32` batch forms are a complete mechanism's alone.
+    complete: bool,
 }
 
 /// The files of the checked-in `generated/` crate, relative to it, with their contents: one
@@ -557,7 +568,10 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
         .iter()
         .map(|c| {
             let mut entries = crate_kernels(c)?;
-            entries.iter_mut().for_each(|e| e.batch &= c.complete);
+            let batched = |e: &Entry| e.id.parameters && c.batched.contains(&e.id.kernel);
+            entries
+                .iter_mut()
+                .for_each(|e| e.batch &= c.complete || batched(e));
             Ok(entries)
         })
         .collect::<Result<Vec<_>, Error>>()?;
@@ -620,6 +634,7 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
                 derivatives,
                 identification,
                 extended: checked_in.extended,
+                complete: checked_in.complete,
             }
         })
         .collect();
@@ -666,7 +681,13 @@ pub fn generated_crate_files() -> Result<Vec<(PathBuf, String)>, Error> {
     let standalone_f32: Vec<_> = standalone
         .iter()
         .filter(|g| g.extended)
-        .map(|g| set(g))
+        .map(|g| {
+            let mut kernels = set(g);
+            if !g.complete {
+                kernels.kernels.iter_mut().for_each(|k| k.batch = false);
+            }
+            kernels
+        })
         .collect();
     let standalone: Vec<_> = standalone.into_iter().map(set).collect();
     for (scalar, standalone) in [(Scalar::F64, &standalone), (Scalar::F32, &standalone_f32)] {
@@ -767,8 +788,16 @@ fn mechanism_files(group: &MechanismKernels<'_>) -> Result<Vec<(PathBuf, String)
             )?;
             if !folded {
                 // The kernel set is the `f64` kernels'.
+                let batch_names: Vec<String> = batched
+                    .iter()
+                    .map(|(s, _)| format!("{}_x4", s.name))
+                    .collect();
                 let names: Vec<&str> = match scalar {
-                    Scalar::F64 => specs.iter().map(|(s, _)| s.name.as_str()).collect(),
+                    Scalar::F64 => specs
+                        .iter()
+                        .map(|(s, _)| s.name.as_str())
+                        .chain(batch_names.iter().map(String::as_str))
+                        .collect(),
                     _ => Vec::new(),
                 };
                 let fitted = specs.iter().find_map(|(s, _)| {
@@ -785,7 +814,7 @@ fn mechanism_files(group: &MechanismKernels<'_>) -> Result<Vec<(PathBuf, String)
                 PathBuf::from(format!("src/{}/{module}{part}.rs", scalar.name())),
                 kernels,
             ));
-            if !batched.is_empty() {
+            if !batched.is_empty() && (scalar == Scalar::F64 || group.complete) {
                 files.push((
                     PathBuf::from(format!("src/{}/{module}{part}_batch.rs", scalar.name())),
                     emit::emit_batch_file(&header(&batched, &what), &batched, scalar)?,

@@ -204,7 +204,7 @@ pub fn mechanism_parameter_constants(
 
 /// The kernel set of a legged mechanism (`c5_generated::legged`): a unit type `Kernels` whose
 /// trait implementations call the module's `*_params` kernels, for those of `kernels` (the
-/// names the module holds) each trait needs; nothing for a mechanism without singularity
+/// names the module holds, `*_x4` for its batch forms) each trait needs; nothing for a mechanism without singularity
 /// terms (the C5's kernels, checked by hand), nor without kernels (the set is `f64`'s).
 /// `fitted` is the number of geometry entries the calibration kernel fits per leg, where the
 /// module has one.
@@ -240,6 +240,7 @@ pub fn kernel_set(mechanism: &crate::Mechanism, kernels: &[&str], fitted: Option
          #[inline] fn joint_accelerations(x: &[f64; {n}], v: &[f64; {n}], a: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {accelerations} }}\n\
          #[inline] fn inverse_dynamics(x: &[f64; {n}], v: &[f64; {n}], a: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {inverse_dynamics} }}\n\
          #[inline] fn forward_dynamics(x: &[f64; {n}], v: &[f64; {n}], gamma: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {forward_dynamics} }}\n\
+         {batch}\
          }}\n",
         name = mechanism.name(),
         terms = structure.singularity_terms().len(),
@@ -255,6 +256,13 @@ pub fn kernel_set(mechanism: &crate::Mechanism, kernels: &[&str], fitted: Option
         accelerations = call("joint_accelerations", "x, v, a"),
         inverse_dynamics = call("inverse_dynamics", "x, v, a"),
         forward_dynamics = call("forward_dynamics", "x, v, gamma"),
+        batch = if kernels.contains(&"inverse_dynamics_params_x4") {
+            format!(
+                "#[cfg(feature = \"batch\")] #[inline] fn inverse_dynamics_x4(x: &[[f64; 4]; {n}], v: &[[f64; 4]; {n}], a: &[[f64; 4]; {n}], p: &[f64; PARAMETERS]) -> Option<([[f64; 4]; {n}], impl AsRef<[[f64; 4]]>)> {{ Some(inverse_dynamics_params_x4(x, v, a, p)) }}\n"
+            )
+        } else {
+            String::new()
+        },
     );
     if n == 6 && has(&["task_inertia", "task_bias", "forward_kinematics_step"]) {
         out += &format!(
@@ -462,5 +470,20 @@ mod tests {
             None,
         );
         assert!(hexapod.contains("Legs<6>") && !hexapod.contains("Spatial"));
+    }
+
+    /// The batch inverse dynamics joins the shared set where the module has it (behind the
+    /// feature that compiles it), and is left to the trait's `None` where not.
+    #[test]
+    fn the_batch_inverse_dynamics_joins_the_set_where_it_is_generated() {
+        let hexapod = Mechanism::gough_stewart(&GoughStewart::example());
+        let without = kernel_set(&hexapod, SPATIAL, None);
+        assert!(!without.contains("inverse_dynamics_x4"));
+        let mut names = SPATIAL.to_vec();
+        names.push("inverse_dynamics_params_x4");
+        let with = kernel_set(&hexapod, &names, None);
+        assert!(with.contains("#[cfg(feature = \"batch\")] #[inline] fn inverse_dynamics_x4("));
+        assert!(with.contains("Some(inverse_dynamics_params_x4(x, v, a, p))"));
+        syn::parse_str::<syn::File>(&with).expect("the kernel set parses");
     }
 }

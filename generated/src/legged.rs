@@ -55,6 +55,20 @@ pub trait Legs<const N: usize>: 'static {
         gamma: &[f64; N],
         p: &Self::Parameters,
     ) -> ([f64; N], impl AsRef<[f64]>);
+    /// `inverse_dynamics_params_x4`, where the mechanism's inverse dynamics comes in batch
+    /// form (feature `batch`): four states a call, lane `l` of every input the `l`-th state's,
+    /// each lane computing exactly what [`Legs::inverse_dynamics`] computes, the singularity
+    /// terms lane by lane. `None` where it does not.
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn inverse_dynamics_x4(
+        _x: &[[f64; 4]; N],
+        _v: &[[f64; 4]; N],
+        _a: &[[f64; 4]; N],
+        _p: &Self::Parameters,
+    ) -> Option<([[f64; 4]; N], impl AsRef<[[f64; 4]]>)> {
+        None::<([[f64; 4]; N], [[f64; 4]; 0])>
+    }
 }
 
 /// The kernels of a legged mechanism whose platform is free in space: the task-space terms and

@@ -56,6 +56,7 @@ pub mod gough_stewart;
 pub mod identify;
 pub mod legged;
 pub mod limits;
+mod many;
 mod math;
 pub mod mechanism;
 #[cfg(feature = "plan")]

@@ -444,3 +444,60 @@ fn the_forward_dynamics_derivatives_are_the_accelerations_derivatives() {
         }
     }
 }
+
+/// The hexapod's inverse dynamics four states a call: each lane of the batch kernel is the
+/// single-state kernel's result to the bit, and through the runtime every state gets what the
+/// single-state call gives it, a refused state (non-finite, beyond the legs' hold) costing
+/// only its group of four.
+#[test]
+fn the_batch_inverse_dynamics_is_the_single_states_to_the_bit() {
+    use c5_runtime::ParallelRobot;
+    let hexapod = GoughStewart::new(Description::example()).unwrap();
+    let params = hexapod.parameters();
+    let mut r = rng(23);
+    let mut states: Vec<State> = (0..11)
+        .map(|_| random_state(&mut r, &hexapod.home()))
+        .collect();
+    for four in states.chunks_exact(4) {
+        let column = |j: usize| {
+            let part = |s: &State| [s.pose.to_array(), s.twist.to_array(), s.accel.to_array()][j];
+            std::array::from_fn(|e| std::array::from_fn(|l| part(&four[l])[e]))
+        };
+        let (gamma, guard) =
+            kernels::inverse_dynamics_params_x4(&column(0), &column(1), &column(2), params);
+        for (l, s) in four.iter().enumerate() {
+            let (x, v, a) = (s.pose.to_array(), s.twist.to_array(), s.accel.to_array());
+            let (single, single_guard) = kernels::inverse_dynamics_params(&x, &v, &a, params);
+            for e in 0..6 {
+                assert_eq!(gamma[e][l].to_bits(), single[e].to_bits(), "lane {l}, Γ{e}");
+            }
+            for (e, term) in single_guard.iter().enumerate() {
+                assert_eq!(guard[e][l].to_bits(), term.to_bits(), "lane {l}, term {e}");
+            }
+        }
+    }
+    // A non-finite state in the first group, one beyond the legs' hold (the platform turned a
+    // quarter about z) in the second, a remainder of three.
+    states[1].twist.omega[0] = f64::NAN;
+    states[6].pose = Pose::from_array([0.0, 0.0, std::f64::consts::FRAC_PI_2, 0.0, 0.0, 0.425]);
+    assert!(hexapod.inverse_dynamics(&states[6]).is_err());
+    let mut served = Vec::new();
+    ParallelRobot::inverse_dynamics_each(&hexapod, states.len(), &|k| states[k], &mut |k, g| {
+        served.push((k, g))
+    });
+    assert_eq!(served.len(), states.len());
+    for (k, result) in served {
+        match (result, hexapod.inverse_dynamics(&states[k])) {
+            (Ok(batch), Ok(single)) => {
+                assert_eq!(batch.map(f64::to_bits), single.map(f64::to_bits))
+            }
+            (Err(batch), Err(single)) => assert_eq!(batch.to_string(), single.to_string()),
+            (batch, single) => panic!("state {k}: {batch:?} against {single:?}"),
+        }
+    }
+    let many = ParallelRobot::inverse_dynamics_many(&hexapod, &states);
+    assert!(
+        matches!(many, Err((1, c5_runtime::Error::NonFinite { .. }))),
+        "{many:?}"
+    );
+}

@@ -33539,6 +33539,16 @@ impl crate::legged::Legs<6> for Kernels {
     ) -> ([f64; 6], impl AsRef<[f64]>) {
         forward_dynamics_params(x, v, gamma, p)
     }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn inverse_dynamics_x4(
+        x: &[[f64; 4]; 6],
+        v: &[[f64; 4]; 6],
+        a: &[[f64; 4]; 6],
+        p: &[f64; PARAMETERS],
+    ) -> Option<([[f64; 4]; 6], impl AsRef<[[f64; 4]]>)> {
+        Some(inverse_dynamics_params_x4(x, v, a, p))
+    }
 }
 impl crate::legged::Spatial for Kernels {
     #[inline]

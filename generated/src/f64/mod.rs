@@ -50,6 +50,10 @@ pub mod paper {
 pub mod gough_stewart {
     use crate::trig::{atan, cos, sin, sin_cos, sqrt};
     include!("gough_stewart.rs");
+    #[cfg(feature = "batch")]
+    use crate::lanes::F64x4;
+    #[cfg(feature = "batch")]
+    include!("gough_stewart_batch.rs");
     #[cfg(feature = "derivatives")]
     include!("gough_stewart_derivatives.rs");
     #[cfg(feature = "folded")]

@@ -1,126 +1,22 @@
-//! The C5's many states at once: its batch kernels four states at a time, each state's result
-//! or why it was refused, so one bad state costs only itself.
+//! The C5's many states at once: its batch kernels four states at a time through
+//! [`crate::many`], each state's result or why it was refused, so one bad state costs only
+//! itself.
 //!
 //! Without the `batch` feature the same methods go one state at a time, with the same results
 //! to the bit: a program that calls them for convenience (the `c5` program's `simulate`) then
 //! does not compile the batch kernels, about 15 s of LLVM on two cores (docs/build-time.md).
-//!
-//! The batch kernels' lanes compute exactly what the single-state kernels compute (the tests
-//! hold them equal to the bit), so a group of four with a refused state is redone one state at
-//! a time, as is a remainder of fewer than four: every state gets the result, or the error,
-//! that the single-state method gives it.
 
 #[cfg(feature = "batch")]
 use crate::c5::{check_forward_dynamics, check_joint_dynamics};
+use crate::many::collect;
+#[cfg(not(feature = "batch"))]
+use crate::many::one_at_a_time;
+#[cfg(feature = "batch")]
+use crate::many::{lanes_hold, Batched};
 #[cfg(feature = "batch")]
 use crate::{check_divisors, Kernels};
 use crate::{Acceleration, Error, Pose, State, Twist, C5};
 use alloc::vec::Vec;
-
-/// `[element][lane]` from four states' arrays.
-#[cfg(feature = "batch")]
-fn lanes(rows: &[[f64; 6]; 4]) -> [[f64; 4]; 6] {
-    core::array::from_fn(|k| core::array::from_fn(|l| rows[l][k]))
-}
-
-/// Whether every value is finite, without a branch per value.
-#[cfg(feature = "batch")]
-#[inline]
-fn all_finite(values: &[f64]) -> bool {
-    values.iter().fold(true, |ok, x| ok & x.is_finite())
-}
-
-/// One row of a batch call: its three input arrays, the kernel, and the single-state method
-/// that must agree with a lane.
-#[cfg(feature = "batch")]
-struct Batched<Input, Kernel, Guard, Single> {
-    /// Row `k`'s three input arrays.
-    input: Input,
-    /// The batch kernel on four rows: the result and the guard terms, lane-major.
-    kernel: Kernel,
-    /// The guard terms' check (the divisors of eq 16, or the forward singularity).
-    guard: Guard,
-    /// The single-state method, for a group with a refused row and for the remainder.
-    single: Single,
-}
-
-#[cfg(feature = "batch")]
-impl<Input, Kernel, Guard, Single, const G: usize> Batched<Input, Kernel, Guard, Single>
-where
-    Input: Fn(usize) -> [[f64; 6]; 3],
-    Kernel: Fn(&[[f64; 4]; 6], &[[f64; 4]; 6], &[[f64; 4]; 6]) -> ([[f64; 4]; 6], [[f64; 4]; G]),
-    Guard: Fn([f64; G]) -> Result<(), Error>,
-    Single: Fn(usize) -> Result<[f64; 6], Error>,
-{
-    /// Four rows through the batch kernel, or `None` if one of them is refused. The checks
-    /// run over all four rows at once, without branching per value: which row is refused, and
-    /// why, is for the single-state method to say.
-    #[inline]
-    fn four(&self, k: usize) -> Option<[[f64; 6]; 4]> {
-        let rows: [[[f64; 6]; 3]; 4] = core::array::from_fn(|l| (self.input)(k + l));
-        if !all_finite(rows.as_flattened().as_flattened()) {
-            return None;
-        }
-        let column = |j: usize| lanes(&core::array::from_fn(|l| rows[l][j]));
-        let (result, guard) = (self.kernel)(&column(0), &column(1), &column(2));
-        let guards_hold = (0..4).fold(true, |ok, l| {
-            ok & (self.guard)(core::array::from_fn(|e| guard[e][l])).is_ok()
-        });
-        if !(guards_hold && all_finite(result.as_flattened())) {
-            return None;
-        }
-        Some(core::array::from_fn(|l| {
-            core::array::from_fn(|e| result[e][l])
-        }))
-    }
-
-    /// Every row `0..n` in order, to `each`.
-    fn run(&self, n: usize, mut each: impl FnMut(usize, Result<[f64; 6], Error>)) {
-        let full = n / 4 * 4;
-        for k in (0..full).step_by(4) {
-            match self.four(k) {
-                Some(rows) => {
-                    for (l, row) in rows.into_iter().enumerate() {
-                        each(k + l, Ok(row));
-                    }
-                }
-                None => (k..k + 4).for_each(|r| each(r, (self.single)(r))),
-            }
-        }
-        (full..n).for_each(|r| each(r, (self.single)(r)));
-    }
-}
-
-/// Every row `0..n` in order through the single-state method: the batch methods without the
-/// batch kernels.
-#[cfg(not(feature = "batch"))]
-fn one_at_a_time<T>(
-    n: usize,
-    single: impl Fn(usize) -> Result<T, Error>,
-    mut each: impl FnMut(usize, Result<T, Error>),
-) {
-    (0..n).for_each(|k| each(k, single(k)));
-}
-
-/// Collects `run`'s results, or the first refused index and why.
-fn collect<T>(
-    n: usize,
-    run: impl FnOnce(&mut dyn FnMut(usize, Result<T, Error>)),
-) -> Result<Vec<T>, (usize, Error)> {
-    let mut out = Vec::with_capacity(n);
-    let mut first = None;
-    run(&mut |k, result| match result {
-        Ok(value) if first.is_none() => out.push(value),
-        Ok(_) => {}
-        Err(e) => {
-            first.get_or_insert((k, e));
-        }
-    });
-    match first {
-        Some(refused) => Err(refused),
-        None => Ok(out),
-    }
-}
 
 impl C5 {
     /// [`C5::inverse_dynamics`] of states `0..n` (`state(k)` the `k`-th), four at a time
@@ -141,10 +37,11 @@ impl C5 {
                 [s.pose.to_array(), s.twist.to_array(), s.accel.to_array()]
             },
             kernel: |x: &_, v: &_, a: &_| {
-                self.kernels
-                    .inverse_dynamics_params_x4(x, v, a, &self.params)
+                let (gamma, guard) = self
+                    .kernels
+                    .inverse_dynamics_params_x4(x, v, a, &self.params);
+                lanes_hold(&guard, check_divisors).then_some(gamma)
             },
-            guard: check_divisors,
             single,
         }
         .run(n, each);
@@ -187,10 +84,12 @@ impl C5 {
                 [pose.to_array(), twist.to_array(), gamma]
             },
             kernel: |x: &_, v: &_, g: &_| {
-                self.kernels
-                    .forward_dynamics_params_x4(x, v, g, &self.params)
+                let (accel, guard) = self
+                    .kernels
+                    .forward_dynamics_params_x4(x, v, g, &self.params);
+                let tolerance = self.forward_dynamics_tolerance();
+                lanes_hold(&guard, |r| check_forward_dynamics(tolerance, r)).then_some(accel)
             },
-            guard: |r| check_forward_dynamics(self.forward_dynamics_tolerance(), r),
             single,
         }
         .run(n, each);
@@ -215,10 +114,11 @@ impl C5 {
         Batched {
             input: &sample,
             kernel: |q: &_, qd: &_, qdd: &_| {
-                self.kernels
-                    .inverse_dynamics_joint_params_x4(q, qd, qdd, &self.params)
+                let (gamma, guard) =
+                    self.kernels
+                        .inverse_dynamics_joint_params_x4(q, qd, qdd, &self.params);
+                lanes_hold(&guard, check_joint_dynamics).then_some(gamma)
             },
-            guard: check_joint_dynamics,
             single,
         }
         .run(n, each);

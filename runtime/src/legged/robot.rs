@@ -92,7 +92,7 @@ pub trait Freedoms<const N: usize> {
     type Pose: Coordinates<Array = [f64; N]> + Copy + core::fmt::Debug;
     type Twist: Coordinates<Array = [f64; N]>;
     type Acceleration;
-    type State: Coordinates<Array = Motion<N>>;
+    type State: Coordinates<Array = Motion<N>> + Copy + Send + Sync;
     /// Which freedom the platform has: what names its slices' coordinates.
     const FREEDOM: crate::platform::Freedom;
     fn pose(x: [f64; N]) -> Self::Pose;

@@ -157,4 +157,35 @@ where
     fn calibration(&self) -> Option<crate::calibrate::ResidualKernel> {
         Some(crate::calibrate::residuals_of::<D::Kernels, N>)
     }
+    /// Four states at a time through the batch kernel, where the mechanism's inverse dynamics
+    /// comes in batch form (feature `batch`); one at a time where not.
+    fn inverse_dynamics_each(
+        &self,
+        n: usize,
+        state: &(dyn Fn(usize) -> StateOf<N> + Sync),
+        each: &mut dyn FnMut(usize, Result<[f64; N], Error>),
+    ) {
+        let single = |k| Self::inverse_dynamics(self, &state(k));
+        #[cfg(feature = "batch")]
+        crate::many::Batched {
+            input: |k| Platform::<N>::state_arrays(&state(k)),
+            kernel: |x: &_, v: &_, a: &_| {
+                let (gamma, guard) = D::Kernels::inverse_dynamics_x4(x, v, a, &self.params)?;
+                let terms = D::Kernels::SINGULARITY_TERMS;
+                crate::many::terms_hold(guard.as_ref(), terms).then_some(gamma)
+            },
+            single,
+        }
+        .run(n, each);
+        #[cfg(not(feature = "batch"))]
+        crate::many::one_at_a_time(n, single, each);
+    }
+    fn inverse_dynamics_many(
+        &self,
+        states: &[StateOf<N>],
+    ) -> Result<alloc::vec::Vec<[f64; N]>, (usize, Error)> {
+        crate::many::collect(states.len(), |each| {
+            ParallelRobot::inverse_dynamics_each(self, states.len(), &|k| states[k], each)
+        })
+    }
 }
