@@ -1,6 +1,6 @@
 //! The Delta's kernels (docs/delta.toml), in one run: the `*_params` kernels the runtime calls
-//! for any Delta, the runtime's forward dynamics (its checks included) and its closed-form
-//! forward kinematics.
+//! for any Delta (the inverse dynamics also four states a call, `_batch_x4`), the runtime's
+//! forward dynamics (its checks included) and its closed-form forward kinematics.
 //!
 //! `cargo bench -p c5-benches --bench delta` (pin it: `taskset -c 0`). Inputs cycle through
 //! seeded states about the home position behind `black_box`.
@@ -59,6 +59,27 @@ fn bench(c: &mut Criterion) {
             i = (i + 1) % cases.len();
             let s = black_box(&cases[i]);
             k::inverse_dynamics_params(&s.position, &s.velocity, &s.acceleration, params).0
+        })
+    });
+    // Four states a call, lane `l` the `l`-th state's: the throughput against the line above.
+    let batches: Vec<[[[f64; 4]; 3]; 3]> = cases
+        .chunks_exact(4)
+        .map(|four| {
+            let part = |s: &Translation, j: usize| [s.position, s.velocity, s.acceleration][j];
+            std::array::from_fn(|j| {
+                std::array::from_fn(|e| std::array::from_fn(|l| part(&four[l], j)[e]))
+            })
+        })
+        .collect();
+    g.throughput(match ops(Kernel::InverseDynamics) {
+        Throughput::Elements(n) => Throughput::Elements(4 * n),
+        other => other,
+    });
+    g.bench_function("inverse_dynamics_params_batch_x4", |b| {
+        b.iter(|| {
+            i = (i + 1) % batches.len();
+            let [x, v, a] = black_box(&batches[i]);
+            k::inverse_dynamics_params_x4(x, v, a, params).0
         })
     });
     g.throughput(ops(Kernel::ForwardDynamics));

@@ -66,6 +66,8 @@ RATIOS = [
      "forward_dynamics/generated_consistent", "forward_dynamics/generated_consistent_batch_x4", 4),
     ("Gough-Stewart inverse dynamics (`_params`), batch of four against single",
      "gough_stewart/inverse_dynamics_params", "gough_stewart/inverse_dynamics_params_batch_x4", 4),
+    ("Delta inverse dynamics (`_params`), batch of four against single",
+     "delta/inverse_dynamics_params", "delta/inverse_dynamics_params_batch_x4", 4),
     ("Gough-Stewart inverse dynamics of 256 states through the runtime, batched against one at a time",
      "gough_stewart/inverse_dynamics_runtime_256_states",
      "gough_stewart/inverse_dynamics_runtime_256_states_batched", 1),

@@ -427,7 +427,7 @@ struct CheckedIn {
     /// platform's are left out: all its batch forms, kernels of 4 000 to 5 000 operations
     /// instantiated for three instruction sets, took LLVM six minutes to build, twelve times
     /// the rest of the crate; its `inverse_dynamics_params_x4` alone
-    /// ([`CheckedIn::batched`], `f64`) takes about 7 s.
+    /// ([`CheckedIn::batched`], `f64`) adds seconds.
     complete: bool,
     /// The kernels whose `*_params` form comes in batch form too, where the mechanism is not
     /// [`CheckedIn::complete`]: the ones a many-state caller needs, built in seconds.
@@ -473,7 +473,7 @@ fn checked_in_mechanisms() -> Vec<CheckedIn> {
             mechanism: Mechanism::delta(&c5_robot::Delta::example()),
             c5: false,
             complete: false,
-            batched: &[],
+            batched: &[Kernel::InverseDynamics],
             extended: false,
             identification: true,
         },

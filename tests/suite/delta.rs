@@ -226,3 +226,52 @@ fn bad_states_are_refused() {
         Err(Error::NonFinite { input: "gamma", .. })
     ));
 }
+
+/// The Delta's inverse dynamics four states a call: each lane of the batch kernel is the
+/// single-state kernel's result to the bit, and through the runtime every state gets what the
+/// single-state call gives it.
+#[test]
+fn the_batch_inverse_dynamics_is_the_single_states_to_the_bit() {
+    use c5_generated::f64::delta as kernels;
+    use c5_runtime::ParallelRobot;
+    let robot = Delta::new(Description::example()).unwrap();
+    let params = robot.parameters();
+    let mut r = rng(29);
+    let mut states: Vec<Translation> = (0..10).map(|_| near_home(&mut r, &robot)).collect();
+    for four in states.chunks_exact(4) {
+        let column = |j: usize| {
+            let part = |s: &Translation| [s.position, s.velocity, s.acceleration][j];
+            std::array::from_fn(|e| std::array::from_fn(|l| part(&four[l])[e]))
+        };
+        let (gamma, guard) =
+            kernels::inverse_dynamics_params_x4(&column(0), &column(1), &column(2), params);
+        for (l, s) in four.iter().enumerate() {
+            let (single, single_guard) =
+                kernels::inverse_dynamics_params(&s.position, &s.velocity, &s.acceleration, params);
+            for e in 0..3 {
+                assert_eq!(gamma[e][l].to_bits(), single[e].to_bits(), "lane {l}, Γ{e}");
+            }
+            for (e, term) in single_guard.iter().enumerate() {
+                assert_eq!(guard[e][l].to_bits(), term.to_bits(), "lane {l}, term {e}");
+            }
+        }
+    }
+    // A non-finite state in the second group, one beyond the arms' reach in the first.
+    states[5].velocity[2] = f64::INFINITY;
+    states[2].position[2] -= 2.0;
+    assert!(robot.inverse_dynamics(&states[2]).is_err());
+    let mut served = Vec::new();
+    ParallelRobot::inverse_dynamics_each(&robot, states.len(), &|k| states[k], &mut |k, g| {
+        served.push((k, g))
+    });
+    assert_eq!(served.len(), states.len());
+    for (k, result) in served {
+        match (result, robot.inverse_dynamics(&states[k])) {
+            (Ok(batch), Ok(single)) => {
+                assert_eq!(batch.map(f64::to_bits), single.map(f64::to_bits))
+            }
+            (Err(batch), Err(single)) => assert_eq!(batch.to_string(), single.to_string()),
+            (batch, single) => panic!("state {k}: {batch:?} against {single:?}"),
+        }
+    }
+}

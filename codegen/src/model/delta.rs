@@ -331,7 +331,9 @@ const fn decl(
         outputs,
         guard: Guard::Never,
         reads: Reads::Robot,
-        batch: false,
+        // The many-state callers' kernel; whether it is emitted is the crate's choice
+        // (`CheckedIn::batched`).
+        batch: matches!(kernel, Kernel::InverseDynamics),
         chapter: None,
         build: Build::Robot(build),
     }

@@ -15533,6 +15533,16 @@ impl crate::legged::Legs<3> for Kernels {
     ) -> ([f64; 3], impl AsRef<[f64]>) {
         forward_dynamics_params(x, v, gamma, p)
     }
+    #[cfg(feature = "batch")]
+    #[inline]
+    fn inverse_dynamics_x4(
+        x: &[[f64; 4]; 3],
+        v: &[[f64; 4]; 3],
+        a: &[[f64; 4]; 3],
+        p: &[f64; PARAMETERS],
+    ) -> Option<([[f64; 4]; 3], impl AsRef<[[f64; 4]]>)> {
+        Some(inverse_dynamics_params_x4(x, v, a, p))
+    }
 }
 impl crate::legged::Calibrated<3> for Kernels {
     type FittedRow = [f64; 8];

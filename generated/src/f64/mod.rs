@@ -74,6 +74,10 @@ pub mod rus_hexapod {
 pub mod delta {
     use crate::trig::{atan, cos, sin, sin_cos, sqrt};
     include!("delta.rs");
+    #[cfg(feature = "batch")]
+    use crate::lanes::F64x4;
+    #[cfg(feature = "batch")]
+    include!("delta_batch.rs");
     #[cfg(feature = "regressor")]
     include!("delta_regressor.rs");
 }
