@@ -3,6 +3,9 @@
 //! contract near eq 16's singularities, and the checks of the divisors its kernels return.
 
 mod batch;
+#[cfg(feature = "derivatives")]
+mod derivatives;
+pub(crate) mod limits;
 mod parallel_robot;
 
 use crate::{

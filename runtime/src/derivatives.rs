@@ -6,12 +6,12 @@
 //! Every Jacobian is row-major: row `i` is output `i`, column `j` input component `j`, each in
 //! its key's own order: the pose `α β γ xc yc zc`, the twist `ωx ωy ωz vx vy vz`, the
 //! acceleration `ω̇x ω̇y ω̇z ax ay az`, forces and actuator values in segment order.
+//!
+//! The mechanisms that have them give them: [`crate::C5`] and [`crate::GoughStewart`] (their
+//! inherent `*_derivatives` methods), and every robot through
+//! [`crate::mechanism::Derivatives`].
 
-use crate::c5::{check_forward, check_forward_dynamics, check_joint_derivatives};
-use crate::gough_stewart::GoughStewart;
-use crate::{check_divisors, finite, finite_matrix};
-use crate::{Acceleration, Error, Kernels, Pose, State, Twist, C5};
-use c5_generated::f64::gough_stewart as hexapod;
+use crate::Acceleration;
 
 /// `Γ` and its exact Jacobians at a platform state.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,126 +54,4 @@ pub struct JointDynamicsDerivatives {
     pub d_qd: [[f64; 6]; 6],
     /// `∂Γ/∂q̈ = M_q` (kg), symmetric positive definite.
     pub d_qdd: [[f64; 6]; 6],
-}
-
-impl C5 {
-    /// The inverse dynamics and its exact Jacobians with respect to the pose, the twist and the
-    /// acceleration, in one kernel.
-    ///
-    /// # Errors
-    /// Non-finite inputs, a singular pose or a non-finite result.
-    pub fn inverse_dynamics_derivatives(
-        &self,
-        state: &State,
-    ) -> Result<InverseDynamicsDerivatives, Error> {
-        let [x, v, a] = Self::checked_motion(state)?;
-        let (gamma, d_pose, d_twist, d_accel, r) = self
-            .kernels
-            .inverse_dynamics_derivatives_params(&x, &v, &a, &self.params);
-        check_divisors(r)?;
-        Ok(InverseDynamicsDerivatives {
-            gamma: finite("gamma", gamma)?,
-            d_pose: finite_matrix("d_gamma_d_pose", d_pose)?,
-            d_twist: finite_matrix("d_gamma_d_twist", d_twist)?,
-            d_accel: finite_matrix("d_gamma_d_acceleration", d_accel)?,
-        })
-    }
-
-    /// The forward dynamics and its exact Jacobians with respect to the pose, the twist and the
-    /// actuator forces `gamma` (N, segment order), in one kernel.
-    ///
-    /// # Errors
-    /// Non-finite inputs, a singular pose or a non-finite result.
-    pub fn forward_dynamics_derivatives(
-        &self,
-        pose: &Pose,
-        twist: &Twist,
-        gamma: &[f64; 6],
-    ) -> Result<ForwardDynamicsDerivatives, Error> {
-        let [x, v] = C5::checked_forward(pose, twist, gamma)?;
-        let (a, d_pose, d_twist, d_gamma, r) =
-            self.kernels
-                .forward_dynamics_derivatives_params(&x, &v, gamma, &self.params);
-        check_forward_dynamics(self.forward_dynamics_tolerance(), r)?;
-        Ok(ForwardDynamicsDerivatives {
-            accel: Acceleration::from_array(finite("acceleration", a)?),
-            d_pose: finite_matrix("d_acceleration_d_pose", d_pose)?,
-            d_twist: finite_matrix("d_acceleration_d_twist", d_twist)?,
-            d_gamma: finite_matrix("d_acceleration_d_gamma", d_gamma)?,
-        })
-    }
-
-    /// The inverse dynamics from the actuators' positions, rates and accelerations and its
-    /// exact Jacobians with respect to each, in one kernel.
-    ///
-    /// # Errors
-    /// Non-finite inputs, [`Error::ForwardSingular`], a singular pose, a non-finite result, or
-    /// [`Error::IllConditioned`] at a pose nearer eq 16's singularities than
-    /// [`crate::JOINT_STATE_TOLERANCE`], where `∂Γ/∂q` cannot be served to `1e-8`.
-    pub fn inverse_dynamics_joint_derivatives(
-        &self,
-        q: &[f64; 6],
-        qd: &[f64; 6],
-        qdd: &[f64; 6],
-    ) -> Result<JointDynamicsDerivatives, Error> {
-        Self::check_joints(q, qd, qdd)?;
-        let (gamma, d_q, d_qd, d_qdd, guard) = self
-            .kernels
-            .inverse_dynamics_joint_derivatives_params(q, qd, qdd, &self.params);
-        check_forward(guard)?;
-        check_joint_derivatives([guard[1], guard[2], guard[3]])?;
-        Ok(JointDynamicsDerivatives {
-            gamma: finite("gamma", gamma)?,
-            d_q: finite_matrix("d_gamma_d_q", d_q)?,
-            d_qd: finite_matrix("d_gamma_d_qd", d_qd)?,
-            d_qdd: finite_matrix("d_gamma_d_qdd", d_qdd)?,
-        })
-    }
-}
-
-impl GoughStewart {
-    /// The inverse dynamics and its exact Jacobians with respect to the pose, the twist and the
-    /// acceleration, in one kernel.
-    ///
-    /// # Errors
-    /// Non-finite inputs, a singular pose or a non-finite result.
-    pub fn inverse_dynamics_derivatives(
-        &self,
-        state: &State,
-    ) -> Result<InverseDynamicsDerivatives, Error> {
-        let [x, v, a] = C5::checked_motion(state)?;
-        let (gamma, d_pose, d_twist, d_accel, guard) =
-            hexapod::inverse_dynamics_derivatives_params(&x, &v, &a, self.parameters());
-        crate::singularity::check(&guard, &hexapod::SINGULARITY_TERMS)?;
-        Ok(InverseDynamicsDerivatives {
-            gamma: finite("gamma", gamma)?,
-            d_pose: finite_matrix("d_gamma_d_pose", d_pose)?,
-            d_twist: finite_matrix("d_gamma_d_twist", d_twist)?,
-            d_accel: finite_matrix("d_gamma_d_acceleration", d_accel)?,
-        })
-    }
-
-    /// The forward dynamics and its exact Jacobians with respect to the pose, the twist and the
-    /// actuator forces `gamma` (N, leg order), in one kernel.
-    ///
-    /// # Errors
-    /// Non-finite inputs, a singular pose or a non-finite result.
-    pub fn forward_dynamics_derivatives(
-        &self,
-        pose: &Pose,
-        twist: &Twist,
-        gamma: &[f64; 6],
-    ) -> Result<ForwardDynamicsDerivatives, Error> {
-        let [x, v] = C5::checked_forward(pose, twist, gamma)?;
-        let (a, d_pose, d_twist, d_gamma, guard) =
-            hexapod::forward_dynamics_derivatives_params(&x, &v, gamma, self.parameters());
-        crate::singularity::check(&guard, &hexapod::SINGULARITY_TERMS)?;
-        self.check_acceleration_solve(&x, &guard)?;
-        Ok(ForwardDynamicsDerivatives {
-            accel: Acceleration::from_array(finite("acceleration", a)?),
-            d_pose: finite_matrix("d_acceleration_d_pose", d_pose)?,
-            d_twist: finite_matrix("d_acceleration_d_twist", d_twist)?,
-            d_gamma: finite_matrix("d_acceleration_d_gamma", d_gamma)?,
-        })
-    }
 }

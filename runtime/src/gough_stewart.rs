@@ -12,9 +12,13 @@
 //! iterated here from a previous solution or from a level start.
 
 use crate::dense;
+#[cfg(feature = "derivatives")]
+use crate::derivatives::{ForwardDynamicsDerivatives, InverseDynamicsDerivatives};
 use crate::error::Error;
 use crate::limits::Limit;
 use crate::Pose;
+#[cfg(feature = "derivatives")]
+use crate::{finite, finite_matrix, Acceleration, State, Twist, C5};
 #[cfg(feature = "derivatives")]
 use c5_generated::f64::gough_stewart as kernels;
 pub use c5_robot::GoughStewart as Description;
@@ -166,6 +170,54 @@ impl GoughStewart {
             crate::singularity::TermKind::UJoint,
             FORWARD_U_JOINT_TOLERANCE,
         )
+    }
+}
+
+#[cfg(feature = "derivatives")]
+impl GoughStewart {
+    /// The inverse dynamics and its exact Jacobians with respect to the pose, the twist and the
+    /// acceleration, in one kernel.
+    ///
+    /// # Errors
+    /// Non-finite inputs, a singular pose or a non-finite result.
+    pub fn inverse_dynamics_derivatives(
+        &self,
+        state: &State,
+    ) -> Result<InverseDynamicsDerivatives, Error> {
+        let [x, v, a] = C5::checked_motion(state)?;
+        let (gamma, d_pose, d_twist, d_accel, guard) =
+            kernels::inverse_dynamics_derivatives_params(&x, &v, &a, self.parameters());
+        crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
+        Ok(InverseDynamicsDerivatives {
+            gamma: finite("gamma", gamma)?,
+            d_pose: finite_matrix("d_gamma_d_pose", d_pose)?,
+            d_twist: finite_matrix("d_gamma_d_twist", d_twist)?,
+            d_accel: finite_matrix("d_gamma_d_acceleration", d_accel)?,
+        })
+    }
+
+    /// The forward dynamics and its exact Jacobians with respect to the pose, the twist and the
+    /// actuator forces `gamma` (N, leg order), in one kernel.
+    ///
+    /// # Errors
+    /// Non-finite inputs, a singular pose or a non-finite result.
+    pub fn forward_dynamics_derivatives(
+        &self,
+        pose: &Pose,
+        twist: &Twist,
+        gamma: &[f64; 6],
+    ) -> Result<ForwardDynamicsDerivatives, Error> {
+        let [x, v] = C5::checked_forward(pose, twist, gamma)?;
+        let (a, d_pose, d_twist, d_gamma, guard) =
+            kernels::forward_dynamics_derivatives_params(&x, &v, gamma, self.parameters());
+        crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
+        self.check_acceleration_solve(&x, &guard)?;
+        Ok(ForwardDynamicsDerivatives {
+            accel: Acceleration::from_array(finite("acceleration", a)?),
+            d_pose: finite_matrix("d_acceleration_d_pose", d_pose)?,
+            d_twist: finite_matrix("d_acceleration_d_twist", d_twist)?,
+            d_gamma: finite_matrix("d_acceleration_d_gamma", d_gamma)?,
+        })
     }
 }
 
