@@ -1,7 +1,8 @@
 //! Minimum-effort motion planning (feature `plan`): a rest-to-rest move between two poses in a
 //! given time, actuator forces within a limit, by iLQR on the forward dynamics and its exact
-//! Jacobians ([`C5::forward_dynamics_derivatives`]), with an augmented Lagrangian for the goal
-//! and the force limits.
+//! Jacobians ([`Derivatives::forward_dynamics_derivatives`]), with an augmented Lagrangian for
+//! the goal and the force limits. It plans for every robot whose platform is free in space and
+//! whose mechanism has its derivatives generated (the C5 and the Gough-Stewart platform).
 //!
 //! The state is `s = (X, V)`: the pose `[α β γ xc yc zc]` and the twist `(ω; v_C)`; the control
 //! the forces `Γ`. The dynamics `ṡ = (Ė(X)⁻¹ ω, v_C, a(X, V, Γ))`, with `E` the map from RPY
@@ -12,7 +13,9 @@
 //! not met), so the plan ends at the goal to the tolerance asked for, not merely near it.
 
 use crate::derivatives::ForwardDynamicsDerivatives;
-use crate::{Acceleration, Error, Pose, State, Twist, C5};
+use crate::mechanism::{derivatives_of, Derivatives, SpatialRobot};
+use crate::trajectory::state_from_pose_derivatives;
+use crate::{Acceleration, Error, Pose, State, Twist};
 use nalgebra::{SMatrix, SVector};
 
 type S = SVector<f64, 12>;
@@ -141,7 +144,12 @@ fn rpy_rates(angles: [f64; 3], w: [f64; 3]) -> ([f64; 3], [[f64; 3]; 3], [[f64; 
 }
 
 /// The Euler step `s + dt f(s, u)`, with its Jacobians `A = ∂s'/∂s`, `B = ∂s'/∂u`.
-fn step(robot: &C5, s: &S, u: &U, dt: f64) -> Result<(S, Sxx, Sxu, Acceleration), Error> {
+fn step(
+    robot: &dyn Derivatives,
+    s: &S,
+    u: &U,
+    dt: f64,
+) -> Result<(S, Sxx, Sxu, Acceleration), Error> {
     let pose = Pose::from_array(std::array::from_fn(|i| s[i]));
     let twist = Twist::from_array(std::array::from_fn(|i| s[6 + i]));
     let gamma: [f64; 6] = std::array::from_fn(|i| u[i]);
@@ -259,7 +267,7 @@ impl Lagrangian {
 }
 
 /// The states of the controls from `s0`.
-fn rollout(robot: &C5, s0: &S, controls: &[U], dt: f64) -> Result<Vec<S>, Error> {
+fn rollout(robot: &dyn Derivatives, s0: &S, controls: &[U], dt: f64) -> Result<Vec<S>, Error> {
     let mut states = Vec::with_capacity(controls.len() + 1);
     states.push(*s0);
     for u in controls {
@@ -273,7 +281,7 @@ fn rollout(robot: &C5, s0: &S, controls: &[U], dt: f64) -> Result<Vec<S>, Error>
 /// Levenberg-Marquardt shift of `Q_uu`, forward passes with a line search, until a full step
 /// gains or promises less than `tolerance` of the cost. Returns the iterations spent.
 fn ilqr(
-    robot: &C5,
+    robot: &dyn Derivatives,
     al: &Lagrangian,
     states: &mut Vec<S>,
     controls: &mut Vec<U>,
@@ -392,8 +400,13 @@ fn ilqr(
 /// # Errors
 /// [`PlanError::Invalid`] for a problem that cannot be planned (non-positive duration or
 /// steps, a limit below zero, a non-finite pose), [`PlanError::Dynamics`] for a singular start
-/// or goal, [`PlanError::NotConverged`] when the iterations run out.
-pub fn plan(robot: &C5, problem: &Problem, settings: &Settings) -> Result<Plan, PlanError> {
+/// or goal, or a robot whose mechanism has no derivatives generated ([`Error::Unsupported`]),
+/// [`PlanError::NotConverged`] when the iterations run out.
+pub fn plan(
+    robot: &dyn SpatialRobot,
+    problem: &Problem,
+    settings: &Settings,
+) -> Result<Plan, PlanError> {
     if !(problem.duration > 0.0 && problem.duration.is_finite()) {
         return Err(PlanError::Invalid("`duration` must be positive and finite"));
     }
@@ -414,27 +427,19 @@ pub fn plan(robot: &C5, problem: &Problem, settings: &Settings) -> Result<Plan, 
             "the start and goal poses must be finite",
         ));
     }
+    let derivatives = derivatives_of(robot).map_err(PlanError::Dynamics)?;
     let dt = problem.duration / problem.steps as f64;
     let n = problem.steps;
-    // The forces that hold the start pose at rest, then those of the goal: a ramp between.
-    let hold = |pose: &Pose| {
-        robot.inverse_dynamics(&State {
-            pose: *pose,
-            ..State::default()
-        })
-    };
-    let (from, to) = (
-        hold(&problem.start).map_err(PlanError::Dynamics)?,
-        hold(&problem.goal).map_err(PlanError::Dynamics)?,
-    );
-    let mut controls: Vec<U> = (0..n)
-        .map(|k| {
-            let t = k as f64 / (n - 1) as f64;
-            U::from_fn(|i, _| from[i] + t * (to[i] - from[i]))
-        })
+    // The first guess: the quintic move's forces, which reach the goal but for the Euler
+    // step's drift (a ramp between the forces that hold the start and the goal, open loop,
+    // drifts a hexapod into a singular pose within a second).
+    let mut controls: Vec<U> = quintic_forces(robot, problem)
+        .map_err(PlanError::Dynamics)?
+        .iter()
+        .map(|gamma| U::from_column_slice(gamma))
         .collect();
     let s0 = S::from_fn(|i, _| if i < 6 { start[i] } else { 0.0 });
-    let mut states = rollout(robot, &s0, &controls, dt).map_err(PlanError::Dynamics)?;
+    let mut states = rollout(derivatives, &s0, &controls, dt).map_err(PlanError::Dynamics)?;
     let mut al = Lagrangian {
         dt,
         goal: S::from_fn(|i, _| if i < 6 { goal[i] } else { 0.0 }),
@@ -450,7 +455,7 @@ pub fn plan(robot: &C5, problem: &Problem, settings: &Settings) -> Result<Plan, 
     loop {
         let mut round = Vec::new();
         iterations += ilqr(
-            robot,
+            derivatives,
             &al,
             &mut states,
             &mut controls,
@@ -464,7 +469,7 @@ pub fn plan(robot: &C5, problem: &Problem, settings: &Settings) -> Result<Plan, 
         let force_excess = al.force_excess(&controls);
         if goal_error <= settings.goal_tolerance && force_excess <= settings.force_tolerance {
             return assemble(
-                robot,
+                derivatives,
                 &states,
                 &controls,
                 dt,
@@ -499,10 +504,30 @@ pub fn plan(robot: &C5, problem: &Problem, settings: &Settings) -> Result<Plan, 
     }
 }
 
+/// The forces of the quintic rest-to-rest move between the problem's poses (Section 9's
+/// profile, straight in the centre and in the RPY angles) at the middle of each of its steps:
+/// the plan's first guess, and the move it is compared with.
+///
+/// # Errors
+/// A state of the move the robot refuses (a singular pose on the way, a non-finite problem).
+pub fn quintic_forces(robot: &dyn SpatialRobot, problem: &Problem) -> Result<Vec<[f64; 6]>, Error> {
+    let (a, b) = (problem.start.to_array(), problem.goal.to_array());
+    let (d, dt) = (problem.duration, problem.duration / problem.steps as f64);
+    (0..problem.steps)
+        .map(|k| {
+            let (s, sd, sdd) = crate::trajectory::quintic((k as f64 + 0.5) * dt / d);
+            let x = core::array::from_fn(|i| a[i] + s * (b[i] - a[i]));
+            let xd = core::array::from_fn(|i| sd / d * (b[i] - a[i]));
+            let xdd = core::array::from_fn(|i| sdd / (d * d) * (b[i] - a[i]));
+            robot.inverse_dynamics(&state_from_pose_derivatives(x, xd, xdd))
+        })
+        .collect()
+}
+
 /// The plan's samples: states with the accelerations the forces give, the goal at rest.
 #[allow(clippy::too_many_arguments)]
 fn assemble(
-    robot: &C5,
+    robot: &dyn Derivatives,
     states: &[S],
     controls: &[U],
     dt: f64,

@@ -2,8 +2,6 @@
 
 use c5_runtime::trajectory::LinearMove;
 use c5_runtime::{Description, Model, Pose};
-#[cfg(feature = "derivatives")]
-use c5_runtime::{Robot, C5};
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::Args;
 use std::path::PathBuf;
@@ -21,13 +19,6 @@ pub struct RobotArgs {
 }
 
 impl RobotArgs {
-    /// The C5 robot of `--robot` (or the chapter's) with the model of `--model`, for what only
-    /// the C5 has (`what` names it); a file of another mechanism is refused.
-    #[cfg(feature = "derivatives")]
-    pub fn load(&self) -> crate::Result<C5> {
-        load(self.robot.as_ref(), self.model)
-    }
-
     /// The robot of `--robot` (or the chapter's), of any mechanism and freedom; a C5 with the
     /// model of `--model`.
     pub fn load_mechanism(&self) -> crate::Result<Box<dyn c5_runtime::Mechanism>> {
@@ -39,27 +30,6 @@ impl RobotArgs {
 pub fn model_parser() -> impl TypedValueParser<Value = Model> {
     PossibleValuesParser::new(Model::ALL.map(Model::name))
         .map(|name| name.parse::<Model>().expect("one of the possible values"))
-}
-
-/// The C5 robot of `path` (or the chapter's) with `model`; a file of another mechanism is
-/// refused, naming it.
-#[cfg(feature = "derivatives")]
-pub fn load(path: Option<&PathBuf>, model: Model) -> crate::Result<C5> {
-    let robot = match path {
-        Some(p) => match Description::from_toml_file(p)? {
-            Description::C5(robot) => robot,
-            other => {
-                return Err(format!(
-                    "{}: this works with C5 robots only, and the file describes a {} robot",
-                    p.display(),
-                    other.mechanism()
-                )
-                .into())
-            }
-        },
-        None => Robot::default(),
-    };
-    Ok(C5::with_model(robot, model)?)
 }
 
 /// The robot of `path` (or the chapter's), of any mechanism and freedom; a C5 with `model`.

@@ -1,14 +1,14 @@
 //! `c5 plan`: a minimum-effort rest-to-rest move between two poses by iLQR on the forward
 //! dynamics and its exact Jacobians, written as a trajectory CSV that `simulate --trajectory`
-//! and `track --trajectory` read, and plotted beside the quintic move of the same duration.
+//! and `track --trajectory` read, and plotted beside the quintic move of the same duration;
+//! for every robot whose platform is free in space and whose derivatives are generated.
 
 use crate::columns;
 use crate::options::{self, RobotArgs};
 use crate::simulate::plot;
 use crate::view;
-use c5_runtime::plan::{plan, Problem, Settings};
-use c5_runtime::trajectory::LinearMove;
-use c5_runtime::{Pose, C5};
+use c5_runtime::plan::{plan, quintic_forces, Problem, Settings};
+use c5_runtime::{Mechanism, Pose, SpatialRobot};
 use clap::Args;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -17,15 +17,18 @@ use std::time::Instant;
 
 /// Plans a minimum-effort rest-to-rest move (iLQR on the forward dynamics and its
 /// derivatives): writes `plan.csv` (t, the pose, twist, acceleration and the forces
-/// gamma1..gamma6) and `plan_forces.png` beside the quintic move's forces.
+/// gamma1..gamma6) and `plan_forces.png` beside the quintic move's forces. The C5 and the
+/// Gough-Stewart platform (the mechanisms with derivative kernels).
 #[derive(Args)]
 pub struct PlanArgs {
     #[command(flatten)]
     robot: RobotArgs,
-    /// The start pose `α,β,γ,xc,yc,zc` (rad, m) [default: Section 9's start].
+    /// The start pose `α,β,γ,xc,yc,zc` (rad, m) [default: Section 9's start, from the robot's
+    /// home].
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     from: Option<Vec<f64>>,
-    /// The goal pose `α,β,γ,xc,yc,zc` (rad, m) [default: Section 9's end].
+    /// The goal pose `α,β,γ,xc,yc,zc` (rad, m) [default: Section 9's end, from the robot's
+    /// home].
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     to: Option<Vec<f64>>,
     /// The move's duration (s).
@@ -62,9 +65,22 @@ fn peak_rms(forces: &[[f64; 6]]) -> (f64, f64) {
     )
 }
 
+/// The robot of `--robot` as a platform free in space, or why it cannot be planned for.
+fn spatial(mechanism: &dyn Mechanism) -> crate::Result<&dyn SpatialRobot> {
+    mechanism.spatial().ok_or_else(|| {
+        format!(
+            "plan: the {} robot's platform only translates, and the planner takes a platform \
+             free in space (the C5, the Gough-Stewart platform)",
+            mechanism.mechanism()
+        )
+        .into()
+    })
+}
+
 pub fn run(args: &PlanArgs) -> crate::Result<ExitCode> {
-    let robot = args.robot.load()?;
-    let section9 = LinearMove::section9();
+    let mechanism = args.robot.load_mechanism()?;
+    let robot = spatial(mechanism.as_ref())?;
+    let (section9, scaled) = options::section9_for(mechanism.as_ref())?;
     let mut end = section9.start;
     end.center = section9.end;
     let problem = Problem {
@@ -75,12 +91,12 @@ pub fn run(args: &PlanArgs) -> crate::Result<ExitCode> {
         force_limit: args.force_limit,
     };
     let started = Instant::now();
-    let planned = plan(&robot, &problem, &Settings::default())?;
+    let planned = plan(robot, &problem, &Settings::default())?;
     let elapsed = started.elapsed();
     std::fs::create_dir_all(&args.out)?;
     let csv = args.out.join("plan.csv");
     write_csv(&csv, &planned)?;
-    let quintic = quintic_forces(&robot, &problem, &planned.times)?;
+    let quintic = quintic_forces(robot, &problem)?;
     let png = args.out.join("plan_forces.png");
     plot_forces(&png, &planned.times, &planned.forces, &quintic)?;
     let (peak, rms) = peak_rms(&planned.forces);
@@ -95,6 +111,12 @@ pub fn run(args: &PlanArgs) -> crate::Result<ExitCode> {
         planned.goal_error
     );
     println!("forces: peak {peak:.2} N, RMS {rms:.2} N (the quintic move: peak {q_peak:.2} N, RMS {q_rms:.2} N)");
+    if args.from.is_none() || args.to.is_none() {
+        println!(
+            "the default poses are Section 9's, from this robot's home{}",
+            options::scaled_note(scaled)
+        );
+    }
     println!("wrote {} and {}", csv.display(), png.display());
     let drawn: Vec<view::Sample> = planned
         .times
@@ -106,29 +128,13 @@ pub fn run(args: &PlanArgs) -> crate::Result<ExitCode> {
         })
         .collect();
     let title = "Minimum-effort plan (iLQR)";
-    let drawn_robot = c5_runtime::ParallelRobot::as_mechanism(&robot);
-    if let Some(p) = args.view.write(drawn_robot, &drawn, title, &args.out)? {
+    if let Some(p) = args
+        .view
+        .write(mechanism.as_ref(), &drawn, title, &args.out)?
+    {
         println!("wrote {} (the 3D view)", p.display());
     }
     Ok(ExitCode::SUCCESS)
-}
-
-/// The quintic move between the same poses (Section 9's profile, straight in the centre and,
-/// for the angles, in RPY), its forces at the plan's step midpoints.
-fn quintic_forces(robot: &C5, problem: &Problem, times: &[f64]) -> crate::Result<Vec<[f64; 6]>> {
-    let (a, b) = (problem.start.to_array(), problem.goal.to_array());
-    let mut forces = Vec::with_capacity(times.len() - 1);
-    for w in times.windows(2) {
-        let t = 0.5 * (w[0] + w[1]);
-        let (s, sd, sdd) = c5_runtime::trajectory::quintic(t / problem.duration);
-        let d = problem.duration;
-        let x = std::array::from_fn(|i| a[i] + s * (b[i] - a[i]));
-        let xd = std::array::from_fn(|i| sd / d * (b[i] - a[i]));
-        let xdd = std::array::from_fn(|i| sdd / (d * d) * (b[i] - a[i]));
-        let state = c5_runtime::trajectory::state_from_pose_derivatives(x, xd, xdd);
-        forces.push(robot.inverse_dynamics(&state)?);
-    }
-    Ok(forces)
 }
 
 fn write_csv(path: &Path, p: &c5_runtime::plan::Plan) -> crate::Result<()> {

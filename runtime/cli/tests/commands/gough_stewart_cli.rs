@@ -1,7 +1,7 @@
 //! The Gough-Stewart platform on the command line: `eval` and `forward` with `--robot
 //! hexapod.toml` give the runtime's numbers to the bit, `eval` fed leg lengths returns the pose
 //! they came from, bad hexapod files are refused naming the file and the field, and
-//! `simulate`, `track`, `workspace` and `audit` serve it.
+//! `simulate`, `track`, `workspace`, `audit` and `plan` serve it.
 
 use crate::support;
 
@@ -341,4 +341,75 @@ fn excite_identify_and_derivatives_serve_the_hexapod() {
             .starts_with("no joint-space derivatives for the gough-stewart mechanism"),
         "{error}"
     );
+}
+
+/// `plan` serves the hexapod (its derivative kernels are generated): the plan starts and ends at
+/// rest, its end is Section 9's move from the robot's home, and every row's forces are the ones
+/// the hexapod's inverse dynamics (another kernel than the planner's forward dynamics) needs for
+/// the row's motion. Mechanisms the planner cannot serve are refused by name: the Delta (its
+/// platform only translates) and the rotary hexapod (no derivative kernels).
+#[test]
+fn plan_serves_the_hexapod_and_refuses_by_name_what_it_cannot() {
+    let dir = scratch("plan");
+    let out = dir.to_str().unwrap();
+    let args = [
+        "plan",
+        "--robot",
+        EXAMPLE,
+        "--duration",
+        "0.3",
+        "--rate",
+        "200",
+        "--out",
+        out,
+        "--no-view",
+    ];
+    support::c5_ok(&args, "");
+    let csv = std::fs::read_to_string(dir.join("plan.csv")).unwrap();
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 61);
+    let (first, last) = (&rows[0], &rows[rows.len() - 1]);
+    for k in 0..6 {
+        assert_eq!(first[7 + k], 0.0, "starts at rest");
+        assert!(last[7 + k].abs() < 1e-7, "ends at rest: {last:?}");
+    }
+    let moved = [0.0, 0.0, 0.0, 0.04, 0.03, 0.05];
+    for k in 0..6 {
+        assert!((last[1 + k] - first[1 + k] - moved[k]).abs() < 1e-7);
+    }
+    let robot = hexapod();
+    for row in &rows[..rows.len() - 1] {
+        let state = State {
+            pose: Pose::from_array(std::array::from_fn(|i| row[1 + i])),
+            twist: c5_runtime::Twist::from_array(std::array::from_fn(|i| row[7 + i])),
+            accel: c5_runtime::Acceleration::from_array(std::array::from_fn(|i| row[13 + i])),
+        };
+        let gamma = robot.inverse_dynamics(&state).unwrap();
+        for (i, g) in gamma.iter().enumerate() {
+            assert!(
+                (g - row[19 + i]).abs() < 1e-9 * (1.0 + g.abs()),
+                "t = {}: Γ{} {g} from the motion, {} planned",
+                row[0],
+                i + 1,
+                row[19 + i]
+            );
+        }
+    }
+    let docs = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/");
+    for (file, why) in [
+        ("delta.toml", "only translates"),
+        ("rus-hexapod.toml", "derivative kernels are not generated"),
+    ] {
+        let path = format!("{docs}{file}");
+        let refused = support::c5(&["plan", "--robot", &path, "--out", out, "--no-view"], "");
+        let stderr = String::from_utf8_lossy(&refused.stderr);
+        assert!(
+            !refused.status.success() && stderr.contains(why),
+            "{file}: {stderr}"
+        );
+    }
 }
