@@ -11,7 +11,7 @@
 //! inherent `*_derivatives` methods), and every robot through
 //! [`crate::mechanism::Derivatives`].
 
-use crate::Acceleration;
+use crate::{finite, finite_matrix, Acceleration, Error};
 
 /// `Γ` and its exact Jacobians at a platform state.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,4 +54,31 @@ pub struct JointDynamicsDerivatives {
     pub d_qd: [[f64; 6]; 6],
     /// `∂Γ/∂q̈ = M_q` (kg), symmetric positive definite.
     pub d_qdd: [[f64; 6]; 6],
+}
+
+/// A kernel's value and three Jacobians, as its tuple returns them (the guard apart).
+type Jacobians = ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6]);
+
+impl InverseDynamicsDerivatives {
+    /// The kernel's outputs, each refused by name where not finite.
+    pub(crate) fn checked((gamma, d_pose, d_twist, d_accel): Jacobians) -> Result<Self, Error> {
+        Ok(InverseDynamicsDerivatives {
+            gamma: finite("gamma", gamma)?,
+            d_pose: finite_matrix("d_gamma_d_pose", d_pose)?,
+            d_twist: finite_matrix("d_gamma_d_twist", d_twist)?,
+            d_accel: finite_matrix("d_gamma_d_acceleration", d_accel)?,
+        })
+    }
+}
+
+impl ForwardDynamicsDerivatives {
+    /// The kernel's outputs, each refused by name where not finite.
+    pub(crate) fn checked((accel, d_pose, d_twist, d_gamma): Jacobians) -> Result<Self, Error> {
+        Ok(ForwardDynamicsDerivatives {
+            accel: Acceleration::from_array(finite("acceleration", accel)?),
+            d_pose: finite_matrix("d_acceleration_d_pose", d_pose)?,
+            d_twist: finite_matrix("d_acceleration_d_twist", d_twist)?,
+            d_gamma: finite_matrix("d_acceleration_d_gamma", d_gamma)?,
+        })
+    }
 }

@@ -18,7 +18,7 @@ use crate::error::Error;
 use crate::limits::Limit;
 use crate::Pose;
 #[cfg(feature = "derivatives")]
-use crate::{finite, finite_matrix, Acceleration, State, Twist, C5};
+use crate::{State, Twist, C5};
 #[cfg(feature = "derivatives")]
 use c5_generated::f64::gough_stewart as kernels;
 pub use c5_robot::GoughStewart as Description;
@@ -188,12 +188,7 @@ impl GoughStewart {
         let (gamma, d_pose, d_twist, d_accel, guard) =
             kernels::inverse_dynamics_derivatives_params(&x, &v, &a, self.parameters());
         crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
-        Ok(InverseDynamicsDerivatives {
-            gamma: finite("gamma", gamma)?,
-            d_pose: finite_matrix("d_gamma_d_pose", d_pose)?,
-            d_twist: finite_matrix("d_gamma_d_twist", d_twist)?,
-            d_accel: finite_matrix("d_gamma_d_acceleration", d_accel)?,
-        })
+        InverseDynamicsDerivatives::checked((gamma, d_pose, d_twist, d_accel))
     }
 
     /// The forward dynamics and its exact Jacobians with respect to the pose, the twist and the
@@ -212,12 +207,7 @@ impl GoughStewart {
             kernels::forward_dynamics_derivatives_params(&x, &v, gamma, self.parameters());
         crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
         self.check_acceleration_solve(&x, &guard)?;
-        Ok(ForwardDynamicsDerivatives {
-            accel: Acceleration::from_array(finite("acceleration", a)?),
-            d_pose: finite_matrix("d_acceleration_d_pose", d_pose)?,
-            d_twist: finite_matrix("d_acceleration_d_twist", d_twist)?,
-            d_gamma: finite_matrix("d_acceleration_d_gamma", d_gamma)?,
-        })
+        ForwardDynamicsDerivatives::checked((a, d_pose, d_twist, d_gamma))
     }
 }
 

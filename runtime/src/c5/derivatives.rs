@@ -6,7 +6,7 @@ use crate::derivatives::{
     ForwardDynamicsDerivatives, InverseDynamicsDerivatives, JointDynamicsDerivatives,
 };
 use crate::{check_divisors, finite, finite_matrix};
-use crate::{Acceleration, Error, Kernels, Pose, State, Twist, C5};
+use crate::{Error, Kernels, Pose, State, Twist, C5};
 
 impl C5 {
     /// The inverse dynamics and its exact Jacobians with respect to the pose, the twist and the
@@ -23,12 +23,7 @@ impl C5 {
             .kernels
             .inverse_dynamics_derivatives_params(&x, &v, &a, &self.params);
         check_divisors(r)?;
-        Ok(InverseDynamicsDerivatives {
-            gamma: finite("gamma", gamma)?,
-            d_pose: finite_matrix("d_gamma_d_pose", d_pose)?,
-            d_twist: finite_matrix("d_gamma_d_twist", d_twist)?,
-            d_accel: finite_matrix("d_gamma_d_acceleration", d_accel)?,
-        })
+        InverseDynamicsDerivatives::checked((gamma, d_pose, d_twist, d_accel))
     }
 
     /// The forward dynamics and its exact Jacobians with respect to the pose, the twist and the
@@ -47,12 +42,7 @@ impl C5 {
             self.kernels
                 .forward_dynamics_derivatives_params(&x, &v, gamma, &self.params);
         check_forward_dynamics(self.forward_dynamics_tolerance(), r)?;
-        Ok(ForwardDynamicsDerivatives {
-            accel: Acceleration::from_array(finite("acceleration", a)?),
-            d_pose: finite_matrix("d_acceleration_d_pose", d_pose)?,
-            d_twist: finite_matrix("d_acceleration_d_twist", d_twist)?,
-            d_gamma: finite_matrix("d_acceleration_d_gamma", d_gamma)?,
-        })
+        ForwardDynamicsDerivatives::checked((a, d_pose, d_twist, d_gamma))
     }
 
     /// The inverse dynamics from the actuators' positions, rates and accelerations and its
