@@ -39,8 +39,8 @@ pub struct TrackArgs {
     /// The plant's model.
     #[arg(long, default_value = "consistent", value_parser = model_parser())]
     plant_model: Model,
-    /// The plant's start off the trajectory: `dx,dy,dz` (m) and a rotation vector
-    /// `rx,ry,rz` (rad, base frame).
+    /// The plant's start off the trajectory: `dx,dy,dz` (m), then, for a platform that turns,
+    /// optionally a rotation vector `rx,ry,rz` (rad, base frame).
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     initial_offset: Option<Vec<f64>>,
     /// `λ` (1/s): critically damped gains `Kp = λ²`, `Kd = 2λ`.
@@ -103,11 +103,14 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
         .into());
     }
     let freedom = plant.freedom();
-    let offset: [f64; 6] = match &o.initial_offset {
+    // A shift alone, or a shift and a turn; a platform that only translates takes the shift.
+    let offset: [f64; 6] = match o.initial_offset.as_deref() {
         None => [0.0; 6],
-        Some(v) => <[f64; 6]>::try_from(v.as_slice()).map_err(|_| {
+        Some(&[dx, dy, dz]) => [dx, dy, dz, 0.0, 0.0, 0.0],
+        Some(v) => <[f64; 6]>::try_from(v).map_err(|_| {
             format!(
-                "--initial-offset takes six numbers dx,dy,dz,rx,ry,rz, got {}",
+                "--initial-offset takes dx,dy,dz (m) and, for a platform that turns, optionally \
+                 rx,ry,rz (rad): three or six numbers, got {}",
                 v.len()
             )
         })?,
@@ -121,7 +124,7 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
         }
     }
     if offset.iter().any(|x| !x.is_finite()) {
-        return Err("--initial-offset must hold six finite numbers".into());
+        return Err("--initial-offset must hold finite numbers".into());
     }
     if !freedom.turns() && offset[3..] != [0.0; 3] {
         return Err(format!(

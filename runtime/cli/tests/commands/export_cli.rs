@@ -211,7 +211,8 @@ fn track_brings_a_delta_back_onto_its_path_as_the_gains_say() {
     for space in ["task", "joint"] {
         let dir = scratch(&format!("track-delta-{space}"));
         let args = ["track", "--robot", DELTA, "--space", space, "--no-view"];
-        let offset = ["--initial-offset", "0.003,-0.002,0.004,0,0,0"];
+        // The Delta's shift alone: three numbers, its platform's freedoms.
+        let offset = ["--initial-offset", "0.003,-0.002,0.004"];
         c5_ok(
             &[&args[..], &offset[..], &["--out", dir.to_str().unwrap()]].concat(),
             "",
@@ -269,6 +270,12 @@ fn track_brings_a_delta_back_onto_its_path_as_the_gains_say() {
     );
     assert!(!turned.status.success() && turned.stdout.is_empty());
     assert!(String::from_utf8_lossy(&turned.stderr).contains("only translates"));
+    let four = c5(
+        &["track", "--robot", DELTA, "--initial-offset", "0.003,0,0,0"],
+        "",
+    );
+    assert!(!four.status.success() && four.stdout.is_empty());
+    assert!(String::from_utf8_lossy(&four.stderr).contains("three or six numbers, got 4"));
 }
 
 /// The Delta held by `simulate --torques`, in its three coordinates: from rest at home under
