@@ -80,7 +80,13 @@ fn spatial(mechanism: &dyn Mechanism) -> crate::Result<&dyn SpatialRobot> {
 pub fn run(args: &PlanArgs) -> crate::Result<ExitCode> {
     let mechanism = args.robot.load_mechanism()?;
     let robot = spatial(mechanism.as_ref())?;
-    let (section9, scaled) = options::section9_for(mechanism.as_ref())?;
+    // Section 9's move is checked state by state: only where a pose is left to it.
+    let defaulted = args.from.is_none() || args.to.is_none();
+    let (section9, scaled) = if defaulted {
+        options::section9_for(mechanism.as_ref())?
+    } else {
+        (c5_runtime::trajectory::LinearMove::section9(), None)
+    };
     let mut end = section9.start;
     end.center = section9.end;
     let problem = Problem {
@@ -111,7 +117,7 @@ pub fn run(args: &PlanArgs) -> crate::Result<ExitCode> {
         planned.goal_error
     );
     println!("forces: peak {peak:.2} N, RMS {rms:.2} N (the quintic move: peak {q_peak:.2} N, RMS {q_rms:.2} N)");
-    if args.from.is_none() || args.to.is_none() {
+    if defaulted {
         println!(
             "the default poses are Section 9's, from this robot's home{}",
             options::scaled_note(scaled)
