@@ -62,15 +62,11 @@ fn bench(c: &mut Criterion) {
         })
     });
     // Four states a call, lane `l` the `l`-th state's: the throughput against the line above.
-    let batches: Vec<[[[f64; 4]; 3]; 3]> = cases
-        .chunks_exact(4)
-        .map(|four| {
-            let part = |s: &Translation, j: usize| [s.position, s.velocity, s.acceleration][j];
-            std::array::from_fn(|j| {
-                std::array::from_fn(|e| std::array::from_fn(|l| part(&four[l], j)[e]))
-            })
-        })
+    let motions: Vec<[[f64; 3]; 3]> = cases
+        .iter()
+        .map(|s| [s.position, s.velocity, s.acceleration])
         .collect();
+    let batches = c5_benches::lanes(&motions);
     g.throughput(match ops(Kernel::InverseDynamics) {
         Throughput::Elements(n) => Throughput::Elements(4 * n),
         other => other,

@@ -80,13 +80,8 @@ fn bench(c: &mut Criterion) {
         })
     });
     // Four states a call, lane `l` the `l`-th state's: the throughput against the line above.
-    let batches: Vec<[[[f64; 4]; 6]; 3]> = arrays
-        .chunks_exact(4)
-        .map(|four| {
-            let part = |l: usize, j: usize| [four[l].0, four[l].1, four[l].2][j];
-            std::array::from_fn(|j| std::array::from_fn(|e| std::array::from_fn(|l| part(l, j)[e])))
-        })
-        .collect();
+    let motions: Vec<[[f64; 6]; 3]> = arrays.iter().map(|&(x, v, a)| [x, v, a]).collect();
+    let batches = c5_benches::lanes(&motions);
     g.throughput(match ops(Kernel::InverseDynamics, true) {
         Throughput::Elements(n) => Throughput::Elements(4 * n),
         other => other,
