@@ -3,7 +3,7 @@
 use crate::blocks::{self, Let};
 use crate::dag::Func;
 use crate::error::Error;
-use crate::fuse::{Fused, Fusion};
+use crate::fuse::Fusion;
 use crate::kernel::{Arg, Compiled, KernelSpec, Shape};
 use crate::lower::{Instr, Operand};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
@@ -115,7 +115,8 @@ pub fn kernel_doc(spec: &KernelSpec, compiled: &Compiled) -> String {
 /// Emits one kernel as a function item. With `fma`, three: `{name}_separate` (every operation
 /// rounded on its own), `{name}_fused` (the products the [`crate::fuse`] plan folds, fused:
 /// `mul_add` in a function compiled for FMA), and `{name}`, which runs the fused twin where
-/// `fma` says the CPU has FMA, else the separate one.
+/// `fma` says the CPU has FMA, else the separate one. The two paths are one body, written
+/// once in [`c5_fma_twin`]'s notation ([`FmaDispatch::twins`]).
 pub fn emit_kernel(
     spec: &KernelSpec,
     compiled: &Compiled,
@@ -181,8 +182,14 @@ pub fn emit_kernel(
         let mut body = Vec::new();
         for (i, instr) in compiled.program.instrs.iter().enumerate() {
             let t = ident(&format!("t{i}"));
-            let rhs = match fused_rhs(fusion, i, &operand, &quote!(#ty)) {
-                Fold::Absorbed => continue,
+            let rhs = match fused_rhs(fusion, &compiled.program.instrs, i, &operand) {
+                Fold::Product(rhs) => {
+                    body.push(Let {
+                        binds: vec![i as u32],
+                        tokens: quote!(let #t = #rhs;),
+                    });
+                    continue;
+                }
                 Fold::Fused(rhs) => rhs,
                 Fold::Separate => match *instr {
                     Instr::SinCos(a) => {
@@ -245,7 +252,7 @@ pub fn emit_kernel(
         };
     };
     let fusion = crate::fuse::plan(&compiled.program);
-    let (separate, fused) = (body(None), body(Some(&fusion)));
+    let body = body(Some(&fusion));
     let separate_name = ident(&format!("{}_separate", spec.name));
     let fused_name = ident(&format!("{}_fused", spec.name));
     let args = param_names(&params);
@@ -254,18 +261,16 @@ pub fn emit_kernel(
         " [`{}`] with every operation rounded on its own: the same bits on every machine.",
         spec.name
     );
-    let fused_doc = match fusion.saved() {
-        0 => format!(
-            " [`{}`] on the FMA path: no product here is read by a sum alone, so this is \
-             [`{}`]'s arithmetic.",
-            spec.name, separate_name
-        ),
-        n => format!(
-            " [`{}`] with {n} of its products fused into the sums that read them (`mul_add`, \
-             one rounding each): the path [`{}`] takes where the CPU has FMA.",
-            spec.name, spec.name
-        ),
+    let written_once = quote! {
+        #[doc = #separate_doc]
+        #[inline]
+        pub fn #separate_name(#(#params),*) -> #ret_ty {
+            #(#destructure)*
+            #(#body)*
+            #ret
+        }
     };
+    let paths = fma.twins(&fused_name, quote!(#ty::mul_add), written_once);
     quote! {
         #(#doc_lines)*
         #[inline]
@@ -278,26 +283,7 @@ pub fn emit_kernel(
             #separate_name(#(#args),*)
         }
 
-        #[doc = #separate_doc]
-        #[inline]
-        pub fn #separate_name(#(#params),*) -> #ret_ty {
-            #(#destructure)*
-            #(#separate)*
-            #ret
-        }
-
-        #[doc = #fused_doc]
-        ///
-        /// # Safety
-        /// The CPU must have FMA (`is_x86_feature_detected!("fma")`).
-        #[cfg(#cfg)]
-        #[inline]
-        #[target_feature(enable = "fma")]
-        pub unsafe fn #fused_name(#(#params),*) -> #ret_ty {
-            #(#destructure)*
-            #(#fused)*
-            #ret
-        }
+        #paths
     }
 }
 
@@ -308,6 +294,12 @@ pub struct FmaDispatch {
     pub cfg: TokenStream,
     /// A `bool` expression: run the twin (true only where the CPU has FMA).
     pub enabled: TokenStream,
+    /// The `#[fma_twin]` attribute that expands each kernel's body into its two paths where
+    /// the file is compiled, and the `cfg` under which it does (`c5-generated`'s: its `fma`
+    /// feature, from `c5-fma-twin-macro`; without it the body's marks are plain functions,
+    /// `fma::marks`). `None`: the generator expands them itself (a crate of its own, which
+    /// need not depend on the macro).
+    pub twin_attribute: Option<(TokenStream, TokenStream)>,
 }
 
 impl FmaDispatch {
@@ -316,6 +308,7 @@ impl FmaDispatch {
         FmaDispatch {
             cfg: quote!(any(target_arch = "x86", target_arch = "x86_64")),
             enabled: quote!(std::is_x86_feature_detected!("fma")),
+            twin_attribute: None,
         }
     }
 
@@ -327,6 +320,21 @@ impl FmaDispatch {
                 any(target_arch = "x86", target_arch = "x86_64")
             )),
             enabled: quote!(crate::fma::enabled()),
+            twin_attribute: Some((quote!(feature = "fma"), quote!(fma_twin))),
+        }
+    }
+
+    /// A function whose body is written once (its folded products marked, [`c5_fma_twin`]'s
+    /// notation) and its FMA twin `twin`, whose fused multiply-add is `mul_add`, as the file
+    /// writes them.
+    fn twins(&self, twin: &Ident, mul_add: TokenStream, written_once: TokenStream) -> TokenStream {
+        match &self.twin_attribute {
+            Some((cfg, attribute)) => quote! {
+                #[cfg_attr(#cfg, #attribute(#twin, #mul_add))]
+                #written_once
+            },
+            None => c5_fma_twin::expand(quote!(#twin, #mul_add), written_once, &self.cfg)
+                .expect("the generator writes a function with a body"),
         }
     }
 }
@@ -348,43 +356,63 @@ fn param_names(params: &[TokenStream]) -> Vec<TokenStream> {
 
 /// What an instruction becomes on a path.
 enum Fold {
-    /// A product folded into its reader: not emitted.
-    Absorbed,
-    /// A sum or difference with a product folded in: this right-hand side.
+    /// A product that one sum reads and fuses: `product(a, b)` ([`c5_fma_twin`]'s notation:
+    /// its rounded value on the separate path, its factors on the FMA twin).
+    Product(TokenStream),
+    /// A sum or difference with a product folded in: this right-hand side (`p.plus(c)`, ...).
     Fused(TokenStream),
     /// As it is.
     Separate,
 }
 
-/// Instruction `i` on the FMA path of `fusion` (`None`: the separate path), `mul_add` the
-/// type whose `mul_add` fuses (`f64`, a lane type).
+/// Instruction `i` of `instrs` under `fusion` (`None`: every operation rounded on its own).
+///
+/// A body written once serves both paths ([`c5_fma_twin`]): a folded product stays where the
+/// program computes it, as `product(a, b)`, and the sum that reads it is `p.plus(c)` (or
+/// `added_to`, `minus`, `subtracted_from`). So each path keeps the program's order, and
+/// compiles to what a body written for it alone would.
 fn fused_rhs(
     fusion: Option<&Fusion>,
+    instrs: &[Instr],
     i: usize,
     operand: &dyn Fn(Operand) -> TokenStream,
-    ty: &TokenStream,
 ) -> Fold {
     let Some(fusion) = fusion else {
         return Fold::Separate;
     };
     if fusion.absorbed[i] {
-        return Fold::Absorbed;
+        let Instr::Mul(a, b) = instrs[i] else {
+            unreachable!("only products are folded into sums")
+        };
+        let (a, b) = (operand(a), operand(b));
+        return Fold::Product(quote!(product(#a, #b)));
     }
-    match fusion.fused[i] {
-        Some(Fused::MulAdd(a, b, c)) => {
-            let (a, b, c) = (operand(a), operand(b), operand(c));
-            Fold::Fused(quote!(#ty::mul_add(#a, #b, #c)))
-        }
-        Some(Fused::MulSub(a, b, c)) => {
-            let (a, b, c) = (operand(a), operand(b), operand(c));
-            Fold::Fused(quote!(#ty::mul_add(#a, #b, -#c)))
-        }
-        Some(Fused::NegMulAdd(a, b, c)) => {
-            let (a, b, c) = (operand(a), operand(b), operand(c));
-            Fold::Fused(quote!(#ty::mul_add(-#a, #b, #c)))
-        }
-        None => Fold::Separate,
+    if fusion.fused[i].is_none() {
+        return Fold::Separate;
     }
+    // The product the sum folds in: the one operand that is a folded product (a product is
+    // folded only where its one reader is this sum, so the other operand is not).
+    let folded = |o: Operand| matches!(o, Operand::Temp(t) if fusion.absorbed[t as usize]);
+    let rhs = match instrs[i] {
+        Instr::Add(x, y) if folded(x) => {
+            let (p, c) = (operand(x), operand(y));
+            quote!(#p.plus(#c))
+        }
+        Instr::Add(x, y) => {
+            let (c, p) = (operand(x), operand(y));
+            quote!(#p.added_to(#c))
+        }
+        Instr::Sub(x, y) if folded(x) => {
+            let (p, c) = (operand(x), operand(y));
+            quote!(#p.minus(#c))
+        }
+        Instr::Sub(x, y) => {
+            let (c, p) = (operand(x), operand(y));
+            quote!(#p.subtracted_from(#c))
+        }
+        _ => unreachable!("only sums and differences fold a product"),
+    };
+    Fold::Fused(rhs)
 }
 
 /// The right-hand side of an arithmetic instruction.
@@ -543,6 +571,8 @@ pub fn emit_batch_kernel(
     let eighth_turn = scalar == Scalar::F64 && !on_entry.is_empty();
     let by_states = ident(&format!("{}_x{lanes}_by_states", spec.name));
     let by_states_fused = ident(&format!("{}_x{lanes}_by_states_fused", spec.name));
+    let fma_cfg = FmaDispatch::crate_switch().cfg;
+    // With a fusion plan (`f64`), one body for both paths (`c5_fma_twin`'s notation).
     let body = |fusion: Option<&Fusion>| -> Vec<TokenStream> {
         let mut body = Vec::new();
         if eighth_turn {
@@ -550,16 +580,22 @@ pub fn emit_batch_kernel(
                 let x = operand(Operand::Input(k));
                 quote!(#x.within_eighth_turn())
             });
-            let by_states = if fusion.is_some() {
-                &by_states_fused
-            } else {
-                &by_states
-            };
+            // The lanes' FMA path goes state by state through the single kernels' FMA twins.
+            let fused_return = fusion.is_some().then(|| {
+                quote! {
+                    #[cfg(#fma_cfg)]
+                    if FUSED {
+                        // SAFETY: only the FMA twin, which the CPU's FMA gates, takes this.
+                        return unsafe { #by_states_fused(#(#args),*) };
+                    }
+                }
+            });
             body.push(Let {
                 binds: Vec::new(),
                 // `&`, not `&&`: the comparisons combine without a branch each.
                 tokens: quote! {
                     if !(#(#checks)&*) {
+                        #fused_return
                         return #by_states(#(#args),*);
                     }
                 },
@@ -567,8 +603,14 @@ pub fn emit_batch_kernel(
         }
         for (i, instr) in compiled.program.instrs.iter().enumerate() {
             let t = ident(&format!("t{i}"));
-            let rhs = match fused_rhs(fusion, i, &operand, &quote!(#lane)) {
-                Fold::Absorbed => continue,
+            let rhs = match fused_rhs(fusion, &compiled.program.instrs, i, &operand) {
+                Fold::Product(rhs) => {
+                    body.push(Let {
+                        binds: vec![i as u32],
+                        tokens: quote!(let #t = #rhs;),
+                    });
+                    continue;
+                }
                 Fold::Fused(rhs) => rhs,
                 Fold::Separate => match *instr {
                     Instr::Call(f, a) => {
@@ -629,14 +671,14 @@ pub fn emit_batch_kernel(
         spec.name, spec.name, spec.title
     );
     let portable = ident(&format!("{}_x{lanes}_lanes", spec.name));
-    let separate = body(None);
     // The FMA twin of the lanes: the single kernel's fusion plan, so each lane computes what
-    // the single kernel's fused twin computes.
-    let fused = fma.then(|| {
+    // the single kernel's fused twin computes. One body, written once, is both.
+    let (lanes_fns, dispatch) = if fma {
         let fusion = crate::fuse::plan(&compiled.program);
         let body = body(Some(&fusion));
         let fused = ident(&format!("{}_x{lanes}_lanes_fused", spec.name));
-        let FmaDispatch { cfg, enabled } = FmaDispatch::crate_switch();
+        let switch = FmaDispatch::crate_switch();
+        let FmaDispatch { cfg, enabled, .. } = &switch;
         let dispatch = quote! {
             #[cfg(#cfg)]
             if #enabled {
@@ -660,19 +702,31 @@ pub fn emit_batch_kernel(
                 return unsafe { avx2_fma(#(#args),*) };
             }
         };
-        // `unsafe`: its lanes' `mul_add` needs FMA, which only the dispatch above checks.
-        let lanes_fused = quote! {
-            #[cfg(#cfg)]
+        let written_once = quote! {
             #[inline(always)]
-            unsafe fn #fused(#(#params),*) -> #ret_ty {
+            fn #portable(#(#params),*) -> #ret_ty {
                 #(#destructure)*
                 #(#body)*
                 #ret
             }
         };
-        (dispatch, lanes_fused)
-    });
-    let (dispatch, lanes_fused) = fused.unzip();
+        // The twin is `unsafe`: its lanes' `mul_add` needs FMA, which only the dispatch above
+        // checks.
+        let lanes_fns = switch.twins(&fused, quote!(#lane::mul_add), written_once);
+        (lanes_fns, Some(dispatch))
+    } else {
+        let body = body(None);
+        let lanes_fn = quote! {
+            #[inline(always)]
+            fn #portable(#(#params),*) -> #ret_ty {
+                #(#destructure)*
+                #(#body)*
+                #ret
+            }
+        };
+        (lanes_fn, None)
+    };
+    let separate = quote!(#portable(#(#args),*));
     let by_states_fns = eighth_turn.then(|| {
         let single = ident(&format!("{}_separate", spec.name));
         let single_fused = ident(&format!("{}_fused", spec.name));
@@ -723,22 +777,15 @@ pub fn emit_batch_kernel(
                     // before it allocates registers, so its spills are aligned too (else they
                     // straddle cache lines or not as the caller's stack falls: up to 30 %).
                     core::hint::black_box(&#lane::splat(0.0));
-                    #portable(#(#args),*)
+                    #separate
                 }
                 // SAFETY: the CPU has AVX2 (checked above), the one feature `avx2` assumes.
                 return unsafe { avx2(#(#args),*) };
             }
-            #portable(#(#args),*)
+            #separate
         }
 
-        #[inline(always)]
-        fn #portable(#(#params),*) -> #ret_ty {
-            #(#destructure)*
-            #(#separate)*
-            #ret
-        }
-
-        #lanes_fused
+        #lanes_fns
 
         #by_states_fns
     })
@@ -1181,6 +1228,14 @@ pub fn emit_kernel_sets(
                 files.push(quote!(#cfg include!(#name);));
             }
         }
+        // The `f64` kernels' bodies are written once for both paths ([`FmaDispatch::twins`]).
+        let twins = (scalar == Scalar::F64).then(|| {
+            quote! {
+                #[cfg(feature = "fma")]
+                use c5_fma_twin_macro::fma_twin;
+                use crate::fma::marks::{product, Folded};
+            }
+        });
         let regressors = (scalar == Scalar::F64 && !set.regressors.is_empty()).then(|| {
             let regressors = file("_regressor");
             quote! {
@@ -1199,6 +1254,7 @@ pub fn emit_kernel_sets(
             #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
             pub mod #module {
                 use crate::trig::{atan, cos, sin, sin_cos, sqrt};
+                #twins
                 include!(#kernels);
                 #batch
                 #(#files)*

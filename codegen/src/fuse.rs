@@ -48,6 +48,7 @@ impl Fusion {
     }
 
     /// The number of products folded away (the instructions the FMA twin saves).
+    #[cfg(test)]
     pub fn saved(&self) -> usize {
         self.absorbed.iter().filter(|&&a| a).count()
     }

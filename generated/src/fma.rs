@@ -83,3 +83,46 @@ pub fn enabled() -> bool {
 pub fn set_enabled(yes: bool) -> bool {
     switch::set_enabled(yes)
 }
+
+/// The marks of a kernel body written once for both paths (`c5_fma_twin`'s notation), as the
+/// separate path reads them where the `fma` feature is off and `#[fma_twin]` does not expand
+/// them: a folded product rounded where it is computed, and the sum that reads it rounded
+/// again. With the feature on, `#[fma_twin]` writes the same arithmetic in place.
+pub mod marks {
+    use core::ops::{Add, Mul, Sub};
+
+    /// `a·b`, a product that one sum alone reads.
+    #[inline(always)]
+    pub fn product<T: Mul<Output = T>>(a: T, b: T) -> T {
+        a * b
+    }
+
+    /// The sums that read a folded product `p` (`self`).
+    pub trait Folded: Copy + Add<Output = Self> + Sub<Output = Self> {
+        /// `p + c`.
+        #[inline(always)]
+        fn plus(self, c: Self) -> Self {
+            self + c
+        }
+
+        /// `c + p`.
+        #[inline(always)]
+        fn added_to(self, c: Self) -> Self {
+            c + self
+        }
+
+        /// `p − c`.
+        #[inline(always)]
+        fn minus(self, c: Self) -> Self {
+            self - c
+        }
+
+        /// `c − p`.
+        #[inline(always)]
+        fn subtracted_from(self, c: Self) -> Self {
+            c - self
+        }
+    }
+
+    impl<T: Copy + Add<Output = T> + Sub<Output = T>> Folded for T {}
+}

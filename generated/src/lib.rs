@@ -25,7 +25,10 @@
 //! `{kernel}_separate` rounds every operation on its own, and `{kernel}` runs the fused twin
 //! where the CPU has FMA (x86, checked once at run time), so do the batch kernels' lanes. The
 //! twins agree to a few units in the last place; [`fma::set_enabled`]`(false)` makes every
-//! kernel of the process take the separate path, the same bits on every machine.
+//! kernel of the process take the separate path, the same bits on every machine. Each body is
+//! written once, as `{kernel}_separate` with its folded products marked, and its
+//! `#[fma_twin]` attribute (`c5-fma-twin-macro`) writes both paths from it; without `fma` the
+//! marks are [`fma::marks`]' plain functions.
 //! Trigonometry comes from the standard library (`std`, the default) or from `libm` (feature
 //! `libm`, also without `std`; its `sincos` is twice as fast as the standard library's pair of
 //! calls); an `f64` sine-cosine pair within an eighth of a turn is computed inline (`eighth_turn`). The files under `src/f64`,

@@ -92,8 +92,9 @@ fn every_generated_function_has_its_manifest_entry_and_model() {
             .filter_map(|l| l.strip_prefix("pub fn "))
             .map(|l| l.split('(').next().unwrap())
             .collect();
-        // The FMA twins of a kernel sit beside it: `{kernel}_separate` (safe) and
-        // `{kernel}_fused` (`unsafe`, FMA only); the regressors have none.
+        // The FMA twins of a kernel sit beside it: `{kernel}_separate` (safe), written once
+        // with `#[fma_twin]`, which makes `{kernel}_fused` (`unsafe`, FMA only) of it; the
+        // regressors have none.
         let mut functions: Vec<&str> = all
             .iter()
             .copied()
@@ -105,7 +106,7 @@ fn every_generated_function_has_its_manifest_entry_and_model() {
                 "{model}: {f}_separate"
             );
             assert!(
-                code.contains(&format!("pub unsafe fn {f}_fused(")),
+                code.contains(&format!("fma_twin({f}_fused, f64::mul_add)")),
                 "{model}: {f}_fused"
             );
         }

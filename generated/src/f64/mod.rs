@@ -9,6 +9,9 @@
 #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
 pub mod consistent {
     use crate::trig::{atan, cos, sin, sin_cos, sqrt};
+    #[cfg(feature = "fma")]
+    use c5_fma_twin_macro::fma_twin;
+    use crate::fma::marks::{product, Folded};
     include!("consistent.rs");
     #[cfg(feature = "batch")]
     use crate::lanes::F64x4;
@@ -29,6 +32,9 @@ pub mod consistent {
 #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
 pub mod paper {
     use crate::trig::{atan, cos, sin, sin_cos, sqrt};
+    #[cfg(feature = "fma")]
+    use c5_fma_twin_macro::fma_twin;
+    use crate::fma::marks::{product, Folded};
     include!("paper.rs");
     #[cfg(feature = "batch")]
     use crate::lanes::F64x4;
@@ -49,6 +55,9 @@ pub mod paper {
 #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
 pub mod gough_stewart {
     use crate::trig::{atan, cos, sin, sin_cos, sqrt};
+    #[cfg(feature = "fma")]
+    use c5_fma_twin_macro::fma_twin;
+    use crate::fma::marks::{product, Folded};
     include!("gough_stewart.rs");
     #[cfg(feature = "batch")]
     use crate::lanes::F64x4;
@@ -65,6 +74,9 @@ pub mod gough_stewart {
 #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
 pub mod rus_hexapod {
     use crate::trig::{atan, cos, sin, sin_cos, sqrt};
+    #[cfg(feature = "fma")]
+    use c5_fma_twin_macro::fma_twin;
+    use crate::fma::marks::{product, Folded};
     include!("rus_hexapod.rs");
     #[cfg(feature = "regressor")]
     include!("rus_hexapod_regressor.rs");
@@ -73,6 +85,9 @@ pub mod rus_hexapod {
 #[allow(clippy::all, clippy::pedantic, clippy::nursery, unused_parens, unused_imports)]
 pub mod delta {
     use crate::trig::{atan, cos, sin, sin_cos, sqrt};
+    #[cfg(feature = "fma")]
+    use c5_fma_twin_macro::fma_twin;
+    use crate::fma::marks::{product, Folded};
     include!("delta.rs");
     #[cfg(feature = "batch")]
     use crate::lanes::F64x4;
