@@ -183,11 +183,8 @@ pub fn emit_kernel(
         for (i, instr) in compiled.program.instrs.iter().enumerate() {
             let t = ident(&format!("t{i}"));
             let rhs = match fused_rhs(fusion, &compiled.program.instrs, i, &operand) {
-                Fold::Product(rhs) => {
-                    body.push(Let {
-                        binds: vec![i as u32],
-                        tokens: quote!(let #t = #rhs;),
-                    });
+                Fold::Product(product) => {
+                    body.push(product);
                     continue;
                 }
                 Fold::Fused(rhs) => rhs,
@@ -356,9 +353,9 @@ fn param_names(params: &[TokenStream]) -> Vec<TokenStream> {
 
 /// What an instruction becomes on a path.
 enum Fold {
-    /// A product that one sum reads and fuses: `product(a, b)` ([`c5_fma_twin`]'s notation:
-    /// its rounded value on the separate path, its factors on the FMA twin).
-    Product(TokenStream),
+    /// A product that one sum reads and fuses: `let t = product(a, b);` ([`c5_fma_twin`]'s
+    /// notation: its rounded value on the separate path, its factors on the FMA twin).
+    Product(Let),
     /// A sum or difference with a product folded in: this right-hand side (`p.plus(c)`, ...).
     Fused(TokenStream),
     /// As it is.
@@ -384,8 +381,11 @@ fn fused_rhs(
         let Instr::Mul(a, b) = instrs[i] else {
             unreachable!("only products are folded into sums")
         };
-        let (a, b) = (operand(a), operand(b));
-        return Fold::Product(quote!(product(#a, #b)));
+        let (t, a, b) = (ident(&format!("t{i}")), operand(a), operand(b));
+        return Fold::Product(Let {
+            binds: vec![i as u32],
+            tokens: quote!(let #t = product(#a, #b);),
+        });
     }
     if fusion.fused[i].is_none() {
         return Fold::Separate;
@@ -604,11 +604,8 @@ pub fn emit_batch_kernel(
         for (i, instr) in compiled.program.instrs.iter().enumerate() {
             let t = ident(&format!("t{i}"));
             let rhs = match fused_rhs(fusion, &compiled.program.instrs, i, &operand) {
-                Fold::Product(rhs) => {
-                    body.push(Let {
-                        binds: vec![i as u32],
-                        tokens: quote!(let #t = #rhs;),
-                    });
+                Fold::Product(product) => {
+                    body.push(product);
                     continue;
                 }
                 Fold::Fused(rhs) => rhs,
