@@ -98,7 +98,7 @@ pub fn expand(
     if !inlined {
         out.extend(twin_doc(&name, &head, marks.products));
     }
-    out.extend(quote_tokens(&format!("#[cfg({cfg})]")));
+    out.extend(attribute("cfg", cfg.clone()));
     if !inlined {
         out.extend(quote_tokens("#[target_feature(enable = \"fma\")]"));
     }
@@ -111,11 +111,28 @@ pub fn expand(
     Ok(out)
 }
 
-/// The twin's head: `item`'s, `unsafe`, with the twin's name.
+/// `#[name(args)]`.
+fn attribute(name: &str, args: TokenStream) -> TokenStream {
+    let meta: TokenStream = [
+        TokenTree::Ident(Ident::new(name, proc_macro2::Span::call_site())),
+        TokenTree::Group(Group::new(Delimiter::Parenthesis, args)),
+    ]
+    .into_iter()
+    .collect();
+    [
+        punct('#'),
+        TokenTree::Group(Group::new(Delimiter::Bracket, meta)),
+    ]
+    .into_iter()
+    .collect()
+}
+
+/// The twin's head: `item`'s, `unsafe` (once), with the twin's name.
 fn twin_head(head: TokenStream, name: Ident) -> TokenStream {
     let mut out = TokenStream::new();
     for token in head {
         match &token {
+            TokenTree::Ident(i) if i == "unsafe" => {}
             TokenTree::Ident(i) if i == "fn" => {
                 out.extend(quote_tokens("unsafe fn"));
                 out.extend([TokenTree::Ident(name.clone())]);
@@ -476,6 +493,22 @@ mod tests {
                     pub unsafe fn k_fused (x : & [f64 ; 2]) -> f64 { x [0] }";
         assert!(fused.ends_with(twin), "{fused}");
         assert!(!fused.contains("separate path"));
+    }
+
+    #[test]
+    fn an_unsafe_item_has_one_unsafe_twin() {
+        let item = quote!(
+            pub unsafe fn k_separate(x: f64) -> f64 {
+                x
+            }
+        );
+        let out = expand(quote!(k_fused, f64::mul_add), item, &quote!(unix)).unwrap();
+        assert!(
+            out.to_string()
+                .contains("# [target_feature (enable = \"fma\")] pub unsafe fn k_fused (x : f64)"),
+            "{out}"
+        );
+        assert!(!out.to_string().contains("unsafe unsafe"));
     }
 
     #[test]
