@@ -670,9 +670,17 @@ pub fn emit_batch_kernel(
     let portable = ident(&format!("{}_x{lanes}_lanes", spec.name));
     // The FMA twin of the lanes: the single kernel's fusion plan, so each lane computes what
     // the single kernel's fused twin computes. One body, written once, is both.
+    let fusion = fma.then(|| crate::fuse::plan(&compiled.program));
+    let body = body(fusion.as_ref());
+    let lanes_fn = quote! {
+        #[inline(always)]
+        fn #portable(#(#params),*) -> #ret_ty {
+            #(#destructure)*
+            #(#body)*
+            #ret
+        }
+    };
     let (lanes_fns, dispatch) = if fma {
-        let fusion = crate::fuse::plan(&compiled.program);
-        let body = body(Some(&fusion));
         let fused = ident(&format!("{}_x{lanes}_lanes_fused", spec.name));
         let switch = FmaDispatch::crate_switch();
         let FmaDispatch { cfg, enabled, .. } = &switch;
@@ -699,28 +707,11 @@ pub fn emit_batch_kernel(
                 return unsafe { avx2_fma(#(#args),*) };
             }
         };
-        let written_once = quote! {
-            #[inline(always)]
-            fn #portable(#(#params),*) -> #ret_ty {
-                #(#destructure)*
-                #(#body)*
-                #ret
-            }
-        };
         // The twin is `unsafe`: its lanes' `mul_add` needs FMA, which only the dispatch above
         // checks.
-        let lanes_fns = switch.twins(&fused, quote!(#lane::mul_add), written_once);
+        let lanes_fns = switch.twins(&fused, quote!(#lane::mul_add), lanes_fn);
         (lanes_fns, Some(dispatch))
     } else {
-        let body = body(None);
-        let lanes_fn = quote! {
-            #[inline(always)]
-            fn #portable(#(#params),*) -> #ret_ty {
-                #(#destructure)*
-                #(#body)*
-                #ret
-            }
-        };
         (lanes_fn, None)
     };
     let separate = quote!(#portable(#(#args),*));
