@@ -1,6 +1,7 @@
 //! Emission of compiled kernels as formatted Rust through `quote` and `prettyplease`.
 
 use crate::blocks::{self, Let};
+use crate::count::OpCount;
 use crate::dag::Func;
 use crate::error::Error;
 use crate::fuse::Fusion;
@@ -110,6 +111,25 @@ pub fn kernel_doc(spec: &KernelSpec, compiled: &Compiled) -> String {
         doc.push_str(&format!(" The chapter: {}m + {}a.", ch.m, ch.a));
     }
     doc
+}
+
+/// The most operations ([`OpCount::weight`]) of a kernel whose body is `#[inline]`.
+///
+/// An `#[inline]` body is compiled to machine code in every crate that calls it, and only
+/// there: a small kernel then costs its caller no call and a crate nothing it does not call.
+/// A larger one gains nothing from inlining (it is thousands of straight-line operations), and
+/// each caller's copy was compiled again, with LLVM's time growing faster than its length: the
+/// runtime, its unit tests and every test binary each compiled the hexapods' and the
+/// derivatives' kernels. Above this size the body is compiled once, in the crate that holds it.
+pub const INLINE_LIMIT: f64 = 1500.0;
+
+/// `#[inline]` for a kernel of at most [`INLINE_LIMIT`] operations, nothing for a larger one.
+fn inline_attribute(count: &OpCount) -> TokenStream {
+    if count.weight() <= INLINE_LIMIT {
+        quote!(#[inline])
+    } else {
+        TokenStream::new()
+    }
 }
 
 /// Emits one kernel as a function item. With `fma`, three: `{name}_separate` (every operation
@@ -236,11 +256,12 @@ pub fn emit_kernel(
     let doc = kernel_doc(spec, compiled);
     let doc_lines = doc.lines().map(|l| quote!(#[doc = #l]));
     let name = ident(&spec.name);
+    let inline = inline_attribute(&compiled.count);
     let Some(fma) = fma else {
         let body = body(None);
         return quote! {
             #(#doc_lines)*
-            #[inline]
+            #inline
             pub fn #name(#(#params),*) -> #ret_ty {
                 #(#destructure)*
                 #(#body)*
@@ -260,7 +281,7 @@ pub fn emit_kernel(
     );
     let written_once = quote! {
         #[doc = #separate_doc]
-        #[inline]
+        #inline
         pub fn #separate_name(#(#params),*) -> #ret_ty {
             #(#destructure)*
             #(#body)*
@@ -1301,4 +1322,28 @@ pub fn emit_kernel_sets(
         scalar.name(),
         prettyplease::unparse(&file)
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_kernel_is_inline_up_to_the_limit_and_compiled_once_above_it() {
+        let at_limit = OpCount {
+            mul: 800,
+            add: 700,
+            ..OpCount::default()
+        };
+        let above = OpCount {
+            div: 1,
+            ..at_limit.clone()
+        };
+        assert_eq!(at_limit.weight(), INLINE_LIMIT);
+        assert_eq!(
+            inline_attribute(&at_limit).to_string(),
+            quote!(#[inline]).to_string()
+        );
+        assert!(inline_attribute(&above).is_empty());
+    }
 }

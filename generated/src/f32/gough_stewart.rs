@@ -1424,7 +1424,6 @@ pub fn inverse_jacobian_pose_params(
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 829 mul, 22 div, 571 add, 27 neg, 3 sin_cos, 12 sqrt (chapter convention: 851m + 571a).
-#[inline]
 pub fn jacobian_pose_params(
     pose: &[f32; 6],
     params: &[f32; 121],
@@ -4382,7 +4381,6 @@ pub fn joint_accelerations_params(
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
 /// Operations: 1013 mul, 12 div, 658 add, 15 neg, 3 sin_cos, 12 sqrt (chapter convention: 1025m + 658a).
-#[inline]
 pub fn leg_wrench_params(
     pose: &[f32; 6],
     twist: &[f32; 6],
@@ -6609,7 +6607,6 @@ pub fn platform_wrench_params(
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
 /// Operations: 759 mul, 12 div, 538 add, 12 neg, 3 sin_cos, 12 sqrt (chapter convention: 771m + 538a).
-#[inline]
 pub fn task_inertia_params(
     pose: &[f32; 6],
     params: &[f32; 121],
@@ -8306,7 +8303,6 @@ pub fn task_inertia_params(
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
 /// Operations: 1049 mul, 12 div, 652 add, 12 neg, 3 sin_cos, 12 sqrt (chapter convention: 1061m + 652a).
-#[inline]
 pub fn task_bias_params(
     pose: &[f32; 6],
     twist: &[f32; 6],
@@ -10346,7 +10342,6 @@ pub fn task_bias_params(
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 2096 mul, 29 div, 1417 add, 41 neg, 3 sin_cos, 12 sqrt (chapter convention: 2125m + 1417a).
-#[inline]
 pub fn forward_dynamics_params(
     pose: &[f32; 6],
     twist: &[f32; 6],
@@ -14926,7 +14921,6 @@ pub fn forward_dynamics_params(
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 1310 mul, 24 div, 888 add, 33 neg, 3 sin_cos, 12 sqrt (chapter convention: 1334m + 888a).
-#[inline]
 pub fn inverse_dynamics_params(
     pose: &[f32; 6],
     twist: &[f32; 6],

@@ -623,7 +623,6 @@ pub fn inverse_jacobian_pose(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 765 mul, 22 div, 534 add, 26 neg, 3 sin_cos, 12 sqrt (chapter convention: 787m + 534a).
-#[inline]
 pub fn jacobian_pose(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 12]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let (
@@ -3222,7 +3221,6 @@ pub fn joint_accelerations(
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
 /// Operations: 874 mul, 12 div, 567 add, 19 neg, 3 sin_cos, 12 sqrt (chapter convention: 886m + 567a).
-#[inline]
 pub fn leg_wrench(
     pose: &[f32; 6],
     twist: &[f32; 6],
@@ -5213,7 +5211,6 @@ pub fn platform_wrench(pose: &[f32; 6], twist: &[f32; 6], accel: &[f32; 6]) -> [
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
 /// Operations: 888 mul, 12 div, 663 add, 11 neg, 3 sin_cos, 12 sqrt (chapter convention: 900m + 663a).
-#[inline]
 pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let (
@@ -7247,7 +7244,6 @@ pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
 /// Operations: 893 mul, 12 div, 543 add, 19 neg, 3 sin_cos, 12 sqrt (chapter convention: 905m + 543a).
-#[inline]
 pub fn task_bias(pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 6]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [wx, wy, wz, vx, vy, vz] = *twist;
@@ -9084,7 +9080,6 @@ pub fn task_bias(pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 6]) {
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 2091 mul, 29 div, 1503 add, 39 neg, 3 sin_cos, 12 sqrt (chapter convention: 2120m + 1503a).
-#[inline]
 pub fn forward_dynamics(
     pose: &[f32; 6],
     twist: &[f32; 6],
@@ -13709,7 +13704,6 @@ pub fn forward_dynamics(
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 1206 mul, 24 div, 793 add, 39 neg, 3 sin_cos, 12 sqrt (chapter convention: 1230m + 793a).
-#[inline]
 pub fn inverse_dynamics(
     pose: &[f32; 6],
     twist: &[f32; 6],

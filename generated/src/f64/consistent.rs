@@ -11318,7 +11318,6 @@ pub fn joint_inertia_params(
 }
 #[cfg_attr(feature = "fma", fma_twin(joint_inertia_params_fused, f64::mul_add))]
 /// [`joint_inertia_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn joint_inertia_params_separate(
     q: &[f64; 6],
     params: &[f64; 152],

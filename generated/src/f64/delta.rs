@@ -2617,7 +2617,6 @@ pub fn inverse_dynamics_params(
 }
 #[cfg_attr(feature = "fma", fma_twin(inverse_dynamics_params_fused, f64::mul_add))]
 /// [`inverse_dynamics_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn inverse_dynamics_params_separate(
     position: &[f64; 3],
     velocity: &[f64; 3],
@@ -4764,7 +4763,6 @@ pub fn forward_dynamics_params(
 }
 #[cfg_attr(feature = "fma", fma_twin(forward_dynamics_params_fused, f64::mul_add))]
 /// [`forward_dynamics_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn forward_dynamics_params_separate(
     position: &[f64; 3],
     velocity: &[f64; 3],

@@ -31,7 +31,6 @@
 /// - `singular`: `|u_i × r_i|` for each arm, `1 - (K/ρ)²` for each arm, then the arms' hold `det(J⁻¹)² / Π |row_i|²` in `[0, 1]` (zero where they cannot hold the platform): the other results are meaningless where one is near zero or negative
 ///
 /// Operations: 1365 mul, 17 div, 725 add, 61 neg, 3 sign, 6 sqrt (chapter convention: 1382m + 725a).
-#[inline]
 pub fn regressor(
     position: &[f64; 3],
     velocity: &[f64; 3],
@@ -2777,7 +2776,6 @@ pub fn regressor(
 /// - `singular`: `|u_i × r_i|` for each arm, `1 - (K/ρ)²` for each arm, then the arms' hold `det(J⁻¹)² / Π |row_i|²` in `[0, 1]` (zero where they cannot hold the platform): the other results are meaningless where one is near zero or negative
 ///
 /// Operations: 984 mul, 17 div, 517 add, 35 neg, 3 sign, 6 sqrt (chapter convention: 1001m + 517a).
-#[inline]
 pub fn base_regressor(
     position: &[f64; 3],
     velocity: &[f64; 3],

@@ -1477,7 +1477,6 @@ pub fn jacobian_pose_params(
 }
 #[cfg_attr(feature = "fma", fma_twin(jacobian_pose_params_fused, f64::mul_add))]
 /// [`jacobian_pose_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn jacobian_pose_params_separate(
     pose: &[f64; 6],
     params: &[f64; 121],
@@ -4479,7 +4478,6 @@ pub fn leg_wrench_params(
 }
 #[cfg_attr(feature = "fma", fma_twin(leg_wrench_params_fused, f64::mul_add))]
 /// [`leg_wrench_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn leg_wrench_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -6734,7 +6732,6 @@ pub fn task_inertia_params(
 }
 #[cfg_attr(feature = "fma", fma_twin(task_inertia_params_fused, f64::mul_add))]
 /// [`task_inertia_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn task_inertia_params_separate(
     pose: &[f64; 6],
     params: &[f64; 121],
@@ -8445,7 +8442,6 @@ pub fn task_bias_params(
 }
 #[cfg_attr(feature = "fma", fma_twin(task_bias_params_fused, f64::mul_add))]
 /// [`task_bias_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn task_bias_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -10500,7 +10496,6 @@ pub fn forward_dynamics_params(
 }
 #[cfg_attr(feature = "fma", fma_twin(forward_dynamics_params_fused, f64::mul_add))]
 /// [`forward_dynamics_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn forward_dynamics_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -15095,7 +15090,6 @@ pub fn inverse_dynamics_params(
 }
 #[cfg_attr(feature = "fma", fma_twin(inverse_dynamics_params_fused, f64::mul_add))]
 /// [`inverse_dynamics_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn inverse_dynamics_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],

@@ -655,7 +655,6 @@ pub fn jacobian_pose(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 12]) {
 }
 #[cfg_attr(feature = "fma", fma_twin(jacobian_pose_fused, f64::mul_add))]
 /// [`jacobian_pose`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn jacobian_pose_separate(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 12]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let (
@@ -3295,7 +3294,6 @@ pub fn leg_wrench(
 }
 #[cfg_attr(feature = "fma", fma_twin(leg_wrench_fused, f64::mul_add))]
 /// [`leg_wrench`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn leg_wrench_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -5310,7 +5308,6 @@ pub fn task_inertia(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 6]) {
 }
 #[cfg_attr(feature = "fma", fma_twin(task_inertia_fused, f64::mul_add))]
 /// [`task_inertia`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn task_inertia_separate(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 6]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let (
@@ -7354,7 +7351,6 @@ pub fn task_bias(pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64; 6]) {
 }
 #[cfg_attr(feature = "fma", fma_twin(task_bias_fused, f64::mul_add))]
 /// [`task_bias`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn task_bias_separate(pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64; 6]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [wx, wy, wz, vx, vy, vz] = *twist;
@@ -9205,7 +9201,6 @@ pub fn forward_dynamics(
 }
 #[cfg_attr(feature = "fma", fma_twin(forward_dynamics_fused, f64::mul_add))]
 /// [`forward_dynamics`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn forward_dynamics_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -13844,7 +13839,6 @@ pub fn inverse_dynamics(
 }
 #[cfg_attr(feature = "fma", fma_twin(inverse_dynamics_fused, f64::mul_add))]
 /// [`inverse_dynamics`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn inverse_dynamics_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],

@@ -32,7 +32,6 @@
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 4619 mul, 24 div, 3225 add, 226 neg, 6 sign, 3 sin_cos, 12 sqrt (chapter convention: 4643m + 3225a).
-#[inline]
 pub fn regressor(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -9793,7 +9792,6 @@ pub fn regressor(
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 4055 mul, 24 div, 2793 add, 196 neg, 6 sign, 3 sin_cos, 12 sqrt (chapter convention: 4079m + 2793a).
-#[inline]
 pub fn base_regressor(
     pose: &[f64; 6],
     twist: &[f64; 6],

@@ -56,7 +56,6 @@ pub fn inverse_dynamics_derivatives_params(
     fma_twin(inverse_dynamics_derivatives_params_fused, f64::mul_add)
 )]
 /// [`inverse_dynamics_derivatives_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn inverse_dynamics_derivatives_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -4474,7 +4473,6 @@ pub fn forward_dynamics_derivatives_params(
     fma_twin(forward_dynamics_derivatives_params_fused, f64::mul_add)
 )]
 /// [`forward_dynamics_derivatives_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn forward_dynamics_derivatives_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -10969,7 +10967,6 @@ pub fn inverse_dynamics_joint_derivatives_params(
     fma_twin(inverse_dynamics_joint_derivatives_params_fused, f64::mul_add)
 )]
 /// [`inverse_dynamics_joint_derivatives_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn inverse_dynamics_joint_derivatives_params_separate(
     q: &[f64; 6],
     qd: &[f64; 6],

@@ -49,7 +49,6 @@ pub fn inverse_dynamics_derivatives(
 }
 #[cfg_attr(feature = "fma", fma_twin(inverse_dynamics_derivatives_fused, f64::mul_add))]
 /// [`inverse_dynamics_derivatives`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn inverse_dynamics_derivatives_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -3075,7 +3074,6 @@ pub fn forward_dynamics_derivatives(
 }
 #[cfg_attr(feature = "fma", fma_twin(forward_dynamics_derivatives_fused, f64::mul_add))]
 /// [`forward_dynamics_derivatives`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn forward_dynamics_derivatives_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -8397,7 +8395,6 @@ pub fn inverse_dynamics_joint_derivatives(
     fma_twin(inverse_dynamics_joint_derivatives_fused, f64::mul_add)
 )]
 /// [`inverse_dynamics_joint_derivatives`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn inverse_dynamics_joint_derivatives_separate(
     q: &[f64; 6],
     qd: &[f64; 6],

@@ -32,7 +32,6 @@
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
 /// Operations: 849 mul, 5 div, 618 add, 44 neg, 6 sign, 3 sin_cos (chapter convention: 854m + 618a).
-#[inline]
 pub fn regressor(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -3151,7 +3150,6 @@ pub fn regressor(
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
 /// Operations: 849 mul, 5 div, 618 add, 44 neg, 6 sign, 3 sin_cos (chapter convention: 854m + 618a).
-#[inline]
 pub fn base_regressor(
     pose: &[f64; 6],
     twist: &[f64; 6],

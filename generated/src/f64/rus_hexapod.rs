@@ -1716,7 +1716,6 @@ pub fn jacobian_pose_params(
 }
 #[cfg_attr(feature = "fma", fma_twin(jacobian_pose_params_fused, f64::mul_add))]
 /// [`jacobian_pose_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn jacobian_pose_params_separate(
     pose: &[f64; 6],
     params: &[f64; 163],
@@ -4946,7 +4945,6 @@ pub fn joint_accelerations_params(
 }
 #[cfg_attr(feature = "fma", fma_twin(joint_accelerations_params_fused, f64::mul_add))]
 /// [`joint_accelerations_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn joint_accelerations_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -6514,7 +6512,6 @@ pub fn leg_wrench_params(
 }
 #[cfg_attr(feature = "fma", fma_twin(leg_wrench_params_fused, f64::mul_add))]
 /// [`leg_wrench_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn leg_wrench_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -11165,7 +11162,6 @@ pub fn task_inertia_params(
 }
 #[cfg_attr(feature = "fma", fma_twin(task_inertia_params_fused, f64::mul_add))]
 /// [`task_inertia_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn task_inertia_params_separate(
     pose: &[f64; 6],
     params: &[f64; 163],
@@ -15579,7 +15575,6 @@ pub fn task_bias_params(
 }
 #[cfg_attr(feature = "fma", fma_twin(task_bias_params_fused, f64::mul_add))]
 /// [`task_bias_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn task_bias_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -20025,7 +20020,6 @@ pub fn forward_dynamics_params(
 }
 #[cfg_attr(feature = "fma", fma_twin(forward_dynamics_params_fused, f64::mul_add))]
 /// [`forward_dynamics_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn forward_dynamics_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -28832,7 +28826,6 @@ pub fn inverse_dynamics_params(
 }
 #[cfg_attr(feature = "fma", fma_twin(inverse_dynamics_params_fused, f64::mul_add))]
 /// [`inverse_dynamics_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn inverse_dynamics_params_separate(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -34367,7 +34360,6 @@ pub fn singularity_terms_params(pose: &[f64; 6], params: &[f64; 163]) -> [f64; 1
 }
 #[cfg_attr(feature = "fma", fma_twin(singularity_terms_params_fused, f64::mul_add))]
 /// [`singularity_terms_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn singularity_terms_params_separate(
     pose: &[f64; 6],
     params: &[f64; 163],
@@ -35820,7 +35812,6 @@ pub fn forward_kinematics_step_params(
     fma_twin(forward_kinematics_step_params_fused, f64::mul_add)
 )]
 /// [`forward_kinematics_step_params`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn forward_kinematics_step_params_separate(
     pose: &[f64; 6],
     q: &[f64; 6],
@@ -38782,7 +38773,6 @@ pub fn calibration_residuals(
 }
 #[cfg_attr(feature = "fma", fma_twin(calibration_residuals_fused, f64::mul_add))]
 /// [`calibration_residuals`] with every operation rounded on its own: the same bits on every machine.
-#[inline]
 pub fn calibration_residuals_separate(
     pose: &[f64; 6],
     q: &[f64; 6],
