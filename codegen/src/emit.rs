@@ -113,7 +113,8 @@ pub fn kernel_doc(spec: &KernelSpec, compiled: &Compiled) -> String {
     doc
 }
 
-/// The most operations ([`OpCount::weight`]) of a kernel whose body is `#[inline]`.
+/// The highest cost ([`OpCount::weight`]: its operations, a division 1.9, a sign change 0.25,
+/// a call 20) of a kernel whose body is `#[inline]`.
 ///
 /// An `#[inline]` body is compiled to machine code in every crate that calls it, and only
 /// there: a small kernel then costs its caller no call and a crate nothing it does not call.
@@ -123,7 +124,7 @@ pub fn kernel_doc(spec: &KernelSpec, compiled: &Compiled) -> String {
 /// derivatives' kernels. Above this size the body is compiled once, in the crate that holds it.
 pub const INLINE_LIMIT: f64 = 1500.0;
 
-/// `#[inline]` for a kernel of at most [`INLINE_LIMIT`] operations, nothing for a larger one.
+/// `#[inline]` for a kernel that costs at most [`INLINE_LIMIT`], nothing for a dearer one.
 fn inline_attribute(count: &OpCount) -> TokenStream {
     if count.weight() <= INLINE_LIMIT {
         quote!(#[inline])
@@ -253,10 +254,17 @@ pub fn emit_kernel(
         (quote!((#(#out_types),*)), quote!((#(#outs),*)))
     };
     // One attribute per line, so the doc prints as `///` lines.
-    let doc = kernel_doc(spec, compiled);
+    let inline = inline_attribute(&compiled.count);
+    let mut doc = kernel_doc(spec, compiled);
+    if inline.is_empty() {
+        doc.push_str(&format!(
+            "\n\n Its body is not `#[inline]`: a kernel that costs more than {INLINE_LIMIT} (its \
+             operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, \
+             not again in each crate that calls it."
+        ));
+    }
     let doc_lines = doc.lines().map(|l| quote!(#[doc = #l]));
     let name = ident(&spec.name);
-    let inline = inline_attribute(&compiled.count);
     let Some(fma) = fma else {
         let body = body(None);
         return quote! {

@@ -623,6 +623,8 @@ pub fn inverse_jacobian_pose(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 765 mul, 22 div, 534 add, 26 neg, 3 sin_cos, 12 sqrt (chapter convention: 787m + 534a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn jacobian_pose(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 12]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let (
@@ -3221,6 +3223,8 @@ pub fn joint_accelerations(
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
 /// Operations: 874 mul, 12 div, 567 add, 19 neg, 3 sin_cos, 12 sqrt (chapter convention: 886m + 567a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn leg_wrench(
     pose: &[f32; 6],
     twist: &[f32; 6],
@@ -5211,6 +5215,8 @@ pub fn platform_wrench(pose: &[f32; 6], twist: &[f32; 6], accel: &[f32; 6]) -> [
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
 /// Operations: 888 mul, 12 div, 663 add, 11 neg, 3 sin_cos, 12 sqrt (chapter convention: 900m + 663a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let (
@@ -7244,6 +7250,8 @@ pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
 /// Operations: 893 mul, 12 div, 543 add, 19 neg, 3 sin_cos, 12 sqrt (chapter convention: 905m + 543a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn task_bias(pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 6]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [wx, wy, wz, vx, vy, vz] = *twist;
@@ -9080,6 +9088,8 @@ pub fn task_bias(pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 6]) {
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 2091 mul, 29 div, 1503 add, 39 neg, 3 sin_cos, 12 sqrt (chapter convention: 2120m + 1503a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn forward_dynamics(
     pose: &[f32; 6],
     twist: &[f32; 6],
@@ -13704,6 +13714,8 @@ pub fn forward_dynamics(
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 1206 mul, 24 div, 793 add, 39 neg, 3 sin_cos, 12 sqrt (chapter convention: 1230m + 793a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn inverse_dynamics(
     pose: &[f32; 6],
     twist: &[f32; 6],

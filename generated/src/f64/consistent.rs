@@ -11305,6 +11305,8 @@ pub fn inverse_dynamics_joint_params_separate(
 /// - `singular`: `[1 + abc, r11, r22, r33]`: the forward singularity term (the actuator positions belong to a pose of the workspace only where it is positive; the other results are meaningless where it is near zero or negative) and the divisors of eq 16
 ///
 /// Operations: 1714 mul, 6 div, 715 add, 23 neg, 3 sqrt (chapter convention: 1720m + 715a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn joint_inertia_params(
     q: &[f64; 6],

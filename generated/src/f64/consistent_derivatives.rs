@@ -36,6 +36,8 @@
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
 /// Operations: 3989 mul, 5 div, 2899 add, 33 neg, 3 sin_cos (chapter convention: 3994m + 2899a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn inverse_dynamics_derivatives_params(
     pose: &[f64; 6],
@@ -8691,6 +8693,8 @@ pub fn inverse_dynamics_derivatives_params_separate(
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
 /// Operations: 4834 mul, 9 div, 3372 add, 42 neg, 3 sin_cos (chapter convention: 4843m + 3372a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn forward_dynamics_derivatives_params(
     pose: &[f64; 6],
@@ -19087,6 +19091,8 @@ pub fn forward_dynamics_derivatives_params_separate(
 /// - `singular`: `[1 + abc, r11, r22, r33]`: the forward singularity term (the actuator positions belong to a pose of the workspace only where it is positive; the other results are meaningless where it is near zero or negative) and the divisors of eq 16
 ///
 /// Operations: 7609 mul, 9 div, 4949 add, 119 neg, 3 sqrt (chapter convention: 7618m + 4949a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn inverse_dynamics_joint_derivatives_params(
     q: &[f64; 6],

@@ -35,6 +35,8 @@
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
 /// Operations: 1887 mul, 5 div, 1138 add, 28 neg, 3 sin_cos (chapter convention: 1892m + 1138a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn inverse_dynamics_derivatives(
     pose: &[f64; 6],
@@ -4002,6 +4004,8 @@ pub fn inverse_dynamics_derivatives_separate(
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
 /// Operations: 3012 mul, 9 div, 1789 add, 32 neg, 3 sin_cos (chapter convention: 3021m + 1789a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn forward_dynamics_derivatives(
     pose: &[f64; 6],
@@ -10310,6 +10314,8 @@ pub fn forward_dynamics_derivatives_separate(
 /// - `singular`: `[1 + abc, r11, r22, r33]`: the forward singularity term (the actuator positions belong to a pose of the workspace only where it is positive; the other results are meaningless where it is near zero or negative) and the divisors of eq 16
 ///
 /// Operations: 4397 mul, 7 div, 3576 add, 53 neg, 3 sqrt (chapter convention: 4404m + 3576a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn inverse_dynamics_joint_derivatives(
     q: &[f64; 6],

@@ -2600,6 +2600,8 @@ pub fn joint_accelerations_params_separate(
 /// - `singular`: `|u_i × r_i|` for each arm, `1 - (K/ρ)²` for each arm, then the arms' hold `det(J⁻¹)² / Π |row_i|²` in `[0, 1]` (zero where they cannot hold the platform): the other results are meaningless where one is near zero or negative
 ///
 /// Operations: 1115 mul, 17 div, 625 add, 40 neg, 6 sqrt (chapter convention: 1132m + 625a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn inverse_dynamics_params(
     position: &[f64; 3],
@@ -4746,6 +4748,8 @@ pub fn inverse_dynamics_params_separate(
 /// - `singular`: `|u_i × r_i|` for each arm, `1 - (K/ρ)²` for each arm, then the arms' hold `det(J⁻¹)² / Π |row_i|²` in `[0, 1]` (zero where they cannot hold the platform): the other results are meaningless where one is near zero or negative
 ///
 /// Operations: 1507 mul, 19 div, 827 add, 39 neg, 6 sqrt (chapter convention: 1526m + 827a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn forward_dynamics_params(
     position: &[f64; 3],

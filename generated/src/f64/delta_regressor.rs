@@ -31,6 +31,8 @@
 /// - `singular`: `|u_i × r_i|` for each arm, `1 - (K/ρ)²` for each arm, then the arms' hold `det(J⁻¹)² / Π |row_i|²` in `[0, 1]` (zero where they cannot hold the platform): the other results are meaningless where one is near zero or negative
 ///
 /// Operations: 1365 mul, 17 div, 725 add, 61 neg, 3 sign, 6 sqrt (chapter convention: 1382m + 725a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn regressor(
     position: &[f64; 3],
     velocity: &[f64; 3],
@@ -2776,6 +2778,8 @@ pub fn regressor(
 /// - `singular`: `|u_i × r_i|` for each arm, `1 - (K/ρ)²` for each arm, then the arms' hold `det(J⁻¹)² / Π |row_i|²` in `[0, 1]` (zero where they cannot hold the platform): the other results are meaningless where one is near zero or negative
 ///
 /// Operations: 984 mul, 17 div, 517 add, 35 neg, 3 sign, 6 sqrt (chapter convention: 1001m + 517a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn base_regressor(
     position: &[f64; 3],
     velocity: &[f64; 3],

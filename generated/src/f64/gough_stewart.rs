@@ -1464,6 +1464,8 @@ pub fn inverse_jacobian_pose_params_separate(
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 829 mul, 22 div, 571 add, 27 neg, 3 sin_cos, 12 sqrt (chapter convention: 851m + 571a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn jacobian_pose_params(
     pose: &[f64; 6],
@@ -4463,6 +4465,8 @@ pub fn joint_accelerations_params_separate(
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
 /// Operations: 1013 mul, 12 div, 658 add, 15 neg, 3 sin_cos, 12 sqrt (chapter convention: 1025m + 658a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn leg_wrench_params(
     pose: &[f64; 6],
@@ -6719,6 +6723,8 @@ pub fn platform_wrench_params_separate(
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
 /// Operations: 759 mul, 12 div, 538 add, 12 neg, 3 sin_cos, 12 sqrt (chapter convention: 771m + 538a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn task_inertia_params(
     pose: &[f64; 6],
@@ -8428,6 +8434,8 @@ pub fn task_inertia_params_separate(
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
 /// Operations: 1049 mul, 12 div, 652 add, 12 neg, 3 sin_cos, 12 sqrt (chapter convention: 1061m + 652a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn task_bias_params(
     pose: &[f64; 6],
@@ -10481,6 +10489,8 @@ pub fn task_bias_params_separate(
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 2096 mul, 29 div, 1417 add, 41 neg, 3 sin_cos, 12 sqrt (chapter convention: 2125m + 1417a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn forward_dynamics_params(
     pose: &[f64; 6],
@@ -15075,6 +15085,8 @@ pub fn forward_dynamics_params_separate(
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 1310 mul, 24 div, 888 add, 33 neg, 3 sin_cos, 12 sqrt (chapter convention: 1334m + 888a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn inverse_dynamics_params(
     pose: &[f64; 6],

@@ -645,6 +645,8 @@ pub fn inverse_jacobian_pose_separate(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 765 mul, 22 div, 534 add, 26 neg, 3 sin_cos, 12 sqrt (chapter convention: 787m + 534a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn jacobian_pose(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 12]) {
     #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
@@ -3280,6 +3282,8 @@ pub fn joint_accelerations_separate(
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
 /// Operations: 874 mul, 12 div, 567 add, 19 neg, 3 sin_cos, 12 sqrt (chapter convention: 886m + 567a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn leg_wrench(
     pose: &[f64; 6],
@@ -5298,6 +5302,8 @@ pub fn platform_wrench_separate(
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
 /// Operations: 888 mul, 12 div, 663 add, 11 neg, 3 sin_cos, 12 sqrt (chapter convention: 900m + 663a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn task_inertia(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 6]) {
     #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
@@ -7341,6 +7347,8 @@ pub fn task_inertia_separate(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 6]) {
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
 /// Operations: 893 mul, 12 div, 543 add, 19 neg, 3 sin_cos, 12 sqrt (chapter convention: 905m + 543a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn task_bias(pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64; 6]) {
     #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
@@ -9187,6 +9195,8 @@ pub fn task_bias_separate(pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64;
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 2091 mul, 29 div, 1503 add, 39 neg, 3 sin_cos, 12 sqrt (chapter convention: 2120m + 1503a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn forward_dynamics(
     pose: &[f64; 6],
@@ -13825,6 +13835,8 @@ pub fn forward_dynamics_separate(
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 1206 mul, 24 div, 793 add, 39 neg, 3 sin_cos, 12 sqrt (chapter convention: 1230m + 793a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn inverse_dynamics(
     pose: &[f64; 6],

@@ -32,6 +32,8 @@
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 4619 mul, 24 div, 3225 add, 226 neg, 6 sign, 3 sin_cos, 12 sqrt (chapter convention: 4643m + 3225a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn regressor(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -9792,6 +9794,8 @@ pub fn regressor(
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
 /// Operations: 4055 mul, 24 div, 2793 add, 196 neg, 6 sign, 3 sin_cos, 12 sqrt (chapter convention: 4079m + 2793a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn base_regressor(
     pose: &[f64; 6],
     twist: &[f64; 6],

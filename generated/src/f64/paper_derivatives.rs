@@ -36,6 +36,8 @@
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
 /// Operations: 1906 mul, 5 div, 1421 add, 43 neg, 3 sin_cos (chapter convention: 1911m + 1421a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn inverse_dynamics_derivatives_params(
     pose: &[f64; 6],
@@ -4453,6 +4455,8 @@ pub fn inverse_dynamics_derivatives_params_separate(
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
 /// Operations: 2819 mul, 10 div, 2177 add, 74 neg, 3 sin_cos (chapter convention: 2829m + 2177a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn forward_dynamics_derivatives_params(
     pose: &[f64; 6],
@@ -10947,6 +10951,8 @@ pub fn forward_dynamics_derivatives_params_separate(
 /// - `singular`: `[1 + abc, r11, r22, r33]`: the forward singularity term (the actuator positions belong to a pose of the workspace only where it is positive; the other results are meaningless where it is near zero or negative) and the divisors of eq 16
 ///
 /// Operations: 5264 mul, 7 div, 3239 add, 70 neg, 3 sqrt (chapter convention: 5271m + 3239a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn inverse_dynamics_joint_derivatives_params(
     q: &[f64; 6],

@@ -35,6 +35,8 @@
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
 /// Operations: 1300 mul, 4 div, 979 add, 14 neg, 3 sin_cos (chapter convention: 1304m + 979a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn inverse_dynamics_derivatives(
     pose: &[f64; 6],
@@ -3060,6 +3062,8 @@ pub fn inverse_dynamics_derivatives_separate(
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
 /// Operations: 2426 mul, 10 div, 1748 add, 58 neg, 3 sin_cos (chapter convention: 2436m + 1748a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn forward_dynamics_derivatives(
     pose: &[f64; 6],
@@ -8378,6 +8382,8 @@ pub fn forward_dynamics_derivatives_separate(
 /// - `singular`: `[1 + abc, r11, r22, r33]`: the forward singularity term (the actuator positions belong to a pose of the workspace only where it is positive; the other results are meaningless where it is near zero or negative) and the divisors of eq 16
 ///
 /// Operations: 2350 mul, 6 div, 2012 add, 31 neg, 3 sqrt (chapter convention: 2356m + 2012a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn inverse_dynamics_joint_derivatives(
     q: &[f64; 6],

@@ -32,6 +32,8 @@
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
 /// Operations: 849 mul, 5 div, 618 add, 44 neg, 6 sign, 3 sin_cos (chapter convention: 854m + 618a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn regressor(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -3150,6 +3152,8 @@ pub fn regressor(
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
 /// Operations: 849 mul, 5 div, 618 add, 44 neg, 6 sign, 3 sin_cos (chapter convention: 854m + 618a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn base_regressor(
     pose: &[f64; 6],
     twist: &[f64; 6],

@@ -1703,6 +1703,8 @@ pub fn inverse_jacobian_pose_params_separate(
 /// - `singular`: `|u_i × r_i|` for each leg (its U joint's sine), `1 - (K/ρ)²` for each leg (crank and rod aligned at zero, out of reach below), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform): the other results are meaningless where one is near zero or negative
 ///
 /// Operations: 1087 mul, 36 div, 729 add, 10 neg, 3 sin_cos, 12 sqrt (chapter convention: 1123m + 729a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn jacobian_pose_params(
     pose: &[f64; 6],
@@ -4930,6 +4932,8 @@ pub fn joint_velocities_params_separate(
 /// - `singular`: `|u_i × r_i|` for each leg (its U joint's sine), then `1 - (K/ρ)²` for each leg (zero where crank and rod align, negative where the ball is out of the crank's reach): the other results are meaningless where one is near zero or negative
 ///
 /// Operations: 785 mul, 24 div, 496 add, 18 neg, 3 sin_cos, 12 sqrt (chapter convention: 809m + 496a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn joint_accelerations_params(
     pose: &[f64; 6],
@@ -6497,6 +6501,8 @@ pub fn joint_accelerations_params_separate(
 /// - `singular`: `|u_i × r_i|` for each leg (its U joint's sine), then `1 - (K/ρ)²` for each leg (zero where crank and rod align, negative where the ball is out of the crank's reach): the other results are meaningless where one is near zero or negative
 ///
 /// Operations: 2345 mul, 30 div, 1354 add, 72 neg, 3 sin_cos, 12 sqrt (chapter convention: 2375m + 1354a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn leg_wrench_params(
     pose: &[f64; 6],
@@ -11149,6 +11155,8 @@ pub fn platform_wrench_params_separate(
 /// - `singular`: `|u_i × r_i|` for each leg (its U joint's sine), then `1 - (K/ρ)²` for each leg (zero where crank and rod align, negative where the ball is out of the crank's reach): the other results are meaningless where one is near zero or negative
 ///
 /// Operations: 1983 mul, 30 div, 1228 add, 60 neg, 3 sin_cos, 12 sqrt (chapter convention: 2013m + 1228a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn task_inertia_params(
     pose: &[f64; 6],
@@ -15561,6 +15569,8 @@ pub fn task_inertia_params_separate(
 /// - `singular`: `|u_i × r_i|` for each leg (its U joint's sine), then `1 - (K/ρ)²` for each leg (zero where crank and rod align, negative where the ball is out of the crank's reach): the other results are meaningless where one is near zero or negative
 ///
 /// Operations: 2381 mul, 30 div, 1348 add, 72 neg, 3 sin_cos, 12 sqrt (chapter convention: 2411m + 1348a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn task_bias_params(
     pose: &[f64; 6],
@@ -20005,6 +20015,8 @@ pub fn task_bias_params_separate(
 /// - `singular`: `|u_i × r_i|` for each leg (its U joint's sine), `1 - (K/ρ)²` for each leg (crank and rod aligned at zero, out of reach below), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform): the other results are meaningless where one is near zero or negative
 ///
 /// Operations: 4100 mul, 47 div, 2628 add, 75 neg, 3 sin_cos, 12 sqrt (chapter convention: 4147m + 2628a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn forward_dynamics_params(
     pose: &[f64; 6],
@@ -28811,6 +28823,8 @@ pub fn forward_dynamics_params_separate(
 /// - `singular`: `|u_i × r_i|` for each leg (its U joint's sine), `1 - (K/ρ)²` for each leg (crank and rod aligned at zero, out of reach below), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform): the other results are meaningless where one is near zero or negative
 ///
 /// Operations: 2851 mul, 42 div, 1715 add, 77 neg, 3 sin_cos, 12 sqrt (chapter convention: 2893m + 1715a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn inverse_dynamics_params(
     pose: &[f64; 6],
@@ -34350,6 +34364,8 @@ pub fn inverse_dynamics_params_separate(
 /// - `singular`: `|u_i × r_i|` for each leg (its U joint's sine), `1 - (K/ρ)²` for each leg (crank and rod aligned at zero, out of reach below), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform): the other results are meaningless where one is near zero or negative
 ///
 /// Operations: 712 mul, 35 div, 455 add, 0 neg, 3 sin_cos, 12 sqrt (chapter convention: 747m + 455a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn singularity_terms_params(pose: &[f64; 6], params: &[f64; 163]) -> [f64; 18] {
     #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
@@ -35795,6 +35811,8 @@ pub fn singularity_terms_params_separate(
 /// - `singular`: `|u_i × r_i|` for each leg (its U joint's sine), then `1 - (K/ρ)²` for each leg (zero where crank and rod align, negative where the ball is out of the crank's reach): the other results are meaningless where one is near zero or negative
 ///
 /// Operations: 1541 mul, 36 div, 784 add, 24 neg, 6 atan, 3 sin_cos, 12 sqrt (chapter convention: 1577m + 784a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn forward_kinematics_step_params(
     pose: &[f64; 6],
@@ -38759,6 +38777,8 @@ pub fn forward_kinematics_step_params_separate(
 /// - `pose_jacobian`: `∂q/∂X`, row `i` for leg `i+1`, columns `α β γ xc yc zc`
 ///
 /// Operations: 1375 mul, 36 div, 652 add, 42 neg, 6 atan, 3 sin_cos, 12 sqrt (chapter convention: 1411m + 652a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
 pub fn calibration_residuals(
     pose: &[f64; 6],

@@ -32,6 +32,8 @@
 /// - `singular`: `|u_i × r_i|` for each leg (its U joint's sine), `1 - (K/ρ)²` for each leg (crank and rod aligned at zero, out of reach below), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform): the other results are meaningless where one is near zero or negative
 ///
 /// Operations: 5861 mul, 42 div, 3873 add, 162 neg, 6 sign, 3 sin_cos, 12 sqrt (chapter convention: 5903m + 3873a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn regressor(
     pose: &[f64; 6],
     twist: &[f64; 6],
@@ -12426,6 +12428,8 @@ pub fn regressor(
 /// - `singular`: `|u_i × r_i|` for each leg (its U joint's sine), `1 - (K/ρ)²` for each leg (crank and rod aligned at zero, out of reach below), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform): the other results are meaningless where one is near zero or negative
 ///
 /// Operations: 4161 mul, 42 div, 2741 add, 92 neg, 6 sign, 3 sin_cos, 12 sqrt (chapter convention: 4203m + 2741a).
+///
+/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn base_regressor(
     pose: &[f64; 6],
     twist: &[f64; 6],
