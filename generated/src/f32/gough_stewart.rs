@@ -12,7 +12,7 @@
 //   platform_wrench_params             110    0    70    0  3 sin_cos
 //   task_inertia_params                759   12   538   12  3 sin_cos, 12 sqrt
 //   task_bias_params                  1049   12   652   12  3 sin_cos, 12 sqrt
-//   forward_dynamics_params           2096   29  1417   41  3 sin_cos, 12 sqrt
+//   forward_dynamics_params           2017   29  1372   46  3 sin_cos, 12 sqrt
 //   inverse_dynamics_params           1310   24   888   33  3 sin_cos, 12 sqrt
 //   singularity_terms_params           406   17   264   16  3 sin_cos, 12 sqrt
 //   forward_kinematics_step_params     347    6   184   18  3 sin_cos, 12 sqrt
@@ -10349,7 +10349,7 @@ pub fn task_bias_params(
 /// - `accel`: classical platform acceleration `(ω̇; a_C)` (rad/s², m/s²), base frame
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
-/// Operations: 2096 mul, 29 div, 1417 add, 41 neg, 3 sin_cos, 12 sqrt (chapter convention: 2125m + 1417a).
+/// Operations: 2017 mul, 29 div, 1372 add, 46 neg, 3 sin_cos, 12 sqrt (chapter convention: 2046m + 1372a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn forward_dynamics_params(
@@ -10598,11 +10598,8 @@ pub fn forward_dynamics_params(
         t913,
         t918,
         t933,
-        t939,
         t940,
-        t946,
         t947,
-        t953,
         t954,
         t962,
         t965,
@@ -11416,8 +11413,8 @@ pub fn forward_dynamics_params(
         let t796: f32 = t794 + t795;
         let t797: f32 = t32 * t796;
         let t798: f32 = t789 - t797;
-        let t799: f32 = t19 * t798;
-        let t800: f32 = t44 * t139;
+        let t799: f32 = t32 * t798;
+        let t800: f32 = t44 * t127;
         let t801: f32 = leg2_rod_mass * t193;
         let t802: f32 = t172 * t801;
         let t803: f32 = t196 * t204;
@@ -11439,8 +11436,8 @@ pub fn forward_dynamics_params(
         let t819: f32 = t817 + t818;
         let t820: f32 = t152 * t819;
         let t821: f32 = t812 - t820;
-        let t822: f32 = t146 * t821;
-        let t823: f32 = t164 * t259;
+        let t822: f32 = t152 * t821;
+        let t823: f32 = t164 * t247;
         let t824: f32 = leg3_rod_mass * t313;
         let t825: f32 = t292 * t824;
         let t826: f32 = t316 * t324;
@@ -11462,8 +11459,8 @@ pub fn forward_dynamics_params(
         let t842: f32 = t840 + t841;
         let t843: f32 = t272 * t842;
         let t844: f32 = t835 - t843;
-        let t845: f32 = t266 * t844;
-        let t846: f32 = t284 * t379;
+        let t845: f32 = t272 * t844;
+        let t846: f32 = t284 * t367;
         let t847: f32 = leg4_rod_mass * t433;
         let t848: f32 = t412 * t847;
         let t849: f32 = t436 * t444;
@@ -11485,8 +11482,8 @@ pub fn forward_dynamics_params(
         let t865: f32 = t863 + t864;
         let t866: f32 = t392 * t865;
         let t867: f32 = t858 - t866;
-        let t868: f32 = t386 * t867;
-        let t869: f32 = t404 * t499;
+        let t868: f32 = t392 * t867;
+        let t869: f32 = t404 * t487;
         let t870: f32 = leg5_rod_mass * t553;
         let t871: f32 = t532 * t870;
         let t872: f32 = t556 * t564;
@@ -11508,8 +11505,8 @@ pub fn forward_dynamics_params(
         let t888: f32 = t886 + t887;
         let t889: f32 = t512 * t888;
         let t890: f32 = t881 - t889;
-        let t891: f32 = t506 * t890;
-        let t892: f32 = t524 * t619;
+        let t891: f32 = t512 * t890;
+        let t892: f32 = t524 * t607;
         let t893: f32 = leg6_rod_mass * t673;
         let t894: f32 = t652 * t893;
         let t895: f32 = t676 * t684;
@@ -11531,46 +11528,46 @@ pub fn forward_dynamics_params(
         let t911: f32 = t909 + t910;
         let t912: f32 = t632 * t911;
         let t913: f32 = t904 - t912;
-        let t914: f32 = t626 * t913;
-        let t915: f32 = t644 * t739;
-        let t916: f32 = t23 * t753;
-        let t917: f32 = t27 * t760;
-        let t918: f32 = t0 * t6;
+        let t914: f32 = t632 * t913;
+        let t915: f32 = t644 * t727;
+        let t916: f32 = t9 * t753;
+        let t917: f32 = t14 * t760;
+        let t918: f32 = t1 * t6;
         let t919: f32 = t746 * t918;
         let t920: f32 = t799 + t822;
         let t921: f32 = t845 + t868;
         let t922: f32 = t891 + t914;
-        let t923: f32 = t920 + t921;
-        let t924: f32 = t919 + t922;
-        let t925: f32 = t923 + t924;
-        let t926: f32 = t800 + t823;
-        let t927: f32 = t846 + t869;
-        let t928: f32 = t892 + t915;
-        let t929: f32 = t916 + t917;
-        let t930: f32 = t926 + t927;
+        let t923: f32 = t916 + t917;
+        let t924: f32 = t920 + t921;
+        let t925: f32 = t922 + t923;
+        let t926: f32 = t924 + t925;
+        let t927: f32 = t919 + t926;
+        let t928: f32 = t800 + t823;
+        let t929: f32 = t846 + t869;
+        let t930: f32 = t892 + t915;
         let t931: f32 = t928 + t929;
         let t932: f32 = t930 + t931;
-        let t933: f32 = t925 - t932;
-        let t934: f32 = platform_ixx * t23;
-        let t935: f32 = platform_ixy * t27;
-        let t936: f32 = platform_ixz * t0;
+        let t933: f32 = t927 - t932;
+        let t934: f32 = platform_ixx * t9;
+        let t935: f32 = platform_ixy * t14;
+        let t936: f32 = platform_ixz * t1;
         let t937: f32 = t6 * t936;
         let t938: f32 = t934 + t935;
-        let t939: f32 = t938 - t937;
-        let t940: f32 = t23 * t939;
-        let t941: f32 = platform_ixy * t23;
-        let t942: f32 = platform_iyy * t27;
-        let t943: f32 = platform_iyz * t0;
+        let t939: f32 = t937 + t938;
+        let t940: f32 = t9 * t939;
+        let t941: f32 = platform_ixy * t9;
+        let t942: f32 = platform_iyy * t14;
+        let t943: f32 = platform_iyz * t1;
         let t944: f32 = t6 * t943;
         let t945: f32 = t941 + t942;
-        let t946: f32 = t945 - t944;
-        let t947: f32 = t27 * t946;
-        let t948: f32 = platform_ixz * t23;
-        let t949: f32 = platform_iyz * t27;
-        let t950: f32 = platform_izz * t0;
+        let t946: f32 = t944 + t945;
+        let t947: f32 = t14 * t946;
+        let t948: f32 = platform_ixz * t9;
+        let t949: f32 = platform_iyz * t14;
+        let t950: f32 = platform_izz * t1;
         let t951: f32 = t6 * t950;
         let t952: f32 = t948 + t949;
-        let t953: f32 = t952 - t951;
+        let t953: f32 = t951 + t952;
         let t954: f32 = t918 * t953;
         let t955: f32 = t73 * t73;
         let t956: f32 = leg1_rod_mass * t955;
@@ -11580,12 +11577,12 @@ pub fn forward_dynamics_params(
         let t960: f32 = t121 * t959;
         let t961: f32 = t956 + t958;
         let t962: f32 = t960 + t961;
-        let t963: f32 = t19 * t962;
-        let t964: f32 = t44 * t796;
+        let t963: f32 = t32 * t962;
+        let t964: f32 = t44 * t788;
         let t965: f32 = t963 - t964;
-        let t966: f32 = t19 * t965;
-        let t967: f32 = t19 * t796;
-        let t968: f32 = t44 * t137;
+        let t966: f32 = t32 * t965;
+        let t967: f32 = t32 * t788;
+        let t968: f32 = t44 * t106;
         let t969: f32 = t967 - t968;
         let t970: f32 = t44 * t969;
         let t971: f32 = t193 * t193;
@@ -11596,12 +11593,12 @@ pub fn forward_dynamics_params(
         let t976: f32 = t241 * t975;
         let t977: f32 = t972 + t974;
         let t978: f32 = t976 + t977;
-        let t979: f32 = t146 * t978;
-        let t980: f32 = t164 * t819;
+        let t979: f32 = t152 * t978;
+        let t980: f32 = t164 * t811;
         let t981: f32 = t979 - t980;
-        let t982: f32 = t146 * t981;
-        let t983: f32 = t146 * t819;
-        let t984: f32 = t164 * t257;
+        let t982: f32 = t152 * t981;
+        let t983: f32 = t152 * t811;
+        let t984: f32 = t164 * t226;
         let t985: f32 = t983 - t984;
         let t986: f32 = t164 * t985;
         let t987: f32 = t313 * t313;
@@ -11612,12 +11609,12 @@ pub fn forward_dynamics_params(
         let t992: f32 = t361 * t991;
         let t993: f32 = t988 + t990;
         let t994: f32 = t992 + t993;
-        let t995: f32 = t266 * t994;
-        let t996: f32 = t284 * t842;
+        let t995: f32 = t272 * t994;
+        let t996: f32 = t284 * t834;
         let t997: f32 = t995 - t996;
-        let t998: f32 = t266 * t997;
-        let t999: f32 = t266 * t842;
-        let t1000: f32 = t284 * t377;
+        let t998: f32 = t272 * t997;
+        let t999: f32 = t272 * t834;
+        let t1000: f32 = t284 * t346;
         let t1001: f32 = t999 - t1000;
         let t1002: f32 = t284 * t1001;
         (
@@ -11835,11 +11832,8 @@ pub fn forward_dynamics_params(
             t913,
             t918,
             t933,
-            t939,
             t940,
-            t946,
             t947,
-            t953,
             t954,
             t962,
             t965,
@@ -11859,117 +11853,124 @@ pub fn forward_dynamics_params(
         )
     };
     let (
-        t1068,
-        t1074,
-        t1085,
-        t1086,
-        t1088,
-        t1119,
-        t1211,
-        t1257,
-        t1262,
-        t1268,
-        t1275,
-        t1277,
-        t1280,
+        t1010,
+        t1026,
+        t1042,
+        t1087,
+        t1179,
+        t1183,
+        t1225,
+        t1228,
+        t1233,
+        t1239,
+        t1250,
+        t1251,
+        t1258,
+        t1266,
+        t1267,
+        t1270,
         t1286,
         t1297,
         t1298,
         t1306,
         t1307,
         t1315,
-        t1325,
         t1326,
-        t1330,
-        t1349,
-        t1360,
-        t1361,
-        t1370,
-        t1371,
-        t1387,
-        t1388,
-        t1400,
-        t1401,
-        t1406,
-        t1428,
-        t1467,
-        t1468,
-        t1480,
-        t1487,
-        t1496,
-        t1505,
+        t1327,
+        t1331,
+        t1350,
+        t1362,
+        t1363,
+        t1373,
+        t1374,
+        t1390,
+        t1391,
+        t1403,
+        t1404,
+        t1409,
+        t1431,
+        t1481,
+        t1483,
+        t1494,
+        t1508,
         t1516,
-        t1535,
-        t1557,
+        t1520,
+        t1527,
+        t1532,
+        t1537,
+        t1549,
+        t1553,
+        t1554,
         t1562,
+        t1564,
         t1567,
         t1570,
-        t1571,
-        t1572,
-        t1575,
-        t1577,
-        t1579,
-        t1582,
-        t1587,
-        t1588,
-        t1592,
-        t1593,
-        t1598,
-        t1599,
         t1603,
-        t1604,
-        t1638,
-        t1647,
+        t1612,
+        t1618,
+        t1619,
+        t1627,
+        t1631,
+        t1632,
+        t1639,
+        t1640,
+        t1644,
+        t1645,
+        t1650,
         t1651,
-        t1661,
-        t1662,
-        t1666,
-        t1667,
-        t1672,
-        t1711,
+        t1655,
+        t1656,
+        t1660,
+        t1710,
         t1712,
-        t1724,
-        t1731,
-        t1740,
+        t1723,
+        t1737,
+        t1742,
+        t1745,
         t1749,
-        t1760,
-        t1779,
-        t1784,
-        t1801,
-        t1806,
-        t1811,
-        t1814,
-        t1815,
-        t1817,
-        t1819,
-        t1822,
-        t1824,
-        t1825,
-        t1829,
-        t1868,
-        t1869,
-        t1881,
+        t1756,
+        t1761,
+        t1766,
+        t1778,
+        t1782,
+        t1783,
+        t1791,
+        t1793,
+        t1796,
+        t1799,
+        t1803,
+        t1853,
+        t1855,
+        t1866,
+        t1880,
         t1888,
-        t1897,
-        t1906,
-        t1917,
+        t1892,
+        t1899,
+        t1904,
+        t1909,
+        t1921,
+        t1925,
+        t1926,
+        t1934,
         t1936,
-        t1958,
-        t1963,
-        t1968,
-        t1971,
+        t1939,
+        t1942,
+        t1944,
+        t1947,
+        t1952,
+        t1957,
+        t1962,
+        t1964,
+        t1965,
+        t1966,
         t1972,
         t1973,
-        t1976,
-        t1978,
-        t1980,
-        t1983,
-        t1985,
-        t1990,
+        t1981,
+        t1988,
         t1991,
         t1994,
-        t1998,
-        t2000,
+        t1995,
+        t1996,
         t2001,
         t2002,
     ) = {
@@ -11981,12 +11982,12 @@ pub fn forward_dynamics_params(
         let t1008: f32 = t481 * t1007;
         let t1009: f32 = t1004 + t1006;
         let t1010: f32 = t1008 + t1009;
-        let t1011: f32 = t386 * t1010;
-        let t1012: f32 = t404 * t865;
+        let t1011: f32 = t392 * t1010;
+        let t1012: f32 = t404 * t857;
         let t1013: f32 = t1011 - t1012;
-        let t1014: f32 = t386 * t1013;
-        let t1015: f32 = t386 * t865;
-        let t1016: f32 = t404 * t497;
+        let t1014: f32 = t392 * t1013;
+        let t1015: f32 = t392 * t857;
+        let t1016: f32 = t404 * t466;
         let t1017: f32 = t1015 - t1016;
         let t1018: f32 = t404 * t1017;
         let t1019: f32 = t553 * t553;
@@ -11997,12 +11998,12 @@ pub fn forward_dynamics_params(
         let t1024: f32 = t601 * t1023;
         let t1025: f32 = t1020 + t1022;
         let t1026: f32 = t1024 + t1025;
-        let t1027: f32 = t506 * t1026;
-        let t1028: f32 = t524 * t888;
+        let t1027: f32 = t512 * t1026;
+        let t1028: f32 = t524 * t880;
         let t1029: f32 = t1027 - t1028;
-        let t1030: f32 = t506 * t1029;
-        let t1031: f32 = t506 * t888;
-        let t1032: f32 = t524 * t617;
+        let t1030: f32 = t512 * t1029;
+        let t1031: f32 = t512 * t880;
+        let t1032: f32 = t524 * t586;
         let t1033: f32 = t1031 - t1032;
         let t1034: f32 = t524 * t1033;
         let t1035: f32 = t673 * t673;
@@ -12013,249 +12014,249 @@ pub fn forward_dynamics_params(
         let t1040: f32 = t721 * t1039;
         let t1041: f32 = t1036 + t1038;
         let t1042: f32 = t1040 + t1041;
-        let t1043: f32 = t626 * t1042;
-        let t1044: f32 = t644 * t911;
+        let t1043: f32 = t632 * t1042;
+        let t1044: f32 = t644 * t903;
         let t1045: f32 = t1043 - t1044;
-        let t1046: f32 = t626 * t1045;
-        let t1047: f32 = t626 * t911;
-        let t1048: f32 = t644 * t737;
+        let t1046: f32 = t632 * t1045;
+        let t1047: f32 = t632 * t903;
+        let t1048: f32 = t644 * t706;
         let t1049: f32 = t1047 - t1048;
         let t1050: f32 = t644 * t1049;
         let t1051: f32 = t940 + t947;
-        let t1052: f32 = t966 + t982;
-        let t1053: f32 = t998 + t1014;
-        let t1054: f32 = t1030 + t1046;
+        let t1052: f32 = t954 + t966;
+        let t1053: f32 = t982 + t998;
+        let t1054: f32 = t1014 + t1030;
         let t1055: f32 = t1051 + t1052;
         let t1056: f32 = t1053 + t1054;
         let t1057: f32 = t1055 + t1056;
-        let t1058: f32 = t954 + t970;
-        let t1059: f32 = t986 + t1002;
-        let t1060: f32 = t1018 + t1034;
-        let t1061: f32 = t1058 + t1059;
-        let t1062: f32 = t1050 + t1060;
+        let t1058: f32 = t1046 + t1057;
+        let t1059: f32 = t970 + t986;
+        let t1060: f32 = t1002 + t1018;
+        let t1061: f32 = t1034 + t1050;
+        let t1062: f32 = t1059 + t1060;
         let t1063: f32 = t1061 + t1062;
-        let t1064: f32 = t1057 - t1063;
+        let t1064: f32 = t1058 - t1063;
         let t1065: f32 = t933 * t933;
         let t1066: f32 = t777 * t1065;
-        let t1067: f32 = t1064 - t1066;
-        let t1068: f32 = 1.0 / t1067;
-        let t1069: f32 = platform_mz * t1;
+        let t1067: f32 = platform_ixx * t23;
+        let t1068: f32 = platform_ixy * t27;
+        let t1069: f32 = platform_ixz * t0;
         let t1070: f32 = t6 * t1069;
-        let t1071: f32 = platform_mx * t9;
-        let t1072: f32 = platform_my * t14;
-        let t1073: f32 = t1071 + t1072;
-        let t1074: f32 = t1070 + t1073;
-        let t1075: f32 = t965 + t981;
-        let t1076: f32 = t997 + t1013;
-        let t1077: f32 = t1029 + t1045;
-        let t1078: f32 = t1075 + t1076;
-        let t1079: f32 = t1074 + t1077;
-        let t1080: f32 = t1078 + t1079;
-        let t1081: f32 = t798 + t821;
-        let t1082: f32 = t844 + t867;
-        let t1083: f32 = t890 + t913;
-        let t1084: f32 = t1081 + t1082;
-        let t1085: f32 = t1083 + t1084;
-        let t1086: f32 = t777 * t933;
-        let t1087: f32 = t1085 * t1086;
-        let t1088: f32 = t1080 - t1087;
-        let t1089: f32 = platform_mass + t962;
-        let t1090: f32 = t978 + t994;
-        let t1091: f32 = t1010 + t1026;
-        let t1092: f32 = t1089 + t1090;
-        let t1093: f32 = t1042 + t1091;
-        let t1094: f32 = t1092 + t1093;
-        let t1095: f32 = t1085 * t1085;
-        let t1096: f32 = t777 * t1095;
-        let t1097: f32 = t1088 * t1088;
-        let t1098: f32 = t1068 * t1097;
-        let t1099: f32 = platform_ixx * t9;
-        let t1100: f32 = platform_ixy * t14;
-        let t1101: f32 = platform_ixz * t1;
-        let t1102: f32 = t6 * t1101;
-        let t1103: f32 = t1099 + t1100;
-        let t1104: f32 = t1102 + t1103;
-        let t1105: f32 = t9 * t1104;
-        let t1106: f32 = platform_ixy * t9;
-        let t1107: f32 = platform_iyy * t14;
-        let t1108: f32 = platform_iyz * t1;
-        let t1109: f32 = t6 * t1108;
-        let t1110: f32 = t1106 + t1107;
-        let t1111: f32 = t1109 + t1110;
-        let t1112: f32 = t14 * t1111;
-        let t1113: f32 = platform_ixz * t9;
-        let t1114: f32 = platform_iyz * t14;
-        let t1115: f32 = platform_izz * t1;
-        let t1116: f32 = t6 * t1115;
-        let t1117: f32 = t1113 + t1114;
-        let t1118: f32 = t1116 + t1117;
-        let t1119: f32 = t1 * t6;
-        let t1120: f32 = t1118 * t1119;
-        let t1121: f32 = t32 * t962;
-        let t1122: f32 = t44 * t788;
+        let t1071: f32 = t1067 + t1068;
+        let t1072: f32 = t1071 - t1070;
+        let t1073: f32 = t23 * t1072;
+        let t1074: f32 = platform_ixy * t23;
+        let t1075: f32 = platform_iyy * t27;
+        let t1076: f32 = platform_iyz * t0;
+        let t1077: f32 = t6 * t1076;
+        let t1078: f32 = t1074 + t1075;
+        let t1079: f32 = t1078 - t1077;
+        let t1080: f32 = t27 * t1079;
+        let t1081: f32 = platform_ixz * t23;
+        let t1082: f32 = platform_iyz * t27;
+        let t1083: f32 = platform_izz * t0;
+        let t1084: f32 = t6 * t1083;
+        let t1085: f32 = t1081 + t1082;
+        let t1086: f32 = t1085 - t1084;
+        let t1087: f32 = t0 * t6;
+        let t1088: f32 = t1086 * t1087;
+        let t1089: f32 = t19 * t962;
+        let t1090: f32 = t44 * t796;
+        let t1091: f32 = t1089 - t1090;
+        let t1092: f32 = t19 * t1091;
+        let t1093: f32 = t19 * t796;
+        let t1094: f32 = t44 * t137;
+        let t1095: f32 = t1093 - t1094;
+        let t1096: f32 = t44 * t1095;
+        let t1097: f32 = t146 * t978;
+        let t1098: f32 = t164 * t819;
+        let t1099: f32 = t1097 - t1098;
+        let t1100: f32 = t146 * t1099;
+        let t1101: f32 = t146 * t819;
+        let t1102: f32 = t164 * t257;
+        let t1103: f32 = t1101 - t1102;
+        let t1104: f32 = t164 * t1103;
+        let t1105: f32 = t266 * t994;
+        let t1106: f32 = t284 * t842;
+        let t1107: f32 = t1105 - t1106;
+        let t1108: f32 = t266 * t1107;
+        let t1109: f32 = t266 * t842;
+        let t1110: f32 = t284 * t377;
+        let t1111: f32 = t1109 - t1110;
+        let t1112: f32 = t284 * t1111;
+        let t1113: f32 = t386 * t1010;
+        let t1114: f32 = t404 * t865;
+        let t1115: f32 = t1113 - t1114;
+        let t1116: f32 = t386 * t1115;
+        let t1117: f32 = t386 * t865;
+        let t1118: f32 = t404 * t497;
+        let t1119: f32 = t1117 - t1118;
+        let t1120: f32 = t404 * t1119;
+        let t1121: f32 = t506 * t1026;
+        let t1122: f32 = t524 * t888;
         let t1123: f32 = t1121 - t1122;
-        let t1124: f32 = t32 * t1123;
-        let t1125: f32 = t32 * t788;
-        let t1126: f32 = t44 * t106;
+        let t1124: f32 = t506 * t1123;
+        let t1125: f32 = t506 * t888;
+        let t1126: f32 = t524 * t617;
         let t1127: f32 = t1125 - t1126;
-        let t1128: f32 = t44 * t1127;
-        let t1129: f32 = t152 * t978;
-        let t1130: f32 = t164 * t811;
+        let t1128: f32 = t524 * t1127;
+        let t1129: f32 = t626 * t1042;
+        let t1130: f32 = t644 * t911;
         let t1131: f32 = t1129 - t1130;
-        let t1132: f32 = t152 * t1131;
-        let t1133: f32 = t152 * t811;
-        let t1134: f32 = t164 * t226;
+        let t1132: f32 = t626 * t1131;
+        let t1133: f32 = t626 * t911;
+        let t1134: f32 = t644 * t737;
         let t1135: f32 = t1133 - t1134;
-        let t1136: f32 = t164 * t1135;
-        let t1137: f32 = t272 * t994;
-        let t1138: f32 = t284 * t834;
-        let t1139: f32 = t1137 - t1138;
-        let t1140: f32 = t272 * t1139;
-        let t1141: f32 = t272 * t834;
-        let t1142: f32 = t284 * t346;
-        let t1143: f32 = t1141 - t1142;
-        let t1144: f32 = t284 * t1143;
-        let t1145: f32 = t392 * t1010;
-        let t1146: f32 = t404 * t857;
-        let t1147: f32 = t1145 - t1146;
-        let t1148: f32 = t392 * t1147;
-        let t1149: f32 = t392 * t857;
-        let t1150: f32 = t404 * t466;
-        let t1151: f32 = t1149 - t1150;
-        let t1152: f32 = t404 * t1151;
-        let t1153: f32 = t512 * t1026;
-        let t1154: f32 = t524 * t880;
-        let t1155: f32 = t1153 - t1154;
-        let t1156: f32 = t512 * t1155;
-        let t1157: f32 = t512 * t880;
-        let t1158: f32 = t524 * t586;
-        let t1159: f32 = t1157 - t1158;
-        let t1160: f32 = t524 * t1159;
-        let t1161: f32 = t632 * t1042;
-        let t1162: f32 = t644 * t903;
-        let t1163: f32 = t1161 - t1162;
-        let t1164: f32 = t632 * t1163;
-        let t1165: f32 = t632 * t903;
-        let t1166: f32 = t644 * t706;
-        let t1167: f32 = t1165 - t1166;
-        let t1168: f32 = t644 * t1167;
-        let t1169: f32 = t1105 + t1112;
-        let t1170: f32 = t1120 + t1124;
-        let t1171: f32 = t1132 + t1140;
-        let t1172: f32 = t1148 + t1156;
-        let t1173: f32 = t1169 + t1170;
-        let t1174: f32 = t1171 + t1172;
-        let t1175: f32 = t1173 + t1174;
-        let t1176: f32 = t1164 + t1175;
-        let t1177: f32 = t1128 + t1136;
-        let t1178: f32 = t1144 + t1152;
-        let t1179: f32 = t1160 + t1168;
-        let t1180: f32 = t1177 + t1178;
-        let t1181: f32 = t1179 + t1180;
-        let t1182: f32 = t1176 - t1181;
-        let t1183: f32 = t32 * t798;
-        let t1184: f32 = t44 * t127;
-        let t1185: f32 = t152 * t821;
-        let t1186: f32 = t164 * t247;
-        let t1187: f32 = t272 * t844;
-        let t1188: f32 = t284 * t367;
-        let t1189: f32 = t392 * t867;
-        let t1190: f32 = t404 * t487;
-        let t1191: f32 = t512 * t890;
-        let t1192: f32 = t524 * t607;
-        let t1193: f32 = t632 * t913;
-        let t1194: f32 = t644 * t727;
-        let t1195: f32 = t9 * t753;
-        let t1196: f32 = t14 * t760;
-        let t1197: f32 = t746 * t1119;
-        let t1198: f32 = t1183 + t1185;
-        let t1199: f32 = t1187 + t1189;
-        let t1200: f32 = t1191 + t1193;
-        let t1201: f32 = t1195 + t1196;
-        let t1202: f32 = t1198 + t1199;
-        let t1203: f32 = t1200 + t1201;
-        let t1204: f32 = t1202 + t1203;
-        let t1205: f32 = t1197 + t1204;
-        let t1206: f32 = t1184 + t1186;
-        let t1207: f32 = t1188 + t1190;
-        let t1208: f32 = t1192 + t1194;
-        let t1209: f32 = t1206 + t1207;
-        let t1210: f32 = t1208 + t1209;
-        let t1211: f32 = t1205 - t1210;
-        let t1212: f32 = t1211 * t1211;
-        let t1213: f32 = t777 * t1212;
-        let t1214: f32 = t9 * t939;
-        let t1215: f32 = t14 * t946;
-        let t1216: f32 = t953 * t1119;
-        let t1217: f32 = t32 * t965;
-        let t1218: f32 = t44 * t125;
-        let t1219: f32 = t789 - t1218;
-        let t1220: f32 = t44 * t1219;
-        let t1221: f32 = t152 * t981;
-        let t1222: f32 = t164 * t245;
-        let t1223: f32 = t812 - t1222;
-        let t1224: f32 = t164 * t1223;
-        let t1225: f32 = t272 * t997;
-        let t1226: f32 = t284 * t365;
-        let t1227: f32 = t835 - t1226;
-        let t1228: f32 = t284 * t1227;
-        let t1229: f32 = t392 * t1013;
-        let t1230: f32 = t404 * t485;
-        let t1231: f32 = t858 - t1230;
-        let t1232: f32 = t404 * t1231;
-        let t1233: f32 = t512 * t1029;
-        let t1234: f32 = t524 * t605;
-        let t1235: f32 = t881 - t1234;
-        let t1236: f32 = t524 * t1235;
-        let t1237: f32 = t632 * t1045;
-        let t1238: f32 = t644 * t725;
-        let t1239: f32 = t904 - t1238;
-        let t1240: f32 = t644 * t1239;
-        let t1241: f32 = t1214 + t1215;
-        let t1242: f32 = t1216 + t1220;
-        let t1243: f32 = t1224 + t1228;
-        let t1244: f32 = t1232 + t1236;
-        let t1245: f32 = t1241 + t1242;
-        let t1246: f32 = t1243 + t1244;
-        let t1247: f32 = t1245 + t1246;
-        let t1248: f32 = t1240 + t1247;
-        let t1249: f32 = t1217 + t1221;
-        let t1250: f32 = t1225 + t1229;
-        let t1251: f32 = t1233 + t1237;
-        let t1252: f32 = t1249 + t1250;
-        let t1253: f32 = t1251 + t1252;
-        let t1254: f32 = t1248 - t1253;
-        let t1255: f32 = t1086 * t1211;
-        let t1256: f32 = t1254 + t1255;
-        let t1257: f32 = -t1256;
-        let t1258: f32 = t1257 * t1257;
-        let t1259: f32 = t1068 * t1258;
-        let t1260: f32 = t1213 + t1259;
-        let t1261: f32 = t1182 - t1260;
-        let t1262: f32 = 1.0 / t1261;
-        let t1263: f32 = platform_mx * t23;
-        let t1264: f32 = platform_my * t27;
-        let t1265: f32 = t1263 + t1264;
-        let t1266: f32 = platform_mz * t0;
-        let t1267: f32 = t6 * t1266;
-        let t1268: f32 = t1265 - t1267;
-        let t1269: f32 = t1123 + t1131;
-        let t1270: f32 = t1139 + t1147;
-        let t1271: f32 = t1155 + t1163;
-        let t1272: f32 = t1269 + t1270;
-        let t1273: f32 = t1268 + t1271;
-        let t1274: f32 = t1272 + t1273;
-        let t1275: f32 = t777 * t1211;
-        let t1276: f32 = t1085 * t1275;
-        let t1277: f32 = t1068 * t1257;
-        let t1278: f32 = t1088 * t1277;
-        let t1279: f32 = t1276 + t1278;
-        let t1280: f32 = t1274 - t1279;
-        let t1281: f32 = t1280 * t1280;
-        let t1282: f32 = t1262 * t1281;
-        let t1283: f32 = t1096 + t1098;
+        let t1136: f32 = t644 * t1135;
+        let t1137: f32 = t1073 + t1080;
+        let t1138: f32 = t1092 + t1100;
+        let t1139: f32 = t1108 + t1116;
+        let t1140: f32 = t1124 + t1132;
+        let t1141: f32 = t1137 + t1138;
+        let t1142: f32 = t1139 + t1140;
+        let t1143: f32 = t1141 + t1142;
+        let t1144: f32 = t1088 + t1096;
+        let t1145: f32 = t1104 + t1112;
+        let t1146: f32 = t1120 + t1128;
+        let t1147: f32 = t1144 + t1145;
+        let t1148: f32 = t1136 + t1146;
+        let t1149: f32 = t1147 + t1148;
+        let t1150: f32 = t1143 - t1149;
+        let t1151: f32 = t19 * t798;
+        let t1152: f32 = t44 * t139;
+        let t1153: f32 = t146 * t821;
+        let t1154: f32 = t164 * t259;
+        let t1155: f32 = t266 * t844;
+        let t1156: f32 = t284 * t379;
+        let t1157: f32 = t386 * t867;
+        let t1158: f32 = t404 * t499;
+        let t1159: f32 = t506 * t890;
+        let t1160: f32 = t524 * t619;
+        let t1161: f32 = t626 * t913;
+        let t1162: f32 = t644 * t739;
+        let t1163: f32 = t23 * t753;
+        let t1164: f32 = t27 * t760;
+        let t1165: f32 = t746 * t1087;
+        let t1166: f32 = t1151 + t1153;
+        let t1167: f32 = t1155 + t1157;
+        let t1168: f32 = t1159 + t1161;
+        let t1169: f32 = t1166 + t1167;
+        let t1170: f32 = t1165 + t1168;
+        let t1171: f32 = t1169 + t1170;
+        let t1172: f32 = t1152 + t1154;
+        let t1173: f32 = t1156 + t1158;
+        let t1174: f32 = t1160 + t1162;
+        let t1175: f32 = t1163 + t1164;
+        let t1176: f32 = t1172 + t1173;
+        let t1177: f32 = t1174 + t1175;
+        let t1178: f32 = t1176 + t1177;
+        let t1179: f32 = t1171 - t1178;
+        let t1180: f32 = t1179 * t1179;
+        let t1181: f32 = t777 * t1180;
+        let t1182: f32 = t1150 - t1181;
+        let t1183: f32 = 1.0 / t1182;
+        let t1184: f32 = t9 * t1072;
+        let t1185: f32 = t14 * t1079;
+        let t1186: f32 = t918 * t1086;
+        let t1187: f32 = t32 * t1091;
+        let t1188: f32 = t44 * t125;
+        let t1189: f32 = t789 - t1188;
+        let t1190: f32 = t44 * t1189;
+        let t1191: f32 = t152 * t1099;
+        let t1192: f32 = t164 * t245;
+        let t1193: f32 = t812 - t1192;
+        let t1194: f32 = t164 * t1193;
+        let t1195: f32 = t272 * t1107;
+        let t1196: f32 = t284 * t365;
+        let t1197: f32 = t835 - t1196;
+        let t1198: f32 = t284 * t1197;
+        let t1199: f32 = t392 * t1115;
+        let t1200: f32 = t404 * t485;
+        let t1201: f32 = t858 - t1200;
+        let t1202: f32 = t404 * t1201;
+        let t1203: f32 = t512 * t1123;
+        let t1204: f32 = t524 * t605;
+        let t1205: f32 = t881 - t1204;
+        let t1206: f32 = t524 * t1205;
+        let t1207: f32 = t632 * t1131;
+        let t1208: f32 = t644 * t725;
+        let t1209: f32 = t904 - t1208;
+        let t1210: f32 = t644 * t1209;
+        let t1211: f32 = t1184 + t1185;
+        let t1212: f32 = t1186 + t1190;
+        let t1213: f32 = t1194 + t1198;
+        let t1214: f32 = t1202 + t1206;
+        let t1215: f32 = t1211 + t1212;
+        let t1216: f32 = t1213 + t1214;
+        let t1217: f32 = t1215 + t1216;
+        let t1218: f32 = t1210 + t1217;
+        let t1219: f32 = t1187 + t1191;
+        let t1220: f32 = t1195 + t1199;
+        let t1221: f32 = t1203 + t1207;
+        let t1222: f32 = t1219 + t1220;
+        let t1223: f32 = t1221 + t1222;
+        let t1224: f32 = t1218 - t1223;
+        let t1225: f32 = t777 * t1179;
+        let t1226: f32 = t933 * t1225;
+        let t1227: f32 = t1224 + t1226;
+        let t1228: f32 = -t1227;
+        let t1229: f32 = t1228 * t1228;
+        let t1230: f32 = t1183 * t1229;
+        let t1231: f32 = t1066 + t1230;
+        let t1232: f32 = t1064 - t1231;
+        let t1233: f32 = 1.0 / t1232;
+        let t1234: f32 = platform_mx * t23;
+        let t1235: f32 = platform_my * t27;
+        let t1236: f32 = t1234 + t1235;
+        let t1237: f32 = platform_mz * t0;
+        let t1238: f32 = t6 * t1237;
+        let t1239: f32 = t1236 - t1238;
+        let t1240: f32 = t965 + t981;
+        let t1241: f32 = t997 + t1013;
+        let t1242: f32 = t1029 + t1045;
+        let t1243: f32 = t1240 + t1241;
+        let t1244: f32 = t1239 + t1242;
+        let t1245: f32 = t1243 + t1244;
+        let t1246: f32 = t798 + t821;
+        let t1247: f32 = t844 + t867;
+        let t1248: f32 = t890 + t913;
+        let t1249: f32 = t1246 + t1247;
+        let t1250: f32 = t1248 + t1249;
+        let t1251: f32 = t777 * t933;
+        let t1252: f32 = t1250 * t1251;
+        let t1253: f32 = platform_mz * t1;
+        let t1254: f32 = t6 * t1253;
+        let t1255: f32 = platform_mx * t9;
+        let t1256: f32 = platform_my * t14;
+        let t1257: f32 = t1255 + t1256;
+        let t1258: f32 = t1254 + t1257;
+        let t1259: f32 = t1091 + t1099;
+        let t1260: f32 = t1107 + t1115;
+        let t1261: f32 = t1123 + t1131;
+        let t1262: f32 = t1259 + t1260;
+        let t1263: f32 = t1258 + t1261;
+        let t1264: f32 = t1262 + t1263;
+        let t1265: f32 = t1225 * t1250;
+        let t1266: f32 = t1264 - t1265;
+        let t1267: f32 = t1183 * t1228;
+        let t1268: f32 = t1266 * t1267;
+        let t1269: f32 = t1252 + t1268;
+        let t1270: f32 = t1245 - t1269;
+        let t1271: f32 = platform_mass + t962;
+        let t1272: f32 = t978 + t994;
+        let t1273: f32 = t1010 + t1026;
+        let t1274: f32 = t1271 + t1272;
+        let t1275: f32 = t1042 + t1273;
+        let t1276: f32 = t1274 + t1275;
+        let t1277: f32 = t1250 * t1250;
+        let t1278: f32 = t777 * t1277;
+        let t1279: f32 = t1266 * t1266;
+        let t1280: f32 = t1183 * t1279;
+        let t1281: f32 = t1270 * t1270;
+        let t1282: f32 = t1233 * t1281;
+        let t1283: f32 = t1278 + t1280;
         let t1284: f32 = t1282 + t1283;
-        let t1285: f32 = t1094 - t1284;
+        let t1285: f32 = t1276 - t1284;
         let t1286: f32 = 1.0 / t1285;
         let t1287: f32 = t788 + t811;
         let t1288: f32 = t834 + t857;
@@ -12266,18 +12267,18 @@ pub fn forward_dynamics_params(
         let t1293: f32 = t367 + t487;
         let t1294: f32 = t607 + t727;
         let t1295: f32 = t1292 + t1293;
-        let t1296: f32 = t1074 + t1294;
+        let t1296: f32 = t1258 + t1294;
         let t1297: f32 = t1295 + t1296;
-        let t1298: f32 = t777 * t1085;
+        let t1298: f32 = t777 * t1250;
         let t1299: f32 = t1297 * t1298;
-        let t1300: f32 = t1219 + t1223;
-        let t1301: f32 = t1227 + t1231;
-        let t1302: f32 = t1235 + t1239;
+        let t1300: f32 = t1189 + t1193;
+        let t1301: f32 = t1197 + t1201;
+        let t1302: f32 = t1205 + t1209;
         let t1303: f32 = t1300 + t1301;
         let t1304: f32 = t1302 + t1303;
-        let t1305: f32 = t1086 * t1297;
+        let t1305: f32 = t1225 * t1297;
         let t1306: f32 = t1304 - t1305;
-        let t1307: f32 = t1068 * t1088;
+        let t1307: f32 = t1183 * t1266;
         let t1308: f32 = t1306 * t1307;
         let t1309: f32 = platform_mz * t5;
         let t1310: f32 = platform_mx * t6;
@@ -12286,2626 +12287,2494 @@ pub fn forward_dynamics_params(
         let t1313: f32 = t6 * t1312;
         let t1314: f32 = t1311 - t1313;
         let t1315: f32 = t1309 + t1314;
-        let t1316: f32 = t1127 + t1135;
-        let t1317: f32 = t1143 + t1151;
-        let t1318: f32 = t1159 + t1167;
+        let t1316: f32 = t969 + t985;
+        let t1317: f32 = t1001 + t1017;
+        let t1318: f32 = t1033 + t1049;
         let t1319: f32 = t1316 + t1317;
         let t1320: f32 = t1318 + t1319;
         let t1321: f32 = t1315 - t1320;
-        let t1322: f32 = t1275 * t1297;
-        let t1323: f32 = t1277 * t1306;
+        let t1322: f32 = t1251 * t1297;
+        let t1323: f32 = t1267 * t1306;
         let t1324: f32 = t1321 + t1322;
         let t1325: f32 = t1323 + t1324;
-        let t1326: f32 = t1262 * t1280;
-        let t1327: f32 = t1325 * t1326;
-        let t1328: f32 = t1291 + t1327;
+        let t1326: f32 = -t1325;
+        let t1327: f32 = t1233 * t1270;
+        let t1328: f32 = t1326 * t1327;
         let t1329: f32 = t1299 + t1308;
-        let t1330: f32 = t1328 - t1329;
-        let t1331: f32 = platform_mass + t106;
-        let t1332: f32 = t226 + t346;
-        let t1333: f32 = t466 + t586;
-        let t1334: f32 = t1331 + t1332;
-        let t1335: f32 = t706 + t1333;
-        let t1336: f32 = t1334 + t1335;
-        let t1337: f32 = t1297 * t1297;
-        let t1338: f32 = t777 * t1337;
-        let t1339: f32 = t1306 * t1306;
-        let t1340: f32 = t1068 * t1339;
-        let t1341: f32 = t1325 * t1325;
-        let t1342: f32 = t1262 * t1341;
-        let t1343: f32 = t1330 * t1330;
-        let t1344: f32 = t1286 * t1343;
-        let t1345: f32 = t1338 + t1340;
-        let t1346: f32 = t1342 + t1344;
-        let t1347: f32 = t1345 + t1346;
-        let t1348: f32 = t1336 - t1347;
-        let t1349: f32 = 1.0 / t1348;
-        let t1350: f32 = t125 + t245;
-        let t1351: f32 = t365 + t485;
-        let t1352: f32 = t605 + t725;
-        let t1353: f32 = t1350 + t1351;
-        let t1354: f32 = t1352 + t1353;
-        let t1355: f32 = t139 + t259;
-        let t1356: f32 = t379 + t499;
-        let t1357: f32 = t619 + t739;
-        let t1358: f32 = t1355 + t1356;
-        let t1359: f32 = t1357 + t1358;
-        let t1360: f32 = t1268 - t1359;
-        let t1361: f32 = t777 * t1297;
-        let t1362: f32 = t1360 * t1361;
-        let t1363: f32 = t969 + t985;
-        let t1364: f32 = t1001 + t1017;
-        let t1365: f32 = t1033 + t1049;
-        let t1366: f32 = t1363 + t1364;
-        let t1367: f32 = t1365 + t1366;
-        let t1368: f32 = t1315 - t1367;
-        let t1369: f32 = t1086 * t1360;
-        let t1370: f32 = t1368 - t1369;
-        let t1371: f32 = t1068 * t1306;
-        let t1372: f32 = t1370 * t1371;
-        let t1373: f32 = t797 - t1218;
-        let t1374: f32 = t820 - t1222;
-        let t1375: f32 = t843 - t1226;
-        let t1376: f32 = t866 - t1230;
-        let t1377: f32 = t889 - t1234;
-        let t1378: f32 = t912 - t1238;
-        let t1379: f32 = t1373 + t1374;
-        let t1380: f32 = t1375 + t1376;
-        let t1381: f32 = t1377 + t1378;
-        let t1382: f32 = t1379 + t1380;
-        let t1383: f32 = t1381 + t1382;
-        let t1384: f32 = t1275 * t1360;
-        let t1385: f32 = t1277 * t1370;
-        let t1386: f32 = t1383 + t1384;
-        let t1387: f32 = t1385 + t1386;
-        let t1388: f32 = t1262 * t1325;
-        let t1389: f32 = t1387 * t1388;
-        let t1390: f32 = t796 + t819;
-        let t1391: f32 = t842 + t865;
-        let t1392: f32 = t888 + t911;
-        let t1393: f32 = t1390 + t1391;
-        let t1394: f32 = t1392 + t1393;
-        let t1395: f32 = t1298 * t1360;
-        let t1396: f32 = t1307 * t1370;
-        let t1397: f32 = t1326 * t1387;
-        let t1398: f32 = t1394 + t1395;
-        let t1399: f32 = t1396 + t1398;
-        let t1400: f32 = t1399 - t1397;
-        let t1401: f32 = t1286 * t1330;
-        let t1402: f32 = t1400 * t1401;
-        let t1403: f32 = t1354 + t1362;
-        let t1404: f32 = t1372 + t1389;
-        let t1405: f32 = t1403 + t1404;
-        let t1406: f32 = t1405 - t1402;
-        let t1407: f32 = platform_mass + t137;
-        let t1408: f32 = t257 + t377;
-        let t1409: f32 = t497 + t617;
-        let t1410: f32 = t1407 + t1408;
-        let t1411: f32 = t737 + t1409;
-        let t1412: f32 = t1410 + t1411;
-        let t1413: f32 = t1360 * t1360;
-        let t1414: f32 = t777 * t1413;
-        let t1415: f32 = t1370 * t1370;
-        let t1416: f32 = t1068 * t1415;
-        let t1417: f32 = t1387 * t1387;
-        let t1418: f32 = t1262 * t1417;
-        let t1419: f32 = t1400 * t1400;
-        let t1420: f32 = t1286 * t1419;
-        let t1421: f32 = t1406 * t1406;
-        let t1422: f32 = t1349 * t1421;
-        let t1423: f32 = t1414 + t1416;
-        let t1424: f32 = t1418 + t1420;
-        let t1425: f32 = t1423 + t1424;
-        let t1426: f32 = t1422 + t1425;
-        let t1427: f32 = t1412 - t1426;
-        let t1428: f32 = 1.0 / t1427;
-        let t1429: f32 = gravity_x * t899;
-        let t1430: f32 = gravity_y * t678;
-        let t1431: f32 = gravity_z * t718;
-        let t1432: f32 = t1429 + t1430;
-        let t1433: f32 = t1431 + t1432;
-        let t1434: f32 = leg6_cylinder_mz * t1433;
-        let t1435: f32 = wy * t626;
-        let t1436: f32 = wz * t632;
-        let t1437: f32 = t1435 - t1436;
-        let t1438: f32 = wy * t1437;
-        let t1439: f32 = wz * t644;
-        let t1440: f32 = wx * t626;
-        let t1441: f32 = t1439 - t1440;
-        let t1442: f32 = wx * t1441;
-        let t1443: f32 = t1442 - t1438;
-        let t1444: f32 = t718 * t1443;
-        let t1445: f32 = wx * t632;
-        let t1446: f32 = wy * t644;
-        let t1447: f32 = t1445 - t1446;
-        let t1448: f32 = wy * t1447;
-        let t1449: f32 = wz * t1441;
-        let t1450: f32 = t1448 - t1449;
-        let t1451: f32 = t899 * t1450;
-        let t1452: f32 = wz * t1437;
-        let t1453: f32 = wx * t1447;
-        let t1454: f32 = t1452 - t1453;
-        let t1455: f32 = t678 * t1454;
-        let t1456: f32 = t1451 + t1455;
-        let t1457: f32 = t1444 + t1456;
-        let t1458: f32 = t1457 - t1433;
-        let t1459: f32 = leg6_rod_mz * t1458;
-        let t1460: f32 = vx + t1437;
-        let t1461: f32 = t676 * t1460;
-        let t1462: f32 = vy + t1441;
-        let t1463: f32 = t684 * t1462;
-        let t1464: f32 = vz + t1447;
-        let t1465: f32 = t672 * t1464;
-        let t1466: f32 = t1461 + t1463;
-        let t1467: f32 = t1465 + t1466;
-        let t1468: f32 = t651 * t1467;
-        let t1469: f32 = t651 * t691;
-        let t1470: f32 = t1467 * t1469;
-        let t1471: f32 = t680 - t693;
-        let t1472: f32 = t1468 * t1470;
-        let t1473: f32 = t1471 * t1472;
-        let t1474: f32 = t1467 * t1467;
-        let t1475: f32 = t1469 * t1474;
-        let t1476: f32 = t899 * t1460;
-        let t1477: f32 = t678 * t1462;
-        let t1478: f32 = t718 * t1464;
-        let t1479: f32 = t1476 + t1477;
-        let t1480: f32 = t1478 + t1479;
-        let t1481: f32 = t673 * t1460;
-        let t1482: f32 = t652 * t1462;
-        let t1483: f32 = t675 * t1464;
-        let t1484: f32 = t1481 + t1482;
-        let t1485: f32 = t1483 + t1484;
-        let t1486: f32 = t651 * t1485;
-        let t1487: f32 = t1486 * 2.0;
-        let t1488: f32 = t1480 * t1487;
-        let t1489: f32 = t1475 + t1488;
-        let t1490: f32 = t1457 - t1489;
-        let t1491: f32 = t651 * t1490;
+        let t1330: f32 = t1328 + t1329;
+        let t1331: f32 = t1291 - t1330;
+        let t1332: f32 = platform_mass + t106;
+        let t1333: f32 = t226 + t346;
+        let t1334: f32 = t466 + t586;
+        let t1335: f32 = t1332 + t1333;
+        let t1336: f32 = t706 + t1334;
+        let t1337: f32 = t1335 + t1336;
+        let t1338: f32 = t1297 * t1297;
+        let t1339: f32 = t777 * t1338;
+        let t1340: f32 = t1306 * t1306;
+        let t1341: f32 = t1183 * t1340;
+        let t1342: f32 = t1326 * t1326;
+        let t1343: f32 = t1233 * t1342;
+        let t1344: f32 = t1331 * t1331;
+        let t1345: f32 = t1286 * t1344;
+        let t1346: f32 = t1339 + t1341;
+        let t1347: f32 = t1343 + t1345;
+        let t1348: f32 = t1346 + t1347;
+        let t1349: f32 = t1337 - t1348;
+        let t1350: f32 = 1.0 / t1349;
+        let t1351: f32 = t125 + t245;
+        let t1352: f32 = t365 + t485;
+        let t1353: f32 = t605 + t725;
+        let t1354: f32 = t1351 + t1352;
+        let t1355: f32 = t1353 + t1354;
+        let t1356: f32 = t139 + t259;
+        let t1357: f32 = t379 + t499;
+        let t1358: f32 = t619 + t739;
+        let t1359: f32 = t1356 + t1357;
+        let t1360: f32 = t1358 + t1359;
+        let t1361: f32 = t1239 - t1360;
+        let t1362: f32 = -t1361;
+        let t1363: f32 = t777 * t1297;
+        let t1364: f32 = t1362 * t1363;
+        let t1365: f32 = t1095 + t1103;
+        let t1366: f32 = t1111 + t1119;
+        let t1367: f32 = t1127 + t1135;
+        let t1368: f32 = t1365 + t1366;
+        let t1369: f32 = t1367 + t1368;
+        let t1370: f32 = t1315 - t1369;
+        let t1371: f32 = t1225 * t1362;
+        let t1372: f32 = t1370 + t1371;
+        let t1373: f32 = -t1372;
+        let t1374: f32 = t1183 * t1306;
+        let t1375: f32 = t1373 * t1374;
+        let t1376: f32 = t797 - t1188;
+        let t1377: f32 = t820 - t1192;
+        let t1378: f32 = t843 - t1196;
+        let t1379: f32 = t866 - t1200;
+        let t1380: f32 = t889 - t1204;
+        let t1381: f32 = t912 - t1208;
+        let t1382: f32 = t1376 + t1377;
+        let t1383: f32 = t1378 + t1379;
+        let t1384: f32 = t1380 + t1381;
+        let t1385: f32 = t1382 + t1383;
+        let t1386: f32 = t1384 + t1385;
+        let t1387: f32 = t1251 * t1362;
+        let t1388: f32 = t1267 * t1373;
+        let t1389: f32 = t1387 + t1388;
+        let t1390: f32 = t1386 - t1389;
+        let t1391: f32 = t1233 * t1326;
+        let t1392: f32 = t1390 * t1391;
+        let t1393: f32 = t796 + t819;
+        let t1394: f32 = t842 + t865;
+        let t1395: f32 = t888 + t911;
+        let t1396: f32 = t1393 + t1394;
+        let t1397: f32 = t1395 + t1396;
+        let t1398: f32 = t1298 * t1362;
+        let t1399: f32 = t1307 * t1373;
+        let t1400: f32 = t1327 * t1390;
+        let t1401: f32 = t1398 + t1399;
+        let t1402: f32 = t1400 + t1401;
+        let t1403: f32 = t1397 - t1402;
+        let t1404: f32 = t1286 * t1331;
+        let t1405: f32 = t1403 * t1404;
+        let t1406: f32 = t1364 + t1375;
+        let t1407: f32 = t1392 + t1405;
+        let t1408: f32 = t1406 + t1407;
+        let t1409: f32 = t1355 - t1408;
+        let t1410: f32 = platform_mass + t137;
+        let t1411: f32 = t257 + t377;
+        let t1412: f32 = t497 + t617;
+        let t1413: f32 = t1410 + t1411;
+        let t1414: f32 = t737 + t1412;
+        let t1415: f32 = t1413 + t1414;
+        let t1416: f32 = t1362 * t1362;
+        let t1417: f32 = t777 * t1416;
+        let t1418: f32 = t1373 * t1373;
+        let t1419: f32 = t1183 * t1418;
+        let t1420: f32 = t1390 * t1390;
+        let t1421: f32 = t1233 * t1420;
+        let t1422: f32 = t1403 * t1403;
+        let t1423: f32 = t1286 * t1422;
+        let t1424: f32 = t1409 * t1409;
+        let t1425: f32 = t1350 * t1424;
+        let t1426: f32 = t1417 + t1419;
+        let t1427: f32 = t1421 + t1423;
+        let t1428: f32 = t1426 + t1427;
+        let t1429: f32 = t1425 + t1428;
+        let t1430: f32 = t1415 - t1429;
+        let t1431: f32 = 1.0 / t1430;
+        let t1432: f32 = wy * t626;
+        let t1433: f32 = wz * t632;
+        let t1434: f32 = t1432 - t1433;
+        let t1435: f32 = vx + t1434;
+        let t1436: f32 = t676 * t1435;
+        let t1437: f32 = wz * t644;
+        let t1438: f32 = wx * t626;
+        let t1439: f32 = t1437 - t1438;
+        let t1440: f32 = vy + t1439;
+        let t1441: f32 = t684 * t1440;
+        let t1442: f32 = wx * t632;
+        let t1443: f32 = wy * t644;
+        let t1444: f32 = t1442 - t1443;
+        let t1445: f32 = vz + t1444;
+        let t1446: f32 = t672 * t1445;
+        let t1447: f32 = t1436 + t1441;
+        let t1448: f32 = t1446 + t1447;
+        let t1449: f32 = t651 * t1448;
+        let t1450: f32 = t651 * t691;
+        let t1451: f32 = t1448 * t1450;
+        let t1452: f32 = t680 - t693;
+        let t1453: f32 = t1449 * t1451;
+        let t1454: f32 = t1452 * t1453;
+        let t1455: f32 = gravity_x * t899;
+        let t1456: f32 = gravity_y * t678;
+        let t1457: f32 = gravity_z * t718;
+        let t1458: f32 = t1455 + t1456;
+        let t1459: f32 = t1457 + t1458;
+        let t1460: f32 = leg6_cylinder_mz + leg6_rod_mz;
+        let t1461: f32 = t1459 * t1460;
+        let t1462: f32 = t1448 * t1448;
+        let t1463: f32 = t1450 * t1462;
+        let t1464: f32 = t899 * t1435;
+        let t1465: f32 = t678 * t1440;
+        let t1466: f32 = t718 * t1445;
+        let t1467: f32 = t1464 + t1465;
+        let t1468: f32 = t1466 + t1467;
+        let t1469: f32 = t673 * t1435;
+        let t1470: f32 = t652 * t1440;
+        let t1471: f32 = t675 * t1445;
+        let t1472: f32 = t1469 + t1470;
+        let t1473: f32 = t1471 + t1472;
+        let t1474: f32 = t651 * t1473;
+        let t1475: f32 = t1474 * 2.0;
+        let t1476: f32 = t1468 * t1475;
+        let t1477: f32 = t1463 + t1476;
+        let t1478: f32 = t651 * t1477;
+        let t1479: f32 = t680 * t1478;
+        let t1480: f32 = t1461 + t1479;
+        let t1481: f32 = t1454 - t1480;
+        let t1482: f32 = t678 * t1481;
+        let t1483: f32 = t651 * t651;
+        let t1484: f32 = t671 * t671;
+        let t1485: f32 = t649 * t1483;
+        let t1486: f32 = t1484 * t1485;
+        let t1487: f32 = t1448 * t1486;
+        let t1488: f32 = t1468 * t1487;
+        let t1489: f32 = t1450 * t1468;
+        let t1490: f32 = t1475 - t1489;
+        let t1491: f32 = t1449 * t1490;
         let t1492: f32 = -t1491;
-        let t1493: f32 = t680 * t1492;
-        let t1494: f32 = t1434 + t1493;
-        let t1495: f32 = t1459 + t1473;
-        let t1496: f32 = t1494 - t1495;
-        let t1497: f32 = t678 * t1496;
-        let t1498: f32 = t1469 * t1480;
-        let t1499: f32 = t1487 - t1498;
-        let t1500: f32 = t1467 * t1499;
-        let t1501: f32 = t672 * t1443;
-        let t1502: f32 = t676 * t1450;
-        let t1503: f32 = t684 * t1454;
-        let t1504: f32 = t1502 + t1503;
-        let t1505: f32 = t1501 + t1504;
-        let t1506: f32 = t1505 - t1500;
-        let t1507: f32 = t651 * t1506;
-        let t1508: f32 = t680 * t1507;
-        let t1509: f32 = t671 * t671;
-        let t1510: f32 = t649 * t651;
-        let t1511: f32 = t1509 * t1510;
-        let t1512: f32 = t1467 * t1511;
-        let t1513: f32 = t1480 * t1512;
-        let t1514: f32 = t691 * t1505;
-        let t1515: f32 = t1513 + t1514;
-        let t1516: f32 = t651 * t1515;
-        let t1517: f32 = t1468 * t1499;
-        let t1518: f32 = -t1517;
-        let t1519: f32 = t691 * t1518;
-        let t1520: f32 = t1516 + t1519;
-        let t1521: f32 = t691 * t693;
-        let t1522: f32 = t1520 * t1521;
-        let t1523: f32 = t651 * t1480;
-        let t1524: f32 = t1470 * t1523;
-        let t1525: f32 = t1471 * t1524;
-        let t1526: f32 = gravity_x * t676;
-        let t1527: f32 = gravity_y * t684;
-        let t1528: f32 = gravity_z * t672;
-        let t1529: f32 = t1526 + t1527;
-        let t1530: f32 = t1528 + t1529;
-        let t1531: f32 = leg6_cylinder_mz * t1530;
-        let t1532: f32 = t1505 - t1530;
-        let t1533: f32 = leg6_rod_mz * t1532;
-        let t1534: f32 = t1531 - t1533;
-        let t1535: f32 = t1525 + t1534;
-        let t1536: f32 = t1508 + t1522;
+        let t1493: f32 = t691 * t1492;
+        let t1494: f32 = t1488 + t1493;
+        let t1495: f32 = t691 * t693;
+        let t1496: f32 = t1494 * t1495;
+        let t1497: f32 = t680 * t1492;
+        let t1498: f32 = t651 * t1468;
+        let t1499: f32 = t1451 * t1498;
+        let t1500: f32 = t1452 * t1499;
+        let t1501: f32 = gravity_x * t676;
+        let t1502: f32 = gravity_y * t684;
+        let t1503: f32 = gravity_z * t672;
+        let t1504: f32 = t1501 + t1502;
+        let t1505: f32 = t1503 + t1504;
+        let t1506: f32 = t1460 * t1505;
+        let t1507: f32 = t1500 + t1506;
+        let t1508: f32 = t1497 - t1507;
+        let t1509: f32 = t1496 + t1508;
+        let t1510: f32 = -t1509;
+        let t1511: f32 = t684 * t1510;
+        let t1512: f32 = t1482 - t1511;
+        let t1513: f32 = t651 * t1512;
+        let t1514: f32 = wz * t1434;
+        let t1515: f32 = wx * t1444;
+        let t1516: f32 = t1514 - t1515;
+        let t1517: f32 = t706 * t1516;
+        let t1518: f32 = wy * t1434;
+        let t1519: f32 = wx * t1439;
+        let t1520: f32 = t1519 - t1518;
+        let t1521: f32 = t725 * t1520;
+        let t1522: f32 = t1517 + t1521;
+        let t1523: f32 = leg6_rod_mass * t1459;
+        let t1524: f32 = t1478 - t1453;
+        let t1525: f32 = leg6_rod_mz * t1524;
+        let t1526: f32 = t1523 + t1525;
+        let t1527: f32 = -t1526;
+        let t1528: f32 = t678 * t1527;
+        let t1529: f32 = leg6_rod_mass * t1505;
+        let t1530: f32 = t1491 + t1499;
+        let t1531: f32 = leg6_rod_mz * t1530;
+        let t1532: f32 = t1529 + t1531;
+        let t1533: f32 = t684 * t1532;
+        let t1534: f32 = t1528 - t1533;
+        let t1535: f32 = wy * t1444;
+        let t1536: f32 = wz * t1439;
         let t1537: f32 = t1535 - t1536;
-        let t1538: f32 = t684 * t1537;
-        let t1539: f32 = t1497 + t1538;
-        let t1540: f32 = t651 * t1539;
-        let t1541: f32 = t673 * t1450;
-        let t1542: f32 = t652 * t1454;
-        let t1543: f32 = t675 * t1443;
-        let t1544: f32 = t1541 + t1542;
-        let t1545: f32 = t1543 + t1544;
-        let t1546: f32 = gravity_x * t673;
-        let t1547: f32 = gravity_y * t652;
-        let t1548: f32 = gravity_z * t675;
-        let t1549: f32 = t1546 + t1547;
-        let t1550: f32 = t1548 + t1549;
-        let t1551: f32 = t1545 - t1550;
-        let t1552: f32 = leg6_rod_mass * t1551;
-        let t1553: f32 = t1468 * t1468;
-        let t1554: f32 = t1523 * t1523;
-        let t1555: f32 = t1553 + t1554;
-        let t1556: f32 = leg6_rod_mz * t1555;
-        let t1557: f32 = t1552 - t1556;
-        let t1558: f32 = t652 * t1557;
-        let t1559: f32 = leg6_rod_mass * t1458;
-        let t1560: f32 = t1472 + t1491;
-        let t1561: f32 = leg6_rod_mz * t1560;
-        let t1562: f32 = t1559 + t1561;
-        let t1563: f32 = t678 * t1562;
-        let t1564: f32 = leg6_rod_mass * t1532;
-        let t1565: f32 = t1524 - t1507;
-        let t1566: f32 = leg6_rod_mz * t1565;
-        let t1567: f32 = t1564 - t1566;
-        let t1568: f32 = t684 * t1567;
-        let t1569: f32 = t1563 + t1568;
-        let t1570: f32 = t1558 + t1569;
-        let t1571: f32 = t1540 - t1570;
-        let t1572: f32 = -t1571;
-        let t1573: f32 = t626 * t1572;
-        let t1574: f32 = t651 * t1496;
-        let t1575: f32 = t1562 - t1574;
-        let t1576: f32 = t718 * t1575;
-        let t1577: f32 = t675 * t1557;
-        let t1578: f32 = t651 * t1537;
-        let t1579: f32 = t1567 - t1578;
-        let t1580: f32 = t672 * t1579;
-        let t1581: f32 = t1577 + t1580;
-        let t1582: f32 = t1576 + t1581;
-        let t1583: f32 = t632 * t1582;
-        let t1584: f32 = t1573 - t1583;
-        let t1585: f32 = t266 * t274;
-        let t1586: f32 = t272 * t277;
-        let t1587: f32 = t1585 - t1586;
-        let t1588: f32 = g3 * t291;
-        let t1589: f32 = t1587 * t1588;
-        let t1590: f32 = t386 * t394;
-        let t1591: f32 = t392 * t397;
-        let t1592: f32 = t1590 - t1591;
-        let t1593: f32 = g4 * t411;
-        let t1594: f32 = t1592 * t1593;
-        let t1595: f32 = t1589 + t1594;
-        let t1596: f32 = t506 * t514;
-        let t1597: f32 = t512 * t517;
-        let t1598: f32 = t1596 - t1597;
-        let t1599: f32 = g5 * t531;
-        let t1600: f32 = t1598 * t1599;
-        let t1601: f32 = t626 * t634;
-        let t1602: f32 = t632 * t637;
-        let t1603: f32 = t1601 - t1602;
-        let t1604: f32 = g6 * t651;
-        let t1605: f32 = t1603 * t1604;
-        let t1606: f32 = t1600 + t1605;
-        let t1607: f32 = t1595 + t1606;
-        let t1608: f32 = wx * t6;
-        let t1609: f32 = t3 * t1608;
-        let t1610: f32 = wy * t23;
-        let t1611: f32 = wz * t9;
-        let t1612: f32 = t1609 + t1610;
-        let t1613: f32 = t1611 + t1612;
-        let t1614: f32 = platform_ixy * t1613;
-        let t1615: f32 = wx * t2;
-        let t1616: f32 = t6 * t1615;
-        let t1617: f32 = wy * t27;
-        let t1618: f32 = wz * t14;
-        let t1619: f32 = t1617 + t1618;
-        let t1620: f32 = t1616 - t1619;
-        let t1621: f32 = platform_iyy * t1620;
-        let t1622: f32 = wx * t5;
-        let t1623: f32 = wy * t0;
-        let t1624: f32 = wz * t1;
-        let t1625: f32 = t1623 - t1624;
-        let t1626: f32 = t6 * t1625;
-        let t1627: f32 = t1622 - t1626;
-        let t1628: f32 = platform_iyz * t1627;
-        let t1629: f32 = t1614 + t1628;
-        let t1630: f32 = t1629 - t1621;
-        let t1631: f32 = t1613 * t1630;
-        let t1632: f32 = platform_ixx * t1613;
-        let t1633: f32 = platform_ixy * t1620;
-        let t1634: f32 = platform_ixz * t1627;
-        let t1635: f32 = t1632 + t1634;
-        let t1636: f32 = t1635 - t1633;
-        let t1637: f32 = t1620 * t1636;
-        let t1638: f32 = t1631 + t1637;
-        let t1639: f32 = t5 * t1638;
-        let t1640: f32 = platform_ixz * t1613;
-        let t1641: f32 = platform_iyz * t1620;
-        let t1642: f32 = platform_izz * t1627;
-        let t1643: f32 = t1640 + t1642;
-        let t1644: f32 = t1643 - t1641;
-        let t1645: f32 = t1620 * t1644;
-        let t1646: f32 = t1627 * t1630;
-        let t1647: f32 = t1645 + t1646;
-        let t1648: f32 = t3 * t1647;
-        let t1649: f32 = t1627 * t1636;
-        let t1650: f32 = t1613 * t1644;
-        let t1651: f32 = t1649 - t1650;
-        let t1652: f32 = t2 * t1651;
-        let t1653: f32 = t1648 + t1652;
-        let t1654: f32 = t6 * t1653;
-        let t1655: f32 = t1639 - t1654;
-        let t1656: f32 = gravity_y * t1074;
-        let t1657: f32 = gravity_z * t1268;
-        let t1658: f32 = t1656 - t1657;
-        let t1659: f32 = t19 * t34;
-        let t1660: f32 = t32 * t37;
-        let t1661: f32 = t1659 - t1660;
-        let t1662: f32 = g1 * t51;
-        let t1663: f32 = t1661 * t1662;
-        let t1664: f32 = t146 * t154;
-        let t1665: f32 = t152 * t157;
-        let t1666: f32 = t1664 - t1665;
-        let t1667: f32 = g2 * t171;
-        let t1668: f32 = t1666 * t1667;
-        let t1669: f32 = t1663 + t1668;
-        let t1670: f32 = t1658 + t1669;
-        let t1671: f32 = t1655 + t1670;
-        let t1672: f32 = t1607 + t1671;
-        let t1673: f32 = gravity_x * t784;
-        let t1674: f32 = gravity_y * t78;
-        let t1675: f32 = gravity_z * t118;
-        let t1676: f32 = t1673 + t1674;
+        let t1538: f32 = t903 * t1537;
+        let t1539: f32 = gravity_x * t673;
+        let t1540: f32 = gravity_y * t652;
+        let t1541: f32 = gravity_z * t675;
+        let t1542: f32 = t1539 + t1540;
+        let t1543: f32 = t1541 + t1542;
+        let t1544: f32 = leg6_rod_mass * t1543;
+        let t1545: f32 = t1449 * t1449;
+        let t1546: f32 = t1498 * t1498;
+        let t1547: f32 = t1545 + t1546;
+        let t1548: f32 = leg6_rod_mz * t1547;
+        let t1549: f32 = t1544 + t1548;
+        let t1550: f32 = t652 * t1549;
+        let t1551: f32 = t1538 - t1550;
+        let t1552: f32 = t1534 + t1551;
+        let t1553: f32 = t1522 + t1552;
+        let t1554: f32 = t1513 + t1553;
+        let t1555: f32 = t626 * t1554;
+        let t1556: f32 = t911 * t1537;
+        let t1557: f32 = t675 * t1549;
+        let t1558: f32 = t1556 - t1557;
+        let t1559: f32 = t725 * t1516;
+        let t1560: f32 = t737 * t1520;
+        let t1561: f32 = t1559 + t1560;
+        let t1562: f32 = t1558 + t1561;
+        let t1563: f32 = t651 * t1510;
+        let t1564: f32 = t1532 + t1563;
+        let t1565: f32 = t672 * t1564;
+        let t1566: f32 = t651 * t1481;
+        let t1567: f32 = t1526 - t1566;
+        let t1568: f32 = t718 * t1567;
+        let t1569: f32 = t1565 + t1568;
+        let t1570: f32 = t1562 - t1569;
+        let t1571: f32 = t632 * t1570;
+        let t1572: f32 = t1555 - t1571;
+        let t1573: f32 = wx * t2;
+        let t1574: f32 = t6 * t1573;
+        let t1575: f32 = wy * t27;
+        let t1576: f32 = wz * t14;
+        let t1577: f32 = t1575 + t1576;
+        let t1578: f32 = t1574 - t1577;
+        let t1579: f32 = wx * t6;
+        let t1580: f32 = t3 * t1579;
+        let t1581: f32 = wy * t23;
+        let t1582: f32 = wz * t9;
+        let t1583: f32 = t1580 + t1581;
+        let t1584: f32 = t1582 + t1583;
+        let t1585: f32 = platform_ixz * t1584;
+        let t1586: f32 = platform_iyz * t1578;
+        let t1587: f32 = wx * t5;
+        let t1588: f32 = wy * t0;
+        let t1589: f32 = wz * t1;
+        let t1590: f32 = t1588 - t1589;
+        let t1591: f32 = t6 * t1590;
+        let t1592: f32 = t1587 - t1591;
+        let t1593: f32 = platform_izz * t1592;
+        let t1594: f32 = t1585 + t1593;
+        let t1595: f32 = t1594 - t1586;
+        let t1596: f32 = t1578 * t1595;
+        let t1597: f32 = platform_ixy * t1584;
+        let t1598: f32 = platform_iyy * t1578;
+        let t1599: f32 = platform_iyz * t1592;
+        let t1600: f32 = t1597 + t1599;
+        let t1601: f32 = t1600 - t1598;
+        let t1602: f32 = t1592 * t1601;
+        let t1603: f32 = t1596 + t1602;
+        let t1604: f32 = t3 * t1603;
+        let t1605: f32 = platform_ixx * t1584;
+        let t1606: f32 = platform_ixy * t1578;
+        let t1607: f32 = platform_ixz * t1592;
+        let t1608: f32 = t1605 + t1607;
+        let t1609: f32 = t1608 - t1606;
+        let t1610: f32 = t1592 * t1609;
+        let t1611: f32 = t1584 * t1595;
+        let t1612: f32 = t1610 - t1611;
+        let t1613: f32 = t2 * t1612;
+        let t1614: f32 = t1604 + t1613;
+        let t1615: f32 = t6 * t1614;
+        let t1616: f32 = t626 * t634;
+        let t1617: f32 = t632 * t637;
+        let t1618: f32 = t1616 - t1617;
+        let t1619: f32 = g6 * t651;
+        let t1620: f32 = t1618 * t1619;
+        let t1621: f32 = t1615 - t1620;
+        let t1622: f32 = gravity_z * t1239;
+        let t1623: f32 = gravity_y * t1258;
+        let t1624: f32 = t1622 - t1623;
+        let t1625: f32 = t1584 * t1601;
+        let t1626: f32 = t1578 * t1609;
+        let t1627: f32 = t1625 + t1626;
+        let t1628: f32 = t5 * t1627;
+        let t1629: f32 = t19 * t34;
+        let t1630: f32 = t32 * t37;
+        let t1631: f32 = t1629 - t1630;
+        let t1632: f32 = g1 * t51;
+        let t1633: f32 = t1631 * t1632;
+        let t1634: f32 = t1628 + t1633;
+        let t1635: f32 = t1624 - t1634;
+        let t1636: f32 = t1621 + t1635;
+        let t1637: f32 = t146 * t154;
+        let t1638: f32 = t152 * t157;
+        let t1639: f32 = t1637 - t1638;
+        let t1640: f32 = g2 * t171;
+        let t1641: f32 = t1639 * t1640;
+        let t1642: f32 = t266 * t274;
+        let t1643: f32 = t272 * t277;
+        let t1644: f32 = t1642 - t1643;
+        let t1645: f32 = g3 * t291;
+        let t1646: f32 = t1644 * t1645;
+        let t1647: f32 = t1641 + t1646;
+        let t1648: f32 = t386 * t394;
+        let t1649: f32 = t392 * t397;
+        let t1650: f32 = t1648 - t1649;
+        let t1651: f32 = g4 * t411;
+        let t1652: f32 = t1650 * t1651;
+        let t1653: f32 = t506 * t514;
+        let t1654: f32 = t512 * t517;
+        let t1655: f32 = t1653 - t1654;
+        let t1656: f32 = g5 * t531;
+        let t1657: f32 = t1655 * t1656;
+        let t1658: f32 = t1652 + t1657;
+        let t1659: f32 = t1647 + t1658;
+        let t1660: f32 = t1636 - t1659;
+        let t1661: f32 = wy * t19;
+        let t1662: f32 = wz * t32;
+        let t1663: f32 = t1661 - t1662;
+        let t1664: f32 = vx + t1663;
+        let t1665: f32 = t76 * t1664;
+        let t1666: f32 = wz * t44;
+        let t1667: f32 = wx * t19;
+        let t1668: f32 = t1666 - t1667;
+        let t1669: f32 = vy + t1668;
+        let t1670: f32 = t84 * t1669;
+        let t1671: f32 = wx * t32;
+        let t1672: f32 = wy * t44;
+        let t1673: f32 = t1671 - t1672;
+        let t1674: f32 = vz + t1673;
+        let t1675: f32 = t72 * t1674;
+        let t1676: f32 = t1665 + t1670;
         let t1677: f32 = t1675 + t1676;
-        let t1678: f32 = leg1_cylinder_mz * t1677;
-        let t1679: f32 = wy * t19;
-        let t1680: f32 = wz * t32;
-        let t1681: f32 = t1679 - t1680;
-        let t1682: f32 = wy * t1681;
-        let t1683: f32 = wz * t44;
-        let t1684: f32 = wx * t19;
-        let t1685: f32 = t1683 - t1684;
-        let t1686: f32 = wx * t1685;
-        let t1687: f32 = t1686 - t1682;
-        let t1688: f32 = t118 * t1687;
-        let t1689: f32 = wx * t32;
-        let t1690: f32 = wy * t44;
-        let t1691: f32 = t1689 - t1690;
-        let t1692: f32 = wy * t1691;
-        let t1693: f32 = wz * t1685;
-        let t1694: f32 = t1692 - t1693;
-        let t1695: f32 = t784 * t1694;
-        let t1696: f32 = wz * t1681;
-        let t1697: f32 = wx * t1691;
-        let t1698: f32 = t1696 - t1697;
-        let t1699: f32 = t78 * t1698;
-        let t1700: f32 = t1695 + t1699;
-        let t1701: f32 = t1688 + t1700;
-        let t1702: f32 = t1701 - t1677;
-        let t1703: f32 = leg1_rod_mz * t1702;
-        let t1704: f32 = vx + t1681;
-        let t1705: f32 = t76 * t1704;
-        let t1706: f32 = vy + t1685;
-        let t1707: f32 = t84 * t1706;
-        let t1708: f32 = vz + t1691;
-        let t1709: f32 = t72 * t1708;
-        let t1710: f32 = t1705 + t1707;
-        let t1711: f32 = t1709 + t1710;
-        let t1712: f32 = t51 * t1711;
-        let t1713: f32 = t51 * t91;
-        let t1714: f32 = t1711 * t1713;
-        let t1715: f32 = t80 - t93;
-        let t1716: f32 = t1712 * t1714;
-        let t1717: f32 = t1715 * t1716;
-        let t1718: f32 = t1711 * t1711;
-        let t1719: f32 = t1713 * t1718;
-        let t1720: f32 = t784 * t1704;
-        let t1721: f32 = t78 * t1706;
-        let t1722: f32 = t118 * t1708;
-        let t1723: f32 = t1720 + t1721;
-        let t1724: f32 = t1722 + t1723;
-        let t1725: f32 = t73 * t1704;
-        let t1726: f32 = t52 * t1706;
-        let t1727: f32 = t75 * t1708;
-        let t1728: f32 = t1725 + t1726;
-        let t1729: f32 = t1727 + t1728;
-        let t1730: f32 = t51 * t1729;
-        let t1731: f32 = t1730 * 2.0;
-        let t1732: f32 = t1724 * t1731;
-        let t1733: f32 = t1719 + t1732;
-        let t1734: f32 = t1701 - t1733;
-        let t1735: f32 = t51 * t1734;
-        let t1736: f32 = -t1735;
-        let t1737: f32 = t80 * t1736;
-        let t1738: f32 = t1678 + t1737;
-        let t1739: f32 = t1703 + t1717;
-        let t1740: f32 = t1738 - t1739;
-        let t1741: f32 = t78 * t1740;
-        let t1742: f32 = t1713 * t1724;
-        let t1743: f32 = t1731 - t1742;
-        let t1744: f32 = t1711 * t1743;
-        let t1745: f32 = t72 * t1687;
-        let t1746: f32 = t76 * t1694;
-        let t1747: f32 = t84 * t1698;
-        let t1748: f32 = t1746 + t1747;
-        let t1749: f32 = t1745 + t1748;
-        let t1750: f32 = t1749 - t1744;
-        let t1751: f32 = t51 * t1750;
-        let t1752: f32 = t80 * t1751;
-        let t1753: f32 = t71 * t71;
-        let t1754: f32 = t49 * t51;
-        let t1755: f32 = t1753 * t1754;
-        let t1756: f32 = t1711 * t1755;
-        let t1757: f32 = t1724 * t1756;
-        let t1758: f32 = t91 * t1749;
-        let t1759: f32 = t1757 + t1758;
-        let t1760: f32 = t51 * t1759;
-        let t1761: f32 = t1712 * t1743;
-        let t1762: f32 = -t1761;
-        let t1763: f32 = t91 * t1762;
-        let t1764: f32 = t1760 + t1763;
-        let t1765: f32 = t91 * t93;
-        let t1766: f32 = t1764 * t1765;
-        let t1767: f32 = t51 * t1724;
-        let t1768: f32 = t1714 * t1767;
-        let t1769: f32 = t1715 * t1768;
-        let t1770: f32 = gravity_x * t76;
-        let t1771: f32 = gravity_y * t84;
-        let t1772: f32 = gravity_z * t72;
-        let t1773: f32 = t1770 + t1771;
-        let t1774: f32 = t1772 + t1773;
-        let t1775: f32 = leg1_cylinder_mz * t1774;
-        let t1776: f32 = t1749 - t1774;
+        let t1678: f32 = t51 * t1677;
+        let t1679: f32 = t51 * t91;
+        let t1680: f32 = t1677 * t1679;
+        let t1681: f32 = t80 - t93;
+        let t1682: f32 = t1678 * t1680;
+        let t1683: f32 = t1681 * t1682;
+        let t1684: f32 = gravity_x * t784;
+        let t1685: f32 = gravity_y * t78;
+        let t1686: f32 = gravity_z * t118;
+        let t1687: f32 = t1684 + t1685;
+        let t1688: f32 = t1686 + t1687;
+        let t1689: f32 = leg1_cylinder_mz + leg1_rod_mz;
+        let t1690: f32 = t1688 * t1689;
+        let t1691: f32 = t1677 * t1677;
+        let t1692: f32 = t1679 * t1691;
+        let t1693: f32 = t784 * t1664;
+        let t1694: f32 = t78 * t1669;
+        let t1695: f32 = t118 * t1674;
+        let t1696: f32 = t1693 + t1694;
+        let t1697: f32 = t1695 + t1696;
+        let t1698: f32 = t73 * t1664;
+        let t1699: f32 = t52 * t1669;
+        let t1700: f32 = t75 * t1674;
+        let t1701: f32 = t1698 + t1699;
+        let t1702: f32 = t1700 + t1701;
+        let t1703: f32 = t51 * t1702;
+        let t1704: f32 = t1703 * 2.0;
+        let t1705: f32 = t1697 * t1704;
+        let t1706: f32 = t1692 + t1705;
+        let t1707: f32 = t51 * t1706;
+        let t1708: f32 = t80 * t1707;
+        let t1709: f32 = t1690 + t1708;
+        let t1710: f32 = t1683 - t1709;
+        let t1711: f32 = t78 * t1710;
+        let t1712: f32 = t51 * t51;
+        let t1713: f32 = t71 * t71;
+        let t1714: f32 = t49 * t1712;
+        let t1715: f32 = t1713 * t1714;
+        let t1716: f32 = t1677 * t1715;
+        let t1717: f32 = t1697 * t1716;
+        let t1718: f32 = t1679 * t1697;
+        let t1719: f32 = t1704 - t1718;
+        let t1720: f32 = t1678 * t1719;
+        let t1721: f32 = -t1720;
+        let t1722: f32 = t91 * t1721;
+        let t1723: f32 = t1717 + t1722;
+        let t1724: f32 = t91 * t93;
+        let t1725: f32 = t1723 * t1724;
+        let t1726: f32 = t80 * t1721;
+        let t1727: f32 = t51 * t1697;
+        let t1728: f32 = t1680 * t1727;
+        let t1729: f32 = t1681 * t1728;
+        let t1730: f32 = gravity_x * t76;
+        let t1731: f32 = gravity_y * t84;
+        let t1732: f32 = gravity_z * t72;
+        let t1733: f32 = t1730 + t1731;
+        let t1734: f32 = t1732 + t1733;
+        let t1735: f32 = t1689 * t1734;
+        let t1736: f32 = t1729 + t1735;
+        let t1737: f32 = t1726 - t1736;
+        let t1738: f32 = t1725 + t1737;
+        let t1739: f32 = -t1738;
+        let t1740: f32 = t84 * t1739;
+        let t1741: f32 = t1711 - t1740;
+        let t1742: f32 = t51 * t1741;
+        let t1743: f32 = wz * t1663;
+        let t1744: f32 = wx * t1673;
+        let t1745: f32 = t1743 - t1744;
+        let t1746: f32 = t106 * t1745;
+        let t1747: f32 = wy * t1663;
+        let t1748: f32 = wx * t1668;
+        let t1749: f32 = t1748 - t1747;
+        let t1750: f32 = t125 * t1749;
+        let t1751: f32 = t1746 + t1750;
+        let t1752: f32 = leg1_rod_mass * t1688;
+        let t1753: f32 = t1707 - t1682;
+        let t1754: f32 = leg1_rod_mz * t1753;
+        let t1755: f32 = t1752 + t1754;
+        let t1756: f32 = -t1755;
+        let t1757: f32 = t78 * t1756;
+        let t1758: f32 = leg1_rod_mass * t1734;
+        let t1759: f32 = t1720 + t1728;
+        let t1760: f32 = leg1_rod_mz * t1759;
+        let t1761: f32 = t1758 + t1760;
+        let t1762: f32 = t84 * t1761;
+        let t1763: f32 = t1757 - t1762;
+        let t1764: f32 = wy * t1673;
+        let t1765: f32 = wz * t1668;
+        let t1766: f32 = t1764 - t1765;
+        let t1767: f32 = t788 * t1766;
+        let t1768: f32 = gravity_x * t73;
+        let t1769: f32 = gravity_y * t52;
+        let t1770: f32 = gravity_z * t75;
+        let t1771: f32 = t1768 + t1769;
+        let t1772: f32 = t1770 + t1771;
+        let t1773: f32 = leg1_rod_mass * t1772;
+        let t1774: f32 = t1678 * t1678;
+        let t1775: f32 = t1727 * t1727;
+        let t1776: f32 = t1774 + t1775;
         let t1777: f32 = leg1_rod_mz * t1776;
-        let t1778: f32 = t1775 - t1777;
-        let t1779: f32 = t1769 + t1778;
-        let t1780: f32 = t1752 + t1766;
-        let t1781: f32 = t1779 - t1780;
-        let t1782: f32 = t84 * t1781;
-        let t1783: f32 = t1741 + t1782;
-        let t1784: f32 = t51 * t1783;
-        let t1785: f32 = t73 * t1694;
-        let t1786: f32 = t52 * t1698;
-        let t1787: f32 = t75 * t1687;
-        let t1788: f32 = t1785 + t1786;
-        let t1789: f32 = t1787 + t1788;
-        let t1790: f32 = gravity_x * t73;
-        let t1791: f32 = gravity_y * t52;
-        let t1792: f32 = gravity_z * t75;
-        let t1793: f32 = t1790 + t1791;
-        let t1794: f32 = t1792 + t1793;
-        let t1795: f32 = t1789 - t1794;
-        let t1796: f32 = leg1_rod_mass * t1795;
-        let t1797: f32 = t1712 * t1712;
-        let t1798: f32 = t1767 * t1767;
-        let t1799: f32 = t1797 + t1798;
-        let t1800: f32 = leg1_rod_mz * t1799;
-        let t1801: f32 = t1796 - t1800;
-        let t1802: f32 = t52 * t1801;
-        let t1803: f32 = leg1_rod_mass * t1702;
-        let t1804: f32 = t1716 + t1735;
-        let t1805: f32 = leg1_rod_mz * t1804;
-        let t1806: f32 = t1803 + t1805;
-        let t1807: f32 = t78 * t1806;
-        let t1808: f32 = leg1_rod_mass * t1776;
-        let t1809: f32 = t1768 - t1751;
-        let t1810: f32 = leg1_rod_mz * t1809;
-        let t1811: f32 = t1808 - t1810;
-        let t1812: f32 = t84 * t1811;
-        let t1813: f32 = t1807 + t1812;
-        let t1814: f32 = t1802 + t1813;
-        let t1815: f32 = t1814 - t1784;
-        let t1816: f32 = t19 * t1815;
-        let t1817: f32 = t75 * t1801;
-        let t1818: f32 = t51 * t1781;
-        let t1819: f32 = t1811 - t1818;
-        let t1820: f32 = t72 * t1819;
-        let t1821: f32 = t51 * t1740;
-        let t1822: f32 = t1806 - t1821;
-        let t1823: f32 = t118 * t1822;
-        let t1824: f32 = t1820 + t1823;
-        let t1825: f32 = t1817 + t1824;
-        let t1826: f32 = t32 * t1825;
-        let t1827: f32 = t1816 - t1826;
-        let t1828: f32 = t1672 - t1827;
-        let t1829: f32 = t1584 - t1828;
-        let t1830: f32 = gravity_x * t807;
-        let t1831: f32 = gravity_y * t198;
-        let t1832: f32 = gravity_z * t238;
-        let t1833: f32 = t1830 + t1831;
-        let t1834: f32 = t1832 + t1833;
-        let t1835: f32 = leg2_cylinder_mz * t1834;
-        let t1836: f32 = wy * t146;
-        let t1837: f32 = wz * t152;
-        let t1838: f32 = t1836 - t1837;
-        let t1839: f32 = wy * t1838;
-        let t1840: f32 = wz * t164;
-        let t1841: f32 = wx * t146;
-        let t1842: f32 = t1840 - t1841;
-        let t1843: f32 = wx * t1842;
-        let t1844: f32 = t1843 - t1839;
-        let t1845: f32 = t238 * t1844;
-        let t1846: f32 = wx * t152;
-        let t1847: f32 = wy * t164;
-        let t1848: f32 = t1846 - t1847;
-        let t1849: f32 = wy * t1848;
-        let t1850: f32 = wz * t1842;
-        let t1851: f32 = t1849 - t1850;
-        let t1852: f32 = t807 * t1851;
-        let t1853: f32 = wz * t1838;
-        let t1854: f32 = wx * t1848;
-        let t1855: f32 = t1853 - t1854;
-        let t1856: f32 = t198 * t1855;
-        let t1857: f32 = t1852 + t1856;
-        let t1858: f32 = t1845 + t1857;
-        let t1859: f32 = t1858 - t1834;
-        let t1860: f32 = leg2_rod_mz * t1859;
-        let t1861: f32 = vx + t1838;
-        let t1862: f32 = t196 * t1861;
-        let t1863: f32 = vy + t1842;
-        let t1864: f32 = t204 * t1863;
-        let t1865: f32 = vz + t1848;
-        let t1866: f32 = t192 * t1865;
-        let t1867: f32 = t1862 + t1864;
-        let t1868: f32 = t1866 + t1867;
-        let t1869: f32 = t171 * t1868;
-        let t1870: f32 = t171 * t211;
-        let t1871: f32 = t1868 * t1870;
-        let t1872: f32 = t200 - t213;
-        let t1873: f32 = t1869 * t1871;
-        let t1874: f32 = t1872 * t1873;
-        let t1875: f32 = t1868 * t1868;
-        let t1876: f32 = t1870 * t1875;
-        let t1877: f32 = t807 * t1861;
-        let t1878: f32 = t198 * t1863;
-        let t1879: f32 = t238 * t1865;
-        let t1880: f32 = t1877 + t1878;
-        let t1881: f32 = t1879 + t1880;
-        let t1882: f32 = t193 * t1861;
-        let t1883: f32 = t172 * t1863;
-        let t1884: f32 = t195 * t1865;
-        let t1885: f32 = t1882 + t1883;
-        let t1886: f32 = t1884 + t1885;
-        let t1887: f32 = t171 * t1886;
-        let t1888: f32 = t1887 * 2.0;
-        let t1889: f32 = t1881 * t1888;
-        let t1890: f32 = t1876 + t1889;
-        let t1891: f32 = t1858 - t1890;
-        let t1892: f32 = t171 * t1891;
-        let t1893: f32 = -t1892;
-        let t1894: f32 = t200 * t1893;
-        let t1895: f32 = t1835 + t1894;
-        let t1896: f32 = t1860 + t1874;
-        let t1897: f32 = t1895 - t1896;
-        let t1898: f32 = t198 * t1897;
-        let t1899: f32 = t1870 * t1881;
-        let t1900: f32 = t1888 - t1899;
-        let t1901: f32 = t1868 * t1900;
-        let t1902: f32 = t192 * t1844;
-        let t1903: f32 = t196 * t1851;
-        let t1904: f32 = t204 * t1855;
-        let t1905: f32 = t1903 + t1904;
-        let t1906: f32 = t1902 + t1905;
-        let t1907: f32 = t1906 - t1901;
-        let t1908: f32 = t171 * t1907;
-        let t1909: f32 = t200 * t1908;
-        let t1910: f32 = t191 * t191;
-        let t1911: f32 = t169 * t171;
-        let t1912: f32 = t1910 * t1911;
-        let t1913: f32 = t1868 * t1912;
-        let t1914: f32 = t1881 * t1913;
-        let t1915: f32 = t211 * t1906;
-        let t1916: f32 = t1914 + t1915;
-        let t1917: f32 = t171 * t1916;
-        let t1918: f32 = t1869 * t1900;
-        let t1919: f32 = -t1918;
-        let t1920: f32 = t211 * t1919;
-        let t1921: f32 = t1917 + t1920;
-        let t1922: f32 = t211 * t213;
-        let t1923: f32 = t1921 * t1922;
-        let t1924: f32 = t171 * t1881;
-        let t1925: f32 = t1871 * t1924;
-        let t1926: f32 = t1872 * t1925;
-        let t1927: f32 = gravity_x * t196;
-        let t1928: f32 = gravity_y * t204;
-        let t1929: f32 = gravity_z * t192;
-        let t1930: f32 = t1927 + t1928;
-        let t1931: f32 = t1929 + t1930;
-        let t1932: f32 = leg2_cylinder_mz * t1931;
-        let t1933: f32 = t1906 - t1931;
-        let t1934: f32 = leg2_rod_mz * t1933;
-        let t1935: f32 = t1932 - t1934;
-        let t1936: f32 = t1926 + t1935;
-        let t1937: f32 = t1909 + t1923;
-        let t1938: f32 = t1936 - t1937;
-        let t1939: f32 = t204 * t1938;
-        let t1940: f32 = t1898 + t1939;
-        let t1941: f32 = t171 * t1940;
-        let t1942: f32 = t193 * t1851;
-        let t1943: f32 = t172 * t1855;
-        let t1944: f32 = t195 * t1844;
-        let t1945: f32 = t1942 + t1943;
-        let t1946: f32 = t1944 + t1945;
-        let t1947: f32 = gravity_x * t193;
-        let t1948: f32 = gravity_y * t172;
-        let t1949: f32 = gravity_z * t195;
-        let t1950: f32 = t1947 + t1948;
-        let t1951: f32 = t1949 + t1950;
-        let t1952: f32 = t1946 - t1951;
-        let t1953: f32 = leg2_rod_mass * t1952;
-        let t1954: f32 = t1869 * t1869;
-        let t1955: f32 = t1924 * t1924;
-        let t1956: f32 = t1954 + t1955;
-        let t1957: f32 = leg2_rod_mz * t1956;
-        let t1958: f32 = t1953 - t1957;
-        let t1959: f32 = t172 * t1958;
-        let t1960: f32 = leg2_rod_mass * t1859;
-        let t1961: f32 = t1873 + t1892;
-        let t1962: f32 = leg2_rod_mz * t1961;
-        let t1963: f32 = t1960 + t1962;
-        let t1964: f32 = t198 * t1963;
-        let t1965: f32 = leg2_rod_mass * t1933;
-        let t1966: f32 = t1925 - t1908;
-        let t1967: f32 = leg2_rod_mz * t1966;
-        let t1968: f32 = t1965 - t1967;
-        let t1969: f32 = t204 * t1968;
-        let t1970: f32 = t1964 + t1969;
-        let t1971: f32 = t1959 + t1970;
-        let t1972: f32 = t1941 - t1971;
-        let t1973: f32 = -t1972;
-        let t1974: f32 = t146 * t1973;
-        let t1975: f32 = t171 * t1897;
-        let t1976: f32 = t1963 - t1975;
-        let t1977: f32 = t238 * t1976;
-        let t1978: f32 = t195 * t1958;
-        let t1979: f32 = t171 * t1938;
-        let t1980: f32 = t1968 - t1979;
-        let t1981: f32 = t192 * t1980;
-        let t1982: f32 = t1978 + t1981;
-        let t1983: f32 = t1977 + t1982;
-        let t1984: f32 = t152 * t1983;
-        let t1985: f32 = t1974 - t1984;
-        let t1986: f32 = gravity_x * t830;
-        let t1987: f32 = gravity_y * t318;
-        let t1988: f32 = gravity_z * t358;
-        let t1989: f32 = t1986 + t1987;
-        let t1990: f32 = t1988 + t1989;
-        let t1991: f32 = leg3_cylinder_mz * t1990;
-        let t1992: f32 = wy * t266;
-        let t1993: f32 = wz * t272;
-        let t1994: f32 = t1992 - t1993;
-        let t1995: f32 = wy * t1994;
-        let t1996: f32 = wz * t284;
-        let t1997: f32 = wx * t266;
-        let t1998: f32 = t1996 - t1997;
-        let t1999: f32 = wx * t1998;
-        let t2000: f32 = t1999 - t1995;
-        let t2001: f32 = t358 * t2000;
-        let t2002: f32 = wx * t272;
+        let t1778: f32 = t1773 + t1777;
+        let t1779: f32 = t52 * t1778;
+        let t1780: f32 = t1767 - t1779;
+        let t1781: f32 = t1763 + t1780;
+        let t1782: f32 = t1751 + t1781;
+        let t1783: f32 = t1742 + t1782;
+        let t1784: f32 = t19 * t1783;
+        let t1785: f32 = t796 * t1766;
+        let t1786: f32 = t75 * t1778;
+        let t1787: f32 = t1785 - t1786;
+        let t1788: f32 = t125 * t1745;
+        let t1789: f32 = t137 * t1749;
+        let t1790: f32 = t1788 + t1789;
+        let t1791: f32 = t1787 + t1790;
+        let t1792: f32 = t51 * t1739;
+        let t1793: f32 = t1761 + t1792;
+        let t1794: f32 = t72 * t1793;
+        let t1795: f32 = t51 * t1710;
+        let t1796: f32 = t1755 - t1795;
+        let t1797: f32 = t118 * t1796;
+        let t1798: f32 = t1794 + t1797;
+        let t1799: f32 = t1791 - t1798;
+        let t1800: f32 = t32 * t1799;
+        let t1801: f32 = t1784 - t1800;
+        let t1802: f32 = t1660 + t1801;
+        let t1803: f32 = t1572 + t1802;
+        let t1804: f32 = wy * t146;
+        let t1805: f32 = wz * t152;
+        let t1806: f32 = t1804 - t1805;
+        let t1807: f32 = vx + t1806;
+        let t1808: f32 = t196 * t1807;
+        let t1809: f32 = wz * t164;
+        let t1810: f32 = wx * t146;
+        let t1811: f32 = t1809 - t1810;
+        let t1812: f32 = vy + t1811;
+        let t1813: f32 = t204 * t1812;
+        let t1814: f32 = wx * t152;
+        let t1815: f32 = wy * t164;
+        let t1816: f32 = t1814 - t1815;
+        let t1817: f32 = vz + t1816;
+        let t1818: f32 = t192 * t1817;
+        let t1819: f32 = t1808 + t1813;
+        let t1820: f32 = t1818 + t1819;
+        let t1821: f32 = t171 * t1820;
+        let t1822: f32 = t171 * t211;
+        let t1823: f32 = t1820 * t1822;
+        let t1824: f32 = t200 - t213;
+        let t1825: f32 = t1821 * t1823;
+        let t1826: f32 = t1824 * t1825;
+        let t1827: f32 = gravity_x * t807;
+        let t1828: f32 = gravity_y * t198;
+        let t1829: f32 = gravity_z * t238;
+        let t1830: f32 = t1827 + t1828;
+        let t1831: f32 = t1829 + t1830;
+        let t1832: f32 = leg2_cylinder_mz + leg2_rod_mz;
+        let t1833: f32 = t1831 * t1832;
+        let t1834: f32 = t1820 * t1820;
+        let t1835: f32 = t1822 * t1834;
+        let t1836: f32 = t807 * t1807;
+        let t1837: f32 = t198 * t1812;
+        let t1838: f32 = t238 * t1817;
+        let t1839: f32 = t1836 + t1837;
+        let t1840: f32 = t1838 + t1839;
+        let t1841: f32 = t193 * t1807;
+        let t1842: f32 = t172 * t1812;
+        let t1843: f32 = t195 * t1817;
+        let t1844: f32 = t1841 + t1842;
+        let t1845: f32 = t1843 + t1844;
+        let t1846: f32 = t171 * t1845;
+        let t1847: f32 = t1846 * 2.0;
+        let t1848: f32 = t1840 * t1847;
+        let t1849: f32 = t1835 + t1848;
+        let t1850: f32 = t171 * t1849;
+        let t1851: f32 = t200 * t1850;
+        let t1852: f32 = t1833 + t1851;
+        let t1853: f32 = t1826 - t1852;
+        let t1854: f32 = t198 * t1853;
+        let t1855: f32 = t171 * t171;
+        let t1856: f32 = t191 * t191;
+        let t1857: f32 = t169 * t1855;
+        let t1858: f32 = t1856 * t1857;
+        let t1859: f32 = t1820 * t1858;
+        let t1860: f32 = t1840 * t1859;
+        let t1861: f32 = t1822 * t1840;
+        let t1862: f32 = t1847 - t1861;
+        let t1863: f32 = t1821 * t1862;
+        let t1864: f32 = -t1863;
+        let t1865: f32 = t211 * t1864;
+        let t1866: f32 = t1860 + t1865;
+        let t1867: f32 = t211 * t213;
+        let t1868: f32 = t1866 * t1867;
+        let t1869: f32 = t200 * t1864;
+        let t1870: f32 = t171 * t1840;
+        let t1871: f32 = t1823 * t1870;
+        let t1872: f32 = t1824 * t1871;
+        let t1873: f32 = gravity_x * t196;
+        let t1874: f32 = gravity_y * t204;
+        let t1875: f32 = gravity_z * t192;
+        let t1876: f32 = t1873 + t1874;
+        let t1877: f32 = t1875 + t1876;
+        let t1878: f32 = t1832 * t1877;
+        let t1879: f32 = t1872 + t1878;
+        let t1880: f32 = t1869 - t1879;
+        let t1881: f32 = t1868 + t1880;
+        let t1882: f32 = -t1881;
+        let t1883: f32 = t204 * t1882;
+        let t1884: f32 = t1854 - t1883;
+        let t1885: f32 = t171 * t1884;
+        let t1886: f32 = wz * t1806;
+        let t1887: f32 = wx * t1816;
+        let t1888: f32 = t1886 - t1887;
+        let t1889: f32 = t226 * t1888;
+        let t1890: f32 = wy * t1806;
+        let t1891: f32 = wx * t1811;
+        let t1892: f32 = t1891 - t1890;
+        let t1893: f32 = t245 * t1892;
+        let t1894: f32 = t1889 + t1893;
+        let t1895: f32 = leg2_rod_mass * t1831;
+        let t1896: f32 = t1850 - t1825;
+        let t1897: f32 = leg2_rod_mz * t1896;
+        let t1898: f32 = t1895 + t1897;
+        let t1899: f32 = -t1898;
+        let t1900: f32 = t198 * t1899;
+        let t1901: f32 = leg2_rod_mass * t1877;
+        let t1902: f32 = t1863 + t1871;
+        let t1903: f32 = leg2_rod_mz * t1902;
+        let t1904: f32 = t1901 + t1903;
+        let t1905: f32 = t204 * t1904;
+        let t1906: f32 = t1900 - t1905;
+        let t1907: f32 = wy * t1816;
+        let t1908: f32 = wz * t1811;
+        let t1909: f32 = t1907 - t1908;
+        let t1910: f32 = t811 * t1909;
+        let t1911: f32 = gravity_x * t193;
+        let t1912: f32 = gravity_y * t172;
+        let t1913: f32 = gravity_z * t195;
+        let t1914: f32 = t1911 + t1912;
+        let t1915: f32 = t1913 + t1914;
+        let t1916: f32 = leg2_rod_mass * t1915;
+        let t1917: f32 = t1821 * t1821;
+        let t1918: f32 = t1870 * t1870;
+        let t1919: f32 = t1917 + t1918;
+        let t1920: f32 = leg2_rod_mz * t1919;
+        let t1921: f32 = t1916 + t1920;
+        let t1922: f32 = t172 * t1921;
+        let t1923: f32 = t1910 - t1922;
+        let t1924: f32 = t1906 + t1923;
+        let t1925: f32 = t1894 + t1924;
+        let t1926: f32 = t1885 + t1925;
+        let t1927: f32 = t146 * t1926;
+        let t1928: f32 = t819 * t1909;
+        let t1929: f32 = t195 * t1921;
+        let t1930: f32 = t1928 - t1929;
+        let t1931: f32 = t245 * t1888;
+        let t1932: f32 = t257 * t1892;
+        let t1933: f32 = t1931 + t1932;
+        let t1934: f32 = t1930 + t1933;
+        let t1935: f32 = t171 * t1882;
+        let t1936: f32 = t1904 + t1935;
+        let t1937: f32 = t192 * t1936;
+        let t1938: f32 = t171 * t1853;
+        let t1939: f32 = t1898 - t1938;
+        let t1940: f32 = t238 * t1939;
+        let t1941: f32 = t1937 + t1940;
+        let t1942: f32 = t1934 - t1941;
+        let t1943: f32 = t152 * t1942;
+        let t1944: f32 = t1927 - t1943;
+        let t1945: f32 = wy * t266;
+        let t1946: f32 = wz * t272;
+        let t1947: f32 = t1945 - t1946;
+        let t1948: f32 = vx + t1947;
+        let t1949: f32 = t316 * t1948;
+        let t1950: f32 = wz * t284;
+        let t1951: f32 = wx * t266;
+        let t1952: f32 = t1950 - t1951;
+        let t1953: f32 = vy + t1952;
+        let t1954: f32 = t324 * t1953;
+        let t1955: f32 = wx * t272;
+        let t1956: f32 = wy * t284;
+        let t1957: f32 = t1955 - t1956;
+        let t1958: f32 = vz + t1957;
+        let t1959: f32 = t312 * t1958;
+        let t1960: f32 = t1949 + t1954;
+        let t1961: f32 = t1959 + t1960;
+        let t1962: f32 = t291 * t1961;
+        let t1963: f32 = t291 * t331;
+        let t1964: f32 = t1961 * t1963;
+        let t1965: f32 = t320 - t333;
+        let t1966: f32 = t1962 * t1964;
+        let t1967: f32 = t1965 * t1966;
+        let t1968: f32 = gravity_x * t830;
+        let t1969: f32 = gravity_y * t318;
+        let t1970: f32 = gravity_z * t358;
+        let t1971: f32 = t1968 + t1969;
+        let t1972: f32 = t1970 + t1971;
+        let t1973: f32 = leg3_cylinder_mz + leg3_rod_mz;
+        let t1974: f32 = t1972 * t1973;
+        let t1975: f32 = t1961 * t1961;
+        let t1976: f32 = t1963 * t1975;
+        let t1977: f32 = t830 * t1948;
+        let t1978: f32 = t318 * t1953;
+        let t1979: f32 = t358 * t1958;
+        let t1980: f32 = t1977 + t1978;
+        let t1981: f32 = t1979 + t1980;
+        let t1982: f32 = t313 * t1948;
+        let t1983: f32 = t292 * t1953;
+        let t1984: f32 = t315 * t1958;
+        let t1985: f32 = t1982 + t1983;
+        let t1986: f32 = t1984 + t1985;
+        let t1987: f32 = t291 * t1986;
+        let t1988: f32 = t1987 * 2.0;
+        let t1989: f32 = t1981 * t1988;
+        let t1990: f32 = t1976 + t1989;
+        let t1991: f32 = t291 * t1990;
+        let t1992: f32 = t320 * t1991;
+        let t1993: f32 = t1974 + t1992;
+        let t1994: f32 = t1967 - t1993;
+        let t1995: f32 = t318 * t1994;
+        let t1996: f32 = t291 * t291;
+        let t1997: f32 = t311 * t311;
+        let t1998: f32 = t289 * t1996;
+        let t1999: f32 = t1997 * t1998;
+        let t2000: f32 = t1961 * t1999;
+        let t2001: f32 = t1981 * t2000;
+        let t2002: f32 = t1963 * t1981;
         (
-            t1068,
-            t1074,
-            t1085,
-            t1086,
-            t1088,
-            t1119,
-            t1211,
-            t1257,
-            t1262,
-            t1268,
-            t1275,
-            t1277,
-            t1280,
+            t1010,
+            t1026,
+            t1042,
+            t1087,
+            t1179,
+            t1183,
+            t1225,
+            t1228,
+            t1233,
+            t1239,
+            t1250,
+            t1251,
+            t1258,
+            t1266,
+            t1267,
+            t1270,
             t1286,
             t1297,
             t1298,
             t1306,
             t1307,
             t1315,
-            t1325,
             t1326,
-            t1330,
-            t1349,
-            t1360,
-            t1361,
-            t1370,
-            t1371,
-            t1387,
-            t1388,
-            t1400,
-            t1401,
-            t1406,
-            t1428,
-            t1467,
-            t1468,
-            t1480,
-            t1487,
-            t1496,
-            t1505,
+            t1327,
+            t1331,
+            t1350,
+            t1362,
+            t1363,
+            t1373,
+            t1374,
+            t1390,
+            t1391,
+            t1403,
+            t1404,
+            t1409,
+            t1431,
+            t1481,
+            t1483,
+            t1494,
+            t1508,
             t1516,
-            t1535,
-            t1557,
+            t1520,
+            t1527,
+            t1532,
+            t1537,
+            t1549,
+            t1553,
+            t1554,
             t1562,
+            t1564,
             t1567,
             t1570,
-            t1571,
-            t1572,
-            t1575,
-            t1577,
-            t1579,
-            t1582,
-            t1587,
-            t1588,
-            t1592,
-            t1593,
-            t1598,
-            t1599,
             t1603,
-            t1604,
-            t1638,
-            t1647,
+            t1612,
+            t1618,
+            t1619,
+            t1627,
+            t1631,
+            t1632,
+            t1639,
+            t1640,
+            t1644,
+            t1645,
+            t1650,
             t1651,
-            t1661,
-            t1662,
-            t1666,
-            t1667,
-            t1672,
-            t1711,
+            t1655,
+            t1656,
+            t1660,
+            t1710,
             t1712,
-            t1724,
-            t1731,
-            t1740,
+            t1723,
+            t1737,
+            t1742,
+            t1745,
             t1749,
-            t1760,
-            t1779,
-            t1784,
-            t1801,
-            t1806,
-            t1811,
-            t1814,
-            t1815,
-            t1817,
-            t1819,
-            t1822,
-            t1824,
-            t1825,
-            t1829,
-            t1868,
-            t1869,
-            t1881,
+            t1756,
+            t1761,
+            t1766,
+            t1778,
+            t1782,
+            t1783,
+            t1791,
+            t1793,
+            t1796,
+            t1799,
+            t1803,
+            t1853,
+            t1855,
+            t1866,
+            t1880,
             t1888,
-            t1897,
-            t1906,
-            t1917,
+            t1892,
+            t1899,
+            t1904,
+            t1909,
+            t1921,
+            t1925,
+            t1926,
+            t1934,
             t1936,
-            t1958,
-            t1963,
-            t1968,
-            t1971,
+            t1939,
+            t1942,
+            t1944,
+            t1947,
+            t1952,
+            t1957,
+            t1962,
+            t1964,
+            t1965,
+            t1966,
             t1972,
             t1973,
-            t1976,
-            t1978,
-            t1980,
-            t1983,
-            t1985,
-            t1990,
+            t1981,
+            t1988,
             t1991,
             t1994,
-            t1998,
-            t2000,
+            t1995,
+            t1996,
             t2001,
             t2002,
         )
     };
     let (
-        t2053,
-        t2119,
-        t2124,
-        t2134,
-        t2210,
-        t2276,
-        t2281,
-        t2291,
-        t2366,
-        t2432,
-        t2437,
-        t2447,
-        t2463,
-        t2467,
-        t2481,
-        t2485,
-        t2490,
-        t2494,
-        t2499,
+        t2138,
+        t2279,
+        t2380,
+        t2389,
+        t2396,
+        t2400,
+        t2405,
+        t2409,
+        t2413,
+        t2506,
+        t2513,
+        t2522,
+        t2529,
+        t2533,
+        t2538,
+        t2542,
         t2546,
-        t2560,
-        t2564,
-        t2578,
-        t2582,
-        t2587,
-        t2591,
-        t2596,
+        t2614,
         t2625,
-        t2661,
-        t2705,
-        t2742,
-        t2756,
+        t2656,
+        t2668,
+        t2692,
+        t2722,
+        t2747,
+        t2760,
+        t2761,
         t2762,
-        t2799,
-        t2800,
-        t2802,
-        t2810,
-        t2817,
-        t2825,
-        t2826,
-        t2827,
+        t2776,
+        t2777,
+        t2790,
+        t2791,
+        t2792,
+        t2806,
+        t2807,
+        t2820,
+        t2821,
+        t2822,
         t2836,
         t2837,
-        t2838,
-        t2840,
-        t2848,
-        t2855,
-        t2863,
-        t2864,
-        t2865,
-        t2875,
-        t2876,
-        t2878,
-        t2886,
-        t2893,
-        t2901,
-        t2902,
-        t2903,
-        t2913,
-        t2914,
-        t2916,
-        t2924,
-        t2931,
+        t2850,
+        t2851,
+        t2852,
+        t2866,
+        t2867,
+        t2880,
+        t2881,
+        t2882,
+        t2896,
+        t2897,
+        t2910,
+        t2911,
+        t2912,
+        t2926,
+        t2927,
+        t2936,
+        t2937,
         t2939,
-        t2940,
-        t2941,
+        t2949,
         t2951,
-        t2952,
-        t2954,
-        t2962,
-        t2969,
-        t2977,
-        t2978,
-        t2979,
-        t2989,
-        t2990,
-        t2992,
+        t2961,
+        t2963,
+        t2973,
+        t2975,
+        t2985,
+        t2987,
         t2997,
+        t2999,
         t3000,
         t3001,
         t3002,
     ) = {
-        let t2003: f32 = wy * t284;
-        let t2004: f32 = t2002 - t2003;
-        let t2005: f32 = wy * t2004;
-        let t2006: f32 = wz * t1998;
-        let t2007: f32 = t2005 - t2006;
-        let t2008: f32 = t830 * t2007;
-        let t2009: f32 = wz * t1994;
-        let t2010: f32 = wx * t2004;
-        let t2011: f32 = t2009 - t2010;
-        let t2012: f32 = t318 * t2011;
-        let t2013: f32 = t2008 + t2012;
-        let t2014: f32 = t2001 + t2013;
-        let t2015: f32 = t2014 - t1990;
-        let t2016: f32 = leg3_rod_mz * t2015;
-        let t2017: f32 = vx + t1994;
-        let t2018: f32 = t316 * t2017;
-        let t2019: f32 = vy + t1998;
-        let t2020: f32 = t324 * t2019;
-        let t2021: f32 = vz + t2004;
-        let t2022: f32 = t312 * t2021;
-        let t2023: f32 = t2018 + t2020;
-        let t2024: f32 = t2022 + t2023;
-        let t2025: f32 = t291 * t2024;
-        let t2026: f32 = t291 * t331;
-        let t2027: f32 = t2024 * t2026;
-        let t2028: f32 = t320 - t333;
-        let t2029: f32 = t2025 * t2027;
-        let t2030: f32 = t2028 * t2029;
-        let t2031: f32 = t2024 * t2024;
-        let t2032: f32 = t2026 * t2031;
-        let t2033: f32 = t830 * t2017;
-        let t2034: f32 = t318 * t2019;
-        let t2035: f32 = t358 * t2021;
-        let t2036: f32 = t2033 + t2034;
-        let t2037: f32 = t2035 + t2036;
-        let t2038: f32 = t313 * t2017;
-        let t2039: f32 = t292 * t2019;
-        let t2040: f32 = t315 * t2021;
-        let t2041: f32 = t2038 + t2039;
-        let t2042: f32 = t2040 + t2041;
-        let t2043: f32 = t291 * t2042;
-        let t2044: f32 = t2043 * 2.0;
-        let t2045: f32 = t2037 * t2044;
-        let t2046: f32 = t2032 + t2045;
-        let t2047: f32 = t2014 - t2046;
-        let t2048: f32 = t291 * t2047;
-        let t2049: f32 = -t2048;
-        let t2050: f32 = t320 * t2049;
-        let t2051: f32 = t1991 + t2050;
-        let t2052: f32 = t2016 + t2030;
-        let t2053: f32 = t2051 - t2052;
-        let t2054: f32 = t318 * t2053;
-        let t2055: f32 = t2026 * t2037;
-        let t2056: f32 = t2044 - t2055;
-        let t2057: f32 = t2024 * t2056;
-        let t2058: f32 = t312 * t2000;
-        let t2059: f32 = t316 * t2007;
-        let t2060: f32 = t324 * t2011;
-        let t2061: f32 = t2059 + t2060;
-        let t2062: f32 = t2058 + t2061;
-        let t2063: f32 = t2062 - t2057;
-        let t2064: f32 = t291 * t2063;
-        let t2065: f32 = t320 * t2064;
-        let t2066: f32 = t311 * t311;
-        let t2067: f32 = t289 * t291;
-        let t2068: f32 = t2066 * t2067;
-        let t2069: f32 = t2024 * t2068;
-        let t2070: f32 = t2037 * t2069;
-        let t2071: f32 = t331 * t2062;
-        let t2072: f32 = t2070 + t2071;
-        let t2073: f32 = t291 * t2072;
-        let t2074: f32 = t2025 * t2056;
-        let t2075: f32 = -t2074;
-        let t2076: f32 = t331 * t2075;
-        let t2077: f32 = t2073 + t2076;
-        let t2078: f32 = t331 * t333;
-        let t2079: f32 = t2077 * t2078;
-        let t2080: f32 = t291 * t2037;
-        let t2081: f32 = t2027 * t2080;
-        let t2082: f32 = t2028 * t2081;
-        let t2083: f32 = gravity_x * t316;
-        let t2084: f32 = gravity_y * t324;
-        let t2085: f32 = gravity_z * t312;
-        let t2086: f32 = t2083 + t2084;
-        let t2087: f32 = t2085 + t2086;
-        let t2088: f32 = leg3_cylinder_mz * t2087;
-        let t2089: f32 = t2062 - t2087;
-        let t2090: f32 = leg3_rod_mz * t2089;
-        let t2091: f32 = t2088 - t2090;
-        let t2092: f32 = t2082 + t2091;
-        let t2093: f32 = t2065 + t2079;
+        let t2003: f32 = t1988 - t2002;
+        let t2004: f32 = t1962 * t2003;
+        let t2005: f32 = -t2004;
+        let t2006: f32 = t331 * t2005;
+        let t2007: f32 = t2001 + t2006;
+        let t2008: f32 = t331 * t333;
+        let t2009: f32 = t2007 * t2008;
+        let t2010: f32 = t320 * t2005;
+        let t2011: f32 = t291 * t1981;
+        let t2012: f32 = t1964 * t2011;
+        let t2013: f32 = t1965 * t2012;
+        let t2014: f32 = gravity_x * t316;
+        let t2015: f32 = gravity_y * t324;
+        let t2016: f32 = gravity_z * t312;
+        let t2017: f32 = t2014 + t2015;
+        let t2018: f32 = t2016 + t2017;
+        let t2019: f32 = t1973 * t2018;
+        let t2020: f32 = t2013 + t2019;
+        let t2021: f32 = t2010 - t2020;
+        let t2022: f32 = t2009 + t2021;
+        let t2023: f32 = -t2022;
+        let t2024: f32 = t324 * t2023;
+        let t2025: f32 = t1995 - t2024;
+        let t2026: f32 = t291 * t2025;
+        let t2027: f32 = wz * t1947;
+        let t2028: f32 = wx * t1957;
+        let t2029: f32 = t2027 - t2028;
+        let t2030: f32 = t346 * t2029;
+        let t2031: f32 = wy * t1947;
+        let t2032: f32 = wx * t1952;
+        let t2033: f32 = t2032 - t2031;
+        let t2034: f32 = t365 * t2033;
+        let t2035: f32 = t2030 + t2034;
+        let t2036: f32 = leg3_rod_mass * t1972;
+        let t2037: f32 = t1991 - t1966;
+        let t2038: f32 = leg3_rod_mz * t2037;
+        let t2039: f32 = t2036 + t2038;
+        let t2040: f32 = -t2039;
+        let t2041: f32 = t318 * t2040;
+        let t2042: f32 = leg3_rod_mass * t2018;
+        let t2043: f32 = t2004 + t2012;
+        let t2044: f32 = leg3_rod_mz * t2043;
+        let t2045: f32 = t2042 + t2044;
+        let t2046: f32 = t324 * t2045;
+        let t2047: f32 = t2041 - t2046;
+        let t2048: f32 = wy * t1957;
+        let t2049: f32 = wz * t1952;
+        let t2050: f32 = t2048 - t2049;
+        let t2051: f32 = t834 * t2050;
+        let t2052: f32 = gravity_x * t313;
+        let t2053: f32 = gravity_y * t292;
+        let t2054: f32 = gravity_z * t315;
+        let t2055: f32 = t2052 + t2053;
+        let t2056: f32 = t2054 + t2055;
+        let t2057: f32 = leg3_rod_mass * t2056;
+        let t2058: f32 = t1962 * t1962;
+        let t2059: f32 = t2011 * t2011;
+        let t2060: f32 = t2058 + t2059;
+        let t2061: f32 = leg3_rod_mz * t2060;
+        let t2062: f32 = t2057 + t2061;
+        let t2063: f32 = t292 * t2062;
+        let t2064: f32 = t2051 - t2063;
+        let t2065: f32 = t2047 + t2064;
+        let t2066: f32 = t2035 + t2065;
+        let t2067: f32 = t2026 + t2066;
+        let t2068: f32 = t266 * t2067;
+        let t2069: f32 = t842 * t2050;
+        let t2070: f32 = t315 * t2062;
+        let t2071: f32 = t2069 - t2070;
+        let t2072: f32 = t365 * t2029;
+        let t2073: f32 = t377 * t2033;
+        let t2074: f32 = t2072 + t2073;
+        let t2075: f32 = t2071 + t2074;
+        let t2076: f32 = t291 * t2023;
+        let t2077: f32 = t2045 + t2076;
+        let t2078: f32 = t312 * t2077;
+        let t2079: f32 = t291 * t1994;
+        let t2080: f32 = t2039 - t2079;
+        let t2081: f32 = t358 * t2080;
+        let t2082: f32 = t2078 + t2081;
+        let t2083: f32 = t2075 - t2082;
+        let t2084: f32 = t272 * t2083;
+        let t2085: f32 = t2068 - t2084;
+        let t2086: f32 = t1944 + t2085;
+        let t2087: f32 = wy * t386;
+        let t2088: f32 = wz * t392;
+        let t2089: f32 = t2087 - t2088;
+        let t2090: f32 = vx + t2089;
+        let t2091: f32 = t436 * t2090;
+        let t2092: f32 = wz * t404;
+        let t2093: f32 = wx * t386;
         let t2094: f32 = t2092 - t2093;
-        let t2095: f32 = t324 * t2094;
-        let t2096: f32 = t2054 + t2095;
-        let t2097: f32 = t291 * t2096;
-        let t2098: f32 = t313 * t2007;
-        let t2099: f32 = t292 * t2011;
-        let t2100: f32 = t315 * t2000;
-        let t2101: f32 = t2098 + t2099;
-        let t2102: f32 = t2100 + t2101;
-        let t2103: f32 = gravity_x * t313;
-        let t2104: f32 = gravity_y * t292;
-        let t2105: f32 = gravity_z * t315;
-        let t2106: f32 = t2103 + t2104;
-        let t2107: f32 = t2105 + t2106;
-        let t2108: f32 = t2102 - t2107;
-        let t2109: f32 = leg3_rod_mass * t2108;
-        let t2110: f32 = t2025 * t2025;
-        let t2111: f32 = t2080 * t2080;
-        let t2112: f32 = t2110 + t2111;
-        let t2113: f32 = leg3_rod_mz * t2112;
-        let t2114: f32 = t2109 - t2113;
-        let t2115: f32 = t292 * t2114;
-        let t2116: f32 = leg3_rod_mass * t2015;
-        let t2117: f32 = t2029 + t2048;
-        let t2118: f32 = leg3_rod_mz * t2117;
-        let t2119: f32 = t2116 + t2118;
-        let t2120: f32 = t318 * t2119;
-        let t2121: f32 = leg3_rod_mass * t2089;
-        let t2122: f32 = t2081 - t2064;
-        let t2123: f32 = leg3_rod_mz * t2122;
-        let t2124: f32 = t2121 - t2123;
-        let t2125: f32 = t324 * t2124;
-        let t2126: f32 = t2120 + t2125;
-        let t2127: f32 = t2115 + t2126;
-        let t2128: f32 = t2097 - t2127;
-        let t2129: f32 = -t2128;
-        let t2130: f32 = t266 * t2129;
-        let t2131: f32 = t291 * t2053;
-        let t2132: f32 = t2119 - t2131;
-        let t2133: f32 = t358 * t2132;
-        let t2134: f32 = t315 * t2114;
-        let t2135: f32 = t291 * t2094;
-        let t2136: f32 = t2124 - t2135;
-        let t2137: f32 = t312 * t2136;
-        let t2138: f32 = t2134 + t2137;
-        let t2139: f32 = t2133 + t2138;
-        let t2140: f32 = t272 * t2139;
-        let t2141: f32 = t2130 - t2140;
-        let t2142: f32 = t1985 + t2141;
-        let t2143: f32 = gravity_x * t853;
-        let t2144: f32 = gravity_y * t438;
-        let t2145: f32 = gravity_z * t478;
-        let t2146: f32 = t2143 + t2144;
-        let t2147: f32 = t2145 + t2146;
-        let t2148: f32 = leg4_cylinder_mz * t2147;
-        let t2149: f32 = wy * t386;
-        let t2150: f32 = wz * t392;
-        let t2151: f32 = t2149 - t2150;
-        let t2152: f32 = wy * t2151;
-        let t2153: f32 = wz * t404;
-        let t2154: f32 = wx * t386;
-        let t2155: f32 = t2153 - t2154;
-        let t2156: f32 = wx * t2155;
-        let t2157: f32 = t2156 - t2152;
-        let t2158: f32 = t478 * t2157;
-        let t2159: f32 = wx * t392;
-        let t2160: f32 = wy * t404;
-        let t2161: f32 = t2159 - t2160;
-        let t2162: f32 = wy * t2161;
-        let t2163: f32 = wz * t2155;
-        let t2164: f32 = t2162 - t2163;
-        let t2165: f32 = t853 * t2164;
-        let t2166: f32 = wz * t2151;
-        let t2167: f32 = wx * t2161;
-        let t2168: f32 = t2166 - t2167;
-        let t2169: f32 = t438 * t2168;
-        let t2170: f32 = t2165 + t2169;
-        let t2171: f32 = t2158 + t2170;
-        let t2172: f32 = t2171 - t2147;
-        let t2173: f32 = leg4_rod_mz * t2172;
-        let t2174: f32 = vx + t2151;
-        let t2175: f32 = t436 * t2174;
-        let t2176: f32 = vy + t2155;
-        let t2177: f32 = t444 * t2176;
-        let t2178: f32 = vz + t2161;
-        let t2179: f32 = t432 * t2178;
-        let t2180: f32 = t2175 + t2177;
-        let t2181: f32 = t2179 + t2180;
-        let t2182: f32 = t411 * t2181;
-        let t2183: f32 = t411 * t451;
-        let t2184: f32 = t2181 * t2183;
-        let t2185: f32 = t440 - t453;
-        let t2186: f32 = t2182 * t2184;
-        let t2187: f32 = t2185 * t2186;
-        let t2188: f32 = t2181 * t2181;
-        let t2189: f32 = t2183 * t2188;
-        let t2190: f32 = t853 * t2174;
-        let t2191: f32 = t438 * t2176;
-        let t2192: f32 = t478 * t2178;
-        let t2193: f32 = t2190 + t2191;
-        let t2194: f32 = t2192 + t2193;
-        let t2195: f32 = t433 * t2174;
-        let t2196: f32 = t412 * t2176;
-        let t2197: f32 = t435 * t2178;
-        let t2198: f32 = t2195 + t2196;
-        let t2199: f32 = t2197 + t2198;
-        let t2200: f32 = t411 * t2199;
-        let t2201: f32 = t2200 * 2.0;
-        let t2202: f32 = t2194 * t2201;
-        let t2203: f32 = t2189 + t2202;
-        let t2204: f32 = t2171 - t2203;
-        let t2205: f32 = t411 * t2204;
-        let t2206: f32 = -t2205;
-        let t2207: f32 = t440 * t2206;
-        let t2208: f32 = t2148 + t2207;
-        let t2209: f32 = t2173 + t2187;
-        let t2210: f32 = t2208 - t2209;
-        let t2211: f32 = t438 * t2210;
-        let t2212: f32 = t2183 * t2194;
-        let t2213: f32 = t2201 - t2212;
-        let t2214: f32 = t2181 * t2213;
-        let t2215: f32 = t432 * t2157;
-        let t2216: f32 = t436 * t2164;
-        let t2217: f32 = t444 * t2168;
-        let t2218: f32 = t2216 + t2217;
-        let t2219: f32 = t2215 + t2218;
-        let t2220: f32 = t2219 - t2214;
-        let t2221: f32 = t411 * t2220;
-        let t2222: f32 = t440 * t2221;
-        let t2223: f32 = t431 * t431;
-        let t2224: f32 = t409 * t411;
-        let t2225: f32 = t2223 * t2224;
-        let t2226: f32 = t2181 * t2225;
-        let t2227: f32 = t2194 * t2226;
-        let t2228: f32 = t451 * t2219;
-        let t2229: f32 = t2227 + t2228;
-        let t2230: f32 = t411 * t2229;
-        let t2231: f32 = t2182 * t2213;
-        let t2232: f32 = -t2231;
-        let t2233: f32 = t451 * t2232;
-        let t2234: f32 = t2230 + t2233;
-        let t2235: f32 = t451 * t453;
-        let t2236: f32 = t2234 * t2235;
-        let t2237: f32 = t411 * t2194;
-        let t2238: f32 = t2184 * t2237;
-        let t2239: f32 = t2185 * t2238;
-        let t2240: f32 = gravity_x * t436;
-        let t2241: f32 = gravity_y * t444;
-        let t2242: f32 = gravity_z * t432;
-        let t2243: f32 = t2240 + t2241;
+        let t2095: f32 = vy + t2094;
+        let t2096: f32 = t444 * t2095;
+        let t2097: f32 = wx * t392;
+        let t2098: f32 = wy * t404;
+        let t2099: f32 = t2097 - t2098;
+        let t2100: f32 = vz + t2099;
+        let t2101: f32 = t432 * t2100;
+        let t2102: f32 = t2091 + t2096;
+        let t2103: f32 = t2101 + t2102;
+        let t2104: f32 = t411 * t2103;
+        let t2105: f32 = t411 * t451;
+        let t2106: f32 = t2103 * t2105;
+        let t2107: f32 = t440 - t453;
+        let t2108: f32 = t2104 * t2106;
+        let t2109: f32 = t2107 * t2108;
+        let t2110: f32 = gravity_x * t853;
+        let t2111: f32 = gravity_y * t438;
+        let t2112: f32 = gravity_z * t478;
+        let t2113: f32 = t2110 + t2111;
+        let t2114: f32 = t2112 + t2113;
+        let t2115: f32 = leg4_cylinder_mz + leg4_rod_mz;
+        let t2116: f32 = t2114 * t2115;
+        let t2117: f32 = t2103 * t2103;
+        let t2118: f32 = t2105 * t2117;
+        let t2119: f32 = t853 * t2090;
+        let t2120: f32 = t438 * t2095;
+        let t2121: f32 = t478 * t2100;
+        let t2122: f32 = t2119 + t2120;
+        let t2123: f32 = t2121 + t2122;
+        let t2124: f32 = t433 * t2090;
+        let t2125: f32 = t412 * t2095;
+        let t2126: f32 = t435 * t2100;
+        let t2127: f32 = t2124 + t2125;
+        let t2128: f32 = t2126 + t2127;
+        let t2129: f32 = t411 * t2128;
+        let t2130: f32 = t2129 * 2.0;
+        let t2131: f32 = t2123 * t2130;
+        let t2132: f32 = t2118 + t2131;
+        let t2133: f32 = t411 * t2132;
+        let t2134: f32 = t440 * t2133;
+        let t2135: f32 = t2116 + t2134;
+        let t2136: f32 = t2109 - t2135;
+        let t2137: f32 = t438 * t2136;
+        let t2138: f32 = t411 * t411;
+        let t2139: f32 = t431 * t431;
+        let t2140: f32 = t409 * t2138;
+        let t2141: f32 = t2139 * t2140;
+        let t2142: f32 = t2103 * t2141;
+        let t2143: f32 = t2123 * t2142;
+        let t2144: f32 = t2105 * t2123;
+        let t2145: f32 = t2130 - t2144;
+        let t2146: f32 = t2104 * t2145;
+        let t2147: f32 = -t2146;
+        let t2148: f32 = t451 * t2147;
+        let t2149: f32 = t2143 + t2148;
+        let t2150: f32 = t451 * t453;
+        let t2151: f32 = t2149 * t2150;
+        let t2152: f32 = t440 * t2147;
+        let t2153: f32 = t411 * t2123;
+        let t2154: f32 = t2106 * t2153;
+        let t2155: f32 = t2107 * t2154;
+        let t2156: f32 = gravity_x * t436;
+        let t2157: f32 = gravity_y * t444;
+        let t2158: f32 = gravity_z * t432;
+        let t2159: f32 = t2156 + t2157;
+        let t2160: f32 = t2158 + t2159;
+        let t2161: f32 = t2115 * t2160;
+        let t2162: f32 = t2155 + t2161;
+        let t2163: f32 = t2152 - t2162;
+        let t2164: f32 = t2151 + t2163;
+        let t2165: f32 = -t2164;
+        let t2166: f32 = t444 * t2165;
+        let t2167: f32 = t2137 - t2166;
+        let t2168: f32 = t411 * t2167;
+        let t2169: f32 = wz * t2089;
+        let t2170: f32 = wx * t2099;
+        let t2171: f32 = t2169 - t2170;
+        let t2172: f32 = t466 * t2171;
+        let t2173: f32 = wy * t2089;
+        let t2174: f32 = wx * t2094;
+        let t2175: f32 = t2174 - t2173;
+        let t2176: f32 = t485 * t2175;
+        let t2177: f32 = t2172 + t2176;
+        let t2178: f32 = leg4_rod_mass * t2114;
+        let t2179: f32 = t2133 - t2108;
+        let t2180: f32 = leg4_rod_mz * t2179;
+        let t2181: f32 = t2178 + t2180;
+        let t2182: f32 = -t2181;
+        let t2183: f32 = t438 * t2182;
+        let t2184: f32 = leg4_rod_mass * t2160;
+        let t2185: f32 = t2146 + t2154;
+        let t2186: f32 = leg4_rod_mz * t2185;
+        let t2187: f32 = t2184 + t2186;
+        let t2188: f32 = t444 * t2187;
+        let t2189: f32 = t2183 - t2188;
+        let t2190: f32 = wy * t2099;
+        let t2191: f32 = wz * t2094;
+        let t2192: f32 = t2190 - t2191;
+        let t2193: f32 = t857 * t2192;
+        let t2194: f32 = gravity_x * t433;
+        let t2195: f32 = gravity_y * t412;
+        let t2196: f32 = gravity_z * t435;
+        let t2197: f32 = t2194 + t2195;
+        let t2198: f32 = t2196 + t2197;
+        let t2199: f32 = leg4_rod_mass * t2198;
+        let t2200: f32 = t2104 * t2104;
+        let t2201: f32 = t2153 * t2153;
+        let t2202: f32 = t2200 + t2201;
+        let t2203: f32 = leg4_rod_mz * t2202;
+        let t2204: f32 = t2199 + t2203;
+        let t2205: f32 = t412 * t2204;
+        let t2206: f32 = t2193 - t2205;
+        let t2207: f32 = t2189 + t2206;
+        let t2208: f32 = t2177 + t2207;
+        let t2209: f32 = t2168 + t2208;
+        let t2210: f32 = t386 * t2209;
+        let t2211: f32 = t865 * t2192;
+        let t2212: f32 = t435 * t2204;
+        let t2213: f32 = t2211 - t2212;
+        let t2214: f32 = t485 * t2171;
+        let t2215: f32 = t497 * t2175;
+        let t2216: f32 = t2214 + t2215;
+        let t2217: f32 = t2213 + t2216;
+        let t2218: f32 = t411 * t2165;
+        let t2219: f32 = t2187 + t2218;
+        let t2220: f32 = t432 * t2219;
+        let t2221: f32 = t411 * t2136;
+        let t2222: f32 = t2181 - t2221;
+        let t2223: f32 = t478 * t2222;
+        let t2224: f32 = t2220 + t2223;
+        let t2225: f32 = t2217 - t2224;
+        let t2226: f32 = t392 * t2225;
+        let t2227: f32 = t2210 - t2226;
+        let t2228: f32 = wy * t506;
+        let t2229: f32 = wz * t512;
+        let t2230: f32 = t2228 - t2229;
+        let t2231: f32 = vx + t2230;
+        let t2232: f32 = t556 * t2231;
+        let t2233: f32 = wz * t524;
+        let t2234: f32 = wx * t506;
+        let t2235: f32 = t2233 - t2234;
+        let t2236: f32 = vy + t2235;
+        let t2237: f32 = t564 * t2236;
+        let t2238: f32 = wx * t512;
+        let t2239: f32 = wy * t524;
+        let t2240: f32 = t2238 - t2239;
+        let t2241: f32 = vz + t2240;
+        let t2242: f32 = t552 * t2241;
+        let t2243: f32 = t2232 + t2237;
         let t2244: f32 = t2242 + t2243;
-        let t2245: f32 = leg4_cylinder_mz * t2244;
-        let t2246: f32 = t2219 - t2244;
-        let t2247: f32 = leg4_rod_mz * t2246;
-        let t2248: f32 = t2245 - t2247;
-        let t2249: f32 = t2239 + t2248;
-        let t2250: f32 = t2222 + t2236;
-        let t2251: f32 = t2249 - t2250;
-        let t2252: f32 = t444 * t2251;
-        let t2253: f32 = t2211 + t2252;
-        let t2254: f32 = t411 * t2253;
-        let t2255: f32 = t433 * t2164;
-        let t2256: f32 = t412 * t2168;
-        let t2257: f32 = t435 * t2157;
-        let t2258: f32 = t2255 + t2256;
-        let t2259: f32 = t2257 + t2258;
-        let t2260: f32 = gravity_x * t433;
-        let t2261: f32 = gravity_y * t412;
-        let t2262: f32 = gravity_z * t435;
+        let t2245: f32 = t531 * t2244;
+        let t2246: f32 = t531 * t571;
+        let t2247: f32 = t2244 * t2246;
+        let t2248: f32 = t560 - t573;
+        let t2249: f32 = t2245 * t2247;
+        let t2250: f32 = t2248 * t2249;
+        let t2251: f32 = gravity_x * t876;
+        let t2252: f32 = gravity_y * t558;
+        let t2253: f32 = gravity_z * t598;
+        let t2254: f32 = t2251 + t2252;
+        let t2255: f32 = t2253 + t2254;
+        let t2256: f32 = leg5_cylinder_mz + leg5_rod_mz;
+        let t2257: f32 = t2255 * t2256;
+        let t2258: f32 = t2244 * t2244;
+        let t2259: f32 = t2246 * t2258;
+        let t2260: f32 = t876 * t2231;
+        let t2261: f32 = t558 * t2236;
+        let t2262: f32 = t598 * t2241;
         let t2263: f32 = t2260 + t2261;
         let t2264: f32 = t2262 + t2263;
-        let t2265: f32 = t2259 - t2264;
-        let t2266: f32 = leg4_rod_mass * t2265;
-        let t2267: f32 = t2182 * t2182;
-        let t2268: f32 = t2237 * t2237;
+        let t2265: f32 = t553 * t2231;
+        let t2266: f32 = t532 * t2236;
+        let t2267: f32 = t555 * t2241;
+        let t2268: f32 = t2265 + t2266;
         let t2269: f32 = t2267 + t2268;
-        let t2270: f32 = leg4_rod_mz * t2269;
-        let t2271: f32 = t2266 - t2270;
-        let t2272: f32 = t412 * t2271;
-        let t2273: f32 = leg4_rod_mass * t2172;
-        let t2274: f32 = t2186 + t2205;
-        let t2275: f32 = leg4_rod_mz * t2274;
-        let t2276: f32 = t2273 + t2275;
-        let t2277: f32 = t438 * t2276;
-        let t2278: f32 = leg4_rod_mass * t2246;
-        let t2279: f32 = t2238 - t2221;
-        let t2280: f32 = leg4_rod_mz * t2279;
-        let t2281: f32 = t2278 - t2280;
-        let t2282: f32 = t444 * t2281;
-        let t2283: f32 = t2277 + t2282;
-        let t2284: f32 = t2272 + t2283;
-        let t2285: f32 = t2254 - t2284;
-        let t2286: f32 = -t2285;
-        let t2287: f32 = t386 * t2286;
-        let t2288: f32 = t411 * t2210;
-        let t2289: f32 = t2276 - t2288;
-        let t2290: f32 = t478 * t2289;
-        let t2291: f32 = t435 * t2271;
-        let t2292: f32 = t411 * t2251;
-        let t2293: f32 = t2281 - t2292;
-        let t2294: f32 = t432 * t2293;
-        let t2295: f32 = t2291 + t2294;
-        let t2296: f32 = t2290 + t2295;
-        let t2297: f32 = t392 * t2296;
-        let t2298: f32 = t2287 - t2297;
-        let t2299: f32 = gravity_x * t876;
-        let t2300: f32 = gravity_y * t558;
-        let t2301: f32 = gravity_z * t598;
-        let t2302: f32 = t2299 + t2300;
-        let t2303: f32 = t2301 + t2302;
-        let t2304: f32 = leg5_cylinder_mz * t2303;
-        let t2305: f32 = wy * t506;
-        let t2306: f32 = wz * t512;
-        let t2307: f32 = t2305 - t2306;
-        let t2308: f32 = wy * t2307;
-        let t2309: f32 = wz * t524;
-        let t2310: f32 = wx * t506;
-        let t2311: f32 = t2309 - t2310;
-        let t2312: f32 = wx * t2311;
-        let t2313: f32 = t2312 - t2308;
-        let t2314: f32 = t598 * t2313;
-        let t2315: f32 = wx * t512;
-        let t2316: f32 = wy * t524;
-        let t2317: f32 = t2315 - t2316;
-        let t2318: f32 = wy * t2317;
-        let t2319: f32 = wz * t2311;
-        let t2320: f32 = t2318 - t2319;
-        let t2321: f32 = t876 * t2320;
-        let t2322: f32 = wz * t2307;
-        let t2323: f32 = wx * t2317;
-        let t2324: f32 = t2322 - t2323;
-        let t2325: f32 = t558 * t2324;
-        let t2326: f32 = t2321 + t2325;
-        let t2327: f32 = t2314 + t2326;
-        let t2328: f32 = t2327 - t2303;
-        let t2329: f32 = leg5_rod_mz * t2328;
-        let t2330: f32 = vx + t2307;
-        let t2331: f32 = t556 * t2330;
-        let t2332: f32 = vy + t2311;
-        let t2333: f32 = t564 * t2332;
-        let t2334: f32 = vz + t2317;
-        let t2335: f32 = t552 * t2334;
-        let t2336: f32 = t2331 + t2333;
-        let t2337: f32 = t2335 + t2336;
-        let t2338: f32 = t531 * t2337;
-        let t2339: f32 = t531 * t571;
-        let t2340: f32 = t2337 * t2339;
-        let t2341: f32 = t560 - t573;
-        let t2342: f32 = t2338 * t2340;
-        let t2343: f32 = t2341 * t2342;
-        let t2344: f32 = t2337 * t2337;
-        let t2345: f32 = t2339 * t2344;
-        let t2346: f32 = t876 * t2330;
-        let t2347: f32 = t558 * t2332;
-        let t2348: f32 = t598 * t2334;
-        let t2349: f32 = t2346 + t2347;
-        let t2350: f32 = t2348 + t2349;
-        let t2351: f32 = t553 * t2330;
-        let t2352: f32 = t532 * t2332;
-        let t2353: f32 = t555 * t2334;
-        let t2354: f32 = t2351 + t2352;
-        let t2355: f32 = t2353 + t2354;
-        let t2356: f32 = t531 * t2355;
-        let t2357: f32 = t2356 * 2.0;
-        let t2358: f32 = t2350 * t2357;
-        let t2359: f32 = t2345 + t2358;
-        let t2360: f32 = t2327 - t2359;
-        let t2361: f32 = t531 * t2360;
-        let t2362: f32 = -t2361;
-        let t2363: f32 = t560 * t2362;
-        let t2364: f32 = t2304 + t2363;
-        let t2365: f32 = t2329 + t2343;
-        let t2366: f32 = t2364 - t2365;
-        let t2367: f32 = t558 * t2366;
-        let t2368: f32 = t2339 * t2350;
-        let t2369: f32 = t2357 - t2368;
-        let t2370: f32 = t2337 * t2369;
-        let t2371: f32 = t552 * t2313;
-        let t2372: f32 = t556 * t2320;
-        let t2373: f32 = t564 * t2324;
-        let t2374: f32 = t2372 + t2373;
-        let t2375: f32 = t2371 + t2374;
-        let t2376: f32 = t2375 - t2370;
-        let t2377: f32 = t531 * t2376;
-        let t2378: f32 = t560 * t2377;
-        let t2379: f32 = t551 * t551;
-        let t2380: f32 = t529 * t531;
-        let t2381: f32 = t2379 * t2380;
-        let t2382: f32 = t2337 * t2381;
-        let t2383: f32 = t2350 * t2382;
-        let t2384: f32 = t571 * t2375;
-        let t2385: f32 = t2383 + t2384;
-        let t2386: f32 = t531 * t2385;
-        let t2387: f32 = t2338 * t2369;
-        let t2388: f32 = -t2387;
-        let t2389: f32 = t571 * t2388;
-        let t2390: f32 = t2386 + t2389;
-        let t2391: f32 = t571 * t573;
-        let t2392: f32 = t2390 * t2391;
-        let t2393: f32 = t531 * t2350;
-        let t2394: f32 = t2340 * t2393;
-        let t2395: f32 = t2341 * t2394;
-        let t2396: f32 = gravity_x * t556;
-        let t2397: f32 = gravity_y * t564;
-        let t2398: f32 = gravity_z * t552;
-        let t2399: f32 = t2396 + t2397;
-        let t2400: f32 = t2398 + t2399;
-        let t2401: f32 = leg5_cylinder_mz * t2400;
-        let t2402: f32 = t2375 - t2400;
-        let t2403: f32 = leg5_rod_mz * t2402;
-        let t2404: f32 = t2401 - t2403;
-        let t2405: f32 = t2395 + t2404;
-        let t2406: f32 = t2378 + t2392;
-        let t2407: f32 = t2405 - t2406;
-        let t2408: f32 = t564 * t2407;
-        let t2409: f32 = t2367 + t2408;
-        let t2410: f32 = t531 * t2409;
-        let t2411: f32 = t553 * t2320;
-        let t2412: f32 = t532 * t2324;
-        let t2413: f32 = t555 * t2313;
-        let t2414: f32 = t2411 + t2412;
-        let t2415: f32 = t2413 + t2414;
-        let t2416: f32 = gravity_x * t553;
-        let t2417: f32 = gravity_y * t532;
-        let t2418: f32 = gravity_z * t555;
-        let t2419: f32 = t2416 + t2417;
+        let t2270: f32 = t531 * t2269;
+        let t2271: f32 = t2270 * 2.0;
+        let t2272: f32 = t2264 * t2271;
+        let t2273: f32 = t2259 + t2272;
+        let t2274: f32 = t531 * t2273;
+        let t2275: f32 = t560 * t2274;
+        let t2276: f32 = t2257 + t2275;
+        let t2277: f32 = t2250 - t2276;
+        let t2278: f32 = t558 * t2277;
+        let t2279: f32 = t531 * t531;
+        let t2280: f32 = t551 * t551;
+        let t2281: f32 = t529 * t2279;
+        let t2282: f32 = t2280 * t2281;
+        let t2283: f32 = t2244 * t2282;
+        let t2284: f32 = t2264 * t2283;
+        let t2285: f32 = t2246 * t2264;
+        let t2286: f32 = t2271 - t2285;
+        let t2287: f32 = t2245 * t2286;
+        let t2288: f32 = -t2287;
+        let t2289: f32 = t571 * t2288;
+        let t2290: f32 = t2284 + t2289;
+        let t2291: f32 = t571 * t573;
+        let t2292: f32 = t2290 * t2291;
+        let t2293: f32 = t560 * t2288;
+        let t2294: f32 = t531 * t2264;
+        let t2295: f32 = t2247 * t2294;
+        let t2296: f32 = t2248 * t2295;
+        let t2297: f32 = gravity_x * t556;
+        let t2298: f32 = gravity_y * t564;
+        let t2299: f32 = gravity_z * t552;
+        let t2300: f32 = t2297 + t2298;
+        let t2301: f32 = t2299 + t2300;
+        let t2302: f32 = t2256 * t2301;
+        let t2303: f32 = t2296 + t2302;
+        let t2304: f32 = t2293 - t2303;
+        let t2305: f32 = t2292 + t2304;
+        let t2306: f32 = -t2305;
+        let t2307: f32 = t564 * t2306;
+        let t2308: f32 = t2278 - t2307;
+        let t2309: f32 = t531 * t2308;
+        let t2310: f32 = wz * t2230;
+        let t2311: f32 = wx * t2240;
+        let t2312: f32 = t2310 - t2311;
+        let t2313: f32 = t586 * t2312;
+        let t2314: f32 = wy * t2230;
+        let t2315: f32 = wx * t2235;
+        let t2316: f32 = t2315 - t2314;
+        let t2317: f32 = t605 * t2316;
+        let t2318: f32 = t2313 + t2317;
+        let t2319: f32 = leg5_rod_mass * t2255;
+        let t2320: f32 = t2274 - t2249;
+        let t2321: f32 = leg5_rod_mz * t2320;
+        let t2322: f32 = t2319 + t2321;
+        let t2323: f32 = -t2322;
+        let t2324: f32 = t558 * t2323;
+        let t2325: f32 = leg5_rod_mass * t2301;
+        let t2326: f32 = t2287 + t2295;
+        let t2327: f32 = leg5_rod_mz * t2326;
+        let t2328: f32 = t2325 + t2327;
+        let t2329: f32 = t564 * t2328;
+        let t2330: f32 = t2324 - t2329;
+        let t2331: f32 = wy * t2240;
+        let t2332: f32 = wz * t2235;
+        let t2333: f32 = t2331 - t2332;
+        let t2334: f32 = t880 * t2333;
+        let t2335: f32 = gravity_x * t553;
+        let t2336: f32 = gravity_y * t532;
+        let t2337: f32 = gravity_z * t555;
+        let t2338: f32 = t2335 + t2336;
+        let t2339: f32 = t2337 + t2338;
+        let t2340: f32 = leg5_rod_mass * t2339;
+        let t2341: f32 = t2245 * t2245;
+        let t2342: f32 = t2294 * t2294;
+        let t2343: f32 = t2341 + t2342;
+        let t2344: f32 = leg5_rod_mz * t2343;
+        let t2345: f32 = t2340 + t2344;
+        let t2346: f32 = t532 * t2345;
+        let t2347: f32 = t2334 - t2346;
+        let t2348: f32 = t2330 + t2347;
+        let t2349: f32 = t2318 + t2348;
+        let t2350: f32 = t2309 + t2349;
+        let t2351: f32 = t506 * t2350;
+        let t2352: f32 = t888 * t2333;
+        let t2353: f32 = t555 * t2345;
+        let t2354: f32 = t2352 - t2353;
+        let t2355: f32 = t605 * t2312;
+        let t2356: f32 = t617 * t2316;
+        let t2357: f32 = t2355 + t2356;
+        let t2358: f32 = t2354 + t2357;
+        let t2359: f32 = t531 * t2306;
+        let t2360: f32 = t2328 + t2359;
+        let t2361: f32 = t552 * t2360;
+        let t2362: f32 = t531 * t2277;
+        let t2363: f32 = t2322 - t2362;
+        let t2364: f32 = t598 * t2363;
+        let t2365: f32 = t2361 + t2364;
+        let t2366: f32 = t2358 - t2365;
+        let t2367: f32 = t512 * t2366;
+        let t2368: f32 = t2351 - t2367;
+        let t2369: f32 = t2227 + t2368;
+        let t2370: f32 = t2086 + t2369;
+        let t2371: f32 = t1803 + t2370;
+        let t2372: f32 = t777 * t1362;
+        let t2373: f32 = t2371 * t2372;
+        let t2374: f32 = t1225 * t2371;
+        let t2375: f32 = gravity_z * t1315;
+        let t2376: f32 = gravity_x * t1258;
+        let t2377: f32 = t2375 - t2376;
+        let t2378: f32 = t626 * t646;
+        let t2379: f32 = t637 * t644;
+        let t2380: f32 = t2378 - t2379;
+        let t2381: f32 = t1619 * t2380;
+        let t2382: f32 = t2377 - t2381;
+        let t2383: f32 = t27 * t1612;
+        let t2384: f32 = t23 * t1603;
+        let t2385: f32 = t2383 - t2384;
+        let t2386: f32 = t1087 * t1627;
+        let t2387: f32 = t19 * t46;
+        let t2388: f32 = t37 * t44;
+        let t2389: f32 = t2387 - t2388;
+        let t2390: f32 = t1632 * t2389;
+        let t2391: f32 = t2386 + t2390;
+        let t2392: f32 = t2385 - t2391;
+        let t2393: f32 = t2382 + t2392;
+        let t2394: f32 = t146 * t166;
+        let t2395: f32 = t157 * t164;
+        let t2396: f32 = t2394 - t2395;
+        let t2397: f32 = t1640 * t2396;
+        let t2398: f32 = t266 * t286;
+        let t2399: f32 = t277 * t284;
+        let t2400: f32 = t2398 - t2399;
+        let t2401: f32 = t1645 * t2400;
+        let t2402: f32 = t2397 + t2401;
+        let t2403: f32 = t386 * t406;
+        let t2404: f32 = t397 * t404;
+        let t2405: f32 = t2403 - t2404;
+        let t2406: f32 = t1651 * t2405;
+        let t2407: f32 = t506 * t526;
+        let t2408: f32 = t517 * t524;
+        let t2409: f32 = t2407 - t2408;
+        let t2410: f32 = t1656 * t2409;
+        let t2411: f32 = t2406 + t2410;
+        let t2412: f32 = t2402 + t2411;
+        let t2413: f32 = t2393 - t2412;
+        let t2414: f32 = t2374 - t2413;
+        let t2415: f32 = t962 * t1766;
+        let t2416: f32 = t73 * t1778;
+        let t2417: f32 = t2415 - t2416;
+        let t2418: f32 = t788 * t1745;
+        let t2419: f32 = t796 * t1749;
         let t2420: f32 = t2418 + t2419;
-        let t2421: f32 = t2415 - t2420;
-        let t2422: f32 = leg5_rod_mass * t2421;
-        let t2423: f32 = t2338 * t2338;
-        let t2424: f32 = t2393 * t2393;
-        let t2425: f32 = t2423 + t2424;
-        let t2426: f32 = leg5_rod_mz * t2425;
-        let t2427: f32 = t2422 - t2426;
-        let t2428: f32 = t532 * t2427;
-        let t2429: f32 = leg5_rod_mass * t2328;
-        let t2430: f32 = t2342 + t2361;
-        let t2431: f32 = leg5_rod_mz * t2430;
-        let t2432: f32 = t2429 + t2431;
-        let t2433: f32 = t558 * t2432;
-        let t2434: f32 = leg5_rod_mass * t2402;
-        let t2435: f32 = t2394 - t2377;
-        let t2436: f32 = leg5_rod_mz * t2435;
-        let t2437: f32 = t2434 - t2436;
-        let t2438: f32 = t564 * t2437;
-        let t2439: f32 = t2433 + t2438;
-        let t2440: f32 = t2428 + t2439;
-        let t2441: f32 = t2410 - t2440;
-        let t2442: f32 = -t2441;
-        let t2443: f32 = t506 * t2442;
-        let t2444: f32 = t531 * t2366;
-        let t2445: f32 = t2432 - t2444;
-        let t2446: f32 = t598 * t2445;
-        let t2447: f32 = t555 * t2427;
-        let t2448: f32 = t531 * t2407;
-        let t2449: f32 = t2437 - t2448;
-        let t2450: f32 = t552 * t2449;
+        let t2421: f32 = t2417 + t2420;
+        let t2422: f32 = t76 * t1793;
+        let t2423: f32 = t784 * t1796;
+        let t2424: f32 = t2422 + t2423;
+        let t2425: f32 = t2421 - t2424;
+        let t2426: f32 = t19 * t2425;
+        let t2427: f32 = t44 * t1799;
+        let t2428: f32 = t2426 - t2427;
+        let t2429: f32 = t978 * t1909;
+        let t2430: f32 = t193 * t1921;
+        let t2431: f32 = t2429 - t2430;
+        let t2432: f32 = t811 * t1888;
+        let t2433: f32 = t819 * t1892;
+        let t2434: f32 = t2432 + t2433;
+        let t2435: f32 = t2431 + t2434;
+        let t2436: f32 = t196 * t1936;
+        let t2437: f32 = t807 * t1939;
+        let t2438: f32 = t2436 + t2437;
+        let t2439: f32 = t2435 - t2438;
+        let t2440: f32 = t146 * t2439;
+        let t2441: f32 = t164 * t1942;
+        let t2442: f32 = t2440 - t2441;
+        let t2443: f32 = t2428 + t2442;
+        let t2444: f32 = t2414 - t2443;
+        let t2445: f32 = t994 * t2050;
+        let t2446: f32 = t313 * t2062;
+        let t2447: f32 = t2445 - t2446;
+        let t2448: f32 = t834 * t2029;
+        let t2449: f32 = t842 * t2033;
+        let t2450: f32 = t2448 + t2449;
         let t2451: f32 = t2447 + t2450;
-        let t2452: f32 = t2446 + t2451;
-        let t2453: f32 = t512 * t2452;
-        let t2454: f32 = t2443 - t2453;
-        let t2455: f32 = t2298 + t2454;
-        let t2456: f32 = t2142 + t2455;
-        let t2457: f32 = t1829 + t2456;
-        let t2458: f32 = -t2457;
-        let t2459: f32 = t777 * t1360;
-        let t2460: f32 = t2458 * t2459;
-        let t2461: f32 = t506 * t526;
-        let t2462: f32 = t517 * t524;
-        let t2463: f32 = t2461 - t2462;
-        let t2464: f32 = t1599 * t2463;
-        let t2465: f32 = t626 * t646;
-        let t2466: f32 = t637 * t644;
-        let t2467: f32 = t2465 - t2466;
-        let t2468: f32 = t1604 * t2467;
-        let t2469: f32 = t2464 + t2468;
-        let t2470: f32 = t23 * t1647;
-        let t2471: f32 = t27 * t1651;
+        let t2452: f32 = t316 * t2077;
+        let t2453: f32 = t830 * t2080;
+        let t2454: f32 = t2452 + t2453;
+        let t2455: f32 = t2451 - t2454;
+        let t2456: f32 = t266 * t2455;
+        let t2457: f32 = t284 * t2083;
+        let t2458: f32 = t2456 - t2457;
+        let t2459: f32 = t1010 * t2192;
+        let t2460: f32 = t433 * t2204;
+        let t2461: f32 = t2459 - t2460;
+        let t2462: f32 = t857 * t2171;
+        let t2463: f32 = t865 * t2175;
+        let t2464: f32 = t2462 + t2463;
+        let t2465: f32 = t2461 + t2464;
+        let t2466: f32 = t436 * t2219;
+        let t2467: f32 = t853 * t2222;
+        let t2468: f32 = t2466 + t2467;
+        let t2469: f32 = t2465 - t2468;
+        let t2470: f32 = t386 * t2469;
+        let t2471: f32 = t404 * t2225;
         let t2472: f32 = t2470 - t2471;
-        let t2473: f32 = t2469 + t2472;
-        let t2474: f32 = t918 * t1638;
-        let t2475: f32 = gravity_x * t1074;
-        let t2476: f32 = gravity_z * t1315;
-        let t2477: f32 = t2475 - t2476;
-        let t2478: f32 = t2474 + t2477;
-        let t2479: f32 = t19 * t46;
-        let t2480: f32 = t37 * t44;
-        let t2481: f32 = t2479 - t2480;
-        let t2482: f32 = t1662 * t2481;
-        let t2483: f32 = t146 * t166;
-        let t2484: f32 = t157 * t164;
-        let t2485: f32 = t2483 - t2484;
-        let t2486: f32 = t1667 * t2485;
-        let t2487: f32 = t2482 + t2486;
-        let t2488: f32 = t266 * t286;
-        let t2489: f32 = t277 * t284;
+        let t2473: f32 = t2458 + t2472;
+        let t2474: f32 = t1026 * t2333;
+        let t2475: f32 = t553 * t2345;
+        let t2476: f32 = t2474 - t2475;
+        let t2477: f32 = t880 * t2312;
+        let t2478: f32 = t888 * t2316;
+        let t2479: f32 = t2477 + t2478;
+        let t2480: f32 = t2476 + t2479;
+        let t2481: f32 = t556 * t2360;
+        let t2482: f32 = t876 * t2363;
+        let t2483: f32 = t2481 + t2482;
+        let t2484: f32 = t2480 - t2483;
+        let t2485: f32 = t506 * t2484;
+        let t2486: f32 = t524 * t2366;
+        let t2487: f32 = t2485 - t2486;
+        let t2488: f32 = t1042 * t1537;
+        let t2489: f32 = t673 * t1549;
         let t2490: f32 = t2488 - t2489;
-        let t2491: f32 = t1588 * t2490;
-        let t2492: f32 = t386 * t406;
-        let t2493: f32 = t397 * t404;
-        let t2494: f32 = t2492 - t2493;
-        let t2495: f32 = t1593 * t2494;
-        let t2496: f32 = t2491 + t2495;
-        let t2497: f32 = t2487 + t2496;
-        let t2498: f32 = t2478 + t2497;
-        let t2499: f32 = t2473 + t2498;
-        let t2500: f32 = t1086 * t2458;
+        let t2491: f32 = t903 * t1516;
+        let t2492: f32 = t911 * t1520;
+        let t2493: f32 = t2491 + t2492;
+        let t2494: f32 = t2490 + t2493;
+        let t2495: f32 = t676 * t1564;
+        let t2496: f32 = t899 * t1567;
+        let t2497: f32 = t2495 + t2496;
+        let t2498: f32 = t2494 - t2497;
+        let t2499: f32 = t626 * t2498;
+        let t2500: f32 = t644 * t1570;
         let t2501: f32 = t2499 - t2500;
-        let t2502: f32 = t44 * t1825;
-        let t2503: f32 = t73 * t1801;
-        let t2504: f32 = t76 * t1819;
-        let t2505: f32 = t784 * t1822;
-        let t2506: f32 = t2504 + t2505;
-        let t2507: f32 = t2503 + t2506;
-        let t2508: f32 = t19 * t2507;
-        let t2509: f32 = t2502 - t2508;
-        let t2510: f32 = t164 * t1983;
-        let t2511: f32 = t193 * t1958;
-        let t2512: f32 = t196 * t1980;
-        let t2513: f32 = t807 * t1976;
-        let t2514: f32 = t2512 + t2513;
-        let t2515: f32 = t2511 + t2514;
-        let t2516: f32 = t146 * t2515;
-        let t2517: f32 = t2510 - t2516;
-        let t2518: f32 = t2509 + t2517;
-        let t2519: f32 = t2501 + t2518;
-        let t2520: f32 = t284 * t2139;
-        let t2521: f32 = t313 * t2114;
-        let t2522: f32 = t316 * t2136;
-        let t2523: f32 = t830 * t2132;
-        let t2524: f32 = t2522 + t2523;
-        let t2525: f32 = t2521 + t2524;
-        let t2526: f32 = t266 * t2525;
-        let t2527: f32 = t2520 - t2526;
-        let t2528: f32 = t404 * t2296;
-        let t2529: f32 = t433 * t2271;
-        let t2530: f32 = t436 * t2293;
-        let t2531: f32 = t853 * t2289;
-        let t2532: f32 = t2530 + t2531;
-        let t2533: f32 = t2529 + t2532;
-        let t2534: f32 = t386 * t2533;
-        let t2535: f32 = t2528 - t2534;
-        let t2536: f32 = t2527 + t2535;
-        let t2537: f32 = t524 * t2452;
-        let t2538: f32 = t553 * t2427;
-        let t2539: f32 = t556 * t2449;
-        let t2540: f32 = t876 * t2445;
-        let t2541: f32 = t2539 + t2540;
-        let t2542: f32 = t2538 + t2541;
-        let t2543: f32 = t506 * t2542;
-        let t2544: f32 = t2537 - t2543;
-        let t2545: f32 = t644 * t1582;
-        let t2546: f32 = t673 * t1557;
-        let t2547: f32 = t676 * t1579;
-        let t2548: f32 = t899 * t1575;
-        let t2549: f32 = t2547 + t2548;
+        let t2502: f32 = t2487 + t2501;
+        let t2503: f32 = t2473 + t2502;
+        let t2504: f32 = t2444 - t2503;
+        let t2505: f32 = -t2504;
+        let t2506: f32 = t1183 * t1373;
+        let t2507: f32 = t2505 * t2506;
+        let t2508: f32 = gravity_y * t1315;
+        let t2509: f32 = gravity_x * t1239;
+        let t2510: f32 = t2508 - t2509;
+        let t2511: f32 = t632 * t646;
+        let t2512: f32 = t634 * t644;
+        let t2513: f32 = t2511 - t2512;
+        let t2514: f32 = t1619 * t2513;
+        let t2515: f32 = t2510 - t2514;
+        let t2516: f32 = t9 * t1603;
+        let t2517: f32 = t14 * t1612;
+        let t2518: f32 = t2516 - t2517;
+        let t2519: f32 = t918 * t1627;
+        let t2520: f32 = t32 * t46;
+        let t2521: f32 = t34 * t44;
+        let t2522: f32 = t2520 - t2521;
+        let t2523: f32 = t1632 * t2522;
+        let t2524: f32 = t2519 + t2523;
+        let t2525: f32 = t2518 - t2524;
+        let t2526: f32 = t2515 + t2525;
+        let t2527: f32 = t152 * t166;
+        let t2528: f32 = t154 * t164;
+        let t2529: f32 = t2527 - t2528;
+        let t2530: f32 = t1640 * t2529;
+        let t2531: f32 = t272 * t286;
+        let t2532: f32 = t274 * t284;
+        let t2533: f32 = t2531 - t2532;
+        let t2534: f32 = t1645 * t2533;
+        let t2535: f32 = t2530 + t2534;
+        let t2536: f32 = t392 * t406;
+        let t2537: f32 = t394 * t404;
+        let t2538: f32 = t2536 - t2537;
+        let t2539: f32 = t1651 * t2538;
+        let t2540: f32 = t512 * t526;
+        let t2541: f32 = t514 * t524;
+        let t2542: f32 = t2540 - t2541;
+        let t2543: f32 = t1656 * t2542;
+        let t2544: f32 = t2539 + t2543;
+        let t2545: f32 = t2535 + t2544;
+        let t2546: f32 = t2526 - t2545;
+        let t2547: f32 = t32 * t2425;
+        let t2548: f32 = t44 * t1783;
+        let t2549: f32 = t2547 - t2548;
         let t2550: f32 = t2546 + t2549;
-        let t2551: f32 = t626 * t2550;
-        let t2552: f32 = t2545 - t2551;
-        let t2553: f32 = t2544 + t2552;
-        let t2554: f32 = t2536 + t2553;
-        let t2555: f32 = t2519 + t2554;
-        let t2556: f32 = t1068 * t1370;
-        let t2557: f32 = t2555 * t2556;
-        let t2558: f32 = t512 * t526;
-        let t2559: f32 = t514 * t524;
-        let t2560: f32 = t2558 - t2559;
-        let t2561: f32 = t1599 * t2560;
-        let t2562: f32 = t632 * t646;
-        let t2563: f32 = t634 * t644;
+        let t2551: f32 = t152 * t2439;
+        let t2552: f32 = t164 * t1926;
+        let t2553: f32 = t2551 - t2552;
+        let t2554: f32 = t272 * t2455;
+        let t2555: f32 = t284 * t2067;
+        let t2556: f32 = t2554 - t2555;
+        let t2557: f32 = t2553 + t2556;
+        let t2558: f32 = t2550 + t2557;
+        let t2559: f32 = t392 * t2469;
+        let t2560: f32 = t404 * t2209;
+        let t2561: f32 = t2559 - t2560;
+        let t2562: f32 = t512 * t2484;
+        let t2563: f32 = t524 * t2350;
         let t2564: f32 = t2562 - t2563;
-        let t2565: f32 = t1604 * t2564;
-        let t2566: f32 = t2561 + t2565;
-        let t2567: f32 = t14 * t1651;
-        let t2568: f32 = t9 * t1647;
-        let t2569: f32 = t2567 - t2568;
-        let t2570: f32 = t2566 + t2569;
-        let t2571: f32 = t1119 * t1638;
-        let t2572: f32 = gravity_x * t1268;
-        let t2573: f32 = gravity_y * t1315;
-        let t2574: f32 = t2572 - t2573;
-        let t2575: f32 = t2571 + t2574;
-        let t2576: f32 = t32 * t46;
-        let t2577: f32 = t34 * t44;
-        let t2578: f32 = t2576 - t2577;
-        let t2579: f32 = t1662 * t2578;
-        let t2580: f32 = t152 * t166;
-        let t2581: f32 = t154 * t164;
+        let t2565: f32 = t2561 + t2564;
+        let t2566: f32 = t632 * t2498;
+        let t2567: f32 = t644 * t1554;
+        let t2568: f32 = t2566 - t2567;
+        let t2569: f32 = t1251 * t2371;
+        let t2570: f32 = t1267 * t2505;
+        let t2571: f32 = t2569 + t2570;
+        let t2572: f32 = t2568 - t2571;
+        let t2573: f32 = t2565 + t2572;
+        let t2574: f32 = t2558 + t2573;
+        let t2575: f32 = t1233 * t1390;
+        let t2576: f32 = t2574 * t2575;
+        let t2577: f32 = t2438 + t2454;
+        let t2578: f32 = t2468 + t2483;
+        let t2579: f32 = t2577 + t2578;
+        let t2580: f32 = wx * t1239;
+        let t2581: f32 = wy * t1315;
         let t2582: f32 = t2580 - t2581;
-        let t2583: f32 = t1667 * t2582;
-        let t2584: f32 = t2579 + t2583;
-        let t2585: f32 = t272 * t286;
-        let t2586: f32 = t274 * t284;
-        let t2587: f32 = t2585 - t2586;
-        let t2588: f32 = t1588 * t2587;
-        let t2589: f32 = t392 * t406;
-        let t2590: f32 = t394 * t404;
-        let t2591: f32 = t2589 - t2590;
-        let t2592: f32 = t1593 * t2591;
-        let t2593: f32 = t2588 + t2592;
-        let t2594: f32 = t2584 + t2593;
-        let t2595: f32 = t2575 + t2594;
-        let t2596: f32 = t2570 + t2595;
-        let t2597: f32 = t32 * t2507;
-        let t2598: f32 = t44 * t1815;
-        let t2599: f32 = t2597 - t2598;
-        let t2600: f32 = t2596 - t2599;
-        let t2601: f32 = t152 * t2515;
-        let t2602: f32 = t164 * t1973;
-        let t2603: f32 = t2601 - t2602;
-        let t2604: f32 = t272 * t2525;
-        let t2605: f32 = t284 * t2129;
-        let t2606: f32 = t2604 - t2605;
-        let t2607: f32 = t2603 + t2606;
-        let t2608: f32 = t2600 - t2607;
-        let t2609: f32 = t392 * t2533;
-        let t2610: f32 = t404 * t2286;
-        let t2611: f32 = t2609 - t2610;
-        let t2612: f32 = t512 * t2542;
-        let t2613: f32 = t524 * t2442;
-        let t2614: f32 = t2612 - t2613;
-        let t2615: f32 = t2611 + t2614;
-        let t2616: f32 = t632 * t2550;
-        let t2617: f32 = t644 * t1572;
-        let t2618: f32 = t2616 - t2617;
-        let t2619: f32 = t1275 * t2458;
-        let t2620: f32 = t1277 * t2555;
-        let t2621: f32 = t2619 + t2620;
-        let t2622: f32 = t2618 + t2621;
-        let t2623: f32 = t2615 + t2622;
-        let t2624: f32 = t2608 - t2623;
-        let t2625: f32 = t1262 * t1387;
+        let t2583: f32 = wy * t2582;
+        let t2584: f32 = gravity_x * platform_mass;
+        let t2585: f32 = t2583 - t2584;
+        let t2586: f32 = t2494 + t2585;
+        let t2587: f32 = wz * t1315;
+        let t2588: f32 = wx * t1258;
+        let t2589: f32 = t2587 - t2588;
+        let t2590: f32 = wz * t2589;
+        let t2591: f32 = g1 * t46;
+        let t2592: f32 = t51 * t2591;
+        let t2593: f32 = t2590 + t2592;
+        let t2594: f32 = g2 * t166;
+        let t2595: f32 = t171 * t2594;
+        let t2596: f32 = g3 * t286;
+        let t2597: f32 = t291 * t2596;
+        let t2598: f32 = t2595 + t2597;
+        let t2599: f32 = t2593 + t2598;
+        let t2600: f32 = t2586 - t2599;
+        let t2601: f32 = g6 * t646;
+        let t2602: f32 = t651 * t2601;
+        let t2603: f32 = t2421 - t2602;
+        let t2604: f32 = g4 * t406;
+        let t2605: f32 = t411 * t2604;
+        let t2606: f32 = g5 * t526;
+        let t2607: f32 = t531 * t2606;
+        let t2608: f32 = t2605 + t2607;
+        let t2609: f32 = t2603 - t2608;
+        let t2610: f32 = t2435 + t2451;
+        let t2611: f32 = t2465 + t2480;
+        let t2612: f32 = t2610 + t2611;
+        let t2613: f32 = t2609 + t2612;
+        let t2614: f32 = t2600 + t2613;
+        let t2615: f32 = t2497 - t2614;
+        let t2616: f32 = t1298 * t2371;
+        let t2617: f32 = t1307 * t2505;
+        let t2618: f32 = t2616 + t2617;
+        let t2619: f32 = t1327 * t2574;
+        let t2620: f32 = t2424 + t2619;
+        let t2621: f32 = t2618 + t2620;
+        let t2622: f32 = t2615 + t2621;
+        let t2623: f32 = t2579 + t2622;
+        let t2624: f32 = -t2623;
+        let t2625: f32 = t1286 * t1403;
         let t2626: f32 = t2624 * t2625;
-        let t2627: f32 = g6 * t646;
-        let t2628: f32 = t651 * t2627;
-        let t2629: f32 = gravity_x * platform_mass;
-        let t2630: f32 = wx * t1268;
-        let t2631: f32 = wy * t1315;
-        let t2632: f32 = t2630 - t2631;
-        let t2633: f32 = wy * t2632;
-        let t2634: f32 = t2629 - t2633;
-        let t2635: f32 = t2628 + t2634;
-        let t2636: f32 = wz * t1315;
-        let t2637: f32 = wx * t1074;
+        let t2627: f32 = t2067 + t2209;
+        let t2628: f32 = t1554 + t2350;
+        let t2629: f32 = t2627 + t2628;
+        let t2630: f32 = g6 * t634;
+        let t2631: f32 = t651 * t2630;
+        let t2632: f32 = t1782 - t2631;
+        let t2633: f32 = wy * t1258;
+        let t2634: f32 = wz * t1239;
+        let t2635: f32 = t2633 - t2634;
+        let t2636: f32 = wz * t2635;
+        let t2637: f32 = gravity_y * platform_mass;
         let t2638: f32 = t2636 - t2637;
-        let t2639: f32 = wz * t2638;
-        let t2640: f32 = t2639 - t2503;
-        let t2641: f32 = t2511 + t2521;
-        let t2642: f32 = t2640 - t2641;
-        let t2643: f32 = t2635 + t2642;
-        let t2644: f32 = g1 * t46;
-        let t2645: f32 = t51 * t2644;
-        let t2646: f32 = t2645 - t2546;
-        let t2647: f32 = t2529 + t2538;
-        let t2648: f32 = t2646 - t2647;
-        let t2649: f32 = g2 * t166;
-        let t2650: f32 = t171 * t2649;
-        let t2651: f32 = g3 * t286;
-        let t2652: f32 = t291 * t2651;
-        let t2653: f32 = t2650 + t2652;
-        let t2654: f32 = g4 * t406;
-        let t2655: f32 = t411 * t2654;
-        let t2656: f32 = g5 * t526;
-        let t2657: f32 = t531 * t2656;
-        let t2658: f32 = t2655 + t2657;
-        let t2659: f32 = t2653 + t2658;
-        let t2660: f32 = t2648 + t2659;
-        let t2661: f32 = t2643 + t2660;
-        let t2662: f32 = t2661 - t2549;
-        let t2663: f32 = t1298 * t2458;
-        let t2664: f32 = t1307 * t2555;
-        let t2665: f32 = t2663 + t2664;
-        let t2666: f32 = t1326 * t2624;
-        let t2667: f32 = t2506 + t2666;
-        let t2668: f32 = t2665 + t2667;
-        let t2669: f32 = t2662 - t2668;
-        let t2670: f32 = t2514 + t2524;
-        let t2671: f32 = t2532 + t2541;
-        let t2672: f32 = t2670 + t2671;
-        let t2673: f32 = t2669 - t2672;
-        let t2674: f32 = t1286 * t1400;
-        let t2675: f32 = t2673 * t2674;
-        let t2676: f32 = t2128 + t2285;
-        let t2677: f32 = t1571 + t2441;
-        let t2678: f32 = t2676 + t2677;
-        let t2679: f32 = g2 * t154;
-        let t2680: f32 = t171 * t2679;
-        let t2681: f32 = g3 * t274;
-        let t2682: f32 = t291 * t2681;
-        let t2683: f32 = t2680 + t2682;
-        let t2684: f32 = g4 * t394;
-        let t2685: f32 = t411 * t2684;
-        let t2686: f32 = g5 * t514;
-        let t2687: f32 = t531 * t2686;
-        let t2688: f32 = t2685 + t2687;
-        let t2689: f32 = t2683 + t2688;
-        let t2690: f32 = g6 * t634;
-        let t2691: f32 = t651 * t2690;
-        let t2692: f32 = t2691 - t1814;
-        let t2693: f32 = gravity_y * platform_mass;
-        let t2694: f32 = wy * t1074;
-        let t2695: f32 = wz * t1268;
-        let t2696: f32 = t2694 - t2695;
-        let t2697: f32 = wz * t2696;
-        let t2698: f32 = t2693 - t2697;
-        let t2699: f32 = wx * t2632;
-        let t2700: f32 = g1 * t34;
-        let t2701: f32 = t51 * t2700;
-        let t2702: f32 = t2699 + t2701;
-        let t2703: f32 = t2698 + t2702;
-        let t2704: f32 = t2692 + t2703;
-        let t2705: f32 = t2689 + t2704;
-        let t2706: f32 = t1361 * t2458;
-        let t2707: f32 = t1784 - t2706;
-        let t2708: f32 = t2705 + t2707;
-        let t2709: f32 = t1388 * t2624;
-        let t2710: f32 = t1371 * t2555;
-        let t2711: f32 = t2709 - t2710;
-        let t2712: f32 = t1401 * t2673;
-        let t2713: f32 = t1972 - t2712;
-        let t2714: f32 = t2711 + t2713;
-        let t2715: f32 = t2708 + t2714;
-        let t2716: f32 = t2678 + t2715;
-        let t2717: f32 = t1349 * t1406;
-        let t2718: f32 = t2716 * t2717;
-        let t2719: f32 = g1 * t37;
-        let t2720: f32 = t51 * t2719;
-        let t2721: f32 = g2 * t157;
-        let t2722: f32 = t171 * t2721;
-        let t2723: f32 = t2720 + t2722;
-        let t2724: f32 = g3 * t277;
-        let t2725: f32 = t291 * t2724;
-        let t2726: f32 = g4 * t397;
-        let t2727: f32 = t411 * t2726;
-        let t2728: f32 = t2725 + t2727;
-        let t2729: f32 = t2723 + t2728;
-        let t2730: f32 = g5 * t517;
-        let t2731: f32 = t531 * t2730;
-        let t2732: f32 = g6 * t637;
-        let t2733: f32 = t651 * t2732;
-        let t2734: f32 = t2731 + t2733;
-        let t2735: f32 = gravity_z * platform_mass;
-        let t2736: f32 = wx * t2638;
-        let t2737: f32 = t2735 - t2736;
-        let t2738: f32 = wy * t2696;
-        let t2739: f32 = t2738 - t1817;
-        let t2740: f32 = t2737 + t2739;
-        let t2741: f32 = t2734 + t2740;
-        let t2742: f32 = t2729 + t2741;
-        let t2743: f32 = t2460 + t2557;
+        let t2639: f32 = wx * t2582;
+        let t2640: f32 = g1 * t34;
+        let t2641: f32 = t51 * t2640;
+        let t2642: f32 = t2639 + t2641;
+        let t2643: f32 = t2638 - t2642;
+        let t2644: f32 = t2632 + t2643;
+        let t2645: f32 = g2 * t154;
+        let t2646: f32 = t171 * t2645;
+        let t2647: f32 = g3 * t274;
+        let t2648: f32 = t291 * t2647;
+        let t2649: f32 = t2646 + t2648;
+        let t2650: f32 = g4 * t394;
+        let t2651: f32 = t411 * t2650;
+        let t2652: f32 = g5 * t514;
+        let t2653: f32 = t531 * t2652;
+        let t2654: f32 = t2651 + t2653;
+        let t2655: f32 = t2649 + t2654;
+        let t2656: f32 = t2644 - t2655;
+        let t2657: f32 = t1363 * t2371;
+        let t2658: f32 = t1742 - t2657;
+        let t2659: f32 = t2656 + t2658;
+        let t2660: f32 = t1374 * t2505;
+        let t2661: f32 = t1391 * t2574;
+        let t2662: f32 = t2660 + t2661;
+        let t2663: f32 = t1404 * t2624;
+        let t2664: f32 = t2663 - t1926;
+        let t2665: f32 = t2662 + t2664;
+        let t2666: f32 = t2659 - t2665;
+        let t2667: f32 = t2629 + t2666;
+        let t2668: f32 = t1350 * t1409;
+        let t2669: f32 = t2667 * t2668;
+        let t2670: f32 = wx * t2589;
+        let t2671: f32 = gravity_z * platform_mass;
+        let t2672: f32 = t2670 - t2671;
+        let t2673: f32 = g6 * t637;
+        let t2674: f32 = t651 * t2673;
+        let t2675: f32 = t2672 - t2674;
+        let t2676: f32 = g4 * t397;
+        let t2677: f32 = t411 * t2676;
+        let t2678: f32 = g5 * t517;
+        let t2679: f32 = t531 * t2678;
+        let t2680: f32 = t2677 + t2679;
+        let t2681: f32 = t2675 - t2680;
+        let t2682: f32 = wy * t2635;
+        let t2683: f32 = g1 * t37;
+        let t2684: f32 = t51 * t2683;
+        let t2685: f32 = t2682 + t2684;
+        let t2686: f32 = g2 * t157;
+        let t2687: f32 = t171 * t2686;
+        let t2688: f32 = g3 * t277;
+        let t2689: f32 = t291 * t2688;
+        let t2690: f32 = t2687 + t2689;
+        let t2691: f32 = t2685 + t2690;
+        let t2692: f32 = t2681 - t2691;
+        let t2693: f32 = t1799 + t1942;
+        let t2694: f32 = t2083 + t2225;
+        let t2695: f32 = t1570 + t2366;
+        let t2696: f32 = t2693 + t2694;
+        let t2697: f32 = t2692 + t2695;
+        let t2698: f32 = t2696 + t2697;
+        let t2699: f32 = t2373 + t2507;
+        let t2700: f32 = t2576 + t2626;
+        let t2701: f32 = t2699 + t2700;
+        let t2702: f32 = t2669 + t2701;
+        let t2703: f32 = t2698 - t2702;
+        let t2704: f32 = t1409 * t1431;
+        let t2705: f32 = t2703 * t2704;
+        let t2706: f32 = t2705 - t2667;
+        let t2707: f32 = t1350 * t2706;
+        let t2708: f32 = -t2707;
+        let t2709: f32 = t1331 * t2708;
+        let t2710: f32 = t1403 * t1431;
+        let t2711: f32 = t2703 * t2710;
+        let t2712: f32 = t2709 + t2711;
+        let t2713: f32 = t2623 + t2712;
+        let t2714: f32 = t1286 * t2713;
+        let t2715: f32 = -t2714;
+        let t2716: f32 = t1270 * t2715;
+        let t2717: f32 = t1326 * t2708;
+        let t2718: f32 = t1390 * t1431;
+        let t2719: f32 = t2703 * t2718;
+        let t2720: f32 = t2716 + t2717;
+        let t2721: f32 = t2719 + t2720;
+        let t2722: f32 = t2574 - t2721;
+        let t2723: f32 = t933 * t1233;
+        let t2724: f32 = t2722 * t2723;
+        let t2725: f32 = t1228 * t1233;
+        let t2726: f32 = t2722 * t2725;
+        let t2727: f32 = t1266 * t2715;
+        let t2728: f32 = t1306 * t2708;
+        let t2729: f32 = t1373 * t1431;
+        let t2730: f32 = t2703 * t2729;
+        let t2731: f32 = t2726 + t2727;
+        let t2732: f32 = t2728 + t2730;
+        let t2733: f32 = t2731 + t2732;
+        let t2734: f32 = t2504 + t2733;
+        let t2735: f32 = t1183 * t2734;
+        let t2736: f32 = -t2735;
+        let t2737: f32 = t1179 * t2736;
+        let t2738: f32 = t1250 * t2715;
+        let t2739: f32 = t1297 * t2708;
+        let t2740: f32 = t1362 * t1431;
+        let t2741: f32 = t2703 * t2740;
+        let t2742: f32 = t2724 + t2737;
+        let t2743: f32 = t2738 + t2739;
         let t2744: f32 = t2742 + t2743;
-        let t2745: f32 = t2626 + t2675;
-        let t2746: f32 = t1824 + t2718;
-        let t2747: f32 = t1983 + t2139;
-        let t2748: f32 = t2296 + t2452;
-        let t2749: f32 = t2745 + t2746;
-        let t2750: f32 = t2747 + t2748;
-        let t2751: f32 = t2749 + t2750;
-        let t2752: f32 = t1582 + t2751;
-        let t2753: f32 = t2744 - t2752;
-        let t2754: f32 = t1406 * t1428;
-        let t2755: f32 = t2753 * t2754;
-        let t2756: f32 = t2716 - t2755;
-        let t2757: f32 = t1330 * t1349;
-        let t2758: f32 = t2756 * t2757;
-        let t2759: f32 = t1400 * t1428;
-        let t2760: f32 = t2753 * t2759;
-        let t2761: f32 = t2758 + t2760;
-        let t2762: f32 = t2673 - t2761;
-        let t2763: f32 = t1088 * t1286;
-        let t2764: f32 = t2762 * t2763;
-        let t2765: f32 = t1306 * t1349;
-        let t2766: f32 = t2756 * t2765;
-        let t2767: f32 = t1280 * t1286;
-        let t2768: f32 = t2762 * t2767;
-        let t2769: f32 = t1325 * t1349;
-        let t2770: f32 = t2756 * t2769;
-        let t2771: f32 = t1387 * t1428;
-        let t2772: f32 = t2753 * t2771;
-        let t2773: f32 = t2768 + t2772;
-        let t2774: f32 = t2624 + t2770;
-        let t2775: f32 = t2773 - t2774;
-        let t2776: f32 = t1262 * t2775;
-        let t2777: f32 = -t2776;
-        let t2778: f32 = t1257 * t2777;
-        let t2779: f32 = t1370 * t1428;
-        let t2780: f32 = t2753 * t2779;
-        let t2781: f32 = t2555 + t2780;
-        let t2782: f32 = t2764 + t2766;
-        let t2783: f32 = t2778 + t2782;
-        let t2784: f32 = t2781 - t2783;
-        let t2785: f32 = t933 * t1068;
-        let t2786: f32 = t2784 * t2785;
-        let t2787: f32 = t1085 * t1286;
-        let t2788: f32 = t2762 * t2787;
-        let t2789: f32 = t1297 * t1349;
-        let t2790: f32 = t2756 * t2789;
-        let t2791: f32 = t1211 * t2777;
-        let t2792: f32 = t1360 * t1428;
-        let t2793: f32 = t2753 * t2792;
-        let t2794: f32 = t2786 + t2788;
-        let t2795: f32 = t2790 + t2791;
-        let t2796: f32 = t2794 + t2795;
-        let t2797: f32 = t2457 + t2796;
-        let t2798: f32 = t2797 - t2793;
-        let t2799: f32 = t777 * t2798;
-        let t2800: f32 = t1068 * t2784;
-        let t2801: f32 = t51 * t1749;
-        let t2802: f32 = t51 * t51;
-        let t2803: f32 = t91 * t2802;
-        let t2804: f32 = t1711 * t2803;
-        let t2805: f32 = t1724 * t2804;
-        let t2806: f32 = t1712 * t1731;
-        let t2807: f32 = t2805 - t2806;
-        let t2808: f32 = t2801 + t2807;
-        let t2809: f32 = t80 * t2808;
-        let t2810: f32 = t2809 - t1779;
-        let t2811: f32 = t51 * t76;
-        let t2812: f32 = t2810 * t2811;
-        let t2813: f32 = t51 * t784;
-        let t2814: f32 = t1740 * t2813;
-        let t2815: f32 = t2812 - t2814;
-        let t2816: f32 = t91 * t2807;
-        let t2817: f32 = t1760 + t2816;
-        let t2818: f32 = t91 * t2811;
-        let t2819: f32 = t93 * t2818;
-        let t2820: f32 = t2817 * t2819;
-        let t2821: f32 = t784 * t1806;
-        let t2822: f32 = t76 * t1811;
-        let t2823: f32 = t2821 + t2822;
-        let t2824: f32 = t2820 + t2823;
-        let t2825: f32 = t2815 + t2824;
-        let t2826: f32 = t2503 + t2825;
-        let t2827: f32 = t32 * t2826;
-        let t2828: f32 = t51 * t84;
-        let t2829: f32 = t91 * t2828;
-        let t2830: f32 = t93 * t2829;
-        let t2831: f32 = t2817 * t2830;
-        let t2832: f32 = t2810 * t2828;
-        let t2833: f32 = t51 * t78;
-        let t2834: f32 = t1740 * t2833;
-        let t2835: f32 = t2832 - t2834;
-        let t2836: f32 = t2831 + t2835;
-        let t2837: f32 = t1814 + t2836;
-        let t2838: f32 = t44 * t2837;
-        let t2839: f32 = t171 * t1906;
-        let t2840: f32 = t171 * t171;
-        let t2841: f32 = t211 * t2840;
-        let t2842: f32 = t1868 * t2841;
-        let t2843: f32 = t1881 * t2842;
-        let t2844: f32 = t1869 * t1888;
-        let t2845: f32 = t2843 - t2844;
-        let t2846: f32 = t2839 + t2845;
-        let t2847: f32 = t200 * t2846;
-        let t2848: f32 = t2847 - t1936;
-        let t2849: f32 = t171 * t196;
-        let t2850: f32 = t2848 * t2849;
-        let t2851: f32 = t171 * t807;
-        let t2852: f32 = t1897 * t2851;
-        let t2853: f32 = t2850 - t2852;
-        let t2854: f32 = t211 * t2845;
-        let t2855: f32 = t1917 + t2854;
-        let t2856: f32 = t211 * t2849;
-        let t2857: f32 = t213 * t2856;
-        let t2858: f32 = t2855 * t2857;
-        let t2859: f32 = t807 * t1963;
-        let t2860: f32 = t196 * t1968;
-        let t2861: f32 = t2859 + t2860;
-        let t2862: f32 = t2858 + t2861;
-        let t2863: f32 = t2853 + t2862;
-        let t2864: f32 = t2511 + t2863;
-        let t2865: f32 = t152 * t2864;
-        let t2866: f32 = t171 * t204;
-        let t2867: f32 = t2848 * t2866;
-        let t2868: f32 = t171 * t198;
-        let t2869: f32 = t1897 * t2868;
-        let t2870: f32 = t2867 - t2869;
-        let t2871: f32 = t211 * t2866;
-        let t2872: f32 = t213 * t2871;
-        let t2873: f32 = t2855 * t2872;
-        let t2874: f32 = t1971 + t2873;
-        let t2875: f32 = t2870 + t2874;
-        let t2876: f32 = t164 * t2875;
-        let t2877: f32 = t291 * t2062;
-        let t2878: f32 = t291 * t291;
-        let t2879: f32 = t331 * t2878;
-        let t2880: f32 = t2024 * t2879;
-        let t2881: f32 = t2037 * t2880;
-        let t2882: f32 = t2025 * t2044;
-        let t2883: f32 = t2881 - t2882;
-        let t2884: f32 = t2877 + t2883;
-        let t2885: f32 = t320 * t2884;
-        let t2886: f32 = t2885 - t2092;
-        let t2887: f32 = t291 * t316;
-        let t2888: f32 = t2886 * t2887;
-        let t2889: f32 = t291 * t830;
-        let t2890: f32 = t2053 * t2889;
-        let t2891: f32 = t2888 - t2890;
-        let t2892: f32 = t331 * t2883;
-        let t2893: f32 = t2073 + t2892;
-        let t2894: f32 = t331 * t2887;
-        let t2895: f32 = t333 * t2894;
-        let t2896: f32 = t2893 * t2895;
-        let t2897: f32 = t830 * t2119;
-        let t2898: f32 = t316 * t2124;
-        let t2899: f32 = t2897 + t2898;
-        let t2900: f32 = t2896 + t2899;
-        let t2901: f32 = t2891 + t2900;
-        let t2902: f32 = t2521 + t2901;
-        let t2903: f32 = t272 * t2902;
-        let t2904: f32 = t291 * t324;
-        let t2905: f32 = t2886 * t2904;
-        let t2906: f32 = t291 * t318;
-        let t2907: f32 = t2053 * t2906;
-        let t2908: f32 = t2905 - t2907;
-        let t2909: f32 = t331 * t2904;
-        let t2910: f32 = t333 * t2909;
-        let t2911: f32 = t2893 * t2910;
-        let t2912: f32 = t2127 + t2911;
-        let t2913: f32 = t2908 + t2912;
-        let t2914: f32 = t284 * t2913;
-        let t2915: f32 = t411 * t2219;
-        let t2916: f32 = t411 * t411;
-        let t2917: f32 = t451 * t2916;
-        let t2918: f32 = t2181 * t2917;
-        let t2919: f32 = t2194 * t2918;
-        let t2920: f32 = t2182 * t2201;
-        let t2921: f32 = t2919 - t2920;
-        let t2922: f32 = t2915 + t2921;
-        let t2923: f32 = t440 * t2922;
-        let t2924: f32 = t2923 - t2249;
-        let t2925: f32 = t411 * t436;
-        let t2926: f32 = t2924 * t2925;
-        let t2927: f32 = t411 * t853;
-        let t2928: f32 = t2210 * t2927;
-        let t2929: f32 = t2926 - t2928;
-        let t2930: f32 = t451 * t2921;
-        let t2931: f32 = t2230 + t2930;
-        let t2932: f32 = t451 * t2925;
-        let t2933: f32 = t453 * t2932;
-        let t2934: f32 = t2931 * t2933;
-        let t2935: f32 = t853 * t2276;
-        let t2936: f32 = t436 * t2281;
-        let t2937: f32 = t2935 + t2936;
-        let t2938: f32 = t2934 + t2937;
-        let t2939: f32 = t2929 + t2938;
-        let t2940: f32 = t2529 + t2939;
-        let t2941: f32 = t392 * t2940;
-        let t2942: f32 = t411 * t444;
-        let t2943: f32 = t2924 * t2942;
-        let t2944: f32 = t411 * t438;
-        let t2945: f32 = t2210 * t2944;
-        let t2946: f32 = t2943 - t2945;
-        let t2947: f32 = t451 * t2942;
-        let t2948: f32 = t453 * t2947;
-        let t2949: f32 = t2931 * t2948;
-        let t2950: f32 = t2284 + t2949;
-        let t2951: f32 = t2946 + t2950;
-        let t2952: f32 = t404 * t2951;
-        let t2953: f32 = t531 * t2375;
-        let t2954: f32 = t531 * t531;
-        let t2955: f32 = t571 * t2954;
-        let t2956: f32 = t2337 * t2955;
-        let t2957: f32 = t2350 * t2956;
-        let t2958: f32 = t2338 * t2357;
-        let t2959: f32 = t2957 - t2958;
-        let t2960: f32 = t2953 + t2959;
-        let t2961: f32 = t560 * t2960;
-        let t2962: f32 = t2961 - t2405;
-        let t2963: f32 = t531 * t556;
-        let t2964: f32 = t2962 * t2963;
-        let t2965: f32 = t531 * t876;
-        let t2966: f32 = t2366 * t2965;
-        let t2967: f32 = t2964 - t2966;
-        let t2968: f32 = t571 * t2959;
-        let t2969: f32 = t2386 + t2968;
-        let t2970: f32 = t571 * t2963;
-        let t2971: f32 = t573 * t2970;
-        let t2972: f32 = t2969 * t2971;
-        let t2973: f32 = t876 * t2432;
-        let t2974: f32 = t556 * t2437;
-        let t2975: f32 = t2973 + t2974;
-        let t2976: f32 = t2972 + t2975;
-        let t2977: f32 = t2967 + t2976;
-        let t2978: f32 = t2538 + t2977;
-        let t2979: f32 = t512 * t2978;
-        let t2980: f32 = t531 * t564;
-        let t2981: f32 = t2962 * t2980;
-        let t2982: f32 = t531 * t558;
-        let t2983: f32 = t2366 * t2982;
-        let t2984: f32 = t2981 - t2983;
-        let t2985: f32 = t571 * t2980;
-        let t2986: f32 = t573 * t2985;
-        let t2987: f32 = t2969 * t2986;
-        let t2988: f32 = t2440 + t2987;
-        let t2989: f32 = t2984 + t2988;
-        let t2990: f32 = t524 * t2989;
-        let t2991: f32 = t651 * t1505;
-        let t2992: f32 = t651 * t651;
-        let t2993: f32 = t691 * t2992;
-        let t2994: f32 = t1467 * t2993;
-        let t2995: f32 = t1480 * t2994;
-        let t2996: f32 = t1468 * t1487;
-        let t2997: f32 = t2995 - t2996;
-        let t2998: f32 = t2991 + t2997;
-        let t2999: f32 = t680 * t2998;
-        let t3000: f32 = t2999 - t1535;
-        let t3001: f32 = t651 * t676;
-        let t3002: f32 = t3000 * t3001;
+        let t2745: f32 = t2741 + t2744;
+        let t2746: f32 = t2371 - t2745;
+        let t2747: f32 = t777 * t2746;
+        let t2748: f32 = t51 * t76;
+        let t2749: f32 = t1737 * t2748;
+        let t2750: f32 = t51 * t784;
+        let t2751: f32 = t1710 * t2750;
+        let t2752: f32 = t2749 + t2751;
+        let t2753: f32 = t91 * t2748;
+        let t2754: f32 = t93 * t2753;
+        let t2755: f32 = t1723 * t2754;
+        let t2756: f32 = t784 * t1756;
+        let t2757: f32 = t76 * t1761;
+        let t2758: f32 = t2756 - t2757;
+        let t2759: f32 = t2755 + t2758;
+        let t2760: f32 = t2752 + t2759;
+        let t2761: f32 = t2421 + t2760;
+        let t2762: f32 = t19 * t2761;
+        let t2763: f32 = t51 * t72;
+        let t2764: f32 = t91 * t2763;
+        let t2765: f32 = t93 * t2764;
+        let t2766: f32 = t1723 * t2765;
+        let t2767: f32 = t1791 + t2766;
+        let t2768: f32 = t118 * t1756;
+        let t2769: f32 = t72 * t1761;
+        let t2770: f32 = t2768 - t2769;
+        let t2771: f32 = t1737 * t2763;
+        let t2772: f32 = t51 * t118;
+        let t2773: f32 = t1710 * t2772;
+        let t2774: f32 = t2771 + t2773;
+        let t2775: f32 = t2770 + t2774;
+        let t2776: f32 = t2767 + t2775;
+        let t2777: f32 = t44 * t2776;
+        let t2778: f32 = t171 * t196;
+        let t2779: f32 = t1880 * t2778;
+        let t2780: f32 = t171 * t807;
+        let t2781: f32 = t1853 * t2780;
+        let t2782: f32 = t2779 + t2781;
+        let t2783: f32 = t211 * t2778;
+        let t2784: f32 = t213 * t2783;
+        let t2785: f32 = t1866 * t2784;
+        let t2786: f32 = t807 * t1899;
+        let t2787: f32 = t196 * t1904;
+        let t2788: f32 = t2786 - t2787;
+        let t2789: f32 = t2785 + t2788;
+        let t2790: f32 = t2782 + t2789;
+        let t2791: f32 = t2435 + t2790;
+        let t2792: f32 = t146 * t2791;
+        let t2793: f32 = t171 * t192;
+        let t2794: f32 = t211 * t2793;
+        let t2795: f32 = t213 * t2794;
+        let t2796: f32 = t1866 * t2795;
+        let t2797: f32 = t1934 + t2796;
+        let t2798: f32 = t238 * t1899;
+        let t2799: f32 = t192 * t1904;
+        let t2800: f32 = t2798 - t2799;
+        let t2801: f32 = t1880 * t2793;
+        let t2802: f32 = t171 * t238;
+        let t2803: f32 = t1853 * t2802;
+        let t2804: f32 = t2801 + t2803;
+        let t2805: f32 = t2800 + t2804;
+        let t2806: f32 = t2797 + t2805;
+        let t2807: f32 = t164 * t2806;
+        let t2808: f32 = t291 * t316;
+        let t2809: f32 = t2021 * t2808;
+        let t2810: f32 = t291 * t830;
+        let t2811: f32 = t1994 * t2810;
+        let t2812: f32 = t2809 + t2811;
+        let t2813: f32 = t331 * t2808;
+        let t2814: f32 = t333 * t2813;
+        let t2815: f32 = t2007 * t2814;
+        let t2816: f32 = t830 * t2040;
+        let t2817: f32 = t316 * t2045;
+        let t2818: f32 = t2816 - t2817;
+        let t2819: f32 = t2815 + t2818;
+        let t2820: f32 = t2812 + t2819;
+        let t2821: f32 = t2451 + t2820;
+        let t2822: f32 = t266 * t2821;
+        let t2823: f32 = t291 * t312;
+        let t2824: f32 = t331 * t2823;
+        let t2825: f32 = t333 * t2824;
+        let t2826: f32 = t2007 * t2825;
+        let t2827: f32 = t2075 + t2826;
+        let t2828: f32 = t358 * t2040;
+        let t2829: f32 = t312 * t2045;
+        let t2830: f32 = t2828 - t2829;
+        let t2831: f32 = t2021 * t2823;
+        let t2832: f32 = t291 * t358;
+        let t2833: f32 = t1994 * t2832;
+        let t2834: f32 = t2831 + t2833;
+        let t2835: f32 = t2830 + t2834;
+        let t2836: f32 = t2827 + t2835;
+        let t2837: f32 = t284 * t2836;
+        let t2838: f32 = t411 * t436;
+        let t2839: f32 = t2163 * t2838;
+        let t2840: f32 = t411 * t853;
+        let t2841: f32 = t2136 * t2840;
+        let t2842: f32 = t2839 + t2841;
+        let t2843: f32 = t451 * t2838;
+        let t2844: f32 = t453 * t2843;
+        let t2845: f32 = t2149 * t2844;
+        let t2846: f32 = t853 * t2182;
+        let t2847: f32 = t436 * t2187;
+        let t2848: f32 = t2846 - t2847;
+        let t2849: f32 = t2845 + t2848;
+        let t2850: f32 = t2842 + t2849;
+        let t2851: f32 = t2465 + t2850;
+        let t2852: f32 = t386 * t2851;
+        let t2853: f32 = t411 * t432;
+        let t2854: f32 = t451 * t2853;
+        let t2855: f32 = t453 * t2854;
+        let t2856: f32 = t2149 * t2855;
+        let t2857: f32 = t2217 + t2856;
+        let t2858: f32 = t478 * t2182;
+        let t2859: f32 = t432 * t2187;
+        let t2860: f32 = t2858 - t2859;
+        let t2861: f32 = t2163 * t2853;
+        let t2862: f32 = t411 * t478;
+        let t2863: f32 = t2136 * t2862;
+        let t2864: f32 = t2861 + t2863;
+        let t2865: f32 = t2860 + t2864;
+        let t2866: f32 = t2857 + t2865;
+        let t2867: f32 = t404 * t2866;
+        let t2868: f32 = t531 * t556;
+        let t2869: f32 = t2304 * t2868;
+        let t2870: f32 = t531 * t876;
+        let t2871: f32 = t2277 * t2870;
+        let t2872: f32 = t2869 + t2871;
+        let t2873: f32 = t571 * t2868;
+        let t2874: f32 = t573 * t2873;
+        let t2875: f32 = t2290 * t2874;
+        let t2876: f32 = t876 * t2323;
+        let t2877: f32 = t556 * t2328;
+        let t2878: f32 = t2876 - t2877;
+        let t2879: f32 = t2875 + t2878;
+        let t2880: f32 = t2872 + t2879;
+        let t2881: f32 = t2480 + t2880;
+        let t2882: f32 = t506 * t2881;
+        let t2883: f32 = t531 * t552;
+        let t2884: f32 = t571 * t2883;
+        let t2885: f32 = t573 * t2884;
+        let t2886: f32 = t2290 * t2885;
+        let t2887: f32 = t2358 + t2886;
+        let t2888: f32 = t598 * t2323;
+        let t2889: f32 = t552 * t2328;
+        let t2890: f32 = t2888 - t2889;
+        let t2891: f32 = t2304 * t2883;
+        let t2892: f32 = t531 * t598;
+        let t2893: f32 = t2277 * t2892;
+        let t2894: f32 = t2891 + t2893;
+        let t2895: f32 = t2890 + t2894;
+        let t2896: f32 = t2887 + t2895;
+        let t2897: f32 = t524 * t2896;
+        let t2898: f32 = t651 * t676;
+        let t2899: f32 = t1508 * t2898;
+        let t2900: f32 = t651 * t899;
+        let t2901: f32 = t1481 * t2900;
+        let t2902: f32 = t2899 + t2901;
+        let t2903: f32 = t691 * t2898;
+        let t2904: f32 = t693 * t2903;
+        let t2905: f32 = t1494 * t2904;
+        let t2906: f32 = t899 * t1527;
+        let t2907: f32 = t676 * t1532;
+        let t2908: f32 = t2906 - t2907;
+        let t2909: f32 = t2905 + t2908;
+        let t2910: f32 = t2902 + t2909;
+        let t2911: f32 = t2494 + t2910;
+        let t2912: f32 = t626 * t2911;
+        let t2913: f32 = t651 * t672;
+        let t2914: f32 = t691 * t2913;
+        let t2915: f32 = t693 * t2914;
+        let t2916: f32 = t1494 * t2915;
+        let t2917: f32 = t1562 + t2916;
+        let t2918: f32 = t718 * t1527;
+        let t2919: f32 = t672 * t1532;
+        let t2920: f32 = t2918 - t2919;
+        let t2921: f32 = t1508 * t2913;
+        let t2922: f32 = t651 * t718;
+        let t2923: f32 = t1481 * t2922;
+        let t2924: f32 = t2921 + t2923;
+        let t2925: f32 = t2920 + t2924;
+        let t2926: f32 = t2917 + t2925;
+        let t2927: f32 = t644 * t2926;
+        let t2928: f32 = t51 * t84;
+        let t2929: f32 = t91 * t2928;
+        let t2930: f32 = t93 * t2929;
+        let t2931: f32 = t1723 * t2930;
+        let t2932: f32 = t1737 * t2928;
+        let t2933: f32 = t51 * t78;
+        let t2934: f32 = t1710 * t2933;
+        let t2935: f32 = t2932 + t2934;
+        let t2936: f32 = t2931 + t2935;
+        let t2937: f32 = t1782 + t2936;
+        let t2938: f32 = t19 * t2937;
+        let t2939: f32 = t32 * t2776;
+        let t2940: f32 = t171 * t204;
+        let t2941: f32 = t1880 * t2940;
+        let t2942: f32 = t171 * t198;
+        let t2943: f32 = t1853 * t2942;
+        let t2944: f32 = t2941 + t2943;
+        let t2945: f32 = t211 * t2940;
+        let t2946: f32 = t213 * t2945;
+        let t2947: f32 = t1866 * t2946;
+        let t2948: f32 = t1925 + t2947;
+        let t2949: f32 = t2944 + t2948;
+        let t2950: f32 = t146 * t2949;
+        let t2951: f32 = t152 * t2806;
+        let t2952: f32 = t291 * t324;
+        let t2953: f32 = t2021 * t2952;
+        let t2954: f32 = t291 * t318;
+        let t2955: f32 = t1994 * t2954;
+        let t2956: f32 = t2953 + t2955;
+        let t2957: f32 = t331 * t2952;
+        let t2958: f32 = t333 * t2957;
+        let t2959: f32 = t2007 * t2958;
+        let t2960: f32 = t2066 + t2959;
+        let t2961: f32 = t2956 + t2960;
+        let t2962: f32 = t266 * t2961;
+        let t2963: f32 = t272 * t2836;
+        let t2964: f32 = t411 * t444;
+        let t2965: f32 = t2163 * t2964;
+        let t2966: f32 = t411 * t438;
+        let t2967: f32 = t2136 * t2966;
+        let t2968: f32 = t2965 + t2967;
+        let t2969: f32 = t451 * t2964;
+        let t2970: f32 = t453 * t2969;
+        let t2971: f32 = t2149 * t2970;
+        let t2972: f32 = t2208 + t2971;
+        let t2973: f32 = t2968 + t2972;
+        let t2974: f32 = t386 * t2973;
+        let t2975: f32 = t392 * t2866;
+        let t2976: f32 = t531 * t564;
+        let t2977: f32 = t2304 * t2976;
+        let t2978: f32 = t531 * t558;
+        let t2979: f32 = t2277 * t2978;
+        let t2980: f32 = t2977 + t2979;
+        let t2981: f32 = t571 * t2976;
+        let t2982: f32 = t573 * t2981;
+        let t2983: f32 = t2290 * t2982;
+        let t2984: f32 = t2349 + t2983;
+        let t2985: f32 = t2980 + t2984;
+        let t2986: f32 = t506 * t2985;
+        let t2987: f32 = t512 * t2896;
+        let t2988: f32 = t651 * t684;
+        let t2989: f32 = t1508 * t2988;
+        let t2990: f32 = t651 * t678;
+        let t2991: f32 = t1481 * t2990;
+        let t2992: f32 = t2989 + t2991;
+        let t2993: f32 = t691 * t2988;
+        let t2994: f32 = t693 * t2993;
+        let t2995: f32 = t1494 * t2994;
+        let t2996: f32 = t1553 + t2995;
+        let t2997: f32 = t2992 + t2996;
+        let t2998: f32 = t626 * t2997;
+        let t2999: f32 = t632 * t2926;
+        let t3000: f32 = t2938 + t2950;
+        let t3001: f32 = t2962 + t2974;
+        let t3002: f32 = t2986 + t2998;
         (
-            t2053,
-            t2119,
-            t2124,
-            t2134,
-            t2210,
-            t2276,
-            t2281,
-            t2291,
-            t2366,
-            t2432,
-            t2437,
-            t2447,
-            t2463,
-            t2467,
-            t2481,
-            t2485,
-            t2490,
-            t2494,
-            t2499,
+            t2138,
+            t2279,
+            t2380,
+            t2389,
+            t2396,
+            t2400,
+            t2405,
+            t2409,
+            t2413,
+            t2506,
+            t2513,
+            t2522,
+            t2529,
+            t2533,
+            t2538,
+            t2542,
             t2546,
-            t2560,
-            t2564,
-            t2578,
-            t2582,
-            t2587,
-            t2591,
-            t2596,
+            t2614,
             t2625,
-            t2661,
-            t2705,
-            t2742,
-            t2756,
+            t2656,
+            t2668,
+            t2692,
+            t2722,
+            t2747,
+            t2760,
+            t2761,
             t2762,
-            t2799,
-            t2800,
-            t2802,
-            t2810,
-            t2817,
-            t2825,
-            t2826,
-            t2827,
+            t2776,
+            t2777,
+            t2790,
+            t2791,
+            t2792,
+            t2806,
+            t2807,
+            t2820,
+            t2821,
+            t2822,
             t2836,
             t2837,
-            t2838,
-            t2840,
-            t2848,
-            t2855,
-            t2863,
-            t2864,
-            t2865,
-            t2875,
-            t2876,
-            t2878,
-            t2886,
-            t2893,
-            t2901,
-            t2902,
-            t2903,
-            t2913,
-            t2914,
-            t2916,
-            t2924,
-            t2931,
+            t2850,
+            t2851,
+            t2852,
+            t2866,
+            t2867,
+            t2880,
+            t2881,
+            t2882,
+            t2896,
+            t2897,
+            t2910,
+            t2911,
+            t2912,
+            t2926,
+            t2927,
+            t2936,
+            t2937,
             t2939,
-            t2940,
-            t2941,
+            t2949,
             t2951,
-            t2952,
-            t2954,
-            t2962,
-            t2969,
-            t2977,
-            t2978,
-            t2979,
-            t2989,
-            t2990,
-            t2992,
+            t2961,
+            t2963,
+            t2973,
+            t2975,
+            t2985,
+            t2987,
             t2997,
+            t2999,
             t3000,
             t3001,
             t3002,
         )
     };
     let (
-        t3239,
-        t3240,
-        t3241,
-        t3242,
-        t3243,
-        t3244,
-        t3245,
-        t3246,
-        t3247,
-        t3248,
-        t3256,
-        t3283,
-        t3329,
-        t3396,
-        t3486,
-        t3600,
+        t3110,
+        t3119,
+        t3120,
+        t3121,
+        t3123,
+        t3124,
+        t3125,
+        t3126,
+        t3127,
+        t3128,
+        t3129,
+        t3137,
+        t3164,
+        t3210,
+        t3277,
+        t3367,
+        t3481,
     ) = {
-        let t3003: f32 = t651 * t899;
-        let t3004: f32 = t1496 * t3003;
-        let t3005: f32 = t3002 - t3004;
-        let t3006: f32 = t691 * t2997;
-        let t3007: f32 = t1516 + t3006;
-        let t3008: f32 = t691 * t3001;
-        let t3009: f32 = t693 * t3008;
-        let t3010: f32 = t3007 * t3009;
-        let t3011: f32 = t899 * t1562;
-        let t3012: f32 = t676 * t1567;
-        let t3013: f32 = t3011 + t3012;
-        let t3014: f32 = t3010 + t3013;
-        let t3015: f32 = t3005 + t3014;
-        let t3016: f32 = t2546 + t3015;
-        let t3017: f32 = t632 * t3016;
-        let t3018: f32 = t651 * t684;
-        let t3019: f32 = t3000 * t3018;
-        let t3020: f32 = t651 * t678;
-        let t3021: f32 = t1496 * t3020;
-        let t3022: f32 = t3019 - t3021;
-        let t3023: f32 = t691 * t3018;
-        let t3024: f32 = t693 * t3023;
-        let t3025: f32 = t3007 * t3024;
-        let t3026: f32 = t1570 + t3025;
-        let t3027: f32 = t3022 + t3026;
-        let t3028: f32 = t644 * t3027;
-        let t3029: f32 = t19 * t2837;
-        let t3030: f32 = t51 * t72;
-        let t3031: f32 = t2810 * t3030;
-        let t3032: f32 = t51 * t118;
-        let t3033: f32 = t1740 * t3032;
-        let t3034: f32 = t3031 - t3033;
-        let t3035: f32 = t91 * t3030;
-        let t3036: f32 = t93 * t3035;
-        let t3037: f32 = t2817 * t3036;
-        let t3038: f32 = t118 * t1806;
-        let t3039: f32 = t72 * t1811;
-        let t3040: f32 = t3038 + t3039;
-        let t3041: f32 = t3037 + t3040;
-        let t3042: f32 = t3034 + t3041;
-        let t3043: f32 = t1817 + t3042;
-        let t3044: f32 = t32 * t3043;
-        let t3045: f32 = t146 * t2875;
-        let t3046: f32 = t171 * t238;
-        let t3047: f32 = t1897 * t3046;
-        let t3048: f32 = t171 * t192;
-        let t3049: f32 = t211 * t3048;
-        let t3050: f32 = t213 * t3049;
-        let t3051: f32 = t2855 * t3050;
-        let t3052: f32 = t3047 - t3051;
-        let t3053: f32 = t238 * t1963;
-        let t3054: f32 = t192 * t1968;
-        let t3055: f32 = t3053 + t3054;
-        let t3056: f32 = t2848 * t3048;
-        let t3057: f32 = t1978 + t3056;
-        let t3058: f32 = t3055 + t3057;
-        let t3059: f32 = t3052 - t3058;
-        let t3060: f32 = -t3059;
-        let t3061: f32 = t152 * t3060;
-        let t3062: f32 = t266 * t2913;
-        let t3063: f32 = t291 * t358;
-        let t3064: f32 = t2053 * t3063;
-        let t3065: f32 = t291 * t312;
-        let t3066: f32 = t331 * t3065;
-        let t3067: f32 = t333 * t3066;
-        let t3068: f32 = t2893 * t3067;
-        let t3069: f32 = t3064 - t3068;
-        let t3070: f32 = t358 * t2119;
-        let t3071: f32 = t312 * t2124;
-        let t3072: f32 = t3070 + t3071;
-        let t3073: f32 = t2886 * t3065;
-        let t3074: f32 = t2134 + t3073;
-        let t3075: f32 = t3072 + t3074;
-        let t3076: f32 = t3069 - t3075;
-        let t3077: f32 = -t3076;
-        let t3078: f32 = t272 * t3077;
-        let t3079: f32 = t386 * t2951;
-        let t3080: f32 = t411 * t478;
-        let t3081: f32 = t2210 * t3080;
-        let t3082: f32 = t411 * t432;
-        let t3083: f32 = t451 * t3082;
-        let t3084: f32 = t453 * t3083;
-        let t3085: f32 = t2931 * t3084;
-        let t3086: f32 = t3081 - t3085;
-        let t3087: f32 = t478 * t2276;
-        let t3088: f32 = t432 * t2281;
-        let t3089: f32 = t3087 + t3088;
-        let t3090: f32 = t2924 * t3082;
-        let t3091: f32 = t2291 + t3090;
-        let t3092: f32 = t3089 + t3091;
-        let t3093: f32 = t3086 - t3092;
-        let t3094: f32 = -t3093;
-        let t3095: f32 = t392 * t3094;
-        let t3096: f32 = t506 * t2989;
-        let t3097: f32 = t531 * t598;
-        let t3098: f32 = t2366 * t3097;
-        let t3099: f32 = t531 * t552;
-        let t3100: f32 = t571 * t3099;
-        let t3101: f32 = t573 * t3100;
-        let t3102: f32 = t2969 * t3101;
-        let t3103: f32 = t3098 - t3102;
-        let t3104: f32 = t598 * t2432;
-        let t3105: f32 = t552 * t2437;
-        let t3106: f32 = t3104 + t3105;
-        let t3107: f32 = t2962 * t3099;
-        let t3108: f32 = t2447 + t3107;
-        let t3109: f32 = t3106 + t3108;
-        let t3110: f32 = t3103 - t3109;
+        let t3003: f32 = t3000 + t3001;
+        let t3004: f32 = t1660 + t3002;
+        let t3005: f32 = t3003 + t3004;
+        let t3006: f32 = t2939 + t2951;
+        let t3007: f32 = t2963 + t2975;
+        let t3008: f32 = t2987 + t2999;
+        let t3009: f32 = t3006 + t3007;
+        let t3010: f32 = t3008 + t3009;
+        let t3011: f32 = t3005 - t3010;
+        let t3012: f32 = t777 * t3011;
+        let t3013: f32 = t1179 * t3012;
+        let t3014: f32 = t2762 + t2792;
+        let t3015: f32 = t2822 + t2852;
+        let t3016: f32 = t2882 + t2912;
+        let t3017: f32 = t3014 + t3015;
+        let t3018: f32 = t2413 + t3016;
+        let t3019: f32 = t3017 + t3018;
+        let t3020: f32 = t2777 + t2807;
+        let t3021: f32 = t2837 + t2867;
+        let t3022: f32 = t2897 + t2927;
+        let t3023: f32 = t3020 + t3021;
+        let t3024: f32 = t3013 + t3022;
+        let t3025: f32 = t3023 + t3024;
+        let t3026: f32 = t3019 - t3025;
+        let t3027: f32 = t1183 * t3026;
+        let t3028: f32 = t1233 * t1267;
+        let t3029: f32 = t2722 * t3028;
+        let t3030: f32 = t1362 * t3012;
+        let t3031: f32 = t1373 * t3027;
+        let t3032: f32 = t32 * t2761;
+        let t3033: f32 = t44 * t2937;
+        let t3034: f32 = t152 * t2791;
+        let t3035: f32 = t164 * t2949;
+        let t3036: f32 = t272 * t2821;
+        let t3037: f32 = t284 * t2961;
+        let t3038: f32 = t392 * t2851;
+        let t3039: f32 = t404 * t2973;
+        let t3040: f32 = t512 * t2881;
+        let t3041: f32 = t524 * t2985;
+        let t3042: f32 = t632 * t2911;
+        let t3043: f32 = t644 * t2997;
+        let t3044: f32 = t933 * t3012;
+        let t3045: f32 = t1228 * t3027;
+        let t3046: f32 = t3032 + t3034;
+        let t3047: f32 = t3036 + t3038;
+        let t3048: f32 = t3040 + t3042;
+        let t3049: f32 = t3046 + t3047;
+        let t3050: f32 = t2546 + t3048;
+        let t3051: f32 = t3049 + t3050;
+        let t3052: f32 = t3033 + t3035;
+        let t3053: f32 = t3037 + t3039;
+        let t3054: f32 = t3041 + t3043;
+        let t3055: f32 = t3044 + t3045;
+        let t3056: f32 = t3052 + t3053;
+        let t3057: f32 = t3054 + t3055;
+        let t3058: f32 = t3056 + t3057;
+        let t3059: f32 = t3051 - t3058;
+        let t3060: f32 = t1233 * t3059;
+        let t3061: f32 = t1390 * t3060;
+        let t3062: f32 = t1250 * t3012;
+        let t3063: f32 = t1266 * t3027;
+        let t3064: f32 = t1270 * t3060;
+        let t3065: f32 = t2614 + t2760;
+        let t3066: f32 = t2790 + t2820;
+        let t3067: f32 = t2850 + t2880;
+        let t3068: f32 = t3065 + t3066;
+        let t3069: f32 = t2910 + t3067;
+        let t3070: f32 = t3068 + t3069;
+        let t3071: f32 = t3062 + t3063;
+        let t3072: f32 = t3064 + t3071;
+        let t3073: f32 = t3070 - t3072;
+        let t3074: f32 = t1286 * t3073;
+        let t3075: f32 = t1403 * t3074;
+        let t3076: f32 = t1297 * t3012;
+        let t3077: f32 = t1306 * t3027;
+        let t3078: f32 = t1326 * t3060;
+        let t3079: f32 = t1331 * t3074;
+        let t3080: f32 = t2656 + t2936;
+        let t3081: f32 = t2949 + t2961;
+        let t3082: f32 = t2973 + t2985;
+        let t3083: f32 = t3080 + t3081;
+        let t3084: f32 = t2997 + t3082;
+        let t3085: f32 = t3083 + t3084;
+        let t3086: f32 = t3076 + t3077;
+        let t3087: f32 = t3078 + t3079;
+        let t3088: f32 = t3086 + t3087;
+        let t3089: f32 = t3085 - t3088;
+        let t3090: f32 = t1350 * t3089;
+        let t3091: f32 = t1409 * t3090;
+        let t3092: f32 = t2776 + t2806;
+        let t3093: f32 = t2836 + t2866;
+        let t3094: f32 = t2896 + t2926;
+        let t3095: f32 = t3092 + t3093;
+        let t3096: f32 = t2692 + t3094;
+        let t3097: f32 = t3095 + t3096;
+        let t3098: f32 = t3030 + t3031;
+        let t3099: f32 = t3061 + t3075;
+        let t3100: f32 = t3098 + t3099;
+        let t3101: f32 = t3091 + t3100;
+        let t3102: f32 = t3097 - t3101;
+        let t3103: f32 = t1431 * t2625;
+        let t3104: f32 = t3102 * t3103;
+        let t3105: f32 = t1431 * t2668;
+        let t3106: f32 = t3102 * t3105;
+        let t3107: f32 = t3090 - t3106;
+        let t3108: f32 = t1404 * t3107;
+        let t3109: f32 = t3074 - t3108;
+        let t3110: f32 = t3104 - t3109;
         let t3111: f32 = -t3110;
-        let t3112: f32 = t512 * t3111;
-        let t3113: f32 = t626 * t3027;
-        let t3114: f32 = t651 * t718;
-        let t3115: f32 = t1496 * t3114;
-        let t3116: f32 = t651 * t672;
-        let t3117: f32 = t691 * t3116;
-        let t3118: f32 = t693 * t3117;
-        let t3119: f32 = t3007 * t3118;
-        let t3120: f32 = t3115 - t3119;
-        let t3121: f32 = t718 * t1562;
-        let t3122: f32 = t672 * t1567;
-        let t3123: f32 = t3121 + t3122;
-        let t3124: f32 = t3000 * t3116;
-        let t3125: f32 = t1577 + t3124;
-        let t3126: f32 = t3123 + t3125;
-        let t3127: f32 = t3120 - t3126;
-        let t3128: f32 = -t3127;
-        let t3129: f32 = t632 * t3128;
-        let t3130: f32 = t3044 + t3061;
-        let t3131: f32 = t3078 + t3095;
-        let t3132: f32 = t3112 + t3129;
+        let t3112: f32 = t1307 * t3111;
+        let t3113: f32 = t1374 * t3107;
+        let t3114: f32 = t1431 * t2506;
+        let t3115: f32 = t3102 * t3114;
+        let t3116: f32 = t3029 + t3112;
+        let t3117: f32 = t3113 + t3115;
+        let t3118: f32 = t3116 + t3117;
+        let t3119: f32 = t3118 - t3027;
+        let t3120: f32 = t1233 * t2722;
+        let t3121: f32 = -t3107;
+        let t3122: f32 = t1431 * t3102;
+        let t3123: f32 = -t3122;
+        let t3124: f32 = t51 * t70;
+        let t3125: f32 = t171 * t190;
+        let t3126: f32 = t291 * t310;
+        let t3127: f32 = t411 * t430;
+        let t3128: f32 = t531 * t550;
+        let t3129: f32 = t651 * t670;
+        let t3130: f32 = t1631 * t1631;
+        let t3131: f32 = t2389 * t2389;
+        let t3132: f32 = t2522 * t2522;
         let t3133: f32 = t3130 + t3131;
-        let t3134: f32 = t1672 + t3132;
-        let t3135: f32 = t3133 + t3134;
-        let t3136: f32 = t3029 + t3045;
-        let t3137: f32 = t3062 + t3079;
-        let t3138: f32 = t3096 + t3113;
-        let t3139: f32 = t3136 + t3137;
-        let t3140: f32 = t3138 + t3139;
-        let t3141: f32 = t3135 - t3140;
-        let t3142: f32 = t777 * t3141;
-        let t3143: f32 = t1211 * t3142;
-        let t3144: f32 = t19 * t2826;
-        let t3145: f32 = t44 * t3043;
-        let t3146: f32 = t146 * t2864;
-        let t3147: f32 = t164 * t3060;
-        let t3148: f32 = t266 * t2902;
-        let t3149: f32 = t284 * t3077;
-        let t3150: f32 = t386 * t2940;
-        let t3151: f32 = t404 * t3094;
-        let t3152: f32 = t506 * t2978;
-        let t3153: f32 = t524 * t3111;
-        let t3154: f32 = t626 * t3016;
-        let t3155: f32 = t644 * t3128;
-        let t3156: f32 = t933 * t3142;
-        let t3157: f32 = t3145 + t3147;
-        let t3158: f32 = t3149 + t3151;
-        let t3159: f32 = t3153 + t3155;
-        let t3160: f32 = t3157 + t3158;
-        let t3161: f32 = t2499 + t3159;
-        let t3162: f32 = t3160 + t3161;
-        let t3163: f32 = t3144 + t3146;
-        let t3164: f32 = t3148 + t3150;
-        let t3165: f32 = t3152 + t3154;
-        let t3166: f32 = t3163 + t3164;
-        let t3167: f32 = t3156 + t3165;
-        let t3168: f32 = t3166 + t3167;
-        let t3169: f32 = t3162 - t3168;
-        let t3170: f32 = t1068 * t3169;
-        let t3171: f32 = t1257 * t3170;
-        let t3172: f32 = t2838 + t2876;
-        let t3173: f32 = t2914 + t2952;
-        let t3174: f32 = t2990 + t3028;
-        let t3175: f32 = t3172 + t3173;
-        let t3176: f32 = t2596 + t3174;
-        let t3177: f32 = t3175 + t3176;
-        let t3178: f32 = t2827 + t2865;
-        let t3179: f32 = t2903 + t2941;
-        let t3180: f32 = t2979 + t3017;
-        let t3181: f32 = t3143 + t3171;
+        let t3134: f32 = t3132 + t3133;
+        let t3135: f32 = t1712 * t3134;
+        let t3136: f32 = t3135 + 1.0;
+        let t3137: f32 = t3136 / t3136;
+        let t3138: f32 = t2529 * t2529;
+        let t3139: f32 = t1855 * t3138;
+        let t3140: f32 = t1639 * t1639;
+        let t3141: f32 = t1855 * t3140;
+        let t3142: f32 = t2396 * t2396;
+        let t3143: f32 = t1855 * t3142;
+        let t3144: f32 = t3141 + t3143;
+        let t3145: f32 = t3139 + t3144;
+        let t3146: f32 = t3145 + 1.0;
+        let t3147: f32 = t1631 * t1639;
+        let t3148: f32 = t2389 * t2396;
+        let t3149: f32 = t2522 * t2529;
+        let t3150: f32 = t46 * t166;
+        let t3151: f32 = t34 * t154;
+        let t3152: f32 = t37 * t157;
+        let t3153: f32 = t3147 + t3148;
+        let t3154: f32 = t3149 + t3150;
+        let t3155: f32 = t3151 + t3152;
+        let t3156: f32 = t3153 + t3154;
+        let t3157: f32 = t3155 + t3156;
+        let t3158: f32 = t51 * t171;
+        let t3159: f32 = t3157 * t3158;
+        let t3160: f32 = 1.0 / t3136;
+        let t3161: f32 = t3159 * t3160;
+        let t3162: f32 = t3159 * t3161;
+        let t3163: f32 = t3146 - t3162;
+        let t3164: f32 = t3163 / t3146;
+        let t3165: f32 = t2533 * t2533;
+        let t3166: f32 = t1996 * t3165;
+        let t3167: f32 = t1644 * t1644;
+        let t3168: f32 = t1996 * t3167;
+        let t3169: f32 = t2400 * t2400;
+        let t3170: f32 = t1996 * t3169;
+        let t3171: f32 = t3168 + t3170;
+        let t3172: f32 = t3166 + t3171;
+        let t3173: f32 = t3172 + 1.0;
+        let t3174: f32 = t1631 * t1644;
+        let t3175: f32 = t2389 * t2400;
+        let t3176: f32 = t2522 * t2533;
+        let t3177: f32 = t46 * t286;
+        let t3178: f32 = t34 * t274;
+        let t3179: f32 = t37 * t277;
+        let t3180: f32 = t3174 + t3175;
+        let t3181: f32 = t3176 + t3177;
         let t3182: f32 = t3178 + t3179;
         let t3183: f32 = t3180 + t3181;
         let t3184: f32 = t3182 + t3183;
-        let t3185: f32 = t3177 - t3184;
-        let t3186: f32 = t1262 * t3185;
-        let t3187: f32 = t1286 * t1326;
-        let t3188: f32 = t2762 * t3187;
-        let t3189: f32 = t1349 * t1388;
-        let t3190: f32 = t2756 * t3189;
-        let t3191: f32 = t1360 * t3142;
-        let t3192: f32 = t1370 * t3170;
-        let t3193: f32 = t1387 * t3186;
-        let t3194: f32 = t1085 * t3142;
-        let t3195: f32 = t1088 * t3170;
-        let t3196: f32 = t1280 * t3186;
-        let t3197: f32 = t3194 + t3195;
-        let t3198: f32 = t2825 + t3196;
-        let t3199: f32 = t2863 + t2901;
-        let t3200: f32 = t2939 + t2977;
-        let t3201: f32 = t3197 + t3198;
-        let t3202: f32 = t3199 + t3200;
-        let t3203: f32 = t3201 + t3202;
-        let t3204: f32 = t3015 + t3203;
-        let t3205: f32 = t2661 - t3204;
-        let t3206: f32 = t1286 * t3205;
-        let t3207: f32 = t1400 * t3206;
-        let t3208: f32 = t1297 * t3142;
-        let t3209: f32 = t1306 * t3170;
-        let t3210: f32 = t1325 * t3186;
-        let t3211: f32 = t1330 * t3206;
-        let t3212: f32 = t2705 + t3210;
-        let t3213: f32 = t3208 + t3209;
-        let t3214: f32 = t2836 + t3211;
-        let t3215: f32 = t2875 + t2913;
-        let t3216: f32 = t2951 + t2989;
-        let t3217: f32 = t3213 + t3214;
-        let t3218: f32 = t3215 + t3216;
-        let t3219: f32 = t3217 + t3218;
-        let t3220: f32 = t3027 + t3219;
-        let t3221: f32 = t3212 - t3220;
-        let t3222: f32 = t1349 * t3221;
-        let t3223: f32 = t1406 * t3222;
-        let t3224: f32 = t3191 + t3192;
-        let t3225: f32 = t3059 + t3076;
-        let t3226: f32 = t3093 + t3110;
-        let t3227: f32 = t2742 + t3127;
+        let t3185: f32 = t51 * t291;
+        let t3186: f32 = t3184 * t3185;
+        let t3187: f32 = t3160 * t3186;
+        let t3188: f32 = t3186 * t3187;
+        let t3189: f32 = t3161 * t3186;
+        let t3190: f32 = t1639 * t1644;
+        let t3191: f32 = t2396 * t2400;
+        let t3192: f32 = t2529 * t2533;
+        let t3193: f32 = t166 * t286;
+        let t3194: f32 = t154 * t274;
+        let t3195: f32 = t157 * t277;
+        let t3196: f32 = t3190 + t3191;
+        let t3197: f32 = t3192 + t3193;
+        let t3198: f32 = t3194 + t3195;
+        let t3199: f32 = t3196 + t3197;
+        let t3200: f32 = t3198 + t3199;
+        let t3201: f32 = t171 * t291;
+        let t3202: f32 = t3200 * t3201;
+        let t3203: f32 = t3189 - t3202;
+        let t3204: f32 = -t3203;
+        let t3205: f32 = 1.0 / t3163;
+        let t3206: f32 = t3204 * t3205;
+        let t3207: f32 = t3204 * t3206;
+        let t3208: f32 = t3188 + t3207;
+        let t3209: f32 = t3173 - t3208;
+        let t3210: f32 = t3209 / t3173;
+        let t3211: f32 = t2538 * t2538;
+        let t3212: f32 = t2138 * t3211;
+        let t3213: f32 = t1650 * t1650;
+        let t3214: f32 = t2138 * t3213;
+        let t3215: f32 = t2405 * t2405;
+        let t3216: f32 = t2138 * t3215;
+        let t3217: f32 = t3214 + t3216;
+        let t3218: f32 = t3212 + t3217;
+        let t3219: f32 = t3218 + 1.0;
+        let t3220: f32 = t1631 * t1650;
+        let t3221: f32 = t2389 * t2405;
+        let t3222: f32 = t2522 * t2538;
+        let t3223: f32 = t46 * t406;
+        let t3224: f32 = t34 * t394;
+        let t3225: f32 = t37 * t397;
+        let t3226: f32 = t3220 + t3221;
+        let t3227: f32 = t3222 + t3223;
         let t3228: f32 = t3224 + t3225;
         let t3229: f32 = t3226 + t3227;
         let t3230: f32 = t3228 + t3229;
-        let t3231: f32 = t3193 + t3207;
-        let t3232: f32 = t3042 + t3223;
-        let t3233: f32 = t3231 + t3232;
-        let t3234: f32 = t3230 - t3233;
-        let t3235: f32 = t1428 * t2625;
-        let t3236: f32 = t3234 * t3235;
-        let t3237: f32 = t3188 + t3236;
-        let t3238: f32 = t3186 + t3190;
-        let t3239: f32 = t3237 - t3238;
-        let t3240: f32 = t1286 * t2762;
-        let t3241: f32 = t1349 * t2756;
-        let t3242: f32 = t1428 * t3234;
-        let t3243: f32 = t51 * t70;
-        let t3244: f32 = t171 * t190;
-        let t3245: f32 = t291 * t310;
-        let t3246: f32 = t411 * t430;
-        let t3247: f32 = t531 * t550;
-        let t3248: f32 = t651 * t670;
-        let t3249: f32 = t1661 * t1661;
-        let t3250: f32 = t2481 * t2481;
-        let t3251: f32 = t2578 * t2578;
-        let t3252: f32 = t3249 + t3250;
-        let t3253: f32 = t3251 + t3252;
-        let t3254: f32 = t2802 * t3253;
-        let t3255: f32 = t3254 + 1.0;
-        let t3256: f32 = t3255 / t3255;
-        let t3257: f32 = t2582 * t2582;
-        let t3258: f32 = t2840 * t3257;
-        let t3259: f32 = t1666 * t1666;
-        let t3260: f32 = t2840 * t3259;
-        let t3261: f32 = t2485 * t2485;
-        let t3262: f32 = t2840 * t3261;
-        let t3263: f32 = t3260 + t3262;
-        let t3264: f32 = t3258 + t3263;
-        let t3265: f32 = t3264 + 1.0;
-        let t3266: f32 = t1661 * t1666;
-        let t3267: f32 = t2481 * t2485;
-        let t3268: f32 = t2578 * t2582;
-        let t3269: f32 = t46 * t166;
-        let t3270: f32 = t34 * t154;
-        let t3271: f32 = t37 * t157;
-        let t3272: f32 = t3266 + t3267;
-        let t3273: f32 = t3268 + t3269;
-        let t3274: f32 = t3270 + t3271;
-        let t3275: f32 = t3272 + t3273;
-        let t3276: f32 = t3274 + t3275;
-        let t3277: f32 = t51 * t171;
-        let t3278: f32 = t3276 * t3277;
-        let t3279: f32 = 1.0 / t3255;
-        let t3280: f32 = t3278 * t3279;
-        let t3281: f32 = t3278 * t3280;
-        let t3282: f32 = t3265 - t3281;
-        let t3283: f32 = t3282 / t3265;
-        let t3284: f32 = t2587 * t2587;
-        let t3285: f32 = t2878 * t3284;
-        let t3286: f32 = t1587 * t1587;
-        let t3287: f32 = t2878 * t3286;
-        let t3288: f32 = t2490 * t2490;
-        let t3289: f32 = t2878 * t3288;
-        let t3290: f32 = t3287 + t3289;
-        let t3291: f32 = t3285 + t3290;
-        let t3292: f32 = t3291 + 1.0;
-        let t3293: f32 = t1587 * t1661;
-        let t3294: f32 = t2481 * t2490;
-        let t3295: f32 = t2578 * t2587;
-        let t3296: f32 = t46 * t286;
-        let t3297: f32 = t34 * t274;
-        let t3298: f32 = t37 * t277;
-        let t3299: f32 = t3293 + t3294;
-        let t3300: f32 = t3295 + t3296;
-        let t3301: f32 = t3297 + t3298;
-        let t3302: f32 = t3299 + t3300;
-        let t3303: f32 = t3301 + t3302;
-        let t3304: f32 = t51 * t291;
-        let t3305: f32 = t3303 * t3304;
-        let t3306: f32 = t3279 * t3305;
-        let t3307: f32 = t3305 * t3306;
-        let t3308: f32 = t3280 * t3305;
-        let t3309: f32 = t1587 * t1666;
-        let t3310: f32 = t2485 * t2490;
-        let t3311: f32 = t2582 * t2587;
-        let t3312: f32 = t166 * t286;
-        let t3313: f32 = t154 * t274;
-        let t3314: f32 = t157 * t277;
-        let t3315: f32 = t3309 + t3310;
-        let t3316: f32 = t3311 + t3312;
-        let t3317: f32 = t3313 + t3314;
-        let t3318: f32 = t3315 + t3316;
-        let t3319: f32 = t3317 + t3318;
-        let t3320: f32 = t171 * t291;
-        let t3321: f32 = t3319 * t3320;
-        let t3322: f32 = t3308 - t3321;
-        let t3323: f32 = -t3322;
-        let t3324: f32 = 1.0 / t3282;
-        let t3325: f32 = t3323 * t3324;
-        let t3326: f32 = t3323 * t3325;
-        let t3327: f32 = t3307 + t3326;
-        let t3328: f32 = t3292 - t3327;
-        let t3329: f32 = t3328 / t3292;
-        let t3330: f32 = t2591 * t2591;
-        let t3331: f32 = t2916 * t3330;
-        let t3332: f32 = t1592 * t1592;
-        let t3333: f32 = t2916 * t3332;
-        let t3334: f32 = t2494 * t2494;
-        let t3335: f32 = t2916 * t3334;
-        let t3336: f32 = t3333 + t3335;
-        let t3337: f32 = t3331 + t3336;
-        let t3338: f32 = t3337 + 1.0;
-        let t3339: f32 = t1592 * t1661;
-        let t3340: f32 = t2481 * t2494;
-        let t3341: f32 = t2578 * t2591;
-        let t3342: f32 = t46 * t406;
-        let t3343: f32 = t34 * t394;
-        let t3344: f32 = t37 * t397;
-        let t3345: f32 = t3339 + t3340;
-        let t3346: f32 = t3341 + t3342;
-        let t3347: f32 = t3343 + t3344;
-        let t3348: f32 = t3345 + t3346;
-        let t3349: f32 = t3347 + t3348;
-        let t3350: f32 = t51 * t411;
-        let t3351: f32 = t3349 * t3350;
-        let t3352: f32 = t3279 * t3351;
-        let t3353: f32 = t3351 * t3352;
-        let t3354: f32 = t3280 * t3351;
-        let t3355: f32 = t1592 * t1666;
-        let t3356: f32 = t2485 * t2494;
-        let t3357: f32 = t2582 * t2591;
-        let t3358: f32 = t166 * t406;
-        let t3359: f32 = t154 * t394;
-        let t3360: f32 = t157 * t397;
-        let t3361: f32 = t3355 + t3356;
-        let t3362: f32 = t3357 + t3358;
-        let t3363: f32 = t3359 + t3360;
-        let t3364: f32 = t3361 + t3362;
+        let t3231: f32 = t51 * t411;
+        let t3232: f32 = t3230 * t3231;
+        let t3233: f32 = t3160 * t3232;
+        let t3234: f32 = t3232 * t3233;
+        let t3235: f32 = t3161 * t3232;
+        let t3236: f32 = t1639 * t1650;
+        let t3237: f32 = t2396 * t2405;
+        let t3238: f32 = t2529 * t2538;
+        let t3239: f32 = t166 * t406;
+        let t3240: f32 = t154 * t394;
+        let t3241: f32 = t157 * t397;
+        let t3242: f32 = t3236 + t3237;
+        let t3243: f32 = t3238 + t3239;
+        let t3244: f32 = t3240 + t3241;
+        let t3245: f32 = t3242 + t3243;
+        let t3246: f32 = t3244 + t3245;
+        let t3247: f32 = t171 * t411;
+        let t3248: f32 = t3246 * t3247;
+        let t3249: f32 = t3235 - t3248;
+        let t3250: f32 = -t3249;
+        let t3251: f32 = t3205 * t3250;
+        let t3252: f32 = t3250 * t3251;
+        let t3253: f32 = t3187 * t3232;
+        let t3254: f32 = t3206 * t3250;
+        let t3255: f32 = t1644 * t1650;
+        let t3256: f32 = t2400 * t2405;
+        let t3257: f32 = t2533 * t2538;
+        let t3258: f32 = t286 * t406;
+        let t3259: f32 = t274 * t394;
+        let t3260: f32 = t277 * t397;
+        let t3261: f32 = t3255 + t3256;
+        let t3262: f32 = t3257 + t3258;
+        let t3263: f32 = t3259 + t3260;
+        let t3264: f32 = t3261 + t3262;
+        let t3265: f32 = t3263 + t3264;
+        let t3266: f32 = t291 * t411;
+        let t3267: f32 = t3265 * t3266;
+        let t3268: f32 = t3253 + t3254;
+        let t3269: f32 = t3268 - t3267;
+        let t3270: f32 = -t3269;
+        let t3271: f32 = 1.0 / t3209;
+        let t3272: f32 = t3270 * t3271;
+        let t3273: f32 = t3270 * t3272;
+        let t3274: f32 = t3234 + t3252;
+        let t3275: f32 = t3273 + t3274;
+        let t3276: f32 = t3219 - t3275;
+        let t3277: f32 = t3276 / t3219;
+        let t3278: f32 = t2542 * t2542;
+        let t3279: f32 = t2279 * t3278;
+        let t3280: f32 = t1655 * t1655;
+        let t3281: f32 = t2279 * t3280;
+        let t3282: f32 = t2409 * t2409;
+        let t3283: f32 = t2279 * t3282;
+        let t3284: f32 = t3281 + t3283;
+        let t3285: f32 = t3279 + t3284;
+        let t3286: f32 = t3285 + 1.0;
+        let t3287: f32 = t1631 * t1655;
+        let t3288: f32 = t2389 * t2409;
+        let t3289: f32 = t2522 * t2542;
+        let t3290: f32 = t46 * t526;
+        let t3291: f32 = t34 * t514;
+        let t3292: f32 = t37 * t517;
+        let t3293: f32 = t3287 + t3288;
+        let t3294: f32 = t3289 + t3290;
+        let t3295: f32 = t3291 + t3292;
+        let t3296: f32 = t3293 + t3294;
+        let t3297: f32 = t3295 + t3296;
+        let t3298: f32 = t51 * t531;
+        let t3299: f32 = t3297 * t3298;
+        let t3300: f32 = t3160 * t3299;
+        let t3301: f32 = t3299 * t3300;
+        let t3302: f32 = t3161 * t3299;
+        let t3303: f32 = t1639 * t1655;
+        let t3304: f32 = t2396 * t2409;
+        let t3305: f32 = t2529 * t2542;
+        let t3306: f32 = t166 * t526;
+        let t3307: f32 = t154 * t514;
+        let t3308: f32 = t157 * t517;
+        let t3309: f32 = t3303 + t3304;
+        let t3310: f32 = t3305 + t3306;
+        let t3311: f32 = t3307 + t3308;
+        let t3312: f32 = t3309 + t3310;
+        let t3313: f32 = t3311 + t3312;
+        let t3314: f32 = t171 * t531;
+        let t3315: f32 = t3313 * t3314;
+        let t3316: f32 = t3302 - t3315;
+        let t3317: f32 = -t3316;
+        let t3318: f32 = t3205 * t3317;
+        let t3319: f32 = t3317 * t3318;
+        let t3320: f32 = t3187 * t3299;
+        let t3321: f32 = t3206 * t3317;
+        let t3322: f32 = t1644 * t1655;
+        let t3323: f32 = t2400 * t2409;
+        let t3324: f32 = t2533 * t2542;
+        let t3325: f32 = t286 * t526;
+        let t3326: f32 = t274 * t514;
+        let t3327: f32 = t277 * t517;
+        let t3328: f32 = t3322 + t3323;
+        let t3329: f32 = t3324 + t3325;
+        let t3330: f32 = t3326 + t3327;
+        let t3331: f32 = t3328 + t3329;
+        let t3332: f32 = t3330 + t3331;
+        let t3333: f32 = t291 * t531;
+        let t3334: f32 = t3332 * t3333;
+        let t3335: f32 = t3320 + t3321;
+        let t3336: f32 = t3335 - t3334;
+        let t3337: f32 = -t3336;
+        let t3338: f32 = t3271 * t3337;
+        let t3339: f32 = t3337 * t3338;
+        let t3340: f32 = t3233 * t3299;
+        let t3341: f32 = t3251 * t3317;
+        let t3342: f32 = t3272 * t3337;
+        let t3343: f32 = t1650 * t1655;
+        let t3344: f32 = t2405 * t2409;
+        let t3345: f32 = t2538 * t2542;
+        let t3346: f32 = t406 * t526;
+        let t3347: f32 = t394 * t514;
+        let t3348: f32 = t397 * t517;
+        let t3349: f32 = t3343 + t3344;
+        let t3350: f32 = t3345 + t3346;
+        let t3351: f32 = t3347 + t3348;
+        let t3352: f32 = t3349 + t3350;
+        let t3353: f32 = t3351 + t3352;
+        let t3354: f32 = t411 * t531;
+        let t3355: f32 = t3353 * t3354;
+        let t3356: f32 = t3340 + t3341;
+        let t3357: f32 = t3342 + t3356;
+        let t3358: f32 = t3357 - t3355;
+        let t3359: f32 = -t3358;
+        let t3360: f32 = 1.0 / t3276;
+        let t3361: f32 = t3359 * t3360;
+        let t3362: f32 = t3359 * t3361;
+        let t3363: f32 = t3301 + t3319;
+        let t3364: f32 = t3339 + t3362;
         let t3365: f32 = t3363 + t3364;
-        let t3366: f32 = t171 * t411;
-        let t3367: f32 = t3365 * t3366;
-        let t3368: f32 = t3354 - t3367;
-        let t3369: f32 = -t3368;
-        let t3370: f32 = t3324 * t3369;
-        let t3371: f32 = t3369 * t3370;
-        let t3372: f32 = t3306 * t3351;
-        let t3373: f32 = t3325 * t3369;
-        let t3374: f32 = t1587 * t1592;
-        let t3375: f32 = t2490 * t2494;
-        let t3376: f32 = t2587 * t2591;
-        let t3377: f32 = t286 * t406;
-        let t3378: f32 = t274 * t394;
-        let t3379: f32 = t277 * t397;
-        let t3380: f32 = t3374 + t3375;
-        let t3381: f32 = t3376 + t3377;
-        let t3382: f32 = t3378 + t3379;
-        let t3383: f32 = t3380 + t3381;
-        let t3384: f32 = t3382 + t3383;
-        let t3385: f32 = t291 * t411;
-        let t3386: f32 = t3384 * t3385;
-        let t3387: f32 = t3372 + t3373;
-        let t3388: f32 = t3387 - t3386;
-        let t3389: f32 = -t3388;
-        let t3390: f32 = 1.0 / t3328;
+        let t3366: f32 = t3286 - t3365;
+        let t3367: f32 = t3366 / t3286;
+        let t3368: f32 = t2513 * t2513;
+        let t3369: f32 = t1483 * t3368;
+        let t3370: f32 = t1618 * t1618;
+        let t3371: f32 = t1483 * t3370;
+        let t3372: f32 = t2380 * t2380;
+        let t3373: f32 = t1483 * t3372;
+        let t3374: f32 = t3371 + t3373;
+        let t3375: f32 = t3369 + t3374;
+        let t3376: f32 = t3375 + 1.0;
+        let t3377: f32 = t1618 * t1631;
+        let t3378: f32 = t2380 * t2389;
+        let t3379: f32 = t2513 * t2522;
+        let t3380: f32 = t46 * t646;
+        let t3381: f32 = t34 * t634;
+        let t3382: f32 = t37 * t637;
+        let t3383: f32 = t3377 + t3378;
+        let t3384: f32 = t3379 + t3380;
+        let t3385: f32 = t3381 + t3382;
+        let t3386: f32 = t3383 + t3384;
+        let t3387: f32 = t3385 + t3386;
+        let t3388: f32 = t51 * t651;
+        let t3389: f32 = t3387 * t3388;
+        let t3390: f32 = t3160 * t3389;
         let t3391: f32 = t3389 * t3390;
-        let t3392: f32 = t3389 * t3391;
-        let t3393: f32 = t3353 + t3371;
-        let t3394: f32 = t3392 + t3393;
-        let t3395: f32 = t3338 - t3394;
-        let t3396: f32 = t3395 / t3338;
-        let t3397: f32 = t2560 * t2560;
-        let t3398: f32 = t2954 * t3397;
-        let t3399: f32 = t1598 * t1598;
-        let t3400: f32 = t2954 * t3399;
-        let t3401: f32 = t2463 * t2463;
-        let t3402: f32 = t2954 * t3401;
-        let t3403: f32 = t3400 + t3402;
-        let t3404: f32 = t3398 + t3403;
-        let t3405: f32 = t3404 + 1.0;
-        let t3406: f32 = t1598 * t1661;
-        let t3407: f32 = t2463 * t2481;
-        let t3408: f32 = t2560 * t2578;
-        let t3409: f32 = t46 * t526;
-        let t3410: f32 = t34 * t514;
-        let t3411: f32 = t37 * t517;
-        let t3412: f32 = t3406 + t3407;
-        let t3413: f32 = t3408 + t3409;
-        let t3414: f32 = t3410 + t3411;
-        let t3415: f32 = t3412 + t3413;
-        let t3416: f32 = t3414 + t3415;
-        let t3417: f32 = t51 * t531;
-        let t3418: f32 = t3416 * t3417;
-        let t3419: f32 = t3279 * t3418;
-        let t3420: f32 = t3418 * t3419;
-        let t3421: f32 = t3280 * t3418;
-        let t3422: f32 = t1598 * t1666;
-        let t3423: f32 = t2463 * t2485;
-        let t3424: f32 = t2560 * t2582;
-        let t3425: f32 = t166 * t526;
-        let t3426: f32 = t154 * t514;
-        let t3427: f32 = t157 * t517;
-        let t3428: f32 = t3422 + t3423;
-        let t3429: f32 = t3424 + t3425;
-        let t3430: f32 = t3426 + t3427;
-        let t3431: f32 = t3428 + t3429;
-        let t3432: f32 = t3430 + t3431;
-        let t3433: f32 = t171 * t531;
-        let t3434: f32 = t3432 * t3433;
-        let t3435: f32 = t3421 - t3434;
-        let t3436: f32 = -t3435;
-        let t3437: f32 = t3324 * t3436;
-        let t3438: f32 = t3436 * t3437;
-        let t3439: f32 = t3306 * t3418;
-        let t3440: f32 = t3325 * t3436;
-        let t3441: f32 = t1587 * t1598;
-        let t3442: f32 = t2463 * t2490;
-        let t3443: f32 = t2560 * t2587;
-        let t3444: f32 = t286 * t526;
-        let t3445: f32 = t274 * t514;
-        let t3446: f32 = t277 * t517;
-        let t3447: f32 = t3441 + t3442;
-        let t3448: f32 = t3443 + t3444;
-        let t3449: f32 = t3445 + t3446;
-        let t3450: f32 = t3447 + t3448;
-        let t3451: f32 = t3449 + t3450;
-        let t3452: f32 = t291 * t531;
-        let t3453: f32 = t3451 * t3452;
-        let t3454: f32 = t3439 + t3440;
-        let t3455: f32 = t3454 - t3453;
-        let t3456: f32 = -t3455;
-        let t3457: f32 = t3390 * t3456;
-        let t3458: f32 = t3456 * t3457;
-        let t3459: f32 = t3352 * t3418;
-        let t3460: f32 = t3370 * t3436;
-        let t3461: f32 = t3391 * t3456;
-        let t3462: f32 = t1592 * t1598;
-        let t3463: f32 = t2463 * t2494;
-        let t3464: f32 = t2560 * t2591;
-        let t3465: f32 = t406 * t526;
-        let t3466: f32 = t394 * t514;
-        let t3467: f32 = t397 * t517;
-        let t3468: f32 = t3462 + t3463;
-        let t3469: f32 = t3464 + t3465;
-        let t3470: f32 = t3466 + t3467;
-        let t3471: f32 = t3468 + t3469;
-        let t3472: f32 = t3470 + t3471;
-        let t3473: f32 = t411 * t531;
-        let t3474: f32 = t3472 * t3473;
-        let t3475: f32 = t3459 + t3460;
-        let t3476: f32 = t3461 + t3475;
-        let t3477: f32 = t3476 - t3474;
-        let t3478: f32 = -t3477;
-        let t3479: f32 = 1.0 / t3395;
-        let t3480: f32 = t3478 * t3479;
-        let t3481: f32 = t3478 * t3480;
-        let t3482: f32 = t3420 + t3438;
-        let t3483: f32 = t3458 + t3481;
-        let t3484: f32 = t3482 + t3483;
-        let t3485: f32 = t3405 - t3484;
-        let t3486: f32 = t3485 / t3405;
-        let t3487: f32 = t2564 * t2564;
-        let t3488: f32 = t2992 * t3487;
-        let t3489: f32 = t1603 * t1603;
-        let t3490: f32 = t2992 * t3489;
-        let t3491: f32 = t2467 * t2467;
-        let t3492: f32 = t2992 * t3491;
-        let t3493: f32 = t3490 + t3492;
-        let t3494: f32 = t3488 + t3493;
-        let t3495: f32 = t3494 + 1.0;
-        let t3496: f32 = t1603 * t1661;
-        let t3497: f32 = t2467 * t2481;
-        let t3498: f32 = t2564 * t2578;
-        let t3499: f32 = t46 * t646;
-        let t3500: f32 = t34 * t634;
-        let t3501: f32 = t37 * t637;
-        let t3502: f32 = t3496 + t3497;
-        let t3503: f32 = t3498 + t3499;
-        let t3504: f32 = t3500 + t3501;
-        let t3505: f32 = t3502 + t3503;
-        let t3506: f32 = t3504 + t3505;
-        let t3507: f32 = t51 * t651;
-        let t3508: f32 = t3506 * t3507;
-        let t3509: f32 = t3279 * t3508;
-        let t3510: f32 = t3508 * t3509;
-        let t3511: f32 = t3280 * t3508;
-        let t3512: f32 = t1603 * t1666;
-        let t3513: f32 = t2467 * t2485;
-        let t3514: f32 = t2564 * t2582;
-        let t3515: f32 = t166 * t646;
-        let t3516: f32 = t154 * t634;
-        let t3517: f32 = t157 * t637;
-        let t3518: f32 = t3512 + t3513;
-        let t3519: f32 = t3514 + t3515;
-        let t3520: f32 = t3516 + t3517;
-        let t3521: f32 = t3518 + t3519;
-        let t3522: f32 = t3520 + t3521;
-        let t3523: f32 = t171 * t651;
-        let t3524: f32 = t3522 * t3523;
-        let t3525: f32 = t3511 - t3524;
-        let t3526: f32 = -t3525;
-        let t3527: f32 = t3324 * t3526;
-        let t3528: f32 = t3526 * t3527;
-        let t3529: f32 = t3306 * t3508;
-        let t3530: f32 = t3325 * t3526;
-        let t3531: f32 = t1587 * t1603;
-        let t3532: f32 = t2467 * t2490;
-        let t3533: f32 = t2564 * t2587;
-        let t3534: f32 = t286 * t646;
-        let t3535: f32 = t274 * t634;
-        let t3536: f32 = t277 * t637;
-        let t3537: f32 = t3531 + t3532;
-        let t3538: f32 = t3533 + t3534;
-        let t3539: f32 = t3535 + t3536;
-        let t3540: f32 = t3537 + t3538;
-        let t3541: f32 = t3539 + t3540;
-        let t3542: f32 = t291 * t651;
-        let t3543: f32 = t3541 * t3542;
-        let t3544: f32 = t3529 + t3530;
-        let t3545: f32 = t3544 - t3543;
-        let t3546: f32 = -t3545;
-        let t3547: f32 = t3390 * t3546;
-        let t3548: f32 = t3546 * t3547;
-        let t3549: f32 = t3352 * t3508;
-        let t3550: f32 = t3370 * t3526;
-        let t3551: f32 = t3391 * t3546;
-        let t3552: f32 = t1592 * t1603;
-        let t3553: f32 = t2467 * t2494;
-        let t3554: f32 = t2564 * t2591;
-        let t3555: f32 = t406 * t646;
-        let t3556: f32 = t394 * t634;
-        let t3557: f32 = t397 * t637;
-        let t3558: f32 = t3552 + t3553;
-        let t3559: f32 = t3554 + t3555;
-        let t3560: f32 = t3556 + t3557;
-        let t3561: f32 = t3558 + t3559;
-        let t3562: f32 = t3560 + t3561;
-        let t3563: f32 = t411 * t651;
-        let t3564: f32 = t3562 * t3563;
-        let t3565: f32 = t3549 + t3550;
-        let t3566: f32 = t3551 + t3565;
-        let t3567: f32 = t3566 - t3564;
-        let t3568: f32 = -t3567;
-        let t3569: f32 = t3479 * t3568;
-        let t3570: f32 = t3568 * t3569;
-        let t3571: f32 = t3419 * t3508;
-        let t3572: f32 = t3437 * t3526;
-        let t3573: f32 = t3457 * t3546;
-        let t3574: f32 = t3480 * t3568;
-        let t3575: f32 = t1598 * t1603;
-        let t3576: f32 = t2463 * t2467;
-        let t3577: f32 = t2560 * t2564;
-        let t3578: f32 = t526 * t646;
-        let t3579: f32 = t514 * t634;
-        let t3580: f32 = t517 * t637;
-        let t3581: f32 = t3575 + t3576;
-        let t3582: f32 = t3577 + t3578;
-        let t3583: f32 = t3579 + t3580;
-        let t3584: f32 = t3581 + t3582;
-        let t3585: f32 = t3583 + t3584;
-        let t3586: f32 = t531 * t651;
-        let t3587: f32 = t3585 * t3586;
-        let t3588: f32 = t3571 + t3572;
-        let t3589: f32 = t3573 + t3574;
-        let t3590: f32 = t3588 + t3589;
-        let t3591: f32 = t3590 - t3587;
-        let t3592: f32 = -t3591;
-        let t3593: f32 = t3592 / t3485;
-        let t3594: f32 = t3592 * t3593;
-        let t3595: f32 = t3510 + t3528;
-        let t3596: f32 = t3548 + t3570;
-        let t3597: f32 = t3595 + t3596;
-        let t3598: f32 = t3594 + t3597;
-        let t3599: f32 = t3495 - t3598;
-        let t3600: f32 = t3599 / t3495;
+        let t3392: f32 = t3161 * t3389;
+        let t3393: f32 = t1618 * t1639;
+        let t3394: f32 = t2380 * t2396;
+        let t3395: f32 = t2513 * t2529;
+        let t3396: f32 = t166 * t646;
+        let t3397: f32 = t154 * t634;
+        let t3398: f32 = t157 * t637;
+        let t3399: f32 = t3393 + t3394;
+        let t3400: f32 = t3395 + t3396;
+        let t3401: f32 = t3397 + t3398;
+        let t3402: f32 = t3399 + t3400;
+        let t3403: f32 = t3401 + t3402;
+        let t3404: f32 = t171 * t651;
+        let t3405: f32 = t3403 * t3404;
+        let t3406: f32 = t3392 - t3405;
+        let t3407: f32 = -t3406;
+        let t3408: f32 = t3205 * t3407;
+        let t3409: f32 = t3407 * t3408;
+        let t3410: f32 = t3187 * t3389;
+        let t3411: f32 = t3206 * t3407;
+        let t3412: f32 = t1618 * t1644;
+        let t3413: f32 = t2380 * t2400;
+        let t3414: f32 = t2513 * t2533;
+        let t3415: f32 = t286 * t646;
+        let t3416: f32 = t274 * t634;
+        let t3417: f32 = t277 * t637;
+        let t3418: f32 = t3412 + t3413;
+        let t3419: f32 = t3414 + t3415;
+        let t3420: f32 = t3416 + t3417;
+        let t3421: f32 = t3418 + t3419;
+        let t3422: f32 = t3420 + t3421;
+        let t3423: f32 = t291 * t651;
+        let t3424: f32 = t3422 * t3423;
+        let t3425: f32 = t3410 + t3411;
+        let t3426: f32 = t3425 - t3424;
+        let t3427: f32 = -t3426;
+        let t3428: f32 = t3271 * t3427;
+        let t3429: f32 = t3427 * t3428;
+        let t3430: f32 = t3233 * t3389;
+        let t3431: f32 = t3251 * t3407;
+        let t3432: f32 = t3272 * t3427;
+        let t3433: f32 = t1618 * t1650;
+        let t3434: f32 = t2380 * t2405;
+        let t3435: f32 = t2513 * t2538;
+        let t3436: f32 = t406 * t646;
+        let t3437: f32 = t394 * t634;
+        let t3438: f32 = t397 * t637;
+        let t3439: f32 = t3433 + t3434;
+        let t3440: f32 = t3435 + t3436;
+        let t3441: f32 = t3437 + t3438;
+        let t3442: f32 = t3439 + t3440;
+        let t3443: f32 = t3441 + t3442;
+        let t3444: f32 = t411 * t651;
+        let t3445: f32 = t3443 * t3444;
+        let t3446: f32 = t3430 + t3431;
+        let t3447: f32 = t3432 + t3446;
+        let t3448: f32 = t3447 - t3445;
+        let t3449: f32 = -t3448;
+        let t3450: f32 = t3360 * t3449;
+        let t3451: f32 = t3449 * t3450;
+        let t3452: f32 = t3300 * t3389;
+        let t3453: f32 = t3318 * t3407;
+        let t3454: f32 = t3338 * t3427;
+        let t3455: f32 = t3361 * t3449;
+        let t3456: f32 = t1618 * t1655;
+        let t3457: f32 = t2380 * t2409;
+        let t3458: f32 = t2513 * t2542;
+        let t3459: f32 = t526 * t646;
+        let t3460: f32 = t514 * t634;
+        let t3461: f32 = t517 * t637;
+        let t3462: f32 = t3456 + t3457;
+        let t3463: f32 = t3458 + t3459;
+        let t3464: f32 = t3460 + t3461;
+        let t3465: f32 = t3462 + t3463;
+        let t3466: f32 = t3464 + t3465;
+        let t3467: f32 = t531 * t651;
+        let t3468: f32 = t3466 * t3467;
+        let t3469: f32 = t3452 + t3453;
+        let t3470: f32 = t3454 + t3455;
+        let t3471: f32 = t3469 + t3470;
+        let t3472: f32 = t3471 - t3468;
+        let t3473: f32 = -t3472;
+        let t3474: f32 = t3473 / t3366;
+        let t3475: f32 = t3473 * t3474;
+        let t3476: f32 = t3391 + t3409;
+        let t3477: f32 = t3429 + t3451;
+        let t3478: f32 = t3476 + t3477;
+        let t3479: f32 = t3475 + t3478;
+        let t3480: f32 = t3376 - t3479;
+        let t3481: f32 = t3480 / t3376;
         (
-            t3239,
-            t3240,
-            t3241,
-            t3242,
-            t3243,
-            t3244,
-            t3245,
-            t3246,
-            t3247,
-            t3248,
-            t3256,
-            t3283,
-            t3329,
-            t3396,
-            t3486,
-            t3600,
+            t3110,
+            t3119,
+            t3120,
+            t3121,
+            t3123,
+            t3124,
+            t3125,
+            t3126,
+            t3127,
+            t3128,
+            t3129,
+            t3137,
+            t3164,
+            t3210,
+            t3277,
+            t3367,
+            t3481,
         )
     };
     (
-        [t2799, t2800, t3239, t3240, t3241, t3242],
+        [t2747, t3119, t3120, t3110, t3121, t3123],
         [
-            t3243,
-            t3244,
-            t3245,
-            t3246,
-            t3247,
-            t3248,
-            t3256,
-            t3283,
-            t3329,
-            t3396,
-            t3486,
-            t3600,
+            t3124,
+            t3125,
+            t3126,
+            t3127,
+            t3128,
+            t3129,
+            t3137,
+            t3164,
+            t3210,
+            t3277,
+            t3367,
+            t3481,
         ],
     )
 }

@@ -9,9 +9,9 @@
 //   joint_accelerations                295    6   237    5  3 sin_cos, 12 sqrt
 //   leg_wrench                         874   12   567   19  3 sin_cos, 12 sqrt
 //   platform_wrench                    106    0    51    0  3 sin_cos
-//   task_inertia                       888   12   663   11  3 sin_cos, 12 sqrt
+//   task_inertia                       768   12   573   11  3 sin_cos, 12 sqrt
 //   task_bias                          893   12   543   19  3 sin_cos, 12 sqrt
-//   forward_dynamics                  2091   29  1503   39  3 sin_cos, 12 sqrt
+//   forward_dynamics                  1930   29  1386   36  3 sin_cos, 12 sqrt
 //   inverse_dynamics                  1206   24   793   39  3 sin_cos, 12 sqrt
 //   singularity_terms                  342   17   227   15  3 sin_cos, 12 sqrt
 //   forward_kinematics_step            260    6   153   16  3 sin_cos, 12 sqrt
@@ -5214,185 +5214,125 @@ pub fn platform_wrench(pose: &[f32; 6], twist: &[f32; 6], accel: &[f32; 6]) -> [
 /// - `m`: `M_x` (kg, kg·m, kg·m²), rows and columns `[ωx ωy ωz vx vy vz]`, base frame
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
-/// Operations: 888 mul, 12 div, 663 add, 11 neg, 3 sin_cos, 12 sqrt (chapter convention: 900m + 663a).
+/// Operations: 768 mul, 12 div, 573 add, 11 neg, 3 sin_cos, 12 sqrt (chapter convention: 780m + 573a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let (
         t0,
-        t1,
         t3,
         t4,
-        t5,
-        t6,
-        t8,
         t10,
         t14,
-        t17,
-        t21,
-        t24,
         t27,
         t34,
         t44,
         t59,
-        t61,
-        t67,
-        t79,
-        t80,
-        t83,
-        t85,
         t96,
-        t114,
-        t127,
-        t129,
-        t139,
-        t152,
-        t154,
-        t156,
-        t157,
-        t160,
-        t170,
-        t184,
+        t124,
+        t133,
+        t137,
+        t138,
+        t141,
+        t151,
+        t165,
+        t173,
         t186,
-        t192,
-        t204,
-        t205,
-        t208,
-        t210,
-        t221,
+        t189,
+        t202,
+        t230,
         t239,
-        t252,
-        t254,
-        t264,
+        t245,
+        t248,
+        t253,
+        t263,
         t277,
-        t279,
-        t283,
-        t286,
-        t291,
+        t285,
+        t298,
         t301,
-        t315,
-        t317,
-        t323,
-        t335,
-        t336,
-        t339,
-        t341,
-        t352,
-        t370,
-        t383,
-        t385,
-        t395,
-        t408,
+        t314,
+        t342,
+        t351,
+        t357,
+        t360,
+        t365,
+        t375,
+        t389,
+        t397,
         t410,
-        t414,
-        t417,
-        t422,
-        t432,
-        t446,
-        t448,
+        t413,
+        t426,
         t454,
-        t466,
+        t463,
         t467,
-        t470,
-        t472,
-        t483,
-        t501,
-        t514,
-        t516,
-        t526,
-        t539,
-        t541,
-        t543,
-        t544,
-        t547,
-        t557,
-        t570,
+        t468,
+        t471,
+        t481,
+        t494,
+        t502,
+        t515,
+        t518,
+        t531,
+        t559,
+        t568,
         t572,
-        t578,
-        t590,
-        t591,
-        t594,
-        t596,
-        t607,
-        t625,
-        t638,
-        t640,
-        t650,
+        t573,
+        t576,
+        t585,
+        t598,
+        t606,
+        t619,
+        t622,
+        t635,
         t663,
-        t665,
-        t667,
-        t668,
-        t671,
-        t680,
-        t693,
+        t672,
+        t676,
         t695,
-        t701,
-        t713,
-        t714,
-        t717,
-        t719,
-        t730,
-        t748,
-        t761,
+        t710,
+        t711,
+        t723,
+        t724,
+        t731,
+        t742,
+        t743,
+        t755,
+        t756,
         t763,
-        t773,
-        t786,
+        t774,
+        t775,
+        t787,
         t788,
-        t790,
-        t809,
-        t810,
-        t816,
+        t795,
+        t806,
+        t807,
         t819,
-        t822,
-        t824,
-        t830,
-        t833,
-        t835,
+        t820,
+        t827,
         t838,
-        t844,
-        t847,
-        t850,
+        t839,
+        t851,
         t852,
-        t858,
-        t861,
-        t863,
-        t866,
-        t872,
-        t875,
-        t878,
-        t880,
-        t886,
-        t889,
-        t891,
-        t894,
-        t900,
-        t903,
-        t906,
-        t908,
-        t914,
-        t917,
-        t919,
-        t922,
-        t928,
-        t931,
-        t934,
-        t936,
-        t942,
-        t945,
-        t947,
-        t950,
-        t956,
-        t959,
+        t859,
+        t870,
+        t871,
+        t883,
+        t884,
+        t907,
+        t938,
+        t944,
+        t946,
+        t953,
+        t955,
         t962,
+        t963,
         t964,
-        t970,
-        t973,
-        t975,
+        t965,
+        t966,
+        t968,
+        t994,
         t997,
         t998,
-        t999,
-        t1000,
         t1001,
         t1002,
     ) = {
@@ -5492,1742 +5432,1464 @@ pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
         let t96: f32 = t94 + t95;
         let t97: f32 = t17 * t96;
         let t98: f32 = t45 * t82;
-        let t99: f32 = t44 * t44;
-        let t100: f32 = t61 * t79;
-        let t101: f32 = t99 * t100;
-        let t102: f32 = t67 * t101;
-        let t103: f32 = t44 * t79;
-        let t104: f32 = t79 * 0.3;
-        let t105: f32 = t103 * 0.295;
-        let t106: f32 = t104 - t105;
-        let t107: f32 = t44 * t106;
-        let t108: f32 = t103 * 0.3;
-        let t109: f32 = t107 + t108;
-        let t110: f32 = t79 - t109;
-        let t111: f32 = t61 * t110;
-        let t112: f32 = t45 * t83;
-        let t113: f32 = t61 * t80;
-        let t114: f32 = t112 - t113;
-        let t115: f32 = t44 * t114;
-        let t116: f32 = t114 * 0.3;
-        let t117: f32 = t115 * 0.295;
-        let t118: f32 = t116 - t117;
-        let t119: f32 = t44 * t118;
-        let t120: f32 = t115 * 0.3;
-        let t121: f32 = t119 + t120;
-        let t122: f32 = t114 - t121;
-        let t123: f32 = t85 * t122;
-        let t124: f32 = t102 * 0.003;
-        let t125: f32 = t98 + t111;
-        let t126: f32 = t123 + t124;
-        let t127: f32 = t125 + t126;
-        let t128: f32 = t27 * t127;
-        let t129: f32 = t97 - t128;
-        let t130: f32 = t17 * t129;
-        let t131: f32 = t69 - t70;
-        let t132: f32 = t44 * t131;
-        let t133: f32 = t75 + t132;
-        let t134: f32 = t61 - t133;
-        let t135: f32 = t79 * t134;
-        let t136: f32 = t93 * t114;
-        let t137: f32 = t98 + t135;
-        let t138: f32 = t124 + t136;
-        let t139: f32 = t137 + t138;
-        let t140: f32 = t17 * t139;
-        let t141: f32 = t82 * t82;
-        let t142: f32 = t67 * t103;
-        let t143: f32 = t142 * 0.003;
-        let t144: f32 = t105 + t143;
-        let t145: f32 = t104 - t144;
-        let t146: f32 = t44 * t145;
-        let t147: f32 = t108 + t146;
-        let t148: f32 = t79 - t147;
-        let t149: f32 = t79 * t148;
-        let t150: f32 = t114 * t122;
-        let t151: f32 = t141 + t149;
-        let t152: f32 = t150 + t151;
-        let t153: f32 = t27 * t152;
-        let t154: f32 = t140 - t153;
-        let t155: f32 = t27 * t154;
-        let t156: f32 = t15 - t16;
-        let t157: f32 = t25 - t26;
-        let t158: f32 = yc + t157;
-        let t159: f32 = t158 + 0.08;
-        let t160: f32 = t32 + t33;
-        let t161: f32 = xc + t160;
-        let t162: f32 = t161 - 0.45;
-        let t163: f32 = t162 * t162;
-        let t164: f32 = t159 * t159;
-        let t165: f32 = zc + t156;
-        let t166: f32 = t165 * t165;
-        let t167: f32 = t163 + t164;
-        let t168: f32 = t166 + t167;
-        let t169: f32 = sqrt(t168);
-        let t170: f32 = 1.0 / t169;
-        let t171: f32 = t159 * t170;
-        let t172: f32 = t171 * t171;
-        let t173: f32 = t165 * 0.17503293;
-        let t174: f32 = t165 * 0.9845626;
-        let t175: f32 = -t174;
-        let t176: f32 = t175 * t175;
-        let t177: f32 = t173 * t173;
-        let t178: f32 = t162 * 0.9845626;
-        let t179: f32 = t159 * 0.17503293;
-        let t180: f32 = t178 - t179;
-        let t181: f32 = t180 * t180;
-        let t182: f32 = t176 + t177;
-        let t183: f32 = t181 + t182;
-        let t184: f32 = sqrt(t183);
-        let t185: f32 = 1.0 / t184;
-        let t186: f32 = t173 * t185;
-        let t187: f32 = t170 * t186;
-        let t188: f32 = t162 * 0.17503293;
-        let t189: f32 = t159 * 0.9845626;
-        let t190: f32 = t188 + t189;
-        let t191: f32 = t185 * t190;
-        let t192: f32 = t191 * t191;
-        let t193: f32 = t187 * t192;
-        let t194: f32 = t186 * 0.3;
-        let t195: f32 = t187 * 0.295;
-        let t196: f32 = t193 * 0.003;
-        let t197: f32 = t195 + t196;
-        let t198: f32 = t194 - t197;
-        let t199: f32 = t170 * t198;
-        let t200: f32 = t187 * 0.3;
-        let t201: f32 = t199 + t200;
-        let t202: f32 = t186 - t201;
-        let t203: f32 = t186 * t202;
-        let t204: f32 = t180 * t185;
-        let t205: f32 = t162 * t170;
-        let t206: f32 = t204 * t205;
-        let t207: f32 = t165 * t170;
-        let t208: f32 = t175 * t185;
-        let t209: f32 = t207 * t208;
-        let t210: f32 = t206 - t209;
-        let t211: f32 = t170 * t210;
-        let t212: f32 = t210 * 0.3;
-        let t213: f32 = t211 * 0.295;
-        let t214: f32 = t212 - t213;
-        let t215: f32 = t170 * t214;
-        let t216: f32 = t211 * 0.3;
-        let t217: f32 = t215 + t216;
-        let t218: f32 = t210 - t217;
-        let t219: f32 = t210 * t218;
-        let t220: f32 = t172 + t203;
-        let t221: f32 = t219 + t220;
-        let t222: f32 = t156 * t221;
-        let t223: f32 = t171 * t207;
-        let t224: f32 = t170 * t170;
-        let t225: f32 = t186 * t204;
-        let t226: f32 = t224 * t225;
-        let t227: f32 = t192 * t226;
-        let t228: f32 = t170 * t204;
-        let t229: f32 = t204 * 0.3;
-        let t230: f32 = t228 * 0.295;
-        let t231: f32 = t229 - t230;
-        let t232: f32 = t170 * t231;
-        let t233: f32 = t228 * 0.3;
-        let t234: f32 = t232 + t233;
-        let t235: f32 = t204 - t234;
-        let t236: f32 = t186 * t235;
-        let t237: f32 = t171 * t208;
-        let t238: f32 = t186 * t205;
-        let t239: f32 = t237 - t238;
-        let t240: f32 = t170 * t239;
-        let t241: f32 = t239 * 0.3;
-        let t242: f32 = t240 * 0.295;
-        let t243: f32 = t241 - t242;
-        let t244: f32 = t170 * t243;
-        let t245: f32 = t240 * 0.3;
-        let t246: f32 = t244 + t245;
-        let t247: f32 = t239 - t246;
-        let t248: f32 = t210 * t247;
-        let t249: f32 = t227 * 0.003;
-        let t250: f32 = t223 + t236;
-        let t251: f32 = t248 + t249;
-        let t252: f32 = t250 + t251;
-        let t253: f32 = t157 * t252;
-        let t254: f32 = t222 - t253;
-        let t255: f32 = t156 * t254;
-        let t256: f32 = t194 - t195;
-        let t257: f32 = t170 * t256;
-        let t258: f32 = t200 + t257;
-        let t259: f32 = t186 - t258;
-        let t260: f32 = t204 * t259;
-        let t261: f32 = t218 * t239;
-        let t262: f32 = t223 + t260;
-        let t263: f32 = t249 + t261;
-        let t264: f32 = t262 + t263;
-        let t265: f32 = t156 * t264;
-        let t266: f32 = t207 * t207;
-        let t267: f32 = t192 * t228;
-        let t268: f32 = t267 * 0.003;
-        let t269: f32 = t230 + t268;
-        let t270: f32 = t229 - t269;
-        let t271: f32 = t170 * t270;
-        let t272: f32 = t233 + t271;
-        let t273: f32 = t204 - t272;
-        let t274: f32 = t204 * t273;
-        let t275: f32 = t239 * t247;
-        let t276: f32 = t266 + t274;
-        let t277: f32 = t275 + t276;
-        let t278: f32 = t157 * t277;
-        let t279: f32 = t265 - t278;
-        let t280: f32 = t157 * t279;
-        let t281: f32 = t10 * 0.254904;
-        let t282: f32 = t14 * 0.141506;
-        let t283: f32 = t281 - t282;
-        let t284: f32 = t21 * 0.254904;
-        let t285: f32 = t24 * 0.141506;
-        let t286: f32 = t284 - t285;
-        let t287: f32 = t286 + 0.349711;
-        let t288: f32 = yc - t287;
-        let t289: f32 = t30 * 0.254904;
-        let t290: f32 = t31 * 0.141506;
-        let t291: f32 = t289 + t290;
-        let t292: f32 = xc + 0.294282;
-        let t293: f32 = t292 - t291;
-        let t294: f32 = t293 * t293;
-        let t295: f32 = t288 * t288;
-        let t296: f32 = zc - t283;
-        let t297: f32 = t296 * t296;
-        let t298: f32 = t294 + t295;
-        let t299: f32 = t297 + t298;
-        let t300: f32 = sqrt(t299);
-        let t301: f32 = 1.0 / t300;
-        let t302: f32 = t288 * t301;
-        let t303: f32 = t302 * t302;
-        let t304: f32 = t296 * 0.76513904;
-        let t305: f32 = -t304;
-        let t306: f32 = t296 * 0.64386505;
-        let t307: f32 = t306 * t306;
-        let t308: f32 = t305 * t305;
-        let t309: f32 = t293 * 0.64386505;
-        let t310: f32 = t288 * 0.76513904;
-        let t311: f32 = t309 - t310;
-        let t312: f32 = t311 * t311;
-        let t313: f32 = t307 + t308;
+        let t99: f32 = t44 * t79;
+        let t100: f32 = t67 * t99;
+        let t101: f32 = t79 * 0.3;
+        let t102: f32 = t99 * 0.295;
+        let t103: f32 = t100 * 0.003;
+        let t104: f32 = t102 + t103;
+        let t105: f32 = t101 - t104;
+        let t106: f32 = t44 * t105;
+        let t107: f32 = t99 * 0.3;
+        let t108: f32 = t106 + t107;
+        let t109: f32 = t79 - t108;
+        let t110: f32 = t61 * t109;
+        let t111: f32 = t45 * t83;
+        let t112: f32 = t61 * t80;
+        let t113: f32 = t111 - t112;
+        let t114: f32 = t44 * t113;
+        let t115: f32 = t113 * 0.3;
+        let t116: f32 = t114 * 0.295;
+        let t117: f32 = t115 - t116;
+        let t118: f32 = t44 * t117;
+        let t119: f32 = t114 * 0.3;
+        let t120: f32 = t118 + t119;
+        let t121: f32 = t113 - t120;
+        let t122: f32 = t85 * t121;
+        let t123: f32 = t98 + t110;
+        let t124: f32 = t122 + t123;
+        let t125: f32 = t27 * t124;
+        let t126: f32 = t97 - t125;
+        let t127: f32 = t17 * t126;
+        let t128: f32 = t17 * t124;
+        let t129: f32 = t82 * t82;
+        let t130: f32 = t79 * t109;
+        let t131: f32 = t113 * t121;
+        let t132: f32 = t129 + t130;
+        let t133: f32 = t131 + t132;
+        let t134: f32 = t27 * t133;
+        let t135: f32 = t128 - t134;
+        let t136: f32 = t27 * t135;
+        let t137: f32 = t15 - t16;
+        let t138: f32 = t25 - t26;
+        let t139: f32 = yc + t138;
+        let t140: f32 = t139 + 0.08;
+        let t141: f32 = t32 + t33;
+        let t142: f32 = xc + t141;
+        let t143: f32 = t142 - 0.45;
+        let t144: f32 = t143 * t143;
+        let t145: f32 = t140 * t140;
+        let t146: f32 = zc + t137;
+        let t147: f32 = t146 * t146;
+        let t148: f32 = t144 + t145;
+        let t149: f32 = t147 + t148;
+        let t150: f32 = sqrt(t149);
+        let t151: f32 = 1.0 / t150;
+        let t152: f32 = t140 * t151;
+        let t153: f32 = t152 * t152;
+        let t154: f32 = t146 * 0.17503293;
+        let t155: f32 = t146 * 0.9845626;
+        let t156: f32 = -t155;
+        let t157: f32 = t156 * t156;
+        let t158: f32 = t154 * t154;
+        let t159: f32 = t143 * 0.9845626;
+        let t160: f32 = t140 * 0.17503293;
+        let t161: f32 = t159 - t160;
+        let t162: f32 = t161 * t161;
+        let t163: f32 = t157 + t158;
+        let t164: f32 = t162 + t163;
+        let t165: f32 = sqrt(t164);
+        let t166: f32 = 1.0 / t165;
+        let t167: f32 = t154 * t166;
+        let t168: f32 = t151 * t167;
+        let t169: f32 = t143 * 0.17503293;
+        let t170: f32 = t140 * 0.9845626;
+        let t171: f32 = t169 + t170;
+        let t172: f32 = t166 * t171;
+        let t173: f32 = t172 * t172;
+        let t174: f32 = t168 * t173;
+        let t175: f32 = t167 * 0.3;
+        let t176: f32 = t168 * 0.295;
+        let t177: f32 = t174 * 0.003;
+        let t178: f32 = t176 + t177;
+        let t179: f32 = t175 - t178;
+        let t180: f32 = t151 * t179;
+        let t181: f32 = t168 * 0.3;
+        let t182: f32 = t180 + t181;
+        let t183: f32 = t167 - t182;
+        let t184: f32 = t167 * t183;
+        let t185: f32 = t161 * t166;
+        let t186: f32 = t143 * t151;
+        let t187: f32 = t185 * t186;
+        let t188: f32 = t146 * t151;
+        let t189: f32 = t156 * t166;
+        let t190: f32 = t188 * t189;
+        let t191: f32 = t187 - t190;
+        let t192: f32 = t151 * t191;
+        let t193: f32 = t191 * 0.3;
+        let t194: f32 = t192 * 0.295;
+        let t195: f32 = t193 - t194;
+        let t196: f32 = t151 * t195;
+        let t197: f32 = t192 * 0.3;
+        let t198: f32 = t196 + t197;
+        let t199: f32 = t191 - t198;
+        let t200: f32 = t191 * t199;
+        let t201: f32 = t153 + t184;
+        let t202: f32 = t200 + t201;
+        let t203: f32 = t137 * t202;
+        let t204: f32 = t152 * t188;
+        let t205: f32 = t151 * t185;
+        let t206: f32 = t173 * t205;
+        let t207: f32 = t185 * 0.3;
+        let t208: f32 = t205 * 0.295;
+        let t209: f32 = t206 * 0.003;
+        let t210: f32 = t208 + t209;
+        let t211: f32 = t207 - t210;
+        let t212: f32 = t151 * t211;
+        let t213: f32 = t205 * 0.3;
+        let t214: f32 = t212 + t213;
+        let t215: f32 = t185 - t214;
+        let t216: f32 = t167 * t215;
+        let t217: f32 = t152 * t189;
+        let t218: f32 = t167 * t186;
+        let t219: f32 = t217 - t218;
+        let t220: f32 = t151 * t219;
+        let t221: f32 = t219 * 0.3;
+        let t222: f32 = t220 * 0.295;
+        let t223: f32 = t221 - t222;
+        let t224: f32 = t151 * t223;
+        let t225: f32 = t220 * 0.3;
+        let t226: f32 = t224 + t225;
+        let t227: f32 = t219 - t226;
+        let t228: f32 = t191 * t227;
+        let t229: f32 = t204 + t216;
+        let t230: f32 = t228 + t229;
+        let t231: f32 = t138 * t230;
+        let t232: f32 = t203 - t231;
+        let t233: f32 = t137 * t232;
+        let t234: f32 = t137 * t230;
+        let t235: f32 = t188 * t188;
+        let t236: f32 = t185 * t215;
+        let t237: f32 = t219 * t227;
+        let t238: f32 = t235 + t236;
+        let t239: f32 = t237 + t238;
+        let t240: f32 = t138 * t239;
+        let t241: f32 = t234 - t240;
+        let t242: f32 = t138 * t241;
+        let t243: f32 = t10 * 0.254904;
+        let t244: f32 = t14 * 0.141506;
+        let t245: f32 = t243 - t244;
+        let t246: f32 = t21 * 0.254904;
+        let t247: f32 = t24 * 0.141506;
+        let t248: f32 = t246 - t247;
+        let t249: f32 = t248 + 0.349711;
+        let t250: f32 = yc - t249;
+        let t251: f32 = t30 * 0.254904;
+        let t252: f32 = t31 * 0.141506;
+        let t253: f32 = t251 + t252;
+        let t254: f32 = xc + 0.294282;
+        let t255: f32 = t254 - t253;
+        let t256: f32 = t255 * t255;
+        let t257: f32 = t250 * t250;
+        let t258: f32 = zc - t245;
+        let t259: f32 = t258 * t258;
+        let t260: f32 = t256 + t257;
+        let t261: f32 = t259 + t260;
+        let t262: f32 = sqrt(t261);
+        let t263: f32 = 1.0 / t262;
+        let t264: f32 = t250 * t263;
+        let t265: f32 = t264 * t264;
+        let t266: f32 = t258 * 0.76513904;
+        let t267: f32 = -t266;
+        let t268: f32 = t258 * 0.64386505;
+        let t269: f32 = t268 * t268;
+        let t270: f32 = t267 * t267;
+        let t271: f32 = t255 * 0.64386505;
+        let t272: f32 = t250 * 0.76513904;
+        let t273: f32 = t271 - t272;
+        let t274: f32 = t273 * t273;
+        let t275: f32 = t269 + t270;
+        let t276: f32 = t274 + t275;
+        let t277: f32 = sqrt(t276);
+        let t278: f32 = 1.0 / t277;
+        let t279: f32 = t267 * t278;
+        let t280: f32 = t263 * t279;
+        let t281: f32 = t255 * 0.76513904;
+        let t282: f32 = t250 * 0.64386505;
+        let t283: f32 = t281 + t282;
+        let t284: f32 = t278 * t283;
+        let t285: f32 = t284 * t284;
+        let t286: f32 = t280 * t285;
+        let t287: f32 = t279 * 0.3;
+        let t288: f32 = t280 * 0.295;
+        let t289: f32 = t286 * 0.003;
+        let t290: f32 = t288 + t289;
+        let t291: f32 = t287 - t290;
+        let t292: f32 = t263 * t291;
+        let t293: f32 = t280 * 0.3;
+        let t294: f32 = t292 + t293;
+        let t295: f32 = t279 - t294;
+        let t296: f32 = t279 * t295;
+        let t297: f32 = t273 * t278;
+        let t298: f32 = t255 * t263;
+        let t299: f32 = t297 * t298;
+        let t300: f32 = t258 * t263;
+        let t301: f32 = t268 * t278;
+        let t302: f32 = t300 * t301;
+        let t303: f32 = t299 + t302;
+        let t304: f32 = t263 * t303;
+        let t305: f32 = t303 * 0.3;
+        let t306: f32 = t304 * 0.295;
+        let t307: f32 = t305 - t306;
+        let t308: f32 = t263 * t307;
+        let t309: f32 = t304 * 0.3;
+        let t310: f32 = t308 + t309;
+        let t311: f32 = t303 - t310;
+        let t312: f32 = t303 * t311;
+        let t313: f32 = t265 + t296;
         let t314: f32 = t312 + t313;
-        let t315: f32 = sqrt(t314);
-        let t316: f32 = 1.0 / t315;
-        let t317: f32 = t305 * t316;
-        let t318: f32 = t301 * t317;
-        let t319: f32 = t293 * 0.76513904;
-        let t320: f32 = t288 * 0.64386505;
-        let t321: f32 = t319 + t320;
-        let t322: f32 = t316 * t321;
-        let t323: f32 = t322 * t322;
-        let t324: f32 = t318 * t323;
+        let t315: f32 = t245 * t314;
+        let t316: f32 = t264 * t300;
+        let t317: f32 = t263 * t297;
+        let t318: f32 = t285 * t317;
+        let t319: f32 = t297 * 0.3;
+        let t320: f32 = t317 * 0.295;
+        let t321: f32 = t318 * 0.003;
+        let t322: f32 = t320 + t321;
+        let t323: f32 = t319 - t322;
+        let t324: f32 = t263 * t323;
         let t325: f32 = t317 * 0.3;
-        let t326: f32 = t318 * 0.295;
-        let t327: f32 = t324 * 0.003;
-        let t328: f32 = t326 + t327;
-        let t329: f32 = t325 - t328;
-        let t330: f32 = t301 * t329;
-        let t331: f32 = t318 * 0.3;
-        let t332: f32 = t330 + t331;
-        let t333: f32 = t317 - t332;
-        let t334: f32 = t317 * t333;
-        let t335: f32 = t311 * t316;
-        let t336: f32 = t293 * t301;
-        let t337: f32 = t335 * t336;
-        let t338: f32 = t296 * t301;
-        let t339: f32 = t306 * t316;
-        let t340: f32 = t338 * t339;
-        let t341: f32 = t337 + t340;
-        let t342: f32 = t301 * t341;
-        let t343: f32 = t341 * 0.3;
-        let t344: f32 = t342 * 0.295;
-        let t345: f32 = t343 - t344;
-        let t346: f32 = t301 * t345;
-        let t347: f32 = t342 * 0.3;
-        let t348: f32 = t346 + t347;
-        let t349: f32 = t341 - t348;
-        let t350: f32 = t341 * t349;
-        let t351: f32 = t303 + t334;
-        let t352: f32 = t350 + t351;
-        let t353: f32 = t283 * t352;
-        let t354: f32 = t302 * t338;
-        let t355: f32 = t301 * t301;
-        let t356: f32 = t317 * t335;
-        let t357: f32 = t355 * t356;
-        let t358: f32 = t323 * t357;
-        let t359: f32 = t301 * t335;
-        let t360: f32 = t335 * 0.3;
-        let t361: f32 = t359 * 0.295;
-        let t362: f32 = t360 - t361;
-        let t363: f32 = t301 * t362;
-        let t364: f32 = t359 * 0.3;
-        let t365: f32 = t363 + t364;
-        let t366: f32 = t335 - t365;
-        let t367: f32 = t317 * t366;
-        let t368: f32 = t302 * t339;
-        let t369: f32 = t317 * t336;
-        let t370: f32 = t368 - t369;
-        let t371: f32 = t301 * t370;
-        let t372: f32 = t370 * 0.3;
-        let t373: f32 = t371 * 0.295;
-        let t374: f32 = t372 - t373;
-        let t375: f32 = t301 * t374;
-        let t376: f32 = t371 * 0.3;
-        let t377: f32 = t375 + t376;
-        let t378: f32 = t370 - t377;
-        let t379: f32 = t341 * t378;
-        let t380: f32 = t358 * 0.003;
-        let t381: f32 = t367 + t379;
-        let t382: f32 = t380 + t381;
-        let t383: f32 = t354 - t382;
-        let t384: f32 = t286 * t383;
-        let t385: f32 = t353 - t384;
-        let t386: f32 = t283 * t385;
-        let t387: f32 = t325 - t326;
-        let t388: f32 = t301 * t387;
-        let t389: f32 = t331 + t388;
-        let t390: f32 = t317 - t389;
-        let t391: f32 = t335 * t390;
-        let t392: f32 = t349 * t370;
-        let t393: f32 = t391 + t392;
-        let t394: f32 = t380 + t393;
-        let t395: f32 = t354 - t394;
-        let t396: f32 = t283 * t395;
-        let t397: f32 = t338 * t338;
-        let t398: f32 = t323 * t359;
-        let t399: f32 = t398 * 0.003;
-        let t400: f32 = t361 + t399;
-        let t401: f32 = t360 - t400;
-        let t402: f32 = t301 * t401;
-        let t403: f32 = t364 + t402;
-        let t404: f32 = t335 - t403;
-        let t405: f32 = t335 * t404;
-        let t406: f32 = t370 * t378;
-        let t407: f32 = t397 + t405;
-        let t408: f32 = t406 + t407;
-        let t409: f32 = t286 * t408;
-        let t410: f32 = t396 - t409;
-        let t411: f32 = t286 * t410;
-        let t412: f32 = t10 * 0.004904;
-        let t413: f32 = t14 * 0.291506;
-        let t414: f32 = t412 + t413;
-        let t415: f32 = t21 * 0.004904;
-        let t416: f32 = t24 * 0.291506;
-        let t417: f32 = t415 + t416;
-        let t418: f32 = yc + t417;
-        let t419: f32 = t418 - 0.429711;
-        let t420: f32 = t30 * 0.004904;
-        let t421: f32 = t31 * 0.291506;
-        let t422: f32 = t420 - t421;
-        let t423: f32 = xc + t422;
-        let t424: f32 = t423 + 0.155718;
-        let t425: f32 = t424 * t424;
-        let t426: f32 = t419 * t419;
-        let t427: f32 = zc + t414;
-        let t428: f32 = t427 * t427;
-        let t429: f32 = t425 + t426;
-        let t430: f32 = t428 + t429;
-        let t431: f32 = sqrt(t430);
-        let t432: f32 = 1.0 / t431;
-        let t433: f32 = t419 * t432;
-        let t434: f32 = t433 * t433;
-        let t435: f32 = t427 * 0.9401728;
-        let t436: f32 = -t435;
-        let t437: f32 = t427 * 0.34069794;
-        let t438: f32 = t437 * t437;
-        let t439: f32 = t436 * t436;
-        let t440: f32 = t424 * 0.34069794;
-        let t441: f32 = t419 * 0.9401728;
-        let t442: f32 = t440 - t441;
-        let t443: f32 = t442 * t442;
-        let t444: f32 = t438 + t439;
-        let t445: f32 = t443 + t444;
-        let t446: f32 = sqrt(t445);
-        let t447: f32 = 1.0 / t446;
-        let t448: f32 = t436 * t447;
-        let t449: f32 = t432 * t448;
-        let t450: f32 = t424 * 0.9401728;
-        let t451: f32 = t419 * 0.34069794;
-        let t452: f32 = t450 + t451;
-        let t453: f32 = t447 * t452;
-        let t454: f32 = t453 * t453;
-        let t455: f32 = t449 * t454;
-        let t456: f32 = t448 * 0.3;
-        let t457: f32 = t449 * 0.295;
-        let t458: f32 = t455 * 0.003;
-        let t459: f32 = t457 + t458;
-        let t460: f32 = t456 - t459;
-        let t461: f32 = t432 * t460;
-        let t462: f32 = t449 * 0.3;
+        let t326: f32 = t324 + t325;
+        let t327: f32 = t297 - t326;
+        let t328: f32 = t279 * t327;
+        let t329: f32 = t264 * t301;
+        let t330: f32 = t279 * t298;
+        let t331: f32 = t329 - t330;
+        let t332: f32 = t263 * t331;
+        let t333: f32 = t331 * 0.3;
+        let t334: f32 = t332 * 0.295;
+        let t335: f32 = t333 - t334;
+        let t336: f32 = t263 * t335;
+        let t337: f32 = t332 * 0.3;
+        let t338: f32 = t336 + t337;
+        let t339: f32 = t331 - t338;
+        let t340: f32 = t303 * t339;
+        let t341: f32 = t328 + t340;
+        let t342: f32 = t316 - t341;
+        let t343: f32 = t248 * t342;
+        let t344: f32 = t315 - t343;
+        let t345: f32 = t245 * t344;
+        let t346: f32 = t245 * t342;
+        let t347: f32 = t300 * t300;
+        let t348: f32 = t297 * t327;
+        let t349: f32 = t331 * t339;
+        let t350: f32 = t347 + t348;
+        let t351: f32 = t349 + t350;
+        let t352: f32 = t248 * t351;
+        let t353: f32 = t346 - t352;
+        let t354: f32 = t248 * t353;
+        let t355: f32 = t10 * 0.004904;
+        let t356: f32 = t14 * 0.291506;
+        let t357: f32 = t355 + t356;
+        let t358: f32 = t21 * 0.004904;
+        let t359: f32 = t24 * 0.291506;
+        let t360: f32 = t358 + t359;
+        let t361: f32 = yc + t360;
+        let t362: f32 = t361 - 0.429711;
+        let t363: f32 = t30 * 0.004904;
+        let t364: f32 = t31 * 0.291506;
+        let t365: f32 = t363 - t364;
+        let t366: f32 = xc + t365;
+        let t367: f32 = t366 + 0.155718;
+        let t368: f32 = t367 * t367;
+        let t369: f32 = t362 * t362;
+        let t370: f32 = zc + t357;
+        let t371: f32 = t370 * t370;
+        let t372: f32 = t368 + t369;
+        let t373: f32 = t371 + t372;
+        let t374: f32 = sqrt(t373);
+        let t375: f32 = 1.0 / t374;
+        let t376: f32 = t362 * t375;
+        let t377: f32 = t376 * t376;
+        let t378: f32 = t370 * 0.9401728;
+        let t379: f32 = -t378;
+        let t380: f32 = t370 * 0.34069794;
+        let t381: f32 = t380 * t380;
+        let t382: f32 = t379 * t379;
+        let t383: f32 = t367 * 0.34069794;
+        let t384: f32 = t362 * 0.9401728;
+        let t385: f32 = t383 - t384;
+        let t386: f32 = t385 * t385;
+        let t387: f32 = t381 + t382;
+        let t388: f32 = t386 + t387;
+        let t389: f32 = sqrt(t388);
+        let t390: f32 = 1.0 / t389;
+        let t391: f32 = t379 * t390;
+        let t392: f32 = t375 * t391;
+        let t393: f32 = t367 * 0.9401728;
+        let t394: f32 = t362 * 0.34069794;
+        let t395: f32 = t393 + t394;
+        let t396: f32 = t390 * t395;
+        let t397: f32 = t396 * t396;
+        let t398: f32 = t392 * t397;
+        let t399: f32 = t391 * 0.3;
+        let t400: f32 = t392 * 0.295;
+        let t401: f32 = t398 * 0.003;
+        let t402: f32 = t400 + t401;
+        let t403: f32 = t399 - t402;
+        let t404: f32 = t375 * t403;
+        let t405: f32 = t392 * 0.3;
+        let t406: f32 = t404 + t405;
+        let t407: f32 = t391 - t406;
+        let t408: f32 = t391 * t407;
+        let t409: f32 = t385 * t390;
+        let t410: f32 = t367 * t375;
+        let t411: f32 = t409 * t410;
+        let t412: f32 = t370 * t375;
+        let t413: f32 = t380 * t390;
+        let t414: f32 = t412 * t413;
+        let t415: f32 = t411 + t414;
+        let t416: f32 = t375 * t415;
+        let t417: f32 = t415 * 0.3;
+        let t418: f32 = t416 * 0.295;
+        let t419: f32 = t417 - t418;
+        let t420: f32 = t375 * t419;
+        let t421: f32 = t416 * 0.3;
+        let t422: f32 = t420 + t421;
+        let t423: f32 = t415 - t422;
+        let t424: f32 = t415 * t423;
+        let t425: f32 = t377 + t408;
+        let t426: f32 = t424 + t425;
+        let t427: f32 = t357 * t426;
+        let t428: f32 = t376 * t412;
+        let t429: f32 = t375 * t409;
+        let t430: f32 = t397 * t429;
+        let t431: f32 = t409 * 0.3;
+        let t432: f32 = t429 * 0.295;
+        let t433: f32 = t430 * 0.003;
+        let t434: f32 = t432 + t433;
+        let t435: f32 = t431 - t434;
+        let t436: f32 = t375 * t435;
+        let t437: f32 = t429 * 0.3;
+        let t438: f32 = t436 + t437;
+        let t439: f32 = t409 - t438;
+        let t440: f32 = t391 * t439;
+        let t441: f32 = t376 * t413;
+        let t442: f32 = t391 * t410;
+        let t443: f32 = t441 - t442;
+        let t444: f32 = t375 * t443;
+        let t445: f32 = t443 * 0.3;
+        let t446: f32 = t444 * 0.295;
+        let t447: f32 = t445 - t446;
+        let t448: f32 = t375 * t447;
+        let t449: f32 = t444 * 0.3;
+        let t450: f32 = t448 + t449;
+        let t451: f32 = t443 - t450;
+        let t452: f32 = t415 * t451;
+        let t453: f32 = t440 + t452;
+        let t454: f32 = t428 - t453;
+        let t455: f32 = t360 * t454;
+        let t456: f32 = t427 - t455;
+        let t457: f32 = t357 * t456;
+        let t458: f32 = t357 * t454;
+        let t459: f32 = t412 * t412;
+        let t460: f32 = t409 * t439;
+        let t461: f32 = t443 * t451;
+        let t462: f32 = t459 + t460;
         let t463: f32 = t461 + t462;
-        let t464: f32 = t448 - t463;
-        let t465: f32 = t448 * t464;
-        let t466: f32 = t442 * t447;
-        let t467: f32 = t424 * t432;
-        let t468: f32 = t466 * t467;
-        let t469: f32 = t427 * t432;
-        let t470: f32 = t437 * t447;
-        let t471: f32 = t469 * t470;
-        let t472: f32 = t468 + t471;
-        let t473: f32 = t432 * t472;
-        let t474: f32 = t472 * 0.3;
-        let t475: f32 = t473 * 0.295;
-        let t476: f32 = t474 - t475;
-        let t477: f32 = t432 * t476;
-        let t478: f32 = t473 * 0.3;
+        let t464: f32 = t360 * t463;
+        let t465: f32 = t458 - t464;
+        let t466: f32 = t360 * t465;
+        let t467: f32 = t355 - t356;
+        let t468: f32 = t358 - t359;
+        let t469: f32 = yc + t468;
+        let t470: f32 = t469 + 0.429711;
+        let t471: f32 = t363 + t364;
+        let t472: f32 = xc + t471;
+        let t473: f32 = t472 + 0.155718;
+        let t474: f32 = t473 * t473;
+        let t475: f32 = t470 * t470;
+        let t476: f32 = zc + t467;
+        let t477: f32 = t476 * t476;
+        let t478: f32 = t474 + t475;
         let t479: f32 = t477 + t478;
-        let t480: f32 = t472 - t479;
-        let t481: f32 = t472 * t480;
-        let t482: f32 = t434 + t465;
-        let t483: f32 = t481 + t482;
-        let t484: f32 = t414 * t483;
-        let t485: f32 = t433 * t469;
-        let t486: f32 = t432 * t432;
-        let t487: f32 = t448 * t466;
-        let t488: f32 = t486 * t487;
-        let t489: f32 = t454 * t488;
-        let t490: f32 = t432 * t466;
-        let t491: f32 = t466 * 0.3;
-        let t492: f32 = t490 * 0.295;
-        let t493: f32 = t491 - t492;
-        let t494: f32 = t432 * t493;
-        let t495: f32 = t490 * 0.3;
-        let t496: f32 = t494 + t495;
-        let t497: f32 = t466 - t496;
-        let t498: f32 = t448 * t497;
-        let t499: f32 = t433 * t470;
-        let t500: f32 = t448 * t467;
-        let t501: f32 = t499 - t500;
-        let t502: f32 = t432 * t501;
-        let t503: f32 = t501 * 0.3;
-        let t504: f32 = t502 * 0.295;
-        let t505: f32 = t503 - t504;
-        let t506: f32 = t432 * t505;
-        let t507: f32 = t502 * 0.3;
-        let t508: f32 = t506 + t507;
-        let t509: f32 = t501 - t508;
-        let t510: f32 = t472 * t509;
-        let t511: f32 = t489 * 0.003;
-        let t512: f32 = t498 + t510;
-        let t513: f32 = t511 + t512;
-        let t514: f32 = t485 - t513;
-        let t515: f32 = t417 * t514;
-        let t516: f32 = t484 - t515;
-        let t517: f32 = t414 * t516;
-        let t518: f32 = t456 - t457;
-        let t519: f32 = t432 * t518;
-        let t520: f32 = t462 + t519;
-        let t521: f32 = t448 - t520;
-        let t522: f32 = t466 * t521;
-        let t523: f32 = t480 * t501;
-        let t524: f32 = t522 + t523;
-        let t525: f32 = t511 + t524;
-        let t526: f32 = t485 - t525;
-        let t527: f32 = t414 * t526;
-        let t528: f32 = t469 * t469;
-        let t529: f32 = t454 * t490;
-        let t530: f32 = t529 * 0.003;
-        let t531: f32 = t492 + t530;
-        let t532: f32 = t491 - t531;
-        let t533: f32 = t432 * t532;
-        let t534: f32 = t495 + t533;
-        let t535: f32 = t466 - t534;
-        let t536: f32 = t466 * t535;
-        let t537: f32 = t501 * t509;
-        let t538: f32 = t528 + t536;
+        let t480: f32 = sqrt(t479);
+        let t481: f32 = 1.0 / t480;
+        let t482: f32 = t470 * t481;
+        let t483: f32 = t482 * t482;
+        let t484: f32 = t476 * 0.9401728;
+        let t485: f32 = t476 * 0.34069794;
+        let t486: f32 = t485 * t485;
+        let t487: f32 = t484 * t484;
+        let t488: f32 = t473 * 0.34069794;
+        let t489: f32 = t470 * 0.9401728;
+        let t490: f32 = t488 + t489;
+        let t491: f32 = t490 * t490;
+        let t492: f32 = t486 + t487;
+        let t493: f32 = t491 + t492;
+        let t494: f32 = sqrt(t493);
+        let t495: f32 = 1.0 / t494;
+        let t496: f32 = t484 * t495;
+        let t497: f32 = t481 * t496;
+        let t498: f32 = t473 * 0.9401728;
+        let t499: f32 = t470 * 0.34069794;
+        let t500: f32 = t498 - t499;
+        let t501: f32 = t495 * t500;
+        let t502: f32 = t501 * t501;
+        let t503: f32 = t497 * t502;
+        let t504: f32 = t496 * 0.3;
+        let t505: f32 = t497 * 0.295;
+        let t506: f32 = t503 * 0.003;
+        let t507: f32 = t505 + t506;
+        let t508: f32 = t504 - t507;
+        let t509: f32 = t481 * t508;
+        let t510: f32 = t497 * 0.3;
+        let t511: f32 = t509 + t510;
+        let t512: f32 = t496 - t511;
+        let t513: f32 = t496 * t512;
+        let t514: f32 = t490 * t495;
+        let t515: f32 = t473 * t481;
+        let t516: f32 = t514 * t515;
+        let t517: f32 = t476 * t481;
+        let t518: f32 = t485 * t495;
+        let t519: f32 = t517 * t518;
+        let t520: f32 = t516 + t519;
+        let t521: f32 = t481 * t520;
+        let t522: f32 = t520 * 0.3;
+        let t523: f32 = t521 * 0.295;
+        let t524: f32 = t522 - t523;
+        let t525: f32 = t481 * t524;
+        let t526: f32 = t521 * 0.3;
+        let t527: f32 = t525 + t526;
+        let t528: f32 = t520 - t527;
+        let t529: f32 = t520 * t528;
+        let t530: f32 = t483 + t513;
+        let t531: f32 = t529 + t530;
+        let t532: f32 = t467 * t531;
+        let t533: f32 = t482 * t517;
+        let t534: f32 = t481 * t514;
+        let t535: f32 = t502 * t534;
+        let t536: f32 = t514 * 0.3;
+        let t537: f32 = t534 * 0.295;
+        let t538: f32 = t535 * 0.003;
         let t539: f32 = t537 + t538;
-        let t540: f32 = t417 * t539;
-        let t541: f32 = t527 - t540;
-        let t542: f32 = t417 * t541;
-        let t543: f32 = t412 - t413;
-        let t544: f32 = t415 - t416;
-        let t545: f32 = yc + t544;
-        let t546: f32 = t545 + 0.429711;
-        let t547: f32 = t420 + t421;
-        let t548: f32 = xc + t547;
-        let t549: f32 = t548 + 0.155718;
-        let t550: f32 = t549 * t549;
-        let t551: f32 = t546 * t546;
-        let t552: f32 = zc + t543;
-        let t553: f32 = t552 * t552;
-        let t554: f32 = t550 + t551;
+        let t540: f32 = t536 - t539;
+        let t541: f32 = t481 * t540;
+        let t542: f32 = t534 * 0.3;
+        let t543: f32 = t541 + t542;
+        let t544: f32 = t514 - t543;
+        let t545: f32 = t496 * t544;
+        let t546: f32 = t482 * t518;
+        let t547: f32 = t496 * t515;
+        let t548: f32 = t546 - t547;
+        let t549: f32 = t481 * t548;
+        let t550: f32 = t548 * 0.3;
+        let t551: f32 = t549 * 0.295;
+        let t552: f32 = t550 - t551;
+        let t553: f32 = t481 * t552;
+        let t554: f32 = t549 * 0.3;
         let t555: f32 = t553 + t554;
-        let t556: f32 = sqrt(t555);
-        let t557: f32 = 1.0 / t556;
-        let t558: f32 = t546 * t557;
-        let t559: f32 = t558 * t558;
-        let t560: f32 = t552 * 0.9401728;
-        let t561: f32 = t552 * 0.34069794;
-        let t562: f32 = t561 * t561;
-        let t563: f32 = t560 * t560;
-        let t564: f32 = t549 * 0.34069794;
-        let t565: f32 = t546 * 0.9401728;
-        let t566: f32 = t564 + t565;
-        let t567: f32 = t566 * t566;
-        let t568: f32 = t562 + t563;
-        let t569: f32 = t567 + t568;
-        let t570: f32 = sqrt(t569);
-        let t571: f32 = 1.0 / t570;
-        let t572: f32 = t560 * t571;
-        let t573: f32 = t557 * t572;
-        let t574: f32 = t549 * 0.9401728;
-        let t575: f32 = t546 * 0.34069794;
-        let t576: f32 = t574 - t575;
-        let t577: f32 = t571 * t576;
+        let t556: f32 = t548 - t555;
+        let t557: f32 = t520 * t556;
+        let t558: f32 = t545 + t557;
+        let t559: f32 = t533 - t558;
+        let t560: f32 = t468 * t559;
+        let t561: f32 = t532 - t560;
+        let t562: f32 = t467 * t561;
+        let t563: f32 = t467 * t559;
+        let t564: f32 = t517 * t517;
+        let t565: f32 = t514 * t544;
+        let t566: f32 = t548 * t556;
+        let t567: f32 = t564 + t565;
+        let t568: f32 = t566 + t567;
+        let t569: f32 = t468 * t568;
+        let t570: f32 = t563 - t569;
+        let t571: f32 = t468 * t570;
+        let t572: f32 = t243 + t244;
+        let t573: f32 = t246 + t247;
+        let t574: f32 = yc + 0.349711;
+        let t575: f32 = t574 - t573;
+        let t576: f32 = t251 - t252;
+        let t577: f32 = t254 - t576;
         let t578: f32 = t577 * t577;
-        let t579: f32 = t573 * t578;
-        let t580: f32 = t572 * 0.3;
-        let t581: f32 = t573 * 0.295;
-        let t582: f32 = t579 * 0.003;
+        let t579: f32 = t575 * t575;
+        let t580: f32 = zc - t572;
+        let t581: f32 = t580 * t580;
+        let t582: f32 = t578 + t579;
         let t583: f32 = t581 + t582;
-        let t584: f32 = t580 - t583;
-        let t585: f32 = t557 * t584;
-        let t586: f32 = t573 * 0.3;
-        let t587: f32 = t585 + t586;
-        let t588: f32 = t572 - t587;
-        let t589: f32 = t572 * t588;
-        let t590: f32 = t566 * t571;
-        let t591: f32 = t549 * t557;
-        let t592: f32 = t590 * t591;
-        let t593: f32 = t552 * t557;
-        let t594: f32 = t561 * t571;
-        let t595: f32 = t593 * t594;
-        let t596: f32 = t592 + t595;
-        let t597: f32 = t557 * t596;
-        let t598: f32 = t596 * 0.3;
-        let t599: f32 = t597 * 0.295;
-        let t600: f32 = t598 - t599;
-        let t601: f32 = t557 * t600;
-        let t602: f32 = t597 * 0.3;
-        let t603: f32 = t601 + t602;
-        let t604: f32 = t596 - t603;
-        let t605: f32 = t596 * t604;
-        let t606: f32 = t559 + t589;
-        let t607: f32 = t605 + t606;
-        let t608: f32 = t543 * t607;
-        let t609: f32 = t558 * t593;
-        let t610: f32 = t557 * t557;
-        let t611: f32 = t572 * t590;
-        let t612: f32 = t610 * t611;
-        let t613: f32 = t578 * t612;
-        let t614: f32 = t557 * t590;
-        let t615: f32 = t590 * 0.3;
-        let t616: f32 = t614 * 0.295;
-        let t617: f32 = t615 - t616;
-        let t618: f32 = t557 * t617;
-        let t619: f32 = t614 * 0.3;
-        let t620: f32 = t618 + t619;
-        let t621: f32 = t590 - t620;
-        let t622: f32 = t572 * t621;
-        let t623: f32 = t558 * t594;
-        let t624: f32 = t572 * t591;
-        let t625: f32 = t623 - t624;
-        let t626: f32 = t557 * t625;
-        let t627: f32 = t625 * 0.3;
-        let t628: f32 = t626 * 0.295;
-        let t629: f32 = t627 - t628;
-        let t630: f32 = t557 * t629;
-        let t631: f32 = t626 * 0.3;
-        let t632: f32 = t630 + t631;
-        let t633: f32 = t625 - t632;
-        let t634: f32 = t596 * t633;
-        let t635: f32 = t613 * 0.003;
-        let t636: f32 = t622 + t634;
-        let t637: f32 = t635 + t636;
-        let t638: f32 = t609 - t637;
-        let t639: f32 = t544 * t638;
-        let t640: f32 = t608 - t639;
-        let t641: f32 = t543 * t640;
-        let t642: f32 = t580 - t581;
-        let t643: f32 = t557 * t642;
-        let t644: f32 = t586 + t643;
-        let t645: f32 = t572 - t644;
-        let t646: f32 = t590 * t645;
-        let t647: f32 = t604 * t625;
-        let t648: f32 = t646 + t647;
-        let t649: f32 = t635 + t648;
-        let t650: f32 = t609 - t649;
-        let t651: f32 = t543 * t650;
-        let t652: f32 = t593 * t593;
-        let t653: f32 = t578 * t614;
-        let t654: f32 = t653 * 0.003;
-        let t655: f32 = t616 + t654;
-        let t656: f32 = t615 - t655;
-        let t657: f32 = t557 * t656;
-        let t658: f32 = t619 + t657;
-        let t659: f32 = t590 - t658;
-        let t660: f32 = t590 * t659;
-        let t661: f32 = t625 * t633;
-        let t662: f32 = t652 + t660;
-        let t663: f32 = t661 + t662;
-        let t664: f32 = t544 * t663;
-        let t665: f32 = t651 - t664;
-        let t666: f32 = t544 * t665;
-        let t667: f32 = t281 + t282;
-        let t668: f32 = t284 + t285;
-        let t669: f32 = yc + 0.349711;
-        let t670: f32 = t669 - t668;
-        let t671: f32 = t289 - t290;
-        let t672: f32 = t292 - t671;
-        let t673: f32 = t672 * t672;
-        let t674: f32 = t670 * t670;
-        let t675: f32 = zc - t667;
-        let t676: f32 = t675 * t675;
-        let t677: f32 = t673 + t674;
-        let t678: f32 = t676 + t677;
-        let t679: f32 = sqrt(t678);
-        let t680: f32 = 1.0 / t679;
-        let t681: f32 = t670 * t680;
-        let t682: f32 = t681 * t681;
-        let t683: f32 = t675 * 0.76513904;
-        let t684: f32 = t675 * 0.64386505;
-        let t685: f32 = t684 * t684;
-        let t686: f32 = t683 * t683;
-        let t687: f32 = t672 * 0.64386505;
-        let t688: f32 = t670 * 0.76513904;
+        let t584: f32 = sqrt(t583);
+        let t585: f32 = 1.0 / t584;
+        let t586: f32 = t575 * t585;
+        let t587: f32 = t586 * t586;
+        let t588: f32 = t580 * 0.76513904;
+        let t589: f32 = t580 * 0.64386505;
+        let t590: f32 = t589 * t589;
+        let t591: f32 = t588 * t588;
+        let t592: f32 = t577 * 0.64386505;
+        let t593: f32 = t575 * 0.76513904;
+        let t594: f32 = t592 + t593;
+        let t595: f32 = t594 * t594;
+        let t596: f32 = t590 + t591;
+        let t597: f32 = t595 + t596;
+        let t598: f32 = sqrt(t597);
+        let t599: f32 = 1.0 / t598;
+        let t600: f32 = t588 * t599;
+        let t601: f32 = t585 * t600;
+        let t602: f32 = t577 * 0.76513904;
+        let t603: f32 = t575 * 0.64386505;
+        let t604: f32 = t602 - t603;
+        let t605: f32 = t599 * t604;
+        let t606: f32 = t605 * t605;
+        let t607: f32 = t601 * t606;
+        let t608: f32 = t600 * 0.3;
+        let t609: f32 = t601 * 0.295;
+        let t610: f32 = t607 * 0.003;
+        let t611: f32 = t609 + t610;
+        let t612: f32 = t608 - t611;
+        let t613: f32 = t585 * t612;
+        let t614: f32 = t601 * 0.3;
+        let t615: f32 = t613 + t614;
+        let t616: f32 = t600 - t615;
+        let t617: f32 = t600 * t616;
+        let t618: f32 = t594 * t599;
+        let t619: f32 = t577 * t585;
+        let t620: f32 = t618 * t619;
+        let t621: f32 = t580 * t585;
+        let t622: f32 = t589 * t599;
+        let t623: f32 = t621 * t622;
+        let t624: f32 = t620 + t623;
+        let t625: f32 = t585 * t624;
+        let t626: f32 = t624 * 0.3;
+        let t627: f32 = t625 * 0.295;
+        let t628: f32 = t626 - t627;
+        let t629: f32 = t585 * t628;
+        let t630: f32 = t625 * 0.3;
+        let t631: f32 = t629 + t630;
+        let t632: f32 = t624 - t631;
+        let t633: f32 = t624 * t632;
+        let t634: f32 = t587 + t617;
+        let t635: f32 = t633 + t634;
+        let t636: f32 = t572 * t635;
+        let t637: f32 = t586 * t621;
+        let t638: f32 = t585 * t618;
+        let t639: f32 = t606 * t638;
+        let t640: f32 = t618 * 0.3;
+        let t641: f32 = t638 * 0.295;
+        let t642: f32 = t639 * 0.003;
+        let t643: f32 = t641 + t642;
+        let t644: f32 = t640 - t643;
+        let t645: f32 = t585 * t644;
+        let t646: f32 = t638 * 0.3;
+        let t647: f32 = t645 + t646;
+        let t648: f32 = t618 - t647;
+        let t649: f32 = t600 * t648;
+        let t650: f32 = t586 * t622;
+        let t651: f32 = t600 * t619;
+        let t652: f32 = t650 - t651;
+        let t653: f32 = t585 * t652;
+        let t654: f32 = t652 * 0.3;
+        let t655: f32 = t653 * 0.295;
+        let t656: f32 = t654 - t655;
+        let t657: f32 = t585 * t656;
+        let t658: f32 = t653 * 0.3;
+        let t659: f32 = t657 + t658;
+        let t660: f32 = t652 - t659;
+        let t661: f32 = t624 * t660;
+        let t662: f32 = t649 + t661;
+        let t663: f32 = t637 - t662;
+        let t664: f32 = t573 * t663;
+        let t665: f32 = t636 - t664;
+        let t666: f32 = t572 * t665;
+        let t667: f32 = t572 * t663;
+        let t668: f32 = t621 * t621;
+        let t669: f32 = t618 * t648;
+        let t670: f32 = t652 * t660;
+        let t671: f32 = t668 + t669;
+        let t672: f32 = t670 + t671;
+        let t673: f32 = t573 * t672;
+        let t674: f32 = t667 - t673;
+        let t675: f32 = t573 * t674;
+        let t676: f32 = t1 * t1;
+        let t677: f32 = t6 * t6;
+        let t678: f32 = t5 * t5;
+        let t679: f32 = t677 + t678;
+        let t680: f32 = t679 * 0.4108;
+        let t681: f32 = t676 * t680;
+        let t682: f32 = t2 * 0.7;
+        let t683: f32 = t127 + t682;
+        let t684: f32 = t233 + t345;
+        let t685: f32 = t457 + t562;
+        let t686: f32 = t666 + t681;
+        let t687: f32 = t683 + t684;
+        let t688: f32 = t685 + t686;
         let t689: f32 = t687 + t688;
-        let t690: f32 = t689 * t689;
-        let t691: f32 = t685 + t686;
-        let t692: f32 = t690 + t691;
-        let t693: f32 = sqrt(t692);
-        let t694: f32 = 1.0 / t693;
-        let t695: f32 = t683 * t694;
-        let t696: f32 = t680 * t695;
-        let t697: f32 = t672 * 0.76513904;
-        let t698: f32 = t670 * 0.64386505;
+        let t690: f32 = t136 + t242;
+        let t691: f32 = t354 + t466;
+        let t692: f32 = t571 + t675;
+        let t693: f32 = t690 + t691;
+        let t694: f32 = t692 + t693;
+        let t695: f32 = t689 - t694;
+        let t696: f32 = t45 * t80;
+        let t697: f32 = t61 * t82;
+        let t698: f32 = t45 * t79;
         let t699: f32 = t697 - t698;
-        let t700: f32 = t694 * t699;
-        let t701: f32 = t700 * t700;
-        let t702: f32 = t696 * t701;
-        let t703: f32 = t695 * 0.3;
-        let t704: f32 = t696 * 0.295;
-        let t705: f32 = t702 * 0.003;
+        let t700: f32 = t85 - t91;
+        let t701: f32 = t699 * t700;
+        let t702: f32 = t61 - t75;
+        let t703: f32 = t83 * t702;
+        let t704: f32 = t89 * t699;
+        let t705: f32 = t73 * t83;
         let t706: f32 = t704 + t705;
-        let t707: f32 = t703 - t706;
-        let t708: f32 = t680 * t707;
-        let t709: f32 = t696 * 0.3;
-        let t710: f32 = t708 + t709;
-        let t711: f32 = t695 - t710;
-        let t712: f32 = t695 * t711;
-        let t713: f32 = t689 * t694;
-        let t714: f32 = t672 * t680;
-        let t715: f32 = t713 * t714;
-        let t716: f32 = t675 * t680;
-        let t717: f32 = t684 * t694;
-        let t718: f32 = t716 * t717;
-        let t719: f32 = t715 + t718;
-        let t720: f32 = t680 * t719;
-        let t721: f32 = t719 * 0.3;
-        let t722: f32 = t720 * 0.295;
-        let t723: f32 = t721 - t722;
-        let t724: f32 = t680 * t723;
-        let t725: f32 = t720 * 0.3;
-        let t726: f32 = t724 + t725;
-        let t727: f32 = t719 - t726;
-        let t728: f32 = t719 * t727;
-        let t729: f32 = t682 + t712;
-        let t730: f32 = t728 + t729;
-        let t731: f32 = t667 * t730;
-        let t732: f32 = t681 * t716;
-        let t733: f32 = t680 * t680;
-        let t734: f32 = t695 * t713;
-        let t735: f32 = t733 * t734;
-        let t736: f32 = t701 * t735;
-        let t737: f32 = t680 * t713;
-        let t738: f32 = t713 * 0.3;
-        let t739: f32 = t737 * 0.295;
-        let t740: f32 = t738 - t739;
-        let t741: f32 = t680 * t740;
-        let t742: f32 = t737 * 0.3;
-        let t743: f32 = t741 + t742;
-        let t744: f32 = t713 - t743;
-        let t745: f32 = t695 * t744;
-        let t746: f32 = t681 * t717;
-        let t747: f32 = t695 * t714;
-        let t748: f32 = t746 - t747;
-        let t749: f32 = t680 * t748;
-        let t750: f32 = t748 * 0.3;
-        let t751: f32 = t749 * 0.295;
-        let t752: f32 = t750 - t751;
-        let t753: f32 = t680 * t752;
-        let t754: f32 = t749 * 0.3;
-        let t755: f32 = t753 + t754;
-        let t756: f32 = t748 - t755;
-        let t757: f32 = t719 * t756;
-        let t758: f32 = t736 * 0.003;
-        let t759: f32 = t745 + t757;
-        let t760: f32 = t758 + t759;
-        let t761: f32 = t732 - t760;
-        let t762: f32 = t668 * t761;
-        let t763: f32 = t731 - t762;
-        let t764: f32 = t667 * t763;
-        let t765: f32 = t703 - t704;
-        let t766: f32 = t680 * t765;
-        let t767: f32 = t709 + t766;
-        let t768: f32 = t695 - t767;
-        let t769: f32 = t713 * t768;
-        let t770: f32 = t727 * t748;
-        let t771: f32 = t769 + t770;
-        let t772: f32 = t758 + t771;
-        let t773: f32 = t732 - t772;
-        let t774: f32 = t667 * t773;
-        let t775: f32 = t716 * t716;
-        let t776: f32 = t701 * t737;
-        let t777: f32 = t776 * 0.003;
-        let t778: f32 = t739 + t777;
-        let t779: f32 = t738 - t778;
-        let t780: f32 = t680 * t779;
-        let t781: f32 = t742 + t780;
-        let t782: f32 = t713 - t781;
-        let t783: f32 = t713 * t782;
-        let t784: f32 = t748 * t756;
-        let t785: f32 = t775 + t783;
-        let t786: f32 = t784 + t785;
-        let t787: f32 = t668 * t786;
-        let t788: f32 = t774 - t787;
-        let t789: f32 = t668 * t788;
-        let t790: f32 = t1 * t1;
-        let t791: f32 = t6 * t6;
-        let t792: f32 = t5 * t5;
-        let t793: f32 = t791 + t792;
-        let t794: f32 = t793 * 0.4108;
-        let t795: f32 = t790 * t794;
-        let t796: f32 = t2 * 0.7;
-        let t797: f32 = t130 + t796;
-        let t798: f32 = t255 + t386;
-        let t799: f32 = t517 + t641;
-        let t800: f32 = t764 + t795;
-        let t801: f32 = t797 + t798;
-        let t802: f32 = t799 + t800;
-        let t803: f32 = t801 + t802;
-        let t804: f32 = t155 + t280;
-        let t805: f32 = t411 + t542;
-        let t806: f32 = t666 + t789;
-        let t807: f32 = t804 + t805;
-        let t808: f32 = t806 + t807;
-        let t809: f32 = t803 - t808;
-        let t810: f32 = t45 * t80;
-        let t811: f32 = t61 * t99;
-        let t812: f32 = t67 * t811;
-        let t813: f32 = t83 * t812;
-        let t814: f32 = t61 * t82;
-        let t815: f32 = t45 * t79;
-        let t816: f32 = t814 - t815;
-        let t817: f32 = t93 * t816;
-        let t818: f32 = t83 * t134;
-        let t819: f32 = t813 * 0.003;
-        let t820: f32 = t810 + t817;
-        let t821: f32 = t818 + t819;
-        let t822: f32 = t820 + t821;
-        let t823: f32 = t17 * t822;
-        let t824: f32 = t80 * t82;
-        let t825: f32 = t79 * t99;
-        let t826: f32 = t67 * t825;
-        let t827: f32 = t83 * t826;
-        let t828: f32 = t122 * t816;
-        let t829: f32 = t83 * t110;
-        let t830: f32 = t827 * 0.003;
-        let t831: f32 = t824 + t828;
-        let t832: f32 = t829 + t830;
-        let t833: f32 = t831 + t832;
-        let t834: f32 = t27 * t833;
-        let t835: f32 = t823 - t834;
-        let t836: f32 = t17 * t835;
-        let t837: f32 = t34 * t154;
-        let t838: f32 = t171 * t205;
-        let t839: f32 = t186 * t224;
-        let t840: f32 = t192 * t839;
-        let t841: f32 = t208 * t840;
-        let t842: f32 = t186 * t207;
-        let t843: f32 = t171 * t204;
-        let t844: f32 = t842 - t843;
-        let t845: f32 = t218 * t844;
-        let t846: f32 = t208 * t259;
-        let t847: f32 = t841 * 0.003;
-        let t848: f32 = t838 + t845;
-        let t849: f32 = t846 + t847;
-        let t850: f32 = t848 + t849;
-        let t851: f32 = t156 * t850;
-        let t852: f32 = t205 * t207;
-        let t853: f32 = t204 * t224;
-        let t854: f32 = t192 * t853;
-        let t855: f32 = t208 * t854;
-        let t856: f32 = t247 * t844;
-        let t857: f32 = t208 * t235;
-        let t858: f32 = t855 * 0.003;
-        let t859: f32 = t852 + t856;
-        let t860: f32 = t857 + t858;
-        let t861: f32 = t859 + t860;
-        let t862: f32 = t157 * t861;
-        let t863: f32 = t851 - t862;
-        let t864: f32 = t156 * t863;
-        let t865: f32 = t160 * t279;
-        let t866: f32 = t302 * t336;
-        let t867: f32 = t317 * t355;
-        let t868: f32 = t323 * t867;
-        let t869: f32 = t339 * t868;
-        let t870: f32 = t317 * t338;
-        let t871: f32 = t302 * t335;
-        let t872: f32 = t870 + t871;
-        let t873: f32 = t349 * t872;
-        let t874: f32 = t339 * t390;
-        let t875: f32 = t869 * 0.003;
-        let t876: f32 = t866 + t874;
-        let t877: f32 = t875 + t876;
-        let t878: f32 = t877 - t873;
-        let t879: f32 = t283 * t878;
-        let t880: f32 = t336 * t338;
-        let t881: f32 = t335 * t355;
-        let t882: f32 = t323 * t881;
-        let t883: f32 = t339 * t882;
-        let t884: f32 = t378 * t872;
-        let t885: f32 = t339 * t366;
-        let t886: f32 = t883 * 0.003;
-        let t887: f32 = t880 + t884;
-        let t888: f32 = t885 + t886;
-        let t889: f32 = t887 - t888;
-        let t890: f32 = t286 * t889;
-        let t891: f32 = t879 - t890;
-        let t892: f32 = t283 * t891;
-        let t893: f32 = t291 * t410;
-        let t894: f32 = t433 * t467;
-        let t895: f32 = t448 * t486;
-        let t896: f32 = t454 * t895;
-        let t897: f32 = t470 * t896;
-        let t898: f32 = t448 * t469;
-        let t899: f32 = t433 * t466;
+        let t707: f32 = t44 * t706;
+        let t708: f32 = t696 + t701;
+        let t709: f32 = t703 + t708;
+        let t710: f32 = t709 - t707;
+        let t711: f32 = t17 * t710;
+        let t712: f32 = t80 * t82;
+        let t713: f32 = t113 - t119;
+        let t714: f32 = t699 * t713;
+        let t715: f32 = t79 - t107;
+        let t716: f32 = t83 * t715;
+        let t717: f32 = t117 * t699;
+        let t718: f32 = t83 * t105;
+        let t719: f32 = t717 + t718;
+        let t720: f32 = t44 * t719;
+        let t721: f32 = t712 + t714;
+        let t722: f32 = t716 + t721;
+        let t723: f32 = t722 - t720;
+        let t724: f32 = t27 * t723;
+        let t725: f32 = t711 - t724;
+        let t726: f32 = t17 * t725;
+        let t727: f32 = t34 * t135;
+        let t728: f32 = t152 * t186;
+        let t729: f32 = t167 * t188;
+        let t730: f32 = t152 * t185;
+        let t731: f32 = t729 - t730;
+        let t732: f32 = t191 - t197;
+        let t733: f32 = t731 * t732;
+        let t734: f32 = t167 - t181;
+        let t735: f32 = t189 * t734;
+        let t736: f32 = t195 * t731;
+        let t737: f32 = t179 * t189;
+        let t738: f32 = t736 + t737;
+        let t739: f32 = t151 * t738;
+        let t740: f32 = t728 + t733;
+        let t741: f32 = t735 + t740;
+        let t742: f32 = t741 - t739;
+        let t743: f32 = t137 * t742;
+        let t744: f32 = t186 * t188;
+        let t745: f32 = t219 - t225;
+        let t746: f32 = t731 * t745;
+        let t747: f32 = t185 - t213;
+        let t748: f32 = t189 * t747;
+        let t749: f32 = t223 * t731;
+        let t750: f32 = t189 * t211;
+        let t751: f32 = t749 + t750;
+        let t752: f32 = t151 * t751;
+        let t753: f32 = t744 + t746;
+        let t754: f32 = t748 + t753;
+        let t755: f32 = t754 - t752;
+        let t756: f32 = t138 * t755;
+        let t757: f32 = t743 - t756;
+        let t758: f32 = t137 * t757;
+        let t759: f32 = t141 * t241;
+        let t760: f32 = t264 * t298;
+        let t761: f32 = t279 * t300;
+        let t762: f32 = t264 * t297;
+        let t763: f32 = t761 + t762;
+        let t764: f32 = t303 - t309;
+        let t765: f32 = t763 * t764;
+        let t766: f32 = t279 - t293;
+        let t767: f32 = t301 * t766;
+        let t768: f32 = t307 * t763;
+        let t769: f32 = t291 * t301;
+        let t770: f32 = t768 - t769;
+        let t771: f32 = t263 * t770;
+        let t772: f32 = t760 + t767;
+        let t773: f32 = t771 + t772;
+        let t774: f32 = t773 - t765;
+        let t775: f32 = t245 * t774;
+        let t776: f32 = t298 * t300;
+        let t777: f32 = t331 - t337;
+        let t778: f32 = t763 * t777;
+        let t779: f32 = t297 - t325;
+        let t780: f32 = t301 * t779;
+        let t781: f32 = t335 * t763;
+        let t782: f32 = t301 * t323;
+        let t783: f32 = t781 - t782;
+        let t784: f32 = t263 * t783;
+        let t785: f32 = t776 + t778;
+        let t786: f32 = t780 + t784;
+        let t787: f32 = t785 - t786;
+        let t788: f32 = t248 * t787;
+        let t789: f32 = t775 - t788;
+        let t790: f32 = t245 * t789;
+        let t791: f32 = t253 * t353;
+        let t792: f32 = t376 * t410;
+        let t793: f32 = t391 * t412;
+        let t794: f32 = t376 * t409;
+        let t795: f32 = t793 + t794;
+        let t796: f32 = t415 - t421;
+        let t797: f32 = t795 * t796;
+        let t798: f32 = t391 - t405;
+        let t799: f32 = t413 * t798;
+        let t800: f32 = t419 * t795;
+        let t801: f32 = t403 * t413;
+        let t802: f32 = t800 - t801;
+        let t803: f32 = t375 * t802;
+        let t804: f32 = t792 + t799;
+        let t805: f32 = t803 + t804;
+        let t806: f32 = t805 - t797;
+        let t807: f32 = t357 * t806;
+        let t808: f32 = t410 * t412;
+        let t809: f32 = t443 - t449;
+        let t810: f32 = t795 * t809;
+        let t811: f32 = t409 - t437;
+        let t812: f32 = t413 * t811;
+        let t813: f32 = t447 * t795;
+        let t814: f32 = t413 * t435;
+        let t815: f32 = t813 - t814;
+        let t816: f32 = t375 * t815;
+        let t817: f32 = t808 + t810;
+        let t818: f32 = t812 + t816;
+        let t819: f32 = t817 - t818;
+        let t820: f32 = t360 * t819;
+        let t821: f32 = t807 - t820;
+        let t822: f32 = t357 * t821;
+        let t823: f32 = t365 * t465;
+        let t824: f32 = t482 * t515;
+        let t825: f32 = t496 * t517;
+        let t826: f32 = t482 * t514;
+        let t827: f32 = t825 + t826;
+        let t828: f32 = t520 - t526;
+        let t829: f32 = t827 * t828;
+        let t830: f32 = t496 - t510;
+        let t831: f32 = t518 * t830;
+        let t832: f32 = t524 * t827;
+        let t833: f32 = t508 * t518;
+        let t834: f32 = t832 - t833;
+        let t835: f32 = t481 * t834;
+        let t836: f32 = t824 + t831;
+        let t837: f32 = t835 + t836;
+        let t838: f32 = t837 - t829;
+        let t839: f32 = t467 * t838;
+        let t840: f32 = t515 * t517;
+        let t841: f32 = t548 - t554;
+        let t842: f32 = t827 * t841;
+        let t843: f32 = t514 - t542;
+        let t844: f32 = t518 * t843;
+        let t845: f32 = t552 * t827;
+        let t846: f32 = t518 * t540;
+        let t847: f32 = t845 - t846;
+        let t848: f32 = t481 * t847;
+        let t849: f32 = t840 + t842;
+        let t850: f32 = t844 + t848;
+        let t851: f32 = t849 - t850;
+        let t852: f32 = t468 * t851;
+        let t853: f32 = t839 - t852;
+        let t854: f32 = t467 * t853;
+        let t855: f32 = t471 * t570;
+        let t856: f32 = t586 * t619;
+        let t857: f32 = t600 * t621;
+        let t858: f32 = t586 * t618;
+        let t859: f32 = t857 + t858;
+        let t860: f32 = t624 - t630;
+        let t861: f32 = t859 * t860;
+        let t862: f32 = t600 - t614;
+        let t863: f32 = t622 * t862;
+        let t864: f32 = t628 * t859;
+        let t865: f32 = t612 * t622;
+        let t866: f32 = t864 - t865;
+        let t867: f32 = t585 * t866;
+        let t868: f32 = t856 + t863;
+        let t869: f32 = t867 + t868;
+        let t870: f32 = t869 - t861;
+        let t871: f32 = t572 * t870;
+        let t872: f32 = t619 * t621;
+        let t873: f32 = t652 - t658;
+        let t874: f32 = t859 * t873;
+        let t875: f32 = t618 - t646;
+        let t876: f32 = t622 * t875;
+        let t877: f32 = t656 * t859;
+        let t878: f32 = t622 * t644;
+        let t879: f32 = t877 - t878;
+        let t880: f32 = t585 * t879;
+        let t881: f32 = t872 + t874;
+        let t882: f32 = t876 + t880;
+        let t883: f32 = t881 - t882;
+        let t884: f32 = t573 * t883;
+        let t885: f32 = t871 - t884;
+        let t886: f32 = t572 * t885;
+        let t887: f32 = t576 * t674;
+        let t888: f32 = t6 * t21;
+        let t889: f32 = t5 * t24;
+        let t890: f32 = t19 * 0.7;
+        let t891: f32 = t889 - t888;
+        let t892: f32 = t891 * 0.4108;
+        let t893: f32 = t890 + t892;
+        let t894: f32 = t1 * t893;
+        let t895: f32 = t726 + t758;
+        let t896: f32 = t790 + t822;
+        let t897: f32 = t854 + t886;
+        let t898: f32 = t895 + t896;
+        let t899: f32 = t894 + t897;
         let t900: f32 = t898 + t899;
-        let t901: f32 = t480 * t900;
-        let t902: f32 = t470 * t521;
-        let t903: f32 = t897 * 0.003;
-        let t904: f32 = t894 + t902;
+        let t901: f32 = t727 + t759;
+        let t902: f32 = t791 + t823;
+        let t903: f32 = t855 + t887;
+        let t904: f32 = t901 + t902;
         let t905: f32 = t903 + t904;
-        let t906: f32 = t905 - t901;
-        let t907: f32 = t414 * t906;
-        let t908: f32 = t467 * t469;
-        let t909: f32 = t466 * t486;
-        let t910: f32 = t454 * t909;
-        let t911: f32 = t470 * t910;
-        let t912: f32 = t509 * t900;
-        let t913: f32 = t470 * t497;
-        let t914: f32 = t911 * 0.003;
-        let t915: f32 = t908 + t912;
-        let t916: f32 = t913 + t914;
-        let t917: f32 = t915 - t916;
-        let t918: f32 = t417 * t917;
-        let t919: f32 = t907 - t918;
-        let t920: f32 = t414 * t919;
-        let t921: f32 = t422 * t541;
-        let t922: f32 = t558 * t591;
-        let t923: f32 = t572 * t610;
-        let t924: f32 = t578 * t923;
-        let t925: f32 = t594 * t924;
-        let t926: f32 = t572 * t593;
-        let t927: f32 = t558 * t590;
-        let t928: f32 = t926 + t927;
-        let t929: f32 = t604 * t928;
-        let t930: f32 = t594 * t645;
-        let t931: f32 = t925 * 0.003;
-        let t932: f32 = t922 + t930;
-        let t933: f32 = t931 + t932;
-        let t934: f32 = t933 - t929;
-        let t935: f32 = t543 * t934;
-        let t936: f32 = t591 * t593;
-        let t937: f32 = t590 * t610;
-        let t938: f32 = t578 * t937;
-        let t939: f32 = t594 * t938;
-        let t940: f32 = t633 * t928;
-        let t941: f32 = t594 * t621;
-        let t942: f32 = t939 * 0.003;
-        let t943: f32 = t936 + t940;
-        let t944: f32 = t941 + t942;
-        let t945: f32 = t943 - t944;
-        let t946: f32 = t544 * t945;
-        let t947: f32 = t935 - t946;
-        let t948: f32 = t543 * t947;
-        let t949: f32 = t547 * t665;
-        let t950: f32 = t681 * t714;
-        let t951: f32 = t695 * t733;
-        let t952: f32 = t701 * t951;
-        let t953: f32 = t717 * t952;
-        let t954: f32 = t695 * t716;
-        let t955: f32 = t681 * t713;
-        let t956: f32 = t954 + t955;
-        let t957: f32 = t727 * t956;
-        let t958: f32 = t717 * t768;
-        let t959: f32 = t953 * 0.003;
-        let t960: f32 = t950 + t958;
-        let t961: f32 = t959 + t960;
-        let t962: f32 = t961 - t957;
-        let t963: f32 = t667 * t962;
-        let t964: f32 = t714 * t716;
-        let t965: f32 = t713 * t733;
-        let t966: f32 = t701 * t965;
-        let t967: f32 = t717 * t966;
-        let t968: f32 = t756 * t956;
-        let t969: f32 = t717 * t744;
-        let t970: f32 = t967 * 0.003;
-        let t971: f32 = t964 + t968;
-        let t972: f32 = t969 + t970;
-        let t973: f32 = t971 - t972;
-        let t974: f32 = t668 * t973;
-        let t975: f32 = t963 - t974;
-        let t976: f32 = t667 * t975;
-        let t977: f32 = t671 * t788;
-        let t978: f32 = t6 * t21;
-        let t979: f32 = t5 * t24;
-        let t980: f32 = t19 * 0.7;
-        let t981: f32 = t979 - t978;
-        let t982: f32 = t981 * 0.4108;
-        let t983: f32 = t980 + t982;
-        let t984: f32 = t1 * t983;
-        let t985: f32 = t836 + t864;
-        let t986: f32 = t892 + t920;
-        let t987: f32 = t948 + t976;
-        let t988: f32 = t985 + t986;
-        let t989: f32 = t984 + t987;
-        let t990: f32 = t988 + t989;
-        let t991: f32 = t837 + t865;
-        let t992: f32 = t893 + t921;
-        let t993: f32 = t949 + t977;
-        let t994: f32 = t991 + t992;
-        let t995: f32 = t993 + t994;
-        let t996: f32 = t990 - t995;
-        let t997: f32 = -t996;
-        let t998: f32 = t27 * t835;
-        let t999: f32 = t34 * t129;
-        let t1000: f32 = t157 * t863;
-        let t1001: f32 = t160 * t254;
-        let t1002: f32 = t286 * t891;
+        let t906: f32 = t900 - t905;
+        let t907: f32 = -t906;
+        let t908: f32 = t27 * t725;
+        let t909: f32 = t34 * t126;
+        let t910: f32 = t138 * t757;
+        let t911: f32 = t141 * t232;
+        let t912: f32 = t248 * t789;
+        let t913: f32 = t253 * t344;
+        let t914: f32 = t360 * t821;
+        let t915: f32 = t365 * t456;
+        let t916: f32 = t468 * t853;
+        let t917: f32 = t471 * t561;
+        let t918: f32 = t573 * t885;
+        let t919: f32 = t576 * t665;
+        let t920: f32 = t6 * t10;
+        let t921: f32 = t5 * t14;
+        let t922: f32 = t8 * 0.7;
+        let t923: f32 = t920 - t921;
+        let t924: f32 = t923 * 0.4108;
+        let t925: f32 = t922 + t924;
+        let t926: f32 = t1 * t925;
+        let t927: f32 = t908 + t910;
+        let t928: f32 = t912 + t914;
+        let t929: f32 = t916 + t918;
+        let t930: f32 = t927 + t928;
+        let t931: f32 = t926 + t929;
+        let t932: f32 = t930 + t931;
+        let t933: f32 = t909 + t911;
+        let t934: f32 = t913 + t915;
+        let t935: f32 = t917 + t919;
+        let t936: f32 = t933 + t934;
+        let t937: f32 = t935 + t936;
+        let t938: f32 = t932 - t937;
+        let t939: f32 = t725 + t757;
+        let t940: f32 = t821 + t853;
+        let t941: f32 = t939 + t940;
+        let t942: f32 = t789 + t885;
+        let t943: f32 = t941 - t942;
+        let t944: f32 = -t943;
+        let t945: f32 = t1 * t4;
+        let t946: f32 = t945 * 0.36;
+        let t947: f32 = t126 + t946;
+        let t948: f32 = t232 + t456;
+        let t949: f32 = t947 + t948;
+        let t950: f32 = t561 + t949;
+        let t951: f32 = t344 + t665;
+        let t952: f32 = t950 - t951;
+        let t953: f32 = -t952;
+        let t954: f32 = t1 * t3;
+        let t955: f32 = t954 * 0.36;
+        let t956: f32 = t135 + t955;
+        let t957: f32 = t241 + t465;
+        let t958: f32 = t956 + t957;
+        let t959: f32 = t570 + t958;
+        let t960: f32 = t353 + t674;
+        let t961: f32 = t959 - t960;
+        let t962: f32 = -t961;
+        let t963: f32 = t21 * 0.4108;
+        let t964: f32 = t21 * t963;
+        let t965: f32 = t24 * 0.4108;
+        let t966: f32 = t24 * t965;
+        let t967: f32 = t3 * t3;
+        let t968: f32 = t676 * t967;
+        let t969: f32 = t44 * t699;
+        let t970: f32 = t969 * 0.3;
+        let t971: f32 = t699 - t970;
+        let t972: f32 = t699 * t971;
+        let t973: f32 = t44 * t83;
+        let t974: f32 = t973 * 0.3;
+        let t975: f32 = t83 - t974;
+        let t976: f32 = t83 * t975;
+        let t977: f32 = t80 * t80;
+        let t978: f32 = t699 * 0.3;
+        let t979: f32 = t969 * 0.295;
+        let t980: f32 = t978 - t979;
+        let t981: f32 = t699 * t980;
+        let t982: f32 = t44 * t67;
+        let t983: f32 = t83 * t982;
+        let t984: f32 = t83 * 0.3;
+        let t985: f32 = t973 * 0.295;
+        let t986: f32 = t983 * 0.003;
+        let t987: f32 = t985 + t986;
+        let t988: f32 = t984 - t987;
+        let t989: f32 = t83 * t988;
+        let t990: f32 = t981 + t989;
+        let t991: f32 = t44 * t990;
+        let t992: f32 = t972 + t976;
+        let t993: f32 = t977 + t992;
+        let t994: f32 = t993 - t991;
+        let t995: f32 = t17 * t994;
+        let t996: f32 = t34 * t723;
+        let t997: f32 = t995 - t996;
+        let t998: f32 = t17 * t997;
+        let t999: f32 = t17 * t723;
+        let t1000: f32 = t34 * t133;
+        let t1001: f32 = t999 - t1000;
+        let t1002: f32 = t34 * t1001;
         (
             t0,
-            t1,
             t3,
             t4,
-            t5,
-            t6,
-            t8,
             t10,
             t14,
-            t17,
-            t21,
-            t24,
             t27,
             t34,
             t44,
             t59,
-            t61,
-            t67,
-            t79,
-            t80,
-            t83,
-            t85,
             t96,
-            t114,
-            t127,
-            t129,
-            t139,
-            t152,
-            t154,
-            t156,
-            t157,
-            t160,
-            t170,
-            t184,
+            t124,
+            t133,
+            t137,
+            t138,
+            t141,
+            t151,
+            t165,
+            t173,
             t186,
-            t192,
-            t204,
-            t205,
-            t208,
-            t210,
-            t221,
+            t189,
+            t202,
+            t230,
             t239,
-            t252,
-            t254,
-            t264,
+            t245,
+            t248,
+            t253,
+            t263,
             t277,
-            t279,
-            t283,
-            t286,
-            t291,
+            t285,
+            t298,
             t301,
-            t315,
-            t317,
-            t323,
-            t335,
-            t336,
-            t339,
-            t341,
-            t352,
-            t370,
-            t383,
-            t385,
-            t395,
-            t408,
+            t314,
+            t342,
+            t351,
+            t357,
+            t360,
+            t365,
+            t375,
+            t389,
+            t397,
             t410,
-            t414,
-            t417,
-            t422,
-            t432,
-            t446,
-            t448,
+            t413,
+            t426,
             t454,
-            t466,
+            t463,
             t467,
-            t470,
-            t472,
-            t483,
-            t501,
-            t514,
-            t516,
-            t526,
-            t539,
-            t541,
-            t543,
-            t544,
-            t547,
-            t557,
-            t570,
+            t468,
+            t471,
+            t481,
+            t494,
+            t502,
+            t515,
+            t518,
+            t531,
+            t559,
+            t568,
             t572,
-            t578,
-            t590,
-            t591,
-            t594,
-            t596,
-            t607,
-            t625,
-            t638,
-            t640,
-            t650,
+            t573,
+            t576,
+            t585,
+            t598,
+            t606,
+            t619,
+            t622,
+            t635,
             t663,
-            t665,
-            t667,
-            t668,
-            t671,
-            t680,
-            t693,
+            t672,
+            t676,
             t695,
-            t701,
-            t713,
-            t714,
-            t717,
-            t719,
-            t730,
-            t748,
-            t761,
+            t710,
+            t711,
+            t723,
+            t724,
+            t731,
+            t742,
+            t743,
+            t755,
+            t756,
             t763,
-            t773,
-            t786,
+            t774,
+            t775,
+            t787,
             t788,
-            t790,
-            t809,
-            t810,
-            t816,
+            t795,
+            t806,
+            t807,
             t819,
-            t822,
-            t824,
-            t830,
-            t833,
-            t835,
+            t820,
+            t827,
             t838,
-            t844,
-            t847,
-            t850,
+            t839,
+            t851,
             t852,
-            t858,
-            t861,
-            t863,
-            t866,
-            t872,
-            t875,
-            t878,
-            t880,
-            t886,
-            t889,
-            t891,
-            t894,
-            t900,
-            t903,
-            t906,
-            t908,
-            t914,
-            t917,
-            t919,
-            t922,
-            t928,
-            t931,
-            t934,
-            t936,
-            t942,
-            t945,
-            t947,
-            t950,
-            t956,
-            t959,
+            t859,
+            t870,
+            t871,
+            t883,
+            t884,
+            t907,
+            t938,
+            t944,
+            t946,
+            t953,
+            t955,
             t962,
+            t963,
             t964,
-            t970,
-            t973,
-            t975,
+            t965,
+            t966,
+            t968,
+            t994,
             t997,
             t998,
-            t999,
-            t1000,
             t1001,
             t1002,
         )
     };
     let (
-        t1028,
-        t1034,
-        t1043,
-        t1052,
-        t1349,
-        t1428,
-        t1434,
-        t1439,
-        t1447,
-        t1516,
-        t1522,
-        t1528,
-        t1552,
-        t1558,
-        t1563,
-        t1568,
-        t1574,
-        t1579,
-        t1585,
-        t1586,
-        t1587,
-        t1588,
-        t1589,
-        t1590,
-        t1591,
+        t1187,
+        t1230,
+        t1236,
+        t1241,
+        t1249,
+        t1318,
+        t1324,
+        t1330,
+        t1342,
+        t1348,
+        t1353,
+        t1358,
+        t1364,
+        t1369,
+        t1375,
+        t1376,
+        t1377,
+        t1378,
+        t1379,
+        t1380,
+        t1381,
     ) = {
-        let t1003: f32 = t291 * t385;
-        let t1004: f32 = t417 * t919;
-        let t1005: f32 = t422 * t516;
-        let t1006: f32 = t544 * t947;
-        let t1007: f32 = t547 * t640;
-        let t1008: f32 = t668 * t975;
-        let t1009: f32 = t671 * t763;
-        let t1010: f32 = t6 * t10;
-        let t1011: f32 = t5 * t14;
-        let t1012: f32 = t8 * 0.7;
-        let t1013: f32 = t1010 - t1011;
-        let t1014: f32 = t1013 * 0.4108;
-        let t1015: f32 = t1012 + t1014;
-        let t1016: f32 = t1 * t1015;
-        let t1017: f32 = t998 + t1000;
-        let t1018: f32 = t1002 + t1004;
-        let t1019: f32 = t1006 + t1008;
-        let t1020: f32 = t1017 + t1018;
-        let t1021: f32 = t1016 + t1019;
-        let t1022: f32 = t1020 + t1021;
-        let t1023: f32 = t999 + t1001;
-        let t1024: f32 = t1003 + t1005;
-        let t1025: f32 = t1007 + t1009;
-        let t1026: f32 = t1023 + t1024;
-        let t1027: f32 = t1025 + t1026;
-        let t1028: f32 = t1022 - t1027;
-        let t1029: f32 = t835 + t863;
-        let t1030: f32 = t919 + t947;
-        let t1031: f32 = t1029 + t1030;
-        let t1032: f32 = t891 + t975;
-        let t1033: f32 = t1031 - t1032;
-        let t1034: f32 = -t1033;
-        let t1035: f32 = t1 * t4;
-        let t1036: f32 = t1035 * 0.36;
-        let t1037: f32 = t129 + t1036;
-        let t1038: f32 = t254 + t516;
-        let t1039: f32 = t1037 + t1038;
-        let t1040: f32 = t640 + t1039;
-        let t1041: f32 = t385 + t763;
-        let t1042: f32 = t1040 - t1041;
-        let t1043: f32 = -t1042;
-        let t1044: f32 = t1 * t3;
-        let t1045: f32 = t1044 * 0.36;
-        let t1046: f32 = t154 + t1045;
-        let t1047: f32 = t279 + t541;
-        let t1048: f32 = t1046 + t1047;
-        let t1049: f32 = t665 + t1048;
-        let t1050: f32 = t410 + t788;
-        let t1051: f32 = t1049 - t1050;
-        let t1052: f32 = -t1051;
-        let t1053: f32 = t21 * 0.4108;
-        let t1054: f32 = t21 * t1053;
-        let t1055: f32 = t24 * 0.4108;
-        let t1056: f32 = t24 * t1055;
-        let t1057: f32 = t3 * t3;
-        let t1058: f32 = t790 * t1057;
-        let t1059: f32 = t44 * t816;
-        let t1060: f32 = t1059 * 0.3;
-        let t1061: f32 = t816 - t1060;
-        let t1062: f32 = t816 * t1061;
-        let t1063: f32 = t44 * t83;
-        let t1064: f32 = t1063 * 0.3;
-        let t1065: f32 = t83 - t1064;
-        let t1066: f32 = t83 * t1065;
-        let t1067: f32 = t80 * t80;
-        let t1068: f32 = t816 * 0.3;
-        let t1069: f32 = t1059 * 0.295;
-        let t1070: f32 = t1068 - t1069;
-        let t1071: f32 = t816 * t1070;
-        let t1072: f32 = t44 * t67;
-        let t1073: f32 = t83 * t1072;
-        let t1074: f32 = t83 * 0.3;
-        let t1075: f32 = t1063 * 0.295;
-        let t1076: f32 = t1073 * 0.003;
-        let t1077: f32 = t1075 + t1076;
-        let t1078: f32 = t1074 - t1077;
-        let t1079: f32 = t83 * t1078;
-        let t1080: f32 = t1071 + t1079;
-        let t1081: f32 = t44 * t1080;
-        let t1082: f32 = t1062 + t1066;
-        let t1083: f32 = t1067 + t1082;
-        let t1084: f32 = t1083 - t1081;
-        let t1085: f32 = t17 * t1084;
-        let t1086: f32 = t34 * t833;
-        let t1087: f32 = t1085 - t1086;
-        let t1088: f32 = t17 * t1087;
-        let t1089: f32 = t1074 - t1075;
-        let t1090: f32 = t44 * t1089;
-        let t1091: f32 = t1064 + t1090;
-        let t1092: f32 = t83 - t1091;
-        let t1093: f32 = t79 * t1092;
-        let t1094: f32 = t44 * t1070;
-        let t1095: f32 = t1060 + t1094;
-        let t1096: f32 = t816 - t1095;
-        let t1097: f32 = t114 * t1096;
-        let t1098: f32 = t824 + t1093;
-        let t1099: f32 = t830 + t1097;
-        let t1100: f32 = t1098 + t1099;
-        let t1101: f32 = t17 * t1100;
-        let t1102: f32 = t34 * t152;
+        let t1003: f32 = t151 * t731;
+        let t1004: f32 = t1003 * 0.3;
+        let t1005: f32 = t731 - t1004;
+        let t1006: f32 = t731 * t1005;
+        let t1007: f32 = t151 * t189;
+        let t1008: f32 = t1007 * 0.3;
+        let t1009: f32 = t189 - t1008;
+        let t1010: f32 = t189 * t1009;
+        let t1011: f32 = t186 * t186;
+        let t1012: f32 = t731 * 0.3;
+        let t1013: f32 = t1003 * 0.295;
+        let t1014: f32 = t1012 - t1013;
+        let t1015: f32 = t731 * t1014;
+        let t1016: f32 = t151 * t173;
+        let t1017: f32 = t189 * t1016;
+        let t1018: f32 = t189 * 0.3;
+        let t1019: f32 = t1007 * 0.295;
+        let t1020: f32 = t1017 * 0.003;
+        let t1021: f32 = t1019 + t1020;
+        let t1022: f32 = t1018 - t1021;
+        let t1023: f32 = t189 * t1022;
+        let t1024: f32 = t1015 + t1023;
+        let t1025: f32 = t151 * t1024;
+        let t1026: f32 = t1006 + t1010;
+        let t1027: f32 = t1011 + t1026;
+        let t1028: f32 = t1027 - t1025;
+        let t1029: f32 = t137 * t1028;
+        let t1030: f32 = t141 * t755;
+        let t1031: f32 = t1029 - t1030;
+        let t1032: f32 = t137 * t1031;
+        let t1033: f32 = t137 * t755;
+        let t1034: f32 = t141 * t239;
+        let t1035: f32 = t1033 - t1034;
+        let t1036: f32 = t141 * t1035;
+        let t1037: f32 = t263 * t763;
+        let t1038: f32 = t1037 * 0.3;
+        let t1039: f32 = t763 - t1038;
+        let t1040: f32 = t763 * t1039;
+        let t1041: f32 = t263 * t301;
+        let t1042: f32 = t1041 * 0.3;
+        let t1043: f32 = t301 - t1042;
+        let t1044: f32 = t301 * t1043;
+        let t1045: f32 = t298 * t298;
+        let t1046: f32 = t763 * 0.3;
+        let t1047: f32 = t1037 * 0.295;
+        let t1048: f32 = t1046 - t1047;
+        let t1049: f32 = t763 * t1048;
+        let t1050: f32 = t263 * t285;
+        let t1051: f32 = t301 * t1050;
+        let t1052: f32 = t301 * 0.3;
+        let t1053: f32 = t1041 * 0.295;
+        let t1054: f32 = t1051 * 0.003;
+        let t1055: f32 = t1053 + t1054;
+        let t1056: f32 = t1052 - t1055;
+        let t1057: f32 = t301 * t1056;
+        let t1058: f32 = t1049 + t1057;
+        let t1059: f32 = t263 * t1058;
+        let t1060: f32 = t1040 + t1044;
+        let t1061: f32 = t1045 + t1060;
+        let t1062: f32 = t1061 - t1059;
+        let t1063: f32 = t245 * t1062;
+        let t1064: f32 = t253 * t787;
+        let t1065: f32 = t1063 - t1064;
+        let t1066: f32 = t245 * t1065;
+        let t1067: f32 = t245 * t787;
+        let t1068: f32 = t253 * t351;
+        let t1069: f32 = t1067 - t1068;
+        let t1070: f32 = t253 * t1069;
+        let t1071: f32 = t375 * t795;
+        let t1072: f32 = t1071 * 0.3;
+        let t1073: f32 = t795 - t1072;
+        let t1074: f32 = t795 * t1073;
+        let t1075: f32 = t375 * t413;
+        let t1076: f32 = t1075 * 0.3;
+        let t1077: f32 = t413 - t1076;
+        let t1078: f32 = t413 * t1077;
+        let t1079: f32 = t410 * t410;
+        let t1080: f32 = t795 * 0.3;
+        let t1081: f32 = t1071 * 0.295;
+        let t1082: f32 = t1080 - t1081;
+        let t1083: f32 = t795 * t1082;
+        let t1084: f32 = t375 * t397;
+        let t1085: f32 = t413 * t1084;
+        let t1086: f32 = t413 * 0.3;
+        let t1087: f32 = t1075 * 0.295;
+        let t1088: f32 = t1085 * 0.003;
+        let t1089: f32 = t1087 + t1088;
+        let t1090: f32 = t1086 - t1089;
+        let t1091: f32 = t413 * t1090;
+        let t1092: f32 = t1083 + t1091;
+        let t1093: f32 = t375 * t1092;
+        let t1094: f32 = t1074 + t1078;
+        let t1095: f32 = t1079 + t1094;
+        let t1096: f32 = t1095 - t1093;
+        let t1097: f32 = t357 * t1096;
+        let t1098: f32 = t365 * t819;
+        let t1099: f32 = t1097 - t1098;
+        let t1100: f32 = t357 * t1099;
+        let t1101: f32 = t357 * t819;
+        let t1102: f32 = t365 * t463;
         let t1103: f32 = t1101 - t1102;
-        let t1104: f32 = t34 * t1103;
-        let t1105: f32 = t170 * t844;
+        let t1104: f32 = t365 * t1103;
+        let t1105: f32 = t481 * t827;
         let t1106: f32 = t1105 * 0.3;
-        let t1107: f32 = t844 - t1106;
-        let t1108: f32 = t844 * t1107;
-        let t1109: f32 = t170 * t208;
+        let t1107: f32 = t827 - t1106;
+        let t1108: f32 = t827 * t1107;
+        let t1109: f32 = t481 * t518;
         let t1110: f32 = t1109 * 0.3;
-        let t1111: f32 = t208 - t1110;
-        let t1112: f32 = t208 * t1111;
-        let t1113: f32 = t205 * t205;
-        let t1114: f32 = t844 * 0.3;
+        let t1111: f32 = t518 - t1110;
+        let t1112: f32 = t518 * t1111;
+        let t1113: f32 = t515 * t515;
+        let t1114: f32 = t827 * 0.3;
         let t1115: f32 = t1105 * 0.295;
         let t1116: f32 = t1114 - t1115;
-        let t1117: f32 = t844 * t1116;
-        let t1118: f32 = t170 * t192;
-        let t1119: f32 = t208 * t1118;
-        let t1120: f32 = t208 * 0.3;
+        let t1117: f32 = t827 * t1116;
+        let t1118: f32 = t481 * t502;
+        let t1119: f32 = t518 * t1118;
+        let t1120: f32 = t518 * 0.3;
         let t1121: f32 = t1109 * 0.295;
         let t1122: f32 = t1119 * 0.003;
         let t1123: f32 = t1121 + t1122;
         let t1124: f32 = t1120 - t1123;
-        let t1125: f32 = t208 * t1124;
+        let t1125: f32 = t518 * t1124;
         let t1126: f32 = t1117 + t1125;
-        let t1127: f32 = t170 * t1126;
+        let t1127: f32 = t481 * t1126;
         let t1128: f32 = t1108 + t1112;
         let t1129: f32 = t1113 + t1128;
         let t1130: f32 = t1129 - t1127;
-        let t1131: f32 = t156 * t1130;
-        let t1132: f32 = t160 * t861;
+        let t1131: f32 = t467 * t1130;
+        let t1132: f32 = t471 * t851;
         let t1133: f32 = t1131 - t1132;
-        let t1134: f32 = t156 * t1133;
-        let t1135: f32 = t1120 - t1121;
-        let t1136: f32 = t170 * t1135;
-        let t1137: f32 = t1110 + t1136;
-        let t1138: f32 = t208 - t1137;
-        let t1139: f32 = t204 * t1138;
-        let t1140: f32 = t170 * t1116;
-        let t1141: f32 = t1106 + t1140;
-        let t1142: f32 = t844 - t1141;
-        let t1143: f32 = t239 * t1142;
-        let t1144: f32 = t852 + t1139;
-        let t1145: f32 = t858 + t1143;
-        let t1146: f32 = t1144 + t1145;
-        let t1147: f32 = t156 * t1146;
-        let t1148: f32 = t160 * t277;
-        let t1149: f32 = t1147 - t1148;
-        let t1150: f32 = t160 * t1149;
-        let t1151: f32 = t301 * t872;
-        let t1152: f32 = t1151 * 0.3;
-        let t1153: f32 = t872 - t1152;
-        let t1154: f32 = t872 * t1153;
-        let t1155: f32 = t301 * t339;
-        let t1156: f32 = t1155 * 0.3;
-        let t1157: f32 = t339 - t1156;
-        let t1158: f32 = t339 * t1157;
-        let t1159: f32 = t336 * t336;
-        let t1160: f32 = t872 * 0.3;
-        let t1161: f32 = t1151 * 0.295;
-        let t1162: f32 = t1160 - t1161;
-        let t1163: f32 = t872 * t1162;
-        let t1164: f32 = t301 * t323;
-        let t1165: f32 = t339 * t1164;
-        let t1166: f32 = t339 * 0.3;
-        let t1167: f32 = t1155 * 0.295;
-        let t1168: f32 = t1165 * 0.003;
-        let t1169: f32 = t1167 + t1168;
-        let t1170: f32 = t1166 - t1169;
-        let t1171: f32 = t339 * t1170;
-        let t1172: f32 = t1163 + t1171;
-        let t1173: f32 = t301 * t1172;
-        let t1174: f32 = t1154 + t1158;
-        let t1175: f32 = t1159 + t1174;
-        let t1176: f32 = t1175 - t1173;
-        let t1177: f32 = t283 * t1176;
-        let t1178: f32 = t291 * t889;
-        let t1179: f32 = t1177 - t1178;
-        let t1180: f32 = t283 * t1179;
-        let t1181: f32 = t1166 - t1167;
-        let t1182: f32 = t301 * t1181;
-        let t1183: f32 = t1156 + t1182;
-        let t1184: f32 = t339 - t1183;
-        let t1185: f32 = t335 * t1184;
-        let t1186: f32 = t301 * t1162;
-        let t1187: f32 = t1152 + t1186;
-        let t1188: f32 = t872 - t1187;
-        let t1189: f32 = t370 * t1188;
-        let t1190: f32 = t880 + t1189;
-        let t1191: f32 = t886 + t1185;
-        let t1192: f32 = t1190 - t1191;
-        let t1193: f32 = t283 * t1192;
-        let t1194: f32 = t291 * t408;
-        let t1195: f32 = t1193 - t1194;
-        let t1196: f32 = t291 * t1195;
-        let t1197: f32 = t432 * t900;
-        let t1198: f32 = t1197 * 0.3;
-        let t1199: f32 = t900 - t1198;
-        let t1200: f32 = t900 * t1199;
-        let t1201: f32 = t432 * t470;
-        let t1202: f32 = t1201 * 0.3;
-        let t1203: f32 = t470 - t1202;
-        let t1204: f32 = t470 * t1203;
-        let t1205: f32 = t467 * t467;
-        let t1206: f32 = t900 * 0.3;
-        let t1207: f32 = t1197 * 0.295;
-        let t1208: f32 = t1206 - t1207;
-        let t1209: f32 = t900 * t1208;
-        let t1210: f32 = t432 * t454;
-        let t1211: f32 = t470 * t1210;
-        let t1212: f32 = t470 * 0.3;
-        let t1213: f32 = t1201 * 0.295;
-        let t1214: f32 = t1211 * 0.003;
-        let t1215: f32 = t1213 + t1214;
-        let t1216: f32 = t1212 - t1215;
-        let t1217: f32 = t470 * t1216;
-        let t1218: f32 = t1209 + t1217;
-        let t1219: f32 = t432 * t1218;
-        let t1220: f32 = t1200 + t1204;
-        let t1221: f32 = t1205 + t1220;
-        let t1222: f32 = t1221 - t1219;
-        let t1223: f32 = t414 * t1222;
-        let t1224: f32 = t422 * t917;
-        let t1225: f32 = t1223 - t1224;
-        let t1226: f32 = t414 * t1225;
-        let t1227: f32 = t1212 - t1213;
-        let t1228: f32 = t432 * t1227;
-        let t1229: f32 = t1202 + t1228;
-        let t1230: f32 = t470 - t1229;
-        let t1231: f32 = t466 * t1230;
-        let t1232: f32 = t432 * t1208;
-        let t1233: f32 = t1198 + t1232;
-        let t1234: f32 = t900 - t1233;
-        let t1235: f32 = t501 * t1234;
-        let t1236: f32 = t908 + t1235;
-        let t1237: f32 = t914 + t1231;
-        let t1238: f32 = t1236 - t1237;
-        let t1239: f32 = t414 * t1238;
-        let t1240: f32 = t422 * t539;
+        let t1134: f32 = t467 * t1133;
+        let t1135: f32 = t467 * t851;
+        let t1136: f32 = t471 * t568;
+        let t1137: f32 = t1135 - t1136;
+        let t1138: f32 = t471 * t1137;
+        let t1139: f32 = t585 * t859;
+        let t1140: f32 = t1139 * 0.3;
+        let t1141: f32 = t859 - t1140;
+        let t1142: f32 = t859 * t1141;
+        let t1143: f32 = t585 * t622;
+        let t1144: f32 = t1143 * 0.3;
+        let t1145: f32 = t622 - t1144;
+        let t1146: f32 = t622 * t1145;
+        let t1147: f32 = t619 * t619;
+        let t1148: f32 = t859 * 0.3;
+        let t1149: f32 = t1139 * 0.295;
+        let t1150: f32 = t1148 - t1149;
+        let t1151: f32 = t859 * t1150;
+        let t1152: f32 = t585 * t606;
+        let t1153: f32 = t622 * t1152;
+        let t1154: f32 = t622 * 0.3;
+        let t1155: f32 = t1143 * 0.295;
+        let t1156: f32 = t1153 * 0.003;
+        let t1157: f32 = t1155 + t1156;
+        let t1158: f32 = t1154 - t1157;
+        let t1159: f32 = t622 * t1158;
+        let t1160: f32 = t1151 + t1159;
+        let t1161: f32 = t585 * t1160;
+        let t1162: f32 = t1142 + t1146;
+        let t1163: f32 = t1147 + t1162;
+        let t1164: f32 = t1163 - t1161;
+        let t1165: f32 = t572 * t1164;
+        let t1166: f32 = t576 * t883;
+        let t1167: f32 = t1165 - t1166;
+        let t1168: f32 = t572 * t1167;
+        let t1169: f32 = t572 * t883;
+        let t1170: f32 = t576 * t672;
+        let t1171: f32 = t1169 - t1170;
+        let t1172: f32 = t576 * t1171;
+        let t1173: f32 = t968 * 0.7;
+        let t1174: f32 = t964 + t966;
+        let t1175: f32 = t998 + t1032;
+        let t1176: f32 = t1066 + t1100;
+        let t1177: f32 = t1134 + t1168;
+        let t1178: f32 = t1174 + t1175;
+        let t1179: f32 = t1176 + t1177;
+        let t1180: f32 = t1178 + t1179;
+        let t1181: f32 = t1173 + t1180;
+        let t1182: f32 = t1002 + t1036;
+        let t1183: f32 = t1070 + t1104;
+        let t1184: f32 = t1138 + t1172;
+        let t1185: f32 = t1182 + t1183;
+        let t1186: f32 = t1184 + t1185;
+        let t1187: f32 = t1181 - t1186;
+        let t1188: f32 = t10 * t963;
+        let t1189: f32 = t14 * t965;
+        let t1190: f32 = t3 * t4;
+        let t1191: f32 = t676 * t1190;
+        let t1192: f32 = t27 * t997;
+        let t1193: f32 = t34 * t124;
+        let t1194: f32 = t711 - t1193;
+        let t1195: f32 = t34 * t1194;
+        let t1196: f32 = t138 * t1031;
+        let t1197: f32 = t141 * t230;
+        let t1198: f32 = t743 - t1197;
+        let t1199: f32 = t141 * t1198;
+        let t1200: f32 = t248 * t1065;
+        let t1201: f32 = t253 * t342;
+        let t1202: f32 = t775 - t1201;
+        let t1203: f32 = t253 * t1202;
+        let t1204: f32 = t360 * t1099;
+        let t1205: f32 = t365 * t454;
+        let t1206: f32 = t807 - t1205;
+        let t1207: f32 = t365 * t1206;
+        let t1208: f32 = t468 * t1133;
+        let t1209: f32 = t471 * t559;
+        let t1210: f32 = t839 - t1209;
+        let t1211: f32 = t471 * t1210;
+        let t1212: f32 = t573 * t1167;
+        let t1213: f32 = t576 * t663;
+        let t1214: f32 = t871 - t1213;
+        let t1215: f32 = t576 * t1214;
+        let t1216: f32 = t1191 * 0.7;
+        let t1217: f32 = t1188 + t1189;
+        let t1218: f32 = t1195 + t1199;
+        let t1219: f32 = t1203 + t1207;
+        let t1220: f32 = t1211 + t1215;
+        let t1221: f32 = t1217 + t1218;
+        let t1222: f32 = t1219 + t1220;
+        let t1223: f32 = t1221 + t1222;
+        let t1224: f32 = t1192 + t1196;
+        let t1225: f32 = t1200 + t1204;
+        let t1226: f32 = t1208 + t1212;
+        let t1227: f32 = t1224 + t1225;
+        let t1228: f32 = t1216 + t1226;
+        let t1229: f32 = t1227 + t1228;
+        let t1230: f32 = t1223 - t1229;
+        let t1231: f32 = t946 + t997;
+        let t1232: f32 = t1031 + t1099;
+        let t1233: f32 = t1231 + t1232;
+        let t1234: f32 = t1133 + t1233;
+        let t1235: f32 = t1065 + t1167;
+        let t1236: f32 = t1234 - t1235;
+        let t1237: f32 = t1194 + t1198;
+        let t1238: f32 = t1206 + t1210;
+        let t1239: f32 = t1237 + t1238;
+        let t1240: f32 = t1202 + t1214;
         let t1241: f32 = t1239 - t1240;
-        let t1242: f32 = t422 * t1241;
-        let t1243: f32 = t557 * t928;
-        let t1244: f32 = t1243 * 0.3;
-        let t1245: f32 = t928 - t1244;
-        let t1246: f32 = t928 * t1245;
-        let t1247: f32 = t557 * t594;
-        let t1248: f32 = t1247 * 0.3;
-        let t1249: f32 = t594 - t1248;
-        let t1250: f32 = t594 * t1249;
-        let t1251: f32 = t591 * t591;
-        let t1252: f32 = t928 * 0.3;
-        let t1253: f32 = t1243 * 0.295;
-        let t1254: f32 = t1252 - t1253;
-        let t1255: f32 = t928 * t1254;
-        let t1256: f32 = t557 * t578;
-        let t1257: f32 = t594 * t1256;
-        let t1258: f32 = t594 * 0.3;
-        let t1259: f32 = t1247 * 0.295;
-        let t1260: f32 = t1257 * 0.003;
-        let t1261: f32 = t1259 + t1260;
-        let t1262: f32 = t1258 - t1261;
-        let t1263: f32 = t594 * t1262;
-        let t1264: f32 = t1255 + t1263;
-        let t1265: f32 = t557 * t1264;
-        let t1266: f32 = t1246 + t1250;
-        let t1267: f32 = t1251 + t1266;
-        let t1268: f32 = t1267 - t1265;
-        let t1269: f32 = t543 * t1268;
-        let t1270: f32 = t547 * t945;
-        let t1271: f32 = t1269 - t1270;
-        let t1272: f32 = t543 * t1271;
-        let t1273: f32 = t1258 - t1259;
-        let t1274: f32 = t557 * t1273;
-        let t1275: f32 = t1248 + t1274;
-        let t1276: f32 = t594 - t1275;
-        let t1277: f32 = t590 * t1276;
-        let t1278: f32 = t557 * t1254;
-        let t1279: f32 = t1244 + t1278;
-        let t1280: f32 = t928 - t1279;
-        let t1281: f32 = t625 * t1280;
-        let t1282: f32 = t936 + t1281;
-        let t1283: f32 = t942 + t1277;
-        let t1284: f32 = t1282 - t1283;
-        let t1285: f32 = t543 * t1284;
-        let t1286: f32 = t547 * t663;
-        let t1287: f32 = t1285 - t1286;
-        let t1288: f32 = t547 * t1287;
-        let t1289: f32 = t680 * t956;
-        let t1290: f32 = t1289 * 0.3;
-        let t1291: f32 = t956 - t1290;
-        let t1292: f32 = t956 * t1291;
-        let t1293: f32 = t680 * t717;
-        let t1294: f32 = t1293 * 0.3;
-        let t1295: f32 = t717 - t1294;
-        let t1296: f32 = t717 * t1295;
-        let t1297: f32 = t714 * t714;
-        let t1298: f32 = t956 * 0.3;
-        let t1299: f32 = t1289 * 0.295;
-        let t1300: f32 = t1298 - t1299;
-        let t1301: f32 = t956 * t1300;
-        let t1302: f32 = t680 * t701;
-        let t1303: f32 = t717 * t1302;
-        let t1304: f32 = t717 * 0.3;
-        let t1305: f32 = t1293 * 0.295;
-        let t1306: f32 = t1303 * 0.003;
-        let t1307: f32 = t1305 + t1306;
-        let t1308: f32 = t1304 - t1307;
-        let t1309: f32 = t717 * t1308;
-        let t1310: f32 = t1301 + t1309;
-        let t1311: f32 = t680 * t1310;
-        let t1312: f32 = t1292 + t1296;
-        let t1313: f32 = t1297 + t1312;
-        let t1314: f32 = t1313 - t1311;
-        let t1315: f32 = t667 * t1314;
-        let t1316: f32 = t671 * t973;
-        let t1317: f32 = t1315 - t1316;
-        let t1318: f32 = t667 * t1317;
-        let t1319: f32 = t1304 - t1305;
-        let t1320: f32 = t680 * t1319;
-        let t1321: f32 = t1294 + t1320;
-        let t1322: f32 = t717 - t1321;
-        let t1323: f32 = t713 * t1322;
-        let t1324: f32 = t680 * t1300;
-        let t1325: f32 = t1290 + t1324;
-        let t1326: f32 = t956 - t1325;
-        let t1327: f32 = t748 * t1326;
-        let t1328: f32 = t964 + t1327;
-        let t1329: f32 = t970 + t1323;
-        let t1330: f32 = t1328 - t1329;
-        let t1331: f32 = t667 * t1330;
-        let t1332: f32 = t671 * t786;
-        let t1333: f32 = t1331 - t1332;
-        let t1334: f32 = t671 * t1333;
-        let t1335: f32 = t1058 * 0.7;
-        let t1336: f32 = t1054 + t1056;
-        let t1337: f32 = t1088 + t1134;
-        let t1338: f32 = t1180 + t1226;
-        let t1339: f32 = t1272 + t1318;
-        let t1340: f32 = t1336 + t1337;
-        let t1341: f32 = t1338 + t1339;
-        let t1342: f32 = t1340 + t1341;
-        let t1343: f32 = t1335 + t1342;
-        let t1344: f32 = t1104 + t1150;
-        let t1345: f32 = t1196 + t1242;
-        let t1346: f32 = t1288 + t1334;
-        let t1347: f32 = t1344 + t1345;
+        let t1242: f32 = t0 * 0.36;
+        let t1243: f32 = t1069 + t1242;
+        let t1244: f32 = t1171 + t1243;
+        let t1245: f32 = t1001 + t1035;
+        let t1246: f32 = t1103 + t1137;
+        let t1247: f32 = t1245 + t1246;
+        let t1248: f32 = t1244 - t1247;
+        let t1249: f32 = -t1248;
+        let t1250: f32 = t10 * 0.4108;
+        let t1251: f32 = t10 * t1250;
+        let t1252: f32 = t14 * 0.4108;
+        let t1253: f32 = t14 * t1252;
+        let t1254: f32 = t4 * t4;
+        let t1255: f32 = t676 * t1254;
+        let t1256: f32 = t27 * t994;
+        let t1257: f32 = t34 * t710;
+        let t1258: f32 = t1256 - t1257;
+        let t1259: f32 = t27 * t1258;
+        let t1260: f32 = t27 * t710;
+        let t1261: f32 = t34 * t96;
+        let t1262: f32 = t1260 - t1261;
+        let t1263: f32 = t34 * t1262;
+        let t1264: f32 = t138 * t1028;
+        let t1265: f32 = t141 * t742;
+        let t1266: f32 = t1264 - t1265;
+        let t1267: f32 = t138 * t1266;
+        let t1268: f32 = t138 * t742;
+        let t1269: f32 = t141 * t202;
+        let t1270: f32 = t1268 - t1269;
+        let t1271: f32 = t141 * t1270;
+        let t1272: f32 = t248 * t1062;
+        let t1273: f32 = t253 * t774;
+        let t1274: f32 = t1272 - t1273;
+        let t1275: f32 = t248 * t1274;
+        let t1276: f32 = t248 * t774;
+        let t1277: f32 = t253 * t314;
+        let t1278: f32 = t1276 - t1277;
+        let t1279: f32 = t253 * t1278;
+        let t1280: f32 = t360 * t1096;
+        let t1281: f32 = t365 * t806;
+        let t1282: f32 = t1280 - t1281;
+        let t1283: f32 = t360 * t1282;
+        let t1284: f32 = t360 * t806;
+        let t1285: f32 = t365 * t426;
+        let t1286: f32 = t1284 - t1285;
+        let t1287: f32 = t365 * t1286;
+        let t1288: f32 = t468 * t1130;
+        let t1289: f32 = t471 * t838;
+        let t1290: f32 = t1288 - t1289;
+        let t1291: f32 = t468 * t1290;
+        let t1292: f32 = t468 * t838;
+        let t1293: f32 = t471 * t531;
+        let t1294: f32 = t1292 - t1293;
+        let t1295: f32 = t471 * t1294;
+        let t1296: f32 = t573 * t1164;
+        let t1297: f32 = t576 * t870;
+        let t1298: f32 = t1296 - t1297;
+        let t1299: f32 = t573 * t1298;
+        let t1300: f32 = t573 * t870;
+        let t1301: f32 = t576 * t635;
+        let t1302: f32 = t1300 - t1301;
+        let t1303: f32 = t576 * t1302;
+        let t1304: f32 = t1255 * 0.7;
+        let t1305: f32 = t1251 + t1253;
+        let t1306: f32 = t1259 + t1267;
+        let t1307: f32 = t1275 + t1283;
+        let t1308: f32 = t1291 + t1299;
+        let t1309: f32 = t1305 + t1306;
+        let t1310: f32 = t1307 + t1308;
+        let t1311: f32 = t1309 + t1310;
+        let t1312: f32 = t1304 + t1311;
+        let t1313: f32 = t1263 + t1271;
+        let t1314: f32 = t1279 + t1287;
+        let t1315: f32 = t1295 + t1303;
+        let t1316: f32 = t1313 + t1314;
+        let t1317: f32 = t1315 + t1316;
+        let t1318: f32 = t1312 - t1317;
+        let t1319: f32 = t955 + t1274;
+        let t1320: f32 = t1298 + t1319;
+        let t1321: f32 = t1258 + t1266;
+        let t1322: f32 = t1282 + t1290;
+        let t1323: f32 = t1321 + t1322;
+        let t1324: f32 = t1320 - t1323;
+        let t1325: f32 = t1242 + t1278;
+        let t1326: f32 = t1302 + t1325;
+        let t1327: f32 = t1262 + t1270;
+        let t1328: f32 = t1286 + t1294;
+        let t1329: f32 = t1327 + t1328;
+        let t1330: f32 = t1326 - t1329;
+        let t1331: f32 = t724 - t1193;
+        let t1332: f32 = t756 - t1197;
+        let t1333: f32 = t788 - t1201;
+        let t1334: f32 = t820 - t1205;
+        let t1335: f32 = t852 - t1209;
+        let t1336: f32 = t884 - t1213;
+        let t1337: f32 = t1331 + t1332;
+        let t1338: f32 = t1334 + t1335;
+        let t1339: f32 = t1337 + t1338;
+        let t1340: f32 = t1333 + t1336;
+        let t1341: f32 = t1339 - t1340;
+        let t1342: f32 = -t1341;
+        let t1343: f32 = t994 + t1028;
+        let t1344: f32 = t1062 + t1096;
+        let t1345: f32 = t1130 + t1164;
+        let t1346: f32 = t1343 + t1344;
+        let t1347: f32 = t1345 + 12.0;
         let t1348: f32 = t1346 + t1347;
-        let t1349: f32 = t1343 - t1348;
-        let t1350: f32 = t10 * t1053;
-        let t1351: f32 = t14 * t1055;
-        let t1352: f32 = t3 * t4;
-        let t1353: f32 = t790 * t1352;
-        let t1354: f32 = t27 * t1087;
-        let t1355: f32 = t61 * t1092;
-        let t1356: f32 = t85 * t1096;
-        let t1357: f32 = t810 + t1355;
-        let t1358: f32 = t819 + t1356;
-        let t1359: f32 = t1357 + t1358;
-        let t1360: f32 = t17 * t1359;
-        let t1361: f32 = t34 * t127;
-        let t1362: f32 = t1360 - t1361;
-        let t1363: f32 = t34 * t1362;
-        let t1364: f32 = t157 * t1133;
-        let t1365: f32 = t186 * t1138;
-        let t1366: f32 = t210 * t1142;
-        let t1367: f32 = t838 + t1365;
-        let t1368: f32 = t847 + t1366;
+        let t1349: f32 = t710 + t742;
+        let t1350: f32 = t774 + t806;
+        let t1351: f32 = t838 + t870;
+        let t1352: f32 = t1349 + t1350;
+        let t1353: f32 = t1351 + t1352;
+        let t1354: f32 = t723 + t755;
+        let t1355: f32 = t787 + t819;
+        let t1356: f32 = t851 + t883;
+        let t1357: f32 = t1354 + t1355;
+        let t1358: f32 = t1356 + t1357;
+        let t1359: f32 = t96 + t202;
+        let t1360: f32 = t314 + t426;
+        let t1361: f32 = t531 + t635;
+        let t1362: f32 = t1359 + t1360;
+        let t1363: f32 = t1361 + 12.0;
+        let t1364: f32 = t1362 + t1363;
+        let t1365: f32 = t124 + t230;
+        let t1366: f32 = t342 + t454;
+        let t1367: f32 = t559 + t663;
+        let t1368: f32 = t1365 + t1366;
         let t1369: f32 = t1367 + t1368;
-        let t1370: f32 = t156 * t1369;
-        let t1371: f32 = t160 * t252;
-        let t1372: f32 = t1370 - t1371;
-        let t1373: f32 = t160 * t1372;
-        let t1374: f32 = t286 * t1179;
-        let t1375: f32 = t317 * t1184;
-        let t1376: f32 = t341 * t1188;
-        let t1377: f32 = t866 + t1375;
-        let t1378: f32 = t875 + t1377;
-        let t1379: f32 = t1378 - t1376;
-        let t1380: f32 = t283 * t1379;
-        let t1381: f32 = t291 * t383;
-        let t1382: f32 = t1380 - t1381;
-        let t1383: f32 = t291 * t1382;
-        let t1384: f32 = t417 * t1225;
-        let t1385: f32 = t448 * t1230;
-        let t1386: f32 = t472 * t1234;
-        let t1387: f32 = t894 + t1385;
-        let t1388: f32 = t903 + t1387;
-        let t1389: f32 = t1388 - t1386;
-        let t1390: f32 = t414 * t1389;
-        let t1391: f32 = t422 * t514;
-        let t1392: f32 = t1390 - t1391;
-        let t1393: f32 = t422 * t1392;
-        let t1394: f32 = t544 * t1271;
-        let t1395: f32 = t572 * t1276;
-        let t1396: f32 = t596 * t1280;
-        let t1397: f32 = t922 + t1395;
-        let t1398: f32 = t931 + t1397;
-        let t1399: f32 = t1398 - t1396;
-        let t1400: f32 = t543 * t1399;
-        let t1401: f32 = t547 * t638;
-        let t1402: f32 = t1400 - t1401;
-        let t1403: f32 = t547 * t1402;
-        let t1404: f32 = t668 * t1317;
-        let t1405: f32 = t695 * t1322;
-        let t1406: f32 = t719 * t1326;
-        let t1407: f32 = t950 + t1405;
-        let t1408: f32 = t959 + t1407;
-        let t1409: f32 = t1408 - t1406;
-        let t1410: f32 = t667 * t1409;
-        let t1411: f32 = t671 * t761;
-        let t1412: f32 = t1410 - t1411;
-        let t1413: f32 = t671 * t1412;
-        let t1414: f32 = t1353 * 0.7;
-        let t1415: f32 = t1350 + t1351;
-        let t1416: f32 = t1363 + t1373;
-        let t1417: f32 = t1383 + t1393;
-        let t1418: f32 = t1403 + t1413;
-        let t1419: f32 = t1415 + t1416;
-        let t1420: f32 = t1417 + t1418;
-        let t1421: f32 = t1419 + t1420;
-        let t1422: f32 = t1354 + t1364;
-        let t1423: f32 = t1374 + t1384;
-        let t1424: f32 = t1394 + t1404;
-        let t1425: f32 = t1422 + t1423;
-        let t1426: f32 = t1414 + t1424;
-        let t1427: f32 = t1425 + t1426;
-        let t1428: f32 = t1421 - t1427;
-        let t1429: f32 = t1036 + t1087;
-        let t1430: f32 = t1133 + t1225;
-        let t1431: f32 = t1429 + t1430;
-        let t1432: f32 = t1271 + t1431;
-        let t1433: f32 = t1179 + t1317;
-        let t1434: f32 = t1432 - t1433;
-        let t1435: f32 = t1362 + t1372;
-        let t1436: f32 = t1392 + t1402;
-        let t1437: f32 = t1435 + t1436;
-        let t1438: f32 = t1382 + t1412;
-        let t1439: f32 = t1437 - t1438;
-        let t1440: f32 = t0 * 0.36;
-        let t1441: f32 = t1195 + t1440;
-        let t1442: f32 = t1333 + t1441;
-        let t1443: f32 = t1103 + t1149;
-        let t1444: f32 = t1241 + t1287;
-        let t1445: f32 = t1443 + t1444;
-        let t1446: f32 = t1442 - t1445;
-        let t1447: f32 = -t1446;
-        let t1448: f32 = t10 * 0.4108;
-        let t1449: f32 = t10 * t1448;
-        let t1450: f32 = t14 * 0.4108;
-        let t1451: f32 = t14 * t1450;
-        let t1452: f32 = t4 * t4;
-        let t1453: f32 = t790 * t1452;
-        let t1454: f32 = t27 * t1084;
-        let t1455: f32 = t34 * t822;
-        let t1456: f32 = t1454 - t1455;
-        let t1457: f32 = t27 * t1456;
-        let t1458: f32 = t27 * t1359;
-        let t1459: f32 = t34 * t96;
-        let t1460: f32 = t1458 - t1459;
-        let t1461: f32 = t34 * t1460;
-        let t1462: f32 = t157 * t1130;
-        let t1463: f32 = t160 * t850;
-        let t1464: f32 = t1462 - t1463;
-        let t1465: f32 = t157 * t1464;
-        let t1466: f32 = t157 * t1369;
-        let t1467: f32 = t160 * t221;
-        let t1468: f32 = t1466 - t1467;
-        let t1469: f32 = t160 * t1468;
-        let t1470: f32 = t286 * t1176;
-        let t1471: f32 = t291 * t878;
-        let t1472: f32 = t1470 - t1471;
-        let t1473: f32 = t286 * t1472;
-        let t1474: f32 = t286 * t1379;
-        let t1475: f32 = t291 * t352;
-        let t1476: f32 = t1474 - t1475;
-        let t1477: f32 = t291 * t1476;
-        let t1478: f32 = t417 * t1222;
-        let t1479: f32 = t422 * t906;
-        let t1480: f32 = t1478 - t1479;
-        let t1481: f32 = t417 * t1480;
-        let t1482: f32 = t417 * t1389;
-        let t1483: f32 = t422 * t483;
-        let t1484: f32 = t1482 - t1483;
-        let t1485: f32 = t422 * t1484;
-        let t1486: f32 = t544 * t1268;
-        let t1487: f32 = t547 * t934;
-        let t1488: f32 = t1486 - t1487;
-        let t1489: f32 = t544 * t1488;
-        let t1490: f32 = t544 * t1399;
-        let t1491: f32 = t547 * t607;
-        let t1492: f32 = t1490 - t1491;
-        let t1493: f32 = t547 * t1492;
-        let t1494: f32 = t668 * t1314;
-        let t1495: f32 = t671 * t962;
-        let t1496: f32 = t1494 - t1495;
-        let t1497: f32 = t668 * t1496;
-        let t1498: f32 = t668 * t1409;
-        let t1499: f32 = t671 * t730;
-        let t1500: f32 = t1498 - t1499;
-        let t1501: f32 = t671 * t1500;
-        let t1502: f32 = t1453 * 0.7;
-        let t1503: f32 = t1449 + t1451;
-        let t1504: f32 = t1457 + t1465;
-        let t1505: f32 = t1473 + t1481;
-        let t1506: f32 = t1489 + t1497;
-        let t1507: f32 = t1503 + t1504;
-        let t1508: f32 = t1505 + t1506;
-        let t1509: f32 = t1507 + t1508;
-        let t1510: f32 = t1502 + t1509;
-        let t1511: f32 = t1461 + t1469;
-        let t1512: f32 = t1477 + t1485;
-        let t1513: f32 = t1493 + t1501;
-        let t1514: f32 = t1511 + t1512;
-        let t1515: f32 = t1513 + t1514;
-        let t1516: f32 = t1510 - t1515;
-        let t1517: f32 = t1045 + t1472;
-        let t1518: f32 = t1496 + t1517;
-        let t1519: f32 = t1456 + t1464;
-        let t1520: f32 = t1480 + t1488;
-        let t1521: f32 = t1519 + t1520;
-        let t1522: f32 = t1518 - t1521;
-        let t1523: f32 = t1440 + t1476;
-        let t1524: f32 = t1500 + t1523;
-        let t1525: f32 = t1460 + t1468;
-        let t1526: f32 = t1484 + t1492;
-        let t1527: f32 = t1525 + t1526;
-        let t1528: f32 = t1524 - t1527;
-        let t1529: f32 = t27 * t1100;
-        let t1530: f32 = t34 * t139;
-        let t1531: f32 = t1529 - t1530;
-        let t1532: f32 = t157 * t1146;
-        let t1533: f32 = t160 * t264;
-        let t1534: f32 = t1532 - t1533;
-        let t1535: f32 = t286 * t1192;
-        let t1536: f32 = t291 * t395;
-        let t1537: f32 = t1535 - t1536;
-        let t1538: f32 = t417 * t1238;
-        let t1539: f32 = t422 * t526;
-        let t1540: f32 = t1538 - t1539;
-        let t1541: f32 = t544 * t1284;
-        let t1542: f32 = t547 * t650;
-        let t1543: f32 = t1541 - t1542;
-        let t1544: f32 = t668 * t1330;
-        let t1545: f32 = t671 * t773;
-        let t1546: f32 = t1544 - t1545;
-        let t1547: f32 = t1531 + t1534;
-        let t1548: f32 = t1540 + t1543;
-        let t1549: f32 = t1547 + t1548;
-        let t1550: f32 = t1537 + t1546;
-        let t1551: f32 = t1549 - t1550;
-        let t1552: f32 = -t1551;
-        let t1553: f32 = t1084 + t1130;
-        let t1554: f32 = t1176 + t1222;
-        let t1555: f32 = t1268 + t1314;
-        let t1556: f32 = t1553 + t1554;
-        let t1557: f32 = t1555 + 12.0;
-        let t1558: f32 = t1556 + t1557;
-        let t1559: f32 = t1359 + t1369;
-        let t1560: f32 = t1379 + t1389;
-        let t1561: f32 = t1399 + t1409;
-        let t1562: f32 = t1559 + t1560;
-        let t1563: f32 = t1561 + t1562;
-        let t1564: f32 = t1100 + t1146;
-        let t1565: f32 = t1192 + t1238;
-        let t1566: f32 = t1284 + t1330;
-        let t1567: f32 = t1564 + t1565;
-        let t1568: f32 = t1566 + t1567;
-        let t1569: f32 = t96 + t221;
-        let t1570: f32 = t352 + t483;
-        let t1571: f32 = t607 + t730;
-        let t1572: f32 = t1569 + t1570;
-        let t1573: f32 = t1571 + 12.0;
-        let t1574: f32 = t1572 + t1573;
-        let t1575: f32 = t139 + t264;
-        let t1576: f32 = t395 + t526;
-        let t1577: f32 = t650 + t773;
-        let t1578: f32 = t1575 + t1576;
-        let t1579: f32 = t1577 + t1578;
-        let t1580: f32 = t152 + t277;
-        let t1581: f32 = t408 + t539;
-        let t1582: f32 = t663 + t786;
-        let t1583: f32 = t1580 + t1581;
-        let t1584: f32 = t1582 + 12.0;
-        let t1585: f32 = t1583 + t1584;
-        let t1586: f32 = t44 * t59;
-        let t1587: f32 = t170 * t184;
-        let t1588: f32 = t301 * t315;
-        let t1589: f32 = t432 * t446;
-        let t1590: f32 = t557 * t570;
-        let t1591: f32 = t680 * t693;
+        let t1370: f32 = t133 + t239;
+        let t1371: f32 = t351 + t463;
+        let t1372: f32 = t568 + t672;
+        let t1373: f32 = t1370 + t1371;
+        let t1374: f32 = t1372 + 12.0;
+        let t1375: f32 = t1373 + t1374;
+        let t1376: f32 = t44 * t59;
+        let t1377: f32 = t151 * t165;
+        let t1378: f32 = t263 * t277;
+        let t1379: f32 = t375 * t389;
+        let t1380: f32 = t481 * t494;
+        let t1381: f32 = t585 * t598;
         (
-            t1028,
-            t1034,
-            t1043,
-            t1052,
-            t1349,
-            t1428,
-            t1434,
-            t1439,
-            t1447,
-            t1516,
-            t1522,
-            t1528,
-            t1552,
-            t1558,
-            t1563,
-            t1568,
-            t1574,
-            t1579,
-            t1585,
-            t1586,
-            t1587,
-            t1588,
-            t1589,
-            t1590,
-            t1591,
+            t1187,
+            t1230,
+            t1236,
+            t1241,
+            t1249,
+            t1318,
+            t1324,
+            t1330,
+            t1342,
+            t1348,
+            t1353,
+            t1358,
+            t1364,
+            t1369,
+            t1375,
+            t1376,
+            t1377,
+            t1378,
+            t1379,
+            t1380,
+            t1381,
         )
     };
     (
         [
-            [t809, t997, t1028, t1034, t1043, t1052],
-            [t997, t1349, t1428, t1434, t1439, t1447],
-            [t1028, t1428, t1516, t1522, t1528, t1552],
-            [t1034, t1434, t1522, t1558, t1563, t1568],
-            [t1043, t1439, t1528, t1563, t1574, t1579],
-            [t1052, t1447, t1552, t1568, t1579, t1585],
+            [t695, t907, t938, t944, t953, t962],
+            [t907, t1187, t1230, t1236, t1241, t1249],
+            [t938, t1230, t1318, t1324, t1330, t1342],
+            [t944, t1236, t1324, t1348, t1353, t1358],
+            [t953, t1241, t1330, t1353, t1364, t1369],
+            [t962, t1249, t1342, t1358, t1369, t1375],
         ],
-        [t1586, t1587, t1588, t1589, t1590, t1591],
+        [t1376, t1377, t1378, t1379, t1380, t1381],
     )
 }
 /// Task-space bias `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal, gravity.
@@ -9087,7 +8749,7 @@ pub fn task_bias(pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 6]) {
 /// - `accel`: classical platform acceleration `(ω̇; a_C)` (rad/s², m/s²), base frame
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
-/// Operations: 2091 mul, 29 div, 1503 add, 39 neg, 3 sin_cos, 12 sqrt (chapter convention: 2120m + 1503a).
+/// Operations: 1930 mul, 29 div, 1386 add, 36 neg, 3 sin_cos, 12 sqrt (chapter convention: 1959m + 1386a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn forward_dynamics(
@@ -9124,7 +8786,6 @@ pub fn forward_dynamics(
         t61,
         t62,
         t66,
-        t67,
         t79,
         t80,
         t82,
@@ -9133,224 +8794,220 @@ pub fn forward_dynamics(
         t86,
         t96,
         t99,
-        t103,
+        t113,
         t114,
-        t115,
-        t127,
-        t129,
-        t139,
+        t124,
+        t126,
+        t133,
+        t135,
+        t137,
+        t138,
+        t140,
+        t141,
+        t143,
+        t146,
+        t149,
+        t151,
         t152,
-        t154,
-        t156,
-        t157,
-        t159,
-        t160,
-        t162,
         t165,
+        t166,
+        t167,
         t168,
-        t170,
-        t171,
-        t184,
+        t172,
         t185,
         t186,
-        t187,
+        t188,
+        t189,
         t191,
         t192,
-        t204,
+        t202,
         t205,
-        t207,
-        t208,
-        t210,
-        t211,
-        t221,
-        t224,
-        t228,
+        t219,
+        t220,
+        t230,
+        t232,
         t239,
-        t240,
-        t252,
-        t254,
+        t241,
+        t245,
+        t248,
+        t250,
+        t253,
+        t255,
+        t258,
+        t261,
+        t263,
         t264,
         t277,
+        t278,
         t279,
-        t283,
-        t286,
-        t288,
-        t291,
-        t293,
-        t296,
-        t299,
+        t280,
+        t284,
+        t297,
+        t298,
+        t300,
         t301,
-        t302,
-        t315,
-        t316,
+        t303,
+        t304,
+        t314,
         t317,
-        t318,
-        t322,
-        t323,
-        t335,
-        t336,
-        t338,
-        t339,
-        t341,
+        t331,
+        t332,
         t342,
-        t352,
-        t355,
-        t359,
+        t344,
+        t351,
+        t353,
+        t357,
+        t360,
+        t362,
+        t365,
+        t367,
         t370,
-        t371,
-        t383,
-        t385,
-        t395,
-        t408,
+        t373,
+        t375,
+        t376,
+        t389,
+        t390,
+        t391,
+        t392,
+        t396,
+        t397,
+        t409,
         t410,
-        t414,
-        t417,
-        t419,
-        t422,
-        t424,
-        t427,
-        t430,
-        t432,
-        t433,
-        t446,
-        t447,
-        t448,
-        t449,
-        t453,
+        t412,
+        t413,
+        t415,
+        t416,
+        t426,
+        t429,
+        t443,
+        t444,
         t454,
-        t466,
+        t456,
+        t463,
+        t465,
         t467,
-        t469,
+        t468,
         t470,
-        t472,
+        t471,
         t473,
-        t483,
-        t486,
-        t490,
+        t476,
+        t479,
+        t481,
+        t482,
+        t494,
+        t495,
+        t496,
+        t497,
         t501,
         t502,
         t514,
-        t516,
-        t526,
-        t539,
-        t541,
-        t543,
-        t544,
-        t546,
-        t547,
+        t515,
+        t517,
+        t518,
+        t520,
+        t521,
+        t531,
+        t534,
+        t548,
         t549,
-        t552,
-        t555,
-        t557,
-        t558,
+        t559,
+        t561,
+        t568,
         t570,
-        t571,
         t572,
         t573,
+        t575,
+        t576,
         t577,
-        t578,
-        t590,
-        t591,
-        t593,
-        t594,
-        t596,
-        t597,
-        t607,
-        t610,
-        t614,
+        t580,
+        t583,
+        t585,
+        t586,
+        t598,
+        t599,
+        t600,
+        t601,
+        t605,
+        t606,
+        t618,
+        t619,
+        t621,
+        t622,
+        t624,
         t625,
-        t626,
+        t635,
         t638,
-        t640,
-        t650,
+        t652,
+        t653,
         t663,
         t665,
-        t667,
-        t668,
-        t670,
-        t671,
         t672,
-        t675,
-        t678,
-        t680,
-        t681,
-        t693,
-        t694,
-        t695,
+        t674,
+        t676,
         t696,
-        t700,
+        t697,
         t701,
+        t712,
         t713,
-        t714,
-        t716,
-        t717,
-        t719,
-        t720,
-        t730,
+        t725,
+        t726,
+        t727,
         t733,
-        t737,
-        t748,
-        t749,
-        t761,
-        t763,
-        t773,
-        t786,
-        t788,
+        t744,
+        t745,
+        t757,
+        t758,
+        t759,
+        t765,
+        t776,
+        t777,
+        t789,
         t790,
-        t810,
-        t811,
-        t812,
-        t818,
+        t791,
+        t797,
+        t808,
+        t809,
         t821,
-        t824,
-        t826,
-        t832,
-        t835,
-        t837,
+        t822,
+        t823,
+        t829,
         t840,
-        t846,
-        t849,
-        t852,
+        t841,
+        t853,
         t854,
-        t860,
-        t863,
-        t865,
-        t868,
-        t874,
-        t877,
-        t880,
-        t882,
-        t888,
-        t891,
-        t893,
-        t896,
-        t902,
-        t905,
+        t855,
+        t861,
+        t872,
+        t873,
+        t885,
+        t886,
+        t887,
         t908,
+        t909,
         t910,
-        t916,
+        t911,
+        t912,
+        t914,
+        t915,
         t919,
-        t921,
-        t924,
-        t930,
-        t933,
-        t936,
-        t938,
+        t940,
+        t943,
         t944,
         t947,
+        t948,
         t949,
-        t952,
-        t958,
-        t961,
-        t964,
-        t966,
-        t972,
-        t975,
+        t953,
+        t974,
         t977,
-        t998,
-        t999,
-        t1000,
-        t1001,
+        t978,
+        t981,
+        t982,
+        t983,
+        t986,
+        t987,
+        t990,
+        t991,
+        t995,
         t1002,
     ) = {
         let (t0, t1): (f32, f32) = sin_cos(beta);
@@ -9449,910 +9106,910 @@ pub fn forward_dynamics(
         let t96: f32 = t94 + t95;
         let t97: f32 = t17 * t96;
         let t98: f32 = t45 * t82;
-        let t99: f32 = t44 * t44;
-        let t100: f32 = t61 * t79;
-        let t101: f32 = t99 * t100;
-        let t102: f32 = t67 * t101;
-        let t103: f32 = t44 * t79;
-        let t104: f32 = t79 * 0.3;
-        let t105: f32 = t103 * 0.295;
-        let t106: f32 = t104 - t105;
-        let t107: f32 = t44 * t106;
-        let t108: f32 = t103 * 0.3;
-        let t109: f32 = t107 + t108;
-        let t110: f32 = t79 - t109;
-        let t111: f32 = t61 * t110;
-        let t112: f32 = t45 * t83;
-        let t113: f32 = t61 * t80;
-        let t114: f32 = t112 - t113;
-        let t115: f32 = t44 * t114;
-        let t116: f32 = t114 * 0.3;
-        let t117: f32 = t115 * 0.295;
-        let t118: f32 = t116 - t117;
-        let t119: f32 = t44 * t118;
-        let t120: f32 = t115 * 0.3;
-        let t121: f32 = t119 + t120;
-        let t122: f32 = t114 - t121;
-        let t123: f32 = t85 * t122;
-        let t124: f32 = t102 * 0.003;
-        let t125: f32 = t98 + t111;
-        let t126: f32 = t123 + t124;
-        let t127: f32 = t125 + t126;
-        let t128: f32 = t27 * t127;
-        let t129: f32 = t97 - t128;
-        let t130: f32 = t17 * t129;
-        let t131: f32 = t69 - t70;
-        let t132: f32 = t44 * t131;
-        let t133: f32 = t75 + t132;
-        let t134: f32 = t61 - t133;
-        let t135: f32 = t79 * t134;
-        let t136: f32 = t93 * t114;
-        let t137: f32 = t98 + t135;
-        let t138: f32 = t124 + t136;
-        let t139: f32 = t137 + t138;
-        let t140: f32 = t17 * t139;
-        let t141: f32 = t82 * t82;
-        let t142: f32 = t67 * t103;
-        let t143: f32 = t142 * 0.003;
-        let t144: f32 = t105 + t143;
-        let t145: f32 = t104 - t144;
-        let t146: f32 = t44 * t145;
-        let t147: f32 = t108 + t146;
-        let t148: f32 = t79 - t147;
-        let t149: f32 = t79 * t148;
-        let t150: f32 = t114 * t122;
-        let t151: f32 = t141 + t149;
-        let t152: f32 = t150 + t151;
-        let t153: f32 = t27 * t152;
-        let t154: f32 = t140 - t153;
-        let t155: f32 = t27 * t154;
-        let t156: f32 = t15 - t16;
-        let t157: f32 = t25 - t26;
-        let t158: f32 = yc + t157;
-        let t159: f32 = t158 + 0.08;
-        let t160: f32 = t32 + t33;
-        let t161: f32 = xc + t160;
-        let t162: f32 = t161 - 0.45;
-        let t163: f32 = t162 * t162;
-        let t164: f32 = t159 * t159;
-        let t165: f32 = zc + t156;
-        let t166: f32 = t165 * t165;
-        let t167: f32 = t163 + t164;
-        let t168: f32 = t166 + t167;
-        let t169: f32 = sqrt(t168);
-        let t170: f32 = 1.0 / t169;
-        let t171: f32 = t159 * t170;
-        let t172: f32 = t171 * t171;
-        let t173: f32 = t165 * 0.17503293;
-        let t174: f32 = t165 * 0.9845626;
-        let t175: f32 = -t174;
-        let t176: f32 = t175 * t175;
-        let t177: f32 = t173 * t173;
-        let t178: f32 = t162 * 0.9845626;
-        let t179: f32 = t159 * 0.17503293;
-        let t180: f32 = t178 - t179;
-        let t181: f32 = t180 * t180;
-        let t182: f32 = t176 + t177;
-        let t183: f32 = t181 + t182;
-        let t184: f32 = sqrt(t183);
-        let t185: f32 = 1.0 / t184;
-        let t186: f32 = t173 * t185;
-        let t187: f32 = t170 * t186;
-        let t188: f32 = t162 * 0.17503293;
-        let t189: f32 = t159 * 0.9845626;
-        let t190: f32 = t188 + t189;
-        let t191: f32 = t185 * t190;
-        let t192: f32 = t191 * t191;
-        let t193: f32 = t187 * t192;
-        let t194: f32 = t186 * 0.3;
-        let t195: f32 = t187 * 0.295;
-        let t196: f32 = t193 * 0.003;
-        let t197: f32 = t195 + t196;
-        let t198: f32 = t194 - t197;
-        let t199: f32 = t170 * t198;
-        let t200: f32 = t187 * 0.3;
-        let t201: f32 = t199 + t200;
-        let t202: f32 = t186 - t201;
-        let t203: f32 = t186 * t202;
-        let t204: f32 = t180 * t185;
-        let t205: f32 = t162 * t170;
-        let t206: f32 = t204 * t205;
-        let t207: f32 = t165 * t170;
-        let t208: f32 = t175 * t185;
-        let t209: f32 = t207 * t208;
-        let t210: f32 = t206 - t209;
-        let t211: f32 = t170 * t210;
-        let t212: f32 = t210 * 0.3;
-        let t213: f32 = t211 * 0.295;
-        let t214: f32 = t212 - t213;
-        let t215: f32 = t170 * t214;
-        let t216: f32 = t211 * 0.3;
-        let t217: f32 = t215 + t216;
-        let t218: f32 = t210 - t217;
-        let t219: f32 = t210 * t218;
-        let t220: f32 = t172 + t203;
-        let t221: f32 = t219 + t220;
-        let t222: f32 = t156 * t221;
-        let t223: f32 = t171 * t207;
-        let t224: f32 = t170 * t170;
-        let t225: f32 = t186 * t204;
-        let t226: f32 = t224 * t225;
-        let t227: f32 = t192 * t226;
-        let t228: f32 = t170 * t204;
-        let t229: f32 = t204 * 0.3;
-        let t230: f32 = t228 * 0.295;
-        let t231: f32 = t229 - t230;
-        let t232: f32 = t170 * t231;
-        let t233: f32 = t228 * 0.3;
-        let t234: f32 = t232 + t233;
-        let t235: f32 = t204 - t234;
-        let t236: f32 = t186 * t235;
-        let t237: f32 = t171 * t208;
-        let t238: f32 = t186 * t205;
-        let t239: f32 = t237 - t238;
-        let t240: f32 = t170 * t239;
-        let t241: f32 = t239 * 0.3;
-        let t242: f32 = t240 * 0.295;
-        let t243: f32 = t241 - t242;
-        let t244: f32 = t170 * t243;
-        let t245: f32 = t240 * 0.3;
-        let t246: f32 = t244 + t245;
-        let t247: f32 = t239 - t246;
-        let t248: f32 = t210 * t247;
-        let t249: f32 = t227 * 0.003;
-        let t250: f32 = t223 + t236;
-        let t251: f32 = t248 + t249;
-        let t252: f32 = t250 + t251;
-        let t253: f32 = t157 * t252;
-        let t254: f32 = t222 - t253;
-        let t255: f32 = t156 * t254;
-        let t256: f32 = t194 - t195;
-        let t257: f32 = t170 * t256;
-        let t258: f32 = t200 + t257;
-        let t259: f32 = t186 - t258;
-        let t260: f32 = t204 * t259;
-        let t261: f32 = t218 * t239;
-        let t262: f32 = t223 + t260;
-        let t263: f32 = t249 + t261;
-        let t264: f32 = t262 + t263;
-        let t265: f32 = t156 * t264;
-        let t266: f32 = t207 * t207;
-        let t267: f32 = t192 * t228;
-        let t268: f32 = t267 * 0.003;
-        let t269: f32 = t230 + t268;
-        let t270: f32 = t229 - t269;
-        let t271: f32 = t170 * t270;
-        let t272: f32 = t233 + t271;
-        let t273: f32 = t204 - t272;
-        let t274: f32 = t204 * t273;
-        let t275: f32 = t239 * t247;
-        let t276: f32 = t266 + t274;
-        let t277: f32 = t275 + t276;
-        let t278: f32 = t157 * t277;
-        let t279: f32 = t265 - t278;
-        let t280: f32 = t157 * t279;
-        let t281: f32 = t10 * 0.254904;
-        let t282: f32 = t14 * 0.141506;
-        let t283: f32 = t281 - t282;
-        let t284: f32 = t21 * 0.254904;
-        let t285: f32 = t24 * 0.141506;
-        let t286: f32 = t284 - t285;
-        let t287: f32 = t286 + 0.349711;
-        let t288: f32 = yc - t287;
-        let t289: f32 = t30 * 0.254904;
-        let t290: f32 = t31 * 0.141506;
-        let t291: f32 = t289 + t290;
-        let t292: f32 = xc + 0.294282;
-        let t293: f32 = t292 - t291;
-        let t294: f32 = t293 * t293;
-        let t295: f32 = t288 * t288;
-        let t296: f32 = zc - t283;
-        let t297: f32 = t296 * t296;
-        let t298: f32 = t294 + t295;
-        let t299: f32 = t297 + t298;
-        let t300: f32 = sqrt(t299);
-        let t301: f32 = 1.0 / t300;
-        let t302: f32 = t288 * t301;
-        let t303: f32 = t302 * t302;
-        let t304: f32 = t296 * 0.76513904;
-        let t305: f32 = -t304;
-        let t306: f32 = t296 * 0.64386505;
-        let t307: f32 = t306 * t306;
-        let t308: f32 = t305 * t305;
-        let t309: f32 = t293 * 0.64386505;
-        let t310: f32 = t288 * 0.76513904;
-        let t311: f32 = t309 - t310;
-        let t312: f32 = t311 * t311;
-        let t313: f32 = t307 + t308;
+        let t99: f32 = t44 * t79;
+        let t100: f32 = t67 * t99;
+        let t101: f32 = t79 * 0.3;
+        let t102: f32 = t99 * 0.295;
+        let t103: f32 = t100 * 0.003;
+        let t104: f32 = t102 + t103;
+        let t105: f32 = t101 - t104;
+        let t106: f32 = t44 * t105;
+        let t107: f32 = t99 * 0.3;
+        let t108: f32 = t106 + t107;
+        let t109: f32 = t79 - t108;
+        let t110: f32 = t61 * t109;
+        let t111: f32 = t45 * t83;
+        let t112: f32 = t61 * t80;
+        let t113: f32 = t111 - t112;
+        let t114: f32 = t44 * t113;
+        let t115: f32 = t113 * 0.3;
+        let t116: f32 = t114 * 0.295;
+        let t117: f32 = t115 - t116;
+        let t118: f32 = t44 * t117;
+        let t119: f32 = t114 * 0.3;
+        let t120: f32 = t118 + t119;
+        let t121: f32 = t113 - t120;
+        let t122: f32 = t85 * t121;
+        let t123: f32 = t98 + t110;
+        let t124: f32 = t122 + t123;
+        let t125: f32 = t27 * t124;
+        let t126: f32 = t97 - t125;
+        let t127: f32 = t17 * t126;
+        let t128: f32 = t17 * t124;
+        let t129: f32 = t82 * t82;
+        let t130: f32 = t79 * t109;
+        let t131: f32 = t113 * t121;
+        let t132: f32 = t129 + t130;
+        let t133: f32 = t131 + t132;
+        let t134: f32 = t27 * t133;
+        let t135: f32 = t128 - t134;
+        let t136: f32 = t27 * t135;
+        let t137: f32 = t15 - t16;
+        let t138: f32 = t25 - t26;
+        let t139: f32 = yc + t138;
+        let t140: f32 = t139 + 0.08;
+        let t141: f32 = t32 + t33;
+        let t142: f32 = xc + t141;
+        let t143: f32 = t142 - 0.45;
+        let t144: f32 = t143 * t143;
+        let t145: f32 = t140 * t140;
+        let t146: f32 = zc + t137;
+        let t147: f32 = t146 * t146;
+        let t148: f32 = t144 + t145;
+        let t149: f32 = t147 + t148;
+        let t150: f32 = sqrt(t149);
+        let t151: f32 = 1.0 / t150;
+        let t152: f32 = t140 * t151;
+        let t153: f32 = t152 * t152;
+        let t154: f32 = t146 * 0.17503293;
+        let t155: f32 = t146 * 0.9845626;
+        let t156: f32 = -t155;
+        let t157: f32 = t156 * t156;
+        let t158: f32 = t154 * t154;
+        let t159: f32 = t143 * 0.9845626;
+        let t160: f32 = t140 * 0.17503293;
+        let t161: f32 = t159 - t160;
+        let t162: f32 = t161 * t161;
+        let t163: f32 = t157 + t158;
+        let t164: f32 = t162 + t163;
+        let t165: f32 = sqrt(t164);
+        let t166: f32 = 1.0 / t165;
+        let t167: f32 = t154 * t166;
+        let t168: f32 = t151 * t167;
+        let t169: f32 = t143 * 0.17503293;
+        let t170: f32 = t140 * 0.9845626;
+        let t171: f32 = t169 + t170;
+        let t172: f32 = t166 * t171;
+        let t173: f32 = t172 * t172;
+        let t174: f32 = t168 * t173;
+        let t175: f32 = t167 * 0.3;
+        let t176: f32 = t168 * 0.295;
+        let t177: f32 = t174 * 0.003;
+        let t178: f32 = t176 + t177;
+        let t179: f32 = t175 - t178;
+        let t180: f32 = t151 * t179;
+        let t181: f32 = t168 * 0.3;
+        let t182: f32 = t180 + t181;
+        let t183: f32 = t167 - t182;
+        let t184: f32 = t167 * t183;
+        let t185: f32 = t161 * t166;
+        let t186: f32 = t143 * t151;
+        let t187: f32 = t185 * t186;
+        let t188: f32 = t146 * t151;
+        let t189: f32 = t156 * t166;
+        let t190: f32 = t188 * t189;
+        let t191: f32 = t187 - t190;
+        let t192: f32 = t151 * t191;
+        let t193: f32 = t191 * 0.3;
+        let t194: f32 = t192 * 0.295;
+        let t195: f32 = t193 - t194;
+        let t196: f32 = t151 * t195;
+        let t197: f32 = t192 * 0.3;
+        let t198: f32 = t196 + t197;
+        let t199: f32 = t191 - t198;
+        let t200: f32 = t191 * t199;
+        let t201: f32 = t153 + t184;
+        let t202: f32 = t200 + t201;
+        let t203: f32 = t137 * t202;
+        let t204: f32 = t152 * t188;
+        let t205: f32 = t151 * t185;
+        let t206: f32 = t173 * t205;
+        let t207: f32 = t185 * 0.3;
+        let t208: f32 = t205 * 0.295;
+        let t209: f32 = t206 * 0.003;
+        let t210: f32 = t208 + t209;
+        let t211: f32 = t207 - t210;
+        let t212: f32 = t151 * t211;
+        let t213: f32 = t205 * 0.3;
+        let t214: f32 = t212 + t213;
+        let t215: f32 = t185 - t214;
+        let t216: f32 = t167 * t215;
+        let t217: f32 = t152 * t189;
+        let t218: f32 = t167 * t186;
+        let t219: f32 = t217 - t218;
+        let t220: f32 = t151 * t219;
+        let t221: f32 = t219 * 0.3;
+        let t222: f32 = t220 * 0.295;
+        let t223: f32 = t221 - t222;
+        let t224: f32 = t151 * t223;
+        let t225: f32 = t220 * 0.3;
+        let t226: f32 = t224 + t225;
+        let t227: f32 = t219 - t226;
+        let t228: f32 = t191 * t227;
+        let t229: f32 = t204 + t216;
+        let t230: f32 = t228 + t229;
+        let t231: f32 = t138 * t230;
+        let t232: f32 = t203 - t231;
+        let t233: f32 = t137 * t232;
+        let t234: f32 = t137 * t230;
+        let t235: f32 = t188 * t188;
+        let t236: f32 = t185 * t215;
+        let t237: f32 = t219 * t227;
+        let t238: f32 = t235 + t236;
+        let t239: f32 = t237 + t238;
+        let t240: f32 = t138 * t239;
+        let t241: f32 = t234 - t240;
+        let t242: f32 = t138 * t241;
+        let t243: f32 = t10 * 0.254904;
+        let t244: f32 = t14 * 0.141506;
+        let t245: f32 = t243 - t244;
+        let t246: f32 = t21 * 0.254904;
+        let t247: f32 = t24 * 0.141506;
+        let t248: f32 = t246 - t247;
+        let t249: f32 = t248 + 0.349711;
+        let t250: f32 = yc - t249;
+        let t251: f32 = t30 * 0.254904;
+        let t252: f32 = t31 * 0.141506;
+        let t253: f32 = t251 + t252;
+        let t254: f32 = xc + 0.294282;
+        let t255: f32 = t254 - t253;
+        let t256: f32 = t255 * t255;
+        let t257: f32 = t250 * t250;
+        let t258: f32 = zc - t245;
+        let t259: f32 = t258 * t258;
+        let t260: f32 = t256 + t257;
+        let t261: f32 = t259 + t260;
+        let t262: f32 = sqrt(t261);
+        let t263: f32 = 1.0 / t262;
+        let t264: f32 = t250 * t263;
+        let t265: f32 = t264 * t264;
+        let t266: f32 = t258 * 0.76513904;
+        let t267: f32 = -t266;
+        let t268: f32 = t258 * 0.64386505;
+        let t269: f32 = t268 * t268;
+        let t270: f32 = t267 * t267;
+        let t271: f32 = t255 * 0.64386505;
+        let t272: f32 = t250 * 0.76513904;
+        let t273: f32 = t271 - t272;
+        let t274: f32 = t273 * t273;
+        let t275: f32 = t269 + t270;
+        let t276: f32 = t274 + t275;
+        let t277: f32 = sqrt(t276);
+        let t278: f32 = 1.0 / t277;
+        let t279: f32 = t267 * t278;
+        let t280: f32 = t263 * t279;
+        let t281: f32 = t255 * 0.76513904;
+        let t282: f32 = t250 * 0.64386505;
+        let t283: f32 = t281 + t282;
+        let t284: f32 = t278 * t283;
+        let t285: f32 = t284 * t284;
+        let t286: f32 = t280 * t285;
+        let t287: f32 = t279 * 0.3;
+        let t288: f32 = t280 * 0.295;
+        let t289: f32 = t286 * 0.003;
+        let t290: f32 = t288 + t289;
+        let t291: f32 = t287 - t290;
+        let t292: f32 = t263 * t291;
+        let t293: f32 = t280 * 0.3;
+        let t294: f32 = t292 + t293;
+        let t295: f32 = t279 - t294;
+        let t296: f32 = t279 * t295;
+        let t297: f32 = t273 * t278;
+        let t298: f32 = t255 * t263;
+        let t299: f32 = t297 * t298;
+        let t300: f32 = t258 * t263;
+        let t301: f32 = t268 * t278;
+        let t302: f32 = t300 * t301;
+        let t303: f32 = t299 + t302;
+        let t304: f32 = t263 * t303;
+        let t305: f32 = t303 * 0.3;
+        let t306: f32 = t304 * 0.295;
+        let t307: f32 = t305 - t306;
+        let t308: f32 = t263 * t307;
+        let t309: f32 = t304 * 0.3;
+        let t310: f32 = t308 + t309;
+        let t311: f32 = t303 - t310;
+        let t312: f32 = t303 * t311;
+        let t313: f32 = t265 + t296;
         let t314: f32 = t312 + t313;
-        let t315: f32 = sqrt(t314);
-        let t316: f32 = 1.0 / t315;
-        let t317: f32 = t305 * t316;
-        let t318: f32 = t301 * t317;
-        let t319: f32 = t293 * 0.76513904;
-        let t320: f32 = t288 * 0.64386505;
-        let t321: f32 = t319 + t320;
-        let t322: f32 = t316 * t321;
-        let t323: f32 = t322 * t322;
-        let t324: f32 = t318 * t323;
+        let t315: f32 = t245 * t314;
+        let t316: f32 = t264 * t300;
+        let t317: f32 = t263 * t297;
+        let t318: f32 = t285 * t317;
+        let t319: f32 = t297 * 0.3;
+        let t320: f32 = t317 * 0.295;
+        let t321: f32 = t318 * 0.003;
+        let t322: f32 = t320 + t321;
+        let t323: f32 = t319 - t322;
+        let t324: f32 = t263 * t323;
         let t325: f32 = t317 * 0.3;
-        let t326: f32 = t318 * 0.295;
-        let t327: f32 = t324 * 0.003;
-        let t328: f32 = t326 + t327;
-        let t329: f32 = t325 - t328;
-        let t330: f32 = t301 * t329;
-        let t331: f32 = t318 * 0.3;
-        let t332: f32 = t330 + t331;
-        let t333: f32 = t317 - t332;
-        let t334: f32 = t317 * t333;
-        let t335: f32 = t311 * t316;
-        let t336: f32 = t293 * t301;
-        let t337: f32 = t335 * t336;
-        let t338: f32 = t296 * t301;
-        let t339: f32 = t306 * t316;
-        let t340: f32 = t338 * t339;
-        let t341: f32 = t337 + t340;
-        let t342: f32 = t301 * t341;
-        let t343: f32 = t341 * 0.3;
-        let t344: f32 = t342 * 0.295;
-        let t345: f32 = t343 - t344;
-        let t346: f32 = t301 * t345;
-        let t347: f32 = t342 * 0.3;
-        let t348: f32 = t346 + t347;
-        let t349: f32 = t341 - t348;
-        let t350: f32 = t341 * t349;
-        let t351: f32 = t303 + t334;
-        let t352: f32 = t350 + t351;
-        let t353: f32 = t283 * t352;
-        let t354: f32 = t302 * t338;
-        let t355: f32 = t301 * t301;
-        let t356: f32 = t317 * t335;
-        let t357: f32 = t355 * t356;
-        let t358: f32 = t323 * t357;
-        let t359: f32 = t301 * t335;
-        let t360: f32 = t335 * 0.3;
-        let t361: f32 = t359 * 0.295;
-        let t362: f32 = t360 - t361;
-        let t363: f32 = t301 * t362;
-        let t364: f32 = t359 * 0.3;
-        let t365: f32 = t363 + t364;
-        let t366: f32 = t335 - t365;
-        let t367: f32 = t317 * t366;
-        let t368: f32 = t302 * t339;
-        let t369: f32 = t317 * t336;
-        let t370: f32 = t368 - t369;
-        let t371: f32 = t301 * t370;
-        let t372: f32 = t370 * 0.3;
-        let t373: f32 = t371 * 0.295;
-        let t374: f32 = t372 - t373;
-        let t375: f32 = t301 * t374;
-        let t376: f32 = t371 * 0.3;
-        let t377: f32 = t375 + t376;
-        let t378: f32 = t370 - t377;
-        let t379: f32 = t341 * t378;
-        let t380: f32 = t358 * 0.003;
-        let t381: f32 = t367 + t379;
-        let t382: f32 = t380 + t381;
-        let t383: f32 = t354 - t382;
-        let t384: f32 = t286 * t383;
-        let t385: f32 = t353 - t384;
-        let t386: f32 = t283 * t385;
-        let t387: f32 = t325 - t326;
-        let t388: f32 = t301 * t387;
-        let t389: f32 = t331 + t388;
-        let t390: f32 = t317 - t389;
-        let t391: f32 = t335 * t390;
-        let t392: f32 = t349 * t370;
-        let t393: f32 = t391 + t392;
-        let t394: f32 = t380 + t393;
-        let t395: f32 = t354 - t394;
-        let t396: f32 = t283 * t395;
-        let t397: f32 = t338 * t338;
-        let t398: f32 = t323 * t359;
-        let t399: f32 = t398 * 0.003;
-        let t400: f32 = t361 + t399;
-        let t401: f32 = t360 - t400;
-        let t402: f32 = t301 * t401;
-        let t403: f32 = t364 + t402;
-        let t404: f32 = t335 - t403;
-        let t405: f32 = t335 * t404;
-        let t406: f32 = t370 * t378;
-        let t407: f32 = t397 + t405;
-        let t408: f32 = t406 + t407;
-        let t409: f32 = t286 * t408;
-        let t410: f32 = t396 - t409;
-        let t411: f32 = t286 * t410;
-        let t412: f32 = t10 * 0.004904;
-        let t413: f32 = t14 * 0.291506;
-        let t414: f32 = t412 + t413;
-        let t415: f32 = t21 * 0.004904;
-        let t416: f32 = t24 * 0.291506;
-        let t417: f32 = t415 + t416;
-        let t418: f32 = yc + t417;
-        let t419: f32 = t418 - 0.429711;
-        let t420: f32 = t30 * 0.004904;
-        let t421: f32 = t31 * 0.291506;
-        let t422: f32 = t420 - t421;
-        let t423: f32 = xc + t422;
-        let t424: f32 = t423 + 0.155718;
-        let t425: f32 = t424 * t424;
-        let t426: f32 = t419 * t419;
-        let t427: f32 = zc + t414;
-        let t428: f32 = t427 * t427;
-        let t429: f32 = t425 + t426;
-        let t430: f32 = t428 + t429;
-        let t431: f32 = sqrt(t430);
-        let t432: f32 = 1.0 / t431;
-        let t433: f32 = t419 * t432;
-        let t434: f32 = t433 * t433;
-        let t435: f32 = t427 * 0.9401728;
-        let t436: f32 = -t435;
-        let t437: f32 = t427 * 0.34069794;
-        let t438: f32 = t437 * t437;
-        let t439: f32 = t436 * t436;
-        let t440: f32 = t424 * 0.34069794;
-        let t441: f32 = t419 * 0.9401728;
-        let t442: f32 = t440 - t441;
-        let t443: f32 = t442 * t442;
-        let t444: f32 = t438 + t439;
-        let t445: f32 = t443 + t444;
-        let t446: f32 = sqrt(t445);
-        let t447: f32 = 1.0 / t446;
-        let t448: f32 = t436 * t447;
-        let t449: f32 = t432 * t448;
-        let t450: f32 = t424 * 0.9401728;
-        let t451: f32 = t419 * 0.34069794;
-        let t452: f32 = t450 + t451;
-        let t453: f32 = t447 * t452;
-        let t454: f32 = t453 * t453;
-        let t455: f32 = t449 * t454;
-        let t456: f32 = t448 * 0.3;
-        let t457: f32 = t449 * 0.295;
-        let t458: f32 = t455 * 0.003;
-        let t459: f32 = t457 + t458;
-        let t460: f32 = t456 - t459;
-        let t461: f32 = t432 * t460;
-        let t462: f32 = t449 * 0.3;
+        let t326: f32 = t324 + t325;
+        let t327: f32 = t297 - t326;
+        let t328: f32 = t279 * t327;
+        let t329: f32 = t264 * t301;
+        let t330: f32 = t279 * t298;
+        let t331: f32 = t329 - t330;
+        let t332: f32 = t263 * t331;
+        let t333: f32 = t331 * 0.3;
+        let t334: f32 = t332 * 0.295;
+        let t335: f32 = t333 - t334;
+        let t336: f32 = t263 * t335;
+        let t337: f32 = t332 * 0.3;
+        let t338: f32 = t336 + t337;
+        let t339: f32 = t331 - t338;
+        let t340: f32 = t303 * t339;
+        let t341: f32 = t328 + t340;
+        let t342: f32 = t316 - t341;
+        let t343: f32 = t248 * t342;
+        let t344: f32 = t315 - t343;
+        let t345: f32 = t245 * t344;
+        let t346: f32 = t245 * t342;
+        let t347: f32 = t300 * t300;
+        let t348: f32 = t297 * t327;
+        let t349: f32 = t331 * t339;
+        let t350: f32 = t347 + t348;
+        let t351: f32 = t349 + t350;
+        let t352: f32 = t248 * t351;
+        let t353: f32 = t346 - t352;
+        let t354: f32 = t248 * t353;
+        let t355: f32 = t10 * 0.004904;
+        let t356: f32 = t14 * 0.291506;
+        let t357: f32 = t355 + t356;
+        let t358: f32 = t21 * 0.004904;
+        let t359: f32 = t24 * 0.291506;
+        let t360: f32 = t358 + t359;
+        let t361: f32 = yc + t360;
+        let t362: f32 = t361 - 0.429711;
+        let t363: f32 = t30 * 0.004904;
+        let t364: f32 = t31 * 0.291506;
+        let t365: f32 = t363 - t364;
+        let t366: f32 = xc + t365;
+        let t367: f32 = t366 + 0.155718;
+        let t368: f32 = t367 * t367;
+        let t369: f32 = t362 * t362;
+        let t370: f32 = zc + t357;
+        let t371: f32 = t370 * t370;
+        let t372: f32 = t368 + t369;
+        let t373: f32 = t371 + t372;
+        let t374: f32 = sqrt(t373);
+        let t375: f32 = 1.0 / t374;
+        let t376: f32 = t362 * t375;
+        let t377: f32 = t376 * t376;
+        let t378: f32 = t370 * 0.9401728;
+        let t379: f32 = -t378;
+        let t380: f32 = t370 * 0.34069794;
+        let t381: f32 = t380 * t380;
+        let t382: f32 = t379 * t379;
+        let t383: f32 = t367 * 0.34069794;
+        let t384: f32 = t362 * 0.9401728;
+        let t385: f32 = t383 - t384;
+        let t386: f32 = t385 * t385;
+        let t387: f32 = t381 + t382;
+        let t388: f32 = t386 + t387;
+        let t389: f32 = sqrt(t388);
+        let t390: f32 = 1.0 / t389;
+        let t391: f32 = t379 * t390;
+        let t392: f32 = t375 * t391;
+        let t393: f32 = t367 * 0.9401728;
+        let t394: f32 = t362 * 0.34069794;
+        let t395: f32 = t393 + t394;
+        let t396: f32 = t390 * t395;
+        let t397: f32 = t396 * t396;
+        let t398: f32 = t392 * t397;
+        let t399: f32 = t391 * 0.3;
+        let t400: f32 = t392 * 0.295;
+        let t401: f32 = t398 * 0.003;
+        let t402: f32 = t400 + t401;
+        let t403: f32 = t399 - t402;
+        let t404: f32 = t375 * t403;
+        let t405: f32 = t392 * 0.3;
+        let t406: f32 = t404 + t405;
+        let t407: f32 = t391 - t406;
+        let t408: f32 = t391 * t407;
+        let t409: f32 = t385 * t390;
+        let t410: f32 = t367 * t375;
+        let t411: f32 = t409 * t410;
+        let t412: f32 = t370 * t375;
+        let t413: f32 = t380 * t390;
+        let t414: f32 = t412 * t413;
+        let t415: f32 = t411 + t414;
+        let t416: f32 = t375 * t415;
+        let t417: f32 = t415 * 0.3;
+        let t418: f32 = t416 * 0.295;
+        let t419: f32 = t417 - t418;
+        let t420: f32 = t375 * t419;
+        let t421: f32 = t416 * 0.3;
+        let t422: f32 = t420 + t421;
+        let t423: f32 = t415 - t422;
+        let t424: f32 = t415 * t423;
+        let t425: f32 = t377 + t408;
+        let t426: f32 = t424 + t425;
+        let t427: f32 = t357 * t426;
+        let t428: f32 = t376 * t412;
+        let t429: f32 = t375 * t409;
+        let t430: f32 = t397 * t429;
+        let t431: f32 = t409 * 0.3;
+        let t432: f32 = t429 * 0.295;
+        let t433: f32 = t430 * 0.003;
+        let t434: f32 = t432 + t433;
+        let t435: f32 = t431 - t434;
+        let t436: f32 = t375 * t435;
+        let t437: f32 = t429 * 0.3;
+        let t438: f32 = t436 + t437;
+        let t439: f32 = t409 - t438;
+        let t440: f32 = t391 * t439;
+        let t441: f32 = t376 * t413;
+        let t442: f32 = t391 * t410;
+        let t443: f32 = t441 - t442;
+        let t444: f32 = t375 * t443;
+        let t445: f32 = t443 * 0.3;
+        let t446: f32 = t444 * 0.295;
+        let t447: f32 = t445 - t446;
+        let t448: f32 = t375 * t447;
+        let t449: f32 = t444 * 0.3;
+        let t450: f32 = t448 + t449;
+        let t451: f32 = t443 - t450;
+        let t452: f32 = t415 * t451;
+        let t453: f32 = t440 + t452;
+        let t454: f32 = t428 - t453;
+        let t455: f32 = t360 * t454;
+        let t456: f32 = t427 - t455;
+        let t457: f32 = t357 * t456;
+        let t458: f32 = t357 * t454;
+        let t459: f32 = t412 * t412;
+        let t460: f32 = t409 * t439;
+        let t461: f32 = t443 * t451;
+        let t462: f32 = t459 + t460;
         let t463: f32 = t461 + t462;
-        let t464: f32 = t448 - t463;
-        let t465: f32 = t448 * t464;
-        let t466: f32 = t442 * t447;
-        let t467: f32 = t424 * t432;
-        let t468: f32 = t466 * t467;
-        let t469: f32 = t427 * t432;
-        let t470: f32 = t437 * t447;
-        let t471: f32 = t469 * t470;
-        let t472: f32 = t468 + t471;
-        let t473: f32 = t432 * t472;
-        let t474: f32 = t472 * 0.3;
-        let t475: f32 = t473 * 0.295;
-        let t476: f32 = t474 - t475;
-        let t477: f32 = t432 * t476;
-        let t478: f32 = t473 * 0.3;
+        let t464: f32 = t360 * t463;
+        let t465: f32 = t458 - t464;
+        let t466: f32 = t360 * t465;
+        let t467: f32 = t355 - t356;
+        let t468: f32 = t358 - t359;
+        let t469: f32 = yc + t468;
+        let t470: f32 = t469 + 0.429711;
+        let t471: f32 = t363 + t364;
+        let t472: f32 = xc + t471;
+        let t473: f32 = t472 + 0.155718;
+        let t474: f32 = t473 * t473;
+        let t475: f32 = t470 * t470;
+        let t476: f32 = zc + t467;
+        let t477: f32 = t476 * t476;
+        let t478: f32 = t474 + t475;
         let t479: f32 = t477 + t478;
-        let t480: f32 = t472 - t479;
-        let t481: f32 = t472 * t480;
-        let t482: f32 = t434 + t465;
-        let t483: f32 = t481 + t482;
-        let t484: f32 = t414 * t483;
-        let t485: f32 = t433 * t469;
-        let t486: f32 = t432 * t432;
-        let t487: f32 = t448 * t466;
-        let t488: f32 = t486 * t487;
-        let t489: f32 = t454 * t488;
-        let t490: f32 = t432 * t466;
-        let t491: f32 = t466 * 0.3;
-        let t492: f32 = t490 * 0.295;
-        let t493: f32 = t491 - t492;
-        let t494: f32 = t432 * t493;
-        let t495: f32 = t490 * 0.3;
-        let t496: f32 = t494 + t495;
-        let t497: f32 = t466 - t496;
-        let t498: f32 = t448 * t497;
-        let t499: f32 = t433 * t470;
-        let t500: f32 = t448 * t467;
-        let t501: f32 = t499 - t500;
-        let t502: f32 = t432 * t501;
-        let t503: f32 = t501 * 0.3;
-        let t504: f32 = t502 * 0.295;
-        let t505: f32 = t503 - t504;
-        let t506: f32 = t432 * t505;
-        let t507: f32 = t502 * 0.3;
-        let t508: f32 = t506 + t507;
-        let t509: f32 = t501 - t508;
-        let t510: f32 = t472 * t509;
-        let t511: f32 = t489 * 0.003;
-        let t512: f32 = t498 + t510;
-        let t513: f32 = t511 + t512;
-        let t514: f32 = t485 - t513;
-        let t515: f32 = t417 * t514;
-        let t516: f32 = t484 - t515;
-        let t517: f32 = t414 * t516;
-        let t518: f32 = t456 - t457;
-        let t519: f32 = t432 * t518;
-        let t520: f32 = t462 + t519;
-        let t521: f32 = t448 - t520;
-        let t522: f32 = t466 * t521;
-        let t523: f32 = t480 * t501;
-        let t524: f32 = t522 + t523;
-        let t525: f32 = t511 + t524;
-        let t526: f32 = t485 - t525;
-        let t527: f32 = t414 * t526;
-        let t528: f32 = t469 * t469;
-        let t529: f32 = t454 * t490;
-        let t530: f32 = t529 * 0.003;
-        let t531: f32 = t492 + t530;
-        let t532: f32 = t491 - t531;
-        let t533: f32 = t432 * t532;
-        let t534: f32 = t495 + t533;
-        let t535: f32 = t466 - t534;
-        let t536: f32 = t466 * t535;
-        let t537: f32 = t501 * t509;
-        let t538: f32 = t528 + t536;
+        let t480: f32 = sqrt(t479);
+        let t481: f32 = 1.0 / t480;
+        let t482: f32 = t470 * t481;
+        let t483: f32 = t482 * t482;
+        let t484: f32 = t476 * 0.9401728;
+        let t485: f32 = t476 * 0.34069794;
+        let t486: f32 = t485 * t485;
+        let t487: f32 = t484 * t484;
+        let t488: f32 = t473 * 0.34069794;
+        let t489: f32 = t470 * 0.9401728;
+        let t490: f32 = t488 + t489;
+        let t491: f32 = t490 * t490;
+        let t492: f32 = t486 + t487;
+        let t493: f32 = t491 + t492;
+        let t494: f32 = sqrt(t493);
+        let t495: f32 = 1.0 / t494;
+        let t496: f32 = t484 * t495;
+        let t497: f32 = t481 * t496;
+        let t498: f32 = t473 * 0.9401728;
+        let t499: f32 = t470 * 0.34069794;
+        let t500: f32 = t498 - t499;
+        let t501: f32 = t495 * t500;
+        let t502: f32 = t501 * t501;
+        let t503: f32 = t497 * t502;
+        let t504: f32 = t496 * 0.3;
+        let t505: f32 = t497 * 0.295;
+        let t506: f32 = t503 * 0.003;
+        let t507: f32 = t505 + t506;
+        let t508: f32 = t504 - t507;
+        let t509: f32 = t481 * t508;
+        let t510: f32 = t497 * 0.3;
+        let t511: f32 = t509 + t510;
+        let t512: f32 = t496 - t511;
+        let t513: f32 = t496 * t512;
+        let t514: f32 = t490 * t495;
+        let t515: f32 = t473 * t481;
+        let t516: f32 = t514 * t515;
+        let t517: f32 = t476 * t481;
+        let t518: f32 = t485 * t495;
+        let t519: f32 = t517 * t518;
+        let t520: f32 = t516 + t519;
+        let t521: f32 = t481 * t520;
+        let t522: f32 = t520 * 0.3;
+        let t523: f32 = t521 * 0.295;
+        let t524: f32 = t522 - t523;
+        let t525: f32 = t481 * t524;
+        let t526: f32 = t521 * 0.3;
+        let t527: f32 = t525 + t526;
+        let t528: f32 = t520 - t527;
+        let t529: f32 = t520 * t528;
+        let t530: f32 = t483 + t513;
+        let t531: f32 = t529 + t530;
+        let t532: f32 = t467 * t531;
+        let t533: f32 = t482 * t517;
+        let t534: f32 = t481 * t514;
+        let t535: f32 = t502 * t534;
+        let t536: f32 = t514 * 0.3;
+        let t537: f32 = t534 * 0.295;
+        let t538: f32 = t535 * 0.003;
         let t539: f32 = t537 + t538;
-        let t540: f32 = t417 * t539;
-        let t541: f32 = t527 - t540;
-        let t542: f32 = t417 * t541;
-        let t543: f32 = t412 - t413;
-        let t544: f32 = t415 - t416;
-        let t545: f32 = yc + t544;
-        let t546: f32 = t545 + 0.429711;
-        let t547: f32 = t420 + t421;
-        let t548: f32 = xc + t547;
-        let t549: f32 = t548 + 0.155718;
-        let t550: f32 = t549 * t549;
-        let t551: f32 = t546 * t546;
-        let t552: f32 = zc + t543;
-        let t553: f32 = t552 * t552;
-        let t554: f32 = t550 + t551;
+        let t540: f32 = t536 - t539;
+        let t541: f32 = t481 * t540;
+        let t542: f32 = t534 * 0.3;
+        let t543: f32 = t541 + t542;
+        let t544: f32 = t514 - t543;
+        let t545: f32 = t496 * t544;
+        let t546: f32 = t482 * t518;
+        let t547: f32 = t496 * t515;
+        let t548: f32 = t546 - t547;
+        let t549: f32 = t481 * t548;
+        let t550: f32 = t548 * 0.3;
+        let t551: f32 = t549 * 0.295;
+        let t552: f32 = t550 - t551;
+        let t553: f32 = t481 * t552;
+        let t554: f32 = t549 * 0.3;
         let t555: f32 = t553 + t554;
-        let t556: f32 = sqrt(t555);
-        let t557: f32 = 1.0 / t556;
-        let t558: f32 = t546 * t557;
-        let t559: f32 = t558 * t558;
-        let t560: f32 = t552 * 0.9401728;
-        let t561: f32 = t552 * 0.34069794;
-        let t562: f32 = t561 * t561;
-        let t563: f32 = t560 * t560;
-        let t564: f32 = t549 * 0.34069794;
-        let t565: f32 = t546 * 0.9401728;
-        let t566: f32 = t564 + t565;
-        let t567: f32 = t566 * t566;
-        let t568: f32 = t562 + t563;
-        let t569: f32 = t567 + t568;
-        let t570: f32 = sqrt(t569);
-        let t571: f32 = 1.0 / t570;
-        let t572: f32 = t560 * t571;
-        let t573: f32 = t557 * t572;
-        let t574: f32 = t549 * 0.9401728;
-        let t575: f32 = t546 * 0.34069794;
-        let t576: f32 = t574 - t575;
-        let t577: f32 = t571 * t576;
+        let t556: f32 = t548 - t555;
+        let t557: f32 = t520 * t556;
+        let t558: f32 = t545 + t557;
+        let t559: f32 = t533 - t558;
+        let t560: f32 = t468 * t559;
+        let t561: f32 = t532 - t560;
+        let t562: f32 = t467 * t561;
+        let t563: f32 = t467 * t559;
+        let t564: f32 = t517 * t517;
+        let t565: f32 = t514 * t544;
+        let t566: f32 = t548 * t556;
+        let t567: f32 = t564 + t565;
+        let t568: f32 = t566 + t567;
+        let t569: f32 = t468 * t568;
+        let t570: f32 = t563 - t569;
+        let t571: f32 = t468 * t570;
+        let t572: f32 = t243 + t244;
+        let t573: f32 = t246 + t247;
+        let t574: f32 = yc + 0.349711;
+        let t575: f32 = t574 - t573;
+        let t576: f32 = t251 - t252;
+        let t577: f32 = t254 - t576;
         let t578: f32 = t577 * t577;
-        let t579: f32 = t573 * t578;
-        let t580: f32 = t572 * 0.3;
-        let t581: f32 = t573 * 0.295;
-        let t582: f32 = t579 * 0.003;
+        let t579: f32 = t575 * t575;
+        let t580: f32 = zc - t572;
+        let t581: f32 = t580 * t580;
+        let t582: f32 = t578 + t579;
         let t583: f32 = t581 + t582;
-        let t584: f32 = t580 - t583;
-        let t585: f32 = t557 * t584;
-        let t586: f32 = t573 * 0.3;
-        let t587: f32 = t585 + t586;
-        let t588: f32 = t572 - t587;
-        let t589: f32 = t572 * t588;
-        let t590: f32 = t566 * t571;
-        let t591: f32 = t549 * t557;
-        let t592: f32 = t590 * t591;
-        let t593: f32 = t552 * t557;
-        let t594: f32 = t561 * t571;
-        let t595: f32 = t593 * t594;
-        let t596: f32 = t592 + t595;
-        let t597: f32 = t557 * t596;
-        let t598: f32 = t596 * 0.3;
-        let t599: f32 = t597 * 0.295;
-        let t600: f32 = t598 - t599;
-        let t601: f32 = t557 * t600;
-        let t602: f32 = t597 * 0.3;
-        let t603: f32 = t601 + t602;
-        let t604: f32 = t596 - t603;
-        let t605: f32 = t596 * t604;
-        let t606: f32 = t559 + t589;
-        let t607: f32 = t605 + t606;
-        let t608: f32 = t543 * t607;
-        let t609: f32 = t558 * t593;
-        let t610: f32 = t557 * t557;
-        let t611: f32 = t572 * t590;
-        let t612: f32 = t610 * t611;
-        let t613: f32 = t578 * t612;
-        let t614: f32 = t557 * t590;
-        let t615: f32 = t590 * 0.3;
-        let t616: f32 = t614 * 0.295;
-        let t617: f32 = t615 - t616;
-        let t618: f32 = t557 * t617;
-        let t619: f32 = t614 * 0.3;
-        let t620: f32 = t618 + t619;
-        let t621: f32 = t590 - t620;
-        let t622: f32 = t572 * t621;
-        let t623: f32 = t558 * t594;
-        let t624: f32 = t572 * t591;
-        let t625: f32 = t623 - t624;
-        let t626: f32 = t557 * t625;
-        let t627: f32 = t625 * 0.3;
-        let t628: f32 = t626 * 0.295;
-        let t629: f32 = t627 - t628;
-        let t630: f32 = t557 * t629;
-        let t631: f32 = t626 * 0.3;
-        let t632: f32 = t630 + t631;
-        let t633: f32 = t625 - t632;
-        let t634: f32 = t596 * t633;
-        let t635: f32 = t613 * 0.003;
-        let t636: f32 = t622 + t634;
-        let t637: f32 = t635 + t636;
-        let t638: f32 = t609 - t637;
-        let t639: f32 = t544 * t638;
-        let t640: f32 = t608 - t639;
-        let t641: f32 = t543 * t640;
-        let t642: f32 = t580 - t581;
-        let t643: f32 = t557 * t642;
-        let t644: f32 = t586 + t643;
-        let t645: f32 = t572 - t644;
-        let t646: f32 = t590 * t645;
-        let t647: f32 = t604 * t625;
-        let t648: f32 = t646 + t647;
-        let t649: f32 = t635 + t648;
-        let t650: f32 = t609 - t649;
-        let t651: f32 = t543 * t650;
-        let t652: f32 = t593 * t593;
-        let t653: f32 = t578 * t614;
-        let t654: f32 = t653 * 0.003;
-        let t655: f32 = t616 + t654;
-        let t656: f32 = t615 - t655;
-        let t657: f32 = t557 * t656;
-        let t658: f32 = t619 + t657;
-        let t659: f32 = t590 - t658;
-        let t660: f32 = t590 * t659;
-        let t661: f32 = t625 * t633;
-        let t662: f32 = t652 + t660;
-        let t663: f32 = t661 + t662;
-        let t664: f32 = t544 * t663;
-        let t665: f32 = t651 - t664;
-        let t666: f32 = t544 * t665;
-        let t667: f32 = t281 + t282;
-        let t668: f32 = t284 + t285;
-        let t669: f32 = yc + 0.349711;
-        let t670: f32 = t669 - t668;
-        let t671: f32 = t289 - t290;
-        let t672: f32 = t292 - t671;
-        let t673: f32 = t672 * t672;
-        let t674: f32 = t670 * t670;
-        let t675: f32 = zc - t667;
-        let t676: f32 = t675 * t675;
-        let t677: f32 = t673 + t674;
-        let t678: f32 = t676 + t677;
-        let t679: f32 = sqrt(t678);
-        let t680: f32 = 1.0 / t679;
-        let t681: f32 = t670 * t680;
-        let t682: f32 = t681 * t681;
-        let t683: f32 = t675 * 0.76513904;
-        let t684: f32 = t675 * 0.64386505;
-        let t685: f32 = t684 * t684;
-        let t686: f32 = t683 * t683;
-        let t687: f32 = t672 * 0.64386505;
-        let t688: f32 = t670 * 0.76513904;
+        let t584: f32 = sqrt(t583);
+        let t585: f32 = 1.0 / t584;
+        let t586: f32 = t575 * t585;
+        let t587: f32 = t586 * t586;
+        let t588: f32 = t580 * 0.76513904;
+        let t589: f32 = t580 * 0.64386505;
+        let t590: f32 = t589 * t589;
+        let t591: f32 = t588 * t588;
+        let t592: f32 = t577 * 0.64386505;
+        let t593: f32 = t575 * 0.76513904;
+        let t594: f32 = t592 + t593;
+        let t595: f32 = t594 * t594;
+        let t596: f32 = t590 + t591;
+        let t597: f32 = t595 + t596;
+        let t598: f32 = sqrt(t597);
+        let t599: f32 = 1.0 / t598;
+        let t600: f32 = t588 * t599;
+        let t601: f32 = t585 * t600;
+        let t602: f32 = t577 * 0.76513904;
+        let t603: f32 = t575 * 0.64386505;
+        let t604: f32 = t602 - t603;
+        let t605: f32 = t599 * t604;
+        let t606: f32 = t605 * t605;
+        let t607: f32 = t601 * t606;
+        let t608: f32 = t600 * 0.3;
+        let t609: f32 = t601 * 0.295;
+        let t610: f32 = t607 * 0.003;
+        let t611: f32 = t609 + t610;
+        let t612: f32 = t608 - t611;
+        let t613: f32 = t585 * t612;
+        let t614: f32 = t601 * 0.3;
+        let t615: f32 = t613 + t614;
+        let t616: f32 = t600 - t615;
+        let t617: f32 = t600 * t616;
+        let t618: f32 = t594 * t599;
+        let t619: f32 = t577 * t585;
+        let t620: f32 = t618 * t619;
+        let t621: f32 = t580 * t585;
+        let t622: f32 = t589 * t599;
+        let t623: f32 = t621 * t622;
+        let t624: f32 = t620 + t623;
+        let t625: f32 = t585 * t624;
+        let t626: f32 = t624 * 0.3;
+        let t627: f32 = t625 * 0.295;
+        let t628: f32 = t626 - t627;
+        let t629: f32 = t585 * t628;
+        let t630: f32 = t625 * 0.3;
+        let t631: f32 = t629 + t630;
+        let t632: f32 = t624 - t631;
+        let t633: f32 = t624 * t632;
+        let t634: f32 = t587 + t617;
+        let t635: f32 = t633 + t634;
+        let t636: f32 = t572 * t635;
+        let t637: f32 = t586 * t621;
+        let t638: f32 = t585 * t618;
+        let t639: f32 = t606 * t638;
+        let t640: f32 = t618 * 0.3;
+        let t641: f32 = t638 * 0.295;
+        let t642: f32 = t639 * 0.003;
+        let t643: f32 = t641 + t642;
+        let t644: f32 = t640 - t643;
+        let t645: f32 = t585 * t644;
+        let t646: f32 = t638 * 0.3;
+        let t647: f32 = t645 + t646;
+        let t648: f32 = t618 - t647;
+        let t649: f32 = t600 * t648;
+        let t650: f32 = t586 * t622;
+        let t651: f32 = t600 * t619;
+        let t652: f32 = t650 - t651;
+        let t653: f32 = t585 * t652;
+        let t654: f32 = t652 * 0.3;
+        let t655: f32 = t653 * 0.295;
+        let t656: f32 = t654 - t655;
+        let t657: f32 = t585 * t656;
+        let t658: f32 = t653 * 0.3;
+        let t659: f32 = t657 + t658;
+        let t660: f32 = t652 - t659;
+        let t661: f32 = t624 * t660;
+        let t662: f32 = t649 + t661;
+        let t663: f32 = t637 - t662;
+        let t664: f32 = t573 * t663;
+        let t665: f32 = t636 - t664;
+        let t666: f32 = t572 * t665;
+        let t667: f32 = t572 * t663;
+        let t668: f32 = t621 * t621;
+        let t669: f32 = t618 * t648;
+        let t670: f32 = t652 * t660;
+        let t671: f32 = t668 + t669;
+        let t672: f32 = t670 + t671;
+        let t673: f32 = t573 * t672;
+        let t674: f32 = t667 - t673;
+        let t675: f32 = t573 * t674;
+        let t676: f32 = t1 * t1;
+        let t677: f32 = t6 * t6;
+        let t678: f32 = t5 * t5;
+        let t679: f32 = t677 + t678;
+        let t680: f32 = t679 * 0.4108;
+        let t681: f32 = t676 * t680;
+        let t682: f32 = t2 * 0.7;
+        let t683: f32 = t127 + t682;
+        let t684: f32 = t233 + t345;
+        let t685: f32 = t457 + t562;
+        let t686: f32 = t666 + t681;
+        let t687: f32 = t683 + t684;
+        let t688: f32 = t685 + t686;
         let t689: f32 = t687 + t688;
-        let t690: f32 = t689 * t689;
-        let t691: f32 = t685 + t686;
-        let t692: f32 = t690 + t691;
-        let t693: f32 = sqrt(t692);
-        let t694: f32 = 1.0 / t693;
-        let t695: f32 = t683 * t694;
-        let t696: f32 = t680 * t695;
-        let t697: f32 = t672 * 0.76513904;
-        let t698: f32 = t670 * 0.64386505;
-        let t699: f32 = t697 - t698;
-        let t700: f32 = t694 * t699;
-        let t701: f32 = t700 * t700;
-        let t702: f32 = t696 * t701;
-        let t703: f32 = t695 * 0.3;
-        let t704: f32 = t696 * 0.295;
-        let t705: f32 = t702 * 0.003;
-        let t706: f32 = t704 + t705;
-        let t707: f32 = t703 - t706;
-        let t708: f32 = t680 * t707;
-        let t709: f32 = t696 * 0.3;
-        let t710: f32 = t708 + t709;
-        let t711: f32 = t695 - t710;
-        let t712: f32 = t695 * t711;
-        let t713: f32 = t689 * t694;
-        let t714: f32 = t672 * t680;
-        let t715: f32 = t713 * t714;
-        let t716: f32 = t675 * t680;
-        let t717: f32 = t684 * t694;
-        let t718: f32 = t716 * t717;
-        let t719: f32 = t715 + t718;
-        let t720: f32 = t680 * t719;
-        let t721: f32 = t719 * 0.3;
-        let t722: f32 = t720 * 0.295;
-        let t723: f32 = t721 - t722;
-        let t724: f32 = t680 * t723;
-        let t725: f32 = t720 * 0.3;
-        let t726: f32 = t724 + t725;
-        let t727: f32 = t719 - t726;
-        let t728: f32 = t719 * t727;
-        let t729: f32 = t682 + t712;
-        let t730: f32 = t728 + t729;
-        let t731: f32 = t667 * t730;
-        let t732: f32 = t681 * t716;
-        let t733: f32 = t680 * t680;
-        let t734: f32 = t695 * t713;
+        let t690: f32 = t136 + t242;
+        let t691: f32 = t354 + t466;
+        let t692: f32 = t571 + t675;
+        let t693: f32 = t690 + t691;
+        let t694: f32 = t692 + t693;
+        let t695: f32 = t689 - t694;
+        let t696: f32 = 1.0 / t695;
+        let t697: f32 = t1 * t3;
+        let t698: f32 = t45 * t80;
+        let t699: f32 = t61 * t82;
+        let t700: f32 = t45 * t79;
+        let t701: f32 = t699 - t700;
+        let t702: f32 = t85 - t91;
+        let t703: f32 = t701 * t702;
+        let t704: f32 = t61 - t75;
+        let t705: f32 = t83 * t704;
+        let t706: f32 = t89 * t701;
+        let t707: f32 = t73 * t83;
+        let t708: f32 = t706 + t707;
+        let t709: f32 = t44 * t708;
+        let t710: f32 = t698 + t703;
+        let t711: f32 = t705 + t710;
+        let t712: f32 = t711 - t709;
+        let t713: f32 = t17 * t712;
+        let t714: f32 = t80 * t82;
+        let t715: f32 = t113 - t119;
+        let t716: f32 = t701 * t715;
+        let t717: f32 = t79 - t107;
+        let t718: f32 = t83 * t717;
+        let t719: f32 = t117 * t701;
+        let t720: f32 = t83 * t105;
+        let t721: f32 = t719 + t720;
+        let t722: f32 = t44 * t721;
+        let t723: f32 = t714 + t716;
+        let t724: f32 = t718 + t723;
+        let t725: f32 = t724 - t722;
+        let t726: f32 = t27 * t725;
+        let t727: f32 = t713 - t726;
+        let t728: f32 = t17 * t727;
+        let t729: f32 = t34 * t135;
+        let t730: f32 = t152 * t186;
+        let t731: f32 = t167 * t188;
+        let t732: f32 = t152 * t185;
+        let t733: f32 = t731 - t732;
+        let t734: f32 = t191 - t197;
         let t735: f32 = t733 * t734;
-        let t736: f32 = t701 * t735;
-        let t737: f32 = t680 * t713;
-        let t738: f32 = t713 * 0.3;
-        let t739: f32 = t737 * 0.295;
-        let t740: f32 = t738 - t739;
-        let t741: f32 = t680 * t740;
-        let t742: f32 = t737 * 0.3;
-        let t743: f32 = t741 + t742;
-        let t744: f32 = t713 - t743;
-        let t745: f32 = t695 * t744;
-        let t746: f32 = t681 * t717;
-        let t747: f32 = t695 * t714;
-        let t748: f32 = t746 - t747;
-        let t749: f32 = t680 * t748;
-        let t750: f32 = t748 * 0.3;
-        let t751: f32 = t749 * 0.295;
-        let t752: f32 = t750 - t751;
-        let t753: f32 = t680 * t752;
-        let t754: f32 = t749 * 0.3;
-        let t755: f32 = t753 + t754;
-        let t756: f32 = t748 - t755;
-        let t757: f32 = t719 * t756;
-        let t758: f32 = t736 * 0.003;
-        let t759: f32 = t745 + t757;
-        let t760: f32 = t758 + t759;
-        let t761: f32 = t732 - t760;
-        let t762: f32 = t668 * t761;
-        let t763: f32 = t731 - t762;
-        let t764: f32 = t667 * t763;
-        let t765: f32 = t703 - t704;
-        let t766: f32 = t680 * t765;
-        let t767: f32 = t709 + t766;
-        let t768: f32 = t695 - t767;
-        let t769: f32 = t713 * t768;
-        let t770: f32 = t727 * t748;
-        let t771: f32 = t769 + t770;
-        let t772: f32 = t758 + t771;
-        let t773: f32 = t732 - t772;
-        let t774: f32 = t667 * t773;
-        let t775: f32 = t716 * t716;
-        let t776: f32 = t701 * t737;
-        let t777: f32 = t776 * 0.003;
-        let t778: f32 = t739 + t777;
-        let t779: f32 = t738 - t778;
-        let t780: f32 = t680 * t779;
-        let t781: f32 = t742 + t780;
-        let t782: f32 = t713 - t781;
-        let t783: f32 = t713 * t782;
-        let t784: f32 = t748 * t756;
-        let t785: f32 = t775 + t783;
-        let t786: f32 = t784 + t785;
-        let t787: f32 = t668 * t786;
-        let t788: f32 = t774 - t787;
-        let t789: f32 = t668 * t788;
-        let t790: f32 = t1 * t1;
-        let t791: f32 = t6 * t6;
-        let t792: f32 = t5 * t5;
-        let t793: f32 = t791 + t792;
-        let t794: f32 = t793 * 0.4108;
-        let t795: f32 = t790 * t794;
-        let t796: f32 = t2 * 0.7;
-        let t797: f32 = t130 + t796;
-        let t798: f32 = t255 + t386;
-        let t799: f32 = t517 + t641;
-        let t800: f32 = t764 + t795;
-        let t801: f32 = t797 + t798;
-        let t802: f32 = t799 + t800;
-        let t803: f32 = t801 + t802;
-        let t804: f32 = t155 + t280;
-        let t805: f32 = t411 + t542;
-        let t806: f32 = t666 + t789;
-        let t807: f32 = t804 + t805;
-        let t808: f32 = t806 + t807;
-        let t809: f32 = t803 - t808;
-        let t810: f32 = 1.0 / t809;
-        let t811: f32 = t1 * t3;
-        let t812: f32 = t45 * t80;
-        let t813: f32 = t61 * t99;
-        let t814: f32 = t67 * t813;
-        let t815: f32 = t83 * t814;
-        let t816: f32 = t61 * t82;
-        let t817: f32 = t45 * t79;
-        let t818: f32 = t816 - t817;
-        let t819: f32 = t93 * t818;
-        let t820: f32 = t83 * t134;
-        let t821: f32 = t815 * 0.003;
-        let t822: f32 = t812 + t819;
-        let t823: f32 = t820 + t821;
-        let t824: f32 = t822 + t823;
-        let t825: f32 = t17 * t824;
-        let t826: f32 = t80 * t82;
-        let t827: f32 = t79 * t99;
-        let t828: f32 = t67 * t827;
-        let t829: f32 = t83 * t828;
-        let t830: f32 = t122 * t818;
-        let t831: f32 = t83 * t110;
-        let t832: f32 = t829 * 0.003;
-        let t833: f32 = t826 + t830;
-        let t834: f32 = t831 + t832;
-        let t835: f32 = t833 + t834;
-        let t836: f32 = t27 * t835;
-        let t837: f32 = t825 - t836;
-        let t838: f32 = t17 * t837;
-        let t839: f32 = t34 * t154;
-        let t840: f32 = t171 * t205;
-        let t841: f32 = t186 * t224;
-        let t842: f32 = t192 * t841;
-        let t843: f32 = t208 * t842;
-        let t844: f32 = t186 * t207;
-        let t845: f32 = t171 * t204;
-        let t846: f32 = t844 - t845;
-        let t847: f32 = t218 * t846;
-        let t848: f32 = t208 * t259;
-        let t849: f32 = t843 * 0.003;
-        let t850: f32 = t840 + t847;
-        let t851: f32 = t848 + t849;
-        let t852: f32 = t850 + t851;
-        let t853: f32 = t156 * t852;
-        let t854: f32 = t205 * t207;
-        let t855: f32 = t204 * t224;
-        let t856: f32 = t192 * t855;
-        let t857: f32 = t208 * t856;
-        let t858: f32 = t247 * t846;
-        let t859: f32 = t208 * t235;
-        let t860: f32 = t857 * 0.003;
-        let t861: f32 = t854 + t858;
-        let t862: f32 = t859 + t860;
-        let t863: f32 = t861 + t862;
-        let t864: f32 = t157 * t863;
-        let t865: f32 = t853 - t864;
-        let t866: f32 = t156 * t865;
-        let t867: f32 = t160 * t279;
-        let t868: f32 = t302 * t336;
-        let t869: f32 = t317 * t355;
-        let t870: f32 = t323 * t869;
-        let t871: f32 = t339 * t870;
-        let t872: f32 = t317 * t338;
-        let t873: f32 = t302 * t335;
-        let t874: f32 = t872 + t873;
-        let t875: f32 = t349 * t874;
-        let t876: f32 = t339 * t390;
-        let t877: f32 = t871 * 0.003;
-        let t878: f32 = t868 + t876;
-        let t879: f32 = t877 + t878;
-        let t880: f32 = t879 - t875;
-        let t881: f32 = t283 * t880;
-        let t882: f32 = t336 * t338;
-        let t883: f32 = t335 * t355;
-        let t884: f32 = t323 * t883;
-        let t885: f32 = t339 * t884;
-        let t886: f32 = t378 * t874;
-        let t887: f32 = t339 * t366;
-        let t888: f32 = t885 * 0.003;
-        let t889: f32 = t882 + t886;
-        let t890: f32 = t887 + t888;
-        let t891: f32 = t889 - t890;
-        let t892: f32 = t286 * t891;
-        let t893: f32 = t881 - t892;
-        let t894: f32 = t283 * t893;
-        let t895: f32 = t291 * t410;
-        let t896: f32 = t433 * t467;
-        let t897: f32 = t448 * t486;
-        let t898: f32 = t454 * t897;
-        let t899: f32 = t470 * t898;
-        let t900: f32 = t448 * t469;
-        let t901: f32 = t433 * t466;
+        let t736: f32 = t167 - t181;
+        let t737: f32 = t189 * t736;
+        let t738: f32 = t195 * t733;
+        let t739: f32 = t179 * t189;
+        let t740: f32 = t738 + t739;
+        let t741: f32 = t151 * t740;
+        let t742: f32 = t730 + t735;
+        let t743: f32 = t737 + t742;
+        let t744: f32 = t743 - t741;
+        let t745: f32 = t137 * t744;
+        let t746: f32 = t186 * t188;
+        let t747: f32 = t219 - t225;
+        let t748: f32 = t733 * t747;
+        let t749: f32 = t185 - t213;
+        let t750: f32 = t189 * t749;
+        let t751: f32 = t223 * t733;
+        let t752: f32 = t189 * t211;
+        let t753: f32 = t751 + t752;
+        let t754: f32 = t151 * t753;
+        let t755: f32 = t746 + t748;
+        let t756: f32 = t750 + t755;
+        let t757: f32 = t756 - t754;
+        let t758: f32 = t138 * t757;
+        let t759: f32 = t745 - t758;
+        let t760: f32 = t137 * t759;
+        let t761: f32 = t141 * t241;
+        let t762: f32 = t264 * t298;
+        let t763: f32 = t279 * t300;
+        let t764: f32 = t264 * t297;
+        let t765: f32 = t763 + t764;
+        let t766: f32 = t303 - t309;
+        let t767: f32 = t765 * t766;
+        let t768: f32 = t279 - t293;
+        let t769: f32 = t301 * t768;
+        let t770: f32 = t307 * t765;
+        let t771: f32 = t291 * t301;
+        let t772: f32 = t770 - t771;
+        let t773: f32 = t263 * t772;
+        let t774: f32 = t762 + t769;
+        let t775: f32 = t773 + t774;
+        let t776: f32 = t775 - t767;
+        let t777: f32 = t245 * t776;
+        let t778: f32 = t298 * t300;
+        let t779: f32 = t331 - t337;
+        let t780: f32 = t765 * t779;
+        let t781: f32 = t297 - t325;
+        let t782: f32 = t301 * t781;
+        let t783: f32 = t335 * t765;
+        let t784: f32 = t301 * t323;
+        let t785: f32 = t783 - t784;
+        let t786: f32 = t263 * t785;
+        let t787: f32 = t778 + t780;
+        let t788: f32 = t782 + t786;
+        let t789: f32 = t787 - t788;
+        let t790: f32 = t248 * t789;
+        let t791: f32 = t777 - t790;
+        let t792: f32 = t245 * t791;
+        let t793: f32 = t253 * t353;
+        let t794: f32 = t376 * t410;
+        let t795: f32 = t391 * t412;
+        let t796: f32 = t376 * t409;
+        let t797: f32 = t795 + t796;
+        let t798: f32 = t415 - t421;
+        let t799: f32 = t797 * t798;
+        let t800: f32 = t391 - t405;
+        let t801: f32 = t413 * t800;
+        let t802: f32 = t419 * t797;
+        let t803: f32 = t403 * t413;
+        let t804: f32 = t802 - t803;
+        let t805: f32 = t375 * t804;
+        let t806: f32 = t794 + t801;
+        let t807: f32 = t805 + t806;
+        let t808: f32 = t807 - t799;
+        let t809: f32 = t357 * t808;
+        let t810: f32 = t410 * t412;
+        let t811: f32 = t443 - t449;
+        let t812: f32 = t797 * t811;
+        let t813: f32 = t409 - t437;
+        let t814: f32 = t413 * t813;
+        let t815: f32 = t447 * t797;
+        let t816: f32 = t413 * t435;
+        let t817: f32 = t815 - t816;
+        let t818: f32 = t375 * t817;
+        let t819: f32 = t810 + t812;
+        let t820: f32 = t814 + t818;
+        let t821: f32 = t819 - t820;
+        let t822: f32 = t360 * t821;
+        let t823: f32 = t809 - t822;
+        let t824: f32 = t357 * t823;
+        let t825: f32 = t365 * t465;
+        let t826: f32 = t482 * t515;
+        let t827: f32 = t496 * t517;
+        let t828: f32 = t482 * t514;
+        let t829: f32 = t827 + t828;
+        let t830: f32 = t520 - t526;
+        let t831: f32 = t829 * t830;
+        let t832: f32 = t496 - t510;
+        let t833: f32 = t518 * t832;
+        let t834: f32 = t524 * t829;
+        let t835: f32 = t508 * t518;
+        let t836: f32 = t834 - t835;
+        let t837: f32 = t481 * t836;
+        let t838: f32 = t826 + t833;
+        let t839: f32 = t837 + t838;
+        let t840: f32 = t839 - t831;
+        let t841: f32 = t467 * t840;
+        let t842: f32 = t515 * t517;
+        let t843: f32 = t548 - t554;
+        let t844: f32 = t829 * t843;
+        let t845: f32 = t514 - t542;
+        let t846: f32 = t518 * t845;
+        let t847: f32 = t552 * t829;
+        let t848: f32 = t518 * t540;
+        let t849: f32 = t847 - t848;
+        let t850: f32 = t481 * t849;
+        let t851: f32 = t842 + t844;
+        let t852: f32 = t846 + t850;
+        let t853: f32 = t851 - t852;
+        let t854: f32 = t468 * t853;
+        let t855: f32 = t841 - t854;
+        let t856: f32 = t467 * t855;
+        let t857: f32 = t471 * t570;
+        let t858: f32 = t586 * t619;
+        let t859: f32 = t600 * t621;
+        let t860: f32 = t586 * t618;
+        let t861: f32 = t859 + t860;
+        let t862: f32 = t624 - t630;
+        let t863: f32 = t861 * t862;
+        let t864: f32 = t600 - t614;
+        let t865: f32 = t622 * t864;
+        let t866: f32 = t628 * t861;
+        let t867: f32 = t612 * t622;
+        let t868: f32 = t866 - t867;
+        let t869: f32 = t585 * t868;
+        let t870: f32 = t858 + t865;
+        let t871: f32 = t869 + t870;
+        let t872: f32 = t871 - t863;
+        let t873: f32 = t572 * t872;
+        let t874: f32 = t619 * t621;
+        let t875: f32 = t652 - t658;
+        let t876: f32 = t861 * t875;
+        let t877: f32 = t618 - t646;
+        let t878: f32 = t622 * t877;
+        let t879: f32 = t656 * t861;
+        let t880: f32 = t622 * t644;
+        let t881: f32 = t879 - t880;
+        let t882: f32 = t585 * t881;
+        let t883: f32 = t874 + t876;
+        let t884: f32 = t878 + t882;
+        let t885: f32 = t883 - t884;
+        let t886: f32 = t573 * t885;
+        let t887: f32 = t873 - t886;
+        let t888: f32 = t572 * t887;
+        let t889: f32 = t576 * t674;
+        let t890: f32 = t6 * t21;
+        let t891: f32 = t5 * t24;
+        let t892: f32 = t19 * 0.7;
+        let t893: f32 = t891 - t890;
+        let t894: f32 = t893 * 0.4108;
+        let t895: f32 = t892 + t894;
+        let t896: f32 = t1 * t895;
+        let t897: f32 = t728 + t760;
+        let t898: f32 = t792 + t824;
+        let t899: f32 = t856 + t888;
+        let t900: f32 = t897 + t898;
+        let t901: f32 = t896 + t899;
         let t902: f32 = t900 + t901;
-        let t903: f32 = t480 * t902;
-        let t904: f32 = t470 * t521;
-        let t905: f32 = t899 * 0.003;
-        let t906: f32 = t896 + t904;
+        let t903: f32 = t729 + t761;
+        let t904: f32 = t793 + t825;
+        let t905: f32 = t857 + t889;
+        let t906: f32 = t903 + t904;
         let t907: f32 = t905 + t906;
-        let t908: f32 = t907 - t903;
-        let t909: f32 = t414 * t908;
-        let t910: f32 = t467 * t469;
-        let t911: f32 = t466 * t486;
-        let t912: f32 = t454 * t911;
-        let t913: f32 = t470 * t912;
-        let t914: f32 = t509 * t902;
-        let t915: f32 = t470 * t497;
-        let t916: f32 = t913 * 0.003;
-        let t917: f32 = t910 + t914;
-        let t918: f32 = t915 + t916;
-        let t919: f32 = t917 - t918;
-        let t920: f32 = t417 * t919;
-        let t921: f32 = t909 - t920;
-        let t922: f32 = t414 * t921;
-        let t923: f32 = t422 * t541;
-        let t924: f32 = t558 * t591;
-        let t925: f32 = t572 * t610;
-        let t926: f32 = t578 * t925;
-        let t927: f32 = t594 * t926;
-        let t928: f32 = t572 * t593;
-        let t929: f32 = t558 * t590;
-        let t930: f32 = t928 + t929;
-        let t931: f32 = t604 * t930;
-        let t932: f32 = t594 * t645;
-        let t933: f32 = t927 * 0.003;
-        let t934: f32 = t924 + t932;
-        let t935: f32 = t933 + t934;
-        let t936: f32 = t935 - t931;
-        let t937: f32 = t543 * t936;
-        let t938: f32 = t591 * t593;
-        let t939: f32 = t590 * t610;
-        let t940: f32 = t578 * t939;
-        let t941: f32 = t594 * t940;
-        let t942: f32 = t633 * t930;
-        let t943: f32 = t594 * t621;
-        let t944: f32 = t941 * 0.003;
-        let t945: f32 = t938 + t942;
-        let t946: f32 = t943 + t944;
+        let t908: f32 = t902 - t907;
+        let t909: f32 = t21 * 0.4108;
+        let t910: f32 = t21 * t909;
+        let t911: f32 = t24 * 0.4108;
+        let t912: f32 = t24 * t911;
+        let t913: f32 = t3 * t3;
+        let t914: f32 = t676 * t913;
+        let t915: f32 = t44 * t701;
+        let t916: f32 = t915 * 0.3;
+        let t917: f32 = t701 - t916;
+        let t918: f32 = t701 * t917;
+        let t919: f32 = t44 * t83;
+        let t920: f32 = t919 * 0.3;
+        let t921: f32 = t83 - t920;
+        let t922: f32 = t83 * t921;
+        let t923: f32 = t80 * t80;
+        let t924: f32 = t701 * 0.3;
+        let t925: f32 = t915 * 0.295;
+        let t926: f32 = t924 - t925;
+        let t927: f32 = t701 * t926;
+        let t928: f32 = t44 * t67;
+        let t929: f32 = t83 * t928;
+        let t930: f32 = t83 * 0.3;
+        let t931: f32 = t919 * 0.295;
+        let t932: f32 = t929 * 0.003;
+        let t933: f32 = t931 + t932;
+        let t934: f32 = t930 - t933;
+        let t935: f32 = t83 * t934;
+        let t936: f32 = t927 + t935;
+        let t937: f32 = t44 * t936;
+        let t938: f32 = t918 + t922;
+        let t939: f32 = t923 + t938;
+        let t940: f32 = t939 - t937;
+        let t941: f32 = t17 * t940;
+        let t942: f32 = t34 * t725;
+        let t943: f32 = t941 - t942;
+        let t944: f32 = t17 * t943;
+        let t945: f32 = t17 * t725;
+        let t946: f32 = t34 * t133;
         let t947: f32 = t945 - t946;
-        let t948: f32 = t544 * t947;
-        let t949: f32 = t937 - t948;
-        let t950: f32 = t543 * t949;
-        let t951: f32 = t547 * t665;
-        let t952: f32 = t681 * t714;
-        let t953: f32 = t695 * t733;
-        let t954: f32 = t701 * t953;
-        let t955: f32 = t717 * t954;
-        let t956: f32 = t695 * t716;
-        let t957: f32 = t681 * t713;
-        let t958: f32 = t956 + t957;
-        let t959: f32 = t727 * t958;
-        let t960: f32 = t717 * t768;
-        let t961: f32 = t955 * 0.003;
-        let t962: f32 = t952 + t960;
-        let t963: f32 = t961 + t962;
-        let t964: f32 = t963 - t959;
-        let t965: f32 = t667 * t964;
-        let t966: f32 = t714 * t716;
-        let t967: f32 = t713 * t733;
-        let t968: f32 = t701 * t967;
-        let t969: f32 = t717 * t968;
-        let t970: f32 = t756 * t958;
-        let t971: f32 = t717 * t744;
-        let t972: f32 = t969 * 0.003;
-        let t973: f32 = t966 + t970;
-        let t974: f32 = t971 + t972;
-        let t975: f32 = t973 - t974;
-        let t976: f32 = t668 * t975;
-        let t977: f32 = t965 - t976;
-        let t978: f32 = t667 * t977;
-        let t979: f32 = t671 * t788;
-        let t980: f32 = t6 * t21;
-        let t981: f32 = t5 * t24;
-        let t982: f32 = t19 * 0.7;
-        let t983: f32 = t981 - t980;
-        let t984: f32 = t983 * 0.4108;
-        let t985: f32 = t982 + t984;
-        let t986: f32 = t1 * t985;
-        let t987: f32 = t838 + t866;
-        let t988: f32 = t894 + t922;
-        let t989: f32 = t950 + t978;
-        let t990: f32 = t987 + t988;
-        let t991: f32 = t986 + t989;
-        let t992: f32 = t990 + t991;
-        let t993: f32 = t839 + t867;
-        let t994: f32 = t895 + t923;
-        let t995: f32 = t951 + t979;
-        let t996: f32 = t993 + t994;
-        let t997: f32 = t995 + t996;
-        let t998: f32 = t992 - t997;
-        let t999: f32 = t21 * 0.4108;
-        let t1000: f32 = t21 * t999;
-        let t1001: f32 = t24 * 0.4108;
-        let t1002: f32 = t24 * t1001;
+        let t948: f32 = t34 * t947;
+        let t949: f32 = t151 * t733;
+        let t950: f32 = t949 * 0.3;
+        let t951: f32 = t733 - t950;
+        let t952: f32 = t733 * t951;
+        let t953: f32 = t151 * t189;
+        let t954: f32 = t953 * 0.3;
+        let t955: f32 = t189 - t954;
+        let t956: f32 = t189 * t955;
+        let t957: f32 = t186 * t186;
+        let t958: f32 = t733 * 0.3;
+        let t959: f32 = t949 * 0.295;
+        let t960: f32 = t958 - t959;
+        let t961: f32 = t733 * t960;
+        let t962: f32 = t151 * t173;
+        let t963: f32 = t189 * t962;
+        let t964: f32 = t189 * 0.3;
+        let t965: f32 = t953 * 0.295;
+        let t966: f32 = t963 * 0.003;
+        let t967: f32 = t965 + t966;
+        let t968: f32 = t964 - t967;
+        let t969: f32 = t189 * t968;
+        let t970: f32 = t961 + t969;
+        let t971: f32 = t151 * t970;
+        let t972: f32 = t952 + t956;
+        let t973: f32 = t957 + t972;
+        let t974: f32 = t973 - t971;
+        let t975: f32 = t137 * t974;
+        let t976: f32 = t141 * t757;
+        let t977: f32 = t975 - t976;
+        let t978: f32 = t137 * t977;
+        let t979: f32 = t137 * t757;
+        let t980: f32 = t141 * t239;
+        let t981: f32 = t979 - t980;
+        let t982: f32 = t141 * t981;
+        let t983: f32 = t263 * t765;
+        let t984: f32 = t983 * 0.3;
+        let t985: f32 = t765 - t984;
+        let t986: f32 = t765 * t985;
+        let t987: f32 = t263 * t301;
+        let t988: f32 = t987 * 0.3;
+        let t989: f32 = t301 - t988;
+        let t990: f32 = t301 * t989;
+        let t991: f32 = t298 * t298;
+        let t992: f32 = t765 * 0.3;
+        let t993: f32 = t983 * 0.295;
+        let t994: f32 = t992 - t993;
+        let t995: f32 = t765 * t994;
+        let t996: f32 = t263 * t285;
+        let t997: f32 = t301 * t996;
+        let t998: f32 = t301 * 0.3;
+        let t999: f32 = t987 * 0.295;
+        let t1000: f32 = t997 * 0.003;
+        let t1001: f32 = t999 + t1000;
+        let t1002: f32 = t998 - t1001;
         (
             t0,
             t1,
@@ -10379,7 +10036,6 @@ pub fn forward_dynamics(
             t61,
             t62,
             t66,
-            t67,
             t79,
             t80,
             t82,
@@ -10388,3308 +10044,3043 @@ pub fn forward_dynamics(
             t86,
             t96,
             t99,
-            t103,
+            t113,
             t114,
-            t115,
-            t127,
-            t129,
-            t139,
+            t124,
+            t126,
+            t133,
+            t135,
+            t137,
+            t138,
+            t140,
+            t141,
+            t143,
+            t146,
+            t149,
+            t151,
             t152,
-            t154,
-            t156,
-            t157,
-            t159,
-            t160,
-            t162,
             t165,
+            t166,
+            t167,
             t168,
-            t170,
-            t171,
-            t184,
+            t172,
             t185,
             t186,
-            t187,
+            t188,
+            t189,
             t191,
             t192,
-            t204,
+            t202,
             t205,
-            t207,
-            t208,
-            t210,
-            t211,
-            t221,
-            t224,
-            t228,
+            t219,
+            t220,
+            t230,
+            t232,
             t239,
-            t240,
-            t252,
-            t254,
+            t241,
+            t245,
+            t248,
+            t250,
+            t253,
+            t255,
+            t258,
+            t261,
+            t263,
             t264,
             t277,
+            t278,
             t279,
-            t283,
-            t286,
-            t288,
-            t291,
-            t293,
-            t296,
-            t299,
+            t280,
+            t284,
+            t297,
+            t298,
+            t300,
             t301,
-            t302,
-            t315,
-            t316,
+            t303,
+            t304,
+            t314,
             t317,
-            t318,
-            t322,
-            t323,
-            t335,
-            t336,
-            t338,
-            t339,
-            t341,
+            t331,
+            t332,
             t342,
-            t352,
-            t355,
-            t359,
+            t344,
+            t351,
+            t353,
+            t357,
+            t360,
+            t362,
+            t365,
+            t367,
             t370,
-            t371,
-            t383,
-            t385,
-            t395,
-            t408,
+            t373,
+            t375,
+            t376,
+            t389,
+            t390,
+            t391,
+            t392,
+            t396,
+            t397,
+            t409,
             t410,
-            t414,
-            t417,
-            t419,
-            t422,
-            t424,
-            t427,
-            t430,
-            t432,
-            t433,
-            t446,
-            t447,
-            t448,
-            t449,
-            t453,
+            t412,
+            t413,
+            t415,
+            t416,
+            t426,
+            t429,
+            t443,
+            t444,
             t454,
-            t466,
+            t456,
+            t463,
+            t465,
             t467,
-            t469,
+            t468,
             t470,
-            t472,
+            t471,
             t473,
-            t483,
-            t486,
-            t490,
+            t476,
+            t479,
+            t481,
+            t482,
+            t494,
+            t495,
+            t496,
+            t497,
             t501,
             t502,
             t514,
-            t516,
-            t526,
-            t539,
-            t541,
-            t543,
-            t544,
-            t546,
-            t547,
+            t515,
+            t517,
+            t518,
+            t520,
+            t521,
+            t531,
+            t534,
+            t548,
             t549,
-            t552,
-            t555,
-            t557,
-            t558,
+            t559,
+            t561,
+            t568,
             t570,
-            t571,
             t572,
             t573,
+            t575,
+            t576,
             t577,
-            t578,
-            t590,
-            t591,
-            t593,
-            t594,
-            t596,
-            t597,
-            t607,
-            t610,
-            t614,
+            t580,
+            t583,
+            t585,
+            t586,
+            t598,
+            t599,
+            t600,
+            t601,
+            t605,
+            t606,
+            t618,
+            t619,
+            t621,
+            t622,
+            t624,
             t625,
-            t626,
+            t635,
             t638,
-            t640,
-            t650,
+            t652,
+            t653,
             t663,
             t665,
-            t667,
-            t668,
-            t670,
-            t671,
             t672,
-            t675,
-            t678,
-            t680,
-            t681,
-            t693,
-            t694,
-            t695,
+            t674,
+            t676,
             t696,
-            t700,
+            t697,
             t701,
+            t712,
             t713,
-            t714,
-            t716,
-            t717,
-            t719,
-            t720,
-            t730,
+            t725,
+            t726,
+            t727,
             t733,
-            t737,
-            t748,
-            t749,
-            t761,
-            t763,
-            t773,
-            t786,
-            t788,
+            t744,
+            t745,
+            t757,
+            t758,
+            t759,
+            t765,
+            t776,
+            t777,
+            t789,
             t790,
-            t810,
-            t811,
-            t812,
-            t818,
+            t791,
+            t797,
+            t808,
+            t809,
             t821,
-            t824,
-            t826,
-            t832,
-            t835,
-            t837,
+            t822,
+            t823,
+            t829,
             t840,
-            t846,
-            t849,
-            t852,
+            t841,
+            t853,
             t854,
-            t860,
-            t863,
-            t865,
-            t868,
-            t874,
-            t877,
-            t880,
-            t882,
-            t888,
-            t891,
-            t893,
-            t896,
-            t902,
-            t905,
+            t855,
+            t861,
+            t872,
+            t873,
+            t885,
+            t886,
+            t887,
             t908,
+            t909,
             t910,
-            t916,
+            t911,
+            t912,
+            t914,
+            t915,
             t919,
-            t921,
-            t924,
-            t930,
-            t933,
-            t936,
-            t938,
+            t940,
+            t943,
             t944,
             t947,
+            t948,
             t949,
-            t952,
-            t958,
-            t961,
-            t964,
-            t966,
-            t972,
-            t975,
+            t953,
+            t974,
             t977,
-            t998,
-            t999,
-            t1000,
-            t1001,
+            t978,
+            t981,
+            t982,
+            t983,
+            t986,
+            t987,
+            t990,
+            t991,
+            t995,
             t1002,
         )
     };
     let (
-        t1005,
-        t1009,
+        t1008,
+        t1017,
+        t1021,
+        t1042,
         t1051,
         t1055,
-        t1097,
-        t1101,
-        t1143,
-        t1147,
-        t1189,
-        t1193,
-        t1235,
-        t1239,
-        t1299,
-        t1300,
-        t1312,
-        t1313,
-        t1315,
-        t1455,
-        t1509,
-        t1514,
-        t1522,
-        t1524,
+        t1076,
+        t1085,
+        t1089,
+        t1110,
+        t1137,
+        t1138,
+        t1150,
+        t1151,
+        t1153,
+        t1263,
+        t1311,
+        t1316,
+        t1324,
+        t1326,
+        t1329,
+        t1335,
+        t1346,
+        t1347,
+        t1355,
+        t1356,
+        t1368,
+        t1369,
+        t1373,
+        t1392,
+        t1403,
+        t1404,
+        t1413,
+        t1414,
+        t1430,
+        t1431,
+        t1443,
+        t1444,
+        t1449,
+        t1471,
+        t1488,
+        t1492,
+        t1493,
+        t1498,
+        t1499,
+        t1503,
+        t1504,
+        t1510,
+        t1511,
+        t1523,
         t1527,
-        t1533,
+        t1534,
+        t1535,
+        t1539,
+        t1540,
         t1544,
-        t1545,
-        t1553,
-        t1554,
-        t1566,
-        t1567,
-        t1571,
-        t1590,
-        t1601,
-        t1602,
-        t1611,
-        t1612,
+        t1575,
+        t1579,
+        t1584,
+        t1588,
+        t1591,
+        t1593,
+        t1594,
+        t1613,
+        t1616,
+        t1619,
+        t1621,
+        t1624,
+        t1629,
         t1640,
-        t1641,
-        t1653,
-        t1654,
+        t1643,
+        t1647,
+        t1648,
+        t1656,
         t1659,
-        t1681,
-        t1727,
-        t1728,
-        t1749,
-        t1761,
+        t1660,
+        t1694,
+        t1698,
+        t1703,
+        t1707,
+        t1710,
+        t1712,
+        t1713,
+        t1732,
+        t1735,
+        t1739,
+        t1744,
+        t1752,
+        t1759,
+        t1760,
+        t1763,
+        t1767,
         t1768,
-        t1770,
-        t1771,
         t1776,
-        t1799,
-        t1801,
-        t1803,
-        t1807,
-        t1808,
-        t1811,
+        t1779,
+        t1780,
+        t1783,
         t1814,
-        t1815,
-        t1817,
-        t1834,
-        t1838,
-        t1839,
-        t1844,
-        t1845,
-        t1849,
-        t1850,
-        t1856,
-        t1857,
-        t1869,
-        t1873,
-        t1880,
+        t1818,
+        t1823,
+        t1827,
+        t1830,
+        t1832,
+        t1833,
+        t1846,
+        t1854,
+        t1861,
+        t1862,
+        t1865,
+        t1870,
         t1881,
-        t1885,
-        t1886,
-        t1890,
-        t1936,
-        t1937,
-        t1959,
-        t1971,
+        t1884,
+        t1888,
+        t1889,
+        t1897,
+        t1900,
+        t1901,
+        t1903,
+        t1934,
+        t1938,
+        t1943,
+        t1947,
+        t1950,
+        t1952,
+        t1953,
+        t1972,
         t1975,
-        t1976,
+        t1977,
         t1978,
-        t1981,
-        t1986,
-        t1987,
-        t1988,
+        t1979,
+        t1990,
         t1993,
-        t1995,
+        t1996,
+        t1998,
         t2001,
         t2002,
     ) = {
-        let t1003: f32 = t3 * t3;
-        let t1004: f32 = t790 * t1003;
-        let t1005: f32 = t44 * t818;
-        let t1006: f32 = t1005 * 0.3;
-        let t1007: f32 = t818 - t1006;
-        let t1008: f32 = t818 * t1007;
-        let t1009: f32 = t44 * t83;
-        let t1010: f32 = t1009 * 0.3;
-        let t1011: f32 = t83 - t1010;
-        let t1012: f32 = t83 * t1011;
-        let t1013: f32 = t80 * t80;
-        let t1014: f32 = t818 * 0.3;
-        let t1015: f32 = t1005 * 0.295;
-        let t1016: f32 = t1014 - t1015;
-        let t1017: f32 = t818 * t1016;
-        let t1018: f32 = t44 * t67;
-        let t1019: f32 = t83 * t1018;
-        let t1020: f32 = t83 * 0.3;
-        let t1021: f32 = t1009 * 0.295;
-        let t1022: f32 = t1019 * 0.003;
-        let t1023: f32 = t1021 + t1022;
-        let t1024: f32 = t1020 - t1023;
-        let t1025: f32 = t83 * t1024;
-        let t1026: f32 = t1017 + t1025;
-        let t1027: f32 = t44 * t1026;
-        let t1028: f32 = t1008 + t1012;
-        let t1029: f32 = t1013 + t1028;
-        let t1030: f32 = t1029 - t1027;
-        let t1031: f32 = t17 * t1030;
-        let t1032: f32 = t34 * t835;
-        let t1033: f32 = t1031 - t1032;
-        let t1034: f32 = t17 * t1033;
-        let t1035: f32 = t1020 - t1021;
-        let t1036: f32 = t44 * t1035;
-        let t1037: f32 = t1010 + t1036;
-        let t1038: f32 = t83 - t1037;
-        let t1039: f32 = t79 * t1038;
-        let t1040: f32 = t44 * t1016;
-        let t1041: f32 = t1006 + t1040;
-        let t1042: f32 = t818 - t1041;
-        let t1043: f32 = t114 * t1042;
-        let t1044: f32 = t826 + t1039;
-        let t1045: f32 = t832 + t1043;
-        let t1046: f32 = t1044 + t1045;
-        let t1047: f32 = t17 * t1046;
-        let t1048: f32 = t34 * t152;
+        let t1003: f32 = t301 * t1002;
+        let t1004: f32 = t995 + t1003;
+        let t1005: f32 = t263 * t1004;
+        let t1006: f32 = t986 + t990;
+        let t1007: f32 = t991 + t1006;
+        let t1008: f32 = t1007 - t1005;
+        let t1009: f32 = t245 * t1008;
+        let t1010: f32 = t253 * t789;
+        let t1011: f32 = t1009 - t1010;
+        let t1012: f32 = t245 * t1011;
+        let t1013: f32 = t245 * t789;
+        let t1014: f32 = t253 * t351;
+        let t1015: f32 = t1013 - t1014;
+        let t1016: f32 = t253 * t1015;
+        let t1017: f32 = t375 * t797;
+        let t1018: f32 = t1017 * 0.3;
+        let t1019: f32 = t797 - t1018;
+        let t1020: f32 = t797 * t1019;
+        let t1021: f32 = t375 * t413;
+        let t1022: f32 = t1021 * 0.3;
+        let t1023: f32 = t413 - t1022;
+        let t1024: f32 = t413 * t1023;
+        let t1025: f32 = t410 * t410;
+        let t1026: f32 = t797 * 0.3;
+        let t1027: f32 = t1017 * 0.295;
+        let t1028: f32 = t1026 - t1027;
+        let t1029: f32 = t797 * t1028;
+        let t1030: f32 = t375 * t397;
+        let t1031: f32 = t413 * t1030;
+        let t1032: f32 = t413 * 0.3;
+        let t1033: f32 = t1021 * 0.295;
+        let t1034: f32 = t1031 * 0.003;
+        let t1035: f32 = t1033 + t1034;
+        let t1036: f32 = t1032 - t1035;
+        let t1037: f32 = t413 * t1036;
+        let t1038: f32 = t1029 + t1037;
+        let t1039: f32 = t375 * t1038;
+        let t1040: f32 = t1020 + t1024;
+        let t1041: f32 = t1025 + t1040;
+        let t1042: f32 = t1041 - t1039;
+        let t1043: f32 = t357 * t1042;
+        let t1044: f32 = t365 * t821;
+        let t1045: f32 = t1043 - t1044;
+        let t1046: f32 = t357 * t1045;
+        let t1047: f32 = t357 * t821;
+        let t1048: f32 = t365 * t463;
         let t1049: f32 = t1047 - t1048;
-        let t1050: f32 = t34 * t1049;
-        let t1051: f32 = t170 * t846;
+        let t1050: f32 = t365 * t1049;
+        let t1051: f32 = t481 * t829;
         let t1052: f32 = t1051 * 0.3;
-        let t1053: f32 = t846 - t1052;
-        let t1054: f32 = t846 * t1053;
-        let t1055: f32 = t170 * t208;
+        let t1053: f32 = t829 - t1052;
+        let t1054: f32 = t829 * t1053;
+        let t1055: f32 = t481 * t518;
         let t1056: f32 = t1055 * 0.3;
-        let t1057: f32 = t208 - t1056;
-        let t1058: f32 = t208 * t1057;
-        let t1059: f32 = t205 * t205;
-        let t1060: f32 = t846 * 0.3;
+        let t1057: f32 = t518 - t1056;
+        let t1058: f32 = t518 * t1057;
+        let t1059: f32 = t515 * t515;
+        let t1060: f32 = t829 * 0.3;
         let t1061: f32 = t1051 * 0.295;
         let t1062: f32 = t1060 - t1061;
-        let t1063: f32 = t846 * t1062;
-        let t1064: f32 = t170 * t192;
-        let t1065: f32 = t208 * t1064;
-        let t1066: f32 = t208 * 0.3;
+        let t1063: f32 = t829 * t1062;
+        let t1064: f32 = t481 * t502;
+        let t1065: f32 = t518 * t1064;
+        let t1066: f32 = t518 * 0.3;
         let t1067: f32 = t1055 * 0.295;
         let t1068: f32 = t1065 * 0.003;
         let t1069: f32 = t1067 + t1068;
         let t1070: f32 = t1066 - t1069;
-        let t1071: f32 = t208 * t1070;
+        let t1071: f32 = t518 * t1070;
         let t1072: f32 = t1063 + t1071;
-        let t1073: f32 = t170 * t1072;
+        let t1073: f32 = t481 * t1072;
         let t1074: f32 = t1054 + t1058;
         let t1075: f32 = t1059 + t1074;
         let t1076: f32 = t1075 - t1073;
-        let t1077: f32 = t156 * t1076;
-        let t1078: f32 = t160 * t863;
+        let t1077: f32 = t467 * t1076;
+        let t1078: f32 = t471 * t853;
         let t1079: f32 = t1077 - t1078;
-        let t1080: f32 = t156 * t1079;
-        let t1081: f32 = t1066 - t1067;
-        let t1082: f32 = t170 * t1081;
-        let t1083: f32 = t1056 + t1082;
-        let t1084: f32 = t208 - t1083;
-        let t1085: f32 = t204 * t1084;
-        let t1086: f32 = t170 * t1062;
-        let t1087: f32 = t1052 + t1086;
-        let t1088: f32 = t846 - t1087;
-        let t1089: f32 = t239 * t1088;
-        let t1090: f32 = t854 + t1085;
-        let t1091: f32 = t860 + t1089;
-        let t1092: f32 = t1090 + t1091;
-        let t1093: f32 = t156 * t1092;
-        let t1094: f32 = t160 * t277;
-        let t1095: f32 = t1093 - t1094;
-        let t1096: f32 = t160 * t1095;
-        let t1097: f32 = t301 * t874;
-        let t1098: f32 = t1097 * 0.3;
-        let t1099: f32 = t874 - t1098;
-        let t1100: f32 = t874 * t1099;
-        let t1101: f32 = t301 * t339;
-        let t1102: f32 = t1101 * 0.3;
-        let t1103: f32 = t339 - t1102;
-        let t1104: f32 = t339 * t1103;
-        let t1105: f32 = t336 * t336;
-        let t1106: f32 = t874 * 0.3;
-        let t1107: f32 = t1097 * 0.295;
-        let t1108: f32 = t1106 - t1107;
-        let t1109: f32 = t874 * t1108;
-        let t1110: f32 = t301 * t323;
-        let t1111: f32 = t339 * t1110;
-        let t1112: f32 = t339 * 0.3;
-        let t1113: f32 = t1101 * 0.295;
-        let t1114: f32 = t1111 * 0.003;
-        let t1115: f32 = t1113 + t1114;
-        let t1116: f32 = t1112 - t1115;
-        let t1117: f32 = t339 * t1116;
-        let t1118: f32 = t1109 + t1117;
-        let t1119: f32 = t301 * t1118;
-        let t1120: f32 = t1100 + t1104;
-        let t1121: f32 = t1105 + t1120;
-        let t1122: f32 = t1121 - t1119;
-        let t1123: f32 = t283 * t1122;
-        let t1124: f32 = t291 * t891;
-        let t1125: f32 = t1123 - t1124;
-        let t1126: f32 = t283 * t1125;
-        let t1127: f32 = t1112 - t1113;
-        let t1128: f32 = t301 * t1127;
-        let t1129: f32 = t1102 + t1128;
-        let t1130: f32 = t339 - t1129;
-        let t1131: f32 = t335 * t1130;
-        let t1132: f32 = t301 * t1108;
-        let t1133: f32 = t1098 + t1132;
-        let t1134: f32 = t874 - t1133;
-        let t1135: f32 = t370 * t1134;
-        let t1136: f32 = t882 + t1135;
-        let t1137: f32 = t888 + t1131;
-        let t1138: f32 = t1136 - t1137;
-        let t1139: f32 = t283 * t1138;
-        let t1140: f32 = t291 * t408;
-        let t1141: f32 = t1139 - t1140;
-        let t1142: f32 = t291 * t1141;
-        let t1143: f32 = t432 * t902;
-        let t1144: f32 = t1143 * 0.3;
-        let t1145: f32 = t902 - t1144;
-        let t1146: f32 = t902 * t1145;
-        let t1147: f32 = t432 * t470;
-        let t1148: f32 = t1147 * 0.3;
-        let t1149: f32 = t470 - t1148;
-        let t1150: f32 = t470 * t1149;
-        let t1151: f32 = t467 * t467;
-        let t1152: f32 = t902 * 0.3;
-        let t1153: f32 = t1143 * 0.295;
-        let t1154: f32 = t1152 - t1153;
-        let t1155: f32 = t902 * t1154;
-        let t1156: f32 = t432 * t454;
-        let t1157: f32 = t470 * t1156;
-        let t1158: f32 = t470 * 0.3;
-        let t1159: f32 = t1147 * 0.295;
-        let t1160: f32 = t1157 * 0.003;
-        let t1161: f32 = t1159 + t1160;
-        let t1162: f32 = t1158 - t1161;
-        let t1163: f32 = t470 * t1162;
-        let t1164: f32 = t1155 + t1163;
-        let t1165: f32 = t432 * t1164;
-        let t1166: f32 = t1146 + t1150;
-        let t1167: f32 = t1151 + t1166;
-        let t1168: f32 = t1167 - t1165;
-        let t1169: f32 = t414 * t1168;
-        let t1170: f32 = t422 * t919;
-        let t1171: f32 = t1169 - t1170;
-        let t1172: f32 = t414 * t1171;
-        let t1173: f32 = t1158 - t1159;
-        let t1174: f32 = t432 * t1173;
-        let t1175: f32 = t1148 + t1174;
-        let t1176: f32 = t470 - t1175;
-        let t1177: f32 = t466 * t1176;
-        let t1178: f32 = t432 * t1154;
-        let t1179: f32 = t1144 + t1178;
-        let t1180: f32 = t902 - t1179;
-        let t1181: f32 = t501 * t1180;
-        let t1182: f32 = t910 + t1181;
-        let t1183: f32 = t916 + t1177;
+        let t1080: f32 = t467 * t1079;
+        let t1081: f32 = t467 * t853;
+        let t1082: f32 = t471 * t568;
+        let t1083: f32 = t1081 - t1082;
+        let t1084: f32 = t471 * t1083;
+        let t1085: f32 = t585 * t861;
+        let t1086: f32 = t1085 * 0.3;
+        let t1087: f32 = t861 - t1086;
+        let t1088: f32 = t861 * t1087;
+        let t1089: f32 = t585 * t622;
+        let t1090: f32 = t1089 * 0.3;
+        let t1091: f32 = t622 - t1090;
+        let t1092: f32 = t622 * t1091;
+        let t1093: f32 = t619 * t619;
+        let t1094: f32 = t861 * 0.3;
+        let t1095: f32 = t1085 * 0.295;
+        let t1096: f32 = t1094 - t1095;
+        let t1097: f32 = t861 * t1096;
+        let t1098: f32 = t585 * t606;
+        let t1099: f32 = t622 * t1098;
+        let t1100: f32 = t622 * 0.3;
+        let t1101: f32 = t1089 * 0.295;
+        let t1102: f32 = t1099 * 0.003;
+        let t1103: f32 = t1101 + t1102;
+        let t1104: f32 = t1100 - t1103;
+        let t1105: f32 = t622 * t1104;
+        let t1106: f32 = t1097 + t1105;
+        let t1107: f32 = t585 * t1106;
+        let t1108: f32 = t1088 + t1092;
+        let t1109: f32 = t1093 + t1108;
+        let t1110: f32 = t1109 - t1107;
+        let t1111: f32 = t572 * t1110;
+        let t1112: f32 = t576 * t885;
+        let t1113: f32 = t1111 - t1112;
+        let t1114: f32 = t572 * t1113;
+        let t1115: f32 = t572 * t885;
+        let t1116: f32 = t576 * t672;
+        let t1117: f32 = t1115 - t1116;
+        let t1118: f32 = t576 * t1117;
+        let t1119: f32 = t914 * 0.7;
+        let t1120: f32 = t910 + t912;
+        let t1121: f32 = t944 + t978;
+        let t1122: f32 = t1012 + t1046;
+        let t1123: f32 = t1080 + t1114;
+        let t1124: f32 = t1120 + t1121;
+        let t1125: f32 = t1122 + t1123;
+        let t1126: f32 = t1124 + t1125;
+        let t1127: f32 = t1119 + t1126;
+        let t1128: f32 = t948 + t982;
+        let t1129: f32 = t1016 + t1050;
+        let t1130: f32 = t1084 + t1118;
+        let t1131: f32 = t1128 + t1129;
+        let t1132: f32 = t1130 + t1131;
+        let t1133: f32 = t1127 - t1132;
+        let t1134: f32 = t908 * t908;
+        let t1135: f32 = t696 * t1134;
+        let t1136: f32 = t1133 - t1135;
+        let t1137: f32 = 1.0 / t1136;
+        let t1138: f32 = t1 * t4;
+        let t1139: f32 = t1138 * 0.36;
+        let t1140: f32 = t943 + t1139;
+        let t1141: f32 = t977 + t1045;
+        let t1142: f32 = t1140 + t1141;
+        let t1143: f32 = t1079 + t1142;
+        let t1144: f32 = t1011 + t1113;
+        let t1145: f32 = t1143 - t1144;
+        let t1146: f32 = t727 + t759;
+        let t1147: f32 = t823 + t855;
+        let t1148: f32 = t1146 + t1147;
+        let t1149: f32 = t791 + t887;
+        let t1150: f32 = t1148 - t1149;
+        let t1151: f32 = t696 * t908;
+        let t1152: f32 = t1150 * t1151;
+        let t1153: f32 = t1145 - t1152;
+        let t1154: f32 = t940 + t974;
+        let t1155: f32 = t1008 + t1042;
+        let t1156: f32 = t1076 + t1110;
+        let t1157: f32 = t1154 + t1155;
+        let t1158: f32 = t1156 + 12.0;
+        let t1159: f32 = t1157 + t1158;
+        let t1160: f32 = t1150 * t1150;
+        let t1161: f32 = t696 * t1160;
+        let t1162: f32 = t1153 * t1153;
+        let t1163: f32 = t1137 * t1162;
+        let t1164: f32 = t10 * 0.4108;
+        let t1165: f32 = t10 * t1164;
+        let t1166: f32 = t14 * 0.4108;
+        let t1167: f32 = t14 * t1166;
+        let t1168: f32 = t4 * t4;
+        let t1169: f32 = t676 * t1168;
+        let t1170: f32 = t27 * t940;
+        let t1171: f32 = t34 * t712;
+        let t1172: f32 = t1170 - t1171;
+        let t1173: f32 = t27 * t1172;
+        let t1174: f32 = t27 * t712;
+        let t1175: f32 = t34 * t96;
+        let t1176: f32 = t1174 - t1175;
+        let t1177: f32 = t34 * t1176;
+        let t1178: f32 = t138 * t974;
+        let t1179: f32 = t141 * t744;
+        let t1180: f32 = t1178 - t1179;
+        let t1181: f32 = t138 * t1180;
+        let t1182: f32 = t138 * t744;
+        let t1183: f32 = t141 * t202;
         let t1184: f32 = t1182 - t1183;
-        let t1185: f32 = t414 * t1184;
-        let t1186: f32 = t422 * t539;
-        let t1187: f32 = t1185 - t1186;
-        let t1188: f32 = t422 * t1187;
-        let t1189: f32 = t557 * t930;
-        let t1190: f32 = t1189 * 0.3;
-        let t1191: f32 = t930 - t1190;
-        let t1192: f32 = t930 * t1191;
-        let t1193: f32 = t557 * t594;
-        let t1194: f32 = t1193 * 0.3;
-        let t1195: f32 = t594 - t1194;
-        let t1196: f32 = t594 * t1195;
-        let t1197: f32 = t591 * t591;
-        let t1198: f32 = t930 * 0.3;
-        let t1199: f32 = t1189 * 0.295;
+        let t1185: f32 = t141 * t1184;
+        let t1186: f32 = t248 * t1008;
+        let t1187: f32 = t253 * t776;
+        let t1188: f32 = t1186 - t1187;
+        let t1189: f32 = t248 * t1188;
+        let t1190: f32 = t248 * t776;
+        let t1191: f32 = t253 * t314;
+        let t1192: f32 = t1190 - t1191;
+        let t1193: f32 = t253 * t1192;
+        let t1194: f32 = t360 * t1042;
+        let t1195: f32 = t365 * t808;
+        let t1196: f32 = t1194 - t1195;
+        let t1197: f32 = t360 * t1196;
+        let t1198: f32 = t360 * t808;
+        let t1199: f32 = t365 * t426;
         let t1200: f32 = t1198 - t1199;
-        let t1201: f32 = t930 * t1200;
-        let t1202: f32 = t557 * t578;
-        let t1203: f32 = t594 * t1202;
-        let t1204: f32 = t594 * 0.3;
-        let t1205: f32 = t1193 * 0.295;
-        let t1206: f32 = t1203 * 0.003;
-        let t1207: f32 = t1205 + t1206;
-        let t1208: f32 = t1204 - t1207;
-        let t1209: f32 = t594 * t1208;
-        let t1210: f32 = t1201 + t1209;
-        let t1211: f32 = t557 * t1210;
-        let t1212: f32 = t1192 + t1196;
-        let t1213: f32 = t1197 + t1212;
-        let t1214: f32 = t1213 - t1211;
-        let t1215: f32 = t543 * t1214;
-        let t1216: f32 = t547 * t947;
-        let t1217: f32 = t1215 - t1216;
-        let t1218: f32 = t543 * t1217;
-        let t1219: f32 = t1204 - t1205;
-        let t1220: f32 = t557 * t1219;
-        let t1221: f32 = t1194 + t1220;
-        let t1222: f32 = t594 - t1221;
-        let t1223: f32 = t590 * t1222;
-        let t1224: f32 = t557 * t1200;
-        let t1225: f32 = t1190 + t1224;
-        let t1226: f32 = t930 - t1225;
-        let t1227: f32 = t625 * t1226;
-        let t1228: f32 = t938 + t1227;
-        let t1229: f32 = t944 + t1223;
-        let t1230: f32 = t1228 - t1229;
-        let t1231: f32 = t543 * t1230;
-        let t1232: f32 = t547 * t663;
-        let t1233: f32 = t1231 - t1232;
-        let t1234: f32 = t547 * t1233;
-        let t1235: f32 = t680 * t958;
-        let t1236: f32 = t1235 * 0.3;
-        let t1237: f32 = t958 - t1236;
-        let t1238: f32 = t958 * t1237;
-        let t1239: f32 = t680 * t717;
-        let t1240: f32 = t1239 * 0.3;
-        let t1241: f32 = t717 - t1240;
-        let t1242: f32 = t717 * t1241;
-        let t1243: f32 = t714 * t714;
-        let t1244: f32 = t958 * 0.3;
-        let t1245: f32 = t1235 * 0.295;
-        let t1246: f32 = t1244 - t1245;
-        let t1247: f32 = t958 * t1246;
-        let t1248: f32 = t680 * t701;
-        let t1249: f32 = t717 * t1248;
-        let t1250: f32 = t717 * 0.3;
-        let t1251: f32 = t1239 * 0.295;
-        let t1252: f32 = t1249 * 0.003;
-        let t1253: f32 = t1251 + t1252;
-        let t1254: f32 = t1250 - t1253;
-        let t1255: f32 = t717 * t1254;
-        let t1256: f32 = t1247 + t1255;
-        let t1257: f32 = t680 * t1256;
-        let t1258: f32 = t1238 + t1242;
-        let t1259: f32 = t1243 + t1258;
-        let t1260: f32 = t1259 - t1257;
-        let t1261: f32 = t667 * t1260;
-        let t1262: f32 = t671 * t975;
-        let t1263: f32 = t1261 - t1262;
-        let t1264: f32 = t667 * t1263;
-        let t1265: f32 = t1250 - t1251;
-        let t1266: f32 = t680 * t1265;
-        let t1267: f32 = t1240 + t1266;
-        let t1268: f32 = t717 - t1267;
-        let t1269: f32 = t713 * t1268;
-        let t1270: f32 = t680 * t1246;
-        let t1271: f32 = t1236 + t1270;
-        let t1272: f32 = t958 - t1271;
-        let t1273: f32 = t748 * t1272;
-        let t1274: f32 = t966 + t1273;
-        let t1275: f32 = t972 + t1269;
-        let t1276: f32 = t1274 - t1275;
-        let t1277: f32 = t667 * t1276;
-        let t1278: f32 = t671 * t786;
-        let t1279: f32 = t1277 - t1278;
-        let t1280: f32 = t671 * t1279;
-        let t1281: f32 = t1004 * 0.7;
-        let t1282: f32 = t1000 + t1002;
-        let t1283: f32 = t1034 + t1080;
-        let t1284: f32 = t1126 + t1172;
-        let t1285: f32 = t1218 + t1264;
-        let t1286: f32 = t1282 + t1283;
-        let t1287: f32 = t1284 + t1285;
-        let t1288: f32 = t1286 + t1287;
-        let t1289: f32 = t1281 + t1288;
-        let t1290: f32 = t1050 + t1096;
-        let t1291: f32 = t1142 + t1188;
-        let t1292: f32 = t1234 + t1280;
-        let t1293: f32 = t1290 + t1291;
-        let t1294: f32 = t1292 + t1293;
-        let t1295: f32 = t1289 - t1294;
-        let t1296: f32 = t998 * t998;
-        let t1297: f32 = t810 * t1296;
-        let t1298: f32 = t1295 - t1297;
-        let t1299: f32 = 1.0 / t1298;
-        let t1300: f32 = t1 * t4;
-        let t1301: f32 = t1300 * 0.36;
-        let t1302: f32 = t1033 + t1301;
-        let t1303: f32 = t1079 + t1171;
-        let t1304: f32 = t1302 + t1303;
-        let t1305: f32 = t1217 + t1304;
-        let t1306: f32 = t1125 + t1263;
-        let t1307: f32 = t1305 - t1306;
-        let t1308: f32 = t837 + t865;
-        let t1309: f32 = t921 + t949;
+        let t1201: f32 = t365 * t1200;
+        let t1202: f32 = t468 * t1076;
+        let t1203: f32 = t471 * t840;
+        let t1204: f32 = t1202 - t1203;
+        let t1205: f32 = t468 * t1204;
+        let t1206: f32 = t468 * t840;
+        let t1207: f32 = t471 * t531;
+        let t1208: f32 = t1206 - t1207;
+        let t1209: f32 = t471 * t1208;
+        let t1210: f32 = t573 * t1110;
+        let t1211: f32 = t576 * t872;
+        let t1212: f32 = t1210 - t1211;
+        let t1213: f32 = t573 * t1212;
+        let t1214: f32 = t573 * t872;
+        let t1215: f32 = t576 * t635;
+        let t1216: f32 = t1214 - t1215;
+        let t1217: f32 = t576 * t1216;
+        let t1218: f32 = t1169 * 0.7;
+        let t1219: f32 = t1165 + t1167;
+        let t1220: f32 = t1173 + t1181;
+        let t1221: f32 = t1189 + t1197;
+        let t1222: f32 = t1205 + t1213;
+        let t1223: f32 = t1219 + t1220;
+        let t1224: f32 = t1221 + t1222;
+        let t1225: f32 = t1223 + t1224;
+        let t1226: f32 = t1218 + t1225;
+        let t1227: f32 = t1177 + t1185;
+        let t1228: f32 = t1193 + t1201;
+        let t1229: f32 = t1209 + t1217;
+        let t1230: f32 = t1227 + t1228;
+        let t1231: f32 = t1229 + t1230;
+        let t1232: f32 = t1226 - t1231;
+        let t1233: f32 = t27 * t727;
+        let t1234: f32 = t34 * t126;
+        let t1235: f32 = t138 * t759;
+        let t1236: f32 = t141 * t232;
+        let t1237: f32 = t248 * t791;
+        let t1238: f32 = t253 * t344;
+        let t1239: f32 = t360 * t823;
+        let t1240: f32 = t365 * t456;
+        let t1241: f32 = t468 * t855;
+        let t1242: f32 = t471 * t561;
+        let t1243: f32 = t573 * t887;
+        let t1244: f32 = t576 * t665;
+        let t1245: f32 = t6 * t10;
+        let t1246: f32 = t5 * t14;
+        let t1247: f32 = t8 * 0.7;
+        let t1248: f32 = t1245 - t1246;
+        let t1249: f32 = t1248 * 0.4108;
+        let t1250: f32 = t1247 + t1249;
+        let t1251: f32 = t1 * t1250;
+        let t1252: f32 = t1233 + t1235;
+        let t1253: f32 = t1237 + t1239;
+        let t1254: f32 = t1241 + t1243;
+        let t1255: f32 = t1252 + t1253;
+        let t1256: f32 = t1251 + t1254;
+        let t1257: f32 = t1255 + t1256;
+        let t1258: f32 = t1234 + t1236;
+        let t1259: f32 = t1238 + t1240;
+        let t1260: f32 = t1242 + t1244;
+        let t1261: f32 = t1258 + t1259;
+        let t1262: f32 = t1260 + t1261;
+        let t1263: f32 = t1257 - t1262;
+        let t1264: f32 = t1263 * t1263;
+        let t1265: f32 = t696 * t1264;
+        let t1266: f32 = t10 * t909;
+        let t1267: f32 = t14 * t911;
+        let t1268: f32 = t3 * t4;
+        let t1269: f32 = t676 * t1268;
+        let t1270: f32 = t27 * t943;
+        let t1271: f32 = t34 * t124;
+        let t1272: f32 = t713 - t1271;
+        let t1273: f32 = t34 * t1272;
+        let t1274: f32 = t138 * t977;
+        let t1275: f32 = t141 * t230;
+        let t1276: f32 = t745 - t1275;
+        let t1277: f32 = t141 * t1276;
+        let t1278: f32 = t248 * t1011;
+        let t1279: f32 = t253 * t342;
+        let t1280: f32 = t777 - t1279;
+        let t1281: f32 = t253 * t1280;
+        let t1282: f32 = t360 * t1045;
+        let t1283: f32 = t365 * t454;
+        let t1284: f32 = t809 - t1283;
+        let t1285: f32 = t365 * t1284;
+        let t1286: f32 = t468 * t1079;
+        let t1287: f32 = t471 * t559;
+        let t1288: f32 = t841 - t1287;
+        let t1289: f32 = t471 * t1288;
+        let t1290: f32 = t573 * t1113;
+        let t1291: f32 = t576 * t663;
+        let t1292: f32 = t873 - t1291;
+        let t1293: f32 = t576 * t1292;
+        let t1294: f32 = t1269 * 0.7;
+        let t1295: f32 = t1266 + t1267;
+        let t1296: f32 = t1273 + t1277;
+        let t1297: f32 = t1281 + t1285;
+        let t1298: f32 = t1289 + t1293;
+        let t1299: f32 = t1295 + t1296;
+        let t1300: f32 = t1297 + t1298;
+        let t1301: f32 = t1299 + t1300;
+        let t1302: f32 = t1270 + t1274;
+        let t1303: f32 = t1278 + t1282;
+        let t1304: f32 = t1286 + t1290;
+        let t1305: f32 = t1302 + t1303;
+        let t1306: f32 = t1294 + t1304;
+        let t1307: f32 = t1305 + t1306;
+        let t1308: f32 = t1301 - t1307;
+        let t1309: f32 = t1151 * t1263;
         let t1310: f32 = t1308 + t1309;
-        let t1311: f32 = t893 + t977;
-        let t1312: f32 = t1310 - t1311;
-        let t1313: f32 = t810 * t998;
-        let t1314: f32 = t1312 * t1313;
-        let t1315: f32 = t1307 - t1314;
-        let t1316: f32 = t1030 + t1076;
-        let t1317: f32 = t1122 + t1168;
-        let t1318: f32 = t1214 + t1260;
-        let t1319: f32 = t1316 + t1317;
-        let t1320: f32 = t1318 + 12.0;
-        let t1321: f32 = t1319 + t1320;
-        let t1322: f32 = t1312 * t1312;
-        let t1323: f32 = t810 * t1322;
-        let t1324: f32 = t1315 * t1315;
-        let t1325: f32 = t1299 * t1324;
-        let t1326: f32 = t10 * 0.4108;
-        let t1327: f32 = t10 * t1326;
-        let t1328: f32 = t14 * 0.4108;
-        let t1329: f32 = t14 * t1328;
-        let t1330: f32 = t4 * t4;
-        let t1331: f32 = t790 * t1330;
-        let t1332: f32 = t27 * t1030;
-        let t1333: f32 = t34 * t824;
-        let t1334: f32 = t1332 - t1333;
-        let t1335: f32 = t27 * t1334;
-        let t1336: f32 = t61 * t1038;
-        let t1337: f32 = t85 * t1042;
-        let t1338: f32 = t812 + t1336;
-        let t1339: f32 = t821 + t1337;
+        let t1311: f32 = -t1310;
+        let t1312: f32 = t1311 * t1311;
+        let t1313: f32 = t1137 * t1312;
+        let t1314: f32 = t1265 + t1313;
+        let t1315: f32 = t1232 - t1314;
+        let t1316: f32 = 1.0 / t1315;
+        let t1317: f32 = t697 * 0.36;
+        let t1318: f32 = t1188 + t1317;
+        let t1319: f32 = t1212 + t1318;
+        let t1320: f32 = t1172 + t1180;
+        let t1321: f32 = t1196 + t1204;
+        let t1322: f32 = t1320 + t1321;
+        let t1323: f32 = t1319 - t1322;
+        let t1324: f32 = t696 * t1263;
+        let t1325: f32 = t1150 * t1324;
+        let t1326: f32 = t1137 * t1311;
+        let t1327: f32 = t1153 * t1326;
+        let t1328: f32 = t1323 + t1325;
+        let t1329: f32 = t1327 + t1328;
+        let t1330: f32 = t1329 * t1329;
+        let t1331: f32 = t1316 * t1330;
+        let t1332: f32 = t1161 + t1163;
+        let t1333: f32 = t1331 + t1332;
+        let t1334: f32 = t1159 - t1333;
+        let t1335: f32 = 1.0 / t1334;
+        let t1336: f32 = t712 + t744;
+        let t1337: f32 = t776 + t808;
+        let t1338: f32 = t840 + t872;
+        let t1339: f32 = t1336 + t1337;
         let t1340: f32 = t1338 + t1339;
-        let t1341: f32 = t27 * t1340;
-        let t1342: f32 = t34 * t96;
-        let t1343: f32 = t1341 - t1342;
-        let t1344: f32 = t34 * t1343;
-        let t1345: f32 = t157 * t1076;
-        let t1346: f32 = t160 * t852;
-        let t1347: f32 = t1345 - t1346;
-        let t1348: f32 = t157 * t1347;
-        let t1349: f32 = t186 * t1084;
-        let t1350: f32 = t210 * t1088;
-        let t1351: f32 = t840 + t1349;
-        let t1352: f32 = t849 + t1350;
-        let t1353: f32 = t1351 + t1352;
-        let t1354: f32 = t157 * t1353;
-        let t1355: f32 = t160 * t221;
-        let t1356: f32 = t1354 - t1355;
-        let t1357: f32 = t160 * t1356;
-        let t1358: f32 = t286 * t1122;
-        let t1359: f32 = t291 * t880;
-        let t1360: f32 = t1358 - t1359;
-        let t1361: f32 = t286 * t1360;
-        let t1362: f32 = t317 * t1130;
-        let t1363: f32 = t341 * t1134;
-        let t1364: f32 = t868 + t1362;
-        let t1365: f32 = t877 + t1364;
-        let t1366: f32 = t1365 - t1363;
-        let t1367: f32 = t286 * t1366;
-        let t1368: f32 = t291 * t352;
-        let t1369: f32 = t1367 - t1368;
-        let t1370: f32 = t291 * t1369;
-        let t1371: f32 = t417 * t1168;
-        let t1372: f32 = t422 * t908;
-        let t1373: f32 = t1371 - t1372;
-        let t1374: f32 = t417 * t1373;
-        let t1375: f32 = t448 * t1176;
-        let t1376: f32 = t472 * t1180;
-        let t1377: f32 = t896 + t1375;
-        let t1378: f32 = t905 + t1377;
-        let t1379: f32 = t1378 - t1376;
-        let t1380: f32 = t417 * t1379;
-        let t1381: f32 = t422 * t483;
-        let t1382: f32 = t1380 - t1381;
-        let t1383: f32 = t422 * t1382;
-        let t1384: f32 = t544 * t1214;
-        let t1385: f32 = t547 * t936;
-        let t1386: f32 = t1384 - t1385;
-        let t1387: f32 = t544 * t1386;
-        let t1388: f32 = t572 * t1222;
-        let t1389: f32 = t596 * t1226;
-        let t1390: f32 = t924 + t1388;
-        let t1391: f32 = t933 + t1390;
-        let t1392: f32 = t1391 - t1389;
-        let t1393: f32 = t544 * t1392;
-        let t1394: f32 = t547 * t607;
-        let t1395: f32 = t1393 - t1394;
-        let t1396: f32 = t547 * t1395;
-        let t1397: f32 = t668 * t1260;
-        let t1398: f32 = t671 * t964;
-        let t1399: f32 = t1397 - t1398;
-        let t1400: f32 = t668 * t1399;
-        let t1401: f32 = t695 * t1268;
-        let t1402: f32 = t719 * t1272;
-        let t1403: f32 = t952 + t1401;
-        let t1404: f32 = t961 + t1403;
-        let t1405: f32 = t1404 - t1402;
-        let t1406: f32 = t668 * t1405;
-        let t1407: f32 = t671 * t730;
-        let t1408: f32 = t1406 - t1407;
-        let t1409: f32 = t671 * t1408;
-        let t1410: f32 = t1331 * 0.7;
-        let t1411: f32 = t1327 + t1329;
-        let t1412: f32 = t1335 + t1348;
-        let t1413: f32 = t1361 + t1374;
-        let t1414: f32 = t1387 + t1400;
-        let t1415: f32 = t1411 + t1412;
-        let t1416: f32 = t1413 + t1414;
-        let t1417: f32 = t1415 + t1416;
-        let t1418: f32 = t1410 + t1417;
-        let t1419: f32 = t1344 + t1357;
-        let t1420: f32 = t1370 + t1383;
-        let t1421: f32 = t1396 + t1409;
-        let t1422: f32 = t1419 + t1420;
-        let t1423: f32 = t1421 + t1422;
-        let t1424: f32 = t1418 - t1423;
-        let t1425: f32 = t27 * t837;
-        let t1426: f32 = t34 * t129;
-        let t1427: f32 = t157 * t865;
-        let t1428: f32 = t160 * t254;
-        let t1429: f32 = t286 * t893;
-        let t1430: f32 = t291 * t385;
-        let t1431: f32 = t417 * t921;
-        let t1432: f32 = t422 * t516;
-        let t1433: f32 = t544 * t949;
-        let t1434: f32 = t547 * t640;
-        let t1435: f32 = t668 * t977;
-        let t1436: f32 = t671 * t763;
-        let t1437: f32 = t6 * t10;
-        let t1438: f32 = t5 * t14;
-        let t1439: f32 = t8 * 0.7;
-        let t1440: f32 = t1437 - t1438;
-        let t1441: f32 = t1440 * 0.4108;
-        let t1442: f32 = t1439 + t1441;
-        let t1443: f32 = t1 * t1442;
-        let t1444: f32 = t1425 + t1427;
-        let t1445: f32 = t1429 + t1431;
-        let t1446: f32 = t1433 + t1435;
-        let t1447: f32 = t1444 + t1445;
-        let t1448: f32 = t1443 + t1446;
-        let t1449: f32 = t1447 + t1448;
-        let t1450: f32 = t1426 + t1428;
-        let t1451: f32 = t1430 + t1432;
-        let t1452: f32 = t1434 + t1436;
+        let t1341: f32 = t126 + t1139;
+        let t1342: f32 = t232 + t456;
+        let t1343: f32 = t1341 + t1342;
+        let t1344: f32 = t561 + t1343;
+        let t1345: f32 = t344 + t665;
+        let t1346: f32 = t1344 - t1345;
+        let t1347: f32 = t696 * t1150;
+        let t1348: f32 = t1346 * t1347;
+        let t1349: f32 = t1272 + t1276;
+        let t1350: f32 = t1284 + t1288;
+        let t1351: f32 = t1349 + t1350;
+        let t1352: f32 = t1280 + t1292;
+        let t1353: f32 = t1351 - t1352;
+        let t1354: f32 = t1151 * t1346;
+        let t1355: f32 = t1353 - t1354;
+        let t1356: f32 = t1137 * t1153;
+        let t1357: f32 = t1355 * t1356;
+        let t1358: f32 = t0 * 0.36;
+        let t1359: f32 = t1192 + t1358;
+        let t1360: f32 = t1216 + t1359;
+        let t1361: f32 = t1176 + t1184;
+        let t1362: f32 = t1200 + t1208;
+        let t1363: f32 = t1361 + t1362;
+        let t1364: f32 = t1360 - t1363;
+        let t1365: f32 = t1324 * t1346;
+        let t1366: f32 = t1326 * t1355;
+        let t1367: f32 = t1364 + t1365;
+        let t1368: f32 = t1366 + t1367;
+        let t1369: f32 = t1316 * t1329;
+        let t1370: f32 = t1368 * t1369;
+        let t1371: f32 = t1348 + t1357;
+        let t1372: f32 = t1370 + t1371;
+        let t1373: f32 = t1340 - t1372;
+        let t1374: f32 = t96 + t202;
+        let t1375: f32 = t314 + t426;
+        let t1376: f32 = t531 + t635;
+        let t1377: f32 = t1374 + t1375;
+        let t1378: f32 = t1376 + 12.0;
+        let t1379: f32 = t1377 + t1378;
+        let t1380: f32 = t1346 * t1346;
+        let t1381: f32 = t696 * t1380;
+        let t1382: f32 = t1355 * t1355;
+        let t1383: f32 = t1137 * t1382;
+        let t1384: f32 = t1368 * t1368;
+        let t1385: f32 = t1316 * t1384;
+        let t1386: f32 = t1373 * t1373;
+        let t1387: f32 = t1335 * t1386;
+        let t1388: f32 = t1381 + t1383;
+        let t1389: f32 = t1385 + t1387;
+        let t1390: f32 = t1388 + t1389;
+        let t1391: f32 = t1379 - t1390;
+        let t1392: f32 = 1.0 / t1391;
+        let t1393: f32 = t124 + t230;
+        let t1394: f32 = t342 + t454;
+        let t1395: f32 = t559 + t663;
+        let t1396: f32 = t1393 + t1394;
+        let t1397: f32 = t1395 + t1396;
+        let t1398: f32 = t135 + t1317;
+        let t1399: f32 = t241 + t465;
+        let t1400: f32 = t1398 + t1399;
+        let t1401: f32 = t570 + t1400;
+        let t1402: f32 = t353 + t674;
+        let t1403: f32 = t1401 - t1402;
+        let t1404: f32 = t696 * t1346;
+        let t1405: f32 = t1403 * t1404;
+        let t1406: f32 = t1015 + t1358;
+        let t1407: f32 = t1117 + t1406;
+        let t1408: f32 = t947 + t981;
+        let t1409: f32 = t1049 + t1083;
+        let t1410: f32 = t1408 + t1409;
+        let t1411: f32 = t1407 - t1410;
+        let t1412: f32 = t1151 * t1403;
+        let t1413: f32 = t1411 + t1412;
+        let t1414: f32 = t1137 * t1355;
+        let t1415: f32 = t1413 * t1414;
+        let t1416: f32 = t726 - t1271;
+        let t1417: f32 = t758 - t1275;
+        let t1418: f32 = t790 - t1279;
+        let t1419: f32 = t822 - t1283;
+        let t1420: f32 = t854 - t1287;
+        let t1421: f32 = t886 - t1291;
+        let t1422: f32 = t1416 + t1417;
+        let t1423: f32 = t1419 + t1420;
+        let t1424: f32 = t1422 + t1423;
+        let t1425: f32 = t1418 + t1421;
+        let t1426: f32 = t1424 - t1425;
+        let t1427: f32 = t1324 * t1403;
+        let t1428: f32 = t1326 * t1413;
+        let t1429: f32 = t1426 + t1428;
+        let t1430: f32 = t1429 - t1427;
+        let t1431: f32 = t1316 * t1368;
+        let t1432: f32 = t1430 * t1431;
+        let t1433: f32 = t725 + t757;
+        let t1434: f32 = t789 + t821;
+        let t1435: f32 = t853 + t885;
+        let t1436: f32 = t1433 + t1434;
+        let t1437: f32 = t1435 + t1436;
+        let t1438: f32 = t1347 * t1403;
+        let t1439: f32 = t1356 * t1413;
+        let t1440: f32 = t1369 * t1430;
+        let t1441: f32 = t1437 + t1439;
+        let t1442: f32 = t1440 + t1441;
+        let t1443: f32 = t1442 - t1438;
+        let t1444: f32 = t1335 * t1373;
+        let t1445: f32 = t1443 * t1444;
+        let t1446: f32 = t1397 + t1415;
+        let t1447: f32 = t1432 + t1446;
+        let t1448: f32 = t1405 + t1445;
+        let t1449: f32 = t1447 - t1448;
+        let t1450: f32 = t133 + t239;
+        let t1451: f32 = t351 + t463;
+        let t1452: f32 = t568 + t672;
         let t1453: f32 = t1450 + t1451;
-        let t1454: f32 = t1452 + t1453;
-        let t1455: f32 = t1449 - t1454;
-        let t1456: f32 = t1455 * t1455;
-        let t1457: f32 = t810 * t1456;
-        let t1458: f32 = t10 * t999;
-        let t1459: f32 = t14 * t1001;
-        let t1460: f32 = t3 * t4;
-        let t1461: f32 = t790 * t1460;
-        let t1462: f32 = t27 * t1033;
-        let t1463: f32 = t17 * t1340;
-        let t1464: f32 = t34 * t127;
-        let t1465: f32 = t1463 - t1464;
-        let t1466: f32 = t34 * t1465;
-        let t1467: f32 = t157 * t1079;
-        let t1468: f32 = t156 * t1353;
-        let t1469: f32 = t160 * t252;
-        let t1470: f32 = t1468 - t1469;
-        let t1471: f32 = t160 * t1470;
-        let t1472: f32 = t286 * t1125;
-        let t1473: f32 = t283 * t1366;
-        let t1474: f32 = t291 * t383;
-        let t1475: f32 = t1473 - t1474;
-        let t1476: f32 = t291 * t1475;
-        let t1477: f32 = t417 * t1171;
-        let t1478: f32 = t414 * t1379;
-        let t1479: f32 = t422 * t514;
-        let t1480: f32 = t1478 - t1479;
-        let t1481: f32 = t422 * t1480;
-        let t1482: f32 = t544 * t1217;
-        let t1483: f32 = t543 * t1392;
-        let t1484: f32 = t547 * t638;
-        let t1485: f32 = t1483 - t1484;
-        let t1486: f32 = t547 * t1485;
-        let t1487: f32 = t668 * t1263;
-        let t1488: f32 = t667 * t1405;
-        let t1489: f32 = t671 * t761;
-        let t1490: f32 = t1488 - t1489;
-        let t1491: f32 = t671 * t1490;
-        let t1492: f32 = t1461 * 0.7;
-        let t1493: f32 = t1458 + t1459;
-        let t1494: f32 = t1466 + t1471;
-        let t1495: f32 = t1476 + t1481;
-        let t1496: f32 = t1486 + t1491;
-        let t1497: f32 = t1493 + t1494;
-        let t1498: f32 = t1495 + t1496;
-        let t1499: f32 = t1497 + t1498;
-        let t1500: f32 = t1462 + t1467;
-        let t1501: f32 = t1472 + t1477;
-        let t1502: f32 = t1482 + t1487;
-        let t1503: f32 = t1500 + t1501;
-        let t1504: f32 = t1492 + t1502;
-        let t1505: f32 = t1503 + t1504;
-        let t1506: f32 = t1499 - t1505;
-        let t1507: f32 = t1313 * t1455;
-        let t1508: f32 = t1506 + t1507;
-        let t1509: f32 = -t1508;
-        let t1510: f32 = t1509 * t1509;
-        let t1511: f32 = t1299 * t1510;
-        let t1512: f32 = t1457 + t1511;
-        let t1513: f32 = t1424 - t1512;
-        let t1514: f32 = 1.0 / t1513;
-        let t1515: f32 = t811 * 0.36;
-        let t1516: f32 = t1360 + t1515;
-        let t1517: f32 = t1399 + t1516;
-        let t1518: f32 = t1334 + t1347;
-        let t1519: f32 = t1373 + t1386;
-        let t1520: f32 = t1518 + t1519;
-        let t1521: f32 = t1517 - t1520;
-        let t1522: f32 = t810 * t1455;
-        let t1523: f32 = t1312 * t1522;
-        let t1524: f32 = t1299 * t1509;
-        let t1525: f32 = t1315 * t1524;
-        let t1526: f32 = t1521 + t1523;
-        let t1527: f32 = t1525 + t1526;
-        let t1528: f32 = t1527 * t1527;
-        let t1529: f32 = t1514 * t1528;
-        let t1530: f32 = t1323 + t1325;
-        let t1531: f32 = t1529 + t1530;
-        let t1532: f32 = t1321 - t1531;
-        let t1533: f32 = 1.0 / t1532;
-        let t1534: f32 = t1340 + t1353;
-        let t1535: f32 = t1366 + t1379;
-        let t1536: f32 = t1392 + t1405;
-        let t1537: f32 = t1534 + t1535;
-        let t1538: f32 = t1536 + t1537;
-        let t1539: f32 = t129 + t1301;
-        let t1540: f32 = t254 + t516;
-        let t1541: f32 = t1539 + t1540;
-        let t1542: f32 = t640 + t1541;
-        let t1543: f32 = t385 + t763;
-        let t1544: f32 = t1542 - t1543;
-        let t1545: f32 = t810 * t1312;
-        let t1546: f32 = t1544 * t1545;
-        let t1547: f32 = t1465 + t1470;
-        let t1548: f32 = t1480 + t1485;
-        let t1549: f32 = t1547 + t1548;
-        let t1550: f32 = t1475 + t1490;
-        let t1551: f32 = t1549 - t1550;
-        let t1552: f32 = t1313 * t1544;
-        let t1553: f32 = t1551 - t1552;
-        let t1554: f32 = t1299 * t1315;
-        let t1555: f32 = t1553 * t1554;
-        let t1556: f32 = t0 * 0.36;
-        let t1557: f32 = t1369 + t1556;
-        let t1558: f32 = t1408 + t1557;
-        let t1559: f32 = t1343 + t1356;
-        let t1560: f32 = t1382 + t1395;
-        let t1561: f32 = t1559 + t1560;
-        let t1562: f32 = t1558 - t1561;
-        let t1563: f32 = t1522 * t1544;
-        let t1564: f32 = t1524 * t1553;
-        let t1565: f32 = t1562 + t1563;
-        let t1566: f32 = t1564 + t1565;
-        let t1567: f32 = t1514 * t1527;
-        let t1568: f32 = t1566 * t1567;
-        let t1569: f32 = t1546 + t1555;
+        let t1454: f32 = t1452 + 12.0;
+        let t1455: f32 = t1453 + t1454;
+        let t1456: f32 = t1403 * t1403;
+        let t1457: f32 = t696 * t1456;
+        let t1458: f32 = t1413 * t1413;
+        let t1459: f32 = t1137 * t1458;
+        let t1460: f32 = t1430 * t1430;
+        let t1461: f32 = t1316 * t1460;
+        let t1462: f32 = t1443 * t1443;
+        let t1463: f32 = t1335 * t1462;
+        let t1464: f32 = t1449 * t1449;
+        let t1465: f32 = t1392 * t1464;
+        let t1466: f32 = t1457 + t1459;
+        let t1467: f32 = t1461 + t1463;
+        let t1468: f32 = t1466 + t1467;
+        let t1469: f32 = t1465 + t1468;
+        let t1470: f32 = t1455 - t1469;
+        let t1471: f32 = 1.0 / t1470;
+        let t1472: f32 = wz * t10;
+        let t1473: f32 = wx * t1;
+        let t1474: f32 = t6 * t1473;
+        let t1475: f32 = wy * t21;
+        let t1476: f32 = t1474 + t1475;
+        let t1477: f32 = t1472 + t1476;
+        let t1478: f32 = wx * t5;
+        let t1479: f32 = t1 * t1478;
+        let t1480: f32 = wy * t24;
+        let t1481: f32 = t1479 - t1480;
+        let t1482: f32 = wz * t14;
+        let t1483: f32 = t1481 - t1482;
+        let t1484: f32 = t1483 * 0.4108;
+        let t1485: f32 = t1477 * t1484;
+        let t1486: f32 = t1477 * 0.4108;
+        let t1487: f32 = t1483 * t1486;
+        let t1488: f32 = t1485 - t1487;
+        let t1489: f32 = t0 * t1488;
+        let t1490: f32 = t17 * t29;
+        let t1491: f32 = t27 * t39;
+        let t1492: f32 = t1490 - t1491;
+        let t1493: f32 = g1 * t44;
+        let t1494: f32 = t1492 * t1493;
+        let t1495: f32 = t1489 - t1494;
+        let t1496: f32 = t245 * t250;
+        let t1497: f32 = t248 * t258;
+        let t1498: f32 = t1496 - t1497;
+        let t1499: f32 = g3 * t263;
+        let t1500: f32 = t1498 * t1499;
+        let t1501: f32 = t137 * t140;
+        let t1502: f32 = t138 * t146;
+        let t1503: f32 = t1501 - t1502;
+        let t1504: f32 = g2 * t151;
+        let t1505: f32 = t1503 * t1504;
+        let t1506: f32 = t1500 - t1505;
+        let t1507: f32 = t1495 + t1506;
+        let t1508: f32 = t572 * t575;
+        let t1509: f32 = t573 * t580;
+        let t1510: f32 = t1508 - t1509;
+        let t1511: f32 = g6 * t585;
+        let t1512: f32 = t1510 * t1511;
+        let t1513: f32 = wz * t4;
+        let t1514: f32 = t1 * t1513;
+        let t1515: f32 = wx * t0;
+        let t1516: f32 = wy * t3;
+        let t1517: f32 = t1 * t1516;
+        let t1518: f32 = t1515 - t1517;
+        let t1519: f32 = t1514 + t1518;
+        let t1520: f32 = t1519 * 0.7;
+        let t1521: f32 = t1483 * t1520;
+        let t1522: f32 = t1484 * t1519;
+        let t1523: f32 = t1521 - t1522;
+        let t1524: f32 = t6 * t1523;
+        let t1525: f32 = t1486 * t1519;
+        let t1526: f32 = t1477 * t1520;
+        let t1527: f32 = t1525 - t1526;
+        let t1528: f32 = t5 * t1527;
+        let t1529: f32 = t1524 + t1528;
+        let t1530: f32 = t1 * t1529;
+        let t1531: f32 = t1512 + t1530;
+        let t1532: f32 = t357 * t362;
+        let t1533: f32 = t360 * t370;
+        let t1534: f32 = t1532 - t1533;
+        let t1535: f32 = g4 * t375;
+        let t1536: f32 = t1534 * t1535;
+        let t1537: f32 = t467 * t470;
+        let t1538: f32 = t468 * t476;
+        let t1539: f32 = t1537 - t1538;
+        let t1540: f32 = g5 * t481;
+        let t1541: f32 = t1539 * t1540;
+        let t1542: f32 = t1536 + t1541;
+        let t1543: f32 = t1531 - t1542;
+        let t1544: f32 = t1507 + t1543;
+        let t1545: f32 = t82 * 9.81;
+        let t1546: f32 = -t1545;
+        let t1547: f32 = wy * t17;
+        let t1548: f32 = wz * t27;
+        let t1549: f32 = t1547 - t1548;
+        let t1550: f32 = vx + t1549;
+        let t1551: f32 = t83 * t1550;
+        let t1552: f32 = wz * t34;
+        let t1553: f32 = wx * t17;
+        let t1554: f32 = t1552 - t1553;
+        let t1555: f32 = vy + t1554;
+        let t1556: f32 = t61 * t1555;
+        let t1557: f32 = wx * t27;
+        let t1558: f32 = wy * t34;
+        let t1559: f32 = t1557 - t1558;
+        let t1560: f32 = vz + t1559;
+        let t1561: f32 = t79 * t1560;
+        let t1562: f32 = t1551 + t1556;
+        let t1563: f32 = t1561 + t1562;
+        let t1564: f32 = t44 * t1563;
+        let t1565: f32 = t1564 * t1564;
+        let t1566: f32 = t701 * t1550;
+        let t1567: f32 = t85 * t1555;
+        let t1568: f32 = t113 * t1560;
+        let t1569: f32 = t1566 + t1567;
         let t1570: f32 = t1568 + t1569;
-        let t1571: f32 = t1538 - t1570;
-        let t1572: f32 = t96 + t221;
-        let t1573: f32 = t352 + t483;
-        let t1574: f32 = t607 + t730;
-        let t1575: f32 = t1572 + t1573;
-        let t1576: f32 = t1574 + 12.0;
-        let t1577: f32 = t1575 + t1576;
-        let t1578: f32 = t1544 * t1544;
-        let t1579: f32 = t810 * t1578;
-        let t1580: f32 = t1553 * t1553;
-        let t1581: f32 = t1299 * t1580;
-        let t1582: f32 = t1566 * t1566;
-        let t1583: f32 = t1514 * t1582;
-        let t1584: f32 = t1571 * t1571;
-        let t1585: f32 = t1533 * t1584;
-        let t1586: f32 = t1579 + t1581;
-        let t1587: f32 = t1583 + t1585;
-        let t1588: f32 = t1586 + t1587;
-        let t1589: f32 = t1577 - t1588;
-        let t1590: f32 = 1.0 / t1589;
-        let t1591: f32 = t139 + t264;
-        let t1592: f32 = t395 + t526;
-        let t1593: f32 = t650 + t773;
-        let t1594: f32 = t1591 + t1592;
-        let t1595: f32 = t1593 + t1594;
-        let t1596: f32 = t154 + t1515;
-        let t1597: f32 = t279 + t541;
-        let t1598: f32 = t1596 + t1597;
-        let t1599: f32 = t665 + t1598;
-        let t1600: f32 = t410 + t788;
-        let t1601: f32 = t1599 - t1600;
-        let t1602: f32 = t810 * t1544;
-        let t1603: f32 = t1601 * t1602;
-        let t1604: f32 = t1141 + t1556;
-        let t1605: f32 = t1279 + t1604;
-        let t1606: f32 = t1049 + t1095;
-        let t1607: f32 = t1187 + t1233;
-        let t1608: f32 = t1606 + t1607;
-        let t1609: f32 = t1605 - t1608;
-        let t1610: f32 = t1313 * t1601;
-        let t1611: f32 = t1609 + t1610;
-        let t1612: f32 = t1299 * t1553;
-        let t1613: f32 = t1611 * t1612;
-        let t1614: f32 = t27 * t1046;
-        let t1615: f32 = t34 * t139;
-        let t1616: f32 = t1614 - t1615;
-        let t1617: f32 = t157 * t1092;
-        let t1618: f32 = t160 * t264;
-        let t1619: f32 = t1617 - t1618;
-        let t1620: f32 = t286 * t1138;
-        let t1621: f32 = t291 * t395;
-        let t1622: f32 = t1620 - t1621;
-        let t1623: f32 = t417 * t1184;
-        let t1624: f32 = t422 * t526;
-        let t1625: f32 = t1623 - t1624;
-        let t1626: f32 = t544 * t1230;
-        let t1627: f32 = t547 * t650;
-        let t1628: f32 = t1626 - t1627;
-        let t1629: f32 = t668 * t1276;
-        let t1630: f32 = t671 * t773;
-        let t1631: f32 = t1629 - t1630;
-        let t1632: f32 = t1616 + t1619;
-        let t1633: f32 = t1625 + t1628;
-        let t1634: f32 = t1632 + t1633;
-        let t1635: f32 = t1622 + t1631;
-        let t1636: f32 = t1634 - t1635;
-        let t1637: f32 = t1522 * t1601;
-        let t1638: f32 = t1524 * t1611;
-        let t1639: f32 = t1636 + t1638;
-        let t1640: f32 = t1639 - t1637;
-        let t1641: f32 = t1514 * t1566;
-        let t1642: f32 = t1640 * t1641;
-        let t1643: f32 = t1046 + t1092;
-        let t1644: f32 = t1138 + t1184;
-        let t1645: f32 = t1230 + t1276;
-        let t1646: f32 = t1643 + t1644;
-        let t1647: f32 = t1645 + t1646;
-        let t1648: f32 = t1545 * t1601;
-        let t1649: f32 = t1554 * t1611;
-        let t1650: f32 = t1567 * t1640;
-        let t1651: f32 = t1647 + t1649;
-        let t1652: f32 = t1650 + t1651;
-        let t1653: f32 = t1652 - t1648;
-        let t1654: f32 = t1533 * t1571;
-        let t1655: f32 = t1653 * t1654;
-        let t1656: f32 = t1595 + t1613;
-        let t1657: f32 = t1642 + t1656;
-        let t1658: f32 = t1603 + t1655;
-        let t1659: f32 = t1657 - t1658;
-        let t1660: f32 = t152 + t277;
-        let t1661: f32 = t408 + t539;
-        let t1662: f32 = t663 + t786;
-        let t1663: f32 = t1660 + t1661;
-        let t1664: f32 = t1662 + 12.0;
-        let t1665: f32 = t1663 + t1664;
-        let t1666: f32 = t1601 * t1601;
-        let t1667: f32 = t810 * t1666;
-        let t1668: f32 = t1611 * t1611;
-        let t1669: f32 = t1299 * t1668;
-        let t1670: f32 = t1640 * t1640;
-        let t1671: f32 = t1514 * t1670;
-        let t1672: f32 = t1653 * t1653;
-        let t1673: f32 = t1533 * t1672;
-        let t1674: f32 = t1659 * t1659;
-        let t1675: f32 = t1590 * t1674;
-        let t1676: f32 = t1667 + t1669;
-        let t1677: f32 = t1671 + t1673;
-        let t1678: f32 = t1676 + t1677;
-        let t1679: f32 = t1675 + t1678;
-        let t1680: f32 = t1665 - t1679;
-        let t1681: f32 = 1.0 / t1680;
-        let t1682: f32 = wx * t668;
-        let t1683: f32 = wy * t671;
-        let t1684: f32 = t1682 - t1683;
-        let t1685: f32 = wy * t1684;
-        let t1686: f32 = wz * t671;
-        let t1687: f32 = wx * t667;
-        let t1688: f32 = t1686 - t1687;
-        let t1689: f32 = wz * t1688;
-        let t1690: f32 = t1685 - t1689;
-        let t1691: f32 = t714 * t1690;
-        let t1692: f32 = wy * t667;
-        let t1693: f32 = wz * t668;
-        let t1694: f32 = t1692 - t1693;
-        let t1695: f32 = wz * t1694;
-        let t1696: f32 = wx * t1684;
-        let t1697: f32 = t1695 - t1696;
-        let t1698: f32 = t681 * t1697;
-        let t1699: f32 = wx * t1688;
-        let t1700: f32 = wy * t1694;
-        let t1701: f32 = t1699 - t1700;
-        let t1702: f32 = t716 * t1701;
-        let t1703: f32 = t1691 + t1698;
-        let t1704: f32 = t1702 + t1703;
-        let t1705: f32 = t716 * 9.81;
-        let t1706: f32 = -t1705;
-        let t1707: f32 = vx - t1694;
-        let t1708: f32 = t717 * t1707;
-        let t1709: f32 = vy - t1688;
-        let t1710: f32 = t695 * t1709;
-        let t1711: f32 = vz - t1684;
-        let t1712: f32 = t713 * t1711;
-        let t1713: f32 = t1708 + t1710;
-        let t1714: f32 = t1713 - t1712;
-        let t1715: f32 = t680 * t1714;
-        let t1716: f32 = t1715 * t1715;
-        let t1717: f32 = t958 * t1707;
-        let t1718: f32 = t719 * t1709;
-        let t1719: f32 = t748 * t1711;
-        let t1720: f32 = t1717 + t1719;
-        let t1721: f32 = t1720 - t1718;
-        let t1722: f32 = t680 * t1721;
-        let t1723: f32 = t1722 * t1722;
-        let t1724: f32 = t1716 + t1723;
-        let t1725: f32 = t1724 * 0.3;
-        let t1726: f32 = t1704 + t1706;
-        let t1727: f32 = t1726 - t1725;
-        let t1728: f32 = t681 * t1727;
-        let t1729: f32 = t717 * t1690;
-        let t1730: f32 = t695 * t1697;
-        let t1731: f32 = t713 * t1701;
-        let t1732: f32 = t1729 + t1730;
-        let t1733: f32 = t1732 - t1731;
-        let t1734: f32 = t713 * 9.81;
-        let t1735: f32 = t680 * t1733;
-        let t1736: f32 = t700 * t733;
-        let t1737: f32 = t1714 * t1736;
-        let t1738: f32 = t1721 * t1737;
-        let t1739: f32 = t714 * t1707;
-        let t1740: f32 = t681 * t1709;
-        let t1741: f32 = t716 * t1711;
-        let t1742: f32 = t1739 + t1740;
-        let t1743: f32 = t1741 + t1742;
-        let t1744: f32 = t680 * t1743;
-        let t1745: f32 = t1744 * 2.0;
-        let t1746: f32 = t1715 * t1745;
-        let t1747: f32 = t1738 - t1746;
-        let t1748: f32 = t1747 - t1735;
-        let t1749: f32 = t680 * t700;
-        let t1750: f32 = t1714 * t1749;
-        let t1751: f32 = t1722 * t1750;
-        let t1752: f32 = t700 * t1747;
-        let t1753: f32 = t694 * t694;
-        let t1754: f32 = t678 * t680;
-        let t1755: f32 = t1753 * t1754;
-        let t1756: f32 = t1714 * t1755;
-        let t1757: f32 = t1721 * t1756;
-        let t1758: f32 = t700 * t1733;
-        let t1759: f32 = t1757 - t1758;
-        let t1760: f32 = t680 * t1759;
-        let t1761: f32 = t1752 + t1760;
-        let t1762: f32 = t700 * t1761;
-        let t1763: f32 = t1733 * 0.3;
-        let t1764: f32 = t1734 * 0.2;
-        let t1765: f32 = t1748 * 0.295;
-        let t1766: f32 = t1751 * 0.292;
-        let t1767: f32 = t1762 * 0.003;
-        let t1768: f32 = t1763 + t1765;
-        let t1769: f32 = t1767 + t1768;
-        let t1770: f32 = t1764 + t1766;
-        let t1771: f32 = t1769 - t1770;
-        let t1772: f32 = t680 * t1771;
-        let t1773: f32 = t1733 + t1734;
-        let t1774: f32 = t1748 - t1751;
-        let t1775: f32 = t1774 * 0.3;
-        let t1776: f32 = t1773 + t1775;
-        let t1777: f32 = t1776 - t1772;
-        let t1778: f32 = t695 * t1777;
-        let t1779: f32 = t748 * t1701;
-        let t1780: f32 = t958 * t1690;
-        let t1781: f32 = t719 * t1697;
-        let t1782: f32 = t1780 - t1781;
-        let t1783: f32 = t1779 + t1782;
-        let t1784: f32 = t748 * 9.81;
+        let t1571: f32 = t44 * t1570;
+        let t1572: f32 = t1571 * t1571;
+        let t1573: f32 = t1565 + t1572;
+        let t1574: f32 = t1573 * 0.3;
+        let t1575: f32 = t1546 - t1574;
+        let t1576: f32 = t82 * t1575;
+        let t1577: f32 = wy * t1559;
+        let t1578: f32 = wz * t1554;
+        let t1579: f32 = t1577 - t1578;
+        let t1580: f32 = t725 * t1579;
+        let t1581: f32 = t1576 - t1580;
+        let t1582: f32 = wz * t1549;
+        let t1583: f32 = wx * t1559;
+        let t1584: f32 = t1582 - t1583;
+        let t1585: f32 = t124 * t1584;
+        let t1586: f32 = wx * t1554;
+        let t1587: f32 = wy * t1549;
+        let t1588: f32 = t1586 - t1587;
+        let t1589: f32 = t133 * t1588;
+        let t1590: f32 = t1585 + t1589;
+        let t1591: f32 = t1581 - t1590;
+        let t1592: f32 = t79 * 9.81;
+        let t1593: f32 = -t1592;
+        let t1594: f32 = t44 * t66;
+        let t1595: f32 = t1563 * t1594;
+        let t1596: f32 = t1571 * t1595;
+        let t1597: f32 = t80 * t1550;
+        let t1598: f32 = t45 * t1555;
+        let t1599: f32 = t82 * t1560;
+        let t1600: f32 = t1597 + t1598;
+        let t1601: f32 = t1599 + t1600;
+        let t1602: f32 = t44 * t1601;
+        let t1603: f32 = t1602 * 2.0;
+        let t1604: f32 = t1570 * t1594;
+        let t1605: f32 = t1603 + t1604;
+        let t1606: f32 = t1564 * t1605;
+        let t1607: f32 = t60 * t60;
+        let t1608: f32 = t42 * t44;
+        let t1609: f32 = t1607 * t1608;
+        let t1610: f32 = t1570 * t1609;
+        let t1611: f32 = t66 * t1605;
+        let t1612: f32 = t1610 + t1611;
+        let t1613: f32 = t1564 * t1612;
+        let t1614: f32 = t66 * t1613;
+        let t1615: f32 = t1593 * 0.2;
+        let t1616: f32 = t1596 * 0.292;
+        let t1617: f32 = t1606 * 0.295;
+        let t1618: f32 = t1614 * 0.003;
+        let t1619: f32 = t1615 + t1617;
+        let t1620: f32 = t1618 + t1619;
+        let t1621: f32 = t1620 - t1616;
+        let t1622: f32 = t44 * t1621;
+        let t1623: f32 = t1596 - t1606;
+        let t1624: f32 = t1623 * 0.3;
+        let t1625: f32 = t1593 + t1622;
+        let t1626: f32 = t1624 + t1625;
+        let t1627: f32 = t79 * t1626;
+        let t1628: f32 = t113 * 9.81;
+        let t1629: f32 = -t1628;
+        let t1630: f32 = t1564 * t1595;
+        let t1631: f32 = t1563 * t1563;
+        let t1632: f32 = t1594 * t1631;
+        let t1633: f32 = t1570 * t1603;
+        let t1634: f32 = t1632 - t1633;
+        let t1635: f32 = t44 * t1634;
+        let t1636: f32 = t1629 * 0.2;
+        let t1637: f32 = t1630 * 0.292;
+        let t1638: f32 = t1635 * 0.295;
+        let t1639: f32 = t1636 + t1637;
+        let t1640: f32 = t1639 - t1638;
+        let t1641: f32 = t44 * t1640;
+        let t1642: f32 = t1635 - t1630;
+        let t1643: f32 = t1642 * 0.3;
+        let t1644: f32 = t1629 + t1641;
+        let t1645: f32 = t1643 + t1644;
+        let t1646: f32 = t113 * t1645;
+        let t1647: f32 = t1627 + t1646;
+        let t1648: f32 = t1591 + t1647;
+        let t1649: f32 = t27 * t1648;
+        let t1650: f32 = t45 * t1575;
+        let t1651: f32 = t712 * t1579;
+        let t1652: f32 = t1650 - t1651;
+        let t1653: f32 = t96 * t1584;
+        let t1654: f32 = t124 * t1588;
+        let t1655: f32 = t1653 + t1654;
+        let t1656: f32 = t1652 - t1655;
+        let t1657: f32 = t61 * t1626;
+        let t1658: f32 = t85 * t1645;
+        let t1659: f32 = t1657 + t1658;
+        let t1660: f32 = t1656 + t1659;
+        let t1661: f32 = t17 * t1660;
+        let t1662: f32 = t1649 - t1661;
+        let t1663: f32 = t1544 + t1662;
+        let t1664: f32 = t621 * 9.81;
+        let t1665: f32 = -t1664;
+        let t1666: f32 = wy * t572;
+        let t1667: f32 = wz * t573;
+        let t1668: f32 = t1666 - t1667;
+        let t1669: f32 = vx - t1668;
+        let t1670: f32 = t622 * t1669;
+        let t1671: f32 = wz * t576;
+        let t1672: f32 = wx * t572;
+        let t1673: f32 = t1671 - t1672;
+        let t1674: f32 = vy - t1673;
+        let t1675: f32 = t600 * t1674;
+        let t1676: f32 = wx * t573;
+        let t1677: f32 = wy * t576;
+        let t1678: f32 = t1676 - t1677;
+        let t1679: f32 = vz - t1678;
+        let t1680: f32 = t618 * t1679;
+        let t1681: f32 = t1670 + t1675;
+        let t1682: f32 = t1681 - t1680;
+        let t1683: f32 = t585 * t1682;
+        let t1684: f32 = t1683 * t1683;
+        let t1685: f32 = t861 * t1669;
+        let t1686: f32 = t624 * t1674;
+        let t1687: f32 = t652 * t1679;
+        let t1688: f32 = t1685 + t1687;
+        let t1689: f32 = t1688 - t1686;
+        let t1690: f32 = t585 * t1689;
+        let t1691: f32 = t1690 * t1690;
+        let t1692: f32 = t1684 + t1691;
+        let t1693: f32 = t1692 * 0.3;
+        let t1694: f32 = t1665 - t1693;
+        let t1695: f32 = t586 * t1694;
+        let t1696: f32 = wy * t1678;
+        let t1697: f32 = wz * t1673;
+        let t1698: f32 = t1696 - t1697;
+        let t1699: f32 = t872 * t1698;
+        let t1700: f32 = t1695 + t1699;
+        let t1701: f32 = wz * t1668;
+        let t1702: f32 = wx * t1678;
+        let t1703: f32 = t1701 - t1702;
+        let t1704: f32 = t635 * t1703;
+        let t1705: f32 = wx * t1673;
+        let t1706: f32 = wy * t1668;
+        let t1707: f32 = t1705 - t1706;
+        let t1708: f32 = t663 * t1707;
+        let t1709: f32 = t1704 + t1708;
+        let t1710: f32 = t1700 + t1709;
+        let t1711: f32 = t652 * 9.81;
+        let t1712: f32 = -t1711;
+        let t1713: f32 = t585 * t605;
+        let t1714: f32 = t1682 * t1713;
+        let t1715: f32 = t1683 * t1714;
+        let t1716: f32 = t1682 * t1682;
+        let t1717: f32 = t1713 * t1716;
+        let t1718: f32 = t619 * t1669;
+        let t1719: f32 = t586 * t1674;
+        let t1720: f32 = t621 * t1679;
+        let t1721: f32 = t1718 + t1719;
+        let t1722: f32 = t1720 + t1721;
+        let t1723: f32 = t585 * t1722;
+        let t1724: f32 = t1723 * 2.0;
+        let t1725: f32 = t1689 * t1724;
+        let t1726: f32 = t1717 + t1725;
+        let t1727: f32 = t585 * t1726;
+        let t1728: f32 = t1712 * 0.2;
+        let t1729: f32 = t1715 * 0.292;
+        let t1730: f32 = t1727 * 0.295;
+        let t1731: f32 = t1728 + t1730;
+        let t1732: f32 = t1731 - t1729;
+        let t1733: f32 = t585 * t1732;
+        let t1734: f32 = t1715 - t1727;
+        let t1735: f32 = t1734 * 0.3;
+        let t1736: f32 = t1712 + t1733;
+        let t1737: f32 = t1735 + t1736;
+        let t1738: f32 = t624 * t1737;
+        let t1739: f32 = t618 * 9.81;
+        let t1740: f32 = t1690 * t1714;
+        let t1741: f32 = t1689 * t1713;
+        let t1742: f32 = t1724 - t1741;
+        let t1743: f32 = t1683 * t1742;
+        let t1744: f32 = t585 * t585;
+        let t1745: f32 = t599 * t599;
+        let t1746: f32 = t583 * t1744;
+        let t1747: f32 = t1745 * t1746;
+        let t1748: f32 = t1682 * t1747;
+        let t1749: f32 = t1689 * t1748;
+        let t1750: f32 = -t1743;
+        let t1751: f32 = t605 * t1750;
+        let t1752: f32 = t1749 + t1751;
+        let t1753: f32 = t605 * t1752;
+        let t1754: f32 = t1739 * 0.2;
+        let t1755: f32 = t1740 * 0.292;
+        let t1756: f32 = t1743 * 0.295;
+        let t1757: f32 = t1753 * 0.003;
+        let t1758: f32 = t1754 + t1755;
+        let t1759: f32 = t1756 + t1758;
+        let t1760: f32 = t1759 - t1757;
+        let t1761: f32 = t585 * t1760;
+        let t1762: f32 = t1740 + t1743;
+        let t1763: f32 = t1762 * 0.3;
+        let t1764: f32 = t1739 + t1761;
+        let t1765: f32 = t1764 - t1763;
+        let t1766: f32 = t600 * t1765;
+        let t1767: f32 = t1738 - t1766;
+        let t1768: f32 = t1767 - t1710;
+        let t1769: f32 = t572 * t1768;
+        let t1770: f32 = t621 * t1694;
+        let t1771: f32 = t885 * t1698;
+        let t1772: f32 = t1770 + t1771;
+        let t1773: f32 = t663 * t1703;
+        let t1774: f32 = t672 * t1707;
+        let t1775: f32 = t1773 + t1774;
+        let t1776: f32 = t1772 + t1775;
+        let t1777: f32 = t652 * t1737;
+        let t1778: f32 = t618 * t1765;
+        let t1779: f32 = t1777 - t1778;
+        let t1780: f32 = t1776 + t1779;
+        let t1781: f32 = t573 * t1780;
+        let t1782: f32 = t1769 + t1781;
+        let t1783: f32 = t1663 - t1782;
+        let t1784: f32 = t188 * 9.81;
         let t1785: f32 = -t1784;
-        let t1786: f32 = t1714 * t1714;
-        let t1787: f32 = t1749 * t1786;
-        let t1788: f32 = t1721 * t1745;
-        let t1789: f32 = t1787 + t1788;
-        let t1790: f32 = t1783 + t1789;
-        let t1791: f32 = t680 * t1790;
-        let t1792: f32 = t1715 * t1750;
-        let t1793: f32 = t1783 * 0.3;
-        let t1794: f32 = t1785 * 0.2;
-        let t1795: f32 = t1791 * 0.295;
-        let t1796: f32 = t1792 * 0.292;
-        let t1797: f32 = t1794 + t1795;
-        let t1798: f32 = t1793 + t1796;
-        let t1799: f32 = t1797 - t1798;
-        let t1800: f32 = t680 * t1799;
-        let t1801: f32 = t1783 + t1785;
-        let t1802: f32 = t1791 - t1792;
-        let t1803: f32 = t1802 * 0.3;
-        let t1804: f32 = t1800 + t1801;
-        let t1805: f32 = t1804 - t1803;
-        let t1806: f32 = t719 * t1805;
-        let t1807: f32 = t1778 - t1806;
-        let t1808: f32 = t1728 + t1807;
-        let t1809: f32 = t667 * t1808;
-        let t1810: f32 = t748 * t1805;
-        let t1811: f32 = t716 * t1727;
-        let t1812: f32 = t713 * t1777;
-        let t1813: f32 = t1811 - t1812;
-        let t1814: f32 = t1810 + t1813;
-        let t1815: f32 = -t1814;
-        let t1816: f32 = t668 * t1815;
-        let t1817: f32 = t1809 + t1816;
-        let t1818: f32 = wz * t10;
-        let t1819: f32 = wx * t1;
-        let t1820: f32 = t6 * t1819;
-        let t1821: f32 = wy * t21;
-        let t1822: f32 = t1820 + t1821;
-        let t1823: f32 = t1818 + t1822;
-        let t1824: f32 = wx * t5;
-        let t1825: f32 = t1 * t1824;
-        let t1826: f32 = wy * t24;
+        let t1786: f32 = wy * t137;
+        let t1787: f32 = wz * t138;
+        let t1788: f32 = t1786 - t1787;
+        let t1789: f32 = vx + t1788;
+        let t1790: f32 = t189 * t1789;
+        let t1791: f32 = wz * t141;
+        let t1792: f32 = wx * t137;
+        let t1793: f32 = t1791 - t1792;
+        let t1794: f32 = vy + t1793;
+        let t1795: f32 = t167 * t1794;
+        let t1796: f32 = wx * t138;
+        let t1797: f32 = wy * t141;
+        let t1798: f32 = t1796 - t1797;
+        let t1799: f32 = vz + t1798;
+        let t1800: f32 = t185 * t1799;
+        let t1801: f32 = t1790 + t1795;
+        let t1802: f32 = t1800 + t1801;
+        let t1803: f32 = t151 * t1802;
+        let t1804: f32 = t1803 * t1803;
+        let t1805: f32 = t733 * t1789;
+        let t1806: f32 = t191 * t1794;
+        let t1807: f32 = t219 * t1799;
+        let t1808: f32 = t1805 + t1806;
+        let t1809: f32 = t1807 + t1808;
+        let t1810: f32 = t151 * t1809;
+        let t1811: f32 = t1810 * t1810;
+        let t1812: f32 = t1804 + t1811;
+        let t1813: f32 = t1812 * 0.3;
+        let t1814: f32 = t1785 - t1813;
+        let t1815: f32 = t188 * t1814;
+        let t1816: f32 = wy * t1798;
+        let t1817: f32 = wz * t1793;
+        let t1818: f32 = t1816 - t1817;
+        let t1819: f32 = t757 * t1818;
+        let t1820: f32 = t1815 - t1819;
+        let t1821: f32 = wz * t1788;
+        let t1822: f32 = wx * t1798;
+        let t1823: f32 = t1821 - t1822;
+        let t1824: f32 = t230 * t1823;
+        let t1825: f32 = wx * t1793;
+        let t1826: f32 = wy * t1788;
         let t1827: f32 = t1825 - t1826;
-        let t1828: f32 = wz * t14;
-        let t1829: f32 = t1827 - t1828;
-        let t1830: f32 = t1829 * 0.4108;
-        let t1831: f32 = t1823 * t1830;
-        let t1832: f32 = t1823 * 0.4108;
-        let t1833: f32 = t1829 * t1832;
-        let t1834: f32 = t1831 - t1833;
-        let t1835: f32 = t0 * t1834;
-        let t1836: f32 = t17 * t29;
-        let t1837: f32 = t27 * t39;
-        let t1838: f32 = t1836 - t1837;
-        let t1839: f32 = g1 * t44;
-        let t1840: f32 = t1838 * t1839;
-        let t1841: f32 = t1835 - t1840;
-        let t1842: f32 = t283 * t288;
-        let t1843: f32 = t286 * t296;
+        let t1828: f32 = t239 * t1827;
+        let t1829: f32 = t1824 + t1828;
+        let t1830: f32 = t1820 - t1829;
+        let t1831: f32 = t185 * 9.81;
+        let t1832: f32 = -t1831;
+        let t1833: f32 = t151 * t172;
+        let t1834: f32 = t1802 * t1833;
+        let t1835: f32 = t1810 * t1834;
+        let t1836: f32 = t186 * t1789;
+        let t1837: f32 = t152 * t1794;
+        let t1838: f32 = t188 * t1799;
+        let t1839: f32 = t1836 + t1837;
+        let t1840: f32 = t1838 + t1839;
+        let t1841: f32 = t151 * t1840;
+        let t1842: f32 = t1841 * 2.0;
+        let t1843: f32 = t1809 * t1833;
         let t1844: f32 = t1842 - t1843;
-        let t1845: f32 = g3 * t301;
-        let t1846: f32 = t1844 * t1845;
-        let t1847: f32 = t156 * t159;
-        let t1848: f32 = t157 * t165;
-        let t1849: f32 = t1847 - t1848;
-        let t1850: f32 = g2 * t170;
-        let t1851: f32 = t1849 * t1850;
-        let t1852: f32 = t1846 - t1851;
-        let t1853: f32 = t1841 + t1852;
-        let t1854: f32 = t667 * t670;
-        let t1855: f32 = t668 * t675;
-        let t1856: f32 = t1854 - t1855;
-        let t1857: f32 = g6 * t680;
-        let t1858: f32 = t1856 * t1857;
-        let t1859: f32 = wz * t4;
-        let t1860: f32 = t1 * t1859;
-        let t1861: f32 = wx * t0;
-        let t1862: f32 = wy * t3;
-        let t1863: f32 = t1 * t1862;
-        let t1864: f32 = t1861 - t1863;
-        let t1865: f32 = t1860 + t1864;
-        let t1866: f32 = t1865 * 0.7;
-        let t1867: f32 = t1829 * t1866;
-        let t1868: f32 = t1830 * t1865;
-        let t1869: f32 = t1867 - t1868;
-        let t1870: f32 = t6 * t1869;
-        let t1871: f32 = t1832 * t1865;
-        let t1872: f32 = t1823 * t1866;
-        let t1873: f32 = t1871 - t1872;
-        let t1874: f32 = t5 * t1873;
-        let t1875: f32 = t1870 + t1874;
-        let t1876: f32 = t1 * t1875;
-        let t1877: f32 = t1858 + t1876;
-        let t1878: f32 = t414 * t419;
-        let t1879: f32 = t417 * t427;
-        let t1880: f32 = t1878 - t1879;
-        let t1881: f32 = g4 * t432;
-        let t1882: f32 = t1880 * t1881;
-        let t1883: f32 = t543 * t546;
-        let t1884: f32 = t544 * t552;
-        let t1885: f32 = t1883 - t1884;
-        let t1886: f32 = g5 * t557;
-        let t1887: f32 = t1885 * t1886;
-        let t1888: f32 = t1882 + t1887;
-        let t1889: f32 = t1877 - t1888;
-        let t1890: f32 = t1853 + t1889;
-        let t1891: f32 = wx * t27;
-        let t1892: f32 = wy * t34;
+        let t1845: f32 = t1803 * t1844;
+        let t1846: f32 = t151 * t151;
+        let t1847: f32 = t166 * t166;
+        let t1848: f32 = t149 * t1846;
+        let t1849: f32 = t1847 * t1848;
+        let t1850: f32 = t1802 * t1849;
+        let t1851: f32 = t1809 * t1850;
+        let t1852: f32 = -t1845;
+        let t1853: f32 = t172 * t1852;
+        let t1854: f32 = t1851 + t1853;
+        let t1855: f32 = t172 * t1854;
+        let t1856: f32 = t1832 * 0.2;
+        let t1857: f32 = t1835 * 0.292;
+        let t1858: f32 = t1845 * 0.295;
+        let t1859: f32 = t1855 * 0.003;
+        let t1860: f32 = t1856 + t1857;
+        let t1861: f32 = t1858 + t1860;
+        let t1862: f32 = t1861 - t1859;
+        let t1863: f32 = t151 * t1862;
+        let t1864: f32 = t1835 + t1845;
+        let t1865: f32 = t1864 * 0.3;
+        let t1866: f32 = t1832 + t1863;
+        let t1867: f32 = t1866 - t1865;
+        let t1868: f32 = t185 * t1867;
+        let t1869: f32 = t219 * 9.81;
+        let t1870: f32 = -t1869;
+        let t1871: f32 = t1803 * t1834;
+        let t1872: f32 = t1802 * t1802;
+        let t1873: f32 = t1833 * t1872;
+        let t1874: f32 = t1809 * t1842;
+        let t1875: f32 = t1873 + t1874;
+        let t1876: f32 = t151 * t1875;
+        let t1877: f32 = t1870 * 0.2;
+        let t1878: f32 = t1871 * 0.292;
+        let t1879: f32 = t1876 * 0.295;
+        let t1880: f32 = t1877 + t1879;
+        let t1881: f32 = t1880 - t1878;
+        let t1882: f32 = t151 * t1881;
+        let t1883: f32 = t1871 - t1876;
+        let t1884: f32 = t1883 * 0.3;
+        let t1885: f32 = t1870 + t1882;
+        let t1886: f32 = t1884 + t1885;
+        let t1887: f32 = t219 * t1886;
+        let t1888: f32 = t1868 + t1887;
+        let t1889: f32 = t1830 + t1888;
+        let t1890: f32 = t138 * t1889;
+        let t1891: f32 = t152 * t1814;
+        let t1892: f32 = t744 * t1818;
         let t1893: f32 = t1891 - t1892;
-        let t1894: f32 = wy * t1893;
-        let t1895: f32 = wz * t34;
-        let t1896: f32 = wx * t17;
-        let t1897: f32 = t1895 - t1896;
-        let t1898: f32 = wz * t1897;
-        let t1899: f32 = t1894 - t1898;
-        let t1900: f32 = t80 * t1899;
-        let t1901: f32 = wy * t17;
-        let t1902: f32 = wz * t27;
-        let t1903: f32 = t1901 - t1902;
-        let t1904: f32 = wz * t1903;
-        let t1905: f32 = wx * t1893;
-        let t1906: f32 = t1904 - t1905;
-        let t1907: f32 = t45 * t1906;
-        let t1908: f32 = wx * t1897;
-        let t1909: f32 = wy * t1903;
-        let t1910: f32 = t1908 - t1909;
-        let t1911: f32 = t82 * t1910;
-        let t1912: f32 = t1900 + t1907;
-        let t1913: f32 = t1911 + t1912;
-        let t1914: f32 = t82 * 9.81;
-        let t1915: f32 = -t1914;
-        let t1916: f32 = vx + t1903;
-        let t1917: f32 = t83 * t1916;
-        let t1918: f32 = vy + t1897;
-        let t1919: f32 = t61 * t1918;
-        let t1920: f32 = vz + t1893;
-        let t1921: f32 = t79 * t1920;
-        let t1922: f32 = t1917 + t1919;
-        let t1923: f32 = t1921 + t1922;
-        let t1924: f32 = t44 * t1923;
-        let t1925: f32 = t1924 * t1924;
-        let t1926: f32 = t818 * t1916;
-        let t1927: f32 = t85 * t1918;
-        let t1928: f32 = t114 * t1920;
-        let t1929: f32 = t1926 + t1927;
-        let t1930: f32 = t1928 + t1929;
-        let t1931: f32 = t44 * t1930;
-        let t1932: f32 = t1931 * t1931;
-        let t1933: f32 = t1925 + t1932;
-        let t1934: f32 = t1933 * 0.3;
-        let t1935: f32 = t1913 + t1934;
-        let t1936: f32 = t1935 - t1915;
-        let t1937: f32 = t82 * t1936;
-        let t1938: f32 = t83 * t1899;
-        let t1939: f32 = t61 * t1906;
-        let t1940: f32 = t79 * t1910;
-        let t1941: f32 = t1938 + t1939;
-        let t1942: f32 = t1940 + t1941;
-        let t1943: f32 = t79 * 9.81;
-        let t1944: f32 = -t1943;
-        let t1945: f32 = t44 * t1942;
-        let t1946: f32 = t66 * t99;
-        let t1947: f32 = t1923 * t1946;
-        let t1948: f32 = t1930 * t1947;
-        let t1949: f32 = t80 * t1916;
-        let t1950: f32 = t45 * t1918;
-        let t1951: f32 = t82 * t1920;
-        let t1952: f32 = t1949 + t1950;
-        let t1953: f32 = t1951 + t1952;
-        let t1954: f32 = t44 * t1953;
-        let t1955: f32 = t1954 * 2.0;
-        let t1956: f32 = t1924 * t1955;
-        let t1957: f32 = t1948 + t1956;
-        let t1958: f32 = t1957 - t1945;
-        let t1959: f32 = t44 * t66;
-        let t1960: f32 = t1923 * t1959;
-        let t1961: f32 = t1931 * t1960;
-        let t1962: f32 = t66 * t1957;
-        let t1963: f32 = t60 * t60;
-        let t1964: f32 = t42 * t44;
-        let t1965: f32 = t1963 * t1964;
-        let t1966: f32 = t1923 * t1965;
-        let t1967: f32 = t1930 * t1966;
-        let t1968: f32 = t66 * t1942;
-        let t1969: f32 = t1967 - t1968;
-        let t1970: f32 = t44 * t1969;
-        let t1971: f32 = t1962 + t1970;
-        let t1972: f32 = t66 * t1971;
-        let t1973: f32 = t1942 * 0.3;
-        let t1974: f32 = t1944 * 0.2;
-        let t1975: f32 = t1958 * 0.295;
-        let t1976: f32 = t1961 * 0.292;
-        let t1977: f32 = t1972 * 0.003;
-        let t1978: f32 = t1973 + t1974;
-        let t1979: f32 = t1975 + t1977;
-        let t1980: f32 = t1978 + t1979;
-        let t1981: f32 = t1980 - t1976;
-        let t1982: f32 = t44 * t1981;
-        let t1983: f32 = t1942 - t1944;
-        let t1984: f32 = t1958 - t1961;
-        let t1985: f32 = t1984 * 0.3;
-        let t1986: f32 = t1983 + t1985;
-        let t1987: f32 = t1986 - t1982;
-        let t1988: f32 = t79 * t1987;
-        let t1989: f32 = t114 * t1910;
-        let t1990: f32 = t818 * t1899;
-        let t1991: f32 = t85 * t1906;
-        let t1992: f32 = t1990 + t1991;
-        let t1993: f32 = t1989 + t1992;
-        let t1994: f32 = t114 * 9.81;
-        let t1995: f32 = -t1994;
-        let t1996: f32 = t1923 * t1923;
-        let t1997: f32 = t1959 * t1996;
-        let t1998: f32 = t1930 * t1955;
-        let t1999: f32 = t1993 + t1997;
-        let t2000: f32 = t1999 - t1998;
-        let t2001: f32 = t44 * t2000;
-        let t2002: f32 = t1924 * t1960;
+        let t1894: f32 = t202 * t1823;
+        let t1895: f32 = t230 * t1827;
+        let t1896: f32 = t1894 + t1895;
+        let t1897: f32 = t1893 - t1896;
+        let t1898: f32 = t167 * t1867;
+        let t1899: f32 = t191 * t1886;
+        let t1900: f32 = t1898 + t1899;
+        let t1901: f32 = t1897 + t1900;
+        let t1902: f32 = t137 * t1901;
+        let t1903: f32 = t1890 - t1902;
+        let t1904: f32 = t300 * 9.81;
+        let t1905: f32 = -t1904;
+        let t1906: f32 = wy * t245;
+        let t1907: f32 = wz * t248;
+        let t1908: f32 = t1906 - t1907;
+        let t1909: f32 = vx - t1908;
+        let t1910: f32 = t301 * t1909;
+        let t1911: f32 = wz * t253;
+        let t1912: f32 = wx * t245;
+        let t1913: f32 = t1911 - t1912;
+        let t1914: f32 = vy - t1913;
+        let t1915: f32 = t279 * t1914;
+        let t1916: f32 = wx * t248;
+        let t1917: f32 = wy * t253;
+        let t1918: f32 = t1916 - t1917;
+        let t1919: f32 = vz - t1918;
+        let t1920: f32 = t297 * t1919;
+        let t1921: f32 = t1910 + t1915;
+        let t1922: f32 = t1921 - t1920;
+        let t1923: f32 = t263 * t1922;
+        let t1924: f32 = t1923 * t1923;
+        let t1925: f32 = t765 * t1909;
+        let t1926: f32 = t303 * t1914;
+        let t1927: f32 = t331 * t1919;
+        let t1928: f32 = t1925 + t1927;
+        let t1929: f32 = t1928 - t1926;
+        let t1930: f32 = t263 * t1929;
+        let t1931: f32 = t1930 * t1930;
+        let t1932: f32 = t1924 + t1931;
+        let t1933: f32 = t1932 * 0.3;
+        let t1934: f32 = t1905 - t1933;
+        let t1935: f32 = t264 * t1934;
+        let t1936: f32 = wy * t1918;
+        let t1937: f32 = wz * t1913;
+        let t1938: f32 = t1936 - t1937;
+        let t1939: f32 = t776 * t1938;
+        let t1940: f32 = t1935 + t1939;
+        let t1941: f32 = wz * t1908;
+        let t1942: f32 = wx * t1918;
+        let t1943: f32 = t1941 - t1942;
+        let t1944: f32 = t314 * t1943;
+        let t1945: f32 = wx * t1913;
+        let t1946: f32 = wy * t1908;
+        let t1947: f32 = t1945 - t1946;
+        let t1948: f32 = t342 * t1947;
+        let t1949: f32 = t1944 + t1948;
+        let t1950: f32 = t1940 + t1949;
+        let t1951: f32 = t331 * 9.81;
+        let t1952: f32 = -t1951;
+        let t1953: f32 = t263 * t284;
+        let t1954: f32 = t1922 * t1953;
+        let t1955: f32 = t1923 * t1954;
+        let t1956: f32 = t1922 * t1922;
+        let t1957: f32 = t1953 * t1956;
+        let t1958: f32 = t298 * t1909;
+        let t1959: f32 = t264 * t1914;
+        let t1960: f32 = t300 * t1919;
+        let t1961: f32 = t1958 + t1959;
+        let t1962: f32 = t1960 + t1961;
+        let t1963: f32 = t263 * t1962;
+        let t1964: f32 = t1963 * 2.0;
+        let t1965: f32 = t1929 * t1964;
+        let t1966: f32 = t1957 - t1965;
+        let t1967: f32 = t263 * t1966;
+        let t1968: f32 = t1952 * 0.2;
+        let t1969: f32 = t1955 * 0.292;
+        let t1970: f32 = t1967 * 0.295;
+        let t1971: f32 = t1968 + t1969;
+        let t1972: f32 = t1971 - t1970;
+        let t1973: f32 = t263 * t1972;
+        let t1974: f32 = t1967 - t1955;
+        let t1975: f32 = t1974 * 0.3;
+        let t1976: f32 = t1952 + t1973;
+        let t1977: f32 = t1975 + t1976;
+        let t1978: f32 = t303 * t1977;
+        let t1979: f32 = t297 * 9.81;
+        let t1980: f32 = t1930 * t1954;
+        let t1981: f32 = t1929 * t1953;
+        let t1982: f32 = t1964 + t1981;
+        let t1983: f32 = t1923 * t1982;
+        let t1984: f32 = t278 * t278;
+        let t1985: f32 = t261 * t263;
+        let t1986: f32 = t1984 * t1985;
+        let t1987: f32 = t1929 * t1986;
+        let t1988: f32 = t284 * t1982;
+        let t1989: f32 = t1987 + t1988;
+        let t1990: f32 = t1923 * t1989;
+        let t1991: f32 = t284 * t1990;
+        let t1992: f32 = t1979 * 0.2;
+        let t1993: f32 = t1980 * 0.292;
+        let t1994: f32 = t1983 * 0.295;
+        let t1995: f32 = t1991 * 0.003;
+        let t1996: f32 = t1992 + t1994;
+        let t1997: f32 = t1995 + t1996;
+        let t1998: f32 = t1997 - t1993;
+        let t1999: f32 = t263 * t1998;
+        let t2000: f32 = t1980 - t1983;
+        let t2001: f32 = t2000 * 0.3;
+        let t2002: f32 = t1979 + t1999;
         (
-            t1005,
-            t1009,
+            t1008,
+            t1017,
+            t1021,
+            t1042,
             t1051,
             t1055,
-            t1097,
-            t1101,
-            t1143,
-            t1147,
-            t1189,
-            t1193,
-            t1235,
-            t1239,
-            t1299,
-            t1300,
-            t1312,
-            t1313,
-            t1315,
-            t1455,
-            t1509,
-            t1514,
-            t1522,
-            t1524,
+            t1076,
+            t1085,
+            t1089,
+            t1110,
+            t1137,
+            t1138,
+            t1150,
+            t1151,
+            t1153,
+            t1263,
+            t1311,
+            t1316,
+            t1324,
+            t1326,
+            t1329,
+            t1335,
+            t1346,
+            t1347,
+            t1355,
+            t1356,
+            t1368,
+            t1369,
+            t1373,
+            t1392,
+            t1403,
+            t1404,
+            t1413,
+            t1414,
+            t1430,
+            t1431,
+            t1443,
+            t1444,
+            t1449,
+            t1471,
+            t1488,
+            t1492,
+            t1493,
+            t1498,
+            t1499,
+            t1503,
+            t1504,
+            t1510,
+            t1511,
+            t1523,
             t1527,
-            t1533,
+            t1534,
+            t1535,
+            t1539,
+            t1540,
             t1544,
-            t1545,
-            t1553,
-            t1554,
-            t1566,
-            t1567,
-            t1571,
-            t1590,
-            t1601,
-            t1602,
-            t1611,
-            t1612,
+            t1575,
+            t1579,
+            t1584,
+            t1588,
+            t1591,
+            t1593,
+            t1594,
+            t1613,
+            t1616,
+            t1619,
+            t1621,
+            t1624,
+            t1629,
             t1640,
-            t1641,
-            t1653,
-            t1654,
+            t1643,
+            t1647,
+            t1648,
+            t1656,
             t1659,
-            t1681,
-            t1727,
-            t1728,
-            t1749,
-            t1761,
+            t1660,
+            t1694,
+            t1698,
+            t1703,
+            t1707,
+            t1710,
+            t1712,
+            t1713,
+            t1732,
+            t1735,
+            t1739,
+            t1744,
+            t1752,
+            t1759,
+            t1760,
+            t1763,
+            t1767,
             t1768,
-            t1770,
-            t1771,
             t1776,
-            t1799,
-            t1801,
-            t1803,
-            t1807,
-            t1808,
-            t1811,
+            t1779,
+            t1780,
+            t1783,
             t1814,
-            t1815,
-            t1817,
-            t1834,
-            t1838,
-            t1839,
-            t1844,
-            t1845,
-            t1849,
-            t1850,
-            t1856,
-            t1857,
-            t1869,
-            t1873,
-            t1880,
+            t1818,
+            t1823,
+            t1827,
+            t1830,
+            t1832,
+            t1833,
+            t1846,
+            t1854,
+            t1861,
+            t1862,
+            t1865,
+            t1870,
             t1881,
-            t1885,
-            t1886,
-            t1890,
-            t1936,
-            t1937,
-            t1959,
-            t1971,
+            t1884,
+            t1888,
+            t1889,
+            t1897,
+            t1900,
+            t1901,
+            t1903,
+            t1934,
+            t1938,
+            t1943,
+            t1947,
+            t1950,
+            t1952,
+            t1953,
+            t1972,
             t1975,
-            t1976,
+            t1977,
             t1978,
-            t1981,
-            t1986,
-            t1987,
-            t1988,
+            t1979,
+            t1990,
             t1993,
-            t1995,
+            t1996,
+            t1998,
             t2001,
             t2002,
         )
     };
     let (
-        t2009,
-        t2077,
-        t2111,
-        t2149,
-        t2161,
-        t2213,
-        t2234,
-        t2246,
-        t2253,
-        t2254,
+        t2219,
+        t2268,
+        t2274,
+        t2278,
         t2284,
-        t2297,
-        t2350,
-        t2359,
-        t2380,
-        t2411,
-        t2415,
-        t2416,
-        t2418,
-        t2426,
-        t2433,
-        t2485,
-        t2494,
-        t2515,
-        t2546,
-        t2550,
-        t2554,
-        t2568,
-        t2577,
-        t2584,
-        t2590,
-        t2594,
-        t2600,
-        t2604,
-        t2612,
-        t2616,
-        t2618,
-        t2637,
-        t2639,
-        t2652,
-        t2654,
-        t2657,
-        t2665,
-        t2670,
-        t2685,
-        t2687,
-        t2691,
-        t2702,
-        t2705,
-        t2714,
-        t2720,
-        t2726,
-        t2730,
-        t2736,
-        t2740,
-        t2748,
-        t2752,
-        t2781,
-        t2816,
-        t2862,
+        t2288,
+        t2296,
+        t2440,
+        t2446,
+        t2450,
+        t2456,
+        t2460,
+        t2468,
+        t2501,
+        t2624,
+        t2641,
+        t2646,
+        t2682,
+        t2683,
+        t2747,
+        t2770,
+        t2792,
+        t2814,
+        t2821,
+        t2828,
+        t2835,
+        t2842,
+        t2849,
+        t2856,
+        t2863,
+        t2870,
+        t2877,
+        t2884,
+        t2891,
         t2898,
-        t2913,
-        t2919,
-        t2958,
-        t2959,
         t2961,
         t2963,
+        t2964,
+        t2965,
+        t2966,
         t2967,
-        t2969,
-        t2970,
-        t2972,
-        t2979,
-        t2982,
-        t2983,
-        t2985,
-        t2986,
+        t2988,
         t2990,
         t2992,
-        t2993,
-        t2995,
+        t3001,
         t3002,
     ) = {
-        let t2003: f32 = t1993 * 0.3;
-        let t2004: f32 = t1995 * 0.2;
-        let t2005: f32 = t2001 * 0.295;
-        let t2006: f32 = t2002 * 0.292;
-        let t2007: f32 = t2003 + t2004;
-        let t2008: f32 = t2006 + t2007;
-        let t2009: f32 = t2005 - t2008;
-        let t2010: f32 = t44 * t2009;
-        let t2011: f32 = t1993 - t1995;
-        let t2012: f32 = t2001 - t2002;
-        let t2013: f32 = t2012 * 0.3;
-        let t2014: f32 = t2010 + t2011;
-        let t2015: f32 = t2014 - t2013;
-        let t2016: f32 = t114 * t2015;
-        let t2017: f32 = t1988 + t2016;
-        let t2018: f32 = t1937 + t2017;
-        let t2019: f32 = -t2018;
-        let t2020: f32 = t27 * t2019;
-        let t2021: f32 = t45 * t1936;
-        let t2022: f32 = t61 * t1987;
-        let t2023: f32 = t85 * t2015;
-        let t2024: f32 = t2022 + t2023;
-        let t2025: f32 = t2021 + t2024;
-        let t2026: f32 = -t2025;
-        let t2027: f32 = t17 * t2026;
-        let t2028: f32 = t2020 - t2027;
-        let t2029: f32 = t1890 + t2028;
-        let t2030: f32 = t1817 + t2029;
-        let t2031: f32 = wx * t157;
-        let t2032: f32 = wy * t160;
-        let t2033: f32 = t2031 - t2032;
-        let t2034: f32 = wy * t2033;
-        let t2035: f32 = wz * t160;
-        let t2036: f32 = wx * t156;
-        let t2037: f32 = t2035 - t2036;
-        let t2038: f32 = wz * t2037;
-        let t2039: f32 = t2034 - t2038;
-        let t2040: f32 = t205 * t2039;
-        let t2041: f32 = wy * t156;
-        let t2042: f32 = wz * t157;
-        let t2043: f32 = t2041 - t2042;
-        let t2044: f32 = wz * t2043;
-        let t2045: f32 = wx * t2033;
-        let t2046: f32 = t2044 - t2045;
-        let t2047: f32 = t171 * t2046;
-        let t2048: f32 = wx * t2037;
-        let t2049: f32 = wy * t2043;
-        let t2050: f32 = t2048 - t2049;
-        let t2051: f32 = t207 * t2050;
-        let t2052: f32 = t2040 + t2047;
-        let t2053: f32 = t2051 + t2052;
-        let t2054: f32 = t207 * 9.81;
-        let t2055: f32 = -t2054;
-        let t2056: f32 = vx + t2043;
-        let t2057: f32 = t208 * t2056;
-        let t2058: f32 = vy + t2037;
-        let t2059: f32 = t186 * t2058;
-        let t2060: f32 = vz + t2033;
-        let t2061: f32 = t204 * t2060;
-        let t2062: f32 = t2057 + t2059;
-        let t2063: f32 = t2061 + t2062;
-        let t2064: f32 = t170 * t2063;
-        let t2065: f32 = t2064 * t2064;
-        let t2066: f32 = t846 * t2056;
-        let t2067: f32 = t210 * t2058;
-        let t2068: f32 = t239 * t2060;
-        let t2069: f32 = t2066 + t2067;
-        let t2070: f32 = t2068 + t2069;
-        let t2071: f32 = t170 * t2070;
-        let t2072: f32 = t2071 * t2071;
-        let t2073: f32 = t2065 + t2072;
-        let t2074: f32 = t2073 * 0.3;
-        let t2075: f32 = t2053 + t2074;
-        let t2076: f32 = t2075 - t2055;
-        let t2077: f32 = t171 * t2076;
-        let t2078: f32 = t208 * t2039;
-        let t2079: f32 = t186 * t2046;
-        let t2080: f32 = t204 * t2050;
-        let t2081: f32 = t2078 + t2079;
-        let t2082: f32 = t2080 + t2081;
-        let t2083: f32 = t204 * 9.81;
-        let t2084: f32 = -t2083;
-        let t2085: f32 = t170 * t2082;
-        let t2086: f32 = t191 * t224;
-        let t2087: f32 = t2063 * t2086;
-        let t2088: f32 = t2070 * t2087;
-        let t2089: f32 = t205 * t2056;
-        let t2090: f32 = t171 * t2058;
-        let t2091: f32 = t207 * t2060;
-        let t2092: f32 = t2089 + t2090;
-        let t2093: f32 = t2091 + t2092;
-        let t2094: f32 = t170 * t2093;
-        let t2095: f32 = t2094 * 2.0;
-        let t2096: f32 = t2064 * t2095;
-        let t2097: f32 = t2088 - t2096;
-        let t2098: f32 = t2085 + t2097;
-        let t2099: f32 = t170 * t191;
-        let t2100: f32 = t2063 * t2099;
-        let t2101: f32 = t2071 * t2100;
-        let t2102: f32 = t191 * t2097;
-        let t2103: f32 = t185 * t185;
-        let t2104: f32 = t168 * t170;
-        let t2105: f32 = t2103 * t2104;
-        let t2106: f32 = t2063 * t2105;
-        let t2107: f32 = t2070 * t2106;
-        let t2108: f32 = t191 * t2082;
-        let t2109: f32 = t2107 + t2108;
-        let t2110: f32 = t170 * t2109;
-        let t2111: f32 = t2102 + t2110;
-        let t2112: f32 = t191 * t2111;
-        let t2113: f32 = t2082 * 0.3;
-        let t2114: f32 = t2084 * 0.2;
-        let t2115: f32 = t2098 * 0.295;
-        let t2116: f32 = t2101 * 0.292;
-        let t2117: f32 = t2112 * 0.003;
-        let t2118: f32 = t2113 + t2114;
-        let t2119: f32 = t2116 + t2118;
-        let t2120: f32 = t2115 + t2117;
-        let t2121: f32 = t2119 - t2120;
-        let t2122: f32 = t170 * t2121;
-        let t2123: f32 = t2082 - t2084;
-        let t2124: f32 = t2098 - t2101;
-        let t2125: f32 = t2124 * 0.3;
-        let t2126: f32 = t2122 + t2125;
-        let t2127: f32 = t2123 - t2126;
-        let t2128: f32 = t186 * t2127;
-        let t2129: f32 = t239 * t2050;
-        let t2130: f32 = t846 * t2039;
-        let t2131: f32 = t210 * t2046;
-        let t2132: f32 = t2130 + t2131;
-        let t2133: f32 = t2129 + t2132;
-        let t2134: f32 = t239 * 9.81;
-        let t2135: f32 = -t2134;
-        let t2136: f32 = t2063 * t2063;
-        let t2137: f32 = t2099 * t2136;
-        let t2138: f32 = t2070 * t2095;
-        let t2139: f32 = t2137 + t2138;
-        let t2140: f32 = t2133 - t2139;
-        let t2141: f32 = t170 * t2140;
-        let t2142: f32 = t2064 * t2100;
-        let t2143: f32 = t2133 * 0.3;
-        let t2144: f32 = t2135 * 0.2;
-        let t2145: f32 = t2141 * 0.295;
-        let t2146: f32 = t2142 * 0.292;
-        let t2147: f32 = t2143 + t2144;
-        let t2148: f32 = t2145 + t2146;
-        let t2149: f32 = t2147 - t2148;
-        let t2150: f32 = t170 * t2149;
-        let t2151: f32 = t2133 - t2135;
-        let t2152: f32 = t2141 + t2142;
-        let t2153: f32 = t2152 * 0.3;
-        let t2154: f32 = t2150 + t2153;
-        let t2155: f32 = t2151 - t2154;
-        let t2156: f32 = t210 * t2155;
-        let t2157: f32 = t2128 + t2156;
-        let t2158: f32 = t2077 + t2157;
-        let t2159: f32 = t156 * t2158;
-        let t2160: f32 = t239 * t2155;
-        let t2161: f32 = t207 * t2076;
-        let t2162: f32 = t204 * t2127;
-        let t2163: f32 = t2161 + t2162;
-        let t2164: f32 = t2160 + t2163;
-        let t2165: f32 = t157 * t2164;
-        let t2166: f32 = t2159 - t2165;
-        let t2167: f32 = wx * t286;
-        let t2168: f32 = wy * t291;
-        let t2169: f32 = t2167 - t2168;
-        let t2170: f32 = wy * t2169;
-        let t2171: f32 = wz * t291;
-        let t2172: f32 = wx * t283;
-        let t2173: f32 = t2171 - t2172;
-        let t2174: f32 = wz * t2173;
-        let t2175: f32 = t2170 - t2174;
-        let t2176: f32 = t336 * t2175;
-        let t2177: f32 = wy * t283;
-        let t2178: f32 = wz * t286;
-        let t2179: f32 = t2177 - t2178;
-        let t2180: f32 = wz * t2179;
-        let t2181: f32 = wx * t2169;
+        let t2003: f32 = t2001 + t2002;
+        let t2004: f32 = t279 * t2003;
+        let t2005: f32 = t1978 - t2004;
+        let t2006: f32 = t2005 - t1950;
+        let t2007: f32 = t245 * t2006;
+        let t2008: f32 = t300 * t1934;
+        let t2009: f32 = t789 * t1938;
+        let t2010: f32 = t2008 + t2009;
+        let t2011: f32 = t342 * t1943;
+        let t2012: f32 = t351 * t1947;
+        let t2013: f32 = t2011 + t2012;
+        let t2014: f32 = t2010 + t2013;
+        let t2015: f32 = t331 * t1977;
+        let t2016: f32 = t297 * t2003;
+        let t2017: f32 = t2015 - t2016;
+        let t2018: f32 = t2014 + t2017;
+        let t2019: f32 = t248 * t2018;
+        let t2020: f32 = t2007 + t2019;
+        let t2021: f32 = t1903 - t2020;
+        let t2022: f32 = wx * t360;
+        let t2023: f32 = wy * t365;
+        let t2024: f32 = t2022 - t2023;
+        let t2025: f32 = wy * t2024;
+        let t2026: f32 = wz * t365;
+        let t2027: f32 = wx * t357;
+        let t2028: f32 = t2026 - t2027;
+        let t2029: f32 = wz * t2028;
+        let t2030: f32 = t2025 - t2029;
+        let t2031: f32 = t808 * t2030;
+        let t2032: f32 = t412 * 9.81;
+        let t2033: f32 = -t2032;
+        let t2034: f32 = wy * t357;
+        let t2035: f32 = wz * t360;
+        let t2036: f32 = t2034 - t2035;
+        let t2037: f32 = vx + t2036;
+        let t2038: f32 = t413 * t2037;
+        let t2039: f32 = vy + t2028;
+        let t2040: f32 = t391 * t2039;
+        let t2041: f32 = vz + t2024;
+        let t2042: f32 = t409 * t2041;
+        let t2043: f32 = t2038 + t2040;
+        let t2044: f32 = t2043 - t2042;
+        let t2045: f32 = t375 * t2044;
+        let t2046: f32 = t2045 * t2045;
+        let t2047: f32 = t797 * t2037;
+        let t2048: f32 = t415 * t2039;
+        let t2049: f32 = t443 * t2041;
+        let t2050: f32 = t2047 + t2049;
+        let t2051: f32 = t2050 - t2048;
+        let t2052: f32 = t375 * t2051;
+        let t2053: f32 = t2052 * t2052;
+        let t2054: f32 = t2046 + t2053;
+        let t2055: f32 = t2054 * 0.3;
+        let t2056: f32 = t2033 - t2055;
+        let t2057: f32 = t376 * t2056;
+        let t2058: f32 = t2031 - t2057;
+        let t2059: f32 = wz * t2036;
+        let t2060: f32 = wx * t2024;
+        let t2061: f32 = t2059 - t2060;
+        let t2062: f32 = t426 * t2061;
+        let t2063: f32 = wx * t2028;
+        let t2064: f32 = wy * t2036;
+        let t2065: f32 = t2063 - t2064;
+        let t2066: f32 = t454 * t2065;
+        let t2067: f32 = t2062 + t2066;
+        let t2068: f32 = t2058 + t2067;
+        let t2069: f32 = t443 * 9.81;
+        let t2070: f32 = -t2069;
+        let t2071: f32 = t375 * t396;
+        let t2072: f32 = t2044 * t2071;
+        let t2073: f32 = t2045 * t2072;
+        let t2074: f32 = t2044 * t2044;
+        let t2075: f32 = t2071 * t2074;
+        let t2076: f32 = t410 * t2037;
+        let t2077: f32 = t376 * t2039;
+        let t2078: f32 = t412 * t2041;
+        let t2079: f32 = t2076 + t2077;
+        let t2080: f32 = t2078 + t2079;
+        let t2081: f32 = t375 * t2080;
+        let t2082: f32 = t2081 * 2.0;
+        let t2083: f32 = t2051 * t2082;
+        let t2084: f32 = t2075 - t2083;
+        let t2085: f32 = t375 * t2084;
+        let t2086: f32 = t2070 * 0.2;
+        let t2087: f32 = t2073 * 0.292;
+        let t2088: f32 = t2085 * 0.295;
+        let t2089: f32 = t2086 + t2087;
+        let t2090: f32 = t2089 - t2088;
+        let t2091: f32 = t375 * t2090;
+        let t2092: f32 = t2085 - t2073;
+        let t2093: f32 = t2092 * 0.3;
+        let t2094: f32 = t2070 + t2091;
+        let t2095: f32 = t2093 + t2094;
+        let t2096: f32 = t415 * t2095;
+        let t2097: f32 = t409 * 9.81;
+        let t2098: f32 = t2052 * t2072;
+        let t2099: f32 = t2051 * t2071;
+        let t2100: f32 = t2082 + t2099;
+        let t2101: f32 = t2045 * t2100;
+        let t2102: f32 = t390 * t390;
+        let t2103: f32 = t373 * t375;
+        let t2104: f32 = t2102 * t2103;
+        let t2105: f32 = t2051 * t2104;
+        let t2106: f32 = t396 * t2100;
+        let t2107: f32 = t2105 + t2106;
+        let t2108: f32 = t2045 * t2107;
+        let t2109: f32 = t396 * t2108;
+        let t2110: f32 = t2097 * 0.2;
+        let t2111: f32 = t2098 * 0.292;
+        let t2112: f32 = t2101 * 0.295;
+        let t2113: f32 = t2109 * 0.003;
+        let t2114: f32 = t2110 + t2112;
+        let t2115: f32 = t2113 + t2114;
+        let t2116: f32 = t2115 - t2111;
+        let t2117: f32 = t375 * t2116;
+        let t2118: f32 = t2098 - t2101;
+        let t2119: f32 = t2118 * 0.3;
+        let t2120: f32 = t2097 + t2117;
+        let t2121: f32 = t2119 + t2120;
+        let t2122: f32 = t391 * t2121;
+        let t2123: f32 = t2096 - t2122;
+        let t2124: f32 = t2068 + t2123;
+        let t2125: f32 = t357 * t2124;
+        let t2126: f32 = t412 * t2056;
+        let t2127: f32 = t821 * t2030;
+        let t2128: f32 = t2126 - t2127;
+        let t2129: f32 = t454 * t2061;
+        let t2130: f32 = t463 * t2065;
+        let t2131: f32 = t2129 + t2130;
+        let t2132: f32 = t2128 - t2131;
+        let t2133: f32 = t443 * t2095;
+        let t2134: f32 = t409 * t2121;
+        let t2135: f32 = t2133 - t2134;
+        let t2136: f32 = t2132 + t2135;
+        let t2137: f32 = t360 * t2136;
+        let t2138: f32 = t2125 + t2137;
+        let t2139: f32 = wx * t468;
+        let t2140: f32 = wy * t471;
+        let t2141: f32 = t2139 - t2140;
+        let t2142: f32 = wy * t2141;
+        let t2143: f32 = wz * t471;
+        let t2144: f32 = wx * t467;
+        let t2145: f32 = t2143 - t2144;
+        let t2146: f32 = wz * t2145;
+        let t2147: f32 = t2142 - t2146;
+        let t2148: f32 = t840 * t2147;
+        let t2149: f32 = t517 * 9.81;
+        let t2150: f32 = -t2149;
+        let t2151: f32 = wy * t467;
+        let t2152: f32 = wz * t468;
+        let t2153: f32 = t2151 - t2152;
+        let t2154: f32 = vx + t2153;
+        let t2155: f32 = t518 * t2154;
+        let t2156: f32 = vy + t2145;
+        let t2157: f32 = t496 * t2156;
+        let t2158: f32 = vz + t2141;
+        let t2159: f32 = t514 * t2158;
+        let t2160: f32 = t2155 + t2157;
+        let t2161: f32 = t2160 - t2159;
+        let t2162: f32 = t481 * t2161;
+        let t2163: f32 = t2162 * t2162;
+        let t2164: f32 = t829 * t2154;
+        let t2165: f32 = t520 * t2156;
+        let t2166: f32 = t548 * t2158;
+        let t2167: f32 = t2164 + t2166;
+        let t2168: f32 = t2167 - t2165;
+        let t2169: f32 = t481 * t2168;
+        let t2170: f32 = t2169 * t2169;
+        let t2171: f32 = t2163 + t2170;
+        let t2172: f32 = t2171 * 0.3;
+        let t2173: f32 = t2150 - t2172;
+        let t2174: f32 = t482 * t2173;
+        let t2175: f32 = t2148 - t2174;
+        let t2176: f32 = wz * t2153;
+        let t2177: f32 = wx * t2141;
+        let t2178: f32 = t2176 - t2177;
+        let t2179: f32 = t531 * t2178;
+        let t2180: f32 = wx * t2145;
+        let t2181: f32 = wy * t2153;
         let t2182: f32 = t2180 - t2181;
-        let t2183: f32 = t302 * t2182;
-        let t2184: f32 = wx * t2173;
-        let t2185: f32 = wy * t2179;
-        let t2186: f32 = t2184 - t2185;
-        let t2187: f32 = t338 * t2186;
-        let t2188: f32 = t2176 + t2183;
-        let t2189: f32 = t2187 + t2188;
-        let t2190: f32 = t338 * 9.81;
-        let t2191: f32 = -t2190;
-        let t2192: f32 = vx - t2179;
-        let t2193: f32 = t339 * t2192;
-        let t2194: f32 = vy - t2173;
-        let t2195: f32 = t317 * t2194;
-        let t2196: f32 = vz - t2169;
-        let t2197: f32 = t335 * t2196;
-        let t2198: f32 = t2193 + t2195;
-        let t2199: f32 = t2198 - t2197;
-        let t2200: f32 = t301 * t2199;
-        let t2201: f32 = t2200 * t2200;
-        let t2202: f32 = t874 * t2192;
-        let t2203: f32 = t341 * t2194;
-        let t2204: f32 = t370 * t2196;
-        let t2205: f32 = t2202 + t2204;
-        let t2206: f32 = t2205 - t2203;
-        let t2207: f32 = t301 * t2206;
-        let t2208: f32 = t2207 * t2207;
-        let t2209: f32 = t2201 + t2208;
+        let t2183: f32 = t559 * t2182;
+        let t2184: f32 = t2179 + t2183;
+        let t2185: f32 = t2175 + t2184;
+        let t2186: f32 = t548 * 9.81;
+        let t2187: f32 = -t2186;
+        let t2188: f32 = t481 * t501;
+        let t2189: f32 = t2161 * t2188;
+        let t2190: f32 = t2162 * t2189;
+        let t2191: f32 = t2161 * t2161;
+        let t2192: f32 = t2188 * t2191;
+        let t2193: f32 = t515 * t2154;
+        let t2194: f32 = t482 * t2156;
+        let t2195: f32 = t517 * t2158;
+        let t2196: f32 = t2193 + t2194;
+        let t2197: f32 = t2195 + t2196;
+        let t2198: f32 = t481 * t2197;
+        let t2199: f32 = t2198 * 2.0;
+        let t2200: f32 = t2168 * t2199;
+        let t2201: f32 = t2192 + t2200;
+        let t2202: f32 = t481 * t2201;
+        let t2203: f32 = t2187 * 0.2;
+        let t2204: f32 = t2190 * 0.292;
+        let t2205: f32 = t2202 * 0.295;
+        let t2206: f32 = t2203 + t2205;
+        let t2207: f32 = t2206 - t2204;
+        let t2208: f32 = t481 * t2207;
+        let t2209: f32 = t2190 - t2202;
         let t2210: f32 = t2209 * 0.3;
-        let t2211: f32 = t2189 + t2191;
-        let t2212: f32 = t2211 - t2210;
-        let t2213: f32 = t302 * t2212;
-        let t2214: f32 = t339 * t2175;
-        let t2215: f32 = t317 * t2182;
-        let t2216: f32 = t335 * t2186;
-        let t2217: f32 = t2214 + t2215;
-        let t2218: f32 = t2217 - t2216;
-        let t2219: f32 = t335 * 9.81;
-        let t2220: f32 = t301 * t2218;
-        let t2221: f32 = t322 * t355;
-        let t2222: f32 = t2199 * t2221;
-        let t2223: f32 = t2206 * t2222;
-        let t2224: f32 = t336 * t2192;
-        let t2225: f32 = t302 * t2194;
-        let t2226: f32 = t338 * t2196;
-        let t2227: f32 = t2224 + t2225;
-        let t2228: f32 = t2226 + t2227;
-        let t2229: f32 = t301 * t2228;
-        let t2230: f32 = t2229 * 2.0;
-        let t2231: f32 = t2200 * t2230;
-        let t2232: f32 = t2223 + t2231;
-        let t2233: f32 = t2220 + t2232;
-        let t2234: f32 = t301 * t322;
-        let t2235: f32 = t2199 * t2234;
-        let t2236: f32 = t2207 * t2235;
-        let t2237: f32 = t322 * t2232;
-        let t2238: f32 = t316 * t316;
-        let t2239: f32 = t299 * t301;
-        let t2240: f32 = t2238 * t2239;
-        let t2241: f32 = t2199 * t2240;
-        let t2242: f32 = t2206 * t2241;
-        let t2243: f32 = t322 * t2218;
-        let t2244: f32 = t2242 + t2243;
-        let t2245: f32 = t301 * t2244;
-        let t2246: f32 = t2237 + t2245;
-        let t2247: f32 = t322 * t2246;
-        let t2248: f32 = t2218 * 0.3;
-        let t2249: f32 = t2219 * 0.2;
-        let t2250: f32 = t2233 * 0.295;
-        let t2251: f32 = t2236 * 0.292;
-        let t2252: f32 = t2247 * 0.003;
-        let t2253: f32 = t2248 + t2251;
-        let t2254: f32 = t2249 + t2250;
-        let t2255: f32 = t2252 + t2254;
-        let t2256: f32 = t2253 - t2255;
-        let t2257: f32 = t301 * t2256;
-        let t2258: f32 = t2218 + t2219;
-        let t2259: f32 = t2233 - t2236;
-        let t2260: f32 = t2259 * 0.3;
-        let t2261: f32 = t2257 + t2260;
-        let t2262: f32 = t2258 - t2261;
-        let t2263: f32 = t317 * t2262;
-        let t2264: f32 = t370 * t2186;
-        let t2265: f32 = t874 * t2175;
-        let t2266: f32 = t341 * t2182;
-        let t2267: f32 = t2265 - t2266;
-        let t2268: f32 = t2264 + t2267;
-        let t2269: f32 = t370 * 9.81;
-        let t2270: f32 = -t2269;
-        let t2271: f32 = t2199 * t2199;
-        let t2272: f32 = t2234 * t2271;
-        let t2273: f32 = t2206 * t2230;
-        let t2274: f32 = t2268 + t2273;
-        let t2275: f32 = t2274 - t2272;
-        let t2276: f32 = t301 * t2275;
-        let t2277: f32 = t2200 * t2235;
-        let t2278: f32 = t2268 * 0.3;
-        let t2279: f32 = t2270 * 0.2;
-        let t2280: f32 = t2276 * 0.295;
-        let t2281: f32 = t2277 * 0.292;
-        let t2282: f32 = t2279 + t2280;
-        let t2283: f32 = t2281 + t2282;
-        let t2284: f32 = t2278 - t2283;
-        let t2285: f32 = t301 * t2284;
-        let t2286: f32 = t2268 + t2270;
-        let t2287: f32 = t2276 + t2277;
-        let t2288: f32 = t2287 * 0.3;
-        let t2289: f32 = t2285 + t2288;
-        let t2290: f32 = t2286 - t2289;
-        let t2291: f32 = t341 * t2290;
-        let t2292: f32 = t2263 - t2291;
-        let t2293: f32 = t2213 + t2292;
-        let t2294: f32 = -t2293;
-        let t2295: f32 = t283 * t2294;
-        let t2296: f32 = t370 * t2290;
-        let t2297: f32 = t338 * t2212;
-        let t2298: f32 = t335 * t2262;
-        let t2299: f32 = t2297 - t2298;
-        let t2300: f32 = t2296 + t2299;
-        let t2301: f32 = t286 * t2300;
-        let t2302: f32 = t2295 + t2301;
-        let t2303: f32 = t2166 - t2302;
-        let t2304: f32 = wx * t417;
-        let t2305: f32 = wy * t422;
-        let t2306: f32 = t2304 - t2305;
-        let t2307: f32 = wy * t2306;
-        let t2308: f32 = wz * t422;
-        let t2309: f32 = wx * t414;
-        let t2310: f32 = t2308 - t2309;
-        let t2311: f32 = wz * t2310;
-        let t2312: f32 = t2307 - t2311;
-        let t2313: f32 = t467 * t2312;
-        let t2314: f32 = wy * t414;
-        let t2315: f32 = wz * t417;
-        let t2316: f32 = t2314 - t2315;
-        let t2317: f32 = wz * t2316;
-        let t2318: f32 = wx * t2306;
-        let t2319: f32 = t2317 - t2318;
-        let t2320: f32 = t433 * t2319;
-        let t2321: f32 = wx * t2310;
-        let t2322: f32 = wy * t2316;
-        let t2323: f32 = t2321 - t2322;
-        let t2324: f32 = t469 * t2323;
-        let t2325: f32 = t2313 + t2320;
-        let t2326: f32 = t2324 + t2325;
-        let t2327: f32 = t469 * 9.81;
-        let t2328: f32 = -t2327;
-        let t2329: f32 = vx + t2316;
-        let t2330: f32 = t470 * t2329;
-        let t2331: f32 = vy + t2310;
-        let t2332: f32 = t448 * t2331;
-        let t2333: f32 = vz + t2306;
-        let t2334: f32 = t466 * t2333;
-        let t2335: f32 = t2330 + t2332;
-        let t2336: f32 = t2335 - t2334;
-        let t2337: f32 = t432 * t2336;
-        let t2338: f32 = t2337 * t2337;
-        let t2339: f32 = t902 * t2329;
-        let t2340: f32 = t472 * t2331;
-        let t2341: f32 = t501 * t2333;
-        let t2342: f32 = t2339 + t2341;
-        let t2343: f32 = t2342 - t2340;
-        let t2344: f32 = t432 * t2343;
-        let t2345: f32 = t2344 * t2344;
-        let t2346: f32 = t2338 + t2345;
-        let t2347: f32 = t2346 * 0.3;
-        let t2348: f32 = t2326 + t2347;
-        let t2349: f32 = t2348 - t2328;
-        let t2350: f32 = t433 * t2349;
-        let t2351: f32 = t501 * t2323;
-        let t2352: f32 = t902 * t2312;
-        let t2353: f32 = t472 * t2319;
-        let t2354: f32 = t2352 - t2353;
-        let t2355: f32 = t2351 + t2354;
-        let t2356: f32 = t501 * 9.81;
-        let t2357: f32 = -t2356;
-        let t2358: f32 = t2336 * t2336;
-        let t2359: f32 = t432 * t453;
-        let t2360: f32 = t2358 * t2359;
-        let t2361: f32 = t467 * t2329;
-        let t2362: f32 = t433 * t2331;
-        let t2363: f32 = t469 * t2333;
-        let t2364: f32 = t2361 + t2362;
-        let t2365: f32 = t2363 + t2364;
-        let t2366: f32 = t432 * t2365;
-        let t2367: f32 = t2366 * 2.0;
-        let t2368: f32 = t2343 * t2367;
-        let t2369: f32 = t2355 + t2360;
-        let t2370: f32 = t2369 - t2368;
-        let t2371: f32 = t432 * t2370;
-        let t2372: f32 = t2336 * t2359;
-        let t2373: f32 = t2337 * t2372;
-        let t2374: f32 = t2355 * 0.3;
-        let t2375: f32 = t2357 * 0.2;
-        let t2376: f32 = t2371 * 0.295;
-        let t2377: f32 = t2373 * 0.292;
-        let t2378: f32 = t2374 + t2375;
-        let t2379: f32 = t2377 + t2378;
-        let t2380: f32 = t2376 - t2379;
-        let t2381: f32 = t432 * t2380;
-        let t2382: f32 = t2355 - t2357;
-        let t2383: f32 = t2371 - t2373;
-        let t2384: f32 = t2383 * 0.3;
-        let t2385: f32 = t2381 + t2382;
-        let t2386: f32 = t2385 - t2384;
-        let t2387: f32 = t472 * t2386;
-        let t2388: f32 = t470 * t2312;
-        let t2389: f32 = t448 * t2319;
-        let t2390: f32 = t466 * t2323;
-        let t2391: f32 = t2388 + t2389;
-        let t2392: f32 = t2391 - t2390;
-        let t2393: f32 = t466 * 9.81;
-        let t2394: f32 = t432 * t2392;
-        let t2395: f32 = t453 * t486;
-        let t2396: f32 = t2336 * t2395;
-        let t2397: f32 = t2343 * t2396;
-        let t2398: f32 = t2337 * t2367;
-        let t2399: f32 = t2397 + t2398;
-        let t2400: f32 = t2399 - t2394;
-        let t2401: f32 = t2344 * t2372;
-        let t2402: f32 = t453 * t2399;
-        let t2403: f32 = t447 * t447;
-        let t2404: f32 = t430 * t432;
-        let t2405: f32 = t2403 * t2404;
-        let t2406: f32 = t2336 * t2405;
-        let t2407: f32 = t2343 * t2406;
-        let t2408: f32 = t453 * t2392;
+        let t2211: f32 = t2187 + t2208;
+        let t2212: f32 = t2210 + t2211;
+        let t2213: f32 = t520 * t2212;
+        let t2214: f32 = t514 * 9.81;
+        let t2215: f32 = t2169 * t2189;
+        let t2216: f32 = t2168 * t2188;
+        let t2217: f32 = t2199 - t2216;
+        let t2218: f32 = t2162 * t2217;
+        let t2219: f32 = t481 * t481;
+        let t2220: f32 = t495 * t495;
+        let t2221: f32 = t479 * t2219;
+        let t2222: f32 = t2220 * t2221;
+        let t2223: f32 = t2161 * t2222;
+        let t2224: f32 = t2168 * t2223;
+        let t2225: f32 = -t2218;
+        let t2226: f32 = t501 * t2225;
+        let t2227: f32 = t2224 + t2226;
+        let t2228: f32 = t501 * t2227;
+        let t2229: f32 = t2214 * 0.2;
+        let t2230: f32 = t2215 * 0.292;
+        let t2231: f32 = t2218 * 0.295;
+        let t2232: f32 = t2228 * 0.003;
+        let t2233: f32 = t2229 + t2230;
+        let t2234: f32 = t2231 + t2233;
+        let t2235: f32 = t2234 - t2232;
+        let t2236: f32 = t481 * t2235;
+        let t2237: f32 = t2215 + t2218;
+        let t2238: f32 = t2237 * 0.3;
+        let t2239: f32 = t2214 + t2236;
+        let t2240: f32 = t2239 - t2238;
+        let t2241: f32 = t496 * t2240;
+        let t2242: f32 = t2213 - t2241;
+        let t2243: f32 = t2185 + t2242;
+        let t2244: f32 = t467 * t2243;
+        let t2245: f32 = t517 * t2173;
+        let t2246: f32 = t853 * t2147;
+        let t2247: f32 = t2245 - t2246;
+        let t2248: f32 = t559 * t2178;
+        let t2249: f32 = t568 * t2182;
+        let t2250: f32 = t2248 + t2249;
+        let t2251: f32 = t2247 - t2250;
+        let t2252: f32 = t548 * t2212;
+        let t2253: f32 = t514 * t2240;
+        let t2254: f32 = t2252 - t2253;
+        let t2255: f32 = t2251 + t2254;
+        let t2256: f32 = t468 * t2255;
+        let t2257: f32 = t2244 + t2256;
+        let t2258: f32 = t2138 + t2257;
+        let t2259: f32 = t2021 + t2258;
+        let t2260: f32 = t1783 + t2259;
+        let t2261: f32 = t697 * 3.5316;
+        let t2262: f32 = t2260 + t2261;
+        let t2263: f32 = t696 * t1403;
+        let t2264: f32 = t2262 * t2263;
+        let t2265: f32 = t1151 * t2262;
+        let t2266: f32 = t17 * t36;
+        let t2267: f32 = t34 * t39;
+        let t2268: f32 = t2266 - t2267;
+        let t2269: f32 = t1493 * t2268;
+        let t2270: f32 = t697 * t1488;
+        let t2271: f32 = t2269 - t2270;
+        let t2272: f32 = t137 * t143;
+        let t2273: f32 = t141 * t146;
+        let t2274: f32 = t2272 - t2273;
+        let t2275: f32 = t1504 * t2274;
+        let t2276: f32 = t245 * t255;
+        let t2277: f32 = t253 * t258;
+        let t2278: f32 = t2276 - t2277;
+        let t2279: f32 = t1499 * t2278;
+        let t2280: f32 = t2275 - t2279;
+        let t2281: f32 = t2271 + t2280;
+        let t2282: f32 = t357 * t367;
+        let t2283: f32 = t365 * t370;
+        let t2284: f32 = t2282 - t2283;
+        let t2285: f32 = t1535 * t2284;
+        let t2286: f32 = t467 * t473;
+        let t2287: f32 = t471 * t476;
+        let t2288: f32 = t2286 - t2287;
+        let t2289: f32 = t1540 * t2288;
+        let t2290: f32 = t2285 + t2289;
+        let t2291: f32 = t21 * t1523;
+        let t2292: f32 = t24 * t1527;
+        let t2293: f32 = t2291 - t2292;
+        let t2294: f32 = t572 * t577;
+        let t2295: f32 = t576 * t580;
+        let t2296: f32 = t2294 - t2295;
+        let t2297: f32 = t1511 * t2296;
+        let t2298: f32 = t2293 - t2297;
+        let t2299: f32 = t2290 + t2298;
+        let t2300: f32 = t2281 + t2299;
+        let t2301: f32 = t2265 + t2300;
+        let t2302: f32 = t701 * t1640;
+        let t2303: f32 = t83 * t1621;
+        let t2304: f32 = t2302 + t2303;
+        let t2305: f32 = t44 * t2304;
+        let t2306: f32 = t1629 + t1643;
+        let t2307: f32 = t701 * t2306;
+        let t2308: f32 = t1593 + t1624;
+        let t2309: f32 = t83 * t2308;
+        let t2310: f32 = t2307 + t2309;
+        let t2311: f32 = t80 * t1575;
+        let t2312: f32 = t940 * t1579;
+        let t2313: f32 = t2311 - t2312;
+        let t2314: f32 = t2310 + t2313;
+        let t2315: f32 = t712 * t1584;
+        let t2316: f32 = t725 * t1588;
+        let t2317: f32 = t2315 + t2316;
+        let t2318: f32 = t2314 - t2317;
+        let t2319: f32 = t2305 + t2318;
+        let t2320: f32 = t17 * t2319;
+        let t2321: f32 = t34 * t1648;
+        let t2322: f32 = t2320 - t2321;
+        let t2323: f32 = t733 * t1881;
+        let t2324: f32 = t189 * t1862;
+        let t2325: f32 = t2323 + t2324;
+        let t2326: f32 = t151 * t2325;
+        let t2327: f32 = t1870 + t1884;
+        let t2328: f32 = t733 * t2327;
+        let t2329: f32 = t1832 - t1865;
+        let t2330: f32 = t189 * t2329;
+        let t2331: f32 = t2328 + t2330;
+        let t2332: f32 = t186 * t1814;
+        let t2333: f32 = t974 * t1818;
+        let t2334: f32 = t2332 - t2333;
+        let t2335: f32 = t2331 + t2334;
+        let t2336: f32 = t744 * t1823;
+        let t2337: f32 = t757 * t1827;
+        let t2338: f32 = t2336 + t2337;
+        let t2339: f32 = t2335 - t2338;
+        let t2340: f32 = t2326 + t2339;
+        let t2341: f32 = t137 * t2340;
+        let t2342: f32 = t141 * t1889;
+        let t2343: f32 = t2341 - t2342;
+        let t2344: f32 = t2322 + t2343;
+        let t2345: f32 = t2301 + t2344;
+        let t2346: f32 = t253 * t2018;
+        let t2347: f32 = t765 * t1972;
+        let t2348: f32 = t301 * t1998;
+        let t2349: f32 = t2347 + t2348;
+        let t2350: f32 = t263 * t2349;
+        let t2351: f32 = t776 * t1943;
+        let t2352: f32 = t789 * t1947;
+        let t2353: f32 = t2351 + t2352;
+        let t2354: f32 = t1952 + t1975;
+        let t2355: f32 = t765 * t2354;
+        let t2356: f32 = t1979 + t2001;
+        let t2357: f32 = t301 * t2356;
+        let t2358: f32 = t2355 + t2357;
+        let t2359: f32 = t298 * t1934;
+        let t2360: f32 = t1008 * t1938;
+        let t2361: f32 = t2359 + t2360;
+        let t2362: f32 = t2358 + t2361;
+        let t2363: f32 = t2353 + t2362;
+        let t2364: f32 = t2350 + t2363;
+        let t2365: f32 = t245 * t2364;
+        let t2366: f32 = t2346 - t2365;
+        let t2367: f32 = t797 * t2090;
+        let t2368: f32 = t413 * t2116;
+        let t2369: f32 = t2367 + t2368;
+        let t2370: f32 = t375 * t2369;
+        let t2371: f32 = t2070 + t2093;
+        let t2372: f32 = t797 * t2371;
+        let t2373: f32 = t2097 + t2119;
+        let t2374: f32 = t413 * t2373;
+        let t2375: f32 = t2372 + t2374;
+        let t2376: f32 = t410 * t2056;
+        let t2377: f32 = t1042 * t2030;
+        let t2378: f32 = t2376 - t2377;
+        let t2379: f32 = t2375 + t2378;
+        let t2380: f32 = t808 * t2061;
+        let t2381: f32 = t821 * t2065;
+        let t2382: f32 = t2380 + t2381;
+        let t2383: f32 = t2379 - t2382;
+        let t2384: f32 = t2370 + t2383;
+        let t2385: f32 = t357 * t2384;
+        let t2386: f32 = t365 * t2136;
+        let t2387: f32 = t2385 - t2386;
+        let t2388: f32 = t2366 + t2387;
+        let t2389: f32 = t829 * t2207;
+        let t2390: f32 = t518 * t2235;
+        let t2391: f32 = t2389 + t2390;
+        let t2392: f32 = t481 * t2391;
+        let t2393: f32 = t2187 + t2210;
+        let t2394: f32 = t829 * t2393;
+        let t2395: f32 = t2214 - t2238;
+        let t2396: f32 = t518 * t2395;
+        let t2397: f32 = t2394 + t2396;
+        let t2398: f32 = t515 * t2173;
+        let t2399: f32 = t1076 * t2147;
+        let t2400: f32 = t2398 - t2399;
+        let t2401: f32 = t2397 + t2400;
+        let t2402: f32 = t840 * t2178;
+        let t2403: f32 = t853 * t2182;
+        let t2404: f32 = t2402 + t2403;
+        let t2405: f32 = t2401 - t2404;
+        let t2406: f32 = t2392 + t2405;
+        let t2407: f32 = t467 * t2406;
+        let t2408: f32 = t471 * t2255;
         let t2409: f32 = t2407 - t2408;
-        let t2410: f32 = t432 * t2409;
-        let t2411: f32 = t2402 + t2410;
-        let t2412: f32 = t453 * t2411;
-        let t2413: f32 = t2392 * 0.3;
-        let t2414: f32 = t2393 * 0.2;
-        let t2415: f32 = t2400 * 0.295;
-        let t2416: f32 = t2401 * 0.292;
-        let t2417: f32 = t2412 * 0.003;
-        let t2418: f32 = t2413 + t2414;
-        let t2419: f32 = t2415 + t2417;
-        let t2420: f32 = t2418 + t2419;
-        let t2421: f32 = t2420 - t2416;
-        let t2422: f32 = t432 * t2421;
-        let t2423: f32 = t2392 - t2393;
-        let t2424: f32 = t2400 - t2401;
-        let t2425: f32 = t2424 * 0.3;
-        let t2426: f32 = t2423 + t2425;
-        let t2427: f32 = t2426 - t2422;
-        let t2428: f32 = t448 * t2427;
-        let t2429: f32 = t2387 - t2428;
-        let t2430: f32 = t2350 - t2429;
-        let t2431: f32 = t414 * t2430;
-        let t2432: f32 = t466 * t2427;
-        let t2433: f32 = t469 * t2349;
-        let t2434: f32 = t2432 - t2433;
-        let t2435: f32 = t501 * t2386;
-        let t2436: f32 = t2434 - t2435;
-        let t2437: f32 = t417 * t2436;
-        let t2438: f32 = t2431 + t2437;
-        let t2439: f32 = wx * t544;
-        let t2440: f32 = wy * t547;
-        let t2441: f32 = t2439 - t2440;
-        let t2442: f32 = wy * t2441;
-        let t2443: f32 = wz * t547;
-        let t2444: f32 = wx * t543;
-        let t2445: f32 = t2443 - t2444;
-        let t2446: f32 = wz * t2445;
-        let t2447: f32 = t2442 - t2446;
-        let t2448: f32 = t591 * t2447;
-        let t2449: f32 = wy * t543;
-        let t2450: f32 = wz * t544;
-        let t2451: f32 = t2449 - t2450;
-        let t2452: f32 = wz * t2451;
-        let t2453: f32 = wx * t2441;
-        let t2454: f32 = t2452 - t2453;
-        let t2455: f32 = t558 * t2454;
-        let t2456: f32 = wx * t2445;
-        let t2457: f32 = wy * t2451;
-        let t2458: f32 = t2456 - t2457;
-        let t2459: f32 = t593 * t2458;
-        let t2460: f32 = t2448 + t2455;
-        let t2461: f32 = t2459 + t2460;
-        let t2462: f32 = t593 * 9.81;
-        let t2463: f32 = -t2462;
-        let t2464: f32 = vx + t2451;
-        let t2465: f32 = t594 * t2464;
-        let t2466: f32 = vy + t2445;
-        let t2467: f32 = t572 * t2466;
-        let t2468: f32 = vz + t2441;
-        let t2469: f32 = t590 * t2468;
-        let t2470: f32 = t2465 + t2467;
-        let t2471: f32 = t2470 - t2469;
-        let t2472: f32 = t557 * t2471;
-        let t2473: f32 = t2472 * t2472;
-        let t2474: f32 = t930 * t2464;
-        let t2475: f32 = t596 * t2466;
-        let t2476: f32 = t625 * t2468;
-        let t2477: f32 = t2474 + t2476;
-        let t2478: f32 = t2477 - t2475;
-        let t2479: f32 = t557 * t2478;
-        let t2480: f32 = t2479 * t2479;
-        let t2481: f32 = t2473 + t2480;
-        let t2482: f32 = t2481 * 0.3;
-        let t2483: f32 = t2461 + t2482;
-        let t2484: f32 = t2483 - t2463;
-        let t2485: f32 = t558 * t2484;
-        let t2486: f32 = t625 * t2458;
-        let t2487: f32 = t930 * t2447;
-        let t2488: f32 = t596 * t2454;
-        let t2489: f32 = t2487 - t2488;
-        let t2490: f32 = t2486 + t2489;
-        let t2491: f32 = t625 * 9.81;
-        let t2492: f32 = -t2491;
-        let t2493: f32 = t2471 * t2471;
-        let t2494: f32 = t557 * t577;
-        let t2495: f32 = t2493 * t2494;
-        let t2496: f32 = t591 * t2464;
-        let t2497: f32 = t558 * t2466;
-        let t2498: f32 = t593 * t2468;
-        let t2499: f32 = t2496 + t2497;
-        let t2500: f32 = t2498 + t2499;
-        let t2501: f32 = t557 * t2500;
-        let t2502: f32 = t2501 * 2.0;
-        let t2503: f32 = t2478 * t2502;
-        let t2504: f32 = t2495 + t2503;
-        let t2505: f32 = t2490 - t2504;
-        let t2506: f32 = t557 * t2505;
-        let t2507: f32 = t2471 * t2494;
-        let t2508: f32 = t2472 * t2507;
-        let t2509: f32 = t2490 * 0.3;
-        let t2510: f32 = t2492 * 0.2;
-        let t2511: f32 = t2506 * 0.295;
-        let t2512: f32 = t2508 * 0.292;
-        let t2513: f32 = t2509 + t2510;
-        let t2514: f32 = t2511 + t2512;
-        let t2515: f32 = t2513 - t2514;
-        let t2516: f32 = t557 * t2515;
-        let t2517: f32 = t2490 - t2492;
-        let t2518: f32 = t2506 + t2508;
-        let t2519: f32 = t2518 * 0.3;
-        let t2520: f32 = t2516 + t2519;
-        let t2521: f32 = t2517 - t2520;
-        let t2522: f32 = t596 * t2521;
-        let t2523: f32 = t594 * t2447;
-        let t2524: f32 = t572 * t2454;
-        let t2525: f32 = t590 * t2458;
-        let t2526: f32 = t2523 + t2524;
-        let t2527: f32 = t2526 - t2525;
-        let t2528: f32 = t590 * 9.81;
-        let t2529: f32 = t557 * t2527;
-        let t2530: f32 = t577 * t610;
-        let t2531: f32 = t2471 * t2530;
-        let t2532: f32 = t2478 * t2531;
-        let t2533: f32 = t2472 * t2502;
-        let t2534: f32 = t2532 - t2533;
+        let t2410: f32 = t576 * t1780;
+        let t2411: f32 = t861 * t1732;
+        let t2412: f32 = t622 * t1760;
+        let t2413: f32 = t2411 + t2412;
+        let t2414: f32 = t585 * t2413;
+        let t2415: f32 = t872 * t1703;
+        let t2416: f32 = t885 * t1707;
+        let t2417: f32 = t2415 + t2416;
+        let t2418: f32 = t1712 + t1735;
+        let t2419: f32 = t861 * t2418;
+        let t2420: f32 = t1739 - t1763;
+        let t2421: f32 = t622 * t2420;
+        let t2422: f32 = t2419 + t2421;
+        let t2423: f32 = t619 * t1694;
+        let t2424: f32 = t1110 * t1698;
+        let t2425: f32 = t2423 + t2424;
+        let t2426: f32 = t2422 + t2425;
+        let t2427: f32 = t2417 + t2426;
+        let t2428: f32 = t2414 + t2427;
+        let t2429: f32 = t572 * t2428;
+        let t2430: f32 = t2410 - t2429;
+        let t2431: f32 = t2409 + t2430;
+        let t2432: f32 = t2388 + t2431;
+        let t2433: f32 = t2345 + t2432;
+        let t2434: f32 = t0 * 3.5316;
+        let t2435: f32 = t2433 + t2434;
+        let t2436: f32 = t1137 * t1413;
+        let t2437: f32 = t2435 * t2436;
+        let t2438: f32 = t27 * t36;
+        let t2439: f32 = t29 * t34;
+        let t2440: f32 = t2438 - t2439;
+        let t2441: f32 = t1493 * t2440;
+        let t2442: f32 = t1138 * t1488;
+        let t2443: f32 = t2441 - t2442;
+        let t2444: f32 = t138 * t143;
+        let t2445: f32 = t140 * t141;
+        let t2446: f32 = t2444 - t2445;
+        let t2447: f32 = t1504 * t2446;
+        let t2448: f32 = t248 * t255;
+        let t2449: f32 = t250 * t253;
+        let t2450: f32 = t2448 - t2449;
+        let t2451: f32 = t1499 * t2450;
+        let t2452: f32 = t2447 - t2451;
+        let t2453: f32 = t2443 + t2452;
+        let t2454: f32 = t360 * t367;
+        let t2455: f32 = t362 * t365;
+        let t2456: f32 = t2454 - t2455;
+        let t2457: f32 = t1535 * t2456;
+        let t2458: f32 = t468 * t473;
+        let t2459: f32 = t470 * t471;
+        let t2460: f32 = t2458 - t2459;
+        let t2461: f32 = t1540 * t2460;
+        let t2462: f32 = t2457 + t2461;
+        let t2463: f32 = t14 * t1527;
+        let t2464: f32 = t10 * t1523;
+        let t2465: f32 = t2463 - t2464;
+        let t2466: f32 = t573 * t577;
+        let t2467: f32 = t575 * t576;
+        let t2468: f32 = t2466 - t2467;
+        let t2469: f32 = t1511 * t2468;
+        let t2470: f32 = t2465 - t2469;
+        let t2471: f32 = t2462 + t2470;
+        let t2472: f32 = t2453 + t2471;
+        let t2473: f32 = t27 * t2319;
+        let t2474: f32 = t34 * t1660;
+        let t2475: f32 = t2473 - t2474;
+        let t2476: f32 = t2472 + t2475;
+        let t2477: f32 = t138 * t2340;
+        let t2478: f32 = t141 * t1901;
+        let t2479: f32 = t2477 - t2478;
+        let t2480: f32 = t248 * t2364;
+        let t2481: f32 = t253 * t2006;
+        let t2482: f32 = t2480 + t2481;
+        let t2483: f32 = t2479 - t2482;
+        let t2484: f32 = t2476 + t2483;
+        let t2485: f32 = t360 * t2384;
+        let t2486: f32 = t365 * t2124;
+        let t2487: f32 = t2485 + t2486;
+        let t2488: f32 = t468 * t2406;
+        let t2489: f32 = t471 * t2243;
+        let t2490: f32 = t2488 + t2489;
+        let t2491: f32 = t2487 + t2490;
+        let t2492: f32 = t573 * t2428;
+        let t2493: f32 = t576 * t1768;
+        let t2494: f32 = t2492 + t2493;
+        let t2495: f32 = t1324 * t2262;
+        let t2496: f32 = t1326 * t2435;
+        let t2497: f32 = t2495 - t2496;
+        let t2498: f32 = t2494 - t2497;
+        let t2499: f32 = t2491 - t2498;
+        let t2500: f32 = t2484 + t2499;
+        let t2501: f32 = t1316 * t1430;
+        let t2502: f32 = t2500 * t2501;
+        let t2503: f32 = t2340 + t2364;
+        let t2504: f32 = t2384 + t2406;
+        let t2505: f32 = t2503 + t2504;
+        let t2506: f32 = wx * t3;
+        let t2507: f32 = t1 * t2506;
+        let t2508: f32 = wy * t0;
+        let t2509: f32 = t2507 + t2508;
+        let t2510: f32 = t2509 * 0.36;
+        let t2511: f32 = wy * t2510;
+        let t2512: f32 = wz * t0;
+        let t2513: f32 = wx * t4;
+        let t2514: f32 = t1 * t2513;
+        let t2515: f32 = t2512 - t2514;
+        let t2516: f32 = t2515 * 0.36;
+        let t2517: f32 = wz * t2516;
+        let t2518: f32 = t2511 + t2517;
+        let t2519: f32 = g1 * t36;
+        let t2520: f32 = t44 * t2519;
+        let t2521: f32 = g2 * t143;
+        let t2522: f32 = t151 * t2521;
+        let t2523: f32 = t2520 + t2522;
+        let t2524: f32 = t2518 + t2523;
+        let t2525: f32 = g3 * t255;
+        let t2526: f32 = t263 * t2525;
+        let t2527: f32 = g4 * t367;
+        let t2528: f32 = t375 * t2527;
+        let t2529: f32 = t2526 + t2528;
+        let t2530: f32 = g5 * t473;
+        let t2531: f32 = t481 * t2530;
+        let t2532: f32 = g6 * t577;
+        let t2533: f32 = t585 * t2532;
+        let t2534: f32 = t2531 + t2533;
         let t2535: f32 = t2529 + t2534;
-        let t2536: f32 = t2479 * t2507;
-        let t2537: f32 = t577 * t2534;
-        let t2538: f32 = t571 * t571;
-        let t2539: f32 = t555 * t557;
-        let t2540: f32 = t2538 * t2539;
-        let t2541: f32 = t2471 * t2540;
-        let t2542: f32 = t2478 * t2541;
-        let t2543: f32 = t577 * t2527;
-        let t2544: f32 = t2542 + t2543;
-        let t2545: f32 = t557 * t2544;
-        let t2546: f32 = t2537 + t2545;
-        let t2547: f32 = t577 * t2546;
-        let t2548: f32 = t2527 * 0.3;
-        let t2549: f32 = t2528 * 0.2;
-        let t2550: f32 = t2535 * 0.295;
-        let t2551: f32 = t2536 * 0.292;
-        let t2552: f32 = t2547 * 0.003;
-        let t2553: f32 = t2548 + t2549;
-        let t2554: f32 = t2551 + t2553;
-        let t2555: f32 = t2550 + t2552;
-        let t2556: f32 = t2554 - t2555;
-        let t2557: f32 = t557 * t2556;
-        let t2558: f32 = t2527 - t2528;
-        let t2559: f32 = t2535 - t2536;
-        let t2560: f32 = t2559 * 0.3;
-        let t2561: f32 = t2557 + t2560;
-        let t2562: f32 = t2558 - t2561;
-        let t2563: f32 = t572 * t2562;
-        let t2564: f32 = t2522 - t2563;
-        let t2565: f32 = t2564 - t2485;
-        let t2566: f32 = t543 * t2565;
-        let t2567: f32 = t625 * t2521;
-        let t2568: f32 = t593 * t2484;
-        let t2569: f32 = t590 * t2562;
-        let t2570: f32 = t2568 - t2569;
-        let t2571: f32 = t2567 + t2570;
-        let t2572: f32 = t544 * t2571;
-        let t2573: f32 = t2566 + t2572;
-        let t2574: f32 = t2438 - t2573;
-        let t2575: f32 = t2303 + t2574;
-        let t2576: f32 = t2030 + t2575;
-        let t2577: f32 = t811 * 3.5316;
-        let t2578: f32 = t2576 + t2577;
-        let t2579: f32 = t810 * t1601;
-        let t2580: f32 = t2578 * t2579;
-        let t2581: f32 = t1313 * t2578;
-        let t2582: f32 = t17 * t36;
-        let t2583: f32 = t34 * t39;
-        let t2584: f32 = t2582 - t2583;
-        let t2585: f32 = t1839 * t2584;
-        let t2586: f32 = t811 * t1834;
-        let t2587: f32 = t2585 - t2586;
-        let t2588: f32 = t156 * t162;
-        let t2589: f32 = t160 * t165;
-        let t2590: f32 = t2588 - t2589;
-        let t2591: f32 = t1850 * t2590;
-        let t2592: f32 = t283 * t293;
-        let t2593: f32 = t291 * t296;
-        let t2594: f32 = t2592 - t2593;
-        let t2595: f32 = t1845 * t2594;
-        let t2596: f32 = t2591 - t2595;
-        let t2597: f32 = t2587 + t2596;
-        let t2598: f32 = t414 * t424;
-        let t2599: f32 = t422 * t427;
-        let t2600: f32 = t2598 - t2599;
-        let t2601: f32 = t1881 * t2600;
-        let t2602: f32 = t543 * t549;
-        let t2603: f32 = t547 * t552;
-        let t2604: f32 = t2602 - t2603;
-        let t2605: f32 = t1886 * t2604;
-        let t2606: f32 = t2601 + t2605;
-        let t2607: f32 = t21 * t1869;
-        let t2608: f32 = t24 * t1873;
-        let t2609: f32 = t2607 - t2608;
-        let t2610: f32 = t667 * t672;
-        let t2611: f32 = t671 * t675;
-        let t2612: f32 = t2610 - t2611;
-        let t2613: f32 = t1857 * t2612;
-        let t2614: f32 = t2609 - t2613;
-        let t2615: f32 = t2606 + t2614;
-        let t2616: f32 = t2597 + t2615;
-        let t2617: f32 = t2581 + t2616;
-        let t2618: f32 = t2013 - t2011;
-        let t2619: f32 = t818 * t2618;
-        let t2620: f32 = t83 * t1986;
-        let t2621: f32 = t2619 - t2620;
-        let t2622: f32 = t80 * t1936;
-        let t2623: f32 = t2621 - t2622;
-        let t2624: f32 = t818 * t2009;
-        let t2625: f32 = t83 * t1981;
-        let t2626: f32 = t2624 - t2625;
-        let t2627: f32 = t44 * t2626;
-        let t2628: f32 = t2623 - t2627;
-        let t2629: f32 = t17 * t2628;
-        let t2630: f32 = t34 * t2019;
-        let t2631: f32 = t2629 - t2630;
-        let t2632: f32 = t160 * t2164;
-        let t2633: f32 = t846 * t2149;
-        let t2634: f32 = t208 * t2121;
+        let t2536: f32 = t2524 + t2535;
+        let t2537: f32 = t2428 + t2536;
+        let t2538: f32 = t1347 * t2262;
+        let t2539: f32 = t1356 * t2435;
+        let t2540: f32 = t2538 - t2539;
+        let t2541: f32 = t1369 * t2500;
+        let t2542: f32 = t2319 + t2541;
+        let t2543: f32 = t2540 + t2542;
+        let t2544: f32 = t2537 + t2543;
+        let t2545: f32 = t2505 + t2544;
+        let t2546: f32 = t1335 * t1443;
+        let t2547: f32 = t2545 * t2546;
+        let t2548: f32 = t2005 + t2123;
+        let t2549: f32 = t1767 + t2242;
+        let t2550: f32 = t2548 + t2549;
+        let t2551: f32 = t1710 - t2185;
+        let t2552: f32 = g1 * t29;
+        let t2553: f32 = t44 * t2552;
+        let t2554: f32 = wx * t2510;
+        let t2555: f32 = t2553 - t2554;
+        let t2556: f32 = g2 * t140;
+        let t2557: f32 = t151 * t2556;
+        let t2558: f32 = g3 * t250;
+        let t2559: f32 = t263 * t2558;
+        let t2560: f32 = t2557 + t2559;
+        let t2561: f32 = t2555 + t2560;
+        let t2562: f32 = t2551 + t2561;
+        let t2563: f32 = g4 * t362;
+        let t2564: f32 = t375 * t2563;
+        let t2565: f32 = g5 * t470;
+        let t2566: f32 = t481 * t2565;
+        let t2567: f32 = t2564 + t2566;
+        let t2568: f32 = g6 * t575;
+        let t2569: f32 = t585 * t2568;
+        let t2570: f32 = wy * t4;
+        let t2571: f32 = wz * t3;
+        let t2572: f32 = t2570 + t2571;
+        let t2573: f32 = t2572 * 0.36;
+        let t2574: f32 = wz * t1;
+        let t2575: f32 = t2573 * t2574;
+        let t2576: f32 = t2569 - t2575;
+        let t2577: f32 = t2567 + t2576;
+        let t2578: f32 = t1656 + t1897;
+        let t2579: f32 = t1950 - t2068;
+        let t2580: f32 = t2578 + t2579;
+        let t2581: f32 = t2577 + t2580;
+        let t2582: f32 = t2562 + t2581;
+        let t2583: f32 = t1404 * t2262;
+        let t2584: f32 = t1414 * t2435;
+        let t2585: f32 = t2583 - t2584;
+        let t2586: f32 = t2582 + t2585;
+        let t2587: f32 = t1431 * t2500;
+        let t2588: f32 = t1444 * t2545;
+        let t2589: f32 = t2587 - t2588;
+        let t2590: f32 = t1659 + t1900;
+        let t2591: f32 = t2589 + t2590;
+        let t2592: f32 = t2586 + t2591;
+        let t2593: f32 = t2550 - t2592;
+        let t2594: f32 = -t2593;
+        let t2595: f32 = t1392 * t1449;
+        let t2596: f32 = t2594 * t2595;
+        let t2597: f32 = t1776 + t2251;
+        let t2598: f32 = g1 * t39;
+        let t2599: f32 = t44 * t2598;
+        let t2600: f32 = wx * t2516;
+        let t2601: f32 = t2599 - t2600;
+        let t2602: f32 = g2 * t146;
+        let t2603: f32 = t151 * t2602;
+        let t2604: f32 = g3 * t258;
+        let t2605: f32 = t263 * t2604;
+        let t2606: f32 = t2603 + t2605;
+        let t2607: f32 = t2601 + t2606;
+        let t2608: f32 = t2597 + t2607;
+        let t2609: f32 = g4 * t370;
+        let t2610: f32 = t375 * t2609;
+        let t2611: f32 = g5 * t476;
+        let t2612: f32 = t481 * t2611;
+        let t2613: f32 = t2610 + t2612;
+        let t2614: f32 = g6 * t580;
+        let t2615: f32 = t585 * t2614;
+        let t2616: f32 = wy * t1;
+        let t2617: f32 = t2573 * t2616;
+        let t2618: f32 = t2615 + t2617;
+        let t2619: f32 = t2613 + t2618;
+        let t2620: f32 = t1591 + t1830;
+        let t2621: f32 = t2014 + t2132;
+        let t2622: f32 = t2620 + t2621;
+        let t2623: f32 = t2619 + t2622;
+        let t2624: f32 = t2608 + t2623;
+        let t2625: f32 = t2264 + t2437;
+        let t2626: f32 = t1647 + t1888;
+        let t2627: f32 = t2017 + t2135;
+        let t2628: f32 = t1779 + t2254;
+        let t2629: f32 = t2625 + t2626;
+        let t2630: f32 = t2627 + t2628;
+        let t2631: f32 = t2629 + t2630;
+        let t2632: f32 = t2624 + t2631;
+        let t2633: f32 = t2502 + t2547;
+        let t2634: f32 = t2596 + 117.72;
         let t2635: f32 = t2633 + t2634;
-        let t2636: f32 = t170 * t2635;
-        let t2637: f32 = t2125 - t2123;
-        let t2638: f32 = t208 * t2637;
-        let t2639: f32 = t2151 - t2153;
-        let t2640: f32 = t846 * t2639;
-        let t2641: f32 = t2638 - t2640;
-        let t2642: f32 = t205 * t2076;
-        let t2643: f32 = t2641 - t2642;
-        let t2644: f32 = t2636 + t2643;
-        let t2645: f32 = -t2644;
-        let t2646: f32 = t156 * t2645;
-        let t2647: f32 = t2632 - t2646;
-        let t2648: f32 = t2631 + t2647;
-        let t2649: f32 = t2617 + t2648;
-        let t2650: f32 = t291 * t2300;
-        let t2651: f32 = t336 * t2212;
-        let t2652: f32 = t2286 - t2288;
-        let t2653: f32 = t874 * t2652;
-        let t2654: f32 = t2260 - t2258;
-        let t2655: f32 = t339 * t2654;
-        let t2656: f32 = t2653 - t2655;
-        let t2657: f32 = t2651 + t2656;
-        let t2658: f32 = t874 * t2284;
-        let t2659: f32 = t339 * t2256;
-        let t2660: f32 = t2658 + t2659;
-        let t2661: f32 = t301 * t2660;
-        let t2662: f32 = t2657 - t2661;
-        let t2663: f32 = t283 * t2662;
-        let t2664: f32 = t2650 - t2663;
-        let t2665: f32 = t2384 - t2382;
-        let t2666: f32 = t902 * t2665;
-        let t2667: f32 = t470 * t2426;
-        let t2668: f32 = t2666 - t2667;
-        let t2669: f32 = t467 * t2349;
-        let t2670: f32 = t2668 - t2669;
-        let t2671: f32 = t902 * t2380;
-        let t2672: f32 = t470 * t2421;
-        let t2673: f32 = t2671 - t2672;
-        let t2674: f32 = t432 * t2673;
-        let t2675: f32 = t2670 - t2674;
-        let t2676: f32 = t414 * t2675;
-        let t2677: f32 = t422 * t2436;
-        let t2678: f32 = t2676 - t2677;
-        let t2679: f32 = t2664 + t2678;
-        let t2680: f32 = t547 * t2571;
-        let t2681: f32 = t930 * t2515;
-        let t2682: f32 = t594 * t2556;
-        let t2683: f32 = t2681 + t2682;
-        let t2684: f32 = t557 * t2683;
-        let t2685: f32 = t2560 - t2558;
-        let t2686: f32 = t594 * t2685;
-        let t2687: f32 = t2517 - t2519;
-        let t2688: f32 = t930 * t2687;
-        let t2689: f32 = t2686 - t2688;
-        let t2690: f32 = t591 * t2484;
-        let t2691: f32 = t2689 - t2690;
-        let t2692: f32 = t2684 + t2691;
-        let t2693: f32 = -t2692;
-        let t2694: f32 = t543 * t2693;
-        let t2695: f32 = t2680 - t2694;
-        let t2696: f32 = t958 * t1799;
-        let t2697: f32 = t717 * t1771;
-        let t2698: f32 = t2696 - t2697;
-        let t2699: f32 = t680 * t2698;
-        let t2700: f32 = t714 * t1727;
-        let t2701: f32 = t717 * t1776;
-        let t2702: f32 = t1803 - t1801;
-        let t2703: f32 = t958 * t2702;
-        let t2704: f32 = t2701 - t2703;
-        let t2705: f32 = t2700 + t2704;
-        let t2706: f32 = t2699 + t2705;
-        let t2707: f32 = -t2706;
-        let t2708: f32 = t667 * t2707;
-        let t2709: f32 = t671 * t1815;
-        let t2710: f32 = t2708 - t2709;
-        let t2711: f32 = t2695 + t2710;
-        let t2712: f32 = t2679 + t2711;
-        let t2713: f32 = t2649 + t2712;
-        let t2714: f32 = t0 * 3.5316;
-        let t2715: f32 = t2713 + t2714;
-        let t2716: f32 = t1299 * t1611;
-        let t2717: f32 = t2715 * t2716;
-        let t2718: f32 = t27 * t36;
-        let t2719: f32 = t29 * t34;
-        let t2720: f32 = t2718 - t2719;
-        let t2721: f32 = t1839 * t2720;
-        let t2722: f32 = t1300 * t1834;
-        let t2723: f32 = t2721 - t2722;
-        let t2724: f32 = t157 * t162;
-        let t2725: f32 = t159 * t160;
-        let t2726: f32 = t2724 - t2725;
-        let t2727: f32 = t1850 * t2726;
-        let t2728: f32 = t286 * t293;
-        let t2729: f32 = t288 * t291;
-        let t2730: f32 = t2728 - t2729;
-        let t2731: f32 = t1845 * t2730;
-        let t2732: f32 = t2727 - t2731;
-        let t2733: f32 = t2723 + t2732;
-        let t2734: f32 = t417 * t424;
-        let t2735: f32 = t419 * t422;
-        let t2736: f32 = t2734 - t2735;
-        let t2737: f32 = t1881 * t2736;
-        let t2738: f32 = t544 * t549;
-        let t2739: f32 = t546 * t547;
-        let t2740: f32 = t2738 - t2739;
-        let t2741: f32 = t1886 * t2740;
-        let t2742: f32 = t2737 + t2741;
-        let t2743: f32 = t14 * t1873;
-        let t2744: f32 = t10 * t1869;
-        let t2745: f32 = t2743 - t2744;
-        let t2746: f32 = t668 * t672;
-        let t2747: f32 = t670 * t671;
-        let t2748: f32 = t2746 - t2747;
-        let t2749: f32 = t1857 * t2748;
-        let t2750: f32 = t2745 - t2749;
-        let t2751: f32 = t2742 + t2750;
-        let t2752: f32 = t2733 + t2751;
-        let t2753: f32 = t27 * t2628;
-        let t2754: f32 = t34 * t2026;
-        let t2755: f32 = t2753 - t2754;
-        let t2756: f32 = t2752 + t2755;
-        let t2757: f32 = t157 * t2645;
-        let t2758: f32 = t160 * t2158;
-        let t2759: f32 = t2757 - t2758;
-        let t2760: f32 = t286 * t2662;
-        let t2761: f32 = t291 * t2294;
-        let t2762: f32 = t2760 + t2761;
-        let t2763: f32 = t2759 + t2762;
-        let t2764: f32 = t2756 - t2763;
-        let t2765: f32 = t417 * t2675;
-        let t2766: f32 = t422 * t2430;
-        let t2767: f32 = t2765 + t2766;
-        let t2768: f32 = t544 * t2693;
-        let t2769: f32 = t547 * t2565;
-        let t2770: f32 = t2768 + t2769;
-        let t2771: f32 = t2767 - t2770;
-        let t2772: f32 = t668 * t2707;
-        let t2773: f32 = t671 * t1808;
-        let t2774: f32 = t2772 + t2773;
-        let t2775: f32 = t1522 * t2578;
-        let t2776: f32 = t1524 * t2715;
-        let t2777: f32 = t2775 - t2776;
-        let t2778: f32 = t2774 + t2777;
-        let t2779: f32 = t2771 + t2778;
-        let t2780: f32 = t2764 + t2779;
-        let t2781: f32 = t1514 * t1640;
-        let t2782: f32 = t2780 * t2781;
-        let t2783: f32 = t2644 + t2662;
-        let t2784: f32 = t2675 + t2692;
-        let t2785: f32 = t2783 + t2784;
-        let t2786: f32 = g1 * t36;
-        let t2787: f32 = t44 * t2786;
-        let t2788: f32 = g2 * t162;
-        let t2789: f32 = t170 * t2788;
-        let t2790: f32 = t2787 + t2789;
-        let t2791: f32 = g3 * t293;
-        let t2792: f32 = t301 * t2791;
-        let t2793: f32 = g4 * t424;
-        let t2794: f32 = t432 * t2793;
+        let t2636: f32 = t2632 - t2635;
+        let t2637: f32 = t1449 * t1471;
+        let t2638: f32 = t2636 * t2637;
+        let t2639: f32 = t2593 + t2638;
+        let t2640: f32 = t1392 * t2639;
+        let t2641: f32 = -t2640;
+        let t2642: f32 = t1373 * t2641;
+        let t2643: f32 = t1443 * t1471;
+        let t2644: f32 = t2636 * t2643;
+        let t2645: f32 = t2642 + t2644;
+        let t2646: f32 = t2545 - t2645;
+        let t2647: f32 = t1153 * t1335;
+        let t2648: f32 = t2646 * t2647;
+        let t2649: f32 = t1355 * t2641;
+        let t2650: f32 = t1329 * t1335;
+        let t2651: f32 = t2646 * t2650;
+        let t2652: f32 = t1368 * t2641;
+        let t2653: f32 = t1430 * t1471;
+        let t2654: f32 = t2636 * t2653;
+        let t2655: f32 = t2651 + t2652;
+        let t2656: f32 = t2500 + t2655;
+        let t2657: f32 = t2654 - t2656;
+        let t2658: f32 = t1316 * t2657;
+        let t2659: f32 = -t2658;
+        let t2660: f32 = t1311 * t2659;
+        let t2661: f32 = t1413 * t1471;
+        let t2662: f32 = t2636 * t2661;
+        let t2663: f32 = t2434 + t2662;
+        let t2664: f32 = t2433 + t2663;
+        let t2665: f32 = t2648 + t2649;
+        let t2666: f32 = t2660 + t2665;
+        let t2667: f32 = t2664 - t2666;
+        let t2668: f32 = t908 * t1137;
+        let t2669: f32 = t2667 * t2668;
+        let t2670: f32 = t1150 * t1335;
+        let t2671: f32 = t2646 * t2670;
+        let t2672: f32 = t1346 * t2641;
+        let t2673: f32 = t1263 * t2659;
+        let t2674: f32 = t1403 * t1471;
+        let t2675: f32 = t2636 * t2674;
+        let t2676: f32 = t2261 + t2669;
+        let t2677: f32 = t2671 + t2672;
+        let t2678: f32 = t2673 + t2675;
+        let t2679: f32 = t2676 + t2677;
+        let t2680: f32 = t2260 + t2678;
+        let t2681: f32 = t2679 + t2680;
+        let t2682: f32 = t696 * t2681;
+        let t2683: f32 = t1137 * t2667;
+        let t2684: f32 = t83 * t1594;
+        let t2685: f32 = t1613 * t2684;
+        let t2686: f32 = t1619 - t1616;
+        let t2687: f32 = t919 * t2686;
+        let t2688: f32 = t915 * t1640;
+        let t2689: f32 = t2687 + t2688;
+        let t2690: f32 = t2318 + t2689;
+        let t2691: f32 = t2685 * 0.003;
+        let t2692: f32 = t2690 + t2691;
+        let t2693: f32 = t27 * t2692;
+        let t2694: f32 = t62 * t66;
+        let t2695: f32 = t1613 * t2694;
+        let t2696: f32 = t85 * t2306;
+        let t2697: f32 = t61 * t2308;
+        let t2698: f32 = t2696 + t2697;
+        let t2699: f32 = t62 * t2686;
+        let t2700: f32 = t86 * t1640;
+        let t2701: f32 = t2699 + t2700;
+        let t2702: f32 = t2698 + t2701;
+        let t2703: f32 = t2695 * 0.003;
+        let t2704: f32 = t1656 + t2703;
+        let t2705: f32 = t2702 + t2704;
+        let t2706: f32 = t34 * t2705;
+        let t2707: f32 = t189 * t1833;
+        let t2708: f32 = t1854 * t2707;
+        let t2709: f32 = t953 * t1861;
+        let t2710: f32 = t949 * t1881;
+        let t2711: f32 = t2709 + t2710;
+        let t2712: f32 = t2339 + t2711;
+        let t2713: f32 = t2708 * 0.003;
+        let t2714: f32 = t2712 - t2713;
+        let t2715: f32 = t138 * t2714;
+        let t2716: f32 = t168 * t172;
+        let t2717: f32 = t1854 * t2716;
+        let t2718: f32 = t191 * t2327;
+        let t2719: f32 = t167 * t2329;
+        let t2720: f32 = t2718 + t2719;
+        let t2721: f32 = t168 * t1861;
+        let t2722: f32 = t192 * t1881;
+        let t2723: f32 = t2721 + t2722;
+        let t2724: f32 = t2720 + t2723;
+        let t2725: f32 = t2717 * 0.003;
+        let t2726: f32 = t1897 + t2724;
+        let t2727: f32 = t2726 - t2725;
+        let t2728: f32 = t141 * t2727;
+        let t2729: f32 = t301 * t1953;
+        let t2730: f32 = t1990 * t2729;
+        let t2731: f32 = t1996 - t1993;
+        let t2732: f32 = t987 * t2731;
+        let t2733: f32 = t983 * t1972;
+        let t2734: f32 = t2732 + t2733;
+        let t2735: f32 = t2363 + t2734;
+        let t2736: f32 = t2730 * 0.003;
+        let t2737: f32 = t2735 + t2736;
+        let t2738: f32 = t248 * t2737;
+        let t2739: f32 = t280 * t284;
+        let t2740: f32 = t1990 * t2739;
+        let t2741: f32 = t303 * t2354;
+        let t2742: f32 = t279 * t2356;
+        let t2743: f32 = t2741 - t2742;
+        let t2744: f32 = t280 * t2731;
+        let t2745: f32 = t304 * t1972;
+        let t2746: f32 = t2744 - t2745;
+        let t2747: f32 = t2743 - t2746;
+        let t2748: f32 = t2740 * 0.003;
+        let t2749: f32 = t1950 + t2748;
+        let t2750: f32 = t2747 - t2749;
+        let t2751: f32 = t253 * t2750;
+        let t2752: f32 = t413 * t2071;
+        let t2753: f32 = t2108 * t2752;
+        let t2754: f32 = t2114 - t2111;
+        let t2755: f32 = t1021 * t2754;
+        let t2756: f32 = t1017 * t2090;
+        let t2757: f32 = t2755 + t2756;
+        let t2758: f32 = t2383 + t2757;
+        let t2759: f32 = t2753 * 0.003;
+        let t2760: f32 = t2758 + t2759;
+        let t2761: f32 = t360 * t2760;
+        let t2762: f32 = t392 * t396;
+        let t2763: f32 = t2108 * t2762;
+        let t2764: f32 = t415 * t2371;
+        let t2765: f32 = t391 * t2373;
+        let t2766: f32 = t2764 - t2765;
+        let t2767: f32 = t392 * t2754;
+        let t2768: f32 = t416 * t2090;
+        let t2769: f32 = t2767 - t2768;
+        let t2770: f32 = t2766 - t2769;
+        let t2771: f32 = t2763 * 0.003;
+        let t2772: f32 = t2068 + t2770;
+        let t2773: f32 = t2772 - t2771;
+        let t2774: f32 = t365 * t2773;
+        let t2775: f32 = t518 * t2188;
+        let t2776: f32 = t2227 * t2775;
+        let t2777: f32 = t1055 * t2234;
+        let t2778: f32 = t1051 * t2207;
+        let t2779: f32 = t2777 + t2778;
+        let t2780: f32 = t2405 + t2779;
+        let t2781: f32 = t2776 * 0.003;
+        let t2782: f32 = t2780 - t2781;
+        let t2783: f32 = t468 * t2782;
+        let t2784: f32 = t497 * t501;
+        let t2785: f32 = t2227 * t2784;
+        let t2786: f32 = t520 * t2393;
+        let t2787: f32 = t496 * t2395;
+        let t2788: f32 = t2786 - t2787;
+        let t2789: f32 = t497 * t2234;
+        let t2790: f32 = t521 * t2207;
+        let t2791: f32 = t2789 - t2790;
+        let t2792: f32 = t2788 - t2791;
+        let t2793: f32 = t2785 * 0.003;
+        let t2794: f32 = t2185 + t2793;
         let t2795: f32 = t2792 + t2794;
-        let t2796: f32 = t2790 + t2795;
-        let t2797: f32 = g5 * t549;
-        let t2798: f32 = t557 * t2797;
-        let t2799: f32 = g6 * t672;
-        let t2800: f32 = t680 * t2799;
-        let t2801: f32 = t2798 + t2800;
-        let t2802: f32 = wx * t3;
-        let t2803: f32 = t1 * t2802;
-        let t2804: f32 = wy * t0;
-        let t2805: f32 = t2803 + t2804;
-        let t2806: f32 = t2805 * 0.36;
-        let t2807: f32 = wy * t2806;
-        let t2808: f32 = wz * t0;
-        let t2809: f32 = wx * t4;
-        let t2810: f32 = t1 * t2809;
-        let t2811: f32 = t2808 - t2810;
-        let t2812: f32 = t2811 * 0.36;
-        let t2813: f32 = wz * t2812;
-        let t2814: f32 = t2807 + t2813;
-        let t2815: f32 = t2801 + t2814;
-        let t2816: f32 = t2796 + t2815;
-        let t2817: f32 = t2706 + t2816;
-        let t2818: f32 = t1545 * t2578;
-        let t2819: f32 = t1554 * t2715;
-        let t2820: f32 = t2818 - t2819;
-        let t2821: f32 = t1567 * t2780;
-        let t2822: f32 = t2628 + t2821;
-        let t2823: f32 = t2820 + t2822;
-        let t2824: f32 = t2817 + t2823;
-        let t2825: f32 = t2785 + t2824;
-        let t2826: f32 = t1533 * t1653;
-        let t2827: f32 = t2825 * t2826;
-        let t2828: f32 = t2292 + t2429;
-        let t2829: f32 = t1807 + t2564;
-        let t2830: f32 = t2828 + t2829;
-        let t2831: f32 = wy * t4;
-        let t2832: f32 = wz * t3;
-        let t2833: f32 = t2831 + t2832;
-        let t2834: f32 = t2833 * 0.36;
-        let t2835: f32 = wz * t1;
-        let t2836: f32 = t2834 * t2835;
-        let t2837: f32 = t1728 - t2836;
-        let t2838: f32 = g1 * t29;
-        let t2839: f32 = t44 * t2838;
-        let t2840: f32 = g2 * t159;
-        let t2841: f32 = t170 * t2840;
-        let t2842: f32 = t2839 + t2841;
-        let t2843: f32 = g3 * t288;
-        let t2844: f32 = t301 * t2843;
-        let t2845: f32 = g4 * t419;
-        let t2846: f32 = t432 * t2845;
-        let t2847: f32 = t2844 + t2846;
-        let t2848: f32 = t2842 + t2847;
-        let t2849: f32 = t2837 + t2848;
-        let t2850: f32 = g5 * t546;
-        let t2851: f32 = t557 * t2850;
-        let t2852: f32 = g6 * t670;
-        let t2853: f32 = t680 * t2852;
-        let t2854: f32 = t2851 + t2853;
-        let t2855: f32 = wx * t2806;
-        let t2856: f32 = t2021 + t2855;
-        let t2857: f32 = t2854 - t2856;
-        let t2858: f32 = t2213 - t2077;
-        let t2859: f32 = t2350 + t2485;
-        let t2860: f32 = t2858 - t2859;
-        let t2861: f32 = t2857 + t2860;
-        let t2862: f32 = t2849 + t2861;
-        let t2863: f32 = t1602 * t2578;
-        let t2864: f32 = t1612 * t2715;
-        let t2865: f32 = t2863 - t2864;
-        let t2866: f32 = t2862 + t2865;
-        let t2867: f32 = t1641 * t2780;
-        let t2868: f32 = t1654 * t2825;
+        let t2796: f32 = t471 * t2795;
+        let t2797: f32 = t622 * t1713;
+        let t2798: f32 = t1752 * t2797;
+        let t2799: f32 = t1089 * t1759;
+        let t2800: f32 = t1085 * t1732;
+        let t2801: f32 = t2799 + t2800;
+        let t2802: f32 = t2427 + t2801;
+        let t2803: f32 = t2798 * 0.003;
+        let t2804: f32 = t2802 - t2803;
+        let t2805: f32 = t573 * t2804;
+        let t2806: f32 = t601 * t605;
+        let t2807: f32 = t1752 * t2806;
+        let t2808: f32 = t624 * t2418;
+        let t2809: f32 = t600 * t2420;
+        let t2810: f32 = t2808 - t2809;
+        let t2811: f32 = t601 * t1759;
+        let t2812: f32 = t625 * t1732;
+        let t2813: f32 = t2811 - t2812;
+        let t2814: f32 = t2810 - t2813;
+        let t2815: f32 = t2807 * 0.003;
+        let t2816: f32 = t2814 + t2815;
+        let t2817: f32 = t2816 - t1710;
+        let t2818: f32 = t576 * t2817;
+        let t2819: f32 = t17 * t2705;
+        let t2820: f32 = t66 * t99;
+        let t2821: f32 = t1613 * t2820;
+        let t2822: f32 = t113 * t2306;
+        let t2823: f32 = t79 * t2308;
+        let t2824: f32 = t2822 + t2823;
+        let t2825: f32 = t99 * t2686;
+        let t2826: f32 = t114 * t1640;
+        let t2827: f32 = t2825 + t2826;
+        let t2828: f32 = t2824 + t2827;
+        let t2829: f32 = t2821 * 0.003;
+        let t2830: f32 = t1591 + t2829;
+        let t2831: f32 = t2828 + t2830;
+        let t2832: f32 = t27 * t2831;
+        let t2833: f32 = t137 * t2727;
+        let t2834: f32 = t172 * t205;
+        let t2835: f32 = t1854 * t2834;
+        let t2836: f32 = t219 * t2327;
+        let t2837: f32 = t185 * t2329;
+        let t2838: f32 = t2836 + t2837;
+        let t2839: f32 = t205 * t1861;
+        let t2840: f32 = t220 * t1881;
+        let t2841: f32 = t2839 + t2840;
+        let t2842: f32 = t2838 + t2841;
+        let t2843: f32 = t2835 * 0.003;
+        let t2844: f32 = t1830 + t2842;
+        let t2845: f32 = t2844 - t2843;
+        let t2846: f32 = t138 * t2845;
+        let t2847: f32 = t245 * t2750;
+        let t2848: f32 = t284 * t317;
+        let t2849: f32 = t1990 * t2848;
+        let t2850: f32 = t331 * t2354;
+        let t2851: f32 = t297 * t2356;
+        let t2852: f32 = t2850 - t2851;
+        let t2853: f32 = t332 * t1972;
+        let t2854: f32 = t317 * t2731;
+        let t2855: f32 = t2853 - t2854;
+        let t2856: f32 = t2852 + t2855;
+        let t2857: f32 = t2849 * 0.003;
+        let t2858: f32 = t2014 + t2856;
+        let t2859: f32 = t2858 - t2857;
+        let t2860: f32 = t248 * t2859;
+        let t2861: f32 = t357 * t2773;
+        let t2862: f32 = t396 * t429;
+        let t2863: f32 = t2108 * t2862;
+        let t2864: f32 = t443 * t2371;
+        let t2865: f32 = t409 * t2373;
+        let t2866: f32 = t2864 - t2865;
+        let t2867: f32 = t444 * t2090;
+        let t2868: f32 = t429 * t2754;
         let t2869: f32 = t2867 - t2868;
-        let t2870: f32 = t2024 + t2157;
-        let t2871: f32 = t2869 - t2870;
-        let t2872: f32 = t2866 + t2871;
-        let t2873: f32 = t2830 + t2872;
-        let t2874: f32 = t1590 * t1659;
-        let t2875: f32 = t2873 * t2874;
-        let t2876: f32 = g3 * t296;
-        let t2877: f32 = t301 * t2876;
-        let t2878: f32 = g4 * t427;
-        let t2879: f32 = t432 * t2878;
-        let t2880: f32 = t2877 + t2879;
-        let t2881: f32 = g5 * t552;
-        let t2882: f32 = t557 * t2881;
-        let t2883: f32 = g6 * t675;
-        let t2884: f32 = t680 * t2883;
-        let t2885: f32 = t2882 + t2884;
-        let t2886: f32 = t2880 + t2885;
-        let t2887: f32 = wy * t1;
-        let t2888: f32 = t2834 * t2887;
-        let t2889: f32 = g1 * t39;
-        let t2890: f32 = t44 * t2889;
-        let t2891: f32 = g2 * t165;
-        let t2892: f32 = t170 * t2891;
-        let t2893: f32 = t2890 + t2892;
-        let t2894: f32 = t2888 + t2893;
-        let t2895: f32 = wx * t2812;
-        let t2896: f32 = t1937 + t2895;
-        let t2897: f32 = t2894 - t2896;
-        let t2898: f32 = t2886 + t2897;
-        let t2899: f32 = t2580 + t2717;
-        let t2900: f32 = t2300 + t2436;
-        let t2901: f32 = t1814 + t2898;
-        let t2902: f32 = t2899 + t2900;
-        let t2903: f32 = t2901 + t2902;
-        let t2904: f32 = t2782 + t2827;
-        let t2905: f32 = t2017 + t2875;
-        let t2906: f32 = t2164 + t2571;
-        let t2907: f32 = t2904 + t2905;
-        let t2908: f32 = t2906 + 117.72;
+        let t2870: f32 = t2866 + t2869;
+        let t2871: f32 = t2863 * 0.003;
+        let t2872: f32 = t2132 + t2870;
+        let t2873: f32 = t2872 - t2871;
+        let t2874: f32 = t360 * t2873;
+        let t2875: f32 = t467 * t2795;
+        let t2876: f32 = t501 * t534;
+        let t2877: f32 = t2227 * t2876;
+        let t2878: f32 = t548 * t2393;
+        let t2879: f32 = t514 * t2395;
+        let t2880: f32 = t2878 - t2879;
+        let t2881: f32 = t549 * t2207;
+        let t2882: f32 = t534 * t2234;
+        let t2883: f32 = t2881 - t2882;
+        let t2884: f32 = t2880 + t2883;
+        let t2885: f32 = t2877 * 0.003;
+        let t2886: f32 = t2251 + t2885;
+        let t2887: f32 = t2884 + t2886;
+        let t2888: f32 = t468 * t2887;
+        let t2889: f32 = t572 * t2817;
+        let t2890: f32 = t605 * t638;
+        let t2891: f32 = t1752 * t2890;
+        let t2892: f32 = t652 * t2418;
+        let t2893: f32 = t618 * t2420;
+        let t2894: f32 = t2892 - t2893;
+        let t2895: f32 = t653 * t1732;
+        let t2896: f32 = t638 * t1759;
+        let t2897: f32 = t2895 - t2896;
+        let t2898: f32 = t2894 + t2897;
+        let t2899: f32 = t2891 * 0.003;
+        let t2900: f32 = t1776 + t2899;
+        let t2901: f32 = t2898 + t2900;
+        let t2902: f32 = t573 * t2901;
+        let t2903: f32 = t2261 + t2832;
+        let t2904: f32 = t2846 + t2861;
+        let t2905: f32 = t2874 + t2875;
+        let t2906: f32 = t1544 + t2888;
+        let t2907: f32 = t2903 + t2904;
+        let t2908: f32 = t2905 + t2906;
         let t2909: f32 = t2907 + t2908;
-        let t2910: f32 = t2903 - t2909;
-        let t2911: f32 = t1659 * t1681;
-        let t2912: f32 = t2910 * t2911;
-        let t2913: f32 = t2873 - t2912;
-        let t2914: f32 = t1571 * t1590;
-        let t2915: f32 = t2913 * t2914;
-        let t2916: f32 = t1653 * t1681;
-        let t2917: f32 = t2910 * t2916;
-        let t2918: f32 = t2915 + t2917;
-        let t2919: f32 = t2825 - t2918;
-        let t2920: f32 = t1315 * t1533;
-        let t2921: f32 = t2919 * t2920;
-        let t2922: f32 = t1553 * t1590;
-        let t2923: f32 = t2913 * t2922;
-        let t2924: f32 = t1527 * t1533;
-        let t2925: f32 = t2919 * t2924;
-        let t2926: f32 = t1566 * t1590;
-        let t2927: f32 = t2913 * t2926;
-        let t2928: f32 = t1640 * t1681;
-        let t2929: f32 = t2910 * t2928;
-        let t2930: f32 = t2925 + t2927;
-        let t2931: f32 = t2780 + t2930;
-        let t2932: f32 = t2929 - t2931;
-        let t2933: f32 = t1514 * t2932;
-        let t2934: f32 = -t2933;
-        let t2935: f32 = t1509 * t2934;
-        let t2936: f32 = t1611 * t1681;
-        let t2937: f32 = t2910 * t2936;
-        let t2938: f32 = t2714 + t2937;
-        let t2939: f32 = t2713 + t2938;
-        let t2940: f32 = t2921 + t2923;
-        let t2941: f32 = t2935 + t2940;
-        let t2942: f32 = t2939 - t2941;
-        let t2943: f32 = t998 * t1299;
-        let t2944: f32 = t2942 * t2943;
-        let t2945: f32 = t1312 * t1533;
-        let t2946: f32 = t2919 * t2945;
-        let t2947: f32 = t1544 * t1590;
-        let t2948: f32 = t2913 * t2947;
-        let t2949: f32 = t1455 * t2934;
-        let t2950: f32 = t1601 * t1681;
-        let t2951: f32 = t2910 * t2950;
-        let t2952: f32 = t2577 + t2944;
-        let t2953: f32 = t2946 + t2948;
-        let t2954: f32 = t2949 + t2951;
-        let t2955: f32 = t2952 + t2953;
-        let t2956: f32 = t2576 + t2954;
-        let t2957: f32 = t2955 + t2956;
-        let t2958: f32 = t810 * t2957;
-        let t2959: f32 = t1299 * t2942;
-        let t2960: f32 = t83 * t1959;
-        let t2961: f32 = t1971 * t2960;
-        let t2962: f32 = t1975 + t1978;
-        let t2963: f32 = t2962 - t1976;
-        let t2964: f32 = t1009 * t2963;
-        let t2965: f32 = t1005 * t2009;
-        let t2966: f32 = t2964 - t2965;
-        let t2967: f32 = t2623 + t2966;
-        let t2968: f32 = t2961 * 0.003;
-        let t2969: f32 = t2967 + t2968;
-        let t2970: f32 = t27 * t2969;
-        let t2971: f32 = t62 * t66;
-        let t2972: f32 = t1971 * t2971;
-        let t2973: f32 = t85 * t2618;
-        let t2974: f32 = t61 * t1986;
-        let t2975: f32 = t2973 - t2974;
-        let t2976: f32 = t62 * t2963;
-        let t2977: f32 = t86 * t2009;
-        let t2978: f32 = t2976 - t2977;
-        let t2979: f32 = t2975 + t2978;
-        let t2980: f32 = t2972 * 0.003;
-        let t2981: f32 = t2979 + t2980;
-        let t2982: f32 = t2981 - t2021;
-        let t2983: f32 = t34 * t2982;
-        let t2984: f32 = t208 * t2099;
-        let t2985: f32 = t2111 * t2984;
-        let t2986: f32 = t2115 - t2119;
-        let t2987: f32 = t1055 * t2986;
-        let t2988: f32 = t1051 * t2149;
-        let t2989: f32 = t2987 - t2988;
-        let t2990: f32 = t2643 - t2989;
-        let t2991: f32 = t2985 * 0.003;
-        let t2992: f32 = t2991 - t2990;
-        let t2993: f32 = t157 * t2992;
-        let t2994: f32 = t187 * t191;
-        let t2995: f32 = t2111 * t2994;
-        let t2996: f32 = t210 * t2639;
-        let t2997: f32 = t186 * t2637;
-        let t2998: f32 = t2996 - t2997;
-        let t2999: f32 = t187 * t2986;
-        let t3000: f32 = t211 * t2149;
-        let t3001: f32 = t2999 - t3000;
-        let t3002: f32 = t2998 + t3001;
+        let t2910: f32 = t2819 + t2833;
+        let t2911: f32 = t2847 + t2860;
+        let t2912: f32 = t2889 + t2902;
+        let t2913: f32 = t2910 + t2911;
+        let t2914: f32 = t2912 + t2913;
+        let t2915: f32 = t2909 - t2914;
+        let t2916: f32 = t696 * t2915;
+        let t2917: f32 = t1263 * t2916;
+        let t2918: f32 = t17 * t2692;
+        let t2919: f32 = t34 * t2831;
+        let t2920: f32 = t137 * t2714;
+        let t2921: f32 = t141 * t2845;
+        let t2922: f32 = t245 * t2737;
+        let t2923: f32 = t253 * t2859;
+        let t2924: f32 = t357 * t2760;
+        let t2925: f32 = t365 * t2873;
+        let t2926: f32 = t467 * t2782;
+        let t2927: f32 = t471 * t2887;
+        let t2928: f32 = t572 * t2804;
+        let t2929: f32 = t576 * t2901;
+        let t2930: f32 = t908 * t2916;
+        let t2931: f32 = t2434 + t2918;
+        let t2932: f32 = t2920 + t2923;
+        let t2933: f32 = t2924 + t2926;
+        let t2934: f32 = t2929 + t2930;
+        let t2935: f32 = t2931 + t2932;
+        let t2936: f32 = t2933 + t2934;
+        let t2937: f32 = t2935 + t2936;
+        let t2938: f32 = t2300 + t2937;
+        let t2939: f32 = t2919 + t2921;
+        let t2940: f32 = t2922 + t2925;
+        let t2941: f32 = t2927 + t2928;
+        let t2942: f32 = t2939 + t2940;
+        let t2943: f32 = t2941 + t2942;
+        let t2944: f32 = t2938 - t2943;
+        let t2945: f32 = t1137 * t2944;
+        let t2946: f32 = t1311 * t2945;
+        let t2947: f32 = t2693 + t2715;
+        let t2948: f32 = t2761 + t2774;
+        let t2949: f32 = t2783 + t2796;
+        let t2950: f32 = t2472 + t2917;
+        let t2951: f32 = t2947 + t2948;
+        let t2952: f32 = t2949 + t2950;
+        let t2953: f32 = t2951 + t2952;
+        let t2954: f32 = t2706 + t2728;
+        let t2955: f32 = t2738 + t2751;
+        let t2956: f32 = t2805 + t2818;
+        let t2957: f32 = t2954 + t2955;
+        let t2958: f32 = t2946 + t2956;
+        let t2959: f32 = t2957 + t2958;
+        let t2960: f32 = t2953 - t2959;
+        let t2961: f32 = t1316 * t2960;
+        let t2962: f32 = t1335 * t1369;
+        let t2963: f32 = t2646 * t2962;
+        let t2964: f32 = t1431 * t2641;
+        let t2965: f32 = t1403 * t2916;
+        let t2966: f32 = t1413 * t2945;
+        let t2967: f32 = t1430 * t2961;
+        let t2968: f32 = t1150 * t2916;
+        let t2969: f32 = t1153 * t2945;
+        let t2970: f32 = t1329 * t2961;
+        let t2971: f32 = t2685 + t2730;
+        let t2972: f32 = t2753 + t2971;
+        let t2973: f32 = t2708 + t2776;
+        let t2974: f32 = t2798 + t2973;
+        let t2975: f32 = t2972 - t2974;
+        let t2976: f32 = t2975 * 0.003;
+        let t2977: f32 = t2968 + t2976;
+        let t2978: f32 = t2536 + t2970;
+        let t2979: f32 = t2690 + t2712;
+        let t2980: f32 = t2735 + t2758;
+        let t2981: f32 = t2780 + t2802;
+        let t2982: f32 = t2977 + t2978;
+        let t2983: f32 = t2979 + t2980;
+        let t2984: f32 = t2982 + t2983;
+        let t2985: f32 = t2981 + t2984;
+        let t2986: f32 = t2985 - t2969;
+        let t2987: f32 = t1335 * t2986;
+        let t2988: f32 = t1443 * t2987;
+        let t2989: f32 = t1346 * t2916;
+        let t2990: f32 = t1355 * t2945;
+        let t2991: f32 = t1368 * t2961;
+        let t2992: f32 = t1373 * t2987;
+        let t2993: f32 = t2695 + t2740;
+        let t2994: f32 = t2763 + t2993;
+        let t2995: f32 = t2717 + t2785;
+        let t2996: f32 = t2807 + t2995;
+        let t2997: f32 = t2994 - t2996;
+        let t2998: f32 = t2997 * 0.003;
+        let t2999: f32 = t2989 + t2998;
+        let t3000: f32 = t2582 + t2991;
+        let t3001: f32 = t2702 + t2724;
+        let t3002: f32 = t2999 + t3000;
         (
-            t2009,
-            t2077,
-            t2111,
-            t2149,
-            t2161,
-            t2213,
-            t2234,
-            t2246,
-            t2253,
-            t2254,
+            t2219,
+            t2268,
+            t2274,
+            t2278,
             t2284,
-            t2297,
-            t2350,
-            t2359,
-            t2380,
-            t2411,
-            t2415,
-            t2416,
-            t2418,
-            t2426,
-            t2433,
-            t2485,
-            t2494,
-            t2515,
-            t2546,
-            t2550,
-            t2554,
-            t2568,
-            t2577,
-            t2584,
-            t2590,
-            t2594,
-            t2600,
-            t2604,
-            t2612,
-            t2616,
-            t2618,
-            t2637,
-            t2639,
-            t2652,
-            t2654,
-            t2657,
-            t2665,
-            t2670,
-            t2685,
-            t2687,
-            t2691,
-            t2702,
-            t2705,
-            t2714,
-            t2720,
-            t2726,
-            t2730,
-            t2736,
-            t2740,
-            t2748,
-            t2752,
-            t2781,
-            t2816,
-            t2862,
+            t2288,
+            t2296,
+            t2440,
+            t2446,
+            t2450,
+            t2456,
+            t2460,
+            t2468,
+            t2501,
+            t2624,
+            t2641,
+            t2646,
+            t2682,
+            t2683,
+            t2747,
+            t2770,
+            t2792,
+            t2814,
+            t2821,
+            t2828,
+            t2835,
+            t2842,
+            t2849,
+            t2856,
+            t2863,
+            t2870,
+            t2877,
+            t2884,
+            t2891,
             t2898,
-            t2913,
-            t2919,
-            t2958,
-            t2959,
             t2961,
             t2963,
+            t2964,
+            t2965,
+            t2966,
             t2967,
-            t2969,
-            t2970,
-            t2972,
-            t2979,
-            t2982,
-            t2983,
-            t2985,
-            t2986,
+            t2988,
             t2990,
             t2992,
-            t2993,
-            t2995,
+            t3001,
             t3002,
         )
     };
     let (
-        t3318,
-        t3319,
-        t3320,
-        t3321,
-        t3322,
-        t3323,
-        t3324,
-        t3325,
-        t3326,
-        t3327,
-        t3335,
-        t3362,
-        t3408,
-        t3475,
-        t3565,
-        t3679,
+        t3035,
+        t3036,
+        t3037,
+        t3038,
+        t3039,
+        t3040,
+        t3041,
+        t3042,
+        t3043,
+        t3052,
+        t3079,
+        t3126,
+        t3194,
+        t3284,
+        t3398,
     ) = {
-        let t3003: f32 = t2995 * 0.003;
-        let t3004: f32 = t2077 + t3002;
-        let t3005: f32 = t3003 + t3004;
-        let t3006: f32 = t160 * t3005;
-        let t3007: f32 = t339 * t2234;
-        let t3008: f32 = t2246 * t3007;
-        let t3009: f32 = t2254 - t2253;
-        let t3010: f32 = t1101 * t3009;
-        let t3011: f32 = t1097 * t2284;
-        let t3012: f32 = t3010 - t3011;
-        let t3013: f32 = t2657 + t3012;
-        let t3014: f32 = t3008 * 0.003;
-        let t3015: f32 = t3013 + t3014;
-        let t3016: f32 = t286 * t3015;
-        let t3017: f32 = t318 * t322;
-        let t3018: f32 = t2246 * t3017;
-        let t3019: f32 = t341 * t2652;
-        let t3020: f32 = t317 * t2654;
-        let t3021: f32 = t3019 + t3020;
-        let t3022: f32 = t318 * t3009;
-        let t3023: f32 = t342 * t2284;
-        let t3024: f32 = t3022 + t3023;
-        let t3025: f32 = t3021 - t3024;
-        let t3026: f32 = t3018 * 0.003;
-        let t3027: f32 = t2213 + t3026;
-        let t3028: f32 = t3025 - t3027;
-        let t3029: f32 = t291 * t3028;
-        let t3030: f32 = t470 * t2359;
-        let t3031: f32 = t2411 * t3030;
-        let t3032: f32 = t2415 + t2418;
-        let t3033: f32 = t3032 - t2416;
-        let t3034: f32 = t1147 * t3033;
-        let t3035: f32 = t1143 * t2380;
-        let t3036: f32 = t3034 - t3035;
-        let t3037: f32 = t2670 + t3036;
-        let t3038: f32 = t3031 * 0.003;
-        let t3039: f32 = t3037 + t3038;
-        let t3040: f32 = t417 * t3039;
-        let t3041: f32 = t449 * t453;
-        let t3042: f32 = t2411 * t3041;
-        let t3043: f32 = t472 * t2665;
-        let t3044: f32 = t448 * t2426;
-        let t3045: f32 = t3043 + t3044;
-        let t3046: f32 = t449 * t3033;
-        let t3047: f32 = t473 * t2380;
-        let t3048: f32 = t3046 + t3047;
-        let t3049: f32 = t3045 - t3048;
-        let t3050: f32 = t3042 * 0.003;
-        let t3051: f32 = t2350 + t3049;
-        let t3052: f32 = t3051 - t3050;
-        let t3053: f32 = t422 * t3052;
-        let t3054: f32 = t594 * t2494;
-        let t3055: f32 = t2546 * t3054;
-        let t3056: f32 = t2550 - t2554;
-        let t3057: f32 = t1193 * t3056;
-        let t3058: f32 = t1189 * t2515;
-        let t3059: f32 = t3057 - t3058;
-        let t3060: f32 = t2691 - t3059;
-        let t3061: f32 = t3055 * 0.003;
-        let t3062: f32 = t3061 - t3060;
-        let t3063: f32 = t544 * t3062;
-        let t3064: f32 = t573 * t577;
-        let t3065: f32 = t2546 * t3064;
-        let t3066: f32 = t596 * t2687;
-        let t3067: f32 = t572 * t2685;
-        let t3068: f32 = t3066 + t3067;
-        let t3069: f32 = t573 * t3056;
-        let t3070: f32 = t597 * t2515;
-        let t3071: f32 = t3069 + t3070;
-        let t3072: f32 = t3068 - t3071;
-        let t3073: f32 = t3065 * 0.003;
-        let t3074: f32 = t2485 + t3073;
-        let t3075: f32 = t3072 - t3074;
-        let t3076: f32 = t547 * t3075;
-        let t3077: f32 = t717 * t1749;
-        let t3078: f32 = t1761 * t3077;
-        let t3079: f32 = t1768 - t1770;
-        let t3080: f32 = t1239 * t3079;
-        let t3081: f32 = t1235 * t1799;
-        let t3082: f32 = t3080 - t3081;
-        let t3083: f32 = t2705 - t3082;
-        let t3084: f32 = t3078 * 0.003;
-        let t3085: f32 = t3084 - t3083;
-        let t3086: f32 = t668 * t3085;
-        let t3087: f32 = t696 * t700;
-        let t3088: f32 = t1761 * t3087;
-        let t3089: f32 = t719 * t2702;
-        let t3090: f32 = t695 * t1776;
-        let t3091: f32 = t3089 + t3090;
-        let t3092: f32 = t696 * t3079;
-        let t3093: f32 = t720 * t1799;
-        let t3094: f32 = t3092 + t3093;
-        let t3095: f32 = t3091 - t3094;
-        let t3096: f32 = t3088 * 0.003;
-        let t3097: f32 = t1728 + t3095;
-        let t3098: f32 = t3097 - t3096;
-        let t3099: f32 = t671 * t3098;
-        let t3100: f32 = t17 * t2982;
-        let t3101: f32 = t66 * t103;
-        let t3102: f32 = t1971 * t3101;
-        let t3103: f32 = t114 * t2618;
-        let t3104: f32 = t79 * t1986;
-        let t3105: f32 = t3103 - t3104;
-        let t3106: f32 = t103 * t2963;
-        let t3107: f32 = t115 * t2009;
-        let t3108: f32 = t3106 - t3107;
-        let t3109: f32 = t3105 + t3108;
-        let t3110: f32 = t3102 * 0.003;
-        let t3111: f32 = t3109 + t3110;
-        let t3112: f32 = t3111 - t1937;
-        let t3113: f32 = t27 * t3112;
-        let t3114: f32 = t156 * t3005;
-        let t3115: f32 = t191 * t228;
-        let t3116: f32 = t2111 * t3115;
-        let t3117: f32 = t228 * t2986;
-        let t3118: f32 = t2161 + t3117;
-        let t3119: f32 = t240 * t2149;
-        let t3120: f32 = t239 * t2639;
-        let t3121: f32 = t204 * t2637;
-        let t3122: f32 = t3120 - t3121;
-        let t3123: f32 = t3119 - t3122;
-        let t3124: f32 = t3118 - t3123;
-        let t3125: f32 = t3116 * 0.003;
-        let t3126: f32 = t3124 + t3125;
-        let t3127: f32 = t157 * t3126;
-        let t3128: f32 = t283 * t3028;
-        let t3129: f32 = t322 * t359;
-        let t3130: f32 = t2246 * t3129;
-        let t3131: f32 = t359 * t3009;
-        let t3132: f32 = t2297 - t3131;
-        let t3133: f32 = t370 * t2652;
-        let t3134: f32 = t335 * t2654;
-        let t3135: f32 = t3133 + t3134;
-        let t3136: f32 = t371 * t2284;
-        let t3137: f32 = t3135 - t3136;
-        let t3138: f32 = t3132 + t3137;
-        let t3139: f32 = t3130 * 0.003;
-        let t3140: f32 = t3138 - t3139;
-        let t3141: f32 = t286 * t3140;
-        let t3142: f32 = t414 * t3052;
-        let t3143: f32 = t453 * t490;
-        let t3144: f32 = t2411 * t3143;
-        let t3145: f32 = t501 * t2665;
-        let t3146: f32 = t466 * t2426;
+        let t3003: f32 = t3001 + t3002;
+        let t3004: f32 = t2990 + t2992;
+        let t3005: f32 = t2747 + t2770;
+        let t3006: f32 = t2792 + t2814;
+        let t3007: f32 = t3004 + t3005;
+        let t3008: f32 = t3006 + t3007;
+        let t3009: f32 = t3003 - t3008;
+        let t3010: f32 = t1392 * t3009;
+        let t3011: f32 = t1449 * t3010;
+        let t3012: f32 = t2821 + t2877;
+        let t3013: f32 = t2891 + t3012;
+        let t3014: f32 = t2835 + t2849;
+        let t3015: f32 = t2863 + t3014;
+        let t3016: f32 = t3013 - t3015;
+        let t3017: f32 = t3016 * 0.003;
+        let t3018: f32 = t2965 + t3017;
+        let t3019: f32 = t2828 + t2966;
+        let t3020: f32 = t2842 + t2856;
+        let t3021: f32 = t2870 + t2884;
+        let t3022: f32 = t2624 + t2898;
+        let t3023: f32 = t3018 + t3019;
+        let t3024: f32 = t3020 + t3021;
+        let t3025: f32 = t3023 + t3024;
+        let t3026: f32 = t3022 + t3025;
+        let t3027: f32 = t2967 + t2988;
+        let t3028: f32 = t3011 + 117.72;
+        let t3029: f32 = t3027 + t3028;
+        let t3030: f32 = t3026 - t3029;
+        let t3031: f32 = t1471 * t2501;
+        let t3032: f32 = t3030 * t3031;
+        let t3033: f32 = t2961 + t2963;
+        let t3034: f32 = t2964 + t3033;
+        let t3035: f32 = t3032 - t3034;
+        let t3036: f32 = t1335 * t2646;
+        let t3037: f32 = t1471 * t3030;
+        let t3038: f32 = t44 * t59;
+        let t3039: f32 = t151 * t165;
+        let t3040: f32 = t263 * t277;
+        let t3041: f32 = t375 * t389;
+        let t3042: f32 = t481 * t494;
+        let t3043: f32 = t585 * t598;
+        let t3044: f32 = t44 * t44;
+        let t3045: f32 = t1492 * t1492;
+        let t3046: f32 = t2268 * t2268;
+        let t3047: f32 = t2440 * t2440;
+        let t3048: f32 = t3045 + t3046;
+        let t3049: f32 = t3047 + t3048;
+        let t3050: f32 = t3044 * t3049;
+        let t3051: f32 = t3050 + 1.0;
+        let t3052: f32 = t3051 / t3051;
+        let t3053: f32 = t2446 * t2446;
+        let t3054: f32 = t1846 * t3053;
+        let t3055: f32 = t1503 * t1503;
+        let t3056: f32 = t1846 * t3055;
+        let t3057: f32 = t2274 * t2274;
+        let t3058: f32 = t1846 * t3057;
+        let t3059: f32 = t3056 + t3058;
+        let t3060: f32 = t3054 + t3059;
+        let t3061: f32 = t3060 + 1.0;
+        let t3062: f32 = t1492 * t1503;
+        let t3063: f32 = t2268 * t2274;
+        let t3064: f32 = t2440 * t2446;
+        let t3065: f32 = t36 * t143;
+        let t3066: f32 = t29 * t140;
+        let t3067: f32 = t39 * t146;
+        let t3068: f32 = t3062 + t3063;
+        let t3069: f32 = t3064 + t3065;
+        let t3070: f32 = t3066 + t3067;
+        let t3071: f32 = t3068 + t3069;
+        let t3072: f32 = t3070 + t3071;
+        let t3073: f32 = t44 * t151;
+        let t3074: f32 = t3072 * t3073;
+        let t3075: f32 = 1.0 / t3051;
+        let t3076: f32 = t3074 * t3075;
+        let t3077: f32 = t3074 * t3076;
+        let t3078: f32 = t3061 - t3077;
+        let t3079: f32 = t3078 / t3061;
+        let t3080: f32 = t263 * t263;
+        let t3081: f32 = t2450 * t2450;
+        let t3082: f32 = t3080 * t3081;
+        let t3083: f32 = t1498 * t1498;
+        let t3084: f32 = t3080 * t3083;
+        let t3085: f32 = t2278 * t2278;
+        let t3086: f32 = t3080 * t3085;
+        let t3087: f32 = t3084 + t3086;
+        let t3088: f32 = t3082 + t3087;
+        let t3089: f32 = t3088 + 1.0;
+        let t3090: f32 = t1492 * t1498;
+        let t3091: f32 = t2268 * t2278;
+        let t3092: f32 = t2440 * t2450;
+        let t3093: f32 = t36 * t255;
+        let t3094: f32 = t29 * t250;
+        let t3095: f32 = t39 * t258;
+        let t3096: f32 = t3090 + t3091;
+        let t3097: f32 = t3092 + t3096;
+        let t3098: f32 = t3093 + t3094;
+        let t3099: f32 = t3095 + t3098;
+        let t3100: f32 = t3097 - t3099;
+        let t3101: f32 = t44 * t263;
+        let t3102: f32 = t3100 * t3101;
+        let t3103: f32 = t3075 * t3102;
+        let t3104: f32 = t3102 * t3103;
+        let t3105: f32 = t3076 * t3102;
+        let t3106: f32 = t1498 * t1503;
+        let t3107: f32 = t2274 * t2278;
+        let t3108: f32 = t2446 * t2450;
+        let t3109: f32 = t143 * t255;
+        let t3110: f32 = t140 * t250;
+        let t3111: f32 = t146 * t258;
+        let t3112: f32 = t3106 + t3107;
+        let t3113: f32 = t3108 + t3112;
+        let t3114: f32 = t3109 + t3110;
+        let t3115: f32 = t3111 + t3114;
+        let t3116: f32 = t3113 - t3115;
+        let t3117: f32 = t151 * t263;
+        let t3118: f32 = t3116 * t3117;
+        let t3119: f32 = t3105 - t3118;
+        let t3120: f32 = -t3119;
+        let t3121: f32 = 1.0 / t3078;
+        let t3122: f32 = t3120 * t3121;
+        let t3123: f32 = t3120 * t3122;
+        let t3124: f32 = t3104 + t3123;
+        let t3125: f32 = t3089 - t3124;
+        let t3126: f32 = t3125 / t3089;
+        let t3127: f32 = t375 * t375;
+        let t3128: f32 = t2456 * t2456;
+        let t3129: f32 = t3127 * t3128;
+        let t3130: f32 = t1534 * t1534;
+        let t3131: f32 = t3127 * t3130;
+        let t3132: f32 = t2284 * t2284;
+        let t3133: f32 = t3127 * t3132;
+        let t3134: f32 = t3131 + t3133;
+        let t3135: f32 = t3129 + t3134;
+        let t3136: f32 = t3135 + 1.0;
+        let t3137: f32 = t1492 * t1534;
+        let t3138: f32 = t2268 * t2284;
+        let t3139: f32 = t2440 * t2456;
+        let t3140: f32 = t36 * t367;
+        let t3141: f32 = t29 * t362;
+        let t3142: f32 = t39 * t370;
+        let t3143: f32 = t3137 + t3138;
+        let t3144: f32 = t3139 + t3140;
+        let t3145: f32 = t3141 + t3142;
+        let t3146: f32 = t3143 + t3144;
         let t3147: f32 = t3145 + t3146;
-        let t3148: f32 = t502 * t2380;
-        let t3149: f32 = t3147 - t3148;
-        let t3150: f32 = t490 * t3033;
-        let t3151: f32 = t2433 + t3150;
-        let t3152: f32 = t3149 - t3151;
-        let t3153: f32 = t3144 * 0.003;
-        let t3154: f32 = t3152 - t3153;
-        let t3155: f32 = t417 * t3154;
-        let t3156: f32 = t543 * t3075;
-        let t3157: f32 = t577 * t614;
-        let t3158: f32 = t2546 * t3157;
-        let t3159: f32 = t614 * t3056;
-        let t3160: f32 = t2568 - t3159;
-        let t3161: f32 = t626 * t2515;
-        let t3162: f32 = t625 * t2687;
-        let t3163: f32 = t590 * t2685;
-        let t3164: f32 = t3162 + t3163;
-        let t3165: f32 = t3161 - t3164;
-        let t3166: f32 = t3160 - t3165;
-        let t3167: f32 = t3158 * 0.003;
-        let t3168: f32 = t3166 - t3167;
-        let t3169: f32 = t544 * t3168;
-        let t3170: f32 = t667 * t3098;
-        let t3171: f32 = t700 * t737;
-        let t3172: f32 = t1761 * t3171;
-        let t3173: f32 = t737 * t3079;
-        let t3174: f32 = t1811 + t3173;
-        let t3175: f32 = t749 * t1799;
-        let t3176: f32 = t748 * t2702;
-        let t3177: f32 = t713 * t1776;
-        let t3178: f32 = t3176 + t3177;
-        let t3179: f32 = t3175 - t3178;
-        let t3180: f32 = t3174 + t3179;
-        let t3181: f32 = t3172 * 0.003;
-        let t3182: f32 = t3180 + t3181;
-        let t3183: f32 = -t3182;
-        let t3184: f32 = t668 * t3183;
-        let t3185: f32 = t2577 + t3113;
-        let t3186: f32 = t3114 + t3142;
-        let t3187: f32 = t3155 + t3170;
-        let t3188: f32 = t1890 + t3184;
-        let t3189: f32 = t3185 + t3186;
-        let t3190: f32 = t3187 + t3188;
-        let t3191: f32 = t3189 + t3190;
-        let t3192: f32 = t3100 + t3127;
-        let t3193: f32 = t3128 + t3141;
-        let t3194: f32 = t3156 + t3169;
-        let t3195: f32 = t3192 + t3193;
-        let t3196: f32 = t3194 + t3195;
-        let t3197: f32 = t3191 - t3196;
-        let t3198: f32 = t810 * t3197;
-        let t3199: f32 = t1455 * t3198;
-        let t3200: f32 = t17 * t2969;
-        let t3201: f32 = t34 * t3112;
-        let t3202: f32 = t156 * t2992;
-        let t3203: f32 = t160 * t3126;
-        let t3204: f32 = t283 * t3015;
-        let t3205: f32 = t291 * t3140;
-        let t3206: f32 = t414 * t3039;
-        let t3207: f32 = t422 * t3154;
-        let t3208: f32 = t543 * t3062;
-        let t3209: f32 = t547 * t3168;
-        let t3210: f32 = t667 * t3085;
-        let t3211: f32 = t671 * t3183;
-        let t3212: f32 = t998 * t3198;
-        let t3213: f32 = t2714 + t3200;
-        let t3214: f32 = t3203 + t3205;
-        let t3215: f32 = t3206 + t3209;
-        let t3216: f32 = t3210 + t3212;
-        let t3217: f32 = t3213 + t3214;
-        let t3218: f32 = t3215 + t3216;
-        let t3219: f32 = t3217 + t3218;
-        let t3220: f32 = t2616 + t3219;
-        let t3221: f32 = t3201 + t3202;
-        let t3222: f32 = t3204 + t3207;
-        let t3223: f32 = t3208 + t3211;
-        let t3224: f32 = t3221 + t3222;
-        let t3225: f32 = t3223 + t3224;
-        let t3226: f32 = t3220 - t3225;
-        let t3227: f32 = t1299 * t3226;
-        let t3228: f32 = t1509 * t3227;
-        let t3229: f32 = t2970 + t3006;
-        let t3230: f32 = t3040 + t3053;
-        let t3231: f32 = t3086 + t3099;
-        let t3232: f32 = t2752 + t3199;
-        let t3233: f32 = t3229 + t3230;
-        let t3234: f32 = t3231 + t3232;
-        let t3235: f32 = t3233 + t3234;
-        let t3236: f32 = t2983 + t2993;
-        let t3237: f32 = t3016 + t3029;
-        let t3238: f32 = t3063 + t3076;
-        let t3239: f32 = t3236 + t3237;
-        let t3240: f32 = t3228 + t3238;
-        let t3241: f32 = t3239 + t3240;
-        let t3242: f32 = t3235 - t3241;
-        let t3243: f32 = t1514 * t3242;
-        let t3244: f32 = t1533 * t1567;
-        let t3245: f32 = t2919 * t3244;
-        let t3246: f32 = t1590 * t1641;
-        let t3247: f32 = t2913 * t3246;
-        let t3248: f32 = t1601 * t3198;
-        let t3249: f32 = t1611 * t3227;
-        let t3250: f32 = t1640 * t3243;
-        let t3251: f32 = t1312 * t3198;
-        let t3252: f32 = t1315 * t3227;
-        let t3253: f32 = t1527 * t3243;
-        let t3254: f32 = t2961 + t3008;
-        let t3255: f32 = t3031 + t3254;
-        let t3256: f32 = t2985 + t3055;
-        let t3257: f32 = t3078 + t3256;
-        let t3258: f32 = t3255 - t3257;
-        let t3259: f32 = t3258 * 0.003;
-        let t3260: f32 = t3251 + t3259;
-        let t3261: f32 = t2816 + t3253;
-        let t3262: f32 = t2967 + t2990;
-        let t3263: f32 = t3013 + t3037;
-        let t3264: f32 = t3060 + t3083;
-        let t3265: f32 = t3260 + t3261;
-        let t3266: f32 = t3262 + t3263;
-        let t3267: f32 = t3265 + t3266;
-        let t3268: f32 = t3264 + t3267;
-        let t3269: f32 = t3268 - t3252;
-        let t3270: f32 = t1533 * t3269;
-        let t3271: f32 = t1653 * t3270;
-        let t3272: f32 = t1544 * t3198;
-        let t3273: f32 = t1553 * t3227;
-        let t3274: f32 = t1566 * t3243;
-        let t3275: f32 = t1571 * t3270;
-        let t3276: f32 = t2972 + t3018;
-        let t3277: f32 = t3042 + t3276;
-        let t3278: f32 = t2995 + t3065;
-        let t3279: f32 = t3088 + t3278;
-        let t3280: f32 = t3277 - t3279;
-        let t3281: f32 = t3280 * 0.003;
-        let t3282: f32 = t3272 + t3281;
-        let t3283: f32 = t2862 + t3274;
-        let t3284: f32 = t2979 + t3072;
-        let t3285: f32 = t3282 + t3283;
-        let t3286: f32 = t3095 + t3284;
-        let t3287: f32 = t3285 + t3286;
-        let t3288: f32 = t3273 + t3275;
-        let t3289: f32 = t3002 + t3025;
-        let t3290: f32 = t3288 + t3289;
-        let t3291: f32 = t3049 + t3290;
-        let t3292: f32 = t3287 - t3291;
-        let t3293: f32 = t1590 * t3292;
-        let t3294: f32 = t1659 * t3293;
-        let t3295: f32 = t3102 + t3158;
-        let t3296: f32 = t3172 + t3295;
-        let t3297: f32 = t3116 + t3130;
-        let t3298: f32 = t3144 + t3297;
-        let t3299: f32 = t3296 - t3298;
-        let t3300: f32 = t3299 * 0.003;
-        let t3301: f32 = t3248 + t3300;
-        let t3302: f32 = t3109 + t3249;
-        let t3303: f32 = t3138 + t3152;
-        let t3304: f32 = t2898 + t3180;
-        let t3305: f32 = t3301 + t3302;
-        let t3306: f32 = t3303 + t3304;
-        let t3307: f32 = t3305 + t3306;
-        let t3308: f32 = t3250 + t3271;
-        let t3309: f32 = t3124 + t3294;
-        let t3310: f32 = t3166 + 117.72;
-        let t3311: f32 = t3308 + t3309;
-        let t3312: f32 = t3310 + t3311;
-        let t3313: f32 = t3307 - t3312;
-        let t3314: f32 = t1681 * t2781;
-        let t3315: f32 = t3313 * t3314;
-        let t3316: f32 = t3243 + t3245;
-        let t3317: f32 = t3247 + t3316;
-        let t3318: f32 = t3315 - t3317;
-        let t3319: f32 = t1533 * t2919;
-        let t3320: f32 = t1590 * t2913;
-        let t3321: f32 = t1681 * t3313;
-        let t3322: f32 = t44 * t59;
-        let t3323: f32 = t170 * t184;
-        let t3324: f32 = t301 * t315;
-        let t3325: f32 = t432 * t446;
-        let t3326: f32 = t557 * t570;
-        let t3327: f32 = t680 * t693;
-        let t3328: f32 = t1838 * t1838;
-        let t3329: f32 = t2584 * t2584;
-        let t3330: f32 = t2720 * t2720;
-        let t3331: f32 = t3328 + t3329;
-        let t3332: f32 = t3330 + t3331;
-        let t3333: f32 = t99 * t3332;
-        let t3334: f32 = t3333 + 1.0;
-        let t3335: f32 = t3334 / t3334;
-        let t3336: f32 = t2726 * t2726;
-        let t3337: f32 = t224 * t3336;
-        let t3338: f32 = t1849 * t1849;
-        let t3339: f32 = t224 * t3338;
-        let t3340: f32 = t2590 * t2590;
-        let t3341: f32 = t224 * t3340;
-        let t3342: f32 = t3339 + t3341;
-        let t3343: f32 = t3337 + t3342;
-        let t3344: f32 = t3343 + 1.0;
-        let t3345: f32 = t1838 * t1849;
-        let t3346: f32 = t2584 * t2590;
-        let t3347: f32 = t2720 * t2726;
-        let t3348: f32 = t36 * t162;
-        let t3349: f32 = t29 * t159;
-        let t3350: f32 = t39 * t165;
-        let t3351: f32 = t3345 + t3346;
-        let t3352: f32 = t3347 + t3348;
-        let t3353: f32 = t3349 + t3350;
-        let t3354: f32 = t3351 + t3352;
-        let t3355: f32 = t3353 + t3354;
-        let t3356: f32 = t44 * t170;
-        let t3357: f32 = t3355 * t3356;
-        let t3358: f32 = 1.0 / t3334;
-        let t3359: f32 = t3357 * t3358;
-        let t3360: f32 = t3357 * t3359;
-        let t3361: f32 = t3344 - t3360;
-        let t3362: f32 = t3361 / t3344;
-        let t3363: f32 = t2730 * t2730;
-        let t3364: f32 = t355 * t3363;
-        let t3365: f32 = t1844 * t1844;
-        let t3366: f32 = t355 * t3365;
-        let t3367: f32 = t2594 * t2594;
-        let t3368: f32 = t355 * t3367;
-        let t3369: f32 = t3366 + t3368;
-        let t3370: f32 = t3364 + t3369;
-        let t3371: f32 = t3370 + 1.0;
-        let t3372: f32 = t1838 * t1844;
-        let t3373: f32 = t2584 * t2594;
-        let t3374: f32 = t2720 * t2730;
-        let t3375: f32 = t36 * t293;
-        let t3376: f32 = t29 * t288;
-        let t3377: f32 = t39 * t296;
-        let t3378: f32 = t3372 + t3373;
-        let t3379: f32 = t3374 + t3378;
-        let t3380: f32 = t3375 + t3376;
-        let t3381: f32 = t3377 + t3380;
-        let t3382: f32 = t3379 - t3381;
-        let t3383: f32 = t44 * t301;
-        let t3384: f32 = t3382 * t3383;
-        let t3385: f32 = t3358 * t3384;
-        let t3386: f32 = t3384 * t3385;
-        let t3387: f32 = t3359 * t3384;
-        let t3388: f32 = t1844 * t1849;
-        let t3389: f32 = t2590 * t2594;
-        let t3390: f32 = t2726 * t2730;
-        let t3391: f32 = t162 * t293;
-        let t3392: f32 = t159 * t288;
-        let t3393: f32 = t165 * t296;
-        let t3394: f32 = t3388 + t3389;
-        let t3395: f32 = t3390 + t3394;
-        let t3396: f32 = t3391 + t3392;
-        let t3397: f32 = t3393 + t3396;
-        let t3398: f32 = t3395 - t3397;
-        let t3399: f32 = t170 * t301;
-        let t3400: f32 = t3398 * t3399;
-        let t3401: f32 = t3387 - t3400;
-        let t3402: f32 = -t3401;
-        let t3403: f32 = 1.0 / t3361;
-        let t3404: f32 = t3402 * t3403;
-        let t3405: f32 = t3402 * t3404;
-        let t3406: f32 = t3386 + t3405;
-        let t3407: f32 = t3371 - t3406;
-        let t3408: f32 = t3407 / t3371;
-        let t3409: f32 = t2736 * t2736;
-        let t3410: f32 = t486 * t3409;
-        let t3411: f32 = t1880 * t1880;
-        let t3412: f32 = t486 * t3411;
-        let t3413: f32 = t2600 * t2600;
-        let t3414: f32 = t486 * t3413;
-        let t3415: f32 = t3412 + t3414;
-        let t3416: f32 = t3410 + t3415;
-        let t3417: f32 = t3416 + 1.0;
-        let t3418: f32 = t1838 * t1880;
-        let t3419: f32 = t2584 * t2600;
-        let t3420: f32 = t2720 * t2736;
-        let t3421: f32 = t36 * t424;
-        let t3422: f32 = t29 * t419;
-        let t3423: f32 = t39 * t427;
-        let t3424: f32 = t3418 + t3419;
-        let t3425: f32 = t3420 + t3421;
-        let t3426: f32 = t3422 + t3423;
-        let t3427: f32 = t3424 + t3425;
-        let t3428: f32 = t3426 + t3427;
-        let t3429: f32 = t44 * t432;
-        let t3430: f32 = t3428 * t3429;
-        let t3431: f32 = t3358 * t3430;
-        let t3432: f32 = t3430 * t3431;
-        let t3433: f32 = t3359 * t3430;
-        let t3434: f32 = t1849 * t1880;
-        let t3435: f32 = t2590 * t2600;
-        let t3436: f32 = t2726 * t2736;
-        let t3437: f32 = t162 * t424;
-        let t3438: f32 = t159 * t419;
-        let t3439: f32 = t165 * t427;
-        let t3440: f32 = t3434 + t3435;
-        let t3441: f32 = t3436 + t3437;
-        let t3442: f32 = t3438 + t3439;
-        let t3443: f32 = t3440 + t3441;
-        let t3444: f32 = t3442 + t3443;
-        let t3445: f32 = t170 * t432;
-        let t3446: f32 = t3444 * t3445;
-        let t3447: f32 = t3433 - t3446;
-        let t3448: f32 = -t3447;
-        let t3449: f32 = t3403 * t3448;
-        let t3450: f32 = t3448 * t3449;
-        let t3451: f32 = t3385 * t3430;
-        let t3452: f32 = t3404 * t3448;
-        let t3453: f32 = t1844 * t1880;
-        let t3454: f32 = t2594 * t2600;
-        let t3455: f32 = t2730 * t2736;
-        let t3456: f32 = t293 * t424;
-        let t3457: f32 = t288 * t419;
-        let t3458: f32 = t296 * t427;
-        let t3459: f32 = t3453 + t3454;
-        let t3460: f32 = t3455 + t3459;
-        let t3461: f32 = t3456 + t3457;
-        let t3462: f32 = t3458 + t3461;
-        let t3463: f32 = t3460 - t3462;
-        let t3464: f32 = t301 * t432;
-        let t3465: f32 = t3463 * t3464;
-        let t3466: f32 = t3451 + t3452;
-        let t3467: f32 = t3466 - t3465;
-        let t3468: f32 = -t3467;
-        let t3469: f32 = 1.0 / t3407;
-        let t3470: f32 = t3468 * t3469;
-        let t3471: f32 = t3468 * t3470;
-        let t3472: f32 = t3432 + t3450;
-        let t3473: f32 = t3471 + t3472;
-        let t3474: f32 = t3417 - t3473;
-        let t3475: f32 = t3474 / t3417;
-        let t3476: f32 = t2740 * t2740;
-        let t3477: f32 = t610 * t3476;
-        let t3478: f32 = t1885 * t1885;
-        let t3479: f32 = t610 * t3478;
-        let t3480: f32 = t2604 * t2604;
-        let t3481: f32 = t610 * t3480;
-        let t3482: f32 = t3479 + t3481;
-        let t3483: f32 = t3477 + t3482;
-        let t3484: f32 = t3483 + 1.0;
-        let t3485: f32 = t1838 * t1885;
-        let t3486: f32 = t2584 * t2604;
-        let t3487: f32 = t2720 * t2740;
-        let t3488: f32 = t36 * t549;
-        let t3489: f32 = t29 * t546;
-        let t3490: f32 = t39 * t552;
-        let t3491: f32 = t3485 + t3486;
-        let t3492: f32 = t3487 + t3488;
-        let t3493: f32 = t3489 + t3490;
-        let t3494: f32 = t3491 + t3492;
-        let t3495: f32 = t3493 + t3494;
-        let t3496: f32 = t44 * t557;
-        let t3497: f32 = t3495 * t3496;
-        let t3498: f32 = t3358 * t3497;
-        let t3499: f32 = t3497 * t3498;
-        let t3500: f32 = t3359 * t3497;
-        let t3501: f32 = t1849 * t1885;
-        let t3502: f32 = t2590 * t2604;
-        let t3503: f32 = t2726 * t2740;
-        let t3504: f32 = t162 * t549;
-        let t3505: f32 = t159 * t546;
-        let t3506: f32 = t165 * t552;
-        let t3507: f32 = t3501 + t3502;
-        let t3508: f32 = t3503 + t3504;
-        let t3509: f32 = t3505 + t3506;
-        let t3510: f32 = t3507 + t3508;
-        let t3511: f32 = t3509 + t3510;
-        let t3512: f32 = t170 * t557;
-        let t3513: f32 = t3511 * t3512;
-        let t3514: f32 = t3500 - t3513;
-        let t3515: f32 = -t3514;
-        let t3516: f32 = t3403 * t3515;
-        let t3517: f32 = t3515 * t3516;
-        let t3518: f32 = t3385 * t3497;
-        let t3519: f32 = t3404 * t3515;
-        let t3520: f32 = t1844 * t1885;
-        let t3521: f32 = t2594 * t2604;
-        let t3522: f32 = t2730 * t2740;
-        let t3523: f32 = t293 * t549;
-        let t3524: f32 = t288 * t546;
-        let t3525: f32 = t296 * t552;
-        let t3526: f32 = t3520 + t3521;
-        let t3527: f32 = t3522 + t3526;
-        let t3528: f32 = t3523 + t3524;
-        let t3529: f32 = t3525 + t3528;
-        let t3530: f32 = t3527 - t3529;
-        let t3531: f32 = t301 * t557;
-        let t3532: f32 = t3530 * t3531;
-        let t3533: f32 = t3518 + t3519;
-        let t3534: f32 = t3533 - t3532;
-        let t3535: f32 = -t3534;
-        let t3536: f32 = t3469 * t3535;
-        let t3537: f32 = t3535 * t3536;
-        let t3538: f32 = t3431 * t3497;
-        let t3539: f32 = t3449 * t3515;
-        let t3540: f32 = t3470 * t3535;
-        let t3541: f32 = t1880 * t1885;
-        let t3542: f32 = t2600 * t2604;
-        let t3543: f32 = t2736 * t2740;
-        let t3544: f32 = t424 * t549;
-        let t3545: f32 = t419 * t546;
-        let t3546: f32 = t427 * t552;
-        let t3547: f32 = t3541 + t3542;
-        let t3548: f32 = t3543 + t3544;
-        let t3549: f32 = t3545 + t3546;
-        let t3550: f32 = t3547 + t3548;
-        let t3551: f32 = t3549 + t3550;
-        let t3552: f32 = t432 * t557;
-        let t3553: f32 = t3551 * t3552;
-        let t3554: f32 = t3538 + t3539;
-        let t3555: f32 = t3540 + t3554;
-        let t3556: f32 = t3555 - t3553;
-        let t3557: f32 = -t3556;
-        let t3558: f32 = 1.0 / t3474;
-        let t3559: f32 = t3557 * t3558;
-        let t3560: f32 = t3557 * t3559;
-        let t3561: f32 = t3499 + t3517;
-        let t3562: f32 = t3537 + t3560;
-        let t3563: f32 = t3561 + t3562;
-        let t3564: f32 = t3484 - t3563;
-        let t3565: f32 = t3564 / t3484;
-        let t3566: f32 = t2748 * t2748;
-        let t3567: f32 = t733 * t3566;
-        let t3568: f32 = t1856 * t1856;
-        let t3569: f32 = t733 * t3568;
-        let t3570: f32 = t2612 * t2612;
-        let t3571: f32 = t733 * t3570;
-        let t3572: f32 = t3569 + t3571;
-        let t3573: f32 = t3567 + t3572;
-        let t3574: f32 = t3573 + 1.0;
-        let t3575: f32 = t1838 * t1856;
-        let t3576: f32 = t2584 * t2612;
-        let t3577: f32 = t2720 * t2748;
-        let t3578: f32 = t36 * t672;
-        let t3579: f32 = t29 * t670;
-        let t3580: f32 = t39 * t675;
-        let t3581: f32 = t3575 + t3576;
-        let t3582: f32 = t3577 + t3581;
-        let t3583: f32 = t3578 + t3579;
-        let t3584: f32 = t3580 + t3583;
-        let t3585: f32 = t3582 - t3584;
-        let t3586: f32 = t44 * t680;
-        let t3587: f32 = t3585 * t3586;
-        let t3588: f32 = t3358 * t3587;
-        let t3589: f32 = t3587 * t3588;
-        let t3590: f32 = t3359 * t3587;
-        let t3591: f32 = t1849 * t1856;
-        let t3592: f32 = t2590 * t2612;
-        let t3593: f32 = t2726 * t2748;
-        let t3594: f32 = t162 * t672;
-        let t3595: f32 = t159 * t670;
-        let t3596: f32 = t165 * t675;
-        let t3597: f32 = t3591 + t3592;
-        let t3598: f32 = t3593 + t3597;
-        let t3599: f32 = t3594 + t3595;
-        let t3600: f32 = t3596 + t3599;
-        let t3601: f32 = t3598 - t3600;
-        let t3602: f32 = t170 * t680;
-        let t3603: f32 = t3601 * t3602;
-        let t3604: f32 = t3590 - t3603;
-        let t3605: f32 = -t3604;
-        let t3606: f32 = t3403 * t3605;
-        let t3607: f32 = t3605 * t3606;
-        let t3608: f32 = t3385 * t3587;
-        let t3609: f32 = t3404 * t3605;
-        let t3610: f32 = t1844 * t1856;
-        let t3611: f32 = t2594 * t2612;
-        let t3612: f32 = t2730 * t2748;
-        let t3613: f32 = t293 * t672;
-        let t3614: f32 = t288 * t670;
-        let t3615: f32 = t296 * t675;
-        let t3616: f32 = t3610 + t3611;
-        let t3617: f32 = t3612 + t3613;
-        let t3618: f32 = t3614 + t3615;
-        let t3619: f32 = t3616 + t3617;
-        let t3620: f32 = t3618 + t3619;
-        let t3621: f32 = t301 * t680;
-        let t3622: f32 = t3620 * t3621;
-        let t3623: f32 = t3608 + t3609;
-        let t3624: f32 = t3623 - t3622;
-        let t3625: f32 = -t3624;
-        let t3626: f32 = t3469 * t3625;
-        let t3627: f32 = t3625 * t3626;
-        let t3628: f32 = t3431 * t3587;
-        let t3629: f32 = t3449 * t3605;
-        let t3630: f32 = t3470 * t3625;
-        let t3631: f32 = t1856 * t1880;
-        let t3632: f32 = t2600 * t2612;
-        let t3633: f32 = t2736 * t2748;
-        let t3634: f32 = t424 * t672;
-        let t3635: f32 = t419 * t670;
-        let t3636: f32 = t427 * t675;
-        let t3637: f32 = t3631 + t3632;
-        let t3638: f32 = t3633 + t3637;
-        let t3639: f32 = t3634 + t3635;
-        let t3640: f32 = t3636 + t3639;
-        let t3641: f32 = t3638 - t3640;
-        let t3642: f32 = t432 * t680;
-        let t3643: f32 = t3641 * t3642;
-        let t3644: f32 = t3628 + t3629;
-        let t3645: f32 = t3630 + t3644;
-        let t3646: f32 = t3645 - t3643;
-        let t3647: f32 = -t3646;
-        let t3648: f32 = t3558 * t3647;
-        let t3649: f32 = t3647 * t3648;
-        let t3650: f32 = t3498 * t3587;
-        let t3651: f32 = t3516 * t3605;
-        let t3652: f32 = t3536 * t3625;
-        let t3653: f32 = t3559 * t3647;
-        let t3654: f32 = t1856 * t1885;
-        let t3655: f32 = t2604 * t2612;
-        let t3656: f32 = t2740 * t2748;
-        let t3657: f32 = t549 * t672;
-        let t3658: f32 = t546 * t670;
-        let t3659: f32 = t552 * t675;
-        let t3660: f32 = t3654 + t3655;
-        let t3661: f32 = t3656 + t3660;
-        let t3662: f32 = t3657 + t3658;
-        let t3663: f32 = t3659 + t3662;
-        let t3664: f32 = t3661 - t3663;
-        let t3665: f32 = t557 * t680;
-        let t3666: f32 = t3664 * t3665;
-        let t3667: f32 = t3650 + t3651;
-        let t3668: f32 = t3652 + t3653;
-        let t3669: f32 = t3667 + t3668;
-        let t3670: f32 = t3669 - t3666;
-        let t3671: f32 = -t3670;
-        let t3672: f32 = t3671 / t3564;
-        let t3673: f32 = t3671 * t3672;
-        let t3674: f32 = t3589 + t3607;
-        let t3675: f32 = t3627 + t3649;
-        let t3676: f32 = t3674 + t3675;
-        let t3677: f32 = t3673 + t3676;
-        let t3678: f32 = t3574 - t3677;
-        let t3679: f32 = t3678 / t3574;
+        let t3148: f32 = t44 * t375;
+        let t3149: f32 = t3147 * t3148;
+        let t3150: f32 = t3075 * t3149;
+        let t3151: f32 = t3149 * t3150;
+        let t3152: f32 = t3076 * t3149;
+        let t3153: f32 = t1503 * t1534;
+        let t3154: f32 = t2274 * t2284;
+        let t3155: f32 = t2446 * t2456;
+        let t3156: f32 = t143 * t367;
+        let t3157: f32 = t140 * t362;
+        let t3158: f32 = t146 * t370;
+        let t3159: f32 = t3153 + t3154;
+        let t3160: f32 = t3155 + t3156;
+        let t3161: f32 = t3157 + t3158;
+        let t3162: f32 = t3159 + t3160;
+        let t3163: f32 = t3161 + t3162;
+        let t3164: f32 = t151 * t375;
+        let t3165: f32 = t3163 * t3164;
+        let t3166: f32 = t3152 - t3165;
+        let t3167: f32 = -t3166;
+        let t3168: f32 = t3121 * t3167;
+        let t3169: f32 = t3167 * t3168;
+        let t3170: f32 = t3103 * t3149;
+        let t3171: f32 = t3122 * t3167;
+        let t3172: f32 = t1498 * t1534;
+        let t3173: f32 = t2278 * t2284;
+        let t3174: f32 = t2450 * t2456;
+        let t3175: f32 = t255 * t367;
+        let t3176: f32 = t250 * t362;
+        let t3177: f32 = t258 * t370;
+        let t3178: f32 = t3172 + t3173;
+        let t3179: f32 = t3174 + t3178;
+        let t3180: f32 = t3175 + t3176;
+        let t3181: f32 = t3177 + t3180;
+        let t3182: f32 = t3179 - t3181;
+        let t3183: f32 = t263 * t375;
+        let t3184: f32 = t3182 * t3183;
+        let t3185: f32 = t3170 + t3171;
+        let t3186: f32 = t3185 - t3184;
+        let t3187: f32 = -t3186;
+        let t3188: f32 = 1.0 / t3125;
+        let t3189: f32 = t3187 * t3188;
+        let t3190: f32 = t3187 * t3189;
+        let t3191: f32 = t3151 + t3169;
+        let t3192: f32 = t3190 + t3191;
+        let t3193: f32 = t3136 - t3192;
+        let t3194: f32 = t3193 / t3136;
+        let t3195: f32 = t2460 * t2460;
+        let t3196: f32 = t2219 * t3195;
+        let t3197: f32 = t1539 * t1539;
+        let t3198: f32 = t2219 * t3197;
+        let t3199: f32 = t2288 * t2288;
+        let t3200: f32 = t2219 * t3199;
+        let t3201: f32 = t3198 + t3200;
+        let t3202: f32 = t3196 + t3201;
+        let t3203: f32 = t3202 + 1.0;
+        let t3204: f32 = t1492 * t1539;
+        let t3205: f32 = t2268 * t2288;
+        let t3206: f32 = t2440 * t2460;
+        let t3207: f32 = t36 * t473;
+        let t3208: f32 = t29 * t470;
+        let t3209: f32 = t39 * t476;
+        let t3210: f32 = t3204 + t3205;
+        let t3211: f32 = t3206 + t3207;
+        let t3212: f32 = t3208 + t3209;
+        let t3213: f32 = t3210 + t3211;
+        let t3214: f32 = t3212 + t3213;
+        let t3215: f32 = t44 * t481;
+        let t3216: f32 = t3214 * t3215;
+        let t3217: f32 = t3075 * t3216;
+        let t3218: f32 = t3216 * t3217;
+        let t3219: f32 = t3076 * t3216;
+        let t3220: f32 = t1503 * t1539;
+        let t3221: f32 = t2274 * t2288;
+        let t3222: f32 = t2446 * t2460;
+        let t3223: f32 = t143 * t473;
+        let t3224: f32 = t140 * t470;
+        let t3225: f32 = t146 * t476;
+        let t3226: f32 = t3220 + t3221;
+        let t3227: f32 = t3222 + t3223;
+        let t3228: f32 = t3224 + t3225;
+        let t3229: f32 = t3226 + t3227;
+        let t3230: f32 = t3228 + t3229;
+        let t3231: f32 = t151 * t481;
+        let t3232: f32 = t3230 * t3231;
+        let t3233: f32 = t3219 - t3232;
+        let t3234: f32 = -t3233;
+        let t3235: f32 = t3121 * t3234;
+        let t3236: f32 = t3234 * t3235;
+        let t3237: f32 = t3103 * t3216;
+        let t3238: f32 = t3122 * t3234;
+        let t3239: f32 = t1498 * t1539;
+        let t3240: f32 = t2278 * t2288;
+        let t3241: f32 = t2450 * t2460;
+        let t3242: f32 = t255 * t473;
+        let t3243: f32 = t250 * t470;
+        let t3244: f32 = t258 * t476;
+        let t3245: f32 = t3239 + t3240;
+        let t3246: f32 = t3241 + t3245;
+        let t3247: f32 = t3242 + t3243;
+        let t3248: f32 = t3244 + t3247;
+        let t3249: f32 = t3246 - t3248;
+        let t3250: f32 = t263 * t481;
+        let t3251: f32 = t3249 * t3250;
+        let t3252: f32 = t3237 + t3238;
+        let t3253: f32 = t3252 - t3251;
+        let t3254: f32 = -t3253;
+        let t3255: f32 = t3188 * t3254;
+        let t3256: f32 = t3254 * t3255;
+        let t3257: f32 = t3150 * t3216;
+        let t3258: f32 = t3168 * t3234;
+        let t3259: f32 = t3189 * t3254;
+        let t3260: f32 = t1534 * t1539;
+        let t3261: f32 = t2284 * t2288;
+        let t3262: f32 = t2456 * t2460;
+        let t3263: f32 = t367 * t473;
+        let t3264: f32 = t362 * t470;
+        let t3265: f32 = t370 * t476;
+        let t3266: f32 = t3260 + t3261;
+        let t3267: f32 = t3262 + t3263;
+        let t3268: f32 = t3264 + t3265;
+        let t3269: f32 = t3266 + t3267;
+        let t3270: f32 = t3268 + t3269;
+        let t3271: f32 = t375 * t481;
+        let t3272: f32 = t3270 * t3271;
+        let t3273: f32 = t3257 + t3258;
+        let t3274: f32 = t3259 + t3273;
+        let t3275: f32 = t3274 - t3272;
+        let t3276: f32 = -t3275;
+        let t3277: f32 = 1.0 / t3193;
+        let t3278: f32 = t3276 * t3277;
+        let t3279: f32 = t3276 * t3278;
+        let t3280: f32 = t3218 + t3236;
+        let t3281: f32 = t3256 + t3279;
+        let t3282: f32 = t3280 + t3281;
+        let t3283: f32 = t3203 - t3282;
+        let t3284: f32 = t3283 / t3203;
+        let t3285: f32 = t2468 * t2468;
+        let t3286: f32 = t1744 * t3285;
+        let t3287: f32 = t1510 * t1510;
+        let t3288: f32 = t1744 * t3287;
+        let t3289: f32 = t2296 * t2296;
+        let t3290: f32 = t1744 * t3289;
+        let t3291: f32 = t3288 + t3290;
+        let t3292: f32 = t3286 + t3291;
+        let t3293: f32 = t3292 + 1.0;
+        let t3294: f32 = t1492 * t1510;
+        let t3295: f32 = t2268 * t2296;
+        let t3296: f32 = t2440 * t2468;
+        let t3297: f32 = t36 * t577;
+        let t3298: f32 = t29 * t575;
+        let t3299: f32 = t39 * t580;
+        let t3300: f32 = t3294 + t3295;
+        let t3301: f32 = t3296 + t3300;
+        let t3302: f32 = t3297 + t3298;
+        let t3303: f32 = t3299 + t3302;
+        let t3304: f32 = t3301 - t3303;
+        let t3305: f32 = t44 * t585;
+        let t3306: f32 = t3304 * t3305;
+        let t3307: f32 = t3075 * t3306;
+        let t3308: f32 = t3306 * t3307;
+        let t3309: f32 = t3076 * t3306;
+        let t3310: f32 = t1503 * t1510;
+        let t3311: f32 = t2274 * t2296;
+        let t3312: f32 = t2446 * t2468;
+        let t3313: f32 = t143 * t577;
+        let t3314: f32 = t140 * t575;
+        let t3315: f32 = t146 * t580;
+        let t3316: f32 = t3310 + t3311;
+        let t3317: f32 = t3312 + t3316;
+        let t3318: f32 = t3313 + t3314;
+        let t3319: f32 = t3315 + t3318;
+        let t3320: f32 = t3317 - t3319;
+        let t3321: f32 = t151 * t585;
+        let t3322: f32 = t3320 * t3321;
+        let t3323: f32 = t3309 - t3322;
+        let t3324: f32 = -t3323;
+        let t3325: f32 = t3121 * t3324;
+        let t3326: f32 = t3324 * t3325;
+        let t3327: f32 = t3103 * t3306;
+        let t3328: f32 = t3122 * t3324;
+        let t3329: f32 = t1498 * t1510;
+        let t3330: f32 = t2278 * t2296;
+        let t3331: f32 = t2450 * t2468;
+        let t3332: f32 = t255 * t577;
+        let t3333: f32 = t250 * t575;
+        let t3334: f32 = t258 * t580;
+        let t3335: f32 = t3329 + t3330;
+        let t3336: f32 = t3331 + t3332;
+        let t3337: f32 = t3333 + t3334;
+        let t3338: f32 = t3335 + t3336;
+        let t3339: f32 = t3337 + t3338;
+        let t3340: f32 = t263 * t585;
+        let t3341: f32 = t3339 * t3340;
+        let t3342: f32 = t3327 + t3328;
+        let t3343: f32 = t3342 - t3341;
+        let t3344: f32 = -t3343;
+        let t3345: f32 = t3188 * t3344;
+        let t3346: f32 = t3344 * t3345;
+        let t3347: f32 = t3150 * t3306;
+        let t3348: f32 = t3168 * t3324;
+        let t3349: f32 = t3189 * t3344;
+        let t3350: f32 = t1510 * t1534;
+        let t3351: f32 = t2284 * t2296;
+        let t3352: f32 = t2456 * t2468;
+        let t3353: f32 = t367 * t577;
+        let t3354: f32 = t362 * t575;
+        let t3355: f32 = t370 * t580;
+        let t3356: f32 = t3350 + t3351;
+        let t3357: f32 = t3352 + t3356;
+        let t3358: f32 = t3353 + t3354;
+        let t3359: f32 = t3355 + t3358;
+        let t3360: f32 = t3357 - t3359;
+        let t3361: f32 = t375 * t585;
+        let t3362: f32 = t3360 * t3361;
+        let t3363: f32 = t3347 + t3348;
+        let t3364: f32 = t3349 + t3363;
+        let t3365: f32 = t3364 - t3362;
+        let t3366: f32 = -t3365;
+        let t3367: f32 = t3277 * t3366;
+        let t3368: f32 = t3366 * t3367;
+        let t3369: f32 = t3217 * t3306;
+        let t3370: f32 = t3235 * t3324;
+        let t3371: f32 = t3255 * t3344;
+        let t3372: f32 = t3278 * t3366;
+        let t3373: f32 = t1510 * t1539;
+        let t3374: f32 = t2288 * t2296;
+        let t3375: f32 = t2460 * t2468;
+        let t3376: f32 = t473 * t577;
+        let t3377: f32 = t470 * t575;
+        let t3378: f32 = t476 * t580;
+        let t3379: f32 = t3373 + t3374;
+        let t3380: f32 = t3375 + t3379;
+        let t3381: f32 = t3376 + t3377;
+        let t3382: f32 = t3378 + t3381;
+        let t3383: f32 = t3380 - t3382;
+        let t3384: f32 = t481 * t585;
+        let t3385: f32 = t3383 * t3384;
+        let t3386: f32 = t3369 + t3370;
+        let t3387: f32 = t3371 + t3372;
+        let t3388: f32 = t3386 + t3387;
+        let t3389: f32 = t3388 - t3385;
+        let t3390: f32 = -t3389;
+        let t3391: f32 = t3390 / t3283;
+        let t3392: f32 = t3390 * t3391;
+        let t3393: f32 = t3308 + t3326;
+        let t3394: f32 = t3346 + t3368;
+        let t3395: f32 = t3393 + t3394;
+        let t3396: f32 = t3392 + t3395;
+        let t3397: f32 = t3293 - t3396;
+        let t3398: f32 = t3397 / t3293;
         (
-            t3318,
-            t3319,
-            t3320,
-            t3321,
-            t3322,
-            t3323,
-            t3324,
-            t3325,
-            t3326,
-            t3327,
-            t3335,
-            t3362,
-            t3408,
-            t3475,
-            t3565,
-            t3679,
+            t3035,
+            t3036,
+            t3037,
+            t3038,
+            t3039,
+            t3040,
+            t3041,
+            t3042,
+            t3043,
+            t3052,
+            t3079,
+            t3126,
+            t3194,
+            t3284,
+            t3398,
         )
     };
     (
-        [t2958, t2959, t3318, t3319, t3320, t3321],
+        [t2682, t2683, t3035, t3036, t2641, t3037],
         [
-            t3322,
-            t3323,
-            t3324,
-            t3325,
-            t3326,
-            t3327,
-            t3335,
-            t3362,
-            t3408,
-            t3475,
-            t3565,
-            t3679,
+            t3038,
+            t3039,
+            t3040,
+            t3041,
+            t3042,
+            t3043,
+            t3052,
+            t3079,
+            t3126,
+            t3194,
+            t3284,
+            t3398,
         ],
     )
 }

@@ -8,8 +8,8 @@
 //   jacobian_pose_params               231   14   146    1  6 sqrt
 //   joint_velocities_params            198   12   135    0  6 sqrt
 //   joint_accelerations_params         297   12   183    9  6 sqrt
-//   inverse_dynamics_params           1115   17   625   40  6 sqrt
-//   forward_dynamics_params           1507   19   827   39  6 sqrt
+//   inverse_dynamics_params            758   17   451    4  6 sqrt
+//   forward_dynamics_params            967   19   531    3  6 sqrt
 //   forward_kinematics_params           95    3    79    3  3 sin_cos, 1 sqrt
 //   calibration_residuals              567   18   264   21  3 atan, 6 sqrt
 //
@@ -2599,9 +2599,7 @@ pub fn joint_accelerations_params_separate(
 /// - `gamma`: `Γ`, the motors' torques about their axes `r_i` (N·m), arm order
 /// - `singular`: `|u_i × r_i|` for each arm, `1 - (K/ρ)²` for each arm, then the arms' hold `det(J⁻¹)² / Π |row_i|²` in `[0, 1]` (zero where they cannot hold the platform): the other results are meaningless where one is near zero or negative
 ///
-/// Operations: 1115 mul, 17 div, 625 add, 40 neg, 6 sqrt (chapter convention: 1132m + 625a).
-///
-/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
+/// Operations: 758 mul, 17 div, 451 add, 4 neg, 6 sqrt (chapter convention: 775m + 451a).
 #[inline]
 pub fn inverse_dynamics_params(
     position: &[f64; 3],
@@ -2619,6 +2617,7 @@ pub fn inverse_dynamics_params(
 }
 #[cfg_attr(feature = "fma", fma_twin(inverse_dynamics_params_fused, f64::mul_add))]
 /// [`inverse_dynamics_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
 pub fn inverse_dynamics_params_separate(
     position: &[f64; 3],
     velocity: &[f64; 3],
@@ -2648,31 +2647,12 @@ pub fn inverse_dynamics_params_separate(
         t90,
         t119,
         t134,
-        t146,
-        t160,
-        t164,
-        t168,
-        t171,
         t181,
-        t196,
-        t200,
-        t204,
         t210,
-        t211,
         t225,
-        t230,
-        t235,
-        t237,
-        t241,
-        t244,
-        t248,
         t251,
         t255,
-        t258,
-        t262,
         t266,
-        t270,
-        t271,
         t272,
         t274,
         t275,
@@ -2685,99 +2665,90 @@ pub fn inverse_dynamics_params_separate(
         t286,
         t289,
         t293,
-        t295,
-        t359,
-        t360,
-        t362,
-        t364,
-        t369,
-        t379,
+        t336,
+        t337,
+        t380,
         t381,
-        t384,
-        t386,
-        t396,
-        t401,
-        t405,
-        t416,
-        t421,
+        t400,
+        t404,
+        t408,
         t424,
-        t439,
-        t444,
-        t456,
-        t471,
+        t425,
+        t427,
+        t446,
+        t447,
+        t478,
+        t481,
+        t483,
         t486,
-        t504,
-        t507,
-        t514,
-        t521,
-        t531,
-        t534,
-        t541,
+        t488,
+        t497,
+        t539,
+        t544,
         t548,
-        t558,
-        t563,
-        t567,
-        t570,
-        t626,
-        t631,
+        t561,
+        t562,
+        t581,
+        t582,
+        t613,
+        t616,
+        t618,
+        t621,
+        t623,
         t632,
-        t637,
-        t651,
-        t669,
-        t675,
-        t676,
-        t687,
-        t689,
+        t674,
+        t679,
+        t683,
+        t696,
+        t697,
+        t698,
+        t699,
+        t701,
+        t704,
+        t716,
+        t717,
+        t722,
+        t728,
+        t732,
+        t737,
+        t739,
+        t745,
+        t748,
+        t751,
         t753,
-        t754,
-        t755,
         t756,
         t758,
-        t763,
-        t773,
-        t774,
-        t775,
-        t778,
+        t761,
+        t767,
+        t768,
         t780,
-        t787,
+        t785,
         t790,
         t795,
-        t799,
-        t805,
-        t810,
-        t815,
+        t808,
+        t809,
+        t814,
         t818,
-        t824,
-        t828,
-        t833,
-        t838,
-        t841,
-        t843,
+        t831,
+        t832,
         t850,
-        t865,
-        t880,
-        t898,
-        t901,
+        t857,
+        t866,
+        t872,
+        t874,
+        t907,
         t908,
-        t915,
-        t925,
-        t928,
-        t935,
+        t926,
+        t933,
         t942,
-        t952,
-        t957,
-        t958,
-        t959,
-        t961,
-        t962,
-        t964,
-        t965,
-        t980,
-        t985,
-        t987,
-        t988,
+        t948,
+        t950,
+        t983,
+        t984,
         t989,
-        t990,
+        t994,
+        t995,
+        t996,
         t999,
     ) = {
         let t0: f64 = xc - arm1_base_x;
@@ -3074,743 +3045,724 @@ pub fn inverse_dynamics_params_separate(
         let t291: f64 = t290.added_to(t278);
         let t292: f64 = t285.subtracted_from(t291);
         let t293: f64 = 1.0 / t292;
-        let t294: f64 = ax - gravity_x;
-        let t295 = product(platform_mass, t294);
-        let t296 = product(gravity_x, t62);
-        let t297: f64 = gravity_y * t66;
-        let t298 = product(gravity_z, t77);
-        let t299: f64 = t296.plus(t297);
-        let t300: f64 = t298.plus(t299);
-        let t301 = product(arm1_crank_mx, t300);
-        let t302 = product(ax, t90);
-        let t303: f64 = ay * t280;
-        let t304 = product(az, t282);
-        let t305 = product(vx, t90);
-        let t306: f64 = vy * t280;
-        let t307 = product(vz, t282);
-        let t308: f64 = t305.plus(t306);
-        let t309: f64 = t307.plus(t308);
-        let t310: f64 = t62 * t309;
-        let t311: f64 = -t310;
-        let t312 = product(arm1_crank_length, t311);
-        let t313: f64 = t312.added_to(vx);
-        let t314 = product(t89, t313);
-        let t315: f64 = t88 * t88;
-        let t316 = product(t62, t313);
-        let t317: f64 = t66 * t309;
-        let t318: f64 = -t317;
-        let t319 = product(arm1_crank_length, t318);
-        let t320: f64 = t319.added_to(vy);
-        let t321: f64 = t66 * t320;
-        let t322: f64 = t77 * t309;
-        let t323: f64 = -t322;
-        let t324 = product(arm1_crank_length, t323);
-        let t325: f64 = t324.added_to(vz);
-        let t326 = product(t77, t325);
-        let t327 = product(t55, t59);
-        let t328: f64 = t69 * t73;
-        let t329 = product(t80, t84);
-        let t330: f64 = t327.plus(t328);
-        let t331: f64 = t329.plus(t330);
-        let t332 = product(t309, t331);
-        let t333: f64 = t316.plus(t321);
-        let t334: f64 = t326.plus(t333);
-        let t335: f64 = t332.minus(t334);
-        let t336: f64 = t29 * t59;
-        let t337: f64 = t315 * t336;
-        let t338: f64 = t335 * t337;
-        let t339: f64 = t314.plus(t338);
-        let t340: f64 = vx * t339;
-        let t341 = product(t89, t320);
-        let t342: f64 = t29 * t73;
-        let t343: f64 = t315 * t342;
-        let t344: f64 = t335 * t343;
-        let t345: f64 = t341.plus(t344);
-        let t346 = product(vy, t345);
-        let t347 = product(t89, t325);
-        let t348: f64 = t29 * t84;
-        let t349: f64 = t315 * t348;
-        let t350: f64 = t335 * t349;
-        let t351: f64 = t347.plus(t350);
-        let t352: f64 = vz * t351;
-        let t353: f64 = t302.plus(t303);
-        let t354: f64 = t304.plus(t340);
-        let t355: f64 = t346.plus(t352);
-        let t356: f64 = t353 + t354;
-        let t357: f64 = t355 + t356;
-        let t358: f64 = arm1_crank_izz * t357;
-        let t359: f64 = t301.subtracted_from(t358);
-        let t360: f64 = t90 * t359;
-        let t361: f64 = 1.0 / arm1_rod_length;
-        let t362: f64 = t73 * t361;
-        let t363 = product(arm1_axis_z, t362);
-        let t364: f64 = t84 * t361;
-        let t365: f64 = arm1_axis_y * t364;
-        let t366: f64 = t363.minus(t365);
-        let t367 = product(t366, t366);
-        let t368 = product(arm1_axis_x, t364);
-        let t369: f64 = t59 * t361;
-        let t370: f64 = arm1_axis_z * t369;
-        let t371: f64 = t368.minus(t370);
-        let t372: f64 = t371 * t371;
-        let t373 = product(arm1_axis_y, t369);
-        let t374: f64 = arm1_axis_x * t362;
-        let t375: f64 = t373.minus(t374);
-        let t376 = product(t375, t375);
-        let t377: f64 = t367.plus(t372);
+        let t294 = product(ax, t90);
+        let t295: f64 = ay * t280;
+        let t296 = product(az, t282);
+        let t297 = product(vx, t90);
+        let t298: f64 = vy * t280;
+        let t299 = product(vz, t282);
+        let t300: f64 = t297.plus(t298);
+        let t301: f64 = t299.plus(t300);
+        let t302: f64 = t301 * t301;
+        let t303 = product(t55, t59);
+        let t304: f64 = t69 * t73;
+        let t305 = product(t80, t84);
+        let t306: f64 = t303.plus(t304);
+        let t307: f64 = t305.plus(t306);
+        let t308: f64 = arm1_crank_length * t302;
+        let t309 = product(t307, t308);
+        let t310: f64 = arm1_crank_length * t62;
+        let t311 = product(t301, t310);
+        let t312: f64 = t311.subtracted_from(vx);
+        let t313: f64 = t312 * t312;
+        let t314: f64 = arm1_crank_length * t66;
+        let t315 = product(t301, t314);
+        let t316: f64 = t315.subtracted_from(vy);
+        let t317 = product(t316, t316);
+        let t318: f64 = arm1_crank_length * t77;
+        let t319 = product(t301, t318);
+        let t320: f64 = t319.subtracted_from(vz);
+        let t321: f64 = t320 * t320;
+        let t322: f64 = t309.plus(t313);
+        let t323: f64 = t317.plus(t321);
+        let t324: f64 = t322 + t323;
+        let t325: f64 = t89 * t324;
+        let t326: f64 = t294.plus(t295);
+        let t327: f64 = t296.plus(t325);
+        let t328: f64 = t326 + t327;
+        let t329 = product(arm1_crank_izz, t328);
+        let t330 = product(gravity_x, t62);
+        let t331: f64 = gravity_y * t66;
+        let t332 = product(gravity_z, t77);
+        let t333: f64 = t330.plus(t331);
+        let t334: f64 = t332.plus(t333);
+        let t335: f64 = arm1_crank_mx * t334;
+        let t336: f64 = t329.minus(t335);
+        let t337 = product(t90, t336);
+        let t338 = product(ax, t279);
+        let t339: f64 = ay * t181;
+        let t340 = product(az, t274);
+        let t341 = product(vx, t279);
+        let t342: f64 = vy * t181;
+        let t343 = product(vz, t274);
+        let t344: f64 = t341.plus(t342);
+        let t345: f64 = t343.plus(t344);
+        let t346: f64 = t345 * t345;
+        let t347 = product(t153, t157);
+        let t348: f64 = t146 * t150;
+        let t349 = product(t171, t175);
+        let t350: f64 = t347.plus(t348);
+        let t351: f64 = t349.plus(t350);
+        let t352: f64 = arm2_crank_length * t346;
+        let t353 = product(t351, t352);
+        let t354: f64 = arm2_crank_length * t160;
+        let t355 = product(t345, t354);
+        let t356: f64 = t355.subtracted_from(vx);
+        let t357: f64 = t356 * t356;
+        let t358: f64 = arm2_crank_length * t164;
+        let t359 = product(t345, t358);
+        let t360: f64 = t359.subtracted_from(vy);
+        let t361 = product(t360, t360);
+        let t362: f64 = arm2_crank_length * t168;
+        let t363 = product(t345, t362);
+        let t364: f64 = t363.subtracted_from(vz);
+        let t365: f64 = t364 * t364;
+        let t366: f64 = t353.plus(t357);
+        let t367: f64 = t361.plus(t365);
+        let t368: f64 = t366 + t367;
+        let t369: f64 = t180 * t368;
+        let t370: f64 = t338.plus(t339);
+        let t371: f64 = t340.plus(t369);
+        let t372: f64 = t370 + t371;
+        let t373 = product(arm2_crank_izz, t372);
+        let t374 = product(gravity_x, t160);
+        let t375: f64 = gravity_y * t164;
+        let t376 = product(gravity_z, t168);
+        let t377: f64 = t374.plus(t375);
         let t378: f64 = t376.plus(t377);
-        let t379: f64 = sqrt(t378);
-        let t380: f64 = 1.0 / t379;
-        let t381: f64 = t366 * t380;
-        let t382: f64 = t361 * t381;
-        let t383 = product(t62, t381);
-        let t384: f64 = t371 * t380;
-        let t385: f64 = t66 * t384;
-        let t386: f64 = t375 * t380;
-        let t387 = product(t77, t386);
-        let t388: f64 = t383.plus(t385);
+        let t379: f64 = arm2_crank_mx * t378;
+        let t380: f64 = t373.minus(t379);
+        let t381: f64 = t279 * t380;
+        let t382 = product(ax, t286);
+        let t383: f64 = ay * t275;
+        let t384 = product(az, t272);
+        let t385 = product(vx, t286);
+        let t386: f64 = vy * t275;
+        let t387 = product(vz, t272);
+        let t388: f64 = t385.plus(t386);
         let t389: f64 = t387.plus(t388);
-        let t390: f64 = t361 * t389;
-        let t391: f64 = arm1_crank_length * t90;
-        let t392 = product(t390, t391);
-        let t393: f64 = t392.subtracted_from(t382);
-        let t394 = product(t364, t384);
-        let t395: f64 = t362 * t386;
-        let t396: f64 = t394.minus(t395);
-        let t397 = product(t361, t396);
-        let t398 = product(t62, t396);
-        let t399 = product(t369, t386);
-        let t400: f64 = t364 * t381;
-        let t401: f64 = t399.minus(t400);
-        let t402: f64 = t66 * t401;
-        let t403 = product(t362, t381);
-        let t404: f64 = t369 * t384;
-        let t405: f64 = t403.minus(t404);
-        let t406 = product(t77, t405);
-        let t407: f64 = t398.plus(t402);
-        let t408: f64 = t406.plus(t407);
-        let t409: f64 = t361 * t408;
-        let t410: f64 = t391 * t409;
-        let t411: f64 = t397.minus(t410);
-        let t412 = product(vx, t411);
-        let t413 = product(t361, t401);
-        let t414: f64 = arm1_crank_length * t280;
-        let t415: f64 = t409 * t414;
-        let t416: f64 = t413.minus(t415);
-        let t417: f64 = vy * t416;
-        let t418 = product(t361, t405);
-        let t419: f64 = arm1_crank_length * t282;
-        let t420: f64 = t409 * t419;
-        let t421: f64 = t418.minus(t420);
-        let t422 = product(vz, t421);
-        let t423: f64 = t412.plus(t417);
-        let t424: f64 = t422.plus(t423);
-        let t425 = product(arm1_axis_x, t369);
-        let t426: f64 = arm1_axis_y * t362;
-        let t427 = product(arm1_axis_z, t364);
-        let t428: f64 = t425.plus(t426);
-        let t429: f64 = t427.plus(t428);
-        let t430: f64 = t380 * t429;
-        let t431 = product(t382, t430);
-        let t432: f64 = t390 * t430;
-        let t433: f64 = t391 * t432;
-        let t434: f64 = t431.minus(t433);
-        let t435 = product(vx, t434);
-        let t436: f64 = t361 * t384;
-        let t437 = product(t430, t436);
-        let t438: f64 = t414 * t432;
-        let t439: f64 = t437.minus(t438);
-        let t440: f64 = vy * t439;
-        let t441: f64 = t361 * t386;
-        let t442 = product(t430, t441);
-        let t443: f64 = t419 * t432;
-        let t444: f64 = t442.minus(t443);
-        let t445 = product(vz, t444);
-        let t446: f64 = t435.plus(t440);
-        let t447: f64 = t445.plus(t446);
-        let t448: f64 = arm1_rod_izz * t424;
-        let t449 = product(t447, t448);
-        let t450 = product(gravity_x, t381);
-        let t451: f64 = gravity_y * t384;
-        let t452 = product(gravity_z, t386);
-        let t453: f64 = t450.plus(t451);
-        let t454: f64 = t452.plus(t453);
-        let t455: f64 = t62 * t90;
-        let t456: f64 = -t455;
-        let t457 = product(ax, t456);
-        let t458: f64 = t48 * t90;
-        let t459 = product(t309, t458);
-        let t460: f64 = t53 * t339;
-        let t461: f64 = t459.plus(t460);
-        let t462 = product(arm1_zero_x, t461);
-        let t463: f64 = t53 * t90;
-        let t464 = product(t309, t463);
-        let t465: f64 = t48 * t339;
-        let t466: f64 = t464.minus(t465);
-        let t467: f64 = t14 * t466;
-        let t468: f64 = t462.plus(t467);
-        let t469: f64 = vx * t468;
-        let t470: f64 = t62 * t280;
-        let t471: f64 = -t470;
-        let t472 = product(ay, t471);
-        let t473: f64 = t48 * t280;
-        let t474 = product(t309, t473);
-        let t475: f64 = t53 * t345;
-        let t476: f64 = t474.plus(t475);
-        let t477 = product(arm1_zero_x, t476);
-        let t478: f64 = t53 * t280;
-        let t479 = product(t309, t478);
-        let t480: f64 = t48 * t345;
-        let t481: f64 = t479.minus(t480);
-        let t482: f64 = t14 * t481;
-        let t483: f64 = t477.plus(t482);
+        let t390: f64 = t389 * t389;
+        let t391 = product(t244, t248);
+        let t392: f64 = t258 * t262;
+        let t393 = product(t237, t241);
+        let t394: f64 = t391.plus(t392);
+        let t395: f64 = t393.plus(t394);
+        let t396: f64 = arm3_crank_length * t390;
+        let t397 = product(t395, t396);
+        let t398: f64 = arm3_crank_length * t251;
+        let t399 = product(t389, t398);
+        let t400: f64 = t399.subtracted_from(vx);
+        let t401: f64 = t400 * t400;
+        let t402: f64 = arm3_crank_length * t255;
+        let t403 = product(t389, t402);
+        let t404: f64 = t403.subtracted_from(vy);
+        let t405 = product(t404, t404);
+        let t406: f64 = arm3_crank_length * t266;
+        let t407 = product(t389, t406);
+        let t408: f64 = t407.subtracted_from(vz);
+        let t409: f64 = t408 * t408;
+        let t410: f64 = t397.plus(t401);
+        let t411: f64 = t405.plus(t409);
+        let t412: f64 = t410 + t411;
+        let t413: f64 = t271 * t412;
+        let t414: f64 = t382.plus(t383);
+        let t415: f64 = t384.plus(t413);
+        let t416: f64 = t414 + t415;
+        let t417 = product(arm3_crank_izz, t416);
+        let t418 = product(gravity_x, t251);
+        let t419: f64 = gravity_y * t255;
+        let t420 = product(gravity_z, t266);
+        let t421: f64 = t418.plus(t419);
+        let t422: f64 = t420.plus(t421);
+        let t423: f64 = arm3_crank_mx * t422;
+        let t424: f64 = t417.minus(t423);
+        let t425 = product(t286, t424);
+        let t426: f64 = ax - gravity_x;
+        let t427: f64 = platform_mass * t426;
+        let t428: f64 = 1.0 / arm1_rod_length;
+        let t429: f64 = t84 * t428;
+        let t430 = product(arm1_axis_x, t429);
+        let t431: f64 = t59 * t428;
+        let t432: f64 = arm1_axis_z * t431;
+        let t433: f64 = t430.minus(t432);
+        let t434: f64 = t73 * t428;
+        let t435 = product(arm1_axis_z, t434);
+        let t436: f64 = arm1_axis_y * t429;
+        let t437: f64 = t435.minus(t436);
+        let t438 = product(t437, t437);
+        let t439: f64 = t433 * t433;
+        let t440 = product(arm1_axis_y, t431);
+        let t441: f64 = arm1_axis_x * t434;
+        let t442: f64 = t440.minus(t441);
+        let t443 = product(t442, t442);
+        let t444: f64 = t438.plus(t439);
+        let t445: f64 = t443.plus(t444);
+        let t446: f64 = sqrt(t445);
+        let t447: f64 = 1.0 / t446;
+        let t448: f64 = t433 * t447;
+        let t449 = product(t429, t448);
+        let t450: f64 = t442 * t447;
+        let t451: f64 = t434 * t450;
+        let t452: f64 = t449.minus(t451);
+        let t453 = product(t428, t452);
+        let t454 = product(t62, t452);
+        let t455 = product(t431, t450);
+        let t456: f64 = t437 * t447;
+        let t457: f64 = t429 * t456;
+        let t458: f64 = t455.minus(t457);
+        let t459: f64 = t66 * t458;
+        let t460 = product(t434, t456);
+        let t461: f64 = t431 * t448;
+        let t462: f64 = t460.minus(t461);
+        let t463 = product(t77, t462);
+        let t464: f64 = t454.plus(t459);
+        let t465: f64 = t463.plus(t464);
+        let t466: f64 = t428 * t465;
+        let t467: f64 = arm1_crank_length * t90;
+        let t468: f64 = t466 * t467;
+        let t469: f64 = t453.minus(t468);
+        let t470 = product(t428, t456);
+        let t471 = product(t62, t456);
+        let t472: f64 = t66 * t448;
+        let t473 = product(t77, t450);
+        let t474: f64 = t471.plus(t472);
+        let t475: f64 = t473.plus(t474);
+        let t476: f64 = t428 * t475;
+        let t477: f64 = t467 * t476;
+        let t478: f64 = t470.minus(t477);
+        let t479 = product(vx, t478);
+        let t480 = product(t428, t448);
+        let t481: f64 = arm1_crank_length * t280;
+        let t482: f64 = t476 * t481;
+        let t483: f64 = t480.minus(t482);
         let t484: f64 = vy * t483;
-        let t485: f64 = t62 * t282;
-        let t486: f64 = -t485;
-        let t487 = product(az, t486);
-        let t488: f64 = t48 * t282;
-        let t489 = product(t309, t488);
-        let t490: f64 = t53 * t351;
+        let t485 = product(t428, t450);
+        let t486: f64 = arm1_crank_length * t282;
+        let t487: f64 = t476 * t486;
+        let t488: f64 = t485.minus(t487);
+        let t489 = product(vz, t488);
+        let t490: f64 = t479.plus(t484);
         let t491: f64 = t489.plus(t490);
-        let t492 = product(arm1_zero_x, t491);
-        let t493: f64 = t53 * t282;
-        let t494 = product(t309, t493);
-        let t495: f64 = t48 * t351;
-        let t496: f64 = t494.minus(t495);
-        let t497: f64 = t14 * t496;
-        let t498: f64 = t492.plus(t497);
-        let t499: f64 = vz * t498;
-        let t500: f64 = t457.plus(t469);
-        let t501: f64 = t472.plus(t484);
-        let t502: f64 = t487.plus(t499);
-        let t503: f64 = t500 + t501;
-        let t504: f64 = t502 + t503;
-        let t505 = product(t381, t504);
-        let t506: f64 = t66 * t90;
-        let t507: f64 = -t506;
-        let t508 = product(ax, t507);
-        let t509 = product(arm1_zero_y, t461);
-        let t510: f64 = t18 * t466;
-        let t511: f64 = t509.plus(t510);
-        let t512: f64 = vx * t511;
-        let t513: f64 = t66 * t280;
-        let t514: f64 = -t513;
-        let t515 = product(ay, t514);
-        let t516 = product(arm1_zero_y, t476);
-        let t517: f64 = t18 * t481;
-        let t518: f64 = t516.plus(t517);
-        let t519: f64 = vy * t518;
-        let t520: f64 = t66 * t282;
-        let t521: f64 = -t520;
-        let t522 = product(az, t521);
-        let t523 = product(arm1_zero_y, t491);
-        let t524: f64 = t18 * t496;
-        let t525: f64 = t523.plus(t524);
-        let t526: f64 = vz * t525;
-        let t527: f64 = t508.plus(t512);
-        let t528: f64 = t515.plus(t519);
-        let t529: f64 = t522.plus(t526);
-        let t530: f64 = t527 + t528;
-        let t531: f64 = t529 + t530;
-        let t532: f64 = t384 * t531;
-        let t533: f64 = t77 * t90;
-        let t534: f64 = -t533;
-        let t535 = product(ax, t534);
-        let t536 = product(arm1_zero_z, t461);
-        let t537: f64 = t22 * t466;
-        let t538: f64 = t536.plus(t537);
-        let t539: f64 = vx * t538;
-        let t540: f64 = t77 * t280;
-        let t541: f64 = -t540;
-        let t542 = product(ay, t541);
-        let t543 = product(arm1_zero_z, t476);
-        let t544: f64 = t22 * t481;
-        let t545: f64 = t543.plus(t544);
-        let t546: f64 = vy * t545;
-        let t547: f64 = t77 * t282;
-        let t548: f64 = -t547;
+        let t492 = product(arm1_axis_x, t431);
+        let t493: f64 = arm1_axis_y * t434;
+        let t494 = product(arm1_axis_z, t429);
+        let t495: f64 = t492.plus(t493);
+        let t496: f64 = t494.plus(t495);
+        let t497: f64 = t447 * t496;
+        let t498: f64 = t491 * t497;
+        let t499: f64 = arm1_rod_izz * t491;
+        let t500 = product(t498, t499);
+        let t501 = product(gravity_x, t452);
+        let t502: f64 = gravity_y * t458;
+        let t503 = product(gravity_z, t462);
+        let t504: f64 = t501.plus(t502);
+        let t505: f64 = t503.plus(t504);
+        let t506 = product(ax, t467);
+        let t507: f64 = ay * t481;
+        let t508 = product(az, t486);
+        let t509: f64 = t506.plus(t507);
+        let t510: f64 = t508.plus(t509);
+        let t511 = product(t465, t510);
+        let t512 = product(t77, t325);
+        let t513: f64 = t80 * t302;
+        let t514: f64 = t512.minus(t513);
+        let t515: f64 = arm1_crank_length * t514;
+        let t516 = product(t462, t515);
+        let t517 = product(t62, t325);
+        let t518: f64 = t55 * t302;
+        let t519: f64 = t517.minus(t518);
+        let t520: f64 = arm1_crank_length * t519;
+        let t521 = product(t452, t520);
+        let t522 = product(t66, t325);
+        let t523: f64 = t69 * t302;
+        let t524: f64 = t522.minus(t523);
+        let t525: f64 = arm1_crank_length * t524;
+        let t526: f64 = t458 * t525;
+        let t527: f64 = t521.plus(t526);
+        let t528: f64 = t516.plus(t527);
+        let t529: f64 = t511.plus(t528);
+        let t530: f64 = t529 - t505;
+        let t531: f64 = arm1_rod_mz * t530;
+        let t532 = product(t312, t456);
+        let t533: f64 = t316 * t448;
+        let t534 = product(t320, t450);
+        let t535: f64 = t532.plus(t533);
+        let t536: f64 = t534.plus(t535);
+        let t537: f64 = t428 * t497;
+        let t538: f64 = t536 * t537;
+        let t539: f64 = t428 * t536;
+        let t540 = product(t538, t539);
+        let t541 = product(ax, t469);
+        let t542 = product(t428, t458);
+        let t543: f64 = t466 * t481;
+        let t544: f64 = t542.minus(t543);
+        let t545: f64 = ay * t544;
+        let t546 = product(t428, t462);
+        let t547: f64 = t466 * t486;
+        let t548: f64 = t546.minus(t547);
         let t549 = product(az, t548);
-        let t550 = product(arm1_zero_z, t491);
-        let t551: f64 = t22 * t496;
-        let t552: f64 = t550.plus(t551);
-        let t553: f64 = vz * t552;
-        let t554: f64 = t535.plus(t539);
-        let t555: f64 = t542.plus(t546);
-        let t556: f64 = t549.plus(t553);
-        let t557: f64 = t554 + t555;
-        let t558: f64 = t556 + t557;
-        let t559 = product(t386, t558);
-        let t560: f64 = t505.plus(t532);
-        let t561: f64 = t559.plus(t560);
-        let t562 = product(arm1_crank_length, t561);
-        let t563: f64 = t562.added_to(t454);
-        let t564: f64 = arm1_rod_mz * t563;
-        let t565 = product(ax, t393);
-        let t566 = product(t390, t414);
-        let t567: f64 = t566.subtracted_from(t436);
-        let t568: f64 = ay * t567;
-        let t569 = product(t390, t419);
-        let t570: f64 = t569.subtracted_from(t441);
-        let t571 = product(az, t570);
-        let t572: f64 = arm1_crank_length * t62;
-        let t573 = product(t309, t572);
-        let t574: f64 = t573.subtracted_from(vx);
-        let t575 = product(t396, t574);
-        let t576: f64 = arm1_crank_length * t66;
-        let t577 = product(t309, t576);
-        let t578: f64 = t577.subtracted_from(vy);
-        let t579: f64 = t401 * t578;
-        let t580: f64 = arm1_crank_length * t77;
-        let t581 = product(t309, t580);
-        let t582: f64 = t581.subtracted_from(vz);
-        let t583 = product(t405, t582);
-        let t584: f64 = t575.plus(t579);
-        let t585: f64 = t583.plus(t584);
-        let t586: f64 = t361 * t585;
-        let t587 = product(t381, t574);
-        let t588: f64 = t384 * t578;
-        let t589 = product(t386, t582);
-        let t590: f64 = t587.plus(t588);
-        let t591: f64 = t589.plus(t590);
-        let t592: f64 = t361 * t430;
-        let t593: f64 = t591 * t592;
-        let t594 = product(t586, t593);
-        let t595: f64 = t309 * t309;
-        let t596 = product(t55, t595);
-        let t597: f64 = arm1_crank_length * t595;
-        let t598 = product(t331, t597);
-        let t599: f64 = t574 * t574;
-        let t600 = product(t578, t578);
-        let t601: f64 = t582 * t582;
-        let t602: f64 = t598.plus(t599);
-        let t603: f64 = t600.plus(t601);
-        let t604: f64 = t602 + t603;
-        let t605: f64 = t89 * t604;
-        let t606: f64 = t62 * t605;
-        let t607: f64 = t596.minus(t606);
-        let t608 = product(t381, t607);
-        let t609 = product(t69, t595);
-        let t610: f64 = t66 * t605;
-        let t611: f64 = t609.minus(t610);
-        let t612: f64 = t384 * t611;
-        let t613 = product(t80, t595);
-        let t614: f64 = t77 * t605;
-        let t615: f64 = t613.minus(t614);
-        let t616 = product(t386, t615);
-        let t617: f64 = t608.plus(t612);
-        let t618: f64 = t616.plus(t617);
-        let t619: f64 = arm1_crank_length * t361;
-        let t620: f64 = t618 * t619;
-        let t621: f64 = t594.plus(t620);
-        let t622: f64 = t565.plus(t568);
-        let t623: f64 = t571.plus(t621);
-        let t624: f64 = t622 + t623;
-        let t625 = product(t424, t447);
-        let t626: f64 = t625.subtracted_from(t624);
-        let t627: f64 = t626 * 2.0;
-        let t628 = product(arm1_rod_ixx, t627);
-        let t629: f64 = t449.minus(t564);
-        let t630: f64 = t629 * 2.0;
-        let t631: f64 = t628.plus(t630);
-        let t632 = product(t393, t631);
-        let t633 = product(vx, t393);
-        let t634: f64 = vy * t567;
-        let t635 = product(vz, t570);
-        let t636: f64 = t633.plus(t634);
-        let t637: f64 = t635.plus(t636);
-        let t638: f64 = arm1_rod_izz * t447;
-        let t639 = product(t637, t638);
-        let t640 = product(gravity_x, t396);
-        let t641: f64 = gravity_y * t401;
-        let t642 = product(gravity_z, t405);
-        let t643: f64 = t640.plus(t641);
-        let t644: f64 = t642.plus(t643);
-        let t645 = product(t396, t504);
-        let t646: f64 = t401 * t531;
-        let t647 = product(t405, t558);
-        let t648: f64 = t645.plus(t646);
-        let t649: f64 = t647.plus(t648);
-        let t650 = product(arm1_crank_length, t649);
-        let t651: f64 = t650.added_to(t644);
-        let t652: f64 = arm1_rod_mz * t651;
-        let t653: f64 = t361 * t591;
-        let t654 = product(t593, t653);
-        let t655 = product(ax, t411);
-        let t656: f64 = ay * t416;
-        let t657 = product(az, t421);
-        let t658 = product(t396, t607);
-        let t659: f64 = t401 * t611;
-        let t660 = product(t405, t615);
-        let t661: f64 = t658.plus(t659);
-        let t662: f64 = t660.plus(t661);
-        let t663: f64 = t619 * t662;
-        let t664: f64 = t655.plus(t656);
-        let t665: f64 = t657.plus(t663);
-        let t666: f64 = t664 + t665;
-        let t667: f64 = t654.minus(t666);
-        let t668 = product(t447, t637);
-        let t669: f64 = t668.subtracted_from(t667);
-        let t670: f64 = t669 * 2.0;
-        let t671 = product(arm1_rod_ixx, t670);
-        let t672: f64 = t639.plus(t652);
-        let t673: f64 = t672 * 2.0;
-        let t674: f64 = t671.plus(t673);
-        let t675: f64 = -t674;
-        let t676: f64 = t411 * t675;
-        let t677: f64 = t380 * t380;
-        let t678: f64 = t586 * t677;
-        let t679 = product(t653, t678);
-        let t680: f64 = ax * t434;
-        let t681 = product(ay, t439);
-        let t682: f64 = az * t444;
-        let t683 = product(t430, t621);
-        let t684: f64 = t679.plus(t680);
-        let t685: f64 = t681.plus(t682);
-        let t686: f64 = t684 + t685;
-        let t687: f64 = t683.plus(t686);
-        let t688: f64 = arm1_rod_izz * t434;
-        let t689 = product(t687, t688);
-        let t690 = product(gravity_x, t160);
-        let t691: f64 = gravity_y * t164;
-        let t692 = product(gravity_z, t168);
-        let t693: f64 = t690.plus(t691);
-        let t694: f64 = t692.plus(t693);
-        let t695 = product(arm2_crank_mx, t694);
-        let t696 = product(ax, t279);
-        let t697: f64 = ay * t181;
-        let t698 = product(az, t274);
-        let t699 = product(vx, t279);
-        let t700: f64 = vy * t181;
-        let t701 = product(vz, t274);
-        let t702: f64 = t699.plus(t700);
-        let t703: f64 = t701.plus(t702);
-        let t704: f64 = t160 * t703;
-        let t705: f64 = -t704;
-        let t706 = product(arm2_crank_length, t705);
-        let t707: f64 = t706.added_to(vx);
-        let t708 = product(t180, t707);
-        let t709: f64 = t179 * t179;
-        let t710 = product(t160, t707);
-        let t711: f64 = t164 * t703;
-        let t712: f64 = -t711;
-        let t713 = product(arm2_crank_length, t712);
-        let t714: f64 = t713.added_to(vy);
-        let t715: f64 = t164 * t714;
-        let t716: f64 = t168 * t703;
-        let t717: f64 = -t716;
-        let t718 = product(arm2_crank_length, t717);
-        let t719: f64 = t718.added_to(vz);
-        let t720 = product(t168, t719);
-        let t721 = product(t153, t157);
-        let t722: f64 = t146 * t150;
-        let t723 = product(t171, t175);
-        let t724: f64 = t721.plus(t722);
-        let t725: f64 = t723.plus(t724);
-        let t726 = product(t703, t725);
-        let t727: f64 = t710.plus(t715);
-        let t728: f64 = t720.plus(t727);
-        let t729: f64 = t726.minus(t728);
-        let t730: f64 = t120 * t157;
-        let t731: f64 = t709 * t730;
-        let t732: f64 = t729 * t731;
-        let t733: f64 = t708.plus(t732);
-        let t734: f64 = vx * t733;
-        let t735 = product(t180, t714);
-        let t736: f64 = t120 * t150;
-        let t737: f64 = t709 * t736;
-        let t738: f64 = t729 * t737;
-        let t739: f64 = t735.plus(t738);
-        let t740 = product(vy, t739);
-        let t741 = product(t180, t719);
-        let t742: f64 = t120 * t175;
-        let t743: f64 = t709 * t742;
-        let t744: f64 = t729 * t743;
-        let t745: f64 = t741.plus(t744);
-        let t746: f64 = vz * t745;
-        let t747: f64 = t696.plus(t697);
-        let t748: f64 = t698.plus(t734);
-        let t749: f64 = t740.plus(t746);
-        let t750: f64 = t747 + t748;
-        let t751: f64 = t749 + t750;
-        let t752: f64 = arm2_crank_izz * t751;
-        let t753: f64 = t695.subtracted_from(t752);
-        let t754 = product(t279, t753);
-        let t755: f64 = 1.0 / arm2_rod_length;
-        let t756: f64 = t150 * t755;
-        let t757 = product(arm2_axis_z, t756);
-        let t758: f64 = t175 * t755;
-        let t759: f64 = arm2_axis_y * t758;
-        let t760: f64 = t757.minus(t759);
-        let t761 = product(t760, t760);
-        let t762 = product(arm2_axis_x, t758);
-        let t763: f64 = t157 * t755;
-        let t764: f64 = arm2_axis_z * t763;
-        let t765: f64 = t762.minus(t764);
-        let t766: f64 = t765 * t765;
-        let t767 = product(arm2_axis_y, t763);
-        let t768: f64 = arm2_axis_x * t756;
-        let t769: f64 = t767.minus(t768);
-        let t770 = product(t769, t769);
-        let t771: f64 = t761.plus(t766);
-        let t772: f64 = t770.plus(t771);
-        let t773: f64 = sqrt(t772);
-        let t774: f64 = 1.0 / t773;
-        let t775: f64 = t760 * t774;
-        let t776: f64 = t755 * t775;
-        let t777 = product(t160, t775);
-        let t778: f64 = t765 * t774;
-        let t779: f64 = t164 * t778;
-        let t780: f64 = t769 * t774;
-        let t781 = product(t168, t780);
-        let t782: f64 = t777.plus(t779);
-        let t783: f64 = t781.plus(t782);
-        let t784: f64 = t755 * t783;
-        let t785: f64 = arm2_crank_length * t279;
-        let t786 = product(t784, t785);
-        let t787: f64 = t786.subtracted_from(t776);
-        let t788 = product(t758, t778);
-        let t789: f64 = t756 * t780;
-        let t790: f64 = t788.minus(t789);
-        let t791 = product(t755, t790);
-        let t792 = product(t160, t790);
-        let t793 = product(t763, t780);
-        let t794: f64 = t758 * t775;
-        let t795: f64 = t793.minus(t794);
-        let t796: f64 = t164 * t795;
-        let t797 = product(t756, t775);
-        let t798: f64 = t763 * t778;
-        let t799: f64 = t797.minus(t798);
-        let t800 = product(t168, t799);
-        let t801: f64 = t792.plus(t796);
-        let t802: f64 = t800.plus(t801);
-        let t803: f64 = t755 * t802;
-        let t804: f64 = t785 * t803;
-        let t805: f64 = t791.minus(t804);
-        let t806 = product(vx, t805);
-        let t807 = product(t755, t795);
-        let t808: f64 = arm2_crank_length * t181;
-        let t809: f64 = t803 * t808;
-        let t810: f64 = t807.minus(t809);
-        let t811: f64 = vy * t810;
-        let t812 = product(t755, t799);
-        let t813: f64 = arm2_crank_length * t274;
-        let t814: f64 = t803 * t813;
-        let t815: f64 = t812.minus(t814);
-        let t816 = product(vz, t815);
-        let t817: f64 = t806.plus(t811);
-        let t818: f64 = t816.plus(t817);
-        let t819 = product(arm2_axis_x, t763);
-        let t820: f64 = arm2_axis_y * t756;
-        let t821 = product(arm2_axis_z, t758);
-        let t822: f64 = t819.plus(t820);
-        let t823: f64 = t821.plus(t822);
-        let t824: f64 = t774 * t823;
-        let t825 = product(t776, t824);
-        let t826: f64 = t784 * t824;
-        let t827: f64 = t785 * t826;
-        let t828: f64 = t825.minus(t827);
-        let t829 = product(vx, t828);
-        let t830: f64 = t755 * t778;
-        let t831 = product(t824, t830);
-        let t832: f64 = t808 * t826;
-        let t833: f64 = t831.minus(t832);
-        let t834: f64 = vy * t833;
-        let t835: f64 = t755 * t780;
-        let t836 = product(t824, t835);
-        let t837: f64 = t813 * t826;
-        let t838: f64 = t836.minus(t837);
-        let t839 = product(vz, t838);
-        let t840: f64 = t829.plus(t834);
-        let t841: f64 = t839.plus(t840);
-        let t842: f64 = arm2_rod_izz * t818;
-        let t843 = product(t841, t842);
-        let t844 = product(gravity_x, t775);
-        let t845: f64 = gravity_y * t778;
-        let t846 = product(gravity_z, t780);
-        let t847: f64 = t844.plus(t845);
-        let t848: f64 = t846.plus(t847);
-        let t849: f64 = t160 * t279;
-        let t850: f64 = -t849;
-        let t851 = product(ax, t850);
-        let t852: f64 = t139 * t279;
-        let t853 = product(t703, t852);
-        let t854: f64 = t144 * t733;
-        let t855: f64 = t853.plus(t854);
-        let t856 = product(arm2_zero_x, t855);
-        let t857: f64 = t144 * t279;
-        let t858 = product(t703, t857);
-        let t859: f64 = t139 * t733;
-        let t860: f64 = t858.minus(t859);
-        let t861: f64 = t105 * t860;
-        let t862: f64 = t856.plus(t861);
-        let t863: f64 = vx * t862;
-        let t864: f64 = t160 * t181;
-        let t865: f64 = -t864;
-        let t866 = product(ay, t865);
-        let t867: f64 = t139 * t181;
-        let t868 = product(t703, t867);
-        let t869: f64 = t144 * t739;
-        let t870: f64 = t868.plus(t869);
-        let t871 = product(arm2_zero_x, t870);
-        let t872: f64 = t144 * t181;
-        let t873 = product(t703, t872);
-        let t874: f64 = t139 * t739;
-        let t875: f64 = t873.minus(t874);
-        let t876: f64 = t105 * t875;
-        let t877: f64 = t871.plus(t876);
-        let t878: f64 = vy * t877;
-        let t879: f64 = t160 * t274;
-        let t880: f64 = -t879;
-        let t881 = product(az, t880);
-        let t882: f64 = t139 * t274;
-        let t883 = product(t703, t882);
-        let t884: f64 = t144 * t745;
-        let t885: f64 = t883.plus(t884);
-        let t886 = product(arm2_zero_x, t885);
-        let t887: f64 = t144 * t274;
-        let t888 = product(t703, t887);
-        let t889: f64 = t139 * t745;
-        let t890: f64 = t888.minus(t889);
-        let t891: f64 = t105 * t890;
-        let t892: f64 = t886.plus(t891);
-        let t893: f64 = vz * t892;
-        let t894: f64 = t851.plus(t863);
-        let t895: f64 = t866.plus(t878);
-        let t896: f64 = t881.plus(t893);
-        let t897: f64 = t894 + t895;
-        let t898: f64 = t896 + t897;
-        let t899 = product(t775, t898);
-        let t900: f64 = t164 * t279;
-        let t901: f64 = -t900;
-        let t902 = product(ax, t901);
-        let t903 = product(arm2_zero_y, t855);
-        let t904: f64 = t109 * t860;
-        let t905: f64 = t903.plus(t904);
-        let t906: f64 = vx * t905;
-        let t907: f64 = t164 * t181;
-        let t908: f64 = -t907;
-        let t909 = product(ay, t908);
-        let t910 = product(arm2_zero_y, t870);
-        let t911: f64 = t109 * t875;
-        let t912: f64 = t910.plus(t911);
-        let t913: f64 = vy * t912;
-        let t914: f64 = t164 * t274;
-        let t915: f64 = -t914;
-        let t916 = product(az, t915);
-        let t917 = product(arm2_zero_y, t885);
-        let t918: f64 = t109 * t890;
-        let t919: f64 = t917.plus(t918);
-        let t920: f64 = vz * t919;
-        let t921: f64 = t902.plus(t906);
-        let t922: f64 = t909.plus(t913);
-        let t923: f64 = t916.plus(t920);
-        let t924: f64 = t921 + t922;
-        let t925: f64 = t923 + t924;
-        let t926: f64 = t778 * t925;
-        let t927: f64 = t168 * t279;
-        let t928: f64 = -t927;
-        let t929 = product(ax, t928);
-        let t930 = product(arm2_zero_z, t855);
-        let t931: f64 = t113 * t860;
+        let t550: f64 = t428 * t528;
+        let t551: f64 = t540.plus(t550);
+        let t552: f64 = t541.plus(t545);
+        let t553: f64 = t549.plus(t552);
+        let t554: f64 = t551 - t553;
+        let t555 = product(t491, t498);
+        let t556: f64 = t555.subtracted_from(t554);
+        let t557: f64 = t556 * 2.0;
+        let t558 = product(arm1_rod_ixx, t557);
+        let t559: f64 = t500.minus(t531);
+        let t560: f64 = t559 * 2.0;
+        let t561: f64 = t558.plus(t560);
+        let t562 = product(t469, t561);
+        let t563: f64 = 1.0 / arm2_rod_length;
+        let t564: f64 = t175 * t563;
+        let t565 = product(arm2_axis_x, t564);
+        let t566: f64 = t157 * t563;
+        let t567: f64 = arm2_axis_z * t566;
+        let t568: f64 = t565.minus(t567);
+        let t569: f64 = t150 * t563;
+        let t570 = product(arm2_axis_z, t569);
+        let t571: f64 = arm2_axis_y * t564;
+        let t572: f64 = t570.minus(t571);
+        let t573 = product(t572, t572);
+        let t574: f64 = t568 * t568;
+        let t575 = product(arm2_axis_y, t566);
+        let t576: f64 = arm2_axis_x * t569;
+        let t577: f64 = t575.minus(t576);
+        let t578 = product(t577, t577);
+        let t579: f64 = t573.plus(t574);
+        let t580: f64 = t578.plus(t579);
+        let t581: f64 = sqrt(t580);
+        let t582: f64 = 1.0 / t581;
+        let t583: f64 = t568 * t582;
+        let t584 = product(t564, t583);
+        let t585: f64 = t577 * t582;
+        let t586: f64 = t569 * t585;
+        let t587: f64 = t584.minus(t586);
+        let t588 = product(t563, t587);
+        let t589 = product(t160, t587);
+        let t590 = product(t566, t585);
+        let t591: f64 = t572 * t582;
+        let t592: f64 = t564 * t591;
+        let t593: f64 = t590.minus(t592);
+        let t594: f64 = t164 * t593;
+        let t595 = product(t569, t591);
+        let t596: f64 = t566 * t583;
+        let t597: f64 = t595.minus(t596);
+        let t598 = product(t168, t597);
+        let t599: f64 = t589.plus(t594);
+        let t600: f64 = t598.plus(t599);
+        let t601: f64 = t563 * t600;
+        let t602: f64 = arm2_crank_length * t279;
+        let t603: f64 = t601 * t602;
+        let t604: f64 = t588.minus(t603);
+        let t605 = product(t563, t591);
+        let t606 = product(t160, t591);
+        let t607: f64 = t164 * t583;
+        let t608 = product(t168, t585);
+        let t609: f64 = t606.plus(t607);
+        let t610: f64 = t608.plus(t609);
+        let t611: f64 = t563 * t610;
+        let t612: f64 = t602 * t611;
+        let t613: f64 = t605.minus(t612);
+        let t614 = product(vx, t613);
+        let t615 = product(t563, t583);
+        let t616: f64 = arm2_crank_length * t181;
+        let t617: f64 = t611 * t616;
+        let t618: f64 = t615.minus(t617);
+        let t619: f64 = vy * t618;
+        let t620 = product(t563, t585);
+        let t621: f64 = arm2_crank_length * t274;
+        let t622: f64 = t611 * t621;
+        let t623: f64 = t620.minus(t622);
+        let t624 = product(vz, t623);
+        let t625: f64 = t614.plus(t619);
+        let t626: f64 = t624.plus(t625);
+        let t627 = product(arm2_axis_x, t566);
+        let t628: f64 = arm2_axis_y * t569;
+        let t629 = product(arm2_axis_z, t564);
+        let t630: f64 = t627.plus(t628);
+        let t631: f64 = t629.plus(t630);
+        let t632: f64 = t582 * t631;
+        let t633: f64 = t626 * t632;
+        let t634: f64 = arm2_rod_izz * t626;
+        let t635 = product(t633, t634);
+        let t636 = product(gravity_x, t587);
+        let t637: f64 = gravity_y * t593;
+        let t638 = product(gravity_z, t597);
+        let t639: f64 = t636.plus(t637);
+        let t640: f64 = t638.plus(t639);
+        let t641 = product(ax, t602);
+        let t642: f64 = ay * t616;
+        let t643 = product(az, t621);
+        let t644: f64 = t641.plus(t642);
+        let t645: f64 = t643.plus(t644);
+        let t646 = product(t600, t645);
+        let t647 = product(t168, t369);
+        let t648: f64 = t171 * t346;
+        let t649: f64 = t647.minus(t648);
+        let t650: f64 = arm2_crank_length * t649;
+        let t651 = product(t597, t650);
+        let t652 = product(t160, t369);
+        let t653: f64 = t153 * t346;
+        let t654: f64 = t652.minus(t653);
+        let t655: f64 = arm2_crank_length * t654;
+        let t656 = product(t587, t655);
+        let t657 = product(t164, t369);
+        let t658: f64 = t146 * t346;
+        let t659: f64 = t657.minus(t658);
+        let t660: f64 = arm2_crank_length * t659;
+        let t661: f64 = t593 * t660;
+        let t662: f64 = t656.plus(t661);
+        let t663: f64 = t651.plus(t662);
+        let t664: f64 = t646.plus(t663);
+        let t665: f64 = t664 - t640;
+        let t666: f64 = arm2_rod_mz * t665;
+        let t667 = product(t356, t591);
+        let t668: f64 = t360 * t583;
+        let t669 = product(t364, t585);
+        let t670: f64 = t667.plus(t668);
+        let t671: f64 = t669.plus(t670);
+        let t672: f64 = t563 * t632;
+        let t673: f64 = t671 * t672;
+        let t674: f64 = t563 * t671;
+        let t675 = product(t673, t674);
+        let t676 = product(ax, t604);
+        let t677 = product(t563, t593);
+        let t678: f64 = t601 * t616;
+        let t679: f64 = t677.minus(t678);
+        let t680: f64 = ay * t679;
+        let t681 = product(t563, t597);
+        let t682: f64 = t601 * t621;
+        let t683: f64 = t681.minus(t682);
+        let t684 = product(az, t683);
+        let t685: f64 = t563 * t663;
+        let t686: f64 = t675.plus(t685);
+        let t687: f64 = t676.plus(t680);
+        let t688: f64 = t684.plus(t687);
+        let t689: f64 = t686 - t688;
+        let t690 = product(t626, t633);
+        let t691: f64 = t690.subtracted_from(t689);
+        let t692: f64 = t691 * 2.0;
+        let t693 = product(arm2_rod_ixx, t692);
+        let t694: f64 = t635.minus(t666);
+        let t695: f64 = t694 * 2.0;
+        let t696: f64 = t693.plus(t695);
+        let t697: f64 = t604 * t696;
+        let t698: f64 = 1.0 / arm3_rod_length;
+        let t699: f64 = t241 * t698;
+        let t700 = product(arm3_axis_x, t699);
+        let t701: f64 = t248 * t698;
+        let t702: f64 = arm3_axis_z * t701;
+        let t703: f64 = t700.minus(t702);
+        let t704: f64 = t262 * t698;
+        let t705 = product(arm3_axis_z, t704);
+        let t706: f64 = arm3_axis_y * t699;
+        let t707: f64 = t705.minus(t706);
+        let t708 = product(t707, t707);
+        let t709: f64 = t703 * t703;
+        let t710 = product(arm3_axis_y, t701);
+        let t711: f64 = arm3_axis_x * t704;
+        let t712: f64 = t710.minus(t711);
+        let t713 = product(t712, t712);
+        let t714: f64 = t708.plus(t709);
+        let t715: f64 = t713.plus(t714);
+        let t716: f64 = sqrt(t715);
+        let t717: f64 = 1.0 / t716;
+        let t718: f64 = t703 * t717;
+        let t719 = product(t699, t718);
+        let t720: f64 = t712 * t717;
+        let t721: f64 = t704 * t720;
+        let t722: f64 = t719.minus(t721);
+        let t723 = product(t698, t722);
+        let t724 = product(t251, t722);
+        let t725 = product(t701, t720);
+        let t726: f64 = t707 * t717;
+        let t727: f64 = t699 * t726;
+        let t728: f64 = t725.minus(t727);
+        let t729: f64 = t255 * t728;
+        let t730 = product(t704, t726);
+        let t731: f64 = t701 * t718;
+        let t732: f64 = t730.minus(t731);
+        let t733 = product(t266, t732);
+        let t734: f64 = t724.plus(t729);
+        let t735: f64 = t733.plus(t734);
+        let t736: f64 = t698 * t735;
+        let t737: f64 = arm3_crank_length * t286;
+        let t738: f64 = t736 * t737;
+        let t739: f64 = t723.minus(t738);
+        let t740 = product(t698, t726);
+        let t741 = product(t251, t726);
+        let t742: f64 = t255 * t718;
+        let t743 = product(t266, t720);
+        let t744: f64 = t741.plus(t742);
+        let t745: f64 = t743.plus(t744);
+        let t746: f64 = t698 * t745;
+        let t747: f64 = t737 * t746;
+        let t748: f64 = t740.minus(t747);
+        let t749 = product(vx, t748);
+        let t750 = product(t698, t718);
+        let t751: f64 = arm3_crank_length * t275;
+        let t752: f64 = t746 * t751;
+        let t753: f64 = t750.minus(t752);
+        let t754: f64 = vy * t753;
+        let t755 = product(t698, t720);
+        let t756: f64 = arm3_crank_length * t272;
+        let t757: f64 = t746 * t756;
+        let t758: f64 = t755.minus(t757);
+        let t759 = product(vz, t758);
+        let t760: f64 = t749.plus(t754);
+        let t761: f64 = t759.plus(t760);
+        let t762 = product(arm3_axis_x, t701);
+        let t763: f64 = arm3_axis_y * t704;
+        let t764 = product(arm3_axis_z, t699);
+        let t765: f64 = t762.plus(t763);
+        let t766: f64 = t764.plus(t765);
+        let t767: f64 = t717 * t766;
+        let t768: f64 = t761 * t767;
+        let t769: f64 = arm3_rod_izz * t761;
+        let t770 = product(t768, t769);
+        let t771 = product(gravity_x, t722);
+        let t772: f64 = gravity_y * t728;
+        let t773 = product(gravity_z, t732);
+        let t774: f64 = t771.plus(t772);
+        let t775: f64 = t773.plus(t774);
+        let t776 = product(ax, t737);
+        let t777: f64 = ay * t751;
+        let t778 = product(az, t756);
+        let t779: f64 = t776.plus(t777);
+        let t780: f64 = t778.plus(t779);
+        let t781 = product(t735, t780);
+        let t782 = product(t266, t413);
+        let t783: f64 = t237 * t390;
+        let t784: f64 = t782.minus(t783);
+        let t785: f64 = arm3_crank_length * t784;
+        let t786 = product(t732, t785);
+        let t787 = product(t251, t413);
+        let t788: f64 = t244 * t390;
+        let t789: f64 = t787.minus(t788);
+        let t790: f64 = arm3_crank_length * t789;
+        let t791 = product(t722, t790);
+        let t792 = product(t255, t413);
+        let t793: f64 = t258 * t390;
+        let t794: f64 = t792.minus(t793);
+        let t795: f64 = arm3_crank_length * t794;
+        let t796: f64 = t728 * t795;
+        let t797: f64 = t791.plus(t796);
+        let t798: f64 = t786.plus(t797);
+        let t799: f64 = t781.plus(t798);
+        let t800: f64 = t799 - t775;
+        let t801: f64 = arm3_rod_mz * t800;
+        let t802 = product(t400, t726);
+        let t803: f64 = t404 * t718;
+        let t804 = product(t408, t720);
+        let t805: f64 = t802.plus(t803);
+        let t806: f64 = t804.plus(t805);
+        let t807: f64 = t698 * t767;
+        let t808: f64 = t806 * t807;
+        let t809: f64 = t698 * t806;
+        let t810 = product(t808, t809);
+        let t811 = product(ax, t739);
+        let t812 = product(t698, t728);
+        let t813: f64 = t736 * t751;
+        let t814: f64 = t812.minus(t813);
+        let t815: f64 = ay * t814;
+        let t816 = product(t698, t732);
+        let t817: f64 = t736 * t756;
+        let t818: f64 = t816.minus(t817);
+        let t819 = product(az, t818);
+        let t820: f64 = t698 * t798;
+        let t821: f64 = t810.plus(t820);
+        let t822: f64 = t811.plus(t815);
+        let t823: f64 = t819.plus(t822);
+        let t824: f64 = t821 - t823;
+        let t825 = product(t761, t768);
+        let t826: f64 = t825.subtracted_from(t824);
+        let t827: f64 = t826 * 2.0;
+        let t828 = product(arm3_rod_ixx, t827);
+        let t829: f64 = t770.minus(t801);
+        let t830: f64 = t829 * 2.0;
+        let t831: f64 = t828.plus(t830);
+        let t832 = product(t739, t831);
+        let t833: f64 = arm1_rod_mass * t530;
+        let t834 = product(arm1_rod_mz, t557);
+        let t835: f64 = t833 * 2.0;
+        let t836: f64 = t834.subtracted_from(t835);
+        let t837 = product(t465, t836);
+        let t838 = product(gravity_x, t456);
+        let t839: f64 = gravity_y * t448;
+        let t840 = product(gravity_z, t450);
+        let t841: f64 = t838.plus(t839);
+        let t842: f64 = t840.plus(t841);
+        let t843 = product(t475, t510);
+        let t844 = product(t450, t515);
+        let t845 = product(t456, t520);
+        let t846: f64 = t448 * t525;
+        let t847: f64 = t845.plus(t846);
+        let t848: f64 = t844.plus(t847);
+        let t849: f64 = t843.plus(t848);
+        let t850: f64 = t849 - t842;
+        let t851: f64 = arm1_rod_mass * t850;
+        let t852 = product(t312, t452);
+        let t853: f64 = t316 * t458;
+        let t854 = product(t320, t462);
+        let t855: f64 = t852.plus(t853);
+        let t856: f64 = t854.plus(t855);
+        let t857: f64 = t428 * t856;
+        let t858 = product(t538, t857);
+        let t859: f64 = ax * t478;
+        let t860 = product(ay, t483);
+        let t861: f64 = az * t488;
+        let t862 = product(t428, t848);
+        let t863: f64 = t858.plus(t859);
+        let t864: f64 = t860.plus(t861);
+        let t865: f64 = t863 + t864;
+        let t866: f64 = t862.subtracted_from(t865);
+        let t867 = product(vx, t469);
+        let t868: f64 = vy * t544;
+        let t869 = product(vz, t548);
+        let t870: f64 = t867.plus(t868);
+        let t871: f64 = t869.plus(t870);
+        let t872: f64 = t498 * t871;
+        let t873: f64 = t866 - t872;
+        let t874: f64 = t873 * 2.0;
+        let t875 = product(arm1_rod_mz, t874);
+        let t876: f64 = t851 * 2.0;
+        let t877: f64 = t875.plus(t876);
+        let t878: f64 = t475 * t877;
+        let t879 = product(t62, t431);
+        let t880: f64 = t66 * t434;
+        let t881 = product(t77, t429);
+        let t882: f64 = t879.plus(t880);
+        let t883: f64 = t881.plus(t882);
+        let t884 = product(gravity_x, t431);
+        let t885: f64 = gravity_y * t434;
+        let t886 = product(gravity_z, t429);
+        let t887: f64 = t884.plus(t885);
+        let t888: f64 = t886.plus(t887);
+        let t889 = product(t431, t520);
+        let t890: f64 = t434 * t525;
+        let t891 = product(t429, t515);
+        let t892: f64 = t510 * t883;
+        let t893: f64 = t889.plus(t890);
+        let t894: f64 = t891.plus(t892);
+        let t895: f64 = t893 + t894;
+        let t896: f64 = t895 - t888;
+        let t897: f64 = arm1_rod_mass * t896;
+        let t898 = product(t491, t491);
+        let t899: f64 = t871 * t871;
+        let t900: f64 = t898.plus(t899);
+        let t901: f64 = t900 * 2.0;
+        let t902 = product(arm1_rod_mz, t901);
+        let t903: f64 = t897 * 2.0;
+        let t904: f64 = t902.subtracted_from(t903);
+        let t905 = product(t883, t904);
+        let t906: f64 = t837.plus(t878);
+        let t907: f64 = t905.plus(t906);
+        let t908 = product(t467, t907);
+        let t909: f64 = arm2_rod_mass * t665;
+        let t910 = product(arm2_rod_mz, t692);
+        let t911: f64 = t909 * 2.0;
+        let t912: f64 = t910.subtracted_from(t911);
+        let t913 = product(t600, t912);
+        let t914 = product(gravity_x, t591);
+        let t915: f64 = gravity_y * t583;
+        let t916 = product(gravity_z, t585);
+        let t917: f64 = t914.plus(t915);
+        let t918: f64 = t916.plus(t917);
+        let t919 = product(t610, t645);
+        let t920 = product(t585, t650);
+        let t921 = product(t591, t655);
+        let t922: f64 = t583 * t660;
+        let t923: f64 = t921.plus(t922);
+        let t924: f64 = t920.plus(t923);
+        let t925: f64 = t919.plus(t924);
+        let t926: f64 = t925 - t918;
+        let t927: f64 = arm2_rod_mass * t926;
+        let t928 = product(t356, t587);
+        let t929: f64 = t360 * t593;
+        let t930 = product(t364, t597);
+        let t931: f64 = t928.plus(t929);
         let t932: f64 = t930.plus(t931);
-        let t933: f64 = vx * t932;
-        let t934: f64 = t168 * t181;
-        let t935: f64 = -t934;
-        let t936 = product(ay, t935);
-        let t937 = product(arm2_zero_z, t870);
-        let t938: f64 = t113 * t875;
-        let t939: f64 = t937.plus(t938);
-        let t940: f64 = vy * t939;
-        let t941: f64 = t168 * t274;
-        let t942: f64 = -t941;
-        let t943 = product(az, t942);
-        let t944 = product(arm2_zero_z, t885);
-        let t945: f64 = t113 * t890;
-        let t946: f64 = t944.plus(t945);
-        let t947: f64 = vz * t946;
-        let t948: f64 = t929.plus(t933);
-        let t949: f64 = t936.plus(t940);
-        let t950: f64 = t943.plus(t947);
-        let t951: f64 = t948 + t949;
-        let t952: f64 = t950 + t951;
-        let t953 = product(t780, t952);
-        let t954: f64 = t899.plus(t926);
-        let t955: f64 = t953.plus(t954);
-        let t956 = product(arm2_crank_length, t955);
-        let t957: f64 = t956.added_to(t848);
-        let t958: f64 = arm2_rod_mz * t957;
-        let t959 = product(ax, t787);
-        let t960 = product(t784, t808);
-        let t961: f64 = t960.subtracted_from(t830);
-        let t962: f64 = ay * t961;
-        let t963 = product(t784, t813);
-        let t964: f64 = t963.subtracted_from(t835);
-        let t965 = product(az, t964);
-        let t966: f64 = arm2_crank_length * t160;
-        let t967 = product(t703, t966);
-        let t968: f64 = t967.subtracted_from(vx);
-        let t969 = product(t790, t968);
-        let t970: f64 = arm2_crank_length * t164;
-        let t971 = product(t703, t970);
-        let t972: f64 = t971.subtracted_from(vy);
-        let t973: f64 = t795 * t972;
-        let t974: f64 = arm2_crank_length * t168;
-        let t975 = product(t703, t974);
-        let t976: f64 = t975.subtracted_from(vz);
-        let t977 = product(t799, t976);
-        let t978: f64 = t969.plus(t973);
-        let t979: f64 = t977.plus(t978);
-        let t980: f64 = t755 * t979;
-        let t981 = product(t775, t968);
-        let t982: f64 = t778 * t972;
-        let t983 = product(t780, t976);
-        let t984: f64 = t981.plus(t982);
-        let t985: f64 = t983.plus(t984);
-        let t986: f64 = t755 * t824;
-        let t987: f64 = t985 * t986;
-        let t988 = product(t980, t987);
-        let t989: f64 = t703 * t703;
-        let t990 = product(t153, t989);
-        let t991: f64 = arm2_crank_length * t989;
-        let t992 = product(t725, t991);
-        let t993: f64 = t968 * t968;
-        let t994 = product(t972, t972);
-        let t995: f64 = t976 * t976;
-        let t996: f64 = t992.plus(t993);
-        let t997: f64 = t994.plus(t995);
-        let t998: f64 = t996 + t997;
-        let t999: f64 = t180 * t998;
+        let t933: f64 = t563 * t932;
+        let t934 = product(t673, t933);
+        let t935: f64 = ax * t613;
+        let t936 = product(ay, t618);
+        let t937: f64 = az * t623;
+        let t938 = product(t563, t924);
+        let t939: f64 = t934.plus(t935);
+        let t940: f64 = t936.plus(t937);
+        let t941: f64 = t939 + t940;
+        let t942: f64 = t938.subtracted_from(t941);
+        let t943 = product(vx, t604);
+        let t944: f64 = vy * t679;
+        let t945 = product(vz, t683);
+        let t946: f64 = t943.plus(t944);
+        let t947: f64 = t945.plus(t946);
+        let t948: f64 = t633 * t947;
+        let t949: f64 = t942 - t948;
+        let t950: f64 = t949 * 2.0;
+        let t951 = product(arm2_rod_mz, t950);
+        let t952: f64 = t927 * 2.0;
+        let t953: f64 = t951.plus(t952);
+        let t954: f64 = t610 * t953;
+        let t955 = product(t160, t566);
+        let t956: f64 = t164 * t569;
+        let t957 = product(t168, t564);
+        let t958: f64 = t955.plus(t956);
+        let t959: f64 = t957.plus(t958);
+        let t960 = product(gravity_x, t566);
+        let t961: f64 = gravity_y * t569;
+        let t962 = product(gravity_z, t564);
+        let t963: f64 = t960.plus(t961);
+        let t964: f64 = t962.plus(t963);
+        let t965 = product(t566, t655);
+        let t966: f64 = t569 * t660;
+        let t967 = product(t564, t650);
+        let t968: f64 = t645 * t959;
+        let t969: f64 = t965.plus(t966);
+        let t970: f64 = t967.plus(t968);
+        let t971: f64 = t969 + t970;
+        let t972: f64 = t971 - t964;
+        let t973: f64 = arm2_rod_mass * t972;
+        let t974 = product(t626, t626);
+        let t975: f64 = t947 * t947;
+        let t976: f64 = t974.plus(t975);
+        let t977: f64 = t976 * 2.0;
+        let t978 = product(arm2_rod_mz, t977);
+        let t979: f64 = t973 * 2.0;
+        let t980: f64 = t978.subtracted_from(t979);
+        let t981 = product(t959, t980);
+        let t982: f64 = t913.plus(t954);
+        let t983: f64 = t981.plus(t982);
+        let t984: f64 = t602 * t983;
+        let t985: f64 = arm3_rod_mass * t800;
+        let t986 = product(arm3_rod_mz, t827);
+        let t987: f64 = t985 * 2.0;
+        let t988: f64 = t986.subtracted_from(t987);
+        let t989 = product(t735, t988);
+        let t990 = product(gravity_x, t726);
+        let t991: f64 = gravity_y * t718;
+        let t992 = product(gravity_z, t720);
+        let t993: f64 = t990.plus(t991);
+        let t994: f64 = t992.plus(t993);
+        let t995 = product(t745, t780);
+        let t996 = product(t720, t785);
+        let t997 = product(t726, t790);
+        let t998: f64 = t718 * t795;
+        let t999: f64 = t997.plus(t998);
         (
             t28,
             t43,
             t90,
             t119,
             t134,
-            t146,
-            t160,
-            t164,
-            t168,
-            t171,
             t181,
-            t196,
-            t200,
-            t204,
             t210,
-            t211,
             t225,
-            t230,
-            t235,
-            t237,
-            t241,
-            t244,
-            t248,
             t251,
             t255,
-            t258,
-            t262,
             t266,
-            t270,
-            t271,
             t272,
             t274,
             t275,
@@ -3823,909 +3775,333 @@ pub fn inverse_dynamics_params_separate(
             t286,
             t289,
             t293,
-            t295,
-            t359,
-            t360,
-            t362,
-            t364,
-            t369,
-            t379,
+            t336,
+            t337,
+            t380,
             t381,
-            t384,
-            t386,
-            t396,
-            t401,
-            t405,
-            t416,
-            t421,
+            t400,
+            t404,
+            t408,
             t424,
-            t439,
-            t444,
-            t456,
-            t471,
+            t425,
+            t427,
+            t446,
+            t447,
+            t478,
+            t481,
+            t483,
             t486,
-            t504,
-            t507,
-            t514,
-            t521,
-            t531,
-            t534,
-            t541,
+            t488,
+            t497,
+            t539,
+            t544,
             t548,
-            t558,
-            t563,
-            t567,
-            t570,
-            t626,
-            t631,
+            t561,
+            t562,
+            t581,
+            t582,
+            t613,
+            t616,
+            t618,
+            t621,
+            t623,
             t632,
-            t637,
-            t651,
-            t669,
-            t675,
-            t676,
-            t687,
-            t689,
+            t674,
+            t679,
+            t683,
+            t696,
+            t697,
+            t698,
+            t699,
+            t701,
+            t704,
+            t716,
+            t717,
+            t722,
+            t728,
+            t732,
+            t737,
+            t739,
+            t745,
+            t748,
+            t751,
             t753,
-            t754,
-            t755,
             t756,
             t758,
-            t763,
-            t773,
-            t774,
-            t775,
-            t778,
+            t761,
+            t767,
+            t768,
             t780,
-            t787,
+            t785,
             t790,
             t795,
-            t799,
-            t805,
-            t810,
-            t815,
+            t808,
+            t809,
+            t814,
             t818,
-            t824,
-            t828,
-            t833,
-            t838,
-            t841,
-            t843,
+            t831,
+            t832,
             t850,
-            t865,
-            t880,
-            t898,
-            t901,
+            t857,
+            t866,
+            t872,
+            t874,
+            t907,
             t908,
-            t915,
-            t925,
-            t928,
-            t935,
+            t926,
+            t933,
             t942,
-            t952,
-            t957,
-            t958,
-            t959,
-            t961,
-            t962,
-            t964,
-            t965,
-            t980,
-            t985,
-            t987,
-            t988,
+            t948,
+            t950,
+            t983,
+            t984,
             t989,
-            t990,
+            t994,
+            t995,
+            t996,
             t999,
         )
     };
-    let (t1167, t1751, t1764, t1776, t1777, t1778, t1779, t1802) = {
-        let t1000: f64 = t160 * t999;
-        let t1001: f64 = t990.minus(t1000);
-        let t1002 = product(t775, t1001);
-        let t1003 = product(t146, t989);
-        let t1004: f64 = t164 * t999;
-        let t1005: f64 = t1003.minus(t1004);
-        let t1006: f64 = t778 * t1005;
-        let t1007 = product(t171, t989);
-        let t1008: f64 = t168 * t999;
-        let t1009: f64 = t1007.minus(t1008);
-        let t1010 = product(t780, t1009);
-        let t1011: f64 = t1002.plus(t1006);
-        let t1012: f64 = t1010.plus(t1011);
-        let t1013: f64 = arm2_crank_length * t755;
-        let t1014: f64 = t1012 * t1013;
-        let t1015: f64 = t988.plus(t1014);
-        let t1016: f64 = t959.plus(t962);
-        let t1017: f64 = t965.plus(t1015);
-        let t1018: f64 = t1016 + t1017;
-        let t1019 = product(t818, t841);
-        let t1020: f64 = t1019.subtracted_from(t1018);
-        let t1021: f64 = t1020 * 2.0;
-        let t1022 = product(arm2_rod_ixx, t1021);
-        let t1023: f64 = t843.minus(t958);
-        let t1024: f64 = t1023 * 2.0;
-        let t1025: f64 = t1022.plus(t1024);
-        let t1026: f64 = t787 * t1025;
-        let t1027 = product(vx, t787);
-        let t1028: f64 = vy * t961;
-        let t1029 = product(vz, t964);
-        let t1030: f64 = t1027.plus(t1028);
-        let t1031: f64 = t1029.plus(t1030);
-        let t1032: f64 = arm2_rod_izz * t841;
-        let t1033 = product(t1031, t1032);
-        let t1034 = product(gravity_x, t790);
-        let t1035: f64 = gravity_y * t795;
-        let t1036 = product(gravity_z, t799);
-        let t1037: f64 = t1034.plus(t1035);
-        let t1038: f64 = t1036.plus(t1037);
-        let t1039 = product(t790, t898);
-        let t1040: f64 = t795 * t925;
-        let t1041 = product(t799, t952);
-        let t1042: f64 = t1039.plus(t1040);
-        let t1043: f64 = t1041.plus(t1042);
-        let t1044 = product(arm2_crank_length, t1043);
-        let t1045: f64 = t1044.added_to(t1038);
-        let t1046: f64 = arm2_rod_mz * t1045;
-        let t1047: f64 = t755 * t985;
-        let t1048 = product(t987, t1047);
-        let t1049 = product(ax, t805);
-        let t1050: f64 = ay * t810;
-        let t1051 = product(az, t815);
-        let t1052 = product(t790, t1001);
-        let t1053: f64 = t795 * t1005;
-        let t1054 = product(t799, t1009);
-        let t1055: f64 = t1052.plus(t1053);
-        let t1056: f64 = t1054.plus(t1055);
-        let t1057: f64 = t1013 * t1056;
-        let t1058: f64 = t1049.plus(t1050);
-        let t1059: f64 = t1051.plus(t1057);
-        let t1060: f64 = t1058 + t1059;
-        let t1061: f64 = t1048.minus(t1060);
-        let t1062 = product(t841, t1031);
-        let t1063: f64 = t1062.subtracted_from(t1061);
-        let t1064: f64 = t1063 * 2.0;
-        let t1065 = product(arm2_rod_ixx, t1064);
-        let t1066: f64 = t1033.plus(t1046);
-        let t1067: f64 = t1066 * 2.0;
-        let t1068: f64 = t1065.plus(t1067);
-        let t1069: f64 = -t1068;
-        let t1070 = product(t805, t1069);
-        let t1071: f64 = t774 * t774;
-        let t1072: f64 = t980 * t1071;
-        let t1073 = product(t1047, t1072);
-        let t1074: f64 = ax * t828;
-        let t1075 = product(ay, t833);
-        let t1076: f64 = az * t838;
-        let t1077 = product(t824, t1015);
-        let t1078: f64 = t1073.plus(t1074);
-        let t1079: f64 = t1075.plus(t1076);
-        let t1080: f64 = t1078 + t1079;
-        let t1081: f64 = t1077.plus(t1080);
-        let t1082: f64 = arm2_rod_izz * t828;
-        let t1083: f64 = t1081 * t1082;
-        let t1084 = product(gravity_x, t251);
-        let t1085: f64 = gravity_y * t255;
-        let t1086 = product(gravity_z, t266);
-        let t1087: f64 = t1084.plus(t1085);
-        let t1088: f64 = t1086.plus(t1087);
-        let t1089 = product(arm3_crank_mx, t1088);
-        let t1090 = product(ax, t286);
-        let t1091: f64 = ay * t275;
-        let t1092 = product(az, t272);
-        let t1093 = product(vx, t286);
-        let t1094: f64 = vy * t275;
-        let t1095 = product(vz, t272);
-        let t1096: f64 = t1093.plus(t1094);
-        let t1097: f64 = t1095.plus(t1096);
-        let t1098: f64 = t251 * t1097;
-        let t1099: f64 = -t1098;
-        let t1100 = product(arm3_crank_length, t1099);
-        let t1101: f64 = t1100.added_to(vx);
-        let t1102 = product(t271, t1101);
-        let t1103: f64 = t270 * t270;
-        let t1104 = product(t251, t1101);
-        let t1105: f64 = t255 * t1097;
-        let t1106: f64 = -t1105;
-        let t1107 = product(arm3_crank_length, t1106);
-        let t1108: f64 = t1107.added_to(vy);
-        let t1109: f64 = t255 * t1108;
-        let t1110: f64 = t266 * t1097;
-        let t1111: f64 = -t1110;
-        let t1112 = product(arm3_crank_length, t1111);
-        let t1113: f64 = t1112.added_to(vz);
-        let t1114 = product(t266, t1113);
-        let t1115 = product(t244, t248);
-        let t1116: f64 = t258 * t262;
-        let t1117 = product(t237, t241);
-        let t1118: f64 = t1115.plus(t1116);
-        let t1119: f64 = t1117.plus(t1118);
-        let t1120 = product(t1097, t1119);
-        let t1121: f64 = t1104.plus(t1109);
-        let t1122: f64 = t1114.plus(t1121);
-        let t1123: f64 = t1120.minus(t1122);
-        let t1124: f64 = t211 * t248;
-        let t1125: f64 = t1103 * t1124;
-        let t1126: f64 = t1123 * t1125;
-        let t1127: f64 = t1102.plus(t1126);
-        let t1128: f64 = vx * t1127;
-        let t1129 = product(t271, t1108);
-        let t1130: f64 = t211 * t262;
-        let t1131: f64 = t1103 * t1130;
-        let t1132: f64 = t1123 * t1131;
-        let t1133: f64 = t1129.plus(t1132);
-        let t1134 = product(vy, t1133);
-        let t1135 = product(t271, t1113);
-        let t1136: f64 = t211 * t241;
-        let t1137: f64 = t1103 * t1136;
-        let t1138: f64 = t1123 * t1137;
-        let t1139: f64 = t1135.plus(t1138);
-        let t1140: f64 = vz * t1139;
-        let t1141: f64 = t1090.plus(t1091);
-        let t1142: f64 = t1092.plus(t1128);
-        let t1143: f64 = t1134.plus(t1140);
-        let t1144: f64 = t1141 + t1142;
-        let t1145: f64 = t1143 + t1144;
-        let t1146: f64 = arm3_crank_izz * t1145;
-        let t1147: f64 = t1089.subtracted_from(t1146);
-        let t1148: f64 = t286 * t1147;
-        let t1149: f64 = 1.0 / arm3_rod_length;
-        let t1150: f64 = t262 * t1149;
-        let t1151 = product(arm3_axis_z, t1150);
-        let t1152: f64 = t241 * t1149;
-        let t1153: f64 = arm3_axis_y * t1152;
-        let t1154: f64 = t1151.minus(t1153);
-        let t1155 = product(t1154, t1154);
-        let t1156 = product(arm3_axis_x, t1152);
-        let t1157: f64 = t248 * t1149;
-        let t1158: f64 = arm3_axis_z * t1157;
-        let t1159: f64 = t1156.minus(t1158);
-        let t1160: f64 = t1159 * t1159;
-        let t1161 = product(arm3_axis_y, t1157);
-        let t1162: f64 = arm3_axis_x * t1150;
-        let t1163: f64 = t1161.minus(t1162);
-        let t1164 = product(t1163, t1163);
-        let t1165: f64 = t1155.plus(t1160);
-        let t1166: f64 = t1164.plus(t1165);
-        let t1167: f64 = sqrt(t1166);
-        let t1168: f64 = 1.0 / t1167;
-        let t1169: f64 = t1154 * t1168;
-        let t1170: f64 = t1149 * t1169;
-        let t1171 = product(t251, t1169);
-        let t1172: f64 = t1159 * t1168;
-        let t1173: f64 = t255 * t1172;
-        let t1174: f64 = t1163 * t1168;
-        let t1175 = product(t266, t1174);
-        let t1176: f64 = t1171.plus(t1173);
-        let t1177: f64 = t1175.plus(t1176);
-        let t1178: f64 = t1149 * t1177;
-        let t1179: f64 = arm3_crank_length * t286;
-        let t1180 = product(t1178, t1179);
-        let t1181: f64 = t1180.subtracted_from(t1170);
-        let t1182 = product(t1152, t1172);
-        let t1183: f64 = t1150 * t1174;
-        let t1184: f64 = t1182.minus(t1183);
-        let t1185 = product(t1149, t1184);
-        let t1186 = product(t251, t1184);
-        let t1187 = product(t1157, t1174);
-        let t1188: f64 = t1152 * t1169;
-        let t1189: f64 = t1187.minus(t1188);
-        let t1190: f64 = t255 * t1189;
-        let t1191 = product(t1150, t1169);
-        let t1192: f64 = t1157 * t1172;
-        let t1193: f64 = t1191.minus(t1192);
-        let t1194 = product(t266, t1193);
-        let t1195: f64 = t1186.plus(t1190);
-        let t1196: f64 = t1194.plus(t1195);
-        let t1197: f64 = t1149 * t1196;
-        let t1198: f64 = t1179 * t1197;
-        let t1199: f64 = t1185.minus(t1198);
-        let t1200 = product(vx, t1199);
-        let t1201 = product(t1149, t1189);
-        let t1202: f64 = arm3_crank_length * t275;
-        let t1203: f64 = t1197 * t1202;
-        let t1204: f64 = t1201.minus(t1203);
-        let t1205: f64 = vy * t1204;
-        let t1206 = product(t1149, t1193);
-        let t1207: f64 = arm3_crank_length * t272;
-        let t1208: f64 = t1197 * t1207;
-        let t1209: f64 = t1206.minus(t1208);
-        let t1210 = product(vz, t1209);
-        let t1211: f64 = t1200.plus(t1205);
-        let t1212: f64 = t1210.plus(t1211);
-        let t1213 = product(arm3_axis_x, t1157);
-        let t1214: f64 = arm3_axis_y * t1150;
-        let t1215 = product(arm3_axis_z, t1152);
-        let t1216: f64 = t1213.plus(t1214);
-        let t1217: f64 = t1215.plus(t1216);
-        let t1218: f64 = t1168 * t1217;
-        let t1219 = product(t1170, t1218);
-        let t1220: f64 = t1178 * t1218;
-        let t1221: f64 = t1179 * t1220;
-        let t1222: f64 = t1219.minus(t1221);
-        let t1223 = product(vx, t1222);
-        let t1224: f64 = t1149 * t1172;
-        let t1225 = product(t1218, t1224);
-        let t1226: f64 = t1202 * t1220;
-        let t1227: f64 = t1225.minus(t1226);
-        let t1228: f64 = vy * t1227;
-        let t1229: f64 = t1149 * t1174;
-        let t1230 = product(t1218, t1229);
-        let t1231: f64 = t1207 * t1220;
-        let t1232: f64 = t1230.minus(t1231);
-        let t1233 = product(vz, t1232);
-        let t1234: f64 = t1223.plus(t1228);
-        let t1235: f64 = t1233.plus(t1234);
-        let t1236: f64 = arm3_rod_izz * t1212;
-        let t1237 = product(t1235, t1236);
-        let t1238 = product(gravity_x, t1169);
-        let t1239: f64 = gravity_y * t1172;
-        let t1240 = product(gravity_z, t1174);
-        let t1241: f64 = t1238.plus(t1239);
-        let t1242: f64 = t1240.plus(t1241);
-        let t1243: f64 = t251 * t286;
-        let t1244: f64 = -t1243;
-        let t1245 = product(ax, t1244);
-        let t1246: f64 = t230 * t286;
-        let t1247 = product(t1097, t1246);
-        let t1248: f64 = t235 * t1127;
-        let t1249: f64 = t1247.plus(t1248);
-        let t1250 = product(arm3_zero_x, t1249);
-        let t1251: f64 = t235 * t286;
-        let t1252 = product(t1097, t1251);
-        let t1253: f64 = t230 * t1127;
-        let t1254: f64 = t1252.minus(t1253);
-        let t1255: f64 = t196 * t1254;
-        let t1256: f64 = t1250.plus(t1255);
-        let t1257: f64 = vx * t1256;
-        let t1258: f64 = t251 * t275;
-        let t1259: f64 = -t1258;
-        let t1260 = product(ay, t1259);
-        let t1261: f64 = t230 * t275;
-        let t1262 = product(t1097, t1261);
-        let t1263: f64 = t235 * t1133;
-        let t1264: f64 = t1262.plus(t1263);
-        let t1265 = product(arm3_zero_x, t1264);
-        let t1266: f64 = t235 * t275;
-        let t1267 = product(t1097, t1266);
-        let t1268: f64 = t230 * t1133;
-        let t1269: f64 = t1267.minus(t1268);
-        let t1270: f64 = t196 * t1269;
-        let t1271: f64 = t1265.plus(t1270);
-        let t1272: f64 = vy * t1271;
-        let t1273: f64 = t251 * t272;
-        let t1274: f64 = -t1273;
-        let t1275 = product(az, t1274);
-        let t1276: f64 = t230 * t272;
-        let t1277 = product(t1097, t1276);
-        let t1278: f64 = t235 * t1139;
-        let t1279: f64 = t1277.plus(t1278);
-        let t1280 = product(arm3_zero_x, t1279);
-        let t1281: f64 = t235 * t272;
-        let t1282 = product(t1097, t1281);
-        let t1283: f64 = t230 * t1139;
-        let t1284: f64 = t1282.minus(t1283);
-        let t1285: f64 = t196 * t1284;
-        let t1286: f64 = t1280.plus(t1285);
-        let t1287: f64 = vz * t1286;
-        let t1288: f64 = t1245.plus(t1257);
-        let t1289: f64 = t1260.plus(t1272);
-        let t1290: f64 = t1275.plus(t1287);
-        let t1291: f64 = t1288 + t1289;
-        let t1292: f64 = t1290 + t1291;
-        let t1293 = product(t1169, t1292);
-        let t1294: f64 = t255 * t286;
-        let t1295: f64 = -t1294;
-        let t1296 = product(ax, t1295);
-        let t1297 = product(arm3_zero_y, t1249);
-        let t1298: f64 = t200 * t1254;
-        let t1299: f64 = t1297.plus(t1298);
-        let t1300: f64 = vx * t1299;
-        let t1301: f64 = t255 * t275;
-        let t1302: f64 = -t1301;
-        let t1303 = product(ay, t1302);
-        let t1304 = product(arm3_zero_y, t1264);
-        let t1305: f64 = t200 * t1269;
-        let t1306: f64 = t1304.plus(t1305);
-        let t1307: f64 = vy * t1306;
-        let t1308: f64 = t255 * t272;
-        let t1309: f64 = -t1308;
-        let t1310 = product(az, t1309);
-        let t1311 = product(arm3_zero_y, t1279);
-        let t1312: f64 = t200 * t1284;
-        let t1313: f64 = t1311.plus(t1312);
-        let t1314: f64 = vz * t1313;
-        let t1315: f64 = t1296.plus(t1300);
-        let t1316: f64 = t1303.plus(t1307);
-        let t1317: f64 = t1310.plus(t1314);
-        let t1318: f64 = t1315 + t1316;
-        let t1319: f64 = t1317 + t1318;
-        let t1320: f64 = t1172 * t1319;
-        let t1321: f64 = t266 * t286;
-        let t1322: f64 = -t1321;
-        let t1323 = product(ax, t1322);
-        let t1324 = product(arm3_zero_z, t1249);
-        let t1325: f64 = t204 * t1254;
-        let t1326: f64 = t1324.plus(t1325);
-        let t1327: f64 = vx * t1326;
-        let t1328: f64 = t266 * t275;
-        let t1329: f64 = -t1328;
-        let t1330 = product(ay, t1329);
-        let t1331 = product(arm3_zero_z, t1264);
-        let t1332: f64 = t204 * t1269;
-        let t1333: f64 = t1331.plus(t1332);
-        let t1334: f64 = vy * t1333;
-        let t1335: f64 = t266 * t272;
-        let t1336: f64 = -t1335;
-        let t1337 = product(az, t1336);
-        let t1338 = product(arm3_zero_z, t1279);
-        let t1339: f64 = t204 * t1284;
-        let t1340: f64 = t1338.plus(t1339);
-        let t1341: f64 = vz * t1340;
-        let t1342: f64 = t1323.plus(t1327);
-        let t1343: f64 = t1330.plus(t1334);
-        let t1344: f64 = t1337.plus(t1341);
-        let t1345: f64 = t1342 + t1343;
-        let t1346: f64 = t1344 + t1345;
-        let t1347 = product(t1174, t1346);
-        let t1348: f64 = t1293.plus(t1320);
-        let t1349: f64 = t1347.plus(t1348);
-        let t1350 = product(arm3_crank_length, t1349);
-        let t1351: f64 = t1350.added_to(t1242);
-        let t1352: f64 = arm3_rod_mz * t1351;
-        let t1353 = product(ax, t1181);
-        let t1354 = product(t1178, t1202);
-        let t1355: f64 = t1354.subtracted_from(t1224);
-        let t1356: f64 = ay * t1355;
-        let t1357 = product(t1178, t1207);
-        let t1358: f64 = t1357.subtracted_from(t1229);
-        let t1359 = product(az, t1358);
-        let t1360: f64 = arm3_crank_length * t251;
-        let t1361 = product(t1097, t1360);
-        let t1362: f64 = t1361.subtracted_from(vx);
-        let t1363 = product(t1184, t1362);
-        let t1364: f64 = arm3_crank_length * t255;
-        let t1365 = product(t1097, t1364);
-        let t1366: f64 = t1365.subtracted_from(vy);
-        let t1367: f64 = t1189 * t1366;
-        let t1368: f64 = arm3_crank_length * t266;
-        let t1369 = product(t1097, t1368);
-        let t1370: f64 = t1369.subtracted_from(vz);
-        let t1371 = product(t1193, t1370);
-        let t1372: f64 = t1363.plus(t1367);
-        let t1373: f64 = t1371.plus(t1372);
-        let t1374: f64 = t1149 * t1373;
-        let t1375 = product(t1169, t1362);
-        let t1376: f64 = t1172 * t1366;
-        let t1377 = product(t1174, t1370);
-        let t1378: f64 = t1375.plus(t1376);
-        let t1379: f64 = t1377.plus(t1378);
-        let t1380: f64 = t1149 * t1218;
-        let t1381: f64 = t1379 * t1380;
-        let t1382 = product(t1374, t1381);
-        let t1383: f64 = t1097 * t1097;
-        let t1384 = product(t244, t1383);
-        let t1385: f64 = arm3_crank_length * t1383;
-        let t1386 = product(t1119, t1385);
-        let t1387: f64 = t1362 * t1362;
-        let t1388 = product(t1366, t1366);
-        let t1389: f64 = t1370 * t1370;
-        let t1390: f64 = t1386.plus(t1387);
-        let t1391: f64 = t1388.plus(t1389);
-        let t1392: f64 = t1390 + t1391;
-        let t1393: f64 = t271 * t1392;
-        let t1394: f64 = t251 * t1393;
-        let t1395: f64 = t1384.minus(t1394);
-        let t1396 = product(t1169, t1395);
-        let t1397 = product(t258, t1383);
-        let t1398: f64 = t255 * t1393;
-        let t1399: f64 = t1397.minus(t1398);
-        let t1400: f64 = t1172 * t1399;
-        let t1401 = product(t237, t1383);
-        let t1402: f64 = t266 * t1393;
-        let t1403: f64 = t1401.minus(t1402);
-        let t1404 = product(t1174, t1403);
-        let t1405: f64 = t1396.plus(t1400);
-        let t1406: f64 = t1404.plus(t1405);
-        let t1407: f64 = arm3_crank_length * t1149;
-        let t1408: f64 = t1406 * t1407;
-        let t1409: f64 = t1382.plus(t1408);
-        let t1410: f64 = t1353.plus(t1356);
-        let t1411: f64 = t1359.plus(t1409);
-        let t1412: f64 = t1410 + t1411;
-        let t1413 = product(t1212, t1235);
-        let t1414: f64 = t1413.subtracted_from(t1412);
-        let t1415: f64 = t1414 * 2.0;
-        let t1416 = product(arm3_rod_ixx, t1415);
-        let t1417: f64 = t1237.minus(t1352);
-        let t1418: f64 = t1417 * 2.0;
-        let t1419: f64 = t1416.plus(t1418);
-        let t1420 = product(t1181, t1419);
-        let t1421 = product(vx, t1181);
-        let t1422: f64 = vy * t1355;
-        let t1423 = product(vz, t1358);
-        let t1424: f64 = t1421.plus(t1422);
-        let t1425: f64 = t1423.plus(t1424);
-        let t1426: f64 = arm3_rod_izz * t1235;
-        let t1427 = product(t1425, t1426);
-        let t1428 = product(gravity_x, t1184);
-        let t1429: f64 = gravity_y * t1189;
-        let t1430 = product(gravity_z, t1193);
-        let t1431: f64 = t1428.plus(t1429);
-        let t1432: f64 = t1430.plus(t1431);
-        let t1433 = product(t1184, t1292);
-        let t1434: f64 = t1189 * t1319;
-        let t1435 = product(t1193, t1346);
-        let t1436: f64 = t1433.plus(t1434);
-        let t1437: f64 = t1435.plus(t1436);
-        let t1438 = product(arm3_crank_length, t1437);
-        let t1439: f64 = t1438.added_to(t1432);
-        let t1440: f64 = arm3_rod_mz * t1439;
-        let t1441: f64 = t1149 * t1379;
-        let t1442 = product(t1381, t1441);
-        let t1443 = product(ax, t1199);
-        let t1444: f64 = ay * t1204;
-        let t1445 = product(az, t1209);
-        let t1446 = product(t1184, t1395);
-        let t1447: f64 = t1189 * t1399;
-        let t1448 = product(t1193, t1403);
-        let t1449: f64 = t1446.plus(t1447);
-        let t1450: f64 = t1448.plus(t1449);
-        let t1451: f64 = t1407 * t1450;
-        let t1452: f64 = t1443.plus(t1444);
-        let t1453: f64 = t1445.plus(t1451);
-        let t1454: f64 = t1452 + t1453;
-        let t1455: f64 = t1442.minus(t1454);
-        let t1456 = product(t1235, t1425);
-        let t1457: f64 = t1456.subtracted_from(t1455);
-        let t1458: f64 = t1457 * 2.0;
-        let t1459 = product(arm3_rod_ixx, t1458);
-        let t1460: f64 = t1427.plus(t1440);
-        let t1461: f64 = t1460 * 2.0;
-        let t1462: f64 = t1459.plus(t1461);
-        let t1463: f64 = -t1462;
-        let t1464: f64 = t1199 * t1463;
-        let t1465: f64 = t1168 * t1168;
-        let t1466: f64 = t1374 * t1465;
-        let t1467 = product(t1441, t1466);
-        let t1468: f64 = ax * t1222;
-        let t1469 = product(ay, t1227);
-        let t1470: f64 = az * t1232;
-        let t1471 = product(t1218, t1409);
-        let t1472: f64 = t1467.plus(t1468);
-        let t1473: f64 = t1469.plus(t1470);
-        let t1474: f64 = t1472 + t1473;
-        let t1475: f64 = t1471.plus(t1474);
-        let t1476: f64 = arm3_rod_izz * t1222;
-        let t1477 = product(t1475, t1476);
-        let t1478 = product(arm1_rod_mass, t651);
-        let t1479: f64 = arm1_rod_mz * t669;
-        let t1480: f64 = t1478.plus(t1479);
-        let t1481 = product(t396, t1480);
-        let t1482 = product(arm1_rod_mass, t563);
-        let t1483: f64 = arm1_rod_mz * t626;
-        let t1484: f64 = t1482.minus(t1483);
-        let t1485: f64 = t381 * t1484;
-        let t1486 = product(gravity_x, t369);
-        let t1487: f64 = gravity_y * t362;
-        let t1488 = product(gravity_z, t364);
-        let t1489: f64 = t1486.plus(t1487);
-        let t1490: f64 = t1488.plus(t1489);
-        let t1491 = product(t369, t504);
-        let t1492: f64 = t362 * t531;
-        let t1493 = product(t364, t558);
-        let t1494: f64 = t1491.plus(t1492);
-        let t1495: f64 = t1493.plus(t1494);
-        let t1496 = product(arm1_crank_length, t1495);
-        let t1497: f64 = t1496.added_to(t1490);
-        let t1498 = product(arm1_rod_mass, t1497);
-        let t1499 = product(t637, t637);
-        let t1500: f64 = t424 * t424;
-        let t1501: f64 = t1499.plus(t1500);
-        let t1502: f64 = arm1_rod_mz * t1501;
-        let t1503: f64 = t1498.plus(t1502);
-        let t1504 = product(t369, t1503);
-        let t1505: f64 = t1481.plus(t1485);
-        let t1506: f64 = t1504.plus(t1505);
-        let t1507: f64 = t1506 * 2.0;
-        let t1508 = product(t456, t1507);
-        let t1509 = product(t401, t1480);
-        let t1510: f64 = t384 * t1484;
-        let t1511 = product(t362, t1503);
-        let t1512: f64 = t1509.plus(t1510);
-        let t1513: f64 = t1511.plus(t1512);
-        let t1514: f64 = t1513 * 2.0;
-        let t1515: f64 = t507 * t1514;
-        let t1516 = product(t405, t1480);
-        let t1517: f64 = t386 * t1484;
-        let t1518 = product(t364, t1503);
-        let t1519: f64 = t1516.plus(t1517);
-        let t1520: f64 = t1518.plus(t1519);
-        let t1521: f64 = t1520 * 2.0;
-        let t1522 = product(t534, t1521);
-        let t1523: f64 = t1508.plus(t1515);
-        let t1524: f64 = t1522.plus(t1523);
-        let t1525 = product(arm1_crank_length, t1524);
-        let t1526 = product(arm2_rod_mass, t1045);
-        let t1527: f64 = arm2_rod_mz * t1063;
-        let t1528: f64 = t1526.plus(t1527);
-        let t1529 = product(t790, t1528);
-        let t1530 = product(arm2_rod_mass, t957);
-        let t1531: f64 = arm2_rod_mz * t1020;
-        let t1532: f64 = t1530.minus(t1531);
-        let t1533: f64 = t775 * t1532;
-        let t1534 = product(gravity_x, t763);
-        let t1535: f64 = gravity_y * t756;
-        let t1536 = product(gravity_z, t758);
-        let t1537: f64 = t1534.plus(t1535);
-        let t1538: f64 = t1536.plus(t1537);
-        let t1539 = product(t763, t898);
-        let t1540: f64 = t756 * t925;
-        let t1541 = product(t758, t952);
-        let t1542: f64 = t1539.plus(t1540);
-        let t1543: f64 = t1541.plus(t1542);
-        let t1544 = product(arm2_crank_length, t1543);
-        let t1545: f64 = t1544.added_to(t1538);
-        let t1546 = product(arm2_rod_mass, t1545);
-        let t1547 = product(t1031, t1031);
-        let t1548: f64 = t818 * t818;
-        let t1549: f64 = t1547.plus(t1548);
-        let t1550: f64 = arm2_rod_mz * t1549;
-        let t1551: f64 = t1546.plus(t1550);
-        let t1552 = product(t763, t1551);
-        let t1553: f64 = t1529.plus(t1533);
-        let t1554: f64 = t1552.plus(t1553);
-        let t1555: f64 = t1554 * 2.0;
-        let t1556 = product(t850, t1555);
-        let t1557 = product(t795, t1528);
-        let t1558: f64 = t778 * t1532;
-        let t1559 = product(t756, t1551);
-        let t1560: f64 = t1557.plus(t1558);
-        let t1561: f64 = t1559.plus(t1560);
-        let t1562: f64 = t1561 * 2.0;
-        let t1563: f64 = t901 * t1562;
-        let t1564 = product(t799, t1528);
-        let t1565: f64 = t780 * t1532;
-        let t1566 = product(t758, t1551);
-        let t1567: f64 = t1564.plus(t1565);
-        let t1568: f64 = t1566.plus(t1567);
-        let t1569: f64 = t1568 * 2.0;
-        let t1570 = product(t928, t1569);
-        let t1571: f64 = t1556.plus(t1563);
-        let t1572: f64 = t1570.plus(t1571);
-        let t1573: f64 = arm2_crank_length * t1572;
-        let t1574 = product(arm3_rod_mass, t1439);
-        let t1575: f64 = arm3_rod_mz * t1457;
-        let t1576: f64 = t1574.plus(t1575);
-        let t1577 = product(t1184, t1576);
-        let t1578 = product(arm3_rod_mass, t1351);
-        let t1579: f64 = arm3_rod_mz * t1414;
-        let t1580: f64 = t1578.minus(t1579);
-        let t1581: f64 = t1169 * t1580;
-        let t1582 = product(gravity_x, t1157);
-        let t1583: f64 = gravity_y * t1150;
-        let t1584 = product(gravity_z, t1152);
-        let t1585: f64 = t1582.plus(t1583);
-        let t1586: f64 = t1584.plus(t1585);
-        let t1587 = product(t1157, t1292);
-        let t1588: f64 = t1150 * t1319;
-        let t1589 = product(t1152, t1346);
-        let t1590: f64 = t1587.plus(t1588);
-        let t1591: f64 = t1589.plus(t1590);
-        let t1592 = product(arm3_crank_length, t1591);
-        let t1593: f64 = t1592.added_to(t1586);
-        let t1594 = product(arm3_rod_mass, t1593);
-        let t1595 = product(t1425, t1425);
-        let t1596: f64 = t1212 * t1212;
-        let t1597: f64 = t1595.plus(t1596);
-        let t1598: f64 = arm3_rod_mz * t1597;
-        let t1599: f64 = t1594.plus(t1598);
-        let t1600 = product(t1157, t1599);
-        let t1601: f64 = t1577.plus(t1581);
-        let t1602: f64 = t1600.plus(t1601);
-        let t1603: f64 = t1602 * 2.0;
-        let t1604 = product(t1244, t1603);
-        let t1605 = product(t1189, t1576);
-        let t1606: f64 = t1172 * t1580;
-        let t1607 = product(t1150, t1599);
-        let t1608: f64 = t1605.plus(t1606);
-        let t1609: f64 = t1607.plus(t1608);
-        let t1610: f64 = t1609 * 2.0;
-        let t1611: f64 = t1295 * t1610;
-        let t1612 = product(t1193, t1576);
-        let t1613: f64 = t1174 * t1580;
-        let t1614 = product(t1152, t1599);
-        let t1615: f64 = t1612.plus(t1613);
-        let t1616: f64 = t1614.plus(t1615);
-        let t1617: f64 = t1616 * 2.0;
-        let t1618 = product(t1322, t1617);
-        let t1619: f64 = t1604.plus(t1611);
-        let t1620: f64 = t1618.plus(t1619);
-        let t1621 = product(arm3_crank_length, t1620);
-        let t1622: f64 = t689.plus(t1083);
-        let t1623: f64 = t1477.plus(t1622);
-        let t1624: f64 = t1623 * 2.0;
-        let t1625: f64 = t295.plus(t360);
-        let t1626: f64 = t632.plus(t676);
-        let t1627: f64 = t754.plus(t1026);
-        let t1628: f64 = t1070.plus(t1148);
-        let t1629: f64 = t1420.plus(t1464);
-        let t1630: f64 = t1525.plus(t1573);
-        let t1631: f64 = t1621.plus(t1624);
-        let t1632: f64 = t1625 + t1626;
-        let t1633: f64 = t1627 + t1628;
-        let t1634: f64 = t1629 + t1630;
-        let t1635: f64 = t1632 + t1633;
-        let t1636: f64 = t1631 + t1634;
-        let t1637: f64 = t1635 + t1636;
-        let t1638 = product(t277, t1637);
-        let t1639 = product(t274, t286);
-        let t1640: f64 = t272 * t279;
-        let t1641: f64 = t1639.minus(t1640);
-        let t1642: f64 = ay - gravity_y;
-        let t1643 = product(platform_mass, t1642);
-        let t1644: f64 = t280 * t359;
-        let t1645 = product(t567, t631);
-        let t1646: f64 = t416 * t675;
-        let t1647: f64 = arm1_rod_izz * t439;
-        let t1648 = product(t687, t1647);
-        let t1649 = product(t181, t753);
-        let t1650: f64 = t961 * t1025;
-        let t1651 = product(t810, t1069);
-        let t1652: f64 = arm2_rod_izz * t833;
-        let t1653: f64 = t1081 * t1652;
-        let t1654: f64 = t275 * t1147;
-        let t1655 = product(t1355, t1419);
-        let t1656: f64 = t1204 * t1463;
-        let t1657: f64 = arm3_rod_izz * t1227;
-        let t1658 = product(t1475, t1657);
-        let t1659 = product(t471, t1507);
-        let t1660: f64 = t514 * t1514;
-        let t1661 = product(t541, t1521);
-        let t1662: f64 = t1659.plus(t1660);
-        let t1663: f64 = t1661.plus(t1662);
-        let t1664 = product(arm1_crank_length, t1663);
-        let t1665 = product(t865, t1555);
-        let t1666: f64 = t908 * t1562;
-        let t1667 = product(t935, t1569);
-        let t1668: f64 = t1665.plus(t1666);
-        let t1669: f64 = t1667.plus(t1668);
-        let t1670: f64 = arm2_crank_length * t1669;
-        let t1671 = product(t1259, t1603);
-        let t1672: f64 = t1302 * t1610;
-        let t1673 = product(t1329, t1617);
-        let t1674: f64 = t1671.plus(t1672);
-        let t1675: f64 = t1673.plus(t1674);
-        let t1676 = product(arm3_crank_length, t1675);
-        let t1677: f64 = t1648.plus(t1653);
-        let t1678: f64 = t1658.plus(t1677);
-        let t1679: f64 = t1678 * 2.0;
-        let t1680: f64 = t1643.plus(t1644);
-        let t1681: f64 = t1645.plus(t1646);
-        let t1682: f64 = t1649.plus(t1650);
-        let t1683: f64 = t1651.plus(t1654);
-        let t1684: f64 = t1655.plus(t1656);
-        let t1685: f64 = t1664.plus(t1670);
-        let t1686: f64 = t1676.plus(t1679);
-        let t1687: f64 = t1680 + t1681;
-        let t1688: f64 = t1682 + t1683;
-        let t1689: f64 = t1684 + t1685;
-        let t1690: f64 = t1687 + t1688;
-        let t1691: f64 = t1686 + t1689;
-        let t1692: f64 = t1690 + t1691;
-        let t1693: f64 = t1641 * t1692;
-        let t1694 = product(t275, t279);
-        let t1695: f64 = t181 * t286;
-        let t1696: f64 = t1694.minus(t1695);
-        let t1697: f64 = az - gravity_z;
-        let t1698 = product(platform_mass, t1697);
-        let t1699: f64 = t282 * t359;
-        let t1700 = product(t570, t631);
-        let t1701: f64 = t421 * t675;
-        let t1702: f64 = arm1_rod_izz * t444;
-        let t1703 = product(t687, t1702);
-        let t1704 = product(t274, t753);
-        let t1705: f64 = t964 * t1025;
-        let t1706 = product(t815, t1069);
-        let t1707: f64 = arm2_rod_izz * t838;
-        let t1708: f64 = t1081 * t1707;
-        let t1709: f64 = t272 * t1147;
-        let t1710 = product(t1358, t1419);
-        let t1711: f64 = t1209 * t1463;
-        let t1712: f64 = arm3_rod_izz * t1232;
-        let t1713 = product(t1475, t1712);
-        let t1714 = product(t486, t1507);
-        let t1715: f64 = t521 * t1514;
-        let t1716 = product(t548, t1521);
-        let t1717: f64 = t1714.plus(t1715);
-        let t1718: f64 = t1716.plus(t1717);
-        let t1719 = product(arm1_crank_length, t1718);
-        let t1720 = product(t880, t1555);
-        let t1721: f64 = t915 * t1562;
-        let t1722 = product(t942, t1569);
-        let t1723: f64 = t1720.plus(t1721);
-        let t1724: f64 = t1722.plus(t1723);
-        let t1725: f64 = arm2_crank_length * t1724;
-        let t1726 = product(t1274, t1603);
-        let t1727: f64 = t1309 * t1610;
-        let t1728 = product(t1336, t1617);
-        let t1729: f64 = t1726.plus(t1727);
-        let t1730: f64 = t1728.plus(t1729);
-        let t1731 = product(arm3_crank_length, t1730);
-        let t1732: f64 = t1703.plus(t1708);
-        let t1733: f64 = t1713.plus(t1732);
-        let t1734: f64 = t1733 * 2.0;
-        let t1735: f64 = t1698.plus(t1699);
-        let t1736: f64 = t1700.plus(t1701);
-        let t1737: f64 = t1704.plus(t1705);
-        let t1738: f64 = t1706.plus(t1709);
-        let t1739: f64 = t1710.plus(t1711);
-        let t1740: f64 = t1719.plus(t1725);
-        let t1741: f64 = t1731.plus(t1734);
-        let t1742: f64 = t1735 + t1736;
-        let t1743: f64 = t1737 + t1738;
-        let t1744: f64 = t1739 + t1740;
-        let t1745: f64 = t1742 + t1743;
-        let t1746: f64 = t1741 + t1744;
-        let t1747: f64 = t1745 + t1746;
-        let t1748 = product(t1696, t1747);
-        let t1749: f64 = t1638.plus(t1693);
-        let t1750: f64 = t1748.plus(t1749);
-        let t1751: f64 = t293 * t1750;
-        let t1752 = product(t284, t1637);
-        let t1753 = product(t90, t272);
-        let t1754: f64 = t282 * t286;
-        let t1755: f64 = t1753.minus(t1754);
-        let t1756 = product(t1692, t1755);
-        let t1757 = product(t280, t286);
-        let t1758: f64 = t90 * t275;
-        let t1759: f64 = t1757.minus(t1758);
-        let t1760: f64 = t1747 * t1759;
-        let t1761: f64 = t1756.plus(t1760);
-        let t1762: f64 = t1752.minus(t1761);
-        let t1763: f64 = t293 * t1762;
-        let t1764: f64 = -t1763;
-        let t1765 = product(t289, t1637);
-        let t1766 = product(t279, t282);
-        let t1767: f64 = t90 * t274;
-        let t1768: f64 = t1766.minus(t1767);
-        let t1769: f64 = t1692 * t1768;
-        let t1770 = product(t90, t181);
-        let t1771: f64 = t279 * t280;
-        let t1772: f64 = t1770.minus(t1771);
-        let t1773 = product(t1747, t1772);
-        let t1774: f64 = t1765.plus(t1769);
-        let t1775: f64 = t1773.plus(t1774);
-        let t1776: f64 = t293 * t1775;
-        let t1777: f64 = t28 * t43;
-        let t1778: f64 = t119 * t134;
-        let t1779: f64 = t210 * t225;
-        let t1780 = product(t280, t1641);
-        let t1781 = product(t282, t1696);
-        let t1782: f64 = t1780.added_to(t278);
-        let t1783: f64 = t1781.plus(t1782);
-        let t1784: f64 = t1783 * t1783;
-        let t1785 = product(t90, t90);
-        let t1786: f64 = t280 * t280;
-        let t1787 = product(t282, t282);
-        let t1788: f64 = t1785.plus(t1786);
-        let t1789: f64 = t1787.plus(t1788);
-        let t1790 = product(t279, t279);
-        let t1791: f64 = t181 * t181;
-        let t1792 = product(t274, t274);
-        let t1793: f64 = t1790.plus(t1791);
-        let t1794: f64 = t1792.plus(t1793);
-        let t1795 = product(t286, t286);
-        let t1796: f64 = t275 * t275;
-        let t1797 = product(t272, t272);
-        let t1798: f64 = t1795.plus(t1796);
-        let t1799: f64 = t1797.plus(t1798);
-        let t1800: f64 = t1789 * t1794;
-        let t1801: f64 = t1799 * t1800;
-        let t1802: f64 = t1784 / t1801;
-        (t1167, t1751, t1764, t1776, t1777, t1778, t1779, t1802)
+    let (t1184, t1197, t1209, t1210, t1211, t1212, t1235) = {
+        let t1000: f64 = t996.plus(t999);
+        let t1001: f64 = t995.plus(t1000);
+        let t1002: f64 = t1001 - t994;
+        let t1003: f64 = arm3_rod_mass * t1002;
+        let t1004 = product(t400, t722);
+        let t1005: f64 = t404 * t728;
+        let t1006 = product(t408, t732);
+        let t1007: f64 = t1004.plus(t1005);
+        let t1008: f64 = t1006.plus(t1007);
+        let t1009: f64 = t698 * t1008;
+        let t1010 = product(t808, t1009);
+        let t1011: f64 = ax * t748;
+        let t1012 = product(ay, t753);
+        let t1013: f64 = az * t758;
+        let t1014 = product(t698, t1000);
+        let t1015: f64 = t1010.plus(t1011);
+        let t1016: f64 = t1012.plus(t1013);
+        let t1017: f64 = t1015 + t1016;
+        let t1018: f64 = t1014.subtracted_from(t1017);
+        let t1019 = product(vx, t739);
+        let t1020: f64 = vy * t814;
+        let t1021 = product(vz, t818);
+        let t1022: f64 = t1019.plus(t1020);
+        let t1023: f64 = t1021.plus(t1022);
+        let t1024: f64 = t768 * t1023;
+        let t1025: f64 = t1018 - t1024;
+        let t1026: f64 = t1025 * 2.0;
+        let t1027 = product(arm3_rod_mz, t1026);
+        let t1028: f64 = t1003 * 2.0;
+        let t1029: f64 = t1027.plus(t1028);
+        let t1030: f64 = t745 * t1029;
+        let t1031 = product(t251, t701);
+        let t1032: f64 = t255 * t704;
+        let t1033 = product(t266, t699);
+        let t1034: f64 = t1031.plus(t1032);
+        let t1035: f64 = t1033.plus(t1034);
+        let t1036 = product(gravity_x, t701);
+        let t1037: f64 = gravity_y * t704;
+        let t1038 = product(gravity_z, t699);
+        let t1039: f64 = t1036.plus(t1037);
+        let t1040: f64 = t1038.plus(t1039);
+        let t1041 = product(t701, t790);
+        let t1042: f64 = t704 * t795;
+        let t1043 = product(t699, t785);
+        let t1044: f64 = t780 * t1035;
+        let t1045: f64 = t1041.plus(t1042);
+        let t1046: f64 = t1043.plus(t1044);
+        let t1047: f64 = t1045 + t1046;
+        let t1048: f64 = t1047 - t1040;
+        let t1049: f64 = arm3_rod_mass * t1048;
+        let t1050 = product(t761, t761);
+        let t1051: f64 = t1023 * t1023;
+        let t1052: f64 = t1050.plus(t1051);
+        let t1053: f64 = t1052 * 2.0;
+        let t1054 = product(arm3_rod_mz, t1053);
+        let t1055: f64 = t1049 * 2.0;
+        let t1056: f64 = t1054.subtracted_from(t1055);
+        let t1057 = product(t1035, t1056);
+        let t1058: f64 = t989.plus(t1030);
+        let t1059: f64 = t1057.plus(t1058);
+        let t1060 = product(t737, t1059);
+        let t1061: f64 = arm1_rod_mz * t850;
+        let t1062 = product(arm1_rod_ixx, t874);
+        let t1063: f64 = t447 * t447;
+        let t1064: f64 = t857 * t1063;
+        let t1065 = product(t539, t1064);
+        let t1066: f64 = t497 * t866;
+        let t1067: f64 = t1065.plus(t1066);
+        let t1068: f64 = -t1067;
+        let t1069 = product(t497, t1068);
+        let t1070: f64 = t1069.subtracted_from(t872);
+        let t1071: f64 = t1070 * 2.0;
+        let t1072 = product(arm1_rod_izz, t1071);
+        let t1073: f64 = t1061 * 2.0;
+        let t1074: f64 = t1062.plus(t1073);
+        let t1075: f64 = t1072.plus(t1074);
+        let t1076: f64 = t478 * t1075;
+        let t1077: f64 = arm2_rod_mz * t926;
+        let t1078 = product(arm2_rod_ixx, t950);
+        let t1079: f64 = t582 * t582;
+        let t1080: f64 = t933 * t1079;
+        let t1081 = product(t674, t1080);
+        let t1082: f64 = t632 * t942;
+        let t1083: f64 = t1081.plus(t1082);
+        let t1084: f64 = -t1083;
+        let t1085 = product(t632, t1084);
+        let t1086: f64 = t1085.subtracted_from(t948);
+        let t1087: f64 = t1086 * 2.0;
+        let t1088 = product(arm2_rod_izz, t1087);
+        let t1089: f64 = t1077 * 2.0;
+        let t1090: f64 = t1078.plus(t1089);
+        let t1091: f64 = t1088.plus(t1090);
+        let t1092 = product(t613, t1091);
+        let t1093: f64 = arm3_rod_mz * t1002;
+        let t1094 = product(arm3_rod_ixx, t1026);
+        let t1095: f64 = t717 * t717;
+        let t1096: f64 = t1009 * t1095;
+        let t1097 = product(t809, t1096);
+        let t1098: f64 = t767 * t1018;
+        let t1099: f64 = t1097.plus(t1098);
+        let t1100: f64 = -t1099;
+        let t1101 = product(t767, t1100);
+        let t1102: f64 = t1101.subtracted_from(t1024);
+        let t1103: f64 = t1102 * 2.0;
+        let t1104 = product(arm3_rod_izz, t1103);
+        let t1105: f64 = t1093 * 2.0;
+        let t1106: f64 = t1094.plus(t1105);
+        let t1107: f64 = t1104.plus(t1106);
+        let t1108: f64 = t748 * t1107;
+        let t1109: f64 = t337.plus(t381);
+        let t1110: f64 = t425.plus(t427);
+        let t1111: f64 = t908.plus(t984);
+        let t1112: f64 = t1060.plus(t1076);
+        let t1113: f64 = t1092.plus(t1108);
+        let t1114: f64 = t1109 + t1110;
+        let t1115: f64 = t1111 + t1112;
+        let t1116: f64 = t1114 + t1115;
+        let t1117: f64 = t1113 + t1116;
+        let t1118: f64 = t562.plus(t697);
+        let t1119: f64 = t832.plus(t1118);
+        let t1120: f64 = t1117 - t1119;
+        let t1121 = product(t277, t1120);
+        let t1122 = product(t274, t286);
+        let t1123: f64 = t272 * t279;
+        let t1124: f64 = t1122.minus(t1123);
+        let t1125 = product(t280, t336);
+        let t1126: f64 = t181 * t380;
+        let t1127 = product(t275, t424);
+        let t1128: f64 = ay - gravity_y;
+        let t1129: f64 = platform_mass * t1128;
+        let t1130 = product(t544, t561);
+        let t1131: f64 = t679 * t696;
+        let t1132 = product(t814, t831);
+        let t1133 = product(t481, t907);
+        let t1134: f64 = t616 * t983;
+        let t1135 = product(t751, t1059);
+        let t1136: f64 = t483 * t1075;
+        let t1137 = product(t618, t1091);
+        let t1138: f64 = t753 * t1107;
+        let t1139: f64 = t1125.plus(t1126);
+        let t1140: f64 = t1127.plus(t1129);
+        let t1141: f64 = t1133.plus(t1134);
+        let t1142: f64 = t1135.plus(t1136);
+        let t1143: f64 = t1137.plus(t1138);
+        let t1144: f64 = t1139 + t1140;
+        let t1145: f64 = t1141 + t1142;
+        let t1146: f64 = t1144 + t1145;
+        let t1147: f64 = t1143 + t1146;
+        let t1148: f64 = t1130.plus(t1131);
+        let t1149: f64 = t1132.plus(t1148);
+        let t1150: f64 = t1147 - t1149;
+        let t1151: f64 = t1124 * t1150;
+        let t1152 = product(t275, t279);
+        let t1153: f64 = t181 * t286;
+        let t1154: f64 = t1152.minus(t1153);
+        let t1155 = product(t282, t336);
+        let t1156: f64 = t274 * t380;
+        let t1157 = product(t272, t424);
+        let t1158: f64 = az - gravity_z;
+        let t1159: f64 = platform_mass * t1158;
+        let t1160 = product(t548, t561);
+        let t1161: f64 = t683 * t696;
+        let t1162 = product(t818, t831);
+        let t1163 = product(t486, t907);
+        let t1164: f64 = t621 * t983;
+        let t1165 = product(t756, t1059);
+        let t1166: f64 = t488 * t1075;
+        let t1167 = product(t623, t1091);
+        let t1168: f64 = t758 * t1107;
+        let t1169: f64 = t1155.plus(t1156);
+        let t1170: f64 = t1157.plus(t1159);
+        let t1171: f64 = t1163.plus(t1164);
+        let t1172: f64 = t1165.plus(t1166);
+        let t1173: f64 = t1167.plus(t1168);
+        let t1174: f64 = t1169 + t1170;
+        let t1175: f64 = t1171 + t1172;
+        let t1176: f64 = t1174 + t1175;
+        let t1177: f64 = t1173 + t1176;
+        let t1178: f64 = t1160.plus(t1161);
+        let t1179: f64 = t1162.plus(t1178);
+        let t1180: f64 = t1177 - t1179;
+        let t1181 = product(t1154, t1180);
+        let t1182: f64 = t1121.plus(t1151);
+        let t1183: f64 = t1181.plus(t1182);
+        let t1184: f64 = t293 * t1183;
+        let t1185 = product(t284, t1120);
+        let t1186 = product(t90, t272);
+        let t1187: f64 = t282 * t286;
+        let t1188: f64 = t1186.minus(t1187);
+        let t1189 = product(t1150, t1188);
+        let t1190 = product(t280, t286);
+        let t1191: f64 = t90 * t275;
+        let t1192: f64 = t1190.minus(t1191);
+        let t1193: f64 = t1180 * t1192;
+        let t1194: f64 = t1189.plus(t1193);
+        let t1195: f64 = t1185.minus(t1194);
+        let t1196: f64 = t293 * t1195;
+        let t1197: f64 = -t1196;
+        let t1198 = product(t289, t1120);
+        let t1199 = product(t279, t282);
+        let t1200: f64 = t90 * t274;
+        let t1201: f64 = t1199.minus(t1200);
+        let t1202: f64 = t1150 * t1201;
+        let t1203 = product(t90, t181);
+        let t1204: f64 = t279 * t280;
+        let t1205: f64 = t1203.minus(t1204);
+        let t1206 = product(t1180, t1205);
+        let t1207: f64 = t1198.plus(t1202);
+        let t1208: f64 = t1206.plus(t1207);
+        let t1209: f64 = t293 * t1208;
+        let t1210: f64 = t28 * t43;
+        let t1211: f64 = t119 * t134;
+        let t1212: f64 = t210 * t225;
+        let t1213 = product(t280, t1124);
+        let t1214 = product(t282, t1154);
+        let t1215: f64 = t1213.added_to(t278);
+        let t1216: f64 = t1214.plus(t1215);
+        let t1217: f64 = t1216 * t1216;
+        let t1218 = product(t90, t90);
+        let t1219: f64 = t280 * t280;
+        let t1220 = product(t282, t282);
+        let t1221: f64 = t1218.plus(t1219);
+        let t1222: f64 = t1220.plus(t1221);
+        let t1223 = product(t279, t279);
+        let t1224: f64 = t181 * t181;
+        let t1225 = product(t274, t274);
+        let t1226: f64 = t1223.plus(t1224);
+        let t1227: f64 = t1225.plus(t1226);
+        let t1228 = product(t286, t286);
+        let t1229: f64 = t275 * t275;
+        let t1230 = product(t272, t272);
+        let t1231: f64 = t1228.plus(t1229);
+        let t1232: f64 = t1230.plus(t1231);
+        let t1233: f64 = t1222 * t1227;
+        let t1234: f64 = t1232 * t1233;
+        let t1235: f64 = t1217 / t1234;
+        (t1184, t1197, t1209, t1210, t1211, t1212, t1235)
     };
-    ([t1751, t1764, t1776], [t379, t773, t1167, t1777, t1778, t1779, t1802])
+    ([t1184, t1197, t1209], [t446, t581, t716, t1210, t1211, t1212, t1235])
 }
 /// Forward dynamics: the platform's acceleration `a_C` under the motors' torques.
 ///
@@ -4747,7 +4123,7 @@ pub fn inverse_dynamics_params_separate(
 /// - `accel`: the platform's acceleration `a_C` (m/s²), base frame
 /// - `singular`: `|u_i × r_i|` for each arm, `1 - (K/ρ)²` for each arm, then the arms' hold `det(J⁻¹)² / Π |row_i|²` in `[0, 1]` (zero where they cannot hold the platform): the other results are meaningless where one is near zero or negative
 ///
-/// Operations: 1507 mul, 19 div, 827 add, 39 neg, 6 sqrt (chapter convention: 1526m + 827a).
+/// Operations: 967 mul, 19 div, 531 add, 3 neg, 6 sqrt (chapter convention: 986m + 531a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
@@ -4791,222 +4167,151 @@ pub fn forward_dynamics_params_separate(
     arm2_rod_izz, _, arm3_crank_mx, _, _, arm3_crank_izz, arm3_rod_mass, arm3_rod_mz,
     arm3_rod_ixx, arm3_rod_izz] = *params;
     let (
-        t14,
-        t18,
-        t22,
         t28,
-        t29,
         t43,
-        t48,
-        t53,
-        t55,
-        t59,
         t62,
         t66,
-        t69,
-        t73,
         t77,
-        t80,
-        t84,
-        t88,
-        t89,
         t90,
         t91,
         t93,
         t94,
         t96,
-        t101,
+        t99,
         t111,
         t112,
         t113,
-        t119,
+        t115,
+        t117,
+        t121,
         t123,
-        t125,
-        t129,
-        t133,
-        t150,
-        t154,
-        t158,
-        t164,
-        t165,
-        t179,
+        t127,
+        t130,
+        t132,
+        t134,
+        t169,
         t184,
-        t189,
-        t191,
-        t195,
-        t198,
-        t202,
-        t205,
-        t209,
-        t213,
-        t216,
-        t220,
-        t224,
+        t196,
+        t200,
+        t203,
+        t207,
+        t210,
+        t214,
+        t218,
+        t221,
         t225,
-        t226,
-        t227,
-        t229,
         t230,
+        t231,
         t232,
+        t234,
+        t235,
         t237,
-        t247,
-        t248,
-        t249,
-        t255,
-        t259,
-        t261,
-        t265,
-        t269,
-        t286,
-        t290,
-        t294,
-        t300,
-        t301,
-        t315,
-        t320,
+        t240,
+        t252,
+        t253,
+        t254,
+        t256,
+        t258,
+        t262,
+        t264,
+        t268,
+        t271,
+        t273,
+        t275,
+        t310,
         t325,
-        t327,
-        t331,
-        t334,
-        t338,
+        t337,
         t341,
-        t345,
-        t349,
-        t352,
-        t356,
-        t360,
-        t361,
+        t344,
+        t348,
+        t351,
+        t355,
+        t359,
         t362,
-        t363,
-        t365,
         t366,
-        t368,
+        t371,
+        t372,
         t373,
-        t383,
-        t384,
-        t385,
-        t391,
+        t375,
+        t376,
+        t378,
+        t381,
+        t393,
+        t394,
         t395,
         t397,
-        t401,
-        t402,
+        t399,
+        t403,
         t405,
         t409,
         t412,
-        t415,
-        t418,
-        t422,
-        t425,
-        t429,
-        t434,
-        t438,
-        t442,
-        t444,
-        t453,
-        t456,
-        t459,
-        t462,
+        t414,
+        t416,
+        t433,
+        t439,
+        t448,
         t465,
-        t469,
-        t472,
-        t476,
-        t481,
-        t485,
-        t489,
-        t491,
-        t500,
+        t471,
+        t480,
+        t497,
         t503,
-        t506,
-        t509,
         t512,
-        t516,
-        t519,
-        t523,
-        t528,
-        t532,
-        t536,
-        t538,
-        t547,
-        t550,
-        t563,
-        t567,
-        t571,
-        t575,
+        t526,
+        t542,
+        t558,
         t579,
-        t583,
-        t589,
+        t580,
+        t584,
+        t586,
+        t588,
+        t592,
+        t594,
+        t596,
+        t600,
         t602,
-        t606,
-        t610,
-        t614,
-        t618,
-        t622,
-        t628,
-        t641,
-        t645,
-        t649,
-        t653,
-        t657,
-        t661,
-        t682,
-        t683,
-        t684,
-        t690,
-        t691,
-        t693,
-        t694,
-        t700,
-        t701,
-        t703,
-        t704,
-        t710,
-        t711,
-        t714,
-        t718,
-        t721,
-        t725,
-        t728,
+        t609,
+        t613,
+        t617,
+        t629,
+        t630,
+        t638,
+        t646,
         t732,
-        t735,
-        t738,
+        t733,
+        t737,
+        t739,
         t741,
+        t745,
         t747,
-        t750,
+        t749,
         t753,
-        t759,
-        t762,
-        t765,
-        t784,
-        t785,
-        t789,
-        t793,
-        t805,
-        t815,
+        t755,
+        t768,
+        t772,
+        t776,
+        t788,
+        t808,
+        t809,
+        t817,
         t825,
-        t835,
-        t845,
-        t855,
-        t875,
-        t882,
-        t889,
-        t910,
-        t917,
-        t924,
-        t945,
+        t914,
+        t915,
+        t920,
+        t921,
+        t944,
+        t948,
         t952,
-        t959,
-        t981,
-        t982,
+        t957,
+        t961,
+        t966,
+        t971,
+        t975,
+        t983,
         t984,
-        t985,
-        t987,
-        t989,
         t990,
-        t991,
-        t992,
         t994,
         t995,
-        t997,
+        t998,
         t999,
     ) = {
         let t0: f64 = xc - arm1_base_x;
@@ -5103,2697 +4408,1591 @@ pub fn forward_dynamics_params_separate(
         let t91: f64 = t90 * t90;
         let t92 = product(arm1_crank_izz, t91);
         let t93: f64 = 1.0 / arm1_rod_length;
-        let t94: f64 = t73 * t93;
-        let t95 = product(arm1_axis_z, t94);
-        let t96: f64 = t84 * t93;
-        let t97: f64 = arm1_axis_y * t96;
+        let t94: f64 = t84 * t93;
+        let t95 = product(arm1_axis_x, t94);
+        let t96: f64 = t59 * t93;
+        let t97: f64 = arm1_axis_z * t96;
         let t98: f64 = t95.minus(t97);
-        let t99 = product(t98, t98);
-        let t100 = product(arm1_axis_x, t96);
-        let t101: f64 = t59 * t93;
-        let t102: f64 = arm1_axis_z * t101;
-        let t103: f64 = t100.minus(t102);
-        let t104: f64 = t103 * t103;
-        let t105 = product(arm1_axis_y, t101);
-        let t106: f64 = arm1_axis_x * t94;
+        let t99: f64 = t73 * t93;
+        let t100 = product(arm1_axis_z, t99);
+        let t101: f64 = arm1_axis_y * t94;
+        let t102: f64 = t100.minus(t101);
+        let t103 = product(t102, t102);
+        let t104: f64 = t98 * t98;
+        let t105 = product(arm1_axis_y, t96);
+        let t106: f64 = arm1_axis_x * t99;
         let t107: f64 = t105.minus(t106);
         let t108 = product(t107, t107);
-        let t109: f64 = t99.plus(t104);
+        let t109: f64 = t103.plus(t104);
         let t110: f64 = t108.plus(t109);
         let t111: f64 = sqrt(t110);
         let t112: f64 = 1.0 / t111;
         let t113: f64 = t98 * t112;
-        let t114 = product(arm1_axis_x, t101);
-        let t115: f64 = arm1_axis_y * t94;
-        let t116 = product(arm1_axis_z, t96);
-        let t117: f64 = t114.plus(t115);
-        let t118: f64 = t116.plus(t117);
-        let t119: f64 = t112 * t118;
-        let t120: f64 = t93 * t113;
-        let t121 = product(t119, t120);
-        let t122 = product(t62, t113);
-        let t123: f64 = t103 * t112;
+        let t114 = product(t94, t113);
+        let t115: f64 = t107 * t112;
+        let t116: f64 = t99 * t115;
+        let t117: f64 = t114.minus(t116);
+        let t118 = product(t93, t117);
+        let t119 = product(t62, t117);
+        let t120 = product(t96, t115);
+        let t121: f64 = t102 * t112;
+        let t122: f64 = t94 * t121;
+        let t123: f64 = t120.minus(t122);
         let t124: f64 = t66 * t123;
-        let t125: f64 = t107 * t112;
-        let t126 = product(t77, t125);
-        let t127: f64 = t122.plus(t124);
-        let t128: f64 = t126.plus(t127);
-        let t129: f64 = t93 * t128;
-        let t130: f64 = t119 * t129;
-        let t131: f64 = arm1_crank_length * t90;
-        let t132: f64 = t130 * t131;
-        let t133: f64 = t121.minus(t132);
-        let t134: f64 = t133 * t133;
-        let t135 = product(arm1_rod_izz, t134);
-        let t136: f64 = xc - arm2_base_x;
-        let t137: f64 = arm2_platform_x + t136;
-        let t138 = product(arm2_zero_x, t137);
-        let t139: f64 = yc - arm2_base_y;
-        let t140: f64 = arm2_platform_y + t139;
-        let t141: f64 = arm2_zero_y * t140;
-        let t142: f64 = zc - arm2_base_z;
-        let t143: f64 = arm2_platform_z + t142;
-        let t144 = product(arm2_zero_z, t143);
-        let t145: f64 = t138.plus(t141);
-        let t146: f64 = t144.plus(t145);
-        let t147 = product(t146, t146);
-        let t148 = product(arm2_axis_y, arm2_zero_z);
-        let t149: f64 = arm2_axis_z * arm2_zero_y;
-        let t150: f64 = t148.minus(t149);
-        let t151 = product(t137, t150);
-        let t152 = product(arm2_axis_z, arm2_zero_x);
-        let t153: f64 = arm2_axis_x * arm2_zero_z;
-        let t154: f64 = t152.minus(t153);
-        let t155: f64 = t140 * t154;
-        let t156 = product(arm2_axis_x, arm2_zero_y);
-        let t157: f64 = arm2_axis_y * arm2_zero_x;
-        let t158: f64 = t156.minus(t157);
-        let t159 = product(t143, t158);
-        let t160: f64 = t151.plus(t155);
-        let t161: f64 = t159.plus(t160);
-        let t162: f64 = t161 * t161;
-        let t163: f64 = t147.plus(t162);
-        let t164: f64 = 1.0 / t163;
-        let t165: f64 = 1.0 / arm2_crank_length;
-        let t166 = product(t137, t137);
-        let t167: f64 = t140 * t140;
-        let t168 = product(t143, t143);
-        let t169 = product(arm2_crank_length, arm2_crank_length);
-        let t170: f64 = arm2_rod_length * arm2_rod_length;
-        let t171: f64 = t169.minus(t170);
-        let t172: f64 = t166.plus(t167);
-        let t173: f64 = t168.plus(t171);
-        let t174: f64 = t172 + t173;
-        let t175: f64 = t165 * t174;
-        let t176: f64 = t175 * 0.5;
-        let t177 = product(t146, t176);
-        let t178 = product(t176, t176);
-        let t179: f64 = t178.subtracted_from(t163);
-        let t180: f64 = sqrt(t179);
-        let t181: f64 = arm2_branch * t180;
-        let t182: f64 = t161 * t181;
-        let t183: f64 = t177.minus(t182);
-        let t184: f64 = t164 * t183;
-        let t185 = product(arm2_zero_x, t184);
-        let t186 = product(t161, t176);
-        let t187: f64 = t146 * t181;
-        let t188: f64 = t186.plus(t187);
-        let t189: f64 = t164 * t188;
-        let t190: f64 = t150 * t189;
-        let t191: f64 = t185.plus(t190);
-        let t192 = product(arm2_crank_length, t191);
-        let t193: f64 = t192.added_to(arm2_base_x);
-        let t194: f64 = xc + arm2_platform_x;
-        let t195: f64 = t194 - t193;
-        let t196 = product(t150, t184);
-        let t197: f64 = arm2_zero_x * t189;
-        let t198: f64 = t196.minus(t197);
-        let t199 = product(t195, t198);
-        let t200 = product(t154, t184);
-        let t201: f64 = arm2_zero_y * t189;
-        let t202: f64 = t200.minus(t201);
-        let t203 = product(arm2_zero_y, t184);
-        let t204: f64 = t154 * t189;
-        let t205: f64 = t203.plus(t204);
-        let t206 = product(arm2_crank_length, t205);
-        let t207: f64 = t206.added_to(arm2_base_y);
-        let t208: f64 = yc + arm2_platform_y;
-        let t209: f64 = t208 - t207;
-        let t210: f64 = t202 * t209;
-        let t211 = product(t158, t184);
-        let t212: f64 = arm2_zero_z * t189;
-        let t213: f64 = t211.minus(t212);
-        let t214 = product(arm2_zero_z, t184);
-        let t215: f64 = t158 * t189;
-        let t216: f64 = t214.plus(t215);
-        let t217 = product(arm2_crank_length, t216);
-        let t218: f64 = t217.added_to(arm2_base_z);
-        let t219: f64 = zc + arm2_platform_z;
-        let t220: f64 = t219 - t218;
-        let t221 = product(t213, t220);
-        let t222: f64 = t199.plus(t210);
-        let t223: f64 = t221.plus(t222);
-        let t224: f64 = 1.0 / t223;
-        let t225: f64 = t165 * t224;
-        let t226: f64 = t195 * t225;
-        let t227: f64 = t226 * t226;
-        let t228 = product(arm2_crank_izz, t227);
-        let t229: f64 = 1.0 / arm2_rod_length;
-        let t230: f64 = t209 * t229;
-        let t231 = product(arm2_axis_z, t230);
-        let t232: f64 = t220 * t229;
-        let t233: f64 = arm2_axis_y * t232;
-        let t234: f64 = t231.minus(t233);
-        let t235 = product(t234, t234);
-        let t236 = product(arm2_axis_x, t232);
-        let t237: f64 = t195 * t229;
+        let t125 = product(t99, t121);
+        let t126: f64 = t96 * t113;
+        let t127: f64 = t125.minus(t126);
+        let t128 = product(t77, t127);
+        let t129: f64 = t119.plus(t124);
+        let t130: f64 = t128.plus(t129);
+        let t131: f64 = t93 * t130;
+        let t132: f64 = arm1_crank_length * t90;
+        let t133: f64 = t131 * t132;
+        let t134: f64 = t118.minus(t133);
+        let t135 = product(arm1_rod_ixx, t134);
+        let t136: f64 = arm1_rod_mz * t132;
+        let t137: f64 = t130 * t136;
+        let t138: f64 = t135.plus(t137);
+        let t139: f64 = t138 * 2.0;
+        let t140 = product(t134, t139);
+        let t141: f64 = xc - arm2_base_x;
+        let t142: f64 = arm2_platform_x + t141;
+        let t143 = product(arm2_zero_x, t142);
+        let t144: f64 = yc - arm2_base_y;
+        let t145: f64 = arm2_platform_y + t144;
+        let t146: f64 = arm2_zero_y * t145;
+        let t147: f64 = zc - arm2_base_z;
+        let t148: f64 = arm2_platform_z + t147;
+        let t149 = product(arm2_zero_z, t148);
+        let t150: f64 = t143.plus(t146);
+        let t151: f64 = t149.plus(t150);
+        let t152 = product(t151, t151);
+        let t153 = product(arm2_axis_y, arm2_zero_z);
+        let t154: f64 = arm2_axis_z * arm2_zero_y;
+        let t155: f64 = t153.minus(t154);
+        let t156 = product(t142, t155);
+        let t157 = product(arm2_axis_z, arm2_zero_x);
+        let t158: f64 = arm2_axis_x * arm2_zero_z;
+        let t159: f64 = t157.minus(t158);
+        let t160: f64 = t145 * t159;
+        let t161 = product(arm2_axis_x, arm2_zero_y);
+        let t162: f64 = arm2_axis_y * arm2_zero_x;
+        let t163: f64 = t161.minus(t162);
+        let t164 = product(t148, t163);
+        let t165: f64 = t156.plus(t160);
+        let t166: f64 = t164.plus(t165);
+        let t167: f64 = t166 * t166;
+        let t168: f64 = t152.plus(t167);
+        let t169: f64 = 1.0 / t168;
+        let t170: f64 = 1.0 / arm2_crank_length;
+        let t171 = product(t142, t142);
+        let t172: f64 = t145 * t145;
+        let t173 = product(t148, t148);
+        let t174 = product(arm2_crank_length, arm2_crank_length);
+        let t175: f64 = arm2_rod_length * arm2_rod_length;
+        let t176: f64 = t174.minus(t175);
+        let t177: f64 = t171.plus(t172);
+        let t178: f64 = t173.plus(t176);
+        let t179: f64 = t177 + t178;
+        let t180: f64 = t170 * t179;
+        let t181: f64 = t180 * 0.5;
+        let t182 = product(t151, t181);
+        let t183 = product(t181, t181);
+        let t184: f64 = t183.subtracted_from(t168);
+        let t185: f64 = sqrt(t184);
+        let t186: f64 = arm2_branch * t185;
+        let t187: f64 = t166 * t186;
+        let t188: f64 = t182.minus(t187);
+        let t189: f64 = t169 * t188;
+        let t190 = product(arm2_zero_x, t189);
+        let t191 = product(t166, t181);
+        let t192: f64 = t151 * t186;
+        let t193: f64 = t191.plus(t192);
+        let t194: f64 = t169 * t193;
+        let t195: f64 = t155 * t194;
+        let t196: f64 = t190.plus(t195);
+        let t197 = product(arm2_crank_length, t196);
+        let t198: f64 = t197.added_to(arm2_base_x);
+        let t199: f64 = xc + arm2_platform_x;
+        let t200: f64 = t199 - t198;
+        let t201 = product(t155, t189);
+        let t202: f64 = arm2_zero_x * t194;
+        let t203: f64 = t201.minus(t202);
+        let t204 = product(t200, t203);
+        let t205 = product(t159, t189);
+        let t206: f64 = arm2_zero_y * t194;
+        let t207: f64 = t205.minus(t206);
+        let t208 = product(arm2_zero_y, t189);
+        let t209: f64 = t159 * t194;
+        let t210: f64 = t208.plus(t209);
+        let t211 = product(arm2_crank_length, t210);
+        let t212: f64 = t211.added_to(arm2_base_y);
+        let t213: f64 = yc + arm2_platform_y;
+        let t214: f64 = t213 - t212;
+        let t215: f64 = t207 * t214;
+        let t216 = product(t163, t189);
+        let t217: f64 = arm2_zero_z * t194;
+        let t218: f64 = t216.minus(t217);
+        let t219 = product(arm2_zero_z, t189);
+        let t220: f64 = t163 * t194;
+        let t221: f64 = t219.plus(t220);
+        let t222 = product(arm2_crank_length, t221);
+        let t223: f64 = t222.added_to(arm2_base_z);
+        let t224: f64 = zc + arm2_platform_z;
+        let t225: f64 = t224 - t223;
+        let t226 = product(t218, t225);
+        let t227: f64 = t204.plus(t215);
+        let t228: f64 = t226.plus(t227);
+        let t229: f64 = 1.0 / t228;
+        let t230: f64 = t170 * t229;
+        let t231: f64 = t200 * t230;
+        let t232: f64 = t231 * t231;
+        let t233: f64 = arm2_crank_izz * t232;
+        let t234: f64 = 1.0 / arm2_rod_length;
+        let t235: f64 = t225 * t234;
+        let t236 = product(arm2_axis_x, t235);
+        let t237: f64 = t200 * t234;
         let t238: f64 = arm2_axis_z * t237;
         let t239: f64 = t236.minus(t238);
-        let t240: f64 = t239 * t239;
-        let t241 = product(arm2_axis_y, t237);
-        let t242: f64 = arm2_axis_x * t230;
+        let t240: f64 = t214 * t234;
+        let t241 = product(arm2_axis_z, t240);
+        let t242: f64 = arm2_axis_y * t235;
         let t243: f64 = t241.minus(t242);
         let t244 = product(t243, t243);
-        let t245: f64 = t235.plus(t240);
-        let t246: f64 = t244.plus(t245);
-        let t247: f64 = sqrt(t246);
-        let t248: f64 = 1.0 / t247;
-        let t249: f64 = t234 * t248;
-        let t250 = product(arm2_axis_x, t237);
-        let t251: f64 = arm2_axis_y * t230;
-        let t252 = product(arm2_axis_z, t232);
-        let t253: f64 = t250.plus(t251);
-        let t254: f64 = t252.plus(t253);
-        let t255: f64 = t248 * t254;
-        let t256: f64 = t229 * t249;
-        let t257 = product(t255, t256);
-        let t258 = product(t198, t249);
-        let t259: f64 = t239 * t248;
-        let t260: f64 = t202 * t259;
-        let t261: f64 = t243 * t248;
-        let t262 = product(t213, t261);
-        let t263: f64 = t258.plus(t260);
-        let t264: f64 = t262.plus(t263);
-        let t265: f64 = t229 * t264;
-        let t266: f64 = t255 * t265;
-        let t267: f64 = arm2_crank_length * t226;
-        let t268: f64 = t266 * t267;
-        let t269: f64 = t257.minus(t268);
-        let t270: f64 = t269 * t269;
-        let t271: f64 = arm2_rod_izz * t270;
-        let t272: f64 = xc - arm3_base_x;
-        let t273: f64 = arm3_platform_x + t272;
-        let t274 = product(arm3_zero_x, t273);
-        let t275: f64 = yc - arm3_base_y;
-        let t276: f64 = arm3_platform_y + t275;
-        let t277: f64 = arm3_zero_y * t276;
-        let t278: f64 = zc - arm3_base_z;
-        let t279: f64 = arm3_platform_z + t278;
-        let t280 = product(arm3_zero_z, t279);
-        let t281: f64 = t274.plus(t277);
-        let t282: f64 = t280.plus(t281);
-        let t283 = product(t282, t282);
-        let t284 = product(arm3_axis_y, arm3_zero_z);
-        let t285: f64 = arm3_axis_z * arm3_zero_y;
-        let t286: f64 = t284.minus(t285);
-        let t287 = product(t273, t286);
-        let t288 = product(arm3_axis_z, arm3_zero_x);
-        let t289: f64 = arm3_axis_x * arm3_zero_z;
-        let t290: f64 = t288.minus(t289);
-        let t291: f64 = t276 * t290;
-        let t292 = product(arm3_axis_x, arm3_zero_y);
-        let t293: f64 = arm3_axis_y * arm3_zero_x;
-        let t294: f64 = t292.minus(t293);
-        let t295 = product(t279, t294);
-        let t296: f64 = t287.plus(t291);
-        let t297: f64 = t295.plus(t296);
-        let t298: f64 = t297 * t297;
-        let t299: f64 = t283.plus(t298);
-        let t300: f64 = 1.0 / t299;
-        let t301: f64 = 1.0 / arm3_crank_length;
-        let t302 = product(t273, t273);
-        let t303: f64 = t276 * t276;
-        let t304 = product(t279, t279);
-        let t305 = product(arm3_crank_length, arm3_crank_length);
-        let t306: f64 = arm3_rod_length * arm3_rod_length;
-        let t307: f64 = t305.minus(t306);
-        let t308: f64 = t302.plus(t303);
-        let t309: f64 = t304.plus(t307);
-        let t310: f64 = t308 + t309;
-        let t311: f64 = t301 * t310;
-        let t312: f64 = t311 * 0.5;
-        let t313 = product(t282, t312);
-        let t314 = product(t312, t312);
-        let t315: f64 = t314.subtracted_from(t299);
-        let t316: f64 = sqrt(t315);
-        let t317: f64 = arm3_branch * t316;
-        let t318: f64 = t297 * t317;
-        let t319: f64 = t313.minus(t318);
-        let t320: f64 = t300 * t319;
-        let t321 = product(arm3_zero_x, t320);
-        let t322 = product(t297, t312);
-        let t323: f64 = t282 * t317;
-        let t324: f64 = t322.plus(t323);
-        let t325: f64 = t300 * t324;
-        let t326: f64 = t286 * t325;
-        let t327: f64 = t321.plus(t326);
-        let t328 = product(arm3_crank_length, t327);
-        let t329: f64 = t328.added_to(arm3_base_x);
-        let t330: f64 = xc + arm3_platform_x;
-        let t331: f64 = t330 - t329;
-        let t332 = product(t286, t320);
-        let t333: f64 = arm3_zero_x * t325;
-        let t334: f64 = t332.minus(t333);
-        let t335 = product(t331, t334);
-        let t336 = product(t290, t320);
-        let t337: f64 = arm3_zero_y * t325;
-        let t338: f64 = t336.minus(t337);
-        let t339 = product(arm3_zero_y, t320);
-        let t340: f64 = t290 * t325;
-        let t341: f64 = t339.plus(t340);
-        let t342 = product(arm3_crank_length, t341);
-        let t343: f64 = t342.added_to(arm3_base_y);
-        let t344: f64 = yc + arm3_platform_y;
-        let t345: f64 = t344 - t343;
-        let t346: f64 = t338 * t345;
-        let t347 = product(t294, t320);
-        let t348: f64 = arm3_zero_z * t325;
-        let t349: f64 = t347.minus(t348);
-        let t350 = product(arm3_zero_z, t320);
-        let t351: f64 = t294 * t325;
-        let t352: f64 = t350.plus(t351);
-        let t353 = product(arm3_crank_length, t352);
-        let t354: f64 = t353.added_to(arm3_base_z);
-        let t355: f64 = zc + arm3_platform_z;
-        let t356: f64 = t355 - t354;
-        let t357 = product(t349, t356);
-        let t358: f64 = t335.plus(t346);
-        let t359: f64 = t357.plus(t358);
-        let t360: f64 = 1.0 / t359;
-        let t361: f64 = t301 * t360;
-        let t362: f64 = t331 * t361;
-        let t363: f64 = t362 * t362;
-        let t364: f64 = arm3_crank_izz * t363;
-        let t365: f64 = 1.0 / arm3_rod_length;
-        let t366: f64 = t345 * t365;
-        let t367 = product(arm3_axis_z, t366);
-        let t368: f64 = t356 * t365;
-        let t369: f64 = arm3_axis_y * t368;
-        let t370: f64 = t367.minus(t369);
-        let t371 = product(t370, t370);
-        let t372 = product(arm3_axis_x, t368);
-        let t373: f64 = t331 * t365;
-        let t374: f64 = arm3_axis_z * t373;
-        let t375: f64 = t372.minus(t374);
-        let t376: f64 = t375 * t375;
-        let t377 = product(arm3_axis_y, t373);
-        let t378: f64 = arm3_axis_x * t366;
-        let t379: f64 = t377.minus(t378);
-        let t380 = product(t379, t379);
-        let t381: f64 = t371.plus(t376);
-        let t382: f64 = t380.plus(t381);
-        let t383: f64 = sqrt(t382);
-        let t384: f64 = 1.0 / t383;
-        let t385: f64 = t370 * t384;
-        let t386 = product(arm3_axis_x, t373);
-        let t387: f64 = arm3_axis_y * t366;
-        let t388 = product(arm3_axis_z, t368);
-        let t389: f64 = t386.plus(t387);
-        let t390: f64 = t388.plus(t389);
-        let t391: f64 = t384 * t390;
-        let t392: f64 = t365 * t385;
-        let t393 = product(t391, t392);
-        let t394 = product(t334, t385);
-        let t395: f64 = t375 * t384;
-        let t396: f64 = t338 * t395;
-        let t397: f64 = t379 * t384;
-        let t398 = product(t349, t397);
-        let t399: f64 = t394.plus(t396);
-        let t400: f64 = t398.plus(t399);
-        let t401: f64 = t365 * t400;
-        let t402: f64 = t391 * t401;
-        let t403: f64 = arm3_crank_length * t362;
-        let t404: f64 = t402 * t403;
-        let t405: f64 = t393.minus(t404);
-        let t406: f64 = t405 * t405;
-        let t407 = product(arm3_rod_izz, t406);
-        let t408 = product(t129, t131);
-        let t409: f64 = t408.subtracted_from(t120);
-        let t410 = product(arm1_rod_ixx, t409);
-        let t411: f64 = t62 * t90;
-        let t412: f64 = -t411;
-        let t413 = product(t113, t412);
-        let t414: f64 = t66 * t90;
-        let t415: f64 = -t414;
-        let t416: f64 = t123 * t415;
-        let t417: f64 = t77 * t90;
-        let t418: f64 = -t417;
-        let t419 = product(t125, t418);
-        let t420: f64 = t413.plus(t416);
-        let t421: f64 = t419.plus(t420);
-        let t422: f64 = arm1_crank_length * arm1_rod_mz;
-        let t423: f64 = t421 * t422;
-        let t424: f64 = t410.minus(t423);
-        let t425: f64 = t424 * 2.0;
-        let t426 = product(t409, t425);
-        let t427 = product(t96, t123);
-        let t428: f64 = t94 * t125;
-        let t429: f64 = t427.minus(t428);
-        let t430 = product(t93, t429);
-        let t431 = product(t62, t429);
-        let t432 = product(t101, t125);
-        let t433: f64 = t96 * t113;
-        let t434: f64 = t432.minus(t433);
-        let t435: f64 = t66 * t434;
-        let t436 = product(t94, t113);
-        let t437: f64 = t101 * t123;
-        let t438: f64 = t436.minus(t437);
-        let t439 = product(t77, t438);
-        let t440: f64 = t431.plus(t435);
-        let t441: f64 = t439.plus(t440);
-        let t442: f64 = t93 * t441;
-        let t443: f64 = t131 * t442;
-        let t444: f64 = t430.minus(t443);
-        let t445 = product(arm1_rod_ixx, t444);
-        let t446 = product(t412, t429);
-        let t447: f64 = t415 * t434;
-        let t448 = product(t418, t438);
-        let t449: f64 = t446.plus(t447);
-        let t450: f64 = t448.plus(t449);
-        let t451: f64 = t422 * t450;
-        let t452: f64 = t445.minus(t451);
-        let t453: f64 = t452 * 2.0;
-        let t454: f64 = t444 * t453;
-        let t455 = product(t265, t267);
-        let t456: f64 = t455.subtracted_from(t256);
-        let t457 = product(arm2_rod_ixx, t456);
-        let t458: f64 = t198 * t226;
-        let t459: f64 = -t458;
-        let t460 = product(t249, t459);
-        let t461: f64 = t202 * t226;
-        let t462: f64 = -t461;
-        let t463: f64 = t259 * t462;
-        let t464: f64 = t213 * t226;
-        let t465: f64 = -t464;
-        let t466 = product(t261, t465);
-        let t467: f64 = t460.plus(t463);
-        let t468: f64 = t466.plus(t467);
-        let t469: f64 = arm2_crank_length * arm2_rod_mz;
-        let t470: f64 = t468 * t469;
-        let t471: f64 = t457.minus(t470);
-        let t472: f64 = t471 * 2.0;
-        let t473 = product(t456, t472);
-        let t474 = product(t232, t259);
-        let t475: f64 = t230 * t261;
-        let t476: f64 = t474.minus(t475);
-        let t477 = product(t229, t476);
-        let t478 = product(t198, t476);
-        let t479 = product(t237, t261);
-        let t480: f64 = t232 * t249;
-        let t481: f64 = t479.minus(t480);
-        let t482: f64 = t202 * t481;
-        let t483 = product(t230, t249);
-        let t484: f64 = t237 * t259;
-        let t485: f64 = t483.minus(t484);
-        let t486 = product(t213, t485);
-        let t487: f64 = t478.plus(t482);
-        let t488: f64 = t486.plus(t487);
-        let t489: f64 = t229 * t488;
-        let t490: f64 = t267 * t489;
-        let t491: f64 = t477.minus(t490);
-        let t492 = product(arm2_rod_ixx, t491);
-        let t493 = product(t459, t476);
-        let t494: f64 = t462 * t481;
-        let t495 = product(t465, t485);
+        let t245: f64 = t239 * t239;
+        let t246 = product(arm2_axis_y, t237);
+        let t247: f64 = arm2_axis_x * t240;
+        let t248: f64 = t246.minus(t247);
+        let t249 = product(t248, t248);
+        let t250: f64 = t244.plus(t245);
+        let t251: f64 = t249.plus(t250);
+        let t252: f64 = sqrt(t251);
+        let t253: f64 = 1.0 / t252;
+        let t254: f64 = t239 * t253;
+        let t255 = product(t235, t254);
+        let t256: f64 = t248 * t253;
+        let t257: f64 = t240 * t256;
+        let t258: f64 = t255.minus(t257);
+        let t259 = product(t234, t258);
+        let t260 = product(t203, t258);
+        let t261 = product(t237, t256);
+        let t262: f64 = t243 * t253;
+        let t263: f64 = t235 * t262;
+        let t264: f64 = t261.minus(t263);
+        let t265: f64 = t207 * t264;
+        let t266 = product(t240, t262);
+        let t267: f64 = t237 * t254;
+        let t268: f64 = t266.minus(t267);
+        let t269 = product(t218, t268);
+        let t270: f64 = t260.plus(t265);
+        let t271: f64 = t269.plus(t270);
+        let t272: f64 = t234 * t271;
+        let t273: f64 = arm2_crank_length * t231;
+        let t274: f64 = t272 * t273;
+        let t275: f64 = t259.minus(t274);
+        let t276 = product(arm2_rod_ixx, t275);
+        let t277: f64 = arm2_rod_mz * t273;
+        let t278: f64 = t271 * t277;
+        let t279: f64 = t276.plus(t278);
+        let t280: f64 = t279 * 2.0;
+        let t281 = product(t275, t280);
+        let t282: f64 = xc - arm3_base_x;
+        let t283: f64 = arm3_platform_x + t282;
+        let t284 = product(arm3_zero_x, t283);
+        let t285: f64 = yc - arm3_base_y;
+        let t286: f64 = arm3_platform_y + t285;
+        let t287: f64 = arm3_zero_y * t286;
+        let t288: f64 = zc - arm3_base_z;
+        let t289: f64 = arm3_platform_z + t288;
+        let t290 = product(arm3_zero_z, t289);
+        let t291: f64 = t284.plus(t287);
+        let t292: f64 = t290.plus(t291);
+        let t293 = product(t292, t292);
+        let t294 = product(arm3_axis_y, arm3_zero_z);
+        let t295: f64 = arm3_axis_z * arm3_zero_y;
+        let t296: f64 = t294.minus(t295);
+        let t297 = product(t283, t296);
+        let t298 = product(arm3_axis_z, arm3_zero_x);
+        let t299: f64 = arm3_axis_x * arm3_zero_z;
+        let t300: f64 = t298.minus(t299);
+        let t301: f64 = t286 * t300;
+        let t302 = product(arm3_axis_x, arm3_zero_y);
+        let t303: f64 = arm3_axis_y * arm3_zero_x;
+        let t304: f64 = t302.minus(t303);
+        let t305 = product(t289, t304);
+        let t306: f64 = t297.plus(t301);
+        let t307: f64 = t305.plus(t306);
+        let t308: f64 = t307 * t307;
+        let t309: f64 = t293.plus(t308);
+        let t310: f64 = 1.0 / t309;
+        let t311: f64 = 1.0 / arm3_crank_length;
+        let t312 = product(t283, t283);
+        let t313: f64 = t286 * t286;
+        let t314 = product(t289, t289);
+        let t315 = product(arm3_crank_length, arm3_crank_length);
+        let t316: f64 = arm3_rod_length * arm3_rod_length;
+        let t317: f64 = t315.minus(t316);
+        let t318: f64 = t312.plus(t313);
+        let t319: f64 = t314.plus(t317);
+        let t320: f64 = t318 + t319;
+        let t321: f64 = t311 * t320;
+        let t322: f64 = t321 * 0.5;
+        let t323 = product(t292, t322);
+        let t324 = product(t322, t322);
+        let t325: f64 = t324.subtracted_from(t309);
+        let t326: f64 = sqrt(t325);
+        let t327: f64 = arm3_branch * t326;
+        let t328: f64 = t307 * t327;
+        let t329: f64 = t323.minus(t328);
+        let t330: f64 = t310 * t329;
+        let t331 = product(arm3_zero_x, t330);
+        let t332 = product(t307, t322);
+        let t333: f64 = t292 * t327;
+        let t334: f64 = t332.plus(t333);
+        let t335: f64 = t310 * t334;
+        let t336: f64 = t296 * t335;
+        let t337: f64 = t331.plus(t336);
+        let t338 = product(arm3_crank_length, t337);
+        let t339: f64 = t338.added_to(arm3_base_x);
+        let t340: f64 = xc + arm3_platform_x;
+        let t341: f64 = t340 - t339;
+        let t342 = product(t296, t330);
+        let t343: f64 = arm3_zero_x * t335;
+        let t344: f64 = t342.minus(t343);
+        let t345 = product(t341, t344);
+        let t346 = product(t300, t330);
+        let t347: f64 = arm3_zero_y * t335;
+        let t348: f64 = t346.minus(t347);
+        let t349 = product(arm3_zero_y, t330);
+        let t350: f64 = t300 * t335;
+        let t351: f64 = t349.plus(t350);
+        let t352 = product(arm3_crank_length, t351);
+        let t353: f64 = t352.added_to(arm3_base_y);
+        let t354: f64 = yc + arm3_platform_y;
+        let t355: f64 = t354 - t353;
+        let t356: f64 = t348 * t355;
+        let t357 = product(t304, t330);
+        let t358: f64 = arm3_zero_z * t335;
+        let t359: f64 = t357.minus(t358);
+        let t360 = product(arm3_zero_z, t330);
+        let t361: f64 = t304 * t335;
+        let t362: f64 = t360.plus(t361);
+        let t363 = product(arm3_crank_length, t362);
+        let t364: f64 = t363.added_to(arm3_base_z);
+        let t365: f64 = zc + arm3_platform_z;
+        let t366: f64 = t365 - t364;
+        let t367 = product(t359, t366);
+        let t368: f64 = t345.plus(t356);
+        let t369: f64 = t367.plus(t368);
+        let t370: f64 = 1.0 / t369;
+        let t371: f64 = t311 * t370;
+        let t372: f64 = t341 * t371;
+        let t373: f64 = t372 * t372;
+        let t374: f64 = arm3_crank_izz * t373;
+        let t375: f64 = 1.0 / arm3_rod_length;
+        let t376: f64 = t366 * t375;
+        let t377 = product(arm3_axis_x, t376);
+        let t378: f64 = t341 * t375;
+        let t379: f64 = arm3_axis_z * t378;
+        let t380: f64 = t377.minus(t379);
+        let t381: f64 = t355 * t375;
+        let t382 = product(arm3_axis_z, t381);
+        let t383: f64 = arm3_axis_y * t376;
+        let t384: f64 = t382.minus(t383);
+        let t385 = product(t384, t384);
+        let t386: f64 = t380 * t380;
+        let t387 = product(arm3_axis_y, t378);
+        let t388: f64 = arm3_axis_x * t381;
+        let t389: f64 = t387.minus(t388);
+        let t390 = product(t389, t389);
+        let t391: f64 = t385.plus(t386);
+        let t392: f64 = t390.plus(t391);
+        let t393: f64 = sqrt(t392);
+        let t394: f64 = 1.0 / t393;
+        let t395: f64 = t380 * t394;
+        let t396 = product(t376, t395);
+        let t397: f64 = t389 * t394;
+        let t398: f64 = t381 * t397;
+        let t399: f64 = t396.minus(t398);
+        let t400 = product(t375, t399);
+        let t401 = product(t344, t399);
+        let t402 = product(t378, t397);
+        let t403: f64 = t384 * t394;
+        let t404: f64 = t376 * t403;
+        let t405: f64 = t402.minus(t404);
+        let t406: f64 = t348 * t405;
+        let t407 = product(t381, t403);
+        let t408: f64 = t378 * t395;
+        let t409: f64 = t407.minus(t408);
+        let t410 = product(t359, t409);
+        let t411: f64 = t401.plus(t406);
+        let t412: f64 = t410.plus(t411);
+        let t413: f64 = t375 * t412;
+        let t414: f64 = arm3_crank_length * t372;
+        let t415: f64 = t413 * t414;
+        let t416: f64 = t400.minus(t415);
+        let t417 = product(arm3_rod_ixx, t416);
+        let t418: f64 = arm3_rod_mz * t414;
+        let t419: f64 = t412 * t418;
+        let t420: f64 = t417.plus(t419);
+        let t421: f64 = t420 * 2.0;
+        let t422 = product(t416, t421);
+        let t423: f64 = arm1_rod_mass * t132;
+        let t424 = product(t130, t423);
+        let t425: f64 = arm1_rod_mz * t134;
+        let t426: f64 = t424.plus(t425);
+        let t427: f64 = t426 * 2.0;
+        let t428 = product(t130, t427);
+        let t429 = product(t62, t121);
+        let t430: f64 = t66 * t113;
+        let t431 = product(t77, t115);
+        let t432: f64 = t429.plus(t430);
+        let t433: f64 = t431.plus(t432);
+        let t434: f64 = arm1_rod_mass * t433;
+        let t435 = product(t132, t434);
+        let t436 = product(t93, t121);
+        let t437: f64 = t93 * t433;
+        let t438: f64 = t132 * t437;
+        let t439: f64 = t436.minus(t438);
+        let t440: f64 = arm1_rod_mz * t439;
+        let t441: f64 = t435.plus(t440);
+        let t442: f64 = t441 * 2.0;
+        let t443: f64 = t433 * t442;
+        let t444 = product(t62, t96);
+        let t445: f64 = t66 * t99;
+        let t446 = product(t77, t94);
+        let t447: f64 = t444.plus(t445);
+        let t448: f64 = t446.plus(t447);
+        let t449: f64 = t448 * t448;
+        let t450: f64 = t423 * t449;
+        let t451 = product(t450, 2.0);
+        let t452: f64 = t428.plus(t443);
+        let t453: f64 = t451.plus(t452);
+        let t454: f64 = t132 * t453;
+        let t455: f64 = arm2_rod_mass * t273;
+        let t456 = product(t271, t455);
+        let t457: f64 = arm2_rod_mz * t275;
+        let t458: f64 = t456.plus(t457);
+        let t459: f64 = t458 * 2.0;
+        let t460 = product(t271, t459);
+        let t461 = product(t203, t262);
+        let t462: f64 = t207 * t254;
+        let t463 = product(t218, t256);
+        let t464: f64 = t461.plus(t462);
+        let t465: f64 = t463.plus(t464);
+        let t466: f64 = arm2_rod_mass * t465;
+        let t467 = product(t273, t466);
+        let t468 = product(t234, t262);
+        let t469: f64 = t234 * t465;
+        let t470: f64 = t273 * t469;
+        let t471: f64 = t468.minus(t470);
+        let t472: f64 = arm2_rod_mz * t471;
+        let t473: f64 = t467.plus(t472);
+        let t474: f64 = t473 * 2.0;
+        let t475: f64 = t465 * t474;
+        let t476 = product(t203, t237);
+        let t477: f64 = t207 * t240;
+        let t478 = product(t218, t235);
+        let t479: f64 = t476.plus(t477);
+        let t480: f64 = t478.plus(t479);
+        let t481: f64 = t480 * t480;
+        let t482: f64 = t455 * t481;
+        let t483 = product(t482, 2.0);
+        let t484: f64 = t460.plus(t475);
+        let t485: f64 = t483.plus(t484);
+        let t486 = product(t273, t485);
+        let t487: f64 = arm3_rod_mass * t414;
+        let t488 = product(t412, t487);
+        let t489: f64 = arm3_rod_mz * t416;
+        let t490: f64 = t488.plus(t489);
+        let t491: f64 = t490 * 2.0;
+        let t492 = product(t412, t491);
+        let t493 = product(t344, t403);
+        let t494: f64 = t348 * t395;
+        let t495 = product(t359, t397);
         let t496: f64 = t493.plus(t494);
         let t497: f64 = t495.plus(t496);
-        let t498: f64 = t469 * t497;
-        let t499: f64 = t492.minus(t498);
-        let t500: f64 = t499 * 2.0;
-        let t501: f64 = t491 * t500;
-        let t502 = product(t401, t403);
-        let t503: f64 = t502.subtracted_from(t392);
-        let t504 = product(arm3_rod_ixx, t503);
-        let t505: f64 = t334 * t362;
-        let t506: f64 = -t505;
-        let t507 = product(t385, t506);
-        let t508: f64 = t338 * t362;
-        let t509: f64 = -t508;
-        let t510: f64 = t395 * t509;
-        let t511: f64 = t349 * t362;
-        let t512: f64 = -t511;
-        let t513 = product(t397, t512);
-        let t514: f64 = t507.plus(t510);
-        let t515: f64 = t513.plus(t514);
-        let t516: f64 = arm3_crank_length * arm3_rod_mz;
-        let t517: f64 = t515 * t516;
-        let t518: f64 = t504.minus(t517);
-        let t519: f64 = t518 * 2.0;
-        let t520 = product(t503, t519);
-        let t521 = product(t368, t395);
-        let t522: f64 = t366 * t397;
-        let t523: f64 = t521.minus(t522);
-        let t524 = product(t365, t523);
-        let t525 = product(t334, t523);
-        let t526 = product(t373, t397);
-        let t527: f64 = t368 * t385;
-        let t528: f64 = t526.minus(t527);
-        let t529: f64 = t338 * t528;
-        let t530 = product(t366, t385);
-        let t531: f64 = t373 * t395;
-        let t532: f64 = t530.minus(t531);
-        let t533 = product(t349, t532);
-        let t534: f64 = t525.plus(t529);
-        let t535: f64 = t533.plus(t534);
-        let t536: f64 = t365 * t535;
-        let t537: f64 = t403 * t536;
-        let t538: f64 = t524.minus(t537);
-        let t539 = product(arm3_rod_ixx, t538);
-        let t540 = product(t506, t523);
-        let t541: f64 = t509 * t528;
-        let t542 = product(t512, t532);
-        let t543: f64 = t540.plus(t541);
-        let t544: f64 = t542.plus(t543);
-        let t545: f64 = t516 * t544;
-        let t546: f64 = t539.minus(t545);
-        let t547: f64 = t546 * 2.0;
-        let t548: f64 = t538 * t547;
-        let t549 = product(arm1_rod_mz, t444);
-        let t550: f64 = arm1_crank_length * arm1_rod_mass;
-        let t551: f64 = t450 * t550;
-        let t552: f64 = t549.subtracted_from(t551);
-        let t553 = product(t429, t552);
-        let t554 = product(arm1_rod_mz, t409);
-        let t555: f64 = t421 * t550;
-        let t556: f64 = t554.subtracted_from(t555);
-        let t557: f64 = t113 * t556;
-        let t558 = product(t101, t412);
-        let t559: f64 = t94 * t415;
-        let t560 = product(t96, t418);
-        let t561: f64 = t558.plus(t559);
-        let t562: f64 = t560.plus(t561);
-        let t563: f64 = t101 * t550;
-        let t564 = product(t562, t563);
-        let t565: f64 = t553.plus(t557);
-        let t566: f64 = t564.plus(t565);
-        let t567: f64 = t566 * 2.0;
-        let t568 = product(t412, t567);
-        let t569 = product(t434, t552);
-        let t570: f64 = t123 * t556;
-        let t571: f64 = t94 * t550;
-        let t572 = product(t562, t571);
-        let t573: f64 = t569.plus(t570);
-        let t574: f64 = t572.plus(t573);
-        let t575: f64 = t574 * 2.0;
-        let t576: f64 = t415 * t575;
-        let t577 = product(t438, t552);
-        let t578: f64 = t125 * t556;
-        let t579: f64 = t96 * t550;
-        let t580 = product(t562, t579);
-        let t581: f64 = t577.plus(t578);
-        let t582: f64 = t580.plus(t581);
-        let t583: f64 = t582 * 2.0;
-        let t584 = product(t418, t583);
-        let t585: f64 = t568.plus(t576);
-        let t586: f64 = t584.plus(t585);
-        let t587 = product(arm1_crank_length, t586);
-        let t588 = product(arm2_rod_mz, t491);
-        let t589: f64 = arm2_crank_length * arm2_rod_mass;
-        let t590: f64 = t497 * t589;
-        let t591: f64 = t588.subtracted_from(t590);
-        let t592 = product(t476, t591);
-        let t593 = product(arm2_rod_mz, t456);
-        let t594: f64 = t468 * t589;
-        let t595: f64 = t593.subtracted_from(t594);
-        let t596: f64 = t249 * t595;
-        let t597 = product(t237, t459);
-        let t598: f64 = t230 * t462;
-        let t599 = product(t232, t465);
-        let t600: f64 = t597.plus(t598);
-        let t601: f64 = t599.plus(t600);
-        let t602: f64 = t237 * t589;
-        let t603 = product(t601, t602);
-        let t604: f64 = t592.plus(t596);
-        let t605: f64 = t603.plus(t604);
-        let t606: f64 = t605 * 2.0;
-        let t607 = product(t459, t606);
-        let t608 = product(t481, t591);
-        let t609: f64 = t259 * t595;
-        let t610: f64 = t230 * t589;
-        let t611 = product(t601, t610);
-        let t612: f64 = t608.plus(t609);
-        let t613: f64 = t611.plus(t612);
-        let t614: f64 = t613 * 2.0;
-        let t615: f64 = t462 * t614;
-        let t616 = product(t485, t591);
-        let t617: f64 = t261 * t595;
-        let t618: f64 = t232 * t589;
-        let t619 = product(t601, t618);
-        let t620: f64 = t616.plus(t617);
-        let t621: f64 = t619.plus(t620);
-        let t622: f64 = t621 * 2.0;
-        let t623 = product(t465, t622);
-        let t624: f64 = t607.plus(t615);
-        let t625: f64 = t623.plus(t624);
-        let t626: f64 = arm2_crank_length * t625;
-        let t627 = product(arm3_rod_mz, t538);
-        let t628: f64 = arm3_crank_length * arm3_rod_mass;
-        let t629: f64 = t544 * t628;
-        let t630: f64 = t627.subtracted_from(t629);
-        let t631 = product(t523, t630);
-        let t632 = product(arm3_rod_mz, t503);
-        let t633: f64 = t515 * t628;
-        let t634: f64 = t632.subtracted_from(t633);
-        let t635: f64 = t385 * t634;
-        let t636 = product(t373, t506);
-        let t637: f64 = t366 * t509;
-        let t638 = product(t368, t512);
-        let t639: f64 = t636.plus(t637);
-        let t640: f64 = t638.plus(t639);
-        let t641: f64 = t373 * t628;
-        let t642 = product(t640, t641);
-        let t643: f64 = t631.plus(t635);
-        let t644: f64 = t642.plus(t643);
-        let t645: f64 = t644 * 2.0;
-        let t646 = product(t506, t645);
-        let t647 = product(t528, t630);
-        let t648: f64 = t395 * t634;
-        let t649: f64 = t366 * t628;
-        let t650 = product(t640, t649);
-        let t651: f64 = t647.plus(t648);
-        let t652: f64 = t650.plus(t651);
-        let t653: f64 = t652 * 2.0;
-        let t654: f64 = t509 * t653;
-        let t655 = product(t532, t630);
-        let t656: f64 = t397 * t634;
-        let t657: f64 = t368 * t628;
-        let t658 = product(t640, t657);
-        let t659: f64 = t655.plus(t656);
-        let t660: f64 = t658.plus(t659);
-        let t661: f64 = t660 * 2.0;
-        let t662 = product(t512, t661);
-        let t663: f64 = t646.plus(t654);
+        let t498: f64 = arm3_rod_mass * t497;
+        let t499 = product(t414, t498);
+        let t500 = product(t375, t403);
+        let t501: f64 = t375 * t497;
+        let t502: f64 = t414 * t501;
+        let t503: f64 = t500.minus(t502);
+        let t504: f64 = arm3_rod_mz * t503;
+        let t505: f64 = t499.plus(t504);
+        let t506: f64 = t505 * 2.0;
+        let t507: f64 = t497 * t506;
+        let t508 = product(t344, t378);
+        let t509: f64 = t348 * t381;
+        let t510 = product(t359, t376);
+        let t511: f64 = t508.plus(t509);
+        let t512: f64 = t510.plus(t511);
+        let t513: f64 = t512 * t512;
+        let t514: f64 = t487 * t513;
+        let t515 = product(t514, 2.0);
+        let t516: f64 = t492.plus(t507);
+        let t517: f64 = t515.plus(t516);
+        let t518: f64 = t414 * t517;
+        let t519: f64 = arm1_rod_mz * t433;
+        let t520: f64 = t132 * t519;
+        let t521 = product(arm1_axis_x, t96);
+        let t522: f64 = arm1_axis_y * t99;
+        let t523 = product(arm1_axis_z, t94);
+        let t524: f64 = t521.plus(t522);
+        let t525: f64 = t523.plus(t524);
+        let t526: f64 = t112 * t525;
+        let t527: f64 = t526 * t526;
+        let t528 = product(arm1_rod_izz, t527);
+        let t529: f64 = t528.added_to(arm1_rod_ixx);
+        let t530: f64 = t529 * 2.0;
+        let t531 = product(t439, t530);
+        let t532: f64 = t520 * 2.0;
+        let t533: f64 = t531.plus(t532);
+        let t534 = product(t439, t533);
+        let t535: f64 = arm2_rod_mz * t465;
+        let t536: f64 = t273 * t535;
+        let t537 = product(arm2_axis_x, t237);
+        let t538: f64 = arm2_axis_y * t240;
+        let t539 = product(arm2_axis_z, t235);
+        let t540: f64 = t537.plus(t538);
+        let t541: f64 = t539.plus(t540);
+        let t542: f64 = t253 * t541;
+        let t543: f64 = t542 * t542;
+        let t544 = product(arm2_rod_izz, t543);
+        let t545: f64 = t544.added_to(arm2_rod_ixx);
+        let t546: f64 = t545 * 2.0;
+        let t547 = product(t471, t546);
+        let t548: f64 = t536 * 2.0;
+        let t549: f64 = t547.plus(t548);
+        let t550: f64 = t471 * t549;
+        let t551: f64 = arm3_rod_mz * t497;
+        let t552: f64 = t414 * t551;
+        let t553 = product(arm3_axis_x, t378);
+        let t554: f64 = arm3_axis_y * t381;
+        let t555 = product(arm3_axis_z, t376);
+        let t556: f64 = t553.plus(t554);
+        let t557: f64 = t555.plus(t556);
+        let t558: f64 = t394 * t557;
+        let t559: f64 = t558 * t558;
+        let t560 = product(arm3_rod_izz, t559);
+        let t561: f64 = t560.added_to(arm3_rod_ixx);
+        let t562: f64 = t561 * 2.0;
+        let t563 = product(t503, t562);
+        let t564: f64 = t552 * 2.0;
+        let t565: f64 = t563.plus(t564);
+        let t566 = product(t503, t565);
+        let t567: f64 = t92.added_to(platform_mass);
+        let t568: f64 = t140.plus(t233);
+        let t569: f64 = t281.plus(t374);
+        let t570: f64 = t422.plus(t454);
+        let t571: f64 = t486.plus(t518);
+        let t572: f64 = t534.plus(t550);
+        let t573: f64 = t567 + t568;
+        let t574: f64 = t569 + t570;
+        let t575: f64 = t571 + t572;
+        let t576: f64 = t573 + t574;
+        let t577: f64 = t566.plus(t575);
+        let t578: f64 = t576 + t577;
+        let t579: f64 = 1.0 / t578;
+        let t580: f64 = t73 * t89;
+        let t581: f64 = arm1_crank_izz * t90;
+        let t582 = product(t580, t581);
+        let t583 = product(t93, t123);
+        let t584: f64 = arm1_crank_length * t580;
+        let t585: f64 = t131 * t584;
+        let t586: f64 = t583.minus(t585);
+        let t587: f64 = t139 * t586;
+        let t588: f64 = t214 * t230;
+        let t589: f64 = arm2_crank_izz * t231;
+        let t590 = product(t588, t589);
+        let t591 = product(t234, t264);
+        let t592: f64 = arm2_crank_length * t588;
+        let t593: f64 = t272 * t592;
+        let t594: f64 = t591.minus(t593);
+        let t595: f64 = t280 * t594;
+        let t596: f64 = t355 * t371;
+        let t597: f64 = arm3_crank_izz * t372;
+        let t598 = product(t596, t597);
+        let t599 = product(t375, t405);
+        let t600: f64 = arm3_crank_length * t596;
+        let t601: f64 = t413 * t600;
+        let t602: f64 = t599.minus(t601);
+        let t603: f64 = t421 * t602;
+        let t604 = product(t453, t584);
+        let t605: f64 = t485 * t592;
+        let t606 = product(t517, t600);
+        let t607 = product(t93, t113);
+        let t608: f64 = t437 * t584;
+        let t609: f64 = t607.minus(t608);
+        let t610: f64 = t533 * t609;
+        let t611 = product(t234, t254);
+        let t612: f64 = t469 * t592;
+        let t613: f64 = t611.minus(t612);
+        let t614 = product(t549, t613);
+        let t615 = product(t375, t395);
+        let t616: f64 = t501 * t600;
+        let t617: f64 = t615.minus(t616);
+        let t618: f64 = t565 * t617;
+        let t619: f64 = t582.plus(t587);
+        let t620: f64 = t590.plus(t595);
+        let t621: f64 = t598.plus(t603);
+        let t622: f64 = t604.plus(t605);
+        let t623: f64 = t606.plus(t610);
+        let t624: f64 = t614.plus(t618);
+        let t625: f64 = t619 + t620;
+        let t626: f64 = t621 + t622;
+        let t627: f64 = t623 + t624;
+        let t628: f64 = t625 + t626;
+        let t629: f64 = t627 + t628;
+        let t630: f64 = t580 * t580;
+        let t631 = product(arm1_crank_izz, t630);
+        let t632 = product(arm1_rod_ixx, t586);
+        let t633: f64 = arm1_rod_mz * t584;
+        let t634: f64 = t130 * t633;
+        let t635: f64 = t632.plus(t634);
+        let t636: f64 = t635 * 2.0;
+        let t637 = product(t586, t636);
+        let t638: f64 = t588 * t588;
+        let t639: f64 = arm2_crank_izz * t638;
+        let t640 = product(arm2_rod_ixx, t594);
+        let t641: f64 = arm2_rod_mz * t592;
+        let t642: f64 = t271 * t641;
+        let t643: f64 = t640.plus(t642);
+        let t644: f64 = t643 * 2.0;
+        let t645 = product(t594, t644);
+        let t646: f64 = t596 * t596;
+        let t647: f64 = arm3_crank_izz * t646;
+        let t648 = product(arm3_rod_ixx, t602);
+        let t649: f64 = arm3_rod_mz * t600;
+        let t650: f64 = t412 * t649;
+        let t651: f64 = t648.plus(t650);
+        let t652: f64 = t651 * 2.0;
+        let t653 = product(t602, t652);
+        let t654: f64 = t629 * t629;
+        let t655 = product(t579, t654);
+        let t656: f64 = arm1_rod_mass * t584;
+        let t657 = product(t130, t656);
+        let t658: f64 = arm1_rod_mz * t586;
+        let t659: f64 = t657.plus(t658);
+        let t660: f64 = t659 * 2.0;
+        let t661 = product(t130, t660);
+        let t662 = product(t434, t584);
+        let t663: f64 = arm1_rod_mz * t609;
         let t664: f64 = t662.plus(t663);
-        let t665 = product(arm3_crank_length, t664);
-        let t666: f64 = t135.plus(t271);
-        let t667: f64 = t407.plus(t666);
-        let t668: f64 = t667 * 2.0;
-        let t669: f64 = t92.added_to(platform_mass);
-        let t670: f64 = t228.plus(t364);
-        let t671: f64 = t426.plus(t454);
-        let t672: f64 = t473.plus(t501);
-        let t673: f64 = t520.plus(t548);
-        let t674: f64 = t587.plus(t626);
-        let t675: f64 = t665.plus(t668);
-        let t676: f64 = t669 + t670;
-        let t677: f64 = t671 + t672;
-        let t678: f64 = t673 + t674;
-        let t679: f64 = t676 + t677;
-        let t680: f64 = t675 + t678;
-        let t681: f64 = t679 + t680;
-        let t682: f64 = 1.0 / t681;
-        let t683: f64 = t73 * t89;
-        let t684: f64 = arm1_crank_izz * t90;
-        let t685 = product(t683, t684);
-        let t686: f64 = t93 * t123;
-        let t687 = product(t119, t686);
-        let t688: f64 = arm1_crank_length * t683;
-        let t689: f64 = t130 * t688;
-        let t690: f64 = t687.minus(t689);
-        let t691: f64 = arm1_rod_izz * t133;
-        let t692 = product(t690, t691);
-        let t693: f64 = t209 * t225;
-        let t694: f64 = arm2_crank_izz * t226;
-        let t695: f64 = t693 * t694;
-        let t696: f64 = t229 * t259;
-        let t697 = product(t255, t696);
-        let t698: f64 = arm2_crank_length * t693;
-        let t699: f64 = t266 * t698;
-        let t700: f64 = t697.minus(t699);
-        let t701: f64 = arm2_rod_izz * t269;
-        let t702: f64 = t700 * t701;
-        let t703: f64 = t345 * t361;
-        let t704: f64 = arm3_crank_izz * t362;
-        let t705 = product(t703, t704);
-        let t706: f64 = t365 * t395;
-        let t707 = product(t391, t706);
-        let t708: f64 = arm3_crank_length * t703;
-        let t709: f64 = t402 * t708;
-        let t710: f64 = t707.minus(t709);
-        let t711: f64 = arm3_rod_izz * t405;
-        let t712 = product(t710, t711);
-        let t713 = product(t129, t688);
-        let t714: f64 = t713.subtracted_from(t686);
-        let t715: f64 = t425 * t714;
-        let t716 = product(t93, t434);
-        let t717: f64 = t442 * t688;
-        let t718: f64 = t716.minus(t717);
-        let t719 = product(t453, t718);
-        let t720 = product(t265, t698);
-        let t721: f64 = t720.subtracted_from(t696);
-        let t722: f64 = t472 * t721;
-        let t723 = product(t229, t481);
-        let t724: f64 = t489 * t698;
-        let t725: f64 = t723.minus(t724);
-        let t726 = product(t500, t725);
-        let t727 = product(t401, t708);
-        let t728: f64 = t727.subtracted_from(t706);
-        let t729: f64 = t519 * t728;
-        let t730 = product(t365, t528);
-        let t731: f64 = t536 * t708;
-        let t732: f64 = t730.minus(t731);
-        let t733 = product(t547, t732);
-        let t734: f64 = t62 * t683;
-        let t735: f64 = -t734;
-        let t736 = product(t567, t735);
-        let t737: f64 = t66 * t683;
-        let t738: f64 = -t737;
-        let t739: f64 = t575 * t738;
-        let t740: f64 = t77 * t683;
-        let t741: f64 = -t740;
-        let t742 = product(t583, t741);
-        let t743: f64 = t736.plus(t739);
-        let t744: f64 = t742.plus(t743);
-        let t745: f64 = arm1_crank_length * t744;
-        let t746: f64 = t198 * t693;
-        let t747: f64 = -t746;
-        let t748 = product(t606, t747);
-        let t749: f64 = t202 * t693;
-        let t750: f64 = -t749;
-        let t751: f64 = t614 * t750;
-        let t752: f64 = t213 * t693;
-        let t753: f64 = -t752;
-        let t754 = product(t622, t753);
-        let t755: f64 = t748.plus(t751);
-        let t756: f64 = t754.plus(t755);
-        let t757 = product(arm2_crank_length, t756);
-        let t758: f64 = t334 * t703;
-        let t759: f64 = -t758;
-        let t760 = product(t645, t759);
-        let t761: f64 = t338 * t703;
-        let t762: f64 = -t761;
-        let t763: f64 = t653 * t762;
-        let t764: f64 = t349 * t703;
-        let t765: f64 = -t764;
-        let t766 = product(t661, t765);
-        let t767: f64 = t760.plus(t763);
-        let t768: f64 = t766.plus(t767);
-        let t769: f64 = arm3_crank_length * t768;
-        let t770: f64 = t692.plus(t702);
-        let t771: f64 = t712.plus(t770);
-        let t772 = product(t771, 2.0);
-        let t773: f64 = t685.plus(t695);
-        let t774: f64 = t705.plus(t715);
-        let t775: f64 = t719.plus(t722);
-        let t776: f64 = t726.plus(t729);
-        let t777: f64 = t733.plus(t745);
-        let t778: f64 = t757.plus(t769);
-        let t779: f64 = t773 + t774;
-        let t780: f64 = t775 + t776;
-        let t781: f64 = t777 + t778;
-        let t782: f64 = t779 + t780;
-        let t783: f64 = t772.plus(t781);
-        let t784: f64 = t782 + t783;
-        let t785: f64 = t683 * t683;
-        let t786 = product(arm1_crank_izz, t785);
-        let t787: f64 = t690 * t690;
-        let t788 = product(arm1_rod_izz, t787);
-        let t789: f64 = t693 * t693;
-        let t790 = product(arm2_crank_izz, t789);
-        let t791: f64 = t700 * t700;
-        let t792: f64 = arm2_rod_izz * t791;
-        let t793: f64 = t703 * t703;
-        let t794: f64 = arm3_crank_izz * t793;
-        let t795: f64 = t710 * t710;
-        let t796 = product(arm3_rod_izz, t795);
-        let t797 = product(arm1_rod_ixx, t714);
-        let t798 = product(t113, t735);
-        let t799: f64 = t123 * t738;
-        let t800 = product(t125, t741);
-        let t801: f64 = t798.plus(t799);
-        let t802: f64 = t800.plus(t801);
-        let t803: f64 = t422 * t802;
-        let t804: f64 = t797.minus(t803);
-        let t805: f64 = t804 * 2.0;
-        let t806 = product(t714, t805);
-        let t807 = product(arm1_rod_ixx, t718);
-        let t808 = product(t429, t735);
-        let t809: f64 = t434 * t738;
-        let t810 = product(t438, t741);
-        let t811: f64 = t808.plus(t809);
-        let t812: f64 = t810.plus(t811);
-        let t813: f64 = t422 * t812;
-        let t814: f64 = t807.minus(t813);
+        let t665: f64 = t664 * 2.0;
+        let t666: f64 = t433 * t665;
+        let t667: f64 = t449 * t656;
+        let t668 = product(t667, 2.0);
+        let t669: f64 = t661.plus(t666);
+        let t670: f64 = t668.plus(t669);
+        let t671: f64 = t584 * t670;
+        let t672: f64 = arm2_rod_mass * t592;
+        let t673 = product(t271, t672);
+        let t674: f64 = arm2_rod_mz * t594;
+        let t675: f64 = t673.plus(t674);
+        let t676: f64 = t675 * 2.0;
+        let t677 = product(t271, t676);
+        let t678 = product(t466, t592);
+        let t679: f64 = arm2_rod_mz * t613;
+        let t680: f64 = t678.plus(t679);
+        let t681: f64 = t680 * 2.0;
+        let t682: f64 = t465 * t681;
+        let t683: f64 = t481 * t672;
+        let t684 = product(t683, 2.0);
+        let t685: f64 = t677.plus(t682);
+        let t686: f64 = t684.plus(t685);
+        let t687 = product(t592, t686);
+        let t688: f64 = arm3_rod_mass * t600;
+        let t689 = product(t412, t688);
+        let t690: f64 = arm3_rod_mz * t602;
+        let t691: f64 = t689.plus(t690);
+        let t692: f64 = t691 * 2.0;
+        let t693 = product(t412, t692);
+        let t694 = product(t498, t600);
+        let t695: f64 = arm3_rod_mz * t617;
+        let t696: f64 = t694.plus(t695);
+        let t697: f64 = t696 * 2.0;
+        let t698: f64 = t497 * t697;
+        let t699: f64 = t513 * t688;
+        let t700 = product(t699, 2.0);
+        let t701: f64 = t693.plus(t698);
+        let t702: f64 = t700.plus(t701);
+        let t703: f64 = t600 * t702;
+        let t704: f64 = t519 * t584;
+        let t705 = product(t530, t609);
+        let t706: f64 = t704 * 2.0;
+        let t707: f64 = t705.plus(t706);
+        let t708 = product(t609, t707);
+        let t709: f64 = t535 * t592;
+        let t710 = product(t546, t613);
+        let t711: f64 = t709 * 2.0;
+        let t712: f64 = t710.plus(t711);
+        let t713: f64 = t613 * t712;
+        let t714: f64 = t551 * t600;
+        let t715 = product(t562, t617);
+        let t716: f64 = t714 * 2.0;
+        let t717: f64 = t715.plus(t716);
+        let t718 = product(t617, t717);
+        let t719: f64 = t631.added_to(platform_mass);
+        let t720: f64 = t637.plus(t639);
+        let t721: f64 = t645.plus(t647);
+        let t722: f64 = t653.plus(t671);
+        let t723: f64 = t687.plus(t703);
+        let t724: f64 = t708.plus(t713);
+        let t725: f64 = t719 + t720;
+        let t726: f64 = t721 + t722;
+        let t727: f64 = t723 + t724;
+        let t728: f64 = t725 + t726;
+        let t729: f64 = t718.plus(t727);
+        let t730: f64 = t728 + t729;
+        let t731: f64 = t655.subtracted_from(t730);
+        let t732: f64 = 1.0 / t731;
+        let t733: f64 = t84 * t89;
+        let t734: f64 = arm1_crank_izz * t580;
+        let t735 = product(t733, t734);
+        let t736 = product(t93, t127);
+        let t737: f64 = arm1_crank_length * t733;
+        let t738: f64 = t131 * t737;
+        let t739: f64 = t736.minus(t738);
+        let t740: f64 = t636 * t739;
+        let t741: f64 = t225 * t230;
+        let t742: f64 = arm2_crank_izz * t588;
+        let t743 = product(t741, t742);
+        let t744 = product(t234, t268);
+        let t745: f64 = arm2_crank_length * t741;
+        let t746: f64 = t272 * t745;
+        let t747: f64 = t744.minus(t746);
+        let t748: f64 = t644 * t747;
+        let t749: f64 = t366 * t371;
+        let t750: f64 = arm3_crank_izz * t596;
+        let t751 = product(t749, t750);
+        let t752 = product(t375, t409);
+        let t753: f64 = arm3_crank_length * t749;
+        let t754: f64 = t413 * t753;
+        let t755: f64 = t752.minus(t754);
+        let t756: f64 = t652 * t755;
+        let t757 = product(t581, t733);
+        let t758: f64 = t139 * t739;
+        let t759 = product(t589, t741);
+        let t760: f64 = t280 * t747;
+        let t761 = product(t597, t749);
+        let t762: f64 = t421 * t755;
+        let t763 = product(t453, t737);
+        let t764: f64 = t485 * t745;
+        let t765 = product(t517, t753);
+        let t766 = product(t93, t115);
+        let t767: f64 = t437 * t737;
+        let t768: f64 = t766.minus(t767);
+        let t769: f64 = t533 * t768;
+        let t770 = product(t234, t256);
+        let t771: f64 = t469 * t745;
+        let t772: f64 = t770.minus(t771);
+        let t773 = product(t549, t772);
+        let t774 = product(t375, t397);
+        let t775: f64 = t501 * t753;
+        let t776: f64 = t774.minus(t775);
+        let t777: f64 = t565 * t776;
+        let t778: f64 = t757.plus(t758);
+        let t779: f64 = t759.plus(t760);
+        let t780: f64 = t761.plus(t762);
+        let t781: f64 = t763.plus(t764);
+        let t782: f64 = t765.plus(t769);
+        let t783: f64 = t773.plus(t777);
+        let t784: f64 = t778 + t779;
+        let t785: f64 = t780 + t781;
+        let t786: f64 = t782 + t783;
+        let t787: f64 = t784 + t785;
+        let t788: f64 = t786 + t787;
+        let t789: f64 = t579 * t629;
+        let t790 = product(t788, t789);
+        let t791 = product(t670, t737);
+        let t792: f64 = t686 * t745;
+        let t793 = product(t702, t753);
+        let t794: f64 = t707 * t768;
+        let t795 = product(t712, t772);
+        let t796: f64 = t717 * t776;
+        let t797: f64 = t735.plus(t740);
+        let t798: f64 = t743.plus(t748);
+        let t799: f64 = t751.plus(t756);
+        let t800: f64 = t791.plus(t792);
+        let t801: f64 = t793.plus(t794);
+        let t802: f64 = t795.plus(t796);
+        let t803: f64 = t797 + t798;
+        let t804: f64 = t799 + t800;
+        let t805: f64 = t801 + t802;
+        let t806: f64 = t803 + t804;
+        let t807: f64 = t805 + t806;
+        let t808: f64 = t790.subtracted_from(t807);
+        let t809: f64 = t733 * t733;
+        let t810 = product(arm1_crank_izz, t809);
+        let t811 = product(arm1_rod_ixx, t739);
+        let t812: f64 = arm1_rod_mz * t737;
+        let t813: f64 = t130 * t812;
+        let t814: f64 = t811.plus(t813);
         let t815: f64 = t814 * 2.0;
-        let t816: f64 = t718 * t815;
-        let t817 = product(arm2_rod_ixx, t721);
-        let t818 = product(t249, t747);
-        let t819: f64 = t259 * t750;
-        let t820 = product(t261, t753);
-        let t821: f64 = t818.plus(t819);
-        let t822: f64 = t820.plus(t821);
-        let t823: f64 = t469 * t822;
-        let t824: f64 = t817.minus(t823);
-        let t825: f64 = t824 * 2.0;
-        let t826 = product(t721, t825);
-        let t827 = product(arm2_rod_ixx, t725);
-        let t828 = product(t476, t747);
-        let t829: f64 = t481 * t750;
-        let t830 = product(t485, t753);
-        let t831: f64 = t828.plus(t829);
-        let t832: f64 = t830.plus(t831);
-        let t833: f64 = t469 * t832;
-        let t834: f64 = t827.minus(t833);
-        let t835: f64 = t834 * 2.0;
-        let t836: f64 = t725 * t835;
-        let t837 = product(arm3_rod_ixx, t728);
-        let t838 = product(t385, t759);
-        let t839: f64 = t395 * t762;
-        let t840 = product(t397, t765);
-        let t841: f64 = t838.plus(t839);
-        let t842: f64 = t840.plus(t841);
-        let t843: f64 = t516 * t842;
-        let t844: f64 = t837.minus(t843);
-        let t845: f64 = t844 * 2.0;
-        let t846 = product(t728, t845);
-        let t847 = product(arm3_rod_ixx, t732);
-        let t848 = product(t523, t759);
-        let t849: f64 = t528 * t762;
-        let t850 = product(t532, t765);
-        let t851: f64 = t848.plus(t849);
-        let t852: f64 = t850.plus(t851);
-        let t853: f64 = t516 * t852;
-        let t854: f64 = t847.minus(t853);
-        let t855: f64 = t854 * 2.0;
-        let t856: f64 = t732 * t855;
-        let t857: f64 = t784 * t784;
-        let t858 = product(t682, t857);
-        let t859 = product(arm1_rod_mz, t718);
-        let t860: f64 = t550 * t812;
-        let t861: f64 = t859.subtracted_from(t860);
-        let t862 = product(t429, t861);
-        let t863 = product(arm1_rod_mz, t714);
-        let t864: f64 = t550 * t802;
-        let t865: f64 = t863.subtracted_from(t864);
-        let t866: f64 = t113 * t865;
-        let t867 = product(t101, t735);
-        let t868: f64 = t94 * t738;
-        let t869 = product(t96, t741);
-        let t870: f64 = t867.plus(t868);
-        let t871: f64 = t869.plus(t870);
-        let t872 = product(t563, t871);
-        let t873: f64 = t862.plus(t866);
-        let t874: f64 = t872.plus(t873);
-        let t875: f64 = t874 * 2.0;
-        let t876 = product(t735, t875);
-        let t877 = product(t434, t861);
-        let t878: f64 = t123 * t865;
-        let t879 = product(t571, t871);
-        let t880: f64 = t877.plus(t878);
-        let t881: f64 = t879.plus(t880);
-        let t882: f64 = t881 * 2.0;
-        let t883: f64 = t738 * t882;
-        let t884 = product(t438, t861);
-        let t885: f64 = t125 * t865;
-        let t886 = product(t579, t871);
-        let t887: f64 = t884.plus(t885);
+        let t816 = product(t739, t815);
+        let t817: f64 = t741 * t741;
+        let t818: f64 = arm2_crank_izz * t817;
+        let t819 = product(arm2_rod_ixx, t747);
+        let t820: f64 = arm2_rod_mz * t745;
+        let t821: f64 = t271 * t820;
+        let t822: f64 = t819.plus(t821);
+        let t823: f64 = t822 * 2.0;
+        let t824 = product(t747, t823);
+        let t825: f64 = t749 * t749;
+        let t826: f64 = arm3_crank_izz * t825;
+        let t827 = product(arm3_rod_ixx, t755);
+        let t828: f64 = arm3_rod_mz * t753;
+        let t829: f64 = t412 * t828;
+        let t830: f64 = t827.plus(t829);
+        let t831: f64 = t830 * 2.0;
+        let t832 = product(t755, t831);
+        let t833: f64 = t788 * t788;
+        let t834 = product(t579, t833);
+        let t835: f64 = t808 * t808;
+        let t836: f64 = t732 * t835;
+        let t837: f64 = arm1_rod_mass * t737;
+        let t838 = product(t130, t837);
+        let t839: f64 = arm1_rod_mz * t739;
+        let t840: f64 = t838.plus(t839);
+        let t841: f64 = t840 * 2.0;
+        let t842 = product(t130, t841);
+        let t843 = product(t434, t737);
+        let t844: f64 = arm1_rod_mz * t768;
+        let t845: f64 = t843.plus(t844);
+        let t846: f64 = t845 * 2.0;
+        let t847: f64 = t433 * t846;
+        let t848: f64 = t449 * t837;
+        let t849 = product(t848, 2.0);
+        let t850: f64 = t842.plus(t847);
+        let t851: f64 = t849.plus(t850);
+        let t852: f64 = t737 * t851;
+        let t853: f64 = arm2_rod_mass * t745;
+        let t854 = product(t271, t853);
+        let t855: f64 = arm2_rod_mz * t747;
+        let t856: f64 = t854.plus(t855);
+        let t857: f64 = t856 * 2.0;
+        let t858 = product(t271, t857);
+        let t859 = product(t466, t745);
+        let t860: f64 = arm2_rod_mz * t772;
+        let t861: f64 = t859.plus(t860);
+        let t862: f64 = t861 * 2.0;
+        let t863: f64 = t465 * t862;
+        let t864: f64 = t481 * t853;
+        let t865 = product(t864, 2.0);
+        let t866: f64 = t858.plus(t863);
+        let t867: f64 = t865.plus(t866);
+        let t868 = product(t745, t867);
+        let t869: f64 = arm3_rod_mass * t753;
+        let t870 = product(t412, t869);
+        let t871: f64 = arm3_rod_mz * t755;
+        let t872: f64 = t870.plus(t871);
+        let t873: f64 = t872 * 2.0;
+        let t874 = product(t412, t873);
+        let t875 = product(t498, t753);
+        let t876: f64 = arm3_rod_mz * t776;
+        let t877: f64 = t875.plus(t876);
+        let t878: f64 = t877 * 2.0;
+        let t879: f64 = t497 * t878;
+        let t880: f64 = t513 * t869;
+        let t881 = product(t880, 2.0);
+        let t882: f64 = t874.plus(t879);
+        let t883: f64 = t881.plus(t882);
+        let t884: f64 = t753 * t883;
+        let t885: f64 = t519 * t737;
+        let t886 = product(t530, t768);
+        let t887: f64 = t885 * 2.0;
         let t888: f64 = t886.plus(t887);
-        let t889: f64 = t888 * 2.0;
-        let t890 = product(t741, t889);
-        let t891: f64 = t876.plus(t883);
-        let t892: f64 = t890.plus(t891);
-        let t893 = product(arm1_crank_length, t892);
-        let t894 = product(arm2_rod_mz, t725);
-        let t895: f64 = t589 * t832;
-        let t896: f64 = t894.subtracted_from(t895);
-        let t897 = product(t476, t896);
-        let t898 = product(arm2_rod_mz, t721);
-        let t899: f64 = t589 * t822;
-        let t900: f64 = t898.subtracted_from(t899);
-        let t901: f64 = t249 * t900;
-        let t902 = product(t237, t747);
-        let t903: f64 = t230 * t750;
-        let t904 = product(t232, t753);
-        let t905: f64 = t902.plus(t903);
-        let t906: f64 = t904.plus(t905);
-        let t907 = product(t602, t906);
-        let t908: f64 = t897.plus(t901);
-        let t909: f64 = t907.plus(t908);
-        let t910: f64 = t909 * 2.0;
-        let t911 = product(t747, t910);
-        let t912 = product(t481, t896);
-        let t913: f64 = t259 * t900;
-        let t914 = product(t610, t906);
-        let t915: f64 = t912.plus(t913);
-        let t916: f64 = t914.plus(t915);
-        let t917: f64 = t916 * 2.0;
-        let t918: f64 = t750 * t917;
-        let t919 = product(t485, t896);
-        let t920: f64 = t261 * t900;
-        let t921 = product(t618, t906);
-        let t922: f64 = t919.plus(t920);
-        let t923: f64 = t921.plus(t922);
-        let t924: f64 = t923 * 2.0;
-        let t925 = product(t753, t924);
-        let t926: f64 = t911.plus(t918);
-        let t927: f64 = t925.plus(t926);
-        let t928: f64 = arm2_crank_length * t927;
-        let t929 = product(arm3_rod_mz, t732);
-        let t930: f64 = t628 * t852;
-        let t931: f64 = t929.subtracted_from(t930);
-        let t932 = product(t523, t931);
-        let t933 = product(arm3_rod_mz, t728);
-        let t934: f64 = t628 * t842;
-        let t935: f64 = t933.subtracted_from(t934);
-        let t936: f64 = t385 * t935;
-        let t937 = product(t373, t759);
-        let t938: f64 = t366 * t762;
-        let t939 = product(t368, t765);
-        let t940: f64 = t937.plus(t938);
-        let t941: f64 = t939.plus(t940);
-        let t942 = product(t641, t941);
-        let t943: f64 = t932.plus(t936);
-        let t944: f64 = t942.plus(t943);
-        let t945: f64 = t944 * 2.0;
-        let t946 = product(t759, t945);
-        let t947 = product(t528, t931);
-        let t948: f64 = t395 * t935;
-        let t949 = product(t649, t941);
-        let t950: f64 = t947.plus(t948);
-        let t951: f64 = t949.plus(t950);
-        let t952: f64 = t951 * 2.0;
-        let t953: f64 = t762 * t952;
-        let t954 = product(t532, t931);
-        let t955: f64 = t397 * t935;
-        let t956 = product(t657, t941);
-        let t957: f64 = t954.plus(t955);
-        let t958: f64 = t956.plus(t957);
-        let t959: f64 = t958 * 2.0;
-        let t960 = product(t765, t959);
-        let t961: f64 = t946.plus(t953);
-        let t962: f64 = t960.plus(t961);
-        let t963 = product(arm3_crank_length, t962);
-        let t964: f64 = t788.plus(t792);
-        let t965: f64 = t796.plus(t964);
-        let t966: f64 = t965 * 2.0;
-        let t967: f64 = t786.added_to(platform_mass);
-        let t968: f64 = t790.plus(t794);
-        let t969: f64 = t806.plus(t816);
-        let t970: f64 = t826.plus(t836);
-        let t971: f64 = t846.plus(t856);
-        let t972: f64 = t893.plus(t928);
-        let t973: f64 = t963.plus(t966);
-        let t974: f64 = t967 + t968;
-        let t975: f64 = t969 + t970;
-        let t976: f64 = t971 + t972;
-        let t977: f64 = t974 + t975;
-        let t978: f64 = t973 + t976;
-        let t979: f64 = t977 + t978;
-        let t980: f64 = t858.subtracted_from(t979);
-        let t981: f64 = 1.0 / t980;
-        let t982: f64 = t84 * t89;
-        let t983: f64 = arm1_crank_izz * t683;
-        let t984 = product(t982, t983);
-        let t985: f64 = t93 * t125;
-        let t986 = product(t119, t985);
-        let t987: f64 = arm1_crank_length * t982;
-        let t988: f64 = t130 * t987;
-        let t989: f64 = t986.minus(t988);
-        let t990: f64 = arm1_rod_izz * t690;
-        let t991 = product(t989, t990);
-        let t992: f64 = t220 * t225;
-        let t993: f64 = arm2_crank_izz * t693;
-        let t994: f64 = t992 * t993;
-        let t995: f64 = t229 * t261;
-        let t996 = product(t255, t995);
-        let t997: f64 = arm2_crank_length * t992;
-        let t998: f64 = t266 * t997;
-        let t999: f64 = t996.minus(t998);
+        let t889 = product(t768, t888);
+        let t890: f64 = t535 * t745;
+        let t891 = product(t546, t772);
+        let t892: f64 = t890 * 2.0;
+        let t893: f64 = t891.plus(t892);
+        let t894: f64 = t772 * t893;
+        let t895: f64 = t551 * t753;
+        let t896 = product(t562, t776);
+        let t897: f64 = t895 * 2.0;
+        let t898: f64 = t896.plus(t897);
+        let t899 = product(t776, t898);
+        let t900: f64 = t810.added_to(platform_mass);
+        let t901: f64 = t816.plus(t818);
+        let t902: f64 = t824.plus(t826);
+        let t903: f64 = t832.plus(t852);
+        let t904: f64 = t868.plus(t884);
+        let t905: f64 = t889.plus(t894);
+        let t906: f64 = t900 + t901;
+        let t907: f64 = t902 + t903;
+        let t908: f64 = t904 + t905;
+        let t909: f64 = t906 + t907;
+        let t910: f64 = t899.plus(t908);
+        let t911: f64 = t909 + t910;
+        let t912: f64 = t834.plus(t836);
+        let t913: f64 = t911 - t912;
+        let t914: f64 = 1.0 / t913;
+        let t915 = product(gravity_z, platform_mass);
+        let t916 = product(vx, t439);
+        let t917: f64 = vy * t609;
+        let t918 = product(vz, t768);
+        let t919: f64 = t916.plus(t917);
+        let t920: f64 = t918.plus(t919);
+        let t921: f64 = t526 * t920;
+        let t922: f64 = arm1_rod_izz * t920;
+        let t923 = product(t921, t922);
+        let t924 = product(gravity_x, t117);
+        let t925: f64 = gravity_y * t123;
+        let t926 = product(gravity_z, t127);
+        let t927: f64 = t924.plus(t925);
+        let t928: f64 = t926.plus(t927);
+        let t929 = product(t55, t59);
+        let t930: f64 = t69 * t73;
+        let t931 = product(t80, t84);
+        let t932: f64 = t929.plus(t930);
+        let t933: f64 = t931.plus(t932);
+        let t934 = product(vx, t90);
+        let t935: f64 = vy * t580;
+        let t936 = product(vz, t733);
+        let t937: f64 = t934.plus(t935);
+        let t938: f64 = t936.plus(t937);
+        let t939: f64 = t938 * t938;
+        let t940: f64 = arm1_crank_length * t933;
+        let t941 = product(t939, t940);
+        let t942: f64 = arm1_crank_length * t62;
+        let t943 = product(t938, t942);
+        let t944: f64 = t943.subtracted_from(vx);
+        let t945: f64 = t944 * t944;
+        let t946: f64 = arm1_crank_length * t66;
+        let t947 = product(t938, t946);
+        let t948: f64 = t947.subtracted_from(vy);
+        let t949 = product(t948, t948);
+        let t950: f64 = arm1_crank_length * t77;
+        let t951 = product(t938, t950);
+        let t952: f64 = t951.subtracted_from(vz);
+        let t953: f64 = t952 * t952;
+        let t954: f64 = t941.plus(t945);
+        let t955: f64 = t949.plus(t953);
+        let t956: f64 = t954 + t955;
+        let t957: f64 = t89 * t956;
+        let t958 = product(t62, t957);
+        let t959: f64 = t55 * t939;
+        let t960: f64 = t958.minus(t959);
+        let t961: f64 = arm1_crank_length * t960;
+        let t962 = product(t117, t961);
+        let t963 = product(t66, t957);
+        let t964: f64 = t69 * t939;
+        let t965: f64 = t963.minus(t964);
+        let t966: f64 = arm1_crank_length * t965;
+        let t967: f64 = t123 * t966;
+        let t968 = product(t77, t957);
+        let t969: f64 = t80 * t939;
+        let t970: f64 = t968.minus(t969);
+        let t971: f64 = arm1_crank_length * t970;
+        let t972 = product(t127, t971);
+        let t973: f64 = t962.plus(t967);
+        let t974: f64 = t972.plus(t973);
+        let t975: f64 = t928 - t974;
+        let t976: f64 = arm1_rod_mz * t975;
+        let t977 = product(t121, t944);
+        let t978: f64 = t113 * t948;
+        let t979 = product(t115, t952);
+        let t980: f64 = t977.plus(t978);
+        let t981: f64 = t979.plus(t980);
+        let t982: f64 = t93 * t526;
+        let t983: f64 = t981 * t982;
+        let t984: f64 = t93 * t981;
+        let t985 = product(t983, t984);
+        let t986: f64 = t93 * t974;
+        let t987: f64 = t985.plus(t986);
+        let t988 = product(t920, t921);
+        let t989: f64 = t988.subtracted_from(t987);
+        let t990: f64 = t989 * 2.0;
+        let t991 = product(arm1_rod_ixx, t990);
+        let t992: f64 = t923.plus(t976);
+        let t993: f64 = t992 * 2.0;
+        let t994: f64 = t991.plus(t993);
+        let t995: f64 = t739 * t994;
+        let t996 = product(vx, t471);
+        let t997: f64 = vy * t613;
+        let t998 = product(vz, t772);
+        let t999: f64 = t996.plus(t997);
         (
-            t14,
-            t18,
-            t22,
             t28,
-            t29,
             t43,
-            t48,
-            t53,
-            t55,
-            t59,
             t62,
             t66,
-            t69,
-            t73,
             t77,
-            t80,
-            t84,
-            t88,
-            t89,
             t90,
             t91,
             t93,
             t94,
             t96,
-            t101,
+            t99,
             t111,
             t112,
             t113,
-            t119,
+            t115,
+            t117,
+            t121,
             t123,
-            t125,
-            t129,
-            t133,
-            t150,
-            t154,
-            t158,
-            t164,
-            t165,
-            t179,
+            t127,
+            t130,
+            t132,
+            t134,
+            t169,
             t184,
-            t189,
-            t191,
-            t195,
-            t198,
-            t202,
-            t205,
-            t209,
-            t213,
-            t216,
-            t220,
-            t224,
+            t196,
+            t200,
+            t203,
+            t207,
+            t210,
+            t214,
+            t218,
+            t221,
             t225,
-            t226,
-            t227,
-            t229,
             t230,
+            t231,
             t232,
+            t234,
+            t235,
             t237,
-            t247,
-            t248,
-            t249,
-            t255,
-            t259,
-            t261,
-            t265,
-            t269,
-            t286,
-            t290,
-            t294,
-            t300,
-            t301,
-            t315,
-            t320,
+            t240,
+            t252,
+            t253,
+            t254,
+            t256,
+            t258,
+            t262,
+            t264,
+            t268,
+            t271,
+            t273,
+            t275,
+            t310,
             t325,
-            t327,
-            t331,
-            t334,
-            t338,
+            t337,
             t341,
-            t345,
-            t349,
-            t352,
-            t356,
-            t360,
-            t361,
+            t344,
+            t348,
+            t351,
+            t355,
+            t359,
             t362,
-            t363,
-            t365,
             t366,
-            t368,
+            t371,
+            t372,
             t373,
-            t383,
-            t384,
-            t385,
-            t391,
+            t375,
+            t376,
+            t378,
+            t381,
+            t393,
+            t394,
             t395,
             t397,
-            t401,
-            t402,
+            t399,
+            t403,
             t405,
             t409,
             t412,
-            t415,
-            t418,
-            t422,
-            t425,
-            t429,
-            t434,
-            t438,
-            t442,
-            t444,
-            t453,
-            t456,
-            t459,
-            t462,
+            t414,
+            t416,
+            t433,
+            t439,
+            t448,
             t465,
-            t469,
-            t472,
-            t476,
-            t481,
-            t485,
-            t489,
-            t491,
-            t500,
+            t471,
+            t480,
+            t497,
             t503,
-            t506,
-            t509,
             t512,
-            t516,
-            t519,
-            t523,
-            t528,
-            t532,
-            t536,
-            t538,
-            t547,
-            t550,
-            t563,
-            t567,
-            t571,
-            t575,
+            t526,
+            t542,
+            t558,
             t579,
-            t583,
-            t589,
+            t580,
+            t584,
+            t586,
+            t588,
+            t592,
+            t594,
+            t596,
+            t600,
             t602,
-            t606,
-            t610,
-            t614,
-            t618,
-            t622,
-            t628,
-            t641,
-            t645,
-            t649,
-            t653,
-            t657,
-            t661,
-            t682,
-            t683,
-            t684,
-            t690,
-            t691,
-            t693,
-            t694,
-            t700,
-            t701,
-            t703,
-            t704,
-            t710,
-            t711,
-            t714,
-            t718,
-            t721,
-            t725,
-            t728,
+            t609,
+            t613,
+            t617,
+            t629,
+            t630,
+            t638,
+            t646,
             t732,
-            t735,
-            t738,
+            t733,
+            t737,
+            t739,
             t741,
+            t745,
             t747,
-            t750,
+            t749,
             t753,
-            t759,
-            t762,
-            t765,
-            t784,
-            t785,
-            t789,
-            t793,
-            t805,
-            t815,
+            t755,
+            t768,
+            t772,
+            t776,
+            t788,
+            t808,
+            t809,
+            t817,
             t825,
-            t835,
-            t845,
-            t855,
-            t875,
-            t882,
-            t889,
-            t910,
-            t917,
-            t924,
-            t945,
+            t914,
+            t915,
+            t920,
+            t921,
+            t944,
+            t948,
             t952,
-            t959,
-            t981,
-            t982,
+            t957,
+            t961,
+            t966,
+            t971,
+            t975,
+            t983,
             t984,
-            t985,
-            t987,
-            t989,
             t990,
-            t991,
-            t992,
             t994,
             t995,
-            t997,
+            t998,
             t999,
         )
     };
-    let (
-        t1000,
-        t1002,
-        t1009,
-        t1010,
-        t1027,
-        t1031,
-        t1046,
-        t1049,
-        t1052,
-        t1058,
-        t1061,
-        t1064,
-        t1070,
-        t1073,
-        t1076,
-        t1095,
-        t1131,
-        t1132,
-        t1136,
-        t1140,
-        t1331,
-        t1332,
-        t1337,
-        t1386,
-        t1403,
-        t1420,
-        t1432,
-        t1447,
-        t1462,
-        t1467,
-        t1520,
-        t1525,
-        t1526,
-        t1531,
-        t1545,
-        t1557,
-        t1563,
-        t1564,
-        t1569,
-        t1571,
-        t1576,
-        t1625,
-        t1642,
-        t1659,
-        t1671,
-        t1686,
-        t1701,
-        t1706,
-        t1759,
-        t1764,
-        t1765,
-        t1770,
-        t1784,
-        t1796,
-        t1802,
-        t1803,
-        t1808,
-        t1810,
-        t1815,
-        t1820,
-        t1822,
-        t1864,
-        t1881,
-        t1898,
-        t1910,
-        t1925,
-        t1940,
-        t1945,
-        t1946,
-        t1961,
-        t1966,
-        t1968,
-        t1982,
-        t1986,
-        t1990,
-        t1994,
-        t1996,
-        t1998,
-        t1999,
-    ) = {
-        let t1000: f64 = arm2_rod_izz * t700;
-        let t1001: f64 = t999 * t1000;
-        let t1002: f64 = t356 * t361;
-        let t1003: f64 = arm3_crank_izz * t703;
-        let t1004 = product(t1002, t1003);
-        let t1005: f64 = t365 * t397;
-        let t1006 = product(t391, t1005);
-        let t1007: f64 = arm3_crank_length * t1002;
-        let t1008: f64 = t402 * t1007;
-        let t1009: f64 = t1006.minus(t1008);
-        let t1010: f64 = arm3_rod_izz * t710;
-        let t1011 = product(t1009, t1010);
-        let t1012 = product(t129, t987);
-        let t1013: f64 = t1012.subtracted_from(t985);
-        let t1014: f64 = t805 * t1013;
-        let t1015 = product(t93, t438);
-        let t1016: f64 = t442 * t987;
-        let t1017: f64 = t1015.minus(t1016);
-        let t1018 = product(t815, t1017);
-        let t1019 = product(t265, t997);
-        let t1020: f64 = t1019.subtracted_from(t995);
-        let t1021: f64 = t825 * t1020;
-        let t1022 = product(t229, t485);
-        let t1023: f64 = t489 * t997;
-        let t1024: f64 = t1022.minus(t1023);
-        let t1025 = product(t835, t1024);
-        let t1026 = product(t401, t1007);
-        let t1027: f64 = t1026.subtracted_from(t1005);
-        let t1028: f64 = t845 * t1027;
-        let t1029 = product(t365, t532);
-        let t1030: f64 = t536 * t1007;
-        let t1031: f64 = t1029.minus(t1030);
-        let t1032 = product(t855, t1031);
-        let t1033 = product(t684, t982);
-        let t1034 = product(t691, t989);
-        let t1035: f64 = t694 * t992;
-        let t1036: f64 = t701 * t999;
-        let t1037 = product(t704, t1002);
-        let t1038 = product(t711, t1009);
-        let t1039: f64 = t425 * t1013;
-        let t1040 = product(t453, t1017);
-        let t1041: f64 = t472 * t1020;
-        let t1042 = product(t500, t1024);
-        let t1043: f64 = t519 * t1027;
-        let t1044 = product(t547, t1031);
-        let t1045: f64 = t62 * t982;
-        let t1046: f64 = -t1045;
-        let t1047 = product(t567, t1046);
-        let t1048: f64 = t66 * t982;
-        let t1049: f64 = -t1048;
-        let t1050: f64 = t575 * t1049;
-        let t1051: f64 = t77 * t982;
-        let t1052: f64 = -t1051;
-        let t1053 = product(t583, t1052);
-        let t1054: f64 = t1047.plus(t1050);
-        let t1055: f64 = t1053.plus(t1054);
-        let t1056: f64 = arm1_crank_length * t1055;
-        let t1057: f64 = t198 * t992;
-        let t1058: f64 = -t1057;
-        let t1059 = product(t606, t1058);
-        let t1060: f64 = t202 * t992;
-        let t1061: f64 = -t1060;
-        let t1062: f64 = t614 * t1061;
-        let t1063: f64 = t213 * t992;
-        let t1064: f64 = -t1063;
-        let t1065 = product(t622, t1064);
-        let t1066: f64 = t1059.plus(t1062);
+    let (t1496, t1497, t1498, t1499, t1500, t1501, t1525) = {
+        let t1000: f64 = t998.plus(t999);
+        let t1001: f64 = t542 * t1000;
+        let t1002: f64 = arm2_rod_izz * t1000;
+        let t1003 = product(t1001, t1002);
+        let t1004 = product(gravity_x, t258);
+        let t1005: f64 = gravity_y * t264;
+        let t1006 = product(gravity_z, t268);
+        let t1007: f64 = t1004.plus(t1005);
+        let t1008: f64 = t1006.plus(t1007);
+        let t1009 = product(t196, t200);
+        let t1010: f64 = t210 * t214;
+        let t1011 = product(t221, t225);
+        let t1012: f64 = t1009.plus(t1010);
+        let t1013: f64 = t1011.plus(t1012);
+        let t1014 = product(vx, t231);
+        let t1015: f64 = vy * t588;
+        let t1016 = product(vz, t741);
+        let t1017: f64 = t1014.plus(t1015);
+        let t1018: f64 = t1016.plus(t1017);
+        let t1019: f64 = t1018 * t1018;
+        let t1020: f64 = arm2_crank_length * t1013;
+        let t1021 = product(t1019, t1020);
+        let t1022: f64 = arm2_crank_length * t203;
+        let t1023 = product(t1018, t1022);
+        let t1024: f64 = t1023.subtracted_from(vx);
+        let t1025: f64 = t1024 * t1024;
+        let t1026: f64 = arm2_crank_length * t207;
+        let t1027 = product(t1018, t1026);
+        let t1028: f64 = t1027.subtracted_from(vy);
+        let t1029 = product(t1028, t1028);
+        let t1030: f64 = arm2_crank_length * t218;
+        let t1031 = product(t1018, t1030);
+        let t1032: f64 = t1031.subtracted_from(vz);
+        let t1033: f64 = t1032 * t1032;
+        let t1034: f64 = t1021.plus(t1025);
+        let t1035: f64 = t1029.plus(t1033);
+        let t1036: f64 = t1034 + t1035;
+        let t1037: f64 = t230 * t1036;
+        let t1038 = product(t203, t1037);
+        let t1039: f64 = t196 * t1019;
+        let t1040: f64 = t1038.minus(t1039);
+        let t1041: f64 = arm2_crank_length * t1040;
+        let t1042 = product(t258, t1041);
+        let t1043 = product(t207, t1037);
+        let t1044: f64 = t210 * t1019;
+        let t1045: f64 = t1043.minus(t1044);
+        let t1046: f64 = arm2_crank_length * t1045;
+        let t1047: f64 = t264 * t1046;
+        let t1048 = product(t218, t1037);
+        let t1049: f64 = t221 * t1019;
+        let t1050: f64 = t1048.minus(t1049);
+        let t1051: f64 = arm2_crank_length * t1050;
+        let t1052 = product(t268, t1051);
+        let t1053: f64 = t1042.plus(t1047);
+        let t1054: f64 = t1052.plus(t1053);
+        let t1055: f64 = t1008 - t1054;
+        let t1056: f64 = arm2_rod_mz * t1055;
+        let t1057 = product(t262, t1024);
+        let t1058: f64 = t254 * t1028;
+        let t1059 = product(t256, t1032);
+        let t1060: f64 = t1057.plus(t1058);
+        let t1061: f64 = t1059.plus(t1060);
+        let t1062: f64 = t234 * t542;
+        let t1063: f64 = t1061 * t1062;
+        let t1064: f64 = t234 * t1061;
+        let t1065 = product(t1063, t1064);
+        let t1066: f64 = t234 * t1054;
         let t1067: f64 = t1065.plus(t1066);
-        let t1068 = product(arm2_crank_length, t1067);
-        let t1069: f64 = t334 * t1002;
-        let t1070: f64 = -t1069;
-        let t1071 = product(t645, t1070);
-        let t1072: f64 = t338 * t1002;
-        let t1073: f64 = -t1072;
-        let t1074: f64 = t653 * t1073;
-        let t1075: f64 = t349 * t1002;
-        let t1076: f64 = -t1075;
-        let t1077 = product(t661, t1076);
-        let t1078: f64 = t1071.plus(t1074);
-        let t1079: f64 = t1077.plus(t1078);
-        let t1080: f64 = arm3_crank_length * t1079;
-        let t1081: f64 = t1034.plus(t1036);
-        let t1082: f64 = t1038.plus(t1081);
-        let t1083 = product(t1082, 2.0);
-        let t1084: f64 = t1033.plus(t1035);
-        let t1085: f64 = t1037.plus(t1039);
-        let t1086: f64 = t1040.plus(t1041);
-        let t1087: f64 = t1042.plus(t1043);
-        let t1088: f64 = t1044.plus(t1056);
-        let t1089: f64 = t1068.plus(t1080);
-        let t1090: f64 = t1084 + t1085;
-        let t1091: f64 = t1086 + t1087;
-        let t1092: f64 = t1088 + t1089;
-        let t1093: f64 = t1090 + t1091;
-        let t1094: f64 = t1083.plus(t1092);
-        let t1095: f64 = t1093 + t1094;
-        let t1096: f64 = t682 * t784;
-        let t1097 = product(t1095, t1096);
-        let t1098 = product(t875, t1046);
-        let t1099: f64 = t882 * t1049;
-        let t1100 = product(t889, t1052);
-        let t1101: f64 = t1098.plus(t1099);
-        let t1102: f64 = t1100.plus(t1101);
-        let t1103: f64 = arm1_crank_length * t1102;
-        let t1104 = product(t910, t1058);
-        let t1105: f64 = t917 * t1061;
-        let t1106 = product(t924, t1064);
-        let t1107: f64 = t1104.plus(t1105);
-        let t1108: f64 = t1106.plus(t1107);
-        let t1109 = product(arm2_crank_length, t1108);
-        let t1110 = product(t945, t1070);
-        let t1111: f64 = t952 * t1073;
-        let t1112 = product(t959, t1076);
-        let t1113: f64 = t1110.plus(t1111);
-        let t1114: f64 = t1112.plus(t1113);
-        let t1115: f64 = arm3_crank_length * t1114;
-        let t1116: f64 = t991.plus(t1001);
-        let t1117: f64 = t1011.plus(t1116);
-        let t1118 = product(t1117, 2.0);
-        let t1119: f64 = t984.plus(t994);
-        let t1120: f64 = t1004.plus(t1014);
-        let t1121: f64 = t1018.plus(t1021);
-        let t1122: f64 = t1025.plus(t1028);
-        let t1123: f64 = t1032.plus(t1103);
-        let t1124: f64 = t1109.plus(t1115);
-        let t1125: f64 = t1119 + t1120;
-        let t1126: f64 = t1121 + t1122;
-        let t1127: f64 = t1123 + t1124;
-        let t1128: f64 = t1125 + t1126;
-        let t1129: f64 = t1118.plus(t1127);
-        let t1130: f64 = t1128 + t1129;
-        let t1131: f64 = t1097.subtracted_from(t1130);
-        let t1132: f64 = t982 * t982;
-        let t1133 = product(arm1_crank_izz, t1132);
-        let t1134: f64 = t989 * t989;
-        let t1135 = product(arm1_rod_izz, t1134);
-        let t1136: f64 = t992 * t992;
-        let t1137 = product(arm2_crank_izz, t1136);
-        let t1138: f64 = t999 * t999;
-        let t1139: f64 = arm2_rod_izz * t1138;
-        let t1140: f64 = t1002 * t1002;
-        let t1141: f64 = arm3_crank_izz * t1140;
-        let t1142: f64 = t1009 * t1009;
-        let t1143 = product(arm3_rod_izz, t1142);
-        let t1144 = product(arm1_rod_ixx, t1013);
-        let t1145 = product(t113, t1046);
-        let t1146: f64 = t123 * t1049;
-        let t1147 = product(t125, t1052);
-        let t1148: f64 = t1145.plus(t1146);
-        let t1149: f64 = t1147.plus(t1148);
-        let t1150: f64 = t422 * t1149;
-        let t1151: f64 = t1144.minus(t1150);
-        let t1152: f64 = t1151 * 2.0;
-        let t1153 = product(t1013, t1152);
-        let t1154 = product(arm1_rod_ixx, t1017);
-        let t1155 = product(t429, t1046);
-        let t1156: f64 = t434 * t1049;
-        let t1157 = product(t438, t1052);
-        let t1158: f64 = t1155.plus(t1156);
-        let t1159: f64 = t1157.plus(t1158);
-        let t1160: f64 = t422 * t1159;
-        let t1161: f64 = t1154.minus(t1160);
-        let t1162: f64 = t1161 * 2.0;
-        let t1163: f64 = t1017 * t1162;
-        let t1164 = product(arm2_rod_ixx, t1020);
-        let t1165 = product(t249, t1058);
-        let t1166: f64 = t259 * t1061;
-        let t1167 = product(t261, t1064);
-        let t1168: f64 = t1165.plus(t1166);
-        let t1169: f64 = t1167.plus(t1168);
-        let t1170: f64 = t469 * t1169;
-        let t1171: f64 = t1164.minus(t1170);
-        let t1172: f64 = t1171 * 2.0;
-        let t1173 = product(t1020, t1172);
-        let t1174 = product(arm2_rod_ixx, t1024);
-        let t1175 = product(t476, t1058);
-        let t1176: f64 = t481 * t1061;
-        let t1177 = product(t485, t1064);
-        let t1178: f64 = t1175.plus(t1176);
-        let t1179: f64 = t1177.plus(t1178);
-        let t1180: f64 = t469 * t1179;
-        let t1181: f64 = t1174.minus(t1180);
-        let t1182: f64 = t1181 * 2.0;
-        let t1183: f64 = t1024 * t1182;
-        let t1184 = product(arm3_rod_ixx, t1027);
-        let t1185 = product(t385, t1070);
-        let t1186: f64 = t395 * t1073;
-        let t1187 = product(t397, t1076);
-        let t1188: f64 = t1185.plus(t1186);
-        let t1189: f64 = t1187.plus(t1188);
-        let t1190: f64 = t516 * t1189;
-        let t1191: f64 = t1184.minus(t1190);
-        let t1192: f64 = t1191 * 2.0;
-        let t1193 = product(t1027, t1192);
-        let t1194 = product(arm3_rod_ixx, t1031);
-        let t1195 = product(t523, t1070);
-        let t1196: f64 = t528 * t1073;
-        let t1197 = product(t532, t1076);
-        let t1198: f64 = t1195.plus(t1196);
-        let t1199: f64 = t1197.plus(t1198);
-        let t1200: f64 = t516 * t1199;
-        let t1201: f64 = t1194.minus(t1200);
-        let t1202: f64 = t1201 * 2.0;
-        let t1203: f64 = t1031 * t1202;
-        let t1204: f64 = t1095 * t1095;
-        let t1205 = product(t682, t1204);
-        let t1206: f64 = t1131 * t1131;
-        let t1207: f64 = t981 * t1206;
-        let t1208 = product(arm1_rod_mz, t1017);
-        let t1209: f64 = t550 * t1159;
-        let t1210: f64 = t1208.subtracted_from(t1209);
-        let t1211 = product(t429, t1210);
-        let t1212 = product(arm1_rod_mz, t1013);
-        let t1213: f64 = t550 * t1149;
-        let t1214: f64 = t1212.subtracted_from(t1213);
-        let t1215: f64 = t113 * t1214;
-        let t1216 = product(t101, t1046);
-        let t1217: f64 = t94 * t1049;
-        let t1218 = product(t96, t1052);
+        let t1068 = product(t1000, t1001);
+        let t1069: f64 = t1068.subtracted_from(t1067);
+        let t1070: f64 = t1069 * 2.0;
+        let t1071 = product(arm2_rod_ixx, t1070);
+        let t1072: f64 = t1003.plus(t1056);
+        let t1073: f64 = t1072 * 2.0;
+        let t1074: f64 = t1071.plus(t1073);
+        let t1075 = product(t747, t1074);
+        let t1076 = product(vx, t503);
+        let t1077: f64 = vy * t617;
+        let t1078 = product(vz, t776);
+        let t1079: f64 = t1076.plus(t1077);
+        let t1080: f64 = t1078.plus(t1079);
+        let t1081: f64 = t558 * t1080;
+        let t1082: f64 = arm3_rod_izz * t1080;
+        let t1083 = product(t1081, t1082);
+        let t1084 = product(gravity_x, t399);
+        let t1085: f64 = gravity_y * t405;
+        let t1086 = product(gravity_z, t409);
+        let t1087: f64 = t1084.plus(t1085);
+        let t1088: f64 = t1086.plus(t1087);
+        let t1089 = product(t337, t341);
+        let t1090: f64 = t351 * t355;
+        let t1091 = product(t362, t366);
+        let t1092: f64 = t1089.plus(t1090);
+        let t1093: f64 = t1091.plus(t1092);
+        let t1094 = product(vx, t372);
+        let t1095: f64 = vy * t596;
+        let t1096 = product(vz, t749);
+        let t1097: f64 = t1094.plus(t1095);
+        let t1098: f64 = t1096.plus(t1097);
+        let t1099: f64 = t1098 * t1098;
+        let t1100: f64 = arm3_crank_length * t1093;
+        let t1101 = product(t1099, t1100);
+        let t1102: f64 = arm3_crank_length * t344;
+        let t1103 = product(t1098, t1102);
+        let t1104: f64 = t1103.subtracted_from(vx);
+        let t1105: f64 = t1104 * t1104;
+        let t1106: f64 = arm3_crank_length * t348;
+        let t1107 = product(t1098, t1106);
+        let t1108: f64 = t1107.subtracted_from(vy);
+        let t1109 = product(t1108, t1108);
+        let t1110: f64 = arm3_crank_length * t359;
+        let t1111 = product(t1098, t1110);
+        let t1112: f64 = t1111.subtracted_from(vz);
+        let t1113: f64 = t1112 * t1112;
+        let t1114: f64 = t1101.plus(t1105);
+        let t1115: f64 = t1109.plus(t1113);
+        let t1116: f64 = t1114 + t1115;
+        let t1117: f64 = t371 * t1116;
+        let t1118 = product(t344, t1117);
+        let t1119: f64 = t337 * t1099;
+        let t1120: f64 = t1118.minus(t1119);
+        let t1121: f64 = arm3_crank_length * t1120;
+        let t1122 = product(t399, t1121);
+        let t1123 = product(t348, t1117);
+        let t1124: f64 = t351 * t1099;
+        let t1125: f64 = t1123.minus(t1124);
+        let t1126: f64 = arm3_crank_length * t1125;
+        let t1127: f64 = t405 * t1126;
+        let t1128 = product(t359, t1117);
+        let t1129: f64 = t362 * t1099;
+        let t1130: f64 = t1128.minus(t1129);
+        let t1131: f64 = arm3_crank_length * t1130;
+        let t1132 = product(t409, t1131);
+        let t1133: f64 = t1122.plus(t1127);
+        let t1134: f64 = t1132.plus(t1133);
+        let t1135: f64 = t1088 - t1134;
+        let t1136: f64 = arm3_rod_mz * t1135;
+        let t1137 = product(t403, t1104);
+        let t1138: f64 = t395 * t1108;
+        let t1139 = product(t397, t1112);
+        let t1140: f64 = t1137.plus(t1138);
+        let t1141: f64 = t1139.plus(t1140);
+        let t1142: f64 = t375 * t558;
+        let t1143: f64 = t1141 * t1142;
+        let t1144: f64 = t375 * t1141;
+        let t1145 = product(t1143, t1144);
+        let t1146: f64 = t375 * t1134;
+        let t1147: f64 = t1145.plus(t1146);
+        let t1148 = product(t1080, t1081);
+        let t1149: f64 = t1148.subtracted_from(t1147);
+        let t1150: f64 = t1149 * 2.0;
+        let t1151 = product(arm3_rod_ixx, t1150);
+        let t1152: f64 = t1083.plus(t1136);
+        let t1153: f64 = t1152 * 2.0;
+        let t1154: f64 = t1151.plus(t1153);
+        let t1155: f64 = t755 * t1154;
+        let t1156 = product(gravity_x, t262);
+        let t1157: f64 = gravity_y * t254;
+        let t1158 = product(gravity_z, t256);
+        let t1159: f64 = t1156.plus(t1157);
+        let t1160: f64 = t1158.plus(t1159);
+        let t1161 = product(t262, t1041);
+        let t1162: f64 = t254 * t1046;
+        let t1163 = product(t256, t1051);
+        let t1164: f64 = t1161.plus(t1162);
+        let t1165: f64 = t1163.plus(t1164);
+        let t1166: f64 = t1160 - t1165;
+        let t1167: f64 = arm2_rod_mz * t1166;
+        let t1168 = product(t258, t1024);
+        let t1169: f64 = t264 * t1028;
+        let t1170 = product(t268, t1032);
+        let t1171: f64 = t1168.plus(t1169);
+        let t1172: f64 = t1170.plus(t1171);
+        let t1173: f64 = t234 * t1172;
+        let t1174 = product(t1063, t1173);
+        let t1175: f64 = t234 * t1165;
+        let t1176: f64 = t1174.minus(t1175);
+        let t1177 = product(vx, t275);
+        let t1178: f64 = vy * t594;
+        let t1179 = product(vz, t747);
+        let t1180: f64 = t1177.plus(t1178);
+        let t1181: f64 = t1179.plus(t1180);
+        let t1182: f64 = t1001 * t1181;
+        let t1183: f64 = t1176 - t1182;
+        let t1184: f64 = t1183 * 2.0;
+        let t1185 = product(arm2_rod_ixx, t1184);
+        let t1186: f64 = t253 * t253;
+        let t1187: f64 = t1173 * t1186;
+        let t1188 = product(t1064, t1187);
+        let t1189: f64 = t542 * t1176;
+        let t1190: f64 = t1188.plus(t1189);
+        let t1191: f64 = -t1190;
+        let t1192 = product(t542, t1191);
+        let t1193: f64 = t1192.subtracted_from(t1182);
+        let t1194: f64 = t1193 * 2.0;
+        let t1195: f64 = arm2_rod_izz * t1194;
+        let t1196 = product(t1167, 2.0);
+        let t1197: f64 = t1185.plus(t1195);
+        let t1198: f64 = t1196.minus(t1197);
+        let t1199 = product(t471, t1198);
+        let t1200 = product(gravity_x, t344);
+        let t1201: f64 = gravity_y * t348;
+        let t1202 = product(gravity_z, t359);
+        let t1203: f64 = t1200.plus(t1201);
+        let t1204: f64 = t1202.plus(t1203);
+        let t1205 = product(arm3_crank_mx, t1204);
+        let t1206 = product(arm3_crank_izz, t1117);
+        let t1207: f64 = t1205.added_to(g3);
+        let t1208: f64 = t1206.subtracted_from(t1207);
+        let t1209: f64 = t372 * t1208;
+        let t1210: f64 = t1199.plus(t1209);
+        let t1211 = product(gravity_x, t403);
+        let t1212: f64 = gravity_y * t395;
+        let t1213 = product(gravity_z, t397);
+        let t1214: f64 = t1211.plus(t1212);
+        let t1215: f64 = t1213.plus(t1214);
+        let t1216 = product(t403, t1121);
+        let t1217: f64 = t395 * t1126;
+        let t1218 = product(t397, t1131);
         let t1219: f64 = t1216.plus(t1217);
         let t1220: f64 = t1218.plus(t1219);
-        let t1221 = product(t563, t1220);
-        let t1222: f64 = t1211.plus(t1215);
-        let t1223: f64 = t1221.plus(t1222);
-        let t1224: f64 = t1223 * 2.0;
-        let t1225 = product(t1046, t1224);
-        let t1226 = product(t434, t1210);
-        let t1227: f64 = t123 * t1214;
-        let t1228 = product(t571, t1220);
-        let t1229: f64 = t1226.plus(t1227);
-        let t1230: f64 = t1228.plus(t1229);
-        let t1231: f64 = t1230 * 2.0;
-        let t1232: f64 = t1049 * t1231;
-        let t1233 = product(t438, t1210);
-        let t1234: f64 = t125 * t1214;
-        let t1235 = product(t579, t1220);
-        let t1236: f64 = t1233.plus(t1234);
-        let t1237: f64 = t1235.plus(t1236);
-        let t1238: f64 = t1237 * 2.0;
-        let t1239 = product(t1052, t1238);
-        let t1240: f64 = t1225.plus(t1232);
-        let t1241: f64 = t1239.plus(t1240);
-        let t1242 = product(arm1_crank_length, t1241);
-        let t1243 = product(arm2_rod_mz, t1024);
-        let t1244: f64 = t589 * t1179;
-        let t1245: f64 = t1243.subtracted_from(t1244);
-        let t1246 = product(t476, t1245);
-        let t1247 = product(arm2_rod_mz, t1020);
-        let t1248: f64 = t589 * t1169;
-        let t1249: f64 = t1247.subtracted_from(t1248);
-        let t1250: f64 = t249 * t1249;
-        let t1251 = product(t237, t1058);
-        let t1252: f64 = t230 * t1061;
-        let t1253 = product(t232, t1064);
-        let t1254: f64 = t1251.plus(t1252);
-        let t1255: f64 = t1253.plus(t1254);
-        let t1256 = product(t602, t1255);
-        let t1257: f64 = t1246.plus(t1250);
-        let t1258: f64 = t1256.plus(t1257);
-        let t1259: f64 = t1258 * 2.0;
-        let t1260 = product(t1058, t1259);
-        let t1261 = product(t481, t1245);
-        let t1262: f64 = t259 * t1249;
-        let t1263 = product(t610, t1255);
-        let t1264: f64 = t1261.plus(t1262);
-        let t1265: f64 = t1263.plus(t1264);
-        let t1266: f64 = t1265 * 2.0;
-        let t1267: f64 = t1061 * t1266;
-        let t1268 = product(t485, t1245);
-        let t1269: f64 = t261 * t1249;
-        let t1270 = product(t618, t1255);
+        let t1221: f64 = t1215 - t1220;
+        let t1222: f64 = arm3_rod_mz * t1221;
+        let t1223 = product(t399, t1104);
+        let t1224: f64 = t405 * t1108;
+        let t1225 = product(t409, t1112);
+        let t1226: f64 = t1223.plus(t1224);
+        let t1227: f64 = t1225.plus(t1226);
+        let t1228: f64 = t375 * t1227;
+        let t1229 = product(t1143, t1228);
+        let t1230: f64 = t375 * t1220;
+        let t1231: f64 = t1229.minus(t1230);
+        let t1232 = product(vx, t416);
+        let t1233: f64 = vy * t602;
+        let t1234 = product(vz, t755);
+        let t1235: f64 = t1232.plus(t1233);
+        let t1236: f64 = t1234.plus(t1235);
+        let t1237: f64 = t1081 * t1236;
+        let t1238: f64 = t1231 - t1237;
+        let t1239: f64 = t1238 * 2.0;
+        let t1240 = product(arm3_rod_ixx, t1239);
+        let t1241: f64 = t394 * t394;
+        let t1242: f64 = t1228 * t1241;
+        let t1243 = product(t1144, t1242);
+        let t1244: f64 = t558 * t1231;
+        let t1245: f64 = t1243.plus(t1244);
+        let t1246: f64 = -t1245;
+        let t1247 = product(t558, t1246);
+        let t1248: f64 = t1247.subtracted_from(t1237);
+        let t1249: f64 = t1248 * 2.0;
+        let t1250: f64 = arm3_rod_izz * t1249;
+        let t1251 = product(t1222, 2.0);
+        let t1252: f64 = t1240.plus(t1250);
+        let t1253: f64 = t1251.minus(t1252);
+        let t1254 = product(t503, t1253);
+        let t1255 = product(gravity_x, platform_mass);
+        let t1256: f64 = t134 * t994;
+        let t1257: f64 = t1255.plus(t1256);
+        let t1258: f64 = t1254.plus(t1257);
+        let t1259: f64 = t1210 + t1258;
+        let t1260 = product(t275, t1074);
+        let t1261: f64 = t416 * t1154;
+        let t1262: f64 = t1260.plus(t1261);
+        let t1263: f64 = arm1_rod_mass * t975;
+        let t1264 = product(arm1_rod_mz, t990);
+        let t1265: f64 = t1263 * 2.0;
+        let t1266: f64 = t1264.plus(t1265);
+        let t1267 = product(t130, t1266);
+        let t1268 = product(gravity_x, t121);
+        let t1269: f64 = gravity_y * t113;
+        let t1270 = product(gravity_z, t115);
         let t1271: f64 = t1268.plus(t1269);
         let t1272: f64 = t1270.plus(t1271);
-        let t1273: f64 = t1272 * 2.0;
-        let t1274 = product(t1064, t1273);
-        let t1275: f64 = t1260.plus(t1267);
-        let t1276: f64 = t1274.plus(t1275);
-        let t1277: f64 = arm2_crank_length * t1276;
-        let t1278 = product(arm3_rod_mz, t1031);
-        let t1279: f64 = t628 * t1199;
-        let t1280: f64 = t1278.subtracted_from(t1279);
-        let t1281 = product(t523, t1280);
-        let t1282 = product(arm3_rod_mz, t1027);
-        let t1283: f64 = t628 * t1189;
-        let t1284: f64 = t1282.subtracted_from(t1283);
-        let t1285: f64 = t385 * t1284;
-        let t1286 = product(t373, t1070);
-        let t1287: f64 = t366 * t1073;
-        let t1288 = product(t368, t1076);
-        let t1289: f64 = t1286.plus(t1287);
-        let t1290: f64 = t1288.plus(t1289);
-        let t1291 = product(t641, t1290);
-        let t1292: f64 = t1281.plus(t1285);
+        let t1273 = product(t121, t961);
+        let t1274: f64 = t113 * t966;
+        let t1275 = product(t115, t971);
+        let t1276: f64 = t1273.plus(t1274);
+        let t1277: f64 = t1275.plus(t1276);
+        let t1278: f64 = t1272 - t1277;
+        let t1279: f64 = arm1_rod_mass * t1278;
+        let t1280 = product(t117, t944);
+        let t1281: f64 = t123 * t948;
+        let t1282 = product(t127, t952);
+        let t1283: f64 = t1280.plus(t1281);
+        let t1284: f64 = t1282.plus(t1283);
+        let t1285: f64 = t93 * t1284;
+        let t1286 = product(t983, t1285);
+        let t1287: f64 = t93 * t1277;
+        let t1288: f64 = t1286.minus(t1287);
+        let t1289 = product(vx, t134);
+        let t1290: f64 = vy * t586;
+        let t1291 = product(vz, t739);
+        let t1292: f64 = t1289.plus(t1290);
         let t1293: f64 = t1291.plus(t1292);
-        let t1294: f64 = t1293 * 2.0;
-        let t1295 = product(t1070, t1294);
-        let t1296 = product(t528, t1280);
-        let t1297: f64 = t395 * t1284;
-        let t1298 = product(t649, t1290);
-        let t1299: f64 = t1296.plus(t1297);
-        let t1300: f64 = t1298.plus(t1299);
-        let t1301: f64 = t1300 * 2.0;
-        let t1302: f64 = t1073 * t1301;
-        let t1303 = product(t532, t1280);
-        let t1304: f64 = t397 * t1284;
-        let t1305 = product(t657, t1290);
-        let t1306: f64 = t1303.plus(t1304);
-        let t1307: f64 = t1305.plus(t1306);
-        let t1308: f64 = t1307 * 2.0;
-        let t1309 = product(t1076, t1308);
-        let t1310: f64 = t1295.plus(t1302);
-        let t1311: f64 = t1309.plus(t1310);
-        let t1312 = product(arm3_crank_length, t1311);
-        let t1313: f64 = t1135.plus(t1139);
-        let t1314: f64 = t1143.plus(t1313);
-        let t1315: f64 = t1314 * 2.0;
-        let t1316: f64 = t1133.added_to(platform_mass);
-        let t1317: f64 = t1137.plus(t1141);
-        let t1318: f64 = t1153.plus(t1163);
-        let t1319: f64 = t1173.plus(t1183);
-        let t1320: f64 = t1193.plus(t1203);
-        let t1321: f64 = t1242.plus(t1277);
-        let t1322: f64 = t1312.plus(t1315);
-        let t1323: f64 = t1316 + t1317;
-        let t1324: f64 = t1318 + t1319;
-        let t1325: f64 = t1320 + t1321;
-        let t1326: f64 = t1323 + t1324;
-        let t1327: f64 = t1322 + t1325;
-        let t1328: f64 = t1326 + t1327;
-        let t1329: f64 = t1205.plus(t1207);
-        let t1330: f64 = t1328 - t1329;
-        let t1331: f64 = 1.0 / t1330;
-        let t1332 = product(gravity_z, platform_mass);
-        let t1333 = product(vx, t444);
-        let t1334: f64 = vy * t718;
-        let t1335 = product(vz, t1017);
-        let t1336: f64 = t1333.plus(t1334);
-        let t1337: f64 = t1335.plus(t1336);
-        let t1338 = product(vx, t133);
-        let t1339: f64 = vy * t690;
-        let t1340 = product(vz, t989);
-        let t1341: f64 = t1338.plus(t1339);
-        let t1342: f64 = t1340.plus(t1341);
-        let t1343: f64 = arm1_rod_izz * t1337;
-        let t1344 = product(t1342, t1343);
-        let t1345 = product(gravity_x, t113);
-        let t1346: f64 = gravity_y * t123;
-        let t1347 = product(gravity_z, t125);
-        let t1348: f64 = t1345.plus(t1346);
-        let t1349: f64 = t1347.plus(t1348);
-        let t1350 = product(vx, t90);
-        let t1351: f64 = vy * t683;
-        let t1352 = product(vz, t982);
-        let t1353: f64 = t1350.plus(t1351);
-        let t1354: f64 = t1352.plus(t1353);
-        let t1355: f64 = t48 * t90;
-        let t1356 = product(t1354, t1355);
-        let t1357: f64 = t62 * t1354;
-        let t1358: f64 = -t1357;
-        let t1359 = product(arm1_crank_length, t1358);
-        let t1360: f64 = t1359.added_to(vx);
-        let t1361 = product(t89, t1360);
-        let t1362: f64 = t88 * t88;
-        let t1363 = product(t62, t1360);
-        let t1364: f64 = t66 * t1354;
-        let t1365: f64 = -t1364;
-        let t1366 = product(arm1_crank_length, t1365);
-        let t1367: f64 = t1366.added_to(vy);
-        let t1368: f64 = t66 * t1367;
-        let t1369: f64 = t77 * t1354;
-        let t1370: f64 = -t1369;
-        let t1371 = product(arm1_crank_length, t1370);
-        let t1372: f64 = t1371.added_to(vz);
-        let t1373 = product(t77, t1372);
-        let t1374 = product(t55, t59);
-        let t1375: f64 = t69 * t73;
-        let t1376 = product(t80, t84);
+        let t1294: f64 = t921 * t1293;
+        let t1295: f64 = t1288 - t1294;
+        let t1296: f64 = t1295 * 2.0;
+        let t1297 = product(arm1_rod_mz, t1296);
+        let t1298: f64 = t1279 * 2.0;
+        let t1299: f64 = t1297.subtracted_from(t1298);
+        let t1300: f64 = t433 * t1299;
+        let t1301 = product(gravity_x, t96);
+        let t1302: f64 = gravity_y * t99;
+        let t1303 = product(gravity_z, t94);
+        let t1304: f64 = t1301.plus(t1302);
+        let t1305: f64 = t1303.plus(t1304);
+        let t1306 = product(t96, t961);
+        let t1307: f64 = t99 * t966;
+        let t1308 = product(t94, t971);
+        let t1309: f64 = t1306.plus(t1307);
+        let t1310: f64 = t1308.plus(t1309);
+        let t1311: f64 = t1305 - t1310;
+        let t1312: f64 = arm1_rod_mass * t1311;
+        let t1313 = product(t920, t920);
+        let t1314: f64 = t1293 * t1293;
+        let t1315: f64 = t1313.plus(t1314);
+        let t1316: f64 = t1315 * 2.0;
+        let t1317 = product(arm1_rod_mz, t1316);
+        let t1318: f64 = t1312 * 2.0;
+        let t1319: f64 = t1317.plus(t1318);
+        let t1320 = product(t448, t1319);
+        let t1321: f64 = t1267.plus(t1300);
+        let t1322: f64 = t1320.plus(t1321);
+        let t1323 = product(t132, t1322);
+        let t1324: f64 = arm2_rod_mass * t1055;
+        let t1325 = product(arm2_rod_mz, t1070);
+        let t1326: f64 = t1324 * 2.0;
+        let t1327: f64 = t1325.plus(t1326);
+        let t1328 = product(t271, t1327);
+        let t1329: f64 = arm2_rod_mass * t1166;
+        let t1330 = product(arm2_rod_mz, t1184);
+        let t1331: f64 = t1329 * 2.0;
+        let t1332: f64 = t1330.subtracted_from(t1331);
+        let t1333: f64 = t465 * t1332;
+        let t1334 = product(gravity_x, t237);
+        let t1335: f64 = gravity_y * t240;
+        let t1336 = product(gravity_z, t235);
+        let t1337: f64 = t1334.plus(t1335);
+        let t1338: f64 = t1336.plus(t1337);
+        let t1339 = product(t237, t1041);
+        let t1340: f64 = t240 * t1046;
+        let t1341 = product(t235, t1051);
+        let t1342: f64 = t1339.plus(t1340);
+        let t1343: f64 = t1341.plus(t1342);
+        let t1344: f64 = t1338 - t1343;
+        let t1345: f64 = arm2_rod_mass * t1344;
+        let t1346 = product(t1000, t1000);
+        let t1347: f64 = t1181 * t1181;
+        let t1348: f64 = t1346.plus(t1347);
+        let t1349: f64 = t1348 * 2.0;
+        let t1350 = product(arm2_rod_mz, t1349);
+        let t1351: f64 = t1345 * 2.0;
+        let t1352: f64 = t1350.plus(t1351);
+        let t1353 = product(t480, t1352);
+        let t1354: f64 = t1328.plus(t1333);
+        let t1355: f64 = t1353.plus(t1354);
+        let t1356: f64 = t273 * t1355;
+        let t1357: f64 = t1323.plus(t1356);
+        let t1358: f64 = t1262 + t1357;
+        let t1359: f64 = arm3_rod_mass * t1135;
+        let t1360 = product(arm3_rod_mz, t1150);
+        let t1361: f64 = t1359 * 2.0;
+        let t1362: f64 = t1360.plus(t1361);
+        let t1363 = product(t412, t1362);
+        let t1364: f64 = arm3_rod_mass * t1221;
+        let t1365 = product(arm3_rod_mz, t1239);
+        let t1366: f64 = t1364 * 2.0;
+        let t1367: f64 = t1365.subtracted_from(t1366);
+        let t1368: f64 = t497 * t1367;
+        let t1369 = product(gravity_x, t378);
+        let t1370: f64 = gravity_y * t381;
+        let t1371 = product(gravity_z, t376);
+        let t1372: f64 = t1369.plus(t1370);
+        let t1373: f64 = t1371.plus(t1372);
+        let t1374 = product(t378, t1121);
+        let t1375: f64 = t381 * t1126;
+        let t1376 = product(t376, t1131);
         let t1377: f64 = t1374.plus(t1375);
         let t1378: f64 = t1376.plus(t1377);
-        let t1379 = product(t1354, t1378);
-        let t1380: f64 = t1363.plus(t1368);
-        let t1381: f64 = t1373.plus(t1380);
-        let t1382: f64 = t1379.minus(t1381);
-        let t1383: f64 = t29 * t59;
-        let t1384: f64 = t1362 * t1383;
-        let t1385: f64 = t1382 * t1384;
-        let t1386: f64 = t1361.plus(t1385);
-        let t1387: f64 = t53 * t1386;
-        let t1388: f64 = t1356.plus(t1387);
-        let t1389 = product(arm1_zero_x, t1388);
-        let t1390: f64 = t53 * t90;
-        let t1391 = product(t1354, t1390);
-        let t1392: f64 = t48 * t1386;
-        let t1393: f64 = t1391.minus(t1392);
-        let t1394: f64 = t14 * t1393;
-        let t1395: f64 = t1389.plus(t1394);
-        let t1396 = product(vx, t1395);
-        let t1397: f64 = t48 * t683;
-        let t1398 = product(t1354, t1397);
-        let t1399 = product(t89, t1367);
-        let t1400: f64 = t29 * t73;
-        let t1401: f64 = t1362 * t1400;
-        let t1402: f64 = t1382 * t1401;
-        let t1403: f64 = t1399.plus(t1402);
-        let t1404: f64 = t53 * t1403;
-        let t1405: f64 = t1398.plus(t1404);
-        let t1406 = product(arm1_zero_x, t1405);
-        let t1407: f64 = t53 * t683;
-        let t1408 = product(t1354, t1407);
-        let t1409: f64 = t48 * t1403;
-        let t1410: f64 = t1408.minus(t1409);
-        let t1411: f64 = t14 * t1410;
-        let t1412: f64 = t1406.plus(t1411);
-        let t1413: f64 = vy * t1412;
-        let t1414: f64 = t48 * t982;
-        let t1415 = product(t1354, t1414);
-        let t1416 = product(t89, t1372);
-        let t1417: f64 = t29 * t84;
-        let t1418: f64 = t1362 * t1417;
-        let t1419: f64 = t1382 * t1418;
-        let t1420: f64 = t1416.plus(t1419);
-        let t1421: f64 = t53 * t1420;
-        let t1422: f64 = t1415.plus(t1421);
-        let t1423 = product(arm1_zero_x, t1422);
-        let t1424: f64 = t53 * t982;
-        let t1425 = product(t1354, t1424);
-        let t1426: f64 = t48 * t1420;
-        let t1427: f64 = t1425.minus(t1426);
-        let t1428: f64 = t14 * t1427;
-        let t1429: f64 = t1423.plus(t1428);
-        let t1430 = product(vz, t1429);
-        let t1431: f64 = t1396.plus(t1413);
-        let t1432: f64 = t1430.plus(t1431);
-        let t1433 = product(t113, t1432);
-        let t1434 = product(arm1_zero_y, t1388);
-        let t1435: f64 = t18 * t1393;
-        let t1436: f64 = t1434.plus(t1435);
-        let t1437 = product(vx, t1436);
-        let t1438 = product(arm1_zero_y, t1405);
-        let t1439: f64 = t18 * t1410;
+        let t1379: f64 = t1373 - t1378;
+        let t1380: f64 = arm3_rod_mass * t1379;
+        let t1381 = product(t1080, t1080);
+        let t1382: f64 = t1236 * t1236;
+        let t1383: f64 = t1381.plus(t1382);
+        let t1384: f64 = t1383 * 2.0;
+        let t1385 = product(arm3_rod_mz, t1384);
+        let t1386: f64 = t1380 * 2.0;
+        let t1387: f64 = t1385.plus(t1386);
+        let t1388 = product(t512, t1387);
+        let t1389: f64 = t1363.plus(t1368);
+        let t1390: f64 = t1388.plus(t1389);
+        let t1391 = product(t414, t1390);
+        let t1392 = product(gravity_x, t62);
+        let t1393: f64 = gravity_y * t66;
+        let t1394 = product(gravity_z, t77);
+        let t1395: f64 = t1392.plus(t1393);
+        let t1396: f64 = t1394.plus(t1395);
+        let t1397 = product(arm1_crank_mx, t1396);
+        let t1398 = product(arm1_crank_izz, t957);
+        let t1399: f64 = t1397.added_to(g1);
+        let t1400: f64 = t1398.subtracted_from(t1399);
+        let t1401: f64 = t90 * t1400;
+        let t1402: f64 = t1391.plus(t1401);
+        let t1403: f64 = arm1_rod_mz * t1278;
+        let t1404 = product(arm1_rod_ixx, t1296);
+        let t1405: f64 = t112 * t112;
+        let t1406: f64 = t1285 * t1405;
+        let t1407 = product(t984, t1406);
+        let t1408: f64 = t526 * t1288;
+        let t1409: f64 = t1407.plus(t1408);
+        let t1410: f64 = -t1409;
+        let t1411 = product(t526, t1410);
+        let t1412: f64 = t1411.subtracted_from(t1294);
+        let t1413: f64 = t1412 * 2.0;
+        let t1414: f64 = arm1_rod_izz * t1413;
+        let t1415 = product(t1403, 2.0);
+        let t1416: f64 = t1404.plus(t1414);
+        let t1417: f64 = t1415.minus(t1416);
+        let t1418 = product(t439, t1417);
+        let t1419 = product(gravity_x, t203);
+        let t1420: f64 = gravity_y * t207;
+        let t1421 = product(gravity_z, t218);
+        let t1422: f64 = t1419.plus(t1420);
+        let t1423: f64 = t1421.plus(t1422);
+        let t1424 = product(arm2_crank_mx, t1423);
+        let t1425 = product(arm2_crank_izz, t1037);
+        let t1426: f64 = t1424.added_to(g2);
+        let t1427: f64 = t1425.subtracted_from(t1426);
+        let t1428: f64 = t231 * t1427;
+        let t1429: f64 = t1418.plus(t1428);
+        let t1430: f64 = t1402 + t1429;
+        let t1431: f64 = t1358 + t1430;
+        let t1432: f64 = t1259 + t1431;
+        let t1433: f64 = t579 * t1432;
+        let t1434 = product(t788, t1433);
+        let t1435 = product(t596, t1208);
+        let t1436: f64 = t617 * t1253;
+        let t1437: f64 = t1435.plus(t1436);
+        let t1438 = product(gravity_y, platform_mass);
+        let t1439: f64 = t586 * t994;
         let t1440: f64 = t1438.plus(t1439);
-        let t1441: f64 = vy * t1440;
-        let t1442 = product(arm1_zero_y, t1422);
-        let t1443: f64 = t18 * t1427;
-        let t1444: f64 = t1442.plus(t1443);
-        let t1445 = product(vz, t1444);
-        let t1446: f64 = t1437.plus(t1441);
-        let t1447: f64 = t1445.plus(t1446);
-        let t1448: f64 = t123 * t1447;
-        let t1449 = product(arm1_zero_z, t1388);
-        let t1450: f64 = t22 * t1393;
+        let t1441 = product(t594, t1074);
+        let t1442: f64 = t602 * t1154;
+        let t1443: f64 = t1441.plus(t1442);
+        let t1444: f64 = t1440 + t1443;
+        let t1445: f64 = t1437 + t1444;
+        let t1446 = product(t584, t1322);
+        let t1447: f64 = t629 * t1433;
+        let t1448: f64 = t1446.minus(t1447);
+        let t1449 = product(t592, t1355);
+        let t1450: f64 = t600 * t1390;
         let t1451: f64 = t1449.plus(t1450);
-        let t1452 = product(vx, t1451);
-        let t1453 = product(arm1_zero_z, t1405);
-        let t1454: f64 = t22 * t1410;
+        let t1452: f64 = t1448 + t1451;
+        let t1453 = product(t580, t1400);
+        let t1454: f64 = t609 * t1417;
         let t1455: f64 = t1453.plus(t1454);
-        let t1456: f64 = vy * t1455;
-        let t1457 = product(arm1_zero_z, t1422);
-        let t1458: f64 = t22 * t1427;
-        let t1459: f64 = t1457.plus(t1458);
-        let t1460 = product(vz, t1459);
-        let t1461: f64 = t1452.plus(t1456);
-        let t1462: f64 = t1460.plus(t1461);
-        let t1463 = product(t125, t1462);
-        let t1464: f64 = t1433.plus(t1448);
-        let t1465: f64 = t1463.plus(t1464);
-        let t1466 = product(arm1_crank_length, t1465);
-        let t1467: f64 = t1466.added_to(t1349);
-        let t1468: f64 = arm1_rod_mz * t1467;
-        let t1469: f64 = arm1_crank_length * t62;
-        let t1470 = product(t1354, t1469);
-        let t1471: f64 = t1470.subtracted_from(vx);
-        let t1472 = product(t429, t1471);
-        let t1473: f64 = arm1_crank_length * t66;
-        let t1474 = product(t1354, t1473);
-        let t1475: f64 = t1474.subtracted_from(vy);
-        let t1476: f64 = t434 * t1475;
-        let t1477: f64 = arm1_crank_length * t77;
-        let t1478 = product(t1354, t1477);
-        let t1479: f64 = t1478.subtracted_from(vz);
-        let t1480 = product(t438, t1479);
-        let t1481: f64 = t1472.plus(t1476);
-        let t1482: f64 = t1480.plus(t1481);
-        let t1483: f64 = t93 * t1482;
-        let t1484 = product(t113, t1471);
-        let t1485: f64 = t123 * t1475;
-        let t1486 = product(t125, t1479);
-        let t1487: f64 = t1484.plus(t1485);
-        let t1488: f64 = t1486.plus(t1487);
-        let t1489: f64 = t93 * t119;
-        let t1490: f64 = t1488 * t1489;
-        let t1491 = product(t1483, t1490);
-        let t1492: f64 = t1354 * t1354;
-        let t1493 = product(t55, t1492);
-        let t1494: f64 = arm1_crank_length * t1378;
-        let t1495 = product(t1492, t1494);
-        let t1496: f64 = t1471 * t1471;
-        let t1497 = product(t1475, t1475);
-        let t1498: f64 = t1479 * t1479;
-        let t1499: f64 = t1495.plus(t1496);
-        let t1500: f64 = t1497.plus(t1498);
-        let t1501: f64 = t1499 + t1500;
-        let t1502: f64 = t89 * t1501;
-        let t1503: f64 = t62 * t1502;
-        let t1504: f64 = t1493.minus(t1503);
-        let t1505 = product(t113, t1504);
-        let t1506 = product(t69, t1492);
-        let t1507: f64 = t66 * t1502;
+        let t1456 = product(t588, t1427);
+        let t1457: f64 = t613 * t1198;
+        let t1458: f64 = t1456.plus(t1457);
+        let t1459: f64 = t1455 + t1458;
+        let t1460: f64 = t1452 + t1459;
+        let t1461: f64 = t1445 + t1460;
+        let t1462: f64 = t732 * t1461;
+        let t1463: f64 = t808 * t1462;
+        let t1464 = product(t737, t1322);
+        let t1465: f64 = t745 * t1355;
+        let t1466 = product(t753, t1390);
+        let t1467: f64 = t733 * t1400;
+        let t1468 = product(t768, t1417);
+        let t1469: f64 = t741 * t1427;
+        let t1470 = product(t772, t1198);
+        let t1471: f64 = t749 * t1208;
+        let t1472 = product(t776, t1253);
+        let t1473: f64 = t915.plus(t995);
+        let t1474: f64 = t1075.plus(t1155);
+        let t1475: f64 = t1464.plus(t1465);
+        let t1476: f64 = t1466.plus(t1467);
+        let t1477: f64 = t1468.plus(t1469);
+        let t1478: f64 = t1470.plus(t1471);
+        let t1479: f64 = t1473 + t1474;
+        let t1480: f64 = t1475 + t1476;
+        let t1481: f64 = t1477 + t1478;
+        let t1482: f64 = t1479 + t1480;
+        let t1483: f64 = t1472.plus(t1481);
+        let t1484: f64 = t1482 + t1483;
+        let t1485: f64 = t1434.plus(t1463);
+        let t1486: f64 = t1484 - t1485;
+        let t1487: f64 = t808 * t914;
+        let t1488 = product(t1486, t1487);
+        let t1489: f64 = t1488.subtracted_from(t1461);
+        let t1490: f64 = t629 * t732;
+        let t1491 = product(t1489, t1490);
+        let t1492: f64 = t788 * t914;
+        let t1493: f64 = t1486 * t1492;
+        let t1494: f64 = t1491.plus(t1493);
+        let t1495: f64 = t1432 - t1494;
+        let t1496: f64 = t579 * t1495;
+        let t1497: f64 = t732 * t1489;
+        let t1498: f64 = t914 * t1486;
+        let t1499: f64 = t28 * t43;
+        let t1500: f64 = t169 * t184;
+        let t1501: f64 = t310 * t325;
+        let t1502 = product(t588, t749);
+        let t1503: f64 = t596 * t741;
+        let t1504: f64 = t1502.minus(t1503);
+        let t1505 = product(t90, t1504);
+        let t1506 = product(t231, t749);
+        let t1507: f64 = t372 * t741;
         let t1508: f64 = t1506.minus(t1507);
-        let t1509: f64 = t123 * t1508;
-        let t1510 = product(t80, t1492);
-        let t1511: f64 = t77 * t1502;
+        let t1509 = product(t580, t1508);
+        let t1510 = product(t231, t596);
+        let t1511: f64 = t372 * t588;
         let t1512: f64 = t1510.minus(t1511);
-        let t1513 = product(t125, t1512);
-        let t1514: f64 = t1505.plus(t1509);
-        let t1515: f64 = t1513.plus(t1514);
-        let t1516: f64 = arm1_crank_length * t93;
-        let t1517: f64 = t1515 * t1516;
-        let t1518: f64 = t1491.plus(t1517);
-        let t1519 = product(t1337, t1342);
-        let t1520: f64 = t1519.subtracted_from(t1518);
-        let t1521: f64 = t1520 * 2.0;
-        let t1522 = product(arm1_rod_ixx, t1521);
-        let t1523: f64 = t1344.minus(t1468);
-        let t1524: f64 = t1523 * 2.0;
-        let t1525: f64 = t1522.plus(t1524);
-        let t1526 = product(t1013, t1525);
-        let t1527 = product(vx, t409);
-        let t1528: f64 = vy * t714;
-        let t1529 = product(vz, t1013);
-        let t1530: f64 = t1527.plus(t1528);
-        let t1531: f64 = t1529.plus(t1530);
-        let t1532: f64 = arm1_rod_izz * t1342;
-        let t1533 = product(t1531, t1532);
-        let t1534 = product(gravity_x, t429);
-        let t1535: f64 = gravity_y * t434;
-        let t1536 = product(gravity_z, t438);
-        let t1537: f64 = t1534.plus(t1535);
-        let t1538: f64 = t1536.plus(t1537);
-        let t1539 = product(t429, t1432);
-        let t1540: f64 = t434 * t1447;
-        let t1541 = product(t438, t1462);
-        let t1542: f64 = t1539.plus(t1540);
-        let t1543: f64 = t1541.plus(t1542);
-        let t1544 = product(arm1_crank_length, t1543);
-        let t1545: f64 = t1544.added_to(t1538);
-        let t1546: f64 = arm1_rod_mz * t1545;
-        let t1547: f64 = t93 * t1488;
-        let t1548 = product(t1490, t1547);
-        let t1549 = product(t429, t1504);
-        let t1550: f64 = t434 * t1508;
-        let t1551 = product(t438, t1512);
-        let t1552: f64 = t1549.plus(t1550);
-        let t1553: f64 = t1551.plus(t1552);
-        let t1554: f64 = t1516 * t1553;
-        let t1555: f64 = t1548.minus(t1554);
-        let t1556 = product(t1342, t1531);
-        let t1557: f64 = t1556.subtracted_from(t1555);
-        let t1558: f64 = t1557 * 2.0;
-        let t1559 = product(arm1_rod_ixx, t1558);
-        let t1560: f64 = t1533.plus(t1546);
-        let t1561: f64 = t1560 * 2.0;
-        let t1562: f64 = t1559.plus(t1561);
-        let t1563: f64 = -t1562;
-        let t1564: f64 = t1017 * t1563;
-        let t1565: f64 = t112 * t112;
-        let t1566: f64 = t1483 * t1565;
-        let t1567 = product(t1547, t1566);
-        let t1568: f64 = t119 * t1518;
-        let t1569: f64 = t1567.plus(t1568);
-        let t1570: f64 = arm1_rod_izz * t989;
-        let t1571 = product(t1569, t1570);
-        let t1572 = product(vx, t491);
-        let t1573: f64 = vy * t725;
-        let t1574 = product(vz, t1024);
-        let t1575: f64 = t1572.plus(t1573);
-        let t1576: f64 = t1574.plus(t1575);
-        let t1577 = product(vx, t269);
-        let t1578: f64 = vy * t700;
-        let t1579 = product(vz, t999);
-        let t1580: f64 = t1577.plus(t1578);
-        let t1581: f64 = t1579.plus(t1580);
-        let t1582: f64 = arm2_rod_izz * t1576;
-        let t1583 = product(t1581, t1582);
-        let t1584 = product(gravity_x, t249);
-        let t1585: f64 = gravity_y * t259;
-        let t1586 = product(gravity_z, t261);
-        let t1587: f64 = t1584.plus(t1585);
-        let t1588: f64 = t1586.plus(t1587);
-        let t1589 = product(vx, t226);
-        let t1590: f64 = vy * t693;
-        let t1591 = product(vz, t992);
-        let t1592: f64 = t1589.plus(t1590);
-        let t1593: f64 = t1591.plus(t1592);
-        let t1594: f64 = t184 * t226;
-        let t1595 = product(t1593, t1594);
-        let t1596: f64 = t198 * t1593;
-        let t1597: f64 = -t1596;
-        let t1598 = product(arm2_crank_length, t1597);
-        let t1599: f64 = t1598.added_to(vx);
-        let t1600 = product(t225, t1599);
-        let t1601: f64 = t224 * t224;
-        let t1602 = product(t198, t1599);
-        let t1603: f64 = t202 * t1593;
-        let t1604: f64 = -t1603;
-        let t1605 = product(arm2_crank_length, t1604);
-        let t1606: f64 = t1605.added_to(vy);
-        let t1607: f64 = t202 * t1606;
-        let t1608: f64 = t213 * t1593;
-        let t1609: f64 = -t1608;
-        let t1610 = product(arm2_crank_length, t1609);
-        let t1611: f64 = t1610.added_to(vz);
-        let t1612 = product(t213, t1611);
-        let t1613 = product(t191, t195);
-        let t1614: f64 = t205 * t209;
-        let t1615 = product(t216, t220);
-        let t1616: f64 = t1613.plus(t1614);
-        let t1617: f64 = t1615.plus(t1616);
-        let t1618 = product(t1593, t1617);
-        let t1619: f64 = t1602.plus(t1607);
-        let t1620: f64 = t1612.plus(t1619);
-        let t1621: f64 = t1618.minus(t1620);
-        let t1622: f64 = t165 * t195;
-        let t1623: f64 = t1601 * t1622;
-        let t1624: f64 = t1621 * t1623;
-        let t1625: f64 = t1600.plus(t1624);
-        let t1626: f64 = t189 * t1625;
-        let t1627: f64 = t1595.plus(t1626);
-        let t1628 = product(arm2_zero_x, t1627);
-        let t1629: f64 = t189 * t226;
-        let t1630 = product(t1593, t1629);
-        let t1631: f64 = t184 * t1625;
-        let t1632: f64 = t1630.minus(t1631);
-        let t1633: f64 = t150 * t1632;
-        let t1634: f64 = t1628.plus(t1633);
-        let t1635 = product(vx, t1634);
-        let t1636: f64 = t184 * t693;
-        let t1637 = product(t1593, t1636);
-        let t1638 = product(t225, t1606);
-        let t1639: f64 = t165 * t209;
-        let t1640: f64 = t1601 * t1639;
-        let t1641: f64 = t1621 * t1640;
-        let t1642: f64 = t1638.plus(t1641);
-        let t1643: f64 = t189 * t1642;
-        let t1644: f64 = t1637.plus(t1643);
-        let t1645 = product(arm2_zero_x, t1644);
-        let t1646: f64 = t189 * t693;
-        let t1647 = product(t1593, t1646);
-        let t1648: f64 = t184 * t1642;
-        let t1649: f64 = t1647.minus(t1648);
-        let t1650: f64 = t150 * t1649;
-        let t1651: f64 = t1645.plus(t1650);
-        let t1652: f64 = vy * t1651;
-        let t1653: f64 = t184 * t992;
-        let t1654 = product(t1593, t1653);
-        let t1655 = product(t225, t1611);
-        let t1656: f64 = t165 * t220;
-        let t1657: f64 = t1601 * t1656;
-        let t1658: f64 = t1621 * t1657;
-        let t1659: f64 = t1655.plus(t1658);
-        let t1660: f64 = t189 * t1659;
-        let t1661: f64 = t1654.plus(t1660);
-        let t1662 = product(arm2_zero_x, t1661);
-        let t1663: f64 = t189 * t992;
-        let t1664 = product(t1593, t1663);
-        let t1665: f64 = t184 * t1659;
-        let t1666: f64 = t1664.minus(t1665);
-        let t1667: f64 = t150 * t1666;
-        let t1668: f64 = t1662.plus(t1667);
-        let t1669 = product(vz, t1668);
-        let t1670: f64 = t1635.plus(t1652);
-        let t1671: f64 = t1669.plus(t1670);
-        let t1672 = product(t249, t1671);
-        let t1673 = product(arm2_zero_y, t1627);
-        let t1674: f64 = t154 * t1632;
-        let t1675: f64 = t1673.plus(t1674);
-        let t1676 = product(vx, t1675);
-        let t1677 = product(arm2_zero_y, t1644);
-        let t1678: f64 = t154 * t1649;
-        let t1679: f64 = t1677.plus(t1678);
-        let t1680: f64 = vy * t1679;
-        let t1681 = product(arm2_zero_y, t1661);
-        let t1682: f64 = t154 * t1666;
-        let t1683: f64 = t1681.plus(t1682);
-        let t1684 = product(vz, t1683);
-        let t1685: f64 = t1676.plus(t1680);
-        let t1686: f64 = t1684.plus(t1685);
-        let t1687: f64 = t259 * t1686;
-        let t1688 = product(arm2_zero_z, t1627);
-        let t1689: f64 = t158 * t1632;
-        let t1690: f64 = t1688.plus(t1689);
-        let t1691 = product(vx, t1690);
-        let t1692 = product(arm2_zero_z, t1644);
-        let t1693: f64 = t158 * t1649;
-        let t1694: f64 = t1692.plus(t1693);
-        let t1695: f64 = vy * t1694;
-        let t1696 = product(arm2_zero_z, t1661);
-        let t1697: f64 = t158 * t1666;
-        let t1698: f64 = t1696.plus(t1697);
-        let t1699 = product(vz, t1698);
-        let t1700: f64 = t1691.plus(t1695);
-        let t1701: f64 = t1699.plus(t1700);
-        let t1702 = product(t261, t1701);
-        let t1703: f64 = t1672.plus(t1687);
-        let t1704: f64 = t1702.plus(t1703);
-        let t1705 = product(arm2_crank_length, t1704);
-        let t1706: f64 = t1705.added_to(t1588);
-        let t1707: f64 = arm2_rod_mz * t1706;
-        let t1708: f64 = arm2_crank_length * t198;
-        let t1709 = product(t1593, t1708);
-        let t1710: f64 = t1709.subtracted_from(vx);
-        let t1711 = product(t476, t1710);
-        let t1712: f64 = arm2_crank_length * t202;
-        let t1713 = product(t1593, t1712);
-        let t1714: f64 = t1713.subtracted_from(vy);
-        let t1715: f64 = t481 * t1714;
-        let t1716: f64 = arm2_crank_length * t213;
-        let t1717 = product(t1593, t1716);
-        let t1718: f64 = t1717.subtracted_from(vz);
-        let t1719 = product(t485, t1718);
-        let t1720: f64 = t1711.plus(t1715);
-        let t1721: f64 = t1719.plus(t1720);
-        let t1722: f64 = t229 * t1721;
-        let t1723 = product(t249, t1710);
-        let t1724: f64 = t259 * t1714;
-        let t1725 = product(t261, t1718);
-        let t1726: f64 = t1723.plus(t1724);
-        let t1727: f64 = t1725.plus(t1726);
-        let t1728: f64 = t229 * t255;
-        let t1729: f64 = t1727 * t1728;
-        let t1730 = product(t1722, t1729);
-        let t1731: f64 = t1593 * t1593;
-        let t1732 = product(t191, t1731);
-        let t1733: f64 = arm2_crank_length * t1617;
-        let t1734 = product(t1731, t1733);
-        let t1735: f64 = t1710 * t1710;
-        let t1736 = product(t1714, t1714);
-        let t1737: f64 = t1718 * t1718;
-        let t1738: f64 = t1734.plus(t1735);
-        let t1739: f64 = t1736.plus(t1737);
-        let t1740: f64 = t1738 + t1739;
-        let t1741: f64 = t225 * t1740;
-        let t1742: f64 = t198 * t1741;
-        let t1743: f64 = t1732.minus(t1742);
-        let t1744 = product(t249, t1743);
-        let t1745 = product(t205, t1731);
-        let t1746: f64 = t202 * t1741;
-        let t1747: f64 = t1745.minus(t1746);
-        let t1748: f64 = t259 * t1747;
-        let t1749 = product(t216, t1731);
-        let t1750: f64 = t213 * t1741;
-        let t1751: f64 = t1749.minus(t1750);
-        let t1752 = product(t261, t1751);
-        let t1753: f64 = t1744.plus(t1748);
-        let t1754: f64 = t1752.plus(t1753);
-        let t1755: f64 = arm2_crank_length * t229;
-        let t1756: f64 = t1754 * t1755;
-        let t1757: f64 = t1730.plus(t1756);
-        let t1758 = product(t1576, t1581);
-        let t1759: f64 = t1758.subtracted_from(t1757);
-        let t1760: f64 = t1759 * 2.0;
-        let t1761 = product(arm2_rod_ixx, t1760);
-        let t1762: f64 = t1583.minus(t1707);
-        let t1763: f64 = t1762 * 2.0;
-        let t1764: f64 = t1761.plus(t1763);
-        let t1765 = product(t1020, t1764);
-        let t1766 = product(vx, t456);
-        let t1767: f64 = vy * t721;
-        let t1768 = product(vz, t1020);
-        let t1769: f64 = t1766.plus(t1767);
-        let t1770: f64 = t1768.plus(t1769);
-        let t1771: f64 = arm2_rod_izz * t1581;
-        let t1772 = product(t1770, t1771);
-        let t1773 = product(gravity_x, t476);
-        let t1774: f64 = gravity_y * t481;
-        let t1775 = product(gravity_z, t485);
-        let t1776: f64 = t1773.plus(t1774);
-        let t1777: f64 = t1775.plus(t1776);
-        let t1778 = product(t476, t1671);
-        let t1779: f64 = t481 * t1686;
-        let t1780 = product(t485, t1701);
-        let t1781: f64 = t1778.plus(t1779);
-        let t1782: f64 = t1780.plus(t1781);
-        let t1783 = product(arm2_crank_length, t1782);
-        let t1784: f64 = t1783.added_to(t1777);
-        let t1785: f64 = arm2_rod_mz * t1784;
-        let t1786: f64 = t229 * t1727;
-        let t1787 = product(t1729, t1786);
-        let t1788 = product(t476, t1743);
-        let t1789: f64 = t481 * t1747;
-        let t1790 = product(t485, t1751);
-        let t1791: f64 = t1788.plus(t1789);
-        let t1792: f64 = t1790.plus(t1791);
-        let t1793: f64 = t1755 * t1792;
-        let t1794: f64 = t1787.minus(t1793);
-        let t1795 = product(t1581, t1770);
-        let t1796: f64 = t1795.subtracted_from(t1794);
-        let t1797: f64 = t1796 * 2.0;
-        let t1798 = product(arm2_rod_ixx, t1797);
-        let t1799: f64 = t1772.plus(t1785);
-        let t1800: f64 = t1799 * 2.0;
-        let t1801: f64 = t1798.plus(t1800);
-        let t1802: f64 = -t1801;
-        let t1803: f64 = t1024 * t1802;
-        let t1804: f64 = t248 * t248;
-        let t1805: f64 = t1722 * t1804;
-        let t1806 = product(t1786, t1805);
-        let t1807: f64 = t255 * t1757;
-        let t1808: f64 = t1806.plus(t1807);
-        let t1809: f64 = arm2_rod_izz * t999;
-        let t1810: f64 = t1808 * t1809;
-        let t1811 = product(vx, t538);
-        let t1812: f64 = vy * t732;
-        let t1813 = product(vz, t1031);
-        let t1814: f64 = t1811.plus(t1812);
-        let t1815: f64 = t1813.plus(t1814);
-        let t1816 = product(vx, t405);
-        let t1817: f64 = vy * t710;
-        let t1818 = product(vz, t1009);
-        let t1819: f64 = t1816.plus(t1817);
-        let t1820: f64 = t1818.plus(t1819);
-        let t1821: f64 = arm3_rod_izz * t1815;
-        let t1822 = product(t1820, t1821);
-        let t1823 = product(gravity_x, t385);
-        let t1824: f64 = gravity_y * t395;
-        let t1825 = product(gravity_z, t397);
-        let t1826: f64 = t1823.plus(t1824);
-        let t1827: f64 = t1825.plus(t1826);
-        let t1828 = product(vx, t362);
-        let t1829: f64 = vy * t703;
-        let t1830 = product(vz, t1002);
-        let t1831: f64 = t1828.plus(t1829);
-        let t1832: f64 = t1830.plus(t1831);
-        let t1833: f64 = t320 * t362;
-        let t1834 = product(t1832, t1833);
-        let t1835: f64 = t334 * t1832;
-        let t1836: f64 = -t1835;
-        let t1837 = product(arm3_crank_length, t1836);
-        let t1838: f64 = t1837.added_to(vx);
-        let t1839 = product(t361, t1838);
-        let t1840: f64 = t360 * t360;
-        let t1841 = product(t334, t1838);
-        let t1842: f64 = t338 * t1832;
-        let t1843: f64 = -t1842;
-        let t1844 = product(arm3_crank_length, t1843);
-        let t1845: f64 = t1844.added_to(vy);
-        let t1846: f64 = t338 * t1845;
-        let t1847: f64 = t349 * t1832;
-        let t1848: f64 = -t1847;
-        let t1849 = product(arm3_crank_length, t1848);
-        let t1850: f64 = t1849.added_to(vz);
-        let t1851 = product(t349, t1850);
-        let t1852 = product(t327, t331);
-        let t1853: f64 = t341 * t345;
-        let t1854 = product(t352, t356);
-        let t1855: f64 = t1852.plus(t1853);
-        let t1856: f64 = t1854.plus(t1855);
-        let t1857 = product(t1832, t1856);
-        let t1858: f64 = t1841.plus(t1846);
-        let t1859: f64 = t1851.plus(t1858);
-        let t1860: f64 = t1857.minus(t1859);
-        let t1861: f64 = t301 * t331;
-        let t1862: f64 = t1840 * t1861;
-        let t1863: f64 = t1860 * t1862;
-        let t1864: f64 = t1839.plus(t1863);
-        let t1865: f64 = t325 * t1864;
-        let t1866: f64 = t1834.plus(t1865);
-        let t1867 = product(arm3_zero_x, t1866);
-        let t1868: f64 = t325 * t362;
-        let t1869 = product(t1832, t1868);
-        let t1870: f64 = t320 * t1864;
-        let t1871: f64 = t1869.minus(t1870);
-        let t1872: f64 = t286 * t1871;
-        let t1873: f64 = t1867.plus(t1872);
-        let t1874 = product(vx, t1873);
-        let t1875: f64 = t320 * t703;
-        let t1876 = product(t1832, t1875);
-        let t1877 = product(t361, t1845);
-        let t1878: f64 = t301 * t345;
-        let t1879: f64 = t1840 * t1878;
-        let t1880: f64 = t1860 * t1879;
-        let t1881: f64 = t1877.plus(t1880);
-        let t1882: f64 = t325 * t1881;
-        let t1883: f64 = t1876.plus(t1882);
-        let t1884 = product(arm3_zero_x, t1883);
-        let t1885: f64 = t325 * t703;
-        let t1886 = product(t1832, t1885);
-        let t1887: f64 = t320 * t1881;
-        let t1888: f64 = t1886.minus(t1887);
-        let t1889: f64 = t286 * t1888;
-        let t1890: f64 = t1884.plus(t1889);
-        let t1891: f64 = vy * t1890;
-        let t1892: f64 = t320 * t1002;
-        let t1893 = product(t1832, t1892);
-        let t1894 = product(t361, t1850);
-        let t1895: f64 = t301 * t356;
-        let t1896: f64 = t1840 * t1895;
-        let t1897: f64 = t1860 * t1896;
-        let t1898: f64 = t1894.plus(t1897);
-        let t1899: f64 = t325 * t1898;
-        let t1900: f64 = t1893.plus(t1899);
-        let t1901 = product(arm3_zero_x, t1900);
-        let t1902: f64 = t325 * t1002;
-        let t1903 = product(t1832, t1902);
-        let t1904: f64 = t320 * t1898;
-        let t1905: f64 = t1903.minus(t1904);
-        let t1906: f64 = t286 * t1905;
-        let t1907: f64 = t1901.plus(t1906);
-        let t1908 = product(vz, t1907);
-        let t1909: f64 = t1874.plus(t1891);
-        let t1910: f64 = t1908.plus(t1909);
-        let t1911 = product(t385, t1910);
-        let t1912 = product(arm3_zero_y, t1866);
-        let t1913: f64 = t290 * t1871;
-        let t1914: f64 = t1912.plus(t1913);
-        let t1915 = product(vx, t1914);
-        let t1916 = product(arm3_zero_y, t1883);
-        let t1917: f64 = t290 * t1888;
-        let t1918: f64 = t1916.plus(t1917);
-        let t1919: f64 = vy * t1918;
-        let t1920 = product(arm3_zero_y, t1900);
-        let t1921: f64 = t290 * t1905;
-        let t1922: f64 = t1920.plus(t1921);
-        let t1923 = product(vz, t1922);
-        let t1924: f64 = t1915.plus(t1919);
-        let t1925: f64 = t1923.plus(t1924);
-        let t1926: f64 = t395 * t1925;
-        let t1927 = product(arm3_zero_z, t1866);
-        let t1928: f64 = t294 * t1871;
-        let t1929: f64 = t1927.plus(t1928);
-        let t1930 = product(vx, t1929);
-        let t1931 = product(arm3_zero_z, t1883);
-        let t1932: f64 = t294 * t1888;
-        let t1933: f64 = t1931.plus(t1932);
-        let t1934: f64 = vy * t1933;
-        let t1935 = product(arm3_zero_z, t1900);
-        let t1936: f64 = t294 * t1905;
-        let t1937: f64 = t1935.plus(t1936);
-        let t1938 = product(vz, t1937);
-        let t1939: f64 = t1930.plus(t1934);
-        let t1940: f64 = t1938.plus(t1939);
-        let t1941 = product(t397, t1940);
-        let t1942: f64 = t1911.plus(t1926);
-        let t1943: f64 = t1941.plus(t1942);
-        let t1944 = product(arm3_crank_length, t1943);
-        let t1945: f64 = t1944.added_to(t1827);
-        let t1946: f64 = arm3_rod_mz * t1945;
-        let t1947: f64 = arm3_crank_length * t334;
-        let t1948 = product(t1832, t1947);
-        let t1949: f64 = t1948.subtracted_from(vx);
-        let t1950 = product(t523, t1949);
-        let t1951: f64 = arm3_crank_length * t338;
-        let t1952 = product(t1832, t1951);
-        let t1953: f64 = t1952.subtracted_from(vy);
-        let t1954: f64 = t528 * t1953;
-        let t1955: f64 = arm3_crank_length * t349;
-        let t1956 = product(t1832, t1955);
-        let t1957: f64 = t1956.subtracted_from(vz);
-        let t1958 = product(t532, t1957);
-        let t1959: f64 = t1950.plus(t1954);
-        let t1960: f64 = t1958.plus(t1959);
-        let t1961: f64 = t365 * t1960;
-        let t1962 = product(t385, t1949);
-        let t1963: f64 = t395 * t1953;
-        let t1964 = product(t397, t1957);
-        let t1965: f64 = t1962.plus(t1963);
-        let t1966: f64 = t1964.plus(t1965);
-        let t1967: f64 = t365 * t391;
-        let t1968: f64 = t1966 * t1967;
-        let t1969 = product(t1961, t1968);
-        let t1970: f64 = t1832 * t1832;
-        let t1971 = product(t327, t1970);
-        let t1972: f64 = arm3_crank_length * t1856;
-        let t1973 = product(t1970, t1972);
-        let t1974: f64 = t1949 * t1949;
-        let t1975 = product(t1953, t1953);
-        let t1976: f64 = t1957 * t1957;
-        let t1977: f64 = t1973.plus(t1974);
-        let t1978: f64 = t1975.plus(t1976);
-        let t1979: f64 = t1977 + t1978;
-        let t1980: f64 = t361 * t1979;
-        let t1981: f64 = t334 * t1980;
-        let t1982: f64 = t1971.minus(t1981);
-        let t1983 = product(t385, t1982);
-        let t1984 = product(t341, t1970);
-        let t1985: f64 = t338 * t1980;
-        let t1986: f64 = t1984.minus(t1985);
-        let t1987: f64 = t395 * t1986;
-        let t1988 = product(t352, t1970);
-        let t1989: f64 = t349 * t1980;
-        let t1990: f64 = t1988.minus(t1989);
-        let t1991 = product(t397, t1990);
-        let t1992: f64 = t1983.plus(t1987);
-        let t1993: f64 = t1991.plus(t1992);
-        let t1994: f64 = arm3_crank_length * t365;
-        let t1995: f64 = t1993 * t1994;
-        let t1996: f64 = t1969.plus(t1995);
-        let t1997 = product(t1815, t1820);
-        let t1998: f64 = t1997.subtracted_from(t1996);
-        let t1999: f64 = t1998 * 2.0;
-        (
-            t1000,
-            t1002,
-            t1009,
-            t1010,
-            t1027,
-            t1031,
-            t1046,
-            t1049,
-            t1052,
-            t1058,
-            t1061,
-            t1064,
-            t1070,
-            t1073,
-            t1076,
-            t1095,
-            t1131,
-            t1132,
-            t1136,
-            t1140,
-            t1331,
-            t1332,
-            t1337,
-            t1386,
-            t1403,
-            t1420,
-            t1432,
-            t1447,
-            t1462,
-            t1467,
-            t1520,
-            t1525,
-            t1526,
-            t1531,
-            t1545,
-            t1557,
-            t1563,
-            t1564,
-            t1569,
-            t1571,
-            t1576,
-            t1625,
-            t1642,
-            t1659,
-            t1671,
-            t1686,
-            t1701,
-            t1706,
-            t1759,
-            t1764,
-            t1765,
-            t1770,
-            t1784,
-            t1796,
-            t1802,
-            t1803,
-            t1808,
-            t1810,
-            t1815,
-            t1820,
-            t1822,
-            t1864,
-            t1881,
-            t1898,
-            t1910,
-            t1925,
-            t1940,
-            t1945,
-            t1946,
-            t1961,
-            t1966,
-            t1968,
-            t1982,
-            t1986,
-            t1990,
-            t1994,
-            t1996,
-            t1998,
-            t1999,
-        )
+        let t1513: f64 = t733 * t1512;
+        let t1514: f64 = t1505.plus(t1513);
+        let t1515: f64 = t1509.subtracted_from(t1514);
+        let t1516: f64 = t1515 * t1515;
+        let t1517: f64 = t91 + t630;
+        let t1518: f64 = t809 + t1517;
+        let t1519: f64 = t232 + t638;
+        let t1520: f64 = t817 + t1519;
+        let t1521: f64 = t373 + t646;
+        let t1522: f64 = t825 + t1521;
+        let t1523: f64 = t1518 * t1520;
+        let t1524: f64 = t1522 * t1523;
+        let t1525: f64 = t1516 / t1524;
+        (t1496, t1497, t1498, t1499, t1500, t1501, t1525)
     };
-    let (t2368, t2369, t2370, t2371, t2372, t2373, t2397) = {
-        let t2000 = product(arm3_rod_ixx, t1999);
-        let t2001: f64 = t1822.minus(t1946);
-        let t2002: f64 = t2001 * 2.0;
-        let t2003: f64 = t2000.plus(t2002);
-        let t2004 = product(t1027, t2003);
-        let t2005 = product(vx, t503);
-        let t2006: f64 = vy * t728;
-        let t2007 = product(vz, t1027);
-        let t2008: f64 = t2005.plus(t2006);
-        let t2009: f64 = t2007.plus(t2008);
-        let t2010: f64 = arm3_rod_izz * t1820;
-        let t2011 = product(t2009, t2010);
-        let t2012 = product(gravity_x, t523);
-        let t2013: f64 = gravity_y * t528;
-        let t2014 = product(gravity_z, t532);
-        let t2015: f64 = t2012.plus(t2013);
-        let t2016: f64 = t2014.plus(t2015);
-        let t2017 = product(t523, t1910);
-        let t2018: f64 = t528 * t1925;
-        let t2019 = product(t532, t1940);
-        let t2020: f64 = t2017.plus(t2018);
-        let t2021: f64 = t2019.plus(t2020);
-        let t2022 = product(arm3_crank_length, t2021);
-        let t2023: f64 = t2022.added_to(t2016);
-        let t2024: f64 = arm3_rod_mz * t2023;
-        let t2025: f64 = t365 * t1966;
-        let t2026 = product(t1968, t2025);
-        let t2027 = product(t523, t1982);
-        let t2028: f64 = t528 * t1986;
-        let t2029 = product(t532, t1990);
-        let t2030: f64 = t2027.plus(t2028);
-        let t2031: f64 = t2029.plus(t2030);
-        let t2032: f64 = t1994 * t2031;
-        let t2033: f64 = t2026.minus(t2032);
-        let t2034 = product(t1820, t2009);
-        let t2035: f64 = t2034.subtracted_from(t2033);
-        let t2036: f64 = t2035 * 2.0;
-        let t2037 = product(arm3_rod_ixx, t2036);
-        let t2038: f64 = t2011.plus(t2024);
-        let t2039: f64 = t2038 * 2.0;
-        let t2040: f64 = t2037.plus(t2039);
-        let t2041: f64 = -t2040;
-        let t2042: f64 = t1031 * t2041;
-        let t2043: f64 = t384 * t384;
-        let t2044: f64 = t1961 * t2043;
-        let t2045 = product(t2025, t2044);
-        let t2046: f64 = t391 * t1996;
-        let t2047: f64 = t2045.plus(t2046);
-        let t2048: f64 = arm3_rod_izz * t1009;
-        let t2049 = product(t2047, t2048);
-        let t2050 = product(t711, t2047);
-        let t2051 = product(t691, t1569);
-        let t2052: f64 = t701 * t1808;
-        let t2053: f64 = t2051.plus(t2052);
-        let t2054: f64 = t2050.plus(t2053);
-        let t2055 = product(gravity_x, t62);
-        let t2056: f64 = gravity_y * t66;
-        let t2057 = product(gravity_z, t77);
-        let t2058: f64 = t2055.plus(t2056);
-        let t2059: f64 = t2057.plus(t2058);
-        let t2060 = product(arm1_crank_mx, t2059);
-        let t2061 = product(vx, t1386);
-        let t2062: f64 = vy * t1403;
-        let t2063 = product(vz, t1420);
-        let t2064: f64 = t2061.plus(t2062);
-        let t2065: f64 = t2063.plus(t2064);
-        let t2066 = product(arm1_crank_izz, t2065);
-        let t2067: f64 = t2060.added_to(g1);
-        let t2068: f64 = t2066.subtracted_from(t2067);
-        let t2069 = product(t90, t2068);
-        let t2070 = product(gravity_x, t198);
-        let t2071: f64 = gravity_y * t202;
-        let t2072 = product(gravity_z, t213);
-        let t2073: f64 = t2070.plus(t2071);
-        let t2074: f64 = t2072.plus(t2073);
-        let t2075 = product(arm2_crank_mx, t2074);
-        let t2076 = product(vx, t1625);
-        let t2077: f64 = vy * t1642;
-        let t2078 = product(vz, t1659);
-        let t2079: f64 = t2076.plus(t2077);
-        let t2080: f64 = t2078.plus(t2079);
-        let t2081 = product(arm2_crank_izz, t2080);
-        let t2082: f64 = t2075.added_to(g2);
-        let t2083: f64 = t2081.subtracted_from(t2082);
-        let t2084: f64 = t226 * t2083;
-        let t2085: f64 = t2069.plus(t2084);
-        let t2086 = product(gravity_x, t334);
-        let t2087: f64 = gravity_y * t338;
-        let t2088 = product(gravity_z, t349);
-        let t2089: f64 = t2086.plus(t2087);
-        let t2090: f64 = t2088.plus(t2089);
-        let t2091 = product(arm3_crank_mx, t2090);
-        let t2092 = product(vx, t1864);
-        let t2093: f64 = vy * t1881;
-        let t2094 = product(vz, t1898);
-        let t2095: f64 = t2092.plus(t2093);
-        let t2096: f64 = t2094.plus(t2095);
-        let t2097 = product(arm3_crank_izz, t2096);
-        let t2098: f64 = t2091.added_to(g3);
-        let t2099: f64 = t2097.subtracted_from(t2098);
-        let t2100 = product(t362, t2099);
-        let t2101 = product(gravity_x, platform_mass);
-        let t2102: f64 = t409 * t1525;
-        let t2103: f64 = t2101.minus(t2102);
-        let t2104: f64 = t2100.plus(t2103);
-        let t2105: f64 = t2085 + t2104;
-        let t2106 = product(t444, t1563);
-        let t2107: f64 = t456 * t1764;
-        let t2108: f64 = t2106.plus(t2107);
-        let t2109 = product(t491, t1802);
-        let t2110: f64 = t503 * t2003;
-        let t2111: f64 = t2109.plus(t2110);
-        let t2112: f64 = t2108 + t2111;
-        let t2113 = product(t538, t2041);
-        let t2114 = product(arm1_rod_mass, t1545);
-        let t2115: f64 = arm1_rod_mz * t1557;
-        let t2116: f64 = t2114.plus(t2115);
-        let t2117 = product(t429, t2116);
-        let t2118 = product(arm1_rod_mass, t1467);
-        let t2119: f64 = arm1_rod_mz * t1520;
-        let t2120: f64 = t2118.minus(t2119);
-        let t2121: f64 = t113 * t2120;
-        let t2122 = product(gravity_x, t101);
-        let t2123: f64 = gravity_y * t94;
-        let t2124 = product(gravity_z, t96);
-        let t2125: f64 = t2122.plus(t2123);
-        let t2126: f64 = t2124.plus(t2125);
-        let t2127 = product(t101, t1432);
-        let t2128: f64 = t94 * t1447;
-        let t2129 = product(t96, t1462);
-        let t2130: f64 = t2127.plus(t2128);
-        let t2131: f64 = t2129.plus(t2130);
-        let t2132 = product(arm1_crank_length, t2131);
-        let t2133: f64 = t2132.added_to(t2126);
-        let t2134 = product(arm1_rod_mass, t2133);
-        let t2135 = product(t1531, t1531);
-        let t2136: f64 = t1337 * t1337;
-        let t2137: f64 = t2135.plus(t2136);
-        let t2138: f64 = arm1_rod_mz * t2137;
-        let t2139: f64 = t2134.plus(t2138);
-        let t2140 = product(t101, t2139);
-        let t2141: f64 = t2117.plus(t2121);
-        let t2142: f64 = t2140.plus(t2141);
-        let t2143: f64 = t2142 * 2.0;
-        let t2144 = product(t412, t2143);
-        let t2145 = product(t434, t2116);
-        let t2146: f64 = t123 * t2120;
-        let t2147 = product(t94, t2139);
-        let t2148: f64 = t2145.plus(t2146);
-        let t2149: f64 = t2147.plus(t2148);
-        let t2150: f64 = t2149 * 2.0;
-        let t2151: f64 = t415 * t2150;
-        let t2152 = product(t438, t2116);
-        let t2153: f64 = t125 * t2120;
-        let t2154 = product(t96, t2139);
-        let t2155: f64 = t2152.plus(t2153);
-        let t2156: f64 = t2154.plus(t2155);
-        let t2157: f64 = t2156 * 2.0;
-        let t2158 = product(t418, t2157);
-        let t2159: f64 = t2144.plus(t2151);
-        let t2160: f64 = t2158.plus(t2159);
-        let t2161: f64 = arm1_crank_length * t2160;
-        let t2162: f64 = t2113.plus(t2161);
-        let t2163 = product(arm2_rod_mass, t1784);
-        let t2164: f64 = arm2_rod_mz * t1796;
-        let t2165: f64 = t2163.plus(t2164);
-        let t2166 = product(t476, t2165);
-        let t2167 = product(arm2_rod_mass, t1706);
-        let t2168: f64 = arm2_rod_mz * t1759;
-        let t2169: f64 = t2167.minus(t2168);
-        let t2170: f64 = t249 * t2169;
-        let t2171 = product(gravity_x, t237);
-        let t2172: f64 = gravity_y * t230;
-        let t2173 = product(gravity_z, t232);
-        let t2174: f64 = t2171.plus(t2172);
-        let t2175: f64 = t2173.plus(t2174);
-        let t2176 = product(t237, t1671);
-        let t2177: f64 = t230 * t1686;
-        let t2178 = product(t232, t1701);
-        let t2179: f64 = t2176.plus(t2177);
-        let t2180: f64 = t2178.plus(t2179);
-        let t2181 = product(arm2_crank_length, t2180);
-        let t2182: f64 = t2181.added_to(t2175);
-        let t2183 = product(arm2_rod_mass, t2182);
-        let t2184 = product(t1770, t1770);
-        let t2185: f64 = t1576 * t1576;
-        let t2186: f64 = t2184.plus(t2185);
-        let t2187: f64 = arm2_rod_mz * t2186;
-        let t2188: f64 = t2183.plus(t2187);
-        let t2189 = product(t237, t2188);
-        let t2190: f64 = t2166.plus(t2170);
-        let t2191: f64 = t2189.plus(t2190);
-        let t2192: f64 = t2191 * 2.0;
-        let t2193 = product(t459, t2192);
-        let t2194 = product(t481, t2165);
-        let t2195: f64 = t259 * t2169;
-        let t2196 = product(t230, t2188);
-        let t2197: f64 = t2194.plus(t2195);
-        let t2198: f64 = t2196.plus(t2197);
-        let t2199: f64 = t2198 * 2.0;
-        let t2200: f64 = t462 * t2199;
-        let t2201 = product(t485, t2165);
-        let t2202: f64 = t261 * t2169;
-        let t2203 = product(t232, t2188);
-        let t2204: f64 = t2201.plus(t2202);
-        let t2205: f64 = t2203.plus(t2204);
-        let t2206: f64 = t2205 * 2.0;
-        let t2207 = product(t465, t2206);
-        let t2208: f64 = t2193.plus(t2200);
-        let t2209: f64 = t2207.plus(t2208);
-        let t2210 = product(arm2_crank_length, t2209);
-        let t2211 = product(arm3_rod_mass, t2023);
-        let t2212: f64 = arm3_rod_mz * t2035;
-        let t2213: f64 = t2211.plus(t2212);
-        let t2214 = product(t523, t2213);
-        let t2215 = product(arm3_rod_mass, t1945);
-        let t2216: f64 = arm3_rod_mz * t1998;
-        let t2217: f64 = t2215.minus(t2216);
-        let t2218: f64 = t385 * t2217;
-        let t2219 = product(gravity_x, t373);
-        let t2220: f64 = gravity_y * t366;
-        let t2221 = product(gravity_z, t368);
-        let t2222: f64 = t2219.plus(t2220);
-        let t2223: f64 = t2221.plus(t2222);
-        let t2224 = product(t373, t1910);
-        let t2225: f64 = t366 * t1925;
-        let t2226 = product(t368, t1940);
-        let t2227: f64 = t2224.plus(t2225);
-        let t2228: f64 = t2226.plus(t2227);
-        let t2229 = product(arm3_crank_length, t2228);
-        let t2230: f64 = t2229.added_to(t2223);
-        let t2231 = product(arm3_rod_mass, t2230);
-        let t2232 = product(t2009, t2009);
-        let t2233: f64 = t1815 * t1815;
-        let t2234: f64 = t2232.plus(t2233);
-        let t2235: f64 = arm3_rod_mz * t2234;
-        let t2236: f64 = t2231.plus(t2235);
-        let t2237 = product(t373, t2236);
-        let t2238: f64 = t2214.plus(t2218);
-        let t2239: f64 = t2237.plus(t2238);
-        let t2240: f64 = t2239 * 2.0;
-        let t2241 = product(t506, t2240);
-        let t2242 = product(t528, t2213);
-        let t2243: f64 = t395 * t2217;
-        let t2244 = product(t366, t2236);
-        let t2245: f64 = t2242.plus(t2243);
-        let t2246: f64 = t2244.plus(t2245);
-        let t2247: f64 = t2246 * 2.0;
-        let t2248: f64 = t509 * t2247;
-        let t2249 = product(t532, t2213);
-        let t2250: f64 = t397 * t2217;
-        let t2251 = product(t368, t2236);
-        let t2252: f64 = t2249.plus(t2250);
-        let t2253: f64 = t2251.plus(t2252);
-        let t2254: f64 = t2253 * 2.0;
-        let t2255 = product(t512, t2254);
-        let t2256: f64 = t2241.plus(t2248);
-        let t2257: f64 = t2255.plus(t2256);
-        let t2258: f64 = arm3_crank_length * t2257;
-        let t2259: f64 = t2210.plus(t2258);
-        let t2260: f64 = t2162 + t2259;
-        let t2261: f64 = t2112 + t2260;
-        let t2262: f64 = t2105 - t2261;
-        let t2263: f64 = t2054 * 2.0;
-        let t2264: f64 = t2262 - t2263;
-        let t2265: f64 = t682 * t2264;
-        let t2266 = product(t1095, t2265);
-        let t2267 = product(t1010, t2047);
-        let t2268 = product(t990, t1569);
-        let t2269: f64 = t1000 * t1808;
-        let t2270: f64 = t2268.plus(t2269);
-        let t2271: f64 = t2267.plus(t2270);
-        let t2272 = product(t693, t2083);
-        let t2273: f64 = t703 * t2099;
-        let t2274: f64 = t2272.plus(t2273);
-        let t2275 = product(gravity_y, platform_mass);
-        let t2276: f64 = t714 * t1525;
-        let t2277: f64 = t2275.minus(t2276);
-        let t2278 = product(t718, t1563);
-        let t2279: f64 = t721 * t1764;
-        let t2280: f64 = t2278.plus(t2279);
-        let t2281: f64 = t2277 - t2280;
-        let t2282: f64 = t2274 + t2281;
-        let t2283 = product(t683, t2068);
-        let t2284 = product(t759, t2240);
-        let t2285: f64 = t762 * t2247;
-        let t2286 = product(t765, t2254);
-        let t2287: f64 = t2284.plus(t2285);
-        let t2288: f64 = t2286.plus(t2287);
-        let t2289: f64 = arm3_crank_length * t2288;
-        let t2290: f64 = t2283.minus(t2289);
-        let t2291 = product(t735, t2143);
-        let t2292: f64 = t738 * t2150;
-        let t2293 = product(t741, t2157);
-        let t2294: f64 = t2291.plus(t2292);
-        let t2295: f64 = t2293.plus(t2294);
-        let t2296 = product(arm1_crank_length, t2295);
-        let t2297 = product(t747, t2192);
-        let t2298: f64 = t750 * t2199;
-        let t2299 = product(t753, t2206);
-        let t2300: f64 = t2297.plus(t2298);
-        let t2301: f64 = t2299.plus(t2300);
-        let t2302: f64 = arm2_crank_length * t2301;
-        let t2303: f64 = t2296.plus(t2302);
-        let t2304: f64 = t2290 - t2303;
-        let t2305 = product(t725, t1802);
-        let t2306: f64 = t728 * t2003;
-        let t2307: f64 = t2305.plus(t2306);
-        let t2308 = product(t732, t2041);
-        let t2309: f64 = t784 * t2265;
-        let t2310: f64 = t2308.plus(t2309);
-        let t2311: f64 = t2307 + t2310;
-        let t2312: f64 = t2304 - t2311;
-        let t2313: f64 = t2282 + t2312;
-        let t2314: f64 = t2271 * 2.0;
-        let t2315: f64 = t2313 - t2314;
-        let t2316: f64 = t981 * t2315;
-        let t2317: f64 = t1131 * t2316;
-        let t2318 = product(t1046, t2143);
-        let t2319: f64 = t1049 * t2150;
-        let t2320 = product(t1052, t2157);
-        let t2321: f64 = t2318.plus(t2319);
-        let t2322: f64 = t2320.plus(t2321);
-        let t2323 = product(arm1_crank_length, t2322);
-        let t2324 = product(t1058, t2192);
-        let t2325: f64 = t1061 * t2199;
-        let t2326 = product(t1064, t2206);
-        let t2327: f64 = t2324.plus(t2325);
-        let t2328: f64 = t2326.plus(t2327);
-        let t2329: f64 = arm2_crank_length * t2328;
-        let t2330 = product(t1070, t2240);
-        let t2331: f64 = t1073 * t2247;
-        let t2332 = product(t1076, t2254);
-        let t2333: f64 = t2330.plus(t2331);
-        let t2334: f64 = t2332.plus(t2333);
-        let t2335 = product(arm3_crank_length, t2334);
-        let t2336: f64 = t982 * t2068;
-        let t2337 = product(t992, t2083);
-        let t2338: f64 = t1002 * t2099;
-        let t2339: f64 = t1571.plus(t1810);
-        let t2340: f64 = t2049.plus(t2339);
-        let t2341: f64 = t2340 * 2.0;
-        let t2342: f64 = t1332.plus(t2336);
-        let t2343: f64 = t2337.plus(t2338);
-        let t2344: f64 = t2342 + t2343;
-        let t2345: f64 = t1526.plus(t1564);
-        let t2346: f64 = t1765.plus(t1803);
-        let t2347: f64 = t2004.plus(t2042);
-        let t2348: f64 = t2266.plus(t2317);
-        let t2349: f64 = t2323.plus(t2329);
-        let t2350: f64 = t2335.plus(t2341);
-        let t2351: f64 = t2345 + t2346;
-        let t2352: f64 = t2347 + t2348;
-        let t2353: f64 = t2349 + t2350;
-        let t2354: f64 = t2351 + t2352;
-        let t2355: f64 = t2353 + t2354;
-        let t2356: f64 = t2344 - t2355;
-        let t2357: f64 = t1131 * t1331;
-        let t2358 = product(t2356, t2357);
-        let t2359: f64 = t2358.added_to(t2314);
-        let t2360: f64 = t2313 - t2359;
-        let t2361: f64 = t784 * t981;
-        let t2362 = product(t2360, t2361);
-        let t2363: f64 = t1095 * t1331;
-        let t2364: f64 = t2356 * t2363;
-        let t2365: f64 = t2362.plus(t2364);
-        let t2366: f64 = t2263 + t2365;
-        let t2367: f64 = t2262 - t2366;
-        let t2368: f64 = t682 * t2367;
-        let t2369: f64 = t981 * t2360;
-        let t2370: f64 = t1331 * t2356;
-        let t2371: f64 = t28 * t43;
-        let t2372: f64 = t164 * t179;
-        let t2373: f64 = t300 * t315;
-        let t2374 = product(t693, t1002);
-        let t2375: f64 = t703 * t992;
-        let t2376: f64 = t2374.minus(t2375);
-        let t2377 = product(t90, t2376);
-        let t2378 = product(t226, t1002);
-        let t2379: f64 = t362 * t992;
-        let t2380: f64 = t2378.minus(t2379);
-        let t2381 = product(t683, t2380);
-        let t2382 = product(t226, t703);
-        let t2383: f64 = t362 * t693;
-        let t2384: f64 = t2382.minus(t2383);
-        let t2385: f64 = t982 * t2384;
-        let t2386: f64 = t2377.plus(t2385);
-        let t2387: f64 = t2381.subtracted_from(t2386);
-        let t2388: f64 = t2387 * t2387;
-        let t2389: f64 = t91 + t785;
-        let t2390: f64 = t1132 + t2389;
-        let t2391: f64 = t227 + t789;
-        let t2392: f64 = t1136 + t2391;
-        let t2393: f64 = t363 + t793;
-        let t2394: f64 = t1140 + t2393;
-        let t2395: f64 = t2390 * t2392;
-        let t2396: f64 = t2394 * t2395;
-        let t2397: f64 = t2388 / t2396;
-        (t2368, t2369, t2370, t2371, t2372, t2373, t2397)
-    };
-    ([t2368, t2369, t2370], [t111, t247, t383, t2371, t2372, t2373, t2397])
+    ([t1496, t1497, t1498], [t111, t252, t393, t1499, t1500, t1501, t1525])
 }
 /// Forward kinematics in closed form: the two positions whose arms have the motors' angles.
 ///

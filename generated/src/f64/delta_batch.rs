@@ -2,7 +2,7 @@
 // model: delta; robot: the example of docs/delta.toml (Delta::example())
 //
 // Kernel operation counts (mul, div, add, neg, calls):
-//   inverse_dynamics_params           1115   17   625   40  6 sqrt
+//   inverse_dynamics_params            758   17   451    4  6 sqrt
 //
 // Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
 // handing on what is read after it: one scope that long overflows rustc's stack in a
@@ -161,31 +161,12 @@ fn inverse_dynamics_params_x4_lanes(
         t90,
         t119,
         t134,
-        t146,
-        t160,
-        t164,
-        t168,
-        t171,
         t181,
-        t196,
-        t200,
-        t204,
         t210,
-        t211,
         t225,
-        t230,
-        t235,
-        t237,
-        t241,
-        t244,
-        t248,
         t251,
         t255,
-        t258,
-        t262,
         t266,
-        t270,
-        t271,
         t272,
         t274,
         t275,
@@ -198,99 +179,90 @@ fn inverse_dynamics_params_x4_lanes(
         t286,
         t289,
         t293,
-        t295,
-        t359,
-        t360,
-        t362,
-        t364,
-        t369,
-        t379,
+        t336,
+        t337,
+        t380,
         t381,
-        t384,
-        t386,
-        t396,
-        t401,
-        t405,
-        t416,
-        t421,
+        t400,
+        t404,
+        t408,
         t424,
-        t439,
-        t444,
-        t456,
-        t471,
+        t425,
+        t427,
+        t446,
+        t447,
+        t478,
+        t481,
+        t483,
         t486,
-        t504,
-        t507,
-        t514,
-        t521,
-        t531,
-        t534,
-        t541,
+        t488,
+        t497,
+        t539,
+        t544,
         t548,
-        t558,
-        t563,
-        t567,
-        t570,
-        t626,
-        t631,
+        t561,
+        t562,
+        t581,
+        t582,
+        t613,
+        t616,
+        t618,
+        t621,
+        t623,
         t632,
-        t637,
-        t651,
-        t669,
-        t675,
-        t676,
-        t687,
-        t689,
+        t674,
+        t679,
+        t683,
+        t696,
+        t697,
+        t698,
+        t699,
+        t701,
+        t704,
+        t716,
+        t717,
+        t722,
+        t728,
+        t732,
+        t737,
+        t739,
+        t745,
+        t748,
+        t751,
         t753,
-        t754,
-        t755,
         t756,
         t758,
-        t763,
-        t773,
-        t774,
-        t775,
-        t778,
+        t761,
+        t767,
+        t768,
         t780,
-        t787,
+        t785,
         t790,
         t795,
-        t799,
-        t805,
-        t810,
-        t815,
+        t808,
+        t809,
+        t814,
         t818,
-        t824,
-        t828,
-        t833,
-        t838,
-        t841,
-        t843,
+        t831,
+        t832,
         t850,
-        t865,
-        t880,
-        t898,
-        t901,
+        t857,
+        t866,
+        t872,
+        t874,
+        t907,
         t908,
-        t915,
-        t925,
-        t928,
-        t935,
+        t926,
+        t933,
         t942,
-        t952,
-        t957,
-        t958,
-        t959,
-        t961,
-        t962,
-        t964,
-        t965,
-        t980,
-        t985,
-        t987,
-        t988,
+        t948,
+        t950,
+        t983,
+        t984,
         t989,
-        t990,
+        t994,
+        t995,
+        t996,
         t999,
     ) = {
         let t0: F64x4 = xc - arm1_base_x;
@@ -587,743 +559,724 @@ fn inverse_dynamics_params_x4_lanes(
         let t291: F64x4 = t290.added_to(t278);
         let t292: F64x4 = t285.subtracted_from(t291);
         let t293: F64x4 = F64x4::splat(1.0) / t292;
-        let t294: F64x4 = ax - gravity_x;
-        let t295 = product(platform_mass, t294);
-        let t296 = product(gravity_x, t62);
-        let t297: F64x4 = gravity_y * t66;
-        let t298 = product(gravity_z, t77);
-        let t299: F64x4 = t296.plus(t297);
-        let t300: F64x4 = t298.plus(t299);
-        let t301 = product(arm1_crank_mx, t300);
-        let t302 = product(ax, t90);
-        let t303: F64x4 = ay * t280;
-        let t304 = product(az, t282);
-        let t305 = product(vx, t90);
-        let t306: F64x4 = vy * t280;
-        let t307 = product(vz, t282);
-        let t308: F64x4 = t305.plus(t306);
-        let t309: F64x4 = t307.plus(t308);
-        let t310: F64x4 = t62 * t309;
-        let t311: F64x4 = -t310;
-        let t312 = product(arm1_crank_length, t311);
-        let t313: F64x4 = t312.added_to(vx);
-        let t314 = product(t89, t313);
-        let t315: F64x4 = t88 * t88;
-        let t316 = product(t62, t313);
-        let t317: F64x4 = t66 * t309;
-        let t318: F64x4 = -t317;
-        let t319 = product(arm1_crank_length, t318);
-        let t320: F64x4 = t319.added_to(vy);
-        let t321: F64x4 = t66 * t320;
-        let t322: F64x4 = t77 * t309;
-        let t323: F64x4 = -t322;
-        let t324 = product(arm1_crank_length, t323);
-        let t325: F64x4 = t324.added_to(vz);
-        let t326 = product(t77, t325);
-        let t327 = product(t55, t59);
-        let t328: F64x4 = t69 * t73;
-        let t329 = product(t80, t84);
-        let t330: F64x4 = t327.plus(t328);
-        let t331: F64x4 = t329.plus(t330);
-        let t332 = product(t309, t331);
-        let t333: F64x4 = t316.plus(t321);
-        let t334: F64x4 = t326.plus(t333);
-        let t335: F64x4 = t332.minus(t334);
-        let t336: F64x4 = t29 * t59;
-        let t337: F64x4 = t315 * t336;
-        let t338: F64x4 = t335 * t337;
-        let t339: F64x4 = t314.plus(t338);
-        let t340: F64x4 = vx * t339;
-        let t341 = product(t89, t320);
-        let t342: F64x4 = t29 * t73;
-        let t343: F64x4 = t315 * t342;
-        let t344: F64x4 = t335 * t343;
-        let t345: F64x4 = t341.plus(t344);
-        let t346 = product(vy, t345);
-        let t347 = product(t89, t325);
-        let t348: F64x4 = t29 * t84;
-        let t349: F64x4 = t315 * t348;
-        let t350: F64x4 = t335 * t349;
-        let t351: F64x4 = t347.plus(t350);
-        let t352: F64x4 = vz * t351;
-        let t353: F64x4 = t302.plus(t303);
-        let t354: F64x4 = t304.plus(t340);
-        let t355: F64x4 = t346.plus(t352);
-        let t356: F64x4 = t353 + t354;
-        let t357: F64x4 = t355 + t356;
-        let t358: F64x4 = arm1_crank_izz * t357;
-        let t359: F64x4 = t301.subtracted_from(t358);
-        let t360: F64x4 = t90 * t359;
-        let t361: F64x4 = F64x4::splat(1.0) / arm1_rod_length;
-        let t362: F64x4 = t73 * t361;
-        let t363 = product(arm1_axis_z, t362);
-        let t364: F64x4 = t84 * t361;
-        let t365: F64x4 = arm1_axis_y * t364;
-        let t366: F64x4 = t363.minus(t365);
-        let t367 = product(t366, t366);
-        let t368 = product(arm1_axis_x, t364);
-        let t369: F64x4 = t59 * t361;
-        let t370: F64x4 = arm1_axis_z * t369;
-        let t371: F64x4 = t368.minus(t370);
-        let t372: F64x4 = t371 * t371;
-        let t373 = product(arm1_axis_y, t369);
-        let t374: F64x4 = arm1_axis_x * t362;
-        let t375: F64x4 = t373.minus(t374);
-        let t376 = product(t375, t375);
-        let t377: F64x4 = t367.plus(t372);
+        let t294 = product(ax, t90);
+        let t295: F64x4 = ay * t280;
+        let t296 = product(az, t282);
+        let t297 = product(vx, t90);
+        let t298: F64x4 = vy * t280;
+        let t299 = product(vz, t282);
+        let t300: F64x4 = t297.plus(t298);
+        let t301: F64x4 = t299.plus(t300);
+        let t302: F64x4 = t301 * t301;
+        let t303 = product(t55, t59);
+        let t304: F64x4 = t69 * t73;
+        let t305 = product(t80, t84);
+        let t306: F64x4 = t303.plus(t304);
+        let t307: F64x4 = t305.plus(t306);
+        let t308: F64x4 = arm1_crank_length * t302;
+        let t309 = product(t307, t308);
+        let t310: F64x4 = arm1_crank_length * t62;
+        let t311 = product(t301, t310);
+        let t312: F64x4 = t311.subtracted_from(vx);
+        let t313: F64x4 = t312 * t312;
+        let t314: F64x4 = arm1_crank_length * t66;
+        let t315 = product(t301, t314);
+        let t316: F64x4 = t315.subtracted_from(vy);
+        let t317 = product(t316, t316);
+        let t318: F64x4 = arm1_crank_length * t77;
+        let t319 = product(t301, t318);
+        let t320: F64x4 = t319.subtracted_from(vz);
+        let t321: F64x4 = t320 * t320;
+        let t322: F64x4 = t309.plus(t313);
+        let t323: F64x4 = t317.plus(t321);
+        let t324: F64x4 = t322 + t323;
+        let t325: F64x4 = t89 * t324;
+        let t326: F64x4 = t294.plus(t295);
+        let t327: F64x4 = t296.plus(t325);
+        let t328: F64x4 = t326 + t327;
+        let t329 = product(arm1_crank_izz, t328);
+        let t330 = product(gravity_x, t62);
+        let t331: F64x4 = gravity_y * t66;
+        let t332 = product(gravity_z, t77);
+        let t333: F64x4 = t330.plus(t331);
+        let t334: F64x4 = t332.plus(t333);
+        let t335: F64x4 = arm1_crank_mx * t334;
+        let t336: F64x4 = t329.minus(t335);
+        let t337 = product(t90, t336);
+        let t338 = product(ax, t279);
+        let t339: F64x4 = ay * t181;
+        let t340 = product(az, t274);
+        let t341 = product(vx, t279);
+        let t342: F64x4 = vy * t181;
+        let t343 = product(vz, t274);
+        let t344: F64x4 = t341.plus(t342);
+        let t345: F64x4 = t343.plus(t344);
+        let t346: F64x4 = t345 * t345;
+        let t347 = product(t153, t157);
+        let t348: F64x4 = t146 * t150;
+        let t349 = product(t171, t175);
+        let t350: F64x4 = t347.plus(t348);
+        let t351: F64x4 = t349.plus(t350);
+        let t352: F64x4 = arm2_crank_length * t346;
+        let t353 = product(t351, t352);
+        let t354: F64x4 = arm2_crank_length * t160;
+        let t355 = product(t345, t354);
+        let t356: F64x4 = t355.subtracted_from(vx);
+        let t357: F64x4 = t356 * t356;
+        let t358: F64x4 = arm2_crank_length * t164;
+        let t359 = product(t345, t358);
+        let t360: F64x4 = t359.subtracted_from(vy);
+        let t361 = product(t360, t360);
+        let t362: F64x4 = arm2_crank_length * t168;
+        let t363 = product(t345, t362);
+        let t364: F64x4 = t363.subtracted_from(vz);
+        let t365: F64x4 = t364 * t364;
+        let t366: F64x4 = t353.plus(t357);
+        let t367: F64x4 = t361.plus(t365);
+        let t368: F64x4 = t366 + t367;
+        let t369: F64x4 = t180 * t368;
+        let t370: F64x4 = t338.plus(t339);
+        let t371: F64x4 = t340.plus(t369);
+        let t372: F64x4 = t370 + t371;
+        let t373 = product(arm2_crank_izz, t372);
+        let t374 = product(gravity_x, t160);
+        let t375: F64x4 = gravity_y * t164;
+        let t376 = product(gravity_z, t168);
+        let t377: F64x4 = t374.plus(t375);
         let t378: F64x4 = t376.plus(t377);
-        let t379: F64x4 = t378.sqrt();
-        let t380: F64x4 = F64x4::splat(1.0) / t379;
-        let t381: F64x4 = t366 * t380;
-        let t382: F64x4 = t361 * t381;
-        let t383 = product(t62, t381);
-        let t384: F64x4 = t371 * t380;
-        let t385: F64x4 = t66 * t384;
-        let t386: F64x4 = t375 * t380;
-        let t387 = product(t77, t386);
-        let t388: F64x4 = t383.plus(t385);
+        let t379: F64x4 = arm2_crank_mx * t378;
+        let t380: F64x4 = t373.minus(t379);
+        let t381: F64x4 = t279 * t380;
+        let t382 = product(ax, t286);
+        let t383: F64x4 = ay * t275;
+        let t384 = product(az, t272);
+        let t385 = product(vx, t286);
+        let t386: F64x4 = vy * t275;
+        let t387 = product(vz, t272);
+        let t388: F64x4 = t385.plus(t386);
         let t389: F64x4 = t387.plus(t388);
-        let t390: F64x4 = t361 * t389;
-        let t391: F64x4 = arm1_crank_length * t90;
-        let t392 = product(t390, t391);
-        let t393: F64x4 = t392.subtracted_from(t382);
-        let t394 = product(t364, t384);
-        let t395: F64x4 = t362 * t386;
-        let t396: F64x4 = t394.minus(t395);
-        let t397 = product(t361, t396);
-        let t398 = product(t62, t396);
-        let t399 = product(t369, t386);
-        let t400: F64x4 = t364 * t381;
-        let t401: F64x4 = t399.minus(t400);
-        let t402: F64x4 = t66 * t401;
-        let t403 = product(t362, t381);
-        let t404: F64x4 = t369 * t384;
-        let t405: F64x4 = t403.minus(t404);
-        let t406 = product(t77, t405);
-        let t407: F64x4 = t398.plus(t402);
-        let t408: F64x4 = t406.plus(t407);
-        let t409: F64x4 = t361 * t408;
-        let t410: F64x4 = t391 * t409;
-        let t411: F64x4 = t397.minus(t410);
-        let t412 = product(vx, t411);
-        let t413 = product(t361, t401);
-        let t414: F64x4 = arm1_crank_length * t280;
-        let t415: F64x4 = t409 * t414;
-        let t416: F64x4 = t413.minus(t415);
-        let t417: F64x4 = vy * t416;
-        let t418 = product(t361, t405);
-        let t419: F64x4 = arm1_crank_length * t282;
-        let t420: F64x4 = t409 * t419;
-        let t421: F64x4 = t418.minus(t420);
-        let t422 = product(vz, t421);
-        let t423: F64x4 = t412.plus(t417);
-        let t424: F64x4 = t422.plus(t423);
-        let t425 = product(arm1_axis_x, t369);
-        let t426: F64x4 = arm1_axis_y * t362;
-        let t427 = product(arm1_axis_z, t364);
-        let t428: F64x4 = t425.plus(t426);
-        let t429: F64x4 = t427.plus(t428);
-        let t430: F64x4 = t380 * t429;
-        let t431 = product(t382, t430);
-        let t432: F64x4 = t390 * t430;
-        let t433: F64x4 = t391 * t432;
-        let t434: F64x4 = t431.minus(t433);
-        let t435 = product(vx, t434);
-        let t436: F64x4 = t361 * t384;
-        let t437 = product(t430, t436);
-        let t438: F64x4 = t414 * t432;
-        let t439: F64x4 = t437.minus(t438);
-        let t440: F64x4 = vy * t439;
-        let t441: F64x4 = t361 * t386;
-        let t442 = product(t430, t441);
-        let t443: F64x4 = t419 * t432;
-        let t444: F64x4 = t442.minus(t443);
-        let t445 = product(vz, t444);
-        let t446: F64x4 = t435.plus(t440);
-        let t447: F64x4 = t445.plus(t446);
-        let t448: F64x4 = arm1_rod_izz * t424;
-        let t449 = product(t447, t448);
-        let t450 = product(gravity_x, t381);
-        let t451: F64x4 = gravity_y * t384;
-        let t452 = product(gravity_z, t386);
-        let t453: F64x4 = t450.plus(t451);
-        let t454: F64x4 = t452.plus(t453);
-        let t455: F64x4 = t62 * t90;
-        let t456: F64x4 = -t455;
-        let t457 = product(ax, t456);
-        let t458: F64x4 = t48 * t90;
-        let t459 = product(t309, t458);
-        let t460: F64x4 = t53 * t339;
-        let t461: F64x4 = t459.plus(t460);
-        let t462 = product(arm1_zero_x, t461);
-        let t463: F64x4 = t53 * t90;
-        let t464 = product(t309, t463);
-        let t465: F64x4 = t48 * t339;
-        let t466: F64x4 = t464.minus(t465);
-        let t467: F64x4 = t14 * t466;
-        let t468: F64x4 = t462.plus(t467);
-        let t469: F64x4 = vx * t468;
-        let t470: F64x4 = t62 * t280;
-        let t471: F64x4 = -t470;
-        let t472 = product(ay, t471);
-        let t473: F64x4 = t48 * t280;
-        let t474 = product(t309, t473);
-        let t475: F64x4 = t53 * t345;
-        let t476: F64x4 = t474.plus(t475);
-        let t477 = product(arm1_zero_x, t476);
-        let t478: F64x4 = t53 * t280;
-        let t479 = product(t309, t478);
-        let t480: F64x4 = t48 * t345;
-        let t481: F64x4 = t479.minus(t480);
-        let t482: F64x4 = t14 * t481;
-        let t483: F64x4 = t477.plus(t482);
+        let t390: F64x4 = t389 * t389;
+        let t391 = product(t244, t248);
+        let t392: F64x4 = t258 * t262;
+        let t393 = product(t237, t241);
+        let t394: F64x4 = t391.plus(t392);
+        let t395: F64x4 = t393.plus(t394);
+        let t396: F64x4 = arm3_crank_length * t390;
+        let t397 = product(t395, t396);
+        let t398: F64x4 = arm3_crank_length * t251;
+        let t399 = product(t389, t398);
+        let t400: F64x4 = t399.subtracted_from(vx);
+        let t401: F64x4 = t400 * t400;
+        let t402: F64x4 = arm3_crank_length * t255;
+        let t403 = product(t389, t402);
+        let t404: F64x4 = t403.subtracted_from(vy);
+        let t405 = product(t404, t404);
+        let t406: F64x4 = arm3_crank_length * t266;
+        let t407 = product(t389, t406);
+        let t408: F64x4 = t407.subtracted_from(vz);
+        let t409: F64x4 = t408 * t408;
+        let t410: F64x4 = t397.plus(t401);
+        let t411: F64x4 = t405.plus(t409);
+        let t412: F64x4 = t410 + t411;
+        let t413: F64x4 = t271 * t412;
+        let t414: F64x4 = t382.plus(t383);
+        let t415: F64x4 = t384.plus(t413);
+        let t416: F64x4 = t414 + t415;
+        let t417 = product(arm3_crank_izz, t416);
+        let t418 = product(gravity_x, t251);
+        let t419: F64x4 = gravity_y * t255;
+        let t420 = product(gravity_z, t266);
+        let t421: F64x4 = t418.plus(t419);
+        let t422: F64x4 = t420.plus(t421);
+        let t423: F64x4 = arm3_crank_mx * t422;
+        let t424: F64x4 = t417.minus(t423);
+        let t425 = product(t286, t424);
+        let t426: F64x4 = ax - gravity_x;
+        let t427: F64x4 = platform_mass * t426;
+        let t428: F64x4 = F64x4::splat(1.0) / arm1_rod_length;
+        let t429: F64x4 = t84 * t428;
+        let t430 = product(arm1_axis_x, t429);
+        let t431: F64x4 = t59 * t428;
+        let t432: F64x4 = arm1_axis_z * t431;
+        let t433: F64x4 = t430.minus(t432);
+        let t434: F64x4 = t73 * t428;
+        let t435 = product(arm1_axis_z, t434);
+        let t436: F64x4 = arm1_axis_y * t429;
+        let t437: F64x4 = t435.minus(t436);
+        let t438 = product(t437, t437);
+        let t439: F64x4 = t433 * t433;
+        let t440 = product(arm1_axis_y, t431);
+        let t441: F64x4 = arm1_axis_x * t434;
+        let t442: F64x4 = t440.minus(t441);
+        let t443 = product(t442, t442);
+        let t444: F64x4 = t438.plus(t439);
+        let t445: F64x4 = t443.plus(t444);
+        let t446: F64x4 = t445.sqrt();
+        let t447: F64x4 = F64x4::splat(1.0) / t446;
+        let t448: F64x4 = t433 * t447;
+        let t449 = product(t429, t448);
+        let t450: F64x4 = t442 * t447;
+        let t451: F64x4 = t434 * t450;
+        let t452: F64x4 = t449.minus(t451);
+        let t453 = product(t428, t452);
+        let t454 = product(t62, t452);
+        let t455 = product(t431, t450);
+        let t456: F64x4 = t437 * t447;
+        let t457: F64x4 = t429 * t456;
+        let t458: F64x4 = t455.minus(t457);
+        let t459: F64x4 = t66 * t458;
+        let t460 = product(t434, t456);
+        let t461: F64x4 = t431 * t448;
+        let t462: F64x4 = t460.minus(t461);
+        let t463 = product(t77, t462);
+        let t464: F64x4 = t454.plus(t459);
+        let t465: F64x4 = t463.plus(t464);
+        let t466: F64x4 = t428 * t465;
+        let t467: F64x4 = arm1_crank_length * t90;
+        let t468: F64x4 = t466 * t467;
+        let t469: F64x4 = t453.minus(t468);
+        let t470 = product(t428, t456);
+        let t471 = product(t62, t456);
+        let t472: F64x4 = t66 * t448;
+        let t473 = product(t77, t450);
+        let t474: F64x4 = t471.plus(t472);
+        let t475: F64x4 = t473.plus(t474);
+        let t476: F64x4 = t428 * t475;
+        let t477: F64x4 = t467 * t476;
+        let t478: F64x4 = t470.minus(t477);
+        let t479 = product(vx, t478);
+        let t480 = product(t428, t448);
+        let t481: F64x4 = arm1_crank_length * t280;
+        let t482: F64x4 = t476 * t481;
+        let t483: F64x4 = t480.minus(t482);
         let t484: F64x4 = vy * t483;
-        let t485: F64x4 = t62 * t282;
-        let t486: F64x4 = -t485;
-        let t487 = product(az, t486);
-        let t488: F64x4 = t48 * t282;
-        let t489 = product(t309, t488);
-        let t490: F64x4 = t53 * t351;
+        let t485 = product(t428, t450);
+        let t486: F64x4 = arm1_crank_length * t282;
+        let t487: F64x4 = t476 * t486;
+        let t488: F64x4 = t485.minus(t487);
+        let t489 = product(vz, t488);
+        let t490: F64x4 = t479.plus(t484);
         let t491: F64x4 = t489.plus(t490);
-        let t492 = product(arm1_zero_x, t491);
-        let t493: F64x4 = t53 * t282;
-        let t494 = product(t309, t493);
-        let t495: F64x4 = t48 * t351;
-        let t496: F64x4 = t494.minus(t495);
-        let t497: F64x4 = t14 * t496;
-        let t498: F64x4 = t492.plus(t497);
-        let t499: F64x4 = vz * t498;
-        let t500: F64x4 = t457.plus(t469);
-        let t501: F64x4 = t472.plus(t484);
-        let t502: F64x4 = t487.plus(t499);
-        let t503: F64x4 = t500 + t501;
-        let t504: F64x4 = t502 + t503;
-        let t505 = product(t381, t504);
-        let t506: F64x4 = t66 * t90;
-        let t507: F64x4 = -t506;
-        let t508 = product(ax, t507);
-        let t509 = product(arm1_zero_y, t461);
-        let t510: F64x4 = t18 * t466;
-        let t511: F64x4 = t509.plus(t510);
-        let t512: F64x4 = vx * t511;
-        let t513: F64x4 = t66 * t280;
-        let t514: F64x4 = -t513;
-        let t515 = product(ay, t514);
-        let t516 = product(arm1_zero_y, t476);
-        let t517: F64x4 = t18 * t481;
-        let t518: F64x4 = t516.plus(t517);
-        let t519: F64x4 = vy * t518;
-        let t520: F64x4 = t66 * t282;
-        let t521: F64x4 = -t520;
-        let t522 = product(az, t521);
-        let t523 = product(arm1_zero_y, t491);
-        let t524: F64x4 = t18 * t496;
-        let t525: F64x4 = t523.plus(t524);
-        let t526: F64x4 = vz * t525;
-        let t527: F64x4 = t508.plus(t512);
-        let t528: F64x4 = t515.plus(t519);
-        let t529: F64x4 = t522.plus(t526);
-        let t530: F64x4 = t527 + t528;
-        let t531: F64x4 = t529 + t530;
-        let t532: F64x4 = t384 * t531;
-        let t533: F64x4 = t77 * t90;
-        let t534: F64x4 = -t533;
-        let t535 = product(ax, t534);
-        let t536 = product(arm1_zero_z, t461);
-        let t537: F64x4 = t22 * t466;
-        let t538: F64x4 = t536.plus(t537);
-        let t539: F64x4 = vx * t538;
-        let t540: F64x4 = t77 * t280;
-        let t541: F64x4 = -t540;
-        let t542 = product(ay, t541);
-        let t543 = product(arm1_zero_z, t476);
-        let t544: F64x4 = t22 * t481;
-        let t545: F64x4 = t543.plus(t544);
-        let t546: F64x4 = vy * t545;
-        let t547: F64x4 = t77 * t282;
-        let t548: F64x4 = -t547;
+        let t492 = product(arm1_axis_x, t431);
+        let t493: F64x4 = arm1_axis_y * t434;
+        let t494 = product(arm1_axis_z, t429);
+        let t495: F64x4 = t492.plus(t493);
+        let t496: F64x4 = t494.plus(t495);
+        let t497: F64x4 = t447 * t496;
+        let t498: F64x4 = t491 * t497;
+        let t499: F64x4 = arm1_rod_izz * t491;
+        let t500 = product(t498, t499);
+        let t501 = product(gravity_x, t452);
+        let t502: F64x4 = gravity_y * t458;
+        let t503 = product(gravity_z, t462);
+        let t504: F64x4 = t501.plus(t502);
+        let t505: F64x4 = t503.plus(t504);
+        let t506 = product(ax, t467);
+        let t507: F64x4 = ay * t481;
+        let t508 = product(az, t486);
+        let t509: F64x4 = t506.plus(t507);
+        let t510: F64x4 = t508.plus(t509);
+        let t511 = product(t465, t510);
+        let t512 = product(t77, t325);
+        let t513: F64x4 = t80 * t302;
+        let t514: F64x4 = t512.minus(t513);
+        let t515: F64x4 = arm1_crank_length * t514;
+        let t516 = product(t462, t515);
+        let t517 = product(t62, t325);
+        let t518: F64x4 = t55 * t302;
+        let t519: F64x4 = t517.minus(t518);
+        let t520: F64x4 = arm1_crank_length * t519;
+        let t521 = product(t452, t520);
+        let t522 = product(t66, t325);
+        let t523: F64x4 = t69 * t302;
+        let t524: F64x4 = t522.minus(t523);
+        let t525: F64x4 = arm1_crank_length * t524;
+        let t526: F64x4 = t458 * t525;
+        let t527: F64x4 = t521.plus(t526);
+        let t528: F64x4 = t516.plus(t527);
+        let t529: F64x4 = t511.plus(t528);
+        let t530: F64x4 = t529 - t505;
+        let t531: F64x4 = arm1_rod_mz * t530;
+        let t532 = product(t312, t456);
+        let t533: F64x4 = t316 * t448;
+        let t534 = product(t320, t450);
+        let t535: F64x4 = t532.plus(t533);
+        let t536: F64x4 = t534.plus(t535);
+        let t537: F64x4 = t428 * t497;
+        let t538: F64x4 = t536 * t537;
+        let t539: F64x4 = t428 * t536;
+        let t540 = product(t538, t539);
+        let t541 = product(ax, t469);
+        let t542 = product(t428, t458);
+        let t543: F64x4 = t466 * t481;
+        let t544: F64x4 = t542.minus(t543);
+        let t545: F64x4 = ay * t544;
+        let t546 = product(t428, t462);
+        let t547: F64x4 = t466 * t486;
+        let t548: F64x4 = t546.minus(t547);
         let t549 = product(az, t548);
-        let t550 = product(arm1_zero_z, t491);
-        let t551: F64x4 = t22 * t496;
-        let t552: F64x4 = t550.plus(t551);
-        let t553: F64x4 = vz * t552;
-        let t554: F64x4 = t535.plus(t539);
-        let t555: F64x4 = t542.plus(t546);
-        let t556: F64x4 = t549.plus(t553);
-        let t557: F64x4 = t554 + t555;
-        let t558: F64x4 = t556 + t557;
-        let t559 = product(t386, t558);
-        let t560: F64x4 = t505.plus(t532);
-        let t561: F64x4 = t559.plus(t560);
-        let t562 = product(arm1_crank_length, t561);
-        let t563: F64x4 = t562.added_to(t454);
-        let t564: F64x4 = arm1_rod_mz * t563;
-        let t565 = product(ax, t393);
-        let t566 = product(t390, t414);
-        let t567: F64x4 = t566.subtracted_from(t436);
-        let t568: F64x4 = ay * t567;
-        let t569 = product(t390, t419);
-        let t570: F64x4 = t569.subtracted_from(t441);
-        let t571 = product(az, t570);
-        let t572: F64x4 = arm1_crank_length * t62;
-        let t573 = product(t309, t572);
-        let t574: F64x4 = t573.subtracted_from(vx);
-        let t575 = product(t396, t574);
-        let t576: F64x4 = arm1_crank_length * t66;
-        let t577 = product(t309, t576);
-        let t578: F64x4 = t577.subtracted_from(vy);
-        let t579: F64x4 = t401 * t578;
-        let t580: F64x4 = arm1_crank_length * t77;
-        let t581 = product(t309, t580);
-        let t582: F64x4 = t581.subtracted_from(vz);
-        let t583 = product(t405, t582);
-        let t584: F64x4 = t575.plus(t579);
-        let t585: F64x4 = t583.plus(t584);
-        let t586: F64x4 = t361 * t585;
-        let t587 = product(t381, t574);
-        let t588: F64x4 = t384 * t578;
-        let t589 = product(t386, t582);
-        let t590: F64x4 = t587.plus(t588);
-        let t591: F64x4 = t589.plus(t590);
-        let t592: F64x4 = t361 * t430;
-        let t593: F64x4 = t591 * t592;
-        let t594 = product(t586, t593);
-        let t595: F64x4 = t309 * t309;
-        let t596 = product(t55, t595);
-        let t597: F64x4 = arm1_crank_length * t595;
-        let t598 = product(t331, t597);
-        let t599: F64x4 = t574 * t574;
-        let t600 = product(t578, t578);
-        let t601: F64x4 = t582 * t582;
-        let t602: F64x4 = t598.plus(t599);
-        let t603: F64x4 = t600.plus(t601);
-        let t604: F64x4 = t602 + t603;
-        let t605: F64x4 = t89 * t604;
-        let t606: F64x4 = t62 * t605;
-        let t607: F64x4 = t596.minus(t606);
-        let t608 = product(t381, t607);
-        let t609 = product(t69, t595);
-        let t610: F64x4 = t66 * t605;
-        let t611: F64x4 = t609.minus(t610);
-        let t612: F64x4 = t384 * t611;
-        let t613 = product(t80, t595);
-        let t614: F64x4 = t77 * t605;
-        let t615: F64x4 = t613.minus(t614);
-        let t616 = product(t386, t615);
-        let t617: F64x4 = t608.plus(t612);
-        let t618: F64x4 = t616.plus(t617);
-        let t619: F64x4 = arm1_crank_length * t361;
-        let t620: F64x4 = t618 * t619;
-        let t621: F64x4 = t594.plus(t620);
-        let t622: F64x4 = t565.plus(t568);
-        let t623: F64x4 = t571.plus(t621);
-        let t624: F64x4 = t622 + t623;
-        let t625 = product(t424, t447);
-        let t626: F64x4 = t625.subtracted_from(t624);
-        let t627: F64x4 = t626 * F64x4::splat(2.0);
-        let t628 = product(arm1_rod_ixx, t627);
-        let t629: F64x4 = t449.minus(t564);
-        let t630: F64x4 = t629 * F64x4::splat(2.0);
-        let t631: F64x4 = t628.plus(t630);
-        let t632 = product(t393, t631);
-        let t633 = product(vx, t393);
-        let t634: F64x4 = vy * t567;
-        let t635 = product(vz, t570);
-        let t636: F64x4 = t633.plus(t634);
-        let t637: F64x4 = t635.plus(t636);
-        let t638: F64x4 = arm1_rod_izz * t447;
-        let t639 = product(t637, t638);
-        let t640 = product(gravity_x, t396);
-        let t641: F64x4 = gravity_y * t401;
-        let t642 = product(gravity_z, t405);
-        let t643: F64x4 = t640.plus(t641);
-        let t644: F64x4 = t642.plus(t643);
-        let t645 = product(t396, t504);
-        let t646: F64x4 = t401 * t531;
-        let t647 = product(t405, t558);
-        let t648: F64x4 = t645.plus(t646);
-        let t649: F64x4 = t647.plus(t648);
-        let t650 = product(arm1_crank_length, t649);
-        let t651: F64x4 = t650.added_to(t644);
-        let t652: F64x4 = arm1_rod_mz * t651;
-        let t653: F64x4 = t361 * t591;
-        let t654 = product(t593, t653);
-        let t655 = product(ax, t411);
-        let t656: F64x4 = ay * t416;
-        let t657 = product(az, t421);
-        let t658 = product(t396, t607);
-        let t659: F64x4 = t401 * t611;
-        let t660 = product(t405, t615);
-        let t661: F64x4 = t658.plus(t659);
-        let t662: F64x4 = t660.plus(t661);
-        let t663: F64x4 = t619 * t662;
-        let t664: F64x4 = t655.plus(t656);
-        let t665: F64x4 = t657.plus(t663);
-        let t666: F64x4 = t664 + t665;
-        let t667: F64x4 = t654.minus(t666);
-        let t668 = product(t447, t637);
-        let t669: F64x4 = t668.subtracted_from(t667);
-        let t670: F64x4 = t669 * F64x4::splat(2.0);
-        let t671 = product(arm1_rod_ixx, t670);
-        let t672: F64x4 = t639.plus(t652);
-        let t673: F64x4 = t672 * F64x4::splat(2.0);
-        let t674: F64x4 = t671.plus(t673);
-        let t675: F64x4 = -t674;
-        let t676: F64x4 = t411 * t675;
-        let t677: F64x4 = t380 * t380;
-        let t678: F64x4 = t586 * t677;
-        let t679 = product(t653, t678);
-        let t680: F64x4 = ax * t434;
-        let t681 = product(ay, t439);
-        let t682: F64x4 = az * t444;
-        let t683 = product(t430, t621);
-        let t684: F64x4 = t679.plus(t680);
-        let t685: F64x4 = t681.plus(t682);
-        let t686: F64x4 = t684 + t685;
-        let t687: F64x4 = t683.plus(t686);
-        let t688: F64x4 = arm1_rod_izz * t434;
-        let t689 = product(t687, t688);
-        let t690 = product(gravity_x, t160);
-        let t691: F64x4 = gravity_y * t164;
-        let t692 = product(gravity_z, t168);
-        let t693: F64x4 = t690.plus(t691);
-        let t694: F64x4 = t692.plus(t693);
-        let t695 = product(arm2_crank_mx, t694);
-        let t696 = product(ax, t279);
-        let t697: F64x4 = ay * t181;
-        let t698 = product(az, t274);
-        let t699 = product(vx, t279);
-        let t700: F64x4 = vy * t181;
-        let t701 = product(vz, t274);
-        let t702: F64x4 = t699.plus(t700);
-        let t703: F64x4 = t701.plus(t702);
-        let t704: F64x4 = t160 * t703;
-        let t705: F64x4 = -t704;
-        let t706 = product(arm2_crank_length, t705);
-        let t707: F64x4 = t706.added_to(vx);
-        let t708 = product(t180, t707);
-        let t709: F64x4 = t179 * t179;
-        let t710 = product(t160, t707);
-        let t711: F64x4 = t164 * t703;
-        let t712: F64x4 = -t711;
-        let t713 = product(arm2_crank_length, t712);
-        let t714: F64x4 = t713.added_to(vy);
-        let t715: F64x4 = t164 * t714;
-        let t716: F64x4 = t168 * t703;
-        let t717: F64x4 = -t716;
-        let t718 = product(arm2_crank_length, t717);
-        let t719: F64x4 = t718.added_to(vz);
-        let t720 = product(t168, t719);
-        let t721 = product(t153, t157);
-        let t722: F64x4 = t146 * t150;
-        let t723 = product(t171, t175);
-        let t724: F64x4 = t721.plus(t722);
-        let t725: F64x4 = t723.plus(t724);
-        let t726 = product(t703, t725);
-        let t727: F64x4 = t710.plus(t715);
-        let t728: F64x4 = t720.plus(t727);
-        let t729: F64x4 = t726.minus(t728);
-        let t730: F64x4 = t120 * t157;
-        let t731: F64x4 = t709 * t730;
-        let t732: F64x4 = t729 * t731;
-        let t733: F64x4 = t708.plus(t732);
-        let t734: F64x4 = vx * t733;
-        let t735 = product(t180, t714);
-        let t736: F64x4 = t120 * t150;
-        let t737: F64x4 = t709 * t736;
-        let t738: F64x4 = t729 * t737;
-        let t739: F64x4 = t735.plus(t738);
-        let t740 = product(vy, t739);
-        let t741 = product(t180, t719);
-        let t742: F64x4 = t120 * t175;
-        let t743: F64x4 = t709 * t742;
-        let t744: F64x4 = t729 * t743;
-        let t745: F64x4 = t741.plus(t744);
-        let t746: F64x4 = vz * t745;
-        let t747: F64x4 = t696.plus(t697);
-        let t748: F64x4 = t698.plus(t734);
-        let t749: F64x4 = t740.plus(t746);
-        let t750: F64x4 = t747 + t748;
-        let t751: F64x4 = t749 + t750;
-        let t752: F64x4 = arm2_crank_izz * t751;
-        let t753: F64x4 = t695.subtracted_from(t752);
-        let t754 = product(t279, t753);
-        let t755: F64x4 = F64x4::splat(1.0) / arm2_rod_length;
-        let t756: F64x4 = t150 * t755;
-        let t757 = product(arm2_axis_z, t756);
-        let t758: F64x4 = t175 * t755;
-        let t759: F64x4 = arm2_axis_y * t758;
-        let t760: F64x4 = t757.minus(t759);
-        let t761 = product(t760, t760);
-        let t762 = product(arm2_axis_x, t758);
-        let t763: F64x4 = t157 * t755;
-        let t764: F64x4 = arm2_axis_z * t763;
-        let t765: F64x4 = t762.minus(t764);
-        let t766: F64x4 = t765 * t765;
-        let t767 = product(arm2_axis_y, t763);
-        let t768: F64x4 = arm2_axis_x * t756;
-        let t769: F64x4 = t767.minus(t768);
-        let t770 = product(t769, t769);
-        let t771: F64x4 = t761.plus(t766);
-        let t772: F64x4 = t770.plus(t771);
-        let t773: F64x4 = t772.sqrt();
-        let t774: F64x4 = F64x4::splat(1.0) / t773;
-        let t775: F64x4 = t760 * t774;
-        let t776: F64x4 = t755 * t775;
-        let t777 = product(t160, t775);
-        let t778: F64x4 = t765 * t774;
-        let t779: F64x4 = t164 * t778;
-        let t780: F64x4 = t769 * t774;
-        let t781 = product(t168, t780);
-        let t782: F64x4 = t777.plus(t779);
-        let t783: F64x4 = t781.plus(t782);
-        let t784: F64x4 = t755 * t783;
-        let t785: F64x4 = arm2_crank_length * t279;
-        let t786 = product(t784, t785);
-        let t787: F64x4 = t786.subtracted_from(t776);
-        let t788 = product(t758, t778);
-        let t789: F64x4 = t756 * t780;
-        let t790: F64x4 = t788.minus(t789);
-        let t791 = product(t755, t790);
-        let t792 = product(t160, t790);
-        let t793 = product(t763, t780);
-        let t794: F64x4 = t758 * t775;
-        let t795: F64x4 = t793.minus(t794);
-        let t796: F64x4 = t164 * t795;
-        let t797 = product(t756, t775);
-        let t798: F64x4 = t763 * t778;
-        let t799: F64x4 = t797.minus(t798);
-        let t800 = product(t168, t799);
-        let t801: F64x4 = t792.plus(t796);
-        let t802: F64x4 = t800.plus(t801);
-        let t803: F64x4 = t755 * t802;
-        let t804: F64x4 = t785 * t803;
-        let t805: F64x4 = t791.minus(t804);
-        let t806 = product(vx, t805);
-        let t807 = product(t755, t795);
-        let t808: F64x4 = arm2_crank_length * t181;
-        let t809: F64x4 = t803 * t808;
-        let t810: F64x4 = t807.minus(t809);
-        let t811: F64x4 = vy * t810;
-        let t812 = product(t755, t799);
-        let t813: F64x4 = arm2_crank_length * t274;
-        let t814: F64x4 = t803 * t813;
-        let t815: F64x4 = t812.minus(t814);
-        let t816 = product(vz, t815);
-        let t817: F64x4 = t806.plus(t811);
-        let t818: F64x4 = t816.plus(t817);
-        let t819 = product(arm2_axis_x, t763);
-        let t820: F64x4 = arm2_axis_y * t756;
-        let t821 = product(arm2_axis_z, t758);
-        let t822: F64x4 = t819.plus(t820);
-        let t823: F64x4 = t821.plus(t822);
-        let t824: F64x4 = t774 * t823;
-        let t825 = product(t776, t824);
-        let t826: F64x4 = t784 * t824;
-        let t827: F64x4 = t785 * t826;
-        let t828: F64x4 = t825.minus(t827);
-        let t829 = product(vx, t828);
-        let t830: F64x4 = t755 * t778;
-        let t831 = product(t824, t830);
-        let t832: F64x4 = t808 * t826;
-        let t833: F64x4 = t831.minus(t832);
-        let t834: F64x4 = vy * t833;
-        let t835: F64x4 = t755 * t780;
-        let t836 = product(t824, t835);
-        let t837: F64x4 = t813 * t826;
-        let t838: F64x4 = t836.minus(t837);
-        let t839 = product(vz, t838);
-        let t840: F64x4 = t829.plus(t834);
-        let t841: F64x4 = t839.plus(t840);
-        let t842: F64x4 = arm2_rod_izz * t818;
-        let t843 = product(t841, t842);
-        let t844 = product(gravity_x, t775);
-        let t845: F64x4 = gravity_y * t778;
-        let t846 = product(gravity_z, t780);
-        let t847: F64x4 = t844.plus(t845);
-        let t848: F64x4 = t846.plus(t847);
-        let t849: F64x4 = t160 * t279;
-        let t850: F64x4 = -t849;
-        let t851 = product(ax, t850);
-        let t852: F64x4 = t139 * t279;
-        let t853 = product(t703, t852);
-        let t854: F64x4 = t144 * t733;
-        let t855: F64x4 = t853.plus(t854);
-        let t856 = product(arm2_zero_x, t855);
-        let t857: F64x4 = t144 * t279;
-        let t858 = product(t703, t857);
-        let t859: F64x4 = t139 * t733;
-        let t860: F64x4 = t858.minus(t859);
-        let t861: F64x4 = t105 * t860;
-        let t862: F64x4 = t856.plus(t861);
-        let t863: F64x4 = vx * t862;
-        let t864: F64x4 = t160 * t181;
-        let t865: F64x4 = -t864;
-        let t866 = product(ay, t865);
-        let t867: F64x4 = t139 * t181;
-        let t868 = product(t703, t867);
-        let t869: F64x4 = t144 * t739;
-        let t870: F64x4 = t868.plus(t869);
-        let t871 = product(arm2_zero_x, t870);
-        let t872: F64x4 = t144 * t181;
-        let t873 = product(t703, t872);
-        let t874: F64x4 = t139 * t739;
-        let t875: F64x4 = t873.minus(t874);
-        let t876: F64x4 = t105 * t875;
-        let t877: F64x4 = t871.plus(t876);
-        let t878: F64x4 = vy * t877;
-        let t879: F64x4 = t160 * t274;
-        let t880: F64x4 = -t879;
-        let t881 = product(az, t880);
-        let t882: F64x4 = t139 * t274;
-        let t883 = product(t703, t882);
-        let t884: F64x4 = t144 * t745;
-        let t885: F64x4 = t883.plus(t884);
-        let t886 = product(arm2_zero_x, t885);
-        let t887: F64x4 = t144 * t274;
-        let t888 = product(t703, t887);
-        let t889: F64x4 = t139 * t745;
-        let t890: F64x4 = t888.minus(t889);
-        let t891: F64x4 = t105 * t890;
-        let t892: F64x4 = t886.plus(t891);
-        let t893: F64x4 = vz * t892;
-        let t894: F64x4 = t851.plus(t863);
-        let t895: F64x4 = t866.plus(t878);
-        let t896: F64x4 = t881.plus(t893);
-        let t897: F64x4 = t894 + t895;
-        let t898: F64x4 = t896 + t897;
-        let t899 = product(t775, t898);
-        let t900: F64x4 = t164 * t279;
-        let t901: F64x4 = -t900;
-        let t902 = product(ax, t901);
-        let t903 = product(arm2_zero_y, t855);
-        let t904: F64x4 = t109 * t860;
-        let t905: F64x4 = t903.plus(t904);
-        let t906: F64x4 = vx * t905;
-        let t907: F64x4 = t164 * t181;
-        let t908: F64x4 = -t907;
-        let t909 = product(ay, t908);
-        let t910 = product(arm2_zero_y, t870);
-        let t911: F64x4 = t109 * t875;
-        let t912: F64x4 = t910.plus(t911);
-        let t913: F64x4 = vy * t912;
-        let t914: F64x4 = t164 * t274;
-        let t915: F64x4 = -t914;
-        let t916 = product(az, t915);
-        let t917 = product(arm2_zero_y, t885);
-        let t918: F64x4 = t109 * t890;
-        let t919: F64x4 = t917.plus(t918);
-        let t920: F64x4 = vz * t919;
-        let t921: F64x4 = t902.plus(t906);
-        let t922: F64x4 = t909.plus(t913);
-        let t923: F64x4 = t916.plus(t920);
-        let t924: F64x4 = t921 + t922;
-        let t925: F64x4 = t923 + t924;
-        let t926: F64x4 = t778 * t925;
-        let t927: F64x4 = t168 * t279;
-        let t928: F64x4 = -t927;
-        let t929 = product(ax, t928);
-        let t930 = product(arm2_zero_z, t855);
-        let t931: F64x4 = t113 * t860;
+        let t550: F64x4 = t428 * t528;
+        let t551: F64x4 = t540.plus(t550);
+        let t552: F64x4 = t541.plus(t545);
+        let t553: F64x4 = t549.plus(t552);
+        let t554: F64x4 = t551 - t553;
+        let t555 = product(t491, t498);
+        let t556: F64x4 = t555.subtracted_from(t554);
+        let t557: F64x4 = t556 * F64x4::splat(2.0);
+        let t558 = product(arm1_rod_ixx, t557);
+        let t559: F64x4 = t500.minus(t531);
+        let t560: F64x4 = t559 * F64x4::splat(2.0);
+        let t561: F64x4 = t558.plus(t560);
+        let t562 = product(t469, t561);
+        let t563: F64x4 = F64x4::splat(1.0) / arm2_rod_length;
+        let t564: F64x4 = t175 * t563;
+        let t565 = product(arm2_axis_x, t564);
+        let t566: F64x4 = t157 * t563;
+        let t567: F64x4 = arm2_axis_z * t566;
+        let t568: F64x4 = t565.minus(t567);
+        let t569: F64x4 = t150 * t563;
+        let t570 = product(arm2_axis_z, t569);
+        let t571: F64x4 = arm2_axis_y * t564;
+        let t572: F64x4 = t570.minus(t571);
+        let t573 = product(t572, t572);
+        let t574: F64x4 = t568 * t568;
+        let t575 = product(arm2_axis_y, t566);
+        let t576: F64x4 = arm2_axis_x * t569;
+        let t577: F64x4 = t575.minus(t576);
+        let t578 = product(t577, t577);
+        let t579: F64x4 = t573.plus(t574);
+        let t580: F64x4 = t578.plus(t579);
+        let t581: F64x4 = t580.sqrt();
+        let t582: F64x4 = F64x4::splat(1.0) / t581;
+        let t583: F64x4 = t568 * t582;
+        let t584 = product(t564, t583);
+        let t585: F64x4 = t577 * t582;
+        let t586: F64x4 = t569 * t585;
+        let t587: F64x4 = t584.minus(t586);
+        let t588 = product(t563, t587);
+        let t589 = product(t160, t587);
+        let t590 = product(t566, t585);
+        let t591: F64x4 = t572 * t582;
+        let t592: F64x4 = t564 * t591;
+        let t593: F64x4 = t590.minus(t592);
+        let t594: F64x4 = t164 * t593;
+        let t595 = product(t569, t591);
+        let t596: F64x4 = t566 * t583;
+        let t597: F64x4 = t595.minus(t596);
+        let t598 = product(t168, t597);
+        let t599: F64x4 = t589.plus(t594);
+        let t600: F64x4 = t598.plus(t599);
+        let t601: F64x4 = t563 * t600;
+        let t602: F64x4 = arm2_crank_length * t279;
+        let t603: F64x4 = t601 * t602;
+        let t604: F64x4 = t588.minus(t603);
+        let t605 = product(t563, t591);
+        let t606 = product(t160, t591);
+        let t607: F64x4 = t164 * t583;
+        let t608 = product(t168, t585);
+        let t609: F64x4 = t606.plus(t607);
+        let t610: F64x4 = t608.plus(t609);
+        let t611: F64x4 = t563 * t610;
+        let t612: F64x4 = t602 * t611;
+        let t613: F64x4 = t605.minus(t612);
+        let t614 = product(vx, t613);
+        let t615 = product(t563, t583);
+        let t616: F64x4 = arm2_crank_length * t181;
+        let t617: F64x4 = t611 * t616;
+        let t618: F64x4 = t615.minus(t617);
+        let t619: F64x4 = vy * t618;
+        let t620 = product(t563, t585);
+        let t621: F64x4 = arm2_crank_length * t274;
+        let t622: F64x4 = t611 * t621;
+        let t623: F64x4 = t620.minus(t622);
+        let t624 = product(vz, t623);
+        let t625: F64x4 = t614.plus(t619);
+        let t626: F64x4 = t624.plus(t625);
+        let t627 = product(arm2_axis_x, t566);
+        let t628: F64x4 = arm2_axis_y * t569;
+        let t629 = product(arm2_axis_z, t564);
+        let t630: F64x4 = t627.plus(t628);
+        let t631: F64x4 = t629.plus(t630);
+        let t632: F64x4 = t582 * t631;
+        let t633: F64x4 = t626 * t632;
+        let t634: F64x4 = arm2_rod_izz * t626;
+        let t635 = product(t633, t634);
+        let t636 = product(gravity_x, t587);
+        let t637: F64x4 = gravity_y * t593;
+        let t638 = product(gravity_z, t597);
+        let t639: F64x4 = t636.plus(t637);
+        let t640: F64x4 = t638.plus(t639);
+        let t641 = product(ax, t602);
+        let t642: F64x4 = ay * t616;
+        let t643 = product(az, t621);
+        let t644: F64x4 = t641.plus(t642);
+        let t645: F64x4 = t643.plus(t644);
+        let t646 = product(t600, t645);
+        let t647 = product(t168, t369);
+        let t648: F64x4 = t171 * t346;
+        let t649: F64x4 = t647.minus(t648);
+        let t650: F64x4 = arm2_crank_length * t649;
+        let t651 = product(t597, t650);
+        let t652 = product(t160, t369);
+        let t653: F64x4 = t153 * t346;
+        let t654: F64x4 = t652.minus(t653);
+        let t655: F64x4 = arm2_crank_length * t654;
+        let t656 = product(t587, t655);
+        let t657 = product(t164, t369);
+        let t658: F64x4 = t146 * t346;
+        let t659: F64x4 = t657.minus(t658);
+        let t660: F64x4 = arm2_crank_length * t659;
+        let t661: F64x4 = t593 * t660;
+        let t662: F64x4 = t656.plus(t661);
+        let t663: F64x4 = t651.plus(t662);
+        let t664: F64x4 = t646.plus(t663);
+        let t665: F64x4 = t664 - t640;
+        let t666: F64x4 = arm2_rod_mz * t665;
+        let t667 = product(t356, t591);
+        let t668: F64x4 = t360 * t583;
+        let t669 = product(t364, t585);
+        let t670: F64x4 = t667.plus(t668);
+        let t671: F64x4 = t669.plus(t670);
+        let t672: F64x4 = t563 * t632;
+        let t673: F64x4 = t671 * t672;
+        let t674: F64x4 = t563 * t671;
+        let t675 = product(t673, t674);
+        let t676 = product(ax, t604);
+        let t677 = product(t563, t593);
+        let t678: F64x4 = t601 * t616;
+        let t679: F64x4 = t677.minus(t678);
+        let t680: F64x4 = ay * t679;
+        let t681 = product(t563, t597);
+        let t682: F64x4 = t601 * t621;
+        let t683: F64x4 = t681.minus(t682);
+        let t684 = product(az, t683);
+        let t685: F64x4 = t563 * t663;
+        let t686: F64x4 = t675.plus(t685);
+        let t687: F64x4 = t676.plus(t680);
+        let t688: F64x4 = t684.plus(t687);
+        let t689: F64x4 = t686 - t688;
+        let t690 = product(t626, t633);
+        let t691: F64x4 = t690.subtracted_from(t689);
+        let t692: F64x4 = t691 * F64x4::splat(2.0);
+        let t693 = product(arm2_rod_ixx, t692);
+        let t694: F64x4 = t635.minus(t666);
+        let t695: F64x4 = t694 * F64x4::splat(2.0);
+        let t696: F64x4 = t693.plus(t695);
+        let t697: F64x4 = t604 * t696;
+        let t698: F64x4 = F64x4::splat(1.0) / arm3_rod_length;
+        let t699: F64x4 = t241 * t698;
+        let t700 = product(arm3_axis_x, t699);
+        let t701: F64x4 = t248 * t698;
+        let t702: F64x4 = arm3_axis_z * t701;
+        let t703: F64x4 = t700.minus(t702);
+        let t704: F64x4 = t262 * t698;
+        let t705 = product(arm3_axis_z, t704);
+        let t706: F64x4 = arm3_axis_y * t699;
+        let t707: F64x4 = t705.minus(t706);
+        let t708 = product(t707, t707);
+        let t709: F64x4 = t703 * t703;
+        let t710 = product(arm3_axis_y, t701);
+        let t711: F64x4 = arm3_axis_x * t704;
+        let t712: F64x4 = t710.minus(t711);
+        let t713 = product(t712, t712);
+        let t714: F64x4 = t708.plus(t709);
+        let t715: F64x4 = t713.plus(t714);
+        let t716: F64x4 = t715.sqrt();
+        let t717: F64x4 = F64x4::splat(1.0) / t716;
+        let t718: F64x4 = t703 * t717;
+        let t719 = product(t699, t718);
+        let t720: F64x4 = t712 * t717;
+        let t721: F64x4 = t704 * t720;
+        let t722: F64x4 = t719.minus(t721);
+        let t723 = product(t698, t722);
+        let t724 = product(t251, t722);
+        let t725 = product(t701, t720);
+        let t726: F64x4 = t707 * t717;
+        let t727: F64x4 = t699 * t726;
+        let t728: F64x4 = t725.minus(t727);
+        let t729: F64x4 = t255 * t728;
+        let t730 = product(t704, t726);
+        let t731: F64x4 = t701 * t718;
+        let t732: F64x4 = t730.minus(t731);
+        let t733 = product(t266, t732);
+        let t734: F64x4 = t724.plus(t729);
+        let t735: F64x4 = t733.plus(t734);
+        let t736: F64x4 = t698 * t735;
+        let t737: F64x4 = arm3_crank_length * t286;
+        let t738: F64x4 = t736 * t737;
+        let t739: F64x4 = t723.minus(t738);
+        let t740 = product(t698, t726);
+        let t741 = product(t251, t726);
+        let t742: F64x4 = t255 * t718;
+        let t743 = product(t266, t720);
+        let t744: F64x4 = t741.plus(t742);
+        let t745: F64x4 = t743.plus(t744);
+        let t746: F64x4 = t698 * t745;
+        let t747: F64x4 = t737 * t746;
+        let t748: F64x4 = t740.minus(t747);
+        let t749 = product(vx, t748);
+        let t750 = product(t698, t718);
+        let t751: F64x4 = arm3_crank_length * t275;
+        let t752: F64x4 = t746 * t751;
+        let t753: F64x4 = t750.minus(t752);
+        let t754: F64x4 = vy * t753;
+        let t755 = product(t698, t720);
+        let t756: F64x4 = arm3_crank_length * t272;
+        let t757: F64x4 = t746 * t756;
+        let t758: F64x4 = t755.minus(t757);
+        let t759 = product(vz, t758);
+        let t760: F64x4 = t749.plus(t754);
+        let t761: F64x4 = t759.plus(t760);
+        let t762 = product(arm3_axis_x, t701);
+        let t763: F64x4 = arm3_axis_y * t704;
+        let t764 = product(arm3_axis_z, t699);
+        let t765: F64x4 = t762.plus(t763);
+        let t766: F64x4 = t764.plus(t765);
+        let t767: F64x4 = t717 * t766;
+        let t768: F64x4 = t761 * t767;
+        let t769: F64x4 = arm3_rod_izz * t761;
+        let t770 = product(t768, t769);
+        let t771 = product(gravity_x, t722);
+        let t772: F64x4 = gravity_y * t728;
+        let t773 = product(gravity_z, t732);
+        let t774: F64x4 = t771.plus(t772);
+        let t775: F64x4 = t773.plus(t774);
+        let t776 = product(ax, t737);
+        let t777: F64x4 = ay * t751;
+        let t778 = product(az, t756);
+        let t779: F64x4 = t776.plus(t777);
+        let t780: F64x4 = t778.plus(t779);
+        let t781 = product(t735, t780);
+        let t782 = product(t266, t413);
+        let t783: F64x4 = t237 * t390;
+        let t784: F64x4 = t782.minus(t783);
+        let t785: F64x4 = arm3_crank_length * t784;
+        let t786 = product(t732, t785);
+        let t787 = product(t251, t413);
+        let t788: F64x4 = t244 * t390;
+        let t789: F64x4 = t787.minus(t788);
+        let t790: F64x4 = arm3_crank_length * t789;
+        let t791 = product(t722, t790);
+        let t792 = product(t255, t413);
+        let t793: F64x4 = t258 * t390;
+        let t794: F64x4 = t792.minus(t793);
+        let t795: F64x4 = arm3_crank_length * t794;
+        let t796: F64x4 = t728 * t795;
+        let t797: F64x4 = t791.plus(t796);
+        let t798: F64x4 = t786.plus(t797);
+        let t799: F64x4 = t781.plus(t798);
+        let t800: F64x4 = t799 - t775;
+        let t801: F64x4 = arm3_rod_mz * t800;
+        let t802 = product(t400, t726);
+        let t803: F64x4 = t404 * t718;
+        let t804 = product(t408, t720);
+        let t805: F64x4 = t802.plus(t803);
+        let t806: F64x4 = t804.plus(t805);
+        let t807: F64x4 = t698 * t767;
+        let t808: F64x4 = t806 * t807;
+        let t809: F64x4 = t698 * t806;
+        let t810 = product(t808, t809);
+        let t811 = product(ax, t739);
+        let t812 = product(t698, t728);
+        let t813: F64x4 = t736 * t751;
+        let t814: F64x4 = t812.minus(t813);
+        let t815: F64x4 = ay * t814;
+        let t816 = product(t698, t732);
+        let t817: F64x4 = t736 * t756;
+        let t818: F64x4 = t816.minus(t817);
+        let t819 = product(az, t818);
+        let t820: F64x4 = t698 * t798;
+        let t821: F64x4 = t810.plus(t820);
+        let t822: F64x4 = t811.plus(t815);
+        let t823: F64x4 = t819.plus(t822);
+        let t824: F64x4 = t821 - t823;
+        let t825 = product(t761, t768);
+        let t826: F64x4 = t825.subtracted_from(t824);
+        let t827: F64x4 = t826 * F64x4::splat(2.0);
+        let t828 = product(arm3_rod_ixx, t827);
+        let t829: F64x4 = t770.minus(t801);
+        let t830: F64x4 = t829 * F64x4::splat(2.0);
+        let t831: F64x4 = t828.plus(t830);
+        let t832 = product(t739, t831);
+        let t833: F64x4 = arm1_rod_mass * t530;
+        let t834 = product(arm1_rod_mz, t557);
+        let t835: F64x4 = t833 * F64x4::splat(2.0);
+        let t836: F64x4 = t834.subtracted_from(t835);
+        let t837 = product(t465, t836);
+        let t838 = product(gravity_x, t456);
+        let t839: F64x4 = gravity_y * t448;
+        let t840 = product(gravity_z, t450);
+        let t841: F64x4 = t838.plus(t839);
+        let t842: F64x4 = t840.plus(t841);
+        let t843 = product(t475, t510);
+        let t844 = product(t450, t515);
+        let t845 = product(t456, t520);
+        let t846: F64x4 = t448 * t525;
+        let t847: F64x4 = t845.plus(t846);
+        let t848: F64x4 = t844.plus(t847);
+        let t849: F64x4 = t843.plus(t848);
+        let t850: F64x4 = t849 - t842;
+        let t851: F64x4 = arm1_rod_mass * t850;
+        let t852 = product(t312, t452);
+        let t853: F64x4 = t316 * t458;
+        let t854 = product(t320, t462);
+        let t855: F64x4 = t852.plus(t853);
+        let t856: F64x4 = t854.plus(t855);
+        let t857: F64x4 = t428 * t856;
+        let t858 = product(t538, t857);
+        let t859: F64x4 = ax * t478;
+        let t860 = product(ay, t483);
+        let t861: F64x4 = az * t488;
+        let t862 = product(t428, t848);
+        let t863: F64x4 = t858.plus(t859);
+        let t864: F64x4 = t860.plus(t861);
+        let t865: F64x4 = t863 + t864;
+        let t866: F64x4 = t862.subtracted_from(t865);
+        let t867 = product(vx, t469);
+        let t868: F64x4 = vy * t544;
+        let t869 = product(vz, t548);
+        let t870: F64x4 = t867.plus(t868);
+        let t871: F64x4 = t869.plus(t870);
+        let t872: F64x4 = t498 * t871;
+        let t873: F64x4 = t866 - t872;
+        let t874: F64x4 = t873 * F64x4::splat(2.0);
+        let t875 = product(arm1_rod_mz, t874);
+        let t876: F64x4 = t851 * F64x4::splat(2.0);
+        let t877: F64x4 = t875.plus(t876);
+        let t878: F64x4 = t475 * t877;
+        let t879 = product(t62, t431);
+        let t880: F64x4 = t66 * t434;
+        let t881 = product(t77, t429);
+        let t882: F64x4 = t879.plus(t880);
+        let t883: F64x4 = t881.plus(t882);
+        let t884 = product(gravity_x, t431);
+        let t885: F64x4 = gravity_y * t434;
+        let t886 = product(gravity_z, t429);
+        let t887: F64x4 = t884.plus(t885);
+        let t888: F64x4 = t886.plus(t887);
+        let t889 = product(t431, t520);
+        let t890: F64x4 = t434 * t525;
+        let t891 = product(t429, t515);
+        let t892: F64x4 = t510 * t883;
+        let t893: F64x4 = t889.plus(t890);
+        let t894: F64x4 = t891.plus(t892);
+        let t895: F64x4 = t893 + t894;
+        let t896: F64x4 = t895 - t888;
+        let t897: F64x4 = arm1_rod_mass * t896;
+        let t898 = product(t491, t491);
+        let t899: F64x4 = t871 * t871;
+        let t900: F64x4 = t898.plus(t899);
+        let t901: F64x4 = t900 * F64x4::splat(2.0);
+        let t902 = product(arm1_rod_mz, t901);
+        let t903: F64x4 = t897 * F64x4::splat(2.0);
+        let t904: F64x4 = t902.subtracted_from(t903);
+        let t905 = product(t883, t904);
+        let t906: F64x4 = t837.plus(t878);
+        let t907: F64x4 = t905.plus(t906);
+        let t908 = product(t467, t907);
+        let t909: F64x4 = arm2_rod_mass * t665;
+        let t910 = product(arm2_rod_mz, t692);
+        let t911: F64x4 = t909 * F64x4::splat(2.0);
+        let t912: F64x4 = t910.subtracted_from(t911);
+        let t913 = product(t600, t912);
+        let t914 = product(gravity_x, t591);
+        let t915: F64x4 = gravity_y * t583;
+        let t916 = product(gravity_z, t585);
+        let t917: F64x4 = t914.plus(t915);
+        let t918: F64x4 = t916.plus(t917);
+        let t919 = product(t610, t645);
+        let t920 = product(t585, t650);
+        let t921 = product(t591, t655);
+        let t922: F64x4 = t583 * t660;
+        let t923: F64x4 = t921.plus(t922);
+        let t924: F64x4 = t920.plus(t923);
+        let t925: F64x4 = t919.plus(t924);
+        let t926: F64x4 = t925 - t918;
+        let t927: F64x4 = arm2_rod_mass * t926;
+        let t928 = product(t356, t587);
+        let t929: F64x4 = t360 * t593;
+        let t930 = product(t364, t597);
+        let t931: F64x4 = t928.plus(t929);
         let t932: F64x4 = t930.plus(t931);
-        let t933: F64x4 = vx * t932;
-        let t934: F64x4 = t168 * t181;
-        let t935: F64x4 = -t934;
-        let t936 = product(ay, t935);
-        let t937 = product(arm2_zero_z, t870);
-        let t938: F64x4 = t113 * t875;
-        let t939: F64x4 = t937.plus(t938);
-        let t940: F64x4 = vy * t939;
-        let t941: F64x4 = t168 * t274;
-        let t942: F64x4 = -t941;
-        let t943 = product(az, t942);
-        let t944 = product(arm2_zero_z, t885);
-        let t945: F64x4 = t113 * t890;
-        let t946: F64x4 = t944.plus(t945);
-        let t947: F64x4 = vz * t946;
-        let t948: F64x4 = t929.plus(t933);
-        let t949: F64x4 = t936.plus(t940);
-        let t950: F64x4 = t943.plus(t947);
-        let t951: F64x4 = t948 + t949;
-        let t952: F64x4 = t950 + t951;
-        let t953 = product(t780, t952);
-        let t954: F64x4 = t899.plus(t926);
-        let t955: F64x4 = t953.plus(t954);
-        let t956 = product(arm2_crank_length, t955);
-        let t957: F64x4 = t956.added_to(t848);
-        let t958: F64x4 = arm2_rod_mz * t957;
-        let t959 = product(ax, t787);
-        let t960 = product(t784, t808);
-        let t961: F64x4 = t960.subtracted_from(t830);
-        let t962: F64x4 = ay * t961;
-        let t963 = product(t784, t813);
-        let t964: F64x4 = t963.subtracted_from(t835);
-        let t965 = product(az, t964);
-        let t966: F64x4 = arm2_crank_length * t160;
-        let t967 = product(t703, t966);
-        let t968: F64x4 = t967.subtracted_from(vx);
-        let t969 = product(t790, t968);
-        let t970: F64x4 = arm2_crank_length * t164;
-        let t971 = product(t703, t970);
-        let t972: F64x4 = t971.subtracted_from(vy);
-        let t973: F64x4 = t795 * t972;
-        let t974: F64x4 = arm2_crank_length * t168;
-        let t975 = product(t703, t974);
-        let t976: F64x4 = t975.subtracted_from(vz);
-        let t977 = product(t799, t976);
-        let t978: F64x4 = t969.plus(t973);
-        let t979: F64x4 = t977.plus(t978);
-        let t980: F64x4 = t755 * t979;
-        let t981 = product(t775, t968);
-        let t982: F64x4 = t778 * t972;
-        let t983 = product(t780, t976);
-        let t984: F64x4 = t981.plus(t982);
-        let t985: F64x4 = t983.plus(t984);
-        let t986: F64x4 = t755 * t824;
-        let t987: F64x4 = t985 * t986;
-        let t988 = product(t980, t987);
-        let t989: F64x4 = t703 * t703;
-        let t990 = product(t153, t989);
-        let t991: F64x4 = arm2_crank_length * t989;
-        let t992 = product(t725, t991);
-        let t993: F64x4 = t968 * t968;
-        let t994 = product(t972, t972);
-        let t995: F64x4 = t976 * t976;
-        let t996: F64x4 = t992.plus(t993);
-        let t997: F64x4 = t994.plus(t995);
-        let t998: F64x4 = t996 + t997;
-        let t999: F64x4 = t180 * t998;
+        let t933: F64x4 = t563 * t932;
+        let t934 = product(t673, t933);
+        let t935: F64x4 = ax * t613;
+        let t936 = product(ay, t618);
+        let t937: F64x4 = az * t623;
+        let t938 = product(t563, t924);
+        let t939: F64x4 = t934.plus(t935);
+        let t940: F64x4 = t936.plus(t937);
+        let t941: F64x4 = t939 + t940;
+        let t942: F64x4 = t938.subtracted_from(t941);
+        let t943 = product(vx, t604);
+        let t944: F64x4 = vy * t679;
+        let t945 = product(vz, t683);
+        let t946: F64x4 = t943.plus(t944);
+        let t947: F64x4 = t945.plus(t946);
+        let t948: F64x4 = t633 * t947;
+        let t949: F64x4 = t942 - t948;
+        let t950: F64x4 = t949 * F64x4::splat(2.0);
+        let t951 = product(arm2_rod_mz, t950);
+        let t952: F64x4 = t927 * F64x4::splat(2.0);
+        let t953: F64x4 = t951.plus(t952);
+        let t954: F64x4 = t610 * t953;
+        let t955 = product(t160, t566);
+        let t956: F64x4 = t164 * t569;
+        let t957 = product(t168, t564);
+        let t958: F64x4 = t955.plus(t956);
+        let t959: F64x4 = t957.plus(t958);
+        let t960 = product(gravity_x, t566);
+        let t961: F64x4 = gravity_y * t569;
+        let t962 = product(gravity_z, t564);
+        let t963: F64x4 = t960.plus(t961);
+        let t964: F64x4 = t962.plus(t963);
+        let t965 = product(t566, t655);
+        let t966: F64x4 = t569 * t660;
+        let t967 = product(t564, t650);
+        let t968: F64x4 = t645 * t959;
+        let t969: F64x4 = t965.plus(t966);
+        let t970: F64x4 = t967.plus(t968);
+        let t971: F64x4 = t969 + t970;
+        let t972: F64x4 = t971 - t964;
+        let t973: F64x4 = arm2_rod_mass * t972;
+        let t974 = product(t626, t626);
+        let t975: F64x4 = t947 * t947;
+        let t976: F64x4 = t974.plus(t975);
+        let t977: F64x4 = t976 * F64x4::splat(2.0);
+        let t978 = product(arm2_rod_mz, t977);
+        let t979: F64x4 = t973 * F64x4::splat(2.0);
+        let t980: F64x4 = t978.subtracted_from(t979);
+        let t981 = product(t959, t980);
+        let t982: F64x4 = t913.plus(t954);
+        let t983: F64x4 = t981.plus(t982);
+        let t984: F64x4 = t602 * t983;
+        let t985: F64x4 = arm3_rod_mass * t800;
+        let t986 = product(arm3_rod_mz, t827);
+        let t987: F64x4 = t985 * F64x4::splat(2.0);
+        let t988: F64x4 = t986.subtracted_from(t987);
+        let t989 = product(t735, t988);
+        let t990 = product(gravity_x, t726);
+        let t991: F64x4 = gravity_y * t718;
+        let t992 = product(gravity_z, t720);
+        let t993: F64x4 = t990.plus(t991);
+        let t994: F64x4 = t992.plus(t993);
+        let t995 = product(t745, t780);
+        let t996 = product(t720, t785);
+        let t997 = product(t726, t790);
+        let t998: F64x4 = t718 * t795;
+        let t999: F64x4 = t997.plus(t998);
         (
             t28,
             t43,
             t90,
             t119,
             t134,
-            t146,
-            t160,
-            t164,
-            t168,
-            t171,
             t181,
-            t196,
-            t200,
-            t204,
             t210,
-            t211,
             t225,
-            t230,
-            t235,
-            t237,
-            t241,
-            t244,
-            t248,
             t251,
             t255,
-            t258,
-            t262,
             t266,
-            t270,
-            t271,
             t272,
             t274,
             t275,
@@ -1336,910 +1289,334 @@ fn inverse_dynamics_params_x4_lanes(
             t286,
             t289,
             t293,
-            t295,
-            t359,
-            t360,
-            t362,
-            t364,
-            t369,
-            t379,
+            t336,
+            t337,
+            t380,
             t381,
-            t384,
-            t386,
-            t396,
-            t401,
-            t405,
-            t416,
-            t421,
+            t400,
+            t404,
+            t408,
             t424,
-            t439,
-            t444,
-            t456,
-            t471,
+            t425,
+            t427,
+            t446,
+            t447,
+            t478,
+            t481,
+            t483,
             t486,
-            t504,
-            t507,
-            t514,
-            t521,
-            t531,
-            t534,
-            t541,
+            t488,
+            t497,
+            t539,
+            t544,
             t548,
-            t558,
-            t563,
-            t567,
-            t570,
-            t626,
-            t631,
+            t561,
+            t562,
+            t581,
+            t582,
+            t613,
+            t616,
+            t618,
+            t621,
+            t623,
             t632,
-            t637,
-            t651,
-            t669,
-            t675,
-            t676,
-            t687,
-            t689,
+            t674,
+            t679,
+            t683,
+            t696,
+            t697,
+            t698,
+            t699,
+            t701,
+            t704,
+            t716,
+            t717,
+            t722,
+            t728,
+            t732,
+            t737,
+            t739,
+            t745,
+            t748,
+            t751,
             t753,
-            t754,
-            t755,
             t756,
             t758,
-            t763,
-            t773,
-            t774,
-            t775,
-            t778,
+            t761,
+            t767,
+            t768,
             t780,
-            t787,
+            t785,
             t790,
             t795,
-            t799,
-            t805,
-            t810,
-            t815,
+            t808,
+            t809,
+            t814,
             t818,
-            t824,
-            t828,
-            t833,
-            t838,
-            t841,
-            t843,
+            t831,
+            t832,
             t850,
-            t865,
-            t880,
-            t898,
-            t901,
+            t857,
+            t866,
+            t872,
+            t874,
+            t907,
             t908,
-            t915,
-            t925,
-            t928,
-            t935,
+            t926,
+            t933,
             t942,
-            t952,
-            t957,
-            t958,
-            t959,
-            t961,
-            t962,
-            t964,
-            t965,
-            t980,
-            t985,
-            t987,
-            t988,
+            t948,
+            t950,
+            t983,
+            t984,
             t989,
-            t990,
+            t994,
+            t995,
+            t996,
             t999,
         )
     };
-    let (t1167, t1751, t1764, t1776, t1777, t1778, t1779, t1802) = {
-        let t1000: F64x4 = t160 * t999;
-        let t1001: F64x4 = t990.minus(t1000);
-        let t1002 = product(t775, t1001);
-        let t1003 = product(t146, t989);
-        let t1004: F64x4 = t164 * t999;
-        let t1005: F64x4 = t1003.minus(t1004);
-        let t1006: F64x4 = t778 * t1005;
-        let t1007 = product(t171, t989);
-        let t1008: F64x4 = t168 * t999;
-        let t1009: F64x4 = t1007.minus(t1008);
-        let t1010 = product(t780, t1009);
-        let t1011: F64x4 = t1002.plus(t1006);
-        let t1012: F64x4 = t1010.plus(t1011);
-        let t1013: F64x4 = arm2_crank_length * t755;
-        let t1014: F64x4 = t1012 * t1013;
-        let t1015: F64x4 = t988.plus(t1014);
-        let t1016: F64x4 = t959.plus(t962);
-        let t1017: F64x4 = t965.plus(t1015);
-        let t1018: F64x4 = t1016 + t1017;
-        let t1019 = product(t818, t841);
-        let t1020: F64x4 = t1019.subtracted_from(t1018);
-        let t1021: F64x4 = t1020 * F64x4::splat(2.0);
-        let t1022 = product(arm2_rod_ixx, t1021);
-        let t1023: F64x4 = t843.minus(t958);
-        let t1024: F64x4 = t1023 * F64x4::splat(2.0);
-        let t1025: F64x4 = t1022.plus(t1024);
-        let t1026: F64x4 = t787 * t1025;
-        let t1027 = product(vx, t787);
-        let t1028: F64x4 = vy * t961;
-        let t1029 = product(vz, t964);
-        let t1030: F64x4 = t1027.plus(t1028);
-        let t1031: F64x4 = t1029.plus(t1030);
-        let t1032: F64x4 = arm2_rod_izz * t841;
-        let t1033 = product(t1031, t1032);
-        let t1034 = product(gravity_x, t790);
-        let t1035: F64x4 = gravity_y * t795;
-        let t1036 = product(gravity_z, t799);
-        let t1037: F64x4 = t1034.plus(t1035);
-        let t1038: F64x4 = t1036.plus(t1037);
-        let t1039 = product(t790, t898);
-        let t1040: F64x4 = t795 * t925;
-        let t1041 = product(t799, t952);
-        let t1042: F64x4 = t1039.plus(t1040);
-        let t1043: F64x4 = t1041.plus(t1042);
-        let t1044 = product(arm2_crank_length, t1043);
-        let t1045: F64x4 = t1044.added_to(t1038);
-        let t1046: F64x4 = arm2_rod_mz * t1045;
-        let t1047: F64x4 = t755 * t985;
-        let t1048 = product(t987, t1047);
-        let t1049 = product(ax, t805);
-        let t1050: F64x4 = ay * t810;
-        let t1051 = product(az, t815);
-        let t1052 = product(t790, t1001);
-        let t1053: F64x4 = t795 * t1005;
-        let t1054 = product(t799, t1009);
-        let t1055: F64x4 = t1052.plus(t1053);
-        let t1056: F64x4 = t1054.plus(t1055);
-        let t1057: F64x4 = t1013 * t1056;
-        let t1058: F64x4 = t1049.plus(t1050);
-        let t1059: F64x4 = t1051.plus(t1057);
-        let t1060: F64x4 = t1058 + t1059;
-        let t1061: F64x4 = t1048.minus(t1060);
-        let t1062 = product(t841, t1031);
-        let t1063: F64x4 = t1062.subtracted_from(t1061);
-        let t1064: F64x4 = t1063 * F64x4::splat(2.0);
-        let t1065 = product(arm2_rod_ixx, t1064);
-        let t1066: F64x4 = t1033.plus(t1046);
-        let t1067: F64x4 = t1066 * F64x4::splat(2.0);
-        let t1068: F64x4 = t1065.plus(t1067);
-        let t1069: F64x4 = -t1068;
-        let t1070 = product(t805, t1069);
-        let t1071: F64x4 = t774 * t774;
-        let t1072: F64x4 = t980 * t1071;
-        let t1073 = product(t1047, t1072);
-        let t1074: F64x4 = ax * t828;
-        let t1075 = product(ay, t833);
-        let t1076: F64x4 = az * t838;
-        let t1077 = product(t824, t1015);
-        let t1078: F64x4 = t1073.plus(t1074);
-        let t1079: F64x4 = t1075.plus(t1076);
-        let t1080: F64x4 = t1078 + t1079;
-        let t1081: F64x4 = t1077.plus(t1080);
-        let t1082: F64x4 = arm2_rod_izz * t828;
-        let t1083: F64x4 = t1081 * t1082;
-        let t1084 = product(gravity_x, t251);
-        let t1085: F64x4 = gravity_y * t255;
-        let t1086 = product(gravity_z, t266);
-        let t1087: F64x4 = t1084.plus(t1085);
-        let t1088: F64x4 = t1086.plus(t1087);
-        let t1089 = product(arm3_crank_mx, t1088);
-        let t1090 = product(ax, t286);
-        let t1091: F64x4 = ay * t275;
-        let t1092 = product(az, t272);
-        let t1093 = product(vx, t286);
-        let t1094: F64x4 = vy * t275;
-        let t1095 = product(vz, t272);
-        let t1096: F64x4 = t1093.plus(t1094);
-        let t1097: F64x4 = t1095.plus(t1096);
-        let t1098: F64x4 = t251 * t1097;
-        let t1099: F64x4 = -t1098;
-        let t1100 = product(arm3_crank_length, t1099);
-        let t1101: F64x4 = t1100.added_to(vx);
-        let t1102 = product(t271, t1101);
-        let t1103: F64x4 = t270 * t270;
-        let t1104 = product(t251, t1101);
-        let t1105: F64x4 = t255 * t1097;
-        let t1106: F64x4 = -t1105;
-        let t1107 = product(arm3_crank_length, t1106);
-        let t1108: F64x4 = t1107.added_to(vy);
-        let t1109: F64x4 = t255 * t1108;
-        let t1110: F64x4 = t266 * t1097;
-        let t1111: F64x4 = -t1110;
-        let t1112 = product(arm3_crank_length, t1111);
-        let t1113: F64x4 = t1112.added_to(vz);
-        let t1114 = product(t266, t1113);
-        let t1115 = product(t244, t248);
-        let t1116: F64x4 = t258 * t262;
-        let t1117 = product(t237, t241);
-        let t1118: F64x4 = t1115.plus(t1116);
-        let t1119: F64x4 = t1117.plus(t1118);
-        let t1120 = product(t1097, t1119);
-        let t1121: F64x4 = t1104.plus(t1109);
-        let t1122: F64x4 = t1114.plus(t1121);
-        let t1123: F64x4 = t1120.minus(t1122);
-        let t1124: F64x4 = t211 * t248;
-        let t1125: F64x4 = t1103 * t1124;
-        let t1126: F64x4 = t1123 * t1125;
-        let t1127: F64x4 = t1102.plus(t1126);
-        let t1128: F64x4 = vx * t1127;
-        let t1129 = product(t271, t1108);
-        let t1130: F64x4 = t211 * t262;
-        let t1131: F64x4 = t1103 * t1130;
-        let t1132: F64x4 = t1123 * t1131;
-        let t1133: F64x4 = t1129.plus(t1132);
-        let t1134 = product(vy, t1133);
-        let t1135 = product(t271, t1113);
-        let t1136: F64x4 = t211 * t241;
-        let t1137: F64x4 = t1103 * t1136;
-        let t1138: F64x4 = t1123 * t1137;
-        let t1139: F64x4 = t1135.plus(t1138);
-        let t1140: F64x4 = vz * t1139;
-        let t1141: F64x4 = t1090.plus(t1091);
-        let t1142: F64x4 = t1092.plus(t1128);
-        let t1143: F64x4 = t1134.plus(t1140);
-        let t1144: F64x4 = t1141 + t1142;
-        let t1145: F64x4 = t1143 + t1144;
-        let t1146: F64x4 = arm3_crank_izz * t1145;
-        let t1147: F64x4 = t1089.subtracted_from(t1146);
-        let t1148: F64x4 = t286 * t1147;
-        let t1149: F64x4 = F64x4::splat(1.0) / arm3_rod_length;
-        let t1150: F64x4 = t262 * t1149;
-        let t1151 = product(arm3_axis_z, t1150);
-        let t1152: F64x4 = t241 * t1149;
-        let t1153: F64x4 = arm3_axis_y * t1152;
-        let t1154: F64x4 = t1151.minus(t1153);
-        let t1155 = product(t1154, t1154);
-        let t1156 = product(arm3_axis_x, t1152);
-        let t1157: F64x4 = t248 * t1149;
-        let t1158: F64x4 = arm3_axis_z * t1157;
-        let t1159: F64x4 = t1156.minus(t1158);
-        let t1160: F64x4 = t1159 * t1159;
-        let t1161 = product(arm3_axis_y, t1157);
-        let t1162: F64x4 = arm3_axis_x * t1150;
-        let t1163: F64x4 = t1161.minus(t1162);
-        let t1164 = product(t1163, t1163);
-        let t1165: F64x4 = t1155.plus(t1160);
-        let t1166: F64x4 = t1164.plus(t1165);
-        let t1167: F64x4 = t1166.sqrt();
-        let t1168: F64x4 = F64x4::splat(1.0) / t1167;
-        let t1169: F64x4 = t1154 * t1168;
-        let t1170: F64x4 = t1149 * t1169;
-        let t1171 = product(t251, t1169);
-        let t1172: F64x4 = t1159 * t1168;
-        let t1173: F64x4 = t255 * t1172;
-        let t1174: F64x4 = t1163 * t1168;
-        let t1175 = product(t266, t1174);
-        let t1176: F64x4 = t1171.plus(t1173);
-        let t1177: F64x4 = t1175.plus(t1176);
-        let t1178: F64x4 = t1149 * t1177;
-        let t1179: F64x4 = arm3_crank_length * t286;
-        let t1180 = product(t1178, t1179);
-        let t1181: F64x4 = t1180.subtracted_from(t1170);
-        let t1182 = product(t1152, t1172);
-        let t1183: F64x4 = t1150 * t1174;
-        let t1184: F64x4 = t1182.minus(t1183);
-        let t1185 = product(t1149, t1184);
-        let t1186 = product(t251, t1184);
-        let t1187 = product(t1157, t1174);
-        let t1188: F64x4 = t1152 * t1169;
-        let t1189: F64x4 = t1187.minus(t1188);
-        let t1190: F64x4 = t255 * t1189;
-        let t1191 = product(t1150, t1169);
-        let t1192: F64x4 = t1157 * t1172;
-        let t1193: F64x4 = t1191.minus(t1192);
-        let t1194 = product(t266, t1193);
-        let t1195: F64x4 = t1186.plus(t1190);
-        let t1196: F64x4 = t1194.plus(t1195);
-        let t1197: F64x4 = t1149 * t1196;
-        let t1198: F64x4 = t1179 * t1197;
-        let t1199: F64x4 = t1185.minus(t1198);
-        let t1200 = product(vx, t1199);
-        let t1201 = product(t1149, t1189);
-        let t1202: F64x4 = arm3_crank_length * t275;
-        let t1203: F64x4 = t1197 * t1202;
-        let t1204: F64x4 = t1201.minus(t1203);
-        let t1205: F64x4 = vy * t1204;
-        let t1206 = product(t1149, t1193);
-        let t1207: F64x4 = arm3_crank_length * t272;
-        let t1208: F64x4 = t1197 * t1207;
-        let t1209: F64x4 = t1206.minus(t1208);
-        let t1210 = product(vz, t1209);
-        let t1211: F64x4 = t1200.plus(t1205);
-        let t1212: F64x4 = t1210.plus(t1211);
-        let t1213 = product(arm3_axis_x, t1157);
-        let t1214: F64x4 = arm3_axis_y * t1150;
-        let t1215 = product(arm3_axis_z, t1152);
-        let t1216: F64x4 = t1213.plus(t1214);
-        let t1217: F64x4 = t1215.plus(t1216);
-        let t1218: F64x4 = t1168 * t1217;
-        let t1219 = product(t1170, t1218);
-        let t1220: F64x4 = t1178 * t1218;
-        let t1221: F64x4 = t1179 * t1220;
-        let t1222: F64x4 = t1219.minus(t1221);
-        let t1223 = product(vx, t1222);
-        let t1224: F64x4 = t1149 * t1172;
-        let t1225 = product(t1218, t1224);
-        let t1226: F64x4 = t1202 * t1220;
-        let t1227: F64x4 = t1225.minus(t1226);
-        let t1228: F64x4 = vy * t1227;
-        let t1229: F64x4 = t1149 * t1174;
-        let t1230 = product(t1218, t1229);
-        let t1231: F64x4 = t1207 * t1220;
-        let t1232: F64x4 = t1230.minus(t1231);
-        let t1233 = product(vz, t1232);
-        let t1234: F64x4 = t1223.plus(t1228);
-        let t1235: F64x4 = t1233.plus(t1234);
-        let t1236: F64x4 = arm3_rod_izz * t1212;
-        let t1237 = product(t1235, t1236);
-        let t1238 = product(gravity_x, t1169);
-        let t1239: F64x4 = gravity_y * t1172;
-        let t1240 = product(gravity_z, t1174);
-        let t1241: F64x4 = t1238.plus(t1239);
-        let t1242: F64x4 = t1240.plus(t1241);
-        let t1243: F64x4 = t251 * t286;
-        let t1244: F64x4 = -t1243;
-        let t1245 = product(ax, t1244);
-        let t1246: F64x4 = t230 * t286;
-        let t1247 = product(t1097, t1246);
-        let t1248: F64x4 = t235 * t1127;
-        let t1249: F64x4 = t1247.plus(t1248);
-        let t1250 = product(arm3_zero_x, t1249);
-        let t1251: F64x4 = t235 * t286;
-        let t1252 = product(t1097, t1251);
-        let t1253: F64x4 = t230 * t1127;
-        let t1254: F64x4 = t1252.minus(t1253);
-        let t1255: F64x4 = t196 * t1254;
-        let t1256: F64x4 = t1250.plus(t1255);
-        let t1257: F64x4 = vx * t1256;
-        let t1258: F64x4 = t251 * t275;
-        let t1259: F64x4 = -t1258;
-        let t1260 = product(ay, t1259);
-        let t1261: F64x4 = t230 * t275;
-        let t1262 = product(t1097, t1261);
-        let t1263: F64x4 = t235 * t1133;
-        let t1264: F64x4 = t1262.plus(t1263);
-        let t1265 = product(arm3_zero_x, t1264);
-        let t1266: F64x4 = t235 * t275;
-        let t1267 = product(t1097, t1266);
-        let t1268: F64x4 = t230 * t1133;
-        let t1269: F64x4 = t1267.minus(t1268);
-        let t1270: F64x4 = t196 * t1269;
-        let t1271: F64x4 = t1265.plus(t1270);
-        let t1272: F64x4 = vy * t1271;
-        let t1273: F64x4 = t251 * t272;
-        let t1274: F64x4 = -t1273;
-        let t1275 = product(az, t1274);
-        let t1276: F64x4 = t230 * t272;
-        let t1277 = product(t1097, t1276);
-        let t1278: F64x4 = t235 * t1139;
-        let t1279: F64x4 = t1277.plus(t1278);
-        let t1280 = product(arm3_zero_x, t1279);
-        let t1281: F64x4 = t235 * t272;
-        let t1282 = product(t1097, t1281);
-        let t1283: F64x4 = t230 * t1139;
-        let t1284: F64x4 = t1282.minus(t1283);
-        let t1285: F64x4 = t196 * t1284;
-        let t1286: F64x4 = t1280.plus(t1285);
-        let t1287: F64x4 = vz * t1286;
-        let t1288: F64x4 = t1245.plus(t1257);
-        let t1289: F64x4 = t1260.plus(t1272);
-        let t1290: F64x4 = t1275.plus(t1287);
-        let t1291: F64x4 = t1288 + t1289;
-        let t1292: F64x4 = t1290 + t1291;
-        let t1293 = product(t1169, t1292);
-        let t1294: F64x4 = t255 * t286;
-        let t1295: F64x4 = -t1294;
-        let t1296 = product(ax, t1295);
-        let t1297 = product(arm3_zero_y, t1249);
-        let t1298: F64x4 = t200 * t1254;
-        let t1299: F64x4 = t1297.plus(t1298);
-        let t1300: F64x4 = vx * t1299;
-        let t1301: F64x4 = t255 * t275;
-        let t1302: F64x4 = -t1301;
-        let t1303 = product(ay, t1302);
-        let t1304 = product(arm3_zero_y, t1264);
-        let t1305: F64x4 = t200 * t1269;
-        let t1306: F64x4 = t1304.plus(t1305);
-        let t1307: F64x4 = vy * t1306;
-        let t1308: F64x4 = t255 * t272;
-        let t1309: F64x4 = -t1308;
-        let t1310 = product(az, t1309);
-        let t1311 = product(arm3_zero_y, t1279);
-        let t1312: F64x4 = t200 * t1284;
-        let t1313: F64x4 = t1311.plus(t1312);
-        let t1314: F64x4 = vz * t1313;
-        let t1315: F64x4 = t1296.plus(t1300);
-        let t1316: F64x4 = t1303.plus(t1307);
-        let t1317: F64x4 = t1310.plus(t1314);
-        let t1318: F64x4 = t1315 + t1316;
-        let t1319: F64x4 = t1317 + t1318;
-        let t1320: F64x4 = t1172 * t1319;
-        let t1321: F64x4 = t266 * t286;
-        let t1322: F64x4 = -t1321;
-        let t1323 = product(ax, t1322);
-        let t1324 = product(arm3_zero_z, t1249);
-        let t1325: F64x4 = t204 * t1254;
-        let t1326: F64x4 = t1324.plus(t1325);
-        let t1327: F64x4 = vx * t1326;
-        let t1328: F64x4 = t266 * t275;
-        let t1329: F64x4 = -t1328;
-        let t1330 = product(ay, t1329);
-        let t1331 = product(arm3_zero_z, t1264);
-        let t1332: F64x4 = t204 * t1269;
-        let t1333: F64x4 = t1331.plus(t1332);
-        let t1334: F64x4 = vy * t1333;
-        let t1335: F64x4 = t266 * t272;
-        let t1336: F64x4 = -t1335;
-        let t1337 = product(az, t1336);
-        let t1338 = product(arm3_zero_z, t1279);
-        let t1339: F64x4 = t204 * t1284;
-        let t1340: F64x4 = t1338.plus(t1339);
-        let t1341: F64x4 = vz * t1340;
-        let t1342: F64x4 = t1323.plus(t1327);
-        let t1343: F64x4 = t1330.plus(t1334);
-        let t1344: F64x4 = t1337.plus(t1341);
-        let t1345: F64x4 = t1342 + t1343;
-        let t1346: F64x4 = t1344 + t1345;
-        let t1347 = product(t1174, t1346);
-        let t1348: F64x4 = t1293.plus(t1320);
-        let t1349: F64x4 = t1347.plus(t1348);
-        let t1350 = product(arm3_crank_length, t1349);
-        let t1351: F64x4 = t1350.added_to(t1242);
-        let t1352: F64x4 = arm3_rod_mz * t1351;
-        let t1353 = product(ax, t1181);
-        let t1354 = product(t1178, t1202);
-        let t1355: F64x4 = t1354.subtracted_from(t1224);
-        let t1356: F64x4 = ay * t1355;
-        let t1357 = product(t1178, t1207);
-        let t1358: F64x4 = t1357.subtracted_from(t1229);
-        let t1359 = product(az, t1358);
-        let t1360: F64x4 = arm3_crank_length * t251;
-        let t1361 = product(t1097, t1360);
-        let t1362: F64x4 = t1361.subtracted_from(vx);
-        let t1363 = product(t1184, t1362);
-        let t1364: F64x4 = arm3_crank_length * t255;
-        let t1365 = product(t1097, t1364);
-        let t1366: F64x4 = t1365.subtracted_from(vy);
-        let t1367: F64x4 = t1189 * t1366;
-        let t1368: F64x4 = arm3_crank_length * t266;
-        let t1369 = product(t1097, t1368);
-        let t1370: F64x4 = t1369.subtracted_from(vz);
-        let t1371 = product(t1193, t1370);
-        let t1372: F64x4 = t1363.plus(t1367);
-        let t1373: F64x4 = t1371.plus(t1372);
-        let t1374: F64x4 = t1149 * t1373;
-        let t1375 = product(t1169, t1362);
-        let t1376: F64x4 = t1172 * t1366;
-        let t1377 = product(t1174, t1370);
-        let t1378: F64x4 = t1375.plus(t1376);
-        let t1379: F64x4 = t1377.plus(t1378);
-        let t1380: F64x4 = t1149 * t1218;
-        let t1381: F64x4 = t1379 * t1380;
-        let t1382 = product(t1374, t1381);
-        let t1383: F64x4 = t1097 * t1097;
-        let t1384 = product(t244, t1383);
-        let t1385: F64x4 = arm3_crank_length * t1383;
-        let t1386 = product(t1119, t1385);
-        let t1387: F64x4 = t1362 * t1362;
-        let t1388 = product(t1366, t1366);
-        let t1389: F64x4 = t1370 * t1370;
-        let t1390: F64x4 = t1386.plus(t1387);
-        let t1391: F64x4 = t1388.plus(t1389);
-        let t1392: F64x4 = t1390 + t1391;
-        let t1393: F64x4 = t271 * t1392;
-        let t1394: F64x4 = t251 * t1393;
-        let t1395: F64x4 = t1384.minus(t1394);
-        let t1396 = product(t1169, t1395);
-        let t1397 = product(t258, t1383);
-        let t1398: F64x4 = t255 * t1393;
-        let t1399: F64x4 = t1397.minus(t1398);
-        let t1400: F64x4 = t1172 * t1399;
-        let t1401 = product(t237, t1383);
-        let t1402: F64x4 = t266 * t1393;
-        let t1403: F64x4 = t1401.minus(t1402);
-        let t1404 = product(t1174, t1403);
-        let t1405: F64x4 = t1396.plus(t1400);
-        let t1406: F64x4 = t1404.plus(t1405);
-        let t1407: F64x4 = arm3_crank_length * t1149;
-        let t1408: F64x4 = t1406 * t1407;
-        let t1409: F64x4 = t1382.plus(t1408);
-        let t1410: F64x4 = t1353.plus(t1356);
-        let t1411: F64x4 = t1359.plus(t1409);
-        let t1412: F64x4 = t1410 + t1411;
-        let t1413 = product(t1212, t1235);
-        let t1414: F64x4 = t1413.subtracted_from(t1412);
-        let t1415: F64x4 = t1414 * F64x4::splat(2.0);
-        let t1416 = product(arm3_rod_ixx, t1415);
-        let t1417: F64x4 = t1237.minus(t1352);
-        let t1418: F64x4 = t1417 * F64x4::splat(2.0);
-        let t1419: F64x4 = t1416.plus(t1418);
-        let t1420 = product(t1181, t1419);
-        let t1421 = product(vx, t1181);
-        let t1422: F64x4 = vy * t1355;
-        let t1423 = product(vz, t1358);
-        let t1424: F64x4 = t1421.plus(t1422);
-        let t1425: F64x4 = t1423.plus(t1424);
-        let t1426: F64x4 = arm3_rod_izz * t1235;
-        let t1427 = product(t1425, t1426);
-        let t1428 = product(gravity_x, t1184);
-        let t1429: F64x4 = gravity_y * t1189;
-        let t1430 = product(gravity_z, t1193);
-        let t1431: F64x4 = t1428.plus(t1429);
-        let t1432: F64x4 = t1430.plus(t1431);
-        let t1433 = product(t1184, t1292);
-        let t1434: F64x4 = t1189 * t1319;
-        let t1435 = product(t1193, t1346);
-        let t1436: F64x4 = t1433.plus(t1434);
-        let t1437: F64x4 = t1435.plus(t1436);
-        let t1438 = product(arm3_crank_length, t1437);
-        let t1439: F64x4 = t1438.added_to(t1432);
-        let t1440: F64x4 = arm3_rod_mz * t1439;
-        let t1441: F64x4 = t1149 * t1379;
-        let t1442 = product(t1381, t1441);
-        let t1443 = product(ax, t1199);
-        let t1444: F64x4 = ay * t1204;
-        let t1445 = product(az, t1209);
-        let t1446 = product(t1184, t1395);
-        let t1447: F64x4 = t1189 * t1399;
-        let t1448 = product(t1193, t1403);
-        let t1449: F64x4 = t1446.plus(t1447);
-        let t1450: F64x4 = t1448.plus(t1449);
-        let t1451: F64x4 = t1407 * t1450;
-        let t1452: F64x4 = t1443.plus(t1444);
-        let t1453: F64x4 = t1445.plus(t1451);
-        let t1454: F64x4 = t1452 + t1453;
-        let t1455: F64x4 = t1442.minus(t1454);
-        let t1456 = product(t1235, t1425);
-        let t1457: F64x4 = t1456.subtracted_from(t1455);
-        let t1458: F64x4 = t1457 * F64x4::splat(2.0);
-        let t1459 = product(arm3_rod_ixx, t1458);
-        let t1460: F64x4 = t1427.plus(t1440);
-        let t1461: F64x4 = t1460 * F64x4::splat(2.0);
-        let t1462: F64x4 = t1459.plus(t1461);
-        let t1463: F64x4 = -t1462;
-        let t1464: F64x4 = t1199 * t1463;
-        let t1465: F64x4 = t1168 * t1168;
-        let t1466: F64x4 = t1374 * t1465;
-        let t1467 = product(t1441, t1466);
-        let t1468: F64x4 = ax * t1222;
-        let t1469 = product(ay, t1227);
-        let t1470: F64x4 = az * t1232;
-        let t1471 = product(t1218, t1409);
-        let t1472: F64x4 = t1467.plus(t1468);
-        let t1473: F64x4 = t1469.plus(t1470);
-        let t1474: F64x4 = t1472 + t1473;
-        let t1475: F64x4 = t1471.plus(t1474);
-        let t1476: F64x4 = arm3_rod_izz * t1222;
-        let t1477 = product(t1475, t1476);
-        let t1478 = product(arm1_rod_mass, t651);
-        let t1479: F64x4 = arm1_rod_mz * t669;
-        let t1480: F64x4 = t1478.plus(t1479);
-        let t1481 = product(t396, t1480);
-        let t1482 = product(arm1_rod_mass, t563);
-        let t1483: F64x4 = arm1_rod_mz * t626;
-        let t1484: F64x4 = t1482.minus(t1483);
-        let t1485: F64x4 = t381 * t1484;
-        let t1486 = product(gravity_x, t369);
-        let t1487: F64x4 = gravity_y * t362;
-        let t1488 = product(gravity_z, t364);
-        let t1489: F64x4 = t1486.plus(t1487);
-        let t1490: F64x4 = t1488.plus(t1489);
-        let t1491 = product(t369, t504);
-        let t1492: F64x4 = t362 * t531;
-        let t1493 = product(t364, t558);
-        let t1494: F64x4 = t1491.plus(t1492);
-        let t1495: F64x4 = t1493.plus(t1494);
-        let t1496 = product(arm1_crank_length, t1495);
-        let t1497: F64x4 = t1496.added_to(t1490);
-        let t1498 = product(arm1_rod_mass, t1497);
-        let t1499 = product(t637, t637);
-        let t1500: F64x4 = t424 * t424;
-        let t1501: F64x4 = t1499.plus(t1500);
-        let t1502: F64x4 = arm1_rod_mz * t1501;
-        let t1503: F64x4 = t1498.plus(t1502);
-        let t1504 = product(t369, t1503);
-        let t1505: F64x4 = t1481.plus(t1485);
-        let t1506: F64x4 = t1504.plus(t1505);
-        let t1507: F64x4 = t1506 * F64x4::splat(2.0);
-        let t1508 = product(t456, t1507);
-        let t1509 = product(t401, t1480);
-        let t1510: F64x4 = t384 * t1484;
-        let t1511 = product(t362, t1503);
-        let t1512: F64x4 = t1509.plus(t1510);
-        let t1513: F64x4 = t1511.plus(t1512);
-        let t1514: F64x4 = t1513 * F64x4::splat(2.0);
-        let t1515: F64x4 = t507 * t1514;
-        let t1516 = product(t405, t1480);
-        let t1517: F64x4 = t386 * t1484;
-        let t1518 = product(t364, t1503);
-        let t1519: F64x4 = t1516.plus(t1517);
-        let t1520: F64x4 = t1518.plus(t1519);
-        let t1521: F64x4 = t1520 * F64x4::splat(2.0);
-        let t1522 = product(t534, t1521);
-        let t1523: F64x4 = t1508.plus(t1515);
-        let t1524: F64x4 = t1522.plus(t1523);
-        let t1525 = product(arm1_crank_length, t1524);
-        let t1526 = product(arm2_rod_mass, t1045);
-        let t1527: F64x4 = arm2_rod_mz * t1063;
-        let t1528: F64x4 = t1526.plus(t1527);
-        let t1529 = product(t790, t1528);
-        let t1530 = product(arm2_rod_mass, t957);
-        let t1531: F64x4 = arm2_rod_mz * t1020;
-        let t1532: F64x4 = t1530.minus(t1531);
-        let t1533: F64x4 = t775 * t1532;
-        let t1534 = product(gravity_x, t763);
-        let t1535: F64x4 = gravity_y * t756;
-        let t1536 = product(gravity_z, t758);
-        let t1537: F64x4 = t1534.plus(t1535);
-        let t1538: F64x4 = t1536.plus(t1537);
-        let t1539 = product(t763, t898);
-        let t1540: F64x4 = t756 * t925;
-        let t1541 = product(t758, t952);
-        let t1542: F64x4 = t1539.plus(t1540);
-        let t1543: F64x4 = t1541.plus(t1542);
-        let t1544 = product(arm2_crank_length, t1543);
-        let t1545: F64x4 = t1544.added_to(t1538);
-        let t1546 = product(arm2_rod_mass, t1545);
-        let t1547 = product(t1031, t1031);
-        let t1548: F64x4 = t818 * t818;
-        let t1549: F64x4 = t1547.plus(t1548);
-        let t1550: F64x4 = arm2_rod_mz * t1549;
-        let t1551: F64x4 = t1546.plus(t1550);
-        let t1552 = product(t763, t1551);
-        let t1553: F64x4 = t1529.plus(t1533);
-        let t1554: F64x4 = t1552.plus(t1553);
-        let t1555: F64x4 = t1554 * F64x4::splat(2.0);
-        let t1556 = product(t850, t1555);
-        let t1557 = product(t795, t1528);
-        let t1558: F64x4 = t778 * t1532;
-        let t1559 = product(t756, t1551);
-        let t1560: F64x4 = t1557.plus(t1558);
-        let t1561: F64x4 = t1559.plus(t1560);
-        let t1562: F64x4 = t1561 * F64x4::splat(2.0);
-        let t1563: F64x4 = t901 * t1562;
-        let t1564 = product(t799, t1528);
-        let t1565: F64x4 = t780 * t1532;
-        let t1566 = product(t758, t1551);
-        let t1567: F64x4 = t1564.plus(t1565);
-        let t1568: F64x4 = t1566.plus(t1567);
-        let t1569: F64x4 = t1568 * F64x4::splat(2.0);
-        let t1570 = product(t928, t1569);
-        let t1571: F64x4 = t1556.plus(t1563);
-        let t1572: F64x4 = t1570.plus(t1571);
-        let t1573: F64x4 = arm2_crank_length * t1572;
-        let t1574 = product(arm3_rod_mass, t1439);
-        let t1575: F64x4 = arm3_rod_mz * t1457;
-        let t1576: F64x4 = t1574.plus(t1575);
-        let t1577 = product(t1184, t1576);
-        let t1578 = product(arm3_rod_mass, t1351);
-        let t1579: F64x4 = arm3_rod_mz * t1414;
-        let t1580: F64x4 = t1578.minus(t1579);
-        let t1581: F64x4 = t1169 * t1580;
-        let t1582 = product(gravity_x, t1157);
-        let t1583: F64x4 = gravity_y * t1150;
-        let t1584 = product(gravity_z, t1152);
-        let t1585: F64x4 = t1582.plus(t1583);
-        let t1586: F64x4 = t1584.plus(t1585);
-        let t1587 = product(t1157, t1292);
-        let t1588: F64x4 = t1150 * t1319;
-        let t1589 = product(t1152, t1346);
-        let t1590: F64x4 = t1587.plus(t1588);
-        let t1591: F64x4 = t1589.plus(t1590);
-        let t1592 = product(arm3_crank_length, t1591);
-        let t1593: F64x4 = t1592.added_to(t1586);
-        let t1594 = product(arm3_rod_mass, t1593);
-        let t1595 = product(t1425, t1425);
-        let t1596: F64x4 = t1212 * t1212;
-        let t1597: F64x4 = t1595.plus(t1596);
-        let t1598: F64x4 = arm3_rod_mz * t1597;
-        let t1599: F64x4 = t1594.plus(t1598);
-        let t1600 = product(t1157, t1599);
-        let t1601: F64x4 = t1577.plus(t1581);
-        let t1602: F64x4 = t1600.plus(t1601);
-        let t1603: F64x4 = t1602 * F64x4::splat(2.0);
-        let t1604 = product(t1244, t1603);
-        let t1605 = product(t1189, t1576);
-        let t1606: F64x4 = t1172 * t1580;
-        let t1607 = product(t1150, t1599);
-        let t1608: F64x4 = t1605.plus(t1606);
-        let t1609: F64x4 = t1607.plus(t1608);
-        let t1610: F64x4 = t1609 * F64x4::splat(2.0);
-        let t1611: F64x4 = t1295 * t1610;
-        let t1612 = product(t1193, t1576);
-        let t1613: F64x4 = t1174 * t1580;
-        let t1614 = product(t1152, t1599);
-        let t1615: F64x4 = t1612.plus(t1613);
-        let t1616: F64x4 = t1614.plus(t1615);
-        let t1617: F64x4 = t1616 * F64x4::splat(2.0);
-        let t1618 = product(t1322, t1617);
-        let t1619: F64x4 = t1604.plus(t1611);
-        let t1620: F64x4 = t1618.plus(t1619);
-        let t1621 = product(arm3_crank_length, t1620);
-        let t1622: F64x4 = t689.plus(t1083);
-        let t1623: F64x4 = t1477.plus(t1622);
-        let t1624: F64x4 = t1623 * F64x4::splat(2.0);
-        let t1625: F64x4 = t295.plus(t360);
-        let t1626: F64x4 = t632.plus(t676);
-        let t1627: F64x4 = t754.plus(t1026);
-        let t1628: F64x4 = t1070.plus(t1148);
-        let t1629: F64x4 = t1420.plus(t1464);
-        let t1630: F64x4 = t1525.plus(t1573);
-        let t1631: F64x4 = t1621.plus(t1624);
-        let t1632: F64x4 = t1625 + t1626;
-        let t1633: F64x4 = t1627 + t1628;
-        let t1634: F64x4 = t1629 + t1630;
-        let t1635: F64x4 = t1632 + t1633;
-        let t1636: F64x4 = t1631 + t1634;
-        let t1637: F64x4 = t1635 + t1636;
-        let t1638 = product(t277, t1637);
-        let t1639 = product(t274, t286);
-        let t1640: F64x4 = t272 * t279;
-        let t1641: F64x4 = t1639.minus(t1640);
-        let t1642: F64x4 = ay - gravity_y;
-        let t1643 = product(platform_mass, t1642);
-        let t1644: F64x4 = t280 * t359;
-        let t1645 = product(t567, t631);
-        let t1646: F64x4 = t416 * t675;
-        let t1647: F64x4 = arm1_rod_izz * t439;
-        let t1648 = product(t687, t1647);
-        let t1649 = product(t181, t753);
-        let t1650: F64x4 = t961 * t1025;
-        let t1651 = product(t810, t1069);
-        let t1652: F64x4 = arm2_rod_izz * t833;
-        let t1653: F64x4 = t1081 * t1652;
-        let t1654: F64x4 = t275 * t1147;
-        let t1655 = product(t1355, t1419);
-        let t1656: F64x4 = t1204 * t1463;
-        let t1657: F64x4 = arm3_rod_izz * t1227;
-        let t1658 = product(t1475, t1657);
-        let t1659 = product(t471, t1507);
-        let t1660: F64x4 = t514 * t1514;
-        let t1661 = product(t541, t1521);
-        let t1662: F64x4 = t1659.plus(t1660);
-        let t1663: F64x4 = t1661.plus(t1662);
-        let t1664 = product(arm1_crank_length, t1663);
-        let t1665 = product(t865, t1555);
-        let t1666: F64x4 = t908 * t1562;
-        let t1667 = product(t935, t1569);
-        let t1668: F64x4 = t1665.plus(t1666);
-        let t1669: F64x4 = t1667.plus(t1668);
-        let t1670: F64x4 = arm2_crank_length * t1669;
-        let t1671 = product(t1259, t1603);
-        let t1672: F64x4 = t1302 * t1610;
-        let t1673 = product(t1329, t1617);
-        let t1674: F64x4 = t1671.plus(t1672);
-        let t1675: F64x4 = t1673.plus(t1674);
-        let t1676 = product(arm3_crank_length, t1675);
-        let t1677: F64x4 = t1648.plus(t1653);
-        let t1678: F64x4 = t1658.plus(t1677);
-        let t1679: F64x4 = t1678 * F64x4::splat(2.0);
-        let t1680: F64x4 = t1643.plus(t1644);
-        let t1681: F64x4 = t1645.plus(t1646);
-        let t1682: F64x4 = t1649.plus(t1650);
-        let t1683: F64x4 = t1651.plus(t1654);
-        let t1684: F64x4 = t1655.plus(t1656);
-        let t1685: F64x4 = t1664.plus(t1670);
-        let t1686: F64x4 = t1676.plus(t1679);
-        let t1687: F64x4 = t1680 + t1681;
-        let t1688: F64x4 = t1682 + t1683;
-        let t1689: F64x4 = t1684 + t1685;
-        let t1690: F64x4 = t1687 + t1688;
-        let t1691: F64x4 = t1686 + t1689;
-        let t1692: F64x4 = t1690 + t1691;
-        let t1693: F64x4 = t1641 * t1692;
-        let t1694 = product(t275, t279);
-        let t1695: F64x4 = t181 * t286;
-        let t1696: F64x4 = t1694.minus(t1695);
-        let t1697: F64x4 = az - gravity_z;
-        let t1698 = product(platform_mass, t1697);
-        let t1699: F64x4 = t282 * t359;
-        let t1700 = product(t570, t631);
-        let t1701: F64x4 = t421 * t675;
-        let t1702: F64x4 = arm1_rod_izz * t444;
-        let t1703 = product(t687, t1702);
-        let t1704 = product(t274, t753);
-        let t1705: F64x4 = t964 * t1025;
-        let t1706 = product(t815, t1069);
-        let t1707: F64x4 = arm2_rod_izz * t838;
-        let t1708: F64x4 = t1081 * t1707;
-        let t1709: F64x4 = t272 * t1147;
-        let t1710 = product(t1358, t1419);
-        let t1711: F64x4 = t1209 * t1463;
-        let t1712: F64x4 = arm3_rod_izz * t1232;
-        let t1713 = product(t1475, t1712);
-        let t1714 = product(t486, t1507);
-        let t1715: F64x4 = t521 * t1514;
-        let t1716 = product(t548, t1521);
-        let t1717: F64x4 = t1714.plus(t1715);
-        let t1718: F64x4 = t1716.plus(t1717);
-        let t1719 = product(arm1_crank_length, t1718);
-        let t1720 = product(t880, t1555);
-        let t1721: F64x4 = t915 * t1562;
-        let t1722 = product(t942, t1569);
-        let t1723: F64x4 = t1720.plus(t1721);
-        let t1724: F64x4 = t1722.plus(t1723);
-        let t1725: F64x4 = arm2_crank_length * t1724;
-        let t1726 = product(t1274, t1603);
-        let t1727: F64x4 = t1309 * t1610;
-        let t1728 = product(t1336, t1617);
-        let t1729: F64x4 = t1726.plus(t1727);
-        let t1730: F64x4 = t1728.plus(t1729);
-        let t1731 = product(arm3_crank_length, t1730);
-        let t1732: F64x4 = t1703.plus(t1708);
-        let t1733: F64x4 = t1713.plus(t1732);
-        let t1734: F64x4 = t1733 * F64x4::splat(2.0);
-        let t1735: F64x4 = t1698.plus(t1699);
-        let t1736: F64x4 = t1700.plus(t1701);
-        let t1737: F64x4 = t1704.plus(t1705);
-        let t1738: F64x4 = t1706.plus(t1709);
-        let t1739: F64x4 = t1710.plus(t1711);
-        let t1740: F64x4 = t1719.plus(t1725);
-        let t1741: F64x4 = t1731.plus(t1734);
-        let t1742: F64x4 = t1735 + t1736;
-        let t1743: F64x4 = t1737 + t1738;
-        let t1744: F64x4 = t1739 + t1740;
-        let t1745: F64x4 = t1742 + t1743;
-        let t1746: F64x4 = t1741 + t1744;
-        let t1747: F64x4 = t1745 + t1746;
-        let t1748 = product(t1696, t1747);
-        let t1749: F64x4 = t1638.plus(t1693);
-        let t1750: F64x4 = t1748.plus(t1749);
-        let t1751: F64x4 = t293 * t1750;
-        let t1752 = product(t284, t1637);
-        let t1753 = product(t90, t272);
-        let t1754: F64x4 = t282 * t286;
-        let t1755: F64x4 = t1753.minus(t1754);
-        let t1756 = product(t1692, t1755);
-        let t1757 = product(t280, t286);
-        let t1758: F64x4 = t90 * t275;
-        let t1759: F64x4 = t1757.minus(t1758);
-        let t1760: F64x4 = t1747 * t1759;
-        let t1761: F64x4 = t1756.plus(t1760);
-        let t1762: F64x4 = t1752.minus(t1761);
-        let t1763: F64x4 = t293 * t1762;
-        let t1764: F64x4 = -t1763;
-        let t1765 = product(t289, t1637);
-        let t1766 = product(t279, t282);
-        let t1767: F64x4 = t90 * t274;
-        let t1768: F64x4 = t1766.minus(t1767);
-        let t1769: F64x4 = t1692 * t1768;
-        let t1770 = product(t90, t181);
-        let t1771: F64x4 = t279 * t280;
-        let t1772: F64x4 = t1770.minus(t1771);
-        let t1773 = product(t1747, t1772);
-        let t1774: F64x4 = t1765.plus(t1769);
-        let t1775: F64x4 = t1773.plus(t1774);
-        let t1776: F64x4 = t293 * t1775;
-        let t1777: F64x4 = t28 * t43;
-        let t1778: F64x4 = t119 * t134;
-        let t1779: F64x4 = t210 * t225;
-        let t1780 = product(t280, t1641);
-        let t1781 = product(t282, t1696);
-        let t1782: F64x4 = t1780.added_to(t278);
-        let t1783: F64x4 = t1781.plus(t1782);
-        let t1784: F64x4 = t1783 * t1783;
-        let t1785 = product(t90, t90);
-        let t1786: F64x4 = t280 * t280;
-        let t1787 = product(t282, t282);
-        let t1788: F64x4 = t1785.plus(t1786);
-        let t1789: F64x4 = t1787.plus(t1788);
-        let t1790 = product(t279, t279);
-        let t1791: F64x4 = t181 * t181;
-        let t1792 = product(t274, t274);
-        let t1793: F64x4 = t1790.plus(t1791);
-        let t1794: F64x4 = t1792.plus(t1793);
-        let t1795 = product(t286, t286);
-        let t1796: F64x4 = t275 * t275;
-        let t1797 = product(t272, t272);
-        let t1798: F64x4 = t1795.plus(t1796);
-        let t1799: F64x4 = t1797.plus(t1798);
-        let t1800: F64x4 = t1789 * t1794;
-        let t1801: F64x4 = t1799 * t1800;
-        let t1802: F64x4 = t1784 / t1801;
-        (t1167, t1751, t1764, t1776, t1777, t1778, t1779, t1802)
+    let (t1184, t1197, t1209, t1210, t1211, t1212, t1235) = {
+        let t1000: F64x4 = t996.plus(t999);
+        let t1001: F64x4 = t995.plus(t1000);
+        let t1002: F64x4 = t1001 - t994;
+        let t1003: F64x4 = arm3_rod_mass * t1002;
+        let t1004 = product(t400, t722);
+        let t1005: F64x4 = t404 * t728;
+        let t1006 = product(t408, t732);
+        let t1007: F64x4 = t1004.plus(t1005);
+        let t1008: F64x4 = t1006.plus(t1007);
+        let t1009: F64x4 = t698 * t1008;
+        let t1010 = product(t808, t1009);
+        let t1011: F64x4 = ax * t748;
+        let t1012 = product(ay, t753);
+        let t1013: F64x4 = az * t758;
+        let t1014 = product(t698, t1000);
+        let t1015: F64x4 = t1010.plus(t1011);
+        let t1016: F64x4 = t1012.plus(t1013);
+        let t1017: F64x4 = t1015 + t1016;
+        let t1018: F64x4 = t1014.subtracted_from(t1017);
+        let t1019 = product(vx, t739);
+        let t1020: F64x4 = vy * t814;
+        let t1021 = product(vz, t818);
+        let t1022: F64x4 = t1019.plus(t1020);
+        let t1023: F64x4 = t1021.plus(t1022);
+        let t1024: F64x4 = t768 * t1023;
+        let t1025: F64x4 = t1018 - t1024;
+        let t1026: F64x4 = t1025 * F64x4::splat(2.0);
+        let t1027 = product(arm3_rod_mz, t1026);
+        let t1028: F64x4 = t1003 * F64x4::splat(2.0);
+        let t1029: F64x4 = t1027.plus(t1028);
+        let t1030: F64x4 = t745 * t1029;
+        let t1031 = product(t251, t701);
+        let t1032: F64x4 = t255 * t704;
+        let t1033 = product(t266, t699);
+        let t1034: F64x4 = t1031.plus(t1032);
+        let t1035: F64x4 = t1033.plus(t1034);
+        let t1036 = product(gravity_x, t701);
+        let t1037: F64x4 = gravity_y * t704;
+        let t1038 = product(gravity_z, t699);
+        let t1039: F64x4 = t1036.plus(t1037);
+        let t1040: F64x4 = t1038.plus(t1039);
+        let t1041 = product(t701, t790);
+        let t1042: F64x4 = t704 * t795;
+        let t1043 = product(t699, t785);
+        let t1044: F64x4 = t780 * t1035;
+        let t1045: F64x4 = t1041.plus(t1042);
+        let t1046: F64x4 = t1043.plus(t1044);
+        let t1047: F64x4 = t1045 + t1046;
+        let t1048: F64x4 = t1047 - t1040;
+        let t1049: F64x4 = arm3_rod_mass * t1048;
+        let t1050 = product(t761, t761);
+        let t1051: F64x4 = t1023 * t1023;
+        let t1052: F64x4 = t1050.plus(t1051);
+        let t1053: F64x4 = t1052 * F64x4::splat(2.0);
+        let t1054 = product(arm3_rod_mz, t1053);
+        let t1055: F64x4 = t1049 * F64x4::splat(2.0);
+        let t1056: F64x4 = t1054.subtracted_from(t1055);
+        let t1057 = product(t1035, t1056);
+        let t1058: F64x4 = t989.plus(t1030);
+        let t1059: F64x4 = t1057.plus(t1058);
+        let t1060 = product(t737, t1059);
+        let t1061: F64x4 = arm1_rod_mz * t850;
+        let t1062 = product(arm1_rod_ixx, t874);
+        let t1063: F64x4 = t447 * t447;
+        let t1064: F64x4 = t857 * t1063;
+        let t1065 = product(t539, t1064);
+        let t1066: F64x4 = t497 * t866;
+        let t1067: F64x4 = t1065.plus(t1066);
+        let t1068: F64x4 = -t1067;
+        let t1069 = product(t497, t1068);
+        let t1070: F64x4 = t1069.subtracted_from(t872);
+        let t1071: F64x4 = t1070 * F64x4::splat(2.0);
+        let t1072 = product(arm1_rod_izz, t1071);
+        let t1073: F64x4 = t1061 * F64x4::splat(2.0);
+        let t1074: F64x4 = t1062.plus(t1073);
+        let t1075: F64x4 = t1072.plus(t1074);
+        let t1076: F64x4 = t478 * t1075;
+        let t1077: F64x4 = arm2_rod_mz * t926;
+        let t1078 = product(arm2_rod_ixx, t950);
+        let t1079: F64x4 = t582 * t582;
+        let t1080: F64x4 = t933 * t1079;
+        let t1081 = product(t674, t1080);
+        let t1082: F64x4 = t632 * t942;
+        let t1083: F64x4 = t1081.plus(t1082);
+        let t1084: F64x4 = -t1083;
+        let t1085 = product(t632, t1084);
+        let t1086: F64x4 = t1085.subtracted_from(t948);
+        let t1087: F64x4 = t1086 * F64x4::splat(2.0);
+        let t1088 = product(arm2_rod_izz, t1087);
+        let t1089: F64x4 = t1077 * F64x4::splat(2.0);
+        let t1090: F64x4 = t1078.plus(t1089);
+        let t1091: F64x4 = t1088.plus(t1090);
+        let t1092 = product(t613, t1091);
+        let t1093: F64x4 = arm3_rod_mz * t1002;
+        let t1094 = product(arm3_rod_ixx, t1026);
+        let t1095: F64x4 = t717 * t717;
+        let t1096: F64x4 = t1009 * t1095;
+        let t1097 = product(t809, t1096);
+        let t1098: F64x4 = t767 * t1018;
+        let t1099: F64x4 = t1097.plus(t1098);
+        let t1100: F64x4 = -t1099;
+        let t1101 = product(t767, t1100);
+        let t1102: F64x4 = t1101.subtracted_from(t1024);
+        let t1103: F64x4 = t1102 * F64x4::splat(2.0);
+        let t1104 = product(arm3_rod_izz, t1103);
+        let t1105: F64x4 = t1093 * F64x4::splat(2.0);
+        let t1106: F64x4 = t1094.plus(t1105);
+        let t1107: F64x4 = t1104.plus(t1106);
+        let t1108: F64x4 = t748 * t1107;
+        let t1109: F64x4 = t337.plus(t381);
+        let t1110: F64x4 = t425.plus(t427);
+        let t1111: F64x4 = t908.plus(t984);
+        let t1112: F64x4 = t1060.plus(t1076);
+        let t1113: F64x4 = t1092.plus(t1108);
+        let t1114: F64x4 = t1109 + t1110;
+        let t1115: F64x4 = t1111 + t1112;
+        let t1116: F64x4 = t1114 + t1115;
+        let t1117: F64x4 = t1113 + t1116;
+        let t1118: F64x4 = t562.plus(t697);
+        let t1119: F64x4 = t832.plus(t1118);
+        let t1120: F64x4 = t1117 - t1119;
+        let t1121 = product(t277, t1120);
+        let t1122 = product(t274, t286);
+        let t1123: F64x4 = t272 * t279;
+        let t1124: F64x4 = t1122.minus(t1123);
+        let t1125 = product(t280, t336);
+        let t1126: F64x4 = t181 * t380;
+        let t1127 = product(t275, t424);
+        let t1128: F64x4 = ay - gravity_y;
+        let t1129: F64x4 = platform_mass * t1128;
+        let t1130 = product(t544, t561);
+        let t1131: F64x4 = t679 * t696;
+        let t1132 = product(t814, t831);
+        let t1133 = product(t481, t907);
+        let t1134: F64x4 = t616 * t983;
+        let t1135 = product(t751, t1059);
+        let t1136: F64x4 = t483 * t1075;
+        let t1137 = product(t618, t1091);
+        let t1138: F64x4 = t753 * t1107;
+        let t1139: F64x4 = t1125.plus(t1126);
+        let t1140: F64x4 = t1127.plus(t1129);
+        let t1141: F64x4 = t1133.plus(t1134);
+        let t1142: F64x4 = t1135.plus(t1136);
+        let t1143: F64x4 = t1137.plus(t1138);
+        let t1144: F64x4 = t1139 + t1140;
+        let t1145: F64x4 = t1141 + t1142;
+        let t1146: F64x4 = t1144 + t1145;
+        let t1147: F64x4 = t1143 + t1146;
+        let t1148: F64x4 = t1130.plus(t1131);
+        let t1149: F64x4 = t1132.plus(t1148);
+        let t1150: F64x4 = t1147 - t1149;
+        let t1151: F64x4 = t1124 * t1150;
+        let t1152 = product(t275, t279);
+        let t1153: F64x4 = t181 * t286;
+        let t1154: F64x4 = t1152.minus(t1153);
+        let t1155 = product(t282, t336);
+        let t1156: F64x4 = t274 * t380;
+        let t1157 = product(t272, t424);
+        let t1158: F64x4 = az - gravity_z;
+        let t1159: F64x4 = platform_mass * t1158;
+        let t1160 = product(t548, t561);
+        let t1161: F64x4 = t683 * t696;
+        let t1162 = product(t818, t831);
+        let t1163 = product(t486, t907);
+        let t1164: F64x4 = t621 * t983;
+        let t1165 = product(t756, t1059);
+        let t1166: F64x4 = t488 * t1075;
+        let t1167 = product(t623, t1091);
+        let t1168: F64x4 = t758 * t1107;
+        let t1169: F64x4 = t1155.plus(t1156);
+        let t1170: F64x4 = t1157.plus(t1159);
+        let t1171: F64x4 = t1163.plus(t1164);
+        let t1172: F64x4 = t1165.plus(t1166);
+        let t1173: F64x4 = t1167.plus(t1168);
+        let t1174: F64x4 = t1169 + t1170;
+        let t1175: F64x4 = t1171 + t1172;
+        let t1176: F64x4 = t1174 + t1175;
+        let t1177: F64x4 = t1173 + t1176;
+        let t1178: F64x4 = t1160.plus(t1161);
+        let t1179: F64x4 = t1162.plus(t1178);
+        let t1180: F64x4 = t1177 - t1179;
+        let t1181 = product(t1154, t1180);
+        let t1182: F64x4 = t1121.plus(t1151);
+        let t1183: F64x4 = t1181.plus(t1182);
+        let t1184: F64x4 = t293 * t1183;
+        let t1185 = product(t284, t1120);
+        let t1186 = product(t90, t272);
+        let t1187: F64x4 = t282 * t286;
+        let t1188: F64x4 = t1186.minus(t1187);
+        let t1189 = product(t1150, t1188);
+        let t1190 = product(t280, t286);
+        let t1191: F64x4 = t90 * t275;
+        let t1192: F64x4 = t1190.minus(t1191);
+        let t1193: F64x4 = t1180 * t1192;
+        let t1194: F64x4 = t1189.plus(t1193);
+        let t1195: F64x4 = t1185.minus(t1194);
+        let t1196: F64x4 = t293 * t1195;
+        let t1197: F64x4 = -t1196;
+        let t1198 = product(t289, t1120);
+        let t1199 = product(t279, t282);
+        let t1200: F64x4 = t90 * t274;
+        let t1201: F64x4 = t1199.minus(t1200);
+        let t1202: F64x4 = t1150 * t1201;
+        let t1203 = product(t90, t181);
+        let t1204: F64x4 = t279 * t280;
+        let t1205: F64x4 = t1203.minus(t1204);
+        let t1206 = product(t1180, t1205);
+        let t1207: F64x4 = t1198.plus(t1202);
+        let t1208: F64x4 = t1206.plus(t1207);
+        let t1209: F64x4 = t293 * t1208;
+        let t1210: F64x4 = t28 * t43;
+        let t1211: F64x4 = t119 * t134;
+        let t1212: F64x4 = t210 * t225;
+        let t1213 = product(t280, t1124);
+        let t1214 = product(t282, t1154);
+        let t1215: F64x4 = t1213.added_to(t278);
+        let t1216: F64x4 = t1214.plus(t1215);
+        let t1217: F64x4 = t1216 * t1216;
+        let t1218 = product(t90, t90);
+        let t1219: F64x4 = t280 * t280;
+        let t1220 = product(t282, t282);
+        let t1221: F64x4 = t1218.plus(t1219);
+        let t1222: F64x4 = t1220.plus(t1221);
+        let t1223 = product(t279, t279);
+        let t1224: F64x4 = t181 * t181;
+        let t1225 = product(t274, t274);
+        let t1226: F64x4 = t1223.plus(t1224);
+        let t1227: F64x4 = t1225.plus(t1226);
+        let t1228 = product(t286, t286);
+        let t1229: F64x4 = t275 * t275;
+        let t1230 = product(t272, t272);
+        let t1231: F64x4 = t1228.plus(t1229);
+        let t1232: F64x4 = t1230.plus(t1231);
+        let t1233: F64x4 = t1222 * t1227;
+        let t1234: F64x4 = t1232 * t1233;
+        let t1235: F64x4 = t1217 / t1234;
+        (t1184, t1197, t1209, t1210, t1211, t1212, t1235)
     };
     (
-        [(t1751).0, (t1764).0, (t1776).0],
-        [(t379).0, (t773).0, (t1167).0, (t1777).0, (t1778).0, (t1779).0, (t1802).0],
+        [(t1184).0, (t1197).0, (t1209).0],
+        [(t446).0, (t581).0, (t716).0, (t1210).0, (t1211).0, (t1212).0, (t1235).0],
     )
 }

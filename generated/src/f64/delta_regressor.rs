@@ -2,8 +2,8 @@
 // model: delta; any robot of its kind (geometry and gravity are `params`; base parameters found with the example of docs/delta.toml (Delta::example()))
 //
 // Kernel operation counts (mul, div, add, neg, calls):
-//   regressor                         1365   17   725   61  3 sign, 6 sqrt
-//   base_regressor                     984   17   517   35  3 sign, 6 sqrt
+//   regressor                          951   17   521   25  3 sign, 6 sqrt
+//   base_regressor                     781   17   416   19  3 sign, 6 sqrt
 //
 // Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
 // handing on what is read after it: one scope that long overflows rustc's stack in a
@@ -30,7 +30,7 @@
 /// - `y`: row `i` for actuator `i+1`, one column per parameter (N per unit)
 /// - `singular`: `|u_i × r_i|` for each arm, `1 - (K/ρ)²` for each arm, then the arms' hold `det(J⁻¹)² / Π |row_i|²` in `[0, 1]` (zero where they cannot hold the platform): the other results are meaningless where one is near zero or negative
 ///
-/// Operations: 1365 mul, 17 div, 725 add, 61 neg, 3 sign, 6 sqrt (chapter convention: 1382m + 725a).
+/// Operations: 951 mul, 17 div, 521 add, 25 neg, 3 sign, 6 sqrt (chapter convention: 968m + 521a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn regressor(
@@ -56,26 +56,11 @@ pub fn regressor(
         t28,
         t43,
         t90,
-        t109,
-        t113,
         t119,
         t134,
-        t146,
-        t153,
-        t160,
-        t164,
-        t168,
-        t171,
-        t180,
         t181,
-        t196,
-        t200,
-        t204,
         t210,
-        t211,
         t225,
-        t230,
-        t235,
         t237,
         t241,
         t244,
@@ -85,8 +70,6 @@ pub fn regressor(
         t258,
         t262,
         t266,
-        t270,
-        t271,
         t272,
         t274,
         t275,
@@ -110,57 +93,57 @@ pub fn regressor(
         t318,
         t320,
         t328,
+        t356,
+        t357,
         t376,
-        t378,
-        t399,
-        t571,
-        t577,
+        t400,
+        t402,
+        t404,
+        t477,
+        t478,
+        t567,
+        t573,
+        t579,
         t583,
-        t587,
-        t588,
-        t760,
-        t771,
-        t782,
-        t787,
-        t792,
-        t796,
-        t800,
-        t804,
-        t823,
-        t832,
-        t841,
-        t845,
-        t856,
-        t858,
-        t866,
+        t586,
+        t590,
+        t594,
+        t598,
+        t612,
+        t618,
+        t624,
+        t628,
+        t639,
+        t641,
+        t649,
+        t677,
+        t678,
+        t697,
+        t721,
+        t723,
+        t725,
+        t798,
+        t799,
         t888,
-        t914,
-        t916,
-        t918,
+        t894,
+        t900,
+        t904,
+        t907,
+        t911,
+        t915,
         t919,
-        t920,
-        t922,
-        t925,
-        t937,
-        t938,
+        t933,
         t939,
-        t941,
-        t943,
-        t946,
-        t948,
-        t952,
-        t955,
+        t945,
+        t949,
         t960,
-        t965,
+        t962,
         t970,
         t971,
-        t975,
-        t980,
-        t983,
+        t981,
         t985,
-        t986,
-        t990,
-        t995,
+        t989,
+        t994,
         t998,
         t999,
     ) = {
@@ -493,701 +476,686 @@ pub fn regressor(
         let t326: f64 = vz * t282;
         let t327: f64 = t324 + t325;
         let t328: f64 = t326 + t327;
-        let t329: f64 = t62 * t328;
-        let t330: f64 = -t329;
-        let t331: f64 = arm1_crank_length * t330;
-        let t332: f64 = vx + t331;
-        let t333: f64 = t89 * t332;
-        let t334: f64 = t88 * t88;
-        let t335: f64 = t62 * t332;
-        let t336: f64 = t66 * t328;
-        let t337: f64 = -t336;
-        let t338: f64 = arm1_crank_length * t337;
-        let t339: f64 = vy + t338;
-        let t340: f64 = t66 * t339;
-        let t341: f64 = t77 * t328;
-        let t342: f64 = -t341;
-        let t343: f64 = arm1_crank_length * t342;
-        let t344: f64 = vz + t343;
-        let t345: f64 = t77 * t344;
-        let t346: f64 = t55 * t59;
-        let t347: f64 = t69 * t73;
-        let t348: f64 = t80 * t84;
-        let t349: f64 = t346 + t347;
-        let t350: f64 = t348 + t349;
-        let t351: f64 = t328 * t350;
-        let t352: f64 = t335 + t340;
-        let t353: f64 = t345 + t352;
-        let t354: f64 = t351 - t353;
-        let t355: f64 = t29 * t59;
-        let t356: f64 = t334 * t355;
-        let t357: f64 = t354 * t356;
-        let t358: f64 = t333 + t357;
-        let t359: f64 = vx * t358;
-        let t360: f64 = t89 * t339;
-        let t361: f64 = t29 * t73;
-        let t362: f64 = t334 * t361;
-        let t363: f64 = t354 * t362;
-        let t364: f64 = t360 + t363;
-        let t365: f64 = vy * t364;
-        let t366: f64 = t89 * t344;
-        let t367: f64 = t29 * t84;
-        let t368: f64 = t334 * t367;
-        let t369: f64 = t354 * t368;
-        let t370: f64 = t366 + t369;
-        let t371: f64 = vz * t370;
-        let t372: f64 = t321 + t322;
-        let t373: f64 = t323 + t359;
-        let t374: f64 = t365 + t371;
-        let t375: f64 = t372 + t373;
-        let t376: f64 = t374 + t375;
-        let t377: f64 = t293 * t317;
-        let t378: f64 = t376 * t377;
-        let t379: f64 = t62 * t90;
-        let t380: f64 = -t379;
-        let t381: f64 = 1.0 / arm1_rod_length;
-        let t382: f64 = t84 * t381;
-        let t383: f64 = arm1_axis_x * t382;
-        let t384: f64 = t59 * t381;
-        let t385: f64 = arm1_axis_z * t384;
-        let t386: f64 = t383 - t385;
-        let t387: f64 = t73 * t381;
-        let t388: f64 = arm1_axis_z * t387;
-        let t389: f64 = arm1_axis_y * t382;
-        let t390: f64 = t388 - t389;
-        let t391: f64 = t390 * t390;
-        let t392: f64 = t386 * t386;
-        let t393: f64 = arm1_axis_y * t384;
-        let t394: f64 = arm1_axis_x * t387;
-        let t395: f64 = t393 - t394;
-        let t396: f64 = t395 * t395;
-        let t397: f64 = t391 + t392;
-        let t398: f64 = t396 + t397;
-        let t399: f64 = sqrt(t398);
-        let t400: f64 = 1.0 / t399;
-        let t401: f64 = t386 * t400;
-        let t402: f64 = t382 * t401;
-        let t403: f64 = t395 * t400;
-        let t404: f64 = t387 * t403;
-        let t405: f64 = t402 - t404;
-        let t406: f64 = gravity_x * t405;
-        let t407: f64 = t384 * t403;
-        let t408: f64 = t390 * t400;
-        let t409: f64 = t382 * t408;
-        let t410: f64 = t407 - t409;
-        let t411: f64 = gravity_y * t410;
-        let t412: f64 = t387 * t408;
-        let t413: f64 = t384 * t401;
-        let t414: f64 = t412 - t413;
-        let t415: f64 = gravity_z * t414;
-        let t416: f64 = t406 + t411;
-        let t417: f64 = t415 + t416;
-        let t418: f64 = ax * t380;
-        let t419: f64 = t48 * t90;
-        let t420: f64 = t328 * t419;
-        let t421: f64 = t53 * t358;
-        let t422: f64 = t420 + t421;
-        let t423: f64 = arm1_zero_x * t422;
-        let t424: f64 = t53 * t90;
-        let t425: f64 = t328 * t424;
-        let t426: f64 = t48 * t358;
-        let t427: f64 = t425 - t426;
-        let t428: f64 = t14 * t427;
-        let t429: f64 = t423 + t428;
-        let t430: f64 = vx * t429;
-        let t431: f64 = t62 * t280;
-        let t432: f64 = -t431;
-        let t433: f64 = ay * t432;
-        let t434: f64 = t48 * t280;
-        let t435: f64 = t328 * t434;
-        let t436: f64 = t53 * t364;
-        let t437: f64 = t435 + t436;
-        let t438: f64 = arm1_zero_x * t437;
-        let t439: f64 = t53 * t280;
-        let t440: f64 = t328 * t439;
-        let t441: f64 = t48 * t364;
-        let t442: f64 = t440 - t441;
-        let t443: f64 = t14 * t442;
-        let t444: f64 = t438 + t443;
-        let t445: f64 = vy * t444;
-        let t446: f64 = t62 * t282;
-        let t447: f64 = -t446;
-        let t448: f64 = az * t447;
-        let t449: f64 = t48 * t282;
-        let t450: f64 = t328 * t449;
-        let t451: f64 = t53 * t370;
-        let t452: f64 = t450 + t451;
-        let t453: f64 = arm1_zero_x * t452;
-        let t454: f64 = t53 * t282;
-        let t455: f64 = t328 * t454;
-        let t456: f64 = t48 * t370;
-        let t457: f64 = t455 - t456;
-        let t458: f64 = t14 * t457;
-        let t459: f64 = t453 + t458;
-        let t460: f64 = vz * t459;
-        let t461: f64 = t418 + t430;
-        let t462: f64 = t433 + t445;
-        let t463: f64 = t448 + t460;
-        let t464: f64 = t461 + t462;
-        let t465: f64 = t463 + t464;
-        let t466: f64 = t405 * t465;
-        let t467: f64 = t66 * t90;
-        let t468: f64 = -t467;
-        let t469: f64 = ax * t468;
-        let t470: f64 = arm1_zero_y * t422;
-        let t471: f64 = t18 * t427;
-        let t472: f64 = t470 + t471;
-        let t473: f64 = vx * t472;
-        let t474: f64 = t66 * t280;
-        let t475: f64 = -t474;
-        let t476: f64 = ay * t475;
-        let t477: f64 = arm1_zero_y * t437;
-        let t478: f64 = t18 * t442;
-        let t479: f64 = t477 + t478;
-        let t480: f64 = vy * t479;
-        let t481: f64 = t66 * t282;
-        let t482: f64 = -t481;
-        let t483: f64 = az * t482;
-        let t484: f64 = arm1_zero_y * t452;
-        let t485: f64 = t18 * t457;
-        let t486: f64 = t484 + t485;
-        let t487: f64 = vz * t486;
-        let t488: f64 = t469 + t473;
-        let t489: f64 = t476 + t480;
-        let t490: f64 = t483 + t487;
-        let t491: f64 = t488 + t489;
-        let t492: f64 = t490 + t491;
-        let t493: f64 = t410 * t492;
-        let t494: f64 = t77 * t90;
-        let t495: f64 = -t494;
-        let t496: f64 = ax * t495;
-        let t497: f64 = arm1_zero_z * t422;
-        let t498: f64 = t22 * t427;
+        let t329: f64 = t328 * t328;
+        let t330: f64 = t55 * t59;
+        let t331: f64 = t69 * t73;
+        let t332: f64 = t80 * t84;
+        let t333: f64 = t330 + t331;
+        let t334: f64 = t332 + t333;
+        let t335: f64 = arm1_crank_length * t329;
+        let t336: f64 = t334 * t335;
+        let t337: f64 = arm1_crank_length * t62;
+        let t338: f64 = t328 * t337;
+        let t339: f64 = vx - t338;
+        let t340: f64 = t339 * t339;
+        let t341: f64 = arm1_crank_length * t66;
+        let t342: f64 = t328 * t341;
+        let t343: f64 = vy - t342;
+        let t344: f64 = t343 * t343;
+        let t345: f64 = arm1_crank_length * t77;
+        let t346: f64 = t328 * t345;
+        let t347: f64 = vz - t346;
+        let t348: f64 = t347 * t347;
+        let t349: f64 = t336 + t340;
+        let t350: f64 = t344 + t348;
+        let t351: f64 = t349 + t350;
+        let t352: f64 = t89 * t351;
+        let t353: f64 = t321 + t322;
+        let t354: f64 = t323 + t352;
+        let t355: f64 = t353 + t354;
+        let t356: f64 = t293 * t355;
+        let t357: f64 = t317 * t356;
+        let t358: f64 = 1.0 / arm1_rod_length;
+        let t359: f64 = t84 * t358;
+        let t360: f64 = arm1_axis_x * t359;
+        let t361: f64 = t59 * t358;
+        let t362: f64 = arm1_axis_z * t361;
+        let t363: f64 = t360 - t362;
+        let t364: f64 = t73 * t358;
+        let t365: f64 = arm1_axis_z * t364;
+        let t366: f64 = arm1_axis_y * t359;
+        let t367: f64 = t365 - t366;
+        let t368: f64 = t367 * t367;
+        let t369: f64 = t363 * t363;
+        let t370: f64 = arm1_axis_y * t361;
+        let t371: f64 = arm1_axis_x * t364;
+        let t372: f64 = t370 - t371;
+        let t373: f64 = t372 * t372;
+        let t374: f64 = t368 + t369;
+        let t375: f64 = t373 + t374;
+        let t376: f64 = sqrt(t375);
+        let t377: f64 = 1.0 / t376;
+        let t378: f64 = t363 * t377;
+        let t379: f64 = t359 * t378;
+        let t380: f64 = t372 * t377;
+        let t381: f64 = t364 * t380;
+        let t382: f64 = t379 - t381;
+        let t383: f64 = t62 * t382;
+        let t384: f64 = t361 * t380;
+        let t385: f64 = t367 * t377;
+        let t386: f64 = t359 * t385;
+        let t387: f64 = t384 - t386;
+        let t388: f64 = t66 * t387;
+        let t389: f64 = t364 * t385;
+        let t390: f64 = t361 * t378;
+        let t391: f64 = t389 - t390;
+        let t392: f64 = t77 * t391;
+        let t393: f64 = t383 + t388;
+        let t394: f64 = t392 + t393;
+        let t395: f64 = gravity_x * t382;
+        let t396: f64 = gravity_y * t387;
+        let t397: f64 = gravity_z * t391;
+        let t398: f64 = t395 + t396;
+        let t399: f64 = t397 + t398;
+        let t400: f64 = arm1_crank_length * t90;
+        let t401: f64 = ax * t400;
+        let t402: f64 = arm1_crank_length * t280;
+        let t403: f64 = ay * t402;
+        let t404: f64 = arm1_crank_length * t282;
+        let t405: f64 = az * t404;
+        let t406: f64 = t401 + t403;
+        let t407: f64 = t405 + t406;
+        let t408: f64 = t394 * t407;
+        let t409: f64 = t77 * t352;
+        let t410: f64 = t80 * t329;
+        let t411: f64 = t409 - t410;
+        let t412: f64 = arm1_crank_length * t411;
+        let t413: f64 = t391 * t412;
+        let t414: f64 = t62 * t352;
+        let t415: f64 = t55 * t329;
+        let t416: f64 = t414 - t415;
+        let t417: f64 = arm1_crank_length * t416;
+        let t418: f64 = t382 * t417;
+        let t419: f64 = t66 * t352;
+        let t420: f64 = t69 * t329;
+        let t421: f64 = t419 - t420;
+        let t422: f64 = arm1_crank_length * t421;
+        let t423: f64 = t387 * t422;
+        let t424: f64 = t418 + t423;
+        let t425: f64 = t413 + t424;
+        let t426: f64 = t408 + t425;
+        let t427: f64 = t426 - t399;
+        let t428: f64 = t427 * 2.0;
+        let t429: f64 = t394 * t428;
+        let t430: f64 = t62 * t385;
+        let t431: f64 = t66 * t378;
+        let t432: f64 = t77 * t380;
+        let t433: f64 = t430 + t431;
+        let t434: f64 = t432 + t433;
+        let t435: f64 = gravity_x * t385;
+        let t436: f64 = gravity_y * t378;
+        let t437: f64 = gravity_z * t380;
+        let t438: f64 = t435 + t436;
+        let t439: f64 = t437 + t438;
+        let t440: f64 = t407 * t434;
+        let t441: f64 = t380 * t412;
+        let t442: f64 = t385 * t417;
+        let t443: f64 = t378 * t422;
+        let t444: f64 = t442 + t443;
+        let t445: f64 = t441 + t444;
+        let t446: f64 = t440 + t445;
+        let t447: f64 = t446 - t439;
+        let t448: f64 = t447 * 2.0;
+        let t449: f64 = t434 * t448;
+        let t450: f64 = t62 * t361;
+        let t451: f64 = t66 * t364;
+        let t452: f64 = t77 * t359;
+        let t453: f64 = t450 + t451;
+        let t454: f64 = t452 + t453;
+        let t455: f64 = gravity_x * t361;
+        let t456: f64 = gravity_y * t364;
+        let t457: f64 = gravity_z * t359;
+        let t458: f64 = t455 + t456;
+        let t459: f64 = t457 + t458;
+        let t460: f64 = t361 * t417;
+        let t461: f64 = t364 * t422;
+        let t462: f64 = t359 * t412;
+        let t463: f64 = t407 * t454;
+        let t464: f64 = t460 + t461;
+        let t465: f64 = t462 + t463;
+        let t466: f64 = t464 + t465;
+        let t467: f64 = t466 - t459;
+        let t468: f64 = t467 * 2.0;
+        let t469: f64 = t454 * t468;
+        let t470: f64 = t429 + t449;
+        let t471: f64 = t469 + t470;
+        let t472: f64 = t277 * t400;
+        let t473: f64 = t299 * t402;
+        let t474: f64 = t304 * t404;
+        let t475: f64 = t472 + t473;
+        let t476: f64 = t474 + t475;
+        let t477: f64 = t293 * t471;
+        let t478: f64 = t476 * t477;
+        let t479: f64 = t358 * t385;
+        let t480: f64 = t358 * t434;
+        let t481: f64 = t400 * t480;
+        let t482: f64 = t479 - t481;
+        let t483: f64 = t448 * t482;
+        let t484: f64 = t358 * t382;
+        let t485: f64 = t358 * t394;
+        let t486: f64 = t400 * t485;
+        let t487: f64 = t484 - t486;
+        let t488: f64 = t428 * t487;
+        let t489: f64 = arm1_axis_x * t361;
+        let t490: f64 = arm1_axis_y * t364;
+        let t491: f64 = arm1_axis_z * t359;
+        let t492: f64 = t489 + t490;
+        let t493: f64 = t491 + t492;
+        let t494: f64 = t377 * t493;
+        let t495: f64 = t339 * t385;
+        let t496: f64 = t343 * t378;
+        let t497: f64 = t347 * t380;
+        let t498: f64 = t495 + t496;
         let t499: f64 = t497 + t498;
-        let t500: f64 = vx * t499;
-        let t501: f64 = t77 * t280;
-        let t502: f64 = -t501;
-        let t503: f64 = ay * t502;
-        let t504: f64 = arm1_zero_z * t437;
-        let t505: f64 = t22 * t442;
-        let t506: f64 = t504 + t505;
-        let t507: f64 = vy * t506;
-        let t508: f64 = t77 * t282;
-        let t509: f64 = -t508;
-        let t510: f64 = az * t509;
-        let t511: f64 = arm1_zero_z * t452;
-        let t512: f64 = t22 * t457;
-        let t513: f64 = t511 + t512;
-        let t514: f64 = vz * t513;
-        let t515: f64 = t496 + t500;
-        let t516: f64 = t503 + t507;
-        let t517: f64 = t510 + t514;
-        let t518: f64 = t515 + t516;
-        let t519: f64 = t517 + t518;
-        let t520: f64 = t414 * t519;
-        let t521: f64 = t466 + t493;
-        let t522: f64 = t520 + t521;
-        let t523: f64 = arm1_crank_length * t522;
-        let t524: f64 = t417 + t523;
-        let t525: f64 = t405 * t524;
-        let t526: f64 = gravity_x * t408;
-        let t527: f64 = gravity_y * t401;
-        let t528: f64 = gravity_z * t403;
-        let t529: f64 = t526 + t527;
-        let t530: f64 = t528 + t529;
-        let t531: f64 = t408 * t465;
-        let t532: f64 = t401 * t492;
-        let t533: f64 = t403 * t519;
-        let t534: f64 = t531 + t532;
-        let t535: f64 = t533 + t534;
-        let t536: f64 = arm1_crank_length * t535;
-        let t537: f64 = t530 + t536;
-        let t538: f64 = t408 * t537;
-        let t539: f64 = gravity_x * t384;
-        let t540: f64 = gravity_y * t387;
-        let t541: f64 = gravity_z * t382;
-        let t542: f64 = t539 + t540;
-        let t543: f64 = t541 + t542;
-        let t544: f64 = t384 * t465;
-        let t545: f64 = t387 * t492;
-        let t546: f64 = t382 * t519;
-        let t547: f64 = t544 + t545;
-        let t548: f64 = t546 + t547;
-        let t549: f64 = arm1_crank_length * t548;
-        let t550: f64 = t543 + t549;
-        let t551: f64 = t384 * t550;
-        let t552: f64 = t525 + t538;
+        let t500: f64 = t358 * t494;
+        let t501: f64 = t499 * t500;
+        let t502: f64 = t358 * t499;
+        let t503: f64 = t501 * t502;
+        let t504: f64 = ax * t487;
+        let t505: f64 = t358 * t387;
+        let t506: f64 = t402 * t485;
+        let t507: f64 = t505 - t506;
+        let t508: f64 = ay * t507;
+        let t509: f64 = t358 * t391;
+        let t510: f64 = t404 * t485;
+        let t511: f64 = t509 - t510;
+        let t512: f64 = az * t511;
+        let t513: f64 = t358 * t425;
+        let t514: f64 = t503 + t513;
+        let t515: f64 = t504 + t508;
+        let t516: f64 = t512 + t515;
+        let t517: f64 = t514 - t516;
+        let t518: f64 = vx * t482;
+        let t519: f64 = t358 * t378;
+        let t520: f64 = t402 * t480;
+        let t521: f64 = t519 - t520;
+        let t522: f64 = vy * t521;
+        let t523: f64 = t358 * t380;
+        let t524: f64 = t404 * t480;
+        let t525: f64 = t523 - t524;
+        let t526: f64 = vz * t525;
+        let t527: f64 = t518 + t522;
+        let t528: f64 = t526 + t527;
+        let t529: f64 = t494 * t528;
+        let t530: f64 = t528 * t529;
+        let t531: f64 = t517 - t530;
+        let t532: f64 = t531 * 2.0;
+        let t533: f64 = t394 * t532;
+        let t534: f64 = t339 * t382;
+        let t535: f64 = t343 * t387;
+        let t536: f64 = t347 * t391;
+        let t537: f64 = t534 + t535;
+        let t538: f64 = t536 + t537;
+        let t539: f64 = t358 * t538;
+        let t540: f64 = t501 * t539;
+        let t541: f64 = ax * t482;
+        let t542: f64 = ay * t521;
+        let t543: f64 = az * t525;
+        let t544: f64 = t358 * t445;
+        let t545: f64 = t540 + t541;
+        let t546: f64 = t542 + t543;
+        let t547: f64 = t545 + t546;
+        let t548: f64 = t547 - t544;
+        let t549: f64 = vx * t487;
+        let t550: f64 = vy * t507;
+        let t551: f64 = vz * t511;
+        let t552: f64 = t549 + t550;
         let t553: f64 = t551 + t552;
-        let t554: f64 = t553 * 2.0;
-        let t555: f64 = t380 * t554;
-        let t556: f64 = t410 * t524;
-        let t557: f64 = t401 * t537;
-        let t558: f64 = t387 * t550;
-        let t559: f64 = t556 + t557;
+        let t554: f64 = t529 * t553;
+        let t555: f64 = t548 - t554;
+        let t556: f64 = t555 * 2.0;
+        let t557: f64 = t434 * t556;
+        let t558: f64 = t528 * t528;
+        let t559: f64 = t553 * t553;
         let t560: f64 = t558 + t559;
         let t561: f64 = t560 * 2.0;
-        let t562: f64 = t468 * t561;
-        let t563: f64 = t414 * t524;
-        let t564: f64 = t403 * t537;
-        let t565: f64 = t382 * t550;
-        let t566: f64 = t563 + t564;
-        let t567: f64 = t565 + t566;
-        let t568: f64 = t567 * 2.0;
-        let t569: f64 = t495 * t568;
-        let t570: f64 = t555 + t562;
-        let t571: f64 = t569 + t570;
-        let t572: f64 = t277 * t571;
-        let t573: f64 = t432 * t554;
-        let t574: f64 = t475 * t561;
-        let t575: f64 = t502 * t568;
-        let t576: f64 = t573 + t574;
-        let t577: f64 = t575 + t576;
-        let t578: f64 = t299 * t577;
-        let t579: f64 = t447 * t554;
-        let t580: f64 = t482 * t561;
-        let t581: f64 = t509 * t568;
-        let t582: f64 = t579 + t580;
-        let t583: f64 = t581 + t582;
-        let t584: f64 = t304 * t583;
-        let t585: f64 = t572 + t578;
-        let t586: f64 = t584 + t585;
-        let t587: f64 = arm1_crank_length * t293;
-        let t588: f64 = t586 * t587;
-        let t589: f64 = t381 * t408;
-        let t590: f64 = t62 * t408;
-        let t591: f64 = t66 * t401;
-        let t592: f64 = t77 * t403;
-        let t593: f64 = t590 + t591;
-        let t594: f64 = t592 + t593;
-        let t595: f64 = t381 * t594;
-        let t596: f64 = arm1_crank_length * t90;
-        let t597: f64 = t595 * t596;
-        let t598: f64 = t589 - t597;
-        let t599: f64 = t537 * 2.0;
-        let t600: f64 = t598 * t599;
-        let t601: f64 = t381 * t405;
-        let t602: f64 = t62 * t405;
-        let t603: f64 = t66 * t410;
-        let t604: f64 = t77 * t414;
-        let t605: f64 = t602 + t603;
-        let t606: f64 = t604 + t605;
-        let t607: f64 = t381 * t606;
-        let t608: f64 = t596 * t607;
-        let t609: f64 = t601 - t608;
-        let t610: f64 = t524 * 2.0;
-        let t611: f64 = t609 * t610;
-        let t612: f64 = vx * t598;
-        let t613: f64 = t381 * t401;
-        let t614: f64 = arm1_crank_length * t280;
-        let t615: f64 = t595 * t614;
-        let t616: f64 = t613 - t615;
-        let t617: f64 = vy * t616;
-        let t618: f64 = t381 * t403;
-        let t619: f64 = arm1_crank_length * t282;
-        let t620: f64 = t595 * t619;
-        let t621: f64 = t618 - t620;
-        let t622: f64 = vz * t621;
-        let t623: f64 = t612 + t617;
-        let t624: f64 = t622 + t623;
-        let t625: f64 = t624 * t624;
-        let t626: f64 = vx * t609;
-        let t627: f64 = t381 * t410;
-        let t628: f64 = t607 * t614;
-        let t629: f64 = t627 - t628;
-        let t630: f64 = vy * t629;
-        let t631: f64 = t381 * t414;
-        let t632: f64 = t607 * t619;
-        let t633: f64 = t631 - t632;
-        let t634: f64 = vz * t633;
-        let t635: f64 = t626 + t630;
-        let t636: f64 = t634 + t635;
-        let t637: f64 = t636 * t636;
-        let t638: f64 = t625 + t637;
-        let t639: f64 = t384 * t638;
-        let t640: f64 = arm1_axis_x * t384;
-        let t641: f64 = arm1_axis_y * t387;
-        let t642: f64 = arm1_axis_z * t382;
-        let t643: f64 = t640 + t641;
-        let t644: f64 = t642 + t643;
-        let t645: f64 = t400 * t644;
-        let t646: f64 = t589 * t645;
-        let t647: f64 = t595 * t645;
-        let t648: f64 = t596 * t647;
-        let t649: f64 = t646 - t648;
-        let t650: f64 = vx * t649;
-        let t651: f64 = t613 * t645;
-        let t652: f64 = t614 * t647;
-        let t653: f64 = t651 - t652;
-        let t654: f64 = vy * t653;
-        let t655: f64 = t618 * t645;
-        let t656: f64 = t619 * t647;
-        let t657: f64 = t655 - t656;
-        let t658: f64 = vz * t657;
-        let t659: f64 = t650 + t654;
-        let t660: f64 = t658 + t659;
-        let t661: f64 = t624 * t660;
-        let t662: f64 = arm1_crank_length * t62;
-        let t663: f64 = t328 * t662;
-        let t664: f64 = vx - t663;
-        let t665: f64 = t408 * t664;
-        let t666: f64 = arm1_crank_length * t66;
-        let t667: f64 = t328 * t666;
-        let t668: f64 = vy - t667;
-        let t669: f64 = t401 * t668;
-        let t670: f64 = arm1_crank_length * t77;
-        let t671: f64 = t328 * t670;
-        let t672: f64 = vz - t671;
-        let t673: f64 = t403 * t672;
-        let t674: f64 = t665 + t669;
-        let t675: f64 = t673 + t674;
-        let t676: f64 = t381 * t645;
-        let t677: f64 = t675 * t676;
-        let t678: f64 = t381 * t675;
-        let t679: f64 = t677 * t678;
-        let t680: f64 = ax * t609;
-        let t681: f64 = ay * t629;
-        let t682: f64 = az * t633;
-        let t683: f64 = t328 * t328;
-        let t684: f64 = t55 * t683;
-        let t685: f64 = arm1_crank_length * t683;
-        let t686: f64 = t350 * t685;
-        let t687: f64 = t664 * t664;
-        let t688: f64 = t668 * t668;
-        let t689: f64 = t672 * t672;
-        let t690: f64 = t686 + t687;
-        let t691: f64 = t688 + t689;
-        let t692: f64 = t690 + t691;
-        let t693: f64 = t89 * t692;
-        let t694: f64 = t62 * t693;
-        let t695: f64 = t684 - t694;
-        let t696: f64 = t405 * t695;
-        let t697: f64 = t69 * t683;
-        let t698: f64 = t66 * t693;
-        let t699: f64 = t697 - t698;
-        let t700: f64 = t410 * t699;
-        let t701: f64 = t80 * t683;
-        let t702: f64 = t77 * t693;
-        let t703: f64 = t701 - t702;
-        let t704: f64 = t414 * t703;
-        let t705: f64 = t696 + t700;
-        let t706: f64 = t704 + t705;
-        let t707: f64 = arm1_crank_length * t381;
-        let t708: f64 = t706 * t707;
-        let t709: f64 = t680 + t681;
-        let t710: f64 = t682 + t708;
-        let t711: f64 = t709 + t710;
-        let t712: f64 = t679 - t711;
-        let t713: f64 = t661 - t712;
-        let t714: f64 = t405 * t713;
-        let t715: f64 = ax * t598;
-        let t716: f64 = ay * t616;
-        let t717: f64 = az * t621;
-        let t718: f64 = t405 * t664;
-        let t719: f64 = t410 * t668;
-        let t720: f64 = t414 * t672;
-        let t721: f64 = t718 + t719;
-        let t722: f64 = t720 + t721;
-        let t723: f64 = t381 * t722;
-        let t724: f64 = t677 * t723;
-        let t725: f64 = t408 * t695;
-        let t726: f64 = t401 * t699;
-        let t727: f64 = t403 * t703;
-        let t728: f64 = t725 + t726;
-        let t729: f64 = t727 + t728;
-        let t730: f64 = t707 * t729;
-        let t731: f64 = t724 + t730;
-        let t732: f64 = t715 + t716;
-        let t733: f64 = t717 + t731;
-        let t734: f64 = t732 + t733;
-        let t735: f64 = t636 * t660;
-        let t736: f64 = t734 - t735;
-        let t737: f64 = t408 * t736;
-        let t738: f64 = t714 + t737;
-        let t739: f64 = t738 - t639;
-        let t740: f64 = t739 * 2.0;
-        let t741: f64 = t380 * t740;
-        let t742: f64 = t387 * t638;
-        let t743: f64 = t410 * t713;
-        let t744: f64 = t401 * t736;
-        let t745: f64 = t743 + t744;
-        let t746: f64 = t745 - t742;
-        let t747: f64 = t746 * 2.0;
-        let t748: f64 = t468 * t747;
-        let t749: f64 = t382 * t638;
-        let t750: f64 = t414 * t713;
-        let t751: f64 = t403 * t736;
-        let t752: f64 = t750 + t751;
-        let t753: f64 = t752 - t749;
-        let t754: f64 = t753 * 2.0;
-        let t755: f64 = t495 * t754;
-        let t756: f64 = t741 + t748;
-        let t757: f64 = t755 + t756;
-        let t758: f64 = arm1_crank_length * t757;
-        let t759: f64 = t600 + t611;
+        let t562: f64 = t454 * t561;
+        let t563: f64 = t533 + t562;
+        let t564: f64 = t563 - t557;
+        let t565: f64 = t400 * t564;
+        let t566: f64 = t483 + t488;
+        let t567: f64 = t566 - t565;
+        let t568: f64 = t277 * t567;
+        let t569: f64 = t448 * t521;
+        let t570: f64 = t428 * t507;
+        let t571: f64 = t402 * t564;
+        let t572: f64 = t569 + t570;
+        let t573: f64 = t572 - t571;
+        let t574: f64 = t299 * t573;
+        let t575: f64 = t448 * t525;
+        let t576: f64 = t428 * t511;
+        let t577: f64 = t404 * t564;
+        let t578: f64 = t575 + t576;
+        let t579: f64 = t578 - t577;
+        let t580: f64 = t304 * t579;
+        let t581: f64 = t568 + t574;
+        let t582: f64 = t580 + t581;
+        let t583: f64 = t293 * t582;
+        let t584: f64 = t482 * t556;
+        let t585: f64 = t487 * t532;
+        let t586: f64 = t584 - t585;
+        let t587: f64 = t277 * t586;
+        let t588: f64 = t521 * t556;
+        let t589: f64 = t507 * t532;
+        let t590: f64 = t588 - t589;
+        let t591: f64 = t299 * t590;
+        let t592: f64 = t525 * t556;
+        let t593: f64 = t511 * t532;
+        let t594: f64 = t592 - t593;
+        let t595: f64 = t304 * t594;
+        let t596: f64 = t587 + t591;
+        let t597: f64 = t595 + t596;
+        let t598: f64 = t293 * t597;
+        let t599: f64 = t487 * t528;
+        let t600: f64 = t529 * t599;
+        let t601: f64 = t377 * t377;
+        let t602: f64 = t539 * t601;
+        let t603: f64 = t502 * t602;
+        let t604: f64 = t494 * t548;
+        let t605: f64 = t603 + t604;
+        let t606: f64 = -t605;
+        let t607: f64 = t494 * t606;
+        let t608: f64 = t554 - t607;
+        let t609: f64 = t608 * 2.0;
+        let t610: f64 = t482 * t609;
+        let t611: f64 = t600 * 2.0;
+        let t612: f64 = t610 - t611;
+        let t613: f64 = t277 * t612;
+        let t614: f64 = t507 * t528;
+        let t615: f64 = t529 * t614;
+        let t616: f64 = t521 * t609;
+        let t617: f64 = t615 * 2.0;
+        let t618: f64 = t616 - t617;
+        let t619: f64 = t299 * t618;
+        let t620: f64 = t511 * t528;
+        let t621: f64 = t529 * t620;
+        let t622: f64 = t525 * t609;
+        let t623: f64 = t621 * 2.0;
+        let t624: f64 = t622 - t623;
+        let t625: f64 = t304 * t624;
+        let t626: f64 = t613 + t619;
+        let t627: f64 = t625 + t626;
+        let t628: f64 = t293 * t627;
+        let t629: f64 = gravity_x * t160;
+        let t630: f64 = gravity_y * t164;
+        let t631: f64 = gravity_z * t168;
+        let t632: f64 = t629 + t630;
+        let t633: f64 = t631 + t632;
+        let t634: f64 = t277 * t279;
+        let t635: f64 = t181 * t299;
+        let t636: f64 = t274 * t304;
+        let t637: f64 = t634 + t635;
+        let t638: f64 = t636 + t637;
+        let t639: f64 = t293 * t633;
+        let t640: f64 = t638 * t639;
+        let t641: f64 = -t640;
+        let t642: f64 = ax * t279;
+        let t643: f64 = ay * t181;
+        let t644: f64 = az * t274;
+        let t645: f64 = vx * t279;
+        let t646: f64 = vy * t181;
+        let t647: f64 = vz * t274;
+        let t648: f64 = t645 + t646;
+        let t649: f64 = t647 + t648;
+        let t650: f64 = t649 * t649;
+        let t651: f64 = t153 * t157;
+        let t652: f64 = t146 * t150;
+        let t653: f64 = t171 * t175;
+        let t654: f64 = t651 + t652;
+        let t655: f64 = t653 + t654;
+        let t656: f64 = arm2_crank_length * t650;
+        let t657: f64 = t655 * t656;
+        let t658: f64 = arm2_crank_length * t160;
+        let t659: f64 = t649 * t658;
+        let t660: f64 = vx - t659;
+        let t661: f64 = t660 * t660;
+        let t662: f64 = arm2_crank_length * t164;
+        let t663: f64 = t649 * t662;
+        let t664: f64 = vy - t663;
+        let t665: f64 = t664 * t664;
+        let t666: f64 = arm2_crank_length * t168;
+        let t667: f64 = t649 * t666;
+        let t668: f64 = vz - t667;
+        let t669: f64 = t668 * t668;
+        let t670: f64 = t657 + t661;
+        let t671: f64 = t665 + t669;
+        let t672: f64 = t670 + t671;
+        let t673: f64 = t180 * t672;
+        let t674: f64 = t642 + t643;
+        let t675: f64 = t644 + t673;
+        let t676: f64 = t674 + t675;
+        let t677: f64 = t293 * t676;
+        let t678: f64 = t638 * t677;
+        let t679: f64 = 1.0 / arm2_rod_length;
+        let t680: f64 = t175 * t679;
+        let t681: f64 = arm2_axis_x * t680;
+        let t682: f64 = t157 * t679;
+        let t683: f64 = arm2_axis_z * t682;
+        let t684: f64 = t681 - t683;
+        let t685: f64 = t150 * t679;
+        let t686: f64 = arm2_axis_z * t685;
+        let t687: f64 = arm2_axis_y * t680;
+        let t688: f64 = t686 - t687;
+        let t689: f64 = t688 * t688;
+        let t690: f64 = t684 * t684;
+        let t691: f64 = arm2_axis_y * t682;
+        let t692: f64 = arm2_axis_x * t685;
+        let t693: f64 = t691 - t692;
+        let t694: f64 = t693 * t693;
+        let t695: f64 = t689 + t690;
+        let t696: f64 = t694 + t695;
+        let t697: f64 = sqrt(t696);
+        let t698: f64 = 1.0 / t697;
+        let t699: f64 = t684 * t698;
+        let t700: f64 = t680 * t699;
+        let t701: f64 = t693 * t698;
+        let t702: f64 = t685 * t701;
+        let t703: f64 = t700 - t702;
+        let t704: f64 = t160 * t703;
+        let t705: f64 = t682 * t701;
+        let t706: f64 = t688 * t698;
+        let t707: f64 = t680 * t706;
+        let t708: f64 = t705 - t707;
+        let t709: f64 = t164 * t708;
+        let t710: f64 = t685 * t706;
+        let t711: f64 = t682 * t699;
+        let t712: f64 = t710 - t711;
+        let t713: f64 = t168 * t712;
+        let t714: f64 = t704 + t709;
+        let t715: f64 = t713 + t714;
+        let t716: f64 = gravity_x * t703;
+        let t717: f64 = gravity_y * t708;
+        let t718: f64 = gravity_z * t712;
+        let t719: f64 = t716 + t717;
+        let t720: f64 = t718 + t719;
+        let t721: f64 = arm2_crank_length * t279;
+        let t722: f64 = ax * t721;
+        let t723: f64 = arm2_crank_length * t181;
+        let t724: f64 = ay * t723;
+        let t725: f64 = arm2_crank_length * t274;
+        let t726: f64 = az * t725;
+        let t727: f64 = t722 + t724;
+        let t728: f64 = t726 + t727;
+        let t729: f64 = t715 * t728;
+        let t730: f64 = t168 * t673;
+        let t731: f64 = t171 * t650;
+        let t732: f64 = t730 - t731;
+        let t733: f64 = arm2_crank_length * t732;
+        let t734: f64 = t712 * t733;
+        let t735: f64 = t160 * t673;
+        let t736: f64 = t153 * t650;
+        let t737: f64 = t735 - t736;
+        let t738: f64 = arm2_crank_length * t737;
+        let t739: f64 = t703 * t738;
+        let t740: f64 = t164 * t673;
+        let t741: f64 = t146 * t650;
+        let t742: f64 = t740 - t741;
+        let t743: f64 = arm2_crank_length * t742;
+        let t744: f64 = t708 * t743;
+        let t745: f64 = t739 + t744;
+        let t746: f64 = t734 + t745;
+        let t747: f64 = t729 + t746;
+        let t748: f64 = t747 - t720;
+        let t749: f64 = t748 * 2.0;
+        let t750: f64 = t715 * t749;
+        let t751: f64 = t160 * t706;
+        let t752: f64 = t164 * t699;
+        let t753: f64 = t168 * t701;
+        let t754: f64 = t751 + t752;
+        let t755: f64 = t753 + t754;
+        let t756: f64 = gravity_x * t706;
+        let t757: f64 = gravity_y * t699;
+        let t758: f64 = gravity_z * t701;
+        let t759: f64 = t756 + t757;
         let t760: f64 = t758 + t759;
-        let t761: f64 = t277 * t760;
-        let t762: f64 = t599 * t616;
-        let t763: f64 = t610 * t629;
-        let t764: f64 = t432 * t740;
-        let t765: f64 = t475 * t747;
-        let t766: f64 = t502 * t754;
-        let t767: f64 = t764 + t765;
-        let t768: f64 = t766 + t767;
-        let t769: f64 = arm1_crank_length * t768;
-        let t770: f64 = t762 + t763;
-        let t771: f64 = t769 + t770;
-        let t772: f64 = t299 * t771;
-        let t773: f64 = t599 * t621;
-        let t774: f64 = t610 * t633;
-        let t775: f64 = t447 * t740;
-        let t776: f64 = t482 * t747;
-        let t777: f64 = t509 * t754;
-        let t778: f64 = t775 + t776;
-        let t779: f64 = t777 + t778;
-        let t780: f64 = arm1_crank_length * t779;
-        let t781: f64 = t773 + t774;
-        let t782: f64 = t780 + t781;
-        let t783: f64 = t304 * t782;
-        let t784: f64 = t761 + t772;
-        let t785: f64 = t783 + t784;
-        let t786: f64 = t293 * t785;
-        let t787: f64 = -t786;
-        let t788: f64 = t736 * 2.0;
-        let t789: f64 = t598 * t788;
-        let t790: f64 = t713 * 2.0;
-        let t791: f64 = t609 * t790;
-        let t792: f64 = t789 + t791;
-        let t793: f64 = t277 * t792;
-        let t794: f64 = t616 * t788;
-        let t795: f64 = t629 * t790;
-        let t796: f64 = t794 + t795;
-        let t797: f64 = t299 * t796;
-        let t798: f64 = t621 * t788;
-        let t799: f64 = t633 * t790;
-        let t800: f64 = t798 + t799;
-        let t801: f64 = t304 * t800;
-        let t802: f64 = t793 + t797;
-        let t803: f64 = t801 + t802;
-        let t804: f64 = t293 * t803;
-        let t805: f64 = t400 * t400;
-        let t806: f64 = t723 * t805;
-        let t807: f64 = t678 * t806;
-        let t808: f64 = ax * t649;
-        let t809: f64 = ay * t653;
-        let t810: f64 = az * t657;
-        let t811: f64 = t645 * t731;
-        let t812: f64 = t807 + t808;
-        let t813: f64 = t809 + t810;
+        let t761: f64 = t728 * t755;
+        let t762: f64 = t701 * t733;
+        let t763: f64 = t706 * t738;
+        let t764: f64 = t699 * t743;
+        let t765: f64 = t763 + t764;
+        let t766: f64 = t762 + t765;
+        let t767: f64 = t761 + t766;
+        let t768: f64 = t767 - t760;
+        let t769: f64 = t768 * 2.0;
+        let t770: f64 = t755 * t769;
+        let t771: f64 = t160 * t682;
+        let t772: f64 = t164 * t685;
+        let t773: f64 = t168 * t680;
+        let t774: f64 = t771 + t772;
+        let t775: f64 = t773 + t774;
+        let t776: f64 = gravity_x * t682;
+        let t777: f64 = gravity_y * t685;
+        let t778: f64 = gravity_z * t680;
+        let t779: f64 = t776 + t777;
+        let t780: f64 = t778 + t779;
+        let t781: f64 = t682 * t738;
+        let t782: f64 = t685 * t743;
+        let t783: f64 = t680 * t733;
+        let t784: f64 = t728 * t775;
+        let t785: f64 = t781 + t782;
+        let t786: f64 = t783 + t784;
+        let t787: f64 = t785 + t786;
+        let t788: f64 = t787 - t780;
+        let t789: f64 = t788 * 2.0;
+        let t790: f64 = t775 * t789;
+        let t791: f64 = t750 + t770;
+        let t792: f64 = t790 + t791;
+        let t793: f64 = t277 * t721;
+        let t794: f64 = t299 * t723;
+        let t795: f64 = t304 * t725;
+        let t796: f64 = t793 + t794;
+        let t797: f64 = t795 + t796;
+        let t798: f64 = t293 * t792;
+        let t799: f64 = t797 * t798;
+        let t800: f64 = t679 * t706;
+        let t801: f64 = t679 * t755;
+        let t802: f64 = t721 * t801;
+        let t803: f64 = t800 - t802;
+        let t804: f64 = t769 * t803;
+        let t805: f64 = t679 * t703;
+        let t806: f64 = t679 * t715;
+        let t807: f64 = t721 * t806;
+        let t808: f64 = t805 - t807;
+        let t809: f64 = t749 * t808;
+        let t810: f64 = arm2_axis_x * t682;
+        let t811: f64 = arm2_axis_y * t685;
+        let t812: f64 = arm2_axis_z * t680;
+        let t813: f64 = t810 + t811;
         let t814: f64 = t812 + t813;
-        let t815: f64 = t811 + t814;
-        let t816: f64 = t649 * t815;
-        let t817: f64 = t598 * t636;
-        let t818: f64 = t609 * t624;
-        let t819: f64 = t817 - t818;
-        let t820: f64 = t819 * 2.0;
-        let t821: f64 = t660 * t820;
-        let t822: f64 = t816 * 2.0;
-        let t823: f64 = t821 + t822;
-        let t824: f64 = t277 * t823;
-        let t825: f64 = t653 * t815;
-        let t826: f64 = t616 * t636;
-        let t827: f64 = t624 * t629;
+        let t815: f64 = t698 * t814;
+        let t816: f64 = t660 * t706;
+        let t817: f64 = t664 * t699;
+        let t818: f64 = t668 * t701;
+        let t819: f64 = t816 + t817;
+        let t820: f64 = t818 + t819;
+        let t821: f64 = t679 * t815;
+        let t822: f64 = t820 * t821;
+        let t823: f64 = t679 * t820;
+        let t824: f64 = t822 * t823;
+        let t825: f64 = ax * t808;
+        let t826: f64 = t679 * t708;
+        let t827: f64 = t723 * t806;
         let t828: f64 = t826 - t827;
-        let t829: f64 = t828 * 2.0;
-        let t830: f64 = t660 * t829;
-        let t831: f64 = t825 * 2.0;
-        let t832: f64 = t830 + t831;
-        let t833: f64 = t299 * t832;
-        let t834: f64 = t657 * t815;
-        let t835: f64 = t621 * t636;
-        let t836: f64 = t624 * t633;
-        let t837: f64 = t835 - t836;
-        let t838: f64 = t837 * 2.0;
-        let t839: f64 = t660 * t838;
-        let t840: f64 = t834 * 2.0;
-        let t841: f64 = t839 + t840;
-        let t842: f64 = t304 * t841;
-        let t843: f64 = t824 + t833;
-        let t844: f64 = t842 + t843;
-        let t845: f64 = t293 * t844;
-        let t846: f64 = gravity_x * t160;
-        let t847: f64 = gravity_y * t164;
-        let t848: f64 = gravity_z * t168;
-        let t849: f64 = t846 + t847;
-        let t850: f64 = t848 + t849;
-        let t851: f64 = t277 * t279;
-        let t852: f64 = t181 * t299;
-        let t853: f64 = t274 * t304;
-        let t854: f64 = t851 + t852;
-        let t855: f64 = t853 + t854;
-        let t856: f64 = t293 * t850;
-        let t857: f64 = t855 * t856;
-        let t858: f64 = -t857;
-        let t859: f64 = ax * t279;
-        let t860: f64 = ay * t181;
-        let t861: f64 = az * t274;
-        let t862: f64 = vx * t279;
-        let t863: f64 = vy * t181;
-        let t864: f64 = vz * t274;
-        let t865: f64 = t862 + t863;
-        let t866: f64 = t864 + t865;
-        let t867: f64 = t160 * t866;
-        let t868: f64 = -t867;
-        let t869: f64 = arm2_crank_length * t868;
-        let t870: f64 = vx + t869;
-        let t871: f64 = t180 * t870;
-        let t872: f64 = t179 * t179;
-        let t873: f64 = t160 * t870;
-        let t874: f64 = t164 * t866;
-        let t875: f64 = -t874;
-        let t876: f64 = arm2_crank_length * t875;
-        let t877: f64 = vy + t876;
-        let t878: f64 = t164 * t877;
-        let t879: f64 = t168 * t866;
-        let t880: f64 = -t879;
-        let t881: f64 = arm2_crank_length * t880;
-        let t882: f64 = vz + t881;
-        let t883: f64 = t168 * t882;
-        let t884: f64 = t153 * t157;
-        let t885: f64 = t146 * t150;
-        let t886: f64 = t171 * t175;
-        let t887: f64 = t884 + t885;
-        let t888: f64 = t886 + t887;
-        let t889: f64 = t866 * t888;
-        let t890: f64 = t873 + t878;
-        let t891: f64 = t883 + t890;
-        let t892: f64 = t889 - t891;
-        let t893: f64 = t120 * t157;
-        let t894: f64 = t872 * t893;
-        let t895: f64 = t892 * t894;
-        let t896: f64 = t871 + t895;
-        let t897: f64 = vx * t896;
-        let t898: f64 = t180 * t877;
-        let t899: f64 = t120 * t150;
-        let t900: f64 = t872 * t899;
-        let t901: f64 = t892 * t900;
-        let t902: f64 = t898 + t901;
-        let t903: f64 = vy * t902;
-        let t904: f64 = t180 * t882;
-        let t905: f64 = t120 * t175;
-        let t906: f64 = t872 * t905;
-        let t907: f64 = t892 * t906;
-        let t908: f64 = t904 + t907;
-        let t909: f64 = vz * t908;
-        let t910: f64 = t859 + t860;
-        let t911: f64 = t861 + t897;
-        let t912: f64 = t903 + t909;
-        let t913: f64 = t910 + t911;
-        let t914: f64 = t912 + t913;
-        let t915: f64 = t293 * t855;
-        let t916: f64 = t914 * t915;
-        let t917: f64 = t160 * t279;
-        let t918: f64 = -t917;
-        let t919: f64 = 1.0 / arm2_rod_length;
-        let t920: f64 = t175 * t919;
-        let t921: f64 = arm2_axis_x * t920;
-        let t922: f64 = t157 * t919;
-        let t923: f64 = arm2_axis_z * t922;
-        let t924: f64 = t921 - t923;
-        let t925: f64 = t150 * t919;
-        let t926: f64 = arm2_axis_z * t925;
-        let t927: f64 = arm2_axis_y * t920;
-        let t928: f64 = t926 - t927;
-        let t929: f64 = t928 * t928;
-        let t930: f64 = t924 * t924;
-        let t931: f64 = arm2_axis_y * t922;
-        let t932: f64 = arm2_axis_x * t925;
+        let t829: f64 = ay * t828;
+        let t830: f64 = t679 * t712;
+        let t831: f64 = t725 * t806;
+        let t832: f64 = t830 - t831;
+        let t833: f64 = az * t832;
+        let t834: f64 = t679 * t746;
+        let t835: f64 = t824 + t834;
+        let t836: f64 = t825 + t829;
+        let t837: f64 = t833 + t836;
+        let t838: f64 = t835 - t837;
+        let t839: f64 = vx * t803;
+        let t840: f64 = t679 * t699;
+        let t841: f64 = t723 * t801;
+        let t842: f64 = t840 - t841;
+        let t843: f64 = vy * t842;
+        let t844: f64 = t679 * t701;
+        let t845: f64 = t725 * t801;
+        let t846: f64 = t844 - t845;
+        let t847: f64 = vz * t846;
+        let t848: f64 = t839 + t843;
+        let t849: f64 = t847 + t848;
+        let t850: f64 = t815 * t849;
+        let t851: f64 = t849 * t850;
+        let t852: f64 = t838 - t851;
+        let t853: f64 = t852 * 2.0;
+        let t854: f64 = t715 * t853;
+        let t855: f64 = t660 * t703;
+        let t856: f64 = t664 * t708;
+        let t857: f64 = t668 * t712;
+        let t858: f64 = t855 + t856;
+        let t859: f64 = t857 + t858;
+        let t860: f64 = t679 * t859;
+        let t861: f64 = t822 * t860;
+        let t862: f64 = ax * t803;
+        let t863: f64 = ay * t842;
+        let t864: f64 = az * t846;
+        let t865: f64 = t679 * t766;
+        let t866: f64 = t861 + t862;
+        let t867: f64 = t863 + t864;
+        let t868: f64 = t866 + t867;
+        let t869: f64 = t868 - t865;
+        let t870: f64 = vx * t808;
+        let t871: f64 = vy * t828;
+        let t872: f64 = vz * t832;
+        let t873: f64 = t870 + t871;
+        let t874: f64 = t872 + t873;
+        let t875: f64 = t850 * t874;
+        let t876: f64 = t869 - t875;
+        let t877: f64 = t876 * 2.0;
+        let t878: f64 = t755 * t877;
+        let t879: f64 = t849 * t849;
+        let t880: f64 = t874 * t874;
+        let t881: f64 = t879 + t880;
+        let t882: f64 = t881 * 2.0;
+        let t883: f64 = t775 * t882;
+        let t884: f64 = t854 + t883;
+        let t885: f64 = t884 - t878;
+        let t886: f64 = t721 * t885;
+        let t887: f64 = t804 + t809;
+        let t888: f64 = t887 - t886;
+        let t889: f64 = t277 * t888;
+        let t890: f64 = t769 * t842;
+        let t891: f64 = t749 * t828;
+        let t892: f64 = t723 * t885;
+        let t893: f64 = t890 + t891;
+        let t894: f64 = t893 - t892;
+        let t895: f64 = t299 * t894;
+        let t896: f64 = t769 * t846;
+        let t897: f64 = t749 * t832;
+        let t898: f64 = t725 * t885;
+        let t899: f64 = t896 + t897;
+        let t900: f64 = t899 - t898;
+        let t901: f64 = t304 * t900;
+        let t902: f64 = t889 + t895;
+        let t903: f64 = t901 + t902;
+        let t904: f64 = t293 * t903;
+        let t905: f64 = t803 * t877;
+        let t906: f64 = t808 * t853;
+        let t907: f64 = t905 - t906;
+        let t908: f64 = t277 * t907;
+        let t909: f64 = t842 * t877;
+        let t910: f64 = t828 * t853;
+        let t911: f64 = t909 - t910;
+        let t912: f64 = t299 * t911;
+        let t913: f64 = t846 * t877;
+        let t914: f64 = t832 * t853;
+        let t915: f64 = t913 - t914;
+        let t916: f64 = t304 * t915;
+        let t917: f64 = t908 + t912;
+        let t918: f64 = t916 + t917;
+        let t919: f64 = t293 * t918;
+        let t920: f64 = t808 * t849;
+        let t921: f64 = t850 * t920;
+        let t922: f64 = t698 * t698;
+        let t923: f64 = t860 * t922;
+        let t924: f64 = t823 * t923;
+        let t925: f64 = t815 * t869;
+        let t926: f64 = t924 + t925;
+        let t927: f64 = -t926;
+        let t928: f64 = t815 * t927;
+        let t929: f64 = t875 - t928;
+        let t930: f64 = t929 * 2.0;
+        let t931: f64 = t803 * t930;
+        let t932: f64 = t921 * 2.0;
         let t933: f64 = t931 - t932;
-        let t934: f64 = t933 * t933;
-        let t935: f64 = t929 + t930;
-        let t936: f64 = t934 + t935;
-        let t937: f64 = sqrt(t936);
-        let t938: f64 = 1.0 / t937;
-        let t939: f64 = t924 * t938;
-        let t940: f64 = t920 * t939;
-        let t941: f64 = t933 * t938;
-        let t942: f64 = t925 * t941;
-        let t943: f64 = t940 - t942;
-        let t944: f64 = gravity_x * t943;
-        let t945: f64 = t922 * t941;
-        let t946: f64 = t928 * t938;
-        let t947: f64 = t920 * t946;
-        let t948: f64 = t945 - t947;
-        let t949: f64 = gravity_y * t948;
-        let t950: f64 = t925 * t946;
-        let t951: f64 = t922 * t939;
-        let t952: f64 = t950 - t951;
-        let t953: f64 = gravity_z * t952;
-        let t954: f64 = t944 + t949;
-        let t955: f64 = t953 + t954;
-        let t956: f64 = ax * t918;
-        let t957: f64 = t139 * t279;
-        let t958: f64 = t866 * t957;
-        let t959: f64 = t144 * t896;
-        let t960: f64 = t958 + t959;
-        let t961: f64 = arm2_zero_x * t960;
-        let t962: f64 = t144 * t279;
-        let t963: f64 = t866 * t962;
-        let t964: f64 = t139 * t896;
-        let t965: f64 = t963 - t964;
-        let t966: f64 = t105 * t965;
-        let t967: f64 = t961 + t966;
-        let t968: f64 = vx * t967;
-        let t969: f64 = t160 * t181;
-        let t970: f64 = -t969;
-        let t971: f64 = ay * t970;
-        let t972: f64 = t139 * t181;
-        let t973: f64 = t866 * t972;
-        let t974: f64 = t144 * t902;
-        let t975: f64 = t973 + t974;
-        let t976: f64 = arm2_zero_x * t975;
-        let t977: f64 = t144 * t181;
-        let t978: f64 = t866 * t977;
-        let t979: f64 = t139 * t902;
-        let t980: f64 = t978 - t979;
-        let t981: f64 = t105 * t980;
-        let t982: f64 = t976 + t981;
-        let t983: f64 = vy * t982;
-        let t984: f64 = t160 * t274;
-        let t985: f64 = -t984;
-        let t986: f64 = az * t985;
-        let t987: f64 = t139 * t274;
-        let t988: f64 = t866 * t987;
-        let t989: f64 = t144 * t908;
-        let t990: f64 = t988 + t989;
-        let t991: f64 = arm2_zero_x * t990;
-        let t992: f64 = t144 * t274;
-        let t993: f64 = t866 * t992;
-        let t994: f64 = t139 * t908;
-        let t995: f64 = t993 - t994;
-        let t996: f64 = t105 * t995;
-        let t997: f64 = t991 + t996;
-        let t998: f64 = vz * t997;
-        let t999: f64 = t956 + t968;
+        let t934: f64 = t277 * t933;
+        let t935: f64 = t828 * t849;
+        let t936: f64 = t850 * t935;
+        let t937: f64 = t842 * t930;
+        let t938: f64 = t936 * 2.0;
+        let t939: f64 = t937 - t938;
+        let t940: f64 = t299 * t939;
+        let t941: f64 = t832 * t849;
+        let t942: f64 = t850 * t941;
+        let t943: f64 = t846 * t930;
+        let t944: f64 = t942 * 2.0;
+        let t945: f64 = t943 - t944;
+        let t946: f64 = t304 * t945;
+        let t947: f64 = t934 + t940;
+        let t948: f64 = t946 + t947;
+        let t949: f64 = t293 * t948;
+        let t950: f64 = gravity_x * t251;
+        let t951: f64 = gravity_y * t255;
+        let t952: f64 = gravity_z * t266;
+        let t953: f64 = t950 + t951;
+        let t954: f64 = t952 + t953;
+        let t955: f64 = t277 * t286;
+        let t956: f64 = t275 * t299;
+        let t957: f64 = t272 * t304;
+        let t958: f64 = t955 + t956;
+        let t959: f64 = t957 + t958;
+        let t960: f64 = t293 * t954;
+        let t961: f64 = t959 * t960;
+        let t962: f64 = -t961;
+        let t963: f64 = ax * t286;
+        let t964: f64 = ay * t275;
+        let t965: f64 = az * t272;
+        let t966: f64 = vx * t286;
+        let t967: f64 = vy * t275;
+        let t968: f64 = vz * t272;
+        let t969: f64 = t966 + t967;
+        let t970: f64 = t968 + t969;
+        let t971: f64 = t970 * t970;
+        let t972: f64 = t244 * t248;
+        let t973: f64 = t258 * t262;
+        let t974: f64 = t237 * t241;
+        let t975: f64 = t972 + t973;
+        let t976: f64 = t974 + t975;
+        let t977: f64 = arm3_crank_length * t971;
+        let t978: f64 = t976 * t977;
+        let t979: f64 = arm3_crank_length * t251;
+        let t980: f64 = t970 * t979;
+        let t981: f64 = vx - t980;
+        let t982: f64 = t981 * t981;
+        let t983: f64 = arm3_crank_length * t255;
+        let t984: f64 = t970 * t983;
+        let t985: f64 = vy - t984;
+        let t986: f64 = t985 * t985;
+        let t987: f64 = arm3_crank_length * t266;
+        let t988: f64 = t970 * t987;
+        let t989: f64 = vz - t988;
+        let t990: f64 = t989 * t989;
+        let t991: f64 = t978 + t982;
+        let t992: f64 = t986 + t990;
+        let t993: f64 = t991 + t992;
+        let t994: f64 = t271 * t993;
+        let t995: f64 = t963 + t964;
+        let t996: f64 = t965 + t994;
+        let t997: f64 = t995 + t996;
+        let t998: f64 = t293 * t997;
+        let t999: f64 = t959 * t998;
         (
             t28,
             t43,
             t90,
-            t109,
-            t113,
             t119,
             t134,
-            t146,
-            t153,
-            t160,
-            t164,
-            t168,
-            t171,
-            t180,
             t181,
-            t196,
-            t200,
-            t204,
             t210,
-            t211,
             t225,
-            t230,
-            t235,
             t237,
             t241,
             t244,
@@ -1197,8 +1165,6 @@ pub fn regressor(
             t258,
             t262,
             t266,
-            t270,
-            t271,
             t272,
             t274,
             t275,
@@ -1222,1424 +1188,687 @@ pub fn regressor(
             t318,
             t320,
             t328,
+            t356,
+            t357,
             t376,
-            t378,
-            t399,
-            t571,
-            t577,
+            t400,
+            t402,
+            t404,
+            t477,
+            t478,
+            t567,
+            t573,
+            t579,
             t583,
-            t587,
-            t588,
-            t760,
-            t771,
-            t782,
-            t787,
-            t792,
-            t796,
-            t800,
-            t804,
-            t823,
-            t832,
-            t841,
-            t845,
-            t856,
-            t858,
-            t866,
+            t586,
+            t590,
+            t594,
+            t598,
+            t612,
+            t618,
+            t624,
+            t628,
+            t639,
+            t641,
+            t649,
+            t677,
+            t678,
+            t697,
+            t721,
+            t723,
+            t725,
+            t798,
+            t799,
             t888,
-            t914,
-            t916,
-            t918,
+            t894,
+            t900,
+            t904,
+            t907,
+            t911,
+            t915,
             t919,
-            t920,
-            t922,
-            t925,
-            t937,
-            t938,
+            t933,
             t939,
-            t941,
-            t943,
-            t946,
-            t948,
-            t952,
-            t955,
+            t945,
+            t949,
             t960,
-            t965,
+            t962,
             t970,
             t971,
-            t975,
-            t980,
-            t983,
+            t981,
             t985,
-            t986,
-            t990,
-            t995,
+            t989,
+            t994,
             t998,
             t999,
         )
     };
     let (
-        t1109,
-        t1115,
-        t1121,
-        t1125,
-        t1126,
-        t1298,
-        t1309,
+        t1018,
+        t1120,
+        t1225,
+        t1240,
+        t1270,
+        t1271,
+        t1284,
+        t1290,
+        t1292,
+        t1299,
+        t1306,
+        t1313,
         t1320,
         t1325,
-        t1330,
+        t1327,
         t1334,
-        t1338,
-        t1342,
+        t1341,
+        t1348,
+        t1355,
         t1361,
+        t1363,
         t1370,
-        t1379,
-        t1383,
-        t1394,
-        t1396,
+        t1377,
+        t1384,
+        t1391,
+        t1392,
         t1404,
-        t1452,
-        t1454,
+        t1411,
+        t1412,
+        t1418,
+        t1424,
+        t1430,
+        t1436,
+        t1443,
+        t1444,
+        t1450,
+        t1456,
+        t1462,
+        t1468,
+        t1474,
         t1475,
-        t1647,
-        t1653,
-        t1659,
-        t1663,
-        t1664,
-        t1836,
-        t1847,
-        t1858,
-        t1863,
-        t1868,
-        t1872,
-        t1876,
-        t1880,
-        t1899,
-        t1908,
-        t1917,
-        t1921,
-        t1922,
-        t1926,
-        t1930,
-        t1935,
-        t1941,
-        t1942,
-        t1944,
-        t1951,
-        t1957,
-        t1964,
-        t1971,
-        t1976,
-        t1977,
-        t1979,
-        t1986,
-        t1992,
-        t1999,
+        t1481,
+        t1487,
+        t1493,
+        t1499,
+        t1500,
+        t1501,
+        t1502,
+        t1503,
+        t1522,
     ) = {
-        let t1000: f64 = t971 + t983;
-        let t1001: f64 = t986 + t998;
-        let t1002: f64 = t999 + t1000;
-        let t1003: f64 = t1001 + t1002;
-        let t1004: f64 = t943 * t1003;
-        let t1005: f64 = t164 * t279;
-        let t1006: f64 = -t1005;
-        let t1007: f64 = ax * t1006;
-        let t1008: f64 = arm2_zero_y * t960;
-        let t1009: f64 = t109 * t965;
-        let t1010: f64 = t1008 + t1009;
-        let t1011: f64 = vx * t1010;
-        let t1012: f64 = t164 * t181;
-        let t1013: f64 = -t1012;
-        let t1014: f64 = ay * t1013;
-        let t1015: f64 = arm2_zero_y * t975;
-        let t1016: f64 = t109 * t980;
+        let t1000: f64 = 1.0 / arm3_rod_length;
+        let t1001: f64 = t241 * t1000;
+        let t1002: f64 = arm3_axis_x * t1001;
+        let t1003: f64 = t248 * t1000;
+        let t1004: f64 = arm3_axis_z * t1003;
+        let t1005: f64 = t1002 - t1004;
+        let t1006: f64 = t262 * t1000;
+        let t1007: f64 = arm3_axis_z * t1006;
+        let t1008: f64 = arm3_axis_y * t1001;
+        let t1009: f64 = t1007 - t1008;
+        let t1010: f64 = t1009 * t1009;
+        let t1011: f64 = t1005 * t1005;
+        let t1012: f64 = arm3_axis_y * t1003;
+        let t1013: f64 = arm3_axis_x * t1006;
+        let t1014: f64 = t1012 - t1013;
+        let t1015: f64 = t1014 * t1014;
+        let t1016: f64 = t1010 + t1011;
         let t1017: f64 = t1015 + t1016;
-        let t1018: f64 = vy * t1017;
-        let t1019: f64 = t164 * t274;
-        let t1020: f64 = -t1019;
-        let t1021: f64 = az * t1020;
-        let t1022: f64 = arm2_zero_y * t990;
-        let t1023: f64 = t109 * t995;
-        let t1024: f64 = t1022 + t1023;
-        let t1025: f64 = vz * t1024;
-        let t1026: f64 = t1007 + t1011;
-        let t1027: f64 = t1014 + t1018;
-        let t1028: f64 = t1021 + t1025;
-        let t1029: f64 = t1026 + t1027;
-        let t1030: f64 = t1028 + t1029;
-        let t1031: f64 = t948 * t1030;
-        let t1032: f64 = t168 * t279;
-        let t1033: f64 = -t1032;
-        let t1034: f64 = ax * t1033;
-        let t1035: f64 = arm2_zero_z * t960;
-        let t1036: f64 = t113 * t965;
-        let t1037: f64 = t1035 + t1036;
-        let t1038: f64 = vx * t1037;
-        let t1039: f64 = t168 * t181;
-        let t1040: f64 = -t1039;
-        let t1041: f64 = ay * t1040;
-        let t1042: f64 = arm2_zero_z * t975;
-        let t1043: f64 = t113 * t980;
-        let t1044: f64 = t1042 + t1043;
-        let t1045: f64 = vy * t1044;
-        let t1046: f64 = t168 * t274;
-        let t1047: f64 = -t1046;
-        let t1048: f64 = az * t1047;
-        let t1049: f64 = arm2_zero_z * t990;
-        let t1050: f64 = t113 * t995;
-        let t1051: f64 = t1049 + t1050;
-        let t1052: f64 = vz * t1051;
-        let t1053: f64 = t1034 + t1038;
-        let t1054: f64 = t1041 + t1045;
-        let t1055: f64 = t1048 + t1052;
-        let t1056: f64 = t1053 + t1054;
-        let t1057: f64 = t1055 + t1056;
-        let t1058: f64 = t952 * t1057;
-        let t1059: f64 = t1004 + t1031;
-        let t1060: f64 = t1058 + t1059;
-        let t1061: f64 = arm2_crank_length * t1060;
-        let t1062: f64 = t955 + t1061;
-        let t1063: f64 = t943 * t1062;
-        let t1064: f64 = gravity_x * t946;
-        let t1065: f64 = gravity_y * t939;
-        let t1066: f64 = gravity_z * t941;
-        let t1067: f64 = t1064 + t1065;
-        let t1068: f64 = t1066 + t1067;
-        let t1069: f64 = t946 * t1003;
-        let t1070: f64 = t939 * t1030;
-        let t1071: f64 = t941 * t1057;
-        let t1072: f64 = t1069 + t1070;
-        let t1073: f64 = t1071 + t1072;
-        let t1074: f64 = arm2_crank_length * t1073;
-        let t1075: f64 = t1068 + t1074;
-        let t1076: f64 = t946 * t1075;
-        let t1077: f64 = gravity_x * t922;
-        let t1078: f64 = gravity_y * t925;
-        let t1079: f64 = gravity_z * t920;
+        let t1018: f64 = sqrt(t1017);
+        let t1019: f64 = 1.0 / t1018;
+        let t1020: f64 = t1005 * t1019;
+        let t1021: f64 = t1001 * t1020;
+        let t1022: f64 = t1014 * t1019;
+        let t1023: f64 = t1006 * t1022;
+        let t1024: f64 = t1021 - t1023;
+        let t1025: f64 = t251 * t1024;
+        let t1026: f64 = t1003 * t1022;
+        let t1027: f64 = t1009 * t1019;
+        let t1028: f64 = t1001 * t1027;
+        let t1029: f64 = t1026 - t1028;
+        let t1030: f64 = t255 * t1029;
+        let t1031: f64 = t1006 * t1027;
+        let t1032: f64 = t1003 * t1020;
+        let t1033: f64 = t1031 - t1032;
+        let t1034: f64 = t266 * t1033;
+        let t1035: f64 = t1025 + t1030;
+        let t1036: f64 = t1034 + t1035;
+        let t1037: f64 = gravity_x * t1024;
+        let t1038: f64 = gravity_y * t1029;
+        let t1039: f64 = gravity_z * t1033;
+        let t1040: f64 = t1037 + t1038;
+        let t1041: f64 = t1039 + t1040;
+        let t1042: f64 = arm3_crank_length * t286;
+        let t1043: f64 = ax * t1042;
+        let t1044: f64 = arm3_crank_length * t275;
+        let t1045: f64 = ay * t1044;
+        let t1046: f64 = arm3_crank_length * t272;
+        let t1047: f64 = az * t1046;
+        let t1048: f64 = t1043 + t1045;
+        let t1049: f64 = t1047 + t1048;
+        let t1050: f64 = t1036 * t1049;
+        let t1051: f64 = t266 * t994;
+        let t1052: f64 = t237 * t971;
+        let t1053: f64 = t1051 - t1052;
+        let t1054: f64 = arm3_crank_length * t1053;
+        let t1055: f64 = t1033 * t1054;
+        let t1056: f64 = t251 * t994;
+        let t1057: f64 = t244 * t971;
+        let t1058: f64 = t1056 - t1057;
+        let t1059: f64 = arm3_crank_length * t1058;
+        let t1060: f64 = t1024 * t1059;
+        let t1061: f64 = t255 * t994;
+        let t1062: f64 = t258 * t971;
+        let t1063: f64 = t1061 - t1062;
+        let t1064: f64 = arm3_crank_length * t1063;
+        let t1065: f64 = t1029 * t1064;
+        let t1066: f64 = t1060 + t1065;
+        let t1067: f64 = t1055 + t1066;
+        let t1068: f64 = t1050 + t1067;
+        let t1069: f64 = t1068 - t1041;
+        let t1070: f64 = t1069 * 2.0;
+        let t1071: f64 = t1036 * t1070;
+        let t1072: f64 = t251 * t1027;
+        let t1073: f64 = t255 * t1020;
+        let t1074: f64 = t266 * t1022;
+        let t1075: f64 = t1072 + t1073;
+        let t1076: f64 = t1074 + t1075;
+        let t1077: f64 = gravity_x * t1027;
+        let t1078: f64 = gravity_y * t1020;
+        let t1079: f64 = gravity_z * t1022;
         let t1080: f64 = t1077 + t1078;
         let t1081: f64 = t1079 + t1080;
-        let t1082: f64 = t922 * t1003;
-        let t1083: f64 = t925 * t1030;
-        let t1084: f64 = t920 * t1057;
-        let t1085: f64 = t1082 + t1083;
+        let t1082: f64 = t1049 * t1076;
+        let t1083: f64 = t1022 * t1054;
+        let t1084: f64 = t1027 * t1059;
+        let t1085: f64 = t1020 * t1064;
         let t1086: f64 = t1084 + t1085;
-        let t1087: f64 = arm2_crank_length * t1086;
-        let t1088: f64 = t1081 + t1087;
-        let t1089: f64 = t922 * t1088;
-        let t1090: f64 = t1063 + t1076;
-        let t1091: f64 = t1089 + t1090;
-        let t1092: f64 = t1091 * 2.0;
-        let t1093: f64 = t918 * t1092;
-        let t1094: f64 = t948 * t1062;
-        let t1095: f64 = t939 * t1075;
-        let t1096: f64 = t925 * t1088;
-        let t1097: f64 = t1094 + t1095;
-        let t1098: f64 = t1096 + t1097;
-        let t1099: f64 = t1098 * 2.0;
-        let t1100: f64 = t1006 * t1099;
-        let t1101: f64 = t952 * t1062;
-        let t1102: f64 = t941 * t1075;
-        let t1103: f64 = t920 * t1088;
-        let t1104: f64 = t1101 + t1102;
-        let t1105: f64 = t1103 + t1104;
-        let t1106: f64 = t1105 * 2.0;
-        let t1107: f64 = t1033 * t1106;
-        let t1108: f64 = t1093 + t1100;
-        let t1109: f64 = t1107 + t1108;
-        let t1110: f64 = t277 * t1109;
-        let t1111: f64 = t970 * t1092;
-        let t1112: f64 = t1013 * t1099;
-        let t1113: f64 = t1040 * t1106;
-        let t1114: f64 = t1111 + t1112;
-        let t1115: f64 = t1113 + t1114;
-        let t1116: f64 = t299 * t1115;
-        let t1117: f64 = t985 * t1092;
-        let t1118: f64 = t1020 * t1099;
-        let t1119: f64 = t1047 * t1106;
-        let t1120: f64 = t1117 + t1118;
-        let t1121: f64 = t1119 + t1120;
-        let t1122: f64 = t304 * t1121;
-        let t1123: f64 = t1110 + t1116;
-        let t1124: f64 = t1122 + t1123;
-        let t1125: f64 = arm2_crank_length * t293;
-        let t1126: f64 = t1124 * t1125;
-        let t1127: f64 = t919 * t946;
-        let t1128: f64 = t160 * t946;
-        let t1129: f64 = t164 * t939;
-        let t1130: f64 = t168 * t941;
-        let t1131: f64 = t1128 + t1129;
-        let t1132: f64 = t1130 + t1131;
-        let t1133: f64 = t919 * t1132;
-        let t1134: f64 = arm2_crank_length * t279;
-        let t1135: f64 = t1133 * t1134;
-        let t1136: f64 = t1127 - t1135;
-        let t1137: f64 = t1075 * 2.0;
-        let t1138: f64 = t1136 * t1137;
-        let t1139: f64 = t919 * t943;
-        let t1140: f64 = t160 * t943;
-        let t1141: f64 = t164 * t948;
-        let t1142: f64 = t168 * t952;
-        let t1143: f64 = t1140 + t1141;
-        let t1144: f64 = t1142 + t1143;
-        let t1145: f64 = t919 * t1144;
-        let t1146: f64 = t1134 * t1145;
-        let t1147: f64 = t1139 - t1146;
-        let t1148: f64 = t1062 * 2.0;
-        let t1149: f64 = t1147 * t1148;
-        let t1150: f64 = vx * t1136;
-        let t1151: f64 = t919 * t939;
-        let t1152: f64 = arm2_crank_length * t181;
-        let t1153: f64 = t1133 * t1152;
-        let t1154: f64 = t1151 - t1153;
-        let t1155: f64 = vy * t1154;
-        let t1156: f64 = t919 * t941;
-        let t1157: f64 = arm2_crank_length * t274;
-        let t1158: f64 = t1133 * t1157;
+        let t1087: f64 = t1083 + t1086;
+        let t1088: f64 = t1082 + t1087;
+        let t1089: f64 = t1088 - t1081;
+        let t1090: f64 = t1089 * 2.0;
+        let t1091: f64 = t1076 * t1090;
+        let t1092: f64 = t251 * t1003;
+        let t1093: f64 = t255 * t1006;
+        let t1094: f64 = t266 * t1001;
+        let t1095: f64 = t1092 + t1093;
+        let t1096: f64 = t1094 + t1095;
+        let t1097: f64 = gravity_x * t1003;
+        let t1098: f64 = gravity_y * t1006;
+        let t1099: f64 = gravity_z * t1001;
+        let t1100: f64 = t1097 + t1098;
+        let t1101: f64 = t1099 + t1100;
+        let t1102: f64 = t1003 * t1059;
+        let t1103: f64 = t1006 * t1064;
+        let t1104: f64 = t1001 * t1054;
+        let t1105: f64 = t1049 * t1096;
+        let t1106: f64 = t1102 + t1103;
+        let t1107: f64 = t1104 + t1105;
+        let t1108: f64 = t1106 + t1107;
+        let t1109: f64 = t1108 - t1101;
+        let t1110: f64 = t1109 * 2.0;
+        let t1111: f64 = t1096 * t1110;
+        let t1112: f64 = t1071 + t1091;
+        let t1113: f64 = t1111 + t1112;
+        let t1114: f64 = t277 * t1042;
+        let t1115: f64 = t299 * t1044;
+        let t1116: f64 = t304 * t1046;
+        let t1117: f64 = t1114 + t1115;
+        let t1118: f64 = t1116 + t1117;
+        let t1119: f64 = t293 * t1113;
+        let t1120: f64 = t1118 * t1119;
+        let t1121: f64 = t1000 * t1027;
+        let t1122: f64 = t1000 * t1076;
+        let t1123: f64 = t1042 * t1122;
+        let t1124: f64 = t1121 - t1123;
+        let t1125: f64 = t1090 * t1124;
+        let t1126: f64 = t1000 * t1024;
+        let t1127: f64 = t1000 * t1036;
+        let t1128: f64 = t1042 * t1127;
+        let t1129: f64 = t1126 - t1128;
+        let t1130: f64 = t1070 * t1129;
+        let t1131: f64 = arm3_axis_x * t1003;
+        let t1132: f64 = arm3_axis_y * t1006;
+        let t1133: f64 = arm3_axis_z * t1001;
+        let t1134: f64 = t1131 + t1132;
+        let t1135: f64 = t1133 + t1134;
+        let t1136: f64 = t1019 * t1135;
+        let t1137: f64 = t981 * t1027;
+        let t1138: f64 = t985 * t1020;
+        let t1139: f64 = t989 * t1022;
+        let t1140: f64 = t1137 + t1138;
+        let t1141: f64 = t1139 + t1140;
+        let t1142: f64 = t1000 * t1136;
+        let t1143: f64 = t1141 * t1142;
+        let t1144: f64 = t1000 * t1141;
+        let t1145: f64 = t1143 * t1144;
+        let t1146: f64 = ax * t1129;
+        let t1147: f64 = t1000 * t1029;
+        let t1148: f64 = t1044 * t1127;
+        let t1149: f64 = t1147 - t1148;
+        let t1150: f64 = ay * t1149;
+        let t1151: f64 = t1000 * t1033;
+        let t1152: f64 = t1046 * t1127;
+        let t1153: f64 = t1151 - t1152;
+        let t1154: f64 = az * t1153;
+        let t1155: f64 = t1000 * t1067;
+        let t1156: f64 = t1145 + t1155;
+        let t1157: f64 = t1146 + t1150;
+        let t1158: f64 = t1154 + t1157;
         let t1159: f64 = t1156 - t1158;
-        let t1160: f64 = vz * t1159;
-        let t1161: f64 = t1150 + t1155;
-        let t1162: f64 = t1160 + t1161;
-        let t1163: f64 = t1162 * t1162;
-        let t1164: f64 = vx * t1147;
-        let t1165: f64 = t919 * t948;
-        let t1166: f64 = t1145 * t1152;
+        let t1160: f64 = vx * t1124;
+        let t1161: f64 = t1000 * t1020;
+        let t1162: f64 = t1044 * t1122;
+        let t1163: f64 = t1161 - t1162;
+        let t1164: f64 = vy * t1163;
+        let t1165: f64 = t1000 * t1022;
+        let t1166: f64 = t1046 * t1122;
         let t1167: f64 = t1165 - t1166;
-        let t1168: f64 = vy * t1167;
-        let t1169: f64 = t919 * t952;
-        let t1170: f64 = t1145 * t1157;
-        let t1171: f64 = t1169 - t1170;
-        let t1172: f64 = vz * t1171;
-        let t1173: f64 = t1164 + t1168;
-        let t1174: f64 = t1172 + t1173;
-        let t1175: f64 = t1174 * t1174;
-        let t1176: f64 = t1163 + t1175;
-        let t1177: f64 = t922 * t1176;
-        let t1178: f64 = arm2_axis_x * t922;
-        let t1179: f64 = arm2_axis_y * t925;
-        let t1180: f64 = arm2_axis_z * t920;
-        let t1181: f64 = t1178 + t1179;
-        let t1182: f64 = t1180 + t1181;
-        let t1183: f64 = t938 * t1182;
-        let t1184: f64 = t1127 * t1183;
-        let t1185: f64 = t1133 * t1183;
-        let t1186: f64 = t1134 * t1185;
-        let t1187: f64 = t1184 - t1186;
-        let t1188: f64 = vx * t1187;
-        let t1189: f64 = t1151 * t1183;
-        let t1190: f64 = t1152 * t1185;
-        let t1191: f64 = t1189 - t1190;
-        let t1192: f64 = vy * t1191;
-        let t1193: f64 = t1156 * t1183;
-        let t1194: f64 = t1157 * t1185;
-        let t1195: f64 = t1193 - t1194;
-        let t1196: f64 = vz * t1195;
-        let t1197: f64 = t1188 + t1192;
-        let t1198: f64 = t1196 + t1197;
-        let t1199: f64 = t1162 * t1198;
-        let t1200: f64 = arm2_crank_length * t160;
-        let t1201: f64 = t866 * t1200;
-        let t1202: f64 = vx - t1201;
-        let t1203: f64 = t946 * t1202;
-        let t1204: f64 = arm2_crank_length * t164;
-        let t1205: f64 = t866 * t1204;
-        let t1206: f64 = vy - t1205;
-        let t1207: f64 = t939 * t1206;
-        let t1208: f64 = arm2_crank_length * t168;
-        let t1209: f64 = t866 * t1208;
-        let t1210: f64 = vz - t1209;
-        let t1211: f64 = t941 * t1210;
-        let t1212: f64 = t1203 + t1207;
-        let t1213: f64 = t1211 + t1212;
-        let t1214: f64 = t919 * t1183;
-        let t1215: f64 = t1213 * t1214;
-        let t1216: f64 = t919 * t1213;
-        let t1217: f64 = t1215 * t1216;
-        let t1218: f64 = ax * t1147;
-        let t1219: f64 = ay * t1167;
-        let t1220: f64 = az * t1171;
-        let t1221: f64 = t866 * t866;
-        let t1222: f64 = t153 * t1221;
-        let t1223: f64 = arm2_crank_length * t1221;
-        let t1224: f64 = t888 * t1223;
-        let t1225: f64 = t1202 * t1202;
-        let t1226: f64 = t1206 * t1206;
-        let t1227: f64 = t1210 * t1210;
-        let t1228: f64 = t1224 + t1225;
-        let t1229: f64 = t1226 + t1227;
-        let t1230: f64 = t1228 + t1229;
-        let t1231: f64 = t180 * t1230;
-        let t1232: f64 = t160 * t1231;
-        let t1233: f64 = t1222 - t1232;
-        let t1234: f64 = t943 * t1233;
-        let t1235: f64 = t146 * t1221;
-        let t1236: f64 = t164 * t1231;
-        let t1237: f64 = t1235 - t1236;
-        let t1238: f64 = t948 * t1237;
-        let t1239: f64 = t171 * t1221;
-        let t1240: f64 = t168 * t1231;
-        let t1241: f64 = t1239 - t1240;
-        let t1242: f64 = t952 * t1241;
-        let t1243: f64 = t1234 + t1238;
-        let t1244: f64 = t1242 + t1243;
-        let t1245: f64 = arm2_crank_length * t919;
-        let t1246: f64 = t1244 * t1245;
-        let t1247: f64 = t1218 + t1219;
-        let t1248: f64 = t1220 + t1246;
-        let t1249: f64 = t1247 + t1248;
-        let t1250: f64 = t1217 - t1249;
-        let t1251: f64 = t1199 - t1250;
-        let t1252: f64 = t943 * t1251;
-        let t1253: f64 = ax * t1136;
-        let t1254: f64 = ay * t1154;
-        let t1255: f64 = az * t1159;
-        let t1256: f64 = t943 * t1202;
-        let t1257: f64 = t948 * t1206;
-        let t1258: f64 = t952 * t1210;
-        let t1259: f64 = t1256 + t1257;
-        let t1260: f64 = t1258 + t1259;
-        let t1261: f64 = t919 * t1260;
-        let t1262: f64 = t1215 * t1261;
-        let t1263: f64 = t946 * t1233;
-        let t1264: f64 = t939 * t1237;
-        let t1265: f64 = t941 * t1241;
-        let t1266: f64 = t1263 + t1264;
-        let t1267: f64 = t1265 + t1266;
-        let t1268: f64 = t1245 * t1267;
-        let t1269: f64 = t1262 + t1268;
-        let t1270: f64 = t1253 + t1254;
-        let t1271: f64 = t1255 + t1269;
-        let t1272: f64 = t1270 + t1271;
-        let t1273: f64 = t1174 * t1198;
-        let t1274: f64 = t1272 - t1273;
-        let t1275: f64 = t946 * t1274;
-        let t1276: f64 = t1252 + t1275;
-        let t1277: f64 = t1276 - t1177;
-        let t1278: f64 = t1277 * 2.0;
-        let t1279: f64 = t918 * t1278;
-        let t1280: f64 = t925 * t1176;
-        let t1281: f64 = t948 * t1251;
-        let t1282: f64 = t939 * t1274;
-        let t1283: f64 = t1281 + t1282;
-        let t1284: f64 = t1283 - t1280;
-        let t1285: f64 = t1284 * 2.0;
-        let t1286: f64 = t1006 * t1285;
-        let t1287: f64 = t920 * t1176;
-        let t1288: f64 = t952 * t1251;
-        let t1289: f64 = t941 * t1274;
-        let t1290: f64 = t1288 + t1289;
-        let t1291: f64 = t1290 - t1287;
-        let t1292: f64 = t1291 * 2.0;
-        let t1293: f64 = t1033 * t1292;
-        let t1294: f64 = t1279 + t1286;
-        let t1295: f64 = t1293 + t1294;
-        let t1296: f64 = arm2_crank_length * t1295;
-        let t1297: f64 = t1138 + t1149;
-        let t1298: f64 = t1296 + t1297;
-        let t1299: f64 = t277 * t1298;
-        let t1300: f64 = t1137 * t1154;
-        let t1301: f64 = t1148 * t1167;
-        let t1302: f64 = t970 * t1278;
-        let t1303: f64 = t1013 * t1285;
-        let t1304: f64 = t1040 * t1292;
-        let t1305: f64 = t1302 + t1303;
-        let t1306: f64 = t1304 + t1305;
-        let t1307: f64 = arm2_crank_length * t1306;
-        let t1308: f64 = t1300 + t1301;
-        let t1309: f64 = t1307 + t1308;
-        let t1310: f64 = t299 * t1309;
-        let t1311: f64 = t1137 * t1159;
-        let t1312: f64 = t1148 * t1171;
-        let t1313: f64 = t985 * t1278;
-        let t1314: f64 = t1020 * t1285;
-        let t1315: f64 = t1047 * t1292;
-        let t1316: f64 = t1313 + t1314;
+        let t1168: f64 = vz * t1167;
+        let t1169: f64 = t1160 + t1164;
+        let t1170: f64 = t1168 + t1169;
+        let t1171: f64 = t1136 * t1170;
+        let t1172: f64 = t1170 * t1171;
+        let t1173: f64 = t1159 - t1172;
+        let t1174: f64 = t1173 * 2.0;
+        let t1175: f64 = t1036 * t1174;
+        let t1176: f64 = t981 * t1024;
+        let t1177: f64 = t985 * t1029;
+        let t1178: f64 = t989 * t1033;
+        let t1179: f64 = t1176 + t1177;
+        let t1180: f64 = t1178 + t1179;
+        let t1181: f64 = t1000 * t1180;
+        let t1182: f64 = t1143 * t1181;
+        let t1183: f64 = ax * t1124;
+        let t1184: f64 = ay * t1163;
+        let t1185: f64 = az * t1167;
+        let t1186: f64 = t1000 * t1087;
+        let t1187: f64 = t1182 + t1183;
+        let t1188: f64 = t1184 + t1185;
+        let t1189: f64 = t1187 + t1188;
+        let t1190: f64 = t1189 - t1186;
+        let t1191: f64 = vx * t1129;
+        let t1192: f64 = vy * t1149;
+        let t1193: f64 = vz * t1153;
+        let t1194: f64 = t1191 + t1192;
+        let t1195: f64 = t1193 + t1194;
+        let t1196: f64 = t1171 * t1195;
+        let t1197: f64 = t1190 - t1196;
+        let t1198: f64 = t1197 * 2.0;
+        let t1199: f64 = t1076 * t1198;
+        let t1200: f64 = t1170 * t1170;
+        let t1201: f64 = t1195 * t1195;
+        let t1202: f64 = t1200 + t1201;
+        let t1203: f64 = t1202 * 2.0;
+        let t1204: f64 = t1096 * t1203;
+        let t1205: f64 = t1175 + t1204;
+        let t1206: f64 = t1205 - t1199;
+        let t1207: f64 = t1042 * t1206;
+        let t1208: f64 = t1125 + t1130;
+        let t1209: f64 = t1208 - t1207;
+        let t1210: f64 = t277 * t1209;
+        let t1211: f64 = t1090 * t1163;
+        let t1212: f64 = t1070 * t1149;
+        let t1213: f64 = t1044 * t1206;
+        let t1214: f64 = t1211 + t1212;
+        let t1215: f64 = t1214 - t1213;
+        let t1216: f64 = t299 * t1215;
+        let t1217: f64 = t1090 * t1167;
+        let t1218: f64 = t1070 * t1153;
+        let t1219: f64 = t1046 * t1206;
+        let t1220: f64 = t1217 + t1218;
+        let t1221: f64 = t1220 - t1219;
+        let t1222: f64 = t304 * t1221;
+        let t1223: f64 = t1210 + t1216;
+        let t1224: f64 = t1222 + t1223;
+        let t1225: f64 = t293 * t1224;
+        let t1226: f64 = t1124 * t1198;
+        let t1227: f64 = t1129 * t1174;
+        let t1228: f64 = t1226 - t1227;
+        let t1229: f64 = t277 * t1228;
+        let t1230: f64 = t1163 * t1198;
+        let t1231: f64 = t1149 * t1174;
+        let t1232: f64 = t1230 - t1231;
+        let t1233: f64 = t299 * t1232;
+        let t1234: f64 = t1167 * t1198;
+        let t1235: f64 = t1153 * t1174;
+        let t1236: f64 = t1234 - t1235;
+        let t1237: f64 = t304 * t1236;
+        let t1238: f64 = t1229 + t1233;
+        let t1239: f64 = t1237 + t1238;
+        let t1240: f64 = t293 * t1239;
+        let t1241: f64 = t1129 * t1170;
+        let t1242: f64 = t1171 * t1241;
+        let t1243: f64 = t1019 * t1019;
+        let t1244: f64 = t1181 * t1243;
+        let t1245: f64 = t1144 * t1244;
+        let t1246: f64 = t1136 * t1190;
+        let t1247: f64 = t1245 + t1246;
+        let t1248: f64 = -t1247;
+        let t1249: f64 = t1136 * t1248;
+        let t1250: f64 = t1196 - t1249;
+        let t1251: f64 = t1250 * 2.0;
+        let t1252: f64 = t1124 * t1251;
+        let t1253: f64 = t1242 * 2.0;
+        let t1254: f64 = t1252 - t1253;
+        let t1255: f64 = t277 * t1254;
+        let t1256: f64 = t1149 * t1170;
+        let t1257: f64 = t1171 * t1256;
+        let t1258: f64 = t1163 * t1251;
+        let t1259: f64 = t1257 * 2.0;
+        let t1260: f64 = t1258 - t1259;
+        let t1261: f64 = t299 * t1260;
+        let t1262: f64 = t1153 * t1170;
+        let t1263: f64 = t1171 * t1262;
+        let t1264: f64 = t1167 * t1251;
+        let t1265: f64 = t1263 * 2.0;
+        let t1266: f64 = t1264 - t1265;
+        let t1267: f64 = t304 * t1266;
+        let t1268: f64 = t1255 + t1261;
+        let t1269: f64 = t1267 + t1268;
+        let t1270: f64 = t293 * t1269;
+        let t1271: f64 = ((t328 > 0.0) as i8 - (t328 < 0.0) as i8) as f64;
+        let t1272: f64 = t284 * t294;
+        let t1273: f64 = t90 * t272;
+        let t1274: f64 = t282 * t286;
+        let t1275: f64 = t1273 - t1274;
+        let t1276: f64 = t296 * t1275;
+        let t1277: f64 = t280 * t286;
+        let t1278: f64 = t90 * t275;
+        let t1279: f64 = t1277 - t1278;
+        let t1280: f64 = t301 * t1279;
+        let t1281: f64 = t1276 + t1280;
+        let t1282: f64 = t1272 - t1281;
+        let t1283: f64 = t293 * t1282;
+        let t1284: f64 = -t1283;
+        let t1285: f64 = t90 * t284;
+        let t1286: f64 = t280 * t1275;
+        let t1287: f64 = t282 * t1279;
+        let t1288: f64 = t1286 + t1287;
+        let t1289: f64 = t1285 - t1288;
+        let t1290: f64 = t318 * t1289;
+        let t1291: f64 = t356 * t1289;
+        let t1292: f64 = -t1291;
+        let t1293: f64 = t284 * t400;
+        let t1294: f64 = t402 * t1275;
+        let t1295: f64 = t404 * t1279;
+        let t1296: f64 = t1294 + t1295;
+        let t1297: f64 = t1293 - t1296;
+        let t1298: f64 = t477 * t1297;
+        let t1299: f64 = -t1298;
+        let t1300: f64 = t284 * t567;
+        let t1301: f64 = t573 * t1275;
+        let t1302: f64 = t579 * t1279;
+        let t1303: f64 = t1301 + t1302;
+        let t1304: f64 = t1300 - t1303;
+        let t1305: f64 = t293 * t1304;
+        let t1306: f64 = -t1305;
+        let t1307: f64 = t284 * t586;
+        let t1308: f64 = t590 * t1275;
+        let t1309: f64 = t594 * t1279;
+        let t1310: f64 = t1308 + t1309;
+        let t1311: f64 = t1307 - t1310;
+        let t1312: f64 = t293 * t1311;
+        let t1313: f64 = -t1312;
+        let t1314: f64 = t284 * t612;
+        let t1315: f64 = t618 * t1275;
+        let t1316: f64 = t624 * t1279;
         let t1317: f64 = t1315 + t1316;
-        let t1318: f64 = arm2_crank_length * t1317;
-        let t1319: f64 = t1311 + t1312;
-        let t1320: f64 = t1318 + t1319;
-        let t1321: f64 = t304 * t1320;
-        let t1322: f64 = t1299 + t1310;
+        let t1318: f64 = t1314 - t1317;
+        let t1319: f64 = t293 * t1318;
+        let t1320: f64 = -t1319;
+        let t1321: f64 = t181 * t1275;
+        let t1322: f64 = t274 * t1279;
         let t1323: f64 = t1321 + t1322;
-        let t1324: f64 = t293 * t1323;
-        let t1325: f64 = -t1324;
-        let t1326: f64 = t1274 * 2.0;
-        let t1327: f64 = t1136 * t1326;
-        let t1328: f64 = t1251 * 2.0;
-        let t1329: f64 = t1147 * t1328;
-        let t1330: f64 = t1327 + t1329;
-        let t1331: f64 = t277 * t1330;
-        let t1332: f64 = t1154 * t1326;
-        let t1333: f64 = t1167 * t1328;
-        let t1334: f64 = t1332 + t1333;
-        let t1335: f64 = t299 * t1334;
-        let t1336: f64 = t1159 * t1326;
-        let t1337: f64 = t1171 * t1328;
+        let t1324: f64 = t285 - t1323;
+        let t1325: f64 = t639 * t1324;
+        let t1326: f64 = t677 * t1324;
+        let t1327: f64 = -t1326;
+        let t1328: f64 = t284 * t721;
+        let t1329: f64 = t723 * t1275;
+        let t1330: f64 = t725 * t1279;
+        let t1331: f64 = t1329 + t1330;
+        let t1332: f64 = t1328 - t1331;
+        let t1333: f64 = t798 * t1332;
+        let t1334: f64 = -t1333;
+        let t1335: f64 = t284 * t888;
+        let t1336: f64 = t894 * t1275;
+        let t1337: f64 = t900 * t1279;
         let t1338: f64 = t1336 + t1337;
-        let t1339: f64 = t304 * t1338;
-        let t1340: f64 = t1331 + t1335;
-        let t1341: f64 = t1339 + t1340;
-        let t1342: f64 = t293 * t1341;
-        let t1343: f64 = t938 * t938;
-        let t1344: f64 = t1261 * t1343;
-        let t1345: f64 = t1216 * t1344;
-        let t1346: f64 = ax * t1187;
-        let t1347: f64 = ay * t1191;
-        let t1348: f64 = az * t1195;
-        let t1349: f64 = t1183 * t1269;
-        let t1350: f64 = t1345 + t1346;
-        let t1351: f64 = t1347 + t1348;
+        let t1339: f64 = t1335 - t1338;
+        let t1340: f64 = t293 * t1339;
+        let t1341: f64 = -t1340;
+        let t1342: f64 = t284 * t907;
+        let t1343: f64 = t911 * t1275;
+        let t1344: f64 = t915 * t1279;
+        let t1345: f64 = t1343 + t1344;
+        let t1346: f64 = t1342 - t1345;
+        let t1347: f64 = t293 * t1346;
+        let t1348: f64 = -t1347;
+        let t1349: f64 = t284 * t933;
+        let t1350: f64 = t939 * t1275;
+        let t1351: f64 = t945 * t1279;
         let t1352: f64 = t1350 + t1351;
-        let t1353: f64 = t1349 + t1352;
-        let t1354: f64 = t1187 * t1353;
-        let t1355: f64 = t1136 * t1174;
-        let t1356: f64 = t1147 * t1162;
-        let t1357: f64 = t1355 - t1356;
-        let t1358: f64 = t1357 * 2.0;
-        let t1359: f64 = t1198 * t1358;
-        let t1360: f64 = t1354 * 2.0;
-        let t1361: f64 = t1359 + t1360;
-        let t1362: f64 = t277 * t1361;
-        let t1363: f64 = t1191 * t1353;
-        let t1364: f64 = t1154 * t1174;
-        let t1365: f64 = t1162 * t1167;
-        let t1366: f64 = t1364 - t1365;
-        let t1367: f64 = t1366 * 2.0;
-        let t1368: f64 = t1198 * t1367;
-        let t1369: f64 = t1363 * 2.0;
-        let t1370: f64 = t1368 + t1369;
-        let t1371: f64 = t299 * t1370;
-        let t1372: f64 = t1195 * t1353;
-        let t1373: f64 = t1159 * t1174;
-        let t1374: f64 = t1162 * t1171;
-        let t1375: f64 = t1373 - t1374;
-        let t1376: f64 = t1375 * 2.0;
-        let t1377: f64 = t1198 * t1376;
-        let t1378: f64 = t1372 * 2.0;
-        let t1379: f64 = t1377 + t1378;
-        let t1380: f64 = t304 * t1379;
-        let t1381: f64 = t1362 + t1371;
-        let t1382: f64 = t1380 + t1381;
+        let t1353: f64 = t1349 - t1352;
+        let t1354: f64 = t293 * t1353;
+        let t1355: f64 = -t1354;
+        let t1356: f64 = t284 * t286;
+        let t1357: f64 = t275 * t1275;
+        let t1358: f64 = t272 * t1279;
+        let t1359: f64 = t1357 + t1358;
+        let t1360: f64 = t1356 - t1359;
+        let t1361: f64 = t960 * t1360;
+        let t1362: f64 = t998 * t1360;
+        let t1363: f64 = -t1362;
+        let t1364: f64 = t284 * t1042;
+        let t1365: f64 = t1044 * t1275;
+        let t1366: f64 = t1046 * t1279;
+        let t1367: f64 = t1365 + t1366;
+        let t1368: f64 = t1364 - t1367;
+        let t1369: f64 = t1119 * t1368;
+        let t1370: f64 = -t1369;
+        let t1371: f64 = t284 * t1209;
+        let t1372: f64 = t1215 * t1275;
+        let t1373: f64 = t1221 * t1279;
+        let t1374: f64 = t1372 + t1373;
+        let t1375: f64 = t1371 - t1374;
+        let t1376: f64 = t293 * t1375;
+        let t1377: f64 = -t1376;
+        let t1378: f64 = t284 * t1228;
+        let t1379: f64 = t1232 * t1275;
+        let t1380: f64 = t1236 * t1279;
+        let t1381: f64 = t1379 + t1380;
+        let t1382: f64 = t1378 - t1381;
         let t1383: f64 = t293 * t1382;
-        let t1384: f64 = gravity_x * t251;
-        let t1385: f64 = gravity_y * t255;
-        let t1386: f64 = gravity_z * t266;
-        let t1387: f64 = t1384 + t1385;
+        let t1384: f64 = -t1383;
+        let t1385: f64 = t284 * t1254;
+        let t1386: f64 = t1260 * t1275;
+        let t1387: f64 = t1266 * t1279;
         let t1388: f64 = t1386 + t1387;
-        let t1389: f64 = t277 * t286;
-        let t1390: f64 = t275 * t299;
-        let t1391: f64 = t272 * t304;
-        let t1392: f64 = t1389 + t1390;
-        let t1393: f64 = t1391 + t1392;
-        let t1394: f64 = t293 * t1388;
-        let t1395: f64 = t1393 * t1394;
-        let t1396: f64 = -t1395;
-        let t1397: f64 = ax * t286;
-        let t1398: f64 = ay * t275;
-        let t1399: f64 = az * t272;
-        let t1400: f64 = vx * t286;
-        let t1401: f64 = vy * t275;
-        let t1402: f64 = vz * t272;
-        let t1403: f64 = t1400 + t1401;
-        let t1404: f64 = t1402 + t1403;
-        let t1405: f64 = t251 * t1404;
-        let t1406: f64 = -t1405;
-        let t1407: f64 = arm3_crank_length * t1406;
-        let t1408: f64 = vx + t1407;
-        let t1409: f64 = t271 * t1408;
-        let t1410: f64 = t270 * t270;
-        let t1411: f64 = t251 * t1408;
-        let t1412: f64 = t255 * t1404;
-        let t1413: f64 = -t1412;
-        let t1414: f64 = arm3_crank_length * t1413;
-        let t1415: f64 = vy + t1414;
-        let t1416: f64 = t255 * t1415;
-        let t1417: f64 = t266 * t1404;
-        let t1418: f64 = -t1417;
-        let t1419: f64 = arm3_crank_length * t1418;
-        let t1420: f64 = vz + t1419;
-        let t1421: f64 = t266 * t1420;
-        let t1422: f64 = t244 * t248;
-        let t1423: f64 = t258 * t262;
-        let t1424: f64 = t237 * t241;
-        let t1425: f64 = t1422 + t1423;
-        let t1426: f64 = t1424 + t1425;
-        let t1427: f64 = t1404 * t1426;
-        let t1428: f64 = t1411 + t1416;
-        let t1429: f64 = t1421 + t1428;
-        let t1430: f64 = t1427 - t1429;
-        let t1431: f64 = t211 * t248;
-        let t1432: f64 = t1410 * t1431;
-        let t1433: f64 = t1430 * t1432;
-        let t1434: f64 = t1409 + t1433;
-        let t1435: f64 = vx * t1434;
-        let t1436: f64 = t271 * t1415;
-        let t1437: f64 = t211 * t262;
-        let t1438: f64 = t1410 * t1437;
-        let t1439: f64 = t1430 * t1438;
-        let t1440: f64 = t1436 + t1439;
-        let t1441: f64 = vy * t1440;
-        let t1442: f64 = t271 * t1420;
-        let t1443: f64 = t211 * t241;
-        let t1444: f64 = t1410 * t1443;
-        let t1445: f64 = t1430 * t1444;
-        let t1446: f64 = t1442 + t1445;
-        let t1447: f64 = vz * t1446;
-        let t1448: f64 = t1397 + t1398;
-        let t1449: f64 = t1399 + t1435;
-        let t1450: f64 = t1441 + t1447;
-        let t1451: f64 = t1448 + t1449;
-        let t1452: f64 = t1450 + t1451;
-        let t1453: f64 = t293 * t1393;
-        let t1454: f64 = t1452 * t1453;
-        let t1455: f64 = t251 * t286;
-        let t1456: f64 = -t1455;
-        let t1457: f64 = 1.0 / arm3_rod_length;
-        let t1458: f64 = t241 * t1457;
-        let t1459: f64 = arm3_axis_x * t1458;
-        let t1460: f64 = t248 * t1457;
-        let t1461: f64 = arm3_axis_z * t1460;
-        let t1462: f64 = t1459 - t1461;
-        let t1463: f64 = t262 * t1457;
-        let t1464: f64 = arm3_axis_z * t1463;
-        let t1465: f64 = arm3_axis_y * t1458;
-        let t1466: f64 = t1464 - t1465;
-        let t1467: f64 = t1466 * t1466;
-        let t1468: f64 = t1462 * t1462;
-        let t1469: f64 = arm3_axis_y * t1460;
-        let t1470: f64 = arm3_axis_x * t1463;
-        let t1471: f64 = t1469 - t1470;
-        let t1472: f64 = t1471 * t1471;
-        let t1473: f64 = t1467 + t1468;
-        let t1474: f64 = t1472 + t1473;
-        let t1475: f64 = sqrt(t1474);
-        let t1476: f64 = 1.0 / t1475;
-        let t1477: f64 = t1462 * t1476;
-        let t1478: f64 = t1458 * t1477;
-        let t1479: f64 = t1471 * t1476;
-        let t1480: f64 = t1463 * t1479;
-        let t1481: f64 = t1478 - t1480;
-        let t1482: f64 = gravity_x * t1481;
-        let t1483: f64 = t1460 * t1479;
-        let t1484: f64 = t1466 * t1476;
-        let t1485: f64 = t1458 * t1484;
-        let t1486: f64 = t1483 - t1485;
-        let t1487: f64 = gravity_y * t1486;
-        let t1488: f64 = t1463 * t1484;
-        let t1489: f64 = t1460 * t1477;
-        let t1490: f64 = t1488 - t1489;
-        let t1491: f64 = gravity_z * t1490;
-        let t1492: f64 = t1482 + t1487;
-        let t1493: f64 = t1491 + t1492;
-        let t1494: f64 = ax * t1456;
-        let t1495: f64 = t230 * t286;
-        let t1496: f64 = t1404 * t1495;
-        let t1497: f64 = t235 * t1434;
+        let t1389: f64 = t1385 - t1388;
+        let t1390: f64 = t293 * t1389;
+        let t1391: f64 = -t1390;
+        let t1392: f64 = ((t649 > 0.0) as i8 - (t649 < 0.0) as i8) as f64;
+        let t1393: f64 = t289 * t294;
+        let t1394: f64 = t279 * t282;
+        let t1395: f64 = t90 * t274;
+        let t1396: f64 = t1394 - t1395;
+        let t1397: f64 = t296 * t1396;
+        let t1398: f64 = t90 * t181;
+        let t1399: f64 = t279 * t280;
+        let t1400: f64 = t1398 - t1399;
+        let t1401: f64 = t301 * t1400;
+        let t1402: f64 = t1393 + t1397;
+        let t1403: f64 = t1401 + t1402;
+        let t1404: f64 = t293 * t1403;
+        let t1405: f64 = t90 * t289;
+        let t1406: f64 = t280 * t1396;
+        let t1407: f64 = t282 * t1400;
+        let t1408: f64 = t1405 + t1406;
+        let t1409: f64 = t1407 + t1408;
+        let t1410: f64 = t318 * t1409;
+        let t1411: f64 = -t1410;
+        let t1412: f64 = t356 * t1409;
+        let t1413: f64 = t289 * t400;
+        let t1414: f64 = t402 * t1396;
+        let t1415: f64 = t404 * t1400;
+        let t1416: f64 = t1413 + t1414;
+        let t1417: f64 = t1415 + t1416;
+        let t1418: f64 = t477 * t1417;
+        let t1419: f64 = t289 * t567;
+        let t1420: f64 = t573 * t1396;
+        let t1421: f64 = t579 * t1400;
+        let t1422: f64 = t1419 + t1420;
+        let t1423: f64 = t1421 + t1422;
+        let t1424: f64 = t293 * t1423;
+        let t1425: f64 = t289 * t586;
+        let t1426: f64 = t590 * t1396;
+        let t1427: f64 = t594 * t1400;
+        let t1428: f64 = t1425 + t1426;
+        let t1429: f64 = t1427 + t1428;
+        let t1430: f64 = t293 * t1429;
+        let t1431: f64 = t289 * t612;
+        let t1432: f64 = t618 * t1396;
+        let t1433: f64 = t624 * t1400;
+        let t1434: f64 = t1431 + t1432;
+        let t1435: f64 = t1433 + t1434;
+        let t1436: f64 = t293 * t1435;
+        let t1437: f64 = t279 * t289;
+        let t1438: f64 = t181 * t1396;
+        let t1439: f64 = t274 * t1400;
+        let t1440: f64 = t1437 + t1438;
+        let t1441: f64 = t1439 + t1440;
+        let t1442: f64 = t639 * t1441;
+        let t1443: f64 = -t1442;
+        let t1444: f64 = t677 * t1441;
+        let t1445: f64 = t289 * t721;
+        let t1446: f64 = t723 * t1396;
+        let t1447: f64 = t725 * t1400;
+        let t1448: f64 = t1445 + t1446;
+        let t1449: f64 = t1447 + t1448;
+        let t1450: f64 = t798 * t1449;
+        let t1451: f64 = t289 * t888;
+        let t1452: f64 = t894 * t1396;
+        let t1453: f64 = t900 * t1400;
+        let t1454: f64 = t1451 + t1452;
+        let t1455: f64 = t1453 + t1454;
+        let t1456: f64 = t293 * t1455;
+        let t1457: f64 = t289 * t907;
+        let t1458: f64 = t911 * t1396;
+        let t1459: f64 = t915 * t1400;
+        let t1460: f64 = t1457 + t1458;
+        let t1461: f64 = t1459 + t1460;
+        let t1462: f64 = t293 * t1461;
+        let t1463: f64 = t289 * t933;
+        let t1464: f64 = t939 * t1396;
+        let t1465: f64 = t945 * t1400;
+        let t1466: f64 = t1463 + t1464;
+        let t1467: f64 = t1465 + t1466;
+        let t1468: f64 = t293 * t1467;
+        let t1469: f64 = t275 * t1396;
+        let t1470: f64 = t272 * t1400;
+        let t1471: f64 = t290 + t1469;
+        let t1472: f64 = t1470 + t1471;
+        let t1473: f64 = t960 * t1472;
+        let t1474: f64 = -t1473;
+        let t1475: f64 = t998 * t1472;
+        let t1476: f64 = t289 * t1042;
+        let t1477: f64 = t1044 * t1396;
+        let t1478: f64 = t1046 * t1400;
+        let t1479: f64 = t1476 + t1477;
+        let t1480: f64 = t1478 + t1479;
+        let t1481: f64 = t1119 * t1480;
+        let t1482: f64 = t289 * t1209;
+        let t1483: f64 = t1215 * t1396;
+        let t1484: f64 = t1221 * t1400;
+        let t1485: f64 = t1482 + t1483;
+        let t1486: f64 = t1484 + t1485;
+        let t1487: f64 = t293 * t1486;
+        let t1488: f64 = t289 * t1228;
+        let t1489: f64 = t1232 * t1396;
+        let t1490: f64 = t1236 * t1400;
+        let t1491: f64 = t1488 + t1489;
+        let t1492: f64 = t1490 + t1491;
+        let t1493: f64 = t293 * t1492;
+        let t1494: f64 = t289 * t1254;
+        let t1495: f64 = t1260 * t1396;
+        let t1496: f64 = t1266 * t1400;
+        let t1497: f64 = t1494 + t1495;
         let t1498: f64 = t1496 + t1497;
-        let t1499: f64 = arm3_zero_x * t1498;
-        let t1500: f64 = t235 * t286;
-        let t1501: f64 = t1404 * t1500;
-        let t1502: f64 = t230 * t1434;
-        let t1503: f64 = t1501 - t1502;
-        let t1504: f64 = t196 * t1503;
-        let t1505: f64 = t1499 + t1504;
-        let t1506: f64 = vx * t1505;
-        let t1507: f64 = t251 * t275;
-        let t1508: f64 = -t1507;
-        let t1509: f64 = ay * t1508;
-        let t1510: f64 = t230 * t275;
-        let t1511: f64 = t1404 * t1510;
-        let t1512: f64 = t235 * t1440;
-        let t1513: f64 = t1511 + t1512;
-        let t1514: f64 = arm3_zero_x * t1513;
-        let t1515: f64 = t235 * t275;
-        let t1516: f64 = t1404 * t1515;
-        let t1517: f64 = t230 * t1440;
-        let t1518: f64 = t1516 - t1517;
-        let t1519: f64 = t196 * t1518;
-        let t1520: f64 = t1514 + t1519;
-        let t1521: f64 = vy * t1520;
-        let t1522: f64 = t251 * t272;
-        let t1523: f64 = -t1522;
-        let t1524: f64 = az * t1523;
-        let t1525: f64 = t230 * t272;
-        let t1526: f64 = t1404 * t1525;
-        let t1527: f64 = t235 * t1446;
-        let t1528: f64 = t1526 + t1527;
-        let t1529: f64 = arm3_zero_x * t1528;
-        let t1530: f64 = t235 * t272;
-        let t1531: f64 = t1404 * t1530;
-        let t1532: f64 = t230 * t1446;
-        let t1533: f64 = t1531 - t1532;
-        let t1534: f64 = t196 * t1533;
-        let t1535: f64 = t1529 + t1534;
-        let t1536: f64 = vz * t1535;
-        let t1537: f64 = t1494 + t1506;
-        let t1538: f64 = t1509 + t1521;
-        let t1539: f64 = t1524 + t1536;
-        let t1540: f64 = t1537 + t1538;
-        let t1541: f64 = t1539 + t1540;
-        let t1542: f64 = t1481 * t1541;
-        let t1543: f64 = t255 * t286;
-        let t1544: f64 = -t1543;
-        let t1545: f64 = ax * t1544;
-        let t1546: f64 = arm3_zero_y * t1498;
-        let t1547: f64 = t200 * t1503;
-        let t1548: f64 = t1546 + t1547;
-        let t1549: f64 = vx * t1548;
-        let t1550: f64 = t255 * t275;
-        let t1551: f64 = -t1550;
-        let t1552: f64 = ay * t1551;
-        let t1553: f64 = arm3_zero_y * t1513;
-        let t1554: f64 = t200 * t1518;
-        let t1555: f64 = t1553 + t1554;
-        let t1556: f64 = vy * t1555;
-        let t1557: f64 = t255 * t272;
-        let t1558: f64 = -t1557;
-        let t1559: f64 = az * t1558;
-        let t1560: f64 = arm3_zero_y * t1528;
-        let t1561: f64 = t200 * t1533;
-        let t1562: f64 = t1560 + t1561;
-        let t1563: f64 = vz * t1562;
-        let t1564: f64 = t1545 + t1549;
-        let t1565: f64 = t1552 + t1556;
-        let t1566: f64 = t1559 + t1563;
-        let t1567: f64 = t1564 + t1565;
-        let t1568: f64 = t1566 + t1567;
-        let t1569: f64 = t1486 * t1568;
-        let t1570: f64 = t266 * t286;
-        let t1571: f64 = -t1570;
-        let t1572: f64 = ax * t1571;
-        let t1573: f64 = arm3_zero_z * t1498;
-        let t1574: f64 = t204 * t1503;
-        let t1575: f64 = t1573 + t1574;
-        let t1576: f64 = vx * t1575;
-        let t1577: f64 = t266 * t275;
-        let t1578: f64 = -t1577;
-        let t1579: f64 = ay * t1578;
-        let t1580: f64 = arm3_zero_z * t1513;
-        let t1581: f64 = t204 * t1518;
-        let t1582: f64 = t1580 + t1581;
-        let t1583: f64 = vy * t1582;
-        let t1584: f64 = t266 * t272;
-        let t1585: f64 = -t1584;
-        let t1586: f64 = az * t1585;
-        let t1587: f64 = arm3_zero_z * t1528;
-        let t1588: f64 = t204 * t1533;
-        let t1589: f64 = t1587 + t1588;
-        let t1590: f64 = vz * t1589;
-        let t1591: f64 = t1572 + t1576;
-        let t1592: f64 = t1579 + t1583;
-        let t1593: f64 = t1586 + t1590;
-        let t1594: f64 = t1591 + t1592;
-        let t1595: f64 = t1593 + t1594;
-        let t1596: f64 = t1490 * t1595;
-        let t1597: f64 = t1542 + t1569;
-        let t1598: f64 = t1596 + t1597;
-        let t1599: f64 = arm3_crank_length * t1598;
-        let t1600: f64 = t1493 + t1599;
-        let t1601: f64 = t1481 * t1600;
-        let t1602: f64 = gravity_x * t1484;
-        let t1603: f64 = gravity_y * t1477;
-        let t1604: f64 = gravity_z * t1479;
-        let t1605: f64 = t1602 + t1603;
-        let t1606: f64 = t1604 + t1605;
-        let t1607: f64 = t1484 * t1541;
-        let t1608: f64 = t1477 * t1568;
-        let t1609: f64 = t1479 * t1595;
-        let t1610: f64 = t1607 + t1608;
-        let t1611: f64 = t1609 + t1610;
-        let t1612: f64 = arm3_crank_length * t1611;
-        let t1613: f64 = t1606 + t1612;
-        let t1614: f64 = t1484 * t1613;
-        let t1615: f64 = gravity_x * t1460;
-        let t1616: f64 = gravity_y * t1463;
-        let t1617: f64 = gravity_z * t1458;
-        let t1618: f64 = t1615 + t1616;
-        let t1619: f64 = t1617 + t1618;
-        let t1620: f64 = t1460 * t1541;
-        let t1621: f64 = t1463 * t1568;
-        let t1622: f64 = t1458 * t1595;
-        let t1623: f64 = t1620 + t1621;
-        let t1624: f64 = t1622 + t1623;
-        let t1625: f64 = arm3_crank_length * t1624;
-        let t1626: f64 = t1619 + t1625;
-        let t1627: f64 = t1460 * t1626;
-        let t1628: f64 = t1601 + t1614;
-        let t1629: f64 = t1627 + t1628;
-        let t1630: f64 = t1629 * 2.0;
-        let t1631: f64 = t1456 * t1630;
-        let t1632: f64 = t1486 * t1600;
-        let t1633: f64 = t1477 * t1613;
-        let t1634: f64 = t1463 * t1626;
-        let t1635: f64 = t1632 + t1633;
-        let t1636: f64 = t1634 + t1635;
-        let t1637: f64 = t1636 * 2.0;
-        let t1638: f64 = t1544 * t1637;
-        let t1639: f64 = t1490 * t1600;
-        let t1640: f64 = t1479 * t1613;
-        let t1641: f64 = t1458 * t1626;
-        let t1642: f64 = t1639 + t1640;
-        let t1643: f64 = t1641 + t1642;
-        let t1644: f64 = t1643 * 2.0;
-        let t1645: f64 = t1571 * t1644;
-        let t1646: f64 = t1631 + t1638;
-        let t1647: f64 = t1645 + t1646;
-        let t1648: f64 = t277 * t1647;
-        let t1649: f64 = t1508 * t1630;
-        let t1650: f64 = t1551 * t1637;
-        let t1651: f64 = t1578 * t1644;
-        let t1652: f64 = t1649 + t1650;
-        let t1653: f64 = t1651 + t1652;
-        let t1654: f64 = t299 * t1653;
-        let t1655: f64 = t1523 * t1630;
-        let t1656: f64 = t1558 * t1637;
-        let t1657: f64 = t1585 * t1644;
-        let t1658: f64 = t1655 + t1656;
-        let t1659: f64 = t1657 + t1658;
-        let t1660: f64 = t304 * t1659;
-        let t1661: f64 = t1648 + t1654;
-        let t1662: f64 = t1660 + t1661;
-        let t1663: f64 = arm3_crank_length * t293;
-        let t1664: f64 = t1662 * t1663;
-        let t1665: f64 = t1457 * t1484;
-        let t1666: f64 = t251 * t1484;
-        let t1667: f64 = t255 * t1477;
-        let t1668: f64 = t266 * t1479;
-        let t1669: f64 = t1666 + t1667;
-        let t1670: f64 = t1668 + t1669;
-        let t1671: f64 = t1457 * t1670;
-        let t1672: f64 = arm3_crank_length * t286;
-        let t1673: f64 = t1671 * t1672;
-        let t1674: f64 = t1665 - t1673;
-        let t1675: f64 = t1613 * 2.0;
-        let t1676: f64 = t1674 * t1675;
-        let t1677: f64 = t1457 * t1481;
-        let t1678: f64 = t251 * t1481;
-        let t1679: f64 = t255 * t1486;
-        let t1680: f64 = t266 * t1490;
-        let t1681: f64 = t1678 + t1679;
-        let t1682: f64 = t1680 + t1681;
-        let t1683: f64 = t1457 * t1682;
-        let t1684: f64 = t1672 * t1683;
-        let t1685: f64 = t1677 - t1684;
-        let t1686: f64 = t1600 * 2.0;
-        let t1687: f64 = t1685 * t1686;
-        let t1688: f64 = vx * t1674;
-        let t1689: f64 = t1457 * t1477;
-        let t1690: f64 = arm3_crank_length * t275;
-        let t1691: f64 = t1671 * t1690;
-        let t1692: f64 = t1689 - t1691;
-        let t1693: f64 = vy * t1692;
-        let t1694: f64 = t1457 * t1479;
-        let t1695: f64 = arm3_crank_length * t272;
-        let t1696: f64 = t1671 * t1695;
-        let t1697: f64 = t1694 - t1696;
-        let t1698: f64 = vz * t1697;
-        let t1699: f64 = t1688 + t1693;
-        let t1700: f64 = t1698 + t1699;
-        let t1701: f64 = t1700 * t1700;
-        let t1702: f64 = vx * t1685;
-        let t1703: f64 = t1457 * t1486;
-        let t1704: f64 = t1683 * t1690;
-        let t1705: f64 = t1703 - t1704;
-        let t1706: f64 = vy * t1705;
-        let t1707: f64 = t1457 * t1490;
-        let t1708: f64 = t1683 * t1695;
-        let t1709: f64 = t1707 - t1708;
-        let t1710: f64 = vz * t1709;
-        let t1711: f64 = t1702 + t1706;
-        let t1712: f64 = t1710 + t1711;
-        let t1713: f64 = t1712 * t1712;
-        let t1714: f64 = t1701 + t1713;
-        let t1715: f64 = t1460 * t1714;
-        let t1716: f64 = arm3_axis_x * t1460;
-        let t1717: f64 = arm3_axis_y * t1463;
-        let t1718: f64 = arm3_axis_z * t1458;
-        let t1719: f64 = t1716 + t1717;
-        let t1720: f64 = t1718 + t1719;
-        let t1721: f64 = t1476 * t1720;
-        let t1722: f64 = t1665 * t1721;
-        let t1723: f64 = t1671 * t1721;
-        let t1724: f64 = t1672 * t1723;
-        let t1725: f64 = t1722 - t1724;
-        let t1726: f64 = vx * t1725;
-        let t1727: f64 = t1689 * t1721;
-        let t1728: f64 = t1690 * t1723;
-        let t1729: f64 = t1727 - t1728;
-        let t1730: f64 = vy * t1729;
-        let t1731: f64 = t1694 * t1721;
-        let t1732: f64 = t1695 * t1723;
-        let t1733: f64 = t1731 - t1732;
-        let t1734: f64 = vz * t1733;
-        let t1735: f64 = t1726 + t1730;
-        let t1736: f64 = t1734 + t1735;
-        let t1737: f64 = t1700 * t1736;
-        let t1738: f64 = arm3_crank_length * t251;
-        let t1739: f64 = t1404 * t1738;
-        let t1740: f64 = vx - t1739;
-        let t1741: f64 = t1484 * t1740;
-        let t1742: f64 = arm3_crank_length * t255;
-        let t1743: f64 = t1404 * t1742;
-        let t1744: f64 = vy - t1743;
-        let t1745: f64 = t1477 * t1744;
-        let t1746: f64 = arm3_crank_length * t266;
-        let t1747: f64 = t1404 * t1746;
-        let t1748: f64 = vz - t1747;
-        let t1749: f64 = t1479 * t1748;
-        let t1750: f64 = t1741 + t1745;
-        let t1751: f64 = t1749 + t1750;
-        let t1752: f64 = t1457 * t1721;
-        let t1753: f64 = t1751 * t1752;
-        let t1754: f64 = t1457 * t1751;
-        let t1755: f64 = t1753 * t1754;
-        let t1756: f64 = ax * t1685;
-        let t1757: f64 = ay * t1705;
-        let t1758: f64 = az * t1709;
-        let t1759: f64 = t1404 * t1404;
-        let t1760: f64 = t244 * t1759;
-        let t1761: f64 = arm3_crank_length * t1759;
-        let t1762: f64 = t1426 * t1761;
-        let t1763: f64 = t1740 * t1740;
-        let t1764: f64 = t1744 * t1744;
-        let t1765: f64 = t1748 * t1748;
-        let t1766: f64 = t1762 + t1763;
-        let t1767: f64 = t1764 + t1765;
-        let t1768: f64 = t1766 + t1767;
-        let t1769: f64 = t271 * t1768;
-        let t1770: f64 = t251 * t1769;
-        let t1771: f64 = t1760 - t1770;
-        let t1772: f64 = t1481 * t1771;
-        let t1773: f64 = t258 * t1759;
-        let t1774: f64 = t255 * t1769;
-        let t1775: f64 = t1773 - t1774;
-        let t1776: f64 = t1486 * t1775;
-        let t1777: f64 = t237 * t1759;
-        let t1778: f64 = t266 * t1769;
-        let t1779: f64 = t1777 - t1778;
-        let t1780: f64 = t1490 * t1779;
-        let t1781: f64 = t1772 + t1776;
-        let t1782: f64 = t1780 + t1781;
-        let t1783: f64 = arm3_crank_length * t1457;
-        let t1784: f64 = t1782 * t1783;
-        let t1785: f64 = t1756 + t1757;
-        let t1786: f64 = t1758 + t1784;
-        let t1787: f64 = t1785 + t1786;
-        let t1788: f64 = t1755 - t1787;
-        let t1789: f64 = t1737 - t1788;
-        let t1790: f64 = t1481 * t1789;
-        let t1791: f64 = ax * t1674;
-        let t1792: f64 = ay * t1692;
-        let t1793: f64 = az * t1697;
-        let t1794: f64 = t1481 * t1740;
-        let t1795: f64 = t1486 * t1744;
-        let t1796: f64 = t1490 * t1748;
-        let t1797: f64 = t1794 + t1795;
-        let t1798: f64 = t1796 + t1797;
-        let t1799: f64 = t1457 * t1798;
-        let t1800: f64 = t1753 * t1799;
-        let t1801: f64 = t1484 * t1771;
-        let t1802: f64 = t1477 * t1775;
-        let t1803: f64 = t1479 * t1779;
-        let t1804: f64 = t1801 + t1802;
-        let t1805: f64 = t1803 + t1804;
-        let t1806: f64 = t1783 * t1805;
-        let t1807: f64 = t1800 + t1806;
-        let t1808: f64 = t1791 + t1792;
-        let t1809: f64 = t1793 + t1807;
-        let t1810: f64 = t1808 + t1809;
-        let t1811: f64 = t1712 * t1736;
-        let t1812: f64 = t1810 - t1811;
-        let t1813: f64 = t1484 * t1812;
-        let t1814: f64 = t1790 + t1813;
-        let t1815: f64 = t1814 - t1715;
-        let t1816: f64 = t1815 * 2.0;
-        let t1817: f64 = t1456 * t1816;
-        let t1818: f64 = t1463 * t1714;
-        let t1819: f64 = t1486 * t1789;
-        let t1820: f64 = t1477 * t1812;
-        let t1821: f64 = t1819 + t1820;
-        let t1822: f64 = t1821 - t1818;
-        let t1823: f64 = t1822 * 2.0;
-        let t1824: f64 = t1544 * t1823;
-        let t1825: f64 = t1458 * t1714;
-        let t1826: f64 = t1490 * t1789;
-        let t1827: f64 = t1479 * t1812;
-        let t1828: f64 = t1826 + t1827;
-        let t1829: f64 = t1828 - t1825;
-        let t1830: f64 = t1829 * 2.0;
-        let t1831: f64 = t1571 * t1830;
-        let t1832: f64 = t1817 + t1824;
-        let t1833: f64 = t1831 + t1832;
-        let t1834: f64 = arm3_crank_length * t1833;
-        let t1835: f64 = t1676 + t1687;
-        let t1836: f64 = t1834 + t1835;
-        let t1837: f64 = t277 * t1836;
-        let t1838: f64 = t1675 * t1692;
-        let t1839: f64 = t1686 * t1705;
-        let t1840: f64 = t1508 * t1816;
-        let t1841: f64 = t1551 * t1823;
-        let t1842: f64 = t1578 * t1830;
-        let t1843: f64 = t1840 + t1841;
-        let t1844: f64 = t1842 + t1843;
-        let t1845: f64 = arm3_crank_length * t1844;
-        let t1846: f64 = t1838 + t1839;
-        let t1847: f64 = t1845 + t1846;
-        let t1848: f64 = t299 * t1847;
-        let t1849: f64 = t1675 * t1697;
-        let t1850: f64 = t1686 * t1709;
-        let t1851: f64 = t1523 * t1816;
-        let t1852: f64 = t1558 * t1823;
-        let t1853: f64 = t1585 * t1830;
-        let t1854: f64 = t1851 + t1852;
-        let t1855: f64 = t1853 + t1854;
-        let t1856: f64 = arm3_crank_length * t1855;
-        let t1857: f64 = t1849 + t1850;
-        let t1858: f64 = t1856 + t1857;
-        let t1859: f64 = t304 * t1858;
-        let t1860: f64 = t1837 + t1848;
-        let t1861: f64 = t1859 + t1860;
-        let t1862: f64 = t293 * t1861;
-        let t1863: f64 = -t1862;
-        let t1864: f64 = t1812 * 2.0;
-        let t1865: f64 = t1674 * t1864;
-        let t1866: f64 = t1789 * 2.0;
-        let t1867: f64 = t1685 * t1866;
-        let t1868: f64 = t1865 + t1867;
-        let t1869: f64 = t277 * t1868;
-        let t1870: f64 = t1692 * t1864;
-        let t1871: f64 = t1705 * t1866;
-        let t1872: f64 = t1870 + t1871;
-        let t1873: f64 = t299 * t1872;
-        let t1874: f64 = t1697 * t1864;
-        let t1875: f64 = t1709 * t1866;
-        let t1876: f64 = t1874 + t1875;
-        let t1877: f64 = t304 * t1876;
-        let t1878: f64 = t1869 + t1873;
-        let t1879: f64 = t1877 + t1878;
-        let t1880: f64 = t293 * t1879;
-        let t1881: f64 = t1476 * t1476;
-        let t1882: f64 = t1799 * t1881;
-        let t1883: f64 = t1754 * t1882;
-        let t1884: f64 = ax * t1725;
-        let t1885: f64 = ay * t1729;
-        let t1886: f64 = az * t1733;
-        let t1887: f64 = t1721 * t1807;
-        let t1888: f64 = t1883 + t1884;
-        let t1889: f64 = t1885 + t1886;
-        let t1890: f64 = t1888 + t1889;
-        let t1891: f64 = t1887 + t1890;
-        let t1892: f64 = t1725 * t1891;
-        let t1893: f64 = t1674 * t1712;
-        let t1894: f64 = t1685 * t1700;
-        let t1895: f64 = t1893 - t1894;
-        let t1896: f64 = t1895 * 2.0;
-        let t1897: f64 = t1736 * t1896;
-        let t1898: f64 = t1892 * 2.0;
-        let t1899: f64 = t1897 + t1898;
-        let t1900: f64 = t277 * t1899;
-        let t1901: f64 = t1729 * t1891;
-        let t1902: f64 = t1692 * t1712;
-        let t1903: f64 = t1700 * t1705;
-        let t1904: f64 = t1902 - t1903;
-        let t1905: f64 = t1904 * 2.0;
-        let t1906: f64 = t1736 * t1905;
-        let t1907: f64 = t1901 * 2.0;
-        let t1908: f64 = t1906 + t1907;
-        let t1909: f64 = t299 * t1908;
-        let t1910: f64 = t1733 * t1891;
-        let t1911: f64 = t1697 * t1712;
-        let t1912: f64 = t1700 * t1709;
-        let t1913: f64 = t1911 - t1912;
-        let t1914: f64 = t1913 * 2.0;
-        let t1915: f64 = t1736 * t1914;
-        let t1916: f64 = t1910 * 2.0;
-        let t1917: f64 = t1915 + t1916;
-        let t1918: f64 = t304 * t1917;
-        let t1919: f64 = t1900 + t1909;
-        let t1920: f64 = t1918 + t1919;
-        let t1921: f64 = t293 * t1920;
-        let t1922: f64 = ((t328 > 0.0) as i8 - (t328 < 0.0) as i8) as f64;
-        let t1923: f64 = t284 * t294;
-        let t1924: f64 = t90 * t272;
-        let t1925: f64 = t282 * t286;
-        let t1926: f64 = t1924 - t1925;
-        let t1927: f64 = t296 * t1926;
-        let t1928: f64 = t280 * t286;
-        let t1929: f64 = t90 * t275;
-        let t1930: f64 = t1928 - t1929;
-        let t1931: f64 = t301 * t1930;
-        let t1932: f64 = t1927 + t1931;
-        let t1933: f64 = t1923 - t1932;
-        let t1934: f64 = t293 * t1933;
-        let t1935: f64 = -t1934;
-        let t1936: f64 = t90 * t284;
-        let t1937: f64 = t280 * t1926;
-        let t1938: f64 = t282 * t1930;
-        let t1939: f64 = t1937 + t1938;
-        let t1940: f64 = t1936 - t1939;
-        let t1941: f64 = t318 * t1940;
-        let t1942: f64 = t293 * t376;
-        let t1943: f64 = t1940 * t1942;
-        let t1944: f64 = -t1943;
-        let t1945: f64 = t284 * t571;
-        let t1946: f64 = t577 * t1926;
-        let t1947: f64 = t583 * t1930;
-        let t1948: f64 = t1946 + t1947;
-        let t1949: f64 = t1945 - t1948;
-        let t1950: f64 = t587 * t1949;
-        let t1951: f64 = -t1950;
-        let t1952: f64 = t284 * t760;
-        let t1953: f64 = t771 * t1926;
-        let t1954: f64 = t782 * t1930;
-        let t1955: f64 = t1953 + t1954;
-        let t1956: f64 = t1952 - t1955;
-        let t1957: f64 = t293 * t1956;
-        let t1958: f64 = t284 * t792;
-        let t1959: f64 = t796 * t1926;
-        let t1960: f64 = t800 * t1930;
-        let t1961: f64 = t1959 + t1960;
-        let t1962: f64 = t1958 - t1961;
-        let t1963: f64 = t293 * t1962;
-        let t1964: f64 = -t1963;
-        let t1965: f64 = t284 * t823;
-        let t1966: f64 = t832 * t1926;
-        let t1967: f64 = t841 * t1930;
-        let t1968: f64 = t1966 + t1967;
-        let t1969: f64 = t1965 - t1968;
-        let t1970: f64 = t293 * t1969;
-        let t1971: f64 = -t1970;
-        let t1972: f64 = t181 * t1926;
-        let t1973: f64 = t274 * t1930;
-        let t1974: f64 = t1972 + t1973;
-        let t1975: f64 = t285 - t1974;
-        let t1976: f64 = t856 * t1975;
-        let t1977: f64 = t293 * t914;
-        let t1978: f64 = t1975 * t1977;
-        let t1979: f64 = -t1978;
-        let t1980: f64 = t284 * t1109;
-        let t1981: f64 = t1115 * t1926;
-        let t1982: f64 = t1121 * t1930;
-        let t1983: f64 = t1981 + t1982;
-        let t1984: f64 = t1980 - t1983;
-        let t1985: f64 = t1125 * t1984;
-        let t1986: f64 = -t1985;
-        let t1987: f64 = t284 * t1298;
-        let t1988: f64 = t1309 * t1926;
-        let t1989: f64 = t1320 * t1930;
-        let t1990: f64 = t1988 + t1989;
-        let t1991: f64 = t1987 - t1990;
-        let t1992: f64 = t293 * t1991;
-        let t1993: f64 = t284 * t1330;
-        let t1994: f64 = t1334 * t1926;
-        let t1995: f64 = t1338 * t1930;
-        let t1996: f64 = t1994 + t1995;
-        let t1997: f64 = t1993 - t1996;
-        let t1998: f64 = t293 * t1997;
-        let t1999: f64 = -t1998;
+        let t1499: f64 = t293 * t1498;
+        let t1500: f64 = ((t970 > 0.0) as i8 - (t970 < 0.0) as i8) as f64;
+        let t1501: f64 = t28 * t43;
+        let t1502: f64 = t119 * t134;
+        let t1503: f64 = t210 * t225;
+        let t1504: f64 = t317 * t317;
+        let t1505: f64 = t90 * t90;
+        let t1506: f64 = t280 * t280;
+        let t1507: f64 = t282 * t282;
+        let t1508: f64 = t1505 + t1506;
+        let t1509: f64 = t1507 + t1508;
+        let t1510: f64 = t279 * t279;
+        let t1511: f64 = t181 * t181;
+        let t1512: f64 = t274 * t274;
+        let t1513: f64 = t1510 + t1511;
+        let t1514: f64 = t1512 + t1513;
+        let t1515: f64 = t286 * t286;
+        let t1516: f64 = t275 * t275;
+        let t1517: f64 = t272 * t272;
+        let t1518: f64 = t1515 + t1516;
+        let t1519: f64 = t1517 + t1518;
+        let t1520: f64 = t1509 * t1514;
+        let t1521: f64 = t1519 * t1520;
+        let t1522: f64 = t1504 / t1521;
         (
-            t1109,
-            t1115,
-            t1121,
-            t1125,
-            t1126,
-            t1298,
-            t1309,
+            t1018,
+            t1120,
+            t1225,
+            t1240,
+            t1270,
+            t1271,
+            t1284,
+            t1290,
+            t1292,
+            t1299,
+            t1306,
+            t1313,
             t1320,
             t1325,
-            t1330,
+            t1327,
             t1334,
-            t1338,
-            t1342,
+            t1341,
+            t1348,
+            t1355,
             t1361,
+            t1363,
             t1370,
-            t1379,
-            t1383,
-            t1394,
-            t1396,
+            t1377,
+            t1384,
+            t1391,
+            t1392,
             t1404,
-            t1452,
-            t1454,
+            t1411,
+            t1412,
+            t1418,
+            t1424,
+            t1430,
+            t1436,
+            t1443,
+            t1444,
+            t1450,
+            t1456,
+            t1462,
+            t1468,
+            t1474,
             t1475,
-            t1647,
-            t1653,
-            t1659,
-            t1663,
-            t1664,
-            t1836,
-            t1847,
-            t1858,
-            t1863,
-            t1868,
-            t1872,
-            t1876,
-            t1880,
-            t1899,
-            t1908,
-            t1917,
-            t1921,
-            t1922,
-            t1926,
-            t1930,
-            t1935,
-            t1941,
-            t1942,
-            t1944,
-            t1951,
-            t1957,
-            t1964,
-            t1971,
-            t1976,
-            t1977,
-            t1979,
-            t1986,
-            t1992,
-            t1999,
-        )
-    };
-    let (
-        t2006,
-        t2012,
-        t2015,
-        t2022,
-        t2028,
-        t2035,
-        t2042,
-        t2043,
-        t2055,
-        t2062,
-        t2063,
-        t2069,
-        t2076,
-        t2082,
-        t2088,
-        t2095,
-        t2096,
-        t2102,
-        t2109,
-        t2115,
-        t2121,
-        t2127,
-        t2128,
-        t2134,
-        t2141,
-        t2147,
-        t2153,
-        t2154,
-        t2155,
-        t2156,
-        t2157,
-        t2176,
-    ) = {
-        let t2000: f64 = t284 * t1361;
-        let t2001: f64 = t1370 * t1926;
-        let t2002: f64 = t1379 * t1930;
-        let t2003: f64 = t2001 + t2002;
-        let t2004: f64 = t2000 - t2003;
-        let t2005: f64 = t293 * t2004;
-        let t2006: f64 = -t2005;
-        let t2007: f64 = t284 * t286;
-        let t2008: f64 = t275 * t1926;
-        let t2009: f64 = t272 * t1930;
-        let t2010: f64 = t2008 + t2009;
-        let t2011: f64 = t2007 - t2010;
-        let t2012: f64 = t1394 * t2011;
-        let t2013: f64 = t293 * t1452;
-        let t2014: f64 = t2011 * t2013;
-        let t2015: f64 = -t2014;
-        let t2016: f64 = t284 * t1647;
-        let t2017: f64 = t1653 * t1926;
-        let t2018: f64 = t1659 * t1930;
-        let t2019: f64 = t2017 + t2018;
-        let t2020: f64 = t2016 - t2019;
-        let t2021: f64 = t1663 * t2020;
-        let t2022: f64 = -t2021;
-        let t2023: f64 = t284 * t1836;
-        let t2024: f64 = t1847 * t1926;
-        let t2025: f64 = t1858 * t1930;
-        let t2026: f64 = t2024 + t2025;
-        let t2027: f64 = t2023 - t2026;
-        let t2028: f64 = t293 * t2027;
-        let t2029: f64 = t284 * t1868;
-        let t2030: f64 = t1872 * t1926;
-        let t2031: f64 = t1876 * t1930;
-        let t2032: f64 = t2030 + t2031;
-        let t2033: f64 = t2029 - t2032;
-        let t2034: f64 = t293 * t2033;
-        let t2035: f64 = -t2034;
-        let t2036: f64 = t284 * t1899;
-        let t2037: f64 = t1908 * t1926;
-        let t2038: f64 = t1917 * t1930;
-        let t2039: f64 = t2037 + t2038;
-        let t2040: f64 = t2036 - t2039;
-        let t2041: f64 = t293 * t2040;
-        let t2042: f64 = -t2041;
-        let t2043: f64 = ((t866 > 0.0) as i8 - (t866 < 0.0) as i8) as f64;
-        let t2044: f64 = t289 * t294;
-        let t2045: f64 = t279 * t282;
-        let t2046: f64 = t90 * t274;
-        let t2047: f64 = t2045 - t2046;
-        let t2048: f64 = t296 * t2047;
-        let t2049: f64 = t90 * t181;
-        let t2050: f64 = t279 * t280;
-        let t2051: f64 = t2049 - t2050;
-        let t2052: f64 = t301 * t2051;
-        let t2053: f64 = t2044 + t2048;
-        let t2054: f64 = t2052 + t2053;
-        let t2055: f64 = t293 * t2054;
-        let t2056: f64 = t90 * t289;
-        let t2057: f64 = t280 * t2047;
-        let t2058: f64 = t282 * t2051;
-        let t2059: f64 = t2056 + t2057;
-        let t2060: f64 = t2058 + t2059;
-        let t2061: f64 = t318 * t2060;
-        let t2062: f64 = -t2061;
-        let t2063: f64 = t1942 * t2060;
-        let t2064: f64 = t289 * t571;
-        let t2065: f64 = t577 * t2047;
-        let t2066: f64 = t583 * t2051;
-        let t2067: f64 = t2064 + t2065;
-        let t2068: f64 = t2066 + t2067;
-        let t2069: f64 = t587 * t2068;
-        let t2070: f64 = t289 * t760;
-        let t2071: f64 = t771 * t2047;
-        let t2072: f64 = t782 * t2051;
-        let t2073: f64 = t2070 + t2071;
-        let t2074: f64 = t2072 + t2073;
-        let t2075: f64 = t293 * t2074;
-        let t2076: f64 = -t2075;
-        let t2077: f64 = t289 * t792;
-        let t2078: f64 = t796 * t2047;
-        let t2079: f64 = t800 * t2051;
-        let t2080: f64 = t2077 + t2078;
-        let t2081: f64 = t2079 + t2080;
-        let t2082: f64 = t293 * t2081;
-        let t2083: f64 = t289 * t823;
-        let t2084: f64 = t832 * t2047;
-        let t2085: f64 = t841 * t2051;
-        let t2086: f64 = t2083 + t2084;
-        let t2087: f64 = t2085 + t2086;
-        let t2088: f64 = t293 * t2087;
-        let t2089: f64 = t279 * t289;
-        let t2090: f64 = t181 * t2047;
-        let t2091: f64 = t274 * t2051;
-        let t2092: f64 = t2089 + t2090;
-        let t2093: f64 = t2091 + t2092;
-        let t2094: f64 = t856 * t2093;
-        let t2095: f64 = -t2094;
-        let t2096: f64 = t1977 * t2093;
-        let t2097: f64 = t289 * t1109;
-        let t2098: f64 = t1115 * t2047;
-        let t2099: f64 = t1121 * t2051;
-        let t2100: f64 = t2097 + t2098;
-        let t2101: f64 = t2099 + t2100;
-        let t2102: f64 = t1125 * t2101;
-        let t2103: f64 = t289 * t1298;
-        let t2104: f64 = t1309 * t2047;
-        let t2105: f64 = t1320 * t2051;
-        let t2106: f64 = t2103 + t2104;
-        let t2107: f64 = t2105 + t2106;
-        let t2108: f64 = t293 * t2107;
-        let t2109: f64 = -t2108;
-        let t2110: f64 = t289 * t1330;
-        let t2111: f64 = t1334 * t2047;
-        let t2112: f64 = t1338 * t2051;
-        let t2113: f64 = t2110 + t2111;
-        let t2114: f64 = t2112 + t2113;
-        let t2115: f64 = t293 * t2114;
-        let t2116: f64 = t289 * t1361;
-        let t2117: f64 = t1370 * t2047;
-        let t2118: f64 = t1379 * t2051;
-        let t2119: f64 = t2116 + t2117;
-        let t2120: f64 = t2118 + t2119;
-        let t2121: f64 = t293 * t2120;
-        let t2122: f64 = t275 * t2047;
-        let t2123: f64 = t272 * t2051;
-        let t2124: f64 = t290 + t2122;
-        let t2125: f64 = t2123 + t2124;
-        let t2126: f64 = t1394 * t2125;
-        let t2127: f64 = -t2126;
-        let t2128: f64 = t2013 * t2125;
-        let t2129: f64 = t289 * t1647;
-        let t2130: f64 = t1653 * t2047;
-        let t2131: f64 = t1659 * t2051;
-        let t2132: f64 = t2129 + t2130;
-        let t2133: f64 = t2131 + t2132;
-        let t2134: f64 = t1663 * t2133;
-        let t2135: f64 = t289 * t1836;
-        let t2136: f64 = t1847 * t2047;
-        let t2137: f64 = t1858 * t2051;
-        let t2138: f64 = t2135 + t2136;
-        let t2139: f64 = t2137 + t2138;
-        let t2140: f64 = t293 * t2139;
-        let t2141: f64 = -t2140;
-        let t2142: f64 = t289 * t1868;
-        let t2143: f64 = t1872 * t2047;
-        let t2144: f64 = t1876 * t2051;
-        let t2145: f64 = t2142 + t2143;
-        let t2146: f64 = t2144 + t2145;
-        let t2147: f64 = t293 * t2146;
-        let t2148: f64 = t289 * t1899;
-        let t2149: f64 = t1908 * t2047;
-        let t2150: f64 = t1917 * t2051;
-        let t2151: f64 = t2148 + t2149;
-        let t2152: f64 = t2150 + t2151;
-        let t2153: f64 = t293 * t2152;
-        let t2154: f64 = ((t1404 > 0.0) as i8 - (t1404 < 0.0) as i8) as f64;
-        let t2155: f64 = t28 * t43;
-        let t2156: f64 = t119 * t134;
-        let t2157: f64 = t210 * t225;
-        let t2158: f64 = t317 * t317;
-        let t2159: f64 = t90 * t90;
-        let t2160: f64 = t280 * t280;
-        let t2161: f64 = t282 * t282;
-        let t2162: f64 = t2159 + t2160;
-        let t2163: f64 = t2161 + t2162;
-        let t2164: f64 = t279 * t279;
-        let t2165: f64 = t181 * t181;
-        let t2166: f64 = t274 * t274;
-        let t2167: f64 = t2164 + t2165;
-        let t2168: f64 = t2166 + t2167;
-        let t2169: f64 = t286 * t286;
-        let t2170: f64 = t275 * t275;
-        let t2171: f64 = t272 * t272;
-        let t2172: f64 = t2169 + t2170;
-        let t2173: f64 = t2171 + t2172;
-        let t2174: f64 = t2163 * t2168;
-        let t2175: f64 = t2173 * t2174;
-        let t2176: f64 = t2158 / t2175;
-        (
-            t2006,
-            t2012,
-            t2015,
-            t2022,
-            t2028,
-            t2035,
-            t2042,
-            t2043,
-            t2055,
-            t2062,
-            t2063,
-            t2069,
-            t2076,
-            t2082,
-            t2088,
-            t2095,
-            t2096,
-            t2102,
-            t2109,
-            t2115,
-            t2121,
-            t2127,
-            t2128,
-            t2134,
-            t2141,
-            t2147,
-            t2153,
-            t2154,
-            t2155,
-            t2156,
-            t2157,
-            t2176,
+            t1481,
+            t1487,
+            t1493,
+            t1499,
+            t1500,
+            t1501,
+            t1502,
+            t1503,
+            t1522,
         )
     };
     (
@@ -2650,110 +1879,110 @@ pub fn regressor(
                 t320,
                 0.0,
                 0.0,
-                t378,
-                t588,
-                t787,
-                t804,
-                t845,
+                t357,
+                t478,
+                t583,
+                t598,
+                t628,
                 0.0,
-                t858,
-                0.0,
-                0.0,
-                t916,
-                t1126,
-                t1325,
-                t1342,
-                t1383,
-                0.0,
-                t1396,
+                t641,
                 0.0,
                 0.0,
-                t1454,
-                t1664,
-                t1863,
-                t1880,
-                t1921,
+                t678,
+                t799,
+                t904,
+                t919,
+                t949,
+                0.0,
+                t962,
+                0.0,
+                0.0,
+                t999,
+                t1120,
+                t1225,
+                t1240,
+                t1270,
                 t328,
                 0.0,
                 0.0,
-                t1922,
+                t1271,
                 0.0,
                 0.0,
             ],
             [
-                t1935,
+                t1284,
                 0.0,
-                t1941,
-                0.0,
-                0.0,
-                t1944,
-                t1951,
-                t1957,
-                t1964,
-                t1971,
-                0.0,
-                t1976,
+                t1290,
                 0.0,
                 0.0,
-                t1979,
-                t1986,
-                t1992,
-                t1999,
-                t2006,
+                t1292,
+                t1299,
+                t1306,
+                t1313,
+                t1320,
                 0.0,
-                t2012,
-                0.0,
-                0.0,
-                t2015,
-                t2022,
-                t2028,
-                t2035,
-                t2042,
-                0.0,
-                t866,
+                t1325,
                 0.0,
                 0.0,
-                t2043,
+                t1327,
+                t1334,
+                t1341,
+                t1348,
+                t1355,
+                0.0,
+                t1361,
+                0.0,
+                0.0,
+                t1363,
+                t1370,
+                t1377,
+                t1384,
+                t1391,
+                0.0,
+                t649,
+                0.0,
+                0.0,
+                t1392,
                 0.0,
             ],
             [
-                t2055,
-                0.0,
-                t2062,
-                0.0,
-                0.0,
-                t2063,
-                t2069,
-                t2076,
-                t2082,
-                t2088,
-                0.0,
-                t2095,
-                0.0,
-                0.0,
-                t2096,
-                t2102,
-                t2109,
-                t2115,
-                t2121,
-                0.0,
-                t2127,
-                0.0,
-                0.0,
-                t2128,
-                t2134,
-                t2141,
-                t2147,
-                t2153,
-                0.0,
-                0.0,
                 t1404,
                 0.0,
+                t1411,
                 0.0,
-                t2154,
+                0.0,
+                t1412,
+                t1418,
+                t1424,
+                t1430,
+                t1436,
+                0.0,
+                t1443,
+                0.0,
+                0.0,
+                t1444,
+                t1450,
+                t1456,
+                t1462,
+                t1468,
+                0.0,
+                t1474,
+                0.0,
+                0.0,
+                t1475,
+                t1481,
+                t1487,
+                t1493,
+                t1499,
+                0.0,
+                0.0,
+                t970,
+                0.0,
+                0.0,
+                t1500,
             ],
         ],
-        [t399, t937, t1475, t2155, t2156, t2157, t2176],
+        [t376, t697, t1018, t1501, t1502, t1503, t1522],
     )
 }
 /// The regressor `Y_b` of the base parameters: `Γ = Y_b β`.
@@ -2777,9 +2006,8 @@ pub fn regressor(
 /// - `y`: row `i` for actuator `i+1`, one column per parameter (N per unit)
 /// - `singular`: `|u_i × r_i|` for each arm, `1 - (K/ρ)²` for each arm, then the arms' hold `det(J⁻¹)² / Π |row_i|²` in `[0, 1]` (zero where they cannot hold the platform): the other results are meaningless where one is near zero or negative
 ///
-/// Operations: 984 mul, 17 div, 517 add, 35 neg, 3 sign, 6 sqrt (chapter convention: 1001m + 517a).
-///
-/// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
+/// Operations: 781 mul, 17 div, 416 add, 19 neg, 3 sign, 6 sqrt (chapter convention: 798m + 416a).
+#[inline]
 pub fn base_regressor(
     position: &[f64; 3],
     velocity: &[f64; 3],
@@ -2807,19 +2035,7 @@ pub fn base_regressor(
         t139,
         t186,
         t215,
-        t216,
         t230,
-        t242,
-        t246,
-        t249,
-        t253,
-        t256,
-        t260,
-        t263,
-        t267,
-        t271,
-        t275,
-        t276,
         t277,
         t279,
         t280,
@@ -2839,55 +2055,61 @@ pub fn base_regressor(
         t309,
         t311,
         t319,
+        t347,
+        t348,
         t367,
-        t369,
-        t388,
-        t699,
-        t710,
-        t721,
-        t726,
-        t731,
-        t735,
-        t739,
-        t743,
-        t762,
-        t771,
-        t780,
-        t784,
-        t795,
-        t797,
-        t805,
-        t853,
-        t855,
-        t856,
-        t874,
-        t875,
-        t888,
-        t891,
-        t896,
+        t532,
+        t538,
+        t544,
+        t548,
+        t551,
+        t555,
+        t559,
+        t563,
+        t577,
+        t583,
+        t589,
+        t593,
+        t604,
+        t606,
+        t614,
+        t642,
+        t643,
+        t662,
+        t788,
+        t792,
+        t796,
+        t800,
+        t814,
+        t820,
+        t826,
+        t830,
+        t841,
+        t843,
+        t851,
+        t879,
+        t880,
+        t881,
+        t899,
         t900,
-        t906,
-        t911,
+        t913,
         t916,
-        t919,
-        t925,
-        t929,
+        t920,
+        t924,
+        t928,
         t934,
         t939,
-        t942,
-        t943,
-        t944,
-        t946,
+        t941,
         t947,
-        t949,
-        t950,
-        t965,
-        t970,
-        t972,
-        t973,
-        t986,
-        t990,
-        t994,
+        t952,
+        t957,
+        t962,
+        t967,
+        t975,
+        t984,
+        t988,
+        t992,
+        t995,
         t998,
         t999,
     ) = {
@@ -3211,686 +2433,686 @@ pub fn base_regressor(
         let t317: f64 = vz * t287;
         let t318: f64 = t315 + t316;
         let t319: f64 = t317 + t318;
-        let t320: f64 = t55 * t319;
-        let t321: f64 = -t320;
-        let t322: f64 = arm1_crank_length * t321;
-        let t323: f64 = vx + t322;
-        let t324: f64 = t94 * t323;
-        let t325: f64 = t93 * t93;
-        let t326: f64 = t55 * t323;
-        let t327: f64 = t59 * t319;
-        let t328: f64 = -t327;
-        let t329: f64 = arm1_crank_length * t328;
-        let t330: f64 = vy + t329;
-        let t331: f64 = t59 * t330;
-        let t332: f64 = t63 * t319;
-        let t333: f64 = -t332;
-        let t334: f64 = arm1_crank_length * t333;
-        let t335: f64 = vz + t334;
-        let t336: f64 = t63 * t335;
-        let t337: f64 = t69 * t73;
-        let t338: f64 = t77 * t81;
-        let t339: f64 = t85 * t89;
-        let t340: f64 = t337 + t338;
-        let t341: f64 = t339 + t340;
-        let t342: f64 = t319 * t341;
-        let t343: f64 = t326 + t331;
-        let t344: f64 = t336 + t343;
-        let t345: f64 = t342 - t344;
-        let t346: f64 = t29 * t73;
-        let t347: f64 = t325 * t346;
-        let t348: f64 = t345 * t347;
-        let t349: f64 = t324 + t348;
-        let t350: f64 = vx * t349;
-        let t351: f64 = t94 * t330;
-        let t352: f64 = t29 * t81;
-        let t353: f64 = t325 * t352;
-        let t354: f64 = t345 * t353;
-        let t355: f64 = t351 + t354;
-        let t356: f64 = vy * t355;
-        let t357: f64 = t94 * t335;
-        let t358: f64 = t29 * t89;
-        let t359: f64 = t325 * t358;
-        let t360: f64 = t345 * t359;
-        let t361: f64 = t357 + t360;
-        let t362: f64 = vz * t361;
-        let t363: f64 = t312 + t313;
-        let t364: f64 = t314 + t350;
-        let t365: f64 = t356 + t362;
-        let t366: f64 = t363 + t364;
-        let t367: f64 = t365 + t366;
-        let t368: f64 = t298 * t308;
-        let t369: f64 = t367 * t368;
-        let t370: f64 = 1.0 / arm1_rod_length;
-        let t371: f64 = t81 * t370;
-        let t372: f64 = arm1_axis_z * t371;
-        let t373: f64 = t89 * t370;
-        let t374: f64 = arm1_axis_y * t373;
-        let t375: f64 = t372 - t374;
-        let t376: f64 = t375 * t375;
-        let t377: f64 = arm1_axis_x * t373;
-        let t378: f64 = t73 * t370;
-        let t379: f64 = arm1_axis_z * t378;
-        let t380: f64 = t377 - t379;
-        let t381: f64 = t380 * t380;
-        let t382: f64 = arm1_axis_y * t378;
-        let t383: f64 = arm1_axis_x * t371;
-        let t384: f64 = t382 - t383;
-        let t385: f64 = t384 * t384;
-        let t386: f64 = t376 + t381;
-        let t387: f64 = t385 + t386;
-        let t388: f64 = sqrt(t387);
-        let t389: f64 = 1.0 / t388;
-        let t390: f64 = t375 * t389;
-        let t391: f64 = t370 * t390;
-        let t392: f64 = t55 * t390;
-        let t393: f64 = t380 * t389;
-        let t394: f64 = t59 * t393;
-        let t395: f64 = t384 * t389;
-        let t396: f64 = t63 * t395;
-        let t397: f64 = t392 + t394;
-        let t398: f64 = t396 + t397;
-        let t399: f64 = t370 * t398;
-        let t400: f64 = arm1_crank_length * t95;
-        let t401: f64 = t399 * t400;
-        let t402: f64 = t391 - t401;
-        let t403: f64 = gravity_x * t390;
-        let t404: f64 = gravity_y * t393;
-        let t405: f64 = gravity_z * t395;
-        let t406: f64 = t403 + t404;
-        let t407: f64 = t405 + t406;
-        let t408: f64 = t55 * t95;
-        let t409: f64 = -t408;
-        let t410: f64 = ax * t409;
-        let t411: f64 = t48 * t95;
-        let t412: f64 = t319 * t411;
-        let t413: f64 = t53 * t349;
-        let t414: f64 = t412 + t413;
-        let t415: f64 = arm1_zero_x * t414;
-        let t416: f64 = t53 * t95;
-        let t417: f64 = t319 * t416;
-        let t418: f64 = t48 * t349;
-        let t419: f64 = t417 - t418;
-        let t420: f64 = t2 * t419;
-        let t421: f64 = t415 + t420;
-        let t422: f64 = vx * t421;
-        let t423: f64 = t55 * t285;
-        let t424: f64 = -t423;
-        let t425: f64 = ay * t424;
-        let t426: f64 = t48 * t285;
-        let t427: f64 = t319 * t426;
-        let t428: f64 = t53 * t355;
-        let t429: f64 = t427 + t428;
-        let t430: f64 = arm1_zero_x * t429;
-        let t431: f64 = t53 * t285;
-        let t432: f64 = t319 * t431;
-        let t433: f64 = t48 * t355;
-        let t434: f64 = t432 - t433;
-        let t435: f64 = t2 * t434;
-        let t436: f64 = t430 + t435;
-        let t437: f64 = vy * t436;
-        let t438: f64 = t55 * t287;
-        let t439: f64 = -t438;
-        let t440: f64 = az * t439;
-        let t441: f64 = t48 * t287;
-        let t442: f64 = t319 * t441;
-        let t443: f64 = t53 * t361;
-        let t444: f64 = t442 + t443;
-        let t445: f64 = arm1_zero_x * t444;
-        let t446: f64 = t53 * t287;
-        let t447: f64 = t319 * t446;
-        let t448: f64 = t48 * t361;
-        let t449: f64 = t447 - t448;
-        let t450: f64 = t2 * t449;
-        let t451: f64 = t445 + t450;
-        let t452: f64 = vz * t451;
-        let t453: f64 = t410 + t422;
-        let t454: f64 = t425 + t437;
-        let t455: f64 = t440 + t452;
-        let t456: f64 = t453 + t454;
-        let t457: f64 = t455 + t456;
-        let t458: f64 = t390 * t457;
-        let t459: f64 = t59 * t95;
-        let t460: f64 = -t459;
-        let t461: f64 = ax * t460;
-        let t462: f64 = arm1_zero_y * t414;
-        let t463: f64 = t18 * t419;
-        let t464: f64 = t462 + t463;
-        let t465: f64 = vx * t464;
-        let t466: f64 = t59 * t285;
-        let t467: f64 = -t466;
+        let t320: f64 = t319 * t319;
+        let t321: f64 = t69 * t73;
+        let t322: f64 = t77 * t81;
+        let t323: f64 = t85 * t89;
+        let t324: f64 = t321 + t322;
+        let t325: f64 = t323 + t324;
+        let t326: f64 = arm1_crank_length * t320;
+        let t327: f64 = t325 * t326;
+        let t328: f64 = arm1_crank_length * t55;
+        let t329: f64 = t319 * t328;
+        let t330: f64 = vx - t329;
+        let t331: f64 = t330 * t330;
+        let t332: f64 = arm1_crank_length * t59;
+        let t333: f64 = t319 * t332;
+        let t334: f64 = vy - t333;
+        let t335: f64 = t334 * t334;
+        let t336: f64 = arm1_crank_length * t63;
+        let t337: f64 = t319 * t336;
+        let t338: f64 = vz - t337;
+        let t339: f64 = t338 * t338;
+        let t340: f64 = t327 + t331;
+        let t341: f64 = t335 + t339;
+        let t342: f64 = t340 + t341;
+        let t343: f64 = t94 * t342;
+        let t344: f64 = t312 + t313;
+        let t345: f64 = t314 + t343;
+        let t346: f64 = t344 + t345;
+        let t347: f64 = t298 * t346;
+        let t348: f64 = t308 * t347;
+        let t349: f64 = 1.0 / arm1_rod_length;
+        let t350: f64 = t81 * t349;
+        let t351: f64 = arm1_axis_z * t350;
+        let t352: f64 = t89 * t349;
+        let t353: f64 = arm1_axis_y * t352;
+        let t354: f64 = t351 - t353;
+        let t355: f64 = t354 * t354;
+        let t356: f64 = arm1_axis_x * t352;
+        let t357: f64 = t73 * t349;
+        let t358: f64 = arm1_axis_z * t357;
+        let t359: f64 = t356 - t358;
+        let t360: f64 = t359 * t359;
+        let t361: f64 = arm1_axis_y * t357;
+        let t362: f64 = arm1_axis_x * t350;
+        let t363: f64 = t361 - t362;
+        let t364: f64 = t363 * t363;
+        let t365: f64 = t355 + t360;
+        let t366: f64 = t364 + t365;
+        let t367: f64 = sqrt(t366);
+        let t368: f64 = 1.0 / t367;
+        let t369: f64 = t354 * t368;
+        let t370: f64 = t349 * t369;
+        let t371: f64 = t55 * t369;
+        let t372: f64 = t359 * t368;
+        let t373: f64 = t59 * t372;
+        let t374: f64 = t363 * t368;
+        let t375: f64 = t63 * t374;
+        let t376: f64 = t371 + t373;
+        let t377: f64 = t375 + t376;
+        let t378: f64 = t349 * t377;
+        let t379: f64 = arm1_crank_length * t95;
+        let t380: f64 = t378 * t379;
+        let t381: f64 = t370 - t380;
+        let t382: f64 = gravity_x * t369;
+        let t383: f64 = gravity_y * t372;
+        let t384: f64 = gravity_z * t374;
+        let t385: f64 = t382 + t383;
+        let t386: f64 = t384 + t385;
+        let t387: f64 = ax * t379;
+        let t388: f64 = arm1_crank_length * t285;
+        let t389: f64 = ay * t388;
+        let t390: f64 = arm1_crank_length * t287;
+        let t391: f64 = az * t390;
+        let t392: f64 = t387 + t389;
+        let t393: f64 = t391 + t392;
+        let t394: f64 = t377 * t393;
+        let t395: f64 = t63 * t343;
+        let t396: f64 = t85 * t320;
+        let t397: f64 = t395 - t396;
+        let t398: f64 = arm1_crank_length * t397;
+        let t399: f64 = t374 * t398;
+        let t400: f64 = t55 * t343;
+        let t401: f64 = t69 * t320;
+        let t402: f64 = t400 - t401;
+        let t403: f64 = arm1_crank_length * t402;
+        let t404: f64 = t369 * t403;
+        let t405: f64 = t59 * t343;
+        let t406: f64 = t77 * t320;
+        let t407: f64 = t405 - t406;
+        let t408: f64 = arm1_crank_length * t407;
+        let t409: f64 = t372 * t408;
+        let t410: f64 = t404 + t409;
+        let t411: f64 = t399 + t410;
+        let t412: f64 = t394 + t411;
+        let t413: f64 = t412 - t386;
+        let t414: f64 = t413 * 2.0;
+        let t415: f64 = t381 * t414;
+        let t416: f64 = t352 * t372;
+        let t417: f64 = t350 * t374;
+        let t418: f64 = t416 - t417;
+        let t419: f64 = t349 * t418;
+        let t420: f64 = t55 * t418;
+        let t421: f64 = t357 * t374;
+        let t422: f64 = t352 * t369;
+        let t423: f64 = t421 - t422;
+        let t424: f64 = t59 * t423;
+        let t425: f64 = t350 * t369;
+        let t426: f64 = t357 * t372;
+        let t427: f64 = t425 - t426;
+        let t428: f64 = t63 * t427;
+        let t429: f64 = t420 + t424;
+        let t430: f64 = t428 + t429;
+        let t431: f64 = t349 * t430;
+        let t432: f64 = t379 * t431;
+        let t433: f64 = t419 - t432;
+        let t434: f64 = gravity_x * t418;
+        let t435: f64 = gravity_y * t423;
+        let t436: f64 = gravity_z * t427;
+        let t437: f64 = t434 + t435;
+        let t438: f64 = t436 + t437;
+        let t439: f64 = t393 * t430;
+        let t440: f64 = t398 * t427;
+        let t441: f64 = t403 * t418;
+        let t442: f64 = t408 * t423;
+        let t443: f64 = t441 + t442;
+        let t444: f64 = t440 + t443;
+        let t445: f64 = t439 + t444;
+        let t446: f64 = t445 - t438;
+        let t447: f64 = t446 * 2.0;
+        let t448: f64 = t433 * t447;
+        let t449: f64 = arm1_axis_x * t357;
+        let t450: f64 = arm1_axis_y * t350;
+        let t451: f64 = arm1_axis_z * t352;
+        let t452: f64 = t449 + t450;
+        let t453: f64 = t451 + t452;
+        let t454: f64 = t368 * t453;
+        let t455: f64 = t330 * t369;
+        let t456: f64 = t334 * t372;
+        let t457: f64 = t338 * t374;
+        let t458: f64 = t455 + t456;
+        let t459: f64 = t457 + t458;
+        let t460: f64 = t349 * t454;
+        let t461: f64 = t459 * t460;
+        let t462: f64 = t349 * t459;
+        let t463: f64 = t461 * t462;
+        let t464: f64 = ax * t433;
+        let t465: f64 = t349 * t423;
+        let t466: f64 = t388 * t431;
+        let t467: f64 = t465 - t466;
         let t468: f64 = ay * t467;
-        let t469: f64 = arm1_zero_y * t429;
-        let t470: f64 = t18 * t434;
-        let t471: f64 = t469 + t470;
-        let t472: f64 = vy * t471;
-        let t473: f64 = t59 * t287;
-        let t474: f64 = -t473;
-        let t475: f64 = az * t474;
-        let t476: f64 = arm1_zero_y * t444;
-        let t477: f64 = t18 * t449;
-        let t478: f64 = t476 + t477;
-        let t479: f64 = vz * t478;
-        let t480: f64 = t461 + t465;
-        let t481: f64 = t468 + t472;
-        let t482: f64 = t475 + t479;
-        let t483: f64 = t480 + t481;
-        let t484: f64 = t482 + t483;
-        let t485: f64 = t393 * t484;
-        let t486: f64 = t63 * t95;
-        let t487: f64 = -t486;
-        let t488: f64 = ax * t487;
-        let t489: f64 = arm1_zero_z * t414;
-        let t490: f64 = t22 * t419;
-        let t491: f64 = t489 + t490;
-        let t492: f64 = vx * t491;
-        let t493: f64 = t63 * t285;
-        let t494: f64 = -t493;
-        let t495: f64 = ay * t494;
-        let t496: f64 = arm1_zero_z * t429;
-        let t497: f64 = t22 * t434;
+        let t469: f64 = t349 * t427;
+        let t470: f64 = t390 * t431;
+        let t471: f64 = t469 - t470;
+        let t472: f64 = az * t471;
+        let t473: f64 = t349 * t444;
+        let t474: f64 = t463 + t473;
+        let t475: f64 = t464 + t468;
+        let t476: f64 = t472 + t475;
+        let t477: f64 = t474 - t476;
+        let t478: f64 = vx * t381;
+        let t479: f64 = t349 * t372;
+        let t480: f64 = t378 * t388;
+        let t481: f64 = t479 - t480;
+        let t482: f64 = vy * t481;
+        let t483: f64 = t349 * t374;
+        let t484: f64 = t378 * t390;
+        let t485: f64 = t483 - t484;
+        let t486: f64 = vz * t485;
+        let t487: f64 = t478 + t482;
+        let t488: f64 = t486 + t487;
+        let t489: f64 = t454 * t488;
+        let t490: f64 = t488 * t489;
+        let t491: f64 = t477 - t490;
+        let t492: f64 = t491 * 2.0;
+        let t493: f64 = t430 * t492;
+        let t494: f64 = t330 * t418;
+        let t495: f64 = t334 * t423;
+        let t496: f64 = t338 * t427;
+        let t497: f64 = t494 + t495;
         let t498: f64 = t496 + t497;
-        let t499: f64 = vy * t498;
-        let t500: f64 = t63 * t287;
-        let t501: f64 = -t500;
-        let t502: f64 = az * t501;
-        let t503: f64 = arm1_zero_z * t444;
-        let t504: f64 = t22 * t449;
-        let t505: f64 = t503 + t504;
-        let t506: f64 = vz * t505;
-        let t507: f64 = t488 + t492;
-        let t508: f64 = t495 + t499;
-        let t509: f64 = t502 + t506;
-        let t510: f64 = t507 + t508;
-        let t511: f64 = t509 + t510;
-        let t512: f64 = t395 * t511;
-        let t513: f64 = t458 + t485;
-        let t514: f64 = t512 + t513;
-        let t515: f64 = arm1_crank_length * t514;
-        let t516: f64 = t407 + t515;
-        let t517: f64 = t516 * 2.0;
-        let t518: f64 = t402 * t517;
-        let t519: f64 = t373 * t393;
-        let t520: f64 = t371 * t395;
-        let t521: f64 = t519 - t520;
-        let t522: f64 = t370 * t521;
-        let t523: f64 = t55 * t521;
-        let t524: f64 = t378 * t395;
-        let t525: f64 = t373 * t390;
-        let t526: f64 = t524 - t525;
-        let t527: f64 = t59 * t526;
-        let t528: f64 = t371 * t390;
-        let t529: f64 = t378 * t393;
-        let t530: f64 = t528 - t529;
-        let t531: f64 = t63 * t530;
-        let t532: f64 = t523 + t527;
-        let t533: f64 = t531 + t532;
-        let t534: f64 = t370 * t533;
-        let t535: f64 = t400 * t534;
-        let t536: f64 = t522 - t535;
-        let t537: f64 = gravity_x * t521;
-        let t538: f64 = gravity_y * t526;
-        let t539: f64 = gravity_z * t530;
-        let t540: f64 = t537 + t538;
-        let t541: f64 = t539 + t540;
-        let t542: f64 = t457 * t521;
-        let t543: f64 = t484 * t526;
-        let t544: f64 = t511 * t530;
-        let t545: f64 = t542 + t543;
-        let t546: f64 = t544 + t545;
-        let t547: f64 = arm1_crank_length * t546;
-        let t548: f64 = t541 + t547;
-        let t549: f64 = t548 * 2.0;
-        let t550: f64 = t536 * t549;
-        let t551: f64 = vx * t402;
-        let t552: f64 = t370 * t393;
-        let t553: f64 = arm1_crank_length * t285;
-        let t554: f64 = t399 * t553;
-        let t555: f64 = t552 - t554;
-        let t556: f64 = vy * t555;
-        let t557: f64 = t370 * t395;
-        let t558: f64 = arm1_crank_length * t287;
-        let t559: f64 = t399 * t558;
-        let t560: f64 = t557 - t559;
-        let t561: f64 = vz * t560;
-        let t562: f64 = t551 + t556;
-        let t563: f64 = t561 + t562;
-        let t564: f64 = t563 * t563;
-        let t565: f64 = vx * t536;
-        let t566: f64 = t370 * t526;
-        let t567: f64 = t534 * t553;
-        let t568: f64 = t566 - t567;
-        let t569: f64 = vy * t568;
-        let t570: f64 = t370 * t530;
-        let t571: f64 = t534 * t558;
-        let t572: f64 = t570 - t571;
-        let t573: f64 = vz * t572;
-        let t574: f64 = t565 + t569;
-        let t575: f64 = t573 + t574;
-        let t576: f64 = t575 * t575;
-        let t577: f64 = t564 + t576;
-        let t578: f64 = t378 * t577;
-        let t579: f64 = arm1_axis_x * t378;
-        let t580: f64 = arm1_axis_y * t371;
-        let t581: f64 = arm1_axis_z * t373;
-        let t582: f64 = t579 + t580;
-        let t583: f64 = t581 + t582;
-        let t584: f64 = t389 * t583;
-        let t585: f64 = t391 * t584;
-        let t586: f64 = t399 * t584;
-        let t587: f64 = t400 * t586;
-        let t588: f64 = t585 - t587;
-        let t589: f64 = vx * t588;
-        let t590: f64 = t552 * t584;
-        let t591: f64 = t553 * t586;
-        let t592: f64 = t590 - t591;
-        let t593: f64 = vy * t592;
-        let t594: f64 = t557 * t584;
-        let t595: f64 = t558 * t586;
-        let t596: f64 = t594 - t595;
-        let t597: f64 = vz * t596;
-        let t598: f64 = t589 + t593;
-        let t599: f64 = t597 + t598;
-        let t600: f64 = t563 * t599;
-        let t601: f64 = arm1_crank_length * t55;
-        let t602: f64 = t319 * t601;
-        let t603: f64 = vx - t602;
-        let t604: f64 = t390 * t603;
-        let t605: f64 = arm1_crank_length * t59;
-        let t606: f64 = t319 * t605;
-        let t607: f64 = vy - t606;
-        let t608: f64 = t393 * t607;
-        let t609: f64 = arm1_crank_length * t63;
-        let t610: f64 = t319 * t609;
-        let t611: f64 = vz - t610;
-        let t612: f64 = t395 * t611;
-        let t613: f64 = t604 + t608;
+        let t499: f64 = t349 * t498;
+        let t500: f64 = t461 * t499;
+        let t501: f64 = ax * t381;
+        let t502: f64 = ay * t481;
+        let t503: f64 = az * t485;
+        let t504: f64 = t349 * t411;
+        let t505: f64 = t500 + t501;
+        let t506: f64 = t502 + t503;
+        let t507: f64 = t505 + t506;
+        let t508: f64 = t507 - t504;
+        let t509: f64 = vx * t433;
+        let t510: f64 = vy * t467;
+        let t511: f64 = vz * t471;
+        let t512: f64 = t509 + t510;
+        let t513: f64 = t511 + t512;
+        let t514: f64 = t489 * t513;
+        let t515: f64 = t508 - t514;
+        let t516: f64 = t515 * 2.0;
+        let t517: f64 = t377 * t516;
+        let t518: f64 = t55 * t357;
+        let t519: f64 = t59 * t350;
+        let t520: f64 = t63 * t352;
+        let t521: f64 = t518 + t519;
+        let t522: f64 = t520 + t521;
+        let t523: f64 = t488 * t488;
+        let t524: f64 = t513 * t513;
+        let t525: f64 = t523 + t524;
+        let t526: f64 = t525 * 2.0;
+        let t527: f64 = t522 * t526;
+        let t528: f64 = t493 + t527;
+        let t529: f64 = t528 - t517;
+        let t530: f64 = t379 * t529;
+        let t531: f64 = t415 + t448;
+        let t532: f64 = t531 - t530;
+        let t533: f64 = t282 * t532;
+        let t534: f64 = t414 * t481;
+        let t535: f64 = t447 * t467;
+        let t536: f64 = t388 * t529;
+        let t537: f64 = t534 + t535;
+        let t538: f64 = t537 - t536;
+        let t539: f64 = t301 * t538;
+        let t540: f64 = t414 * t485;
+        let t541: f64 = t447 * t471;
+        let t542: f64 = t390 * t529;
+        let t543: f64 = t540 + t541;
+        let t544: f64 = t543 - t542;
+        let t545: f64 = t305 * t544;
+        let t546: f64 = t533 + t539;
+        let t547: f64 = t545 + t546;
+        let t548: f64 = t298 * t547;
+        let t549: f64 = t381 * t516;
+        let t550: f64 = t433 * t492;
+        let t551: f64 = t549 - t550;
+        let t552: f64 = t282 * t551;
+        let t553: f64 = t481 * t516;
+        let t554: f64 = t467 * t492;
+        let t555: f64 = t553 - t554;
+        let t556: f64 = t301 * t555;
+        let t557: f64 = t485 * t516;
+        let t558: f64 = t471 * t492;
+        let t559: f64 = t557 - t558;
+        let t560: f64 = t305 * t559;
+        let t561: f64 = t552 + t556;
+        let t562: f64 = t560 + t561;
+        let t563: f64 = t298 * t562;
+        let t564: f64 = t433 * t488;
+        let t565: f64 = t489 * t564;
+        let t566: f64 = t368 * t368;
+        let t567: f64 = t499 * t566;
+        let t568: f64 = t462 * t567;
+        let t569: f64 = t454 * t508;
+        let t570: f64 = t568 + t569;
+        let t571: f64 = -t570;
+        let t572: f64 = t454 * t571;
+        let t573: f64 = t514 - t572;
+        let t574: f64 = t573 * 2.0;
+        let t575: f64 = t381 * t574;
+        let t576: f64 = t565 * 2.0;
+        let t577: f64 = t575 - t576;
+        let t578: f64 = t282 * t577;
+        let t579: f64 = t467 * t488;
+        let t580: f64 = t489 * t579;
+        let t581: f64 = t481 * t574;
+        let t582: f64 = t580 * 2.0;
+        let t583: f64 = t581 - t582;
+        let t584: f64 = t301 * t583;
+        let t585: f64 = t471 * t488;
+        let t586: f64 = t489 * t585;
+        let t587: f64 = t485 * t574;
+        let t588: f64 = t586 * 2.0;
+        let t589: f64 = t587 - t588;
+        let t590: f64 = t305 * t589;
+        let t591: f64 = t578 + t584;
+        let t592: f64 = t590 + t591;
+        let t593: f64 = t298 * t592;
+        let t594: f64 = gravity_x * t165;
+        let t595: f64 = gravity_y * t169;
+        let t596: f64 = gravity_z * t173;
+        let t597: f64 = t594 + t595;
+        let t598: f64 = t596 + t597;
+        let t599: f64 = t282 * t284;
+        let t600: f64 = t186 * t301;
+        let t601: f64 = t279 * t305;
+        let t602: f64 = t599 + t600;
+        let t603: f64 = t601 + t602;
+        let t604: f64 = t298 * t598;
+        let t605: f64 = t603 * t604;
+        let t606: f64 = -t605;
+        let t607: f64 = ax * t284;
+        let t608: f64 = ay * t186;
+        let t609: f64 = az * t279;
+        let t610: f64 = vx * t284;
+        let t611: f64 = vy * t186;
+        let t612: f64 = vz * t279;
+        let t613: f64 = t610 + t611;
         let t614: f64 = t612 + t613;
-        let t615: f64 = t370 * t584;
-        let t616: f64 = t614 * t615;
-        let t617: f64 = t370 * t614;
-        let t618: f64 = t616 * t617;
-        let t619: f64 = ax * t536;
-        let t620: f64 = ay * t568;
-        let t621: f64 = az * t572;
-        let t622: f64 = t319 * t319;
-        let t623: f64 = t69 * t622;
-        let t624: f64 = arm1_crank_length * t622;
-        let t625: f64 = t341 * t624;
-        let t626: f64 = t603 * t603;
-        let t627: f64 = t607 * t607;
-        let t628: f64 = t611 * t611;
-        let t629: f64 = t625 + t626;
-        let t630: f64 = t627 + t628;
-        let t631: f64 = t629 + t630;
-        let t632: f64 = t94 * t631;
-        let t633: f64 = t55 * t632;
-        let t634: f64 = t623 - t633;
-        let t635: f64 = t521 * t634;
-        let t636: f64 = t77 * t622;
-        let t637: f64 = t59 * t632;
-        let t638: f64 = t636 - t637;
-        let t639: f64 = t526 * t638;
-        let t640: f64 = t85 * t622;
-        let t641: f64 = t63 * t632;
-        let t642: f64 = t640 - t641;
-        let t643: f64 = t530 * t642;
-        let t644: f64 = t635 + t639;
-        let t645: f64 = t643 + t644;
-        let t646: f64 = arm1_crank_length * t370;
-        let t647: f64 = t645 * t646;
-        let t648: f64 = t619 + t620;
-        let t649: f64 = t621 + t647;
-        let t650: f64 = t648 + t649;
-        let t651: f64 = t618 - t650;
-        let t652: f64 = t600 - t651;
-        let t653: f64 = t521 * t652;
-        let t654: f64 = ax * t402;
-        let t655: f64 = ay * t555;
-        let t656: f64 = az * t560;
-        let t657: f64 = t521 * t603;
-        let t658: f64 = t526 * t607;
-        let t659: f64 = t530 * t611;
-        let t660: f64 = t657 + t658;
+        let t615: f64 = t614 * t614;
+        let t616: f64 = t158 * t162;
+        let t617: f64 = t151 * t155;
+        let t618: f64 = t176 * t180;
+        let t619: f64 = t616 + t617;
+        let t620: f64 = t618 + t619;
+        let t621: f64 = arm2_crank_length * t615;
+        let t622: f64 = t620 * t621;
+        let t623: f64 = arm2_crank_length * t165;
+        let t624: f64 = t614 * t623;
+        let t625: f64 = vx - t624;
+        let t626: f64 = t625 * t625;
+        let t627: f64 = arm2_crank_length * t169;
+        let t628: f64 = t614 * t627;
+        let t629: f64 = vy - t628;
+        let t630: f64 = t629 * t629;
+        let t631: f64 = arm2_crank_length * t173;
+        let t632: f64 = t614 * t631;
+        let t633: f64 = vz - t632;
+        let t634: f64 = t633 * t633;
+        let t635: f64 = t622 + t626;
+        let t636: f64 = t630 + t634;
+        let t637: f64 = t635 + t636;
+        let t638: f64 = t185 * t637;
+        let t639: f64 = t607 + t608;
+        let t640: f64 = t609 + t638;
+        let t641: f64 = t639 + t640;
+        let t642: f64 = t298 * t641;
+        let t643: f64 = t603 * t642;
+        let t644: f64 = 1.0 / arm2_rod_length;
+        let t645: f64 = t155 * t644;
+        let t646: f64 = arm2_axis_z * t645;
+        let t647: f64 = t180 * t644;
+        let t648: f64 = arm2_axis_y * t647;
+        let t649: f64 = t646 - t648;
+        let t650: f64 = t649 * t649;
+        let t651: f64 = arm2_axis_x * t647;
+        let t652: f64 = t162 * t644;
+        let t653: f64 = arm2_axis_z * t652;
+        let t654: f64 = t651 - t653;
+        let t655: f64 = t654 * t654;
+        let t656: f64 = arm2_axis_y * t652;
+        let t657: f64 = arm2_axis_x * t645;
+        let t658: f64 = t656 - t657;
+        let t659: f64 = t658 * t658;
+        let t660: f64 = t650 + t655;
         let t661: f64 = t659 + t660;
-        let t662: f64 = t370 * t661;
-        let t663: f64 = t616 * t662;
-        let t664: f64 = t390 * t634;
-        let t665: f64 = t393 * t638;
-        let t666: f64 = t395 * t642;
-        let t667: f64 = t664 + t665;
-        let t668: f64 = t666 + t667;
-        let t669: f64 = t646 * t668;
-        let t670: f64 = t663 + t669;
-        let t671: f64 = t654 + t655;
-        let t672: f64 = t656 + t670;
-        let t673: f64 = t671 + t672;
-        let t674: f64 = t575 * t599;
-        let t675: f64 = t673 - t674;
-        let t676: f64 = t390 * t675;
-        let t677: f64 = t653 + t676;
-        let t678: f64 = t677 - t578;
-        let t679: f64 = t678 * 2.0;
-        let t680: f64 = t409 * t679;
-        let t681: f64 = t371 * t577;
-        let t682: f64 = t526 * t652;
-        let t683: f64 = t393 * t675;
-        let t684: f64 = t682 + t683;
-        let t685: f64 = t684 - t681;
-        let t686: f64 = t685 * 2.0;
-        let t687: f64 = t460 * t686;
-        let t688: f64 = t373 * t577;
-        let t689: f64 = t530 * t652;
-        let t690: f64 = t395 * t675;
-        let t691: f64 = t689 + t690;
-        let t692: f64 = t691 - t688;
-        let t693: f64 = t692 * 2.0;
-        let t694: f64 = t487 * t693;
-        let t695: f64 = t680 + t687;
+        let t662: f64 = sqrt(t661);
+        let t663: f64 = 1.0 / t662;
+        let t664: f64 = t649 * t663;
+        let t665: f64 = t644 * t664;
+        let t666: f64 = t165 * t664;
+        let t667: f64 = t654 * t663;
+        let t668: f64 = t169 * t667;
+        let t669: f64 = t658 * t663;
+        let t670: f64 = t173 * t669;
+        let t671: f64 = t666 + t668;
+        let t672: f64 = t670 + t671;
+        let t673: f64 = t644 * t672;
+        let t674: f64 = arm2_crank_length * t284;
+        let t675: f64 = t673 * t674;
+        let t676: f64 = t665 - t675;
+        let t677: f64 = t647 * t667;
+        let t678: f64 = t645 * t669;
+        let t679: f64 = t677 - t678;
+        let t680: f64 = t625 * t679;
+        let t681: f64 = t652 * t669;
+        let t682: f64 = t647 * t664;
+        let t683: f64 = t681 - t682;
+        let t684: f64 = t629 * t683;
+        let t685: f64 = t645 * t664;
+        let t686: f64 = t652 * t667;
+        let t687: f64 = t685 - t686;
+        let t688: f64 = t633 * t687;
+        let t689: f64 = t680 + t684;
+        let t690: f64 = t688 + t689;
+        let t691: f64 = t644 * t690;
+        let t692: f64 = arm2_axis_x * t652;
+        let t693: f64 = arm2_axis_y * t645;
+        let t694: f64 = arm2_axis_z * t647;
+        let t695: f64 = t692 + t693;
         let t696: f64 = t694 + t695;
-        let t697: f64 = arm1_crank_length * t696;
-        let t698: f64 = t518 + t550;
-        let t699: f64 = t697 + t698;
-        let t700: f64 = t282 * t699;
-        let t701: f64 = t517 * t555;
-        let t702: f64 = t549 * t568;
-        let t703: f64 = t424 * t679;
-        let t704: f64 = t467 * t686;
-        let t705: f64 = t494 * t693;
-        let t706: f64 = t703 + t704;
-        let t707: f64 = t705 + t706;
-        let t708: f64 = arm1_crank_length * t707;
-        let t709: f64 = t701 + t702;
-        let t710: f64 = t708 + t709;
-        let t711: f64 = t301 * t710;
-        let t712: f64 = t517 * t560;
-        let t713: f64 = t549 * t572;
-        let t714: f64 = t439 * t679;
-        let t715: f64 = t474 * t686;
-        let t716: f64 = t501 * t693;
-        let t717: f64 = t714 + t715;
-        let t718: f64 = t716 + t717;
-        let t719: f64 = arm1_crank_length * t718;
-        let t720: f64 = t712 + t713;
-        let t721: f64 = t719 + t720;
-        let t722: f64 = t305 * t721;
-        let t723: f64 = t700 + t711;
-        let t724: f64 = t722 + t723;
-        let t725: f64 = t298 * t724;
-        let t726: f64 = -t725;
-        let t727: f64 = t675 * 2.0;
-        let t728: f64 = t402 * t727;
-        let t729: f64 = t652 * 2.0;
-        let t730: f64 = t536 * t729;
-        let t731: f64 = t728 + t730;
-        let t732: f64 = t282 * t731;
-        let t733: f64 = t555 * t727;
-        let t734: f64 = t568 * t729;
-        let t735: f64 = t733 + t734;
-        let t736: f64 = t301 * t735;
-        let t737: f64 = t560 * t727;
-        let t738: f64 = t572 * t729;
-        let t739: f64 = t737 + t738;
-        let t740: f64 = t305 * t739;
-        let t741: f64 = t732 + t736;
-        let t742: f64 = t740 + t741;
-        let t743: f64 = t298 * t742;
-        let t744: f64 = t389 * t389;
-        let t745: f64 = t662 * t744;
-        let t746: f64 = t617 * t745;
-        let t747: f64 = ax * t588;
-        let t748: f64 = ay * t592;
-        let t749: f64 = az * t596;
-        let t750: f64 = t584 * t670;
-        let t751: f64 = t746 + t747;
-        let t752: f64 = t748 + t749;
-        let t753: f64 = t751 + t752;
-        let t754: f64 = t750 + t753;
-        let t755: f64 = t588 * t754;
-        let t756: f64 = t402 * t575;
-        let t757: f64 = t536 * t563;
-        let t758: f64 = t756 - t757;
-        let t759: f64 = t758 * 2.0;
-        let t760: f64 = t599 * t759;
-        let t761: f64 = t755 * 2.0;
-        let t762: f64 = t760 + t761;
-        let t763: f64 = t282 * t762;
-        let t764: f64 = t592 * t754;
-        let t765: f64 = t555 * t575;
-        let t766: f64 = t563 * t568;
-        let t767: f64 = t765 - t766;
-        let t768: f64 = t767 * 2.0;
-        let t769: f64 = t599 * t768;
-        let t770: f64 = t764 * 2.0;
-        let t771: f64 = t769 + t770;
-        let t772: f64 = t301 * t771;
-        let t773: f64 = t596 * t754;
-        let t774: f64 = t560 * t575;
-        let t775: f64 = t563 * t572;
-        let t776: f64 = t774 - t775;
-        let t777: f64 = t776 * 2.0;
-        let t778: f64 = t599 * t777;
-        let t779: f64 = t773 * 2.0;
-        let t780: f64 = t778 + t779;
-        let t781: f64 = t305 * t780;
-        let t782: f64 = t763 + t772;
-        let t783: f64 = t781 + t782;
-        let t784: f64 = t298 * t783;
-        let t785: f64 = gravity_x * t165;
-        let t786: f64 = gravity_y * t169;
-        let t787: f64 = gravity_z * t173;
-        let t788: f64 = t785 + t786;
-        let t789: f64 = t787 + t788;
-        let t790: f64 = t282 * t284;
-        let t791: f64 = t186 * t301;
-        let t792: f64 = t279 * t305;
-        let t793: f64 = t790 + t791;
-        let t794: f64 = t792 + t793;
-        let t795: f64 = t298 * t789;
-        let t796: f64 = t794 * t795;
-        let t797: f64 = -t796;
-        let t798: f64 = ax * t284;
-        let t799: f64 = ay * t186;
-        let t800: f64 = az * t279;
-        let t801: f64 = vx * t284;
-        let t802: f64 = vy * t186;
-        let t803: f64 = vz * t279;
-        let t804: f64 = t801 + t802;
-        let t805: f64 = t803 + t804;
-        let t806: f64 = t165 * t805;
-        let t807: f64 = -t806;
-        let t808: f64 = arm2_crank_length * t807;
-        let t809: f64 = vx + t808;
-        let t810: f64 = t185 * t809;
-        let t811: f64 = t184 * t184;
-        let t812: f64 = t165 * t809;
-        let t813: f64 = t169 * t805;
-        let t814: f64 = -t813;
-        let t815: f64 = arm2_crank_length * t814;
-        let t816: f64 = vy + t815;
-        let t817: f64 = t169 * t816;
-        let t818: f64 = t173 * t805;
-        let t819: f64 = -t818;
-        let t820: f64 = arm2_crank_length * t819;
-        let t821: f64 = vz + t820;
-        let t822: f64 = t173 * t821;
-        let t823: f64 = t158 * t162;
-        let t824: f64 = t151 * t155;
-        let t825: f64 = t176 * t180;
-        let t826: f64 = t823 + t824;
-        let t827: f64 = t825 + t826;
-        let t828: f64 = t805 * t827;
-        let t829: f64 = t812 + t817;
-        let t830: f64 = t822 + t829;
-        let t831: f64 = t828 - t830;
-        let t832: f64 = t125 * t162;
-        let t833: f64 = t811 * t832;
-        let t834: f64 = t831 * t833;
-        let t835: f64 = t810 + t834;
-        let t836: f64 = vx * t835;
-        let t837: f64 = t185 * t816;
-        let t838: f64 = t125 * t155;
-        let t839: f64 = t811 * t838;
-        let t840: f64 = t831 * t839;
-        let t841: f64 = t837 + t840;
-        let t842: f64 = vy * t841;
-        let t843: f64 = t185 * t821;
-        let t844: f64 = t125 * t180;
-        let t845: f64 = t811 * t844;
-        let t846: f64 = t831 * t845;
-        let t847: f64 = t843 + t846;
-        let t848: f64 = vz * t847;
-        let t849: f64 = t798 + t799;
-        let t850: f64 = t800 + t836;
-        let t851: f64 = t842 + t848;
-        let t852: f64 = t849 + t850;
-        let t853: f64 = t851 + t852;
-        let t854: f64 = t298 * t794;
-        let t855: f64 = t853 * t854;
-        let t856: f64 = 1.0 / arm2_rod_length;
-        let t857: f64 = t155 * t856;
-        let t858: f64 = arm2_axis_z * t857;
-        let t859: f64 = t180 * t856;
-        let t860: f64 = arm2_axis_y * t859;
-        let t861: f64 = t858 - t860;
-        let t862: f64 = t861 * t861;
-        let t863: f64 = arm2_axis_x * t859;
-        let t864: f64 = t162 * t856;
-        let t865: f64 = arm2_axis_z * t864;
-        let t866: f64 = t863 - t865;
+        let t697: f64 = t663 * t696;
+        let t698: f64 = t625 * t664;
+        let t699: f64 = t629 * t667;
+        let t700: f64 = t633 * t669;
+        let t701: f64 = t698 + t699;
+        let t702: f64 = t700 + t701;
+        let t703: f64 = t644 * t697;
+        let t704: f64 = t702 * t703;
+        let t705: f64 = t691 * t704;
+        let t706: f64 = ax * t676;
+        let t707: f64 = t644 * t667;
+        let t708: f64 = arm2_crank_length * t186;
+        let t709: f64 = t673 * t708;
+        let t710: f64 = t707 - t709;
+        let t711: f64 = ay * t710;
+        let t712: f64 = t644 * t669;
+        let t713: f64 = arm2_crank_length * t279;
+        let t714: f64 = t673 * t713;
+        let t715: f64 = t712 - t714;
+        let t716: f64 = az * t715;
+        let t717: f64 = t165 * t638;
+        let t718: f64 = t158 * t615;
+        let t719: f64 = t717 - t718;
+        let t720: f64 = arm2_crank_length * t719;
+        let t721: f64 = t664 * t720;
+        let t722: f64 = t169 * t638;
+        let t723: f64 = t151 * t615;
+        let t724: f64 = t722 - t723;
+        let t725: f64 = arm2_crank_length * t724;
+        let t726: f64 = t667 * t725;
+        let t727: f64 = t173 * t638;
+        let t728: f64 = t176 * t615;
+        let t729: f64 = t727 - t728;
+        let t730: f64 = arm2_crank_length * t729;
+        let t731: f64 = t669 * t730;
+        let t732: f64 = t721 + t726;
+        let t733: f64 = t731 + t732;
+        let t734: f64 = t644 * t733;
+        let t735: f64 = t705 + t706;
+        let t736: f64 = t711 + t716;
+        let t737: f64 = t735 + t736;
+        let t738: f64 = t737 - t734;
+        let t739: f64 = t644 * t679;
+        let t740: f64 = t165 * t679;
+        let t741: f64 = t169 * t683;
+        let t742: f64 = t173 * t687;
+        let t743: f64 = t740 + t741;
+        let t744: f64 = t742 + t743;
+        let t745: f64 = t644 * t744;
+        let t746: f64 = t674 * t745;
+        let t747: f64 = t739 - t746;
+        let t748: f64 = vx * t747;
+        let t749: f64 = t644 * t683;
+        let t750: f64 = t708 * t745;
+        let t751: f64 = t749 - t750;
+        let t752: f64 = vy * t751;
+        let t753: f64 = t644 * t687;
+        let t754: f64 = t713 * t745;
+        let t755: f64 = t753 - t754;
+        let t756: f64 = vz * t755;
+        let t757: f64 = t748 + t752;
+        let t758: f64 = t756 + t757;
+        let t759: f64 = vx * t676;
+        let t760: f64 = vy * t710;
+        let t761: f64 = vz * t715;
+        let t762: f64 = t759 + t760;
+        let t763: f64 = t761 + t762;
+        let t764: f64 = t697 * t763;
+        let t765: f64 = t758 * t764;
+        let t766: f64 = t738 - t765;
+        let t767: f64 = t766 * 2.0;
+        let t768: f64 = t676 * t767;
+        let t769: f64 = t644 * t702;
+        let t770: f64 = t704 * t769;
+        let t771: f64 = ax * t747;
+        let t772: f64 = ay * t751;
+        let t773: f64 = az * t755;
+        let t774: f64 = t679 * t720;
+        let t775: f64 = t683 * t725;
+        let t776: f64 = t687 * t730;
+        let t777: f64 = t774 + t775;
+        let t778: f64 = t776 + t777;
+        let t779: f64 = t644 * t778;
+        let t780: f64 = t770 + t779;
+        let t781: f64 = t771 + t772;
+        let t782: f64 = t773 + t781;
+        let t783: f64 = t780 - t782;
+        let t784: f64 = t763 * t764;
+        let t785: f64 = t783 - t784;
+        let t786: f64 = t785 * 2.0;
+        let t787: f64 = t747 * t786;
+        let t788: f64 = t768 - t787;
+        let t789: f64 = t282 * t788;
+        let t790: f64 = t710 * t767;
+        let t791: f64 = t751 * t786;
+        let t792: f64 = t790 - t791;
+        let t793: f64 = t301 * t792;
+        let t794: f64 = t715 * t767;
+        let t795: f64 = t755 * t786;
+        let t796: f64 = t794 - t795;
+        let t797: f64 = t305 * t796;
+        let t798: f64 = t789 + t793;
+        let t799: f64 = t797 + t798;
+        let t800: f64 = t298 * t799;
+        let t801: f64 = t747 * t763;
+        let t802: f64 = t764 * t801;
+        let t803: f64 = t663 * t663;
+        let t804: f64 = t691 * t803;
+        let t805: f64 = t769 * t804;
+        let t806: f64 = t697 * t738;
+        let t807: f64 = t805 + t806;
+        let t808: f64 = -t807;
+        let t809: f64 = t697 * t808;
+        let t810: f64 = t765 - t809;
+        let t811: f64 = t810 * 2.0;
+        let t812: f64 = t676 * t811;
+        let t813: f64 = t802 * 2.0;
+        let t814: f64 = t812 - t813;
+        let t815: f64 = t282 * t814;
+        let t816: f64 = t751 * t763;
+        let t817: f64 = t764 * t816;
+        let t818: f64 = t710 * t811;
+        let t819: f64 = t817 * 2.0;
+        let t820: f64 = t818 - t819;
+        let t821: f64 = t301 * t820;
+        let t822: f64 = t755 * t763;
+        let t823: f64 = t764 * t822;
+        let t824: f64 = t715 * t811;
+        let t825: f64 = t823 * 2.0;
+        let t826: f64 = t824 - t825;
+        let t827: f64 = t305 * t826;
+        let t828: f64 = t815 + t821;
+        let t829: f64 = t827 + t828;
+        let t830: f64 = t298 * t829;
+        let t831: f64 = gravity_x * t256;
+        let t832: f64 = gravity_y * t260;
+        let t833: f64 = gravity_z * t271;
+        let t834: f64 = t831 + t832;
+        let t835: f64 = t833 + t834;
+        let t836: f64 = t282 * t291;
+        let t837: f64 = t280 * t301;
+        let t838: f64 = t277 * t305;
+        let t839: f64 = t836 + t837;
+        let t840: f64 = t838 + t839;
+        let t841: f64 = t298 * t835;
+        let t842: f64 = t840 * t841;
+        let t843: f64 = -t842;
+        let t844: f64 = ax * t291;
+        let t845: f64 = ay * t280;
+        let t846: f64 = az * t277;
+        let t847: f64 = vx * t291;
+        let t848: f64 = vy * t280;
+        let t849: f64 = vz * t277;
+        let t850: f64 = t847 + t848;
+        let t851: f64 = t849 + t850;
+        let t852: f64 = t851 * t851;
+        let t853: f64 = t249 * t253;
+        let t854: f64 = t263 * t267;
+        let t855: f64 = t242 * t246;
+        let t856: f64 = t853 + t854;
+        let t857: f64 = t855 + t856;
+        let t858: f64 = arm3_crank_length * t852;
+        let t859: f64 = t857 * t858;
+        let t860: f64 = arm3_crank_length * t256;
+        let t861: f64 = t851 * t860;
+        let t862: f64 = vx - t861;
+        let t863: f64 = t862 * t862;
+        let t864: f64 = arm3_crank_length * t260;
+        let t865: f64 = t851 * t864;
+        let t866: f64 = vy - t865;
         let t867: f64 = t866 * t866;
-        let t868: f64 = arm2_axis_y * t864;
-        let t869: f64 = arm2_axis_x * t857;
-        let t870: f64 = t868 - t869;
+        let t868: f64 = arm3_crank_length * t271;
+        let t869: f64 = t851 * t868;
+        let t870: f64 = vz - t869;
         let t871: f64 = t870 * t870;
-        let t872: f64 = t862 + t867;
-        let t873: f64 = t871 + t872;
-        let t874: f64 = sqrt(t873);
-        let t875: f64 = 1.0 / t874;
-        let t876: f64 = t861 * t875;
-        let t877: f64 = t856 * t876;
-        let t878: f64 = t165 * t876;
-        let t879: f64 = t866 * t875;
-        let t880: f64 = t169 * t879;
-        let t881: f64 = t870 * t875;
-        let t882: f64 = t173 * t881;
-        let t883: f64 = t878 + t880;
-        let t884: f64 = t882 + t883;
-        let t885: f64 = t856 * t884;
-        let t886: f64 = arm2_crank_length * t284;
-        let t887: f64 = t885 * t886;
-        let t888: f64 = t877 - t887;
-        let t889: f64 = t859 * t879;
-        let t890: f64 = t857 * t881;
-        let t891: f64 = t889 - t890;
-        let t892: f64 = t856 * t891;
-        let t893: f64 = t165 * t891;
-        let t894: f64 = t864 * t881;
-        let t895: f64 = t859 * t876;
-        let t896: f64 = t894 - t895;
-        let t897: f64 = t169 * t896;
-        let t898: f64 = t857 * t876;
-        let t899: f64 = t864 * t879;
-        let t900: f64 = t898 - t899;
-        let t901: f64 = t173 * t900;
-        let t902: f64 = t893 + t897;
-        let t903: f64 = t901 + t902;
-        let t904: f64 = t856 * t903;
-        let t905: f64 = t886 * t904;
-        let t906: f64 = t892 - t905;
-        let t907: f64 = vx * t906;
-        let t908: f64 = t856 * t896;
-        let t909: f64 = arm2_crank_length * t186;
-        let t910: f64 = t904 * t909;
-        let t911: f64 = t908 - t910;
-        let t912: f64 = vy * t911;
-        let t913: f64 = t856 * t900;
-        let t914: f64 = arm2_crank_length * t279;
-        let t915: f64 = t904 * t914;
-        let t916: f64 = t913 - t915;
-        let t917: f64 = vz * t916;
-        let t918: f64 = t907 + t912;
-        let t919: f64 = t917 + t918;
-        let t920: f64 = arm2_axis_x * t864;
-        let t921: f64 = arm2_axis_y * t857;
-        let t922: f64 = arm2_axis_z * t859;
-        let t923: f64 = t920 + t921;
-        let t924: f64 = t922 + t923;
-        let t925: f64 = t875 * t924;
-        let t926: f64 = t877 * t925;
-        let t927: f64 = t885 * t925;
-        let t928: f64 = t886 * t927;
-        let t929: f64 = t926 - t928;
-        let t930: f64 = vx * t929;
-        let t931: f64 = t856 * t879;
-        let t932: f64 = t925 * t931;
-        let t933: f64 = t909 * t927;
-        let t934: f64 = t932 - t933;
-        let t935: f64 = vy * t934;
-        let t936: f64 = t856 * t881;
-        let t937: f64 = t925 * t936;
-        let t938: f64 = t914 * t927;
-        let t939: f64 = t937 - t938;
-        let t940: f64 = vz * t939;
-        let t941: f64 = t930 + t935;
-        let t942: f64 = t940 + t941;
-        let t943: f64 = t919 * t942;
-        let t944: f64 = ax * t888;
-        let t945: f64 = t885 * t909;
-        let t946: f64 = t931 - t945;
-        let t947: f64 = ay * t946;
-        let t948: f64 = t885 * t914;
-        let t949: f64 = t936 - t948;
-        let t950: f64 = az * t949;
-        let t951: f64 = arm2_crank_length * t165;
-        let t952: f64 = t805 * t951;
-        let t953: f64 = vx - t952;
-        let t954: f64 = t891 * t953;
-        let t955: f64 = arm2_crank_length * t169;
-        let t956: f64 = t805 * t955;
-        let t957: f64 = vy - t956;
-        let t958: f64 = t896 * t957;
-        let t959: f64 = arm2_crank_length * t173;
-        let t960: f64 = t805 * t959;
-        let t961: f64 = vz - t960;
-        let t962: f64 = t900 * t961;
-        let t963: f64 = t954 + t958;
-        let t964: f64 = t962 + t963;
-        let t965: f64 = t856 * t964;
-        let t966: f64 = t876 * t953;
-        let t967: f64 = t879 * t957;
-        let t968: f64 = t881 * t961;
-        let t969: f64 = t966 + t967;
+        let t872: f64 = t859 + t863;
+        let t873: f64 = t867 + t871;
+        let t874: f64 = t872 + t873;
+        let t875: f64 = t276 * t874;
+        let t876: f64 = t844 + t845;
+        let t877: f64 = t846 + t875;
+        let t878: f64 = t876 + t877;
+        let t879: f64 = t298 * t878;
+        let t880: f64 = t840 * t879;
+        let t881: f64 = 1.0 / arm3_rod_length;
+        let t882: f64 = t267 * t881;
+        let t883: f64 = arm3_axis_z * t882;
+        let t884: f64 = t246 * t881;
+        let t885: f64 = arm3_axis_y * t884;
+        let t886: f64 = t883 - t885;
+        let t887: f64 = t886 * t886;
+        let t888: f64 = arm3_axis_x * t884;
+        let t889: f64 = t253 * t881;
+        let t890: f64 = arm3_axis_z * t889;
+        let t891: f64 = t888 - t890;
+        let t892: f64 = t891 * t891;
+        let t893: f64 = arm3_axis_y * t889;
+        let t894: f64 = arm3_axis_x * t882;
+        let t895: f64 = t893 - t894;
+        let t896: f64 = t895 * t895;
+        let t897: f64 = t887 + t892;
+        let t898: f64 = t896 + t897;
+        let t899: f64 = sqrt(t898);
+        let t900: f64 = 1.0 / t899;
+        let t901: f64 = t886 * t900;
+        let t902: f64 = t881 * t901;
+        let t903: f64 = t256 * t901;
+        let t904: f64 = t891 * t900;
+        let t905: f64 = t260 * t904;
+        let t906: f64 = t895 * t900;
+        let t907: f64 = t271 * t906;
+        let t908: f64 = t903 + t905;
+        let t909: f64 = t907 + t908;
+        let t910: f64 = t881 * t909;
+        let t911: f64 = arm3_crank_length * t291;
+        let t912: f64 = t910 * t911;
+        let t913: f64 = t902 - t912;
+        let t914: f64 = t884 * t904;
+        let t915: f64 = t882 * t906;
+        let t916: f64 = t914 - t915;
+        let t917: f64 = t862 * t916;
+        let t918: f64 = t889 * t906;
+        let t919: f64 = t884 * t901;
+        let t920: f64 = t918 - t919;
+        let t921: f64 = t866 * t920;
+        let t922: f64 = t882 * t901;
+        let t923: f64 = t889 * t904;
+        let t924: f64 = t922 - t923;
+        let t925: f64 = t870 * t924;
+        let t926: f64 = t917 + t921;
+        let t927: f64 = t925 + t926;
+        let t928: f64 = t881 * t927;
+        let t929: f64 = arm3_axis_x * t889;
+        let t930: f64 = arm3_axis_y * t882;
+        let t931: f64 = arm3_axis_z * t884;
+        let t932: f64 = t929 + t930;
+        let t933: f64 = t931 + t932;
+        let t934: f64 = t900 * t933;
+        let t935: f64 = t862 * t901;
+        let t936: f64 = t866 * t904;
+        let t937: f64 = t870 * t906;
+        let t938: f64 = t935 + t936;
+        let t939: f64 = t937 + t938;
+        let t940: f64 = t881 * t934;
+        let t941: f64 = t939 * t940;
+        let t942: f64 = t928 * t941;
+        let t943: f64 = ax * t913;
+        let t944: f64 = t881 * t904;
+        let t945: f64 = arm3_crank_length * t280;
+        let t946: f64 = t910 * t945;
+        let t947: f64 = t944 - t946;
+        let t948: f64 = ay * t947;
+        let t949: f64 = t881 * t906;
+        let t950: f64 = arm3_crank_length * t277;
+        let t951: f64 = t910 * t950;
+        let t952: f64 = t949 - t951;
+        let t953: f64 = az * t952;
+        let t954: f64 = t256 * t875;
+        let t955: f64 = t249 * t852;
+        let t956: f64 = t954 - t955;
+        let t957: f64 = arm3_crank_length * t956;
+        let t958: f64 = t901 * t957;
+        let t959: f64 = t260 * t875;
+        let t960: f64 = t263 * t852;
+        let t961: f64 = t959 - t960;
+        let t962: f64 = arm3_crank_length * t961;
+        let t963: f64 = t904 * t962;
+        let t964: f64 = t271 * t875;
+        let t965: f64 = t242 * t852;
+        let t966: f64 = t964 - t965;
+        let t967: f64 = arm3_crank_length * t966;
+        let t968: f64 = t906 * t967;
+        let t969: f64 = t958 + t963;
         let t970: f64 = t968 + t969;
-        let t971: f64 = t856 * t925;
-        let t972: f64 = t970 * t971;
-        let t973: f64 = t965 * t972;
-        let t974: f64 = t805 * t805;
-        let t975: f64 = t158 * t974;
-        let t976: f64 = arm2_crank_length * t974;
-        let t977: f64 = t827 * t976;
-        let t978: f64 = t953 * t953;
-        let t979: f64 = t957 * t957;
-        let t980: f64 = t961 * t961;
-        let t981: f64 = t977 + t978;
-        let t982: f64 = t979 + t980;
-        let t983: f64 = t981 + t982;
-        let t984: f64 = t185 * t983;
-        let t985: f64 = t165 * t984;
-        let t986: f64 = t975 - t985;
-        let t987: f64 = t876 * t986;
-        let t988: f64 = t151 * t974;
-        let t989: f64 = t169 * t984;
-        let t990: f64 = t988 - t989;
-        let t991: f64 = t879 * t990;
-        let t992: f64 = t176 * t974;
-        let t993: f64 = t173 * t984;
-        let t994: f64 = t992 - t993;
-        let t995: f64 = t881 * t994;
-        let t996: f64 = t987 + t991;
-        let t997: f64 = t995 + t996;
-        let t998: f64 = arm2_crank_length * t856;
-        let t999: f64 = t997 * t998;
+        let t971: f64 = t881 * t970;
+        let t972: f64 = t942 + t943;
+        let t973: f64 = t948 + t953;
+        let t974: f64 = t972 + t973;
+        let t975: f64 = t974 - t971;
+        let t976: f64 = t881 * t916;
+        let t977: f64 = t256 * t916;
+        let t978: f64 = t260 * t920;
+        let t979: f64 = t271 * t924;
+        let t980: f64 = t977 + t978;
+        let t981: f64 = t979 + t980;
+        let t982: f64 = t881 * t981;
+        let t983: f64 = t911 * t982;
+        let t984: f64 = t976 - t983;
+        let t985: f64 = vx * t984;
+        let t986: f64 = t881 * t920;
+        let t987: f64 = t945 * t982;
+        let t988: f64 = t986 - t987;
+        let t989: f64 = vy * t988;
+        let t990: f64 = t881 * t924;
+        let t991: f64 = t950 * t982;
+        let t992: f64 = t990 - t991;
+        let t993: f64 = vz * t992;
+        let t994: f64 = t985 + t989;
+        let t995: f64 = t993 + t994;
+        let t996: f64 = vx * t913;
+        let t997: f64 = vy * t947;
+        let t998: f64 = vz * t952;
+        let t999: f64 = t996 + t997;
         (
             t28,
             t43,
@@ -3899,19 +3121,7 @@ pub fn base_regressor(
             t139,
             t186,
             t215,
-            t216,
             t230,
-            t242,
-            t246,
-            t249,
-            t253,
-            t256,
-            t260,
-            t263,
-            t267,
-            t271,
-            t275,
-            t276,
             t277,
             t279,
             t280,
@@ -3931,775 +3141,449 @@ pub fn base_regressor(
             t309,
             t311,
             t319,
+            t347,
+            t348,
             t367,
-            t369,
-            t388,
-            t699,
-            t710,
-            t721,
-            t726,
-            t731,
-            t735,
-            t739,
-            t743,
-            t762,
-            t771,
-            t780,
-            t784,
-            t795,
-            t797,
-            t805,
-            t853,
-            t855,
-            t856,
-            t874,
-            t875,
-            t888,
-            t891,
-            t896,
+            t532,
+            t538,
+            t544,
+            t548,
+            t551,
+            t555,
+            t559,
+            t563,
+            t577,
+            t583,
+            t589,
+            t593,
+            t604,
+            t606,
+            t614,
+            t642,
+            t643,
+            t662,
+            t788,
+            t792,
+            t796,
+            t800,
+            t814,
+            t820,
+            t826,
+            t830,
+            t841,
+            t843,
+            t851,
+            t879,
+            t880,
+            t881,
+            t899,
             t900,
-            t906,
-            t911,
+            t913,
             t916,
-            t919,
-            t925,
-            t929,
+            t920,
+            t924,
+            t928,
             t934,
             t939,
-            t942,
-            t943,
-            t944,
-            t946,
+            t941,
             t947,
-            t949,
-            t950,
-            t965,
-            t970,
-            t972,
-            t973,
-            t986,
-            t990,
-            t994,
+            t952,
+            t957,
+            t962,
+            t967,
+            t975,
+            t984,
+            t988,
+            t992,
+            t995,
             t998,
             t999,
         )
     };
     let (
-        t1043,
-        t1084,
-        t1097,
-        t1105,
-        t1155,
-        t1174,
-        t1343,
-        t1384,
-        t1385,
-        t1397,
-        t1400,
-        t1406,
-        t1413,
-        t1420,
-        t1425,
-        t1428,
-        t1435,
-        t1442,
-        t1448,
-        t1451,
-        t1458,
-        t1465,
-        t1466,
-        t1479,
-        t1480,
-        t1487,
-        t1493,
-        t1499,
-        t1506,
-        t1507,
-        t1513,
-        t1519,
-        t1525,
-        t1526,
-        t1532,
-        t1538,
-        t1539,
-        t1540,
-        t1541,
-        t1542,
-        t1561,
+        t1037,
+        t1067,
+        t1068,
+        t1080,
+        t1082,
+        t1089,
+        t1096,
+        t1103,
+        t1108,
+        t1110,
+        t1117,
+        t1124,
+        t1130,
+        t1132,
+        t1139,
+        t1146,
+        t1147,
+        t1160,
+        t1161,
+        t1167,
+        t1173,
+        t1179,
+        t1186,
+        t1187,
+        t1193,
+        t1199,
+        t1205,
+        t1206,
+        t1212,
+        t1218,
+        t1219,
+        t1220,
+        t1221,
+        t1222,
+        t1241,
     ) = {
-        let t1000: f64 = t973 + t999;
-        let t1001: f64 = t944 + t947;
-        let t1002: f64 = t950 + t1000;
-        let t1003: f64 = t1001 + t1002;
-        let t1004: f64 = t1003 - t943;
-        let t1005: f64 = t1004 * 2.0;
-        let t1006: f64 = t888 * t1005;
-        let t1007: f64 = vx * t888;
-        let t1008: f64 = vy * t946;
-        let t1009: f64 = vz * t949;
-        let t1010: f64 = t1007 + t1008;
-        let t1011: f64 = t1009 + t1010;
-        let t1012: f64 = t942 * t1011;
-        let t1013: f64 = t856 * t970;
-        let t1014: f64 = t972 * t1013;
-        let t1015: f64 = ax * t906;
-        let t1016: f64 = ay * t911;
-        let t1017: f64 = az * t916;
-        let t1018: f64 = t891 * t986;
-        let t1019: f64 = t896 * t990;
-        let t1020: f64 = t900 * t994;
-        let t1021: f64 = t1018 + t1019;
-        let t1022: f64 = t1020 + t1021;
-        let t1023: f64 = t998 * t1022;
-        let t1024: f64 = t1015 + t1016;
-        let t1025: f64 = t1017 + t1023;
-        let t1026: f64 = t1024 + t1025;
-        let t1027: f64 = t1014 - t1026;
-        let t1028: f64 = t1012 - t1027;
-        let t1029: f64 = t1028 * 2.0;
-        let t1030: f64 = t906 * t1029;
-        let t1031: f64 = t1006 + t1030;
-        let t1032: f64 = t282 * t1031;
-        let t1033: f64 = t946 * t1005;
-        let t1034: f64 = t911 * t1029;
-        let t1035: f64 = t1033 + t1034;
-        let t1036: f64 = t301 * t1035;
-        let t1037: f64 = t949 * t1005;
-        let t1038: f64 = t916 * t1029;
-        let t1039: f64 = t1037 + t1038;
-        let t1040: f64 = t305 * t1039;
-        let t1041: f64 = t1032 + t1036;
-        let t1042: f64 = t1040 + t1041;
-        let t1043: f64 = t298 * t1042;
-        let t1044: f64 = t875 * t875;
-        let t1045: f64 = t965 * t1044;
-        let t1046: f64 = t1013 * t1045;
-        let t1047: f64 = ax * t929;
-        let t1048: f64 = ay * t934;
-        let t1049: f64 = az * t939;
-        let t1050: f64 = t925 * t1000;
-        let t1051: f64 = t1046 + t1047;
-        let t1052: f64 = t1048 + t1049;
-        let t1053: f64 = t1051 + t1052;
-        let t1054: f64 = t1050 + t1053;
-        let t1055: f64 = t929 * t1054;
-        let t1056: f64 = t888 * t919;
-        let t1057: f64 = t906 * t1011;
-        let t1058: f64 = t1056 - t1057;
-        let t1059: f64 = t1058 * 2.0;
-        let t1060: f64 = t942 * t1059;
-        let t1061: f64 = t1055 * 2.0;
-        let t1062: f64 = t1060 + t1061;
-        let t1063: f64 = t282 * t1062;
-        let t1064: f64 = t934 * t1054;
-        let t1065: f64 = t919 * t946;
-        let t1066: f64 = t911 * t1011;
-        let t1067: f64 = t1065 - t1066;
-        let t1068: f64 = t1067 * 2.0;
-        let t1069: f64 = t942 * t1068;
-        let t1070: f64 = t1064 * 2.0;
-        let t1071: f64 = t1069 + t1070;
-        let t1072: f64 = t301 * t1071;
-        let t1073: f64 = t939 * t1054;
-        let t1074: f64 = t919 * t949;
-        let t1075: f64 = t916 * t1011;
+        let t1000: f64 = t998 + t999;
+        let t1001: f64 = t934 * t1000;
+        let t1002: f64 = t995 * t1001;
+        let t1003: f64 = t975 - t1002;
+        let t1004: f64 = t1003 * 2.0;
+        let t1005: f64 = t913 * t1004;
+        let t1006: f64 = t881 * t939;
+        let t1007: f64 = t941 * t1006;
+        let t1008: f64 = ax * t984;
+        let t1009: f64 = ay * t988;
+        let t1010: f64 = az * t992;
+        let t1011: f64 = t916 * t957;
+        let t1012: f64 = t920 * t962;
+        let t1013: f64 = t924 * t967;
+        let t1014: f64 = t1011 + t1012;
+        let t1015: f64 = t1013 + t1014;
+        let t1016: f64 = t881 * t1015;
+        let t1017: f64 = t1007 + t1016;
+        let t1018: f64 = t1008 + t1009;
+        let t1019: f64 = t1010 + t1018;
+        let t1020: f64 = t1017 - t1019;
+        let t1021: f64 = t1000 * t1001;
+        let t1022: f64 = t1020 - t1021;
+        let t1023: f64 = t1022 * 2.0;
+        let t1024: f64 = t984 * t1023;
+        let t1025: f64 = t1005 - t1024;
+        let t1026: f64 = t282 * t1025;
+        let t1027: f64 = t947 * t1004;
+        let t1028: f64 = t988 * t1023;
+        let t1029: f64 = t1027 - t1028;
+        let t1030: f64 = t301 * t1029;
+        let t1031: f64 = t952 * t1004;
+        let t1032: f64 = t992 * t1023;
+        let t1033: f64 = t1031 - t1032;
+        let t1034: f64 = t305 * t1033;
+        let t1035: f64 = t1026 + t1030;
+        let t1036: f64 = t1034 + t1035;
+        let t1037: f64 = t298 * t1036;
+        let t1038: f64 = t984 * t1000;
+        let t1039: f64 = t1001 * t1038;
+        let t1040: f64 = t900 * t900;
+        let t1041: f64 = t928 * t1040;
+        let t1042: f64 = t1006 * t1041;
+        let t1043: f64 = t934 * t975;
+        let t1044: f64 = t1042 + t1043;
+        let t1045: f64 = -t1044;
+        let t1046: f64 = t934 * t1045;
+        let t1047: f64 = t1002 - t1046;
+        let t1048: f64 = t1047 * 2.0;
+        let t1049: f64 = t913 * t1048;
+        let t1050: f64 = t1039 * 2.0;
+        let t1051: f64 = t1049 - t1050;
+        let t1052: f64 = t282 * t1051;
+        let t1053: f64 = t988 * t1000;
+        let t1054: f64 = t1001 * t1053;
+        let t1055: f64 = t947 * t1048;
+        let t1056: f64 = t1054 * 2.0;
+        let t1057: f64 = t1055 - t1056;
+        let t1058: f64 = t301 * t1057;
+        let t1059: f64 = t992 * t1000;
+        let t1060: f64 = t1001 * t1059;
+        let t1061: f64 = t952 * t1048;
+        let t1062: f64 = t1060 * 2.0;
+        let t1063: f64 = t1061 - t1062;
+        let t1064: f64 = t305 * t1063;
+        let t1065: f64 = t1052 + t1058;
+        let t1066: f64 = t1064 + t1065;
+        let t1067: f64 = t298 * t1066;
+        let t1068: f64 = ((t319 > 0.0) as i8 - (t319 < 0.0) as i8) as f64;
+        let t1069: f64 = t95 * t289;
+        let t1070: f64 = t95 * t277;
+        let t1071: f64 = t287 * t291;
+        let t1072: f64 = t1070 - t1071;
+        let t1073: f64 = t285 * t1072;
+        let t1074: f64 = t285 * t291;
+        let t1075: f64 = t95 * t280;
         let t1076: f64 = t1074 - t1075;
-        let t1077: f64 = t1076 * 2.0;
-        let t1078: f64 = t942 * t1077;
-        let t1079: f64 = t1073 * 2.0;
-        let t1080: f64 = t1078 + t1079;
-        let t1081: f64 = t305 * t1080;
-        let t1082: f64 = t1063 + t1072;
-        let t1083: f64 = t1081 + t1082;
-        let t1084: f64 = t298 * t1083;
-        let t1085: f64 = gravity_x * t256;
-        let t1086: f64 = gravity_y * t260;
-        let t1087: f64 = gravity_z * t271;
-        let t1088: f64 = t1085 + t1086;
-        let t1089: f64 = t1087 + t1088;
-        let t1090: f64 = t282 * t291;
-        let t1091: f64 = t280 * t301;
-        let t1092: f64 = t277 * t305;
-        let t1093: f64 = t1090 + t1091;
-        let t1094: f64 = t1092 + t1093;
-        let t1095: f64 = t298 * t1089;
-        let t1096: f64 = t1094 * t1095;
-        let t1097: f64 = -t1096;
-        let t1098: f64 = ax * t291;
-        let t1099: f64 = ay * t280;
-        let t1100: f64 = az * t277;
-        let t1101: f64 = vx * t291;
-        let t1102: f64 = vy * t280;
-        let t1103: f64 = vz * t277;
-        let t1104: f64 = t1101 + t1102;
-        let t1105: f64 = t1103 + t1104;
-        let t1106: f64 = t256 * t1105;
-        let t1107: f64 = -t1106;
-        let t1108: f64 = arm3_crank_length * t1107;
-        let t1109: f64 = vx + t1108;
-        let t1110: f64 = t276 * t1109;
-        let t1111: f64 = t275 * t275;
-        let t1112: f64 = t256 * t1109;
-        let t1113: f64 = t260 * t1105;
-        let t1114: f64 = -t1113;
-        let t1115: f64 = arm3_crank_length * t1114;
-        let t1116: f64 = vy + t1115;
-        let t1117: f64 = t260 * t1116;
-        let t1118: f64 = t271 * t1105;
-        let t1119: f64 = -t1118;
-        let t1120: f64 = arm3_crank_length * t1119;
-        let t1121: f64 = vz + t1120;
-        let t1122: f64 = t271 * t1121;
-        let t1123: f64 = t249 * t253;
-        let t1124: f64 = t263 * t267;
-        let t1125: f64 = t242 * t246;
-        let t1126: f64 = t1123 + t1124;
-        let t1127: f64 = t1125 + t1126;
-        let t1128: f64 = t1105 * t1127;
-        let t1129: f64 = t1112 + t1117;
-        let t1130: f64 = t1122 + t1129;
-        let t1131: f64 = t1128 - t1130;
-        let t1132: f64 = t216 * t253;
-        let t1133: f64 = t1111 * t1132;
-        let t1134: f64 = t1131 * t1133;
-        let t1135: f64 = t1110 + t1134;
-        let t1136: f64 = vx * t1135;
-        let t1137: f64 = t276 * t1116;
-        let t1138: f64 = t216 * t267;
-        let t1139: f64 = t1111 * t1138;
-        let t1140: f64 = t1131 * t1139;
-        let t1141: f64 = t1137 + t1140;
-        let t1142: f64 = vy * t1141;
-        let t1143: f64 = t276 * t1121;
-        let t1144: f64 = t216 * t246;
-        let t1145: f64 = t1111 * t1144;
-        let t1146: f64 = t1131 * t1145;
-        let t1147: f64 = t1143 + t1146;
-        let t1148: f64 = vz * t1147;
-        let t1149: f64 = t1098 + t1099;
-        let t1150: f64 = t1100 + t1136;
-        let t1151: f64 = t1142 + t1148;
-        let t1152: f64 = t1149 + t1150;
-        let t1153: f64 = t1151 + t1152;
-        let t1154: f64 = t298 * t1094;
-        let t1155: f64 = t1153 * t1154;
-        let t1156: f64 = 1.0 / arm3_rod_length;
-        let t1157: f64 = t267 * t1156;
-        let t1158: f64 = arm3_axis_z * t1157;
-        let t1159: f64 = t246 * t1156;
-        let t1160: f64 = arm3_axis_y * t1159;
-        let t1161: f64 = t1158 - t1160;
-        let t1162: f64 = t1161 * t1161;
-        let t1163: f64 = arm3_axis_x * t1159;
-        let t1164: f64 = t253 * t1156;
-        let t1165: f64 = arm3_axis_z * t1164;
-        let t1166: f64 = t1163 - t1165;
-        let t1167: f64 = t1166 * t1166;
-        let t1168: f64 = arm3_axis_y * t1164;
-        let t1169: f64 = arm3_axis_x * t1157;
-        let t1170: f64 = t1168 - t1169;
-        let t1171: f64 = t1170 * t1170;
-        let t1172: f64 = t1162 + t1167;
-        let t1173: f64 = t1171 + t1172;
-        let t1174: f64 = sqrt(t1173);
-        let t1175: f64 = 1.0 / t1174;
-        let t1176: f64 = t1161 * t1175;
-        let t1177: f64 = t1156 * t1176;
-        let t1178: f64 = t256 * t1176;
-        let t1179: f64 = t1166 * t1175;
-        let t1180: f64 = t260 * t1179;
-        let t1181: f64 = t1170 * t1175;
-        let t1182: f64 = t271 * t1181;
-        let t1183: f64 = t1178 + t1180;
+        let t1077: f64 = t287 * t1076;
+        let t1078: f64 = t1073 + t1077;
+        let t1079: f64 = t1069 - t1078;
+        let t1080: f64 = t309 * t1079;
+        let t1081: f64 = t347 * t1079;
+        let t1082: f64 = -t1081;
+        let t1083: f64 = t289 * t532;
+        let t1084: f64 = t538 * t1072;
+        let t1085: f64 = t544 * t1076;
+        let t1086: f64 = t1084 + t1085;
+        let t1087: f64 = t1083 - t1086;
+        let t1088: f64 = t298 * t1087;
+        let t1089: f64 = -t1088;
+        let t1090: f64 = t289 * t551;
+        let t1091: f64 = t555 * t1072;
+        let t1092: f64 = t559 * t1076;
+        let t1093: f64 = t1091 + t1092;
+        let t1094: f64 = t1090 - t1093;
+        let t1095: f64 = t298 * t1094;
+        let t1096: f64 = -t1095;
+        let t1097: f64 = t289 * t577;
+        let t1098: f64 = t583 * t1072;
+        let t1099: f64 = t589 * t1076;
+        let t1100: f64 = t1098 + t1099;
+        let t1101: f64 = t1097 - t1100;
+        let t1102: f64 = t298 * t1101;
+        let t1103: f64 = -t1102;
+        let t1104: f64 = t186 * t1072;
+        let t1105: f64 = t279 * t1076;
+        let t1106: f64 = t1104 + t1105;
+        let t1107: f64 = t290 - t1106;
+        let t1108: f64 = t604 * t1107;
+        let t1109: f64 = t642 * t1107;
+        let t1110: f64 = -t1109;
+        let t1111: f64 = t289 * t788;
+        let t1112: f64 = t792 * t1072;
+        let t1113: f64 = t796 * t1076;
+        let t1114: f64 = t1112 + t1113;
+        let t1115: f64 = t1111 - t1114;
+        let t1116: f64 = t298 * t1115;
+        let t1117: f64 = -t1116;
+        let t1118: f64 = t289 * t814;
+        let t1119: f64 = t820 * t1072;
+        let t1120: f64 = t826 * t1076;
+        let t1121: f64 = t1119 + t1120;
+        let t1122: f64 = t1118 - t1121;
+        let t1123: f64 = t298 * t1122;
+        let t1124: f64 = -t1123;
+        let t1125: f64 = t289 * t291;
+        let t1126: f64 = t280 * t1072;
+        let t1127: f64 = t277 * t1076;
+        let t1128: f64 = t1126 + t1127;
+        let t1129: f64 = t1125 - t1128;
+        let t1130: f64 = t841 * t1129;
+        let t1131: f64 = t879 * t1129;
+        let t1132: f64 = -t1131;
+        let t1133: f64 = t289 * t1025;
+        let t1134: f64 = t1029 * t1072;
+        let t1135: f64 = t1033 * t1076;
+        let t1136: f64 = t1134 + t1135;
+        let t1137: f64 = t1133 - t1136;
+        let t1138: f64 = t298 * t1137;
+        let t1139: f64 = -t1138;
+        let t1140: f64 = t289 * t1051;
+        let t1141: f64 = t1057 * t1072;
+        let t1142: f64 = t1063 * t1076;
+        let t1143: f64 = t1141 + t1142;
+        let t1144: f64 = t1140 - t1143;
+        let t1145: f64 = t298 * t1144;
+        let t1146: f64 = -t1145;
+        let t1147: f64 = ((t614 > 0.0) as i8 - (t614 < 0.0) as i8) as f64;
+        let t1148: f64 = t95 * t294;
+        let t1149: f64 = t284 * t287;
+        let t1150: f64 = t95 * t279;
+        let t1151: f64 = t1149 - t1150;
+        let t1152: f64 = t285 * t1151;
+        let t1153: f64 = t95 * t186;
+        let t1154: f64 = t284 * t285;
+        let t1155: f64 = t1153 - t1154;
+        let t1156: f64 = t287 * t1155;
+        let t1157: f64 = t1148 + t1152;
+        let t1158: f64 = t1156 + t1157;
+        let t1159: f64 = t309 * t1158;
+        let t1160: f64 = -t1159;
+        let t1161: f64 = t347 * t1158;
+        let t1162: f64 = t294 * t532;
+        let t1163: f64 = t538 * t1151;
+        let t1164: f64 = t544 * t1155;
+        let t1165: f64 = t1162 + t1163;
+        let t1166: f64 = t1164 + t1165;
+        let t1167: f64 = t298 * t1166;
+        let t1168: f64 = t294 * t551;
+        let t1169: f64 = t555 * t1151;
+        let t1170: f64 = t559 * t1155;
+        let t1171: f64 = t1168 + t1169;
+        let t1172: f64 = t1170 + t1171;
+        let t1173: f64 = t298 * t1172;
+        let t1174: f64 = t294 * t577;
+        let t1175: f64 = t583 * t1151;
+        let t1176: f64 = t589 * t1155;
+        let t1177: f64 = t1174 + t1175;
+        let t1178: f64 = t1176 + t1177;
+        let t1179: f64 = t298 * t1178;
+        let t1180: f64 = t284 * t294;
+        let t1181: f64 = t186 * t1151;
+        let t1182: f64 = t279 * t1155;
+        let t1183: f64 = t1180 + t1181;
         let t1184: f64 = t1182 + t1183;
-        let t1185: f64 = t1156 * t1184;
-        let t1186: f64 = arm3_crank_length * t291;
-        let t1187: f64 = t1185 * t1186;
-        let t1188: f64 = t1177 - t1187;
-        let t1189: f64 = t1159 * t1179;
-        let t1190: f64 = t1157 * t1181;
-        let t1191: f64 = t1189 - t1190;
-        let t1192: f64 = t1156 * t1191;
-        let t1193: f64 = t256 * t1191;
-        let t1194: f64 = t1164 * t1181;
-        let t1195: f64 = t1159 * t1176;
-        let t1196: f64 = t1194 - t1195;
-        let t1197: f64 = t260 * t1196;
-        let t1198: f64 = t1157 * t1176;
-        let t1199: f64 = t1164 * t1179;
-        let t1200: f64 = t1198 - t1199;
-        let t1201: f64 = t271 * t1200;
-        let t1202: f64 = t1193 + t1197;
+        let t1185: f64 = t604 * t1184;
+        let t1186: f64 = -t1185;
+        let t1187: f64 = t642 * t1184;
+        let t1188: f64 = t294 * t788;
+        let t1189: f64 = t792 * t1151;
+        let t1190: f64 = t796 * t1155;
+        let t1191: f64 = t1188 + t1189;
+        let t1192: f64 = t1190 + t1191;
+        let t1193: f64 = t298 * t1192;
+        let t1194: f64 = t294 * t814;
+        let t1195: f64 = t820 * t1151;
+        let t1196: f64 = t826 * t1155;
+        let t1197: f64 = t1194 + t1195;
+        let t1198: f64 = t1196 + t1197;
+        let t1199: f64 = t298 * t1198;
+        let t1200: f64 = t280 * t1151;
+        let t1201: f64 = t277 * t1155;
+        let t1202: f64 = t295 + t1200;
         let t1203: f64 = t1201 + t1202;
-        let t1204: f64 = t1156 * t1203;
-        let t1205: f64 = t1186 * t1204;
-        let t1206: f64 = t1192 - t1205;
-        let t1207: f64 = vx * t1206;
-        let t1208: f64 = t1156 * t1196;
-        let t1209: f64 = arm3_crank_length * t280;
-        let t1210: f64 = t1204 * t1209;
-        let t1211: f64 = t1208 - t1210;
-        let t1212: f64 = vy * t1211;
-        let t1213: f64 = t1156 * t1200;
-        let t1214: f64 = arm3_crank_length * t277;
-        let t1215: f64 = t1204 * t1214;
-        let t1216: f64 = t1213 - t1215;
-        let t1217: f64 = vz * t1216;
-        let t1218: f64 = t1207 + t1212;
-        let t1219: f64 = t1217 + t1218;
-        let t1220: f64 = arm3_axis_x * t1164;
-        let t1221: f64 = arm3_axis_y * t1157;
-        let t1222: f64 = arm3_axis_z * t1159;
-        let t1223: f64 = t1220 + t1221;
-        let t1224: f64 = t1222 + t1223;
-        let t1225: f64 = t1175 * t1224;
-        let t1226: f64 = t1177 * t1225;
-        let t1227: f64 = t1185 * t1225;
-        let t1228: f64 = t1186 * t1227;
-        let t1229: f64 = t1226 - t1228;
-        let t1230: f64 = vx * t1229;
-        let t1231: f64 = t1156 * t1179;
-        let t1232: f64 = t1225 * t1231;
-        let t1233: f64 = t1209 * t1227;
-        let t1234: f64 = t1232 - t1233;
-        let t1235: f64 = vy * t1234;
-        let t1236: f64 = t1156 * t1181;
-        let t1237: f64 = t1225 * t1236;
-        let t1238: f64 = t1214 * t1227;
-        let t1239: f64 = t1237 - t1238;
-        let t1240: f64 = vz * t1239;
-        let t1241: f64 = t1230 + t1235;
-        let t1242: f64 = t1240 + t1241;
-        let t1243: f64 = t1219 * t1242;
-        let t1244: f64 = ax * t1188;
-        let t1245: f64 = t1185 * t1209;
-        let t1246: f64 = t1231 - t1245;
-        let t1247: f64 = ay * t1246;
-        let t1248: f64 = t1185 * t1214;
-        let t1249: f64 = t1236 - t1248;
-        let t1250: f64 = az * t1249;
-        let t1251: f64 = arm3_crank_length * t256;
-        let t1252: f64 = t1105 * t1251;
-        let t1253: f64 = vx - t1252;
-        let t1254: f64 = t1191 * t1253;
-        let t1255: f64 = arm3_crank_length * t260;
-        let t1256: f64 = t1105 * t1255;
-        let t1257: f64 = vy - t1256;
-        let t1258: f64 = t1196 * t1257;
-        let t1259: f64 = arm3_crank_length * t271;
-        let t1260: f64 = t1105 * t1259;
-        let t1261: f64 = vz - t1260;
-        let t1262: f64 = t1200 * t1261;
-        let t1263: f64 = t1254 + t1258;
-        let t1264: f64 = t1262 + t1263;
-        let t1265: f64 = t1156 * t1264;
-        let t1266: f64 = t1176 * t1253;
-        let t1267: f64 = t1179 * t1257;
-        let t1268: f64 = t1181 * t1261;
-        let t1269: f64 = t1266 + t1267;
-        let t1270: f64 = t1268 + t1269;
-        let t1271: f64 = t1156 * t1225;
-        let t1272: f64 = t1270 * t1271;
-        let t1273: f64 = t1265 * t1272;
-        let t1274: f64 = t1105 * t1105;
-        let t1275: f64 = t249 * t1274;
-        let t1276: f64 = arm3_crank_length * t1274;
-        let t1277: f64 = t1127 * t1276;
-        let t1278: f64 = t1253 * t1253;
-        let t1279: f64 = t1257 * t1257;
-        let t1280: f64 = t1261 * t1261;
-        let t1281: f64 = t1277 + t1278;
-        let t1282: f64 = t1279 + t1280;
-        let t1283: f64 = t1281 + t1282;
-        let t1284: f64 = t276 * t1283;
-        let t1285: f64 = t256 * t1284;
-        let t1286: f64 = t1275 - t1285;
-        let t1287: f64 = t1176 * t1286;
-        let t1288: f64 = t263 * t1274;
-        let t1289: f64 = t260 * t1284;
-        let t1290: f64 = t1288 - t1289;
-        let t1291: f64 = t1179 * t1290;
-        let t1292: f64 = t242 * t1274;
-        let t1293: f64 = t271 * t1284;
-        let t1294: f64 = t1292 - t1293;
-        let t1295: f64 = t1181 * t1294;
-        let t1296: f64 = t1287 + t1291;
-        let t1297: f64 = t1295 + t1296;
-        let t1298: f64 = arm3_crank_length * t1156;
-        let t1299: f64 = t1297 * t1298;
-        let t1300: f64 = t1273 + t1299;
-        let t1301: f64 = t1244 + t1247;
-        let t1302: f64 = t1250 + t1300;
-        let t1303: f64 = t1301 + t1302;
-        let t1304: f64 = t1303 - t1243;
-        let t1305: f64 = t1304 * 2.0;
-        let t1306: f64 = t1188 * t1305;
-        let t1307: f64 = vx * t1188;
-        let t1308: f64 = vy * t1246;
-        let t1309: f64 = vz * t1249;
-        let t1310: f64 = t1307 + t1308;
-        let t1311: f64 = t1309 + t1310;
-        let t1312: f64 = t1242 * t1311;
-        let t1313: f64 = t1156 * t1270;
-        let t1314: f64 = t1272 * t1313;
-        let t1315: f64 = ax * t1206;
-        let t1316: f64 = ay * t1211;
-        let t1317: f64 = az * t1216;
-        let t1318: f64 = t1191 * t1286;
-        let t1319: f64 = t1196 * t1290;
-        let t1320: f64 = t1200 * t1294;
-        let t1321: f64 = t1318 + t1319;
-        let t1322: f64 = t1320 + t1321;
-        let t1323: f64 = t1298 * t1322;
-        let t1324: f64 = t1315 + t1316;
-        let t1325: f64 = t1317 + t1323;
-        let t1326: f64 = t1324 + t1325;
-        let t1327: f64 = t1314 - t1326;
-        let t1328: f64 = t1312 - t1327;
-        let t1329: f64 = t1328 * 2.0;
-        let t1330: f64 = t1206 * t1329;
-        let t1331: f64 = t1306 + t1330;
-        let t1332: f64 = t282 * t1331;
-        let t1333: f64 = t1246 * t1305;
-        let t1334: f64 = t1211 * t1329;
-        let t1335: f64 = t1333 + t1334;
-        let t1336: f64 = t301 * t1335;
-        let t1337: f64 = t1249 * t1305;
-        let t1338: f64 = t1216 * t1329;
-        let t1339: f64 = t1337 + t1338;
-        let t1340: f64 = t305 * t1339;
-        let t1341: f64 = t1332 + t1336;
-        let t1342: f64 = t1340 + t1341;
-        let t1343: f64 = t298 * t1342;
-        let t1344: f64 = t1175 * t1175;
-        let t1345: f64 = t1265 * t1344;
-        let t1346: f64 = t1313 * t1345;
-        let t1347: f64 = ax * t1229;
-        let t1348: f64 = ay * t1234;
-        let t1349: f64 = az * t1239;
-        let t1350: f64 = t1225 * t1300;
-        let t1351: f64 = t1346 + t1347;
-        let t1352: f64 = t1348 + t1349;
-        let t1353: f64 = t1351 + t1352;
-        let t1354: f64 = t1350 + t1353;
-        let t1355: f64 = t1229 * t1354;
-        let t1356: f64 = t1188 * t1219;
-        let t1357: f64 = t1206 * t1311;
-        let t1358: f64 = t1356 - t1357;
-        let t1359: f64 = t1358 * 2.0;
-        let t1360: f64 = t1242 * t1359;
-        let t1361: f64 = t1355 * 2.0;
-        let t1362: f64 = t1360 + t1361;
-        let t1363: f64 = t282 * t1362;
-        let t1364: f64 = t1234 * t1354;
-        let t1365: f64 = t1219 * t1246;
-        let t1366: f64 = t1211 * t1311;
-        let t1367: f64 = t1365 - t1366;
-        let t1368: f64 = t1367 * 2.0;
-        let t1369: f64 = t1242 * t1368;
-        let t1370: f64 = t1364 * 2.0;
-        let t1371: f64 = t1369 + t1370;
-        let t1372: f64 = t301 * t1371;
-        let t1373: f64 = t1239 * t1354;
-        let t1374: f64 = t1219 * t1249;
-        let t1375: f64 = t1216 * t1311;
-        let t1376: f64 = t1374 - t1375;
-        let t1377: f64 = t1376 * 2.0;
-        let t1378: f64 = t1242 * t1377;
-        let t1379: f64 = t1373 * 2.0;
-        let t1380: f64 = t1378 + t1379;
-        let t1381: f64 = t305 * t1380;
-        let t1382: f64 = t1363 + t1372;
-        let t1383: f64 = t1381 + t1382;
-        let t1384: f64 = t298 * t1383;
-        let t1385: f64 = ((t319 > 0.0) as i8 - (t319 < 0.0) as i8) as f64;
-        let t1386: f64 = t95 * t289;
-        let t1387: f64 = t95 * t277;
-        let t1388: f64 = t287 * t291;
-        let t1389: f64 = t1387 - t1388;
-        let t1390: f64 = t285 * t1389;
-        let t1391: f64 = t285 * t291;
-        let t1392: f64 = t95 * t280;
-        let t1393: f64 = t1391 - t1392;
-        let t1394: f64 = t287 * t1393;
-        let t1395: f64 = t1390 + t1394;
-        let t1396: f64 = t1386 - t1395;
-        let t1397: f64 = t309 * t1396;
-        let t1398: f64 = t298 * t367;
-        let t1399: f64 = t1396 * t1398;
-        let t1400: f64 = -t1399;
-        let t1401: f64 = t289 * t699;
-        let t1402: f64 = t710 * t1389;
-        let t1403: f64 = t721 * t1393;
-        let t1404: f64 = t1402 + t1403;
-        let t1405: f64 = t1401 - t1404;
-        let t1406: f64 = t298 * t1405;
-        let t1407: f64 = t289 * t731;
-        let t1408: f64 = t735 * t1389;
-        let t1409: f64 = t739 * t1393;
-        let t1410: f64 = t1408 + t1409;
-        let t1411: f64 = t1407 - t1410;
-        let t1412: f64 = t298 * t1411;
-        let t1413: f64 = -t1412;
-        let t1414: f64 = t289 * t762;
-        let t1415: f64 = t771 * t1389;
-        let t1416: f64 = t780 * t1393;
-        let t1417: f64 = t1415 + t1416;
-        let t1418: f64 = t1414 - t1417;
-        let t1419: f64 = t298 * t1418;
-        let t1420: f64 = -t1419;
-        let t1421: f64 = t186 * t1389;
-        let t1422: f64 = t279 * t1393;
-        let t1423: f64 = t1421 + t1422;
-        let t1424: f64 = t290 - t1423;
-        let t1425: f64 = t795 * t1424;
-        let t1426: f64 = t298 * t853;
-        let t1427: f64 = t1424 * t1426;
-        let t1428: f64 = -t1427;
-        let t1429: f64 = t289 * t1031;
-        let t1430: f64 = t1035 * t1389;
-        let t1431: f64 = t1039 * t1393;
-        let t1432: f64 = t1430 + t1431;
-        let t1433: f64 = t1429 - t1432;
-        let t1434: f64 = t298 * t1433;
-        let t1435: f64 = -t1434;
-        let t1436: f64 = t289 * t1062;
-        let t1437: f64 = t1071 * t1389;
-        let t1438: f64 = t1080 * t1393;
-        let t1439: f64 = t1437 + t1438;
-        let t1440: f64 = t1436 - t1439;
-        let t1441: f64 = t298 * t1440;
-        let t1442: f64 = -t1441;
-        let t1443: f64 = t289 * t291;
-        let t1444: f64 = t280 * t1389;
-        let t1445: f64 = t277 * t1393;
-        let t1446: f64 = t1444 + t1445;
-        let t1447: f64 = t1443 - t1446;
-        let t1448: f64 = t1095 * t1447;
-        let t1449: f64 = t298 * t1153;
-        let t1450: f64 = t1447 * t1449;
-        let t1451: f64 = -t1450;
-        let t1452: f64 = t289 * t1331;
-        let t1453: f64 = t1335 * t1389;
-        let t1454: f64 = t1339 * t1393;
-        let t1455: f64 = t1453 + t1454;
-        let t1456: f64 = t1452 - t1455;
-        let t1457: f64 = t298 * t1456;
-        let t1458: f64 = -t1457;
-        let t1459: f64 = t289 * t1362;
-        let t1460: f64 = t1371 * t1389;
-        let t1461: f64 = t1380 * t1393;
-        let t1462: f64 = t1460 + t1461;
-        let t1463: f64 = t1459 - t1462;
-        let t1464: f64 = t298 * t1463;
-        let t1465: f64 = -t1464;
-        let t1466: f64 = ((t805 > 0.0) as i8 - (t805 < 0.0) as i8) as f64;
-        let t1467: f64 = t95 * t294;
-        let t1468: f64 = t284 * t287;
-        let t1469: f64 = t95 * t279;
-        let t1470: f64 = t1468 - t1469;
-        let t1471: f64 = t285 * t1470;
-        let t1472: f64 = t95 * t186;
-        let t1473: f64 = t284 * t285;
-        let t1474: f64 = t1472 - t1473;
-        let t1475: f64 = t287 * t1474;
-        let t1476: f64 = t1467 + t1471;
-        let t1477: f64 = t1475 + t1476;
-        let t1478: f64 = t309 * t1477;
-        let t1479: f64 = -t1478;
-        let t1480: f64 = t1398 * t1477;
-        let t1481: f64 = t294 * t699;
-        let t1482: f64 = t710 * t1470;
-        let t1483: f64 = t721 * t1474;
-        let t1484: f64 = t1481 + t1482;
-        let t1485: f64 = t1483 + t1484;
-        let t1486: f64 = t298 * t1485;
-        let t1487: f64 = -t1486;
-        let t1488: f64 = t294 * t731;
-        let t1489: f64 = t735 * t1470;
-        let t1490: f64 = t739 * t1474;
-        let t1491: f64 = t1488 + t1489;
-        let t1492: f64 = t1490 + t1491;
-        let t1493: f64 = t298 * t1492;
-        let t1494: f64 = t294 * t762;
-        let t1495: f64 = t771 * t1470;
-        let t1496: f64 = t780 * t1474;
-        let t1497: f64 = t1494 + t1495;
-        let t1498: f64 = t1496 + t1497;
-        let t1499: f64 = t298 * t1498;
-        let t1500: f64 = t284 * t294;
-        let t1501: f64 = t186 * t1470;
-        let t1502: f64 = t279 * t1474;
-        let t1503: f64 = t1500 + t1501;
-        let t1504: f64 = t1502 + t1503;
-        let t1505: f64 = t795 * t1504;
-        let t1506: f64 = -t1505;
-        let t1507: f64 = t1426 * t1504;
-        let t1508: f64 = t294 * t1031;
-        let t1509: f64 = t1035 * t1470;
-        let t1510: f64 = t1039 * t1474;
-        let t1511: f64 = t1508 + t1509;
-        let t1512: f64 = t1510 + t1511;
-        let t1513: f64 = t298 * t1512;
-        let t1514: f64 = t294 * t1062;
-        let t1515: f64 = t1071 * t1470;
-        let t1516: f64 = t1080 * t1474;
-        let t1517: f64 = t1514 + t1515;
-        let t1518: f64 = t1516 + t1517;
-        let t1519: f64 = t298 * t1518;
-        let t1520: f64 = t280 * t1470;
-        let t1521: f64 = t277 * t1474;
-        let t1522: f64 = t295 + t1520;
-        let t1523: f64 = t1521 + t1522;
-        let t1524: f64 = t1095 * t1523;
-        let t1525: f64 = -t1524;
-        let t1526: f64 = t1449 * t1523;
-        let t1527: f64 = t294 * t1331;
-        let t1528: f64 = t1335 * t1470;
-        let t1529: f64 = t1339 * t1474;
-        let t1530: f64 = t1527 + t1528;
-        let t1531: f64 = t1529 + t1530;
-        let t1532: f64 = t298 * t1531;
-        let t1533: f64 = t294 * t1362;
-        let t1534: f64 = t1371 * t1470;
-        let t1535: f64 = t1380 * t1474;
-        let t1536: f64 = t1533 + t1534;
-        let t1537: f64 = t1535 + t1536;
-        let t1538: f64 = t298 * t1537;
-        let t1539: f64 = ((t1105 > 0.0) as i8 - (t1105 < 0.0) as i8) as f64;
-        let t1540: f64 = t28 * t43;
-        let t1541: f64 = t124 * t139;
-        let t1542: f64 = t215 * t230;
-        let t1543: f64 = t308 * t308;
-        let t1544: f64 = t95 * t95;
-        let t1545: f64 = t285 * t285;
-        let t1546: f64 = t287 * t287;
-        let t1547: f64 = t1544 + t1545;
-        let t1548: f64 = t1546 + t1547;
-        let t1549: f64 = t284 * t284;
-        let t1550: f64 = t186 * t186;
-        let t1551: f64 = t279 * t279;
-        let t1552: f64 = t1549 + t1550;
-        let t1553: f64 = t1551 + t1552;
-        let t1554: f64 = t291 * t291;
-        let t1555: f64 = t280 * t280;
-        let t1556: f64 = t277 * t277;
-        let t1557: f64 = t1554 + t1555;
-        let t1558: f64 = t1556 + t1557;
-        let t1559: f64 = t1548 * t1553;
-        let t1560: f64 = t1558 * t1559;
-        let t1561: f64 = t1543 / t1560;
+        let t1204: f64 = t841 * t1203;
+        let t1205: f64 = -t1204;
+        let t1206: f64 = t879 * t1203;
+        let t1207: f64 = t294 * t1025;
+        let t1208: f64 = t1029 * t1151;
+        let t1209: f64 = t1033 * t1155;
+        let t1210: f64 = t1207 + t1208;
+        let t1211: f64 = t1209 + t1210;
+        let t1212: f64 = t298 * t1211;
+        let t1213: f64 = t294 * t1051;
+        let t1214: f64 = t1057 * t1151;
+        let t1215: f64 = t1063 * t1155;
+        let t1216: f64 = t1213 + t1214;
+        let t1217: f64 = t1215 + t1216;
+        let t1218: f64 = t298 * t1217;
+        let t1219: f64 = ((t851 > 0.0) as i8 - (t851 < 0.0) as i8) as f64;
+        let t1220: f64 = t28 * t43;
+        let t1221: f64 = t124 * t139;
+        let t1222: f64 = t215 * t230;
+        let t1223: f64 = t308 * t308;
+        let t1224: f64 = t95 * t95;
+        let t1225: f64 = t285 * t285;
+        let t1226: f64 = t287 * t287;
+        let t1227: f64 = t1224 + t1225;
+        let t1228: f64 = t1226 + t1227;
+        let t1229: f64 = t284 * t284;
+        let t1230: f64 = t186 * t186;
+        let t1231: f64 = t279 * t279;
+        let t1232: f64 = t1229 + t1230;
+        let t1233: f64 = t1231 + t1232;
+        let t1234: f64 = t291 * t291;
+        let t1235: f64 = t280 * t280;
+        let t1236: f64 = t277 * t277;
+        let t1237: f64 = t1234 + t1235;
+        let t1238: f64 = t1236 + t1237;
+        let t1239: f64 = t1228 * t1233;
+        let t1240: f64 = t1238 * t1239;
+        let t1241: f64 = t1223 / t1240;
         (
-            t1043,
-            t1084,
-            t1097,
-            t1105,
-            t1155,
-            t1174,
-            t1343,
-            t1384,
-            t1385,
-            t1397,
-            t1400,
-            t1406,
-            t1413,
-            t1420,
-            t1425,
-            t1428,
-            t1435,
-            t1442,
-            t1448,
-            t1451,
-            t1458,
-            t1465,
-            t1466,
-            t1479,
-            t1480,
-            t1487,
-            t1493,
-            t1499,
-            t1506,
-            t1507,
-            t1513,
-            t1519,
-            t1525,
-            t1526,
-            t1532,
-            t1538,
-            t1539,
-            t1540,
-            t1541,
-            t1542,
-            t1561,
+            t1037,
+            t1067,
+            t1068,
+            t1080,
+            t1082,
+            t1089,
+            t1096,
+            t1103,
+            t1108,
+            t1110,
+            t1117,
+            t1124,
+            t1130,
+            t1132,
+            t1139,
+            t1146,
+            t1147,
+            t1160,
+            t1161,
+            t1167,
+            t1173,
+            t1179,
+            t1186,
+            t1187,
+            t1193,
+            t1199,
+            t1205,
+            t1206,
+            t1212,
+            t1218,
+            t1219,
+            t1220,
+            t1221,
+            t1222,
+            t1241,
         )
     };
     (
         [
             [
                 t311,
-                t369,
-                t726,
-                t743,
-                t784,
-                t797,
-                t855,
-                t1043,
-                t1084,
-                t1097,
-                t1155,
-                t1343,
-                t1384,
+                t348,
+                t548,
+                t563,
+                t593,
+                t606,
+                t643,
+                t800,
+                t830,
+                t843,
+                t880,
+                t1037,
+                t1067,
                 t319,
                 0.0,
                 0.0,
-                t1385,
+                t1068,
                 0.0,
                 0.0,
             ],
             [
-                t1397,
-                t1400,
-                t1406,
-                t1413,
-                t1420,
-                t1425,
-                t1428,
-                t1435,
-                t1442,
-                t1448,
-                t1451,
-                t1458,
-                t1465,
+                t1080,
+                t1082,
+                t1089,
+                t1096,
+                t1103,
+                t1108,
+                t1110,
+                t1117,
+                t1124,
+                t1130,
+                t1132,
+                t1139,
+                t1146,
                 0.0,
-                t805,
+                t614,
                 0.0,
                 0.0,
-                t1466,
+                t1147,
                 0.0,
             ],
             [
-                t1479,
-                t1480,
-                t1487,
-                t1493,
-                t1499,
-                t1506,
-                t1507,
-                t1513,
-                t1519,
-                t1525,
-                t1526,
-                t1532,
-                t1538,
+                t1160,
+                t1161,
+                t1167,
+                t1173,
+                t1179,
+                t1186,
+                t1187,
+                t1193,
+                t1199,
+                t1205,
+                t1206,
+                t1212,
+                t1218,
                 0.0,
                 0.0,
-                t1105,
+                t851,
                 0.0,
                 0.0,
-                t1539,
+                t1219,
             ],
         ],
-        [t388, t874, t1174, t1540, t1541, t1542, t1561],
+        [t367, t662, t899, t1220, t1221, t1222, t1241],
     )
 }
 /// The standard parameters, the columns of [`regressor`]: the platform's mass, then each arm's crank (mass, first moment along the crank, its three inertias about `A_i`, crank frame) and each of its two rods (mass, first moment along the rod, transverse and axial inertia about its U joint, rod frame), then viscous and Coulomb friction per actuator.
@@ -4789,31 +3673,31 @@ pub const BASE_OF_STANDARD: [&[(usize, f64)]; 19] = [
         (2, 1.0),
         (0, 0.2600000000000002),
         (6, 0.5200000000000005),
-        (16, 0.8387096774193546),
-        (25, 0.8387096774193552),
+        (16, 0.8387096774193551),
+        (25, 0.8387096774193554),
     ],
     &[
         (5, 1.0),
-        (0, 0.06760000000000012),
-        (6, 0.13520000000000001),
-        (16, 0.21806451612903238),
-        (25, 0.21806451612903258),
+        (0, 0.06760000000000015),
+        (6, 0.1352),
+        (16, 0.21806451612903252),
+        (25, 0.2180645161290328),
     ],
-    &[(7, 1.0), (0, 0.3100000000000002), (16, 1.0), (25, 1.0)],
+    &[(7, 1.0), (0, 0.3100000000000003), (16, 1.0), (25, 1.0)],
     &[
         (8, 1.0),
-        (0, 0.19219999999999987),
-        (16, 0.6199999999999994),
-        (25, 0.6199999999999994),
+        (0, 0.19219999999999984),
+        (16, 0.6199999999999998),
+        (25, 0.6199999999999993),
     ],
     &[(9, 1.0)],
-    &[(11, 1.0), (15, 0.5200000000000009), (16, -0.8387096774193559)],
-    &[(14, 1.0), (15, 0.1352000000000002), (16, -0.21806451612903213)],
-    &[(17, 1.0), (16, -0.6199999999999998)],
+    &[(11, 1.0), (15, 0.5200000000000009), (16, -0.838709677419356)],
+    &[(14, 1.0), (15, 0.1352000000000001), (16, -0.21806451612903194)],
+    &[(17, 1.0), (16, -0.6199999999999999)],
     &[(18, 1.0)],
-    &[(20, 1.0), (24, 0.5199999999999999), (25, -0.8387096774193552)],
-    &[(23, 1.0), (24, 0.13520000000000018), (25, -0.21806451612903288)],
-    &[(26, 1.0), (25, -0.6199999999999992)],
+    &[(20, 1.0), (24, 0.5199999999999999), (25, -0.8387096774193553)],
+    &[(23, 1.0), (24, 0.13520000000000018), (25, -0.21806451612903271)],
+    &[(26, 1.0), (25, -0.6199999999999994)],
     &[(27, 1.0)],
     &[(28, 1.0)],
     &[(29, 1.0)],

@@ -12,7 +12,7 @@
 //   platform_wrench_params             110    0    70    0  3 sin_cos
 //   task_inertia_params                759   12   538   12  3 sin_cos, 12 sqrt
 //   task_bias_params                  1049   12   652   12  3 sin_cos, 12 sqrt
-//   forward_dynamics_params           2096   29  1417   41  3 sin_cos, 12 sqrt
+//   forward_dynamics_params           2017   29  1372   46  3 sin_cos, 12 sqrt
 //   inverse_dynamics_params           1310   24   888   33  3 sin_cos, 12 sqrt
 //   singularity_terms_params           406   17   264   16  3 sin_cos, 12 sqrt
 //   forward_kinematics_step_params     347    6   184   18  3 sin_cos, 12 sqrt
@@ -10488,7 +10488,7 @@ pub fn task_bias_params_separate(
 /// - `accel`: classical platform acceleration `(ω̇; a_C)` (rad/s², m/s²), base frame
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
-/// Operations: 2096 mul, 29 div, 1417 add, 41 neg, 3 sin_cos, 12 sqrt (chapter convention: 2125m + 1417a).
+/// Operations: 2017 mul, 29 div, 1372 add, 46 neg, 3 sin_cos, 12 sqrt (chapter convention: 2046m + 1372a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
@@ -10752,11 +10752,8 @@ pub fn forward_dynamics_params_separate(
         t913,
         t918,
         t933,
-        t939,
         t940,
-        t946,
         t947,
-        t953,
         t954,
         t962,
         t965,
@@ -11570,8 +11567,8 @@ pub fn forward_dynamics_params_separate(
         let t796: f64 = t794.plus(t795);
         let t797: f64 = t32 * t796;
         let t798: f64 = t789 - t797;
-        let t799 = product(t19, t798);
-        let t800 = product(t44, t139);
+        let t799 = product(t32, t798);
+        let t800 = product(t44, t127);
         let t801: f64 = leg2_rod_mass * t193;
         let t802 = product(t172, t801);
         let t803: f64 = t196 * t204;
@@ -11593,8 +11590,8 @@ pub fn forward_dynamics_params_separate(
         let t819: f64 = t817.plus(t818);
         let t820: f64 = t152 * t819;
         let t821: f64 = t812 - t820;
-        let t822: f64 = t146 * t821;
-        let t823: f64 = t164 * t259;
+        let t822: f64 = t152 * t821;
+        let t823: f64 = t164 * t247;
         let t824: f64 = leg3_rod_mass * t313;
         let t825 = product(t292, t824);
         let t826: f64 = t316 * t324;
@@ -11616,8 +11613,8 @@ pub fn forward_dynamics_params_separate(
         let t842: f64 = t840.plus(t841);
         let t843: f64 = t272 * t842;
         let t844: f64 = t835 - t843;
-        let t845 = product(t266, t844);
-        let t846 = product(t284, t379);
+        let t845 = product(t272, t844);
+        let t846 = product(t284, t367);
         let t847: f64 = leg4_rod_mass * t433;
         let t848 = product(t412, t847);
         let t849: f64 = t436 * t444;
@@ -11639,8 +11636,8 @@ pub fn forward_dynamics_params_separate(
         let t865: f64 = t863.plus(t864);
         let t866: f64 = t392 * t865;
         let t867: f64 = t858 - t866;
-        let t868: f64 = t386 * t867;
-        let t869: f64 = t404 * t499;
+        let t868: f64 = t392 * t867;
+        let t869: f64 = t404 * t487;
         let t870: f64 = leg5_rod_mass * t553;
         let t871 = product(t532, t870);
         let t872: f64 = t556 * t564;
@@ -11662,8 +11659,8 @@ pub fn forward_dynamics_params_separate(
         let t888: f64 = t886.plus(t887);
         let t889: f64 = t512 * t888;
         let t890: f64 = t881 - t889;
-        let t891 = product(t506, t890);
-        let t892 = product(t524, t619);
+        let t891 = product(t512, t890);
+        let t892 = product(t524, t607);
         let t893: f64 = leg6_rod_mass * t673;
         let t894 = product(t652, t893);
         let t895: f64 = t676 * t684;
@@ -11685,46 +11682,46 @@ pub fn forward_dynamics_params_separate(
         let t911: f64 = t909.plus(t910);
         let t912: f64 = t632 * t911;
         let t913: f64 = t904 - t912;
-        let t914: f64 = t626 * t913;
-        let t915: f64 = t644 * t739;
-        let t916 = product(t23, t753);
-        let t917: f64 = t27 * t760;
-        let t918: f64 = t0 * t6;
+        let t914: f64 = t632 * t913;
+        let t915: f64 = t644 * t727;
+        let t916 = product(t9, t753);
+        let t917: f64 = t14 * t760;
+        let t918: f64 = t1 * t6;
         let t919 = product(t746, t918);
         let t920: f64 = t799.plus(t822);
         let t921: f64 = t845.plus(t868);
         let t922: f64 = t891.plus(t914);
-        let t923: f64 = t920 + t921;
-        let t924: f64 = t919.plus(t922);
-        let t925: f64 = t923 + t924;
-        let t926: f64 = t800.plus(t823);
-        let t927: f64 = t846.plus(t869);
-        let t928: f64 = t892.plus(t915);
-        let t929: f64 = t916.plus(t917);
-        let t930: f64 = t926 + t927;
+        let t923: f64 = t916.plus(t917);
+        let t924: f64 = t920 + t921;
+        let t925: f64 = t922 + t923;
+        let t926: f64 = t924 + t925;
+        let t927: f64 = t919.plus(t926);
+        let t928: f64 = t800.plus(t823);
+        let t929: f64 = t846.plus(t869);
+        let t930: f64 = t892.plus(t915);
         let t931: f64 = t928 + t929;
         let t932: f64 = t930 + t931;
-        let t933: f64 = t925 - t932;
-        let t934 = product(platform_ixx, t23);
-        let t935: f64 = platform_ixy * t27;
-        let t936: f64 = platform_ixz * t0;
+        let t933: f64 = t927 - t932;
+        let t934 = product(platform_ixx, t9);
+        let t935: f64 = platform_ixy * t14;
+        let t936: f64 = platform_ixz * t1;
         let t937 = product(t6, t936);
         let t938: f64 = t934.plus(t935);
-        let t939: f64 = t937.subtracted_from(t938);
-        let t940 = product(t23, t939);
-        let t941 = product(platform_ixy, t23);
-        let t942: f64 = platform_iyy * t27;
-        let t943: f64 = platform_iyz * t0;
+        let t939: f64 = t937.plus(t938);
+        let t940 = product(t9, t939);
+        let t941 = product(platform_ixy, t9);
+        let t942: f64 = platform_iyy * t14;
+        let t943: f64 = platform_iyz * t1;
         let t944 = product(t6, t943);
         let t945: f64 = t941.plus(t942);
-        let t946: f64 = t944.subtracted_from(t945);
-        let t947: f64 = t27 * t946;
-        let t948 = product(platform_ixz, t23);
-        let t949: f64 = platform_iyz * t27;
-        let t950: f64 = platform_izz * t0;
+        let t946: f64 = t944.plus(t945);
+        let t947: f64 = t14 * t946;
+        let t948 = product(platform_ixz, t9);
+        let t949: f64 = platform_iyz * t14;
+        let t950: f64 = platform_izz * t1;
         let t951 = product(t6, t950);
         let t952: f64 = t948.plus(t949);
-        let t953: f64 = t951.subtracted_from(t952);
+        let t953: f64 = t951.plus(t952);
         let t954 = product(t918, t953);
         let t955: f64 = t73 * t73;
         let t956 = product(leg1_rod_mass, t955);
@@ -11734,14 +11731,14 @@ pub fn forward_dynamics_params_separate(
         let t960 = product(t121, t959);
         let t961: f64 = t956.plus(t958);
         let t962: f64 = t960.plus(t961);
-        let t963 = product(t19, t962);
-        let t964: f64 = t44 * t796;
+        let t963 = product(t32, t962);
+        let t964: f64 = t44 * t788;
         let t965: f64 = t963.minus(t964);
-        let t966 = product(t19, t965);
-        let t967 = product(t19, t796);
-        let t968: f64 = t44 * t137;
+        let t966: f64 = t32 * t965;
+        let t967 = product(t32, t788);
+        let t968: f64 = t44 * t106;
         let t969: f64 = t967.minus(t968);
-        let t970: f64 = t44 * t969;
+        let t970 = product(t44, t969);
         let t971: f64 = t193 * t193;
         let t972 = product(leg2_rod_mass, t971);
         let t973: f64 = t196 * t196;
@@ -11750,14 +11747,14 @@ pub fn forward_dynamics_params_separate(
         let t976 = product(t241, t975);
         let t977: f64 = t972.plus(t974);
         let t978: f64 = t976.plus(t977);
-        let t979 = product(t146, t978);
-        let t980: f64 = t164 * t819;
+        let t979 = product(t152, t978);
+        let t980: f64 = t164 * t811;
         let t981: f64 = t979.minus(t980);
-        let t982: f64 = t146 * t981;
-        let t983 = product(t146, t819);
-        let t984: f64 = t164 * t257;
+        let t982 = product(t152, t981);
+        let t983 = product(t152, t811);
+        let t984: f64 = t164 * t226;
         let t985: f64 = t983.minus(t984);
-        let t986 = product(t164, t985);
+        let t986: f64 = t164 * t985;
         let t987: f64 = t313 * t313;
         let t988 = product(leg3_rod_mass, t987);
         let t989: f64 = t316 * t316;
@@ -11766,14 +11763,14 @@ pub fn forward_dynamics_params_separate(
         let t992 = product(t361, t991);
         let t993: f64 = t988.plus(t990);
         let t994: f64 = t992.plus(t993);
-        let t995 = product(t266, t994);
-        let t996: f64 = t284 * t842;
+        let t995 = product(t272, t994);
+        let t996: f64 = t284 * t834;
         let t997: f64 = t995.minus(t996);
-        let t998 = product(t266, t997);
-        let t999 = product(t266, t842);
-        let t1000: f64 = t284 * t377;
+        let t998: f64 = t272 * t997;
+        let t999 = product(t272, t834);
+        let t1000: f64 = t284 * t346;
         let t1001: f64 = t999.minus(t1000);
-        let t1002: f64 = t284 * t1001;
+        let t1002 = product(t284, t1001);
         (
             t0,
             t1,
@@ -11989,11 +11986,8 @@ pub fn forward_dynamics_params_separate(
             t913,
             t918,
             t933,
-            t939,
             t940,
-            t946,
             t947,
-            t953,
             t954,
             t962,
             t965,
@@ -12013,117 +12007,124 @@ pub fn forward_dynamics_params_separate(
         )
     };
     let (
-        t1068,
-        t1074,
-        t1085,
-        t1086,
-        t1088,
-        t1119,
-        t1211,
-        t1257,
-        t1262,
-        t1268,
-        t1275,
-        t1277,
-        t1280,
+        t1010,
+        t1026,
+        t1042,
+        t1087,
+        t1179,
+        t1183,
+        t1225,
+        t1228,
+        t1233,
+        t1239,
+        t1250,
+        t1251,
+        t1258,
+        t1266,
+        t1267,
+        t1270,
         t1286,
         t1297,
         t1298,
         t1306,
         t1307,
         t1315,
-        t1325,
         t1326,
-        t1330,
-        t1349,
-        t1360,
-        t1361,
-        t1370,
-        t1371,
-        t1387,
-        t1388,
-        t1400,
-        t1401,
-        t1406,
-        t1428,
-        t1467,
-        t1468,
-        t1480,
-        t1487,
-        t1496,
-        t1505,
+        t1327,
+        t1331,
+        t1350,
+        t1362,
+        t1363,
+        t1373,
+        t1374,
+        t1390,
+        t1391,
+        t1403,
+        t1404,
+        t1409,
+        t1431,
+        t1481,
+        t1483,
+        t1494,
+        t1508,
         t1516,
-        t1535,
-        t1557,
+        t1520,
+        t1527,
+        t1532,
+        t1537,
+        t1549,
+        t1553,
+        t1554,
         t1562,
+        t1564,
         t1567,
         t1570,
-        t1571,
-        t1572,
-        t1575,
-        t1577,
-        t1579,
-        t1582,
-        t1587,
-        t1588,
-        t1592,
-        t1593,
-        t1598,
-        t1599,
         t1603,
-        t1604,
-        t1638,
-        t1647,
+        t1612,
+        t1618,
+        t1619,
+        t1627,
+        t1631,
+        t1632,
+        t1639,
+        t1640,
+        t1644,
+        t1645,
+        t1650,
         t1651,
-        t1661,
-        t1662,
-        t1666,
-        t1667,
-        t1672,
-        t1711,
+        t1655,
+        t1656,
+        t1660,
+        t1710,
         t1712,
-        t1724,
-        t1731,
-        t1740,
+        t1723,
+        t1737,
+        t1742,
+        t1745,
         t1749,
-        t1760,
-        t1779,
-        t1784,
-        t1801,
-        t1806,
-        t1811,
-        t1814,
-        t1815,
-        t1817,
-        t1819,
-        t1822,
-        t1824,
-        t1825,
-        t1829,
-        t1868,
-        t1869,
-        t1881,
+        t1756,
+        t1761,
+        t1766,
+        t1778,
+        t1782,
+        t1783,
+        t1791,
+        t1793,
+        t1796,
+        t1799,
+        t1803,
+        t1853,
+        t1855,
+        t1866,
+        t1880,
         t1888,
-        t1897,
-        t1906,
-        t1917,
+        t1892,
+        t1899,
+        t1904,
+        t1909,
+        t1921,
+        t1925,
+        t1926,
+        t1934,
         t1936,
-        t1958,
-        t1963,
-        t1968,
-        t1971,
+        t1939,
+        t1942,
+        t1944,
+        t1947,
+        t1952,
+        t1957,
+        t1962,
+        t1964,
+        t1965,
+        t1966,
         t1972,
         t1973,
-        t1976,
-        t1978,
-        t1980,
-        t1983,
-        t1985,
-        t1990,
+        t1981,
+        t1988,
         t1991,
         t1994,
-        t1998,
-        t2000,
+        t1995,
+        t1996,
         t2001,
         t2002,
     ) = {
@@ -12135,14 +12136,14 @@ pub fn forward_dynamics_params_separate(
         let t1008 = product(t481, t1007);
         let t1009: f64 = t1004.plus(t1006);
         let t1010: f64 = t1008.plus(t1009);
-        let t1011 = product(t386, t1010);
-        let t1012: f64 = t404 * t865;
+        let t1011 = product(t392, t1010);
+        let t1012: f64 = t404 * t857;
         let t1013: f64 = t1011.minus(t1012);
-        let t1014: f64 = t386 * t1013;
-        let t1015 = product(t386, t865);
-        let t1016: f64 = t404 * t497;
+        let t1014 = product(t392, t1013);
+        let t1015 = product(t392, t857);
+        let t1016: f64 = t404 * t466;
         let t1017: f64 = t1015.minus(t1016);
-        let t1018 = product(t404, t1017);
+        let t1018: f64 = t404 * t1017;
         let t1019: f64 = t553 * t553;
         let t1020 = product(leg5_rod_mass, t1019);
         let t1021: f64 = t556 * t556;
@@ -12151,14 +12152,14 @@ pub fn forward_dynamics_params_separate(
         let t1024 = product(t601, t1023);
         let t1025: f64 = t1020.plus(t1022);
         let t1026: f64 = t1024.plus(t1025);
-        let t1027 = product(t506, t1026);
-        let t1028: f64 = t524 * t888;
+        let t1027 = product(t512, t1026);
+        let t1028: f64 = t524 * t880;
         let t1029: f64 = t1027.minus(t1028);
-        let t1030 = product(t506, t1029);
-        let t1031 = product(t506, t888);
-        let t1032: f64 = t524 * t617;
+        let t1030: f64 = t512 * t1029;
+        let t1031 = product(t512, t880);
+        let t1032: f64 = t524 * t586;
         let t1033: f64 = t1031.minus(t1032);
-        let t1034: f64 = t524 * t1033;
+        let t1034 = product(t524, t1033);
         let t1035: f64 = t673 * t673;
         let t1036 = product(leg6_rod_mass, t1035);
         let t1037: f64 = t676 * t676;
@@ -12167,249 +12168,249 @@ pub fn forward_dynamics_params_separate(
         let t1040 = product(t721, t1039);
         let t1041: f64 = t1036.plus(t1038);
         let t1042: f64 = t1040.plus(t1041);
-        let t1043 = product(t626, t1042);
-        let t1044: f64 = t644 * t911;
+        let t1043 = product(t632, t1042);
+        let t1044: f64 = t644 * t903;
         let t1045: f64 = t1043.minus(t1044);
-        let t1046: f64 = t626 * t1045;
-        let t1047 = product(t626, t911);
-        let t1048: f64 = t644 * t737;
+        let t1046 = product(t632, t1045);
+        let t1047 = product(t632, t903);
+        let t1048: f64 = t644 * t706;
         let t1049: f64 = t1047.minus(t1048);
-        let t1050 = product(t644, t1049);
+        let t1050: f64 = t644 * t1049;
         let t1051: f64 = t940.plus(t947);
-        let t1052: f64 = t966.plus(t982);
-        let t1053: f64 = t998.plus(t1014);
-        let t1054: f64 = t1030.plus(t1046);
+        let t1052: f64 = t954.plus(t966);
+        let t1053: f64 = t982.plus(t998);
+        let t1054: f64 = t1014.plus(t1030);
         let t1055: f64 = t1051 + t1052;
         let t1056: f64 = t1053 + t1054;
         let t1057: f64 = t1055 + t1056;
-        let t1058: f64 = t954.plus(t970);
-        let t1059: f64 = t986.plus(t1002);
-        let t1060: f64 = t1018.plus(t1034);
-        let t1061: f64 = t1058 + t1059;
-        let t1062: f64 = t1050.plus(t1060);
+        let t1058: f64 = t1046.plus(t1057);
+        let t1059: f64 = t970.plus(t986);
+        let t1060: f64 = t1002.plus(t1018);
+        let t1061: f64 = t1034.plus(t1050);
+        let t1062: f64 = t1059 + t1060;
         let t1063: f64 = t1061 + t1062;
-        let t1064: f64 = t1057 - t1063;
+        let t1064: f64 = t1058 - t1063;
         let t1065: f64 = t933 * t933;
         let t1066 = product(t777, t1065);
-        let t1067: f64 = t1066.subtracted_from(t1064);
-        let t1068: f64 = 1.0 / t1067;
-        let t1069: f64 = platform_mz * t1;
+        let t1067 = product(platform_ixx, t23);
+        let t1068: f64 = platform_ixy * t27;
+        let t1069: f64 = platform_ixz * t0;
         let t1070 = product(t6, t1069);
-        let t1071 = product(platform_mx, t9);
-        let t1072: f64 = platform_my * t14;
-        let t1073: f64 = t1071.plus(t1072);
-        let t1074: f64 = t1070.plus(t1073);
-        let t1075: f64 = t965 + t981;
-        let t1076: f64 = t997 + t1013;
-        let t1077: f64 = t1029 + t1045;
-        let t1078: f64 = t1075 + t1076;
-        let t1079: f64 = t1074 + t1077;
-        let t1080: f64 = t1078 + t1079;
-        let t1081: f64 = t798 + t821;
-        let t1082: f64 = t844 + t867;
-        let t1083: f64 = t890 + t913;
-        let t1084: f64 = t1081 + t1082;
-        let t1085: f64 = t1083 + t1084;
-        let t1086: f64 = t777 * t933;
-        let t1087 = product(t1085, t1086);
-        let t1088: f64 = t1087.subtracted_from(t1080);
-        let t1089: f64 = platform_mass + t962;
-        let t1090: f64 = t978 + t994;
-        let t1091: f64 = t1010 + t1026;
-        let t1092: f64 = t1089 + t1090;
-        let t1093: f64 = t1042 + t1091;
-        let t1094: f64 = t1092 + t1093;
-        let t1095: f64 = t1085 * t1085;
-        let t1096 = product(t777, t1095);
-        let t1097: f64 = t1088 * t1088;
-        let t1098: f64 = t1068 * t1097;
-        let t1099 = product(platform_ixx, t9);
-        let t1100: f64 = platform_ixy * t14;
-        let t1101: f64 = platform_ixz * t1;
-        let t1102 = product(t6, t1101);
-        let t1103: f64 = t1099.plus(t1100);
-        let t1104: f64 = t1102.plus(t1103);
-        let t1105 = product(t9, t1104);
-        let t1106 = product(platform_ixy, t9);
-        let t1107: f64 = platform_iyy * t14;
-        let t1108: f64 = platform_iyz * t1;
-        let t1109 = product(t6, t1108);
-        let t1110: f64 = t1106.plus(t1107);
-        let t1111: f64 = t1109.plus(t1110);
-        let t1112: f64 = t14 * t1111;
-        let t1113 = product(platform_ixz, t9);
-        let t1114: f64 = platform_iyz * t14;
-        let t1115: f64 = platform_izz * t1;
-        let t1116 = product(t6, t1115);
-        let t1117: f64 = t1113.plus(t1114);
-        let t1118: f64 = t1116.plus(t1117);
-        let t1119: f64 = t1 * t6;
-        let t1120 = product(t1118, t1119);
-        let t1121 = product(t32, t962);
-        let t1122: f64 = t44 * t788;
+        let t1071: f64 = t1067.plus(t1068);
+        let t1072: f64 = t1070.subtracted_from(t1071);
+        let t1073 = product(t23, t1072);
+        let t1074 = product(platform_ixy, t23);
+        let t1075: f64 = platform_iyy * t27;
+        let t1076: f64 = platform_iyz * t0;
+        let t1077 = product(t6, t1076);
+        let t1078: f64 = t1074.plus(t1075);
+        let t1079: f64 = t1077.subtracted_from(t1078);
+        let t1080: f64 = t27 * t1079;
+        let t1081 = product(platform_ixz, t23);
+        let t1082: f64 = platform_iyz * t27;
+        let t1083: f64 = platform_izz * t0;
+        let t1084 = product(t6, t1083);
+        let t1085: f64 = t1081.plus(t1082);
+        let t1086: f64 = t1084.subtracted_from(t1085);
+        let t1087: f64 = t0 * t6;
+        let t1088 = product(t1086, t1087);
+        let t1089 = product(t19, t962);
+        let t1090: f64 = t44 * t796;
+        let t1091: f64 = t1089.minus(t1090);
+        let t1092 = product(t19, t1091);
+        let t1093 = product(t19, t796);
+        let t1094: f64 = t44 * t137;
+        let t1095: f64 = t1093.minus(t1094);
+        let t1096: f64 = t44 * t1095;
+        let t1097 = product(t146, t978);
+        let t1098: f64 = t164 * t819;
+        let t1099: f64 = t1097.minus(t1098);
+        let t1100: f64 = t146 * t1099;
+        let t1101 = product(t146, t819);
+        let t1102: f64 = t164 * t257;
+        let t1103: f64 = t1101.minus(t1102);
+        let t1104 = product(t164, t1103);
+        let t1105 = product(t266, t994);
+        let t1106: f64 = t284 * t842;
+        let t1107: f64 = t1105.minus(t1106);
+        let t1108 = product(t266, t1107);
+        let t1109 = product(t266, t842);
+        let t1110: f64 = t284 * t377;
+        let t1111: f64 = t1109.minus(t1110);
+        let t1112: f64 = t284 * t1111;
+        let t1113 = product(t386, t1010);
+        let t1114: f64 = t404 * t865;
+        let t1115: f64 = t1113.minus(t1114);
+        let t1116: f64 = t386 * t1115;
+        let t1117 = product(t386, t865);
+        let t1118: f64 = t404 * t497;
+        let t1119: f64 = t1117.minus(t1118);
+        let t1120 = product(t404, t1119);
+        let t1121 = product(t506, t1026);
+        let t1122: f64 = t524 * t888;
         let t1123: f64 = t1121.minus(t1122);
-        let t1124: f64 = t32 * t1123;
-        let t1125 = product(t32, t788);
-        let t1126: f64 = t44 * t106;
+        let t1124 = product(t506, t1123);
+        let t1125 = product(t506, t888);
+        let t1126: f64 = t524 * t617;
         let t1127: f64 = t1125.minus(t1126);
-        let t1128 = product(t44, t1127);
-        let t1129 = product(t152, t978);
-        let t1130: f64 = t164 * t811;
+        let t1128: f64 = t524 * t1127;
+        let t1129 = product(t626, t1042);
+        let t1130: f64 = t644 * t911;
         let t1131: f64 = t1129.minus(t1130);
-        let t1132 = product(t152, t1131);
-        let t1133 = product(t152, t811);
-        let t1134: f64 = t164 * t226;
+        let t1132: f64 = t626 * t1131;
+        let t1133 = product(t626, t911);
+        let t1134: f64 = t644 * t737;
         let t1135: f64 = t1133.minus(t1134);
-        let t1136: f64 = t164 * t1135;
-        let t1137 = product(t272, t994);
-        let t1138: f64 = t284 * t834;
-        let t1139: f64 = t1137.minus(t1138);
-        let t1140: f64 = t272 * t1139;
-        let t1141 = product(t272, t834);
-        let t1142: f64 = t284 * t346;
-        let t1143: f64 = t1141.minus(t1142);
-        let t1144 = product(t284, t1143);
-        let t1145 = product(t392, t1010);
-        let t1146: f64 = t404 * t857;
-        let t1147: f64 = t1145.minus(t1146);
-        let t1148 = product(t392, t1147);
-        let t1149 = product(t392, t857);
-        let t1150: f64 = t404 * t466;
-        let t1151: f64 = t1149.minus(t1150);
-        let t1152: f64 = t404 * t1151;
-        let t1153 = product(t512, t1026);
-        let t1154: f64 = t524 * t880;
-        let t1155: f64 = t1153.minus(t1154);
-        let t1156: f64 = t512 * t1155;
-        let t1157 = product(t512, t880);
-        let t1158: f64 = t524 * t586;
-        let t1159: f64 = t1157.minus(t1158);
-        let t1160 = product(t524, t1159);
-        let t1161 = product(t632, t1042);
-        let t1162: f64 = t644 * t903;
-        let t1163: f64 = t1161.minus(t1162);
-        let t1164 = product(t632, t1163);
-        let t1165 = product(t632, t903);
-        let t1166: f64 = t644 * t706;
-        let t1167: f64 = t1165.minus(t1166);
-        let t1168: f64 = t644 * t1167;
-        let t1169: f64 = t1105.plus(t1112);
-        let t1170: f64 = t1120.plus(t1124);
-        let t1171: f64 = t1132.plus(t1140);
-        let t1172: f64 = t1148.plus(t1156);
-        let t1173: f64 = t1169 + t1170;
-        let t1174: f64 = t1171 + t1172;
-        let t1175: f64 = t1173 + t1174;
-        let t1176: f64 = t1164.plus(t1175);
-        let t1177: f64 = t1128.plus(t1136);
-        let t1178: f64 = t1144.plus(t1152);
-        let t1179: f64 = t1160.plus(t1168);
-        let t1180: f64 = t1177 + t1178;
-        let t1181: f64 = t1179 + t1180;
-        let t1182: f64 = t1176 - t1181;
-        let t1183 = product(t32, t798);
-        let t1184 = product(t44, t127);
-        let t1185: f64 = t152 * t821;
-        let t1186: f64 = t164 * t247;
-        let t1187 = product(t272, t844);
-        let t1188 = product(t284, t367);
-        let t1189: f64 = t392 * t867;
-        let t1190: f64 = t404 * t487;
-        let t1191 = product(t512, t890);
-        let t1192 = product(t524, t607);
-        let t1193: f64 = t632 * t913;
-        let t1194: f64 = t644 * t727;
-        let t1195 = product(t9, t753);
-        let t1196: f64 = t14 * t760;
-        let t1197 = product(t746, t1119);
-        let t1198: f64 = t1183.plus(t1185);
-        let t1199: f64 = t1187.plus(t1189);
-        let t1200: f64 = t1191.plus(t1193);
-        let t1201: f64 = t1195.plus(t1196);
-        let t1202: f64 = t1198 + t1199;
-        let t1203: f64 = t1200 + t1201;
-        let t1204: f64 = t1202 + t1203;
-        let t1205: f64 = t1197.plus(t1204);
-        let t1206: f64 = t1184.plus(t1186);
-        let t1207: f64 = t1188.plus(t1190);
-        let t1208: f64 = t1192.plus(t1194);
-        let t1209: f64 = t1206 + t1207;
-        let t1210: f64 = t1208 + t1209;
-        let t1211: f64 = t1205 - t1210;
-        let t1212: f64 = t1211 * t1211;
-        let t1213 = product(t777, t1212);
-        let t1214 = product(t9, t939);
-        let t1215: f64 = t14 * t946;
-        let t1216 = product(t953, t1119);
-        let t1217 = product(t32, t965);
-        let t1218: f64 = t44 * t125;
-        let t1219: f64 = t789 - t1218;
-        let t1220: f64 = t44 * t1219;
-        let t1221: f64 = t152 * t981;
-        let t1222: f64 = t164 * t245;
-        let t1223: f64 = t812 - t1222;
-        let t1224 = product(t164, t1223);
-        let t1225 = product(t272, t997);
-        let t1226: f64 = t284 * t365;
-        let t1227: f64 = t835 - t1226;
-        let t1228: f64 = t284 * t1227;
-        let t1229: f64 = t392 * t1013;
-        let t1230: f64 = t404 * t485;
-        let t1231: f64 = t858 - t1230;
-        let t1232 = product(t404, t1231);
-        let t1233 = product(t512, t1029);
-        let t1234: f64 = t524 * t605;
-        let t1235: f64 = t881 - t1234;
-        let t1236: f64 = t524 * t1235;
-        let t1237: f64 = t632 * t1045;
-        let t1238: f64 = t644 * t725;
-        let t1239: f64 = t904 - t1238;
-        let t1240 = product(t644, t1239);
-        let t1241: f64 = t1214.plus(t1215);
-        let t1242: f64 = t1216.plus(t1220);
-        let t1243: f64 = t1224.plus(t1228);
-        let t1244: f64 = t1232.plus(t1236);
-        let t1245: f64 = t1241 + t1242;
-        let t1246: f64 = t1243 + t1244;
-        let t1247: f64 = t1245 + t1246;
-        let t1248: f64 = t1240.plus(t1247);
-        let t1249: f64 = t1217.plus(t1221);
-        let t1250: f64 = t1225.plus(t1229);
-        let t1251: f64 = t1233.plus(t1237);
-        let t1252: f64 = t1249 + t1250;
-        let t1253: f64 = t1251 + t1252;
-        let t1254: f64 = t1248 - t1253;
-        let t1255 = product(t1086, t1211);
-        let t1256: f64 = t1255.added_to(t1254);
-        let t1257: f64 = -t1256;
-        let t1258: f64 = t1257 * t1257;
-        let t1259: f64 = t1068 * t1258;
-        let t1260: f64 = t1213.plus(t1259);
-        let t1261: f64 = t1182 - t1260;
-        let t1262: f64 = 1.0 / t1261;
-        let t1263 = product(platform_mx, t23);
-        let t1264: f64 = platform_my * t27;
-        let t1265: f64 = t1263.plus(t1264);
-        let t1266: f64 = platform_mz * t0;
-        let t1267 = product(t6, t1266);
-        let t1268: f64 = t1267.subtracted_from(t1265);
-        let t1269: f64 = t1123 + t1131;
-        let t1270: f64 = t1139 + t1147;
-        let t1271: f64 = t1155 + t1163;
-        let t1272: f64 = t1269 + t1270;
-        let t1273: f64 = t1268 + t1271;
-        let t1274: f64 = t1272 + t1273;
-        let t1275: f64 = t777 * t1211;
-        let t1276 = product(t1085, t1275);
-        let t1277: f64 = t1068 * t1257;
-        let t1278: f64 = t1088 * t1277;
-        let t1279: f64 = t1276.plus(t1278);
-        let t1280: f64 = t1274 - t1279;
-        let t1281: f64 = t1280 * t1280;
-        let t1282 = product(t1262, t1281);
-        let t1283: f64 = t1096.plus(t1098);
+        let t1136 = product(t644, t1135);
+        let t1137: f64 = t1073.plus(t1080);
+        let t1138: f64 = t1092.plus(t1100);
+        let t1139: f64 = t1108.plus(t1116);
+        let t1140: f64 = t1124.plus(t1132);
+        let t1141: f64 = t1137 + t1138;
+        let t1142: f64 = t1139 + t1140;
+        let t1143: f64 = t1141 + t1142;
+        let t1144: f64 = t1088.plus(t1096);
+        let t1145: f64 = t1104.plus(t1112);
+        let t1146: f64 = t1120.plus(t1128);
+        let t1147: f64 = t1144 + t1145;
+        let t1148: f64 = t1136.plus(t1146);
+        let t1149: f64 = t1147 + t1148;
+        let t1150: f64 = t1143 - t1149;
+        let t1151 = product(t19, t798);
+        let t1152 = product(t44, t139);
+        let t1153: f64 = t146 * t821;
+        let t1154: f64 = t164 * t259;
+        let t1155 = product(t266, t844);
+        let t1156 = product(t284, t379);
+        let t1157: f64 = t386 * t867;
+        let t1158: f64 = t404 * t499;
+        let t1159 = product(t506, t890);
+        let t1160 = product(t524, t619);
+        let t1161: f64 = t626 * t913;
+        let t1162: f64 = t644 * t739;
+        let t1163 = product(t23, t753);
+        let t1164: f64 = t27 * t760;
+        let t1165 = product(t746, t1087);
+        let t1166: f64 = t1151.plus(t1153);
+        let t1167: f64 = t1155.plus(t1157);
+        let t1168: f64 = t1159.plus(t1161);
+        let t1169: f64 = t1166 + t1167;
+        let t1170: f64 = t1165.plus(t1168);
+        let t1171: f64 = t1169 + t1170;
+        let t1172: f64 = t1152.plus(t1154);
+        let t1173: f64 = t1156.plus(t1158);
+        let t1174: f64 = t1160.plus(t1162);
+        let t1175: f64 = t1163.plus(t1164);
+        let t1176: f64 = t1172 + t1173;
+        let t1177: f64 = t1174 + t1175;
+        let t1178: f64 = t1176 + t1177;
+        let t1179: f64 = t1171 - t1178;
+        let t1180: f64 = t1179 * t1179;
+        let t1181 = product(t777, t1180);
+        let t1182: f64 = t1181.subtracted_from(t1150);
+        let t1183: f64 = 1.0 / t1182;
+        let t1184 = product(t9, t1072);
+        let t1185: f64 = t14 * t1079;
+        let t1186 = product(t918, t1086);
+        let t1187 = product(t32, t1091);
+        let t1188: f64 = t44 * t125;
+        let t1189: f64 = t789 - t1188;
+        let t1190: f64 = t44 * t1189;
+        let t1191: f64 = t152 * t1099;
+        let t1192: f64 = t164 * t245;
+        let t1193: f64 = t812 - t1192;
+        let t1194 = product(t164, t1193);
+        let t1195 = product(t272, t1107);
+        let t1196: f64 = t284 * t365;
+        let t1197: f64 = t835 - t1196;
+        let t1198: f64 = t284 * t1197;
+        let t1199: f64 = t392 * t1115;
+        let t1200: f64 = t404 * t485;
+        let t1201: f64 = t858 - t1200;
+        let t1202 = product(t404, t1201);
+        let t1203 = product(t512, t1123);
+        let t1204: f64 = t524 * t605;
+        let t1205: f64 = t881 - t1204;
+        let t1206: f64 = t524 * t1205;
+        let t1207: f64 = t632 * t1131;
+        let t1208: f64 = t644 * t725;
+        let t1209: f64 = t904 - t1208;
+        let t1210 = product(t644, t1209);
+        let t1211: f64 = t1184.plus(t1185);
+        let t1212: f64 = t1186.plus(t1190);
+        let t1213: f64 = t1194.plus(t1198);
+        let t1214: f64 = t1202.plus(t1206);
+        let t1215: f64 = t1211 + t1212;
+        let t1216: f64 = t1213 + t1214;
+        let t1217: f64 = t1215 + t1216;
+        let t1218: f64 = t1210.plus(t1217);
+        let t1219: f64 = t1187.plus(t1191);
+        let t1220: f64 = t1195.plus(t1199);
+        let t1221: f64 = t1203.plus(t1207);
+        let t1222: f64 = t1219 + t1220;
+        let t1223: f64 = t1221 + t1222;
+        let t1224: f64 = t1218 - t1223;
+        let t1225: f64 = t777 * t1179;
+        let t1226 = product(t933, t1225);
+        let t1227: f64 = t1226.added_to(t1224);
+        let t1228: f64 = -t1227;
+        let t1229: f64 = t1228 * t1228;
+        let t1230: f64 = t1183 * t1229;
+        let t1231: f64 = t1066.plus(t1230);
+        let t1232: f64 = t1064 - t1231;
+        let t1233: f64 = 1.0 / t1232;
+        let t1234 = product(platform_mx, t23);
+        let t1235: f64 = platform_my * t27;
+        let t1236: f64 = t1234.plus(t1235);
+        let t1237: f64 = platform_mz * t0;
+        let t1238 = product(t6, t1237);
+        let t1239: f64 = t1238.subtracted_from(t1236);
+        let t1240: f64 = t965 + t981;
+        let t1241: f64 = t997 + t1013;
+        let t1242: f64 = t1029 + t1045;
+        let t1243: f64 = t1240 + t1241;
+        let t1244: f64 = t1239 + t1242;
+        let t1245: f64 = t1243 + t1244;
+        let t1246: f64 = t798 + t821;
+        let t1247: f64 = t844 + t867;
+        let t1248: f64 = t890 + t913;
+        let t1249: f64 = t1246 + t1247;
+        let t1250: f64 = t1248 + t1249;
+        let t1251: f64 = t777 * t933;
+        let t1252 = product(t1250, t1251);
+        let t1253: f64 = platform_mz * t1;
+        let t1254 = product(t6, t1253);
+        let t1255 = product(platform_mx, t9);
+        let t1256: f64 = platform_my * t14;
+        let t1257: f64 = t1255.plus(t1256);
+        let t1258: f64 = t1254.plus(t1257);
+        let t1259: f64 = t1091 + t1099;
+        let t1260: f64 = t1107 + t1115;
+        let t1261: f64 = t1123 + t1131;
+        let t1262: f64 = t1259 + t1260;
+        let t1263: f64 = t1258 + t1261;
+        let t1264: f64 = t1262 + t1263;
+        let t1265 = product(t1225, t1250);
+        let t1266: f64 = t1265.subtracted_from(t1264);
+        let t1267: f64 = t1183 * t1228;
+        let t1268: f64 = t1266 * t1267;
+        let t1269: f64 = t1252.plus(t1268);
+        let t1270: f64 = t1245 - t1269;
+        let t1271: f64 = platform_mass + t962;
+        let t1272: f64 = t978 + t994;
+        let t1273: f64 = t1010 + t1026;
+        let t1274: f64 = t1271 + t1272;
+        let t1275: f64 = t1042 + t1273;
+        let t1276: f64 = t1274 + t1275;
+        let t1277: f64 = t1250 * t1250;
+        let t1278 = product(t777, t1277);
+        let t1279: f64 = t1266 * t1266;
+        let t1280: f64 = t1183 * t1279;
+        let t1281: f64 = t1270 * t1270;
+        let t1282 = product(t1233, t1281);
+        let t1283: f64 = t1278.plus(t1280);
         let t1284: f64 = t1282.plus(t1283);
-        let t1285: f64 = t1094 - t1284;
+        let t1285: f64 = t1276 - t1284;
         let t1286: f64 = 1.0 / t1285;
         let t1287: f64 = t788 + t811;
         let t1288: f64 = t834 + t857;
@@ -12420,18 +12421,18 @@ pub fn forward_dynamics_params_separate(
         let t1293: f64 = t367 + t487;
         let t1294: f64 = t607 + t727;
         let t1295: f64 = t1292 + t1293;
-        let t1296: f64 = t1074 + t1294;
+        let t1296: f64 = t1258 + t1294;
         let t1297: f64 = t1295 + t1296;
-        let t1298: f64 = t777 * t1085;
+        let t1298: f64 = t777 * t1250;
         let t1299 = product(t1297, t1298);
-        let t1300: f64 = t1219 + t1223;
-        let t1301: f64 = t1227 + t1231;
-        let t1302: f64 = t1235 + t1239;
+        let t1300: f64 = t1189 + t1193;
+        let t1301: f64 = t1197 + t1201;
+        let t1302: f64 = t1205 + t1209;
         let t1303: f64 = t1300 + t1301;
         let t1304: f64 = t1302 + t1303;
-        let t1305 = product(t1086, t1297);
+        let t1305 = product(t1225, t1297);
         let t1306: f64 = t1305.subtracted_from(t1304);
-        let t1307: f64 = t1068 * t1088;
+        let t1307: f64 = t1183 * t1266;
         let t1308: f64 = t1306 * t1307;
         let t1309 = product(platform_mz, t5);
         let t1310: f64 = platform_mx * t6;
@@ -12440,2626 +12441,2494 @@ pub fn forward_dynamics_params_separate(
         let t1313: f64 = t6 * t1312;
         let t1314: f64 = t1311.minus(t1313);
         let t1315: f64 = t1309.plus(t1314);
-        let t1316: f64 = t1127 + t1135;
-        let t1317: f64 = t1143 + t1151;
-        let t1318: f64 = t1159 + t1167;
+        let t1316: f64 = t969 + t985;
+        let t1317: f64 = t1001 + t1017;
+        let t1318: f64 = t1033 + t1049;
         let t1319: f64 = t1316 + t1317;
         let t1320: f64 = t1318 + t1319;
         let t1321: f64 = t1315 - t1320;
-        let t1322 = product(t1275, t1297);
-        let t1323 = product(t1277, t1306);
+        let t1322 = product(t1251, t1297);
+        let t1323 = product(t1267, t1306);
         let t1324: f64 = t1322.added_to(t1321);
         let t1325: f64 = t1323.plus(t1324);
-        let t1326: f64 = t1262 * t1280;
-        let t1327 = product(t1325, t1326);
-        let t1328: f64 = t1327.added_to(t1291);
+        let t1326: f64 = -t1325;
+        let t1327: f64 = t1233 * t1270;
+        let t1328 = product(t1326, t1327);
         let t1329: f64 = t1299.plus(t1308);
-        let t1330: f64 = t1328 - t1329;
-        let t1331: f64 = platform_mass + t106;
-        let t1332: f64 = t226 + t346;
-        let t1333: f64 = t466 + t586;
-        let t1334: f64 = t1331 + t1332;
-        let t1335: f64 = t706 + t1333;
-        let t1336: f64 = t1334 + t1335;
-        let t1337: f64 = t1297 * t1297;
-        let t1338 = product(t777, t1337);
-        let t1339: f64 = t1306 * t1306;
-        let t1340: f64 = t1068 * t1339;
-        let t1341: f64 = t1325 * t1325;
-        let t1342 = product(t1262, t1341);
-        let t1343: f64 = t1330 * t1330;
-        let t1344: f64 = t1286 * t1343;
-        let t1345: f64 = t1338.plus(t1340);
-        let t1346: f64 = t1342.plus(t1344);
-        let t1347: f64 = t1345 + t1346;
-        let t1348: f64 = t1336 - t1347;
-        let t1349: f64 = 1.0 / t1348;
-        let t1350: f64 = t125 + t245;
-        let t1351: f64 = t365 + t485;
-        let t1352: f64 = t605 + t725;
-        let t1353: f64 = t1350 + t1351;
-        let t1354: f64 = t1352 + t1353;
-        let t1355: f64 = t139 + t259;
-        let t1356: f64 = t379 + t499;
-        let t1357: f64 = t619 + t739;
-        let t1358: f64 = t1355 + t1356;
-        let t1359: f64 = t1357 + t1358;
-        let t1360: f64 = t1268 - t1359;
-        let t1361: f64 = t777 * t1297;
-        let t1362 = product(t1360, t1361);
-        let t1363: f64 = t969 + t985;
-        let t1364: f64 = t1001 + t1017;
-        let t1365: f64 = t1033 + t1049;
-        let t1366: f64 = t1363 + t1364;
-        let t1367: f64 = t1365 + t1366;
-        let t1368: f64 = t1315 - t1367;
-        let t1369 = product(t1086, t1360);
-        let t1370: f64 = t1369.subtracted_from(t1368);
-        let t1371: f64 = t1068 * t1306;
-        let t1372 = product(t1370, t1371);
-        let t1373: f64 = t797 - t1218;
-        let t1374: f64 = t820 - t1222;
-        let t1375: f64 = t843 - t1226;
-        let t1376: f64 = t866 - t1230;
-        let t1377: f64 = t889 - t1234;
-        let t1378: f64 = t912 - t1238;
-        let t1379: f64 = t1373 + t1374;
-        let t1380: f64 = t1375 + t1376;
-        let t1381: f64 = t1377 + t1378;
-        let t1382: f64 = t1379 + t1380;
-        let t1383: f64 = t1381 + t1382;
-        let t1384 = product(t1275, t1360);
-        let t1385 = product(t1277, t1370);
-        let t1386: f64 = t1384.added_to(t1383);
-        let t1387: f64 = t1385.plus(t1386);
-        let t1388: f64 = t1262 * t1325;
-        let t1389: f64 = t1387 * t1388;
-        let t1390: f64 = t796 + t819;
-        let t1391: f64 = t842 + t865;
-        let t1392: f64 = t888 + t911;
-        let t1393: f64 = t1390 + t1391;
-        let t1394: f64 = t1392 + t1393;
-        let t1395 = product(t1298, t1360);
-        let t1396 = product(t1307, t1370);
-        let t1397 = product(t1326, t1387);
-        let t1398: f64 = t1395.added_to(t1394);
-        let t1399: f64 = t1396.plus(t1398);
-        let t1400: f64 = t1397.subtracted_from(t1399);
-        let t1401: f64 = t1286 * t1330;
-        let t1402 = product(t1400, t1401);
-        let t1403: f64 = t1362.added_to(t1354);
-        let t1404: f64 = t1372.plus(t1389);
-        let t1405: f64 = t1403 + t1404;
-        let t1406: f64 = t1402.subtracted_from(t1405);
-        let t1407: f64 = platform_mass + t137;
-        let t1408: f64 = t257 + t377;
-        let t1409: f64 = t497 + t617;
-        let t1410: f64 = t1407 + t1408;
-        let t1411: f64 = t737 + t1409;
-        let t1412: f64 = t1410 + t1411;
-        let t1413: f64 = t1360 * t1360;
-        let t1414 = product(t777, t1413);
-        let t1415: f64 = t1370 * t1370;
-        let t1416: f64 = t1068 * t1415;
-        let t1417: f64 = t1387 * t1387;
-        let t1418 = product(t1262, t1417);
-        let t1419: f64 = t1400 * t1400;
-        let t1420: f64 = t1286 * t1419;
-        let t1421: f64 = t1406 * t1406;
-        let t1422 = product(t1349, t1421);
-        let t1423: f64 = t1414.plus(t1416);
-        let t1424: f64 = t1418.plus(t1420);
-        let t1425: f64 = t1423 + t1424;
-        let t1426: f64 = t1422.plus(t1425);
-        let t1427: f64 = t1412 - t1426;
-        let t1428: f64 = 1.0 / t1427;
-        let t1429 = product(gravity_x, t899);
-        let t1430: f64 = gravity_y * t678;
-        let t1431 = product(gravity_z, t718);
-        let t1432: f64 = t1429.plus(t1430);
-        let t1433: f64 = t1431.plus(t1432);
-        let t1434 = product(leg6_cylinder_mz, t1433);
-        let t1435 = product(wy, t626);
-        let t1436: f64 = wz * t632;
-        let t1437: f64 = t1435.minus(t1436);
-        let t1438 = product(wy, t1437);
-        let t1439 = product(wz, t644);
-        let t1440: f64 = wx * t626;
-        let t1441: f64 = t1439.minus(t1440);
-        let t1442: f64 = wx * t1441;
-        let t1443: f64 = t1438.subtracted_from(t1442);
-        let t1444 = product(t718, t1443);
-        let t1445 = product(wx, t632);
-        let t1446: f64 = wy * t644;
-        let t1447: f64 = t1445.minus(t1446);
-        let t1448 = product(wy, t1447);
-        let t1449: f64 = wz * t1441;
-        let t1450: f64 = t1448.minus(t1449);
-        let t1451 = product(t899, t1450);
-        let t1452 = product(wz, t1437);
-        let t1453: f64 = wx * t1447;
-        let t1454: f64 = t1452.minus(t1453);
-        let t1455: f64 = t678 * t1454;
-        let t1456: f64 = t1451.plus(t1455);
-        let t1457: f64 = t1444.plus(t1456);
-        let t1458: f64 = t1457 - t1433;
-        let t1459 = product(leg6_rod_mz, t1458);
-        let t1460: f64 = vx + t1437;
-        let t1461 = product(t676, t1460);
-        let t1462: f64 = vy + t1441;
-        let t1463: f64 = t684 * t1462;
-        let t1464: f64 = vz + t1447;
-        let t1465 = product(t672, t1464);
-        let t1466: f64 = t1461.plus(t1463);
-        let t1467: f64 = t1465.plus(t1466);
-        let t1468: f64 = t651 * t1467;
-        let t1469: f64 = t651 * t691;
-        let t1470: f64 = t1467 * t1469;
-        let t1471: f64 = t680 - t693;
-        let t1472: f64 = t1468 * t1470;
-        let t1473: f64 = t1471 * t1472;
-        let t1474: f64 = t1467 * t1467;
-        let t1475 = product(t1469, t1474);
-        let t1476 = product(t899, t1460);
-        let t1477: f64 = t678 * t1462;
-        let t1478 = product(t718, t1464);
-        let t1479: f64 = t1476.plus(t1477);
-        let t1480: f64 = t1478.plus(t1479);
-        let t1481 = product(t673, t1460);
-        let t1482: f64 = t652 * t1462;
-        let t1483 = product(t675, t1464);
-        let t1484: f64 = t1481.plus(t1482);
-        let t1485: f64 = t1483.plus(t1484);
-        let t1486: f64 = t651 * t1485;
-        let t1487: f64 = t1486 * 2.0;
-        let t1488: f64 = t1480 * t1487;
-        let t1489: f64 = t1475.plus(t1488);
-        let t1490: f64 = t1457 - t1489;
-        let t1491: f64 = t651 * t1490;
+        let t1330: f64 = t1328.plus(t1329);
+        let t1331: f64 = t1291 - t1330;
+        let t1332: f64 = platform_mass + t106;
+        let t1333: f64 = t226 + t346;
+        let t1334: f64 = t466 + t586;
+        let t1335: f64 = t1332 + t1333;
+        let t1336: f64 = t706 + t1334;
+        let t1337: f64 = t1335 + t1336;
+        let t1338: f64 = t1297 * t1297;
+        let t1339 = product(t777, t1338);
+        let t1340: f64 = t1306 * t1306;
+        let t1341: f64 = t1183 * t1340;
+        let t1342: f64 = t1326 * t1326;
+        let t1343 = product(t1233, t1342);
+        let t1344: f64 = t1331 * t1331;
+        let t1345: f64 = t1286 * t1344;
+        let t1346: f64 = t1339.plus(t1341);
+        let t1347: f64 = t1343.plus(t1345);
+        let t1348: f64 = t1346 + t1347;
+        let t1349: f64 = t1337 - t1348;
+        let t1350: f64 = 1.0 / t1349;
+        let t1351: f64 = t125 + t245;
+        let t1352: f64 = t365 + t485;
+        let t1353: f64 = t605 + t725;
+        let t1354: f64 = t1351 + t1352;
+        let t1355: f64 = t1353 + t1354;
+        let t1356: f64 = t139 + t259;
+        let t1357: f64 = t379 + t499;
+        let t1358: f64 = t619 + t739;
+        let t1359: f64 = t1356 + t1357;
+        let t1360: f64 = t1358 + t1359;
+        let t1361: f64 = t1239 - t1360;
+        let t1362: f64 = -t1361;
+        let t1363: f64 = t777 * t1297;
+        let t1364 = product(t1362, t1363);
+        let t1365: f64 = t1095 + t1103;
+        let t1366: f64 = t1111 + t1119;
+        let t1367: f64 = t1127 + t1135;
+        let t1368: f64 = t1365 + t1366;
+        let t1369: f64 = t1367 + t1368;
+        let t1370: f64 = t1315 - t1369;
+        let t1371 = product(t1225, t1362);
+        let t1372: f64 = t1371.added_to(t1370);
+        let t1373: f64 = -t1372;
+        let t1374: f64 = t1183 * t1306;
+        let t1375: f64 = t1373 * t1374;
+        let t1376: f64 = t797 - t1188;
+        let t1377: f64 = t820 - t1192;
+        let t1378: f64 = t843 - t1196;
+        let t1379: f64 = t866 - t1200;
+        let t1380: f64 = t889 - t1204;
+        let t1381: f64 = t912 - t1208;
+        let t1382: f64 = t1376 + t1377;
+        let t1383: f64 = t1378 + t1379;
+        let t1384: f64 = t1380 + t1381;
+        let t1385: f64 = t1382 + t1383;
+        let t1386: f64 = t1384 + t1385;
+        let t1387 = product(t1251, t1362);
+        let t1388: f64 = t1267 * t1373;
+        let t1389: f64 = t1387.plus(t1388);
+        let t1390: f64 = t1386 - t1389;
+        let t1391: f64 = t1233 * t1326;
+        let t1392 = product(t1390, t1391);
+        let t1393: f64 = t796 + t819;
+        let t1394: f64 = t842 + t865;
+        let t1395: f64 = t888 + t911;
+        let t1396: f64 = t1393 + t1394;
+        let t1397: f64 = t1395 + t1396;
+        let t1398 = product(t1298, t1362);
+        let t1399: f64 = t1307 * t1373;
+        let t1400 = product(t1327, t1390);
+        let t1401: f64 = t1398.plus(t1399);
+        let t1402: f64 = t1400.plus(t1401);
+        let t1403: f64 = t1397 - t1402;
+        let t1404: f64 = t1286 * t1331;
+        let t1405: f64 = t1403 * t1404;
+        let t1406: f64 = t1364.plus(t1375);
+        let t1407: f64 = t1392.plus(t1405);
+        let t1408: f64 = t1406 + t1407;
+        let t1409: f64 = t1355 - t1408;
+        let t1410: f64 = platform_mass + t137;
+        let t1411: f64 = t257 + t377;
+        let t1412: f64 = t497 + t617;
+        let t1413: f64 = t1410 + t1411;
+        let t1414: f64 = t737 + t1412;
+        let t1415: f64 = t1413 + t1414;
+        let t1416: f64 = t1362 * t1362;
+        let t1417 = product(t777, t1416);
+        let t1418: f64 = t1373 * t1373;
+        let t1419: f64 = t1183 * t1418;
+        let t1420: f64 = t1390 * t1390;
+        let t1421 = product(t1233, t1420);
+        let t1422: f64 = t1403 * t1403;
+        let t1423: f64 = t1286 * t1422;
+        let t1424: f64 = t1409 * t1409;
+        let t1425 = product(t1350, t1424);
+        let t1426: f64 = t1417.plus(t1419);
+        let t1427: f64 = t1421.plus(t1423);
+        let t1428: f64 = t1426 + t1427;
+        let t1429: f64 = t1425.plus(t1428);
+        let t1430: f64 = t1415 - t1429;
+        let t1431: f64 = 1.0 / t1430;
+        let t1432 = product(wy, t626);
+        let t1433: f64 = wz * t632;
+        let t1434: f64 = t1432.minus(t1433);
+        let t1435: f64 = vx + t1434;
+        let t1436 = product(t676, t1435);
+        let t1437 = product(wz, t644);
+        let t1438: f64 = wx * t626;
+        let t1439: f64 = t1437.minus(t1438);
+        let t1440: f64 = vy + t1439;
+        let t1441: f64 = t684 * t1440;
+        let t1442 = product(wx, t632);
+        let t1443: f64 = wy * t644;
+        let t1444: f64 = t1442.minus(t1443);
+        let t1445: f64 = vz + t1444;
+        let t1446 = product(t672, t1445);
+        let t1447: f64 = t1436.plus(t1441);
+        let t1448: f64 = t1446.plus(t1447);
+        let t1449: f64 = t651 * t1448;
+        let t1450: f64 = t651 * t691;
+        let t1451: f64 = t1448 * t1450;
+        let t1452: f64 = t680 - t693;
+        let t1453: f64 = t1449 * t1451;
+        let t1454 = product(t1452, t1453);
+        let t1455 = product(gravity_x, t899);
+        let t1456: f64 = gravity_y * t678;
+        let t1457 = product(gravity_z, t718);
+        let t1458: f64 = t1455.plus(t1456);
+        let t1459: f64 = t1457.plus(t1458);
+        let t1460: f64 = leg6_cylinder_mz + leg6_rod_mz;
+        let t1461 = product(t1459, t1460);
+        let t1462: f64 = t1448 * t1448;
+        let t1463 = product(t1450, t1462);
+        let t1464 = product(t899, t1435);
+        let t1465: f64 = t678 * t1440;
+        let t1466 = product(t718, t1445);
+        let t1467: f64 = t1464.plus(t1465);
+        let t1468: f64 = t1466.plus(t1467);
+        let t1469 = product(t673, t1435);
+        let t1470: f64 = t652 * t1440;
+        let t1471 = product(t675, t1445);
+        let t1472: f64 = t1469.plus(t1470);
+        let t1473: f64 = t1471.plus(t1472);
+        let t1474: f64 = t651 * t1473;
+        let t1475: f64 = t1474 * 2.0;
+        let t1476: f64 = t1468 * t1475;
+        let t1477: f64 = t1463.plus(t1476);
+        let t1478: f64 = t651 * t1477;
+        let t1479: f64 = t680 * t1478;
+        let t1480: f64 = t1461.plus(t1479);
+        let t1481: f64 = t1454.minus(t1480);
+        let t1482 = product(t678, t1481);
+        let t1483: f64 = t651 * t651;
+        let t1484: f64 = t671 * t671;
+        let t1485: f64 = t649 * t1483;
+        let t1486: f64 = t1484 * t1485;
+        let t1487: f64 = t1448 * t1486;
+        let t1488 = product(t1468, t1487);
+        let t1489 = product(t1450, t1468);
+        let t1490: f64 = t1489.subtracted_from(t1475);
+        let t1491: f64 = t1449 * t1490;
         let t1492: f64 = -t1491;
-        let t1493: f64 = t680 * t1492;
-        let t1494: f64 = t1434.plus(t1493);
-        let t1495: f64 = t1459.plus(t1473);
-        let t1496: f64 = t1494 - t1495;
-        let t1497 = product(t678, t1496);
-        let t1498 = product(t1469, t1480);
-        let t1499: f64 = t1498.subtracted_from(t1487);
-        let t1500 = product(t1467, t1499);
-        let t1501 = product(t672, t1443);
-        let t1502 = product(t676, t1450);
-        let t1503: f64 = t684 * t1454;
-        let t1504: f64 = t1502.plus(t1503);
-        let t1505: f64 = t1501.plus(t1504);
-        let t1506: f64 = t1500.subtracted_from(t1505);
-        let t1507: f64 = t651 * t1506;
-        let t1508 = product(t680, t1507);
-        let t1509: f64 = t671 * t671;
-        let t1510: f64 = t649 * t651;
-        let t1511: f64 = t1509 * t1510;
-        let t1512: f64 = t1467 * t1511;
-        let t1513 = product(t1480, t1512);
-        let t1514: f64 = t691 * t1505;
-        let t1515: f64 = t1513.plus(t1514);
-        let t1516: f64 = t651 * t1515;
-        let t1517: f64 = t1468 * t1499;
-        let t1518: f64 = -t1517;
-        let t1519 = product(t691, t1518);
-        let t1520: f64 = t1519.added_to(t1516);
-        let t1521: f64 = t691 * t693;
-        let t1522: f64 = t1520 * t1521;
-        let t1523: f64 = t651 * t1480;
-        let t1524: f64 = t1470 * t1523;
-        let t1525 = product(t1471, t1524);
-        let t1526 = product(gravity_x, t676);
-        let t1527: f64 = gravity_y * t684;
-        let t1528 = product(gravity_z, t672);
-        let t1529: f64 = t1526.plus(t1527);
-        let t1530: f64 = t1528.plus(t1529);
-        let t1531 = product(leg6_cylinder_mz, t1530);
-        let t1532: f64 = t1505 - t1530;
-        let t1533: f64 = leg6_rod_mz * t1532;
-        let t1534: f64 = t1531.minus(t1533);
-        let t1535: f64 = t1525.plus(t1534);
-        let t1536: f64 = t1508.plus(t1522);
-        let t1537: f64 = t1535 - t1536;
-        let t1538: f64 = t684 * t1537;
-        let t1539: f64 = t1497.plus(t1538);
-        let t1540 = product(t651, t1539);
-        let t1541 = product(t673, t1450);
-        let t1542: f64 = t652 * t1454;
-        let t1543 = product(t675, t1443);
-        let t1544: f64 = t1541.plus(t1542);
-        let t1545: f64 = t1543.plus(t1544);
-        let t1546 = product(gravity_x, t673);
-        let t1547: f64 = gravity_y * t652;
-        let t1548 = product(gravity_z, t675);
-        let t1549: f64 = t1546.plus(t1547);
-        let t1550: f64 = t1548.plus(t1549);
-        let t1551: f64 = t1545 - t1550;
-        let t1552 = product(leg6_rod_mass, t1551);
-        let t1553 = product(t1468, t1468);
-        let t1554: f64 = t1523 * t1523;
-        let t1555: f64 = t1553.plus(t1554);
-        let t1556: f64 = leg6_rod_mz * t1555;
-        let t1557: f64 = t1552.minus(t1556);
-        let t1558 = product(t652, t1557);
-        let t1559 = product(leg6_rod_mass, t1458);
-        let t1560: f64 = t1472 + t1491;
-        let t1561: f64 = leg6_rod_mz * t1560;
-        let t1562: f64 = t1559.plus(t1561);
-        let t1563 = product(t678, t1562);
-        let t1564 = product(leg6_rod_mass, t1532);
-        let t1565: f64 = t1524 - t1507;
-        let t1566: f64 = leg6_rod_mz * t1565;
-        let t1567: f64 = t1564.minus(t1566);
-        let t1568: f64 = t684 * t1567;
-        let t1569: f64 = t1563.plus(t1568);
-        let t1570: f64 = t1558.plus(t1569);
-        let t1571: f64 = t1540.minus(t1570);
-        let t1572: f64 = -t1571;
-        let t1573 = product(t626, t1572);
-        let t1574 = product(t651, t1496);
-        let t1575: f64 = t1574.subtracted_from(t1562);
-        let t1576 = product(t718, t1575);
-        let t1577: f64 = t675 * t1557;
-        let t1578 = product(t651, t1537);
-        let t1579: f64 = t1578.subtracted_from(t1567);
-        let t1580 = product(t672, t1579);
-        let t1581: f64 = t1580.added_to(t1577);
-        let t1582: f64 = t1576.plus(t1581);
-        let t1583: f64 = t632 * t1582;
-        let t1584: f64 = t1573.minus(t1583);
-        let t1585 = product(t266, t274);
-        let t1586: f64 = t272 * t277;
-        let t1587: f64 = t1585.minus(t1586);
-        let t1588: f64 = g3 * t291;
-        let t1589 = product(t1587, t1588);
-        let t1590 = product(t386, t394);
-        let t1591: f64 = t392 * t397;
-        let t1592: f64 = t1590.minus(t1591);
-        let t1593: f64 = g4 * t411;
-        let t1594: f64 = t1592 * t1593;
-        let t1595: f64 = t1589.plus(t1594);
-        let t1596 = product(t506, t514);
-        let t1597: f64 = t512 * t517;
-        let t1598: f64 = t1596.minus(t1597);
-        let t1599: f64 = g5 * t531;
-        let t1600 = product(t1598, t1599);
-        let t1601 = product(t626, t634);
-        let t1602: f64 = t632 * t637;
-        let t1603: f64 = t1601.minus(t1602);
-        let t1604: f64 = g6 * t651;
-        let t1605: f64 = t1603 * t1604;
-        let t1606: f64 = t1600.plus(t1605);
-        let t1607: f64 = t1595 + t1606;
-        let t1608: f64 = wx * t6;
-        let t1609 = product(t3, t1608);
-        let t1610: f64 = wy * t23;
-        let t1611 = product(wz, t9);
-        let t1612: f64 = t1609.plus(t1610);
-        let t1613: f64 = t1611.plus(t1612);
-        let t1614 = product(platform_ixy, t1613);
-        let t1615: f64 = wx * t2;
-        let t1616 = product(t6, t1615);
-        let t1617 = product(wy, t27);
-        let t1618: f64 = wz * t14;
-        let t1619: f64 = t1617.plus(t1618);
-        let t1620: f64 = t1616.minus(t1619);
-        let t1621 = product(platform_iyy, t1620);
-        let t1622 = product(wx, t5);
-        let t1623 = product(wy, t0);
-        let t1624: f64 = wz * t1;
-        let t1625: f64 = t1623.minus(t1624);
-        let t1626: f64 = t6 * t1625;
-        let t1627: f64 = t1622.minus(t1626);
-        let t1628: f64 = platform_iyz * t1627;
-        let t1629: f64 = t1614.plus(t1628);
-        let t1630: f64 = t1621.subtracted_from(t1629);
-        let t1631 = product(t1613, t1630);
-        let t1632 = product(platform_ixx, t1613);
-        let t1633 = product(platform_ixy, t1620);
-        let t1634: f64 = platform_ixz * t1627;
-        let t1635: f64 = t1632.plus(t1634);
-        let t1636: f64 = t1633.subtracted_from(t1635);
-        let t1637: f64 = t1620 * t1636;
-        let t1638: f64 = t1631.plus(t1637);
-        let t1639 = product(t5, t1638);
-        let t1640 = product(platform_ixz, t1613);
-        let t1641 = product(platform_iyz, t1620);
-        let t1642: f64 = platform_izz * t1627;
-        let t1643: f64 = t1640.plus(t1642);
-        let t1644: f64 = t1641.subtracted_from(t1643);
-        let t1645 = product(t1620, t1644);
-        let t1646: f64 = t1627 * t1630;
-        let t1647: f64 = t1645.plus(t1646);
-        let t1648 = product(t3, t1647);
-        let t1649 = product(t1627, t1636);
-        let t1650: f64 = t1613 * t1644;
-        let t1651: f64 = t1649.minus(t1650);
-        let t1652: f64 = t2 * t1651;
-        let t1653: f64 = t1648.plus(t1652);
-        let t1654: f64 = t6 * t1653;
-        let t1655: f64 = t1639.minus(t1654);
-        let t1656 = product(gravity_y, t1074);
-        let t1657: f64 = gravity_z * t1268;
-        let t1658: f64 = t1656.minus(t1657);
-        let t1659 = product(t19, t34);
-        let t1660: f64 = t32 * t37;
-        let t1661: f64 = t1659.minus(t1660);
-        let t1662: f64 = g1 * t51;
-        let t1663 = product(t1661, t1662);
-        let t1664 = product(t146, t154);
-        let t1665: f64 = t152 * t157;
-        let t1666: f64 = t1664.minus(t1665);
-        let t1667: f64 = g2 * t171;
-        let t1668: f64 = t1666 * t1667;
-        let t1669: f64 = t1663.plus(t1668);
-        let t1670: f64 = t1658 + t1669;
-        let t1671: f64 = t1655 + t1670;
-        let t1672: f64 = t1607 + t1671;
-        let t1673 = product(gravity_x, t784);
-        let t1674: f64 = gravity_y * t78;
-        let t1675 = product(gravity_z, t118);
-        let t1676: f64 = t1673.plus(t1674);
+        let t1493: f64 = t691 * t1492;
+        let t1494: f64 = t1488.plus(t1493);
+        let t1495: f64 = t691 * t693;
+        let t1496 = product(t1494, t1495);
+        let t1497 = product(t680, t1492);
+        let t1498: f64 = t651 * t1468;
+        let t1499: f64 = t1451 * t1498;
+        let t1500 = product(t1452, t1499);
+        let t1501 = product(gravity_x, t676);
+        let t1502: f64 = gravity_y * t684;
+        let t1503 = product(gravity_z, t672);
+        let t1504: f64 = t1501.plus(t1502);
+        let t1505: f64 = t1503.plus(t1504);
+        let t1506: f64 = t1460 * t1505;
+        let t1507: f64 = t1500.plus(t1506);
+        let t1508: f64 = t1497.minus(t1507);
+        let t1509: f64 = t1496.plus(t1508);
+        let t1510: f64 = -t1509;
+        let t1511: f64 = t684 * t1510;
+        let t1512: f64 = t1482.minus(t1511);
+        let t1513 = product(t651, t1512);
+        let t1514 = product(wz, t1434);
+        let t1515: f64 = wx * t1444;
+        let t1516: f64 = t1514.minus(t1515);
+        let t1517 = product(t706, t1516);
+        let t1518 = product(wy, t1434);
+        let t1519: f64 = wx * t1439;
+        let t1520: f64 = t1518.subtracted_from(t1519);
+        let t1521: f64 = t725 * t1520;
+        let t1522: f64 = t1517.plus(t1521);
+        let t1523 = product(leg6_rod_mass, t1459);
+        let t1524: f64 = t1478 - t1453;
+        let t1525: f64 = leg6_rod_mz * t1524;
+        let t1526: f64 = t1523.plus(t1525);
+        let t1527: f64 = -t1526;
+        let t1528 = product(t678, t1527);
+        let t1529 = product(leg6_rod_mass, t1505);
+        let t1530: f64 = t1491 + t1499;
+        let t1531: f64 = leg6_rod_mz * t1530;
+        let t1532: f64 = t1529.plus(t1531);
+        let t1533: f64 = t684 * t1532;
+        let t1534: f64 = t1528.minus(t1533);
+        let t1535 = product(wy, t1444);
+        let t1536: f64 = wz * t1439;
+        let t1537: f64 = t1535.minus(t1536);
+        let t1538 = product(t903, t1537);
+        let t1539 = product(gravity_x, t673);
+        let t1540: f64 = gravity_y * t652;
+        let t1541 = product(gravity_z, t675);
+        let t1542: f64 = t1539.plus(t1540);
+        let t1543: f64 = t1541.plus(t1542);
+        let t1544 = product(leg6_rod_mass, t1543);
+        let t1545 = product(t1449, t1449);
+        let t1546: f64 = t1498 * t1498;
+        let t1547: f64 = t1545.plus(t1546);
+        let t1548: f64 = leg6_rod_mz * t1547;
+        let t1549: f64 = t1544.plus(t1548);
+        let t1550: f64 = t652 * t1549;
+        let t1551: f64 = t1538.minus(t1550);
+        let t1552: f64 = t1534 + t1551;
+        let t1553: f64 = t1522 + t1552;
+        let t1554: f64 = t1513.plus(t1553);
+        let t1555 = product(t626, t1554);
+        let t1556 = product(t911, t1537);
+        let t1557: f64 = t675 * t1549;
+        let t1558: f64 = t1556.minus(t1557);
+        let t1559 = product(t725, t1516);
+        let t1560: f64 = t737 * t1520;
+        let t1561: f64 = t1559.plus(t1560);
+        let t1562: f64 = t1558 + t1561;
+        let t1563 = product(t651, t1510);
+        let t1564: f64 = t1563.added_to(t1532);
+        let t1565 = product(t672, t1564);
+        let t1566 = product(t651, t1481);
+        let t1567: f64 = t1566.subtracted_from(t1526);
+        let t1568: f64 = t718 * t1567;
+        let t1569: f64 = t1565.plus(t1568);
+        let t1570: f64 = t1562 - t1569;
+        let t1571: f64 = t632 * t1570;
+        let t1572: f64 = t1555.minus(t1571);
+        let t1573: f64 = wx * t2;
+        let t1574 = product(t6, t1573);
+        let t1575 = product(wy, t27);
+        let t1576: f64 = wz * t14;
+        let t1577: f64 = t1575.plus(t1576);
+        let t1578: f64 = t1574.minus(t1577);
+        let t1579: f64 = wx * t6;
+        let t1580 = product(t3, t1579);
+        let t1581: f64 = wy * t23;
+        let t1582 = product(wz, t9);
+        let t1583: f64 = t1580.plus(t1581);
+        let t1584: f64 = t1582.plus(t1583);
+        let t1585 = product(platform_ixz, t1584);
+        let t1586 = product(platform_iyz, t1578);
+        let t1587 = product(wx, t5);
+        let t1588 = product(wy, t0);
+        let t1589: f64 = wz * t1;
+        let t1590: f64 = t1588.minus(t1589);
+        let t1591: f64 = t6 * t1590;
+        let t1592: f64 = t1587.minus(t1591);
+        let t1593: f64 = platform_izz * t1592;
+        let t1594: f64 = t1585.plus(t1593);
+        let t1595: f64 = t1586.subtracted_from(t1594);
+        let t1596 = product(t1578, t1595);
+        let t1597 = product(platform_ixy, t1584);
+        let t1598 = product(platform_iyy, t1578);
+        let t1599: f64 = platform_iyz * t1592;
+        let t1600: f64 = t1597.plus(t1599);
+        let t1601: f64 = t1598.subtracted_from(t1600);
+        let t1602: f64 = t1592 * t1601;
+        let t1603: f64 = t1596.plus(t1602);
+        let t1604 = product(t3, t1603);
+        let t1605 = product(platform_ixx, t1584);
+        let t1606 = product(platform_ixy, t1578);
+        let t1607: f64 = platform_ixz * t1592;
+        let t1608: f64 = t1605.plus(t1607);
+        let t1609: f64 = t1606.subtracted_from(t1608);
+        let t1610 = product(t1592, t1609);
+        let t1611: f64 = t1584 * t1595;
+        let t1612: f64 = t1610.minus(t1611);
+        let t1613: f64 = t2 * t1612;
+        let t1614: f64 = t1604.plus(t1613);
+        let t1615 = product(t6, t1614);
+        let t1616 = product(t626, t634);
+        let t1617: f64 = t632 * t637;
+        let t1618: f64 = t1616.minus(t1617);
+        let t1619: f64 = g6 * t651;
+        let t1620: f64 = t1618 * t1619;
+        let t1621: f64 = t1615.minus(t1620);
+        let t1622 = product(gravity_z, t1239);
+        let t1623: f64 = gravity_y * t1258;
+        let t1624: f64 = t1622.minus(t1623);
+        let t1625 = product(t1584, t1601);
+        let t1626: f64 = t1578 * t1609;
+        let t1627: f64 = t1625.plus(t1626);
+        let t1628 = product(t5, t1627);
+        let t1629 = product(t19, t34);
+        let t1630: f64 = t32 * t37;
+        let t1631: f64 = t1629.minus(t1630);
+        let t1632: f64 = g1 * t51;
+        let t1633: f64 = t1631 * t1632;
+        let t1634: f64 = t1628.plus(t1633);
+        let t1635: f64 = t1624 - t1634;
+        let t1636: f64 = t1621 + t1635;
+        let t1637 = product(t146, t154);
+        let t1638: f64 = t152 * t157;
+        let t1639: f64 = t1637.minus(t1638);
+        let t1640: f64 = g2 * t171;
+        let t1641 = product(t1639, t1640);
+        let t1642 = product(t266, t274);
+        let t1643: f64 = t272 * t277;
+        let t1644: f64 = t1642.minus(t1643);
+        let t1645: f64 = g3 * t291;
+        let t1646: f64 = t1644 * t1645;
+        let t1647: f64 = t1641.plus(t1646);
+        let t1648 = product(t386, t394);
+        let t1649: f64 = t392 * t397;
+        let t1650: f64 = t1648.minus(t1649);
+        let t1651: f64 = g4 * t411;
+        let t1652 = product(t1650, t1651);
+        let t1653 = product(t506, t514);
+        let t1654: f64 = t512 * t517;
+        let t1655: f64 = t1653.minus(t1654);
+        let t1656: f64 = g5 * t531;
+        let t1657: f64 = t1655 * t1656;
+        let t1658: f64 = t1652.plus(t1657);
+        let t1659: f64 = t1647 + t1658;
+        let t1660: f64 = t1636 - t1659;
+        let t1661 = product(wy, t19);
+        let t1662: f64 = wz * t32;
+        let t1663: f64 = t1661.minus(t1662);
+        let t1664: f64 = vx + t1663;
+        let t1665 = product(t76, t1664);
+        let t1666 = product(wz, t44);
+        let t1667: f64 = wx * t19;
+        let t1668: f64 = t1666.minus(t1667);
+        let t1669: f64 = vy + t1668;
+        let t1670: f64 = t84 * t1669;
+        let t1671 = product(wx, t32);
+        let t1672: f64 = wy * t44;
+        let t1673: f64 = t1671.minus(t1672);
+        let t1674: f64 = vz + t1673;
+        let t1675 = product(t72, t1674);
+        let t1676: f64 = t1665.plus(t1670);
         let t1677: f64 = t1675.plus(t1676);
-        let t1678 = product(leg1_cylinder_mz, t1677);
-        let t1679 = product(wy, t19);
-        let t1680: f64 = wz * t32;
-        let t1681: f64 = t1679.minus(t1680);
-        let t1682 = product(wy, t1681);
-        let t1683 = product(wz, t44);
-        let t1684: f64 = wx * t19;
-        let t1685: f64 = t1683.minus(t1684);
-        let t1686: f64 = wx * t1685;
-        let t1687: f64 = t1682.subtracted_from(t1686);
-        let t1688 = product(t118, t1687);
-        let t1689 = product(wx, t32);
-        let t1690: f64 = wy * t44;
-        let t1691: f64 = t1689.minus(t1690);
-        let t1692 = product(wy, t1691);
-        let t1693: f64 = wz * t1685;
-        let t1694: f64 = t1692.minus(t1693);
-        let t1695 = product(t784, t1694);
-        let t1696 = product(wz, t1681);
-        let t1697: f64 = wx * t1691;
-        let t1698: f64 = t1696.minus(t1697);
-        let t1699: f64 = t78 * t1698;
-        let t1700: f64 = t1695.plus(t1699);
-        let t1701: f64 = t1688.plus(t1700);
-        let t1702: f64 = t1701 - t1677;
-        let t1703 = product(leg1_rod_mz, t1702);
-        let t1704: f64 = vx + t1681;
-        let t1705 = product(t76, t1704);
-        let t1706: f64 = vy + t1685;
-        let t1707: f64 = t84 * t1706;
-        let t1708: f64 = vz + t1691;
-        let t1709 = product(t72, t1708);
-        let t1710: f64 = t1705.plus(t1707);
-        let t1711: f64 = t1709.plus(t1710);
-        let t1712: f64 = t51 * t1711;
-        let t1713: f64 = t51 * t91;
-        let t1714: f64 = t1711 * t1713;
-        let t1715: f64 = t80 - t93;
-        let t1716: f64 = t1712 * t1714;
-        let t1717: f64 = t1715 * t1716;
-        let t1718: f64 = t1711 * t1711;
-        let t1719 = product(t1713, t1718);
-        let t1720 = product(t784, t1704);
-        let t1721: f64 = t78 * t1706;
-        let t1722 = product(t118, t1708);
-        let t1723: f64 = t1720.plus(t1721);
-        let t1724: f64 = t1722.plus(t1723);
-        let t1725 = product(t73, t1704);
-        let t1726: f64 = t52 * t1706;
-        let t1727 = product(t75, t1708);
-        let t1728: f64 = t1725.plus(t1726);
-        let t1729: f64 = t1727.plus(t1728);
-        let t1730: f64 = t51 * t1729;
-        let t1731: f64 = t1730 * 2.0;
-        let t1732: f64 = t1724 * t1731;
-        let t1733: f64 = t1719.plus(t1732);
-        let t1734: f64 = t1701 - t1733;
-        let t1735: f64 = t51 * t1734;
-        let t1736: f64 = -t1735;
-        let t1737: f64 = t80 * t1736;
-        let t1738: f64 = t1678.plus(t1737);
-        let t1739: f64 = t1703.plus(t1717);
-        let t1740: f64 = t1738 - t1739;
-        let t1741 = product(t78, t1740);
-        let t1742 = product(t1713, t1724);
-        let t1743: f64 = t1742.subtracted_from(t1731);
-        let t1744 = product(t1711, t1743);
-        let t1745 = product(t72, t1687);
-        let t1746 = product(t76, t1694);
-        let t1747: f64 = t84 * t1698;
-        let t1748: f64 = t1746.plus(t1747);
-        let t1749: f64 = t1745.plus(t1748);
-        let t1750: f64 = t1744.subtracted_from(t1749);
-        let t1751: f64 = t51 * t1750;
-        let t1752 = product(t80, t1751);
-        let t1753: f64 = t71 * t71;
-        let t1754: f64 = t49 * t51;
-        let t1755: f64 = t1753 * t1754;
-        let t1756: f64 = t1711 * t1755;
-        let t1757 = product(t1724, t1756);
-        let t1758: f64 = t91 * t1749;
-        let t1759: f64 = t1757.plus(t1758);
-        let t1760: f64 = t51 * t1759;
-        let t1761: f64 = t1712 * t1743;
-        let t1762: f64 = -t1761;
-        let t1763 = product(t91, t1762);
-        let t1764: f64 = t1763.added_to(t1760);
-        let t1765: f64 = t91 * t93;
-        let t1766: f64 = t1764 * t1765;
-        let t1767: f64 = t51 * t1724;
-        let t1768: f64 = t1714 * t1767;
-        let t1769 = product(t1715, t1768);
-        let t1770 = product(gravity_x, t76);
-        let t1771: f64 = gravity_y * t84;
-        let t1772 = product(gravity_z, t72);
-        let t1773: f64 = t1770.plus(t1771);
-        let t1774: f64 = t1772.plus(t1773);
-        let t1775 = product(leg1_cylinder_mz, t1774);
-        let t1776: f64 = t1749 - t1774;
+        let t1678: f64 = t51 * t1677;
+        let t1679: f64 = t51 * t91;
+        let t1680: f64 = t1677 * t1679;
+        let t1681: f64 = t80 - t93;
+        let t1682: f64 = t1678 * t1680;
+        let t1683 = product(t1681, t1682);
+        let t1684 = product(gravity_x, t784);
+        let t1685: f64 = gravity_y * t78;
+        let t1686 = product(gravity_z, t118);
+        let t1687: f64 = t1684.plus(t1685);
+        let t1688: f64 = t1686.plus(t1687);
+        let t1689: f64 = leg1_cylinder_mz + leg1_rod_mz;
+        let t1690 = product(t1688, t1689);
+        let t1691: f64 = t1677 * t1677;
+        let t1692 = product(t1679, t1691);
+        let t1693 = product(t784, t1664);
+        let t1694: f64 = t78 * t1669;
+        let t1695 = product(t118, t1674);
+        let t1696: f64 = t1693.plus(t1694);
+        let t1697: f64 = t1695.plus(t1696);
+        let t1698 = product(t73, t1664);
+        let t1699: f64 = t52 * t1669;
+        let t1700 = product(t75, t1674);
+        let t1701: f64 = t1698.plus(t1699);
+        let t1702: f64 = t1700.plus(t1701);
+        let t1703: f64 = t51 * t1702;
+        let t1704: f64 = t1703 * 2.0;
+        let t1705: f64 = t1697 * t1704;
+        let t1706: f64 = t1692.plus(t1705);
+        let t1707: f64 = t51 * t1706;
+        let t1708: f64 = t80 * t1707;
+        let t1709: f64 = t1690.plus(t1708);
+        let t1710: f64 = t1683.minus(t1709);
+        let t1711 = product(t78, t1710);
+        let t1712: f64 = t51 * t51;
+        let t1713: f64 = t71 * t71;
+        let t1714: f64 = t49 * t1712;
+        let t1715: f64 = t1713 * t1714;
+        let t1716: f64 = t1677 * t1715;
+        let t1717 = product(t1697, t1716);
+        let t1718 = product(t1679, t1697);
+        let t1719: f64 = t1718.subtracted_from(t1704);
+        let t1720: f64 = t1678 * t1719;
+        let t1721: f64 = -t1720;
+        let t1722: f64 = t91 * t1721;
+        let t1723: f64 = t1717.plus(t1722);
+        let t1724: f64 = t91 * t93;
+        let t1725 = product(t1723, t1724);
+        let t1726 = product(t80, t1721);
+        let t1727: f64 = t51 * t1697;
+        let t1728: f64 = t1680 * t1727;
+        let t1729 = product(t1681, t1728);
+        let t1730 = product(gravity_x, t76);
+        let t1731: f64 = gravity_y * t84;
+        let t1732 = product(gravity_z, t72);
+        let t1733: f64 = t1730.plus(t1731);
+        let t1734: f64 = t1732.plus(t1733);
+        let t1735: f64 = t1689 * t1734;
+        let t1736: f64 = t1729.plus(t1735);
+        let t1737: f64 = t1726.minus(t1736);
+        let t1738: f64 = t1725.plus(t1737);
+        let t1739: f64 = -t1738;
+        let t1740: f64 = t84 * t1739;
+        let t1741: f64 = t1711.minus(t1740);
+        let t1742: f64 = t51 * t1741;
+        let t1743 = product(wz, t1663);
+        let t1744: f64 = wx * t1673;
+        let t1745: f64 = t1743.minus(t1744);
+        let t1746 = product(t106, t1745);
+        let t1747 = product(wy, t1663);
+        let t1748: f64 = wx * t1668;
+        let t1749: f64 = t1747.subtracted_from(t1748);
+        let t1750: f64 = t125 * t1749;
+        let t1751: f64 = t1746.plus(t1750);
+        let t1752 = product(leg1_rod_mass, t1688);
+        let t1753: f64 = t1707 - t1682;
+        let t1754: f64 = leg1_rod_mz * t1753;
+        let t1755: f64 = t1752.plus(t1754);
+        let t1756: f64 = -t1755;
+        let t1757 = product(t78, t1756);
+        let t1758 = product(leg1_rod_mass, t1734);
+        let t1759: f64 = t1720 + t1728;
+        let t1760: f64 = leg1_rod_mz * t1759;
+        let t1761: f64 = t1758.plus(t1760);
+        let t1762: f64 = t84 * t1761;
+        let t1763: f64 = t1757.minus(t1762);
+        let t1764 = product(wy, t1673);
+        let t1765: f64 = wz * t1668;
+        let t1766: f64 = t1764.minus(t1765);
+        let t1767 = product(t788, t1766);
+        let t1768 = product(gravity_x, t73);
+        let t1769: f64 = gravity_y * t52;
+        let t1770 = product(gravity_z, t75);
+        let t1771: f64 = t1768.plus(t1769);
+        let t1772: f64 = t1770.plus(t1771);
+        let t1773 = product(leg1_rod_mass, t1772);
+        let t1774 = product(t1678, t1678);
+        let t1775: f64 = t1727 * t1727;
+        let t1776: f64 = t1774.plus(t1775);
         let t1777: f64 = leg1_rod_mz * t1776;
-        let t1778: f64 = t1775.minus(t1777);
-        let t1779: f64 = t1769.plus(t1778);
-        let t1780: f64 = t1752.plus(t1766);
-        let t1781: f64 = t1779 - t1780;
-        let t1782: f64 = t84 * t1781;
-        let t1783: f64 = t1741.plus(t1782);
-        let t1784: f64 = t51 * t1783;
-        let t1785 = product(t73, t1694);
-        let t1786: f64 = t52 * t1698;
-        let t1787 = product(t75, t1687);
-        let t1788: f64 = t1785.plus(t1786);
-        let t1789: f64 = t1787.plus(t1788);
-        let t1790 = product(gravity_x, t73);
-        let t1791: f64 = gravity_y * t52;
-        let t1792 = product(gravity_z, t75);
-        let t1793: f64 = t1790.plus(t1791);
-        let t1794: f64 = t1792.plus(t1793);
-        let t1795: f64 = t1789 - t1794;
-        let t1796 = product(leg1_rod_mass, t1795);
-        let t1797 = product(t1712, t1712);
-        let t1798: f64 = t1767 * t1767;
-        let t1799: f64 = t1797.plus(t1798);
-        let t1800: f64 = leg1_rod_mz * t1799;
-        let t1801: f64 = t1796.minus(t1800);
-        let t1802 = product(t52, t1801);
-        let t1803 = product(leg1_rod_mass, t1702);
-        let t1804: f64 = t1716 + t1735;
-        let t1805: f64 = leg1_rod_mz * t1804;
-        let t1806: f64 = t1803.plus(t1805);
-        let t1807 = product(t78, t1806);
-        let t1808 = product(leg1_rod_mass, t1776);
-        let t1809: f64 = t1768 - t1751;
-        let t1810: f64 = leg1_rod_mz * t1809;
-        let t1811: f64 = t1808.minus(t1810);
-        let t1812: f64 = t84 * t1811;
-        let t1813: f64 = t1807.plus(t1812);
-        let t1814: f64 = t1802.plus(t1813);
-        let t1815: f64 = t1814 - t1784;
-        let t1816 = product(t19, t1815);
-        let t1817: f64 = t75 * t1801;
-        let t1818 = product(t51, t1781);
-        let t1819: f64 = t1818.subtracted_from(t1811);
-        let t1820 = product(t72, t1819);
-        let t1821 = product(t51, t1740);
-        let t1822: f64 = t1821.subtracted_from(t1806);
-        let t1823: f64 = t118 * t1822;
-        let t1824: f64 = t1820.plus(t1823);
-        let t1825: f64 = t1817 + t1824;
-        let t1826: f64 = t32 * t1825;
-        let t1827: f64 = t1816.minus(t1826);
-        let t1828: f64 = t1672 - t1827;
-        let t1829: f64 = t1584 - t1828;
-        let t1830 = product(gravity_x, t807);
-        let t1831: f64 = gravity_y * t198;
-        let t1832 = product(gravity_z, t238);
-        let t1833: f64 = t1830.plus(t1831);
-        let t1834: f64 = t1832.plus(t1833);
-        let t1835 = product(leg2_cylinder_mz, t1834);
-        let t1836 = product(wy, t146);
-        let t1837: f64 = wz * t152;
-        let t1838: f64 = t1836.minus(t1837);
-        let t1839 = product(wy, t1838);
-        let t1840 = product(wz, t164);
-        let t1841: f64 = wx * t146;
-        let t1842: f64 = t1840.minus(t1841);
-        let t1843: f64 = wx * t1842;
-        let t1844: f64 = t1839.subtracted_from(t1843);
-        let t1845 = product(t238, t1844);
-        let t1846 = product(wx, t152);
-        let t1847: f64 = wy * t164;
-        let t1848: f64 = t1846.minus(t1847);
-        let t1849 = product(wy, t1848);
-        let t1850: f64 = wz * t1842;
-        let t1851: f64 = t1849.minus(t1850);
-        let t1852 = product(t807, t1851);
-        let t1853 = product(wz, t1838);
-        let t1854: f64 = wx * t1848;
-        let t1855: f64 = t1853.minus(t1854);
-        let t1856: f64 = t198 * t1855;
-        let t1857: f64 = t1852.plus(t1856);
-        let t1858: f64 = t1845.plus(t1857);
-        let t1859: f64 = t1858 - t1834;
-        let t1860 = product(leg2_rod_mz, t1859);
-        let t1861: f64 = vx + t1838;
-        let t1862 = product(t196, t1861);
-        let t1863: f64 = vy + t1842;
-        let t1864: f64 = t204 * t1863;
-        let t1865: f64 = vz + t1848;
-        let t1866 = product(t192, t1865);
-        let t1867: f64 = t1862.plus(t1864);
-        let t1868: f64 = t1866.plus(t1867);
-        let t1869: f64 = t171 * t1868;
-        let t1870: f64 = t171 * t211;
-        let t1871: f64 = t1868 * t1870;
-        let t1872: f64 = t200 - t213;
-        let t1873: f64 = t1869 * t1871;
-        let t1874: f64 = t1872 * t1873;
-        let t1875: f64 = t1868 * t1868;
-        let t1876 = product(t1870, t1875);
-        let t1877 = product(t807, t1861);
-        let t1878: f64 = t198 * t1863;
-        let t1879 = product(t238, t1865);
-        let t1880: f64 = t1877.plus(t1878);
-        let t1881: f64 = t1879.plus(t1880);
-        let t1882 = product(t193, t1861);
-        let t1883: f64 = t172 * t1863;
-        let t1884 = product(t195, t1865);
-        let t1885: f64 = t1882.plus(t1883);
-        let t1886: f64 = t1884.plus(t1885);
-        let t1887: f64 = t171 * t1886;
-        let t1888: f64 = t1887 * 2.0;
-        let t1889: f64 = t1881 * t1888;
-        let t1890: f64 = t1876.plus(t1889);
-        let t1891: f64 = t1858 - t1890;
-        let t1892: f64 = t171 * t1891;
-        let t1893: f64 = -t1892;
-        let t1894: f64 = t200 * t1893;
-        let t1895: f64 = t1835.plus(t1894);
-        let t1896: f64 = t1860.plus(t1874);
-        let t1897: f64 = t1895 - t1896;
-        let t1898 = product(t198, t1897);
-        let t1899 = product(t1870, t1881);
-        let t1900: f64 = t1899.subtracted_from(t1888);
-        let t1901 = product(t1868, t1900);
-        let t1902 = product(t192, t1844);
-        let t1903 = product(t196, t1851);
-        let t1904: f64 = t204 * t1855;
-        let t1905: f64 = t1903.plus(t1904);
-        let t1906: f64 = t1902.plus(t1905);
-        let t1907: f64 = t1901.subtracted_from(t1906);
-        let t1908: f64 = t171 * t1907;
-        let t1909 = product(t200, t1908);
-        let t1910: f64 = t191 * t191;
-        let t1911: f64 = t169 * t171;
-        let t1912: f64 = t1910 * t1911;
-        let t1913: f64 = t1868 * t1912;
-        let t1914 = product(t1881, t1913);
-        let t1915: f64 = t211 * t1906;
-        let t1916: f64 = t1914.plus(t1915);
-        let t1917: f64 = t171 * t1916;
-        let t1918: f64 = t1869 * t1900;
-        let t1919: f64 = -t1918;
-        let t1920 = product(t211, t1919);
-        let t1921: f64 = t1920.added_to(t1917);
-        let t1922: f64 = t211 * t213;
-        let t1923: f64 = t1921 * t1922;
-        let t1924: f64 = t171 * t1881;
-        let t1925: f64 = t1871 * t1924;
-        let t1926 = product(t1872, t1925);
-        let t1927 = product(gravity_x, t196);
-        let t1928: f64 = gravity_y * t204;
-        let t1929 = product(gravity_z, t192);
-        let t1930: f64 = t1927.plus(t1928);
-        let t1931: f64 = t1929.plus(t1930);
-        let t1932 = product(leg2_cylinder_mz, t1931);
-        let t1933: f64 = t1906 - t1931;
-        let t1934: f64 = leg2_rod_mz * t1933;
-        let t1935: f64 = t1932.minus(t1934);
-        let t1936: f64 = t1926.plus(t1935);
-        let t1937: f64 = t1909.plus(t1923);
-        let t1938: f64 = t1936 - t1937;
-        let t1939: f64 = t204 * t1938;
-        let t1940: f64 = t1898.plus(t1939);
-        let t1941 = product(t171, t1940);
-        let t1942 = product(t193, t1851);
-        let t1943: f64 = t172 * t1855;
-        let t1944 = product(t195, t1844);
-        let t1945: f64 = t1942.plus(t1943);
-        let t1946: f64 = t1944.plus(t1945);
-        let t1947 = product(gravity_x, t193);
-        let t1948: f64 = gravity_y * t172;
-        let t1949 = product(gravity_z, t195);
-        let t1950: f64 = t1947.plus(t1948);
-        let t1951: f64 = t1949.plus(t1950);
-        let t1952: f64 = t1946 - t1951;
-        let t1953 = product(leg2_rod_mass, t1952);
-        let t1954 = product(t1869, t1869);
-        let t1955: f64 = t1924 * t1924;
-        let t1956: f64 = t1954.plus(t1955);
-        let t1957: f64 = leg2_rod_mz * t1956;
-        let t1958: f64 = t1953.minus(t1957);
-        let t1959 = product(t172, t1958);
-        let t1960 = product(leg2_rod_mass, t1859);
-        let t1961: f64 = t1873 + t1892;
-        let t1962: f64 = leg2_rod_mz * t1961;
-        let t1963: f64 = t1960.plus(t1962);
-        let t1964 = product(t198, t1963);
-        let t1965 = product(leg2_rod_mass, t1933);
-        let t1966: f64 = t1925 - t1908;
-        let t1967: f64 = leg2_rod_mz * t1966;
-        let t1968: f64 = t1965.minus(t1967);
-        let t1969: f64 = t204 * t1968;
-        let t1970: f64 = t1964.plus(t1969);
-        let t1971: f64 = t1959.plus(t1970);
-        let t1972: f64 = t1941.minus(t1971);
-        let t1973: f64 = -t1972;
-        let t1974 = product(t146, t1973);
-        let t1975 = product(t171, t1897);
-        let t1976: f64 = t1975.subtracted_from(t1963);
-        let t1977 = product(t238, t1976);
-        let t1978: f64 = t195 * t1958;
-        let t1979 = product(t171, t1938);
-        let t1980: f64 = t1979.subtracted_from(t1968);
-        let t1981 = product(t192, t1980);
-        let t1982: f64 = t1981.added_to(t1978);
-        let t1983: f64 = t1977.plus(t1982);
-        let t1984: f64 = t152 * t1983;
-        let t1985: f64 = t1974.minus(t1984);
-        let t1986 = product(gravity_x, t830);
-        let t1987: f64 = gravity_y * t318;
-        let t1988 = product(gravity_z, t358);
-        let t1989: f64 = t1986.plus(t1987);
-        let t1990: f64 = t1988.plus(t1989);
-        let t1991 = product(leg3_cylinder_mz, t1990);
-        let t1992 = product(wy, t266);
-        let t1993: f64 = wz * t272;
-        let t1994: f64 = t1992.minus(t1993);
-        let t1995 = product(wy, t1994);
-        let t1996 = product(wz, t284);
-        let t1997: f64 = wx * t266;
-        let t1998: f64 = t1996.minus(t1997);
-        let t1999: f64 = wx * t1998;
-        let t2000: f64 = t1995.subtracted_from(t1999);
-        let t2001 = product(t358, t2000);
-        let t2002 = product(wx, t272);
+        let t1778: f64 = t1773.plus(t1777);
+        let t1779: f64 = t52 * t1778;
+        let t1780: f64 = t1767.minus(t1779);
+        let t1781: f64 = t1763 + t1780;
+        let t1782: f64 = t1751 + t1781;
+        let t1783: f64 = t1742 + t1782;
+        let t1784 = product(t19, t1783);
+        let t1785 = product(t796, t1766);
+        let t1786: f64 = t75 * t1778;
+        let t1787: f64 = t1785.minus(t1786);
+        let t1788 = product(t125, t1745);
+        let t1789: f64 = t137 * t1749;
+        let t1790: f64 = t1788.plus(t1789);
+        let t1791: f64 = t1787 + t1790;
+        let t1792 = product(t51, t1739);
+        let t1793: f64 = t1792.added_to(t1761);
+        let t1794 = product(t72, t1793);
+        let t1795 = product(t51, t1710);
+        let t1796: f64 = t1795.subtracted_from(t1755);
+        let t1797: f64 = t118 * t1796;
+        let t1798: f64 = t1794.plus(t1797);
+        let t1799: f64 = t1791 - t1798;
+        let t1800: f64 = t32 * t1799;
+        let t1801: f64 = t1784.minus(t1800);
+        let t1802: f64 = t1660 + t1801;
+        let t1803: f64 = t1572 + t1802;
+        let t1804 = product(wy, t146);
+        let t1805: f64 = wz * t152;
+        let t1806: f64 = t1804.minus(t1805);
+        let t1807: f64 = vx + t1806;
+        let t1808 = product(t196, t1807);
+        let t1809 = product(wz, t164);
+        let t1810: f64 = wx * t146;
+        let t1811: f64 = t1809.minus(t1810);
+        let t1812: f64 = vy + t1811;
+        let t1813: f64 = t204 * t1812;
+        let t1814 = product(wx, t152);
+        let t1815: f64 = wy * t164;
+        let t1816: f64 = t1814.minus(t1815);
+        let t1817: f64 = vz + t1816;
+        let t1818 = product(t192, t1817);
+        let t1819: f64 = t1808.plus(t1813);
+        let t1820: f64 = t1818.plus(t1819);
+        let t1821: f64 = t171 * t1820;
+        let t1822: f64 = t171 * t211;
+        let t1823: f64 = t1820 * t1822;
+        let t1824: f64 = t200 - t213;
+        let t1825: f64 = t1821 * t1823;
+        let t1826 = product(t1824, t1825);
+        let t1827 = product(gravity_x, t807);
+        let t1828: f64 = gravity_y * t198;
+        let t1829 = product(gravity_z, t238);
+        let t1830: f64 = t1827.plus(t1828);
+        let t1831: f64 = t1829.plus(t1830);
+        let t1832: f64 = leg2_cylinder_mz + leg2_rod_mz;
+        let t1833 = product(t1831, t1832);
+        let t1834: f64 = t1820 * t1820;
+        let t1835 = product(t1822, t1834);
+        let t1836 = product(t807, t1807);
+        let t1837: f64 = t198 * t1812;
+        let t1838 = product(t238, t1817);
+        let t1839: f64 = t1836.plus(t1837);
+        let t1840: f64 = t1838.plus(t1839);
+        let t1841 = product(t193, t1807);
+        let t1842: f64 = t172 * t1812;
+        let t1843 = product(t195, t1817);
+        let t1844: f64 = t1841.plus(t1842);
+        let t1845: f64 = t1843.plus(t1844);
+        let t1846: f64 = t171 * t1845;
+        let t1847: f64 = t1846 * 2.0;
+        let t1848: f64 = t1840 * t1847;
+        let t1849: f64 = t1835.plus(t1848);
+        let t1850: f64 = t171 * t1849;
+        let t1851: f64 = t200 * t1850;
+        let t1852: f64 = t1833.plus(t1851);
+        let t1853: f64 = t1826.minus(t1852);
+        let t1854 = product(t198, t1853);
+        let t1855: f64 = t171 * t171;
+        let t1856: f64 = t191 * t191;
+        let t1857: f64 = t169 * t1855;
+        let t1858: f64 = t1856 * t1857;
+        let t1859: f64 = t1820 * t1858;
+        let t1860 = product(t1840, t1859);
+        let t1861 = product(t1822, t1840);
+        let t1862: f64 = t1861.subtracted_from(t1847);
+        let t1863: f64 = t1821 * t1862;
+        let t1864: f64 = -t1863;
+        let t1865: f64 = t211 * t1864;
+        let t1866: f64 = t1860.plus(t1865);
+        let t1867: f64 = t211 * t213;
+        let t1868 = product(t1866, t1867);
+        let t1869 = product(t200, t1864);
+        let t1870: f64 = t171 * t1840;
+        let t1871: f64 = t1823 * t1870;
+        let t1872 = product(t1824, t1871);
+        let t1873 = product(gravity_x, t196);
+        let t1874: f64 = gravity_y * t204;
+        let t1875 = product(gravity_z, t192);
+        let t1876: f64 = t1873.plus(t1874);
+        let t1877: f64 = t1875.plus(t1876);
+        let t1878: f64 = t1832 * t1877;
+        let t1879: f64 = t1872.plus(t1878);
+        let t1880: f64 = t1869.minus(t1879);
+        let t1881: f64 = t1868.plus(t1880);
+        let t1882: f64 = -t1881;
+        let t1883: f64 = t204 * t1882;
+        let t1884: f64 = t1854.minus(t1883);
+        let t1885 = product(t171, t1884);
+        let t1886 = product(wz, t1806);
+        let t1887: f64 = wx * t1816;
+        let t1888: f64 = t1886.minus(t1887);
+        let t1889 = product(t226, t1888);
+        let t1890 = product(wy, t1806);
+        let t1891: f64 = wx * t1811;
+        let t1892: f64 = t1890.subtracted_from(t1891);
+        let t1893: f64 = t245 * t1892;
+        let t1894: f64 = t1889.plus(t1893);
+        let t1895 = product(leg2_rod_mass, t1831);
+        let t1896: f64 = t1850 - t1825;
+        let t1897: f64 = leg2_rod_mz * t1896;
+        let t1898: f64 = t1895.plus(t1897);
+        let t1899: f64 = -t1898;
+        let t1900 = product(t198, t1899);
+        let t1901 = product(leg2_rod_mass, t1877);
+        let t1902: f64 = t1863 + t1871;
+        let t1903: f64 = leg2_rod_mz * t1902;
+        let t1904: f64 = t1901.plus(t1903);
+        let t1905: f64 = t204 * t1904;
+        let t1906: f64 = t1900.minus(t1905);
+        let t1907 = product(wy, t1816);
+        let t1908: f64 = wz * t1811;
+        let t1909: f64 = t1907.minus(t1908);
+        let t1910 = product(t811, t1909);
+        let t1911 = product(gravity_x, t193);
+        let t1912: f64 = gravity_y * t172;
+        let t1913 = product(gravity_z, t195);
+        let t1914: f64 = t1911.plus(t1912);
+        let t1915: f64 = t1913.plus(t1914);
+        let t1916 = product(leg2_rod_mass, t1915);
+        let t1917 = product(t1821, t1821);
+        let t1918: f64 = t1870 * t1870;
+        let t1919: f64 = t1917.plus(t1918);
+        let t1920: f64 = leg2_rod_mz * t1919;
+        let t1921: f64 = t1916.plus(t1920);
+        let t1922: f64 = t172 * t1921;
+        let t1923: f64 = t1910.minus(t1922);
+        let t1924: f64 = t1906 + t1923;
+        let t1925: f64 = t1894 + t1924;
+        let t1926: f64 = t1885.plus(t1925);
+        let t1927 = product(t146, t1926);
+        let t1928 = product(t819, t1909);
+        let t1929: f64 = t195 * t1921;
+        let t1930: f64 = t1928.minus(t1929);
+        let t1931 = product(t245, t1888);
+        let t1932: f64 = t257 * t1892;
+        let t1933: f64 = t1931.plus(t1932);
+        let t1934: f64 = t1930 + t1933;
+        let t1935 = product(t171, t1882);
+        let t1936: f64 = t1935.added_to(t1904);
+        let t1937 = product(t192, t1936);
+        let t1938 = product(t171, t1853);
+        let t1939: f64 = t1938.subtracted_from(t1898);
+        let t1940: f64 = t238 * t1939;
+        let t1941: f64 = t1937.plus(t1940);
+        let t1942: f64 = t1934 - t1941;
+        let t1943: f64 = t152 * t1942;
+        let t1944: f64 = t1927.minus(t1943);
+        let t1945 = product(wy, t266);
+        let t1946: f64 = wz * t272;
+        let t1947: f64 = t1945.minus(t1946);
+        let t1948: f64 = vx + t1947;
+        let t1949 = product(t316, t1948);
+        let t1950 = product(wz, t284);
+        let t1951: f64 = wx * t266;
+        let t1952: f64 = t1950.minus(t1951);
+        let t1953: f64 = vy + t1952;
+        let t1954: f64 = t324 * t1953;
+        let t1955 = product(wx, t272);
+        let t1956: f64 = wy * t284;
+        let t1957: f64 = t1955.minus(t1956);
+        let t1958: f64 = vz + t1957;
+        let t1959 = product(t312, t1958);
+        let t1960: f64 = t1949.plus(t1954);
+        let t1961: f64 = t1959.plus(t1960);
+        let t1962: f64 = t291 * t1961;
+        let t1963: f64 = t291 * t331;
+        let t1964: f64 = t1961 * t1963;
+        let t1965: f64 = t320 - t333;
+        let t1966: f64 = t1962 * t1964;
+        let t1967 = product(t1965, t1966);
+        let t1968 = product(gravity_x, t830);
+        let t1969: f64 = gravity_y * t318;
+        let t1970 = product(gravity_z, t358);
+        let t1971: f64 = t1968.plus(t1969);
+        let t1972: f64 = t1970.plus(t1971);
+        let t1973: f64 = leg3_cylinder_mz + leg3_rod_mz;
+        let t1974 = product(t1972, t1973);
+        let t1975: f64 = t1961 * t1961;
+        let t1976 = product(t1963, t1975);
+        let t1977 = product(t830, t1948);
+        let t1978: f64 = t318 * t1953;
+        let t1979 = product(t358, t1958);
+        let t1980: f64 = t1977.plus(t1978);
+        let t1981: f64 = t1979.plus(t1980);
+        let t1982 = product(t313, t1948);
+        let t1983: f64 = t292 * t1953;
+        let t1984 = product(t315, t1958);
+        let t1985: f64 = t1982.plus(t1983);
+        let t1986: f64 = t1984.plus(t1985);
+        let t1987: f64 = t291 * t1986;
+        let t1988: f64 = t1987 * 2.0;
+        let t1989: f64 = t1981 * t1988;
+        let t1990: f64 = t1976.plus(t1989);
+        let t1991: f64 = t291 * t1990;
+        let t1992: f64 = t320 * t1991;
+        let t1993: f64 = t1974.plus(t1992);
+        let t1994: f64 = t1967.minus(t1993);
+        let t1995 = product(t318, t1994);
+        let t1996: f64 = t291 * t291;
+        let t1997: f64 = t311 * t311;
+        let t1998: f64 = t289 * t1996;
+        let t1999: f64 = t1997 * t1998;
+        let t2000: f64 = t1961 * t1999;
+        let t2001 = product(t1981, t2000);
+        let t2002 = product(t1963, t1981);
         (
-            t1068,
-            t1074,
-            t1085,
-            t1086,
-            t1088,
-            t1119,
-            t1211,
-            t1257,
-            t1262,
-            t1268,
-            t1275,
-            t1277,
-            t1280,
+            t1010,
+            t1026,
+            t1042,
+            t1087,
+            t1179,
+            t1183,
+            t1225,
+            t1228,
+            t1233,
+            t1239,
+            t1250,
+            t1251,
+            t1258,
+            t1266,
+            t1267,
+            t1270,
             t1286,
             t1297,
             t1298,
             t1306,
             t1307,
             t1315,
-            t1325,
             t1326,
-            t1330,
-            t1349,
-            t1360,
-            t1361,
-            t1370,
-            t1371,
-            t1387,
-            t1388,
-            t1400,
-            t1401,
-            t1406,
-            t1428,
-            t1467,
-            t1468,
-            t1480,
-            t1487,
-            t1496,
-            t1505,
+            t1327,
+            t1331,
+            t1350,
+            t1362,
+            t1363,
+            t1373,
+            t1374,
+            t1390,
+            t1391,
+            t1403,
+            t1404,
+            t1409,
+            t1431,
+            t1481,
+            t1483,
+            t1494,
+            t1508,
             t1516,
-            t1535,
-            t1557,
+            t1520,
+            t1527,
+            t1532,
+            t1537,
+            t1549,
+            t1553,
+            t1554,
             t1562,
+            t1564,
             t1567,
             t1570,
-            t1571,
-            t1572,
-            t1575,
-            t1577,
-            t1579,
-            t1582,
-            t1587,
-            t1588,
-            t1592,
-            t1593,
-            t1598,
-            t1599,
             t1603,
-            t1604,
-            t1638,
-            t1647,
+            t1612,
+            t1618,
+            t1619,
+            t1627,
+            t1631,
+            t1632,
+            t1639,
+            t1640,
+            t1644,
+            t1645,
+            t1650,
             t1651,
-            t1661,
-            t1662,
-            t1666,
-            t1667,
-            t1672,
-            t1711,
+            t1655,
+            t1656,
+            t1660,
+            t1710,
             t1712,
-            t1724,
-            t1731,
-            t1740,
+            t1723,
+            t1737,
+            t1742,
+            t1745,
             t1749,
-            t1760,
-            t1779,
-            t1784,
-            t1801,
-            t1806,
-            t1811,
-            t1814,
-            t1815,
-            t1817,
-            t1819,
-            t1822,
-            t1824,
-            t1825,
-            t1829,
-            t1868,
-            t1869,
-            t1881,
+            t1756,
+            t1761,
+            t1766,
+            t1778,
+            t1782,
+            t1783,
+            t1791,
+            t1793,
+            t1796,
+            t1799,
+            t1803,
+            t1853,
+            t1855,
+            t1866,
+            t1880,
             t1888,
-            t1897,
-            t1906,
-            t1917,
+            t1892,
+            t1899,
+            t1904,
+            t1909,
+            t1921,
+            t1925,
+            t1926,
+            t1934,
             t1936,
-            t1958,
-            t1963,
-            t1968,
-            t1971,
+            t1939,
+            t1942,
+            t1944,
+            t1947,
+            t1952,
+            t1957,
+            t1962,
+            t1964,
+            t1965,
+            t1966,
             t1972,
             t1973,
-            t1976,
-            t1978,
-            t1980,
-            t1983,
-            t1985,
-            t1990,
+            t1981,
+            t1988,
             t1991,
             t1994,
-            t1998,
-            t2000,
+            t1995,
+            t1996,
             t2001,
             t2002,
         )
     };
     let (
-        t2053,
-        t2119,
-        t2124,
-        t2134,
-        t2210,
-        t2276,
-        t2281,
-        t2291,
-        t2366,
-        t2432,
-        t2437,
-        t2447,
-        t2463,
-        t2467,
-        t2481,
-        t2485,
-        t2490,
-        t2494,
-        t2499,
+        t2138,
+        t2279,
+        t2380,
+        t2389,
+        t2396,
+        t2400,
+        t2405,
+        t2409,
+        t2413,
+        t2506,
+        t2513,
+        t2522,
+        t2529,
+        t2533,
+        t2538,
+        t2542,
         t2546,
-        t2560,
-        t2564,
-        t2578,
-        t2582,
-        t2587,
-        t2591,
-        t2596,
+        t2614,
         t2625,
-        t2661,
-        t2705,
-        t2742,
-        t2756,
+        t2656,
+        t2668,
+        t2692,
+        t2722,
+        t2747,
+        t2760,
+        t2761,
         t2762,
-        t2799,
-        t2800,
-        t2802,
-        t2810,
-        t2817,
-        t2825,
-        t2826,
-        t2827,
+        t2776,
+        t2777,
+        t2790,
+        t2791,
+        t2792,
+        t2806,
+        t2807,
+        t2820,
+        t2821,
+        t2822,
         t2836,
         t2837,
-        t2838,
-        t2840,
-        t2848,
-        t2855,
-        t2863,
-        t2864,
-        t2865,
-        t2875,
-        t2876,
-        t2878,
-        t2886,
-        t2893,
-        t2901,
-        t2902,
-        t2903,
-        t2913,
-        t2914,
-        t2916,
-        t2924,
-        t2931,
+        t2850,
+        t2851,
+        t2852,
+        t2866,
+        t2867,
+        t2880,
+        t2881,
+        t2882,
+        t2896,
+        t2897,
+        t2910,
+        t2911,
+        t2912,
+        t2926,
+        t2927,
+        t2936,
+        t2937,
         t2939,
-        t2940,
-        t2941,
+        t2949,
         t2951,
-        t2952,
-        t2954,
-        t2962,
-        t2969,
-        t2977,
-        t2978,
-        t2979,
-        t2989,
-        t2990,
-        t2992,
+        t2961,
+        t2963,
+        t2973,
+        t2975,
+        t2985,
+        t2987,
         t2997,
+        t2999,
         t3000,
         t3001,
         t3002,
     ) = {
-        let t2003: f64 = wy * t284;
-        let t2004: f64 = t2002.minus(t2003);
-        let t2005 = product(wy, t2004);
-        let t2006: f64 = wz * t1998;
-        let t2007: f64 = t2005.minus(t2006);
-        let t2008 = product(t830, t2007);
-        let t2009 = product(wz, t1994);
-        let t2010: f64 = wx * t2004;
-        let t2011: f64 = t2009.minus(t2010);
-        let t2012: f64 = t318 * t2011;
-        let t2013: f64 = t2008.plus(t2012);
-        let t2014: f64 = t2001.plus(t2013);
-        let t2015: f64 = t2014 - t1990;
-        let t2016 = product(leg3_rod_mz, t2015);
-        let t2017: f64 = vx + t1994;
-        let t2018 = product(t316, t2017);
-        let t2019: f64 = vy + t1998;
-        let t2020: f64 = t324 * t2019;
-        let t2021: f64 = vz + t2004;
-        let t2022 = product(t312, t2021);
-        let t2023: f64 = t2018.plus(t2020);
-        let t2024: f64 = t2022.plus(t2023);
-        let t2025: f64 = t291 * t2024;
-        let t2026: f64 = t291 * t331;
-        let t2027: f64 = t2024 * t2026;
-        let t2028: f64 = t320 - t333;
-        let t2029: f64 = t2025 * t2027;
-        let t2030: f64 = t2028 * t2029;
-        let t2031: f64 = t2024 * t2024;
-        let t2032 = product(t2026, t2031);
-        let t2033 = product(t830, t2017);
-        let t2034: f64 = t318 * t2019;
-        let t2035 = product(t358, t2021);
-        let t2036: f64 = t2033.plus(t2034);
-        let t2037: f64 = t2035.plus(t2036);
-        let t2038 = product(t313, t2017);
-        let t2039: f64 = t292 * t2019;
-        let t2040 = product(t315, t2021);
-        let t2041: f64 = t2038.plus(t2039);
-        let t2042: f64 = t2040.plus(t2041);
-        let t2043: f64 = t291 * t2042;
-        let t2044: f64 = t2043 * 2.0;
-        let t2045: f64 = t2037 * t2044;
-        let t2046: f64 = t2032.plus(t2045);
-        let t2047: f64 = t2014 - t2046;
-        let t2048: f64 = t291 * t2047;
-        let t2049: f64 = -t2048;
-        let t2050: f64 = t320 * t2049;
-        let t2051: f64 = t1991.plus(t2050);
-        let t2052: f64 = t2016.plus(t2030);
-        let t2053: f64 = t2051 - t2052;
-        let t2054 = product(t318, t2053);
-        let t2055 = product(t2026, t2037);
-        let t2056: f64 = t2055.subtracted_from(t2044);
-        let t2057 = product(t2024, t2056);
-        let t2058 = product(t312, t2000);
-        let t2059 = product(t316, t2007);
-        let t2060: f64 = t324 * t2011;
-        let t2061: f64 = t2059.plus(t2060);
-        let t2062: f64 = t2058.plus(t2061);
-        let t2063: f64 = t2057.subtracted_from(t2062);
-        let t2064: f64 = t291 * t2063;
-        let t2065 = product(t320, t2064);
-        let t2066: f64 = t311 * t311;
-        let t2067: f64 = t289 * t291;
-        let t2068: f64 = t2066 * t2067;
-        let t2069: f64 = t2024 * t2068;
-        let t2070 = product(t2037, t2069);
-        let t2071: f64 = t331 * t2062;
-        let t2072: f64 = t2070.plus(t2071);
-        let t2073: f64 = t291 * t2072;
-        let t2074: f64 = t2025 * t2056;
-        let t2075: f64 = -t2074;
-        let t2076 = product(t331, t2075);
-        let t2077: f64 = t2076.added_to(t2073);
-        let t2078: f64 = t331 * t333;
-        let t2079: f64 = t2077 * t2078;
-        let t2080: f64 = t291 * t2037;
-        let t2081: f64 = t2027 * t2080;
-        let t2082 = product(t2028, t2081);
-        let t2083 = product(gravity_x, t316);
-        let t2084: f64 = gravity_y * t324;
-        let t2085 = product(gravity_z, t312);
-        let t2086: f64 = t2083.plus(t2084);
-        let t2087: f64 = t2085.plus(t2086);
-        let t2088 = product(leg3_cylinder_mz, t2087);
-        let t2089: f64 = t2062 - t2087;
-        let t2090: f64 = leg3_rod_mz * t2089;
-        let t2091: f64 = t2088.minus(t2090);
-        let t2092: f64 = t2082.plus(t2091);
-        let t2093: f64 = t2065.plus(t2079);
-        let t2094: f64 = t2092 - t2093;
-        let t2095: f64 = t324 * t2094;
-        let t2096: f64 = t2054.plus(t2095);
-        let t2097 = product(t291, t2096);
-        let t2098 = product(t313, t2007);
-        let t2099: f64 = t292 * t2011;
-        let t2100 = product(t315, t2000);
-        let t2101: f64 = t2098.plus(t2099);
-        let t2102: f64 = t2100.plus(t2101);
-        let t2103 = product(gravity_x, t313);
-        let t2104: f64 = gravity_y * t292;
-        let t2105 = product(gravity_z, t315);
-        let t2106: f64 = t2103.plus(t2104);
-        let t2107: f64 = t2105.plus(t2106);
-        let t2108: f64 = t2102 - t2107;
-        let t2109 = product(leg3_rod_mass, t2108);
-        let t2110 = product(t2025, t2025);
-        let t2111: f64 = t2080 * t2080;
-        let t2112: f64 = t2110.plus(t2111);
-        let t2113: f64 = leg3_rod_mz * t2112;
-        let t2114: f64 = t2109.minus(t2113);
-        let t2115 = product(t292, t2114);
-        let t2116 = product(leg3_rod_mass, t2015);
-        let t2117: f64 = t2029 + t2048;
-        let t2118: f64 = leg3_rod_mz * t2117;
-        let t2119: f64 = t2116.plus(t2118);
-        let t2120 = product(t318, t2119);
-        let t2121 = product(leg3_rod_mass, t2089);
-        let t2122: f64 = t2081 - t2064;
-        let t2123: f64 = leg3_rod_mz * t2122;
-        let t2124: f64 = t2121.minus(t2123);
-        let t2125: f64 = t324 * t2124;
-        let t2126: f64 = t2120.plus(t2125);
-        let t2127: f64 = t2115.plus(t2126);
-        let t2128: f64 = t2097.minus(t2127);
-        let t2129: f64 = -t2128;
-        let t2130 = product(t266, t2129);
-        let t2131 = product(t291, t2053);
-        let t2132: f64 = t2131.subtracted_from(t2119);
-        let t2133 = product(t358, t2132);
-        let t2134: f64 = t315 * t2114;
-        let t2135 = product(t291, t2094);
-        let t2136: f64 = t2135.subtracted_from(t2124);
-        let t2137 = product(t312, t2136);
-        let t2138: f64 = t2137.added_to(t2134);
-        let t2139: f64 = t2133.plus(t2138);
-        let t2140: f64 = t272 * t2139;
-        let t2141: f64 = t2130.minus(t2140);
-        let t2142: f64 = t1985 + t2141;
-        let t2143 = product(gravity_x, t853);
-        let t2144: f64 = gravity_y * t438;
-        let t2145 = product(gravity_z, t478);
-        let t2146: f64 = t2143.plus(t2144);
-        let t2147: f64 = t2145.plus(t2146);
-        let t2148 = product(leg4_cylinder_mz, t2147);
-        let t2149 = product(wy, t386);
-        let t2150: f64 = wz * t392;
-        let t2151: f64 = t2149.minus(t2150);
-        let t2152 = product(wy, t2151);
-        let t2153 = product(wz, t404);
-        let t2154: f64 = wx * t386;
-        let t2155: f64 = t2153.minus(t2154);
-        let t2156: f64 = wx * t2155;
-        let t2157: f64 = t2152.subtracted_from(t2156);
-        let t2158 = product(t478, t2157);
-        let t2159 = product(wx, t392);
-        let t2160: f64 = wy * t404;
-        let t2161: f64 = t2159.minus(t2160);
-        let t2162 = product(wy, t2161);
-        let t2163: f64 = wz * t2155;
-        let t2164: f64 = t2162.minus(t2163);
-        let t2165 = product(t853, t2164);
-        let t2166 = product(wz, t2151);
-        let t2167: f64 = wx * t2161;
-        let t2168: f64 = t2166.minus(t2167);
-        let t2169: f64 = t438 * t2168;
-        let t2170: f64 = t2165.plus(t2169);
-        let t2171: f64 = t2158.plus(t2170);
-        let t2172: f64 = t2171 - t2147;
-        let t2173 = product(leg4_rod_mz, t2172);
-        let t2174: f64 = vx + t2151;
-        let t2175 = product(t436, t2174);
-        let t2176: f64 = vy + t2155;
-        let t2177: f64 = t444 * t2176;
-        let t2178: f64 = vz + t2161;
-        let t2179 = product(t432, t2178);
-        let t2180: f64 = t2175.plus(t2177);
-        let t2181: f64 = t2179.plus(t2180);
-        let t2182: f64 = t411 * t2181;
-        let t2183: f64 = t411 * t451;
-        let t2184: f64 = t2181 * t2183;
-        let t2185: f64 = t440 - t453;
-        let t2186: f64 = t2182 * t2184;
-        let t2187: f64 = t2185 * t2186;
-        let t2188: f64 = t2181 * t2181;
-        let t2189 = product(t2183, t2188);
-        let t2190 = product(t853, t2174);
-        let t2191: f64 = t438 * t2176;
-        let t2192 = product(t478, t2178);
-        let t2193: f64 = t2190.plus(t2191);
-        let t2194: f64 = t2192.plus(t2193);
-        let t2195 = product(t433, t2174);
-        let t2196: f64 = t412 * t2176;
-        let t2197 = product(t435, t2178);
-        let t2198: f64 = t2195.plus(t2196);
-        let t2199: f64 = t2197.plus(t2198);
-        let t2200: f64 = t411 * t2199;
-        let t2201: f64 = t2200 * 2.0;
-        let t2202: f64 = t2194 * t2201;
-        let t2203: f64 = t2189.plus(t2202);
-        let t2204: f64 = t2171 - t2203;
-        let t2205: f64 = t411 * t2204;
-        let t2206: f64 = -t2205;
-        let t2207: f64 = t440 * t2206;
-        let t2208: f64 = t2148.plus(t2207);
-        let t2209: f64 = t2173.plus(t2187);
-        let t2210: f64 = t2208 - t2209;
-        let t2211 = product(t438, t2210);
-        let t2212 = product(t2183, t2194);
-        let t2213: f64 = t2212.subtracted_from(t2201);
-        let t2214 = product(t2181, t2213);
-        let t2215 = product(t432, t2157);
-        let t2216 = product(t436, t2164);
-        let t2217: f64 = t444 * t2168;
-        let t2218: f64 = t2216.plus(t2217);
-        let t2219: f64 = t2215.plus(t2218);
-        let t2220: f64 = t2214.subtracted_from(t2219);
-        let t2221: f64 = t411 * t2220;
-        let t2222 = product(t440, t2221);
-        let t2223: f64 = t431 * t431;
-        let t2224: f64 = t409 * t411;
-        let t2225: f64 = t2223 * t2224;
-        let t2226: f64 = t2181 * t2225;
-        let t2227 = product(t2194, t2226);
-        let t2228: f64 = t451 * t2219;
-        let t2229: f64 = t2227.plus(t2228);
-        let t2230: f64 = t411 * t2229;
-        let t2231: f64 = t2182 * t2213;
-        let t2232: f64 = -t2231;
-        let t2233 = product(t451, t2232);
-        let t2234: f64 = t2233.added_to(t2230);
-        let t2235: f64 = t451 * t453;
-        let t2236: f64 = t2234 * t2235;
-        let t2237: f64 = t411 * t2194;
-        let t2238: f64 = t2184 * t2237;
-        let t2239 = product(t2185, t2238);
-        let t2240 = product(gravity_x, t436);
-        let t2241: f64 = gravity_y * t444;
-        let t2242 = product(gravity_z, t432);
-        let t2243: f64 = t2240.plus(t2241);
+        let t2003: f64 = t2002.subtracted_from(t1988);
+        let t2004: f64 = t1962 * t2003;
+        let t2005: f64 = -t2004;
+        let t2006: f64 = t331 * t2005;
+        let t2007: f64 = t2001.plus(t2006);
+        let t2008: f64 = t331 * t333;
+        let t2009 = product(t2007, t2008);
+        let t2010 = product(t320, t2005);
+        let t2011: f64 = t291 * t1981;
+        let t2012: f64 = t1964 * t2011;
+        let t2013 = product(t1965, t2012);
+        let t2014 = product(gravity_x, t316);
+        let t2015: f64 = gravity_y * t324;
+        let t2016 = product(gravity_z, t312);
+        let t2017: f64 = t2014.plus(t2015);
+        let t2018: f64 = t2016.plus(t2017);
+        let t2019: f64 = t1973 * t2018;
+        let t2020: f64 = t2013.plus(t2019);
+        let t2021: f64 = t2010.minus(t2020);
+        let t2022: f64 = t2009.plus(t2021);
+        let t2023: f64 = -t2022;
+        let t2024: f64 = t324 * t2023;
+        let t2025: f64 = t1995.minus(t2024);
+        let t2026 = product(t291, t2025);
+        let t2027 = product(wz, t1947);
+        let t2028: f64 = wx * t1957;
+        let t2029: f64 = t2027.minus(t2028);
+        let t2030 = product(t346, t2029);
+        let t2031 = product(wy, t1947);
+        let t2032: f64 = wx * t1952;
+        let t2033: f64 = t2031.subtracted_from(t2032);
+        let t2034: f64 = t365 * t2033;
+        let t2035: f64 = t2030.plus(t2034);
+        let t2036 = product(leg3_rod_mass, t1972);
+        let t2037: f64 = t1991 - t1966;
+        let t2038: f64 = leg3_rod_mz * t2037;
+        let t2039: f64 = t2036.plus(t2038);
+        let t2040: f64 = -t2039;
+        let t2041 = product(t318, t2040);
+        let t2042 = product(leg3_rod_mass, t2018);
+        let t2043: f64 = t2004 + t2012;
+        let t2044: f64 = leg3_rod_mz * t2043;
+        let t2045: f64 = t2042.plus(t2044);
+        let t2046: f64 = t324 * t2045;
+        let t2047: f64 = t2041.minus(t2046);
+        let t2048 = product(wy, t1957);
+        let t2049: f64 = wz * t1952;
+        let t2050: f64 = t2048.minus(t2049);
+        let t2051 = product(t834, t2050);
+        let t2052 = product(gravity_x, t313);
+        let t2053: f64 = gravity_y * t292;
+        let t2054 = product(gravity_z, t315);
+        let t2055: f64 = t2052.plus(t2053);
+        let t2056: f64 = t2054.plus(t2055);
+        let t2057 = product(leg3_rod_mass, t2056);
+        let t2058 = product(t1962, t1962);
+        let t2059: f64 = t2011 * t2011;
+        let t2060: f64 = t2058.plus(t2059);
+        let t2061: f64 = leg3_rod_mz * t2060;
+        let t2062: f64 = t2057.plus(t2061);
+        let t2063: f64 = t292 * t2062;
+        let t2064: f64 = t2051.minus(t2063);
+        let t2065: f64 = t2047 + t2064;
+        let t2066: f64 = t2035 + t2065;
+        let t2067: f64 = t2026.plus(t2066);
+        let t2068 = product(t266, t2067);
+        let t2069 = product(t842, t2050);
+        let t2070: f64 = t315 * t2062;
+        let t2071: f64 = t2069.minus(t2070);
+        let t2072 = product(t365, t2029);
+        let t2073: f64 = t377 * t2033;
+        let t2074: f64 = t2072.plus(t2073);
+        let t2075: f64 = t2071 + t2074;
+        let t2076 = product(t291, t2023);
+        let t2077: f64 = t2076.added_to(t2045);
+        let t2078 = product(t312, t2077);
+        let t2079 = product(t291, t1994);
+        let t2080: f64 = t2079.subtracted_from(t2039);
+        let t2081: f64 = t358 * t2080;
+        let t2082: f64 = t2078.plus(t2081);
+        let t2083: f64 = t2075 - t2082;
+        let t2084: f64 = t272 * t2083;
+        let t2085: f64 = t2068.minus(t2084);
+        let t2086: f64 = t1944 + t2085;
+        let t2087 = product(wy, t386);
+        let t2088: f64 = wz * t392;
+        let t2089: f64 = t2087.minus(t2088);
+        let t2090: f64 = vx + t2089;
+        let t2091 = product(t436, t2090);
+        let t2092 = product(wz, t404);
+        let t2093: f64 = wx * t386;
+        let t2094: f64 = t2092.minus(t2093);
+        let t2095: f64 = vy + t2094;
+        let t2096: f64 = t444 * t2095;
+        let t2097 = product(wx, t392);
+        let t2098: f64 = wy * t404;
+        let t2099: f64 = t2097.minus(t2098);
+        let t2100: f64 = vz + t2099;
+        let t2101 = product(t432, t2100);
+        let t2102: f64 = t2091.plus(t2096);
+        let t2103: f64 = t2101.plus(t2102);
+        let t2104: f64 = t411 * t2103;
+        let t2105: f64 = t411 * t451;
+        let t2106: f64 = t2103 * t2105;
+        let t2107: f64 = t440 - t453;
+        let t2108: f64 = t2104 * t2106;
+        let t2109 = product(t2107, t2108);
+        let t2110 = product(gravity_x, t853);
+        let t2111: f64 = gravity_y * t438;
+        let t2112 = product(gravity_z, t478);
+        let t2113: f64 = t2110.plus(t2111);
+        let t2114: f64 = t2112.plus(t2113);
+        let t2115: f64 = leg4_cylinder_mz + leg4_rod_mz;
+        let t2116 = product(t2114, t2115);
+        let t2117: f64 = t2103 * t2103;
+        let t2118 = product(t2105, t2117);
+        let t2119 = product(t853, t2090);
+        let t2120: f64 = t438 * t2095;
+        let t2121 = product(t478, t2100);
+        let t2122: f64 = t2119.plus(t2120);
+        let t2123: f64 = t2121.plus(t2122);
+        let t2124 = product(t433, t2090);
+        let t2125: f64 = t412 * t2095;
+        let t2126 = product(t435, t2100);
+        let t2127: f64 = t2124.plus(t2125);
+        let t2128: f64 = t2126.plus(t2127);
+        let t2129: f64 = t411 * t2128;
+        let t2130: f64 = t2129 * 2.0;
+        let t2131: f64 = t2123 * t2130;
+        let t2132: f64 = t2118.plus(t2131);
+        let t2133: f64 = t411 * t2132;
+        let t2134: f64 = t440 * t2133;
+        let t2135: f64 = t2116.plus(t2134);
+        let t2136: f64 = t2109.minus(t2135);
+        let t2137 = product(t438, t2136);
+        let t2138: f64 = t411 * t411;
+        let t2139: f64 = t431 * t431;
+        let t2140: f64 = t409 * t2138;
+        let t2141: f64 = t2139 * t2140;
+        let t2142: f64 = t2103 * t2141;
+        let t2143 = product(t2123, t2142);
+        let t2144 = product(t2105, t2123);
+        let t2145: f64 = t2144.subtracted_from(t2130);
+        let t2146: f64 = t2104 * t2145;
+        let t2147: f64 = -t2146;
+        let t2148: f64 = t451 * t2147;
+        let t2149: f64 = t2143.plus(t2148);
+        let t2150: f64 = t451 * t453;
+        let t2151 = product(t2149, t2150);
+        let t2152 = product(t440, t2147);
+        let t2153: f64 = t411 * t2123;
+        let t2154: f64 = t2106 * t2153;
+        let t2155 = product(t2107, t2154);
+        let t2156 = product(gravity_x, t436);
+        let t2157: f64 = gravity_y * t444;
+        let t2158 = product(gravity_z, t432);
+        let t2159: f64 = t2156.plus(t2157);
+        let t2160: f64 = t2158.plus(t2159);
+        let t2161: f64 = t2115 * t2160;
+        let t2162: f64 = t2155.plus(t2161);
+        let t2163: f64 = t2152.minus(t2162);
+        let t2164: f64 = t2151.plus(t2163);
+        let t2165: f64 = -t2164;
+        let t2166: f64 = t444 * t2165;
+        let t2167: f64 = t2137.minus(t2166);
+        let t2168 = product(t411, t2167);
+        let t2169 = product(wz, t2089);
+        let t2170: f64 = wx * t2099;
+        let t2171: f64 = t2169.minus(t2170);
+        let t2172 = product(t466, t2171);
+        let t2173 = product(wy, t2089);
+        let t2174: f64 = wx * t2094;
+        let t2175: f64 = t2173.subtracted_from(t2174);
+        let t2176: f64 = t485 * t2175;
+        let t2177: f64 = t2172.plus(t2176);
+        let t2178 = product(leg4_rod_mass, t2114);
+        let t2179: f64 = t2133 - t2108;
+        let t2180: f64 = leg4_rod_mz * t2179;
+        let t2181: f64 = t2178.plus(t2180);
+        let t2182: f64 = -t2181;
+        let t2183 = product(t438, t2182);
+        let t2184 = product(leg4_rod_mass, t2160);
+        let t2185: f64 = t2146 + t2154;
+        let t2186: f64 = leg4_rod_mz * t2185;
+        let t2187: f64 = t2184.plus(t2186);
+        let t2188: f64 = t444 * t2187;
+        let t2189: f64 = t2183.minus(t2188);
+        let t2190 = product(wy, t2099);
+        let t2191: f64 = wz * t2094;
+        let t2192: f64 = t2190.minus(t2191);
+        let t2193 = product(t857, t2192);
+        let t2194 = product(gravity_x, t433);
+        let t2195: f64 = gravity_y * t412;
+        let t2196 = product(gravity_z, t435);
+        let t2197: f64 = t2194.plus(t2195);
+        let t2198: f64 = t2196.plus(t2197);
+        let t2199 = product(leg4_rod_mass, t2198);
+        let t2200 = product(t2104, t2104);
+        let t2201: f64 = t2153 * t2153;
+        let t2202: f64 = t2200.plus(t2201);
+        let t2203: f64 = leg4_rod_mz * t2202;
+        let t2204: f64 = t2199.plus(t2203);
+        let t2205: f64 = t412 * t2204;
+        let t2206: f64 = t2193.minus(t2205);
+        let t2207: f64 = t2189 + t2206;
+        let t2208: f64 = t2177 + t2207;
+        let t2209: f64 = t2168.plus(t2208);
+        let t2210 = product(t386, t2209);
+        let t2211 = product(t865, t2192);
+        let t2212: f64 = t435 * t2204;
+        let t2213: f64 = t2211.minus(t2212);
+        let t2214 = product(t485, t2171);
+        let t2215: f64 = t497 * t2175;
+        let t2216: f64 = t2214.plus(t2215);
+        let t2217: f64 = t2213 + t2216;
+        let t2218 = product(t411, t2165);
+        let t2219: f64 = t2218.added_to(t2187);
+        let t2220 = product(t432, t2219);
+        let t2221 = product(t411, t2136);
+        let t2222: f64 = t2221.subtracted_from(t2181);
+        let t2223: f64 = t478 * t2222;
+        let t2224: f64 = t2220.plus(t2223);
+        let t2225: f64 = t2217 - t2224;
+        let t2226: f64 = t392 * t2225;
+        let t2227: f64 = t2210.minus(t2226);
+        let t2228 = product(wy, t506);
+        let t2229: f64 = wz * t512;
+        let t2230: f64 = t2228.minus(t2229);
+        let t2231: f64 = vx + t2230;
+        let t2232 = product(t556, t2231);
+        let t2233 = product(wz, t524);
+        let t2234: f64 = wx * t506;
+        let t2235: f64 = t2233.minus(t2234);
+        let t2236: f64 = vy + t2235;
+        let t2237: f64 = t564 * t2236;
+        let t2238 = product(wx, t512);
+        let t2239: f64 = wy * t524;
+        let t2240: f64 = t2238.minus(t2239);
+        let t2241: f64 = vz + t2240;
+        let t2242 = product(t552, t2241);
+        let t2243: f64 = t2232.plus(t2237);
         let t2244: f64 = t2242.plus(t2243);
-        let t2245 = product(leg4_cylinder_mz, t2244);
-        let t2246: f64 = t2219 - t2244;
-        let t2247: f64 = leg4_rod_mz * t2246;
-        let t2248: f64 = t2245.minus(t2247);
-        let t2249: f64 = t2239.plus(t2248);
-        let t2250: f64 = t2222.plus(t2236);
-        let t2251: f64 = t2249 - t2250;
-        let t2252: f64 = t444 * t2251;
-        let t2253: f64 = t2211.plus(t2252);
-        let t2254 = product(t411, t2253);
-        let t2255 = product(t433, t2164);
-        let t2256: f64 = t412 * t2168;
-        let t2257 = product(t435, t2157);
-        let t2258: f64 = t2255.plus(t2256);
-        let t2259: f64 = t2257.plus(t2258);
-        let t2260 = product(gravity_x, t433);
-        let t2261: f64 = gravity_y * t412;
-        let t2262 = product(gravity_z, t435);
+        let t2245: f64 = t531 * t2244;
+        let t2246: f64 = t531 * t571;
+        let t2247: f64 = t2244 * t2246;
+        let t2248: f64 = t560 - t573;
+        let t2249: f64 = t2245 * t2247;
+        let t2250 = product(t2248, t2249);
+        let t2251 = product(gravity_x, t876);
+        let t2252: f64 = gravity_y * t558;
+        let t2253 = product(gravity_z, t598);
+        let t2254: f64 = t2251.plus(t2252);
+        let t2255: f64 = t2253.plus(t2254);
+        let t2256: f64 = leg5_cylinder_mz + leg5_rod_mz;
+        let t2257 = product(t2255, t2256);
+        let t2258: f64 = t2244 * t2244;
+        let t2259 = product(t2246, t2258);
+        let t2260 = product(t876, t2231);
+        let t2261: f64 = t558 * t2236;
+        let t2262 = product(t598, t2241);
         let t2263: f64 = t2260.plus(t2261);
         let t2264: f64 = t2262.plus(t2263);
-        let t2265: f64 = t2259 - t2264;
-        let t2266 = product(leg4_rod_mass, t2265);
-        let t2267 = product(t2182, t2182);
-        let t2268: f64 = t2237 * t2237;
+        let t2265 = product(t553, t2231);
+        let t2266: f64 = t532 * t2236;
+        let t2267 = product(t555, t2241);
+        let t2268: f64 = t2265.plus(t2266);
         let t2269: f64 = t2267.plus(t2268);
-        let t2270: f64 = leg4_rod_mz * t2269;
-        let t2271: f64 = t2266.minus(t2270);
-        let t2272 = product(t412, t2271);
-        let t2273 = product(leg4_rod_mass, t2172);
-        let t2274: f64 = t2186 + t2205;
-        let t2275: f64 = leg4_rod_mz * t2274;
-        let t2276: f64 = t2273.plus(t2275);
-        let t2277 = product(t438, t2276);
-        let t2278 = product(leg4_rod_mass, t2246);
-        let t2279: f64 = t2238 - t2221;
-        let t2280: f64 = leg4_rod_mz * t2279;
-        let t2281: f64 = t2278.minus(t2280);
-        let t2282: f64 = t444 * t2281;
-        let t2283: f64 = t2277.plus(t2282);
-        let t2284: f64 = t2272.plus(t2283);
-        let t2285: f64 = t2254.minus(t2284);
-        let t2286: f64 = -t2285;
-        let t2287 = product(t386, t2286);
-        let t2288 = product(t411, t2210);
-        let t2289: f64 = t2288.subtracted_from(t2276);
-        let t2290 = product(t478, t2289);
-        let t2291: f64 = t435 * t2271;
-        let t2292 = product(t411, t2251);
-        let t2293: f64 = t2292.subtracted_from(t2281);
-        let t2294 = product(t432, t2293);
-        let t2295: f64 = t2294.added_to(t2291);
-        let t2296: f64 = t2290.plus(t2295);
-        let t2297: f64 = t392 * t2296;
-        let t2298: f64 = t2287.minus(t2297);
-        let t2299 = product(gravity_x, t876);
-        let t2300: f64 = gravity_y * t558;
-        let t2301 = product(gravity_z, t598);
-        let t2302: f64 = t2299.plus(t2300);
-        let t2303: f64 = t2301.plus(t2302);
-        let t2304 = product(leg5_cylinder_mz, t2303);
-        let t2305 = product(wy, t506);
-        let t2306: f64 = wz * t512;
-        let t2307: f64 = t2305.minus(t2306);
-        let t2308 = product(wy, t2307);
-        let t2309 = product(wz, t524);
-        let t2310: f64 = wx * t506;
-        let t2311: f64 = t2309.minus(t2310);
-        let t2312: f64 = wx * t2311;
-        let t2313: f64 = t2308.subtracted_from(t2312);
-        let t2314 = product(t598, t2313);
-        let t2315 = product(wx, t512);
-        let t2316: f64 = wy * t524;
-        let t2317: f64 = t2315.minus(t2316);
-        let t2318 = product(wy, t2317);
-        let t2319: f64 = wz * t2311;
-        let t2320: f64 = t2318.minus(t2319);
-        let t2321 = product(t876, t2320);
-        let t2322 = product(wz, t2307);
-        let t2323: f64 = wx * t2317;
-        let t2324: f64 = t2322.minus(t2323);
-        let t2325: f64 = t558 * t2324;
-        let t2326: f64 = t2321.plus(t2325);
-        let t2327: f64 = t2314.plus(t2326);
-        let t2328: f64 = t2327 - t2303;
-        let t2329 = product(leg5_rod_mz, t2328);
-        let t2330: f64 = vx + t2307;
-        let t2331 = product(t556, t2330);
-        let t2332: f64 = vy + t2311;
-        let t2333: f64 = t564 * t2332;
-        let t2334: f64 = vz + t2317;
-        let t2335 = product(t552, t2334);
-        let t2336: f64 = t2331.plus(t2333);
-        let t2337: f64 = t2335.plus(t2336);
-        let t2338: f64 = t531 * t2337;
-        let t2339: f64 = t531 * t571;
-        let t2340: f64 = t2337 * t2339;
-        let t2341: f64 = t560 - t573;
-        let t2342: f64 = t2338 * t2340;
-        let t2343: f64 = t2341 * t2342;
-        let t2344: f64 = t2337 * t2337;
-        let t2345 = product(t2339, t2344);
-        let t2346 = product(t876, t2330);
-        let t2347: f64 = t558 * t2332;
-        let t2348 = product(t598, t2334);
-        let t2349: f64 = t2346.plus(t2347);
-        let t2350: f64 = t2348.plus(t2349);
-        let t2351 = product(t553, t2330);
-        let t2352: f64 = t532 * t2332;
-        let t2353 = product(t555, t2334);
-        let t2354: f64 = t2351.plus(t2352);
-        let t2355: f64 = t2353.plus(t2354);
-        let t2356: f64 = t531 * t2355;
-        let t2357: f64 = t2356 * 2.0;
-        let t2358: f64 = t2350 * t2357;
-        let t2359: f64 = t2345.plus(t2358);
-        let t2360: f64 = t2327 - t2359;
-        let t2361: f64 = t531 * t2360;
-        let t2362: f64 = -t2361;
-        let t2363: f64 = t560 * t2362;
-        let t2364: f64 = t2304.plus(t2363);
-        let t2365: f64 = t2329.plus(t2343);
-        let t2366: f64 = t2364 - t2365;
-        let t2367 = product(t558, t2366);
-        let t2368 = product(t2339, t2350);
-        let t2369: f64 = t2368.subtracted_from(t2357);
-        let t2370 = product(t2337, t2369);
-        let t2371 = product(t552, t2313);
-        let t2372 = product(t556, t2320);
-        let t2373: f64 = t564 * t2324;
-        let t2374: f64 = t2372.plus(t2373);
-        let t2375: f64 = t2371.plus(t2374);
-        let t2376: f64 = t2370.subtracted_from(t2375);
-        let t2377: f64 = t531 * t2376;
-        let t2378 = product(t560, t2377);
-        let t2379: f64 = t551 * t551;
-        let t2380: f64 = t529 * t531;
-        let t2381: f64 = t2379 * t2380;
-        let t2382: f64 = t2337 * t2381;
-        let t2383 = product(t2350, t2382);
-        let t2384: f64 = t571 * t2375;
-        let t2385: f64 = t2383.plus(t2384);
-        let t2386: f64 = t531 * t2385;
-        let t2387: f64 = t2338 * t2369;
-        let t2388: f64 = -t2387;
-        let t2389 = product(t571, t2388);
-        let t2390: f64 = t2389.added_to(t2386);
-        let t2391: f64 = t571 * t573;
-        let t2392: f64 = t2390 * t2391;
-        let t2393: f64 = t531 * t2350;
-        let t2394: f64 = t2340 * t2393;
-        let t2395 = product(t2341, t2394);
-        let t2396 = product(gravity_x, t556);
-        let t2397: f64 = gravity_y * t564;
-        let t2398 = product(gravity_z, t552);
-        let t2399: f64 = t2396.plus(t2397);
-        let t2400: f64 = t2398.plus(t2399);
-        let t2401 = product(leg5_cylinder_mz, t2400);
-        let t2402: f64 = t2375 - t2400;
-        let t2403: f64 = leg5_rod_mz * t2402;
-        let t2404: f64 = t2401.minus(t2403);
-        let t2405: f64 = t2395.plus(t2404);
-        let t2406: f64 = t2378.plus(t2392);
-        let t2407: f64 = t2405 - t2406;
-        let t2408: f64 = t564 * t2407;
-        let t2409: f64 = t2367.plus(t2408);
-        let t2410 = product(t531, t2409);
-        let t2411 = product(t553, t2320);
-        let t2412: f64 = t532 * t2324;
-        let t2413 = product(t555, t2313);
-        let t2414: f64 = t2411.plus(t2412);
-        let t2415: f64 = t2413.plus(t2414);
-        let t2416 = product(gravity_x, t553);
-        let t2417: f64 = gravity_y * t532;
-        let t2418 = product(gravity_z, t555);
-        let t2419: f64 = t2416.plus(t2417);
+        let t2270: f64 = t531 * t2269;
+        let t2271: f64 = t2270 * 2.0;
+        let t2272: f64 = t2264 * t2271;
+        let t2273: f64 = t2259.plus(t2272);
+        let t2274: f64 = t531 * t2273;
+        let t2275: f64 = t560 * t2274;
+        let t2276: f64 = t2257.plus(t2275);
+        let t2277: f64 = t2250.minus(t2276);
+        let t2278 = product(t558, t2277);
+        let t2279: f64 = t531 * t531;
+        let t2280: f64 = t551 * t551;
+        let t2281: f64 = t529 * t2279;
+        let t2282: f64 = t2280 * t2281;
+        let t2283: f64 = t2244 * t2282;
+        let t2284 = product(t2264, t2283);
+        let t2285 = product(t2246, t2264);
+        let t2286: f64 = t2285.subtracted_from(t2271);
+        let t2287: f64 = t2245 * t2286;
+        let t2288: f64 = -t2287;
+        let t2289: f64 = t571 * t2288;
+        let t2290: f64 = t2284.plus(t2289);
+        let t2291: f64 = t571 * t573;
+        let t2292 = product(t2290, t2291);
+        let t2293 = product(t560, t2288);
+        let t2294: f64 = t531 * t2264;
+        let t2295: f64 = t2247 * t2294;
+        let t2296 = product(t2248, t2295);
+        let t2297 = product(gravity_x, t556);
+        let t2298: f64 = gravity_y * t564;
+        let t2299 = product(gravity_z, t552);
+        let t2300: f64 = t2297.plus(t2298);
+        let t2301: f64 = t2299.plus(t2300);
+        let t2302: f64 = t2256 * t2301;
+        let t2303: f64 = t2296.plus(t2302);
+        let t2304: f64 = t2293.minus(t2303);
+        let t2305: f64 = t2292.plus(t2304);
+        let t2306: f64 = -t2305;
+        let t2307: f64 = t564 * t2306;
+        let t2308: f64 = t2278.minus(t2307);
+        let t2309 = product(t531, t2308);
+        let t2310 = product(wz, t2230);
+        let t2311: f64 = wx * t2240;
+        let t2312: f64 = t2310.minus(t2311);
+        let t2313 = product(t586, t2312);
+        let t2314 = product(wy, t2230);
+        let t2315: f64 = wx * t2235;
+        let t2316: f64 = t2314.subtracted_from(t2315);
+        let t2317: f64 = t605 * t2316;
+        let t2318: f64 = t2313.plus(t2317);
+        let t2319 = product(leg5_rod_mass, t2255);
+        let t2320: f64 = t2274 - t2249;
+        let t2321: f64 = leg5_rod_mz * t2320;
+        let t2322: f64 = t2319.plus(t2321);
+        let t2323: f64 = -t2322;
+        let t2324 = product(t558, t2323);
+        let t2325 = product(leg5_rod_mass, t2301);
+        let t2326: f64 = t2287 + t2295;
+        let t2327: f64 = leg5_rod_mz * t2326;
+        let t2328: f64 = t2325.plus(t2327);
+        let t2329: f64 = t564 * t2328;
+        let t2330: f64 = t2324.minus(t2329);
+        let t2331 = product(wy, t2240);
+        let t2332: f64 = wz * t2235;
+        let t2333: f64 = t2331.minus(t2332);
+        let t2334 = product(t880, t2333);
+        let t2335 = product(gravity_x, t553);
+        let t2336: f64 = gravity_y * t532;
+        let t2337 = product(gravity_z, t555);
+        let t2338: f64 = t2335.plus(t2336);
+        let t2339: f64 = t2337.plus(t2338);
+        let t2340 = product(leg5_rod_mass, t2339);
+        let t2341 = product(t2245, t2245);
+        let t2342: f64 = t2294 * t2294;
+        let t2343: f64 = t2341.plus(t2342);
+        let t2344: f64 = leg5_rod_mz * t2343;
+        let t2345: f64 = t2340.plus(t2344);
+        let t2346: f64 = t532 * t2345;
+        let t2347: f64 = t2334.minus(t2346);
+        let t2348: f64 = t2330 + t2347;
+        let t2349: f64 = t2318 + t2348;
+        let t2350: f64 = t2309.plus(t2349);
+        let t2351 = product(t506, t2350);
+        let t2352 = product(t888, t2333);
+        let t2353: f64 = t555 * t2345;
+        let t2354: f64 = t2352.minus(t2353);
+        let t2355 = product(t605, t2312);
+        let t2356: f64 = t617 * t2316;
+        let t2357: f64 = t2355.plus(t2356);
+        let t2358: f64 = t2354 + t2357;
+        let t2359 = product(t531, t2306);
+        let t2360: f64 = t2359.added_to(t2328);
+        let t2361 = product(t552, t2360);
+        let t2362 = product(t531, t2277);
+        let t2363: f64 = t2362.subtracted_from(t2322);
+        let t2364: f64 = t598 * t2363;
+        let t2365: f64 = t2361.plus(t2364);
+        let t2366: f64 = t2358 - t2365;
+        let t2367: f64 = t512 * t2366;
+        let t2368: f64 = t2351.minus(t2367);
+        let t2369: f64 = t2227 + t2368;
+        let t2370: f64 = t2086 + t2369;
+        let t2371: f64 = t1803 + t2370;
+        let t2372: f64 = t777 * t1362;
+        let t2373 = product(t2371, t2372);
+        let t2374 = product(t1225, t2371);
+        let t2375 = product(gravity_z, t1315);
+        let t2376: f64 = gravity_x * t1258;
+        let t2377: f64 = t2375.minus(t2376);
+        let t2378 = product(t626, t646);
+        let t2379: f64 = t637 * t644;
+        let t2380: f64 = t2378.minus(t2379);
+        let t2381 = product(t1619, t2380);
+        let t2382: f64 = t2381.subtracted_from(t2377);
+        let t2383 = product(t27, t1612);
+        let t2384: f64 = t23 * t1603;
+        let t2385: f64 = t2383.minus(t2384);
+        let t2386 = product(t1087, t1627);
+        let t2387 = product(t19, t46);
+        let t2388: f64 = t37 * t44;
+        let t2389: f64 = t2387.minus(t2388);
+        let t2390: f64 = t1632 * t2389;
+        let t2391: f64 = t2386.plus(t2390);
+        let t2392: f64 = t2385 - t2391;
+        let t2393: f64 = t2382 + t2392;
+        let t2394 = product(t146, t166);
+        let t2395: f64 = t157 * t164;
+        let t2396: f64 = t2394.minus(t2395);
+        let t2397 = product(t1640, t2396);
+        let t2398 = product(t266, t286);
+        let t2399: f64 = t277 * t284;
+        let t2400: f64 = t2398.minus(t2399);
+        let t2401: f64 = t1645 * t2400;
+        let t2402: f64 = t2397.plus(t2401);
+        let t2403 = product(t386, t406);
+        let t2404: f64 = t397 * t404;
+        let t2405: f64 = t2403.minus(t2404);
+        let t2406 = product(t1651, t2405);
+        let t2407 = product(t506, t526);
+        let t2408: f64 = t517 * t524;
+        let t2409: f64 = t2407.minus(t2408);
+        let t2410: f64 = t1656 * t2409;
+        let t2411: f64 = t2406.plus(t2410);
+        let t2412: f64 = t2402 + t2411;
+        let t2413: f64 = t2393 - t2412;
+        let t2414: f64 = t2374.minus(t2413);
+        let t2415 = product(t962, t1766);
+        let t2416: f64 = t73 * t1778;
+        let t2417: f64 = t2415.minus(t2416);
+        let t2418 = product(t788, t1745);
+        let t2419: f64 = t796 * t1749;
         let t2420: f64 = t2418.plus(t2419);
-        let t2421: f64 = t2415 - t2420;
-        let t2422 = product(leg5_rod_mass, t2421);
-        let t2423 = product(t2338, t2338);
-        let t2424: f64 = t2393 * t2393;
-        let t2425: f64 = t2423.plus(t2424);
-        let t2426: f64 = leg5_rod_mz * t2425;
-        let t2427: f64 = t2422.minus(t2426);
-        let t2428 = product(t532, t2427);
-        let t2429 = product(leg5_rod_mass, t2328);
-        let t2430: f64 = t2342 + t2361;
-        let t2431: f64 = leg5_rod_mz * t2430;
-        let t2432: f64 = t2429.plus(t2431);
-        let t2433 = product(t558, t2432);
-        let t2434 = product(leg5_rod_mass, t2402);
-        let t2435: f64 = t2394 - t2377;
-        let t2436: f64 = leg5_rod_mz * t2435;
-        let t2437: f64 = t2434.minus(t2436);
-        let t2438: f64 = t564 * t2437;
-        let t2439: f64 = t2433.plus(t2438);
-        let t2440: f64 = t2428.plus(t2439);
-        let t2441: f64 = t2410.minus(t2440);
-        let t2442: f64 = -t2441;
-        let t2443 = product(t506, t2442);
-        let t2444 = product(t531, t2366);
-        let t2445: f64 = t2444.subtracted_from(t2432);
-        let t2446 = product(t598, t2445);
-        let t2447: f64 = t555 * t2427;
-        let t2448 = product(t531, t2407);
-        let t2449: f64 = t2448.subtracted_from(t2437);
-        let t2450 = product(t552, t2449);
-        let t2451: f64 = t2450.added_to(t2447);
-        let t2452: f64 = t2446.plus(t2451);
-        let t2453: f64 = t512 * t2452;
-        let t2454: f64 = t2443.minus(t2453);
-        let t2455: f64 = t2298 + t2454;
-        let t2456: f64 = t2142 + t2455;
-        let t2457: f64 = t1829 + t2456;
-        let t2458: f64 = -t2457;
-        let t2459: f64 = t777 * t1360;
-        let t2460 = product(t2458, t2459);
-        let t2461 = product(t506, t526);
-        let t2462: f64 = t517 * t524;
-        let t2463: f64 = t2461.minus(t2462);
-        let t2464 = product(t1599, t2463);
-        let t2465 = product(t626, t646);
-        let t2466: f64 = t637 * t644;
-        let t2467: f64 = t2465.minus(t2466);
-        let t2468: f64 = t1604 * t2467;
-        let t2469: f64 = t2464.plus(t2468);
-        let t2470 = product(t23, t1647);
-        let t2471: f64 = t27 * t1651;
+        let t2421: f64 = t2417 + t2420;
+        let t2422 = product(t76, t1793);
+        let t2423: f64 = t784 * t1796;
+        let t2424: f64 = t2422.plus(t2423);
+        let t2425: f64 = t2421 - t2424;
+        let t2426 = product(t19, t2425);
+        let t2427: f64 = t44 * t1799;
+        let t2428: f64 = t2426.minus(t2427);
+        let t2429 = product(t978, t1909);
+        let t2430: f64 = t193 * t1921;
+        let t2431: f64 = t2429.minus(t2430);
+        let t2432 = product(t811, t1888);
+        let t2433: f64 = t819 * t1892;
+        let t2434: f64 = t2432.plus(t2433);
+        let t2435: f64 = t2431 + t2434;
+        let t2436 = product(t196, t1936);
+        let t2437: f64 = t807 * t1939;
+        let t2438: f64 = t2436.plus(t2437);
+        let t2439: f64 = t2435 - t2438;
+        let t2440 = product(t146, t2439);
+        let t2441: f64 = t164 * t1942;
+        let t2442: f64 = t2440.minus(t2441);
+        let t2443: f64 = t2428 + t2442;
+        let t2444: f64 = t2414 - t2443;
+        let t2445 = product(t994, t2050);
+        let t2446: f64 = t313 * t2062;
+        let t2447: f64 = t2445.minus(t2446);
+        let t2448 = product(t834, t2029);
+        let t2449: f64 = t842 * t2033;
+        let t2450: f64 = t2448.plus(t2449);
+        let t2451: f64 = t2447 + t2450;
+        let t2452 = product(t316, t2077);
+        let t2453: f64 = t830 * t2080;
+        let t2454: f64 = t2452.plus(t2453);
+        let t2455: f64 = t2451 - t2454;
+        let t2456 = product(t266, t2455);
+        let t2457: f64 = t284 * t2083;
+        let t2458: f64 = t2456.minus(t2457);
+        let t2459 = product(t1010, t2192);
+        let t2460: f64 = t433 * t2204;
+        let t2461: f64 = t2459.minus(t2460);
+        let t2462 = product(t857, t2171);
+        let t2463: f64 = t865 * t2175;
+        let t2464: f64 = t2462.plus(t2463);
+        let t2465: f64 = t2461 + t2464;
+        let t2466 = product(t436, t2219);
+        let t2467: f64 = t853 * t2222;
+        let t2468: f64 = t2466.plus(t2467);
+        let t2469: f64 = t2465 - t2468;
+        let t2470 = product(t386, t2469);
+        let t2471: f64 = t404 * t2225;
         let t2472: f64 = t2470.minus(t2471);
-        let t2473: f64 = t2469 + t2472;
-        let t2474 = product(t918, t1638);
-        let t2475 = product(gravity_x, t1074);
-        let t2476: f64 = gravity_z * t1315;
-        let t2477: f64 = t2475.minus(t2476);
-        let t2478: f64 = t2474.plus(t2477);
-        let t2479 = product(t19, t46);
-        let t2480: f64 = t37 * t44;
-        let t2481: f64 = t2479.minus(t2480);
-        let t2482 = product(t1662, t2481);
-        let t2483 = product(t146, t166);
-        let t2484: f64 = t157 * t164;
-        let t2485: f64 = t2483.minus(t2484);
-        let t2486: f64 = t1667 * t2485;
-        let t2487: f64 = t2482.plus(t2486);
-        let t2488 = product(t266, t286);
-        let t2489: f64 = t277 * t284;
+        let t2473: f64 = t2458 + t2472;
+        let t2474 = product(t1026, t2333);
+        let t2475: f64 = t553 * t2345;
+        let t2476: f64 = t2474.minus(t2475);
+        let t2477 = product(t880, t2312);
+        let t2478: f64 = t888 * t2316;
+        let t2479: f64 = t2477.plus(t2478);
+        let t2480: f64 = t2476 + t2479;
+        let t2481 = product(t556, t2360);
+        let t2482: f64 = t876 * t2363;
+        let t2483: f64 = t2481.plus(t2482);
+        let t2484: f64 = t2480 - t2483;
+        let t2485 = product(t506, t2484);
+        let t2486: f64 = t524 * t2366;
+        let t2487: f64 = t2485.minus(t2486);
+        let t2488 = product(t1042, t1537);
+        let t2489: f64 = t673 * t1549;
         let t2490: f64 = t2488.minus(t2489);
-        let t2491 = product(t1588, t2490);
-        let t2492 = product(t386, t406);
-        let t2493: f64 = t397 * t404;
-        let t2494: f64 = t2492.minus(t2493);
-        let t2495: f64 = t1593 * t2494;
-        let t2496: f64 = t2491.plus(t2495);
-        let t2497: f64 = t2487 + t2496;
-        let t2498: f64 = t2478 + t2497;
-        let t2499: f64 = t2473 + t2498;
-        let t2500 = product(t1086, t2458);
-        let t2501: f64 = t2500.subtracted_from(t2499);
-        let t2502 = product(t44, t1825);
-        let t2503: f64 = t73 * t1801;
-        let t2504 = product(t76, t1819);
-        let t2505: f64 = t784 * t1822;
-        let t2506: f64 = t2504.plus(t2505);
-        let t2507: f64 = t2503 + t2506;
-        let t2508: f64 = t19 * t2507;
-        let t2509: f64 = t2502.minus(t2508);
-        let t2510 = product(t164, t1983);
-        let t2511: f64 = t193 * t1958;
-        let t2512 = product(t196, t1980);
-        let t2513: f64 = t807 * t1976;
-        let t2514: f64 = t2512.plus(t2513);
-        let t2515: f64 = t2511 + t2514;
-        let t2516: f64 = t146 * t2515;
-        let t2517: f64 = t2510.minus(t2516);
-        let t2518: f64 = t2509 + t2517;
-        let t2519: f64 = t2501 + t2518;
-        let t2520 = product(t284, t2139);
-        let t2521: f64 = t313 * t2114;
-        let t2522 = product(t316, t2136);
-        let t2523: f64 = t830 * t2132;
-        let t2524: f64 = t2522.plus(t2523);
-        let t2525: f64 = t2521 + t2524;
-        let t2526: f64 = t266 * t2525;
-        let t2527: f64 = t2520.minus(t2526);
-        let t2528 = product(t404, t2296);
-        let t2529: f64 = t433 * t2271;
-        let t2530 = product(t436, t2293);
-        let t2531: f64 = t853 * t2289;
-        let t2532: f64 = t2530.plus(t2531);
-        let t2533: f64 = t2529 + t2532;
-        let t2534: f64 = t386 * t2533;
-        let t2535: f64 = t2528.minus(t2534);
-        let t2536: f64 = t2527 + t2535;
-        let t2537 = product(t524, t2452);
-        let t2538: f64 = t553 * t2427;
-        let t2539 = product(t556, t2449);
-        let t2540: f64 = t876 * t2445;
-        let t2541: f64 = t2539.plus(t2540);
-        let t2542: f64 = t2538 + t2541;
-        let t2543: f64 = t506 * t2542;
-        let t2544: f64 = t2537.minus(t2543);
-        let t2545 = product(t644, t1582);
-        let t2546: f64 = t673 * t1557;
-        let t2547 = product(t676, t1579);
-        let t2548: f64 = t899 * t1575;
-        let t2549: f64 = t2547.plus(t2548);
+        let t2491 = product(t903, t1516);
+        let t2492: f64 = t911 * t1520;
+        let t2493: f64 = t2491.plus(t2492);
+        let t2494: f64 = t2490 + t2493;
+        let t2495 = product(t676, t1564);
+        let t2496: f64 = t899 * t1567;
+        let t2497: f64 = t2495.plus(t2496);
+        let t2498: f64 = t2494 - t2497;
+        let t2499 = product(t626, t2498);
+        let t2500: f64 = t644 * t1570;
+        let t2501: f64 = t2499.minus(t2500);
+        let t2502: f64 = t2487 + t2501;
+        let t2503: f64 = t2473 + t2502;
+        let t2504: f64 = t2444 - t2503;
+        let t2505: f64 = -t2504;
+        let t2506: f64 = t1183 * t1373;
+        let t2507: f64 = t2505 * t2506;
+        let t2508 = product(gravity_y, t1315);
+        let t2509: f64 = gravity_x * t1239;
+        let t2510: f64 = t2508.minus(t2509);
+        let t2511 = product(t632, t646);
+        let t2512: f64 = t634 * t644;
+        let t2513: f64 = t2511.minus(t2512);
+        let t2514 = product(t1619, t2513);
+        let t2515: f64 = t2514.subtracted_from(t2510);
+        let t2516 = product(t9, t1603);
+        let t2517: f64 = t14 * t1612;
+        let t2518: f64 = t2516.minus(t2517);
+        let t2519 = product(t918, t1627);
+        let t2520 = product(t32, t46);
+        let t2521: f64 = t34 * t44;
+        let t2522: f64 = t2520.minus(t2521);
+        let t2523: f64 = t1632 * t2522;
+        let t2524: f64 = t2519.plus(t2523);
+        let t2525: f64 = t2518 - t2524;
+        let t2526: f64 = t2515 + t2525;
+        let t2527 = product(t152, t166);
+        let t2528: f64 = t154 * t164;
+        let t2529: f64 = t2527.minus(t2528);
+        let t2530 = product(t1640, t2529);
+        let t2531 = product(t272, t286);
+        let t2532: f64 = t274 * t284;
+        let t2533: f64 = t2531.minus(t2532);
+        let t2534: f64 = t1645 * t2533;
+        let t2535: f64 = t2530.plus(t2534);
+        let t2536 = product(t392, t406);
+        let t2537: f64 = t394 * t404;
+        let t2538: f64 = t2536.minus(t2537);
+        let t2539 = product(t1651, t2538);
+        let t2540 = product(t512, t526);
+        let t2541: f64 = t514 * t524;
+        let t2542: f64 = t2540.minus(t2541);
+        let t2543: f64 = t1656 * t2542;
+        let t2544: f64 = t2539.plus(t2543);
+        let t2545: f64 = t2535 + t2544;
+        let t2546: f64 = t2526 - t2545;
+        let t2547 = product(t32, t2425);
+        let t2548: f64 = t44 * t1783;
+        let t2549: f64 = t2547.minus(t2548);
         let t2550: f64 = t2546 + t2549;
-        let t2551: f64 = t626 * t2550;
-        let t2552: f64 = t2545.minus(t2551);
-        let t2553: f64 = t2544 + t2552;
-        let t2554: f64 = t2536 + t2553;
-        let t2555: f64 = t2519 + t2554;
-        let t2556: f64 = t1068 * t1370;
-        let t2557: f64 = t2555 * t2556;
-        let t2558 = product(t512, t526);
-        let t2559: f64 = t514 * t524;
-        let t2560: f64 = t2558.minus(t2559);
-        let t2561 = product(t1599, t2560);
-        let t2562 = product(t632, t646);
-        let t2563: f64 = t634 * t644;
+        let t2551 = product(t152, t2439);
+        let t2552: f64 = t164 * t1926;
+        let t2553: f64 = t2551.minus(t2552);
+        let t2554 = product(t272, t2455);
+        let t2555: f64 = t284 * t2067;
+        let t2556: f64 = t2554.minus(t2555);
+        let t2557: f64 = t2553 + t2556;
+        let t2558: f64 = t2550 + t2557;
+        let t2559 = product(t392, t2469);
+        let t2560: f64 = t404 * t2209;
+        let t2561: f64 = t2559.minus(t2560);
+        let t2562 = product(t512, t2484);
+        let t2563: f64 = t524 * t2350;
         let t2564: f64 = t2562.minus(t2563);
-        let t2565: f64 = t1604 * t2564;
-        let t2566: f64 = t2561.plus(t2565);
-        let t2567 = product(t14, t1651);
-        let t2568: f64 = t9 * t1647;
-        let t2569: f64 = t2567.minus(t2568);
-        let t2570: f64 = t2566 + t2569;
-        let t2571 = product(t1119, t1638);
-        let t2572 = product(gravity_x, t1268);
-        let t2573: f64 = gravity_y * t1315;
-        let t2574: f64 = t2572.minus(t2573);
-        let t2575: f64 = t2571.plus(t2574);
-        let t2576 = product(t32, t46);
-        let t2577: f64 = t34 * t44;
-        let t2578: f64 = t2576.minus(t2577);
-        let t2579 = product(t1662, t2578);
-        let t2580 = product(t152, t166);
-        let t2581: f64 = t154 * t164;
+        let t2565: f64 = t2561 + t2564;
+        let t2566 = product(t632, t2498);
+        let t2567: f64 = t644 * t1554;
+        let t2568: f64 = t2566.minus(t2567);
+        let t2569 = product(t1251, t2371);
+        let t2570: f64 = t1267 * t2505;
+        let t2571: f64 = t2569.plus(t2570);
+        let t2572: f64 = t2568 - t2571;
+        let t2573: f64 = t2565 + t2572;
+        let t2574: f64 = t2558 + t2573;
+        let t2575: f64 = t1233 * t1390;
+        let t2576 = product(t2574, t2575);
+        let t2577: f64 = t2438 + t2454;
+        let t2578: f64 = t2468 + t2483;
+        let t2579: f64 = t2577 + t2578;
+        let t2580 = product(wx, t1239);
+        let t2581: f64 = wy * t1315;
         let t2582: f64 = t2580.minus(t2581);
-        let t2583: f64 = t1667 * t2582;
-        let t2584: f64 = t2579.plus(t2583);
-        let t2585 = product(t272, t286);
-        let t2586: f64 = t274 * t284;
-        let t2587: f64 = t2585.minus(t2586);
-        let t2588 = product(t1588, t2587);
-        let t2589 = product(t392, t406);
-        let t2590: f64 = t394 * t404;
-        let t2591: f64 = t2589.minus(t2590);
-        let t2592: f64 = t1593 * t2591;
-        let t2593: f64 = t2588.plus(t2592);
-        let t2594: f64 = t2584 + t2593;
-        let t2595: f64 = t2575 + t2594;
-        let t2596: f64 = t2570 + t2595;
-        let t2597 = product(t32, t2507);
-        let t2598: f64 = t44 * t1815;
-        let t2599: f64 = t2597.minus(t2598);
-        let t2600: f64 = t2596 - t2599;
-        let t2601 = product(t152, t2515);
-        let t2602: f64 = t164 * t1973;
-        let t2603: f64 = t2601.minus(t2602);
-        let t2604 = product(t272, t2525);
-        let t2605: f64 = t284 * t2129;
-        let t2606: f64 = t2604.minus(t2605);
-        let t2607: f64 = t2603 + t2606;
-        let t2608: f64 = t2600 - t2607;
-        let t2609 = product(t392, t2533);
-        let t2610: f64 = t404 * t2286;
-        let t2611: f64 = t2609.minus(t2610);
-        let t2612 = product(t512, t2542);
-        let t2613: f64 = t524 * t2442;
-        let t2614: f64 = t2612.minus(t2613);
-        let t2615: f64 = t2611 + t2614;
-        let t2616 = product(t632, t2550);
-        let t2617: f64 = t644 * t1572;
-        let t2618: f64 = t2616.minus(t2617);
-        let t2619 = product(t1275, t2458);
-        let t2620: f64 = t1277 * t2555;
-        let t2621: f64 = t2619.plus(t2620);
-        let t2622: f64 = t2618 + t2621;
-        let t2623: f64 = t2615 + t2622;
-        let t2624: f64 = t2608 - t2623;
-        let t2625: f64 = t1262 * t1387;
-        let t2626 = product(t2624, t2625);
-        let t2627: f64 = g6 * t646;
-        let t2628 = product(t651, t2627);
-        let t2629 = product(gravity_x, platform_mass);
-        let t2630 = product(wx, t1268);
-        let t2631: f64 = wy * t1315;
-        let t2632: f64 = t2630.minus(t2631);
-        let t2633: f64 = wy * t2632;
-        let t2634: f64 = t2629.minus(t2633);
-        let t2635: f64 = t2628.plus(t2634);
-        let t2636 = product(wz, t1315);
-        let t2637: f64 = wx * t1074;
+        let t2583 = product(wy, t2582);
+        let t2584: f64 = gravity_x * platform_mass;
+        let t2585: f64 = t2583.minus(t2584);
+        let t2586: f64 = t2494 + t2585;
+        let t2587 = product(wz, t1315);
+        let t2588: f64 = wx * t1258;
+        let t2589: f64 = t2587.minus(t2588);
+        let t2590 = product(wz, t2589);
+        let t2591: f64 = g1 * t46;
+        let t2592: f64 = t51 * t2591;
+        let t2593: f64 = t2590.plus(t2592);
+        let t2594: f64 = g2 * t166;
+        let t2595 = product(t171, t2594);
+        let t2596: f64 = g3 * t286;
+        let t2597: f64 = t291 * t2596;
+        let t2598: f64 = t2595.plus(t2597);
+        let t2599: f64 = t2593 + t2598;
+        let t2600: f64 = t2586 - t2599;
+        let t2601: f64 = g6 * t646;
+        let t2602 = product(t651, t2601);
+        let t2603: f64 = t2602.subtracted_from(t2421);
+        let t2604: f64 = g4 * t406;
+        let t2605 = product(t411, t2604);
+        let t2606: f64 = g5 * t526;
+        let t2607: f64 = t531 * t2606;
+        let t2608: f64 = t2605.plus(t2607);
+        let t2609: f64 = t2603 - t2608;
+        let t2610: f64 = t2435 + t2451;
+        let t2611: f64 = t2465 + t2480;
+        let t2612: f64 = t2610 + t2611;
+        let t2613: f64 = t2609 + t2612;
+        let t2614: f64 = t2600 + t2613;
+        let t2615: f64 = t2497 - t2614;
+        let t2616 = product(t1298, t2371);
+        let t2617: f64 = t1307 * t2505;
+        let t2618: f64 = t2616.plus(t2617);
+        let t2619 = product(t1327, t2574);
+        let t2620: f64 = t2619.added_to(t2424);
+        let t2621: f64 = t2618 + t2620;
+        let t2622: f64 = t2615 + t2621;
+        let t2623: f64 = t2579 + t2622;
+        let t2624: f64 = -t2623;
+        let t2625: f64 = t1286 * t1403;
+        let t2626: f64 = t2624 * t2625;
+        let t2627: f64 = t2067 + t2209;
+        let t2628: f64 = t1554 + t2350;
+        let t2629: f64 = t2627 + t2628;
+        let t2630: f64 = g6 * t634;
+        let t2631 = product(t651, t2630);
+        let t2632: f64 = t2631.subtracted_from(t1782);
+        let t2633 = product(wy, t1258);
+        let t2634: f64 = wz * t1239;
+        let t2635: f64 = t2633.minus(t2634);
+        let t2636 = product(wz, t2635);
+        let t2637: f64 = gravity_y * platform_mass;
         let t2638: f64 = t2636.minus(t2637);
-        let t2639 = product(wz, t2638);
-        let t2640: f64 = t2639.minus(t2503);
-        let t2641: f64 = t2511 + t2521;
-        let t2642: f64 = t2640 - t2641;
-        let t2643: f64 = t2635 + t2642;
-        let t2644: f64 = g1 * t46;
-        let t2645 = product(t51, t2644);
-        let t2646: f64 = t2645.minus(t2546);
-        let t2647: f64 = t2529 + t2538;
-        let t2648: f64 = t2646 - t2647;
-        let t2649: f64 = g2 * t166;
-        let t2650 = product(t171, t2649);
-        let t2651: f64 = g3 * t286;
-        let t2652: f64 = t291 * t2651;
-        let t2653: f64 = t2650.plus(t2652);
-        let t2654: f64 = g4 * t406;
-        let t2655 = product(t411, t2654);
-        let t2656: f64 = g5 * t526;
-        let t2657: f64 = t531 * t2656;
-        let t2658: f64 = t2655.plus(t2657);
-        let t2659: f64 = t2653 + t2658;
-        let t2660: f64 = t2648 + t2659;
-        let t2661: f64 = t2643 + t2660;
-        let t2662: f64 = t2661 - t2549;
-        let t2663 = product(t1298, t2458);
-        let t2664: f64 = t1307 * t2555;
-        let t2665: f64 = t2663.plus(t2664);
-        let t2666 = product(t1326, t2624);
-        let t2667: f64 = t2666.added_to(t2506);
-        let t2668: f64 = t2665 + t2667;
-        let t2669: f64 = t2662 - t2668;
-        let t2670: f64 = t2514 + t2524;
-        let t2671: f64 = t2532 + t2541;
-        let t2672: f64 = t2670 + t2671;
-        let t2673: f64 = t2669 - t2672;
-        let t2674: f64 = t1286 * t1400;
-        let t2675: f64 = t2673 * t2674;
-        let t2676: f64 = t2128 + t2285;
-        let t2677: f64 = t1571 + t2441;
-        let t2678: f64 = t2676 + t2677;
-        let t2679: f64 = g2 * t154;
-        let t2680 = product(t171, t2679);
-        let t2681: f64 = g3 * t274;
-        let t2682: f64 = t291 * t2681;
-        let t2683: f64 = t2680.plus(t2682);
-        let t2684: f64 = g4 * t394;
-        let t2685 = product(t411, t2684);
-        let t2686: f64 = g5 * t514;
-        let t2687: f64 = t531 * t2686;
-        let t2688: f64 = t2685.plus(t2687);
-        let t2689: f64 = t2683 + t2688;
-        let t2690: f64 = g6 * t634;
-        let t2691 = product(t651, t2690);
-        let t2692: f64 = t2691.minus(t1814);
-        let t2693 = product(gravity_y, platform_mass);
-        let t2694 = product(wy, t1074);
-        let t2695: f64 = wz * t1268;
-        let t2696: f64 = t2694.minus(t2695);
-        let t2697: f64 = wz * t2696;
-        let t2698: f64 = t2693.minus(t2697);
-        let t2699 = product(wx, t2632);
-        let t2700: f64 = g1 * t34;
-        let t2701: f64 = t51 * t2700;
-        let t2702: f64 = t2699.plus(t2701);
-        let t2703: f64 = t2698 + t2702;
-        let t2704: f64 = t2692 + t2703;
-        let t2705: f64 = t2689 + t2704;
-        let t2706 = product(t1361, t2458);
-        let t2707: f64 = t2706.subtracted_from(t1784);
-        let t2708: f64 = t2705 + t2707;
-        let t2709 = product(t1388, t2624);
-        let t2710: f64 = t1371 * t2555;
-        let t2711: f64 = t2709.minus(t2710);
-        let t2712 = product(t1401, t2673);
-        let t2713: f64 = t2712.subtracted_from(t1972);
-        let t2714: f64 = t2711 + t2713;
-        let t2715: f64 = t2708 + t2714;
-        let t2716: f64 = t2678 + t2715;
-        let t2717: f64 = t1349 * t1406;
-        let t2718 = product(t2716, t2717);
-        let t2719: f64 = g1 * t37;
-        let t2720 = product(t51, t2719);
-        let t2721: f64 = g2 * t157;
-        let t2722: f64 = t171 * t2721;
-        let t2723: f64 = t2720.plus(t2722);
-        let t2724: f64 = g3 * t277;
-        let t2725 = product(t291, t2724);
-        let t2726: f64 = g4 * t397;
-        let t2727: f64 = t411 * t2726;
-        let t2728: f64 = t2725.plus(t2727);
-        let t2729: f64 = t2723 + t2728;
-        let t2730: f64 = g5 * t517;
-        let t2731 = product(t531, t2730);
-        let t2732: f64 = g6 * t637;
-        let t2733: f64 = t651 * t2732;
-        let t2734: f64 = t2731.plus(t2733);
-        let t2735 = product(gravity_z, platform_mass);
-        let t2736: f64 = wx * t2638;
-        let t2737: f64 = t2735.minus(t2736);
-        let t2738 = product(wy, t2696);
-        let t2739: f64 = t2738.minus(t1817);
-        let t2740: f64 = t2737 + t2739;
-        let t2741: f64 = t2734 + t2740;
-        let t2742: f64 = t2729 + t2741;
-        let t2743: f64 = t2460.plus(t2557);
+        let t2639 = product(wx, t2582);
+        let t2640: f64 = g1 * t34;
+        let t2641: f64 = t51 * t2640;
+        let t2642: f64 = t2639.plus(t2641);
+        let t2643: f64 = t2638 - t2642;
+        let t2644: f64 = t2632 + t2643;
+        let t2645: f64 = g2 * t154;
+        let t2646 = product(t171, t2645);
+        let t2647: f64 = g3 * t274;
+        let t2648: f64 = t291 * t2647;
+        let t2649: f64 = t2646.plus(t2648);
+        let t2650: f64 = g4 * t394;
+        let t2651 = product(t411, t2650);
+        let t2652: f64 = g5 * t514;
+        let t2653: f64 = t531 * t2652;
+        let t2654: f64 = t2651.plus(t2653);
+        let t2655: f64 = t2649 + t2654;
+        let t2656: f64 = t2644 - t2655;
+        let t2657 = product(t1363, t2371);
+        let t2658: f64 = t2657.subtracted_from(t1742);
+        let t2659: f64 = t2656 + t2658;
+        let t2660 = product(t1374, t2505);
+        let t2661: f64 = t1391 * t2574;
+        let t2662: f64 = t2660.plus(t2661);
+        let t2663 = product(t1404, t2624);
+        let t2664: f64 = t2663.minus(t1926);
+        let t2665: f64 = t2662 + t2664;
+        let t2666: f64 = t2659 - t2665;
+        let t2667: f64 = t2629 + t2666;
+        let t2668: f64 = t1350 * t1409;
+        let t2669 = product(t2667, t2668);
+        let t2670 = product(wx, t2589);
+        let t2671: f64 = gravity_z * platform_mass;
+        let t2672: f64 = t2670.minus(t2671);
+        let t2673: f64 = g6 * t637;
+        let t2674 = product(t651, t2673);
+        let t2675: f64 = t2674.subtracted_from(t2672);
+        let t2676: f64 = g4 * t397;
+        let t2677 = product(t411, t2676);
+        let t2678: f64 = g5 * t517;
+        let t2679: f64 = t531 * t2678;
+        let t2680: f64 = t2677.plus(t2679);
+        let t2681: f64 = t2675 - t2680;
+        let t2682 = product(wy, t2635);
+        let t2683: f64 = g1 * t37;
+        let t2684: f64 = t51 * t2683;
+        let t2685: f64 = t2682.plus(t2684);
+        let t2686: f64 = g2 * t157;
+        let t2687 = product(t171, t2686);
+        let t2688: f64 = g3 * t277;
+        let t2689: f64 = t291 * t2688;
+        let t2690: f64 = t2687.plus(t2689);
+        let t2691: f64 = t2685 + t2690;
+        let t2692: f64 = t2681 - t2691;
+        let t2693: f64 = t1799 + t1942;
+        let t2694: f64 = t2083 + t2225;
+        let t2695: f64 = t1570 + t2366;
+        let t2696: f64 = t2693 + t2694;
+        let t2697: f64 = t2692 + t2695;
+        let t2698: f64 = t2696 + t2697;
+        let t2699: f64 = t2373.plus(t2507);
+        let t2700: f64 = t2576.plus(t2626);
+        let t2701: f64 = t2699 + t2700;
+        let t2702: f64 = t2669.plus(t2701);
+        let t2703: f64 = t2698 - t2702;
+        let t2704: f64 = t1409 * t1431;
+        let t2705 = product(t2703, t2704);
+        let t2706: f64 = t2705.minus(t2667);
+        let t2707: f64 = t1350 * t2706;
+        let t2708: f64 = -t2707;
+        let t2709 = product(t1331, t2708);
+        let t2710: f64 = t1403 * t1431;
+        let t2711: f64 = t2703 * t2710;
+        let t2712: f64 = t2709.plus(t2711);
+        let t2713: f64 = t2623 + t2712;
+        let t2714: f64 = t1286 * t2713;
+        let t2715: f64 = -t2714;
+        let t2716 = product(t1270, t2715);
+        let t2717: f64 = t1326 * t2708;
+        let t2718: f64 = t1390 * t1431;
+        let t2719 = product(t2703, t2718);
+        let t2720: f64 = t2716.plus(t2717);
+        let t2721: f64 = t2719.plus(t2720);
+        let t2722: f64 = t2574 - t2721;
+        let t2723: f64 = t933 * t1233;
+        let t2724 = product(t2722, t2723);
+        let t2725: f64 = t1228 * t1233;
+        let t2726 = product(t2722, t2725);
+        let t2727: f64 = t1266 * t2715;
+        let t2728 = product(t1306, t2708);
+        let t2729: f64 = t1373 * t1431;
+        let t2730: f64 = t2703 * t2729;
+        let t2731: f64 = t2726.plus(t2727);
+        let t2732: f64 = t2728.plus(t2730);
+        let t2733: f64 = t2731 + t2732;
+        let t2734: f64 = t2504 + t2733;
+        let t2735: f64 = t1183 * t2734;
+        let t2736: f64 = -t2735;
+        let t2737: f64 = t1179 * t2736;
+        let t2738 = product(t1250, t2715);
+        let t2739: f64 = t1297 * t2708;
+        let t2740: f64 = t1362 * t1431;
+        let t2741 = product(t2703, t2740);
+        let t2742: f64 = t2724.plus(t2737);
+        let t2743: f64 = t2738.plus(t2739);
         let t2744: f64 = t2742 + t2743;
-        let t2745: f64 = t2626.plus(t2675);
-        let t2746: f64 = t2718.added_to(t1824);
-        let t2747: f64 = t1983 + t2139;
-        let t2748: f64 = t2296 + t2452;
-        let t2749: f64 = t2745 + t2746;
-        let t2750: f64 = t2747 + t2748;
-        let t2751: f64 = t2749 + t2750;
-        let t2752: f64 = t1582 + t2751;
-        let t2753: f64 = t2744 - t2752;
-        let t2754: f64 = t1406 * t1428;
-        let t2755 = product(t2753, t2754);
-        let t2756: f64 = t2755.subtracted_from(t2716);
-        let t2757: f64 = t1330 * t1349;
-        let t2758 = product(t2756, t2757);
-        let t2759: f64 = t1400 * t1428;
-        let t2760: f64 = t2753 * t2759;
-        let t2761: f64 = t2758.plus(t2760);
-        let t2762: f64 = t2673 - t2761;
-        let t2763: f64 = t1088 * t1286;
-        let t2764 = product(t2762, t2763);
-        let t2765: f64 = t1306 * t1349;
-        let t2766: f64 = t2756 * t2765;
-        let t2767: f64 = t1280 * t1286;
-        let t2768 = product(t2762, t2767);
-        let t2769: f64 = t1325 * t1349;
-        let t2770 = product(t2756, t2769);
-        let t2771: f64 = t1387 * t1428;
-        let t2772: f64 = t2753 * t2771;
-        let t2773: f64 = t2768.plus(t2772);
-        let t2774: f64 = t2770.added_to(t2624);
-        let t2775: f64 = t2773 - t2774;
-        let t2776: f64 = t1262 * t2775;
-        let t2777: f64 = -t2776;
-        let t2778 = product(t1257, t2777);
-        let t2779: f64 = t1370 * t1428;
-        let t2780 = product(t2753, t2779);
-        let t2781: f64 = t2780.added_to(t2555);
-        let t2782: f64 = t2764.plus(t2766);
-        let t2783: f64 = t2778.plus(t2782);
-        let t2784: f64 = t2781 - t2783;
-        let t2785: f64 = t933 * t1068;
-        let t2786 = product(t2784, t2785);
-        let t2787: f64 = t1085 * t1286;
-        let t2788: f64 = t2762 * t2787;
-        let t2789: f64 = t1297 * t1349;
-        let t2790 = product(t2756, t2789);
-        let t2791: f64 = t1211 * t2777;
-        let t2792: f64 = t1360 * t1428;
-        let t2793 = product(t2753, t2792);
-        let t2794: f64 = t2786.plus(t2788);
-        let t2795: f64 = t2790.plus(t2791);
-        let t2796: f64 = t2794 + t2795;
-        let t2797: f64 = t2457 + t2796;
-        let t2798: f64 = t2793.subtracted_from(t2797);
-        let t2799: f64 = t777 * t2798;
-        let t2800: f64 = t1068 * t2784;
-        let t2801 = product(t51, t1749);
-        let t2802: f64 = t51 * t51;
-        let t2803: f64 = t91 * t2802;
-        let t2804: f64 = t1711 * t2803;
-        let t2805 = product(t1724, t2804);
-        let t2806: f64 = t1712 * t1731;
-        let t2807: f64 = t2805.minus(t2806);
-        let t2808: f64 = t2801.plus(t2807);
-        let t2809 = product(t80, t2808);
-        let t2810: f64 = t2809.minus(t1779);
-        let t2811: f64 = t51 * t76;
-        let t2812 = product(t2810, t2811);
-        let t2813: f64 = t51 * t784;
-        let t2814: f64 = t1740 * t2813;
-        let t2815: f64 = t2812.minus(t2814);
-        let t2816 = product(t91, t2807);
-        let t2817: f64 = t2816.added_to(t1760);
-        let t2818: f64 = t91 * t2811;
-        let t2819: f64 = t93 * t2818;
-        let t2820 = product(t2817, t2819);
-        let t2821 = product(t784, t1806);
-        let t2822: f64 = t76 * t1811;
-        let t2823: f64 = t2821.plus(t2822);
-        let t2824: f64 = t2820.plus(t2823);
-        let t2825: f64 = t2815 + t2824;
-        let t2826: f64 = t2503 + t2825;
-        let t2827 = product(t32, t2826);
-        let t2828: f64 = t51 * t84;
-        let t2829: f64 = t91 * t2828;
-        let t2830: f64 = t93 * t2829;
-        let t2831 = product(t2817, t2830);
-        let t2832 = product(t2810, t2828);
-        let t2833: f64 = t51 * t78;
-        let t2834: f64 = t1740 * t2833;
-        let t2835: f64 = t2832.minus(t2834);
-        let t2836: f64 = t2831.plus(t2835);
-        let t2837: f64 = t1814 + t2836;
-        let t2838 = product(t44, t2837);
-        let t2839 = product(t171, t1906);
-        let t2840: f64 = t171 * t171;
-        let t2841: f64 = t211 * t2840;
-        let t2842: f64 = t1868 * t2841;
-        let t2843 = product(t1881, t2842);
-        let t2844: f64 = t1869 * t1888;
-        let t2845: f64 = t2843.minus(t2844);
-        let t2846: f64 = t2839.plus(t2845);
-        let t2847 = product(t200, t2846);
-        let t2848: f64 = t2847.minus(t1936);
-        let t2849: f64 = t171 * t196;
-        let t2850 = product(t2848, t2849);
-        let t2851: f64 = t171 * t807;
-        let t2852: f64 = t1897 * t2851;
-        let t2853: f64 = t2850.minus(t2852);
-        let t2854 = product(t211, t2845);
-        let t2855: f64 = t2854.added_to(t1917);
-        let t2856: f64 = t211 * t2849;
-        let t2857: f64 = t213 * t2856;
-        let t2858 = product(t2855, t2857);
-        let t2859 = product(t807, t1963);
-        let t2860: f64 = t196 * t1968;
-        let t2861: f64 = t2859.plus(t2860);
-        let t2862: f64 = t2858.plus(t2861);
-        let t2863: f64 = t2853 + t2862;
-        let t2864: f64 = t2511 + t2863;
-        let t2865: f64 = t152 * t2864;
-        let t2866: f64 = t171 * t204;
-        let t2867 = product(t2848, t2866);
-        let t2868: f64 = t171 * t198;
-        let t2869: f64 = t1897 * t2868;
-        let t2870: f64 = t2867.minus(t2869);
-        let t2871: f64 = t211 * t2866;
-        let t2872: f64 = t213 * t2871;
-        let t2873 = product(t2855, t2872);
-        let t2874: f64 = t2873.added_to(t1971);
-        let t2875: f64 = t2870 + t2874;
-        let t2876: f64 = t164 * t2875;
-        let t2877 = product(t291, t2062);
-        let t2878: f64 = t291 * t291;
-        let t2879: f64 = t331 * t2878;
-        let t2880: f64 = t2024 * t2879;
-        let t2881 = product(t2037, t2880);
-        let t2882: f64 = t2025 * t2044;
-        let t2883: f64 = t2881.minus(t2882);
-        let t2884: f64 = t2877.plus(t2883);
-        let t2885 = product(t320, t2884);
-        let t2886: f64 = t2885.minus(t2092);
-        let t2887: f64 = t291 * t316;
-        let t2888 = product(t2886, t2887);
-        let t2889: f64 = t291 * t830;
-        let t2890: f64 = t2053 * t2889;
-        let t2891: f64 = t2888.minus(t2890);
-        let t2892 = product(t331, t2883);
-        let t2893: f64 = t2892.added_to(t2073);
-        let t2894: f64 = t331 * t2887;
-        let t2895: f64 = t333 * t2894;
-        let t2896 = product(t2893, t2895);
-        let t2897 = product(t830, t2119);
-        let t2898: f64 = t316 * t2124;
-        let t2899: f64 = t2897.plus(t2898);
-        let t2900: f64 = t2896.plus(t2899);
-        let t2901: f64 = t2891 + t2900;
-        let t2902: f64 = t2521 + t2901;
-        let t2903 = product(t272, t2902);
-        let t2904: f64 = t291 * t324;
-        let t2905 = product(t2886, t2904);
-        let t2906: f64 = t291 * t318;
-        let t2907: f64 = t2053 * t2906;
-        let t2908: f64 = t2905.minus(t2907);
-        let t2909: f64 = t331 * t2904;
-        let t2910: f64 = t333 * t2909;
-        let t2911 = product(t2893, t2910);
-        let t2912: f64 = t2911.added_to(t2127);
-        let t2913: f64 = t2908 + t2912;
-        let t2914 = product(t284, t2913);
-        let t2915 = product(t411, t2219);
-        let t2916: f64 = t411 * t411;
-        let t2917: f64 = t451 * t2916;
-        let t2918: f64 = t2181 * t2917;
-        let t2919 = product(t2194, t2918);
-        let t2920: f64 = t2182 * t2201;
-        let t2921: f64 = t2919.minus(t2920);
-        let t2922: f64 = t2915.plus(t2921);
-        let t2923 = product(t440, t2922);
-        let t2924: f64 = t2923.minus(t2249);
-        let t2925: f64 = t411 * t436;
-        let t2926 = product(t2924, t2925);
-        let t2927: f64 = t411 * t853;
-        let t2928: f64 = t2210 * t2927;
-        let t2929: f64 = t2926.minus(t2928);
-        let t2930 = product(t451, t2921);
-        let t2931: f64 = t2930.added_to(t2230);
-        let t2932: f64 = t451 * t2925;
-        let t2933: f64 = t453 * t2932;
-        let t2934 = product(t2931, t2933);
-        let t2935 = product(t853, t2276);
-        let t2936: f64 = t436 * t2281;
-        let t2937: f64 = t2935.plus(t2936);
-        let t2938: f64 = t2934.plus(t2937);
-        let t2939: f64 = t2929 + t2938;
-        let t2940: f64 = t2529 + t2939;
-        let t2941: f64 = t392 * t2940;
-        let t2942: f64 = t411 * t444;
-        let t2943 = product(t2924, t2942);
-        let t2944: f64 = t411 * t438;
-        let t2945: f64 = t2210 * t2944;
-        let t2946: f64 = t2943.minus(t2945);
-        let t2947: f64 = t451 * t2942;
-        let t2948: f64 = t453 * t2947;
-        let t2949 = product(t2931, t2948);
-        let t2950: f64 = t2949.added_to(t2284);
-        let t2951: f64 = t2946 + t2950;
-        let t2952: f64 = t404 * t2951;
-        let t2953 = product(t531, t2375);
-        let t2954: f64 = t531 * t531;
-        let t2955: f64 = t571 * t2954;
-        let t2956: f64 = t2337 * t2955;
-        let t2957 = product(t2350, t2956);
-        let t2958: f64 = t2338 * t2357;
-        let t2959: f64 = t2957.minus(t2958);
-        let t2960: f64 = t2953.plus(t2959);
-        let t2961 = product(t560, t2960);
-        let t2962: f64 = t2961.minus(t2405);
-        let t2963: f64 = t531 * t556;
-        let t2964 = product(t2962, t2963);
-        let t2965: f64 = t531 * t876;
-        let t2966: f64 = t2366 * t2965;
-        let t2967: f64 = t2964.minus(t2966);
-        let t2968 = product(t571, t2959);
-        let t2969: f64 = t2968.added_to(t2386);
-        let t2970: f64 = t571 * t2963;
-        let t2971: f64 = t573 * t2970;
-        let t2972 = product(t2969, t2971);
-        let t2973 = product(t876, t2432);
-        let t2974: f64 = t556 * t2437;
-        let t2975: f64 = t2973.plus(t2974);
-        let t2976: f64 = t2972.plus(t2975);
-        let t2977: f64 = t2967 + t2976;
-        let t2978: f64 = t2538 + t2977;
-        let t2979 = product(t512, t2978);
-        let t2980: f64 = t531 * t564;
-        let t2981 = product(t2962, t2980);
-        let t2982: f64 = t531 * t558;
-        let t2983: f64 = t2366 * t2982;
-        let t2984: f64 = t2981.minus(t2983);
-        let t2985: f64 = t571 * t2980;
-        let t2986: f64 = t573 * t2985;
-        let t2987 = product(t2969, t2986);
-        let t2988: f64 = t2987.added_to(t2440);
-        let t2989: f64 = t2984 + t2988;
-        let t2990 = product(t524, t2989);
-        let t2991 = product(t651, t1505);
-        let t2992: f64 = t651 * t651;
-        let t2993: f64 = t691 * t2992;
-        let t2994: f64 = t1467 * t2993;
-        let t2995 = product(t1480, t2994);
-        let t2996: f64 = t1468 * t1487;
-        let t2997: f64 = t2995.minus(t2996);
-        let t2998: f64 = t2991.plus(t2997);
-        let t2999 = product(t680, t2998);
-        let t3000: f64 = t2999.minus(t1535);
-        let t3001: f64 = t651 * t676;
-        let t3002 = product(t3000, t3001);
+        let t2745: f64 = t2741.plus(t2744);
+        let t2746: f64 = t2371 - t2745;
+        let t2747: f64 = t777 * t2746;
+        let t2748: f64 = t51 * t76;
+        let t2749 = product(t1737, t2748);
+        let t2750: f64 = t51 * t784;
+        let t2751: f64 = t1710 * t2750;
+        let t2752: f64 = t2749.plus(t2751);
+        let t2753: f64 = t91 * t2748;
+        let t2754: f64 = t93 * t2753;
+        let t2755 = product(t1723, t2754);
+        let t2756 = product(t784, t1756);
+        let t2757: f64 = t76 * t1761;
+        let t2758: f64 = t2756.minus(t2757);
+        let t2759: f64 = t2755.plus(t2758);
+        let t2760: f64 = t2752 + t2759;
+        let t2761: f64 = t2421 + t2760;
+        let t2762 = product(t19, t2761);
+        let t2763: f64 = t51 * t72;
+        let t2764: f64 = t91 * t2763;
+        let t2765: f64 = t93 * t2764;
+        let t2766 = product(t1723, t2765);
+        let t2767: f64 = t2766.added_to(t1791);
+        let t2768 = product(t118, t1756);
+        let t2769: f64 = t72 * t1761;
+        let t2770: f64 = t2768.minus(t2769);
+        let t2771 = product(t1737, t2763);
+        let t2772: f64 = t51 * t118;
+        let t2773: f64 = t1710 * t2772;
+        let t2774: f64 = t2771.plus(t2773);
+        let t2775: f64 = t2770 + t2774;
+        let t2776: f64 = t2767 + t2775;
+        let t2777 = product(t44, t2776);
+        let t2778: f64 = t171 * t196;
+        let t2779 = product(t1880, t2778);
+        let t2780: f64 = t171 * t807;
+        let t2781: f64 = t1853 * t2780;
+        let t2782: f64 = t2779.plus(t2781);
+        let t2783: f64 = t211 * t2778;
+        let t2784: f64 = t213 * t2783;
+        let t2785 = product(t1866, t2784);
+        let t2786 = product(t807, t1899);
+        let t2787: f64 = t196 * t1904;
+        let t2788: f64 = t2786.minus(t2787);
+        let t2789: f64 = t2785.plus(t2788);
+        let t2790: f64 = t2782 + t2789;
+        let t2791: f64 = t2435 + t2790;
+        let t2792: f64 = t146 * t2791;
+        let t2793: f64 = t171 * t192;
+        let t2794: f64 = t211 * t2793;
+        let t2795: f64 = t213 * t2794;
+        let t2796 = product(t1866, t2795);
+        let t2797: f64 = t2796.added_to(t1934);
+        let t2798 = product(t238, t1899);
+        let t2799: f64 = t192 * t1904;
+        let t2800: f64 = t2798.minus(t2799);
+        let t2801 = product(t1880, t2793);
+        let t2802: f64 = t171 * t238;
+        let t2803: f64 = t1853 * t2802;
+        let t2804: f64 = t2801.plus(t2803);
+        let t2805: f64 = t2800 + t2804;
+        let t2806: f64 = t2797 + t2805;
+        let t2807: f64 = t164 * t2806;
+        let t2808: f64 = t291 * t316;
+        let t2809 = product(t2021, t2808);
+        let t2810: f64 = t291 * t830;
+        let t2811: f64 = t1994 * t2810;
+        let t2812: f64 = t2809.plus(t2811);
+        let t2813: f64 = t331 * t2808;
+        let t2814: f64 = t333 * t2813;
+        let t2815 = product(t2007, t2814);
+        let t2816 = product(t830, t2040);
+        let t2817: f64 = t316 * t2045;
+        let t2818: f64 = t2816.minus(t2817);
+        let t2819: f64 = t2815.plus(t2818);
+        let t2820: f64 = t2812 + t2819;
+        let t2821: f64 = t2451 + t2820;
+        let t2822 = product(t266, t2821);
+        let t2823: f64 = t291 * t312;
+        let t2824: f64 = t331 * t2823;
+        let t2825: f64 = t333 * t2824;
+        let t2826 = product(t2007, t2825);
+        let t2827: f64 = t2826.added_to(t2075);
+        let t2828 = product(t358, t2040);
+        let t2829: f64 = t312 * t2045;
+        let t2830: f64 = t2828.minus(t2829);
+        let t2831 = product(t2021, t2823);
+        let t2832: f64 = t291 * t358;
+        let t2833: f64 = t1994 * t2832;
+        let t2834: f64 = t2831.plus(t2833);
+        let t2835: f64 = t2830 + t2834;
+        let t2836: f64 = t2827 + t2835;
+        let t2837 = product(t284, t2836);
+        let t2838: f64 = t411 * t436;
+        let t2839 = product(t2163, t2838);
+        let t2840: f64 = t411 * t853;
+        let t2841: f64 = t2136 * t2840;
+        let t2842: f64 = t2839.plus(t2841);
+        let t2843: f64 = t451 * t2838;
+        let t2844: f64 = t453 * t2843;
+        let t2845 = product(t2149, t2844);
+        let t2846 = product(t853, t2182);
+        let t2847: f64 = t436 * t2187;
+        let t2848: f64 = t2846.minus(t2847);
+        let t2849: f64 = t2845.plus(t2848);
+        let t2850: f64 = t2842 + t2849;
+        let t2851: f64 = t2465 + t2850;
+        let t2852: f64 = t386 * t2851;
+        let t2853: f64 = t411 * t432;
+        let t2854: f64 = t451 * t2853;
+        let t2855: f64 = t453 * t2854;
+        let t2856 = product(t2149, t2855);
+        let t2857: f64 = t2856.added_to(t2217);
+        let t2858 = product(t478, t2182);
+        let t2859: f64 = t432 * t2187;
+        let t2860: f64 = t2858.minus(t2859);
+        let t2861 = product(t2163, t2853);
+        let t2862: f64 = t411 * t478;
+        let t2863: f64 = t2136 * t2862;
+        let t2864: f64 = t2861.plus(t2863);
+        let t2865: f64 = t2860 + t2864;
+        let t2866: f64 = t2857 + t2865;
+        let t2867: f64 = t404 * t2866;
+        let t2868: f64 = t531 * t556;
+        let t2869 = product(t2304, t2868);
+        let t2870: f64 = t531 * t876;
+        let t2871: f64 = t2277 * t2870;
+        let t2872: f64 = t2869.plus(t2871);
+        let t2873: f64 = t571 * t2868;
+        let t2874: f64 = t573 * t2873;
+        let t2875 = product(t2290, t2874);
+        let t2876 = product(t876, t2323);
+        let t2877: f64 = t556 * t2328;
+        let t2878: f64 = t2876.minus(t2877);
+        let t2879: f64 = t2875.plus(t2878);
+        let t2880: f64 = t2872 + t2879;
+        let t2881: f64 = t2480 + t2880;
+        let t2882 = product(t506, t2881);
+        let t2883: f64 = t531 * t552;
+        let t2884: f64 = t571 * t2883;
+        let t2885: f64 = t573 * t2884;
+        let t2886 = product(t2290, t2885);
+        let t2887: f64 = t2886.added_to(t2358);
+        let t2888 = product(t598, t2323);
+        let t2889: f64 = t552 * t2328;
+        let t2890: f64 = t2888.minus(t2889);
+        let t2891 = product(t2304, t2883);
+        let t2892: f64 = t531 * t598;
+        let t2893: f64 = t2277 * t2892;
+        let t2894: f64 = t2891.plus(t2893);
+        let t2895: f64 = t2890 + t2894;
+        let t2896: f64 = t2887 + t2895;
+        let t2897 = product(t524, t2896);
+        let t2898: f64 = t651 * t676;
+        let t2899 = product(t1508, t2898);
+        let t2900: f64 = t651 * t899;
+        let t2901: f64 = t1481 * t2900;
+        let t2902: f64 = t2899.plus(t2901);
+        let t2903: f64 = t691 * t2898;
+        let t2904: f64 = t693 * t2903;
+        let t2905 = product(t1494, t2904);
+        let t2906 = product(t899, t1527);
+        let t2907: f64 = t676 * t1532;
+        let t2908: f64 = t2906.minus(t2907);
+        let t2909: f64 = t2905.plus(t2908);
+        let t2910: f64 = t2902 + t2909;
+        let t2911: f64 = t2494 + t2910;
+        let t2912: f64 = t626 * t2911;
+        let t2913: f64 = t651 * t672;
+        let t2914: f64 = t691 * t2913;
+        let t2915: f64 = t693 * t2914;
+        let t2916 = product(t1494, t2915);
+        let t2917: f64 = t2916.added_to(t1562);
+        let t2918 = product(t718, t1527);
+        let t2919: f64 = t672 * t1532;
+        let t2920: f64 = t2918.minus(t2919);
+        let t2921 = product(t1508, t2913);
+        let t2922: f64 = t651 * t718;
+        let t2923: f64 = t1481 * t2922;
+        let t2924: f64 = t2921.plus(t2923);
+        let t2925: f64 = t2920 + t2924;
+        let t2926: f64 = t2917 + t2925;
+        let t2927: f64 = t644 * t2926;
+        let t2928: f64 = t51 * t84;
+        let t2929: f64 = t91 * t2928;
+        let t2930: f64 = t93 * t2929;
+        let t2931 = product(t1723, t2930);
+        let t2932 = product(t1737, t2928);
+        let t2933: f64 = t51 * t78;
+        let t2934: f64 = t1710 * t2933;
+        let t2935: f64 = t2932.plus(t2934);
+        let t2936: f64 = t2931.plus(t2935);
+        let t2937: f64 = t1782 + t2936;
+        let t2938 = product(t19, t2937);
+        let t2939 = product(t32, t2776);
+        let t2940: f64 = t171 * t204;
+        let t2941 = product(t1880, t2940);
+        let t2942: f64 = t171 * t198;
+        let t2943: f64 = t1853 * t2942;
+        let t2944: f64 = t2941.plus(t2943);
+        let t2945: f64 = t211 * t2940;
+        let t2946: f64 = t213 * t2945;
+        let t2947 = product(t1866, t2946);
+        let t2948: f64 = t2947.added_to(t1925);
+        let t2949: f64 = t2944 + t2948;
+        let t2950: f64 = t146 * t2949;
+        let t2951: f64 = t152 * t2806;
+        let t2952: f64 = t291 * t324;
+        let t2953 = product(t2021, t2952);
+        let t2954: f64 = t291 * t318;
+        let t2955: f64 = t1994 * t2954;
+        let t2956: f64 = t2953.plus(t2955);
+        let t2957: f64 = t331 * t2952;
+        let t2958: f64 = t333 * t2957;
+        let t2959 = product(t2007, t2958);
+        let t2960: f64 = t2959.added_to(t2066);
+        let t2961: f64 = t2956 + t2960;
+        let t2962 = product(t266, t2961);
+        let t2963 = product(t272, t2836);
+        let t2964: f64 = t411 * t444;
+        let t2965 = product(t2163, t2964);
+        let t2966: f64 = t411 * t438;
+        let t2967: f64 = t2136 * t2966;
+        let t2968: f64 = t2965.plus(t2967);
+        let t2969: f64 = t451 * t2964;
+        let t2970: f64 = t453 * t2969;
+        let t2971 = product(t2149, t2970);
+        let t2972: f64 = t2971.added_to(t2208);
+        let t2973: f64 = t2968 + t2972;
+        let t2974: f64 = t386 * t2973;
+        let t2975: f64 = t392 * t2866;
+        let t2976: f64 = t531 * t564;
+        let t2977 = product(t2304, t2976);
+        let t2978: f64 = t531 * t558;
+        let t2979: f64 = t2277 * t2978;
+        let t2980: f64 = t2977.plus(t2979);
+        let t2981: f64 = t571 * t2976;
+        let t2982: f64 = t573 * t2981;
+        let t2983 = product(t2290, t2982);
+        let t2984: f64 = t2983.added_to(t2349);
+        let t2985: f64 = t2980 + t2984;
+        let t2986 = product(t506, t2985);
+        let t2987 = product(t512, t2896);
+        let t2988: f64 = t651 * t684;
+        let t2989 = product(t1508, t2988);
+        let t2990: f64 = t651 * t678;
+        let t2991: f64 = t1481 * t2990;
+        let t2992: f64 = t2989.plus(t2991);
+        let t2993: f64 = t691 * t2988;
+        let t2994: f64 = t693 * t2993;
+        let t2995 = product(t1494, t2994);
+        let t2996: f64 = t2995.added_to(t1553);
+        let t2997: f64 = t2992 + t2996;
+        let t2998: f64 = t626 * t2997;
+        let t2999: f64 = t632 * t2926;
+        let t3000: f64 = t2938.plus(t2950);
+        let t3001: f64 = t2962.plus(t2974);
+        let t3002: f64 = t2986.plus(t2998);
         (
-            t2053,
-            t2119,
-            t2124,
-            t2134,
-            t2210,
-            t2276,
-            t2281,
-            t2291,
-            t2366,
-            t2432,
-            t2437,
-            t2447,
-            t2463,
-            t2467,
-            t2481,
-            t2485,
-            t2490,
-            t2494,
-            t2499,
+            t2138,
+            t2279,
+            t2380,
+            t2389,
+            t2396,
+            t2400,
+            t2405,
+            t2409,
+            t2413,
+            t2506,
+            t2513,
+            t2522,
+            t2529,
+            t2533,
+            t2538,
+            t2542,
             t2546,
-            t2560,
-            t2564,
-            t2578,
-            t2582,
-            t2587,
-            t2591,
-            t2596,
+            t2614,
             t2625,
-            t2661,
-            t2705,
-            t2742,
-            t2756,
+            t2656,
+            t2668,
+            t2692,
+            t2722,
+            t2747,
+            t2760,
+            t2761,
             t2762,
-            t2799,
-            t2800,
-            t2802,
-            t2810,
-            t2817,
-            t2825,
-            t2826,
-            t2827,
+            t2776,
+            t2777,
+            t2790,
+            t2791,
+            t2792,
+            t2806,
+            t2807,
+            t2820,
+            t2821,
+            t2822,
             t2836,
             t2837,
-            t2838,
-            t2840,
-            t2848,
-            t2855,
-            t2863,
-            t2864,
-            t2865,
-            t2875,
-            t2876,
-            t2878,
-            t2886,
-            t2893,
-            t2901,
-            t2902,
-            t2903,
-            t2913,
-            t2914,
-            t2916,
-            t2924,
-            t2931,
+            t2850,
+            t2851,
+            t2852,
+            t2866,
+            t2867,
+            t2880,
+            t2881,
+            t2882,
+            t2896,
+            t2897,
+            t2910,
+            t2911,
+            t2912,
+            t2926,
+            t2927,
+            t2936,
+            t2937,
             t2939,
-            t2940,
-            t2941,
+            t2949,
             t2951,
-            t2952,
-            t2954,
-            t2962,
-            t2969,
-            t2977,
-            t2978,
-            t2979,
-            t2989,
-            t2990,
-            t2992,
+            t2961,
+            t2963,
+            t2973,
+            t2975,
+            t2985,
+            t2987,
             t2997,
+            t2999,
             t3000,
             t3001,
             t3002,
         )
     };
     let (
-        t3239,
-        t3240,
-        t3241,
-        t3242,
-        t3243,
-        t3244,
-        t3245,
-        t3246,
-        t3247,
-        t3248,
-        t3256,
-        t3283,
-        t3329,
-        t3396,
-        t3486,
-        t3600,
+        t3110,
+        t3119,
+        t3120,
+        t3121,
+        t3123,
+        t3124,
+        t3125,
+        t3126,
+        t3127,
+        t3128,
+        t3129,
+        t3137,
+        t3164,
+        t3210,
+        t3277,
+        t3367,
+        t3481,
     ) = {
-        let t3003: f64 = t651 * t899;
-        let t3004: f64 = t1496 * t3003;
-        let t3005: f64 = t3002.minus(t3004);
-        let t3006 = product(t691, t2997);
-        let t3007: f64 = t3006.added_to(t1516);
-        let t3008: f64 = t691 * t3001;
-        let t3009: f64 = t693 * t3008;
-        let t3010 = product(t3007, t3009);
-        let t3011 = product(t899, t1562);
-        let t3012: f64 = t676 * t1567;
-        let t3013: f64 = t3011.plus(t3012);
-        let t3014: f64 = t3010.plus(t3013);
-        let t3015: f64 = t3005 + t3014;
-        let t3016: f64 = t2546 + t3015;
-        let t3017: f64 = t632 * t3016;
-        let t3018: f64 = t651 * t684;
-        let t3019 = product(t3000, t3018);
-        let t3020: f64 = t651 * t678;
-        let t3021: f64 = t1496 * t3020;
-        let t3022: f64 = t3019.minus(t3021);
-        let t3023: f64 = t691 * t3018;
-        let t3024: f64 = t693 * t3023;
-        let t3025 = product(t3007, t3024);
-        let t3026: f64 = t3025.added_to(t1570);
-        let t3027: f64 = t3022 + t3026;
-        let t3028: f64 = t644 * t3027;
-        let t3029 = product(t19, t2837);
-        let t3030: f64 = t51 * t72;
-        let t3031 = product(t2810, t3030);
-        let t3032: f64 = t51 * t118;
-        let t3033: f64 = t1740 * t3032;
-        let t3034: f64 = t3031.minus(t3033);
-        let t3035: f64 = t91 * t3030;
-        let t3036: f64 = t93 * t3035;
-        let t3037 = product(t2817, t3036);
-        let t3038 = product(t118, t1806);
-        let t3039: f64 = t72 * t1811;
-        let t3040: f64 = t3038.plus(t3039);
-        let t3041: f64 = t3037.plus(t3040);
-        let t3042: f64 = t3034 + t3041;
-        let t3043: f64 = t1817 + t3042;
-        let t3044 = product(t32, t3043);
-        let t3045: f64 = t146 * t2875;
-        let t3046: f64 = t171 * t238;
-        let t3047 = product(t1897, t3046);
-        let t3048: f64 = t171 * t192;
-        let t3049: f64 = t211 * t3048;
-        let t3050: f64 = t213 * t3049;
-        let t3051: f64 = t2855 * t3050;
-        let t3052: f64 = t3047.minus(t3051);
-        let t3053 = product(t238, t1963);
-        let t3054: f64 = t192 * t1968;
-        let t3055: f64 = t3053.plus(t3054);
-        let t3056 = product(t2848, t3048);
-        let t3057: f64 = t3056.added_to(t1978);
-        let t3058: f64 = t3055 + t3057;
-        let t3059: f64 = t3052 - t3058;
-        let t3060: f64 = -t3059;
-        let t3061: f64 = t152 * t3060;
-        let t3062 = product(t266, t2913);
-        let t3063: f64 = t291 * t358;
-        let t3064 = product(t2053, t3063);
-        let t3065: f64 = t291 * t312;
-        let t3066: f64 = t331 * t3065;
-        let t3067: f64 = t333 * t3066;
-        let t3068: f64 = t2893 * t3067;
-        let t3069: f64 = t3064.minus(t3068);
-        let t3070 = product(t358, t2119);
-        let t3071: f64 = t312 * t2124;
-        let t3072: f64 = t3070.plus(t3071);
-        let t3073 = product(t2886, t3065);
-        let t3074: f64 = t3073.added_to(t2134);
-        let t3075: f64 = t3072 + t3074;
-        let t3076: f64 = t3069 - t3075;
-        let t3077: f64 = -t3076;
-        let t3078 = product(t272, t3077);
-        let t3079: f64 = t386 * t2951;
-        let t3080: f64 = t411 * t478;
-        let t3081 = product(t2210, t3080);
-        let t3082: f64 = t411 * t432;
-        let t3083: f64 = t451 * t3082;
-        let t3084: f64 = t453 * t3083;
-        let t3085: f64 = t2931 * t3084;
-        let t3086: f64 = t3081.minus(t3085);
-        let t3087 = product(t478, t2276);
-        let t3088: f64 = t432 * t2281;
-        let t3089: f64 = t3087.plus(t3088);
-        let t3090 = product(t2924, t3082);
-        let t3091: f64 = t3090.added_to(t2291);
-        let t3092: f64 = t3089 + t3091;
-        let t3093: f64 = t3086 - t3092;
-        let t3094: f64 = -t3093;
-        let t3095: f64 = t392 * t3094;
-        let t3096 = product(t506, t2989);
-        let t3097: f64 = t531 * t598;
-        let t3098 = product(t2366, t3097);
-        let t3099: f64 = t531 * t552;
-        let t3100: f64 = t571 * t3099;
-        let t3101: f64 = t573 * t3100;
-        let t3102: f64 = t2969 * t3101;
-        let t3103: f64 = t3098.minus(t3102);
-        let t3104 = product(t598, t2432);
-        let t3105: f64 = t552 * t2437;
-        let t3106: f64 = t3104.plus(t3105);
-        let t3107 = product(t2962, t3099);
-        let t3108: f64 = t3107.added_to(t2447);
-        let t3109: f64 = t3106 + t3108;
-        let t3110: f64 = t3103 - t3109;
+        let t3003: f64 = t3000 + t3001;
+        let t3004: f64 = t1660 + t3002;
+        let t3005: f64 = t3003 + t3004;
+        let t3006: f64 = t2939.plus(t2951);
+        let t3007: f64 = t2963.plus(t2975);
+        let t3008: f64 = t2987.plus(t2999);
+        let t3009: f64 = t3006 + t3007;
+        let t3010: f64 = t3008 + t3009;
+        let t3011: f64 = t3005 - t3010;
+        let t3012: f64 = t777 * t3011;
+        let t3013 = product(t1179, t3012);
+        let t3014: f64 = t2762.plus(t2792);
+        let t3015: f64 = t2822.plus(t2852);
+        let t3016: f64 = t2882.plus(t2912);
+        let t3017: f64 = t3014 + t3015;
+        let t3018: f64 = t2413 + t3016;
+        let t3019: f64 = t3017 + t3018;
+        let t3020: f64 = t2777.plus(t2807);
+        let t3021: f64 = t2837.plus(t2867);
+        let t3022: f64 = t2897.plus(t2927);
+        let t3023: f64 = t3020 + t3021;
+        let t3024: f64 = t3013.plus(t3022);
+        let t3025: f64 = t3023 + t3024;
+        let t3026: f64 = t3019 - t3025;
+        let t3027: f64 = t1183 * t3026;
+        let t3028: f64 = t1233 * t1267;
+        let t3029 = product(t2722, t3028);
+        let t3030 = product(t1362, t3012);
+        let t3031: f64 = t1373 * t3027;
+        let t3032 = product(t32, t2761);
+        let t3033 = product(t44, t2937);
+        let t3034: f64 = t152 * t2791;
+        let t3035: f64 = t164 * t2949;
+        let t3036 = product(t272, t2821);
+        let t3037 = product(t284, t2961);
+        let t3038: f64 = t392 * t2851;
+        let t3039: f64 = t404 * t2973;
+        let t3040 = product(t512, t2881);
+        let t3041 = product(t524, t2985);
+        let t3042: f64 = t632 * t2911;
+        let t3043: f64 = t644 * t2997;
+        let t3044 = product(t933, t3012);
+        let t3045: f64 = t1228 * t3027;
+        let t3046: f64 = t3032.plus(t3034);
+        let t3047: f64 = t3036.plus(t3038);
+        let t3048: f64 = t3040.plus(t3042);
+        let t3049: f64 = t3046 + t3047;
+        let t3050: f64 = t2546 + t3048;
+        let t3051: f64 = t3049 + t3050;
+        let t3052: f64 = t3033.plus(t3035);
+        let t3053: f64 = t3037.plus(t3039);
+        let t3054: f64 = t3041.plus(t3043);
+        let t3055: f64 = t3044.plus(t3045);
+        let t3056: f64 = t3052 + t3053;
+        let t3057: f64 = t3054 + t3055;
+        let t3058: f64 = t3056 + t3057;
+        let t3059: f64 = t3051 - t3058;
+        let t3060: f64 = t1233 * t3059;
+        let t3061 = product(t1390, t3060);
+        let t3062 = product(t1250, t3012);
+        let t3063: f64 = t1266 * t3027;
+        let t3064 = product(t1270, t3060);
+        let t3065: f64 = t2614 + t2760;
+        let t3066: f64 = t2790 + t2820;
+        let t3067: f64 = t2850 + t2880;
+        let t3068: f64 = t3065 + t3066;
+        let t3069: f64 = t2910 + t3067;
+        let t3070: f64 = t3068 + t3069;
+        let t3071: f64 = t3062.plus(t3063);
+        let t3072: f64 = t3064.plus(t3071);
+        let t3073: f64 = t3070 - t3072;
+        let t3074: f64 = t1286 * t3073;
+        let t3075: f64 = t1403 * t3074;
+        let t3076 = product(t1297, t3012);
+        let t3077: f64 = t1306 * t3027;
+        let t3078 = product(t1326, t3060);
+        let t3079: f64 = t1331 * t3074;
+        let t3080: f64 = t2656 + t2936;
+        let t3081: f64 = t2949 + t2961;
+        let t3082: f64 = t2973 + t2985;
+        let t3083: f64 = t3080 + t3081;
+        let t3084: f64 = t2997 + t3082;
+        let t3085: f64 = t3083 + t3084;
+        let t3086: f64 = t3076.plus(t3077);
+        let t3087: f64 = t3078.plus(t3079);
+        let t3088: f64 = t3086 + t3087;
+        let t3089: f64 = t3085 - t3088;
+        let t3090: f64 = t1350 * t3089;
+        let t3091 = product(t1409, t3090);
+        let t3092: f64 = t2776 + t2806;
+        let t3093: f64 = t2836 + t2866;
+        let t3094: f64 = t2896 + t2926;
+        let t3095: f64 = t3092 + t3093;
+        let t3096: f64 = t2692 + t3094;
+        let t3097: f64 = t3095 + t3096;
+        let t3098: f64 = t3030.plus(t3031);
+        let t3099: f64 = t3061.plus(t3075);
+        let t3100: f64 = t3098 + t3099;
+        let t3101: f64 = t3091.plus(t3100);
+        let t3102: f64 = t3097 - t3101;
+        let t3103: f64 = t1431 * t2625;
+        let t3104 = product(t3102, t3103);
+        let t3105: f64 = t1431 * t2668;
+        let t3106 = product(t3102, t3105);
+        let t3107: f64 = t3106.subtracted_from(t3090);
+        let t3108 = product(t1404, t3107);
+        let t3109: f64 = t3108.subtracted_from(t3074);
+        let t3110: f64 = t3104.minus(t3109);
         let t3111: f64 = -t3110;
-        let t3112 = product(t512, t3111);
-        let t3113: f64 = t626 * t3027;
-        let t3114: f64 = t651 * t718;
-        let t3115 = product(t1496, t3114);
-        let t3116: f64 = t651 * t672;
-        let t3117: f64 = t691 * t3116;
-        let t3118: f64 = t693 * t3117;
-        let t3119: f64 = t3007 * t3118;
-        let t3120: f64 = t3115.minus(t3119);
-        let t3121 = product(t718, t1562);
-        let t3122: f64 = t672 * t1567;
-        let t3123: f64 = t3121.plus(t3122);
-        let t3124 = product(t3000, t3116);
-        let t3125: f64 = t3124.added_to(t1577);
-        let t3126: f64 = t3123 + t3125;
-        let t3127: f64 = t3120 - t3126;
-        let t3128: f64 = -t3127;
-        let t3129: f64 = t632 * t3128;
-        let t3130: f64 = t3044.plus(t3061);
-        let t3131: f64 = t3078.plus(t3095);
-        let t3132: f64 = t3112.plus(t3129);
-        let t3133: f64 = t3130 + t3131;
-        let t3134: f64 = t1672 + t3132;
-        let t3135: f64 = t3133 + t3134;
-        let t3136: f64 = t3029.plus(t3045);
-        let t3137: f64 = t3062.plus(t3079);
-        let t3138: f64 = t3096.plus(t3113);
-        let t3139: f64 = t3136 + t3137;
-        let t3140: f64 = t3138 + t3139;
-        let t3141: f64 = t3135 - t3140;
-        let t3142: f64 = t777 * t3141;
-        let t3143 = product(t1211, t3142);
-        let t3144 = product(t19, t2826);
-        let t3145 = product(t44, t3043);
-        let t3146: f64 = t146 * t2864;
-        let t3147: f64 = t164 * t3060;
-        let t3148 = product(t266, t2902);
-        let t3149 = product(t284, t3077);
-        let t3150: f64 = t386 * t2940;
-        let t3151: f64 = t404 * t3094;
-        let t3152 = product(t506, t2978);
-        let t3153 = product(t524, t3111);
-        let t3154: f64 = t626 * t3016;
-        let t3155: f64 = t644 * t3128;
-        let t3156 = product(t933, t3142);
-        let t3157: f64 = t3145.plus(t3147);
-        let t3158: f64 = t3149.plus(t3151);
-        let t3159: f64 = t3153.plus(t3155);
-        let t3160: f64 = t3157 + t3158;
-        let t3161: f64 = t2499 + t3159;
-        let t3162: f64 = t3160 + t3161;
-        let t3163: f64 = t3144.plus(t3146);
-        let t3164: f64 = t3148.plus(t3150);
-        let t3165: f64 = t3152.plus(t3154);
-        let t3166: f64 = t3163 + t3164;
-        let t3167: f64 = t3156.plus(t3165);
-        let t3168: f64 = t3166 + t3167;
-        let t3169: f64 = t3162 - t3168;
-        let t3170: f64 = t1068 * t3169;
-        let t3171: f64 = t1257 * t3170;
-        let t3172: f64 = t2838.plus(t2876);
-        let t3173: f64 = t2914.plus(t2952);
-        let t3174: f64 = t2990.plus(t3028);
-        let t3175: f64 = t3172 + t3173;
-        let t3176: f64 = t2596 + t3174;
-        let t3177: f64 = t3175 + t3176;
-        let t3178: f64 = t2827.plus(t2865);
-        let t3179: f64 = t2903.plus(t2941);
-        let t3180: f64 = t2979.plus(t3017);
-        let t3181: f64 = t3143.plus(t3171);
-        let t3182: f64 = t3178 + t3179;
+        let t3112: f64 = t1307 * t3111;
+        let t3113 = product(t1374, t3107);
+        let t3114: f64 = t1431 * t2506;
+        let t3115: f64 = t3102 * t3114;
+        let t3116: f64 = t3029.plus(t3112);
+        let t3117: f64 = t3113.plus(t3115);
+        let t3118: f64 = t3116 + t3117;
+        let t3119: f64 = t3118 - t3027;
+        let t3120: f64 = t1233 * t2722;
+        let t3121: f64 = -t3107;
+        let t3122: f64 = t1431 * t3102;
+        let t3123: f64 = -t3122;
+        let t3124: f64 = t51 * t70;
+        let t3125: f64 = t171 * t190;
+        let t3126: f64 = t291 * t310;
+        let t3127: f64 = t411 * t430;
+        let t3128: f64 = t531 * t550;
+        let t3129: f64 = t651 * t670;
+        let t3130 = product(t1631, t1631);
+        let t3131: f64 = t2389 * t2389;
+        let t3132 = product(t2522, t2522);
+        let t3133: f64 = t3130.plus(t3131);
+        let t3134: f64 = t3132.plus(t3133);
+        let t3135 = product(t1712, t3134);
+        let t3136: f64 = t3135.plus(1.0);
+        let t3137: f64 = t3136 / t3136;
+        let t3138: f64 = t2529 * t2529;
+        let t3139 = product(t1855, t3138);
+        let t3140: f64 = t1639 * t1639;
+        let t3141 = product(t1855, t3140);
+        let t3142: f64 = t2396 * t2396;
+        let t3143: f64 = t1855 * t3142;
+        let t3144: f64 = t3141.plus(t3143);
+        let t3145: f64 = t3139.plus(t3144);
+        let t3146: f64 = t3145 + 1.0;
+        let t3147 = product(t1631, t1639);
+        let t3148: f64 = t2389 * t2396;
+        let t3149 = product(t2522, t2529);
+        let t3150: f64 = t46 * t166;
+        let t3151 = product(t34, t154);
+        let t3152: f64 = t37 * t157;
+        let t3153: f64 = t3147.plus(t3148);
+        let t3154: f64 = t3149.plus(t3150);
+        let t3155: f64 = t3151.plus(t3152);
+        let t3156: f64 = t3153 + t3154;
+        let t3157: f64 = t3155 + t3156;
+        let t3158: f64 = t51 * t171;
+        let t3159: f64 = t3157 * t3158;
+        let t3160: f64 = 1.0 / t3136;
+        let t3161: f64 = t3159 * t3160;
+        let t3162 = product(t3159, t3161);
+        let t3163: f64 = t3162.subtracted_from(t3146);
+        let t3164: f64 = t3163 / t3146;
+        let t3165: f64 = t2533 * t2533;
+        let t3166 = product(t1996, t3165);
+        let t3167: f64 = t1644 * t1644;
+        let t3168 = product(t1996, t3167);
+        let t3169: f64 = t2400 * t2400;
+        let t3170: f64 = t1996 * t3169;
+        let t3171: f64 = t3168.plus(t3170);
+        let t3172: f64 = t3166.plus(t3171);
+        let t3173: f64 = t3172 + 1.0;
+        let t3174 = product(t1631, t1644);
+        let t3175: f64 = t2389 * t2400;
+        let t3176 = product(t2522, t2533);
+        let t3177: f64 = t46 * t286;
+        let t3178 = product(t34, t274);
+        let t3179: f64 = t37 * t277;
+        let t3180: f64 = t3174.plus(t3175);
+        let t3181: f64 = t3176.plus(t3177);
+        let t3182: f64 = t3178.plus(t3179);
         let t3183: f64 = t3180 + t3181;
         let t3184: f64 = t3182 + t3183;
-        let t3185: f64 = t3177 - t3184;
-        let t3186: f64 = t1262 * t3185;
-        let t3187: f64 = t1286 * t1326;
-        let t3188 = product(t2762, t3187);
-        let t3189: f64 = t1349 * t1388;
-        let t3190 = product(t2756, t3189);
-        let t3191 = product(t1360, t3142);
-        let t3192: f64 = t1370 * t3170;
-        let t3193 = product(t1387, t3186);
-        let t3194 = product(t1085, t3142);
-        let t3195: f64 = t1088 * t3170;
-        let t3196 = product(t1280, t3186);
-        let t3197: f64 = t3194.plus(t3195);
-        let t3198: f64 = t3196.added_to(t2825);
-        let t3199: f64 = t2863 + t2901;
-        let t3200: f64 = t2939 + t2977;
-        let t3201: f64 = t3197 + t3198;
-        let t3202: f64 = t3199 + t3200;
-        let t3203: f64 = t3201 + t3202;
-        let t3204: f64 = t3015 + t3203;
-        let t3205: f64 = t2661 - t3204;
-        let t3206: f64 = t1286 * t3205;
-        let t3207: f64 = t1400 * t3206;
-        let t3208 = product(t1297, t3142);
-        let t3209: f64 = t1306 * t3170;
-        let t3210 = product(t1325, t3186);
-        let t3211 = product(t1330, t3206);
-        let t3212: f64 = t3210.added_to(t2705);
-        let t3213: f64 = t3208.plus(t3209);
-        let t3214: f64 = t3211.added_to(t2836);
-        let t3215: f64 = t2875 + t2913;
-        let t3216: f64 = t2951 + t2989;
-        let t3217: f64 = t3213 + t3214;
-        let t3218: f64 = t3215 + t3216;
-        let t3219: f64 = t3217 + t3218;
-        let t3220: f64 = t3027 + t3219;
-        let t3221: f64 = t3212 - t3220;
-        let t3222: f64 = t1349 * t3221;
-        let t3223 = product(t1406, t3222);
-        let t3224: f64 = t3191.plus(t3192);
-        let t3225: f64 = t3059 + t3076;
-        let t3226: f64 = t3093 + t3110;
-        let t3227: f64 = t2742 + t3127;
-        let t3228: f64 = t3224 + t3225;
+        let t3185: f64 = t51 * t291;
+        let t3186: f64 = t3184 * t3185;
+        let t3187: f64 = t3160 * t3186;
+        let t3188 = product(t3186, t3187);
+        let t3189 = product(t3161, t3186);
+        let t3190 = product(t1639, t1644);
+        let t3191: f64 = t2396 * t2400;
+        let t3192 = product(t2529, t2533);
+        let t3193: f64 = t166 * t286;
+        let t3194 = product(t154, t274);
+        let t3195: f64 = t157 * t277;
+        let t3196: f64 = t3190.plus(t3191);
+        let t3197: f64 = t3192.plus(t3193);
+        let t3198: f64 = t3194.plus(t3195);
+        let t3199: f64 = t3196 + t3197;
+        let t3200: f64 = t3198 + t3199;
+        let t3201: f64 = t171 * t291;
+        let t3202: f64 = t3200 * t3201;
+        let t3203: f64 = t3189.minus(t3202);
+        let t3204: f64 = -t3203;
+        let t3205: f64 = 1.0 / t3163;
+        let t3206: f64 = t3204 * t3205;
+        let t3207: f64 = t3204 * t3206;
+        let t3208: f64 = t3188.plus(t3207);
+        let t3209: f64 = t3173 - t3208;
+        let t3210: f64 = t3209 / t3173;
+        let t3211: f64 = t2538 * t2538;
+        let t3212 = product(t2138, t3211);
+        let t3213: f64 = t1650 * t1650;
+        let t3214 = product(t2138, t3213);
+        let t3215: f64 = t2405 * t2405;
+        let t3216: f64 = t2138 * t3215;
+        let t3217: f64 = t3214.plus(t3216);
+        let t3218: f64 = t3212.plus(t3217);
+        let t3219: f64 = t3218 + 1.0;
+        let t3220 = product(t1631, t1650);
+        let t3221: f64 = t2389 * t2405;
+        let t3222 = product(t2522, t2538);
+        let t3223: f64 = t46 * t406;
+        let t3224 = product(t34, t394);
+        let t3225: f64 = t37 * t397;
+        let t3226: f64 = t3220.plus(t3221);
+        let t3227: f64 = t3222.plus(t3223);
+        let t3228: f64 = t3224.plus(t3225);
         let t3229: f64 = t3226 + t3227;
         let t3230: f64 = t3228 + t3229;
-        let t3231: f64 = t3193.plus(t3207);
-        let t3232: f64 = t3223.added_to(t3042);
-        let t3233: f64 = t3231 + t3232;
-        let t3234: f64 = t3230 - t3233;
-        let t3235: f64 = t1428 * t2625;
-        let t3236: f64 = t3234 * t3235;
-        let t3237: f64 = t3188.plus(t3236);
-        let t3238: f64 = t3190.added_to(t3186);
-        let t3239: f64 = t3237 - t3238;
-        let t3240: f64 = t1286 * t2762;
-        let t3241: f64 = t1349 * t2756;
-        let t3242: f64 = t1428 * t3234;
-        let t3243: f64 = t51 * t70;
-        let t3244: f64 = t171 * t190;
-        let t3245: f64 = t291 * t310;
-        let t3246: f64 = t411 * t430;
-        let t3247: f64 = t531 * t550;
-        let t3248: f64 = t651 * t670;
-        let t3249 = product(t1661, t1661);
-        let t3250: f64 = t2481 * t2481;
-        let t3251 = product(t2578, t2578);
-        let t3252: f64 = t3249.plus(t3250);
-        let t3253: f64 = t3251.plus(t3252);
-        let t3254 = product(t2802, t3253);
-        let t3255: f64 = t3254.plus(1.0);
-        let t3256: f64 = t3255 / t3255;
-        let t3257: f64 = t2582 * t2582;
-        let t3258 = product(t2840, t3257);
-        let t3259: f64 = t1666 * t1666;
-        let t3260 = product(t2840, t3259);
-        let t3261: f64 = t2485 * t2485;
-        let t3262: f64 = t2840 * t3261;
-        let t3263: f64 = t3260.plus(t3262);
-        let t3264: f64 = t3258.plus(t3263);
-        let t3265: f64 = t3264 + 1.0;
-        let t3266 = product(t1661, t1666);
-        let t3267: f64 = t2481 * t2485;
-        let t3268 = product(t2578, t2582);
-        let t3269: f64 = t46 * t166;
-        let t3270 = product(t34, t154);
-        let t3271: f64 = t37 * t157;
-        let t3272: f64 = t3266.plus(t3267);
-        let t3273: f64 = t3268.plus(t3269);
-        let t3274: f64 = t3270.plus(t3271);
-        let t3275: f64 = t3272 + t3273;
-        let t3276: f64 = t3274 + t3275;
-        let t3277: f64 = t51 * t171;
-        let t3278: f64 = t3276 * t3277;
-        let t3279: f64 = 1.0 / t3255;
-        let t3280: f64 = t3278 * t3279;
-        let t3281 = product(t3278, t3280);
-        let t3282: f64 = t3281.subtracted_from(t3265);
-        let t3283: f64 = t3282 / t3265;
-        let t3284: f64 = t2587 * t2587;
-        let t3285 = product(t2878, t3284);
-        let t3286: f64 = t1587 * t1587;
-        let t3287 = product(t2878, t3286);
-        let t3288: f64 = t2490 * t2490;
-        let t3289: f64 = t2878 * t3288;
-        let t3290: f64 = t3287.plus(t3289);
-        let t3291: f64 = t3285.plus(t3290);
-        let t3292: f64 = t3291 + 1.0;
-        let t3293 = product(t1587, t1661);
-        let t3294: f64 = t2481 * t2490;
-        let t3295 = product(t2578, t2587);
-        let t3296: f64 = t46 * t286;
-        let t3297 = product(t34, t274);
-        let t3298: f64 = t37 * t277;
-        let t3299: f64 = t3293.plus(t3294);
-        let t3300: f64 = t3295.plus(t3296);
-        let t3301: f64 = t3297.plus(t3298);
-        let t3302: f64 = t3299 + t3300;
-        let t3303: f64 = t3301 + t3302;
-        let t3304: f64 = t51 * t291;
-        let t3305: f64 = t3303 * t3304;
-        let t3306: f64 = t3279 * t3305;
-        let t3307 = product(t3305, t3306);
-        let t3308 = product(t3280, t3305);
-        let t3309 = product(t1587, t1666);
-        let t3310: f64 = t2485 * t2490;
-        let t3311 = product(t2582, t2587);
-        let t3312: f64 = t166 * t286;
-        let t3313 = product(t154, t274);
-        let t3314: f64 = t157 * t277;
-        let t3315: f64 = t3309.plus(t3310);
-        let t3316: f64 = t3311.plus(t3312);
-        let t3317: f64 = t3313.plus(t3314);
-        let t3318: f64 = t3315 + t3316;
-        let t3319: f64 = t3317 + t3318;
-        let t3320: f64 = t171 * t291;
-        let t3321: f64 = t3319 * t3320;
-        let t3322: f64 = t3308.minus(t3321);
-        let t3323: f64 = -t3322;
-        let t3324: f64 = 1.0 / t3282;
-        let t3325: f64 = t3323 * t3324;
-        let t3326: f64 = t3323 * t3325;
-        let t3327: f64 = t3307.plus(t3326);
-        let t3328: f64 = t3292 - t3327;
-        let t3329: f64 = t3328 / t3292;
-        let t3330: f64 = t2591 * t2591;
-        let t3331 = product(t2916, t3330);
-        let t3332: f64 = t1592 * t1592;
-        let t3333 = product(t2916, t3332);
-        let t3334: f64 = t2494 * t2494;
-        let t3335: f64 = t2916 * t3334;
-        let t3336: f64 = t3333.plus(t3335);
-        let t3337: f64 = t3331.plus(t3336);
-        let t3338: f64 = t3337 + 1.0;
-        let t3339 = product(t1592, t1661);
-        let t3340: f64 = t2481 * t2494;
-        let t3341 = product(t2578, t2591);
-        let t3342: f64 = t46 * t406;
-        let t3343 = product(t34, t394);
-        let t3344: f64 = t37 * t397;
-        let t3345: f64 = t3339.plus(t3340);
-        let t3346: f64 = t3341.plus(t3342);
-        let t3347: f64 = t3343.plus(t3344);
-        let t3348: f64 = t3345 + t3346;
-        let t3349: f64 = t3347 + t3348;
-        let t3350: f64 = t51 * t411;
-        let t3351: f64 = t3349 * t3350;
-        let t3352: f64 = t3279 * t3351;
-        let t3353 = product(t3351, t3352);
-        let t3354 = product(t3280, t3351);
-        let t3355 = product(t1592, t1666);
-        let t3356: f64 = t2485 * t2494;
-        let t3357 = product(t2582, t2591);
-        let t3358: f64 = t166 * t406;
-        let t3359 = product(t154, t394);
-        let t3360: f64 = t157 * t397;
-        let t3361: f64 = t3355.plus(t3356);
-        let t3362: f64 = t3357.plus(t3358);
-        let t3363: f64 = t3359.plus(t3360);
-        let t3364: f64 = t3361 + t3362;
+        let t3231: f64 = t51 * t411;
+        let t3232: f64 = t3230 * t3231;
+        let t3233: f64 = t3160 * t3232;
+        let t3234 = product(t3232, t3233);
+        let t3235 = product(t3161, t3232);
+        let t3236 = product(t1639, t1650);
+        let t3237: f64 = t2396 * t2405;
+        let t3238 = product(t2529, t2538);
+        let t3239: f64 = t166 * t406;
+        let t3240 = product(t154, t394);
+        let t3241: f64 = t157 * t397;
+        let t3242: f64 = t3236.plus(t3237);
+        let t3243: f64 = t3238.plus(t3239);
+        let t3244: f64 = t3240.plus(t3241);
+        let t3245: f64 = t3242 + t3243;
+        let t3246: f64 = t3244 + t3245;
+        let t3247: f64 = t171 * t411;
+        let t3248: f64 = t3246 * t3247;
+        let t3249: f64 = t3235.minus(t3248);
+        let t3250: f64 = -t3249;
+        let t3251: f64 = t3205 * t3250;
+        let t3252: f64 = t3250 * t3251;
+        let t3253 = product(t3187, t3232);
+        let t3254: f64 = t3206 * t3250;
+        let t3255 = product(t1644, t1650);
+        let t3256: f64 = t2400 * t2405;
+        let t3257 = product(t2533, t2538);
+        let t3258: f64 = t286 * t406;
+        let t3259 = product(t274, t394);
+        let t3260: f64 = t277 * t397;
+        let t3261: f64 = t3255.plus(t3256);
+        let t3262: f64 = t3257.plus(t3258);
+        let t3263: f64 = t3259.plus(t3260);
+        let t3264: f64 = t3261 + t3262;
+        let t3265: f64 = t3263 + t3264;
+        let t3266: f64 = t291 * t411;
+        let t3267 = product(t3265, t3266);
+        let t3268: f64 = t3253.plus(t3254);
+        let t3269: f64 = t3267.subtracted_from(t3268);
+        let t3270: f64 = -t3269;
+        let t3271: f64 = 1.0 / t3209;
+        let t3272: f64 = t3270 * t3271;
+        let t3273 = product(t3270, t3272);
+        let t3274: f64 = t3234.plus(t3252);
+        let t3275: f64 = t3273.plus(t3274);
+        let t3276: f64 = t3219 - t3275;
+        let t3277: f64 = t3276 / t3219;
+        let t3278: f64 = t2542 * t2542;
+        let t3279 = product(t2279, t3278);
+        let t3280: f64 = t1655 * t1655;
+        let t3281 = product(t2279, t3280);
+        let t3282: f64 = t2409 * t2409;
+        let t3283: f64 = t2279 * t3282;
+        let t3284: f64 = t3281.plus(t3283);
+        let t3285: f64 = t3279.plus(t3284);
+        let t3286: f64 = t3285 + 1.0;
+        let t3287 = product(t1631, t1655);
+        let t3288: f64 = t2389 * t2409;
+        let t3289 = product(t2522, t2542);
+        let t3290: f64 = t46 * t526;
+        let t3291 = product(t34, t514);
+        let t3292: f64 = t37 * t517;
+        let t3293: f64 = t3287.plus(t3288);
+        let t3294: f64 = t3289.plus(t3290);
+        let t3295: f64 = t3291.plus(t3292);
+        let t3296: f64 = t3293 + t3294;
+        let t3297: f64 = t3295 + t3296;
+        let t3298: f64 = t51 * t531;
+        let t3299: f64 = t3297 * t3298;
+        let t3300: f64 = t3160 * t3299;
+        let t3301 = product(t3299, t3300);
+        let t3302 = product(t3161, t3299);
+        let t3303 = product(t1639, t1655);
+        let t3304: f64 = t2396 * t2409;
+        let t3305 = product(t2529, t2542);
+        let t3306: f64 = t166 * t526;
+        let t3307 = product(t154, t514);
+        let t3308: f64 = t157 * t517;
+        let t3309: f64 = t3303.plus(t3304);
+        let t3310: f64 = t3305.plus(t3306);
+        let t3311: f64 = t3307.plus(t3308);
+        let t3312: f64 = t3309 + t3310;
+        let t3313: f64 = t3311 + t3312;
+        let t3314: f64 = t171 * t531;
+        let t3315: f64 = t3313 * t3314;
+        let t3316: f64 = t3302.minus(t3315);
+        let t3317: f64 = -t3316;
+        let t3318: f64 = t3205 * t3317;
+        let t3319: f64 = t3317 * t3318;
+        let t3320 = product(t3187, t3299);
+        let t3321: f64 = t3206 * t3317;
+        let t3322 = product(t1644, t1655);
+        let t3323: f64 = t2400 * t2409;
+        let t3324 = product(t2533, t2542);
+        let t3325: f64 = t286 * t526;
+        let t3326 = product(t274, t514);
+        let t3327: f64 = t277 * t517;
+        let t3328: f64 = t3322.plus(t3323);
+        let t3329: f64 = t3324.plus(t3325);
+        let t3330: f64 = t3326.plus(t3327);
+        let t3331: f64 = t3328 + t3329;
+        let t3332: f64 = t3330 + t3331;
+        let t3333: f64 = t291 * t531;
+        let t3334 = product(t3332, t3333);
+        let t3335: f64 = t3320.plus(t3321);
+        let t3336: f64 = t3334.subtracted_from(t3335);
+        let t3337: f64 = -t3336;
+        let t3338: f64 = t3271 * t3337;
+        let t3339 = product(t3337, t3338);
+        let t3340 = product(t3233, t3299);
+        let t3341: f64 = t3251 * t3317;
+        let t3342 = product(t3272, t3337);
+        let t3343 = product(t1650, t1655);
+        let t3344: f64 = t2405 * t2409;
+        let t3345 = product(t2538, t2542);
+        let t3346: f64 = t406 * t526;
+        let t3347 = product(t394, t514);
+        let t3348: f64 = t397 * t517;
+        let t3349: f64 = t3343.plus(t3344);
+        let t3350: f64 = t3345.plus(t3346);
+        let t3351: f64 = t3347.plus(t3348);
+        let t3352: f64 = t3349 + t3350;
+        let t3353: f64 = t3351 + t3352;
+        let t3354: f64 = t411 * t531;
+        let t3355 = product(t3353, t3354);
+        let t3356: f64 = t3340.plus(t3341);
+        let t3357: f64 = t3342.plus(t3356);
+        let t3358: f64 = t3355.subtracted_from(t3357);
+        let t3359: f64 = -t3358;
+        let t3360: f64 = 1.0 / t3276;
+        let t3361: f64 = t3359 * t3360;
+        let t3362: f64 = t3359 * t3361;
+        let t3363: f64 = t3301.plus(t3319);
+        let t3364: f64 = t3339.plus(t3362);
         let t3365: f64 = t3363 + t3364;
-        let t3366: f64 = t171 * t411;
-        let t3367: f64 = t3365 * t3366;
-        let t3368: f64 = t3354.minus(t3367);
-        let t3369: f64 = -t3368;
-        let t3370: f64 = t3324 * t3369;
-        let t3371: f64 = t3369 * t3370;
-        let t3372 = product(t3306, t3351);
-        let t3373: f64 = t3325 * t3369;
-        let t3374 = product(t1587, t1592);
-        let t3375: f64 = t2490 * t2494;
-        let t3376 = product(t2587, t2591);
-        let t3377: f64 = t286 * t406;
-        let t3378 = product(t274, t394);
-        let t3379: f64 = t277 * t397;
-        let t3380: f64 = t3374.plus(t3375);
-        let t3381: f64 = t3376.plus(t3377);
-        let t3382: f64 = t3378.plus(t3379);
-        let t3383: f64 = t3380 + t3381;
-        let t3384: f64 = t3382 + t3383;
-        let t3385: f64 = t291 * t411;
-        let t3386 = product(t3384, t3385);
-        let t3387: f64 = t3372.plus(t3373);
-        let t3388: f64 = t3386.subtracted_from(t3387);
-        let t3389: f64 = -t3388;
-        let t3390: f64 = 1.0 / t3328;
-        let t3391: f64 = t3389 * t3390;
-        let t3392 = product(t3389, t3391);
-        let t3393: f64 = t3353.plus(t3371);
-        let t3394: f64 = t3392.plus(t3393);
-        let t3395: f64 = t3338 - t3394;
-        let t3396: f64 = t3395 / t3338;
-        let t3397: f64 = t2560 * t2560;
-        let t3398 = product(t2954, t3397);
-        let t3399: f64 = t1598 * t1598;
-        let t3400 = product(t2954, t3399);
-        let t3401: f64 = t2463 * t2463;
-        let t3402: f64 = t2954 * t3401;
-        let t3403: f64 = t3400.plus(t3402);
-        let t3404: f64 = t3398.plus(t3403);
-        let t3405: f64 = t3404 + 1.0;
-        let t3406 = product(t1598, t1661);
-        let t3407: f64 = t2463 * t2481;
-        let t3408 = product(t2560, t2578);
-        let t3409: f64 = t46 * t526;
-        let t3410 = product(t34, t514);
-        let t3411: f64 = t37 * t517;
-        let t3412: f64 = t3406.plus(t3407);
-        let t3413: f64 = t3408.plus(t3409);
-        let t3414: f64 = t3410.plus(t3411);
-        let t3415: f64 = t3412 + t3413;
-        let t3416: f64 = t3414 + t3415;
-        let t3417: f64 = t51 * t531;
-        let t3418: f64 = t3416 * t3417;
-        let t3419: f64 = t3279 * t3418;
-        let t3420 = product(t3418, t3419);
-        let t3421 = product(t3280, t3418);
-        let t3422 = product(t1598, t1666);
-        let t3423: f64 = t2463 * t2485;
-        let t3424 = product(t2560, t2582);
-        let t3425: f64 = t166 * t526;
-        let t3426 = product(t154, t514);
-        let t3427: f64 = t157 * t517;
-        let t3428: f64 = t3422.plus(t3423);
-        let t3429: f64 = t3424.plus(t3425);
-        let t3430: f64 = t3426.plus(t3427);
-        let t3431: f64 = t3428 + t3429;
-        let t3432: f64 = t3430 + t3431;
-        let t3433: f64 = t171 * t531;
-        let t3434: f64 = t3432 * t3433;
-        let t3435: f64 = t3421.minus(t3434);
-        let t3436: f64 = -t3435;
-        let t3437: f64 = t3324 * t3436;
-        let t3438: f64 = t3436 * t3437;
-        let t3439 = product(t3306, t3418);
-        let t3440: f64 = t3325 * t3436;
-        let t3441 = product(t1587, t1598);
-        let t3442: f64 = t2463 * t2490;
-        let t3443 = product(t2560, t2587);
-        let t3444: f64 = t286 * t526;
-        let t3445 = product(t274, t514);
-        let t3446: f64 = t277 * t517;
-        let t3447: f64 = t3441.plus(t3442);
-        let t3448: f64 = t3443.plus(t3444);
-        let t3449: f64 = t3445.plus(t3446);
-        let t3450: f64 = t3447 + t3448;
-        let t3451: f64 = t3449 + t3450;
-        let t3452: f64 = t291 * t531;
-        let t3453 = product(t3451, t3452);
-        let t3454: f64 = t3439.plus(t3440);
-        let t3455: f64 = t3453.subtracted_from(t3454);
-        let t3456: f64 = -t3455;
-        let t3457: f64 = t3390 * t3456;
-        let t3458 = product(t3456, t3457);
-        let t3459 = product(t3352, t3418);
-        let t3460: f64 = t3370 * t3436;
-        let t3461 = product(t3391, t3456);
-        let t3462 = product(t1592, t1598);
-        let t3463: f64 = t2463 * t2494;
-        let t3464 = product(t2560, t2591);
-        let t3465: f64 = t406 * t526;
-        let t3466 = product(t394, t514);
-        let t3467: f64 = t397 * t517;
-        let t3468: f64 = t3462.plus(t3463);
-        let t3469: f64 = t3464.plus(t3465);
-        let t3470: f64 = t3466.plus(t3467);
-        let t3471: f64 = t3468 + t3469;
-        let t3472: f64 = t3470 + t3471;
-        let t3473: f64 = t411 * t531;
-        let t3474 = product(t3472, t3473);
-        let t3475: f64 = t3459.plus(t3460);
-        let t3476: f64 = t3461.plus(t3475);
-        let t3477: f64 = t3474.subtracted_from(t3476);
-        let t3478: f64 = -t3477;
-        let t3479: f64 = 1.0 / t3395;
-        let t3480: f64 = t3478 * t3479;
-        let t3481: f64 = t3478 * t3480;
-        let t3482: f64 = t3420.plus(t3438);
-        let t3483: f64 = t3458.plus(t3481);
-        let t3484: f64 = t3482 + t3483;
-        let t3485: f64 = t3405 - t3484;
-        let t3486: f64 = t3485 / t3405;
-        let t3487: f64 = t2564 * t2564;
-        let t3488 = product(t2992, t3487);
-        let t3489: f64 = t1603 * t1603;
-        let t3490 = product(t2992, t3489);
-        let t3491: f64 = t2467 * t2467;
-        let t3492: f64 = t2992 * t3491;
-        let t3493: f64 = t3490.plus(t3492);
-        let t3494: f64 = t3488.plus(t3493);
-        let t3495: f64 = t3494 + 1.0;
-        let t3496 = product(t1603, t1661);
-        let t3497: f64 = t2467 * t2481;
-        let t3498 = product(t2564, t2578);
-        let t3499: f64 = t46 * t646;
-        let t3500 = product(t34, t634);
-        let t3501: f64 = t37 * t637;
-        let t3502: f64 = t3496.plus(t3497);
-        let t3503: f64 = t3498.plus(t3499);
-        let t3504: f64 = t3500.plus(t3501);
-        let t3505: f64 = t3502 + t3503;
-        let t3506: f64 = t3504 + t3505;
-        let t3507: f64 = t51 * t651;
-        let t3508: f64 = t3506 * t3507;
-        let t3509: f64 = t3279 * t3508;
-        let t3510 = product(t3508, t3509);
-        let t3511 = product(t3280, t3508);
-        let t3512 = product(t1603, t1666);
-        let t3513: f64 = t2467 * t2485;
-        let t3514 = product(t2564, t2582);
-        let t3515: f64 = t166 * t646;
-        let t3516 = product(t154, t634);
-        let t3517: f64 = t157 * t637;
-        let t3518: f64 = t3512.plus(t3513);
-        let t3519: f64 = t3514.plus(t3515);
-        let t3520: f64 = t3516.plus(t3517);
-        let t3521: f64 = t3518 + t3519;
-        let t3522: f64 = t3520 + t3521;
-        let t3523: f64 = t171 * t651;
-        let t3524: f64 = t3522 * t3523;
-        let t3525: f64 = t3511.minus(t3524);
-        let t3526: f64 = -t3525;
-        let t3527: f64 = t3324 * t3526;
-        let t3528: f64 = t3526 * t3527;
-        let t3529 = product(t3306, t3508);
-        let t3530: f64 = t3325 * t3526;
-        let t3531 = product(t1587, t1603);
-        let t3532: f64 = t2467 * t2490;
-        let t3533 = product(t2564, t2587);
-        let t3534: f64 = t286 * t646;
-        let t3535 = product(t274, t634);
-        let t3536: f64 = t277 * t637;
-        let t3537: f64 = t3531.plus(t3532);
-        let t3538: f64 = t3533.plus(t3534);
-        let t3539: f64 = t3535.plus(t3536);
-        let t3540: f64 = t3537 + t3538;
-        let t3541: f64 = t3539 + t3540;
-        let t3542: f64 = t291 * t651;
-        let t3543 = product(t3541, t3542);
-        let t3544: f64 = t3529.plus(t3530);
-        let t3545: f64 = t3543.subtracted_from(t3544);
-        let t3546: f64 = -t3545;
-        let t3547: f64 = t3390 * t3546;
-        let t3548 = product(t3546, t3547);
-        let t3549 = product(t3352, t3508);
-        let t3550: f64 = t3370 * t3526;
-        let t3551 = product(t3391, t3546);
-        let t3552 = product(t1592, t1603);
-        let t3553: f64 = t2467 * t2494;
-        let t3554 = product(t2564, t2591);
-        let t3555: f64 = t406 * t646;
-        let t3556 = product(t394, t634);
-        let t3557: f64 = t397 * t637;
-        let t3558: f64 = t3552.plus(t3553);
-        let t3559: f64 = t3554.plus(t3555);
-        let t3560: f64 = t3556.plus(t3557);
-        let t3561: f64 = t3558 + t3559;
-        let t3562: f64 = t3560 + t3561;
-        let t3563: f64 = t411 * t651;
-        let t3564 = product(t3562, t3563);
-        let t3565: f64 = t3549.plus(t3550);
-        let t3566: f64 = t3551.plus(t3565);
-        let t3567: f64 = t3564.subtracted_from(t3566);
-        let t3568: f64 = -t3567;
-        let t3569: f64 = t3479 * t3568;
-        let t3570: f64 = t3568 * t3569;
-        let t3571 = product(t3419, t3508);
-        let t3572: f64 = t3437 * t3526;
-        let t3573 = product(t3457, t3546);
-        let t3574: f64 = t3480 * t3568;
-        let t3575 = product(t1598, t1603);
-        let t3576: f64 = t2463 * t2467;
-        let t3577 = product(t2560, t2564);
-        let t3578: f64 = t526 * t646;
-        let t3579 = product(t514, t634);
-        let t3580: f64 = t517 * t637;
-        let t3581: f64 = t3575.plus(t3576);
-        let t3582: f64 = t3577.plus(t3578);
-        let t3583: f64 = t3579.plus(t3580);
-        let t3584: f64 = t3581 + t3582;
-        let t3585: f64 = t3583 + t3584;
-        let t3586: f64 = t531 * t651;
-        let t3587 = product(t3585, t3586);
-        let t3588: f64 = t3571.plus(t3572);
-        let t3589: f64 = t3573.plus(t3574);
-        let t3590: f64 = t3588 + t3589;
-        let t3591: f64 = t3587.subtracted_from(t3590);
-        let t3592: f64 = -t3591;
-        let t3593: f64 = t3592 / t3485;
-        let t3594 = product(t3592, t3593);
-        let t3595: f64 = t3510.plus(t3528);
-        let t3596: f64 = t3548.plus(t3570);
-        let t3597: f64 = t3595 + t3596;
-        let t3598: f64 = t3594.plus(t3597);
-        let t3599: f64 = t3495 - t3598;
-        let t3600: f64 = t3599 / t3495;
+        let t3366: f64 = t3286 - t3365;
+        let t3367: f64 = t3366 / t3286;
+        let t3368: f64 = t2513 * t2513;
+        let t3369 = product(t1483, t3368);
+        let t3370: f64 = t1618 * t1618;
+        let t3371 = product(t1483, t3370);
+        let t3372: f64 = t2380 * t2380;
+        let t3373: f64 = t1483 * t3372;
+        let t3374: f64 = t3371.plus(t3373);
+        let t3375: f64 = t3369.plus(t3374);
+        let t3376: f64 = t3375 + 1.0;
+        let t3377 = product(t1618, t1631);
+        let t3378: f64 = t2380 * t2389;
+        let t3379 = product(t2513, t2522);
+        let t3380: f64 = t46 * t646;
+        let t3381 = product(t34, t634);
+        let t3382: f64 = t37 * t637;
+        let t3383: f64 = t3377.plus(t3378);
+        let t3384: f64 = t3379.plus(t3380);
+        let t3385: f64 = t3381.plus(t3382);
+        let t3386: f64 = t3383 + t3384;
+        let t3387: f64 = t3385 + t3386;
+        let t3388: f64 = t51 * t651;
+        let t3389: f64 = t3387 * t3388;
+        let t3390: f64 = t3160 * t3389;
+        let t3391 = product(t3389, t3390);
+        let t3392 = product(t3161, t3389);
+        let t3393 = product(t1618, t1639);
+        let t3394: f64 = t2380 * t2396;
+        let t3395 = product(t2513, t2529);
+        let t3396: f64 = t166 * t646;
+        let t3397 = product(t154, t634);
+        let t3398: f64 = t157 * t637;
+        let t3399: f64 = t3393.plus(t3394);
+        let t3400: f64 = t3395.plus(t3396);
+        let t3401: f64 = t3397.plus(t3398);
+        let t3402: f64 = t3399 + t3400;
+        let t3403: f64 = t3401 + t3402;
+        let t3404: f64 = t171 * t651;
+        let t3405: f64 = t3403 * t3404;
+        let t3406: f64 = t3392.minus(t3405);
+        let t3407: f64 = -t3406;
+        let t3408: f64 = t3205 * t3407;
+        let t3409: f64 = t3407 * t3408;
+        let t3410 = product(t3187, t3389);
+        let t3411: f64 = t3206 * t3407;
+        let t3412 = product(t1618, t1644);
+        let t3413: f64 = t2380 * t2400;
+        let t3414 = product(t2513, t2533);
+        let t3415: f64 = t286 * t646;
+        let t3416 = product(t274, t634);
+        let t3417: f64 = t277 * t637;
+        let t3418: f64 = t3412.plus(t3413);
+        let t3419: f64 = t3414.plus(t3415);
+        let t3420: f64 = t3416.plus(t3417);
+        let t3421: f64 = t3418 + t3419;
+        let t3422: f64 = t3420 + t3421;
+        let t3423: f64 = t291 * t651;
+        let t3424 = product(t3422, t3423);
+        let t3425: f64 = t3410.plus(t3411);
+        let t3426: f64 = t3424.subtracted_from(t3425);
+        let t3427: f64 = -t3426;
+        let t3428: f64 = t3271 * t3427;
+        let t3429 = product(t3427, t3428);
+        let t3430 = product(t3233, t3389);
+        let t3431: f64 = t3251 * t3407;
+        let t3432 = product(t3272, t3427);
+        let t3433 = product(t1618, t1650);
+        let t3434: f64 = t2380 * t2405;
+        let t3435 = product(t2513, t2538);
+        let t3436: f64 = t406 * t646;
+        let t3437 = product(t394, t634);
+        let t3438: f64 = t397 * t637;
+        let t3439: f64 = t3433.plus(t3434);
+        let t3440: f64 = t3435.plus(t3436);
+        let t3441: f64 = t3437.plus(t3438);
+        let t3442: f64 = t3439 + t3440;
+        let t3443: f64 = t3441 + t3442;
+        let t3444: f64 = t411 * t651;
+        let t3445 = product(t3443, t3444);
+        let t3446: f64 = t3430.plus(t3431);
+        let t3447: f64 = t3432.plus(t3446);
+        let t3448: f64 = t3445.subtracted_from(t3447);
+        let t3449: f64 = -t3448;
+        let t3450: f64 = t3360 * t3449;
+        let t3451: f64 = t3449 * t3450;
+        let t3452 = product(t3300, t3389);
+        let t3453: f64 = t3318 * t3407;
+        let t3454 = product(t3338, t3427);
+        let t3455: f64 = t3361 * t3449;
+        let t3456 = product(t1618, t1655);
+        let t3457: f64 = t2380 * t2409;
+        let t3458 = product(t2513, t2542);
+        let t3459: f64 = t526 * t646;
+        let t3460 = product(t514, t634);
+        let t3461: f64 = t517 * t637;
+        let t3462: f64 = t3456.plus(t3457);
+        let t3463: f64 = t3458.plus(t3459);
+        let t3464: f64 = t3460.plus(t3461);
+        let t3465: f64 = t3462 + t3463;
+        let t3466: f64 = t3464 + t3465;
+        let t3467: f64 = t531 * t651;
+        let t3468 = product(t3466, t3467);
+        let t3469: f64 = t3452.plus(t3453);
+        let t3470: f64 = t3454.plus(t3455);
+        let t3471: f64 = t3469 + t3470;
+        let t3472: f64 = t3468.subtracted_from(t3471);
+        let t3473: f64 = -t3472;
+        let t3474: f64 = t3473 / t3366;
+        let t3475 = product(t3473, t3474);
+        let t3476: f64 = t3391.plus(t3409);
+        let t3477: f64 = t3429.plus(t3451);
+        let t3478: f64 = t3476 + t3477;
+        let t3479: f64 = t3475.plus(t3478);
+        let t3480: f64 = t3376 - t3479;
+        let t3481: f64 = t3480 / t3376;
         (
-            t3239,
-            t3240,
-            t3241,
-            t3242,
-            t3243,
-            t3244,
-            t3245,
-            t3246,
-            t3247,
-            t3248,
-            t3256,
-            t3283,
-            t3329,
-            t3396,
-            t3486,
-            t3600,
+            t3110,
+            t3119,
+            t3120,
+            t3121,
+            t3123,
+            t3124,
+            t3125,
+            t3126,
+            t3127,
+            t3128,
+            t3129,
+            t3137,
+            t3164,
+            t3210,
+            t3277,
+            t3367,
+            t3481,
         )
     };
     (
-        [t2799, t2800, t3239, t3240, t3241, t3242],
+        [t2747, t3119, t3120, t3110, t3121, t3123],
         [
-            t3243,
-            t3244,
-            t3245,
-            t3246,
-            t3247,
-            t3248,
-            t3256,
-            t3283,
-            t3329,
-            t3396,
-            t3486,
-            t3600,
+            t3124,
+            t3125,
+            t3126,
+            t3127,
+            t3128,
+            t3129,
+            t3137,
+            t3164,
+            t3210,
+            t3277,
+            t3367,
+            t3481,
         ],
     )
 }

@@ -9,9 +9,9 @@
 //   joint_accelerations                295    6   237    5  3 sin_cos, 12 sqrt
 //   leg_wrench                         874   12   567   19  3 sin_cos, 12 sqrt
 //   platform_wrench                    106    0    51    0  3 sin_cos
-//   task_inertia                       888   12   663   11  3 sin_cos, 12 sqrt
+//   task_inertia                       768   12   573   11  3 sin_cos, 12 sqrt
 //   task_bias                          893   12   543   19  3 sin_cos, 12 sqrt
-//   forward_dynamics                  2091   29  1503   39  3 sin_cos, 12 sqrt
+//   forward_dynamics                  1930   29  1386   36  3 sin_cos, 12 sqrt
 //   inverse_dynamics                  1206   24   793   39  3 sin_cos, 12 sqrt
 //   singularity_terms                  342   17   227   15  3 sin_cos, 12 sqrt
 //   forward_kinematics_step            260    6   153   16  3 sin_cos, 12 sqrt
@@ -5301,7 +5301,7 @@ pub fn platform_wrench_separate(
 /// - `m`: `M_x` (kg, kg·m, kg·m²), rows and columns `[ωx ωy ωz vx vy vz]`, base frame
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
-/// Operations: 888 mul, 12 div, 663 add, 11 neg, 3 sin_cos, 12 sqrt (chapter convention: 900m + 663a).
+/// Operations: 768 mul, 12 div, 573 add, 11 neg, 3 sin_cos, 12 sqrt (chapter convention: 780m + 573a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
@@ -5318,178 +5318,118 @@ pub fn task_inertia_separate(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 6]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let (
         t0,
-        t1,
         t3,
         t4,
-        t5,
-        t6,
-        t8,
         t10,
         t14,
-        t17,
-        t21,
-        t24,
         t27,
         t34,
         t44,
         t59,
-        t61,
-        t67,
-        t79,
-        t80,
-        t83,
-        t85,
         t96,
-        t114,
-        t127,
-        t129,
-        t139,
-        t152,
-        t154,
-        t156,
-        t157,
-        t160,
-        t170,
-        t184,
+        t124,
+        t133,
+        t137,
+        t138,
+        t141,
+        t151,
+        t165,
+        t173,
         t186,
-        t192,
-        t204,
-        t205,
-        t208,
-        t210,
-        t221,
+        t189,
+        t202,
+        t230,
         t239,
-        t252,
-        t254,
-        t264,
+        t245,
+        t248,
+        t253,
+        t263,
         t277,
-        t279,
-        t283,
-        t286,
-        t291,
+        t285,
+        t298,
         t301,
-        t315,
-        t317,
-        t323,
-        t335,
-        t336,
-        t339,
-        t341,
-        t352,
-        t370,
-        t383,
-        t385,
-        t395,
-        t408,
+        t314,
+        t342,
+        t351,
+        t357,
+        t360,
+        t365,
+        t375,
+        t389,
+        t397,
         t410,
-        t414,
-        t417,
-        t422,
-        t432,
-        t446,
-        t448,
+        t413,
+        t426,
         t454,
-        t466,
+        t463,
         t467,
-        t470,
-        t472,
-        t483,
-        t501,
-        t514,
-        t516,
-        t526,
-        t539,
-        t541,
-        t543,
-        t544,
-        t547,
-        t557,
-        t570,
+        t468,
+        t471,
+        t481,
+        t494,
+        t502,
+        t515,
+        t518,
+        t531,
+        t559,
+        t568,
         t572,
-        t578,
-        t590,
-        t591,
-        t594,
-        t596,
-        t607,
-        t625,
-        t638,
-        t640,
-        t650,
+        t573,
+        t576,
+        t585,
+        t598,
+        t606,
+        t619,
+        t622,
+        t635,
         t663,
-        t665,
-        t667,
-        t668,
-        t671,
-        t680,
-        t693,
+        t672,
+        t676,
         t695,
-        t701,
-        t713,
-        t714,
-        t717,
-        t719,
-        t730,
-        t748,
-        t761,
+        t710,
+        t711,
+        t723,
+        t724,
+        t731,
+        t742,
+        t743,
+        t755,
+        t756,
         t763,
-        t773,
-        t786,
+        t774,
+        t775,
+        t787,
         t788,
-        t790,
-        t809,
-        t810,
-        t816,
+        t795,
+        t806,
+        t807,
         t819,
-        t822,
-        t824,
-        t830,
-        t833,
-        t835,
+        t820,
+        t827,
         t838,
-        t844,
-        t847,
-        t850,
+        t839,
+        t851,
         t852,
-        t858,
-        t861,
-        t863,
-        t866,
-        t872,
-        t875,
-        t878,
-        t880,
-        t886,
-        t889,
-        t891,
-        t894,
-        t900,
-        t903,
-        t906,
-        t908,
-        t914,
-        t917,
-        t919,
-        t922,
-        t928,
-        t931,
-        t934,
-        t936,
-        t942,
-        t945,
-        t947,
-        t950,
-        t956,
-        t959,
+        t859,
+        t870,
+        t871,
+        t883,
+        t884,
+        t907,
+        t938,
+        t944,
+        t946,
+        t953,
+        t955,
         t962,
+        t963,
         t964,
-        t970,
-        t973,
-        t975,
+        t965,
+        t966,
+        t968,
+        t994,
         t997,
         t998,
-        t999,
-        t1000,
         t1001,
         t1002,
     ) = {
@@ -5559,11 +5499,11 @@ pub fn task_inertia_separate(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 6]) {
         let t66: f64 = t60 * t65;
         let t67: f64 = t66 * t66;
         let t68: f64 = t62 * t67;
-        let t69: f64 = t61 * 0.3;
-        let t70: f64 = t62 * 0.295;
-        let t71 = product(t68, 0.003);
-        let t72: f64 = t71.added_to(t70);
-        let t73: f64 = t69 - t72;
+        let t69 = product(t61, 0.3);
+        let t70 = product(t62, 0.295);
+        let t71: f64 = t68 * 0.003;
+        let t72: f64 = t70.plus(t71);
+        let t73: f64 = t69.minus(t72);
         let t74 = product(t44, t73);
         let t75: f64 = t62 * 0.3;
         let t76: f64 = t74.plus(t75);
@@ -5588,1743 +5528,1465 @@ pub fn task_inertia_separate(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 6]) {
         let t95: f64 = t46.plus(t78);
         let t96: f64 = t94.plus(t95);
         let t97 = product(t17, t96);
-        let t98: f64 = t45 * t82;
-        let t99: f64 = t44 * t44;
-        let t100: f64 = t61 * t79;
-        let t101: f64 = t99 * t100;
-        let t102: f64 = t67 * t101;
-        let t103: f64 = t44 * t79;
-        let t104: f64 = t79 * 0.3;
-        let t105: f64 = t103 * 0.295;
-        let t106: f64 = t104 - t105;
-        let t107 = product(t44, t106);
-        let t108: f64 = t103 * 0.3;
-        let t109: f64 = t107.plus(t108);
-        let t110: f64 = t79 - t109;
-        let t111 = product(t61, t110);
-        let t112 = product(t45, t83);
-        let t113: f64 = t61 * t80;
-        let t114: f64 = t112.minus(t113);
-        let t115: f64 = t44 * t114;
-        let t116 = product(t114, 0.3);
-        let t117: f64 = t115 * 0.295;
-        let t118: f64 = t116.minus(t117);
-        let t119 = product(t44, t118);
-        let t120: f64 = t115 * 0.3;
-        let t121: f64 = t119.plus(t120);
-        let t122: f64 = t114 - t121;
-        let t123 = product(t85, t122);
-        let t124: f64 = t102 * 0.003;
-        let t125: f64 = t111.added_to(t98);
-        let t126: f64 = t123.plus(t124);
-        let t127: f64 = t125 + t126;
-        let t128: f64 = t27 * t127;
-        let t129: f64 = t97.minus(t128);
-        let t130 = product(t17, t129);
-        let t131: f64 = t69 - t70;
-        let t132 = product(t44, t131);
-        let t133: f64 = t132.added_to(t75);
-        let t134: f64 = t61 - t133;
-        let t135 = product(t79, t134);
-        let t136 = product(t93, t114);
-        let t137: f64 = t135.added_to(t98);
-        let t138: f64 = t136.added_to(t124);
-        let t139: f64 = t137 + t138;
-        let t140 = product(t17, t139);
-        let t141 = product(t82, t82);
-        let t142: f64 = t67 * t103;
-        let t143 = product(t142, 0.003);
-        let t144: f64 = t143.added_to(t105);
-        let t145: f64 = t104 - t144;
-        let t146 = product(t44, t145);
-        let t147: f64 = t146.added_to(t108);
-        let t148: f64 = t79 - t147;
-        let t149: f64 = t79 * t148;
-        let t150 = product(t114, t122);
-        let t151: f64 = t141.plus(t149);
-        let t152: f64 = t150.plus(t151);
-        let t153: f64 = t27 * t152;
-        let t154: f64 = t140.minus(t153);
-        let t155 = product(t27, t154);
-        let t156: f64 = t15 - t16;
-        let t157: f64 = t25 - t26;
-        let t158: f64 = yc + t157;
-        let t159: f64 = t158 + 0.08;
-        let t160: f64 = t32 + t33;
-        let t161: f64 = xc + t160;
-        let t162: f64 = t161 - 0.45;
-        let t163 = product(t162, t162);
-        let t164: f64 = t159 * t159;
-        let t165: f64 = zc + t156;
-        let t166 = product(t165, t165);
-        let t167: f64 = t163.plus(t164);
-        let t168: f64 = t166.plus(t167);
-        let t169: f64 = sqrt(t168);
-        let t170: f64 = 1.0 / t169;
-        let t171: f64 = t159 * t170;
-        let t172 = product(t171, t171);
-        let t173: f64 = t165 * 0.1750329254309137;
-        let t174: f64 = t165 * 0.9845625805478777;
-        let t175: f64 = -t174;
-        let t176 = product(t175, t175);
-        let t177: f64 = t173 * t173;
-        let t178 = product(t162, 0.9845625805478777);
-        let t179: f64 = t159 * 0.1750329254309137;
-        let t180: f64 = t178.minus(t179);
-        let t181 = product(t180, t180);
-        let t182: f64 = t176.plus(t177);
-        let t183: f64 = t181.plus(t182);
-        let t184: f64 = sqrt(t183);
-        let t185: f64 = 1.0 / t184;
-        let t186: f64 = t173 * t185;
-        let t187: f64 = t170 * t186;
-        let t188 = product(t162, 0.1750329254309137);
-        let t189: f64 = t159 * 0.9845625805478777;
-        let t190: f64 = t188.plus(t189);
-        let t191: f64 = t185 * t190;
-        let t192: f64 = t191 * t191;
-        let t193: f64 = t187 * t192;
-        let t194: f64 = t186 * 0.3;
-        let t195: f64 = t187 * 0.295;
-        let t196 = product(t193, 0.003);
-        let t197: f64 = t196.added_to(t195);
-        let t198: f64 = t194 - t197;
-        let t199 = product(t170, t198);
-        let t200: f64 = t187 * 0.3;
-        let t201: f64 = t199.plus(t200);
-        let t202: f64 = t186 - t201;
-        let t203: f64 = t186 * t202;
-        let t204: f64 = t180 * t185;
-        let t205: f64 = t162 * t170;
-        let t206 = product(t204, t205);
-        let t207: f64 = t165 * t170;
-        let t208: f64 = t175 * t185;
-        let t209: f64 = t207 * t208;
-        let t210: f64 = t206.minus(t209);
-        let t211: f64 = t170 * t210;
-        let t212 = product(t210, 0.3);
-        let t213: f64 = t211 * 0.295;
-        let t214: f64 = t212.minus(t213);
-        let t215 = product(t170, t214);
-        let t216: f64 = t211 * 0.3;
-        let t217: f64 = t215.plus(t216);
-        let t218: f64 = t210 - t217;
-        let t219 = product(t210, t218);
-        let t220: f64 = t172.plus(t203);
-        let t221: f64 = t219.plus(t220);
-        let t222 = product(t156, t221);
-        let t223: f64 = t171 * t207;
-        let t224: f64 = t170 * t170;
-        let t225: f64 = t186 * t204;
-        let t226: f64 = t224 * t225;
-        let t227: f64 = t192 * t226;
-        let t228: f64 = t170 * t204;
-        let t229: f64 = t204 * 0.3;
-        let t230: f64 = t228 * 0.295;
-        let t231: f64 = t229 - t230;
-        let t232 = product(t170, t231);
-        let t233: f64 = t228 * 0.3;
-        let t234: f64 = t232.plus(t233);
-        let t235: f64 = t204 - t234;
-        let t236 = product(t186, t235);
-        let t237 = product(t171, t208);
-        let t238: f64 = t186 * t205;
-        let t239: f64 = t237.minus(t238);
-        let t240: f64 = t170 * t239;
-        let t241 = product(t239, 0.3);
-        let t242: f64 = t240 * 0.295;
-        let t243: f64 = t241.minus(t242);
-        let t244 = product(t170, t243);
-        let t245: f64 = t240 * 0.3;
-        let t246: f64 = t244.plus(t245);
-        let t247: f64 = t239 - t246;
-        let t248 = product(t210, t247);
-        let t249: f64 = t227 * 0.003;
-        let t250: f64 = t236.added_to(t223);
-        let t251: f64 = t248.plus(t249);
-        let t252: f64 = t250 + t251;
-        let t253: f64 = t157 * t252;
-        let t254: f64 = t222.minus(t253);
-        let t255 = product(t156, t254);
-        let t256: f64 = t194 - t195;
-        let t257 = product(t170, t256);
-        let t258: f64 = t257.added_to(t200);
-        let t259: f64 = t186 - t258;
-        let t260 = product(t204, t259);
-        let t261 = product(t218, t239);
-        let t262: f64 = t260.added_to(t223);
-        let t263: f64 = t261.added_to(t249);
-        let t264: f64 = t262 + t263;
-        let t265 = product(t156, t264);
-        let t266 = product(t207, t207);
-        let t267: f64 = t192 * t228;
-        let t268 = product(t267, 0.003);
-        let t269: f64 = t268.added_to(t230);
-        let t270: f64 = t229 - t269;
-        let t271 = product(t170, t270);
-        let t272: f64 = t271.added_to(t233);
-        let t273: f64 = t204 - t272;
-        let t274: f64 = t204 * t273;
-        let t275 = product(t239, t247);
-        let t276: f64 = t266.plus(t274);
-        let t277: f64 = t275.plus(t276);
-        let t278: f64 = t157 * t277;
-        let t279: f64 = t265.minus(t278);
-        let t280: f64 = t157 * t279;
-        let t281: f64 = t10 * 0.254904;
-        let t282: f64 = t14 * 0.141506;
-        let t283: f64 = t281 - t282;
-        let t284: f64 = t21 * 0.254904;
-        let t285: f64 = t24 * 0.141506;
-        let t286: f64 = t284 - t285;
-        let t287: f64 = t286 + 0.349711;
-        let t288: f64 = yc - t287;
-        let t289: f64 = t30 * 0.254904;
-        let t290: f64 = t31 * 0.141506;
-        let t291: f64 = t289 + t290;
-        let t292: f64 = xc + 0.294282;
-        let t293: f64 = t292 - t291;
-        let t294 = product(t293, t293);
-        let t295: f64 = t288 * t288;
-        let t296: f64 = zc - t283;
-        let t297 = product(t296, t296);
-        let t298: f64 = t294.plus(t295);
-        let t299: f64 = t297.plus(t298);
-        let t300: f64 = sqrt(t299);
-        let t301: f64 = 1.0 / t300;
-        let t302: f64 = t288 * t301;
-        let t303 = product(t302, t302);
-        let t304: f64 = t296 * 0.7651390659756491;
-        let t305: f64 = -t304;
-        let t306: f64 = t296 * 0.6438650555185546;
-        let t307 = product(t306, t306);
-        let t308: f64 = t305 * t305;
-        let t309 = product(t293, 0.6438650555185546);
-        let t310: f64 = t288 * 0.7651390659756491;
-        let t311: f64 = t309.minus(t310);
-        let t312 = product(t311, t311);
-        let t313: f64 = t307.plus(t308);
+        let t98 = product(t45, t82);
+        let t99: f64 = t44 * t79;
+        let t100: f64 = t67 * t99;
+        let t101 = product(t79, 0.3);
+        let t102 = product(t99, 0.295);
+        let t103: f64 = t100 * 0.003;
+        let t104: f64 = t102.plus(t103);
+        let t105: f64 = t101.minus(t104);
+        let t106 = product(t44, t105);
+        let t107: f64 = t99 * 0.3;
+        let t108: f64 = t106.plus(t107);
+        let t109: f64 = t79 - t108;
+        let t110: f64 = t61 * t109;
+        let t111 = product(t45, t83);
+        let t112: f64 = t61 * t80;
+        let t113: f64 = t111.minus(t112);
+        let t114: f64 = t44 * t113;
+        let t115 = product(t113, 0.3);
+        let t116: f64 = t114 * 0.295;
+        let t117: f64 = t115.minus(t116);
+        let t118 = product(t44, t117);
+        let t119: f64 = t114 * 0.3;
+        let t120: f64 = t118.plus(t119);
+        let t121: f64 = t113 - t120;
+        let t122 = product(t85, t121);
+        let t123: f64 = t98.plus(t110);
+        let t124: f64 = t122.plus(t123);
+        let t125: f64 = t27 * t124;
+        let t126: f64 = t97.minus(t125);
+        let t127 = product(t17, t126);
+        let t128 = product(t17, t124);
+        let t129 = product(t82, t82);
+        let t130: f64 = t79 * t109;
+        let t131 = product(t113, t121);
+        let t132: f64 = t129.plus(t130);
+        let t133: f64 = t131.plus(t132);
+        let t134: f64 = t27 * t133;
+        let t135: f64 = t128.minus(t134);
+        let t136 = product(t27, t135);
+        let t137: f64 = t15 - t16;
+        let t138: f64 = t25 - t26;
+        let t139: f64 = yc + t138;
+        let t140: f64 = t139 + 0.08;
+        let t141: f64 = t32 + t33;
+        let t142: f64 = xc + t141;
+        let t143: f64 = t142 - 0.45;
+        let t144 = product(t143, t143);
+        let t145: f64 = t140 * t140;
+        let t146: f64 = zc + t137;
+        let t147 = product(t146, t146);
+        let t148: f64 = t144.plus(t145);
+        let t149: f64 = t147.plus(t148);
+        let t150: f64 = sqrt(t149);
+        let t151: f64 = 1.0 / t150;
+        let t152: f64 = t140 * t151;
+        let t153 = product(t152, t152);
+        let t154: f64 = t146 * 0.1750329254309137;
+        let t155: f64 = t146 * 0.9845625805478777;
+        let t156: f64 = -t155;
+        let t157 = product(t156, t156);
+        let t158: f64 = t154 * t154;
+        let t159 = product(t143, 0.9845625805478777);
+        let t160: f64 = t140 * 0.1750329254309137;
+        let t161: f64 = t159.minus(t160);
+        let t162 = product(t161, t161);
+        let t163: f64 = t157.plus(t158);
+        let t164: f64 = t162.plus(t163);
+        let t165: f64 = sqrt(t164);
+        let t166: f64 = 1.0 / t165;
+        let t167: f64 = t154 * t166;
+        let t168: f64 = t151 * t167;
+        let t169 = product(t143, 0.1750329254309137);
+        let t170: f64 = t140 * 0.9845625805478777;
+        let t171: f64 = t169.plus(t170);
+        let t172: f64 = t166 * t171;
+        let t173: f64 = t172 * t172;
+        let t174: f64 = t168 * t173;
+        let t175 = product(t167, 0.3);
+        let t176 = product(t168, 0.295);
+        let t177: f64 = t174 * 0.003;
+        let t178: f64 = t176.plus(t177);
+        let t179: f64 = t175.minus(t178);
+        let t180 = product(t151, t179);
+        let t181: f64 = t168 * 0.3;
+        let t182: f64 = t180.plus(t181);
+        let t183: f64 = t167 - t182;
+        let t184: f64 = t167 * t183;
+        let t185: f64 = t161 * t166;
+        let t186: f64 = t143 * t151;
+        let t187 = product(t185, t186);
+        let t188: f64 = t146 * t151;
+        let t189: f64 = t156 * t166;
+        let t190: f64 = t188 * t189;
+        let t191: f64 = t187.minus(t190);
+        let t192: f64 = t151 * t191;
+        let t193 = product(t191, 0.3);
+        let t194: f64 = t192 * 0.295;
+        let t195: f64 = t193.minus(t194);
+        let t196 = product(t151, t195);
+        let t197: f64 = t192 * 0.3;
+        let t198: f64 = t196.plus(t197);
+        let t199: f64 = t191 - t198;
+        let t200 = product(t191, t199);
+        let t201: f64 = t153.plus(t184);
+        let t202: f64 = t200.plus(t201);
+        let t203 = product(t137, t202);
+        let t204 = product(t152, t188);
+        let t205: f64 = t151 * t185;
+        let t206: f64 = t173 * t205;
+        let t207 = product(t185, 0.3);
+        let t208 = product(t205, 0.295);
+        let t209: f64 = t206 * 0.003;
+        let t210: f64 = t208.plus(t209);
+        let t211: f64 = t207.minus(t210);
+        let t212 = product(t151, t211);
+        let t213: f64 = t205 * 0.3;
+        let t214: f64 = t212.plus(t213);
+        let t215: f64 = t185 - t214;
+        let t216: f64 = t167 * t215;
+        let t217 = product(t152, t189);
+        let t218: f64 = t167 * t186;
+        let t219: f64 = t217.minus(t218);
+        let t220: f64 = t151 * t219;
+        let t221 = product(t219, 0.3);
+        let t222: f64 = t220 * 0.295;
+        let t223: f64 = t221.minus(t222);
+        let t224 = product(t151, t223);
+        let t225: f64 = t220 * 0.3;
+        let t226: f64 = t224.plus(t225);
+        let t227: f64 = t219 - t226;
+        let t228 = product(t191, t227);
+        let t229: f64 = t204.plus(t216);
+        let t230: f64 = t228.plus(t229);
+        let t231: f64 = t138 * t230;
+        let t232: f64 = t203.minus(t231);
+        let t233 = product(t137, t232);
+        let t234 = product(t137, t230);
+        let t235 = product(t188, t188);
+        let t236: f64 = t185 * t215;
+        let t237 = product(t219, t227);
+        let t238: f64 = t235.plus(t236);
+        let t239: f64 = t237.plus(t238);
+        let t240: f64 = t138 * t239;
+        let t241: f64 = t234.minus(t240);
+        let t242: f64 = t138 * t241;
+        let t243: f64 = t10 * 0.254904;
+        let t244: f64 = t14 * 0.141506;
+        let t245: f64 = t243 - t244;
+        let t246: f64 = t21 * 0.254904;
+        let t247: f64 = t24 * 0.141506;
+        let t248: f64 = t246 - t247;
+        let t249: f64 = t248 + 0.349711;
+        let t250: f64 = yc - t249;
+        let t251: f64 = t30 * 0.254904;
+        let t252: f64 = t31 * 0.141506;
+        let t253: f64 = t251 + t252;
+        let t254: f64 = xc + 0.294282;
+        let t255: f64 = t254 - t253;
+        let t256 = product(t255, t255);
+        let t257: f64 = t250 * t250;
+        let t258: f64 = zc - t245;
+        let t259 = product(t258, t258);
+        let t260: f64 = t256.plus(t257);
+        let t261: f64 = t259.plus(t260);
+        let t262: f64 = sqrt(t261);
+        let t263: f64 = 1.0 / t262;
+        let t264: f64 = t250 * t263;
+        let t265 = product(t264, t264);
+        let t266: f64 = t258 * 0.7651390659756491;
+        let t267: f64 = -t266;
+        let t268: f64 = t258 * 0.6438650555185546;
+        let t269 = product(t268, t268);
+        let t270: f64 = t267 * t267;
+        let t271 = product(t255, 0.6438650555185546);
+        let t272: f64 = t250 * 0.7651390659756491;
+        let t273: f64 = t271.minus(t272);
+        let t274 = product(t273, t273);
+        let t275: f64 = t269.plus(t270);
+        let t276: f64 = t274.plus(t275);
+        let t277: f64 = sqrt(t276);
+        let t278: f64 = 1.0 / t277;
+        let t279: f64 = t267 * t278;
+        let t280: f64 = t263 * t279;
+        let t281 = product(t255, 0.7651390659756491);
+        let t282: f64 = t250 * 0.6438650555185546;
+        let t283: f64 = t281.plus(t282);
+        let t284: f64 = t278 * t283;
+        let t285: f64 = t284 * t284;
+        let t286: f64 = t280 * t285;
+        let t287 = product(t279, 0.3);
+        let t288 = product(t280, 0.295);
+        let t289: f64 = t286 * 0.003;
+        let t290: f64 = t288.plus(t289);
+        let t291: f64 = t287.minus(t290);
+        let t292 = product(t263, t291);
+        let t293: f64 = t280 * 0.3;
+        let t294: f64 = t292.plus(t293);
+        let t295: f64 = t279 - t294;
+        let t296: f64 = t279 * t295;
+        let t297: f64 = t273 * t278;
+        let t298: f64 = t255 * t263;
+        let t299 = product(t297, t298);
+        let t300: f64 = t258 * t263;
+        let t301: f64 = t268 * t278;
+        let t302: f64 = t300 * t301;
+        let t303: f64 = t299.plus(t302);
+        let t304: f64 = t263 * t303;
+        let t305 = product(t303, 0.3);
+        let t306: f64 = t304 * 0.295;
+        let t307: f64 = t305.minus(t306);
+        let t308 = product(t263, t307);
+        let t309: f64 = t304 * 0.3;
+        let t310: f64 = t308.plus(t309);
+        let t311: f64 = t303 - t310;
+        let t312 = product(t303, t311);
+        let t313: f64 = t265.plus(t296);
         let t314: f64 = t312.plus(t313);
-        let t315: f64 = sqrt(t314);
-        let t316: f64 = 1.0 / t315;
-        let t317: f64 = t305 * t316;
-        let t318: f64 = t301 * t317;
-        let t319 = product(t293, 0.7651390659756491);
-        let t320: f64 = t288 * 0.6438650555185546;
-        let t321: f64 = t319.plus(t320);
-        let t322: f64 = t316 * t321;
-        let t323: f64 = t322 * t322;
-        let t324: f64 = t318 * t323;
+        let t315 = product(t245, t314);
+        let t316 = product(t264, t300);
+        let t317: f64 = t263 * t297;
+        let t318: f64 = t285 * t317;
+        let t319 = product(t297, 0.3);
+        let t320 = product(t317, 0.295);
+        let t321: f64 = t318 * 0.003;
+        let t322: f64 = t320.plus(t321);
+        let t323: f64 = t319.minus(t322);
+        let t324 = product(t263, t323);
         let t325: f64 = t317 * 0.3;
-        let t326: f64 = t318 * 0.295;
-        let t327 = product(t324, 0.003);
-        let t328: f64 = t327.added_to(t326);
-        let t329: f64 = t325 - t328;
-        let t330 = product(t301, t329);
-        let t331: f64 = t318 * 0.3;
-        let t332: f64 = t330.plus(t331);
-        let t333: f64 = t317 - t332;
-        let t334: f64 = t317 * t333;
-        let t335: f64 = t311 * t316;
-        let t336: f64 = t293 * t301;
-        let t337 = product(t335, t336);
-        let t338: f64 = t296 * t301;
-        let t339: f64 = t306 * t316;
-        let t340: f64 = t338 * t339;
-        let t341: f64 = t337.plus(t340);
-        let t342: f64 = t301 * t341;
-        let t343 = product(t341, 0.3);
-        let t344: f64 = t342 * 0.295;
-        let t345: f64 = t343.minus(t344);
-        let t346 = product(t301, t345);
-        let t347: f64 = t342 * 0.3;
-        let t348: f64 = t346.plus(t347);
-        let t349: f64 = t341 - t348;
-        let t350 = product(t341, t349);
-        let t351: f64 = t303.plus(t334);
-        let t352: f64 = t350.plus(t351);
-        let t353 = product(t283, t352);
-        let t354: f64 = t302 * t338;
-        let t355: f64 = t301 * t301;
-        let t356: f64 = t317 * t335;
-        let t357: f64 = t355 * t356;
-        let t358: f64 = t323 * t357;
-        let t359: f64 = t301 * t335;
-        let t360: f64 = t335 * 0.3;
-        let t361: f64 = t359 * 0.295;
-        let t362: f64 = t360 - t361;
-        let t363 = product(t301, t362);
-        let t364: f64 = t359 * 0.3;
-        let t365: f64 = t363.plus(t364);
-        let t366: f64 = t335 - t365;
-        let t367 = product(t317, t366);
-        let t368 = product(t302, t339);
-        let t369: f64 = t317 * t336;
-        let t370: f64 = t368.minus(t369);
-        let t371: f64 = t301 * t370;
-        let t372 = product(t370, 0.3);
-        let t373: f64 = t371 * 0.295;
-        let t374: f64 = t372.minus(t373);
-        let t375 = product(t301, t374);
-        let t376: f64 = t371 * 0.3;
-        let t377: f64 = t375.plus(t376);
-        let t378: f64 = t370 - t377;
-        let t379: f64 = t341 * t378;
-        let t380: f64 = t358 * 0.003;
-        let t381: f64 = t367.plus(t379);
-        let t382: f64 = t380 + t381;
-        let t383: f64 = t354 - t382;
-        let t384: f64 = t286 * t383;
-        let t385: f64 = t353.minus(t384);
-        let t386: f64 = t283 * t385;
-        let t387: f64 = t325 - t326;
-        let t388 = product(t301, t387);
-        let t389: f64 = t388.added_to(t331);
-        let t390: f64 = t317 - t389;
-        let t391 = product(t335, t390);
-        let t392: f64 = t349 * t370;
-        let t393: f64 = t391.plus(t392);
-        let t394: f64 = t380 + t393;
-        let t395: f64 = t354 - t394;
-        let t396 = product(t283, t395);
-        let t397 = product(t338, t338);
-        let t398: f64 = t323 * t359;
-        let t399 = product(t398, 0.003);
-        let t400: f64 = t399.added_to(t361);
-        let t401: f64 = t360 - t400;
-        let t402 = product(t301, t401);
-        let t403: f64 = t402.added_to(t364);
-        let t404: f64 = t335 - t403;
-        let t405: f64 = t335 * t404;
-        let t406 = product(t370, t378);
-        let t407: f64 = t397.plus(t405);
-        let t408: f64 = t406.plus(t407);
-        let t409: f64 = t286 * t408;
-        let t410: f64 = t396.minus(t409);
-        let t411 = product(t286, t410);
-        let t412: f64 = t10 * 0.004904;
-        let t413: f64 = t14 * 0.291506;
-        let t414: f64 = t412 + t413;
-        let t415: f64 = t21 * 0.004904;
-        let t416: f64 = t24 * 0.291506;
-        let t417: f64 = t415 + t416;
-        let t418: f64 = yc + t417;
-        let t419: f64 = t418 - 0.429711;
-        let t420: f64 = t30 * 0.004904;
-        let t421: f64 = t31 * 0.291506;
-        let t422: f64 = t420 - t421;
-        let t423: f64 = xc + t422;
-        let t424: f64 = t423 + 0.155718;
-        let t425 = product(t424, t424);
-        let t426: f64 = t419 * t419;
-        let t427: f64 = zc + t414;
-        let t428 = product(t427, t427);
-        let t429: f64 = t425.plus(t426);
-        let t430: f64 = t428.plus(t429);
-        let t431: f64 = sqrt(t430);
-        let t432: f64 = 1.0 / t431;
-        let t433: f64 = t419 * t432;
-        let t434 = product(t433, t433);
-        let t435: f64 = t427 * 0.9401728133131936;
-        let t436: f64 = -t435;
-        let t437: f64 = t427 * 0.3406979323488107;
-        let t438 = product(t437, t437);
-        let t439: f64 = t436 * t436;
-        let t440 = product(t424, 0.3406979323488107);
-        let t441: f64 = t419 * 0.9401728133131936;
-        let t442: f64 = t440.minus(t441);
-        let t443 = product(t442, t442);
-        let t444: f64 = t438.plus(t439);
-        let t445: f64 = t443.plus(t444);
-        let t446: f64 = sqrt(t445);
-        let t447: f64 = 1.0 / t446;
-        let t448: f64 = t436 * t447;
-        let t449: f64 = t432 * t448;
-        let t450 = product(t424, 0.9401728133131936);
-        let t451: f64 = t419 * 0.3406979323488107;
-        let t452: f64 = t450.plus(t451);
-        let t453: f64 = t447 * t452;
-        let t454: f64 = t453 * t453;
-        let t455: f64 = t449 * t454;
-        let t456: f64 = t448 * 0.3;
-        let t457: f64 = t449 * 0.295;
-        let t458 = product(t455, 0.003);
-        let t459: f64 = t458.added_to(t457);
-        let t460: f64 = t456 - t459;
-        let t461 = product(t432, t460);
-        let t462: f64 = t449 * 0.3;
+        let t326: f64 = t324.plus(t325);
+        let t327: f64 = t297 - t326;
+        let t328 = product(t279, t327);
+        let t329 = product(t264, t301);
+        let t330: f64 = t279 * t298;
+        let t331: f64 = t329.minus(t330);
+        let t332: f64 = t263 * t331;
+        let t333 = product(t331, 0.3);
+        let t334: f64 = t332 * 0.295;
+        let t335: f64 = t333.minus(t334);
+        let t336 = product(t263, t335);
+        let t337: f64 = t332 * 0.3;
+        let t338: f64 = t336.plus(t337);
+        let t339: f64 = t331 - t338;
+        let t340: f64 = t303 * t339;
+        let t341: f64 = t328.plus(t340);
+        let t342: f64 = t316.minus(t341);
+        let t343: f64 = t248 * t342;
+        let t344: f64 = t315.minus(t343);
+        let t345: f64 = t245 * t344;
+        let t346 = product(t245, t342);
+        let t347 = product(t300, t300);
+        let t348: f64 = t297 * t327;
+        let t349 = product(t331, t339);
+        let t350: f64 = t347.plus(t348);
+        let t351: f64 = t349.plus(t350);
+        let t352: f64 = t248 * t351;
+        let t353: f64 = t346.minus(t352);
+        let t354 = product(t248, t353);
+        let t355: f64 = t10 * 0.004904;
+        let t356: f64 = t14 * 0.291506;
+        let t357: f64 = t355 + t356;
+        let t358: f64 = t21 * 0.004904;
+        let t359: f64 = t24 * 0.291506;
+        let t360: f64 = t358 + t359;
+        let t361: f64 = yc + t360;
+        let t362: f64 = t361 - 0.429711;
+        let t363: f64 = t30 * 0.004904;
+        let t364: f64 = t31 * 0.291506;
+        let t365: f64 = t363 - t364;
+        let t366: f64 = xc + t365;
+        let t367: f64 = t366 + 0.155718;
+        let t368 = product(t367, t367);
+        let t369: f64 = t362 * t362;
+        let t370: f64 = zc + t357;
+        let t371 = product(t370, t370);
+        let t372: f64 = t368.plus(t369);
+        let t373: f64 = t371.plus(t372);
+        let t374: f64 = sqrt(t373);
+        let t375: f64 = 1.0 / t374;
+        let t376: f64 = t362 * t375;
+        let t377 = product(t376, t376);
+        let t378: f64 = t370 * 0.9401728133131936;
+        let t379: f64 = -t378;
+        let t380: f64 = t370 * 0.3406979323488107;
+        let t381 = product(t380, t380);
+        let t382: f64 = t379 * t379;
+        let t383 = product(t367, 0.3406979323488107);
+        let t384: f64 = t362 * 0.9401728133131936;
+        let t385: f64 = t383.minus(t384);
+        let t386 = product(t385, t385);
+        let t387: f64 = t381.plus(t382);
+        let t388: f64 = t386.plus(t387);
+        let t389: f64 = sqrt(t388);
+        let t390: f64 = 1.0 / t389;
+        let t391: f64 = t379 * t390;
+        let t392: f64 = t375 * t391;
+        let t393 = product(t367, 0.9401728133131936);
+        let t394: f64 = t362 * 0.3406979323488107;
+        let t395: f64 = t393.plus(t394);
+        let t396: f64 = t390 * t395;
+        let t397: f64 = t396 * t396;
+        let t398: f64 = t392 * t397;
+        let t399 = product(t391, 0.3);
+        let t400 = product(t392, 0.295);
+        let t401: f64 = t398 * 0.003;
+        let t402: f64 = t400.plus(t401);
+        let t403: f64 = t399.minus(t402);
+        let t404 = product(t375, t403);
+        let t405: f64 = t392 * 0.3;
+        let t406: f64 = t404.plus(t405);
+        let t407: f64 = t391 - t406;
+        let t408: f64 = t391 * t407;
+        let t409: f64 = t385 * t390;
+        let t410: f64 = t367 * t375;
+        let t411 = product(t409, t410);
+        let t412: f64 = t370 * t375;
+        let t413: f64 = t380 * t390;
+        let t414: f64 = t412 * t413;
+        let t415: f64 = t411.plus(t414);
+        let t416: f64 = t375 * t415;
+        let t417 = product(t415, 0.3);
+        let t418: f64 = t416 * 0.295;
+        let t419: f64 = t417.minus(t418);
+        let t420 = product(t375, t419);
+        let t421: f64 = t416 * 0.3;
+        let t422: f64 = t420.plus(t421);
+        let t423: f64 = t415 - t422;
+        let t424 = product(t415, t423);
+        let t425: f64 = t377.plus(t408);
+        let t426: f64 = t424.plus(t425);
+        let t427 = product(t357, t426);
+        let t428 = product(t376, t412);
+        let t429: f64 = t375 * t409;
+        let t430: f64 = t397 * t429;
+        let t431 = product(t409, 0.3);
+        let t432 = product(t429, 0.295);
+        let t433: f64 = t430 * 0.003;
+        let t434: f64 = t432.plus(t433);
+        let t435: f64 = t431.minus(t434);
+        let t436 = product(t375, t435);
+        let t437: f64 = t429 * 0.3;
+        let t438: f64 = t436.plus(t437);
+        let t439: f64 = t409 - t438;
+        let t440 = product(t391, t439);
+        let t441 = product(t376, t413);
+        let t442: f64 = t391 * t410;
+        let t443: f64 = t441.minus(t442);
+        let t444: f64 = t375 * t443;
+        let t445 = product(t443, 0.3);
+        let t446: f64 = t444 * 0.295;
+        let t447: f64 = t445.minus(t446);
+        let t448 = product(t375, t447);
+        let t449: f64 = t444 * 0.3;
+        let t450: f64 = t448.plus(t449);
+        let t451: f64 = t443 - t450;
+        let t452: f64 = t415 * t451;
+        let t453: f64 = t440.plus(t452);
+        let t454: f64 = t428.minus(t453);
+        let t455: f64 = t360 * t454;
+        let t456: f64 = t427.minus(t455);
+        let t457 = product(t357, t456);
+        let t458 = product(t357, t454);
+        let t459 = product(t412, t412);
+        let t460: f64 = t409 * t439;
+        let t461 = product(t443, t451);
+        let t462: f64 = t459.plus(t460);
         let t463: f64 = t461.plus(t462);
-        let t464: f64 = t448 - t463;
-        let t465: f64 = t448 * t464;
-        let t466: f64 = t442 * t447;
-        let t467: f64 = t424 * t432;
-        let t468 = product(t466, t467);
-        let t469: f64 = t427 * t432;
-        let t470: f64 = t437 * t447;
-        let t471: f64 = t469 * t470;
-        let t472: f64 = t468.plus(t471);
-        let t473: f64 = t432 * t472;
-        let t474 = product(t472, 0.3);
-        let t475: f64 = t473 * 0.295;
-        let t476: f64 = t474.minus(t475);
-        let t477 = product(t432, t476);
-        let t478: f64 = t473 * 0.3;
+        let t464: f64 = t360 * t463;
+        let t465: f64 = t458.minus(t464);
+        let t466: f64 = t360 * t465;
+        let t467: f64 = t355 - t356;
+        let t468: f64 = t358 - t359;
+        let t469: f64 = yc + t468;
+        let t470: f64 = t469 + 0.429711;
+        let t471: f64 = t363 + t364;
+        let t472: f64 = xc + t471;
+        let t473: f64 = t472 + 0.155718;
+        let t474 = product(t473, t473);
+        let t475: f64 = t470 * t470;
+        let t476: f64 = zc + t467;
+        let t477 = product(t476, t476);
+        let t478: f64 = t474.plus(t475);
         let t479: f64 = t477.plus(t478);
-        let t480: f64 = t472 - t479;
-        let t481 = product(t472, t480);
-        let t482: f64 = t434.plus(t465);
-        let t483: f64 = t481.plus(t482);
-        let t484 = product(t414, t483);
-        let t485: f64 = t433 * t469;
-        let t486: f64 = t432 * t432;
-        let t487: f64 = t448 * t466;
-        let t488: f64 = t486 * t487;
-        let t489: f64 = t454 * t488;
-        let t490: f64 = t432 * t466;
-        let t491: f64 = t466 * 0.3;
-        let t492: f64 = t490 * 0.295;
-        let t493: f64 = t491 - t492;
-        let t494 = product(t432, t493);
-        let t495: f64 = t490 * 0.3;
-        let t496: f64 = t494.plus(t495);
-        let t497: f64 = t466 - t496;
-        let t498 = product(t448, t497);
-        let t499 = product(t433, t470);
-        let t500: f64 = t448 * t467;
-        let t501: f64 = t499.minus(t500);
-        let t502: f64 = t432 * t501;
-        let t503 = product(t501, 0.3);
-        let t504: f64 = t502 * 0.295;
-        let t505: f64 = t503.minus(t504);
-        let t506 = product(t432, t505);
-        let t507: f64 = t502 * 0.3;
-        let t508: f64 = t506.plus(t507);
-        let t509: f64 = t501 - t508;
-        let t510: f64 = t472 * t509;
-        let t511: f64 = t489 * 0.003;
-        let t512: f64 = t498.plus(t510);
-        let t513: f64 = t511 + t512;
-        let t514: f64 = t485 - t513;
-        let t515: f64 = t417 * t514;
-        let t516: f64 = t484.minus(t515);
-        let t517 = product(t414, t516);
-        let t518: f64 = t456 - t457;
-        let t519 = product(t432, t518);
-        let t520: f64 = t519.added_to(t462);
-        let t521: f64 = t448 - t520;
-        let t522 = product(t466, t521);
-        let t523: f64 = t480 * t501;
-        let t524: f64 = t522.plus(t523);
-        let t525: f64 = t511 + t524;
-        let t526: f64 = t485 - t525;
-        let t527 = product(t414, t526);
-        let t528 = product(t469, t469);
-        let t529: f64 = t454 * t490;
-        let t530 = product(t529, 0.003);
-        let t531: f64 = t530.added_to(t492);
-        let t532: f64 = t491 - t531;
-        let t533 = product(t432, t532);
-        let t534: f64 = t533.added_to(t495);
-        let t535: f64 = t466 - t534;
-        let t536: f64 = t466 * t535;
-        let t537 = product(t501, t509);
-        let t538: f64 = t528.plus(t536);
+        let t480: f64 = sqrt(t479);
+        let t481: f64 = 1.0 / t480;
+        let t482: f64 = t470 * t481;
+        let t483 = product(t482, t482);
+        let t484: f64 = t476 * 0.9401728133131936;
+        let t485: f64 = t476 * 0.3406979323488107;
+        let t486 = product(t485, t485);
+        let t487: f64 = t484 * t484;
+        let t488 = product(t473, 0.3406979323488107);
+        let t489: f64 = t470 * 0.9401728133131936;
+        let t490: f64 = t488.plus(t489);
+        let t491 = product(t490, t490);
+        let t492: f64 = t486.plus(t487);
+        let t493: f64 = t491.plus(t492);
+        let t494: f64 = sqrt(t493);
+        let t495: f64 = 1.0 / t494;
+        let t496: f64 = t484 * t495;
+        let t497: f64 = t481 * t496;
+        let t498 = product(t473, 0.9401728133131936);
+        let t499: f64 = t470 * 0.3406979323488107;
+        let t500: f64 = t498.minus(t499);
+        let t501: f64 = t495 * t500;
+        let t502: f64 = t501 * t501;
+        let t503: f64 = t497 * t502;
+        let t504 = product(t496, 0.3);
+        let t505 = product(t497, 0.295);
+        let t506: f64 = t503 * 0.003;
+        let t507: f64 = t505.plus(t506);
+        let t508: f64 = t504.minus(t507);
+        let t509 = product(t481, t508);
+        let t510: f64 = t497 * 0.3;
+        let t511: f64 = t509.plus(t510);
+        let t512: f64 = t496 - t511;
+        let t513: f64 = t496 * t512;
+        let t514: f64 = t490 * t495;
+        let t515: f64 = t473 * t481;
+        let t516 = product(t514, t515);
+        let t517: f64 = t476 * t481;
+        let t518: f64 = t485 * t495;
+        let t519: f64 = t517 * t518;
+        let t520: f64 = t516.plus(t519);
+        let t521: f64 = t481 * t520;
+        let t522 = product(t520, 0.3);
+        let t523: f64 = t521 * 0.295;
+        let t524: f64 = t522.minus(t523);
+        let t525 = product(t481, t524);
+        let t526: f64 = t521 * 0.3;
+        let t527: f64 = t525.plus(t526);
+        let t528: f64 = t520 - t527;
+        let t529 = product(t520, t528);
+        let t530: f64 = t483.plus(t513);
+        let t531: f64 = t529.plus(t530);
+        let t532 = product(t467, t531);
+        let t533 = product(t482, t517);
+        let t534: f64 = t481 * t514;
+        let t535: f64 = t502 * t534;
+        let t536 = product(t514, 0.3);
+        let t537 = product(t534, 0.295);
+        let t538: f64 = t535 * 0.003;
         let t539: f64 = t537.plus(t538);
-        let t540: f64 = t417 * t539;
-        let t541: f64 = t527.minus(t540);
-        let t542: f64 = t417 * t541;
-        let t543: f64 = t412 - t413;
-        let t544: f64 = t415 - t416;
-        let t545: f64 = yc + t544;
-        let t546: f64 = t545 + 0.429711;
-        let t547: f64 = t420 + t421;
-        let t548: f64 = xc + t547;
-        let t549: f64 = t548 + 0.155718;
-        let t550 = product(t549, t549);
-        let t551: f64 = t546 * t546;
-        let t552: f64 = zc + t543;
-        let t553 = product(t552, t552);
-        let t554: f64 = t550.plus(t551);
+        let t540: f64 = t536.minus(t539);
+        let t541 = product(t481, t540);
+        let t542: f64 = t534 * 0.3;
+        let t543: f64 = t541.plus(t542);
+        let t544: f64 = t514 - t543;
+        let t545 = product(t496, t544);
+        let t546 = product(t482, t518);
+        let t547: f64 = t496 * t515;
+        let t548: f64 = t546.minus(t547);
+        let t549: f64 = t481 * t548;
+        let t550 = product(t548, 0.3);
+        let t551: f64 = t549 * 0.295;
+        let t552: f64 = t550.minus(t551);
+        let t553 = product(t481, t552);
+        let t554: f64 = t549 * 0.3;
         let t555: f64 = t553.plus(t554);
-        let t556: f64 = sqrt(t555);
-        let t557: f64 = 1.0 / t556;
-        let t558: f64 = t546 * t557;
-        let t559 = product(t558, t558);
-        let t560: f64 = t552 * 0.9401728133131936;
-        let t561: f64 = t552 * 0.3406979323488107;
-        let t562 = product(t561, t561);
-        let t563: f64 = t560 * t560;
-        let t564 = product(t549, 0.3406979323488107);
-        let t565: f64 = t546 * 0.9401728133131936;
-        let t566: f64 = t564.plus(t565);
-        let t567 = product(t566, t566);
-        let t568: f64 = t562.plus(t563);
-        let t569: f64 = t567.plus(t568);
-        let t570: f64 = sqrt(t569);
-        let t571: f64 = 1.0 / t570;
-        let t572: f64 = t560 * t571;
-        let t573: f64 = t557 * t572;
-        let t574 = product(t549, 0.9401728133131936);
-        let t575: f64 = t546 * 0.3406979323488107;
-        let t576: f64 = t574.minus(t575);
-        let t577: f64 = t571 * t576;
-        let t578: f64 = t577 * t577;
-        let t579: f64 = t573 * t578;
-        let t580: f64 = t572 * 0.3;
-        let t581: f64 = t573 * 0.295;
-        let t582 = product(t579, 0.003);
-        let t583: f64 = t582.added_to(t581);
-        let t584: f64 = t580 - t583;
-        let t585 = product(t557, t584);
-        let t586: f64 = t573 * 0.3;
-        let t587: f64 = t585.plus(t586);
-        let t588: f64 = t572 - t587;
-        let t589: f64 = t572 * t588;
-        let t590: f64 = t566 * t571;
-        let t591: f64 = t549 * t557;
-        let t592 = product(t590, t591);
-        let t593: f64 = t552 * t557;
-        let t594: f64 = t561 * t571;
-        let t595: f64 = t593 * t594;
-        let t596: f64 = t592.plus(t595);
-        let t597: f64 = t557 * t596;
-        let t598 = product(t596, 0.3);
-        let t599: f64 = t597 * 0.295;
-        let t600: f64 = t598.minus(t599);
-        let t601 = product(t557, t600);
-        let t602: f64 = t597 * 0.3;
-        let t603: f64 = t601.plus(t602);
-        let t604: f64 = t596 - t603;
-        let t605 = product(t596, t604);
-        let t606: f64 = t559.plus(t589);
-        let t607: f64 = t605.plus(t606);
-        let t608 = product(t543, t607);
-        let t609: f64 = t558 * t593;
-        let t610: f64 = t557 * t557;
-        let t611: f64 = t572 * t590;
-        let t612: f64 = t610 * t611;
-        let t613: f64 = t578 * t612;
-        let t614: f64 = t557 * t590;
-        let t615: f64 = t590 * 0.3;
-        let t616: f64 = t614 * 0.295;
-        let t617: f64 = t615 - t616;
-        let t618 = product(t557, t617);
-        let t619: f64 = t614 * 0.3;
-        let t620: f64 = t618.plus(t619);
-        let t621: f64 = t590 - t620;
-        let t622 = product(t572, t621);
-        let t623 = product(t558, t594);
-        let t624: f64 = t572 * t591;
-        let t625: f64 = t623.minus(t624);
-        let t626: f64 = t557 * t625;
-        let t627 = product(t625, 0.3);
-        let t628: f64 = t626 * 0.295;
-        let t629: f64 = t627.minus(t628);
-        let t630 = product(t557, t629);
-        let t631: f64 = t626 * 0.3;
-        let t632: f64 = t630.plus(t631);
-        let t633: f64 = t625 - t632;
-        let t634: f64 = t596 * t633;
-        let t635: f64 = t613 * 0.003;
-        let t636: f64 = t622.plus(t634);
-        let t637: f64 = t635 + t636;
-        let t638: f64 = t609 - t637;
-        let t639: f64 = t544 * t638;
-        let t640: f64 = t608.minus(t639);
-        let t641: f64 = t543 * t640;
-        let t642: f64 = t580 - t581;
-        let t643 = product(t557, t642);
-        let t644: f64 = t643.added_to(t586);
-        let t645: f64 = t572 - t644;
-        let t646 = product(t590, t645);
-        let t647: f64 = t604 * t625;
-        let t648: f64 = t646.plus(t647);
-        let t649: f64 = t635 + t648;
-        let t650: f64 = t609 - t649;
-        let t651 = product(t543, t650);
-        let t652 = product(t593, t593);
-        let t653: f64 = t578 * t614;
-        let t654 = product(t653, 0.003);
-        let t655: f64 = t654.added_to(t616);
-        let t656: f64 = t615 - t655;
-        let t657 = product(t557, t656);
-        let t658: f64 = t657.added_to(t619);
-        let t659: f64 = t590 - t658;
-        let t660: f64 = t590 * t659;
-        let t661 = product(t625, t633);
-        let t662: f64 = t652.plus(t660);
-        let t663: f64 = t661.plus(t662);
-        let t664: f64 = t544 * t663;
-        let t665: f64 = t651.minus(t664);
-        let t666 = product(t544, t665);
-        let t667: f64 = t281 + t282;
-        let t668: f64 = t284 + t285;
-        let t669: f64 = yc + 0.349711;
-        let t670: f64 = t669 - t668;
-        let t671: f64 = t289 - t290;
-        let t672: f64 = t292 - t671;
-        let t673 = product(t672, t672);
-        let t674: f64 = t670 * t670;
-        let t675: f64 = zc - t667;
-        let t676 = product(t675, t675);
-        let t677: f64 = t673.plus(t674);
-        let t678: f64 = t676.plus(t677);
-        let t679: f64 = sqrt(t678);
-        let t680: f64 = 1.0 / t679;
-        let t681: f64 = t670 * t680;
-        let t682 = product(t681, t681);
-        let t683: f64 = t675 * 0.7651390659756491;
-        let t684: f64 = t675 * 0.6438650555185546;
-        let t685 = product(t684, t684);
-        let t686: f64 = t683 * t683;
-        let t687 = product(t672, 0.6438650555185546);
-        let t688: f64 = t670 * 0.7651390659756491;
-        let t689: f64 = t687.plus(t688);
-        let t690 = product(t689, t689);
-        let t691: f64 = t685.plus(t686);
-        let t692: f64 = t690.plus(t691);
-        let t693: f64 = sqrt(t692);
-        let t694: f64 = 1.0 / t693;
-        let t695: f64 = t683 * t694;
-        let t696: f64 = t680 * t695;
-        let t697 = product(t672, 0.7651390659756491);
-        let t698: f64 = t670 * 0.6438650555185546;
+        let t556: f64 = t548 - t555;
+        let t557: f64 = t520 * t556;
+        let t558: f64 = t545.plus(t557);
+        let t559: f64 = t533.minus(t558);
+        let t560: f64 = t468 * t559;
+        let t561: f64 = t532.minus(t560);
+        let t562: f64 = t467 * t561;
+        let t563 = product(t467, t559);
+        let t564 = product(t517, t517);
+        let t565: f64 = t514 * t544;
+        let t566 = product(t548, t556);
+        let t567: f64 = t564.plus(t565);
+        let t568: f64 = t566.plus(t567);
+        let t569: f64 = t468 * t568;
+        let t570: f64 = t563.minus(t569);
+        let t571 = product(t468, t570);
+        let t572: f64 = t243 + t244;
+        let t573: f64 = t246 + t247;
+        let t574: f64 = yc + 0.349711;
+        let t575: f64 = t574 - t573;
+        let t576: f64 = t251 - t252;
+        let t577: f64 = t254 - t576;
+        let t578 = product(t577, t577);
+        let t579: f64 = t575 * t575;
+        let t580: f64 = zc - t572;
+        let t581 = product(t580, t580);
+        let t582: f64 = t578.plus(t579);
+        let t583: f64 = t581.plus(t582);
+        let t584: f64 = sqrt(t583);
+        let t585: f64 = 1.0 / t584;
+        let t586: f64 = t575 * t585;
+        let t587 = product(t586, t586);
+        let t588: f64 = t580 * 0.7651390659756491;
+        let t589: f64 = t580 * 0.6438650555185546;
+        let t590 = product(t589, t589);
+        let t591: f64 = t588 * t588;
+        let t592 = product(t577, 0.6438650555185546);
+        let t593: f64 = t575 * 0.7651390659756491;
+        let t594: f64 = t592.plus(t593);
+        let t595 = product(t594, t594);
+        let t596: f64 = t590.plus(t591);
+        let t597: f64 = t595.plus(t596);
+        let t598: f64 = sqrt(t597);
+        let t599: f64 = 1.0 / t598;
+        let t600: f64 = t588 * t599;
+        let t601: f64 = t585 * t600;
+        let t602 = product(t577, 0.7651390659756491);
+        let t603: f64 = t575 * 0.6438650555185546;
+        let t604: f64 = t602.minus(t603);
+        let t605: f64 = t599 * t604;
+        let t606: f64 = t605 * t605;
+        let t607: f64 = t601 * t606;
+        let t608 = product(t600, 0.3);
+        let t609 = product(t601, 0.295);
+        let t610: f64 = t607 * 0.003;
+        let t611: f64 = t609.plus(t610);
+        let t612: f64 = t608.minus(t611);
+        let t613 = product(t585, t612);
+        let t614: f64 = t601 * 0.3;
+        let t615: f64 = t613.plus(t614);
+        let t616: f64 = t600 - t615;
+        let t617: f64 = t600 * t616;
+        let t618: f64 = t594 * t599;
+        let t619: f64 = t577 * t585;
+        let t620 = product(t618, t619);
+        let t621: f64 = t580 * t585;
+        let t622: f64 = t589 * t599;
+        let t623: f64 = t621 * t622;
+        let t624: f64 = t620.plus(t623);
+        let t625: f64 = t585 * t624;
+        let t626 = product(t624, 0.3);
+        let t627: f64 = t625 * 0.295;
+        let t628: f64 = t626.minus(t627);
+        let t629 = product(t585, t628);
+        let t630: f64 = t625 * 0.3;
+        let t631: f64 = t629.plus(t630);
+        let t632: f64 = t624 - t631;
+        let t633 = product(t624, t632);
+        let t634: f64 = t587.plus(t617);
+        let t635: f64 = t633.plus(t634);
+        let t636 = product(t572, t635);
+        let t637 = product(t586, t621);
+        let t638: f64 = t585 * t618;
+        let t639: f64 = t606 * t638;
+        let t640 = product(t618, 0.3);
+        let t641 = product(t638, 0.295);
+        let t642: f64 = t639 * 0.003;
+        let t643: f64 = t641.plus(t642);
+        let t644: f64 = t640.minus(t643);
+        let t645 = product(t585, t644);
+        let t646: f64 = t638 * 0.3;
+        let t647: f64 = t645.plus(t646);
+        let t648: f64 = t618 - t647;
+        let t649 = product(t600, t648);
+        let t650 = product(t586, t622);
+        let t651: f64 = t600 * t619;
+        let t652: f64 = t650.minus(t651);
+        let t653: f64 = t585 * t652;
+        let t654 = product(t652, 0.3);
+        let t655: f64 = t653 * 0.295;
+        let t656: f64 = t654.minus(t655);
+        let t657 = product(t585, t656);
+        let t658: f64 = t653 * 0.3;
+        let t659: f64 = t657.plus(t658);
+        let t660: f64 = t652 - t659;
+        let t661: f64 = t624 * t660;
+        let t662: f64 = t649.plus(t661);
+        let t663: f64 = t637.minus(t662);
+        let t664: f64 = t573 * t663;
+        let t665: f64 = t636.minus(t664);
+        let t666 = product(t572, t665);
+        let t667 = product(t572, t663);
+        let t668 = product(t621, t621);
+        let t669: f64 = t618 * t648;
+        let t670 = product(t652, t660);
+        let t671: f64 = t668.plus(t669);
+        let t672: f64 = t670.plus(t671);
+        let t673: f64 = t573 * t672;
+        let t674: f64 = t667.minus(t673);
+        let t675: f64 = t573 * t674;
+        let t676: f64 = t1 * t1;
+        let t677 = product(t6, t6);
+        let t678: f64 = t5 * t5;
+        let t679: f64 = t677.plus(t678);
+        let t680: f64 = t679 * 0.4108;
+        let t681: f64 = t676 * t680;
+        let t682: f64 = t2 * 0.7;
+        let t683: f64 = t127.plus(t682);
+        let t684: f64 = t233.plus(t345);
+        let t685: f64 = t457.plus(t562);
+        let t686: f64 = t666.plus(t681);
+        let t687: f64 = t683 + t684;
+        let t688: f64 = t685 + t686;
+        let t689: f64 = t687 + t688;
+        let t690: f64 = t136.plus(t242);
+        let t691: f64 = t354.plus(t466);
+        let t692: f64 = t571.plus(t675);
+        let t693: f64 = t690 + t691;
+        let t694: f64 = t692 + t693;
+        let t695: f64 = t689 - t694;
+        let t696 = product(t45, t80);
+        let t697 = product(t61, t82);
+        let t698: f64 = t45 * t79;
         let t699: f64 = t697.minus(t698);
-        let t700: f64 = t694 * t699;
-        let t701: f64 = t700 * t700;
-        let t702: f64 = t696 * t701;
-        let t703: f64 = t695 * 0.3;
-        let t704: f64 = t696 * 0.295;
-        let t705 = product(t702, 0.003);
-        let t706: f64 = t705.added_to(t704);
-        let t707: f64 = t703 - t706;
-        let t708 = product(t680, t707);
-        let t709: f64 = t696 * 0.3;
-        let t710: f64 = t708.plus(t709);
-        let t711: f64 = t695 - t710;
-        let t712: f64 = t695 * t711;
-        let t713: f64 = t689 * t694;
-        let t714: f64 = t672 * t680;
-        let t715 = product(t713, t714);
-        let t716: f64 = t675 * t680;
-        let t717: f64 = t684 * t694;
-        let t718: f64 = t716 * t717;
-        let t719: f64 = t715.plus(t718);
-        let t720: f64 = t680 * t719;
-        let t721 = product(t719, 0.3);
-        let t722: f64 = t720 * 0.295;
-        let t723: f64 = t721.minus(t722);
-        let t724 = product(t680, t723);
-        let t725: f64 = t720 * 0.3;
-        let t726: f64 = t724.plus(t725);
-        let t727: f64 = t719 - t726;
-        let t728 = product(t719, t727);
-        let t729: f64 = t682.plus(t712);
-        let t730: f64 = t728.plus(t729);
-        let t731 = product(t667, t730);
-        let t732: f64 = t681 * t716;
-        let t733: f64 = t680 * t680;
-        let t734: f64 = t695 * t713;
-        let t735: f64 = t733 * t734;
-        let t736: f64 = t701 * t735;
-        let t737: f64 = t680 * t713;
-        let t738: f64 = t713 * 0.3;
-        let t739: f64 = t737 * 0.295;
-        let t740: f64 = t738 - t739;
-        let t741 = product(t680, t740);
-        let t742: f64 = t737 * 0.3;
-        let t743: f64 = t741.plus(t742);
-        let t744: f64 = t713 - t743;
-        let t745 = product(t695, t744);
-        let t746 = product(t681, t717);
-        let t747: f64 = t695 * t714;
-        let t748: f64 = t746.minus(t747);
-        let t749: f64 = t680 * t748;
-        let t750 = product(t748, 0.3);
-        let t751: f64 = t749 * 0.295;
-        let t752: f64 = t750.minus(t751);
-        let t753 = product(t680, t752);
-        let t754: f64 = t749 * 0.3;
-        let t755: f64 = t753.plus(t754);
-        let t756: f64 = t748 - t755;
-        let t757: f64 = t719 * t756;
-        let t758: f64 = t736 * 0.003;
-        let t759: f64 = t745.plus(t757);
-        let t760: f64 = t758 + t759;
-        let t761: f64 = t732 - t760;
-        let t762: f64 = t668 * t761;
-        let t763: f64 = t731.minus(t762);
-        let t764 = product(t667, t763);
-        let t765: f64 = t703 - t704;
-        let t766 = product(t680, t765);
-        let t767: f64 = t766.added_to(t709);
-        let t768: f64 = t695 - t767;
-        let t769 = product(t713, t768);
-        let t770: f64 = t727 * t748;
-        let t771: f64 = t769.plus(t770);
-        let t772: f64 = t758 + t771;
-        let t773: f64 = t732 - t772;
-        let t774 = product(t667, t773);
-        let t775 = product(t716, t716);
-        let t776: f64 = t701 * t737;
-        let t777 = product(t776, 0.003);
-        let t778: f64 = t777.added_to(t739);
-        let t779: f64 = t738 - t778;
-        let t780 = product(t680, t779);
-        let t781: f64 = t780.added_to(t742);
-        let t782: f64 = t713 - t781;
-        let t783: f64 = t713 * t782;
-        let t784 = product(t748, t756);
-        let t785: f64 = t775.plus(t783);
-        let t786: f64 = t784.plus(t785);
-        let t787: f64 = t668 * t786;
-        let t788: f64 = t774.minus(t787);
-        let t789: f64 = t668 * t788;
-        let t790: f64 = t1 * t1;
-        let t791 = product(t6, t6);
-        let t792: f64 = t5 * t5;
-        let t793: f64 = t791.plus(t792);
-        let t794: f64 = t793 * 0.4108;
-        let t795: f64 = t790 * t794;
-        let t796: f64 = t2 * 0.7;
-        let t797: f64 = t130.plus(t796);
-        let t798: f64 = t255.plus(t386);
-        let t799: f64 = t517.plus(t641);
-        let t800: f64 = t764.plus(t795);
-        let t801: f64 = t797 + t798;
-        let t802: f64 = t799 + t800;
-        let t803: f64 = t801 + t802;
-        let t804: f64 = t155.plus(t280);
-        let t805: f64 = t411.plus(t542);
-        let t806: f64 = t666.plus(t789);
-        let t807: f64 = t804 + t805;
-        let t808: f64 = t806 + t807;
-        let t809: f64 = t803 - t808;
-        let t810: f64 = t45 * t80;
-        let t811: f64 = t61 * t99;
-        let t812: f64 = t67 * t811;
-        let t813: f64 = t83 * t812;
-        let t814 = product(t61, t82);
-        let t815: f64 = t45 * t79;
-        let t816: f64 = t814.minus(t815);
-        let t817 = product(t93, t816);
-        let t818 = product(t83, t134);
-        let t819: f64 = t813 * 0.003;
-        let t820: f64 = t817.added_to(t810);
-        let t821: f64 = t818.plus(t819);
-        let t822: f64 = t820 + t821;
-        let t823 = product(t17, t822);
-        let t824: f64 = t80 * t82;
-        let t825: f64 = t79 * t99;
-        let t826: f64 = t67 * t825;
-        let t827: f64 = t83 * t826;
-        let t828 = product(t122, t816);
-        let t829 = product(t83, t110);
-        let t830: f64 = t827 * 0.003;
-        let t831: f64 = t828.added_to(t824);
-        let t832: f64 = t829.plus(t830);
-        let t833: f64 = t831 + t832;
-        let t834: f64 = t27 * t833;
-        let t835: f64 = t823.minus(t834);
-        let t836 = product(t17, t835);
-        let t837 = product(t34, t154);
-        let t838: f64 = t171 * t205;
-        let t839: f64 = t186 * t224;
-        let t840: f64 = t192 * t839;
-        let t841: f64 = t208 * t840;
-        let t842 = product(t186, t207);
-        let t843: f64 = t171 * t204;
-        let t844: f64 = t842.minus(t843);
-        let t845 = product(t218, t844);
-        let t846 = product(t208, t259);
-        let t847: f64 = t841 * 0.003;
-        let t848: f64 = t845.added_to(t838);
-        let t849: f64 = t846.plus(t847);
-        let t850: f64 = t848 + t849;
-        let t851 = product(t156, t850);
-        let t852: f64 = t205 * t207;
-        let t853: f64 = t204 * t224;
-        let t854: f64 = t192 * t853;
-        let t855: f64 = t208 * t854;
-        let t856 = product(t247, t844);
-        let t857 = product(t208, t235);
-        let t858: f64 = t855 * 0.003;
-        let t859: f64 = t856.added_to(t852);
-        let t860: f64 = t857.plus(t858);
-        let t861: f64 = t859 + t860;
-        let t862: f64 = t157 * t861;
-        let t863: f64 = t851.minus(t862);
-        let t864: f64 = t156 * t863;
-        let t865: f64 = t160 * t279;
-        let t866: f64 = t302 * t336;
-        let t867: f64 = t317 * t355;
-        let t868: f64 = t323 * t867;
-        let t869: f64 = t339 * t868;
-        let t870 = product(t317, t338);
-        let t871: f64 = t302 * t335;
-        let t872: f64 = t870.plus(t871);
-        let t873 = product(t349, t872);
-        let t874 = product(t339, t390);
-        let t875: f64 = t869 * 0.003;
-        let t876: f64 = t874.added_to(t866);
-        let t877: f64 = t875 + t876;
-        let t878: f64 = t873.subtracted_from(t877);
-        let t879 = product(t283, t878);
-        let t880: f64 = t336 * t338;
-        let t881: f64 = t335 * t355;
-        let t882: f64 = t323 * t881;
-        let t883: f64 = t339 * t882;
-        let t884 = product(t378, t872);
-        let t885 = product(t339, t366);
-        let t886: f64 = t883 * 0.003;
-        let t887: f64 = t884.added_to(t880);
-        let t888: f64 = t885.plus(t886);
-        let t889: f64 = t887 - t888;
-        let t890: f64 = t286 * t889;
-        let t891: f64 = t879.minus(t890);
-        let t892 = product(t283, t891);
-        let t893 = product(t291, t410);
-        let t894: f64 = t433 * t467;
-        let t895: f64 = t448 * t486;
-        let t896: f64 = t454 * t895;
-        let t897: f64 = t470 * t896;
-        let t898 = product(t448, t469);
-        let t899: f64 = t433 * t466;
-        let t900: f64 = t898.plus(t899);
-        let t901 = product(t480, t900);
-        let t902 = product(t470, t521);
-        let t903: f64 = t897 * 0.003;
-        let t904: f64 = t902.added_to(t894);
+        let t700: f64 = t85 - t91;
+        let t701: f64 = t699 * t700;
+        let t702: f64 = t61 - t75;
+        let t703 = product(t83, t702);
+        let t704 = product(t89, t699);
+        let t705: f64 = t73 * t83;
+        let t706: f64 = t704.plus(t705);
+        let t707 = product(t44, t706);
+        let t708: f64 = t696.plus(t701);
+        let t709: f64 = t703.plus(t708);
+        let t710: f64 = t707.subtracted_from(t709);
+        let t711: f64 = t17 * t710;
+        let t712 = product(t80, t82);
+        let t713: f64 = t113 - t119;
+        let t714: f64 = t699 * t713;
+        let t715: f64 = t79 - t107;
+        let t716 = product(t83, t715);
+        let t717 = product(t117, t699);
+        let t718: f64 = t83 * t105;
+        let t719: f64 = t717.plus(t718);
+        let t720 = product(t44, t719);
+        let t721: f64 = t712.plus(t714);
+        let t722: f64 = t716.plus(t721);
+        let t723: f64 = t720.subtracted_from(t722);
+        let t724: f64 = t27 * t723;
+        let t725: f64 = t711 - t724;
+        let t726 = product(t17, t725);
+        let t727 = product(t34, t135);
+        let t728 = product(t152, t186);
+        let t729 = product(t167, t188);
+        let t730: f64 = t152 * t185;
+        let t731: f64 = t729.minus(t730);
+        let t732: f64 = t191 - t197;
+        let t733: f64 = t731 * t732;
+        let t734: f64 = t167 - t181;
+        let t735 = product(t189, t734);
+        let t736 = product(t195, t731);
+        let t737: f64 = t179 * t189;
+        let t738: f64 = t736.plus(t737);
+        let t739 = product(t151, t738);
+        let t740: f64 = t728.plus(t733);
+        let t741: f64 = t735.plus(t740);
+        let t742: f64 = t739.subtracted_from(t741);
+        let t743: f64 = t137 * t742;
+        let t744 = product(t186, t188);
+        let t745: f64 = t219 - t225;
+        let t746: f64 = t731 * t745;
+        let t747: f64 = t185 - t213;
+        let t748 = product(t189, t747);
+        let t749 = product(t223, t731);
+        let t750: f64 = t189 * t211;
+        let t751: f64 = t749.plus(t750);
+        let t752 = product(t151, t751);
+        let t753: f64 = t744.plus(t746);
+        let t754: f64 = t748.plus(t753);
+        let t755: f64 = t752.subtracted_from(t754);
+        let t756: f64 = t138 * t755;
+        let t757: f64 = t743 - t756;
+        let t758: f64 = t137 * t757;
+        let t759: f64 = t141 * t241;
+        let t760 = product(t264, t298);
+        let t761 = product(t279, t300);
+        let t762: f64 = t264 * t297;
+        let t763: f64 = t761.plus(t762);
+        let t764: f64 = t303 - t309;
+        let t765 = product(t763, t764);
+        let t766: f64 = t279 - t293;
+        let t767: f64 = t301 * t766;
+        let t768 = product(t307, t763);
+        let t769: f64 = t291 * t301;
+        let t770: f64 = t768.minus(t769);
+        let t771 = product(t263, t770);
+        let t772: f64 = t760.plus(t767);
+        let t773: f64 = t771.plus(t772);
+        let t774: f64 = t765.subtracted_from(t773);
+        let t775: f64 = t245 * t774;
+        let t776 = product(t298, t300);
+        let t777: f64 = t331 - t337;
+        let t778: f64 = t763 * t777;
+        let t779: f64 = t297 - t325;
+        let t780 = product(t301, t779);
+        let t781 = product(t335, t763);
+        let t782: f64 = t301 * t323;
+        let t783: f64 = t781.minus(t782);
+        let t784: f64 = t263 * t783;
+        let t785: f64 = t776.plus(t778);
+        let t786: f64 = t780.plus(t784);
+        let t787: f64 = t785 - t786;
+        let t788: f64 = t248 * t787;
+        let t789: f64 = t775 - t788;
+        let t790 = product(t245, t789);
+        let t791 = product(t253, t353);
+        let t792 = product(t376, t410);
+        let t793 = product(t391, t412);
+        let t794: f64 = t376 * t409;
+        let t795: f64 = t793.plus(t794);
+        let t796: f64 = t415 - t421;
+        let t797 = product(t795, t796);
+        let t798: f64 = t391 - t405;
+        let t799: f64 = t413 * t798;
+        let t800 = product(t419, t795);
+        let t801: f64 = t403 * t413;
+        let t802: f64 = t800.minus(t801);
+        let t803 = product(t375, t802);
+        let t804: f64 = t792.plus(t799);
+        let t805: f64 = t803.plus(t804);
+        let t806: f64 = t797.subtracted_from(t805);
+        let t807: f64 = t357 * t806;
+        let t808 = product(t410, t412);
+        let t809: f64 = t443 - t449;
+        let t810: f64 = t795 * t809;
+        let t811: f64 = t409 - t437;
+        let t812 = product(t413, t811);
+        let t813 = product(t447, t795);
+        let t814: f64 = t413 * t435;
+        let t815: f64 = t813.minus(t814);
+        let t816: f64 = t375 * t815;
+        let t817: f64 = t808.plus(t810);
+        let t818: f64 = t812.plus(t816);
+        let t819: f64 = t817 - t818;
+        let t820: f64 = t360 * t819;
+        let t821: f64 = t807 - t820;
+        let t822: f64 = t357 * t821;
+        let t823: f64 = t365 * t465;
+        let t824 = product(t482, t515);
+        let t825 = product(t496, t517);
+        let t826: f64 = t482 * t514;
+        let t827: f64 = t825.plus(t826);
+        let t828: f64 = t520 - t526;
+        let t829 = product(t827, t828);
+        let t830: f64 = t496 - t510;
+        let t831: f64 = t518 * t830;
+        let t832 = product(t524, t827);
+        let t833: f64 = t508 * t518;
+        let t834: f64 = t832.minus(t833);
+        let t835 = product(t481, t834);
+        let t836: f64 = t824.plus(t831);
+        let t837: f64 = t835.plus(t836);
+        let t838: f64 = t829.subtracted_from(t837);
+        let t839: f64 = t467 * t838;
+        let t840 = product(t515, t517);
+        let t841: f64 = t548 - t554;
+        let t842: f64 = t827 * t841;
+        let t843: f64 = t514 - t542;
+        let t844 = product(t518, t843);
+        let t845 = product(t552, t827);
+        let t846: f64 = t518 * t540;
+        let t847: f64 = t845.minus(t846);
+        let t848: f64 = t481 * t847;
+        let t849: f64 = t840.plus(t842);
+        let t850: f64 = t844.plus(t848);
+        let t851: f64 = t849 - t850;
+        let t852: f64 = t468 * t851;
+        let t853: f64 = t839 - t852;
+        let t854 = product(t467, t853);
+        let t855 = product(t471, t570);
+        let t856 = product(t586, t619);
+        let t857 = product(t600, t621);
+        let t858: f64 = t586 * t618;
+        let t859: f64 = t857.plus(t858);
+        let t860: f64 = t624 - t630;
+        let t861 = product(t859, t860);
+        let t862: f64 = t600 - t614;
+        let t863: f64 = t622 * t862;
+        let t864 = product(t628, t859);
+        let t865: f64 = t612 * t622;
+        let t866: f64 = t864.minus(t865);
+        let t867 = product(t585, t866);
+        let t868: f64 = t856.plus(t863);
+        let t869: f64 = t867.plus(t868);
+        let t870: f64 = t861.subtracted_from(t869);
+        let t871: f64 = t572 * t870;
+        let t872 = product(t619, t621);
+        let t873: f64 = t652 - t658;
+        let t874: f64 = t859 * t873;
+        let t875: f64 = t618 - t646;
+        let t876 = product(t622, t875);
+        let t877 = product(t656, t859);
+        let t878: f64 = t622 * t644;
+        let t879: f64 = t877.minus(t878);
+        let t880: f64 = t585 * t879;
+        let t881: f64 = t872.plus(t874);
+        let t882: f64 = t876.plus(t880);
+        let t883: f64 = t881 - t882;
+        let t884: f64 = t573 * t883;
+        let t885: f64 = t871 - t884;
+        let t886: f64 = t572 * t885;
+        let t887: f64 = t576 * t674;
+        let t888 = product(t6, t21);
+        let t889: f64 = t5 * t24;
+        let t890 = product(t19, 0.7);
+        let t891: f64 = t888.subtracted_from(t889);
+        let t892: f64 = t891 * 0.4108;
+        let t893: f64 = t890.plus(t892);
+        let t894 = product(t1, t893);
+        let t895: f64 = t726.plus(t758);
+        let t896: f64 = t790.plus(t822);
+        let t897: f64 = t854.plus(t886);
+        let t898: f64 = t895 + t896;
+        let t899: f64 = t894.plus(t897);
+        let t900: f64 = t898 + t899;
+        let t901: f64 = t727.plus(t759);
+        let t902: f64 = t791.plus(t823);
+        let t903: f64 = t855.plus(t887);
+        let t904: f64 = t901 + t902;
         let t905: f64 = t903 + t904;
-        let t906: f64 = t901.subtracted_from(t905);
-        let t907 = product(t414, t906);
-        let t908: f64 = t467 * t469;
-        let t909: f64 = t466 * t486;
-        let t910: f64 = t454 * t909;
-        let t911: f64 = t470 * t910;
-        let t912 = product(t509, t900);
-        let t913 = product(t470, t497);
-        let t914: f64 = t911 * 0.003;
-        let t915: f64 = t912.added_to(t908);
-        let t916: f64 = t913.plus(t914);
-        let t917: f64 = t915 - t916;
-        let t918: f64 = t417 * t917;
-        let t919: f64 = t907.minus(t918);
-        let t920: f64 = t414 * t919;
-        let t921: f64 = t422 * t541;
-        let t922: f64 = t558 * t591;
-        let t923: f64 = t572 * t610;
-        let t924: f64 = t578 * t923;
-        let t925: f64 = t594 * t924;
-        let t926 = product(t572, t593);
-        let t927: f64 = t558 * t590;
-        let t928: f64 = t926.plus(t927);
-        let t929 = product(t604, t928);
-        let t930 = product(t594, t645);
-        let t931: f64 = t925 * 0.003;
-        let t932: f64 = t930.added_to(t922);
-        let t933: f64 = t931 + t932;
-        let t934: f64 = t929.subtracted_from(t933);
-        let t935 = product(t543, t934);
-        let t936: f64 = t591 * t593;
-        let t937: f64 = t590 * t610;
-        let t938: f64 = t578 * t937;
-        let t939: f64 = t594 * t938;
-        let t940 = product(t633, t928);
-        let t941 = product(t594, t621);
-        let t942: f64 = t939 * 0.003;
-        let t943: f64 = t940.added_to(t936);
-        let t944: f64 = t941.plus(t942);
-        let t945: f64 = t943 - t944;
-        let t946: f64 = t544 * t945;
-        let t947: f64 = t935.minus(t946);
-        let t948 = product(t543, t947);
-        let t949 = product(t547, t665);
-        let t950: f64 = t681 * t714;
-        let t951: f64 = t695 * t733;
-        let t952: f64 = t701 * t951;
-        let t953: f64 = t717 * t952;
-        let t954 = product(t695, t716);
-        let t955: f64 = t681 * t713;
-        let t956: f64 = t954.plus(t955);
-        let t957 = product(t727, t956);
-        let t958 = product(t717, t768);
-        let t959: f64 = t953 * 0.003;
-        let t960: f64 = t958.added_to(t950);
-        let t961: f64 = t959 + t960;
-        let t962: f64 = t957.subtracted_from(t961);
-        let t963 = product(t667, t962);
-        let t964: f64 = t714 * t716;
-        let t965: f64 = t713 * t733;
-        let t966: f64 = t701 * t965;
-        let t967: f64 = t717 * t966;
-        let t968 = product(t756, t956);
-        let t969 = product(t717, t744);
-        let t970: f64 = t967 * 0.003;
-        let t971: f64 = t968.added_to(t964);
-        let t972: f64 = t969.plus(t970);
-        let t973: f64 = t971 - t972;
-        let t974: f64 = t668 * t973;
-        let t975: f64 = t963.minus(t974);
-        let t976: f64 = t667 * t975;
-        let t977: f64 = t671 * t788;
-        let t978 = product(t6, t21);
-        let t979: f64 = t5 * t24;
-        let t980 = product(t19, 0.7);
-        let t981: f64 = t978.subtracted_from(t979);
-        let t982: f64 = t981 * 0.4108;
-        let t983: f64 = t980.plus(t982);
-        let t984 = product(t1, t983);
-        let t985: f64 = t836.plus(t864);
-        let t986: f64 = t892.plus(t920);
-        let t987: f64 = t948.plus(t976);
-        let t988: f64 = t985 + t986;
-        let t989: f64 = t984.plus(t987);
-        let t990: f64 = t988 + t989;
-        let t991: f64 = t837.plus(t865);
-        let t992: f64 = t893.plus(t921);
-        let t993: f64 = t949.plus(t977);
-        let t994: f64 = t991 + t992;
-        let t995: f64 = t993 + t994;
-        let t996: f64 = t990 - t995;
-        let t997: f64 = -t996;
-        let t998 = product(t27, t835);
-        let t999 = product(t34, t129);
-        let t1000: f64 = t157 * t863;
-        let t1001: f64 = t160 * t254;
-        let t1002 = product(t286, t891);
+        let t906: f64 = t900 - t905;
+        let t907: f64 = -t906;
+        let t908 = product(t27, t725);
+        let t909 = product(t34, t126);
+        let t910: f64 = t138 * t757;
+        let t911: f64 = t141 * t232;
+        let t912 = product(t248, t789);
+        let t913 = product(t253, t344);
+        let t914: f64 = t360 * t821;
+        let t915: f64 = t365 * t456;
+        let t916 = product(t468, t853);
+        let t917 = product(t471, t561);
+        let t918: f64 = t573 * t885;
+        let t919: f64 = t576 * t665;
+        let t920 = product(t6, t10);
+        let t921: f64 = t5 * t14;
+        let t922 = product(t8, 0.7);
+        let t923: f64 = t920.minus(t921);
+        let t924: f64 = t923 * 0.4108;
+        let t925: f64 = t922.plus(t924);
+        let t926 = product(t1, t925);
+        let t927: f64 = t908.plus(t910);
+        let t928: f64 = t912.plus(t914);
+        let t929: f64 = t916.plus(t918);
+        let t930: f64 = t927 + t928;
+        let t931: f64 = t926.plus(t929);
+        let t932: f64 = t930 + t931;
+        let t933: f64 = t909.plus(t911);
+        let t934: f64 = t913.plus(t915);
+        let t935: f64 = t917.plus(t919);
+        let t936: f64 = t933 + t934;
+        let t937: f64 = t935 + t936;
+        let t938: f64 = t932 - t937;
+        let t939: f64 = t725 + t757;
+        let t940: f64 = t821 + t853;
+        let t941: f64 = t939 + t940;
+        let t942: f64 = t789 + t885;
+        let t943: f64 = t941 - t942;
+        let t944: f64 = -t943;
+        let t945: f64 = t1 * t4;
+        let t946: f64 = t945 * 0.36;
+        let t947: f64 = t126 + t946;
+        let t948: f64 = t232 + t456;
+        let t949: f64 = t947 + t948;
+        let t950: f64 = t561 + t949;
+        let t951: f64 = t344 + t665;
+        let t952: f64 = t950 - t951;
+        let t953: f64 = -t952;
+        let t954: f64 = t1 * t3;
+        let t955: f64 = t954 * 0.36;
+        let t956: f64 = t135 + t955;
+        let t957: f64 = t241 + t465;
+        let t958: f64 = t956 + t957;
+        let t959: f64 = t570 + t958;
+        let t960: f64 = t353 + t674;
+        let t961: f64 = t959 - t960;
+        let t962: f64 = -t961;
+        let t963: f64 = t21 * 0.4108;
+        let t964 = product(t21, t963);
+        let t965: f64 = t24 * 0.4108;
+        let t966: f64 = t24 * t965;
+        let t967: f64 = t3 * t3;
+        let t968: f64 = t676 * t967;
+        let t969: f64 = t44 * t699;
+        let t970 = product(t969, 0.3);
+        let t971: f64 = t970.subtracted_from(t699);
+        let t972 = product(t699, t971);
+        let t973: f64 = t44 * t83;
+        let t974 = product(t973, 0.3);
+        let t975: f64 = t974.subtracted_from(t83);
+        let t976: f64 = t83 * t975;
+        let t977 = product(t80, t80);
+        let t978 = product(t699, 0.3);
+        let t979: f64 = t969 * 0.295;
+        let t980: f64 = t978.minus(t979);
+        let t981 = product(t699, t980);
+        let t982: f64 = t44 * t67;
+        let t983: f64 = t83 * t982;
+        let t984 = product(t83, 0.3);
+        let t985 = product(t973, 0.295);
+        let t986: f64 = t983 * 0.003;
+        let t987: f64 = t985.plus(t986);
+        let t988: f64 = t984.minus(t987);
+        let t989: f64 = t83 * t988;
+        let t990: f64 = t981.plus(t989);
+        let t991 = product(t44, t990);
+        let t992: f64 = t972.plus(t976);
+        let t993: f64 = t977.plus(t992);
+        let t994: f64 = t991.subtracted_from(t993);
+        let t995 = product(t17, t994);
+        let t996: f64 = t34 * t723;
+        let t997: f64 = t995.minus(t996);
+        let t998 = product(t17, t997);
+        let t999 = product(t17, t723);
+        let t1000: f64 = t34 * t133;
+        let t1001: f64 = t999.minus(t1000);
+        let t1002 = product(t34, t1001);
         (
             t0,
-            t1,
             t3,
             t4,
-            t5,
-            t6,
-            t8,
             t10,
             t14,
-            t17,
-            t21,
-            t24,
             t27,
             t34,
             t44,
             t59,
-            t61,
-            t67,
-            t79,
-            t80,
-            t83,
-            t85,
             t96,
-            t114,
-            t127,
-            t129,
-            t139,
-            t152,
-            t154,
-            t156,
-            t157,
-            t160,
-            t170,
-            t184,
+            t124,
+            t133,
+            t137,
+            t138,
+            t141,
+            t151,
+            t165,
+            t173,
             t186,
-            t192,
-            t204,
-            t205,
-            t208,
-            t210,
-            t221,
+            t189,
+            t202,
+            t230,
             t239,
-            t252,
-            t254,
-            t264,
+            t245,
+            t248,
+            t253,
+            t263,
             t277,
-            t279,
-            t283,
-            t286,
-            t291,
+            t285,
+            t298,
             t301,
-            t315,
-            t317,
-            t323,
-            t335,
-            t336,
-            t339,
-            t341,
-            t352,
-            t370,
-            t383,
-            t385,
-            t395,
-            t408,
+            t314,
+            t342,
+            t351,
+            t357,
+            t360,
+            t365,
+            t375,
+            t389,
+            t397,
             t410,
-            t414,
-            t417,
-            t422,
-            t432,
-            t446,
-            t448,
+            t413,
+            t426,
             t454,
-            t466,
+            t463,
             t467,
-            t470,
-            t472,
-            t483,
-            t501,
-            t514,
-            t516,
-            t526,
-            t539,
-            t541,
-            t543,
-            t544,
-            t547,
-            t557,
-            t570,
+            t468,
+            t471,
+            t481,
+            t494,
+            t502,
+            t515,
+            t518,
+            t531,
+            t559,
+            t568,
             t572,
-            t578,
-            t590,
-            t591,
-            t594,
-            t596,
-            t607,
-            t625,
-            t638,
-            t640,
-            t650,
+            t573,
+            t576,
+            t585,
+            t598,
+            t606,
+            t619,
+            t622,
+            t635,
             t663,
-            t665,
-            t667,
-            t668,
-            t671,
-            t680,
-            t693,
+            t672,
+            t676,
             t695,
-            t701,
-            t713,
-            t714,
-            t717,
-            t719,
-            t730,
-            t748,
-            t761,
+            t710,
+            t711,
+            t723,
+            t724,
+            t731,
+            t742,
+            t743,
+            t755,
+            t756,
             t763,
-            t773,
-            t786,
+            t774,
+            t775,
+            t787,
             t788,
-            t790,
-            t809,
-            t810,
-            t816,
+            t795,
+            t806,
+            t807,
             t819,
-            t822,
-            t824,
-            t830,
-            t833,
-            t835,
+            t820,
+            t827,
             t838,
-            t844,
-            t847,
-            t850,
+            t839,
+            t851,
             t852,
-            t858,
-            t861,
-            t863,
-            t866,
-            t872,
-            t875,
-            t878,
-            t880,
-            t886,
-            t889,
-            t891,
-            t894,
-            t900,
-            t903,
-            t906,
-            t908,
-            t914,
-            t917,
-            t919,
-            t922,
-            t928,
-            t931,
-            t934,
-            t936,
-            t942,
-            t945,
-            t947,
-            t950,
-            t956,
-            t959,
+            t859,
+            t870,
+            t871,
+            t883,
+            t884,
+            t907,
+            t938,
+            t944,
+            t946,
+            t953,
+            t955,
             t962,
+            t963,
             t964,
-            t970,
-            t973,
-            t975,
+            t965,
+            t966,
+            t968,
+            t994,
             t997,
             t998,
-            t999,
-            t1000,
             t1001,
             t1002,
         )
     };
     let (
-        t1028,
-        t1034,
-        t1043,
-        t1052,
-        t1349,
-        t1428,
-        t1434,
-        t1439,
-        t1447,
-        t1516,
-        t1522,
-        t1528,
-        t1552,
-        t1558,
-        t1563,
-        t1568,
-        t1574,
-        t1579,
-        t1585,
-        t1586,
-        t1587,
-        t1588,
-        t1589,
-        t1590,
-        t1591,
+        t1187,
+        t1230,
+        t1236,
+        t1241,
+        t1249,
+        t1318,
+        t1324,
+        t1330,
+        t1342,
+        t1348,
+        t1353,
+        t1358,
+        t1364,
+        t1369,
+        t1375,
+        t1376,
+        t1377,
+        t1378,
+        t1379,
+        t1380,
+        t1381,
     ) = {
-        let t1003 = product(t291, t385);
-        let t1004: f64 = t417 * t919;
-        let t1005: f64 = t422 * t516;
-        let t1006 = product(t544, t947);
-        let t1007 = product(t547, t640);
-        let t1008: f64 = t668 * t975;
-        let t1009: f64 = t671 * t763;
-        let t1010 = product(t6, t10);
-        let t1011: f64 = t5 * t14;
-        let t1012 = product(t8, 0.7);
-        let t1013: f64 = t1010.minus(t1011);
-        let t1014: f64 = t1013 * 0.4108;
-        let t1015: f64 = t1012.plus(t1014);
-        let t1016 = product(t1, t1015);
-        let t1017: f64 = t998.plus(t1000);
-        let t1018: f64 = t1002.plus(t1004);
-        let t1019: f64 = t1006.plus(t1008);
-        let t1020: f64 = t1017 + t1018;
-        let t1021: f64 = t1016.plus(t1019);
-        let t1022: f64 = t1020 + t1021;
-        let t1023: f64 = t999.plus(t1001);
-        let t1024: f64 = t1003.plus(t1005);
-        let t1025: f64 = t1007.plus(t1009);
-        let t1026: f64 = t1023 + t1024;
-        let t1027: f64 = t1025 + t1026;
-        let t1028: f64 = t1022 - t1027;
-        let t1029: f64 = t835 + t863;
-        let t1030: f64 = t919 + t947;
-        let t1031: f64 = t1029 + t1030;
-        let t1032: f64 = t891 + t975;
-        let t1033: f64 = t1031 - t1032;
-        let t1034: f64 = -t1033;
-        let t1035: f64 = t1 * t4;
-        let t1036: f64 = t1035 * 0.36;
-        let t1037: f64 = t129 + t1036;
-        let t1038: f64 = t254 + t516;
-        let t1039: f64 = t1037 + t1038;
-        let t1040: f64 = t640 + t1039;
-        let t1041: f64 = t385 + t763;
-        let t1042: f64 = t1040 - t1041;
-        let t1043: f64 = -t1042;
-        let t1044: f64 = t1 * t3;
-        let t1045: f64 = t1044 * 0.36;
-        let t1046: f64 = t154 + t1045;
-        let t1047: f64 = t279 + t541;
-        let t1048: f64 = t1046 + t1047;
-        let t1049: f64 = t665 + t1048;
-        let t1050: f64 = t410 + t788;
-        let t1051: f64 = t1049 - t1050;
-        let t1052: f64 = -t1051;
-        let t1053: f64 = t21 * 0.4108;
-        let t1054 = product(t21, t1053);
-        let t1055: f64 = t24 * 0.4108;
-        let t1056: f64 = t24 * t1055;
-        let t1057: f64 = t3 * t3;
-        let t1058: f64 = t790 * t1057;
-        let t1059: f64 = t44 * t816;
-        let t1060: f64 = t1059 * 0.3;
-        let t1061: f64 = t816 - t1060;
-        let t1062 = product(t816, t1061);
-        let t1063: f64 = t44 * t83;
-        let t1064: f64 = t1063 * 0.3;
-        let t1065: f64 = t83 - t1064;
-        let t1066: f64 = t83 * t1065;
-        let t1067 = product(t80, t80);
-        let t1068 = product(t816, 0.3);
-        let t1069: f64 = t1059 * 0.295;
-        let t1070: f64 = t1068.minus(t1069);
-        let t1071 = product(t816, t1070);
-        let t1072: f64 = t44 * t67;
-        let t1073: f64 = t83 * t1072;
-        let t1074: f64 = t83 * 0.3;
-        let t1075: f64 = t1063 * 0.295;
-        let t1076 = product(t1073, 0.003);
-        let t1077: f64 = t1076.added_to(t1075);
-        let t1078: f64 = t1074 - t1077;
-        let t1079: f64 = t83 * t1078;
-        let t1080: f64 = t1071.plus(t1079);
-        let t1081 = product(t44, t1080);
-        let t1082: f64 = t1062.plus(t1066);
-        let t1083: f64 = t1067.plus(t1082);
-        let t1084: f64 = t1081.subtracted_from(t1083);
-        let t1085 = product(t17, t1084);
-        let t1086: f64 = t34 * t833;
-        let t1087: f64 = t1085.minus(t1086);
-        let t1088 = product(t17, t1087);
-        let t1089: f64 = t1074 - t1075;
-        let t1090 = product(t44, t1089);
-        let t1091: f64 = t1090.added_to(t1064);
-        let t1092: f64 = t83 - t1091;
-        let t1093 = product(t79, t1092);
-        let t1094 = product(t44, t1070);
-        let t1095: f64 = t1094.added_to(t1060);
-        let t1096: f64 = t816 - t1095;
-        let t1097 = product(t114, t1096);
-        let t1098: f64 = t1093.added_to(t824);
-        let t1099: f64 = t1097.added_to(t830);
-        let t1100: f64 = t1098 + t1099;
-        let t1101 = product(t17, t1100);
-        let t1102: f64 = t34 * t152;
+        let t1003: f64 = t151 * t731;
+        let t1004 = product(t1003, 0.3);
+        let t1005: f64 = t1004.subtracted_from(t731);
+        let t1006 = product(t731, t1005);
+        let t1007: f64 = t151 * t189;
+        let t1008 = product(t1007, 0.3);
+        let t1009: f64 = t1008.subtracted_from(t189);
+        let t1010: f64 = t189 * t1009;
+        let t1011 = product(t186, t186);
+        let t1012 = product(t731, 0.3);
+        let t1013: f64 = t1003 * 0.295;
+        let t1014: f64 = t1012.minus(t1013);
+        let t1015 = product(t731, t1014);
+        let t1016: f64 = t151 * t173;
+        let t1017: f64 = t189 * t1016;
+        let t1018 = product(t189, 0.3);
+        let t1019 = product(t1007, 0.295);
+        let t1020: f64 = t1017 * 0.003;
+        let t1021: f64 = t1019.plus(t1020);
+        let t1022: f64 = t1018.minus(t1021);
+        let t1023: f64 = t189 * t1022;
+        let t1024: f64 = t1015.plus(t1023);
+        let t1025 = product(t151, t1024);
+        let t1026: f64 = t1006.plus(t1010);
+        let t1027: f64 = t1011.plus(t1026);
+        let t1028: f64 = t1025.subtracted_from(t1027);
+        let t1029 = product(t137, t1028);
+        let t1030: f64 = t141 * t755;
+        let t1031: f64 = t1029.minus(t1030);
+        let t1032: f64 = t137 * t1031;
+        let t1033 = product(t137, t755);
+        let t1034: f64 = t141 * t239;
+        let t1035: f64 = t1033.minus(t1034);
+        let t1036: f64 = t141 * t1035;
+        let t1037: f64 = t263 * t763;
+        let t1038 = product(t1037, 0.3);
+        let t1039: f64 = t1038.subtracted_from(t763);
+        let t1040 = product(t763, t1039);
+        let t1041: f64 = t263 * t301;
+        let t1042 = product(t1041, 0.3);
+        let t1043: f64 = t1042.subtracted_from(t301);
+        let t1044: f64 = t301 * t1043;
+        let t1045 = product(t298, t298);
+        let t1046 = product(t763, 0.3);
+        let t1047: f64 = t1037 * 0.295;
+        let t1048: f64 = t1046.minus(t1047);
+        let t1049 = product(t763, t1048);
+        let t1050: f64 = t263 * t285;
+        let t1051: f64 = t301 * t1050;
+        let t1052 = product(t301, 0.3);
+        let t1053 = product(t1041, 0.295);
+        let t1054: f64 = t1051 * 0.003;
+        let t1055: f64 = t1053.plus(t1054);
+        let t1056: f64 = t1052.minus(t1055);
+        let t1057: f64 = t301 * t1056;
+        let t1058: f64 = t1049.plus(t1057);
+        let t1059 = product(t263, t1058);
+        let t1060: f64 = t1040.plus(t1044);
+        let t1061: f64 = t1045.plus(t1060);
+        let t1062: f64 = t1059.subtracted_from(t1061);
+        let t1063 = product(t245, t1062);
+        let t1064: f64 = t253 * t787;
+        let t1065: f64 = t1063.minus(t1064);
+        let t1066 = product(t245, t1065);
+        let t1067 = product(t245, t787);
+        let t1068: f64 = t253 * t351;
+        let t1069: f64 = t1067.minus(t1068);
+        let t1070 = product(t253, t1069);
+        let t1071: f64 = t375 * t795;
+        let t1072 = product(t1071, 0.3);
+        let t1073: f64 = t1072.subtracted_from(t795);
+        let t1074 = product(t795, t1073);
+        let t1075: f64 = t375 * t413;
+        let t1076 = product(t1075, 0.3);
+        let t1077: f64 = t1076.subtracted_from(t413);
+        let t1078: f64 = t413 * t1077;
+        let t1079 = product(t410, t410);
+        let t1080 = product(t795, 0.3);
+        let t1081: f64 = t1071 * 0.295;
+        let t1082: f64 = t1080.minus(t1081);
+        let t1083 = product(t795, t1082);
+        let t1084: f64 = t375 * t397;
+        let t1085: f64 = t413 * t1084;
+        let t1086 = product(t413, 0.3);
+        let t1087 = product(t1075, 0.295);
+        let t1088: f64 = t1085 * 0.003;
+        let t1089: f64 = t1087.plus(t1088);
+        let t1090: f64 = t1086.minus(t1089);
+        let t1091: f64 = t413 * t1090;
+        let t1092: f64 = t1083.plus(t1091);
+        let t1093 = product(t375, t1092);
+        let t1094: f64 = t1074.plus(t1078);
+        let t1095: f64 = t1079.plus(t1094);
+        let t1096: f64 = t1093.subtracted_from(t1095);
+        let t1097 = product(t357, t1096);
+        let t1098: f64 = t365 * t819;
+        let t1099: f64 = t1097.minus(t1098);
+        let t1100: f64 = t357 * t1099;
+        let t1101 = product(t357, t819);
+        let t1102: f64 = t365 * t463;
         let t1103: f64 = t1101.minus(t1102);
-        let t1104 = product(t34, t1103);
-        let t1105: f64 = t170 * t844;
-        let t1106: f64 = t1105 * 0.3;
-        let t1107: f64 = t844 - t1106;
-        let t1108 = product(t844, t1107);
-        let t1109: f64 = t170 * t208;
-        let t1110: f64 = t1109 * 0.3;
-        let t1111: f64 = t208 - t1110;
-        let t1112: f64 = t208 * t1111;
-        let t1113 = product(t205, t205);
-        let t1114 = product(t844, 0.3);
+        let t1104: f64 = t365 * t1103;
+        let t1105: f64 = t481 * t827;
+        let t1106 = product(t1105, 0.3);
+        let t1107: f64 = t1106.subtracted_from(t827);
+        let t1108 = product(t827, t1107);
+        let t1109: f64 = t481 * t518;
+        let t1110 = product(t1109, 0.3);
+        let t1111: f64 = t1110.subtracted_from(t518);
+        let t1112: f64 = t518 * t1111;
+        let t1113 = product(t515, t515);
+        let t1114 = product(t827, 0.3);
         let t1115: f64 = t1105 * 0.295;
         let t1116: f64 = t1114.minus(t1115);
-        let t1117 = product(t844, t1116);
-        let t1118: f64 = t170 * t192;
-        let t1119: f64 = t208 * t1118;
-        let t1120: f64 = t208 * 0.3;
-        let t1121: f64 = t1109 * 0.295;
-        let t1122 = product(t1119, 0.003);
-        let t1123: f64 = t1122.added_to(t1121);
-        let t1124: f64 = t1120 - t1123;
-        let t1125: f64 = t208 * t1124;
+        let t1117 = product(t827, t1116);
+        let t1118: f64 = t481 * t502;
+        let t1119: f64 = t518 * t1118;
+        let t1120 = product(t518, 0.3);
+        let t1121 = product(t1109, 0.295);
+        let t1122: f64 = t1119 * 0.003;
+        let t1123: f64 = t1121.plus(t1122);
+        let t1124: f64 = t1120.minus(t1123);
+        let t1125: f64 = t518 * t1124;
         let t1126: f64 = t1117.plus(t1125);
-        let t1127 = product(t170, t1126);
+        let t1127 = product(t481, t1126);
         let t1128: f64 = t1108.plus(t1112);
         let t1129: f64 = t1113.plus(t1128);
         let t1130: f64 = t1127.subtracted_from(t1129);
-        let t1131 = product(t156, t1130);
-        let t1132: f64 = t160 * t861;
+        let t1131 = product(t467, t1130);
+        let t1132: f64 = t471 * t851;
         let t1133: f64 = t1131.minus(t1132);
-        let t1134: f64 = t156 * t1133;
-        let t1135: f64 = t1120 - t1121;
-        let t1136 = product(t170, t1135);
-        let t1137: f64 = t1136.added_to(t1110);
-        let t1138: f64 = t208 - t1137;
-        let t1139 = product(t204, t1138);
-        let t1140 = product(t170, t1116);
-        let t1141: f64 = t1140.added_to(t1106);
-        let t1142: f64 = t844 - t1141;
-        let t1143 = product(t239, t1142);
-        let t1144: f64 = t1139.added_to(t852);
-        let t1145: f64 = t1143.added_to(t858);
-        let t1146: f64 = t1144 + t1145;
-        let t1147 = product(t156, t1146);
-        let t1148: f64 = t160 * t277;
-        let t1149: f64 = t1147.minus(t1148);
-        let t1150: f64 = t160 * t1149;
-        let t1151: f64 = t301 * t872;
-        let t1152: f64 = t1151 * 0.3;
-        let t1153: f64 = t872 - t1152;
-        let t1154 = product(t872, t1153);
-        let t1155: f64 = t301 * t339;
-        let t1156: f64 = t1155 * 0.3;
-        let t1157: f64 = t339 - t1156;
-        let t1158: f64 = t339 * t1157;
-        let t1159 = product(t336, t336);
-        let t1160 = product(t872, 0.3);
-        let t1161: f64 = t1151 * 0.295;
-        let t1162: f64 = t1160.minus(t1161);
-        let t1163 = product(t872, t1162);
-        let t1164: f64 = t301 * t323;
-        let t1165: f64 = t339 * t1164;
-        let t1166: f64 = t339 * 0.3;
-        let t1167: f64 = t1155 * 0.295;
-        let t1168 = product(t1165, 0.003);
-        let t1169: f64 = t1168.added_to(t1167);
-        let t1170: f64 = t1166 - t1169;
-        let t1171: f64 = t339 * t1170;
-        let t1172: f64 = t1163.plus(t1171);
-        let t1173 = product(t301, t1172);
-        let t1174: f64 = t1154.plus(t1158);
-        let t1175: f64 = t1159.plus(t1174);
-        let t1176: f64 = t1173.subtracted_from(t1175);
-        let t1177 = product(t283, t1176);
-        let t1178: f64 = t291 * t889;
-        let t1179: f64 = t1177.minus(t1178);
-        let t1180 = product(t283, t1179);
-        let t1181: f64 = t1166 - t1167;
-        let t1182 = product(t301, t1181);
-        let t1183: f64 = t1182.added_to(t1156);
-        let t1184: f64 = t339 - t1183;
-        let t1185 = product(t335, t1184);
-        let t1186 = product(t301, t1162);
-        let t1187: f64 = t1186.added_to(t1152);
-        let t1188: f64 = t872 - t1187;
-        let t1189 = product(t370, t1188);
-        let t1190: f64 = t1189.added_to(t880);
-        let t1191: f64 = t1185.added_to(t886);
-        let t1192: f64 = t1190 - t1191;
-        let t1193 = product(t283, t1192);
-        let t1194: f64 = t291 * t408;
-        let t1195: f64 = t1193.minus(t1194);
-        let t1196 = product(t291, t1195);
-        let t1197: f64 = t432 * t900;
-        let t1198: f64 = t1197 * 0.3;
-        let t1199: f64 = t900 - t1198;
-        let t1200 = product(t900, t1199);
-        let t1201: f64 = t432 * t470;
-        let t1202: f64 = t1201 * 0.3;
-        let t1203: f64 = t470 - t1202;
-        let t1204: f64 = t470 * t1203;
-        let t1205 = product(t467, t467);
-        let t1206 = product(t900, 0.3);
-        let t1207: f64 = t1197 * 0.295;
-        let t1208: f64 = t1206.minus(t1207);
-        let t1209 = product(t900, t1208);
-        let t1210: f64 = t432 * t454;
-        let t1211: f64 = t470 * t1210;
-        let t1212: f64 = t470 * 0.3;
-        let t1213: f64 = t1201 * 0.295;
-        let t1214 = product(t1211, 0.003);
-        let t1215: f64 = t1214.added_to(t1213);
-        let t1216: f64 = t1212 - t1215;
-        let t1217: f64 = t470 * t1216;
-        let t1218: f64 = t1209.plus(t1217);
-        let t1219 = product(t432, t1218);
-        let t1220: f64 = t1200.plus(t1204);
-        let t1221: f64 = t1205.plus(t1220);
-        let t1222: f64 = t1219.subtracted_from(t1221);
-        let t1223 = product(t414, t1222);
-        let t1224: f64 = t422 * t917;
-        let t1225: f64 = t1223.minus(t1224);
-        let t1226: f64 = t414 * t1225;
-        let t1227: f64 = t1212 - t1213;
-        let t1228 = product(t432, t1227);
-        let t1229: f64 = t1228.added_to(t1202);
-        let t1230: f64 = t470 - t1229;
-        let t1231 = product(t466, t1230);
-        let t1232 = product(t432, t1208);
-        let t1233: f64 = t1232.added_to(t1198);
-        let t1234: f64 = t900 - t1233;
-        let t1235 = product(t501, t1234);
-        let t1236: f64 = t1235.added_to(t908);
-        let t1237: f64 = t1231.added_to(t914);
-        let t1238: f64 = t1236 - t1237;
-        let t1239 = product(t414, t1238);
-        let t1240: f64 = t422 * t539;
-        let t1241: f64 = t1239.minus(t1240);
-        let t1242: f64 = t422 * t1241;
-        let t1243: f64 = t557 * t928;
-        let t1244: f64 = t1243 * 0.3;
-        let t1245: f64 = t928 - t1244;
-        let t1246 = product(t928, t1245);
-        let t1247: f64 = t557 * t594;
-        let t1248: f64 = t1247 * 0.3;
-        let t1249: f64 = t594 - t1248;
-        let t1250: f64 = t594 * t1249;
-        let t1251 = product(t591, t591);
-        let t1252 = product(t928, 0.3);
-        let t1253: f64 = t1243 * 0.295;
-        let t1254: f64 = t1252.minus(t1253);
-        let t1255 = product(t928, t1254);
-        let t1256: f64 = t557 * t578;
-        let t1257: f64 = t594 * t1256;
-        let t1258: f64 = t594 * 0.3;
-        let t1259: f64 = t1247 * 0.295;
-        let t1260 = product(t1257, 0.003);
-        let t1261: f64 = t1260.added_to(t1259);
-        let t1262: f64 = t1258 - t1261;
-        let t1263: f64 = t594 * t1262;
-        let t1264: f64 = t1255.plus(t1263);
-        let t1265 = product(t557, t1264);
-        let t1266: f64 = t1246.plus(t1250);
-        let t1267: f64 = t1251.plus(t1266);
-        let t1268: f64 = t1265.subtracted_from(t1267);
-        let t1269 = product(t543, t1268);
-        let t1270: f64 = t547 * t945;
-        let t1271: f64 = t1269.minus(t1270);
-        let t1272 = product(t543, t1271);
-        let t1273: f64 = t1258 - t1259;
-        let t1274 = product(t557, t1273);
-        let t1275: f64 = t1274.added_to(t1248);
-        let t1276: f64 = t594 - t1275;
-        let t1277 = product(t590, t1276);
-        let t1278 = product(t557, t1254);
-        let t1279: f64 = t1278.added_to(t1244);
-        let t1280: f64 = t928 - t1279;
-        let t1281 = product(t625, t1280);
-        let t1282: f64 = t1281.added_to(t936);
-        let t1283: f64 = t1277.added_to(t942);
-        let t1284: f64 = t1282 - t1283;
-        let t1285 = product(t543, t1284);
-        let t1286: f64 = t547 * t663;
-        let t1287: f64 = t1285.minus(t1286);
-        let t1288 = product(t547, t1287);
-        let t1289: f64 = t680 * t956;
-        let t1290: f64 = t1289 * 0.3;
-        let t1291: f64 = t956 - t1290;
-        let t1292 = product(t956, t1291);
-        let t1293: f64 = t680 * t717;
-        let t1294: f64 = t1293 * 0.3;
-        let t1295: f64 = t717 - t1294;
-        let t1296: f64 = t717 * t1295;
-        let t1297 = product(t714, t714);
-        let t1298 = product(t956, 0.3);
-        let t1299: f64 = t1289 * 0.295;
-        let t1300: f64 = t1298.minus(t1299);
-        let t1301 = product(t956, t1300);
-        let t1302: f64 = t680 * t701;
-        let t1303: f64 = t717 * t1302;
-        let t1304: f64 = t717 * 0.3;
-        let t1305: f64 = t1293 * 0.295;
-        let t1306 = product(t1303, 0.003);
-        let t1307: f64 = t1306.added_to(t1305);
-        let t1308: f64 = t1304 - t1307;
-        let t1309: f64 = t717 * t1308;
-        let t1310: f64 = t1301.plus(t1309);
-        let t1311 = product(t680, t1310);
-        let t1312: f64 = t1292.plus(t1296);
-        let t1313: f64 = t1297.plus(t1312);
-        let t1314: f64 = t1311.subtracted_from(t1313);
-        let t1315 = product(t667, t1314);
-        let t1316: f64 = t671 * t973;
-        let t1317: f64 = t1315.minus(t1316);
-        let t1318: f64 = t667 * t1317;
-        let t1319: f64 = t1304 - t1305;
-        let t1320 = product(t680, t1319);
-        let t1321: f64 = t1320.added_to(t1294);
-        let t1322: f64 = t717 - t1321;
-        let t1323 = product(t713, t1322);
-        let t1324 = product(t680, t1300);
-        let t1325: f64 = t1324.added_to(t1290);
-        let t1326: f64 = t956 - t1325;
-        let t1327 = product(t748, t1326);
-        let t1328: f64 = t1327.added_to(t964);
-        let t1329: f64 = t1323.added_to(t970);
-        let t1330: f64 = t1328 - t1329;
-        let t1331 = product(t667, t1330);
-        let t1332: f64 = t671 * t786;
-        let t1333: f64 = t1331.minus(t1332);
-        let t1334: f64 = t671 * t1333;
-        let t1335 = product(t1058, 0.7);
-        let t1336: f64 = t1054.plus(t1056);
-        let t1337: f64 = t1088.plus(t1134);
-        let t1338: f64 = t1180.plus(t1226);
-        let t1339: f64 = t1272.plus(t1318);
-        let t1340: f64 = t1336 + t1337;
-        let t1341: f64 = t1338 + t1339;
-        let t1342: f64 = t1340 + t1341;
-        let t1343: f64 = t1335.plus(t1342);
-        let t1344: f64 = t1104.plus(t1150);
-        let t1345: f64 = t1196.plus(t1242);
-        let t1346: f64 = t1288.plus(t1334);
-        let t1347: f64 = t1344 + t1345;
+        let t1134 = product(t467, t1133);
+        let t1135 = product(t467, t851);
+        let t1136: f64 = t471 * t568;
+        let t1137: f64 = t1135.minus(t1136);
+        let t1138 = product(t471, t1137);
+        let t1139: f64 = t585 * t859;
+        let t1140 = product(t1139, 0.3);
+        let t1141: f64 = t1140.subtracted_from(t859);
+        let t1142 = product(t859, t1141);
+        let t1143: f64 = t585 * t622;
+        let t1144 = product(t1143, 0.3);
+        let t1145: f64 = t1144.subtracted_from(t622);
+        let t1146: f64 = t622 * t1145;
+        let t1147 = product(t619, t619);
+        let t1148 = product(t859, 0.3);
+        let t1149: f64 = t1139 * 0.295;
+        let t1150: f64 = t1148.minus(t1149);
+        let t1151 = product(t859, t1150);
+        let t1152: f64 = t585 * t606;
+        let t1153: f64 = t622 * t1152;
+        let t1154 = product(t622, 0.3);
+        let t1155 = product(t1143, 0.295);
+        let t1156: f64 = t1153 * 0.003;
+        let t1157: f64 = t1155.plus(t1156);
+        let t1158: f64 = t1154.minus(t1157);
+        let t1159: f64 = t622 * t1158;
+        let t1160: f64 = t1151.plus(t1159);
+        let t1161 = product(t585, t1160);
+        let t1162: f64 = t1142.plus(t1146);
+        let t1163: f64 = t1147.plus(t1162);
+        let t1164: f64 = t1161.subtracted_from(t1163);
+        let t1165 = product(t572, t1164);
+        let t1166: f64 = t576 * t883;
+        let t1167: f64 = t1165.minus(t1166);
+        let t1168: f64 = t572 * t1167;
+        let t1169 = product(t572, t883);
+        let t1170: f64 = t576 * t672;
+        let t1171: f64 = t1169.minus(t1170);
+        let t1172: f64 = t576 * t1171;
+        let t1173 = product(t968, 0.7);
+        let t1174: f64 = t964.plus(t966);
+        let t1175: f64 = t998.plus(t1032);
+        let t1176: f64 = t1066.plus(t1100);
+        let t1177: f64 = t1134.plus(t1168);
+        let t1178: f64 = t1174 + t1175;
+        let t1179: f64 = t1176 + t1177;
+        let t1180: f64 = t1178 + t1179;
+        let t1181: f64 = t1173.plus(t1180);
+        let t1182: f64 = t1002.plus(t1036);
+        let t1183: f64 = t1070.plus(t1104);
+        let t1184: f64 = t1138.plus(t1172);
+        let t1185: f64 = t1182 + t1183;
+        let t1186: f64 = t1184 + t1185;
+        let t1187: f64 = t1181 - t1186;
+        let t1188 = product(t10, t963);
+        let t1189: f64 = t14 * t965;
+        let t1190: f64 = t3 * t4;
+        let t1191: f64 = t676 * t1190;
+        let t1192 = product(t27, t997);
+        let t1193: f64 = t34 * t124;
+        let t1194: f64 = t711 - t1193;
+        let t1195 = product(t34, t1194);
+        let t1196: f64 = t138 * t1031;
+        let t1197: f64 = t141 * t230;
+        let t1198: f64 = t743 - t1197;
+        let t1199: f64 = t141 * t1198;
+        let t1200 = product(t248, t1065);
+        let t1201: f64 = t253 * t342;
+        let t1202: f64 = t775 - t1201;
+        let t1203 = product(t253, t1202);
+        let t1204: f64 = t360 * t1099;
+        let t1205: f64 = t365 * t454;
+        let t1206: f64 = t807 - t1205;
+        let t1207: f64 = t365 * t1206;
+        let t1208 = product(t468, t1133);
+        let t1209: f64 = t471 * t559;
+        let t1210: f64 = t839 - t1209;
+        let t1211 = product(t471, t1210);
+        let t1212: f64 = t573 * t1167;
+        let t1213: f64 = t576 * t663;
+        let t1214: f64 = t871 - t1213;
+        let t1215: f64 = t576 * t1214;
+        let t1216 = product(t1191, 0.7);
+        let t1217: f64 = t1188.plus(t1189);
+        let t1218: f64 = t1195.plus(t1199);
+        let t1219: f64 = t1203.plus(t1207);
+        let t1220: f64 = t1211.plus(t1215);
+        let t1221: f64 = t1217 + t1218;
+        let t1222: f64 = t1219 + t1220;
+        let t1223: f64 = t1221 + t1222;
+        let t1224: f64 = t1192.plus(t1196);
+        let t1225: f64 = t1200.plus(t1204);
+        let t1226: f64 = t1208.plus(t1212);
+        let t1227: f64 = t1224 + t1225;
+        let t1228: f64 = t1216.plus(t1226);
+        let t1229: f64 = t1227 + t1228;
+        let t1230: f64 = t1223 - t1229;
+        let t1231: f64 = t946 + t997;
+        let t1232: f64 = t1031 + t1099;
+        let t1233: f64 = t1231 + t1232;
+        let t1234: f64 = t1133 + t1233;
+        let t1235: f64 = t1065 + t1167;
+        let t1236: f64 = t1234 - t1235;
+        let t1237: f64 = t1194 + t1198;
+        let t1238: f64 = t1206 + t1210;
+        let t1239: f64 = t1237 + t1238;
+        let t1240: f64 = t1202 + t1214;
+        let t1241: f64 = t1239 - t1240;
+        let t1242: f64 = t0 * 0.36;
+        let t1243: f64 = t1069 + t1242;
+        let t1244: f64 = t1171 + t1243;
+        let t1245: f64 = t1001 + t1035;
+        let t1246: f64 = t1103 + t1137;
+        let t1247: f64 = t1245 + t1246;
+        let t1248: f64 = t1244 - t1247;
+        let t1249: f64 = -t1248;
+        let t1250: f64 = t10 * 0.4108;
+        let t1251 = product(t10, t1250);
+        let t1252: f64 = t14 * 0.4108;
+        let t1253: f64 = t14 * t1252;
+        let t1254: f64 = t4 * t4;
+        let t1255: f64 = t676 * t1254;
+        let t1256 = product(t27, t994);
+        let t1257: f64 = t34 * t710;
+        let t1258: f64 = t1256.minus(t1257);
+        let t1259 = product(t27, t1258);
+        let t1260 = product(t27, t710);
+        let t1261: f64 = t34 * t96;
+        let t1262: f64 = t1260.minus(t1261);
+        let t1263 = product(t34, t1262);
+        let t1264 = product(t138, t1028);
+        let t1265: f64 = t141 * t742;
+        let t1266: f64 = t1264.minus(t1265);
+        let t1267: f64 = t138 * t1266;
+        let t1268 = product(t138, t742);
+        let t1269: f64 = t141 * t202;
+        let t1270: f64 = t1268.minus(t1269);
+        let t1271: f64 = t141 * t1270;
+        let t1272 = product(t248, t1062);
+        let t1273: f64 = t253 * t774;
+        let t1274: f64 = t1272.minus(t1273);
+        let t1275 = product(t248, t1274);
+        let t1276 = product(t248, t774);
+        let t1277: f64 = t253 * t314;
+        let t1278: f64 = t1276.minus(t1277);
+        let t1279 = product(t253, t1278);
+        let t1280 = product(t360, t1096);
+        let t1281: f64 = t365 * t806;
+        let t1282: f64 = t1280.minus(t1281);
+        let t1283: f64 = t360 * t1282;
+        let t1284 = product(t360, t806);
+        let t1285: f64 = t365 * t426;
+        let t1286: f64 = t1284.minus(t1285);
+        let t1287: f64 = t365 * t1286;
+        let t1288 = product(t468, t1130);
+        let t1289: f64 = t471 * t838;
+        let t1290: f64 = t1288.minus(t1289);
+        let t1291 = product(t468, t1290);
+        let t1292 = product(t468, t838);
+        let t1293: f64 = t471 * t531;
+        let t1294: f64 = t1292.minus(t1293);
+        let t1295 = product(t471, t1294);
+        let t1296 = product(t573, t1164);
+        let t1297: f64 = t576 * t870;
+        let t1298: f64 = t1296.minus(t1297);
+        let t1299: f64 = t573 * t1298;
+        let t1300 = product(t573, t870);
+        let t1301: f64 = t576 * t635;
+        let t1302: f64 = t1300.minus(t1301);
+        let t1303: f64 = t576 * t1302;
+        let t1304 = product(t1255, 0.7);
+        let t1305: f64 = t1251.plus(t1253);
+        let t1306: f64 = t1259.plus(t1267);
+        let t1307: f64 = t1275.plus(t1283);
+        let t1308: f64 = t1291.plus(t1299);
+        let t1309: f64 = t1305 + t1306;
+        let t1310: f64 = t1307 + t1308;
+        let t1311: f64 = t1309 + t1310;
+        let t1312: f64 = t1304.plus(t1311);
+        let t1313: f64 = t1263.plus(t1271);
+        let t1314: f64 = t1279.plus(t1287);
+        let t1315: f64 = t1295.plus(t1303);
+        let t1316: f64 = t1313 + t1314;
+        let t1317: f64 = t1315 + t1316;
+        let t1318: f64 = t1312 - t1317;
+        let t1319: f64 = t955 + t1274;
+        let t1320: f64 = t1298 + t1319;
+        let t1321: f64 = t1258 + t1266;
+        let t1322: f64 = t1282 + t1290;
+        let t1323: f64 = t1321 + t1322;
+        let t1324: f64 = t1320 - t1323;
+        let t1325: f64 = t1242 + t1278;
+        let t1326: f64 = t1302 + t1325;
+        let t1327: f64 = t1262 + t1270;
+        let t1328: f64 = t1286 + t1294;
+        let t1329: f64 = t1327 + t1328;
+        let t1330: f64 = t1326 - t1329;
+        let t1331: f64 = t724 - t1193;
+        let t1332: f64 = t756 - t1197;
+        let t1333: f64 = t788 - t1201;
+        let t1334: f64 = t820 - t1205;
+        let t1335: f64 = t852 - t1209;
+        let t1336: f64 = t884 - t1213;
+        let t1337: f64 = t1331 + t1332;
+        let t1338: f64 = t1334 + t1335;
+        let t1339: f64 = t1337 + t1338;
+        let t1340: f64 = t1333 + t1336;
+        let t1341: f64 = t1339 - t1340;
+        let t1342: f64 = -t1341;
+        let t1343: f64 = t994 + t1028;
+        let t1344: f64 = t1062 + t1096;
+        let t1345: f64 = t1130 + t1164;
+        let t1346: f64 = t1343 + t1344;
+        let t1347: f64 = t1345 + 12.0;
         let t1348: f64 = t1346 + t1347;
-        let t1349: f64 = t1343 - t1348;
-        let t1350 = product(t10, t1053);
-        let t1351: f64 = t14 * t1055;
-        let t1352: f64 = t3 * t4;
-        let t1353: f64 = t790 * t1352;
-        let t1354 = product(t27, t1087);
-        let t1355 = product(t61, t1092);
-        let t1356 = product(t85, t1096);
-        let t1357: f64 = t1355.added_to(t810);
-        let t1358: f64 = t1356.added_to(t819);
-        let t1359: f64 = t1357 + t1358;
-        let t1360 = product(t17, t1359);
-        let t1361: f64 = t34 * t127;
-        let t1362: f64 = t1360.minus(t1361);
-        let t1363 = product(t34, t1362);
-        let t1364: f64 = t157 * t1133;
-        let t1365 = product(t186, t1138);
-        let t1366 = product(t210, t1142);
-        let t1367: f64 = t1365.added_to(t838);
-        let t1368: f64 = t1366.added_to(t847);
+        let t1349: f64 = t710 + t742;
+        let t1350: f64 = t774 + t806;
+        let t1351: f64 = t838 + t870;
+        let t1352: f64 = t1349 + t1350;
+        let t1353: f64 = t1351 + t1352;
+        let t1354: f64 = t723 + t755;
+        let t1355: f64 = t787 + t819;
+        let t1356: f64 = t851 + t883;
+        let t1357: f64 = t1354 + t1355;
+        let t1358: f64 = t1356 + t1357;
+        let t1359: f64 = t96 + t202;
+        let t1360: f64 = t314 + t426;
+        let t1361: f64 = t531 + t635;
+        let t1362: f64 = t1359 + t1360;
+        let t1363: f64 = t1361 + 12.0;
+        let t1364: f64 = t1362 + t1363;
+        let t1365: f64 = t124 + t230;
+        let t1366: f64 = t342 + t454;
+        let t1367: f64 = t559 + t663;
+        let t1368: f64 = t1365 + t1366;
         let t1369: f64 = t1367 + t1368;
-        let t1370 = product(t156, t1369);
-        let t1371: f64 = t160 * t252;
-        let t1372: f64 = t1370.minus(t1371);
-        let t1373: f64 = t160 * t1372;
-        let t1374 = product(t286, t1179);
-        let t1375 = product(t317, t1184);
-        let t1376 = product(t341, t1188);
-        let t1377: f64 = t1375.added_to(t866);
-        let t1378: f64 = t875 + t1377;
-        let t1379: f64 = t1376.subtracted_from(t1378);
-        let t1380 = product(t283, t1379);
-        let t1381: f64 = t291 * t383;
-        let t1382: f64 = t1380.minus(t1381);
-        let t1383 = product(t291, t1382);
-        let t1384: f64 = t417 * t1225;
-        let t1385 = product(t448, t1230);
-        let t1386 = product(t472, t1234);
-        let t1387: f64 = t1385.added_to(t894);
-        let t1388: f64 = t903 + t1387;
-        let t1389: f64 = t1386.subtracted_from(t1388);
-        let t1390 = product(t414, t1389);
-        let t1391: f64 = t422 * t514;
-        let t1392: f64 = t1390.minus(t1391);
-        let t1393: f64 = t422 * t1392;
-        let t1394 = product(t544, t1271);
-        let t1395 = product(t572, t1276);
-        let t1396 = product(t596, t1280);
-        let t1397: f64 = t1395.added_to(t922);
-        let t1398: f64 = t931 + t1397;
-        let t1399: f64 = t1396.subtracted_from(t1398);
-        let t1400 = product(t543, t1399);
-        let t1401: f64 = t547 * t638;
-        let t1402: f64 = t1400.minus(t1401);
-        let t1403 = product(t547, t1402);
-        let t1404: f64 = t668 * t1317;
-        let t1405 = product(t695, t1322);
-        let t1406 = product(t719, t1326);
-        let t1407: f64 = t1405.added_to(t950);
-        let t1408: f64 = t959 + t1407;
-        let t1409: f64 = t1406.subtracted_from(t1408);
-        let t1410 = product(t667, t1409);
-        let t1411: f64 = t671 * t761;
-        let t1412: f64 = t1410.minus(t1411);
-        let t1413: f64 = t671 * t1412;
-        let t1414 = product(t1353, 0.7);
-        let t1415: f64 = t1350.plus(t1351);
-        let t1416: f64 = t1363.plus(t1373);
-        let t1417: f64 = t1383.plus(t1393);
-        let t1418: f64 = t1403.plus(t1413);
-        let t1419: f64 = t1415 + t1416;
-        let t1420: f64 = t1417 + t1418;
-        let t1421: f64 = t1419 + t1420;
-        let t1422: f64 = t1354.plus(t1364);
-        let t1423: f64 = t1374.plus(t1384);
-        let t1424: f64 = t1394.plus(t1404);
-        let t1425: f64 = t1422 + t1423;
-        let t1426: f64 = t1414.plus(t1424);
-        let t1427: f64 = t1425 + t1426;
-        let t1428: f64 = t1421 - t1427;
-        let t1429: f64 = t1036 + t1087;
-        let t1430: f64 = t1133 + t1225;
-        let t1431: f64 = t1429 + t1430;
-        let t1432: f64 = t1271 + t1431;
-        let t1433: f64 = t1179 + t1317;
-        let t1434: f64 = t1432 - t1433;
-        let t1435: f64 = t1362 + t1372;
-        let t1436: f64 = t1392 + t1402;
-        let t1437: f64 = t1435 + t1436;
-        let t1438: f64 = t1382 + t1412;
-        let t1439: f64 = t1437 - t1438;
-        let t1440: f64 = t0 * 0.36;
-        let t1441: f64 = t1195 + t1440;
-        let t1442: f64 = t1333 + t1441;
-        let t1443: f64 = t1103 + t1149;
-        let t1444: f64 = t1241 + t1287;
-        let t1445: f64 = t1443 + t1444;
-        let t1446: f64 = t1442 - t1445;
-        let t1447: f64 = -t1446;
-        let t1448: f64 = t10 * 0.4108;
-        let t1449 = product(t10, t1448);
-        let t1450: f64 = t14 * 0.4108;
-        let t1451: f64 = t14 * t1450;
-        let t1452: f64 = t4 * t4;
-        let t1453: f64 = t790 * t1452;
-        let t1454 = product(t27, t1084);
-        let t1455: f64 = t34 * t822;
-        let t1456: f64 = t1454.minus(t1455);
-        let t1457 = product(t27, t1456);
-        let t1458 = product(t27, t1359);
-        let t1459: f64 = t34 * t96;
-        let t1460: f64 = t1458.minus(t1459);
-        let t1461 = product(t34, t1460);
-        let t1462 = product(t157, t1130);
-        let t1463: f64 = t160 * t850;
-        let t1464: f64 = t1462.minus(t1463);
-        let t1465: f64 = t157 * t1464;
-        let t1466 = product(t157, t1369);
-        let t1467: f64 = t160 * t221;
-        let t1468: f64 = t1466.minus(t1467);
-        let t1469: f64 = t160 * t1468;
-        let t1470 = product(t286, t1176);
-        let t1471: f64 = t291 * t878;
-        let t1472: f64 = t1470.minus(t1471);
-        let t1473 = product(t286, t1472);
-        let t1474 = product(t286, t1379);
-        let t1475: f64 = t291 * t352;
-        let t1476: f64 = t1474.minus(t1475);
-        let t1477 = product(t291, t1476);
-        let t1478 = product(t417, t1222);
-        let t1479: f64 = t422 * t906;
-        let t1480: f64 = t1478.minus(t1479);
-        let t1481: f64 = t417 * t1480;
-        let t1482 = product(t417, t1389);
-        let t1483: f64 = t422 * t483;
-        let t1484: f64 = t1482.minus(t1483);
-        let t1485: f64 = t422 * t1484;
-        let t1486 = product(t544, t1268);
-        let t1487: f64 = t547 * t934;
-        let t1488: f64 = t1486.minus(t1487);
-        let t1489 = product(t544, t1488);
-        let t1490 = product(t544, t1399);
-        let t1491: f64 = t547 * t607;
-        let t1492: f64 = t1490.minus(t1491);
-        let t1493 = product(t547, t1492);
-        let t1494 = product(t668, t1314);
-        let t1495: f64 = t671 * t962;
-        let t1496: f64 = t1494.minus(t1495);
-        let t1497: f64 = t668 * t1496;
-        let t1498 = product(t668, t1409);
-        let t1499: f64 = t671 * t730;
-        let t1500: f64 = t1498.minus(t1499);
-        let t1501: f64 = t671 * t1500;
-        let t1502 = product(t1453, 0.7);
-        let t1503: f64 = t1449.plus(t1451);
-        let t1504: f64 = t1457.plus(t1465);
-        let t1505: f64 = t1473.plus(t1481);
-        let t1506: f64 = t1489.plus(t1497);
-        let t1507: f64 = t1503 + t1504;
-        let t1508: f64 = t1505 + t1506;
-        let t1509: f64 = t1507 + t1508;
-        let t1510: f64 = t1502.plus(t1509);
-        let t1511: f64 = t1461.plus(t1469);
-        let t1512: f64 = t1477.plus(t1485);
-        let t1513: f64 = t1493.plus(t1501);
-        let t1514: f64 = t1511 + t1512;
-        let t1515: f64 = t1513 + t1514;
-        let t1516: f64 = t1510 - t1515;
-        let t1517: f64 = t1045 + t1472;
-        let t1518: f64 = t1496 + t1517;
-        let t1519: f64 = t1456 + t1464;
-        let t1520: f64 = t1480 + t1488;
-        let t1521: f64 = t1519 + t1520;
-        let t1522: f64 = t1518 - t1521;
-        let t1523: f64 = t1440 + t1476;
-        let t1524: f64 = t1500 + t1523;
-        let t1525: f64 = t1460 + t1468;
-        let t1526: f64 = t1484 + t1492;
-        let t1527: f64 = t1525 + t1526;
-        let t1528: f64 = t1524 - t1527;
-        let t1529 = product(t27, t1100);
-        let t1530: f64 = t34 * t139;
-        let t1531: f64 = t1529.minus(t1530);
-        let t1532 = product(t157, t1146);
-        let t1533: f64 = t160 * t264;
-        let t1534: f64 = t1532.minus(t1533);
-        let t1535 = product(t286, t1192);
-        let t1536: f64 = t291 * t395;
-        let t1537: f64 = t1535.minus(t1536);
-        let t1538 = product(t417, t1238);
-        let t1539: f64 = t422 * t526;
-        let t1540: f64 = t1538.minus(t1539);
-        let t1541 = product(t544, t1284);
-        let t1542: f64 = t547 * t650;
-        let t1543: f64 = t1541.minus(t1542);
-        let t1544 = product(t668, t1330);
-        let t1545: f64 = t671 * t773;
-        let t1546: f64 = t1544.minus(t1545);
-        let t1547: f64 = t1531 + t1534;
-        let t1548: f64 = t1540 + t1543;
-        let t1549: f64 = t1547 + t1548;
-        let t1550: f64 = t1537 + t1546;
-        let t1551: f64 = t1549 - t1550;
-        let t1552: f64 = -t1551;
-        let t1553: f64 = t1084 + t1130;
-        let t1554: f64 = t1176 + t1222;
-        let t1555: f64 = t1268 + t1314;
-        let t1556: f64 = t1553 + t1554;
-        let t1557: f64 = t1555 + 12.0;
-        let t1558: f64 = t1556 + t1557;
-        let t1559: f64 = t1359 + t1369;
-        let t1560: f64 = t1379 + t1389;
-        let t1561: f64 = t1399 + t1409;
-        let t1562: f64 = t1559 + t1560;
-        let t1563: f64 = t1561 + t1562;
-        let t1564: f64 = t1100 + t1146;
-        let t1565: f64 = t1192 + t1238;
-        let t1566: f64 = t1284 + t1330;
-        let t1567: f64 = t1564 + t1565;
-        let t1568: f64 = t1566 + t1567;
-        let t1569: f64 = t96 + t221;
-        let t1570: f64 = t352 + t483;
-        let t1571: f64 = t607 + t730;
-        let t1572: f64 = t1569 + t1570;
-        let t1573: f64 = t1571 + 12.0;
-        let t1574: f64 = t1572 + t1573;
-        let t1575: f64 = t139 + t264;
-        let t1576: f64 = t395 + t526;
-        let t1577: f64 = t650 + t773;
-        let t1578: f64 = t1575 + t1576;
-        let t1579: f64 = t1577 + t1578;
-        let t1580: f64 = t152 + t277;
-        let t1581: f64 = t408 + t539;
-        let t1582: f64 = t663 + t786;
-        let t1583: f64 = t1580 + t1581;
-        let t1584: f64 = t1582 + 12.0;
-        let t1585: f64 = t1583 + t1584;
-        let t1586: f64 = t44 * t59;
-        let t1587: f64 = t170 * t184;
-        let t1588: f64 = t301 * t315;
-        let t1589: f64 = t432 * t446;
-        let t1590: f64 = t557 * t570;
-        let t1591: f64 = t680 * t693;
+        let t1370: f64 = t133 + t239;
+        let t1371: f64 = t351 + t463;
+        let t1372: f64 = t568 + t672;
+        let t1373: f64 = t1370 + t1371;
+        let t1374: f64 = t1372 + 12.0;
+        let t1375: f64 = t1373 + t1374;
+        let t1376: f64 = t44 * t59;
+        let t1377: f64 = t151 * t165;
+        let t1378: f64 = t263 * t277;
+        let t1379: f64 = t375 * t389;
+        let t1380: f64 = t481 * t494;
+        let t1381: f64 = t585 * t598;
         (
-            t1028,
-            t1034,
-            t1043,
-            t1052,
-            t1349,
-            t1428,
-            t1434,
-            t1439,
-            t1447,
-            t1516,
-            t1522,
-            t1528,
-            t1552,
-            t1558,
-            t1563,
-            t1568,
-            t1574,
-            t1579,
-            t1585,
-            t1586,
-            t1587,
-            t1588,
-            t1589,
-            t1590,
-            t1591,
+            t1187,
+            t1230,
+            t1236,
+            t1241,
+            t1249,
+            t1318,
+            t1324,
+            t1330,
+            t1342,
+            t1348,
+            t1353,
+            t1358,
+            t1364,
+            t1369,
+            t1375,
+            t1376,
+            t1377,
+            t1378,
+            t1379,
+            t1380,
+            t1381,
         )
     };
     (
         [
-            [t809, t997, t1028, t1034, t1043, t1052],
-            [t997, t1349, t1428, t1434, t1439, t1447],
-            [t1028, t1428, t1516, t1522, t1528, t1552],
-            [t1034, t1434, t1522, t1558, t1563, t1568],
-            [t1043, t1439, t1528, t1563, t1574, t1579],
-            [t1052, t1447, t1552, t1568, t1579, t1585],
+            [t695, t907, t938, t944, t953, t962],
+            [t907, t1187, t1230, t1236, t1241, t1249],
+            [t938, t1230, t1318, t1324, t1330, t1342],
+            [t944, t1236, t1324, t1348, t1353, t1358],
+            [t953, t1241, t1330, t1353, t1364, t1369],
+            [t962, t1249, t1342, t1358, t1369, t1375],
         ],
-        [t1586, t1587, t1588, t1589, t1590, t1591],
+        [t1376, t1377, t1378, t1379, t1380, t1381],
     )
 }
 /// Task-space bias `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal, gravity.
@@ -9194,7 +8856,7 @@ pub fn task_bias_separate(pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64;
 /// - `accel`: classical platform acceleration `(ω̇; a_C)` (rad/s², m/s²), base frame
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
-/// Operations: 2091 mul, 29 div, 1503 add, 39 neg, 3 sin_cos, 12 sqrt (chapter convention: 2120m + 1503a).
+/// Operations: 1930 mul, 29 div, 1386 add, 36 neg, 3 sin_cos, 12 sqrt (chapter convention: 1959m + 1386a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
@@ -9245,7 +8907,6 @@ pub fn forward_dynamics_separate(
         t61,
         t62,
         t66,
-        t67,
         t79,
         t80,
         t82,
@@ -9254,224 +8915,220 @@ pub fn forward_dynamics_separate(
         t86,
         t96,
         t99,
-        t103,
+        t113,
         t114,
-        t115,
-        t127,
-        t129,
-        t139,
+        t124,
+        t126,
+        t133,
+        t135,
+        t137,
+        t138,
+        t140,
+        t141,
+        t143,
+        t146,
+        t149,
+        t151,
         t152,
-        t154,
-        t156,
-        t157,
-        t159,
-        t160,
-        t162,
         t165,
+        t166,
+        t167,
         t168,
-        t170,
-        t171,
-        t184,
+        t172,
         t185,
         t186,
-        t187,
+        t188,
+        t189,
         t191,
         t192,
-        t204,
+        t202,
         t205,
-        t207,
-        t208,
-        t210,
-        t211,
-        t221,
-        t224,
-        t228,
+        t219,
+        t220,
+        t230,
+        t232,
         t239,
-        t240,
-        t252,
-        t254,
+        t241,
+        t245,
+        t248,
+        t250,
+        t253,
+        t255,
+        t258,
+        t261,
+        t263,
         t264,
         t277,
+        t278,
         t279,
-        t283,
-        t286,
-        t288,
-        t291,
-        t293,
-        t296,
-        t299,
+        t280,
+        t284,
+        t297,
+        t298,
+        t300,
         t301,
-        t302,
-        t315,
-        t316,
+        t303,
+        t304,
+        t314,
         t317,
-        t318,
-        t322,
-        t323,
-        t335,
-        t336,
-        t338,
-        t339,
-        t341,
+        t331,
+        t332,
         t342,
-        t352,
-        t355,
-        t359,
+        t344,
+        t351,
+        t353,
+        t357,
+        t360,
+        t362,
+        t365,
+        t367,
         t370,
-        t371,
-        t383,
-        t385,
-        t395,
-        t408,
+        t373,
+        t375,
+        t376,
+        t389,
+        t390,
+        t391,
+        t392,
+        t396,
+        t397,
+        t409,
         t410,
-        t414,
-        t417,
-        t419,
-        t422,
-        t424,
-        t427,
-        t430,
-        t432,
-        t433,
-        t446,
-        t447,
-        t448,
-        t449,
-        t453,
+        t412,
+        t413,
+        t415,
+        t416,
+        t426,
+        t429,
+        t443,
+        t444,
         t454,
-        t466,
+        t456,
+        t463,
+        t465,
         t467,
-        t469,
+        t468,
         t470,
-        t472,
+        t471,
         t473,
-        t483,
-        t486,
-        t490,
+        t476,
+        t479,
+        t481,
+        t482,
+        t494,
+        t495,
+        t496,
+        t497,
         t501,
         t502,
         t514,
-        t516,
-        t526,
-        t539,
-        t541,
-        t543,
-        t544,
-        t546,
-        t547,
+        t515,
+        t517,
+        t518,
+        t520,
+        t521,
+        t531,
+        t534,
+        t548,
         t549,
-        t552,
-        t555,
-        t557,
-        t558,
+        t559,
+        t561,
+        t568,
         t570,
-        t571,
         t572,
         t573,
+        t575,
+        t576,
         t577,
-        t578,
-        t590,
-        t591,
-        t593,
-        t594,
-        t596,
-        t597,
-        t607,
-        t610,
-        t614,
+        t580,
+        t583,
+        t585,
+        t586,
+        t598,
+        t599,
+        t600,
+        t601,
+        t605,
+        t606,
+        t618,
+        t619,
+        t621,
+        t622,
+        t624,
         t625,
-        t626,
+        t635,
         t638,
-        t640,
-        t650,
+        t652,
+        t653,
         t663,
         t665,
-        t667,
-        t668,
-        t670,
-        t671,
         t672,
-        t675,
-        t678,
-        t680,
-        t681,
-        t693,
-        t694,
-        t695,
+        t674,
+        t676,
         t696,
-        t700,
+        t697,
         t701,
+        t712,
         t713,
-        t714,
-        t716,
-        t717,
-        t719,
-        t720,
-        t730,
+        t725,
+        t726,
+        t727,
         t733,
-        t737,
-        t748,
-        t749,
-        t761,
-        t763,
-        t773,
-        t786,
-        t788,
+        t744,
+        t745,
+        t757,
+        t758,
+        t759,
+        t765,
+        t776,
+        t777,
+        t789,
         t790,
-        t810,
-        t811,
-        t812,
-        t818,
+        t791,
+        t797,
+        t808,
+        t809,
         t821,
-        t824,
-        t826,
-        t832,
-        t835,
-        t837,
+        t822,
+        t823,
+        t829,
         t840,
-        t846,
-        t849,
-        t852,
+        t841,
+        t853,
         t854,
-        t860,
-        t863,
-        t865,
-        t868,
-        t874,
-        t877,
-        t880,
-        t882,
-        t888,
-        t891,
-        t893,
-        t896,
-        t902,
-        t905,
+        t855,
+        t861,
+        t872,
+        t873,
+        t885,
+        t886,
+        t887,
         t908,
+        t909,
         t910,
-        t916,
+        t911,
+        t912,
+        t914,
+        t915,
         t919,
-        t921,
-        t924,
-        t930,
-        t933,
-        t936,
-        t938,
+        t940,
+        t943,
         t944,
         t947,
+        t948,
         t949,
-        t952,
-        t958,
-        t961,
-        t964,
-        t966,
-        t972,
-        t975,
+        t953,
+        t974,
         t977,
-        t998,
-        t999,
-        t1000,
-        t1001,
+        t978,
+        t981,
+        t982,
+        t983,
+        t986,
+        t987,
+        t990,
+        t991,
+        t995,
         t1002,
     ) = {
         let (t0, t1): (f64, f64) = sin_cos(beta);
@@ -9540,11 +9197,11 @@ pub fn forward_dynamics_separate(
         let t66: f64 = t60 * t65;
         let t67: f64 = t66 * t66;
         let t68: f64 = t62 * t67;
-        let t69: f64 = t61 * 0.3;
-        let t70: f64 = t62 * 0.295;
-        let t71 = product(t68, 0.003);
-        let t72: f64 = t71.added_to(t70);
-        let t73: f64 = t69 - t72;
+        let t69 = product(t61, 0.3);
+        let t70 = product(t62, 0.295);
+        let t71: f64 = t68 * 0.003;
+        let t72: f64 = t70.plus(t71);
+        let t73: f64 = t69.minus(t72);
         let t74 = product(t44, t73);
         let t75: f64 = t62 * 0.3;
         let t76: f64 = t74.plus(t75);
@@ -9569,911 +9226,911 @@ pub fn forward_dynamics_separate(
         let t95: f64 = t46.plus(t78);
         let t96: f64 = t94.plus(t95);
         let t97 = product(t17, t96);
-        let t98: f64 = t45 * t82;
-        let t99: f64 = t44 * t44;
-        let t100: f64 = t61 * t79;
-        let t101: f64 = t99 * t100;
-        let t102: f64 = t67 * t101;
-        let t103: f64 = t44 * t79;
-        let t104: f64 = t79 * 0.3;
-        let t105: f64 = t103 * 0.295;
-        let t106: f64 = t104 - t105;
-        let t107 = product(t44, t106);
-        let t108: f64 = t103 * 0.3;
-        let t109: f64 = t107.plus(t108);
-        let t110: f64 = t79 - t109;
-        let t111 = product(t61, t110);
-        let t112 = product(t45, t83);
-        let t113: f64 = t61 * t80;
-        let t114: f64 = t112.minus(t113);
-        let t115: f64 = t44 * t114;
-        let t116 = product(t114, 0.3);
-        let t117: f64 = t115 * 0.295;
-        let t118: f64 = t116.minus(t117);
-        let t119 = product(t44, t118);
-        let t120: f64 = t115 * 0.3;
-        let t121: f64 = t119.plus(t120);
-        let t122: f64 = t114 - t121;
-        let t123 = product(t85, t122);
-        let t124: f64 = t102 * 0.003;
-        let t125: f64 = t111.added_to(t98);
-        let t126: f64 = t123.plus(t124);
-        let t127: f64 = t125 + t126;
-        let t128: f64 = t27 * t127;
-        let t129: f64 = t97.minus(t128);
-        let t130 = product(t17, t129);
-        let t131: f64 = t69 - t70;
-        let t132 = product(t44, t131);
-        let t133: f64 = t132.added_to(t75);
-        let t134: f64 = t61 - t133;
-        let t135 = product(t79, t134);
-        let t136 = product(t93, t114);
-        let t137: f64 = t135.added_to(t98);
-        let t138: f64 = t136.added_to(t124);
-        let t139: f64 = t137 + t138;
-        let t140 = product(t17, t139);
-        let t141 = product(t82, t82);
-        let t142: f64 = t67 * t103;
-        let t143 = product(t142, 0.003);
-        let t144: f64 = t143.added_to(t105);
-        let t145: f64 = t104 - t144;
-        let t146 = product(t44, t145);
-        let t147: f64 = t146.added_to(t108);
-        let t148: f64 = t79 - t147;
-        let t149: f64 = t79 * t148;
-        let t150 = product(t114, t122);
-        let t151: f64 = t141.plus(t149);
-        let t152: f64 = t150.plus(t151);
-        let t153: f64 = t27 * t152;
-        let t154: f64 = t140.minus(t153);
-        let t155 = product(t27, t154);
-        let t156: f64 = t15 - t16;
-        let t157: f64 = t25 - t26;
-        let t158: f64 = yc + t157;
-        let t159: f64 = t158 + 0.08;
-        let t160: f64 = t32 + t33;
-        let t161: f64 = xc + t160;
-        let t162: f64 = t161 - 0.45;
-        let t163 = product(t162, t162);
-        let t164: f64 = t159 * t159;
-        let t165: f64 = zc + t156;
-        let t166 = product(t165, t165);
-        let t167: f64 = t163.plus(t164);
-        let t168: f64 = t166.plus(t167);
-        let t169: f64 = sqrt(t168);
-        let t170: f64 = 1.0 / t169;
-        let t171: f64 = t159 * t170;
-        let t172 = product(t171, t171);
-        let t173: f64 = t165 * 0.1750329254309137;
-        let t174: f64 = t165 * 0.9845625805478777;
-        let t175: f64 = -t174;
-        let t176 = product(t175, t175);
-        let t177: f64 = t173 * t173;
-        let t178 = product(t162, 0.9845625805478777);
-        let t179: f64 = t159 * 0.1750329254309137;
-        let t180: f64 = t178.minus(t179);
-        let t181 = product(t180, t180);
-        let t182: f64 = t176.plus(t177);
-        let t183: f64 = t181.plus(t182);
-        let t184: f64 = sqrt(t183);
-        let t185: f64 = 1.0 / t184;
-        let t186: f64 = t173 * t185;
-        let t187: f64 = t170 * t186;
-        let t188 = product(t162, 0.1750329254309137);
-        let t189: f64 = t159 * 0.9845625805478777;
-        let t190: f64 = t188.plus(t189);
-        let t191: f64 = t185 * t190;
-        let t192: f64 = t191 * t191;
-        let t193: f64 = t187 * t192;
-        let t194: f64 = t186 * 0.3;
-        let t195: f64 = t187 * 0.295;
-        let t196 = product(t193, 0.003);
-        let t197: f64 = t196.added_to(t195);
-        let t198: f64 = t194 - t197;
-        let t199 = product(t170, t198);
-        let t200: f64 = t187 * 0.3;
-        let t201: f64 = t199.plus(t200);
-        let t202: f64 = t186 - t201;
-        let t203: f64 = t186 * t202;
-        let t204: f64 = t180 * t185;
-        let t205: f64 = t162 * t170;
-        let t206 = product(t204, t205);
-        let t207: f64 = t165 * t170;
-        let t208: f64 = t175 * t185;
-        let t209: f64 = t207 * t208;
-        let t210: f64 = t206.minus(t209);
-        let t211: f64 = t170 * t210;
-        let t212 = product(t210, 0.3);
-        let t213: f64 = t211 * 0.295;
-        let t214: f64 = t212.minus(t213);
-        let t215 = product(t170, t214);
-        let t216: f64 = t211 * 0.3;
-        let t217: f64 = t215.plus(t216);
-        let t218: f64 = t210 - t217;
-        let t219 = product(t210, t218);
-        let t220: f64 = t172.plus(t203);
-        let t221: f64 = t219.plus(t220);
-        let t222 = product(t156, t221);
-        let t223: f64 = t171 * t207;
-        let t224: f64 = t170 * t170;
-        let t225: f64 = t186 * t204;
-        let t226: f64 = t224 * t225;
-        let t227: f64 = t192 * t226;
-        let t228: f64 = t170 * t204;
-        let t229: f64 = t204 * 0.3;
-        let t230: f64 = t228 * 0.295;
-        let t231: f64 = t229 - t230;
-        let t232 = product(t170, t231);
-        let t233: f64 = t228 * 0.3;
-        let t234: f64 = t232.plus(t233);
-        let t235: f64 = t204 - t234;
-        let t236 = product(t186, t235);
-        let t237 = product(t171, t208);
-        let t238: f64 = t186 * t205;
-        let t239: f64 = t237.minus(t238);
-        let t240: f64 = t170 * t239;
-        let t241 = product(t239, 0.3);
-        let t242: f64 = t240 * 0.295;
-        let t243: f64 = t241.minus(t242);
-        let t244 = product(t170, t243);
-        let t245: f64 = t240 * 0.3;
-        let t246: f64 = t244.plus(t245);
-        let t247: f64 = t239 - t246;
-        let t248 = product(t210, t247);
-        let t249: f64 = t227 * 0.003;
-        let t250: f64 = t236.added_to(t223);
-        let t251: f64 = t248.plus(t249);
-        let t252: f64 = t250 + t251;
-        let t253: f64 = t157 * t252;
-        let t254: f64 = t222.minus(t253);
-        let t255 = product(t156, t254);
-        let t256: f64 = t194 - t195;
-        let t257 = product(t170, t256);
-        let t258: f64 = t257.added_to(t200);
-        let t259: f64 = t186 - t258;
-        let t260 = product(t204, t259);
-        let t261 = product(t218, t239);
-        let t262: f64 = t260.added_to(t223);
-        let t263: f64 = t261.added_to(t249);
-        let t264: f64 = t262 + t263;
-        let t265 = product(t156, t264);
-        let t266 = product(t207, t207);
-        let t267: f64 = t192 * t228;
-        let t268 = product(t267, 0.003);
-        let t269: f64 = t268.added_to(t230);
-        let t270: f64 = t229 - t269;
-        let t271 = product(t170, t270);
-        let t272: f64 = t271.added_to(t233);
-        let t273: f64 = t204 - t272;
-        let t274: f64 = t204 * t273;
-        let t275 = product(t239, t247);
-        let t276: f64 = t266.plus(t274);
-        let t277: f64 = t275.plus(t276);
-        let t278: f64 = t157 * t277;
-        let t279: f64 = t265.minus(t278);
-        let t280: f64 = t157 * t279;
-        let t281: f64 = t10 * 0.254904;
-        let t282: f64 = t14 * 0.141506;
-        let t283: f64 = t281 - t282;
-        let t284: f64 = t21 * 0.254904;
-        let t285: f64 = t24 * 0.141506;
-        let t286: f64 = t284 - t285;
-        let t287: f64 = t286 + 0.349711;
-        let t288: f64 = yc - t287;
-        let t289: f64 = t30 * 0.254904;
-        let t290: f64 = t31 * 0.141506;
-        let t291: f64 = t289 + t290;
-        let t292: f64 = xc + 0.294282;
-        let t293: f64 = t292 - t291;
-        let t294 = product(t293, t293);
-        let t295: f64 = t288 * t288;
-        let t296: f64 = zc - t283;
-        let t297 = product(t296, t296);
-        let t298: f64 = t294.plus(t295);
-        let t299: f64 = t297.plus(t298);
-        let t300: f64 = sqrt(t299);
-        let t301: f64 = 1.0 / t300;
-        let t302: f64 = t288 * t301;
-        let t303 = product(t302, t302);
-        let t304: f64 = t296 * 0.7651390659756491;
-        let t305: f64 = -t304;
-        let t306: f64 = t296 * 0.6438650555185546;
-        let t307 = product(t306, t306);
-        let t308: f64 = t305 * t305;
-        let t309 = product(t293, 0.6438650555185546);
-        let t310: f64 = t288 * 0.7651390659756491;
-        let t311: f64 = t309.minus(t310);
-        let t312 = product(t311, t311);
-        let t313: f64 = t307.plus(t308);
+        let t98 = product(t45, t82);
+        let t99: f64 = t44 * t79;
+        let t100: f64 = t67 * t99;
+        let t101 = product(t79, 0.3);
+        let t102 = product(t99, 0.295);
+        let t103: f64 = t100 * 0.003;
+        let t104: f64 = t102.plus(t103);
+        let t105: f64 = t101.minus(t104);
+        let t106 = product(t44, t105);
+        let t107: f64 = t99 * 0.3;
+        let t108: f64 = t106.plus(t107);
+        let t109: f64 = t79 - t108;
+        let t110: f64 = t61 * t109;
+        let t111 = product(t45, t83);
+        let t112: f64 = t61 * t80;
+        let t113: f64 = t111.minus(t112);
+        let t114: f64 = t44 * t113;
+        let t115 = product(t113, 0.3);
+        let t116: f64 = t114 * 0.295;
+        let t117: f64 = t115.minus(t116);
+        let t118 = product(t44, t117);
+        let t119: f64 = t114 * 0.3;
+        let t120: f64 = t118.plus(t119);
+        let t121: f64 = t113 - t120;
+        let t122 = product(t85, t121);
+        let t123: f64 = t98.plus(t110);
+        let t124: f64 = t122.plus(t123);
+        let t125: f64 = t27 * t124;
+        let t126: f64 = t97.minus(t125);
+        let t127 = product(t17, t126);
+        let t128 = product(t17, t124);
+        let t129 = product(t82, t82);
+        let t130: f64 = t79 * t109;
+        let t131 = product(t113, t121);
+        let t132: f64 = t129.plus(t130);
+        let t133: f64 = t131.plus(t132);
+        let t134: f64 = t27 * t133;
+        let t135: f64 = t128.minus(t134);
+        let t136 = product(t27, t135);
+        let t137: f64 = t15 - t16;
+        let t138: f64 = t25 - t26;
+        let t139: f64 = yc + t138;
+        let t140: f64 = t139 + 0.08;
+        let t141: f64 = t32 + t33;
+        let t142: f64 = xc + t141;
+        let t143: f64 = t142 - 0.45;
+        let t144 = product(t143, t143);
+        let t145: f64 = t140 * t140;
+        let t146: f64 = zc + t137;
+        let t147 = product(t146, t146);
+        let t148: f64 = t144.plus(t145);
+        let t149: f64 = t147.plus(t148);
+        let t150: f64 = sqrt(t149);
+        let t151: f64 = 1.0 / t150;
+        let t152: f64 = t140 * t151;
+        let t153 = product(t152, t152);
+        let t154: f64 = t146 * 0.1750329254309137;
+        let t155: f64 = t146 * 0.9845625805478777;
+        let t156: f64 = -t155;
+        let t157 = product(t156, t156);
+        let t158: f64 = t154 * t154;
+        let t159 = product(t143, 0.9845625805478777);
+        let t160: f64 = t140 * 0.1750329254309137;
+        let t161: f64 = t159.minus(t160);
+        let t162 = product(t161, t161);
+        let t163: f64 = t157.plus(t158);
+        let t164: f64 = t162.plus(t163);
+        let t165: f64 = sqrt(t164);
+        let t166: f64 = 1.0 / t165;
+        let t167: f64 = t154 * t166;
+        let t168: f64 = t151 * t167;
+        let t169 = product(t143, 0.1750329254309137);
+        let t170: f64 = t140 * 0.9845625805478777;
+        let t171: f64 = t169.plus(t170);
+        let t172: f64 = t166 * t171;
+        let t173: f64 = t172 * t172;
+        let t174: f64 = t168 * t173;
+        let t175 = product(t167, 0.3);
+        let t176 = product(t168, 0.295);
+        let t177: f64 = t174 * 0.003;
+        let t178: f64 = t176.plus(t177);
+        let t179: f64 = t175.minus(t178);
+        let t180 = product(t151, t179);
+        let t181: f64 = t168 * 0.3;
+        let t182: f64 = t180.plus(t181);
+        let t183: f64 = t167 - t182;
+        let t184: f64 = t167 * t183;
+        let t185: f64 = t161 * t166;
+        let t186: f64 = t143 * t151;
+        let t187 = product(t185, t186);
+        let t188: f64 = t146 * t151;
+        let t189: f64 = t156 * t166;
+        let t190: f64 = t188 * t189;
+        let t191: f64 = t187.minus(t190);
+        let t192: f64 = t151 * t191;
+        let t193 = product(t191, 0.3);
+        let t194: f64 = t192 * 0.295;
+        let t195: f64 = t193.minus(t194);
+        let t196 = product(t151, t195);
+        let t197: f64 = t192 * 0.3;
+        let t198: f64 = t196.plus(t197);
+        let t199: f64 = t191 - t198;
+        let t200 = product(t191, t199);
+        let t201: f64 = t153.plus(t184);
+        let t202: f64 = t200.plus(t201);
+        let t203 = product(t137, t202);
+        let t204 = product(t152, t188);
+        let t205: f64 = t151 * t185;
+        let t206: f64 = t173 * t205;
+        let t207 = product(t185, 0.3);
+        let t208 = product(t205, 0.295);
+        let t209: f64 = t206 * 0.003;
+        let t210: f64 = t208.plus(t209);
+        let t211: f64 = t207.minus(t210);
+        let t212 = product(t151, t211);
+        let t213: f64 = t205 * 0.3;
+        let t214: f64 = t212.plus(t213);
+        let t215: f64 = t185 - t214;
+        let t216: f64 = t167 * t215;
+        let t217 = product(t152, t189);
+        let t218: f64 = t167 * t186;
+        let t219: f64 = t217.minus(t218);
+        let t220: f64 = t151 * t219;
+        let t221 = product(t219, 0.3);
+        let t222: f64 = t220 * 0.295;
+        let t223: f64 = t221.minus(t222);
+        let t224 = product(t151, t223);
+        let t225: f64 = t220 * 0.3;
+        let t226: f64 = t224.plus(t225);
+        let t227: f64 = t219 - t226;
+        let t228 = product(t191, t227);
+        let t229: f64 = t204.plus(t216);
+        let t230: f64 = t228.plus(t229);
+        let t231: f64 = t138 * t230;
+        let t232: f64 = t203.minus(t231);
+        let t233 = product(t137, t232);
+        let t234 = product(t137, t230);
+        let t235 = product(t188, t188);
+        let t236: f64 = t185 * t215;
+        let t237 = product(t219, t227);
+        let t238: f64 = t235.plus(t236);
+        let t239: f64 = t237.plus(t238);
+        let t240: f64 = t138 * t239;
+        let t241: f64 = t234.minus(t240);
+        let t242: f64 = t138 * t241;
+        let t243: f64 = t10 * 0.254904;
+        let t244: f64 = t14 * 0.141506;
+        let t245: f64 = t243 - t244;
+        let t246: f64 = t21 * 0.254904;
+        let t247: f64 = t24 * 0.141506;
+        let t248: f64 = t246 - t247;
+        let t249: f64 = t248 + 0.349711;
+        let t250: f64 = yc - t249;
+        let t251: f64 = t30 * 0.254904;
+        let t252: f64 = t31 * 0.141506;
+        let t253: f64 = t251 + t252;
+        let t254: f64 = xc + 0.294282;
+        let t255: f64 = t254 - t253;
+        let t256 = product(t255, t255);
+        let t257: f64 = t250 * t250;
+        let t258: f64 = zc - t245;
+        let t259 = product(t258, t258);
+        let t260: f64 = t256.plus(t257);
+        let t261: f64 = t259.plus(t260);
+        let t262: f64 = sqrt(t261);
+        let t263: f64 = 1.0 / t262;
+        let t264: f64 = t250 * t263;
+        let t265 = product(t264, t264);
+        let t266: f64 = t258 * 0.7651390659756491;
+        let t267: f64 = -t266;
+        let t268: f64 = t258 * 0.6438650555185546;
+        let t269 = product(t268, t268);
+        let t270: f64 = t267 * t267;
+        let t271 = product(t255, 0.6438650555185546);
+        let t272: f64 = t250 * 0.7651390659756491;
+        let t273: f64 = t271.minus(t272);
+        let t274 = product(t273, t273);
+        let t275: f64 = t269.plus(t270);
+        let t276: f64 = t274.plus(t275);
+        let t277: f64 = sqrt(t276);
+        let t278: f64 = 1.0 / t277;
+        let t279: f64 = t267 * t278;
+        let t280: f64 = t263 * t279;
+        let t281 = product(t255, 0.7651390659756491);
+        let t282: f64 = t250 * 0.6438650555185546;
+        let t283: f64 = t281.plus(t282);
+        let t284: f64 = t278 * t283;
+        let t285: f64 = t284 * t284;
+        let t286: f64 = t280 * t285;
+        let t287 = product(t279, 0.3);
+        let t288 = product(t280, 0.295);
+        let t289: f64 = t286 * 0.003;
+        let t290: f64 = t288.plus(t289);
+        let t291: f64 = t287.minus(t290);
+        let t292 = product(t263, t291);
+        let t293: f64 = t280 * 0.3;
+        let t294: f64 = t292.plus(t293);
+        let t295: f64 = t279 - t294;
+        let t296: f64 = t279 * t295;
+        let t297: f64 = t273 * t278;
+        let t298: f64 = t255 * t263;
+        let t299 = product(t297, t298);
+        let t300: f64 = t258 * t263;
+        let t301: f64 = t268 * t278;
+        let t302: f64 = t300 * t301;
+        let t303: f64 = t299.plus(t302);
+        let t304: f64 = t263 * t303;
+        let t305 = product(t303, 0.3);
+        let t306: f64 = t304 * 0.295;
+        let t307: f64 = t305.minus(t306);
+        let t308 = product(t263, t307);
+        let t309: f64 = t304 * 0.3;
+        let t310: f64 = t308.plus(t309);
+        let t311: f64 = t303 - t310;
+        let t312 = product(t303, t311);
+        let t313: f64 = t265.plus(t296);
         let t314: f64 = t312.plus(t313);
-        let t315: f64 = sqrt(t314);
-        let t316: f64 = 1.0 / t315;
-        let t317: f64 = t305 * t316;
-        let t318: f64 = t301 * t317;
-        let t319 = product(t293, 0.7651390659756491);
-        let t320: f64 = t288 * 0.6438650555185546;
-        let t321: f64 = t319.plus(t320);
-        let t322: f64 = t316 * t321;
-        let t323: f64 = t322 * t322;
-        let t324: f64 = t318 * t323;
+        let t315 = product(t245, t314);
+        let t316 = product(t264, t300);
+        let t317: f64 = t263 * t297;
+        let t318: f64 = t285 * t317;
+        let t319 = product(t297, 0.3);
+        let t320 = product(t317, 0.295);
+        let t321: f64 = t318 * 0.003;
+        let t322: f64 = t320.plus(t321);
+        let t323: f64 = t319.minus(t322);
+        let t324 = product(t263, t323);
         let t325: f64 = t317 * 0.3;
-        let t326: f64 = t318 * 0.295;
-        let t327 = product(t324, 0.003);
-        let t328: f64 = t327.added_to(t326);
-        let t329: f64 = t325 - t328;
-        let t330 = product(t301, t329);
-        let t331: f64 = t318 * 0.3;
-        let t332: f64 = t330.plus(t331);
-        let t333: f64 = t317 - t332;
-        let t334: f64 = t317 * t333;
-        let t335: f64 = t311 * t316;
-        let t336: f64 = t293 * t301;
-        let t337 = product(t335, t336);
-        let t338: f64 = t296 * t301;
-        let t339: f64 = t306 * t316;
-        let t340: f64 = t338 * t339;
-        let t341: f64 = t337.plus(t340);
-        let t342: f64 = t301 * t341;
-        let t343 = product(t341, 0.3);
-        let t344: f64 = t342 * 0.295;
-        let t345: f64 = t343.minus(t344);
-        let t346 = product(t301, t345);
-        let t347: f64 = t342 * 0.3;
-        let t348: f64 = t346.plus(t347);
-        let t349: f64 = t341 - t348;
-        let t350 = product(t341, t349);
-        let t351: f64 = t303.plus(t334);
-        let t352: f64 = t350.plus(t351);
-        let t353 = product(t283, t352);
-        let t354: f64 = t302 * t338;
-        let t355: f64 = t301 * t301;
-        let t356: f64 = t317 * t335;
-        let t357: f64 = t355 * t356;
-        let t358: f64 = t323 * t357;
-        let t359: f64 = t301 * t335;
-        let t360: f64 = t335 * 0.3;
-        let t361: f64 = t359 * 0.295;
-        let t362: f64 = t360 - t361;
-        let t363 = product(t301, t362);
-        let t364: f64 = t359 * 0.3;
-        let t365: f64 = t363.plus(t364);
-        let t366: f64 = t335 - t365;
-        let t367 = product(t317, t366);
-        let t368 = product(t302, t339);
-        let t369: f64 = t317 * t336;
-        let t370: f64 = t368.minus(t369);
-        let t371: f64 = t301 * t370;
-        let t372 = product(t370, 0.3);
-        let t373: f64 = t371 * 0.295;
-        let t374: f64 = t372.minus(t373);
-        let t375 = product(t301, t374);
-        let t376: f64 = t371 * 0.3;
-        let t377: f64 = t375.plus(t376);
-        let t378: f64 = t370 - t377;
-        let t379: f64 = t341 * t378;
-        let t380: f64 = t358 * 0.003;
-        let t381: f64 = t367.plus(t379);
-        let t382: f64 = t380 + t381;
-        let t383: f64 = t354 - t382;
-        let t384: f64 = t286 * t383;
-        let t385: f64 = t353.minus(t384);
-        let t386: f64 = t283 * t385;
-        let t387: f64 = t325 - t326;
-        let t388 = product(t301, t387);
-        let t389: f64 = t388.added_to(t331);
-        let t390: f64 = t317 - t389;
-        let t391 = product(t335, t390);
-        let t392: f64 = t349 * t370;
-        let t393: f64 = t391.plus(t392);
-        let t394: f64 = t380 + t393;
-        let t395: f64 = t354 - t394;
-        let t396 = product(t283, t395);
-        let t397 = product(t338, t338);
-        let t398: f64 = t323 * t359;
-        let t399 = product(t398, 0.003);
-        let t400: f64 = t399.added_to(t361);
-        let t401: f64 = t360 - t400;
-        let t402 = product(t301, t401);
-        let t403: f64 = t402.added_to(t364);
-        let t404: f64 = t335 - t403;
-        let t405: f64 = t335 * t404;
-        let t406 = product(t370, t378);
-        let t407: f64 = t397.plus(t405);
-        let t408: f64 = t406.plus(t407);
-        let t409: f64 = t286 * t408;
-        let t410: f64 = t396.minus(t409);
-        let t411 = product(t286, t410);
-        let t412: f64 = t10 * 0.004904;
-        let t413: f64 = t14 * 0.291506;
-        let t414: f64 = t412 + t413;
-        let t415: f64 = t21 * 0.004904;
-        let t416: f64 = t24 * 0.291506;
-        let t417: f64 = t415 + t416;
-        let t418: f64 = yc + t417;
-        let t419: f64 = t418 - 0.429711;
-        let t420: f64 = t30 * 0.004904;
-        let t421: f64 = t31 * 0.291506;
-        let t422: f64 = t420 - t421;
-        let t423: f64 = xc + t422;
-        let t424: f64 = t423 + 0.155718;
-        let t425 = product(t424, t424);
-        let t426: f64 = t419 * t419;
-        let t427: f64 = zc + t414;
-        let t428 = product(t427, t427);
-        let t429: f64 = t425.plus(t426);
-        let t430: f64 = t428.plus(t429);
-        let t431: f64 = sqrt(t430);
-        let t432: f64 = 1.0 / t431;
-        let t433: f64 = t419 * t432;
-        let t434 = product(t433, t433);
-        let t435: f64 = t427 * 0.9401728133131936;
-        let t436: f64 = -t435;
-        let t437: f64 = t427 * 0.3406979323488107;
-        let t438 = product(t437, t437);
-        let t439: f64 = t436 * t436;
-        let t440 = product(t424, 0.3406979323488107);
-        let t441: f64 = t419 * 0.9401728133131936;
-        let t442: f64 = t440.minus(t441);
-        let t443 = product(t442, t442);
-        let t444: f64 = t438.plus(t439);
-        let t445: f64 = t443.plus(t444);
-        let t446: f64 = sqrt(t445);
-        let t447: f64 = 1.0 / t446;
-        let t448: f64 = t436 * t447;
-        let t449: f64 = t432 * t448;
-        let t450 = product(t424, 0.9401728133131936);
-        let t451: f64 = t419 * 0.3406979323488107;
-        let t452: f64 = t450.plus(t451);
-        let t453: f64 = t447 * t452;
-        let t454: f64 = t453 * t453;
-        let t455: f64 = t449 * t454;
-        let t456: f64 = t448 * 0.3;
-        let t457: f64 = t449 * 0.295;
-        let t458 = product(t455, 0.003);
-        let t459: f64 = t458.added_to(t457);
-        let t460: f64 = t456 - t459;
-        let t461 = product(t432, t460);
-        let t462: f64 = t449 * 0.3;
+        let t326: f64 = t324.plus(t325);
+        let t327: f64 = t297 - t326;
+        let t328 = product(t279, t327);
+        let t329 = product(t264, t301);
+        let t330: f64 = t279 * t298;
+        let t331: f64 = t329.minus(t330);
+        let t332: f64 = t263 * t331;
+        let t333 = product(t331, 0.3);
+        let t334: f64 = t332 * 0.295;
+        let t335: f64 = t333.minus(t334);
+        let t336 = product(t263, t335);
+        let t337: f64 = t332 * 0.3;
+        let t338: f64 = t336.plus(t337);
+        let t339: f64 = t331 - t338;
+        let t340: f64 = t303 * t339;
+        let t341: f64 = t328.plus(t340);
+        let t342: f64 = t316.minus(t341);
+        let t343: f64 = t248 * t342;
+        let t344: f64 = t315.minus(t343);
+        let t345: f64 = t245 * t344;
+        let t346 = product(t245, t342);
+        let t347 = product(t300, t300);
+        let t348: f64 = t297 * t327;
+        let t349 = product(t331, t339);
+        let t350: f64 = t347.plus(t348);
+        let t351: f64 = t349.plus(t350);
+        let t352: f64 = t248 * t351;
+        let t353: f64 = t346.minus(t352);
+        let t354 = product(t248, t353);
+        let t355: f64 = t10 * 0.004904;
+        let t356: f64 = t14 * 0.291506;
+        let t357: f64 = t355 + t356;
+        let t358: f64 = t21 * 0.004904;
+        let t359: f64 = t24 * 0.291506;
+        let t360: f64 = t358 + t359;
+        let t361: f64 = yc + t360;
+        let t362: f64 = t361 - 0.429711;
+        let t363: f64 = t30 * 0.004904;
+        let t364: f64 = t31 * 0.291506;
+        let t365: f64 = t363 - t364;
+        let t366: f64 = xc + t365;
+        let t367: f64 = t366 + 0.155718;
+        let t368 = product(t367, t367);
+        let t369: f64 = t362 * t362;
+        let t370: f64 = zc + t357;
+        let t371 = product(t370, t370);
+        let t372: f64 = t368.plus(t369);
+        let t373: f64 = t371.plus(t372);
+        let t374: f64 = sqrt(t373);
+        let t375: f64 = 1.0 / t374;
+        let t376: f64 = t362 * t375;
+        let t377 = product(t376, t376);
+        let t378: f64 = t370 * 0.9401728133131936;
+        let t379: f64 = -t378;
+        let t380: f64 = t370 * 0.3406979323488107;
+        let t381 = product(t380, t380);
+        let t382: f64 = t379 * t379;
+        let t383 = product(t367, 0.3406979323488107);
+        let t384: f64 = t362 * 0.9401728133131936;
+        let t385: f64 = t383.minus(t384);
+        let t386 = product(t385, t385);
+        let t387: f64 = t381.plus(t382);
+        let t388: f64 = t386.plus(t387);
+        let t389: f64 = sqrt(t388);
+        let t390: f64 = 1.0 / t389;
+        let t391: f64 = t379 * t390;
+        let t392: f64 = t375 * t391;
+        let t393 = product(t367, 0.9401728133131936);
+        let t394: f64 = t362 * 0.3406979323488107;
+        let t395: f64 = t393.plus(t394);
+        let t396: f64 = t390 * t395;
+        let t397: f64 = t396 * t396;
+        let t398: f64 = t392 * t397;
+        let t399 = product(t391, 0.3);
+        let t400 = product(t392, 0.295);
+        let t401: f64 = t398 * 0.003;
+        let t402: f64 = t400.plus(t401);
+        let t403: f64 = t399.minus(t402);
+        let t404 = product(t375, t403);
+        let t405: f64 = t392 * 0.3;
+        let t406: f64 = t404.plus(t405);
+        let t407: f64 = t391 - t406;
+        let t408: f64 = t391 * t407;
+        let t409: f64 = t385 * t390;
+        let t410: f64 = t367 * t375;
+        let t411 = product(t409, t410);
+        let t412: f64 = t370 * t375;
+        let t413: f64 = t380 * t390;
+        let t414: f64 = t412 * t413;
+        let t415: f64 = t411.plus(t414);
+        let t416: f64 = t375 * t415;
+        let t417 = product(t415, 0.3);
+        let t418: f64 = t416 * 0.295;
+        let t419: f64 = t417.minus(t418);
+        let t420 = product(t375, t419);
+        let t421: f64 = t416 * 0.3;
+        let t422: f64 = t420.plus(t421);
+        let t423: f64 = t415 - t422;
+        let t424 = product(t415, t423);
+        let t425: f64 = t377.plus(t408);
+        let t426: f64 = t424.plus(t425);
+        let t427 = product(t357, t426);
+        let t428 = product(t376, t412);
+        let t429: f64 = t375 * t409;
+        let t430: f64 = t397 * t429;
+        let t431 = product(t409, 0.3);
+        let t432 = product(t429, 0.295);
+        let t433: f64 = t430 * 0.003;
+        let t434: f64 = t432.plus(t433);
+        let t435: f64 = t431.minus(t434);
+        let t436 = product(t375, t435);
+        let t437: f64 = t429 * 0.3;
+        let t438: f64 = t436.plus(t437);
+        let t439: f64 = t409 - t438;
+        let t440 = product(t391, t439);
+        let t441 = product(t376, t413);
+        let t442: f64 = t391 * t410;
+        let t443: f64 = t441.minus(t442);
+        let t444: f64 = t375 * t443;
+        let t445 = product(t443, 0.3);
+        let t446: f64 = t444 * 0.295;
+        let t447: f64 = t445.minus(t446);
+        let t448 = product(t375, t447);
+        let t449: f64 = t444 * 0.3;
+        let t450: f64 = t448.plus(t449);
+        let t451: f64 = t443 - t450;
+        let t452: f64 = t415 * t451;
+        let t453: f64 = t440.plus(t452);
+        let t454: f64 = t428.minus(t453);
+        let t455: f64 = t360 * t454;
+        let t456: f64 = t427.minus(t455);
+        let t457 = product(t357, t456);
+        let t458 = product(t357, t454);
+        let t459 = product(t412, t412);
+        let t460: f64 = t409 * t439;
+        let t461 = product(t443, t451);
+        let t462: f64 = t459.plus(t460);
         let t463: f64 = t461.plus(t462);
-        let t464: f64 = t448 - t463;
-        let t465: f64 = t448 * t464;
-        let t466: f64 = t442 * t447;
-        let t467: f64 = t424 * t432;
-        let t468 = product(t466, t467);
-        let t469: f64 = t427 * t432;
-        let t470: f64 = t437 * t447;
-        let t471: f64 = t469 * t470;
-        let t472: f64 = t468.plus(t471);
-        let t473: f64 = t432 * t472;
-        let t474 = product(t472, 0.3);
-        let t475: f64 = t473 * 0.295;
-        let t476: f64 = t474.minus(t475);
-        let t477 = product(t432, t476);
-        let t478: f64 = t473 * 0.3;
+        let t464: f64 = t360 * t463;
+        let t465: f64 = t458.minus(t464);
+        let t466: f64 = t360 * t465;
+        let t467: f64 = t355 - t356;
+        let t468: f64 = t358 - t359;
+        let t469: f64 = yc + t468;
+        let t470: f64 = t469 + 0.429711;
+        let t471: f64 = t363 + t364;
+        let t472: f64 = xc + t471;
+        let t473: f64 = t472 + 0.155718;
+        let t474 = product(t473, t473);
+        let t475: f64 = t470 * t470;
+        let t476: f64 = zc + t467;
+        let t477 = product(t476, t476);
+        let t478: f64 = t474.plus(t475);
         let t479: f64 = t477.plus(t478);
-        let t480: f64 = t472 - t479;
-        let t481 = product(t472, t480);
-        let t482: f64 = t434.plus(t465);
-        let t483: f64 = t481.plus(t482);
-        let t484 = product(t414, t483);
-        let t485: f64 = t433 * t469;
-        let t486: f64 = t432 * t432;
-        let t487: f64 = t448 * t466;
-        let t488: f64 = t486 * t487;
-        let t489: f64 = t454 * t488;
-        let t490: f64 = t432 * t466;
-        let t491: f64 = t466 * 0.3;
-        let t492: f64 = t490 * 0.295;
-        let t493: f64 = t491 - t492;
-        let t494 = product(t432, t493);
-        let t495: f64 = t490 * 0.3;
-        let t496: f64 = t494.plus(t495);
-        let t497: f64 = t466 - t496;
-        let t498 = product(t448, t497);
-        let t499 = product(t433, t470);
-        let t500: f64 = t448 * t467;
-        let t501: f64 = t499.minus(t500);
-        let t502: f64 = t432 * t501;
-        let t503 = product(t501, 0.3);
-        let t504: f64 = t502 * 0.295;
-        let t505: f64 = t503.minus(t504);
-        let t506 = product(t432, t505);
-        let t507: f64 = t502 * 0.3;
-        let t508: f64 = t506.plus(t507);
-        let t509: f64 = t501 - t508;
-        let t510: f64 = t472 * t509;
-        let t511: f64 = t489 * 0.003;
-        let t512: f64 = t498.plus(t510);
-        let t513: f64 = t511 + t512;
-        let t514: f64 = t485 - t513;
-        let t515: f64 = t417 * t514;
-        let t516: f64 = t484.minus(t515);
-        let t517 = product(t414, t516);
-        let t518: f64 = t456 - t457;
-        let t519 = product(t432, t518);
-        let t520: f64 = t519.added_to(t462);
-        let t521: f64 = t448 - t520;
-        let t522 = product(t466, t521);
-        let t523: f64 = t480 * t501;
-        let t524: f64 = t522.plus(t523);
-        let t525: f64 = t511 + t524;
-        let t526: f64 = t485 - t525;
-        let t527 = product(t414, t526);
-        let t528 = product(t469, t469);
-        let t529: f64 = t454 * t490;
-        let t530 = product(t529, 0.003);
-        let t531: f64 = t530.added_to(t492);
-        let t532: f64 = t491 - t531;
-        let t533 = product(t432, t532);
-        let t534: f64 = t533.added_to(t495);
-        let t535: f64 = t466 - t534;
-        let t536: f64 = t466 * t535;
-        let t537 = product(t501, t509);
-        let t538: f64 = t528.plus(t536);
+        let t480: f64 = sqrt(t479);
+        let t481: f64 = 1.0 / t480;
+        let t482: f64 = t470 * t481;
+        let t483 = product(t482, t482);
+        let t484: f64 = t476 * 0.9401728133131936;
+        let t485: f64 = t476 * 0.3406979323488107;
+        let t486 = product(t485, t485);
+        let t487: f64 = t484 * t484;
+        let t488 = product(t473, 0.3406979323488107);
+        let t489: f64 = t470 * 0.9401728133131936;
+        let t490: f64 = t488.plus(t489);
+        let t491 = product(t490, t490);
+        let t492: f64 = t486.plus(t487);
+        let t493: f64 = t491.plus(t492);
+        let t494: f64 = sqrt(t493);
+        let t495: f64 = 1.0 / t494;
+        let t496: f64 = t484 * t495;
+        let t497: f64 = t481 * t496;
+        let t498 = product(t473, 0.9401728133131936);
+        let t499: f64 = t470 * 0.3406979323488107;
+        let t500: f64 = t498.minus(t499);
+        let t501: f64 = t495 * t500;
+        let t502: f64 = t501 * t501;
+        let t503: f64 = t497 * t502;
+        let t504 = product(t496, 0.3);
+        let t505 = product(t497, 0.295);
+        let t506: f64 = t503 * 0.003;
+        let t507: f64 = t505.plus(t506);
+        let t508: f64 = t504.minus(t507);
+        let t509 = product(t481, t508);
+        let t510: f64 = t497 * 0.3;
+        let t511: f64 = t509.plus(t510);
+        let t512: f64 = t496 - t511;
+        let t513: f64 = t496 * t512;
+        let t514: f64 = t490 * t495;
+        let t515: f64 = t473 * t481;
+        let t516 = product(t514, t515);
+        let t517: f64 = t476 * t481;
+        let t518: f64 = t485 * t495;
+        let t519: f64 = t517 * t518;
+        let t520: f64 = t516.plus(t519);
+        let t521: f64 = t481 * t520;
+        let t522 = product(t520, 0.3);
+        let t523: f64 = t521 * 0.295;
+        let t524: f64 = t522.minus(t523);
+        let t525 = product(t481, t524);
+        let t526: f64 = t521 * 0.3;
+        let t527: f64 = t525.plus(t526);
+        let t528: f64 = t520 - t527;
+        let t529 = product(t520, t528);
+        let t530: f64 = t483.plus(t513);
+        let t531: f64 = t529.plus(t530);
+        let t532 = product(t467, t531);
+        let t533 = product(t482, t517);
+        let t534: f64 = t481 * t514;
+        let t535: f64 = t502 * t534;
+        let t536 = product(t514, 0.3);
+        let t537 = product(t534, 0.295);
+        let t538: f64 = t535 * 0.003;
         let t539: f64 = t537.plus(t538);
-        let t540: f64 = t417 * t539;
-        let t541: f64 = t527.minus(t540);
-        let t542: f64 = t417 * t541;
-        let t543: f64 = t412 - t413;
-        let t544: f64 = t415 - t416;
-        let t545: f64 = yc + t544;
-        let t546: f64 = t545 + 0.429711;
-        let t547: f64 = t420 + t421;
-        let t548: f64 = xc + t547;
-        let t549: f64 = t548 + 0.155718;
-        let t550 = product(t549, t549);
-        let t551: f64 = t546 * t546;
-        let t552: f64 = zc + t543;
-        let t553 = product(t552, t552);
-        let t554: f64 = t550.plus(t551);
+        let t540: f64 = t536.minus(t539);
+        let t541 = product(t481, t540);
+        let t542: f64 = t534 * 0.3;
+        let t543: f64 = t541.plus(t542);
+        let t544: f64 = t514 - t543;
+        let t545 = product(t496, t544);
+        let t546 = product(t482, t518);
+        let t547: f64 = t496 * t515;
+        let t548: f64 = t546.minus(t547);
+        let t549: f64 = t481 * t548;
+        let t550 = product(t548, 0.3);
+        let t551: f64 = t549 * 0.295;
+        let t552: f64 = t550.minus(t551);
+        let t553 = product(t481, t552);
+        let t554: f64 = t549 * 0.3;
         let t555: f64 = t553.plus(t554);
-        let t556: f64 = sqrt(t555);
-        let t557: f64 = 1.0 / t556;
-        let t558: f64 = t546 * t557;
-        let t559 = product(t558, t558);
-        let t560: f64 = t552 * 0.9401728133131936;
-        let t561: f64 = t552 * 0.3406979323488107;
-        let t562 = product(t561, t561);
-        let t563: f64 = t560 * t560;
-        let t564 = product(t549, 0.3406979323488107);
-        let t565: f64 = t546 * 0.9401728133131936;
-        let t566: f64 = t564.plus(t565);
-        let t567 = product(t566, t566);
-        let t568: f64 = t562.plus(t563);
-        let t569: f64 = t567.plus(t568);
-        let t570: f64 = sqrt(t569);
-        let t571: f64 = 1.0 / t570;
-        let t572: f64 = t560 * t571;
-        let t573: f64 = t557 * t572;
-        let t574 = product(t549, 0.9401728133131936);
-        let t575: f64 = t546 * 0.3406979323488107;
-        let t576: f64 = t574.minus(t575);
-        let t577: f64 = t571 * t576;
-        let t578: f64 = t577 * t577;
-        let t579: f64 = t573 * t578;
-        let t580: f64 = t572 * 0.3;
-        let t581: f64 = t573 * 0.295;
-        let t582 = product(t579, 0.003);
-        let t583: f64 = t582.added_to(t581);
-        let t584: f64 = t580 - t583;
-        let t585 = product(t557, t584);
-        let t586: f64 = t573 * 0.3;
-        let t587: f64 = t585.plus(t586);
-        let t588: f64 = t572 - t587;
-        let t589: f64 = t572 * t588;
-        let t590: f64 = t566 * t571;
-        let t591: f64 = t549 * t557;
-        let t592 = product(t590, t591);
-        let t593: f64 = t552 * t557;
-        let t594: f64 = t561 * t571;
-        let t595: f64 = t593 * t594;
-        let t596: f64 = t592.plus(t595);
-        let t597: f64 = t557 * t596;
-        let t598 = product(t596, 0.3);
-        let t599: f64 = t597 * 0.295;
-        let t600: f64 = t598.minus(t599);
-        let t601 = product(t557, t600);
-        let t602: f64 = t597 * 0.3;
-        let t603: f64 = t601.plus(t602);
-        let t604: f64 = t596 - t603;
-        let t605 = product(t596, t604);
-        let t606: f64 = t559.plus(t589);
-        let t607: f64 = t605.plus(t606);
-        let t608 = product(t543, t607);
-        let t609: f64 = t558 * t593;
-        let t610: f64 = t557 * t557;
-        let t611: f64 = t572 * t590;
-        let t612: f64 = t610 * t611;
-        let t613: f64 = t578 * t612;
-        let t614: f64 = t557 * t590;
-        let t615: f64 = t590 * 0.3;
-        let t616: f64 = t614 * 0.295;
-        let t617: f64 = t615 - t616;
-        let t618 = product(t557, t617);
-        let t619: f64 = t614 * 0.3;
-        let t620: f64 = t618.plus(t619);
-        let t621: f64 = t590 - t620;
-        let t622 = product(t572, t621);
-        let t623 = product(t558, t594);
-        let t624: f64 = t572 * t591;
-        let t625: f64 = t623.minus(t624);
-        let t626: f64 = t557 * t625;
-        let t627 = product(t625, 0.3);
-        let t628: f64 = t626 * 0.295;
-        let t629: f64 = t627.minus(t628);
-        let t630 = product(t557, t629);
-        let t631: f64 = t626 * 0.3;
-        let t632: f64 = t630.plus(t631);
-        let t633: f64 = t625 - t632;
-        let t634: f64 = t596 * t633;
-        let t635: f64 = t613 * 0.003;
-        let t636: f64 = t622.plus(t634);
-        let t637: f64 = t635 + t636;
-        let t638: f64 = t609 - t637;
-        let t639: f64 = t544 * t638;
-        let t640: f64 = t608.minus(t639);
-        let t641: f64 = t543 * t640;
-        let t642: f64 = t580 - t581;
-        let t643 = product(t557, t642);
-        let t644: f64 = t643.added_to(t586);
-        let t645: f64 = t572 - t644;
-        let t646 = product(t590, t645);
-        let t647: f64 = t604 * t625;
-        let t648: f64 = t646.plus(t647);
-        let t649: f64 = t635 + t648;
-        let t650: f64 = t609 - t649;
-        let t651 = product(t543, t650);
-        let t652 = product(t593, t593);
-        let t653: f64 = t578 * t614;
-        let t654 = product(t653, 0.003);
-        let t655: f64 = t654.added_to(t616);
-        let t656: f64 = t615 - t655;
-        let t657 = product(t557, t656);
-        let t658: f64 = t657.added_to(t619);
-        let t659: f64 = t590 - t658;
-        let t660: f64 = t590 * t659;
-        let t661 = product(t625, t633);
-        let t662: f64 = t652.plus(t660);
-        let t663: f64 = t661.plus(t662);
-        let t664: f64 = t544 * t663;
-        let t665: f64 = t651.minus(t664);
-        let t666 = product(t544, t665);
-        let t667: f64 = t281 + t282;
-        let t668: f64 = t284 + t285;
-        let t669: f64 = yc + 0.349711;
-        let t670: f64 = t669 - t668;
-        let t671: f64 = t289 - t290;
-        let t672: f64 = t292 - t671;
-        let t673 = product(t672, t672);
-        let t674: f64 = t670 * t670;
-        let t675: f64 = zc - t667;
-        let t676 = product(t675, t675);
-        let t677: f64 = t673.plus(t674);
-        let t678: f64 = t676.plus(t677);
-        let t679: f64 = sqrt(t678);
-        let t680: f64 = 1.0 / t679;
-        let t681: f64 = t670 * t680;
-        let t682 = product(t681, t681);
-        let t683: f64 = t675 * 0.7651390659756491;
-        let t684: f64 = t675 * 0.6438650555185546;
-        let t685 = product(t684, t684);
-        let t686: f64 = t683 * t683;
-        let t687 = product(t672, 0.6438650555185546);
-        let t688: f64 = t670 * 0.7651390659756491;
-        let t689: f64 = t687.plus(t688);
-        let t690 = product(t689, t689);
-        let t691: f64 = t685.plus(t686);
-        let t692: f64 = t690.plus(t691);
-        let t693: f64 = sqrt(t692);
-        let t694: f64 = 1.0 / t693;
-        let t695: f64 = t683 * t694;
-        let t696: f64 = t680 * t695;
-        let t697 = product(t672, 0.7651390659756491);
-        let t698: f64 = t670 * 0.6438650555185546;
-        let t699: f64 = t697.minus(t698);
-        let t700: f64 = t694 * t699;
-        let t701: f64 = t700 * t700;
-        let t702: f64 = t696 * t701;
-        let t703: f64 = t695 * 0.3;
-        let t704: f64 = t696 * 0.295;
-        let t705 = product(t702, 0.003);
-        let t706: f64 = t705.added_to(t704);
-        let t707: f64 = t703 - t706;
-        let t708 = product(t680, t707);
-        let t709: f64 = t696 * 0.3;
-        let t710: f64 = t708.plus(t709);
-        let t711: f64 = t695 - t710;
-        let t712: f64 = t695 * t711;
-        let t713: f64 = t689 * t694;
-        let t714: f64 = t672 * t680;
-        let t715 = product(t713, t714);
-        let t716: f64 = t675 * t680;
-        let t717: f64 = t684 * t694;
-        let t718: f64 = t716 * t717;
-        let t719: f64 = t715.plus(t718);
-        let t720: f64 = t680 * t719;
-        let t721 = product(t719, 0.3);
-        let t722: f64 = t720 * 0.295;
-        let t723: f64 = t721.minus(t722);
-        let t724 = product(t680, t723);
-        let t725: f64 = t720 * 0.3;
-        let t726: f64 = t724.plus(t725);
-        let t727: f64 = t719 - t726;
-        let t728 = product(t719, t727);
-        let t729: f64 = t682.plus(t712);
-        let t730: f64 = t728.plus(t729);
-        let t731 = product(t667, t730);
-        let t732: f64 = t681 * t716;
-        let t733: f64 = t680 * t680;
-        let t734: f64 = t695 * t713;
+        let t556: f64 = t548 - t555;
+        let t557: f64 = t520 * t556;
+        let t558: f64 = t545.plus(t557);
+        let t559: f64 = t533.minus(t558);
+        let t560: f64 = t468 * t559;
+        let t561: f64 = t532.minus(t560);
+        let t562: f64 = t467 * t561;
+        let t563 = product(t467, t559);
+        let t564 = product(t517, t517);
+        let t565: f64 = t514 * t544;
+        let t566 = product(t548, t556);
+        let t567: f64 = t564.plus(t565);
+        let t568: f64 = t566.plus(t567);
+        let t569: f64 = t468 * t568;
+        let t570: f64 = t563.minus(t569);
+        let t571 = product(t468, t570);
+        let t572: f64 = t243 + t244;
+        let t573: f64 = t246 + t247;
+        let t574: f64 = yc + 0.349711;
+        let t575: f64 = t574 - t573;
+        let t576: f64 = t251 - t252;
+        let t577: f64 = t254 - t576;
+        let t578 = product(t577, t577);
+        let t579: f64 = t575 * t575;
+        let t580: f64 = zc - t572;
+        let t581 = product(t580, t580);
+        let t582: f64 = t578.plus(t579);
+        let t583: f64 = t581.plus(t582);
+        let t584: f64 = sqrt(t583);
+        let t585: f64 = 1.0 / t584;
+        let t586: f64 = t575 * t585;
+        let t587 = product(t586, t586);
+        let t588: f64 = t580 * 0.7651390659756491;
+        let t589: f64 = t580 * 0.6438650555185546;
+        let t590 = product(t589, t589);
+        let t591: f64 = t588 * t588;
+        let t592 = product(t577, 0.6438650555185546);
+        let t593: f64 = t575 * 0.7651390659756491;
+        let t594: f64 = t592.plus(t593);
+        let t595 = product(t594, t594);
+        let t596: f64 = t590.plus(t591);
+        let t597: f64 = t595.plus(t596);
+        let t598: f64 = sqrt(t597);
+        let t599: f64 = 1.0 / t598;
+        let t600: f64 = t588 * t599;
+        let t601: f64 = t585 * t600;
+        let t602 = product(t577, 0.7651390659756491);
+        let t603: f64 = t575 * 0.6438650555185546;
+        let t604: f64 = t602.minus(t603);
+        let t605: f64 = t599 * t604;
+        let t606: f64 = t605 * t605;
+        let t607: f64 = t601 * t606;
+        let t608 = product(t600, 0.3);
+        let t609 = product(t601, 0.295);
+        let t610: f64 = t607 * 0.003;
+        let t611: f64 = t609.plus(t610);
+        let t612: f64 = t608.minus(t611);
+        let t613 = product(t585, t612);
+        let t614: f64 = t601 * 0.3;
+        let t615: f64 = t613.plus(t614);
+        let t616: f64 = t600 - t615;
+        let t617: f64 = t600 * t616;
+        let t618: f64 = t594 * t599;
+        let t619: f64 = t577 * t585;
+        let t620 = product(t618, t619);
+        let t621: f64 = t580 * t585;
+        let t622: f64 = t589 * t599;
+        let t623: f64 = t621 * t622;
+        let t624: f64 = t620.plus(t623);
+        let t625: f64 = t585 * t624;
+        let t626 = product(t624, 0.3);
+        let t627: f64 = t625 * 0.295;
+        let t628: f64 = t626.minus(t627);
+        let t629 = product(t585, t628);
+        let t630: f64 = t625 * 0.3;
+        let t631: f64 = t629.plus(t630);
+        let t632: f64 = t624 - t631;
+        let t633 = product(t624, t632);
+        let t634: f64 = t587.plus(t617);
+        let t635: f64 = t633.plus(t634);
+        let t636 = product(t572, t635);
+        let t637 = product(t586, t621);
+        let t638: f64 = t585 * t618;
+        let t639: f64 = t606 * t638;
+        let t640 = product(t618, 0.3);
+        let t641 = product(t638, 0.295);
+        let t642: f64 = t639 * 0.003;
+        let t643: f64 = t641.plus(t642);
+        let t644: f64 = t640.minus(t643);
+        let t645 = product(t585, t644);
+        let t646: f64 = t638 * 0.3;
+        let t647: f64 = t645.plus(t646);
+        let t648: f64 = t618 - t647;
+        let t649 = product(t600, t648);
+        let t650 = product(t586, t622);
+        let t651: f64 = t600 * t619;
+        let t652: f64 = t650.minus(t651);
+        let t653: f64 = t585 * t652;
+        let t654 = product(t652, 0.3);
+        let t655: f64 = t653 * 0.295;
+        let t656: f64 = t654.minus(t655);
+        let t657 = product(t585, t656);
+        let t658: f64 = t653 * 0.3;
+        let t659: f64 = t657.plus(t658);
+        let t660: f64 = t652 - t659;
+        let t661: f64 = t624 * t660;
+        let t662: f64 = t649.plus(t661);
+        let t663: f64 = t637.minus(t662);
+        let t664: f64 = t573 * t663;
+        let t665: f64 = t636.minus(t664);
+        let t666 = product(t572, t665);
+        let t667 = product(t572, t663);
+        let t668 = product(t621, t621);
+        let t669: f64 = t618 * t648;
+        let t670 = product(t652, t660);
+        let t671: f64 = t668.plus(t669);
+        let t672: f64 = t670.plus(t671);
+        let t673: f64 = t573 * t672;
+        let t674: f64 = t667.minus(t673);
+        let t675: f64 = t573 * t674;
+        let t676: f64 = t1 * t1;
+        let t677 = product(t6, t6);
+        let t678: f64 = t5 * t5;
+        let t679: f64 = t677.plus(t678);
+        let t680: f64 = t679 * 0.4108;
+        let t681: f64 = t676 * t680;
+        let t682: f64 = t2 * 0.7;
+        let t683: f64 = t127.plus(t682);
+        let t684: f64 = t233.plus(t345);
+        let t685: f64 = t457.plus(t562);
+        let t686: f64 = t666.plus(t681);
+        let t687: f64 = t683 + t684;
+        let t688: f64 = t685 + t686;
+        let t689: f64 = t687 + t688;
+        let t690: f64 = t136.plus(t242);
+        let t691: f64 = t354.plus(t466);
+        let t692: f64 = t571.plus(t675);
+        let t693: f64 = t690 + t691;
+        let t694: f64 = t692 + t693;
+        let t695: f64 = t689 - t694;
+        let t696: f64 = 1.0 / t695;
+        let t697: f64 = t1 * t3;
+        let t698 = product(t45, t80);
+        let t699 = product(t61, t82);
+        let t700: f64 = t45 * t79;
+        let t701: f64 = t699.minus(t700);
+        let t702: f64 = t85 - t91;
+        let t703: f64 = t701 * t702;
+        let t704: f64 = t61 - t75;
+        let t705 = product(t83, t704);
+        let t706 = product(t89, t701);
+        let t707: f64 = t73 * t83;
+        let t708: f64 = t706.plus(t707);
+        let t709 = product(t44, t708);
+        let t710: f64 = t698.plus(t703);
+        let t711: f64 = t705.plus(t710);
+        let t712: f64 = t709.subtracted_from(t711);
+        let t713: f64 = t17 * t712;
+        let t714 = product(t80, t82);
+        let t715: f64 = t113 - t119;
+        let t716: f64 = t701 * t715;
+        let t717: f64 = t79 - t107;
+        let t718 = product(t83, t717);
+        let t719 = product(t117, t701);
+        let t720: f64 = t83 * t105;
+        let t721: f64 = t719.plus(t720);
+        let t722 = product(t44, t721);
+        let t723: f64 = t714.plus(t716);
+        let t724: f64 = t718.plus(t723);
+        let t725: f64 = t722.subtracted_from(t724);
+        let t726: f64 = t27 * t725;
+        let t727: f64 = t713 - t726;
+        let t728 = product(t17, t727);
+        let t729 = product(t34, t135);
+        let t730 = product(t152, t186);
+        let t731 = product(t167, t188);
+        let t732: f64 = t152 * t185;
+        let t733: f64 = t731.minus(t732);
+        let t734: f64 = t191 - t197;
         let t735: f64 = t733 * t734;
-        let t736: f64 = t701 * t735;
-        let t737: f64 = t680 * t713;
-        let t738: f64 = t713 * 0.3;
-        let t739: f64 = t737 * 0.295;
-        let t740: f64 = t738 - t739;
-        let t741 = product(t680, t740);
-        let t742: f64 = t737 * 0.3;
-        let t743: f64 = t741.plus(t742);
-        let t744: f64 = t713 - t743;
-        let t745 = product(t695, t744);
-        let t746 = product(t681, t717);
-        let t747: f64 = t695 * t714;
-        let t748: f64 = t746.minus(t747);
-        let t749: f64 = t680 * t748;
-        let t750 = product(t748, 0.3);
-        let t751: f64 = t749 * 0.295;
-        let t752: f64 = t750.minus(t751);
-        let t753 = product(t680, t752);
-        let t754: f64 = t749 * 0.3;
-        let t755: f64 = t753.plus(t754);
-        let t756: f64 = t748 - t755;
-        let t757: f64 = t719 * t756;
-        let t758: f64 = t736 * 0.003;
-        let t759: f64 = t745.plus(t757);
-        let t760: f64 = t758 + t759;
-        let t761: f64 = t732 - t760;
-        let t762: f64 = t668 * t761;
-        let t763: f64 = t731.minus(t762);
-        let t764 = product(t667, t763);
-        let t765: f64 = t703 - t704;
-        let t766 = product(t680, t765);
-        let t767: f64 = t766.added_to(t709);
-        let t768: f64 = t695 - t767;
-        let t769 = product(t713, t768);
-        let t770: f64 = t727 * t748;
-        let t771: f64 = t769.plus(t770);
-        let t772: f64 = t758 + t771;
-        let t773: f64 = t732 - t772;
-        let t774 = product(t667, t773);
-        let t775 = product(t716, t716);
-        let t776: f64 = t701 * t737;
-        let t777 = product(t776, 0.003);
-        let t778: f64 = t777.added_to(t739);
-        let t779: f64 = t738 - t778;
-        let t780 = product(t680, t779);
-        let t781: f64 = t780.added_to(t742);
-        let t782: f64 = t713 - t781;
-        let t783: f64 = t713 * t782;
-        let t784 = product(t748, t756);
-        let t785: f64 = t775.plus(t783);
-        let t786: f64 = t784.plus(t785);
-        let t787: f64 = t668 * t786;
-        let t788: f64 = t774.minus(t787);
-        let t789: f64 = t668 * t788;
-        let t790: f64 = t1 * t1;
-        let t791 = product(t6, t6);
-        let t792: f64 = t5 * t5;
-        let t793: f64 = t791.plus(t792);
-        let t794: f64 = t793 * 0.4108;
-        let t795: f64 = t790 * t794;
-        let t796: f64 = t2 * 0.7;
-        let t797: f64 = t130.plus(t796);
-        let t798: f64 = t255.plus(t386);
-        let t799: f64 = t517.plus(t641);
-        let t800: f64 = t764.plus(t795);
-        let t801: f64 = t797 + t798;
-        let t802: f64 = t799 + t800;
-        let t803: f64 = t801 + t802;
-        let t804: f64 = t155.plus(t280);
-        let t805: f64 = t411.plus(t542);
-        let t806: f64 = t666.plus(t789);
-        let t807: f64 = t804 + t805;
-        let t808: f64 = t806 + t807;
-        let t809: f64 = t803 - t808;
-        let t810: f64 = 1.0 / t809;
-        let t811: f64 = t1 * t3;
-        let t812: f64 = t45 * t80;
-        let t813: f64 = t61 * t99;
-        let t814: f64 = t67 * t813;
-        let t815: f64 = t83 * t814;
-        let t816 = product(t61, t82);
-        let t817: f64 = t45 * t79;
-        let t818: f64 = t816.minus(t817);
-        let t819 = product(t93, t818);
-        let t820 = product(t83, t134);
-        let t821: f64 = t815 * 0.003;
-        let t822: f64 = t819.added_to(t812);
-        let t823: f64 = t820.plus(t821);
-        let t824: f64 = t822 + t823;
-        let t825 = product(t17, t824);
-        let t826: f64 = t80 * t82;
-        let t827: f64 = t79 * t99;
-        let t828: f64 = t67 * t827;
-        let t829: f64 = t83 * t828;
-        let t830 = product(t122, t818);
-        let t831 = product(t83, t110);
-        let t832: f64 = t829 * 0.003;
-        let t833: f64 = t830.added_to(t826);
-        let t834: f64 = t831.plus(t832);
-        let t835: f64 = t833 + t834;
-        let t836: f64 = t27 * t835;
-        let t837: f64 = t825.minus(t836);
-        let t838 = product(t17, t837);
-        let t839 = product(t34, t154);
-        let t840: f64 = t171 * t205;
-        let t841: f64 = t186 * t224;
-        let t842: f64 = t192 * t841;
-        let t843: f64 = t208 * t842;
-        let t844 = product(t186, t207);
-        let t845: f64 = t171 * t204;
-        let t846: f64 = t844.minus(t845);
-        let t847 = product(t218, t846);
-        let t848 = product(t208, t259);
-        let t849: f64 = t843 * 0.003;
-        let t850: f64 = t847.added_to(t840);
-        let t851: f64 = t848.plus(t849);
-        let t852: f64 = t850 + t851;
-        let t853 = product(t156, t852);
-        let t854: f64 = t205 * t207;
-        let t855: f64 = t204 * t224;
-        let t856: f64 = t192 * t855;
-        let t857: f64 = t208 * t856;
-        let t858 = product(t247, t846);
-        let t859 = product(t208, t235);
-        let t860: f64 = t857 * 0.003;
-        let t861: f64 = t858.added_to(t854);
-        let t862: f64 = t859.plus(t860);
-        let t863: f64 = t861 + t862;
-        let t864: f64 = t157 * t863;
-        let t865: f64 = t853.minus(t864);
-        let t866: f64 = t156 * t865;
-        let t867: f64 = t160 * t279;
-        let t868: f64 = t302 * t336;
-        let t869: f64 = t317 * t355;
-        let t870: f64 = t323 * t869;
-        let t871: f64 = t339 * t870;
-        let t872 = product(t317, t338);
-        let t873: f64 = t302 * t335;
-        let t874: f64 = t872.plus(t873);
-        let t875 = product(t349, t874);
-        let t876 = product(t339, t390);
-        let t877: f64 = t871 * 0.003;
-        let t878: f64 = t876.added_to(t868);
-        let t879: f64 = t877 + t878;
-        let t880: f64 = t875.subtracted_from(t879);
-        let t881 = product(t283, t880);
-        let t882: f64 = t336 * t338;
-        let t883: f64 = t335 * t355;
-        let t884: f64 = t323 * t883;
-        let t885: f64 = t339 * t884;
-        let t886 = product(t378, t874);
-        let t887 = product(t339, t366);
-        let t888: f64 = t885 * 0.003;
-        let t889: f64 = t886.added_to(t882);
-        let t890: f64 = t887.plus(t888);
-        let t891: f64 = t889 - t890;
-        let t892: f64 = t286 * t891;
-        let t893: f64 = t881.minus(t892);
-        let t894 = product(t283, t893);
-        let t895 = product(t291, t410);
-        let t896: f64 = t433 * t467;
-        let t897: f64 = t448 * t486;
-        let t898: f64 = t454 * t897;
-        let t899: f64 = t470 * t898;
-        let t900 = product(t448, t469);
-        let t901: f64 = t433 * t466;
-        let t902: f64 = t900.plus(t901);
-        let t903 = product(t480, t902);
-        let t904 = product(t470, t521);
-        let t905: f64 = t899 * 0.003;
-        let t906: f64 = t904.added_to(t896);
+        let t736: f64 = t167 - t181;
+        let t737 = product(t189, t736);
+        let t738 = product(t195, t733);
+        let t739: f64 = t179 * t189;
+        let t740: f64 = t738.plus(t739);
+        let t741 = product(t151, t740);
+        let t742: f64 = t730.plus(t735);
+        let t743: f64 = t737.plus(t742);
+        let t744: f64 = t741.subtracted_from(t743);
+        let t745: f64 = t137 * t744;
+        let t746 = product(t186, t188);
+        let t747: f64 = t219 - t225;
+        let t748: f64 = t733 * t747;
+        let t749: f64 = t185 - t213;
+        let t750 = product(t189, t749);
+        let t751 = product(t223, t733);
+        let t752: f64 = t189 * t211;
+        let t753: f64 = t751.plus(t752);
+        let t754 = product(t151, t753);
+        let t755: f64 = t746.plus(t748);
+        let t756: f64 = t750.plus(t755);
+        let t757: f64 = t754.subtracted_from(t756);
+        let t758: f64 = t138 * t757;
+        let t759: f64 = t745 - t758;
+        let t760: f64 = t137 * t759;
+        let t761: f64 = t141 * t241;
+        let t762 = product(t264, t298);
+        let t763 = product(t279, t300);
+        let t764: f64 = t264 * t297;
+        let t765: f64 = t763.plus(t764);
+        let t766: f64 = t303 - t309;
+        let t767 = product(t765, t766);
+        let t768: f64 = t279 - t293;
+        let t769: f64 = t301 * t768;
+        let t770 = product(t307, t765);
+        let t771: f64 = t291 * t301;
+        let t772: f64 = t770.minus(t771);
+        let t773 = product(t263, t772);
+        let t774: f64 = t762.plus(t769);
+        let t775: f64 = t773.plus(t774);
+        let t776: f64 = t767.subtracted_from(t775);
+        let t777: f64 = t245 * t776;
+        let t778 = product(t298, t300);
+        let t779: f64 = t331 - t337;
+        let t780: f64 = t765 * t779;
+        let t781: f64 = t297 - t325;
+        let t782 = product(t301, t781);
+        let t783 = product(t335, t765);
+        let t784: f64 = t301 * t323;
+        let t785: f64 = t783.minus(t784);
+        let t786: f64 = t263 * t785;
+        let t787: f64 = t778.plus(t780);
+        let t788: f64 = t782.plus(t786);
+        let t789: f64 = t787 - t788;
+        let t790: f64 = t248 * t789;
+        let t791: f64 = t777 - t790;
+        let t792 = product(t245, t791);
+        let t793 = product(t253, t353);
+        let t794 = product(t376, t410);
+        let t795 = product(t391, t412);
+        let t796: f64 = t376 * t409;
+        let t797: f64 = t795.plus(t796);
+        let t798: f64 = t415 - t421;
+        let t799 = product(t797, t798);
+        let t800: f64 = t391 - t405;
+        let t801: f64 = t413 * t800;
+        let t802 = product(t419, t797);
+        let t803: f64 = t403 * t413;
+        let t804: f64 = t802.minus(t803);
+        let t805 = product(t375, t804);
+        let t806: f64 = t794.plus(t801);
+        let t807: f64 = t805.plus(t806);
+        let t808: f64 = t799.subtracted_from(t807);
+        let t809: f64 = t357 * t808;
+        let t810 = product(t410, t412);
+        let t811: f64 = t443 - t449;
+        let t812: f64 = t797 * t811;
+        let t813: f64 = t409 - t437;
+        let t814 = product(t413, t813);
+        let t815 = product(t447, t797);
+        let t816: f64 = t413 * t435;
+        let t817: f64 = t815.minus(t816);
+        let t818: f64 = t375 * t817;
+        let t819: f64 = t810.plus(t812);
+        let t820: f64 = t814.plus(t818);
+        let t821: f64 = t819 - t820;
+        let t822: f64 = t360 * t821;
+        let t823: f64 = t809 - t822;
+        let t824: f64 = t357 * t823;
+        let t825: f64 = t365 * t465;
+        let t826 = product(t482, t515);
+        let t827 = product(t496, t517);
+        let t828: f64 = t482 * t514;
+        let t829: f64 = t827.plus(t828);
+        let t830: f64 = t520 - t526;
+        let t831 = product(t829, t830);
+        let t832: f64 = t496 - t510;
+        let t833: f64 = t518 * t832;
+        let t834 = product(t524, t829);
+        let t835: f64 = t508 * t518;
+        let t836: f64 = t834.minus(t835);
+        let t837 = product(t481, t836);
+        let t838: f64 = t826.plus(t833);
+        let t839: f64 = t837.plus(t838);
+        let t840: f64 = t831.subtracted_from(t839);
+        let t841: f64 = t467 * t840;
+        let t842 = product(t515, t517);
+        let t843: f64 = t548 - t554;
+        let t844: f64 = t829 * t843;
+        let t845: f64 = t514 - t542;
+        let t846 = product(t518, t845);
+        let t847 = product(t552, t829);
+        let t848: f64 = t518 * t540;
+        let t849: f64 = t847.minus(t848);
+        let t850: f64 = t481 * t849;
+        let t851: f64 = t842.plus(t844);
+        let t852: f64 = t846.plus(t850);
+        let t853: f64 = t851 - t852;
+        let t854: f64 = t468 * t853;
+        let t855: f64 = t841 - t854;
+        let t856 = product(t467, t855);
+        let t857 = product(t471, t570);
+        let t858 = product(t586, t619);
+        let t859 = product(t600, t621);
+        let t860: f64 = t586 * t618;
+        let t861: f64 = t859.plus(t860);
+        let t862: f64 = t624 - t630;
+        let t863 = product(t861, t862);
+        let t864: f64 = t600 - t614;
+        let t865: f64 = t622 * t864;
+        let t866 = product(t628, t861);
+        let t867: f64 = t612 * t622;
+        let t868: f64 = t866.minus(t867);
+        let t869 = product(t585, t868);
+        let t870: f64 = t858.plus(t865);
+        let t871: f64 = t869.plus(t870);
+        let t872: f64 = t863.subtracted_from(t871);
+        let t873: f64 = t572 * t872;
+        let t874 = product(t619, t621);
+        let t875: f64 = t652 - t658;
+        let t876: f64 = t861 * t875;
+        let t877: f64 = t618 - t646;
+        let t878 = product(t622, t877);
+        let t879 = product(t656, t861);
+        let t880: f64 = t622 * t644;
+        let t881: f64 = t879.minus(t880);
+        let t882: f64 = t585 * t881;
+        let t883: f64 = t874.plus(t876);
+        let t884: f64 = t878.plus(t882);
+        let t885: f64 = t883 - t884;
+        let t886: f64 = t573 * t885;
+        let t887: f64 = t873 - t886;
+        let t888: f64 = t572 * t887;
+        let t889: f64 = t576 * t674;
+        let t890 = product(t6, t21);
+        let t891: f64 = t5 * t24;
+        let t892 = product(t19, 0.7);
+        let t893: f64 = t890.subtracted_from(t891);
+        let t894: f64 = t893 * 0.4108;
+        let t895: f64 = t892.plus(t894);
+        let t896 = product(t1, t895);
+        let t897: f64 = t728.plus(t760);
+        let t898: f64 = t792.plus(t824);
+        let t899: f64 = t856.plus(t888);
+        let t900: f64 = t897 + t898;
+        let t901: f64 = t896.plus(t899);
+        let t902: f64 = t900 + t901;
+        let t903: f64 = t729.plus(t761);
+        let t904: f64 = t793.plus(t825);
+        let t905: f64 = t857.plus(t889);
+        let t906: f64 = t903 + t904;
         let t907: f64 = t905 + t906;
-        let t908: f64 = t903.subtracted_from(t907);
-        let t909 = product(t414, t908);
-        let t910: f64 = t467 * t469;
-        let t911: f64 = t466 * t486;
-        let t912: f64 = t454 * t911;
-        let t913: f64 = t470 * t912;
-        let t914 = product(t509, t902);
-        let t915 = product(t470, t497);
-        let t916: f64 = t913 * 0.003;
-        let t917: f64 = t914.added_to(t910);
-        let t918: f64 = t915.plus(t916);
-        let t919: f64 = t917 - t918;
-        let t920: f64 = t417 * t919;
-        let t921: f64 = t909.minus(t920);
-        let t922: f64 = t414 * t921;
-        let t923: f64 = t422 * t541;
-        let t924: f64 = t558 * t591;
-        let t925: f64 = t572 * t610;
-        let t926: f64 = t578 * t925;
-        let t927: f64 = t594 * t926;
-        let t928 = product(t572, t593);
-        let t929: f64 = t558 * t590;
-        let t930: f64 = t928.plus(t929);
-        let t931 = product(t604, t930);
-        let t932 = product(t594, t645);
-        let t933: f64 = t927 * 0.003;
-        let t934: f64 = t932.added_to(t924);
-        let t935: f64 = t933 + t934;
-        let t936: f64 = t931.subtracted_from(t935);
-        let t937 = product(t543, t936);
-        let t938: f64 = t591 * t593;
-        let t939: f64 = t590 * t610;
-        let t940: f64 = t578 * t939;
-        let t941: f64 = t594 * t940;
-        let t942 = product(t633, t930);
-        let t943 = product(t594, t621);
-        let t944: f64 = t941 * 0.003;
-        let t945: f64 = t942.added_to(t938);
-        let t946: f64 = t943.plus(t944);
-        let t947: f64 = t945 - t946;
-        let t948: f64 = t544 * t947;
-        let t949: f64 = t937.minus(t948);
-        let t950 = product(t543, t949);
-        let t951 = product(t547, t665);
-        let t952: f64 = t681 * t714;
-        let t953: f64 = t695 * t733;
-        let t954: f64 = t701 * t953;
-        let t955: f64 = t717 * t954;
-        let t956 = product(t695, t716);
-        let t957: f64 = t681 * t713;
-        let t958: f64 = t956.plus(t957);
-        let t959 = product(t727, t958);
-        let t960 = product(t717, t768);
-        let t961: f64 = t955 * 0.003;
-        let t962: f64 = t960.added_to(t952);
-        let t963: f64 = t961 + t962;
-        let t964: f64 = t959.subtracted_from(t963);
-        let t965 = product(t667, t964);
-        let t966: f64 = t714 * t716;
-        let t967: f64 = t713 * t733;
-        let t968: f64 = t701 * t967;
-        let t969: f64 = t717 * t968;
-        let t970 = product(t756, t958);
-        let t971 = product(t717, t744);
-        let t972: f64 = t969 * 0.003;
-        let t973: f64 = t970.added_to(t966);
-        let t974: f64 = t971.plus(t972);
-        let t975: f64 = t973 - t974;
-        let t976: f64 = t668 * t975;
-        let t977: f64 = t965.minus(t976);
-        let t978: f64 = t667 * t977;
-        let t979: f64 = t671 * t788;
-        let t980 = product(t6, t21);
-        let t981: f64 = t5 * t24;
-        let t982 = product(t19, 0.7);
-        let t983: f64 = t980.subtracted_from(t981);
-        let t984: f64 = t983 * 0.4108;
-        let t985: f64 = t982.plus(t984);
-        let t986 = product(t1, t985);
-        let t987: f64 = t838.plus(t866);
-        let t988: f64 = t894.plus(t922);
-        let t989: f64 = t950.plus(t978);
-        let t990: f64 = t987 + t988;
-        let t991: f64 = t986.plus(t989);
-        let t992: f64 = t990 + t991;
-        let t993: f64 = t839.plus(t867);
-        let t994: f64 = t895.plus(t923);
-        let t995: f64 = t951.plus(t979);
-        let t996: f64 = t993 + t994;
-        let t997: f64 = t995 + t996;
-        let t998: f64 = t992 - t997;
-        let t999: f64 = t21 * 0.4108;
-        let t1000 = product(t21, t999);
-        let t1001: f64 = t24 * 0.4108;
-        let t1002: f64 = t24 * t1001;
+        let t908: f64 = t902 - t907;
+        let t909: f64 = t21 * 0.4108;
+        let t910 = product(t21, t909);
+        let t911: f64 = t24 * 0.4108;
+        let t912: f64 = t24 * t911;
+        let t913: f64 = t3 * t3;
+        let t914: f64 = t676 * t913;
+        let t915: f64 = t44 * t701;
+        let t916 = product(t915, 0.3);
+        let t917: f64 = t916.subtracted_from(t701);
+        let t918 = product(t701, t917);
+        let t919: f64 = t44 * t83;
+        let t920 = product(t919, 0.3);
+        let t921: f64 = t920.subtracted_from(t83);
+        let t922: f64 = t83 * t921;
+        let t923 = product(t80, t80);
+        let t924 = product(t701, 0.3);
+        let t925: f64 = t915 * 0.295;
+        let t926: f64 = t924.minus(t925);
+        let t927 = product(t701, t926);
+        let t928: f64 = t44 * t67;
+        let t929: f64 = t83 * t928;
+        let t930 = product(t83, 0.3);
+        let t931 = product(t919, 0.295);
+        let t932: f64 = t929 * 0.003;
+        let t933: f64 = t931.plus(t932);
+        let t934: f64 = t930.minus(t933);
+        let t935: f64 = t83 * t934;
+        let t936: f64 = t927.plus(t935);
+        let t937 = product(t44, t936);
+        let t938: f64 = t918.plus(t922);
+        let t939: f64 = t923.plus(t938);
+        let t940: f64 = t937.subtracted_from(t939);
+        let t941 = product(t17, t940);
+        let t942: f64 = t34 * t725;
+        let t943: f64 = t941.minus(t942);
+        let t944 = product(t17, t943);
+        let t945 = product(t17, t725);
+        let t946: f64 = t34 * t133;
+        let t947: f64 = t945.minus(t946);
+        let t948 = product(t34, t947);
+        let t949: f64 = t151 * t733;
+        let t950 = product(t949, 0.3);
+        let t951: f64 = t950.subtracted_from(t733);
+        let t952 = product(t733, t951);
+        let t953: f64 = t151 * t189;
+        let t954 = product(t953, 0.3);
+        let t955: f64 = t954.subtracted_from(t189);
+        let t956: f64 = t189 * t955;
+        let t957 = product(t186, t186);
+        let t958 = product(t733, 0.3);
+        let t959: f64 = t949 * 0.295;
+        let t960: f64 = t958.minus(t959);
+        let t961 = product(t733, t960);
+        let t962: f64 = t151 * t173;
+        let t963: f64 = t189 * t962;
+        let t964 = product(t189, 0.3);
+        let t965 = product(t953, 0.295);
+        let t966: f64 = t963 * 0.003;
+        let t967: f64 = t965.plus(t966);
+        let t968: f64 = t964.minus(t967);
+        let t969: f64 = t189 * t968;
+        let t970: f64 = t961.plus(t969);
+        let t971 = product(t151, t970);
+        let t972: f64 = t952.plus(t956);
+        let t973: f64 = t957.plus(t972);
+        let t974: f64 = t971.subtracted_from(t973);
+        let t975 = product(t137, t974);
+        let t976: f64 = t141 * t757;
+        let t977: f64 = t975.minus(t976);
+        let t978: f64 = t137 * t977;
+        let t979 = product(t137, t757);
+        let t980: f64 = t141 * t239;
+        let t981: f64 = t979.minus(t980);
+        let t982: f64 = t141 * t981;
+        let t983: f64 = t263 * t765;
+        let t984 = product(t983, 0.3);
+        let t985: f64 = t984.subtracted_from(t765);
+        let t986 = product(t765, t985);
+        let t987: f64 = t263 * t301;
+        let t988 = product(t987, 0.3);
+        let t989: f64 = t988.subtracted_from(t301);
+        let t990: f64 = t301 * t989;
+        let t991 = product(t298, t298);
+        let t992 = product(t765, 0.3);
+        let t993: f64 = t983 * 0.295;
+        let t994: f64 = t992.minus(t993);
+        let t995 = product(t765, t994);
+        let t996: f64 = t263 * t285;
+        let t997: f64 = t301 * t996;
+        let t998 = product(t301, 0.3);
+        let t999 = product(t987, 0.295);
+        let t1000: f64 = t997 * 0.003;
+        let t1001: f64 = t999.plus(t1000);
+        let t1002: f64 = t998.minus(t1001);
         (
             t0,
             t1,
@@ -10500,7 +10157,6 @@ pub fn forward_dynamics_separate(
             t61,
             t62,
             t66,
-            t67,
             t79,
             t80,
             t82,
@@ -10509,3308 +10165,3043 @@ pub fn forward_dynamics_separate(
             t86,
             t96,
             t99,
-            t103,
+            t113,
             t114,
-            t115,
-            t127,
-            t129,
-            t139,
+            t124,
+            t126,
+            t133,
+            t135,
+            t137,
+            t138,
+            t140,
+            t141,
+            t143,
+            t146,
+            t149,
+            t151,
             t152,
-            t154,
-            t156,
-            t157,
-            t159,
-            t160,
-            t162,
             t165,
+            t166,
+            t167,
             t168,
-            t170,
-            t171,
-            t184,
+            t172,
             t185,
             t186,
-            t187,
+            t188,
+            t189,
             t191,
             t192,
-            t204,
+            t202,
             t205,
-            t207,
-            t208,
-            t210,
-            t211,
-            t221,
-            t224,
-            t228,
+            t219,
+            t220,
+            t230,
+            t232,
             t239,
-            t240,
-            t252,
-            t254,
+            t241,
+            t245,
+            t248,
+            t250,
+            t253,
+            t255,
+            t258,
+            t261,
+            t263,
             t264,
             t277,
+            t278,
             t279,
-            t283,
-            t286,
-            t288,
-            t291,
-            t293,
-            t296,
-            t299,
+            t280,
+            t284,
+            t297,
+            t298,
+            t300,
             t301,
-            t302,
-            t315,
-            t316,
+            t303,
+            t304,
+            t314,
             t317,
-            t318,
-            t322,
-            t323,
-            t335,
-            t336,
-            t338,
-            t339,
-            t341,
+            t331,
+            t332,
             t342,
-            t352,
-            t355,
-            t359,
+            t344,
+            t351,
+            t353,
+            t357,
+            t360,
+            t362,
+            t365,
+            t367,
             t370,
-            t371,
-            t383,
-            t385,
-            t395,
-            t408,
+            t373,
+            t375,
+            t376,
+            t389,
+            t390,
+            t391,
+            t392,
+            t396,
+            t397,
+            t409,
             t410,
-            t414,
-            t417,
-            t419,
-            t422,
-            t424,
-            t427,
-            t430,
-            t432,
-            t433,
-            t446,
-            t447,
-            t448,
-            t449,
-            t453,
+            t412,
+            t413,
+            t415,
+            t416,
+            t426,
+            t429,
+            t443,
+            t444,
             t454,
-            t466,
+            t456,
+            t463,
+            t465,
             t467,
-            t469,
+            t468,
             t470,
-            t472,
+            t471,
             t473,
-            t483,
-            t486,
-            t490,
+            t476,
+            t479,
+            t481,
+            t482,
+            t494,
+            t495,
+            t496,
+            t497,
             t501,
             t502,
             t514,
-            t516,
-            t526,
-            t539,
-            t541,
-            t543,
-            t544,
-            t546,
-            t547,
+            t515,
+            t517,
+            t518,
+            t520,
+            t521,
+            t531,
+            t534,
+            t548,
             t549,
-            t552,
-            t555,
-            t557,
-            t558,
+            t559,
+            t561,
+            t568,
             t570,
-            t571,
             t572,
             t573,
+            t575,
+            t576,
             t577,
-            t578,
-            t590,
-            t591,
-            t593,
-            t594,
-            t596,
-            t597,
-            t607,
-            t610,
-            t614,
+            t580,
+            t583,
+            t585,
+            t586,
+            t598,
+            t599,
+            t600,
+            t601,
+            t605,
+            t606,
+            t618,
+            t619,
+            t621,
+            t622,
+            t624,
             t625,
-            t626,
+            t635,
             t638,
-            t640,
-            t650,
+            t652,
+            t653,
             t663,
             t665,
-            t667,
-            t668,
-            t670,
-            t671,
             t672,
-            t675,
-            t678,
-            t680,
-            t681,
-            t693,
-            t694,
-            t695,
+            t674,
+            t676,
             t696,
-            t700,
+            t697,
             t701,
+            t712,
             t713,
-            t714,
-            t716,
-            t717,
-            t719,
-            t720,
-            t730,
+            t725,
+            t726,
+            t727,
             t733,
-            t737,
-            t748,
-            t749,
-            t761,
-            t763,
-            t773,
-            t786,
-            t788,
+            t744,
+            t745,
+            t757,
+            t758,
+            t759,
+            t765,
+            t776,
+            t777,
+            t789,
             t790,
-            t810,
-            t811,
-            t812,
-            t818,
+            t791,
+            t797,
+            t808,
+            t809,
             t821,
-            t824,
-            t826,
-            t832,
-            t835,
-            t837,
+            t822,
+            t823,
+            t829,
             t840,
-            t846,
-            t849,
-            t852,
+            t841,
+            t853,
             t854,
-            t860,
-            t863,
-            t865,
-            t868,
-            t874,
-            t877,
-            t880,
-            t882,
-            t888,
-            t891,
-            t893,
-            t896,
-            t902,
-            t905,
+            t855,
+            t861,
+            t872,
+            t873,
+            t885,
+            t886,
+            t887,
             t908,
+            t909,
             t910,
-            t916,
+            t911,
+            t912,
+            t914,
+            t915,
             t919,
-            t921,
-            t924,
-            t930,
-            t933,
-            t936,
-            t938,
+            t940,
+            t943,
             t944,
             t947,
+            t948,
             t949,
-            t952,
-            t958,
-            t961,
-            t964,
-            t966,
-            t972,
-            t975,
+            t953,
+            t974,
             t977,
-            t998,
-            t999,
-            t1000,
-            t1001,
+            t978,
+            t981,
+            t982,
+            t983,
+            t986,
+            t987,
+            t990,
+            t991,
+            t995,
             t1002,
         )
     };
     let (
-        t1005,
-        t1009,
+        t1008,
+        t1017,
+        t1021,
+        t1042,
         t1051,
         t1055,
-        t1097,
-        t1101,
-        t1143,
-        t1147,
-        t1189,
-        t1193,
-        t1235,
-        t1239,
-        t1299,
-        t1300,
-        t1312,
-        t1313,
-        t1315,
-        t1455,
-        t1509,
-        t1514,
-        t1522,
-        t1524,
+        t1076,
+        t1085,
+        t1089,
+        t1110,
+        t1137,
+        t1138,
+        t1150,
+        t1151,
+        t1153,
+        t1263,
+        t1311,
+        t1316,
+        t1324,
+        t1326,
+        t1329,
+        t1335,
+        t1346,
+        t1347,
+        t1355,
+        t1356,
+        t1368,
+        t1369,
+        t1373,
+        t1392,
+        t1403,
+        t1404,
+        t1413,
+        t1414,
+        t1430,
+        t1431,
+        t1443,
+        t1444,
+        t1449,
+        t1471,
+        t1488,
+        t1492,
+        t1493,
+        t1498,
+        t1499,
+        t1503,
+        t1504,
+        t1510,
+        t1511,
+        t1523,
         t1527,
-        t1533,
+        t1534,
+        t1535,
+        t1539,
+        t1540,
         t1544,
-        t1545,
-        t1553,
-        t1554,
-        t1566,
-        t1567,
-        t1571,
-        t1590,
-        t1601,
-        t1602,
-        t1611,
-        t1612,
+        t1575,
+        t1579,
+        t1584,
+        t1588,
+        t1591,
+        t1593,
+        t1594,
+        t1613,
+        t1616,
+        t1619,
+        t1621,
+        t1624,
+        t1629,
         t1640,
-        t1641,
-        t1653,
-        t1654,
+        t1643,
+        t1647,
+        t1648,
+        t1656,
         t1659,
-        t1681,
-        t1727,
-        t1728,
-        t1749,
-        t1761,
+        t1660,
+        t1694,
+        t1698,
+        t1703,
+        t1707,
+        t1710,
+        t1712,
+        t1713,
+        t1732,
+        t1735,
+        t1739,
+        t1744,
+        t1752,
+        t1759,
+        t1760,
+        t1763,
+        t1767,
         t1768,
-        t1770,
-        t1771,
         t1776,
-        t1799,
-        t1801,
-        t1803,
-        t1807,
-        t1808,
-        t1811,
+        t1779,
+        t1780,
+        t1783,
         t1814,
-        t1815,
-        t1817,
-        t1834,
-        t1838,
-        t1839,
-        t1844,
-        t1845,
-        t1849,
-        t1850,
-        t1856,
-        t1857,
-        t1869,
-        t1873,
-        t1880,
+        t1818,
+        t1823,
+        t1827,
+        t1830,
+        t1832,
+        t1833,
+        t1846,
+        t1854,
+        t1861,
+        t1862,
+        t1865,
+        t1870,
         t1881,
-        t1885,
-        t1886,
-        t1890,
-        t1936,
-        t1937,
-        t1959,
-        t1971,
+        t1884,
+        t1888,
+        t1889,
+        t1897,
+        t1900,
+        t1901,
+        t1903,
+        t1934,
+        t1938,
+        t1943,
+        t1947,
+        t1950,
+        t1952,
+        t1953,
+        t1972,
         t1975,
-        t1976,
+        t1977,
         t1978,
-        t1981,
-        t1986,
-        t1987,
-        t1988,
+        t1979,
+        t1990,
         t1993,
-        t1995,
+        t1996,
+        t1998,
         t2001,
         t2002,
     ) = {
-        let t1003: f64 = t3 * t3;
-        let t1004: f64 = t790 * t1003;
-        let t1005: f64 = t44 * t818;
-        let t1006: f64 = t1005 * 0.3;
-        let t1007: f64 = t818 - t1006;
-        let t1008 = product(t818, t1007);
-        let t1009: f64 = t44 * t83;
-        let t1010: f64 = t1009 * 0.3;
-        let t1011: f64 = t83 - t1010;
-        let t1012: f64 = t83 * t1011;
-        let t1013 = product(t80, t80);
-        let t1014 = product(t818, 0.3);
-        let t1015: f64 = t1005 * 0.295;
-        let t1016: f64 = t1014.minus(t1015);
-        let t1017 = product(t818, t1016);
-        let t1018: f64 = t44 * t67;
-        let t1019: f64 = t83 * t1018;
-        let t1020: f64 = t83 * 0.3;
-        let t1021: f64 = t1009 * 0.295;
-        let t1022 = product(t1019, 0.003);
-        let t1023: f64 = t1022.added_to(t1021);
-        let t1024: f64 = t1020 - t1023;
-        let t1025: f64 = t83 * t1024;
-        let t1026: f64 = t1017.plus(t1025);
-        let t1027 = product(t44, t1026);
-        let t1028: f64 = t1008.plus(t1012);
-        let t1029: f64 = t1013.plus(t1028);
-        let t1030: f64 = t1027.subtracted_from(t1029);
-        let t1031 = product(t17, t1030);
-        let t1032: f64 = t34 * t835;
-        let t1033: f64 = t1031.minus(t1032);
-        let t1034 = product(t17, t1033);
-        let t1035: f64 = t1020 - t1021;
-        let t1036 = product(t44, t1035);
-        let t1037: f64 = t1036.added_to(t1010);
-        let t1038: f64 = t83 - t1037;
-        let t1039 = product(t79, t1038);
-        let t1040 = product(t44, t1016);
-        let t1041: f64 = t1040.added_to(t1006);
-        let t1042: f64 = t818 - t1041;
-        let t1043 = product(t114, t1042);
-        let t1044: f64 = t1039.added_to(t826);
-        let t1045: f64 = t1043.added_to(t832);
-        let t1046: f64 = t1044 + t1045;
-        let t1047 = product(t17, t1046);
-        let t1048: f64 = t34 * t152;
+        let t1003: f64 = t301 * t1002;
+        let t1004: f64 = t995.plus(t1003);
+        let t1005 = product(t263, t1004);
+        let t1006: f64 = t986.plus(t990);
+        let t1007: f64 = t991.plus(t1006);
+        let t1008: f64 = t1005.subtracted_from(t1007);
+        let t1009 = product(t245, t1008);
+        let t1010: f64 = t253 * t789;
+        let t1011: f64 = t1009.minus(t1010);
+        let t1012 = product(t245, t1011);
+        let t1013 = product(t245, t789);
+        let t1014: f64 = t253 * t351;
+        let t1015: f64 = t1013.minus(t1014);
+        let t1016 = product(t253, t1015);
+        let t1017: f64 = t375 * t797;
+        let t1018 = product(t1017, 0.3);
+        let t1019: f64 = t1018.subtracted_from(t797);
+        let t1020 = product(t797, t1019);
+        let t1021: f64 = t375 * t413;
+        let t1022 = product(t1021, 0.3);
+        let t1023: f64 = t1022.subtracted_from(t413);
+        let t1024: f64 = t413 * t1023;
+        let t1025 = product(t410, t410);
+        let t1026 = product(t797, 0.3);
+        let t1027: f64 = t1017 * 0.295;
+        let t1028: f64 = t1026.minus(t1027);
+        let t1029 = product(t797, t1028);
+        let t1030: f64 = t375 * t397;
+        let t1031: f64 = t413 * t1030;
+        let t1032 = product(t413, 0.3);
+        let t1033 = product(t1021, 0.295);
+        let t1034: f64 = t1031 * 0.003;
+        let t1035: f64 = t1033.plus(t1034);
+        let t1036: f64 = t1032.minus(t1035);
+        let t1037: f64 = t413 * t1036;
+        let t1038: f64 = t1029.plus(t1037);
+        let t1039 = product(t375, t1038);
+        let t1040: f64 = t1020.plus(t1024);
+        let t1041: f64 = t1025.plus(t1040);
+        let t1042: f64 = t1039.subtracted_from(t1041);
+        let t1043 = product(t357, t1042);
+        let t1044: f64 = t365 * t821;
+        let t1045: f64 = t1043.minus(t1044);
+        let t1046: f64 = t357 * t1045;
+        let t1047 = product(t357, t821);
+        let t1048: f64 = t365 * t463;
         let t1049: f64 = t1047.minus(t1048);
-        let t1050 = product(t34, t1049);
-        let t1051: f64 = t170 * t846;
-        let t1052: f64 = t1051 * 0.3;
-        let t1053: f64 = t846 - t1052;
-        let t1054 = product(t846, t1053);
-        let t1055: f64 = t170 * t208;
-        let t1056: f64 = t1055 * 0.3;
-        let t1057: f64 = t208 - t1056;
-        let t1058: f64 = t208 * t1057;
-        let t1059 = product(t205, t205);
-        let t1060 = product(t846, 0.3);
+        let t1050: f64 = t365 * t1049;
+        let t1051: f64 = t481 * t829;
+        let t1052 = product(t1051, 0.3);
+        let t1053: f64 = t1052.subtracted_from(t829);
+        let t1054 = product(t829, t1053);
+        let t1055: f64 = t481 * t518;
+        let t1056 = product(t1055, 0.3);
+        let t1057: f64 = t1056.subtracted_from(t518);
+        let t1058: f64 = t518 * t1057;
+        let t1059 = product(t515, t515);
+        let t1060 = product(t829, 0.3);
         let t1061: f64 = t1051 * 0.295;
         let t1062: f64 = t1060.minus(t1061);
-        let t1063 = product(t846, t1062);
-        let t1064: f64 = t170 * t192;
-        let t1065: f64 = t208 * t1064;
-        let t1066: f64 = t208 * 0.3;
-        let t1067: f64 = t1055 * 0.295;
-        let t1068 = product(t1065, 0.003);
-        let t1069: f64 = t1068.added_to(t1067);
-        let t1070: f64 = t1066 - t1069;
-        let t1071: f64 = t208 * t1070;
+        let t1063 = product(t829, t1062);
+        let t1064: f64 = t481 * t502;
+        let t1065: f64 = t518 * t1064;
+        let t1066 = product(t518, 0.3);
+        let t1067 = product(t1055, 0.295);
+        let t1068: f64 = t1065 * 0.003;
+        let t1069: f64 = t1067.plus(t1068);
+        let t1070: f64 = t1066.minus(t1069);
+        let t1071: f64 = t518 * t1070;
         let t1072: f64 = t1063.plus(t1071);
-        let t1073 = product(t170, t1072);
+        let t1073 = product(t481, t1072);
         let t1074: f64 = t1054.plus(t1058);
         let t1075: f64 = t1059.plus(t1074);
         let t1076: f64 = t1073.subtracted_from(t1075);
-        let t1077 = product(t156, t1076);
-        let t1078: f64 = t160 * t863;
+        let t1077 = product(t467, t1076);
+        let t1078: f64 = t471 * t853;
         let t1079: f64 = t1077.minus(t1078);
-        let t1080: f64 = t156 * t1079;
-        let t1081: f64 = t1066 - t1067;
-        let t1082 = product(t170, t1081);
-        let t1083: f64 = t1082.added_to(t1056);
-        let t1084: f64 = t208 - t1083;
-        let t1085 = product(t204, t1084);
-        let t1086 = product(t170, t1062);
-        let t1087: f64 = t1086.added_to(t1052);
-        let t1088: f64 = t846 - t1087;
-        let t1089 = product(t239, t1088);
-        let t1090: f64 = t1085.added_to(t854);
-        let t1091: f64 = t1089.added_to(t860);
-        let t1092: f64 = t1090 + t1091;
-        let t1093 = product(t156, t1092);
-        let t1094: f64 = t160 * t277;
-        let t1095: f64 = t1093.minus(t1094);
-        let t1096: f64 = t160 * t1095;
-        let t1097: f64 = t301 * t874;
-        let t1098: f64 = t1097 * 0.3;
-        let t1099: f64 = t874 - t1098;
-        let t1100 = product(t874, t1099);
-        let t1101: f64 = t301 * t339;
-        let t1102: f64 = t1101 * 0.3;
-        let t1103: f64 = t339 - t1102;
-        let t1104: f64 = t339 * t1103;
-        let t1105 = product(t336, t336);
-        let t1106 = product(t874, 0.3);
-        let t1107: f64 = t1097 * 0.295;
-        let t1108: f64 = t1106.minus(t1107);
-        let t1109 = product(t874, t1108);
-        let t1110: f64 = t301 * t323;
-        let t1111: f64 = t339 * t1110;
-        let t1112: f64 = t339 * 0.3;
-        let t1113: f64 = t1101 * 0.295;
-        let t1114 = product(t1111, 0.003);
-        let t1115: f64 = t1114.added_to(t1113);
-        let t1116: f64 = t1112 - t1115;
-        let t1117: f64 = t339 * t1116;
-        let t1118: f64 = t1109.plus(t1117);
-        let t1119 = product(t301, t1118);
-        let t1120: f64 = t1100.plus(t1104);
-        let t1121: f64 = t1105.plus(t1120);
-        let t1122: f64 = t1119.subtracted_from(t1121);
-        let t1123 = product(t283, t1122);
-        let t1124: f64 = t291 * t891;
-        let t1125: f64 = t1123.minus(t1124);
-        let t1126 = product(t283, t1125);
-        let t1127: f64 = t1112 - t1113;
-        let t1128 = product(t301, t1127);
-        let t1129: f64 = t1128.added_to(t1102);
-        let t1130: f64 = t339 - t1129;
-        let t1131 = product(t335, t1130);
-        let t1132 = product(t301, t1108);
-        let t1133: f64 = t1132.added_to(t1098);
-        let t1134: f64 = t874 - t1133;
-        let t1135 = product(t370, t1134);
-        let t1136: f64 = t1135.added_to(t882);
-        let t1137: f64 = t1131.added_to(t888);
-        let t1138: f64 = t1136 - t1137;
-        let t1139 = product(t283, t1138);
-        let t1140: f64 = t291 * t408;
-        let t1141: f64 = t1139.minus(t1140);
-        let t1142 = product(t291, t1141);
-        let t1143: f64 = t432 * t902;
-        let t1144: f64 = t1143 * 0.3;
-        let t1145: f64 = t902 - t1144;
-        let t1146 = product(t902, t1145);
-        let t1147: f64 = t432 * t470;
-        let t1148: f64 = t1147 * 0.3;
-        let t1149: f64 = t470 - t1148;
-        let t1150: f64 = t470 * t1149;
-        let t1151 = product(t467, t467);
-        let t1152 = product(t902, 0.3);
-        let t1153: f64 = t1143 * 0.295;
-        let t1154: f64 = t1152.minus(t1153);
-        let t1155 = product(t902, t1154);
-        let t1156: f64 = t432 * t454;
-        let t1157: f64 = t470 * t1156;
-        let t1158: f64 = t470 * 0.3;
-        let t1159: f64 = t1147 * 0.295;
-        let t1160 = product(t1157, 0.003);
-        let t1161: f64 = t1160.added_to(t1159);
-        let t1162: f64 = t1158 - t1161;
-        let t1163: f64 = t470 * t1162;
-        let t1164: f64 = t1155.plus(t1163);
-        let t1165 = product(t432, t1164);
-        let t1166: f64 = t1146.plus(t1150);
-        let t1167: f64 = t1151.plus(t1166);
-        let t1168: f64 = t1165.subtracted_from(t1167);
-        let t1169 = product(t414, t1168);
-        let t1170: f64 = t422 * t919;
-        let t1171: f64 = t1169.minus(t1170);
-        let t1172: f64 = t414 * t1171;
-        let t1173: f64 = t1158 - t1159;
-        let t1174 = product(t432, t1173);
-        let t1175: f64 = t1174.added_to(t1148);
-        let t1176: f64 = t470 - t1175;
-        let t1177 = product(t466, t1176);
-        let t1178 = product(t432, t1154);
-        let t1179: f64 = t1178.added_to(t1144);
-        let t1180: f64 = t902 - t1179;
-        let t1181 = product(t501, t1180);
-        let t1182: f64 = t1181.added_to(t910);
-        let t1183: f64 = t1177.added_to(t916);
-        let t1184: f64 = t1182 - t1183;
-        let t1185 = product(t414, t1184);
-        let t1186: f64 = t422 * t539;
-        let t1187: f64 = t1185.minus(t1186);
-        let t1188: f64 = t422 * t1187;
-        let t1189: f64 = t557 * t930;
-        let t1190: f64 = t1189 * 0.3;
-        let t1191: f64 = t930 - t1190;
-        let t1192 = product(t930, t1191);
-        let t1193: f64 = t557 * t594;
-        let t1194: f64 = t1193 * 0.3;
-        let t1195: f64 = t594 - t1194;
-        let t1196: f64 = t594 * t1195;
-        let t1197 = product(t591, t591);
-        let t1198 = product(t930, 0.3);
-        let t1199: f64 = t1189 * 0.295;
+        let t1080 = product(t467, t1079);
+        let t1081 = product(t467, t853);
+        let t1082: f64 = t471 * t568;
+        let t1083: f64 = t1081.minus(t1082);
+        let t1084 = product(t471, t1083);
+        let t1085: f64 = t585 * t861;
+        let t1086 = product(t1085, 0.3);
+        let t1087: f64 = t1086.subtracted_from(t861);
+        let t1088 = product(t861, t1087);
+        let t1089: f64 = t585 * t622;
+        let t1090 = product(t1089, 0.3);
+        let t1091: f64 = t1090.subtracted_from(t622);
+        let t1092: f64 = t622 * t1091;
+        let t1093 = product(t619, t619);
+        let t1094 = product(t861, 0.3);
+        let t1095: f64 = t1085 * 0.295;
+        let t1096: f64 = t1094.minus(t1095);
+        let t1097 = product(t861, t1096);
+        let t1098: f64 = t585 * t606;
+        let t1099: f64 = t622 * t1098;
+        let t1100 = product(t622, 0.3);
+        let t1101 = product(t1089, 0.295);
+        let t1102: f64 = t1099 * 0.003;
+        let t1103: f64 = t1101.plus(t1102);
+        let t1104: f64 = t1100.minus(t1103);
+        let t1105: f64 = t622 * t1104;
+        let t1106: f64 = t1097.plus(t1105);
+        let t1107 = product(t585, t1106);
+        let t1108: f64 = t1088.plus(t1092);
+        let t1109: f64 = t1093.plus(t1108);
+        let t1110: f64 = t1107.subtracted_from(t1109);
+        let t1111 = product(t572, t1110);
+        let t1112: f64 = t576 * t885;
+        let t1113: f64 = t1111.minus(t1112);
+        let t1114: f64 = t572 * t1113;
+        let t1115 = product(t572, t885);
+        let t1116: f64 = t576 * t672;
+        let t1117: f64 = t1115.minus(t1116);
+        let t1118: f64 = t576 * t1117;
+        let t1119 = product(t914, 0.7);
+        let t1120: f64 = t910.plus(t912);
+        let t1121: f64 = t944.plus(t978);
+        let t1122: f64 = t1012.plus(t1046);
+        let t1123: f64 = t1080.plus(t1114);
+        let t1124: f64 = t1120 + t1121;
+        let t1125: f64 = t1122 + t1123;
+        let t1126: f64 = t1124 + t1125;
+        let t1127: f64 = t1119.plus(t1126);
+        let t1128: f64 = t948.plus(t982);
+        let t1129: f64 = t1016.plus(t1050);
+        let t1130: f64 = t1084.plus(t1118);
+        let t1131: f64 = t1128 + t1129;
+        let t1132: f64 = t1130 + t1131;
+        let t1133: f64 = t1127 - t1132;
+        let t1134: f64 = t908 * t908;
+        let t1135 = product(t696, t1134);
+        let t1136: f64 = t1135.subtracted_from(t1133);
+        let t1137: f64 = 1.0 / t1136;
+        let t1138: f64 = t1 * t4;
+        let t1139: f64 = t1138 * 0.36;
+        let t1140: f64 = t943 + t1139;
+        let t1141: f64 = t977 + t1045;
+        let t1142: f64 = t1140 + t1141;
+        let t1143: f64 = t1079 + t1142;
+        let t1144: f64 = t1011 + t1113;
+        let t1145: f64 = t1143 - t1144;
+        let t1146: f64 = t727 + t759;
+        let t1147: f64 = t823 + t855;
+        let t1148: f64 = t1146 + t1147;
+        let t1149: f64 = t791 + t887;
+        let t1150: f64 = t1148 - t1149;
+        let t1151: f64 = t696 * t908;
+        let t1152 = product(t1150, t1151);
+        let t1153: f64 = t1152.subtracted_from(t1145);
+        let t1154: f64 = t940 + t974;
+        let t1155: f64 = t1008 + t1042;
+        let t1156: f64 = t1076 + t1110;
+        let t1157: f64 = t1154 + t1155;
+        let t1158: f64 = t1156 + 12.0;
+        let t1159: f64 = t1157 + t1158;
+        let t1160: f64 = t1150 * t1150;
+        let t1161 = product(t696, t1160);
+        let t1162: f64 = t1153 * t1153;
+        let t1163: f64 = t1137 * t1162;
+        let t1164: f64 = t10 * 0.4108;
+        let t1165 = product(t10, t1164);
+        let t1166: f64 = t14 * 0.4108;
+        let t1167: f64 = t14 * t1166;
+        let t1168: f64 = t4 * t4;
+        let t1169: f64 = t676 * t1168;
+        let t1170 = product(t27, t940);
+        let t1171: f64 = t34 * t712;
+        let t1172: f64 = t1170.minus(t1171);
+        let t1173 = product(t27, t1172);
+        let t1174 = product(t27, t712);
+        let t1175: f64 = t34 * t96;
+        let t1176: f64 = t1174.minus(t1175);
+        let t1177 = product(t34, t1176);
+        let t1178 = product(t138, t974);
+        let t1179: f64 = t141 * t744;
+        let t1180: f64 = t1178.minus(t1179);
+        let t1181: f64 = t138 * t1180;
+        let t1182 = product(t138, t744);
+        let t1183: f64 = t141 * t202;
+        let t1184: f64 = t1182.minus(t1183);
+        let t1185: f64 = t141 * t1184;
+        let t1186 = product(t248, t1008);
+        let t1187: f64 = t253 * t776;
+        let t1188: f64 = t1186.minus(t1187);
+        let t1189 = product(t248, t1188);
+        let t1190 = product(t248, t776);
+        let t1191: f64 = t253 * t314;
+        let t1192: f64 = t1190.minus(t1191);
+        let t1193 = product(t253, t1192);
+        let t1194 = product(t360, t1042);
+        let t1195: f64 = t365 * t808;
+        let t1196: f64 = t1194.minus(t1195);
+        let t1197: f64 = t360 * t1196;
+        let t1198 = product(t360, t808);
+        let t1199: f64 = t365 * t426;
         let t1200: f64 = t1198.minus(t1199);
-        let t1201 = product(t930, t1200);
-        let t1202: f64 = t557 * t578;
-        let t1203: f64 = t594 * t1202;
-        let t1204: f64 = t594 * 0.3;
-        let t1205: f64 = t1193 * 0.295;
-        let t1206 = product(t1203, 0.003);
-        let t1207: f64 = t1206.added_to(t1205);
-        let t1208: f64 = t1204 - t1207;
-        let t1209: f64 = t594 * t1208;
-        let t1210: f64 = t1201.plus(t1209);
-        let t1211 = product(t557, t1210);
-        let t1212: f64 = t1192.plus(t1196);
-        let t1213: f64 = t1197.plus(t1212);
-        let t1214: f64 = t1211.subtracted_from(t1213);
-        let t1215 = product(t543, t1214);
-        let t1216: f64 = t547 * t947;
-        let t1217: f64 = t1215.minus(t1216);
-        let t1218 = product(t543, t1217);
-        let t1219: f64 = t1204 - t1205;
-        let t1220 = product(t557, t1219);
-        let t1221: f64 = t1220.added_to(t1194);
-        let t1222: f64 = t594 - t1221;
-        let t1223 = product(t590, t1222);
-        let t1224 = product(t557, t1200);
-        let t1225: f64 = t1224.added_to(t1190);
-        let t1226: f64 = t930 - t1225;
-        let t1227 = product(t625, t1226);
-        let t1228: f64 = t1227.added_to(t938);
-        let t1229: f64 = t1223.added_to(t944);
-        let t1230: f64 = t1228 - t1229;
-        let t1231 = product(t543, t1230);
-        let t1232: f64 = t547 * t663;
-        let t1233: f64 = t1231.minus(t1232);
-        let t1234 = product(t547, t1233);
-        let t1235: f64 = t680 * t958;
-        let t1236: f64 = t1235 * 0.3;
-        let t1237: f64 = t958 - t1236;
-        let t1238 = product(t958, t1237);
-        let t1239: f64 = t680 * t717;
-        let t1240: f64 = t1239 * 0.3;
-        let t1241: f64 = t717 - t1240;
-        let t1242: f64 = t717 * t1241;
-        let t1243 = product(t714, t714);
-        let t1244 = product(t958, 0.3);
-        let t1245: f64 = t1235 * 0.295;
-        let t1246: f64 = t1244.minus(t1245);
-        let t1247 = product(t958, t1246);
-        let t1248: f64 = t680 * t701;
-        let t1249: f64 = t717 * t1248;
-        let t1250: f64 = t717 * 0.3;
-        let t1251: f64 = t1239 * 0.295;
-        let t1252 = product(t1249, 0.003);
-        let t1253: f64 = t1252.added_to(t1251);
-        let t1254: f64 = t1250 - t1253;
-        let t1255: f64 = t717 * t1254;
-        let t1256: f64 = t1247.plus(t1255);
-        let t1257 = product(t680, t1256);
-        let t1258: f64 = t1238.plus(t1242);
-        let t1259: f64 = t1243.plus(t1258);
-        let t1260: f64 = t1257.subtracted_from(t1259);
-        let t1261 = product(t667, t1260);
-        let t1262: f64 = t671 * t975;
-        let t1263: f64 = t1261.minus(t1262);
-        let t1264: f64 = t667 * t1263;
-        let t1265: f64 = t1250 - t1251;
-        let t1266 = product(t680, t1265);
-        let t1267: f64 = t1266.added_to(t1240);
-        let t1268: f64 = t717 - t1267;
-        let t1269 = product(t713, t1268);
-        let t1270 = product(t680, t1246);
-        let t1271: f64 = t1270.added_to(t1236);
-        let t1272: f64 = t958 - t1271;
-        let t1273 = product(t748, t1272);
-        let t1274: f64 = t1273.added_to(t966);
-        let t1275: f64 = t1269.added_to(t972);
-        let t1276: f64 = t1274 - t1275;
-        let t1277 = product(t667, t1276);
-        let t1278: f64 = t671 * t786;
-        let t1279: f64 = t1277.minus(t1278);
-        let t1280: f64 = t671 * t1279;
-        let t1281 = product(t1004, 0.7);
-        let t1282: f64 = t1000.plus(t1002);
-        let t1283: f64 = t1034.plus(t1080);
-        let t1284: f64 = t1126.plus(t1172);
-        let t1285: f64 = t1218.plus(t1264);
-        let t1286: f64 = t1282 + t1283;
-        let t1287: f64 = t1284 + t1285;
-        let t1288: f64 = t1286 + t1287;
-        let t1289: f64 = t1281.plus(t1288);
-        let t1290: f64 = t1050.plus(t1096);
-        let t1291: f64 = t1142.plus(t1188);
-        let t1292: f64 = t1234.plus(t1280);
-        let t1293: f64 = t1290 + t1291;
-        let t1294: f64 = t1292 + t1293;
-        let t1295: f64 = t1289 - t1294;
-        let t1296: f64 = t998 * t998;
-        let t1297 = product(t810, t1296);
-        let t1298: f64 = t1297.subtracted_from(t1295);
-        let t1299: f64 = 1.0 / t1298;
-        let t1300: f64 = t1 * t4;
-        let t1301: f64 = t1300 * 0.36;
-        let t1302: f64 = t1033 + t1301;
-        let t1303: f64 = t1079 + t1171;
-        let t1304: f64 = t1302 + t1303;
-        let t1305: f64 = t1217 + t1304;
-        let t1306: f64 = t1125 + t1263;
-        let t1307: f64 = t1305 - t1306;
-        let t1308: f64 = t837 + t865;
-        let t1309: f64 = t921 + t949;
-        let t1310: f64 = t1308 + t1309;
-        let t1311: f64 = t893 + t977;
-        let t1312: f64 = t1310 - t1311;
-        let t1313: f64 = t810 * t998;
-        let t1314 = product(t1312, t1313);
-        let t1315: f64 = t1314.subtracted_from(t1307);
-        let t1316: f64 = t1030 + t1076;
-        let t1317: f64 = t1122 + t1168;
-        let t1318: f64 = t1214 + t1260;
-        let t1319: f64 = t1316 + t1317;
-        let t1320: f64 = t1318 + 12.0;
-        let t1321: f64 = t1319 + t1320;
-        let t1322: f64 = t1312 * t1312;
-        let t1323 = product(t810, t1322);
-        let t1324: f64 = t1315 * t1315;
-        let t1325: f64 = t1299 * t1324;
-        let t1326: f64 = t10 * 0.4108;
-        let t1327 = product(t10, t1326);
-        let t1328: f64 = t14 * 0.4108;
-        let t1329: f64 = t14 * t1328;
-        let t1330: f64 = t4 * t4;
-        let t1331: f64 = t790 * t1330;
-        let t1332 = product(t27, t1030);
-        let t1333: f64 = t34 * t824;
-        let t1334: f64 = t1332.minus(t1333);
-        let t1335 = product(t27, t1334);
-        let t1336 = product(t61, t1038);
-        let t1337 = product(t85, t1042);
-        let t1338: f64 = t1336.added_to(t812);
-        let t1339: f64 = t1337.added_to(t821);
+        let t1201: f64 = t365 * t1200;
+        let t1202 = product(t468, t1076);
+        let t1203: f64 = t471 * t840;
+        let t1204: f64 = t1202.minus(t1203);
+        let t1205 = product(t468, t1204);
+        let t1206 = product(t468, t840);
+        let t1207: f64 = t471 * t531;
+        let t1208: f64 = t1206.minus(t1207);
+        let t1209 = product(t471, t1208);
+        let t1210 = product(t573, t1110);
+        let t1211: f64 = t576 * t872;
+        let t1212: f64 = t1210.minus(t1211);
+        let t1213: f64 = t573 * t1212;
+        let t1214 = product(t573, t872);
+        let t1215: f64 = t576 * t635;
+        let t1216: f64 = t1214.minus(t1215);
+        let t1217: f64 = t576 * t1216;
+        let t1218 = product(t1169, 0.7);
+        let t1219: f64 = t1165.plus(t1167);
+        let t1220: f64 = t1173.plus(t1181);
+        let t1221: f64 = t1189.plus(t1197);
+        let t1222: f64 = t1205.plus(t1213);
+        let t1223: f64 = t1219 + t1220;
+        let t1224: f64 = t1221 + t1222;
+        let t1225: f64 = t1223 + t1224;
+        let t1226: f64 = t1218.plus(t1225);
+        let t1227: f64 = t1177.plus(t1185);
+        let t1228: f64 = t1193.plus(t1201);
+        let t1229: f64 = t1209.plus(t1217);
+        let t1230: f64 = t1227 + t1228;
+        let t1231: f64 = t1229 + t1230;
+        let t1232: f64 = t1226 - t1231;
+        let t1233 = product(t27, t727);
+        let t1234 = product(t34, t126);
+        let t1235: f64 = t138 * t759;
+        let t1236: f64 = t141 * t232;
+        let t1237 = product(t248, t791);
+        let t1238 = product(t253, t344);
+        let t1239: f64 = t360 * t823;
+        let t1240: f64 = t365 * t456;
+        let t1241 = product(t468, t855);
+        let t1242 = product(t471, t561);
+        let t1243: f64 = t573 * t887;
+        let t1244: f64 = t576 * t665;
+        let t1245 = product(t6, t10);
+        let t1246: f64 = t5 * t14;
+        let t1247 = product(t8, 0.7);
+        let t1248: f64 = t1245.minus(t1246);
+        let t1249: f64 = t1248 * 0.4108;
+        let t1250: f64 = t1247.plus(t1249);
+        let t1251 = product(t1, t1250);
+        let t1252: f64 = t1233.plus(t1235);
+        let t1253: f64 = t1237.plus(t1239);
+        let t1254: f64 = t1241.plus(t1243);
+        let t1255: f64 = t1252 + t1253;
+        let t1256: f64 = t1251.plus(t1254);
+        let t1257: f64 = t1255 + t1256;
+        let t1258: f64 = t1234.plus(t1236);
+        let t1259: f64 = t1238.plus(t1240);
+        let t1260: f64 = t1242.plus(t1244);
+        let t1261: f64 = t1258 + t1259;
+        let t1262: f64 = t1260 + t1261;
+        let t1263: f64 = t1257 - t1262;
+        let t1264: f64 = t1263 * t1263;
+        let t1265 = product(t696, t1264);
+        let t1266 = product(t10, t909);
+        let t1267: f64 = t14 * t911;
+        let t1268: f64 = t3 * t4;
+        let t1269: f64 = t676 * t1268;
+        let t1270 = product(t27, t943);
+        let t1271: f64 = t34 * t124;
+        let t1272: f64 = t713 - t1271;
+        let t1273 = product(t34, t1272);
+        let t1274: f64 = t138 * t977;
+        let t1275: f64 = t141 * t230;
+        let t1276: f64 = t745 - t1275;
+        let t1277: f64 = t141 * t1276;
+        let t1278 = product(t248, t1011);
+        let t1279: f64 = t253 * t342;
+        let t1280: f64 = t777 - t1279;
+        let t1281 = product(t253, t1280);
+        let t1282: f64 = t360 * t1045;
+        let t1283: f64 = t365 * t454;
+        let t1284: f64 = t809 - t1283;
+        let t1285: f64 = t365 * t1284;
+        let t1286 = product(t468, t1079);
+        let t1287: f64 = t471 * t559;
+        let t1288: f64 = t841 - t1287;
+        let t1289 = product(t471, t1288);
+        let t1290: f64 = t573 * t1113;
+        let t1291: f64 = t576 * t663;
+        let t1292: f64 = t873 - t1291;
+        let t1293: f64 = t576 * t1292;
+        let t1294 = product(t1269, 0.7);
+        let t1295: f64 = t1266.plus(t1267);
+        let t1296: f64 = t1273.plus(t1277);
+        let t1297: f64 = t1281.plus(t1285);
+        let t1298: f64 = t1289.plus(t1293);
+        let t1299: f64 = t1295 + t1296;
+        let t1300: f64 = t1297 + t1298;
+        let t1301: f64 = t1299 + t1300;
+        let t1302: f64 = t1270.plus(t1274);
+        let t1303: f64 = t1278.plus(t1282);
+        let t1304: f64 = t1286.plus(t1290);
+        let t1305: f64 = t1302 + t1303;
+        let t1306: f64 = t1294.plus(t1304);
+        let t1307: f64 = t1305 + t1306;
+        let t1308: f64 = t1301 - t1307;
+        let t1309 = product(t1151, t1263);
+        let t1310: f64 = t1309.added_to(t1308);
+        let t1311: f64 = -t1310;
+        let t1312: f64 = t1311 * t1311;
+        let t1313: f64 = t1137 * t1312;
+        let t1314: f64 = t1265.plus(t1313);
+        let t1315: f64 = t1232 - t1314;
+        let t1316: f64 = 1.0 / t1315;
+        let t1317: f64 = t697 * 0.36;
+        let t1318: f64 = t1188 + t1317;
+        let t1319: f64 = t1212 + t1318;
+        let t1320: f64 = t1172 + t1180;
+        let t1321: f64 = t1196 + t1204;
+        let t1322: f64 = t1320 + t1321;
+        let t1323: f64 = t1319 - t1322;
+        let t1324: f64 = t696 * t1263;
+        let t1325 = product(t1150, t1324);
+        let t1326: f64 = t1137 * t1311;
+        let t1327 = product(t1153, t1326);
+        let t1328: f64 = t1325.added_to(t1323);
+        let t1329: f64 = t1327.plus(t1328);
+        let t1330: f64 = t1329 * t1329;
+        let t1331 = product(t1316, t1330);
+        let t1332: f64 = t1161.plus(t1163);
+        let t1333: f64 = t1331.plus(t1332);
+        let t1334: f64 = t1159 - t1333;
+        let t1335: f64 = 1.0 / t1334;
+        let t1336: f64 = t712 + t744;
+        let t1337: f64 = t776 + t808;
+        let t1338: f64 = t840 + t872;
+        let t1339: f64 = t1336 + t1337;
         let t1340: f64 = t1338 + t1339;
-        let t1341 = product(t27, t1340);
-        let t1342: f64 = t34 * t96;
-        let t1343: f64 = t1341.minus(t1342);
-        let t1344 = product(t34, t1343);
-        let t1345 = product(t157, t1076);
-        let t1346: f64 = t160 * t852;
-        let t1347: f64 = t1345.minus(t1346);
-        let t1348: f64 = t157 * t1347;
-        let t1349 = product(t186, t1084);
-        let t1350 = product(t210, t1088);
-        let t1351: f64 = t1349.added_to(t840);
-        let t1352: f64 = t1350.added_to(t849);
-        let t1353: f64 = t1351 + t1352;
-        let t1354 = product(t157, t1353);
-        let t1355: f64 = t160 * t221;
-        let t1356: f64 = t1354.minus(t1355);
-        let t1357: f64 = t160 * t1356;
-        let t1358 = product(t286, t1122);
-        let t1359: f64 = t291 * t880;
-        let t1360: f64 = t1358.minus(t1359);
-        let t1361 = product(t286, t1360);
-        let t1362 = product(t317, t1130);
-        let t1363 = product(t341, t1134);
-        let t1364: f64 = t1362.added_to(t868);
-        let t1365: f64 = t877 + t1364;
-        let t1366: f64 = t1363.subtracted_from(t1365);
-        let t1367 = product(t286, t1366);
-        let t1368: f64 = t291 * t352;
-        let t1369: f64 = t1367.minus(t1368);
-        let t1370 = product(t291, t1369);
-        let t1371 = product(t417, t1168);
-        let t1372: f64 = t422 * t908;
-        let t1373: f64 = t1371.minus(t1372);
-        let t1374: f64 = t417 * t1373;
-        let t1375 = product(t448, t1176);
-        let t1376 = product(t472, t1180);
-        let t1377: f64 = t1375.added_to(t896);
-        let t1378: f64 = t905 + t1377;
-        let t1379: f64 = t1376.subtracted_from(t1378);
-        let t1380 = product(t417, t1379);
-        let t1381: f64 = t422 * t483;
-        let t1382: f64 = t1380.minus(t1381);
-        let t1383: f64 = t422 * t1382;
-        let t1384 = product(t544, t1214);
-        let t1385: f64 = t547 * t936;
-        let t1386: f64 = t1384.minus(t1385);
-        let t1387 = product(t544, t1386);
-        let t1388 = product(t572, t1222);
-        let t1389 = product(t596, t1226);
-        let t1390: f64 = t1388.added_to(t924);
-        let t1391: f64 = t933 + t1390;
-        let t1392: f64 = t1389.subtracted_from(t1391);
-        let t1393 = product(t544, t1392);
-        let t1394: f64 = t547 * t607;
-        let t1395: f64 = t1393.minus(t1394);
-        let t1396 = product(t547, t1395);
-        let t1397 = product(t668, t1260);
-        let t1398: f64 = t671 * t964;
-        let t1399: f64 = t1397.minus(t1398);
-        let t1400: f64 = t668 * t1399;
-        let t1401 = product(t695, t1268);
-        let t1402 = product(t719, t1272);
-        let t1403: f64 = t1401.added_to(t952);
-        let t1404: f64 = t961 + t1403;
-        let t1405: f64 = t1402.subtracted_from(t1404);
-        let t1406 = product(t668, t1405);
-        let t1407: f64 = t671 * t730;
-        let t1408: f64 = t1406.minus(t1407);
-        let t1409: f64 = t671 * t1408;
-        let t1410 = product(t1331, 0.7);
-        let t1411: f64 = t1327.plus(t1329);
-        let t1412: f64 = t1335.plus(t1348);
-        let t1413: f64 = t1361.plus(t1374);
-        let t1414: f64 = t1387.plus(t1400);
-        let t1415: f64 = t1411 + t1412;
-        let t1416: f64 = t1413 + t1414;
-        let t1417: f64 = t1415 + t1416;
-        let t1418: f64 = t1410.plus(t1417);
-        let t1419: f64 = t1344.plus(t1357);
-        let t1420: f64 = t1370.plus(t1383);
-        let t1421: f64 = t1396.plus(t1409);
-        let t1422: f64 = t1419 + t1420;
-        let t1423: f64 = t1421 + t1422;
-        let t1424: f64 = t1418 - t1423;
-        let t1425 = product(t27, t837);
-        let t1426 = product(t34, t129);
-        let t1427: f64 = t157 * t865;
-        let t1428: f64 = t160 * t254;
-        let t1429 = product(t286, t893);
-        let t1430 = product(t291, t385);
-        let t1431: f64 = t417 * t921;
-        let t1432: f64 = t422 * t516;
-        let t1433 = product(t544, t949);
-        let t1434 = product(t547, t640);
-        let t1435: f64 = t668 * t977;
-        let t1436: f64 = t671 * t763;
-        let t1437 = product(t6, t10);
-        let t1438: f64 = t5 * t14;
-        let t1439 = product(t8, 0.7);
-        let t1440: f64 = t1437.minus(t1438);
-        let t1441: f64 = t1440 * 0.4108;
-        let t1442: f64 = t1439.plus(t1441);
-        let t1443 = product(t1, t1442);
-        let t1444: f64 = t1425.plus(t1427);
-        let t1445: f64 = t1429.plus(t1431);
-        let t1446: f64 = t1433.plus(t1435);
-        let t1447: f64 = t1444 + t1445;
-        let t1448: f64 = t1443.plus(t1446);
-        let t1449: f64 = t1447 + t1448;
-        let t1450: f64 = t1426.plus(t1428);
-        let t1451: f64 = t1430.plus(t1432);
-        let t1452: f64 = t1434.plus(t1436);
+        let t1341: f64 = t126 + t1139;
+        let t1342: f64 = t232 + t456;
+        let t1343: f64 = t1341 + t1342;
+        let t1344: f64 = t561 + t1343;
+        let t1345: f64 = t344 + t665;
+        let t1346: f64 = t1344 - t1345;
+        let t1347: f64 = t696 * t1150;
+        let t1348 = product(t1346, t1347);
+        let t1349: f64 = t1272 + t1276;
+        let t1350: f64 = t1284 + t1288;
+        let t1351: f64 = t1349 + t1350;
+        let t1352: f64 = t1280 + t1292;
+        let t1353: f64 = t1351 - t1352;
+        let t1354 = product(t1151, t1346);
+        let t1355: f64 = t1354.subtracted_from(t1353);
+        let t1356: f64 = t1137 * t1153;
+        let t1357: f64 = t1355 * t1356;
+        let t1358: f64 = t0 * 0.36;
+        let t1359: f64 = t1192 + t1358;
+        let t1360: f64 = t1216 + t1359;
+        let t1361: f64 = t1176 + t1184;
+        let t1362: f64 = t1200 + t1208;
+        let t1363: f64 = t1361 + t1362;
+        let t1364: f64 = t1360 - t1363;
+        let t1365 = product(t1324, t1346);
+        let t1366 = product(t1326, t1355);
+        let t1367: f64 = t1365.added_to(t1364);
+        let t1368: f64 = t1366.plus(t1367);
+        let t1369: f64 = t1316 * t1329;
+        let t1370 = product(t1368, t1369);
+        let t1371: f64 = t1348.plus(t1357);
+        let t1372: f64 = t1370.plus(t1371);
+        let t1373: f64 = t1340 - t1372;
+        let t1374: f64 = t96 + t202;
+        let t1375: f64 = t314 + t426;
+        let t1376: f64 = t531 + t635;
+        let t1377: f64 = t1374 + t1375;
+        let t1378: f64 = t1376 + 12.0;
+        let t1379: f64 = t1377 + t1378;
+        let t1380: f64 = t1346 * t1346;
+        let t1381 = product(t696, t1380);
+        let t1382: f64 = t1355 * t1355;
+        let t1383: f64 = t1137 * t1382;
+        let t1384: f64 = t1368 * t1368;
+        let t1385 = product(t1316, t1384);
+        let t1386: f64 = t1373 * t1373;
+        let t1387: f64 = t1335 * t1386;
+        let t1388: f64 = t1381.plus(t1383);
+        let t1389: f64 = t1385.plus(t1387);
+        let t1390: f64 = t1388 + t1389;
+        let t1391: f64 = t1379 - t1390;
+        let t1392: f64 = 1.0 / t1391;
+        let t1393: f64 = t124 + t230;
+        let t1394: f64 = t342 + t454;
+        let t1395: f64 = t559 + t663;
+        let t1396: f64 = t1393 + t1394;
+        let t1397: f64 = t1395 + t1396;
+        let t1398: f64 = t135 + t1317;
+        let t1399: f64 = t241 + t465;
+        let t1400: f64 = t1398 + t1399;
+        let t1401: f64 = t570 + t1400;
+        let t1402: f64 = t353 + t674;
+        let t1403: f64 = t1401 - t1402;
+        let t1404: f64 = t696 * t1346;
+        let t1405 = product(t1403, t1404);
+        let t1406: f64 = t1015 + t1358;
+        let t1407: f64 = t1117 + t1406;
+        let t1408: f64 = t947 + t981;
+        let t1409: f64 = t1049 + t1083;
+        let t1410: f64 = t1408 + t1409;
+        let t1411: f64 = t1407 - t1410;
+        let t1412 = product(t1151, t1403);
+        let t1413: f64 = t1412.added_to(t1411);
+        let t1414: f64 = t1137 * t1355;
+        let t1415 = product(t1413, t1414);
+        let t1416: f64 = t726 - t1271;
+        let t1417: f64 = t758 - t1275;
+        let t1418: f64 = t790 - t1279;
+        let t1419: f64 = t822 - t1283;
+        let t1420: f64 = t854 - t1287;
+        let t1421: f64 = t886 - t1291;
+        let t1422: f64 = t1416 + t1417;
+        let t1423: f64 = t1419 + t1420;
+        let t1424: f64 = t1422 + t1423;
+        let t1425: f64 = t1418 + t1421;
+        let t1426: f64 = t1424 - t1425;
+        let t1427 = product(t1324, t1403);
+        let t1428 = product(t1326, t1413);
+        let t1429: f64 = t1428.added_to(t1426);
+        let t1430: f64 = t1427.subtracted_from(t1429);
+        let t1431: f64 = t1316 * t1368;
+        let t1432 = product(t1430, t1431);
+        let t1433: f64 = t725 + t757;
+        let t1434: f64 = t789 + t821;
+        let t1435: f64 = t853 + t885;
+        let t1436: f64 = t1433 + t1434;
+        let t1437: f64 = t1435 + t1436;
+        let t1438 = product(t1347, t1403);
+        let t1439 = product(t1356, t1413);
+        let t1440 = product(t1369, t1430);
+        let t1441: f64 = t1439.added_to(t1437);
+        let t1442: f64 = t1440.plus(t1441);
+        let t1443: f64 = t1438.subtracted_from(t1442);
+        let t1444: f64 = t1335 * t1373;
+        let t1445: f64 = t1443 * t1444;
+        let t1446: f64 = t1415.added_to(t1397);
+        let t1447: f64 = t1432.plus(t1446);
+        let t1448: f64 = t1405.plus(t1445);
+        let t1449: f64 = t1447 - t1448;
+        let t1450: f64 = t133 + t239;
+        let t1451: f64 = t351 + t463;
+        let t1452: f64 = t568 + t672;
         let t1453: f64 = t1450 + t1451;
-        let t1454: f64 = t1452 + t1453;
-        let t1455: f64 = t1449 - t1454;
-        let t1456: f64 = t1455 * t1455;
-        let t1457 = product(t810, t1456);
-        let t1458 = product(t10, t999);
-        let t1459: f64 = t14 * t1001;
-        let t1460: f64 = t3 * t4;
-        let t1461: f64 = t790 * t1460;
-        let t1462 = product(t27, t1033);
-        let t1463 = product(t17, t1340);
-        let t1464: f64 = t34 * t127;
-        let t1465: f64 = t1463.minus(t1464);
-        let t1466 = product(t34, t1465);
-        let t1467: f64 = t157 * t1079;
-        let t1468 = product(t156, t1353);
-        let t1469: f64 = t160 * t252;
-        let t1470: f64 = t1468.minus(t1469);
-        let t1471: f64 = t160 * t1470;
-        let t1472 = product(t286, t1125);
-        let t1473 = product(t283, t1366);
-        let t1474: f64 = t291 * t383;
-        let t1475: f64 = t1473.minus(t1474);
-        let t1476 = product(t291, t1475);
-        let t1477: f64 = t417 * t1171;
-        let t1478 = product(t414, t1379);
-        let t1479: f64 = t422 * t514;
-        let t1480: f64 = t1478.minus(t1479);
-        let t1481: f64 = t422 * t1480;
-        let t1482 = product(t544, t1217);
-        let t1483 = product(t543, t1392);
-        let t1484: f64 = t547 * t638;
-        let t1485: f64 = t1483.minus(t1484);
-        let t1486 = product(t547, t1485);
-        let t1487: f64 = t668 * t1263;
-        let t1488 = product(t667, t1405);
-        let t1489: f64 = t671 * t761;
-        let t1490: f64 = t1488.minus(t1489);
-        let t1491: f64 = t671 * t1490;
-        let t1492 = product(t1461, 0.7);
-        let t1493: f64 = t1458.plus(t1459);
-        let t1494: f64 = t1466.plus(t1471);
-        let t1495: f64 = t1476.plus(t1481);
-        let t1496: f64 = t1486.plus(t1491);
-        let t1497: f64 = t1493 + t1494;
-        let t1498: f64 = t1495 + t1496;
-        let t1499: f64 = t1497 + t1498;
-        let t1500: f64 = t1462.plus(t1467);
-        let t1501: f64 = t1472.plus(t1477);
-        let t1502: f64 = t1482.plus(t1487);
-        let t1503: f64 = t1500 + t1501;
-        let t1504: f64 = t1492.plus(t1502);
-        let t1505: f64 = t1503 + t1504;
-        let t1506: f64 = t1499 - t1505;
-        let t1507 = product(t1313, t1455);
-        let t1508: f64 = t1507.added_to(t1506);
-        let t1509: f64 = -t1508;
-        let t1510: f64 = t1509 * t1509;
-        let t1511: f64 = t1299 * t1510;
-        let t1512: f64 = t1457.plus(t1511);
-        let t1513: f64 = t1424 - t1512;
-        let t1514: f64 = 1.0 / t1513;
-        let t1515: f64 = t811 * 0.36;
-        let t1516: f64 = t1360 + t1515;
-        let t1517: f64 = t1399 + t1516;
-        let t1518: f64 = t1334 + t1347;
-        let t1519: f64 = t1373 + t1386;
-        let t1520: f64 = t1518 + t1519;
-        let t1521: f64 = t1517 - t1520;
-        let t1522: f64 = t810 * t1455;
-        let t1523 = product(t1312, t1522);
-        let t1524: f64 = t1299 * t1509;
-        let t1525 = product(t1315, t1524);
-        let t1526: f64 = t1523.added_to(t1521);
-        let t1527: f64 = t1525.plus(t1526);
-        let t1528: f64 = t1527 * t1527;
-        let t1529 = product(t1514, t1528);
-        let t1530: f64 = t1323.plus(t1325);
-        let t1531: f64 = t1529.plus(t1530);
-        let t1532: f64 = t1321 - t1531;
-        let t1533: f64 = 1.0 / t1532;
-        let t1534: f64 = t1340 + t1353;
-        let t1535: f64 = t1366 + t1379;
-        let t1536: f64 = t1392 + t1405;
-        let t1537: f64 = t1534 + t1535;
-        let t1538: f64 = t1536 + t1537;
-        let t1539: f64 = t129 + t1301;
-        let t1540: f64 = t254 + t516;
-        let t1541: f64 = t1539 + t1540;
-        let t1542: f64 = t640 + t1541;
-        let t1543: f64 = t385 + t763;
-        let t1544: f64 = t1542 - t1543;
-        let t1545: f64 = t810 * t1312;
-        let t1546 = product(t1544, t1545);
-        let t1547: f64 = t1465 + t1470;
-        let t1548: f64 = t1480 + t1485;
-        let t1549: f64 = t1547 + t1548;
-        let t1550: f64 = t1475 + t1490;
-        let t1551: f64 = t1549 - t1550;
-        let t1552 = product(t1313, t1544);
-        let t1553: f64 = t1552.subtracted_from(t1551);
-        let t1554: f64 = t1299 * t1315;
-        let t1555: f64 = t1553 * t1554;
-        let t1556: f64 = t0 * 0.36;
-        let t1557: f64 = t1369 + t1556;
-        let t1558: f64 = t1408 + t1557;
-        let t1559: f64 = t1343 + t1356;
-        let t1560: f64 = t1382 + t1395;
-        let t1561: f64 = t1559 + t1560;
-        let t1562: f64 = t1558 - t1561;
-        let t1563 = product(t1522, t1544);
-        let t1564 = product(t1524, t1553);
-        let t1565: f64 = t1563.added_to(t1562);
-        let t1566: f64 = t1564.plus(t1565);
-        let t1567: f64 = t1514 * t1527;
-        let t1568 = product(t1566, t1567);
-        let t1569: f64 = t1546.plus(t1555);
+        let t1454: f64 = t1452 + 12.0;
+        let t1455: f64 = t1453 + t1454;
+        let t1456: f64 = t1403 * t1403;
+        let t1457 = product(t696, t1456);
+        let t1458: f64 = t1413 * t1413;
+        let t1459: f64 = t1137 * t1458;
+        let t1460: f64 = t1430 * t1430;
+        let t1461 = product(t1316, t1460);
+        let t1462: f64 = t1443 * t1443;
+        let t1463: f64 = t1335 * t1462;
+        let t1464: f64 = t1449 * t1449;
+        let t1465 = product(t1392, t1464);
+        let t1466: f64 = t1457.plus(t1459);
+        let t1467: f64 = t1461.plus(t1463);
+        let t1468: f64 = t1466 + t1467;
+        let t1469: f64 = t1465.plus(t1468);
+        let t1470: f64 = t1455 - t1469;
+        let t1471: f64 = 1.0 / t1470;
+        let t1472 = product(wz, t10);
+        let t1473: f64 = wx * t1;
+        let t1474 = product(t6, t1473);
+        let t1475: f64 = wy * t21;
+        let t1476: f64 = t1474.plus(t1475);
+        let t1477: f64 = t1472.plus(t1476);
+        let t1478: f64 = wx * t5;
+        let t1479 = product(t1, t1478);
+        let t1480: f64 = wy * t24;
+        let t1481: f64 = t1479.minus(t1480);
+        let t1482 = product(wz, t14);
+        let t1483: f64 = t1482.subtracted_from(t1481);
+        let t1484: f64 = t1483 * 0.4108;
+        let t1485 = product(t1477, t1484);
+        let t1486: f64 = t1477 * 0.4108;
+        let t1487: f64 = t1483 * t1486;
+        let t1488: f64 = t1485.minus(t1487);
+        let t1489 = product(t0, t1488);
+        let t1490 = product(t17, t29);
+        let t1491: f64 = t27 * t39;
+        let t1492: f64 = t1490.minus(t1491);
+        let t1493: f64 = g1 * t44;
+        let t1494: f64 = t1492 * t1493;
+        let t1495: f64 = t1489.minus(t1494);
+        let t1496 = product(t245, t250);
+        let t1497: f64 = t248 * t258;
+        let t1498: f64 = t1496.minus(t1497);
+        let t1499: f64 = g3 * t263;
+        let t1500 = product(t1498, t1499);
+        let t1501 = product(t137, t140);
+        let t1502: f64 = t138 * t146;
+        let t1503: f64 = t1501.minus(t1502);
+        let t1504: f64 = g2 * t151;
+        let t1505: f64 = t1503 * t1504;
+        let t1506: f64 = t1500.minus(t1505);
+        let t1507: f64 = t1495 + t1506;
+        let t1508 = product(t572, t575);
+        let t1509: f64 = t573 * t580;
+        let t1510: f64 = t1508.minus(t1509);
+        let t1511: f64 = g6 * t585;
+        let t1512 = product(t1510, t1511);
+        let t1513: f64 = wz * t4;
+        let t1514 = product(t1, t1513);
+        let t1515 = product(wx, t0);
+        let t1516: f64 = wy * t3;
+        let t1517: f64 = t1 * t1516;
+        let t1518: f64 = t1515.minus(t1517);
+        let t1519: f64 = t1514.plus(t1518);
+        let t1520: f64 = t1519 * 0.7;
+        let t1521 = product(t1483, t1520);
+        let t1522: f64 = t1484 * t1519;
+        let t1523: f64 = t1521.minus(t1522);
+        let t1524 = product(t6, t1523);
+        let t1525 = product(t1486, t1519);
+        let t1526: f64 = t1477 * t1520;
+        let t1527: f64 = t1525.minus(t1526);
+        let t1528: f64 = t5 * t1527;
+        let t1529: f64 = t1524.plus(t1528);
+        let t1530: f64 = t1 * t1529;
+        let t1531: f64 = t1512.plus(t1530);
+        let t1532 = product(t357, t362);
+        let t1533: f64 = t360 * t370;
+        let t1534: f64 = t1532.minus(t1533);
+        let t1535: f64 = g4 * t375;
+        let t1536 = product(t1534, t1535);
+        let t1537 = product(t467, t470);
+        let t1538: f64 = t468 * t476;
+        let t1539: f64 = t1537.minus(t1538);
+        let t1540: f64 = g5 * t481;
+        let t1541: f64 = t1539 * t1540;
+        let t1542: f64 = t1536.plus(t1541);
+        let t1543: f64 = t1531 - t1542;
+        let t1544: f64 = t1507 + t1543;
+        let t1545: f64 = t82 * 9.81;
+        let t1546: f64 = -t1545;
+        let t1547 = product(wy, t17);
+        let t1548: f64 = wz * t27;
+        let t1549: f64 = t1547.minus(t1548);
+        let t1550: f64 = vx + t1549;
+        let t1551 = product(t83, t1550);
+        let t1552 = product(wz, t34);
+        let t1553: f64 = wx * t17;
+        let t1554: f64 = t1552.minus(t1553);
+        let t1555: f64 = vy + t1554;
+        let t1556: f64 = t61 * t1555;
+        let t1557 = product(wx, t27);
+        let t1558: f64 = wy * t34;
+        let t1559: f64 = t1557.minus(t1558);
+        let t1560: f64 = vz + t1559;
+        let t1561 = product(t79, t1560);
+        let t1562: f64 = t1551.plus(t1556);
+        let t1563: f64 = t1561.plus(t1562);
+        let t1564: f64 = t44 * t1563;
+        let t1565 = product(t1564, t1564);
+        let t1566 = product(t701, t1550);
+        let t1567: f64 = t85 * t1555;
+        let t1568 = product(t113, t1560);
+        let t1569: f64 = t1566.plus(t1567);
         let t1570: f64 = t1568.plus(t1569);
-        let t1571: f64 = t1538 - t1570;
-        let t1572: f64 = t96 + t221;
-        let t1573: f64 = t352 + t483;
-        let t1574: f64 = t607 + t730;
-        let t1575: f64 = t1572 + t1573;
-        let t1576: f64 = t1574 + 12.0;
-        let t1577: f64 = t1575 + t1576;
-        let t1578: f64 = t1544 * t1544;
-        let t1579 = product(t810, t1578);
-        let t1580: f64 = t1553 * t1553;
-        let t1581: f64 = t1299 * t1580;
-        let t1582: f64 = t1566 * t1566;
-        let t1583 = product(t1514, t1582);
-        let t1584: f64 = t1571 * t1571;
-        let t1585: f64 = t1533 * t1584;
-        let t1586: f64 = t1579.plus(t1581);
-        let t1587: f64 = t1583.plus(t1585);
-        let t1588: f64 = t1586 + t1587;
-        let t1589: f64 = t1577 - t1588;
-        let t1590: f64 = 1.0 / t1589;
-        let t1591: f64 = t139 + t264;
-        let t1592: f64 = t395 + t526;
-        let t1593: f64 = t650 + t773;
-        let t1594: f64 = t1591 + t1592;
-        let t1595: f64 = t1593 + t1594;
-        let t1596: f64 = t154 + t1515;
-        let t1597: f64 = t279 + t541;
-        let t1598: f64 = t1596 + t1597;
-        let t1599: f64 = t665 + t1598;
-        let t1600: f64 = t410 + t788;
-        let t1601: f64 = t1599 - t1600;
-        let t1602: f64 = t810 * t1544;
-        let t1603 = product(t1601, t1602);
-        let t1604: f64 = t1141 + t1556;
-        let t1605: f64 = t1279 + t1604;
-        let t1606: f64 = t1049 + t1095;
-        let t1607: f64 = t1187 + t1233;
-        let t1608: f64 = t1606 + t1607;
-        let t1609: f64 = t1605 - t1608;
-        let t1610 = product(t1313, t1601);
-        let t1611: f64 = t1610.added_to(t1609);
-        let t1612: f64 = t1299 * t1553;
-        let t1613 = product(t1611, t1612);
-        let t1614 = product(t27, t1046);
-        let t1615: f64 = t34 * t139;
-        let t1616: f64 = t1614.minus(t1615);
-        let t1617 = product(t157, t1092);
-        let t1618: f64 = t160 * t264;
-        let t1619: f64 = t1617.minus(t1618);
-        let t1620 = product(t286, t1138);
-        let t1621: f64 = t291 * t395;
-        let t1622: f64 = t1620.minus(t1621);
-        let t1623 = product(t417, t1184);
-        let t1624: f64 = t422 * t526;
-        let t1625: f64 = t1623.minus(t1624);
-        let t1626 = product(t544, t1230);
-        let t1627: f64 = t547 * t650;
-        let t1628: f64 = t1626.minus(t1627);
-        let t1629 = product(t668, t1276);
-        let t1630: f64 = t671 * t773;
-        let t1631: f64 = t1629.minus(t1630);
-        let t1632: f64 = t1616 + t1619;
-        let t1633: f64 = t1625 + t1628;
-        let t1634: f64 = t1632 + t1633;
-        let t1635: f64 = t1622 + t1631;
-        let t1636: f64 = t1634 - t1635;
-        let t1637 = product(t1522, t1601);
-        let t1638 = product(t1524, t1611);
-        let t1639: f64 = t1638.added_to(t1636);
-        let t1640: f64 = t1637.subtracted_from(t1639);
-        let t1641: f64 = t1514 * t1566;
-        let t1642 = product(t1640, t1641);
-        let t1643: f64 = t1046 + t1092;
-        let t1644: f64 = t1138 + t1184;
-        let t1645: f64 = t1230 + t1276;
-        let t1646: f64 = t1643 + t1644;
-        let t1647: f64 = t1645 + t1646;
-        let t1648 = product(t1545, t1601);
-        let t1649 = product(t1554, t1611);
-        let t1650 = product(t1567, t1640);
-        let t1651: f64 = t1649.added_to(t1647);
-        let t1652: f64 = t1650.plus(t1651);
-        let t1653: f64 = t1648.subtracted_from(t1652);
-        let t1654: f64 = t1533 * t1571;
-        let t1655: f64 = t1653 * t1654;
-        let t1656: f64 = t1613.added_to(t1595);
-        let t1657: f64 = t1642.plus(t1656);
-        let t1658: f64 = t1603.plus(t1655);
-        let t1659: f64 = t1657 - t1658;
-        let t1660: f64 = t152 + t277;
-        let t1661: f64 = t408 + t539;
-        let t1662: f64 = t663 + t786;
-        let t1663: f64 = t1660 + t1661;
-        let t1664: f64 = t1662 + 12.0;
-        let t1665: f64 = t1663 + t1664;
-        let t1666: f64 = t1601 * t1601;
-        let t1667 = product(t810, t1666);
-        let t1668: f64 = t1611 * t1611;
-        let t1669: f64 = t1299 * t1668;
-        let t1670: f64 = t1640 * t1640;
-        let t1671 = product(t1514, t1670);
-        let t1672: f64 = t1653 * t1653;
-        let t1673: f64 = t1533 * t1672;
-        let t1674: f64 = t1659 * t1659;
-        let t1675 = product(t1590, t1674);
-        let t1676: f64 = t1667.plus(t1669);
-        let t1677: f64 = t1671.plus(t1673);
-        let t1678: f64 = t1676 + t1677;
-        let t1679: f64 = t1675.plus(t1678);
-        let t1680: f64 = t1665 - t1679;
-        let t1681: f64 = 1.0 / t1680;
-        let t1682 = product(wx, t668);
-        let t1683: f64 = wy * t671;
-        let t1684: f64 = t1682.minus(t1683);
-        let t1685 = product(wy, t1684);
-        let t1686 = product(wz, t671);
-        let t1687: f64 = wx * t667;
-        let t1688: f64 = t1686.minus(t1687);
-        let t1689: f64 = wz * t1688;
-        let t1690: f64 = t1685.minus(t1689);
-        let t1691 = product(t714, t1690);
-        let t1692 = product(wy, t667);
-        let t1693: f64 = wz * t668;
-        let t1694: f64 = t1692.minus(t1693);
-        let t1695 = product(wz, t1694);
-        let t1696: f64 = wx * t1684;
-        let t1697: f64 = t1695.minus(t1696);
-        let t1698: f64 = t681 * t1697;
-        let t1699 = product(wx, t1688);
-        let t1700: f64 = wy * t1694;
-        let t1701: f64 = t1699.minus(t1700);
-        let t1702 = product(t716, t1701);
-        let t1703: f64 = t1691.plus(t1698);
-        let t1704: f64 = t1702.plus(t1703);
-        let t1705: f64 = t716 * 9.81;
-        let t1706: f64 = -t1705;
-        let t1707: f64 = vx - t1694;
-        let t1708 = product(t717, t1707);
-        let t1709: f64 = vy - t1688;
-        let t1710: f64 = t695 * t1709;
-        let t1711: f64 = vz - t1684;
-        let t1712 = product(t713, t1711);
-        let t1713: f64 = t1708.plus(t1710);
-        let t1714: f64 = t1712.subtracted_from(t1713);
-        let t1715: f64 = t680 * t1714;
-        let t1716 = product(t1715, t1715);
-        let t1717 = product(t958, t1707);
-        let t1718 = product(t719, t1709);
-        let t1719: f64 = t748 * t1711;
-        let t1720: f64 = t1717.plus(t1719);
-        let t1721: f64 = t1718.subtracted_from(t1720);
-        let t1722: f64 = t680 * t1721;
-        let t1723: f64 = t1722 * t1722;
-        let t1724: f64 = t1716.plus(t1723);
-        let t1725 = product(t1724, 0.3);
-        let t1726: f64 = t1704 + t1706;
-        let t1727: f64 = t1725.subtracted_from(t1726);
-        let t1728: f64 = t681 * t1727;
-        let t1729 = product(t717, t1690);
-        let t1730: f64 = t695 * t1697;
-        let t1731 = product(t713, t1701);
-        let t1732: f64 = t1729.plus(t1730);
-        let t1733: f64 = t1731.subtracted_from(t1732);
-        let t1734: f64 = t713 * 9.81;
-        let t1735 = product(t680, t1733);
-        let t1736: f64 = t700 * t733;
-        let t1737: f64 = t1714 * t1736;
-        let t1738 = product(t1721, t1737);
-        let t1739 = product(t714, t1707);
-        let t1740: f64 = t681 * t1709;
-        let t1741 = product(t716, t1711);
-        let t1742: f64 = t1739.plus(t1740);
-        let t1743: f64 = t1741.plus(t1742);
-        let t1744: f64 = t680 * t1743;
-        let t1745: f64 = t1744 * 2.0;
-        let t1746: f64 = t1715 * t1745;
-        let t1747: f64 = t1738.minus(t1746);
-        let t1748: f64 = t1735.subtracted_from(t1747);
-        let t1749: f64 = t680 * t700;
-        let t1750: f64 = t1714 * t1749;
-        let t1751: f64 = t1722 * t1750;
-        let t1752 = product(t700, t1747);
-        let t1753: f64 = t694 * t694;
-        let t1754: f64 = t678 * t680;
-        let t1755: f64 = t1753 * t1754;
-        let t1756: f64 = t1714 * t1755;
-        let t1757 = product(t1721, t1756);
-        let t1758: f64 = t700 * t1733;
-        let t1759: f64 = t1757.minus(t1758);
-        let t1760: f64 = t680 * t1759;
-        let t1761: f64 = t1752.plus(t1760);
-        let t1762: f64 = t700 * t1761;
-        let t1763 = product(t1733, 0.3);
-        let t1764 = product(t1734, 0.2);
-        let t1765: f64 = t1748 * 0.295;
-        let t1766: f64 = t1751 * 0.292;
-        let t1767 = product(t1762, 0.003);
-        let t1768: f64 = t1763.plus(t1765);
-        let t1769: f64 = t1767.plus(t1768);
-        let t1770: f64 = t1764.plus(t1766);
-        let t1771: f64 = t1769 - t1770;
-        let t1772 = product(t680, t1771);
-        let t1773: f64 = t1733 + t1734;
-        let t1774: f64 = t1748 - t1751;
-        let t1775 = product(t1774, 0.3);
-        let t1776: f64 = t1775.added_to(t1773);
-        let t1777: f64 = t1772.subtracted_from(t1776);
-        let t1778 = product(t695, t1777);
-        let t1779 = product(t748, t1701);
-        let t1780 = product(t958, t1690);
-        let t1781: f64 = t719 * t1697;
-        let t1782: f64 = t1780.minus(t1781);
-        let t1783: f64 = t1779.plus(t1782);
-        let t1784: f64 = t748 * 9.81;
+        let t1571: f64 = t44 * t1570;
+        let t1572: f64 = t1571 * t1571;
+        let t1573: f64 = t1565.plus(t1572);
+        let t1574 = product(t1573, 0.3);
+        let t1575: f64 = t1574.subtracted_from(t1546);
+        let t1576 = product(t82, t1575);
+        let t1577 = product(wy, t1559);
+        let t1578: f64 = wz * t1554;
+        let t1579: f64 = t1577.minus(t1578);
+        let t1580: f64 = t725 * t1579;
+        let t1581: f64 = t1576.minus(t1580);
+        let t1582 = product(wz, t1549);
+        let t1583: f64 = wx * t1559;
+        let t1584: f64 = t1582.minus(t1583);
+        let t1585 = product(t124, t1584);
+        let t1586 = product(wx, t1554);
+        let t1587: f64 = wy * t1549;
+        let t1588: f64 = t1586.minus(t1587);
+        let t1589: f64 = t133 * t1588;
+        let t1590: f64 = t1585.plus(t1589);
+        let t1591: f64 = t1581 - t1590;
+        let t1592: f64 = t79 * 9.81;
+        let t1593: f64 = -t1592;
+        let t1594: f64 = t44 * t66;
+        let t1595: f64 = t1563 * t1594;
+        let t1596: f64 = t1571 * t1595;
+        let t1597 = product(t80, t1550);
+        let t1598: f64 = t45 * t1555;
+        let t1599 = product(t82, t1560);
+        let t1600: f64 = t1597.plus(t1598);
+        let t1601: f64 = t1599.plus(t1600);
+        let t1602: f64 = t44 * t1601;
+        let t1603: f64 = t1602 * 2.0;
+        let t1604 = product(t1570, t1594);
+        let t1605: f64 = t1604.added_to(t1603);
+        let t1606: f64 = t1564 * t1605;
+        let t1607: f64 = t60 * t60;
+        let t1608: f64 = t42 * t44;
+        let t1609: f64 = t1607 * t1608;
+        let t1610 = product(t1570, t1609);
+        let t1611: f64 = t66 * t1605;
+        let t1612: f64 = t1610.plus(t1611);
+        let t1613: f64 = t1564 * t1612;
+        let t1614: f64 = t66 * t1613;
+        let t1615 = product(t1593, 0.2);
+        let t1616: f64 = t1596 * 0.292;
+        let t1617: f64 = t1606 * 0.295;
+        let t1618 = product(t1614, 0.003);
+        let t1619: f64 = t1615.plus(t1617);
+        let t1620: f64 = t1618.plus(t1619);
+        let t1621: f64 = t1620 - t1616;
+        let t1622 = product(t44, t1621);
+        let t1623: f64 = t1596 - t1606;
+        let t1624: f64 = t1623 * 0.3;
+        let t1625: f64 = t1622.added_to(t1593);
+        let t1626: f64 = t1624 + t1625;
+        let t1627 = product(t79, t1626);
+        let t1628: f64 = t113 * 9.81;
+        let t1629: f64 = -t1628;
+        let t1630: f64 = t1564 * t1595;
+        let t1631: f64 = t1563 * t1563;
+        let t1632 = product(t1594, t1631);
+        let t1633: f64 = t1570 * t1603;
+        let t1634: f64 = t1632.minus(t1633);
+        let t1635: f64 = t44 * t1634;
+        let t1636 = product(t1629, 0.2);
+        let t1637: f64 = t1630 * 0.292;
+        let t1638 = product(t1635, 0.295);
+        let t1639: f64 = t1636.plus(t1637);
+        let t1640: f64 = t1638.subtracted_from(t1639);
+        let t1641 = product(t44, t1640);
+        let t1642: f64 = t1635 - t1630;
+        let t1643: f64 = t1642 * 0.3;
+        let t1644: f64 = t1641.added_to(t1629);
+        let t1645: f64 = t1643 + t1644;
+        let t1646: f64 = t113 * t1645;
+        let t1647: f64 = t1627.plus(t1646);
+        let t1648: f64 = t1591 + t1647;
+        let t1649 = product(t27, t1648);
+        let t1650 = product(t45, t1575);
+        let t1651: f64 = t712 * t1579;
+        let t1652: f64 = t1650.minus(t1651);
+        let t1653 = product(t96, t1584);
+        let t1654: f64 = t124 * t1588;
+        let t1655: f64 = t1653.plus(t1654);
+        let t1656: f64 = t1652 - t1655;
+        let t1657 = product(t61, t1626);
+        let t1658: f64 = t85 * t1645;
+        let t1659: f64 = t1657.plus(t1658);
+        let t1660: f64 = t1656 + t1659;
+        let t1661: f64 = t17 * t1660;
+        let t1662: f64 = t1649.minus(t1661);
+        let t1663: f64 = t1544 + t1662;
+        let t1664: f64 = t621 * 9.81;
+        let t1665: f64 = -t1664;
+        let t1666 = product(wy, t572);
+        let t1667: f64 = wz * t573;
+        let t1668: f64 = t1666.minus(t1667);
+        let t1669: f64 = vx - t1668;
+        let t1670 = product(t622, t1669);
+        let t1671 = product(wz, t576);
+        let t1672: f64 = wx * t572;
+        let t1673: f64 = t1671.minus(t1672);
+        let t1674: f64 = vy - t1673;
+        let t1675: f64 = t600 * t1674;
+        let t1676 = product(wx, t573);
+        let t1677: f64 = wy * t576;
+        let t1678: f64 = t1676.minus(t1677);
+        let t1679: f64 = vz - t1678;
+        let t1680 = product(t618, t1679);
+        let t1681: f64 = t1670.plus(t1675);
+        let t1682: f64 = t1680.subtracted_from(t1681);
+        let t1683: f64 = t585 * t1682;
+        let t1684 = product(t1683, t1683);
+        let t1685 = product(t861, t1669);
+        let t1686 = product(t624, t1674);
+        let t1687: f64 = t652 * t1679;
+        let t1688: f64 = t1685.plus(t1687);
+        let t1689: f64 = t1686.subtracted_from(t1688);
+        let t1690: f64 = t585 * t1689;
+        let t1691: f64 = t1690 * t1690;
+        let t1692: f64 = t1684.plus(t1691);
+        let t1693 = product(t1692, 0.3);
+        let t1694: f64 = t1693.subtracted_from(t1665);
+        let t1695 = product(t586, t1694);
+        let t1696 = product(wy, t1678);
+        let t1697: f64 = wz * t1673;
+        let t1698: f64 = t1696.minus(t1697);
+        let t1699: f64 = t872 * t1698;
+        let t1700: f64 = t1695.plus(t1699);
+        let t1701 = product(wz, t1668);
+        let t1702: f64 = wx * t1678;
+        let t1703: f64 = t1701.minus(t1702);
+        let t1704 = product(t635, t1703);
+        let t1705 = product(wx, t1673);
+        let t1706: f64 = wy * t1668;
+        let t1707: f64 = t1705.minus(t1706);
+        let t1708: f64 = t663 * t1707;
+        let t1709: f64 = t1704.plus(t1708);
+        let t1710: f64 = t1700 + t1709;
+        let t1711: f64 = t652 * 9.81;
+        let t1712: f64 = -t1711;
+        let t1713: f64 = t585 * t605;
+        let t1714: f64 = t1682 * t1713;
+        let t1715: f64 = t1683 * t1714;
+        let t1716: f64 = t1682 * t1682;
+        let t1717 = product(t1713, t1716);
+        let t1718 = product(t619, t1669);
+        let t1719: f64 = t586 * t1674;
+        let t1720 = product(t621, t1679);
+        let t1721: f64 = t1718.plus(t1719);
+        let t1722: f64 = t1720.plus(t1721);
+        let t1723: f64 = t585 * t1722;
+        let t1724: f64 = t1723 * 2.0;
+        let t1725: f64 = t1689 * t1724;
+        let t1726: f64 = t1717.plus(t1725);
+        let t1727: f64 = t585 * t1726;
+        let t1728 = product(t1712, 0.2);
+        let t1729 = product(t1715, 0.292);
+        let t1730: f64 = t1727 * 0.295;
+        let t1731: f64 = t1728.plus(t1730);
+        let t1732: f64 = t1729.subtracted_from(t1731);
+        let t1733 = product(t585, t1732);
+        let t1734: f64 = t1715 - t1727;
+        let t1735: f64 = t1734 * 0.3;
+        let t1736: f64 = t1733.added_to(t1712);
+        let t1737: f64 = t1735 + t1736;
+        let t1738 = product(t624, t1737);
+        let t1739: f64 = t618 * 9.81;
+        let t1740: f64 = t1690 * t1714;
+        let t1741 = product(t1689, t1713);
+        let t1742: f64 = t1741.subtracted_from(t1724);
+        let t1743: f64 = t1683 * t1742;
+        let t1744: f64 = t585 * t585;
+        let t1745: f64 = t599 * t599;
+        let t1746: f64 = t583 * t1744;
+        let t1747: f64 = t1745 * t1746;
+        let t1748: f64 = t1682 * t1747;
+        let t1749 = product(t1689, t1748);
+        let t1750: f64 = -t1743;
+        let t1751: f64 = t605 * t1750;
+        let t1752: f64 = t1749.plus(t1751);
+        let t1753: f64 = t605 * t1752;
+        let t1754 = product(t1739, 0.2);
+        let t1755: f64 = t1740 * 0.292;
+        let t1756 = product(t1743, 0.295);
+        let t1757 = product(t1753, 0.003);
+        let t1758: f64 = t1754.plus(t1755);
+        let t1759: f64 = t1756.plus(t1758);
+        let t1760: f64 = t1757.subtracted_from(t1759);
+        let t1761 = product(t585, t1760);
+        let t1762: f64 = t1740 + t1743;
+        let t1763: f64 = t1762 * 0.3;
+        let t1764: f64 = t1761.added_to(t1739);
+        let t1765: f64 = t1764 - t1763;
+        let t1766: f64 = t600 * t1765;
+        let t1767: f64 = t1738.minus(t1766);
+        let t1768: f64 = t1767 - t1710;
+        let t1769 = product(t572, t1768);
+        let t1770 = product(t621, t1694);
+        let t1771: f64 = t885 * t1698;
+        let t1772: f64 = t1770.plus(t1771);
+        let t1773 = product(t663, t1703);
+        let t1774: f64 = t672 * t1707;
+        let t1775: f64 = t1773.plus(t1774);
+        let t1776: f64 = t1772 + t1775;
+        let t1777 = product(t652, t1737);
+        let t1778: f64 = t618 * t1765;
+        let t1779: f64 = t1777.minus(t1778);
+        let t1780: f64 = t1776 + t1779;
+        let t1781: f64 = t573 * t1780;
+        let t1782: f64 = t1769.plus(t1781);
+        let t1783: f64 = t1663 - t1782;
+        let t1784: f64 = t188 * 9.81;
         let t1785: f64 = -t1784;
-        let t1786: f64 = t1714 * t1714;
-        let t1787 = product(t1749, t1786);
-        let t1788: f64 = t1721 * t1745;
-        let t1789: f64 = t1787.plus(t1788);
-        let t1790: f64 = t1783 + t1789;
-        let t1791: f64 = t680 * t1790;
-        let t1792: f64 = t1715 * t1750;
-        let t1793 = product(t1783, 0.3);
-        let t1794 = product(t1785, 0.2);
-        let t1795: f64 = t1791 * 0.295;
-        let t1796: f64 = t1792 * 0.292;
-        let t1797: f64 = t1794.plus(t1795);
-        let t1798: f64 = t1793.plus(t1796);
-        let t1799: f64 = t1797 - t1798;
-        let t1800 = product(t680, t1799);
-        let t1801: f64 = t1783 + t1785;
-        let t1802: f64 = t1791 - t1792;
-        let t1803: f64 = t1802 * 0.3;
-        let t1804: f64 = t1800.plus(t1801);
-        let t1805: f64 = t1804 - t1803;
-        let t1806: f64 = t719 * t1805;
-        let t1807: f64 = t1778.minus(t1806);
-        let t1808: f64 = t1728 + t1807;
-        let t1809 = product(t667, t1808);
-        let t1810 = product(t748, t1805);
-        let t1811: f64 = t716 * t1727;
-        let t1812 = product(t713, t1777);
-        let t1813: f64 = t1812.subtracted_from(t1811);
-        let t1814: f64 = t1810.plus(t1813);
-        let t1815: f64 = -t1814;
-        let t1816: f64 = t668 * t1815;
-        let t1817: f64 = t1809.plus(t1816);
-        let t1818 = product(wz, t10);
-        let t1819: f64 = wx * t1;
-        let t1820 = product(t6, t1819);
-        let t1821: f64 = wy * t21;
-        let t1822: f64 = t1820.plus(t1821);
-        let t1823: f64 = t1818.plus(t1822);
-        let t1824: f64 = wx * t5;
-        let t1825 = product(t1, t1824);
-        let t1826: f64 = wy * t24;
+        let t1786 = product(wy, t137);
+        let t1787: f64 = wz * t138;
+        let t1788: f64 = t1786.minus(t1787);
+        let t1789: f64 = vx + t1788;
+        let t1790 = product(t189, t1789);
+        let t1791 = product(wz, t141);
+        let t1792: f64 = wx * t137;
+        let t1793: f64 = t1791.minus(t1792);
+        let t1794: f64 = vy + t1793;
+        let t1795: f64 = t167 * t1794;
+        let t1796 = product(wx, t138);
+        let t1797: f64 = wy * t141;
+        let t1798: f64 = t1796.minus(t1797);
+        let t1799: f64 = vz + t1798;
+        let t1800 = product(t185, t1799);
+        let t1801: f64 = t1790.plus(t1795);
+        let t1802: f64 = t1800.plus(t1801);
+        let t1803: f64 = t151 * t1802;
+        let t1804 = product(t1803, t1803);
+        let t1805 = product(t733, t1789);
+        let t1806: f64 = t191 * t1794;
+        let t1807 = product(t219, t1799);
+        let t1808: f64 = t1805.plus(t1806);
+        let t1809: f64 = t1807.plus(t1808);
+        let t1810: f64 = t151 * t1809;
+        let t1811: f64 = t1810 * t1810;
+        let t1812: f64 = t1804.plus(t1811);
+        let t1813 = product(t1812, 0.3);
+        let t1814: f64 = t1813.subtracted_from(t1785);
+        let t1815 = product(t188, t1814);
+        let t1816 = product(wy, t1798);
+        let t1817: f64 = wz * t1793;
+        let t1818: f64 = t1816.minus(t1817);
+        let t1819: f64 = t757 * t1818;
+        let t1820: f64 = t1815.minus(t1819);
+        let t1821 = product(wz, t1788);
+        let t1822: f64 = wx * t1798;
+        let t1823: f64 = t1821.minus(t1822);
+        let t1824 = product(t230, t1823);
+        let t1825 = product(wx, t1793);
+        let t1826: f64 = wy * t1788;
         let t1827: f64 = t1825.minus(t1826);
-        let t1828 = product(wz, t14);
-        let t1829: f64 = t1828.subtracted_from(t1827);
-        let t1830: f64 = t1829 * 0.4108;
-        let t1831 = product(t1823, t1830);
-        let t1832: f64 = t1823 * 0.4108;
-        let t1833: f64 = t1829 * t1832;
-        let t1834: f64 = t1831.minus(t1833);
-        let t1835 = product(t0, t1834);
-        let t1836 = product(t17, t29);
-        let t1837: f64 = t27 * t39;
-        let t1838: f64 = t1836.minus(t1837);
-        let t1839: f64 = g1 * t44;
-        let t1840: f64 = t1838 * t1839;
-        let t1841: f64 = t1835.minus(t1840);
-        let t1842 = product(t283, t288);
-        let t1843: f64 = t286 * t296;
-        let t1844: f64 = t1842.minus(t1843);
-        let t1845: f64 = g3 * t301;
-        let t1846 = product(t1844, t1845);
-        let t1847 = product(t156, t159);
-        let t1848: f64 = t157 * t165;
-        let t1849: f64 = t1847.minus(t1848);
-        let t1850: f64 = g2 * t170;
-        let t1851: f64 = t1849 * t1850;
-        let t1852: f64 = t1846.minus(t1851);
-        let t1853: f64 = t1841 + t1852;
-        let t1854 = product(t667, t670);
-        let t1855: f64 = t668 * t675;
-        let t1856: f64 = t1854.minus(t1855);
-        let t1857: f64 = g6 * t680;
-        let t1858 = product(t1856, t1857);
-        let t1859: f64 = wz * t4;
-        let t1860 = product(t1, t1859);
-        let t1861 = product(wx, t0);
-        let t1862: f64 = wy * t3;
-        let t1863: f64 = t1 * t1862;
-        let t1864: f64 = t1861.minus(t1863);
-        let t1865: f64 = t1860.plus(t1864);
-        let t1866: f64 = t1865 * 0.7;
-        let t1867 = product(t1829, t1866);
-        let t1868: f64 = t1830 * t1865;
-        let t1869: f64 = t1867.minus(t1868);
-        let t1870 = product(t6, t1869);
-        let t1871 = product(t1832, t1865);
-        let t1872: f64 = t1823 * t1866;
-        let t1873: f64 = t1871.minus(t1872);
-        let t1874: f64 = t5 * t1873;
-        let t1875: f64 = t1870.plus(t1874);
-        let t1876: f64 = t1 * t1875;
-        let t1877: f64 = t1858.plus(t1876);
-        let t1878 = product(t414, t419);
-        let t1879: f64 = t417 * t427;
-        let t1880: f64 = t1878.minus(t1879);
-        let t1881: f64 = g4 * t432;
-        let t1882 = product(t1880, t1881);
-        let t1883 = product(t543, t546);
-        let t1884: f64 = t544 * t552;
-        let t1885: f64 = t1883.minus(t1884);
-        let t1886: f64 = g5 * t557;
-        let t1887: f64 = t1885 * t1886;
-        let t1888: f64 = t1882.plus(t1887);
-        let t1889: f64 = t1877 - t1888;
-        let t1890: f64 = t1853 + t1889;
-        let t1891 = product(wx, t27);
-        let t1892: f64 = wy * t34;
+        let t1828: f64 = t239 * t1827;
+        let t1829: f64 = t1824.plus(t1828);
+        let t1830: f64 = t1820 - t1829;
+        let t1831: f64 = t185 * 9.81;
+        let t1832: f64 = -t1831;
+        let t1833: f64 = t151 * t172;
+        let t1834: f64 = t1802 * t1833;
+        let t1835: f64 = t1810 * t1834;
+        let t1836 = product(t186, t1789);
+        let t1837: f64 = t152 * t1794;
+        let t1838 = product(t188, t1799);
+        let t1839: f64 = t1836.plus(t1837);
+        let t1840: f64 = t1838.plus(t1839);
+        let t1841: f64 = t151 * t1840;
+        let t1842: f64 = t1841 * 2.0;
+        let t1843 = product(t1809, t1833);
+        let t1844: f64 = t1843.subtracted_from(t1842);
+        let t1845: f64 = t1803 * t1844;
+        let t1846: f64 = t151 * t151;
+        let t1847: f64 = t166 * t166;
+        let t1848: f64 = t149 * t1846;
+        let t1849: f64 = t1847 * t1848;
+        let t1850: f64 = t1802 * t1849;
+        let t1851 = product(t1809, t1850);
+        let t1852: f64 = -t1845;
+        let t1853: f64 = t172 * t1852;
+        let t1854: f64 = t1851.plus(t1853);
+        let t1855: f64 = t172 * t1854;
+        let t1856 = product(t1832, 0.2);
+        let t1857: f64 = t1835 * 0.292;
+        let t1858 = product(t1845, 0.295);
+        let t1859 = product(t1855, 0.003);
+        let t1860: f64 = t1856.plus(t1857);
+        let t1861: f64 = t1858.plus(t1860);
+        let t1862: f64 = t1859.subtracted_from(t1861);
+        let t1863 = product(t151, t1862);
+        let t1864: f64 = t1835 + t1845;
+        let t1865: f64 = t1864 * 0.3;
+        let t1866: f64 = t1863.added_to(t1832);
+        let t1867: f64 = t1866 - t1865;
+        let t1868 = product(t185, t1867);
+        let t1869: f64 = t219 * 9.81;
+        let t1870: f64 = -t1869;
+        let t1871: f64 = t1803 * t1834;
+        let t1872: f64 = t1802 * t1802;
+        let t1873 = product(t1833, t1872);
+        let t1874: f64 = t1809 * t1842;
+        let t1875: f64 = t1873.plus(t1874);
+        let t1876: f64 = t151 * t1875;
+        let t1877 = product(t1870, 0.2);
+        let t1878 = product(t1871, 0.292);
+        let t1879: f64 = t1876 * 0.295;
+        let t1880: f64 = t1877.plus(t1879);
+        let t1881: f64 = t1878.subtracted_from(t1880);
+        let t1882 = product(t151, t1881);
+        let t1883: f64 = t1871 - t1876;
+        let t1884: f64 = t1883 * 0.3;
+        let t1885: f64 = t1882.added_to(t1870);
+        let t1886: f64 = t1884 + t1885;
+        let t1887: f64 = t219 * t1886;
+        let t1888: f64 = t1868.plus(t1887);
+        let t1889: f64 = t1830 + t1888;
+        let t1890 = product(t138, t1889);
+        let t1891 = product(t152, t1814);
+        let t1892: f64 = t744 * t1818;
         let t1893: f64 = t1891.minus(t1892);
-        let t1894 = product(wy, t1893);
-        let t1895 = product(wz, t34);
-        let t1896: f64 = wx * t17;
-        let t1897: f64 = t1895.minus(t1896);
-        let t1898: f64 = wz * t1897;
-        let t1899: f64 = t1894.minus(t1898);
-        let t1900 = product(t80, t1899);
-        let t1901 = product(wy, t17);
-        let t1902: f64 = wz * t27;
-        let t1903: f64 = t1901.minus(t1902);
-        let t1904 = product(wz, t1903);
-        let t1905: f64 = wx * t1893;
-        let t1906: f64 = t1904.minus(t1905);
-        let t1907: f64 = t45 * t1906;
-        let t1908 = product(wx, t1897);
-        let t1909: f64 = wy * t1903;
-        let t1910: f64 = t1908.minus(t1909);
-        let t1911 = product(t82, t1910);
-        let t1912: f64 = t1900.plus(t1907);
-        let t1913: f64 = t1911.plus(t1912);
-        let t1914: f64 = t82 * 9.81;
-        let t1915: f64 = -t1914;
-        let t1916: f64 = vx + t1903;
-        let t1917 = product(t83, t1916);
-        let t1918: f64 = vy + t1897;
-        let t1919: f64 = t61 * t1918;
-        let t1920: f64 = vz + t1893;
-        let t1921 = product(t79, t1920);
-        let t1922: f64 = t1917.plus(t1919);
-        let t1923: f64 = t1921.plus(t1922);
-        let t1924: f64 = t44 * t1923;
-        let t1925 = product(t1924, t1924);
-        let t1926 = product(t818, t1916);
-        let t1927: f64 = t85 * t1918;
-        let t1928 = product(t114, t1920);
-        let t1929: f64 = t1926.plus(t1927);
-        let t1930: f64 = t1928.plus(t1929);
-        let t1931: f64 = t44 * t1930;
-        let t1932: f64 = t1931 * t1931;
-        let t1933: f64 = t1925.plus(t1932);
-        let t1934 = product(t1933, 0.3);
-        let t1935: f64 = t1934.added_to(t1913);
-        let t1936: f64 = t1935 - t1915;
-        let t1937: f64 = t82 * t1936;
-        let t1938 = product(t83, t1899);
-        let t1939: f64 = t61 * t1906;
-        let t1940 = product(t79, t1910);
-        let t1941: f64 = t1938.plus(t1939);
-        let t1942: f64 = t1940.plus(t1941);
-        let t1943: f64 = t79 * 9.81;
-        let t1944: f64 = -t1943;
-        let t1945 = product(t44, t1942);
-        let t1946: f64 = t66 * t99;
-        let t1947: f64 = t1923 * t1946;
-        let t1948 = product(t1930, t1947);
-        let t1949 = product(t80, t1916);
-        let t1950: f64 = t45 * t1918;
-        let t1951 = product(t82, t1920);
-        let t1952: f64 = t1949.plus(t1950);
-        let t1953: f64 = t1951.plus(t1952);
-        let t1954: f64 = t44 * t1953;
-        let t1955: f64 = t1954 * 2.0;
-        let t1956: f64 = t1924 * t1955;
-        let t1957: f64 = t1948.plus(t1956);
-        let t1958: f64 = t1945.subtracted_from(t1957);
-        let t1959: f64 = t44 * t66;
-        let t1960: f64 = t1923 * t1959;
-        let t1961: f64 = t1931 * t1960;
-        let t1962 = product(t66, t1957);
-        let t1963: f64 = t60 * t60;
-        let t1964: f64 = t42 * t44;
-        let t1965: f64 = t1963 * t1964;
-        let t1966: f64 = t1923 * t1965;
-        let t1967 = product(t1930, t1966);
-        let t1968: f64 = t66 * t1942;
-        let t1969: f64 = t1967.minus(t1968);
-        let t1970: f64 = t44 * t1969;
-        let t1971: f64 = t1962.plus(t1970);
-        let t1972: f64 = t66 * t1971;
-        let t1973 = product(t1942, 0.3);
-        let t1974: f64 = t1944 * 0.2;
-        let t1975: f64 = t1958 * 0.295;
-        let t1976: f64 = t1961 * 0.292;
-        let t1977 = product(t1972, 0.003);
-        let t1978: f64 = t1973.plus(t1974);
-        let t1979: f64 = t1977.added_to(t1975);
-        let t1980: f64 = t1978 + t1979;
-        let t1981: f64 = t1980 - t1976;
-        let t1982 = product(t44, t1981);
-        let t1983: f64 = t1942 - t1944;
-        let t1984: f64 = t1958 - t1961;
-        let t1985 = product(t1984, 0.3);
-        let t1986: f64 = t1985.added_to(t1983);
-        let t1987: f64 = t1982.subtracted_from(t1986);
-        let t1988 = product(t79, t1987);
-        let t1989 = product(t114, t1910);
-        let t1990 = product(t818, t1899);
-        let t1991: f64 = t85 * t1906;
-        let t1992: f64 = t1990.plus(t1991);
-        let t1993: f64 = t1989.plus(t1992);
-        let t1994: f64 = t114 * 9.81;
-        let t1995: f64 = -t1994;
-        let t1996: f64 = t1923 * t1923;
-        let t1997 = product(t1959, t1996);
-        let t1998 = product(t1930, t1955);
-        let t1999: f64 = t1997.added_to(t1993);
-        let t2000: f64 = t1998.subtracted_from(t1999);
-        let t2001: f64 = t44 * t2000;
-        let t2002: f64 = t1924 * t1960;
+        let t1894 = product(t202, t1823);
+        let t1895: f64 = t230 * t1827;
+        let t1896: f64 = t1894.plus(t1895);
+        let t1897: f64 = t1893 - t1896;
+        let t1898 = product(t167, t1867);
+        let t1899: f64 = t191 * t1886;
+        let t1900: f64 = t1898.plus(t1899);
+        let t1901: f64 = t1897 + t1900;
+        let t1902: f64 = t137 * t1901;
+        let t1903: f64 = t1890.minus(t1902);
+        let t1904: f64 = t300 * 9.81;
+        let t1905: f64 = -t1904;
+        let t1906 = product(wy, t245);
+        let t1907: f64 = wz * t248;
+        let t1908: f64 = t1906.minus(t1907);
+        let t1909: f64 = vx - t1908;
+        let t1910 = product(t301, t1909);
+        let t1911 = product(wz, t253);
+        let t1912: f64 = wx * t245;
+        let t1913: f64 = t1911.minus(t1912);
+        let t1914: f64 = vy - t1913;
+        let t1915: f64 = t279 * t1914;
+        let t1916 = product(wx, t248);
+        let t1917: f64 = wy * t253;
+        let t1918: f64 = t1916.minus(t1917);
+        let t1919: f64 = vz - t1918;
+        let t1920 = product(t297, t1919);
+        let t1921: f64 = t1910.plus(t1915);
+        let t1922: f64 = t1920.subtracted_from(t1921);
+        let t1923: f64 = t263 * t1922;
+        let t1924 = product(t1923, t1923);
+        let t1925 = product(t765, t1909);
+        let t1926 = product(t303, t1914);
+        let t1927: f64 = t331 * t1919;
+        let t1928: f64 = t1925.plus(t1927);
+        let t1929: f64 = t1926.subtracted_from(t1928);
+        let t1930: f64 = t263 * t1929;
+        let t1931: f64 = t1930 * t1930;
+        let t1932: f64 = t1924.plus(t1931);
+        let t1933 = product(t1932, 0.3);
+        let t1934: f64 = t1933.subtracted_from(t1905);
+        let t1935 = product(t264, t1934);
+        let t1936 = product(wy, t1918);
+        let t1937: f64 = wz * t1913;
+        let t1938: f64 = t1936.minus(t1937);
+        let t1939: f64 = t776 * t1938;
+        let t1940: f64 = t1935.plus(t1939);
+        let t1941 = product(wz, t1908);
+        let t1942: f64 = wx * t1918;
+        let t1943: f64 = t1941.minus(t1942);
+        let t1944 = product(t314, t1943);
+        let t1945 = product(wx, t1913);
+        let t1946: f64 = wy * t1908;
+        let t1947: f64 = t1945.minus(t1946);
+        let t1948: f64 = t342 * t1947;
+        let t1949: f64 = t1944.plus(t1948);
+        let t1950: f64 = t1940 + t1949;
+        let t1951: f64 = t331 * 9.81;
+        let t1952: f64 = -t1951;
+        let t1953: f64 = t263 * t284;
+        let t1954: f64 = t1922 * t1953;
+        let t1955: f64 = t1923 * t1954;
+        let t1956: f64 = t1922 * t1922;
+        let t1957 = product(t1953, t1956);
+        let t1958 = product(t298, t1909);
+        let t1959: f64 = t264 * t1914;
+        let t1960 = product(t300, t1919);
+        let t1961: f64 = t1958.plus(t1959);
+        let t1962: f64 = t1960.plus(t1961);
+        let t1963: f64 = t263 * t1962;
+        let t1964: f64 = t1963 * 2.0;
+        let t1965: f64 = t1929 * t1964;
+        let t1966: f64 = t1957.minus(t1965);
+        let t1967: f64 = t263 * t1966;
+        let t1968 = product(t1952, 0.2);
+        let t1969: f64 = t1955 * 0.292;
+        let t1970 = product(t1967, 0.295);
+        let t1971: f64 = t1968.plus(t1969);
+        let t1972: f64 = t1970.subtracted_from(t1971);
+        let t1973 = product(t263, t1972);
+        let t1974: f64 = t1967 - t1955;
+        let t1975: f64 = t1974 * 0.3;
+        let t1976: f64 = t1973.added_to(t1952);
+        let t1977: f64 = t1975 + t1976;
+        let t1978 = product(t303, t1977);
+        let t1979: f64 = t297 * 9.81;
+        let t1980: f64 = t1930 * t1954;
+        let t1981 = product(t1929, t1953);
+        let t1982: f64 = t1981.added_to(t1964);
+        let t1983: f64 = t1923 * t1982;
+        let t1984: f64 = t278 * t278;
+        let t1985: f64 = t261 * t263;
+        let t1986: f64 = t1984 * t1985;
+        let t1987 = product(t1929, t1986);
+        let t1988: f64 = t284 * t1982;
+        let t1989: f64 = t1987.plus(t1988);
+        let t1990: f64 = t1923 * t1989;
+        let t1991: f64 = t284 * t1990;
+        let t1992 = product(t1979, 0.2);
+        let t1993: f64 = t1980 * 0.292;
+        let t1994: f64 = t1983 * 0.295;
+        let t1995 = product(t1991, 0.003);
+        let t1996: f64 = t1992.plus(t1994);
+        let t1997: f64 = t1995.plus(t1996);
+        let t1998: f64 = t1997 - t1993;
+        let t1999 = product(t263, t1998);
+        let t2000: f64 = t1980 - t1983;
+        let t2001: f64 = t2000 * 0.3;
+        let t2002: f64 = t1999.added_to(t1979);
         (
-            t1005,
-            t1009,
+            t1008,
+            t1017,
+            t1021,
+            t1042,
             t1051,
             t1055,
-            t1097,
-            t1101,
-            t1143,
-            t1147,
-            t1189,
-            t1193,
-            t1235,
-            t1239,
-            t1299,
-            t1300,
-            t1312,
-            t1313,
-            t1315,
-            t1455,
-            t1509,
-            t1514,
-            t1522,
-            t1524,
+            t1076,
+            t1085,
+            t1089,
+            t1110,
+            t1137,
+            t1138,
+            t1150,
+            t1151,
+            t1153,
+            t1263,
+            t1311,
+            t1316,
+            t1324,
+            t1326,
+            t1329,
+            t1335,
+            t1346,
+            t1347,
+            t1355,
+            t1356,
+            t1368,
+            t1369,
+            t1373,
+            t1392,
+            t1403,
+            t1404,
+            t1413,
+            t1414,
+            t1430,
+            t1431,
+            t1443,
+            t1444,
+            t1449,
+            t1471,
+            t1488,
+            t1492,
+            t1493,
+            t1498,
+            t1499,
+            t1503,
+            t1504,
+            t1510,
+            t1511,
+            t1523,
             t1527,
-            t1533,
+            t1534,
+            t1535,
+            t1539,
+            t1540,
             t1544,
-            t1545,
-            t1553,
-            t1554,
-            t1566,
-            t1567,
-            t1571,
-            t1590,
-            t1601,
-            t1602,
-            t1611,
-            t1612,
+            t1575,
+            t1579,
+            t1584,
+            t1588,
+            t1591,
+            t1593,
+            t1594,
+            t1613,
+            t1616,
+            t1619,
+            t1621,
+            t1624,
+            t1629,
             t1640,
-            t1641,
-            t1653,
-            t1654,
+            t1643,
+            t1647,
+            t1648,
+            t1656,
             t1659,
-            t1681,
-            t1727,
-            t1728,
-            t1749,
-            t1761,
+            t1660,
+            t1694,
+            t1698,
+            t1703,
+            t1707,
+            t1710,
+            t1712,
+            t1713,
+            t1732,
+            t1735,
+            t1739,
+            t1744,
+            t1752,
+            t1759,
+            t1760,
+            t1763,
+            t1767,
             t1768,
-            t1770,
-            t1771,
             t1776,
-            t1799,
-            t1801,
-            t1803,
-            t1807,
-            t1808,
-            t1811,
+            t1779,
+            t1780,
+            t1783,
             t1814,
-            t1815,
-            t1817,
-            t1834,
-            t1838,
-            t1839,
-            t1844,
-            t1845,
-            t1849,
-            t1850,
-            t1856,
-            t1857,
-            t1869,
-            t1873,
-            t1880,
+            t1818,
+            t1823,
+            t1827,
+            t1830,
+            t1832,
+            t1833,
+            t1846,
+            t1854,
+            t1861,
+            t1862,
+            t1865,
+            t1870,
             t1881,
-            t1885,
-            t1886,
-            t1890,
-            t1936,
-            t1937,
-            t1959,
-            t1971,
+            t1884,
+            t1888,
+            t1889,
+            t1897,
+            t1900,
+            t1901,
+            t1903,
+            t1934,
+            t1938,
+            t1943,
+            t1947,
+            t1950,
+            t1952,
+            t1953,
+            t1972,
             t1975,
-            t1976,
+            t1977,
             t1978,
-            t1981,
-            t1986,
-            t1987,
-            t1988,
+            t1979,
+            t1990,
             t1993,
-            t1995,
+            t1996,
+            t1998,
             t2001,
             t2002,
         )
     };
     let (
-        t2009,
-        t2077,
-        t2111,
-        t2149,
-        t2161,
-        t2213,
-        t2234,
-        t2246,
-        t2253,
-        t2254,
+        t2219,
+        t2268,
+        t2274,
+        t2278,
         t2284,
-        t2297,
-        t2350,
-        t2359,
-        t2380,
-        t2411,
-        t2415,
-        t2416,
-        t2418,
-        t2426,
-        t2433,
-        t2485,
-        t2494,
-        t2515,
-        t2546,
-        t2550,
-        t2554,
-        t2568,
-        t2577,
-        t2584,
-        t2590,
-        t2594,
-        t2600,
-        t2604,
-        t2612,
-        t2616,
-        t2618,
-        t2637,
-        t2639,
-        t2652,
-        t2654,
-        t2657,
-        t2665,
-        t2670,
-        t2685,
-        t2687,
-        t2691,
-        t2702,
-        t2705,
-        t2714,
-        t2720,
-        t2726,
-        t2730,
-        t2736,
-        t2740,
-        t2748,
-        t2752,
-        t2781,
-        t2816,
-        t2862,
+        t2288,
+        t2296,
+        t2440,
+        t2446,
+        t2450,
+        t2456,
+        t2460,
+        t2468,
+        t2501,
+        t2624,
+        t2641,
+        t2646,
+        t2682,
+        t2683,
+        t2747,
+        t2770,
+        t2792,
+        t2814,
+        t2821,
+        t2828,
+        t2835,
+        t2842,
+        t2849,
+        t2856,
+        t2863,
+        t2870,
+        t2877,
+        t2884,
+        t2891,
         t2898,
-        t2913,
-        t2919,
-        t2958,
-        t2959,
         t2961,
         t2963,
+        t2964,
+        t2965,
+        t2966,
         t2967,
-        t2969,
-        t2970,
-        t2972,
-        t2979,
-        t2982,
-        t2983,
-        t2985,
-        t2986,
+        t2988,
         t2990,
         t2992,
-        t2993,
-        t2995,
+        t3001,
         t3002,
     ) = {
-        let t2003 = product(t1993, 0.3);
-        let t2004: f64 = t1995 * 0.2;
-        let t2005 = product(t2001, 0.295);
-        let t2006 = product(t2002, 0.292);
-        let t2007: f64 = t2003.plus(t2004);
-        let t2008: f64 = t2006.plus(t2007);
-        let t2009: f64 = t2005.minus(t2008);
-        let t2010 = product(t44, t2009);
-        let t2011: f64 = t1993 - t1995;
-        let t2012: f64 = t2001 - t2002;
-        let t2013: f64 = t2012 * 0.3;
-        let t2014: f64 = t2010.plus(t2011);
-        let t2015: f64 = t2014 - t2013;
-        let t2016: f64 = t114 * t2015;
-        let t2017: f64 = t1988.plus(t2016);
-        let t2018: f64 = t1937 + t2017;
-        let t2019: f64 = -t2018;
-        let t2020 = product(t27, t2019);
-        let t2021: f64 = t45 * t1936;
-        let t2022 = product(t61, t1987);
-        let t2023: f64 = t85 * t2015;
-        let t2024: f64 = t2022.plus(t2023);
-        let t2025: f64 = t2021 + t2024;
-        let t2026: f64 = -t2025;
-        let t2027: f64 = t17 * t2026;
-        let t2028: f64 = t2020.minus(t2027);
-        let t2029: f64 = t1890 + t2028;
-        let t2030: f64 = t1817 + t2029;
-        let t2031 = product(wx, t157);
-        let t2032: f64 = wy * t160;
-        let t2033: f64 = t2031.minus(t2032);
-        let t2034 = product(wy, t2033);
-        let t2035 = product(wz, t160);
-        let t2036: f64 = wx * t156;
-        let t2037: f64 = t2035.minus(t2036);
-        let t2038: f64 = wz * t2037;
-        let t2039: f64 = t2034.minus(t2038);
-        let t2040 = product(t205, t2039);
-        let t2041 = product(wy, t156);
-        let t2042: f64 = wz * t157;
-        let t2043: f64 = t2041.minus(t2042);
-        let t2044 = product(wz, t2043);
-        let t2045: f64 = wx * t2033;
-        let t2046: f64 = t2044.minus(t2045);
-        let t2047: f64 = t171 * t2046;
-        let t2048 = product(wx, t2037);
-        let t2049: f64 = wy * t2043;
-        let t2050: f64 = t2048.minus(t2049);
-        let t2051 = product(t207, t2050);
-        let t2052: f64 = t2040.plus(t2047);
-        let t2053: f64 = t2051.plus(t2052);
-        let t2054: f64 = t207 * 9.81;
-        let t2055: f64 = -t2054;
-        let t2056: f64 = vx + t2043;
-        let t2057 = product(t208, t2056);
-        let t2058: f64 = vy + t2037;
-        let t2059: f64 = t186 * t2058;
-        let t2060: f64 = vz + t2033;
-        let t2061 = product(t204, t2060);
-        let t2062: f64 = t2057.plus(t2059);
-        let t2063: f64 = t2061.plus(t2062);
-        let t2064: f64 = t170 * t2063;
-        let t2065 = product(t2064, t2064);
-        let t2066 = product(t846, t2056);
-        let t2067: f64 = t210 * t2058;
-        let t2068 = product(t239, t2060);
-        let t2069: f64 = t2066.plus(t2067);
-        let t2070: f64 = t2068.plus(t2069);
-        let t2071: f64 = t170 * t2070;
-        let t2072: f64 = t2071 * t2071;
-        let t2073: f64 = t2065.plus(t2072);
-        let t2074 = product(t2073, 0.3);
-        let t2075: f64 = t2074.added_to(t2053);
-        let t2076: f64 = t2075 - t2055;
-        let t2077: f64 = t171 * t2076;
-        let t2078 = product(t208, t2039);
-        let t2079: f64 = t186 * t2046;
-        let t2080 = product(t204, t2050);
-        let t2081: f64 = t2078.plus(t2079);
-        let t2082: f64 = t2080.plus(t2081);
-        let t2083: f64 = t204 * 9.81;
-        let t2084: f64 = -t2083;
-        let t2085 = product(t170, t2082);
-        let t2086: f64 = t191 * t224;
-        let t2087: f64 = t2063 * t2086;
-        let t2088 = product(t2070, t2087);
-        let t2089 = product(t205, t2056);
-        let t2090: f64 = t171 * t2058;
-        let t2091 = product(t207, t2060);
-        let t2092: f64 = t2089.plus(t2090);
-        let t2093: f64 = t2091.plus(t2092);
-        let t2094: f64 = t170 * t2093;
-        let t2095: f64 = t2094 * 2.0;
-        let t2096: f64 = t2064 * t2095;
-        let t2097: f64 = t2088.minus(t2096);
-        let t2098: f64 = t2085.plus(t2097);
-        let t2099: f64 = t170 * t191;
-        let t2100: f64 = t2063 * t2099;
-        let t2101: f64 = t2071 * t2100;
-        let t2102 = product(t191, t2097);
-        let t2103: f64 = t185 * t185;
-        let t2104: f64 = t168 * t170;
-        let t2105: f64 = t2103 * t2104;
-        let t2106: f64 = t2063 * t2105;
-        let t2107 = product(t2070, t2106);
-        let t2108: f64 = t191 * t2082;
-        let t2109: f64 = t2107.plus(t2108);
-        let t2110: f64 = t170 * t2109;
-        let t2111: f64 = t2102.plus(t2110);
-        let t2112: f64 = t191 * t2111;
-        let t2113 = product(t2082, 0.3);
-        let t2114: f64 = t2084 * 0.2;
-        let t2115: f64 = t2098 * 0.295;
-        let t2116 = product(t2101, 0.292);
-        let t2117 = product(t2112, 0.003);
-        let t2118: f64 = t2113.plus(t2114);
-        let t2119: f64 = t2116.plus(t2118);
-        let t2120: f64 = t2117.added_to(t2115);
-        let t2121: f64 = t2119 - t2120;
-        let t2122 = product(t170, t2121);
-        let t2123: f64 = t2082 - t2084;
-        let t2124: f64 = t2098 - t2101;
-        let t2125: f64 = t2124 * 0.3;
-        let t2126: f64 = t2122.plus(t2125);
-        let t2127: f64 = t2123 - t2126;
-        let t2128 = product(t186, t2127);
-        let t2129 = product(t239, t2050);
-        let t2130 = product(t846, t2039);
-        let t2131: f64 = t210 * t2046;
-        let t2132: f64 = t2130.plus(t2131);
-        let t2133: f64 = t2129.plus(t2132);
-        let t2134: f64 = t239 * 9.81;
-        let t2135: f64 = -t2134;
-        let t2136: f64 = t2063 * t2063;
-        let t2137 = product(t2099, t2136);
-        let t2138: f64 = t2070 * t2095;
-        let t2139: f64 = t2137.plus(t2138);
-        let t2140: f64 = t2133 - t2139;
-        let t2141: f64 = t170 * t2140;
-        let t2142: f64 = t2064 * t2100;
-        let t2143 = product(t2133, 0.3);
-        let t2144: f64 = t2135 * 0.2;
-        let t2145 = product(t2141, 0.295);
-        let t2146: f64 = t2142 * 0.292;
-        let t2147: f64 = t2143.plus(t2144);
-        let t2148: f64 = t2145.plus(t2146);
-        let t2149: f64 = t2147 - t2148;
-        let t2150 = product(t170, t2149);
-        let t2151: f64 = t2133 - t2135;
-        let t2152: f64 = t2141 + t2142;
-        let t2153: f64 = t2152 * 0.3;
-        let t2154: f64 = t2150.plus(t2153);
-        let t2155: f64 = t2151 - t2154;
-        let t2156: f64 = t210 * t2155;
-        let t2157: f64 = t2128.plus(t2156);
-        let t2158: f64 = t2077 + t2157;
-        let t2159 = product(t156, t2158);
-        let t2160 = product(t239, t2155);
-        let t2161: f64 = t207 * t2076;
-        let t2162 = product(t204, t2127);
-        let t2163: f64 = t2162.added_to(t2161);
-        let t2164: f64 = t2160.plus(t2163);
-        let t2165: f64 = t157 * t2164;
-        let t2166: f64 = t2159.minus(t2165);
-        let t2167 = product(wx, t286);
-        let t2168: f64 = wy * t291;
-        let t2169: f64 = t2167.minus(t2168);
-        let t2170 = product(wy, t2169);
-        let t2171 = product(wz, t291);
-        let t2172: f64 = wx * t283;
-        let t2173: f64 = t2171.minus(t2172);
-        let t2174: f64 = wz * t2173;
-        let t2175: f64 = t2170.minus(t2174);
-        let t2176 = product(t336, t2175);
-        let t2177 = product(wy, t283);
-        let t2178: f64 = wz * t286;
-        let t2179: f64 = t2177.minus(t2178);
-        let t2180 = product(wz, t2179);
-        let t2181: f64 = wx * t2169;
+        let t2003: f64 = t2001 + t2002;
+        let t2004: f64 = t279 * t2003;
+        let t2005: f64 = t1978.minus(t2004);
+        let t2006: f64 = t2005 - t1950;
+        let t2007 = product(t245, t2006);
+        let t2008 = product(t300, t1934);
+        let t2009: f64 = t789 * t1938;
+        let t2010: f64 = t2008.plus(t2009);
+        let t2011 = product(t342, t1943);
+        let t2012: f64 = t351 * t1947;
+        let t2013: f64 = t2011.plus(t2012);
+        let t2014: f64 = t2010 + t2013;
+        let t2015 = product(t331, t1977);
+        let t2016: f64 = t297 * t2003;
+        let t2017: f64 = t2015.minus(t2016);
+        let t2018: f64 = t2014 + t2017;
+        let t2019: f64 = t248 * t2018;
+        let t2020: f64 = t2007.plus(t2019);
+        let t2021: f64 = t1903 - t2020;
+        let t2022 = product(wx, t360);
+        let t2023: f64 = wy * t365;
+        let t2024: f64 = t2022.minus(t2023);
+        let t2025 = product(wy, t2024);
+        let t2026 = product(wz, t365);
+        let t2027: f64 = wx * t357;
+        let t2028: f64 = t2026.minus(t2027);
+        let t2029: f64 = wz * t2028;
+        let t2030: f64 = t2025.minus(t2029);
+        let t2031 = product(t808, t2030);
+        let t2032: f64 = t412 * 9.81;
+        let t2033: f64 = -t2032;
+        let t2034 = product(wy, t357);
+        let t2035: f64 = wz * t360;
+        let t2036: f64 = t2034.minus(t2035);
+        let t2037: f64 = vx + t2036;
+        let t2038 = product(t413, t2037);
+        let t2039: f64 = vy + t2028;
+        let t2040: f64 = t391 * t2039;
+        let t2041: f64 = vz + t2024;
+        let t2042 = product(t409, t2041);
+        let t2043: f64 = t2038.plus(t2040);
+        let t2044: f64 = t2042.subtracted_from(t2043);
+        let t2045: f64 = t375 * t2044;
+        let t2046 = product(t2045, t2045);
+        let t2047 = product(t797, t2037);
+        let t2048 = product(t415, t2039);
+        let t2049: f64 = t443 * t2041;
+        let t2050: f64 = t2047.plus(t2049);
+        let t2051: f64 = t2048.subtracted_from(t2050);
+        let t2052: f64 = t375 * t2051;
+        let t2053: f64 = t2052 * t2052;
+        let t2054: f64 = t2046.plus(t2053);
+        let t2055 = product(t2054, 0.3);
+        let t2056: f64 = t2055.subtracted_from(t2033);
+        let t2057: f64 = t376 * t2056;
+        let t2058: f64 = t2031.minus(t2057);
+        let t2059 = product(wz, t2036);
+        let t2060: f64 = wx * t2024;
+        let t2061: f64 = t2059.minus(t2060);
+        let t2062 = product(t426, t2061);
+        let t2063 = product(wx, t2028);
+        let t2064: f64 = wy * t2036;
+        let t2065: f64 = t2063.minus(t2064);
+        let t2066: f64 = t454 * t2065;
+        let t2067: f64 = t2062.plus(t2066);
+        let t2068: f64 = t2058 + t2067;
+        let t2069: f64 = t443 * 9.81;
+        let t2070: f64 = -t2069;
+        let t2071: f64 = t375 * t396;
+        let t2072: f64 = t2044 * t2071;
+        let t2073: f64 = t2045 * t2072;
+        let t2074: f64 = t2044 * t2044;
+        let t2075 = product(t2071, t2074);
+        let t2076 = product(t410, t2037);
+        let t2077: f64 = t376 * t2039;
+        let t2078 = product(t412, t2041);
+        let t2079: f64 = t2076.plus(t2077);
+        let t2080: f64 = t2078.plus(t2079);
+        let t2081: f64 = t375 * t2080;
+        let t2082: f64 = t2081 * 2.0;
+        let t2083: f64 = t2051 * t2082;
+        let t2084: f64 = t2075.minus(t2083);
+        let t2085: f64 = t375 * t2084;
+        let t2086 = product(t2070, 0.2);
+        let t2087: f64 = t2073 * 0.292;
+        let t2088 = product(t2085, 0.295);
+        let t2089: f64 = t2086.plus(t2087);
+        let t2090: f64 = t2088.subtracted_from(t2089);
+        let t2091 = product(t375, t2090);
+        let t2092: f64 = t2085 - t2073;
+        let t2093: f64 = t2092 * 0.3;
+        let t2094: f64 = t2091.added_to(t2070);
+        let t2095: f64 = t2093 + t2094;
+        let t2096 = product(t415, t2095);
+        let t2097: f64 = t409 * 9.81;
+        let t2098: f64 = t2052 * t2072;
+        let t2099 = product(t2051, t2071);
+        let t2100: f64 = t2099.added_to(t2082);
+        let t2101: f64 = t2045 * t2100;
+        let t2102: f64 = t390 * t390;
+        let t2103: f64 = t373 * t375;
+        let t2104: f64 = t2102 * t2103;
+        let t2105 = product(t2051, t2104);
+        let t2106: f64 = t396 * t2100;
+        let t2107: f64 = t2105.plus(t2106);
+        let t2108: f64 = t2045 * t2107;
+        let t2109: f64 = t396 * t2108;
+        let t2110 = product(t2097, 0.2);
+        let t2111: f64 = t2098 * 0.292;
+        let t2112: f64 = t2101 * 0.295;
+        let t2113 = product(t2109, 0.003);
+        let t2114: f64 = t2110.plus(t2112);
+        let t2115: f64 = t2113.plus(t2114);
+        let t2116: f64 = t2115 - t2111;
+        let t2117 = product(t375, t2116);
+        let t2118: f64 = t2098 - t2101;
+        let t2119: f64 = t2118 * 0.3;
+        let t2120: f64 = t2117.added_to(t2097);
+        let t2121: f64 = t2119 + t2120;
+        let t2122: f64 = t391 * t2121;
+        let t2123: f64 = t2096.minus(t2122);
+        let t2124: f64 = t2068 + t2123;
+        let t2125 = product(t357, t2124);
+        let t2126 = product(t412, t2056);
+        let t2127: f64 = t821 * t2030;
+        let t2128: f64 = t2126.minus(t2127);
+        let t2129 = product(t454, t2061);
+        let t2130: f64 = t463 * t2065;
+        let t2131: f64 = t2129.plus(t2130);
+        let t2132: f64 = t2128 - t2131;
+        let t2133 = product(t443, t2095);
+        let t2134: f64 = t409 * t2121;
+        let t2135: f64 = t2133.minus(t2134);
+        let t2136: f64 = t2132 + t2135;
+        let t2137: f64 = t360 * t2136;
+        let t2138: f64 = t2125.plus(t2137);
+        let t2139 = product(wx, t468);
+        let t2140: f64 = wy * t471;
+        let t2141: f64 = t2139.minus(t2140);
+        let t2142 = product(wy, t2141);
+        let t2143 = product(wz, t471);
+        let t2144: f64 = wx * t467;
+        let t2145: f64 = t2143.minus(t2144);
+        let t2146: f64 = wz * t2145;
+        let t2147: f64 = t2142.minus(t2146);
+        let t2148 = product(t840, t2147);
+        let t2149: f64 = t517 * 9.81;
+        let t2150: f64 = -t2149;
+        let t2151 = product(wy, t467);
+        let t2152: f64 = wz * t468;
+        let t2153: f64 = t2151.minus(t2152);
+        let t2154: f64 = vx + t2153;
+        let t2155 = product(t518, t2154);
+        let t2156: f64 = vy + t2145;
+        let t2157: f64 = t496 * t2156;
+        let t2158: f64 = vz + t2141;
+        let t2159 = product(t514, t2158);
+        let t2160: f64 = t2155.plus(t2157);
+        let t2161: f64 = t2159.subtracted_from(t2160);
+        let t2162: f64 = t481 * t2161;
+        let t2163 = product(t2162, t2162);
+        let t2164 = product(t829, t2154);
+        let t2165 = product(t520, t2156);
+        let t2166: f64 = t548 * t2158;
+        let t2167: f64 = t2164.plus(t2166);
+        let t2168: f64 = t2165.subtracted_from(t2167);
+        let t2169: f64 = t481 * t2168;
+        let t2170: f64 = t2169 * t2169;
+        let t2171: f64 = t2163.plus(t2170);
+        let t2172 = product(t2171, 0.3);
+        let t2173: f64 = t2172.subtracted_from(t2150);
+        let t2174: f64 = t482 * t2173;
+        let t2175: f64 = t2148.minus(t2174);
+        let t2176 = product(wz, t2153);
+        let t2177: f64 = wx * t2141;
+        let t2178: f64 = t2176.minus(t2177);
+        let t2179 = product(t531, t2178);
+        let t2180 = product(wx, t2145);
+        let t2181: f64 = wy * t2153;
         let t2182: f64 = t2180.minus(t2181);
-        let t2183: f64 = t302 * t2182;
-        let t2184 = product(wx, t2173);
-        let t2185: f64 = wy * t2179;
-        let t2186: f64 = t2184.minus(t2185);
-        let t2187 = product(t338, t2186);
-        let t2188: f64 = t2176.plus(t2183);
-        let t2189: f64 = t2187.plus(t2188);
-        let t2190: f64 = t338 * 9.81;
-        let t2191: f64 = -t2190;
-        let t2192: f64 = vx - t2179;
-        let t2193 = product(t339, t2192);
-        let t2194: f64 = vy - t2173;
-        let t2195: f64 = t317 * t2194;
-        let t2196: f64 = vz - t2169;
-        let t2197 = product(t335, t2196);
-        let t2198: f64 = t2193.plus(t2195);
-        let t2199: f64 = t2197.subtracted_from(t2198);
-        let t2200: f64 = t301 * t2199;
-        let t2201 = product(t2200, t2200);
-        let t2202 = product(t874, t2192);
-        let t2203 = product(t341, t2194);
-        let t2204: f64 = t370 * t2196;
-        let t2205: f64 = t2202.plus(t2204);
-        let t2206: f64 = t2203.subtracted_from(t2205);
-        let t2207: f64 = t301 * t2206;
-        let t2208: f64 = t2207 * t2207;
-        let t2209: f64 = t2201.plus(t2208);
-        let t2210 = product(t2209, 0.3);
-        let t2211: f64 = t2189 + t2191;
-        let t2212: f64 = t2210.subtracted_from(t2211);
-        let t2213: f64 = t302 * t2212;
-        let t2214 = product(t339, t2175);
-        let t2215: f64 = t317 * t2182;
-        let t2216 = product(t335, t2186);
-        let t2217: f64 = t2214.plus(t2215);
-        let t2218: f64 = t2216.subtracted_from(t2217);
-        let t2219: f64 = t335 * 9.81;
-        let t2220 = product(t301, t2218);
-        let t2221: f64 = t322 * t355;
-        let t2222: f64 = t2199 * t2221;
-        let t2223 = product(t2206, t2222);
-        let t2224 = product(t336, t2192);
-        let t2225: f64 = t302 * t2194;
-        let t2226 = product(t338, t2196);
-        let t2227: f64 = t2224.plus(t2225);
-        let t2228: f64 = t2226.plus(t2227);
-        let t2229: f64 = t301 * t2228;
-        let t2230: f64 = t2229 * 2.0;
-        let t2231: f64 = t2200 * t2230;
-        let t2232: f64 = t2223.plus(t2231);
-        let t2233: f64 = t2220.plus(t2232);
-        let t2234: f64 = t301 * t322;
-        let t2235: f64 = t2199 * t2234;
-        let t2236: f64 = t2207 * t2235;
-        let t2237 = product(t322, t2232);
-        let t2238: f64 = t316 * t316;
-        let t2239: f64 = t299 * t301;
-        let t2240: f64 = t2238 * t2239;
-        let t2241: f64 = t2199 * t2240;
-        let t2242 = product(t2206, t2241);
-        let t2243: f64 = t322 * t2218;
-        let t2244: f64 = t2242.plus(t2243);
-        let t2245: f64 = t301 * t2244;
-        let t2246: f64 = t2237.plus(t2245);
-        let t2247: f64 = t322 * t2246;
-        let t2248 = product(t2218, 0.3);
-        let t2249 = product(t2219, 0.2);
-        let t2250: f64 = t2233 * 0.295;
-        let t2251: f64 = t2236 * 0.292;
-        let t2252 = product(t2247, 0.003);
-        let t2253: f64 = t2248.plus(t2251);
-        let t2254: f64 = t2249.plus(t2250);
-        let t2255: f64 = t2252.plus(t2254);
-        let t2256: f64 = t2253 - t2255;
-        let t2257 = product(t301, t2256);
-        let t2258: f64 = t2218 + t2219;
-        let t2259: f64 = t2233 - t2236;
-        let t2260: f64 = t2259 * 0.3;
-        let t2261: f64 = t2257.plus(t2260);
-        let t2262: f64 = t2258 - t2261;
-        let t2263 = product(t317, t2262);
-        let t2264 = product(t370, t2186);
-        let t2265 = product(t874, t2175);
-        let t2266: f64 = t341 * t2182;
-        let t2267: f64 = t2265.minus(t2266);
-        let t2268: f64 = t2264.plus(t2267);
-        let t2269: f64 = t370 * 9.81;
-        let t2270: f64 = -t2269;
-        let t2271: f64 = t2199 * t2199;
-        let t2272 = product(t2234, t2271);
-        let t2273 = product(t2206, t2230);
-        let t2274: f64 = t2273.added_to(t2268);
-        let t2275: f64 = t2272.subtracted_from(t2274);
-        let t2276: f64 = t301 * t2275;
-        let t2277: f64 = t2200 * t2235;
-        let t2278 = product(t2268, 0.3);
-        let t2279 = product(t2270, 0.2);
-        let t2280: f64 = t2276 * 0.295;
-        let t2281 = product(t2277, 0.292);
-        let t2282: f64 = t2279.plus(t2280);
-        let t2283: f64 = t2281.plus(t2282);
-        let t2284: f64 = t2278.minus(t2283);
-        let t2285 = product(t301, t2284);
-        let t2286: f64 = t2268 + t2270;
-        let t2287: f64 = t2276 + t2277;
-        let t2288: f64 = t2287 * 0.3;
-        let t2289: f64 = t2285.plus(t2288);
-        let t2290: f64 = t2286 - t2289;
-        let t2291: f64 = t341 * t2290;
-        let t2292: f64 = t2263.minus(t2291);
-        let t2293: f64 = t2213 + t2292;
-        let t2294: f64 = -t2293;
-        let t2295 = product(t283, t2294);
-        let t2296 = product(t370, t2290);
-        let t2297: f64 = t338 * t2212;
-        let t2298 = product(t335, t2262);
-        let t2299: f64 = t2298.subtracted_from(t2297);
-        let t2300: f64 = t2296.plus(t2299);
-        let t2301: f64 = t286 * t2300;
-        let t2302: f64 = t2295.plus(t2301);
-        let t2303: f64 = t2166 - t2302;
-        let t2304 = product(wx, t417);
-        let t2305: f64 = wy * t422;
-        let t2306: f64 = t2304.minus(t2305);
-        let t2307 = product(wy, t2306);
-        let t2308 = product(wz, t422);
-        let t2309: f64 = wx * t414;
-        let t2310: f64 = t2308.minus(t2309);
-        let t2311: f64 = wz * t2310;
-        let t2312: f64 = t2307.minus(t2311);
-        let t2313 = product(t467, t2312);
-        let t2314 = product(wy, t414);
-        let t2315: f64 = wz * t417;
-        let t2316: f64 = t2314.minus(t2315);
-        let t2317 = product(wz, t2316);
-        let t2318: f64 = wx * t2306;
-        let t2319: f64 = t2317.minus(t2318);
-        let t2320: f64 = t433 * t2319;
-        let t2321 = product(wx, t2310);
-        let t2322: f64 = wy * t2316;
-        let t2323: f64 = t2321.minus(t2322);
-        let t2324 = product(t469, t2323);
-        let t2325: f64 = t2313.plus(t2320);
-        let t2326: f64 = t2324.plus(t2325);
-        let t2327: f64 = t469 * 9.81;
-        let t2328: f64 = -t2327;
-        let t2329: f64 = vx + t2316;
-        let t2330 = product(t470, t2329);
-        let t2331: f64 = vy + t2310;
-        let t2332: f64 = t448 * t2331;
-        let t2333: f64 = vz + t2306;
-        let t2334 = product(t466, t2333);
-        let t2335: f64 = t2330.plus(t2332);
-        let t2336: f64 = t2334.subtracted_from(t2335);
-        let t2337: f64 = t432 * t2336;
-        let t2338 = product(t2337, t2337);
-        let t2339 = product(t902, t2329);
-        let t2340 = product(t472, t2331);
-        let t2341: f64 = t501 * t2333;
-        let t2342: f64 = t2339.plus(t2341);
-        let t2343: f64 = t2340.subtracted_from(t2342);
-        let t2344: f64 = t432 * t2343;
-        let t2345: f64 = t2344 * t2344;
-        let t2346: f64 = t2338.plus(t2345);
-        let t2347 = product(t2346, 0.3);
-        let t2348: f64 = t2347.added_to(t2326);
-        let t2349: f64 = t2348 - t2328;
-        let t2350: f64 = t433 * t2349;
-        let t2351 = product(t501, t2323);
-        let t2352 = product(t902, t2312);
-        let t2353: f64 = t472 * t2319;
-        let t2354: f64 = t2352.minus(t2353);
-        let t2355: f64 = t2351.plus(t2354);
-        let t2356: f64 = t501 * 9.81;
-        let t2357: f64 = -t2356;
-        let t2358: f64 = t2336 * t2336;
-        let t2359: f64 = t432 * t453;
-        let t2360 = product(t2358, t2359);
-        let t2361 = product(t467, t2329);
-        let t2362: f64 = t433 * t2331;
-        let t2363 = product(t469, t2333);
-        let t2364: f64 = t2361.plus(t2362);
-        let t2365: f64 = t2363.plus(t2364);
-        let t2366: f64 = t432 * t2365;
-        let t2367: f64 = t2366 * 2.0;
-        let t2368 = product(t2343, t2367);
-        let t2369: f64 = t2360.added_to(t2355);
-        let t2370: f64 = t2368.subtracted_from(t2369);
-        let t2371: f64 = t432 * t2370;
-        let t2372: f64 = t2336 * t2359;
-        let t2373: f64 = t2337 * t2372;
-        let t2374 = product(t2355, 0.3);
-        let t2375: f64 = t2357 * 0.2;
-        let t2376 = product(t2371, 0.295);
-        let t2377 = product(t2373, 0.292);
-        let t2378: f64 = t2374.plus(t2375);
-        let t2379: f64 = t2377.plus(t2378);
-        let t2380: f64 = t2376.minus(t2379);
-        let t2381 = product(t432, t2380);
-        let t2382: f64 = t2355 - t2357;
-        let t2383: f64 = t2371 - t2373;
-        let t2384: f64 = t2383 * 0.3;
-        let t2385: f64 = t2381.plus(t2382);
-        let t2386: f64 = t2385 - t2384;
-        let t2387 = product(t472, t2386);
-        let t2388 = product(t470, t2312);
-        let t2389: f64 = t448 * t2319;
-        let t2390 = product(t466, t2323);
-        let t2391: f64 = t2388.plus(t2389);
-        let t2392: f64 = t2390.subtracted_from(t2391);
-        let t2393: f64 = t466 * 9.81;
-        let t2394 = product(t432, t2392);
-        let t2395: f64 = t453 * t486;
-        let t2396: f64 = t2336 * t2395;
-        let t2397 = product(t2343, t2396);
-        let t2398: f64 = t2337 * t2367;
-        let t2399: f64 = t2397.plus(t2398);
-        let t2400: f64 = t2394.subtracted_from(t2399);
-        let t2401: f64 = t2344 * t2372;
-        let t2402 = product(t453, t2399);
-        let t2403: f64 = t447 * t447;
-        let t2404: f64 = t430 * t432;
-        let t2405: f64 = t2403 * t2404;
-        let t2406: f64 = t2336 * t2405;
-        let t2407 = product(t2343, t2406);
-        let t2408: f64 = t453 * t2392;
+        let t2183: f64 = t559 * t2182;
+        let t2184: f64 = t2179.plus(t2183);
+        let t2185: f64 = t2175 + t2184;
+        let t2186: f64 = t548 * 9.81;
+        let t2187: f64 = -t2186;
+        let t2188: f64 = t481 * t501;
+        let t2189: f64 = t2161 * t2188;
+        let t2190: f64 = t2162 * t2189;
+        let t2191: f64 = t2161 * t2161;
+        let t2192 = product(t2188, t2191);
+        let t2193 = product(t515, t2154);
+        let t2194: f64 = t482 * t2156;
+        let t2195 = product(t517, t2158);
+        let t2196: f64 = t2193.plus(t2194);
+        let t2197: f64 = t2195.plus(t2196);
+        let t2198: f64 = t481 * t2197;
+        let t2199: f64 = t2198 * 2.0;
+        let t2200: f64 = t2168 * t2199;
+        let t2201: f64 = t2192.plus(t2200);
+        let t2202: f64 = t481 * t2201;
+        let t2203 = product(t2187, 0.2);
+        let t2204 = product(t2190, 0.292);
+        let t2205: f64 = t2202 * 0.295;
+        let t2206: f64 = t2203.plus(t2205);
+        let t2207: f64 = t2204.subtracted_from(t2206);
+        let t2208 = product(t481, t2207);
+        let t2209: f64 = t2190 - t2202;
+        let t2210: f64 = t2209 * 0.3;
+        let t2211: f64 = t2208.added_to(t2187);
+        let t2212: f64 = t2210 + t2211;
+        let t2213 = product(t520, t2212);
+        let t2214: f64 = t514 * 9.81;
+        let t2215: f64 = t2169 * t2189;
+        let t2216 = product(t2168, t2188);
+        let t2217: f64 = t2216.subtracted_from(t2199);
+        let t2218: f64 = t2162 * t2217;
+        let t2219: f64 = t481 * t481;
+        let t2220: f64 = t495 * t495;
+        let t2221: f64 = t479 * t2219;
+        let t2222: f64 = t2220 * t2221;
+        let t2223: f64 = t2161 * t2222;
+        let t2224 = product(t2168, t2223);
+        let t2225: f64 = -t2218;
+        let t2226: f64 = t501 * t2225;
+        let t2227: f64 = t2224.plus(t2226);
+        let t2228: f64 = t501 * t2227;
+        let t2229 = product(t2214, 0.2);
+        let t2230: f64 = t2215 * 0.292;
+        let t2231 = product(t2218, 0.295);
+        let t2232 = product(t2228, 0.003);
+        let t2233: f64 = t2229.plus(t2230);
+        let t2234: f64 = t2231.plus(t2233);
+        let t2235: f64 = t2232.subtracted_from(t2234);
+        let t2236 = product(t481, t2235);
+        let t2237: f64 = t2215 + t2218;
+        let t2238: f64 = t2237 * 0.3;
+        let t2239: f64 = t2236.added_to(t2214);
+        let t2240: f64 = t2239 - t2238;
+        let t2241: f64 = t496 * t2240;
+        let t2242: f64 = t2213.minus(t2241);
+        let t2243: f64 = t2185 + t2242;
+        let t2244 = product(t467, t2243);
+        let t2245 = product(t517, t2173);
+        let t2246: f64 = t853 * t2147;
+        let t2247: f64 = t2245.minus(t2246);
+        let t2248 = product(t559, t2178);
+        let t2249: f64 = t568 * t2182;
+        let t2250: f64 = t2248.plus(t2249);
+        let t2251: f64 = t2247 - t2250;
+        let t2252 = product(t548, t2212);
+        let t2253: f64 = t514 * t2240;
+        let t2254: f64 = t2252.minus(t2253);
+        let t2255: f64 = t2251 + t2254;
+        let t2256: f64 = t468 * t2255;
+        let t2257: f64 = t2244.plus(t2256);
+        let t2258: f64 = t2138 + t2257;
+        let t2259: f64 = t2021 + t2258;
+        let t2260: f64 = t1783 + t2259;
+        let t2261: f64 = t697 * 3.5316;
+        let t2262: f64 = t2260 + t2261;
+        let t2263: f64 = t696 * t1403;
+        let t2264 = product(t2262, t2263);
+        let t2265 = product(t1151, t2262);
+        let t2266 = product(t17, t36);
+        let t2267: f64 = t34 * t39;
+        let t2268: f64 = t2266.minus(t2267);
+        let t2269 = product(t1493, t2268);
+        let t2270: f64 = t697 * t1488;
+        let t2271: f64 = t2269.minus(t2270);
+        let t2272 = product(t137, t143);
+        let t2273: f64 = t141 * t146;
+        let t2274: f64 = t2272.minus(t2273);
+        let t2275 = product(t1504, t2274);
+        let t2276 = product(t245, t255);
+        let t2277: f64 = t253 * t258;
+        let t2278: f64 = t2276.minus(t2277);
+        let t2279: f64 = t1499 * t2278;
+        let t2280: f64 = t2275.minus(t2279);
+        let t2281: f64 = t2271 + t2280;
+        let t2282 = product(t357, t367);
+        let t2283: f64 = t365 * t370;
+        let t2284: f64 = t2282.minus(t2283);
+        let t2285 = product(t1535, t2284);
+        let t2286 = product(t467, t473);
+        let t2287: f64 = t471 * t476;
+        let t2288: f64 = t2286.minus(t2287);
+        let t2289: f64 = t1540 * t2288;
+        let t2290: f64 = t2285.plus(t2289);
+        let t2291 = product(t21, t1523);
+        let t2292: f64 = t24 * t1527;
+        let t2293: f64 = t2291.minus(t2292);
+        let t2294 = product(t572, t577);
+        let t2295: f64 = t576 * t580;
+        let t2296: f64 = t2294.minus(t2295);
+        let t2297 = product(t1511, t2296);
+        let t2298: f64 = t2297.subtracted_from(t2293);
+        let t2299: f64 = t2290 + t2298;
+        let t2300: f64 = t2281 + t2299;
+        let t2301: f64 = t2265.plus(t2300);
+        let t2302 = product(t701, t1640);
+        let t2303: f64 = t83 * t1621;
+        let t2304: f64 = t2302.plus(t2303);
+        let t2305 = product(t44, t2304);
+        let t2306: f64 = t1629 + t1643;
+        let t2307 = product(t701, t2306);
+        let t2308: f64 = t1593 + t1624;
+        let t2309: f64 = t83 * t2308;
+        let t2310: f64 = t2307.plus(t2309);
+        let t2311 = product(t80, t1575);
+        let t2312: f64 = t940 * t1579;
+        let t2313: f64 = t2311.minus(t2312);
+        let t2314: f64 = t2310 + t2313;
+        let t2315 = product(t712, t1584);
+        let t2316: f64 = t725 * t1588;
+        let t2317: f64 = t2315.plus(t2316);
+        let t2318: f64 = t2314 - t2317;
+        let t2319: f64 = t2305.plus(t2318);
+        let t2320 = product(t17, t2319);
+        let t2321: f64 = t34 * t1648;
+        let t2322: f64 = t2320.minus(t2321);
+        let t2323 = product(t733, t1881);
+        let t2324: f64 = t189 * t1862;
+        let t2325: f64 = t2323.plus(t2324);
+        let t2326 = product(t151, t2325);
+        let t2327: f64 = t1870 + t1884;
+        let t2328 = product(t733, t2327);
+        let t2329: f64 = t1832 - t1865;
+        let t2330: f64 = t189 * t2329;
+        let t2331: f64 = t2328.plus(t2330);
+        let t2332 = product(t186, t1814);
+        let t2333: f64 = t974 * t1818;
+        let t2334: f64 = t2332.minus(t2333);
+        let t2335: f64 = t2331 + t2334;
+        let t2336 = product(t744, t1823);
+        let t2337: f64 = t757 * t1827;
+        let t2338: f64 = t2336.plus(t2337);
+        let t2339: f64 = t2335 - t2338;
+        let t2340: f64 = t2326.plus(t2339);
+        let t2341 = product(t137, t2340);
+        let t2342: f64 = t141 * t1889;
+        let t2343: f64 = t2341.minus(t2342);
+        let t2344: f64 = t2322 + t2343;
+        let t2345: f64 = t2301 + t2344;
+        let t2346 = product(t253, t2018);
+        let t2347 = product(t765, t1972);
+        let t2348: f64 = t301 * t1998;
+        let t2349: f64 = t2347.plus(t2348);
+        let t2350 = product(t263, t2349);
+        let t2351 = product(t776, t1943);
+        let t2352: f64 = t789 * t1947;
+        let t2353: f64 = t2351.plus(t2352);
+        let t2354: f64 = t1952 + t1975;
+        let t2355 = product(t765, t2354);
+        let t2356: f64 = t1979 + t2001;
+        let t2357: f64 = t301 * t2356;
+        let t2358: f64 = t2355.plus(t2357);
+        let t2359 = product(t298, t1934);
+        let t2360: f64 = t1008 * t1938;
+        let t2361: f64 = t2359.plus(t2360);
+        let t2362: f64 = t2358 + t2361;
+        let t2363: f64 = t2353 + t2362;
+        let t2364: f64 = t2350.plus(t2363);
+        let t2365: f64 = t245 * t2364;
+        let t2366: f64 = t2346.minus(t2365);
+        let t2367 = product(t797, t2090);
+        let t2368: f64 = t413 * t2116;
+        let t2369: f64 = t2367.plus(t2368);
+        let t2370 = product(t375, t2369);
+        let t2371: f64 = t2070 + t2093;
+        let t2372 = product(t797, t2371);
+        let t2373: f64 = t2097 + t2119;
+        let t2374: f64 = t413 * t2373;
+        let t2375: f64 = t2372.plus(t2374);
+        let t2376 = product(t410, t2056);
+        let t2377: f64 = t1042 * t2030;
+        let t2378: f64 = t2376.minus(t2377);
+        let t2379: f64 = t2375 + t2378;
+        let t2380 = product(t808, t2061);
+        let t2381: f64 = t821 * t2065;
+        let t2382: f64 = t2380.plus(t2381);
+        let t2383: f64 = t2379 - t2382;
+        let t2384: f64 = t2370.plus(t2383);
+        let t2385 = product(t357, t2384);
+        let t2386: f64 = t365 * t2136;
+        let t2387: f64 = t2385.minus(t2386);
+        let t2388: f64 = t2366 + t2387;
+        let t2389 = product(t829, t2207);
+        let t2390: f64 = t518 * t2235;
+        let t2391: f64 = t2389.plus(t2390);
+        let t2392 = product(t481, t2391);
+        let t2393: f64 = t2187 + t2210;
+        let t2394 = product(t829, t2393);
+        let t2395: f64 = t2214 - t2238;
+        let t2396: f64 = t518 * t2395;
+        let t2397: f64 = t2394.plus(t2396);
+        let t2398 = product(t515, t2173);
+        let t2399: f64 = t1076 * t2147;
+        let t2400: f64 = t2398.minus(t2399);
+        let t2401: f64 = t2397 + t2400;
+        let t2402 = product(t840, t2178);
+        let t2403: f64 = t853 * t2182;
+        let t2404: f64 = t2402.plus(t2403);
+        let t2405: f64 = t2401 - t2404;
+        let t2406: f64 = t2392.plus(t2405);
+        let t2407 = product(t467, t2406);
+        let t2408: f64 = t471 * t2255;
         let t2409: f64 = t2407.minus(t2408);
-        let t2410: f64 = t432 * t2409;
-        let t2411: f64 = t2402.plus(t2410);
-        let t2412: f64 = t453 * t2411;
-        let t2413 = product(t2392, 0.3);
-        let t2414: f64 = t2393 * 0.2;
-        let t2415: f64 = t2400 * 0.295;
-        let t2416: f64 = t2401 * 0.292;
-        let t2417 = product(t2412, 0.003);
-        let t2418: f64 = t2413.plus(t2414);
-        let t2419: f64 = t2417.added_to(t2415);
-        let t2420: f64 = t2418 + t2419;
-        let t2421: f64 = t2420 - t2416;
-        let t2422 = product(t432, t2421);
-        let t2423: f64 = t2392 - t2393;
-        let t2424: f64 = t2400 - t2401;
-        let t2425 = product(t2424, 0.3);
-        let t2426: f64 = t2425.added_to(t2423);
-        let t2427: f64 = t2422.subtracted_from(t2426);
-        let t2428: f64 = t448 * t2427;
-        let t2429: f64 = t2387.minus(t2428);
-        let t2430: f64 = t2350 - t2429;
-        let t2431 = product(t414, t2430);
-        let t2432 = product(t466, t2427);
-        let t2433: f64 = t469 * t2349;
-        let t2434: f64 = t2432.minus(t2433);
-        let t2435 = product(t501, t2386);
-        let t2436: f64 = t2435.subtracted_from(t2434);
-        let t2437: f64 = t417 * t2436;
-        let t2438: f64 = t2431.plus(t2437);
-        let t2439 = product(wx, t544);
-        let t2440: f64 = wy * t547;
-        let t2441: f64 = t2439.minus(t2440);
-        let t2442 = product(wy, t2441);
-        let t2443 = product(wz, t547);
-        let t2444: f64 = wx * t543;
-        let t2445: f64 = t2443.minus(t2444);
-        let t2446: f64 = wz * t2445;
-        let t2447: f64 = t2442.minus(t2446);
-        let t2448 = product(t591, t2447);
-        let t2449 = product(wy, t543);
-        let t2450: f64 = wz * t544;
-        let t2451: f64 = t2449.minus(t2450);
-        let t2452 = product(wz, t2451);
-        let t2453: f64 = wx * t2441;
-        let t2454: f64 = t2452.minus(t2453);
-        let t2455: f64 = t558 * t2454;
-        let t2456 = product(wx, t2445);
-        let t2457: f64 = wy * t2451;
-        let t2458: f64 = t2456.minus(t2457);
-        let t2459 = product(t593, t2458);
-        let t2460: f64 = t2448.plus(t2455);
-        let t2461: f64 = t2459.plus(t2460);
-        let t2462: f64 = t593 * 9.81;
-        let t2463: f64 = -t2462;
-        let t2464: f64 = vx + t2451;
-        let t2465 = product(t594, t2464);
-        let t2466: f64 = vy + t2445;
-        let t2467: f64 = t572 * t2466;
-        let t2468: f64 = vz + t2441;
-        let t2469 = product(t590, t2468);
-        let t2470: f64 = t2465.plus(t2467);
-        let t2471: f64 = t2469.subtracted_from(t2470);
-        let t2472: f64 = t557 * t2471;
-        let t2473 = product(t2472, t2472);
-        let t2474 = product(t930, t2464);
-        let t2475 = product(t596, t2466);
-        let t2476: f64 = t625 * t2468;
-        let t2477: f64 = t2474.plus(t2476);
-        let t2478: f64 = t2475.subtracted_from(t2477);
-        let t2479: f64 = t557 * t2478;
-        let t2480: f64 = t2479 * t2479;
-        let t2481: f64 = t2473.plus(t2480);
-        let t2482 = product(t2481, 0.3);
-        let t2483: f64 = t2482.added_to(t2461);
-        let t2484: f64 = t2483 - t2463;
-        let t2485: f64 = t558 * t2484;
-        let t2486 = product(t625, t2458);
-        let t2487 = product(t930, t2447);
-        let t2488: f64 = t596 * t2454;
-        let t2489: f64 = t2487.minus(t2488);
-        let t2490: f64 = t2486.plus(t2489);
-        let t2491: f64 = t625 * 9.81;
-        let t2492: f64 = -t2491;
-        let t2493: f64 = t2471 * t2471;
-        let t2494: f64 = t557 * t577;
-        let t2495 = product(t2493, t2494);
-        let t2496 = product(t591, t2464);
-        let t2497: f64 = t558 * t2466;
-        let t2498 = product(t593, t2468);
-        let t2499: f64 = t2496.plus(t2497);
-        let t2500: f64 = t2498.plus(t2499);
-        let t2501: f64 = t557 * t2500;
-        let t2502: f64 = t2501 * 2.0;
-        let t2503: f64 = t2478 * t2502;
-        let t2504: f64 = t2495.plus(t2503);
-        let t2505: f64 = t2490 - t2504;
-        let t2506: f64 = t557 * t2505;
-        let t2507: f64 = t2471 * t2494;
-        let t2508: f64 = t2472 * t2507;
-        let t2509 = product(t2490, 0.3);
-        let t2510: f64 = t2492 * 0.2;
-        let t2511 = product(t2506, 0.295);
-        let t2512: f64 = t2508 * 0.292;
-        let t2513: f64 = t2509.plus(t2510);
-        let t2514: f64 = t2511.plus(t2512);
-        let t2515: f64 = t2513 - t2514;
-        let t2516 = product(t557, t2515);
-        let t2517: f64 = t2490 - t2492;
-        let t2518: f64 = t2506 + t2508;
-        let t2519: f64 = t2518 * 0.3;
-        let t2520: f64 = t2516.plus(t2519);
-        let t2521: f64 = t2517 - t2520;
-        let t2522 = product(t596, t2521);
-        let t2523 = product(t594, t2447);
-        let t2524: f64 = t572 * t2454;
-        let t2525 = product(t590, t2458);
-        let t2526: f64 = t2523.plus(t2524);
-        let t2527: f64 = t2525.subtracted_from(t2526);
-        let t2528: f64 = t590 * 9.81;
-        let t2529 = product(t557, t2527);
-        let t2530: f64 = t577 * t610;
-        let t2531: f64 = t2471 * t2530;
-        let t2532 = product(t2478, t2531);
-        let t2533: f64 = t2472 * t2502;
-        let t2534: f64 = t2532.minus(t2533);
-        let t2535: f64 = t2529.plus(t2534);
-        let t2536: f64 = t2479 * t2507;
-        let t2537 = product(t577, t2534);
-        let t2538: f64 = t571 * t571;
-        let t2539: f64 = t555 * t557;
-        let t2540: f64 = t2538 * t2539;
-        let t2541: f64 = t2471 * t2540;
-        let t2542 = product(t2478, t2541);
-        let t2543: f64 = t577 * t2527;
-        let t2544: f64 = t2542.plus(t2543);
-        let t2545: f64 = t557 * t2544;
-        let t2546: f64 = t2537.plus(t2545);
-        let t2547: f64 = t577 * t2546;
-        let t2548 = product(t2527, 0.3);
-        let t2549: f64 = t2528 * 0.2;
-        let t2550: f64 = t2535 * 0.295;
-        let t2551 = product(t2536, 0.292);
-        let t2552 = product(t2547, 0.003);
-        let t2553: f64 = t2548.plus(t2549);
-        let t2554: f64 = t2551.plus(t2553);
-        let t2555: f64 = t2552.added_to(t2550);
-        let t2556: f64 = t2554 - t2555;
-        let t2557 = product(t557, t2556);
-        let t2558: f64 = t2527 - t2528;
-        let t2559: f64 = t2535 - t2536;
-        let t2560: f64 = t2559 * 0.3;
-        let t2561: f64 = t2557.plus(t2560);
-        let t2562: f64 = t2558 - t2561;
-        let t2563: f64 = t572 * t2562;
-        let t2564: f64 = t2522.minus(t2563);
-        let t2565: f64 = t2564 - t2485;
-        let t2566 = product(t543, t2565);
-        let t2567 = product(t625, t2521);
-        let t2568: f64 = t593 * t2484;
-        let t2569 = product(t590, t2562);
-        let t2570: f64 = t2569.subtracted_from(t2568);
-        let t2571: f64 = t2567.plus(t2570);
-        let t2572: f64 = t544 * t2571;
-        let t2573: f64 = t2566.plus(t2572);
-        let t2574: f64 = t2438 - t2573;
-        let t2575: f64 = t2303 + t2574;
-        let t2576: f64 = t2030 + t2575;
-        let t2577: f64 = t811 * 3.5316;
-        let t2578: f64 = t2576 + t2577;
-        let t2579: f64 = t810 * t1601;
-        let t2580 = product(t2578, t2579);
-        let t2581 = product(t1313, t2578);
-        let t2582 = product(t17, t36);
-        let t2583: f64 = t34 * t39;
-        let t2584: f64 = t2582.minus(t2583);
-        let t2585 = product(t1839, t2584);
-        let t2586: f64 = t811 * t1834;
-        let t2587: f64 = t2585.minus(t2586);
-        let t2588 = product(t156, t162);
-        let t2589: f64 = t160 * t165;
-        let t2590: f64 = t2588.minus(t2589);
-        let t2591 = product(t1850, t2590);
-        let t2592 = product(t283, t293);
-        let t2593: f64 = t291 * t296;
-        let t2594: f64 = t2592.minus(t2593);
-        let t2595: f64 = t1845 * t2594;
-        let t2596: f64 = t2591.minus(t2595);
-        let t2597: f64 = t2587 + t2596;
-        let t2598 = product(t414, t424);
-        let t2599: f64 = t422 * t427;
-        let t2600: f64 = t2598.minus(t2599);
-        let t2601 = product(t1881, t2600);
-        let t2602 = product(t543, t549);
-        let t2603: f64 = t547 * t552;
-        let t2604: f64 = t2602.minus(t2603);
-        let t2605: f64 = t1886 * t2604;
-        let t2606: f64 = t2601.plus(t2605);
-        let t2607 = product(t21, t1869);
-        let t2608: f64 = t24 * t1873;
-        let t2609: f64 = t2607.minus(t2608);
-        let t2610 = product(t667, t672);
-        let t2611: f64 = t671 * t675;
-        let t2612: f64 = t2610.minus(t2611);
-        let t2613 = product(t1857, t2612);
-        let t2614: f64 = t2613.subtracted_from(t2609);
-        let t2615: f64 = t2606 + t2614;
-        let t2616: f64 = t2597 + t2615;
-        let t2617: f64 = t2581.plus(t2616);
-        let t2618: f64 = t2013 - t2011;
-        let t2619 = product(t818, t2618);
-        let t2620: f64 = t83 * t1986;
-        let t2621: f64 = t2619.minus(t2620);
-        let t2622 = product(t80, t1936);
-        let t2623: f64 = t2622.subtracted_from(t2621);
-        let t2624 = product(t818, t2009);
-        let t2625: f64 = t83 * t1981;
-        let t2626: f64 = t2624.minus(t2625);
-        let t2627 = product(t44, t2626);
-        let t2628: f64 = t2627.subtracted_from(t2623);
-        let t2629 = product(t17, t2628);
-        let t2630: f64 = t34 * t2019;
-        let t2631: f64 = t2629.minus(t2630);
-        let t2632 = product(t160, t2164);
-        let t2633 = product(t846, t2149);
-        let t2634: f64 = t208 * t2121;
-        let t2635: f64 = t2633.plus(t2634);
-        let t2636 = product(t170, t2635);
-        let t2637: f64 = t2125 - t2123;
-        let t2638 = product(t208, t2637);
-        let t2639: f64 = t2151 - t2153;
-        let t2640: f64 = t846 * t2639;
-        let t2641: f64 = t2638.minus(t2640);
-        let t2642 = product(t205, t2076);
-        let t2643: f64 = t2642.subtracted_from(t2641);
-        let t2644: f64 = t2636.plus(t2643);
-        let t2645: f64 = -t2644;
-        let t2646: f64 = t156 * t2645;
-        let t2647: f64 = t2632.minus(t2646);
-        let t2648: f64 = t2631 + t2647;
-        let t2649: f64 = t2617 + t2648;
-        let t2650 = product(t291, t2300);
-        let t2651 = product(t336, t2212);
-        let t2652: f64 = t2286 - t2288;
-        let t2653 = product(t874, t2652);
-        let t2654: f64 = t2260 - t2258;
-        let t2655: f64 = t339 * t2654;
-        let t2656: f64 = t2653.minus(t2655);
-        let t2657: f64 = t2651.plus(t2656);
-        let t2658 = product(t874, t2284);
-        let t2659: f64 = t339 * t2256;
-        let t2660: f64 = t2658.plus(t2659);
-        let t2661 = product(t301, t2660);
-        let t2662: f64 = t2661.subtracted_from(t2657);
-        let t2663: f64 = t283 * t2662;
-        let t2664: f64 = t2650.minus(t2663);
-        let t2665: f64 = t2384 - t2382;
-        let t2666 = product(t902, t2665);
-        let t2667: f64 = t470 * t2426;
-        let t2668: f64 = t2666.minus(t2667);
-        let t2669 = product(t467, t2349);
-        let t2670: f64 = t2669.subtracted_from(t2668);
-        let t2671 = product(t902, t2380);
-        let t2672: f64 = t470 * t2421;
-        let t2673: f64 = t2671.minus(t2672);
-        let t2674 = product(t432, t2673);
-        let t2675: f64 = t2674.subtracted_from(t2670);
-        let t2676 = product(t414, t2675);
-        let t2677: f64 = t422 * t2436;
-        let t2678: f64 = t2676.minus(t2677);
-        let t2679: f64 = t2664 + t2678;
-        let t2680 = product(t547, t2571);
-        let t2681 = product(t930, t2515);
-        let t2682: f64 = t594 * t2556;
-        let t2683: f64 = t2681.plus(t2682);
-        let t2684 = product(t557, t2683);
-        let t2685: f64 = t2560 - t2558;
-        let t2686 = product(t594, t2685);
-        let t2687: f64 = t2517 - t2519;
-        let t2688: f64 = t930 * t2687;
-        let t2689: f64 = t2686.minus(t2688);
-        let t2690 = product(t591, t2484);
-        let t2691: f64 = t2690.subtracted_from(t2689);
-        let t2692: f64 = t2684.plus(t2691);
-        let t2693: f64 = -t2692;
-        let t2694: f64 = t543 * t2693;
-        let t2695: f64 = t2680.minus(t2694);
-        let t2696 = product(t958, t1799);
-        let t2697: f64 = t717 * t1771;
-        let t2698: f64 = t2696.minus(t2697);
-        let t2699 = product(t680, t2698);
-        let t2700 = product(t714, t1727);
-        let t2701 = product(t717, t1776);
-        let t2702: f64 = t1803 - t1801;
-        let t2703: f64 = t958 * t2702;
-        let t2704: f64 = t2701.minus(t2703);
-        let t2705: f64 = t2700.plus(t2704);
-        let t2706: f64 = t2699.plus(t2705);
-        let t2707: f64 = -t2706;
-        let t2708 = product(t667, t2707);
-        let t2709: f64 = t671 * t1815;
-        let t2710: f64 = t2708.minus(t2709);
-        let t2711: f64 = t2695 + t2710;
-        let t2712: f64 = t2679 + t2711;
-        let t2713: f64 = t2649 + t2712;
-        let t2714: f64 = t0 * 3.5316;
-        let t2715: f64 = t2713 + t2714;
-        let t2716: f64 = t1299 * t1611;
-        let t2717: f64 = t2715 * t2716;
-        let t2718 = product(t27, t36);
-        let t2719: f64 = t29 * t34;
-        let t2720: f64 = t2718.minus(t2719);
-        let t2721 = product(t1839, t2720);
-        let t2722: f64 = t1300 * t1834;
-        let t2723: f64 = t2721.minus(t2722);
-        let t2724 = product(t157, t162);
-        let t2725: f64 = t159 * t160;
-        let t2726: f64 = t2724.minus(t2725);
-        let t2727 = product(t1850, t2726);
-        let t2728 = product(t286, t293);
-        let t2729: f64 = t288 * t291;
-        let t2730: f64 = t2728.minus(t2729);
-        let t2731: f64 = t1845 * t2730;
-        let t2732: f64 = t2727.minus(t2731);
-        let t2733: f64 = t2723 + t2732;
-        let t2734 = product(t417, t424);
-        let t2735: f64 = t419 * t422;
-        let t2736: f64 = t2734.minus(t2735);
-        let t2737 = product(t1881, t2736);
-        let t2738 = product(t544, t549);
-        let t2739: f64 = t546 * t547;
-        let t2740: f64 = t2738.minus(t2739);
-        let t2741: f64 = t1886 * t2740;
-        let t2742: f64 = t2737.plus(t2741);
-        let t2743 = product(t14, t1873);
-        let t2744: f64 = t10 * t1869;
-        let t2745: f64 = t2743.minus(t2744);
-        let t2746 = product(t668, t672);
-        let t2747: f64 = t670 * t671;
-        let t2748: f64 = t2746.minus(t2747);
-        let t2749 = product(t1857, t2748);
-        let t2750: f64 = t2749.subtracted_from(t2745);
-        let t2751: f64 = t2742 + t2750;
-        let t2752: f64 = t2733 + t2751;
-        let t2753 = product(t27, t2628);
-        let t2754: f64 = t34 * t2026;
-        let t2755: f64 = t2753.minus(t2754);
-        let t2756: f64 = t2752 + t2755;
-        let t2757 = product(t157, t2645);
-        let t2758: f64 = t160 * t2158;
-        let t2759: f64 = t2757.minus(t2758);
-        let t2760 = product(t286, t2662);
-        let t2761: f64 = t291 * t2294;
-        let t2762: f64 = t2760.plus(t2761);
-        let t2763: f64 = t2759 + t2762;
-        let t2764: f64 = t2756 - t2763;
-        let t2765 = product(t417, t2675);
-        let t2766: f64 = t422 * t2430;
-        let t2767: f64 = t2765.plus(t2766);
-        let t2768 = product(t544, t2693);
-        let t2769: f64 = t547 * t2565;
-        let t2770: f64 = t2768.plus(t2769);
-        let t2771: f64 = t2767 - t2770;
-        let t2772 = product(t668, t2707);
-        let t2773: f64 = t671 * t1808;
-        let t2774: f64 = t2772.plus(t2773);
-        let t2775 = product(t1522, t2578);
-        let t2776: f64 = t1524 * t2715;
-        let t2777: f64 = t2775.minus(t2776);
-        let t2778: f64 = t2774 + t2777;
-        let t2779: f64 = t2771 + t2778;
-        let t2780: f64 = t2764 + t2779;
-        let t2781: f64 = t1514 * t1640;
-        let t2782 = product(t2780, t2781);
-        let t2783: f64 = t2644 + t2662;
-        let t2784: f64 = t2675 + t2692;
-        let t2785: f64 = t2783 + t2784;
-        let t2786: f64 = g1 * t36;
-        let t2787 = product(t44, t2786);
-        let t2788: f64 = g2 * t162;
-        let t2789: f64 = t170 * t2788;
-        let t2790: f64 = t2787.plus(t2789);
-        let t2791: f64 = g3 * t293;
-        let t2792 = product(t301, t2791);
-        let t2793: f64 = g4 * t424;
-        let t2794: f64 = t432 * t2793;
-        let t2795: f64 = t2792.plus(t2794);
-        let t2796: f64 = t2790 + t2795;
-        let t2797: f64 = g5 * t549;
-        let t2798 = product(t557, t2797);
-        let t2799: f64 = g6 * t672;
-        let t2800: f64 = t680 * t2799;
-        let t2801: f64 = t2798.plus(t2800);
-        let t2802: f64 = wx * t3;
-        let t2803 = product(t1, t2802);
-        let t2804: f64 = wy * t0;
-        let t2805: f64 = t2803.plus(t2804);
-        let t2806: f64 = t2805 * 0.36;
-        let t2807 = product(wy, t2806);
-        let t2808 = product(wz, t0);
-        let t2809: f64 = wx * t4;
-        let t2810: f64 = t1 * t2809;
-        let t2811: f64 = t2808.minus(t2810);
-        let t2812: f64 = t2811 * 0.36;
-        let t2813: f64 = wz * t2812;
-        let t2814: f64 = t2807.plus(t2813);
-        let t2815: f64 = t2801 + t2814;
-        let t2816: f64 = t2796 + t2815;
-        let t2817: f64 = t2706 + t2816;
-        let t2818 = product(t1545, t2578);
-        let t2819: f64 = t1554 * t2715;
-        let t2820: f64 = t2818.minus(t2819);
-        let t2821 = product(t1567, t2780);
-        let t2822: f64 = t2821.added_to(t2628);
-        let t2823: f64 = t2820 + t2822;
-        let t2824: f64 = t2817 + t2823;
-        let t2825: f64 = t2785 + t2824;
-        let t2826: f64 = t1533 * t1653;
-        let t2827: f64 = t2825 * t2826;
-        let t2828: f64 = t2292 + t2429;
-        let t2829: f64 = t1807 + t2564;
-        let t2830: f64 = t2828 + t2829;
-        let t2831 = product(wy, t4);
-        let t2832: f64 = wz * t3;
-        let t2833: f64 = t2831.plus(t2832);
-        let t2834: f64 = t2833 * 0.36;
-        let t2835: f64 = wz * t1;
-        let t2836 = product(t2834, t2835);
-        let t2837: f64 = t2836.subtracted_from(t1728);
-        let t2838: f64 = g1 * t29;
-        let t2839 = product(t44, t2838);
-        let t2840: f64 = g2 * t159;
-        let t2841: f64 = t170 * t2840;
-        let t2842: f64 = t2839.plus(t2841);
-        let t2843: f64 = g3 * t288;
-        let t2844 = product(t301, t2843);
-        let t2845: f64 = g4 * t419;
-        let t2846: f64 = t432 * t2845;
-        let t2847: f64 = t2844.plus(t2846);
-        let t2848: f64 = t2842 + t2847;
-        let t2849: f64 = t2837 + t2848;
-        let t2850: f64 = g5 * t546;
-        let t2851 = product(t557, t2850);
-        let t2852: f64 = g6 * t670;
-        let t2853: f64 = t680 * t2852;
-        let t2854: f64 = t2851.plus(t2853);
-        let t2855 = product(wx, t2806);
-        let t2856: f64 = t2855.added_to(t2021);
-        let t2857: f64 = t2854 - t2856;
-        let t2858: f64 = t2213 - t2077;
-        let t2859: f64 = t2350 + t2485;
-        let t2860: f64 = t2858 - t2859;
-        let t2861: f64 = t2857 + t2860;
-        let t2862: f64 = t2849 + t2861;
-        let t2863 = product(t1602, t2578);
-        let t2864: f64 = t1612 * t2715;
-        let t2865: f64 = t2863.minus(t2864);
-        let t2866: f64 = t2862 + t2865;
-        let t2867 = product(t1641, t2780);
-        let t2868: f64 = t1654 * t2825;
+        let t2410 = product(t576, t1780);
+        let t2411 = product(t861, t1732);
+        let t2412: f64 = t622 * t1760;
+        let t2413: f64 = t2411.plus(t2412);
+        let t2414 = product(t585, t2413);
+        let t2415 = product(t872, t1703);
+        let t2416: f64 = t885 * t1707;
+        let t2417: f64 = t2415.plus(t2416);
+        let t2418: f64 = t1712 + t1735;
+        let t2419 = product(t861, t2418);
+        let t2420: f64 = t1739 - t1763;
+        let t2421: f64 = t622 * t2420;
+        let t2422: f64 = t2419.plus(t2421);
+        let t2423 = product(t619, t1694);
+        let t2424: f64 = t1110 * t1698;
+        let t2425: f64 = t2423.plus(t2424);
+        let t2426: f64 = t2422 + t2425;
+        let t2427: f64 = t2417 + t2426;
+        let t2428: f64 = t2414.plus(t2427);
+        let t2429: f64 = t572 * t2428;
+        let t2430: f64 = t2410.minus(t2429);
+        let t2431: f64 = t2409 + t2430;
+        let t2432: f64 = t2388 + t2431;
+        let t2433: f64 = t2345 + t2432;
+        let t2434: f64 = t0 * 3.5316;
+        let t2435: f64 = t2433 + t2434;
+        let t2436: f64 = t1137 * t1413;
+        let t2437: f64 = t2435 * t2436;
+        let t2438 = product(t27, t36);
+        let t2439: f64 = t29 * t34;
+        let t2440: f64 = t2438.minus(t2439);
+        let t2441 = product(t1493, t2440);
+        let t2442: f64 = t1138 * t1488;
+        let t2443: f64 = t2441.minus(t2442);
+        let t2444 = product(t138, t143);
+        let t2445: f64 = t140 * t141;
+        let t2446: f64 = t2444.minus(t2445);
+        let t2447 = product(t1504, t2446);
+        let t2448 = product(t248, t255);
+        let t2449: f64 = t250 * t253;
+        let t2450: f64 = t2448.minus(t2449);
+        let t2451: f64 = t1499 * t2450;
+        let t2452: f64 = t2447.minus(t2451);
+        let t2453: f64 = t2443 + t2452;
+        let t2454 = product(t360, t367);
+        let t2455: f64 = t362 * t365;
+        let t2456: f64 = t2454.minus(t2455);
+        let t2457 = product(t1535, t2456);
+        let t2458 = product(t468, t473);
+        let t2459: f64 = t470 * t471;
+        let t2460: f64 = t2458.minus(t2459);
+        let t2461: f64 = t1540 * t2460;
+        let t2462: f64 = t2457.plus(t2461);
+        let t2463 = product(t14, t1527);
+        let t2464: f64 = t10 * t1523;
+        let t2465: f64 = t2463.minus(t2464);
+        let t2466 = product(t573, t577);
+        let t2467: f64 = t575 * t576;
+        let t2468: f64 = t2466.minus(t2467);
+        let t2469 = product(t1511, t2468);
+        let t2470: f64 = t2469.subtracted_from(t2465);
+        let t2471: f64 = t2462 + t2470;
+        let t2472: f64 = t2453 + t2471;
+        let t2473 = product(t27, t2319);
+        let t2474: f64 = t34 * t1660;
+        let t2475: f64 = t2473.minus(t2474);
+        let t2476: f64 = t2472 + t2475;
+        let t2477 = product(t138, t2340);
+        let t2478: f64 = t141 * t1901;
+        let t2479: f64 = t2477.minus(t2478);
+        let t2480 = product(t248, t2364);
+        let t2481: f64 = t253 * t2006;
+        let t2482: f64 = t2480.plus(t2481);
+        let t2483: f64 = t2479 - t2482;
+        let t2484: f64 = t2476 + t2483;
+        let t2485 = product(t360, t2384);
+        let t2486: f64 = t365 * t2124;
+        let t2487: f64 = t2485.plus(t2486);
+        let t2488 = product(t468, t2406);
+        let t2489: f64 = t471 * t2243;
+        let t2490: f64 = t2488.plus(t2489);
+        let t2491: f64 = t2487 + t2490;
+        let t2492 = product(t573, t2428);
+        let t2493: f64 = t576 * t1768;
+        let t2494: f64 = t2492.plus(t2493);
+        let t2495 = product(t1324, t2262);
+        let t2496: f64 = t1326 * t2435;
+        let t2497: f64 = t2495.minus(t2496);
+        let t2498: f64 = t2494 - t2497;
+        let t2499: f64 = t2491 - t2498;
+        let t2500: f64 = t2484 + t2499;
+        let t2501: f64 = t1316 * t1430;
+        let t2502 = product(t2500, t2501);
+        let t2503: f64 = t2340 + t2364;
+        let t2504: f64 = t2384 + t2406;
+        let t2505: f64 = t2503 + t2504;
+        let t2506: f64 = wx * t3;
+        let t2507 = product(t1, t2506);
+        let t2508: f64 = wy * t0;
+        let t2509: f64 = t2507.plus(t2508);
+        let t2510: f64 = t2509 * 0.36;
+        let t2511 = product(wy, t2510);
+        let t2512 = product(wz, t0);
+        let t2513: f64 = wx * t4;
+        let t2514: f64 = t1 * t2513;
+        let t2515: f64 = t2512.minus(t2514);
+        let t2516: f64 = t2515 * 0.36;
+        let t2517: f64 = wz * t2516;
+        let t2518: f64 = t2511.plus(t2517);
+        let t2519: f64 = g1 * t36;
+        let t2520 = product(t44, t2519);
+        let t2521: f64 = g2 * t143;
+        let t2522: f64 = t151 * t2521;
+        let t2523: f64 = t2520.plus(t2522);
+        let t2524: f64 = t2518 + t2523;
+        let t2525: f64 = g3 * t255;
+        let t2526 = product(t263, t2525);
+        let t2527: f64 = g4 * t367;
+        let t2528: f64 = t375 * t2527;
+        let t2529: f64 = t2526.plus(t2528);
+        let t2530: f64 = g5 * t473;
+        let t2531 = product(t481, t2530);
+        let t2532: f64 = g6 * t577;
+        let t2533: f64 = t585 * t2532;
+        let t2534: f64 = t2531.plus(t2533);
+        let t2535: f64 = t2529 + t2534;
+        let t2536: f64 = t2524 + t2535;
+        let t2537: f64 = t2428 + t2536;
+        let t2538 = product(t1347, t2262);
+        let t2539: f64 = t1356 * t2435;
+        let t2540: f64 = t2538.minus(t2539);
+        let t2541 = product(t1369, t2500);
+        let t2542: f64 = t2541.added_to(t2319);
+        let t2543: f64 = t2540 + t2542;
+        let t2544: f64 = t2537 + t2543;
+        let t2545: f64 = t2505 + t2544;
+        let t2546: f64 = t1335 * t1443;
+        let t2547: f64 = t2545 * t2546;
+        let t2548: f64 = t2005 + t2123;
+        let t2549: f64 = t1767 + t2242;
+        let t2550: f64 = t2548 + t2549;
+        let t2551: f64 = t1710 - t2185;
+        let t2552: f64 = g1 * t29;
+        let t2553 = product(t44, t2552);
+        let t2554: f64 = wx * t2510;
+        let t2555: f64 = t2553.minus(t2554);
+        let t2556: f64 = g2 * t140;
+        let t2557 = product(t151, t2556);
+        let t2558: f64 = g3 * t250;
+        let t2559: f64 = t263 * t2558;
+        let t2560: f64 = t2557.plus(t2559);
+        let t2561: f64 = t2555 + t2560;
+        let t2562: f64 = t2551 + t2561;
+        let t2563: f64 = g4 * t362;
+        let t2564 = product(t375, t2563);
+        let t2565: f64 = g5 * t470;
+        let t2566: f64 = t481 * t2565;
+        let t2567: f64 = t2564.plus(t2566);
+        let t2568: f64 = g6 * t575;
+        let t2569 = product(t585, t2568);
+        let t2570 = product(wy, t4);
+        let t2571: f64 = wz * t3;
+        let t2572: f64 = t2570.plus(t2571);
+        let t2573: f64 = t2572 * 0.36;
+        let t2574: f64 = wz * t1;
+        let t2575: f64 = t2573 * t2574;
+        let t2576: f64 = t2569.minus(t2575);
+        let t2577: f64 = t2567 + t2576;
+        let t2578: f64 = t1656 + t1897;
+        let t2579: f64 = t1950 - t2068;
+        let t2580: f64 = t2578 + t2579;
+        let t2581: f64 = t2577 + t2580;
+        let t2582: f64 = t2562 + t2581;
+        let t2583 = product(t1404, t2262);
+        let t2584: f64 = t1414 * t2435;
+        let t2585: f64 = t2583.minus(t2584);
+        let t2586: f64 = t2582 + t2585;
+        let t2587 = product(t1431, t2500);
+        let t2588: f64 = t1444 * t2545;
+        let t2589: f64 = t2587.minus(t2588);
+        let t2590: f64 = t1659 + t1900;
+        let t2591: f64 = t2589 + t2590;
+        let t2592: f64 = t2586 + t2591;
+        let t2593: f64 = t2550 - t2592;
+        let t2594: f64 = -t2593;
+        let t2595: f64 = t1392 * t1449;
+        let t2596 = product(t2594, t2595);
+        let t2597: f64 = t1776 + t2251;
+        let t2598: f64 = g1 * t39;
+        let t2599 = product(t44, t2598);
+        let t2600: f64 = wx * t2516;
+        let t2601: f64 = t2599.minus(t2600);
+        let t2602: f64 = g2 * t146;
+        let t2603 = product(t151, t2602);
+        let t2604: f64 = g3 * t258;
+        let t2605: f64 = t263 * t2604;
+        let t2606: f64 = t2603.plus(t2605);
+        let t2607: f64 = t2601 + t2606;
+        let t2608: f64 = t2597 + t2607;
+        let t2609: f64 = g4 * t370;
+        let t2610 = product(t375, t2609);
+        let t2611: f64 = g5 * t476;
+        let t2612: f64 = t481 * t2611;
+        let t2613: f64 = t2610.plus(t2612);
+        let t2614: f64 = g6 * t580;
+        let t2615 = product(t585, t2614);
+        let t2616: f64 = wy * t1;
+        let t2617: f64 = t2573 * t2616;
+        let t2618: f64 = t2615.plus(t2617);
+        let t2619: f64 = t2613 + t2618;
+        let t2620: f64 = t1591 + t1830;
+        let t2621: f64 = t2014 + t2132;
+        let t2622: f64 = t2620 + t2621;
+        let t2623: f64 = t2619 + t2622;
+        let t2624: f64 = t2608 + t2623;
+        let t2625: f64 = t2264.plus(t2437);
+        let t2626: f64 = t1647 + t1888;
+        let t2627: f64 = t2017 + t2135;
+        let t2628: f64 = t1779 + t2254;
+        let t2629: f64 = t2625 + t2626;
+        let t2630: f64 = t2627 + t2628;
+        let t2631: f64 = t2629 + t2630;
+        let t2632: f64 = t2624 + t2631;
+        let t2633: f64 = t2502.plus(t2547);
+        let t2634: f64 = t2596.plus(117.72);
+        let t2635: f64 = t2633 + t2634;
+        let t2636: f64 = t2632 - t2635;
+        let t2637: f64 = t1449 * t1471;
+        let t2638 = product(t2636, t2637);
+        let t2639: f64 = t2638.added_to(t2593);
+        let t2640: f64 = t1392 * t2639;
+        let t2641: f64 = -t2640;
+        let t2642 = product(t1373, t2641);
+        let t2643: f64 = t1443 * t1471;
+        let t2644: f64 = t2636 * t2643;
+        let t2645: f64 = t2642.plus(t2644);
+        let t2646: f64 = t2545 - t2645;
+        let t2647: f64 = t1153 * t1335;
+        let t2648 = product(t2646, t2647);
+        let t2649: f64 = t1355 * t2641;
+        let t2650: f64 = t1329 * t1335;
+        let t2651 = product(t2646, t2650);
+        let t2652: f64 = t1368 * t2641;
+        let t2653: f64 = t1430 * t1471;
+        let t2654 = product(t2636, t2653);
+        let t2655: f64 = t2651.plus(t2652);
+        let t2656: f64 = t2500 + t2655;
+        let t2657: f64 = t2654.minus(t2656);
+        let t2658: f64 = t1316 * t2657;
+        let t2659: f64 = -t2658;
+        let t2660 = product(t1311, t2659);
+        let t2661: f64 = t1413 * t1471;
+        let t2662 = product(t2636, t2661);
+        let t2663: f64 = t2662.added_to(t2434);
+        let t2664: f64 = t2433 + t2663;
+        let t2665: f64 = t2648.plus(t2649);
+        let t2666: f64 = t2660.plus(t2665);
+        let t2667: f64 = t2664 - t2666;
+        let t2668: f64 = t908 * t1137;
+        let t2669 = product(t2667, t2668);
+        let t2670: f64 = t1150 * t1335;
+        let t2671 = product(t2646, t2670);
+        let t2672: f64 = t1346 * t2641;
+        let t2673 = product(t1263, t2659);
+        let t2674: f64 = t1403 * t1471;
+        let t2675: f64 = t2636 * t2674;
+        let t2676: f64 = t2669.added_to(t2261);
+        let t2677: f64 = t2671.plus(t2672);
+        let t2678: f64 = t2673.plus(t2675);
+        let t2679: f64 = t2676 + t2677;
+        let t2680: f64 = t2260 + t2678;
+        let t2681: f64 = t2679 + t2680;
+        let t2682: f64 = t696 * t2681;
+        let t2683: f64 = t1137 * t2667;
+        let t2684: f64 = t83 * t1594;
+        let t2685: f64 = t1613 * t2684;
+        let t2686: f64 = t1619 - t1616;
+        let t2687 = product(t919, t2686);
+        let t2688: f64 = t915 * t1640;
+        let t2689: f64 = t2687.plus(t2688);
+        let t2690: f64 = t2318 + t2689;
+        let t2691 = product(t2685, 0.003);
+        let t2692: f64 = t2691.added_to(t2690);
+        let t2693 = product(t27, t2692);
+        let t2694: f64 = t62 * t66;
+        let t2695: f64 = t1613 * t2694;
+        let t2696 = product(t85, t2306);
+        let t2697: f64 = t61 * t2308;
+        let t2698: f64 = t2696.plus(t2697);
+        let t2699 = product(t62, t2686);
+        let t2700: f64 = t86 * t1640;
+        let t2701: f64 = t2699.plus(t2700);
+        let t2702: f64 = t2698 + t2701;
+        let t2703 = product(t2695, 0.003);
+        let t2704: f64 = t2703.added_to(t1656);
+        let t2705: f64 = t2702 + t2704;
+        let t2706 = product(t34, t2705);
+        let t2707: f64 = t189 * t1833;
+        let t2708: f64 = t1854 * t2707;
+        let t2709 = product(t953, t1861);
+        let t2710: f64 = t949 * t1881;
+        let t2711: f64 = t2709.plus(t2710);
+        let t2712: f64 = t2339 + t2711;
+        let t2713 = product(t2708, 0.003);
+        let t2714: f64 = t2713.subtracted_from(t2712);
+        let t2715: f64 = t138 * t2714;
+        let t2716: f64 = t168 * t172;
+        let t2717: f64 = t1854 * t2716;
+        let t2718 = product(t191, t2327);
+        let t2719: f64 = t167 * t2329;
+        let t2720: f64 = t2718.plus(t2719);
+        let t2721 = product(t168, t1861);
+        let t2722: f64 = t192 * t1881;
+        let t2723: f64 = t2721.plus(t2722);
+        let t2724: f64 = t2720 + t2723;
+        let t2725 = product(t2717, 0.003);
+        let t2726: f64 = t1897 + t2724;
+        let t2727: f64 = t2725.subtracted_from(t2726);
+        let t2728: f64 = t141 * t2727;
+        let t2729: f64 = t301 * t1953;
+        let t2730: f64 = t1990 * t2729;
+        let t2731: f64 = t1996 - t1993;
+        let t2732 = product(t987, t2731);
+        let t2733: f64 = t983 * t1972;
+        let t2734: f64 = t2732.plus(t2733);
+        let t2735: f64 = t2363 + t2734;
+        let t2736 = product(t2730, 0.003);
+        let t2737: f64 = t2736.added_to(t2735);
+        let t2738 = product(t248, t2737);
+        let t2739: f64 = t280 * t284;
+        let t2740: f64 = t1990 * t2739;
+        let t2741 = product(t303, t2354);
+        let t2742: f64 = t279 * t2356;
+        let t2743: f64 = t2741.minus(t2742);
+        let t2744 = product(t280, t2731);
+        let t2745: f64 = t304 * t1972;
+        let t2746: f64 = t2744.minus(t2745);
+        let t2747: f64 = t2743 - t2746;
+        let t2748 = product(t2740, 0.003);
+        let t2749: f64 = t2748.added_to(t1950);
+        let t2750: f64 = t2747 - t2749;
+        let t2751: f64 = t253 * t2750;
+        let t2752: f64 = t413 * t2071;
+        let t2753: f64 = t2108 * t2752;
+        let t2754: f64 = t2114 - t2111;
+        let t2755 = product(t1021, t2754);
+        let t2756: f64 = t1017 * t2090;
+        let t2757: f64 = t2755.plus(t2756);
+        let t2758: f64 = t2383 + t2757;
+        let t2759 = product(t2753, 0.003);
+        let t2760: f64 = t2759.added_to(t2758);
+        let t2761 = product(t360, t2760);
+        let t2762: f64 = t392 * t396;
+        let t2763: f64 = t2108 * t2762;
+        let t2764 = product(t415, t2371);
+        let t2765: f64 = t391 * t2373;
+        let t2766: f64 = t2764.minus(t2765);
+        let t2767 = product(t392, t2754);
+        let t2768: f64 = t416 * t2090;
+        let t2769: f64 = t2767.minus(t2768);
+        let t2770: f64 = t2766 - t2769;
+        let t2771 = product(t2763, 0.003);
+        let t2772: f64 = t2068 + t2770;
+        let t2773: f64 = t2771.subtracted_from(t2772);
+        let t2774: f64 = t365 * t2773;
+        let t2775: f64 = t518 * t2188;
+        let t2776: f64 = t2227 * t2775;
+        let t2777 = product(t1055, t2234);
+        let t2778: f64 = t1051 * t2207;
+        let t2779: f64 = t2777.plus(t2778);
+        let t2780: f64 = t2405 + t2779;
+        let t2781 = product(t2776, 0.003);
+        let t2782: f64 = t2781.subtracted_from(t2780);
+        let t2783 = product(t468, t2782);
+        let t2784: f64 = t497 * t501;
+        let t2785: f64 = t2227 * t2784;
+        let t2786 = product(t520, t2393);
+        let t2787: f64 = t496 * t2395;
+        let t2788: f64 = t2786.minus(t2787);
+        let t2789 = product(t497, t2234);
+        let t2790: f64 = t521 * t2207;
+        let t2791: f64 = t2789.minus(t2790);
+        let t2792: f64 = t2788 - t2791;
+        let t2793 = product(t2785, 0.003);
+        let t2794: f64 = t2793.added_to(t2185);
+        let t2795: f64 = t2792 + t2794;
+        let t2796: f64 = t471 * t2795;
+        let t2797: f64 = t622 * t1713;
+        let t2798: f64 = t1752 * t2797;
+        let t2799 = product(t1089, t1759);
+        let t2800: f64 = t1085 * t1732;
+        let t2801: f64 = t2799.plus(t2800);
+        let t2802: f64 = t2427 + t2801;
+        let t2803 = product(t2798, 0.003);
+        let t2804: f64 = t2803.subtracted_from(t2802);
+        let t2805 = product(t573, t2804);
+        let t2806: f64 = t601 * t605;
+        let t2807: f64 = t1752 * t2806;
+        let t2808 = product(t624, t2418);
+        let t2809: f64 = t600 * t2420;
+        let t2810: f64 = t2808.minus(t2809);
+        let t2811 = product(t601, t1759);
+        let t2812: f64 = t625 * t1732;
+        let t2813: f64 = t2811.minus(t2812);
+        let t2814: f64 = t2810 - t2813;
+        let t2815 = product(t2807, 0.003);
+        let t2816: f64 = t2815.added_to(t2814);
+        let t2817: f64 = t2816 - t1710;
+        let t2818: f64 = t576 * t2817;
+        let t2819 = product(t17, t2705);
+        let t2820: f64 = t66 * t99;
+        let t2821: f64 = t1613 * t2820;
+        let t2822 = product(t113, t2306);
+        let t2823: f64 = t79 * t2308;
+        let t2824: f64 = t2822.plus(t2823);
+        let t2825 = product(t99, t2686);
+        let t2826: f64 = t114 * t1640;
+        let t2827: f64 = t2825.plus(t2826);
+        let t2828: f64 = t2824 + t2827;
+        let t2829 = product(t2821, 0.003);
+        let t2830: f64 = t2829.added_to(t1591);
+        let t2831: f64 = t2828 + t2830;
+        let t2832 = product(t27, t2831);
+        let t2833: f64 = t137 * t2727;
+        let t2834: f64 = t172 * t205;
+        let t2835: f64 = t1854 * t2834;
+        let t2836 = product(t219, t2327);
+        let t2837: f64 = t185 * t2329;
+        let t2838: f64 = t2836.plus(t2837);
+        let t2839 = product(t205, t1861);
+        let t2840: f64 = t220 * t1881;
+        let t2841: f64 = t2839.plus(t2840);
+        let t2842: f64 = t2838 + t2841;
+        let t2843 = product(t2835, 0.003);
+        let t2844: f64 = t1830 + t2842;
+        let t2845: f64 = t2843.subtracted_from(t2844);
+        let t2846 = product(t138, t2845);
+        let t2847 = product(t245, t2750);
+        let t2848: f64 = t284 * t317;
+        let t2849: f64 = t1990 * t2848;
+        let t2850 = product(t331, t2354);
+        let t2851: f64 = t297 * t2356;
+        let t2852: f64 = t2850.minus(t2851);
+        let t2853 = product(t332, t1972);
+        let t2854: f64 = t317 * t2731;
+        let t2855: f64 = t2853.minus(t2854);
+        let t2856: f64 = t2852 + t2855;
+        let t2857 = product(t2849, 0.003);
+        let t2858: f64 = t2014 + t2856;
+        let t2859: f64 = t2857.subtracted_from(t2858);
+        let t2860: f64 = t248 * t2859;
+        let t2861: f64 = t357 * t2773;
+        let t2862: f64 = t396 * t429;
+        let t2863: f64 = t2108 * t2862;
+        let t2864 = product(t443, t2371);
+        let t2865: f64 = t409 * t2373;
+        let t2866: f64 = t2864.minus(t2865);
+        let t2867 = product(t444, t2090);
+        let t2868: f64 = t429 * t2754;
         let t2869: f64 = t2867.minus(t2868);
-        let t2870: f64 = t2024 + t2157;
-        let t2871: f64 = t2869 - t2870;
-        let t2872: f64 = t2866 + t2871;
-        let t2873: f64 = t2830 + t2872;
-        let t2874: f64 = t1590 * t1659;
-        let t2875 = product(t2873, t2874);
-        let t2876: f64 = g3 * t296;
-        let t2877 = product(t301, t2876);
-        let t2878: f64 = g4 * t427;
-        let t2879: f64 = t432 * t2878;
-        let t2880: f64 = t2877.plus(t2879);
-        let t2881: f64 = g5 * t552;
-        let t2882 = product(t557, t2881);
-        let t2883: f64 = g6 * t675;
-        let t2884: f64 = t680 * t2883;
-        let t2885: f64 = t2882.plus(t2884);
-        let t2886: f64 = t2880 + t2885;
-        let t2887: f64 = wy * t1;
-        let t2888 = product(t2834, t2887);
-        let t2889: f64 = g1 * t39;
-        let t2890 = product(t44, t2889);
-        let t2891: f64 = g2 * t165;
-        let t2892: f64 = t170 * t2891;
-        let t2893: f64 = t2890.plus(t2892);
-        let t2894: f64 = t2888.plus(t2893);
-        let t2895 = product(wx, t2812);
-        let t2896: f64 = t2895.added_to(t1937);
-        let t2897: f64 = t2894 - t2896;
-        let t2898: f64 = t2886 + t2897;
-        let t2899: f64 = t2580.plus(t2717);
-        let t2900: f64 = t2300 + t2436;
-        let t2901: f64 = t1814 + t2898;
-        let t2902: f64 = t2899 + t2900;
-        let t2903: f64 = t2901 + t2902;
-        let t2904: f64 = t2782.plus(t2827);
-        let t2905: f64 = t2875.added_to(t2017);
-        let t2906: f64 = t2164 + t2571;
-        let t2907: f64 = t2904 + t2905;
-        let t2908: f64 = t2906 + 117.72;
+        let t2870: f64 = t2866 + t2869;
+        let t2871 = product(t2863, 0.003);
+        let t2872: f64 = t2132 + t2870;
+        let t2873: f64 = t2871.subtracted_from(t2872);
+        let t2874 = product(t360, t2873);
+        let t2875: f64 = t467 * t2795;
+        let t2876: f64 = t501 * t534;
+        let t2877: f64 = t2227 * t2876;
+        let t2878 = product(t548, t2393);
+        let t2879: f64 = t514 * t2395;
+        let t2880: f64 = t2878.minus(t2879);
+        let t2881 = product(t549, t2207);
+        let t2882: f64 = t534 * t2234;
+        let t2883: f64 = t2881.minus(t2882);
+        let t2884: f64 = t2880 + t2883;
+        let t2885 = product(t2877, 0.003);
+        let t2886: f64 = t2885.added_to(t2251);
+        let t2887: f64 = t2884 + t2886;
+        let t2888 = product(t468, t2887);
+        let t2889 = product(t572, t2817);
+        let t2890: f64 = t605 * t638;
+        let t2891: f64 = t1752 * t2890;
+        let t2892 = product(t652, t2418);
+        let t2893: f64 = t618 * t2420;
+        let t2894: f64 = t2892.minus(t2893);
+        let t2895 = product(t653, t1732);
+        let t2896: f64 = t638 * t1759;
+        let t2897: f64 = t2895.minus(t2896);
+        let t2898: f64 = t2894 + t2897;
+        let t2899 = product(t2891, 0.003);
+        let t2900: f64 = t2899.added_to(t1776);
+        let t2901: f64 = t2898 + t2900;
+        let t2902: f64 = t573 * t2901;
+        let t2903: f64 = t2832.added_to(t2261);
+        let t2904: f64 = t2846.plus(t2861);
+        let t2905: f64 = t2874.plus(t2875);
+        let t2906: f64 = t2888.added_to(t1544);
+        let t2907: f64 = t2903 + t2904;
+        let t2908: f64 = t2905 + t2906;
         let t2909: f64 = t2907 + t2908;
-        let t2910: f64 = t2903 - t2909;
-        let t2911: f64 = t1659 * t1681;
-        let t2912 = product(t2910, t2911);
-        let t2913: f64 = t2912.subtracted_from(t2873);
-        let t2914: f64 = t1571 * t1590;
-        let t2915 = product(t2913, t2914);
-        let t2916: f64 = t1653 * t1681;
-        let t2917: f64 = t2910 * t2916;
-        let t2918: f64 = t2915.plus(t2917);
-        let t2919: f64 = t2825 - t2918;
-        let t2920: f64 = t1315 * t1533;
-        let t2921 = product(t2919, t2920);
-        let t2922: f64 = t1553 * t1590;
-        let t2923: f64 = t2913 * t2922;
-        let t2924: f64 = t1527 * t1533;
-        let t2925 = product(t2919, t2924);
-        let t2926: f64 = t1566 * t1590;
-        let t2927: f64 = t2913 * t2926;
-        let t2928: f64 = t1640 * t1681;
-        let t2929 = product(t2910, t2928);
-        let t2930: f64 = t2925.plus(t2927);
-        let t2931: f64 = t2780 + t2930;
-        let t2932: f64 = t2929.minus(t2931);
-        let t2933: f64 = t1514 * t2932;
-        let t2934: f64 = -t2933;
-        let t2935 = product(t1509, t2934);
-        let t2936: f64 = t1611 * t1681;
-        let t2937 = product(t2910, t2936);
-        let t2938: f64 = t2937.added_to(t2714);
-        let t2939: f64 = t2713 + t2938;
-        let t2940: f64 = t2921.plus(t2923);
-        let t2941: f64 = t2935.plus(t2940);
-        let t2942: f64 = t2939 - t2941;
-        let t2943: f64 = t998 * t1299;
-        let t2944 = product(t2942, t2943);
-        let t2945: f64 = t1312 * t1533;
-        let t2946 = product(t2919, t2945);
-        let t2947: f64 = t1544 * t1590;
-        let t2948: f64 = t2913 * t2947;
-        let t2949 = product(t1455, t2934);
-        let t2950: f64 = t1601 * t1681;
-        let t2951: f64 = t2910 * t2950;
-        let t2952: f64 = t2944.added_to(t2577);
-        let t2953: f64 = t2946.plus(t2948);
-        let t2954: f64 = t2949.plus(t2951);
-        let t2955: f64 = t2952 + t2953;
-        let t2956: f64 = t2576 + t2954;
-        let t2957: f64 = t2955 + t2956;
-        let t2958: f64 = t810 * t2957;
-        let t2959: f64 = t1299 * t2942;
-        let t2960: f64 = t83 * t1959;
-        let t2961: f64 = t1971 * t2960;
-        let t2962: f64 = t1975 + t1978;
-        let t2963: f64 = t2962 - t1976;
-        let t2964 = product(t1009, t2963);
-        let t2965: f64 = t1005 * t2009;
-        let t2966: f64 = t2964.minus(t2965);
-        let t2967: f64 = t2623 + t2966;
-        let t2968 = product(t2961, 0.003);
-        let t2969: f64 = t2968.added_to(t2967);
-        let t2970 = product(t27, t2969);
-        let t2971: f64 = t62 * t66;
-        let t2972: f64 = t1971 * t2971;
-        let t2973 = product(t85, t2618);
-        let t2974: f64 = t61 * t1986;
-        let t2975: f64 = t2973.minus(t2974);
-        let t2976 = product(t62, t2963);
-        let t2977: f64 = t86 * t2009;
-        let t2978: f64 = t2976.minus(t2977);
-        let t2979: f64 = t2975 + t2978;
-        let t2980 = product(t2972, 0.003);
-        let t2981: f64 = t2980.added_to(t2979);
-        let t2982: f64 = t2981 - t2021;
-        let t2983 = product(t34, t2982);
-        let t2984: f64 = t208 * t2099;
-        let t2985: f64 = t2111 * t2984;
-        let t2986: f64 = t2115 - t2119;
-        let t2987 = product(t1055, t2986);
-        let t2988: f64 = t1051 * t2149;
-        let t2989: f64 = t2987.minus(t2988);
-        let t2990: f64 = t2643 - t2989;
-        let t2991 = product(t2985, 0.003);
-        let t2992: f64 = t2991.minus(t2990);
-        let t2993: f64 = t157 * t2992;
-        let t2994: f64 = t187 * t191;
-        let t2995: f64 = t2111 * t2994;
-        let t2996 = product(t210, t2639);
-        let t2997: f64 = t186 * t2637;
-        let t2998: f64 = t2996.minus(t2997);
-        let t2999 = product(t187, t2986);
-        let t3000: f64 = t211 * t2149;
-        let t3001: f64 = t2999.minus(t3000);
-        let t3002: f64 = t2998 + t3001;
+        let t2910: f64 = t2819.plus(t2833);
+        let t2911: f64 = t2847.plus(t2860);
+        let t2912: f64 = t2889.plus(t2902);
+        let t2913: f64 = t2910 + t2911;
+        let t2914: f64 = t2912 + t2913;
+        let t2915: f64 = t2909 - t2914;
+        let t2916: f64 = t696 * t2915;
+        let t2917 = product(t1263, t2916);
+        let t2918 = product(t17, t2692);
+        let t2919 = product(t34, t2831);
+        let t2920 = product(t137, t2714);
+        let t2921: f64 = t141 * t2845;
+        let t2922 = product(t245, t2737);
+        let t2923: f64 = t253 * t2859;
+        let t2924 = product(t357, t2760);
+        let t2925: f64 = t365 * t2873;
+        let t2926: f64 = t467 * t2782;
+        let t2927 = product(t471, t2887);
+        let t2928: f64 = t572 * t2804;
+        let t2929 = product(t576, t2901);
+        let t2930: f64 = t908 * t2916;
+        let t2931: f64 = t2918.added_to(t2434);
+        let t2932: f64 = t2920.plus(t2923);
+        let t2933: f64 = t2924.plus(t2926);
+        let t2934: f64 = t2929.plus(t2930);
+        let t2935: f64 = t2931 + t2932;
+        let t2936: f64 = t2933 + t2934;
+        let t2937: f64 = t2935 + t2936;
+        let t2938: f64 = t2300 + t2937;
+        let t2939: f64 = t2919.plus(t2921);
+        let t2940: f64 = t2922.plus(t2925);
+        let t2941: f64 = t2927.plus(t2928);
+        let t2942: f64 = t2939 + t2940;
+        let t2943: f64 = t2941 + t2942;
+        let t2944: f64 = t2938 - t2943;
+        let t2945: f64 = t1137 * t2944;
+        let t2946 = product(t1311, t2945);
+        let t2947: f64 = t2693.plus(t2715);
+        let t2948: f64 = t2761.plus(t2774);
+        let t2949: f64 = t2783.plus(t2796);
+        let t2950: f64 = t2917.added_to(t2472);
+        let t2951: f64 = t2947 + t2948;
+        let t2952: f64 = t2949 + t2950;
+        let t2953: f64 = t2951 + t2952;
+        let t2954: f64 = t2706.plus(t2728);
+        let t2955: f64 = t2738.plus(t2751);
+        let t2956: f64 = t2805.plus(t2818);
+        let t2957: f64 = t2954 + t2955;
+        let t2958: f64 = t2946.plus(t2956);
+        let t2959: f64 = t2957 + t2958;
+        let t2960: f64 = t2953 - t2959;
+        let t2961: f64 = t1316 * t2960;
+        let t2962: f64 = t1335 * t1369;
+        let t2963 = product(t2646, t2962);
+        let t2964 = product(t1431, t2641);
+        let t2965 = product(t1403, t2916);
+        let t2966 = product(t1413, t2945);
+        let t2967 = product(t1430, t2961);
+        let t2968 = product(t1150, t2916);
+        let t2969 = product(t1153, t2945);
+        let t2970 = product(t1329, t2961);
+        let t2971: f64 = t2685 + t2730;
+        let t2972: f64 = t2753 + t2971;
+        let t2973: f64 = t2708 + t2776;
+        let t2974: f64 = t2798 + t2973;
+        let t2975: f64 = t2972 - t2974;
+        let t2976: f64 = t2975 * 0.003;
+        let t2977: f64 = t2968.plus(t2976);
+        let t2978: f64 = t2970.added_to(t2536);
+        let t2979: f64 = t2690 + t2712;
+        let t2980: f64 = t2735 + t2758;
+        let t2981: f64 = t2780 + t2802;
+        let t2982: f64 = t2977 + t2978;
+        let t2983: f64 = t2979 + t2980;
+        let t2984: f64 = t2982 + t2983;
+        let t2985: f64 = t2981 + t2984;
+        let t2986: f64 = t2969.subtracted_from(t2985);
+        let t2987: f64 = t1335 * t2986;
+        let t2988: f64 = t1443 * t2987;
+        let t2989 = product(t1346, t2916);
+        let t2990 = product(t1355, t2945);
+        let t2991 = product(t1368, t2961);
+        let t2992: f64 = t1373 * t2987;
+        let t2993: f64 = t2695 + t2740;
+        let t2994: f64 = t2763 + t2993;
+        let t2995: f64 = t2717 + t2785;
+        let t2996: f64 = t2807 + t2995;
+        let t2997: f64 = t2994 - t2996;
+        let t2998: f64 = t2997 * 0.003;
+        let t2999: f64 = t2989.plus(t2998);
+        let t3000: f64 = t2991.added_to(t2582);
+        let t3001: f64 = t2702 + t2724;
+        let t3002: f64 = t2999 + t3000;
         (
-            t2009,
-            t2077,
-            t2111,
-            t2149,
-            t2161,
-            t2213,
-            t2234,
-            t2246,
-            t2253,
-            t2254,
+            t2219,
+            t2268,
+            t2274,
+            t2278,
             t2284,
-            t2297,
-            t2350,
-            t2359,
-            t2380,
-            t2411,
-            t2415,
-            t2416,
-            t2418,
-            t2426,
-            t2433,
-            t2485,
-            t2494,
-            t2515,
-            t2546,
-            t2550,
-            t2554,
-            t2568,
-            t2577,
-            t2584,
-            t2590,
-            t2594,
-            t2600,
-            t2604,
-            t2612,
-            t2616,
-            t2618,
-            t2637,
-            t2639,
-            t2652,
-            t2654,
-            t2657,
-            t2665,
-            t2670,
-            t2685,
-            t2687,
-            t2691,
-            t2702,
-            t2705,
-            t2714,
-            t2720,
-            t2726,
-            t2730,
-            t2736,
-            t2740,
-            t2748,
-            t2752,
-            t2781,
-            t2816,
-            t2862,
+            t2288,
+            t2296,
+            t2440,
+            t2446,
+            t2450,
+            t2456,
+            t2460,
+            t2468,
+            t2501,
+            t2624,
+            t2641,
+            t2646,
+            t2682,
+            t2683,
+            t2747,
+            t2770,
+            t2792,
+            t2814,
+            t2821,
+            t2828,
+            t2835,
+            t2842,
+            t2849,
+            t2856,
+            t2863,
+            t2870,
+            t2877,
+            t2884,
+            t2891,
             t2898,
-            t2913,
-            t2919,
-            t2958,
-            t2959,
             t2961,
             t2963,
+            t2964,
+            t2965,
+            t2966,
             t2967,
-            t2969,
-            t2970,
-            t2972,
-            t2979,
-            t2982,
-            t2983,
-            t2985,
-            t2986,
+            t2988,
             t2990,
             t2992,
-            t2993,
-            t2995,
+            t3001,
             t3002,
         )
     };
     let (
-        t3318,
-        t3319,
-        t3320,
-        t3321,
-        t3322,
-        t3323,
-        t3324,
-        t3325,
-        t3326,
-        t3327,
-        t3335,
-        t3362,
-        t3408,
-        t3475,
-        t3565,
-        t3679,
+        t3035,
+        t3036,
+        t3037,
+        t3038,
+        t3039,
+        t3040,
+        t3041,
+        t3042,
+        t3043,
+        t3052,
+        t3079,
+        t3126,
+        t3194,
+        t3284,
+        t3398,
     ) = {
-        let t3003 = product(t2995, 0.003);
-        let t3004: f64 = t2077 + t3002;
-        let t3005: f64 = t3003.plus(t3004);
-        let t3006: f64 = t160 * t3005;
-        let t3007: f64 = t339 * t2234;
-        let t3008: f64 = t2246 * t3007;
-        let t3009: f64 = t2254 - t2253;
-        let t3010 = product(t1101, t3009);
-        let t3011: f64 = t1097 * t2284;
-        let t3012: f64 = t3010.minus(t3011);
-        let t3013: f64 = t2657 + t3012;
-        let t3014 = product(t3008, 0.003);
-        let t3015: f64 = t3014.added_to(t3013);
-        let t3016 = product(t286, t3015);
-        let t3017: f64 = t318 * t322;
-        let t3018: f64 = t2246 * t3017;
-        let t3019 = product(t341, t2652);
-        let t3020: f64 = t317 * t2654;
-        let t3021: f64 = t3019.plus(t3020);
-        let t3022 = product(t318, t3009);
-        let t3023: f64 = t342 * t2284;
-        let t3024: f64 = t3022.plus(t3023);
-        let t3025: f64 = t3021 - t3024;
-        let t3026 = product(t3018, 0.003);
-        let t3027: f64 = t3026.added_to(t2213);
-        let t3028: f64 = t3025 - t3027;
-        let t3029: f64 = t291 * t3028;
-        let t3030: f64 = t470 * t2359;
-        let t3031: f64 = t2411 * t3030;
-        let t3032: f64 = t2415 + t2418;
-        let t3033: f64 = t3032 - t2416;
-        let t3034 = product(t1147, t3033);
-        let t3035: f64 = t1143 * t2380;
-        let t3036: f64 = t3034.minus(t3035);
-        let t3037: f64 = t2670 + t3036;
-        let t3038 = product(t3031, 0.003);
-        let t3039: f64 = t3038.added_to(t3037);
-        let t3040 = product(t417, t3039);
-        let t3041: f64 = t449 * t453;
-        let t3042: f64 = t2411 * t3041;
-        let t3043 = product(t472, t2665);
-        let t3044: f64 = t448 * t2426;
-        let t3045: f64 = t3043.plus(t3044);
-        let t3046 = product(t449, t3033);
-        let t3047: f64 = t473 * t2380;
-        let t3048: f64 = t3046.plus(t3047);
-        let t3049: f64 = t3045 - t3048;
-        let t3050 = product(t3042, 0.003);
-        let t3051: f64 = t2350 + t3049;
-        let t3052: f64 = t3050.subtracted_from(t3051);
-        let t3053: f64 = t422 * t3052;
-        let t3054: f64 = t594 * t2494;
-        let t3055: f64 = t2546 * t3054;
-        let t3056: f64 = t2550 - t2554;
-        let t3057 = product(t1193, t3056);
-        let t3058: f64 = t1189 * t2515;
-        let t3059: f64 = t3057.minus(t3058);
-        let t3060: f64 = t2691 - t3059;
-        let t3061 = product(t3055, 0.003);
-        let t3062: f64 = t3061.minus(t3060);
-        let t3063 = product(t544, t3062);
-        let t3064: f64 = t573 * t577;
-        let t3065: f64 = t2546 * t3064;
-        let t3066 = product(t596, t2687);
-        let t3067: f64 = t572 * t2685;
-        let t3068: f64 = t3066.plus(t3067);
-        let t3069 = product(t573, t3056);
-        let t3070: f64 = t597 * t2515;
-        let t3071: f64 = t3069.plus(t3070);
-        let t3072: f64 = t3068 - t3071;
-        let t3073 = product(t3065, 0.003);
-        let t3074: f64 = t3073.added_to(t2485);
-        let t3075: f64 = t3072 - t3074;
-        let t3076: f64 = t547 * t3075;
-        let t3077: f64 = t717 * t1749;
-        let t3078: f64 = t1761 * t3077;
-        let t3079: f64 = t1768 - t1770;
-        let t3080 = product(t1239, t3079);
-        let t3081: f64 = t1235 * t1799;
-        let t3082: f64 = t3080.minus(t3081);
-        let t3083: f64 = t2705 - t3082;
-        let t3084 = product(t3078, 0.003);
-        let t3085: f64 = t3084.minus(t3083);
-        let t3086 = product(t668, t3085);
-        let t3087: f64 = t696 * t700;
-        let t3088: f64 = t1761 * t3087;
-        let t3089 = product(t719, t2702);
-        let t3090: f64 = t695 * t1776;
-        let t3091: f64 = t3089.plus(t3090);
-        let t3092 = product(t696, t3079);
-        let t3093: f64 = t720 * t1799;
-        let t3094: f64 = t3092.plus(t3093);
-        let t3095: f64 = t3091 - t3094;
-        let t3096 = product(t3088, 0.003);
-        let t3097: f64 = t1728 + t3095;
-        let t3098: f64 = t3096.subtracted_from(t3097);
-        let t3099: f64 = t671 * t3098;
-        let t3100 = product(t17, t2982);
-        let t3101: f64 = t66 * t103;
-        let t3102: f64 = t1971 * t3101;
-        let t3103 = product(t114, t2618);
-        let t3104: f64 = t79 * t1986;
-        let t3105: f64 = t3103.minus(t3104);
-        let t3106 = product(t103, t2963);
-        let t3107: f64 = t115 * t2009;
-        let t3108: f64 = t3106.minus(t3107);
-        let t3109: f64 = t3105 + t3108;
-        let t3110 = product(t3102, 0.003);
-        let t3111: f64 = t3110.added_to(t3109);
-        let t3112: f64 = t3111 - t1937;
-        let t3113 = product(t27, t3112);
-        let t3114 = product(t156, t3005);
-        let t3115: f64 = t191 * t228;
-        let t3116: f64 = t2111 * t3115;
-        let t3117 = product(t228, t2986);
-        let t3118: f64 = t3117.added_to(t2161);
-        let t3119 = product(t240, t2149);
-        let t3120 = product(t239, t2639);
-        let t3121: f64 = t204 * t2637;
-        let t3122: f64 = t3120.minus(t3121);
-        let t3123: f64 = t3119.minus(t3122);
-        let t3124: f64 = t3118 - t3123;
-        let t3125 = product(t3116, 0.003);
-        let t3126: f64 = t3125.added_to(t3124);
-        let t3127: f64 = t157 * t3126;
-        let t3128 = product(t283, t3028);
-        let t3129: f64 = t322 * t359;
-        let t3130: f64 = t2246 * t3129;
-        let t3131 = product(t359, t3009);
-        let t3132: f64 = t3131.subtracted_from(t2297);
-        let t3133 = product(t370, t2652);
-        let t3134: f64 = t335 * t2654;
-        let t3135: f64 = t3133.plus(t3134);
-        let t3136 = product(t371, t2284);
-        let t3137: f64 = t3136.subtracted_from(t3135);
-        let t3138: f64 = t3132 + t3137;
-        let t3139 = product(t3130, 0.003);
-        let t3140: f64 = t3139.subtracted_from(t3138);
-        let t3141: f64 = t286 * t3140;
-        let t3142: f64 = t414 * t3052;
-        let t3143: f64 = t453 * t490;
-        let t3144: f64 = t2411 * t3143;
-        let t3145 = product(t501, t2665);
-        let t3146: f64 = t466 * t2426;
-        let t3147: f64 = t3145.plus(t3146);
-        let t3148 = product(t502, t2380);
-        let t3149: f64 = t3148.subtracted_from(t3147);
-        let t3150 = product(t490, t3033);
-        let t3151: f64 = t3150.added_to(t2433);
-        let t3152: f64 = t3149 - t3151;
-        let t3153 = product(t3144, 0.003);
-        let t3154: f64 = t3153.subtracted_from(t3152);
-        let t3155 = product(t417, t3154);
-        let t3156 = product(t543, t3075);
-        let t3157: f64 = t577 * t614;
-        let t3158: f64 = t2546 * t3157;
-        let t3159 = product(t614, t3056);
-        let t3160: f64 = t3159.subtracted_from(t2568);
-        let t3161 = product(t626, t2515);
-        let t3162 = product(t625, t2687);
-        let t3163: f64 = t590 * t2685;
-        let t3164: f64 = t3162.plus(t3163);
-        let t3165: f64 = t3161.minus(t3164);
-        let t3166: f64 = t3160 - t3165;
-        let t3167 = product(t3158, 0.003);
-        let t3168: f64 = t3167.subtracted_from(t3166);
-        let t3169: f64 = t544 * t3168;
-        let t3170: f64 = t667 * t3098;
-        let t3171: f64 = t700 * t737;
-        let t3172: f64 = t1761 * t3171;
-        let t3173 = product(t737, t3079);
-        let t3174: f64 = t3173.added_to(t1811);
-        let t3175 = product(t749, t1799);
-        let t3176 = product(t748, t2702);
-        let t3177: f64 = t713 * t1776;
-        let t3178: f64 = t3176.plus(t3177);
-        let t3179: f64 = t3175.minus(t3178);
-        let t3180: f64 = t3174 + t3179;
-        let t3181 = product(t3172, 0.003);
-        let t3182: f64 = t3181.added_to(t3180);
-        let t3183: f64 = -t3182;
-        let t3184 = product(t668, t3183);
-        let t3185: f64 = t3113.added_to(t2577);
-        let t3186: f64 = t3114.plus(t3142);
-        let t3187: f64 = t3155.plus(t3170);
-        let t3188: f64 = t3184.added_to(t1890);
-        let t3189: f64 = t3185 + t3186;
-        let t3190: f64 = t3187 + t3188;
-        let t3191: f64 = t3189 + t3190;
-        let t3192: f64 = t3100.plus(t3127);
-        let t3193: f64 = t3128.plus(t3141);
-        let t3194: f64 = t3156.plus(t3169);
-        let t3195: f64 = t3192 + t3193;
-        let t3196: f64 = t3194 + t3195;
-        let t3197: f64 = t3191 - t3196;
-        let t3198: f64 = t810 * t3197;
-        let t3199 = product(t1455, t3198);
-        let t3200 = product(t17, t2969);
-        let t3201 = product(t34, t3112);
-        let t3202: f64 = t156 * t2992;
-        let t3203 = product(t160, t3126);
-        let t3204 = product(t283, t3015);
-        let t3205: f64 = t291 * t3140;
-        let t3206 = product(t414, t3039);
-        let t3207: f64 = t422 * t3154;
-        let t3208 = product(t543, t3062);
-        let t3209: f64 = t547 * t3168;
-        let t3210 = product(t667, t3085);
-        let t3211: f64 = t671 * t3183;
-        let t3212: f64 = t998 * t3198;
-        let t3213: f64 = t3200.added_to(t2714);
-        let t3214: f64 = t3203.plus(t3205);
-        let t3215: f64 = t3206.plus(t3209);
-        let t3216: f64 = t3210.plus(t3212);
-        let t3217: f64 = t3213 + t3214;
-        let t3218: f64 = t3215 + t3216;
-        let t3219: f64 = t3217 + t3218;
-        let t3220: f64 = t2616 + t3219;
-        let t3221: f64 = t3201.plus(t3202);
-        let t3222: f64 = t3204.plus(t3207);
-        let t3223: f64 = t3208.plus(t3211);
-        let t3224: f64 = t3221 + t3222;
-        let t3225: f64 = t3223 + t3224;
-        let t3226: f64 = t3220 - t3225;
-        let t3227: f64 = t1299 * t3226;
-        let t3228 = product(t1509, t3227);
-        let t3229: f64 = t2970.plus(t3006);
-        let t3230: f64 = t3040.plus(t3053);
-        let t3231: f64 = t3086.plus(t3099);
-        let t3232: f64 = t3199.added_to(t2752);
-        let t3233: f64 = t3229 + t3230;
-        let t3234: f64 = t3231 + t3232;
-        let t3235: f64 = t3233 + t3234;
-        let t3236: f64 = t2983.plus(t2993);
-        let t3237: f64 = t3016.plus(t3029);
-        let t3238: f64 = t3063.plus(t3076);
-        let t3239: f64 = t3236 + t3237;
-        let t3240: f64 = t3228.plus(t3238);
-        let t3241: f64 = t3239 + t3240;
-        let t3242: f64 = t3235 - t3241;
-        let t3243: f64 = t1514 * t3242;
-        let t3244: f64 = t1533 * t1567;
-        let t3245 = product(t2919, t3244);
-        let t3246: f64 = t1590 * t1641;
-        let t3247 = product(t2913, t3246);
-        let t3248 = product(t1601, t3198);
-        let t3249 = product(t1611, t3227);
-        let t3250 = product(t1640, t3243);
-        let t3251 = product(t1312, t3198);
-        let t3252 = product(t1315, t3227);
-        let t3253 = product(t1527, t3243);
-        let t3254: f64 = t2961 + t3008;
-        let t3255: f64 = t3031 + t3254;
-        let t3256: f64 = t2985 + t3055;
-        let t3257: f64 = t3078 + t3256;
-        let t3258: f64 = t3255 - t3257;
-        let t3259: f64 = t3258 * 0.003;
-        let t3260: f64 = t3251.plus(t3259);
-        let t3261: f64 = t3253.added_to(t2816);
-        let t3262: f64 = t2967 + t2990;
-        let t3263: f64 = t3013 + t3037;
-        let t3264: f64 = t3060 + t3083;
-        let t3265: f64 = t3260 + t3261;
-        let t3266: f64 = t3262 + t3263;
-        let t3267: f64 = t3265 + t3266;
-        let t3268: f64 = t3264 + t3267;
-        let t3269: f64 = t3252.subtracted_from(t3268);
-        let t3270: f64 = t1533 * t3269;
-        let t3271: f64 = t1653 * t3270;
-        let t3272 = product(t1544, t3198);
-        let t3273 = product(t1553, t3227);
-        let t3274 = product(t1566, t3243);
-        let t3275: f64 = t1571 * t3270;
-        let t3276: f64 = t2972 + t3018;
-        let t3277: f64 = t3042 + t3276;
-        let t3278: f64 = t2995 + t3065;
-        let t3279: f64 = t3088 + t3278;
-        let t3280: f64 = t3277 - t3279;
-        let t3281: f64 = t3280 * 0.003;
-        let t3282: f64 = t3272.plus(t3281);
-        let t3283: f64 = t3274.added_to(t2862);
-        let t3284: f64 = t2979 + t3072;
-        let t3285: f64 = t3282 + t3283;
-        let t3286: f64 = t3095 + t3284;
-        let t3287: f64 = t3285 + t3286;
-        let t3288: f64 = t3273.plus(t3275);
-        let t3289: f64 = t3002 + t3025;
-        let t3290: f64 = t3288 + t3289;
-        let t3291: f64 = t3049 + t3290;
-        let t3292: f64 = t3287 - t3291;
-        let t3293: f64 = t1590 * t3292;
-        let t3294 = product(t1659, t3293);
-        let t3295: f64 = t3102 + t3158;
-        let t3296: f64 = t3172 + t3295;
-        let t3297: f64 = t3116 + t3130;
-        let t3298: f64 = t3144 + t3297;
-        let t3299: f64 = t3296 - t3298;
-        let t3300: f64 = t3299 * 0.003;
-        let t3301: f64 = t3248.plus(t3300);
-        let t3302: f64 = t3249.added_to(t3109);
-        let t3303: f64 = t3138 + t3152;
-        let t3304: f64 = t2898 + t3180;
-        let t3305: f64 = t3301 + t3302;
-        let t3306: f64 = t3303 + t3304;
-        let t3307: f64 = t3305 + t3306;
-        let t3308: f64 = t3250.plus(t3271);
-        let t3309: f64 = t3294.added_to(t3124);
-        let t3310: f64 = t3166 + 117.72;
-        let t3311: f64 = t3308 + t3309;
-        let t3312: f64 = t3310 + t3311;
-        let t3313: f64 = t3307 - t3312;
-        let t3314: f64 = t1681 * t2781;
-        let t3315 = product(t3313, t3314);
-        let t3316: f64 = t3245.added_to(t3243);
-        let t3317: f64 = t3247.plus(t3316);
-        let t3318: f64 = t3315.minus(t3317);
-        let t3319: f64 = t1533 * t2919;
-        let t3320: f64 = t1590 * t2913;
-        let t3321: f64 = t1681 * t3313;
-        let t3322: f64 = t44 * t59;
-        let t3323: f64 = t170 * t184;
-        let t3324: f64 = t301 * t315;
-        let t3325: f64 = t432 * t446;
-        let t3326: f64 = t557 * t570;
-        let t3327: f64 = t680 * t693;
-        let t3328 = product(t1838, t1838);
-        let t3329: f64 = t2584 * t2584;
-        let t3330 = product(t2720, t2720);
-        let t3331: f64 = t3328.plus(t3329);
-        let t3332: f64 = t3330.plus(t3331);
-        let t3333 = product(t99, t3332);
-        let t3334: f64 = t3333.plus(1.0);
-        let t3335: f64 = t3334 / t3334;
-        let t3336: f64 = t2726 * t2726;
-        let t3337 = product(t224, t3336);
-        let t3338: f64 = t1849 * t1849;
-        let t3339 = product(t224, t3338);
-        let t3340: f64 = t2590 * t2590;
-        let t3341: f64 = t224 * t3340;
-        let t3342: f64 = t3339.plus(t3341);
-        let t3343: f64 = t3337.plus(t3342);
-        let t3344: f64 = t3343 + 1.0;
-        let t3345 = product(t1838, t1849);
-        let t3346: f64 = t2584 * t2590;
-        let t3347 = product(t2720, t2726);
-        let t3348: f64 = t36 * t162;
-        let t3349 = product(t29, t159);
-        let t3350: f64 = t39 * t165;
-        let t3351: f64 = t3345.plus(t3346);
-        let t3352: f64 = t3347.plus(t3348);
-        let t3353: f64 = t3349.plus(t3350);
-        let t3354: f64 = t3351 + t3352;
-        let t3355: f64 = t3353 + t3354;
-        let t3356: f64 = t44 * t170;
-        let t3357: f64 = t3355 * t3356;
-        let t3358: f64 = 1.0 / t3334;
-        let t3359: f64 = t3357 * t3358;
-        let t3360 = product(t3357, t3359);
-        let t3361: f64 = t3360.subtracted_from(t3344);
-        let t3362: f64 = t3361 / t3344;
-        let t3363: f64 = t2730 * t2730;
-        let t3364 = product(t355, t3363);
-        let t3365: f64 = t1844 * t1844;
-        let t3366 = product(t355, t3365);
-        let t3367: f64 = t2594 * t2594;
-        let t3368: f64 = t355 * t3367;
-        let t3369: f64 = t3366.plus(t3368);
-        let t3370: f64 = t3364.plus(t3369);
-        let t3371: f64 = t3370 + 1.0;
-        let t3372 = product(t1838, t1844);
-        let t3373: f64 = t2584 * t2594;
-        let t3374 = product(t2720, t2730);
-        let t3375 = product(t36, t293);
-        let t3376: f64 = t29 * t288;
-        let t3377 = product(t39, t296);
-        let t3378: f64 = t3372.plus(t3373);
-        let t3379: f64 = t3374.plus(t3378);
-        let t3380: f64 = t3375.plus(t3376);
-        let t3381: f64 = t3377.plus(t3380);
-        let t3382: f64 = t3379 - t3381;
-        let t3383: f64 = t44 * t301;
-        let t3384: f64 = t3382 * t3383;
-        let t3385: f64 = t3358 * t3384;
-        let t3386 = product(t3384, t3385);
-        let t3387 = product(t3359, t3384);
-        let t3388 = product(t1844, t1849);
-        let t3389: f64 = t2590 * t2594;
-        let t3390 = product(t2726, t2730);
-        let t3391 = product(t162, t293);
-        let t3392: f64 = t159 * t288;
-        let t3393 = product(t165, t296);
-        let t3394: f64 = t3388.plus(t3389);
-        let t3395: f64 = t3390.plus(t3394);
-        let t3396: f64 = t3391.plus(t3392);
-        let t3397: f64 = t3393.plus(t3396);
-        let t3398: f64 = t3395 - t3397;
-        let t3399: f64 = t170 * t301;
-        let t3400: f64 = t3398 * t3399;
-        let t3401: f64 = t3387.minus(t3400);
-        let t3402: f64 = -t3401;
-        let t3403: f64 = 1.0 / t3361;
-        let t3404: f64 = t3402 * t3403;
-        let t3405: f64 = t3402 * t3404;
-        let t3406: f64 = t3386.plus(t3405);
-        let t3407: f64 = t3371 - t3406;
-        let t3408: f64 = t3407 / t3371;
-        let t3409: f64 = t2736 * t2736;
-        let t3410 = product(t486, t3409);
-        let t3411: f64 = t1880 * t1880;
-        let t3412 = product(t486, t3411);
-        let t3413: f64 = t2600 * t2600;
-        let t3414: f64 = t486 * t3413;
-        let t3415: f64 = t3412.plus(t3414);
-        let t3416: f64 = t3410.plus(t3415);
-        let t3417: f64 = t3416 + 1.0;
-        let t3418 = product(t1838, t1880);
-        let t3419: f64 = t2584 * t2600;
-        let t3420 = product(t2720, t2736);
-        let t3421: f64 = t36 * t424;
-        let t3422 = product(t29, t419);
-        let t3423: f64 = t39 * t427;
-        let t3424: f64 = t3418.plus(t3419);
-        let t3425: f64 = t3420.plus(t3421);
-        let t3426: f64 = t3422.plus(t3423);
-        let t3427: f64 = t3424 + t3425;
-        let t3428: f64 = t3426 + t3427;
-        let t3429: f64 = t44 * t432;
-        let t3430: f64 = t3428 * t3429;
-        let t3431: f64 = t3358 * t3430;
-        let t3432 = product(t3430, t3431);
-        let t3433 = product(t3359, t3430);
-        let t3434 = product(t1849, t1880);
-        let t3435: f64 = t2590 * t2600;
-        let t3436 = product(t2726, t2736);
-        let t3437: f64 = t162 * t424;
-        let t3438 = product(t159, t419);
-        let t3439: f64 = t165 * t427;
-        let t3440: f64 = t3434.plus(t3435);
-        let t3441: f64 = t3436.plus(t3437);
-        let t3442: f64 = t3438.plus(t3439);
-        let t3443: f64 = t3440 + t3441;
-        let t3444: f64 = t3442 + t3443;
-        let t3445: f64 = t170 * t432;
-        let t3446: f64 = t3444 * t3445;
-        let t3447: f64 = t3433.minus(t3446);
-        let t3448: f64 = -t3447;
-        let t3449: f64 = t3403 * t3448;
-        let t3450: f64 = t3448 * t3449;
-        let t3451 = product(t3385, t3430);
-        let t3452: f64 = t3404 * t3448;
-        let t3453 = product(t1844, t1880);
-        let t3454: f64 = t2594 * t2600;
-        let t3455 = product(t2730, t2736);
-        let t3456 = product(t293, t424);
-        let t3457: f64 = t288 * t419;
-        let t3458 = product(t296, t427);
-        let t3459: f64 = t3453.plus(t3454);
-        let t3460: f64 = t3455.plus(t3459);
-        let t3461: f64 = t3456.plus(t3457);
-        let t3462: f64 = t3458.plus(t3461);
-        let t3463: f64 = t3460 - t3462;
-        let t3464: f64 = t301 * t432;
-        let t3465 = product(t3463, t3464);
-        let t3466: f64 = t3451.plus(t3452);
-        let t3467: f64 = t3465.subtracted_from(t3466);
-        let t3468: f64 = -t3467;
-        let t3469: f64 = 1.0 / t3407;
-        let t3470: f64 = t3468 * t3469;
-        let t3471 = product(t3468, t3470);
-        let t3472: f64 = t3432.plus(t3450);
-        let t3473: f64 = t3471.plus(t3472);
-        let t3474: f64 = t3417 - t3473;
-        let t3475: f64 = t3474 / t3417;
-        let t3476: f64 = t2740 * t2740;
-        let t3477 = product(t610, t3476);
-        let t3478: f64 = t1885 * t1885;
-        let t3479 = product(t610, t3478);
-        let t3480: f64 = t2604 * t2604;
-        let t3481: f64 = t610 * t3480;
-        let t3482: f64 = t3479.plus(t3481);
-        let t3483: f64 = t3477.plus(t3482);
-        let t3484: f64 = t3483 + 1.0;
-        let t3485 = product(t1838, t1885);
-        let t3486: f64 = t2584 * t2604;
-        let t3487 = product(t2720, t2740);
-        let t3488: f64 = t36 * t549;
-        let t3489 = product(t29, t546);
-        let t3490: f64 = t39 * t552;
-        let t3491: f64 = t3485.plus(t3486);
-        let t3492: f64 = t3487.plus(t3488);
-        let t3493: f64 = t3489.plus(t3490);
-        let t3494: f64 = t3491 + t3492;
-        let t3495: f64 = t3493 + t3494;
-        let t3496: f64 = t44 * t557;
-        let t3497: f64 = t3495 * t3496;
-        let t3498: f64 = t3358 * t3497;
-        let t3499 = product(t3497, t3498);
-        let t3500 = product(t3359, t3497);
-        let t3501 = product(t1849, t1885);
-        let t3502: f64 = t2590 * t2604;
-        let t3503 = product(t2726, t2740);
-        let t3504: f64 = t162 * t549;
-        let t3505 = product(t159, t546);
-        let t3506: f64 = t165 * t552;
-        let t3507: f64 = t3501.plus(t3502);
-        let t3508: f64 = t3503.plus(t3504);
-        let t3509: f64 = t3505.plus(t3506);
-        let t3510: f64 = t3507 + t3508;
-        let t3511: f64 = t3509 + t3510;
-        let t3512: f64 = t170 * t557;
-        let t3513: f64 = t3511 * t3512;
-        let t3514: f64 = t3500.minus(t3513);
-        let t3515: f64 = -t3514;
-        let t3516: f64 = t3403 * t3515;
-        let t3517: f64 = t3515 * t3516;
-        let t3518 = product(t3385, t3497);
-        let t3519: f64 = t3404 * t3515;
-        let t3520 = product(t1844, t1885);
-        let t3521: f64 = t2594 * t2604;
-        let t3522 = product(t2730, t2740);
-        let t3523 = product(t293, t549);
-        let t3524: f64 = t288 * t546;
-        let t3525 = product(t296, t552);
-        let t3526: f64 = t3520.plus(t3521);
-        let t3527: f64 = t3522.plus(t3526);
-        let t3528: f64 = t3523.plus(t3524);
-        let t3529: f64 = t3525.plus(t3528);
-        let t3530: f64 = t3527 - t3529;
-        let t3531: f64 = t301 * t557;
-        let t3532 = product(t3530, t3531);
-        let t3533: f64 = t3518.plus(t3519);
-        let t3534: f64 = t3532.subtracted_from(t3533);
-        let t3535: f64 = -t3534;
-        let t3536: f64 = t3469 * t3535;
-        let t3537 = product(t3535, t3536);
-        let t3538 = product(t3431, t3497);
-        let t3539: f64 = t3449 * t3515;
-        let t3540 = product(t3470, t3535);
-        let t3541 = product(t1880, t1885);
-        let t3542: f64 = t2600 * t2604;
-        let t3543 = product(t2736, t2740);
-        let t3544: f64 = t424 * t549;
-        let t3545 = product(t419, t546);
-        let t3546: f64 = t427 * t552;
-        let t3547: f64 = t3541.plus(t3542);
-        let t3548: f64 = t3543.plus(t3544);
-        let t3549: f64 = t3545.plus(t3546);
-        let t3550: f64 = t3547 + t3548;
-        let t3551: f64 = t3549 + t3550;
-        let t3552: f64 = t432 * t557;
-        let t3553 = product(t3551, t3552);
-        let t3554: f64 = t3538.plus(t3539);
-        let t3555: f64 = t3540.plus(t3554);
-        let t3556: f64 = t3553.subtracted_from(t3555);
-        let t3557: f64 = -t3556;
-        let t3558: f64 = 1.0 / t3474;
-        let t3559: f64 = t3557 * t3558;
-        let t3560: f64 = t3557 * t3559;
-        let t3561: f64 = t3499.plus(t3517);
-        let t3562: f64 = t3537.plus(t3560);
-        let t3563: f64 = t3561 + t3562;
-        let t3564: f64 = t3484 - t3563;
-        let t3565: f64 = t3564 / t3484;
-        let t3566: f64 = t2748 * t2748;
-        let t3567 = product(t733, t3566);
-        let t3568: f64 = t1856 * t1856;
-        let t3569 = product(t733, t3568);
-        let t3570: f64 = t2612 * t2612;
-        let t3571: f64 = t733 * t3570;
-        let t3572: f64 = t3569.plus(t3571);
-        let t3573: f64 = t3567.plus(t3572);
-        let t3574: f64 = t3573 + 1.0;
-        let t3575 = product(t1838, t1856);
-        let t3576: f64 = t2584 * t2612;
-        let t3577 = product(t2720, t2748);
-        let t3578 = product(t36, t672);
-        let t3579: f64 = t29 * t670;
-        let t3580 = product(t39, t675);
-        let t3581: f64 = t3575.plus(t3576);
-        let t3582: f64 = t3577.plus(t3581);
-        let t3583: f64 = t3578.plus(t3579);
-        let t3584: f64 = t3580.plus(t3583);
-        let t3585: f64 = t3582 - t3584;
-        let t3586: f64 = t44 * t680;
-        let t3587: f64 = t3585 * t3586;
-        let t3588: f64 = t3358 * t3587;
-        let t3589 = product(t3587, t3588);
-        let t3590 = product(t3359, t3587);
-        let t3591 = product(t1849, t1856);
-        let t3592: f64 = t2590 * t2612;
-        let t3593 = product(t2726, t2748);
-        let t3594 = product(t162, t672);
-        let t3595: f64 = t159 * t670;
-        let t3596 = product(t165, t675);
-        let t3597: f64 = t3591.plus(t3592);
-        let t3598: f64 = t3593.plus(t3597);
-        let t3599: f64 = t3594.plus(t3595);
-        let t3600: f64 = t3596.plus(t3599);
-        let t3601: f64 = t3598 - t3600;
-        let t3602: f64 = t170 * t680;
-        let t3603: f64 = t3601 * t3602;
-        let t3604: f64 = t3590.minus(t3603);
-        let t3605: f64 = -t3604;
-        let t3606: f64 = t3403 * t3605;
-        let t3607: f64 = t3605 * t3606;
-        let t3608 = product(t3385, t3587);
-        let t3609: f64 = t3404 * t3605;
-        let t3610 = product(t1844, t1856);
-        let t3611: f64 = t2594 * t2612;
-        let t3612 = product(t2730, t2748);
-        let t3613: f64 = t293 * t672;
-        let t3614 = product(t288, t670);
-        let t3615: f64 = t296 * t675;
-        let t3616: f64 = t3610.plus(t3611);
-        let t3617: f64 = t3612.plus(t3613);
-        let t3618: f64 = t3614.plus(t3615);
-        let t3619: f64 = t3616 + t3617;
-        let t3620: f64 = t3618 + t3619;
-        let t3621: f64 = t301 * t680;
-        let t3622 = product(t3620, t3621);
-        let t3623: f64 = t3608.plus(t3609);
-        let t3624: f64 = t3622.subtracted_from(t3623);
-        let t3625: f64 = -t3624;
-        let t3626: f64 = t3469 * t3625;
-        let t3627 = product(t3625, t3626);
-        let t3628 = product(t3431, t3587);
-        let t3629: f64 = t3449 * t3605;
-        let t3630 = product(t3470, t3625);
-        let t3631 = product(t1856, t1880);
-        let t3632: f64 = t2600 * t2612;
-        let t3633 = product(t2736, t2748);
-        let t3634 = product(t424, t672);
-        let t3635: f64 = t419 * t670;
-        let t3636 = product(t427, t675);
-        let t3637: f64 = t3631.plus(t3632);
-        let t3638: f64 = t3633.plus(t3637);
-        let t3639: f64 = t3634.plus(t3635);
-        let t3640: f64 = t3636.plus(t3639);
-        let t3641: f64 = t3638 - t3640;
-        let t3642: f64 = t432 * t680;
-        let t3643 = product(t3641, t3642);
-        let t3644: f64 = t3628.plus(t3629);
-        let t3645: f64 = t3630.plus(t3644);
-        let t3646: f64 = t3643.subtracted_from(t3645);
-        let t3647: f64 = -t3646;
-        let t3648: f64 = t3558 * t3647;
-        let t3649: f64 = t3647 * t3648;
-        let t3650 = product(t3498, t3587);
-        let t3651: f64 = t3516 * t3605;
-        let t3652 = product(t3536, t3625);
-        let t3653: f64 = t3559 * t3647;
-        let t3654 = product(t1856, t1885);
-        let t3655: f64 = t2604 * t2612;
-        let t3656 = product(t2740, t2748);
-        let t3657 = product(t549, t672);
-        let t3658: f64 = t546 * t670;
-        let t3659 = product(t552, t675);
-        let t3660: f64 = t3654.plus(t3655);
-        let t3661: f64 = t3656.plus(t3660);
-        let t3662: f64 = t3657.plus(t3658);
-        let t3663: f64 = t3659.plus(t3662);
-        let t3664: f64 = t3661 - t3663;
-        let t3665: f64 = t557 * t680;
-        let t3666 = product(t3664, t3665);
-        let t3667: f64 = t3650.plus(t3651);
-        let t3668: f64 = t3652.plus(t3653);
-        let t3669: f64 = t3667 + t3668;
-        let t3670: f64 = t3666.subtracted_from(t3669);
-        let t3671: f64 = -t3670;
-        let t3672: f64 = t3671 / t3564;
-        let t3673 = product(t3671, t3672);
-        let t3674: f64 = t3589.plus(t3607);
-        let t3675: f64 = t3627.plus(t3649);
-        let t3676: f64 = t3674 + t3675;
-        let t3677: f64 = t3673.plus(t3676);
-        let t3678: f64 = t3574 - t3677;
-        let t3679: f64 = t3678 / t3574;
+        let t3003: f64 = t3001 + t3002;
+        let t3004: f64 = t2990.plus(t2992);
+        let t3005: f64 = t2747 + t2770;
+        let t3006: f64 = t2792 + t2814;
+        let t3007: f64 = t3004 + t3005;
+        let t3008: f64 = t3006 + t3007;
+        let t3009: f64 = t3003 - t3008;
+        let t3010: f64 = t1392 * t3009;
+        let t3011 = product(t1449, t3010);
+        let t3012: f64 = t2821 + t2877;
+        let t3013: f64 = t2891 + t3012;
+        let t3014: f64 = t2835 + t2849;
+        let t3015: f64 = t2863 + t3014;
+        let t3016: f64 = t3013 - t3015;
+        let t3017: f64 = t3016 * 0.003;
+        let t3018: f64 = t2965.plus(t3017);
+        let t3019: f64 = t2966.added_to(t2828);
+        let t3020: f64 = t2842 + t2856;
+        let t3021: f64 = t2870 + t2884;
+        let t3022: f64 = t2624 + t2898;
+        let t3023: f64 = t3018 + t3019;
+        let t3024: f64 = t3020 + t3021;
+        let t3025: f64 = t3023 + t3024;
+        let t3026: f64 = t3022 + t3025;
+        let t3027: f64 = t2967.plus(t2988);
+        let t3028: f64 = t3011.plus(117.72);
+        let t3029: f64 = t3027 + t3028;
+        let t3030: f64 = t3026 - t3029;
+        let t3031: f64 = t1471 * t2501;
+        let t3032 = product(t3030, t3031);
+        let t3033: f64 = t2963.added_to(t2961);
+        let t3034: f64 = t2964.plus(t3033);
+        let t3035: f64 = t3032.minus(t3034);
+        let t3036: f64 = t1335 * t2646;
+        let t3037: f64 = t1471 * t3030;
+        let t3038: f64 = t44 * t59;
+        let t3039: f64 = t151 * t165;
+        let t3040: f64 = t263 * t277;
+        let t3041: f64 = t375 * t389;
+        let t3042: f64 = t481 * t494;
+        let t3043: f64 = t585 * t598;
+        let t3044: f64 = t44 * t44;
+        let t3045 = product(t1492, t1492);
+        let t3046: f64 = t2268 * t2268;
+        let t3047 = product(t2440, t2440);
+        let t3048: f64 = t3045.plus(t3046);
+        let t3049: f64 = t3047.plus(t3048);
+        let t3050 = product(t3044, t3049);
+        let t3051: f64 = t3050.plus(1.0);
+        let t3052: f64 = t3051 / t3051;
+        let t3053: f64 = t2446 * t2446;
+        let t3054 = product(t1846, t3053);
+        let t3055: f64 = t1503 * t1503;
+        let t3056 = product(t1846, t3055);
+        let t3057: f64 = t2274 * t2274;
+        let t3058: f64 = t1846 * t3057;
+        let t3059: f64 = t3056.plus(t3058);
+        let t3060: f64 = t3054.plus(t3059);
+        let t3061: f64 = t3060 + 1.0;
+        let t3062 = product(t1492, t1503);
+        let t3063: f64 = t2268 * t2274;
+        let t3064 = product(t2440, t2446);
+        let t3065: f64 = t36 * t143;
+        let t3066 = product(t29, t140);
+        let t3067: f64 = t39 * t146;
+        let t3068: f64 = t3062.plus(t3063);
+        let t3069: f64 = t3064.plus(t3065);
+        let t3070: f64 = t3066.plus(t3067);
+        let t3071: f64 = t3068 + t3069;
+        let t3072: f64 = t3070 + t3071;
+        let t3073: f64 = t44 * t151;
+        let t3074: f64 = t3072 * t3073;
+        let t3075: f64 = 1.0 / t3051;
+        let t3076: f64 = t3074 * t3075;
+        let t3077 = product(t3074, t3076);
+        let t3078: f64 = t3077.subtracted_from(t3061);
+        let t3079: f64 = t3078 / t3061;
+        let t3080: f64 = t263 * t263;
+        let t3081: f64 = t2450 * t2450;
+        let t3082 = product(t3080, t3081);
+        let t3083: f64 = t1498 * t1498;
+        let t3084 = product(t3080, t3083);
+        let t3085: f64 = t2278 * t2278;
+        let t3086: f64 = t3080 * t3085;
+        let t3087: f64 = t3084.plus(t3086);
+        let t3088: f64 = t3082.plus(t3087);
+        let t3089: f64 = t3088 + 1.0;
+        let t3090 = product(t1492, t1498);
+        let t3091: f64 = t2268 * t2278;
+        let t3092 = product(t2440, t2450);
+        let t3093 = product(t36, t255);
+        let t3094: f64 = t29 * t250;
+        let t3095 = product(t39, t258);
+        let t3096: f64 = t3090.plus(t3091);
+        let t3097: f64 = t3092.plus(t3096);
+        let t3098: f64 = t3093.plus(t3094);
+        let t3099: f64 = t3095.plus(t3098);
+        let t3100: f64 = t3097 - t3099;
+        let t3101: f64 = t44 * t263;
+        let t3102: f64 = t3100 * t3101;
+        let t3103: f64 = t3075 * t3102;
+        let t3104 = product(t3102, t3103);
+        let t3105 = product(t3076, t3102);
+        let t3106 = product(t1498, t1503);
+        let t3107: f64 = t2274 * t2278;
+        let t3108 = product(t2446, t2450);
+        let t3109 = product(t143, t255);
+        let t3110: f64 = t140 * t250;
+        let t3111 = product(t146, t258);
+        let t3112: f64 = t3106.plus(t3107);
+        let t3113: f64 = t3108.plus(t3112);
+        let t3114: f64 = t3109.plus(t3110);
+        let t3115: f64 = t3111.plus(t3114);
+        let t3116: f64 = t3113 - t3115;
+        let t3117: f64 = t151 * t263;
+        let t3118: f64 = t3116 * t3117;
+        let t3119: f64 = t3105.minus(t3118);
+        let t3120: f64 = -t3119;
+        let t3121: f64 = 1.0 / t3078;
+        let t3122: f64 = t3120 * t3121;
+        let t3123: f64 = t3120 * t3122;
+        let t3124: f64 = t3104.plus(t3123);
+        let t3125: f64 = t3089 - t3124;
+        let t3126: f64 = t3125 / t3089;
+        let t3127: f64 = t375 * t375;
+        let t3128: f64 = t2456 * t2456;
+        let t3129 = product(t3127, t3128);
+        let t3130: f64 = t1534 * t1534;
+        let t3131 = product(t3127, t3130);
+        let t3132: f64 = t2284 * t2284;
+        let t3133: f64 = t3127 * t3132;
+        let t3134: f64 = t3131.plus(t3133);
+        let t3135: f64 = t3129.plus(t3134);
+        let t3136: f64 = t3135 + 1.0;
+        let t3137 = product(t1492, t1534);
+        let t3138: f64 = t2268 * t2284;
+        let t3139 = product(t2440, t2456);
+        let t3140: f64 = t36 * t367;
+        let t3141 = product(t29, t362);
+        let t3142: f64 = t39 * t370;
+        let t3143: f64 = t3137.plus(t3138);
+        let t3144: f64 = t3139.plus(t3140);
+        let t3145: f64 = t3141.plus(t3142);
+        let t3146: f64 = t3143 + t3144;
+        let t3147: f64 = t3145 + t3146;
+        let t3148: f64 = t44 * t375;
+        let t3149: f64 = t3147 * t3148;
+        let t3150: f64 = t3075 * t3149;
+        let t3151 = product(t3149, t3150);
+        let t3152 = product(t3076, t3149);
+        let t3153 = product(t1503, t1534);
+        let t3154: f64 = t2274 * t2284;
+        let t3155 = product(t2446, t2456);
+        let t3156: f64 = t143 * t367;
+        let t3157 = product(t140, t362);
+        let t3158: f64 = t146 * t370;
+        let t3159: f64 = t3153.plus(t3154);
+        let t3160: f64 = t3155.plus(t3156);
+        let t3161: f64 = t3157.plus(t3158);
+        let t3162: f64 = t3159 + t3160;
+        let t3163: f64 = t3161 + t3162;
+        let t3164: f64 = t151 * t375;
+        let t3165: f64 = t3163 * t3164;
+        let t3166: f64 = t3152.minus(t3165);
+        let t3167: f64 = -t3166;
+        let t3168: f64 = t3121 * t3167;
+        let t3169: f64 = t3167 * t3168;
+        let t3170 = product(t3103, t3149);
+        let t3171: f64 = t3122 * t3167;
+        let t3172 = product(t1498, t1534);
+        let t3173: f64 = t2278 * t2284;
+        let t3174 = product(t2450, t2456);
+        let t3175 = product(t255, t367);
+        let t3176: f64 = t250 * t362;
+        let t3177 = product(t258, t370);
+        let t3178: f64 = t3172.plus(t3173);
+        let t3179: f64 = t3174.plus(t3178);
+        let t3180: f64 = t3175.plus(t3176);
+        let t3181: f64 = t3177.plus(t3180);
+        let t3182: f64 = t3179 - t3181;
+        let t3183: f64 = t263 * t375;
+        let t3184 = product(t3182, t3183);
+        let t3185: f64 = t3170.plus(t3171);
+        let t3186: f64 = t3184.subtracted_from(t3185);
+        let t3187: f64 = -t3186;
+        let t3188: f64 = 1.0 / t3125;
+        let t3189: f64 = t3187 * t3188;
+        let t3190 = product(t3187, t3189);
+        let t3191: f64 = t3151.plus(t3169);
+        let t3192: f64 = t3190.plus(t3191);
+        let t3193: f64 = t3136 - t3192;
+        let t3194: f64 = t3193 / t3136;
+        let t3195: f64 = t2460 * t2460;
+        let t3196 = product(t2219, t3195);
+        let t3197: f64 = t1539 * t1539;
+        let t3198 = product(t2219, t3197);
+        let t3199: f64 = t2288 * t2288;
+        let t3200: f64 = t2219 * t3199;
+        let t3201: f64 = t3198.plus(t3200);
+        let t3202: f64 = t3196.plus(t3201);
+        let t3203: f64 = t3202 + 1.0;
+        let t3204 = product(t1492, t1539);
+        let t3205: f64 = t2268 * t2288;
+        let t3206 = product(t2440, t2460);
+        let t3207: f64 = t36 * t473;
+        let t3208 = product(t29, t470);
+        let t3209: f64 = t39 * t476;
+        let t3210: f64 = t3204.plus(t3205);
+        let t3211: f64 = t3206.plus(t3207);
+        let t3212: f64 = t3208.plus(t3209);
+        let t3213: f64 = t3210 + t3211;
+        let t3214: f64 = t3212 + t3213;
+        let t3215: f64 = t44 * t481;
+        let t3216: f64 = t3214 * t3215;
+        let t3217: f64 = t3075 * t3216;
+        let t3218 = product(t3216, t3217);
+        let t3219 = product(t3076, t3216);
+        let t3220 = product(t1503, t1539);
+        let t3221: f64 = t2274 * t2288;
+        let t3222 = product(t2446, t2460);
+        let t3223: f64 = t143 * t473;
+        let t3224 = product(t140, t470);
+        let t3225: f64 = t146 * t476;
+        let t3226: f64 = t3220.plus(t3221);
+        let t3227: f64 = t3222.plus(t3223);
+        let t3228: f64 = t3224.plus(t3225);
+        let t3229: f64 = t3226 + t3227;
+        let t3230: f64 = t3228 + t3229;
+        let t3231: f64 = t151 * t481;
+        let t3232: f64 = t3230 * t3231;
+        let t3233: f64 = t3219.minus(t3232);
+        let t3234: f64 = -t3233;
+        let t3235: f64 = t3121 * t3234;
+        let t3236: f64 = t3234 * t3235;
+        let t3237 = product(t3103, t3216);
+        let t3238: f64 = t3122 * t3234;
+        let t3239 = product(t1498, t1539);
+        let t3240: f64 = t2278 * t2288;
+        let t3241 = product(t2450, t2460);
+        let t3242 = product(t255, t473);
+        let t3243: f64 = t250 * t470;
+        let t3244 = product(t258, t476);
+        let t3245: f64 = t3239.plus(t3240);
+        let t3246: f64 = t3241.plus(t3245);
+        let t3247: f64 = t3242.plus(t3243);
+        let t3248: f64 = t3244.plus(t3247);
+        let t3249: f64 = t3246 - t3248;
+        let t3250: f64 = t263 * t481;
+        let t3251 = product(t3249, t3250);
+        let t3252: f64 = t3237.plus(t3238);
+        let t3253: f64 = t3251.subtracted_from(t3252);
+        let t3254: f64 = -t3253;
+        let t3255: f64 = t3188 * t3254;
+        let t3256 = product(t3254, t3255);
+        let t3257 = product(t3150, t3216);
+        let t3258: f64 = t3168 * t3234;
+        let t3259 = product(t3189, t3254);
+        let t3260 = product(t1534, t1539);
+        let t3261: f64 = t2284 * t2288;
+        let t3262 = product(t2456, t2460);
+        let t3263: f64 = t367 * t473;
+        let t3264 = product(t362, t470);
+        let t3265: f64 = t370 * t476;
+        let t3266: f64 = t3260.plus(t3261);
+        let t3267: f64 = t3262.plus(t3263);
+        let t3268: f64 = t3264.plus(t3265);
+        let t3269: f64 = t3266 + t3267;
+        let t3270: f64 = t3268 + t3269;
+        let t3271: f64 = t375 * t481;
+        let t3272 = product(t3270, t3271);
+        let t3273: f64 = t3257.plus(t3258);
+        let t3274: f64 = t3259.plus(t3273);
+        let t3275: f64 = t3272.subtracted_from(t3274);
+        let t3276: f64 = -t3275;
+        let t3277: f64 = 1.0 / t3193;
+        let t3278: f64 = t3276 * t3277;
+        let t3279: f64 = t3276 * t3278;
+        let t3280: f64 = t3218.plus(t3236);
+        let t3281: f64 = t3256.plus(t3279);
+        let t3282: f64 = t3280 + t3281;
+        let t3283: f64 = t3203 - t3282;
+        let t3284: f64 = t3283 / t3203;
+        let t3285: f64 = t2468 * t2468;
+        let t3286 = product(t1744, t3285);
+        let t3287: f64 = t1510 * t1510;
+        let t3288 = product(t1744, t3287);
+        let t3289: f64 = t2296 * t2296;
+        let t3290: f64 = t1744 * t3289;
+        let t3291: f64 = t3288.plus(t3290);
+        let t3292: f64 = t3286.plus(t3291);
+        let t3293: f64 = t3292 + 1.0;
+        let t3294 = product(t1492, t1510);
+        let t3295: f64 = t2268 * t2296;
+        let t3296 = product(t2440, t2468);
+        let t3297 = product(t36, t577);
+        let t3298: f64 = t29 * t575;
+        let t3299 = product(t39, t580);
+        let t3300: f64 = t3294.plus(t3295);
+        let t3301: f64 = t3296.plus(t3300);
+        let t3302: f64 = t3297.plus(t3298);
+        let t3303: f64 = t3299.plus(t3302);
+        let t3304: f64 = t3301 - t3303;
+        let t3305: f64 = t44 * t585;
+        let t3306: f64 = t3304 * t3305;
+        let t3307: f64 = t3075 * t3306;
+        let t3308 = product(t3306, t3307);
+        let t3309 = product(t3076, t3306);
+        let t3310 = product(t1503, t1510);
+        let t3311: f64 = t2274 * t2296;
+        let t3312 = product(t2446, t2468);
+        let t3313 = product(t143, t577);
+        let t3314: f64 = t140 * t575;
+        let t3315 = product(t146, t580);
+        let t3316: f64 = t3310.plus(t3311);
+        let t3317: f64 = t3312.plus(t3316);
+        let t3318: f64 = t3313.plus(t3314);
+        let t3319: f64 = t3315.plus(t3318);
+        let t3320: f64 = t3317 - t3319;
+        let t3321: f64 = t151 * t585;
+        let t3322: f64 = t3320 * t3321;
+        let t3323: f64 = t3309.minus(t3322);
+        let t3324: f64 = -t3323;
+        let t3325: f64 = t3121 * t3324;
+        let t3326: f64 = t3324 * t3325;
+        let t3327 = product(t3103, t3306);
+        let t3328: f64 = t3122 * t3324;
+        let t3329 = product(t1498, t1510);
+        let t3330: f64 = t2278 * t2296;
+        let t3331 = product(t2450, t2468);
+        let t3332: f64 = t255 * t577;
+        let t3333 = product(t250, t575);
+        let t3334: f64 = t258 * t580;
+        let t3335: f64 = t3329.plus(t3330);
+        let t3336: f64 = t3331.plus(t3332);
+        let t3337: f64 = t3333.plus(t3334);
+        let t3338: f64 = t3335 + t3336;
+        let t3339: f64 = t3337 + t3338;
+        let t3340: f64 = t263 * t585;
+        let t3341 = product(t3339, t3340);
+        let t3342: f64 = t3327.plus(t3328);
+        let t3343: f64 = t3341.subtracted_from(t3342);
+        let t3344: f64 = -t3343;
+        let t3345: f64 = t3188 * t3344;
+        let t3346 = product(t3344, t3345);
+        let t3347 = product(t3150, t3306);
+        let t3348: f64 = t3168 * t3324;
+        let t3349 = product(t3189, t3344);
+        let t3350 = product(t1510, t1534);
+        let t3351: f64 = t2284 * t2296;
+        let t3352 = product(t2456, t2468);
+        let t3353 = product(t367, t577);
+        let t3354: f64 = t362 * t575;
+        let t3355 = product(t370, t580);
+        let t3356: f64 = t3350.plus(t3351);
+        let t3357: f64 = t3352.plus(t3356);
+        let t3358: f64 = t3353.plus(t3354);
+        let t3359: f64 = t3355.plus(t3358);
+        let t3360: f64 = t3357 - t3359;
+        let t3361: f64 = t375 * t585;
+        let t3362 = product(t3360, t3361);
+        let t3363: f64 = t3347.plus(t3348);
+        let t3364: f64 = t3349.plus(t3363);
+        let t3365: f64 = t3362.subtracted_from(t3364);
+        let t3366: f64 = -t3365;
+        let t3367: f64 = t3277 * t3366;
+        let t3368: f64 = t3366 * t3367;
+        let t3369 = product(t3217, t3306);
+        let t3370: f64 = t3235 * t3324;
+        let t3371 = product(t3255, t3344);
+        let t3372: f64 = t3278 * t3366;
+        let t3373 = product(t1510, t1539);
+        let t3374: f64 = t2288 * t2296;
+        let t3375 = product(t2460, t2468);
+        let t3376 = product(t473, t577);
+        let t3377: f64 = t470 * t575;
+        let t3378 = product(t476, t580);
+        let t3379: f64 = t3373.plus(t3374);
+        let t3380: f64 = t3375.plus(t3379);
+        let t3381: f64 = t3376.plus(t3377);
+        let t3382: f64 = t3378.plus(t3381);
+        let t3383: f64 = t3380 - t3382;
+        let t3384: f64 = t481 * t585;
+        let t3385 = product(t3383, t3384);
+        let t3386: f64 = t3369.plus(t3370);
+        let t3387: f64 = t3371.plus(t3372);
+        let t3388: f64 = t3386 + t3387;
+        let t3389: f64 = t3385.subtracted_from(t3388);
+        let t3390: f64 = -t3389;
+        let t3391: f64 = t3390 / t3283;
+        let t3392 = product(t3390, t3391);
+        let t3393: f64 = t3308.plus(t3326);
+        let t3394: f64 = t3346.plus(t3368);
+        let t3395: f64 = t3393 + t3394;
+        let t3396: f64 = t3392.plus(t3395);
+        let t3397: f64 = t3293 - t3396;
+        let t3398: f64 = t3397 / t3293;
         (
-            t3318,
-            t3319,
-            t3320,
-            t3321,
-            t3322,
-            t3323,
-            t3324,
-            t3325,
-            t3326,
-            t3327,
-            t3335,
-            t3362,
-            t3408,
-            t3475,
-            t3565,
-            t3679,
+            t3035,
+            t3036,
+            t3037,
+            t3038,
+            t3039,
+            t3040,
+            t3041,
+            t3042,
+            t3043,
+            t3052,
+            t3079,
+            t3126,
+            t3194,
+            t3284,
+            t3398,
         )
     };
     (
-        [t2958, t2959, t3318, t3319, t3320, t3321],
+        [t2682, t2683, t3035, t3036, t2641, t3037],
         [
-            t3322,
-            t3323,
-            t3324,
-            t3325,
-            t3326,
-            t3327,
-            t3335,
-            t3362,
-            t3408,
-            t3475,
-            t3565,
-            t3679,
+            t3038,
+            t3039,
+            t3040,
+            t3041,
+            t3042,
+            t3043,
+            t3052,
+            t3079,
+            t3126,
+            t3194,
+            t3284,
+            t3398,
         ],
     )
 }

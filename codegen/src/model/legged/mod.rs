@@ -77,6 +77,12 @@ pub struct LegBody<'g> {
     /// Without [`LegBody::angular`]: `G` alone in closed form, the bias derived from it;
     /// `None` derives both.
     pub angular_rates: Option<Vec<Vec3<'g>>>,
+    /// Its origin's velocity per unit rate of each coordinate in closed form, in its own
+    /// frame, for [`MassMatrix::Energy`]; `None` rotates the derived one.
+    pub velocity_rates: Option<Vec<Vec3<'g>>>,
+    /// Its origin's acceleration at `s̈ = 0` in closed form (base frame), where the leg type
+    /// knows it; `None` differentiates the origin's velocity.
+    pub acceleration_bias: Option<Vec3<'g>>,
 }
 
 /// A body's angular motion in its own frame, `ω = G ṡ` and `ω̇ = G s̈ + b`.
@@ -132,6 +138,25 @@ pub trait Leg<'g> {
     fn actuator_gradient(&self, _s: &[Expr<'g>]) -> Option<Vec<Expr<'g>>> {
         None
     }
+    /// How the leg's mass matrix in its coordinates is formed; default
+    /// [`MassMatrix::Differentiated`].
+    fn mass_matrix(&self) -> MassMatrix {
+        MassMatrix::Differentiated
+    }
+}
+
+/// The two exact ways to a leg's mass matrix `M` in its coordinates (`φ = M s̈ + φ₀`); which
+/// costs fewer operations depends on the leg type's bodies.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum MassMatrix {
+    /// `∂φ/∂s̈`, the generalized force differentiated: it shares the Newton-Euler terms the
+    /// bias reads (the U-P-S leg, whose piston's origin slides along the leg).
+    Differentiated,
+    /// `Σ Jᵀ I J` over the bodies, the kinetic energy's Hessian in the rates: `M_kl = v_k·p_l +
+    /// ω_k·L_l` with `p_l = m v_l + ω_l × h` and `L_l = I ω_l + h × v_l`, each body's velocity
+    /// `v` and angular velocity `ω` per unit rate in its own frame (the R-U-S leg, whose rod's
+    /// origin, the elbow, moves along one direction only).
+    Energy,
 }
 
 /// The coordinates of a leg at the platform's state: their values, rates and accelerations,
@@ -267,6 +292,28 @@ fn add_to<'g>(list: &mut Vec<(Vec<Vec3<'g>>, Vec3<'g>)>, map: Vec<Vec3<'g>>, loa
     }
 }
 
+/// Adds one body's `Jᵀ I J` to the lower triangle of `mass` (row-major `n × n`), from its
+/// velocity `v_l` and angular velocity `ω_l` per unit rate `ṡ_l`, both in its frame
+/// ([`MassMatrix::Energy`]).
+fn add_energy_mass<'g>(
+    mass: &mut [Expr<'g>],
+    body: &Inertial<'g>,
+    velocities: &[Vec3<'g>],
+    angular: &[Vec3<'g>],
+) {
+    let n = velocities.len();
+    let h = body.first_moment;
+    for l in 0..n {
+        let (v, w) = (velocities[l], angular[l]);
+        let momentum = Vector((v.scale(body.mass) + w.cross(&h)).0.map(Expr::keep));
+        let angular_momentum = Vector((body.inertia * w + h.cross(&v)).0.map(Expr::keep));
+        for k in l..n {
+            mass[k * n + l] =
+                mass[k * n + l] + velocities[k].dot(&momentum) + angular[k].dot(&angular_momentum);
+        }
+    }
+}
+
 /// What a leg gives, derived on its coordinate symbols `s`, `ṡ`, `s̈`.
 struct LegEquations<'g> {
     q: Expr<'g>,
@@ -277,6 +324,8 @@ struct LegEquations<'g> {
     /// `∂φ/∂s̈`, row-major `n × n`: the leg's mass matrix in its coordinates (`φ` is affine in
     /// `s̈`).
     mass: Vec<Expr<'g>>,
+    /// `φ₀`, `φ` at `s̈ = 0`.
+    phi_at_rest: Vec<Expr<'g>>,
 }
 
 /// The leg's actuator and bodies differentiated on its coordinate symbols; the bodies'
@@ -328,6 +377,7 @@ fn leg_equations<'g>(
     };
     // Bodies that turn alike (one angular map) add their moments before the map's transpose
     // reads them, and those whose origins move alike add their forces.
+    let mut energy_mass = vec![g.zero(); n * n];
     let mut moments: Vec<(Vec<Vec3<'g>>, Vec3<'g>)> = Vec::new();
     let mut forces: Vec<(Vec<Vec3<'g>>, Vec3<'g>)> = Vec::new();
     for body in leg.bodies(&all, &sd) {
@@ -352,8 +402,25 @@ fn leg_equations<'g>(
         let unit = |v: Vec3<'g>| Vector(v.0.map(Expr::keep));
         let omega = unit(combine(&angular.rates, &sd));
         let omega_dot = unit(combine(&angular.rates, &sdd) + angular.bias);
-        let a_origin = vec3(&time_derivative(&combine(&linear, &sd).to_vec()));
         let to_body = body.rotation.transpose();
+        // The origin's acceleration in the body's frame.
+        let a_origin = match (&body.velocity_rates, body.acceleration_bias) {
+            (Some(velocities), Some(bias)) => combine(velocities, &sdd) + to_body * bias,
+            (None, Some(bias)) => to_body * (combine(&linear, &sdd) + bias),
+            (_, None) => to_body * vec3(&time_derivative(&combine(&linear, &sd).to_vec())),
+        };
+        if leg.mass_matrix() == MassMatrix::Energy {
+            let velocities = body
+                .velocity_rates
+                .clone()
+                .unwrap_or_else(|| linear.iter().map(|c| unit(to_body * *c)).collect());
+            add_energy_mass(
+                &mut energy_mass,
+                &body.inertial,
+                &velocities,
+                &angular.rates,
+            );
+        }
         let frame = Frame {
             r: body.rotation,
             omega,
@@ -362,15 +429,20 @@ fn leg_equations<'g>(
         let wrench = wrench_in_platform_frame(
             &body.inertial,
             &frame,
-            &unit(to_body * a_origin),
+            &unit(a_origin),
             &unit(to_body * *gravity),
         );
         add_to(&mut moments, angular.rates, wrench.top());
-        if linear
-            .iter()
-            .any(|c| c.0.iter().any(|e| e.as_const() != Some(0.0)))
-        {
-            add_to(&mut forces, linear, body.rotation * wrench.bottom());
+        match body.velocity_rates {
+            // Its force read in its own frame, as its velocity is given.
+            Some(velocities) => add_to(&mut forces, velocities, wrench.bottom()),
+            None if linear
+                .iter()
+                .any(|c| c.0.iter().any(|e| e.as_const() != Some(0.0))) =>
+            {
+                add_to(&mut forces, linear, body.rotation * wrench.bottom());
+            }
+            None => {}
         }
     }
     let mut phi = vec![g.zero(); n];
@@ -385,14 +457,27 @@ fn leg_equations<'g>(
         .zip(&hidden)
         .map(|(&h, q)| (h, q.value))
         .collect();
-    // Entry `(i, l)` of the mass matrix, `∂φ_i/∂s̈_l`, at `i n + l`.
-    let columns: Vec<Vec<Expr<'g>>> = sdd.iter().map(|&a| g.derivatives(&phi, a)).collect();
-    let mass: Vec<Expr<'g>> = (0..n * n).map(|k| columns[k % n][k / n]).collect();
+    // Entry `(i, l)` of the mass matrix at `i n + l`, each pair formed once (it is symmetric).
+    let lower = match leg.mass_matrix() {
+        MassMatrix::Energy => energy_mass,
+        MassMatrix::Differentiated => {
+            // `∂φ_i/∂s̈_l` at `l n + i`.
+            let columns: Vec<Expr<'g>> = sdd.iter().flat_map(|&a| g.derivatives(&phi, a)).collect();
+            (0..n * n).map(|k| columns[k % n + (k / n) * n]).collect()
+        }
+    };
+    let mass = (0..n * n).map(|k| {
+        let (i, l) = (k / n, k % n);
+        lower[i.max(l) * n + i.min(l)]
+    });
+    let at_rest: Vec<(Expr<'g>, Expr<'g>)> = sdd.iter().map(|&a| (a, g.zero())).collect();
+    let phi_at_rest = g.substitute(&phi, &at_rest);
     let flat: Vec<Expr<'g>> = [q, qdd]
         .into_iter()
         .chain(grad)
         .chain(phi)
         .chain(mass)
+        .chain(phi_at_rest)
         .collect();
     let flat = if values.is_empty() {
         flat
@@ -404,7 +489,8 @@ fn leg_equations<'g>(
         qdd: flat[1],
         grad: flat[2..2 + n].to_vec(),
         phi: flat[2 + n..2 + 2 * n].to_vec(),
-        mass: flat[2 + 2 * n..].to_vec(),
+        mass: flat[2 + 2 * n..2 + 2 * n + n * n].to_vec(),
+        phi_at_rest: flat[2 + 2 * n + n * n..].to_vec(),
     };
     (equations, [s.to_vec(), sd, sdd])
 }
@@ -419,6 +505,9 @@ pub struct LegState<'g> {
     pub wrench: Vec6<'g>,
     /// [`Leg::unit_translation`].
     pub unit_translation: bool,
+    /// [`LegState::wrench`] as `Tᵀ (φ₀ + M s̈)`: the same value, cheaper where `M` is formed
+    /// anyway (the forward dynamics), for then only `φ₀` balances the bodies.
+    pub wrench_through_mass: Vec6<'g>,
     /// `∂(Tᵀ φ)/∂V̇ = Tᵀ (∂φ/∂s̈) T`, lower triangle: the leg's part of `M_x`.
     pub inertia: Mat6<'g>,
 }
@@ -448,9 +537,19 @@ pub fn leg_state<'g>(
         .chain(equations.grad)
         .chain(equations.phi)
         .chain(equations.mass)
+        .chain(equations.phi_at_rest)
         .collect();
     let all = g.substitute(&flat, &values);
-    let (grad, phi, mass) = (&all[2..2 + n], &all[2 + n..2 + 2 * n], &all[2 + 2 * n..]);
+    let (grad, phi) = (&all[2..2 + n], &all[2 + n..2 + 2 * n]);
+    let (mass, phi_at_rest) = all[2 + 2 * n..].split_at(n * n);
+    // `φ = φ₀ + M s̈`.
+    let through_mass: Vec<Expr<'g>> = (0..n)
+        .map(|i| {
+            (0..n).fold(phi_at_rest[i], |sum, l| {
+                sum + mass[i * n + l] * coordinates.sdd[l]
+            })
+        })
+        .collect();
     let along = |weights: &[Expr<'g>]| {
         (0..n).fold(Vec6::zeros(g), |sum, k| {
             sum + coordinates.t[k].scale(weights[k])
@@ -463,6 +562,7 @@ pub fn leg_state<'g>(
         qdd: all[1],
         jinv_row,
         wrench: along(phi),
+        wrench_through_mass: along(&through_mass),
         unit_translation: leg.unit_translation(),
         inertia: projected_inertia(&coordinates.t, mass),
     }
@@ -557,6 +657,16 @@ macro_rules! legged_mechanics {
             posed: &$crate::model::geometry::Posed<'g>,
         ) -> $crate::linalg::Mat6<'g> {
             $crate::model::legged::task_inertia(self, dynamics, posed)
+        }
+
+        fn forward_dynamics<'g>(
+            &self,
+            dynamics: &$crate::model::bodies::Dynamics<'g>,
+            posed: &$crate::model::geometry::Posed<'g>,
+            twist: &$crate::linalg::Vec6<'g>,
+            gamma: &$crate::linalg::Vec6<'g>,
+        ) -> $crate::linalg::Vec6<'g> {
+            $crate::model::legged::forward_dynamics(self, dynamics, posed, twist, gamma)
         }
 
         fn inverse_dynamics<'g>(
@@ -667,6 +777,30 @@ pub fn task_inertia<'g>(
         }
     });
     Mat::from_fn(|a, b| lower.0[a.max(b)][a.min(b)])
+}
+
+/// The direct dynamic model, `M_x V̇ = J⁻ᵀ Γ - h`, with each leg's part of `h` formed as
+/// `Tᵀ (φ₀ + M s̈₀)` ([`LegState::wrench_through_mass`]): `M` is already `M_x`'s, so the legs'
+/// bodies are balanced at `s̈ = 0` only, where their Newton-Euler terms lose every product
+/// with `s̈`.
+pub fn forward_dynamics<'g>(
+    mechanism: &dyn Legs,
+    dynamics: &Dynamics<'g>,
+    posed: &Posed<'g>,
+    twist: &Vec6<'g>,
+    gamma: &Vec6<'g>,
+) -> Vec6<'g> {
+    let g = posed.c[0].graph();
+    let at_rest = Vec6::zeros(g);
+    let motion = Motion::new(*twist, at_rest);
+    let legs = states_at(mechanism, posed, &motion, Some(dynamics));
+    let frame = super::bodies::Frame::new(posed.r, &twist.top(), &at_rest.top());
+    let bias = legs.iter().fold(
+        super::bodies::platform_wrench(dynamics, &frame, twist, &at_rest),
+        |sum, leg| sum + leg.wrench_through_mass,
+    );
+    let driving = inverse_jacobian(&legs).transpose() * *gamma;
+    task_inertia(mechanism, dynamics, posed).ldlt_solve(&(driving - bias))
 }
 
 /// `J⁻¹` from the legs' rows.

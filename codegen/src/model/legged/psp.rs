@@ -54,6 +54,8 @@ impl<'g> Leg<'g> for Psp<'g> {
                 inertial: self.rod,
                 angular: None,
                 angular_rates: None,
+                velocity_rates: None,
+                acceleration_bias: None,
             },
             LegBody {
                 rotation: r,
@@ -61,6 +63,8 @@ impl<'g> Leg<'g> for Psp<'g> {
                 inertial: self.joint,
                 angular: None,
                 angular_rates: None,
+                velocity_rates: None,
+                acceleration_bias: None,
             },
         ]
     }

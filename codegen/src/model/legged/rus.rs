@@ -16,7 +16,7 @@
 //! `y' = (u × r)/|u × r|`, `x' = y' × z'` (the U joint's second axis is fixed in the rod).
 //! `|B - E| = L` holds identically in the coordinates, so `u` divides by the constant.
 
-use super::{AngularMotion, Hidden, Leg, LegBody, Placement};
+use super::{AngularMotion, Hidden, Leg, LegBody, MassMatrix, Placement};
 use crate::dag::Expr;
 use crate::linalg::{Mat, Vec3, Vector};
 use crate::model::bodies::Inertial;
@@ -165,6 +165,12 @@ impl<'g> Leg<'g> for Rus<'g> {
         Some(self.angle_gradient(s).to_vec())
     }
 
+    /// The rod's origin, the elbow, moves along `y''` alone: its velocity per unit rate is
+    /// a rank-one map, which the energy's products keep and the differentiated `φ` does not.
+    fn mass_matrix(&self) -> MassMatrix {
+        MassMatrix::Energy
+    }
+
     fn bodies(&self, s: &[Expr<'g>], sd: &[Expr<'g>]) -> Vec<LegBody<'g>> {
         let b = Vector([s[0], s[1], s[2]]);
         let (along, normal, elbow) = self.crank_axes(s);
@@ -174,23 +180,39 @@ impl<'g> Leg<'g> for Rus<'g> {
         // bias `(0, 0, θ̈)` at rest accelerations.
         let gradient = self.angle_gradient(s);
         let g = s[0].graph();
-        let crank_rates = (0..3)
+        let crank_rates: Vec<Vec3<'g>> = (0..3)
             .map(|k| Vector([g.zero(), g.zero(), gradient[k]]))
             .collect();
+        let motion = self.closed_form.then(|| self.rod_motion(s, sd));
         let mut bodies = vec![LegBody {
             rotation: frame([along, normal, self.axis]),
             origin: self.base,
             inertial: self.crank,
-            angular: None,
+            angular: motion.as_ref().map(|m| AngularMotion {
+                rates: crank_rates.clone(),
+                bias: Vector([g.zero(), g.zero(), m.crank_bias]),
+            }),
             angular_rates: Some(crank_rates),
+            velocity_rates: None,
+            acceleration_bias: None,
         }];
-        let angular = self.closed_form.then(|| self.rod_motion(s, sd));
+        let angular = motion.as_ref().map(|m| m.rod.clone());
+        let elbow_bias = motion.as_ref().map(|m| m.elbow_bias);
+        // Every point of a rod's end at the elbow moves as the elbow, `Ė = c θ̇ y''`: in the
+        // rod's frame, `c (x'·y'', y'·y'', z'·y'') ∇θ`.
+        let velocity_rates = self.closed_form.then(|| {
+            let along_normal = keep(Vector([x.dot(&normal), y.dot(&normal), z.dot(&normal)]));
+            let scaled = keep(gradient.scale(self.crank_length));
+            (0..3).map(|k| along_normal.scale(scaled[k])).collect()
+        });
         bodies.extend(self.rods.iter().map(|&offset| LegBody {
             rotation: frame([x, y, z]),
             origin: elbow + self.axis.scale(offset),
             inertial: self.rod,
             angular: angular.clone(),
             angular_rates: None,
+            velocity_rates: velocity_rates.clone(),
+            acceleration_bias: elbow_bias,
         }));
         bodies
     }
@@ -204,7 +226,7 @@ impl<'g> Rus<'g> {
     /// `Ė = c θ̇ y''` and `Ë = c (θ̈ y'' - θ̇² x'')`, so `ḋ = M Ḃ` with `M = I - c y'' ∇θᵀ`, and
     /// `θ̈ = ∇θ·B̈ + θ̈₀` with `θ̈₀ = (c θ̇² d·x'' + |ḋ|²)/(c d·y'')` (the constraint
     /// `|d|² = L²` differentiated twice).
-    fn rod_motion(&self, s: &[Expr<'g>], sd: &[Expr<'g>]) -> AngularMotion<'g> {
+    fn rod_motion(&self, s: &[Expr<'g>], sd: &[Expr<'g>]) -> RodMotion<'g> {
         let b = Vector([s[0], s[1], s[2]]);
         let (along, normal, elbow) = self.crank_axes(s);
         let ([x, y, z], sine) = self.rod_frame(&elbow, &b);
@@ -222,8 +244,13 @@ impl<'g> Rus<'g> {
             let g = s[0].graph();
             Vector::from_fn(|j| if j == k { g.one() } else { g.zero() })
         };
+        // `ω_z = κ ω_x` in every column, as in `map`.
         let rates = (0..3)
-            .map(|k| map(&unit(k)) - through_elbow.scale(c * gradient[k]))
+            .map(|k| {
+                let column = map(&unit(k)) - through_elbow.scale(c * gradient[k]);
+                let wx = column[0].keep();
+                Vector([wx, column[1], kappa * wx])
+            })
             .collect();
         let b_dot = Vector([sd[0], sd[1], sd[2]]);
         let theta_dot = gradient.dot(&b_dot).keep();
@@ -232,15 +259,31 @@ impl<'g> Rus<'g> {
         let scale = (d.dot(&normal) * c).recip();
         let theta_ddot =
             ((d.dot(&along) * c * theta_dot * theta_dot + d_dot.dot(&d_dot)) * scale).keep();
-        let elbow_bias = along.scale(c * theta_dot * theta_dot) - normal.scale(c * theta_ddot);
+        let elbow_bias =
+            keep(normal.scale(c * theta_ddot) - along.scale(c * theta_dot * theta_dot));
         let [wx, wy, wz] = omega.0;
         let coupling = (wy * wz).keep();
-        let bias = map(&elbow_bias)
+        let bias = map(&-elbow_bias)
             + Vector([
                 coupling,
                 -(wx * wz),
                 wx * wy * (sine * sine).recip() + kappa * coupling,
             ]);
-        AngularMotion { rates, bias }
+        RodMotion {
+            rod: AngularMotion { rates, bias },
+            crank_bias: theta_ddot,
+            elbow_bias,
+        }
     }
+}
+
+/// A leg's motion at rest accelerations of its ball, `B̈ = 0`, in closed form
+/// ([`Rus::rod_motion`]).
+struct RodMotion<'g> {
+    /// The rods' angular motion in their frame.
+    rod: AngularMotion<'g>,
+    /// `θ̈₀`, the crank's angular acceleration.
+    crank_bias: Expr<'g>,
+    /// `Ë₀ = c (θ̈₀ y'' - θ̇² x'')`, the elbow's acceleration (base frame).
+    elbow_bias: Vec3<'g>,
 }

@@ -149,9 +149,11 @@ fn the_ups_closed_forms_are_the_derived_ones() {
 }
 
 /// The R-U-S leg's closed forms (the crank angle's gradient, the crank's and the rods' angular
-/// motion through the hidden `cos θ`, `sin θ`) give the leg's state the plain derivation gives,
-/// differentiating the crank angle's closed form through its square root: at seeded states
-/// of a platform on one leg with a Delta's two rods, under gravity.
+/// motion through the hidden `cos θ`, `sin θ`, the elbow's velocity and acceleration, the mass
+/// matrix from the bodies' energy) give the leg's state the plain derivation gives,
+/// differentiating the crank angle's closed form through its square root and `φ` by `s̈`: at
+/// seeded states of a platform on one leg with a Delta's two rods, under gravity. Each way,
+/// `Tᵀ (φ₀ + M s̈)` is `Tᵀ φ`.
 #[test]
 fn the_rus_closed_forms_are_the_derived_ones() {
     let g = Graph::new(Policy::FLAT);
@@ -225,6 +227,27 @@ fn the_rus_closed_forms_are_the_derived_ones() {
             values(&closed.wrench),
             values(&derived.wrench)
         );
+        let entries = |s: &LegState<'_>| {
+            s.inertia
+                .rows()
+                .iter()
+                .map(|e| e.as_const().unwrap())
+                .collect::<Vec<f64>>()
+        };
+        assert!(
+            close(&entries(&closed), &entries(&derived), 1e-11),
+            "Tᵀ M T"
+        );
+        for state in [&closed, &derived] {
+            assert!(
+                close(
+                    &values(&state.wrench_through_mass),
+                    &values(&state.wrench),
+                    1e-11
+                ),
+                "φ₀ + M s̈"
+            );
+        }
     }
 }
 
@@ -244,6 +267,8 @@ impl<'g> Leg<'g> for NoClosedForms<'g> {
         for body in &mut bodies {
             body.angular = None;
             body.angular_rates = None;
+            body.velocity_rates = None;
+            body.acceleration_bias = None;
         }
         bodies
     }

@@ -72,6 +72,8 @@ impl<'g> Leg<'g> for Ups<'g> {
                 inertial: self.cylinder,
                 angular: angular.clone(),
                 angular_rates: None,
+                velocity_rates: None,
+                acceleration_bias: None,
             },
             LegBody {
                 rotation,
@@ -79,6 +81,8 @@ impl<'g> Leg<'g> for Ups<'g> {
                 inertial: self.rod,
                 angular,
                 angular_rates: None,
+                velocity_rates: None,
+                acceleration_bias: None,
             },
         ]
     }
