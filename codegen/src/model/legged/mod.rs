@@ -328,6 +328,134 @@ struct LegEquations<'g> {
     phi_at_rest: Vec<Expr<'g>>,
 }
 
+/// A leg's coordinate symbols `s` (its own, then its hidden quantities'), `ṡ`, `s̈`, and the
+/// derivatives the derivation takes on them.
+struct LegSymbols<'g> {
+    g: &'g Graph,
+    n: usize,
+    all: Vec<Expr<'g>>,
+    sd: Vec<Expr<'g>>,
+    sdd: Vec<Expr<'g>>,
+    hidden: Vec<Hidden<'g>>,
+    /// The time derivative of every symbol: `ṡ`, `s̈`, and each hidden quantity's rate.
+    rates: Vec<(Expr<'g>, Expr<'g>)>,
+}
+
+impl<'g> LegSymbols<'g> {
+    fn new(leg: &dyn Leg<'g>, g: &'g Graph, n: usize) -> Self {
+        let m = n + leg.hidden_count();
+        assert!(m <= MAX_COORDINATES, "a leg of {m} coordinates");
+        let all = symbols(g, LEG_SYMBOLS, m);
+        let sd = symbols(g, LEG_SYMBOLS + MAX_COORDINATES as u32, n);
+        let sdd = symbols(g, LEG_SYMBOLS + 2 * MAX_COORDINATES as u32, n);
+        let hidden = leg.hidden(&all);
+        let rates = (0..n)
+            .map(|k| (all[k], sd[k]))
+            .chain((0..n).map(|k| (sd[k], sdd[k])))
+            .chain(
+                all[n..]
+                    .iter()
+                    .zip(&hidden)
+                    .map(|(&h, q)| (h, dot(&q.gradient, &sd))),
+            )
+            .collect();
+        LegSymbols {
+            g,
+            n,
+            all,
+            sd,
+            sdd,
+            hidden,
+            rates,
+        }
+    }
+
+    /// `∂v/∂s_k`, through the hidden symbols by the chain rule.
+    fn partial(&self, v: &[Expr<'g>], k: usize) -> Vec<Expr<'g>> {
+        let rates: Vec<(Expr<'g>, Expr<'g>)> = std::iter::once((self.all[k], self.g.one()))
+            .chain(
+                self.all[self.n..]
+                    .iter()
+                    .zip(&self.hidden)
+                    .map(|(&h, q)| (h, q.gradient[k])),
+            )
+            .collect();
+        self.g.tangents(v, &rates)
+    }
+
+    fn time_derivative(&self, v: &[Expr<'g>]) -> Vec<Expr<'g>> {
+        self.g.tangents(v, &self.rates)
+    }
+
+    /// `v` at `s̈ = 0`.
+    fn at_rest(&self, v: &[Expr<'g>]) -> Vec<Expr<'g>> {
+        let zeros: Vec<(Expr<'g>, Expr<'g>)> =
+            self.sdd.iter().map(|&a| (a, self.g.zero())).collect();
+        self.g.substitute(v, &zeros)
+    }
+
+    /// `Σₖ columnsₖ weightsₖ`.
+    fn combine(&self, columns: &[Vec3<'g>], weights: &[Expr<'g>]) -> Vec3<'g> {
+        (0..self.n).fold(Vec3::zeros(self.g), |sum, k| {
+            sum + columns[k].scale(weights[k])
+        })
+    }
+
+    /// A body's angular motion: the leg type's closed form, or derived from its rates (given
+    /// or derived from its rotation).
+    fn angular_motion(&self, body: &LegBody<'g>) -> AngularMotion<'g> {
+        body.angular.clone().unwrap_or_else(|| {
+            let rates = body.angular_rates.clone().unwrap_or_else(|| {
+                angular_rates_by(&body.rotation, self.n, &|v: &[Expr<'g>], k| {
+                    self.partial(v, k)
+                })
+            });
+            let omega = self.combine(&rates, &self.sd);
+            let bias = self.at_rest(&self.time_derivative(&omega.to_vec()));
+            AngularMotion {
+                rates,
+                bias: vec3(&bias),
+            }
+        })
+    }
+
+    /// A body's origin's acceleration in the body's frame, from the leg type's closed forms
+    /// where it gives them; `linear` is the origin's `∂/∂s_k` (base frame).
+    fn origin_acceleration(&self, body: &LegBody<'g>, linear: &[Vec3<'g>]) -> Vec3<'g> {
+        let to_body = body.rotation.transpose();
+        match (&body.velocity_rates, body.acceleration_bias) {
+            (Some(velocities), Some(bias)) => self.combine(velocities, &self.sdd) + to_body * bias,
+            (None, Some(bias)) => to_body * (self.combine(linear, &self.sdd) + bias),
+            (_, None) => {
+                let velocity = self.combine(linear, &self.sd).to_vec();
+                to_body * vec3(&self.time_derivative(&velocity))
+            }
+        }
+    }
+}
+
+/// The loads a leg's bodies put on its coordinates, grouped by the map that reads them:
+/// bodies that turn alike (one angular map) add their moments before the map's transpose
+/// reads them, and those whose origins move alike add their forces.
+#[derive(Default)]
+struct Loads<'g> {
+    moments: Vec<(Vec<Vec3<'g>>, Vec3<'g>)>,
+    forces: Vec<(Vec<Vec3<'g>>, Vec3<'g>)>,
+}
+
+impl<'g> Loads<'g> {
+    /// `φ = Σ Gᵀ F` by virtual work.
+    fn generalized_force(&self, g: &'g Graph, n: usize) -> Vec<Expr<'g>> {
+        let mut phi = vec![g.zero(); n];
+        for (map, load) in self.moments.iter().chain(&self.forces) {
+            for k in 0..n {
+                phi[k] = phi[k] + map[k].dot(load);
+            }
+        }
+        phi
+    }
+}
+
 /// The leg's actuator and bodies differentiated on its coordinate symbols; the bodies'
 /// Newton-Euler wrenches under `gravity`, and their generalized force by virtual work.
 fn leg_equations<'g>(
@@ -336,79 +464,24 @@ fn leg_equations<'g>(
     n: usize,
     gravity: &Vec3<'g>,
 ) -> (LegEquations<'g>, [Vec<Expr<'g>>; 3]) {
-    let m = n + leg.hidden_count();
-    assert!(m <= MAX_COORDINATES, "a leg of {m} coordinates");
-    let all = symbols(g, LEG_SYMBOLS, m);
-    let (s, hidden_symbols) = all.split_at(n);
-    let sd = symbols(g, LEG_SYMBOLS + MAX_COORDINATES as u32, n);
-    let sdd = symbols(g, LEG_SYMBOLS + 2 * MAX_COORDINATES as u32, n);
-    let hidden = leg.hidden(&all);
-    // `∂v/∂s_k` through the hidden symbols by the chain rule.
-    let partial = |v: &[Expr<'g>], k: usize| {
-        let rates: Vec<(Expr<'g>, Expr<'g>)> = std::iter::once((s[k], g.one()))
-            .chain(
-                hidden_symbols
-                    .iter()
-                    .zip(&hidden)
-                    .map(|(&h, q)| (h, q.gradient[k])),
-            )
-            .collect();
-        g.tangents(v, &rates)
-    };
-    let rates: Vec<(Expr<'g>, Expr<'g>)> = (0..n)
-        .map(|k| (s[k], sd[k]))
-        .chain((0..n).map(|k| (sd[k], sdd[k])))
-        .chain(
-            hidden_symbols
-                .iter()
-                .zip(&hidden)
-                .map(|(&h, q)| (h, dot(&q.gradient, &sd))),
-        )
-        .collect();
-    let time_derivative = |v: &[Expr<'g>]| g.tangents(v, &rates);
-    let q = leg.actuator(&all);
+    let symbols = LegSymbols::new(leg, g, n);
+    let (all, sd, sdd) = (&symbols.all, &symbols.sd, &symbols.sdd);
+    let q = leg.actuator(all);
     let grad: Vec<Expr<'g>> = leg
-        .actuator_gradient(&all)
-        .unwrap_or_else(|| (0..n).map(|k| partial(&[q], k)[0]).collect());
-    let qd = dot(&grad, &sd);
-    let qdd = time_derivative(&[qd])[0];
-    let combine = |columns: &[Vec3<'g>], weights: &[Expr<'g>]| {
-        (0..n).fold(Vec3::zeros(g), |sum, k| sum + columns[k].scale(weights[k]))
-    };
-    // Bodies that turn alike (one angular map) add their moments before the map's transpose
-    // reads them, and those whose origins move alike add their forces.
+        .actuator_gradient(all)
+        .unwrap_or_else(|| (0..n).map(|k| symbols.partial(&[q], k)[0]).collect());
+    let qdd = symbols.time_derivative(&[dot(&grad, sd)])[0];
     let mut energy_mass = vec![g.zero(); n * n];
-    let mut moments: Vec<(Vec<Vec3<'g>>, Vec3<'g>)> = Vec::new();
-    let mut forces: Vec<(Vec<Vec3<'g>>, Vec3<'g>)> = Vec::new();
-    for body in leg.bodies(&all, &sd) {
-        let angular = body.angular.unwrap_or_else(|| {
-            let rates = body
-                .angular_rates
-                .unwrap_or_else(|| angular_rates_by(&body.rotation, n, &partial));
-            let at_rest = sdd.iter().map(|_| g.zero()).collect::<Vec<_>>();
-            let omega = combine(&rates, &sd);
-            let all = time_derivative(&omega.to_vec());
-            let bias = g.substitute(&all, &sdd.iter().copied().zip(at_rest).collect::<Vec<_>>());
-            AngularMotion {
-                rates,
-                bias: vec3(&bias),
-            }
-        });
+    let mut loads = Loads::default();
+    for body in leg.bodies(all, sd) {
+        let angular = symbols.angular_motion(&body);
         let linear: Vec<Vec3<'g>> = (0..n)
-            .map(|k| vec3(&partial(&body.origin.to_vec(), k)))
+            .map(|k| vec3(&symbols.partial(&body.origin.to_vec(), k)))
             .collect();
         // The body's motion in its frame as units: the Newton-Euler products read them whole
         // instead of re-multiplying their factors in every term.
         let unit = |v: Vec3<'g>| Vector(v.0.map(Expr::keep));
-        let omega = unit(combine(&angular.rates, &sd));
-        let omega_dot = unit(combine(&angular.rates, &sdd) + angular.bias);
         let to_body = body.rotation.transpose();
-        // The origin's acceleration in the body's frame.
-        let a_origin = match (&body.velocity_rates, body.acceleration_bias) {
-            (Some(velocities), Some(bias)) => combine(velocities, &sdd) + to_body * bias,
-            (None, Some(bias)) => to_body * (combine(&linear, &sdd) + bias),
-            (_, None) => to_body * vec3(&time_derivative(&combine(&linear, &sd).to_vec())),
-        };
         if leg.mass_matrix() == MassMatrix::Energy {
             let velocities = body
                 .velocity_rates
@@ -423,41 +496,29 @@ fn leg_equations<'g>(
         }
         let frame = Frame {
             r: body.rotation,
-            omega,
-            omega_dot,
+            omega: unit(symbols.combine(&angular.rates, sd)),
+            omega_dot: unit(symbols.combine(&angular.rates, sdd) + angular.bias),
         };
         let wrench = wrench_in_platform_frame(
             &body.inertial,
             &frame,
-            &unit(a_origin),
+            &unit(symbols.origin_acceleration(&body, &linear)),
             &unit(to_body * *gravity),
         );
-        add_to(&mut moments, angular.rates, wrench.top());
+        add_to(&mut loads.moments, angular.rates, wrench.top());
         match body.velocity_rates {
             // Its force read in its own frame, as its velocity is given.
-            Some(velocities) => add_to(&mut forces, velocities, wrench.bottom()),
+            Some(velocities) => add_to(&mut loads.forces, velocities, wrench.bottom()),
             None if linear
                 .iter()
                 .any(|c| c.0.iter().any(|e| e.as_const() != Some(0.0))) =>
             {
-                add_to(&mut forces, linear, body.rotation * wrench.bottom());
+                add_to(&mut loads.forces, linear, body.rotation * wrench.bottom());
             }
             None => {}
         }
     }
-    let mut phi = vec![g.zero(); n];
-    for (map, load) in moments.iter().chain(&forces) {
-        for k in 0..n {
-            phi[k] = phi[k] + map[k].dot(load);
-        }
-    }
-    // The hidden symbols replaced by their closed forms.
-    let values: Vec<(Expr<'g>, Expr<'g>)> = hidden_symbols
-        .iter()
-        .zip(&hidden)
-        .map(|(&h, q)| (h, q.value))
-        .collect();
-    // Entry `(i, l)` of the mass matrix at `i n + l`, each pair formed once (it is symmetric).
+    let phi = loads.generalized_force(g, n);
     let lower = match leg.mass_matrix() {
         MassMatrix::Energy => energy_mass,
         MassMatrix::Differentiated => {
@@ -466,18 +527,21 @@ fn leg_equations<'g>(
             (0..n * n).map(|k| columns[k % n + (k / n) * n]).collect()
         }
     };
-    let mass = (0..n * n).map(|k| {
-        let (i, l) = (k / n, k % n);
-        lower[i.max(l) * n + i.min(l)]
-    });
-    let at_rest: Vec<(Expr<'g>, Expr<'g>)> = sdd.iter().map(|&a| (a, g.zero())).collect();
-    let phi_at_rest = g.substitute(&phi, &at_rest);
+    // Entry `(i, l)` of the mass matrix at `i n + l`, each pair formed once (it is symmetric).
+    let mass = (0..n * n).map(|k| lower[(k / n).max(k % n) * n + (k / n).min(k % n)]);
+    let phi_at_rest = symbols.at_rest(&phi);
     let flat: Vec<Expr<'g>> = [q, qdd]
         .into_iter()
         .chain(grad)
         .chain(phi)
         .chain(mass)
         .chain(phi_at_rest)
+        .collect();
+    // The hidden symbols replaced by their closed forms.
+    let values: Vec<(Expr<'g>, Expr<'g>)> = all[n..]
+        .iter()
+        .zip(&symbols.hidden)
+        .map(|(&h, q)| (h, q.value))
         .collect();
     let flat = if values.is_empty() {
         flat
@@ -492,7 +556,7 @@ fn leg_equations<'g>(
         mass: flat[2 + 2 * n..2 + 2 * n + n * n].to_vec(),
         phi_at_rest: flat[2 + 2 * n + n * n..].to_vec(),
     };
-    (equations, [s.to_vec(), sd, sdd])
+    (equations, [all[..n].to_vec(), symbols.sd, symbols.sdd])
 }
 
 /// One leg at the platform's state: its actuator's value, rate and acceleration, its row of
