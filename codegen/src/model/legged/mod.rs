@@ -78,7 +78,9 @@ pub struct LegBody<'g> {
     /// `None` derives both.
     pub angular_rates: Option<Vec<Vec3<'g>>>,
     /// Its origin's velocity per unit rate of each coordinate in closed form, in its own
-    /// frame, for [`MassMatrix::Energy`]; `None` rotates the derived one.
+    /// frame: the origin's acceleration, its force's virtual work and the energy's mass matrix
+    /// ([`MassMatrix::Energy`]) then read it there, with nothing rotated; `None` derives it in
+    /// the base frame.
     pub velocity_rates: Option<Vec<Vec3<'g>>>,
     /// Its origin's acceleration at `s̈ = 0` in closed form (base frame), where the leg type
     /// knows it; `None` differentiates the origin's velocity.

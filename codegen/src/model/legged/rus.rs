@@ -176,8 +176,9 @@ impl<'g> Leg<'g> for Rus<'g> {
         let (along, normal, elbow) = self.crank_axes(s);
         let ([x, y, z], _) = self.rod_frame(&elbow, &b);
         let frame = |axes: [Vec3<'g>; 3]| Mat::from_fn(|i, j| axes[j][i]);
-        // The crank turns about its own `z'' = r`: `ω = (0, 0, θ̇)`; the derivation finds the
-        // bias `(0, 0, θ̈)` at rest accelerations.
+        // The crank turns about its own `z'' = r`: `ω = (0, 0, θ̇)`, and at rest accelerations
+        // of the ball `ω̇ = (0, 0, θ̈₀)`, the `θ̈₀` of the rod's motion (the derivation finds it
+        // without the closed forms).
         let gradient = self.angle_gradient(s);
         let g = s[0].graph();
         let crank_rates: Vec<Vec3<'g>> = (0..3)
