@@ -177,11 +177,13 @@ class Robot:
         errors: Errors = "raise",
     ) -> Result:
         """``h`` of ``gamma = J^T (M_x (omega_dot; acceleration) + h)``: the Coriolis, centrifugal
-        and gravity terms at ``C``, ``(6,)`` or ``(N, 6)``."""
+        and gravity terms at ``C``, ``(n,)`` or ``(N, n)``; the Delta's (``n = 3``) takes no
+        ``omega``. Every mechanism."""
 
     def task_inertia(self, pose: ArrayLike, *, errors: Errors = "raise") -> Result:
-        """``M_x`` of ``gamma = J^T (M_x (omega_dot; acceleration) + h)``: ``(6, 6)`` or
-        ``(N, 6, 6)``."""
+        """``M_x`` of ``gamma = J^T (M_x (omega_dot; acceleration) + h)``: ``(n, n)`` or
+        ``(N, n, n)``, ``n`` the platform's dimension (3 for the Delta: ``M_x`` of ``a_C``).
+        Every mechanism."""
 
     def forward_kinematics(self, q: ArrayLike, *, errors: Errors = "raise") -> Result:
         """The pose of the actuator positions ``q`` (m), in closed form. Raises
@@ -211,7 +213,8 @@ class Robot:
         mechanism (the Delta's one row at a time, the others' through their kernels)."""
 
     def joint_inertia(self, q: ArrayLike, *, errors: Errors = "raise") -> Result:
-        """``M_q`` of ``gamma = M_q qdd + c_q`` (kg, ``J^T M_x J``): ``(6, 6)`` or ``(N, 6, 6)``."""
+        """``M_q`` of ``gamma = M_q qdd + c_q`` (``J^T M_x J``): ``(n, n)`` or ``(N, n, n)``.
+        Every mechanism."""
 
     def joint_bias(
         self, q: ArrayLike, qd: Optional[ArrayLike] = None, *, errors: Errors = "raise"

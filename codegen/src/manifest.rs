@@ -264,17 +264,23 @@ pub fn kernel_set(mechanism: &crate::Mechanism, kernels: &[&str], fitted: Option
             String::new()
         },
     );
-    if n == 6 && has(&["task_inertia", "task_bias", "forward_kinematics_step"]) {
+    if has(&["task_inertia", "task_bias"]) {
+        out += &format!(
+            "impl crate::legged::TaskSpace<{n}> for Kernels {{\n\
+             #[inline] fn task_inertia(x: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([[f64; {n}]; {n}], {guard}) {{ {} }}\n\
+             #[inline] fn task_bias(x: &[f64; {n}], v: &[f64; {n}], p: &[f64; PARAMETERS]) -> ([f64; {n}], {guard}) {{ {} }}\n\
+             }}\n",
+            call("task_inertia", "x"),
+            call("task_bias", "x, v"),
+        );
+    }
+    if n == 6 && has(&["inverse_kinematics", "forward_kinematics_step"]) {
         out += &format!(
             "impl crate::legged::Spatial for Kernels {{\n\
              #[inline] fn inverse_kinematics(x: &[f64; 6], p: &[f64; PARAMETERS]) -> ([f64; 6], [[f64; 3]; 6], {guard}) {{ {} }}\n\
-             #[inline] fn task_inertia(x: &[f64; 6], p: &[f64; PARAMETERS]) -> ([[f64; 6]; 6], {guard}) {{ {} }}\n\
-             #[inline] fn task_bias(x: &[f64; 6], v: &[f64; 6], p: &[f64; PARAMETERS]) -> ([f64; 6], {guard}) {{ {} }}\n\
              #[inline] fn forward_kinematics_step(x: &[f64; 6], q: &[f64; 6], p: &[f64; PARAMETERS]) -> ([f64; 6], [[f64; 6]; 6], {guard}) {{ {} }}\n\
              }}\n",
             call("inverse_kinematics", "x"),
-            call("task_inertia", "x"),
-            call("task_bias", "x, v"),
             call("forward_kinematics_step", "x, q"),
         );
     }
@@ -444,14 +450,17 @@ mod tests {
         );
         assert!(hexapod.contains("crate::legged::Legs<6> for Kernels"));
         assert!(hexapod.contains("crate::legged::Spatial for Kernels"));
+        assert!(hexapod.contains("crate::legged::TaskSpace<6> for Kernels"));
         assert!(!hexapod.contains("ClosedForm"));
         assert!(hexapod.contains("crate::legged::Calibrated<6> for Kernels"));
         assert!(hexapod.contains("type FittedRow = [f64; 7];"));
-        let mut translating: Vec<&str> = SPATIAL[..8].to_vec();
+        let mut translating: Vec<&str> = SPATIAL[..10].to_vec();
+        translating.remove(1);
         translating.push("forward_kinematics_params");
         let delta = kernel_set(&Mechanism::delta(&Delta::example()), &translating, None);
         assert!(delta.contains("crate::legged::Legs<3> for Kernels"));
         assert!(delta.contains("crate::legged::ClosedForm<3> for Kernels"));
+        assert!(delta.contains("crate::legged::TaskSpace<3> for Kernels"));
         assert!(!delta.contains("Spatial"));
         let c5 = Mechanism::c5(&Robot::default(), Model::Consistent);
         assert_eq!(kernel_set(&c5, SPATIAL, None), "");
@@ -469,7 +478,8 @@ mod tests {
             &SPATIAL[..10],
             None,
         );
-        assert!(hexapod.contains("Legs<6>") && !hexapod.contains("Spatial"));
+        assert!(hexapod.contains("Legs<6>") && hexapod.contains("TaskSpace<6>"));
+        assert!(!hexapod.contains("Spatial"));
     }
 
     /// The batch inverse dynamics joins the shared set where the module has it (behind the

@@ -71,19 +71,24 @@ pub trait Legs<const N: usize>: 'static {
     }
 }
 
-/// The kernels of a legged mechanism whose platform is free in space: the task-space terms and
-/// a step of the forward kinematics' Newton iteration.
+/// The task-space terms of `Γ = Jᵀ (M_x V̇ + h)`, in the platform's `N` coordinates: what the
+/// joint-space inertia `M_q = Jᵀ M_x J` and a task-space controller read.
+pub trait TaskSpace<const N: usize>: Legs<N> {
+    /// `task_inertia_params`: `M_x`, symmetric positive definite.
+    fn task_inertia(x: &[f64; N], p: &Self::Parameters) -> ([[f64; N]; N], impl AsRef<[f64]>);
+    /// `task_bias_params`: `h`, the velocity and gravity terms.
+    fn task_bias(x: &[f64; N], v: &[f64; N], p: &Self::Parameters)
+        -> ([f64; N], impl AsRef<[f64]>);
+}
+
+/// The kernels of a legged mechanism whose platform is free in space: the inverse kinematics
+/// with the vectors `B_i C`, and a step of the forward kinematics' Newton iteration.
 pub trait Spatial: Legs<6> {
     /// `inverse_kinematics_params`: the actuator positions and the vectors `B_i C`.
     fn inverse_kinematics(
         x: &[f64; 6],
         p: &Self::Parameters,
     ) -> ([f64; 6], [[f64; 3]; 6], impl AsRef<[f64]>);
-    /// `task_inertia_params`.
-    fn task_inertia(x: &[f64; 6], p: &Self::Parameters) -> ([[f64; 6]; 6], impl AsRef<[f64]>);
-    /// `task_bias_params`.
-    fn task_bias(x: &[f64; 6], v: &[f64; 6], p: &Self::Parameters)
-        -> ([f64; 6], impl AsRef<[f64]>);
     /// `forward_kinematics_step_params`: the residual of `q` at `x` and its Jacobian.
     fn forward_kinematics_step(
         x: &[f64; 6],

@@ -603,26 +603,23 @@ impl C5 {
         Ok((rows, batch))
     }
 
-    /// A `6×6` matrix per row of `arg` (six numbers a row), from `f`, for a platform free in
-    /// space (`what` refused for another).
+    /// An `n×n` matrix per row of `arg` (`n` numbers a row, `n` the platform's dimension),
+    /// written by `f` from the row.
     fn matrices<'py, F>(
         &self,
         py: Python<'py>,
-        (what, name): (&'static str, &str),
+        name: &str,
         arg: &Array<'py>,
         errors: &str,
         f: F,
     ) -> PyResult<Bound<'py, PyAny>>
     where
-        F: Fn(&dyn SpatialRobot, &[f64; 6]) -> Result<[[f64; 6]; 6], Error> + Sync,
+        F: Fn(&[f64], &mut [f64]) -> Result<(), Error> + Sync,
     {
-        let mode = on_error(errors)?;
-        let robot = self.spatial(what)?;
-        let (r, batch) = Self::read(&[(name, 6, Some(arg))])?;
-        each_row(py, batch, mode, &[&[6, 6]], |k, out| {
-            let m = f(robot, &r[0].row(k))?;
-            out.put(0, k, m.as_flattened());
-            Ok(())
+        let (mode, n) = (on_error(errors)?, self.dimension());
+        let (r, batch) = Self::read(&[(name, n, Some(arg))])?;
+        each_row(py, batch, mode, &[&[n, n]], |k, out| {
+            f(r[0].slice(k), out.slot(0, k))
         })
     }
 }
@@ -887,8 +884,9 @@ impl C5 {
         })
     }
 
-    /// The task-space bias `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal and
-    /// gravity terms at `C`, `(6,)` or `(N, 6)`.
+    /// The task-space bias `h` of `Γ = Jᵀ (M_x V̇ + h)`: Coriolis, centrifugal and gravity
+    /// terms at `C`, `(n,)` or `(N, n)` (`n` the platform's dimension: moment then force, or
+    /// the force alone for a platform that only translates). Every mechanism.
     #[pyo3(signature = (pose, omega = None, velocity = None, *, errors = "raise"))]
     fn task_bias<'py>(
         &self,
@@ -898,24 +896,20 @@ impl C5 {
         velocity: Option<Array<'py>>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mode = on_error(errors)?;
-        let c5 = self.spatial("task bias")?;
-        let (r, batch) = Self::read(&[
-            ("pose", 6, Some(&pose)),
-            ("omega", 3, omega.as_ref()),
-            ("velocity", 3, velocity.as_ref()),
-        ])?;
-        each_row(py, batch, mode, &[&[6]], |k, out| {
-            let twist = Twist {
-                omega: r[1].row(k),
-                velocity: r[2].row(k),
-            };
-            out.put(0, k, &c5.task_bias(&Pose::from_array(r[0].row(k)), &twist)?);
-            Ok(())
+        let (mode, n) = (on_error(errors)?, self.dimension());
+        let mut spec = self.motion_spec(&pose, [&omega, &velocity, &None, &None])?;
+        let twist = self.twist_rows();
+        spec.truncate(twist.end);
+        let (r, batch) = Self::read(&spec)?;
+        each_row(py, batch, mode, &[&[n]], |k, out| {
+            let mut v = [0.0; 6];
+            gather(&r[twist.clone()], k, &mut v[..n]);
+            self.inner.task_bias(r[0].slice(k), &v[..n], out.slot(0, k))
         })
     }
 
-    /// The task-space inertia `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: `(6, 6)` or `(N, 6, 6)`.
+    /// The task-space inertia `M_x` of `Γ = Jᵀ (M_x V̇ + h)`: `(n, n)` or `(N, n, n)`, rows and
+    /// columns the acceleration's. Every mechanism.
     #[pyo3(signature = (pose, *, errors = "raise"))]
     fn task_inertia<'py>(
         &self,
@@ -923,8 +917,8 @@ impl C5 {
         pose: Array<'py>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        self.matrices(py, ("task inertia", "pose"), &pose, errors, |c5, x| {
-            c5.task_inertia(&Pose::from_array(*x))
+        self.matrices(py, "pose", &pose, errors, |x, m| {
+            self.inner.task_inertia(x, m)
         })
     }
 
@@ -1003,8 +997,8 @@ impl C5 {
         })
     }
 
-    /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia (kg; `Jᵀ M_x J`) at the actuator
-    /// positions `q`: `(6, 6)` or `(N, 6, 6)`.
+    /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia (`Jᵀ M_x J`) at the actuator
+    /// positions `q`: `(n, n)` or `(N, n, n)`. Every mechanism.
     #[pyo3(signature = (q, *, errors = "raise"))]
     fn joint_inertia<'py>(
         &self,
@@ -1012,8 +1006,8 @@ impl C5 {
         q: Array<'py>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        self.matrices(py, ("joint inertia", "q"), &q, errors, |c5, q| {
-            c5.joint_inertia(q, None)
+        self.matrices(py, "q", &q, errors, |q, m| {
+            self.inner.joint_inertia(q, None, m)
         })
     }
 

@@ -19,7 +19,7 @@ from conftest import ROOT
 from rus_geometry import RusRobot
 from test_export import export, toml_text, unseen
 from test_rus_hexapod import (BOUND, eval_differences, offsets, pinocchio_motor_rates,
-                              pinocchio_torques, relative)
+                              pinocchio_torques, relative, task_space_differences)
 
 pin = pytest.importorskip("pinocchio")
 from exported import PinocchioExport  # noqa: E402  (needs pinocchio)
@@ -212,11 +212,24 @@ def test_the_python_robot_serves_the_delta_as_pinocchio_moves_it(delta):
     rest = np.zeros(3)
     holding = robot.inverse_dynamics(home, velocity=rest, acceleration=rest)
     assert relative(robot.joint_bias(robot.inverse_kinematics(home)), holding) < 1e-12
-    with pytest.raises(ValueError, match="only translates"):
-        robot.task_bias(home)
     far = home + [0.0, 0.0, -1.5]
     values, bad = robot.inverse_dynamics(np.array([home, far]), errors="nan")
     assert list(bad) == [False, True] and np.all(np.isnan(values[1]))
+
+
+def test_the_task_space_terms_and_joint_inertia_are_pinocchios(delta):
+    """`M_x`, `h` and `M_q` of Python's `Robot` (3×3, the Delta's) against Pinocchio's
+    constraint dynamics; `h` refuses an angular velocity the platform cannot have."""
+    c5_kernels = pytest.importorskip("c5_kernels")
+    file, _, engine, home = delta
+    robot = c5_kernels.Robot(robot=str(file))
+    samples = [(position, velocity) for position, velocity, _ in states(home, 6, 43)]
+    worst = task_space_differences(robot, engine, samples)
+    print(f"task space and joint inertia against Pinocchio: {worst}")
+    assert all(value < BOUND for value in worst.values()), worst
+    assert robot.task_inertia(np.array([home, home])).shape == (2, 3, 3)
+    with pytest.raises(ValueError, match="no `omega`"):
+        robot.task_bias(home, omega=np.zeros(3))
 
 
 def test_the_regressor_carries_pinocchios_torques_and_identify_finds_them(delta):

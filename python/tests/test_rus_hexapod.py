@@ -95,6 +95,30 @@ def pinocchio_torques(engine, pose, twist, accel):
     return np.linalg.solve(np.column_stack(columns), accel - base)
 
 
+def task_space_differences(robot, engine, samples):
+    """The worst relative differences of the Python `Robot`'s `M_x`, `h` and `M_q` from
+    Pinocchio's constraint dynamics at `samples` (pose and twist; a Delta's position and
+    velocity), and `M_x`'s asymmetry. Pinocchio's acceleration is affine in the torques,
+    `V̇ = A Γ + V̇₀`, and ours is `M_x V̇ + h = J⁻ᵀ Γ`, so `M_x = J⁻ᵀ A⁻¹`, `h = -M_x V̇₀` and
+    `M_q = Jᵀ M_x J = A⁻¹ J`."""
+    worst = dict(m_x=0.0, h=0.0, m_q=0.0, asymmetry=0.0)
+    for pose, twist in samples:
+        n = len(pose)
+        base = engine.forward(pose, twist, np.zeros(n))
+        a = np.column_stack([engine.forward(pose, twist, np.eye(n)[k]) - base
+                             for k in range(n)])
+        m_x = robot.inverse_jacobian(pose).T @ np.linalg.inv(a)
+        angular = {"omega": twist[:3], "velocity": twist[3:]} if n == 6 else {"velocity": twist}
+        mine = robot.task_inertia(pose)
+        worst["m_x"] = max(worst["m_x"], relative(mine, m_x))
+        worst["asymmetry"] = max(worst["asymmetry"], relative(mine, mine.T))
+        worst["h"] = max(worst["h"], relative(robot.task_bias(pose, **angular), -m_x @ base))
+        q = robot.inverse_kinematics(pose)
+        m_q = np.linalg.inv(a) @ robot.jacobian(pose)
+        worst["m_q"] = max(worst["m_q"], relative(robot.joint_inertia(q), m_q))
+    return worst
+
+
 def eval_differences(engine, geometry, samples, ours):
     """The worst relative differences of `eval`'s lines `ours` at the states `samples`
     (pose, twist, acceleration; a Delta's position, velocity, acceleration) from Pinocchio's
@@ -268,6 +292,17 @@ def test_python_serves_the_rotary_hexapod_as_the_program_does(hexapod, run_c5):
     q = geometry.angles(pose) + offsets(geometry)
     found = robot.forward_kinematics(q)
     assert np.max(np.abs(found - pose)) < 1e-10
+
+
+def test_the_task_space_terms_and_joint_inertia_are_pinocchios(hexapod):
+    """`M_x`, `h` and `M_q` of Python's `Robot` against Pinocchio's constraint dynamics."""
+    c5_kernels = pytest.importorskip("c5_kernels")
+    file, _, engine, home = hexapod
+    robot = c5_kernels.Robot(robot=str(file))
+    samples = [(pose, twist) for pose, twist, _ in states(home, 6, 43)]
+    worst = task_space_differences(robot, engine, samples)
+    print(f"task space and joint inertia against Pinocchio: {worst}")
+    assert all(value < BOUND for value in worst.values()), worst
 
 
 def test_the_regressor_carries_pinocchios_torques_and_identify_finds_them(hexapod):

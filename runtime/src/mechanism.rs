@@ -87,6 +87,24 @@ where
         qdd: &[f64; N],
         near: Option<&PoseOf<N>>,
     ) -> Result<[f64; N], Error>;
+    /// `M_x` of `Γ = Jᵀ (M_x V̇ + h)` (`V̇` the classical acceleration, `(ω̇; a_C)` or `a_C`),
+    /// symmetric positive definite.
+    ///
+    /// # Errors
+    /// A non-finite or singular pose.
+    fn task_inertia(&self, pose: &PoseOf<N>) -> Result<[[f64; N]; N], Error>;
+    /// `h` of `Γ = Jᵀ (M_x V̇ + h)`: the Coriolis, centrifugal and gravity terms at `C`.
+    ///
+    /// # Errors
+    /// Non-finite inputs, or a singular pose.
+    fn task_bias(&self, pose: &PoseOf<N>, twist: &TwistOf<N>) -> Result<[f64; N], Error>;
+    /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia `Jᵀ M_x J` at the actuator
+    /// positions `q`, from `near` where the mechanism iterates.
+    ///
+    /// # Errors
+    /// As the forward kinematics, or a singular pose.
+    fn joint_inertia(&self, q: &[f64; N], near: Option<&PoseOf<N>>)
+        -> Result<[[f64; N]; N], Error>;
     /// `c_q` of `Γ = M_q q̈ + c_q`: Coriolis, centrifugal and gravity forces at the actuator
     /// positions `q` and rates `qd`, from `near` where the mechanism iterates.
     fn joint_bias(
@@ -263,26 +281,9 @@ where
     }
 }
 
-/// What a platform free in space adds to its [`ParallelRobot`]: the task-space terms of
-/// `Γ = Jᵀ (M_x (ω̇; a_C) + h)`, the joint-space inertia, and the dynamics' derivatives where
-/// its mechanism has them generated.
+/// What a platform free in space adds to its [`ParallelRobot`]: the dynamics' derivatives,
+/// where its mechanism has them generated, and the planner that reads them.
 pub trait SpatialRobot: ParallelRobot<6> {
-    /// `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`.
-    ///
-    /// # Errors
-    /// A non-finite or singular pose.
-    fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error>;
-    /// `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`.
-    ///
-    /// # Errors
-    /// Non-finite inputs, or a singular pose.
-    fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error>;
-    /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia at the actuator positions `q`,
-    /// from `near` where the mechanism iterates.
-    ///
-    /// # Errors
-    /// As the forward kinematics, or a singular pose.
-    fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error>;
     /// A boxed copy.
     fn clone_spatial(&self) -> Box<dyn SpatialRobot>;
     /// The robot's exact derivatives, where its mechanism has them generated; `None` where not

@@ -104,6 +104,24 @@ pub trait Mechanism: core::fmt::Debug + Send + Sync {
         gamma: &[f64],
         acceleration: &mut [f64],
     ) -> Result<(), Error>;
+    /// `M_x` of `Γ = Jᵀ (M_x V̇ + h)` at `pose`, row-major into `m` (`n × n`, rows and
+    /// columns the acceleration's): symmetric positive definite.
+    ///
+    /// # Errors
+    /// As [`Mechanism::actuator_positions`].
+    fn task_inertia(&self, pose: &[f64], m: &mut [f64]) -> Result<(), Error>;
+    /// `h` of `Γ = Jᵀ (M_x V̇ + h)` at `pose` and `twist` into `h`: the Coriolis, centrifugal
+    /// and gravity terms at `C`.
+    ///
+    /// # Errors
+    /// As [`Mechanism::actuator_positions`].
+    fn task_bias(&self, pose: &[f64], twist: &[f64], h: &mut [f64]) -> Result<(), Error>;
+    /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia `Jᵀ M_x J` at the actuator values
+    /// `q`, row-major into `m`, the pose found from `near` (else the robot's start).
+    ///
+    /// # Errors
+    /// As [`Mechanism::forward_kinematics`], and a singular pose.
+    fn joint_inertia(&self, q: &[f64], near: Option<&[f64]>, m: &mut [f64]) -> Result<(), Error>;
     /// The pose of the actuator values `q` into `pose`, from `near` where the mechanism
     /// iterates (else from home).
     ///
@@ -644,6 +662,30 @@ where
         put(acceleration, &Platform::<N>::acceleration_array(&a));
         Ok(())
     }
+    fn task_inertia(&self, pose: &[f64], m: &mut [f64]) -> Result<(), Error> {
+        room_for_matrix::<N>("task inertia", m)?;
+        let pose = pose_of::<N>("pose", pose)?;
+        put(m, self.0.task_inertia(&pose)?.as_flattened());
+        Ok(())
+    }
+    fn task_bias(&self, pose: &[f64], twist: &[f64], h: &mut [f64]) -> Result<(), Error> {
+        room::<N>("task bias", h)?;
+        let pose = pose_of::<N>("pose", pose)?;
+        let twist = Platform::<N>::twist(array("twist", twist)?);
+        put(h, &self.0.task_bias(&pose, &twist)?);
+        Ok(())
+    }
+    fn joint_inertia(&self, q: &[f64], near: Option<&[f64]>, m: &mut [f64]) -> Result<(), Error> {
+        room_for_matrix::<N>("joint inertia", m)?;
+        let near = near.map(|x| pose_of::<N>("near", x)).transpose()?;
+        put(
+            m,
+            self.0
+                .joint_inertia(&array("q", q)?, near.as_ref())?
+                .as_flattened(),
+        );
+        Ok(())
+    }
     fn forward_kinematics(
         &self,
         q: &[f64],
@@ -1031,6 +1073,71 @@ mod tests {
                     );
                 }
             }
+        }
+    }
+
+    /// Every mechanism's task-space terms through slices: `Γ = Jᵀ (M_x V̇ + h)`, and in joint
+    /// space `Γ = M_q q̈ + c_q` with `M_q` symmetric; a matrix slot of the wrong size is
+    /// refused before anything is written.
+    #[test]
+    fn the_task_and_joint_space_terms_give_every_mechanisms_forces() {
+        for robot in every_mechanism() {
+            let n = robot.freedom().dimension();
+            let name = robot.mechanism();
+            for k in 0..4 {
+                let [x, v, a] = motion(robot.as_ref(), f64::from(k));
+                let (mut m_x, mut jac, mut m_q) =
+                    (vec![0.0; n * n], vec![0.0; n * n], vec![0.0; n * n]);
+                let (mut h, mut gamma, mut q, mut qd, mut qdd) = (
+                    vec![0.0; n],
+                    vec![0.0; n],
+                    vec![0.0; n],
+                    vec![0.0; n],
+                    vec![0.0; n],
+                );
+                robot.task_inertia(&x, &mut m_x).unwrap();
+                robot.task_bias(&x, &v, &mut h).unwrap();
+                robot.jacobian(&x, &mut jac).unwrap();
+                robot.inverse_dynamics(&x, &v, &a, &mut gamma).unwrap();
+                robot.actuator_positions(&x, &mut q).unwrap();
+                robot.joint_velocities(&x, &v, &mut qd).unwrap();
+                robot.joint_accelerations(&x, &v, &a, &mut qdd).unwrap();
+                robot.joint_inertia(&q, Some(&x), &mut m_q).unwrap();
+                let wrench: Vec<f64> = (0..n)
+                    .map(|i| (0..n).map(|j| m_x[i * n + j] * a[j]).sum::<f64>() + h[i])
+                    .collect();
+                let mut bias = vec![0.0; n];
+                let rest = vec![0.0; n];
+                robot
+                    .inverse_dynamics_joint([&q, &qd, &rest], Some(&x), &mut bias)
+                    .unwrap();
+                let scale = gamma.iter().fold(1.0_f64, |m, g| m.max(g.abs()));
+                let inertia = m_q.iter().fold(0.0_f64, |m, g| m.max(g.abs()));
+                for i in 0..n {
+                    let task: f64 = (0..n).map(|j| jac[j * n + i] * wrench[j]).sum();
+                    let joint: f64 = (0..n).map(|j| m_q[i * n + j] * qdd[j]).sum::<f64>() + bias[i];
+                    assert!(
+                        (task - gamma[i]).abs() < 1e-10 * scale,
+                        "{name}: {task} {gamma:?}"
+                    );
+                    assert!(
+                        (joint - gamma[i]).abs() < 1e-9 * scale,
+                        "{name}: {joint} {gamma:?}"
+                    );
+                    for j in 0..n {
+                        assert!(
+                            (m_q[i * n + j] - m_q[j * n + i]).abs() < 1e-12 * inertia,
+                            "{name}"
+                        );
+                    }
+                }
+            }
+            let mut small = vec![7.0; n * n - 1];
+            assert!(matches!(
+                robot.task_inertia(&robot.home(), &mut small),
+                Err(Error::WrongLength { .. })
+            ));
+            assert!(small.iter().all(|&m| m == 7.0));
         }
     }
 

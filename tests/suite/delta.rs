@@ -1,8 +1,8 @@
 //! The Delta through the runtime, against mechanics: the arm angles the description's closed
 //! form, `J⁻¹` and `q̈` their derivatives (central differences), `J⁻¹ J = I`, the forward
 //! kinematics and dynamics undoing the inverse ones, the motors' motion giving back the
-//! platform's, and the holding torques the statics by virtual work on the potential energy of
-//! every body placed by the description alone. Pinocchio's closed-loop dynamics on the
+//! platform's, the holding torques the statics by virtual work on the potential energy of
+//! every body placed by the description alone, and `M_x`, `M_q` their kinetic energy. Pinocchio's closed-loop dynamics on the
 //! exported robot checks the same kernels from Python (python/tests/test_delta.py).
 
 use crate::support;
@@ -190,6 +190,117 @@ fn the_holding_torques_are_the_statics_by_virtual_work() {
             assert!(
                 rel_err(&gamma, want.as_slice(), 1.0) < 1e-7,
                 "{gamma:?} vs {want}"
+            );
+        }
+    }
+}
+
+/// A body placed at a platform position: its centre of mass, its frame (columns its axes, base
+/// frame), its mass and its principal moments about the centre of mass in that frame.
+struct Placed {
+    com: Vector3<f64>,
+    frame: Matrix3<f64>,
+    mass: f64,
+    inertia: [f64; 3],
+}
+
+/// Every body at the platform position `c`, placed by the description's closed forms: the
+/// platform (which does not turn), each crank (`x''` along it, `z'' = r`) and each rod of each
+/// parallelogram (`z' = u`, `y' ∥ u × r`).
+fn placed(robot: &Description, c: &[f64; 3]) -> Vec<Placed> {
+    let centre = Vector3::from(*c);
+    let frame = |x: Vector3<f64>, z: Vector3<f64>| {
+        let y = z.cross(&x).normalize();
+        Matrix3::from_columns(&[y.cross(&z), y, z])
+    };
+    let mut bodies = vec![Placed {
+        com: centre + Vector3::from(robot.platform.centre_of_mass),
+        frame: Matrix3::identity(),
+        mass: robot.platform.mass,
+        inertia: [0.0; 3],
+    }];
+    for arm in &robot.arms {
+        let ball = centre + Vector3::from(arm.platform);
+        let elbow = Vector3::from(arm.elbow(arm.crank_angle(ball.into()).unwrap()));
+        let (r, _, _) = arm.axes();
+        let (r, base) = (Vector3::from(r), Vector3::from(arm.base));
+        let along = (elbow - base) / arm.crank.length;
+        bodies.push(Placed {
+            com: base + along * arm.crank.com,
+            frame: frame(along, r),
+            mass: arm.crank.mass,
+            inertia: arm.crank.inertia,
+        });
+        let u = (ball - elbow) / arm.rod.length;
+        let half = 0.5 * arm.rod.separation.unwrap();
+        for offset in [half, -half] {
+            bodies.push(Placed {
+                com: elbow + r * offset + u * arm.rod.com,
+                frame: frame(r.cross(&u), u),
+                mass: arm.rod.mass,
+                inertia: arm.rod.inertia,
+            });
+        }
+    }
+    bodies
+}
+
+/// The bodies' kinetic energy at the state `s`, each body's velocity and angular velocity
+/// (`Rᵀ Ṙ`, in its frame) by central differences of its placement along the motion.
+fn kinetic_energy(robot: &Description, s: &Translation) -> f64 {
+    let h = 1e-6;
+    let (before, after) = (
+        placed(robot, &along(s, -h).position),
+        placed(robot, &along(s, h).position),
+    );
+    let here = placed(robot, &s.position);
+    here.iter()
+        .zip(before.iter().zip(&after))
+        .map(|(body, (b, a))| {
+            let v = (a.com - b.com) / (2.0 * h);
+            let spin = body.frame.transpose() * (a.frame - b.frame) / (2.0 * h);
+            let w = [spin[(2, 1)], spin[(0, 2)], spin[(1, 0)]];
+            let rotation: f64 = (0..3).map(|k| body.inertia[k] * w[k] * w[k]).sum();
+            0.5 * (body.mass * v.norm_squared() + rotation)
+        })
+        .sum()
+}
+
+/// `½ vᵀ M_x v` and `½ q̇ᵀ M_q q̇` are the kinetic energy of every body placed by the
+/// description alone, `M_x` and `M_q` symmetric positive definite; the forces are
+/// `Jᵀ (M_x a_C + h)` and `M_q q̈ + c_q`, each term from its own kernel.
+#[test]
+fn the_task_and_joint_inertia_give_the_bodies_kinetic_energy() {
+    let matrix = |m: [[f64; 3]; 3]| Matrix3::from_fn(|i, j| m[i][j]);
+    for robot in robots() {
+        let mut r = rng(8);
+        for _ in 0..10 {
+            let s = near_home(&mut r, &robot);
+            let m_x = matrix(robot.task_inertia(&s.position).unwrap());
+            assert_eq!(m_x, m_x.transpose());
+            assert!(m_x.cholesky().is_some(), "positive definite");
+            let energy = kinetic_energy(robot.robot(), &s);
+            let v = Vector3::from(s.velocity);
+            assert!((0.5 * v.dot(&(m_x * v)) - energy).abs() < 1e-9 * energy);
+            let q = robot.inverse_kinematics(&s.position).unwrap();
+            let qd = Vector3::from(robot.joint_velocities(&s.position, &s.velocity).unwrap());
+            let m_q = matrix(robot.joint_inertia(&q, None).unwrap());
+            assert!((0.5 * qd.dot(&(m_q * qd)) - energy).abs() < 1e-9 * energy);
+
+            let gamma = robot.inverse_dynamics(&s).unwrap();
+            let h = Vector3::from(robot.task_bias(&s.position, &s.velocity).unwrap());
+            let jac = matrix(robot.jacobian(&s.position).unwrap());
+            let task = jac.transpose() * (m_x * Vector3::from(s.acceleration) + h);
+            assert!(
+                rel_err(&gamma, task.as_slice(), 1.0) < 1e-12,
+                "{gamma:?} {task}"
+            );
+            let qdd = Vector3::from(robot.joint_accelerations(&s).unwrap());
+            let c_q = robot.joint_bias(&q, qd.as_ref(), None).unwrap();
+            let joint = m_q * qdd + Vector3::from(c_q);
+            assert!(
+                rel_err(&gamma, joint.as_slice(), 1.0) < 1e-10,
+                "{gamma:?} {joint}"
             );
         }
     }

@@ -177,26 +177,37 @@ fn inverse_dynamics<'g>(
     (jinv.transpose().solve(&w), jinv)
 }
 
-/// `a_C = M_x⁻¹ (J⁻ᵀ Γ − h)`: `W` is affine in `a_C`, so `M_x` is its exact derivative and
-/// `h` its value at rest acceleration; `M_x` is symmetric positive definite (`LDLᵀ`).
-fn forward_dynamics<'g>(cx: &Context<'_, 'g>, at: &Translation<'g>, gamma: &Vec3<'g>) -> Vec3<'g> {
+/// `M_x = ∂W/∂a_C` at `position`: `W` is affine in `a_C`, so `M_x` is its exact derivative,
+/// symmetric positive definite (its lower triangle mirrored).
+fn task_inertia<'g>(cx: &Context<'_, 'g>, position: &Vec3<'g>) -> Mat3<'g> {
     let g = cx.graph();
     let unknown: Vec3<'g> = Vector::from_fn(|k| g.input(INTERNAL_INPUTS + k as u32));
     let probe = Translation {
-        position: at.position,
+        position: *position,
         velocity: Vec3::zeros(g),
         accel: unknown,
     };
     let states = arm_states(cx.geometry, Some(cx.dynamics), &probe);
     let w = task_force(cx.dynamics, &probe, &states).to_vec();
     let columns: Vec<Vec<Expr<'g>>> = unknown.0.iter().map(|&u| g.derivatives(&w, u)).collect();
-    let m_x: Mat3<'g> = Mat::from_fn(|r, c| columns[c][r]);
+    Mat::from_fn(|r, c| columns[r.min(c)][r.max(c)])
+}
+
+/// `h = W(a_C = 0)`: the force the arms' and the platform's velocity and gravity need, with
+/// the arms' states at rest acceleration (whose rows are `J⁻¹`'s).
+fn task_bias<'g>(cx: &Context<'_, 'g>, at: &Translation<'g>) -> (Vec3<'g>, Vec<LegState<'g>>) {
     let rest = Translation {
-        accel: Vec3::zeros(g),
+        accel: Vec3::zeros(cx.graph()),
         ..*at
     };
     let states = arm_states(cx.geometry, Some(cx.dynamics), &rest);
-    let h = task_force(cx.dynamics, &rest, &states);
+    (task_force(cx.dynamics, &rest, &states), states)
+}
+
+/// `a_C = M_x⁻¹ (J⁻ᵀ Γ − h)`, by `LDLᵀ` ([`task_inertia`], [`task_bias`]).
+fn forward_dynamics<'g>(cx: &Context<'_, 'g>, at: &Translation<'g>, gamma: &Vec3<'g>) -> Vec3<'g> {
+    let m_x = task_inertia(cx, &at.position);
+    let (h, states) = task_bias(cx, at);
     let driving = inverse_jacobian(&states).transpose() * *gamma;
     m_x.ldlt_solve(&(driving - h))
 }
@@ -465,6 +476,48 @@ const KERNELS: &[Decl] = &[
         },
     ),
     decl(
+        Kernel::TaskInertia,
+        "Task-space inertia `M_x` of `Γ = Jᵀ (M_x a_C + h)`: symmetric positive definite.",
+        Quantity::TaskSpace,
+        POSITION,
+        &[
+            Output {
+                name: "m",
+                shape: Shape::Matrix(3, 3),
+                doc: "`M_x = ∂(J⁻ᵀ Γ)/∂a_C` (kg), rows and columns `[vx vy vz]`, base frame",
+            },
+            POSE_TERMS,
+        ],
+        |cx| {
+            let position = Translation::of(cx).position;
+            vec![
+                task_inertia(cx, &position).rows(),
+                pose_terms(cx.geometry, &position),
+            ]
+        },
+    ),
+    decl(
+        Kernel::TaskBias,
+        "Task-space bias `h` of `Γ = Jᵀ (M_x a_C + h)`: the arms' velocity terms and gravity.",
+        Quantity::TaskSpace,
+        &[Input::Position, Input::Velocity],
+        &[
+            Output {
+                name: "h",
+                shape: Shape::Vector(3),
+                doc: "`h`, the force at `C` at rest acceleration (N), base frame",
+            },
+            POSE_TERMS,
+        ],
+        |cx| {
+            let at = Translation::of(cx);
+            vec![
+                task_bias(cx, &at).0.to_vec(),
+                pose_terms(cx.geometry, &at.position),
+            ]
+        },
+    ),
+    decl(
         Kernel::ForwardDynamics,
         "Forward dynamics: the platform's acceleration `a_C` under the motors' torques.",
         Quantity::ForwardDynamics,
@@ -725,6 +778,7 @@ impl Mechanics for DeltaMechanics {
             Quantity::ForwardDynamics => {
                 &["Newton-Euler", "virtual work", "M_x a_C = J⁻ᵀ Γ − h (LDLᵀ)"]
             }
+            Quantity::TaskSpace => &["Newton-Euler", "virtual work", "∂W/∂a_C"],
             _ => &[
                 IK,
                 "Newton-Euler",

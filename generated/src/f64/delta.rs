@@ -9,6 +9,8 @@
 //   joint_velocities_params            198   12   135    0  6 sqrt
 //   joint_accelerations_params         297   12   183    9  6 sqrt
 //   inverse_dynamics_params            758   17   451    4  6 sqrt
+//   task_inertia_params                573   15   306    0  6 sqrt
+//   task_bias_params                   666   15   381    3  6 sqrt
 //   forward_dynamics_params            967   19   531    3  6 sqrt
 //   forward_kinematics_params           95    3    79    3  3 sin_cos, 1 sqrt
 //   calibration_residuals              567   18   264   21  3 atan, 6 sqrt
@@ -4103,6 +4105,2218 @@ pub fn inverse_dynamics_params_separate(
     };
     ([t1184, t1197, t1209], [t446, t581, t716, t1210, t1211, t1212, t1235])
 }
+/// Task-space inertia `M_x` of `Γ = Jᵀ (M_x a_C + h)`: symmetric positive definite.
+///
+/// Equations: Newton-Euler, virtual work, ∂W/∂a_C. Setting: pose.
+///
+/// Model: delta. The Delta: three motors on the base turn upper arms; a parallelogram of two rods from each arm's tip keeps the platform parallel to the base, so it only translates; every quantity derived from the arm's closed forms by exact differentiation.
+/// Actuators in arm order 1..3; `q_i = θ_i + o_i`, the encoder's reading of the upper arm's angle `θ_i` (rad, right-handed about the motor's axis `r_i`, zero along `h_i`), `θ_i = atan2(e2, e1) + b_i acos(K/ρ)` reaching `B_i = C + p_i`; `Γ_i` is the motor's torque about `r_i` (N·m). The platform translates only: its state is `C`, `v_C`, `a_C` (base frame).
+/// The robot's parameters listed in `params` are inputs; the others are folded in.
+///
+/// # Arguments
+///
+/// - `position`: the platform's position `C` (m), base frame; its frame stays parallel to the base's
+/// - `params`: robot parameters (`Delta::kernel_parameters`: gravity, each arm's geometry and its parallelogram's separation, the platform's mass, each body's standard inertial parameters), in the order of the names in this signature
+///
+/// # Returns
+///
+/// - `m`: `M_x = ∂(J⁻ᵀ Γ)/∂a_C` (kg), rows and columns `[vx vy vz]`, base frame
+/// - `singular`: `|u_i × r_i|` for each arm (its U joints' sine), then `1 - (K/ρ)²` for each arm (zero where crank and rods align, negative where the platform is out of the crank's reach): the other results are meaningless where one is near zero or negative
+///
+/// Operations: 573 mul, 15 div, 306 add, 0 neg, 6 sqrt (chapter convention: 588m + 306a).
+#[inline]
+pub fn task_inertia_params(
+    position: &[f64; 3],
+    params: &[f64; 82],
+) -> ([[f64; 3]; 3], [f64; 6]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { task_inertia_params_fused(position, params) };
+    }
+    task_inertia_params_separate(position, params)
+}
+#[cfg_attr(feature = "fma", fma_twin(task_inertia_params_fused, f64::mul_add))]
+/// [`task_inertia_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn task_inertia_params_separate(
+    position: &[f64; 3],
+    params: &[f64; 82],
+) -> ([[f64; 3]; 3], [f64; 6]) {
+    let [xc, yc, zc] = *position;
+    let [_, _, _, arm1_base_x, arm1_base_y, arm1_base_z, arm1_axis_x, arm1_axis_y,
+    arm1_axis_z, arm1_zero_x, arm1_zero_y, arm1_zero_z, arm1_platform_x, arm1_platform_y,
+    arm1_platform_z, arm1_crank_length, arm1_rod_length, arm1_branch, _, _, arm2_base_x,
+    arm2_base_y, arm2_base_z, arm2_axis_x, arm2_axis_y, arm2_axis_z, arm2_zero_x,
+    arm2_zero_y, arm2_zero_z, arm2_platform_x, arm2_platform_y, arm2_platform_z,
+    arm2_crank_length, arm2_rod_length, arm2_branch, _, _, arm3_base_x, arm3_base_y,
+    arm3_base_z, arm3_axis_x, arm3_axis_y, arm3_axis_z, arm3_zero_x, arm3_zero_y,
+    arm3_zero_z, arm3_platform_x, arm3_platform_y, arm3_platform_z, arm3_crank_length,
+    arm3_rod_length, arm3_branch, _, _, platform_mass, _, _, _, _, arm1_crank_izz,
+    arm1_rod_mass, arm1_rod_mz, arm1_rod_ixx, arm1_rod_izz, _, _, _, _, arm2_crank_izz,
+    arm2_rod_mass, arm2_rod_mz, arm2_rod_ixx, arm2_rod_izz, _, _, _, _, arm3_crank_izz,
+    arm3_rod_mass, arm3_rod_mz, arm3_rod_ixx, arm3_rod_izz] = *params;
+    let t0: f64 = xc - arm1_base_x;
+    let t1: f64 = arm1_platform_x + t0;
+    let t2 = product(arm1_zero_x, t1);
+    let t3: f64 = yc - arm1_base_y;
+    let t4: f64 = arm1_platform_y + t3;
+    let t5: f64 = arm1_zero_y * t4;
+    let t6: f64 = zc - arm1_base_z;
+    let t7: f64 = arm1_platform_z + t6;
+    let t8 = product(arm1_zero_z, t7);
+    let t9: f64 = t2.plus(t5);
+    let t10: f64 = t8.plus(t9);
+    let t11 = product(t10, t10);
+    let t12 = product(arm1_axis_y, arm1_zero_z);
+    let t13: f64 = arm1_axis_z * arm1_zero_y;
+    let t14: f64 = t12.minus(t13);
+    let t15 = product(t1, t14);
+    let t16 = product(arm1_axis_z, arm1_zero_x);
+    let t17: f64 = arm1_axis_x * arm1_zero_z;
+    let t18: f64 = t16.minus(t17);
+    let t19: f64 = t4 * t18;
+    let t20 = product(arm1_axis_x, arm1_zero_y);
+    let t21: f64 = arm1_axis_y * arm1_zero_x;
+    let t22: f64 = t20.minus(t21);
+    let t23 = product(t7, t22);
+    let t24: f64 = t15.plus(t19);
+    let t25: f64 = t23.plus(t24);
+    let t26: f64 = t25 * t25;
+    let t27: f64 = t11.plus(t26);
+    let t28: f64 = 1.0 / t27;
+    let t29: f64 = 1.0 / arm1_crank_length;
+    let t30 = product(t1, t1);
+    let t31: f64 = t4 * t4;
+    let t32 = product(t7, t7);
+    let t33 = product(arm1_crank_length, arm1_crank_length);
+    let t34: f64 = arm1_rod_length * arm1_rod_length;
+    let t35: f64 = t33.minus(t34);
+    let t36: f64 = t30.plus(t31);
+    let t37: f64 = t32.plus(t35);
+    let t38: f64 = t36 + t37;
+    let t39: f64 = t29 * t38;
+    let t40: f64 = t39 * 0.5;
+    let t41 = product(t10, t40);
+    let t42 = product(t40, t40);
+    let t43: f64 = t42.subtracted_from(t27);
+    let t44: f64 = sqrt(t43);
+    let t45: f64 = arm1_branch * t44;
+    let t46: f64 = t25 * t45;
+    let t47: f64 = t41.minus(t46);
+    let t48: f64 = t28 * t47;
+    let t49 = product(arm1_zero_x, t48);
+    let t50 = product(t25, t40);
+    let t51: f64 = t10 * t45;
+    let t52: f64 = t50.plus(t51);
+    let t53: f64 = t28 * t52;
+    let t54: f64 = t14 * t53;
+    let t55: f64 = t49.plus(t54);
+    let t56 = product(arm1_crank_length, t55);
+    let t57: f64 = t56.added_to(arm1_base_x);
+    let t58: f64 = xc + arm1_platform_x;
+    let t59: f64 = t58 - t57;
+    let t60 = product(t14, t48);
+    let t61: f64 = arm1_zero_x * t53;
+    let t62: f64 = t60.minus(t61);
+    let t63 = product(t59, t62);
+    let t64 = product(t18, t48);
+    let t65: f64 = arm1_zero_y * t53;
+    let t66: f64 = t64.minus(t65);
+    let t67 = product(arm1_zero_y, t48);
+    let t68: f64 = t18 * t53;
+    let t69: f64 = t67.plus(t68);
+    let t70 = product(arm1_crank_length, t69);
+    let t71: f64 = t70.added_to(arm1_base_y);
+    let t72: f64 = yc + arm1_platform_y;
+    let t73: f64 = t72 - t71;
+    let t74: f64 = t66 * t73;
+    let t75 = product(t22, t48);
+    let t76: f64 = arm1_zero_z * t53;
+    let t77: f64 = t75.minus(t76);
+    let t78 = product(arm1_zero_z, t48);
+    let t79: f64 = t22 * t53;
+    let t80: f64 = t78.plus(t79);
+    let t81 = product(arm1_crank_length, t80);
+    let t82: f64 = t81.added_to(arm1_base_z);
+    let t83: f64 = zc + arm1_platform_z;
+    let t84: f64 = t83 - t82;
+    let t85 = product(t77, t84);
+    let t86: f64 = t63.plus(t74);
+    let t87: f64 = t85.plus(t86);
+    let t88: f64 = t29 / t87;
+    let t89: f64 = t59 * t88;
+    let t90: f64 = t89 * t89;
+    let t91 = product(arm1_crank_izz, t90);
+    let t92: f64 = 1.0 / arm1_rod_length;
+    let t93: f64 = t84 * t92;
+    let t94 = product(arm1_axis_x, t93);
+    let t95: f64 = t59 * t92;
+    let t96: f64 = arm1_axis_z * t95;
+    let t97: f64 = t94.minus(t96);
+    let t98: f64 = t73 * t92;
+    let t99 = product(arm1_axis_z, t98);
+    let t100: f64 = arm1_axis_y * t93;
+    let t101: f64 = t99.minus(t100);
+    let t102 = product(t101, t101);
+    let t103: f64 = t97 * t97;
+    let t104 = product(arm1_axis_y, t95);
+    let t105: f64 = arm1_axis_x * t98;
+    let t106: f64 = t104.minus(t105);
+    let t107 = product(t106, t106);
+    let t108: f64 = t102.plus(t103);
+    let t109: f64 = t107.plus(t108);
+    let t110: f64 = sqrt(t109);
+    let t111: f64 = 1.0 / t110;
+    let t112: f64 = t97 * t111;
+    let t113 = product(t93, t112);
+    let t114: f64 = t106 * t111;
+    let t115: f64 = t98 * t114;
+    let t116: f64 = t113.minus(t115);
+    let t117 = product(t92, t116);
+    let t118 = product(t62, t116);
+    let t119 = product(t95, t114);
+    let t120: f64 = t101 * t111;
+    let t121: f64 = t93 * t120;
+    let t122: f64 = t119.minus(t121);
+    let t123: f64 = t66 * t122;
+    let t124 = product(t98, t120);
+    let t125: f64 = t95 * t112;
+    let t126: f64 = t124.minus(t125);
+    let t127 = product(t77, t126);
+    let t128: f64 = t118.plus(t123);
+    let t129: f64 = t127.plus(t128);
+    let t130: f64 = t92 * t129;
+    let t131: f64 = arm1_crank_length * t89;
+    let t132: f64 = t130 * t131;
+    let t133: f64 = t117.minus(t132);
+    let t134 = product(arm1_rod_ixx, t133);
+    let t135: f64 = arm1_rod_mz * t131;
+    let t136: f64 = t129 * t135;
+    let t137: f64 = t134.plus(t136);
+    let t138: f64 = t137 * 2.0;
+    let t139 = product(t133, t138);
+    let t140: f64 = xc - arm2_base_x;
+    let t141: f64 = arm2_platform_x + t140;
+    let t142 = product(arm2_zero_x, t141);
+    let t143: f64 = yc - arm2_base_y;
+    let t144: f64 = arm2_platform_y + t143;
+    let t145: f64 = arm2_zero_y * t144;
+    let t146: f64 = zc - arm2_base_z;
+    let t147: f64 = arm2_platform_z + t146;
+    let t148 = product(arm2_zero_z, t147);
+    let t149: f64 = t142.plus(t145);
+    let t150: f64 = t148.plus(t149);
+    let t151 = product(t150, t150);
+    let t152 = product(arm2_axis_y, arm2_zero_z);
+    let t153: f64 = arm2_axis_z * arm2_zero_y;
+    let t154: f64 = t152.minus(t153);
+    let t155 = product(t141, t154);
+    let t156 = product(arm2_axis_z, arm2_zero_x);
+    let t157: f64 = arm2_axis_x * arm2_zero_z;
+    let t158: f64 = t156.minus(t157);
+    let t159: f64 = t144 * t158;
+    let t160 = product(arm2_axis_x, arm2_zero_y);
+    let t161: f64 = arm2_axis_y * arm2_zero_x;
+    let t162: f64 = t160.minus(t161);
+    let t163 = product(t147, t162);
+    let t164: f64 = t155.plus(t159);
+    let t165: f64 = t163.plus(t164);
+    let t166: f64 = t165 * t165;
+    let t167: f64 = t151.plus(t166);
+    let t168: f64 = 1.0 / t167;
+    let t169: f64 = 1.0 / arm2_crank_length;
+    let t170 = product(t141, t141);
+    let t171: f64 = t144 * t144;
+    let t172 = product(t147, t147);
+    let t173 = product(arm2_crank_length, arm2_crank_length);
+    let t174: f64 = arm2_rod_length * arm2_rod_length;
+    let t175: f64 = t173.minus(t174);
+    let t176: f64 = t170.plus(t171);
+    let t177: f64 = t172.plus(t175);
+    let t178: f64 = t176 + t177;
+    let t179: f64 = t169 * t178;
+    let t180: f64 = t179 * 0.5;
+    let t181 = product(t150, t180);
+    let t182 = product(t180, t180);
+    let t183: f64 = t182.subtracted_from(t167);
+    let t184: f64 = sqrt(t183);
+    let t185: f64 = arm2_branch * t184;
+    let t186: f64 = t165 * t185;
+    let t187: f64 = t181.minus(t186);
+    let t188: f64 = t168 * t187;
+    let t189 = product(arm2_zero_x, t188);
+    let t190 = product(t165, t180);
+    let t191: f64 = t150 * t185;
+    let t192: f64 = t190.plus(t191);
+    let t193: f64 = t168 * t192;
+    let t194: f64 = t154 * t193;
+    let t195: f64 = t189.plus(t194);
+    let t196 = product(arm2_crank_length, t195);
+    let t197: f64 = t196.added_to(arm2_base_x);
+    let t198: f64 = xc + arm2_platform_x;
+    let t199: f64 = t198 - t197;
+    let t200 = product(t154, t188);
+    let t201: f64 = arm2_zero_x * t193;
+    let t202: f64 = t200.minus(t201);
+    let t203 = product(t199, t202);
+    let t204 = product(t158, t188);
+    let t205: f64 = arm2_zero_y * t193;
+    let t206: f64 = t204.minus(t205);
+    let t207 = product(arm2_zero_y, t188);
+    let t208: f64 = t158 * t193;
+    let t209: f64 = t207.plus(t208);
+    let t210 = product(arm2_crank_length, t209);
+    let t211: f64 = t210.added_to(arm2_base_y);
+    let t212: f64 = yc + arm2_platform_y;
+    let t213: f64 = t212 - t211;
+    let t214: f64 = t206 * t213;
+    let t215 = product(t162, t188);
+    let t216: f64 = arm2_zero_z * t193;
+    let t217: f64 = t215.minus(t216);
+    let t218 = product(arm2_zero_z, t188);
+    let t219: f64 = t162 * t193;
+    let t220: f64 = t218.plus(t219);
+    let t221 = product(arm2_crank_length, t220);
+    let t222: f64 = t221.added_to(arm2_base_z);
+    let t223: f64 = zc + arm2_platform_z;
+    let t224: f64 = t223 - t222;
+    let t225 = product(t217, t224);
+    let t226: f64 = t203.plus(t214);
+    let t227: f64 = t225.plus(t226);
+    let t228: f64 = t169 / t227;
+    let t229: f64 = t199 * t228;
+    let t230: f64 = t229 * t229;
+    let t231: f64 = arm2_crank_izz * t230;
+    let t232: f64 = 1.0 / arm2_rod_length;
+    let t233: f64 = t224 * t232;
+    let t234 = product(arm2_axis_x, t233);
+    let t235: f64 = t199 * t232;
+    let t236: f64 = arm2_axis_z * t235;
+    let t237: f64 = t234.minus(t236);
+    let t238: f64 = t213 * t232;
+    let t239 = product(arm2_axis_z, t238);
+    let t240: f64 = arm2_axis_y * t233;
+    let t241: f64 = t239.minus(t240);
+    let t242 = product(t241, t241);
+    let t243: f64 = t237 * t237;
+    let t244 = product(arm2_axis_y, t235);
+    let t245: f64 = arm2_axis_x * t238;
+    let t246: f64 = t244.minus(t245);
+    let t247 = product(t246, t246);
+    let t248: f64 = t242.plus(t243);
+    let t249: f64 = t247.plus(t248);
+    let t250: f64 = sqrt(t249);
+    let t251: f64 = 1.0 / t250;
+    let t252: f64 = t237 * t251;
+    let t253 = product(t233, t252);
+    let t254: f64 = t246 * t251;
+    let t255: f64 = t238 * t254;
+    let t256: f64 = t253.minus(t255);
+    let t257 = product(t232, t256);
+    let t258 = product(t202, t256);
+    let t259 = product(t235, t254);
+    let t260: f64 = t241 * t251;
+    let t261: f64 = t233 * t260;
+    let t262: f64 = t259.minus(t261);
+    let t263: f64 = t206 * t262;
+    let t264 = product(t238, t260);
+    let t265: f64 = t235 * t252;
+    let t266: f64 = t264.minus(t265);
+    let t267 = product(t217, t266);
+    let t268: f64 = t258.plus(t263);
+    let t269: f64 = t267.plus(t268);
+    let t270: f64 = t232 * t269;
+    let t271: f64 = arm2_crank_length * t229;
+    let t272: f64 = t270 * t271;
+    let t273: f64 = t257.minus(t272);
+    let t274 = product(arm2_rod_ixx, t273);
+    let t275: f64 = arm2_rod_mz * t271;
+    let t276: f64 = t269 * t275;
+    let t277: f64 = t274.plus(t276);
+    let t278: f64 = t277 * 2.0;
+    let t279 = product(t273, t278);
+    let t280: f64 = xc - arm3_base_x;
+    let t281: f64 = arm3_platform_x + t280;
+    let t282 = product(arm3_zero_x, t281);
+    let t283: f64 = yc - arm3_base_y;
+    let t284: f64 = arm3_platform_y + t283;
+    let t285: f64 = arm3_zero_y * t284;
+    let t286: f64 = zc - arm3_base_z;
+    let t287: f64 = arm3_platform_z + t286;
+    let t288 = product(arm3_zero_z, t287);
+    let t289: f64 = t282.plus(t285);
+    let t290: f64 = t288.plus(t289);
+    let t291 = product(t290, t290);
+    let t292 = product(arm3_axis_y, arm3_zero_z);
+    let t293: f64 = arm3_axis_z * arm3_zero_y;
+    let t294: f64 = t292.minus(t293);
+    let t295 = product(t281, t294);
+    let t296 = product(arm3_axis_z, arm3_zero_x);
+    let t297: f64 = arm3_axis_x * arm3_zero_z;
+    let t298: f64 = t296.minus(t297);
+    let t299: f64 = t284 * t298;
+    let t300 = product(arm3_axis_x, arm3_zero_y);
+    let t301: f64 = arm3_axis_y * arm3_zero_x;
+    let t302: f64 = t300.minus(t301);
+    let t303 = product(t287, t302);
+    let t304: f64 = t295.plus(t299);
+    let t305: f64 = t303.plus(t304);
+    let t306: f64 = t305 * t305;
+    let t307: f64 = t291.plus(t306);
+    let t308: f64 = 1.0 / t307;
+    let t309: f64 = 1.0 / arm3_crank_length;
+    let t310 = product(t281, t281);
+    let t311: f64 = t284 * t284;
+    let t312 = product(t287, t287);
+    let t313 = product(arm3_crank_length, arm3_crank_length);
+    let t314: f64 = arm3_rod_length * arm3_rod_length;
+    let t315: f64 = t313.minus(t314);
+    let t316: f64 = t310.plus(t311);
+    let t317: f64 = t312.plus(t315);
+    let t318: f64 = t316 + t317;
+    let t319: f64 = t309 * t318;
+    let t320: f64 = t319 * 0.5;
+    let t321 = product(t290, t320);
+    let t322 = product(t320, t320);
+    let t323: f64 = t322.subtracted_from(t307);
+    let t324: f64 = sqrt(t323);
+    let t325: f64 = arm3_branch * t324;
+    let t326: f64 = t305 * t325;
+    let t327: f64 = t321.minus(t326);
+    let t328: f64 = t308 * t327;
+    let t329 = product(arm3_zero_x, t328);
+    let t330 = product(t305, t320);
+    let t331: f64 = t290 * t325;
+    let t332: f64 = t330.plus(t331);
+    let t333: f64 = t308 * t332;
+    let t334: f64 = t294 * t333;
+    let t335: f64 = t329.plus(t334);
+    let t336 = product(arm3_crank_length, t335);
+    let t337: f64 = t336.added_to(arm3_base_x);
+    let t338: f64 = xc + arm3_platform_x;
+    let t339: f64 = t338 - t337;
+    let t340 = product(t294, t328);
+    let t341: f64 = arm3_zero_x * t333;
+    let t342: f64 = t340.minus(t341);
+    let t343 = product(t339, t342);
+    let t344 = product(t298, t328);
+    let t345: f64 = arm3_zero_y * t333;
+    let t346: f64 = t344.minus(t345);
+    let t347 = product(arm3_zero_y, t328);
+    let t348: f64 = t298 * t333;
+    let t349: f64 = t347.plus(t348);
+    let t350 = product(arm3_crank_length, t349);
+    let t351: f64 = t350.added_to(arm3_base_y);
+    let t352: f64 = yc + arm3_platform_y;
+    let t353: f64 = t352 - t351;
+    let t354: f64 = t346 * t353;
+    let t355 = product(t302, t328);
+    let t356: f64 = arm3_zero_z * t333;
+    let t357: f64 = t355.minus(t356);
+    let t358 = product(arm3_zero_z, t328);
+    let t359: f64 = t302 * t333;
+    let t360: f64 = t358.plus(t359);
+    let t361 = product(arm3_crank_length, t360);
+    let t362: f64 = t361.added_to(arm3_base_z);
+    let t363: f64 = zc + arm3_platform_z;
+    let t364: f64 = t363 - t362;
+    let t365 = product(t357, t364);
+    let t366: f64 = t343.plus(t354);
+    let t367: f64 = t365.plus(t366);
+    let t368: f64 = t309 / t367;
+    let t369: f64 = t339 * t368;
+    let t370: f64 = t369 * t369;
+    let t371: f64 = arm3_crank_izz * t370;
+    let t372: f64 = 1.0 / arm3_rod_length;
+    let t373: f64 = t364 * t372;
+    let t374 = product(arm3_axis_x, t373);
+    let t375: f64 = t339 * t372;
+    let t376: f64 = arm3_axis_z * t375;
+    let t377: f64 = t374.minus(t376);
+    let t378: f64 = t353 * t372;
+    let t379 = product(arm3_axis_z, t378);
+    let t380: f64 = arm3_axis_y * t373;
+    let t381: f64 = t379.minus(t380);
+    let t382 = product(t381, t381);
+    let t383: f64 = t377 * t377;
+    let t384 = product(arm3_axis_y, t375);
+    let t385: f64 = arm3_axis_x * t378;
+    let t386: f64 = t384.minus(t385);
+    let t387 = product(t386, t386);
+    let t388: f64 = t382.plus(t383);
+    let t389: f64 = t387.plus(t388);
+    let t390: f64 = sqrt(t389);
+    let t391: f64 = 1.0 / t390;
+    let t392: f64 = t377 * t391;
+    let t393 = product(t373, t392);
+    let t394: f64 = t386 * t391;
+    let t395: f64 = t378 * t394;
+    let t396: f64 = t393.minus(t395);
+    let t397 = product(t372, t396);
+    let t398 = product(t342, t396);
+    let t399 = product(t375, t394);
+    let t400: f64 = t381 * t391;
+    let t401: f64 = t373 * t400;
+    let t402: f64 = t399.minus(t401);
+    let t403: f64 = t346 * t402;
+    let t404 = product(t378, t400);
+    let t405: f64 = t375 * t392;
+    let t406: f64 = t404.minus(t405);
+    let t407 = product(t357, t406);
+    let t408: f64 = t398.plus(t403);
+    let t409: f64 = t407.plus(t408);
+    let t410: f64 = t372 * t409;
+    let t411: f64 = arm3_crank_length * t369;
+    let t412: f64 = t410 * t411;
+    let t413: f64 = t397.minus(t412);
+    let t414 = product(arm3_rod_ixx, t413);
+    let t415: f64 = arm3_rod_mz * t411;
+    let t416: f64 = t409 * t415;
+    let t417: f64 = t414.plus(t416);
+    let t418: f64 = t417 * 2.0;
+    let t419 = product(t413, t418);
+    let t420: f64 = arm1_rod_mass * t131;
+    let t421 = product(t129, t420);
+    let t422: f64 = arm1_rod_mz * t133;
+    let t423: f64 = t421.plus(t422);
+    let t424: f64 = t423 * 2.0;
+    let t425 = product(t129, t424);
+    let t426 = product(t62, t120);
+    let t427: f64 = t66 * t112;
+    let t428 = product(t77, t114);
+    let t429: f64 = t426.plus(t427);
+    let t430: f64 = t428.plus(t429);
+    let t431: f64 = arm1_rod_mass * t430;
+    let t432 = product(t131, t431);
+    let t433 = product(t92, t120);
+    let t434: f64 = t92 * t430;
+    let t435: f64 = t131 * t434;
+    let t436: f64 = t433.minus(t435);
+    let t437: f64 = arm1_rod_mz * t436;
+    let t438: f64 = t432.plus(t437);
+    let t439: f64 = t438 * 2.0;
+    let t440: f64 = t430 * t439;
+    let t441 = product(t62, t95);
+    let t442: f64 = t66 * t98;
+    let t443 = product(t77, t93);
+    let t444: f64 = t441.plus(t442);
+    let t445: f64 = t443.plus(t444);
+    let t446: f64 = t445 * t445;
+    let t447: f64 = t420 * t446;
+    let t448 = product(t447, 2.0);
+    let t449: f64 = t425.plus(t440);
+    let t450: f64 = t448.plus(t449);
+    let t451: f64 = t131 * t450;
+    let t452: f64 = arm2_rod_mass * t271;
+    let t453 = product(t269, t452);
+    let t454: f64 = arm2_rod_mz * t273;
+    let t455: f64 = t453.plus(t454);
+    let t456: f64 = t455 * 2.0;
+    let t457 = product(t269, t456);
+    let t458 = product(t202, t260);
+    let t459: f64 = t206 * t252;
+    let t460 = product(t217, t254);
+    let t461: f64 = t458.plus(t459);
+    let t462: f64 = t460.plus(t461);
+    let t463: f64 = arm2_rod_mass * t462;
+    let t464 = product(t271, t463);
+    let t465 = product(t232, t260);
+    let t466: f64 = t232 * t462;
+    let t467: f64 = t271 * t466;
+    let t468: f64 = t465.minus(t467);
+    let t469: f64 = arm2_rod_mz * t468;
+    let t470: f64 = t464.plus(t469);
+    let t471: f64 = t470 * 2.0;
+    let t472: f64 = t462 * t471;
+    let t473 = product(t202, t235);
+    let t474: f64 = t206 * t238;
+    let t475 = product(t217, t233);
+    let t476: f64 = t473.plus(t474);
+    let t477: f64 = t475.plus(t476);
+    let t478: f64 = t477 * t477;
+    let t479: f64 = t452 * t478;
+    let t480 = product(t479, 2.0);
+    let t481: f64 = t457.plus(t472);
+    let t482: f64 = t480.plus(t481);
+    let t483 = product(t271, t482);
+    let t484: f64 = arm3_rod_mass * t411;
+    let t485 = product(t409, t484);
+    let t486: f64 = arm3_rod_mz * t413;
+    let t487: f64 = t485.plus(t486);
+    let t488: f64 = t487 * 2.0;
+    let t489 = product(t409, t488);
+    let t490 = product(t342, t400);
+    let t491: f64 = t346 * t392;
+    let t492 = product(t357, t394);
+    let t493: f64 = t490.plus(t491);
+    let t494: f64 = t492.plus(t493);
+    let t495: f64 = arm3_rod_mass * t494;
+    let t496 = product(t411, t495);
+    let t497 = product(t372, t400);
+    let t498: f64 = t372 * t494;
+    let t499: f64 = t411 * t498;
+    let t500: f64 = t497.minus(t499);
+    let t501: f64 = arm3_rod_mz * t500;
+    let t502: f64 = t496.plus(t501);
+    let t503: f64 = t502 * 2.0;
+    let t504: f64 = t494 * t503;
+    let t505 = product(t342, t375);
+    let t506: f64 = t346 * t378;
+    let t507 = product(t357, t373);
+    let t508: f64 = t505.plus(t506);
+    let t509: f64 = t507.plus(t508);
+    let t510: f64 = t509 * t509;
+    let t511: f64 = t484 * t510;
+    let t512 = product(t511, 2.0);
+    let t513: f64 = t489.plus(t504);
+    let t514: f64 = t512.plus(t513);
+    let t515: f64 = t411 * t514;
+    let t516: f64 = arm1_rod_mz * t430;
+    let t517: f64 = t131 * t516;
+    let t518 = product(arm1_axis_x, t95);
+    let t519: f64 = arm1_axis_y * t98;
+    let t520 = product(arm1_axis_z, t93);
+    let t521: f64 = t518.plus(t519);
+    let t522: f64 = t520.plus(t521);
+    let t523: f64 = t111 * t522;
+    let t524: f64 = t523 * t523;
+    let t525 = product(arm1_rod_izz, t524);
+    let t526: f64 = t525.added_to(arm1_rod_ixx);
+    let t527: f64 = t526 * 2.0;
+    let t528 = product(t436, t527);
+    let t529: f64 = t517 * 2.0;
+    let t530: f64 = t528.plus(t529);
+    let t531 = product(t436, t530);
+    let t532: f64 = arm2_rod_mz * t462;
+    let t533: f64 = t271 * t532;
+    let t534 = product(arm2_axis_x, t235);
+    let t535: f64 = arm2_axis_y * t238;
+    let t536 = product(arm2_axis_z, t233);
+    let t537: f64 = t534.plus(t535);
+    let t538: f64 = t536.plus(t537);
+    let t539: f64 = t251 * t538;
+    let t540: f64 = t539 * t539;
+    let t541 = product(arm2_rod_izz, t540);
+    let t542: f64 = t541.added_to(arm2_rod_ixx);
+    let t543: f64 = t542 * 2.0;
+    let t544 = product(t468, t543);
+    let t545: f64 = t533 * 2.0;
+    let t546: f64 = t544.plus(t545);
+    let t547: f64 = t468 * t546;
+    let t548: f64 = arm3_rod_mz * t494;
+    let t549: f64 = t411 * t548;
+    let t550 = product(arm3_axis_x, t375);
+    let t551: f64 = arm3_axis_y * t378;
+    let t552 = product(arm3_axis_z, t373);
+    let t553: f64 = t550.plus(t551);
+    let t554: f64 = t552.plus(t553);
+    let t555: f64 = t391 * t554;
+    let t556: f64 = t555 * t555;
+    let t557 = product(arm3_rod_izz, t556);
+    let t558: f64 = t557.added_to(arm3_rod_ixx);
+    let t559: f64 = t558 * 2.0;
+    let t560 = product(t500, t559);
+    let t561: f64 = t549 * 2.0;
+    let t562: f64 = t560.plus(t561);
+    let t563 = product(t500, t562);
+    let t564: f64 = t91.added_to(platform_mass);
+    let t565: f64 = t139.plus(t231);
+    let t566: f64 = t279.plus(t371);
+    let t567: f64 = t419.plus(t451);
+    let t568: f64 = t483.plus(t515);
+    let t569: f64 = t531.plus(t547);
+    let t570: f64 = t564 + t565;
+    let t571: f64 = t566 + t567;
+    let t572: f64 = t568 + t569;
+    let t573: f64 = t570 + t571;
+    let t574: f64 = t563.plus(t572);
+    let t575: f64 = t573 + t574;
+    let t576: f64 = t73 * t88;
+    let t577: f64 = arm1_crank_izz * t89;
+    let t578 = product(t576, t577);
+    let t579 = product(t92, t122);
+    let t580: f64 = arm1_crank_length * t576;
+    let t581: f64 = t130 * t580;
+    let t582: f64 = t579.minus(t581);
+    let t583: f64 = t138 * t582;
+    let t584: f64 = t213 * t228;
+    let t585: f64 = arm2_crank_izz * t229;
+    let t586 = product(t584, t585);
+    let t587 = product(t232, t262);
+    let t588: f64 = arm2_crank_length * t584;
+    let t589: f64 = t270 * t588;
+    let t590: f64 = t587.minus(t589);
+    let t591: f64 = t278 * t590;
+    let t592: f64 = t353 * t368;
+    let t593: f64 = arm3_crank_izz * t369;
+    let t594 = product(t592, t593);
+    let t595 = product(t372, t402);
+    let t596: f64 = arm3_crank_length * t592;
+    let t597: f64 = t410 * t596;
+    let t598: f64 = t595.minus(t597);
+    let t599: f64 = t418 * t598;
+    let t600 = product(t450, t580);
+    let t601: f64 = t482 * t588;
+    let t602 = product(t514, t596);
+    let t603 = product(t92, t112);
+    let t604: f64 = t434 * t580;
+    let t605: f64 = t603.minus(t604);
+    let t606: f64 = t530 * t605;
+    let t607 = product(t232, t252);
+    let t608: f64 = t466 * t588;
+    let t609: f64 = t607.minus(t608);
+    let t610 = product(t546, t609);
+    let t611 = product(t372, t392);
+    let t612: f64 = t498 * t596;
+    let t613: f64 = t611.minus(t612);
+    let t614: f64 = t562 * t613;
+    let t615: f64 = t578.plus(t583);
+    let t616: f64 = t586.plus(t591);
+    let t617: f64 = t594.plus(t599);
+    let t618: f64 = t600.plus(t601);
+    let t619: f64 = t602.plus(t606);
+    let t620: f64 = t610.plus(t614);
+    let t621: f64 = t615 + t616;
+    let t622: f64 = t617 + t618;
+    let t623: f64 = t619 + t620;
+    let t624: f64 = t621 + t622;
+    let t625: f64 = t623 + t624;
+    let t626: f64 = t84 * t88;
+    let t627 = product(t577, t626);
+    let t628 = product(t92, t126);
+    let t629: f64 = arm1_crank_length * t626;
+    let t630: f64 = t130 * t629;
+    let t631: f64 = t628.minus(t630);
+    let t632: f64 = t138 * t631;
+    let t633: f64 = t224 * t228;
+    let t634 = product(t585, t633);
+    let t635 = product(t232, t266);
+    let t636: f64 = arm2_crank_length * t633;
+    let t637: f64 = t270 * t636;
+    let t638: f64 = t635.minus(t637);
+    let t639: f64 = t278 * t638;
+    let t640: f64 = t364 * t368;
+    let t641 = product(t593, t640);
+    let t642 = product(t372, t406);
+    let t643: f64 = arm3_crank_length * t640;
+    let t644: f64 = t410 * t643;
+    let t645: f64 = t642.minus(t644);
+    let t646: f64 = t418 * t645;
+    let t647 = product(t450, t629);
+    let t648: f64 = t482 * t636;
+    let t649 = product(t514, t643);
+    let t650 = product(t92, t114);
+    let t651: f64 = t434 * t629;
+    let t652: f64 = t650.minus(t651);
+    let t653: f64 = t530 * t652;
+    let t654 = product(t232, t254);
+    let t655: f64 = t466 * t636;
+    let t656: f64 = t654.minus(t655);
+    let t657 = product(t546, t656);
+    let t658 = product(t372, t394);
+    let t659: f64 = t498 * t643;
+    let t660: f64 = t658.minus(t659);
+    let t661: f64 = t562 * t660;
+    let t662: f64 = t627.plus(t632);
+    let t663: f64 = t634.plus(t639);
+    let t664: f64 = t641.plus(t646);
+    let t665: f64 = t647.plus(t648);
+    let t666: f64 = t649.plus(t653);
+    let t667: f64 = t657.plus(t661);
+    let t668: f64 = t662 + t663;
+    let t669: f64 = t664 + t665;
+    let t670: f64 = t666 + t667;
+    let t671: f64 = t668 + t669;
+    let t672: f64 = t670 + t671;
+    let t673: f64 = t576 * t576;
+    let t674 = product(arm1_crank_izz, t673);
+    let t675 = product(arm1_rod_ixx, t582);
+    let t676: f64 = arm1_rod_mz * t580;
+    let t677: f64 = t129 * t676;
+    let t678: f64 = t675.plus(t677);
+    let t679: f64 = t678 * 2.0;
+    let t680 = product(t582, t679);
+    let t681: f64 = t584 * t584;
+    let t682: f64 = arm2_crank_izz * t681;
+    let t683 = product(arm2_rod_ixx, t590);
+    let t684: f64 = arm2_rod_mz * t588;
+    let t685: f64 = t269 * t684;
+    let t686: f64 = t683.plus(t685);
+    let t687: f64 = t686 * 2.0;
+    let t688 = product(t590, t687);
+    let t689: f64 = t592 * t592;
+    let t690: f64 = arm3_crank_izz * t689;
+    let t691 = product(arm3_rod_ixx, t598);
+    let t692: f64 = arm3_rod_mz * t596;
+    let t693: f64 = t409 * t692;
+    let t694: f64 = t691.plus(t693);
+    let t695: f64 = t694 * 2.0;
+    let t696 = product(t598, t695);
+    let t697: f64 = arm1_rod_mass * t580;
+    let t698 = product(t129, t697);
+    let t699: f64 = arm1_rod_mz * t582;
+    let t700: f64 = t698.plus(t699);
+    let t701: f64 = t700 * 2.0;
+    let t702 = product(t129, t701);
+    let t703 = product(t431, t580);
+    let t704: f64 = arm1_rod_mz * t605;
+    let t705: f64 = t703.plus(t704);
+    let t706: f64 = t705 * 2.0;
+    let t707: f64 = t430 * t706;
+    let t708: f64 = t446 * t697;
+    let t709 = product(t708, 2.0);
+    let t710: f64 = t702.plus(t707);
+    let t711: f64 = t709.plus(t710);
+    let t712: f64 = t580 * t711;
+    let t713: f64 = arm2_rod_mass * t588;
+    let t714 = product(t269, t713);
+    let t715: f64 = arm2_rod_mz * t590;
+    let t716: f64 = t714.plus(t715);
+    let t717: f64 = t716 * 2.0;
+    let t718 = product(t269, t717);
+    let t719 = product(t463, t588);
+    let t720: f64 = arm2_rod_mz * t609;
+    let t721: f64 = t719.plus(t720);
+    let t722: f64 = t721 * 2.0;
+    let t723: f64 = t462 * t722;
+    let t724: f64 = t478 * t713;
+    let t725 = product(t724, 2.0);
+    let t726: f64 = t718.plus(t723);
+    let t727: f64 = t725.plus(t726);
+    let t728 = product(t588, t727);
+    let t729: f64 = arm3_rod_mass * t596;
+    let t730 = product(t409, t729);
+    let t731: f64 = arm3_rod_mz * t598;
+    let t732: f64 = t730.plus(t731);
+    let t733: f64 = t732 * 2.0;
+    let t734 = product(t409, t733);
+    let t735 = product(t495, t596);
+    let t736: f64 = arm3_rod_mz * t613;
+    let t737: f64 = t735.plus(t736);
+    let t738: f64 = t737 * 2.0;
+    let t739: f64 = t494 * t738;
+    let t740: f64 = t510 * t729;
+    let t741 = product(t740, 2.0);
+    let t742: f64 = t734.plus(t739);
+    let t743: f64 = t741.plus(t742);
+    let t744: f64 = t596 * t743;
+    let t745: f64 = t516 * t580;
+    let t746 = product(t527, t605);
+    let t747: f64 = t745 * 2.0;
+    let t748: f64 = t746.plus(t747);
+    let t749 = product(t605, t748);
+    let t750: f64 = t532 * t588;
+    let t751 = product(t543, t609);
+    let t752: f64 = t750 * 2.0;
+    let t753: f64 = t751.plus(t752);
+    let t754: f64 = t609 * t753;
+    let t755: f64 = t548 * t596;
+    let t756 = product(t559, t613);
+    let t757: f64 = t755 * 2.0;
+    let t758: f64 = t756.plus(t757);
+    let t759 = product(t613, t758);
+    let t760: f64 = t674.added_to(platform_mass);
+    let t761: f64 = t680.plus(t682);
+    let t762: f64 = t688.plus(t690);
+    let t763: f64 = t696.plus(t712);
+    let t764: f64 = t728.plus(t744);
+    let t765: f64 = t749.plus(t754);
+    let t766: f64 = t760 + t761;
+    let t767: f64 = t762 + t763;
+    let t768: f64 = t764 + t765;
+    let t769: f64 = t766 + t767;
+    let t770: f64 = t759.plus(t768);
+    let t771: f64 = t769 + t770;
+    let t772: f64 = arm1_crank_izz * t576;
+    let t773 = product(t626, t772);
+    let t774: f64 = t631 * t679;
+    let t775: f64 = arm2_crank_izz * t584;
+    let t776 = product(t633, t775);
+    let t777: f64 = t638 * t687;
+    let t778: f64 = arm3_crank_izz * t592;
+    let t779 = product(t640, t778);
+    let t780: f64 = t645 * t695;
+    let t781 = product(t629, t711);
+    let t782: f64 = t636 * t727;
+    let t783 = product(t643, t743);
+    let t784: f64 = t652 * t748;
+    let t785 = product(t656, t753);
+    let t786: f64 = t660 * t758;
+    let t787: f64 = t773.plus(t774);
+    let t788: f64 = t776.plus(t777);
+    let t789: f64 = t779.plus(t780);
+    let t790: f64 = t781.plus(t782);
+    let t791: f64 = t783.plus(t784);
+    let t792: f64 = t785.plus(t786);
+    let t793: f64 = t787 + t788;
+    let t794: f64 = t789 + t790;
+    let t795: f64 = t791 + t792;
+    let t796: f64 = t793 + t794;
+    let t797: f64 = t795 + t796;
+    let t798: f64 = t626 * t626;
+    let t799 = product(arm1_crank_izz, t798);
+    let t800 = product(arm1_rod_ixx, t631);
+    let t801: f64 = arm1_rod_mz * t629;
+    let t802: f64 = t129 * t801;
+    let t803: f64 = t800.plus(t802);
+    let t804: f64 = t803 * 2.0;
+    let t805 = product(t631, t804);
+    let t806: f64 = t633 * t633;
+    let t807: f64 = arm2_crank_izz * t806;
+    let t808 = product(arm2_rod_ixx, t638);
+    let t809: f64 = arm2_rod_mz * t636;
+    let t810: f64 = t269 * t809;
+    let t811: f64 = t808.plus(t810);
+    let t812: f64 = t811 * 2.0;
+    let t813 = product(t638, t812);
+    let t814: f64 = t640 * t640;
+    let t815: f64 = arm3_crank_izz * t814;
+    let t816 = product(arm3_rod_ixx, t645);
+    let t817: f64 = arm3_rod_mz * t643;
+    let t818: f64 = t409 * t817;
+    let t819: f64 = t816.plus(t818);
+    let t820: f64 = t819 * 2.0;
+    let t821 = product(t645, t820);
+    let t822: f64 = arm1_rod_mass * t629;
+    let t823 = product(t129, t822);
+    let t824: f64 = arm1_rod_mz * t631;
+    let t825: f64 = t823.plus(t824);
+    let t826: f64 = t825 * 2.0;
+    let t827 = product(t129, t826);
+    let t828 = product(t431, t629);
+    let t829: f64 = arm1_rod_mz * t652;
+    let t830: f64 = t828.plus(t829);
+    let t831: f64 = t830 * 2.0;
+    let t832: f64 = t430 * t831;
+    let t833: f64 = t446 * t822;
+    let t834 = product(t833, 2.0);
+    let t835: f64 = t827.plus(t832);
+    let t836: f64 = t834.plus(t835);
+    let t837: f64 = t629 * t836;
+    let t838: f64 = arm2_rod_mass * t636;
+    let t839 = product(t269, t838);
+    let t840: f64 = arm2_rod_mz * t638;
+    let t841: f64 = t839.plus(t840);
+    let t842: f64 = t841 * 2.0;
+    let t843 = product(t269, t842);
+    let t844 = product(t463, t636);
+    let t845: f64 = arm2_rod_mz * t656;
+    let t846: f64 = t844.plus(t845);
+    let t847: f64 = t846 * 2.0;
+    let t848: f64 = t462 * t847;
+    let t849: f64 = t478 * t838;
+    let t850 = product(t849, 2.0);
+    let t851: f64 = t843.plus(t848);
+    let t852: f64 = t850.plus(t851);
+    let t853 = product(t636, t852);
+    let t854: f64 = arm3_rod_mass * t643;
+    let t855 = product(t409, t854);
+    let t856: f64 = arm3_rod_mz * t645;
+    let t857: f64 = t855.plus(t856);
+    let t858: f64 = t857 * 2.0;
+    let t859 = product(t409, t858);
+    let t860 = product(t495, t643);
+    let t861: f64 = arm3_rod_mz * t660;
+    let t862: f64 = t860.plus(t861);
+    let t863: f64 = t862 * 2.0;
+    let t864: f64 = t494 * t863;
+    let t865: f64 = t510 * t854;
+    let t866 = product(t865, 2.0);
+    let t867: f64 = t859.plus(t864);
+    let t868: f64 = t866.plus(t867);
+    let t869: f64 = t643 * t868;
+    let t870: f64 = t516 * t629;
+    let t871 = product(t527, t652);
+    let t872: f64 = t870 * 2.0;
+    let t873: f64 = t871.plus(t872);
+    let t874 = product(t652, t873);
+    let t875: f64 = t532 * t636;
+    let t876 = product(t543, t656);
+    let t877: f64 = t875 * 2.0;
+    let t878: f64 = t876.plus(t877);
+    let t879: f64 = t656 * t878;
+    let t880: f64 = t548 * t643;
+    let t881 = product(t559, t660);
+    let t882: f64 = t880 * 2.0;
+    let t883: f64 = t881.plus(t882);
+    let t884 = product(t660, t883);
+    let t885: f64 = t799.added_to(platform_mass);
+    let t886: f64 = t805.plus(t807);
+    let t887: f64 = t813.plus(t815);
+    let t888: f64 = t821.plus(t837);
+    let t889: f64 = t853.plus(t869);
+    let t890: f64 = t874.plus(t879);
+    let t891: f64 = t885 + t886;
+    let t892: f64 = t887 + t888;
+    let t893: f64 = t889 + t890;
+    let t894: f64 = t891 + t892;
+    let t895: f64 = t884.plus(t893);
+    let t896: f64 = t894 + t895;
+    let t897: f64 = t28 * t43;
+    let t898: f64 = t168 * t183;
+    let t899: f64 = t308 * t323;
+    (
+        [[t575, t625, t672], [t625, t771, t797], [t672, t797, t896]],
+        [t110, t250, t390, t897, t898, t899],
+    )
+}
+/// Task-space bias `h` of `Γ = Jᵀ (M_x a_C + h)`: the arms' velocity terms and gravity.
+///
+/// Equations: Newton-Euler, virtual work, ∂W/∂a_C. Setting: pose.
+///
+/// Model: delta. The Delta: three motors on the base turn upper arms; a parallelogram of two rods from each arm's tip keeps the platform parallel to the base, so it only translates; every quantity derived from the arm's closed forms by exact differentiation.
+/// Actuators in arm order 1..3; `q_i = θ_i + o_i`, the encoder's reading of the upper arm's angle `θ_i` (rad, right-handed about the motor's axis `r_i`, zero along `h_i`), `θ_i = atan2(e2, e1) + b_i acos(K/ρ)` reaching `B_i = C + p_i`; `Γ_i` is the motor's torque about `r_i` (N·m). The platform translates only: its state is `C`, `v_C`, `a_C` (base frame).
+/// The robot's parameters listed in `params` are inputs; the others are folded in.
+///
+/// # Arguments
+///
+/// - `position`: the platform's position `C` (m), base frame; its frame stays parallel to the base's
+/// - `velocity`: the platform's velocity `v_C` (m/s), base frame
+/// - `params`: robot parameters (`Delta::kernel_parameters`: gravity, each arm's geometry and its parallelogram's separation, the platform's mass, each body's standard inertial parameters), in the order of the names in this signature
+///
+/// # Returns
+///
+/// - `h`: `h`, the force at `C` at rest acceleration (N), base frame
+/// - `singular`: `|u_i × r_i|` for each arm (its U joints' sine), then `1 - (K/ρ)²` for each arm (zero where crank and rods align, negative where the platform is out of the crank's reach): the other results are meaningless where one is near zero or negative
+///
+/// Operations: 666 mul, 15 div, 381 add, 3 neg, 6 sqrt (chapter convention: 681m + 381a).
+#[inline]
+pub fn task_bias_params(
+    position: &[f64; 3],
+    velocity: &[f64; 3],
+    params: &[f64; 82],
+) -> ([f64; 3], [f64; 6]) {
+    #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
+    if crate::fma::enabled() {
+        return unsafe { task_bias_params_fused(position, velocity, params) };
+    }
+    task_bias_params_separate(position, velocity, params)
+}
+#[cfg_attr(feature = "fma", fma_twin(task_bias_params_fused, f64::mul_add))]
+/// [`task_bias_params`] with every operation rounded on its own: the same bits on every machine.
+#[inline]
+pub fn task_bias_params_separate(
+    position: &[f64; 3],
+    velocity: &[f64; 3],
+    params: &[f64; 82],
+) -> ([f64; 3], [f64; 6]) {
+    let [xc, yc, zc] = *position;
+    let [vx, vy, vz] = *velocity;
+    let [gravity_x, gravity_y, gravity_z, arm1_base_x, arm1_base_y, arm1_base_z,
+    arm1_axis_x, arm1_axis_y, arm1_axis_z, arm1_zero_x, arm1_zero_y, arm1_zero_z,
+    arm1_platform_x, arm1_platform_y, arm1_platform_z, arm1_crank_length,
+    arm1_rod_length, arm1_branch, _, _, arm2_base_x, arm2_base_y, arm2_base_z,
+    arm2_axis_x, arm2_axis_y, arm2_axis_z, arm2_zero_x, arm2_zero_y, arm2_zero_z,
+    arm2_platform_x, arm2_platform_y, arm2_platform_z, arm2_crank_length,
+    arm2_rod_length, arm2_branch, _, _, arm3_base_x, arm3_base_y, arm3_base_z,
+    arm3_axis_x, arm3_axis_y, arm3_axis_z, arm3_zero_x, arm3_zero_y, arm3_zero_z,
+    arm3_platform_x, arm3_platform_y, arm3_platform_z, arm3_crank_length,
+    arm3_rod_length, arm3_branch, _, _, platform_mass, _, arm1_crank_mx, _, _,
+    arm1_crank_izz, arm1_rod_mass, arm1_rod_mz, arm1_rod_ixx, arm1_rod_izz, _,
+    arm2_crank_mx, _, _, arm2_crank_izz, arm2_rod_mass, arm2_rod_mz, arm2_rod_ixx,
+    arm2_rod_izz, _, arm3_crank_mx, _, _, arm3_crank_izz, arm3_rod_mass, arm3_rod_mz,
+    arm3_rod_ixx, arm3_rod_izz] = *params;
+    let (
+        t0,
+        t29,
+        t44,
+        t99,
+        t101,
+        t130,
+        t131,
+        t150,
+        t185,
+        t187,
+        t190,
+        t192,
+        t246,
+        t247,
+        t276,
+        t291,
+        t346,
+        t348,
+        t377,
+        t378,
+        t397,
+        t432,
+        t434,
+        t437,
+        t439,
+        t493,
+        t494,
+        t523,
+        t538,
+        t593,
+        t595,
+        t624,
+        t625,
+        t644,
+        t676,
+        t679,
+        t681,
+        t684,
+        t686,
+        t740,
+        t741,
+        t771,
+        t775,
+        t812,
+        t813,
+        t843,
+        t847,
+        t884,
+        t885,
+        t915,
+        t919,
+        t956,
+        t957,
+        t972,
+        t973,
+        t988,
+        t989,
+        t990,
+        t991,
+        t999,
+    ) = {
+        let t0 = product(gravity_x, platform_mass);
+        let t1: f64 = xc - arm1_base_x;
+        let t2: f64 = arm1_platform_x + t1;
+        let t3 = product(arm1_zero_x, t2);
+        let t4: f64 = yc - arm1_base_y;
+        let t5: f64 = arm1_platform_y + t4;
+        let t6: f64 = arm1_zero_y * t5;
+        let t7: f64 = zc - arm1_base_z;
+        let t8: f64 = arm1_platform_z + t7;
+        let t9 = product(arm1_zero_z, t8);
+        let t10: f64 = t3.plus(t6);
+        let t11: f64 = t9.plus(t10);
+        let t12 = product(t11, t11);
+        let t13 = product(arm1_axis_y, arm1_zero_z);
+        let t14: f64 = arm1_axis_z * arm1_zero_y;
+        let t15: f64 = t13.minus(t14);
+        let t16 = product(t2, t15);
+        let t17 = product(arm1_axis_z, arm1_zero_x);
+        let t18: f64 = arm1_axis_x * arm1_zero_z;
+        let t19: f64 = t17.minus(t18);
+        let t20: f64 = t5 * t19;
+        let t21 = product(arm1_axis_x, arm1_zero_y);
+        let t22: f64 = arm1_axis_y * arm1_zero_x;
+        let t23: f64 = t21.minus(t22);
+        let t24 = product(t8, t23);
+        let t25: f64 = t16.plus(t20);
+        let t26: f64 = t24.plus(t25);
+        let t27: f64 = t26 * t26;
+        let t28: f64 = t12.plus(t27);
+        let t29: f64 = 1.0 / t28;
+        let t30: f64 = 1.0 / arm1_crank_length;
+        let t31 = product(t2, t2);
+        let t32: f64 = t5 * t5;
+        let t33 = product(t8, t8);
+        let t34 = product(arm1_crank_length, arm1_crank_length);
+        let t35: f64 = arm1_rod_length * arm1_rod_length;
+        let t36: f64 = t34.minus(t35);
+        let t37: f64 = t31.plus(t32);
+        let t38: f64 = t33.plus(t36);
+        let t39: f64 = t37 + t38;
+        let t40: f64 = t30 * t39;
+        let t41: f64 = t40 * 0.5;
+        let t42 = product(t11, t41);
+        let t43 = product(t41, t41);
+        let t44: f64 = t43.subtracted_from(t28);
+        let t45: f64 = sqrt(t44);
+        let t46: f64 = arm1_branch * t45;
+        let t47: f64 = t26 * t46;
+        let t48: f64 = t42.minus(t47);
+        let t49: f64 = t29 * t48;
+        let t50 = product(arm1_zero_x, t49);
+        let t51 = product(t26, t41);
+        let t52: f64 = t11 * t46;
+        let t53: f64 = t51.plus(t52);
+        let t54: f64 = t29 * t53;
+        let t55: f64 = t15 * t54;
+        let t56: f64 = t50.plus(t55);
+        let t57 = product(arm1_crank_length, t56);
+        let t58: f64 = t57.added_to(arm1_base_x);
+        let t59: f64 = xc + arm1_platform_x;
+        let t60: f64 = t59 - t58;
+        let t61 = product(t15, t49);
+        let t62: f64 = arm1_zero_x * t54;
+        let t63: f64 = t61.minus(t62);
+        let t64 = product(t60, t63);
+        let t65 = product(t19, t49);
+        let t66: f64 = arm1_zero_y * t54;
+        let t67: f64 = t65.minus(t66);
+        let t68 = product(arm1_zero_y, t49);
+        let t69: f64 = t19 * t54;
+        let t70: f64 = t68.plus(t69);
+        let t71 = product(arm1_crank_length, t70);
+        let t72: f64 = t71.added_to(arm1_base_y);
+        let t73: f64 = yc + arm1_platform_y;
+        let t74: f64 = t73 - t72;
+        let t75: f64 = t67 * t74;
+        let t76 = product(t23, t49);
+        let t77: f64 = arm1_zero_z * t54;
+        let t78: f64 = t76.minus(t77);
+        let t79 = product(arm1_zero_z, t49);
+        let t80: f64 = t23 * t54;
+        let t81: f64 = t79.plus(t80);
+        let t82 = product(arm1_crank_length, t81);
+        let t83: f64 = t82.added_to(arm1_base_z);
+        let t84: f64 = zc + arm1_platform_z;
+        let t85: f64 = t84 - t83;
+        let t86 = product(t78, t85);
+        let t87: f64 = t64.plus(t75);
+        let t88: f64 = t86.plus(t87);
+        let t89: f64 = 1.0 / t88;
+        let t90: f64 = t30 * t89;
+        let t91: f64 = t60 * t90;
+        let t92 = product(gravity_x, t63);
+        let t93: f64 = gravity_y * t67;
+        let t94 = product(gravity_z, t78);
+        let t95: f64 = t92.plus(t93);
+        let t96: f64 = t94.plus(t95);
+        let t97 = product(arm1_crank_mx, t96);
+        let t98 = product(vx, t91);
+        let t99: f64 = t74 * t90;
+        let t100: f64 = vy * t99;
+        let t101: f64 = t85 * t90;
+        let t102 = product(vz, t101);
+        let t103: f64 = t98.plus(t100);
+        let t104: f64 = t102.plus(t103);
+        let t105: f64 = t104 * t104;
+        let t106 = product(t56, t60);
+        let t107: f64 = t70 * t74;
+        let t108 = product(t81, t85);
+        let t109: f64 = t106.plus(t107);
+        let t110: f64 = t108.plus(t109);
+        let t111: f64 = arm1_crank_length * t105;
+        let t112 = product(t110, t111);
+        let t113: f64 = arm1_crank_length * t63;
+        let t114 = product(t104, t113);
+        let t115: f64 = t114.subtracted_from(vx);
+        let t116: f64 = t115 * t115;
+        let t117: f64 = arm1_crank_length * t67;
+        let t118 = product(t104, t117);
+        let t119: f64 = t118.subtracted_from(vy);
+        let t120 = product(t119, t119);
+        let t121: f64 = arm1_crank_length * t78;
+        let t122 = product(t104, t121);
+        let t123: f64 = t122.subtracted_from(vz);
+        let t124: f64 = t123 * t123;
+        let t125: f64 = t112.plus(t116);
+        let t126: f64 = t120.plus(t124);
+        let t127: f64 = t125 + t126;
+        let t128: f64 = t90 * t127;
+        let t129: f64 = arm1_crank_izz * t128;
+        let t130: f64 = t97.subtracted_from(t129);
+        let t131 = product(t91, t130);
+        let t132: f64 = 1.0 / arm1_rod_length;
+        let t133: f64 = t85 * t132;
+        let t134 = product(arm1_axis_x, t133);
+        let t135: f64 = t60 * t132;
+        let t136: f64 = arm1_axis_z * t135;
+        let t137: f64 = t134.minus(t136);
+        let t138: f64 = t74 * t132;
+        let t139 = product(arm1_axis_z, t138);
+        let t140: f64 = arm1_axis_y * t133;
+        let t141: f64 = t139.minus(t140);
+        let t142 = product(t141, t141);
+        let t143: f64 = t137 * t137;
+        let t144 = product(arm1_axis_y, t135);
+        let t145: f64 = arm1_axis_x * t138;
+        let t146: f64 = t144.minus(t145);
+        let t147 = product(t146, t146);
+        let t148: f64 = t142.plus(t143);
+        let t149: f64 = t147.plus(t148);
+        let t150: f64 = sqrt(t149);
+        let t151: f64 = 1.0 / t150;
+        let t152: f64 = t137 * t151;
+        let t153 = product(t133, t152);
+        let t154: f64 = t146 * t151;
+        let t155: f64 = t138 * t154;
+        let t156: f64 = t153.minus(t155);
+        let t157 = product(t132, t156);
+        let t158 = product(t63, t156);
+        let t159 = product(t135, t154);
+        let t160: f64 = t141 * t151;
+        let t161: f64 = t133 * t160;
+        let t162: f64 = t159.minus(t161);
+        let t163: f64 = t67 * t162;
+        let t164 = product(t138, t160);
+        let t165: f64 = t135 * t152;
+        let t166: f64 = t164.minus(t165);
+        let t167 = product(t78, t166);
+        let t168: f64 = t158.plus(t163);
+        let t169: f64 = t167.plus(t168);
+        let t170: f64 = t132 * t169;
+        let t171: f64 = arm1_crank_length * t91;
+        let t172: f64 = t170 * t171;
+        let t173: f64 = t157.minus(t172);
+        let t174 = product(t132, t160);
+        let t175 = product(t63, t160);
+        let t176: f64 = t67 * t152;
+        let t177 = product(t78, t154);
+        let t178: f64 = t175.plus(t176);
+        let t179: f64 = t177.plus(t178);
+        let t180: f64 = t132 * t179;
+        let t181: f64 = t171 * t180;
+        let t182: f64 = t174.minus(t181);
+        let t183 = product(vx, t182);
+        let t184 = product(t132, t152);
+        let t185: f64 = arm1_crank_length * t99;
+        let t186: f64 = t180 * t185;
+        let t187: f64 = t184.minus(t186);
+        let t188: f64 = vy * t187;
+        let t189 = product(t132, t154);
+        let t190: f64 = arm1_crank_length * t101;
+        let t191: f64 = t180 * t190;
+        let t192: f64 = t189.minus(t191);
+        let t193 = product(vz, t192);
+        let t194: f64 = t183.plus(t188);
+        let t195: f64 = t193.plus(t194);
+        let t196 = product(arm1_axis_x, t135);
+        let t197: f64 = arm1_axis_y * t138;
+        let t198 = product(arm1_axis_z, t133);
+        let t199: f64 = t196.plus(t197);
+        let t200: f64 = t198.plus(t199);
+        let t201: f64 = t151 * t200;
+        let t202: f64 = t195 * t201;
+        let t203: f64 = arm1_rod_izz * t195;
+        let t204 = product(t202, t203);
+        let t205 = product(gravity_x, t156);
+        let t206: f64 = gravity_y * t162;
+        let t207 = product(gravity_z, t166);
+        let t208: f64 = t205.plus(t206);
+        let t209: f64 = t207.plus(t208);
+        let t210 = product(t63, t128);
+        let t211: f64 = t56 * t105;
+        let t212: f64 = t210.minus(t211);
+        let t213: f64 = arm1_crank_length * t212;
+        let t214 = product(t156, t213);
+        let t215 = product(t67, t128);
+        let t216: f64 = t70 * t105;
+        let t217: f64 = t215.minus(t216);
+        let t218: f64 = arm1_crank_length * t217;
+        let t219: f64 = t162 * t218;
+        let t220 = product(t78, t128);
+        let t221: f64 = t81 * t105;
+        let t222: f64 = t220.minus(t221);
+        let t223: f64 = arm1_crank_length * t222;
+        let t224 = product(t166, t223);
+        let t225: f64 = t214.plus(t219);
+        let t226: f64 = t224.plus(t225);
+        let t227: f64 = t226 - t209;
+        let t228: f64 = arm1_rod_mz * t227;
+        let t229 = product(t115, t160);
+        let t230: f64 = t119 * t152;
+        let t231 = product(t123, t154);
+        let t232: f64 = t229.plus(t230);
+        let t233: f64 = t231.plus(t232);
+        let t234: f64 = t132 * t201;
+        let t235: f64 = t233 * t234;
+        let t236: f64 = t132 * t233;
+        let t237 = product(t235, t236);
+        let t238: f64 = t132 * t226;
+        let t239: f64 = t237.plus(t238);
+        let t240 = product(t195, t202);
+        let t241: f64 = t240.subtracted_from(t239);
+        let t242: f64 = t241 * 2.0;
+        let t243 = product(arm1_rod_ixx, t242);
+        let t244: f64 = t204.minus(t228);
+        let t245: f64 = t244 * 2.0;
+        let t246: f64 = t243.plus(t245);
+        let t247: f64 = t173 * t246;
+        let t248: f64 = xc - arm2_base_x;
+        let t249: f64 = arm2_platform_x + t248;
+        let t250 = product(arm2_zero_x, t249);
+        let t251: f64 = yc - arm2_base_y;
+        let t252: f64 = arm2_platform_y + t251;
+        let t253: f64 = arm2_zero_y * t252;
+        let t254: f64 = zc - arm2_base_z;
+        let t255: f64 = arm2_platform_z + t254;
+        let t256 = product(arm2_zero_z, t255);
+        let t257: f64 = t250.plus(t253);
+        let t258: f64 = t256.plus(t257);
+        let t259 = product(t258, t258);
+        let t260 = product(arm2_axis_y, arm2_zero_z);
+        let t261: f64 = arm2_axis_z * arm2_zero_y;
+        let t262: f64 = t260.minus(t261);
+        let t263 = product(t249, t262);
+        let t264 = product(arm2_axis_z, arm2_zero_x);
+        let t265: f64 = arm2_axis_x * arm2_zero_z;
+        let t266: f64 = t264.minus(t265);
+        let t267: f64 = t252 * t266;
+        let t268 = product(arm2_axis_x, arm2_zero_y);
+        let t269: f64 = arm2_axis_y * arm2_zero_x;
+        let t270: f64 = t268.minus(t269);
+        let t271 = product(t255, t270);
+        let t272: f64 = t263.plus(t267);
+        let t273: f64 = t271.plus(t272);
+        let t274: f64 = t273 * t273;
+        let t275: f64 = t259.plus(t274);
+        let t276: f64 = 1.0 / t275;
+        let t277: f64 = 1.0 / arm2_crank_length;
+        let t278 = product(t249, t249);
+        let t279: f64 = t252 * t252;
+        let t280 = product(t255, t255);
+        let t281 = product(arm2_crank_length, arm2_crank_length);
+        let t282: f64 = arm2_rod_length * arm2_rod_length;
+        let t283: f64 = t281.minus(t282);
+        let t284: f64 = t278.plus(t279);
+        let t285: f64 = t280.plus(t283);
+        let t286: f64 = t284 + t285;
+        let t287: f64 = t277 * t286;
+        let t288: f64 = t287 * 0.5;
+        let t289 = product(t258, t288);
+        let t290 = product(t288, t288);
+        let t291: f64 = t290.subtracted_from(t275);
+        let t292: f64 = sqrt(t291);
+        let t293: f64 = arm2_branch * t292;
+        let t294: f64 = t273 * t293;
+        let t295: f64 = t289.minus(t294);
+        let t296: f64 = t276 * t295;
+        let t297 = product(arm2_zero_x, t296);
+        let t298 = product(t273, t288);
+        let t299: f64 = t258 * t293;
+        let t300: f64 = t298.plus(t299);
+        let t301: f64 = t276 * t300;
+        let t302: f64 = t262 * t301;
+        let t303: f64 = t297.plus(t302);
+        let t304 = product(arm2_crank_length, t303);
+        let t305: f64 = t304.added_to(arm2_base_x);
+        let t306: f64 = xc + arm2_platform_x;
+        let t307: f64 = t306 - t305;
+        let t308 = product(t262, t296);
+        let t309: f64 = arm2_zero_x * t301;
+        let t310: f64 = t308.minus(t309);
+        let t311 = product(t307, t310);
+        let t312 = product(t266, t296);
+        let t313: f64 = arm2_zero_y * t301;
+        let t314: f64 = t312.minus(t313);
+        let t315 = product(arm2_zero_y, t296);
+        let t316: f64 = t266 * t301;
+        let t317: f64 = t315.plus(t316);
+        let t318 = product(arm2_crank_length, t317);
+        let t319: f64 = t318.added_to(arm2_base_y);
+        let t320: f64 = yc + arm2_platform_y;
+        let t321: f64 = t320 - t319;
+        let t322: f64 = t314 * t321;
+        let t323 = product(t270, t296);
+        let t324: f64 = arm2_zero_z * t301;
+        let t325: f64 = t323.minus(t324);
+        let t326 = product(arm2_zero_z, t296);
+        let t327: f64 = t270 * t301;
+        let t328: f64 = t326.plus(t327);
+        let t329 = product(arm2_crank_length, t328);
+        let t330: f64 = t329.added_to(arm2_base_z);
+        let t331: f64 = zc + arm2_platform_z;
+        let t332: f64 = t331 - t330;
+        let t333 = product(t325, t332);
+        let t334: f64 = t311.plus(t322);
+        let t335: f64 = t333.plus(t334);
+        let t336: f64 = 1.0 / t335;
+        let t337: f64 = t277 * t336;
+        let t338: f64 = t307 * t337;
+        let t339 = product(gravity_x, t310);
+        let t340: f64 = gravity_y * t314;
+        let t341 = product(gravity_z, t325);
+        let t342: f64 = t339.plus(t340);
+        let t343: f64 = t341.plus(t342);
+        let t344 = product(arm2_crank_mx, t343);
+        let t345 = product(vx, t338);
+        let t346: f64 = t321 * t337;
+        let t347: f64 = vy * t346;
+        let t348: f64 = t332 * t337;
+        let t349 = product(vz, t348);
+        let t350: f64 = t345.plus(t347);
+        let t351: f64 = t349.plus(t350);
+        let t352: f64 = t351 * t351;
+        let t353 = product(t303, t307);
+        let t354: f64 = t317 * t321;
+        let t355 = product(t328, t332);
+        let t356: f64 = t353.plus(t354);
+        let t357: f64 = t355.plus(t356);
+        let t358: f64 = arm2_crank_length * t352;
+        let t359 = product(t357, t358);
+        let t360: f64 = arm2_crank_length * t310;
+        let t361 = product(t351, t360);
+        let t362: f64 = t361.subtracted_from(vx);
+        let t363: f64 = t362 * t362;
+        let t364: f64 = arm2_crank_length * t314;
+        let t365 = product(t351, t364);
+        let t366: f64 = t365.subtracted_from(vy);
+        let t367 = product(t366, t366);
+        let t368: f64 = arm2_crank_length * t325;
+        let t369 = product(t351, t368);
+        let t370: f64 = t369.subtracted_from(vz);
+        let t371: f64 = t370 * t370;
+        let t372: f64 = t359.plus(t363);
+        let t373: f64 = t367.plus(t371);
+        let t374: f64 = t372 + t373;
+        let t375: f64 = t337 * t374;
+        let t376: f64 = arm2_crank_izz * t375;
+        let t377: f64 = t344.subtracted_from(t376);
+        let t378: f64 = t338 * t377;
+        let t379: f64 = 1.0 / arm2_rod_length;
+        let t380: f64 = t332 * t379;
+        let t381 = product(arm2_axis_x, t380);
+        let t382: f64 = t307 * t379;
+        let t383: f64 = arm2_axis_z * t382;
+        let t384: f64 = t381.minus(t383);
+        let t385: f64 = t321 * t379;
+        let t386 = product(arm2_axis_z, t385);
+        let t387: f64 = arm2_axis_y * t380;
+        let t388: f64 = t386.minus(t387);
+        let t389 = product(t388, t388);
+        let t390: f64 = t384 * t384;
+        let t391 = product(arm2_axis_y, t382);
+        let t392: f64 = arm2_axis_x * t385;
+        let t393: f64 = t391.minus(t392);
+        let t394 = product(t393, t393);
+        let t395: f64 = t389.plus(t390);
+        let t396: f64 = t394.plus(t395);
+        let t397: f64 = sqrt(t396);
+        let t398: f64 = 1.0 / t397;
+        let t399: f64 = t384 * t398;
+        let t400 = product(t380, t399);
+        let t401: f64 = t393 * t398;
+        let t402: f64 = t385 * t401;
+        let t403: f64 = t400.minus(t402);
+        let t404 = product(t379, t403);
+        let t405 = product(t310, t403);
+        let t406 = product(t382, t401);
+        let t407: f64 = t388 * t398;
+        let t408: f64 = t380 * t407;
+        let t409: f64 = t406.minus(t408);
+        let t410: f64 = t314 * t409;
+        let t411 = product(t385, t407);
+        let t412: f64 = t382 * t399;
+        let t413: f64 = t411.minus(t412);
+        let t414 = product(t325, t413);
+        let t415: f64 = t405.plus(t410);
+        let t416: f64 = t414.plus(t415);
+        let t417: f64 = t379 * t416;
+        let t418: f64 = arm2_crank_length * t338;
+        let t419: f64 = t417 * t418;
+        let t420: f64 = t404.minus(t419);
+        let t421 = product(t379, t407);
+        let t422 = product(t310, t407);
+        let t423: f64 = t314 * t399;
+        let t424 = product(t325, t401);
+        let t425: f64 = t422.plus(t423);
+        let t426: f64 = t424.plus(t425);
+        let t427: f64 = t379 * t426;
+        let t428: f64 = t418 * t427;
+        let t429: f64 = t421.minus(t428);
+        let t430 = product(vx, t429);
+        let t431 = product(t379, t399);
+        let t432: f64 = arm2_crank_length * t346;
+        let t433: f64 = t427 * t432;
+        let t434: f64 = t431.minus(t433);
+        let t435: f64 = vy * t434;
+        let t436 = product(t379, t401);
+        let t437: f64 = arm2_crank_length * t348;
+        let t438: f64 = t427 * t437;
+        let t439: f64 = t436.minus(t438);
+        let t440 = product(vz, t439);
+        let t441: f64 = t430.plus(t435);
+        let t442: f64 = t440.plus(t441);
+        let t443 = product(arm2_axis_x, t382);
+        let t444: f64 = arm2_axis_y * t385;
+        let t445 = product(arm2_axis_z, t380);
+        let t446: f64 = t443.plus(t444);
+        let t447: f64 = t445.plus(t446);
+        let t448: f64 = t398 * t447;
+        let t449: f64 = t442 * t448;
+        let t450: f64 = arm2_rod_izz * t442;
+        let t451 = product(t449, t450);
+        let t452 = product(gravity_x, t403);
+        let t453: f64 = gravity_y * t409;
+        let t454 = product(gravity_z, t413);
+        let t455: f64 = t452.plus(t453);
+        let t456: f64 = t454.plus(t455);
+        let t457 = product(t310, t375);
+        let t458: f64 = t303 * t352;
+        let t459: f64 = t457.minus(t458);
+        let t460: f64 = arm2_crank_length * t459;
+        let t461 = product(t403, t460);
+        let t462 = product(t314, t375);
+        let t463: f64 = t317 * t352;
+        let t464: f64 = t462.minus(t463);
+        let t465: f64 = arm2_crank_length * t464;
+        let t466: f64 = t409 * t465;
+        let t467 = product(t325, t375);
+        let t468: f64 = t328 * t352;
+        let t469: f64 = t467.minus(t468);
+        let t470: f64 = arm2_crank_length * t469;
+        let t471 = product(t413, t470);
+        let t472: f64 = t461.plus(t466);
+        let t473: f64 = t471.plus(t472);
+        let t474: f64 = t473 - t456;
+        let t475: f64 = arm2_rod_mz * t474;
+        let t476 = product(t362, t407);
+        let t477: f64 = t366 * t399;
+        let t478 = product(t370, t401);
+        let t479: f64 = t476.plus(t477);
+        let t480: f64 = t478.plus(t479);
+        let t481: f64 = t379 * t448;
+        let t482: f64 = t480 * t481;
+        let t483: f64 = t379 * t480;
+        let t484 = product(t482, t483);
+        let t485: f64 = t379 * t473;
+        let t486: f64 = t484.plus(t485);
+        let t487 = product(t442, t449);
+        let t488: f64 = t487.subtracted_from(t486);
+        let t489: f64 = t488 * 2.0;
+        let t490 = product(arm2_rod_ixx, t489);
+        let t491: f64 = t451.minus(t475);
+        let t492: f64 = t491 * 2.0;
+        let t493: f64 = t490.plus(t492);
+        let t494 = product(t420, t493);
+        let t495: f64 = xc - arm3_base_x;
+        let t496: f64 = arm3_platform_x + t495;
+        let t497 = product(arm3_zero_x, t496);
+        let t498: f64 = yc - arm3_base_y;
+        let t499: f64 = arm3_platform_y + t498;
+        let t500: f64 = arm3_zero_y * t499;
+        let t501: f64 = zc - arm3_base_z;
+        let t502: f64 = arm3_platform_z + t501;
+        let t503 = product(arm3_zero_z, t502);
+        let t504: f64 = t497.plus(t500);
+        let t505: f64 = t503.plus(t504);
+        let t506 = product(t505, t505);
+        let t507 = product(arm3_axis_y, arm3_zero_z);
+        let t508: f64 = arm3_axis_z * arm3_zero_y;
+        let t509: f64 = t507.minus(t508);
+        let t510 = product(t496, t509);
+        let t511 = product(arm3_axis_z, arm3_zero_x);
+        let t512: f64 = arm3_axis_x * arm3_zero_z;
+        let t513: f64 = t511.minus(t512);
+        let t514: f64 = t499 * t513;
+        let t515 = product(arm3_axis_x, arm3_zero_y);
+        let t516: f64 = arm3_axis_y * arm3_zero_x;
+        let t517: f64 = t515.minus(t516);
+        let t518 = product(t502, t517);
+        let t519: f64 = t510.plus(t514);
+        let t520: f64 = t518.plus(t519);
+        let t521: f64 = t520 * t520;
+        let t522: f64 = t506.plus(t521);
+        let t523: f64 = 1.0 / t522;
+        let t524: f64 = 1.0 / arm3_crank_length;
+        let t525 = product(t496, t496);
+        let t526: f64 = t499 * t499;
+        let t527 = product(t502, t502);
+        let t528 = product(arm3_crank_length, arm3_crank_length);
+        let t529: f64 = arm3_rod_length * arm3_rod_length;
+        let t530: f64 = t528.minus(t529);
+        let t531: f64 = t525.plus(t526);
+        let t532: f64 = t527.plus(t530);
+        let t533: f64 = t531 + t532;
+        let t534: f64 = t524 * t533;
+        let t535: f64 = t534 * 0.5;
+        let t536 = product(t505, t535);
+        let t537 = product(t535, t535);
+        let t538: f64 = t537.subtracted_from(t522);
+        let t539: f64 = sqrt(t538);
+        let t540: f64 = arm3_branch * t539;
+        let t541: f64 = t520 * t540;
+        let t542: f64 = t536.minus(t541);
+        let t543: f64 = t523 * t542;
+        let t544 = product(arm3_zero_x, t543);
+        let t545 = product(t520, t535);
+        let t546: f64 = t505 * t540;
+        let t547: f64 = t545.plus(t546);
+        let t548: f64 = t523 * t547;
+        let t549: f64 = t509 * t548;
+        let t550: f64 = t544.plus(t549);
+        let t551 = product(arm3_crank_length, t550);
+        let t552: f64 = t551.added_to(arm3_base_x);
+        let t553: f64 = xc + arm3_platform_x;
+        let t554: f64 = t553 - t552;
+        let t555 = product(t509, t543);
+        let t556: f64 = arm3_zero_x * t548;
+        let t557: f64 = t555.minus(t556);
+        let t558 = product(t554, t557);
+        let t559 = product(t513, t543);
+        let t560: f64 = arm3_zero_y * t548;
+        let t561: f64 = t559.minus(t560);
+        let t562 = product(arm3_zero_y, t543);
+        let t563: f64 = t513 * t548;
+        let t564: f64 = t562.plus(t563);
+        let t565 = product(arm3_crank_length, t564);
+        let t566: f64 = t565.added_to(arm3_base_y);
+        let t567: f64 = yc + arm3_platform_y;
+        let t568: f64 = t567 - t566;
+        let t569: f64 = t561 * t568;
+        let t570 = product(t517, t543);
+        let t571: f64 = arm3_zero_z * t548;
+        let t572: f64 = t570.minus(t571);
+        let t573 = product(arm3_zero_z, t543);
+        let t574: f64 = t517 * t548;
+        let t575: f64 = t573.plus(t574);
+        let t576 = product(arm3_crank_length, t575);
+        let t577: f64 = t576.added_to(arm3_base_z);
+        let t578: f64 = zc + arm3_platform_z;
+        let t579: f64 = t578 - t577;
+        let t580 = product(t572, t579);
+        let t581: f64 = t558.plus(t569);
+        let t582: f64 = t580.plus(t581);
+        let t583: f64 = 1.0 / t582;
+        let t584: f64 = t524 * t583;
+        let t585: f64 = t554 * t584;
+        let t586 = product(gravity_x, t557);
+        let t587: f64 = gravity_y * t561;
+        let t588 = product(gravity_z, t572);
+        let t589: f64 = t586.plus(t587);
+        let t590: f64 = t588.plus(t589);
+        let t591 = product(arm3_crank_mx, t590);
+        let t592 = product(vx, t585);
+        let t593: f64 = t568 * t584;
+        let t594: f64 = vy * t593;
+        let t595: f64 = t579 * t584;
+        let t596 = product(vz, t595);
+        let t597: f64 = t592.plus(t594);
+        let t598: f64 = t596.plus(t597);
+        let t599: f64 = t598 * t598;
+        let t600 = product(t550, t554);
+        let t601: f64 = t564 * t568;
+        let t602 = product(t575, t579);
+        let t603: f64 = t600.plus(t601);
+        let t604: f64 = t602.plus(t603);
+        let t605: f64 = arm3_crank_length * t599;
+        let t606 = product(t604, t605);
+        let t607: f64 = arm3_crank_length * t557;
+        let t608 = product(t598, t607);
+        let t609: f64 = t608.subtracted_from(vx);
+        let t610: f64 = t609 * t609;
+        let t611: f64 = arm3_crank_length * t561;
+        let t612 = product(t598, t611);
+        let t613: f64 = t612.subtracted_from(vy);
+        let t614 = product(t613, t613);
+        let t615: f64 = arm3_crank_length * t572;
+        let t616 = product(t598, t615);
+        let t617: f64 = t616.subtracted_from(vz);
+        let t618: f64 = t617 * t617;
+        let t619: f64 = t606.plus(t610);
+        let t620: f64 = t614.plus(t618);
+        let t621: f64 = t619 + t620;
+        let t622: f64 = t584 * t621;
+        let t623: f64 = arm3_crank_izz * t622;
+        let t624: f64 = t591.subtracted_from(t623);
+        let t625 = product(t585, t624);
+        let t626: f64 = 1.0 / arm3_rod_length;
+        let t627: f64 = t579 * t626;
+        let t628 = product(arm3_axis_x, t627);
+        let t629: f64 = t554 * t626;
+        let t630: f64 = arm3_axis_z * t629;
+        let t631: f64 = t628.minus(t630);
+        let t632: f64 = t568 * t626;
+        let t633 = product(arm3_axis_z, t632);
+        let t634: f64 = arm3_axis_y * t627;
+        let t635: f64 = t633.minus(t634);
+        let t636 = product(t635, t635);
+        let t637: f64 = t631 * t631;
+        let t638 = product(arm3_axis_y, t629);
+        let t639: f64 = arm3_axis_x * t632;
+        let t640: f64 = t638.minus(t639);
+        let t641 = product(t640, t640);
+        let t642: f64 = t636.plus(t637);
+        let t643: f64 = t641.plus(t642);
+        let t644: f64 = sqrt(t643);
+        let t645: f64 = 1.0 / t644;
+        let t646: f64 = t631 * t645;
+        let t647 = product(t627, t646);
+        let t648: f64 = t640 * t645;
+        let t649: f64 = t632 * t648;
+        let t650: f64 = t647.minus(t649);
+        let t651 = product(t626, t650);
+        let t652 = product(t557, t650);
+        let t653 = product(t629, t648);
+        let t654: f64 = t635 * t645;
+        let t655: f64 = t627 * t654;
+        let t656: f64 = t653.minus(t655);
+        let t657: f64 = t561 * t656;
+        let t658 = product(t632, t654);
+        let t659: f64 = t629 * t646;
+        let t660: f64 = t658.minus(t659);
+        let t661 = product(t572, t660);
+        let t662: f64 = t652.plus(t657);
+        let t663: f64 = t661.plus(t662);
+        let t664: f64 = t626 * t663;
+        let t665: f64 = arm3_crank_length * t585;
+        let t666: f64 = t664 * t665;
+        let t667: f64 = t651.minus(t666);
+        let t668 = product(t626, t654);
+        let t669 = product(t557, t654);
+        let t670: f64 = t561 * t646;
+        let t671 = product(t572, t648);
+        let t672: f64 = t669.plus(t670);
+        let t673: f64 = t671.plus(t672);
+        let t674: f64 = t626 * t673;
+        let t675: f64 = t665 * t674;
+        let t676: f64 = t668.minus(t675);
+        let t677 = product(vx, t676);
+        let t678 = product(t626, t646);
+        let t679: f64 = arm3_crank_length * t593;
+        let t680: f64 = t674 * t679;
+        let t681: f64 = t678.minus(t680);
+        let t682: f64 = vy * t681;
+        let t683 = product(t626, t648);
+        let t684: f64 = arm3_crank_length * t595;
+        let t685: f64 = t674 * t684;
+        let t686: f64 = t683.minus(t685);
+        let t687 = product(vz, t686);
+        let t688: f64 = t677.plus(t682);
+        let t689: f64 = t687.plus(t688);
+        let t690 = product(arm3_axis_x, t629);
+        let t691: f64 = arm3_axis_y * t632;
+        let t692 = product(arm3_axis_z, t627);
+        let t693: f64 = t690.plus(t691);
+        let t694: f64 = t692.plus(t693);
+        let t695: f64 = t645 * t694;
+        let t696: f64 = t689 * t695;
+        let t697: f64 = arm3_rod_izz * t689;
+        let t698 = product(t696, t697);
+        let t699 = product(gravity_x, t650);
+        let t700: f64 = gravity_y * t656;
+        let t701 = product(gravity_z, t660);
+        let t702: f64 = t699.plus(t700);
+        let t703: f64 = t701.plus(t702);
+        let t704 = product(t557, t622);
+        let t705: f64 = t550 * t599;
+        let t706: f64 = t704.minus(t705);
+        let t707: f64 = arm3_crank_length * t706;
+        let t708 = product(t650, t707);
+        let t709 = product(t561, t622);
+        let t710: f64 = t564 * t599;
+        let t711: f64 = t709.minus(t710);
+        let t712: f64 = arm3_crank_length * t711;
+        let t713: f64 = t656 * t712;
+        let t714 = product(t572, t622);
+        let t715: f64 = t575 * t599;
+        let t716: f64 = t714.minus(t715);
+        let t717: f64 = arm3_crank_length * t716;
+        let t718 = product(t660, t717);
+        let t719: f64 = t708.plus(t713);
+        let t720: f64 = t718.plus(t719);
+        let t721: f64 = t720 - t703;
+        let t722: f64 = arm3_rod_mz * t721;
+        let t723 = product(t609, t654);
+        let t724: f64 = t613 * t646;
+        let t725 = product(t617, t648);
+        let t726: f64 = t723.plus(t724);
+        let t727: f64 = t725.plus(t726);
+        let t728: f64 = t626 * t695;
+        let t729: f64 = t727 * t728;
+        let t730: f64 = t626 * t727;
+        let t731 = product(t729, t730);
+        let t732: f64 = t626 * t720;
+        let t733: f64 = t731.plus(t732);
+        let t734 = product(t689, t696);
+        let t735: f64 = t734.subtracted_from(t733);
+        let t736: f64 = t735 * 2.0;
+        let t737 = product(arm3_rod_ixx, t736);
+        let t738: f64 = t698.minus(t722);
+        let t739: f64 = t738 * 2.0;
+        let t740: f64 = t737.plus(t739);
+        let t741: f64 = t667 * t740;
+        let t742: f64 = arm1_rod_mass * t227;
+        let t743 = product(arm1_rod_mz, t242);
+        let t744: f64 = t742 * 2.0;
+        let t745: f64 = t743.subtracted_from(t744);
+        let t746 = product(t169, t745);
+        let t747 = product(gravity_x, t160);
+        let t748: f64 = gravity_y * t152;
+        let t749 = product(gravity_z, t154);
+        let t750: f64 = t747.plus(t748);
+        let t751: f64 = t749.plus(t750);
+        let t752 = product(t160, t213);
+        let t753: f64 = t152 * t218;
+        let t754 = product(t154, t223);
+        let t755: f64 = t752.plus(t753);
+        let t756: f64 = t754.plus(t755);
+        let t757: f64 = t756 - t751;
+        let t758: f64 = arm1_rod_mass * t757;
+        let t759 = product(t115, t156);
+        let t760: f64 = t119 * t162;
+        let t761 = product(t123, t166);
+        let t762: f64 = t759.plus(t760);
+        let t763: f64 = t761.plus(t762);
+        let t764: f64 = t132 * t763;
+        let t765 = product(t235, t764);
+        let t766: f64 = t132 * t756;
+        let t767: f64 = t765.minus(t766);
+        let t768 = product(vx, t173);
+        let t769 = product(t132, t162);
+        let t770: f64 = t170 * t185;
+        let t771: f64 = t769.minus(t770);
+        let t772: f64 = vy * t771;
+        let t773 = product(t132, t166);
+        let t774: f64 = t170 * t190;
+        let t775: f64 = t773.minus(t774);
+        let t776 = product(vz, t775);
+        let t777: f64 = t768.plus(t772);
+        let t778: f64 = t776.plus(t777);
+        let t779: f64 = t202 * t778;
+        let t780: f64 = t767 - t779;
+        let t781: f64 = t780 * 2.0;
+        let t782 = product(arm1_rod_mz, t781);
+        let t783: f64 = t758 * 2.0;
+        let t784: f64 = t782.plus(t783);
+        let t785: f64 = t179 * t784;
+        let t786 = product(t63, t135);
+        let t787: f64 = t67 * t138;
+        let t788 = product(t78, t133);
+        let t789: f64 = t786.plus(t787);
+        let t790: f64 = t788.plus(t789);
+        let t791 = product(gravity_x, t135);
+        let t792: f64 = gravity_y * t138;
+        let t793 = product(gravity_z, t133);
+        let t794: f64 = t791.plus(t792);
+        let t795: f64 = t793.plus(t794);
+        let t796 = product(t135, t213);
+        let t797: f64 = t138 * t218;
+        let t798 = product(t133, t223);
+        let t799: f64 = t796.plus(t797);
+        let t800: f64 = t798.plus(t799);
+        let t801: f64 = t800 - t795;
+        let t802: f64 = arm1_rod_mass * t801;
+        let t803 = product(t195, t195);
+        let t804: f64 = t778 * t778;
+        let t805: f64 = t803.plus(t804);
+        let t806: f64 = t805 * 2.0;
+        let t807 = product(arm1_rod_mz, t806);
+        let t808: f64 = t802 * 2.0;
+        let t809: f64 = t807.subtracted_from(t808);
+        let t810 = product(t790, t809);
+        let t811: f64 = t746.plus(t785);
+        let t812: f64 = t810.plus(t811);
+        let t813: f64 = t171 * t812;
+        let t814: f64 = arm2_rod_mass * t474;
+        let t815 = product(arm2_rod_mz, t489);
+        let t816: f64 = t814 * 2.0;
+        let t817: f64 = t815.subtracted_from(t816);
+        let t818 = product(t416, t817);
+        let t819 = product(gravity_x, t407);
+        let t820: f64 = gravity_y * t399;
+        let t821 = product(gravity_z, t401);
+        let t822: f64 = t819.plus(t820);
+        let t823: f64 = t821.plus(t822);
+        let t824 = product(t407, t460);
+        let t825: f64 = t399 * t465;
+        let t826 = product(t401, t470);
+        let t827: f64 = t824.plus(t825);
+        let t828: f64 = t826.plus(t827);
+        let t829: f64 = t828 - t823;
+        let t830: f64 = arm2_rod_mass * t829;
+        let t831 = product(t362, t403);
+        let t832: f64 = t366 * t409;
+        let t833 = product(t370, t413);
+        let t834: f64 = t831.plus(t832);
+        let t835: f64 = t833.plus(t834);
+        let t836: f64 = t379 * t835;
+        let t837 = product(t482, t836);
+        let t838: f64 = t379 * t828;
+        let t839: f64 = t837.minus(t838);
+        let t840 = product(vx, t420);
+        let t841 = product(t379, t409);
+        let t842: f64 = t417 * t432;
+        let t843: f64 = t841.minus(t842);
+        let t844: f64 = vy * t843;
+        let t845 = product(t379, t413);
+        let t846: f64 = t417 * t437;
+        let t847: f64 = t845.minus(t846);
+        let t848 = product(vz, t847);
+        let t849: f64 = t840.plus(t844);
+        let t850: f64 = t848.plus(t849);
+        let t851: f64 = t449 * t850;
+        let t852: f64 = t839 - t851;
+        let t853: f64 = t852 * 2.0;
+        let t854 = product(arm2_rod_mz, t853);
+        let t855: f64 = t830 * 2.0;
+        let t856: f64 = t854.plus(t855);
+        let t857: f64 = t426 * t856;
+        let t858 = product(t310, t382);
+        let t859: f64 = t314 * t385;
+        let t860 = product(t325, t380);
+        let t861: f64 = t858.plus(t859);
+        let t862: f64 = t860.plus(t861);
+        let t863 = product(gravity_x, t382);
+        let t864: f64 = gravity_y * t385;
+        let t865 = product(gravity_z, t380);
+        let t866: f64 = t863.plus(t864);
+        let t867: f64 = t865.plus(t866);
+        let t868 = product(t382, t460);
+        let t869: f64 = t385 * t465;
+        let t870 = product(t380, t470);
+        let t871: f64 = t868.plus(t869);
+        let t872: f64 = t870.plus(t871);
+        let t873: f64 = t872 - t867;
+        let t874: f64 = arm2_rod_mass * t873;
+        let t875 = product(t442, t442);
+        let t876: f64 = t850 * t850;
+        let t877: f64 = t875.plus(t876);
+        let t878: f64 = t877 * 2.0;
+        let t879 = product(arm2_rod_mz, t878);
+        let t880: f64 = t874 * 2.0;
+        let t881: f64 = t879.subtracted_from(t880);
+        let t882 = product(t862, t881);
+        let t883: f64 = t818.plus(t857);
+        let t884: f64 = t882.plus(t883);
+        let t885 = product(t418, t884);
+        let t886: f64 = arm3_rod_mass * t721;
+        let t887 = product(arm3_rod_mz, t736);
+        let t888: f64 = t886 * 2.0;
+        let t889: f64 = t887.subtracted_from(t888);
+        let t890 = product(t663, t889);
+        let t891 = product(gravity_x, t654);
+        let t892: f64 = gravity_y * t646;
+        let t893 = product(gravity_z, t648);
+        let t894: f64 = t891.plus(t892);
+        let t895: f64 = t893.plus(t894);
+        let t896 = product(t654, t707);
+        let t897: f64 = t646 * t712;
+        let t898 = product(t648, t717);
+        let t899: f64 = t896.plus(t897);
+        let t900: f64 = t898.plus(t899);
+        let t901: f64 = t900 - t895;
+        let t902: f64 = arm3_rod_mass * t901;
+        let t903 = product(t609, t650);
+        let t904: f64 = t613 * t656;
+        let t905 = product(t617, t660);
+        let t906: f64 = t903.plus(t904);
+        let t907: f64 = t905.plus(t906);
+        let t908: f64 = t626 * t907;
+        let t909 = product(t729, t908);
+        let t910: f64 = t626 * t900;
+        let t911: f64 = t909.minus(t910);
+        let t912 = product(vx, t667);
+        let t913 = product(t626, t656);
+        let t914: f64 = t664 * t679;
+        let t915: f64 = t913.minus(t914);
+        let t916: f64 = vy * t915;
+        let t917 = product(t626, t660);
+        let t918: f64 = t664 * t684;
+        let t919: f64 = t917.minus(t918);
+        let t920 = product(vz, t919);
+        let t921: f64 = t912.plus(t916);
+        let t922: f64 = t920.plus(t921);
+        let t923: f64 = t696 * t922;
+        let t924: f64 = t911 - t923;
+        let t925: f64 = t924 * 2.0;
+        let t926 = product(arm3_rod_mz, t925);
+        let t927: f64 = t902 * 2.0;
+        let t928: f64 = t926.plus(t927);
+        let t929: f64 = t673 * t928;
+        let t930 = product(t557, t629);
+        let t931: f64 = t561 * t632;
+        let t932 = product(t572, t627);
+        let t933: f64 = t930.plus(t931);
+        let t934: f64 = t932.plus(t933);
+        let t935 = product(gravity_x, t629);
+        let t936: f64 = gravity_y * t632;
+        let t937 = product(gravity_z, t627);
+        let t938: f64 = t935.plus(t936);
+        let t939: f64 = t937.plus(t938);
+        let t940 = product(t629, t707);
+        let t941: f64 = t632 * t712;
+        let t942 = product(t627, t717);
+        let t943: f64 = t940.plus(t941);
+        let t944: f64 = t942.plus(t943);
+        let t945: f64 = t944 - t939;
+        let t946: f64 = arm3_rod_mass * t945;
+        let t947 = product(t689, t689);
+        let t948: f64 = t922 * t922;
+        let t949: f64 = t947.plus(t948);
+        let t950: f64 = t949 * 2.0;
+        let t951 = product(arm3_rod_mz, t950);
+        let t952: f64 = t946 * 2.0;
+        let t953: f64 = t951.subtracted_from(t952);
+        let t954 = product(t934, t953);
+        let t955: f64 = t890.plus(t929);
+        let t956: f64 = t954.plus(t955);
+        let t957: f64 = t665 * t956;
+        let t958: f64 = arm1_rod_mz * t757;
+        let t959 = product(arm1_rod_ixx, t781);
+        let t960: f64 = t151 * t151;
+        let t961: f64 = t764 * t960;
+        let t962 = product(t236, t961);
+        let t963: f64 = t201 * t767;
+        let t964: f64 = t962.plus(t963);
+        let t965: f64 = -t964;
+        let t966 = product(t201, t965);
+        let t967: f64 = t966.subtracted_from(t779);
+        let t968: f64 = t967 * 2.0;
+        let t969 = product(arm1_rod_izz, t968);
+        let t970: f64 = t958 * 2.0;
+        let t971: f64 = t959.plus(t970);
+        let t972: f64 = t969.plus(t971);
+        let t973 = product(t182, t972);
+        let t974: f64 = arm2_rod_mz * t829;
+        let t975 = product(arm2_rod_ixx, t853);
+        let t976: f64 = t398 * t398;
+        let t977: f64 = t836 * t976;
+        let t978 = product(t483, t977);
+        let t979: f64 = t448 * t839;
+        let t980: f64 = t978.plus(t979);
+        let t981: f64 = -t980;
+        let t982 = product(t448, t981);
+        let t983: f64 = t982.subtracted_from(t851);
+        let t984: f64 = t983 * 2.0;
+        let t985 = product(arm2_rod_izz, t984);
+        let t986: f64 = t974 * 2.0;
+        let t987: f64 = t975.plus(t986);
+        let t988: f64 = t985.plus(t987);
+        let t989: f64 = t429 * t988;
+        let t990: f64 = arm3_rod_mz * t901;
+        let t991 = product(arm3_rod_ixx, t925);
+        let t992: f64 = t645 * t645;
+        let t993: f64 = t908 * t992;
+        let t994 = product(t730, t993);
+        let t995: f64 = t695 * t911;
+        let t996: f64 = t994.plus(t995);
+        let t997: f64 = -t996;
+        let t998 = product(t695, t997);
+        let t999: f64 = t998.subtracted_from(t923);
+        (
+            t0,
+            t29,
+            t44,
+            t99,
+            t101,
+            t130,
+            t131,
+            t150,
+            t185,
+            t187,
+            t190,
+            t192,
+            t246,
+            t247,
+            t276,
+            t291,
+            t346,
+            t348,
+            t377,
+            t378,
+            t397,
+            t432,
+            t434,
+            t437,
+            t439,
+            t493,
+            t494,
+            t523,
+            t538,
+            t593,
+            t595,
+            t624,
+            t625,
+            t644,
+            t676,
+            t679,
+            t681,
+            t684,
+            t686,
+            t740,
+            t741,
+            t771,
+            t775,
+            t812,
+            t813,
+            t843,
+            t847,
+            t884,
+            t885,
+            t915,
+            t919,
+            t956,
+            t957,
+            t972,
+            t973,
+            t988,
+            t989,
+            t990,
+            t991,
+            t999,
+        )
+    };
+    let (t1017, t1042, t1067, t1068, t1069, t1070) = {
+        let t1000: f64 = t999 * 2.0;
+        let t1001 = product(arm3_rod_izz, t1000);
+        let t1002: f64 = t990 * 2.0;
+        let t1003: f64 = t991.plus(t1002);
+        let t1004: f64 = t1001.plus(t1003);
+        let t1005 = product(t676, t1004);
+        let t1006: f64 = t131.plus(t378);
+        let t1007: f64 = t625.plus(t813);
+        let t1008: f64 = t885.plus(t957);
+        let t1009: f64 = t973.plus(t989);
+        let t1010: f64 = t1006 + t1007;
+        let t1011: f64 = t1008 + t1009;
+        let t1012: f64 = t1010 + t1011;
+        let t1013: f64 = t1005.plus(t1012);
+        let t1014: f64 = t0.plus(t247);
+        let t1015: f64 = t494.plus(t741);
+        let t1016: f64 = t1014 + t1015;
+        let t1017: f64 = t1013 - t1016;
+        let t1018 = product(gravity_y, platform_mass);
+        let t1019 = product(t99, t130);
+        let t1020: f64 = t246 * t771;
+        let t1021: f64 = t346 * t377;
+        let t1022 = product(t493, t843);
+        let t1023 = product(t593, t624);
+        let t1024: f64 = t740 * t915;
+        let t1025: f64 = t185 * t812;
+        let t1026 = product(t432, t884);
+        let t1027: f64 = t679 * t956;
+        let t1028 = product(t187, t972);
+        let t1029: f64 = t434 * t988;
+        let t1030 = product(t681, t1004);
+        let t1031: f64 = t1019.plus(t1021);
+        let t1032: f64 = t1023.plus(t1025);
+        let t1033: f64 = t1026.plus(t1027);
+        let t1034: f64 = t1028.plus(t1029);
+        let t1035: f64 = t1031 + t1032;
+        let t1036: f64 = t1033 + t1034;
+        let t1037: f64 = t1035 + t1036;
+        let t1038: f64 = t1030.plus(t1037);
+        let t1039: f64 = t1018.plus(t1020);
+        let t1040: f64 = t1022.plus(t1024);
+        let t1041: f64 = t1039 + t1040;
+        let t1042: f64 = t1038 - t1041;
+        let t1043 = product(gravity_z, platform_mass);
+        let t1044 = product(t101, t130);
+        let t1045: f64 = t246 * t775;
+        let t1046: f64 = t348 * t377;
+        let t1047 = product(t493, t847);
+        let t1048 = product(t595, t624);
+        let t1049: f64 = t740 * t919;
+        let t1050: f64 = t190 * t812;
+        let t1051 = product(t437, t884);
+        let t1052: f64 = t684 * t956;
+        let t1053 = product(t192, t972);
+        let t1054: f64 = t439 * t988;
+        let t1055 = product(t686, t1004);
+        let t1056: f64 = t1044.plus(t1046);
+        let t1057: f64 = t1048.plus(t1050);
+        let t1058: f64 = t1051.plus(t1052);
+        let t1059: f64 = t1053.plus(t1054);
+        let t1060: f64 = t1056 + t1057;
+        let t1061: f64 = t1058 + t1059;
+        let t1062: f64 = t1060 + t1061;
+        let t1063: f64 = t1055.plus(t1062);
+        let t1064: f64 = t1043.plus(t1045);
+        let t1065: f64 = t1047.plus(t1049);
+        let t1066: f64 = t1064 + t1065;
+        let t1067: f64 = t1063 - t1066;
+        let t1068: f64 = t29 * t44;
+        let t1069: f64 = t276 * t291;
+        let t1070: f64 = t523 * t538;
+        (t1017, t1042, t1067, t1068, t1069, t1070)
+    };
+    ([t1017, t1042, t1067], [t150, t397, t644, t1068, t1069, t1070])
+}
 /// Forward dynamics: the platform's acceleration `a_C` under the motors' torques.
 ///
 /// Equations: Newton-Euler, virtual work, M_x a_C = J⁻ᵀ Γ − h (LDLᵀ). Setting: pose.
@@ -7389,6 +9603,23 @@ impl crate::legged::Legs<3> for Kernels {
         p: &[f64; PARAMETERS],
     ) -> Option<([[f64; 4]; 3], impl AsRef<[[f64; 4]]>)> {
         Some(inverse_dynamics_params_x4(x, v, a, p))
+    }
+}
+impl crate::legged::TaskSpace<3> for Kernels {
+    #[inline]
+    fn task_inertia(
+        x: &[f64; 3],
+        p: &[f64; PARAMETERS],
+    ) -> ([[f64; 3]; 3], impl AsRef<[f64]>) {
+        task_inertia_params(x, p)
+    }
+    #[inline]
+    fn task_bias(
+        x: &[f64; 3],
+        v: &[f64; 3],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 3], impl AsRef<[f64]>) {
+        task_bias_params(x, v, p)
     }
 }
 impl crate::legged::Calibrated<3> for Kernels {

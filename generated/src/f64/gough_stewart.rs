@@ -19381,14 +19381,7 @@ impl crate::legged::Legs<6> for Kernels {
         Some(inverse_dynamics_params_x4(x, v, a, p))
     }
 }
-impl crate::legged::Spatial for Kernels {
-    #[inline]
-    fn inverse_kinematics(
-        x: &[f64; 6],
-        p: &[f64; PARAMETERS],
-    ) -> ([f64; 6], [[f64; 3]; 6], impl AsRef<[f64]>) {
-        inverse_kinematics_params(x, p)
-    }
+impl crate::legged::TaskSpace<6> for Kernels {
     #[inline]
     fn task_inertia(
         x: &[f64; 6],
@@ -19403,6 +19396,15 @@ impl crate::legged::Spatial for Kernels {
         p: &[f64; PARAMETERS],
     ) -> ([f64; 6], impl AsRef<[f64]>) {
         task_bias_params(x, v, p)
+    }
+}
+impl crate::legged::Spatial for Kernels {
+    #[inline]
+    fn inverse_kinematics(
+        x: &[f64; 6],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 6], [[f64; 3]; 6], impl AsRef<[f64]>) {
+        inverse_kinematics_params(x, p)
     }
     #[inline]
     fn forward_kinematics_step(

@@ -34528,14 +34528,7 @@ impl crate::legged::Legs<6> for Kernels {
         forward_dynamics_params(x, v, gamma, p)
     }
 }
-impl crate::legged::Spatial for Kernels {
-    #[inline]
-    fn inverse_kinematics(
-        x: &[f64; 6],
-        p: &[f64; PARAMETERS],
-    ) -> ([f64; 6], [[f64; 3]; 6], impl AsRef<[f64]>) {
-        inverse_kinematics_params(x, p)
-    }
+impl crate::legged::TaskSpace<6> for Kernels {
     #[inline]
     fn task_inertia(
         x: &[f64; 6],
@@ -34550,6 +34543,15 @@ impl crate::legged::Spatial for Kernels {
         p: &[f64; PARAMETERS],
     ) -> ([f64; 6], impl AsRef<[f64]>) {
         task_bias_params(x, v, p)
+    }
+}
+impl crate::legged::Spatial for Kernels {
+    #[inline]
+    fn inverse_kinematics(
+        x: &[f64; 6],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 6], [[f64; 3]; 6], impl AsRef<[f64]>) {
+        inverse_kinematics_params(x, p)
     }
     #[inline]
     fn forward_kinematics_step(

@@ -139,6 +139,16 @@ impl ParallelRobot for C5 {
     fn parameters(&self) -> &[f64] {
         C5::parameters(self)
     }
+    fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
+        C5::task_inertia(self, pose)
+    }
+    fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
+        C5::task_bias(self, pose, twist)
+    }
+    /// In closed form: `near` is not needed.
+    fn joint_inertia(&self, q: &[f64; 6], _near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
+        C5::joint_inertia(self, q)
+    }
     /// In closed form: `near` is not needed.
     fn joint_bias(
         &self,
@@ -181,16 +191,6 @@ impl ParallelRobot for C5 {
 }
 
 impl SpatialRobot for C5 {
-    fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        C5::task_inertia(self, pose)
-    }
-    fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-        C5::task_bias(self, pose, twist)
-    }
-    /// In closed form: `near` is not needed.
-    fn joint_inertia(&self, q: &[f64; 6], _near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
-        C5::joint_inertia(self, q)
-    }
     fn clone_spatial(&self) -> Box<dyn SpatialRobot> {
         Box::new(self.clone())
     }

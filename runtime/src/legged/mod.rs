@@ -136,10 +136,6 @@ pub(crate) trait Legged<const N: usize>: Locate<N> {
     fn forces(&self, motion: &Motion<N>) -> Result<[f64; N], Error>;
     fn inverse(&self, x: &[f64; N]) -> Result<[[f64; N]; N], Error>;
     fn jacobian_at(&self, x: &[f64; N]) -> Result<[[f64; N]; N], Error>;
-}
-
-/// A legged mechanism with its task-space inertia `M_x` generated.
-pub(crate) trait TaskInertia<const N: usize>: Legged<N> {
     fn inertia_at(&self, x: &[f64; N]) -> Result<[[f64; N]; N], Error>;
 }
 
@@ -268,7 +264,7 @@ pub(crate) fn inverse_dynamics_joint<const N: usize, R: Legged<N>>(
 }
 
 /// `M_q = Jᵀ M_x J` at the pose of the actuator positions `q`.
-pub(crate) fn joint_inertia<const N: usize, R: TaskInertia<N>>(
+pub(crate) fn joint_inertia<const N: usize, R: Legged<N>>(
     robot: &R,
     q: &[f64; N],
     near: Option<&[f64; N]>,

@@ -9,7 +9,7 @@ use crate::scene::Scene;
 use crate::singularity::SingularityTerm;
 use crate::{finite, finite_matrix, Acceleration, Evaluation, Pose, State, Twist};
 use alloc::vec::Vec;
-use c5_generated::legged::{Calibrated, Legs};
+use c5_generated::legged::{Calibrated, Legs, TaskSpace};
 
 /// A legged mechanism's description as the runtime serves it: which generated kernel set
 /// computes it, and what the kernels and the shared code need of it. Each mechanism's entry is
@@ -19,10 +19,10 @@ pub trait LeggedDescription<const N: usize>:
 {
     /// The mechanism's generated kernels (with their regressors, for identification).
     #[cfg(not(feature = "identify"))]
-    type Kernels: Legs<N> + Calibrated<N>;
+    type Kernels: Legs<N> + TaskSpace<N> + Calibrated<N>;
     /// The mechanism's generated kernels (with their regressors, for identification).
     #[cfg(feature = "identify")]
-    type Kernels: Legs<N> + Calibrated<N> + c5_generated::legged::Regressors<N>;
+    type Kernels: Legs<N> + TaskSpace<N> + Calibrated<N> + c5_generated::legged::Regressors<N>;
     /// Refuses a description that breaks a rule of its mechanism.
     ///
     /// # Errors
@@ -303,6 +303,11 @@ impl<D: LeggedDescription<N>, const N: usize> LeggedRobot<D, N> {
         finite("acceleration", a)
     }
 
+    pub(crate) fn inertia_of(&self, x: &[f64; N]) -> Result<[[f64; N]; N], Error> {
+        let m = self.checked(KernelsOf::<D, N>::task_inertia(x, &self.params))?;
+        finite_matrix("task inertia", m)
+    }
+
     /// The actuator positions at the pose `x`.
     pub(crate) fn actuators_at(&self, x: &[f64; N]) -> Result<[f64; N], Error> {
         let q = self.checked(KernelsOf::<D, N>::actuators(x, &self.params))?;
@@ -394,6 +399,24 @@ where
         ))
     }
 
+    /// `M_x` of `Γ = Jᵀ (M_x V̇ + h)`, symmetric positive definite.
+    ///
+    /// # Errors
+    /// A non-finite or singular pose.
+    pub fn task_inertia(&self, pose: &PoseOf<N>) -> Result<[[f64; N]; N], Error> {
+        self.inertia_of(&pose.checked("pose")?)
+    }
+
+    /// `h` of `Γ = Jᵀ (M_x V̇ + h)`: the Coriolis, centrifugal and gravity terms at `C`.
+    ///
+    /// # Errors
+    /// Non-finite inputs, or a singular pose.
+    pub fn task_bias(&self, pose: &PoseOf<N>, twist: &TwistOf<N>) -> Result<[f64; N], Error> {
+        let (x, v) = (pose.checked("pose")?, twist.checked("twist")?);
+        let h = self.checked(KernelsOf::<D, N>::task_bias(&x, &v, &self.params))?;
+        finite("task bias", h)
+    }
+
     /// The robot's parts at `pose`, for the 3D view.
     ///
     /// # Errors
@@ -445,6 +468,20 @@ where
         super::inverse_dynamics_joint(self, &[*q, *qd, *qdd], near.as_ref())
     }
 
+    /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia `Jᵀ M_x J`, at the pose of the
+    /// actuator positions `q` (found from `near`, where the mechanism iterates).
+    ///
+    /// # Errors
+    /// As the forward kinematics, or a singular pose.
+    pub fn joint_inertia(
+        &self,
+        q: &[f64; N],
+        near: Option<&PoseOf<N>>,
+    ) -> Result<[[f64; N]; N], Error> {
+        let near = near.map(|x| x.checked("near")).transpose()?;
+        super::joint_inertia(self, q, near.as_ref())
+    }
+
     /// `c_q` of `Γ = M_q q̈ + c_q`: the forces at zero actuator acceleration.
     ///
     /// # Errors
@@ -491,6 +528,9 @@ where
     }
     fn jacobian_at(&self, x: &[f64; N]) -> Result<[[f64; N]; N], Error> {
         self.jacobian_of(x)
+    }
+    fn inertia_at(&self, x: &[f64; N]) -> Result<[[f64; N]; N], Error> {
+        self.inertia_of(x)
     }
 }
 

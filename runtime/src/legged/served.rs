@@ -88,6 +88,19 @@ where
     ) -> Result<[f64; N], Error> {
         Self::inverse_dynamics_joint(self, q, qd, qdd, near)
     }
+    fn task_inertia(&self, pose: &PoseOf<N>) -> Result<[[f64; N]; N], Error> {
+        Self::task_inertia(self, pose)
+    }
+    fn task_bias(&self, pose: &PoseOf<N>, twist: &TwistOf<N>) -> Result<[f64; N], Error> {
+        Self::task_bias(self, pose, twist)
+    }
+    fn joint_inertia(
+        &self,
+        q: &[f64; N],
+        near: Option<&PoseOf<N>>,
+    ) -> Result<[[f64; N]; N], Error> {
+        Self::joint_inertia(self, q, near)
+    }
     fn joint_bias(
         &self,
         q: &[f64; N],

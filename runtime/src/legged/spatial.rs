@@ -10,7 +10,7 @@ use super::robot::{hold_of, KernelsOf, TermsOf};
 use super::{Coordinates, Hold, LeggedDescription, LeggedRobot, Linearised};
 use crate::error::Error;
 use crate::mechanism::SpatialRobot;
-use crate::{finite, finite_matrix, Pose, Twist};
+use crate::{finite, finite_matrix, Pose};
 use alloc::boxed::Box;
 use c5_generated::legged::{Legs, Spatial};
 
@@ -28,26 +28,6 @@ where
         let (q, p, guard) = KernelsOf::<D, 6>::inverse_kinematics(&x, &self.params);
         let (q, p) = self.checked(((q, p), guard))?;
         Ok((finite("q", q)?, finite_matrix("p", p)?))
-    }
-
-    /// `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`, symmetric positive definite.
-    ///
-    /// # Errors
-    /// A non-finite or singular pose.
-    pub fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        let x = pose.checked("pose")?;
-        let m = self.checked(KernelsOf::<D, 6>::task_inertia(&x, &self.params))?;
-        finite_matrix("task inertia", m)
-    }
-
-    /// `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal and gravity terms at `C`.
-    ///
-    /// # Errors
-    /// Non-finite inputs, or a singular pose.
-    pub fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-        let (x, v) = (pose.checked("pose")?, twist.checked("twist")?);
-        let h = self.checked(KernelsOf::<D, 6>::task_bias(&x, &v, &self.params))?;
-        finite("task bias", h)
     }
 
     /// The pose whose actuator positions are `q`, by Newton's method from `near` (a previous
@@ -94,16 +74,6 @@ where
         crate::singularity::check(terms.as_ref(), KernelsOf::<D, 6>::SINGULARITY_TERMS)?;
         Ok((x, terms))
     }
-
-    /// `M_q` of `Γ = M_q q̈ + c_q`, the joint-space inertia `Jᵀ M_x J`, at the pose of the
-    /// actuator positions `q` (found from `near`).
-    ///
-    /// # Errors
-    /// As the forward kinematics, or a singular pose.
-    pub fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
-        let near = near.map(|p| p.checked("near")).transpose()?;
-        super::joint_inertia(self, q, near.as_ref())
-    }
 }
 
 /// The forward kinematics by Newton's method, the hold its weakest pivot.
@@ -117,29 +87,11 @@ where
     }
 }
 
-impl<D: LeggedDescription<6>> super::TaskInertia<6> for LeggedRobot<D, 6>
-where
-    D::Kernels: Spatial,
-{
-    fn inertia_at(&self, x: &[f64; 6]) -> Result<[[f64; 6]; 6], Error> {
-        self.task_inertia(&Pose::from_array(*x))
-    }
-}
-
 /// What a platform free in space adds to every legged mechanism's [`crate::ParallelRobot`].
 impl<D: LeggedDescription<6>> SpatialRobot for LeggedRobot<D, 6>
 where
     D::Kernels: Spatial,
 {
-    fn task_inertia(&self, pose: &Pose) -> Result<[[f64; 6]; 6], Error> {
-        Self::task_inertia(self, pose)
-    }
-    fn task_bias(&self, pose: &Pose, twist: &Twist) -> Result<[f64; 6], Error> {
-        Self::task_bias(self, pose, twist)
-    }
-    fn joint_inertia(&self, q: &[f64; 6], near: Option<&Pose>) -> Result<[[f64; 6]; 6], Error> {
-        Self::joint_inertia(self, q, near)
-    }
     fn clone_spatial(&self) -> Box<dyn SpatialRobot> {
         Box::new(self.clone())
     }
