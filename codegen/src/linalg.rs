@@ -213,6 +213,13 @@ impl<'g, const N: usize> Mat<'g, N, N> {
     /// `M⁻¹ b` for a symmetric positive definite `M` by `LDLᵀ`, unrolled (no pivoting, which
     /// an SPD matrix does not need); reads the lower triangle only, and shares `1 / D_jj`.
     pub fn ldlt_solve(&self, b: &Vector<'g, N>) -> Vector<'g, N> {
+        self.ldlt_solve_with_pivots(b).0
+    }
+
+    /// [`Mat::ldlt_solve`], with the pivots `D_jj`: where one is not above zero (or is small
+    /// against the diagonal) `M` is not positive definite (or nearly singular), and the
+    /// solution is not to be trusted.
+    pub fn ldlt_solve_with_pivots(&self, b: &Vector<'g, N>) -> (Vector<'g, N>, Vector<'g, N>) {
         let m = &self.0;
         let g = m[0][0].graph();
         let mut l = [[g.zero(); N]; N];
@@ -245,7 +252,7 @@ impl<'g, const N: usize> Mat<'g, N, N> {
                 x[i] = x[i] - l[k][i] * x[k];
             }
         }
-        x
+        (x, Vector(d))
     }
 }
 

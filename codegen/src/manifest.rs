@@ -278,7 +278,7 @@ pub fn kernel_set(mechanism: &crate::Mechanism, kernels: &[&str], fitted: Option
         out += &format!(
             "impl crate::legged::Spatial for Kernels {{\n\
              #[inline] fn inverse_kinematics(x: &[f64; 6], p: &[f64; PARAMETERS]) -> ([f64; 6], [[f64; 3]; 6], {guard}) {{ {} }}\n\
-             #[inline] fn forward_kinematics_step(x: &[f64; 6], q: &[f64; 6], p: &[f64; PARAMETERS]) -> ([f64; 6], [[f64; 6]; 6], {guard}) {{ {} }}\n\
+             #[inline] fn forward_kinematics_step(x: &[f64; 6], q: &[f64; 6], p: &[f64; PARAMETERS]) -> ([f64; 6], [f64; 6], [f64; 7], {guard}) {{ {} }}\n\
              }}\n",
             call("inverse_kinematics", "x"),
             call("forward_kinematics_step", "x, q"),

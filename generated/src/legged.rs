@@ -89,12 +89,13 @@ pub trait Spatial: Legs<6> {
         x: &[f64; 6],
         p: &Self::Parameters,
     ) -> ([f64; 6], [[f64; 3]; 6], impl AsRef<[f64]>);
-    /// `forward_kinematics_step_params`: the residual of `q` at `x` and its Jacobian.
+    /// `forward_kinematics_step_params`: the residual of `q` at `x`, the Newton step that
+    /// cancels it to first order, and its solve's pivots and scale.
     fn forward_kinematics_step(
         x: &[f64; 6],
         q: &[f64; 6],
         p: &Self::Parameters,
-    ) -> ([f64; 6], [[f64; 6]; 6], impl AsRef<[f64]>);
+    ) -> ([f64; 6], [f64; 6], [f64; 7], impl AsRef<[f64]>);
 }
 
 /// The kernels of a legged mechanism whose forward kinematics is in closed form: the two

@@ -1,6 +1,6 @@
 //! Small dense linear algebra on arrays, for the few solves the runtime does itself (the
-//! Gough-Stewart platform's Newton steps and joint-space maps): Gaussian elimination with
-//! partial pivoting, and products.
+//! joint-space maps, a level start's least squares): Gaussian elimination with partial
+//! pivoting, and products.
 
 /// `A x = b` by Gaussian elimination with partial pivoting; `None` when an entry is not
 /// finite or a pivot is below `tolerance` times the largest entry of `A` (the matrix is
@@ -8,7 +8,8 @@
 ///
 /// Plain index loops and one reciprocal per pivot (a division's latency is several
 /// multiplications'). The row swaps depend on the data, so at 6×6 it still takes about 180 ns
-/// on this project's machine: Newton's steps use [`solve_normal`].
+/// on this project's machine: the forward kinematics' Newton steps are solved in their
+/// generated kernel instead.
 #[inline]
 #[allow(clippy::needless_range_loop)] // the index loops are what LLVM unrolls
 pub fn solve<const N: usize>(a: &[[f64; N]; N], b: &[f64; N], tolerance: f64) -> Option<[f64; N]> {
@@ -65,67 +66,6 @@ pub fn transpose<const N: usize>(a: &[[f64; N]; N]) -> [[f64; N]; N] {
     core::array::from_fn(|i| core::array::from_fn(|j| a[j][i]))
 }
 
-/// `A x = b` through the normal equations `AᵀA x = Aᵀb`, by `LDLᵀ` without pivoting (`AᵀA` is
-/// symmetric positive definite where `A` is regular); `None` when a pivot of `LDLᵀ` is not
-/// above `tolerance` times the largest diagonal entry of `AᵀA`, or the solution is not finite.
-///
-/// No row depends on the data, so nothing is swapped or searched: about a fifth faster than
-/// [`solve`] at 6×6 (measured inside the forward kinematics' Newton steps), for a relative
-/// error that grows with the square of `A`'s condition number. For Newton's steps, which
-/// recompute the residual exactly and need the step only to shrink it.
-#[inline]
-#[allow(clippy::needless_range_loop)] // the index loops are what LLVM unrolls
-pub fn solve_normal<const N: usize>(
-    a: &[[f64; N]; N],
-    b: &[f64; N],
-    tolerance: f64,
-) -> Option<[f64; N]> {
-    let mut m = [[0.0; N]; N];
-    let mut rhs = [0.0; N];
-    for (row, &bi) in a.iter().zip(b) {
-        for i in 0..N {
-            rhs[i] += row[i] * bi;
-            for j in 0..=i {
-                m[i][j] += row[i] * row[j];
-            }
-        }
-    }
-    let bound = tolerance * (0..N).fold(0.0_f64, |g, i| g.max(m[i][i]));
-    // LDLᵀ in place below the diagonal: `m[i][j]` (i > j) becomes `L[i][j]`.
-    let (mut d, mut reciprocal) = ([0.0; N], [0.0; N]);
-    for j in 0..N {
-        let mut pivot = m[j][j];
-        for k in 0..j {
-            pivot -= m[j][k] * m[j][k] * d[k];
-        }
-        if pivot <= bound {
-            return None;
-        }
-        (d[j], reciprocal[j]) = (pivot, 1.0 / pivot);
-        for i in j + 1..N {
-            let mut l = m[i][j];
-            for k in 0..j {
-                l -= m[i][k] * m[j][k] * d[k];
-            }
-            m[i][j] = l * reciprocal[j];
-        }
-    }
-    for i in 0..N {
-        for k in 0..i {
-            rhs[i] -= m[i][k] * rhs[k];
-        }
-    }
-    let mut x = [0.0; N];
-    for i in (0..N).rev() {
-        let mut v = rhs[i] * reciprocal[i];
-        for k in i + 1..N {
-            v -= m[k][i] * x[k];
-        }
-        x[i] = v;
-    }
-    x.iter().all(|v| v.is_finite()).then_some(x)
-}
-
 /// The largest magnitude of `v`.
 pub fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0_f64, |m, x| m.max(x.abs()))
@@ -145,32 +85,6 @@ mod tests {
             assert!((back[k] - b[k]).abs() < 1e-14, "{back:?}");
         }
         assert!(solve(&[[1.0, 2.0], [2.0, 4.0]], &[1.0, 1.0], 1e-12).is_none());
-    }
-
-    /// The normal equations' solve is the pivoted one's on a regular matrix, and refuses a
-    /// singular one and a NaN.
-    #[test]
-    fn the_normal_equations_solve_a_regular_matrix_and_refuse_a_singular_one() {
-        let a = [
-            [0.0, 2.0, 1.0, 0.5],
-            [1.0, 1.0, 0.0, -1.0],
-            [3.0, 0.0, 1.0, 2.0],
-            [0.2, -1.0, 4.0, 1.0],
-        ];
-        let b = [3.0, 2.0, 4.0, -1.0];
-        let (x, y) = (
-            solve(&a, &b, 1e-13).unwrap(),
-            solve_normal(&a, &b, 1e-13).unwrap(),
-        );
-        for k in 0..4 {
-            assert!(
-                (x[k] - y[k]).abs() < 1e-13 * x[k].abs().max(1.0),
-                "{x:?} {y:?}"
-            );
-        }
-        let singular = [[1.0, 2.0], [2.0, 4.0]];
-        assert!(solve_normal(&singular, &[1.0, 1.0], 1e-13).is_none());
-        assert!(solve_normal(&[[1.0, 0.0], [0.0, 1.0]], &[f64::NAN, 1.0], 1e-13).is_none());
     }
 
     /// A pivot of `1e-14` against entries of 4 is singular at `1e-12` and regular at `1e-16`;

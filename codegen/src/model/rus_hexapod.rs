@@ -10,7 +10,7 @@
 use super::bodies::{Dynamics, Inertial};
 use super::calibration;
 use super::geometry::{rotation_of_pose, Posed};
-use super::kernels::{jacobian_wrt, Build, Cite, Decl, Guard, Input, Kernel, Output, Reads};
+use super::kernels::{Build, Cite, Decl, Guard, Input, Kernel, Output, Reads};
 use super::legged::{self, rus::Rus, Leg};
 use super::terms::{self, SingularityTerm};
 use super::{Mechanics, Quantity, Structure};
@@ -319,38 +319,7 @@ const EXTRA_KERNELS: &[Decl] = &[
         chapter: None,
         build: Build::Robot(|_| Vec::new()),
     },
-    Decl {
-        kernel: Kernel::ForwardKinematicsStep,
-        title: "A Newton step of the forward kinematics: the actuators' residual at a pose and \
-                its Jacobian with respect to the pose.",
-        doc: "`r = q - q(X)` and `∂q/∂X` (row `i` for actuator `i+1`, columns `α β γ xc yc zc`). \
-              The runtime solves `(∂q/∂X) δ = r` and steps to `X + δ`, from the previous \
-              solution or the home pose, until the residual is below its tolerance.",
-        equations: Cite::Model(Quantity::InverseJacobian),
-        inputs: &[Input::Pose, Input::Actuators],
-        outputs: &[
-            Output {
-                name: "residual",
-                shape: Shape::Vector(6),
-                doc: "`q - q(X)` (rad): the given actuator positions less those of the pose",
-            },
-            Output {
-                name: "jacobian",
-                shape: Shape::Matrix(6, 6),
-                doc: "`∂q/∂X`, row `i` for actuator `i+1`, columns `α β γ xc yc zc`",
-            },
-        ],
-        guard: Guard::Pose,
-        reads: Reads::Robot,
-        batch: false,
-        chapter: None,
-        build: Build::Robot(|cx| {
-            let posed = cx.posed();
-            let (q, x) = (cx.input(Input::Actuators), cx.input(Input::Pose));
-            let residual = (0..6).map(|i| q[i] - posed.q[i]).collect();
-            vec![residual, jacobian_wrt(cx.graph(), &posed.q, &x).rows()]
-        }),
-    },
+    legged::newton::STEP,
     calibration::decl(
         "`r_i = q_i(X; θ) - q̂_i` with `q_i = θ_i(X) + o_i`, the crank angle the geometry `θ` \
          (the `params`) gives at the measured pose `X` (the inverse kinematics, with its \

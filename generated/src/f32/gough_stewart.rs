@@ -15,7 +15,7 @@
 //   forward_dynamics_params           2017   29  1372   46  3 sin_cos, 12 sqrt
 //   inverse_dynamics_params           1310   24   888   33  3 sin_cos, 12 sqrt
 //   singularity_terms_params           406   17   264   16  3 sin_cos, 12 sqrt
-//   forward_kinematics_step_params     347    6   184   18  3 sin_cos, 12 sqrt
+//   forward_kinematics_step_params     716   12   394    7  3 sin_cos, 12 sqrt
 //
 // Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
 // handing on what is read after it: one scope that long overflows rustc's stack in a
@@ -18282,13 +18282,13 @@ pub fn singularity_terms_params(pose: &[f32; 6], params: &[f32; 121]) -> [f32; 1
     let t720: f32 = t719 / t615;
     [t68, t116, t164, t212, t260, t308, t326, t363, t419, t496, t596, t720]
 }
-/// A Newton step of the forward kinematics: the actuators' residual at a pose and its Jacobian with respect to the pose.
+/// A Newton step of the forward kinematics: the actuators' residual at a pose and the step of the pose that cancels it to first order.
 ///
 /// Equations: q = |C + R p - A| + o, ∂q/∂(θ, C). Setting: pose.
 ///
 /// Model: gough-stewart. The Gough-Stewart platform (6-UPS): each leg a universal joint on the base, a prismatic actuator (cylinder and rod, turning with the leg) and a spherical joint on the platform; every quantity derived from the leg's closed forms by exact differentiation.
 /// Actuators in leg order 1..6; `q_i = |B_i - A_i| + o_i`, the encoder's reading, `B_i = C + R p_i`; a positive force extends the leg.
-/// `r = q - q(X)` and `∂q/∂X` (row `i` for actuator `i+1`, columns `α β γ xc yc zc`: `J⁻¹` times the map from the pose's rates to the twist). The runtime solves `(∂q/∂X) δ = r` and steps to `X + δ`, from the previous solution or the home pose, until the residual is below its tolerance.
+/// `r = q - q(X)` and `δ` of `(∂q/∂X) δ = r` (`∂q/∂X`: `J⁻¹` times the map from the pose's rates to the twist, columns `α β γ xc yc zc`), solved through the normal equations by an unrolled `LDLᵀ`. The runtime steps to `X + δ`, from the previous solution or the home pose, until the residual is below its tolerance.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the U joints' sines for a singularity check.
 ///
@@ -18300,17 +18300,18 @@ pub fn singularity_terms_params(pose: &[f32; 6], params: &[f32; 121]) -> [f32; 1
 ///
 /// # Returns
 ///
-/// - `residual`: `q - q(X)` (m): the given actuator positions less those of the pose
-/// - `jacobian`: `∂q/∂X`, row `i` for actuator `i+1`, columns `α β γ xc yc zc`
+/// - `residual`: `q - q(X)`: the given actuator positions less those of the pose (the actuators' unit: m, rad)
+/// - `step`: `δ`, the step of the pose `[α β γ xc yc zc]` (rad, m)
+/// - `conditioning`: the pivots of the `LDLᵀ` of `(∂q/∂X)ᵀ (∂q/∂X)`, then its trace: the step is meaningless where a pivot is not above a small fraction of the trace
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
-/// Operations: 347 mul, 6 div, 184 add, 18 neg, 3 sin_cos, 12 sqrt (chapter convention: 353m + 184a).
+/// Operations: 716 mul, 12 div, 394 add, 7 neg, 3 sin_cos, 12 sqrt (chapter convention: 728m + 394a).
 #[inline]
 pub fn forward_kinematics_step_params(
     pose: &[f32; 6],
     q: &[f32; 6],
     params: &[f32; 121],
-) -> ([f32; 6], [[f32; 6]; 6], [f32; 6]) {
+) -> ([f32; 6], [f32; 6], [f32; 7], [f32; 6]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [q1, q2, q3, q4, q5, q6] = *q;
     let [_, _, _, leg1_base_x, leg1_base_y, leg1_base_z, leg1_axis_x, leg1_axis_y,
@@ -18326,587 +18327,1327 @@ pub fn forward_kinematics_step_params(
     leg6_axis_z, leg6_platform_x, leg6_platform_y, leg6_platform_z, leg6_offset, _, _, _,
     _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
     _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _] = *params;
-    let (t0, t1): (f32, f32) = sin_cos(gamma);
-    let (t2, t3): (f32, f32) = sin_cos(alpha);
-    let t4: f32 = t0 * t3;
-    let (t5, t6): (f32, f32) = sin_cos(beta);
-    let t7: f32 = t2 * t5;
-    let t8: f32 = t1 * t7;
-    let t9: f32 = t4 + t8;
-    let t10: f32 = leg1_platform_x * t9;
-    let t11: f32 = t1 * t3;
-    let t12: f32 = t0 * t7;
-    let t13: f32 = t11 - t12;
-    let t14: f32 = leg1_platform_y * t13;
-    let t15: f32 = leg1_platform_z * t2;
-    let t16: f32 = t6 * t15;
-    let t17: f32 = t10 + t14;
-    let t18: f32 = t17 - t16;
-    let t19: f32 = yc + t18;
-    let t20: f32 = t19 - leg1_base_y;
-    let t21: f32 = t20 * t20;
-    let t22: f32 = t0 * t2;
-    let t23: f32 = t3 * t5;
-    let t24: f32 = t1 * t23;
-    let t25: f32 = t22 - t24;
-    let t26: f32 = leg1_platform_x * t25;
-    let t27: f32 = t1 * t2;
-    let t28: f32 = t0 * t5;
-    let t29: f32 = t3 * t28;
-    let t30: f32 = t27 + t29;
-    let t31: f32 = leg1_platform_y * t30;
-    let t32: f32 = leg1_platform_z * t3;
-    let t33: f32 = t6 * t32;
-    let t34: f32 = t26 + t31;
-    let t35: f32 = t33 + t34;
-    let t36: f32 = zc + t35;
-    let t37: f32 = t36 - leg1_base_z;
-    let t38: f32 = t37 * t37;
-    let t39: f32 = leg1_platform_z * t5;
-    let t40: f32 = leg1_platform_x * t1;
-    let t41: f32 = leg1_platform_y * t0;
-    let t42: f32 = t40 - t41;
-    let t43: f32 = t6 * t42;
-    let t44: f32 = t39 + t43;
-    let t45: f32 = xc + t44;
-    let t46: f32 = t45 - leg1_base_x;
-    let t47: f32 = t46 * t46;
-    let t48: f32 = t21 + t38;
-    let t49: f32 = t47 + t48;
-    let t50: f32 = sqrt(t49);
-    let t51: f32 = leg1_offset + t50;
-    let t52: f32 = q1 - t51;
-    let t53: f32 = leg2_platform_x * t9;
-    let t54: f32 = leg2_platform_y * t13;
-    let t55: f32 = leg2_platform_z * t2;
-    let t56: f32 = t6 * t55;
-    let t57: f32 = t53 + t54;
-    let t58: f32 = t57 - t56;
-    let t59: f32 = yc + t58;
-    let t60: f32 = t59 - leg2_base_y;
-    let t61: f32 = t60 * t60;
-    let t62: f32 = leg2_platform_x * t25;
-    let t63: f32 = leg2_platform_y * t30;
-    let t64: f32 = leg2_platform_z * t3;
-    let t65: f32 = t6 * t64;
-    let t66: f32 = t62 + t63;
-    let t67: f32 = t65 + t66;
-    let t68: f32 = zc + t67;
-    let t69: f32 = t68 - leg2_base_z;
-    let t70: f32 = t69 * t69;
-    let t71: f32 = leg2_platform_z * t5;
-    let t72: f32 = leg2_platform_x * t1;
-    let t73: f32 = leg2_platform_y * t0;
-    let t74: f32 = t72 - t73;
-    let t75: f32 = t6 * t74;
-    let t76: f32 = t71 + t75;
-    let t77: f32 = xc + t76;
-    let t78: f32 = t77 - leg2_base_x;
-    let t79: f32 = t78 * t78;
-    let t80: f32 = t61 + t70;
-    let t81: f32 = t79 + t80;
-    let t82: f32 = sqrt(t81);
-    let t83: f32 = leg2_offset + t82;
-    let t84: f32 = q2 - t83;
-    let t85: f32 = leg3_platform_x * t9;
-    let t86: f32 = leg3_platform_y * t13;
-    let t87: f32 = leg3_platform_z * t2;
-    let t88: f32 = t6 * t87;
-    let t89: f32 = t85 + t86;
-    let t90: f32 = t89 - t88;
-    let t91: f32 = yc + t90;
-    let t92: f32 = t91 - leg3_base_y;
-    let t93: f32 = t92 * t92;
-    let t94: f32 = leg3_platform_x * t25;
-    let t95: f32 = leg3_platform_y * t30;
-    let t96: f32 = leg3_platform_z * t3;
-    let t97: f32 = t6 * t96;
-    let t98: f32 = t94 + t95;
-    let t99: f32 = t97 + t98;
-    let t100: f32 = zc + t99;
-    let t101: f32 = t100 - leg3_base_z;
-    let t102: f32 = t101 * t101;
-    let t103: f32 = leg3_platform_z * t5;
-    let t104: f32 = leg3_platform_x * t1;
-    let t105: f32 = leg3_platform_y * t0;
-    let t106: f32 = t104 - t105;
-    let t107: f32 = t6 * t106;
-    let t108: f32 = t103 + t107;
-    let t109: f32 = xc + t108;
-    let t110: f32 = t109 - leg3_base_x;
-    let t111: f32 = t110 * t110;
-    let t112: f32 = t93 + t102;
-    let t113: f32 = t111 + t112;
-    let t114: f32 = sqrt(t113);
-    let t115: f32 = leg3_offset + t114;
-    let t116: f32 = q3 - t115;
-    let t117: f32 = leg4_platform_x * t9;
-    let t118: f32 = leg4_platform_y * t13;
-    let t119: f32 = leg4_platform_z * t2;
-    let t120: f32 = t6 * t119;
-    let t121: f32 = t117 + t118;
-    let t122: f32 = t121 - t120;
-    let t123: f32 = yc + t122;
-    let t124: f32 = t123 - leg4_base_y;
-    let t125: f32 = t124 * t124;
-    let t126: f32 = leg4_platform_x * t25;
-    let t127: f32 = leg4_platform_y * t30;
-    let t128: f32 = leg4_platform_z * t3;
-    let t129: f32 = t6 * t128;
-    let t130: f32 = t126 + t127;
-    let t131: f32 = t129 + t130;
-    let t132: f32 = zc + t131;
-    let t133: f32 = t132 - leg4_base_z;
-    let t134: f32 = t133 * t133;
-    let t135: f32 = leg4_platform_z * t5;
-    let t136: f32 = leg4_platform_x * t1;
-    let t137: f32 = leg4_platform_y * t0;
-    let t138: f32 = t136 - t137;
-    let t139: f32 = t6 * t138;
-    let t140: f32 = t135 + t139;
-    let t141: f32 = xc + t140;
-    let t142: f32 = t141 - leg4_base_x;
-    let t143: f32 = t142 * t142;
-    let t144: f32 = t125 + t134;
-    let t145: f32 = t143 + t144;
-    let t146: f32 = sqrt(t145);
-    let t147: f32 = leg4_offset + t146;
-    let t148: f32 = q4 - t147;
-    let t149: f32 = leg5_platform_x * t9;
-    let t150: f32 = leg5_platform_y * t13;
-    let t151: f32 = leg5_platform_z * t2;
-    let t152: f32 = t6 * t151;
-    let t153: f32 = t149 + t150;
-    let t154: f32 = t153 - t152;
-    let t155: f32 = yc + t154;
-    let t156: f32 = t155 - leg5_base_y;
-    let t157: f32 = t156 * t156;
-    let t158: f32 = leg5_platform_x * t25;
-    let t159: f32 = leg5_platform_y * t30;
-    let t160: f32 = leg5_platform_z * t3;
-    let t161: f32 = t6 * t160;
-    let t162: f32 = t158 + t159;
-    let t163: f32 = t161 + t162;
-    let t164: f32 = zc + t163;
-    let t165: f32 = t164 - leg5_base_z;
-    let t166: f32 = t165 * t165;
-    let t167: f32 = leg5_platform_z * t5;
-    let t168: f32 = leg5_platform_x * t1;
-    let t169: f32 = leg5_platform_y * t0;
-    let t170: f32 = t168 - t169;
-    let t171: f32 = t6 * t170;
-    let t172: f32 = t167 + t171;
-    let t173: f32 = xc + t172;
-    let t174: f32 = t173 - leg5_base_x;
-    let t175: f32 = t174 * t174;
-    let t176: f32 = t157 + t166;
-    let t177: f32 = t175 + t176;
-    let t178: f32 = sqrt(t177);
-    let t179: f32 = leg5_offset + t178;
-    let t180: f32 = q5 - t179;
-    let t181: f32 = leg6_platform_x * t9;
-    let t182: f32 = leg6_platform_y * t13;
-    let t183: f32 = leg6_platform_z * t2;
-    let t184: f32 = t6 * t183;
-    let t185: f32 = t181 + t182;
-    let t186: f32 = t185 - t184;
-    let t187: f32 = yc + t186;
-    let t188: f32 = t187 - leg6_base_y;
-    let t189: f32 = t188 * t188;
-    let t190: f32 = leg6_platform_x * t25;
-    let t191: f32 = leg6_platform_y * t30;
-    let t192: f32 = leg6_platform_z * t3;
-    let t193: f32 = t6 * t192;
-    let t194: f32 = t190 + t191;
-    let t195: f32 = t193 + t194;
-    let t196: f32 = zc + t195;
-    let t197: f32 = t196 - leg6_base_z;
-    let t198: f32 = t197 * t197;
-    let t199: f32 = leg6_platform_z * t5;
-    let t200: f32 = leg6_platform_x * t1;
-    let t201: f32 = leg6_platform_y * t0;
-    let t202: f32 = t200 - t201;
-    let t203: f32 = t6 * t202;
-    let t204: f32 = t199 + t203;
-    let t205: f32 = xc + t204;
-    let t206: f32 = t205 - leg6_base_x;
-    let t207: f32 = t206 * t206;
-    let t208: f32 = t189 + t198;
-    let t209: f32 = t207 + t208;
-    let t210: f32 = sqrt(t209);
-    let t211: f32 = leg6_offset + t210;
-    let t212: f32 = q6 - t211;
-    let t213: f32 = t20 * t35;
-    let t214: f32 = t18 * t37;
-    let t215: f32 = t213 - t214;
-    let t216: f32 = t215 * 2.0;
-    let t217: f32 = 1.0 / t50;
-    let t218: f32 = t216 * t217;
-    let t219: f32 = t218 * 0.5;
-    let t220: f32 = -t219;
-    let t221: f32 = leg1_platform_z * t6;
-    let t222: f32 = t5 * t42;
-    let t223: f32 = t221 - t222;
-    let t224: f32 = t46 * t223;
-    let t225: f32 = t2 * t20;
-    let t226: f32 = t3 * t37;
-    let t227: f32 = t225 - t226;
-    let t228: f32 = t227 * 2.0;
-    let t229: f32 = t44 * t228;
-    let t230: f32 = t224 * 2.0;
-    let t231: f32 = t229 + t230;
-    let t232: f32 = t217 * t231;
-    let t233: f32 = t232 * 0.5;
-    let t234: f32 = leg1_platform_x * t13;
-    let t235: f32 = leg1_platform_y * t9;
-    let t236: f32 = t234 - t235;
-    let t237: f32 = t20 * t236;
-    let t238: f32 = leg1_platform_x * t30;
-    let t239: f32 = leg1_platform_y * t25;
-    let t240: f32 = t238 - t239;
-    let t241: f32 = t37 * t240;
-    let t242: f32 = leg1_platform_x * t0;
-    let t243: f32 = leg1_platform_y * t1;
-    let t244: f32 = t242 + t243;
-    let t245: f32 = t6 * t46;
-    let t246: f32 = t244 * t245;
-    let t247: f32 = t237 + t241;
-    let t248: f32 = t246 - t247;
-    let t249: f32 = t248 * 2.0;
-    let t250: f32 = t217 * t249;
-    let t251: f32 = t250 * 0.5;
-    let t252: f32 = -t251;
-    let t253: f32 = t46 * t217;
-    let t254: f32 = t20 * t217;
-    let t255: f32 = t37 * t217;
-    let t256: f32 = t60 * t67;
-    let t257: f32 = t58 * t69;
-    let t258: f32 = t256 - t257;
-    let t259: f32 = t258 * 2.0;
-    let t260: f32 = 1.0 / t82;
-    let t261: f32 = t259 * t260;
-    let t262: f32 = t261 * 0.5;
-    let t263: f32 = -t262;
-    let t264: f32 = leg2_platform_z * t6;
-    let t265: f32 = t5 * t74;
-    let t266: f32 = t264 - t265;
-    let t267: f32 = t78 * t266;
-    let t268: f32 = t2 * t60;
-    let t269: f32 = t3 * t69;
-    let t270: f32 = t268 - t269;
-    let t271: f32 = t270 * 2.0;
-    let t272: f32 = t76 * t271;
-    let t273: f32 = t267 * 2.0;
-    let t274: f32 = t272 + t273;
-    let t275: f32 = t260 * t274;
-    let t276: f32 = t275 * 0.5;
-    let t277: f32 = leg2_platform_x * t13;
-    let t278: f32 = leg2_platform_y * t9;
-    let t279: f32 = t277 - t278;
-    let t280: f32 = t60 * t279;
-    let t281: f32 = leg2_platform_x * t30;
-    let t282: f32 = leg2_platform_y * t25;
-    let t283: f32 = t281 - t282;
-    let t284: f32 = t69 * t283;
-    let t285: f32 = leg2_platform_x * t0;
-    let t286: f32 = leg2_platform_y * t1;
-    let t287: f32 = t285 + t286;
-    let t288: f32 = t6 * t78;
-    let t289: f32 = t287 * t288;
-    let t290: f32 = t280 + t284;
-    let t291: f32 = t289 - t290;
-    let t292: f32 = t291 * 2.0;
-    let t293: f32 = t260 * t292;
-    let t294: f32 = t293 * 0.5;
-    let t295: f32 = -t294;
-    let t296: f32 = t78 * t260;
-    let t297: f32 = t60 * t260;
-    let t298: f32 = t69 * t260;
-    let t299: f32 = t92 * t99;
-    let t300: f32 = t90 * t101;
-    let t301: f32 = t299 - t300;
-    let t302: f32 = t301 * 2.0;
-    let t303: f32 = 1.0 / t114;
-    let t304: f32 = t302 * t303;
-    let t305: f32 = t304 * 0.5;
-    let t306: f32 = -t305;
-    let t307: f32 = leg3_platform_z * t6;
-    let t308: f32 = t5 * t106;
-    let t309: f32 = t307 - t308;
-    let t310: f32 = t110 * t309;
-    let t311: f32 = t2 * t92;
-    let t312: f32 = t3 * t101;
-    let t313: f32 = t311 - t312;
-    let t314: f32 = t313 * 2.0;
-    let t315: f32 = t108 * t314;
-    let t316: f32 = t310 * 2.0;
-    let t317: f32 = t315 + t316;
-    let t318: f32 = t303 * t317;
-    let t319: f32 = t318 * 0.5;
-    let t320: f32 = leg3_platform_x * t13;
-    let t321: f32 = leg3_platform_y * t9;
-    let t322: f32 = t320 - t321;
-    let t323: f32 = t92 * t322;
-    let t324: f32 = leg3_platform_x * t30;
-    let t325: f32 = leg3_platform_y * t25;
-    let t326: f32 = t324 - t325;
-    let t327: f32 = t101 * t326;
-    let t328: f32 = leg3_platform_x * t0;
-    let t329: f32 = leg3_platform_y * t1;
-    let t330: f32 = t328 + t329;
-    let t331: f32 = t6 * t110;
-    let t332: f32 = t330 * t331;
-    let t333: f32 = t323 + t327;
-    let t334: f32 = t332 - t333;
-    let t335: f32 = t334 * 2.0;
-    let t336: f32 = t303 * t335;
-    let t337: f32 = t336 * 0.5;
-    let t338: f32 = -t337;
-    let t339: f32 = t110 * t303;
-    let t340: f32 = t92 * t303;
-    let t341: f32 = t101 * t303;
-    let t342: f32 = t124 * t131;
-    let t343: f32 = t122 * t133;
-    let t344: f32 = t342 - t343;
-    let t345: f32 = t344 * 2.0;
-    let t346: f32 = 1.0 / t146;
-    let t347: f32 = t345 * t346;
-    let t348: f32 = t347 * 0.5;
-    let t349: f32 = -t348;
-    let t350: f32 = leg4_platform_z * t6;
-    let t351: f32 = t5 * t138;
-    let t352: f32 = t350 - t351;
-    let t353: f32 = t142 * t352;
-    let t354: f32 = t2 * t124;
-    let t355: f32 = t3 * t133;
-    let t356: f32 = t354 - t355;
-    let t357: f32 = t356 * 2.0;
-    let t358: f32 = t140 * t357;
-    let t359: f32 = t353 * 2.0;
-    let t360: f32 = t358 + t359;
-    let t361: f32 = t346 * t360;
-    let t362: f32 = t361 * 0.5;
-    let t363: f32 = leg4_platform_x * t13;
-    let t364: f32 = leg4_platform_y * t9;
-    let t365: f32 = t363 - t364;
-    let t366: f32 = t124 * t365;
-    let t367: f32 = leg4_platform_x * t30;
-    let t368: f32 = leg4_platform_y * t25;
-    let t369: f32 = t367 - t368;
-    let t370: f32 = t133 * t369;
-    let t371: f32 = leg4_platform_x * t0;
-    let t372: f32 = leg4_platform_y * t1;
-    let t373: f32 = t371 + t372;
-    let t374: f32 = t6 * t142;
-    let t375: f32 = t373 * t374;
-    let t376: f32 = t366 + t370;
-    let t377: f32 = t375 - t376;
-    let t378: f32 = t377 * 2.0;
-    let t379: f32 = t346 * t378;
-    let t380: f32 = t379 * 0.5;
-    let t381: f32 = -t380;
-    let t382: f32 = t142 * t346;
-    let t383: f32 = t124 * t346;
-    let t384: f32 = t133 * t346;
-    let t385: f32 = t156 * t163;
-    let t386: f32 = t154 * t165;
-    let t387: f32 = t385 - t386;
-    let t388: f32 = t387 * 2.0;
-    let t389: f32 = 1.0 / t178;
-    let t390: f32 = t388 * t389;
-    let t391: f32 = t390 * 0.5;
-    let t392: f32 = -t391;
-    let t393: f32 = leg5_platform_z * t6;
-    let t394: f32 = t5 * t170;
-    let t395: f32 = t393 - t394;
-    let t396: f32 = t174 * t395;
-    let t397: f32 = t2 * t156;
-    let t398: f32 = t3 * t165;
-    let t399: f32 = t397 - t398;
-    let t400: f32 = t399 * 2.0;
-    let t401: f32 = t172 * t400;
-    let t402: f32 = t396 * 2.0;
-    let t403: f32 = t401 + t402;
-    let t404: f32 = t389 * t403;
-    let t405: f32 = t404 * 0.5;
-    let t406: f32 = leg5_platform_x * t13;
-    let t407: f32 = leg5_platform_y * t9;
-    let t408: f32 = t406 - t407;
-    let t409: f32 = t156 * t408;
-    let t410: f32 = leg5_platform_x * t30;
-    let t411: f32 = leg5_platform_y * t25;
-    let t412: f32 = t410 - t411;
-    let t413: f32 = t165 * t412;
-    let t414: f32 = leg5_platform_x * t0;
-    let t415: f32 = leg5_platform_y * t1;
-    let t416: f32 = t414 + t415;
-    let t417: f32 = t6 * t174;
-    let t418: f32 = t416 * t417;
-    let t419: f32 = t409 + t413;
-    let t420: f32 = t418 - t419;
-    let t421: f32 = t420 * 2.0;
-    let t422: f32 = t389 * t421;
-    let t423: f32 = t422 * 0.5;
-    let t424: f32 = -t423;
-    let t425: f32 = t174 * t389;
-    let t426: f32 = t156 * t389;
-    let t427: f32 = t165 * t389;
-    let t428: f32 = t188 * t195;
-    let t429: f32 = t186 * t197;
-    let t430: f32 = t428 - t429;
-    let t431: f32 = t430 * 2.0;
-    let t432: f32 = 1.0 / t210;
-    let t433: f32 = t431 * t432;
-    let t434: f32 = t433 * 0.5;
-    let t435: f32 = -t434;
-    let t436: f32 = leg6_platform_z * t6;
-    let t437: f32 = t5 * t202;
-    let t438: f32 = t436 - t437;
-    let t439: f32 = t206 * t438;
-    let t440: f32 = t2 * t188;
-    let t441: f32 = t3 * t197;
-    let t442: f32 = t440 - t441;
-    let t443: f32 = t442 * 2.0;
-    let t444: f32 = t204 * t443;
-    let t445: f32 = t439 * 2.0;
-    let t446: f32 = t444 + t445;
-    let t447: f32 = t432 * t446;
-    let t448: f32 = t447 * 0.5;
-    let t449: f32 = leg6_platform_x * t13;
-    let t450: f32 = leg6_platform_y * t9;
-    let t451: f32 = t449 - t450;
-    let t452: f32 = t188 * t451;
-    let t453: f32 = leg6_platform_x * t30;
-    let t454: f32 = leg6_platform_y * t25;
-    let t455: f32 = t453 - t454;
-    let t456: f32 = t197 * t455;
-    let t457: f32 = leg6_platform_x * t0;
-    let t458: f32 = leg6_platform_y * t1;
-    let t459: f32 = t457 + t458;
-    let t460: f32 = t6 * t206;
-    let t461: f32 = t459 * t460;
-    let t462: f32 = t452 + t456;
-    let t463: f32 = t461 - t462;
-    let t464: f32 = t463 * 2.0;
-    let t465: f32 = t432 * t464;
-    let t466: f32 = t465 * 0.5;
-    let t467: f32 = -t466;
-    let t468: f32 = t206 * t432;
-    let t469: f32 = t188 * t432;
-    let t470: f32 = t197 * t432;
-    let t471: f32 = leg1_axis_z * t20;
-    let t472: f32 = leg1_axis_y * t37;
-    let t473: f32 = t471 - t472;
-    let t474: f32 = t473 * t473;
-    let t475: f32 = leg1_axis_x * t37;
-    let t476: f32 = leg1_axis_z * t46;
-    let t477: f32 = t475 - t476;
-    let t478: f32 = t477 * t477;
-    let t479: f32 = leg1_axis_x * t20;
-    let t480: f32 = leg1_axis_y * t46;
-    let t481: f32 = t479 - t480;
-    let t482: f32 = -t481;
-    let t483: f32 = t482 * t482;
-    let t484: f32 = t474 + t478;
-    let t485: f32 = t483 + t484;
-    let t486: f32 = sqrt(t485);
-    let t487: f32 = t217 * t486;
-    let t488: f32 = leg2_axis_z * t60;
-    let t489: f32 = leg2_axis_y * t69;
-    let t490: f32 = t488 - t489;
-    let t491: f32 = t490 * t490;
-    let t492: f32 = leg2_axis_x * t69;
-    let t493: f32 = leg2_axis_z * t78;
-    let t494: f32 = t492 - t493;
-    let t495: f32 = t494 * t494;
-    let t496: f32 = leg2_axis_x * t60;
-    let t497: f32 = leg2_axis_y * t78;
-    let t498: f32 = t496 - t497;
-    let t499: f32 = -t498;
-    let t500: f32 = t499 * t499;
-    let t501: f32 = t491 + t495;
-    let t502: f32 = t500 + t501;
-    let t503: f32 = sqrt(t502);
-    let t504: f32 = t260 * t503;
-    let t505: f32 = leg3_axis_z * t92;
-    let t506: f32 = leg3_axis_y * t101;
-    let t507: f32 = t505 - t506;
-    let t508: f32 = t507 * t507;
-    let t509: f32 = leg3_axis_x * t101;
-    let t510: f32 = leg3_axis_z * t110;
-    let t511: f32 = t509 - t510;
-    let t512: f32 = t511 * t511;
-    let t513: f32 = leg3_axis_x * t92;
-    let t514: f32 = leg3_axis_y * t110;
-    let t515: f32 = t513 - t514;
-    let t516: f32 = -t515;
-    let t517: f32 = t516 * t516;
-    let t518: f32 = t508 + t512;
-    let t519: f32 = t517 + t518;
-    let t520: f32 = sqrt(t519);
-    let t521: f32 = t303 * t520;
-    let t522: f32 = leg4_axis_z * t124;
-    let t523: f32 = leg4_axis_y * t133;
-    let t524: f32 = t522 - t523;
-    let t525: f32 = t524 * t524;
-    let t526: f32 = leg4_axis_x * t133;
-    let t527: f32 = leg4_axis_z * t142;
-    let t528: f32 = t526 - t527;
-    let t529: f32 = t528 * t528;
-    let t530: f32 = leg4_axis_x * t124;
-    let t531: f32 = leg4_axis_y * t142;
-    let t532: f32 = t530 - t531;
-    let t533: f32 = -t532;
-    let t534: f32 = t533 * t533;
-    let t535: f32 = t525 + t529;
-    let t536: f32 = t534 + t535;
-    let t537: f32 = sqrt(t536);
-    let t538: f32 = t346 * t537;
-    let t539: f32 = leg5_axis_z * t156;
-    let t540: f32 = leg5_axis_y * t165;
-    let t541: f32 = t539 - t540;
-    let t542: f32 = t541 * t541;
-    let t543: f32 = leg5_axis_x * t165;
-    let t544: f32 = leg5_axis_z * t174;
-    let t545: f32 = t543 - t544;
-    let t546: f32 = t545 * t545;
-    let t547: f32 = leg5_axis_x * t156;
-    let t548: f32 = leg5_axis_y * t174;
-    let t549: f32 = t547 - t548;
-    let t550: f32 = -t549;
-    let t551: f32 = t550 * t550;
-    let t552: f32 = t542 + t546;
-    let t553: f32 = t551 + t552;
-    let t554: f32 = sqrt(t553);
-    let t555: f32 = t389 * t554;
-    let t556: f32 = leg6_axis_z * t188;
-    let t557: f32 = leg6_axis_y * t197;
-    let t558: f32 = t556 - t557;
-    let t559: f32 = t558 * t558;
-    let t560: f32 = leg6_axis_x * t197;
-    let t561: f32 = leg6_axis_z * t206;
-    let t562: f32 = t560 - t561;
-    let t563: f32 = t562 * t562;
-    let t564: f32 = leg6_axis_x * t188;
-    let t565: f32 = leg6_axis_y * t206;
-    let t566: f32 = t564 - t565;
-    let t567: f32 = -t566;
-    let t568: f32 = t567 * t567;
-    let t569: f32 = t559 + t563;
-    let t570: f32 = t568 + t569;
-    let t571: f32 = sqrt(t570);
-    let t572: f32 = t432 * t571;
+    let (
+        t20,
+        t37,
+        t46,
+        t52,
+        t60,
+        t69,
+        t78,
+        t84,
+        t92,
+        t101,
+        t110,
+        t116,
+        t124,
+        t133,
+        t142,
+        t148,
+        t156,
+        t165,
+        t174,
+        t180,
+        t188,
+        t197,
+        t206,
+        t212,
+        t218,
+        t226,
+        t235,
+        t243,
+        t252,
+        t260,
+        t265,
+        t266,
+        t267,
+        t351,
+        t370,
+        t372,
+        t373,
+        t391,
+        t393,
+        t423,
+        t544,
+        t585,
+        t588,
+        t589,
+        t620,
+        t623,
+        t624,
+        t654,
+        t695,
+        t723,
+        t727,
+        t728,
+        t758,
+        t798,
+        t799,
+        t855,
+        t860,
+        t861,
+        t892,
+        t912,
+        t975,
+        t978,
+        t984,
+        t986,
+        t988,
+        t990,
+        t1000,
+        t1002,
+    ) = {
+        let (t0, t1): (f32, f32) = sin_cos(gamma);
+        let (t2, t3): (f32, f32) = sin_cos(alpha);
+        let t4: f32 = t0 * t3;
+        let (t5, t6): (f32, f32) = sin_cos(beta);
+        let t7: f32 = t2 * t5;
+        let t8: f32 = t1 * t7;
+        let t9: f32 = t4 + t8;
+        let t10: f32 = leg1_platform_x * t9;
+        let t11: f32 = t1 * t3;
+        let t12: f32 = t0 * t7;
+        let t13: f32 = t11 - t12;
+        let t14: f32 = leg1_platform_y * t13;
+        let t15: f32 = leg1_platform_z * t2;
+        let t16: f32 = t6 * t15;
+        let t17: f32 = t10 + t14;
+        let t18: f32 = t17 - t16;
+        let t19: f32 = yc + t18;
+        let t20: f32 = t19 - leg1_base_y;
+        let t21: f32 = t20 * t20;
+        let t22: f32 = t0 * t2;
+        let t23: f32 = t3 * t5;
+        let t24: f32 = t1 * t23;
+        let t25: f32 = t22 - t24;
+        let t26: f32 = leg1_platform_x * t25;
+        let t27: f32 = t1 * t2;
+        let t28: f32 = t0 * t5;
+        let t29: f32 = t3 * t28;
+        let t30: f32 = t27 + t29;
+        let t31: f32 = leg1_platform_y * t30;
+        let t32: f32 = leg1_platform_z * t3;
+        let t33: f32 = t6 * t32;
+        let t34: f32 = t26 + t31;
+        let t35: f32 = t33 + t34;
+        let t36: f32 = zc + t35;
+        let t37: f32 = t36 - leg1_base_z;
+        let t38: f32 = t37 * t37;
+        let t39: f32 = leg1_platform_z * t5;
+        let t40: f32 = leg1_platform_x * t1;
+        let t41: f32 = leg1_platform_y * t0;
+        let t42: f32 = t40 - t41;
+        let t43: f32 = t6 * t42;
+        let t44: f32 = t39 + t43;
+        let t45: f32 = xc + t44;
+        let t46: f32 = t45 - leg1_base_x;
+        let t47: f32 = t46 * t46;
+        let t48: f32 = t21 + t38;
+        let t49: f32 = t47 + t48;
+        let t50: f32 = sqrt(t49);
+        let t51: f32 = leg1_offset + t50;
+        let t52: f32 = q1 - t51;
+        let t53: f32 = leg2_platform_x * t9;
+        let t54: f32 = leg2_platform_y * t13;
+        let t55: f32 = leg2_platform_z * t2;
+        let t56: f32 = t6 * t55;
+        let t57: f32 = t53 + t54;
+        let t58: f32 = t57 - t56;
+        let t59: f32 = yc + t58;
+        let t60: f32 = t59 - leg2_base_y;
+        let t61: f32 = t60 * t60;
+        let t62: f32 = leg2_platform_x * t25;
+        let t63: f32 = leg2_platform_y * t30;
+        let t64: f32 = leg2_platform_z * t3;
+        let t65: f32 = t6 * t64;
+        let t66: f32 = t62 + t63;
+        let t67: f32 = t65 + t66;
+        let t68: f32 = zc + t67;
+        let t69: f32 = t68 - leg2_base_z;
+        let t70: f32 = t69 * t69;
+        let t71: f32 = leg2_platform_z * t5;
+        let t72: f32 = leg2_platform_x * t1;
+        let t73: f32 = leg2_platform_y * t0;
+        let t74: f32 = t72 - t73;
+        let t75: f32 = t6 * t74;
+        let t76: f32 = t71 + t75;
+        let t77: f32 = xc + t76;
+        let t78: f32 = t77 - leg2_base_x;
+        let t79: f32 = t78 * t78;
+        let t80: f32 = t61 + t70;
+        let t81: f32 = t79 + t80;
+        let t82: f32 = sqrt(t81);
+        let t83: f32 = leg2_offset + t82;
+        let t84: f32 = q2 - t83;
+        let t85: f32 = leg3_platform_x * t9;
+        let t86: f32 = leg3_platform_y * t13;
+        let t87: f32 = leg3_platform_z * t2;
+        let t88: f32 = t6 * t87;
+        let t89: f32 = t85 + t86;
+        let t90: f32 = t89 - t88;
+        let t91: f32 = yc + t90;
+        let t92: f32 = t91 - leg3_base_y;
+        let t93: f32 = t92 * t92;
+        let t94: f32 = leg3_platform_x * t25;
+        let t95: f32 = leg3_platform_y * t30;
+        let t96: f32 = leg3_platform_z * t3;
+        let t97: f32 = t6 * t96;
+        let t98: f32 = t94 + t95;
+        let t99: f32 = t97 + t98;
+        let t100: f32 = zc + t99;
+        let t101: f32 = t100 - leg3_base_z;
+        let t102: f32 = t101 * t101;
+        let t103: f32 = leg3_platform_z * t5;
+        let t104: f32 = leg3_platform_x * t1;
+        let t105: f32 = leg3_platform_y * t0;
+        let t106: f32 = t104 - t105;
+        let t107: f32 = t6 * t106;
+        let t108: f32 = t103 + t107;
+        let t109: f32 = xc + t108;
+        let t110: f32 = t109 - leg3_base_x;
+        let t111: f32 = t110 * t110;
+        let t112: f32 = t93 + t102;
+        let t113: f32 = t111 + t112;
+        let t114: f32 = sqrt(t113);
+        let t115: f32 = leg3_offset + t114;
+        let t116: f32 = q3 - t115;
+        let t117: f32 = leg4_platform_x * t9;
+        let t118: f32 = leg4_platform_y * t13;
+        let t119: f32 = leg4_platform_z * t2;
+        let t120: f32 = t6 * t119;
+        let t121: f32 = t117 + t118;
+        let t122: f32 = t121 - t120;
+        let t123: f32 = yc + t122;
+        let t124: f32 = t123 - leg4_base_y;
+        let t125: f32 = t124 * t124;
+        let t126: f32 = leg4_platform_x * t25;
+        let t127: f32 = leg4_platform_y * t30;
+        let t128: f32 = leg4_platform_z * t3;
+        let t129: f32 = t6 * t128;
+        let t130: f32 = t126 + t127;
+        let t131: f32 = t129 + t130;
+        let t132: f32 = zc + t131;
+        let t133: f32 = t132 - leg4_base_z;
+        let t134: f32 = t133 * t133;
+        let t135: f32 = leg4_platform_z * t5;
+        let t136: f32 = leg4_platform_x * t1;
+        let t137: f32 = leg4_platform_y * t0;
+        let t138: f32 = t136 - t137;
+        let t139: f32 = t6 * t138;
+        let t140: f32 = t135 + t139;
+        let t141: f32 = xc + t140;
+        let t142: f32 = t141 - leg4_base_x;
+        let t143: f32 = t142 * t142;
+        let t144: f32 = t125 + t134;
+        let t145: f32 = t143 + t144;
+        let t146: f32 = sqrt(t145);
+        let t147: f32 = leg4_offset + t146;
+        let t148: f32 = q4 - t147;
+        let t149: f32 = leg5_platform_x * t9;
+        let t150: f32 = leg5_platform_y * t13;
+        let t151: f32 = leg5_platform_z * t2;
+        let t152: f32 = t6 * t151;
+        let t153: f32 = t149 + t150;
+        let t154: f32 = t153 - t152;
+        let t155: f32 = yc + t154;
+        let t156: f32 = t155 - leg5_base_y;
+        let t157: f32 = t156 * t156;
+        let t158: f32 = leg5_platform_x * t25;
+        let t159: f32 = leg5_platform_y * t30;
+        let t160: f32 = leg5_platform_z * t3;
+        let t161: f32 = t6 * t160;
+        let t162: f32 = t158 + t159;
+        let t163: f32 = t161 + t162;
+        let t164: f32 = zc + t163;
+        let t165: f32 = t164 - leg5_base_z;
+        let t166: f32 = t165 * t165;
+        let t167: f32 = leg5_platform_z * t5;
+        let t168: f32 = leg5_platform_x * t1;
+        let t169: f32 = leg5_platform_y * t0;
+        let t170: f32 = t168 - t169;
+        let t171: f32 = t6 * t170;
+        let t172: f32 = t167 + t171;
+        let t173: f32 = xc + t172;
+        let t174: f32 = t173 - leg5_base_x;
+        let t175: f32 = t174 * t174;
+        let t176: f32 = t157 + t166;
+        let t177: f32 = t175 + t176;
+        let t178: f32 = sqrt(t177);
+        let t179: f32 = leg5_offset + t178;
+        let t180: f32 = q5 - t179;
+        let t181: f32 = leg6_platform_x * t9;
+        let t182: f32 = leg6_platform_y * t13;
+        let t183: f32 = leg6_platform_z * t2;
+        let t184: f32 = t6 * t183;
+        let t185: f32 = t181 + t182;
+        let t186: f32 = t185 - t184;
+        let t187: f32 = yc + t186;
+        let t188: f32 = t187 - leg6_base_y;
+        let t189: f32 = t188 * t188;
+        let t190: f32 = leg6_platform_x * t25;
+        let t191: f32 = leg6_platform_y * t30;
+        let t192: f32 = leg6_platform_z * t3;
+        let t193: f32 = t6 * t192;
+        let t194: f32 = t190 + t191;
+        let t195: f32 = t193 + t194;
+        let t196: f32 = zc + t195;
+        let t197: f32 = t196 - leg6_base_z;
+        let t198: f32 = t197 * t197;
+        let t199: f32 = leg6_platform_z * t5;
+        let t200: f32 = leg6_platform_x * t1;
+        let t201: f32 = leg6_platform_y * t0;
+        let t202: f32 = t200 - t201;
+        let t203: f32 = t6 * t202;
+        let t204: f32 = t199 + t203;
+        let t205: f32 = xc + t204;
+        let t206: f32 = t205 - leg6_base_x;
+        let t207: f32 = t206 * t206;
+        let t208: f32 = t189 + t198;
+        let t209: f32 = t207 + t208;
+        let t210: f32 = sqrt(t209);
+        let t211: f32 = leg6_offset + t210;
+        let t212: f32 = q6 - t211;
+        let t213: f32 = t156 * t163;
+        let t214: f32 = t154 * t165;
+        let t215: f32 = t213 - t214;
+        let t216: f32 = t215 * 2.0;
+        let t217: f32 = t216 * t216;
+        let t218: f32 = 1.0 / t178;
+        let t219: f32 = t218 * t218;
+        let t220: f32 = t217 * t219;
+        let t221: f32 = t188 * t195;
+        let t222: f32 = t186 * t197;
+        let t223: f32 = t221 - t222;
+        let t224: f32 = t223 * 2.0;
+        let t225: f32 = t224 * t224;
+        let t226: f32 = 1.0 / t210;
+        let t227: f32 = t226 * t226;
+        let t228: f32 = t225 * t227;
+        let t229: f32 = t220 + t228;
+        let t230: f32 = t20 * t35;
+        let t231: f32 = t18 * t37;
+        let t232: f32 = t230 - t231;
+        let t233: f32 = t232 * 2.0;
+        let t234: f32 = t233 * t233;
+        let t235: f32 = 1.0 / t50;
+        let t236: f32 = t235 * t235;
+        let t237: f32 = t234 * t236;
+        let t238: f32 = t60 * t67;
+        let t239: f32 = t58 * t69;
+        let t240: f32 = t238 - t239;
+        let t241: f32 = t240 * 2.0;
+        let t242: f32 = t241 * t241;
+        let t243: f32 = 1.0 / t82;
+        let t244: f32 = t243 * t243;
+        let t245: f32 = t242 * t244;
+        let t246: f32 = t237 + t245;
+        let t247: f32 = t92 * t99;
+        let t248: f32 = t90 * t101;
+        let t249: f32 = t247 - t248;
+        let t250: f32 = t249 * 2.0;
+        let t251: f32 = t250 * t250;
+        let t252: f32 = 1.0 / t114;
+        let t253: f32 = t252 * t252;
+        let t254: f32 = t251 * t253;
+        let t255: f32 = t124 * t131;
+        let t256: f32 = t122 * t133;
+        let t257: f32 = t255 - t256;
+        let t258: f32 = t257 * 2.0;
+        let t259: f32 = t258 * t258;
+        let t260: f32 = 1.0 / t146;
+        let t261: f32 = t260 * t260;
+        let t262: f32 = t259 * t261;
+        let t263: f32 = t254 + t262;
+        let t264: f32 = t246 + t263;
+        let t265: f32 = t229 + t264;
+        let t266: f32 = t265 * 0.25;
+        let t267: f32 = 1.0 / t266;
+        let t268: f32 = leg1_platform_z * t6;
+        let t269: f32 = t5 * t42;
+        let t270: f32 = t268 - t269;
+        let t271: f32 = t46 * t270;
+        let t272: f32 = t2 * t20;
+        let t273: f32 = t3 * t37;
+        let t274: f32 = t272 - t273;
+        let t275: f32 = t274 * 2.0;
+        let t276: f32 = t44 * t275;
+        let t277: f32 = t271 * 2.0;
+        let t278: f32 = t276 + t277;
+        let t279: f32 = t233 * t236;
+        let t280: f32 = t278 * t279;
+        let t281: f32 = leg2_platform_z * t6;
+        let t282: f32 = t5 * t74;
+        let t283: f32 = t281 - t282;
+        let t284: f32 = t78 * t283;
+        let t285: f32 = t2 * t60;
+        let t286: f32 = t3 * t69;
+        let t287: f32 = t285 - t286;
+        let t288: f32 = t287 * 2.0;
+        let t289: f32 = t76 * t288;
+        let t290: f32 = t284 * 2.0;
+        let t291: f32 = t289 + t290;
+        let t292: f32 = t241 * t244;
+        let t293: f32 = t291 * t292;
+        let t294: f32 = leg3_platform_z * t6;
+        let t295: f32 = t5 * t106;
+        let t296: f32 = t294 - t295;
+        let t297: f32 = t110 * t296;
+        let t298: f32 = t2 * t92;
+        let t299: f32 = t3 * t101;
+        let t300: f32 = t298 - t299;
+        let t301: f32 = t300 * 2.0;
+        let t302: f32 = t108 * t301;
+        let t303: f32 = t297 * 2.0;
+        let t304: f32 = t302 + t303;
+        let t305: f32 = t250 * t253;
+        let t306: f32 = t304 * t305;
+        let t307: f32 = leg4_platform_z * t6;
+        let t308: f32 = t5 * t138;
+        let t309: f32 = t307 - t308;
+        let t310: f32 = t142 * t309;
+        let t311: f32 = t2 * t124;
+        let t312: f32 = t3 * t133;
+        let t313: f32 = t311 - t312;
+        let t314: f32 = t313 * 2.0;
+        let t315: f32 = t140 * t314;
+        let t316: f32 = t310 * 2.0;
+        let t317: f32 = t315 + t316;
+        let t318: f32 = t258 * t261;
+        let t319: f32 = t317 * t318;
+        let t320: f32 = leg5_platform_z * t6;
+        let t321: f32 = t5 * t170;
+        let t322: f32 = t320 - t321;
+        let t323: f32 = t174 * t322;
+        let t324: f32 = t2 * t156;
+        let t325: f32 = t3 * t165;
+        let t326: f32 = t324 - t325;
+        let t327: f32 = t326 * 2.0;
+        let t328: f32 = t172 * t327;
+        let t329: f32 = t323 * 2.0;
+        let t330: f32 = t328 + t329;
+        let t331: f32 = t216 * t219;
+        let t332: f32 = t330 * t331;
+        let t333: f32 = leg6_platform_z * t6;
+        let t334: f32 = t5 * t202;
+        let t335: f32 = t333 - t334;
+        let t336: f32 = t206 * t335;
+        let t337: f32 = t2 * t188;
+        let t338: f32 = t3 * t197;
+        let t339: f32 = t337 - t338;
+        let t340: f32 = t339 * 2.0;
+        let t341: f32 = t204 * t340;
+        let t342: f32 = t336 * 2.0;
+        let t343: f32 = t341 + t342;
+        let t344: f32 = t224 * t227;
+        let t345: f32 = t343 * t344;
+        let t346: f32 = t280 + t293;
+        let t347: f32 = t306 + t319;
+        let t348: f32 = t332 + t345;
+        let t349: f32 = t346 + t347;
+        let t350: f32 = t348 + t349;
+        let t351: f32 = t350 * 0.25;
+        let t352: f32 = t351 * t351;
+        let t353: f32 = t267 * t352;
+        let t354: f32 = t330 * t330;
+        let t355: f32 = t219 * t354;
+        let t356: f32 = t343 * t343;
+        let t357: f32 = t227 * t356;
+        let t358: f32 = t355 + t357;
+        let t359: f32 = t278 * t278;
+        let t360: f32 = t236 * t359;
+        let t361: f32 = t291 * t291;
+        let t362: f32 = t244 * t361;
+        let t363: f32 = t360 + t362;
+        let t364: f32 = t304 * t304;
+        let t365: f32 = t253 * t364;
+        let t366: f32 = t317 * t317;
+        let t367: f32 = t261 * t366;
+        let t368: f32 = t365 + t367;
+        let t369: f32 = t363 + t368;
+        let t370: f32 = t358 + t369;
+        let t371: f32 = t370 * 0.25;
+        let t372: f32 = t371 - t353;
+        let t373: f32 = 1.0 / t372;
+        let t374: f32 = t216 * t218;
+        let t375: f32 = t180 * t374;
+        let t376: f32 = t224 * t226;
+        let t377: f32 = t212 * t376;
+        let t378: f32 = t375 + t377;
+        let t379: f32 = t233 * t235;
+        let t380: f32 = t52 * t379;
+        let t381: f32 = t241 * t243;
+        let t382: f32 = t84 * t381;
+        let t383: f32 = t380 + t382;
+        let t384: f32 = t250 * t252;
+        let t385: f32 = t116 * t384;
+        let t386: f32 = t258 * t260;
+        let t387: f32 = t148 * t386;
+        let t388: f32 = t385 + t387;
+        let t389: f32 = t383 + t388;
+        let t390: f32 = t378 + t389;
+        let t391: f32 = t390 * 0.5;
+        let t392: f32 = t267 * t391;
+        let t393: f32 = t351 * t392;
+        let t394: f32 = t46 * t236;
+        let t395: f32 = t278 * t394;
+        let t396: f32 = t78 * t244;
+        let t397: f32 = t291 * t396;
+        let t398: f32 = t110 * t253;
+        let t399: f32 = t304 * t398;
+        let t400: f32 = t142 * t261;
+        let t401: f32 = t317 * t400;
+        let t402: f32 = t174 * t219;
+        let t403: f32 = t330 * t402;
+        let t404: f32 = t206 * t227;
+        let t405: f32 = t343 * t404;
+        let t406: f32 = t46 * t233;
+        let t407: f32 = t236 * t406;
+        let t408: f32 = t78 * t241;
+        let t409: f32 = t244 * t408;
+        let t410: f32 = t110 * t250;
+        let t411: f32 = t253 * t410;
+        let t412: f32 = t142 * t258;
+        let t413: f32 = t261 * t412;
+        let t414: f32 = t174 * t216;
+        let t415: f32 = t219 * t414;
+        let t416: f32 = t206 * t224;
+        let t417: f32 = t227 * t416;
+        let t418: f32 = t407 + t409;
+        let t419: f32 = t411 + t413;
+        let t420: f32 = t415 + t417;
+        let t421: f32 = t418 + t419;
+        let t422: f32 = t420 + t421;
+        let t423: f32 = t422 * 0.5;
+        let t424: f32 = t267 * t351;
+        let t425: f32 = t423 * t424;
+        let t426: f32 = t395 + t397;
+        let t427: f32 = t399 + t401;
+        let t428: f32 = t403 + t405;
+        let t429: f32 = t426 + t427;
+        let t430: f32 = t428 + t429;
+        let t431: f32 = t430 * 0.5;
+        let t432: f32 = t431 - t425;
+        let t433: f32 = t423 * t423;
+        let t434: f32 = t267 * t433;
+        let t435: f32 = t432 * t432;
+        let t436: f32 = t373 * t435;
+        let t437: f32 = leg1_platform_x * t13;
+        let t438: f32 = leg1_platform_y * t9;
+        let t439: f32 = t437 - t438;
+        let t440: f32 = t20 * t439;
+        let t441: f32 = leg1_platform_x * t30;
+        let t442: f32 = leg1_platform_y * t25;
+        let t443: f32 = t441 - t442;
+        let t444: f32 = t37 * t443;
+        let t445: f32 = leg1_platform_x * t0;
+        let t446: f32 = leg1_platform_y * t1;
+        let t447: f32 = t445 + t446;
+        let t448: f32 = t6 * t46;
+        let t449: f32 = t447 * t448;
+        let t450: f32 = t440 + t444;
+        let t451: f32 = t449 - t450;
+        let t452: f32 = t451 * 2.0;
+        let t453: f32 = t279 * t452;
+        let t454: f32 = leg2_platform_x * t13;
+        let t455: f32 = leg2_platform_y * t9;
+        let t456: f32 = t454 - t455;
+        let t457: f32 = t60 * t456;
+        let t458: f32 = leg2_platform_x * t30;
+        let t459: f32 = leg2_platform_y * t25;
+        let t460: f32 = t458 - t459;
+        let t461: f32 = t69 * t460;
+        let t462: f32 = leg2_platform_x * t0;
+        let t463: f32 = leg2_platform_y * t1;
+        let t464: f32 = t462 + t463;
+        let t465: f32 = t6 * t78;
+        let t466: f32 = t464 * t465;
+        let t467: f32 = t457 + t461;
+        let t468: f32 = t466 - t467;
+        let t469: f32 = t468 * 2.0;
+        let t470: f32 = t292 * t469;
+        let t471: f32 = leg3_platform_x * t13;
+        let t472: f32 = leg3_platform_y * t9;
+        let t473: f32 = t471 - t472;
+        let t474: f32 = t92 * t473;
+        let t475: f32 = leg3_platform_x * t30;
+        let t476: f32 = leg3_platform_y * t25;
+        let t477: f32 = t475 - t476;
+        let t478: f32 = t101 * t477;
+        let t479: f32 = leg3_platform_x * t0;
+        let t480: f32 = leg3_platform_y * t1;
+        let t481: f32 = t479 + t480;
+        let t482: f32 = t6 * t110;
+        let t483: f32 = t481 * t482;
+        let t484: f32 = t474 + t478;
+        let t485: f32 = t483 - t484;
+        let t486: f32 = t485 * 2.0;
+        let t487: f32 = t305 * t486;
+        let t488: f32 = leg4_platform_x * t13;
+        let t489: f32 = leg4_platform_y * t9;
+        let t490: f32 = t488 - t489;
+        let t491: f32 = t124 * t490;
+        let t492: f32 = leg4_platform_x * t30;
+        let t493: f32 = leg4_platform_y * t25;
+        let t494: f32 = t492 - t493;
+        let t495: f32 = t133 * t494;
+        let t496: f32 = leg4_platform_x * t0;
+        let t497: f32 = leg4_platform_y * t1;
+        let t498: f32 = t496 + t497;
+        let t499: f32 = t6 * t142;
+        let t500: f32 = t498 * t499;
+        let t501: f32 = t491 + t495;
+        let t502: f32 = t500 - t501;
+        let t503: f32 = t502 * 2.0;
+        let t504: f32 = t318 * t503;
+        let t505: f32 = leg5_platform_x * t13;
+        let t506: f32 = leg5_platform_y * t9;
+        let t507: f32 = t505 - t506;
+        let t508: f32 = t156 * t507;
+        let t509: f32 = leg5_platform_x * t30;
+        let t510: f32 = leg5_platform_y * t25;
+        let t511: f32 = t509 - t510;
+        let t512: f32 = t165 * t511;
+        let t513: f32 = leg5_platform_x * t0;
+        let t514: f32 = leg5_platform_y * t1;
+        let t515: f32 = t513 + t514;
+        let t516: f32 = t6 * t174;
+        let t517: f32 = t515 * t516;
+        let t518: f32 = t508 + t512;
+        let t519: f32 = t517 - t518;
+        let t520: f32 = t519 * 2.0;
+        let t521: f32 = t331 * t520;
+        let t522: f32 = leg6_platform_x * t13;
+        let t523: f32 = leg6_platform_y * t9;
+        let t524: f32 = t522 - t523;
+        let t525: f32 = t188 * t524;
+        let t526: f32 = leg6_platform_x * t30;
+        let t527: f32 = leg6_platform_y * t25;
+        let t528: f32 = t526 - t527;
+        let t529: f32 = t197 * t528;
+        let t530: f32 = leg6_platform_x * t0;
+        let t531: f32 = leg6_platform_y * t1;
+        let t532: f32 = t530 + t531;
+        let t533: f32 = t6 * t206;
+        let t534: f32 = t532 * t533;
+        let t535: f32 = t525 + t529;
+        let t536: f32 = t534 - t535;
+        let t537: f32 = t536 * 2.0;
+        let t538: f32 = t344 * t537;
+        let t539: f32 = t453 + t470;
+        let t540: f32 = t487 + t504;
+        let t541: f32 = t521 + t538;
+        let t542: f32 = t539 + t540;
+        let t543: f32 = t541 + t542;
+        let t544: f32 = t543 * 0.25;
+        let t545: f32 = t544 * t544;
+        let t546: f32 = t267 * t545;
+        let t547: f32 = t236 * t278;
+        let t548: f32 = t452 * t547;
+        let t549: f32 = t244 * t291;
+        let t550: f32 = t469 * t549;
+        let t551: f32 = t253 * t304;
+        let t552: f32 = t486 * t551;
+        let t553: f32 = t261 * t317;
+        let t554: f32 = t503 * t553;
+        let t555: f32 = t219 * t330;
+        let t556: f32 = t520 * t555;
+        let t557: f32 = t227 * t343;
+        let t558: f32 = t537 * t557;
+        let t559: f32 = t424 * t544;
+        let t560: f32 = t548 + t550;
+        let t561: f32 = t552 + t554;
+        let t562: f32 = t556 + t558;
+        let t563: f32 = t560 + t561;
+        let t564: f32 = t562 + t563;
+        let t565: f32 = t564 * 0.25;
+        let t566: f32 = t565 - t559;
+        let t567: f32 = t566 * t566;
+        let t568: f32 = t373 * t567;
+        let t569: f32 = t520 * t520;
+        let t570: f32 = t219 * t569;
+        let t571: f32 = t537 * t537;
+        let t572: f32 = t227 * t571;
+        let t573: f32 = t570 + t572;
+        let t574: f32 = t452 * t452;
+        let t575: f32 = t236 * t574;
+        let t576: f32 = t469 * t469;
+        let t577: f32 = t244 * t576;
+        let t578: f32 = t575 + t577;
+        let t579: f32 = t486 * t486;
+        let t580: f32 = t253 * t579;
+        let t581: f32 = t503 * t503;
+        let t582: f32 = t261 * t581;
+        let t583: f32 = t580 + t582;
+        let t584: f32 = t578 + t583;
+        let t585: f32 = t573 + t584;
+        let t586: f32 = t585 * 0.25;
+        let t587: f32 = t546 + t568;
+        let t588: f32 = t586 - t587;
+        let t589: f32 = 1.0 / t588;
+        let t590: f32 = t394 * t452;
+        let t591: f32 = t396 * t469;
+        let t592: f32 = t398 * t486;
+        let t593: f32 = t400 * t503;
+        let t594: f32 = t402 * t520;
+        let t595: f32 = t404 * t537;
+        let t596: f32 = t267 * t544;
+        let t597: f32 = t423 * t596;
+        let t598: f32 = t373 * t566;
+        let t599: f32 = t432 * t598;
+        let t600: f32 = t590 + t591;
+        let t601: f32 = t592 + t593;
+        let t602: f32 = t594 + t595;
+        let t603: f32 = t600 + t601;
+        let t604: f32 = t602 + t603;
+        let t605: f32 = t604 * 0.5;
+        let t606: f32 = t597 + t599;
+        let t607: f32 = t605 - t606;
+        let t608: f32 = t607 * t607;
+        let t609: f32 = t589 * t608;
+        let t610: f32 = t175 * t219;
+        let t611: f32 = t207 * t227;
+        let t612: f32 = t610 + t611;
+        let t613: f32 = t47 * t236;
+        let t614: f32 = t79 * t244;
+        let t615: f32 = t613 + t614;
+        let t616: f32 = t111 * t253;
+        let t617: f32 = t143 * t261;
+        let t618: f32 = t616 + t617;
+        let t619: f32 = t615 + t618;
+        let t620: f32 = t612 + t619;
+        let t621: f32 = t434 + t436;
+        let t622: f32 = t609 + t621;
+        let t623: f32 = t620 - t622;
+        let t624: f32 = 1.0 / t623;
+        let t625: f32 = t20 * t46;
+        let t626: f32 = t236 * t625;
+        let t627: f32 = t60 * t78;
+        let t628: f32 = t244 * t627;
+        let t629: f32 = t92 * t110;
+        let t630: f32 = t253 * t629;
+        let t631: f32 = t124 * t142;
+        let t632: f32 = t261 * t631;
+        let t633: f32 = t156 * t174;
+        let t634: f32 = t219 * t633;
+        let t635: f32 = t188 * t206;
+        let t636: f32 = t227 * t635;
+        let t637: f32 = t20 * t233;
+        let t638: f32 = t236 * t637;
+        let t639: f32 = t60 * t241;
+        let t640: f32 = t244 * t639;
+        let t641: f32 = t92 * t250;
+        let t642: f32 = t253 * t641;
+        let t643: f32 = t124 * t258;
+        let t644: f32 = t261 * t643;
+        let t645: f32 = t156 * t216;
+        let t646: f32 = t219 * t645;
+        let t647: f32 = t188 * t224;
+        let t648: f32 = t227 * t647;
+        let t649: f32 = t638 + t640;
+        let t650: f32 = t642 + t644;
+        let t651: f32 = t646 + t648;
+        let t652: f32 = t649 + t650;
+        let t653: f32 = t651 + t652;
+        let t654: f32 = t653 * 0.5;
+        let t655: f32 = t267 * t423;
+        let t656: f32 = t654 * t655;
+        let t657: f32 = t20 * t236;
+        let t658: f32 = t278 * t657;
+        let t659: f32 = t60 * t244;
+        let t660: f32 = t291 * t659;
+        let t661: f32 = t92 * t253;
+        let t662: f32 = t304 * t661;
+        let t663: f32 = t124 * t261;
+        let t664: f32 = t317 * t663;
+        let t665: f32 = t156 * t219;
+        let t666: f32 = t330 * t665;
+        let t667: f32 = t188 * t227;
+        let t668: f32 = t343 * t667;
+        let t669: f32 = t424 * t654;
+        let t670: f32 = t658 + t660;
+        let t671: f32 = t662 + t664;
+        let t672: f32 = t666 + t668;
+        let t673: f32 = t670 + t671;
+        let t674: f32 = t672 + t673;
+        let t675: f32 = t674 * 0.5;
+        let t676: f32 = t675 - t669;
+        let t677: f32 = t373 * t432;
+        let t678: f32 = t676 * t677;
+        let t679: f32 = t452 * t657;
+        let t680: f32 = t469 * t659;
+        let t681: f32 = t486 * t661;
+        let t682: f32 = t503 * t663;
+        let t683: f32 = t520 * t665;
+        let t684: f32 = t537 * t667;
+        let t685: f32 = t596 * t654;
+        let t686: f32 = t598 * t676;
+        let t687: f32 = t679 + t680;
+        let t688: f32 = t681 + t682;
+        let t689: f32 = t683 + t684;
+        let t690: f32 = t687 + t688;
+        let t691: f32 = t689 + t690;
+        let t692: f32 = t691 * 0.5;
+        let t693: f32 = t685 + t686;
+        let t694: f32 = t692 - t693;
+        let t695: f32 = t589 * t607;
+        let t696: f32 = t694 * t695;
+        let t697: f32 = t626 + t628;
+        let t698: f32 = t630 + t632;
+        let t699: f32 = t634 + t636;
+        let t700: f32 = t697 + t698;
+        let t701: f32 = t699 + t700;
+        let t702: f32 = t656 + t678;
+        let t703: f32 = t696 + t702;
+        let t704: f32 = t701 - t703;
+        let t705: f32 = t654 * t654;
+        let t706: f32 = t267 * t705;
+        let t707: f32 = t676 * t676;
+        let t708: f32 = t373 * t707;
+        let t709: f32 = t694 * t694;
+        let t710: f32 = t589 * t709;
+        let t711: f32 = t704 * t704;
+        let t712: f32 = t624 * t711;
+        let t713: f32 = t157 * t219;
+        let t714: f32 = t189 * t227;
+        let t715: f32 = t713 + t714;
+        let t716: f32 = t21 * t236;
+        let t717: f32 = t61 * t244;
+        let t718: f32 = t716 + t717;
+        let t719: f32 = t93 * t253;
+        let t720: f32 = t125 * t261;
+        let t721: f32 = t719 + t720;
+        let t722: f32 = t718 + t721;
+        let t723: f32 = t715 + t722;
+        let t724: f32 = t706 + t708;
+        let t725: f32 = t710 + t712;
+        let t726: f32 = t724 + t725;
+        let t727: f32 = t723 - t726;
+        let t728: f32 = 1.0 / t727;
+        let t729: f32 = t20 * t37;
+        let t730: f32 = t236 * t729;
+        let t731: f32 = t60 * t69;
+        let t732: f32 = t244 * t731;
+        let t733: f32 = t92 * t101;
+        let t734: f32 = t253 * t733;
+        let t735: f32 = t124 * t133;
+        let t736: f32 = t261 * t735;
+        let t737: f32 = t156 * t165;
+        let t738: f32 = t219 * t737;
+        let t739: f32 = t188 * t197;
+        let t740: f32 = t227 * t739;
+        let t741: f32 = t37 * t233;
+        let t742: f32 = t236 * t741;
+        let t743: f32 = t69 * t241;
+        let t744: f32 = t244 * t743;
+        let t745: f32 = t101 * t250;
+        let t746: f32 = t253 * t745;
+        let t747: f32 = t133 * t258;
+        let t748: f32 = t261 * t747;
+        let t749: f32 = t165 * t216;
+        let t750: f32 = t219 * t749;
+        let t751: f32 = t197 * t224;
+        let t752: f32 = t227 * t751;
+        let t753: f32 = t742 + t744;
+        let t754: f32 = t746 + t748;
+        let t755: f32 = t750 + t752;
+        let t756: f32 = t753 + t754;
+        let t757: f32 = t755 + t756;
+        let t758: f32 = t757 * 0.5;
+        let t759: f32 = t267 * t654;
+        let t760: f32 = t758 * t759;
+        let t761: f32 = t37 * t236;
+        let t762: f32 = t278 * t761;
+        let t763: f32 = t69 * t244;
+        let t764: f32 = t291 * t763;
+        let t765: f32 = t101 * t253;
+        let t766: f32 = t304 * t765;
+        let t767: f32 = t133 * t261;
+        let t768: f32 = t317 * t767;
+        let t769: f32 = t165 * t219;
+        let t770: f32 = t330 * t769;
+        let t771: f32 = t197 * t227;
+        let t772: f32 = t343 * t771;
+        let t773: f32 = t424 * t758;
+        let t774: f32 = t762 + t764;
+        let t775: f32 = t766 + t768;
+        let t776: f32 = t770 + t772;
+        let t777: f32 = t774 + t775;
+        let t778: f32 = t776 + t777;
+        let t779: f32 = t778 * 0.5;
+        let t780: f32 = t779 - t773;
+        let t781: f32 = t373 * t676;
+        let t782: f32 = t780 * t781;
+        let t783: f32 = t452 * t761;
+        let t784: f32 = t469 * t763;
+        let t785: f32 = t486 * t765;
+        let t786: f32 = t503 * t767;
+        let t787: f32 = t520 * t769;
+        let t788: f32 = t537 * t771;
+        let t789: f32 = t596 * t758;
+        let t790: f32 = t598 * t780;
+        let t791: f32 = t783 + t784;
+        let t792: f32 = t785 + t786;
+        let t793: f32 = t787 + t788;
+        let t794: f32 = t791 + t792;
+        let t795: f32 = t793 + t794;
+        let t796: f32 = t795 * 0.5;
+        let t797: f32 = t789 + t790;
+        let t798: f32 = t796 - t797;
+        let t799: f32 = t589 * t694;
+        let t800: f32 = t798 * t799;
+        let t801: f32 = t37 * t46;
+        let t802: f32 = t236 * t801;
+        let t803: f32 = t69 * t78;
+        let t804: f32 = t244 * t803;
+        let t805: f32 = t101 * t110;
+        let t806: f32 = t253 * t805;
+        let t807: f32 = t133 * t142;
+        let t808: f32 = t261 * t807;
+        let t809: f32 = t165 * t174;
+        let t810: f32 = t219 * t809;
+        let t811: f32 = t197 * t206;
+        let t812: f32 = t227 * t811;
+        let t813: f32 = t655 * t758;
+        let t814: f32 = t677 * t780;
+        let t815: f32 = t695 * t798;
+        let t816: f32 = t802 + t804;
+        let t817: f32 = t806 + t808;
+        let t818: f32 = t810 + t812;
+        let t819: f32 = t816 + t817;
+        let t820: f32 = t818 + t819;
+        let t821: f32 = t813 + t814;
+        let t822: f32 = t815 + t821;
+        let t823: f32 = t820 - t822;
+        let t824: f32 = t624 * t704;
+        let t825: f32 = t823 * t824;
+        let t826: f32 = t730 + t732;
+        let t827: f32 = t734 + t736;
+        let t828: f32 = t738 + t740;
+        let t829: f32 = t826 + t827;
+        let t830: f32 = t828 + t829;
+        let t831: f32 = t760 + t782;
+        let t832: f32 = t800 + t825;
+        let t833: f32 = t831 + t832;
+        let t834: f32 = t830 - t833;
+        let t835: f32 = t758 * t758;
+        let t836: f32 = t267 * t835;
+        let t837: f32 = t780 * t780;
+        let t838: f32 = t373 * t837;
+        let t839: f32 = t798 * t798;
+        let t840: f32 = t589 * t839;
+        let t841: f32 = t823 * t823;
+        let t842: f32 = t624 * t841;
+        let t843: f32 = t834 * t834;
+        let t844: f32 = t728 * t843;
+        let t845: f32 = t166 * t219;
+        let t846: f32 = t198 * t227;
+        let t847: f32 = t845 + t846;
+        let t848: f32 = t38 * t236;
+        let t849: f32 = t70 * t244;
+        let t850: f32 = t848 + t849;
+        let t851: f32 = t102 * t253;
+        let t852: f32 = t134 * t261;
+        let t853: f32 = t851 + t852;
+        let t854: f32 = t850 + t853;
+        let t855: f32 = t847 + t854;
+        let t856: f32 = t836 + t838;
+        let t857: f32 = t840 + t842;
+        let t858: f32 = t856 + t857;
+        let t859: f32 = t844 + t858;
+        let t860: f32 = t855 - t859;
+        let t861: f32 = 1.0 / t860;
+        let t862: f32 = t37 * t235;
+        let t863: f32 = t52 * t862;
+        let t864: f32 = t69 * t243;
+        let t865: f32 = t84 * t864;
+        let t866: f32 = t101 * t252;
+        let t867: f32 = t116 * t866;
+        let t868: f32 = t133 * t260;
+        let t869: f32 = t148 * t868;
+        let t870: f32 = t165 * t218;
+        let t871: f32 = t180 * t870;
+        let t872: f32 = t197 * t226;
+        let t873: f32 = t212 * t872;
+        let t874: f32 = t392 * t758;
+        let t875: f32 = t180 * t218;
+        let t876: f32 = t330 * t875;
+        let t877: f32 = t212 * t226;
+        let t878: f32 = t343 * t877;
+        let t879: f32 = t876 + t878;
+        let t880: f32 = t52 * t235;
+        let t881: f32 = t278 * t880;
+        let t882: f32 = t84 * t243;
+        let t883: f32 = t291 * t882;
+        let t884: f32 = t881 + t883;
+        let t885: f32 = t116 * t252;
+        let t886: f32 = t304 * t885;
+        let t887: f32 = t148 * t260;
+        let t888: f32 = t317 * t887;
+        let t889: f32 = t886 + t888;
+        let t890: f32 = t884 + t889;
+        let t891: f32 = t879 + t890;
+        let t892: f32 = t891 * 0.5;
+        let t893: f32 = t892 - t393;
+        let t894: f32 = t373 * t893;
+        let t895: f32 = t780 * t894;
+        let t896: f32 = t392 * t544;
+        let t897: f32 = t566 * t894;
+        let t898: f32 = t896 + t897;
+        let t899: f32 = t520 * t875;
+        let t900: f32 = t537 * t877;
+        let t901: f32 = t899 + t900;
+        let t902: f32 = t452 * t880;
+        let t903: f32 = t469 * t882;
+        let t904: f32 = t902 + t903;
+        let t905: f32 = t486 * t885;
+        let t906: f32 = t503 * t887;
+        let t907: f32 = t905 + t906;
+        let t908: f32 = t904 + t907;
+        let t909: f32 = t901 + t908;
+        let t910: f32 = t909 * 0.5;
+        let t911: f32 = t910 - t898;
+        let t912: f32 = t589 * t911;
+        let t913: f32 = t798 * t912;
+        let t914: f32 = t110 * t252;
+        let t915: f32 = t116 * t914;
+        let t916: f32 = t142 * t260;
+        let t917: f32 = t148 * t916;
+        let t918: f32 = t915 + t917;
+        let t919: f32 = t174 * t218;
+        let t920: f32 = t180 * t919;
+        let t921: f32 = t206 * t226;
+        let t922: f32 = t212 * t921;
+        let t923: f32 = t920 + t922;
+        let t924: f32 = t918 + t923;
+        let t925: f32 = t46 * t235;
+        let t926: f32 = t52 * t925;
+        let t927: f32 = t78 * t243;
+        let t928: f32 = t84 * t927;
+        let t929: f32 = t926 + t928;
+        let t930: f32 = t607 * t912;
+        let t931: f32 = t929 - t930;
+        let t932: f32 = t392 * t423;
+        let t933: f32 = t432 * t894;
+        let t934: f32 = t932 + t933;
+        let t935: f32 = t931 - t934;
+        let t936: f32 = t924 + t935;
+        let t937: f32 = t624 * t936;
+        let t938: f32 = t823 * t937;
+        let t939: f32 = t156 * t218;
+        let t940: f32 = t180 * t939;
+        let t941: f32 = t188 * t226;
+        let t942: f32 = t212 * t941;
+        let t943: f32 = t940 + t942;
+        let t944: f32 = t392 * t654;
+        let t945: f32 = t676 * t894;
+        let t946: f32 = t944 + t945;
+        let t947: f32 = t943 - t946;
+        let t948: f32 = t20 * t235;
+        let t949: f32 = t52 * t948;
+        let t950: f32 = t60 * t243;
+        let t951: f32 = t84 * t950;
+        let t952: f32 = t949 + t951;
+        let t953: f32 = t92 * t252;
+        let t954: f32 = t116 * t953;
+        let t955: f32 = t124 * t260;
+        let t956: f32 = t148 * t955;
+        let t957: f32 = t954 + t956;
+        let t958: f32 = t952 + t957;
+        let t959: f32 = t694 * t912;
+        let t960: f32 = t704 * t937;
+        let t961: f32 = t959 + t960;
+        let t962: f32 = t958 - t961;
+        let t963: f32 = t947 + t962;
+        let t964: f32 = t728 * t963;
+        let t965: f32 = t834 * t964;
+        let t966: f32 = t863 + t865;
+        let t967: f32 = t867 + t869;
+        let t968: f32 = t871 + t873;
+        let t969: f32 = t966 + t967;
+        let t970: f32 = t968 + t969;
+        let t971: f32 = t874 + t895;
+        let t972: f32 = t913 + t938;
+        let t973: f32 = t971 + t972;
+        let t974: f32 = t965 + t973;
+        let t975: f32 = t970 - t974;
+        let t976: f32 = t834 * t861;
+        let t977: f32 = t975 * t976;
+        let t978: f32 = t963 - t977;
+        let t979: f32 = t704 * t728;
+        let t980: f32 = t978 * t979;
+        let t981: f32 = t823 * t861;
+        let t982: f32 = t975 * t981;
+        let t983: f32 = t980 + t982;
+        let t984: f32 = t936 - t983;
+        let t985: f32 = t432 * t624;
+        let t986: f32 = t984 * t985;
+        let t987: f32 = t676 * t728;
+        let t988: f32 = t978 * t987;
+        let t989: f32 = t780 * t861;
+        let t990: f32 = t975 * t989;
+        let t991: f32 = t607 * t624;
+        let t992: f32 = t984 * t991;
+        let t993: f32 = t694 * t728;
+        let t994: f32 = t978 * t993;
+        let t995: f32 = t798 * t861;
+        let t996: f32 = t975 * t995;
+        let t997: f32 = t992 + t994;
+        let t998: f32 = t898 + t996;
+        let t999: f32 = t997 + t998;
+        let t1000: f32 = t910 - t999;
+        let t1001: f32 = t566 * t589;
+        let t1002: f32 = t1000 * t1001;
+        (
+            t20,
+            t37,
+            t46,
+            t52,
+            t60,
+            t69,
+            t78,
+            t84,
+            t92,
+            t101,
+            t110,
+            t116,
+            t124,
+            t133,
+            t142,
+            t148,
+            t156,
+            t165,
+            t174,
+            t180,
+            t188,
+            t197,
+            t206,
+            t212,
+            t218,
+            t226,
+            t235,
+            t243,
+            t252,
+            t260,
+            t265,
+            t266,
+            t267,
+            t351,
+            t370,
+            t372,
+            t373,
+            t391,
+            t393,
+            t423,
+            t544,
+            t585,
+            t588,
+            t589,
+            t620,
+            t623,
+            t624,
+            t654,
+            t695,
+            t723,
+            t727,
+            t728,
+            t758,
+            t798,
+            t799,
+            t855,
+            t860,
+            t861,
+            t892,
+            t912,
+            t975,
+            t978,
+            t984,
+            t986,
+            t988,
+            t990,
+            t1000,
+            t1002,
+        )
+    };
+    let (
+        t1024,
+        t1025,
+        t1035,
+        t1036,
+        t1037,
+        t1038,
+        t1044,
+        t1061,
+        t1078,
+        t1095,
+        t1112,
+        t1129,
+        t1146,
+    ) = {
+        let t1003: f32 = t393 + t986;
+        let t1004: f32 = t988 + t990;
+        let t1005: f32 = t1003 + t1004;
+        let t1006: f32 = t1002 + t1005;
+        let t1007: f32 = t892 - t1006;
+        let t1008: f32 = t351 * t373;
+        let t1009: f32 = t1007 * t1008;
+        let t1010: f32 = t423 * t624;
+        let t1011: f32 = t984 * t1010;
+        let t1012: f32 = t654 * t728;
+        let t1013: f32 = t978 * t1012;
+        let t1014: f32 = t758 * t861;
+        let t1015: f32 = t975 * t1014;
+        let t1016: f32 = t544 * t589;
+        let t1017: f32 = t1000 * t1016;
+        let t1018: f32 = t1009 + t1011;
+        let t1019: f32 = t1013 + t1015;
+        let t1020: f32 = t1018 + t1019;
+        let t1021: f32 = t1017 + t1020;
+        let t1022: f32 = t391 - t1021;
+        let t1023: f32 = t267 * t1022;
+        let t1024: f32 = -t1023;
+        let t1025: f32 = t373 * t1007;
+        let t1026: f32 = t624 * t695;
+        let t1027: f32 = t984 * t1026;
+        let t1028: f32 = t728 * t799;
+        let t1029: f32 = t978 * t1028;
+        let t1030: f32 = t589 * t798;
+        let t1031: f32 = t861 * t1030;
+        let t1032: f32 = t975 * t1031;
+        let t1033: f32 = t1027 + t1029;
+        let t1034: f32 = t1032 + t1033;
+        let t1035: f32 = t1034 - t912;
+        let t1036: f32 = t624 * t984;
+        let t1037: f32 = t728 * t978;
+        let t1038: f32 = t861 * t975;
+        let t1039: f32 = t265 + t370;
+        let t1040: f32 = t585 + t1039;
+        let t1041: f32 = t1040 * 0.25;
+        let t1042: f32 = t620 + t1041;
+        let t1043: f32 = t723 + t855;
+        let t1044: f32 = t1042 + t1043;
+        let t1045: f32 = leg1_axis_z * t20;
+        let t1046: f32 = leg1_axis_y * t37;
+        let t1047: f32 = t1045 - t1046;
+        let t1048: f32 = t1047 * t1047;
+        let t1049: f32 = leg1_axis_x * t37;
+        let t1050: f32 = leg1_axis_z * t46;
+        let t1051: f32 = t1049 - t1050;
+        let t1052: f32 = t1051 * t1051;
+        let t1053: f32 = leg1_axis_x * t20;
+        let t1054: f32 = leg1_axis_y * t46;
+        let t1055: f32 = t1053 - t1054;
+        let t1056: f32 = -t1055;
+        let t1057: f32 = t1056 * t1056;
+        let t1058: f32 = t1048 + t1052;
+        let t1059: f32 = t1057 + t1058;
+        let t1060: f32 = sqrt(t1059);
+        let t1061: f32 = t235 * t1060;
+        let t1062: f32 = leg2_axis_z * t60;
+        let t1063: f32 = leg2_axis_y * t69;
+        let t1064: f32 = t1062 - t1063;
+        let t1065: f32 = t1064 * t1064;
+        let t1066: f32 = leg2_axis_x * t69;
+        let t1067: f32 = leg2_axis_z * t78;
+        let t1068: f32 = t1066 - t1067;
+        let t1069: f32 = t1068 * t1068;
+        let t1070: f32 = leg2_axis_x * t60;
+        let t1071: f32 = leg2_axis_y * t78;
+        let t1072: f32 = t1070 - t1071;
+        let t1073: f32 = -t1072;
+        let t1074: f32 = t1073 * t1073;
+        let t1075: f32 = t1065 + t1069;
+        let t1076: f32 = t1074 + t1075;
+        let t1077: f32 = sqrt(t1076);
+        let t1078: f32 = t243 * t1077;
+        let t1079: f32 = leg3_axis_z * t92;
+        let t1080: f32 = leg3_axis_y * t101;
+        let t1081: f32 = t1079 - t1080;
+        let t1082: f32 = t1081 * t1081;
+        let t1083: f32 = leg3_axis_x * t101;
+        let t1084: f32 = leg3_axis_z * t110;
+        let t1085: f32 = t1083 - t1084;
+        let t1086: f32 = t1085 * t1085;
+        let t1087: f32 = leg3_axis_x * t92;
+        let t1088: f32 = leg3_axis_y * t110;
+        let t1089: f32 = t1087 - t1088;
+        let t1090: f32 = -t1089;
+        let t1091: f32 = t1090 * t1090;
+        let t1092: f32 = t1082 + t1086;
+        let t1093: f32 = t1091 + t1092;
+        let t1094: f32 = sqrt(t1093);
+        let t1095: f32 = t252 * t1094;
+        let t1096: f32 = leg4_axis_z * t124;
+        let t1097: f32 = leg4_axis_y * t133;
+        let t1098: f32 = t1096 - t1097;
+        let t1099: f32 = t1098 * t1098;
+        let t1100: f32 = leg4_axis_x * t133;
+        let t1101: f32 = leg4_axis_z * t142;
+        let t1102: f32 = t1100 - t1101;
+        let t1103: f32 = t1102 * t1102;
+        let t1104: f32 = leg4_axis_x * t124;
+        let t1105: f32 = leg4_axis_y * t142;
+        let t1106: f32 = t1104 - t1105;
+        let t1107: f32 = -t1106;
+        let t1108: f32 = t1107 * t1107;
+        let t1109: f32 = t1099 + t1103;
+        let t1110: f32 = t1108 + t1109;
+        let t1111: f32 = sqrt(t1110);
+        let t1112: f32 = t260 * t1111;
+        let t1113: f32 = leg5_axis_z * t156;
+        let t1114: f32 = leg5_axis_y * t165;
+        let t1115: f32 = t1113 - t1114;
+        let t1116: f32 = t1115 * t1115;
+        let t1117: f32 = leg5_axis_x * t165;
+        let t1118: f32 = leg5_axis_z * t174;
+        let t1119: f32 = t1117 - t1118;
+        let t1120: f32 = t1119 * t1119;
+        let t1121: f32 = leg5_axis_x * t156;
+        let t1122: f32 = leg5_axis_y * t174;
+        let t1123: f32 = t1121 - t1122;
+        let t1124: f32 = -t1123;
+        let t1125: f32 = t1124 * t1124;
+        let t1126: f32 = t1116 + t1120;
+        let t1127: f32 = t1125 + t1126;
+        let t1128: f32 = sqrt(t1127);
+        let t1129: f32 = t218 * t1128;
+        let t1130: f32 = leg6_axis_z * t188;
+        let t1131: f32 = leg6_axis_y * t197;
+        let t1132: f32 = t1130 - t1131;
+        let t1133: f32 = t1132 * t1132;
+        let t1134: f32 = leg6_axis_x * t197;
+        let t1135: f32 = leg6_axis_z * t206;
+        let t1136: f32 = t1134 - t1135;
+        let t1137: f32 = t1136 * t1136;
+        let t1138: f32 = leg6_axis_x * t188;
+        let t1139: f32 = leg6_axis_y * t206;
+        let t1140: f32 = t1138 - t1139;
+        let t1141: f32 = -t1140;
+        let t1142: f32 = t1141 * t1141;
+        let t1143: f32 = t1133 + t1137;
+        let t1144: f32 = t1142 + t1143;
+        let t1145: f32 = sqrt(t1144);
+        let t1146: f32 = t226 * t1145;
+        (
+            t1024,
+            t1025,
+            t1035,
+            t1036,
+            t1037,
+            t1038,
+            t1044,
+            t1061,
+            t1078,
+            t1095,
+            t1112,
+            t1129,
+            t1146,
+        )
+    };
     (
         [t52, t84, t116, t148, t180, t212],
-        [
-            [t220, t233, t252, t253, t254, t255],
-            [t263, t276, t295, t296, t297, t298],
-            [t306, t319, t338, t339, t340, t341],
-            [t349, t362, t381, t382, t383, t384],
-            [t392, t405, t424, t425, t426, t427],
-            [t435, t448, t467, t468, t469, t470],
-        ],
-        [t487, t504, t521, t538, t555, t572],
+        [t1024, t1025, t1035, t1036, t1037, t1038],
+        [t266, t372, t588, t623, t727, t860, t1044],
+        [t1061, t1078, t1095, t1112, t1129, t1146],
     )
 }
 

@@ -15,7 +15,7 @@
 //   forward_dynamics_params           2017   29  1372   46  3 sin_cos, 12 sqrt
 //   inverse_dynamics_params           1310   24   888   33  3 sin_cos, 12 sqrt
 //   singularity_terms_params           406   17   264   16  3 sin_cos, 12 sqrt
-//   forward_kinematics_step_params     347    6   184   18  3 sin_cos, 12 sqrt
+//   forward_kinematics_step_params     716   12   394    7  3 sin_cos, 12 sqrt
 //
 // Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
 // handing on what is read after it: one scope that long overflows rustc's stack in a
@@ -18464,13 +18464,13 @@ pub fn singularity_terms_params_separate(
     let t720: f64 = t719 / t615;
     [t68, t116, t164, t212, t260, t308, t326, t363, t419, t496, t596, t720]
 }
-/// A Newton step of the forward kinematics: the actuators' residual at a pose and its Jacobian with respect to the pose.
+/// A Newton step of the forward kinematics: the actuators' residual at a pose and the step of the pose that cancels it to first order.
 ///
 /// Equations: q = |C + R p - A| + o, ∂q/∂(θ, C). Setting: pose.
 ///
 /// Model: gough-stewart. The Gough-Stewart platform (6-UPS): each leg a universal joint on the base, a prismatic actuator (cylinder and rod, turning with the leg) and a spherical joint on the platform; every quantity derived from the leg's closed forms by exact differentiation.
 /// Actuators in leg order 1..6; `q_i = |B_i - A_i| + o_i`, the encoder's reading, `B_i = C + R p_i`; a positive force extends the leg.
-/// `r = q - q(X)` and `∂q/∂X` (row `i` for actuator `i+1`, columns `α β γ xc yc zc`: `J⁻¹` times the map from the pose's rates to the twist). The runtime solves `(∂q/∂X) δ = r` and steps to `X + δ`, from the previous solution or the home pose, until the residual is below its tolerance.
+/// `r = q - q(X)` and `δ` of `(∂q/∂X) δ = r` (`∂q/∂X`: `J⁻¹` times the map from the pose's rates to the twist, columns `α β γ xc yc zc`), solved through the normal equations by an unrolled `LDLᵀ`. The runtime steps to `X + δ`, from the previous solution or the home pose, until the residual is below its tolerance.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the U joints' sines for a singularity check.
 ///
@@ -18482,17 +18482,18 @@ pub fn singularity_terms_params_separate(
 ///
 /// # Returns
 ///
-/// - `residual`: `q - q(X)` (m): the given actuator positions less those of the pose
-/// - `jacobian`: `∂q/∂X`, row `i` for actuator `i+1`, columns `α β γ xc yc zc`
+/// - `residual`: `q - q(X)`: the given actuator positions less those of the pose (the actuators' unit: m, rad)
+/// - `step`: `δ`, the step of the pose `[α β γ xc yc zc]` (rad, m)
+/// - `conditioning`: the pivots of the `LDLᵀ` of `(∂q/∂X)ᵀ (∂q/∂X)`, then its trace: the step is meaningless where a pivot is not above a small fraction of the trace
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
-/// Operations: 347 mul, 6 div, 184 add, 18 neg, 3 sin_cos, 12 sqrt (chapter convention: 353m + 184a).
+/// Operations: 716 mul, 12 div, 394 add, 7 neg, 3 sin_cos, 12 sqrt (chapter convention: 728m + 394a).
 #[inline]
 pub fn forward_kinematics_step_params(
     pose: &[f64; 6],
     q: &[f64; 6],
     params: &[f64; 121],
-) -> ([f64; 6], [[f64; 6]; 6], [f64; 6]) {
+) -> ([f64; 6], [f64; 6], [f64; 7], [f64; 6]) {
     #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
     if crate::fma::enabled() {
         return unsafe { forward_kinematics_step_params_fused(pose, q, params) };
@@ -18509,7 +18510,7 @@ pub fn forward_kinematics_step_params_separate(
     pose: &[f64; 6],
     q: &[f64; 6],
     params: &[f64; 121],
-) -> ([f64; 6], [[f64; 6]; 6], [f64; 6]) {
+) -> ([f64; 6], [f64; 6], [f64; 7], [f64; 6]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [q1, q2, q3, q4, q5, q6] = *q;
     let [_, _, _, leg1_base_x, leg1_base_y, leg1_base_z, leg1_axis_x, leg1_axis_y,
@@ -18525,587 +18526,1327 @@ pub fn forward_kinematics_step_params_separate(
     leg6_axis_z, leg6_platform_x, leg6_platform_y, leg6_platform_z, leg6_offset, _, _, _,
     _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _,
     _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _, _] = *params;
-    let (t0, t1): (f64, f64) = sin_cos(gamma);
-    let (t2, t3): (f64, f64) = sin_cos(alpha);
-    let t4 = product(t0, t3);
-    let (t5, t6): (f64, f64) = sin_cos(beta);
-    let t7: f64 = t2 * t5;
-    let t8: f64 = t1 * t7;
-    let t9: f64 = t4.plus(t8);
-    let t10 = product(leg1_platform_x, t9);
-    let t11 = product(t1, t3);
-    let t12: f64 = t0 * t7;
-    let t13: f64 = t11.minus(t12);
-    let t14: f64 = leg1_platform_y * t13;
-    let t15: f64 = leg1_platform_z * t2;
-    let t16 = product(t6, t15);
-    let t17: f64 = t10.plus(t14);
-    let t18: f64 = t16.subtracted_from(t17);
-    let t19: f64 = yc + t18;
-    let t20: f64 = t19 - leg1_base_y;
-    let t21 = product(t20, t20);
-    let t22 = product(t0, t2);
-    let t23: f64 = t3 * t5;
-    let t24: f64 = t1 * t23;
-    let t25: f64 = t22.minus(t24);
-    let t26 = product(leg1_platform_x, t25);
-    let t27 = product(t1, t2);
-    let t28: f64 = t0 * t5;
-    let t29: f64 = t3 * t28;
-    let t30: f64 = t27.plus(t29);
-    let t31: f64 = leg1_platform_y * t30;
-    let t32: f64 = leg1_platform_z * t3;
-    let t33 = product(t6, t32);
-    let t34: f64 = t26.plus(t31);
-    let t35: f64 = t33.plus(t34);
-    let t36: f64 = zc + t35;
-    let t37: f64 = t36 - leg1_base_z;
-    let t38: f64 = t37 * t37;
-    let t39 = product(leg1_platform_z, t5);
-    let t40 = product(leg1_platform_x, t1);
-    let t41: f64 = leg1_platform_y * t0;
-    let t42: f64 = t40.minus(t41);
-    let t43: f64 = t6 * t42;
-    let t44: f64 = t39.plus(t43);
-    let t45: f64 = xc + t44;
-    let t46: f64 = t45 - leg1_base_x;
-    let t47 = product(t46, t46);
-    let t48: f64 = t21.plus(t38);
-    let t49: f64 = t47.plus(t48);
-    let t50: f64 = sqrt(t49);
-    let t51: f64 = leg1_offset + t50;
-    let t52: f64 = q1 - t51;
-    let t53 = product(leg2_platform_x, t9);
-    let t54: f64 = leg2_platform_y * t13;
-    let t55: f64 = leg2_platform_z * t2;
-    let t56 = product(t6, t55);
-    let t57: f64 = t53.plus(t54);
-    let t58: f64 = t56.subtracted_from(t57);
-    let t59: f64 = yc + t58;
-    let t60: f64 = t59 - leg2_base_y;
-    let t61 = product(t60, t60);
-    let t62 = product(leg2_platform_x, t25);
-    let t63: f64 = leg2_platform_y * t30;
-    let t64: f64 = leg2_platform_z * t3;
-    let t65 = product(t6, t64);
-    let t66: f64 = t62.plus(t63);
-    let t67: f64 = t65.plus(t66);
-    let t68: f64 = zc + t67;
-    let t69: f64 = t68 - leg2_base_z;
-    let t70: f64 = t69 * t69;
-    let t71 = product(leg2_platform_z, t5);
-    let t72 = product(leg2_platform_x, t1);
-    let t73: f64 = leg2_platform_y * t0;
-    let t74: f64 = t72.minus(t73);
-    let t75: f64 = t6 * t74;
-    let t76: f64 = t71.plus(t75);
-    let t77: f64 = xc + t76;
-    let t78: f64 = t77 - leg2_base_x;
-    let t79 = product(t78, t78);
-    let t80: f64 = t61.plus(t70);
-    let t81: f64 = t79.plus(t80);
-    let t82: f64 = sqrt(t81);
-    let t83: f64 = leg2_offset + t82;
-    let t84: f64 = q2 - t83;
-    let t85 = product(leg3_platform_x, t9);
-    let t86: f64 = leg3_platform_y * t13;
-    let t87: f64 = leg3_platform_z * t2;
-    let t88 = product(t6, t87);
-    let t89: f64 = t85.plus(t86);
-    let t90: f64 = t88.subtracted_from(t89);
-    let t91: f64 = yc + t90;
-    let t92: f64 = t91 - leg3_base_y;
-    let t93 = product(t92, t92);
-    let t94 = product(leg3_platform_x, t25);
-    let t95: f64 = leg3_platform_y * t30;
-    let t96: f64 = leg3_platform_z * t3;
-    let t97 = product(t6, t96);
-    let t98: f64 = t94.plus(t95);
-    let t99: f64 = t97.plus(t98);
-    let t100: f64 = zc + t99;
-    let t101: f64 = t100 - leg3_base_z;
-    let t102: f64 = t101 * t101;
-    let t103 = product(leg3_platform_z, t5);
-    let t104 = product(leg3_platform_x, t1);
-    let t105: f64 = leg3_platform_y * t0;
-    let t106: f64 = t104.minus(t105);
-    let t107: f64 = t6 * t106;
-    let t108: f64 = t103.plus(t107);
-    let t109: f64 = xc + t108;
-    let t110: f64 = t109 - leg3_base_x;
-    let t111 = product(t110, t110);
-    let t112: f64 = t93.plus(t102);
-    let t113: f64 = t111.plus(t112);
-    let t114: f64 = sqrt(t113);
-    let t115: f64 = leg3_offset + t114;
-    let t116: f64 = q3 - t115;
-    let t117 = product(leg4_platform_x, t9);
-    let t118: f64 = leg4_platform_y * t13;
-    let t119: f64 = leg4_platform_z * t2;
-    let t120 = product(t6, t119);
-    let t121: f64 = t117.plus(t118);
-    let t122: f64 = t120.subtracted_from(t121);
-    let t123: f64 = yc + t122;
-    let t124: f64 = t123 - leg4_base_y;
-    let t125 = product(t124, t124);
-    let t126 = product(leg4_platform_x, t25);
-    let t127: f64 = leg4_platform_y * t30;
-    let t128: f64 = leg4_platform_z * t3;
-    let t129 = product(t6, t128);
-    let t130: f64 = t126.plus(t127);
-    let t131: f64 = t129.plus(t130);
-    let t132: f64 = zc + t131;
-    let t133: f64 = t132 - leg4_base_z;
-    let t134: f64 = t133 * t133;
-    let t135 = product(leg4_platform_z, t5);
-    let t136 = product(leg4_platform_x, t1);
-    let t137: f64 = leg4_platform_y * t0;
-    let t138: f64 = t136.minus(t137);
-    let t139: f64 = t6 * t138;
-    let t140: f64 = t135.plus(t139);
-    let t141: f64 = xc + t140;
-    let t142: f64 = t141 - leg4_base_x;
-    let t143 = product(t142, t142);
-    let t144: f64 = t125.plus(t134);
-    let t145: f64 = t143.plus(t144);
-    let t146: f64 = sqrt(t145);
-    let t147: f64 = leg4_offset + t146;
-    let t148: f64 = q4 - t147;
-    let t149 = product(leg5_platform_x, t9);
-    let t150: f64 = leg5_platform_y * t13;
-    let t151: f64 = leg5_platform_z * t2;
-    let t152 = product(t6, t151);
-    let t153: f64 = t149.plus(t150);
-    let t154: f64 = t152.subtracted_from(t153);
-    let t155: f64 = yc + t154;
-    let t156: f64 = t155 - leg5_base_y;
-    let t157 = product(t156, t156);
-    let t158 = product(leg5_platform_x, t25);
-    let t159: f64 = leg5_platform_y * t30;
-    let t160: f64 = leg5_platform_z * t3;
-    let t161 = product(t6, t160);
-    let t162: f64 = t158.plus(t159);
-    let t163: f64 = t161.plus(t162);
-    let t164: f64 = zc + t163;
-    let t165: f64 = t164 - leg5_base_z;
-    let t166: f64 = t165 * t165;
-    let t167 = product(leg5_platform_z, t5);
-    let t168 = product(leg5_platform_x, t1);
-    let t169: f64 = leg5_platform_y * t0;
-    let t170: f64 = t168.minus(t169);
-    let t171: f64 = t6 * t170;
-    let t172: f64 = t167.plus(t171);
-    let t173: f64 = xc + t172;
-    let t174: f64 = t173 - leg5_base_x;
-    let t175 = product(t174, t174);
-    let t176: f64 = t157.plus(t166);
-    let t177: f64 = t175.plus(t176);
-    let t178: f64 = sqrt(t177);
-    let t179: f64 = leg5_offset + t178;
-    let t180: f64 = q5 - t179;
-    let t181 = product(leg6_platform_x, t9);
-    let t182: f64 = leg6_platform_y * t13;
-    let t183: f64 = leg6_platform_z * t2;
-    let t184 = product(t6, t183);
-    let t185: f64 = t181.plus(t182);
-    let t186: f64 = t184.subtracted_from(t185);
-    let t187: f64 = yc + t186;
-    let t188: f64 = t187 - leg6_base_y;
-    let t189 = product(t188, t188);
-    let t190 = product(leg6_platform_x, t25);
-    let t191: f64 = leg6_platform_y * t30;
-    let t192: f64 = leg6_platform_z * t3;
-    let t193 = product(t6, t192);
-    let t194: f64 = t190.plus(t191);
-    let t195: f64 = t193.plus(t194);
-    let t196: f64 = zc + t195;
-    let t197: f64 = t196 - leg6_base_z;
-    let t198: f64 = t197 * t197;
-    let t199 = product(leg6_platform_z, t5);
-    let t200 = product(leg6_platform_x, t1);
-    let t201: f64 = leg6_platform_y * t0;
-    let t202: f64 = t200.minus(t201);
-    let t203: f64 = t6 * t202;
-    let t204: f64 = t199.plus(t203);
-    let t205: f64 = xc + t204;
-    let t206: f64 = t205 - leg6_base_x;
-    let t207 = product(t206, t206);
-    let t208: f64 = t189.plus(t198);
-    let t209: f64 = t207.plus(t208);
-    let t210: f64 = sqrt(t209);
-    let t211: f64 = leg6_offset + t210;
-    let t212: f64 = q6 - t211;
-    let t213 = product(t20, t35);
-    let t214: f64 = t18 * t37;
-    let t215: f64 = t213.minus(t214);
-    let t216: f64 = t215 * 2.0;
-    let t217: f64 = 1.0 / t50;
-    let t218: f64 = t216 * t217;
-    let t219: f64 = t218 * 0.5;
-    let t220: f64 = -t219;
-    let t221 = product(leg1_platform_z, t6);
-    let t222: f64 = t5 * t42;
-    let t223: f64 = t221.minus(t222);
-    let t224: f64 = t46 * t223;
-    let t225 = product(t2, t20);
-    let t226: f64 = t3 * t37;
-    let t227: f64 = t225.minus(t226);
-    let t228: f64 = t227 * 2.0;
-    let t229 = product(t44, t228);
-    let t230: f64 = t224 * 2.0;
-    let t231: f64 = t229.plus(t230);
-    let t232: f64 = t217 * t231;
-    let t233: f64 = t232 * 0.5;
-    let t234 = product(leg1_platform_x, t13);
-    let t235: f64 = leg1_platform_y * t9;
-    let t236: f64 = t234.minus(t235);
-    let t237 = product(t20, t236);
-    let t238 = product(leg1_platform_x, t30);
-    let t239: f64 = leg1_platform_y * t25;
-    let t240: f64 = t238.minus(t239);
-    let t241: f64 = t37 * t240;
-    let t242 = product(leg1_platform_x, t0);
-    let t243: f64 = leg1_platform_y * t1;
-    let t244: f64 = t242.plus(t243);
-    let t245: f64 = t6 * t46;
-    let t246 = product(t244, t245);
-    let t247: f64 = t237.plus(t241);
-    let t248: f64 = t246.minus(t247);
-    let t249: f64 = t248 * 2.0;
-    let t250: f64 = t217 * t249;
-    let t251: f64 = t250 * 0.5;
-    let t252: f64 = -t251;
-    let t253: f64 = t46 * t217;
-    let t254: f64 = t20 * t217;
-    let t255: f64 = t37 * t217;
-    let t256 = product(t60, t67);
-    let t257: f64 = t58 * t69;
-    let t258: f64 = t256.minus(t257);
-    let t259: f64 = t258 * 2.0;
-    let t260: f64 = 1.0 / t82;
-    let t261: f64 = t259 * t260;
-    let t262: f64 = t261 * 0.5;
-    let t263: f64 = -t262;
-    let t264 = product(leg2_platform_z, t6);
-    let t265: f64 = t5 * t74;
-    let t266: f64 = t264.minus(t265);
-    let t267: f64 = t78 * t266;
-    let t268 = product(t2, t60);
-    let t269: f64 = t3 * t69;
-    let t270: f64 = t268.minus(t269);
-    let t271: f64 = t270 * 2.0;
-    let t272 = product(t76, t271);
-    let t273: f64 = t267 * 2.0;
-    let t274: f64 = t272.plus(t273);
-    let t275: f64 = t260 * t274;
-    let t276: f64 = t275 * 0.5;
-    let t277 = product(leg2_platform_x, t13);
-    let t278: f64 = leg2_platform_y * t9;
-    let t279: f64 = t277.minus(t278);
-    let t280 = product(t60, t279);
-    let t281 = product(leg2_platform_x, t30);
-    let t282: f64 = leg2_platform_y * t25;
-    let t283: f64 = t281.minus(t282);
-    let t284: f64 = t69 * t283;
-    let t285 = product(leg2_platform_x, t0);
-    let t286: f64 = leg2_platform_y * t1;
-    let t287: f64 = t285.plus(t286);
-    let t288: f64 = t6 * t78;
-    let t289 = product(t287, t288);
-    let t290: f64 = t280.plus(t284);
-    let t291: f64 = t289.minus(t290);
-    let t292: f64 = t291 * 2.0;
-    let t293: f64 = t260 * t292;
-    let t294: f64 = t293 * 0.5;
-    let t295: f64 = -t294;
-    let t296: f64 = t78 * t260;
-    let t297: f64 = t60 * t260;
-    let t298: f64 = t69 * t260;
-    let t299 = product(t92, t99);
-    let t300: f64 = t90 * t101;
-    let t301: f64 = t299.minus(t300);
-    let t302: f64 = t301 * 2.0;
-    let t303: f64 = 1.0 / t114;
-    let t304: f64 = t302 * t303;
-    let t305: f64 = t304 * 0.5;
-    let t306: f64 = -t305;
-    let t307 = product(leg3_platform_z, t6);
-    let t308: f64 = t5 * t106;
-    let t309: f64 = t307.minus(t308);
-    let t310: f64 = t110 * t309;
-    let t311 = product(t2, t92);
-    let t312: f64 = t3 * t101;
-    let t313: f64 = t311.minus(t312);
-    let t314: f64 = t313 * 2.0;
-    let t315 = product(t108, t314);
-    let t316: f64 = t310 * 2.0;
-    let t317: f64 = t315.plus(t316);
-    let t318: f64 = t303 * t317;
-    let t319: f64 = t318 * 0.5;
-    let t320 = product(leg3_platform_x, t13);
-    let t321: f64 = leg3_platform_y * t9;
-    let t322: f64 = t320.minus(t321);
-    let t323 = product(t92, t322);
-    let t324 = product(leg3_platform_x, t30);
-    let t325: f64 = leg3_platform_y * t25;
-    let t326: f64 = t324.minus(t325);
-    let t327: f64 = t101 * t326;
-    let t328 = product(leg3_platform_x, t0);
-    let t329: f64 = leg3_platform_y * t1;
-    let t330: f64 = t328.plus(t329);
-    let t331: f64 = t6 * t110;
-    let t332 = product(t330, t331);
-    let t333: f64 = t323.plus(t327);
-    let t334: f64 = t332.minus(t333);
-    let t335: f64 = t334 * 2.0;
-    let t336: f64 = t303 * t335;
-    let t337: f64 = t336 * 0.5;
-    let t338: f64 = -t337;
-    let t339: f64 = t110 * t303;
-    let t340: f64 = t92 * t303;
-    let t341: f64 = t101 * t303;
-    let t342 = product(t124, t131);
-    let t343: f64 = t122 * t133;
-    let t344: f64 = t342.minus(t343);
-    let t345: f64 = t344 * 2.0;
-    let t346: f64 = 1.0 / t146;
-    let t347: f64 = t345 * t346;
-    let t348: f64 = t347 * 0.5;
-    let t349: f64 = -t348;
-    let t350 = product(leg4_platform_z, t6);
-    let t351: f64 = t5 * t138;
-    let t352: f64 = t350.minus(t351);
-    let t353: f64 = t142 * t352;
-    let t354 = product(t2, t124);
-    let t355: f64 = t3 * t133;
-    let t356: f64 = t354.minus(t355);
-    let t357: f64 = t356 * 2.0;
-    let t358 = product(t140, t357);
-    let t359: f64 = t353 * 2.0;
-    let t360: f64 = t358.plus(t359);
-    let t361: f64 = t346 * t360;
-    let t362: f64 = t361 * 0.5;
-    let t363 = product(leg4_platform_x, t13);
-    let t364: f64 = leg4_platform_y * t9;
-    let t365: f64 = t363.minus(t364);
-    let t366 = product(t124, t365);
-    let t367 = product(leg4_platform_x, t30);
-    let t368: f64 = leg4_platform_y * t25;
-    let t369: f64 = t367.minus(t368);
-    let t370: f64 = t133 * t369;
-    let t371 = product(leg4_platform_x, t0);
-    let t372: f64 = leg4_platform_y * t1;
-    let t373: f64 = t371.plus(t372);
-    let t374: f64 = t6 * t142;
-    let t375 = product(t373, t374);
-    let t376: f64 = t366.plus(t370);
-    let t377: f64 = t375.minus(t376);
-    let t378: f64 = t377 * 2.0;
-    let t379: f64 = t346 * t378;
-    let t380: f64 = t379 * 0.5;
-    let t381: f64 = -t380;
-    let t382: f64 = t142 * t346;
-    let t383: f64 = t124 * t346;
-    let t384: f64 = t133 * t346;
-    let t385 = product(t156, t163);
-    let t386: f64 = t154 * t165;
-    let t387: f64 = t385.minus(t386);
-    let t388: f64 = t387 * 2.0;
-    let t389: f64 = 1.0 / t178;
-    let t390: f64 = t388 * t389;
-    let t391: f64 = t390 * 0.5;
-    let t392: f64 = -t391;
-    let t393 = product(leg5_platform_z, t6);
-    let t394: f64 = t5 * t170;
-    let t395: f64 = t393.minus(t394);
-    let t396: f64 = t174 * t395;
-    let t397 = product(t2, t156);
-    let t398: f64 = t3 * t165;
-    let t399: f64 = t397.minus(t398);
-    let t400: f64 = t399 * 2.0;
-    let t401 = product(t172, t400);
-    let t402: f64 = t396 * 2.0;
-    let t403: f64 = t401.plus(t402);
-    let t404: f64 = t389 * t403;
-    let t405: f64 = t404 * 0.5;
-    let t406 = product(leg5_platform_x, t13);
-    let t407: f64 = leg5_platform_y * t9;
-    let t408: f64 = t406.minus(t407);
-    let t409 = product(t156, t408);
-    let t410 = product(leg5_platform_x, t30);
-    let t411: f64 = leg5_platform_y * t25;
-    let t412: f64 = t410.minus(t411);
-    let t413: f64 = t165 * t412;
-    let t414 = product(leg5_platform_x, t0);
-    let t415: f64 = leg5_platform_y * t1;
-    let t416: f64 = t414.plus(t415);
-    let t417: f64 = t6 * t174;
-    let t418 = product(t416, t417);
-    let t419: f64 = t409.plus(t413);
-    let t420: f64 = t418.minus(t419);
-    let t421: f64 = t420 * 2.0;
-    let t422: f64 = t389 * t421;
-    let t423: f64 = t422 * 0.5;
-    let t424: f64 = -t423;
-    let t425: f64 = t174 * t389;
-    let t426: f64 = t156 * t389;
-    let t427: f64 = t165 * t389;
-    let t428 = product(t188, t195);
-    let t429: f64 = t186 * t197;
-    let t430: f64 = t428.minus(t429);
-    let t431: f64 = t430 * 2.0;
-    let t432: f64 = 1.0 / t210;
-    let t433: f64 = t431 * t432;
-    let t434: f64 = t433 * 0.5;
-    let t435: f64 = -t434;
-    let t436 = product(leg6_platform_z, t6);
-    let t437: f64 = t5 * t202;
-    let t438: f64 = t436.minus(t437);
-    let t439: f64 = t206 * t438;
-    let t440 = product(t2, t188);
-    let t441: f64 = t3 * t197;
-    let t442: f64 = t440.minus(t441);
-    let t443: f64 = t442 * 2.0;
-    let t444 = product(t204, t443);
-    let t445: f64 = t439 * 2.0;
-    let t446: f64 = t444.plus(t445);
-    let t447: f64 = t432 * t446;
-    let t448: f64 = t447 * 0.5;
-    let t449 = product(leg6_platform_x, t13);
-    let t450: f64 = leg6_platform_y * t9;
-    let t451: f64 = t449.minus(t450);
-    let t452 = product(t188, t451);
-    let t453 = product(leg6_platform_x, t30);
-    let t454: f64 = leg6_platform_y * t25;
-    let t455: f64 = t453.minus(t454);
-    let t456: f64 = t197 * t455;
-    let t457 = product(leg6_platform_x, t0);
-    let t458: f64 = leg6_platform_y * t1;
-    let t459: f64 = t457.plus(t458);
-    let t460: f64 = t6 * t206;
-    let t461 = product(t459, t460);
-    let t462: f64 = t452.plus(t456);
-    let t463: f64 = t461.minus(t462);
-    let t464: f64 = t463 * 2.0;
-    let t465: f64 = t432 * t464;
-    let t466: f64 = t465 * 0.5;
-    let t467: f64 = -t466;
-    let t468: f64 = t206 * t432;
-    let t469: f64 = t188 * t432;
-    let t470: f64 = t197 * t432;
-    let t471 = product(leg1_axis_z, t20);
-    let t472: f64 = leg1_axis_y * t37;
-    let t473: f64 = t471.minus(t472);
-    let t474 = product(t473, t473);
-    let t475 = product(leg1_axis_x, t37);
-    let t476: f64 = leg1_axis_z * t46;
-    let t477: f64 = t475.minus(t476);
-    let t478: f64 = t477 * t477;
-    let t479 = product(leg1_axis_x, t20);
-    let t480: f64 = leg1_axis_y * t46;
-    let t481: f64 = t479.minus(t480);
-    let t482: f64 = -t481;
-    let t483 = product(t482, t482);
-    let t484: f64 = t474.plus(t478);
-    let t485: f64 = t483.plus(t484);
-    let t486: f64 = sqrt(t485);
-    let t487: f64 = t217 * t486;
-    let t488 = product(leg2_axis_z, t60);
-    let t489: f64 = leg2_axis_y * t69;
-    let t490: f64 = t488.minus(t489);
-    let t491 = product(t490, t490);
-    let t492 = product(leg2_axis_x, t69);
-    let t493: f64 = leg2_axis_z * t78;
-    let t494: f64 = t492.minus(t493);
-    let t495: f64 = t494 * t494;
-    let t496 = product(leg2_axis_x, t60);
-    let t497: f64 = leg2_axis_y * t78;
-    let t498: f64 = t496.minus(t497);
-    let t499: f64 = -t498;
-    let t500 = product(t499, t499);
-    let t501: f64 = t491.plus(t495);
-    let t502: f64 = t500.plus(t501);
-    let t503: f64 = sqrt(t502);
-    let t504: f64 = t260 * t503;
-    let t505 = product(leg3_axis_z, t92);
-    let t506: f64 = leg3_axis_y * t101;
-    let t507: f64 = t505.minus(t506);
-    let t508 = product(t507, t507);
-    let t509 = product(leg3_axis_x, t101);
-    let t510: f64 = leg3_axis_z * t110;
-    let t511: f64 = t509.minus(t510);
-    let t512: f64 = t511 * t511;
-    let t513 = product(leg3_axis_x, t92);
-    let t514: f64 = leg3_axis_y * t110;
-    let t515: f64 = t513.minus(t514);
-    let t516: f64 = -t515;
-    let t517 = product(t516, t516);
-    let t518: f64 = t508.plus(t512);
-    let t519: f64 = t517.plus(t518);
-    let t520: f64 = sqrt(t519);
-    let t521: f64 = t303 * t520;
-    let t522 = product(leg4_axis_z, t124);
-    let t523: f64 = leg4_axis_y * t133;
-    let t524: f64 = t522.minus(t523);
-    let t525 = product(t524, t524);
-    let t526 = product(leg4_axis_x, t133);
-    let t527: f64 = leg4_axis_z * t142;
-    let t528: f64 = t526.minus(t527);
-    let t529: f64 = t528 * t528;
-    let t530 = product(leg4_axis_x, t124);
-    let t531: f64 = leg4_axis_y * t142;
-    let t532: f64 = t530.minus(t531);
-    let t533: f64 = -t532;
-    let t534 = product(t533, t533);
-    let t535: f64 = t525.plus(t529);
-    let t536: f64 = t534.plus(t535);
-    let t537: f64 = sqrt(t536);
-    let t538: f64 = t346 * t537;
-    let t539 = product(leg5_axis_z, t156);
-    let t540: f64 = leg5_axis_y * t165;
-    let t541: f64 = t539.minus(t540);
-    let t542 = product(t541, t541);
-    let t543 = product(leg5_axis_x, t165);
-    let t544: f64 = leg5_axis_z * t174;
-    let t545: f64 = t543.minus(t544);
-    let t546: f64 = t545 * t545;
-    let t547 = product(leg5_axis_x, t156);
-    let t548: f64 = leg5_axis_y * t174;
-    let t549: f64 = t547.minus(t548);
-    let t550: f64 = -t549;
-    let t551 = product(t550, t550);
-    let t552: f64 = t542.plus(t546);
-    let t553: f64 = t551.plus(t552);
-    let t554: f64 = sqrt(t553);
-    let t555: f64 = t389 * t554;
-    let t556 = product(leg6_axis_z, t188);
-    let t557: f64 = leg6_axis_y * t197;
-    let t558: f64 = t556.minus(t557);
-    let t559 = product(t558, t558);
-    let t560 = product(leg6_axis_x, t197);
-    let t561: f64 = leg6_axis_z * t206;
-    let t562: f64 = t560.minus(t561);
-    let t563: f64 = t562 * t562;
-    let t564 = product(leg6_axis_x, t188);
-    let t565: f64 = leg6_axis_y * t206;
-    let t566: f64 = t564.minus(t565);
-    let t567: f64 = -t566;
-    let t568 = product(t567, t567);
-    let t569: f64 = t559.plus(t563);
-    let t570: f64 = t568.plus(t569);
-    let t571: f64 = sqrt(t570);
-    let t572: f64 = t432 * t571;
+    let (
+        t20,
+        t37,
+        t46,
+        t52,
+        t60,
+        t69,
+        t78,
+        t84,
+        t92,
+        t101,
+        t110,
+        t116,
+        t124,
+        t133,
+        t142,
+        t148,
+        t156,
+        t165,
+        t174,
+        t180,
+        t188,
+        t197,
+        t206,
+        t212,
+        t218,
+        t226,
+        t235,
+        t243,
+        t252,
+        t260,
+        t265,
+        t266,
+        t267,
+        t351,
+        t370,
+        t372,
+        t373,
+        t391,
+        t393,
+        t423,
+        t544,
+        t585,
+        t588,
+        t589,
+        t620,
+        t623,
+        t624,
+        t654,
+        t695,
+        t723,
+        t727,
+        t728,
+        t758,
+        t798,
+        t799,
+        t855,
+        t860,
+        t861,
+        t892,
+        t912,
+        t975,
+        t978,
+        t984,
+        t986,
+        t988,
+        t990,
+        t1000,
+        t1002,
+    ) = {
+        let (t0, t1): (f64, f64) = sin_cos(gamma);
+        let (t2, t3): (f64, f64) = sin_cos(alpha);
+        let t4 = product(t0, t3);
+        let (t5, t6): (f64, f64) = sin_cos(beta);
+        let t7: f64 = t2 * t5;
+        let t8: f64 = t1 * t7;
+        let t9: f64 = t4.plus(t8);
+        let t10 = product(leg1_platform_x, t9);
+        let t11 = product(t1, t3);
+        let t12: f64 = t0 * t7;
+        let t13: f64 = t11.minus(t12);
+        let t14: f64 = leg1_platform_y * t13;
+        let t15: f64 = leg1_platform_z * t2;
+        let t16 = product(t6, t15);
+        let t17: f64 = t10.plus(t14);
+        let t18: f64 = t16.subtracted_from(t17);
+        let t19: f64 = yc + t18;
+        let t20: f64 = t19 - leg1_base_y;
+        let t21: f64 = t20 * t20;
+        let t22 = product(t0, t2);
+        let t23: f64 = t3 * t5;
+        let t24: f64 = t1 * t23;
+        let t25: f64 = t22.minus(t24);
+        let t26 = product(leg1_platform_x, t25);
+        let t27 = product(t1, t2);
+        let t28: f64 = t0 * t5;
+        let t29: f64 = t3 * t28;
+        let t30: f64 = t27.plus(t29);
+        let t31: f64 = leg1_platform_y * t30;
+        let t32: f64 = leg1_platform_z * t3;
+        let t33 = product(t6, t32);
+        let t34: f64 = t26.plus(t31);
+        let t35: f64 = t33.plus(t34);
+        let t36: f64 = zc + t35;
+        let t37: f64 = t36 - leg1_base_z;
+        let t38: f64 = t37 * t37;
+        let t39 = product(leg1_platform_z, t5);
+        let t40 = product(leg1_platform_x, t1);
+        let t41: f64 = leg1_platform_y * t0;
+        let t42: f64 = t40.minus(t41);
+        let t43: f64 = t6 * t42;
+        let t44: f64 = t39.plus(t43);
+        let t45: f64 = xc + t44;
+        let t46: f64 = t45 - leg1_base_x;
+        let t47: f64 = t46 * t46;
+        let t48: f64 = t21 + t38;
+        let t49: f64 = t47 + t48;
+        let t50: f64 = sqrt(t49);
+        let t51: f64 = leg1_offset + t50;
+        let t52: f64 = q1 - t51;
+        let t53 = product(leg2_platform_x, t9);
+        let t54: f64 = leg2_platform_y * t13;
+        let t55: f64 = leg2_platform_z * t2;
+        let t56 = product(t6, t55);
+        let t57: f64 = t53.plus(t54);
+        let t58: f64 = t56.subtracted_from(t57);
+        let t59: f64 = yc + t58;
+        let t60: f64 = t59 - leg2_base_y;
+        let t61: f64 = t60 * t60;
+        let t62 = product(leg2_platform_x, t25);
+        let t63: f64 = leg2_platform_y * t30;
+        let t64: f64 = leg2_platform_z * t3;
+        let t65 = product(t6, t64);
+        let t66: f64 = t62.plus(t63);
+        let t67: f64 = t65.plus(t66);
+        let t68: f64 = zc + t67;
+        let t69: f64 = t68 - leg2_base_z;
+        let t70: f64 = t69 * t69;
+        let t71 = product(leg2_platform_z, t5);
+        let t72 = product(leg2_platform_x, t1);
+        let t73: f64 = leg2_platform_y * t0;
+        let t74: f64 = t72.minus(t73);
+        let t75: f64 = t6 * t74;
+        let t76: f64 = t71.plus(t75);
+        let t77: f64 = xc + t76;
+        let t78: f64 = t77 - leg2_base_x;
+        let t79: f64 = t78 * t78;
+        let t80: f64 = t61 + t70;
+        let t81: f64 = t79 + t80;
+        let t82: f64 = sqrt(t81);
+        let t83: f64 = leg2_offset + t82;
+        let t84: f64 = q2 - t83;
+        let t85 = product(leg3_platform_x, t9);
+        let t86: f64 = leg3_platform_y * t13;
+        let t87: f64 = leg3_platform_z * t2;
+        let t88 = product(t6, t87);
+        let t89: f64 = t85.plus(t86);
+        let t90: f64 = t88.subtracted_from(t89);
+        let t91: f64 = yc + t90;
+        let t92: f64 = t91 - leg3_base_y;
+        let t93: f64 = t92 * t92;
+        let t94 = product(leg3_platform_x, t25);
+        let t95: f64 = leg3_platform_y * t30;
+        let t96: f64 = leg3_platform_z * t3;
+        let t97 = product(t6, t96);
+        let t98: f64 = t94.plus(t95);
+        let t99: f64 = t97.plus(t98);
+        let t100: f64 = zc + t99;
+        let t101: f64 = t100 - leg3_base_z;
+        let t102: f64 = t101 * t101;
+        let t103 = product(leg3_platform_z, t5);
+        let t104 = product(leg3_platform_x, t1);
+        let t105: f64 = leg3_platform_y * t0;
+        let t106: f64 = t104.minus(t105);
+        let t107: f64 = t6 * t106;
+        let t108: f64 = t103.plus(t107);
+        let t109: f64 = xc + t108;
+        let t110: f64 = t109 - leg3_base_x;
+        let t111: f64 = t110 * t110;
+        let t112: f64 = t93 + t102;
+        let t113: f64 = t111 + t112;
+        let t114: f64 = sqrt(t113);
+        let t115: f64 = leg3_offset + t114;
+        let t116: f64 = q3 - t115;
+        let t117 = product(leg4_platform_x, t9);
+        let t118: f64 = leg4_platform_y * t13;
+        let t119: f64 = leg4_platform_z * t2;
+        let t120 = product(t6, t119);
+        let t121: f64 = t117.plus(t118);
+        let t122: f64 = t120.subtracted_from(t121);
+        let t123: f64 = yc + t122;
+        let t124: f64 = t123 - leg4_base_y;
+        let t125: f64 = t124 * t124;
+        let t126 = product(leg4_platform_x, t25);
+        let t127: f64 = leg4_platform_y * t30;
+        let t128: f64 = leg4_platform_z * t3;
+        let t129 = product(t6, t128);
+        let t130: f64 = t126.plus(t127);
+        let t131: f64 = t129.plus(t130);
+        let t132: f64 = zc + t131;
+        let t133: f64 = t132 - leg4_base_z;
+        let t134: f64 = t133 * t133;
+        let t135 = product(leg4_platform_z, t5);
+        let t136 = product(leg4_platform_x, t1);
+        let t137: f64 = leg4_platform_y * t0;
+        let t138: f64 = t136.minus(t137);
+        let t139: f64 = t6 * t138;
+        let t140: f64 = t135.plus(t139);
+        let t141: f64 = xc + t140;
+        let t142: f64 = t141 - leg4_base_x;
+        let t143: f64 = t142 * t142;
+        let t144: f64 = t125 + t134;
+        let t145: f64 = t143 + t144;
+        let t146: f64 = sqrt(t145);
+        let t147: f64 = leg4_offset + t146;
+        let t148: f64 = q4 - t147;
+        let t149 = product(leg5_platform_x, t9);
+        let t150: f64 = leg5_platform_y * t13;
+        let t151: f64 = leg5_platform_z * t2;
+        let t152 = product(t6, t151);
+        let t153: f64 = t149.plus(t150);
+        let t154: f64 = t152.subtracted_from(t153);
+        let t155: f64 = yc + t154;
+        let t156: f64 = t155 - leg5_base_y;
+        let t157: f64 = t156 * t156;
+        let t158 = product(leg5_platform_x, t25);
+        let t159: f64 = leg5_platform_y * t30;
+        let t160: f64 = leg5_platform_z * t3;
+        let t161 = product(t6, t160);
+        let t162: f64 = t158.plus(t159);
+        let t163: f64 = t161.plus(t162);
+        let t164: f64 = zc + t163;
+        let t165: f64 = t164 - leg5_base_z;
+        let t166: f64 = t165 * t165;
+        let t167 = product(leg5_platform_z, t5);
+        let t168 = product(leg5_platform_x, t1);
+        let t169: f64 = leg5_platform_y * t0;
+        let t170: f64 = t168.minus(t169);
+        let t171: f64 = t6 * t170;
+        let t172: f64 = t167.plus(t171);
+        let t173: f64 = xc + t172;
+        let t174: f64 = t173 - leg5_base_x;
+        let t175: f64 = t174 * t174;
+        let t176: f64 = t157 + t166;
+        let t177: f64 = t175 + t176;
+        let t178: f64 = sqrt(t177);
+        let t179: f64 = leg5_offset + t178;
+        let t180: f64 = q5 - t179;
+        let t181 = product(leg6_platform_x, t9);
+        let t182: f64 = leg6_platform_y * t13;
+        let t183: f64 = leg6_platform_z * t2;
+        let t184 = product(t6, t183);
+        let t185: f64 = t181.plus(t182);
+        let t186: f64 = t184.subtracted_from(t185);
+        let t187: f64 = yc + t186;
+        let t188: f64 = t187 - leg6_base_y;
+        let t189: f64 = t188 * t188;
+        let t190 = product(leg6_platform_x, t25);
+        let t191: f64 = leg6_platform_y * t30;
+        let t192: f64 = leg6_platform_z * t3;
+        let t193 = product(t6, t192);
+        let t194: f64 = t190.plus(t191);
+        let t195: f64 = t193.plus(t194);
+        let t196: f64 = zc + t195;
+        let t197: f64 = t196 - leg6_base_z;
+        let t198: f64 = t197 * t197;
+        let t199 = product(leg6_platform_z, t5);
+        let t200 = product(leg6_platform_x, t1);
+        let t201: f64 = leg6_platform_y * t0;
+        let t202: f64 = t200.minus(t201);
+        let t203: f64 = t6 * t202;
+        let t204: f64 = t199.plus(t203);
+        let t205: f64 = xc + t204;
+        let t206: f64 = t205 - leg6_base_x;
+        let t207: f64 = t206 * t206;
+        let t208: f64 = t189 + t198;
+        let t209: f64 = t207 + t208;
+        let t210: f64 = sqrt(t209);
+        let t211: f64 = leg6_offset + t210;
+        let t212: f64 = q6 - t211;
+        let t213 = product(t156, t163);
+        let t214: f64 = t154 * t165;
+        let t215: f64 = t213.minus(t214);
+        let t216: f64 = t215 * 2.0;
+        let t217: f64 = t216 * t216;
+        let t218: f64 = 1.0 / t178;
+        let t219: f64 = t218 * t218;
+        let t220 = product(t217, t219);
+        let t221 = product(t188, t195);
+        let t222: f64 = t186 * t197;
+        let t223: f64 = t221.minus(t222);
+        let t224: f64 = t223 * 2.0;
+        let t225: f64 = t224 * t224;
+        let t226: f64 = 1.0 / t210;
+        let t227: f64 = t226 * t226;
+        let t228: f64 = t225 * t227;
+        let t229: f64 = t220.plus(t228);
+        let t230 = product(t20, t35);
+        let t231: f64 = t18 * t37;
+        let t232: f64 = t230.minus(t231);
+        let t233: f64 = t232 * 2.0;
+        let t234: f64 = t233 * t233;
+        let t235: f64 = 1.0 / t50;
+        let t236: f64 = t235 * t235;
+        let t237 = product(t234, t236);
+        let t238 = product(t60, t67);
+        let t239: f64 = t58 * t69;
+        let t240: f64 = t238.minus(t239);
+        let t241: f64 = t240 * 2.0;
+        let t242: f64 = t241 * t241;
+        let t243: f64 = 1.0 / t82;
+        let t244: f64 = t243 * t243;
+        let t245: f64 = t242 * t244;
+        let t246: f64 = t237.plus(t245);
+        let t247 = product(t92, t99);
+        let t248: f64 = t90 * t101;
+        let t249: f64 = t247.minus(t248);
+        let t250: f64 = t249 * 2.0;
+        let t251: f64 = t250 * t250;
+        let t252: f64 = 1.0 / t114;
+        let t253: f64 = t252 * t252;
+        let t254 = product(t251, t253);
+        let t255 = product(t124, t131);
+        let t256: f64 = t122 * t133;
+        let t257: f64 = t255.minus(t256);
+        let t258: f64 = t257 * 2.0;
+        let t259: f64 = t258 * t258;
+        let t260: f64 = 1.0 / t146;
+        let t261: f64 = t260 * t260;
+        let t262: f64 = t259 * t261;
+        let t263: f64 = t254.plus(t262);
+        let t264: f64 = t246 + t263;
+        let t265: f64 = t229 + t264;
+        let t266: f64 = t265 * 0.25;
+        let t267: f64 = 1.0 / t266;
+        let t268 = product(leg1_platform_z, t6);
+        let t269: f64 = t5 * t42;
+        let t270: f64 = t268.minus(t269);
+        let t271: f64 = t46 * t270;
+        let t272 = product(t2, t20);
+        let t273: f64 = t3 * t37;
+        let t274: f64 = t272.minus(t273);
+        let t275: f64 = t274 * 2.0;
+        let t276 = product(t44, t275);
+        let t277: f64 = t271 * 2.0;
+        let t278: f64 = t276.plus(t277);
+        let t279: f64 = t233 * t236;
+        let t280 = product(t278, t279);
+        let t281 = product(leg2_platform_z, t6);
+        let t282: f64 = t5 * t74;
+        let t283: f64 = t281.minus(t282);
+        let t284: f64 = t78 * t283;
+        let t285 = product(t2, t60);
+        let t286: f64 = t3 * t69;
+        let t287: f64 = t285.minus(t286);
+        let t288: f64 = t287 * 2.0;
+        let t289 = product(t76, t288);
+        let t290: f64 = t284 * 2.0;
+        let t291: f64 = t289.plus(t290);
+        let t292: f64 = t241 * t244;
+        let t293: f64 = t291 * t292;
+        let t294 = product(leg3_platform_z, t6);
+        let t295: f64 = t5 * t106;
+        let t296: f64 = t294.minus(t295);
+        let t297: f64 = t110 * t296;
+        let t298 = product(t2, t92);
+        let t299: f64 = t3 * t101;
+        let t300: f64 = t298.minus(t299);
+        let t301: f64 = t300 * 2.0;
+        let t302 = product(t108, t301);
+        let t303: f64 = t297 * 2.0;
+        let t304: f64 = t302.plus(t303);
+        let t305: f64 = t250 * t253;
+        let t306 = product(t304, t305);
+        let t307 = product(leg4_platform_z, t6);
+        let t308: f64 = t5 * t138;
+        let t309: f64 = t307.minus(t308);
+        let t310: f64 = t142 * t309;
+        let t311 = product(t2, t124);
+        let t312: f64 = t3 * t133;
+        let t313: f64 = t311.minus(t312);
+        let t314: f64 = t313 * 2.0;
+        let t315 = product(t140, t314);
+        let t316: f64 = t310 * 2.0;
+        let t317: f64 = t315.plus(t316);
+        let t318: f64 = t258 * t261;
+        let t319: f64 = t317 * t318;
+        let t320 = product(leg5_platform_z, t6);
+        let t321: f64 = t5 * t170;
+        let t322: f64 = t320.minus(t321);
+        let t323: f64 = t174 * t322;
+        let t324 = product(t2, t156);
+        let t325: f64 = t3 * t165;
+        let t326: f64 = t324.minus(t325);
+        let t327: f64 = t326 * 2.0;
+        let t328 = product(t172, t327);
+        let t329: f64 = t323 * 2.0;
+        let t330: f64 = t328.plus(t329);
+        let t331: f64 = t216 * t219;
+        let t332 = product(t330, t331);
+        let t333 = product(leg6_platform_z, t6);
+        let t334: f64 = t5 * t202;
+        let t335: f64 = t333.minus(t334);
+        let t336: f64 = t206 * t335;
+        let t337 = product(t2, t188);
+        let t338: f64 = t3 * t197;
+        let t339: f64 = t337.minus(t338);
+        let t340: f64 = t339 * 2.0;
+        let t341 = product(t204, t340);
+        let t342: f64 = t336 * 2.0;
+        let t343: f64 = t341.plus(t342);
+        let t344: f64 = t224 * t227;
+        let t345: f64 = t343 * t344;
+        let t346: f64 = t280.plus(t293);
+        let t347: f64 = t306.plus(t319);
+        let t348: f64 = t332.plus(t345);
+        let t349: f64 = t346 + t347;
+        let t350: f64 = t348 + t349;
+        let t351: f64 = t350 * 0.25;
+        let t352: f64 = t351 * t351;
+        let t353 = product(t267, t352);
+        let t354: f64 = t330 * t330;
+        let t355 = product(t219, t354);
+        let t356: f64 = t343 * t343;
+        let t357: f64 = t227 * t356;
+        let t358: f64 = t355.plus(t357);
+        let t359: f64 = t278 * t278;
+        let t360 = product(t236, t359);
+        let t361: f64 = t291 * t291;
+        let t362: f64 = t244 * t361;
+        let t363: f64 = t360.plus(t362);
+        let t364: f64 = t304 * t304;
+        let t365 = product(t253, t364);
+        let t366: f64 = t317 * t317;
+        let t367: f64 = t261 * t366;
+        let t368: f64 = t365.plus(t367);
+        let t369: f64 = t363 + t368;
+        let t370: f64 = t358 + t369;
+        let t371: f64 = t370 * 0.25;
+        let t372: f64 = t353.subtracted_from(t371);
+        let t373: f64 = 1.0 / t372;
+        let t374: f64 = t216 * t218;
+        let t375 = product(t180, t374);
+        let t376: f64 = t224 * t226;
+        let t377: f64 = t212 * t376;
+        let t378: f64 = t375.plus(t377);
+        let t379: f64 = t233 * t235;
+        let t380 = product(t52, t379);
+        let t381: f64 = t241 * t243;
+        let t382: f64 = t84 * t381;
+        let t383: f64 = t380.plus(t382);
+        let t384: f64 = t250 * t252;
+        let t385 = product(t116, t384);
+        let t386: f64 = t258 * t260;
+        let t387: f64 = t148 * t386;
+        let t388: f64 = t385.plus(t387);
+        let t389: f64 = t383 + t388;
+        let t390: f64 = t378 + t389;
+        let t391: f64 = t390 * 0.5;
+        let t392: f64 = t267 * t391;
+        let t393: f64 = t351 * t392;
+        let t394: f64 = t46 * t236;
+        let t395 = product(t278, t394);
+        let t396: f64 = t78 * t244;
+        let t397: f64 = t291 * t396;
+        let t398: f64 = t110 * t253;
+        let t399 = product(t304, t398);
+        let t400: f64 = t142 * t261;
+        let t401: f64 = t317 * t400;
+        let t402: f64 = t174 * t219;
+        let t403 = product(t330, t402);
+        let t404: f64 = t206 * t227;
+        let t405: f64 = t343 * t404;
+        let t406: f64 = t46 * t233;
+        let t407 = product(t236, t406);
+        let t408: f64 = t78 * t241;
+        let t409: f64 = t244 * t408;
+        let t410: f64 = t110 * t250;
+        let t411 = product(t253, t410);
+        let t412: f64 = t142 * t258;
+        let t413: f64 = t261 * t412;
+        let t414: f64 = t174 * t216;
+        let t415 = product(t219, t414);
+        let t416: f64 = t206 * t224;
+        let t417: f64 = t227 * t416;
+        let t418: f64 = t407.plus(t409);
+        let t419: f64 = t411.plus(t413);
+        let t420: f64 = t415.plus(t417);
+        let t421: f64 = t418 + t419;
+        let t422: f64 = t420 + t421;
+        let t423: f64 = t422 * 0.5;
+        let t424: f64 = t267 * t351;
+        let t425 = product(t423, t424);
+        let t426: f64 = t395.plus(t397);
+        let t427: f64 = t399.plus(t401);
+        let t428: f64 = t403.plus(t405);
+        let t429: f64 = t426 + t427;
+        let t430: f64 = t428 + t429;
+        let t431: f64 = t430 * 0.5;
+        let t432: f64 = t425.subtracted_from(t431);
+        let t433: f64 = t423 * t423;
+        let t434 = product(t267, t433);
+        let t435: f64 = t432 * t432;
+        let t436: f64 = t373 * t435;
+        let t437 = product(leg1_platform_x, t13);
+        let t438: f64 = leg1_platform_y * t9;
+        let t439: f64 = t437.minus(t438);
+        let t440 = product(t20, t439);
+        let t441 = product(leg1_platform_x, t30);
+        let t442: f64 = leg1_platform_y * t25;
+        let t443: f64 = t441.minus(t442);
+        let t444: f64 = t37 * t443;
+        let t445 = product(leg1_platform_x, t0);
+        let t446: f64 = leg1_platform_y * t1;
+        let t447: f64 = t445.plus(t446);
+        let t448: f64 = t6 * t46;
+        let t449 = product(t447, t448);
+        let t450: f64 = t440.plus(t444);
+        let t451: f64 = t449.minus(t450);
+        let t452: f64 = t451 * 2.0;
+        let t453 = product(t279, t452);
+        let t454 = product(leg2_platform_x, t13);
+        let t455: f64 = leg2_platform_y * t9;
+        let t456: f64 = t454.minus(t455);
+        let t457 = product(t60, t456);
+        let t458 = product(leg2_platform_x, t30);
+        let t459: f64 = leg2_platform_y * t25;
+        let t460: f64 = t458.minus(t459);
+        let t461: f64 = t69 * t460;
+        let t462 = product(leg2_platform_x, t0);
+        let t463: f64 = leg2_platform_y * t1;
+        let t464: f64 = t462.plus(t463);
+        let t465: f64 = t6 * t78;
+        let t466 = product(t464, t465);
+        let t467: f64 = t457.plus(t461);
+        let t468: f64 = t466.minus(t467);
+        let t469: f64 = t468 * 2.0;
+        let t470: f64 = t292 * t469;
+        let t471 = product(leg3_platform_x, t13);
+        let t472: f64 = leg3_platform_y * t9;
+        let t473: f64 = t471.minus(t472);
+        let t474 = product(t92, t473);
+        let t475 = product(leg3_platform_x, t30);
+        let t476: f64 = leg3_platform_y * t25;
+        let t477: f64 = t475.minus(t476);
+        let t478: f64 = t101 * t477;
+        let t479 = product(leg3_platform_x, t0);
+        let t480: f64 = leg3_platform_y * t1;
+        let t481: f64 = t479.plus(t480);
+        let t482: f64 = t6 * t110;
+        let t483 = product(t481, t482);
+        let t484: f64 = t474.plus(t478);
+        let t485: f64 = t483.minus(t484);
+        let t486: f64 = t485 * 2.0;
+        let t487 = product(t305, t486);
+        let t488 = product(leg4_platform_x, t13);
+        let t489: f64 = leg4_platform_y * t9;
+        let t490: f64 = t488.minus(t489);
+        let t491 = product(t124, t490);
+        let t492 = product(leg4_platform_x, t30);
+        let t493: f64 = leg4_platform_y * t25;
+        let t494: f64 = t492.minus(t493);
+        let t495: f64 = t133 * t494;
+        let t496 = product(leg4_platform_x, t0);
+        let t497: f64 = leg4_platform_y * t1;
+        let t498: f64 = t496.plus(t497);
+        let t499: f64 = t6 * t142;
+        let t500 = product(t498, t499);
+        let t501: f64 = t491.plus(t495);
+        let t502: f64 = t500.minus(t501);
+        let t503: f64 = t502 * 2.0;
+        let t504: f64 = t318 * t503;
+        let t505 = product(leg5_platform_x, t13);
+        let t506: f64 = leg5_platform_y * t9;
+        let t507: f64 = t505.minus(t506);
+        let t508 = product(t156, t507);
+        let t509 = product(leg5_platform_x, t30);
+        let t510: f64 = leg5_platform_y * t25;
+        let t511: f64 = t509.minus(t510);
+        let t512: f64 = t165 * t511;
+        let t513 = product(leg5_platform_x, t0);
+        let t514: f64 = leg5_platform_y * t1;
+        let t515: f64 = t513.plus(t514);
+        let t516: f64 = t6 * t174;
+        let t517 = product(t515, t516);
+        let t518: f64 = t508.plus(t512);
+        let t519: f64 = t517.minus(t518);
+        let t520: f64 = t519 * 2.0;
+        let t521 = product(t331, t520);
+        let t522 = product(leg6_platform_x, t13);
+        let t523: f64 = leg6_platform_y * t9;
+        let t524: f64 = t522.minus(t523);
+        let t525 = product(t188, t524);
+        let t526 = product(leg6_platform_x, t30);
+        let t527: f64 = leg6_platform_y * t25;
+        let t528: f64 = t526.minus(t527);
+        let t529: f64 = t197 * t528;
+        let t530 = product(leg6_platform_x, t0);
+        let t531: f64 = leg6_platform_y * t1;
+        let t532: f64 = t530.plus(t531);
+        let t533: f64 = t6 * t206;
+        let t534 = product(t532, t533);
+        let t535: f64 = t525.plus(t529);
+        let t536: f64 = t534.minus(t535);
+        let t537: f64 = t536 * 2.0;
+        let t538: f64 = t344 * t537;
+        let t539: f64 = t453.plus(t470);
+        let t540: f64 = t487.plus(t504);
+        let t541: f64 = t521.plus(t538);
+        let t542: f64 = t539 + t540;
+        let t543: f64 = t541 + t542;
+        let t544: f64 = t543 * 0.25;
+        let t545: f64 = t544 * t544;
+        let t546 = product(t267, t545);
+        let t547: f64 = t236 * t278;
+        let t548 = product(t452, t547);
+        let t549: f64 = t244 * t291;
+        let t550: f64 = t469 * t549;
+        let t551: f64 = t253 * t304;
+        let t552 = product(t486, t551);
+        let t553: f64 = t261 * t317;
+        let t554: f64 = t503 * t553;
+        let t555: f64 = t219 * t330;
+        let t556 = product(t520, t555);
+        let t557: f64 = t227 * t343;
+        let t558: f64 = t537 * t557;
+        let t559 = product(t424, t544);
+        let t560: f64 = t548.plus(t550);
+        let t561: f64 = t552.plus(t554);
+        let t562: f64 = t556.plus(t558);
+        let t563: f64 = t560 + t561;
+        let t564: f64 = t562 + t563;
+        let t565: f64 = t564 * 0.25;
+        let t566: f64 = t559.subtracted_from(t565);
+        let t567: f64 = t566 * t566;
+        let t568: f64 = t373 * t567;
+        let t569: f64 = t520 * t520;
+        let t570 = product(t219, t569);
+        let t571: f64 = t537 * t537;
+        let t572: f64 = t227 * t571;
+        let t573: f64 = t570.plus(t572);
+        let t574: f64 = t452 * t452;
+        let t575 = product(t236, t574);
+        let t576: f64 = t469 * t469;
+        let t577: f64 = t244 * t576;
+        let t578: f64 = t575.plus(t577);
+        let t579: f64 = t486 * t486;
+        let t580 = product(t253, t579);
+        let t581: f64 = t503 * t503;
+        let t582: f64 = t261 * t581;
+        let t583: f64 = t580.plus(t582);
+        let t584: f64 = t578 + t583;
+        let t585: f64 = t573 + t584;
+        let t586 = product(t585, 0.25);
+        let t587: f64 = t546.plus(t568);
+        let t588: f64 = t586.minus(t587);
+        let t589: f64 = 1.0 / t588;
+        let t590 = product(t394, t452);
+        let t591: f64 = t396 * t469;
+        let t592 = product(t398, t486);
+        let t593: f64 = t400 * t503;
+        let t594 = product(t402, t520);
+        let t595: f64 = t404 * t537;
+        let t596: f64 = t267 * t544;
+        let t597 = product(t423, t596);
+        let t598: f64 = t373 * t566;
+        let t599: f64 = t432 * t598;
+        let t600: f64 = t590.plus(t591);
+        let t601: f64 = t592.plus(t593);
+        let t602: f64 = t594.plus(t595);
+        let t603: f64 = t600 + t601;
+        let t604: f64 = t602 + t603;
+        let t605 = product(t604, 0.5);
+        let t606: f64 = t597.plus(t599);
+        let t607: f64 = t605.minus(t606);
+        let t608: f64 = t607 * t607;
+        let t609 = product(t589, t608);
+        let t610 = product(t175, t219);
+        let t611: f64 = t207 * t227;
+        let t612: f64 = t610.plus(t611);
+        let t613 = product(t47, t236);
+        let t614: f64 = t79 * t244;
+        let t615: f64 = t613.plus(t614);
+        let t616 = product(t111, t253);
+        let t617: f64 = t143 * t261;
+        let t618: f64 = t616.plus(t617);
+        let t619: f64 = t615 + t618;
+        let t620: f64 = t612 + t619;
+        let t621: f64 = t434.plus(t436);
+        let t622: f64 = t609.plus(t621);
+        let t623: f64 = t620 - t622;
+        let t624: f64 = 1.0 / t623;
+        let t625: f64 = t20 * t46;
+        let t626 = product(t236, t625);
+        let t627: f64 = t60 * t78;
+        let t628: f64 = t244 * t627;
+        let t629: f64 = t92 * t110;
+        let t630 = product(t253, t629);
+        let t631: f64 = t124 * t142;
+        let t632: f64 = t261 * t631;
+        let t633: f64 = t156 * t174;
+        let t634 = product(t219, t633);
+        let t635: f64 = t188 * t206;
+        let t636: f64 = t227 * t635;
+        let t637: f64 = t20 * t233;
+        let t638 = product(t236, t637);
+        let t639: f64 = t60 * t241;
+        let t640: f64 = t244 * t639;
+        let t641: f64 = t92 * t250;
+        let t642 = product(t253, t641);
+        let t643: f64 = t124 * t258;
+        let t644: f64 = t261 * t643;
+        let t645: f64 = t156 * t216;
+        let t646 = product(t219, t645);
+        let t647: f64 = t188 * t224;
+        let t648: f64 = t227 * t647;
+        let t649: f64 = t638.plus(t640);
+        let t650: f64 = t642.plus(t644);
+        let t651: f64 = t646.plus(t648);
+        let t652: f64 = t649 + t650;
+        let t653: f64 = t651 + t652;
+        let t654: f64 = t653 * 0.5;
+        let t655: f64 = t267 * t423;
+        let t656 = product(t654, t655);
+        let t657: f64 = t20 * t236;
+        let t658 = product(t278, t657);
+        let t659: f64 = t60 * t244;
+        let t660: f64 = t291 * t659;
+        let t661: f64 = t92 * t253;
+        let t662 = product(t304, t661);
+        let t663: f64 = t124 * t261;
+        let t664: f64 = t317 * t663;
+        let t665: f64 = t156 * t219;
+        let t666 = product(t330, t665);
+        let t667: f64 = t188 * t227;
+        let t668: f64 = t343 * t667;
+        let t669 = product(t424, t654);
+        let t670: f64 = t658.plus(t660);
+        let t671: f64 = t662.plus(t664);
+        let t672: f64 = t666.plus(t668);
+        let t673: f64 = t670 + t671;
+        let t674: f64 = t672 + t673;
+        let t675: f64 = t674 * 0.5;
+        let t676: f64 = t669.subtracted_from(t675);
+        let t677: f64 = t373 * t432;
+        let t678: f64 = t676 * t677;
+        let t679 = product(t452, t657);
+        let t680: f64 = t469 * t659;
+        let t681 = product(t486, t661);
+        let t682: f64 = t503 * t663;
+        let t683 = product(t520, t665);
+        let t684: f64 = t537 * t667;
+        let t685 = product(t596, t654);
+        let t686: f64 = t598 * t676;
+        let t687: f64 = t679.plus(t680);
+        let t688: f64 = t681.plus(t682);
+        let t689: f64 = t683.plus(t684);
+        let t690: f64 = t687 + t688;
+        let t691: f64 = t689 + t690;
+        let t692 = product(t691, 0.5);
+        let t693: f64 = t685.plus(t686);
+        let t694: f64 = t692.minus(t693);
+        let t695: f64 = t589 * t607;
+        let t696 = product(t694, t695);
+        let t697: f64 = t626.plus(t628);
+        let t698: f64 = t630.plus(t632);
+        let t699: f64 = t634.plus(t636);
+        let t700: f64 = t697 + t698;
+        let t701: f64 = t699 + t700;
+        let t702: f64 = t656.plus(t678);
+        let t703: f64 = t696.plus(t702);
+        let t704: f64 = t701 - t703;
+        let t705: f64 = t654 * t654;
+        let t706 = product(t267, t705);
+        let t707: f64 = t676 * t676;
+        let t708: f64 = t373 * t707;
+        let t709: f64 = t694 * t694;
+        let t710 = product(t589, t709);
+        let t711: f64 = t704 * t704;
+        let t712: f64 = t624 * t711;
+        let t713 = product(t157, t219);
+        let t714: f64 = t189 * t227;
+        let t715: f64 = t713.plus(t714);
+        let t716 = product(t21, t236);
+        let t717: f64 = t61 * t244;
+        let t718: f64 = t716.plus(t717);
+        let t719 = product(t93, t253);
+        let t720: f64 = t125 * t261;
+        let t721: f64 = t719.plus(t720);
+        let t722: f64 = t718 + t721;
+        let t723: f64 = t715 + t722;
+        let t724: f64 = t706.plus(t708);
+        let t725: f64 = t710.plus(t712);
+        let t726: f64 = t724 + t725;
+        let t727: f64 = t723 - t726;
+        let t728: f64 = 1.0 / t727;
+        let t729: f64 = t20 * t37;
+        let t730 = product(t236, t729);
+        let t731: f64 = t60 * t69;
+        let t732: f64 = t244 * t731;
+        let t733: f64 = t92 * t101;
+        let t734 = product(t253, t733);
+        let t735: f64 = t124 * t133;
+        let t736: f64 = t261 * t735;
+        let t737: f64 = t156 * t165;
+        let t738 = product(t219, t737);
+        let t739: f64 = t188 * t197;
+        let t740: f64 = t227 * t739;
+        let t741: f64 = t37 * t233;
+        let t742 = product(t236, t741);
+        let t743: f64 = t69 * t241;
+        let t744: f64 = t244 * t743;
+        let t745: f64 = t101 * t250;
+        let t746 = product(t253, t745);
+        let t747: f64 = t133 * t258;
+        let t748: f64 = t261 * t747;
+        let t749: f64 = t165 * t216;
+        let t750 = product(t219, t749);
+        let t751: f64 = t197 * t224;
+        let t752: f64 = t227 * t751;
+        let t753: f64 = t742.plus(t744);
+        let t754: f64 = t746.plus(t748);
+        let t755: f64 = t750.plus(t752);
+        let t756: f64 = t753 + t754;
+        let t757: f64 = t755 + t756;
+        let t758: f64 = t757 * 0.5;
+        let t759: f64 = t267 * t654;
+        let t760 = product(t758, t759);
+        let t761: f64 = t37 * t236;
+        let t762 = product(t278, t761);
+        let t763: f64 = t69 * t244;
+        let t764: f64 = t291 * t763;
+        let t765: f64 = t101 * t253;
+        let t766 = product(t304, t765);
+        let t767: f64 = t133 * t261;
+        let t768: f64 = t317 * t767;
+        let t769: f64 = t165 * t219;
+        let t770 = product(t330, t769);
+        let t771: f64 = t197 * t227;
+        let t772: f64 = t343 * t771;
+        let t773 = product(t424, t758);
+        let t774: f64 = t762.plus(t764);
+        let t775: f64 = t766.plus(t768);
+        let t776: f64 = t770.plus(t772);
+        let t777: f64 = t774 + t775;
+        let t778: f64 = t776 + t777;
+        let t779: f64 = t778 * 0.5;
+        let t780: f64 = t773.subtracted_from(t779);
+        let t781: f64 = t373 * t676;
+        let t782: f64 = t780 * t781;
+        let t783 = product(t452, t761);
+        let t784: f64 = t469 * t763;
+        let t785 = product(t486, t765);
+        let t786: f64 = t503 * t767;
+        let t787 = product(t520, t769);
+        let t788: f64 = t537 * t771;
+        let t789 = product(t596, t758);
+        let t790: f64 = t598 * t780;
+        let t791: f64 = t783.plus(t784);
+        let t792: f64 = t785.plus(t786);
+        let t793: f64 = t787.plus(t788);
+        let t794: f64 = t791 + t792;
+        let t795: f64 = t793 + t794;
+        let t796 = product(t795, 0.5);
+        let t797: f64 = t789.plus(t790);
+        let t798: f64 = t796.minus(t797);
+        let t799: f64 = t589 * t694;
+        let t800 = product(t798, t799);
+        let t801: f64 = t37 * t46;
+        let t802 = product(t236, t801);
+        let t803: f64 = t69 * t78;
+        let t804: f64 = t244 * t803;
+        let t805: f64 = t101 * t110;
+        let t806 = product(t253, t805);
+        let t807: f64 = t133 * t142;
+        let t808: f64 = t261 * t807;
+        let t809: f64 = t165 * t174;
+        let t810 = product(t219, t809);
+        let t811: f64 = t197 * t206;
+        let t812: f64 = t227 * t811;
+        let t813 = product(t655, t758);
+        let t814: f64 = t677 * t780;
+        let t815 = product(t695, t798);
+        let t816: f64 = t802.plus(t804);
+        let t817: f64 = t806.plus(t808);
+        let t818: f64 = t810.plus(t812);
+        let t819: f64 = t816 + t817;
+        let t820: f64 = t818 + t819;
+        let t821: f64 = t813.plus(t814);
+        let t822: f64 = t815.plus(t821);
+        let t823: f64 = t820 - t822;
+        let t824: f64 = t624 * t704;
+        let t825: f64 = t823 * t824;
+        let t826: f64 = t730.plus(t732);
+        let t827: f64 = t734.plus(t736);
+        let t828: f64 = t738.plus(t740);
+        let t829: f64 = t826 + t827;
+        let t830: f64 = t828 + t829;
+        let t831: f64 = t760.plus(t782);
+        let t832: f64 = t800.plus(t825);
+        let t833: f64 = t831 + t832;
+        let t834: f64 = t830 - t833;
+        let t835: f64 = t758 * t758;
+        let t836 = product(t267, t835);
+        let t837: f64 = t780 * t780;
+        let t838: f64 = t373 * t837;
+        let t839: f64 = t798 * t798;
+        let t840 = product(t589, t839);
+        let t841: f64 = t823 * t823;
+        let t842: f64 = t624 * t841;
+        let t843: f64 = t834 * t834;
+        let t844 = product(t728, t843);
+        let t845 = product(t166, t219);
+        let t846: f64 = t198 * t227;
+        let t847: f64 = t845.plus(t846);
+        let t848 = product(t38, t236);
+        let t849: f64 = t70 * t244;
+        let t850: f64 = t848.plus(t849);
+        let t851 = product(t102, t253);
+        let t852: f64 = t134 * t261;
+        let t853: f64 = t851.plus(t852);
+        let t854: f64 = t850 + t853;
+        let t855: f64 = t847 + t854;
+        let t856: f64 = t836.plus(t838);
+        let t857: f64 = t840.plus(t842);
+        let t858: f64 = t856 + t857;
+        let t859: f64 = t844.plus(t858);
+        let t860: f64 = t855 - t859;
+        let t861: f64 = 1.0 / t860;
+        let t862: f64 = t37 * t235;
+        let t863 = product(t52, t862);
+        let t864: f64 = t69 * t243;
+        let t865: f64 = t84 * t864;
+        let t866: f64 = t101 * t252;
+        let t867 = product(t116, t866);
+        let t868: f64 = t133 * t260;
+        let t869: f64 = t148 * t868;
+        let t870: f64 = t165 * t218;
+        let t871 = product(t180, t870);
+        let t872: f64 = t197 * t226;
+        let t873: f64 = t212 * t872;
+        let t874 = product(t392, t758);
+        let t875: f64 = t180 * t218;
+        let t876 = product(t330, t875);
+        let t877: f64 = t212 * t226;
+        let t878: f64 = t343 * t877;
+        let t879: f64 = t876.plus(t878);
+        let t880: f64 = t52 * t235;
+        let t881 = product(t278, t880);
+        let t882: f64 = t84 * t243;
+        let t883: f64 = t291 * t882;
+        let t884: f64 = t881.plus(t883);
+        let t885: f64 = t116 * t252;
+        let t886 = product(t304, t885);
+        let t887: f64 = t148 * t260;
+        let t888: f64 = t317 * t887;
+        let t889: f64 = t886.plus(t888);
+        let t890: f64 = t884 + t889;
+        let t891: f64 = t879 + t890;
+        let t892: f64 = t891 * 0.5;
+        let t893: f64 = t892 - t393;
+        let t894: f64 = t373 * t893;
+        let t895: f64 = t780 * t894;
+        let t896 = product(t392, t544);
+        let t897: f64 = t566 * t894;
+        let t898: f64 = t896.plus(t897);
+        let t899 = product(t520, t875);
+        let t900: f64 = t537 * t877;
+        let t901: f64 = t899.plus(t900);
+        let t902 = product(t452, t880);
+        let t903: f64 = t469 * t882;
+        let t904: f64 = t902.plus(t903);
+        let t905 = product(t486, t885);
+        let t906: f64 = t503 * t887;
+        let t907: f64 = t905.plus(t906);
+        let t908: f64 = t904 + t907;
+        let t909: f64 = t901 + t908;
+        let t910: f64 = t909 * 0.5;
+        let t911: f64 = t910 - t898;
+        let t912: f64 = t589 * t911;
+        let t913 = product(t798, t912);
+        let t914: f64 = t110 * t252;
+        let t915 = product(t116, t914);
+        let t916: f64 = t142 * t260;
+        let t917: f64 = t148 * t916;
+        let t918: f64 = t915.plus(t917);
+        let t919: f64 = t174 * t218;
+        let t920 = product(t180, t919);
+        let t921: f64 = t206 * t226;
+        let t922: f64 = t212 * t921;
+        let t923: f64 = t920.plus(t922);
+        let t924: f64 = t918 + t923;
+        let t925: f64 = t46 * t235;
+        let t926 = product(t52, t925);
+        let t927: f64 = t78 * t243;
+        let t928: f64 = t84 * t927;
+        let t929: f64 = t926.plus(t928);
+        let t930 = product(t607, t912);
+        let t931: f64 = t930.subtracted_from(t929);
+        let t932 = product(t392, t423);
+        let t933: f64 = t432 * t894;
+        let t934: f64 = t932.plus(t933);
+        let t935: f64 = t931 - t934;
+        let t936: f64 = t924 + t935;
+        let t937: f64 = t624 * t936;
+        let t938: f64 = t823 * t937;
+        let t939: f64 = t156 * t218;
+        let t940 = product(t180, t939);
+        let t941: f64 = t188 * t226;
+        let t942: f64 = t212 * t941;
+        let t943: f64 = t940.plus(t942);
+        let t944 = product(t392, t654);
+        let t945: f64 = t676 * t894;
+        let t946: f64 = t944.plus(t945);
+        let t947: f64 = t943 - t946;
+        let t948: f64 = t20 * t235;
+        let t949 = product(t52, t948);
+        let t950: f64 = t60 * t243;
+        let t951: f64 = t84 * t950;
+        let t952: f64 = t949.plus(t951);
+        let t953: f64 = t92 * t252;
+        let t954 = product(t116, t953);
+        let t955: f64 = t124 * t260;
+        let t956: f64 = t148 * t955;
+        let t957: f64 = t954.plus(t956);
+        let t958: f64 = t952 + t957;
+        let t959 = product(t694, t912);
+        let t960: f64 = t704 * t937;
+        let t961: f64 = t959.plus(t960);
+        let t962: f64 = t958 - t961;
+        let t963: f64 = t947 + t962;
+        let t964: f64 = t728 * t963;
+        let t965 = product(t834, t964);
+        let t966: f64 = t863.plus(t865);
+        let t967: f64 = t867.plus(t869);
+        let t968: f64 = t871.plus(t873);
+        let t969: f64 = t966 + t967;
+        let t970: f64 = t968 + t969;
+        let t971: f64 = t874.plus(t895);
+        let t972: f64 = t913.plus(t938);
+        let t973: f64 = t971 + t972;
+        let t974: f64 = t965.plus(t973);
+        let t975: f64 = t970 - t974;
+        let t976: f64 = t834 * t861;
+        let t977 = product(t975, t976);
+        let t978: f64 = t977.subtracted_from(t963);
+        let t979: f64 = t704 * t728;
+        let t980 = product(t978, t979);
+        let t981: f64 = t823 * t861;
+        let t982: f64 = t975 * t981;
+        let t983: f64 = t980.plus(t982);
+        let t984: f64 = t936 - t983;
+        let t985: f64 = t432 * t624;
+        let t986 = product(t984, t985);
+        let t987: f64 = t676 * t728;
+        let t988 = product(t978, t987);
+        let t989: f64 = t780 * t861;
+        let t990: f64 = t975 * t989;
+        let t991: f64 = t607 * t624;
+        let t992 = product(t984, t991);
+        let t993: f64 = t694 * t728;
+        let t994: f64 = t978 * t993;
+        let t995: f64 = t798 * t861;
+        let t996 = product(t975, t995);
+        let t997: f64 = t992.plus(t994);
+        let t998: f64 = t996.added_to(t898);
+        let t999: f64 = t997 + t998;
+        let t1000: f64 = t910 - t999;
+        let t1001: f64 = t566 * t589;
+        let t1002 = product(t1000, t1001);
+        (
+            t20,
+            t37,
+            t46,
+            t52,
+            t60,
+            t69,
+            t78,
+            t84,
+            t92,
+            t101,
+            t110,
+            t116,
+            t124,
+            t133,
+            t142,
+            t148,
+            t156,
+            t165,
+            t174,
+            t180,
+            t188,
+            t197,
+            t206,
+            t212,
+            t218,
+            t226,
+            t235,
+            t243,
+            t252,
+            t260,
+            t265,
+            t266,
+            t267,
+            t351,
+            t370,
+            t372,
+            t373,
+            t391,
+            t393,
+            t423,
+            t544,
+            t585,
+            t588,
+            t589,
+            t620,
+            t623,
+            t624,
+            t654,
+            t695,
+            t723,
+            t727,
+            t728,
+            t758,
+            t798,
+            t799,
+            t855,
+            t860,
+            t861,
+            t892,
+            t912,
+            t975,
+            t978,
+            t984,
+            t986,
+            t988,
+            t990,
+            t1000,
+            t1002,
+        )
+    };
+    let (
+        t1024,
+        t1025,
+        t1035,
+        t1036,
+        t1037,
+        t1038,
+        t1044,
+        t1061,
+        t1078,
+        t1095,
+        t1112,
+        t1129,
+        t1146,
+    ) = {
+        let t1003: f64 = t986.added_to(t393);
+        let t1004: f64 = t988.plus(t990);
+        let t1005: f64 = t1003 + t1004;
+        let t1006: f64 = t1002.plus(t1005);
+        let t1007: f64 = t892 - t1006;
+        let t1008: f64 = t351 * t373;
+        let t1009 = product(t1007, t1008);
+        let t1010: f64 = t423 * t624;
+        let t1011: f64 = t984 * t1010;
+        let t1012: f64 = t654 * t728;
+        let t1013 = product(t978, t1012);
+        let t1014: f64 = t758 * t861;
+        let t1015: f64 = t975 * t1014;
+        let t1016: f64 = t544 * t589;
+        let t1017 = product(t1000, t1016);
+        let t1018: f64 = t1009.plus(t1011);
+        let t1019: f64 = t1013.plus(t1015);
+        let t1020: f64 = t1018 + t1019;
+        let t1021: f64 = t1017.plus(t1020);
+        let t1022: f64 = t391 - t1021;
+        let t1023: f64 = t267 * t1022;
+        let t1024: f64 = -t1023;
+        let t1025: f64 = t373 * t1007;
+        let t1026: f64 = t624 * t695;
+        let t1027 = product(t984, t1026);
+        let t1028: f64 = t728 * t799;
+        let t1029: f64 = t978 * t1028;
+        let t1030: f64 = t589 * t798;
+        let t1031: f64 = t861 * t1030;
+        let t1032 = product(t975, t1031);
+        let t1033: f64 = t1027.plus(t1029);
+        let t1034: f64 = t1032.plus(t1033);
+        let t1035: f64 = t1034 - t912;
+        let t1036: f64 = t624 * t984;
+        let t1037: f64 = t728 * t978;
+        let t1038: f64 = t861 * t975;
+        let t1039: f64 = t265 + t370;
+        let t1040: f64 = t585 + t1039;
+        let t1041 = product(t1040, 0.25);
+        let t1042: f64 = t1041.added_to(t620);
+        let t1043: f64 = t723 + t855;
+        let t1044: f64 = t1042 + t1043;
+        let t1045 = product(leg1_axis_z, t20);
+        let t1046: f64 = leg1_axis_y * t37;
+        let t1047: f64 = t1045.minus(t1046);
+        let t1048 = product(t1047, t1047);
+        let t1049 = product(leg1_axis_x, t37);
+        let t1050: f64 = leg1_axis_z * t46;
+        let t1051: f64 = t1049.minus(t1050);
+        let t1052: f64 = t1051 * t1051;
+        let t1053 = product(leg1_axis_x, t20);
+        let t1054: f64 = leg1_axis_y * t46;
+        let t1055: f64 = t1053.minus(t1054);
+        let t1056: f64 = -t1055;
+        let t1057 = product(t1056, t1056);
+        let t1058: f64 = t1048.plus(t1052);
+        let t1059: f64 = t1057.plus(t1058);
+        let t1060: f64 = sqrt(t1059);
+        let t1061: f64 = t235 * t1060;
+        let t1062 = product(leg2_axis_z, t60);
+        let t1063: f64 = leg2_axis_y * t69;
+        let t1064: f64 = t1062.minus(t1063);
+        let t1065 = product(t1064, t1064);
+        let t1066 = product(leg2_axis_x, t69);
+        let t1067: f64 = leg2_axis_z * t78;
+        let t1068: f64 = t1066.minus(t1067);
+        let t1069: f64 = t1068 * t1068;
+        let t1070 = product(leg2_axis_x, t60);
+        let t1071: f64 = leg2_axis_y * t78;
+        let t1072: f64 = t1070.minus(t1071);
+        let t1073: f64 = -t1072;
+        let t1074 = product(t1073, t1073);
+        let t1075: f64 = t1065.plus(t1069);
+        let t1076: f64 = t1074.plus(t1075);
+        let t1077: f64 = sqrt(t1076);
+        let t1078: f64 = t243 * t1077;
+        let t1079 = product(leg3_axis_z, t92);
+        let t1080: f64 = leg3_axis_y * t101;
+        let t1081: f64 = t1079.minus(t1080);
+        let t1082 = product(t1081, t1081);
+        let t1083 = product(leg3_axis_x, t101);
+        let t1084: f64 = leg3_axis_z * t110;
+        let t1085: f64 = t1083.minus(t1084);
+        let t1086: f64 = t1085 * t1085;
+        let t1087 = product(leg3_axis_x, t92);
+        let t1088: f64 = leg3_axis_y * t110;
+        let t1089: f64 = t1087.minus(t1088);
+        let t1090: f64 = -t1089;
+        let t1091 = product(t1090, t1090);
+        let t1092: f64 = t1082.plus(t1086);
+        let t1093: f64 = t1091.plus(t1092);
+        let t1094: f64 = sqrt(t1093);
+        let t1095: f64 = t252 * t1094;
+        let t1096 = product(leg4_axis_z, t124);
+        let t1097: f64 = leg4_axis_y * t133;
+        let t1098: f64 = t1096.minus(t1097);
+        let t1099 = product(t1098, t1098);
+        let t1100 = product(leg4_axis_x, t133);
+        let t1101: f64 = leg4_axis_z * t142;
+        let t1102: f64 = t1100.minus(t1101);
+        let t1103: f64 = t1102 * t1102;
+        let t1104 = product(leg4_axis_x, t124);
+        let t1105: f64 = leg4_axis_y * t142;
+        let t1106: f64 = t1104.minus(t1105);
+        let t1107: f64 = -t1106;
+        let t1108 = product(t1107, t1107);
+        let t1109: f64 = t1099.plus(t1103);
+        let t1110: f64 = t1108.plus(t1109);
+        let t1111: f64 = sqrt(t1110);
+        let t1112: f64 = t260 * t1111;
+        let t1113 = product(leg5_axis_z, t156);
+        let t1114: f64 = leg5_axis_y * t165;
+        let t1115: f64 = t1113.minus(t1114);
+        let t1116 = product(t1115, t1115);
+        let t1117 = product(leg5_axis_x, t165);
+        let t1118: f64 = leg5_axis_z * t174;
+        let t1119: f64 = t1117.minus(t1118);
+        let t1120: f64 = t1119 * t1119;
+        let t1121 = product(leg5_axis_x, t156);
+        let t1122: f64 = leg5_axis_y * t174;
+        let t1123: f64 = t1121.minus(t1122);
+        let t1124: f64 = -t1123;
+        let t1125 = product(t1124, t1124);
+        let t1126: f64 = t1116.plus(t1120);
+        let t1127: f64 = t1125.plus(t1126);
+        let t1128: f64 = sqrt(t1127);
+        let t1129: f64 = t218 * t1128;
+        let t1130 = product(leg6_axis_z, t188);
+        let t1131: f64 = leg6_axis_y * t197;
+        let t1132: f64 = t1130.minus(t1131);
+        let t1133 = product(t1132, t1132);
+        let t1134 = product(leg6_axis_x, t197);
+        let t1135: f64 = leg6_axis_z * t206;
+        let t1136: f64 = t1134.minus(t1135);
+        let t1137: f64 = t1136 * t1136;
+        let t1138 = product(leg6_axis_x, t188);
+        let t1139: f64 = leg6_axis_y * t206;
+        let t1140: f64 = t1138.minus(t1139);
+        let t1141: f64 = -t1140;
+        let t1142 = product(t1141, t1141);
+        let t1143: f64 = t1133.plus(t1137);
+        let t1144: f64 = t1142.plus(t1143);
+        let t1145: f64 = sqrt(t1144);
+        let t1146: f64 = t226 * t1145;
+        (
+            t1024,
+            t1025,
+            t1035,
+            t1036,
+            t1037,
+            t1038,
+            t1044,
+            t1061,
+            t1078,
+            t1095,
+            t1112,
+            t1129,
+            t1146,
+        )
+    };
     (
         [t52, t84, t116, t148, t180, t212],
-        [
-            [t220, t233, t252, t253, t254, t255],
-            [t263, t276, t295, t296, t297, t298],
-            [t306, t319, t338, t339, t340, t341],
-            [t349, t362, t381, t382, t383, t384],
-            [t392, t405, t424, t425, t426, t427],
-            [t435, t448, t467, t468, t469, t470],
-        ],
-        [t487, t504, t521, t538, t555, t572],
+        [t1024, t1025, t1035, t1036, t1037, t1038],
+        [t266, t372, t588, t623, t727, t860, t1044],
+        [t1061, t1078, t1095, t1112, t1129, t1146],
     )
 }
 
@@ -19411,7 +20152,7 @@ impl crate::legged::Spatial for Kernels {
         x: &[f64; 6],
         q: &[f64; 6],
         p: &[f64; PARAMETERS],
-    ) -> ([f64; 6], [[f64; 6]; 6], impl AsRef<[f64]>) {
+    ) -> ([f64; 6], [f64; 6], [f64; 7], impl AsRef<[f64]>) {
         forward_kinematics_step_params(x, q, p)
     }
 }

@@ -14,7 +14,7 @@
 //   forward_dynamics_params           2906   47  1932   23  3 sin_cos, 12 sqrt
 //   inverse_dynamics_params           2209   42  1409   11  3 sin_cos, 12 sqrt
 //   singularity_terms_params           712   35   455    0  3 sin_cos, 12 sqrt
-//   forward_kinematics_step_params    1541   36   784   24  6 atan, 3 sin_cos, 12 sqrt
+//   forward_kinematics_step_params    1882   42  1000    3  6 atan, 3 sin_cos, 12 sqrt
 //   calibration_residuals             1375   36   652   42  6 atan, 3 sin_cos, 12 sqrt
 //
 // Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
@@ -28518,13 +28518,13 @@ pub fn singularity_terms_params_separate(
         t1219,
     ]
 }
-/// A Newton step of the forward kinematics: the actuators' residual at a pose and its Jacobian with respect to the pose.
+/// A Newton step of the forward kinematics: the actuators' residual at a pose and the step of the pose that cancels it to first order.
 ///
 /// Equations: θ = atan2(e2, e1) + b acos(K/ρ), ∂θ/∂(θ, C). Setting: pose.
 ///
 /// Model: rus-hexapod. The rotary hexapod (6-RUS): each leg a motor on the base turning a crank, a rod from a universal joint at the crank's tip to a spherical joint on the platform; every quantity derived from the leg's closed forms by exact differentiation.
 /// Actuators in leg order 1..6; `q_i = θ_i + o_i`, the encoder's reading of the crank angle `θ_i` (rad, right-handed about the motor's axis `r_i`, zero along `h_i`), `θ_i = atan2(e2, e1) + b_i acos(K/ρ)` reaching `B_i = C + R p_i`; `Γ_i` is the motor's torque about `r_i` (N·m).
-/// `r = q - q(X)` and `∂q/∂X` (row `i` for actuator `i+1`, columns `α β γ xc yc zc`). The runtime solves `(∂q/∂X) δ = r` and steps to `X + δ`, from the previous solution or the home pose, until the residual is below its tolerance.
+/// `r = q - q(X)` and `δ` of `(∂q/∂X) δ = r` (`∂q/∂X`: `J⁻¹` times the map from the pose's rates to the twist, columns `α β γ xc yc zc`), solved through the normal equations by an unrolled `LDLᵀ`. The runtime steps to `X + δ`, from the previous solution or the home pose, until the residual is below its tolerance.
 /// The robot's parameters listed in `params` are inputs; the others are folded in.
 /// The last result holds the U joints' sines and the cranks' reach for a singularity check.
 ///
@@ -28536,11 +28536,12 @@ pub fn singularity_terms_params_separate(
 ///
 /// # Returns
 ///
-/// - `residual`: `q - q(X)` (rad): the given actuator positions less those of the pose
-/// - `jacobian`: `∂q/∂X`, row `i` for actuator `i+1`, columns `α β γ xc yc zc`
+/// - `residual`: `q - q(X)`: the given actuator positions less those of the pose (the actuators' unit: m, rad)
+/// - `step`: `δ`, the step of the pose `[α β γ xc yc zc]` (rad, m)
+/// - `conditioning`: the pivots of the `LDLᵀ` of `(∂q/∂X)ᵀ (∂q/∂X)`, then its trace: the step is meaningless where a pivot is not above a small fraction of the trace
 /// - `singular`: `|u_i × r_i|` for each leg (its U joint's sine), then `1 - (K/ρ)²` for each leg (zero where crank and rod align, negative where the ball is out of the crank's reach): the other results are meaningless where one is near zero or negative
 ///
-/// Operations: 1541 mul, 36 div, 784 add, 24 neg, 6 atan, 3 sin_cos, 12 sqrt (chapter convention: 1577m + 784a).
+/// Operations: 1882 mul, 42 div, 1000 add, 3 neg, 6 atan, 3 sin_cos, 12 sqrt (chapter convention: 1924m + 1000a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
@@ -28548,7 +28549,7 @@ pub fn forward_kinematics_step_params(
     pose: &[f64; 6],
     q: &[f64; 6],
     params: &[f64; 163],
-) -> ([f64; 6], [[f64; 6]; 6], [f64; 12]) {
+) -> ([f64; 6], [f64; 6], [f64; 7], [f64; 12]) {
     #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
     if crate::fma::enabled() {
         return unsafe { forward_kinematics_step_params_fused(pose, q, params) };
@@ -28564,7 +28565,7 @@ pub fn forward_kinematics_step_params_separate(
     pose: &[f64; 6],
     q: &[f64; 6],
     params: &[f64; 163],
-) -> ([f64; 6], [[f64; 6]; 6], [f64; 12]) {
+) -> ([f64; 6], [f64; 6], [f64; 7], [f64; 12]) {
     let [alpha, beta, gamma, xc, yc, zc] = *pose;
     let [q1, q2, q3, q4, q5, q6] = *q;
     let [_, _, _, leg1_base_x, leg1_base_y, leg1_base_z, leg1_axis_x, leg1_axis_y,
@@ -28598,22 +28599,38 @@ pub fn forward_kinematics_step_params_separate(
         t9,
         t13,
         t19,
+        t20,
         t25,
         t30,
         t36,
+        t37,
+        t42,
+        t44,
         t45,
+        t46,
+        t49,
         t53,
         t57,
         t61,
+        t64,
         t67,
+        t68,
+        t79,
         t82,
+        t84,
         t87,
         t91,
+        t93,
+        t94,
         t98,
         t105,
+        t106,
         t114,
         t115,
+        t120,
+        t122,
         t123,
+        t124,
         t127,
         t131,
         t135,
@@ -28626,12 +28643,11 @@ pub fn forward_kinematics_step_params_separate(
         t162,
         t165,
         t169,
+        t171,
         t172,
         t176,
-        t182,
         t183,
         t184,
-        t191,
         t192,
         t193,
         t198,
@@ -28647,19 +28663,14 @@ pub fn forward_kinematics_step_params_separate(
         t224,
         t235,
         t238,
-        t239,
         t240,
-        t242,
         t243,
-        t246,
         t247,
         t249,
         t250,
         t254,
-        t260,
         t261,
         t262,
-        t269,
         t270,
         t271,
         t276,
@@ -28675,19 +28686,14 @@ pub fn forward_kinematics_step_params_separate(
         t302,
         t313,
         t316,
-        t317,
         t318,
-        t320,
         t321,
-        t324,
         t325,
         t327,
         t328,
         t332,
-        t338,
         t339,
         t340,
-        t347,
         t348,
         t349,
         t354,
@@ -28703,19 +28709,14 @@ pub fn forward_kinematics_step_params_separate(
         t380,
         t391,
         t394,
-        t395,
         t396,
-        t398,
         t399,
-        t402,
         t403,
         t405,
         t406,
         t410,
-        t416,
         t417,
         t418,
-        t425,
         t426,
         t427,
         t432,
@@ -28731,35 +28732,82 @@ pub fn forward_kinematics_step_params_separate(
         t458,
         t469,
         t472,
-        t473,
         t474,
-        t476,
         t477,
-        t480,
         t481,
         t483,
         t484,
         t488,
-        t545,
-        t605,
-        t665,
-        t700,
+        t489,
+        t501,
+        t515,
+        t522,
+        t528,
+        t538,
+        t543,
+        t544,
+        t547,
+        t559,
+        t573,
+        t580,
+        t586,
+        t596,
+        t601,
+        t602,
+        t606,
+        t618,
+        t632,
+        t639,
+        t645,
+        t655,
+        t660,
+        t661,
+        t664,
+        t676,
+        t690,
+        t697,
+        t703,
+        t713,
+        t718,
+        t719,
+        t723,
         t735,
-        t770,
-        t782,
-        t796,
-        t803,
-        t809,
-        t827,
-        t884,
-        t887,
-        t947,
-        t982,
-        t987,
-        t989,
-        t994,
+        t749,
+        t756,
+        t762,
+        t772,
+        t777,
+        t778,
+        t781,
+        t793,
+        t807,
+        t814,
+        t820,
+        t830,
+        t835,
+        t836,
+        t841,
+        t842,
+        t843,
+        t878,
+        t881,
+        t892,
+        t904,
+        t906,
+        t907,
+        t942,
+        t945,
+        t956,
+        t968,
+        t970,
+        t971,
+        t986,
+        t993,
+        t996,
+        t997,
+        t998,
+        t999,
         t1000,
-        t1001,
         t1002,
     ) = {
         let (t0, t1): (f64, f64) = sin_cos(gamma);
@@ -29248,520 +29296,520 @@ pub fn forward_kinematics_step_params_separate(
         let t486 = product(t485, 2.0);
         let t487: f64 = t486.added_to(leg6_offset);
         let t488: f64 = q6 - t487;
-        let t489: f64 = t67 * t67;
-        let t490 = product(leg1_zero_y, t35);
-        let t491: f64 = leg1_zero_z * t18;
-        let t492: f64 = t490.minus(t491);
-        let t493 = product(t49, t492);
-        let t494 = product(t35, t53);
-        let t495: f64 = t18 * t57;
-        let t496: f64 = t494.minus(t495);
-        let t497: f64 = t64 * t496;
-        let t498: f64 = t493.plus(t497);
-        let t499: f64 = t498 * 2.0;
-        let t500: f64 = t86 * t489;
-        let t501 = product(t499, t500);
-        let t502 = product(t79, t496);
-        let t503 = product(t20, t35);
-        let t504: f64 = t18 * t37;
-        let t505: f64 = t503.minus(t504);
-        let t506: f64 = t505 * 2.0;
-        let t507: f64 = t68 * t506;
-        let t508 = product(t64, t507);
-        let t509: f64 = t84 * t492;
-        let t510: f64 = 1.0 / t83;
-        let t511 = product(t79, t507);
-        let t512: f64 = t511.subtracted_from(t499);
-        let t513: f64 = leg1_branch * t49;
-        let t514: f64 = t510 * t513;
-        let t515: f64 = t512 * t514;
-        let t516: f64 = t508.plus(t515);
-        let t517 = product(t516, 0.5);
-        let t518: f64 = t502.plus(t509);
-        let t519: f64 = t517.plus(t518);
-        let t520 = product(t67, t519);
-        let t521: f64 = t90 * t489;
-        let t522 = product(t499, t521);
-        let t523 = product(t79, t492);
-        let t524 = product(t49, t507);
-        let t525 = product(t84, t496);
-        let t526: f64 = leg1_branch * t64;
-        let t527: f64 = t510 * t526;
-        let t528: f64 = t512 * t527;
-        let t529: f64 = t524.minus(t528);
-        let t530: f64 = t529 * 0.5;
-        let t531: f64 = t523.plus(t530);
-        let t532: f64 = t525.subtracted_from(t531);
-        let t533: f64 = t67 * t532;
-        let t534: f64 = t522.minus(t533);
-        let t535: f64 = t94 * t534;
-        let t536: f64 = t520.plus(t535);
-        let t537: f64 = t501.minus(t536);
-        let t538: f64 = t87 * t87;
-        let t539: f64 = t93 * t93;
-        let t540 = product(t538, t539);
-        let t541: f64 = t540.plus(1.0);
-        let t542: f64 = 1.0 / t541;
-        let t543: f64 = t93 * t537;
-        let t544: f64 = t542 * t543;
-        let t545: f64 = t544 * 2.0;
-        let t546 = product(leg1_platform_z, t6);
-        let t547: f64 = t5 * t42;
-        let t548: f64 = t546.minus(t547);
-        let t549 = product(leg1_zero_x, t548);
-        let t550 = product(leg1_zero_y, t2);
-        let t551: f64 = leg1_zero_z * t3;
-        let t552: f64 = t550.minus(t551);
-        let t553: f64 = t44 * t552;
-        let t554: f64 = t549.plus(t553);
-        let t555 = product(t49, t554);
-        let t556 = product(t61, t548);
-        let t557 = product(t2, t53);
-        let t558: f64 = t3 * t57;
-        let t559: f64 = t557.minus(t558);
-        let t560: f64 = t44 * t559;
-        let t561: f64 = t556.plus(t560);
-        let t562: f64 = t64 * t561;
-        let t563: f64 = t555.plus(t562);
-        let t564: f64 = t563 * 2.0;
-        let t565 = product(t500, t564);
-        let t566 = product(t79, t561);
-        let t567: f64 = t46 * t548;
-        let t568 = product(t2, t20);
-        let t569: f64 = t3 * t37;
-        let t570: f64 = t568.minus(t569);
-        let t571: f64 = t570 * 2.0;
-        let t572 = product(t44, t571);
-        let t573: f64 = t567 * 2.0;
-        let t574: f64 = t572.plus(t573);
-        let t575: f64 = t64 * t68;
-        let t576 = product(t574, t575);
-        let t577: f64 = t84 * t554;
-        let t578: f64 = t68 * t79;
-        let t579 = product(t574, t578);
-        let t580: f64 = t579.subtracted_from(t564);
-        let t581: f64 = t514 * t580;
-        let t582: f64 = t576.plus(t581);
-        let t583 = product(t582, 0.5);
-        let t584: f64 = t566.plus(t577);
-        let t585: f64 = t583.plus(t584);
-        let t586 = product(t67, t585);
-        let t587 = product(t521, t564);
-        let t588 = product(t79, t554);
-        let t589: f64 = t49 * t68;
-        let t590 = product(t574, t589);
-        let t591 = product(t84, t561);
-        let t592: f64 = t527 * t580;
-        let t593: f64 = t590.minus(t592);
-        let t594: f64 = t593 * 0.5;
-        let t595: f64 = t588.plus(t594);
-        let t596: f64 = t591.subtracted_from(t595);
-        let t597: f64 = t67 * t596;
-        let t598: f64 = t587.minus(t597);
-        let t599: f64 = t94 * t598;
-        let t600: f64 = t586.plus(t599);
-        let t601: f64 = t565.minus(t600);
-        let t602: f64 = t93 * t542;
-        let t603: f64 = t601 * t602;
-        let t604: f64 = t603 * 2.0;
-        let t605: f64 = -t604;
-        let t606 = product(leg1_platform_x, t13);
-        let t607: f64 = leg1_platform_y * t9;
-        let t608: f64 = t606.minus(t607);
-        let t609 = product(leg1_zero_y, t608);
-        let t610 = product(leg1_platform_x, t30);
-        let t611: f64 = leg1_platform_y * t25;
-        let t612: f64 = t610.minus(t611);
-        let t613: f64 = leg1_zero_z * t612;
-        let t614 = product(leg1_platform_x, t0);
-        let t615: f64 = leg1_platform_y * t1;
-        let t616: f64 = t614.plus(t615);
-        let t617: f64 = leg1_zero_x * t6;
-        let t618 = product(t616, t617);
-        let t619: f64 = t609.plus(t613);
-        let t620: f64 = t618.minus(t619);
-        let t621 = product(t49, t620);
-        let t622 = product(t53, t608);
-        let t623: f64 = t57 * t612;
-        let t624: f64 = t6 * t61;
-        let t625 = product(t616, t624);
-        let t626: f64 = t622.plus(t623);
-        let t627: f64 = t625.minus(t626);
-        let t628: f64 = t64 * t627;
-        let t629: f64 = t621.plus(t628);
-        let t630: f64 = t629 * 2.0;
-        let t631 = product(t500, t630);
-        let t632 = product(t79, t627);
-        let t633 = product(t20, t608);
-        let t634: f64 = t37 * t612;
-        let t635: f64 = t6 * t46;
-        let t636 = product(t616, t635);
-        let t637: f64 = t633.plus(t634);
-        let t638: f64 = t636.minus(t637);
-        let t639: f64 = t638 * 2.0;
-        let t640 = product(t575, t639);
-        let t641: f64 = t84 * t620;
-        let t642 = product(t578, t639);
-        let t643: f64 = t642.subtracted_from(t630);
-        let t644: f64 = t514 * t643;
-        let t645: f64 = t640.plus(t644);
-        let t646 = product(t645, 0.5);
-        let t647: f64 = t632.plus(t641);
-        let t648: f64 = t646.plus(t647);
-        let t649 = product(t67, t648);
-        let t650 = product(t521, t630);
-        let t651 = product(t79, t620);
-        let t652 = product(t589, t639);
-        let t653 = product(t84, t627);
-        let t654: f64 = t527 * t643;
-        let t655: f64 = t652.minus(t654);
-        let t656: f64 = t655 * 0.5;
-        let t657: f64 = t651.plus(t656);
-        let t658: f64 = t653.subtracted_from(t657);
-        let t659: f64 = t67 * t658;
-        let t660: f64 = t650.minus(t659);
-        let t661: f64 = t94 * t660;
-        let t662: f64 = t649.plus(t661);
-        let t663: f64 = t631.minus(t662);
-        let t664: f64 = t602 * t663;
-        let t665: f64 = t664 * 2.0;
-        let t666 = product(leg1_zero_x, t49);
-        let t667: f64 = t61 * t64;
-        let t668: f64 = t666.plus(t667);
-        let t669: f64 = t668 * 2.0;
-        let t670 = product(t500, t669);
-        let t671 = product(t61, t79);
-        let t672: f64 = t46 * t68;
-        let t673: f64 = t64 * t672;
-        let t674 = product(leg1_zero_x, t84);
-        let t675 = product(t79, t672);
-        let t676: f64 = t675.subtracted_from(t668);
-        let t677: f64 = t676 * 2.0;
-        let t678: f64 = t514 * t677;
-        let t679: f64 = t678 * 0.5;
-        let t680: f64 = t671.plus(t673);
-        let t681: f64 = t674.plus(t679);
-        let t682: f64 = t680 + t681;
-        let t683 = product(t67, t682);
-        let t684 = product(t521, t669);
-        let t685 = product(leg1_zero_x, t79);
-        let t686: f64 = t49 * t672;
-        let t687 = product(t61, t84);
-        let t688: f64 = t527 * t677;
-        let t689: f64 = t688 * 0.5;
-        let t690: f64 = t685.plus(t686);
-        let t691: f64 = t687.plus(t689);
-        let t692: f64 = t690 - t691;
-        let t693: f64 = t67 * t692;
-        let t694: f64 = t684.minus(t693);
-        let t695: f64 = t94 * t694;
-        let t696: f64 = t683.plus(t695);
-        let t697: f64 = t670.minus(t696);
-        let t698: f64 = t602 * t697;
-        let t699: f64 = t698 * 2.0;
-        let t700: f64 = -t699;
-        let t701 = product(leg1_zero_y, t49);
-        let t702: f64 = t53 * t64;
-        let t703: f64 = t701.plus(t702);
-        let t704: f64 = t703 * 2.0;
-        let t705 = product(t500, t704);
-        let t706 = product(t53, t79);
-        let t707: f64 = t20 * t68;
-        let t708: f64 = t64 * t707;
-        let t709 = product(leg1_zero_y, t84);
-        let t710 = product(t79, t707);
-        let t711: f64 = t710.subtracted_from(t703);
-        let t712: f64 = t711 * 2.0;
-        let t713: f64 = t514 * t712;
-        let t714: f64 = t713 * 0.5;
-        let t715: f64 = t706.plus(t708);
-        let t716: f64 = t709.plus(t714);
-        let t717: f64 = t715 + t716;
-        let t718 = product(t67, t717);
-        let t719 = product(t521, t704);
-        let t720 = product(leg1_zero_y, t79);
-        let t721: f64 = t49 * t707;
-        let t722 = product(t53, t84);
-        let t723: f64 = t527 * t712;
-        let t724: f64 = t723 * 0.5;
-        let t725: f64 = t720.plus(t721);
-        let t726: f64 = t722.plus(t724);
-        let t727: f64 = t725 - t726;
-        let t728: f64 = t67 * t727;
-        let t729: f64 = t719.minus(t728);
-        let t730: f64 = t94 * t729;
-        let t731: f64 = t718.plus(t730);
-        let t732: f64 = t705.minus(t731);
-        let t733: f64 = t602 * t732;
+        let t489: f64 = t405 * t405;
+        let t490: f64 = t379 * t379;
+        let t491 = product(leg5_zero_y, t347);
+        let t492: f64 = leg5_zero_z * t338;
+        let t493: f64 = t491.minus(t492);
+        let t494 = product(t361, t493);
+        let t495 = product(t347, t365);
+        let t496: f64 = t338 * t369;
+        let t497: f64 = t495.minus(t496);
+        let t498: f64 = t376 * t497;
+        let t499: f64 = t494.plus(t498);
+        let t500: f64 = t499 * 2.0;
+        let t501: f64 = t398 * t490;
+        let t502 = product(t500, t501);
+        let t503 = product(t391, t497);
+        let t504 = product(t340, t347);
+        let t505: f64 = t338 * t349;
+        let t506: f64 = t504.minus(t505);
+        let t507: f64 = t506 * 2.0;
+        let t508: f64 = t380 * t507;
+        let t509 = product(t376, t508);
+        let t510: f64 = t396 * t493;
+        let t511: f64 = 1.0 / t395;
+        let t512 = product(t391, t508);
+        let t513: f64 = t512.subtracted_from(t500);
+        let t514: f64 = leg5_branch * t361;
+        let t515: f64 = t511 * t514;
+        let t516: f64 = t513 * t515;
+        let t517: f64 = t509.plus(t516);
+        let t518 = product(t517, 0.5);
+        let t519: f64 = t503.plus(t510);
+        let t520: f64 = t518.plus(t519);
+        let t521 = product(t379, t520);
+        let t522: f64 = t402 * t490;
+        let t523 = product(t500, t522);
+        let t524 = product(t391, t493);
+        let t525 = product(t361, t508);
+        let t526 = product(t396, t497);
+        let t527: f64 = leg5_branch * t376;
+        let t528: f64 = t511 * t527;
+        let t529: f64 = t513 * t528;
+        let t530: f64 = t525.minus(t529);
+        let t531: f64 = t530 * 0.5;
+        let t532: f64 = t524.plus(t531);
+        let t533: f64 = t526.subtracted_from(t532);
+        let t534: f64 = t379 * t533;
+        let t535: f64 = t523.minus(t534);
+        let t536: f64 = t406 * t535;
+        let t537: f64 = t521.plus(t536);
+        let t538: f64 = t502.minus(t537);
+        let t539: f64 = t538 * t538;
+        let t540: f64 = t399 * t399;
+        let t541 = product(t489, t540);
+        let t542: f64 = t541.plus(1.0);
+        let t543: f64 = 1.0 / t542;
+        let t544: f64 = t543 * t543;
+        let t545: f64 = t489 * t539;
+        let t546 = product(t544, t545);
+        let t547: f64 = t483 * t483;
+        let t548: f64 = t457 * t457;
+        let t549 = product(leg6_zero_y, t425);
+        let t550: f64 = leg6_zero_z * t416;
+        let t551: f64 = t549.minus(t550);
+        let t552 = product(t439, t551);
+        let t553 = product(t425, t443);
+        let t554: f64 = t416 * t447;
+        let t555: f64 = t553.minus(t554);
+        let t556: f64 = t454 * t555;
+        let t557: f64 = t552.plus(t556);
+        let t558: f64 = t557 * 2.0;
+        let t559: f64 = t476 * t548;
+        let t560 = product(t558, t559);
+        let t561 = product(t469, t555);
+        let t562 = product(t418, t425);
+        let t563: f64 = t416 * t427;
+        let t564: f64 = t562.minus(t563);
+        let t565: f64 = t564 * 2.0;
+        let t566: f64 = t458 * t565;
+        let t567 = product(t454, t566);
+        let t568: f64 = t474 * t551;
+        let t569: f64 = 1.0 / t473;
+        let t570 = product(t469, t566);
+        let t571: f64 = t570.subtracted_from(t558);
+        let t572: f64 = leg6_branch * t439;
+        let t573: f64 = t569 * t572;
+        let t574: f64 = t571 * t573;
+        let t575: f64 = t567.plus(t574);
+        let t576 = product(t575, 0.5);
+        let t577: f64 = t561.plus(t568);
+        let t578: f64 = t576.plus(t577);
+        let t579 = product(t457, t578);
+        let t580: f64 = t480 * t548;
+        let t581 = product(t558, t580);
+        let t582 = product(t469, t551);
+        let t583 = product(t439, t566);
+        let t584 = product(t474, t555);
+        let t585: f64 = leg6_branch * t454;
+        let t586: f64 = t569 * t585;
+        let t587: f64 = t571 * t586;
+        let t588: f64 = t583.minus(t587);
+        let t589: f64 = t588 * 0.5;
+        let t590: f64 = t582.plus(t589);
+        let t591: f64 = t584.subtracted_from(t590);
+        let t592: f64 = t457 * t591;
+        let t593: f64 = t581.minus(t592);
+        let t594: f64 = t484 * t593;
+        let t595: f64 = t579.plus(t594);
+        let t596: f64 = t560.minus(t595);
+        let t597: f64 = t596 * t596;
+        let t598: f64 = t477 * t477;
+        let t599 = product(t547, t598);
+        let t600: f64 = t599.plus(1.0);
+        let t601: f64 = 1.0 / t600;
+        let t602: f64 = t601 * t601;
+        let t603: f64 = t547 * t597;
+        let t604: f64 = t602 * t603;
+        let t605: f64 = t546.plus(t604);
+        let t606: f64 = t93 * t93;
+        let t607: f64 = t67 * t67;
+        let t608 = product(leg1_zero_y, t35);
+        let t609: f64 = leg1_zero_z * t18;
+        let t610: f64 = t608.minus(t609);
+        let t611 = product(t49, t610);
+        let t612 = product(t35, t53);
+        let t613: f64 = t18 * t57;
+        let t614: f64 = t612.minus(t613);
+        let t615: f64 = t64 * t614;
+        let t616: f64 = t611.plus(t615);
+        let t617: f64 = t616 * 2.0;
+        let t618: f64 = t86 * t607;
+        let t619 = product(t617, t618);
+        let t620 = product(t79, t614);
+        let t621 = product(t20, t35);
+        let t622: f64 = t18 * t37;
+        let t623: f64 = t621.minus(t622);
+        let t624: f64 = t623 * 2.0;
+        let t625: f64 = t68 * t624;
+        let t626 = product(t64, t625);
+        let t627: f64 = t84 * t610;
+        let t628: f64 = 1.0 / t83;
+        let t629 = product(t79, t625);
+        let t630: f64 = t629.subtracted_from(t617);
+        let t631: f64 = leg1_branch * t49;
+        let t632: f64 = t628 * t631;
+        let t633: f64 = t630 * t632;
+        let t634: f64 = t626.plus(t633);
+        let t635 = product(t634, 0.5);
+        let t636: f64 = t620.plus(t627);
+        let t637: f64 = t635.plus(t636);
+        let t638 = product(t67, t637);
+        let t639: f64 = t90 * t607;
+        let t640 = product(t617, t639);
+        let t641 = product(t79, t610);
+        let t642 = product(t49, t625);
+        let t643 = product(t84, t614);
+        let t644: f64 = leg1_branch * t64;
+        let t645: f64 = t628 * t644;
+        let t646: f64 = t630 * t645;
+        let t647: f64 = t642.minus(t646);
+        let t648: f64 = t647 * 0.5;
+        let t649: f64 = t641.plus(t648);
+        let t650: f64 = t643.subtracted_from(t649);
+        let t651: f64 = t67 * t650;
+        let t652: f64 = t640.minus(t651);
+        let t653: f64 = t94 * t652;
+        let t654: f64 = t638.plus(t653);
+        let t655: f64 = t619.minus(t654);
+        let t656: f64 = t655 * t655;
+        let t657: f64 = t87 * t87;
+        let t658 = product(t606, t657);
+        let t659: f64 = t658.plus(1.0);
+        let t660: f64 = 1.0 / t659;
+        let t661: f64 = t660 * t660;
+        let t662: f64 = t606 * t656;
+        let t663 = product(t661, t662);
+        let t664: f64 = t171 * t171;
+        let t665: f64 = t145 * t145;
+        let t666 = product(leg2_zero_y, t113);
+        let t667: f64 = leg2_zero_z * t104;
+        let t668: f64 = t666.minus(t667);
+        let t669 = product(t127, t668);
+        let t670 = product(t113, t131);
+        let t671: f64 = t104 * t135;
+        let t672: f64 = t670.minus(t671);
+        let t673: f64 = t142 * t672;
+        let t674: f64 = t669.plus(t673);
+        let t675: f64 = t674 * 2.0;
+        let t676: f64 = t164 * t665;
+        let t677 = product(t675, t676);
+        let t678 = product(t157, t672);
+        let t679 = product(t106, t113);
+        let t680: f64 = t104 * t115;
+        let t681: f64 = t679.minus(t680);
+        let t682: f64 = t681 * 2.0;
+        let t683: f64 = t146 * t682;
+        let t684 = product(t142, t683);
+        let t685: f64 = t162 * t668;
+        let t686: f64 = 1.0 / t161;
+        let t687 = product(t157, t683);
+        let t688: f64 = t687.subtracted_from(t675);
+        let t689: f64 = leg2_branch * t127;
+        let t690: f64 = t686 * t689;
+        let t691: f64 = t688 * t690;
+        let t692: f64 = t684.plus(t691);
+        let t693 = product(t692, 0.5);
+        let t694: f64 = t678.plus(t685);
+        let t695: f64 = t693.plus(t694);
+        let t696 = product(t145, t695);
+        let t697: f64 = t168 * t665;
+        let t698 = product(t675, t697);
+        let t699 = product(t157, t668);
+        let t700 = product(t127, t683);
+        let t701 = product(t162, t672);
+        let t702: f64 = leg2_branch * t142;
+        let t703: f64 = t686 * t702;
+        let t704: f64 = t688 * t703;
+        let t705: f64 = t700.minus(t704);
+        let t706: f64 = t705 * 0.5;
+        let t707: f64 = t699.plus(t706);
+        let t708: f64 = t701.subtracted_from(t707);
+        let t709: f64 = t145 * t708;
+        let t710: f64 = t698.minus(t709);
+        let t711: f64 = t172 * t710;
+        let t712: f64 = t696.plus(t711);
+        let t713: f64 = t677.minus(t712);
+        let t714: f64 = t713 * t713;
+        let t715: f64 = t165 * t165;
+        let t716 = product(t664, t715);
+        let t717: f64 = t716.plus(1.0);
+        let t718: f64 = 1.0 / t717;
+        let t719: f64 = t718 * t718;
+        let t720: f64 = t664 * t714;
+        let t721: f64 = t719 * t720;
+        let t722: f64 = t663.plus(t721);
+        let t723: f64 = t249 * t249;
+        let t724: f64 = t223 * t223;
+        let t725 = product(leg3_zero_y, t191);
+        let t726: f64 = leg3_zero_z * t182;
+        let t727: f64 = t725.minus(t726);
+        let t728 = product(t205, t727);
+        let t729 = product(t191, t209);
+        let t730: f64 = t182 * t213;
+        let t731: f64 = t729.minus(t730);
+        let t732: f64 = t220 * t731;
+        let t733: f64 = t728.plus(t732);
         let t734: f64 = t733 * 2.0;
-        let t735: f64 = -t734;
-        let t736 = product(leg1_zero_z, t49);
-        let t737: f64 = t57 * t64;
-        let t738: f64 = t736.plus(t737);
-        let t739: f64 = t738 * 2.0;
-        let t740 = product(t500, t739);
-        let t741 = product(t57, t79);
-        let t742: f64 = t37 * t68;
-        let t743: f64 = t64 * t742;
-        let t744 = product(leg1_zero_z, t84);
-        let t745 = product(t79, t742);
-        let t746: f64 = t745.subtracted_from(t738);
-        let t747: f64 = t746 * 2.0;
-        let t748: f64 = t514 * t747;
-        let t749: f64 = t748 * 0.5;
-        let t750: f64 = t741.plus(t743);
-        let t751: f64 = t744.plus(t749);
-        let t752: f64 = t750 + t751;
-        let t753 = product(t67, t752);
-        let t754 = product(t521, t739);
-        let t755 = product(leg1_zero_z, t79);
-        let t756: f64 = t49 * t742;
-        let t757 = product(t57, t84);
-        let t758: f64 = t527 * t747;
-        let t759: f64 = t758 * 0.5;
-        let t760: f64 = t755.plus(t756);
-        let t761: f64 = t757.plus(t759);
-        let t762: f64 = t760 - t761;
-        let t763: f64 = t67 * t762;
-        let t764: f64 = t754.minus(t763);
-        let t765: f64 = t94 * t764;
-        let t766: f64 = t753.plus(t765);
-        let t767: f64 = t740.minus(t766);
-        let t768: f64 = t602 * t767;
-        let t769: f64 = t768 * 2.0;
-        let t770: f64 = -t769;
-        let t771: f64 = t145 * t145;
-        let t772 = product(leg2_zero_y, t113);
-        let t773: f64 = leg2_zero_z * t104;
-        let t774: f64 = t772.minus(t773);
-        let t775 = product(t127, t774);
-        let t776 = product(t113, t131);
-        let t777: f64 = t104 * t135;
-        let t778: f64 = t776.minus(t777);
-        let t779: f64 = t142 * t778;
-        let t780: f64 = t775.plus(t779);
-        let t781: f64 = t780 * 2.0;
-        let t782: f64 = t164 * t771;
-        let t783 = product(t781, t782);
-        let t784 = product(t157, t778);
-        let t785 = product(t106, t113);
-        let t786: f64 = t104 * t115;
-        let t787: f64 = t785.minus(t786);
-        let t788: f64 = t787 * 2.0;
-        let t789: f64 = t146 * t788;
-        let t790 = product(t142, t789);
-        let t791: f64 = t162 * t774;
-        let t792: f64 = 1.0 / t161;
-        let t793 = product(t157, t789);
-        let t794: f64 = t793.subtracted_from(t781);
-        let t795: f64 = leg2_branch * t127;
-        let t796: f64 = t792 * t795;
-        let t797: f64 = t794 * t796;
-        let t798: f64 = t790.plus(t797);
-        let t799 = product(t798, 0.5);
-        let t800: f64 = t784.plus(t791);
-        let t801: f64 = t799.plus(t800);
-        let t802 = product(t145, t801);
-        let t803: f64 = t168 * t771;
-        let t804 = product(t781, t803);
-        let t805 = product(t157, t774);
-        let t806 = product(t127, t789);
-        let t807 = product(t162, t778);
-        let t808: f64 = leg2_branch * t142;
-        let t809: f64 = t792 * t808;
-        let t810: f64 = t794 * t809;
-        let t811: f64 = t806.minus(t810);
-        let t812: f64 = t811 * 0.5;
-        let t813: f64 = t805.plus(t812);
-        let t814: f64 = t807.subtracted_from(t813);
-        let t815: f64 = t145 * t814;
-        let t816: f64 = t804.minus(t815);
-        let t817: f64 = t172 * t816;
-        let t818: f64 = t802.plus(t817);
-        let t819: f64 = t783.minus(t818);
-        let t820: f64 = t165 * t165;
-        let t821: f64 = t171 * t171;
-        let t822 = product(t820, t821);
-        let t823: f64 = t822.plus(1.0);
-        let t824: f64 = 1.0 / t823;
-        let t825: f64 = t171 * t819;
-        let t826: f64 = t824 * t825;
-        let t827: f64 = t826 * 2.0;
-        let t828 = product(leg2_platform_z, t6);
-        let t829: f64 = t5 * t120;
-        let t830: f64 = t828.minus(t829);
-        let t831 = product(leg2_zero_x, t830);
-        let t832 = product(leg2_zero_y, t2);
-        let t833: f64 = leg2_zero_z * t3;
-        let t834: f64 = t832.minus(t833);
-        let t835: f64 = t122 * t834;
-        let t836: f64 = t831.plus(t835);
-        let t837 = product(t127, t836);
-        let t838 = product(t139, t830);
-        let t839 = product(t2, t131);
-        let t840: f64 = t3 * t135;
-        let t841: f64 = t839.minus(t840);
-        let t842: f64 = t122 * t841;
-        let t843: f64 = t838.plus(t842);
-        let t844: f64 = t142 * t843;
-        let t845: f64 = t837.plus(t844);
-        let t846: f64 = t845 * 2.0;
-        let t847 = product(t782, t846);
-        let t848 = product(t157, t843);
-        let t849: f64 = t124 * t830;
-        let t850 = product(t2, t106);
-        let t851: f64 = t3 * t115;
-        let t852: f64 = t850.minus(t851);
-        let t853: f64 = t852 * 2.0;
-        let t854 = product(t122, t853);
-        let t855: f64 = t849 * 2.0;
-        let t856: f64 = t854.plus(t855);
-        let t857: f64 = t142 * t146;
-        let t858 = product(t856, t857);
-        let t859: f64 = t162 * t836;
-        let t860: f64 = t146 * t157;
-        let t861 = product(t856, t860);
-        let t862: f64 = t861.subtracted_from(t846);
-        let t863: f64 = t796 * t862;
-        let t864: f64 = t858.plus(t863);
-        let t865 = product(t864, 0.5);
-        let t866: f64 = t848.plus(t859);
-        let t867: f64 = t865.plus(t866);
-        let t868 = product(t145, t867);
-        let t869 = product(t803, t846);
-        let t870 = product(t157, t836);
-        let t871: f64 = t127 * t146;
-        let t872 = product(t856, t871);
-        let t873 = product(t162, t843);
-        let t874: f64 = t809 * t862;
-        let t875: f64 = t872.minus(t874);
-        let t876: f64 = t875 * 0.5;
-        let t877: f64 = t870.plus(t876);
-        let t878: f64 = t873.subtracted_from(t877);
-        let t879: f64 = t145 * t878;
-        let t880: f64 = t869.minus(t879);
-        let t881: f64 = t172 * t880;
-        let t882: f64 = t868.plus(t881);
-        let t883: f64 = t847.minus(t882);
-        let t884: f64 = t171 * t824;
-        let t885: f64 = t883 * t884;
-        let t886: f64 = t885 * 2.0;
-        let t887: f64 = -t886;
-        let t888 = product(leg2_platform_x, t13);
-        let t889: f64 = leg2_platform_y * t9;
-        let t890: f64 = t888.minus(t889);
-        let t891 = product(leg2_zero_y, t890);
-        let t892 = product(leg2_platform_x, t30);
-        let t893: f64 = leg2_platform_y * t25;
-        let t894: f64 = t892.minus(t893);
-        let t895: f64 = leg2_zero_z * t894;
-        let t896 = product(leg2_platform_x, t0);
-        let t897: f64 = leg2_platform_y * t1;
-        let t898: f64 = t896.plus(t897);
-        let t899: f64 = leg2_zero_x * t6;
-        let t900 = product(t898, t899);
-        let t901: f64 = t891.plus(t895);
-        let t902: f64 = t900.minus(t901);
-        let t903 = product(t127, t902);
-        let t904 = product(t131, t890);
-        let t905: f64 = t135 * t894;
-        let t906: f64 = t6 * t139;
-        let t907 = product(t898, t906);
-        let t908: f64 = t904.plus(t905);
-        let t909: f64 = t907.minus(t908);
-        let t910: f64 = t142 * t909;
-        let t911: f64 = t903.plus(t910);
-        let t912: f64 = t911 * 2.0;
-        let t913 = product(t782, t912);
-        let t914 = product(t157, t909);
-        let t915 = product(t106, t890);
-        let t916: f64 = t115 * t894;
-        let t917: f64 = t6 * t124;
-        let t918 = product(t898, t917);
-        let t919: f64 = t915.plus(t916);
-        let t920: f64 = t918.minus(t919);
-        let t921: f64 = t920 * 2.0;
-        let t922 = product(t857, t921);
-        let t923: f64 = t162 * t902;
-        let t924 = product(t860, t921);
-        let t925: f64 = t924.subtracted_from(t912);
-        let t926: f64 = t796 * t925;
-        let t927: f64 = t922.plus(t926);
-        let t928 = product(t927, 0.5);
-        let t929: f64 = t914.plus(t923);
-        let t930: f64 = t928.plus(t929);
-        let t931 = product(t145, t930);
-        let t932 = product(t803, t912);
-        let t933 = product(t157, t902);
-        let t934 = product(t871, t921);
-        let t935 = product(t162, t909);
-        let t936: f64 = t809 * t925;
-        let t937: f64 = t934.minus(t936);
-        let t938: f64 = t937 * 0.5;
-        let t939: f64 = t933.plus(t938);
-        let t940: f64 = t935.subtracted_from(t939);
-        let t941: f64 = t145 * t940;
-        let t942: f64 = t932.minus(t941);
-        let t943: f64 = t172 * t942;
-        let t944: f64 = t931.plus(t943);
-        let t945: f64 = t913.minus(t944);
-        let t946: f64 = t884 * t945;
-        let t947: f64 = t946 * 2.0;
-        let t948 = product(leg2_zero_x, t127);
-        let t949: f64 = t139 * t142;
-        let t950: f64 = t948.plus(t949);
-        let t951: f64 = t950 * 2.0;
-        let t952 = product(t782, t951);
-        let t953 = product(t139, t157);
-        let t954: f64 = t124 * t146;
-        let t955: f64 = t142 * t954;
-        let t956 = product(leg2_zero_x, t162);
-        let t957 = product(t157, t954);
-        let t958: f64 = t957.subtracted_from(t950);
-        let t959: f64 = t958 * 2.0;
-        let t960: f64 = t796 * t959;
+        let t735: f64 = t242 * t724;
+        let t736 = product(t734, t735);
+        let t737 = product(t235, t731);
+        let t738 = product(t184, t191);
+        let t739: f64 = t182 * t193;
+        let t740: f64 = t738.minus(t739);
+        let t741: f64 = t740 * 2.0;
+        let t742: f64 = t224 * t741;
+        let t743 = product(t220, t742);
+        let t744: f64 = t240 * t727;
+        let t745: f64 = 1.0 / t239;
+        let t746 = product(t235, t742);
+        let t747: f64 = t746.subtracted_from(t734);
+        let t748: f64 = leg3_branch * t205;
+        let t749: f64 = t745 * t748;
+        let t750: f64 = t747 * t749;
+        let t751: f64 = t743.plus(t750);
+        let t752 = product(t751, 0.5);
+        let t753: f64 = t737.plus(t744);
+        let t754: f64 = t752.plus(t753);
+        let t755 = product(t223, t754);
+        let t756: f64 = t246 * t724;
+        let t757 = product(t734, t756);
+        let t758 = product(t235, t727);
+        let t759 = product(t205, t742);
+        let t760 = product(t240, t731);
+        let t761: f64 = leg3_branch * t220;
+        let t762: f64 = t745 * t761;
+        let t763: f64 = t747 * t762;
+        let t764: f64 = t759.minus(t763);
+        let t765: f64 = t764 * 0.5;
+        let t766: f64 = t758.plus(t765);
+        let t767: f64 = t760.subtracted_from(t766);
+        let t768: f64 = t223 * t767;
+        let t769: f64 = t757.minus(t768);
+        let t770: f64 = t250 * t769;
+        let t771: f64 = t755.plus(t770);
+        let t772: f64 = t736.minus(t771);
+        let t773: f64 = t772 * t772;
+        let t774: f64 = t243 * t243;
+        let t775 = product(t723, t774);
+        let t776: f64 = t775.plus(1.0);
+        let t777: f64 = 1.0 / t776;
+        let t778: f64 = t777 * t777;
+        let t779: f64 = t723 * t773;
+        let t780 = product(t778, t779);
+        let t781: f64 = t327 * t327;
+        let t782: f64 = t301 * t301;
+        let t783 = product(leg4_zero_y, t269);
+        let t784: f64 = leg4_zero_z * t260;
+        let t785: f64 = t783.minus(t784);
+        let t786 = product(t283, t785);
+        let t787 = product(t269, t287);
+        let t788: f64 = t260 * t291;
+        let t789: f64 = t787.minus(t788);
+        let t790: f64 = t298 * t789;
+        let t791: f64 = t786.plus(t790);
+        let t792: f64 = t791 * 2.0;
+        let t793: f64 = t320 * t782;
+        let t794 = product(t792, t793);
+        let t795 = product(t313, t789);
+        let t796 = product(t262, t269);
+        let t797: f64 = t260 * t271;
+        let t798: f64 = t796.minus(t797);
+        let t799: f64 = t798 * 2.0;
+        let t800: f64 = t302 * t799;
+        let t801 = product(t298, t800);
+        let t802: f64 = t318 * t785;
+        let t803: f64 = 1.0 / t317;
+        let t804 = product(t313, t800);
+        let t805: f64 = t804.subtracted_from(t792);
+        let t806: f64 = leg4_branch * t283;
+        let t807: f64 = t803 * t806;
+        let t808: f64 = t805 * t807;
+        let t809: f64 = t801.plus(t808);
+        let t810 = product(t809, 0.5);
+        let t811: f64 = t795.plus(t802);
+        let t812: f64 = t810.plus(t811);
+        let t813 = product(t301, t812);
+        let t814: f64 = t324 * t782;
+        let t815 = product(t792, t814);
+        let t816 = product(t313, t785);
+        let t817 = product(t283, t800);
+        let t818 = product(t318, t789);
+        let t819: f64 = leg4_branch * t298;
+        let t820: f64 = t803 * t819;
+        let t821: f64 = t805 * t820;
+        let t822: f64 = t817.minus(t821);
+        let t823: f64 = t822 * 0.5;
+        let t824: f64 = t816.plus(t823);
+        let t825: f64 = t818.subtracted_from(t824);
+        let t826: f64 = t301 * t825;
+        let t827: f64 = t815.minus(t826);
+        let t828: f64 = t328 * t827;
+        let t829: f64 = t813.plus(t828);
+        let t830: f64 = t794.minus(t829);
+        let t831: f64 = t830 * t830;
+        let t832: f64 = t321 * t321;
+        let t833 = product(t781, t832);
+        let t834: f64 = t833.plus(1.0);
+        let t835: f64 = 1.0 / t834;
+        let t836: f64 = t835 * t835;
+        let t837: f64 = t781 * t831;
+        let t838: f64 = t836 * t837;
+        let t839: f64 = t780.plus(t838);
+        let t840: f64 = t722 + t839;
+        let t841: f64 = t605 + t840;
+        let t842: f64 = t841 * 4.0;
+        let t843: f64 = 1.0 / t842;
+        let t844 = product(leg1_platform_x, t13);
+        let t845: f64 = leg1_platform_y * t9;
+        let t846: f64 = t844.minus(t845);
+        let t847 = product(leg1_zero_y, t846);
+        let t848 = product(leg1_platform_x, t30);
+        let t849: f64 = leg1_platform_y * t25;
+        let t850: f64 = t848.minus(t849);
+        let t851: f64 = leg1_zero_z * t850;
+        let t852 = product(leg1_platform_x, t0);
+        let t853: f64 = leg1_platform_y * t1;
+        let t854: f64 = t852.plus(t853);
+        let t855: f64 = leg1_zero_x * t6;
+        let t856 = product(t854, t855);
+        let t857: f64 = t847.plus(t851);
+        let t858: f64 = t856.minus(t857);
+        let t859 = product(t49, t858);
+        let t860 = product(t53, t846);
+        let t861: f64 = t57 * t850;
+        let t862: f64 = t6 * t61;
+        let t863 = product(t854, t862);
+        let t864: f64 = t860.plus(t861);
+        let t865: f64 = t863.minus(t864);
+        let t866: f64 = t64 * t865;
+        let t867: f64 = t859.plus(t866);
+        let t868: f64 = t867 * 2.0;
+        let t869 = product(t618, t868);
+        let t870 = product(t79, t865);
+        let t871 = product(t20, t846);
+        let t872: f64 = t37 * t850;
+        let t873: f64 = t6 * t46;
+        let t874 = product(t854, t873);
+        let t875: f64 = t871.plus(t872);
+        let t876: f64 = t874.minus(t875);
+        let t877: f64 = t876 * 2.0;
+        let t878: f64 = t64 * t68;
+        let t879 = product(t877, t878);
+        let t880: f64 = t84 * t858;
+        let t881: f64 = t68 * t79;
+        let t882 = product(t877, t881);
+        let t883: f64 = t882.subtracted_from(t868);
+        let t884: f64 = t632 * t883;
+        let t885: f64 = t879.plus(t884);
+        let t886 = product(t885, 0.5);
+        let t887: f64 = t870.plus(t880);
+        let t888: f64 = t886.plus(t887);
+        let t889 = product(t67, t888);
+        let t890 = product(t639, t868);
+        let t891 = product(t79, t858);
+        let t892: f64 = t49 * t68;
+        let t893 = product(t877, t892);
+        let t894 = product(t84, t865);
+        let t895: f64 = t645 * t883;
+        let t896: f64 = t893.minus(t895);
+        let t897: f64 = t896 * 0.5;
+        let t898: f64 = t891.plus(t897);
+        let t899: f64 = t894.subtracted_from(t898);
+        let t900: f64 = t67 * t899;
+        let t901: f64 = t890.minus(t900);
+        let t902: f64 = t94 * t901;
+        let t903: f64 = t889.plus(t902);
+        let t904: f64 = t869.minus(t903);
+        let t905: f64 = t606 * t655;
+        let t906: f64 = t661 * t905;
+        let t907 = product(t904, t906);
+        let t908 = product(leg2_platform_x, t13);
+        let t909: f64 = leg2_platform_y * t9;
+        let t910: f64 = t908.minus(t909);
+        let t911 = product(leg2_zero_y, t910);
+        let t912 = product(leg2_platform_x, t30);
+        let t913: f64 = leg2_platform_y * t25;
+        let t914: f64 = t912.minus(t913);
+        let t915: f64 = leg2_zero_z * t914;
+        let t916 = product(leg2_platform_x, t0);
+        let t917: f64 = leg2_platform_y * t1;
+        let t918: f64 = t916.plus(t917);
+        let t919: f64 = leg2_zero_x * t6;
+        let t920 = product(t918, t919);
+        let t921: f64 = t911.plus(t915);
+        let t922: f64 = t920.minus(t921);
+        let t923 = product(t127, t922);
+        let t924 = product(t131, t910);
+        let t925: f64 = t135 * t914;
+        let t926: f64 = t6 * t139;
+        let t927 = product(t918, t926);
+        let t928: f64 = t924.plus(t925);
+        let t929: f64 = t927.minus(t928);
+        let t930: f64 = t142 * t929;
+        let t931: f64 = t923.plus(t930);
+        let t932: f64 = t931 * 2.0;
+        let t933 = product(t676, t932);
+        let t934 = product(t157, t929);
+        let t935 = product(t106, t910);
+        let t936: f64 = t115 * t914;
+        let t937: f64 = t6 * t124;
+        let t938 = product(t918, t937);
+        let t939: f64 = t935.plus(t936);
+        let t940: f64 = t938.minus(t939);
+        let t941: f64 = t940 * 2.0;
+        let t942: f64 = t142 * t146;
+        let t943 = product(t941, t942);
+        let t944: f64 = t162 * t922;
+        let t945: f64 = t146 * t157;
+        let t946 = product(t941, t945);
+        let t947: f64 = t946.subtracted_from(t932);
+        let t948: f64 = t690 * t947;
+        let t949: f64 = t943.plus(t948);
+        let t950 = product(t949, 0.5);
+        let t951: f64 = t934.plus(t944);
+        let t952: f64 = t950.plus(t951);
+        let t953 = product(t145, t952);
+        let t954 = product(t697, t932);
+        let t955 = product(t157, t922);
+        let t956: f64 = t127 * t146;
+        let t957 = product(t941, t956);
+        let t958 = product(t162, t929);
+        let t959: f64 = t703 * t947;
+        let t960: f64 = t957.minus(t959);
         let t961: f64 = t960 * 0.5;
-        let t962: f64 = t953.plus(t955);
-        let t963: f64 = t956.plus(t961);
-        let t964: f64 = t962 + t963;
-        let t965 = product(t145, t964);
-        let t966 = product(t803, t951);
-        let t967 = product(leg2_zero_x, t157);
-        let t968: f64 = t127 * t954;
-        let t969 = product(t139, t162);
-        let t970: f64 = t809 * t959;
-        let t971: f64 = t970 * 0.5;
-        let t972: f64 = t967.plus(t968);
-        let t973: f64 = t969.plus(t971);
-        let t974: f64 = t972 - t973;
-        let t975: f64 = t145 * t974;
-        let t976: f64 = t966.minus(t975);
-        let t977: f64 = t172 * t976;
-        let t978: f64 = t965.plus(t977);
-        let t979: f64 = t952.minus(t978);
-        let t980: f64 = t884 * t979;
-        let t981: f64 = t980 * 2.0;
-        let t982: f64 = -t981;
-        let t983 = product(leg2_zero_y, t127);
-        let t984: f64 = t131 * t142;
-        let t985: f64 = t983.plus(t984);
-        let t986: f64 = t985 * 2.0;
-        let t987 = product(t782, t986);
-        let t988 = product(t131, t157);
-        let t989: f64 = t106 * t146;
-        let t990: f64 = t142 * t989;
-        let t991 = product(leg2_zero_y, t162);
-        let t992 = product(t157, t989);
-        let t993: f64 = t992.subtracted_from(t985);
-        let t994: f64 = t993 * 2.0;
-        let t995: f64 = t796 * t994;
-        let t996: f64 = t995 * 0.5;
-        let t997: f64 = t988.plus(t990);
-        let t998: f64 = t991.plus(t996);
-        let t999: f64 = t997 + t998;
-        let t1000 = product(t145, t999);
-        let t1001 = product(t803, t986);
-        let t1002 = product(leg2_zero_y, t157);
+        let t962: f64 = t955.plus(t961);
+        let t963: f64 = t958.subtracted_from(t962);
+        let t964: f64 = t145 * t963;
+        let t965: f64 = t954.minus(t964);
+        let t966: f64 = t172 * t965;
+        let t967: f64 = t953.plus(t966);
+        let t968: f64 = t933.minus(t967);
+        let t969: f64 = t664 * t713;
+        let t970: f64 = t719 * t969;
+        let t971: f64 = t968 * t970;
+        let t972 = product(leg3_platform_x, t13);
+        let t973: f64 = leg3_platform_y * t9;
+        let t974: f64 = t972.minus(t973);
+        let t975 = product(leg3_zero_y, t974);
+        let t976 = product(leg3_platform_x, t30);
+        let t977: f64 = leg3_platform_y * t25;
+        let t978: f64 = t976.minus(t977);
+        let t979: f64 = leg3_zero_z * t978;
+        let t980 = product(leg3_platform_x, t0);
+        let t981: f64 = leg3_platform_y * t1;
+        let t982: f64 = t980.plus(t981);
+        let t983: f64 = leg3_zero_x * t6;
+        let t984 = product(t982, t983);
+        let t985: f64 = t975.plus(t979);
+        let t986: f64 = t984.minus(t985);
+        let t987 = product(t205, t986);
+        let t988 = product(t209, t974);
+        let t989: f64 = t213 * t978;
+        let t990: f64 = t6 * t217;
+        let t991 = product(t982, t990);
+        let t992: f64 = t988.plus(t989);
+        let t993: f64 = t991.minus(t992);
+        let t994: f64 = t220 * t993;
+        let t995: f64 = t987.plus(t994);
+        let t996: f64 = t995 * 2.0;
+        let t997 = product(t735, t996);
+        let t998 = product(t235, t993);
+        let t999 = product(t184, t974);
+        let t1000: f64 = t193 * t978;
+        let t1001: f64 = t6 * t202;
+        let t1002 = product(t982, t1001);
         (
             t0,
             t1,
@@ -29772,22 +29820,38 @@ pub fn forward_kinematics_step_params_separate(
             t9,
             t13,
             t19,
+            t20,
             t25,
             t30,
             t36,
+            t37,
+            t42,
+            t44,
             t45,
+            t46,
+            t49,
             t53,
             t57,
             t61,
+            t64,
             t67,
+            t68,
+            t79,
             t82,
+            t84,
             t87,
             t91,
+            t93,
+            t94,
             t98,
             t105,
+            t106,
             t114,
             t115,
+            t120,
+            t122,
             t123,
+            t124,
             t127,
             t131,
             t135,
@@ -29800,12 +29864,11 @@ pub fn forward_kinematics_step_params_separate(
             t162,
             t165,
             t169,
+            t171,
             t172,
             t176,
-            t182,
             t183,
             t184,
-            t191,
             t192,
             t193,
             t198,
@@ -29821,19 +29884,14 @@ pub fn forward_kinematics_step_params_separate(
             t224,
             t235,
             t238,
-            t239,
             t240,
-            t242,
             t243,
-            t246,
             t247,
             t249,
             t250,
             t254,
-            t260,
             t261,
             t262,
-            t269,
             t270,
             t271,
             t276,
@@ -29849,19 +29907,14 @@ pub fn forward_kinematics_step_params_separate(
             t302,
             t313,
             t316,
-            t317,
             t318,
-            t320,
             t321,
-            t324,
             t325,
             t327,
             t328,
             t332,
-            t338,
             t339,
             t340,
-            t347,
             t348,
             t349,
             t354,
@@ -29877,19 +29930,14 @@ pub fn forward_kinematics_step_params_separate(
             t380,
             t391,
             t394,
-            t395,
             t396,
-            t398,
             t399,
-            t402,
             t403,
             t405,
             t406,
             t410,
-            t416,
             t417,
             t418,
-            t425,
             t426,
             t427,
             t432,
@@ -29905,1583 +29953,2238 @@ pub fn forward_kinematics_step_params_separate(
             t458,
             t469,
             t472,
-            t473,
             t474,
-            t476,
             t477,
-            t480,
             t481,
             t483,
             t484,
             t488,
-            t545,
-            t605,
-            t665,
-            t700,
+            t489,
+            t501,
+            t515,
+            t522,
+            t528,
+            t538,
+            t543,
+            t544,
+            t547,
+            t559,
+            t573,
+            t580,
+            t586,
+            t596,
+            t601,
+            t602,
+            t606,
+            t618,
+            t632,
+            t639,
+            t645,
+            t655,
+            t660,
+            t661,
+            t664,
+            t676,
+            t690,
+            t697,
+            t703,
+            t713,
+            t718,
+            t719,
+            t723,
             t735,
-            t770,
-            t782,
-            t796,
-            t803,
-            t809,
-            t827,
-            t884,
-            t887,
-            t947,
-            t982,
-            t987,
-            t989,
-            t994,
+            t749,
+            t756,
+            t762,
+            t772,
+            t777,
+            t778,
+            t781,
+            t793,
+            t807,
+            t814,
+            t820,
+            t830,
+            t835,
+            t836,
+            t841,
+            t842,
+            t843,
+            t878,
+            t881,
+            t892,
+            t904,
+            t906,
+            t907,
+            t942,
+            t945,
+            t956,
+            t968,
+            t970,
+            t971,
+            t986,
+            t993,
+            t996,
+            t997,
+            t998,
+            t999,
             t1000,
-            t1001,
             t1002,
         )
     };
     let (
-        t1017,
-        t1052,
-        t1109,
-        t1169,
-        t1229,
-        t1264,
-        t1299,
-        t1334,
-        t1391,
-        t1451,
-        t1511,
-        t1546,
-        t1581,
-        t1616,
-        t1673,
-        t1733,
-        t1793,
-        t1828,
-        t1863,
-        t1898,
-        t1910,
-        t1924,
-        t1931,
-        t1937,
-        t1952,
-        t1955,
-        t1975,
-        t1985,
+        t1032,
+        t1034,
+        t1096,
+        t1098,
+        t1160,
+        t1162,
+        t1224,
+        t1226,
+        t1233,
+        t1288,
+        t1342,
+        t1396,
+        t1450,
+        t1504,
+        t1558,
+        t1565,
+        t1569,
+        t1572,
+        t1576,
+        t1579,
+        t1583,
+        t1586,
+        t1590,
+        t1592,
+        t1593,
+        t1594,
+        t1596,
+        t1598,
+        t1600,
+        t1602,
+        t1604,
+        t1606,
+        t1614,
+        t1633,
+        t1636,
+        t1637,
+        t1669,
+        t1670,
+        t1703,
+        t1704,
+        t1737,
+        t1738,
+        t1771,
+        t1772,
+        t1805,
+        t1806,
+        t1839,
+        t1840,
+        t1853,
+        t1854,
+        t1869,
+        t1870,
+        t1879,
+        t1881,
+        t1883,
+        t1885,
+        t1917,
+        t1918,
+        t1950,
+        t1951,
+        t1983,
+        t1984,
         t1988,
+        t1989,
+        t1991,
         t1996,
-        t1997,
-        t1998,
-        t1999,
-        t2000,
-        t2001,
         t2002,
     ) = {
-        let t1003: f64 = t127 * t989;
-        let t1004 = product(t131, t162);
-        let t1005: f64 = t809 * t994;
-        let t1006: f64 = t1005 * 0.5;
-        let t1007: f64 = t1002.plus(t1003);
-        let t1008: f64 = t1004.plus(t1006);
-        let t1009: f64 = t1007 - t1008;
-        let t1010: f64 = t145 * t1009;
-        let t1011: f64 = t1001.minus(t1010);
-        let t1012: f64 = t172 * t1011;
-        let t1013: f64 = t1000.plus(t1012);
-        let t1014: f64 = t987.minus(t1013);
-        let t1015: f64 = t884 * t1014;
-        let t1016: f64 = t1015 * 2.0;
-        let t1017: f64 = -t1016;
-        let t1018 = product(leg2_zero_z, t127);
-        let t1019: f64 = t135 * t142;
-        let t1020: f64 = t1018.plus(t1019);
-        let t1021: f64 = t1020 * 2.0;
-        let t1022 = product(t782, t1021);
-        let t1023 = product(t135, t157);
-        let t1024: f64 = t115 * t146;
-        let t1025: f64 = t142 * t1024;
-        let t1026 = product(leg2_zero_z, t162);
-        let t1027 = product(t157, t1024);
-        let t1028: f64 = t1027.subtracted_from(t1020);
-        let t1029: f64 = t1028 * 2.0;
-        let t1030: f64 = t796 * t1029;
-        let t1031: f64 = t1030 * 0.5;
-        let t1032: f64 = t1023.plus(t1025);
-        let t1033: f64 = t1026.plus(t1031);
-        let t1034: f64 = t1032 + t1033;
-        let t1035 = product(t145, t1034);
-        let t1036 = product(t803, t1021);
-        let t1037 = product(leg2_zero_z, t157);
-        let t1038: f64 = t127 * t1024;
-        let t1039 = product(t135, t162);
-        let t1040: f64 = t809 * t1029;
-        let t1041: f64 = t1040 * 0.5;
-        let t1042: f64 = t1037.plus(t1038);
-        let t1043: f64 = t1039.plus(t1041);
-        let t1044: f64 = t1042 - t1043;
-        let t1045: f64 = t145 * t1044;
-        let t1046: f64 = t1036.minus(t1045);
-        let t1047: f64 = t172 * t1046;
-        let t1048: f64 = t1035.plus(t1047);
-        let t1049: f64 = t1022.minus(t1048);
-        let t1050: f64 = t884 * t1049;
-        let t1051: f64 = t1050 * 2.0;
-        let t1052: f64 = -t1051;
-        let t1053: f64 = t223 * t223;
-        let t1054 = product(leg3_zero_y, t191);
-        let t1055: f64 = leg3_zero_z * t182;
-        let t1056: f64 = t1054.minus(t1055);
-        let t1057 = product(t205, t1056);
-        let t1058 = product(t191, t209);
-        let t1059: f64 = t182 * t213;
-        let t1060: f64 = t1058.minus(t1059);
-        let t1061: f64 = t220 * t1060;
-        let t1062: f64 = t1057.plus(t1061);
-        let t1063: f64 = t1062 * 2.0;
-        let t1064: f64 = t242 * t1053;
-        let t1065 = product(t1063, t1064);
-        let t1066 = product(t235, t1060);
-        let t1067 = product(t184, t191);
-        let t1068: f64 = t182 * t193;
-        let t1069: f64 = t1067.minus(t1068);
-        let t1070: f64 = t1069 * 2.0;
-        let t1071: f64 = t224 * t1070;
-        let t1072 = product(t220, t1071);
-        let t1073: f64 = t240 * t1056;
-        let t1074: f64 = 1.0 / t239;
-        let t1075 = product(t235, t1071);
-        let t1076: f64 = t1075.subtracted_from(t1063);
-        let t1077: f64 = leg3_branch * t205;
-        let t1078: f64 = t1074 * t1077;
-        let t1079: f64 = t1076 * t1078;
-        let t1080: f64 = t1072.plus(t1079);
-        let t1081 = product(t1080, 0.5);
-        let t1082: f64 = t1066.plus(t1073);
-        let t1083: f64 = t1081.plus(t1082);
-        let t1084 = product(t223, t1083);
-        let t1085: f64 = t246 * t1053;
-        let t1086 = product(t1063, t1085);
-        let t1087 = product(t235, t1056);
-        let t1088 = product(t205, t1071);
-        let t1089 = product(t240, t1060);
-        let t1090: f64 = leg3_branch * t220;
-        let t1091: f64 = t1074 * t1090;
-        let t1092: f64 = t1076 * t1091;
-        let t1093: f64 = t1088.minus(t1092);
-        let t1094: f64 = t1093 * 0.5;
-        let t1095: f64 = t1087.plus(t1094);
-        let t1096: f64 = t1089.subtracted_from(t1095);
-        let t1097: f64 = t223 * t1096;
-        let t1098: f64 = t1086.minus(t1097);
-        let t1099: f64 = t250 * t1098;
-        let t1100: f64 = t1084.plus(t1099);
-        let t1101: f64 = t1065.minus(t1100);
-        let t1102: f64 = t243 * t243;
-        let t1103: f64 = t249 * t249;
-        let t1104 = product(t1102, t1103);
-        let t1105: f64 = t1104.plus(1.0);
-        let t1106: f64 = 1.0 / t1105;
-        let t1107: f64 = t249 * t1101;
-        let t1108: f64 = t1106 * t1107;
-        let t1109: f64 = t1108 * 2.0;
-        let t1110 = product(leg3_platform_z, t6);
-        let t1111: f64 = t5 * t198;
-        let t1112: f64 = t1110.minus(t1111);
-        let t1113 = product(leg3_zero_x, t1112);
-        let t1114 = product(leg3_zero_y, t2);
-        let t1115: f64 = leg3_zero_z * t3;
-        let t1116: f64 = t1114.minus(t1115);
-        let t1117: f64 = t200 * t1116;
-        let t1118: f64 = t1113.plus(t1117);
-        let t1119 = product(t205, t1118);
-        let t1120 = product(t217, t1112);
-        let t1121 = product(t2, t209);
-        let t1122: f64 = t3 * t213;
-        let t1123: f64 = t1121.minus(t1122);
-        let t1124: f64 = t200 * t1123;
-        let t1125: f64 = t1120.plus(t1124);
-        let t1126: f64 = t220 * t1125;
-        let t1127: f64 = t1119.plus(t1126);
-        let t1128: f64 = t1127 * 2.0;
-        let t1129 = product(t1064, t1128);
-        let t1130 = product(t235, t1125);
-        let t1131: f64 = t202 * t1112;
-        let t1132 = product(t2, t184);
-        let t1133: f64 = t3 * t193;
-        let t1134: f64 = t1132.minus(t1133);
-        let t1135: f64 = t1134 * 2.0;
-        let t1136 = product(t200, t1135);
-        let t1137: f64 = t1131 * 2.0;
-        let t1138: f64 = t1136.plus(t1137);
-        let t1139: f64 = t220 * t224;
-        let t1140 = product(t1138, t1139);
-        let t1141: f64 = t240 * t1118;
-        let t1142: f64 = t224 * t235;
-        let t1143 = product(t1138, t1142);
-        let t1144: f64 = t1143.subtracted_from(t1128);
-        let t1145: f64 = t1078 * t1144;
-        let t1146: f64 = t1140.plus(t1145);
-        let t1147 = product(t1146, 0.5);
-        let t1148: f64 = t1130.plus(t1141);
-        let t1149: f64 = t1147.plus(t1148);
-        let t1150 = product(t223, t1149);
-        let t1151 = product(t1085, t1128);
-        let t1152 = product(t235, t1118);
-        let t1153: f64 = t205 * t224;
-        let t1154 = product(t1138, t1153);
-        let t1155 = product(t240, t1125);
-        let t1156: f64 = t1091 * t1144;
-        let t1157: f64 = t1154.minus(t1156);
-        let t1158: f64 = t1157 * 0.5;
-        let t1159: f64 = t1152.plus(t1158);
-        let t1160: f64 = t1155.subtracted_from(t1159);
-        let t1161: f64 = t223 * t1160;
-        let t1162: f64 = t1151.minus(t1161);
-        let t1163: f64 = t250 * t1162;
-        let t1164: f64 = t1150.plus(t1163);
-        let t1165: f64 = t1129.minus(t1164);
-        let t1166: f64 = t249 * t1106;
-        let t1167: f64 = t1165 * t1166;
-        let t1168: f64 = t1167 * 2.0;
-        let t1169: f64 = -t1168;
-        let t1170 = product(leg3_platform_x, t13);
-        let t1171: f64 = leg3_platform_y * t9;
-        let t1172: f64 = t1170.minus(t1171);
-        let t1173 = product(leg3_zero_y, t1172);
-        let t1174 = product(leg3_platform_x, t30);
-        let t1175: f64 = leg3_platform_y * t25;
-        let t1176: f64 = t1174.minus(t1175);
-        let t1177: f64 = leg3_zero_z * t1176;
-        let t1178 = product(leg3_platform_x, t0);
-        let t1179: f64 = leg3_platform_y * t1;
-        let t1180: f64 = t1178.plus(t1179);
-        let t1181: f64 = leg3_zero_x * t6;
-        let t1182 = product(t1180, t1181);
-        let t1183: f64 = t1173.plus(t1177);
-        let t1184: f64 = t1182.minus(t1183);
-        let t1185 = product(t205, t1184);
-        let t1186 = product(t209, t1172);
-        let t1187: f64 = t213 * t1176;
-        let t1188: f64 = t6 * t217;
-        let t1189 = product(t1180, t1188);
-        let t1190: f64 = t1186.plus(t1187);
-        let t1191: f64 = t1189.minus(t1190);
-        let t1192: f64 = t220 * t1191;
-        let t1193: f64 = t1185.plus(t1192);
-        let t1194: f64 = t1193 * 2.0;
-        let t1195 = product(t1064, t1194);
-        let t1196 = product(t235, t1191);
-        let t1197 = product(t184, t1172);
-        let t1198: f64 = t193 * t1176;
-        let t1199: f64 = t6 * t202;
-        let t1200 = product(t1180, t1199);
-        let t1201: f64 = t1197.plus(t1198);
-        let t1202: f64 = t1200.minus(t1201);
-        let t1203: f64 = t1202 * 2.0;
-        let t1204 = product(t1139, t1203);
-        let t1205: f64 = t240 * t1184;
-        let t1206 = product(t1142, t1203);
-        let t1207: f64 = t1206.subtracted_from(t1194);
-        let t1208: f64 = t1078 * t1207;
-        let t1209: f64 = t1204.plus(t1208);
-        let t1210 = product(t1209, 0.5);
-        let t1211: f64 = t1196.plus(t1205);
-        let t1212: f64 = t1210.plus(t1211);
-        let t1213 = product(t223, t1212);
-        let t1214 = product(t1085, t1194);
-        let t1215 = product(t235, t1184);
-        let t1216 = product(t1153, t1203);
-        let t1217 = product(t240, t1191);
-        let t1218: f64 = t1091 * t1207;
-        let t1219: f64 = t1216.minus(t1218);
-        let t1220: f64 = t1219 * 0.5;
-        let t1221: f64 = t1215.plus(t1220);
-        let t1222: f64 = t1217.subtracted_from(t1221);
-        let t1223: f64 = t223 * t1222;
-        let t1224: f64 = t1214.minus(t1223);
-        let t1225: f64 = t250 * t1224;
-        let t1226: f64 = t1213.plus(t1225);
-        let t1227: f64 = t1195.minus(t1226);
-        let t1228: f64 = t1166 * t1227;
-        let t1229: f64 = t1228 * 2.0;
-        let t1230 = product(leg3_zero_x, t205);
-        let t1231: f64 = t217 * t220;
-        let t1232: f64 = t1230.plus(t1231);
-        let t1233: f64 = t1232 * 2.0;
-        let t1234 = product(t1064, t1233);
-        let t1235 = product(t217, t235);
-        let t1236: f64 = t202 * t224;
-        let t1237: f64 = t220 * t1236;
-        let t1238 = product(leg3_zero_x, t240);
-        let t1239 = product(t235, t1236);
-        let t1240: f64 = t1239.subtracted_from(t1232);
-        let t1241: f64 = t1240 * 2.0;
-        let t1242: f64 = t1078 * t1241;
-        let t1243: f64 = t1242 * 0.5;
-        let t1244: f64 = t1235.plus(t1237);
-        let t1245: f64 = t1238.plus(t1243);
-        let t1246: f64 = t1244 + t1245;
-        let t1247 = product(t223, t1246);
-        let t1248 = product(t1085, t1233);
-        let t1249 = product(leg3_zero_x, t235);
-        let t1250: f64 = t205 * t1236;
-        let t1251 = product(t217, t240);
-        let t1252: f64 = t1091 * t1241;
-        let t1253: f64 = t1252 * 0.5;
-        let t1254: f64 = t1249.plus(t1250);
-        let t1255: f64 = t1251.plus(t1253);
-        let t1256: f64 = t1254 - t1255;
-        let t1257: f64 = t223 * t1256;
-        let t1258: f64 = t1248.minus(t1257);
-        let t1259: f64 = t250 * t1258;
-        let t1260: f64 = t1247.plus(t1259);
-        let t1261: f64 = t1234.minus(t1260);
-        let t1262: f64 = t1166 * t1261;
-        let t1263: f64 = t1262 * 2.0;
-        let t1264: f64 = -t1263;
-        let t1265 = product(leg3_zero_y, t205);
-        let t1266: f64 = t209 * t220;
-        let t1267: f64 = t1265.plus(t1266);
-        let t1268: f64 = t1267 * 2.0;
-        let t1269 = product(t1064, t1268);
-        let t1270 = product(t209, t235);
-        let t1271: f64 = t184 * t224;
-        let t1272: f64 = t220 * t1271;
-        let t1273 = product(leg3_zero_y, t240);
-        let t1274 = product(t235, t1271);
-        let t1275: f64 = t1274.subtracted_from(t1267);
-        let t1276: f64 = t1275 * 2.0;
-        let t1277: f64 = t1078 * t1276;
-        let t1278: f64 = t1277 * 0.5;
-        let t1279: f64 = t1270.plus(t1272);
-        let t1280: f64 = t1273.plus(t1278);
-        let t1281: f64 = t1279 + t1280;
-        let t1282 = product(t223, t1281);
-        let t1283 = product(t1085, t1268);
-        let t1284 = product(leg3_zero_y, t235);
-        let t1285: f64 = t205 * t1271;
-        let t1286 = product(t209, t240);
-        let t1287: f64 = t1091 * t1276;
-        let t1288: f64 = t1287 * 0.5;
-        let t1289: f64 = t1284.plus(t1285);
-        let t1290: f64 = t1286.plus(t1288);
-        let t1291: f64 = t1289 - t1290;
-        let t1292: f64 = t223 * t1291;
-        let t1293: f64 = t1283.minus(t1292);
-        let t1294: f64 = t250 * t1293;
-        let t1295: f64 = t1282.plus(t1294);
-        let t1296: f64 = t1269.minus(t1295);
-        let t1297: f64 = t1166 * t1296;
-        let t1298: f64 = t1297 * 2.0;
-        let t1299: f64 = -t1298;
-        let t1300 = product(leg3_zero_z, t205);
-        let t1301: f64 = t213 * t220;
-        let t1302: f64 = t1300.plus(t1301);
-        let t1303: f64 = t1302 * 2.0;
-        let t1304 = product(t1064, t1303);
-        let t1305 = product(t213, t235);
-        let t1306: f64 = t193 * t224;
-        let t1307: f64 = t220 * t1306;
-        let t1308 = product(leg3_zero_z, t240);
-        let t1309 = product(t235, t1306);
-        let t1310: f64 = t1309.subtracted_from(t1302);
-        let t1311: f64 = t1310 * 2.0;
-        let t1312: f64 = t1078 * t1311;
-        let t1313: f64 = t1312 * 0.5;
-        let t1314: f64 = t1305.plus(t1307);
-        let t1315: f64 = t1308.plus(t1313);
-        let t1316: f64 = t1314 + t1315;
-        let t1317 = product(t223, t1316);
-        let t1318 = product(t1085, t1303);
-        let t1319 = product(leg3_zero_z, t235);
-        let t1320: f64 = t205 * t1306;
-        let t1321 = product(t213, t240);
-        let t1322: f64 = t1091 * t1311;
-        let t1323: f64 = t1322 * 0.5;
-        let t1324: f64 = t1319.plus(t1320);
-        let t1325: f64 = t1321.plus(t1323);
-        let t1326: f64 = t1324 - t1325;
-        let t1327: f64 = t223 * t1326;
-        let t1328: f64 = t1318.minus(t1327);
-        let t1329: f64 = t250 * t1328;
-        let t1330: f64 = t1317.plus(t1329);
-        let t1331: f64 = t1304.minus(t1330);
-        let t1332: f64 = t1166 * t1331;
-        let t1333: f64 = t1332 * 2.0;
-        let t1334: f64 = -t1333;
-        let t1335: f64 = t301 * t301;
-        let t1336 = product(leg4_zero_y, t269);
-        let t1337: f64 = leg4_zero_z * t260;
-        let t1338: f64 = t1336.minus(t1337);
-        let t1339 = product(t283, t1338);
-        let t1340 = product(t269, t287);
-        let t1341: f64 = t260 * t291;
-        let t1342: f64 = t1340.minus(t1341);
-        let t1343: f64 = t298 * t1342;
-        let t1344: f64 = t1339.plus(t1343);
-        let t1345: f64 = t1344 * 2.0;
-        let t1346: f64 = t320 * t1335;
-        let t1347 = product(t1345, t1346);
-        let t1348 = product(t313, t1342);
-        let t1349 = product(t262, t269);
-        let t1350: f64 = t260 * t271;
-        let t1351: f64 = t1349.minus(t1350);
-        let t1352: f64 = t1351 * 2.0;
-        let t1353: f64 = t302 * t1352;
-        let t1354 = product(t298, t1353);
-        let t1355: f64 = t318 * t1338;
-        let t1356: f64 = 1.0 / t317;
-        let t1357 = product(t313, t1353);
-        let t1358: f64 = t1357.subtracted_from(t1345);
-        let t1359: f64 = leg4_branch * t283;
-        let t1360: f64 = t1356 * t1359;
-        let t1361: f64 = t1358 * t1360;
-        let t1362: f64 = t1354.plus(t1361);
-        let t1363 = product(t1362, 0.5);
-        let t1364: f64 = t1348.plus(t1355);
-        let t1365: f64 = t1363.plus(t1364);
-        let t1366 = product(t301, t1365);
-        let t1367: f64 = t324 * t1335;
-        let t1368 = product(t1345, t1367);
-        let t1369 = product(t313, t1338);
-        let t1370 = product(t283, t1353);
-        let t1371 = product(t318, t1342);
-        let t1372: f64 = leg4_branch * t298;
-        let t1373: f64 = t1356 * t1372;
-        let t1374: f64 = t1358 * t1373;
-        let t1375: f64 = t1370.minus(t1374);
-        let t1376: f64 = t1375 * 0.5;
-        let t1377: f64 = t1369.plus(t1376);
-        let t1378: f64 = t1371.subtracted_from(t1377);
-        let t1379: f64 = t301 * t1378;
-        let t1380: f64 = t1368.minus(t1379);
-        let t1381: f64 = t328 * t1380;
-        let t1382: f64 = t1366.plus(t1381);
-        let t1383: f64 = t1347.minus(t1382);
-        let t1384: f64 = t321 * t321;
-        let t1385: f64 = t327 * t327;
-        let t1386 = product(t1384, t1385);
-        let t1387: f64 = t1386.plus(1.0);
-        let t1388: f64 = 1.0 / t1387;
-        let t1389: f64 = t327 * t1383;
-        let t1390: f64 = t1388 * t1389;
-        let t1391: f64 = t1390 * 2.0;
-        let t1392 = product(leg4_platform_z, t6);
-        let t1393: f64 = t5 * t276;
-        let t1394: f64 = t1392.minus(t1393);
-        let t1395 = product(leg4_zero_x, t1394);
-        let t1396 = product(leg4_zero_y, t2);
-        let t1397: f64 = leg4_zero_z * t3;
-        let t1398: f64 = t1396.minus(t1397);
-        let t1399: f64 = t278 * t1398;
-        let t1400: f64 = t1395.plus(t1399);
-        let t1401 = product(t283, t1400);
-        let t1402 = product(t295, t1394);
-        let t1403 = product(t2, t287);
-        let t1404: f64 = t3 * t291;
-        let t1405: f64 = t1403.minus(t1404);
-        let t1406: f64 = t278 * t1405;
-        let t1407: f64 = t1402.plus(t1406);
-        let t1408: f64 = t298 * t1407;
-        let t1409: f64 = t1401.plus(t1408);
-        let t1410: f64 = t1409 * 2.0;
-        let t1411 = product(t1346, t1410);
-        let t1412 = product(t313, t1407);
-        let t1413: f64 = t280 * t1394;
-        let t1414 = product(t2, t262);
-        let t1415: f64 = t3 * t271;
-        let t1416: f64 = t1414.minus(t1415);
-        let t1417: f64 = t1416 * 2.0;
-        let t1418 = product(t278, t1417);
-        let t1419: f64 = t1413 * 2.0;
-        let t1420: f64 = t1418.plus(t1419);
-        let t1421: f64 = t298 * t302;
-        let t1422 = product(t1420, t1421);
-        let t1423: f64 = t318 * t1400;
-        let t1424: f64 = t302 * t313;
-        let t1425 = product(t1420, t1424);
-        let t1426: f64 = t1425.subtracted_from(t1410);
-        let t1427: f64 = t1360 * t1426;
-        let t1428: f64 = t1422.plus(t1427);
-        let t1429 = product(t1428, 0.5);
-        let t1430: f64 = t1412.plus(t1423);
-        let t1431: f64 = t1429.plus(t1430);
-        let t1432 = product(t301, t1431);
-        let t1433 = product(t1367, t1410);
-        let t1434 = product(t313, t1400);
-        let t1435: f64 = t283 * t302;
-        let t1436 = product(t1420, t1435);
-        let t1437 = product(t318, t1407);
-        let t1438: f64 = t1373 * t1426;
-        let t1439: f64 = t1436.minus(t1438);
-        let t1440: f64 = t1439 * 0.5;
-        let t1441: f64 = t1434.plus(t1440);
-        let t1442: f64 = t1437.subtracted_from(t1441);
-        let t1443: f64 = t301 * t1442;
-        let t1444: f64 = t1433.minus(t1443);
-        let t1445: f64 = t328 * t1444;
-        let t1446: f64 = t1432.plus(t1445);
-        let t1447: f64 = t1411.minus(t1446);
-        let t1448: f64 = t327 * t1388;
-        let t1449: f64 = t1447 * t1448;
-        let t1450: f64 = t1449 * 2.0;
-        let t1451: f64 = -t1450;
-        let t1452 = product(leg4_platform_x, t13);
-        let t1453: f64 = leg4_platform_y * t9;
+        let t1003: f64 = t999.plus(t1000);
+        let t1004: f64 = t1002.minus(t1003);
+        let t1005: f64 = t1004 * 2.0;
+        let t1006: f64 = t220 * t224;
+        let t1007 = product(t1005, t1006);
+        let t1008: f64 = t240 * t986;
+        let t1009: f64 = t224 * t235;
+        let t1010 = product(t1005, t1009);
+        let t1011: f64 = t1010.subtracted_from(t996);
+        let t1012: f64 = t749 * t1011;
+        let t1013: f64 = t1007.plus(t1012);
+        let t1014 = product(t1013, 0.5);
+        let t1015: f64 = t998.plus(t1008);
+        let t1016: f64 = t1014.plus(t1015);
+        let t1017 = product(t223, t1016);
+        let t1018 = product(t756, t996);
+        let t1019 = product(t235, t986);
+        let t1020: f64 = t205 * t224;
+        let t1021 = product(t1005, t1020);
+        let t1022 = product(t240, t993);
+        let t1023: f64 = t762 * t1011;
+        let t1024: f64 = t1021.minus(t1023);
+        let t1025: f64 = t1024 * 0.5;
+        let t1026: f64 = t1019.plus(t1025);
+        let t1027: f64 = t1022.subtracted_from(t1026);
+        let t1028: f64 = t223 * t1027;
+        let t1029: f64 = t1018.minus(t1028);
+        let t1030: f64 = t250 * t1029;
+        let t1031: f64 = t1017.plus(t1030);
+        let t1032: f64 = t997.minus(t1031);
+        let t1033: f64 = t723 * t772;
+        let t1034: f64 = t778 * t1033;
+        let t1035 = product(t1032, t1034);
+        let t1036 = product(leg4_platform_x, t13);
+        let t1037: f64 = leg4_platform_y * t9;
+        let t1038: f64 = t1036.minus(t1037);
+        let t1039 = product(leg4_zero_y, t1038);
+        let t1040 = product(leg4_platform_x, t30);
+        let t1041: f64 = leg4_platform_y * t25;
+        let t1042: f64 = t1040.minus(t1041);
+        let t1043: f64 = leg4_zero_z * t1042;
+        let t1044 = product(leg4_platform_x, t0);
+        let t1045: f64 = leg4_platform_y * t1;
+        let t1046: f64 = t1044.plus(t1045);
+        let t1047: f64 = leg4_zero_x * t6;
+        let t1048 = product(t1046, t1047);
+        let t1049: f64 = t1039.plus(t1043);
+        let t1050: f64 = t1048.minus(t1049);
+        let t1051 = product(t283, t1050);
+        let t1052 = product(t287, t1038);
+        let t1053: f64 = t291 * t1042;
+        let t1054: f64 = t6 * t295;
+        let t1055 = product(t1046, t1054);
+        let t1056: f64 = t1052.plus(t1053);
+        let t1057: f64 = t1055.minus(t1056);
+        let t1058: f64 = t298 * t1057;
+        let t1059: f64 = t1051.plus(t1058);
+        let t1060: f64 = t1059 * 2.0;
+        let t1061 = product(t793, t1060);
+        let t1062 = product(t313, t1057);
+        let t1063 = product(t262, t1038);
+        let t1064: f64 = t271 * t1042;
+        let t1065: f64 = t6 * t280;
+        let t1066 = product(t1046, t1065);
+        let t1067: f64 = t1063.plus(t1064);
+        let t1068: f64 = t1066.minus(t1067);
+        let t1069: f64 = t1068 * 2.0;
+        let t1070: f64 = t298 * t302;
+        let t1071 = product(t1069, t1070);
+        let t1072: f64 = t318 * t1050;
+        let t1073: f64 = t302 * t313;
+        let t1074 = product(t1069, t1073);
+        let t1075: f64 = t1074.subtracted_from(t1060);
+        let t1076: f64 = t807 * t1075;
+        let t1077: f64 = t1071.plus(t1076);
+        let t1078 = product(t1077, 0.5);
+        let t1079: f64 = t1062.plus(t1072);
+        let t1080: f64 = t1078.plus(t1079);
+        let t1081 = product(t301, t1080);
+        let t1082 = product(t814, t1060);
+        let t1083 = product(t313, t1050);
+        let t1084: f64 = t283 * t302;
+        let t1085 = product(t1069, t1084);
+        let t1086 = product(t318, t1057);
+        let t1087: f64 = t820 * t1075;
+        let t1088: f64 = t1085.minus(t1087);
+        let t1089: f64 = t1088 * 0.5;
+        let t1090: f64 = t1083.plus(t1089);
+        let t1091: f64 = t1086.subtracted_from(t1090);
+        let t1092: f64 = t301 * t1091;
+        let t1093: f64 = t1082.minus(t1092);
+        let t1094: f64 = t328 * t1093;
+        let t1095: f64 = t1081.plus(t1094);
+        let t1096: f64 = t1061.minus(t1095);
+        let t1097: f64 = t781 * t830;
+        let t1098: f64 = t836 * t1097;
+        let t1099: f64 = t1096 * t1098;
+        let t1100 = product(leg5_platform_x, t13);
+        let t1101: f64 = leg5_platform_y * t9;
+        let t1102: f64 = t1100.minus(t1101);
+        let t1103 = product(leg5_zero_y, t1102);
+        let t1104 = product(leg5_platform_x, t30);
+        let t1105: f64 = leg5_platform_y * t25;
+        let t1106: f64 = t1104.minus(t1105);
+        let t1107: f64 = leg5_zero_z * t1106;
+        let t1108 = product(leg5_platform_x, t0);
+        let t1109: f64 = leg5_platform_y * t1;
+        let t1110: f64 = t1108.plus(t1109);
+        let t1111: f64 = leg5_zero_x * t6;
+        let t1112 = product(t1110, t1111);
+        let t1113: f64 = t1103.plus(t1107);
+        let t1114: f64 = t1112.minus(t1113);
+        let t1115 = product(t361, t1114);
+        let t1116 = product(t365, t1102);
+        let t1117: f64 = t369 * t1106;
+        let t1118: f64 = t6 * t373;
+        let t1119 = product(t1110, t1118);
+        let t1120: f64 = t1116.plus(t1117);
+        let t1121: f64 = t1119.minus(t1120);
+        let t1122: f64 = t376 * t1121;
+        let t1123: f64 = t1115.plus(t1122);
+        let t1124: f64 = t1123 * 2.0;
+        let t1125 = product(t501, t1124);
+        let t1126 = product(t391, t1121);
+        let t1127 = product(t340, t1102);
+        let t1128: f64 = t349 * t1106;
+        let t1129: f64 = t6 * t358;
+        let t1130 = product(t1110, t1129);
+        let t1131: f64 = t1127.plus(t1128);
+        let t1132: f64 = t1130.minus(t1131);
+        let t1133: f64 = t1132 * 2.0;
+        let t1134: f64 = t376 * t380;
+        let t1135 = product(t1133, t1134);
+        let t1136: f64 = t396 * t1114;
+        let t1137: f64 = t380 * t391;
+        let t1138 = product(t1133, t1137);
+        let t1139: f64 = t1138.subtracted_from(t1124);
+        let t1140: f64 = t515 * t1139;
+        let t1141: f64 = t1135.plus(t1140);
+        let t1142 = product(t1141, 0.5);
+        let t1143: f64 = t1126.plus(t1136);
+        let t1144: f64 = t1142.plus(t1143);
+        let t1145 = product(t379, t1144);
+        let t1146 = product(t522, t1124);
+        let t1147 = product(t391, t1114);
+        let t1148: f64 = t361 * t380;
+        let t1149 = product(t1133, t1148);
+        let t1150 = product(t396, t1121);
+        let t1151: f64 = t528 * t1139;
+        let t1152: f64 = t1149.minus(t1151);
+        let t1153: f64 = t1152 * 0.5;
+        let t1154: f64 = t1147.plus(t1153);
+        let t1155: f64 = t1150.subtracted_from(t1154);
+        let t1156: f64 = t379 * t1155;
+        let t1157: f64 = t1146.minus(t1156);
+        let t1158: f64 = t406 * t1157;
+        let t1159: f64 = t1145.plus(t1158);
+        let t1160: f64 = t1125.minus(t1159);
+        let t1161: f64 = t489 * t538;
+        let t1162: f64 = t544 * t1161;
+        let t1163 = product(t1160, t1162);
+        let t1164 = product(leg6_platform_x, t13);
+        let t1165: f64 = leg6_platform_y * t9;
+        let t1166: f64 = t1164.minus(t1165);
+        let t1167 = product(leg6_zero_y, t1166);
+        let t1168 = product(leg6_platform_x, t30);
+        let t1169: f64 = leg6_platform_y * t25;
+        let t1170: f64 = t1168.minus(t1169);
+        let t1171: f64 = leg6_zero_z * t1170;
+        let t1172 = product(leg6_platform_x, t0);
+        let t1173: f64 = leg6_platform_y * t1;
+        let t1174: f64 = t1172.plus(t1173);
+        let t1175: f64 = leg6_zero_x * t6;
+        let t1176 = product(t1174, t1175);
+        let t1177: f64 = t1167.plus(t1171);
+        let t1178: f64 = t1176.minus(t1177);
+        let t1179 = product(t439, t1178);
+        let t1180 = product(t443, t1166);
+        let t1181: f64 = t447 * t1170;
+        let t1182: f64 = t6 * t451;
+        let t1183 = product(t1174, t1182);
+        let t1184: f64 = t1180.plus(t1181);
+        let t1185: f64 = t1183.minus(t1184);
+        let t1186: f64 = t454 * t1185;
+        let t1187: f64 = t1179.plus(t1186);
+        let t1188: f64 = t1187 * 2.0;
+        let t1189 = product(t559, t1188);
+        let t1190 = product(t469, t1185);
+        let t1191 = product(t418, t1166);
+        let t1192: f64 = t427 * t1170;
+        let t1193: f64 = t6 * t436;
+        let t1194 = product(t1174, t1193);
+        let t1195: f64 = t1191.plus(t1192);
+        let t1196: f64 = t1194.minus(t1195);
+        let t1197: f64 = t1196 * 2.0;
+        let t1198: f64 = t454 * t458;
+        let t1199 = product(t1197, t1198);
+        let t1200: f64 = t474 * t1178;
+        let t1201: f64 = t458 * t469;
+        let t1202 = product(t1197, t1201);
+        let t1203: f64 = t1202.subtracted_from(t1188);
+        let t1204: f64 = t573 * t1203;
+        let t1205: f64 = t1199.plus(t1204);
+        let t1206 = product(t1205, 0.5);
+        let t1207: f64 = t1190.plus(t1200);
+        let t1208: f64 = t1206.plus(t1207);
+        let t1209 = product(t457, t1208);
+        let t1210 = product(t580, t1188);
+        let t1211 = product(t469, t1178);
+        let t1212: f64 = t439 * t458;
+        let t1213 = product(t1197, t1212);
+        let t1214 = product(t474, t1185);
+        let t1215: f64 = t586 * t1203;
+        let t1216: f64 = t1213.minus(t1215);
+        let t1217: f64 = t1216 * 0.5;
+        let t1218: f64 = t1211.plus(t1217);
+        let t1219: f64 = t1214.subtracted_from(t1218);
+        let t1220: f64 = t457 * t1219;
+        let t1221: f64 = t1210.minus(t1220);
+        let t1222: f64 = t484 * t1221;
+        let t1223: f64 = t1209.plus(t1222);
+        let t1224: f64 = t1189.minus(t1223);
+        let t1225: f64 = t547 * t596;
+        let t1226: f64 = t602 * t1225;
+        let t1227: f64 = t1224 * t1226;
+        let t1228: f64 = t907.plus(t971);
+        let t1229: f64 = t1035.plus(t1099);
+        let t1230: f64 = t1163.plus(t1227);
+        let t1231: f64 = t1228 + t1229;
+        let t1232: f64 = t1230 + t1231;
+        let t1233: f64 = t1232 * 4.0;
+        let t1234: f64 = t1233 * t1233;
+        let t1235 = product(t843, t1234);
+        let t1236 = product(leg1_platform_z, t6);
+        let t1237: f64 = t5 * t42;
+        let t1238: f64 = t1236.minus(t1237);
+        let t1239 = product(leg1_zero_x, t1238);
+        let t1240 = product(leg1_zero_y, t2);
+        let t1241: f64 = leg1_zero_z * t3;
+        let t1242: f64 = t1240.minus(t1241);
+        let t1243: f64 = t44 * t1242;
+        let t1244: f64 = t1239.plus(t1243);
+        let t1245 = product(t49, t1244);
+        let t1246 = product(t61, t1238);
+        let t1247 = product(t2, t53);
+        let t1248: f64 = t3 * t57;
+        let t1249: f64 = t1247.minus(t1248);
+        let t1250: f64 = t44 * t1249;
+        let t1251: f64 = t1246.plus(t1250);
+        let t1252: f64 = t64 * t1251;
+        let t1253: f64 = t1245.plus(t1252);
+        let t1254: f64 = t1253 * 2.0;
+        let t1255 = product(t618, t1254);
+        let t1256 = product(t79, t1251);
+        let t1257: f64 = t46 * t1238;
+        let t1258 = product(t2, t20);
+        let t1259: f64 = t3 * t37;
+        let t1260: f64 = t1258.minus(t1259);
+        let t1261: f64 = t1260 * 2.0;
+        let t1262 = product(t44, t1261);
+        let t1263: f64 = t1257 * 2.0;
+        let t1264: f64 = t1262.plus(t1263);
+        let t1265 = product(t878, t1264);
+        let t1266: f64 = t84 * t1244;
+        let t1267 = product(t881, t1264);
+        let t1268: f64 = t1267.subtracted_from(t1254);
+        let t1269: f64 = t632 * t1268;
+        let t1270: f64 = t1265.plus(t1269);
+        let t1271 = product(t1270, 0.5);
+        let t1272: f64 = t1256.plus(t1266);
+        let t1273: f64 = t1271.plus(t1272);
+        let t1274 = product(t67, t1273);
+        let t1275 = product(t639, t1254);
+        let t1276 = product(t79, t1244);
+        let t1277 = product(t892, t1264);
+        let t1278 = product(t84, t1251);
+        let t1279: f64 = t645 * t1268;
+        let t1280: f64 = t1277.minus(t1279);
+        let t1281: f64 = t1280 * 0.5;
+        let t1282: f64 = t1276.plus(t1281);
+        let t1283: f64 = t1278.subtracted_from(t1282);
+        let t1284: f64 = t67 * t1283;
+        let t1285: f64 = t1275.minus(t1284);
+        let t1286: f64 = t94 * t1285;
+        let t1287: f64 = t1274.plus(t1286);
+        let t1288: f64 = t1255.minus(t1287);
+        let t1289 = product(t906, t1288);
+        let t1290 = product(leg2_platform_z, t6);
+        let t1291: f64 = t5 * t120;
+        let t1292: f64 = t1290.minus(t1291);
+        let t1293 = product(leg2_zero_x, t1292);
+        let t1294 = product(leg2_zero_y, t2);
+        let t1295: f64 = leg2_zero_z * t3;
+        let t1296: f64 = t1294.minus(t1295);
+        let t1297: f64 = t122 * t1296;
+        let t1298: f64 = t1293.plus(t1297);
+        let t1299 = product(t127, t1298);
+        let t1300 = product(t139, t1292);
+        let t1301 = product(t2, t131);
+        let t1302: f64 = t3 * t135;
+        let t1303: f64 = t1301.minus(t1302);
+        let t1304: f64 = t122 * t1303;
+        let t1305: f64 = t1300.plus(t1304);
+        let t1306: f64 = t142 * t1305;
+        let t1307: f64 = t1299.plus(t1306);
+        let t1308: f64 = t1307 * 2.0;
+        let t1309 = product(t676, t1308);
+        let t1310 = product(t157, t1305);
+        let t1311: f64 = t124 * t1292;
+        let t1312 = product(t2, t106);
+        let t1313: f64 = t3 * t115;
+        let t1314: f64 = t1312.minus(t1313);
+        let t1315: f64 = t1314 * 2.0;
+        let t1316 = product(t122, t1315);
+        let t1317: f64 = t1311 * 2.0;
+        let t1318: f64 = t1316.plus(t1317);
+        let t1319 = product(t942, t1318);
+        let t1320: f64 = t162 * t1298;
+        let t1321 = product(t945, t1318);
+        let t1322: f64 = t1321.subtracted_from(t1308);
+        let t1323: f64 = t690 * t1322;
+        let t1324: f64 = t1319.plus(t1323);
+        let t1325 = product(t1324, 0.5);
+        let t1326: f64 = t1310.plus(t1320);
+        let t1327: f64 = t1325.plus(t1326);
+        let t1328 = product(t145, t1327);
+        let t1329 = product(t697, t1308);
+        let t1330 = product(t157, t1298);
+        let t1331 = product(t956, t1318);
+        let t1332 = product(t162, t1305);
+        let t1333: f64 = t703 * t1322;
+        let t1334: f64 = t1331.minus(t1333);
+        let t1335: f64 = t1334 * 0.5;
+        let t1336: f64 = t1330.plus(t1335);
+        let t1337: f64 = t1332.subtracted_from(t1336);
+        let t1338: f64 = t145 * t1337;
+        let t1339: f64 = t1329.minus(t1338);
+        let t1340: f64 = t172 * t1339;
+        let t1341: f64 = t1328.plus(t1340);
+        let t1342: f64 = t1309.minus(t1341);
+        let t1343: f64 = t970 * t1342;
+        let t1344 = product(leg3_platform_z, t6);
+        let t1345: f64 = t5 * t198;
+        let t1346: f64 = t1344.minus(t1345);
+        let t1347 = product(leg3_zero_x, t1346);
+        let t1348 = product(leg3_zero_y, t2);
+        let t1349: f64 = leg3_zero_z * t3;
+        let t1350: f64 = t1348.minus(t1349);
+        let t1351: f64 = t200 * t1350;
+        let t1352: f64 = t1347.plus(t1351);
+        let t1353 = product(t205, t1352);
+        let t1354 = product(t217, t1346);
+        let t1355 = product(t2, t209);
+        let t1356: f64 = t3 * t213;
+        let t1357: f64 = t1355.minus(t1356);
+        let t1358: f64 = t200 * t1357;
+        let t1359: f64 = t1354.plus(t1358);
+        let t1360: f64 = t220 * t1359;
+        let t1361: f64 = t1353.plus(t1360);
+        let t1362: f64 = t1361 * 2.0;
+        let t1363 = product(t735, t1362);
+        let t1364 = product(t235, t1359);
+        let t1365: f64 = t202 * t1346;
+        let t1366 = product(t2, t184);
+        let t1367: f64 = t3 * t193;
+        let t1368: f64 = t1366.minus(t1367);
+        let t1369: f64 = t1368 * 2.0;
+        let t1370 = product(t200, t1369);
+        let t1371: f64 = t1365 * 2.0;
+        let t1372: f64 = t1370.plus(t1371);
+        let t1373 = product(t1006, t1372);
+        let t1374: f64 = t240 * t1352;
+        let t1375 = product(t1009, t1372);
+        let t1376: f64 = t1375.subtracted_from(t1362);
+        let t1377: f64 = t749 * t1376;
+        let t1378: f64 = t1373.plus(t1377);
+        let t1379 = product(t1378, 0.5);
+        let t1380: f64 = t1364.plus(t1374);
+        let t1381: f64 = t1379.plus(t1380);
+        let t1382 = product(t223, t1381);
+        let t1383 = product(t756, t1362);
+        let t1384 = product(t235, t1352);
+        let t1385 = product(t1020, t1372);
+        let t1386 = product(t240, t1359);
+        let t1387: f64 = t762 * t1376;
+        let t1388: f64 = t1385.minus(t1387);
+        let t1389: f64 = t1388 * 0.5;
+        let t1390: f64 = t1384.plus(t1389);
+        let t1391: f64 = t1386.subtracted_from(t1390);
+        let t1392: f64 = t223 * t1391;
+        let t1393: f64 = t1383.minus(t1392);
+        let t1394: f64 = t250 * t1393;
+        let t1395: f64 = t1382.plus(t1394);
+        let t1396: f64 = t1363.minus(t1395);
+        let t1397 = product(t1034, t1396);
+        let t1398 = product(leg4_platform_z, t6);
+        let t1399: f64 = t5 * t276;
+        let t1400: f64 = t1398.minus(t1399);
+        let t1401 = product(leg4_zero_x, t1400);
+        let t1402 = product(leg4_zero_y, t2);
+        let t1403: f64 = leg4_zero_z * t3;
+        let t1404: f64 = t1402.minus(t1403);
+        let t1405: f64 = t278 * t1404;
+        let t1406: f64 = t1401.plus(t1405);
+        let t1407 = product(t283, t1406);
+        let t1408 = product(t295, t1400);
+        let t1409 = product(t2, t287);
+        let t1410: f64 = t3 * t291;
+        let t1411: f64 = t1409.minus(t1410);
+        let t1412: f64 = t278 * t1411;
+        let t1413: f64 = t1408.plus(t1412);
+        let t1414: f64 = t298 * t1413;
+        let t1415: f64 = t1407.plus(t1414);
+        let t1416: f64 = t1415 * 2.0;
+        let t1417 = product(t793, t1416);
+        let t1418 = product(t313, t1413);
+        let t1419: f64 = t280 * t1400;
+        let t1420 = product(t2, t262);
+        let t1421: f64 = t3 * t271;
+        let t1422: f64 = t1420.minus(t1421);
+        let t1423: f64 = t1422 * 2.0;
+        let t1424 = product(t278, t1423);
+        let t1425: f64 = t1419 * 2.0;
+        let t1426: f64 = t1424.plus(t1425);
+        let t1427 = product(t1070, t1426);
+        let t1428: f64 = t318 * t1406;
+        let t1429 = product(t1073, t1426);
+        let t1430: f64 = t1429.subtracted_from(t1416);
+        let t1431: f64 = t807 * t1430;
+        let t1432: f64 = t1427.plus(t1431);
+        let t1433 = product(t1432, 0.5);
+        let t1434: f64 = t1418.plus(t1428);
+        let t1435: f64 = t1433.plus(t1434);
+        let t1436 = product(t301, t1435);
+        let t1437 = product(t814, t1416);
+        let t1438 = product(t313, t1406);
+        let t1439 = product(t1084, t1426);
+        let t1440 = product(t318, t1413);
+        let t1441: f64 = t820 * t1430;
+        let t1442: f64 = t1439.minus(t1441);
+        let t1443: f64 = t1442 * 0.5;
+        let t1444: f64 = t1438.plus(t1443);
+        let t1445: f64 = t1440.subtracted_from(t1444);
+        let t1446: f64 = t301 * t1445;
+        let t1447: f64 = t1437.minus(t1446);
+        let t1448: f64 = t328 * t1447;
+        let t1449: f64 = t1436.plus(t1448);
+        let t1450: f64 = t1417.minus(t1449);
+        let t1451: f64 = t1098 * t1450;
+        let t1452 = product(leg5_platform_z, t6);
+        let t1453: f64 = t5 * t354;
         let t1454: f64 = t1452.minus(t1453);
-        let t1455 = product(leg4_zero_y, t1454);
-        let t1456 = product(leg4_platform_x, t30);
-        let t1457: f64 = leg4_platform_y * t25;
+        let t1455 = product(leg5_zero_x, t1454);
+        let t1456 = product(leg5_zero_y, t2);
+        let t1457: f64 = leg5_zero_z * t3;
         let t1458: f64 = t1456.minus(t1457);
-        let t1459: f64 = leg4_zero_z * t1458;
-        let t1460 = product(leg4_platform_x, t0);
-        let t1461: f64 = leg4_platform_y * t1;
-        let t1462: f64 = t1460.plus(t1461);
-        let t1463: f64 = leg4_zero_x * t6;
-        let t1464 = product(t1462, t1463);
-        let t1465: f64 = t1455.plus(t1459);
-        let t1466: f64 = t1464.minus(t1465);
-        let t1467 = product(t283, t1466);
-        let t1468 = product(t287, t1454);
-        let t1469: f64 = t291 * t1458;
-        let t1470: f64 = t6 * t295;
-        let t1471 = product(t1462, t1470);
-        let t1472: f64 = t1468.plus(t1469);
-        let t1473: f64 = t1471.minus(t1472);
-        let t1474: f64 = t298 * t1473;
-        let t1475: f64 = t1467.plus(t1474);
-        let t1476: f64 = t1475 * 2.0;
-        let t1477 = product(t1346, t1476);
-        let t1478 = product(t313, t1473);
-        let t1479 = product(t262, t1454);
-        let t1480: f64 = t271 * t1458;
-        let t1481: f64 = t6 * t280;
-        let t1482 = product(t1462, t1481);
-        let t1483: f64 = t1479.plus(t1480);
-        let t1484: f64 = t1482.minus(t1483);
-        let t1485: f64 = t1484 * 2.0;
-        let t1486 = product(t1421, t1485);
-        let t1487: f64 = t318 * t1466;
-        let t1488 = product(t1424, t1485);
-        let t1489: f64 = t1488.subtracted_from(t1476);
-        let t1490: f64 = t1360 * t1489;
-        let t1491: f64 = t1486.plus(t1490);
-        let t1492 = product(t1491, 0.5);
-        let t1493: f64 = t1478.plus(t1487);
-        let t1494: f64 = t1492.plus(t1493);
-        let t1495 = product(t301, t1494);
-        let t1496 = product(t1367, t1476);
-        let t1497 = product(t313, t1466);
-        let t1498 = product(t1435, t1485);
-        let t1499 = product(t318, t1473);
-        let t1500: f64 = t1373 * t1489;
-        let t1501: f64 = t1498.minus(t1500);
-        let t1502: f64 = t1501 * 0.5;
-        let t1503: f64 = t1497.plus(t1502);
-        let t1504: f64 = t1499.subtracted_from(t1503);
-        let t1505: f64 = t301 * t1504;
-        let t1506: f64 = t1496.minus(t1505);
-        let t1507: f64 = t328 * t1506;
-        let t1508: f64 = t1495.plus(t1507);
-        let t1509: f64 = t1477.minus(t1508);
-        let t1510: f64 = t1448 * t1509;
-        let t1511: f64 = t1510 * 2.0;
-        let t1512 = product(leg4_zero_x, t283);
-        let t1513: f64 = t295 * t298;
-        let t1514: f64 = t1512.plus(t1513);
-        let t1515: f64 = t1514 * 2.0;
-        let t1516 = product(t1346, t1515);
-        let t1517 = product(t295, t313);
-        let t1518: f64 = t280 * t302;
-        let t1519: f64 = t298 * t1518;
-        let t1520 = product(leg4_zero_x, t318);
-        let t1521 = product(t313, t1518);
-        let t1522: f64 = t1521.subtracted_from(t1514);
-        let t1523: f64 = t1522 * 2.0;
-        let t1524: f64 = t1360 * t1523;
-        let t1525: f64 = t1524 * 0.5;
-        let t1526: f64 = t1517.plus(t1519);
-        let t1527: f64 = t1520.plus(t1525);
-        let t1528: f64 = t1526 + t1527;
-        let t1529 = product(t301, t1528);
-        let t1530 = product(t1367, t1515);
-        let t1531 = product(leg4_zero_x, t313);
-        let t1532: f64 = t283 * t1518;
-        let t1533 = product(t295, t318);
-        let t1534: f64 = t1373 * t1523;
-        let t1535: f64 = t1534 * 0.5;
-        let t1536: f64 = t1531.plus(t1532);
-        let t1537: f64 = t1533.plus(t1535);
-        let t1538: f64 = t1536 - t1537;
-        let t1539: f64 = t301 * t1538;
-        let t1540: f64 = t1530.minus(t1539);
-        let t1541: f64 = t328 * t1540;
-        let t1542: f64 = t1529.plus(t1541);
-        let t1543: f64 = t1516.minus(t1542);
-        let t1544: f64 = t1448 * t1543;
-        let t1545: f64 = t1544 * 2.0;
-        let t1546: f64 = -t1545;
-        let t1547 = product(leg4_zero_y, t283);
-        let t1548: f64 = t287 * t298;
-        let t1549: f64 = t1547.plus(t1548);
-        let t1550: f64 = t1549 * 2.0;
-        let t1551 = product(t1346, t1550);
-        let t1552 = product(t287, t313);
-        let t1553: f64 = t262 * t302;
-        let t1554: f64 = t298 * t1553;
-        let t1555 = product(leg4_zero_y, t318);
-        let t1556 = product(t313, t1553);
-        let t1557: f64 = t1556.subtracted_from(t1549);
-        let t1558: f64 = t1557 * 2.0;
-        let t1559: f64 = t1360 * t1558;
-        let t1560: f64 = t1559 * 0.5;
-        let t1561: f64 = t1552.plus(t1554);
-        let t1562: f64 = t1555.plus(t1560);
-        let t1563: f64 = t1561 + t1562;
-        let t1564 = product(t301, t1563);
-        let t1565 = product(t1367, t1550);
-        let t1566 = product(leg4_zero_y, t313);
-        let t1567: f64 = t283 * t1553;
-        let t1568 = product(t287, t318);
-        let t1569: f64 = t1373 * t1558;
-        let t1570: f64 = t1569 * 0.5;
-        let t1571: f64 = t1566.plus(t1567);
-        let t1572: f64 = t1568.plus(t1570);
-        let t1573: f64 = t1571 - t1572;
-        let t1574: f64 = t301 * t1573;
-        let t1575: f64 = t1565.minus(t1574);
-        let t1576: f64 = t328 * t1575;
-        let t1577: f64 = t1564.plus(t1576);
-        let t1578: f64 = t1551.minus(t1577);
-        let t1579: f64 = t1448 * t1578;
-        let t1580: f64 = t1579 * 2.0;
-        let t1581: f64 = -t1580;
-        let t1582 = product(leg4_zero_z, t283);
-        let t1583: f64 = t291 * t298;
-        let t1584: f64 = t1582.plus(t1583);
-        let t1585: f64 = t1584 * 2.0;
-        let t1586 = product(t1346, t1585);
-        let t1587 = product(t291, t313);
-        let t1588: f64 = t271 * t302;
-        let t1589: f64 = t298 * t1588;
-        let t1590 = product(leg4_zero_z, t318);
-        let t1591 = product(t313, t1588);
-        let t1592: f64 = t1591.subtracted_from(t1584);
-        let t1593: f64 = t1592 * 2.0;
-        let t1594: f64 = t1360 * t1593;
-        let t1595: f64 = t1594 * 0.5;
-        let t1596: f64 = t1587.plus(t1589);
-        let t1597: f64 = t1590.plus(t1595);
-        let t1598: f64 = t1596 + t1597;
-        let t1599 = product(t301, t1598);
-        let t1600 = product(t1367, t1585);
-        let t1601 = product(leg4_zero_z, t313);
-        let t1602: f64 = t283 * t1588;
-        let t1603 = product(t291, t318);
-        let t1604: f64 = t1373 * t1593;
-        let t1605: f64 = t1604 * 0.5;
-        let t1606: f64 = t1601.plus(t1602);
-        let t1607: f64 = t1603.plus(t1605);
-        let t1608: f64 = t1606 - t1607;
-        let t1609: f64 = t301 * t1608;
-        let t1610: f64 = t1600.minus(t1609);
-        let t1611: f64 = t328 * t1610;
-        let t1612: f64 = t1599.plus(t1611);
-        let t1613: f64 = t1586.minus(t1612);
-        let t1614: f64 = t1448 * t1613;
-        let t1615: f64 = t1614 * 2.0;
-        let t1616: f64 = -t1615;
-        let t1617: f64 = t379 * t379;
-        let t1618 = product(leg5_zero_y, t347);
-        let t1619: f64 = leg5_zero_z * t338;
-        let t1620: f64 = t1618.minus(t1619);
-        let t1621 = product(t361, t1620);
-        let t1622 = product(t347, t365);
-        let t1623: f64 = t338 * t369;
-        let t1624: f64 = t1622.minus(t1623);
-        let t1625: f64 = t376 * t1624;
-        let t1626: f64 = t1621.plus(t1625);
-        let t1627: f64 = t1626 * 2.0;
-        let t1628: f64 = t398 * t1617;
-        let t1629 = product(t1627, t1628);
-        let t1630 = product(t391, t1624);
-        let t1631 = product(t340, t347);
-        let t1632: f64 = t338 * t349;
-        let t1633: f64 = t1631.minus(t1632);
-        let t1634: f64 = t1633 * 2.0;
-        let t1635: f64 = t380 * t1634;
-        let t1636 = product(t376, t1635);
-        let t1637: f64 = t396 * t1620;
-        let t1638: f64 = 1.0 / t395;
-        let t1639 = product(t391, t1635);
-        let t1640: f64 = t1639.subtracted_from(t1627);
-        let t1641: f64 = leg5_branch * t361;
-        let t1642: f64 = t1638 * t1641;
-        let t1643: f64 = t1640 * t1642;
-        let t1644: f64 = t1636.plus(t1643);
-        let t1645 = product(t1644, 0.5);
-        let t1646: f64 = t1630.plus(t1637);
-        let t1647: f64 = t1645.plus(t1646);
-        let t1648 = product(t379, t1647);
-        let t1649: f64 = t402 * t1617;
-        let t1650 = product(t1627, t1649);
-        let t1651 = product(t391, t1620);
-        let t1652 = product(t361, t1635);
-        let t1653 = product(t396, t1624);
-        let t1654: f64 = leg5_branch * t376;
-        let t1655: f64 = t1638 * t1654;
-        let t1656: f64 = t1640 * t1655;
-        let t1657: f64 = t1652.minus(t1656);
-        let t1658: f64 = t1657 * 0.5;
-        let t1659: f64 = t1651.plus(t1658);
-        let t1660: f64 = t1653.subtracted_from(t1659);
-        let t1661: f64 = t379 * t1660;
-        let t1662: f64 = t1650.minus(t1661);
-        let t1663: f64 = t406 * t1662;
-        let t1664: f64 = t1648.plus(t1663);
-        let t1665: f64 = t1629.minus(t1664);
-        let t1666: f64 = t399 * t399;
-        let t1667: f64 = t405 * t405;
-        let t1668 = product(t1666, t1667);
-        let t1669: f64 = t1668.plus(1.0);
-        let t1670: f64 = 1.0 / t1669;
-        let t1671: f64 = t405 * t1665;
-        let t1672: f64 = t1670 * t1671;
-        let t1673: f64 = t1672 * 2.0;
-        let t1674 = product(leg5_platform_z, t6);
-        let t1675: f64 = t5 * t354;
-        let t1676: f64 = t1674.minus(t1675);
-        let t1677 = product(leg5_zero_x, t1676);
-        let t1678 = product(leg5_zero_y, t2);
-        let t1679: f64 = leg5_zero_z * t3;
-        let t1680: f64 = t1678.minus(t1679);
-        let t1681: f64 = t356 * t1680;
-        let t1682: f64 = t1677.plus(t1681);
-        let t1683 = product(t361, t1682);
-        let t1684 = product(t373, t1676);
-        let t1685 = product(t2, t365);
-        let t1686: f64 = t3 * t369;
-        let t1687: f64 = t1685.minus(t1686);
-        let t1688: f64 = t356 * t1687;
-        let t1689: f64 = t1684.plus(t1688);
-        let t1690: f64 = t376 * t1689;
-        let t1691: f64 = t1683.plus(t1690);
-        let t1692: f64 = t1691 * 2.0;
-        let t1693 = product(t1628, t1692);
-        let t1694 = product(t391, t1689);
-        let t1695: f64 = t358 * t1676;
-        let t1696 = product(t2, t340);
-        let t1697: f64 = t3 * t349;
-        let t1698: f64 = t1696.minus(t1697);
-        let t1699: f64 = t1698 * 2.0;
-        let t1700 = product(t356, t1699);
-        let t1701: f64 = t1695 * 2.0;
-        let t1702: f64 = t1700.plus(t1701);
-        let t1703: f64 = t376 * t380;
-        let t1704 = product(t1702, t1703);
-        let t1705: f64 = t396 * t1682;
-        let t1706: f64 = t380 * t391;
-        let t1707 = product(t1702, t1706);
-        let t1708: f64 = t1707.subtracted_from(t1692);
-        let t1709: f64 = t1642 * t1708;
-        let t1710: f64 = t1704.plus(t1709);
-        let t1711 = product(t1710, 0.5);
-        let t1712: f64 = t1694.plus(t1705);
-        let t1713: f64 = t1711.plus(t1712);
-        let t1714 = product(t379, t1713);
-        let t1715 = product(t1649, t1692);
-        let t1716 = product(t391, t1682);
-        let t1717: f64 = t361 * t380;
-        let t1718 = product(t1702, t1717);
-        let t1719 = product(t396, t1689);
-        let t1720: f64 = t1655 * t1708;
-        let t1721: f64 = t1718.minus(t1720);
-        let t1722: f64 = t1721 * 0.5;
-        let t1723: f64 = t1716.plus(t1722);
-        let t1724: f64 = t1719.subtracted_from(t1723);
-        let t1725: f64 = t379 * t1724;
-        let t1726: f64 = t1715.minus(t1725);
-        let t1727: f64 = t406 * t1726;
-        let t1728: f64 = t1714.plus(t1727);
-        let t1729: f64 = t1693.minus(t1728);
-        let t1730: f64 = t405 * t1670;
-        let t1731: f64 = t1729 * t1730;
-        let t1732: f64 = t1731 * 2.0;
-        let t1733: f64 = -t1732;
-        let t1734 = product(leg5_platform_x, t13);
-        let t1735: f64 = leg5_platform_y * t9;
-        let t1736: f64 = t1734.minus(t1735);
-        let t1737 = product(leg5_zero_y, t1736);
-        let t1738 = product(leg5_platform_x, t30);
-        let t1739: f64 = leg5_platform_y * t25;
-        let t1740: f64 = t1738.minus(t1739);
-        let t1741: f64 = leg5_zero_z * t1740;
-        let t1742 = product(leg5_platform_x, t0);
-        let t1743: f64 = leg5_platform_y * t1;
-        let t1744: f64 = t1742.plus(t1743);
-        let t1745: f64 = leg5_zero_x * t6;
-        let t1746 = product(t1744, t1745);
-        let t1747: f64 = t1737.plus(t1741);
-        let t1748: f64 = t1746.minus(t1747);
-        let t1749 = product(t361, t1748);
-        let t1750 = product(t365, t1736);
-        let t1751: f64 = t369 * t1740;
-        let t1752: f64 = t6 * t373;
-        let t1753 = product(t1744, t1752);
-        let t1754: f64 = t1750.plus(t1751);
-        let t1755: f64 = t1753.minus(t1754);
-        let t1756: f64 = t376 * t1755;
-        let t1757: f64 = t1749.plus(t1756);
-        let t1758: f64 = t1757 * 2.0;
-        let t1759 = product(t1628, t1758);
-        let t1760 = product(t391, t1755);
-        let t1761 = product(t340, t1736);
-        let t1762: f64 = t349 * t1740;
-        let t1763: f64 = t6 * t358;
-        let t1764 = product(t1744, t1763);
-        let t1765: f64 = t1761.plus(t1762);
-        let t1766: f64 = t1764.minus(t1765);
-        let t1767: f64 = t1766 * 2.0;
-        let t1768 = product(t1703, t1767);
-        let t1769: f64 = t396 * t1748;
-        let t1770 = product(t1706, t1767);
-        let t1771: f64 = t1770.subtracted_from(t1758);
-        let t1772: f64 = t1642 * t1771;
-        let t1773: f64 = t1768.plus(t1772);
-        let t1774 = product(t1773, 0.5);
-        let t1775: f64 = t1760.plus(t1769);
+        let t1459: f64 = t356 * t1458;
+        let t1460: f64 = t1455.plus(t1459);
+        let t1461 = product(t361, t1460);
+        let t1462 = product(t373, t1454);
+        let t1463 = product(t2, t365);
+        let t1464: f64 = t3 * t369;
+        let t1465: f64 = t1463.minus(t1464);
+        let t1466: f64 = t356 * t1465;
+        let t1467: f64 = t1462.plus(t1466);
+        let t1468: f64 = t376 * t1467;
+        let t1469: f64 = t1461.plus(t1468);
+        let t1470: f64 = t1469 * 2.0;
+        let t1471 = product(t501, t1470);
+        let t1472 = product(t391, t1467);
+        let t1473: f64 = t358 * t1454;
+        let t1474 = product(t2, t340);
+        let t1475: f64 = t3 * t349;
+        let t1476: f64 = t1474.minus(t1475);
+        let t1477: f64 = t1476 * 2.0;
+        let t1478 = product(t356, t1477);
+        let t1479: f64 = t1473 * 2.0;
+        let t1480: f64 = t1478.plus(t1479);
+        let t1481 = product(t1134, t1480);
+        let t1482: f64 = t396 * t1460;
+        let t1483 = product(t1137, t1480);
+        let t1484: f64 = t1483.subtracted_from(t1470);
+        let t1485: f64 = t515 * t1484;
+        let t1486: f64 = t1481.plus(t1485);
+        let t1487 = product(t1486, 0.5);
+        let t1488: f64 = t1472.plus(t1482);
+        let t1489: f64 = t1487.plus(t1488);
+        let t1490 = product(t379, t1489);
+        let t1491 = product(t522, t1470);
+        let t1492 = product(t391, t1460);
+        let t1493 = product(t1148, t1480);
+        let t1494 = product(t396, t1467);
+        let t1495: f64 = t528 * t1484;
+        let t1496: f64 = t1493.minus(t1495);
+        let t1497: f64 = t1496 * 0.5;
+        let t1498: f64 = t1492.plus(t1497);
+        let t1499: f64 = t1494.subtracted_from(t1498);
+        let t1500: f64 = t379 * t1499;
+        let t1501: f64 = t1491.minus(t1500);
+        let t1502: f64 = t406 * t1501;
+        let t1503: f64 = t1490.plus(t1502);
+        let t1504: f64 = t1471.minus(t1503);
+        let t1505 = product(t1162, t1504);
+        let t1506 = product(leg6_platform_z, t6);
+        let t1507: f64 = t5 * t432;
+        let t1508: f64 = t1506.minus(t1507);
+        let t1509 = product(leg6_zero_x, t1508);
+        let t1510 = product(leg6_zero_y, t2);
+        let t1511: f64 = leg6_zero_z * t3;
+        let t1512: f64 = t1510.minus(t1511);
+        let t1513: f64 = t434 * t1512;
+        let t1514: f64 = t1509.plus(t1513);
+        let t1515 = product(t439, t1514);
+        let t1516 = product(t451, t1508);
+        let t1517 = product(t2, t443);
+        let t1518: f64 = t3 * t447;
+        let t1519: f64 = t1517.minus(t1518);
+        let t1520: f64 = t434 * t1519;
+        let t1521: f64 = t1516.plus(t1520);
+        let t1522: f64 = t454 * t1521;
+        let t1523: f64 = t1515.plus(t1522);
+        let t1524: f64 = t1523 * 2.0;
+        let t1525 = product(t559, t1524);
+        let t1526 = product(t469, t1521);
+        let t1527: f64 = t436 * t1508;
+        let t1528 = product(t2, t418);
+        let t1529: f64 = t3 * t427;
+        let t1530: f64 = t1528.minus(t1529);
+        let t1531: f64 = t1530 * 2.0;
+        let t1532 = product(t434, t1531);
+        let t1533: f64 = t1527 * 2.0;
+        let t1534: f64 = t1532.plus(t1533);
+        let t1535 = product(t1198, t1534);
+        let t1536: f64 = t474 * t1514;
+        let t1537 = product(t1201, t1534);
+        let t1538: f64 = t1537.subtracted_from(t1524);
+        let t1539: f64 = t573 * t1538;
+        let t1540: f64 = t1535.plus(t1539);
+        let t1541 = product(t1540, 0.5);
+        let t1542: f64 = t1526.plus(t1536);
+        let t1543: f64 = t1541.plus(t1542);
+        let t1544 = product(t457, t1543);
+        let t1545 = product(t580, t1524);
+        let t1546 = product(t469, t1514);
+        let t1547 = product(t1212, t1534);
+        let t1548 = product(t474, t1521);
+        let t1549: f64 = t586 * t1538;
+        let t1550: f64 = t1547.minus(t1549);
+        let t1551: f64 = t1550 * 0.5;
+        let t1552: f64 = t1546.plus(t1551);
+        let t1553: f64 = t1548.subtracted_from(t1552);
+        let t1554: f64 = t457 * t1553;
+        let t1555: f64 = t1545.minus(t1554);
+        let t1556: f64 = t484 * t1555;
+        let t1557: f64 = t1544.plus(t1556);
+        let t1558: f64 = t1525.minus(t1557);
+        let t1559: f64 = t1226 * t1558;
+        let t1560: f64 = t1289.plus(t1343);
+        let t1561: f64 = t1397.plus(t1451);
+        let t1562: f64 = t1505.plus(t1559);
+        let t1563: f64 = t1560 + t1561;
+        let t1564: f64 = t1562 + t1563;
+        let t1565: f64 = t1564 * 4.0;
+        let t1566: f64 = t1565 * t1565;
+        let t1567 = product(t843, t1566);
+        let t1568: f64 = t1504 * t1504;
+        let t1569: f64 = t489 * t544;
+        let t1570 = product(t1568, t1569);
+        let t1571: f64 = t1558 * t1558;
+        let t1572: f64 = t547 * t602;
+        let t1573: f64 = t1571 * t1572;
+        let t1574: f64 = t1570.plus(t1573);
+        let t1575: f64 = t1288 * t1288;
+        let t1576: f64 = t606 * t661;
+        let t1577 = product(t1575, t1576);
+        let t1578: f64 = t1342 * t1342;
+        let t1579: f64 = t664 * t719;
+        let t1580: f64 = t1578 * t1579;
+        let t1581: f64 = t1577.plus(t1580);
+        let t1582: f64 = t1396 * t1396;
+        let t1583: f64 = t723 * t778;
+        let t1584 = product(t1582, t1583);
+        let t1585: f64 = t1450 * t1450;
+        let t1586: f64 = t781 * t836;
+        let t1587: f64 = t1585 * t1586;
+        let t1588: f64 = t1584.plus(t1587);
+        let t1589: f64 = t1581 + t1588;
+        let t1590: f64 = t1574 + t1589;
+        let t1591: f64 = t1590 * 4.0;
+        let t1592: f64 = t1567.subtracted_from(t1591);
+        let t1593: f64 = 1.0 / t1592;
+        let t1594: f64 = t1288 * t1576;
+        let t1595 = product(t904, t1594);
+        let t1596: f64 = t1342 * t1579;
+        let t1597: f64 = t968 * t1596;
+        let t1598: f64 = t1396 * t1583;
+        let t1599 = product(t1032, t1598);
+        let t1600: f64 = t1450 * t1586;
+        let t1601: f64 = t1096 * t1600;
+        let t1602: f64 = t1504 * t1569;
+        let t1603 = product(t1160, t1602);
+        let t1604: f64 = t1558 * t1572;
+        let t1605: f64 = t1224 * t1604;
+        let t1606: f64 = t843 * t1565;
+        let t1607 = product(t1233, t1606);
+        let t1608: f64 = t1595.plus(t1597);
+        let t1609: f64 = t1599.plus(t1601);
+        let t1610: f64 = t1603.plus(t1605);
+        let t1611: f64 = t1608 + t1609;
+        let t1612: f64 = t1610 + t1611;
+        let t1613: f64 = t1612 * 4.0;
+        let t1614: f64 = t1607.subtracted_from(t1613);
+        let t1615: f64 = t1614 * t1614;
+        let t1616: f64 = t1593 * t1615;
+        let t1617: f64 = t1160 * t1160;
+        let t1618 = product(t1569, t1617);
+        let t1619: f64 = t1224 * t1224;
+        let t1620: f64 = t1572 * t1619;
+        let t1621: f64 = t1618.plus(t1620);
+        let t1622: f64 = t904 * t904;
+        let t1623 = product(t1576, t1622);
+        let t1624: f64 = t968 * t968;
+        let t1625: f64 = t1579 * t1624;
+        let t1626: f64 = t1623.plus(t1625);
+        let t1627: f64 = t1032 * t1032;
+        let t1628 = product(t1583, t1627);
+        let t1629: f64 = t1096 * t1096;
+        let t1630: f64 = t1586 * t1629;
+        let t1631: f64 = t1628.plus(t1630);
+        let t1632: f64 = t1626 + t1631;
+        let t1633: f64 = t1621 + t1632;
+        let t1634 = product(t1633, 4.0);
+        let t1635: f64 = t1235.plus(t1616);
+        let t1636: f64 = t1634.minus(t1635);
+        let t1637: f64 = 1.0 / t1636;
+        let t1638 = product(leg1_zero_z, t49);
+        let t1639: f64 = t57 * t64;
+        let t1640: f64 = t1638.plus(t1639);
+        let t1641: f64 = t1640 * 2.0;
+        let t1642 = product(t618, t1641);
+        let t1643 = product(t57, t79);
+        let t1644: f64 = t37 * t68;
+        let t1645: f64 = t64 * t1644;
+        let t1646 = product(leg1_zero_z, t84);
+        let t1647 = product(t79, t1644);
+        let t1648: f64 = t1647.subtracted_from(t1640);
+        let t1649: f64 = t1648 * 2.0;
+        let t1650: f64 = t632 * t1649;
+        let t1651: f64 = t1650 * 0.5;
+        let t1652: f64 = t1643.plus(t1645);
+        let t1653: f64 = t1646.plus(t1651);
+        let t1654: f64 = t1652 + t1653;
+        let t1655 = product(t67, t1654);
+        let t1656 = product(t639, t1641);
+        let t1657 = product(leg1_zero_z, t79);
+        let t1658: f64 = t49 * t1644;
+        let t1659 = product(t57, t84);
+        let t1660: f64 = t645 * t1649;
+        let t1661: f64 = t1660 * 0.5;
+        let t1662: f64 = t1657.plus(t1658);
+        let t1663: f64 = t1659.plus(t1661);
+        let t1664: f64 = t1662 - t1663;
+        let t1665: f64 = t67 * t1664;
+        let t1666: f64 = t1656.minus(t1665);
+        let t1667: f64 = t94 * t1666;
+        let t1668: f64 = t1655.plus(t1667);
+        let t1669: f64 = t1642.minus(t1668);
+        let t1670: f64 = t904 * t1576;
+        let t1671 = product(t1669, t1670);
+        let t1672 = product(leg2_zero_z, t127);
+        let t1673: f64 = t135 * t142;
+        let t1674: f64 = t1672.plus(t1673);
+        let t1675: f64 = t1674 * 2.0;
+        let t1676 = product(t676, t1675);
+        let t1677 = product(t135, t157);
+        let t1678: f64 = t115 * t146;
+        let t1679: f64 = t142 * t1678;
+        let t1680 = product(leg2_zero_z, t162);
+        let t1681 = product(t157, t1678);
+        let t1682: f64 = t1681.subtracted_from(t1674);
+        let t1683: f64 = t1682 * 2.0;
+        let t1684: f64 = t690 * t1683;
+        let t1685: f64 = t1684 * 0.5;
+        let t1686: f64 = t1677.plus(t1679);
+        let t1687: f64 = t1680.plus(t1685);
+        let t1688: f64 = t1686 + t1687;
+        let t1689 = product(t145, t1688);
+        let t1690 = product(t697, t1675);
+        let t1691 = product(leg2_zero_z, t157);
+        let t1692: f64 = t127 * t1678;
+        let t1693 = product(t135, t162);
+        let t1694: f64 = t703 * t1683;
+        let t1695: f64 = t1694 * 0.5;
+        let t1696: f64 = t1691.plus(t1692);
+        let t1697: f64 = t1693.plus(t1695);
+        let t1698: f64 = t1696 - t1697;
+        let t1699: f64 = t145 * t1698;
+        let t1700: f64 = t1690.minus(t1699);
+        let t1701: f64 = t172 * t1700;
+        let t1702: f64 = t1689.plus(t1701);
+        let t1703: f64 = t1676.minus(t1702);
+        let t1704: f64 = t968 * t1579;
+        let t1705: f64 = t1703 * t1704;
+        let t1706 = product(leg3_zero_z, t205);
+        let t1707: f64 = t213 * t220;
+        let t1708: f64 = t1706.plus(t1707);
+        let t1709: f64 = t1708 * 2.0;
+        let t1710 = product(t735, t1709);
+        let t1711 = product(t213, t235);
+        let t1712: f64 = t193 * t224;
+        let t1713: f64 = t220 * t1712;
+        let t1714 = product(leg3_zero_z, t240);
+        let t1715 = product(t235, t1712);
+        let t1716: f64 = t1715.subtracted_from(t1708);
+        let t1717: f64 = t1716 * 2.0;
+        let t1718: f64 = t749 * t1717;
+        let t1719: f64 = t1718 * 0.5;
+        let t1720: f64 = t1711.plus(t1713);
+        let t1721: f64 = t1714.plus(t1719);
+        let t1722: f64 = t1720 + t1721;
+        let t1723 = product(t223, t1722);
+        let t1724 = product(t756, t1709);
+        let t1725 = product(leg3_zero_z, t235);
+        let t1726: f64 = t205 * t1712;
+        let t1727 = product(t213, t240);
+        let t1728: f64 = t762 * t1717;
+        let t1729: f64 = t1728 * 0.5;
+        let t1730: f64 = t1725.plus(t1726);
+        let t1731: f64 = t1727.plus(t1729);
+        let t1732: f64 = t1730 - t1731;
+        let t1733: f64 = t223 * t1732;
+        let t1734: f64 = t1724.minus(t1733);
+        let t1735: f64 = t250 * t1734;
+        let t1736: f64 = t1723.plus(t1735);
+        let t1737: f64 = t1710.minus(t1736);
+        let t1738: f64 = t1032 * t1583;
+        let t1739 = product(t1737, t1738);
+        let t1740 = product(leg4_zero_z, t283);
+        let t1741: f64 = t291 * t298;
+        let t1742: f64 = t1740.plus(t1741);
+        let t1743: f64 = t1742 * 2.0;
+        let t1744 = product(t793, t1743);
+        let t1745 = product(t291, t313);
+        let t1746: f64 = t271 * t302;
+        let t1747: f64 = t298 * t1746;
+        let t1748 = product(leg4_zero_z, t318);
+        let t1749 = product(t313, t1746);
+        let t1750: f64 = t1749.subtracted_from(t1742);
+        let t1751: f64 = t1750 * 2.0;
+        let t1752: f64 = t807 * t1751;
+        let t1753: f64 = t1752 * 0.5;
+        let t1754: f64 = t1745.plus(t1747);
+        let t1755: f64 = t1748.plus(t1753);
+        let t1756: f64 = t1754 + t1755;
+        let t1757 = product(t301, t1756);
+        let t1758 = product(t814, t1743);
+        let t1759 = product(leg4_zero_z, t313);
+        let t1760: f64 = t283 * t1746;
+        let t1761 = product(t291, t318);
+        let t1762: f64 = t820 * t1751;
+        let t1763: f64 = t1762 * 0.5;
+        let t1764: f64 = t1759.plus(t1760);
+        let t1765: f64 = t1761.plus(t1763);
+        let t1766: f64 = t1764 - t1765;
+        let t1767: f64 = t301 * t1766;
+        let t1768: f64 = t1758.minus(t1767);
+        let t1769: f64 = t328 * t1768;
+        let t1770: f64 = t1757.plus(t1769);
+        let t1771: f64 = t1744.minus(t1770);
+        let t1772: f64 = t1096 * t1586;
+        let t1773: f64 = t1771 * t1772;
+        let t1774 = product(leg5_zero_z, t361);
+        let t1775: f64 = t369 * t376;
         let t1776: f64 = t1774.plus(t1775);
-        let t1777 = product(t379, t1776);
-        let t1778 = product(t1649, t1758);
-        let t1779 = product(t391, t1748);
-        let t1780 = product(t1717, t1767);
-        let t1781 = product(t396, t1755);
-        let t1782: f64 = t1655 * t1771;
-        let t1783: f64 = t1780.minus(t1782);
-        let t1784: f64 = t1783 * 0.5;
-        let t1785: f64 = t1779.plus(t1784);
-        let t1786: f64 = t1781.subtracted_from(t1785);
-        let t1787: f64 = t379 * t1786;
-        let t1788: f64 = t1778.minus(t1787);
-        let t1789: f64 = t406 * t1788;
-        let t1790: f64 = t1777.plus(t1789);
-        let t1791: f64 = t1759.minus(t1790);
-        let t1792: f64 = t1730 * t1791;
-        let t1793: f64 = t1792 * 2.0;
-        let t1794 = product(leg5_zero_x, t361);
-        let t1795: f64 = t373 * t376;
-        let t1796: f64 = t1794.plus(t1795);
-        let t1797: f64 = t1796 * 2.0;
-        let t1798 = product(t1628, t1797);
-        let t1799 = product(t373, t391);
-        let t1800: f64 = t358 * t380;
-        let t1801: f64 = t376 * t1800;
-        let t1802 = product(leg5_zero_x, t396);
-        let t1803 = product(t391, t1800);
-        let t1804: f64 = t1803.subtracted_from(t1796);
-        let t1805: f64 = t1804 * 2.0;
-        let t1806: f64 = t1642 * t1805;
-        let t1807: f64 = t1806 * 0.5;
-        let t1808: f64 = t1799.plus(t1801);
-        let t1809: f64 = t1802.plus(t1807);
-        let t1810: f64 = t1808 + t1809;
-        let t1811 = product(t379, t1810);
-        let t1812 = product(t1649, t1797);
-        let t1813 = product(leg5_zero_x, t391);
-        let t1814: f64 = t361 * t1800;
-        let t1815 = product(t373, t396);
-        let t1816: f64 = t1655 * t1805;
-        let t1817: f64 = t1816 * 0.5;
-        let t1818: f64 = t1813.plus(t1814);
-        let t1819: f64 = t1815.plus(t1817);
-        let t1820: f64 = t1818 - t1819;
-        let t1821: f64 = t379 * t1820;
-        let t1822: f64 = t1812.minus(t1821);
-        let t1823: f64 = t406 * t1822;
-        let t1824: f64 = t1811.plus(t1823);
-        let t1825: f64 = t1798.minus(t1824);
-        let t1826: f64 = t1730 * t1825;
-        let t1827: f64 = t1826 * 2.0;
-        let t1828: f64 = -t1827;
-        let t1829 = product(leg5_zero_y, t361);
-        let t1830: f64 = t365 * t376;
-        let t1831: f64 = t1829.plus(t1830);
-        let t1832: f64 = t1831 * 2.0;
-        let t1833 = product(t1628, t1832);
-        let t1834 = product(t365, t391);
-        let t1835: f64 = t340 * t380;
-        let t1836: f64 = t376 * t1835;
-        let t1837 = product(leg5_zero_y, t396);
-        let t1838 = product(t391, t1835);
-        let t1839: f64 = t1838.subtracted_from(t1831);
-        let t1840: f64 = t1839 * 2.0;
-        let t1841: f64 = t1642 * t1840;
-        let t1842: f64 = t1841 * 0.5;
-        let t1843: f64 = t1834.plus(t1836);
-        let t1844: f64 = t1837.plus(t1842);
-        let t1845: f64 = t1843 + t1844;
-        let t1846 = product(t379, t1845);
-        let t1847 = product(t1649, t1832);
-        let t1848 = product(leg5_zero_y, t391);
-        let t1849: f64 = t361 * t1835;
-        let t1850 = product(t365, t396);
-        let t1851: f64 = t1655 * t1840;
-        let t1852: f64 = t1851 * 0.5;
-        let t1853: f64 = t1848.plus(t1849);
-        let t1854: f64 = t1850.plus(t1852);
-        let t1855: f64 = t1853 - t1854;
-        let t1856: f64 = t379 * t1855;
-        let t1857: f64 = t1847.minus(t1856);
-        let t1858: f64 = t406 * t1857;
-        let t1859: f64 = t1846.plus(t1858);
-        let t1860: f64 = t1833.minus(t1859);
-        let t1861: f64 = t1730 * t1860;
-        let t1862: f64 = t1861 * 2.0;
-        let t1863: f64 = -t1862;
-        let t1864 = product(leg5_zero_z, t361);
-        let t1865: f64 = t369 * t376;
-        let t1866: f64 = t1864.plus(t1865);
-        let t1867: f64 = t1866 * 2.0;
-        let t1868 = product(t1628, t1867);
-        let t1869 = product(t369, t391);
-        let t1870: f64 = t349 * t380;
-        let t1871: f64 = t376 * t1870;
-        let t1872 = product(leg5_zero_z, t396);
-        let t1873 = product(t391, t1870);
-        let t1874: f64 = t1873.subtracted_from(t1866);
-        let t1875: f64 = t1874 * 2.0;
-        let t1876: f64 = t1642 * t1875;
-        let t1877: f64 = t1876 * 0.5;
-        let t1878: f64 = t1869.plus(t1871);
-        let t1879: f64 = t1872.plus(t1877);
-        let t1880: f64 = t1878 + t1879;
-        let t1881 = product(t379, t1880);
-        let t1882 = product(t1649, t1867);
-        let t1883 = product(leg5_zero_z, t391);
-        let t1884: f64 = t361 * t1870;
-        let t1885 = product(t369, t396);
-        let t1886: f64 = t1655 * t1875;
-        let t1887: f64 = t1886 * 0.5;
-        let t1888: f64 = t1883.plus(t1884);
-        let t1889: f64 = t1885.plus(t1887);
-        let t1890: f64 = t1888 - t1889;
-        let t1891: f64 = t379 * t1890;
-        let t1892: f64 = t1882.minus(t1891);
-        let t1893: f64 = t406 * t1892;
-        let t1894: f64 = t1881.plus(t1893);
-        let t1895: f64 = t1868.minus(t1894);
-        let t1896: f64 = t1730 * t1895;
+        let t1777: f64 = t1776 * 2.0;
+        let t1778 = product(t501, t1777);
+        let t1779 = product(t369, t391);
+        let t1780: f64 = t349 * t380;
+        let t1781: f64 = t376 * t1780;
+        let t1782 = product(leg5_zero_z, t396);
+        let t1783 = product(t391, t1780);
+        let t1784: f64 = t1783.subtracted_from(t1776);
+        let t1785: f64 = t1784 * 2.0;
+        let t1786: f64 = t515 * t1785;
+        let t1787: f64 = t1786 * 0.5;
+        let t1788: f64 = t1779.plus(t1781);
+        let t1789: f64 = t1782.plus(t1787);
+        let t1790: f64 = t1788 + t1789;
+        let t1791 = product(t379, t1790);
+        let t1792 = product(t522, t1777);
+        let t1793 = product(leg5_zero_z, t391);
+        let t1794: f64 = t361 * t1780;
+        let t1795 = product(t369, t396);
+        let t1796: f64 = t528 * t1785;
+        let t1797: f64 = t1796 * 0.5;
+        let t1798: f64 = t1793.plus(t1794);
+        let t1799: f64 = t1795.plus(t1797);
+        let t1800: f64 = t1798 - t1799;
+        let t1801: f64 = t379 * t1800;
+        let t1802: f64 = t1792.minus(t1801);
+        let t1803: f64 = t406 * t1802;
+        let t1804: f64 = t1791.plus(t1803);
+        let t1805: f64 = t1778.minus(t1804);
+        let t1806: f64 = t1160 * t1569;
+        let t1807 = product(t1805, t1806);
+        let t1808 = product(leg6_zero_z, t439);
+        let t1809: f64 = t447 * t454;
+        let t1810: f64 = t1808.plus(t1809);
+        let t1811: f64 = t1810 * 2.0;
+        let t1812 = product(t559, t1811);
+        let t1813 = product(t447, t469);
+        let t1814: f64 = t427 * t458;
+        let t1815: f64 = t454 * t1814;
+        let t1816 = product(leg6_zero_z, t474);
+        let t1817 = product(t469, t1814);
+        let t1818: f64 = t1817.subtracted_from(t1810);
+        let t1819: f64 = t1818 * 2.0;
+        let t1820: f64 = t573 * t1819;
+        let t1821: f64 = t1820 * 0.5;
+        let t1822: f64 = t1813.plus(t1815);
+        let t1823: f64 = t1816.plus(t1821);
+        let t1824: f64 = t1822 + t1823;
+        let t1825 = product(t457, t1824);
+        let t1826 = product(t580, t1811);
+        let t1827 = product(leg6_zero_z, t469);
+        let t1828: f64 = t439 * t1814;
+        let t1829 = product(t447, t474);
+        let t1830: f64 = t586 * t1819;
+        let t1831: f64 = t1830 * 0.5;
+        let t1832: f64 = t1827.plus(t1828);
+        let t1833: f64 = t1829.plus(t1831);
+        let t1834: f64 = t1832 - t1833;
+        let t1835: f64 = t457 * t1834;
+        let t1836: f64 = t1826.minus(t1835);
+        let t1837: f64 = t484 * t1836;
+        let t1838: f64 = t1825.plus(t1837);
+        let t1839: f64 = t1812.minus(t1838);
+        let t1840: f64 = t1224 * t1572;
+        let t1841: f64 = t1839 * t1840;
+        let t1842 = product(t906, t1669);
+        let t1843: f64 = t970 * t1703;
+        let t1844 = product(t1034, t1737);
+        let t1845: f64 = t1098 * t1771;
+        let t1846 = product(t1162, t1805);
+        let t1847: f64 = t1226 * t1839;
+        let t1848: f64 = t1842.plus(t1843);
+        let t1849: f64 = t1844.plus(t1845);
+        let t1850: f64 = t1846.plus(t1847);
+        let t1851: f64 = t1848 + t1849;
+        let t1852: f64 = t1850 + t1851;
+        let t1853: f64 = t1852 * 4.0;
+        let t1854: f64 = t843 * t1233;
+        let t1855 = product(t1853, t1854);
+        let t1856 = product(t1594, t1669);
+        let t1857: f64 = t1596 * t1703;
+        let t1858 = product(t1598, t1737);
+        let t1859: f64 = t1600 * t1771;
+        let t1860 = product(t1602, t1805);
+        let t1861: f64 = t1604 * t1839;
+        let t1862 = product(t1606, t1853);
+        let t1863: f64 = t1856.plus(t1857);
+        let t1864: f64 = t1858.plus(t1859);
+        let t1865: f64 = t1860.plus(t1861);
+        let t1866: f64 = t1863 + t1864;
+        let t1867: f64 = t1865 + t1866;
+        let t1868: f64 = t1867 * 4.0;
+        let t1869: f64 = t1862.subtracted_from(t1868);
+        let t1870: f64 = t1593 * t1614;
+        let t1871: f64 = t1869 * t1870;
+        let t1872: f64 = t1671.plus(t1705);
+        let t1873: f64 = t1739.plus(t1773);
+        let t1874: f64 = t1807.plus(t1841);
+        let t1875: f64 = t1872 + t1873;
+        let t1876: f64 = t1874 + t1875;
+        let t1877 = product(t1876, 4.0);
+        let t1878: f64 = t1855.plus(t1871);
+        let t1879: f64 = t1877.minus(t1878);
+        let t1880: f64 = t1853 * t1853;
+        let t1881 = product(t843, t1880);
+        let t1882: f64 = t1869 * t1869;
+        let t1883: f64 = t1593 * t1882;
+        let t1884: f64 = t1879 * t1879;
+        let t1885 = product(t1637, t1884);
+        let t1886 = product(leg1_zero_x, t49);
+        let t1887: f64 = t61 * t64;
+        let t1888: f64 = t1886.plus(t1887);
+        let t1889: f64 = t1888 * 2.0;
+        let t1890 = product(t618, t1889);
+        let t1891 = product(t61, t79);
+        let t1892: f64 = t46 * t68;
+        let t1893: f64 = t64 * t1892;
+        let t1894 = product(leg1_zero_x, t84);
+        let t1895 = product(t79, t1892);
+        let t1896: f64 = t1895.subtracted_from(t1888);
         let t1897: f64 = t1896 * 2.0;
-        let t1898: f64 = -t1897;
-        let t1899: f64 = t457 * t457;
-        let t1900 = product(leg6_zero_y, t425);
-        let t1901: f64 = leg6_zero_z * t416;
-        let t1902: f64 = t1900.minus(t1901);
-        let t1903 = product(t439, t1902);
-        let t1904 = product(t425, t443);
-        let t1905: f64 = t416 * t447;
-        let t1906: f64 = t1904.minus(t1905);
-        let t1907: f64 = t454 * t1906;
-        let t1908: f64 = t1903.plus(t1907);
-        let t1909: f64 = t1908 * 2.0;
-        let t1910: f64 = t476 * t1899;
-        let t1911 = product(t1909, t1910);
-        let t1912 = product(t469, t1906);
-        let t1913 = product(t418, t425);
-        let t1914: f64 = t416 * t427;
-        let t1915: f64 = t1913.minus(t1914);
-        let t1916: f64 = t1915 * 2.0;
-        let t1917: f64 = t458 * t1916;
-        let t1918 = product(t454, t1917);
-        let t1919: f64 = t474 * t1902;
-        let t1920: f64 = 1.0 / t473;
-        let t1921 = product(t469, t1917);
-        let t1922: f64 = t1921.subtracted_from(t1909);
-        let t1923: f64 = leg6_branch * t439;
-        let t1924: f64 = t1920 * t1923;
-        let t1925: f64 = t1922 * t1924;
-        let t1926: f64 = t1918.plus(t1925);
-        let t1927 = product(t1926, 0.5);
-        let t1928: f64 = t1912.plus(t1919);
-        let t1929: f64 = t1927.plus(t1928);
-        let t1930 = product(t457, t1929);
-        let t1931: f64 = t480 * t1899;
-        let t1932 = product(t1909, t1931);
-        let t1933 = product(t469, t1902);
-        let t1934 = product(t439, t1917);
-        let t1935 = product(t474, t1906);
-        let t1936: f64 = leg6_branch * t454;
-        let t1937: f64 = t1920 * t1936;
-        let t1938: f64 = t1922 * t1937;
-        let t1939: f64 = t1934.minus(t1938);
-        let t1940: f64 = t1939 * 0.5;
-        let t1941: f64 = t1933.plus(t1940);
-        let t1942: f64 = t1935.subtracted_from(t1941);
-        let t1943: f64 = t457 * t1942;
-        let t1944: f64 = t1932.minus(t1943);
-        let t1945: f64 = t484 * t1944;
-        let t1946: f64 = t1930.plus(t1945);
-        let t1947: f64 = t1911.minus(t1946);
-        let t1948: f64 = t477 * t477;
-        let t1949: f64 = t483 * t483;
-        let t1950 = product(t1948, t1949);
-        let t1951: f64 = t1950.plus(1.0);
-        let t1952: f64 = 1.0 / t1951;
-        let t1953: f64 = t483 * t1947;
-        let t1954: f64 = t1952 * t1953;
+        let t1898: f64 = t632 * t1897;
+        let t1899: f64 = t1898 * 0.5;
+        let t1900: f64 = t1891.plus(t1893);
+        let t1901: f64 = t1894.plus(t1899);
+        let t1902: f64 = t1900 + t1901;
+        let t1903 = product(t67, t1902);
+        let t1904 = product(t639, t1889);
+        let t1905 = product(leg1_zero_x, t79);
+        let t1906: f64 = t49 * t1892;
+        let t1907 = product(t61, t84);
+        let t1908: f64 = t645 * t1897;
+        let t1909: f64 = t1908 * 0.5;
+        let t1910: f64 = t1905.plus(t1906);
+        let t1911: f64 = t1907.plus(t1909);
+        let t1912: f64 = t1910 - t1911;
+        let t1913: f64 = t67 * t1912;
+        let t1914: f64 = t1904.minus(t1913);
+        let t1915: f64 = t94 * t1914;
+        let t1916: f64 = t1903.plus(t1915);
+        let t1917: f64 = t1890.minus(t1916);
+        let t1918 = product(t906, t1917);
+        let t1919 = product(leg2_zero_x, t127);
+        let t1920: f64 = t139 * t142;
+        let t1921: f64 = t1919.plus(t1920);
+        let t1922: f64 = t1921 * 2.0;
+        let t1923 = product(t676, t1922);
+        let t1924 = product(t139, t157);
+        let t1925: f64 = t124 * t146;
+        let t1926: f64 = t142 * t1925;
+        let t1927 = product(leg2_zero_x, t162);
+        let t1928 = product(t157, t1925);
+        let t1929: f64 = t1928.subtracted_from(t1921);
+        let t1930: f64 = t1929 * 2.0;
+        let t1931: f64 = t690 * t1930;
+        let t1932: f64 = t1931 * 0.5;
+        let t1933: f64 = t1924.plus(t1926);
+        let t1934: f64 = t1927.plus(t1932);
+        let t1935: f64 = t1933 + t1934;
+        let t1936 = product(t145, t1935);
+        let t1937 = product(t697, t1922);
+        let t1938 = product(leg2_zero_x, t157);
+        let t1939: f64 = t127 * t1925;
+        let t1940 = product(t139, t162);
+        let t1941: f64 = t703 * t1930;
+        let t1942: f64 = t1941 * 0.5;
+        let t1943: f64 = t1938.plus(t1939);
+        let t1944: f64 = t1940.plus(t1942);
+        let t1945: f64 = t1943 - t1944;
+        let t1946: f64 = t145 * t1945;
+        let t1947: f64 = t1937.minus(t1946);
+        let t1948: f64 = t172 * t1947;
+        let t1949: f64 = t1936.plus(t1948);
+        let t1950: f64 = t1923.minus(t1949);
+        let t1951: f64 = t970 * t1950;
+        let t1952 = product(leg3_zero_x, t205);
+        let t1953: f64 = t217 * t220;
+        let t1954: f64 = t1952.plus(t1953);
         let t1955: f64 = t1954 * 2.0;
-        let t1956 = product(leg6_platform_z, t6);
-        let t1957: f64 = t5 * t432;
-        let t1958: f64 = t1956.minus(t1957);
-        let t1959 = product(leg6_zero_x, t1958);
-        let t1960 = product(leg6_zero_y, t2);
-        let t1961: f64 = leg6_zero_z * t3;
-        let t1962: f64 = t1960.minus(t1961);
-        let t1963: f64 = t434 * t1962;
-        let t1964: f64 = t1959.plus(t1963);
-        let t1965 = product(t439, t1964);
-        let t1966 = product(t451, t1958);
-        let t1967 = product(t2, t443);
-        let t1968: f64 = t3 * t447;
-        let t1969: f64 = t1967.minus(t1968);
-        let t1970: f64 = t434 * t1969;
-        let t1971: f64 = t1966.plus(t1970);
-        let t1972: f64 = t454 * t1971;
-        let t1973: f64 = t1965.plus(t1972);
-        let t1974: f64 = t1973 * 2.0;
-        let t1975 = product(t1910, t1974);
-        let t1976 = product(t469, t1971);
-        let t1977: f64 = t436 * t1958;
-        let t1978 = product(t2, t418);
-        let t1979: f64 = t3 * t427;
-        let t1980: f64 = t1978.minus(t1979);
-        let t1981: f64 = t1980 * 2.0;
-        let t1982 = product(t434, t1981);
-        let t1983: f64 = t1977 * 2.0;
-        let t1984: f64 = t1982.plus(t1983);
-        let t1985: f64 = t454 * t458;
-        let t1986 = product(t1984, t1985);
-        let t1987: f64 = t474 * t1964;
-        let t1988: f64 = t458 * t469;
-        let t1989 = product(t1984, t1988);
-        let t1990: f64 = t1989.subtracted_from(t1974);
-        let t1991: f64 = t1924 * t1990;
-        let t1992: f64 = t1986.plus(t1991);
-        let t1993 = product(t1992, 0.5);
-        let t1994: f64 = t1976.plus(t1987);
-        let t1995: f64 = t1993.plus(t1994);
-        let t1996 = product(t457, t1995);
-        let t1997 = product(t1931, t1974);
-        let t1998 = product(t469, t1964);
-        let t1999: f64 = t439 * t458;
-        let t2000 = product(t1984, t1999);
-        let t2001 = product(t474, t1971);
-        let t2002: f64 = t1937 * t1990;
+        let t1956 = product(t735, t1955);
+        let t1957 = product(t217, t235);
+        let t1958: f64 = t202 * t224;
+        let t1959: f64 = t220 * t1958;
+        let t1960 = product(leg3_zero_x, t240);
+        let t1961 = product(t235, t1958);
+        let t1962: f64 = t1961.subtracted_from(t1954);
+        let t1963: f64 = t1962 * 2.0;
+        let t1964: f64 = t749 * t1963;
+        let t1965: f64 = t1964 * 0.5;
+        let t1966: f64 = t1957.plus(t1959);
+        let t1967: f64 = t1960.plus(t1965);
+        let t1968: f64 = t1966 + t1967;
+        let t1969 = product(t223, t1968);
+        let t1970 = product(t756, t1955);
+        let t1971 = product(leg3_zero_x, t235);
+        let t1972: f64 = t205 * t1958;
+        let t1973 = product(t217, t240);
+        let t1974: f64 = t762 * t1963;
+        let t1975: f64 = t1974 * 0.5;
+        let t1976: f64 = t1971.plus(t1972);
+        let t1977: f64 = t1973.plus(t1975);
+        let t1978: f64 = t1976 - t1977;
+        let t1979: f64 = t223 * t1978;
+        let t1980: f64 = t1970.minus(t1979);
+        let t1981: f64 = t250 * t1980;
+        let t1982: f64 = t1969.plus(t1981);
+        let t1983: f64 = t1956.minus(t1982);
+        let t1984 = product(t1034, t1983);
+        let t1985 = product(leg4_zero_x, t283);
+        let t1986: f64 = t295 * t298;
+        let t1987: f64 = t1985.plus(t1986);
+        let t1988: f64 = t1987 * 2.0;
+        let t1989 = product(t793, t1988);
+        let t1990 = product(t295, t313);
+        let t1991: f64 = t280 * t302;
+        let t1992: f64 = t298 * t1991;
+        let t1993 = product(leg4_zero_x, t318);
+        let t1994 = product(t313, t1991);
+        let t1995: f64 = t1994.subtracted_from(t1987);
+        let t1996: f64 = t1995 * 2.0;
+        let t1997: f64 = t807 * t1996;
+        let t1998: f64 = t1997 * 0.5;
+        let t1999: f64 = t1990.plus(t1992);
+        let t2000: f64 = t1993.plus(t1998);
+        let t2001: f64 = t1999 + t2000;
+        let t2002 = product(t301, t2001);
         (
-            t1017,
-            t1052,
-            t1109,
-            t1169,
-            t1229,
-            t1264,
-            t1299,
-            t1334,
-            t1391,
-            t1451,
-            t1511,
-            t1546,
-            t1581,
-            t1616,
-            t1673,
-            t1733,
-            t1793,
-            t1828,
-            t1863,
-            t1898,
-            t1910,
-            t1924,
-            t1931,
-            t1937,
-            t1952,
-            t1955,
-            t1975,
-            t1985,
+            t1032,
+            t1034,
+            t1096,
+            t1098,
+            t1160,
+            t1162,
+            t1224,
+            t1226,
+            t1233,
+            t1288,
+            t1342,
+            t1396,
+            t1450,
+            t1504,
+            t1558,
+            t1565,
+            t1569,
+            t1572,
+            t1576,
+            t1579,
+            t1583,
+            t1586,
+            t1590,
+            t1592,
+            t1593,
+            t1594,
+            t1596,
+            t1598,
+            t1600,
+            t1602,
+            t1604,
+            t1606,
+            t1614,
+            t1633,
+            t1636,
+            t1637,
+            t1669,
+            t1670,
+            t1703,
+            t1704,
+            t1737,
+            t1738,
+            t1771,
+            t1772,
+            t1805,
+            t1806,
+            t1839,
+            t1840,
+            t1853,
+            t1854,
+            t1869,
+            t1870,
+            t1879,
+            t1881,
+            t1883,
+            t1885,
+            t1917,
+            t1918,
+            t1950,
+            t1951,
+            t1983,
+            t1984,
             t1988,
+            t1989,
+            t1991,
             t1996,
-            t1997,
-            t1998,
-            t1999,
-            t2000,
-            t2001,
             t2002,
         )
     };
     let (
-        t2015,
-        t2075,
-        t2110,
-        t2145,
-        t2180,
-        t2217,
-        t2254,
-        t2291,
-        t2328,
-        t2365,
-        t2402,
-        t2403,
-        t2404,
-        t2405,
-        t2406,
-        t2407,
-        t2408,
+        t2146,
+        t2458,
+        t2514,
+        t2690,
+        t2702,
+        t2712,
+        t2713,
+        t2714,
+        t2716,
+        t2722,
+        t2759,
+        t2796,
+        t2833,
+        t2870,
+        t2907,
+        t2944,
+        t2945,
+        t2946,
+        t2947,
+        t2948,
+        t2949,
+        t2950,
     ) = {
-        let t2003: f64 = t2000.minus(t2002);
-        let t2004: f64 = t2003 * 0.5;
-        let t2005: f64 = t1998.plus(t2004);
-        let t2006: f64 = t2001.subtracted_from(t2005);
-        let t2007: f64 = t457 * t2006;
-        let t2008: f64 = t1997.minus(t2007);
-        let t2009: f64 = t484 * t2008;
-        let t2010: f64 = t1996.plus(t2009);
-        let t2011: f64 = t1975.minus(t2010);
-        let t2012: f64 = t483 * t1952;
-        let t2013: f64 = t2011 * t2012;
-        let t2014: f64 = t2013 * 2.0;
-        let t2015: f64 = -t2014;
-        let t2016 = product(leg6_platform_x, t13);
-        let t2017: f64 = leg6_platform_y * t9;
-        let t2018: f64 = t2016.minus(t2017);
-        let t2019 = product(leg6_zero_y, t2018);
-        let t2020 = product(leg6_platform_x, t30);
-        let t2021: f64 = leg6_platform_y * t25;
-        let t2022: f64 = t2020.minus(t2021);
-        let t2023: f64 = leg6_zero_z * t2022;
-        let t2024 = product(leg6_platform_x, t0);
-        let t2025: f64 = leg6_platform_y * t1;
-        let t2026: f64 = t2024.plus(t2025);
-        let t2027: f64 = leg6_zero_x * t6;
-        let t2028 = product(t2026, t2027);
-        let t2029: f64 = t2019.plus(t2023);
-        let t2030: f64 = t2028.minus(t2029);
-        let t2031 = product(t439, t2030);
-        let t2032 = product(t443, t2018);
-        let t2033: f64 = t447 * t2022;
-        let t2034: f64 = t6 * t451;
-        let t2035 = product(t2026, t2034);
-        let t2036: f64 = t2032.plus(t2033);
-        let t2037: f64 = t2035.minus(t2036);
-        let t2038: f64 = t454 * t2037;
-        let t2039: f64 = t2031.plus(t2038);
-        let t2040: f64 = t2039 * 2.0;
-        let t2041 = product(t1910, t2040);
-        let t2042 = product(t469, t2037);
-        let t2043 = product(t418, t2018);
-        let t2044: f64 = t427 * t2022;
-        let t2045: f64 = t6 * t436;
-        let t2046 = product(t2026, t2045);
-        let t2047: f64 = t2043.plus(t2044);
-        let t2048: f64 = t2046.minus(t2047);
-        let t2049: f64 = t2048 * 2.0;
-        let t2050 = product(t1985, t2049);
-        let t2051: f64 = t474 * t2030;
-        let t2052 = product(t1988, t2049);
-        let t2053: f64 = t2052.subtracted_from(t2040);
-        let t2054: f64 = t1924 * t2053;
-        let t2055: f64 = t2050.plus(t2054);
-        let t2056 = product(t2055, 0.5);
-        let t2057: f64 = t2042.plus(t2051);
-        let t2058: f64 = t2056.plus(t2057);
-        let t2059 = product(t457, t2058);
-        let t2060 = product(t1931, t2040);
-        let t2061 = product(t469, t2030);
-        let t2062 = product(t1999, t2049);
-        let t2063 = product(t474, t2037);
-        let t2064: f64 = t1937 * t2053;
-        let t2065: f64 = t2062.minus(t2064);
-        let t2066: f64 = t2065 * 0.5;
-        let t2067: f64 = t2061.plus(t2066);
-        let t2068: f64 = t2063.subtracted_from(t2067);
-        let t2069: f64 = t457 * t2068;
-        let t2070: f64 = t2060.minus(t2069);
-        let t2071: f64 = t484 * t2070;
-        let t2072: f64 = t2059.plus(t2071);
-        let t2073: f64 = t2041.minus(t2072);
-        let t2074: f64 = t2012 * t2073;
-        let t2075: f64 = t2074 * 2.0;
-        let t2076 = product(leg6_zero_x, t439);
-        let t2077: f64 = t451 * t454;
-        let t2078: f64 = t2076.plus(t2077);
-        let t2079: f64 = t2078 * 2.0;
-        let t2080 = product(t1910, t2079);
-        let t2081 = product(t451, t469);
-        let t2082: f64 = t436 * t458;
-        let t2083: f64 = t454 * t2082;
-        let t2084 = product(leg6_zero_x, t474);
-        let t2085 = product(t469, t2082);
-        let t2086: f64 = t2085.subtracted_from(t2078);
-        let t2087: f64 = t2086 * 2.0;
-        let t2088: f64 = t1924 * t2087;
-        let t2089: f64 = t2088 * 0.5;
-        let t2090: f64 = t2081.plus(t2083);
-        let t2091: f64 = t2084.plus(t2089);
-        let t2092: f64 = t2090 + t2091;
-        let t2093 = product(t457, t2092);
-        let t2094 = product(t1931, t2079);
-        let t2095 = product(leg6_zero_x, t469);
-        let t2096: f64 = t439 * t2082;
-        let t2097 = product(t451, t474);
-        let t2098: f64 = t1937 * t2087;
-        let t2099: f64 = t2098 * 0.5;
-        let t2100: f64 = t2095.plus(t2096);
-        let t2101: f64 = t2097.plus(t2099);
-        let t2102: f64 = t2100 - t2101;
-        let t2103: f64 = t457 * t2102;
-        let t2104: f64 = t2094.minus(t2103);
-        let t2105: f64 = t484 * t2104;
-        let t2106: f64 = t2093.plus(t2105);
-        let t2107: f64 = t2080.minus(t2106);
-        let t2108: f64 = t2012 * t2107;
-        let t2109: f64 = t2108 * 2.0;
-        let t2110: f64 = -t2109;
-        let t2111 = product(leg6_zero_y, t439);
-        let t2112: f64 = t443 * t454;
-        let t2113: f64 = t2111.plus(t2112);
-        let t2114: f64 = t2113 * 2.0;
-        let t2115 = product(t1910, t2114);
-        let t2116 = product(t443, t469);
-        let t2117: f64 = t418 * t458;
-        let t2118: f64 = t454 * t2117;
-        let t2119 = product(leg6_zero_y, t474);
-        let t2120 = product(t469, t2117);
-        let t2121: f64 = t2120.subtracted_from(t2113);
-        let t2122: f64 = t2121 * 2.0;
-        let t2123: f64 = t1924 * t2122;
-        let t2124: f64 = t2123 * 0.5;
-        let t2125: f64 = t2116.plus(t2118);
-        let t2126: f64 = t2119.plus(t2124);
-        let t2127: f64 = t2125 + t2126;
-        let t2128 = product(t457, t2127);
-        let t2129 = product(t1931, t2114);
-        let t2130 = product(leg6_zero_y, t469);
-        let t2131: f64 = t439 * t2117;
-        let t2132 = product(t443, t474);
-        let t2133: f64 = t1937 * t2122;
-        let t2134: f64 = t2133 * 0.5;
-        let t2135: f64 = t2130.plus(t2131);
-        let t2136: f64 = t2132.plus(t2134);
-        let t2137: f64 = t2135 - t2136;
-        let t2138: f64 = t457 * t2137;
-        let t2139: f64 = t2129.minus(t2138);
-        let t2140: f64 = t484 * t2139;
-        let t2141: f64 = t2128.plus(t2140);
-        let t2142: f64 = t2115.minus(t2141);
-        let t2143: f64 = t2012 * t2142;
-        let t2144: f64 = t2143 * 2.0;
-        let t2145: f64 = -t2144;
-        let t2146 = product(leg6_zero_z, t439);
-        let t2147: f64 = t447 * t454;
-        let t2148: f64 = t2146.plus(t2147);
-        let t2149: f64 = t2148 * 2.0;
-        let t2150 = product(t1910, t2149);
-        let t2151 = product(t447, t469);
-        let t2152: f64 = t427 * t458;
-        let t2153: f64 = t454 * t2152;
-        let t2154 = product(leg6_zero_z, t474);
-        let t2155 = product(t469, t2152);
-        let t2156: f64 = t2155.subtracted_from(t2148);
-        let t2157: f64 = t2156 * 2.0;
-        let t2158: f64 = t1924 * t2157;
-        let t2159: f64 = t2158 * 0.5;
-        let t2160: f64 = t2151.plus(t2153);
-        let t2161: f64 = t2154.plus(t2159);
-        let t2162: f64 = t2160 + t2161;
-        let t2163 = product(t457, t2162);
-        let t2164 = product(t1931, t2149);
-        let t2165 = product(leg6_zero_z, t469);
-        let t2166: f64 = t439 * t2152;
-        let t2167 = product(t447, t474);
-        let t2168: f64 = t1937 * t2157;
-        let t2169: f64 = t2168 * 0.5;
-        let t2170: f64 = t2165.plus(t2166);
-        let t2171: f64 = t2167.plus(t2169);
-        let t2172: f64 = t2170 - t2171;
-        let t2173: f64 = t457 * t2172;
-        let t2174: f64 = t2164.minus(t2173);
-        let t2175: f64 = t484 * t2174;
-        let t2176: f64 = t2163.plus(t2175);
-        let t2177: f64 = t2150.minus(t2176);
-        let t2178: f64 = t2012 * t2177;
-        let t2179: f64 = t2178 * 2.0;
-        let t2180: f64 = -t2179;
-        let t2181: f64 = 1.0 / leg1_rod_length;
-        let t2182 = product(leg1_zero_y, t91);
-        let t2183: f64 = t53 * t87;
-        let t2184: f64 = t2182.plus(t2183);
-        let t2185 = product(leg1_crank_length, t2184);
-        let t2186: f64 = t2185.added_to(leg1_base_y);
-        let t2187: f64 = t19 - t2186;
-        let t2188: f64 = t2181 * t2187;
-        let t2189 = product(leg1_axis_z, t2188);
-        let t2190 = product(leg1_zero_z, t91);
-        let t2191: f64 = t57 * t87;
-        let t2192: f64 = t2190.plus(t2191);
-        let t2193 = product(leg1_crank_length, t2192);
-        let t2194: f64 = t2193.added_to(leg1_base_z);
-        let t2195: f64 = t36 - t2194;
-        let t2196: f64 = t2181 * t2195;
-        let t2197: f64 = leg1_axis_y * t2196;
-        let t2198: f64 = t2189.minus(t2197);
-        let t2199 = product(t2198, t2198);
-        let t2200 = product(leg1_axis_x, t2196);
-        let t2201 = product(leg1_zero_x, t91);
-        let t2202: f64 = t61 * t87;
-        let t2203: f64 = t2201.plus(t2202);
-        let t2204 = product(leg1_crank_length, t2203);
-        let t2205: f64 = t2204.added_to(leg1_base_x);
-        let t2206: f64 = t45 - t2205;
-        let t2207: f64 = t2181 * t2206;
-        let t2208: f64 = leg1_axis_z * t2207;
-        let t2209: f64 = t2200.minus(t2208);
-        let t2210: f64 = t2209 * t2209;
-        let t2211 = product(leg1_axis_y, t2207);
-        let t2212: f64 = leg1_axis_x * t2188;
-        let t2213: f64 = t2211.minus(t2212);
-        let t2214 = product(t2213, t2213);
-        let t2215: f64 = t2199.plus(t2210);
-        let t2216: f64 = t2214.plus(t2215);
-        let t2217: f64 = sqrt(t2216);
-        let t2218: f64 = 1.0 / leg2_rod_length;
-        let t2219 = product(leg2_zero_y, t169);
-        let t2220: f64 = t131 * t165;
-        let t2221: f64 = t2219.plus(t2220);
-        let t2222 = product(leg2_crank_length, t2221);
-        let t2223: f64 = t2222.added_to(leg2_base_y);
-        let t2224: f64 = t105 - t2223;
-        let t2225: f64 = t2218 * t2224;
-        let t2226 = product(leg2_axis_z, t2225);
-        let t2227 = product(leg2_zero_z, t169);
-        let t2228: f64 = t135 * t165;
-        let t2229: f64 = t2227.plus(t2228);
-        let t2230 = product(leg2_crank_length, t2229);
-        let t2231: f64 = t2230.added_to(leg2_base_z);
-        let t2232: f64 = t114 - t2231;
-        let t2233: f64 = t2218 * t2232;
-        let t2234: f64 = leg2_axis_y * t2233;
-        let t2235: f64 = t2226.minus(t2234);
-        let t2236 = product(t2235, t2235);
-        let t2237 = product(leg2_axis_x, t2233);
-        let t2238 = product(leg2_zero_x, t169);
-        let t2239: f64 = t139 * t165;
-        let t2240: f64 = t2238.plus(t2239);
-        let t2241 = product(leg2_crank_length, t2240);
-        let t2242: f64 = t2241.added_to(leg2_base_x);
-        let t2243: f64 = t123 - t2242;
-        let t2244: f64 = t2218 * t2243;
-        let t2245: f64 = leg2_axis_z * t2244;
-        let t2246: f64 = t2237.minus(t2245);
-        let t2247: f64 = t2246 * t2246;
-        let t2248 = product(leg2_axis_y, t2244);
-        let t2249: f64 = leg2_axis_x * t2225;
-        let t2250: f64 = t2248.minus(t2249);
-        let t2251 = product(t2250, t2250);
-        let t2252: f64 = t2236.plus(t2247);
-        let t2253: f64 = t2251.plus(t2252);
-        let t2254: f64 = sqrt(t2253);
-        let t2255: f64 = 1.0 / leg3_rod_length;
-        let t2256 = product(leg3_zero_y, t247);
-        let t2257: f64 = t209 * t243;
-        let t2258: f64 = t2256.plus(t2257);
-        let t2259 = product(leg3_crank_length, t2258);
-        let t2260: f64 = t2259.added_to(leg3_base_y);
-        let t2261: f64 = t183 - t2260;
-        let t2262: f64 = t2255 * t2261;
-        let t2263 = product(leg3_axis_z, t2262);
-        let t2264 = product(leg3_zero_z, t247);
-        let t2265: f64 = t213 * t243;
-        let t2266: f64 = t2264.plus(t2265);
-        let t2267 = product(leg3_crank_length, t2266);
-        let t2268: f64 = t2267.added_to(leg3_base_z);
-        let t2269: f64 = t192 - t2268;
-        let t2270: f64 = t2255 * t2269;
-        let t2271: f64 = leg3_axis_y * t2270;
-        let t2272: f64 = t2263.minus(t2271);
-        let t2273 = product(t2272, t2272);
-        let t2274 = product(leg3_axis_x, t2270);
-        let t2275 = product(leg3_zero_x, t247);
-        let t2276: f64 = t217 * t243;
-        let t2277: f64 = t2275.plus(t2276);
-        let t2278 = product(leg3_crank_length, t2277);
-        let t2279: f64 = t2278.added_to(leg3_base_x);
-        let t2280: f64 = t201 - t2279;
-        let t2281: f64 = t2255 * t2280;
-        let t2282: f64 = leg3_axis_z * t2281;
-        let t2283: f64 = t2274.minus(t2282);
-        let t2284: f64 = t2283 * t2283;
-        let t2285 = product(leg3_axis_y, t2281);
-        let t2286: f64 = leg3_axis_x * t2262;
-        let t2287: f64 = t2285.minus(t2286);
-        let t2288 = product(t2287, t2287);
-        let t2289: f64 = t2273.plus(t2284);
-        let t2290: f64 = t2288.plus(t2289);
-        let t2291: f64 = sqrt(t2290);
-        let t2292: f64 = 1.0 / leg4_rod_length;
-        let t2293 = product(leg4_zero_y, t325);
-        let t2294: f64 = t287 * t321;
-        let t2295: f64 = t2293.plus(t2294);
-        let t2296 = product(leg4_crank_length, t2295);
-        let t2297: f64 = t2296.added_to(leg4_base_y);
-        let t2298: f64 = t261 - t2297;
-        let t2299: f64 = t2292 * t2298;
-        let t2300 = product(leg4_axis_z, t2299);
-        let t2301 = product(leg4_zero_z, t325);
-        let t2302: f64 = t291 * t321;
-        let t2303: f64 = t2301.plus(t2302);
-        let t2304 = product(leg4_crank_length, t2303);
-        let t2305: f64 = t2304.added_to(leg4_base_z);
-        let t2306: f64 = t270 - t2305;
-        let t2307: f64 = t2292 * t2306;
-        let t2308: f64 = leg4_axis_y * t2307;
-        let t2309: f64 = t2300.minus(t2308);
-        let t2310 = product(t2309, t2309);
-        let t2311 = product(leg4_axis_x, t2307);
-        let t2312 = product(leg4_zero_x, t325);
-        let t2313: f64 = t295 * t321;
-        let t2314: f64 = t2312.plus(t2313);
-        let t2315 = product(leg4_crank_length, t2314);
-        let t2316: f64 = t2315.added_to(leg4_base_x);
-        let t2317: f64 = t279 - t2316;
-        let t2318: f64 = t2292 * t2317;
-        let t2319: f64 = leg4_axis_z * t2318;
-        let t2320: f64 = t2311.minus(t2319);
-        let t2321: f64 = t2320 * t2320;
-        let t2322 = product(leg4_axis_y, t2318);
-        let t2323: f64 = leg4_axis_x * t2299;
-        let t2324: f64 = t2322.minus(t2323);
-        let t2325 = product(t2324, t2324);
-        let t2326: f64 = t2310.plus(t2321);
-        let t2327: f64 = t2325.plus(t2326);
-        let t2328: f64 = sqrt(t2327);
-        let t2329: f64 = 1.0 / leg5_rod_length;
-        let t2330 = product(leg5_zero_y, t403);
-        let t2331: f64 = t365 * t399;
-        let t2332: f64 = t2330.plus(t2331);
-        let t2333 = product(leg5_crank_length, t2332);
-        let t2334: f64 = t2333.added_to(leg5_base_y);
-        let t2335: f64 = t339 - t2334;
-        let t2336: f64 = t2329 * t2335;
-        let t2337 = product(leg5_axis_z, t2336);
-        let t2338 = product(leg5_zero_z, t403);
-        let t2339: f64 = t369 * t399;
-        let t2340: f64 = t2338.plus(t2339);
-        let t2341 = product(leg5_crank_length, t2340);
-        let t2342: f64 = t2341.added_to(leg5_base_z);
-        let t2343: f64 = t348 - t2342;
-        let t2344: f64 = t2329 * t2343;
-        let t2345: f64 = leg5_axis_y * t2344;
-        let t2346: f64 = t2337.minus(t2345);
-        let t2347 = product(t2346, t2346);
-        let t2348 = product(leg5_axis_x, t2344);
-        let t2349 = product(leg5_zero_x, t403);
-        let t2350: f64 = t373 * t399;
-        let t2351: f64 = t2349.plus(t2350);
-        let t2352 = product(leg5_crank_length, t2351);
-        let t2353: f64 = t2352.added_to(leg5_base_x);
-        let t2354: f64 = t357 - t2353;
-        let t2355: f64 = t2329 * t2354;
-        let t2356: f64 = leg5_axis_z * t2355;
-        let t2357: f64 = t2348.minus(t2356);
-        let t2358: f64 = t2357 * t2357;
-        let t2359 = product(leg5_axis_y, t2355);
-        let t2360: f64 = leg5_axis_x * t2336;
-        let t2361: f64 = t2359.minus(t2360);
-        let t2362 = product(t2361, t2361);
-        let t2363: f64 = t2347.plus(t2358);
-        let t2364: f64 = t2362.plus(t2363);
-        let t2365: f64 = sqrt(t2364);
-        let t2366: f64 = 1.0 / leg6_rod_length;
-        let t2367 = product(leg6_zero_y, t481);
-        let t2368: f64 = t443 * t477;
-        let t2369: f64 = t2367.plus(t2368);
-        let t2370 = product(leg6_crank_length, t2369);
-        let t2371: f64 = t2370.added_to(leg6_base_y);
-        let t2372: f64 = t417 - t2371;
-        let t2373: f64 = t2366 * t2372;
-        let t2374 = product(leg6_axis_z, t2373);
-        let t2375 = product(leg6_zero_z, t481);
-        let t2376: f64 = t447 * t477;
-        let t2377: f64 = t2375.plus(t2376);
-        let t2378 = product(leg6_crank_length, t2377);
-        let t2379: f64 = t2378.added_to(leg6_base_z);
-        let t2380: f64 = t426 - t2379;
-        let t2381: f64 = t2366 * t2380;
-        let t2382: f64 = leg6_axis_y * t2381;
-        let t2383: f64 = t2374.minus(t2382);
-        let t2384 = product(t2383, t2383);
-        let t2385 = product(leg6_axis_x, t2381);
-        let t2386 = product(leg6_zero_x, t481);
-        let t2387: f64 = t451 * t477;
-        let t2388: f64 = t2386.plus(t2387);
-        let t2389 = product(leg6_crank_length, t2388);
-        let t2390: f64 = t2389.added_to(leg6_base_x);
-        let t2391: f64 = t435 - t2390;
-        let t2392: f64 = t2366 * t2391;
-        let t2393: f64 = leg6_axis_z * t2392;
-        let t2394: f64 = t2385.minus(t2393);
-        let t2395: f64 = t2394 * t2394;
-        let t2396 = product(leg6_axis_y, t2392);
-        let t2397: f64 = leg6_axis_x * t2373;
-        let t2398: f64 = t2396.minus(t2397);
-        let t2399 = product(t2398, t2398);
-        let t2400: f64 = t2384.plus(t2395);
-        let t2401: f64 = t2399.plus(t2400);
-        let t2402: f64 = sqrt(t2401);
-        let t2403: f64 = t67 * t82;
-        let t2404: f64 = t145 * t160;
-        let t2405: f64 = t223 * t238;
-        let t2406: f64 = t301 * t316;
-        let t2407: f64 = t379 * t394;
-        let t2408: f64 = t457 * t472;
+        let t2003 = product(t814, t1988);
+        let t2004 = product(leg4_zero_x, t313);
+        let t2005: f64 = t283 * t1991;
+        let t2006 = product(t295, t318);
+        let t2007: f64 = t820 * t1996;
+        let t2008: f64 = t2007 * 0.5;
+        let t2009: f64 = t2004.plus(t2005);
+        let t2010: f64 = t2006.plus(t2008);
+        let t2011: f64 = t2009 - t2010;
+        let t2012: f64 = t301 * t2011;
+        let t2013: f64 = t2003.minus(t2012);
+        let t2014: f64 = t328 * t2013;
+        let t2015: f64 = t2002.plus(t2014);
+        let t2016: f64 = t1989.minus(t2015);
+        let t2017: f64 = t1098 * t2016;
+        let t2018 = product(leg5_zero_x, t361);
+        let t2019: f64 = t373 * t376;
+        let t2020: f64 = t2018.plus(t2019);
+        let t2021: f64 = t2020 * 2.0;
+        let t2022 = product(t501, t2021);
+        let t2023 = product(t373, t391);
+        let t2024: f64 = t358 * t380;
+        let t2025: f64 = t376 * t2024;
+        let t2026 = product(leg5_zero_x, t396);
+        let t2027 = product(t391, t2024);
+        let t2028: f64 = t2027.subtracted_from(t2020);
+        let t2029: f64 = t2028 * 2.0;
+        let t2030: f64 = t515 * t2029;
+        let t2031: f64 = t2030 * 0.5;
+        let t2032: f64 = t2023.plus(t2025);
+        let t2033: f64 = t2026.plus(t2031);
+        let t2034: f64 = t2032 + t2033;
+        let t2035 = product(t379, t2034);
+        let t2036 = product(t522, t2021);
+        let t2037 = product(leg5_zero_x, t391);
+        let t2038: f64 = t361 * t2024;
+        let t2039 = product(t373, t396);
+        let t2040: f64 = t528 * t2029;
+        let t2041: f64 = t2040 * 0.5;
+        let t2042: f64 = t2037.plus(t2038);
+        let t2043: f64 = t2039.plus(t2041);
+        let t2044: f64 = t2042 - t2043;
+        let t2045: f64 = t379 * t2044;
+        let t2046: f64 = t2036.minus(t2045);
+        let t2047: f64 = t406 * t2046;
+        let t2048: f64 = t2035.plus(t2047);
+        let t2049: f64 = t2022.minus(t2048);
+        let t2050 = product(t1162, t2049);
+        let t2051 = product(leg6_zero_x, t439);
+        let t2052: f64 = t451 * t454;
+        let t2053: f64 = t2051.plus(t2052);
+        let t2054: f64 = t2053 * 2.0;
+        let t2055 = product(t559, t2054);
+        let t2056 = product(t451, t469);
+        let t2057: f64 = t436 * t458;
+        let t2058: f64 = t454 * t2057;
+        let t2059 = product(leg6_zero_x, t474);
+        let t2060 = product(t469, t2057);
+        let t2061: f64 = t2060.subtracted_from(t2053);
+        let t2062: f64 = t2061 * 2.0;
+        let t2063: f64 = t573 * t2062;
+        let t2064: f64 = t2063 * 0.5;
+        let t2065: f64 = t2056.plus(t2058);
+        let t2066: f64 = t2059.plus(t2064);
+        let t2067: f64 = t2065 + t2066;
+        let t2068 = product(t457, t2067);
+        let t2069 = product(t580, t2054);
+        let t2070 = product(leg6_zero_x, t469);
+        let t2071: f64 = t439 * t2057;
+        let t2072 = product(t451, t474);
+        let t2073: f64 = t586 * t2062;
+        let t2074: f64 = t2073 * 0.5;
+        let t2075: f64 = t2070.plus(t2071);
+        let t2076: f64 = t2072.plus(t2074);
+        let t2077: f64 = t2075 - t2076;
+        let t2078: f64 = t457 * t2077;
+        let t2079: f64 = t2069.minus(t2078);
+        let t2080: f64 = t484 * t2079;
+        let t2081: f64 = t2068.plus(t2080);
+        let t2082: f64 = t2055.minus(t2081);
+        let t2083: f64 = t1226 * t2082;
+        let t2084: f64 = t1918.plus(t1951);
+        let t2085: f64 = t1984.plus(t2017);
+        let t2086: f64 = t2050.plus(t2083);
+        let t2087: f64 = t2084 + t2085;
+        let t2088: f64 = t2086 + t2087;
+        let t2089: f64 = t2088 * 4.0;
+        let t2090: f64 = t2089 * t2089;
+        let t2091 = product(t843, t2090);
+        let t2092 = product(t1594, t1917);
+        let t2093: f64 = t1596 * t1950;
+        let t2094 = product(t1598, t1983);
+        let t2095: f64 = t1600 * t2016;
+        let t2096 = product(t1602, t2049);
+        let t2097: f64 = t1604 * t2082;
+        let t2098 = product(t1606, t2089);
+        let t2099: f64 = t2092.plus(t2093);
+        let t2100: f64 = t2094.plus(t2095);
+        let t2101: f64 = t2096.plus(t2097);
+        let t2102: f64 = t2099 + t2100;
+        let t2103: f64 = t2101 + t2102;
+        let t2104: f64 = t2103 * 4.0;
+        let t2105: f64 = t2098.subtracted_from(t2104);
+        let t2106: f64 = t2105 * t2105;
+        let t2107: f64 = t1593 * t2106;
+        let t2108 = product(t1670, t1917);
+        let t2109: f64 = t1704 * t1950;
+        let t2110 = product(t1738, t1983);
+        let t2111: f64 = t1772 * t2016;
+        let t2112 = product(t1806, t2049);
+        let t2113: f64 = t1840 * t2082;
+        let t2114 = product(t1854, t2089);
+        let t2115: f64 = t1870 * t2105;
+        let t2116: f64 = t2108.plus(t2109);
+        let t2117: f64 = t2110.plus(t2111);
+        let t2118: f64 = t2112.plus(t2113);
+        let t2119: f64 = t2116 + t2117;
+        let t2120: f64 = t2118 + t2119;
+        let t2121 = product(t2120, 4.0);
+        let t2122: f64 = t2114.plus(t2115);
+        let t2123: f64 = t2121.minus(t2122);
+        let t2124: f64 = t2123 * t2123;
+        let t2125 = product(t1637, t2124);
+        let t2126: f64 = t2049 * t2049;
+        let t2127 = product(t1569, t2126);
+        let t2128: f64 = t2082 * t2082;
+        let t2129: f64 = t1572 * t2128;
+        let t2130: f64 = t2127.plus(t2129);
+        let t2131: f64 = t1917 * t1917;
+        let t2132 = product(t1576, t2131);
+        let t2133: f64 = t1950 * t1950;
+        let t2134: f64 = t1579 * t2133;
+        let t2135: f64 = t2132.plus(t2134);
+        let t2136: f64 = t1983 * t1983;
+        let t2137 = product(t1583, t2136);
+        let t2138: f64 = t2016 * t2016;
+        let t2139: f64 = t1586 * t2138;
+        let t2140: f64 = t2137.plus(t2139);
+        let t2141: f64 = t2135 + t2140;
+        let t2142: f64 = t2130 + t2141;
+        let t2143 = product(t2142, 4.0);
+        let t2144: f64 = t2091.plus(t2107);
+        let t2145: f64 = t2125.plus(t2144);
+        let t2146: f64 = t2143.minus(t2145);
+        let t2147: f64 = 1.0 / t2146;
+        let t2148: f64 = t1576 * t1917;
+        let t2149 = product(t1669, t2148);
+        let t2150: f64 = t1579 * t1950;
+        let t2151: f64 = t1703 * t2150;
+        let t2152: f64 = t1583 * t1983;
+        let t2153 = product(t1737, t2152);
+        let t2154: f64 = t1586 * t2016;
+        let t2155: f64 = t1771 * t2154;
+        let t2156: f64 = t1569 * t2049;
+        let t2157 = product(t1805, t2156);
+        let t2158: f64 = t1572 * t2082;
+        let t2159: f64 = t1839 * t2158;
+        let t2160: f64 = t843 * t2089;
+        let t2161 = product(t1853, t2160);
+        let t2162: f64 = t1593 * t2105;
+        let t2163: f64 = t1869 * t2162;
+        let t2164: f64 = t1637 * t2123;
+        let t2165 = product(t1879, t2164);
+        let t2166: f64 = t2149.plus(t2151);
+        let t2167: f64 = t2153.plus(t2155);
+        let t2168: f64 = t2157.plus(t2159);
+        let t2169: f64 = t2166 + t2167;
+        let t2170: f64 = t2168 + t2169;
+        let t2171 = product(t2170, 4.0);
+        let t2172: f64 = t2161.plus(t2163);
+        let t2173: f64 = t2165.plus(t2172);
+        let t2174: f64 = t2171.minus(t2173);
+        let t2175: f64 = t2174 * t2174;
+        let t2176: f64 = t2147 * t2175;
+        let t2177 = product(leg1_zero_y, t49);
+        let t2178: f64 = t53 * t64;
+        let t2179: f64 = t2177.plus(t2178);
+        let t2180: f64 = t2179 * 2.0;
+        let t2181 = product(t618, t2180);
+        let t2182 = product(t53, t79);
+        let t2183: f64 = t20 * t68;
+        let t2184: f64 = t64 * t2183;
+        let t2185 = product(leg1_zero_y, t84);
+        let t2186 = product(t79, t2183);
+        let t2187: f64 = t2186.subtracted_from(t2179);
+        let t2188: f64 = t2187 * 2.0;
+        let t2189: f64 = t632 * t2188;
+        let t2190: f64 = t2189 * 0.5;
+        let t2191: f64 = t2182.plus(t2184);
+        let t2192: f64 = t2185.plus(t2190);
+        let t2193: f64 = t2191 + t2192;
+        let t2194 = product(t67, t2193);
+        let t2195 = product(t639, t2180);
+        let t2196 = product(leg1_zero_y, t79);
+        let t2197: f64 = t49 * t2183;
+        let t2198 = product(t53, t84);
+        let t2199: f64 = t645 * t2188;
+        let t2200: f64 = t2199 * 0.5;
+        let t2201: f64 = t2196.plus(t2197);
+        let t2202: f64 = t2198.plus(t2200);
+        let t2203: f64 = t2201 - t2202;
+        let t2204: f64 = t67 * t2203;
+        let t2205: f64 = t2195.minus(t2204);
+        let t2206: f64 = t94 * t2205;
+        let t2207: f64 = t2194.plus(t2206);
+        let t2208: f64 = t2181.minus(t2207);
+        let t2209 = product(t906, t2208);
+        let t2210 = product(leg2_zero_y, t127);
+        let t2211: f64 = t131 * t142;
+        let t2212: f64 = t2210.plus(t2211);
+        let t2213: f64 = t2212 * 2.0;
+        let t2214 = product(t676, t2213);
+        let t2215 = product(t131, t157);
+        let t2216: f64 = t106 * t146;
+        let t2217: f64 = t142 * t2216;
+        let t2218 = product(leg2_zero_y, t162);
+        let t2219 = product(t157, t2216);
+        let t2220: f64 = t2219.subtracted_from(t2212);
+        let t2221: f64 = t2220 * 2.0;
+        let t2222: f64 = t690 * t2221;
+        let t2223: f64 = t2222 * 0.5;
+        let t2224: f64 = t2215.plus(t2217);
+        let t2225: f64 = t2218.plus(t2223);
+        let t2226: f64 = t2224 + t2225;
+        let t2227 = product(t145, t2226);
+        let t2228 = product(t697, t2213);
+        let t2229 = product(leg2_zero_y, t157);
+        let t2230: f64 = t127 * t2216;
+        let t2231 = product(t131, t162);
+        let t2232: f64 = t703 * t2221;
+        let t2233: f64 = t2232 * 0.5;
+        let t2234: f64 = t2229.plus(t2230);
+        let t2235: f64 = t2231.plus(t2233);
+        let t2236: f64 = t2234 - t2235;
+        let t2237: f64 = t145 * t2236;
+        let t2238: f64 = t2228.minus(t2237);
+        let t2239: f64 = t172 * t2238;
+        let t2240: f64 = t2227.plus(t2239);
+        let t2241: f64 = t2214.minus(t2240);
+        let t2242: f64 = t970 * t2241;
+        let t2243 = product(leg3_zero_y, t205);
+        let t2244: f64 = t209 * t220;
+        let t2245: f64 = t2243.plus(t2244);
+        let t2246: f64 = t2245 * 2.0;
+        let t2247 = product(t735, t2246);
+        let t2248 = product(t209, t235);
+        let t2249: f64 = t184 * t224;
+        let t2250: f64 = t220 * t2249;
+        let t2251 = product(leg3_zero_y, t240);
+        let t2252 = product(t235, t2249);
+        let t2253: f64 = t2252.subtracted_from(t2245);
+        let t2254: f64 = t2253 * 2.0;
+        let t2255: f64 = t749 * t2254;
+        let t2256: f64 = t2255 * 0.5;
+        let t2257: f64 = t2248.plus(t2250);
+        let t2258: f64 = t2251.plus(t2256);
+        let t2259: f64 = t2257 + t2258;
+        let t2260 = product(t223, t2259);
+        let t2261 = product(t756, t2246);
+        let t2262 = product(leg3_zero_y, t235);
+        let t2263: f64 = t205 * t2249;
+        let t2264 = product(t209, t240);
+        let t2265: f64 = t762 * t2254;
+        let t2266: f64 = t2265 * 0.5;
+        let t2267: f64 = t2262.plus(t2263);
+        let t2268: f64 = t2264.plus(t2266);
+        let t2269: f64 = t2267 - t2268;
+        let t2270: f64 = t223 * t2269;
+        let t2271: f64 = t2261.minus(t2270);
+        let t2272: f64 = t250 * t2271;
+        let t2273: f64 = t2260.plus(t2272);
+        let t2274: f64 = t2247.minus(t2273);
+        let t2275 = product(t1034, t2274);
+        let t2276 = product(leg4_zero_y, t283);
+        let t2277: f64 = t287 * t298;
+        let t2278: f64 = t2276.plus(t2277);
+        let t2279: f64 = t2278 * 2.0;
+        let t2280 = product(t793, t2279);
+        let t2281 = product(t287, t313);
+        let t2282: f64 = t262 * t302;
+        let t2283: f64 = t298 * t2282;
+        let t2284 = product(leg4_zero_y, t318);
+        let t2285 = product(t313, t2282);
+        let t2286: f64 = t2285.subtracted_from(t2278);
+        let t2287: f64 = t2286 * 2.0;
+        let t2288: f64 = t807 * t2287;
+        let t2289: f64 = t2288 * 0.5;
+        let t2290: f64 = t2281.plus(t2283);
+        let t2291: f64 = t2284.plus(t2289);
+        let t2292: f64 = t2290 + t2291;
+        let t2293 = product(t301, t2292);
+        let t2294 = product(t814, t2279);
+        let t2295 = product(leg4_zero_y, t313);
+        let t2296: f64 = t283 * t2282;
+        let t2297 = product(t287, t318);
+        let t2298: f64 = t820 * t2287;
+        let t2299: f64 = t2298 * 0.5;
+        let t2300: f64 = t2295.plus(t2296);
+        let t2301: f64 = t2297.plus(t2299);
+        let t2302: f64 = t2300 - t2301;
+        let t2303: f64 = t301 * t2302;
+        let t2304: f64 = t2294.minus(t2303);
+        let t2305: f64 = t328 * t2304;
+        let t2306: f64 = t2293.plus(t2305);
+        let t2307: f64 = t2280.minus(t2306);
+        let t2308: f64 = t1098 * t2307;
+        let t2309 = product(leg5_zero_y, t361);
+        let t2310: f64 = t365 * t376;
+        let t2311: f64 = t2309.plus(t2310);
+        let t2312: f64 = t2311 * 2.0;
+        let t2313 = product(t501, t2312);
+        let t2314 = product(t365, t391);
+        let t2315: f64 = t340 * t380;
+        let t2316: f64 = t376 * t2315;
+        let t2317 = product(leg5_zero_y, t396);
+        let t2318 = product(t391, t2315);
+        let t2319: f64 = t2318.subtracted_from(t2311);
+        let t2320: f64 = t2319 * 2.0;
+        let t2321: f64 = t515 * t2320;
+        let t2322: f64 = t2321 * 0.5;
+        let t2323: f64 = t2314.plus(t2316);
+        let t2324: f64 = t2317.plus(t2322);
+        let t2325: f64 = t2323 + t2324;
+        let t2326 = product(t379, t2325);
+        let t2327 = product(t522, t2312);
+        let t2328 = product(leg5_zero_y, t391);
+        let t2329: f64 = t361 * t2315;
+        let t2330 = product(t365, t396);
+        let t2331: f64 = t528 * t2320;
+        let t2332: f64 = t2331 * 0.5;
+        let t2333: f64 = t2328.plus(t2329);
+        let t2334: f64 = t2330.plus(t2332);
+        let t2335: f64 = t2333 - t2334;
+        let t2336: f64 = t379 * t2335;
+        let t2337: f64 = t2327.minus(t2336);
+        let t2338: f64 = t406 * t2337;
+        let t2339: f64 = t2326.plus(t2338);
+        let t2340: f64 = t2313.minus(t2339);
+        let t2341 = product(t1162, t2340);
+        let t2342 = product(leg6_zero_y, t439);
+        let t2343: f64 = t443 * t454;
+        let t2344: f64 = t2342.plus(t2343);
+        let t2345: f64 = t2344 * 2.0;
+        let t2346 = product(t559, t2345);
+        let t2347 = product(t443, t469);
+        let t2348: f64 = t418 * t458;
+        let t2349: f64 = t454 * t2348;
+        let t2350 = product(leg6_zero_y, t474);
+        let t2351 = product(t469, t2348);
+        let t2352: f64 = t2351.subtracted_from(t2344);
+        let t2353: f64 = t2352 * 2.0;
+        let t2354: f64 = t573 * t2353;
+        let t2355: f64 = t2354 * 0.5;
+        let t2356: f64 = t2347.plus(t2349);
+        let t2357: f64 = t2350.plus(t2355);
+        let t2358: f64 = t2356 + t2357;
+        let t2359 = product(t457, t2358);
+        let t2360 = product(t580, t2345);
+        let t2361 = product(leg6_zero_y, t469);
+        let t2362: f64 = t439 * t2348;
+        let t2363 = product(t443, t474);
+        let t2364: f64 = t586 * t2353;
+        let t2365: f64 = t2364 * 0.5;
+        let t2366: f64 = t2361.plus(t2362);
+        let t2367: f64 = t2363.plus(t2365);
+        let t2368: f64 = t2366 - t2367;
+        let t2369: f64 = t457 * t2368;
+        let t2370: f64 = t2360.minus(t2369);
+        let t2371: f64 = t484 * t2370;
+        let t2372: f64 = t2359.plus(t2371);
+        let t2373: f64 = t2346.minus(t2372);
+        let t2374: f64 = t1226 * t2373;
+        let t2375: f64 = t2209.plus(t2242);
+        let t2376: f64 = t2275.plus(t2308);
+        let t2377: f64 = t2341.plus(t2374);
+        let t2378: f64 = t2375 + t2376;
+        let t2379: f64 = t2377 + t2378;
+        let t2380: f64 = t2379 * 4.0;
+        let t2381: f64 = t2380 * t2380;
+        let t2382 = product(t843, t2381);
+        let t2383 = product(t1594, t2208);
+        let t2384: f64 = t1596 * t2241;
+        let t2385 = product(t1598, t2274);
+        let t2386: f64 = t1600 * t2307;
+        let t2387 = product(t1602, t2340);
+        let t2388: f64 = t1604 * t2373;
+        let t2389 = product(t1606, t2380);
+        let t2390: f64 = t2383.plus(t2384);
+        let t2391: f64 = t2385.plus(t2386);
+        let t2392: f64 = t2387.plus(t2388);
+        let t2393: f64 = t2390 + t2391;
+        let t2394: f64 = t2392 + t2393;
+        let t2395: f64 = t2394 * 4.0;
+        let t2396: f64 = t2389.subtracted_from(t2395);
+        let t2397: f64 = t2396 * t2396;
+        let t2398: f64 = t1593 * t2397;
+        let t2399 = product(t1670, t2208);
+        let t2400: f64 = t1704 * t2241;
+        let t2401 = product(t1738, t2274);
+        let t2402: f64 = t1772 * t2307;
+        let t2403 = product(t1806, t2340);
+        let t2404: f64 = t1840 * t2373;
+        let t2405 = product(t1854, t2380);
+        let t2406: f64 = t1870 * t2396;
+        let t2407: f64 = t2399.plus(t2400);
+        let t2408: f64 = t2401.plus(t2402);
+        let t2409: f64 = t2403.plus(t2404);
+        let t2410: f64 = t2407 + t2408;
+        let t2411: f64 = t2409 + t2410;
+        let t2412 = product(t2411, 4.0);
+        let t2413: f64 = t2405.plus(t2406);
+        let t2414: f64 = t2412.minus(t2413);
+        let t2415: f64 = t2414 * t2414;
+        let t2416 = product(t1637, t2415);
+        let t2417 = product(t2148, t2208);
+        let t2418: f64 = t2150 * t2241;
+        let t2419 = product(t2152, t2274);
+        let t2420: f64 = t2154 * t2307;
+        let t2421 = product(t2156, t2340);
+        let t2422: f64 = t2158 * t2373;
+        let t2423 = product(t2160, t2380);
+        let t2424: f64 = t2162 * t2396;
+        let t2425 = product(t2164, t2414);
+        let t2426: f64 = t2417.plus(t2418);
+        let t2427: f64 = t2419.plus(t2420);
+        let t2428: f64 = t2421.plus(t2422);
+        let t2429: f64 = t2426 + t2427;
+        let t2430: f64 = t2428 + t2429;
+        let t2431 = product(t2430, 4.0);
+        let t2432: f64 = t2423.plus(t2424);
+        let t2433: f64 = t2425.plus(t2432);
+        let t2434: f64 = t2431.minus(t2433);
+        let t2435: f64 = t2434 * t2434;
+        let t2436: f64 = t2147 * t2435;
+        let t2437: f64 = t2340 * t2340;
+        let t2438 = product(t1569, t2437);
+        let t2439: f64 = t2373 * t2373;
+        let t2440: f64 = t1572 * t2439;
+        let t2441: f64 = t2438.plus(t2440);
+        let t2442: f64 = t2208 * t2208;
+        let t2443 = product(t1576, t2442);
+        let t2444: f64 = t2241 * t2241;
+        let t2445: f64 = t1579 * t2444;
+        let t2446: f64 = t2443.plus(t2445);
+        let t2447: f64 = t2274 * t2274;
+        let t2448 = product(t1583, t2447);
+        let t2449: f64 = t2307 * t2307;
+        let t2450: f64 = t1586 * t2449;
+        let t2451: f64 = t2448.plus(t2450);
+        let t2452: f64 = t2446 + t2451;
+        let t2453: f64 = t2441 + t2452;
+        let t2454 = product(t2453, 4.0);
+        let t2455: f64 = t2382.plus(t2398);
+        let t2456: f64 = t2416.plus(t2436);
+        let t2457: f64 = t2455 + t2456;
+        let t2458: f64 = t2454.minus(t2457);
+        let t2459: f64 = 1.0 / t2458;
+        let t2460: f64 = t1576 * t2208;
+        let t2461 = product(t1669, t2460);
+        let t2462: f64 = t1579 * t2241;
+        let t2463: f64 = t1703 * t2462;
+        let t2464: f64 = t1583 * t2274;
+        let t2465 = product(t1737, t2464);
+        let t2466: f64 = t1586 * t2307;
+        let t2467: f64 = t1771 * t2466;
+        let t2468: f64 = t1569 * t2340;
+        let t2469 = product(t1805, t2468);
+        let t2470: f64 = t1572 * t2373;
+        let t2471: f64 = t1839 * t2470;
+        let t2472: f64 = t843 * t2380;
+        let t2473 = product(t1853, t2472);
+        let t2474: f64 = t1593 * t2396;
+        let t2475: f64 = t1869 * t2474;
+        let t2476: f64 = t1637 * t2414;
+        let t2477 = product(t1879, t2476);
+        let t2478: f64 = t2147 * t2434;
+        let t2479: f64 = t2174 * t2478;
+        let t2480: f64 = t2461.plus(t2463);
+        let t2481: f64 = t2465.plus(t2467);
+        let t2482: f64 = t2469.plus(t2471);
+        let t2483: f64 = t2480 + t2481;
+        let t2484: f64 = t2482 + t2483;
+        let t2485 = product(t2484, 4.0);
+        let t2486: f64 = t2473.plus(t2475);
+        let t2487: f64 = t2477.plus(t2479);
+        let t2488: f64 = t2486 + t2487;
+        let t2489: f64 = t2485.minus(t2488);
+        let t2490: f64 = t2489 * t2489;
+        let t2491 = product(t2459, t2490);
+        let t2492: f64 = t1805 * t1805;
+        let t2493 = product(t1569, t2492);
+        let t2494: f64 = t1839 * t1839;
+        let t2495: f64 = t1572 * t2494;
+        let t2496: f64 = t2493.plus(t2495);
+        let t2497: f64 = t1669 * t1669;
+        let t2498 = product(t1576, t2497);
+        let t2499: f64 = t1703 * t1703;
+        let t2500: f64 = t1579 * t2499;
+        let t2501: f64 = t2498.plus(t2500);
+        let t2502: f64 = t1737 * t1737;
+        let t2503 = product(t1583, t2502);
+        let t2504: f64 = t1771 * t1771;
+        let t2505: f64 = t1586 * t2504;
+        let t2506: f64 = t2503.plus(t2505);
+        let t2507: f64 = t2501 + t2506;
+        let t2508: f64 = t2496 + t2507;
+        let t2509 = product(t2508, 4.0);
+        let t2510: f64 = t1881.plus(t1883);
+        let t2511: f64 = t1885.plus(t2176);
+        let t2512: f64 = t2510 + t2511;
+        let t2513: f64 = t2491.plus(t2512);
+        let t2514: f64 = t2509.minus(t2513);
+        let t2515: f64 = 1.0 / t2514;
+        let t2516: f64 = t93 * t98;
+        let t2517: f64 = t660 * t2516;
+        let t2518 = product(t1669, t2517);
+        let t2519: f64 = t171 * t176;
+        let t2520: f64 = t718 * t2519;
+        let t2521: f64 = t1703 * t2520;
+        let t2522: f64 = t249 * t254;
+        let t2523: f64 = t777 * t2522;
+        let t2524 = product(t1737, t2523);
+        let t2525: f64 = t327 * t332;
+        let t2526: f64 = t835 * t2525;
+        let t2527: f64 = t1771 * t2526;
+        let t2528: f64 = t405 * t410;
+        let t2529: f64 = t543 * t2528;
+        let t2530 = product(t1805, t2529);
+        let t2531: f64 = t483 * t488;
+        let t2532: f64 = t601 * t2531;
+        let t2533: f64 = t1839 * t2532;
+        let t2534: f64 = t538 * t2528;
+        let t2535 = product(t543, t2534);
+        let t2536: f64 = t596 * t2531;
+        let t2537: f64 = t601 * t2536;
+        let t2538: f64 = t2535.plus(t2537);
+        let t2539: f64 = t655 * t2516;
+        let t2540 = product(t660, t2539);
+        let t2541: f64 = t713 * t2519;
+        let t2542: f64 = t718 * t2541;
+        let t2543: f64 = t2540.plus(t2542);
+        let t2544: f64 = t772 * t2522;
+        let t2545 = product(t777, t2544);
+        let t2546: f64 = t830 * t2525;
+        let t2547: f64 = t835 * t2546;
+        let t2548: f64 = t2545.plus(t2547);
+        let t2549: f64 = t2543 + t2548;
+        let t2550: f64 = t2538 + t2549;
+        let t2551: f64 = t2550 * 2.0;
+        let t2552: f64 = t843 * t2551;
+        let t2553 = product(t1853, t2552);
+        let t2554: f64 = t1565 * t2552;
+        let t2555 = product(t1504, t2529);
+        let t2556: f64 = t1558 * t2532;
+        let t2557: f64 = t2555.plus(t2556);
+        let t2558 = product(t1288, t2517);
+        let t2559: f64 = t1342 * t2520;
+        let t2560: f64 = t2558.plus(t2559);
+        let t2561 = product(t1396, t2523);
+        let t2562: f64 = t1450 * t2526;
+        let t2563: f64 = t2561.plus(t2562);
+        let t2564: f64 = t2560 + t2563;
+        let t2565: f64 = t2557 + t2564;
+        let t2566: f64 = t2565 * 2.0;
+        let t2567: f64 = t2566 - t2554;
+        let t2568: f64 = t1593 * t2567;
+        let t2569: f64 = t1869 * t2568;
+        let t2570 = product(t1233, t2552);
+        let t2571: f64 = t1614 * t2568;
+        let t2572: f64 = t2570.plus(t2571);
+        let t2573 = product(t1160, t2529);
+        let t2574: f64 = t1224 * t2532;
+        let t2575: f64 = t2573.plus(t2574);
+        let t2576 = product(t904, t2517);
+        let t2577: f64 = t968 * t2520;
+        let t2578: f64 = t2576.plus(t2577);
+        let t2579 = product(t1032, t2523);
+        let t2580: f64 = t1096 * t2526;
+        let t2581: f64 = t2579.plus(t2580);
+        let t2582: f64 = t2578 + t2581;
+        let t2583: f64 = t2575 + t2582;
+        let t2584: f64 = t2583 * 2.0;
+        let t2585: f64 = t2584 - t2572;
+        let t2586: f64 = t1637 * t2585;
+        let t2587 = product(t1879, t2586);
+        let t2588 = product(t2123, t2586);
+        let t2589 = product(t2089, t2552);
+        let t2590: f64 = t2105 * t2568;
+        let t2591: f64 = t2589.plus(t2590);
+        let t2592: f64 = t2588.plus(t2591);
+        let t2593 = product(t2049, t2529);
+        let t2594: f64 = t2082 * t2532;
+        let t2595: f64 = t2593.plus(t2594);
+        let t2596 = product(t1917, t2517);
+        let t2597: f64 = t1950 * t2520;
+        let t2598: f64 = t2596.plus(t2597);
+        let t2599 = product(t1983, t2523);
+        let t2600: f64 = t2016 * t2526;
+        let t2601: f64 = t2599.plus(t2600);
+        let t2602: f64 = t2598 + t2601;
+        let t2603: f64 = t2595 + t2602;
+        let t2604: f64 = t2603 * 2.0;
+        let t2605: f64 = t2604 - t2592;
+        let t2606: f64 = t2147 * t2605;
+        let t2607: f64 = t2174 * t2606;
+        let t2608 = product(t2340, t2529);
+        let t2609: f64 = t2373 * t2532;
+        let t2610: f64 = t2608.plus(t2609);
+        let t2611 = product(t2208, t2517);
+        let t2612: f64 = t2241 * t2520;
+        let t2613: f64 = t2611.plus(t2612);
+        let t2614 = product(t2274, t2523);
+        let t2615: f64 = t2307 * t2526;
+        let t2616: f64 = t2614.plus(t2615);
+        let t2617: f64 = t2613 + t2616;
+        let t2618: f64 = t2610 + t2617;
+        let t2619 = product(t2380, t2552);
+        let t2620: f64 = t2396 * t2568;
+        let t2621: f64 = t2619.plus(t2620);
+        let t2622 = product(t2414, t2586);
+        let t2623: f64 = t2434 * t2606;
+        let t2624: f64 = t2622.plus(t2623);
+        let t2625: f64 = t2621 + t2624;
+        let t2626: f64 = t2618 * 2.0;
+        let t2627: f64 = t2626 - t2625;
+        let t2628: f64 = t2459 * t2627;
+        let t2629 = product(t2489, t2628);
+        let t2630: f64 = t2518.plus(t2521);
+        let t2631: f64 = t2524.plus(t2527);
+        let t2632: f64 = t2530.plus(t2533);
+        let t2633: f64 = t2630 + t2631;
+        let t2634: f64 = t2632 + t2633;
+        let t2635 = product(t2634, 2.0);
+        let t2636: f64 = t2553.plus(t2569);
+        let t2637: f64 = t2587.plus(t2607);
+        let t2638: f64 = t2636 + t2637;
+        let t2639: f64 = t2629.plus(t2638);
+        let t2640: f64 = t2635.minus(t2639);
+        let t2641: f64 = t1879 * t2515;
+        let t2642 = product(t2640, t2641);
+        let t2643: f64 = t2489 * t2515;
+        let t2644 = product(t2640, t2643);
+        let t2645: f64 = t2644.added_to(t2625);
+        let t2646: f64 = t2626 - t2645;
+        let t2647: f64 = t2434 * t2459;
+        let t2648 = product(t2646, t2647);
+        let t2649: f64 = t2174 * t2515;
+        let t2650: f64 = t2640 * t2649;
+        let t2651: f64 = t2648.plus(t2650);
+        let t2652: f64 = t2592 + t2651;
+        let t2653: f64 = t2604 - t2652;
+        let t2654: f64 = t2123 * t2147;
+        let t2655: f64 = t2653 * t2654;
+        let t2656: f64 = t2414 * t2459;
+        let t2657 = product(t2646, t2656);
+        let t2658: f64 = t2642.plus(t2655);
+        let t2659: f64 = t2657.added_to(t2572);
+        let t2660: f64 = t2658 + t2659;
+        let t2661: f64 = t2584 - t2660;
+        let t2662: f64 = t1233 * t1637;
+        let t2663 = product(t2661, t2662);
+        let t2664: f64 = t1853 * t2515;
+        let t2665: f64 = t2640 * t2664;
+        let t2666: f64 = t1614 * t1637;
+        let t2667 = product(t2661, t2666);
+        let t2668: f64 = t2105 * t2147;
+        let t2669 = product(t2653, t2668);
+        let t2670: f64 = t2396 * t2459;
+        let t2671: f64 = t2646 * t2670;
+        let t2672: f64 = t1869 * t2515;
+        let t2673 = product(t2640, t2672);
+        let t2674: f64 = t2667.added_to(t2554);
+        let t2675: f64 = t2669.plus(t2671);
+        let t2676: f64 = t2674 + t2675;
+        let t2677: f64 = t2673.plus(t2676);
+        let t2678: f64 = t2566 - t2677;
+        let t2679: f64 = t1565 * t1593;
+        let t2680 = product(t2678, t2679);
+        let t2681: f64 = t2089 * t2147;
+        let t2682: f64 = t2653 * t2681;
+        let t2683: f64 = t2380 * t2459;
+        let t2684 = product(t2646, t2683);
+        let t2685: f64 = t2663.plus(t2665);
+        let t2686: f64 = t2680.plus(t2682);
+        let t2687: f64 = t2685 + t2686;
+        let t2688: f64 = t2684.plus(t2687);
+        let t2689: f64 = t2551 - t2688;
+        let t2690: f64 = t843 * t2689;
+        let t2691: f64 = t1637 * t1870;
+        let t2692 = product(t2661, t2691);
+        let t2693: f64 = t2147 * t2174;
+        let t2694: f64 = t2515 * t2693;
+        let t2695 = product(t2640, t2694);
+        let t2696: f64 = t2459 * t2489;
+        let t2697: f64 = t2515 * t2696;
+        let t2698 = product(t2640, t2697);
+        let t2699: f64 = t2698.subtracted_from(t2628);
+        let t2700 = product(t2478, t2699);
+        let t2701: f64 = t2700.subtracted_from(t2606);
+        let t2702: f64 = t2695.minus(t2701);
+        let t2703: f64 = -t2702;
+        let t2704: f64 = t2162 * t2703;
+        let t2705 = product(t2474, t2699);
+        let t2706: f64 = t1593 * t1869;
+        let t2707: f64 = t2515 * t2706;
+        let t2708: f64 = t2640 * t2707;
+        let t2709: f64 = t2692.plus(t2704);
+        let t2710: f64 = t2705.plus(t2708);
+        let t2711: f64 = t2709 + t2710;
+        let t2712: f64 = t2711 - t2568;
+        let t2713: f64 = t1637 * t2661;
+        let t2714: f64 = -t2699;
+        let t2715: f64 = t2515 * t2640;
+        let t2716: f64 = -t2715;
+        let t2717: f64 = t841 + t1590;
+        let t2718: f64 = t1633 + t2142;
+        let t2719: f64 = t2453 + t2508;
+        let t2720: f64 = t2717 + t2718;
+        let t2721: f64 = t2719 + t2720;
+        let t2722: f64 = t2721 * 4.0;
+        let t2723: f64 = 1.0 / leg1_rod_length;
+        let t2724 = product(leg1_zero_y, t91);
+        let t2725: f64 = t53 * t87;
+        let t2726: f64 = t2724.plus(t2725);
+        let t2727 = product(leg1_crank_length, t2726);
+        let t2728: f64 = t2727.added_to(leg1_base_y);
+        let t2729: f64 = t19 - t2728;
+        let t2730: f64 = t2723 * t2729;
+        let t2731 = product(leg1_axis_z, t2730);
+        let t2732 = product(leg1_zero_z, t91);
+        let t2733: f64 = t57 * t87;
+        let t2734: f64 = t2732.plus(t2733);
+        let t2735 = product(leg1_crank_length, t2734);
+        let t2736: f64 = t2735.added_to(leg1_base_z);
+        let t2737: f64 = t36 - t2736;
+        let t2738: f64 = t2723 * t2737;
+        let t2739: f64 = leg1_axis_y * t2738;
+        let t2740: f64 = t2731.minus(t2739);
+        let t2741 = product(t2740, t2740);
+        let t2742 = product(leg1_axis_x, t2738);
+        let t2743 = product(leg1_zero_x, t91);
+        let t2744: f64 = t61 * t87;
+        let t2745: f64 = t2743.plus(t2744);
+        let t2746 = product(leg1_crank_length, t2745);
+        let t2747: f64 = t2746.added_to(leg1_base_x);
+        let t2748: f64 = t45 - t2747;
+        let t2749: f64 = t2723 * t2748;
+        let t2750: f64 = leg1_axis_z * t2749;
+        let t2751: f64 = t2742.minus(t2750);
+        let t2752: f64 = t2751 * t2751;
+        let t2753 = product(leg1_axis_y, t2749);
+        let t2754: f64 = leg1_axis_x * t2730;
+        let t2755: f64 = t2753.minus(t2754);
+        let t2756 = product(t2755, t2755);
+        let t2757: f64 = t2741.plus(t2752);
+        let t2758: f64 = t2756.plus(t2757);
+        let t2759: f64 = sqrt(t2758);
+        let t2760: f64 = 1.0 / leg2_rod_length;
+        let t2761 = product(leg2_zero_y, t169);
+        let t2762: f64 = t131 * t165;
+        let t2763: f64 = t2761.plus(t2762);
+        let t2764 = product(leg2_crank_length, t2763);
+        let t2765: f64 = t2764.added_to(leg2_base_y);
+        let t2766: f64 = t105 - t2765;
+        let t2767: f64 = t2760 * t2766;
+        let t2768 = product(leg2_axis_z, t2767);
+        let t2769 = product(leg2_zero_z, t169);
+        let t2770: f64 = t135 * t165;
+        let t2771: f64 = t2769.plus(t2770);
+        let t2772 = product(leg2_crank_length, t2771);
+        let t2773: f64 = t2772.added_to(leg2_base_z);
+        let t2774: f64 = t114 - t2773;
+        let t2775: f64 = t2760 * t2774;
+        let t2776: f64 = leg2_axis_y * t2775;
+        let t2777: f64 = t2768.minus(t2776);
+        let t2778 = product(t2777, t2777);
+        let t2779 = product(leg2_axis_x, t2775);
+        let t2780 = product(leg2_zero_x, t169);
+        let t2781: f64 = t139 * t165;
+        let t2782: f64 = t2780.plus(t2781);
+        let t2783 = product(leg2_crank_length, t2782);
+        let t2784: f64 = t2783.added_to(leg2_base_x);
+        let t2785: f64 = t123 - t2784;
+        let t2786: f64 = t2760 * t2785;
+        let t2787: f64 = leg2_axis_z * t2786;
+        let t2788: f64 = t2779.minus(t2787);
+        let t2789: f64 = t2788 * t2788;
+        let t2790 = product(leg2_axis_y, t2786);
+        let t2791: f64 = leg2_axis_x * t2767;
+        let t2792: f64 = t2790.minus(t2791);
+        let t2793 = product(t2792, t2792);
+        let t2794: f64 = t2778.plus(t2789);
+        let t2795: f64 = t2793.plus(t2794);
+        let t2796: f64 = sqrt(t2795);
+        let t2797: f64 = 1.0 / leg3_rod_length;
+        let t2798 = product(leg3_zero_y, t247);
+        let t2799: f64 = t209 * t243;
+        let t2800: f64 = t2798.plus(t2799);
+        let t2801 = product(leg3_crank_length, t2800);
+        let t2802: f64 = t2801.added_to(leg3_base_y);
+        let t2803: f64 = t183 - t2802;
+        let t2804: f64 = t2797 * t2803;
+        let t2805 = product(leg3_axis_z, t2804);
+        let t2806 = product(leg3_zero_z, t247);
+        let t2807: f64 = t213 * t243;
+        let t2808: f64 = t2806.plus(t2807);
+        let t2809 = product(leg3_crank_length, t2808);
+        let t2810: f64 = t2809.added_to(leg3_base_z);
+        let t2811: f64 = t192 - t2810;
+        let t2812: f64 = t2797 * t2811;
+        let t2813: f64 = leg3_axis_y * t2812;
+        let t2814: f64 = t2805.minus(t2813);
+        let t2815 = product(t2814, t2814);
+        let t2816 = product(leg3_axis_x, t2812);
+        let t2817 = product(leg3_zero_x, t247);
+        let t2818: f64 = t217 * t243;
+        let t2819: f64 = t2817.plus(t2818);
+        let t2820 = product(leg3_crank_length, t2819);
+        let t2821: f64 = t2820.added_to(leg3_base_x);
+        let t2822: f64 = t201 - t2821;
+        let t2823: f64 = t2797 * t2822;
+        let t2824: f64 = leg3_axis_z * t2823;
+        let t2825: f64 = t2816.minus(t2824);
+        let t2826: f64 = t2825 * t2825;
+        let t2827 = product(leg3_axis_y, t2823);
+        let t2828: f64 = leg3_axis_x * t2804;
+        let t2829: f64 = t2827.minus(t2828);
+        let t2830 = product(t2829, t2829);
+        let t2831: f64 = t2815.plus(t2826);
+        let t2832: f64 = t2830.plus(t2831);
+        let t2833: f64 = sqrt(t2832);
+        let t2834: f64 = 1.0 / leg4_rod_length;
+        let t2835 = product(leg4_zero_y, t325);
+        let t2836: f64 = t287 * t321;
+        let t2837: f64 = t2835.plus(t2836);
+        let t2838 = product(leg4_crank_length, t2837);
+        let t2839: f64 = t2838.added_to(leg4_base_y);
+        let t2840: f64 = t261 - t2839;
+        let t2841: f64 = t2834 * t2840;
+        let t2842 = product(leg4_axis_z, t2841);
+        let t2843 = product(leg4_zero_z, t325);
+        let t2844: f64 = t291 * t321;
+        let t2845: f64 = t2843.plus(t2844);
+        let t2846 = product(leg4_crank_length, t2845);
+        let t2847: f64 = t2846.added_to(leg4_base_z);
+        let t2848: f64 = t270 - t2847;
+        let t2849: f64 = t2834 * t2848;
+        let t2850: f64 = leg4_axis_y * t2849;
+        let t2851: f64 = t2842.minus(t2850);
+        let t2852 = product(t2851, t2851);
+        let t2853 = product(leg4_axis_x, t2849);
+        let t2854 = product(leg4_zero_x, t325);
+        let t2855: f64 = t295 * t321;
+        let t2856: f64 = t2854.plus(t2855);
+        let t2857 = product(leg4_crank_length, t2856);
+        let t2858: f64 = t2857.added_to(leg4_base_x);
+        let t2859: f64 = t279 - t2858;
+        let t2860: f64 = t2834 * t2859;
+        let t2861: f64 = leg4_axis_z * t2860;
+        let t2862: f64 = t2853.minus(t2861);
+        let t2863: f64 = t2862 * t2862;
+        let t2864 = product(leg4_axis_y, t2860);
+        let t2865: f64 = leg4_axis_x * t2841;
+        let t2866: f64 = t2864.minus(t2865);
+        let t2867 = product(t2866, t2866);
+        let t2868: f64 = t2852.plus(t2863);
+        let t2869: f64 = t2867.plus(t2868);
+        let t2870: f64 = sqrt(t2869);
+        let t2871: f64 = 1.0 / leg5_rod_length;
+        let t2872 = product(leg5_zero_y, t403);
+        let t2873: f64 = t365 * t399;
+        let t2874: f64 = t2872.plus(t2873);
+        let t2875 = product(leg5_crank_length, t2874);
+        let t2876: f64 = t2875.added_to(leg5_base_y);
+        let t2877: f64 = t339 - t2876;
+        let t2878: f64 = t2871 * t2877;
+        let t2879 = product(leg5_axis_z, t2878);
+        let t2880 = product(leg5_zero_z, t403);
+        let t2881: f64 = t369 * t399;
+        let t2882: f64 = t2880.plus(t2881);
+        let t2883 = product(leg5_crank_length, t2882);
+        let t2884: f64 = t2883.added_to(leg5_base_z);
+        let t2885: f64 = t348 - t2884;
+        let t2886: f64 = t2871 * t2885;
+        let t2887: f64 = leg5_axis_y * t2886;
+        let t2888: f64 = t2879.minus(t2887);
+        let t2889 = product(t2888, t2888);
+        let t2890 = product(leg5_axis_x, t2886);
+        let t2891 = product(leg5_zero_x, t403);
+        let t2892: f64 = t373 * t399;
+        let t2893: f64 = t2891.plus(t2892);
+        let t2894 = product(leg5_crank_length, t2893);
+        let t2895: f64 = t2894.added_to(leg5_base_x);
+        let t2896: f64 = t357 - t2895;
+        let t2897: f64 = t2871 * t2896;
+        let t2898: f64 = leg5_axis_z * t2897;
+        let t2899: f64 = t2890.minus(t2898);
+        let t2900: f64 = t2899 * t2899;
+        let t2901 = product(leg5_axis_y, t2897);
+        let t2902: f64 = leg5_axis_x * t2878;
+        let t2903: f64 = t2901.minus(t2902);
+        let t2904 = product(t2903, t2903);
+        let t2905: f64 = t2889.plus(t2900);
+        let t2906: f64 = t2904.plus(t2905);
+        let t2907: f64 = sqrt(t2906);
+        let t2908: f64 = 1.0 / leg6_rod_length;
+        let t2909 = product(leg6_zero_y, t481);
+        let t2910: f64 = t443 * t477;
+        let t2911: f64 = t2909.plus(t2910);
+        let t2912 = product(leg6_crank_length, t2911);
+        let t2913: f64 = t2912.added_to(leg6_base_y);
+        let t2914: f64 = t417 - t2913;
+        let t2915: f64 = t2908 * t2914;
+        let t2916 = product(leg6_axis_z, t2915);
+        let t2917 = product(leg6_zero_z, t481);
+        let t2918: f64 = t447 * t477;
+        let t2919: f64 = t2917.plus(t2918);
+        let t2920 = product(leg6_crank_length, t2919);
+        let t2921: f64 = t2920.added_to(leg6_base_z);
+        let t2922: f64 = t426 - t2921;
+        let t2923: f64 = t2908 * t2922;
+        let t2924: f64 = leg6_axis_y * t2923;
+        let t2925: f64 = t2916.minus(t2924);
+        let t2926 = product(t2925, t2925);
+        let t2927 = product(leg6_axis_x, t2923);
+        let t2928 = product(leg6_zero_x, t481);
+        let t2929: f64 = t451 * t477;
+        let t2930: f64 = t2928.plus(t2929);
+        let t2931 = product(leg6_crank_length, t2930);
+        let t2932: f64 = t2931.added_to(leg6_base_x);
+        let t2933: f64 = t435 - t2932;
+        let t2934: f64 = t2908 * t2933;
+        let t2935: f64 = leg6_axis_z * t2934;
+        let t2936: f64 = t2927.minus(t2935);
+        let t2937: f64 = t2936 * t2936;
+        let t2938 = product(leg6_axis_y, t2934);
+        let t2939: f64 = leg6_axis_x * t2915;
+        let t2940: f64 = t2938.minus(t2939);
+        let t2941 = product(t2940, t2940);
+        let t2942: f64 = t2926.plus(t2937);
+        let t2943: f64 = t2941.plus(t2942);
+        let t2944: f64 = sqrt(t2943);
+        let t2945: f64 = t67 * t82;
+        let t2946: f64 = t145 * t160;
+        let t2947: f64 = t223 * t238;
+        let t2948: f64 = t301 * t316;
+        let t2949: f64 = t379 * t394;
+        let t2950: f64 = t457 * t472;
         (
-            t2015,
-            t2075,
-            t2110,
-            t2145,
-            t2180,
-            t2217,
-            t2254,
-            t2291,
-            t2328,
-            t2365,
-            t2402,
-            t2403,
-            t2404,
-            t2405,
-            t2406,
-            t2407,
-            t2408,
+            t2146,
+            t2458,
+            t2514,
+            t2690,
+            t2702,
+            t2712,
+            t2713,
+            t2714,
+            t2716,
+            t2722,
+            t2759,
+            t2796,
+            t2833,
+            t2870,
+            t2907,
+            t2944,
+            t2945,
+            t2946,
+            t2947,
+            t2948,
+            t2949,
+            t2950,
         )
     };
     (
         [t98, t176, t254, t332, t410, t488],
+        [t2690, t2712, t2713, t2702, t2714, t2716],
+        [t842, t1592, t1636, t2146, t2458, t2514, t2722],
         [
-            [t545, t605, t665, t700, t735, t770],
-            [t827, t887, t947, t982, t1017, t1052],
-            [t1109, t1169, t1229, t1264, t1299, t1334],
-            [t1391, t1451, t1511, t1546, t1581, t1616],
-            [t1673, t1733, t1793, t1828, t1863, t1898],
-            [t1955, t2015, t2075, t2110, t2145, t2180],
-        ],
-        [
-            t2217,
-            t2254,
-            t2291,
-            t2328,
-            t2365,
-            t2402,
-            t2403,
-            t2404,
-            t2405,
-            t2406,
-            t2407,
-            t2408,
+            t2759,
+            t2796,
+            t2833,
+            t2870,
+            t2907,
+            t2944,
+            t2945,
+            t2946,
+            t2947,
+            t2948,
+            t2949,
+            t2950,
         ],
     )
 }
@@ -34558,7 +35261,7 @@ impl crate::legged::Spatial for Kernels {
         x: &[f64; 6],
         q: &[f64; 6],
         p: &[f64; PARAMETERS],
-    ) -> ([f64; 6], [[f64; 6]; 6], impl AsRef<[f64]>) {
+    ) -> ([f64; 6], [f64; 6], [f64; 7], impl AsRef<[f64]>) {
         forward_kinematics_step_params(x, q, p)
     }
 }

@@ -7,7 +7,9 @@
 //! `(ω; v_C)` and classical acceleration `(ω̇; a_C)` at the platform origin `C`, base frame.
 
 use super::robot::{hold_of, KernelsOf, TermsOf};
-use super::{Coordinates, Hold, LeggedDescription, LeggedRobot, Linearised};
+use super::{
+    Coordinates, Hold, LeggedDescription, LeggedRobot, Linearised, NEWTON_PIVOT_TOLERANCE,
+};
 use crate::error::Error;
 use crate::mechanism::SpatialRobot;
 use crate::{finite, finite_matrix, Pose};
@@ -59,14 +61,21 @@ where
         };
         let x = super::newton(
             |x, out| {
-                let (r, jac, guard) =
+                let (r, step, conditioning, guard) =
                     KernelsOf::<D, 6>::forward_kinematics_step(x, q, &self.params);
-                let (r, jac) = self.checked(((r, jac), guard))?;
+                let (r, step, [pivots @ .., trace]) =
+                    self.checked(((r, step, conditioning), guard))?;
+                let solvable = pivots.iter().all(|&d| d > NEWTON_PIVOT_TOLERANCE * trace)
+                    && step.iter().all(|v| v.is_finite());
                 *out = Linearised {
                     residual: finite("residual", r)?,
-                    jacobian: jac,
+                    step: solvable.then_some(step),
                 };
                 Ok(())
+            },
+            |x| {
+                let at = self.actuators_at(x)?;
+                Ok(core::array::from_fn(|i| q[i] - at[i]))
             },
             start,
         )?;

@@ -18,6 +18,7 @@
 //! coordinates) and the symbols are then replaced by the kernel's expressions, so the leg types
 //! stay functions of a few numbers and the kernels share every subexpression.
 
+pub mod newton;
 pub mod psp;
 pub mod rus;
 pub mod ups;
