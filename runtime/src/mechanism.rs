@@ -5,8 +5,8 @@
 //! [`ParallelRobot<N>`] is the kinematics and dynamics of a platform with `N` freedoms on as many
 //! actuators, in the conventions every mechanism shares (for six: pose `[α β γ xc yc zc]`, twist
 //! `(ω; v_C)`, classical acceleration; for three translations: `C`, `v_C`, `a_C`; actuator
-//! values and forces in actuator order); [`SpatialRobot`] what a platform free in space adds
-//! (the task-space terms, the derivatives). [`robot`] makes one of six freedoms from a
+//! values and forces in actuator order, the task-space and joint-space inertia); [`SpatialRobot`]
+//! what a platform free in space adds (the derivatives). [`robot`] makes one of six freedoms from a
 //! [`Description`]; [`crate::platform::load`] makes any as a [`Mechanism`].
 
 #[cfg(feature = "derivatives")]
@@ -156,8 +156,7 @@ where
     {
         Box::new(crate::platform::Sliced(self))
     }
-    /// What a platform free in space adds (the task-space terms, the derivatives), where the
-    /// robot's platform is one.
+    /// What a platform free in space adds (the derivatives), where the robot's platform is one.
     fn spatial(&self) -> Option<&dyn SpatialRobot> {
         None
     }

@@ -13,8 +13,7 @@
 //! [`load`] makes one from a [`Description`]. Every robot serves it through its typed
 //! [`ParallelRobot<N>`] and one adapter, [`Sliced`] (`robot.as_mechanism()`,
 //! `robot.into_mechanism()`), and [`Mechanism::spatial`] gives a [`SpatialRobot`] back for
-//! what only six freedoms have (the task-space terms, the joint-space inertia, the
-//! derivatives).
+//! what only six freedoms have (the derivatives).
 
 use crate::dynamics::{rk4_step_of, PlantState};
 #[cfg(feature = "identify")]

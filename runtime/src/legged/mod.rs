@@ -1,7 +1,7 @@
 //! The legged mechanisms (the Gough-Stewart platform, the rotary hexapod, the Delta), served
 //! by one type, [`LeggedRobot`], over each mechanism's generated kernel set: its checked
-//! kernel calls ([`robot`]), what a platform free in space adds (the task-space terms, the
-//! forward kinematics' Newton iteration: [`spatial`]), what a translating one does (the
+//! kernel calls ([`robot`], the task-space terms among them), what a platform free in space
+//! adds (the forward kinematics' Newton iteration: [`spatial`]), what a translating one does (the
 //! closed-form forward kinematics: [`translating`]), and each mechanism's catalogue entry
 //! ([`catalogue`]). Written once here: the platform's motion from the actuators'
 //! (`V = J q̇`, `(ω̇; a_C) = J (q̈ - b)`), the joint-space forces and inertia, and `eval`'s

@@ -1,7 +1,8 @@
 //! What a legged mechanism whose platform is free in space adds (the Gough-Stewart platform,
-//! the rotary hexapod): the inverse kinematics with the vectors `B_i C`, the task-space terms
-//! `M_x` and `h`, the joint-space inertia, and the forward kinematics, a generated Newton step
-//! iterated from a previous solution or from the mechanism's start.
+//! the rotary hexapod): the inverse kinematics with the vectors `B_i C`, and the forward
+//! kinematics, a generated Newton step iterated from a previous solution or from the
+//! mechanism's start. (The task-space terms and the joint-space inertia are every legged
+//! mechanism's: `legged::robot`.)
 //!
 //! Its conventions are the C5's: pose `[α β γ xc yc zc]` with `R = Rx(α) Ry(β) Rz(γ)`, twist
 //! `(ω; v_C)` and classical acceleration `(ω̇; a_C)` at the platform origin `C`, base frame.
