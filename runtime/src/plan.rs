@@ -14,6 +14,7 @@
 
 use crate::derivatives::ForwardDynamicsDerivatives;
 use crate::mechanism::{derivatives_of, Derivatives, SpatialRobot};
+use crate::platform::Freedom;
 use crate::trajectory::state_from_pose_derivatives;
 use crate::{Acceleration, Error, Pose, State, Twist};
 use nalgebra::{SMatrix, SVector};
@@ -516,10 +517,16 @@ pub fn quintic_forces(robot: &dyn SpatialRobot, problem: &Problem) -> Result<Vec
     (0..problem.steps)
         .map(|k| {
             let (s, sd, sdd) = crate::trajectory::quintic((k as f64 + 0.5) * dt / d);
-            let x = core::array::from_fn(|i| a[i] + s * (b[i] - a[i]));
-            let xd = core::array::from_fn(|i| sd / d * (b[i] - a[i]));
-            let xdd = core::array::from_fn(|i| sdd / (d * d) * (b[i] - a[i]));
-            robot.inverse_dynamics(&state_from_pose_derivatives(x, xd, xdd))
+            let along =
+                |rate: f64| -> Vec<f64> { a.iter().zip(&b).map(|(a, b)| rate * (b - a)).collect() };
+            let x: Vec<f64> = along(s).iter().zip(&a).map(|(step, a)| a + step).collect();
+            let state = state_from_pose_derivatives(
+                Freedom::Free,
+                &x,
+                &along(sd / d),
+                &along(sdd / (d * d)),
+            )?;
+            robot.inverse_dynamics(&state)
         })
         .collect()
 }

@@ -3,7 +3,10 @@
 //! twist and classical acceleration.
 
 use crate::math::sin_cos;
+use crate::platform::Freedom;
 use crate::types::{Acceleration, Pose, State, Twist};
+use crate::Error;
+use alloc::vec;
 use alloc::vec::Vec;
 
 /// `s(τ) = 10τ³ - 15τ⁴ + 6τ⁵` and its first two derivatives with respect to `τ`.
@@ -126,64 +129,164 @@ pub fn omega_dot_from_rpy(angles: [f64; 3], rates: [f64; 3], accels: [f64; 3]) -
     core::array::from_fn(|i| a[i] + b[i])
 }
 
-/// The platform state from the pose `X = [α β γ xc yc zc]` and its first two time
-/// derivatives.
-pub fn state_from_pose_derivatives(x: [f64; 6], xd: [f64; 6], xdd: [f64; 6]) -> State {
-    let angles = [x[0], x[1], x[2]];
-    let rates = [xd[0], xd[1], xd[2]];
-    State {
-        pose: Pose::from_array(x),
-        twist: Twist {
-            omega: omega_from_rpy_rates(angles, rates),
-            velocity: [xd[3], xd[4], xd[5]],
-        },
-        accel: Acceleration {
-            omega_dot: omega_dot_from_rpy(angles, rates, [xdd[0], xdd[1], xdd[2]]),
-            linear: [xdd[3], xdd[4], xdd[5]],
-        },
+/// The platform state from the pose `X` in the coordinates of a platform with `freedom`
+/// ([`Freedom::pose_names`]) and its first two time derivatives: for a platform free in space
+/// `X = [α β γ xc yc zc]`, its `ω` and `ω̇` through the RPY rates; for one that only translates
+/// `X = [xc yc zc]`, its rates the centre's velocity and acceleration.
+///
+/// # Errors
+/// [`Error::WrongLength`] for coordinates not of the platform's dimension.
+pub fn state_from_pose_derivatives(
+    freedom: Freedom,
+    x: &[f64],
+    xd: &[f64],
+    xdd: &[f64],
+) -> Result<State, Error> {
+    let n = freedom.dimension();
+    for (input, values) in [("pose", x), ("pose rate", xd), ("pose acceleration", xdd)] {
+        if values.len() != n {
+            return Err(Error::WrongLength {
+                input,
+                expected: n,
+                got: values.len(),
+            });
+        }
     }
+    Ok(state_of_platform(freedom, x, xd, xdd))
 }
 
-/// A finite Fourier series in every pose coordinate, periodic in `period`:
+/// [`state_from_pose_derivatives`] of coordinates known to be of the platform's dimension.
+fn state_of_platform(freedom: Freedom, x: &[f64], xd: &[f64], xdd: &[f64]) -> State {
+    let n = freedom.dimension();
+    // The centre's coordinates are the last three of either platform's.
+    let centre = |v: &[f64]| [v[n - 3], v[n - 2], v[n - 1]];
+    let mut state = State {
+        pose: Pose {
+            center: centre(x),
+            ..Pose::default()
+        },
+        twist: Twist {
+            velocity: centre(xd),
+            ..Twist::default()
+        },
+        accel: Acceleration {
+            linear: centre(xdd),
+            ..Acceleration::default()
+        },
+    };
+    if freedom.turns() {
+        let angles = [x[0], x[1], x[2]];
+        let rates = [xd[0], xd[1], xd[2]];
+        (state.pose.alpha, state.pose.beta, state.pose.gamma) = (x[0], x[1], x[2]);
+        state.twist.omega = omega_from_rpy_rates(angles, rates);
+        state.accel.omega_dot = omega_dot_from_rpy(angles, rates, [xdd[0], xdd[1], xdd[2]]);
+    }
+    state
+}
+
+/// A finite Fourier series in every pose coordinate of a platform, periodic in `period`:
 /// `X(t) = X₀ + Σ_l a_l sin(l ω_f t) + b_l (cos(l ω_f t) - 1)`, `ω_f = 2π / period`, so
-/// `X(0) = X₀`. Smooth, rotating, and with exact derivatives: the excitation trajectories of
-/// identification, and rotating test motions.
+/// `X(0) = X₀`. Smooth, rotating where the platform turns, and with exact derivatives: the
+/// excitation trajectories of identification, and rotating test motions. Its coordinates are
+/// the platform's ([`Freedom::pose_names`]): six for one free in space, three for one that
+/// only translates.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Fourier {
-    /// `X₀`, the pose at `t = 0`.
-    pub offset: [f64; 6],
-    /// `T` (s).
-    pub period: f64,
-    /// `a_l`, harmonic `l = 1, 2, ...` per coordinate.
-    pub sine: Vec<[f64; 6]>,
+    freedom: Freedom,
+    offset: Vec<f64>,
+    period: f64,
+    /// `a_l`, harmonic `l = 1, 2, ...`, one value per coordinate.
+    pub(crate) sine: Vec<Vec<f64>>,
     /// `b_l`.
-    pub cosine: Vec<[f64; 6]>,
+    pub(crate) cosine: Vec<Vec<f64>>,
 }
 
 impl Fourier {
-    /// The pose and its first two time derivatives at `t`.
-    pub fn pose_derivatives(&self, t: f64) -> ([f64; 6], [f64; 6], [f64; 6]) {
+    /// The series about `offset` (`X₀`, the pose at `t = 0`) with the harmonics' `sine`
+    /// (`a_l`) and `cosine` (`b_l`) amplitudes, each of the platform's dimension.
+    ///
+    /// # Errors
+    /// [`Error::WrongLength`] for a coordinate list not of the platform's dimension;
+    /// [`Error::NonFinite`] for a value that is not finite; [`Error::Invalid`] for a period
+    /// that is not positive.
+    pub fn new(
+        freedom: Freedom,
+        offset: Vec<f64>,
+        period: f64,
+        sine: Vec<Vec<f64>>,
+        cosine: Vec<Vec<f64>>,
+    ) -> Result<Self, Error> {
+        if !(period > 0.0 && period.is_finite()) {
+            return Err(Error::Invalid {
+                what: "a Fourier series' period",
+                rule: "must be a positive number of seconds",
+            });
+        }
+        let n = freedom.dimension();
+        let lists = [("offset", &offset)]
+            .into_iter()
+            .chain(sine.iter().map(|h| ("sine amplitudes", h)))
+            .chain(cosine.iter().map(|h| ("cosine amplitudes", h)));
+        for (input, values) in lists {
+            if values.len() != n {
+                return Err(Error::WrongLength {
+                    input,
+                    expected: n,
+                    got: values.len(),
+                });
+            }
+            crate::check_finite(input, values)?;
+        }
+        Ok(Fourier {
+            freedom,
+            offset,
+            period,
+            sine,
+            cosine,
+        })
+    }
+
+    /// The platform's freedom, which names the series' coordinates.
+    pub fn freedom(&self) -> Freedom {
+        self.freedom
+    }
+
+    /// `X₀`, the pose at `t = 0`.
+    pub fn offset(&self) -> &[f64] {
+        &self.offset
+    }
+
+    /// `T` (s).
+    pub fn period(&self) -> f64 {
+        self.period
+    }
+
+    /// The pose and its first two time derivatives at `t`, in the platform's coordinates.
+    pub fn pose_derivatives(&self, t: f64) -> [Vec<f64>; 3] {
         let wf = 2.0 * core::f64::consts::PI / self.period;
-        let (mut x, mut xd, mut xdd) = (self.offset, [0.0; 6], [0.0; 6]);
+        let n = self.offset.len();
+        let (mut x, mut xd, mut xdd) = (self.offset.clone(), vec![0.0; n], vec![0.0; n]);
         let harmonics = self.sine.len().max(self.cosine.len());
         for l in 0..harmonics {
             let w = wf * (l + 1) as f64;
             let (s, c) = sin_cos(w * t);
-            let a = self.sine.get(l).copied().unwrap_or([0.0; 6]);
-            let b = self.cosine.get(l).copied().unwrap_or([0.0; 6]);
-            for k in 0..6 {
-                x[k] += a[k] * s + b[k] * (c - 1.0);
-                xd[k] += w * (a[k] * c - b[k] * s);
-                xdd[k] -= w * w * (a[k] * s + b[k] * c);
+            // A harmonic one list leaves out is zero in it.
+            let amplitude = |list: &[Vec<f64>], k: usize| list.get(l).map_or(0.0, |h| h[k]);
+            for k in 0..n {
+                let (a, b) = (amplitude(&self.sine, k), amplitude(&self.cosine, k));
+                x[k] += a * s + b * (c - 1.0);
+                xd[k] += w * (a * c - b * s);
+                xdd[k] -= w * w * (a * s + b * c);
             }
         }
-        (x, xd, xdd)
+        [x, xd, xdd]
     }
 
     /// The platform state at `t`.
     pub fn state(&self, t: f64) -> State {
-        let (x, xd, xdd) = self.pose_derivatives(t);
-        state_from_pose_derivatives(x, xd, xdd)
+        let [x, xd, xdd] = self.pose_derivatives(t);
+        // The constructor held every list to the platform's dimension.
+        state_of_platform(self.freedom, &x, &xd, &xdd)
     }
 }
 
@@ -230,22 +333,79 @@ mod tests {
 
     #[test]
     fn fourier_derivatives_match_finite_differences() {
-        let f = Fourier {
-            offset: [0.1, -0.2, 0.3, 0.01, 0.02, -0.03],
-            period: 2.0,
-            sine: alloc::vec![[0.1, 0.05, -0.2, 0.02, -0.01, 0.03], [0.03; 6]],
-            cosine: alloc::vec![[-0.05, 0.1, 0.02, 0.01, 0.02, -0.02]],
-        };
-        assert_eq!(f.pose_derivatives(0.0).0, f.offset);
+        let f = Fourier::new(
+            Freedom::Free,
+            vec![0.1, -0.2, 0.3, 0.01, 0.02, -0.03],
+            2.0,
+            vec![vec![0.1, 0.05, -0.2, 0.02, -0.01, 0.03], vec![0.03; 6]],
+            vec![vec![-0.05, 0.1, 0.02, 0.01, 0.02, -0.02]],
+        )
+        .unwrap();
+        assert_eq!(f.pose_derivatives(0.0)[0], f.offset());
         let h = 1e-5;
         for &t in &[0.0, 0.3, 1.1] {
-            let (_, xd, xdd) = f.pose_derivatives(t);
-            let (xp, xdp, _) = f.pose_derivatives(t + h);
-            let (xm, xdm, _) = f.pose_derivatives(t - h);
-            for k in 0..6 {
+            let [_, xd, xdd] = f.pose_derivatives(t);
+            let [xp, xdp, _] = f.pose_derivatives(t + h);
+            let [xm, xdm, _] = f.pose_derivatives(t - h);
+            for k in 0..xd.len() {
                 assert!(((xp[k] - xm[k]) / (2.0 * h) - xd[k]).abs() < 1e-8);
                 assert!(((xdp[k] - xdm[k]) / (2.0 * h) - xdd[k]).abs() < 1e-7);
             }
         }
+    }
+
+    #[test]
+    fn a_translating_series_moves_the_centre_alone() {
+        let f = Fourier::new(
+            Freedom::Translations,
+            vec![0.01, 0.02, -0.6],
+            2.0,
+            vec![vec![0.02, -0.01, 0.03]],
+            vec![],
+        )
+        .unwrap();
+        let t = 0.3;
+        let [x, xd, xdd] = f.pose_derivatives(t);
+        let s = f.state(t);
+        assert_eq!(
+            (s.pose.center.to_vec(), s.twist.velocity.to_vec()),
+            (x, xd.clone())
+        );
+        assert_eq!(s.accel.linear.to_vec(), xdd);
+        let (pose, twist, accel) = (s.pose, s.twist, s.accel);
+        assert_eq!([pose.alpha, pose.beta, pose.gamma], [0.0; 3]);
+        assert_eq!((twist.omega, accel.omega_dot), ([0.0; 3], [0.0; 3]));
+        // The rate at t of a sine of amplitude a: a ω cos(ω t).
+        let w = core::f64::consts::PI;
+        assert!((xd[2] - 0.03 * w * (w * t).cos()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_series_of_another_dimension_is_refused() {
+        let wrong = Fourier::new(Freedom::Translations, vec![0.0; 6], 1.0, vec![], vec![]);
+        assert!(matches!(
+            wrong,
+            Err(Error::WrongLength {
+                expected: 3,
+                got: 6,
+                ..
+            })
+        ));
+        let short = Fourier::new(Freedom::Free, vec![0.0; 6], 1.0, vec![vec![0.0; 5]], vec![]);
+        assert!(matches!(
+            short,
+            Err(Error::WrongLength {
+                expected: 6,
+                got: 5,
+                ..
+            })
+        ));
+        let nan = Fourier::new(Freedom::Free, vec![f64::NAN; 6], 1.0, vec![], vec![]);
+        assert!(matches!(nan, Err(Error::NonFinite { .. })));
+        let still = Fourier::new(Freedom::Free, vec![0.0; 6], 0.0, vec![], vec![]);
+        assert!(matches!(still, Err(Error::Invalid { .. })));
+        assert!(
+            state_from_pose_derivatives(Freedom::Free, &[0.0; 3], &[0.0; 6], &[0.0; 6]).is_err()
+        );
     }
 }

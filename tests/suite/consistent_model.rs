@@ -21,16 +21,21 @@ fn rotating_motions() -> Vec<Fourier> {
     (0..4)
         .map(|_| {
             let amplitude = [0.25, 0.25, 0.25, 0.03, 0.03, 0.03];
-            Fourier {
-                offset: std::array::from_fn(|k| u(0.4 * amplitude[k])),
-                period: 2.0,
-                sine: (0..2)
-                    .map(|_| std::array::from_fn(|k| u(amplitude[k])))
-                    .collect(),
-                cosine: (0..2)
-                    .map(|_| std::array::from_fn(|k| u(amplitude[k])))
-                    .collect(),
-            }
+            let offset = amplitude.iter().map(|b| u(0.4 * b)).collect();
+            let mut harmonics = || -> Vec<Vec<f64>> {
+                (0..2)
+                    .map(|_| amplitude.iter().map(|&b| u(b)).collect())
+                    .collect()
+            };
+            let (sine, cosine) = (harmonics(), harmonics());
+            Fourier::new(
+                c5_runtime::platform::Freedom::Free,
+                offset,
+                2.0,
+                sine,
+                cosine,
+            )
+            .unwrap()
         })
         .collect()
 }
@@ -372,7 +377,7 @@ fn omega_from_rpy_rates_is_the_derivative_of_the_rotation() {
             let s = motion.state(t);
             let w = Vector3::from(s.twist.omega);
             assert!((w_tilde - r::skew(&w)).amax() < 1e-8, "{w_tilde} vs {w}");
-            let (x, xd, _) = motion.pose_derivatives(t);
+            let [x, xd, _] = motion.pose_derivatives(t);
             assert_eq!(
                 omega_from_rpy_rates([x[0], x[1], x[2]], [xd[0], xd[1], xd[2]]),
                 s.twist.omega

@@ -341,12 +341,14 @@ fn computed_torque_tracks_exactly_with_an_exact_model_and_decays_as_the_gains_sa
 
 #[test]
 fn a_rotating_trajectory_is_tracked_in_both_models() {
-    let motion = Fourier {
-        offset: [0.05, -0.05, 0.1, 0.0, 0.0, 0.0],
-        period: 1.0,
-        sine: vec![[0.1, 0.08, -0.12, 0.01, 0.02, -0.01]],
-        cosine: vec![[0.05, -0.04, 0.06, 0.0, 0.01, 0.02]],
-    };
+    let motion = Fourier::new(
+        c5_runtime::platform::Freedom::Free,
+        vec![0.05, -0.05, 0.1, 0.0, 0.0, 0.0],
+        1.0,
+        vec![vec![0.1, 0.08, -0.12, 0.01, 0.02, -0.01]],
+        vec![vec![0.05, -0.04, 0.06, 0.0, 0.01, 0.02]],
+    )
+    .unwrap();
     let s0 = motion.state(0.0);
     for model in Model::ALL {
         let c5 = C5::with_model(Robot::default(), model).unwrap();

@@ -163,7 +163,13 @@ fn the_forces_close_the_power_balance() {
             let x = waves.map(|(c, a, f, phi)| c + a * (f * t + phi).sin());
             let xd = waves.map(|(_, a, f, phi)| a * f * (f * t + phi).cos());
             let xdd = waves.map(|(_, a, f, phi)| -a * f * f * (f * t + phi).sin());
-            c5_runtime::trajectory::state_from_pose_derivatives(x, xd, xdd)
+            c5_runtime::trajectory::state_from_pose_derivatives(
+                c5_runtime::platform::Freedom::Free,
+                &x,
+                &xd,
+                &xdd,
+            )
+            .unwrap()
         };
         let mut worst = 0.0_f64;
         for k in 0..40 {

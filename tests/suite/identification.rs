@@ -106,7 +106,7 @@ fn excitation(c5: &C5) -> Fourier {
 }
 
 fn samples(trajectory: &Fourier, n: usize) -> impl Iterator<Item = State> + '_ {
-    (0..n).map(move |k| trajectory.state(trajectory.period * (k as f64 + 0.5) / n as f64))
+    (0..n).map(move |k| trajectory.state(trajectory.period() * (k as f64 + 0.5) / n as f64))
 }
 
 #[test]

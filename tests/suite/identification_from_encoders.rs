@@ -47,7 +47,7 @@ fn identify(truth: &C5, friction: &[Friction; 6], filter: LogFilter, seed: u64) 
     let mut noise = rng(seed);
     let mut pipeline = LogProcessor::new(filter, RATE, 6).unwrap();
     let mut kept = Vec::new();
-    let n = (design.trajectory.period * RATE) as usize;
+    let n = (design.trajectory.period() * RATE) as usize;
     for k in 0..n {
         let t = k as f64 / RATE;
         let state = design.trajectory.state(t);
@@ -90,7 +90,7 @@ fn prediction_errors(estimate: &Estimate, truth: &C5, friction: &[Friction; 6]) 
     for k in 0..2000 {
         let state = unseen
             .trajectory
-            .state(k as f64 * unseen.trajectory.period / 2000.0);
+            .state(k as f64 * unseen.trajectory.period() / 2000.0);
         let want = applied(truth, friction, &state);
         let got = estimate.forces(truth.as_mechanism(), &state).unwrap();
         for i in 0..6 {

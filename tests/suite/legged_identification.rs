@@ -206,7 +206,7 @@ fn identification_recovers_an_unseen_robot() {
         let mut identifier = Identifier::new(blank).unwrap();
         let n = 2000;
         for k in 0..n {
-            let state = trajectory.state(trajectory.period * (k as f64 + 0.5) / n as f64);
+            let state = trajectory.state(trajectory.period() * (k as f64 + 0.5) / n as f64);
             identifier
                 .add(&state, &measured(truth, &friction, &state))
                 .unwrap();

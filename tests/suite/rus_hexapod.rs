@@ -56,9 +56,15 @@ pub(crate) fn near_home(r: &mut ChaCha8Rng, home: &Pose) -> State {
 
 /// The state at time `t` of the pose `x + t ẋ + t² ẍ/2`.
 fn along(x: &[f64; 6], xd: &[f64; 6], xdd: &[f64; 6], t: f64) -> State {
-    let at = core::array::from_fn(|k| x[k] + t * xd[k] + 0.5 * t * t * xdd[k]);
-    let rate = core::array::from_fn(|k| xd[k] + t * xdd[k]);
-    c5_runtime::trajectory::state_from_pose_derivatives(at, rate, *xdd)
+    let at: [f64; 6] = core::array::from_fn(|k| x[k] + t * xd[k] + 0.5 * t * t * xdd[k]);
+    let rate: [f64; 6] = core::array::from_fn(|k| xd[k] + t * xdd[k]);
+    c5_runtime::trajectory::state_from_pose_derivatives(
+        c5_runtime::platform::Freedom::Free,
+        &at,
+        &rate,
+        xdd,
+    )
+    .unwrap()
 }
 
 #[test]

@@ -101,10 +101,9 @@ fn stacked_condition(
     mut identifier: Identifier,
     states: impl IntoIterator<Item = State>,
 ) -> Result<f64, Error> {
-    let rest = [0.0; 6];
-    let rest = &rest[..identifier.actuators()];
+    let rest = vec![0.0; identifier.actuators()];
     for state in states {
-        identifier.add(&state, rest)?;
+        identifier.add(&state, &rest)?;
     }
     Ok(identifier.condition_number())
 }
@@ -112,14 +111,20 @@ fn stacked_condition(
 /// The largest ratio of a peak of `trajectory` (pose, rates, accelerations) to its limit.
 fn peak_ratio(trajectory: &Fourier, envelope: &Envelope, search: &Search) -> f64 {
     let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    // A turning platform's pose starts with its three angles; every pose ends with the centre.
+    let angles = if trajectory.freedom().turns() { 3 } else { 0 };
     times(search)
         .map(|t| {
-            let (x, _, _) = trajectory.pose_derivatives(t);
-            let d: [f64; 6] = core::array::from_fn(|k| x[k] - trajectory.offset[k]);
+            let [x, _, _] = trajectory.pose_derivatives(t);
+            let d: Vec<f64> = x
+                .iter()
+                .zip(trajectory.offset())
+                .map(|(x, o)| x - o)
+                .collect();
             let s = trajectory.state(t);
             [
-                largest(&d[..3]) / envelope.angle,
-                largest(&d[3..]) / envelope.center,
+                largest(&d[..angles]) / envelope.angle,
+                largest(&d[angles..]) / envelope.center,
                 largest(&s.twist.omega) / envelope.omega,
                 largest(&s.twist.velocity) / envelope.velocity,
                 largest(&s.accel.omega_dot) / envelope.omega_dot,
@@ -190,31 +195,39 @@ fn score(robot: &dyn Mechanism, empty: &Identifier, trajectory: &Fourier, search
         .unwrap_or(f64::INFINITY)
 }
 
-/// The largest amplitude of each of the series' six coordinates: the envelope's angle and
-/// centre, no turn for a platform that only translates.
-fn bounds(robot: &dyn Mechanism, envelope: &Envelope) -> [f64; 6] {
-    let angle = if robot.freedom().turns() {
-        envelope.angle
-    } else {
-        0.0
-    };
-    let centre = envelope.center;
-    [angle, angle, angle, centre, centre, centre]
+/// The largest amplitude of each of the series' coordinates, the platform's: the envelope's
+/// angle for a turning platform's angles, its centre for the centre's coordinates.
+fn bounds(robot: &dyn Mechanism, envelope: &Envelope) -> Vec<f64> {
+    let freedom = robot.freedom();
+    let angles = if freedom.turns() { 3 } else { 0 };
+    (0..freedom.dimension())
+        .map(|k| {
+            if k < angles {
+                envelope.angle
+            } else {
+                envelope.center
+            }
+        })
+        .collect()
 }
 
 /// A random series about `home`, harmonic `l` with amplitude falling as `1/l` (smooth motion).
-fn random(rng: &mut ChaCha8Rng, home: [f64; 6], bounds: &[f64; 6], search: &Search) -> Fourier {
-    let mut harmonic = |l: usize| -> [f64; 6] {
-        core::array::from_fn(|k| bounds[k] * rng.gen_range(-1.0..1.0) / (l + 1) as f64)
+fn random(
+    robot: &dyn Mechanism,
+    rng: &mut ChaCha8Rng,
+    home: &[f64],
+    bounds: &[f64],
+    search: &Search,
+) -> Result<Fourier, Error> {
+    let mut harmonic = |l: usize| -> Vec<f64> {
+        bounds
+            .iter()
+            .map(|bound| bound * rng.gen_range(-1.0..1.0) / (l + 1) as f64)
+            .collect()
     };
     let sine = (0..search.harmonics).map(&mut harmonic).collect();
     let cosine = (0..search.harmonics).map(&mut harmonic).collect();
-    Fourier {
-        offset: home,
-        period: search.period,
-        sine,
-        cosine,
-    }
+    Fourier::new(robot.freedom(), home.to_vec(), search.period, sine, cosine)
 }
 
 /// Searches for a series of low condition number within `envelope`: random candidates, then
@@ -242,12 +255,6 @@ pub fn design(
         * robot
             .singularity_clearance(&home)
             .map_err(DesignError::Robot)?;
-    let rest = vec![0.0; home.len()];
-    let home = robot
-        .state_of([&home, &rest, &rest])
-        .map_err(DesignError::Robot)?
-        .pose
-        .to_array();
     let bounds = bounds(robot, envelope);
     let mut rng = ChaCha8Rng::seed_from_u64(search.seed);
     let mut best: Option<(Fourier, f64)> = None;
@@ -257,14 +264,14 @@ pub fn design(
             Some((b, _)) if k >= search.candidates / 2 => {
                 let mut c = b.clone();
                 for h in c.sine.iter_mut().chain(c.cosine.iter_mut()) {
-                    for (v, bound) in h.iter_mut().zip(bounds) {
+                    for (v, bound) in h.iter_mut().zip(&bounds) {
                         *v += step * bound * rng.gen_range(-1.0..1.0) / search.harmonics as f64;
                     }
                 }
                 step = (step * 0.995).max(0.02);
                 c
             }
-            _ => random(&mut rng, home, &bounds, search),
+            _ => random(robot, &mut rng, &home, &bounds, search).map_err(DesignError::Robot)?,
         };
         let Some(candidate) = fit(robot, clearance, candidate, envelope, search) else {
             continue;
