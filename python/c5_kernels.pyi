@@ -232,10 +232,13 @@ class Robot:
         *,
         errors: Errors = "raise",
     ) -> Tuple[Array, ...]:
-        """``(gamma, d_pose, d_twist, d_acceleration)``: the forces ``(6,)`` and their exact
-        Jacobians ``(6, 6)`` (with a leading ``N`` for a batch), row ``i`` actuator ``i``,
-        columns ``alpha beta gamma xc yc zc``, ``wx wy wz vx vy vz``, ``w_dot_x .. az``.
-        ``d_acceleration`` is ``J^T M_x``. With ``errors="nan"``, the mask last."""
+        """``(gamma, d_pose, d_twist, d_acceleration)``: the forces ``(n,)`` and their exact
+        Jacobians ``(n, n)`` (with a leading ``N`` for a batch), row ``i`` actuator ``i``,
+        columns the platform's coordinates (``alpha beta gamma xc yc zc``,
+        ``wx wy wz vx vy vz``, ``w_dot_x .. az`` for six freedoms). ``d_acceleration`` is
+        ``J^T M_x``. Raises ``ValueError`` naming the mechanism where its derivative kernels
+        are not generated (the rotary hexapod's, the Delta's). With ``errors="nan"``, the mask
+        last."""
 
     def forward_dynamics_derivatives(
         self,
@@ -246,9 +249,10 @@ class Robot:
         *,
         errors: Errors = "raise",
     ) -> Tuple[Array, ...]:
-        """``(omega_dot, acceleration, d_pose, d_twist, d_gamma)``: the forward dynamics and its
-        exact Jacobians, rows ``w_dot_x w_dot_y w_dot_z ax ay az``; ``d_gamma`` is
-        ``M_x^-1 J^-T``. With ``errors="nan"``, the mask last."""
+        """``(omega_dot, acceleration, d_pose, d_twist, d_gamma)`` (``omega_dot`` absent for a
+        platform that translates): the forward dynamics and its exact Jacobians ``(n, n)``, rows
+        the acceleration's coordinates (``w_dot_x w_dot_y w_dot_z ax ay az`` for six
+        freedoms); ``d_gamma`` is ``M_x^-1 J^-T``. With ``errors="nan"``, the mask last."""
 
     def inverse_dynamics_joint_derivatives(
         self,

@@ -8,6 +8,7 @@
 //! batch kernels (each lane computing exactly what the single-state kernel does).
 
 use c5_runtime::calibrate::{self, Measurement, Noise, Options};
+use c5_runtime::derivatives::SlicedDerivatives;
 use c5_runtime::identify::{BaseParameters, Friction, Identifier};
 use c5_runtime::platform::Freedom;
 use c5_runtime::{
@@ -293,21 +294,6 @@ fn vector(py: Python<'_>, values: Vec<f64>) -> Bound<'_, PyArrayDyn<f64>> {
     PyArray1::from_vec(py, values).to_dyn().clone()
 }
 
-/// The five motion arguments (pose, ω, v_C, ω̇, a_C), as `C5::read` takes them.
-fn motion_args<'a, 'py>(
-    pose: &'a Array<'py>,
-    rest: [&'a Option<Array<'py>>; 4],
-) -> [(&'static str, usize, Option<&'a Array<'py>>); 5] {
-    let [omega, velocity, omega_dot, acceleration] = rest;
-    [
-        ("pose", 6, Some(pose)),
-        ("omega", 3, omega.as_ref()),
-        ("velocity", 3, velocity.as_ref()),
-        ("omega_dot", 3, omega_dot.as_ref()),
-        ("acceleration", 3, acceleration.as_ref()),
-    ]
-}
-
 /// The actuators' motion arguments (`q`, `qd`, `qdd`), as `C5::read` takes them.
 fn joint_args<'a, 'py>(
     n: usize,
@@ -319,21 +305,6 @@ fn joint_args<'a, 'py>(
         ("q", n, Some(q)),
         ("qd", n, qd.as_ref()),
         ("qdd", n, qdd.as_ref()),
-    ]
-}
-
-/// The forward dynamics' arguments (pose, ω, v_C, Γ), as `C5::read` takes them.
-fn forward_args<'a, 'py>(
-    pose: &'a Array<'py>,
-    omega: &'a Option<Array<'py>>,
-    velocity: &'a Option<Array<'py>>,
-    gamma: &'a Option<Array<'py>>,
-) -> [(&'static str, usize, Option<&'a Array<'py>>); 4] {
-    [
-        ("pose", 6, Some(pose)),
-        ("omega", 3, omega.as_ref()),
-        ("velocity", 3, velocity.as_ref()),
-        ("gamma", 6, gamma.as_ref()),
     ]
 }
 
@@ -503,9 +474,22 @@ impl C5 {
     }
 
     /// The robot's exact derivatives, refused for a mechanism without them generated.
-    fn derivatives(&self, what: &'static str) -> PyResult<&dyn c5_runtime::mechanism::Derivatives> {
-        c5_runtime::mechanism::derivatives_of(self.spatial(what)?)
+    fn derivatives(&self) -> PyResult<&dyn SlicedDerivatives> {
+        c5_runtime::derivatives::sliced_derivatives_of(&*self.inner)
             .map_err(|e| PyValueError::new_err(e.to_string()))
+    }
+
+    /// The platform's motion `[pose, twist, acceleration]` of row `k` of rows read by
+    /// [`C5::motion_spec`].
+    fn motion_row(&self, r: &[Rows<'_>], k: usize) -> [Vec<f64>; 3] {
+        let n = self.dimension();
+        let (twist, accel) = (self.twist_rows(), self.acceleration_rows());
+        let mut motion = [0; 3].map(|_| vec![0.0; n]);
+        let [x, v, a] = &mut motion;
+        gather(&r[..1], k, x);
+        gather(&r[twist], k, v);
+        gather(&r[accel], k, a);
+        motion
     }
 
     /// `Γ` from the actuators' positions, rates and accelerations (`joints`' rows), one row at a
@@ -1033,9 +1017,10 @@ impl C5 {
     }
 
     /// The inverse dynamics and its exact Jacobians, from one generated kernel: `(gamma,
-    /// d_pose, d_twist, d_acceleration)`, `Γ` `(6,)` and three `(6, 6)` (or `(N, 6)` and
-    /// `(N, 6, 6)`), row `i` actuator `i`, columns `α β γ xc yc zc`, `ωx ωy ωz vx vy vz` and
-    /// `ω̇x ω̇y ω̇z ax ay az`. `d_acceleration` is `Jᵀ M_x`.
+    /// d_pose, d_twist, d_acceleration)`, `Γ` `(n,)` and three `(n, n)` (or `(N, n)` and
+    /// `(N, n, n)`), row `i` actuator `i`, columns the pose's, the twist's and the
+    /// acceleration's coordinates (`α β γ xc yc zc`, `ωx ωy ωz vx vy vz`, `ω̇x ω̇y ω̇z ax ay az`
+    /// for a platform free in space). `d_acceleration` is `Jᵀ M_x`.
     #[pyo3(signature = (pose, omega = None, velocity = None, omega_dot = None, acceleration = None, *, errors = "raise"))]
     #[allow(clippy::too_many_arguments)]
     fn inverse_dynamics_derivatives<'py>(
@@ -1048,27 +1033,34 @@ impl C5 {
         acceleration: Option<Array<'py>>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mode = on_error(errors)?;
-        let c5 = self.derivatives("inverse dynamics derivatives")?;
-        let (r, batch) = Self::read(&motion_args(
-            &pose,
-            [&omega, &velocity, &omega_dot, &acceleration],
-        ))?;
-        let shapes: [&[usize]; 4] = [&[6], &[6, 6], &[6, 6], &[6, 6]];
+        let (mode, n) = (on_error(errors)?, self.dimension());
+        let derivatives = self.derivatives()?;
+        let spec = self.motion_spec(&pose, [&omega, &velocity, &omega_dot, &acceleration])?;
+        let (r, batch) = Self::read(&spec)?;
+        let shapes: [&[usize]; 4] = [&[n], &[n, n], &[n, n], &[n, n]];
         each_row(py, batch, mode, &shapes, |k, out| {
-            let d = c5.inverse_dynamics_derivatives(&motion6(&r, k))?;
-            out.put(0, k, &d.gamma);
-            out.put(1, k, d.d_pose.as_flattened());
-            out.put(2, k, d.d_twist.as_flattened());
-            out.put(3, k, d.d_accel.as_flattened());
+            let [x, v, a] = self.motion_row(&r, k);
+            let mut gamma = vec![0.0; n];
+            let mut jacobians = [0; 3].map(|_| vec![0.0; n * n]);
+            let [d_pose, d_twist, d_accel] = &mut jacobians;
+            derivatives.inverse_dynamics_derivatives(
+                [&x, &v, &a],
+                &mut gamma,
+                [d_pose, d_twist, d_accel],
+            )?;
+            out.put(0, k, &gamma);
+            for (j, jacobian) in jacobians.iter().enumerate() {
+                out.put(1 + j, k, jacobian);
+            }
             Ok(())
         })
     }
 
-    /// The forward dynamics and its exact Jacobians, from one generated kernel: `(omega_dot,
-    /// acceleration, d_pose, d_twist, d_gamma)`, rows `ω̇x ω̇y ω̇z ax ay az`, columns
-    /// `α β γ xc yc zc`, `ωx ωy ωz vx vy vz` and actuators 1..6. `d_gamma` is `M_x⁻¹ J⁻ᵀ`, the
-    /// inverse of `inverse_dynamics_derivatives`'s `d_acceleration`.
+    /// The forward dynamics and its exact Jacobians, from one generated kernel: the
+    /// acceleration's parts (`omega_dot, acceleration`, or `acceleration` for a platform that
+    /// translates), then `d_pose, d_twist, d_gamma`, `(n, n)` each, rows the acceleration's
+    /// coordinates, columns the pose's, the twist's and the actuators. `d_gamma` is
+    /// `M_x⁻¹ J⁻ᵀ`, the inverse of `inverse_dynamics_derivatives`'s `d_acceleration`.
     #[pyo3(signature = (pose, omega = None, velocity = None, gamma = None, *, errors = "raise"))]
     fn forward_dynamics_derivatives<'py>(
         &self,
@@ -1079,22 +1071,36 @@ impl C5 {
         gamma: Option<Array<'py>>,
         errors: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mode = on_error(errors)?;
-        let c5 = self.derivatives("forward dynamics derivatives")?;
-        let (r, batch) = Self::read(&forward_args(&pose, &omega, &velocity, &gamma))?;
-        let shapes: [&[usize]; 5] = [&[3], &[3], &[6, 6], &[6, 6], &[6, 6]];
+        let (mode, n) = (on_error(errors)?, self.dimension());
+        let derivatives = self.derivatives()?;
+        let mut spec = self.motion_spec(&pose, [&omega, &velocity, &None, &None])?;
+        let twist = self.twist_rows();
+        spec.truncate(twist.end);
+        spec.push(("gamma", n, gamma.as_ref()));
+        let (r, batch) = Self::read(&spec)?;
+        let parts = self.part_shapes();
+        let square = [n, n];
+        let mut shapes = parts.to_vec();
+        shapes.extend([&square[..]; 3]);
         each_row(py, batch, mode, &shapes, |k, out| {
-            let twist = Twist {
-                omega: r[1].row(k),
-                velocity: r[2].row(k),
-            };
-            let pose = Pose::from_array(r[0].row(k));
-            let d = c5.forward_dynamics_derivatives(&pose, &twist, &r[3].row(k))?;
-            out.put(0, k, &d.accel.omega_dot);
-            out.put(1, k, &d.accel.linear);
-            out.put(2, k, d.d_pose.as_flattened());
-            out.put(3, k, d.d_twist.as_flattened());
-            out.put(4, k, d.d_gamma.as_flattened());
+            let (mut x, mut v, mut g) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            gather(&r[..1], k, &mut x);
+            gather(&r[twist.clone()], k, &mut v);
+            gather(&r[twist.end..], k, &mut g);
+            let mut accel = vec![0.0; n];
+            let mut jacobians = [0; 3].map(|_| vec![0.0; n * n]);
+            let [d_pose, d_twist, d_gamma] = &mut jacobians;
+            derivatives.forward_dynamics_derivatives(
+                &x,
+                &v,
+                &g,
+                &mut accel,
+                [d_pose, d_twist, d_gamma],
+            )?;
+            self.scatter(out, 0, k, &accel);
+            for (j, jacobian) in jacobians.iter().enumerate() {
+                out.put(parts.len() + j, k, jacobian);
+            }
             Ok(())
         })
     }

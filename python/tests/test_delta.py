@@ -215,6 +215,12 @@ def test_the_python_robot_serves_the_delta_as_pinocchio_moves_it(delta):
     far = home + [0.0, 0.0, -1.5]
     values, bad = robot.inverse_dynamics(np.array([home, far]), errors="nan")
     assert list(bad) == [False, True] and np.all(np.isnan(values[1]))
+    # The derivatives are served in the platform's dimension where their kernels are
+    # generated; the Delta's are not, and the refusal names the mechanism and why.
+    with pytest.raises(ValueError, match="delta.*derivative kernels are not generated"):
+        robot.inverse_dynamics_derivatives(home)
+    with pytest.raises(ValueError, match="delta.*derivative kernels are not generated"):
+        robot.forward_dynamics_derivatives(home, gamma=holding)
 
 
 def test_the_task_space_terms_and_joint_inertia_are_pinocchios(delta):

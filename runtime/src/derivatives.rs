@@ -4,64 +4,103 @@
 //! allocation).
 //!
 //! Every Jacobian is row-major: row `i` is output `i`, column `j` input component `j`, each in
-//! its key's own order: the pose `α β γ xc yc zc`, the twist `ωx ωy ωz vx vy vz`, the
-//! acceleration `ω̇x ω̇y ω̇z ax ay az`, forces and actuator values in segment order.
+//! its key's own order, the platform's coordinates ([`crate::platform::Freedom`]): for a
+//! platform free in space the pose `α β γ xc yc zc`, the twist `ωx ωy ωz vx vy vz`, the
+//! acceleration `ω̇x ω̇y ω̇z ax ay az`; for one that translates the centre's three; forces and
+//! actuator values in actuator order.
 //!
 //! The mechanisms that have them give them: [`crate::C5`] and [`crate::GoughStewart`] (their
-//! inherent `*_derivatives` methods), and every robot through
-//! [`crate::mechanism::Derivatives`].
+//! inherent `*_derivatives` methods), every typed robot through
+//! [`crate::mechanism::Derivatives`], and every robot through slices with
+//! [`SlicedDerivatives`].
 
-use crate::{finite, finite_matrix, Acceleration, Error};
+use crate::legged::{Freedoms, Platform};
+use crate::mechanism::{derivatives_of, ParallelRobot};
+use crate::platform::{array, pose_of, put, room, room_for_matrix, state_from, Mechanism, Sliced};
+use crate::{finite, finite_matrix, Error};
 
-/// `Γ` and its exact Jacobians at a platform state.
+/// `Γ` and its exact Jacobians at a state of a platform of `N` freedoms.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct InverseDynamicsDerivatives {
-    /// `Γ` (N), segment order.
-    pub gamma: [f64; 6],
-    /// `∂Γ/∂X` (N/rad, N/m): row actuator, columns `α β γ xc yc zc`.
-    pub d_pose: [[f64; 6]; 6],
-    /// `∂Γ/∂V` (N·s/rad, N·s/m): columns `ωx ωy ωz vx vy vz`.
-    pub d_twist: [[f64; 6]; 6],
-    /// `∂Γ/∂(ω̇; a_C)` (N·s²/rad, kg): columns `ω̇x ω̇y ω̇z ax ay az`; equal to `Jᵀ M_x`.
-    pub d_accel: [[f64; 6]; 6],
+pub struct InverseDynamicsDerivatives<const N: usize> {
+    /// `Γ` (N or N·m), actuator order.
+    #[cfg_attr(feature = "serde", serde(serialize_with = "serial::vector"))]
+    pub gamma: [f64; N],
+    /// `∂Γ/∂X`: row actuator, columns the pose's coordinates (`α β γ xc yc zc`, or
+    /// `xc yc zc` for a platform that translates).
+    #[cfg_attr(feature = "serde", serde(serialize_with = "serial::matrix"))]
+    pub d_pose: [[f64; N]; N],
+    /// `∂Γ/∂V`: columns the twist's (`ωx ωy ωz vx vy vz`, or `vx vy vz`).
+    #[cfg_attr(feature = "serde", serde(serialize_with = "serial::matrix"))]
+    pub d_twist: [[f64; N]; N],
+    /// `∂Γ/∂a`: columns the acceleration's (`ω̇x ω̇y ω̇z ax ay az`, or `ax ay az`); equal to
+    /// `Jᵀ M_x`.
+    #[cfg_attr(feature = "serde", serde(serialize_with = "serial::matrix"))]
+    pub d_accel: [[f64; N]; N],
 }
 
 /// The platform's acceleration under actuator forces and its exact Jacobians.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct ForwardDynamicsDerivatives {
-    /// `(ω̇; a_C)`, classical (rad/s², m/s²).
-    pub accel: Acceleration,
-    /// `∂(ω̇; a_C)/∂X`: rows `ω̇x ω̇y ω̇z ax ay az`, columns `α β γ xc yc zc`.
-    pub d_pose: [[f64; 6]; 6],
-    /// `∂(ω̇; a_C)/∂V`: columns `ωx ωy ωz vx vy vz`.
-    pub d_twist: [[f64; 6]; 6],
-    /// `∂(ω̇; a_C)/∂Γ`: columns actuators 1..6; equal to `M_x⁻¹ J⁻ᵀ`, the inverse of
+pub struct ForwardDynamicsDerivatives<const N: usize> {
+    /// The acceleration in the platform's coordinates: `(ω̇; a_C)`, classical (rad/s², m/s²),
+    /// or `a_C`.
+    #[cfg_attr(feature = "serde", serde(serialize_with = "serial::vector"))]
+    pub accel: [f64; N],
+    /// `∂a/∂X`: rows the acceleration's coordinates, columns the pose's.
+    #[cfg_attr(feature = "serde", serde(serialize_with = "serial::matrix"))]
+    pub d_pose: [[f64; N]; N],
+    /// `∂a/∂V`: columns the twist's.
+    #[cfg_attr(feature = "serde", serde(serialize_with = "serial::matrix"))]
+    pub d_twist: [[f64; N]; N],
+    /// `∂a/∂Γ`: columns the actuators; equal to `M_x⁻¹ J⁻ᵀ`, the inverse of
     /// [`InverseDynamicsDerivatives::d_accel`].
-    pub d_gamma: [[f64; 6]; 6],
+    #[cfg_attr(feature = "serde", serde(serialize_with = "serial::matrix"))]
+    pub d_gamma: [[f64; N]; N],
 }
 
 /// `Γ` from the actuators' motion and its exact Jacobians.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct JointDynamicsDerivatives {
-    /// `Γ` (N), segment order.
-    pub gamma: [f64; 6],
+pub struct JointDynamicsDerivatives<const N: usize> {
+    /// `Γ` (N), actuator order.
+    #[cfg_attr(feature = "serde", serde(serialize_with = "serial::vector"))]
+    pub gamma: [f64; N],
     /// `∂Γ/∂q` (N/m).
-    pub d_q: [[f64; 6]; 6],
+    #[cfg_attr(feature = "serde", serde(serialize_with = "serial::matrix"))]
+    pub d_q: [[f64; N]; N],
     /// `∂Γ/∂q̇` (N·s/m).
-    pub d_qd: [[f64; 6]; 6],
+    #[cfg_attr(feature = "serde", serde(serialize_with = "serial::matrix"))]
+    pub d_qd: [[f64; N]; N],
     /// `∂Γ/∂q̈ = M_q` (kg), symmetric positive definite.
-    pub d_qdd: [[f64; 6]; 6],
+    #[cfg_attr(feature = "serde", serde(serialize_with = "serial::matrix"))]
+    pub d_qdd: [[f64; N]; N],
+}
+
+/// Arrays of any length as serde writes slices (serde's own impls stop at 32 and are not
+/// generic in the length).
+#[cfg(feature = "serde")]
+mod serial {
+    use serde::{Serialize, Serializer};
+
+    pub fn vector<S: Serializer, const N: usize>(v: &[f64; N], s: S) -> Result<S::Ok, S::Error> {
+        v.as_slice().serialize(s)
+    }
+
+    pub fn matrix<S: Serializer, const N: usize>(
+        m: &[[f64; N]; N],
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        s.collect_seq(m.iter().map(|row| row.as_slice()))
+    }
 }
 
 /// A kernel's value and three Jacobians, as its tuple returns them (the guard apart).
-type Jacobians = ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6]);
+type Jacobians<const N: usize> = ([f64; N], [[f64; N]; N], [[f64; N]; N], [[f64; N]; N]);
 
-impl InverseDynamicsDerivatives {
+impl<const N: usize> InverseDynamicsDerivatives<N> {
     /// The kernel's outputs, each refused by name where not finite.
-    pub(crate) fn checked((gamma, d_pose, d_twist, d_accel): Jacobians) -> Result<Self, Error> {
+    pub(crate) fn checked((gamma, d_pose, d_twist, d_accel): Jacobians<N>) -> Result<Self, Error> {
         Ok(InverseDynamicsDerivatives {
             gamma: finite("gamma", gamma)?,
             d_pose: finite_matrix("d_gamma_d_pose", d_pose)?,
@@ -71,14 +110,138 @@ impl InverseDynamicsDerivatives {
     }
 }
 
-impl ForwardDynamicsDerivatives {
+impl<const N: usize> ForwardDynamicsDerivatives<N> {
     /// The kernel's outputs, each refused by name where not finite.
-    pub(crate) fn checked((accel, d_pose, d_twist, d_gamma): Jacobians) -> Result<Self, Error> {
+    pub(crate) fn checked((accel, d_pose, d_twist, d_gamma): Jacobians<N>) -> Result<Self, Error> {
         Ok(ForwardDynamicsDerivatives {
-            accel: Acceleration::from_array(finite("acceleration", accel)?),
+            accel: finite("acceleration", accel)?,
             d_pose: finite_matrix("d_acceleration_d_pose", d_pose)?,
             d_twist: finite_matrix("d_acceleration_d_twist", d_twist)?,
             d_gamma: finite_matrix("d_acceleration_d_gamma", d_gamma)?,
         })
     }
+}
+
+/// The dynamics' exact derivatives of any robot through slices, in its platform's coordinates
+/// (`n` of them, [`Mechanism::freedom`]), every Jacobian `n × n` row-major: what serves the
+/// command line and Python for every mechanism that has them ([`Mechanism::derivatives`]).
+/// Each call checks every slice's length before it computes; nothing is written on an error.
+pub trait SlicedDerivatives: Send + Sync {
+    /// `Γ` into `gamma`, and `∂Γ/∂X`, `∂Γ/∂V`, `∂Γ/∂a` into `jacobians`, at the state of
+    /// `motion` (pose, twist, acceleration).
+    ///
+    /// # Errors
+    /// Slices of the wrong length, non-finite inputs, a singular pose or a non-finite result.
+    fn inverse_dynamics_derivatives(
+        &self,
+        motion: [&[f64]; 3],
+        gamma: &mut [f64],
+        jacobians: [&mut [f64]; 3],
+    ) -> Result<(), Error>;
+    /// The acceleration into `acceleration`, and `∂a/∂X`, `∂a/∂V`, `∂a/∂Γ` into `jacobians`,
+    /// at `pose` and `twist` under the actuator forces `gamma`.
+    ///
+    /// # Errors
+    /// Slices of the wrong length, non-finite inputs, a singular pose or a non-finite result.
+    fn forward_dynamics_derivatives(
+        &self,
+        pose: &[f64],
+        twist: &[f64],
+        gamma: &[f64],
+        acceleration: &mut [f64],
+        jacobians: [&mut [f64]; 3],
+    ) -> Result<(), Error>;
+}
+
+/// Checks that `value` takes `N` numbers and each of `jacobians` an `N × N` matrix.
+fn room_for_derivatives<const N: usize>(
+    value: (&'static str, &[f64]),
+    jacobians: [(&'static str, &[f64]); 3],
+) -> Result<(), Error> {
+    room::<N>(value.0, value.1)?;
+    jacobians
+        .into_iter()
+        .try_for_each(|(name, out)| room_for_matrix::<N>(name, out))
+}
+
+/// `value` and the three Jacobians written into their slices.
+fn put_derivatives<const N: usize>(
+    value: (&mut [f64], &[f64; N]),
+    jacobians: [&mut [f64]; 3],
+    matrices: [[[f64; N]; N]; 3],
+) {
+    put(value.0, value.1);
+    for (out, m) in jacobians.into_iter().zip(&matrices) {
+        put(out, m.as_flattened());
+    }
+}
+
+impl<R: ParallelRobot<N> + Clone + 'static, const N: usize> SlicedDerivatives for Sliced<R, N>
+where
+    Platform<N>: Freedoms<N>,
+{
+    fn inverse_dynamics_derivatives(
+        &self,
+        motion: [&[f64]; 3],
+        gamma: &mut [f64],
+        jacobians: [&mut [f64]; 3],
+    ) -> Result<(), Error> {
+        let [d_pose, d_twist, d_accel] = jacobians;
+        room_for_derivatives::<N>(
+            ("gamma", gamma),
+            [
+                ("d_gamma_d_pose", d_pose),
+                ("d_gamma_d_twist", d_twist),
+                ("d_gamma_d_acceleration", d_accel),
+            ],
+        )?;
+        let state = state_from::<N>(motion)?;
+        let d = derivatives_of(&self.0)?.inverse_dynamics_derivatives(&state)?;
+        put_derivatives(
+            (gamma, &d.gamma),
+            [d_pose, d_twist, d_accel],
+            [d.d_pose, d.d_twist, d.d_accel],
+        );
+        Ok(())
+    }
+
+    fn forward_dynamics_derivatives(
+        &self,
+        pose: &[f64],
+        twist: &[f64],
+        gamma: &[f64],
+        acceleration: &mut [f64],
+        jacobians: [&mut [f64]; 3],
+    ) -> Result<(), Error> {
+        let [d_pose, d_twist, d_gamma] = jacobians;
+        room_for_derivatives::<N>(
+            ("acceleration", acceleration),
+            [
+                ("d_acceleration_d_pose", d_pose),
+                ("d_acceleration_d_twist", d_twist),
+                ("d_acceleration_d_gamma", d_gamma),
+            ],
+        )?;
+        let pose = pose_of::<N>("pose", pose)?;
+        let twist = Platform::<N>::twist(array("twist", twist)?);
+        let gamma = array("gamma", gamma)?;
+        let d = derivatives_of(&self.0)?.forward_dynamics_derivatives(&pose, &twist, &gamma)?;
+        put_derivatives(
+            (acceleration, &d.accel),
+            [d_pose, d_twist, d_gamma],
+            [d.d_pose, d.d_twist, d.d_gamma],
+        );
+        Ok(())
+    }
+}
+
+/// `robot`'s derivatives through slices, refused by name where its mechanism has none
+/// generated.
+///
+/// # Errors
+/// [`Error::Unsupported`] naming the mechanism.
+pub fn sliced_derivatives_of(robot: &dyn Mechanism) -> Result<&dyn SlicedDerivatives, Error> {
+    robot
+        .derivatives()
+        .ok_or(crate::mechanism::unsupported_derivatives(robot.mechanism()))
 }

@@ -183,7 +183,7 @@ impl GoughStewart {
     pub fn inverse_dynamics_derivatives(
         &self,
         state: &State,
-    ) -> Result<InverseDynamicsDerivatives, Error> {
+    ) -> Result<InverseDynamicsDerivatives<6>, Error> {
         let [x, v, a] = C5::checked_motion(state)?;
         let (gamma, d_pose, d_twist, d_accel, guard) =
             kernels::inverse_dynamics_derivatives_params(&x, &v, &a, self.parameters());
@@ -201,7 +201,7 @@ impl GoughStewart {
         pose: &Pose,
         twist: &Twist,
         gamma: &[f64; 6],
-    ) -> Result<ForwardDynamicsDerivatives, Error> {
+    ) -> Result<ForwardDynamicsDerivatives<6>, Error> {
         let [x, v] = C5::checked_forward(pose, twist, gamma)?;
         let (a, d_pose, d_twist, d_gamma, guard) =
             kernels::forward_dynamics_derivatives_params(&x, &v, gamma, self.parameters());

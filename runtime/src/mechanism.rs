@@ -16,9 +16,9 @@ use crate::identify::{BaseParameters, Friction};
 use crate::legged::{AccelerationOf, Freedoms, Platform, PoseOf, StateOf, TwistOf};
 use crate::platform::Mechanism;
 use crate::scene::Scene;
-use crate::{Error, Evaluation, Limit, Model, Pose, Twist};
+use crate::{Error, Evaluation, Limit, Model};
 #[cfg(feature = "derivatives")]
-use crate::{State, C5};
+use crate::{Pose, State, Twist, C5};
 use alloc::boxed::Box;
 use alloc::vec::Vec;
 use c5_robot::Description;
@@ -156,8 +156,15 @@ where
     {
         Box::new(crate::platform::Sliced(self))
     }
-    /// What a platform free in space adds (the derivatives), where the robot's platform is one.
+    /// What a platform free in space adds (the planner's six freedoms), where the robot's
+    /// platform is one.
     fn spatial(&self) -> Option<&dyn SpatialRobot> {
+        None
+    }
+    /// The robot's exact derivatives, where its mechanism has them generated; `None` where not
+    /// (the rotary hexapod's and the Delta's).
+    #[cfg(feature = "derivatives")]
+    fn derivatives(&self) -> Option<&dyn Derivatives<N>> {
         None
     }
     /// The robot's parts at `pose`, for drawing it, with the joints and legs past a limit
@@ -280,17 +287,11 @@ where
     }
 }
 
-/// What a platform free in space adds to its [`ParallelRobot`]: the dynamics' derivatives,
-/// where its mechanism has them generated, and the planner that reads them.
+/// What a platform free in space adds to its [`ParallelRobot`]: the planner
+/// (`c5_runtime::plan`, feature `derivatives`), whose state is the pose's RPY angles and centre with the twist.
 pub trait SpatialRobot: ParallelRobot<6> {
     /// A boxed copy.
     fn clone_spatial(&self) -> Box<dyn SpatialRobot>;
-    /// The robot's exact derivatives, where its mechanism has them generated; `None` where not
-    /// (the rotary hexapod's).
-    #[cfg(feature = "derivatives")]
-    fn derivatives(&self) -> Option<&dyn Derivatives> {
-        None
-    }
 }
 
 impl<const N: usize> Clone for Box<dyn ParallelRobot<N>>
@@ -345,19 +346,22 @@ pub fn export(
     description.export(format).map_err(Error::from_robot)
 }
 
-/// The dynamics' exact derivatives of a robot whose platform is free in space
-/// ([`crate::derivatives`]): a capability of the mechanisms whose derivative kernels are
-/// generated, reached through [`SpatialRobot::derivatives`].
+/// The dynamics' exact derivatives of a robot whose platform has `N` freedoms
+/// ([`crate::derivatives`]), in its typed coordinates: a capability of the mechanisms whose
+/// derivative kernels are generated, reached through [`ParallelRobot::derivatives`].
 #[cfg(feature = "derivatives")]
-pub trait Derivatives: Send + Sync {
+pub trait Derivatives<const N: usize>: Send + Sync
+where
+    Platform<N>: Freedoms<N>,
+{
     /// `Γ` and its exact Jacobians with respect to the pose, twist and acceleration.
     ///
     /// # Errors
     /// Non-finite inputs, a singular pose or a non-finite result.
     fn inverse_dynamics_derivatives(
         &self,
-        state: &State,
-    ) -> Result<InverseDynamicsDerivatives, Error>;
+        state: &StateOf<N>,
+    ) -> Result<InverseDynamicsDerivatives<N>, Error>;
     /// The forward dynamics and its exact Jacobians with respect to the pose, twist and
     /// forces.
     ///
@@ -365,21 +369,21 @@ pub trait Derivatives: Send + Sync {
     /// Non-finite inputs, a singular pose or a non-finite result.
     fn forward_dynamics_derivatives(
         &self,
-        pose: &Pose,
-        twist: &Twist,
-        gamma: &[f64; 6],
-    ) -> Result<ForwardDynamicsDerivatives, Error>;
+        pose: &PoseOf<N>,
+        twist: &TwistOf<N>,
+        gamma: &[f64; N],
+    ) -> Result<ForwardDynamicsDerivatives<N>, Error>;
 }
 
 /// The derivatives of the mechanisms that have them, through their inherent methods.
 macro_rules! derivatives_impl {
     ($($robot:ty),*) => {$(
         #[cfg(feature = "derivatives")]
-        impl Derivatives for $robot {
+        impl Derivatives<6> for $robot {
             fn inverse_dynamics_derivatives(
                 &self,
                 state: &State,
-            ) -> Result<InverseDynamicsDerivatives, Error> {
+            ) -> Result<InverseDynamicsDerivatives<6>, Error> {
                 <$robot>::inverse_dynamics_derivatives(self, state)
             }
             fn forward_dynamics_derivatives(
@@ -387,7 +391,7 @@ macro_rules! derivatives_impl {
                 pose: &Pose,
                 twist: &Twist,
                 gamma: &[f64; 6],
-            ) -> Result<ForwardDynamicsDerivatives, Error> {
+            ) -> Result<ForwardDynamicsDerivatives<6>, Error> {
                 <$robot>::forward_dynamics_derivatives(self, pose, twist, gamma)
             }
         }
@@ -400,11 +404,24 @@ derivatives_impl!(C5, crate::GoughStewart);
 /// # Errors
 /// [`Error::Unsupported`] naming the mechanism.
 #[cfg(feature = "derivatives")]
-pub fn derivatives_of(robot: &dyn SpatialRobot) -> Result<&dyn Derivatives, Error> {
-    robot.derivatives().ok_or(Error::Unsupported {
+pub fn derivatives_of<const N: usize, R: ParallelRobot<N> + ?Sized>(
+    robot: &R,
+) -> Result<&dyn Derivatives<N>, Error>
+where
+    Platform<N>: Freedoms<N>,
+{
+    robot
+        .derivatives()
+        .ok_or(unsupported_derivatives(robot.mechanism()))
+}
+
+/// The refusal of derivatives to a mechanism without them generated.
+#[cfg(feature = "derivatives")]
+pub(crate) fn unsupported_derivatives(mechanism: &'static str) -> Error {
+    Error::Unsupported {
         what: "derivatives",
-        mechanism: robot.mechanism(),
+        mechanism,
         why: "its derivative kernels are not generated yet; its kinematics, dynamics and \
               regressors are (docs/mechanisms.md)",
-    })
+    }
 }

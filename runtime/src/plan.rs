@@ -146,7 +146,7 @@ fn rpy_rates(angles: [f64; 3], w: [f64; 3]) -> ([f64; 3], [[f64; 3]; 3], [[f64; 
 
 /// The Euler step `s + dt f(s, u)`, with its Jacobians `A = ∂s'/∂s`, `B = ∂s'/∂u`.
 fn step(
-    robot: &dyn Derivatives,
+    robot: &dyn Derivatives<6>,
     s: &S,
     u: &U,
     dt: f64,
@@ -161,7 +161,7 @@ fn step(
         d_gamma,
     } = robot.forward_dynamics_derivatives(&pose, &twist, &gamma)?;
     let (rates, d_angles, d_omega) = rpy_rates([s[0], s[1], s[2]], twist.omega);
-    let a = accel.to_array();
+    let a = accel;
     let mut f = S::zeros();
     let mut fs = Sxx::zeros();
     let mut fu = Sxu::zeros();
@@ -182,7 +182,12 @@ fn step(
             fu[(6 + i, j)] = d_gamma[i][j];
         }
     }
-    Ok((s + f * dt, Sxx::identity() + fs * dt, fu * dt, accel))
+    Ok((
+        s + f * dt,
+        Sxx::identity() + fs * dt,
+        fu * dt,
+        Acceleration::from_array(accel),
+    ))
 }
 
 /// The augmented Lagrangian's state: multipliers and penalties of the goal and the limits.
@@ -268,7 +273,7 @@ impl Lagrangian {
 }
 
 /// The states of the controls from `s0`.
-fn rollout(robot: &dyn Derivatives, s0: &S, controls: &[U], dt: f64) -> Result<Vec<S>, Error> {
+fn rollout(robot: &dyn Derivatives<6>, s0: &S, controls: &[U], dt: f64) -> Result<Vec<S>, Error> {
     let mut states = Vec::with_capacity(controls.len() + 1);
     states.push(*s0);
     for u in controls {
@@ -282,7 +287,7 @@ fn rollout(robot: &dyn Derivatives, s0: &S, controls: &[U], dt: f64) -> Result<V
 /// Levenberg-Marquardt shift of `Q_uu`, forward passes with a line search, until a full step
 /// gains or promises less than `tolerance` of the cost. Returns the iterations spent.
 fn ilqr(
-    robot: &dyn Derivatives,
+    robot: &dyn Derivatives<6>,
     al: &Lagrangian,
     states: &mut Vec<S>,
     controls: &mut Vec<U>,
@@ -534,7 +539,7 @@ pub fn quintic_forces(robot: &dyn SpatialRobot, problem: &Problem) -> Result<Vec
 /// The plan's samples: states with the accelerations the forces give, the goal at rest.
 #[allow(clippy::too_many_arguments)]
 fn assemble(
-    robot: &dyn Derivatives,
+    robot: &dyn Derivatives<6>,
     states: &[S],
     controls: &[U],
     dt: f64,

@@ -44,6 +44,10 @@ pub trait Mechanism: core::fmt::Debug + Send + Sync {
     /// The robot as a platform free in space, for what only six freedoms serve; `None` for a
     /// platform that only translates.
     fn spatial(&self) -> Option<&dyn SpatialRobot>;
+    /// The robot's exact derivatives in its platform's coordinates, where its mechanism has
+    /// them generated; `None` where not.
+    #[cfg(feature = "derivatives")]
+    fn derivatives(&self) -> Option<&dyn crate::derivatives::SlicedDerivatives>;
     /// Its mechanism's kinematic calibration kernel, where one is generated.
     #[cfg(feature = "calibrate")]
     fn calibration(&self) -> Option<crate::calibrate::ResidualKernel>;
@@ -504,7 +508,7 @@ impl<R, const N: usize> Sliced<R, N> {
 }
 
 /// The pose in `pose`, as the platform of `N` freedoms types it.
-fn pose_of<const N: usize>(name: &'static str, pose: &[f64]) -> Result<PoseOf<N>, Error>
+pub(crate) fn pose_of<const N: usize>(name: &'static str, pose: &[f64]) -> Result<PoseOf<N>, Error>
 where
     Platform<N>: Freedoms<N>,
 {
@@ -512,7 +516,7 @@ where
 }
 
 /// The platform's state from its three slices.
-fn state_from<const N: usize>(motion: [&[f64]; 3]) -> Result<StateOf<N>, Error>
+pub(crate) fn state_from<const N: usize>(motion: [&[f64]; 3]) -> Result<StateOf<N>, Error>
 where
     Platform<N>: Freedoms<N>,
 {
@@ -534,7 +538,10 @@ where
 }
 
 /// Checks that `out` takes an `N × N` matrix, before anything is computed.
-fn room_for_matrix<const N: usize>(output: &'static str, out: &[f64]) -> Result<(), Error> {
+pub(crate) fn room_for_matrix<const N: usize>(
+    output: &'static str,
+    out: &[f64],
+) -> Result<(), Error> {
     if out.len() == N * N {
         Ok(())
     } else {
@@ -570,6 +577,12 @@ where
     }
     fn spatial(&self) -> Option<&dyn SpatialRobot> {
         self.0.spatial()
+    }
+    #[cfg(feature = "derivatives")]
+    fn derivatives(&self) -> Option<&dyn crate::derivatives::SlicedDerivatives> {
+        self.0
+            .derivatives()
+            .map(|_| self as &dyn crate::derivatives::SlicedDerivatives)
     }
     #[cfg(feature = "calibrate")]
     fn calibration(&self) -> Option<crate::calibrate::ResidualKernel> {
@@ -1158,6 +1171,82 @@ mod tests {
                 assert!((pose[i] - start[i]).abs() < 1e-12, "{}", robot.mechanism());
                 assert!(twist[i].abs() < 1e-9, "{}", robot.mechanism());
             }
+        }
+    }
+
+    /// Through slices, a mechanism's derivatives give the inverse dynamics' forces, and the
+    /// forward dynamics' `∂a/∂Γ = M_x⁻¹ J⁻ᵀ` inverts the inverse dynamics' `∂Γ/∂a = Jᵀ M_x`;
+    /// a mechanism without them refuses by name; a slot of the wrong size is refused with
+    /// nothing written.
+    #[cfg(feature = "derivatives")]
+    #[test]
+    fn the_sliced_derivatives_invert_each_other_or_are_refused_by_name() {
+        use crate::derivatives::sliced_derivatives_of;
+        for robot in every_mechanism() {
+            let (name, n) = (robot.mechanism(), robot.freedom().dimension());
+            let Ok(derivatives) = sliced_derivatives_of(&*robot) else {
+                let refused = sliced_derivatives_of(&*robot).map(|_| ());
+                assert!(robot.derivatives().is_none(), "{name}");
+                assert!(
+                    matches!(refused, Err(Error::Unsupported { mechanism, .. }) if mechanism == name),
+                    "{refused:?}"
+                );
+                continue;
+            };
+            let [pose, twist, accel] = motion(&*robot, 1.0);
+            let (mut gamma, mut direct) = (vec![0.0; n], vec![0.0; n]);
+            let mut by_id = [0; 3].map(|_| vec![0.0; n * n]);
+            let [d_pose, d_twist, d_accel] = &mut by_id;
+            let motion = [&pose[..], &twist, &accel];
+            derivatives
+                .inverse_dynamics_derivatives(motion, &mut gamma, [d_pose, d_twist, d_accel])
+                .unwrap();
+            robot
+                .inverse_dynamics(&pose, &twist, &accel, &mut direct)
+                .unwrap();
+            for (g, d) in gamma.iter().zip(&direct) {
+                assert!((g - d).abs() < 1e-12 * (1.0 + d.abs()), "{name}: {gamma:?}");
+            }
+            let mut found = vec![0.0; n];
+            let mut by_fd = [0; 3].map(|_| vec![0.0; n * n]);
+            let [f_pose, f_twist, f_gamma] = &mut by_fd;
+            derivatives
+                .forward_dynamics_derivatives(
+                    &pose,
+                    &twist,
+                    &gamma,
+                    &mut found,
+                    [f_pose, f_twist, f_gamma],
+                )
+                .unwrap();
+            for (a, want) in found.iter().zip(&accel) {
+                assert!((a - want).abs() < 1e-9, "{name}: {found:?}");
+            }
+            let identity = product(&by_fd[2], &by_id[2], n);
+            for (ij, x) in identity.iter().enumerate() {
+                let expected = if ij / n == ij % n { 1.0 } else { 0.0 };
+                assert!((x - expected).abs() < 1e-9, "{name}: {identity:?}");
+            }
+            let mut untouched = vec![7.0; n];
+            let mut short = vec![0.0; n * n - 1];
+            let mut rest = [0; 2].map(|_| vec![0.0; n * n]);
+            let [r1, r2] = &mut rest;
+            let wrong = derivatives.inverse_dynamics_derivatives(
+                motion,
+                &mut untouched,
+                [r1, &mut short, r2],
+            );
+            assert!(
+                matches!(
+                    wrong,
+                    Err(Error::WrongLength {
+                        input: "d_gamma_d_twist",
+                        ..
+                    })
+                ),
+                "{wrong:?}"
+            );
+            assert!(untouched.iter().all(|&x| x == 7.0), "{name}");
         }
     }
 }

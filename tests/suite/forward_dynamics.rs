@@ -94,7 +94,7 @@ fn each_model_refuses_the_forward_dynamics_nearer_than_its_own_bound() {
                 let a = single.unwrap().to_array();
                 assert!(rel_err(&a, &state.accel.to_array(), 1.0) < 1e-8, "{a:?}");
                 assert!(many.into_iter().all(|b| b.unwrap().to_array() == a));
-                let from_derivatives = derivatives.unwrap().accel.to_array();
+                let from_derivatives = derivatives.unwrap().accel;
                 assert!(
                     rel_err(&from_derivatives, &a, 1.0) < 1e-12,
                     "{from_derivatives:?}"

@@ -53,7 +53,10 @@ fn the_regressors_times_the_parameters_are_the_inverse_dynamics_with_friction() 
             let friction = random_friction(&mut r);
             let c5 = C5::with_model(robot, model).unwrap();
             let pi = robot.standard_parameters(&friction);
-            let beta = c5.base_parameters().of_robot(&c5, &friction).unwrap();
+            let beta = c5
+                .base_parameters()
+                .of_robot(c5.as_mechanism(), &friction)
+                .unwrap();
             for _ in 0..20 {
                 let state = random_state(&mut r);
                 let want = measured(&c5, &friction, &state);
@@ -136,7 +139,10 @@ fn noise_free_data_identify_a_robot_that_predicts_unseen_forces() {
             "{}",
             estimate.condition_number
         );
-        let beta = blank.base_parameters().of_robot(&truth, &friction).unwrap();
+        let beta = blank
+            .base_parameters()
+            .of_robot(truth.as_mechanism(), &friction)
+            .unwrap();
         let err = estimate
             .values
             .iter()

@@ -221,7 +221,7 @@ fn identification_recovers_an_unseen_robot() {
         let beta = blank
             .base_parameters()
             .unwrap()
-            .from_standard(&truth.standard_parameters(&friction).unwrap())
+            .of_robot(truth, &friction)
             .unwrap();
         let largest = beta.iter().fold(0.0f64, |m, b| m.max(b.abs()));
         for (j, (got, want)) in estimate.values.iter().zip(&beta).enumerate() {

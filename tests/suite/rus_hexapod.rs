@@ -218,10 +218,12 @@ fn the_examples_legs_hold_the_platform_near_home() {
 /// mechanism, while the Gough-Stewart platform has it.
 #[test]
 fn a_capability_not_generated_is_absent() {
+    use c5_runtime::derivatives::sliced_derivatives_of;
     use c5_runtime::mechanism::derivatives_of;
-    use c5_runtime::SpatialRobot;
+    use c5_runtime::ParallelRobot;
     let robot = RusHexapod::new(Description::example()).unwrap();
-    assert!(SpatialRobot::derivatives(&robot).is_none());
+    assert!(ParallelRobot::derivatives(&robot).is_none());
+    assert!(robot.as_mechanism().derivatives().is_none());
     match derivatives_of(&robot) {
         Err(Error::Unsupported {
             what: "derivatives",
@@ -233,4 +235,17 @@ fn a_capability_not_generated_is_absent() {
     }
     let hexapod = c5_runtime::GoughStewart::new(c5_robot::GoughStewart::example()).unwrap();
     assert!(derivatives_of(&hexapod).is_ok());
+    assert!(sliced_derivatives_of(hexapod.as_mechanism()).is_ok());
+    let delta = c5_runtime::Delta::new(c5_robot::Delta::example()).unwrap();
+    let refused = sliced_derivatives_of(delta.as_mechanism()).map(|_| ());
+    assert!(
+        matches!(
+            refused,
+            Err(Error::Unsupported {
+                mechanism: "delta",
+                ..
+            })
+        ),
+        "{refused:?}"
+    );
 }

@@ -3,9 +3,7 @@
 use crate::jsonl::{self, Key};
 use crate::options::RobotArgs;
 use c5_runtime::platform::Freedom;
-use c5_runtime::{
-    platform::Margin, Acceleration, Error, Limit, Mechanism, Pose, SpatialRobot, State, Twist,
-};
+use c5_runtime::{platform::Margin, Error, Limit, Mechanism};
 use clap::Args;
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -21,10 +19,12 @@ pub struct EvalArgs {
     /// of the identified robot with its friction (the robot file gives only the geometry).
     #[arg(long)]
     base_parameters: Option<PathBuf>,
-    /// Also write the inverse dynamics' exact Jacobians, 6×6 each, row `i` actuator `i`:
-    /// `d_gamma_d_pose`, `d_gamma_d_twist`, `d_gamma_d_acceleration` (columns α β γ xc yc zc;
-    /// ωx ωy ωz vx vy vz; ω̇x ω̇y ω̇z ax ay az), or for lines of actuator values `d_gamma_d_q`,
-    /// `d_gamma_d_qd`, `d_gamma_d_qdd` (columns actuators 1..6; the C5's only).
+    /// Also write the inverse dynamics' exact Jacobians, n×n each, row `i` actuator `i`:
+    /// `d_gamma_d_pose`, `d_gamma_d_twist`, `d_gamma_d_acceleration` (columns the platform's
+    /// coordinates: α β γ xc yc zc; ωx ωy ωz vx vy vz; ω̇x ω̇y ω̇z ax ay az for six freedoms),
+    /// or for lines of actuator values `d_gamma_d_q`, `d_gamma_d_qd`, `d_gamma_d_qdd`
+    /// (columns the actuators; the C5's only). Mechanisms whose derivative kernels are
+    /// generated: the C5 and the Gough-Stewart platform.
     #[arg(long, conflicts_with = "base_parameters")]
     derivatives: bool,
     /// Make a line whose pose, actuator speeds or forces break a limit of the robot file's
@@ -109,13 +109,8 @@ pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
         return Err(crate::unbuilt::needs("`--derivatives`", "derivatives"));
     }
     let robot = args.robot.load_mechanism()?;
-    if robot.spatial().is_none() && args.derivatives {
-        return Err(format!(
-            "`--derivatives` is not served for the {} yet: its platform only translates, and \
-             its derivative kernels are not generated",
-            robot.mechanism()
-        )
-        .into());
+    if args.derivatives {
+        refuse_without_derivatives(robot.as_ref())?;
     }
     let estimate = args
         .base_parameters
@@ -130,18 +125,13 @@ pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
     )
 }
 
-/// A matrix of `n` columns, row-major, as rows.
-fn rows(values: &[f64], n: usize) -> Vec<&[f64]> {
-    values.chunks(n).collect()
-}
-
 /// `q`, `qd`, `qdd`, `gamma`, `jinv` and `jacobian` of the platform's `motion`.
 fn evaluate(robot: &dyn Mechanism, [x, v, a]: &[Vec<f64>; 3]) -> Result<Value, Error> {
     let n = robot.freedom().dimension();
     let e = robot.evaluate(x, v, a)?;
     Ok(json!({
         "q": e.q, "qd": e.qd, "qdd": e.qdd, "gamma": e.gamma,
-        "jinv": rows(&e.jinv, n), "jacobian": rows(&e.jacobian, n),
+        "jinv": jsonl::rows(&e.jinv, n), "jacobian": jsonl::rows(&e.jacobian, n),
     }))
 }
 
@@ -150,20 +140,6 @@ fn put_parts(out: &mut Value, parts: &[&str], values: &[f64]) {
     for (part, chunk) in parts.iter().zip(values.chunks(3)) {
         out[*part] = json!(chunk);
     }
-}
-
-/// A motion of six coordinates as the six-freedom types hold it.
-fn spatial_state([x, v, a]: &[Vec<f64>; 3]) -> Result<State, String> {
-    let six = |values: &[f64]| -> Result<[f64; 6], String> {
-        values
-            .try_into()
-            .map_err(|_| "a six-freedom state".to_string())
-    };
-    Ok(State {
-        pose: Pose::from_array(six(x)?),
-        twist: Twist::from_array(six(v)?),
-        accel: Acceleration::from_array(six(a)?),
-    })
 }
 
 /// The forces of identified parameters, where this build has identification.
@@ -208,58 +184,86 @@ mod identified {
     }
 }
 
-/// The inverse dynamics' three Jacobians, each under its key.
-type KeyedJacobians = [(&'static str, [[f64; 6]; 6]); 3];
+/// The inverse dynamics' three Jacobians (`n × n`, row-major), each under its key.
+type KeyedJacobians = [(&'static str, Vec<f64>); 3];
 
-/// The inverse dynamics' Jacobians of a line, under their keys.
+/// Refuses `--derivatives`, before any line, for a mechanism without them generated.
+#[cfg(feature = "derivatives")]
+fn refuse_without_derivatives(robot: &dyn Mechanism) -> crate::Result<()> {
+    c5_runtime::derivatives::sliced_derivatives_of(robot)?;
+    Ok(())
+}
+
+#[cfg(not(feature = "derivatives"))]
+fn refuse_without_derivatives(_robot: &dyn Mechanism) -> crate::Result<()> {
+    Ok(())
+}
+
+/// The inverse dynamics' Jacobians of a line, under their keys: with respect to the
+/// platform's state, or to the actuators' motion where the line gives it.
 #[cfg(feature = "derivatives")]
 fn derivative_keys(
-    robot: &dyn SpatialRobot,
-    state: &State,
-    joints: Option<[[f64; 6]; 3]>,
+    robot: &dyn Mechanism,
+    [x, v, a]: &[Vec<f64>; 3],
+    joints: Option<&[Vec<f64>; 3]>,
 ) -> Result<KeyedJacobians, String> {
-    Ok(match joints {
-        Some([q, qd, qdd]) => {
-            // Only the C5's forward kinematics has the closed form these kernels derive.
-            let c5 = robot
-                .as_any()
-                .downcast_ref::<c5_runtime::C5>()
-                .ok_or_else(|| {
-                    c5_runtime::Error::Unsupported {
-                        what: "joint-space derivatives",
-                        mechanism: robot.mechanism(),
-                        why: "its forward kinematics iterates; use the task-space derivatives \
-                          with J⁻¹",
-                    }
-                    .to_string()
-                })?;
-            let d = c5
-                .inverse_dynamics_joint_derivatives(&q, &qd, &qdd)
-                .map_err(|e| e.to_string())?;
-            [
-                ("d_gamma_d_q", d.d_q),
-                ("d_gamma_d_qd", d.d_qd),
-                ("d_gamma_d_qdd", d.d_qdd),
-            ]
-        }
-        None => {
-            let d = c5_runtime::mechanism::derivatives_of(robot)
-                .and_then(|d| d.inverse_dynamics_derivatives(state))
-                .map_err(|e| e.to_string())?;
-            [
-                ("d_gamma_d_pose", d.d_pose),
-                ("d_gamma_d_twist", d.d_twist),
-                ("d_gamma_d_acceleration", d.d_accel),
-            ]
-        }
-    })
+    if let Some(joints) = joints {
+        return joint_derivative_keys(robot, joints);
+    }
+    let n = x.len();
+    let mut gamma = vec![0.0; n];
+    let mut jacobians = [0; 3].map(|_| vec![0.0; n * n]);
+    let [d_pose, d_twist, d_accel] = &mut jacobians;
+    c5_runtime::derivatives::sliced_derivatives_of(robot)
+        .and_then(|d| {
+            d.inverse_dynamics_derivatives([x, v, a], &mut gamma, [d_pose, d_twist, d_accel])
+        })
+        .map_err(|e| e.to_string())?;
+    let [d_pose, d_twist, d_accel] = jacobians;
+    Ok([
+        ("d_gamma_d_pose", d_pose),
+        ("d_gamma_d_twist", d_twist),
+        ("d_gamma_d_acceleration", d_accel),
+    ])
+}
+
+/// The joint-space Jacobians, the C5's alone: only its forward kinematics has the closed form
+/// these kernels derive.
+#[cfg(feature = "derivatives")]
+fn joint_derivative_keys(
+    robot: &dyn Mechanism,
+    [q, qd, qdd]: &[Vec<f64>; 3],
+) -> Result<KeyedJacobians, String> {
+    let c5 = robot
+        .spatial()
+        .and_then(|s| s.as_any().downcast_ref::<c5_runtime::C5>())
+        .ok_or_else(|| {
+            c5_runtime::Error::Unsupported {
+                what: "joint-space derivatives",
+                mechanism: robot.mechanism(),
+                why: "its forward kinematics iterates; use the task-space derivatives with J⁻¹",
+            }
+            .to_string()
+        })?;
+    let actuators = |v: &[f64]| {
+        v.try_into()
+            .map_err(|_| "one value per actuator".to_string())
+    };
+    let d = c5
+        .inverse_dynamics_joint_derivatives(&actuators(q)?, &actuators(qd)?, &actuators(qdd)?)
+        .map_err(|e| e.to_string())?;
+    Ok([
+        ("d_gamma_d_q", d.d_q.as_flattened().to_vec()),
+        ("d_gamma_d_qd", d.d_qd.as_flattened().to_vec()),
+        ("d_gamma_d_qdd", d.d_qdd.as_flattened().to_vec()),
+    ])
 }
 
 #[cfg(not(feature = "derivatives"))]
 fn derivative_keys(
-    _robot: &dyn SpatialRobot,
-    _state: &State,
-    _joints: Option<[[f64; 6]; 3]>,
+    _robot: &dyn Mechanism,
+    _motion: &[Vec<f64>; 3],
+    _joints: Option<&[Vec<f64>; 3]>,
 ) -> Result<KeyedJacobians, String> {
     Err(crate::unbuilt::needs("`--derivatives`", "derivatives").to_string())
 }
@@ -339,16 +343,9 @@ fn eval(
             out["gamma"] = json!(gamma);
         }
         if extras.derivatives {
-            let spatial = robot
-                .spatial()
-                .ok_or("`--derivatives` takes six freedoms")?;
-            let six = |v: &[f64]| <[f64; 6]>::try_from(v).map_err(|_| "six actuators");
-            let joints = joints
-                .as_ref()
-                .map(|[q, qd, qdd]| -> Result<_, String> { Ok([six(q)?, six(qd)?, six(qdd)?]) })
-                .transpose()?;
-            for (key, jacobian) in derivative_keys(spatial, &spatial_state(&motion)?, joints)? {
-                out[key] = json!(jacobian);
+            let n = freedom.dimension();
+            for (key, jacobian) in derivative_keys(robot, &motion, joints.as_ref())? {
+                out[key] = json!(jsonl::rows(&jacobian, n));
             }
         }
         if let Some(estimate) = extras.identified {

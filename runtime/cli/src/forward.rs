@@ -4,7 +4,7 @@
 use crate::jsonl::{self, Key};
 use crate::options::RobotArgs;
 use c5_runtime::platform::Freedom;
-use c5_runtime::SpatialRobot;
+use c5_runtime::Mechanism;
 use clap::Args;
 use serde_json::{json, Value};
 use std::process::ExitCode;
@@ -15,9 +15,11 @@ use std::process::ExitCode;
 pub struct ForwardArgs {
     #[command(flatten)]
     robot: RobotArgs,
-    /// Also write the forward dynamics' exact Jacobians, 6×6 each, rows ω̇x ω̇y ω̇z ax ay az:
-    /// `d_acceleration_d_pose`, `d_acceleration_d_twist`, `d_acceleration_d_gamma` (columns
-    /// α β γ xc yc zc; ωx ωy ωz vx vy vz; actuators 1..6).
+    /// Also write the forward dynamics' exact Jacobians, n×n each, rows the acceleration's
+    /// coordinates: `d_acceleration_d_pose`, `d_acceleration_d_twist`, `d_acceleration_d_gamma`
+    /// (columns the pose's, the twist's and the actuators; for six freedoms rows
+    /// ω̇x ω̇y ω̇z ax ay az, columns α β γ xc yc zc and ωx ωy ωz vx vy vz). Mechanisms whose
+    /// derivative kernels are generated: the C5 and the Gough-Stewart platform.
     #[arg(long)]
     derivatives: bool,
 }
@@ -41,68 +43,88 @@ pub fn run(args: &ForwardArgs) -> crate::Result<ExitCode> {
     if args.derivatives && !cfg!(feature = "derivatives") {
         return Err(crate::unbuilt::needs("`--derivatives`", "derivatives"));
     }
-    let robot = args.robot.load_mechanism()?;
+    let robot = &*args.robot.load_mechanism()?;
+    if args.derivatives {
+        refuse_without_derivatives(robot)?;
+    }
     let freedom = robot.freedom();
-    let spatial = match (robot.spatial(), args.derivatives) {
-        (None, true) => {
-            return Err(format!(
-                "`--derivatives` is not served for the {} yet: its platform only translates",
-                robot.mechanism()
-            )
-            .into())
-        }
-        (spatial, true) => spatial,
-        (_, false) => None,
-    };
     let keys = keys(freedom);
     jsonl::answer_lines(|line| {
         let v = jsonl::parse(line, &keys)?;
         let (pose, gamma) = (&v[0], &v[v.len() - 1]);
         let twist = v[1..v.len() - 1].concat();
-        if let Some(robot) = spatial {
+        if args.derivatives {
             return derivatives(robot, pose, &twist, gamma);
         }
         let mut accel = vec![0.0; freedom.dimension()];
         robot
             .forward_dynamics(pose, &twist, gamma, &mut accel)
             .map_err(|e| e.to_string())?;
-        let parts = freedom.acceleration_parts().iter().zip(accel.chunks(3));
-        Ok(Value::Object(
-            parts
-                .map(|(part, a)| (part.to_string(), json!(a)))
-                .collect(),
-        ))
+        Ok(acceleration_parts(freedom, &accel))
     })
 }
 
-/// The forward dynamics and its exact Jacobians, for a platform free in space.
+/// The acceleration under the names of its three-number parts.
+fn acceleration_parts(freedom: Freedom, accel: &[f64]) -> Value {
+    let parts = freedom.acceleration_parts().iter().zip(accel.chunks(3));
+    Value::Object(
+        parts
+            .map(|(part, a)| (part.to_string(), json!(a)))
+            .collect(),
+    )
+}
+
+/// Refuses `--derivatives`, before any line, for a mechanism without them generated.
+#[cfg(feature = "derivatives")]
+fn refuse_without_derivatives(robot: &dyn Mechanism) -> crate::Result<()> {
+    c5_runtime::derivatives::sliced_derivatives_of(robot)?;
+    Ok(())
+}
+
+#[cfg(not(feature = "derivatives"))]
+fn refuse_without_derivatives(_robot: &dyn Mechanism) -> crate::Result<()> {
+    Ok(())
+}
+
+/// The forward dynamics and its exact Jacobians, `n × n` each, in the platform's coordinates.
 #[cfg(feature = "derivatives")]
 fn derivatives(
-    robot: &dyn SpatialRobot,
+    robot: &dyn Mechanism,
     pose: &[f64],
     twist: &[f64],
     gamma: &[f64],
 ) -> Result<Value, String> {
-    let six = |v: &[f64]| <[f64; 6]>::try_from(v).map_err(|_| "six freedoms".to_string());
-    let pose = c5_runtime::Pose::from_array(six(pose)?);
-    let twist = c5_runtime::Twist::from_array(six(twist)?);
-    let gamma = six(gamma)?;
-    let d = c5_runtime::mechanism::derivatives_of(robot)
-        .and_then(|d| d.forward_dynamics_derivatives(&pose, &twist, &gamma))
+    let n = robot.freedom().dimension();
+    let mut accel = vec![0.0; n];
+    let mut jacobians = [0; 3].map(|_| vec![0.0; n * n]);
+    let [d_pose, d_twist, d_gamma] = &mut jacobians;
+    c5_runtime::derivatives::sliced_derivatives_of(robot)
+        .and_then(|d| {
+            d.forward_dynamics_derivatives(
+                pose,
+                twist,
+                gamma,
+                &mut accel,
+                [d_pose, d_twist, d_gamma],
+            )
+        })
         .map_err(|e| e.to_string())?;
-    Ok(json!({
-        "omega_dot": d.accel.omega_dot,
-        "acceleration": d.accel.linear,
-        "d_acceleration_d_pose": d.d_pose,
-        "d_acceleration_d_twist": d.d_twist,
-        "d_acceleration_d_gamma": d.d_gamma,
-    }))
+    let mut out = acceleration_parts(robot.freedom(), &accel);
+    let keys = [
+        "d_acceleration_d_pose",
+        "d_acceleration_d_twist",
+        "d_acceleration_d_gamma",
+    ];
+    for (key, jacobian) in keys.into_iter().zip(&jacobians) {
+        out[key] = json!(jsonl::rows(jacobian, n));
+    }
+    Ok(out)
 }
 
 /// Without the derivative kernels `run` refuses `--derivatives` before any line.
 #[cfg(not(feature = "derivatives"))]
 fn derivatives(
-    _robot: &dyn SpatialRobot,
+    _robot: &dyn Mechanism,
     _pose: &[f64],
     _twist: &[f64],
     _gamma: &[f64],

@@ -156,6 +156,11 @@ pub fn answer_lines(
     })
 }
 
+/// A matrix of `n` columns, row-major, as rows.
+pub fn rows(values: &[f64], n: usize) -> Vec<&[f64]> {
+    values.chunks(n).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

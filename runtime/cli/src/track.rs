@@ -286,7 +286,7 @@ pub enum Desired {
     Samples(Vec<(f64, State)>),
 }
 
-fn lerp(a: &[f64; 6], b: &[f64; 6], s: f64) -> [f64; 6] {
+fn lerp<const N: usize>(a: &[f64; N], b: &[f64; N], s: f64) -> [f64; N] {
     std::array::from_fn(|i| a[i] + s * (b[i] - a[i]))
 }
 

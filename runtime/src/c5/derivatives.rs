@@ -17,7 +17,7 @@ impl C5 {
     pub fn inverse_dynamics_derivatives(
         &self,
         state: &State,
-    ) -> Result<InverseDynamicsDerivatives, Error> {
+    ) -> Result<InverseDynamicsDerivatives<6>, Error> {
         let [x, v, a] = Self::checked_motion(state)?;
         let (gamma, d_pose, d_twist, d_accel, r) = self
             .kernels
@@ -36,7 +36,7 @@ impl C5 {
         pose: &Pose,
         twist: &Twist,
         gamma: &[f64; 6],
-    ) -> Result<ForwardDynamicsDerivatives, Error> {
+    ) -> Result<ForwardDynamicsDerivatives<6>, Error> {
         let [x, v] = C5::checked_forward(pose, twist, gamma)?;
         let (a, d_pose, d_twist, d_gamma, r) =
             self.kernels
@@ -57,7 +57,7 @@ impl C5 {
         q: &[f64; 6],
         qd: &[f64; 6],
         qdd: &[f64; 6],
-    ) -> Result<JointDynamicsDerivatives, Error> {
+    ) -> Result<JointDynamicsDerivatives<6>, Error> {
         Self::check_joints(q, qd, qdd)?;
         let (gamma, d_q, d_qd, d_qdd, guard) = self
             .kernels

@@ -176,6 +176,10 @@ impl ParallelRobot for C5 {
     fn spatial(&self) -> Option<&dyn SpatialRobot> {
         Some(self)
     }
+    #[cfg(feature = "derivatives")]
+    fn derivatives(&self) -> Option<&dyn Derivatives<6>> {
+        Some(self)
+    }
     #[cfg(feature = "identify")]
     fn standard_parameters(&self, friction: &[Friction; 6]) -> Vec<f64> {
         self.robot().standard_parameters(friction)
@@ -193,9 +197,5 @@ impl ParallelRobot for C5 {
 impl SpatialRobot for C5 {
     fn clone_spatial(&self) -> Box<dyn SpatialRobot> {
         Box::new(self.clone())
-    }
-    #[cfg(feature = "derivatives")]
-    fn derivatives(&self) -> Option<&dyn Derivatives> {
-        Some(self)
     }
 }

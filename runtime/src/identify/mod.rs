@@ -21,7 +21,7 @@ mod legged;
 
 pub use estimator::{Estimate, Identifier, IdentifyError};
 
-use crate::{check_divisors, Error, Kernels, Model, ParallelRobot, State, C5};
+use crate::{check_divisors, Error, Kernels, Mechanism, Model, State, C5};
 use alloc::string::{String, ToString};
 use alloc::vec::Vec;
 pub use c5_robot::{standard_parameter_names, Friction, STANDARD_PARAMETERS};
@@ -148,17 +148,18 @@ impl BaseParameters {
         Ok(self.apply(standard))
     }
 
-    /// The base parameters of `robot` with the actuators' `friction`.
+    /// The base parameters of `robot`, of any mechanism, with the actuators' `friction` (one
+    /// per actuator).
     ///
     /// # Errors
-    /// [`Error::WrongLength`] if `robot` is of another mechanism (another number of standard
-    /// parameters).
+    /// [`Error::WrongLength`] if `friction` is not one per actuator, or if `robot` is of
+    /// another mechanism (another number of standard parameters).
     pub fn of_robot(
         &self,
-        robot: &dyn ParallelRobot,
-        friction: &[Friction; 6],
+        robot: &dyn Mechanism,
+        friction: &[Friction],
     ) -> Result<Vec<f64>, Error> {
-        self.from_standard(&robot.standard_parameters(friction))
+        self.from_standard(&robot.standard_parameters(friction)?)
     }
 
     fn apply(&self, standard: &[f64]) -> Vec<f64> {

@@ -57,7 +57,7 @@ impl LeggedDescription<6> for c5_robot::GoughStewart {
         self.limits.any()
     }
     #[cfg(feature = "derivatives")]
-    fn derivatives(robot: &GoughStewart) -> Option<&dyn crate::mechanism::Derivatives> {
+    fn derivatives(robot: &GoughStewart) -> Option<&dyn crate::mechanism::Derivatives<6>> {
         Some(robot)
     }
     #[cfg(feature = "identify")]

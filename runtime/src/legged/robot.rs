@@ -70,7 +70,7 @@ pub trait LeggedDescription<const N: usize>:
     /// The robot's dynamics' exact derivatives, where the mechanism's derivative kernels are
     /// generated.
     #[cfg(feature = "derivatives")]
-    fn derivatives(_robot: &LeggedRobot<Self, N>) -> Option<&dyn crate::mechanism::Derivatives> {
+    fn derivatives(_robot: &LeggedRobot<Self, N>) -> Option<&dyn crate::mechanism::Derivatives<N>> {
         None
     }
     /// The robot's parts at the pose `x`, for the 3D view.

@@ -143,6 +143,10 @@ where
     fn spatial(&self) -> Option<&dyn SpatialRobot> {
         D::spatial(self)
     }
+    #[cfg(feature = "derivatives")]
+    fn derivatives(&self) -> Option<&dyn crate::mechanism::Derivatives<N>> {
+        D::derivatives(self)
+    }
     fn scene(&self, pose: &PoseOf<N>) -> Result<Scene, Error> {
         Self::scene(self, pose)
     }

@@ -105,8 +105,4 @@ where
     fn clone_spatial(&self) -> Box<dyn SpatialRobot> {
         Box::new(self.clone())
     }
-    #[cfg(feature = "derivatives")]
-    fn derivatives(&self) -> Option<&dyn crate::mechanism::Derivatives> {
-        D::derivatives(self)
-    }
 }
