@@ -792,11 +792,19 @@ fn mechanism_files(group: &MechanismKernels<'_>) -> Result<Vec<(PathBuf, String)
                     .iter()
                     .map(|(s, _)| format!("{}_x4", s.name))
                     .collect();
+                // With the derivative kernels of the same part, which a feature gates.
                 let names: Vec<&str> = match scalar {
                     Scalar::F64 => specs
                         .iter()
                         .map(|(s, _)| s.name.as_str())
                         .chain(batch_names.iter().map(String::as_str))
+                        .chain(
+                            group
+                                .derivatives
+                                .iter()
+                                .filter(|(e, _)| e.folded == folded)
+                                .map(|(e, _)| e.spec.name.as_str()),
+                        )
                         .collect(),
                     _ => Vec::new(),
                 };

@@ -284,6 +284,23 @@ pub fn kernel_set(mechanism: &crate::Mechanism, kernels: &[&str], fitted: Option
             call("forward_kinematics_step", "x, q"),
         );
     }
+    if has(&[
+        "inverse_dynamics_derivatives",
+        "forward_dynamics_derivatives",
+    ]) {
+        let jacobians = format!(
+            "([f64; {n}], [[f64; {n}]; {n}], [[f64; {n}]; {n}], [[f64; {n}]; {n}], {guard})"
+        );
+        out += &format!(
+            "#[cfg(feature = \"derivatives\")]\n\
+             impl crate::legged::Derivatives<{n}> for Kernels {{\n\
+             #[inline] fn inverse_dynamics_derivatives(x: &[f64; {n}], v: &[f64; {n}], a: &[f64; {n}], p: &[f64; PARAMETERS]) -> {jacobians} {{ {} }}\n\
+             #[inline] fn forward_dynamics_derivatives(x: &[f64; {n}], v: &[f64; {n}], gamma: &[f64; {n}], p: &[f64; PARAMETERS]) -> {jacobians} {{ {} }}\n\
+             }}\n",
+            call("inverse_dynamics_derivatives", "x, v, a"),
+            call("forward_dynamics_derivatives", "x, v, gamma"),
+        );
+    }
     if let Some(fitted) = fitted {
         out += &format!(
             "impl crate::legged::Calibrated<{n}> for Kernels {{\n\
@@ -443,11 +460,22 @@ mod tests {
     /// kernels are checked by hand, none; and the sets parse as Rust.
     #[test]
     fn each_mechanism_gets_the_kernel_sets_its_kernels_make() {
+        let with_derivatives: Vec<&str> = SPATIAL
+            .iter()
+            .copied()
+            .chain([
+                "inverse_dynamics_derivatives_params",
+                "forward_dynamics_derivatives_params",
+            ])
+            .collect();
         let hexapod = kernel_set(
             &Mechanism::gough_stewart(&GoughStewart::example()),
-            SPATIAL,
+            &with_derivatives,
             Some(7),
         );
+        assert!(hexapod.contains(
+            "#[cfg(feature = \"derivatives\")]\nimpl crate::legged::Derivatives<6> for Kernels"
+        ));
         assert!(hexapod.contains("crate::legged::Legs<6> for Kernels"));
         assert!(hexapod.contains("crate::legged::Spatial for Kernels"));
         assert!(hexapod.contains("crate::legged::TaskSpace<6> for Kernels"));
@@ -461,7 +489,7 @@ mod tests {
         assert!(delta.contains("crate::legged::Legs<3> for Kernels"));
         assert!(delta.contains("crate::legged::ClosedForm<3> for Kernels"));
         assert!(delta.contains("crate::legged::TaskSpace<3> for Kernels"));
-        assert!(!delta.contains("Spatial"));
+        assert!(!delta.contains("Spatial") && !delta.contains("Derivatives"));
         let c5 = Mechanism::c5(&Robot::default(), Model::Consistent);
         assert_eq!(kernel_set(&c5, SPATIAL, None), "");
         for code in [hexapod, delta] {

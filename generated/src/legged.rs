@@ -98,6 +98,42 @@ pub trait Spatial: Legs<6> {
     ) -> ([f64; 6], [f64; 6], [f64; 7], impl AsRef<[f64]>);
 }
 
+/// The dynamics' exact derivatives of a legged mechanism (feature `derivatives`), in the
+/// platform's `N` coordinates: each kernel's value and its three Jacobians, row-major (row `i`
+/// output `i`), from one generated kernel.
+#[cfg(feature = "derivatives")]
+pub trait Derivatives<const N: usize>: Legs<N> {
+    /// `inverse_dynamics_derivatives_params`: `Γ`, `∂Γ/∂X`, `∂Γ/∂V`, `∂Γ/∂a`.
+    #[allow(clippy::type_complexity)]
+    fn inverse_dynamics_derivatives(
+        x: &[f64; N],
+        v: &[f64; N],
+        a: &[f64; N],
+        p: &Self::Parameters,
+    ) -> (
+        [f64; N],
+        [[f64; N]; N],
+        [[f64; N]; N],
+        [[f64; N]; N],
+        impl AsRef<[f64]>,
+    );
+    /// `forward_dynamics_derivatives_params`: `a`, `∂a/∂X`, `∂a/∂V`, `∂a/∂Γ`; its terms are
+    /// those of the solve with `M_x` (the legs' hold is not among them).
+    #[allow(clippy::type_complexity)]
+    fn forward_dynamics_derivatives(
+        x: &[f64; N],
+        v: &[f64; N],
+        gamma: &[f64; N],
+        p: &Self::Parameters,
+    ) -> (
+        [f64; N],
+        [[f64; N]; N],
+        [[f64; N]; N],
+        [[f64; N]; N],
+        impl AsRef<[f64]>,
+    );
+}
+
 /// The kernels of a legged mechanism whose forward kinematics is in closed form: the two
 /// candidate poses of the actuator positions.
 pub trait ClosedForm<const N: usize>: Legs<N> {

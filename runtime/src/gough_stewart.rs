@@ -12,15 +12,9 @@
 //! iterated here from a previous solution or from a level start.
 
 use crate::dense;
-#[cfg(feature = "derivatives")]
-use crate::derivatives::{ForwardDynamicsDerivatives, InverseDynamicsDerivatives};
 use crate::error::Error;
 use crate::limits::Limit;
 use crate::Pose;
-#[cfg(feature = "derivatives")]
-use crate::{State, Twist, C5};
-#[cfg(feature = "derivatives")]
-use c5_generated::f64::gough_stewart as kernels;
 pub use c5_robot::GoughStewart as Description;
 
 /// The mechanism's name, as robot files and the manifest spell it.
@@ -141,73 +135,6 @@ impl GoughStewart {
     /// or a non-finite or singular pose.
     pub fn check_limits(&self, pose: &Pose) -> Result<(), Error> {
         crate::limits::refuse_beyond(self.limit_margins(pose)?.smallest())
-    }
-
-    /// Refuses a pose where the legs' hold is below [`HOLD_TOLERANCE`]: for the kernels that
-    /// solve with `M_x` rather than `J⁻ᵀ`, whose own singularity terms are the U joints' alone.
-    #[cfg(feature = "derivatives")]
-    pub(crate) fn check_hold(&self, x: &[f64; 6]) -> Result<(), Error> {
-        crate::singularity::check(
-            &kernels::singularity_terms_params(x, &self.params),
-            &kernels::SINGULARITY_TERMS,
-        )
-    }
-
-    /// Refuses, for the kernels that solve `M_x` for the acceleration, a pose where the legs'
-    /// hold is below [`HOLD_TOLERANCE`] or a U joint's sine (of `sines`, the kernel's guard)
-    /// below [`FORWARD_U_JOINT_TOLERANCE`].
-    #[cfg(feature = "derivatives")]
-    pub(crate) fn check_acceleration_solve(
-        &self,
-        x: &[f64; 6],
-        sines: &[f64],
-    ) -> Result<(), Error> {
-        self.check_hold(x)?;
-        crate::singularity::check_conditioned(
-            "forward dynamics",
-            sines,
-            &kernels::SINGULARITY_TERMS,
-            crate::singularity::TermKind::UJoint,
-            FORWARD_U_JOINT_TOLERANCE,
-        )
-    }
-}
-
-#[cfg(feature = "derivatives")]
-impl GoughStewart {
-    /// The inverse dynamics and its exact Jacobians with respect to the pose, the twist and the
-    /// acceleration, in one kernel.
-    ///
-    /// # Errors
-    /// Non-finite inputs, a singular pose or a non-finite result.
-    pub fn inverse_dynamics_derivatives(
-        &self,
-        state: &State,
-    ) -> Result<InverseDynamicsDerivatives<6>, Error> {
-        let [x, v, a] = C5::checked_motion(state)?;
-        let (gamma, d_pose, d_twist, d_accel, guard) =
-            kernels::inverse_dynamics_derivatives_params(&x, &v, &a, self.parameters());
-        crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
-        InverseDynamicsDerivatives::checked((gamma, d_pose, d_twist, d_accel))
-    }
-
-    /// The forward dynamics and its exact Jacobians with respect to the pose, the twist and the
-    /// actuator forces `gamma` (N, leg order), in one kernel.
-    ///
-    /// # Errors
-    /// Non-finite inputs, a singular pose or a non-finite result.
-    pub fn forward_dynamics_derivatives(
-        &self,
-        pose: &Pose,
-        twist: &Twist,
-        gamma: &[f64; 6],
-    ) -> Result<ForwardDynamicsDerivatives<6>, Error> {
-        let [x, v] = C5::checked_forward(pose, twist, gamma)?;
-        let (a, d_pose, d_twist, d_gamma, guard) =
-            kernels::forward_dynamics_derivatives_params(&x, &v, gamma, self.parameters());
-        crate::singularity::check(&guard, &kernels::SINGULARITY_TERMS)?;
-        self.check_acceleration_solve(&x, &guard)?;
-        ForwardDynamicsDerivatives::checked((a, d_pose, d_twist, d_gamma))
     }
 }
 

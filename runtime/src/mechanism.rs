@@ -397,7 +397,7 @@ macro_rules! derivatives_impl {
         }
     )*};
 }
-derivatives_impl!(C5, crate::GoughStewart);
+derivatives_impl!(C5);
 
 /// `robot`'s derivatives, refused by name where its mechanism has none generated.
 ///

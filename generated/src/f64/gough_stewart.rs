@@ -20156,6 +20156,27 @@ impl crate::legged::Spatial for Kernels {
         forward_kinematics_step_params(x, q, p)
     }
 }
+#[cfg(feature = "derivatives")]
+impl crate::legged::Derivatives<6> for Kernels {
+    #[inline]
+    fn inverse_dynamics_derivatives(
+        x: &[f64; 6],
+        v: &[f64; 6],
+        a: &[f64; 6],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], impl AsRef<[f64]>) {
+        inverse_dynamics_derivatives_params(x, v, a, p)
+    }
+    #[inline]
+    fn forward_dynamics_derivatives(
+        x: &[f64; 6],
+        v: &[f64; 6],
+        gamma: &[f64; 6],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 6], [[f64; 6]; 6], [[f64; 6]; 6], [[f64; 6]; 6], impl AsRef<[f64]>) {
+        forward_dynamics_derivatives_params(x, v, gamma, p)
+    }
+}
 impl crate::legged::Calibrated<6> for Kernels {
     type FittedRow = [f64; 7];
     #[inline]

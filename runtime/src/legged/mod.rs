@@ -8,6 +8,8 @@
 //! evaluation.
 
 pub mod catalogue;
+#[cfg(feature = "derivatives")]
+mod derivatives;
 pub mod robot;
 mod served;
 pub mod spatial;
