@@ -105,12 +105,9 @@ fn parse_line(line: &str, freedom: Freedom) -> Result<Line, String> {
 }
 
 pub fn run(args: &EvalArgs) -> crate::Result<ExitCode> {
-    if args.derivatives && !cfg!(feature = "derivatives") {
-        return Err(crate::unbuilt::needs("`--derivatives`", "derivatives"));
-    }
     let robot = args.robot.load_mechanism()?;
     if args.derivatives {
-        refuse_without_derivatives(robot.as_ref())?;
+        crate::unbuilt::derivatives_of(robot.as_ref())?;
     }
     let estimate = args
         .base_parameters
@@ -186,18 +183,6 @@ mod identified {
 
 /// The inverse dynamics' three Jacobians (`n × n`, row-major), each under its key.
 type KeyedJacobians = [(&'static str, Vec<f64>); 3];
-
-/// Refuses `--derivatives`, before any line, for a mechanism without them generated.
-#[cfg(feature = "derivatives")]
-fn refuse_without_derivatives(robot: &dyn Mechanism) -> crate::Result<()> {
-    c5_runtime::derivatives::sliced_derivatives_of(robot)?;
-    Ok(())
-}
-
-#[cfg(not(feature = "derivatives"))]
-fn refuse_without_derivatives(_robot: &dyn Mechanism) -> crate::Result<()> {
-    Ok(())
-}
 
 /// The inverse dynamics' Jacobians of a line, under their keys: with respect to the
 /// platform's state, or to the actuators' motion where the line gives it.

@@ -40,12 +40,9 @@ fn keys(freedom: Freedom) -> Vec<Key> {
 }
 
 pub fn run(args: &ForwardArgs) -> crate::Result<ExitCode> {
-    if args.derivatives && !cfg!(feature = "derivatives") {
-        return Err(crate::unbuilt::needs("`--derivatives`", "derivatives"));
-    }
     let robot = &*args.robot.load_mechanism()?;
     if args.derivatives {
-        refuse_without_derivatives(robot)?;
+        crate::unbuilt::derivatives_of(robot)?;
     }
     let freedom = robot.freedom();
     let keys = keys(freedom);
@@ -72,18 +69,6 @@ fn acceleration_parts(freedom: Freedom, accel: &[f64]) -> Value {
             .map(|(part, a)| (part.to_string(), json!(a)))
             .collect(),
     )
-}
-
-/// Refuses `--derivatives`, before any line, for a mechanism without them generated.
-#[cfg(feature = "derivatives")]
-fn refuse_without_derivatives(robot: &dyn Mechanism) -> crate::Result<()> {
-    c5_runtime::derivatives::sliced_derivatives_of(robot)?;
-    Ok(())
-}
-
-#[cfg(not(feature = "derivatives"))]
-fn refuse_without_derivatives(_robot: &dyn Mechanism) -> crate::Result<()> {
-    Ok(())
 }
 
 /// The forward dynamics and its exact Jacobians, `n × n` each, in the platform's coordinates.

@@ -26,6 +26,18 @@ pub fn needs(what: &str, feature: &str) -> Box<dyn std::error::Error> {
     .into()
 }
 
+/// Refuses `--derivatives` before any line is read: in a build without the derivative
+/// kernels, or for a mechanism whose derivative kernels are not generated (naming it).
+#[cfg_attr(not(feature = "derivatives"), allow(unused_variables))]
+pub fn derivatives_of(robot: &dyn c5_runtime::Mechanism) -> crate::Result<()> {
+    if !cfg!(feature = "derivatives") {
+        return Err(needs("`--derivatives`", "derivatives"));
+    }
+    #[cfg(feature = "derivatives")]
+    c5_runtime::derivatives::sliced_derivatives_of(robot)?;
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
