@@ -5,7 +5,7 @@
 //! the combinations that do (`c5-codegen`'s QR with column pivoting of `Y` stacked over
 //! states), and generates the base regressor `Y_b` with `Γ = Y_b β`. [`BaseParameters`] names
 //! them and says what each groups; [`C5::base_regressor`] evaluates `Y_b` (every mechanism's
-//! through [`Mechanism::base_regressor_into`](crate::Mechanism::base_regressor_into), in its
+//! through [`Mechanism::base_regressor_into`], in its
 //! platform's coordinates); [`Identifier`] accumulates samples of any mechanism and estimates
 //! `β` with its standard deviations.
 //!
