@@ -237,7 +237,7 @@ class Robot:
         columns the platform's coordinates (``alpha beta gamma xc yc zc``,
         ``wx wy wz vx vy vz``, ``w_dot_x .. az`` for six freedoms). ``d_acceleration`` is
         ``J^T M_x``. Raises ``ValueError`` naming the mechanism where its derivative kernels
-        are not generated (the rotary hexapod's, the Delta's). With ``errors="nan"``, the mask
+        are not generated (the rotary hexapod's). With ``errors="nan"``, the mask
         last."""
 
     def forward_dynamics_derivatives(

@@ -215,12 +215,29 @@ def test_the_python_robot_serves_the_delta_as_pinocchio_moves_it(delta):
     far = home + [0.0, 0.0, -1.5]
     values, bad = robot.inverse_dynamics(np.array([home, far]), errors="nan")
     assert list(bad) == [False, True] and np.all(np.isnan(values[1]))
-    # The derivatives are served in the platform's dimension where their kernels are
-    # generated; the Delta's are not, and the refusal names the mechanism and why.
-    with pytest.raises(ValueError, match="delta.*derivative kernels are not generated"):
-        robot.inverse_dynamics_derivatives(home)
-    with pytest.raises(ValueError, match="delta.*derivative kernels are not generated"):
-        robot.forward_dynamics_derivatives(home, gamma=holding)
+    # The derivatives in the platform's dimension: each Jacobian against central differences
+    # of the inverse and forward dynamics (other kernels), and ∂Γ/∂a_C the inverse of ∂a_C/∂Γ.
+    g, d_pose, d_twist, d_accel = robot.inverse_dynamics_derivatives(x, velocity=v, acceleration=a)
+    assert (g.shape, d_pose.shape) == ((8, 3), (8, 3, 3))
+    assert relative(g, gamma) < 1e-12
+
+    def central(f, at, h):
+        columns = [(f(at + h * e) - f(at - h * e)) / (2 * h) for e in np.eye(3)]
+        return np.stack(columns, axis=-1)
+
+    for k in range(len(samples)):
+        by = {
+            "pose": central(lambda p: robot.inverse_dynamics(p, velocity=v[k], acceleration=a[k]), x[k], 1e-6),
+            "twist": central(lambda w: robot.inverse_dynamics(x[k], velocity=w, acceleration=a[k]), v[k], 1e-5),
+            "accel": central(lambda b: robot.inverse_dynamics(x[k], velocity=v[k], acceleration=b), a[k], 1e-4),
+        }
+        for exact, numeric in [(d_pose[k], by["pose"]), (d_twist[k], by["twist"]), (d_accel[k], by["accel"])]:
+            assert np.abs(exact - numeric).max() < 1e-6 * np.abs(exact).max()
+    acc, da_pose, da_twist, da_gamma = robot.forward_dynamics_derivatives(x, velocity=v, gamma=gamma)
+    assert relative(acc, a) < 1e-9
+    assert np.abs(da_gamma @ d_accel - np.eye(3)).max() < 1e-9
+    numeric = central(lambda p: robot.forward_dynamics(p, velocity=v[0], gamma=gamma[0]), x[0], 1e-6)
+    assert np.abs(da_pose[0] - numeric).max() < 1e-6 * np.abs(da_pose[0]).max()
 
 
 def test_the_task_space_terms_and_joint_inertia_are_pinocchios(delta):

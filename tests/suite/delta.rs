@@ -386,3 +386,81 @@ fn the_batch_inverse_dynamics_is_the_single_states_to_the_bit() {
         }
     }
 }
+
+/// The Delta's derivative kernels against central differences of its inverse and forward
+/// dynamics (other kernels, differentiated by nothing), on the example and a jittered robot:
+/// every Jacobian to 1e-6 of its largest entry (the differences' own error is about 1e-8);
+/// `∂Γ/∂a_C · ∂a_C/∂Γ = I`; and the values the primal kernels' to 1e-12.
+#[test]
+fn the_derivatives_are_the_dynamics_central_differences() {
+    type Columns = [[f64; 3]; 3];
+    /// `∂f/∂x_j` by central differences, as columns.
+    fn columns(f: &dyn Fn(&[f64; 3]) -> [f64; 3], x: &[f64; 3], h: f64) -> Columns {
+        core::array::from_fn(|j| {
+            let (mut up, mut down) = (*x, *x);
+            up[j] += h;
+            down[j] -= h;
+            let (fu, fd) = (f(&up), f(&down));
+            core::array::from_fn(|i| (fu[i] - fd[i]) / (2.0 * h))
+        })
+    }
+    /// The largest difference between a row-major Jacobian and one given by columns, relative
+    /// to the Jacobian's largest entry.
+    fn gap(exact: &[[f64; 3]; 3], numeric: &Columns) -> f64 {
+        let largest = exact.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+        let worst = (0..9)
+            .map(|ij| (exact[ij / 3][ij % 3] - numeric[ij % 3][ij / 3]).abs())
+            .fold(0.0, f64::max);
+        worst / largest.max(1e-300)
+    }
+    for robot in robots() {
+        let mut r = rng(61);
+        for _ in 0..20 {
+            let s = near_home(&mut r, &robot);
+            let d = robot.inverse_dynamics_derivatives(&s).unwrap();
+            let gamma = robot.inverse_dynamics(&s).unwrap();
+            assert!(rel_err(&d.gamma, &gamma, 1.0) < 1e-12);
+            let id = |m: Translation| robot.inverse_dynamics(&m).unwrap();
+            let at_position = |x: &[f64; 3]| id(Translation { position: *x, ..s });
+            let at_velocity = |x: &[f64; 3]| id(Translation { velocity: *x, ..s });
+            let at_accel = |x: &[f64; 3]| {
+                id(Translation {
+                    acceleration: *x,
+                    ..s
+                })
+            };
+            let by_pose = columns(&at_position, &s.position, 1e-6);
+            let by_twist = columns(&at_velocity, &s.velocity, 1e-5);
+            let by_accel = columns(&at_accel, &s.acceleration, 1e-4);
+            for (exact, numeric, what) in [
+                (&d.d_pose, &by_pose, "∂Γ/∂C"),
+                (&d.d_twist, &by_twist, "∂Γ/∂v_C"),
+                (&d.d_accel, &by_accel, "∂Γ/∂a_C"),
+            ] {
+                let e = gap(exact, numeric);
+                assert!(e < 1e-6, "{what}: {e:e}");
+            }
+            let f = robot
+                .forward_dynamics_derivatives(&s.position, &s.velocity, &gamma)
+                .unwrap();
+            assert!(rel_err(&f.accel, &s.acceleration, 1.0) < 1e-9);
+            let fd =
+                |p: [f64; 3], v: [f64; 3], g: [f64; 3]| robot.forward_dynamics(&p, &v, &g).unwrap();
+            let by_pose = columns(&|x| fd(*x, s.velocity, gamma), &s.position, 1e-6);
+            let by_twist = columns(&|x| fd(s.position, *x, gamma), &s.velocity, 1e-5);
+            let by_gamma = columns(&|x| fd(s.position, s.velocity, *x), &gamma, 1e-3);
+            for (exact, numeric, what) in [
+                (&f.d_pose, &by_pose, "∂a_C/∂C"),
+                (&f.d_twist, &by_twist, "∂a_C/∂v_C"),
+                (&f.d_gamma, &by_gamma, "∂a_C/∂Γ"),
+            ] {
+                let e = gap(exact, numeric);
+                assert!(e < 1e-6, "{what}: {e:e}");
+            }
+            let product =
+                Matrix3::from(d.d_accel).transpose() * Matrix3::from(f.d_gamma).transpose();
+            let off = (product - Matrix3::identity()).abs().max();
+            assert!(off < 1e-10, "∂Γ/∂a_C ∂a_C/∂Γ - I: {off:e}");
+        }
+    }
+}

@@ -23,6 +23,7 @@
 
 use super::bodies::{Dynamics, Inertial};
 use super::calibration;
+use super::derivatives;
 use super::geometry::{Motion, Posed};
 use super::kernels::{Build, Cite, Context, Decl, Guard, Input, Kernel, Output, Reads};
 use super::legged::{self, rus::Rus, Leg, LegState};
@@ -811,7 +812,102 @@ impl Mechanics for DeltaMechanics {
     fn extra_kernels(&self) -> &'static [Decl] {
         KERNELS
     }
+
+    fn extra_derivative_kernels(&self) -> &'static [Decl] {
+        DERIVATIVE_KERNELS
+    }
 }
+
+/// A 3×3 Jacobian output.
+const fn jacobian(name: &'static str, doc: &'static str) -> Output {
+    Output {
+        name,
+        shape: Shape::Matrix(3, 3),
+        doc,
+    }
+}
+
+/// The Delta's derivative kernels (feature `derivatives` of `c5-generated`): the inverse
+/// dynamics differentiated directly, forward mode through the same constructors; the forward
+/// dynamics by the implicit function theorem on `ID(C, v_C, a_C) = Γ`
+/// ([`super::derivatives::Implicit`]), `∂a_C/∂Γ` the exact derivative of its own solve.
+const DERIVATIVE_KERNELS: &[Decl] = &[
+    decl(
+        Kernel::InverseDynamicsDerivatives,
+        "Inverse dynamics and its exact Jacobians: `Γ`, `∂Γ/∂C`, `∂Γ/∂v_C`, `∂Γ/∂a_C`; row `i` \
+         arm `i+1`, columns `x y z`. `∂Γ/∂a_C = Jᵀ M_x`.",
+        Quantity::InverseDynamics,
+        MOTION,
+        &[
+            Output {
+                name: "gamma",
+                shape: Shape::Vector(3),
+                doc: "`Γ`, the motors' torques about their axes `r_i` (N·m), arm order",
+            },
+            jacobian("d_pose", "`∂Γ/∂C` (N·m/m)"),
+            jacobian("d_twist", "`∂Γ/∂v_C` (N·m·s/m)"),
+            jacobian("d_accel", "`∂Γ/∂a_C` (N·m·s²/m)"),
+            SOLVE_TERMS,
+        ],
+        |cx| {
+            let at = Translation::of(cx);
+            let gamma = inverse_dynamics(cx.geometry, cx.dynamics, &at).0.to_vec();
+            let mut out = vec![gamma.clone()];
+            for &kind in MOTION {
+                out.push(derivatives::jacobian_rows(
+                    cx.graph(),
+                    &gamma,
+                    &cx.input(kind),
+                ));
+            }
+            out.push(solve_terms(cx.geometry, &at.position));
+            out
+        },
+    ),
+    decl(
+        Kernel::ForwardDynamicsDerivatives,
+        "Forward dynamics and its exact Jacobians: `a_C`, `∂a_C/∂C`, `∂a_C/∂v_C`, `∂a_C/∂Γ`; \
+         rows `ax ay az`. `∂a_C/∂Γ = M_x⁻¹ J⁻ᵀ`; `∂a_C/∂x = -(∂a_C/∂Γ) ∂ID/∂x`.",
+        Quantity::ForwardDynamics,
+        &[Input::Position, Input::Velocity, Input::Gamma],
+        &[
+            Output {
+                name: "accel",
+                shape: Shape::Vector(3),
+                doc: "the platform's acceleration `a_C` (m/s²), base frame",
+            },
+            jacobian("d_pose", "`∂a_C/∂C` (1/s²)"),
+            jacobian("d_twist", "`∂a_C/∂v_C` (1/s)"),
+            jacobian("d_gamma", "`∂a_C/∂Γ` (m/s²/(N·m))"),
+            SOLVE_TERMS,
+        ],
+        |cx| {
+            let g = cx.graph();
+            let at = Translation::of(cx);
+            let forces = cx.input(Input::Gamma);
+            let accel = forward_dynamics(cx, &at, &vec3(&forces)).to_vec();
+            let d_gamma = derivatives::jacobian_rows(g, &accel, &forces);
+            let unknown: Vec3 = Vector::from_fn(|k| g.input(INTERNAL_INPUTS + k as u32));
+            let probe = Translation {
+                accel: unknown,
+                ..at
+            };
+            let gamma = inverse_dynamics(cx.geometry, cx.dynamics, &probe)
+                .0
+                .to_vec();
+            let implicit = derivatives::Implicit {
+                d_gamma: &d_gamma,
+                gamma: &gamma,
+                unknown: &unknown.to_vec(),
+                accel: &accel,
+            };
+            let d_pose = implicit.jacobian(&cx.input(Input::Position));
+            let d_twist = implicit.jacobian(&cx.input(Input::Velocity));
+            let terms = solve_terms(cx.geometry, &at.position);
+            vec![accel, d_pose, d_twist, d_gamma, terms]
+        },
+    ),
+];
 
 #[cfg(test)]
 mod tests;

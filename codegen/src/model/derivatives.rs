@@ -21,8 +21,19 @@ use crate::dag::{Expr, Graph};
 use crate::kernel::Shape;
 use crate::linalg::{Vec6, Vector};
 
+/// Whether `kernel` is one of the derivative kernels (a model's, or a mechanism's own), which
+/// the crate puts in its feature-gated file.
+pub fn is_derivative(kernel: Kernel) -> bool {
+    matches!(
+        kernel,
+        Kernel::InverseDynamicsDerivatives
+            | Kernel::ForwardDynamicsDerivatives
+            | Kernel::InverseDynamicsJointDerivatives
+    )
+}
+
 /// `∂f/∂x` row-major: row `i` for `f[i]`, column `j` for `x[j]`.
-fn jacobian_rows<'g>(g: &'g Graph, f: &[Expr<'g>], x: &[Expr<'g>]) -> Vec<Expr<'g>> {
+pub(crate) fn jacobian_rows<'g>(g: &'g Graph, f: &[Expr<'g>], x: &[Expr<'g>]) -> Vec<Expr<'g>> {
     let columns: Vec<Vec<Expr<'g>>> = x.iter().map(|&u| g.derivatives(f, u)).collect();
     (0..f.len())
         .flat_map(|i| columns.iter().map(move |c| c[i]))
@@ -109,19 +120,53 @@ pub fn by_inverse_dynamics<'g, M: Mechanics + ?Sized>(
     let gamma = mech
         .inverse_dynamics(dynamics, posed, &Motion::new(*twist, unknown))
         .to_vec();
-    let at_solution: Vec<(Expr<'g>, Expr<'g>)> = unknown.0.into_iter().zip(accel.0).collect();
-    let sensitivity = |xs: &[Expr<'g>]| -> Vec<Expr<'g>> {
-        let partial = g.substitute(&jacobian_rows(g, &gamma, xs), &at_solution);
-        (0..36)
+    let implicit = Implicit {
+        d_gamma: &d_gamma,
+        gamma: &gamma,
+        unknown: &unknown.to_vec(),
+        accel: &accel.to_vec(),
+    };
+    [
+        implicit.jacobian(wrt.pose),
+        implicit.jacobian(wrt.twist),
+        d_gamma,
+    ]
+}
+
+/// The forward dynamics' `a` as the root of `ID(x, a) = Γ`, for its Jacobians by the implicit
+/// function theorem: `∂a/∂x = -(∂a/∂Γ) ∂ID/∂x`, in any dimension `n`.
+pub(crate) struct Implicit<'a, 'g> {
+    /// `∂a/∂Γ`, row-major `n × n`: the exact derivative of the forward dynamics' own solve.
+    pub d_gamma: &'a [Expr<'g>],
+    /// The inverse dynamics with the acceleration as the free `unknown`s.
+    pub gamma: &'a [Expr<'g>],
+    pub unknown: &'a [Expr<'g>],
+    /// The forward dynamics' acceleration, put in for the unknowns after differentiating.
+    pub accel: &'a [Expr<'g>],
+}
+
+impl<'g> Implicit<'_, 'g> {
+    /// `∂a/∂x` for each of `xs`, row-major (`n × xs.len()`).
+    pub fn jacobian(&self, xs: &[Expr<'g>]) -> Vec<Expr<'g>> {
+        let n = self.gamma.len();
+        let g = self.gamma[0].graph();
+        let at_solution: Vec<(Expr<'g>, Expr<'g>)> = self
+            .unknown
+            .iter()
+            .copied()
+            .zip(self.accel.iter().copied())
+            .collect();
+        let partial = g.substitute(&jacobian_rows(g, self.gamma, xs), &at_solution);
+        let m = xs.len();
+        (0..n * m)
             .map(|ij| {
-                let (i, j) = (ij / 6, ij % 6);
-                -(0..6)
-                    .map(|k| d_gamma[6 * i + k] * partial[6 * k + j])
+                let (i, j) = (ij / m, ij % m);
+                -(0..n)
+                    .map(|k| self.d_gamma[n * i + k] * partial[m * k + j])
                     .fold(g.zero(), |sum, term| sum + term)
             })
             .collect()
-    };
-    [sensitivity(wrt.pose), sensitivity(wrt.twist), d_gamma]
+    }
 }
 
 /// Six fresh unknowns for the platform's acceleration.

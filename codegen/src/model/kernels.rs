@@ -1142,7 +1142,8 @@ pub fn geometry_specs(mechanism: &Mechanism) -> Vec<Entry> {
 }
 
 /// The derivative kernels of `mechanism` ([`super::derivatives::KERNELS`], those its structure
-/// has), its parameters as `parameters` says, named with `suffix` when some are inputs.
+/// has, and its own), its parameters as `parameters` says, named with `suffix` when some are
+/// inputs.
 ///
 /// # Errors
 /// A bad [`ParameterSet`].
@@ -1156,6 +1157,7 @@ pub fn derivative_specs(
     Ok(super::derivatives::KERNELS
         .iter()
         .filter(|d| structure.has_kernel(d.kernel))
+        .chain(mechanism.mechanics.extra_derivative_kernels())
         .map(|d| spec(d, mechanism, &indices, suffix, None))
         .collect())
 }

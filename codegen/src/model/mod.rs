@@ -212,6 +212,11 @@ pub trait Mechanics: Sync {
     fn extra_kernels(&self) -> &'static [Decl] {
         &[]
     }
+    /// Derivative kernels only this mechanism has, beside those of
+    /// [`derivatives::KERNELS`] its structure has (the Delta's, in its three coordinates).
+    fn extra_derivative_kernels(&self) -> &'static [Decl] {
+        &[]
+    }
 }
 
 /// What a mechanism's description holds, for the kernels: its parameter vector, its pose in

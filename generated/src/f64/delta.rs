@@ -9622,6 +9622,27 @@ impl crate::legged::TaskSpace<3> for Kernels {
         task_bias_params(x, v, p)
     }
 }
+#[cfg(feature = "derivatives")]
+impl crate::legged::Derivatives<3> for Kernels {
+    #[inline]
+    fn inverse_dynamics_derivatives(
+        x: &[f64; 3],
+        v: &[f64; 3],
+        a: &[f64; 3],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 3], [[f64; 3]; 3], [[f64; 3]; 3], [[f64; 3]; 3], impl AsRef<[f64]>) {
+        inverse_dynamics_derivatives_params(x, v, a, p)
+    }
+    #[inline]
+    fn forward_dynamics_derivatives(
+        x: &[f64; 3],
+        v: &[f64; 3],
+        gamma: &[f64; 3],
+        p: &[f64; PARAMETERS],
+    ) -> ([f64; 3], [[f64; 3]; 3], [[f64; 3]; 3], [[f64; 3]; 3], impl AsRef<[f64]>) {
+        forward_dynamics_derivatives_params(x, v, gamma, p)
+    }
+}
 impl crate::legged::Calibrated<3> for Kernels {
     type FittedRow = [f64; 8];
     #[inline]

@@ -93,6 +93,8 @@ pub mod delta {
     use crate::lanes::F64x4;
     #[cfg(feature = "batch")]
     include!("delta_batch.rs");
+    #[cfg(feature = "derivatives")]
+    include!("delta_derivatives.rs");
     #[cfg(feature = "regressor")]
     include!("delta_regressor.rs");
 }

@@ -24,7 +24,7 @@ pub struct EvalArgs {
     /// coordinates: α β γ xc yc zc; ωx ωy ωz vx vy vz; ω̇x ω̇y ω̇z ax ay az for six freedoms),
     /// or for lines of actuator values `d_gamma_d_q`, `d_gamma_d_qd`, `d_gamma_d_qdd`
     /// (columns the actuators; the C5's only). Mechanisms whose derivative kernels are
-    /// generated: the C5 and the Gough-Stewart platform.
+    /// generated: the C5, the Gough-Stewart platform and the Delta.
     #[arg(long, conflicts_with = "base_parameters")]
     derivatives: bool,
     /// Make a line whose pose, actuator speeds or forces break a limit of the robot file's

@@ -19,7 +19,7 @@ pub struct ForwardArgs {
     /// coordinates: `d_acceleration_d_pose`, `d_acceleration_d_twist`, `d_acceleration_d_gamma`
     /// (columns the pose's, the twist's and the actuators; for six freedoms rows
     /// ω̇x ω̇y ω̇z ax ay az, columns α β γ xc yc zc and ωx ωy ωz vx vy vz). Mechanisms whose
-    /// derivative kernels are generated: the C5 and the Gough-Stewart platform.
+    /// derivative kernels are generated: the C5, the Gough-Stewart platform and the Delta.
     #[arg(long)]
     derivatives: bool,
 }

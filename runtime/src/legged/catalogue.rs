@@ -129,6 +129,10 @@ impl LeggedDescription<3> for c5_robot::Delta {
     fn scene(robot: &Delta, x: &[f64; 3]) -> Result<Scene, Error> {
         crate::scene::cranked::delta(robot, x)
     }
+    #[cfg(feature = "derivatives")]
+    fn derivatives(robot: &Delta) -> Option<&dyn crate::mechanism::Derivatives<3>> {
+        Some(robot)
+    }
 }
 
 /// The mean length of `points`' vectors from `C` (m).

@@ -179,20 +179,56 @@ const RUS_HEXAPOD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/rus-h
 const DELTA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/delta.toml");
 
 #[test]
-fn the_rotary_hexapod_and_the_delta_export_and_the_derivatives_refuse_the_delta() {
+fn the_rotary_hexapod_and_the_delta_export_and_the_deltas_derivatives_invert_each_other() {
     for (file, actuators) in [(RUS_HEXAPOD, 6), (DELTA, 3)] {
         let text = String::from_utf8(c5_ok(&["export", "--robot", file], "").stdout).unwrap();
         assert_eq!(text.matches("<motor ").count(), actuators, "{file}");
         let urdf = c5_ok(&["export", "--robot", file, "--format", "urdf"], "");
         assert!(String::from_utf8_lossy(&urdf.stdout).contains("<constraint "));
     }
-    let derivatives = c5(&["eval", "--robot", DELTA, "--derivatives"], "");
-    let err = String::from_utf8_lossy(&derivatives.stderr);
-    assert!(!derivatives.status.success() && derivatives.stdout.is_empty());
-    assert!(
-        err.contains("delta") && err.contains("derivative kernels are not generated"),
-        "{err}"
+    // The Delta's derivatives, 3×3 in its coordinates: the forward dynamics' `∂a_C/∂Γ` inverts
+    // the inverse dynamics' `∂Γ/∂a_C` at the state they share.
+    let line =
+        r#"{"pose": [0.01, -0.02, -0.5], "velocity": [0.1, 0, 0.2], "acceleration": [0.5, -1, 2]}"#;
+    let inverse = c5_ok(&["eval", "--robot", DELTA, "--derivatives"], line);
+    let inverse: serde_json::Value = serde_json::from_slice(&inverse.stdout).unwrap();
+    let matrix =
+        |v: &serde_json::Value| -> Vec<Vec<f64>> { serde_json::from_value(v.clone()).unwrap() };
+    for key in [
+        "d_gamma_d_pose",
+        "d_gamma_d_twist",
+        "d_gamma_d_acceleration",
+    ] {
+        let m = matrix(&inverse[key]);
+        assert!(
+            m.len() == 3 && m.iter().all(|row| row.len() == 3),
+            "{key}: {m:?}"
+        );
+    }
+    let forward_line = format!(
+        r#"{{"pose": [0.01, -0.02, -0.5], "velocity": [0.1, 0, 0.2], "gamma": {}}}"#,
+        inverse["gamma"]
     );
+    let forward = c5_ok(
+        &["forward", "--robot", DELTA, "--derivatives"],
+        &forward_line,
+    );
+    let forward: serde_json::Value = serde_json::from_slice(&forward.stdout).unwrap();
+    let accel: Vec<f64> = serde_json::from_value(forward["acceleration"].clone()).unwrap();
+    for (a, want) in accel.iter().zip([0.5, -1.0, 2.0]) {
+        assert!((a - want).abs() < 1e-9, "{accel:?}");
+    }
+    let (by_accel, by_gamma) = (
+        matrix(&inverse["d_gamma_d_acceleration"]),
+        matrix(&forward["d_acceleration_d_gamma"]),
+    );
+    for (i, row) in by_accel.iter().enumerate() {
+        for j in 0..3 {
+            let product: f64 = row.iter().zip(&by_gamma).map(|(a, g)| a * g[j]).sum();
+            let identity = if i == j { 1.0 } else { 0.0 };
+            assert!((product - identity).abs() < 1e-9, "({i}, {j}): {product}");
+        }
+    }
     // Limits are every mechanism's: a Delta's file sets none, so every line is within them.
     let line = r#"{"pose": [0.0, 0.0, -0.75], "velocity": [0.1, 0, 0], "acceleration": [0, 0, 1]}"#;
     let strict = c5_ok(&["eval", "--robot", DELTA, "--strict-limits"], line);
