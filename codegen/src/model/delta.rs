@@ -314,6 +314,16 @@ const FORWARD_TERMS: Output = Output {
           points merge) and `|n|²/(|a|² |b|²)` (zero where the spheres' centres line up): the \
           points are meaningless where one is near zero or negative",
 };
+const GAMMA: Output = Output {
+    name: "gamma",
+    shape: Shape::Vector(3),
+    doc: "`Γ`, the motors' torques about their axes `r_i` (N·m), arm order",
+};
+const ACCEL: Output = Output {
+    name: "accel",
+    shape: Shape::Vector(3),
+    doc: "the platform's acceleration `a_C` (m/s²), base frame",
+};
 const Q: Output = Output {
     name: "q",
     shape: Shape::Vector(3),
@@ -460,14 +470,7 @@ const KERNELS: &[Decl] = &[
         "Inverse dynamics: the motors' torques `Γ` from the platform's motion.",
         Quantity::InverseDynamics,
         MOTION,
-        &[
-            Output {
-                name: "gamma",
-                shape: Shape::Vector(3),
-                doc: "`Γ`, the motors' torques about their axes `r_i` (N·m), arm order",
-            },
-            SOLVE_TERMS,
-        ],
+        &[GAMMA, SOLVE_TERMS],
         |cx| {
             let at = Translation::of(cx);
             vec![
@@ -523,14 +526,7 @@ const KERNELS: &[Decl] = &[
         "Forward dynamics: the platform's acceleration `a_C` under the motors' torques.",
         Quantity::ForwardDynamics,
         &[Input::Position, Input::Velocity, Input::Gamma],
-        &[
-            Output {
-                name: "accel",
-                shape: Shape::Vector(3),
-                doc: "the platform's acceleration `a_C` (m/s²), base frame",
-            },
-            SOLVE_TERMS,
-        ],
+        &[ACCEL, SOLVE_TERMS],
         |cx| {
             let at = Translation::of(cx);
             let gamma = vec3(&cx.input(Input::Gamma));
@@ -839,11 +835,7 @@ const DERIVATIVE_KERNELS: &[Decl] = &[
         Quantity::InverseDynamics,
         MOTION,
         &[
-            Output {
-                name: "gamma",
-                shape: Shape::Vector(3),
-                doc: "`Γ`, the motors' torques about their axes `r_i` (N·m), arm order",
-            },
+            GAMMA,
             jacobian("d_pose", "`∂Γ/∂C` (N·m/m)"),
             jacobian("d_twist", "`∂Γ/∂v_C` (N·m·s/m)"),
             jacobian("d_accel", "`∂Γ/∂a_C` (N·m·s²/m)"),
@@ -871,11 +863,7 @@ const DERIVATIVE_KERNELS: &[Decl] = &[
         Quantity::ForwardDynamics,
         &[Input::Position, Input::Velocity, Input::Gamma],
         &[
-            Output {
-                name: "accel",
-                shape: Shape::Vector(3),
-                doc: "the platform's acceleration `a_C` (m/s²), base frame",
-            },
+            ACCEL,
             jacobian("d_pose", "`∂a_C/∂C` (1/s²)"),
             jacobian("d_twist", "`∂a_C/∂v_C` (1/s)"),
             jacobian("d_gamma", "`∂a_C/∂Γ` (m/s²/(N·m))"),
