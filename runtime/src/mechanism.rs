@@ -6,8 +6,9 @@
 //! actuators, in the conventions every mechanism shares (for six: pose `[α β γ xc yc zc]`, twist
 //! `(ω; v_C)`, classical acceleration; for three translations: `C`, `v_C`, `a_C`; actuator
 //! values and forces in actuator order, the task-space and joint-space inertia); [`SpatialRobot`]
-//! what a platform free in space adds (the derivatives). [`robot`] makes one of six freedoms from a
-//! [`Description`]; [`crate::platform::load`] makes any as a [`Mechanism`].
+//! the same robot behind the six-coordinate [`crate::State`] of the C5's API. [`robot`] makes
+//! one of six freedoms from a [`Description`]; [`crate::platform::load`] makes any as a
+//! [`Mechanism`].
 
 #[cfg(feature = "derivatives")]
 use crate::derivatives::{ForwardDynamicsDerivatives, InverseDynamicsDerivatives};
@@ -156,13 +157,12 @@ where
     {
         Box::new(crate::platform::Sliced(self))
     }
-    /// What a platform free in space adds (the planner's six freedoms), where the robot's
-    /// platform is one.
+    /// The robot as a [`SpatialRobot`], where its platform is free in space.
     fn spatial(&self) -> Option<&dyn SpatialRobot> {
         None
     }
     /// The robot's exact derivatives, where its mechanism has them generated; `None` where not
-    /// (the rotary hexapod's and the Delta's).
+    /// (the rotary hexapod's).
     #[cfg(feature = "derivatives")]
     fn derivatives(&self) -> Option<&dyn Derivatives<N>> {
         None
@@ -287,8 +287,8 @@ where
     }
 }
 
-/// What a platform free in space adds to its [`ParallelRobot`]: the planner
-/// (`c5_runtime::plan`, feature `derivatives`), whose state is the pose's RPY angles and centre with the twist.
+/// A platform free in space as a boxed [`ParallelRobot<6>`], for the calls that take the C5's
+/// six-coordinate [`crate::State`] (the program's C5 reports, Python's `State` calls).
 pub trait SpatialRobot: ParallelRobot<6> {
     /// A boxed copy.
     fn clone_spatial(&self) -> Box<dyn SpatialRobot>;

@@ -1,31 +1,29 @@
 //! Minimum-effort motion planning (feature `plan`): a rest-to-rest move between two poses in a
 //! given time, actuator forces within a limit, by iLQR on the forward dynamics and its exact
-//! Jacobians ([`Derivatives::forward_dynamics_derivatives`]), with an augmented Lagrangian for
-//! the goal and the force limits. It plans for every robot whose platform is free in space and
-//! whose mechanism has its derivatives generated (the C5 and the Gough-Stewart platform).
+//! Jacobians ([`SlicedDerivatives::forward_dynamics_derivatives`]), with an augmented
+//! Lagrangian for the goal and the force limits. It plans for every robot whose mechanism has
+//! its derivatives generated (the C5, the Gough-Stewart platform and the Delta), in its
+//! platform's own coordinates ([`Mechanism::freedom`]).
 //!
-//! The state is `s = (X, V)`: the pose `[α β γ xc yc zc]` and the twist `(ω; v_C)`; the control
-//! the forces `Γ`. The dynamics `ṡ = (Ė(X)⁻¹ ω, v_C, a(X, V, Γ))`, with `E` the map from RPY
-//! rates to `ω` (`ω = α̇ x + β̇ Rx(α) y + γ̇ Rx(α) Ry(β) z`), is integrated by explicit Euler at the
-//! plan's step. The cost is the effort `½ Σ_k dt |Γ_k|² / σ²` (`σ` = [`EFFORT_SCALE`]); the goal
-//! `s_N = (X_goal, 0)` and the limits `|Γ_i| ≤ Γ_max` are constraints, held by an augmented
-//! Lagrangian (multipliers updated between iLQR solves, penalties raised while a constraint is
-//! not met), so the plan ends at the goal to the tolerance asked for, not merely near it.
+//! The state is `s = (X, V)`: the pose (`[α β γ xc yc zc]`, or `[xc yc zc]` for a platform
+//! that only translates) and the twist (`(ω; v_C)`, or `v_C`); the control the forces `Γ`.
+//! The dynamics `ṡ = (Ẋ(X, V), a(X, V, Γ))`, with `Ẋ = (Ė(X)⁻¹ ω, v_C)` where the platform
+//! turns (`E` the map from RPY rates to `ω`, `ω = α̇ x + β̇ Rx(α) y + γ̇ Rx(α) Ry(β) z`) and
+//! `Ẋ = v_C` where it translates, is integrated by explicit Euler at the plan's step. The cost
+//! is the effort `½ Σ_k dt |Γ_k|² / σ²` (`σ` = [`EFFORT_SCALE`]); the goal `s_N = (X_goal, 0)`
+//! and the limits `|Γ_i| ≤ Γ_max` are constraints, held by an augmented Lagrangian
+//! (multipliers updated between iLQR solves, penalties raised while a constraint is not met),
+//! so the plan ends at the goal to the tolerance asked for, not merely near it.
 
-use crate::derivatives::ForwardDynamicsDerivatives;
-use crate::mechanism::{derivatives_of, Derivatives, SpatialRobot};
-use crate::platform::Freedom;
+use crate::derivatives::{sliced_derivatives_of, SlicedDerivatives};
+use crate::platform::{Freedom, Mechanism};
 use crate::trajectory::state_from_pose_derivatives;
-use crate::{Acceleration, Error, Pose, State, Twist};
+use crate::{Error, State};
 use nalgebra::{SMatrix, SVector};
 
-type S = SVector<f64, 12>;
-type U = SVector<f64, 6>;
-type Sxx = SMatrix<f64, 12, 12>;
-type Sxu = SMatrix<f64, 12, 6>;
-type Uxx = SMatrix<f64, 6, 6>;
-
-/// Forces are weighed in units of this (N) in the effort: it keeps the cost of order one.
+/// Forces are weighed in units of this (N or N·m) in the effort. (Scaled by the robot's own
+/// forces instead, the RMS of the quintic move's, the goal's first penalty is too weak: the
+/// C5's plan took 102 iterations instead of 39, and the example Delta's sagged out of reach.)
 pub const EFFORT_SCALE: f64 = 100.0;
 
 /// An iLQR solve of the first augmented-Lagrangian round stops when a full step gains, or the
@@ -34,11 +32,12 @@ pub const EFFORT_SCALE: f64 = 100.0;
 const FIRST_TOLERANCE: f64 = 1e-4;
 const FINEST_TOLERANCE: f64 = 1e-13;
 
-/// A rest-to-rest move to plan.
+/// A rest-to-rest move to plan, its poses in the platform's coordinates
+/// ([`Freedom::pose_names`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Problem {
-    pub start: Pose,
-    pub goal: Pose,
+    pub start: Vec<f64>,
+    pub goal: Vec<f64>,
     /// The move's duration (s).
     pub duration: f64,
     /// Steps of the plan (its forces are held over each, `dt = duration / steps`).
@@ -73,10 +72,11 @@ impl Default for Settings {
 pub struct Plan {
     /// `t_k = k dt`, `steps + 1` of them.
     pub times: Vec<f64>,
-    /// The state at each time, its acceleration the one the forces give (zero at the end).
+    /// The state at each time, its acceleration the one the forces give (zero at the end),
+    /// as [`Mechanism::state_of`] gives it.
     pub states: Vec<State>,
-    /// The forces held over each step (N, segment order), `steps` of them.
-    pub forces: Vec<[f64; 6]>,
+    /// The forces held over each step (N, actuator order), `steps` of them.
+    pub forces: Vec<Vec<f64>>,
     /// iLQR iterations taken (backward and forward passes).
     pub iterations: usize,
     /// Per round of the augmented Lagrangian, the objective after each accepted iLQR
@@ -144,85 +144,126 @@ fn rpy_rates(angles: [f64; 3], w: [f64; 3]) -> ([f64; 3], [[f64; 3]; 3], [[f64; 
     ([alpha_dot, beta_dot, gamma_dot], d_angles, d_omega)
 }
 
-/// The Euler step `s + dt f(s, u)`, with its Jacobians `A = ∂s'/∂s`, `B = ∂s'/∂u`.
-fn step(
-    robot: &dyn Derivatives<6>,
-    s: &S,
-    u: &U,
-    dt: f64,
-) -> Result<(S, Sxx, Sxu, Acceleration), Error> {
-    let pose = Pose::from_array(std::array::from_fn(|i| s[i]));
-    let twist = Twist::from_array(std::array::from_fn(|i| s[6 + i]));
-    let gamma: [f64; 6] = std::array::from_fn(|i| u[i]);
-    let ForwardDynamicsDerivatives {
-        accel,
-        d_pose,
-        d_twist,
-        d_gamma,
-    } = robot.forward_dynamics_derivatives(&pose, &twist, &gamma)?;
-    let (rates, d_angles, d_omega) = rpy_rates([s[0], s[1], s[2]], twist.omega);
-    let a = accel;
-    let mut f = S::zeros();
-    let mut fs = Sxx::zeros();
-    let mut fu = Sxu::zeros();
-    for i in 0..3 {
-        f[i] = rates[i];
-        f[3 + i] = s[9 + i];
-        fs[(3 + i, 9 + i)] = 1.0;
-        for j in 0..3 {
-            fs[(i, j)] = d_angles[i][j];
-            fs[(i, 6 + j)] = d_omega[i][j];
+/// `Ẋ` of the platform's pose `X` and twist `V`, with `∂Ẋ/∂X` and `∂Ẋ/∂V`: the centre's
+/// rate is `v_C`; where the platform turns, the angles' rates are `E⁻¹ ω` ([`rpy_rates`]).
+fn pose_rates<const N: usize>(
+    freedom: Freedom,
+    pose: &[f64],
+    twist: &[f64],
+) -> (SVector<f64, N>, SMatrix<f64, N, N>, SMatrix<f64, N, N>) {
+    let mut rates = SVector::<f64, N>::from_column_slice(twist);
+    let mut d_pose = SMatrix::<f64, N, N>::zeros();
+    let mut d_twist = SMatrix::<f64, N, N>::identity();
+    if freedom.turns() {
+        // The angles and `ω` come first in a turning platform's coordinates.
+        let (r, d_angles, d_omega) =
+            rpy_rates([pose[0], pose[1], pose[2]], [twist[0], twist[1], twist[2]]);
+        for i in 0..3 {
+            rates[i] = r[i];
+            for j in 0..3 {
+                d_pose[(i, j)] = d_angles[i][j];
+                d_twist[(i, j)] = d_omega[i][j];
+            }
         }
     }
-    for i in 0..6 {
-        f[6 + i] = a[i];
-        for j in 0..6 {
-            fs[(6 + i, j)] = d_pose[i][j];
-            fs[(6 + i, 6 + j)] = d_twist[i][j];
-            fu[(6 + i, j)] = d_gamma[i][j];
-        }
-    }
-    Ok((
-        s + f * dt,
-        Sxx::identity() + fs * dt,
-        fu * dt,
-        Acceleration::from_array(accel),
-    ))
+    (rates, d_pose, d_twist)
 }
 
-/// The augmented Lagrangian's state: multipliers and penalties of the goal and the limits.
-struct Lagrangian {
-    /// The plan's step (s): the effort is a sum over steps of this length.
+/// The plan's model of the robot: its forward dynamics with their Jacobians, in the
+/// platform's `N` coordinates; the state has `M = 2N`.
+struct Model<'a> {
+    freedom: Freedom,
+    derivatives: &'a dyn SlicedDerivatives,
+}
+
+/// One linearised Euler step: `s' = s + dt f(s, u)`, `A = ∂s'/∂s`, `B = ∂s'/∂u`, and the
+/// acceleration the forces give.
+struct Step<const N: usize, const M: usize> {
+    next: SVector<f64, M>,
+    a: SMatrix<f64, M, M>,
+    b: SMatrix<f64, M, N>,
+    accel: [f64; N],
+}
+
+impl Model<'_> {
+    /// The Euler step `s + dt f(s, u)` with its Jacobians.
+    fn step<const N: usize, const M: usize>(
+        &self,
+        s: &SVector<f64, M>,
+        u: &SVector<f64, N>,
+        dt: f64,
+    ) -> Result<Step<N, M>, Error> {
+        let (pose, twist) = s.as_slice().split_at(N);
+        let mut accel = [0.0; N];
+        let [mut d_pose, mut d_twist, mut d_gamma] = [[[0.0; N]; N]; 3];
+        self.derivatives.forward_dynamics_derivatives(
+            pose,
+            twist,
+            u.as_slice(),
+            &mut accel,
+            [
+                d_pose.as_flattened_mut(),
+                d_twist.as_flattened_mut(),
+                d_gamma.as_flattened_mut(),
+            ],
+        )?;
+        let (rates, rates_pose, rates_twist) = pose_rates::<N>(self.freedom, pose, twist);
+        let matrix = |m: &[[f64; N]; N]| SMatrix::<f64, N, N>::from_fn(|i, j| m[i][j]);
+        let mut f = SVector::<f64, M>::zeros();
+        f.fixed_rows_mut::<N>(0).copy_from(&rates);
+        f.fixed_rows_mut::<N>(N).copy_from_slice(&accel);
+        let mut fs = SMatrix::<f64, M, M>::zeros();
+        fs.fixed_view_mut::<N, N>(0, 0).copy_from(&rates_pose);
+        fs.fixed_view_mut::<N, N>(0, N).copy_from(&rates_twist);
+        fs.fixed_view_mut::<N, N>(N, 0).copy_from(&matrix(&d_pose));
+        fs.fixed_view_mut::<N, N>(N, N).copy_from(&matrix(&d_twist));
+        let mut fu = SMatrix::<f64, M, N>::zeros();
+        fu.fixed_view_mut::<N, N>(N, 0).copy_from(&matrix(&d_gamma));
+        Ok(Step {
+            next: s + f * dt,
+            a: SMatrix::<f64, M, M>::identity() + fs * dt,
+            b: fu * dt,
+            accel,
+        })
+    }
+}
+
+/// The augmented Lagrangian's state: multipliers and penalties of the goal and the limits,
+/// for `N` actuators and a state of `M = 2N`.
+struct Lagrangian<const N: usize, const M: usize> {
+    /// The plan's step (s).
     dt: f64,
-    goal: S,
-    goal_multiplier: S,
+    /// `dt / σ²`: the effort's weight of `½ |Γ_k|²` at each step.
+    effort_weight: f64,
+    goal: SVector<f64, M>,
+    goal_multiplier: SVector<f64, M>,
     goal_penalty: f64,
     limit: Option<f64>,
-    /// Per step, the multipliers of `u - Γmax ≤ 0` (first six) and `-u - Γmax ≤ 0`.
-    limit_multipliers: Vec<SVector<f64, 12>>,
+    /// Per step, the multipliers of `u - Γmax ≤ 0` (first `N`) and `-u - Γmax ≤ 0`: `2N = M`
+    /// of them.
+    limit_multipliers: Vec<SVector<f64, M>>,
     limit_penalty: f64,
 }
 
-impl Lagrangian {
-    /// The constraint values `c ≤ 0` of the limits at `u`, and their multipliers' active set.
-    fn limit_terms(&self, k: usize, u: &U) -> Option<(SVector<f64, 12>, SVector<f64, 12>)> {
+impl<const N: usize, const M: usize> Lagrangian<N, M> {
+    /// The multipliers the limits' penalty acts with at `u`, `max(0, λ + ρ c)` of the
+    /// constraint values `c ≤ 0`.
+    fn active_limits(&self, k: usize, u: &SVector<f64, N>) -> Option<SVector<f64, M>> {
         let limit = self.limit?;
-        let c = SVector::<f64, 12>::from_fn(|i, _| {
-            if i < 6 {
+        let c = SVector::<f64, M>::from_fn(|i, _| {
+            if i < N {
                 u[i] - limit
             } else {
-                -u[i - 6] - limit
+                -u[i - N] - limit
             }
         });
-        // max(0, λ + ρ c): the multipliers the penalty acts with.
-        let active = (self.limit_multipliers[k] + c * self.limit_penalty).map(|x| x.max(0.0));
-        Some((c, active))
+        Some((self.limit_multipliers[k] + c * self.limit_penalty).map(|x| x.max(0.0)))
     }
 
     /// The stage cost at step `k`: effort plus the limits' augmented terms.
-    fn stage(&self, k: usize, u: &U) -> f64 {
-        let mut cost = 0.5 * self.dt * u.norm_squared() / (EFFORT_SCALE * EFFORT_SCALE);
-        if let Some((_, active)) = self.limit_terms(k, u) {
+    fn stage(&self, k: usize, u: &SVector<f64, N>) -> f64 {
+        let mut cost = 0.5 * self.effort_weight * u.norm_squared();
+        if let Some(active) = self.active_limits(k, u) {
             let lambda = &self.limit_multipliers[k];
             cost += (active.norm_squared() - lambda.norm_squared()) / (2.0 * self.limit_penalty);
         }
@@ -230,14 +271,18 @@ impl Lagrangian {
     }
 
     /// `∂ℓ/∂u`, `∂²ℓ/∂u²` of [`Lagrangian::stage`].
-    fn stage_derivatives(&self, k: usize, u: &U) -> (U, Uxx) {
-        let w = self.dt / (EFFORT_SCALE * EFFORT_SCALE);
+    fn stage_derivatives(
+        &self,
+        k: usize,
+        u: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
+        let w = self.effort_weight;
         let mut lu = u * w;
-        let mut luu = Uxx::identity() * w;
-        if let Some((_, active)) = self.limit_terms(k, u) {
-            for i in 0..6 {
-                lu[i] += active[i] - active[6 + i];
-                for on in [active[i] > 0.0, active[6 + i] > 0.0] {
+        let mut luu = SMatrix::<f64, N, N>::identity() * w;
+        if let Some(active) = self.active_limits(k, u) {
+            for i in 0..N {
+                lu[i] += active[i] - active[N + i];
+                for on in [active[i] > 0.0, active[N + i] > 0.0] {
                     if on {
                         luu[(i, i)] += self.limit_penalty;
                     }
@@ -247,12 +292,12 @@ impl Lagrangian {
         (lu, luu)
     }
 
-    fn terminal(&self, s: &S) -> f64 {
+    fn terminal(&self, s: &SVector<f64, M>) -> f64 {
         let e = s - self.goal;
         self.goal_multiplier.dot(&e) + 0.5 * self.goal_penalty * e.norm_squared()
     }
 
-    fn total(&self, states: &[S], controls: &[U]) -> f64 {
+    fn total(&self, states: &[SVector<f64, M>], controls: &[SVector<f64, N>]) -> f64 {
         let effort: f64 = controls
             .iter()
             .enumerate()
@@ -261,7 +306,7 @@ impl Lagrangian {
         effort + self.terminal(&states[states.len() - 1])
     }
 
-    fn force_excess(&self, controls: &[U]) -> f64 {
+    fn force_excess(&self, controls: &[SVector<f64, N>]) -> f64 {
         match self.limit {
             Some(limit) => controls
                 .iter()
@@ -273,102 +318,136 @@ impl Lagrangian {
 }
 
 /// The states of the controls from `s0`.
-fn rollout(robot: &dyn Derivatives<6>, s0: &S, controls: &[U], dt: f64) -> Result<Vec<S>, Error> {
+fn rollout<const N: usize, const M: usize>(
+    model: &Model,
+    s0: &SVector<f64, M>,
+    controls: &[SVector<f64, N>],
+    dt: f64,
+) -> Result<Vec<SVector<f64, M>>, Error> {
     let mut states = Vec::with_capacity(controls.len() + 1);
     states.push(*s0);
     for u in controls {
-        let s = states[states.len() - 1];
-        states.push(step(robot, &s, u, dt)?.0);
+        let next = model.step(&states[states.len() - 1], u, dt)?.next;
+        states.push(next);
     }
     Ok(states)
+}
+
+/// A backward pass's policy: per step the feedback gains and the feedforward, and the cost
+/// change its model promises.
+struct Policy<const N: usize, const M: usize> {
+    gains: Vec<SMatrix<f64, N, M>>,
+    feedforward: Vec<SVector<f64, N>>,
+    expected: f64,
+}
+
+/// The backward pass along the linearisation `(A_k, B_k)` with a Levenberg-Marquardt shift of
+/// `Q_uu`; `None` where a `Q_uu` is not positive definite.
+fn backward<const N: usize, const M: usize>(
+    al: &Lagrangian<N, M>,
+    states: &[SVector<f64, M>],
+    controls: &[SVector<f64, N>],
+    linear: &[(SMatrix<f64, M, M>, SMatrix<f64, M, N>)],
+    shift: f64,
+) -> Option<Policy<N, M>> {
+    let n = controls.len();
+    let e = states[n] - al.goal;
+    let mut vx = al.goal_multiplier + e * al.goal_penalty;
+    let mut vxx = SMatrix::<f64, M, M>::identity() * al.goal_penalty;
+    let mut gains = vec![SMatrix::<f64, N, M>::zeros(); n];
+    let mut feedforward = vec![SVector::<f64, N>::zeros(); n];
+    let mut expected = 0.0;
+    for k in (0..n).rev() {
+        let (a, b) = &linear[k];
+        let (lu, luu) = al.stage_derivatives(k, &controls[k]);
+        let qx = a.transpose() * vx;
+        let qu = lu + b.transpose() * vx;
+        let vxx_b = vxx * b;
+        let qxx = a.transpose() * vxx * a;
+        let quu = luu + b.transpose() * vxx_b + SMatrix::<f64, N, N>::identity() * shift;
+        let qux = vxx_b.transpose() * a;
+        let chol = quu.cholesky()?;
+        let kk = -chol.solve(&qux);
+        let ff = -chol.solve(&qu);
+        expected += ff.dot(&qu);
+        vx = qx + kk.transpose() * (quu * ff) + kk.transpose() * qu + qux.transpose() * ff;
+        vxx = qxx + kk.transpose() * quu * kk + kk.transpose() * qux + qux.transpose() * kk;
+        vxx = (vxx + vxx.transpose()) * 0.5;
+        gains[k] = kk;
+        feedforward[k] = ff;
+    }
+    Some(Policy {
+        gains,
+        feedforward,
+        expected,
+    })
+}
+
+/// The forward pass of `policy` at `step_size` from the current trajectory: the new states and
+/// controls, `None` where the dynamics refuse a state on the way.
+type Trajectory<const N: usize, const M: usize> = (Vec<SVector<f64, M>>, Vec<SVector<f64, N>>);
+
+fn forward<const N: usize, const M: usize>(
+    model: &Model,
+    policy: &Policy<N, M>,
+    states: &[SVector<f64, M>],
+    controls: &[SVector<f64, N>],
+    step_size: f64,
+    dt: f64,
+) -> Option<Trajectory<N, M>> {
+    let n = controls.len();
+    let mut new_states = Vec::with_capacity(n + 1);
+    let mut new_controls = Vec::with_capacity(n);
+    new_states.push(states[0]);
+    for k in 0..n {
+        let u = controls[k]
+            + policy.feedforward[k] * step_size
+            + policy.gains[k] * (new_states[k] - states[k]);
+        new_states.push(model.step(&new_states[k], &u, dt).ok()?.next);
+        new_controls.push(u);
+    }
+    Some((new_states, new_controls))
 }
 
 /// One iLQR solve of the current augmented Lagrangian: backward passes with a
 /// Levenberg-Marquardt shift of `Q_uu`, forward passes with a line search, until a full step
 /// gains or promises less than `tolerance` of the cost. Returns the iterations spent.
-fn ilqr(
-    robot: &dyn Derivatives<6>,
-    al: &Lagrangian,
-    states: &mut Vec<S>,
-    controls: &mut Vec<U>,
+fn ilqr<const N: usize, const M: usize>(
+    model: &Model,
+    al: &Lagrangian<N, M>,
+    states: &mut Vec<SVector<f64, M>>,
+    controls: &mut Vec<SVector<f64, N>>,
     budget: usize,
     tolerance: f64,
     costs: &mut Vec<f64>,
 ) -> Result<usize, Error> {
-    let (n, dt) = (controls.len(), al.dt);
+    let dt = al.dt;
     let mut cost = al.total(states, controls);
     let mut shift = 1e-9;
     let mut iterations = 0;
     while iterations < budget {
         iterations += 1;
-        // Linearise along the current trajectory.
-        let mut a = Vec::with_capacity(n);
-        let mut b = Vec::with_capacity(n);
-        for k in 0..n {
-            let (_, ak, bk, _) = step(robot, &states[k], &controls[k], dt)?;
-            a.push(ak);
-            b.push(bk);
-        }
-        // Backward pass.
-        let (gains, feedforward, expected) = loop {
-            let e = states[n] - al.goal;
-            let mut vx = al.goal_multiplier + e * al.goal_penalty;
-            let mut vxx = Sxx::identity() * al.goal_penalty;
-            let mut gains = vec![SMatrix::<f64, 6, 12>::zeros(); n];
-            let mut feedforward = vec![U::zeros(); n];
-            let mut expected = 0.0;
-            let mut failed = false;
-            for k in (0..n).rev() {
-                let (lu, luu) = al.stage_derivatives(k, &controls[k]);
-                let qx = a[k].transpose() * vx;
-                let qu = lu + b[k].transpose() * vx;
-                let vxx_b = vxx * b[k];
-                let qxx = a[k].transpose() * vxx * a[k];
-                let quu = luu + b[k].transpose() * vxx_b + Uxx::identity() * shift;
-                let qux = vxx_b.transpose() * a[k];
-                let Some(chol) = quu.cholesky() else {
-                    failed = true;
-                    break;
-                };
-                let kk = -chol.solve(&qux);
-                let ff = -chol.solve(&qu);
-                expected += ff.dot(&qu);
-                vx = qx + kk.transpose() * (quu * ff) + kk.transpose() * qu + qux.transpose() * ff;
-                vxx = qxx + kk.transpose() * quu * kk + kk.transpose() * qux + qux.transpose() * kk;
-                vxx = (vxx + vxx.transpose()) * 0.5;
-                gains[k] = kk;
-                feedforward[k] = ff;
-            }
-            if !failed {
-                break (gains, feedforward, expected);
+        let linear = states
+            .iter()
+            .zip(controls.iter())
+            .map(|(s, u)| model.step(s, u, dt).map(|step| (step.a, step.b)))
+            .collect::<Result<Vec<_>, _>>()?;
+        let policy = loop {
+            if let Some(policy) = backward(al, states, controls, &linear, shift) {
+                break policy;
             }
             shift = (shift * 10.0).max(1e-6);
             if shift > 1e10 {
                 return Ok(iterations);
             }
         };
-        // Forward pass with a line search on the step.
+        // Forward passes with a line search on the step.
         let mut accepted = false;
         let mut step_size = 1.0;
         while step_size > 1e-4 {
-            let mut new_states = Vec::with_capacity(n + 1);
-            let mut new_controls = Vec::with_capacity(n);
-            new_states.push(states[0]);
-            let mut refused = false;
-            for k in 0..n {
-                let u = controls[k]
-                    + feedforward[k] * step_size
-                    + gains[k] * (new_states[k] - states[k]);
-                match step(robot, &new_states[k], &u, dt) {
-                    Ok((s, ..)) => new_states.push(s),
-                    Err(_) => {
-                        refused = true;
-                        break;
-                    }
-                }
-                new_controls.push(u);
-            }
-            if !refused {
+            if let Some((new_states, new_controls)) =
+                forward(model, &policy, states, controls, step_size, dt)
+            {
                 let new_cost = al.total(&new_states, &new_controls);
                 if new_cost < cost {
                     let gain = cost - new_cost;
@@ -382,7 +461,7 @@ fn ilqr(
                     // promises, less than `tolerance` of the cost: the multipliers' update then
                     // does more than further iterations would.
                     let small = tolerance * cost.abs();
-                    if (step_size == 1.0 && gain <= small) || -expected <= small {
+                    if (step_size == 1.0 && gain <= small) || -policy.expected <= small {
                         return Ok(iterations);
                     }
                     break;
@@ -392,7 +471,7 @@ fn ilqr(
         }
         if !accepted {
             shift = (shift * 10.0).max(1e-6);
-            if shift > 1e10 || -expected <= tolerance * cost.abs() {
+            if shift > 1e10 || -policy.expected <= tolerance * cost.abs() {
                 return Ok(iterations);
             }
         }
@@ -400,19 +479,8 @@ fn ilqr(
     Ok(iterations)
 }
 
-/// Plans the move: starting from the forces that hold the start pose, iLQR solves of the
-/// augmented Lagrangian until the plan ends at the goal and keeps the limits.
-///
-/// # Errors
-/// [`PlanError::Invalid`] for a problem that cannot be planned (non-positive duration or
-/// steps, a limit below zero, a non-finite pose), [`PlanError::Dynamics`] for a singular start
-/// or goal, or a robot whose mechanism has no derivatives generated ([`Error::Unsupported`]),
-/// [`PlanError::NotConverged`] when the iterations run out.
-pub fn plan(
-    robot: &dyn SpatialRobot,
-    problem: &Problem,
-    settings: &Settings,
-) -> Result<Plan, PlanError> {
+/// The problem's refusals: a duration, steps, limit or poses that cannot be planned.
+fn check(problem: &Problem, freedom: Freedom) -> Result<(), PlanError> {
     if !(problem.duration > 0.0 && problem.duration.is_finite()) {
         return Err(PlanError::Invalid("`duration` must be positive and finite"));
     }
@@ -427,29 +495,79 @@ pub fn plan(
             "`force_limit` must be positive and finite",
         ));
     }
-    let (start, goal) = (problem.start.to_array(), problem.goal.to_array());
-    if !start.iter().chain(&goal).all(|x| x.is_finite()) {
+    let n = freedom.dimension();
+    if problem.start.len() != n || problem.goal.len() != n {
+        return Err(PlanError::Invalid(
+            "the start and goal poses must have the platform's coordinates",
+        ));
+    }
+    if !problem
+        .start
+        .iter()
+        .chain(&problem.goal)
+        .all(|x| x.is_finite())
+    {
         return Err(PlanError::Invalid(
             "the start and goal poses must be finite",
         ));
     }
-    let derivatives = derivatives_of(robot).map_err(PlanError::Dynamics)?;
+    Ok(())
+}
+
+/// Plans the move: starting from the forces of the quintic move, iLQR solves of the
+/// augmented Lagrangian until the plan ends at the goal and keeps the limits.
+///
+/// # Errors
+/// [`PlanError::Invalid`] for a problem that cannot be planned (non-positive duration or
+/// steps, a limit below zero, poses not of the platform's coordinates or not finite),
+/// [`PlanError::Dynamics`] for a singular start or goal, or a robot whose mechanism has no
+/// derivatives generated ([`Error::Unsupported`]), [`PlanError::NotConverged`] when the
+/// iterations run out.
+pub fn plan(
+    robot: &dyn Mechanism,
+    problem: &Problem,
+    settings: &Settings,
+) -> Result<Plan, PlanError> {
+    check(problem, robot.freedom())?;
+    let model = Model {
+        freedom: robot.freedom(),
+        derivatives: sliced_derivatives_of(robot).map_err(PlanError::Dynamics)?,
+    };
+    // The iterations' matrices are sized at compile time, by the platform's dimension: a
+    // tenth of the C5's planning time went to allocating them.
+    match robot.freedom() {
+        Freedom::Free => solve::<6, 12>(robot, &model, problem, settings),
+        Freedom::Translations => solve::<3, 6>(robot, &model, problem, settings),
+    }
+}
+
+/// [`plan`] for a platform of `N` coordinates, the state's `M = 2N`.
+fn solve<const N: usize, const M: usize>(
+    robot: &dyn Mechanism,
+    model: &Model,
+    problem: &Problem,
+    settings: &Settings,
+) -> Result<Plan, PlanError> {
+    const { assert!(M == 2 * N, "the state is the pose and the twist") };
     let dt = problem.duration / problem.steps as f64;
     let n = problem.steps;
     // The first guess: the quintic move's forces, which reach the goal but for the Euler
     // step's drift (a ramp between the forces that hold the start and the goal, open loop,
     // drifts a hexapod into a singular pose within a second).
-    let mut controls: Vec<U> = quintic_forces(robot, problem)
+    let mut controls: Vec<SVector<f64, N>> = quintic_forces(robot, problem)
         .map_err(PlanError::Dynamics)?
         .iter()
-        .map(|gamma| U::from_column_slice(gamma))
+        .map(|gamma| SVector::from_column_slice(gamma))
         .collect();
-    let s0 = S::from_fn(|i, _| if i < 6 { start[i] } else { 0.0 });
-    let mut states = rollout(derivatives, &s0, &controls, dt).map_err(PlanError::Dynamics)?;
-    let mut al = Lagrangian {
+    let at_rest =
+        |pose: &[f64]| SVector::<f64, M>::from_fn(|i, _| pose.get(i).copied().unwrap_or(0.0));
+    let s0 = at_rest(&problem.start);
+    let mut states = rollout(model, &s0, &controls, dt).map_err(PlanError::Dynamics)?;
+    let mut al = Lagrangian::<N, M> {
         dt,
-        goal: S::from_fn(|i, _| if i < 6 { goal[i] } else { 0.0 }),
-        goal_multiplier: S::zeros(),
+        effort_weight: dt / (EFFORT_SCALE * EFFORT_SCALE),
+        goal: at_rest(&problem.goal),
+        goal_multiplier: SVector::zeros(),
         goal_penalty: 10.0,
         limit: problem.force_limit,
         limit_multipliers: vec![SVector::zeros(); n],
@@ -461,7 +579,7 @@ pub fn plan(
     loop {
         let mut round = Vec::new();
         iterations += ilqr(
-            derivatives,
+            model,
             &al,
             &mut states,
             &mut controls,
@@ -474,16 +592,16 @@ pub fn plan(
         let goal_error = (states[n] - al.goal).amax();
         let force_excess = al.force_excess(&controls);
         if goal_error <= settings.goal_tolerance && force_excess <= settings.force_tolerance {
-            return assemble(
-                derivatives,
-                &states,
-                &controls,
-                dt,
+            let done = Plan {
+                times: (0..states.len()).map(|k| k as f64 * dt).collect(),
+                states: Vec::new(),
+                forces: controls.iter().map(|u| u.as_slice().to_vec()).collect(),
                 iterations,
                 costs,
                 goal_error,
                 force_excess,
-            );
+            };
+            return samples::<N, M>(robot, model, &states, dt, done);
         }
         if iterations >= settings.max_iterations {
             return Err(PlanError::NotConverged {
@@ -500,7 +618,7 @@ pub fn plan(
         }
         previous_error = goal_error;
         for (k, u) in controls.iter().enumerate() {
-            if let Some((_, active)) = al.limit_terms(k, u) {
+            if let Some(active) = al.active_limits(k, u) {
                 al.limit_multipliers[k] = active;
             }
         }
@@ -511,67 +629,58 @@ pub fn plan(
 }
 
 /// The forces of the quintic rest-to-rest move between the problem's poses (Section 9's
-/// profile, straight in the centre and in the RPY angles) at the middle of each of its steps:
-/// the plan's first guess, and the move it is compared with.
+/// profile, straight in the platform's coordinates) at the middle of each of its steps: the
+/// plan's first guess, and the move it is compared with.
 ///
 /// # Errors
-/// A state of the move the robot refuses (a singular pose on the way, a non-finite problem).
-pub fn quintic_forces(robot: &dyn SpatialRobot, problem: &Problem) -> Result<Vec<[f64; 6]>, Error> {
-    let (a, b) = (problem.start.to_array(), problem.goal.to_array());
+/// A state of the move the robot refuses (a singular pose on the way, a non-finite problem,
+/// poses not of the platform's coordinates).
+pub fn quintic_forces(robot: &dyn Mechanism, problem: &Problem) -> Result<Vec<Vec<f64>>, Error> {
+    let (a, b) = (&problem.start, &problem.goal);
     let (d, dt) = (problem.duration, problem.duration / problem.steps as f64);
     (0..problem.steps)
         .map(|k| {
             let (s, sd, sdd) = crate::trajectory::quintic((k as f64 + 0.5) * dt / d);
             let along =
-                |rate: f64| -> Vec<f64> { a.iter().zip(&b).map(|(a, b)| rate * (b - a)).collect() };
-            let x: Vec<f64> = along(s).iter().zip(&a).map(|(step, a)| a + step).collect();
+                |rate: f64| -> Vec<f64> { a.iter().zip(b).map(|(a, b)| rate * (b - a)).collect() };
+            let x: Vec<f64> = along(s).iter().zip(a).map(|(step, a)| a + step).collect();
             let state = state_from_pose_derivatives(
-                Freedom::Free,
+                robot.freedom(),
                 &x,
                 &along(sd / d),
                 &along(sdd / (d * d)),
             )?;
-            robot.inverse_dynamics(&state)
+            let [pose, twist, accel] = robot.coordinates_of(&state)?;
+            let mut gamma = vec![0.0; pose.len()];
+            robot.inverse_dynamics(&pose, &twist, &accel, &mut gamma)?;
+            Ok(gamma)
         })
         .collect()
 }
 
 /// The plan's samples: states with the accelerations the forces give, the goal at rest.
-#[allow(clippy::too_many_arguments)]
-fn assemble(
-    robot: &dyn Derivatives<6>,
-    states: &[S],
-    controls: &[U],
+fn samples<const N: usize, const M: usize>(
+    robot: &dyn Mechanism,
+    model: &Model,
+    states: &[SVector<f64, M>],
     dt: f64,
-    iterations: usize,
-    costs: Vec<Vec<f64>>,
-    goal_error: f64,
-    force_excess: f64,
+    mut plan: Plan,
 ) -> Result<Plan, PlanError> {
-    let mut samples = Vec::with_capacity(states.len());
     for (k, s) in states.iter().enumerate() {
-        let accel = match controls.get(k) {
-            Some(u) => step(robot, s, u, dt).map_err(PlanError::Dynamics)?.3,
-            None => Acceleration::default(),
+        let accel = match plan.forces.get(k) {
+            Some(u) => {
+                let u = SVector::<f64, N>::from_column_slice(u);
+                model.step(s, &u, dt).map_err(PlanError::Dynamics)?.accel
+            }
+            None => [0.0; N],
         };
-        samples.push(State {
-            pose: Pose::from_array(std::array::from_fn(|i| s[i])),
-            twist: Twist::from_array(std::array::from_fn(|i| s[6 + i])),
-            accel,
-        });
+        let (pose, twist) = s.as_slice().split_at(N);
+        let state = robot
+            .state_of([pose, twist, &accel])
+            .map_err(PlanError::Dynamics)?;
+        plan.states.push(state);
     }
-    Ok(Plan {
-        times: (0..states.len()).map(|k| k as f64 * dt).collect(),
-        states: samples,
-        forces: controls
-            .iter()
-            .map(|u| std::array::from_fn(|i| u[i]))
-            .collect(),
-        iterations,
-        costs,
-        goal_error,
-        force_excess,
-    })
+    Ok(plan)
 }
 
 #[cfg(test)]

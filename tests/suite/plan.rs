@@ -3,32 +3,39 @@
 //! forces drive the robot's own forward dynamics to the goal when integrated finely
 //! (mechanics, not the planner's model of itself), and it spends less effort than the quintic
 //! move of the same duration, which is one of the moves it chooses among. Each holds for every
-//! mechanism with derivative kernels: the C5 and the Gough-Stewart platform.
+//! mechanism with derivative kernels, in its platform's coordinates: the C5, the Gough-Stewart
+//! platform and the Delta.
 
-use c5_robot::GoughStewart as HexapodDescription;
-use c5_runtime::dynamics::{rk4_step, PlantState};
-use c5_runtime::plan::{plan, PlanError, Problem, Settings};
-use c5_runtime::trajectory::LinearMove;
-use c5_runtime::{Error, GoughStewart, Pose, Robot, RusHexapod, SpatialRobot, State, C5};
+use c5_robot::Description;
+use c5_runtime::plan::{plan, quintic_forces, PlanError, Problem, Settings};
+use c5_runtime::platform::load;
+use c5_runtime::{Error, Mechanism, Model, Robot};
 
-/// The robots the planner serves, each with its home pose: the C5's is the origin, the
-/// hexapod's above its base.
-fn robots() -> Vec<(Box<dyn SpatialRobot>, [f64; 6])> {
-    let hexapod = HexapodDescription::example();
-    let home = hexapod.home();
-    vec![
-        (Box::new(C5::new(Robot::default()).unwrap()), [0.0; 6]),
-        (Box::new(GoughStewart::new(hexapod).unwrap()), home),
+/// The robots the planner serves, each loaded as a mechanism.
+fn robots() -> Vec<Box<dyn Mechanism>> {
+    [
+        Description::C5(Robot::default()),
+        Description::GoughStewart(c5_robot::GoughStewart::example()),
+        Description::Delta(c5_robot::Delta::example()),
     ]
+    .into_iter()
+    .map(|d| load(d, Model::Consistent).unwrap())
+    .collect()
 }
 
-/// A short turned move of the centre, from `home`.
-fn problem(home: [f64; 6], force_limit: Option<f64>) -> Problem {
+/// A short move of the centre from the robot's home, turned where the platform turns.
+fn problem(robot: &dyn Mechanism, force_limit: Option<f64>) -> Problem {
     let deg = std::f64::consts::PI / 180.0;
-    let from = |offset: [f64; 6]| Pose::from_array(std::array::from_fn(|i| home[i] + offset[i]));
+    let home = robot.home();
+    let n = home.len();
+    let from = |centre: [f64; 3]| -> Vec<f64> {
+        let turned = [10.0 * deg, 15.0 * deg, 20.0 * deg];
+        let offset: Vec<f64> = turned[..n - 3].iter().chain(&centre).copied().collect();
+        home.iter().zip(offset).map(|(h, o)| h + o).collect()
+    };
     Problem {
-        start: from([10.0 * deg, 15.0 * deg, 20.0 * deg, 0.0, 0.0, 0.0]),
-        goal: from([10.0 * deg, 15.0 * deg, 20.0 * deg, 0.02, 0.015, 0.025]),
+        start: from([0.0; 3]),
+        goal: from([0.02, 0.015, 0.025]),
         duration: 0.3,
         steps: 60,
         force_limit,
@@ -36,18 +43,18 @@ fn problem(home: [f64; 6], force_limit: Option<f64>) -> Problem {
 }
 
 /// `Σ dt |Γ|²` of forces held over steps of `dt`.
-fn effort(forces: &[[f64; 6]], dt: f64) -> f64 {
+fn effort(forces: &[Vec<f64>], dt: f64) -> f64 {
     forces.iter().flatten().map(|f| f * f * dt).sum()
 }
 
 #[test]
 fn a_short_move_converges_to_the_goal_within_the_limits() {
-    for (robot, home) in robots() {
-        converges_within_the_limits(robot.as_ref(), problem(home, None));
+    for robot in robots() {
+        converges_within_the_limits(robot.as_ref(), problem(robot.as_ref(), None));
     }
 }
 
-fn converges_within_the_limits(robot: &dyn SpatialRobot, problem: Problem) {
+fn converges_within_the_limits(robot: &dyn Mechanism, problem: Problem) {
     let free = plan(robot, &problem, &Settings::default()).unwrap();
     assert!(free.goal_error <= 1e-6, "goal error {:e}", free.goal_error);
     for round in &free.costs {
@@ -79,36 +86,36 @@ fn converges_within_the_limits(robot: &dyn SpatialRobot, problem: Problem) {
 
 /// How far from the goal the robot ends under the plan's forces, integrated by RK4 at a tenth
 /// of the plan's step (the robot's own forward dynamics, not the planner's Euler model).
-fn open_loop_error(robot: &dyn SpatialRobot, problem: &Problem) -> f64 {
+fn open_loop_error(robot: &dyn Mechanism, problem: &Problem) -> f64 {
     let p = plan(robot, problem, &Settings::default()).unwrap();
     let dt = problem.duration / problem.steps as f64;
-    let mut plant = PlantState::new(&problem.start, &State::default().twist);
-    let mut t = 0.0;
+    let mut pose = problem.start.clone();
+    let mut twist = vec![0.0; pose.len()];
     for forces in &p.forces {
         for _ in 0..10 {
-            plant = rk4_step(robot, &plant, t, dt / 10.0, |_, _| Ok(*forces)).unwrap();
-            t += dt / 10.0;
+            robot
+                .step_held(&mut pose, &mut twist, forces, dt / 10.0)
+                .unwrap();
         }
     }
-    let (end, goal) = (plant.pose().to_array(), problem.goal.to_array());
-    end.iter()
-        .zip(&goal)
+    pose.iter()
+        .zip(&problem.goal)
         .map(|(a, b)| (a - b).abs())
         .fold(0.0, f64::max)
 }
 
 #[test]
 fn the_plans_forces_drive_the_robot_to_the_goal() {
-    for (robot, home) in robots() {
+    for robot in robots() {
         let robot = robot.as_ref();
         // The plan integrates by explicit Euler: open loop, the robot misses the goal by that
         // step's error, which falls with the step (first order), and nothing else.
-        let coarse = open_loop_error(robot, &problem(home, None));
+        let coarse = open_loop_error(robot, &problem(robot, None));
         let fine = open_loop_error(
             robot,
             &Problem {
                 steps: 600,
-                ..problem(home, None)
+                ..problem(robot, None)
             },
         );
         let distance = 0.025_f64.hypot(0.02).hypot(0.015);
@@ -126,54 +133,57 @@ fn the_plans_forces_drive_the_robot_to_the_goal() {
 
 #[test]
 fn the_plan_spends_less_effort_than_the_quintic() {
-    for (robot, home) in robots() {
-        less_effort_than_the_quintic(robot.as_ref(), problem(home, None));
+    for robot in robots() {
+        let robot = robot.as_ref();
+        let problem = problem(robot, None);
+        let p = plan(robot, &problem, &Settings::default()).unwrap();
+        let dt = problem.duration / problem.steps as f64;
+        let quintic = quintic_forces(robot, &problem).unwrap();
+        let (planned, reference) = (effort(&p.forces, dt), effort(&quintic, dt));
+        assert!(
+            planned < reference,
+            "{}: plan {planned}, quintic {reference}",
+            robot.mechanism()
+        );
     }
-}
-
-fn less_effort_than_the_quintic(robot: &dyn SpatialRobot, problem: Problem) {
-    let p = plan(robot, &problem, &Settings::default()).unwrap();
-    let dt = problem.duration / problem.steps as f64;
-    let quintic = LinearMove {
-        start: problem.start,
-        end: problem.goal.center,
-        duration: problem.duration,
-    };
-    let quintic_forces: Vec<[f64; 6]> = (0..problem.steps)
-        .map(|k| {
-            robot
-                .inverse_dynamics(&quintic.state((k as f64 + 0.5) * dt))
-                .unwrap()
-        })
-        .collect();
-    let (planned, reference) = (effort(&p.forces, dt), effort(&quintic_forces, dt));
-    assert!(
-        planned < reference,
-        "{}: plan {planned}, quintic {reference}",
-        robot.mechanism()
-    );
 }
 
 #[test]
 fn bad_problems_are_refused_by_name() {
-    let robot = C5::new(Robot::default()).unwrap();
-    let mut p = problem([0.0; 6], None);
+    let robots = robots();
+    let robot = robots[0].as_ref();
+    let mut p = problem(robot, None);
     p.duration = 0.0;
-    let e = plan(&robot, &p, &Settings::default()).unwrap_err();
+    let e = plan(robot, &p, &Settings::default()).unwrap_err();
     assert!(matches!(e, PlanError::Invalid(why) if why.contains("duration")));
-    let mut p = problem([0.0; 6], Some(-1.0));
+    let mut p = problem(robot, Some(-1.0));
     p.steps = 10;
-    let e = plan(&robot, &p, &Settings::default()).unwrap_err();
+    let e = plan(robot, &p, &Settings::default()).unwrap_err();
     assert!(matches!(e, PlanError::Invalid(why) if why.contains("force_limit")));
+    // A Delta's poses have three coordinates: six are refused, not truncated.
+    let delta = robots[2].as_ref();
+    let e = plan(delta, &problem(robot, None), &Settings::default()).unwrap_err();
+    assert!(
+        matches!(e, PlanError::Invalid(why) if why.contains("coordinates")),
+        "{e}"
+    );
 }
 
 /// A mechanism without derivative kernels (the rotary hexapod) is refused by name before any
 /// step is taken.
 #[test]
 fn a_robot_without_derivatives_is_refused_by_name() {
-    let rus = RusHexapod::new(c5_robot::RusHexapod::example()).unwrap();
-    let home = rus.home().to_array();
-    let e = plan(&rus, &problem(home, None), &Settings::default()).unwrap_err();
+    let rus = load(
+        Description::RusHexapod(c5_robot::RusHexapod::example()),
+        Model::Consistent,
+    )
+    .unwrap();
+    let e = plan(
+        rus.as_ref(),
+        &problem(rus.as_ref(), None),
+        &Settings::default(),
+    )
+    .unwrap_err();
     assert!(
         matches!(
             e,

@@ -50,15 +50,24 @@ pub struct Sample {
 }
 
 impl Sample {
-    /// A sample of a whole state of a platform free in space.
+    /// A sample of a whole platform state, in `robot`'s platform's coordinates.
+    ///
+    /// # Errors
+    /// A state that turns a platform that only translates.
     #[cfg(feature = "derivatives")]
-    pub fn of_state(t: f64, state: &c5_runtime::State, gamma: &[f64]) -> Self {
-        Sample {
+    pub fn of_state(
+        robot: &dyn Mechanism,
+        t: f64,
+        state: &c5_runtime::State,
+        gamma: &[f64],
+    ) -> crate::Result<Self> {
+        let [pose, twist, _] = robot.coordinates_of(state)?;
+        Ok(Sample {
             t,
-            pose: state.pose.to_array().to_vec(),
-            twist: Some(state.twist.to_array().to_vec()),
+            pose,
+            twist: Some(twist),
             gamma: gamma.to_vec(),
-        }
+        })
     }
 }
 

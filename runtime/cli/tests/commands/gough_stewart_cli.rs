@@ -343,19 +343,47 @@ fn excite_identify_and_derivatives_serve_the_hexapod() {
     );
 }
 
-/// `plan` serves the hexapod (its derivative kernels are generated): the plan starts and ends at
-/// rest, its end is Section 9's move from the robot's home, and every row's forces are the ones
-/// the hexapod's inverse dynamics (another kernel than the planner's forward dynamics) needs for
-/// the row's motion. Mechanisms the planner cannot serve are refused by name: the Delta (its
-/// platform only translates) and the rotary hexapod (no derivative kernels).
+/// `plan` serves every mechanism whose derivative kernels are generated, in its platform's
+/// coordinates (the hexapod: six; the Delta: three): the plan starts and ends at rest, its end
+/// is Section 9's move from the robot's home, and every row's forces are the ones the robot's
+/// inverse dynamics (another kernel than the planner's forward dynamics) needs for the row's
+/// motion. The rotary hexapod (no derivative kernels) is refused by name.
 #[test]
-fn plan_serves_the_hexapod_and_refuses_by_name_what_it_cannot() {
-    let dir = scratch("plan");
+fn plan_serves_the_mechanisms_with_derivatives_and_refuses_by_name_the_others() {
+    let docs = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/");
+    for file in ["hexapod.toml", "delta.toml"] {
+        plans_the_inverse_dynamics_forces(&format!("{docs}{file}"));
+    }
+    let out = scratch("plan-refused");
+    let path = format!("{docs}rus-hexapod.toml");
+    let refused = support::c5(
+        &[
+            "plan",
+            "--robot",
+            &path,
+            "--out",
+            out.to_str().unwrap(),
+            "--no-view",
+        ],
+        "",
+    );
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        !refused.status.success() && stderr.contains("derivative kernels are not generated"),
+        "{stderr}"
+    );
+}
+
+fn plans_the_inverse_dynamics_forces(file: &str) {
+    let dir = scratch(&format!(
+        "plan-{}",
+        Path::new(file).file_stem().unwrap().display()
+    ));
     let out = dir.to_str().unwrap();
     let args = [
         "plan",
         "--robot",
-        EXAMPLE,
+        file,
         "--duration",
         "0.3",
         "--rate",
@@ -365,6 +393,12 @@ fn plan_serves_the_hexapod_and_refuses_by_name_what_it_cannot() {
         "--no-view",
     ];
     support::c5_ok(&args, "");
+    let robot = c5_runtime::platform::load(
+        c5_robot::Description::from_toml_file(Path::new(file)).unwrap(),
+        c5_runtime::Model::default(),
+    )
+    .unwrap();
+    let n = robot.freedom().dimension();
     let csv = std::fs::read_to_string(dir.join("plan.csv")).unwrap();
     let rows: Vec<Vec<f64>> = csv
         .lines()
@@ -372,44 +406,49 @@ fn plan_serves_the_hexapod_and_refuses_by_name_what_it_cannot() {
         .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
         .collect();
     assert_eq!(rows.len(), 61);
+    assert_eq!(
+        rows[0].len(),
+        1 + 4 * n,
+        "{file}: t, pose, twist, acceleration, Γ"
+    );
     let (first, last) = (&rows[0], &rows[rows.len() - 1]);
-    for k in 0..6 {
-        assert_eq!(first[7 + k], 0.0, "starts at rest");
-        assert!(last[7 + k].abs() < 1e-7, "ends at rest: {last:?}");
+    let (pose, twist, accel, gamma) = (
+        1..1 + n,
+        1 + n..1 + 2 * n,
+        1 + 2 * n..1 + 3 * n,
+        1 + 3 * n..,
+    );
+    for k in twist.clone() {
+        assert_eq!(first[k], 0.0, "{file}: starts at rest");
+        assert!(last[k].abs() < 1e-7, "{file}: ends at rest: {last:?}");
     }
-    let moved = [0.0, 0.0, 0.0, 0.04, 0.03, 0.05];
-    for k in 0..6 {
-        assert!((last[1 + k] - first[1 + k] - moved[k]).abs() < 1e-7);
+    // Section 9's move: the centre, the last three of the pose's coordinates.
+    let moved = [0.04, 0.03, 0.05];
+    for j in 0..n {
+        let expected = if j + 3 >= n { moved[j + 3 - n] } else { 0.0 };
+        let k = pose.start + j;
+        assert!(
+            (last[k] - first[k] - expected).abs() < 1e-7,
+            "{file}: {last:?}"
+        );
     }
-    let robot = hexapod();
     for row in &rows[..rows.len() - 1] {
-        let state = State {
-            pose: Pose::from_array(std::array::from_fn(|i| row[1 + i])),
-            twist: c5_runtime::Twist::from_array(std::array::from_fn(|i| row[7 + i])),
-            accel: c5_runtime::Acceleration::from_array(std::array::from_fn(|i| row[13 + i])),
-        };
-        let gamma = robot.inverse_dynamics(&state).unwrap();
-        for (i, g) in gamma.iter().enumerate() {
+        let mut needed = vec![0.0; n];
+        robot
+            .inverse_dynamics(
+                &row[pose.clone()],
+                &row[twist.clone()],
+                &row[accel.clone()],
+                &mut needed,
+            )
+            .unwrap();
+        for (i, (g, planned)) in needed.iter().zip(&row[gamma.clone()]).enumerate() {
             assert!(
-                (g - row[19 + i]).abs() < 1e-9 * (1.0 + g.abs()),
-                "t = {}: Γ{} {g} from the motion, {} planned",
+                (g - planned).abs() < 1e-9 * (1.0 + g.abs()),
+                "{file}: t = {}: Γ{} {g} from the motion, {planned} planned",
                 row[0],
                 i + 1,
-                row[19 + i]
             );
         }
-    }
-    let docs = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/");
-    for (file, why) in [
-        ("delta.toml", "only translates"),
-        ("rus-hexapod.toml", "derivative kernels are not generated"),
-    ] {
-        let path = format!("{docs}{file}");
-        let refused = support::c5(&["plan", "--robot", &path, "--out", out, "--no-view"], "");
-        let stderr = String::from_utf8_lossy(&refused.stderr);
-        assert!(
-            !refused.status.success() && stderr.contains(why),
-            "{file}: {stderr}"
-        );
     }
 }
