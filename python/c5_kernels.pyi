@@ -46,6 +46,20 @@ class Identification(TypedDict):
     residual_rms: list[float]
     samples: int
 
+class Plan(TypedDict, total=False):
+    """``Robot.plan``'s result; ``omega`` and ``omega_dot`` only where the platform turns."""
+    times: Array
+    pose: Array
+    omega: Array
+    velocity: Array
+    omega_dot: Array
+    acceleration: Array
+    gamma: Array
+    iterations: int
+    costs: list[list[float]]
+    goal_error: float
+    force_excess: float
+
 class Unobservable(TypedDict):
     leg: int
     combination: list[tuple[str, float]]
@@ -346,6 +360,28 @@ class Robot:
         offset) fitted to measured poses ``(N, d)`` and readings ``(N, n)``
         (docs/calibration.md); ``units`` says ``m`` or ``rad`` per parameter. ``std_dev`` is
         NaN for a parameter fixed as unobservable."""
+
+    def plan(
+        self,
+        start: ArrayLike,
+        goal: ArrayLike,
+        duration: float,
+        steps: int,
+        *,
+        force_limit: Optional[float] = None,
+        goal_tolerance: float = 1e-8,
+        force_tolerance: float = 1e-6,
+        max_iterations: int = 500,
+    ) -> Plan:
+        """A minimum-effort rest-to-rest move from ``start`` to ``goal`` (the platform's
+        coordinates) in ``duration`` s over ``steps`` held forces, ``|gamma| <= force_limit``
+        if given: iLQR on the forward dynamics' exact Jacobians (docs/derivatives.md). A dict:
+        ``times`` ``(steps + 1,)``, ``pose`` ``(steps + 1, n)``, the twist's and acceleration's
+        parts (``omega``, ``velocity``, ``omega_dot``, ``acceleration``; ``(steps + 1, 3)``
+        each, the angular ones absent for a platform that translates), ``gamma``
+        ``(steps, n)``, ``iterations``, ``costs``, ``goal_error``, ``force_excess``. Raises
+        ``ValueError`` for a problem that cannot be planned, a robot without derivative
+        kernels, or no convergence."""
 
     def calibration_plan(self, n: int, *, seed: int = 1) -> Array:
         """``n`` poses ``(n, d)`` inside the limits that make the geometry best observable."""

@@ -10,6 +10,7 @@
 use c5_runtime::calibrate::{self, Measurement, Noise, Options};
 use c5_runtime::derivatives::SlicedDerivatives;
 use c5_runtime::identify::{BaseParameters, Friction, Identifier};
+use c5_runtime::plan;
 use c5_runtime::platform::Freedom;
 use c5_runtime::{
     Acceleration, Description, Error, Mechanism, Model, Pose, SpatialRobot, State, Twist,
@@ -1402,6 +1403,85 @@ impl C5 {
         d.set_item("variance_factor", report.variance_factor)?;
         d.set_item("iterations", report.iterations)?;
         d.set_item("robot_toml", report.robot.to_toml())?;
+        Ok(d)
+    }
+
+    /// A minimum-effort rest-to-rest move from the pose `start` to `goal` (`(n,)` each, the
+    /// platform's coordinates) in `duration` seconds, its forces held over each of `steps`
+    /// steps and within `force_limit` (N, or N·m where the motors turn) if given: iLQR on the
+    /// forward dynamics and its exact Jacobians (docs/derivatives.md). Returns a dict: `times`
+    /// (`(steps + 1,)`), `pose` (`(steps + 1, n)`), the twist's and the acceleration's parts as
+    /// `forward_dynamics` names them (`(steps + 1, 3)` each), `gamma` (`(steps, n)`),
+    /// `iterations`, `costs` (per augmented-Lagrangian round, the objective after each
+    /// iteration), `goal_error` and `force_excess`. Raises `ValueError` for a problem that
+    /// cannot be planned, a robot without derivative kernels, or no convergence in
+    /// `max_iterations`.
+    #[pyo3(signature = (start, goal, duration, steps, *, force_limit = None,
+        goal_tolerance = 1e-8, force_tolerance = 1e-6, max_iterations = 500))]
+    #[allow(clippy::too_many_arguments)]
+    fn plan<'py>(
+        &self,
+        py: Python<'py>,
+        start: Vec<f64>,
+        goal: Vec<f64>,
+        duration: f64,
+        steps: usize,
+        force_limit: Option<f64>,
+        goal_tolerance: f64,
+        force_tolerance: f64,
+        max_iterations: usize,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let problem = plan::Problem {
+            start,
+            goal,
+            duration,
+            steps,
+            force_limit,
+        };
+        let settings = plan::Settings {
+            goal_tolerance,
+            force_tolerance,
+            max_iterations,
+        };
+        let robot = self.inner.as_ref();
+        let planned = py
+            .detach(|| plan::plan(robot, &problem, &settings))
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let freedom = robot.freedom();
+        let n = freedom.dimension();
+        let rows = planned
+            .states
+            .iter()
+            .map(|s| robot.coordinates_of(s))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let table = |values: Vec<f64>, width: usize| {
+            ArrayD::from_shape_vec(IxDyn(&[values.len() / width, width]), values)
+                .map(|a| a.into_pyarray(py))
+                .map_err(|e| PyValueError::new_err(e.to_string()))
+        };
+        let d = PyDict::new(py);
+        d.set_item("times", planned.times.clone().into_pyarray(py))?;
+        d.set_item(
+            "pose",
+            table(rows.iter().flat_map(|[x, ..]| x.clone()).collect(), n)?,
+        )?;
+        for (which, names) in [
+            (1, freedom.twist_parts()),
+            (2, freedom.acceleration_parts()),
+        ] {
+            for (j, name) in names.iter().enumerate() {
+                let part = rows
+                    .iter()
+                    .flat_map(|r| r[which][3 * j..3 * j + 3].to_vec());
+                d.set_item(name, table(part.collect(), 3)?)?;
+            }
+        }
+        d.set_item("gamma", table(planned.forces.concat(), n)?)?;
+        d.set_item("iterations", planned.iterations)?;
+        d.set_item("costs", planned.costs.clone())?;
+        d.set_item("goal_error", planned.goal_error)?;
+        d.set_item("force_excess", planned.force_excess)?;
         Ok(d)
     }
 

@@ -307,3 +307,29 @@ def test_simulate_runs_section_9s_move_on_the_delta_with_pinocchios_torques(delt
                 for row in rows[::5])
     print(f"simulate's torques against Pinocchio: {worst:.1e} relative")
     assert worst < BOUND
+
+
+def test_a_plan_is_the_motion_pinocchios_delta_makes_under_its_forces(delta):
+    """`Robot.plan` on a Delta, in its three coordinates: a short move of the centre from home
+    ends at the goal at rest, and at every tenth sample Pinocchio's constraint dynamics under
+    the plan's forces gives the plan's acceleration (an engine that shares nothing with the
+    planner's derivative kernels). Poses of another dimension are refused by name."""
+    c5_kernels = pytest.importorskip("c5_kernels")
+    file, _, engine, home = delta
+    robot = c5_kernels.Robot(robot=str(file))
+    goal = home + np.array([0.02, -0.015, 0.025])
+    plan = robot.plan(home, goal, 0.3, 60)
+    assert plan["pose"].shape == (61, 3) and plan["gamma"].shape == (60, 3)
+    assert set(plan) >= {"times", "pose", "velocity", "acceleration", "gamma", "costs"}
+    assert plan["goal_error"] <= 1e-8
+    assert np.max(np.abs(plan["pose"][-1] - goal)) <= 1e-8
+    assert np.max(np.abs(plan["velocity"][-1])) <= 1e-8
+    for round_costs in plan["costs"]:
+        assert all(b < a for a, b in zip(round_costs, round_costs[1:]))
+    worst = 0.0
+    for k in range(0, 60, 10):
+        theirs = engine.forward(plan["pose"][k], plan["velocity"][k], plan["gamma"][k])
+        worst = max(worst, relative(plan["acceleration"][k], theirs))
+    assert worst <= BOUND, worst
+    with pytest.raises(ValueError, match="coordinates"):
+        robot.plan(np.zeros(6), np.zeros(6), 0.3, 60)

@@ -103,6 +103,7 @@ impl core::fmt::Display for PlanError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             PlanError::Invalid(why) => write!(f, "invalid plan: {why}"),
+            PlanError::Dynamics(e @ Error::Unsupported { .. }) => write!(f, "cannot plan: {e}"),
             PlanError::Dynamics(e) => {
                 write!(f, "the plan reached a state the dynamics refuses: {e}")
             }
