@@ -112,7 +112,10 @@ pub fn run(args: &PlanArgs) -> crate::Result<ExitCode> {
     plot_forces(robot, &png, &planned.times, &planned.forces, &quintic)?;
     let (peak, rms) = peak_rms(&planned.forces);
     let (q_peak, q_rms) = peak_rms(&quintic);
-    println!(
+    // Written, not printed: a closed stdout (`c5 plan | head -1`) ends the run quietly.
+    let mut report = std::io::stdout().lock();
+    writeln!(
+        report,
         "plan: {} steps of {:.4} s, {} iLQR iterations in {} rounds, {:.2?}; goal error {:.1e}",
         problem.steps,
         problem.duration / problem.steps as f64,
@@ -120,19 +123,21 @@ pub fn run(args: &PlanArgs) -> crate::Result<ExitCode> {
         planned.costs.len(),
         elapsed,
         planned.goal_error
-    );
+    )?;
     let unit = robot.description().body_tree().actuator_unit();
-    println!(
+    writeln!(
+        report,
         "forces: peak {peak:.2} {unit}, RMS {rms:.2} {unit} (the quintic move: peak {q_peak:.2} \
          {unit}, RMS {q_rms:.2} {unit})"
-    );
+    )?;
     if defaulted {
-        println!(
+        writeln!(
+            report,
             "the default poses are Section 9's, from this robot's home{}",
             options::scaled_note(scaled)
-        );
+        )?;
     }
-    println!("wrote {} and {}", csv.display(), png.display());
+    writeln!(report, "wrote {} and {}", csv.display(), png.display())?;
     let drawn: Vec<view::Sample> = planned
         .times
         .iter()
@@ -149,7 +154,7 @@ pub fn run(args: &PlanArgs) -> crate::Result<ExitCode> {
         .collect::<crate::Result<_>>()?;
     let title = "Minimum-effort plan (iLQR)";
     if let Some(p) = args.view.write(robot, &drawn, title, &args.out)? {
-        println!("wrote {} (the 3D view)", p.display());
+        writeln!(report, "wrote {} (the 3D view)", p.display())?;
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -122,11 +122,12 @@ fn plan(o: &CalibrateArgs, robot: &Path, n: usize) -> Result<ExitCode> {
         .clone()
         .unwrap_or_else(|| "calibration-poses.csv".into());
     measurements::write_poses(&out, &poses, &columns)?;
-    println!(
+    writeln!(
+        std::io::stdout().lock(),
         "wrote {} ({n} poses inside the robot's limits, chosen to make its geometry best \
          observable)",
         out.display()
-    );
+    )?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -137,7 +138,8 @@ fn simulate(o: &CalibrateArgs, truth: &Path) -> Result<ExitCode> {
     let data = calibrate::simulate(&truth, &poses, &o.options().noise, o.seed)?;
     let out = o.out.clone().unwrap_or_else(|| "measurements.csv".into());
     measurements::write(&out, &data, &columns)?;
-    println!(
+    writeln!(
+        std::io::stdout().lock(),
         "wrote {} ({} measurements: poses with {} m and {} rad of noise, readings with {} {})",
         out.display(),
         data.len(),
@@ -145,7 +147,7 @@ fn simulate(o: &CalibrateArgs, truth: &Path) -> Result<ExitCode> {
         o.noise_angle,
         o.noise_encoder,
         if truth.angular() { "rad" } else { "m" }
-    );
+    )?;
     Ok(ExitCode::SUCCESS)
 }
 

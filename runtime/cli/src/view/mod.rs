@@ -14,6 +14,7 @@ use crate::trajectory_csv;
 use c5_runtime::Mechanism;
 use clap::Args;
 use figure::{Readout, Shot};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -114,11 +115,12 @@ pub fn run(args: &ViewArgs) -> crate::Result<ExitCode> {
         &title,
         &args.out,
     )?;
-    println!(
+    writeln!(
+        std::io::stdout().lock(),
         "wrote {} ({frames} frames of {} samples)",
         args.out.display(),
         samples.len()
-    );
+    )?;
     Ok(ExitCode::SUCCESS)
 }
 

@@ -136,3 +136,50 @@ fn a_closed_stdout_ends_eval_quietly_and_successfully() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// The commands that report in a few lines after their work (`plan`, `calibrate --plan`) end
+/// quietly and successfully when the reader is already gone, like `c5 plan | head -0`: the
+/// report is written, and the closed pipe is not a panic.
+#[test]
+fn a_closed_stdout_ends_the_short_reports_quietly() {
+    let dir = scratch("closed-report");
+    let delta = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/delta.toml");
+    let hexapod = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/hexapod.toml");
+    let (plan_out, poses) = (dir.join("plan"), dir.join("poses.csv"));
+    let commands: [&[&str]; 2] = [
+        &[
+            "plan",
+            "--robot",
+            delta,
+            "--duration",
+            "0.5",
+            "--out",
+            plan_out.to_str().unwrap(),
+        ],
+        &[
+            "calibrate",
+            "--plan",
+            "12",
+            "--robot",
+            hexapod,
+            "--out",
+            poses.to_str().unwrap(),
+        ],
+    ];
+    for args in commands {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_c5"))
+            .args(args)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        // The read end closed before the program reports.
+        drop(child.stdout.take());
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "c5 {}: {err}", args.join(" "));
+        assert!(err.is_empty(), "c5 {}: {err}", args.join(" "));
+    }
+    assert!(plan_out.join("plan.csv").exists() && poses.exists());
+}
